@@ -1,0 +1,66 @@
+/* One binary collision (sec. 2.1.5, Table 2.1), time-stepped by the engine itself or integrated
+ * by SUNDIALS CVODE at tight tolerance as a reference. Used by `granule collide` and by the
+ * collision test suite. All velocities and energies are those of the relative motion (the
+ * centre-of-mass frame), which is what "Delta T / T" of (2.13)-(2.14) refers to. */
+#ifndef GRANULE_COLLIDE_H
+#define GRANULE_COLLIDE_H
+
+#include <stdbool.h>
+
+#include "granule/model.h"
+#include "granule/status.h"
+
+/* Initial positions and velocities of the two particles (2D; 1D uses the x components). */
+typedef struct gr_collision_case {
+    double x1[2], v1[2], x2[2], v2[2];
+} gr_collision_case;
+
+/* Collision `number` (1-4) of Table 2.1 for particles of the given radius. */
+int gr_collision_case_table21(int number, double radius, gr_collision_case *out, gr_error *err);
+
+typedef struct gr_collide_setup {
+    const gr_model *normal;     /* spring_dashpot (or hard_sphere once event rules exist) */
+    const gr_model *tangential; /* NULL, tangential_dashpot or sliding_friction */
+    gr_contact_params contact;
+    double mass;     /* of each particle, kg (Table 2.1: 1 kg) */
+    double radius;   /* m */
+    double dt;       /* s; 0: t_c / steps_per_contact */
+    double steps_per_contact;
+    bool force_dt;
+    int dim;         /* 1 or 2 */
+    double phase;    /* in [0, 1): where in a time step the contact begins (averaging over it
+                        removes the discretisation's phase noise) */
+} gr_collide_setup;
+
+void gr_collide_setup_default(gr_collide_setup *s);
+
+typedef struct gr_collide_result {
+    double energy_loss;    /* 1 - |g'|^2 / |g|^2, g = relative velocity before, g' after */
+    double expected_loss;  /* (1 - eps_n^2) cos^2(a) + (1 - eps_t,eff^2) sin^2(a), a = impact angle;
+                              1 - eps^2 head-on (2.13), 1 - (eps_n^2+eps_t^2)/2 at 45 deg (2.14) */
+    double contact_time;   /* s, while the contact force acted */
+    double max_overlap;    /* m */
+    double eps_n_measured; /* -g'.n' / g.n with n at the start (n') and end of contact */
+    double eps_t_measured; /* g'.t' / g.t (NaN for a head-on collision) */
+    double impact_angle;   /* degrees between -g and the normal at impact */
+    double momentum_error; /* |p' - p| / |p| */
+    double normal_impulse, tangential_impulse; /* magnitudes, N s */
+    bool tangential_reversed; /* the tangential relative velocity changed sign */
+    double dt;             /* the time step used (0 for the reference) */
+} gr_collide_result;
+
+/* Time-step the collision with the engine's own kernel. */
+int gr_collide_run(const gr_collide_setup *s, const gr_collision_case *cs, gr_collide_result *out,
+                   gr_error *err);
+
+/* Integrate the same contact with CVODE (BDF, rtol 1e-10) and root-finding for the end of the
+ * contact; dt and phase are ignored. */
+int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
+                         gr_collide_result *out, gr_error *err);
+
+/* Expected fraction of relative kinetic energy lost for impact angle `angle_deg` (no rotation):
+ * (1 - eps_n^2) cos^2 + (1 - eps_t^2) sin^2, with eps_t of sliding friction derived from mu. */
+double gr_collide_expected_loss(const gr_contact_coeffs *c, const gr_contact_params *p,
+                                double angle_deg);
+
+#endif

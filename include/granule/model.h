@@ -1,0 +1,95 @@
+/* Collision-model plugins: each model is one `const gr_model` defined in models/, listed once
+ * in the registry and looked up by name.
+ *
+ * A model declares its parameters (name, unit, default, allowed range, one-line doc); the scene
+ * parser validates scene keys against them and `granule models` lists them. Its `prepare`
+ * turns physical inputs (k_s, restitution coefficients, masses, time step) into solver
+ * coefficients once per run. The core never calls a model per pair: the coefficients feed
+ * specialised pair loops chosen once per run (see src/core/kernels_2d.c). */
+#ifndef GRANULE_MODEL_H
+#define GRANULE_MODEL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "granule/status.h"
+
+typedef enum { GR_PARAM_DOUBLE, GR_PARAM_BOOL, GR_PARAM_INT } gr_param_type;
+
+/* One scene key. `offset` locates the value inside the struct the descriptor table belongs to
+ * (gr_contact_params for model parameters). Ranges are inclusive unless *_open is set. */
+typedef struct gr_param {
+    const char *name;
+    const char *unit;
+    gr_param_type type;
+    double def;
+    double min, max;
+    bool min_open, max_open;
+    const char *doc;
+    size_t offset;
+} gr_param;
+
+/* Inputs of the contact laws, as given in a scene's [model] section. */
+typedef struct gr_contact_params {
+    double k_s;   /* normal spring constant, N/m (2.4) */
+    double eps_n; /* normal coefficient of restitution (2.2) */
+    double eps_t; /* tangential coefficient of restitution (2.10) */
+    double mu;    /* sliding-friction coefficient (2.7) */
+    bool clamp;   /* true: normal force never attractive, gamma_n from the clamped restitution */
+} gr_contact_params;
+
+typedef enum {
+    GR_NORMAL_NONE = 0,
+    GR_NORMAL_SPRING_DASHPOT,
+    GR_NORMAL_HARD_SPHERE /* event-driven rule (not a force law) */
+} gr_normal_law;
+
+typedef enum { GR_TANGENTIAL_NONE = 0, GR_TANGENTIAL_DASHPOT, GR_TANGENTIAL_FRICTION } gr_tangential_law;
+
+/* Solver coefficients derived once per run by the models' prepare functions. */
+typedef struct gr_contact_coeffs {
+    gr_normal_law normal;
+    gr_tangential_law tangential;
+    double m12;     /* reduced mass of a colliding pair, kg */
+    double k_s;     /* N/m */
+    double gamma_n; /* normal dashpot, kg/s (2.5) */
+    bool clamp;     /* clamp F_n >= 0 */
+    double w0;      /* undamped contact frequency sqrt(k_s/m12), rad/s */
+    double zeta;    /* damping ratio gamma_n / (2 sqrt(k_s m12)) */
+    double t_c;     /* duration of a binary contact, s (infinite when the pair sticks) */
+    double eps_n_exact; /* restitution the continuous-time law really gives */
+    double gamma_t; /* tangential dashpot, kg/s (2.9) */
+    double mu;      /* sliding friction (2.7) */
+} gr_contact_coeffs;
+
+typedef enum {
+    GR_MODEL_NORMAL = 1,     /* a normal contact force law */
+    GR_MODEL_TANGENTIAL = 2, /* a tangential contact force law */
+    GR_MODEL_EVENT = 4       /* an instantaneous event rule (event-driven integrator) */
+} gr_model_kind;
+
+typedef struct gr_model {
+    const char *name;
+    const char *summary; /* one line */
+    gr_model_kind kind;
+    const gr_param *params;
+    int n_params;
+    /* Derive this model's coefficients. Normal models run first and set t_c; tangential models
+     * may read it. `dt` is the time step (0 when the caller only wants the continuous law). */
+    int (*prepare)(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
+                   gr_error *err);
+} gr_model;
+
+/* The registry: every built-in model, NULL-terminated. */
+extern const gr_model *const gr_models[];
+
+/* Look a model up by name; NULL if unknown. */
+const gr_model *gr_model_find(const char *name);
+
+/* Derive coefficients for a normal model combined with an optional tangential model
+ * (tangential may be NULL). */
+int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
+                       const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
+                       gr_error *err);
+
+#endif

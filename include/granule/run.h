@@ -1,0 +1,46 @@
+/* `granule run` as a library call: warm-up, sampling at a fixed interval, outputs.
+ *
+ * Writes into the output folder (every file atomically: temporary file, fsync, rename):
+ *   summary.json     SPEC sec. 7 keys, the ledger, the chosen kernel and the resolved scene
+ *   temperature.csv  T(t) (2.19) with its running average, warm-up included
+ *   blocks.csv       block-averaging analysis of T behind T_stderr (Fig. 2.8)
+ *   ledger.csv       the energy ledger at every sample
+ *   snapshots/       extended XYZ frames (OVITO reads them) every snapshot_every */
+#ifndef GRANULE_RUN_H
+#define GRANULE_RUN_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "granule/scene.h"
+#include "granule/sim.h"
+#include "granule/status.h"
+
+typedef struct gr_progress {
+    double t, t_end;        /* simulated time now and at the end, s */
+    double wall, eta;       /* s */
+    double particle_steps_per_second;
+    bool warmup;
+} gr_progress;
+
+typedef struct gr_run_options {
+    bool force; /* overwrite the outputs of an earlier run in the same folder */
+    /* called about twice a second of wall time; NULL for none */
+    void (*progress)(const gr_progress *p, void *user);
+    void *user;
+} gr_run_options;
+
+typedef struct gr_run_result {
+    double T_mean, T_stderr;
+    int T_stderr_converged;
+    int64_t samples, steps, collisions;
+    double wall_seconds, particle_steps_per_second;
+    gr_ledger ledger;
+    char kernel[160];
+} gr_run_result;
+
+/* Run the scene into scene->out_dir. On an unstable run the outputs written so far are kept,
+ * summary.json records "status": "unstable" with the diagnosis, and GR_EUNSTABLE is returned. */
+int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res, gr_error *err);
+
+#endif

@@ -1,0 +1,86 @@
+/* Scenes: one run's physical system, collision model, noise, integrator, run length and
+ * outputs, read from an INI file (SPEC sec. 3) plus `--set section.key=value` overrides.
+ *
+ * Every key is described by a gr_param descriptor (src/io/scene_keys.c for the engine's keys,
+ * the models' own tables for [model]); the same tables validate input, fill defaults (Table 2.2)
+ * and generate docs/scene-keys.md. Errors name the file, line, key and allowed range. */
+#ifndef GRANULE_SCENE_H
+#define GRANULE_SCENE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "granule/model.h"
+#include "granule/status.h"
+
+typedef enum { GR_PLACE_HEXAGONAL, GR_PLACE_SQUARE, GR_PLACE_UNIFORM, GR_PLACE_CLUSTER, GR_PLACE_RANDOM } gr_placement_kind;
+typedef enum { GR_NOISE_NONE, GR_NOISE_SYMMETRISED, GR_NOISE_COM } gr_noise_mode;
+typedef enum { GR_INTEGRATOR_VERLET } gr_integrator_kind;
+
+typedef struct gr_scene {
+    /* [system] */
+    int dim;          /* 1 or 2 */
+    int N;            /* number of particles */
+    double L;         /* box side (2D) or ring length (1D), m */
+    double packing_fraction; /* 2D alternative to L: phi = N pi r^2 / L^2 (2.24); 0 = unset */
+    double reduced_length;   /* 1D alternative to L: L' = L - N d; < 0 = unset */
+    double radius;    /* m */
+    double mass;      /* kg */
+    /* [placement] */
+    gr_placement_kind placement;
+    double v0;        /* initial velocities v0 * U(-0.5, 0.5) per component, m/s */
+    /* [model] */
+    const gr_model *normal;
+    const gr_model *tangential; /* NULL: no tangential law */
+    gr_contact_params contact;
+    /* [noise] */
+    double D;         /* noise strength, N^2 s (2.15, 2.22) */
+    gr_noise_mode noise_mode;
+    double com_interval; /* com mode: seconds between centre-of-mass velocity removals */
+    /* [integrator] */
+    gr_integrator_kind integrator;
+    double dt;        /* s; 0 = derive from steps_per_contact */
+    double steps_per_contact;
+    bool force_dt;    /* accept dt > t_c / 10 */
+    double skin;      /* Verlet-list skin in diameters; 0 = rebuild the cell list every step */
+    /* [run] */
+    double warmup, duration, sample_every; /* s */
+    uint64_t seed;
+    bool progress;    /* progress line on a terminal */
+    /* [output] */
+    char out_dir[1024];
+    double snapshot_every; /* s; 0 = no snapshots */
+    bool plots;
+    /* where the scene came from (for messages and summary.json) */
+    char source[1024];
+    /* keys that were accepted but have no effect (e.g. mu without sliding_friction), one per
+     * line, for the CLI to print as warnings */
+    char warnings[1024];
+} gr_scene;
+
+/* Defaults: Table 2.2 particles, SPEC sec. 3 values. */
+void gr_scene_default(gr_scene *s);
+
+/* An override `section.key=value` (from --set). */
+typedef struct gr_scene_override {
+    const char *assignment;
+} gr_scene_override;
+
+/* Read a scene file (path may be NULL for defaults only) and apply overrides, then validate and
+ * resolve derived quantities (L from packing fraction, ...). */
+int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, int n_overrides,
+                  gr_error *err);
+
+/* Write the reference of every scene key (engine keys and every model's parameters) as
+ * Markdown; docs/scene-keys.md is this output. */
+void gr_scene_keys_markdown(FILE *out);
+
+/* Names for enums, for summaries and messages. */
+const char *gr_placement_name(gr_placement_kind k);
+const char *gr_noise_mode_name(gr_noise_mode m);
+
+/* Reduced mass of two identical particles. */
+static inline double gr_scene_m12(const gr_scene *s) { return 0.5 * s->mass; }
+
+#endif

@@ -1,0 +1,25 @@
+/* Shared pieces of the granule command: subcommand entry points and option helpers. */
+#ifndef GR_CLI_H
+#define GR_CLI_H
+
+#include <stdbool.h>
+
+#include "granule/status.h"
+
+/* Exit codes */
+enum { EXIT_OK = 0, EXIT_FAILED = 1, EXIT_REFUSED = 2, EXIT_UNSTABLE = 3 };
+
+int cmd_run(int argc, char **argv);
+int cmd_collide(int argc, char **argv);
+int cmd_models(int argc, char **argv);
+int cmd_keys(int argc, char **argv);
+int cmd_plot(int argc, char **argv);
+
+/* Print "granule: <message>" on stderr. */
+void cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* True when progress lines may be drawn (stderr is a terminal and CI is not set). */
+bool cli_interactive(void);
+/* Parse a number option value or print an error naming the option. */
+bool cli_number(const char *opt, const char *text, double *out);
+
+#endif

@@ -1,0 +1,43 @@
+/* The model registry and the combination of a normal law with a tangential law. */
+#include <string.h>
+
+#include "granule/model.h"
+
+extern const gr_model gr_model_spring_dashpot;
+extern const gr_model gr_model_tangential_dashpot;
+extern const gr_model gr_model_sliding_friction;
+
+const gr_model *const gr_models[] = {
+    &gr_model_spring_dashpot,
+    &gr_model_tangential_dashpot,
+    &gr_model_sliding_friction,
+    NULL,
+};
+
+const gr_model *gr_model_find(const char *name)
+{
+    for (int i = 0; gr_models[i]; i++) {
+        if (strcmp(gr_models[i]->name, name) == 0) {
+            return gr_models[i];
+        }
+    }
+    return NULL;
+}
+
+int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
+                       const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
+                       gr_error *err)
+{
+    memset(c, 0, sizeof *c);
+    if (!normal || !(normal->kind & (GR_MODEL_NORMAL | GR_MODEL_EVENT))) {
+        return GR_FAIL(err, GR_EINVAL, "no normal collision model given");
+    }
+    if (tangential && tangential->kind != GR_MODEL_TANGENTIAL) {
+        return GR_FAIL(err, GR_EINVAL, "'%s' is not a tangential model", tangential->name);
+    }
+    int rc = normal->prepare(p, m12, dt, c, err);
+    if (rc == GR_OK && tangential) {
+        rc = tangential->prepare(p, m12, dt, c, err);
+    }
+    return rc;
+}

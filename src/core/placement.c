@@ -1,0 +1,330 @@
+/* Initial placements (sec. 2.1.4, Fig. 2.4) and the overlap check every initial state passes.
+ *
+ * 2D: hexagonal and square packings are beds of touching-or-nearly-touching particles filled
+ * row by row from the bottom of the box (Fig. 2.4 a, b); `uniform` gives every particle an equal
+ * square of the box (Fig. 2.4 c); `cluster` is one hexagonal cluster of touching particles at the
+ * centre; `random` is random sequential addition, which jams near phi = 0.547, so it is refused
+ * above phi = 0.5 (use a lattice for dense scenes). 1D: uniform spacing L/N, one touching
+ * cluster, or random gaps. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "core/sim_internal.h"
+#include "granule/noise.h"
+
+static int place_1d(gr_sim *s, gr_error *err)
+{
+    int n = s->n;
+    double L = s->L, d = s->d;
+    switch (s->scene.placement) {
+    case GR_PLACE_UNIFORM:
+        for (int i = 0; i < n; i++) {
+            s->x[i] = (i + 0.5) * L / n;
+        }
+        return GR_OK;
+    case GR_PLACE_CLUSTER:
+        for (int i = 0; i < n; i++) {
+            s->x[i] = 0.5 * L - 0.5 * n * d + (i + 0.5) * d;
+        }
+        return GR_OK;
+    case GR_PLACE_RANDOM: {
+        /* free length L' split at n sorted uniform points: gaps are d + spacings */
+        double free_len = L - n * d;
+        double *u = malloc(sizeof(double) * (size_t)n);
+        if (!u) {
+            return GR_FAIL(err, GR_ENOMEM, "out of memory placing %d particles", n);
+        }
+        double sum = 0.0;
+        for (int i = 0; i < n; i++) {
+            u[i] = -log(1.0 - gr_noise_uniform(s->scene.seed, GR_STREAM_PLACEMENT, (uint64_t)i, 0));
+            sum += u[i];
+        }
+        double pos = 0.0;
+        for (int i = 0; i < n; i++) {
+            s->x[i] = pos + 0.5 * d;
+            pos += d + free_len * u[i] / sum;
+        }
+        free(u);
+        return GR_OK;
+    }
+    default:
+        return GR_FAIL(err, GR_EINVAL, "placement %s is not available in 1D", gr_placement_name(s->scene.placement));
+    }
+}
+
+static int capacity_error(gr_sim *s, gr_error *err, long cap, const char *what)
+{
+    return GR_FAIL(err, GR_EINVAL,
+                   "%s: [placement] kind = %s holds at most %ld particles in L = %g m with d = %g m (%s); N = %d. "
+                   "Use a larger L, a smaller N or kind = hexagonal",
+                   s->scene.source, gr_placement_name(s->scene.placement), cap, s->L, s->d, what, s->n);
+}
+
+static int place_hexagonal(gr_sim *s, gr_error *err)
+{
+    double L = s->L, d = s->d;
+    int nx = (int)floor(L / d);
+    if (nx < 1) {
+        return capacity_error(s, err, 0, "box narrower than a particle");
+    }
+    double a = L / nx, h = a * sqrt(3.0) / 2.0;
+    int ny = (int)floor(L / h);
+    /* rows wrap periodically: with an odd row count the top and bottom rows are aligned and need
+     * a full spacing a between them, not just h */
+    if (ny % 2 == 1 && L - (ny - 1) * h < a) {
+        ny--;
+    }
+    long cap = (long)nx * ny;
+    if (s->n > cap) {
+        return capacity_error(s, err, cap, "hexagonal rows of spacing >= d");
+    }
+    for (int k = 0; k < s->n; k++) {
+        int row = k / nx, col = k % nx;
+        s->x[k] = (col + 0.25 + 0.5 * (row % 2)) * a;
+        s->y[k] = (row + 0.5) * h;
+    }
+    return GR_OK;
+}
+
+static int place_square(gr_sim *s, gr_error *err)
+{
+    int nx = (int)floor(s->L / s->d);
+    long cap = (long)nx * nx;
+    if (s->n > cap) {
+        return capacity_error(s, err, cap, "square lattice of spacing >= d");
+    }
+    double a = s->L / nx;
+    for (int k = 0; k < s->n; k++) {
+        s->x[k] = (k % nx + 0.5) * a;
+        s->y[k] = (k / nx + 0.5) * a;
+    }
+    return GR_OK;
+}
+
+static int place_uniform(gr_sim *s, gr_error *err)
+{
+    int side = (int)ceil(sqrt((double)s->n));
+    double a = s->L / side;
+    if (a < s->d) {
+        return capacity_error(s, err, (long)floor(s->L / s->d) * (long)floor(s->L / s->d),
+                              "one particle per square of side L / ceil(sqrt N) >= d");
+    }
+    for (int k = 0; k < s->n; k++) {
+        s->x[k] = (k % side + 0.5) * a;
+        s->y[k] = (k / side + 0.5) * a;
+    }
+    return GR_OK;
+}
+
+typedef struct site {
+    double x, y, r2;
+} site;
+
+static int by_distance(const void *a, const void *b)
+{
+    double da = ((const site *)a)->r2, db = ((const site *)b)->r2;
+    return (da > db) - (da < db);
+}
+
+static int place_cluster(gr_sim *s, gr_error *err)
+{
+    /* the N sites of a touching hexagonal lattice nearest the centre: a roughly round cluster */
+    double d = s->d, h = d * sqrt(3.0) / 2.0, c = 0.5 * s->L;
+    int rings = (int)ceil(sqrt((double)s->n)) + 2;
+    int m = (2 * rings + 1) * (2 * rings + 1);
+    site *sites = malloc(sizeof(site) * (size_t)m);
+    if (!sites) {
+        return GR_FAIL(err, GR_ENOMEM, "out of memory placing a cluster of %d particles", s->n);
+    }
+    int k = 0;
+    for (int row = -rings; row <= rings; row++) {
+        for (int col = -rings; col <= rings; col++) {
+            double x = (col + 0.5 * (abs(row) % 2)) * d, y = row * h;
+            sites[k++] = (site){x, y, x * x + y * y};
+        }
+    }
+    qsort(sites, (size_t)m, sizeof(site), by_distance);
+    double reach = sqrt(sites[s->n - 1].r2) + d;
+    if (2.0 * reach > s->L) {
+        free(sites);
+        return capacity_error(s, err, 0, "a cluster wider than the box would touch its own image");
+    }
+    for (int i = 0; i < s->n; i++) {
+        s->x[i] = c + sites[i].x;
+        s->y[i] = c + sites[i].y;
+    }
+    free(sites);
+    return GR_OK;
+}
+
+static int place_random(gr_sim *s, gr_error *err)
+{
+    double phi = s->scene.packing_fraction;
+    if (phi > 0.5) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [placement] kind = random cannot reach phi = %.3f: random sequential addition jams near 0.547; use hexagonal (any phi <= 0.9069)",
+                       s->scene.source, phi);
+    }
+    /* brute-force rejection against a coarse grid of already placed particles */
+    int side = (int)floor(s->L / s->d);
+    if (side < 1) {
+        side = 1;
+    }
+    double cell = s->L / side;
+    int *head = malloc(sizeof(int) * (size_t)side * (size_t)side), *next = malloc(sizeof(int) * (size_t)s->n);
+    if (!head || !next) {
+        free(head);
+        free(next);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory placing %d particles", s->n);
+    }
+    for (int c = 0; c < side * side; c++) {
+        head[c] = -1;
+    }
+    uint64_t attempt = 0;
+    const uint64_t max_attempts = 1000ull * (uint64_t)s->n + 100000ull;
+    for (int i = 0; i < s->n; i++) {
+        for (;;) {
+            if (attempt++ > max_attempts) {
+                free(head);
+                free(next);
+                return GR_FAIL(err, GR_EINVAL,
+                               "%s: [placement] kind = random: no free spot found for particle %d after %llu attempts; use hexagonal",
+                               s->scene.source, i, (unsigned long long)attempt);
+            }
+            double x = s->L * gr_noise_uniform(s->scene.seed, GR_STREAM_PLACEMENT, attempt, 0);
+            double y = s->L * gr_noise_uniform(s->scene.seed, GR_STREAM_PLACEMENT, attempt, 1);
+            int cx = (int)(x / cell) % side, cy = (int)(y / cell) % side;
+            int ok = 1;
+            for (int ox = -1; ox <= 1 && ok; ox++) {
+                for (int oy = -1; oy <= 1 && ok; oy++) {
+                    int c = ((cx + ox + side) % side) + side * ((cy + oy + side) % side);
+                    for (int j = head[c]; j >= 0 && ok; j = next[j]) {
+                        double dx = s->x[j] - x, dy = s->y[j] - y;
+                        dx -= s->L * rint(dx / s->L);
+                        dy -= s->L * rint(dy / s->L);
+                        ok = dx * dx + dy * dy >= s->d * s->d;
+                    }
+                    if (side < 3) {
+                        break;
+                    }
+                }
+            }
+            if (ok) {
+                s->x[i] = x;
+                s->y[i] = y;
+                int c = cx + side * cy;
+                next[i] = head[c];
+                head[c] = i;
+                break;
+            }
+        }
+    }
+    free(head);
+    free(next);
+    return GR_OK;
+}
+
+int gr_place(gr_sim *s, gr_error *err)
+{
+    if (s->dim == 1) {
+        return place_1d(s, err);
+    }
+    switch (s->scene.placement) {
+    case GR_PLACE_HEXAGONAL: return place_hexagonal(s, err);
+    case GR_PLACE_SQUARE: return place_square(s, err);
+    case GR_PLACE_UNIFORM: return place_uniform(s, err);
+    case GR_PLACE_CLUSTER: return place_cluster(s, err);
+    case GR_PLACE_RANDOM: return place_random(s, err);
+    }
+    return GR_FAIL(err, GR_EINVAL, "unknown placement");
+}
+
+/* Closest pair by brute force for small N, else via a temporary cell grid. */
+int gr_check_overlaps(const gr_sim *s, gr_error *err)
+{
+    const double tol = 1e-9, d = s->d, L = s->L;
+    double worst = 0.0;
+    int wi = -1, wj = -1;
+    if (s->dim == 1) {
+        for (int i = 0; i < s->n; i++) {
+            int j = (i + 1) % s->n;
+            double gap = s->x[j] - s->x[i] + (j == 0 ? L : 0.0);
+            if (s->n == 1) {
+                gap = L;
+            }
+            if (gap < 0.0) {
+                return GR_FAIL(err, GR_EINVAL, "initial state: particles %d and %d are not in order along the line", i, j);
+            }
+            double ov = (d - gap) / d;
+            if (ov > worst) {
+                worst = ov;
+                wi = i;
+                wj = j;
+            }
+        }
+    } else {
+        int side = (int)floor(L / d);
+        if (side < 3 || (long)s->n * s->n < 4000000L) {
+            for (int i = 0; i < s->n; i++) {
+                for (int j = i + 1; j < s->n; j++) {
+                    double dx = s->x[j] - s->x[i], dy = s->y[j] - s->y[i];
+                    dx -= L * rint(dx / L);
+                    dy -= L * rint(dy / L);
+                    double ov = (d - sqrt(dx * dx + dy * dy)) / d;
+                    if (ov > worst) {
+                        worst = ov;
+                        wi = i;
+                        wj = j;
+                    }
+                }
+            }
+        } else {
+            double cell = L / side;
+            int *head = malloc(sizeof(int) * (size_t)side * (size_t)side), *next = malloc(sizeof(int) * (size_t)s->n);
+            if (!head || !next) {
+                free(head);
+                free(next);
+                return GR_FAIL(err, GR_ENOMEM, "out of memory checking overlaps");
+            }
+            for (int c = 0; c < side * side; c++) {
+                head[c] = -1;
+            }
+            for (int i = 0; i < s->n; i++) {
+                int cx = (int)(s->x[i] / cell) % side, cy = (int)(s->y[i] / cell) % side;
+                int c = cx + side * cy;
+                next[i] = head[c];
+                head[c] = i;
+            }
+            for (int i = 0; i < s->n; i++) {
+                int cx = (int)(s->x[i] / cell) % side, cy = (int)(s->y[i] / cell) % side;
+                for (int ox = -1; ox <= 1; ox++) {
+                    for (int oy = -1; oy <= 1; oy++) {
+                        int c = ((cx + ox + side) % side) + side * ((cy + oy + side) % side);
+                        for (int j = head[c]; j >= 0; j = next[j]) {
+                            if (j <= i) {
+                                continue;
+                            }
+                            double dx = s->x[j] - s->x[i], dy = s->y[j] - s->y[i];
+                            dx -= L * rint(dx / L);
+                            dy -= L * rint(dy / L);
+                            double ov = (d - sqrt(dx * dx + dy * dy)) / d;
+                            if (ov > worst) {
+                                worst = ov;
+                                wi = i;
+                                wj = j;
+                            }
+                        }
+                    }
+                }
+            }
+            free(head);
+            free(next);
+        }
+    }
+    if (worst > tol) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: initial state overlaps: particles %d and %d overlap by %.3g d (tolerance %g d); refusing to start (the spring energy would explode the packing)",
+                       s->scene.source, wi, wj, worst, tol);
+    }
+    return GR_OK;
+}

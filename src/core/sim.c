@@ -1,0 +1,288 @@
+/* Creating a simulation: allocate the particle arrays, place the particles, give them small
+ * random velocities, derive the contact coefficients and the time step, choose the kernel. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/sim_internal.h"
+#include "granule/noise.h"
+
+static double *alloc_array(int n)
+{
+    size_t bytes = ((sizeof(double) * (size_t)(n > 0 ? n : 1)) + 63) & ~(size_t)63;
+    double *p = aligned_alloc(64, bytes);
+    if (p) {
+        memset(p, 0, bytes);
+    }
+    return p;
+}
+
+void gr_sim_free(gr_sim *s)
+{
+    if (!s) {
+        return;
+    }
+    free(s->x);
+    free(s->y);
+    free(s->vx);
+    free(s->vy);
+    free(s->fx);
+    free(s->fy);
+    free(s->noise);
+    free(s->x_ref);
+    free(s->y_ref);
+    free(s->cell_start);
+    free(s->cell_of);
+    free(s->cell_order);
+    free(s->nl_start);
+    free(s->nl_j);
+    free(s->nl_contact);
+    free(s->pair_contact);
+    free(s);
+}
+
+/* Coefficients and time step. dt comes from the scene or from steps_per_contact; a dt too coarse
+ * for the contact (fewer than 10 steps, sec. 2.1.2) or for an overdamped dashpot is refused. */
+static int prepare_contact(gr_sim *s, gr_error *err)
+{
+    const gr_scene *sc = &s->scene;
+    double m12 = gr_scene_m12(sc);
+    int rc = gr_contact_prepare(sc->normal, sc->tangential, &sc->contact, m12, 0.0, &s->cc, err);
+    if (rc) {
+        return rc;
+    }
+    /* a sticking contact (unclamped eps_n = 0) never ends: measure steps against pi / w0 */
+    double t_c = isfinite(s->cc.t_c) ? s->cc.t_c : M_PI / s->cc.w0;
+    double dt = sc->dt > 0.0 ? sc->dt : t_c / sc->steps_per_contact;
+    if (sc->dt == 0.0 && 2.0 * s->cc.zeta * s->cc.w0 * dt > 1.0) {
+        dt = 1.0 / (2.0 * s->cc.zeta * s->cc.w0); /* overdamped: the dashpot sets the step */
+    }
+    double steps = t_c / dt;
+    if (steps < 10.0 && !sc->force_dt) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [integrator] dt = %g s resolves a contact (t_c = %.4g s) with only %.1f steps; "
+                       "at least 10 are needed (sec. 2.1.2): use dt <= %.4g s, steps_per_contact >= 10, or force_dt = true",
+                       sc->source, dt, t_c, steps, t_c / 10.0);
+    }
+    if (2.0 * s->cc.zeta * s->cc.w0 * dt > 1.0 && !sc->force_dt) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [integrator] dt = %g s is too large for the overdamped dashpot (zeta = %.3g): "
+                       "explicit damping needs 2 zeta w0 dt < 1, i.e. dt < %.4g s",
+                       sc->source, dt, s->cc.zeta, 1.0 / (2.0 * s->cc.zeta * s->cc.w0));
+    }
+    s->dt = dt;
+    return gr_contact_prepare(sc->normal, sc->tangential, &sc->contact, m12, dt, &s->cc, err);
+}
+
+static int alloc_state(const gr_scene *scene, int n, gr_sim **out, gr_error *err)
+{
+    gr_sim *s = calloc(1, sizeof *s);
+    if (!s) {
+        return GR_FAIL(err, GR_ENOMEM, "out of memory");
+    }
+    s->scene = *scene;
+    s->n = n;
+    s->dim = scene->dim;
+    s->L = scene->L;
+    s->d = 2.0 * scene->radius;
+    s->mass = scene->mass;
+    s->x = alloc_array(n);
+    s->vx = alloc_array(n);
+    s->fx = alloc_array(n);
+    s->noise = alloc_array(n * s->dim);
+    if (s->dim == 2) {
+        s->y = alloc_array(n);
+        s->vy = alloc_array(n);
+        s->fy = alloc_array(n);
+    } else {
+        s->pair_contact = calloc((size_t)n + 1, 1);
+    }
+    if (!s->x || !s->vx || !s->fx || !s->noise ||
+        (s->dim == 2 ? (!s->y || !s->vy || !s->fy) : !s->pair_contact)) {
+        gr_sim_free(s);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for %d particles", n);
+    }
+    *out = s;
+    return GR_OK;
+}
+
+/* Everything after the positions and velocities are set. */
+static int finish(gr_sim *s, gr_error *err)
+{
+    int rc = prepare_contact(s, err);
+    if (!rc) {
+        rc = gr_check_overlaps(s, err);
+    }
+    if (!rc && s->dim == 2) {
+        rc = gr_neighbours_alloc(s, err);
+        if (!rc) {
+            rc = gr_neighbours_build(s, err);
+        }
+    }
+    if (rc) {
+        return rc;
+    }
+    if (s->dim == 1) {
+        for (int i = 0; i < s->n && s->n > 1; i++) {
+            double gap = i + 1 < s->n ? s->x[i + 1] - s->x[i] : s->x[0] + s->L - s->x[i];
+            s->pair_contact[i] = gap < s->d;
+        }
+    }
+    gr_kernel_choose(s);
+    s->com_every = (int64_t)llround(s->scene.com_interval / s->dt);
+    if (s->com_every < 1) {
+        s->com_every = 1;
+    }
+    gr_force_report r;
+    gr_forces(s, &r);
+    s->elastic = r.elastic;
+    s->last = r;
+    gr_ledger l = gr_sim_ledger(s);
+    s->initial_energy = l.kinetic + l.elastic;
+    return GR_OK;
+}
+
+int gr_sim_create(const gr_scene *scene, gr_sim **out, gr_error *err)
+{
+    *out = NULL;
+    gr_sim *s;
+    int rc = alloc_state(scene, scene->N, &s, err);
+    if (rc) {
+        return rc;
+    }
+    rc = gr_place(s, err);
+    if (!rc) {
+        /* v0 * U(-0.5, 0.5) per component (sec. 2.2.2); the mean is removed so the total momentum
+         * starts at zero and the symmetrised noise keeps it there */
+        double mean[2] = {0.0, 0.0};
+        double *v[2] = {s->vx, s->vy};
+        for (int c = 0; c < s->dim; c++) {
+            for (int i = 0; i < s->n; i++) {
+                v[c][i] = scene->v0 * (gr_noise_uniform(scene->seed, GR_STREAM_INIT_VELOCITY, (uint64_t)i, (uint64_t)c) - 0.5);
+                mean[c] += v[c][i];
+            }
+            mean[c] /= s->n;
+            for (int i = 0; i < s->n && s->n > 1; i++) {
+                v[c][i] -= mean[c];
+            }
+        }
+        rc = finish(s, err);
+    }
+    if (rc) {
+        gr_sim_free(s);
+        return rc;
+    }
+    *out = s;
+    return GR_OK;
+}
+
+int gr_sim_create_with_state(const gr_scene *scene, int n, const double *x, const double *y,
+                             const double *vx, const double *vy, gr_sim **out, gr_error *err)
+{
+    *out = NULL;
+    gr_sim *s;
+    int rc = alloc_state(scene, n, &s, err);
+    if (rc) {
+        return rc;
+    }
+    s->scene.N = n;
+    for (int i = 0; i < n; i++) {
+        if (!isfinite(x[i]) || !isfinite(vx[i]) || (s->dim == 2 && (!isfinite(y[i]) || !isfinite(vy[i])))) {
+            gr_sim_free(s);
+            return GR_FAIL(err, GR_EINVAL, "initial state: particle %d has a non-finite position or velocity", i);
+        }
+        s->x[i] = x[i];
+        s->vx[i] = vx[i];
+        if (s->dim == 2) {
+            s->x[i] = x[i] - s->L * floor(x[i] / s->L);
+            s->y[i] = y[i] - s->L * floor(y[i] / s->L);
+            s->vy[i] = vy[i];
+        }
+    }
+    rc = finish(s, err);
+    if (rc) {
+        gr_sim_free(s);
+        return rc;
+    }
+    *out = s;
+    return GR_OK;
+}
+
+gr_particles gr_sim_particles(const gr_sim *s)
+{
+    return (gr_particles){.n = s->n, .dim = s->dim, .L = s->L, .radius = 0.5 * s->d,
+                          .mass = s->mass, .x = s->x, .y = s->y, .vx = s->vx, .vy = s->vy};
+}
+
+double gr_sim_time(const gr_sim *s) { return (double)s->step * s->dt; }
+int64_t gr_sim_steps(const gr_sim *s) { return s->step; }
+double gr_sim_dt(const gr_sim *s) { return s->dt; }
+const gr_contact_coeffs *gr_sim_coeffs(const gr_sim *s) { return &s->cc; }
+const char *gr_sim_kernel(const gr_sim *s) { return s->kernel_name; }
+int64_t gr_sim_collisions(const gr_sim *s) { return s->collisions; }
+int64_t gr_sim_rebuilds(const gr_sim *s) { return s->rebuilds; }
+
+double gr_ledger_dissipated(const gr_ledger *l)
+{
+    return l->dissipated_normal + l->dissipated_tangential + l->dissipated_friction;
+}
+
+double gr_ledger_residual(const gr_ledger *l)
+{
+    return (l->kinetic + l->elastic) - l->initial - l->injected + gr_ledger_dissipated(l) + l->removed_com;
+}
+
+gr_ledger gr_sim_ledger(gr_sim *s)
+{
+    double ke = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        ke += s->vx[i] * s->vx[i];
+        if (s->dim == 2) {
+            ke += s->vy[i] * s->vy[i];
+        }
+    }
+    return (gr_ledger){.kinetic = 0.5 * s->mass * ke, .elastic = s->elastic,
+                       .initial = s->initial_energy, .injected = s->injected,
+                       .dissipated_normal = s->diss_n, .dissipated_tangential = s->diss_t,
+                       .dissipated_friction = s->diss_f, .removed_com = s->removed_com};
+}
+
+double gr_sim_temperature(const gr_sim *s)
+{
+    double sum = 0.0, mx = 0.0, my = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        mx += s->vx[i];
+        if (s->dim == 2) {
+            my += s->vy[i];
+        }
+    }
+    mx /= s->n;
+    my /= s->n;
+    for (int i = 0; i < s->n; i++) {
+        double ux = s->vx[i] - mx;
+        sum += ux * ux;
+        if (s->dim == 2) {
+            double uy = s->vy[i] - my;
+            sum += uy * uy;
+        }
+    }
+    return sum / s->n; /* eq. 2.19 */
+}
+
+double gr_sim_max_overlap(gr_sim *s)
+{
+    return s->last.max_overlap;
+}
+
+void gr_sim_momentum(const gr_sim *s, double p[2])
+{
+    p[0] = p[1] = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        p[0] += s->vx[i];
+        if (s->dim == 2) {
+            p[1] += s->vy[i];
+        }
+    }
+    p[0] *= s->mass;
+    p[1] *= s->mass;
+}

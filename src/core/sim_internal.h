@@ -1,0 +1,78 @@
+/* The simulation object. Hot per-particle state is kept as separate aligned arrays (structure of
+ * arrays); cold bookkeeping (scene, ledger totals, names) lives beside it. Only src/core sees
+ * this layout. */
+#ifndef GR_SIM_INTERNAL_H
+#define GR_SIM_INTERNAL_H
+
+#include <stdint.h>
+
+#include "granule/sim.h"
+
+/* What one force evaluation reports besides the forces. */
+typedef struct gr_force_report {
+    double elastic;        /* sum k_s xi^2 / 2 over contacts, J */
+    double power_normal;   /* dissipation rates, W (>= 0) */
+    double power_tangential;
+    double power_friction;
+    int64_t new_contacts;  /* pairs that came into overlap */
+    double max_overlap;    /* largest xi / d */
+    int worst_i, worst_j;  /* the pair with max_overlap */
+} gr_force_report;
+
+typedef enum { KERNEL_1D, KERNEL_2D_N, KERNEL_2D_N_CLAMP, KERNEL_2D_NT, KERNEL_2D_NT_CLAMP,
+               KERNEL_2D_NF, KERNEL_2D_NF_CLAMP } gr_kernel_id;
+
+struct gr_sim {
+    gr_scene scene;
+    gr_contact_coeffs cc;
+    int n, dim;
+    double L, d, mass, dt;
+
+    /* hot state, n entries each (y, vy, fy unused in 1D) */
+    double *x, *y, *vx, *vy, *fx, *fy;
+    double *noise; /* n * dim normals of the current step */
+
+    /* 2D neighbour finding: cell list feeding a half Verlet list in CSR form */
+    double cutoff;        /* d (1 + skin) */
+    double *x_ref, *y_ref; /* positions at the last rebuild */
+    int ncell;            /* cells per side; 0 = all pairs */
+    int *cell_start, *cell_of, *cell_order;
+    int *nl_start;        /* n + 1 entries */
+    int *nl_j;
+    uint8_t *nl_contact;  /* pair was in contact at the last force evaluation */
+    int64_t nl_cap;
+
+    /* 1D: pair (i, i+1 mod n) contact flags */
+    uint8_t *pair_contact;
+
+    gr_kernel_id kernel;
+    char kernel_name[160];
+
+    /* bookkeeping */
+    int64_t step;
+    int64_t collisions, rebuilds;
+    int64_t com_every;     /* steps between centre-of-mass resets (com mode) */
+    double elastic;        /* from the last force evaluation */
+    double initial_energy;
+    double injected, diss_n, diss_t, diss_f, removed_com;
+    gr_force_report last;
+};
+
+/* src/core/placement.c: fill x, y for the scene's placement kind. */
+int gr_place(gr_sim *s, gr_error *err);
+/* Refuse overlapping positions (tolerance 1e-9 d); used for every initial state. */
+int gr_check_overlaps(const gr_sim *s, gr_error *err);
+
+/* src/core/neighbours.c */
+int gr_neighbours_alloc(gr_sim *s, gr_error *err);
+int gr_neighbours_build(gr_sim *s, gr_error *err);
+int gr_neighbours_need_rebuild(const gr_sim *s);
+
+/* src/core/kernels.c: one force evaluation with the kernel chosen at creation */
+void gr_forces(gr_sim *s, gr_force_report *r);
+/* Brute-force O(N^2) reference forces (tests only). */
+void gr_forces_bruteforce(const gr_sim *s, double *fx, double *fy, double *elastic);
+/* Pick the kernel from the coefficients; sets s->kernel and s->kernel_name. */
+void gr_kernel_choose(gr_sim *s);
+
+#endif

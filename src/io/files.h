@@ -1,0 +1,26 @@
+/* Output files: atomic writes and output folders. */
+#ifndef GR_FILES_H
+#define GR_FILES_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#include "granule/status.h"
+
+/* An output file being written: a temporary beside the target, renamed on commit. */
+typedef struct gr_file {
+    FILE *f;
+    char path[1100], tmp[1120];
+} gr_file;
+
+int gr_file_open(gr_file *out, const char *dir, const char *name, gr_error *err);
+/* fflush + fsync + rename; closes the file either way. */
+int gr_file_commit(gr_file *out, gr_error *err);
+void gr_file_abandon(gr_file *out);
+
+/* Create dir (and parents); refuse a folder holding another run's summary.json unless force;
+ * prove it is writable. */
+int gr_output_dir_prepare(const char *dir, bool force, gr_error *err);
+
+#endif

@@ -1,0 +1,61 @@
+/* Plots of a run folder, drawn by gnuplot (the pngcairo terminal of Debian's gnuplot-nox):
+ * temperature.png (T(t) with its running average, as Figs. 2.7-2.8) and ledger.png (energy
+ * injected, dissipated by each mechanism, kinetic + elastic and the balance residual). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/plot.h"
+
+static int gnuplot_available(void)
+{
+    return system("command -v gnuplot >/dev/null 2>&1") == 0;
+}
+
+int gr_plot_run(const char *dir, int dim, char *note, size_t note_size)
+{
+    (void)dim;
+    if (!gnuplot_available()) {
+        snprintf(note, note_size, "skipped: gnuplot not found (apt-get install gnuplot-nox)");
+        return 1;
+    }
+    FILE *g = popen("gnuplot 2>&1 >/dev/null", "w");
+    if (!g) {
+        snprintf(note, note_size, "skipped: could not start gnuplot");
+        return 1;
+    }
+    fprintf(g,
+            "set terminal pngcairo size 1000,640 font 'Sans,11'\n"
+            "set datafile separator ','\n"
+            "set key top right\n"
+            "set grid\n"
+            "set output '%s/temperature.png.tmp'\n"
+            "set title 'Granular temperature (eq. 2.19)'\n"
+            "set xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\n"
+            "plot '%s/temperature.csv' skip 3 using 1:2 with lines lc rgb '#9ab' title 'T(t)', "
+            "'' skip 3 using 1:3 with lines lw 2 lc rgb '#c33' title 'running mean (sampling)'\n"
+            "set output '%s/ledger.png.tmp'\n"
+            "set title 'Energy ledger'\n"
+            "set ylabel 'energy (J)'\n"
+            "plot '%s/ledger.csv' skip 3 using 1:4 with lines lw 2 title 'injected by noise', "
+            "'' skip 3 using 1:($5+$6+$7) with lines lw 2 title 'dissipated (all)', "
+            "'' skip 3 using 1:5 with lines title 'dissipated normal', "
+            "'' skip 3 using 1:($6+$7) with lines title 'dissipated tangential+friction', "
+            "'' skip 3 using 1:($2+$3) with lines title 'kinetic + elastic', "
+            "'' skip 3 using 1:9 with lines lc rgb 'black' dt 2 title 'residual'\n"
+            "set output\n",
+            dir, dir, dir, dir);
+    int rc = pclose(g);
+    char from[1200], to[1200];
+    const char *names[] = {"temperature.png", "ledger.png"};
+    for (int i = 0; i < 2; i++) {
+        snprintf(from, sizeof from, "%s/%s.tmp", dir, names[i]);
+        snprintf(to, sizeof to, "%s/%s", dir, names[i]);
+        if (rc != 0 || rename(from, to) != 0) {
+            remove(from);
+            snprintf(note, note_size, "failed: gnuplot could not draw %s", names[i]);
+            return 1;
+        }
+    }
+    return 0;
+}

@@ -1,0 +1,250 @@
+/* The run driver behind `granule run`: warm-up, sampling uniformly in time, outputs.
+ *
+ * Time series are streamed into temporary files and moved into place at the end (or when the run
+ * stops unstable), so a reader never sees half a file and memory does not grow with run length.
+ * The temperature average and its error bar come from streaming block averaging (2.20). */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "granule/analysis.h"
+#include "granule/run.h"
+#include "granule_config.h"
+#include "io/files.h"
+#include "io/plot.h"
+#include "io/scene_json.h"
+#include "io/snapshot.h"
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void csv_header(FILE *f, const char *what, const gr_scene *s, uint64_t hash)
+{
+    fprintf(f, "# granule %s (%s)\n# scene %s, hash %016llx, seed %llu\n", what, GR_VERSION,
+            s->source, (unsigned long long)hash, (unsigned long long)s->seed);
+}
+
+static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, const gr_run_result *r,
+                         const gr_blocking *blk, const char *status, const char *diagnosis,
+                         const char *plots, gr_error *err)
+{
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddStringToObject(j, "status", status);
+    if (diagnosis) {
+        cJSON_AddStringToObject(j, "diagnosis", diagnosis);
+    }
+    cJSON_AddStringToObject(j, "granule_version", GR_VERSION);
+    cJSON_AddStringToObject(j, "commit", GR_COMMIT);
+    cJSON_AddNumberToObject(j, "T_mean", r->T_mean);
+    cJSON_AddNumberToObject(j, "T_stderr", r->T_stderr);
+    cJSON_AddBoolToObject(j, "T_stderr_converged", r->T_stderr_converged);
+    cJSON_AddNumberToObject(j, "samples", (double)r->samples);
+    cJSON_AddNumberToObject(j, "wall_seconds", r->wall_seconds);
+    cJSON_AddNumberToObject(j, "particle_steps_per_second", r->particle_steps_per_second);
+    cJSON_AddNumberToObject(j, "steps", (double)r->steps);
+    cJSON_AddNumberToObject(j, "simulated_seconds", gr_sim_time(sim));
+    cJSON_AddNumberToObject(j, "collisions", (double)r->collisions);
+    cJSON_AddNumberToObject(j, "neighbour_rebuilds", (double)gr_sim_rebuilds(sim));
+    const gr_ledger *l = &r->ledger;
+    cJSON_AddNumberToObject(j, "energy_injected", l->injected);
+    cJSON_AddNumberToObject(j, "energy_dissipated", gr_ledger_dissipated(l));
+    cJSON *led = cJSON_AddObjectToObject(j, "ledger");
+    cJSON_AddNumberToObject(led, "kinetic", l->kinetic);
+    cJSON_AddNumberToObject(led, "elastic", l->elastic);
+    cJSON_AddNumberToObject(led, "initial", l->initial);
+    cJSON_AddNumberToObject(led, "injected", l->injected);
+    cJSON_AddNumberToObject(led, "dissipated_normal", l->dissipated_normal);
+    cJSON_AddNumberToObject(led, "dissipated_tangential", l->dissipated_tangential);
+    cJSON_AddNumberToObject(led, "dissipated_friction", l->dissipated_friction);
+    cJSON_AddNumberToObject(led, "removed_com", l->removed_com);
+    double res = gr_ledger_residual(l);
+    double scale = fmax(l->injected + gr_ledger_dissipated(l), l->initial);
+    cJSON_AddNumberToObject(led, "residual", res);
+    cJSON_AddNumberToObject(led, "relative_residual", scale > 0.0 ? res / scale : 0.0);
+    cJSON_AddStringToObject(j, "kernel", r->kernel);
+    const gr_contact_coeffs *c = gr_sim_coeffs(sim);
+    cJSON *co = cJSON_AddObjectToObject(j, "contact");
+    cJSON_AddNumberToObject(co, "dt", gr_sim_dt(sim));
+    cJSON_AddNumberToObject(co, "t_c", isfinite(c->t_c) ? c->t_c : -1.0);
+    cJSON_AddNumberToObject(co, "steps_per_contact", isfinite(c->t_c) ? c->t_c / gr_sim_dt(sim) : -1.0);
+    cJSON_AddNumberToObject(co, "gamma_n", c->gamma_n);
+    cJSON_AddNumberToObject(co, "gamma_t", c->gamma_t);
+    cJSON_AddNumberToObject(co, "zeta", c->zeta);
+    cJSON_AddNumberToObject(co, "eps_n_exact", c->eps_n_exact);
+    cJSON_AddNumberToObject(co, "max_overlap_now", gr_sim_max_overlap(sim));
+    cJSON_AddNumberToObject(j, "energy_injection_rate_expected", scene->dim * scene->D / scene->mass * scene->N *
+                                                                   (scene->noise_mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / scene->N : 1.0));
+    cJSON *bl = cJSON_AddArrayToObject(j, "T_blocking_stderr");
+    for (int k = 0; k < GR_BLOCKING_LEVELS && blk->count[k] >= 2; k++) {
+        cJSON_AddItemToArray(bl, cJSON_CreateNumber(gr_blocking_stderr_at(blk, k)));
+    }
+    cJSON_AddStringToObject(j, "plots", plots);
+    if (scene->warnings[0]) {
+        cJSON_AddStringToObject(j, "warnings", scene->warnings);
+    }
+    cJSON_AddItemToObject(j, "scene", gr_scene_to_json(scene));
+    char *text = cJSON_Print(j);
+    cJSON_Delete(j);
+    gr_file f;
+    int rc = gr_file_open(&f, dir, "summary.json", err);
+    if (!rc) {
+        fputs(text, f.f);
+        fputc('\n', f.f);
+        rc = gr_file_commit(&f, err);
+    }
+    cJSON_free(text);
+    return rc;
+}
+
+static int write_blocks(const char *dir, const gr_scene *s, uint64_t hash, const gr_blocking *b, gr_error *err)
+{
+    gr_file f;
+    int rc = gr_file_open(&f, dir, "blocks.csv", err);
+    if (rc) {
+        return rc;
+    }
+    csv_header(f.f, "block averaging of T (Flyvbjerg-Petersen); T in m^2/s^2, block length in s", s, hash);
+    fprintf(f.f, "level,block_seconds,blocks,T_mean,T_stderr\n");
+    for (int k = 0; k < GR_BLOCKING_LEVELS && b->count[k] >= 2; k++) {
+        fprintf(f.f, "%d,%.9g,%lld,%.9g,%.9g\n", k, ldexp(s->sample_every, k), (long long)b->count[k],
+                b->sum[k] / (double)b->count[k], gr_blocking_stderr_at(b, k));
+    }
+    return gr_file_commit(&f, err);
+}
+
+int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res, gr_error *err)
+{
+    memset(res, 0, sizeof *res);
+    const char *dir = scene->out_dir;
+    int rc = gr_output_dir_prepare(dir, opt && opt->force, err);
+    if (rc) {
+        return rc;
+    }
+    gr_sim *sim;
+    rc = gr_sim_create(scene, &sim, err);
+    if (rc) {
+        return rc;
+    }
+    snprintf(res->kernel, sizeof res->kernel, "%s", gr_sim_kernel(sim));
+    const uint64_t hash = gr_scene_hash(scene);
+    const double dt = gr_sim_dt(sim);
+    const int64_t per_sample = llround(scene->sample_every / dt) > 0 ? llround(scene->sample_every / dt) : 1;
+    const int64_t warm_samples = llround(scene->warmup / scene->sample_every);
+    const int64_t run_samples = llround(scene->duration / scene->sample_every);
+    const int64_t snap_every = scene->snapshot_every > 0.0 ? llround(scene->snapshot_every / dt) : 0;
+    char snapdir[1100];
+    snprintf(snapdir, sizeof snapdir, "%s/snapshots", dir);
+    if (snap_every > 0 && mkdir(snapdir, 0777) != 0 && access(snapdir, W_OK) != 0) {
+        gr_sim_free(sim);
+        return GR_FAIL(err, GR_EIO, "cannot create %s", snapdir);
+    }
+
+    gr_file ft, fl;
+    rc = gr_file_open(&ft, dir, "temperature.csv", err);
+    if (!rc) {
+        rc = gr_file_open(&fl, dir, "ledger.csv", err);
+        if (rc) {
+            gr_file_abandon(&ft);
+        }
+    }
+    if (rc) {
+        gr_sim_free(sim);
+        return rc;
+    }
+    csv_header(ft.f, "granular temperature T(t) of eq. 2.19, m^2/s^2; running_mean over the sampling phase", scene, hash);
+    fprintf(ft.f, "t,T,running_mean,phase\n");
+    csv_header(fl.f, "energy ledger, J (residual = kinetic + elastic - initial - injected + dissipated + removed_com)", scene, hash);
+    fprintf(fl.f, "t,kinetic,elastic,injected,dissipated_normal,dissipated_tangential,dissipated_friction,removed_com,residual\n");
+
+    gr_blocking blk;
+    gr_blocking_init(&blk);
+    double stepping = 0.0, last_report = now(), start = now();
+    int64_t next_snap = 0;
+    int snap_index = 0;
+    const char *status = "completed";
+    char diagnosis[800] = "";
+    gr_error step_err = {0};
+    for (int64_t k = 0; k <= warm_samples + run_samples; k++) {
+        if (k > 0) {
+            double t0 = now();
+            rc = gr_sim_step(sim, per_sample, &step_err);
+            stepping += now() - t0;
+            if (rc) {
+                status = "unstable";
+                snprintf(diagnosis, sizeof diagnosis, "%s", step_err.message);
+                break;
+            }
+        }
+        double t = gr_sim_time(sim), T = gr_sim_temperature(sim);
+        bool sampling = k > warm_samples;
+        if (sampling) {
+            gr_blocking_add(&blk, T);
+        }
+        fprintf(ft.f, "%.9g,%.9g,%.9g,%s\n", t, T, sampling ? gr_blocking_mean(&blk) : (double)NAN, sampling ? "sample" : "warmup");
+        gr_ledger l = gr_sim_ledger(sim);
+        fprintf(fl.f, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.6g\n", t, l.kinetic, l.elastic,
+                l.injected, l.dissipated_normal, l.dissipated_tangential, l.dissipated_friction,
+                l.removed_com, gr_ledger_residual(&l));
+        if (snap_every > 0 && gr_sim_steps(sim) >= next_snap) {
+            gr_particles p = gr_sim_particles(sim);
+            rc = gr_snapshot_write(snapdir, snap_index++, &p, t, err);
+            if (rc) {
+                break;
+            }
+            next_snap += snap_every;
+        }
+        if (opt && opt->progress && (now() - last_report > 0.5 || k == warm_samples + run_samples)) {
+            last_report = now();
+            double t_end = (double)(warm_samples + run_samples) * (double)per_sample * dt;
+            double rate = stepping > 0.0 ? (double)scene->N * (double)gr_sim_steps(sim) / stepping : 0.0;
+            gr_progress p = {.t = t, .t_end = t_end, .wall = now() - start,
+                             .eta = t > 0.0 ? (now() - start) * (t_end - t) / t : 0.0,
+                             .particle_steps_per_second = rate, .warmup = !sampling};
+            opt->progress(&p, opt->user);
+        }
+    }
+    res->samples = blk.count[0];
+    res->steps = gr_sim_steps(sim);
+    res->collisions = gr_sim_collisions(sim);
+    res->wall_seconds = now() - start;
+    res->particle_steps_per_second = stepping > 0.0 ? (double)scene->N * (double)res->steps / stepping : 0.0;
+    res->ledger = gr_sim_ledger(sim);
+    res->T_mean = gr_blocking_mean(&blk);
+    res->T_stderr = gr_blocking_stderr(&blk, NULL, &res->T_stderr_converged);
+    gr_error io_err = {0};
+    int io = rc && !strcmp(status, "completed") ? rc : GR_OK; /* a snapshot write failure */
+    if (io) {
+        status = "failed";
+        snprintf(diagnosis, sizeof diagnosis, "%s", err->message);
+    }
+    int rc_t = gr_file_commit(&ft, &io_err);
+    int rc_l = gr_file_commit(&fl, rc_t ? &step_err : &io_err);
+    int rc_b = write_blocks(dir, scene, hash, &blk, &io_err);
+    const char *plots = "not requested";
+    char plot_note[300];
+    if (scene->plots) {
+        plots = gr_plot_run(dir, scene->dim, plot_note, sizeof plot_note) == GR_OK ? "temperature.png, ledger.png" : plot_note;
+    }
+    int rc_s = write_summary(dir, scene, sim, res, &blk, status, diagnosis[0] ? diagnosis : NULL, plots, &io_err);
+    gr_sim_free(sim);
+    if (strcmp(status, "unstable") == 0) {
+        *err = step_err;
+        return GR_EUNSTABLE;
+    }
+    if (io) {
+        return io;
+    }
+    if (rc_t || rc_l || rc_b || rc_s) {
+        *err = io_err;
+        return GR_EIO;
+    }
+    return GR_OK;
+}

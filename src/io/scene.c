@@ -1,0 +1,619 @@
+/* Scene files: INI (inih) + `--set section.key=value` overrides -> a validated gr_scene.
+ *
+ * Every engine key is one row of `keys` below (type, default, unit, range, doc); [model] keys
+ * come from the models' own parameter tables. The same rows fill defaults, validate input and
+ * generate docs/scene-keys.md, so documentation cannot drift from the parser. Every error names
+ * where the value came from (file and line, or the --set argument), the key and the allowed
+ * range. */
+#include <errno.h>
+#include <ini.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "granule/scene.h"
+
+typedef enum { K_DOUBLE, K_INT, K_BOOL, K_UINT64, K_STRING, K_ENUM, K_NORMAL, K_TANGENTIAL } key_type;
+
+typedef struct scene_key {
+    const char *section;
+    const char *name;
+    const char *unit;
+    key_type type;
+    const char *def; /* default, parsed like user input; NULL = unset */
+    double min, max;
+    bool min_open, max_open;
+    const char *choices; /* K_ENUM: "a|b|c" in enum order */
+    const char *doc;
+    size_t offset;
+} scene_key;
+
+#define OFF(f) offsetof(gr_scene, f)
+static const scene_key keys[] = {
+    {"system", "dim", "", K_INT, "2", 1, 2, false, false, NULL, "1 (periodic line) or 2 (periodic square)", OFF(dim)},
+    {"system", "N", "", K_INT, "2000", 1, 1e8, false, false, NULL, "number of particles", OFF(N)},
+    {"system", "L", "m", K_DOUBLE, "0.2", 0, INFINITY, true, true, NULL, "box side (2D) or ring length (1D); give at most one of L, packing_fraction, reduced_length", OFF(L)},
+    {"system", "packing_fraction", "", K_DOUBLE, NULL, 0, 0.9069, true, false, NULL, "2D only: sets L from phi = N pi r^2 / L^2 (2.24); hexagonal maximum 0.9069", OFF(packing_fraction)},
+    {"system", "reduced_length", "m", K_DOUBLE, NULL, 0, INFINITY, false, true, NULL, "1D only: sets L from L' = L - N d (sec. 3.1)", OFF(reduced_length)},
+    {"system", "radius", "m", K_DOUBLE, "1.5e-3", 0, INFINITY, true, true, NULL, "particle radius r (Table 2.2)", OFF(radius)},
+    {"system", "mass", "kg", K_DOUBLE, "3.53e-5", 0, INFINITY, true, true, NULL, "particle mass M (Table 2.2)", OFF(mass)},
+    {"placement", "kind", "", K_ENUM, "hexagonal", 0, 0, false, false, "hexagonal|square|uniform|cluster|random", "initial placement (sec. 2.1.4, Fig. 2.4): hexagonal or square bed from the bottom of the box, uniform = equal area (2D) or spacing L/N (1D) per particle, cluster = one touching cluster in the middle, random = random sequential addition (phi <= 0.5)", OFF(placement)},
+    {"placement", "v0", "m/s", K_DOUBLE, "0.1", 0, INFINITY, false, true, NULL, "initial velocities v0 * U(-0.5, 0.5) per component (sec. 2.2.2), mean removed", OFF(v0)},
+    {"model", "normal", "", K_NORMAL, "spring_dashpot", 0, 0, false, false, NULL, "normal collision model (granule models lists them)", OFF(normal)},
+    {"model", "tangential", "", K_TANGENTIAL, "none", 0, 0, false, false, NULL, "none | tangential_dashpot | sliding_friction (2D only)", OFF(tangential)},
+    {"noise", "D", "N^2 s", K_DOUBLE, "1e-8", 0, INFINITY, false, true, NULL, "noise strength (2.15, 2.22); 0 switches the random force off (Table 2.2: 1e-8)", OFF(D)},
+    {"noise", "mode", "", K_ENUM, "symmetrised", 0, 0, false, false, "none|symmetrised|com", "symmetrised: forces shifted to sum to zero every step (2.18); com: centre-of-mass velocity removed every com_interval (sec. 2.3.1); none: no random force", OFF(noise_mode)},
+    {"noise", "com_interval", "s", K_DOUBLE, "1e-3", 0, INFINITY, true, true, NULL, "com mode: time between centre-of-mass velocity removals", OFF(com_interval)},
+    {"integrator", "kind", "", K_ENUM, "verlet", 0, 0, false, false, "verlet", "time stepper: velocity Verlet (docs/integrator.md)", OFF(integrator)},
+    {"integrator", "dt", "s", K_DOUBLE, NULL, 0, INFINITY, true, true, NULL, "time step; give dt or steps_per_contact, not both", OFF(dt)},
+    {"integrator", "steps_per_contact", "", K_DOUBLE, "50", 10, 1e9, false, false, NULL, "dt = t_c / steps_per_contact, t_c = duration of a binary contact; fewer than 10 is refused (sec. 2.1.2)", OFF(steps_per_contact)},
+    {"integrator", "force_dt", "", K_BOOL, "false", 0, 1, false, false, NULL, "accept a dt larger than t_c / 10 (results will be wrong; for stability studies)", OFF(force_dt)},
+    {"integrator", "skin", "d", K_DOUBLE, "0.3", 0, 10, false, false, NULL, "Verlet-list skin in diameters; the list is rebuilt when a particle has moved skin/2; 0 rebuilds the cell list every step", OFF(skin)},
+    {"run", "warmup", "s", K_DOUBLE, "1.0", 0, INFINITY, false, true, NULL, "simulated time before sampling starts", OFF(warmup)},
+    {"run", "duration", "s", K_DOUBLE, "10.0", 0, INFINITY, false, true, NULL, "simulated time of sampling", OFF(duration)},
+    {"run", "sample_every", "s", K_DOUBLE, "1e-3", 0, INFINITY, true, true, NULL, "interval between samples (uniform in time)", OFF(sample_every)},
+    {"run", "seed", "", K_UINT64, "1", 0, 1.8446744073709552e19, false, false, NULL, "random seed: placement, initial velocities and noise are pure functions of it", OFF(seed)},
+    {"run", "progress", "", K_BOOL, "true", 0, 1, false, false, NULL, "progress line with ETA on a terminal (never in CI logs or when stderr is not a terminal)", OFF(progress)},
+    {"output", "dir", "", K_STRING, "out", 0, 0, false, false, NULL, "output folder (granule run --out overrides it)", OFF(out_dir)},
+    {"output", "snapshot_every", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "interval between extended-XYZ snapshots; 0 = none", OFF(snapshot_every)},
+    {"output", "plots", "", K_BOOL, "true", 0, 1, false, false, NULL, "write PNG plots with gnuplot at the end of the run (skipped with a note if gnuplot is missing)", OFF(plots)},
+};
+#undef OFF
+static const int n_keys = sizeof keys / sizeof keys[0];
+
+const char *gr_placement_name(gr_placement_kind k)
+{
+    static const char *names[] = {"hexagonal", "square", "uniform", "cluster", "random"};
+    return names[k];
+}
+
+const char *gr_noise_mode_name(gr_noise_mode m)
+{
+    static const char *names[] = {"none", "symmetrised", "com"};
+    return names[m];
+}
+
+/* ---------- values ---------- */
+
+typedef struct where {
+    const char *file; /* NULL for --set */
+    int line;
+    const char *assignment; /* the --set argument */
+} where;
+
+static int fail_at(gr_error *err, const where *w, const char *section, const char *name,
+                   const char *fmt, const char *detail)
+{
+    char loc[1200];
+    if (w->file) {
+        snprintf(loc, sizeof loc, "%s:%d", w->file, w->line);
+    } else {
+        snprintf(loc, sizeof loc, "--set %s", w->assignment ? w->assignment : "");
+    }
+    char msg[900];
+    snprintf(msg, sizeof msg, fmt, detail);
+    return GR_FAIL(err, GR_EINVAL, "%s: [%s] %s: %s", loc, section, name, msg);
+}
+
+static void range_text(char *buf, size_t n, double min, double max, bool min_open, bool max_open)
+{
+    snprintf(buf, n, "%c%g, %s%c", min_open ? '(' : '[', min, isinf(max) ? "inf" : "", max_open ? ')' : ']');
+    if (!isinf(max)) {
+        snprintf(buf, n, "%c%g, %g%c", min_open ? '(' : '[', min, max, max_open ? ')' : ']');
+    }
+}
+
+static bool parse_double(const char *v, double *out)
+{
+    char *end;
+    errno = 0;
+    double x = strtod(v, &end);
+    while (*end == ' ' || *end == '\t') {
+        end++;
+    }
+    if (end == v || *end || errno == ERANGE || !isfinite(x)) {
+        return false;
+    }
+    *out = x;
+    return true;
+}
+
+static bool parse_bool(const char *v, bool *out)
+{
+    static const char *yes[] = {"true", "yes", "on", "1"}, *no[] = {"false", "no", "off", "0"};
+    for (int i = 0; i < 4; i++) {
+        if (strcasecmp(v, yes[i]) == 0) {
+            *out = true;
+            return true;
+        }
+        if (strcasecmp(v, no[i]) == 0) {
+            *out = false;
+            return true;
+        }
+    }
+    return false;
+}
+
+static int check_range(double x, double min, double max, bool min_open, bool max_open)
+{
+    return !(x < min || (min_open && x == min) || x > max || (max_open && x == max));
+}
+
+/* Set a numeric parameter described by (type, range) at `slot`. */
+static int set_number(void *slot, key_type type, double min, double max, bool min_open,
+                      bool max_open, const char *value, const where *w, const char *section,
+                      const char *name, gr_error *err)
+{
+    char range[96], detail[256];
+    range_text(range, sizeof range, min, max, min_open, max_open);
+    if (type == K_BOOL) {
+        bool b;
+        if (!parse_bool(value, &b)) {
+            snprintf(detail, sizeof detail, "'%s' is not a boolean; allowed: true | false", value);
+            return fail_at(err, w, section, name, "%s", detail);
+        }
+        *(bool *)slot = b;
+        return GR_OK;
+    }
+    double x;
+    if (!parse_double(value, &x)) {
+        snprintf(detail, sizeof detail, "'%s' is not a number; allowed range %s", value, range);
+        return fail_at(err, w, section, name, "%s", detail);
+    }
+    if (!check_range(x, min, max, min_open, max_open)) {
+        snprintf(detail, sizeof detail, "%s is out of range; allowed range %s", value, range);
+        return fail_at(err, w, section, name, "%s", detail);
+    }
+    if ((type == K_INT || type == K_UINT64) && x != floor(x)) {
+        snprintf(detail, sizeof detail, "%s is not an integer; allowed range %s", value, range);
+        return fail_at(err, w, section, name, "%s", detail);
+    }
+    if (type == K_INT) {
+        *(int *)slot = (int)x;
+    } else if (type == K_UINT64) {
+        *(uint64_t *)slot = strtoull(value, NULL, 10);
+    } else {
+        *(double *)slot = x;
+    }
+    return GR_OK;
+}
+
+static const gr_param *find_model_param(const char *name, const gr_model **owner)
+{
+    for (int m = 0; gr_models[m]; m++) {
+        for (int i = 0; i < gr_models[m]->n_params; i++) {
+            if (strcmp(gr_models[m]->params[i].name, name) == 0) {
+                *owner = gr_models[m];
+                return &gr_models[m]->params[i];
+            }
+        }
+    }
+    return NULL;
+}
+
+static void append_known_keys(char *buf, size_t n, const char *section)
+{
+    size_t len = strlen(buf);
+    for (int i = 0; i < n_keys; i++) {
+        if (strcmp(keys[i].section, section) == 0) {
+            len += (size_t)snprintf(buf + len, len < n ? n - len : 0, "%s%s", len ? ", " : "", keys[i].name);
+        }
+    }
+    if (strcmp(section, "model") == 0) {
+        for (int m = 0; gr_models[m]; m++) {
+            for (int i = 0; i < gr_models[m]->n_params; i++) {
+                len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s", gr_models[m]->params[i].name);
+            }
+        }
+    }
+}
+
+/* ---------- loading ---------- */
+
+/* Which of the mutually exclusive keys were given, and where (for messages). */
+typedef struct given {
+    bool L, packing_fraction, reduced_length, dt, steps_per_contact;
+    bool model_param[64]; /* by index in the flattened model-parameter list */
+    where at_L, at_pf, at_rl, at_dt, at_spc;
+} given;
+
+typedef struct loader {
+    gr_scene *scene;
+    given g;
+    gr_error *err;
+    int rc;
+    const char *file;
+    int line;
+    bool defaults; /* applying defaults: do not mark keys as given */
+    char seen[128][136]; /* "section.key" seen in the file, to refuse duplicates */
+    int n_seen;
+} loader;
+
+static int apply(loader *ld, const char *section, const char *name, const char *value, const where *w)
+{
+    gr_scene *s = ld->scene;
+    gr_error *err = ld->err;
+    char detail[700];
+    for (int i = 0; i < n_keys; i++) {
+        const scene_key *k = &keys[i];
+        if (strcmp(k->section, section) != 0 || strcmp(k->name, name) != 0) {
+            continue;
+        }
+        void *slot = (char *)s + k->offset;
+        int rc = GR_OK;
+        switch (k->type) {
+        case K_STRING: {
+            size_t cap = sizeof s->out_dir;
+            if (strlen(value) == 0 || strlen(value) >= cap) {
+                snprintf(detail, sizeof detail, "must be a non-empty path shorter than %zu characters", cap);
+                return fail_at(err, w, section, name, "%s", detail);
+            }
+            snprintf((char *)slot, cap, "%s", value);
+            break;
+        }
+        case K_ENUM: {
+            int idx = 0, found = -1;
+            const char *c = k->choices;
+            while (*c) {
+                size_t len = strcspn(c, "|");
+                if (strlen(value) == len && strncasecmp(c, value, len) == 0) {
+                    found = idx;
+                }
+                c += len + (c[len] == '|');
+                idx++;
+            }
+            if (found < 0) {
+                snprintf(detail, sizeof detail, "'%s' is not allowed; choose one of %s", value, k->choices);
+                return fail_at(err, w, section, name, "%s", detail);
+            }
+            *(int *)slot = found;
+            break;
+        }
+        case K_NORMAL:
+        case K_TANGENTIAL: {
+            const gr_model *m = strcmp(value, "none") == 0 ? NULL : gr_model_find(value);
+            gr_model_kind want = k->type == K_NORMAL ? GR_MODEL_NORMAL : GR_MODEL_TANGENTIAL;
+            if ((!m && (k->type == K_NORMAL || strcmp(value, "none") != 0)) || (m && !(m->kind & want))) {
+                char list[256] = "";
+                size_t len = 0;
+                if (k->type == K_TANGENTIAL) {
+                    len += (size_t)snprintf(list, sizeof list, "none");
+                }
+                for (int j = 0; gr_models[j]; j++) {
+                    if (gr_models[j]->kind & want) {
+                        len += (size_t)snprintf(list + len, sizeof list - len, "%s%s", len ? " | " : "", gr_models[j]->name);
+                    }
+                }
+                snprintf(detail, sizeof detail, "'%s' is not a %s model; choose one of %s", value,
+                         k->type == K_NORMAL ? "normal" : "tangential", list);
+                return fail_at(err, w, section, name, "%s", detail);
+            }
+            *(const gr_model **)slot = m;
+            break;
+        }
+        default:
+            rc = set_number(slot, k->type, k->min, k->max, k->min_open, k->max_open, value, w,
+                            section, name, err);
+        }
+        if (rc != GR_OK) {
+            return rc;
+        }
+        if (!ld->defaults) {
+            given *g = &ld->g;
+            if (k->offset == offsetof(gr_scene, L)) { g->L = true; g->at_L = *w; }
+            if (k->offset == offsetof(gr_scene, packing_fraction)) { g->packing_fraction = true; g->at_pf = *w; }
+            if (k->offset == offsetof(gr_scene, reduced_length)) { g->reduced_length = true; g->at_rl = *w; }
+            if (k->offset == offsetof(gr_scene, dt)) { g->dt = true; g->at_dt = *w; }
+            if (k->offset == offsetof(gr_scene, steps_per_contact)) { g->steps_per_contact = true; g->at_spc = *w; }
+        }
+        return GR_OK;
+    }
+    if (strcmp(section, "model") == 0) {
+        const gr_model *owner = NULL;
+        const gr_param *p = find_model_param(name, &owner);
+        if (p) {
+            key_type t = p->type == GR_PARAM_BOOL ? K_BOOL : K_DOUBLE;
+            return set_number((char *)&s->contact + p->offset, t, p->min, p->max, p->min_open,
+                              p->max_open, value, w, section, name, err);
+        }
+    }
+    char known[600] = "";
+    bool section_known = false;
+    for (int i = 0; i < n_keys; i++) {
+        section_known |= strcmp(keys[i].section, section) == 0;
+    }
+    if (!section_known) {
+        snprintf(detail, sizeof detail, "unknown section [%s]; sections: system, placement, model, noise, integrator, run, output", section);
+        return fail_at(err, w, section, name, "%s", detail);
+    }
+    append_known_keys(known, sizeof known, section);
+    snprintf(detail, sizeof detail, "unknown key; keys of [%s]: %s", section, known);
+    return fail_at(err, w, section, name, "%s", detail);
+}
+
+static int scene_ini_line(void *user, const char *section, const char *name, const char *value)
+{
+    loader *ld = user;
+    if (ld->rc != GR_OK) {
+        return 0;
+    }
+    where w = {ld->file, ld->line, NULL};
+    char id[136];
+    snprintf(id, sizeof id, "%.64s.%.64s", section, name);
+    for (int i = 0; i < ld->n_seen; i++) {
+        if (strcmp(ld->seen[i], id) == 0) {
+            ld->rc = fail_at(ld->err, &w, section, name, "%s", "given twice in the same file");
+            return 0;
+        }
+    }
+    if (ld->n_seen < 128) {
+        snprintf(ld->seen[ld->n_seen++], sizeof ld->seen[0], "%s", id);
+    }
+    ld->rc = apply(ld, section, name, value, &w);
+    return ld->rc == GR_OK;
+}
+
+/* inih reads one line per call of the reader: counting calls gives the line number. */
+typedef struct line_reader {
+    FILE *f;
+    loader *ld;
+} line_reader;
+
+static char *read_line(char *str, int num, void *stream)
+{
+    line_reader *r = stream;
+    char *s = fgets(str, num, r->f);
+    if (s) {
+        r->ld->line++;
+    }
+    return s;
+}
+
+static void apply_defaults(loader *ld)
+{
+    ld->defaults = true;
+    where w = {"<defaults>", 0, NULL};
+    for (int i = 0; i < n_keys; i++) {
+        if (keys[i].def) {
+            apply(ld, keys[i].section, keys[i].name, keys[i].def, &w);
+        }
+    }
+    for (int m = 0; gr_models[m]; m++) {
+        for (int i = 0; i < gr_models[m]->n_params; i++) {
+            const gr_param *p = &gr_models[m]->params[i];
+            char *slot = (char *)&ld->scene->contact + p->offset;
+            if (p->type == GR_PARAM_BOOL) {
+                *(bool *)slot = p->def != 0.0;
+            } else {
+                *(double *)slot = p->def;
+            }
+        }
+    }
+    ld->defaults = false;
+}
+
+void gr_scene_default(gr_scene *s)
+{
+    memset(s, 0, sizeof *s);
+    gr_error err = {0};
+    loader ld = {.scene = s, .err = &err};
+    apply_defaults(&ld);
+    s->reduced_length = -1.0;
+    snprintf(s->source, sizeof s->source, "<defaults>");
+}
+
+static void warn(gr_scene *s, const char *fmt, const char *a, const char *b)
+{
+    size_t len = strlen(s->warnings);
+    snprintf(s->warnings + len, sizeof s->warnings - len, fmt, a, b);
+}
+
+static bool model_has_param(const gr_model *m, const char *name)
+{
+    for (int i = 0; m && i < m->n_params; i++) {
+        if (strcmp(m->params[i].name, name) == 0) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* Cross-key checks and derived quantities. */
+static int resolve(gr_scene *s, const given *g, const char *const *model_keys, int n_model_keys,
+                   gr_error *err)
+{
+    double d = 2.0 * s->radius;
+    int n_len = g->L + g->packing_fraction + g->reduced_length;
+    if (n_len > 1) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [system] give only one of L, packing_fraction, reduced_length", s->source);
+    }
+    if (g->packing_fraction) {
+        if (s->dim != 2) {
+            return fail_at(err, &g->at_pf, "system", "packing_fraction", "%s", "only for dim = 2; use reduced_length or L in 1D");
+        }
+        s->L = sqrt(s->N * M_PI * s->radius * s->radius / s->packing_fraction);
+    }
+    if (g->reduced_length) {
+        if (s->dim != 1) {
+            return fail_at(err, &g->at_rl, "system", "reduced_length", "%s", "only for dim = 1; use packing_fraction or L in 2D");
+        }
+        s->L = s->reduced_length + s->N * d;
+    }
+    if (s->dim == 2) {
+        s->packing_fraction = s->N * M_PI * s->radius * s->radius / (s->L * s->L);
+        s->reduced_length = -1.0;
+    } else {
+        s->reduced_length = s->L - s->N * d;
+        s->packing_fraction = 0.0;
+    }
+    if (s->dim == 1 && s->reduced_length < 0.0) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [system] L = %g m is shorter than N d = %g m: the particles cannot fit on the ring (reduced_length L' = L - N d must be >= 0)",
+                       s->source, s->L, s->N * d);
+    }
+    if (s->dim == 2 && s->packing_fraction > M_PI / (2.0 * sqrt(3.0))) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [system] packing fraction N pi r^2 / L^2 = %.4f exceeds hexagonal close packing 0.9069",
+                       s->source, s->packing_fraction);
+    }
+    if (g->dt && g->steps_per_contact) {
+        return fail_at(err, &g->at_dt, "integrator", "dt", "%s", "give dt or steps_per_contact, not both");
+    }
+    if (!g->dt) {
+        s->dt = 0.0;
+    }
+    if (s->dim == 1) {
+        if (s->tangential) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [model] tangential = %s: tangential laws need dim = 2 (a 1D collision is head-on); use tangential = none",
+                           s->source, s->tangential->name);
+        }
+        if (s->placement == GR_PLACE_HEXAGONAL || s->placement == GR_PLACE_SQUARE) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [placement] kind = %s is a 2D packing; in 1D choose uniform, cluster or random",
+                           s->source, gr_placement_name(s->placement));
+        }
+    }
+    if (s->D == 0.0) {
+        s->noise_mode = GR_NOISE_NONE;
+    }
+    if (s->noise_mode == GR_NOISE_NONE) {
+        s->D = 0.0;
+    }
+    for (int i = 0; i < n_model_keys; i++) {
+        if (!model_has_param(s->normal, model_keys[i]) && !model_has_param(s->tangential, model_keys[i])) {
+            const gr_model *owner = NULL;
+            find_model_param(model_keys[i], &owner);
+            warn(s, "[model] %s is ignored: it belongs to %s, which this scene does not use\n",
+                 model_keys[i], owner ? owner->name : "?");
+        }
+    }
+    return GR_OK;
+}
+
+int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, int n_overrides,
+                  gr_error *err)
+{
+    gr_scene_default(s);
+    loader ld = {.scene = s, .err = err, .rc = GR_OK, .file = path};
+    if (path) {
+        snprintf(s->source, sizeof s->source, "%s", path);
+        FILE *f = fopen(path, "r");
+        if (!f) {
+            return GR_FAIL(err, GR_EIO, "%s: cannot open scene file: %s", path, strerror(errno));
+        }
+        line_reader r = {f, &ld};
+        int bad = ini_parse_stream(read_line, &r, scene_ini_line, &ld);
+        fclose(f);
+        if (ld.rc != GR_OK) {
+            return ld.rc;
+        }
+        if (bad > 0) {
+            return GR_FAIL(err, GR_EINVAL, "%s:%d: not an INI line (expected [section] or key = value)", path, bad);
+        }
+        if (bad < 0) {
+            return GR_FAIL(err, GR_EIO, "%s: could not be read", path);
+        }
+    }
+    for (int i = 0; i < n_overrides; i++) {
+        const char *a = overrides[i];
+        const char *dot = strchr(a, '.'), *eq = strchr(a, '=');
+        where w = {NULL, 0, a};
+        if (!dot || !eq || dot > eq || dot == a || eq == dot + 1) {
+            return GR_FAIL(err, GR_EINVAL, "--set %s: expected section.key=value, e.g. --set model.eps_n=0.5", a);
+        }
+        char section[64], name[64], value[1100];
+        snprintf(section, sizeof section, "%.*s", (int)(dot - a), a);
+        snprintf(name, sizeof name, "%.*s", (int)(eq - dot - 1), dot + 1);
+        snprintf(value, sizeof value, "%s", eq + 1);
+        int rc = apply(&ld, section, name, value, &w);
+        if (rc != GR_OK) {
+            return rc;
+        }
+        if (ld.n_seen < 128) {
+            snprintf(ld.seen[ld.n_seen++], sizeof ld.seen[0], "%s.%s", section, name);
+        }
+    }
+    /* [model] parameters that were given, for the "ignored" warning */
+    const char *model_keys[64];
+    int n_model_keys = 0;
+    for (int i = 0; i < ld.n_seen && n_model_keys < 64; i++) {
+        if (strncmp(ld.seen[i], "model.", 6) == 0) {
+            const char *name = ld.seen[i] + 6;
+            if (strcmp(name, "normal") && strcmp(name, "tangential")) {
+                bool dup = false;
+                for (int j = 0; j < n_model_keys; j++) {
+                    dup |= strcmp(model_keys[j], name) == 0;
+                }
+                if (!dup) {
+                    model_keys[n_model_keys++] = name;
+                }
+            }
+        }
+    }
+    return resolve(s, &ld.g, model_keys, n_model_keys, err);
+}
+
+/* ---------- documentation ---------- */
+
+static const char *type_name(key_type t)
+{
+    switch (t) {
+    case K_DOUBLE: return "number";
+    case K_INT: return "integer";
+    case K_BOOL: return "true/false";
+    case K_UINT64: return "integer";
+    case K_STRING: return "path";
+    case K_ENUM: return "choice";
+    case K_NORMAL: return "model";
+    case K_TANGENTIAL: return "model";
+    }
+    return "";
+}
+
+void gr_scene_keys_markdown(FILE *out)
+{
+    fprintf(out, "# Scene keys\n\n"
+                 "Generated by `granule keys` from the parser's own tables (src/io/scene.c and the\n"
+                 "models' parameter tables), so it always matches what the parser accepts. Ranges\n"
+                 "use [ ] for inclusive and ( ) for exclusive bounds. Any key can be overridden on\n"
+                 "the command line with `--set section.key=value`.\n");
+    const char *section = "";
+    for (int i = 0; i < n_keys; i++) {
+        const scene_key *k = &keys[i];
+        if (strcmp(section, k->section) != 0) {
+            section = k->section;
+            fprintf(out, "\n## [%s]\n\n| key | type | unit | default | allowed | meaning |\n|---|---|---|---|---|---|\n", section);
+        }
+        char range[96] = "";
+        if (k->type == K_ENUM) {
+            snprintf(range, sizeof range, "%s", k->choices);
+            for (char *c = range; *c; c++) {
+                if (*c == '|') {
+                    *c = '/';
+                }
+            }
+        } else if (k->type == K_DOUBLE || k->type == K_INT) {
+            range_text(range, sizeof range, k->min, k->max, k->min_open, k->max_open);
+        }
+        fprintf(out, "| `%s` | %s | %s | %s | %s | %s |\n", k->name, type_name(k->type), k->unit,
+                k->def ? k->def : "(unset)", range, k->doc);
+        if (strcmp(k->name, "tangential") == 0) {
+            for (int m = 0; gr_models[m]; m++) {
+                for (int j = 0; j < gr_models[m]->n_params; j++) {
+                    const gr_param *p = &gr_models[m]->params[j];
+                    char r[96] = "";
+                    if (p->type != GR_PARAM_BOOL) {
+                        range_text(r, sizeof r, p->min, p->max, p->min_open, p->max_open);
+                    }
+                    fprintf(out, "| `%s` | %s | %s | %s%g | %s | (%s) %s |\n", p->name,
+                            p->type == GR_PARAM_BOOL ? "true/false" : "number", p->unit,
+                            "", p->def, r, gr_models[m]->name, p->doc);
+                }
+            }
+        }
+    }
+}

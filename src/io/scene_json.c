@@ -1,0 +1,80 @@
+/* The resolved scene as JSON (for summary.json) and its hash (for CSV headers). */
+#include <cjson/cJSON.h>
+#include <stdio.h>
+
+#include "io/scene_json.h"
+
+cJSON *gr_scene_to_json(const gr_scene *s)
+{
+    cJSON *root = cJSON_CreateObject();
+    cJSON *sys = cJSON_AddObjectToObject(root, "system");
+    cJSON_AddNumberToObject(sys, "dim", s->dim);
+    cJSON_AddNumberToObject(sys, "N", s->N);
+    cJSON_AddNumberToObject(sys, "L", s->L);
+    if (s->dim == 2) {
+        cJSON_AddNumberToObject(sys, "packing_fraction", s->packing_fraction);
+    } else {
+        cJSON_AddNumberToObject(sys, "reduced_length", s->reduced_length);
+    }
+    cJSON_AddNumberToObject(sys, "radius", s->radius);
+    cJSON_AddNumberToObject(sys, "mass", s->mass);
+    cJSON *pl = cJSON_AddObjectToObject(root, "placement");
+    cJSON_AddStringToObject(pl, "kind", gr_placement_name(s->placement));
+    cJSON_AddNumberToObject(pl, "v0", s->v0);
+    cJSON *m = cJSON_AddObjectToObject(root, "model");
+    cJSON_AddStringToObject(m, "normal", s->normal ? s->normal->name : "none");
+    cJSON_AddStringToObject(m, "tangential", s->tangential ? s->tangential->name : "none");
+    const gr_model *used[2] = {s->normal, s->tangential};
+    for (int u = 0; u < 2; u++) {
+        for (int i = 0; used[u] && i < used[u]->n_params; i++) {
+            const gr_param *p = &used[u]->params[i];
+            const char *slot = (const char *)&s->contact + p->offset;
+            if (p->type == GR_PARAM_BOOL) {
+                cJSON_AddBoolToObject(m, p->name, *(const bool *)slot);
+            } else {
+                cJSON_AddNumberToObject(m, p->name, *(const double *)slot);
+            }
+        }
+    }
+    cJSON *nz = cJSON_AddObjectToObject(root, "noise");
+    cJSON_AddNumberToObject(nz, "D", s->D);
+    cJSON_AddStringToObject(nz, "mode", gr_noise_mode_name(s->noise_mode));
+    if (s->noise_mode == GR_NOISE_COM) {
+        cJSON_AddNumberToObject(nz, "com_interval", s->com_interval);
+    }
+    cJSON *in = cJSON_AddObjectToObject(root, "integrator");
+    cJSON_AddStringToObject(in, "kind", "verlet");
+    if (s->dt > 0.0) {
+        cJSON_AddNumberToObject(in, "dt", s->dt);
+    } else {
+        cJSON_AddNumberToObject(in, "steps_per_contact", s->steps_per_contact);
+    }
+    cJSON_AddBoolToObject(in, "force_dt", s->force_dt);
+    cJSON_AddNumberToObject(in, "skin", s->skin);
+    cJSON *run = cJSON_AddObjectToObject(root, "run");
+    cJSON_AddNumberToObject(run, "warmup", s->warmup);
+    cJSON_AddNumberToObject(run, "duration", s->duration);
+    cJSON_AddNumberToObject(run, "sample_every", s->sample_every);
+    char seed[32];
+    snprintf(seed, sizeof seed, "%llu", (unsigned long long)s->seed);
+    cJSON_AddRawToObject(run, "seed", seed);
+    cJSON *out = cJSON_AddObjectToObject(root, "output");
+    cJSON_AddStringToObject(out, "dir", s->out_dir);
+    cJSON_AddNumberToObject(out, "snapshot_every", s->snapshot_every);
+    cJSON_AddBoolToObject(out, "plots", s->plots);
+    return root;
+}
+
+uint64_t gr_scene_hash(const gr_scene *s)
+{
+    cJSON *j = gr_scene_to_json(s);
+    cJSON_DeleteItemFromObject(j, "output"); /* where results go does not change the physics */
+    char *text = cJSON_PrintUnformatted(j);
+    uint64_t h = 1469598103934665603ull; /* FNV-1a */
+    for (const char *c = text; c && *c; c++) {
+        h = (h ^ (unsigned char)*c) * 1099511628211ull;
+    }
+    cJSON_free(text);
+    cJSON_Delete(j);
+    return h;
+}
