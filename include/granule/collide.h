@@ -44,7 +44,7 @@ typedef struct gr_collide_result {
     double eps_t_measured; /* g'.t' / g.t (NaN for a head-on collision) */
     double impact_angle;   /* degrees between -g and the normal at impact */
     double momentum_error; /* |p' - p| / |p| */
-    double normal_impulse, tangential_impulse; /* magnitudes, N s */
+    double normal_impulse, tangential_impulse; /* int |F_n| dt and int |F_t| dt, N s */
     bool tangential_reversed; /* the tangential relative velocity changed sign */
     double dt;             /* the time step used (0 for the reference) */
 } gr_collide_result;
@@ -53,7 +53,7 @@ typedef struct gr_collide_result {
 int gr_collide_run(const gr_collide_setup *s, const gr_collision_case *cs, gr_collide_result *out,
                    gr_error *err);
 
-/* Integrate the same contact with CVODE (BDF, rtol 1e-10) and root-finding for the end of the
+/* Integrate the same contact with CVODE (Adams, rtol 1e-12, scaled units) and root-finding for the end of the
  * contact; dt and phase are ignored. */
 int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
                          gr_collide_result *out, gr_error *err);

@@ -21,7 +21,8 @@ static void usage(FILE *f)
             "eps_t_measured, impact_angle. --phases P averages P contact phases (start offsets within a\n"
             "time step). --reference also integrates the contact with SUNDIALS CVODE (rtol 1e-10) and\n"
             "adds reference_energy_loss. Defaults: case 1, spring_dashpot, eps 0.6, k 5e5 N/m,\n"
-            "r = 1.5 mm, dt = t_c/50.\n");
+            "r = 0.1 m (so the overlap v/w0 = 1 mm stays small), dt = t_c/50. For the RFM particles use\n"
+            "--mass 3.53e-5 --radius 1.5e-3.\n");
 }
 
 static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r)

@@ -26,8 +26,8 @@
  * n and CVODE restarts), and for unclamped friction the sign change of F_n inside |F_n|. The
  * right-hand side always uses the smooth continuation of the current regime, so each event is a
  * clean root rather than a kink inside a step. The impulses are integrated as two extra state
- * components, J_n = int F_n dt and J_t = int F_t dt (signed projections on the instantaneous n
- * and t), and reported as magnitudes.
+ * components, J_n = int |F_n| dt and J_t = int |F_t| dt (projections on the instantaneous n and
+ * t), so "friction impulse <= mu x normal impulse" also holds when the unclamped law pulls.
  *
  * Refused (GR_EINVAL / GR_EUNSTABLE, never integrated to a wrong answer): an unclamped contact
  * at critical or over-damping (zeta >= 1: xi decays to 0 but never returns to it, the pair
@@ -135,8 +135,8 @@ static int ref_rhs(sunrealtype t, N_Vector yv, N_Vector ydotv, void *user)
     yd[Y_U1] = y[Y_G1];
     yd[Y_G0] = s.fn * s.n[0] + s.ft * s.t[0];
     yd[Y_G1] = s.fn * s.n[1] + s.ft * s.t[1];
-    yd[Y_JN] = s.fn;
-    yd[Y_JT] = s.ft;
+    yd[Y_JN] = fabs(s.fn);
+    yd[Y_JT] = fabs(s.ft);
     return 0;
 }
 
