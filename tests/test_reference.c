@@ -125,7 +125,12 @@ START_TEST(test_unclamped_head_on)
     const double w = sqrt(w0 * w0 - beta * beta);
     assert_rel(r.contact_time, M_PI / w, 1e-7, "contact time pi/w");
     assert_rel(r.max_overlap, xi_max_exact(1.0, w0, beta), 1e-7, "max overlap");
-    assert_rel(r.normal_impulse, m12 * (1.0 + eps) * 1.0, 1e-7, "normal impulse m12 (1+eps) v");
+    /* int |F_n| dt exceeds the net impulse m12 (1+eps) v by twice the attractive tail's impulse */
+    ck_assert_msg(r.normal_impulse >= m12 * (1.0 + eps) * (1.0 - 1e-9),
+                  "int |F_n| dt = %.15g below the net impulse %.15g", r.normal_impulse, m12 * (1.0 + eps));
+    if (eps == 1.0) {
+        assert_rel(r.normal_impulse, 2.0 * m12, 1e-7, "elastic normal impulse 2 m12 v");
+    }
     ck_assert_double_eq_tol(r.tangential_impulse, 0.0, 1e-20);
     ck_assert_double_eq_tol(r.impact_angle, 0.0, 1e-12);
     ck_assert(isnan(r.eps_t_measured));
