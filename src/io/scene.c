@@ -42,7 +42,7 @@ static const scene_key keys[] = {
     {"placement", "kind", "", K_ENUM, "hexagonal", 0, 0, false, false, "hexagonal|square|uniform|cluster|random", "initial placement (sec. 2.1.4, Fig. 2.4): hexagonal or square bed from the bottom of the box, uniform = equal area (2D) or spacing L/N (1D) per particle, cluster = one touching cluster in the middle, random = random sequential addition (phi <= 0.5)", OFF(placement)},
     {"placement", "v0", "m/s", K_DOUBLE, "0.1", 0, INFINITY, false, true, NULL, "initial velocities v0 * U(-0.5, 0.5) per component (sec. 2.2.2), mean removed", OFF(v0)},
     {"model", "normal", "", K_NORMAL, "spring_dashpot", 0, 0, false, false, NULL, "normal collision model (granule models lists them)", OFF(normal)},
-    {"model", "tangential", "", K_TANGENTIAL, "none", 0, 0, false, false, NULL, "none | tangential_dashpot | sliding_friction (2D only)", OFF(tangential)},
+    {"model", "tangential", "", K_TANGENTIAL, "none", 0, 0, false, false, NULL, "none, tangential_dashpot or sliding_friction (2D only)", OFF(tangential)},
     {"noise", "D", "N^2 s", K_DOUBLE, "1e-8", 0, INFINITY, false, true, NULL, "noise strength (2.15, 2.22); 0 switches the random force off (Table 2.2: 1e-8)", OFF(D)},
     {"noise", "mode", "", K_ENUM, "symmetrised", 0, 0, false, false, "none|symmetrised|com", "symmetrised: forces shifted to sum to zero every step (2.18); com: centre-of-mass velocity removed every com_interval (sec. 2.3.1); none: no random force", OFF(noise_mode)},
     {"noise", "com_interval", "s", K_DOUBLE, "1e-3", 0, INFINITY, true, true, NULL, "com mode: time between centre-of-mass velocity removals", OFF(com_interval)},
@@ -609,9 +609,14 @@ void gr_scene_keys_markdown(FILE *out)
                     if (p->type != GR_PARAM_BOOL) {
                         range_text(r, sizeof r, p->min, p->max, p->min_open, p->max_open);
                     }
-                    fprintf(out, "| `%s` | %s | %s | %s%g | %s | (%s) %s |\n", p->name,
-                            p->type == GR_PARAM_BOOL ? "true/false" : "number", p->unit,
-                            "", p->def, r, gr_models[m]->name, p->doc);
+                    char def[32];
+                    snprintf(def, sizeof def, "%g", p->def);
+                    if (p->type == GR_PARAM_BOOL) {
+                        snprintf(def, sizeof def, "%s", p->def != 0.0 ? "true" : "false");
+                    }
+                    fprintf(out, "| `%s` | %s | %s | %s | %s | (%s) %s |\n", p->name,
+                            p->type == GR_PARAM_BOOL ? "true/false" : "number", p->unit, def, r,
+                            gr_models[m]->name, p->doc);
                 }
             }
         }
