@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "granule_commit.h"
 #include "granule_config.h"
 
 void cli_error(const char *fmt, ...)

@@ -348,13 +348,16 @@ static inline uint64_t to_bits(double d)
     return b;
 }
 
-/* Bits 11-62 of w as a uniform on [0, 1) (the 2^-52 grid: 1 + u is exact, so is the subtraction). */
+/* Bits 11-62 of w as a uniform on the 2^-52 grid in [0, 1) (1 + u is exact, and so is - 1). */
 static inline double u52(uint64_t w) { return from_bits((w >> 11 & ZIG_MANT) | ZIG_ONE) - 1.0; }
 /* The top 53 bits as a uniform on [0, 1), and on (0, 1] for logarithms. */
 static inline double u53(uint64_t w) { return (double)(w >> 11) * 0x1p-53; }
 static inline double u53_open0(uint64_t w) { return (double)((w >> 11) + 1) * 0x1p-53; }
 /* x with the sign bit of w (bit 63). */
-static inline double with_sign(double x, uint64_t w) { return from_bits(to_bits(x) ^ (w & ZIG_SIGN)); }
+static inline double with_sign(double x, uint64_t w)
+{
+    return from_bits(to_bits(x) ^ (w & ZIG_SIGN));
+}
 
 /* The fast path for the word w: the signed candidate, and whether it is accepted. */
 static inline double zig_fast(uint64_t w, int *ok)
@@ -489,8 +492,8 @@ static void prepare(const struct gen *g, uint32_t c, struct prep *p)
  * ILV_LO/HI interleave two vectors one element at a time, PAIR_LO/HI two elements at a time. */
 #define BATCH_KERNEL(NAME, TARGET, VT, VD, MUL, SWAP, WORD, GATHER, GE, IOTA, ILV_LO, ILV_HI,    \
                      PAIR_LO, PAIR_HI)                                                             \
-    TARGET static void NAME(const struct prep *p, int per, uint32_t pair0, int m, uint64_t *restrict w,  \
-                     double *restrict z, uint64_t *restrict bad)                                   \
+    TARGET static void NAME(const struct prep *p, int per, uint32_t pair0, int m,                  \
+                            uint64_t *restrict w, double *restrict z, uint64_t *restrict bad)      \
     {                                                                                              \
         enum { L = sizeof(VT) / 8 };                                                               \
         const VT m0v = (VT){0} + PHILOX_M4x32_0, m1v = (VT){0} + PHILOX_M4x32_1;                   \
@@ -519,8 +522,8 @@ static void prepare(const struct gen *g, uint32_t c, struct prep *p)
 
 /* First retry blocks (step, pair[i], w3[i]) for i < cnt (rounded up to L): words a[i], b[i]. */
 #define RETRY_KERNEL(NAME, TARGET, VT, MUL, SWAP, WORD)                                            \
-    TARGET static void NAME(const struct prep *p, int cnt, const uint64_t *pair, const uint64_t *w3,     \
-                     uint64_t *restrict a, uint64_t *restrict b)                                   \
+    TARGET static void NAME(const struct prep *p, int cnt, const uint64_t *pair,                   \
+                            const uint64_t *w3, uint64_t *restrict a, uint64_t *restrict b)        \
     {                                                                                              \
         const VT m0v = (VT){0} + PHILOX_M4x32_0, m1v = (VT){0} + PHILOX_M4x32_1;                   \
         for (int i = 0; i < cnt; i += (int)(sizeof(VT) / 8)) {                                     \
@@ -571,7 +574,8 @@ typedef double v8d __attribute__((vector_size(64)));
 #define SWAP4(a) ((v4u)_mm256_shuffle_epi32((__m256i)(a), 0xb1))
 #define WORD4(a, b) ((v4u)_mm256_blend_epi32((__m256i)(a), (__m256i)SWAP4(b), 0xaa))
 #define GATHER4(i, t) ((v4d)_mm256_i64gather_pd((t), (__m256i)(i), 8))
-#define GE4(u, t) ((uint64_t)_mm256_movemask_pd(_mm256_cmp_pd((__m256d)(u), (__m256d)(t), _CMP_GE_OQ)))
+#define GE4(u, t)                                                                                  \
+    ((uint64_t)_mm256_movemask_pd(_mm256_cmp_pd((__m256d)(u), (__m256d)(t), _CMP_GE_OQ)))
 
 #define MUL8(a, b) ((v8u)_mm512_mul_epu32((__m512i)(a), (__m512i)(b)))
 #define SWAP8(a) ((v8u)_mm512_shuffle_epi32((__m512i)(a), _MM_PERM_CDAB))

@@ -13,6 +13,7 @@
 
 #include "granule/analysis.h"
 #include "granule/run.h"
+#include "granule_commit.h"
 #include "granule_config.h"
 #include "io/files.h"
 #include "io/plot.h"
