@@ -1,0 +1,189 @@
+#!/usr/bin/env bash
+# Tests of the granule command line (SPEC sec. 7): --help everywhere, exit codes, one-line
+# refusals naming file:line and key, collide's JSON, models/keys listings, and a tiny run with
+# --set overrides that refuses to overwrite an earlier run unless --force.
+#
+# usage: tests/test_cli.sh path/to/granule
+# Prints "N passed, M failed" and exits non-zero if any check failed.
+set -euo pipefail
+
+if [[ $# -lt 1 || ! -x "$1" ]]; then
+    echo "usage: $0 path/to/granule" >&2
+    exit 2
+fi
+G=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/granule-test-cli-XXXXXX")
+trap 'rm -rf "$TMP"' EXIT
+export CI=1 # never a progress line
+
+passed=0
+failed=0
+pass() { passed=$((passed + 1)); echo "ok   $1"; }
+fail() { failed=$((failed + 1)); echo "FAIL $1"; [[ $# -gt 1 ]] && printf '     %s\n' "${@:2}"; return 0; }
+
+# run CMD...: sets $rc, $out, $err (never aborts the script on a non-zero status)
+run() {
+    set +e
+    "$@" >"$TMP/stdout" 2>"$TMP/stderr"
+    rc=$?
+    set -e
+    out=$(cat "$TMP/stdout")
+    err=$(cat "$TMP/stderr")
+}
+
+# ---------- --help ----------
+run "$G" --help
+if [[ $rc -eq 0 && $out == *usage* ]]; then pass "granule --help"; else fail "granule --help exits $rc" "$err"; fi
+
+# every subcommand listed under "commands:" in granule --help, plus the ones SPEC sec. 7 needs here
+mapfile -t cmds < <(awk '/^commands:/ {on = 1; next} on && /^  [a-z]/ {print $1} on && /^$/ {on = 0}' <<<"$out" | grep -vx help || true)
+for c in run collide models keys; do
+    [[ " ${cmds[*]} " == *" $c "* ]] || cmds+=("$c")
+done
+for c in "${cmds[@]}"; do
+    run "$G" "$c" --help
+    if [[ $rc -eq 0 && -n $out ]]; then pass "granule $c --help"; else fail "granule $c --help exits $rc (stdout ${#out} bytes)" "$err"; fi
+done
+
+# ---------- a refused scene ----------
+cat >"$TMP/bad.ini" <<'EOF'
+[system]
+dim = 2
+N = 50
+[model]
+eps_n = 1.5
+EOF
+run "$G" run "$TMP/bad.ini" --out "$TMP/bad-out"
+nlines=$(printf '%s' "$err" | grep -c '' || true)
+if [[ $rc -eq 2 ]]; then pass "run bad scene exits 2"; else fail "run bad scene exits $rc, expected 2" "$err"; fi
+if [[ $nlines -eq 1 ]]; then pass "run bad scene: one line on stderr"; else fail "run bad scene: $nlines lines on stderr" "$err"; fi
+if [[ $err == *"$TMP/bad.ini:5:"* && $err == *eps_n* && $err == *"[0, 1]"* ]]; then
+    pass "run bad scene: stderr names file:line, key and range"
+else
+    fail "run bad scene: stderr lacks $TMP/bad.ini:5:, eps_n or [0, 1]" "$err"
+fi
+if [[ ! -e "$TMP/bad-out/summary.json" ]]; then pass "run bad scene: no summary.json"; else fail "run bad scene wrote summary.json"; fi
+
+# a bad --set on a good scene is refused the same way, naming the argument
+printf '[system]\ndim = 2\nN = 50\nL = 0.05\n' >"$TMP/good.ini"
+run "$G" run "$TMP/good.ini" --out "$TMP/bad-out" --set model.eps_n=2
+nlines=$(printf '%s' "$err" | grep -c '' || true)
+if [[ $rc -eq 2 && $nlines -eq 1 && $err == *"--set model.eps_n=2"* && $err == *"[0, 1]"* ]]; then
+    pass "run: bad --set exits 2 with one line naming it and the range"
+else
+    fail "run: bad --set exits $rc ($nlines lines on stderr)" "$err"
+fi
+run "$G" run "$TMP/good.ini" --out "$TMP/bad-out" --set model_eps_n=0.5
+if [[ $rc -eq 2 && $err == *"section.key=value"* ]]; then pass "run: malformed --set exits 2"; else fail "run: malformed --set exits $rc" "$err"; fi
+if [[ ! -e "$TMP/bad-out/summary.json" ]]; then pass "run bad --set: no summary.json"; else fail "run bad --set wrote summary.json"; fi
+
+# ---------- collide ----------
+run "$G" collide --case 1 --eps-n 0.5 --phases 8
+if [[ $rc -eq 0 ]]; then
+    if python3 -c '
+import json, sys
+d = json.loads(sys.argv[1])
+loss = d["energy_loss"]
+sys.exit(0 if abs(loss - 0.75) <= 0.01 * 0.75 else 1)' "$out" 2>"$TMP/py"; then
+        pass "collide --case 1 --eps-n 0.5: energy_loss within 1% of 0.75"
+    else
+        fail "collide --case 1 --eps-n 0.5: energy_loss not within 1% of 0.75 (or not JSON)" "$out" "$(cat "$TMP/py")"
+    fi
+else
+    fail "collide --case 1 exits $rc" "$err"
+fi
+for k in expected_loss contact_time max_overlap eps_n_measured eps_t_measured; do
+    if python3 -c 'import json, sys; sys.exit(0 if sys.argv[2] in json.loads(sys.argv[1]) else 1)' "$out" "$k" 2>/dev/null; then
+        pass "collide JSON has $k"
+    else
+        fail "collide JSON lacks $k"
+    fi
+done
+run "$G" collide --case 9
+if [[ $rc -eq 2 ]]; then pass "collide --case 9 exits 2"; else fail "collide --case 9 exits $rc, expected 2" "$err"; fi
+
+# ---------- models and keys ----------
+run "$G" models
+if [[ $rc -eq 0 ]]; then pass "models exits 0"; else fail "models exits $rc" "$err"; fi
+# each model with its parameters: the parameter lines follow the model's own line
+check_model() {
+    local name=$1
+    shift
+    local block
+    block=$(awk -v m="$name" '$1 == m {on = 1; print; next} on && /^[^ ]/ {on = 0} on' <<<"$out")
+    if [[ -z $block ]]; then
+        fail "models does not list $name"
+        return
+    fi
+    for p in "$@"; do
+        if grep -qw -- "$p" <<<"$block"; then pass "models: $name lists $p"; else fail "models: $name does not list $p" "$block"; fi
+    done
+}
+check_model spring_dashpot k_s eps_n clamp
+check_model tangential_dashpot eps_t
+check_model sliding_friction mu
+
+run "$G" keys
+if [[ $rc -eq 0 ]]; then pass "keys exits 0"; else fail "keys exits $rc" "$err"; fi
+for s in system placement model noise integrator run output; do
+    if grep -qF "[$s]" <<<"$out"; then pass "keys mentions [$s]"; else fail "keys does not mention [$s]"; fi
+done
+for k in packing_fraction reduced_length steps_per_contact eps_n eps_t mu sample_every; do
+    if grep -qw -- "$k" <<<"$out"; then pass "keys mentions $k"; else fail "keys does not mention $k"; fi
+done
+
+# ---------- a tiny run, then the overwrite guard ----------
+cat >"$TMP/tiny.ini" <<'EOF'
+[system]
+dim = 2
+N = 500
+L = 0.05
+[run]
+warmup = 1.0
+duration = 10.0
+[output]
+plots = true
+EOF
+OUT="$TMP/tiny-out"
+sets=(--set system.N=50 --set run.warmup=0 --set run.duration=0.01 --set run.sample_every=1e-3
+      --set output.plots=false --set run.seed=11)
+run "$G" run "$TMP/tiny.ini" --out "$OUT" "${sets[@]}"
+if [[ $rc -eq 0 && -s "$OUT/summary.json" ]]; then
+    pass "tiny run with --set exits 0 and writes summary.json"
+else
+    fail "tiny run exits $rc, summary.json $([[ -e $OUT/summary.json ]] && echo present || echo missing)" "$err"
+fi
+if [[ -s "$OUT/summary.json" ]] && python3 -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+s = d["scene"]
+ok = s["system"]["N"] == 50 and s["run"]["duration"] == 0.01 and s["run"]["seed"] == 11 and s["output"]["plots"] is False
+for k in ("T_mean", "T_stderr", "wall_seconds", "particle_steps_per_second", "collisions",
+          "energy_injected", "energy_dissipated", "kernel"):
+    ok = ok and k in d
+sys.exit(0 if ok else 1)' "$OUT/summary.json" 2>"$TMP/py"; then
+    pass "tiny run: summary.json has the SPEC keys and the overridden scene"
+else
+    fail "tiny run: summary.json lacks SPEC keys or the --set values" "$(cat "$TMP/py")"
+fi
+for f in temperature.csv ledger.csv; do
+    if [[ -s "$OUT/$f" && $(head -c1 "$OUT/$f") == "#" ]]; then pass "tiny run: $f with a '#' header"; else fail "tiny run: $f missing or without '#' header"; fi
+done
+if ! ls -A "$OUT" 2>/dev/null | grep -q '\.tmp'; then pass "tiny run: no temporary files"; else fail "tiny run left temporaries" "$(ls -A "$OUT")"; fi
+
+cp "$OUT/summary.json" "$TMP/first-summary.json" 2>/dev/null || true
+run "$G" run "$TMP/tiny.ini" --out "$OUT" "${sets[@]}" --set run.seed=12
+if [[ $rc -ne 0 ]]; then pass "re-run into the same folder without --force exits non-zero ($rc)"; else fail "re-run without --force exits 0"; fi
+if [[ $err == *summary.json* || $err == *--force* ]]; then pass "re-run refusal explains itself"; else fail "re-run refusal does not mention summary.json or --force" "$err"; fi
+if cmp -s "$OUT/summary.json" "$TMP/first-summary.json"; then pass "re-run left the first summary.json untouched"; else fail "re-run changed the first summary.json"; fi
+
+run "$G" run "$TMP/tiny.ini" --out "$OUT" "${sets[@]}" --set run.seed=12 --force
+if [[ $rc -eq 0 ]]; then pass "re-run with --force exits 0"; else fail "re-run with --force exits $rc" "$err"; fi
+if python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["scene"]["run"]["seed"] == 12 else 1)' "$OUT/summary.json" 2>/dev/null; then
+    pass "re-run with --force replaced summary.json"
+else
+    fail "re-run with --force did not replace summary.json"
+fi
+
+echo "$passed passed, $failed failed"
+[[ $failed -eq 0 ]]
