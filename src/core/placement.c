@@ -7,6 +7,7 @@
  * above phi = 0.5 (use a lattice for dense scenes). 1D: uniform spacing L/N, one touching
  * cluster, or random gaps. */
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 
 #include "core/sim_internal.h"
@@ -56,30 +57,70 @@ static int capacity_error(gr_sim *s, gr_error *err, long cap, const char *what)
 {
     return GR_FAIL(err, GR_EINVAL,
                    "%s: [placement] kind = %s holds at most %ld particles in L = %g m with d = %g m (%s); N = %d. "
-                   "Use a larger L, a smaller N or kind = hexagonal",
-                   s->scene.source, gr_placement_name(s->scene.placement), cap, s->L, s->d, what, s->n);
+                   "Use a larger L or a smaller N%s",
+                   s->scene.source, gr_placement_name(s->scene.placement), cap, s->L, s->d, what, s->n,
+                   s->scene.placement == GR_PLACE_HEXAGONAL ? "" : ", or kind = hexagonal (densest)");
 }
 
+/* Hexagonal packing. A bed of touching rows (spacing a = L / floor(L/d) >= d, row height
+ * a sqrt(3)/2) filled from the bottom when it fits; otherwise a triangular lattice stretched over
+ * the whole periodic box (an even number of rows so the stagger wraps), with as many columns as
+ * keep every neighbour distance >= d. The densest legal packing of the box is the largest
+ * nx * ny over those lattices. */
 static int place_hexagonal(gr_sim *s, gr_error *err)
 {
-    double L = s->L, d = s->d;
+    const double L = s->L, d = s->d;
     int nx = (int)floor(L / d);
     if (nx < 1) {
         return capacity_error(s, err, 0, "box narrower than a particle");
     }
     double a = L / nx, h = a * sqrt(3.0) / 2.0;
-    int ny = (int)floor(L / h);
-    /* rows wrap periodically: with an odd row count the top and bottom rows are aligned and need
-     * a full spacing a between them, not just h */
-    if (ny % 2 == 1 && L - (ny - 1) * h < a) {
-        ny--;
+    int rows = (s->n + nx - 1) / nx;
+    /* the bed fits if its rows do not reach their own periodic image: the top row must stay a
+     * row height (staggered) or a full spacing (aligned, odd row count) below the bottom one */
+    bool full = rows * h > L - (rows % 2 ? a - h : 0.0) + 1e-12 * L;
+    if (!full) {
+        for (int k = 0; k < s->n; k++) {
+            int row = k / nx, col = k % nx;
+            s->x[k] = (col + 0.25 + 0.5 * (row % 2)) * a;
+            s->y[k] = (row + 0.5) * h;
+        }
+        return GR_OK;
     }
-    long cap = (long)nx * ny;
-    if (s->n > cap) {
-        return capacity_error(s, err, cap, "hexagonal rows of spacing >= d");
+    long best_cap = 0;
+    int best_nx = 0, best_ny = 0;
+    for (int cx = (int)floor(L / d); cx >= 1; cx--) {
+        double ax = L / cx;
+        /* rows r and r+1 are a diagonal apart, rows r and r+2 a vertical 2h apart */
+        double hmin2 = d * d - 0.25 * ax * ax;
+        double hmin = fmax(hmin2 > 0.0 ? sqrt(hmin2) : 0.0, 0.5 * d);
+        int cy = (int)floor(L / hmin * (1.0 + 1e-12));
+        cy -= cy % 2;
+        if (cy < 2) {
+            continue;
+        }
+        long cap = (long)cx * cy;
+        if (cap > best_cap) {
+            best_cap = cap;
+        }
+        if (cap >= s->n && (best_nx == 0)) {
+            /* fewest rows that hold N with this many columns */
+            int ny = (s->n + cx - 1) / cx;
+            ny += ny % 2;
+            best_nx = cx;
+            best_ny = ny;
+        }
     }
+    if (best_nx == 0) {
+        return capacity_error(s, err, best_cap, "a triangular lattice with neighbour distances >= d");
+    }
+    a = L / best_nx;
+    h = L / best_ny;
+    /* spread the N particles over the sites evenly, row by row */
+    long sites = (long)best_nx * best_ny;
     for (int k = 0; k < s->n; k++) {
-        int row = k / nx, col = k % nx;
+        long site = (long)((double)k * (double)sites / (double)s->n);
+        int row = (int)(site / best_nx), col = (int)(site % best_nx);
         s->x[k] = (col + 0.25 + 0.5 * (row % 2)) * a;
         s->y[k] = (row + 0.5) * h;
     }

@@ -87,8 +87,10 @@ static int fail_at(gr_error *err, const where *w, const char *section, const cha
                    const char *fmt, const char *detail)
 {
     char loc[1200];
-    if (w->file) {
+    if (w->file && w->line > 0) {
         snprintf(loc, sizeof loc, "%s:%d", w->file, w->line);
+    } else if (w->file) {
+        snprintf(loc, sizeof loc, "%s", w->file);
     } else {
         snprintf(loc, sizeof loc, "--set %s", w->assignment ? w->assignment : "");
     }
@@ -217,6 +219,7 @@ typedef struct given {
     bool L, packing_fraction, reduced_length, dt, steps_per_contact;
     bool model_param[64]; /* by index in the flattened model-parameter list */
     where at_L, at_pf, at_rl, at_dt, at_spc;
+    where at[64]; /* where each engine key (by row of `keys`) was last given; file NULL = default */
 } given;
 
 typedef struct loader {
@@ -302,6 +305,15 @@ static int apply(loader *ld, const char *section, const char *name, const char *
         }
         if (!ld->defaults) {
             given *g = &ld->g;
+            g->at[i] = *w;
+            /* an override replaces whichever member of its group the file gave */
+            if (!w->file && (k->offset == offsetof(gr_scene, L) || k->offset == offsetof(gr_scene, packing_fraction) ||
+                             k->offset == offsetof(gr_scene, reduced_length))) {
+                g->L = g->packing_fraction = g->reduced_length = false;
+            }
+            if (!w->file && (k->offset == offsetof(gr_scene, dt) || k->offset == offsetof(gr_scene, steps_per_contact))) {
+                g->dt = g->steps_per_contact = false;
+            }
             if (k->offset == offsetof(gr_scene, L)) { g->L = true; g->at_L = *w; }
             if (k->offset == offsetof(gr_scene, packing_fraction)) { g->packing_fraction = true; g->at_pf = *w; }
             if (k->offset == offsetof(gr_scene, reduced_length)) { g->reduced_length = true; g->at_rl = *w; }
@@ -420,6 +432,18 @@ static bool model_has_param(const gr_model *m, const char *name)
     return false;
 }
 
+/* Where key section.name was given (the scene file itself when it was left at its default). */
+static where where_of(const given *g, const gr_scene *s, const char *section, const char *name)
+{
+    for (int i = 0; i < n_keys; i++) {
+        if (!strcmp(keys[i].section, section) && !strcmp(keys[i].name, name) &&
+            (g->at[i].file || g->at[i].assignment)) {
+            return g->at[i];
+        }
+    }
+    return (where){s->source, 0, NULL};
+}
+
 /* Cross-key checks and derived quantities. */
 static int resolve(gr_scene *s, const given *g, const char *const *model_keys, int n_model_keys,
                    gr_error *err)
@@ -427,8 +451,9 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     double d = 2.0 * s->radius;
     int n_len = g->L + g->packing_fraction + g->reduced_length;
     if (n_len > 1) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "%s: [system] give only one of L, packing_fraction, reduced_length", s->source);
+        where w = g->packing_fraction ? g->at_pf : g->at_rl;
+        return fail_at(err, &w, "system", g->packing_fraction ? "packing_fraction" : "reduced_length", "%s",
+                       "give only one of L, packing_fraction, reduced_length");
     }
     if (g->packing_fraction) {
         if (s->dim != 2) {
@@ -449,15 +474,18 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
         s->reduced_length = s->L - s->N * d;
         s->packing_fraction = 0.0;
     }
+    char detail[400];
+    const char *len_key = g->reduced_length ? "reduced_length" : g->packing_fraction ? "packing_fraction" : g->L ? "L" : "N";
+    where len_at = where_of(g, s, "system", len_key);
     if (s->dim == 1 && s->reduced_length < 0.0) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "%s: [system] L = %g m is shorter than N d = %g m: the particles cannot fit on the ring (reduced_length L' = L - N d must be >= 0)",
-                       s->source, s->L, s->N * d);
+        snprintf(detail, sizeof detail, "L = %g m is shorter than N d = %g m: the particles cannot fit on the ring (reduced_length L' = L - N d must be >= 0)",
+                 s->L, s->N * d);
+        return fail_at(err, &len_at, "system", len_key, "%s", detail);
     }
     if (s->dim == 2 && s->packing_fraction > M_PI / (2.0 * sqrt(3.0))) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "%s: [system] packing fraction N pi r^2 / L^2 = %.4f exceeds hexagonal close packing 0.9069",
-                       s->source, s->packing_fraction);
+        snprintf(detail, sizeof detail, "packing fraction N pi r^2 / L^2 = %.4f exceeds hexagonal close packing 0.9069 (allowed range (0, 0.9069])",
+                 s->packing_fraction);
+        return fail_at(err, &len_at, "system", len_key, "%s", detail);
     }
     if (g->dt && g->steps_per_contact) {
         return fail_at(err, &g->at_dt, "integrator", "dt", "%s", "give dt or steps_per_contact, not both");
@@ -467,14 +495,14 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     }
     if (s->dim == 1) {
         if (s->tangential) {
-            return GR_FAIL(err, GR_EINVAL,
-                           "%s: [model] tangential = %s: tangential laws need dim = 2 (a 1D collision is head-on); use tangential = none",
-                           s->source, s->tangential->name);
+            where w = where_of(g, s, "model", "tangential");
+            snprintf(detail, sizeof detail, "%s needs dim = 2 (a 1D collision is head-on); allowed in 1D: none", s->tangential->name);
+            return fail_at(err, &w, "model", "tangential", "%s", detail);
         }
         if (s->placement == GR_PLACE_HEXAGONAL || s->placement == GR_PLACE_SQUARE) {
-            return GR_FAIL(err, GR_EINVAL,
-                           "%s: [placement] kind = %s is a 2D packing; in 1D choose uniform, cluster or random",
-                           s->source, gr_placement_name(s->placement));
+            where w = where_of(g, s, "placement", "kind");
+            snprintf(detail, sizeof detail, "%s is a 2D packing; allowed in 1D: uniform | cluster | random", gr_placement_name(s->placement));
+            return fail_at(err, &w, "placement", "kind", "%s", detail);
         }
     }
     if (s->D == 0.0) {

@@ -1,0 +1,606 @@
+/* Tests of the counter-based Gaussian noise (src/core/noise.c).
+ *
+ * Two kinds of checks. Exact ones: gr_noise_normals agrees bit for bit with gr_noise_normal1
+ * whatever the batch (first, n), per and vector kernel, and both agree with an independent,
+ * slow implementation written here from the documented scheme (Random123's philox4x32 for the
+ * bits, ziggurat tables re-derived from the recursion in long double). Statistical ones, all with
+ * fixed seeds so each outcome is deterministic yet would fail for a wrong distribution: moments,
+ * Kolmogorov-Smirnov and chi-square against the normal CDF (GSL), tail frequencies, correlations
+ * between neighbouring ids, components and steps, and the uniforms. Sizes are kept modest so the
+ * suite also runs quickly under AddressSanitizer. */
+#include "granule/noise.h"
+
+#include <check.h>
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <Random123/philox.h>
+
+static const uint64_t SEED = UINT64_C(0x243f6a8885a308d3); /* fixed, arbitrary */
+
+/* z within k standard errors of its expectation? */
+static int within(double z, double expect, double sigma, double k)
+{
+    return fabs(z - expect) <= k * sigma;
+}
+
+/* ---- An independent reference implementation -------------------------------------------------
+ * Written from the description at the top of noise.c, sharing no code with it. */
+
+static long double ref_x[257], ref_f[257];
+static const long double ref_r = 3.6541528853610088L;
+
+static void ref_tables(void)
+{
+    long double v = ref_r * expl(-ref_r * ref_r / 2) +
+                    sqrtl(acosl(-1.0L) / 2) * erfcl(ref_r / sqrtl(2.0L));
+    ref_x[0] = v / expl(-ref_r * ref_r / 2);
+    ref_x[1] = ref_r;
+    for (int i = 2; i < 256; i++) {
+        ref_x[i] = sqrtl(-2 * logl(v / ref_x[i - 1] + expl(-ref_x[i - 1] * ref_x[i - 1] / 2)));
+    }
+    ref_x[256] = 0;
+    for (int i = 0; i < 257; i++) {
+        ref_f[i] = expl(-ref_x[i] * ref_x[i] / 2);
+    }
+}
+
+static uint32_t ref_mix(uint32_t h)
+{
+    h = (h ^ (h >> 16)) * 0x85ebca6bu;
+    h = (h ^ (h >> 13)) * 0xc2b2ae35u;
+    return h ^ (h >> 16);
+}
+
+static void ref_block(uint64_t seed, uint32_t stream, uint32_t kind, uint32_t w0, uint32_t w1,
+                      uint32_t w2, uint32_t w3, uint64_t out[2])
+{
+    philox4x32_key_t key = {{(uint32_t)seed, (uint32_t)(seed >> 32) ^ ref_mix(2 * stream + kind)}};
+    philox4x32_ctr_t ctr = {{w0, w1, w2, w3}};
+    philox4x32_ctr_t r = philox4x32(ctr, key);
+    out[0] = (uint64_t)r.v[1] << 32 | r.v[0];
+    out[1] = (uint64_t)r.v[3] << 32 | r.v[2];
+}
+
+/* Which way the reference variate went, for coverage counts. */
+enum { PATH_FAST, PATH_WEDGE, PATH_TAIL };
+
+static double ref_normal(uint64_t seed, uint32_t stream, uint64_t step, uint32_t id, uint32_t c,
+                         int *path, int *layer)
+{
+    uint32_t s0 = (uint32_t)step, s1 = (uint32_t)(step >> 32), pair = id / 2, lane = id % 2;
+    uint64_t blk[2];
+    ref_block(seed, stream, 0, s0, s1, pair, c, blk);
+    uint64_t w = blk[lane];
+    *path = PATH_FAST;
+    *layer = (int)(w % 256);
+    for (uint32_t r = 1;; r++) {
+        int i = (int)(w % 256);
+        double sign = (w >> 63) ? -1.0 : 1.0;
+        long double x = (long double)((w >> 11) % (UINT64_C(1) << 52)) * 0x1p-52L * ref_x[i];
+        if (x < ref_x[i + 1]) {
+            return sign * (double)x;
+        }
+        ref_block(seed, stream, 0, s0, s1, pair, c + 2 * lane + 4 * r, blk);
+        if (i == 0) {
+            *path = PATH_TAIL;
+            for (;;) {
+                long double t = -logl((long double)((blk[0] >> 11) + 1) * 0x1p-53L) / ref_r;
+                long double e = -logl((long double)((blk[1] >> 11) + 1) * 0x1p-53L);
+                if (2 * e > t * t) {
+                    return sign * (double)(ref_r + t);
+                }
+                r++;
+                ref_block(seed, stream, 0, s0, s1, pair, c + 2 * lane + 4 * r, blk);
+            }
+        }
+        *path = PATH_WEDGE;
+        long double y = ref_f[i] + (long double)(blk[0] >> 11) * 0x1p-53L * (ref_f[i + 1] - ref_f[i]);
+        if (y < expl(-x * x / 2)) {
+            return sign * (double)x;
+        }
+        w = blk[1];
+    }
+}
+
+static int close_to(double a, double b)
+{
+    return fabs(a - b) <= 1e-12 * fmax(1.0, fabs(b));
+}
+
+START_TEST(test_reference)
+{
+    /* Every layer, the wedges and the tail, against the independent implementation. */
+    ref_tables();
+    enum { N = 100000 };
+    double *v = malloc(2 * N * sizeof *v);
+    ck_assert_ptr_nonnull(v);
+    const uint64_t step = UINT64_C(0x100000007); /* both step words non-zero */
+    gr_noise_normals(SEED, GR_STREAM_NOISE, step, 0, N, 2, v);
+    int paths[3] = {0, 0, 0}, layers[256] = {0};
+    for (uint32_t id = 0; id < N; id++) {
+        for (uint32_t c = 0; c < 2; c++) {
+            int path, layer;
+            double ref = ref_normal(SEED, GR_STREAM_NOISE, step, id, c, &path, &layer);
+            ck_assert_msg(close_to(v[2 * id + c], ref), "id %u c %u: %.17g, reference %.17g (path %d)",
+                          id, c, v[2 * id + c], ref, path);
+            paths[path]++;
+            layers[layer]++;
+        }
+    }
+    for (int i = 0; i < 256; i++) {
+        ck_assert_msg(layers[i] > 0, "layer %d never sampled", i);
+    }
+    /* expected: wedges 1.5%, tail 0.013% of 2e5 */
+    ck_assert_msg(paths[PATH_WEDGE] > 2000 && paths[PATH_TAIL] > 5, "wedges %d, tails %d",
+                  paths[PATH_WEDGE], paths[PATH_TAIL]);
+    free(v);
+}
+END_TEST
+
+START_TEST(test_reference_uniform)
+{
+    const uint64_t a = UINT64_C(0x123456789abcdef0), b = UINT64_C(0xfedcba9876543210);
+    uint64_t blk[2];
+    ref_block(SEED, 5, 1, (uint32_t)a, (uint32_t)(a >> 32), (uint32_t)b, (uint32_t)(b >> 32), blk);
+    ck_assert(gr_noise_uniform(SEED, 5, a, b) == (double)(blk[0] >> 11) * 0x1p-53);
+}
+END_TEST
+
+/* ---- Exact identities -------------------------------------------------------------------------- */
+
+START_TEST(test_batch_independence)
+{
+    /* The value of an id never depends on the batch it is drawn in. */
+    enum { N = 3000 };
+    const uint32_t base = 1000001; /* odd: pairs straddle the batch start */
+    for (int per = 1; per <= 2; per++) {
+        double *all = malloc((size_t)N * 2 * sizeof *all), *part = malloc((size_t)N * 2 * sizeof *part);
+        ck_assert_ptr_nonnull(all);
+        ck_assert_ptr_nonnull(part);
+        gr_noise_normals(SEED, GR_STREAM_NOISE, 42, base, N, per, all);
+        static const int windows[][2] = {{0, 1},   {1, 1},    {0, 2},    {1, 2},    {3, 7},
+                                         {2, 8},   {5, 17},   {0, 16},   {1, 511},  {7, 512},
+                                         {6, 513}, {10, 1025}, {0, N},   {1, N - 1}, {N - 1, 1}};
+        for (size_t w = 0; w < sizeof windows / sizeof windows[0]; w++) {
+            int off = windows[w][0], n = windows[w][1];
+            memset(part, 0, (size_t)N * 2 * sizeof *part);
+            gr_noise_normals(SEED, GR_STREAM_NOISE, 42, base + (uint32_t)off, n, per, part);
+            for (int i = 0; i < n * per; i++) {
+                ck_assert_msg(part[i] == all[off * per + i],
+                              "per %d, window (%d, %d), element %d: %.17g != %.17g", per, off, n, i,
+                              part[i], all[off * per + i]);
+            }
+            for (int i = n * per; i < N * 2; i++) {
+                ck_assert_msg(part[i] == 0.0, "per %d, window (%d, %d) wrote past its end", per, off, n);
+            }
+        }
+        /* one particle at a time, through both entry points */
+        for (int i = 0; i < N; i += 7) {
+            double one[2];
+            gr_noise_normals(SEED, GR_STREAM_NOISE, 42, base + (uint32_t)i, 1, per, one);
+            for (int c = 0; c < per; c++) {
+                ck_assert(one[c] == all[i * per + c]);
+                ck_assert(gr_noise_normal1(SEED, GR_STREAM_NOISE, 42, base + (uint32_t)i, c) ==
+                          all[i * per + c]);
+            }
+        }
+        free(all);
+        free(part);
+    }
+}
+END_TEST
+
+START_TEST(test_per_consistency)
+{
+    /* per = 1 gives component 0 of per = 2; gr_noise_normal1 matches both. */
+    enum { N = 5000 };
+    double *one = malloc(N * sizeof *one), *two = malloc(2 * N * sizeof *two);
+    ck_assert_ptr_nonnull(one);
+    ck_assert_ptr_nonnull(two);
+    gr_noise_normals(SEED, GR_STREAM_INIT_VELOCITY, 9, 0, N, 1, one);
+    gr_noise_normals(SEED, GR_STREAM_INIT_VELOCITY, 9, 0, N, 2, two);
+    int differ = 0;
+    for (int i = 0; i < N; i++) {
+        ck_assert_msg(one[i] == two[2 * i], "id %d: per 1 %.17g, per 2 %.17g", i, one[i], two[2 * i]);
+        ck_assert(gr_noise_normal1(SEED, GR_STREAM_INIT_VELOCITY, 9, (uint32_t)i, 0) == one[i]);
+        ck_assert(gr_noise_normal1(SEED, GR_STREAM_INIT_VELOCITY, 9, (uint32_t)i, 1) == two[2 * i + 1]);
+        differ += two[2 * i] != two[2 * i + 1];
+    }
+    ck_assert_int_eq(differ, N);
+    /* repeated calls give the same numbers */
+    double again[16];
+    gr_noise_normals(SEED, GR_STREAM_INIT_VELOCITY, 9, 100, 8, 2, again);
+    ck_assert(memcmp(again, two + 200, sizeof again) == 0);
+    free(one);
+    free(two);
+}
+END_TEST
+
+START_TEST(test_id_range_ends)
+{
+    /* ids up to UINT32_MAX; n = 0 writes nothing */
+    double v[2 * 21], sentinel = -12345.0;
+    gr_noise_normals(SEED, GR_STREAM_NOISE, 3, UINT32_MAX - 20, 21, 2, v);
+    for (uint32_t i = 0; i < 21; i++) {
+        for (int c = 0; c < 2; c++) {
+            ck_assert(v[2 * i + (uint32_t)c] ==
+                      gr_noise_normal1(SEED, GR_STREAM_NOISE, 3, UINT32_MAX - 20 + i, c));
+        }
+    }
+    v[0] = sentinel;
+    gr_noise_normals(SEED, GR_STREAM_NOISE, 3, 0, 0, 1, v);
+    ck_assert(v[0] == sentinel);
+}
+END_TEST
+
+/* Run this test binary again as `--isa-check NAME` with GRANULE_NOISE_ISA = NAME: a fresh process,
+ * because the kernel is chosen once per process. */
+static int isa_check(void)
+{
+    enum { N = 4099 };
+    static double v[2 * N];
+    int bad = 0;
+    for (int per = 1; per <= 2; per++) {
+        gr_noise_normals(SEED, GR_STREAM_NOISE, 77, 11, N, per, v);
+        for (int i = 0; i < N; i++) {
+            for (int c = 0; c < per; c++) {
+                bad += v[i * per + c] != gr_noise_normal1(SEED, GR_STREAM_NOISE, 77, 11 + (uint32_t)i, c);
+            }
+        }
+    }
+    if (bad) {
+        fprintf(stderr, "GRANULE_NOISE_ISA=%s: %d values differ from gr_noise_normal1\n",
+                getenv("GRANULE_NOISE_ISA"), bad);
+    }
+    return bad != 0;
+}
+
+START_TEST(test_kernels_agree)
+{
+    /* Every vector kernel (this CPU permitting) gives the scalar reference values bit for bit. */
+    static const char *const isas[] = {"scalar", "sse2", "avx2", "avx512"};
+    const char *isa = isas[_i];
+    fflush(NULL);
+    pid_t pid = fork();
+    ck_assert_int_ge(pid, 0);
+    if (pid == 0) {
+        setenv("GRANULE_NOISE_ISA", isa, 1);
+        execl("/proc/self/exe", "test_noise", "--isa-check", (char *)NULL);
+        _exit(127);
+    }
+    int status;
+    ck_assert_int_eq(waitpid(pid, &status, 0), pid);
+    ck_assert_msg(WIFEXITED(status) && WEXITSTATUS(status) == 0, "kernel %s: exit status %d", isa,
+                  WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+}
+END_TEST
+
+START_TEST(test_golden)
+{
+    /* Recorded values: a change here changes the noise of every run (and invalidates restarts
+     * and comparisons across versions), so it must be deliberate. */
+    static const struct {
+        uint64_t seed;
+        uint32_t stream;
+        uint64_t step;
+        uint32_t id;
+        int c;
+        double x;
+    } golden[] = {
+        {UINT64_C(0x0), 0, UINT64_C(0x0), 0u, 0, -0x1.697c2247595d3p-1},
+        {UINT64_C(0x0), 0, UINT64_C(0x0), 1u, 0, -0x1.9ead07bdd767ep-2},
+        {UINT64_C(0x243f6a8885a308d3), 0, UINT64_C(0x1), 2u, 1, 0x1.bad888238cdccp-5},
+        {UINT64_C(0x243f6a8885a308d3), 1, UINT64_C(0x0), 12345u, 0, 0x1.07221ca67b45ap+0},
+        {UINT64_C(0x1), 2, UINT64_C(0x100000000), 4000000000u, 1, -0x1.7f481b826a9bap-2},
+        {UINT64_C(0x2a), 0, UINT64_C(0xf4240), 99999u, 1, 0x1.b5629ede895e4p-7},
+    };
+    for (size_t i = 0; i < sizeof golden / sizeof golden[0]; i++) {
+        double x = gr_noise_normal1(golden[i].seed, golden[i].stream, golden[i].step, golden[i].id,
+                                    golden[i].c);
+        ck_assert_msg(x == golden[i].x, "golden %zu: %a, recorded %a", i, x, golden[i].x);
+    }
+}
+END_TEST
+
+/* ---- Statistics ---------------------------------------------------------------------------------- */
+
+/* Draw `steps` steps of n particles x per components, calling f on each batch. */
+static void draw(uint64_t seed, uint32_t stream, int steps, int n, int per,
+                 void (*f)(const double *v, int cnt, void *ctx), void *ctx)
+{
+    double *v = malloc((size_t)n * (size_t)per * sizeof *v);
+    ck_assert_ptr_nonnull(v);
+    for (int s = 0; s < steps; s++) {
+        gr_noise_normals(seed, stream, (uint64_t)s, 0, n, per, v);
+        f(v, n * per, ctx);
+    }
+    free(v);
+}
+
+struct moments {
+    double s1, s2, s3, s4;
+    long cnt;
+};
+
+static void add_moments(const double *v, int cnt, void *ctx)
+{
+    struct moments *m = ctx;
+    for (int i = 0; i < cnt; i++) {
+        double x = v[i], x2 = x * x;
+        m->s1 += x;
+        m->s2 += x2;
+        m->s3 += x2 * x;
+        m->s4 += x2 * x2;
+    }
+    m->cnt += cnt;
+}
+
+START_TEST(test_moments)
+{
+    /* 2e6 draws: mean 0, variance 1, skewness 0, kurtosis 3, each within 5 standard errors
+     * (standard errors of the raw moments: sqrt(1/n), sqrt(2/n), sqrt(15/n), sqrt(96/n)). */
+    for (int per = 1; per <= 2; per++) {
+        struct moments m = {0, 0, 0, 0, 0};
+        draw(SEED + (uint64_t)per, GR_STREAM_NOISE, 100, 20000 / per, per, add_moments, &m);
+        double n = (double)m.cnt;
+        ck_assert(m.cnt == 2000000);
+        ck_assert_msg(within(m.s1 / n, 0, sqrt(1 / n), 5), "per %d mean %g", per, m.s1 / n);
+        ck_assert_msg(within(m.s2 / n, 1, sqrt(2 / n), 5), "per %d variance %g", per, m.s2 / n);
+        ck_assert_msg(within(m.s3 / n, 0, sqrt(15 / n), 5), "per %d third moment %g", per, m.s3 / n);
+        ck_assert_msg(within(m.s4 / n, 3, sqrt(96 / n), 5), "per %d fourth moment %g", per, m.s4 / n);
+    }
+}
+END_TEST
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Kolmogorov's limiting distribution: P(sqrt(n) D > lambda). */
+static double ks_q(double lambda)
+{
+    double q = 0;
+    for (int k = 1; k <= 100; k++) {
+        q += 2 * ((k % 2) ? 1 : -1) * exp(-2.0 * k * k * lambda * lambda);
+    }
+    return fmin(1.0, fmax(0.0, q));
+}
+
+START_TEST(test_kolmogorov_smirnov)
+{
+    enum { N = 200000 };
+    double *v = malloc(N * sizeof *v);
+    ck_assert_ptr_nonnull(v);
+    gr_noise_normals(SEED, GR_STREAM_NOISE, 1, 0, N / 2, 2, v);
+    qsort(v, N, sizeof *v, cmp_double);
+    double d = 0;
+    for (int i = 0; i < N; i++) {
+        double p = gsl_cdf_ugaussian_P(v[i]);
+        d = fmax(d, fmax((i + 1.0) / N - p, p - (double)i / N));
+    }
+    double sn = sqrt((double)N), p = ks_q((sn + 0.12 + 0.11 / sn) * d);
+    ck_assert_msg(p > 1e-3, "KS: D = %g, p = %g", d, p);
+    free(v);
+}
+END_TEST
+
+enum { BINS = 1000 };
+struct chi {
+    double edge[BINS - 1]; /* equiprobable bins of the normal */
+    long count[BINS];
+};
+
+static void add_chi(const double *v, int cnt, void *ctx)
+{
+    struct chi *h = ctx;
+    for (int i = 0; i < cnt; i++) {
+        int lo = 0, hi = BINS - 1; /* the bin: number of edges <= v[i] */
+        while (lo < hi) {
+            int mid = (lo + hi) / 2;
+            if (h->edge[mid] <= v[i]) {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        h->count[lo]++;
+    }
+}
+
+START_TEST(test_chi_square)
+{
+    /* 1e6 draws in 1000 equiprobable bins: chi^2 with 999 degrees of freedom, p > 1e-4. */
+    static struct chi h;
+    memset(&h, 0, sizeof h);
+    for (int b = 0; b < BINS - 1; b++) {
+        h.edge[b] = gsl_cdf_ugaussian_Pinv((b + 1.0) / BINS);
+    }
+    draw(SEED, GR_STREAM_PLACEMENT, 100, 10000, 1, add_chi, &h);
+    double expect = 1e6 / BINS, chi2 = 0;
+    for (int b = 0; b < BINS; b++) {
+        chi2 += (h.count[b] - expect) * (h.count[b] - expect) / expect;
+    }
+    double p = gsl_cdf_chisq_Q(chi2, BINS - 1);
+    ck_assert_msg(p > 1e-4, "chi^2 = %g for %d dof, p = %g", chi2, BINS - 1, p);
+}
+END_TEST
+
+struct tails {
+    double limit[4];
+    long beyond[4], cnt;
+};
+
+static void add_tails(const double *v, int cnt, void *ctx)
+{
+    struct tails *t = ctx;
+    for (int i = 0; i < cnt; i++) {
+        double a = fabs(v[i]);
+        for (int k = 0; k < 4; k++) {
+            t->beyond[k] += a > t->limit[k];
+        }
+    }
+    t->cnt += cnt;
+}
+
+START_TEST(test_tails)
+{
+    /* 1e7 draws: the frequency of |x| > 3, > R (where the exact tail sampler takes over), > 4
+     * and > 4.5 matches 2 (1 - Phi) within 5 binomial standard errors. */
+    struct tails t = {{3.0, 3.6541528853610088, 4.0, 4.5}, {0, 0, 0, 0}, 0};
+    draw(SEED, GR_STREAM_NOISE, 100, 50000, 2, add_tails, &t);
+    ck_assert(t.cnt == 10000000);
+    for (int k = 0; k < 4; k++) {
+        double p = 2 * gsl_cdf_ugaussian_Q(t.limit[k]), n = (double)t.cnt;
+        ck_assert_msg(within((double)t.beyond[k], n * p, sqrt(n * p * (1 - p)), 5),
+                      "|x| > %g: %ld times, expected %g", t.limit[k], t.beyond[k], n * p);
+    }
+}
+END_TEST
+
+static double correlation(const double *a, const double *b, int n, int stride_a, int stride_b)
+{
+    double sab = 0, saa = 0, sbb = 0;
+    for (int i = 0; i < n; i++) {
+        double x = a[i * stride_a], y = b[i * stride_b];
+        sab += x * y;
+        saa += x * x;
+        sbb += y * y;
+    }
+    return sab / sqrt(saa * sbb);
+}
+
+START_TEST(test_correlations)
+{
+    /* Values that share a Philox block or a counter neighbourhood are uncorrelated, also in
+     * their squares: ids 2k and 2k+1, components 0 and 1, consecutive steps, streams, seeds. */
+    enum { N = 200000 };
+    double *a = malloc(2 * N * sizeof *a), *b = malloc(2 * N * sizeof *b);
+    double *a2 = malloc(2 * N * sizeof *a2), *b2 = malloc(2 * N * sizeof *b2);
+    ck_assert(a && b && a2 && b2);
+    const double lim = 5 / sqrt(N / 2.0), lim_all = 5 / sqrt(2.0 * N); /* 5 sigma */
+    struct {
+        uint64_t seed;
+        uint32_t stream;
+        uint64_t step;
+        const char *what;
+    } other[] = {{SEED, GR_STREAM_NOISE, 1, "next step"},
+                 {SEED, GR_STREAM_INIT_VELOCITY, 0, "stream 1"},
+                 {SEED + 1, GR_STREAM_NOISE, 0, "seed + 1"},
+                 {SEED ^ (UINT64_C(1) << 32), GR_STREAM_NOISE, 0, "seed, high word"},
+                 {SEED, GR_STREAM_NOISE, UINT64_C(1) << 32, "step, high word"}};
+    gr_noise_normals(SEED, GR_STREAM_NOISE, 0, 0, N, 2, a);
+    for (int i = 0; i < 2 * N; i++) {
+        a2[i] = a[i] * a[i] - 1;
+    }
+    double r;
+    r = correlation(a, a + 2, N / 2, 4, 4); /* ids 2k, 2k+1, component 0: same block */
+    ck_assert_msg(fabs(r) < lim, "ids 2k, 2k+1: r = %g", r);
+    r = correlation(a2, a2 + 2, N / 2, 4, 4);
+    ck_assert_msg(fabs(r) < lim, "ids 2k, 2k+1, squares: r = %g", r);
+    r = correlation(a, a + 1, N / 2, 4, 4); /* components 0, 1 of one id */
+    ck_assert_msg(fabs(r) < lim, "components: r = %g", r);
+    r = correlation(a2, a2 + 1, N / 2, 4, 4);
+    ck_assert_msg(fabs(r) < lim, "components, squares: r = %g", r);
+    r = correlation(a + 2, a + 4, N / 2 - 1, 4, 4); /* ids 2k+1, 2k+2: neighbouring blocks */
+    ck_assert_msg(fabs(r) < lim, "ids 2k+1, 2k+2: r = %g", r);
+    for (size_t o = 0; o < sizeof other / sizeof other[0]; o++) {
+        gr_noise_normals(other[o].seed, other[o].stream, other[o].step, 0, N, 2, b);
+        int equal = 0;
+        for (int i = 0; i < 2 * N; i++) {
+            equal += a[i] == b[i];
+            b2[i] = b[i] * b[i] - 1;
+        }
+        ck_assert_msg(equal == 0, "%s: %d values equal", other[o].what, equal);
+        r = correlation(a, b, 2 * N, 1, 1);
+        ck_assert_msg(fabs(r) < lim_all, "%s: r = %g", other[o].what, r);
+        r = correlation(a2, b2, 2 * N, 1, 1);
+        ck_assert_msg(fabs(r) < lim_all, "%s, squares: r = %g", other[o].what, r);
+    }
+    free(a);
+    free(b);
+    free(a2);
+    free(b2);
+}
+END_TEST
+
+START_TEST(test_uniform)
+{
+    /* In [0, 1), mean 1/2 and variance 1/12 within 5 sigma, flat in 100 bins (chi^2), a pure
+     * function of its arguments, and different for different arguments. */
+    enum { N = 1000000, B = 100 };
+    static long bins[B];
+    memset(bins, 0, sizeof bins);
+    double s1 = 0, s2 = 0;
+    for (uint64_t i = 0; i < N; i++) {
+        double u = gr_noise_uniform(SEED, GR_STREAM_PLACEMENT, i / 1000, i % 1000);
+        ck_assert_msg(u >= 0.0 && u < 1.0, "u = %.17g", u);
+        s1 += u;
+        s2 += (u - 0.5) * (u - 0.5);
+        bins[(int)(u * B)]++;
+    }
+    ck_assert_msg(within(s1 / N, 0.5, sqrt(1.0 / 12 / N), 5), "mean %g", s1 / N);
+    ck_assert_msg(within(s2 / N, 1.0 / 12, sqrt(1.0 / 180 / N), 5), "variance %g", s2 / N);
+    double chi2 = 0, e = (double)N / B;
+    for (int b = 0; b < B; b++) {
+        chi2 += (bins[b] - e) * (bins[b] - e) / e;
+    }
+    ck_assert_msg(gsl_cdf_chisq_Q(chi2, B - 1) > 1e-4, "chi^2 %g", chi2);
+
+    double u = gr_noise_uniform(SEED, 1, 2, 3);
+    ck_assert(u == gr_noise_uniform(SEED, 1, 2, 3));
+    ck_assert(u != gr_noise_uniform(SEED + 1, 1, 2, 3));
+    ck_assert(u != gr_noise_uniform(SEED ^ (UINT64_C(1) << 63), 1, 2, 3));
+    ck_assert(u != gr_noise_uniform(SEED, 2, 2, 3));
+    ck_assert(u != gr_noise_uniform(SEED, 1, 3, 2));
+    ck_assert(u != gr_noise_uniform(SEED, 1, 2 + (UINT64_C(1) << 40), 3));
+    ck_assert(u != gr_noise_uniform(SEED, 1, 2, 3 + (UINT64_C(1) << 40)));
+}
+END_TEST
+
+static Suite *noise_suite(void)
+{
+    Suite *s = suite_create("noise");
+    TCase *exact = tcase_create("exact");
+    tcase_add_test(exact, test_reference);
+    tcase_add_test(exact, test_reference_uniform);
+    tcase_add_test(exact, test_batch_independence);
+    tcase_add_test(exact, test_per_consistency);
+    tcase_add_test(exact, test_id_range_ends);
+    tcase_add_loop_test(exact, test_kernels_agree, 0, 4);
+    tcase_add_test(exact, test_golden);
+    tcase_set_timeout(exact, 120);
+    suite_add_tcase(s, exact);
+    TCase *stats = tcase_create("statistics");
+    tcase_add_test(stats, test_moments);
+    tcase_add_test(stats, test_kolmogorov_smirnov);
+    tcase_add_test(stats, test_chi_square);
+    tcase_add_test(stats, test_tails);
+    tcase_add_test(stats, test_correlations);
+    tcase_add_test(stats, test_uniform);
+    tcase_set_timeout(stats, 300);
+    suite_add_tcase(s, stats);
+    return s;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc == 2 && strcmp(argv[1], "--isa-check") == 0) {
+        return isa_check();
+    }
+    gsl_set_error_handler_off();
+    SRunner *sr = srunner_create(noise_suite());
+    srunner_run_all(sr, CK_NORMAL);
+    int failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed != 0;
+}

