@@ -25,6 +25,15 @@
 
 static const uint64_t SEED = UINT64_C(0x243f6a8885a308d3); /* fixed, arbitrary */
 
+/* ck_assert_msg for loops: Check records a checkpoint on every passing assertion, which costs a
+ * write per call, so inside loops only the failure goes through Check. */
+#define REQUIRE(cond, ...)                                                                         \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            ck_abort_msg(__VA_ARGS__);                                                             \
+        }                                                                                          \
+    } while (0)
+
 /* z within k standard errors of its expectation? */
 static int within(double z, double expect, double sigma, double k)
 {
@@ -129,8 +138,8 @@ START_TEST(test_reference)
         for (uint32_t c = 0; c < 2; c++) {
             int path, layer;
             double ref = ref_normal(SEED, GR_STREAM_NOISE, step, id, c, &path, &layer);
-            ck_assert_msg(close_to(v[2 * id + c], ref), "id %u c %u: %.17g, reference %.17g (path %d)",
-                          id, c, v[2 * id + c], ref, path);
+            REQUIRE(close_to(v[2 * id + c], ref), "id %u c %u: %.17g, reference %.17g (path %d)", id,
+                    c, v[2 * id + c], ref, path);
             paths[path]++;
             layers[layer]++;
         }
@@ -174,12 +183,12 @@ START_TEST(test_batch_independence)
             memset(part, 0, (size_t)N * 2 * sizeof *part);
             gr_noise_normals(SEED, GR_STREAM_NOISE, 42, base + (uint32_t)off, n, per, part);
             for (int i = 0; i < n * per; i++) {
-                ck_assert_msg(part[i] == all[off * per + i],
+                REQUIRE(part[i] == all[off * per + i],
                               "per %d, window (%d, %d), element %d: %.17g != %.17g", per, off, n, i,
                               part[i], all[off * per + i]);
             }
             for (int i = n * per; i < N * 2; i++) {
-                ck_assert_msg(part[i] == 0.0, "per %d, window (%d, %d) wrote past its end", per, off, n);
+                REQUIRE(part[i] == 0.0, "per %d, window (%d, %d) wrote past its end", per, off, n);
             }
         }
         /* one particle at a time, through both entry points */
@@ -187,9 +196,10 @@ START_TEST(test_batch_independence)
             double one[2];
             gr_noise_normals(SEED, GR_STREAM_NOISE, 42, base + (uint32_t)i, 1, per, one);
             for (int c = 0; c < per; c++) {
-                ck_assert(one[c] == all[i * per + c]);
-                ck_assert(gr_noise_normal1(SEED, GR_STREAM_NOISE, 42, base + (uint32_t)i, c) ==
-                          all[i * per + c]);
+                REQUIRE(one[c] == all[i * per + c], "per %d, id offset %d alone", per, i);
+                REQUIRE(gr_noise_normal1(SEED, GR_STREAM_NOISE, 42, base + (uint32_t)i, c) ==
+                            all[i * per + c],
+                        "per %d, id offset %d: gr_noise_normal1", per, i);
             }
         }
         free(all);
@@ -209,9 +219,11 @@ START_TEST(test_per_consistency)
     gr_noise_normals(SEED, GR_STREAM_INIT_VELOCITY, 9, 0, N, 2, two);
     int differ = 0;
     for (int i = 0; i < N; i++) {
-        ck_assert_msg(one[i] == two[2 * i], "id %d: per 1 %.17g, per 2 %.17g", i, one[i], two[2 * i]);
-        ck_assert(gr_noise_normal1(SEED, GR_STREAM_INIT_VELOCITY, 9, (uint32_t)i, 0) == one[i]);
-        ck_assert(gr_noise_normal1(SEED, GR_STREAM_INIT_VELOCITY, 9, (uint32_t)i, 1) == two[2 * i + 1]);
+        REQUIRE(one[i] == two[2 * i], "id %d: per 1 %.17g, per 2 %.17g", i, one[i], two[2 * i]);
+        REQUIRE(gr_noise_normal1(SEED, GR_STREAM_INIT_VELOCITY, 9, (uint32_t)i, 0) == one[i],
+                "id %d, component 0: gr_noise_normal1", i);
+        REQUIRE(gr_noise_normal1(SEED, GR_STREAM_INIT_VELOCITY, 9, (uint32_t)i, 1) == two[2 * i + 1],
+                "id %d, component 1: gr_noise_normal1", i);
         differ += two[2 * i] != two[2 * i + 1];
     }
     ck_assert_int_eq(differ, N);
@@ -231,8 +243,9 @@ START_TEST(test_id_range_ends)
     gr_noise_normals(SEED, GR_STREAM_NOISE, 3, UINT32_MAX - 20, 21, 2, v);
     for (uint32_t i = 0; i < 21; i++) {
         for (int c = 0; c < 2; c++) {
-            ck_assert(v[2 * i + (uint32_t)c] ==
-                      gr_noise_normal1(SEED, GR_STREAM_NOISE, 3, UINT32_MAX - 20 + i, c));
+            REQUIRE(v[2 * i + (uint32_t)c] ==
+                        gr_noise_normal1(SEED, GR_STREAM_NOISE, 3, UINT32_MAX - 20 + i, c),
+                    "id UINT32_MAX - %u, component %d", 20 - i, c);
         }
     }
     v[0] = sentinel;
@@ -543,7 +556,7 @@ START_TEST(test_uniform)
     double s1 = 0, s2 = 0;
     for (uint64_t i = 0; i < N; i++) {
         double u = gr_noise_uniform(SEED, GR_STREAM_PLACEMENT, i / 1000, i % 1000);
-        ck_assert_msg(u >= 0.0 && u < 1.0, "u = %.17g", u);
+        REQUIRE(u >= 0.0 && u < 1.0, "u = %.17g", u);
         s1 += u;
         s2 += (u - 0.5) * (u - 0.5);
         bins[(int)(u * B)]++;

@@ -166,8 +166,18 @@ START_TEST(refuse_unknown_section)
                       "\n"
                       "[modle]\n"
                       "eps_n = 0.5\n",
-                      5, 0, "[modle]", "eps_n", "system", "placement", "model", "noise", "integrator",
+                      4, 0, "[modle]", "unknown section", "system", "placement", "model", "noise", "integrator",
                       "run", "output", (char *)NULL);
+}
+END_TEST
+
+/* a misspelt section is refused even when no key follows it (inih reports keys only) */
+START_TEST(refuse_empty_unknown_section)
+{
+    expect_refused_at("[system]\n"
+                      "N = 10\n"
+                      "[bogus]\n",
+                      3, 0, "[bogus]", "unknown section", (char *)NULL);
 }
 END_TEST
 
@@ -857,6 +867,7 @@ static Suite *scene_suite(void)
     tcase_add_checked_fixture(refuse, setup, teardown);
     tcase_add_test(refuse, refuse_unknown_key);
     tcase_add_test(refuse, refuse_unknown_section);
+    tcase_add_test(refuse, refuse_empty_unknown_section);
     tcase_add_test(refuse, refuse_bad_number);
     tcase_add_test(refuse, refuse_bad_boolean);
     tcase_add_test(refuse, refuse_bad_choice);

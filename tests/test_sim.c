@@ -361,6 +361,216 @@ START_TEST(test_forces_list_vs_bruteforce_trajectory)
 END_TEST
 
 /* ------------------------------------------------------------------------------------------ */
+/* 2 and 4. the random force */
+
+/* n particles on a square grid of spacing 10 d, far too far apart to collide during the run. */
+static gr_scene dilute_scene(int n, gr_noise_mode mode)
+{
+    int side = (int)ceil(sqrt((double)n));
+    gr_scene sc = base_scene(2, n, side * 10.0 * DIAM);
+    sc.placement = GR_PLACE_UNIFORM;
+    sc.D = D_NOISE;
+    sc.noise_mode = mode;
+    return sc;
+}
+
+/* Per-step velocity increments of free particles. Without contacts the increment of a step is
+ * the noise kick alone, sqrt(2 D dt)/M (g - <g>) per component (mean over particles subtracted
+ * when symmetrised), i.e. a held random force of variance 2 D / dt. Over S steps, N particles
+ * and 2 components:
+ *  - sample mean: expected 0, standard error sqrt(var / n) (n = 2 S N samples): |mean| < 5 s.e.
+ *    (symmetrised: the mean of every step is 0 up to rounding, checked to 1e-12 of the kick);
+ *  - mean square: expected var = amp^2 (1 - 1/N) symmetrised, amp^2 in com mode; it is
+ *    var / dof times a chi-square with dof = 2 S (N - 1) (symmetrised) or 2 S N degrees of freedom,
+ *    relative standard deviation sqrt(2 / dof): |ms / var - 1| < 5 sqrt(2 / dof);
+ *  - lag-one correlation between a particle's increments in consecutive steps: expected 0,
+ *    standard error 1 / sqrt(n): |rho| < 5 / sqrt(n);
+ *  - the ledger: with no contacts, KE - KE_0 equals the injected energy (minus the centre of mass
+ *    energy removed, none here) to rounding: each step's injected energy is summed from the
+ *    exact identity dv (v + dv / 2), so the two differ by a few ulps of KE per step;
+ *    1e-10 relative after 1000 steps is ~1e3 times that. */
+START_TEST(test_noise_increment_statistics)
+{
+    const gr_noise_mode mode = _i == 0 ? GR_NOISE_SYMMETRISED : GR_NOISE_COM;
+    const int n = 100, S = quick() ? 300 : 1000;
+    gr_scene sc = dilute_scene(n, mode);
+    sc.com_interval = 1e3; /* com mode: no centre-of-mass reset within the run */
+    sc.seed = 11;
+    gr_sim *s = create(&sc);
+    const double dt = gr_sim_dt(s), amp2 = 2.0 * D_NOISE * dt / (MASS * MASS);
+    const double var = mode == GR_NOISE_SYMMETRISED ? amp2 * (1.0 - 1.0 / n) : amp2;
+    const double dof = 2.0 * S * (mode == GR_NOISE_SYMMETRISED ? n - 1 : n);
+    double *vx0 = malloc(sizeof(double) * n), *vy0 = malloc(sizeof(double) * n);
+    double *px = calloc(n, sizeof(double)), *py = calloc(n, sizeof(double));
+    double sum = 0.0, sum2 = 0.0, lag = 0.0, lag_n = 0.0;
+    const double ke0 = gr_sim_ledger(s).kinetic;
+    for (int k = 0; k < S; k++) {
+        memcpy(vx0, s->vx, sizeof(double) * n);
+        memcpy(vy0, s->vy, sizeof(double) * n);
+        step(s, 1);
+        double step_sum[2] = {0.0, 0.0};
+        for (int i = 0; i < n; i++) {
+            const double dx = s->vx[i] - vx0[i], dy = s->vy[i] - vy0[i];
+            sum += dx + dy;
+            sum2 += dx * dx + dy * dy;
+            step_sum[0] += dx;
+            step_sum[1] += dy;
+            if (k > 0) {
+                lag += dx * px[i] + dy * py[i];
+                lag_n += 2.0;
+            }
+            px[i] = dx;
+            py[i] = dy;
+        }
+        if (mode == GR_NOISE_SYMMETRISED) {
+            ck_assert_msg(fabs(step_sum[0]) < 1e-12 * sqrt(amp2) && fabs(step_sum[1]) < 1e-12 * sqrt(amp2),
+                          "step %d: symmetrised kicks sum to (%g, %g) m/s", k, step_sum[0], step_sum[1]);
+        }
+    }
+    const double ns = 2.0 * S * n, mean = sum / ns, ms = sum2 / ns, rho = lag / lag_n / var;
+    VERBOSE("noise %s: dt = %.4g s, mean/se = %.3f, ms/var - 1 = %.4f (tol %.4f), rho = %.4f (tol %.4f)\n",
+            gr_noise_mode_name(mode), dt, mean / sqrt(var / ns), ms / var - 1.0, 5.0 * sqrt(2.0 / dof), rho,
+            5.0 / sqrt(lag_n));
+    ck_assert_int_eq(gr_sim_collisions(s), 0);
+    ck_assert_msg(fabs(mean) < 5.0 * sqrt(var / ns), "mean increment %g m/s, standard error %g", mean, sqrt(var / ns));
+    ck_assert_msg(fabs(ms / var - 1.0) < 5.0 * sqrt(2.0 / dof),
+                  "mean square increment %g (m/s)^2, expected 2 D dt / M^2 %s = %g", ms,
+                  mode == GR_NOISE_SYMMETRISED ? "(1 - 1/N)" : "", var);
+    ck_assert_msg(fabs(rho) < 5.0 / sqrt(lag_n), "consecutive kicks correlated: rho = %g", rho);
+    gr_ledger l = gr_sim_ledger(s);
+    ck_assert_double_eq(l.dissipated_normal + l.dissipated_tangential + l.dissipated_friction, 0.0);
+    ck_assert_double_eq(l.removed_com, 0.0);
+    ck_assert_msg(fabs(l.kinetic - ke0 - l.injected) <= 1e-10 * l.kinetic,
+                  "ledger: KE gained %.17g J, injected %.17g J", l.kinetic - ke0, l.injected);
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) <= 1e-10 * l.kinetic, "ledger residual %g J", gr_ledger_residual(&l));
+    free(vx0);
+    free(vy0);
+    free(px);
+    free(py);
+    gr_sim_free(s);
+}
+END_TEST
+
+/* Symmetrised noise in a gas with collisions: the kicks sum to zero and the contact forces obey
+ * Newton's third law, so the total momentum (zero at creation) stays zero up to rounding. Each
+ * step adds rounding errors of order 1e-16 of every particle's momentum, accumulating like a
+ * random walk over S steps: |P| ~ 1e-16 sqrt(S N) M v_rms. The bound is 1e-12 of sum |p_i|,
+ * i.e. ~1e-12 N M v_rms, far above that and far below the momentum a single unbalanced kick
+ * (~M sqrt(2 D dt)/M) would leave. */
+START_TEST(test_noise_symmetrised_momentum)
+{
+    const int n = 150, S = quick() ? 1000 : 4000;
+    gr_scene sc = base_scene(2, n, side_for(n, 0.4));
+    sc.placement = GR_PLACE_UNIFORM;
+    sc.D = D_NOISE;
+    sc.noise_mode = GR_NOISE_SYMMETRISED;
+    sc.v0 = 1.0;
+    sc.seed = 5;
+    gr_sim *s = create(&sc);
+    double worst = 0.0;
+    for (int k = 0; k < S; k += 100) {
+        step(s, 100);
+        double p[2], abs_p = 0.0;
+        gr_sim_momentum(s, p);
+        for (int i = 0; i < n; i++) {
+            abs_p += MASS * hypot(s->vx[i], s->vy[i]);
+        }
+        worst = fmax(worst, hypot(p[0], p[1]) / abs_p);
+        ck_assert_msg(hypot(p[0], p[1]) <= 1e-12 * abs_p, "step %d: total momentum (%g, %g) kg m/s, sum |p_i| = %g",
+                      k + 100, p[0], p[1], abs_p);
+    }
+    VERBOSE("symmetrised momentum: max |P| / sum |p_i| = %.3g, %lld collisions\n", worst,
+            (long long)gr_sim_collisions(s));
+    ck_assert_msg(gr_sim_collisions(s) > n, "only %lld collisions", (long long)gr_sim_collisions(s));
+    gr_sim_free(s);
+}
+END_TEST
+
+/* com mode: the kicks are not symmetrised, so the total momentum random-walks, with standard
+ * deviation sigma_P = M amp sqrt(k N) per component after k steps; every com_interval (set to
+ * exactly 50 steps) the centre-of-mass velocity is removed, leaving |P| at rounding level
+ * (1e-12 of sum |p_i|, as above). Between resets |P| must not be at that level: for a 2D
+ * Gaussian P(|P| < 1e-3 sigma_P) = 5e-7. The energy removed goes to the ledger's removed_com, so
+ * the residual stays at rounding level (no contacts in this dilute box). */
+START_TEST(test_noise_com_mode)
+{
+    const int n = 60;
+    gr_scene sc = dilute_scene(n, GR_NOISE_COM);
+    sc.seed = 23;
+    gr_sim *probe = create(&sc);
+    const double dt = gr_sim_dt(probe);
+    gr_sim_free(probe);
+    sc.com_interval = 50.0 * dt;
+    gr_sim *s = create(&sc);
+    ck_assert_int_eq(s->com_every, 50);
+    const double amp = sqrt(2.0 * D_NOISE * dt) / MASS;
+    for (int k = 1; k <= 300; k++) {
+        step(s, 1);
+        double p[2], abs_p = 0.0;
+        gr_sim_momentum(s, p);
+        for (int i = 0; i < n; i++) {
+            abs_p += MASS * hypot(s->vx[i], s->vy[i]);
+        }
+        const double P = hypot(p[0], p[1]);
+        if (k % 50 == 0) {
+            ck_assert_msg(P <= 1e-12 * abs_p, "step %d (a reset): |P| = %g kg m/s", k, P);
+        } else {
+            const double sigma = MASS * amp * sqrt((double)(k % 50) * n);
+            ck_assert_msg(P > 1e-3 * sigma, "step %d: |P| = %g kg m/s, expected a random walk of size %g", k, P, sigma);
+        }
+    }
+    gr_ledger l = gr_sim_ledger(s);
+    ck_assert_msg(l.removed_com > 0.0, "no energy recorded as removed by the resets");
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) <= 1e-10 * l.kinetic, "ledger residual %g J (KE %g J)",
+                  gr_ledger_residual(&l), l.kinetic);
+    gr_sim_free(s);
+}
+END_TEST
+
+/* Energy injection of the random force into free particles started at rest: after S steps each
+ * velocity component is amp times a sum of S independent kicks, so
+ *   KE = (M/2) S amp^2 X,  X ~ chi-square with dof = dim (N - 1) (symmetrised) or dim N (com),
+ * E[KE] = dim D / M (1 - 1/N) N t (symmetrised) with t = S dt: the rate dim D / M per particle
+ * times (1 - 1/N). The relative standard deviation of KE is sqrt(2 / dof); assert within 5 of it.
+ * Case 0: one box of N = 10000 (5 sigma = 5%). Cases 1, 2: 400 replicas of N = 2 summed, where
+ * the symmetrised rate is half the com-mode rate (5 sigma = 25%, the factor 2 is 100%).
+ * The ledger's injected energy equals the kinetic energy gained to rounding (1e-10 relative). */
+START_TEST(test_noise_energy_injection)
+{
+    const gr_noise_mode mode = _i == 2 ? GR_NOISE_COM : GR_NOISE_SYMMETRISED;
+    const int n = _i == 0 ? (quick() ? 2000 : 10000) : 2;
+    const int replicas = _i == 0 ? 1 : (quick() ? 200 : 400);
+    const int S = 100;
+    double ke = 0.0, expected = 0.0, dof = 0.0;
+    for (int r = 0; r < replicas; r++) {
+        gr_scene sc = dilute_scene(n, mode);
+        sc.v0 = 0.0;
+        sc.com_interval = 1e3;
+        sc.seed = 1000 + (uint64_t)r;
+        gr_sim *s = create(&sc);
+        step(s, S);
+        gr_ledger l = gr_sim_ledger(s);
+        ck_assert_int_eq(gr_sim_collisions(s), 0);
+        ck_assert_double_eq(l.initial, 0.0);
+        ck_assert_msg(fabs(l.kinetic - l.injected) <= 1e-10 * l.kinetic, "replica %d: KE %.17g J, injected %.17g J", r,
+                      l.kinetic, l.injected);
+        const double t = gr_sim_time(s), rate = 2.0 * D_NOISE / MASS * (mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / n : 1.0);
+        ck_assert_double_eq_tol(t, S * gr_sim_dt(s), 1e-15 * t);
+        ke += l.kinetic;
+        expected += rate * n * t;
+        dof += 2.0 * (mode == GR_NOISE_SYMMETRISED ? n - 1 : n);
+        gr_sim_free(s);
+    }
+    const double tol = 5.0 * sqrt(2.0 / dof);
+    VERBOSE("injection %s N = %d x %d: KE / expected - 1 = %.4f (tol %.4f)\n", gr_noise_mode_name(mode), n, replicas,
+            ke / expected - 1.0, tol);
+    ck_assert_msg(fabs(ke / expected - 1.0) < tol,
+                  "%s, N = %d (%d replicas): kinetic energy gained %g J, expected dim D/M (1 - 1/N) N t = %g J (tolerance %.3g)",
+                  gr_noise_mode_name(mode), n, replicas, ke, expected, tol);
+}
+END_TEST
+
+/* ------------------------------------------------------------------------------------------ */
 
 static Suite *sim_suite(void)
 {
@@ -370,6 +580,13 @@ static Suite *sim_suite(void)
     tcase_add_loop_test(tc, test_forces_list_vs_bruteforce_static, 0, 1);
     tcase_add_loop_test(tc, test_forces_list_vs_bruteforce_trajectory, 0, 6);
     suite_add_tcase(s, tc);
+    TCase *tn = tcase_create("noise");
+    tcase_set_timeout(tn, 600);
+    tcase_add_loop_test(tn, test_noise_increment_statistics, 0, 2);
+    tcase_add_test(tn, test_noise_symmetrised_momentum);
+    tcase_add_test(tn, test_noise_com_mode);
+    tcase_add_loop_test(tn, test_noise_energy_injection, 0, 3);
+    suite_add_tcase(s, tn);
     return s;
 }
 

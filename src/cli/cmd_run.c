@@ -108,8 +108,12 @@ int cmd_run(int argc, char **argv)
         cli_error("%s", err.message);
         return EXIT_FAILED;
     }
-    printf("%s: T = %.6g +- %.2g m^2/s^2 over %lld samples; %lld collisions; %.3g particle-steps/s; kernel %s\n",
-           scene.out_dir, res.T_mean, res.T_stderr, (long long)res.samples, (long long)res.collisions,
+    char err_text[32] = "n/a (< 16 samples)";
+    if (res.T_stderr == res.T_stderr) {
+        snprintf(err_text, sizeof err_text, "%.2g", res.T_stderr);
+    }
+    printf("%s: T = %.6g +- %s m^2/s^2 over %lld samples; %lld collisions; %.3g particle-steps/s; kernel %s\n",
+           scene.out_dir, res.T_mean, err_text, (long long)res.samples, (long long)res.collisions,
            res.particle_steps_per_second, res.kernel);
     return EXIT_OK;
 }

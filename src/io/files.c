@@ -79,7 +79,7 @@ int gr_output_dir_prepare(const char *dir, bool force, gr_error *err)
     char probe[1200];
     snprintf(probe, sizeof probe, "%s/summary.json", dir);
     if (!force && access(probe, F_OK) == 0) {
-        return GR_FAIL(err, GR_EIO,
+        return GR_FAIL(err, GR_EINVAL,
                        "output folder %s already holds a run (summary.json); choose another folder or pass --force to overwrite it",
                        dir);
     }

@@ -234,6 +234,16 @@ typedef struct loader {
     int n_seen;
 } loader;
 
+static bool section_known(const char *section)
+{
+    for (int i = 0; i < n_keys; i++) {
+        if (strcmp(keys[i].section, section) == 0) {
+            return true;
+        }
+    }
+    return false;
+}
+
 static int apply(loader *ld, const char *section, const char *name, const char *value, const where *w)
 {
     gr_scene *s = ld->scene;
@@ -332,11 +342,7 @@ static int apply(loader *ld, const char *section, const char *name, const char *
         }
     }
     char known[600] = "";
-    bool section_known = false;
-    for (int i = 0; i < n_keys; i++) {
-        section_known |= strcmp(keys[i].section, section) == 0;
-    }
-    if (!section_known) {
+    if (!section_known(section)) {
         snprintf(detail, sizeof detail, "unknown section [%s]; sections: system, placement, model, noise, integrator, run, output", section);
         return fail_at(err, w, section, name, "%s", detail);
     }
@@ -379,6 +385,18 @@ static char *read_line(char *str, int num, void *stream)
     char *s = fgets(str, num, r->f);
     if (s) {
         r->ld->line++;
+        /* inih reports keys, not sections: catch a misspelt section even when it is empty */
+        const char *p = s + strspn(s, " \t");
+        if (*p == '[' && r->ld->rc == GR_OK) {
+            char name[64];
+            size_t len = strcspn(p + 1, "]");
+            snprintf(name, sizeof name, "%.*s", (int)(len < 63 ? len : 63), p + 1);
+            if (p[1 + len] == ']' && !section_known(name)) {
+                where w = {r->ld->file, r->ld->line, NULL};
+                r->ld->rc = fail_at(r->ld->err, &w, name, "", "%s",
+                                    "unknown section; sections: system, placement, model, noise, integrator, run, output");
+            }
+        }
     }
     return s;
 }
