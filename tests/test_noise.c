@@ -40,7 +40,7 @@ static int within(double z, double expect, double sigma, double k)
     return fabs(z - expect) <= k * sigma;
 }
 
-/* ---- An independent reference implementation -------------------------------------------------
+/* ---- An independent reference implementation ----------------------------------------------------
  * Written from the description at the top of noise.c, sharing no code with it. */
 
 static long double ref_x[257], ref_f[257];
@@ -48,8 +48,8 @@ static const long double ref_r = 3.6541528853610088L;
 
 static void ref_tables(void)
 {
-    long double v = ref_r * expl(-ref_r * ref_r / 2) +
-                    sqrtl(acosl(-1.0L) / 2) * erfcl(ref_r / sqrtl(2.0L));
+    long double v =
+        ref_r * expl(-ref_r * ref_r / 2) + sqrtl(acosl(-1.0L) / 2) * erfcl(ref_r / sqrtl(2.0L));
     ref_x[0] = v / expl(-ref_r * ref_r / 2);
     ref_x[1] = ref_r;
     for (int i = 2; i < 256; i++) {
@@ -111,7 +111,8 @@ static double ref_normal(uint64_t seed, uint32_t stream, uint64_t step, uint32_t
             }
         }
         *path = PATH_WEDGE;
-        long double y = ref_f[i] + (long double)(blk[0] >> 11) * 0x1p-53L * (ref_f[i + 1] - ref_f[i]);
+        long double y =
+            ref_f[i] + (long double)(blk[0] >> 11) * 0x1p-53L * (ref_f[i + 1] - ref_f[i]);
         if (y < expl(-x * x / 2)) {
             return sign * (double)x;
         }
@@ -138,8 +139,8 @@ START_TEST(test_reference)
         for (uint32_t c = 0; c < 2; c++) {
             int path, layer;
             double ref = ref_normal(SEED, GR_STREAM_NOISE, step, id, c, &path, &layer);
-            REQUIRE(close_to(v[2 * id + c], ref), "id %u c %u: %.17g, reference %.17g (path %d)", id,
-                    c, v[2 * id + c], ref, path);
+            REQUIRE(close_to(v[2 * id + c], ref), "id %u c %u: %.17g, reference %.17g (path %d)",
+                    id, c, v[2 * id + c], ref, path);
             paths[path]++;
             layers[layer]++;
         }
@@ -163,7 +164,7 @@ START_TEST(test_reference_uniform)
 }
 END_TEST
 
-/* ---- Exact identities -------------------------------------------------------------------------- */
+/* ---- Exact identities ------------------------------------------------------------------------ */
 
 START_TEST(test_batch_independence)
 {
@@ -171,21 +172,22 @@ START_TEST(test_batch_independence)
     enum { N = 3000 };
     const uint32_t base = 1000001; /* odd: pairs straddle the batch start */
     for (int per = 1; per <= 2; per++) {
-        double *all = malloc((size_t)N * 2 * sizeof *all), *part = malloc((size_t)N * 2 * sizeof *part);
+        double *all = malloc((size_t)N * 2 * sizeof *all),
+               *part = malloc((size_t)N * 2 * sizeof *part);
         ck_assert_ptr_nonnull(all);
         ck_assert_ptr_nonnull(part);
         gr_noise_normals(SEED, GR_STREAM_NOISE, 42, base, N, per, all);
-        static const int windows[][2] = {{0, 1},   {1, 1},    {0, 2},    {1, 2},    {3, 7},
-                                         {2, 8},   {5, 17},   {0, 16},   {1, 511},  {7, 512},
-                                         {6, 513}, {10, 1025}, {0, N},   {1, N - 1}, {N - 1, 1}};
+        static const int windows[][2] = {{0, 1},   {1, 1},     {0, 2},  {1, 2},     {3, 7},
+                                         {2, 8},   {5, 17},    {0, 16}, {1, 511},   {7, 512},
+                                         {6, 513}, {10, 1025}, {0, N},  {1, N - 1}, {N - 1, 1}};
         for (size_t w = 0; w < sizeof windows / sizeof windows[0]; w++) {
             int off = windows[w][0], n = windows[w][1];
             memset(part, 0, (size_t)N * 2 * sizeof *part);
             gr_noise_normals(SEED, GR_STREAM_NOISE, 42, base + (uint32_t)off, n, per, part);
             for (int i = 0; i < n * per; i++) {
                 REQUIRE(part[i] == all[off * per + i],
-                              "per %d, window (%d, %d), element %d: %.17g != %.17g", per, off, n, i,
-                              part[i], all[off * per + i]);
+                        "per %d, window (%d, %d), element %d: %.17g != %.17g", per, off, n, i,
+                        part[i], all[off * per + i]);
             }
             for (int i = n * per; i < N * 2; i++) {
                 REQUIRE(part[i] == 0.0, "per %d, window (%d, %d) wrote past its end", per, off, n);
@@ -222,7 +224,8 @@ START_TEST(test_per_consistency)
         REQUIRE(one[i] == two[2 * i], "id %d: per 1 %.17g, per 2 %.17g", i, one[i], two[2 * i]);
         REQUIRE(gr_noise_normal1(SEED, GR_STREAM_INIT_VELOCITY, 9, (uint32_t)i, 0) == one[i],
                 "id %d, component 0: gr_noise_normal1", i);
-        REQUIRE(gr_noise_normal1(SEED, GR_STREAM_INIT_VELOCITY, 9, (uint32_t)i, 1) == two[2 * i + 1],
+        REQUIRE(gr_noise_normal1(SEED, GR_STREAM_INIT_VELOCITY, 9, (uint32_t)i, 1) ==
+                    two[2 * i + 1],
                 "id %d, component 1: gr_noise_normal1", i);
         differ += two[2 * i] != two[2 * i + 1];
     }
@@ -265,7 +268,8 @@ static int isa_check(void)
         gr_noise_normals(SEED, GR_STREAM_NOISE, 77, 11, N, per, v);
         for (int i = 0; i < N; i++) {
             for (int c = 0; c < per; c++) {
-                bad += v[i * per + c] != gr_noise_normal1(SEED, GR_STREAM_NOISE, 77, 11 + (uint32_t)i, c);
+                bad += v[i * per + c] !=
+                       gr_noise_normal1(SEED, GR_STREAM_NOISE, 77, 11 + (uint32_t)i, c);
             }
         }
     }
@@ -323,7 +327,7 @@ START_TEST(test_golden)
 }
 END_TEST
 
-/* ---- Statistics ---------------------------------------------------------------------------------- */
+/* ---- Statistics ------------------------------------------------------------------------------ */
 
 /* Draw `steps` steps of n particles x per components, calling f on each batch. */
 static void draw(uint64_t seed, uint32_t stream, int steps, int n, int per,
@@ -367,8 +371,10 @@ START_TEST(test_moments)
         ck_assert(m.cnt == 2000000);
         ck_assert_msg(within(m.s1 / n, 0, sqrt(1 / n), 5), "per %d mean %g", per, m.s1 / n);
         ck_assert_msg(within(m.s2 / n, 1, sqrt(2 / n), 5), "per %d variance %g", per, m.s2 / n);
-        ck_assert_msg(within(m.s3 / n, 0, sqrt(15 / n), 5), "per %d third moment %g", per, m.s3 / n);
-        ck_assert_msg(within(m.s4 / n, 3, sqrt(96 / n), 5), "per %d fourth moment %g", per, m.s4 / n);
+        ck_assert_msg(within(m.s3 / n, 0, sqrt(15 / n), 5), "per %d third moment %g", per,
+                      m.s3 / n);
+        ck_assert_msg(within(m.s4 / n, 3, sqrt(96 / n), 5), "per %d fourth moment %g", per,
+                      m.s4 / n);
     }
 }
 END_TEST
@@ -441,7 +447,7 @@ START_TEST(test_chi_square)
     draw(SEED, GR_STREAM_PLACEMENT, 100, 10000, 1, add_chi, &h);
     double expect = 1e6 / BINS, chi2 = 0;
     for (int b = 0; b < BINS; b++) {
-        chi2 += (h.count[b] - expect) * (h.count[b] - expect) / expect;
+        chi2 += ((double)h.count[b] - expect) * ((double)h.count[b] - expect) / expect;
     }
     double p = gsl_cdf_chisq_Q(chi2, BINS - 1);
     ck_assert_msg(p > 1e-4, "chi^2 = %g for %d dof, p = %g", chi2, BINS - 1, p);
@@ -565,7 +571,7 @@ START_TEST(test_uniform)
     ck_assert_msg(within(s2 / N, 1.0 / 12, sqrt(1.0 / 180 / N), 5), "variance %g", s2 / N);
     double chi2 = 0, e = (double)N / B;
     for (int b = 0; b < B; b++) {
-        chi2 += (bins[b] - e) * (bins[b] - e) / e;
+        chi2 += ((double)bins[b] - e) * ((double)bins[b] - e) / e;
     }
     ck_assert_msg(gsl_cdf_chisq_Q(chi2, B - 1) > 1e-4, "chi^2 %g", chi2);
 
