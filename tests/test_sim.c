@@ -464,7 +464,7 @@ START_TEST(test_noise_symmetrised_momentum)
     sc.placement = GR_PLACE_UNIFORM;
     sc.D = D_NOISE;
     sc.noise_mode = GR_NOISE_SYMMETRISED;
-    sc.v0 = 1.0;
+    sc.v0 = 5.0;
     sc.seed = 5;
     gr_sim *s = create(&sc);
     double worst = 0.0;
@@ -571,6 +571,286 @@ START_TEST(test_noise_energy_injection)
 END_TEST
 
 /* ------------------------------------------------------------------------------------------ */
+/* 3. energy conservation of an elastic gas */
+
+/* Energy error of an elastic (eps_n = 1, gamma_n = 0) gas. Velocity Verlet conserves a shadow
+ * energy; the measured KE + elastic energy differs from it by O((w0 dt)^2) of the energy of the
+ * pairs in contact. Each collision also changes the energy by at most ~(w0 dt)^2 times the
+ * pair's relative kinetic energy E_rel (the contact starts or ends up to one step off, so the
+ * spring work k (g dt)^2 / 2 = (w0 dt)^2 E_rel may be missed or added), with either sign. The
+ * mean E_rel is ~E0 / (2N), so after C collisions the energy has random-walked by about
+ * sqrt(C) (w0 dt)^2 E0 / (2N); allowing 5 times that for the maximum of the walk:
+ *   max |E - E0| / E0 <= 2.5 sqrt(C) (w0 dt)^2 / N,
+ * and the same bound for the drift (mean of the last quarter of the samples minus mean of the
+ * first quarter). A first-order error (energy changes of w0 dt E_rel per collision, 16 times
+ * more at the default dt) or any systematic dissipation breaks it. Measured: about 1/20 of it. */
+static void check_elastic_energy(int dim, int n, double L, int64_t steps, double v0, uint64_t seed)
+{
+    gr_scene sc = base_scene(dim, n, L);
+    sc.placement = GR_PLACE_UNIFORM;
+    sc.contact.eps_n = 1.0;
+    sc.v0 = v0;
+    sc.seed = seed;
+    gr_sim *s = create(&sc);
+    ck_assert_double_eq(s->cc.gamma_n, 0.0);
+    const double E0 = energy(s), w = s->cc.w0 * gr_sim_dt(s);
+    const int nsamp = 200;
+    double maxdev = 0.0, first = 0.0, last = 0.0;
+    for (int k = 0; k < nsamp; k++) {
+        step(s, steps / nsamp);
+        const double E = energy(s);
+        maxdev = fmax(maxdev, fabs(E - E0) / E0);
+        if (k < nsamp / 4) {
+            first += E / (nsamp / 4);
+        } else if (k >= nsamp - nsamp / 4) {
+            last += E / (nsamp / 4);
+        }
+    }
+    const double C = (double)gr_sim_collisions(s), bound = 2.5 * sqrt(C) * w * w / n;
+    const double drift = fabs(last - first) / E0;
+    gr_ledger l = gr_sim_ledger(s);
+    VERBOSE("elastic %dD gas: N = %d, %.0f collisions/particle, (w0 dt)^2 = %.3g, max dev %.3g, drift %.3g, bound %.3g\n",
+            dim, n, 2.0 * C / n, w * w, maxdev, drift, bound);
+    ck_assert_msg(C >= 10.0 * n, "only %.0f collisions for %d particles", C, n);
+    ck_assert_double_eq(gr_ledger_dissipated(&l), 0.0);
+    ck_assert_msg(maxdev <= bound, "%dD elastic gas: energy deviates by %.3g of E0 (bound %.3g, (w0 dt)^2 = %.3g)", dim,
+                  maxdev, bound, w * w);
+    ck_assert_msg(drift <= bound, "%dD elastic gas: energy drifts by %.3g of E0 (bound %.3g)", dim, drift, bound);
+    gr_sim_free(s);
+}
+
+START_TEST(test_elastic_gas_conserves_energy)
+{
+    /* phi = 0.4, v0 = 5 m/s: ~70 collisions per particle in 2e5 steps */
+    check_elastic_energy(2, 150, side_for(150, 0.4), quick() ? 60000 : 200000, 5.0, 3);
+}
+END_TEST
+
+/* ------------------------------------------------------------------------------------------ */
+/* 5. Haff's law */
+
+/* Free cooling of an inelastic gas (eps_n = 0.9, no noise): Haff's law T(t) = T0 / (1 + t/t0)^2
+ * holds while the gas stays homogeneous; N = 100 at phi = 0.4 is small enough that neither
+ * clusters nor vortices form within the run (eps_n = 0.8 already shows the slower decay of a
+ * shearing state). t0 is read off the data as the time T first falls to T0 / 4 (exact for
+ * Haff's law); the run lasts >= 100 t0. Assertions:
+ *  - T decreases strictly between log-spaced samples (factor 10^0.1 in t) after t0: at those
+ *    times Haff's law drops T by >= 17% per sample, far more than the kinetic-elastic exchange
+ *    of the few pairs in contact;
+ *  - the slope of ln T against ln t fitted over [10 t0, t_end] is that of Haff's law: its local
+ *    exponent -2 (t/t0) / (1 + t/t0) runs from -1.82 to -1.98 over the window, so a fit gives
+ *    about -1.93. The scatter of T from N = 100 particles (~10% per sample) gives the fitted
+ *    slope a standard error ~0.04 (12 points over 1.1 decades); 5 of them around -1.93 gives the
+ *    band [-2.15, -1.72], which excludes e.g. the t^(-5/3) of velocity-dependent restitution
+ *    and the exponential decay of a wrong (velocity-independent) dissipation.
+ * Measured slopes for seeds 1..6: -1.87 .. -1.98. */
+START_TEST(test_haff_cooling)
+{
+    const int n = 100;
+    gr_scene sc = base_scene(2, n, side_for(n, 0.4));
+    sc.placement = GR_PLACE_UNIFORM;
+    sc.contact.eps_n = 0.9;
+    sc.v0 = 10.0;
+    sc.steps_per_contact = 20.0;
+    sc.seed = 4;
+    gr_sim *s = create(&sc);
+    const double T0 = gr_sim_temperature(s);
+    enum { MAXS = 128 };
+    double t[MAXS], T[MAXS];
+    int m = 0;
+    double t0 = 0.0;
+    int64_t next = 100;
+    const double t_end_over_t0 = quick() ? 60.0 : 110.0;
+    while (m < MAXS) {
+        step(s, next - gr_sim_steps(s));
+        t[m] = gr_sim_time(s);
+        T[m] = gr_sim_temperature(s);
+        if (t0 == 0.0 && T[m] <= 0.25 * T0) {
+            t0 = t[m];
+        }
+        m++;
+        if (t0 > 0.0 && t[m - 1] >= t_end_over_t0 * t0) {
+            break;
+        }
+        next = (int64_t)ceil((double)next * pow(10.0, 0.1));
+    }
+    ck_assert_msg(t0 > 0.0 && t[m - 1] >= t_end_over_t0 * t0, "the gas did not cool (T / T0 = %g)", T[m - 1] / T0);
+    double lx[MAXS], ly[MAXS];
+    int w = 0;
+    for (int k = 0; k < m; k++) {
+        if (t[k] > t0 && k + 1 < m) {
+            ck_assert_msg(T[k + 1] < T[k], "T rose from %g to %g between t = %g and %g s", T[k], T[k + 1], t[k], t[k + 1]);
+        }
+        if (t[k] >= 10.0 * t0) {
+            lx[w] = log(t[k]);
+            ly[w] = log(T[k]);
+            w++;
+        }
+    }
+    double c0, c1, cov00, cov01, cov11, sumsq;
+    gsl_fit_linear(lx, 1, ly, 1, (size_t)w, &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
+    VERBOSE("Haff: t0 = %.4g s, t_end = %.1f t0, %d points, slope %.3f, T_end / T0 = %.3g, %lld collisions\n", t0,
+            t[m - 1] / t0, w, c1, T[m - 1] / T0, (long long)gr_sim_collisions(s));
+    ck_assert_msg(w >= 6, "only %d points in the fit window", w);
+    ck_assert_msg(c1 > -2.15 && c1 < -1.72, "late-time cooling T ~ t^%.3f, Haff's law gives t^-2 (band -2.15 .. -1.72)", c1);
+    gr_sim_free(s);
+}
+END_TEST
+
+/* ------------------------------------------------------------------------------------------ */
+/* 6. a dense driven packing and the ledger's order */
+
+/* Hexagonal packing at phi = 0.85 (gaps of 3% of d), thesis noise, default dt (t_c / 50), 1e5
+ * steps (2e4 with GRANULE_TEST_QUICK). N = 250: many N do not fit a square box at this phi
+ * with horizontal hexagonal rows (e.g. 200 holds only 182), 250 does.
+ *  - no non-finite value;
+ *  - max overlap < 1% of d at every step: collisions at relative speed g overlap by g / w0,
+ *    1% of d needs g = 5 m/s, some 100 times the thermal speed this noise sustains;
+ *  - ledger residual / (injected + dissipated) <= 0.5 dt / t_c = 1%: the dashpot work is
+ *    estimated with the half-step velocity, a first-order error of the dissipated energy;
+ *    measured 0.27 dt/t_c for eps_n = 0.6 (0.06 for 0.9). */
+START_TEST(test_dense_hexagonal_driven)
+{
+    const int n = 250;
+    const int64_t steps = quick() ? 20000 : 100000;
+    gr_scene sc = base_scene(2, n, side_for(n, 0.85));
+    sc.placement = GR_PLACE_HEXAGONAL;
+    sc.D = D_NOISE;
+    sc.noise_mode = GR_NOISE_SYMMETRISED;
+    sc.v0 = 0.1;
+    sc.seed = 3;
+    gr_sim *s = create(&sc);
+    ck_assert_msg(min_pair_distance(s) >= 1.0 - 1e-9, "hexagonal placement overlaps");
+    double maxov = 0.0;
+    for (int64_t k = 0; k < steps; k++) {
+        step(s, 1);
+        maxov = fmax(maxov, gr_sim_max_overlap(s));
+    }
+    ck_assert(all_finite(s));
+    gr_ledger l = gr_sim_ledger(s);
+    const double res = gr_ledger_residual(&l), scale = l.injected + gr_ledger_dissipated(&l);
+    const double dt_tc = gr_sim_dt(s) / s->cc.t_c;
+    VERBOSE("dense phi = 0.85: max overlap %.3g d, residual %.3g of injected + dissipated (%.2f dt/t_c), %lld collisions\n",
+            maxov, res / scale, res / scale / dt_tc, (long long)gr_sim_collisions(s));
+    ck_assert_msg(gr_sim_collisions(s) > n, "only %lld collisions", (long long)gr_sim_collisions(s));
+    ck_assert_msg(maxov < 0.01, "max overlap %.3g d", maxov);
+    ck_assert_msg(fabs(res) <= 0.5 * dt_tc * scale, "ledger residual %g J, injected %g J, dissipated %g J (bound %g J)", res,
+                  l.injected, gr_ledger_dissipated(&l), 0.5 * dt_tc * scale);
+    gr_sim_free(s);
+}
+END_TEST
+
+/* The ledger residual is first order in dt: a driven dissipative gas (phi = 0.6 square lattice,
+ * noise, eps_n = 0.6, each tangential law) run for the same physical time at t_c/20 and t_c/40.
+ * The residual is dominated by a systematic per-contact error (dissipation over-estimated by the
+ * half-step velocity), so over ~1000 collisions its ratio is close to 2 despite the different
+ * trajectories; the band [1.5, 2.6] of physics-algorithms.md sec. 4.4 for first-order
+ * convergence. Measured 1.98 .. 2.3. */
+START_TEST(test_ledger_first_order)
+{
+    const int tang = _i;
+    double res[2], dt[2];
+    for (int h = 0; h < 2; h++) {
+        const int n = 100;
+        const double spc = 20.0 * (1 << h);
+        gr_scene sc = base_scene(2, n, side_for(n, 0.6));
+        set_tangential(&sc, tang);
+        sc.placement = GR_PLACE_SQUARE;
+        sc.contact.eps_t = 0.5;
+        sc.contact.mu = 0.5;
+        sc.D = D_NOISE;
+        sc.noise_mode = GR_NOISE_SYMMETRISED;
+        sc.v0 = 0.5;
+        sc.steps_per_contact = spc;
+        sc.seed = 9;
+        gr_sim *s = create(&sc);
+        step(s, (int64_t)((quick() ? 800 : 1500) * spc));
+        gr_ledger l = gr_sim_ledger(s);
+        res[h] = gr_ledger_residual(&l);
+        dt[h] = gr_sim_dt(s);
+        VERBOSE("ledger %s at t_c/%g: residual %.4g J, dissipated %.4g J, injected %.4g J, %lld collisions\n",
+                gr_sim_kernel(s), spc, res[h], gr_ledger_dissipated(&l), l.injected, (long long)gr_sim_collisions(s));
+        ck_assert_msg(gr_sim_collisions(s) > 2 * n, "only %lld collisions", (long long)gr_sim_collisions(s));
+        if (tang == 1) {
+            ck_assert(l.dissipated_tangential > 0.0);
+        }
+        if (tang == 2) {
+            ck_assert(l.dissipated_friction > 0.0);
+        }
+        gr_sim_free(s);
+    }
+    ck_assert_double_eq_tol(dt[0], 2.0 * dt[1], 1e-15 * dt[0]);
+    const double ratio = res[0] / res[1];
+    ck_assert_msg(ratio >= 1.5 && ratio <= 2.6, "residual %g J at dt, %g J at dt/2: ratio %g, expected ~2 (first order)",
+                  res[0], res[1], ratio);
+}
+END_TEST
+
+/* ------------------------------------------------------------------------------------------ */
+/* 7. collisions across the periodic boundary */
+
+/* A pair colliding obliquely in the middle of the box, and the same pair translated so that the
+ * collision happens across x = 0 / L, across y = 0 / L, or at a corner. Positions are given
+ * unwrapped (some negative); gr_sim_create_with_state wraps them. The box side, the positions,
+ * dt and the initial velocities are dyadic, so the free flight before contact is exact and the
+ * pairs touch with bit-identical relative coordinates; during the contact the positions round at
+ * the ulp of their own magnitude (up to ulp(L) = 7e-18 m), which perturbs the overlap
+ * (~2.5e-5 m at the relative speed g0 = 4.3 m/s) by < 2e-12 relative over ~40 contact steps
+ * even if every rounding had the same sign, ~3e-13 for random signs; the post-collision
+ * velocities must agree to 1e-12 g0 (measured: 1e-13 g0). */
+START_TEST(test_periodic_boundary_collision)
+{
+    const int tang = _i;
+    const double L = 0.0625, d = DIAM; /* 20.8 d, dyadic */
+    gr_scene sc = base_scene(2, 2, L);
+    set_tangential(&sc, tang);
+    sc.contact.eps_n = 0.7;
+    sc.contact.eps_t = 0.5;
+    sc.contact.mu = 0.3;
+    sc.contact.clamp = tang == 1;
+    sc.dt = 0x1p-21; /* 4.77e-7 s, t_c / 40 */
+    const double cx = 0.03125, cy = 0.03125;
+    /* offsets from the contact point: dyadic multiples of 2^-12 m (0.244 mm) */
+    const double ox[2] = {-7.0 * 0x1p-12, 6.0 * 0x1p-12}, oy[2] = {-2.0 * 0x1p-12, 3.0 * 0x1p-12};
+    const double vx[2] = {2.0, -2.0}, vy[2] = {0.5, -1.0};
+    const double g0 = hypot(vx[1] - vx[0], vy[1] - vy[0]);
+    const double shifts[4][2] = {{0.0, 0.0}, {-cx, 0.0}, {0.0, -cy}, {-cx, -cy}};
+    double ref[4] = {0};
+    for (int c = 0; c < 4; c++) {
+        double x[2], y[2];
+        for (int i = 0; i < 2; i++) {
+            x[i] = cx + shifts[c][0] + ox[i];
+            y[i] = cy + shifts[c][1] + oy[i];
+        }
+        gr_sim *s = create_state(&sc, 2, x, y, vx, vy);
+        ck_assert(s->x[0] >= 0.0 && s->x[0] < L && s->y[0] >= 0.0 && s->y[0] < L);
+        step(s, 3000);
+        ck_assert_int_eq(gr_sim_collisions(s), 1);
+        const double *vxs = s->vx, *vys = s->vy;
+        double out[4] = {vxs[0], vys[0], vxs[1], vys[1]};
+        /* the pair separated again */
+        double dx = min_image(s->x[1] - s->x[0], L), dy = min_image(s->y[1] - s->y[0], L);
+        ck_assert(hypot(dx, dy) > d);
+        if (c == 0) {
+            memcpy(ref, out, sizeof ref);
+            /* the collision did something */
+            ck_assert(fabs(out[0] - vx[0]) > 0.1);
+        } else {
+            for (int k = 0; k < 4; k++) {
+                ck_assert_msg(fabs(out[k] - ref[k]) <= 1e-12 * g0,
+                              "%s, case %d: velocity component %d is %.17g m/s after the collision across the boundary, %.17g in the middle",
+                              gr_sim_kernel(s), c, k, out[k], ref[k]);
+            }
+        }
+        VERBOSE("periodic case %d (%s): v = (%.6f %.6f) (%.6f %.6f), max diff %.3g\n", c, gr_sim_kernel(s), out[0], out[1],
+                out[2], out[3],
+                c ? fmax(fmax(fabs(out[0] - ref[0]), fabs(out[1] - ref[1])), fmax(fabs(out[2] - ref[2]), fabs(out[3] - ref[3]))) : 0.0);
+        gr_sim_free(s);
+    }
+}
+END_TEST
+
+/* ------------------------------------------------------------------------------------------ */
 
 static Suite *sim_suite(void)
 {
@@ -587,6 +867,17 @@ static Suite *sim_suite(void)
     tcase_add_test(tn, test_noise_com_mode);
     tcase_add_loop_test(tn, test_noise_energy_injection, 0, 3);
     suite_add_tcase(s, tn);
+    TCase *te = tcase_create("energy");
+    tcase_set_timeout(te, 600);
+    tcase_add_test(te, test_elastic_gas_conserves_energy);
+    tcase_add_test(te, test_haff_cooling);
+    tcase_add_test(te, test_dense_hexagonal_driven);
+    tcase_add_loop_test(te, test_ledger_first_order, 0, 3);
+    suite_add_tcase(s, te);
+    TCase *tg = tcase_create("geometry");
+    tcase_set_timeout(tg, 600);
+    tcase_add_loop_test(tg, test_periodic_boundary_collision, 0, 3);
+    suite_add_tcase(s, tg);
     return s;
 }
 

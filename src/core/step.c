@@ -40,33 +40,89 @@ static void half_kick(gr_sim *s)
     }
 }
 
-/* Random-force kick of step `step`; returns the kinetic energy it added. */
-static double noise_kick(gr_sim *s)
+/* Draw this step's normals and the means the symmetrised mode subtracts (2.18). */
+static void draw_noise(gr_sim *s, double mean[2])
 {
     const int n = s->n, dim = s->dim;
-    const double amp = sqrt(2.0 * s->scene.D * s->dt) / s->mass;
-    double *restrict g = s->noise;
-    gr_noise_normals(s->scene.seed, GR_STREAM_NOISE, (uint64_t)s->step, 0, n, dim, g);
-    double *v[2] = {s->vx, s->vy};
-    double added = 0.0;
-    for (int c = 0; c < dim; c++) {
-        double mean = 0.0;
-        if (s->scene.noise_mode == GR_NOISE_SYMMETRISED && n > 1) {
+    gr_noise_normals(s->scene.seed, GR_STREAM_NOISE, (uint64_t)s->step, 0, n, dim, s->noise);
+    mean[0] = mean[1] = 0.0;
+    if (s->scene.noise_mode == GR_NOISE_SYMMETRISED && n > 1) {
+        const double *restrict g = s->noise;
+        double m0 = 0.0, m1 = 0.0;
+        if (dim == 1) {
             for (int i = 0; i < n; i++) {
-                mean += g[i * dim + c];
+                m0 += g[i];
             }
-            mean /= n;
+        } else {
+            for (int i = 0; i < n; i++) {
+                m0 += g[2 * i];
+                m1 += g[2 * i + 1];
+            }
         }
-        double *restrict vc = v[c];
-        double sum = 0.0;
-        for (int i = 0; i < n; i++) {
-            const double dv = amp * (g[i * dim + c] - mean);
-            sum += dv * (vc[i] + 0.5 * dv);
-            vc[i] += dv;
-        }
-        added += s->mass * sum;
+        mean[0] = m0 / n;
+        mean[1] = m1 / n;
     }
-    return added;
+}
+
+/* First half of a step in one pass: half kick, noise kick (if `noise`), drift. Returns the kinetic
+ * energy the noise added; in 2D also the largest squared displacement since the last neighbour
+ * list build. */
+static inline __attribute__((always_inline)) double
+open_step_1d(gr_sim *restrict s, const int noise, const double mean)
+{
+    const int n = s->n;
+    const double h = 0.5 * s->dt / s->mass, dt = s->dt;
+    const double amp = noise ? sqrt(2.0 * s->scene.D * s->dt) / s->mass : 0.0;
+    double *restrict x = s->x, *restrict v = s->vx;
+    const double *restrict f = s->fx, *restrict g = s->noise;
+    double added = 0.0;
+    for (int i = 0; i < n; i++) {
+        double vi = v[i] + h * f[i];
+        if (noise) {
+            const double dv = amp * (g[i] - mean);
+            added += dv * (vi + 0.5 * dv);
+            vi += dv;
+        }
+        v[i] = vi;
+        x[i] += vi * dt; /* unwrapped: the ring keeps its order */
+    }
+    return s->mass * added;
+}
+
+static inline __attribute__((always_inline)) double
+open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], double *max_disp2)
+{
+    const int n = s->n;
+    const double h = 0.5 * s->dt / s->mass, dt = s->dt, L = s->L, half = 0.5 * L;
+    const double amp = noise ? sqrt(2.0 * s->scene.D * s->dt) / s->mass : 0.0;
+    const double m0 = mean[0], m1 = mean[1];
+    double *restrict x = s->x, *restrict y = s->y, *restrict vx = s->vx, *restrict vy = s->vy;
+    const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict g = s->noise;
+    const double *restrict xr = s->x_ref, *restrict yr = s->y_ref;
+    double added = 0.0, worst = 0.0;
+    for (int i = 0; i < n; i++) {
+        double vxi = vx[i] + h * fx[i], vyi = vy[i] + h * fy[i];
+        if (noise) {
+            const double dvx = amp * (g[2 * i] - m0), dvy = amp * (g[2 * i + 1] - m1);
+            added += dvx * (vxi + 0.5 * dvx) + dvy * (vyi + 0.5 * dvy);
+            vxi += dvx;
+            vyi += dvy;
+        }
+        vx[i] = vxi;
+        vy[i] = vyi;
+        double xn = x[i] + vxi * dt, yn = y[i] + vyi * dt;
+        xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
+        yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);
+        x[i] = xn;
+        y[i] = yn;
+        double dx = xn - xr[i], dy = yn - yr[i];
+        dx += dx > half ? -L : (dx < -half ? L : 0.0);
+        dy += dy > half ? -L : (dy < -half ? L : 0.0);
+        const double d2 = dx * dx + dy * dy;
+        worst = d2 > worst ? d2 : worst;
+    }
+    *max_disp2 = worst;
+    return s->mass * added;
 }
 
 /* Remove the centre-of-mass velocity; returns the kinetic energy removed. */
@@ -86,29 +142,6 @@ static double remove_com(gr_sim *s)
         removed += 0.5 * s->mass * s->n * mean * mean;
     }
     return removed;
-}
-
-static void drift(gr_sim *s)
-{
-    const int n = s->n;
-    const double dt = s->dt, L = s->L;
-    double *restrict x = s->x;
-    const double *restrict vx = s->vx;
-    if (s->dim == 1) {
-        for (int i = 0; i < n; i++) {
-            x[i] += vx[i] * dt; /* unwrapped: the ring keeps its order */
-        }
-        return;
-    }
-    double *restrict y = s->y;
-    const double *restrict vy = s->vy;
-    for (int i = 0; i < n; i++) {
-        double xn = x[i] + vx[i] * dt, yn = y[i] + vy[i] * dt;
-        xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
-        yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);
-        x[i] = xn;
-        y[i] = yn;
-    }
 }
 
 static int check_finite(gr_sim *s, gr_error *err)
@@ -132,17 +165,22 @@ int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
 {
     const bool noise = s->scene.noise_mode != GR_NOISE_NONE && s->scene.D > 0.0;
     const bool com = s->scene.noise_mode == GR_NOISE_COM;
+    const double skin_half2 = 0.25 * (s->cutoff - s->d) * (s->cutoff - s->d);
     for (int64_t k = 0; k < nsteps; k++) {
-        half_kick(s);
+        double mean[2] = {0.0, 0.0}, disp2 = 0.0;
+        if (com && s->step > 0 && s->step % s->com_every == 0) {
+            s->removed_com += remove_com(s); /* at a step boundary; booked in the ledger */
+        }
         if (noise) {
-            s->injected += noise_kick(s);
+            draw_noise(s, mean);
         }
-        if (com && (s->step + 1) % s->com_every == 0) {
-            s->removed_com += remove_com(s);
+        if (s->dim == 1) {
+            s->injected += noise ? open_step_1d(s, 1, mean[0]) : open_step_1d(s, 0, 0.0);
+        } else {
+            s->injected += noise ? open_step_2d(s, 1, mean, &disp2) : open_step_2d(s, 0, mean, &disp2);
         }
-        drift(s);
         s->step++;
-        if (s->dim == 2 && gr_neighbours_need_rebuild(s)) {
+        if (s->dim == 2 && (s->scene.skin <= 0.0 || disp2 > skin_half2)) {
             int rc = gr_neighbours_build(s, err);
             if (rc) {
                 return rc;
