@@ -321,7 +321,7 @@ START_TEST(test_forces_list_vs_bruteforce_trajectory)
 {
     const int tang = _i / 2, clamp = _i % 2;
     for (int sk = 0; sk < 2; sk++) {
-        const int n = 120, nsteps = quick() ? 150 : 600;
+        const int n = 120, nsteps = 600;
         gr_scene sc = base_scene(2, n, side_for(n, 0.45));
         set_tangential(&sc, tang);
         sc.contact.clamp = clamp;
@@ -459,7 +459,7 @@ END_TEST
  * (~M sqrt(2 D dt)/M) would leave. */
 START_TEST(test_noise_symmetrised_momentum)
 {
-    const int n = 150, S = quick() ? 1000 : 4000;
+    const int n = 150, S = 4000;
     gr_scene sc = base_scene(2, n, side_for(n, 0.4));
     sc.placement = GR_PLACE_UNIFORM;
     sc.D = D_NOISE;
@@ -486,12 +486,15 @@ START_TEST(test_noise_symmetrised_momentum)
 }
 END_TEST
 
-/* com mode: the kicks are not symmetrised, so the total momentum random-walks, with standard
- * deviation sigma_P = M amp sqrt(k N) per component after k steps; every com_interval (set to
- * exactly 50 steps) the centre-of-mass velocity is removed, leaving |P| at rounding level
- * (1e-12 of sum |p_i|, as above). Between resets |P| must not be at that level: for a 2D
- * Gaussian P(|P| < 1e-3 sigma_P) = 5e-7. The energy removed goes to the ledger's removed_com, so
- * the residual stays at rounding level (no contacts in this dilute box). */
+/* com mode: the kicks are not symmetrised, and every com_interval (set to exactly 50 steps) the
+ * centre-of-mass velocity is removed. In a box without contacts the total momentum after k steps
+ * is therefore the momentum of the kicks since the last reset,
+ *   P(k) = M amp sum_{j = 50 floor(k/50)}^{k-1} sum_i g(j, i),  g = gr_noise_normal1(seed, noise, j, i, c),
+ * for k not a multiple of 50 (at k = 50 m the reset may be applied at the end of that step or
+ * at the start of the next: both remove the same drift). Tolerance: rounding of the velocity
+ * sums, 1e-12 of sum |p_i| (as for the symmetrised momentum), which is ~1e-10 of one step's kick
+ * momentum M amp sqrt(N) here; without the resets P would carry the whole history instead. The
+ * energy removed goes to the ledger's removed_com, so the residual stays at rounding level. */
 START_TEST(test_noise_com_mode)
 {
     const int n = 60;
@@ -504,21 +507,32 @@ START_TEST(test_noise_com_mode)
     gr_sim *s = create(&sc);
     ck_assert_int_eq(s->com_every, 50);
     const double amp = sqrt(2.0 * D_NOISE * dt) / MASS;
+    double since[2] = {0.0, 0.0}; /* kick momentum since the last reset, per unit M amp */
+    double worst = 0.0;
     for (int k = 1; k <= 300; k++) {
+        if ((k - 1) % 50 == 0) {
+            since[0] = since[1] = 0.0;
+        }
+        for (int i = 0; i < n; i++) {
+            since[0] += gr_noise_normal1(sc.seed, GR_STREAM_NOISE, (uint64_t)(k - 1), (uint32_t)i, 0);
+            since[1] += gr_noise_normal1(sc.seed, GR_STREAM_NOISE, (uint64_t)(k - 1), (uint32_t)i, 1);
+        }
         step(s, 1);
+        if (k % 50 == 0) {
+            continue;
+        }
         double p[2], abs_p = 0.0;
         gr_sim_momentum(s, p);
         for (int i = 0; i < n; i++) {
             abs_p += MASS * hypot(s->vx[i], s->vy[i]);
         }
-        const double P = hypot(p[0], p[1]);
-        if (k % 50 == 0) {
-            ck_assert_msg(P <= 1e-12 * abs_p, "step %d (a reset): |P| = %g kg m/s", k, P);
-        } else {
-            const double sigma = MASS * amp * sqrt((double)(k % 50) * n);
-            ck_assert_msg(P > 1e-3 * sigma, "step %d: |P| = %g kg m/s, expected a random walk of size %g", k, P, sigma);
-        }
+        const double ex = MASS * amp * since[0], ey = MASS * amp * since[1];
+        worst = fmax(worst, hypot(p[0] - ex, p[1] - ey) / (MASS * amp * sqrt((double)n)));
+        ck_assert_msg(hypot(p[0] - ex, p[1] - ey) <= 1e-12 * abs_p,
+                      "step %d: total momentum (%g, %g) kg m/s, expected the kicks since the last reset (%g, %g)", k, p[0],
+                      p[1], ex, ey);
     }
+    VERBOSE("com mode: max |P - P_expected| = %.3g of one step's kick momentum\n", worst);
     gr_ledger l = gr_sim_ledger(s);
     ck_assert_msg(l.removed_com > 0.0, "no energy recorded as removed by the resets");
     ck_assert_msg(fabs(gr_ledger_residual(&l)) <= 1e-10 * l.kinetic, "ledger residual %g J (KE %g J)",
@@ -797,7 +811,7 @@ END_TEST
  * the ulp of their own magnitude (up to ulp(L) = 7e-18 m), which perturbs the overlap
  * (~2.5e-5 m at the relative speed g0 = 4.3 m/s) by < 2e-12 relative over ~40 contact steps
  * even if every rounding had the same sign, ~3e-13 for random signs; the post-collision
- * velocities must agree to 1e-12 g0 (measured: 1e-13 g0). */
+ * velocities must agree to 1e-12 g0 (measured: 4e-14 g0). */
 START_TEST(test_periodic_boundary_collision)
 {
     const int tang = _i;
@@ -851,6 +865,562 @@ START_TEST(test_periodic_boundary_collision)
 END_TEST
 
 /* ------------------------------------------------------------------------------------------ */
+/* 8. initial states and placements */
+
+/* Try to create a simulation; returns the status and keeps the message. */
+static int try_state(const gr_scene *sc, int n, const double *x, const double *y, gr_error *err)
+{
+    double *v = calloc((size_t)n, sizeof(double));
+    ck_assert_ptr_nonnull(v);
+    gr_sim *s = NULL;
+    memset(err, 0, sizeof *err);
+    int rc = gr_sim_create_with_state(sc, n, x, y, v, v, &s, err);
+    ck_assert(rc == GR_OK ? s != NULL : s == NULL);
+    gr_sim_free(s);
+    free(v);
+    return rc;
+}
+
+static int try_create(const gr_scene *sc, gr_error *err, double *min_dist)
+{
+    gr_sim *s = NULL;
+    memset(err, 0, sizeof *err);
+    int rc = gr_sim_create(sc, &s, err);
+    ck_assert(rc == GR_OK ? s != NULL : s == NULL);
+    if (s && min_dist) {
+        *min_dist = min_pair_distance(s);
+    }
+    gr_sim_free(s);
+    return rc;
+}
+
+static void expect_overlap_refused(const gr_scene *sc, int n, const double *x, const double *y, const char *what)
+{
+    gr_error err;
+    int rc = try_state(sc, n, x, y, &err);
+    ck_assert_msg(rc == GR_EINVAL, "%s: overlap of 1e-6 d accepted (rc %d)", what, rc);
+    ck_assert_msg(strstr(err.message, "overlap") != NULL, "%s: message does not mention the overlap: %s", what, err.message);
+}
+
+/* Touching pairs (centre distance d, up to the rounding of the coordinates: the check allows
+ * 1e-9 d) are legal initial states; an overlap of 1e-6 d is refused with GR_EINVAL and a message
+ * about the overlap, in the middle of the box, across the periodic boundary, across a corner,
+ * and on a 1D ring (inner pair and the pair across the wrap). */
+START_TEST(test_touching_accepted_overlap_refused)
+{
+    const double d = DIAM, L = 10.0 * d;
+    gr_scene sc = base_scene(2, 2, L);
+    const double a = 0.3; /* direction of the diagonal pairs */
+    for (int o = 0; o < 2; o++) {
+        const double g = o ? d * (1.0 - 1e-6) : d; /* centre distance */
+        const double cases[4][4] = {
+            {4.0 * d, 5.0 * d, 4.0 * d + g, 5.0 * d},                                       /* middle, along x */
+            {4.0 * d, 5.0 * d, 4.0 * d + g * cos(a), 5.0 * d + g * sin(a)},                /* middle, oblique */
+            {0.3 * d, 5.0 * d, 0.3 * d - g, 5.0 * d},                                      /* across x = 0 */
+            {0.2 * d, 0.1 * d, 0.2 * d - g * cos(a), 0.1 * d - g * sin(a)},                /* across the corner */
+        };
+        for (int c = 0; c < 4; c++) {
+            double x[2] = {cases[c][0], cases[c][2]}, y[2] = {cases[c][1], cases[c][3]};
+            char what[64];
+            snprintf(what, sizeof what, "2D case %d", c);
+            if (o == 0) {
+                gr_error err;
+                int rc = try_state(&sc, 2, x, y, &err);
+                ck_assert_msg(rc == GR_OK, "%s: touching pair refused: %s", what, err.message);
+            } else {
+                expect_overlap_refused(&sc, 2, x, y, what);
+            }
+        }
+        /* 1D ring of 3 on L = 5 d: pair (0, 1) inside, pair (2, 0) across the wrap */
+        gr_scene s1 = base_scene(1, 3, 5.0 * d);
+        double inner[3] = {0.5 * d, 0.5 * d + g, 3.0 * d}, wrapped[3] = {0.2 * d, 2.0 * d, 0.2 * d + 5.0 * d - g};
+        if (o == 0) {
+            gr_error err;
+            ck_assert_msg(try_state(&s1, 3, inner, NULL, &err) == GR_OK, "1D touching pair refused: %s", err.message);
+            ck_assert_msg(try_state(&s1, 3, wrapped, NULL, &err) == GR_OK, "1D touching pair across the wrap refused: %s",
+                          err.message);
+        } else {
+            expect_overlap_refused(&s1, 3, inner, NULL, "1D inner pair");
+            expect_overlap_refused(&s1, 3, wrapped, NULL, "1D pair across the wrap");
+        }
+    }
+}
+END_TEST
+
+/* Hexagonal placement: find the capacity of each box by trying N = 1, 2, ... until a refusal.
+ * Every accepted N must be free of overlaps (independent brute-force minimum distance over
+ * periodic images >= d within the 1e-9 d rounding allowance); the next few N after the first
+ * refusal must be refused too (GR_EINVAL), and the refusal must state the capacity it found
+ * ("holds at most <cap>"). The capacity cannot beat close packing, and it is at least that of the
+ * bed of touching rows (nx = floor(L/d) per row at spacing a = L/nx, rows a sqrt(3)/2 = h
+ * apart, at most two rows lost to the periodic wrap): phi_cap >= phi_cp (d/a)^2 (1 - 2 h / L).
+ * The boxes include 13.59 d and 15.38 d, phi = 0.85 for N = 200 and 256. */
+START_TEST(test_hexagonal_capacity)
+{
+    const double sides[] = {7.3, 10.5, 13.59, 15.38, 20.0};
+    const size_t nb = quick() ? 3 : sizeof sides / sizeof sides[0];
+    char bad[1024] = "";
+    for (size_t b = 0; b < nb; b++) {
+        const double L = sides[b] * DIAM;
+        const int upper = (int)floor(PHI_CP * L * L / (M_PI * RADIUS * RADIUS)) + 1; /* beyond close packing */
+        gr_scene sc = base_scene(2, 1, L);
+        sc.placement = GR_PLACE_HEXAGONAL;
+        gr_error err;
+        int cap = 0;
+        double md = INFINITY;
+        for (int n = 1; n <= upper; n++) {
+            sc.N = n;
+            sc.packing_fraction = n * M_PI * RADIUS * RADIUS / (L * L);
+            double dist = INFINITY;
+            int rc = try_create(&sc, &err, &dist);
+            if (rc != GR_OK) {
+                ck_assert_msg(rc == GR_EINVAL, "L = %g d, N = %d: status %d: %s", sides[b], n, rc, err.message);
+                break;
+            }
+            ck_assert_msg(dist >= 1.0 - 1e-9, "L = %g d, N = %d: particles %.12g d apart", sides[b], n, dist);
+            cap = n;
+            md = dist;
+        }
+        ck_assert_msg(cap < upper, "L = %g d: %d particles beyond close packing accepted", sides[b], upper);
+        char want[64];
+        snprintf(want, sizeof want, "holds at most %d ", cap);
+        sc.N = cap + 1;
+        try_create(&sc, &err, NULL);
+        const char *refusal = err.message;
+        char msg[sizeof err.message];
+        snprintf(msg, sizeof msg, "%s", refusal);
+        for (int extra = 2; extra <= 6; extra++) {
+            sc.N = cap + extra;
+            ck_assert_msg(try_create(&sc, &err, NULL) == GR_EINVAL, "L = %g d: N = %d refused but N = %d accepted", sides[b],
+                          cap + 1, cap + extra);
+        }
+        const double a = L / floor(L / DIAM), h = a * sqrt(3.0) / 2.0;
+        const double phi = cap * M_PI * RADIUS * RADIUS / (L * L);
+        const double lower = PHI_CP * (DIAM / a) * (DIAM / a) * (1.0 - 2.0 * h / L);
+        VERBOSE("hexagonal L = %g d: capacity %d (phi %.4f, lower bound %.4f), min distance %.6f d; N+1: %s\n", sides[b], cap,
+                phi, lower, md, msg);
+        ck_assert_msg(phi <= PHI_CP && phi >= lower, "L = %g d: capacity %d, phi = %.4f outside [%.4f, %.4f]", sides[b], cap,
+                      phi, lower, PHI_CP);
+        if (strstr(msg, want) == NULL && bad[0] == '\0') {
+            snprintf(bad, sizeof bad, "L = %g d: %d particles fit, but the refusal of %d says: %s", sides[b], cap, cap + 1, msg);
+        }
+    }
+    /* checked last so that one wrong message does not hide the other boxes' results */
+    ck_assert_msg(bad[0] == '\0', "%s", bad);
+}
+END_TEST
+
+/* Square, uniform and cluster placements never overlap (independent brute-force check, 1e-9 d
+ * rounding allowance: the cluster's neighbours touch exactly), and random sequential addition
+ * works at phi = 0.45 but is refused above phi = 0.5 (it jams near 0.547). */
+START_TEST(test_other_placements)
+{
+    gr_error err;
+    double md;
+    /* square: 10 x 10 in L = 10.5 d fills it; 101 do not fit */
+    gr_scene sq = base_scene(2, 100, 10.5 * DIAM);
+    sq.placement = GR_PLACE_SQUARE;
+    ck_assert_msg(try_create(&sq, &err, &md) == GR_OK, "square: %s", err.message);
+    ck_assert_msg(md >= 1.0 - 1e-9, "square placement: min distance %.12g d", md);
+    sq.N = 101;
+    ck_assert_int_eq(try_create(&sq, &err, NULL), GR_EINVAL);
+    /* uniform: one particle per square of side L / ceil(sqrt N) */
+    const int un[] = {2, 50, 99, 100};
+    for (size_t k = 0; k < sizeof un / sizeof un[0]; k++) {
+        gr_scene u = base_scene(2, un[k], 10.5 * DIAM);
+        u.placement = GR_PLACE_UNIFORM;
+        ck_assert_msg(try_create(&u, &err, &md) == GR_OK, "uniform N = %d: %s", un[k], err.message);
+        ck_assert_msg(md >= 1.0 - 1e-9, "uniform placement N = %d: min distance %.12g d", un[k], md);
+    }
+    /* cluster: touching hexagonal cluster in the middle, for several N */
+    const int cn[] = {1, 2, 7, 19, 37, 50};
+    for (size_t k = 0; k < sizeof cn / sizeof cn[0]; k++) {
+        gr_scene c = base_scene(2, cn[k], 20.0 * DIAM);
+        c.placement = GR_PLACE_CLUSTER;
+        md = INFINITY;
+        ck_assert_msg(try_create(&c, &err, &md) == GR_OK, "cluster N = %d: %s", cn[k], err.message);
+        ck_assert_msg(md >= 1.0 - 1e-9, "cluster placement N = %d: min distance %.12g d", cn[k], md);
+        if (cn[k] > 1) {
+            ck_assert_msg(md <= 1.0 + 1e-9, "cluster N = %d is not touching: min distance %.12g d", cn[k], md);
+        }
+    }
+    /* random sequential addition */
+    const int n = 200;
+    const double phis[] = {0.45, 0.52, 0.55, 0.7};
+    for (size_t k = 0; k < sizeof phis / sizeof phis[0]; k++) {
+        for (int given = 0; given < 2; given++) {
+            gr_scene r = base_scene(2, n, side_for(n, phis[k]));
+            r.placement = GR_PLACE_RANDOM;
+            /* given = 0: only L is set, as a scene built in code with gr_scene_default would be */
+            if (!given) {
+                r.packing_fraction = 0.0;
+            }
+            int rc = try_create(&r, &err, &md);
+            VERBOSE("random phi = %.2f (packing_fraction %s): rc %d %s\n", phis[k], given ? "set" : "unset", rc,
+                    rc ? err.message : "");
+            if (phis[k] <= 0.5) {
+                ck_assert_msg(rc == GR_OK, "random placement at phi = %.2f refused: %s", phis[k], err.message);
+                ck_assert_msg(md >= 1.0 - 1e-9, "random placement: min distance %.12g d", md);
+            } else {
+                ck_assert_msg(rc == GR_EINVAL, "random placement at phi = %.2f (N = %d, L = %g m, packing_fraction %s) accepted",
+                              phis[k], n, r.L, given ? "set" : "left 0");
+                ck_assert_msg(strstr(err.message, "random") != NULL, "message: %s", err.message);
+            }
+        }
+    }
+}
+END_TEST
+
+/* ------------------------------------------------------------------------------------------ */
+/* 9. the 1D ring */
+
+/* A collision across the wrap (last particle into the first) equals the same collision between
+ * inner neighbours: three particles on a ring of 10 d, the colliding pair 1.2 d apart at
+ * +-1 m/s, the third at rest far away. Inner: particles 1 and 2; across the wrap: 2 and 0. The
+ * positions and velocities are dyadic and the free flight exact; during the ~50 contact steps the
+ * positions round at ulp(L) = 3.5e-18 m against an overlap of ~1.2e-5 m: the velocities agree
+ * to 1e-12 of the relative speed (see the 2D periodic test). */
+START_TEST(test_ring_wrap_collision)
+{
+    const double L = 0x1p-5; /* 31.25 mm = 10.4 d */
+    gr_scene sc = base_scene(1, 3, L);
+    sc.contact.eps_n = 0.6;
+    sc.dt = 0x1p-21;
+    const double p = 0x1p-12 * 7.0, q = 0x1p-12 * 8.0; /* 1.71 mm, 1.95 mm: 1.2 d apart in all */
+    double xa[3] = {0x1p-10, 0x1p-6 - p, 0x1p-6 + q}, va[3] = {0.0, 2.0, -2.0};
+    double xb[3] = {q, 0x1p-7, L - p}, vb[3] = {-2.0, 0.0, 2.0};
+    gr_sim *a = create_state(&sc, 3, xa, NULL, va, NULL);
+    gr_sim *b = create_state(&sc, 3, xb, NULL, vb, NULL);
+    step(a, 3000);
+    step(b, 3000);
+    ck_assert_int_eq(gr_sim_collisions(a), 1);
+    ck_assert_int_eq(gr_sim_collisions(b), 1);
+    /* particle k of a plays particle (k + 1) % 3 of b */
+    for (int k = 0; k < 3; k++) {
+        const int j = (k + 1) % 3;
+        ck_assert_msg(fabs(a->vx[k] - b->vx[j]) <= 1e-12 * 4.0, "inner pair: v[%d] = %.17g; across the wrap: v[%d] = %.17g",
+                      k, a->vx[k], j, b->vx[j]);
+    }
+    /* it was a collision: the pair rebounded with about eps_n */
+    ck_assert_msg(fabs(a->vx[1] + 2.0 * 0.6) < 0.05, "v after the collision %g m/s", a->vx[1]);
+    gr_sim_free(a);
+    gr_sim_free(b);
+}
+END_TEST
+
+/* A driven dissipative ring (N = 50, reduced length N d / 2, symmetrised noise, eps_n = 0.9,
+ * fast start): the particles never pass each other (every gap, including the one across the wrap,
+ * stays positive: in fact > d/2, else the run would report an unstable overlap), total momentum
+ * stays zero to rounding (1e-12 of sum |p_i|, as in 2D), and the pair across the wrap does
+ * collide. */
+START_TEST(test_ring_order_and_momentum)
+{
+    const int n = 50, S = 60000;
+    gr_scene sc = base_scene(1, n, 1.5 * n * DIAM);
+    sc.placement = GR_PLACE_RANDOM;
+    sc.contact.eps_n = 0.9;
+    sc.D = D_NOISE;
+    sc.noise_mode = GR_NOISE_SYMMETRISED;
+    sc.v0 = 3.0;
+    sc.steps_per_contact = 20.0;
+    sc.seed = 31;
+    gr_sim *s = create(&sc);
+    ck_assert_str_eq(gr_sim_kernel(s), "1d-ring/spring_dashpot/noise-symmetrised");
+    int wrap_contacts = 0;
+    for (int k = 0; k < S; k += 20) {
+        step(s, 20);
+        wrap_contacts += s->pair_contact[n - 1];
+        if (k % 1000 == 0) {
+            for (int i = 0; i < n; i++) {
+                const double gap = i + 1 < n ? s->x[i + 1] - s->x[i] : s->x[0] + s->L - s->x[i];
+                ck_assert_msg(gap > 0.5 * DIAM, "step %lld: gap %d-%d = %g d", (long long)gr_sim_steps(s), i, (i + 1) % n,
+                              gap / DIAM);
+            }
+            double P[2], abs_p = 0.0;
+            gr_sim_momentum(s, P);
+            ck_assert_double_eq(P[1], 0.0);
+            for (int i = 0; i < n; i++) {
+                abs_p += MASS * fabs(s->vx[i]);
+            }
+            ck_assert_msg(fabs(P[0]) <= 1e-12 * abs_p, "step %lld: momentum %g kg m/s (sum |p| %g)",
+                          (long long)gr_sim_steps(s), P[0], abs_p);
+        }
+    }
+    VERBOSE("ring: %lld collisions, pair (N-1, 0) in contact at %d samples\n", (long long)gr_sim_collisions(s), wrap_contacts);
+    ck_assert_msg(gr_sim_collisions(s) > 5 * n, "only %lld collisions", (long long)gr_sim_collisions(s));
+    ck_assert_msg(wrap_contacts > 0, "the pair across the wrap never touched");
+    gr_sim_free(s);
+}
+END_TEST
+
+/* Elastic 1D gas: same bound as the 2D elastic gas (each collision exchanges energy with an error
+ * of at most (w0 dt)^2 E_rel). */
+START_TEST(test_ring_elastic_energy)
+{
+    check_elastic_energy(1, 60, 120.0 * DIAM, 200000, 5.0, 8);
+}
+END_TEST
+
+/* ------------------------------------------------------------------------------------------ */
+/* 10. determinism and the noise's counter-based definition */
+
+static gr_scene busy_scene(uint64_t seed)
+{
+    gr_scene sc = base_scene(2, 120, side_for(120, 0.5));
+    sc.placement = GR_PLACE_UNIFORM;
+    sc.tangential = gr_model_find("sliding_friction");
+    sc.D = D_NOISE;
+    sc.noise_mode = GR_NOISE_SYMMETRISED;
+    sc.v0 = 5.0;
+    sc.steps_per_contact = 20.0;
+    sc.seed = seed;
+    return sc;
+}
+
+static int same_state(const gr_sim *a, const gr_sim *b)
+{
+    const size_t bytes = sizeof(double) * (size_t)a->n;
+    return a->n == b->n && memcmp(a->x, b->x, bytes) == 0 && memcmp(a->y, b->y, bytes) == 0 &&
+           memcmp(a->vx, b->vx, bytes) == 0 && memcmp(a->vy, b->vy, bytes) == 0;
+}
+
+/* Same seed: bit-identical trajectories, also when the run is split into several calls; another
+ * seed: a different trajectory (placement is the same lattice, velocities and noise differ). */
+START_TEST(test_determinism)
+{
+    const int S = quick() ? 1000 : 3000;
+    gr_scene sc = busy_scene(77);
+    gr_sim *a = create(&sc), *b = create(&sc), *c = NULL;
+    step(a, S);
+    step(b, S / 3);
+    step(b, S / 3);
+    step(b, S - 2 * (S / 3));
+    ck_assert_msg(gr_sim_collisions(a) > 100, "only %lld collisions", (long long)gr_sim_collisions(a));
+    ck_assert_msg(same_state(a, b), "two runs with the same seed differ");
+    ck_assert_int_eq(gr_sim_collisions(a), gr_sim_collisions(b));
+    gr_ledger la = gr_sim_ledger(a), lb = gr_sim_ledger(b);
+    ck_assert(memcmp(&la, &lb, sizeof la) == 0);
+    sc.seed = 78;
+    c = create(&sc);
+    step(c, S);
+    int differ = 0;
+    for (int i = 0; i < c->n; i++) {
+        differ += a->x[i] != c->x[i];
+    }
+    ck_assert_msg(differ > c->n / 2, "seed 78 reproduces seed 77 for %d of %d particles", c->n - differ, c->n);
+    gr_sim_free(a);
+    gr_sim_free(b);
+    gr_sim_free(c);
+}
+END_TEST
+
+/* The random force is a pure function of (seed, step, particle id, component): in a box where no
+ * particle touches another, the velocity change of particle i in step k is exactly
+ * sqrt(2 D dt)/M (g - <g>), g = gr_noise_normal1(seed, GR_STREAM_NOISE, k, i, c), mean over
+ * particles subtracted (symmetrised). Particle ids are creation indices in
+ * gr_sim_create_with_state; permuting the particles (positions and velocities) handed to it
+ * leaves the kick of every index unchanged, i.e. the noise does not depend on where particles
+ * are, but it does follow the creation order: the same physical particle receives a different
+ * kick when created at another index. Tolerance: 1e-12 of the kick (v_new - v_old rounds at
+ * ulp(v) ~ 1e-16 |v|, |v| <~ 100 kicks here). */
+START_TEST(test_noise_counter_based)
+{
+    const int n = 30;
+    gr_scene sc = dilute_scene(n, GR_NOISE_SYMMETRISED);
+    sc.seed = 4242;
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 99);
+    const double L = sc.L;
+    double x[30], y[30], vx[30], vy[30], px[30], py[30], pvx[30], pvy[30];
+    int perm[30];
+    for (int i = 0; i < n; i++) {
+        /* grid sites 10 d apart, slightly displaced: no contacts */
+        x[i] = (i % 6 + 0.5) * L / 6 + DIAM * (gsl_rng_uniform(rng) - 0.5);
+        y[i] = (i / 6 + 0.5) * L / 6 + DIAM * (gsl_rng_uniform(rng) - 0.5);
+        vx[i] = 0.1 * gsl_ran_gaussian(rng, 1.0);
+        vy[i] = 0.1 * gsl_ran_gaussian(rng, 1.0);
+        perm[i] = i;
+    }
+    gsl_ran_shuffle(rng, perm, (size_t)n, sizeof(int));
+    for (int i = 0; i < n; i++) {
+        px[i] = x[perm[i]];
+        py[i] = y[perm[i]];
+        pvx[i] = vx[perm[i]];
+        pvy[i] = vy[perm[i]];
+    }
+    gr_sim *a = create_state(&sc, n, x, y, vx, vy), *b = create_state(&sc, n, px, py, pvx, pvy);
+    const double amp = sqrt(2.0 * D_NOISE * gr_sim_dt(a)) / MASS;
+    double *g = malloc(sizeof(double) * 2 * n), *ka = malloc(sizeof(double) * 2 * n), *kb = malloc(sizeof(double) * 2 * n);
+    int physical_same = 0;
+    for (int k = 0; k < 6; k++) {
+        double m[2] = {0.0, 0.0};
+        for (int i = 0; i < n; i++) {
+            for (int c = 0; c < 2; c++) {
+                g[2 * i + c] = gr_noise_normal1(sc.seed, GR_STREAM_NOISE, (uint64_t)k, (uint32_t)i, c);
+                m[c] += g[2 * i + c] / n;
+            }
+        }
+        double ax[30], ay[30], bx[30], by[30];
+        memcpy(ax, a->vx, sizeof ax);
+        memcpy(ay, a->vy, sizeof ay);
+        memcpy(bx, b->vx, sizeof bx);
+        memcpy(by, b->vy, sizeof by);
+        step(a, 1);
+        step(b, 1);
+        for (int i = 0; i < n; i++) {
+            ka[2 * i] = a->vx[i] - ax[i];
+            ka[2 * i + 1] = a->vy[i] - ay[i];
+            kb[2 * i] = b->vx[i] - bx[i];
+            kb[2 * i + 1] = b->vy[i] - by[i];
+            for (int c = 0; c < 2; c++) {
+                const double want = amp * (g[2 * i + c] - m[c]);
+                ck_assert_msg(fabs(ka[2 * i + c] - want) <= 1e-12 * amp,
+                              "step %d, particle %d, component %d: kick %.17g m/s, expected sqrt(2 D dt)/M (g - <g>) = %.17g",
+                              k, i, c, ka[2 * i + c], want);
+                /* the kick belongs to the creation index, whatever particle sits there */
+                ck_assert_msg(fabs(kb[2 * i + c] - ka[2 * i + c]) <= 1e-12 * amp,
+                              "step %d: index %d got %.17g m/s in the permuted run, %.17g in the original", k, i,
+                              kb[2 * i + c], ka[2 * i + c]);
+            }
+        }
+        for (int i = 0; i < n; i++) {
+            /* physical particle perm[i] sits at index i of b and index perm[i] of a */
+            physical_same += perm[i] != i ? fabs(kb[2 * i] - ka[2 * perm[i]]) <= 1e-12 * amp : 0;
+        }
+    }
+    VERBOSE("noise: %d of %d kicks of moved particles equal after the permutation\n", physical_same, 6 * n);
+    ck_assert_int_eq(gr_sim_collisions(a), 0);
+    ck_assert_int_eq(gr_sim_collisions(b), 0);
+    free(g);
+    free(ka);
+    free(kb);
+    gsl_rng_free(rng);
+    gr_sim_free(a);
+    gr_sim_free(b);
+}
+END_TEST
+
+/* ------------------------------------------------------------------------------------------ */
+/* 11. unstable runs */
+
+/* Run nsteps expecting GR_EUNSTABLE; the message must name the step the run stopped at and
+ * contain every string of must_contain. early: the failure must stop the run before nsteps. */
+static void expect_unstable(gr_sim *s, int64_t nsteps, const char *const *must_contain, int nmust, int early,
+                            const char *what)
+{
+    gr_error err = {0};
+    int rc = gr_sim_step(s, nsteps, &err);
+    VERBOSE("%s: rc %d after %lld steps: %s\n", what, rc, (long long)gr_sim_steps(s), err.message);
+    ck_assert_msg(rc == GR_EUNSTABLE, "%s: gr_sim_step returned %d (%s), expected GR_EUNSTABLE", what, rc, err.message);
+    ck_assert_int_eq(err.code, GR_EUNSTABLE);
+    char stepstr[64];
+    snprintf(stepstr, sizeof stepstr, "step %lld", (long long)gr_sim_steps(s));
+    ck_assert_msg(strstr(err.message, stepstr) != NULL, "%s: message does not name the failing step (%s): %s", what, stepstr,
+                  err.message);
+    for (int k = 0; k < nmust; k++) {
+        ck_assert_msg(strstr(err.message, must_contain[k]) != NULL, "%s: message lacks \"%s\": %s", what, must_contain[k],
+                      err.message);
+    }
+    if (early) {
+        ck_assert_msg(gr_sim_steps(s) < nsteps, "%s: did not stop at the failure", what);
+    }
+    ck_assert_msg(strstr(err.message, "-1") == NULL, "%s: message names a non-existent particle: %s", what, err.message);
+}
+
+/* Head-on impact at 2 x 50 m/s with dt = 2 t_c (force_dt): w0 dt = 2 pi is far beyond the
+ * Verlet stability limit w dt < 2, the contact blows up and the overlap passes 0.5 d: the run
+ * must stop with GR_EUNSTABLE naming the step and the pair. Also a dense hexagonal packing at
+ * 2 steps per contact, and a NaN planted in a velocity (non-finite check). */
+START_TEST(test_unstable_detected)
+{
+    const double d = DIAM;
+    gr_scene sc = base_scene(2, 2, 20.0 * d);
+    sc.contact.eps_n = 0.9;
+    sc.steps_per_contact = 0.5;
+    sc.force_dt = true;
+    double x[2] = {9.0 * d, 10.5 * d}, y[2] = {10.0 * d, 10.0 * d}, vx[2] = {50.0, -50.0}, vy[2] = {0.0, 0.0};
+    gr_sim *s = create_state(&sc, 2, x, y, vx, vy);
+    const char *pair[] = {"particles 0 and 1", "overlap"};
+    expect_unstable(s, 1000, pair, 2, 1, "head-on at dt = 2 t_c");
+    gr_sim_free(s);
+
+    /* the coarse step is refused without force_dt */
+    sc.force_dt = false;
+    gr_sim *r = NULL;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_sim_create_with_state(&sc, 2, x, y, vx, vy, &r, &err), GR_EINVAL);
+    ck_assert_ptr_null(r);
+
+    /* a driven dense packing at 2 steps per contact */
+    gr_scene dense = base_scene(2, 250, side_for(250, 0.85));
+    dense.placement = GR_PLACE_HEXAGONAL;
+    dense.v0 = 20.0;
+    dense.D = D_NOISE;
+    dense.noise_mode = GR_NOISE_SYMMETRISED;
+    dense.steps_per_contact = 2.0;
+    dense.force_dt = true;
+    s = create(&dense);
+    const char *some_pair[] = {"particles", "overlap"};
+    expect_unstable(s, 100000, some_pair, 2, 1, "dense packing at dt = t_c / 2");
+    gr_sim_free(s);
+
+    /* a NaN velocity (planted through the private layout) of a particle without neighbours: found
+     * by the non-finite check (every 1024 steps and at the end of a call, so not necessarily at
+     * the step it appeared) */
+    gr_scene dil = dilute_scene(20, GR_NOISE_SYMMETRISED);
+    s = create(&dil);
+    s->vx[7] = NAN;
+    const char *nan_particle[] = {"particle 7", "non-finite"};
+    expect_unstable(s, 10, nan_particle, 2, 0, "NaN velocity, isolated particle");
+    gr_sim_free(s);
+}
+END_TEST
+
+/* The same NaN in a particle with neighbours (a dense packing): its pairs give NaN forces and
+ * elastic energy at once. The diagnosis must still name particle 7 and the non-finite value,
+ * not a pair "-1 and -1" with overlap 0 d. */
+START_TEST(test_unstable_nan_in_contact)
+{
+    gr_scene dense = base_scene(2, 250, side_for(250, 0.85));
+    dense.placement = GR_PLACE_HEXAGONAL;
+    dense.D = D_NOISE;
+    dense.noise_mode = GR_NOISE_SYMMETRISED;
+    gr_sim *s = create(&dense);
+    s->vx[7] = NAN;
+    const char *nan_particle[] = {"7", "non-finite"};
+    expect_unstable(s, 2000, nan_particle, 2, 1, "NaN velocity in a packing");
+    gr_sim_free(s);
+}
+END_TEST
+
+/* A particle crossing more than a box length in one step (absurd dt with force_dt, or an absurd
+ * speed) must not corrupt memory: either the run is refused with an error, or the positions stay
+ * in the box [0, L). */
+START_TEST(test_unstable_fast_particle)
+{
+    const double L = 0.06;
+    gr_scene sc = base_scene(2, 2, L);
+    sc.dt = 1e-3;
+    sc.force_dt = true;
+    double x[2] = {0.03, 0.015}, y[2] = {0.03, 0.015}, vx[2] = {-100.0, 0.0}, vy[2] = {-70.0, 0.0};
+    gr_sim *s = create_state(&sc, 2, x, y, vx, vy);
+    for (int k = 0; k < 10; k++) {
+        gr_error err = {0};
+        int rc = gr_sim_step(s, 1, &err);
+        if (rc != GR_OK) {
+            ck_assert_msg(rc == GR_EUNSTABLE || rc == GR_EINVAL, "unexpected status %d: %s", rc, err.message);
+            break;
+        }
+        for (int i = 0; i < 2; i++) {
+            ck_assert_msg(s->x[i] >= 0.0 && s->x[i] < L && s->y[i] >= 0.0 && s->y[i] < L,
+                          "step %d: particle %d at (%g, %g) m, outside the box [0, %g)", k + 1, i, s->x[i], s->y[i], L);
+        }
+    }
+    gr_sim_free(s);
+}
+END_TEST
+
+/* ------------------------------------------------------------------------------------------ */
 
 static Suite *sim_suite(void)
 {
@@ -877,7 +1447,24 @@ static Suite *sim_suite(void)
     TCase *tg = tcase_create("geometry");
     tcase_set_timeout(tg, 600);
     tcase_add_loop_test(tg, test_periodic_boundary_collision, 0, 3);
+    tcase_add_test(tg, test_touching_accepted_overlap_refused);
+    tcase_add_test(tg, test_hexagonal_capacity);
+    tcase_add_test(tg, test_other_placements);
+    tcase_add_test(tg, test_ring_wrap_collision);
+    tcase_add_test(tg, test_ring_order_and_momentum);
+    tcase_add_test(tg, test_ring_elastic_energy);
     suite_add_tcase(s, tg);
+    TCase *td = tcase_create("determinism");
+    tcase_set_timeout(td, 600);
+    tcase_add_test(td, test_determinism);
+    tcase_add_test(td, test_noise_counter_based);
+    suite_add_tcase(s, td);
+    TCase *tu = tcase_create("unstable");
+    tcase_set_timeout(tu, 600);
+    tcase_add_test(tu, test_unstable_detected);
+    tcase_add_test(tu, test_unstable_nan_in_contact);
+    tcase_add_test(tu, test_unstable_fast_particle);
+    suite_add_tcase(s, tu);
     return s;
 }
 

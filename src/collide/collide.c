@@ -143,6 +143,12 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
         dy -= sc.L * rint(dy / sc.L);
         double dist = hypot(dx, dy);
         double gx = s->vx[1] - s->vx[0], gy = dim == 2 ? s->vy[1] - s->vy[0] : 0.0;
+        bool force_free = s->fx[1] == 0.0 && (dim == 1 || s->fy[1] == 0.0);
+        if (dist < d && touched && force_free && (gx * dx + gy * dy) > 0.0 && s->cc.clamp) {
+            /* clamped law: the force has vanished while the pair separates; from here the motion
+             * is force-free, so the outgoing velocities are final (Schwager & Poeschel 2007) */
+            break;
+        }
         if (dist < d) {
             touched = true;
             out->max_overlap = fmax(out->max_overlap, d - dist);
@@ -163,11 +169,15 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
             break;
         }
         if (k == max_steps - 1) {
+            const gr_contact_coeffs *c = &s->cc;
+            bool critical = !c->clamp && c->zeta >= 1.0;
+            char why[200];
+            snprintf(why, sizeof why, critical ? "eps_n = %g unclamped is critically damped (zeta = %.3g): the overlap decays without returning to zero"
+                                               : "numerically (eps_n = %g, zeta = %.3g): the time step is too coarse for this dashpot",
+                     sc.contact.eps_n, c->zeta);
             gr_sim_free(s);
-            return GR_FAIL(err, GR_EINVAL,
-                           "the contact did not end within %lld steps (%.3g contact times): the pair sticks "
-                           "(eps_n = %g %s gives critical damping)",
-                           (long long)max_steps, 2000.0, sc.contact.eps_n, sc.contact.clamp ? "clamped" : "unclamped");
+            return GR_FAIL(err, GR_EINVAL, "the contact did not end within %lld steps (2000 contact times): the pair sticks %s",
+                           (long long)max_steps, why);
         }
     }
     double g1[2] = {s->vx[1] - s->vx[0], dim == 2 ? s->vy[1] - s->vy[0] : 0.0};

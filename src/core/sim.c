@@ -57,6 +57,15 @@ static int prepare_contact(gr_sim *s, gr_error *err)
     if (sc->dt == 0.0 && 2.0 * s->cc.zeta * s->cc.w0 * dt > 1.0) {
         dt = 1.0 / (2.0 * s->cc.zeta * s->cc.w0); /* overdamped: the dashpot sets the step */
     }
+    /* The dashpot sees the half-step velocity, which acts like a damping ratio
+     * zeta (1 + zeta w0 dt / 2). An unclamped contact just below critical damping would then be
+     * overdamped and the pair would stick numerically; keep half the margin to zeta = 1. */
+    double dt_lag = s->cc.clamp || s->cc.zeta >= 1.0 || s->cc.zeta == 0.0
+                        ? (double)INFINITY
+                        : (1.0 / s->cc.zeta - 1.0) * 2.0 / (s->cc.zeta * s->cc.w0);
+    if (sc->dt == 0.0 && dt > 0.5 * dt_lag) {
+        dt = 0.5 * dt_lag;
+    }
     double steps = t_c / dt;
     if (steps < 10.0 && !sc->force_dt) {
         return GR_FAIL(err, GR_EINVAL,
@@ -69,6 +78,14 @@ static int prepare_contact(gr_sim *s, gr_error *err)
                        "%s: [integrator] dt = %g s is too large for the overdamped dashpot (zeta = %.3g): "
                        "explicit damping needs 2 zeta w0 dt < 1, i.e. dt < %.4g s",
                        sc->source, dt, s->cc.zeta, 1.0 / (2.0 * s->cc.zeta * s->cc.w0));
+    }
+    if (dt >= dt_lag && !sc->force_dt) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [integrator] dt = %g s is too large for eps_n = %g unclamped (zeta = %.4f): with the half-step "
+                       "dashpot the contact becomes overdamped (zeta_eff = %.4f) and pairs stick numerically; use dt < %.4g s, "
+                       "leave dt unset (steps_per_contact), or force_dt = true",
+                       sc->source, dt, sc->contact.eps_n, s->cc.zeta,
+                       s->cc.zeta * (1.0 + 0.5 * s->cc.zeta * s->cc.w0 * dt), dt_lag);
     }
     s->dt = dt;
     return gr_contact_prepare(sc->normal, sc->tangential, &sc->contact, m12, dt, &s->cc, err);
