@@ -39,7 +39,7 @@ pair_loop_2d(gr_sim *restrict s, gr_force_report *restrict r, const int tang, co
     const double k = s->cc.k_s, gn = s->cc.gamma_n, gt = s->cc.gamma_t, mu = s->cc.mu;
     const double m12_dt = s->cc.m12 / s->dt;
     const double *restrict x = s->x, *restrict y = s->y, *restrict vx = s->vx, *restrict vy = s->vy;
-    double *restrict fx = s->fx, *restrict fy = s->fy;
+    double *restrict fx = s->fx, *restrict fy = s->fy, *restrict gx_ = s->gx, *restrict gy_ = s->gy;
     const int *restrict start = s->nl_start, *restrict nl = s->nl_j;
     uint8_t *restrict touching = s->nl_contact;
     double elastic = 0.0, pn = 0.0, pt = 0.0, pf = 0.0, worst = 0.0;
@@ -47,9 +47,11 @@ pair_loop_2d(gr_sim *restrict s, gr_force_report *restrict r, const int tang, co
     int wi = -1, wj = -1;
     memset(fx, 0, sizeof(double) * (size_t)n);
     memset(fy, 0, sizeof(double) * (size_t)n);
+    memset(gx_, 0, sizeof(double) * (size_t)n);
+    memset(gy_, 0, sizeof(double) * (size_t)n);
     for (int i = 0; i < n; i++) {
         const double xi = x[i], yi = y[i], vxi = vx[i], vyi = vy[i];
-        double fxi = 0.0, fyi = 0.0;
+        double fxi = 0.0, fyi = 0.0, gxi = 0.0, gyi = 0.0;
         for (int p = start[i]; p < start[i + 1]; p++) {
             const int j = nl[p];
             const double dx = wrap_delta(x[j] - xi, L), dy = wrap_delta(y[j] - yi, L);
@@ -72,6 +74,8 @@ pair_loop_2d(gr_sim *restrict s, gr_force_report *restrict r, const int tang, co
             elastic += ov * ov;
             pn -= (f_n - k * ov) * g_n;
             worst = ov > worst ? ov : worst;
+            const double f_d = f_n - k * ov; /* non-conservative part of the normal force */
+            double Gx = f_d * nx, Gy = f_d * ny;
             double Fx = f_n * nx, Fy = f_n * ny;
             if (tang != TANG_NONE) {
                 const double tx = ny, ty = -nx;
@@ -90,14 +94,22 @@ pair_loop_2d(gr_sim *restrict s, gr_force_report *restrict r, const int tang, co
                 }
                 Fx += f_t * tx;
                 Fy += f_t * ty;
+                Gx += f_t * tx;
+                Gy += f_t * ty;
             }
             fxi -= Fx;
             fyi -= Fy;
             fx[j] += Fx;
             fy[j] += Fy;
+            gxi -= Gx;
+            gyi -= Gy;
+            gx_[j] += Gx;
+            gy_[j] += Gy;
         }
         fx[i] += fxi;
         fy[i] += fyi;
+        gx_[i] += gxi;
+        gy_[i] += gyi;
     }
     if (worst > 0.0) {
         /* find the worst pair only when asked for a diagnosis (rare) */
@@ -130,12 +142,13 @@ static void pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const 
     const int n = s->n;
     const double L = s->L, d = s->d, k = s->cc.k_s, gn = s->cc.gamma_n;
     const double *restrict x = s->x, *restrict v = s->vx;
-    double *restrict f = s->fx;
+    double *restrict f = s->fx, *restrict fnc = s->gx;
     uint8_t *restrict touching = s->pair_contact;
     double elastic = 0.0, pn = 0.0, worst = 0.0;
     int64_t fresh = 0;
     int wi = -1;
     memset(f, 0, sizeof(double) * (size_t)n);
+    memset(fnc, 0, sizeof(double) * (size_t)n);
     if (n < 2) {
         *r = (gr_force_report){.worst_i = -1, .worst_j = -1};
         return;
@@ -163,6 +176,8 @@ static void pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const 
         }
         f[i] -= f_n;
         f[j] += f_n;
+        fnc[i] -= f_n - k * ov;
+        fnc[j] += f_n - k * ov;
     }
     r->elastic = 0.5 * k * elastic;
     r->power_normal = pn;

@@ -28,6 +28,8 @@ void gr_sim_free(gr_sim *s)
     free(s->vy);
     free(s->fx);
     free(s->fy);
+    free(s->gx);
+    free(s->gy);
     free(s->noise);
     free(s->x_ref);
     free(s->y_ref);
@@ -106,16 +108,18 @@ static int alloc_state(const gr_scene *scene, int n, gr_sim **out, gr_error *err
     s->x = alloc_array(n);
     s->vx = alloc_array(n);
     s->fx = alloc_array(n);
+    s->gx = alloc_array(n);
     s->noise = alloc_array(n * s->dim);
     if (s->dim == 2) {
         s->y = alloc_array(n);
         s->vy = alloc_array(n);
         s->fy = alloc_array(n);
+        s->gy = alloc_array(n);
     } else {
         s->pair_contact = calloc((size_t)n + 1, 1);
     }
-    if (!s->x || !s->vx || !s->fx || !s->noise ||
-        (s->dim == 2 ? (!s->y || !s->vy || !s->fy) : !s->pair_contact)) {
+    if (!s->x || !s->vx || !s->fx || !s->gx || !s->noise ||
+        (s->dim == 2 ? (!s->y || !s->vy || !s->fy || !s->gy) : !s->pair_contact)) {
         gr_sim_free(s);
         return GR_FAIL(err, GR_ENOMEM, "out of memory for %d particles", n);
     }
@@ -154,6 +158,10 @@ static int finish(gr_sim *s, gr_error *err)
     gr_forces(s, &r);
     s->elastic = r.elastic;
     s->last = r;
+    double total = r.power_normal + r.power_tangential + r.power_friction;
+    s->share[0] = total > 0.0 ? r.power_normal / total : 1.0;
+    s->share[1] = total > 0.0 ? r.power_tangential / total : 0.0;
+    s->share[2] = total > 0.0 ? r.power_friction / total : 0.0;
     gr_ledger l = gr_sim_ledger(s);
     s->initial_energy = l.kinetic + l.elastic;
     return GR_OK;

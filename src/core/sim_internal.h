@@ -30,6 +30,7 @@ struct gr_sim {
 
     /* hot state, n entries each (y, vy, fy unused in 1D) */
     double *x, *y, *vx, *vy, *fx, *fy;
+    double *gx, *gy; /* the non-conservative part of (fx, fy): everything but the springs k_s xi */
     double *noise; /* n * dim normals of the current step */
 
     /* 2D neighbour finding: cell list feeding a half Verlet list in CSR form */
@@ -55,6 +56,7 @@ struct gr_sim {
     double elastic;        /* from the last force evaluation */
     double initial_energy;
     double injected, diss_n, diss_t, diss_f, removed_com;
+    double share[3]; /* fractions of the last step's dissipation by normal/tangential/friction */
     gr_force_report last;
 };
 

@@ -22,21 +22,53 @@
 #include "core/sim_internal.h"
 #include "granule/noise.h"
 
-static void half_kick(gr_sim *s)
+/* Closing half kick. Returns the work done on the particles by the non-conservative part of the
+ * contact forces (dashpots, friction, a clamp), exactly: a kick changes the kinetic energy of
+ * particle i by F_i . vbar_i dt/2 with vbar_i the mean of its velocity before and after, so the
+ * part due to G_i = F_i - (spring forces) is G_i . vbar_i dt/2. */
+static double half_kick(gr_sim *s)
 {
-    const double h = 0.5 * s->dt / s->mass;
+    const double h = 0.5 * s->dt / s->mass, hdt = 0.5 * s->dt;
     const int n = s->n;
     double *restrict vx = s->vx;
-    const double *restrict fx = s->fx;
+    const double *restrict fx = s->fx, *restrict gx = s->gx;
+    double work = 0.0;
     for (int i = 0; i < n; i++) {
-        vx[i] += h * fx[i];
+        const double dv = h * fx[i];
+        work += gx[i] * (vx[i] + 0.5 * dv);
+        vx[i] += dv;
     }
     if (s->dim == 2) {
         double *restrict vy = s->vy;
-        const double *restrict fy = s->fy;
+        const double *restrict fy = s->fy, *restrict gy = s->gy;
         for (int i = 0; i < n; i++) {
-            vy[i] += h * fy[i];
+            const double dv = h * fy[i];
+            work += gy[i] * (vy[i] + 0.5 * dv);
+            vy[i] += dv;
         }
+    }
+    return work * hdt;
+}
+
+/* Book energy dissipated (= minus the work of the non-conservative forces), split between the
+ * mechanisms in proportion to their dissipation rates at the force evaluation. */
+static void book_dissipation(gr_sim *s, double work)
+{
+    s->diss_n -= work * s->share[0];
+    s->diss_t -= work * s->share[1];
+    s->diss_f -= work * s->share[2];
+}
+
+static void set_shares(gr_sim *s, const gr_force_report *r)
+{
+    double total = r->power_normal + r->power_tangential + r->power_friction;
+    if (total > 0.0) {
+        s->share[0] = r->power_normal / total;
+        s->share[1] = r->power_tangential / total;
+        s->share[2] = r->power_friction / total;
+    } else {
+        s->share[0] = 1.0;
+        s->share[1] = s->share[2] = 0.0;
     }
 }
 
@@ -68,16 +100,18 @@ static void draw_noise(gr_sim *s, double mean[2])
  * energy the noise added; in 2D also the largest squared displacement since the last neighbour
  * list build. */
 static inline __attribute__((always_inline)) double
-open_step_1d(gr_sim *restrict s, const int noise, const double mean)
+open_step_1d(gr_sim *restrict s, const int noise, const double mean, double *work_nc)
 {
     const int n = s->n;
     const double h = 0.5 * s->dt / s->mass, dt = s->dt;
     const double amp = noise ? sqrt(2.0 * s->scene.D * s->dt) / s->mass : 0.0;
     double *restrict x = s->x, *restrict v = s->vx;
-    const double *restrict f = s->fx, *restrict g = s->noise;
-    double added = 0.0;
+    const double *restrict f = s->fx, *restrict g = s->noise, *restrict gnc = s->gx;
+    double added = 0.0, work = 0.0;
     for (int i = 0; i < n; i++) {
-        double vi = v[i] + h * f[i];
+        const double dvf = h * f[i];
+        work += gnc[i] * (v[i] + 0.5 * dvf);
+        double vi = v[i] + dvf;
         if (noise) {
             const double dv = amp * (g[i] - mean);
             added += dv * (vi + 0.5 * dv);
@@ -86,11 +120,13 @@ open_step_1d(gr_sim *restrict s, const int noise, const double mean)
         v[i] = vi;
         x[i] += vi * dt; /* unwrapped: the ring keeps its order */
     }
+    *work_nc = 0.5 * dt * work;
     return s->mass * added;
 }
 
 static inline __attribute__((always_inline)) double
-open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], double *max_disp2)
+open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], double *max_disp2,
+             double *work_nc)
 {
     const int n = s->n;
     const double h = 0.5 * s->dt / s->mass, dt = s->dt, L = s->L, half = 0.5 * L;
@@ -99,9 +135,12 @@ open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], double *
     double *restrict x = s->x, *restrict y = s->y, *restrict vx = s->vx, *restrict vy = s->vy;
     const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict g = s->noise;
     const double *restrict xr = s->x_ref, *restrict yr = s->y_ref;
-    double added = 0.0, worst = 0.0;
+    const double *restrict gx = s->gx, *restrict gy = s->gy;
+    double added = 0.0, worst = 0.0, work = 0.0;
     for (int i = 0; i < n; i++) {
-        double vxi = vx[i] + h * fx[i], vyi = vy[i] + h * fy[i];
+        const double dvx0 = h * fx[i], dvy0 = h * fy[i];
+        work += gx[i] * (vx[i] + 0.5 * dvx0) + gy[i] * (vy[i] + 0.5 * dvy0);
+        double vxi = vx[i] + dvx0, vyi = vy[i] + dvy0;
         if (noise) {
             const double dvx = amp * (g[2 * i] - m0), dvy = amp * (g[2 * i + 1] - m1);
             added += dvx * (vxi + 0.5 * dvx) + dvy * (vyi + 0.5 * dvy);
@@ -122,6 +161,7 @@ open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], double *
         worst = d2 > worst ? d2 : worst;
     }
     *max_disp2 = worst;
+    *work_nc = 0.5 * dt * work;
     return s->mass * added;
 }
 
@@ -167,7 +207,7 @@ int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
     const bool com = s->scene.noise_mode == GR_NOISE_COM;
     const double skin_half2 = 0.25 * (s->cutoff - s->d) * (s->cutoff - s->d);
     for (int64_t k = 0; k < nsteps; k++) {
-        double mean[2] = {0.0, 0.0}, disp2 = 0.0;
+        double mean[2] = {0.0, 0.0}, disp2 = 0.0, work = 0.0;
         if (com && s->step > 0 && s->step % s->com_every == 0) {
             s->removed_com += remove_com(s); /* at a step boundary; booked in the ledger */
         }
@@ -175,10 +215,11 @@ int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
             draw_noise(s, mean);
         }
         if (s->dim == 1) {
-            s->injected += noise ? open_step_1d(s, 1, mean[0]) : open_step_1d(s, 0, 0.0);
+            s->injected += noise ? open_step_1d(s, 1, mean[0], &work) : open_step_1d(s, 0, 0.0, &work);
         } else {
-            s->injected += noise ? open_step_2d(s, 1, mean, &disp2) : open_step_2d(s, 0, mean, &disp2);
+            s->injected += noise ? open_step_2d(s, 1, mean, &disp2, &work) : open_step_2d(s, 0, mean, &disp2, &work);
         }
+        book_dissipation(s, work); /* the previous step's forces, with their shares */
         s->step++;
         if (s->dim == 2 && (s->scene.skin <= 0.0 || disp2 > skin_half2)) {
             int rc = gr_neighbours_build(s, err);
@@ -188,11 +229,9 @@ int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
         }
         gr_force_report r;
         gr_forces(s, &r);
-        half_kick(s);
+        set_shares(s, &r);
+        book_dissipation(s, half_kick(s));
         s->elastic = r.elastic;
-        s->diss_n += r.power_normal * s->dt;
-        s->diss_t += r.power_tangential * s->dt;
-        s->diss_f += r.power_friction * s->dt;
         s->collisions += r.new_contacts;
         s->last = r;
         if (r.max_overlap > RUNAWAY_OVERLAP || !isfinite(r.elastic)) {
