@@ -33,7 +33,8 @@ typedef struct gr_ledger {
 /* Everything dissipated, by any mechanism. */
 double gr_ledger_dissipated(const gr_ledger *l);
 /* (kinetic + elastic) - initial - injected + dissipated + removed_com: zero for an exact
- * integrator, O(dt) for ours (see tests/test_ledger.c). */
+ * integrator; for ours the velocity-Verlet energy error of the springs, second order in dt
+ * (docs/integrator.md, tests/test_sim.c). */
 double gr_ledger_residual(const gr_ledger *l);
 
 /* Read-only view of the particle state. Arrays have n entries; y/vy are NULL in 1D. */

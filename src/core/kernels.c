@@ -117,7 +117,7 @@ pair_loop_2d(gr_sim *restrict s, gr_force_report *restrict r, const int tang, co
             for (int p = start[i]; p < start[i + 1]; p++) {
                 int j = nl[p];
                 double dx = wrap_delta(x[j] - x[i], L), dy = wrap_delta(y[j] - y[i], L);
-                if (d - sqrt(dx * dx + dy * dy) == worst) {
+                if (d - sqrt(dx * dx + dy * dy) >= 0.999 * worst) {
                     wi = i;
                     wj = j;
                     break;

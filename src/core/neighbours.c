@@ -102,6 +102,22 @@ int gr_neighbours_build(gr_sim *s, gr_error *err)
             }
         }
     } else {
+        /* every position must lie in [0, L) for the cell index: wrap stragglers (a particle that
+         * moved more than L in one step) and refuse non-finite ones */
+        double *xw = s->x, *yw = s->y;
+        for (int i = 0; i < n; i++) {
+            if (!(xw[i] >= 0.0 && xw[i] < L && yw[i] >= 0.0 && yw[i] < L)) {
+                if (!isfinite(xw[i]) || !isfinite(yw[i])) {
+                    return GR_FAIL(err, GR_EUNSTABLE,
+                                   "unstable run: particle %d has a non-finite position (%g, %g) at step %lld",
+                                   i, xw[i], yw[i], (long long)s->step);
+                }
+                xw[i] -= L * floor(xw[i] / L);
+                yw[i] -= L * floor(yw[i] / L);
+                xw[i] = xw[i] >= L ? 0.0 : xw[i];
+                yw[i] = yw[i] >= L ? 0.0 : yw[i];
+            }
+        }
         /* counting sort of particles by cell */
         const double inv = nc / L;
         int *start = s->cell_start;

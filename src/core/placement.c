@@ -112,7 +112,16 @@ static int place_hexagonal(gr_sim *s, gr_error *err)
         }
     }
     if (best_nx == 0) {
-        return capacity_error(s, err, best_cap, "a triangular lattice with neighbour distances >= d");
+        /* the bed's own capacity: the most rows that still clear their periodic image */
+        int rows_max = 0;
+        for (int r = 1; r * h <= L + 1e-12 * L; r++) {
+            if (!(r * h > L - (r % 2 ? a - h : 0.0) + 1e-12 * L)) {
+                rows_max = r;
+            }
+        }
+        long bed_cap = (long)nx * rows_max;
+        return capacity_error(s, err, bed_cap > best_cap ? bed_cap : best_cap,
+                              "a hexagonal bed or a triangular lattice with neighbour distances >= d");
     }
     a = L / best_nx;
     h = L / best_ny;
@@ -200,7 +209,7 @@ static int place_cluster(gr_sim *s, gr_error *err)
 
 static int place_random(gr_sim *s, gr_error *err)
 {
-    double phi = s->scene.packing_fraction;
+    double phi = s->n * M_PI * 0.25 * s->d * s->d / (s->L * s->L);
     if (phi > 0.5) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: [placement] kind = random cannot reach phi = %.3f: random sequential addition jams near 0.547; use hexagonal (any phi <= 0.9069)",

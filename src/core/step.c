@@ -17,6 +17,7 @@
  * kick (2.18); com mode removes the centre-of-mass velocity every com_interval instead
  * (sec. 2.3.1). The ledger records the exact kinetic energy each kick adds. */
 #include <math.h>
+#include <stdbool.h>
 #include <string.h>
 
 #include "core/sim_internal.h"
@@ -26,17 +27,18 @@
  * contact forces (dashpots, friction, a clamp), exactly: a kick changes the kinetic energy of
  * particle i by F_i . vbar_i dt/2 with vbar_i the mean of its velocity before and after, so the
  * part due to G_i = F_i - (spring forces) is G_i . vbar_i dt/2. */
-static double half_kick(gr_sim *s)
+static double half_kick(gr_sim *s, bool *finite)
 {
     const double h = 0.5 * s->dt / s->mass, hdt = 0.5 * s->dt;
     const int n = s->n;
     double *restrict vx = s->vx;
     const double *restrict fx = s->fx, *restrict gx = s->gx;
-    double work = 0.0;
+    double work = 0.0, sum = 0.0;
     for (int i = 0; i < n; i++) {
         const double dv = h * fx[i];
         work += gx[i] * (vx[i] + 0.5 * dv);
         vx[i] += dv;
+        sum += vx[i];
     }
     if (s->dim == 2) {
         double *restrict vy = s->vy;
@@ -45,8 +47,10 @@ static double half_kick(gr_sim *s)
             const double dv = h * fy[i];
             work += gy[i] * (vy[i] + 0.5 * dv);
             vy[i] += dv;
+            sum += vy[i];
         }
     }
+    *finite = isfinite(sum) && isfinite(work);
     return work * hdt;
 }
 
@@ -230,11 +234,16 @@ int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
         gr_force_report r;
         gr_forces(s, &r);
         set_shares(s, &r);
-        book_dissipation(s, half_kick(s));
+        bool finite;
+        book_dissipation(s, half_kick(s, &finite));
+        if (!finite) {
+            int rc = check_finite(s, err); /* names the particle */
+            return rc ? rc : GR_FAIL(err, GR_EUNSTABLE, "unstable run: non-finite energy at step %lld", (long long)s->step);
+        }
         s->elastic = r.elastic;
         s->collisions += r.new_contacts;
         s->last = r;
-        if (r.max_overlap > RUNAWAY_OVERLAP || !isfinite(r.elastic)) {
+        if (r.max_overlap > RUNAWAY_OVERLAP) {
             return GR_FAIL(err, GR_EUNSTABLE,
                            "unstable run: particles %d and %d overlap by %.3g d at step %lld (t = %.6g s), beyond the %.2g d limit; "
                            "the springs (k_s = %g N/m) cannot hold them apart at this speed or packing; use a stiffer k_s or a smaller dt",
