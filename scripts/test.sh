@@ -1,17 +1,34 @@
 #!/usr/bin/env bash
 # Run the whole test suite: once in the release build, once under AddressSanitizer + UBSan.
-# Expects scripts/setup.sh to have run.
-set -euo pipefail
+# Expects scripts/setup.sh to have run. Ends with one line "N passed, M failed".
+set -uo pipefail
 cd "$(dirname "$0")/.."
 
+passed=0
+failed=0
+tally() { # meson's summary lines "Ok: N" and "Fail: N" (+ timeouts) of one run
+    local log=$1
+    passed=$((passed + $(awk '/^Ok:/ {print $2}' "$log")))
+    failed=$((failed + $(awk '/^(Fail|Timeout|Unexpected Pass):/ {s += $NF} END {print s + 0}' "$log")))
+}
+
 echo "== release build: tests" >&2
-meson test -C build --print-errorlogs
+log=$(mktemp)
+meson test -C build --print-errorlogs | tee "$log"
+rc_release=${PIPESTATUS[0]}
+tally "$log"
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build: tests" >&2
 if [[ ! -f build-asan/build.ninja ]]; then
     meson setup build-asan --buildtype=debug -Doptimization=1 -Db_sanitize=address,undefined \
-        -Db_lundef=false >/dev/null
+        -Db_lundef=false >/dev/null || exit 1
 fi
-ninja -C build-asan >/dev/null
+ninja -C build-asan >/dev/null || exit 1
 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 GRANULE_TEST_QUICK=1 \
-    meson test -C build-asan --print-errorlogs --timeout-multiplier 3
+    meson test -C build-asan --print-errorlogs --timeout-multiplier 3 | tee "$log"
+rc_asan=${PIPESTATUS[0]}
+tally "$log"
+rm -f "$log"
+
+echo "$passed passed, $failed failed"
+[[ $rc_release -eq 0 && $rc_asan -eq 0 && $failed -eq 0 ]]
