@@ -21,37 +21,8 @@
 #include "granule/noise.h"
 #include "granule_commit.h"
 #include "granule_config.h"
+#include "bench_util.h"
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static void machine(char *buf, size_t n)
-{
-    snprintf(buf, n, "unknown");
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    char line[512];
-    while (f && fgets(line, sizeof line, f)) {
-        if (!strncmp(line, "model name", 10)) {
-            char *c = strchr(line, ':');
-            snprintf(buf, n, "%.200s", c ? c + 2 : line);
-            buf[strcspn(buf, "\n")] = 0;
-            break;
-        }
-    }
-    if (f) {
-        fclose(f);
-    }
-}
 
 static volatile double sink; /* keeps the results alive */
 
@@ -110,15 +81,15 @@ static void measure(const char *name, draw_fn *f, int n, int per, int repeats, d
     uint64_t step = 0;
     f(step++, n, per, out); /* warm caches and the kernel choice */
     for (int r = 0; r < repeats; r++) {
-        double t0 = now(), sum = 0;
+        double t0 = bench_now(), sum = 0;
         for (long k = 0; k < calls; k++) {
             f(step++, n, per, out);
             sum += out[k % n];
         }
-        ns[r] = 1e9 * (now() - t0) / ((double)calls * n * per);
+        ns[r] = 1e9 * (bench_now() - t0) / ((double)calls * n * per);
         sink = sum;
     }
-    qsort(ns, (size_t)repeats, sizeof *ns, cmp);
+    qsort(ns, (size_t)repeats, sizeof *ns, bench_cmp_double);
     printf("%-30s per=%d  n=%-7d  median %6.3f  min %6.3f ns/normal\n", name, per, n,
            ns[repeats / 2], ns[0]);
     free(out);
@@ -144,7 +115,7 @@ int main(int argc, char **argv)
         return 2;
     }
     char cpu[256];
-    machine(cpu, sizeof cpu);
+    bench_machine(cpu, sizeof cpu);
     const char *isa = getenv("GRANULE_NOISE_ISA");
     printf("bench_noise: %d repeats of >= %.3g normals [%s | %s | %s | GRANULE_NOISE_ISA=%s]\n",
            repeats, normals, cpu, GR_CFLAGS, GR_COMMIT, isa ? isa : "(auto)");

@@ -15,37 +15,8 @@
 #include "granule/granule.h"
 #include "granule_commit.h"
 #include "granule_config.h"
+#include "bench_util.h"
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static void machine(char *buf, size_t n)
-{
-    snprintf(buf, n, "unknown");
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    char line[512];
-    while (f && fgets(line, sizeof line, f)) {
-        if (!strncmp(line, "model name", 10)) {
-            char *c = strchr(line, ':');
-            snprintf(buf, n, "%.200s", c ? c + 2 : line);
-            buf[strcspn(buf, "\n")] = 0;
-            break;
-        }
-    }
-    if (f) {
-        fclose(f);
-    }
-}
 
 int main(int argc, char **argv)
 {
@@ -93,16 +64,16 @@ int main(int argc, char **argv)
     double *rate = malloc(sizeof(double) * (size_t)repeats);
     int64_t reb0 = gr_sim_rebuilds(sim), col0 = gr_sim_collisions(sim);
     for (long r = 0; r < repeats; r++) {
-        double t0 = now();
+        double t0 = bench_now();
         if (gr_sim_step(sim, steps, &err)) {
             fprintf(stderr, "bench_throughput: %s\n", err.message);
             return 1;
         }
-        rate[r] = (double)sc.N * (double)steps / (now() - t0);
+        rate[r] = (double)sc.N * (double)steps / (bench_now() - t0);
     }
-    qsort(rate, (size_t)repeats, sizeof(double), cmp);
+    qsort(rate, (size_t)repeats, sizeof(double), bench_cmp_double);
     char cpu[256];
-    machine(cpu, sizeof cpu);
+    bench_machine(cpu, sizeof cpu);
     printf("%-28s N=%-7d %-70s median %.3e  min %.3e  max %.3e particle-steps/s  rebuilds/step %.4f  contacts/step %.2f  [%s | %s | %s]\n",
            label ? label : scene_path, sc.N, gr_sim_kernel(sim), rate[repeats / 2], rate[0],
            rate[repeats - 1], (double)(gr_sim_rebuilds(sim) - reb0) / (double)(steps * repeats),

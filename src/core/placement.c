@@ -289,6 +289,21 @@ int gr_place(gr_sim *s, gr_error *err)
     return GR_FAIL(err, GR_EINVAL, "unknown placement");
 }
 
+/* Track the largest relative overlap (d - r) / d of pair (i, j) under minimum image (2D). */
+static inline void consider_pair(const gr_sim *s, int i, int j, double *worst, int *wi, int *wj)
+{
+    const double L = s->L;
+    double dx = s->x[j] - s->x[i], dy = s->y[j] - s->y[i];
+    dx -= L * rint(dx / L);
+    dy -= L * rint(dy / L);
+    double ov = (s->d - sqrt(dx * dx + dy * dy)) / s->d;
+    if (ov > *worst) {
+        *worst = ov;
+        *wi = i;
+        *wj = j;
+    }
+}
+
 /* Closest pair by brute force for small N, else via a temporary cell grid. */
 int gr_check_overlaps(const gr_sim *s, gr_error *err)
 {
@@ -317,15 +332,7 @@ int gr_check_overlaps(const gr_sim *s, gr_error *err)
         if (side < 3 || (long)s->n * s->n < 4000000L) {
             for (int i = 0; i < s->n; i++) {
                 for (int j = i + 1; j < s->n; j++) {
-                    double dx = s->x[j] - s->x[i], dy = s->y[j] - s->y[i];
-                    dx -= L * rint(dx / L);
-                    dy -= L * rint(dy / L);
-                    double ov = (d - sqrt(dx * dx + dy * dy)) / d;
-                    if (ov > worst) {
-                        worst = ov;
-                        wi = i;
-                        wj = j;
-                    }
+                    consider_pair(s, i, j, &worst, &wi, &wj);
                 }
             }
         } else {
@@ -351,17 +358,8 @@ int gr_check_overlaps(const gr_sim *s, gr_error *err)
                     for (int oy = -1; oy <= 1; oy++) {
                         int c = ((cx + ox + side) % side) + side * ((cy + oy + side) % side);
                         for (int j = head[c]; j >= 0; j = next[j]) {
-                            if (j <= i) {
-                                continue;
-                            }
-                            double dx = s->x[j] - s->x[i], dy = s->y[j] - s->y[i];
-                            dx -= L * rint(dx / L);
-                            dy -= L * rint(dy / L);
-                            double ov = (d - sqrt(dx * dx + dy * dy)) / d;
-                            if (ov > worst) {
-                                worst = ov;
-                                wi = i;
-                                wj = j;
+                            if (j > i) {
+                                consider_pair(s, i, j, &worst, &wi, &wj);
                             }
                         }
                     }
