@@ -24,34 +24,37 @@
 #include "granule/noise.h"
 
 /* Closing half kick. Returns the work done on the particles by the non-conservative part of the
- * contact forces (dashpots, friction, a clamp), exactly: a kick changes the kinetic energy of
- * particle i by F_i . vbar_i dt/2 with vbar_i the mean of its velocity before and after, so the
- * part due to G_i = F_i - (spring forces) is G_i . vbar_i dt/2. */
+ * contact forces (dashpots, friction, a clamp), exactly: a kick dv changes the kinetic energy of
+ * particle i by F_i . (v_i + dv_i/2) dt/2, so the part due to G_i = F_i - (spring forces) is
+ * G_i . (v_i + dv_i/2) dt/2. The arithmetic (per particle, in this order) is exactly that of the
+ * closing kick merged into open_step_*, so a run split over several calls is bit-identical. */
 static double half_kick(gr_sim *s, bool *finite)
 {
-    const double h = 0.5 * s->dt / s->mass, hdt = 0.5 * s->dt;
+    const double h = 0.5 * s->dt / s->mass;
     const int n = s->n;
-    double *restrict vx = s->vx;
-    const double *restrict fx = s->fx, *restrict gx = s->gx;
     double work = 0.0, sum = 0.0;
-    for (int i = 0; i < n; i++) {
-        const double dv = h * fx[i];
-        work += gx[i] * (vx[i] + 0.5 * dv);
-        vx[i] += dv;
-        sum += vx[i];
-    }
-    if (s->dim == 2) {
-        double *restrict vy = s->vy;
-        const double *restrict fy = s->fy, *restrict gy = s->gy;
+    if (s->dim == 1) {
+        double *restrict v = s->vx;
+        const double *restrict f = s->fx, *restrict g = s->gx;
         for (int i = 0; i < n; i++) {
-            const double dv = h * fy[i];
-            work += gy[i] * (vy[i] + 0.5 * dv);
-            vy[i] += dv;
-            sum += vy[i];
+            const double dv = h * f[i];
+            work += g[i] * (v[i] + 0.5 * dv);
+            v[i] += dv;
+            sum += v[i];
+        }
+    } else {
+        double *restrict vx = s->vx, *restrict vy = s->vy;
+        const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict gx = s->gx, *restrict gy = s->gy;
+        for (int i = 0; i < n; i++) {
+            const double dvx = h * fx[i], dvy = h * fy[i];
+            work += gx[i] * (vx[i] + 0.5 * dvx) + gy[i] * (vy[i] + 0.5 * dvy);
+            vx[i] += dvx;
+            vy[i] += dvy;
+            sum += vx[i] + vy[i];
         }
     }
     *finite = isfinite(sum) && isfinite(work);
-    return work * hdt;
+    return work * 0.5 * s->dt;
 }
 
 /* Book energy dissipated (= minus the work of the non-conservative forces), split between the
@@ -100,37 +103,51 @@ static void draw_noise(gr_sim *s, double mean[2])
     }
 }
 
-/* First half of a step in one pass: half kick, noise kick (if `noise`), drift. Returns the kinetic
- * energy the noise added; in 2D also the largest squared displacement since the last neighbour
- * list build. */
+/* Open a step in one pass: (if `closing`) the previous step's closing half kick, the opening half
+ * kick with the same forces, the noise kick (if `noise`), the drift. Returns the kinetic energy the
+ * noise added; sets the work of the non-conservative forces in each half kick (see half_kick),
+ * whether all velocities are finite, and in 2D the largest squared displacement since the last
+ * neighbour-list build. */
+typedef struct open_report {
+    double work_close, work_open, disp2;
+    bool finite;
+} open_report;
+
 static inline __attribute__((always_inline)) double
-open_step_1d(gr_sim *restrict s, const int noise, const double mean, double *work_nc)
+open_step_1d(gr_sim *restrict s, const int noise, const double mean, const int closing, open_report *o)
 {
     const int n = s->n;
     const double h = 0.5 * s->dt / s->mass, dt = s->dt;
     const double amp = noise ? sqrt(2.0 * s->scene.D * s->dt) / s->mass : 0.0;
     double *restrict x = s->x, *restrict v = s->vx;
     const double *restrict f = s->fx, *restrict g = s->noise, *restrict gnc = s->gx;
-    double added = 0.0, work = 0.0;
+    double added = 0.0, wc = 0.0, wo = 0.0, sum = 0.0;
     for (int i = 0; i < n; i++) {
         const double dvf = h * f[i];
-        work += gnc[i] * (v[i] + 0.5 * dvf);
-        double vi = v[i] + dvf;
+        double vi = v[i];
+        if (closing) {
+            wc += gnc[i] * (vi + 0.5 * dvf);
+            vi += dvf;
+        }
+        wo += gnc[i] * (vi + 0.5 * dvf);
+        vi += dvf;
         if (noise) {
             const double dv = amp * (g[i] - mean);
             added += dv * (vi + 0.5 * dv);
             vi += dv;
         }
         v[i] = vi;
+        sum += vi;
         x[i] += vi * dt; /* unwrapped: the ring keeps its order */
     }
-    *work_nc = 0.5 * dt * work;
+    o->work_close = 0.5 * dt * wc;
+    o->work_open = 0.5 * dt * wo;
+    o->finite = isfinite(sum) && isfinite(wo);
     return s->mass * added;
 }
 
 static inline __attribute__((always_inline)) double
-open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], double *max_disp2,
-             double *work_nc)
+open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], const int closing, open_report *o)
 {
     const int n = s->n;
     const double h = 0.5 * s->dt / s->mass, dt = s->dt, L = s->L, half = 0.5 * L;
@@ -140,11 +157,18 @@ open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], double *
     const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict g = s->noise;
     const double *restrict xr = s->x_ref, *restrict yr = s->y_ref;
     const double *restrict gx = s->gx, *restrict gy = s->gy;
-    double added = 0.0, worst = 0.0, work = 0.0;
+    double added = 0.0, worst = 0.0, wc = 0.0, wo = 0.0, sum = 0.0;
     for (int i = 0; i < n; i++) {
         const double dvx0 = h * fx[i], dvy0 = h * fy[i];
-        work += gx[i] * (vx[i] + 0.5 * dvx0) + gy[i] * (vy[i] + 0.5 * dvy0);
-        double vxi = vx[i] + dvx0, vyi = vy[i] + dvy0;
+        double vxi = vx[i], vyi = vy[i];
+        if (closing) {
+            wc += gx[i] * (vxi + 0.5 * dvx0) + gy[i] * (vyi + 0.5 * dvy0);
+            vxi += dvx0;
+            vyi += dvy0;
+        }
+        wo += gx[i] * (vxi + 0.5 * dvx0) + gy[i] * (vyi + 0.5 * dvy0);
+        vxi += dvx0;
+        vyi += dvy0;
         if (noise) {
             const double dvx = amp * (g[2 * i] - m0), dvy = amp * (g[2 * i + 1] - m1);
             added += dvx * (vxi + 0.5 * dvx) + dvy * (vyi + 0.5 * dvy);
@@ -153,6 +177,7 @@ open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], double *
         }
         vx[i] = vxi;
         vy[i] = vyi;
+        sum += vxi + vyi;
         double xn = x[i] + vxi * dt, yn = y[i] + vyi * dt;
         xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
         yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);
@@ -164,8 +189,10 @@ open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], double *
         const double d2 = dx * dx + dy * dy;
         worst = d2 > worst ? d2 : worst;
     }
-    *max_disp2 = worst;
-    *work_nc = 0.5 * dt * work;
+    o->disp2 = worst;
+    o->work_close = 0.5 * dt * wc;
+    o->work_open = 0.5 * dt * wo;
+    o->finite = isfinite(sum) && isfinite(wo);
     return s->mass * added;
 }
 
@@ -210,20 +237,41 @@ int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
     const bool noise = s->scene.noise_mode != GR_NOISE_NONE && s->scene.D > 0.0;
     const bool com = s->scene.noise_mode == GR_NOISE_COM;
     const double skin_half2 = 0.25 * (s->cutoff - s->d) * (s->cutoff - s->d);
+    /* Velocities are synchronised (full step) between calls. Inside a call the closing half kick
+     * of one step and the opening half kick of the next use the same forces and are applied as one
+     * kick; the last step closes with a half kick. */
     for (int64_t k = 0; k < nsteps; k++) {
-        double mean[2] = {0.0, 0.0}, disp2 = 0.0, work = 0.0;
-        if (com && s->step > 0 && s->step % s->com_every == 0) {
-            s->removed_com += remove_com(s); /* at a step boundary; booked in the ledger */
+        double mean[2] = {0.0, 0.0};
+        const int closing = k > 0; /* velocities are half a kick behind (merged closing kick) */
+        const bool com_now = com && s->step > 0 && s->step % s->com_every == 0;
+        open_report o = {0};
+        if (com_now) {
+            if (closing) { /* the reset happens between steps, on synchronised velocities */
+                bool finite;
+                book_dissipation(s, half_kick(s, &finite));
+            }
+            s->removed_com += remove_com(s);
         }
         if (noise) {
             draw_noise(s, mean);
         }
+        const int close_here = closing && !com_now;
         if (s->dim == 1) {
-            s->injected += noise ? open_step_1d(s, 1, mean[0], &work) : open_step_1d(s, 0, 0.0, &work);
+            s->injected += noise ? (close_here ? open_step_1d(s, 1, mean[0], 1, &o) : open_step_1d(s, 1, mean[0], 0, &o))
+                                 : (close_here ? open_step_1d(s, 0, 0.0, 1, &o) : open_step_1d(s, 0, 0.0, 0, &o));
         } else {
-            s->injected += noise ? open_step_2d(s, 1, mean, &disp2, &work) : open_step_2d(s, 0, mean, &disp2, &work);
+            s->injected += noise ? (close_here ? open_step_2d(s, 1, mean, 1, &o) : open_step_2d(s, 1, mean, 0, &o))
+                                 : (close_here ? open_step_2d(s, 0, mean, 1, &o) : open_step_2d(s, 0, mean, 0, &o));
         }
-        book_dissipation(s, work); /* the previous step's forces, with their shares */
+        if (close_here) {
+            book_dissipation(s, o.work_close);
+        }
+        book_dissipation(s, o.work_open); /* the last forces, with their shares */
+        double disp2 = o.disp2;
+        if (!o.finite) {
+            int rc = check_finite(s, err); /* names the particle */
+            return rc ? rc : GR_FAIL(err, GR_EUNSTABLE, "unstable run: non-finite energy at step %lld", (long long)s->step);
+        }
         s->step++;
         if (s->dim == 2 && (s->scene.skin <= 0.0 || disp2 > skin_half2)) {
             int rc = gr_neighbours_build(s, err);
@@ -234,12 +282,6 @@ int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
         gr_force_report r;
         gr_forces(s, &r);
         set_shares(s, &r);
-        bool finite;
-        book_dissipation(s, half_kick(s, &finite));
-        if (!finite) {
-            int rc = check_finite(s, err); /* names the particle */
-            return rc ? rc : GR_FAIL(err, GR_EUNSTABLE, "unstable run: non-finite energy at step %lld", (long long)s->step);
-        }
         s->elastic = r.elastic;
         s->collisions += r.new_contacts;
         s->last = r;
@@ -250,12 +292,10 @@ int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
                            r.worst_i, r.worst_j, r.max_overlap, (long long)s->step, gr_sim_time(s),
                            RUNAWAY_OVERLAP, s->cc.k_s);
         }
-        if ((s->step & 1023) == 0) {
-            int rc = check_finite(s, err);
-            if (rc) {
-                return rc;
-            }
-        }
+    }
+    if (nsteps > 0) {
+        bool finite;
+        book_dissipation(s, half_kick(s, &finite));
     }
     return check_finite(s, err);
 }
