@@ -147,38 +147,44 @@ static void pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const 
     double elastic = 0.0, pn = 0.0, worst = 0.0;
     int64_t fresh = 0;
     int wi = -1;
-    memset(f, 0, sizeof(double) * (size_t)n);
-    memset(fnc, 0, sizeof(double) * (size_t)n);
     if (n < 2) {
+        f[0] = fnc[0] = 0.0;
         *r = (gr_force_report){.worst_i = -1, .worst_j = -1};
         return;
     }
+    /* f_i = P_{i-1} - P_i with P_i the force of pair (i, i+1) on i+1: one forward pass carrying
+     * P_{i-1}, no zeroing and no scatter */
+    double carry = 0.0, carry_d = 0.0;
     for (int i = 0; i < n; i++) {
         const int j = i + 1 < n ? i + 1 : 0;
         const double gap = i + 1 < n ? x[j] - x[i] : x[0] + L - x[i];
-        if (gap >= d) {
+        double f_n = 0.0, f_d = 0.0;
+        if (gap < d) {
+            fresh += !touching[i];
+            touching[i] = 1;
+            const double ov = d - gap;
+            const double g_n = v[j] - v[i];
+            f_n = k * ov - gn * g_n;
+            if (clamp) {
+                f_n = f_n > 0.0 ? f_n : 0.0;
+            }
+            f_d = f_n - k * ov;
+            elastic += ov * ov;
+            pn -= f_d * g_n;
+            if (ov > worst) {
+                worst = ov;
+                wi = i;
+            }
+        } else {
             touching[i] = 0;
-            continue;
         }
-        fresh += !touching[i];
-        touching[i] = 1;
-        const double ov = d - gap;
-        const double g_n = v[j] - v[i];
-        double f_n = k * ov - gn * g_n;
-        if (clamp) {
-            f_n = f_n > 0.0 ? f_n : 0.0;
-        }
-        elastic += ov * ov;
-        pn -= (f_n - k * ov) * g_n;
-        if (ov > worst) {
-            worst = ov;
-            wi = i;
-        }
-        f[i] -= f_n;
-        f[j] += f_n;
-        fnc[i] -= f_n - k * ov;
-        fnc[j] += f_n - k * ov;
+        f[i] = carry - f_n;
+        fnc[i] = carry_d - f_d;
+        carry = f_n;
+        carry_d = f_d;
     }
+    f[0] += carry; /* the wrap pair (n-1, 0) pushes particle 0 */
+    fnc[0] += carry_d;
     r->elastic = 0.5 * k * elastic;
     r->power_normal = pn;
     r->power_tangential = 0.0;

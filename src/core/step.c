@@ -23,6 +23,20 @@
 #include "core/sim_internal.h"
 #include "granule/noise.h"
 
+/* Sums in the step loops are kept in LANES independent partial sums (particle i goes to lane
+ * i % LANES) combined in a fixed order at the end: the compiler can then vectorise the loop while
+ * the result stays the same on every machine and for every vector width. */
+#define LANES 8
+
+static inline double lanes_total(const double *acc)
+{
+    double t = 0.0;
+    for (int l = 0; l < LANES; l++) {
+        t += acc[l];
+    }
+    return t;
+}
+
 /* Closing half kick. Returns the work done on the particles by the non-conservative part of the
  * contact forces (dashpots, friction, a clamp), exactly: a kick dv changes the kinetic energy of
  * particle i by F_i . (v_i + dv_i/2) dt/2, so the part due to G_i = F_i - (spring forces) is
@@ -36,12 +50,16 @@ static double half_kick(gr_sim *s, bool *finite)
     if (s->dim == 1) {
         double *restrict v = s->vx;
         const double *restrict f = s->fx, *restrict g = s->gx;
+        double wl[LANES] = {0}, sl[LANES] = {0};
         for (int i = 0; i < n; i++) {
+            const int l = i % LANES;
             const double dv = h * f[i];
-            work += g[i] * (v[i] + 0.5 * dv);
+            wl[l] += g[i] * (v[i] + 0.5 * dv);
             v[i] += dv;
-            sum += v[i];
+            sl[l] += v[i];
         }
+        work = lanes_total(wl);
+        sum = lanes_total(sl);
     } else {
         double *restrict vx = s->vx, *restrict vy = s->vy;
         const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict gx = s->gx, *restrict gy = s->gy;
@@ -87,15 +105,23 @@ static void draw_noise(gr_sim *s, double mean[2])
     mean[0] = mean[1] = 0.0;
     if (s->scene.noise_mode == GR_NOISE_SYMMETRISED && n > 1) {
         const double *restrict g = s->noise;
-        double m0 = 0.0, m1 = 0.0;
-        if (dim == 1) {
-            for (int i = 0; i < n; i++) {
-                m0 += g[i];
+        double acc[LANES] = {0}; /* lanes: vectorised, same sum on every machine */
+        const int m = n * dim, full = m / LANES * LANES;
+        for (int i0 = 0; i0 < full; i0 += LANES) {
+            for (int l = 0; l < LANES; l++) {
+                acc[l] += g[i0 + l];
             }
-        } else {
-            for (int i = 0; i < n; i++) {
-                m0 += g[2 * i];
-                m1 += g[2 * i + 1];
+        }
+        for (int i = full; i < m; i++) {
+            acc[i - full] += g[i];
+        }
+        /* with dim = 2 components alternate, so even lanes hold x and odd lanes y (LANES even) */
+        double m0 = 0.0, m1 = 0.0;
+        for (int l = 0; l < LANES; l++) {
+            if (dim == 1 || l % 2 == 0) {
+                m0 += acc[l];
+            } else {
+                m1 += acc[l];
             }
         }
         mean[0] = m0 / n;
@@ -121,29 +147,40 @@ open_step_1d(gr_sim *restrict s, const int noise, const double mean, const int c
     const double amp = noise ? sqrt(2.0 * s->scene.D * s->dt) / s->mass : 0.0;
     double *restrict x = s->x, *restrict v = s->vx;
     const double *restrict f = s->fx, *restrict g = s->noise, *restrict gnc = s->gx;
-    double added = 0.0, wc = 0.0, wo = 0.0, sum = 0.0;
-    for (int i = 0; i < n; i++) {
-        const double dvf = h * f[i];
-        double vi = v[i];
-        if (closing) {
-            wc += gnc[i] * (vi + 0.5 * dvf);
-            vi += dvf;
+    double added[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0};
+#define OPEN_1D(i, l)                                                                              \
+    do {                                                                                           \
+        const double dvf = h * f[i];                                                               \
+        double vi = v[i];                                                                          \
+        if (closing) {                                                                             \
+            wc[l] += gnc[i] * (vi + 0.5 * dvf);                                                    \
+            vi += dvf;                                                                             \
+        }                                                                                          \
+        wo[l] += gnc[i] * (vi + 0.5 * dvf);                                                        \
+        vi += dvf;                                                                                 \
+        if (noise) {                                                                               \
+            const double dv = amp * (g[i] - mean);                                                 \
+            added[l] += dv * (vi + 0.5 * dv);                                                      \
+            vi += dv;                                                                              \
+        }                                                                                          \
+        v[i] = vi;                                                                                 \
+        sum[l] += vi;                                                                              \
+        x[i] += vi * dt; /* unwrapped: the ring keeps its order */                                 \
+    } while (0)
+    const int full = n / LANES * LANES;
+    for (int i0 = 0; i0 < full; i0 += LANES) {
+        for (int l = 0; l < LANES; l++) {
+            OPEN_1D(i0 + l, l);
         }
-        wo += gnc[i] * (vi + 0.5 * dvf);
-        vi += dvf;
-        if (noise) {
-            const double dv = amp * (g[i] - mean);
-            added += dv * (vi + 0.5 * dv);
-            vi += dv;
-        }
-        v[i] = vi;
-        sum += vi;
-        x[i] += vi * dt; /* unwrapped: the ring keeps its order */
     }
-    o->work_close = 0.5 * dt * wc;
-    o->work_open = 0.5 * dt * wo;
-    o->finite = isfinite(sum) && isfinite(wo);
-    return s->mass * added;
+    for (int i = full; i < n; i++) {
+        OPEN_1D(i, i - full);
+    }
+#undef OPEN_1D
+    o->work_close = 0.5 * dt * lanes_total(wc);
+    o->work_open = 0.5 * dt * lanes_total(wo);
+    o->finite = isfinite(lanes_total(sum)) && isfinite(o->work_open);
+    return s->mass * lanes_total(added);
 }
 
 static inline __attribute__((always_inline)) double
