@@ -63,13 +63,17 @@ static double half_kick(gr_sim *s, bool *finite)
     } else {
         double *restrict vx = s->vx, *restrict vy = s->vy;
         const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict gx = s->gx, *restrict gy = s->gy;
+        double wl[LANES] = {0}, sl[LANES] = {0};
         for (int i = 0; i < n; i++) {
+            const int l = i % LANES;
             const double dvx = h * fx[i], dvy = h * fy[i];
-            work += gx[i] * (vx[i] + 0.5 * dvx) + gy[i] * (vy[i] + 0.5 * dvy);
+            wl[l] += gx[i] * (vx[i] + 0.5 * dvx) + gy[i] * (vy[i] + 0.5 * dvy);
             vx[i] += dvx;
             vy[i] += dvy;
-            sum += vx[i] + vy[i];
+            sl[l] += vx[i] + vy[i];
         }
+        work = lanes_total(wl);
+        sum = lanes_total(sl);
     }
     *finite = isfinite(sum) && isfinite(work);
     return work * 0.5 * s->dt;
@@ -194,27 +198,28 @@ open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], const in
     const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict g = s->noise;
     const double *restrict xr = s->x_ref, *restrict yr = s->y_ref;
     const double *restrict gx = s->gx, *restrict gy = s->gy;
-    double added = 0.0, worst = 0.0, wc = 0.0, wo = 0.0, sum = 0.0;
+    double added[LANES] = {0}, worst[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0};
     for (int i = 0; i < n; i++) {
+        const int l = i % LANES;
         const double dvx0 = h * fx[i], dvy0 = h * fy[i];
         double vxi = vx[i], vyi = vy[i];
         if (closing) {
-            wc += gx[i] * (vxi + 0.5 * dvx0) + gy[i] * (vyi + 0.5 * dvy0);
+            wc[l] += gx[i] * (vxi + 0.5 * dvx0) + gy[i] * (vyi + 0.5 * dvy0);
             vxi += dvx0;
             vyi += dvy0;
         }
-        wo += gx[i] * (vxi + 0.5 * dvx0) + gy[i] * (vyi + 0.5 * dvy0);
+        wo[l] += gx[i] * (vxi + 0.5 * dvx0) + gy[i] * (vyi + 0.5 * dvy0);
         vxi += dvx0;
         vyi += dvy0;
         if (noise) {
             const double dvx = amp * (g[2 * i] - m0), dvy = amp * (g[2 * i + 1] - m1);
-            added += dvx * (vxi + 0.5 * dvx) + dvy * (vyi + 0.5 * dvy);
+            added[l] += dvx * (vxi + 0.5 * dvx) + dvy * (vyi + 0.5 * dvy);
             vxi += dvx;
             vyi += dvy;
         }
         vx[i] = vxi;
         vy[i] = vyi;
-        sum += vxi + vyi;
+        sum[l] += vxi + vyi;
         double xn = x[i] + vxi * dt, yn = y[i] + vyi * dt;
         xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
         yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);
@@ -224,13 +229,17 @@ open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], const in
         dx += dx > half ? -L : (dx < -half ? L : 0.0);
         dy += dy > half ? -L : (dy < -half ? L : 0.0);
         const double d2 = dx * dx + dy * dy;
-        worst = d2 > worst ? d2 : worst;
+        worst[l] = d2 > worst[l] ? d2 : worst[l];
     }
-    o->disp2 = worst;
-    o->work_close = 0.5 * dt * wc;
-    o->work_open = 0.5 * dt * wo;
-    o->finite = isfinite(sum) && isfinite(wo);
-    return s->mass * added;
+    double worst_all = 0.0;
+    for (int l = 0; l < LANES; l++) {
+        worst_all = worst[l] > worst_all ? worst[l] : worst_all;
+    }
+    o->disp2 = worst_all;
+    o->work_close = 0.5 * dt * lanes_total(wc);
+    o->work_open = 0.5 * dt * lanes_total(wo);
+    o->finite = isfinite(lanes_total(sum)) && isfinite(o->work_open);
+    return s->mass * lanes_total(added);
 }
 
 /* Remove the centre-of-mass velocity; returns the kinetic energy removed. */
