@@ -173,6 +173,7 @@ open_step_1d(gr_sim *restrict s, const int noise, const double mean, const int c
     } while (0)
     const int full = n / LANES * LANES;
     for (int i0 = 0; i0 < full; i0 += LANES) {
+#pragma omp simd
         for (int l = 0; l < LANES; l++) {
             OPEN_1D(i0 + l, l);
         }
@@ -199,38 +200,49 @@ open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], const in
     const double *restrict xr = s->x_ref, *restrict yr = s->y_ref;
     const double *restrict gx = s->gx, *restrict gy = s->gy;
     double added[LANES] = {0}, worst[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0};
-    for (int i = 0; i < n; i++) {
-        const int l = i % LANES;
-        const double dvx0 = h * fx[i], dvy0 = h * fy[i];
-        double vxi = vx[i], vyi = vy[i];
-        if (closing) {
-            wc[l] += gx[i] * (vxi + 0.5 * dvx0) + gy[i] * (vyi + 0.5 * dvy0);
-            vxi += dvx0;
-            vyi += dvy0;
+#define OPEN_2D(i, l)                                                                              \
+    do {                                                                                           \
+        const double dvx0 = h * fx[i], dvy0 = h * fy[i];                                           \
+        double vxi = vx[i], vyi = vy[i];                                                           \
+        if (closing) {                                                                             \
+            wc[l] += gx[i] * (vxi + 0.5 * dvx0) + gy[i] * (vyi + 0.5 * dvy0);                      \
+            vxi += dvx0;                                                                           \
+            vyi += dvy0;                                                                           \
+        }                                                                                          \
+        wo[l] += gx[i] * (vxi + 0.5 * dvx0) + gy[i] * (vyi + 0.5 * dvy0);                          \
+        vxi += dvx0;                                                                               \
+        vyi += dvy0;                                                                               \
+        if (noise) {                                                                               \
+            const double dvx = amp * (g[2 * (i)] - m0), dvy = amp * (g[2 * (i) + 1] - m1);         \
+            added[l] += dvx * (vxi + 0.5 * dvx) + dvy * (vyi + 0.5 * dvy);                         \
+            vxi += dvx;                                                                            \
+            vyi += dvy;                                                                            \
+        }                                                                                          \
+        vx[i] = vxi;                                                                               \
+        vy[i] = vyi;                                                                               \
+        sum[l] += vxi + vyi;                                                                       \
+        double xn = x[i] + vxi * dt, yn = y[i] + vyi * dt;                                         \
+        xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);                                                 \
+        yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);                                                 \
+        x[i] = xn;                                                                                 \
+        y[i] = yn;                                                                                 \
+        double ddx = xn - xr[i], ddy = yn - yr[i];                                                 \
+        ddx += ddx > half ? -L : (ddx < -half ? L : 0.0);                                          \
+        ddy += ddy > half ? -L : (ddy < -half ? L : 0.0);                                          \
+        const double d2 = ddx * ddx + ddy * ddy;                                                   \
+        worst[l] = d2 > worst[l] ? d2 : worst[l];                                                  \
+    } while (0)
+    const int full = n / LANES * LANES;
+    for (int i0 = 0; i0 < full; i0 += LANES) {
+#pragma omp simd
+        for (int l = 0; l < LANES; l++) {
+            OPEN_2D(i0 + l, l);
         }
-        wo[l] += gx[i] * (vxi + 0.5 * dvx0) + gy[i] * (vyi + 0.5 * dvy0);
-        vxi += dvx0;
-        vyi += dvy0;
-        if (noise) {
-            const double dvx = amp * (g[2 * i] - m0), dvy = amp * (g[2 * i + 1] - m1);
-            added[l] += dvx * (vxi + 0.5 * dvx) + dvy * (vyi + 0.5 * dvy);
-            vxi += dvx;
-            vyi += dvy;
-        }
-        vx[i] = vxi;
-        vy[i] = vyi;
-        sum[l] += vxi + vyi;
-        double xn = x[i] + vxi * dt, yn = y[i] + vyi * dt;
-        xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
-        yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);
-        x[i] = xn;
-        y[i] = yn;
-        double dx = xn - xr[i], dy = yn - yr[i];
-        dx += dx > half ? -L : (dx < -half ? L : 0.0);
-        dy += dy > half ? -L : (dy < -half ? L : 0.0);
-        const double d2 = dx * dx + dy * dy;
-        worst[l] = d2 > worst[l] ? d2 : worst[l];
     }
+    for (int i = full; i < n; i++) {
+        OPEN_2D(i, i - full);
+    }
+#undef OPEN_2D
     double worst_all = 0.0;
     for (int l = 0; l < LANES; l++) {
         worst_all = worst[l] > worst_all ? worst[l] : worst_all;
