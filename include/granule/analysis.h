@@ -2,7 +2,11 @@
 #ifndef GRANULE_ANALYSIS_H
 #define GRANULE_ANALYSIS_H
 
+#include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
+
+#include "granule/status.h"
 
 #define GR_BLOCKING_LEVELS 48
 
@@ -25,5 +29,60 @@ double gr_blocking_stderr_at(const gr_blocking *b, int level);
  * plateau for a series much longer than its correlation time; an underestimate otherwise, which
  * `*converged` reports as 0 when the error still grows at the last usable levels). */
 double gr_blocking_stderr(const gr_blocking *b, int *level, int *converged);
+
+/* ------------------------------------------------------------------------------------------
+ * Histograms with linear or logarithmic bins, as probability densities with sqrt(X) errors
+ * (App. A.1): p_i = X_i / (total w_i), sigma_i = sqrt(X_i) / (total w_i), X_i the count in bin i
+ * of width w_i and `total` every sample added (including those outside [lo, hi)). */
+typedef struct gr_histogram {
+    int nbins;
+    double lo, hi;
+    bool log_bins;   /* bin edges equally spaced in ln x (lo > 0) */
+    double *count;   /* nbins entries (weights, usually 1 per sample) */
+    double below, above; /* weight outside [lo, hi) */
+    double total;    /* all weight added */
+} gr_histogram;
+
+int gr_histogram_init(gr_histogram *h, int nbins, double lo, double hi, bool log_bins, gr_error *err);
+void gr_histogram_free(gr_histogram *h);
+void gr_histogram_add(gr_histogram *h, double x, double weight);
+/* Add another histogram with identical binning (e.g. one per thread or per repetition). */
+int gr_histogram_merge(gr_histogram *into, const gr_histogram *from, gr_error *err);
+double gr_histogram_lower(const gr_histogram *h, int i);
+double gr_histogram_upper(const gr_histogram *h, int i);
+double gr_histogram_center(const gr_histogram *h, int i); /* geometric centre for log bins */
+double gr_histogram_density(const gr_histogram *h, int i);
+double gr_histogram_density_error(const gr_histogram *h, int i);
+/* CSV rows "x_lo,x_hi,x,count,density,density_error" (with a header line naming x). */
+void gr_histogram_write_csv(const gr_histogram *h, FILE *f, const char *xname);
+
+/* ------------------------------------------------------------------------------------------
+ * Chi-square fits with GSL. Parameter errors are the square roots of the covariance diagonal
+ * scaled by max(1, sqrt(chi2/dof)) (the GSL manual's convention). */
+#define GR_FIT_MAX_PARAMS 8
+typedef struct gr_fit {
+    int n_params;
+    double p[GR_FIT_MAX_PARAMS], err[GR_FIT_MAX_PARAMS];
+    double chi2;
+    int dof;
+    double chi2_red; /* chi2 / dof (NAN when dof = 0) */
+    int n_points;
+} gr_fit;
+
+/* Weighted straight line y = p0 + p1 x (sigma may be NULL for unit weights). */
+int gr_fit_line(const double *x, const double *y, const double *sigma, int n, gr_fit *out, gr_error *err);
+/* Power law y = A x^b fitted as a line in ln x, ln y (points with y <= 0 are skipped; sigma is the
+ * error of y and becomes sigma/y). p[0] = A, p[1] = b. */
+int gr_fit_power_law(const double *x, const double *y, const double *sigma, int n, gr_fit *out, gr_error *err);
+
+/* General nonlinear least squares (gsl_multifit_nlinear, trust region with geodesic
+ * acceleration). `model` returns y(x; p) and, if dydp is not NULL, the n_params derivatives. */
+typedef double (*gr_fit_model)(double x, const double *p, double *dydp, void *user);
+int gr_fit_nonlinear(gr_fit_model model, void *user, const double *x, const double *y,
+                     const double *sigma, int n, int n_params, const double *p0, gr_fit *out,
+                     gr_error *err);
+/* Stretched exponential y = A exp(-(x/tau)^beta): p = (A, tau, beta) (fitted with ln tau inside). */
+int gr_fit_stretched_exp(const double *x, const double *y, const double *sigma, int n,
+                         const double p0[3], gr_fit *out, gr_error *err);
 
 #endif
