@@ -14,6 +14,10 @@ int cmd_collide(int argc, char **argv);
 int cmd_models(int argc, char **argv);
 int cmd_keys(int argc, char **argv);
 int cmd_plot(int argc, char **argv);
+int cmd_spm(int argc, char **argv);
+int cmd_bisect(int argc, char **argv);
+int cmd_cascade(int argc, char **argv);
+int cmd_fokker_planck(int argc, char **argv);
 
 /* Print "granule: <message>" on stderr. */
 void cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));

@@ -49,6 +49,11 @@ static void usage(FILE *f)
             "  models         list the collision models and their parameters\n"
             "  keys           list every scene key (Markdown)\n"
             "  plot DIR       (re)draw the plots of a run folder\n"
+            "theory models (no N-body run; thesis ch. 3, 5, 6, App. B):\n"
+            "  spm            Single Particle Model: Q(v,l), P(v), the predicted tail exponent\n"
+            "  bisect         multiplicative bisection process (sec. 3.4)\n"
+            "  cascade        multiplicative cascade on a 2^n grid, its S(k) and D_f (sec. 6.2)\n"
+            "  fokker-planck  the 1D absorbing-interval Fokker-Planck solution (App. B)\n"
             "  help           this text\n\n"
             "`granule <command> --help` describes each command. Docs: docs/ in the source tree.\n",
             GR_VERSION, GR_COMMIT);
@@ -66,7 +71,8 @@ int main(int argc, char **argv)
         const char *name;
         int (*fn)(int, char **);
     } table[] = {{"run", cmd_run}, {"collide", cmd_collide}, {"models", cmd_models},
-                 {"keys", cmd_keys}, {"plot", cmd_plot}};
+                 {"keys", cmd_keys}, {"plot", cmd_plot}, {"spm", cmd_spm}, {"bisect", cmd_bisect},
+                 {"cascade", cmd_cascade}, {"fokker-planck", cmd_fokker_planck}};
     for (size_t i = 0; i < sizeof table / sizeof table[0]; i++) {
         if (strcmp(cmd, table[i].name) == 0) {
             return table[i].fn(argc - 1, argv + 1);

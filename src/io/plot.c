@@ -59,3 +59,30 @@ int gr_plot_run(const char *dir, int dim, char *note, size_t note_size)
     }
     return 0;
 }
+
+int gr_plot_script(const char *dir, const char *png_name, const char *body, char *note, size_t note_size)
+{
+    if (!gnuplot_available()) {
+        snprintf(note, note_size, "skipped: gnuplot not found (apt-get install gnuplot-nox)");
+        return 1;
+    }
+    char cmd[1400];
+    snprintf(cmd, sizeof cmd, "cd '%s' && gnuplot >/dev/null 2>&1", dir);
+    FILE *g = popen(cmd, "w");
+    if (!g) {
+        snprintf(note, note_size, "skipped: could not start gnuplot");
+        return 1;
+    }
+    fprintf(g, "set terminal pngcairo size 1000,640 font 'Sans,11'\nset datafile separator ','\n"
+               "set grid\nset output '%s.tmp'\n%s\nset output\n", png_name, body);
+    int rc = pclose(g);
+    char from[1200], to[1200];
+    snprintf(from, sizeof from, "%s/%s.tmp", dir, png_name);
+    snprintf(to, sizeof to, "%s/%s", dir, png_name);
+    if (rc != 0 || rename(from, to) != 0) {
+        remove(from);
+        snprintf(note, note_size, "failed: gnuplot could not draw %s", png_name);
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,1 @@
+/* bisect: placeholder, being written (issue 5). */

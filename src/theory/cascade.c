@@ -1,0 +1,1 @@
+/* cascade: placeholder, being written (issue 5). */

@@ -1,0 +1,1 @@
+/* spm: placeholder, being written (issue 5). */
