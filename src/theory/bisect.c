@@ -1,1 +1,2 @@
 /* bisect: placeholder, being written (issue 5). */
+typedef int gr_placeholder_bisect;

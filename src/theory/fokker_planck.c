@@ -1,1 +1,2 @@
 /* fokker_planck: placeholder, being written (issue 5). */
+typedef int gr_placeholder_fokker_planck;
