@@ -12,6 +12,7 @@
 #include <stdio.h>
 
 #include "granule/model.h"
+#include "granule/observe.h"
 #include "granule/status.h"
 
 typedef enum { GR_PLACE_HEXAGONAL, GR_PLACE_SQUARE, GR_PLACE_UNIFORM, GR_PLACE_CLUSTER, GR_PLACE_RANDOM } gr_placement_kind;
@@ -48,6 +49,9 @@ typedef struct gr_scene {
     double warmup, duration, sample_every; /* s */
     uint64_t seed;
     bool progress;    /* progress line on a terminal */
+    /* [analysis] */
+    char observables[256]; /* comma-separated names from the observable registry; "" = none */
+    gr_analysis_params analysis;
     /* [output] */
     char out_dir[1024];
     double snapshot_every; /* s; 0 = no snapshots */
@@ -71,6 +75,10 @@ typedef struct gr_scene_override {
  * resolve derived quantities (L from packing fraction, ...). */
 int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, int n_overrides,
                   gr_error *err);
+
+/* Write the resolved scene as dir/scene.ini (atomically): every key with the value the run used,
+ * so `granule run DIR/scene.ini` repeats the run and `granule analyse DIR` knows the system. */
+int gr_scene_save(const gr_scene *s, const char *dir, gr_error *err);
 
 /* Write the reference of every scene key (engine keys and every model's parameters) as
  * Markdown; docs/scene-keys.md is this output. */

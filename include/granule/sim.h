@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 #include "granule/model.h"
+#include "granule/particles.h"
 #include "granule/scene.h"
 #include "granule/status.h"
 
@@ -37,15 +38,6 @@ double gr_ledger_dissipated(const gr_ledger *l);
  * (docs/integrator.md, tests/test_sim.c). */
 double gr_ledger_residual(const gr_ledger *l);
 
-/* Read-only view of the particle state. Arrays have n entries; y/vy are NULL in 1D. */
-typedef struct gr_particles {
-    int n;
-    int dim;
-    double L;
-    double radius, mass;
-    const double *x, *y;
-    const double *vx, *vy;
-} gr_particles;
 
 /* Build a simulation from a resolved scene: place the particles (sec. 2.1.4), give them small
  * random velocities, prepare the models and choose the kernel. Refuses overlapping placements

@@ -14,6 +14,8 @@ int cmd_collide(int argc, char **argv);
 int cmd_models(int argc, char **argv);
 int cmd_keys(int argc, char **argv);
 int cmd_plot(int argc, char **argv);
+int cmd_analyse(int argc, char **argv);
+int cmd_observables(int argc, char **argv);
 int cmd_spm(int argc, char **argv);
 int cmd_bisect(int argc, char **argv);
 int cmd_cascade(int argc, char **argv);

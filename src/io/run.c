@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "granule/analysis.h"
+#include "granule/observe.h"
 #include "granule/run.h"
 #include "granule_commit.h"
 #include "granule_config.h"
@@ -35,7 +36,7 @@ static void csv_header(FILE *f, const char *what, const gr_scene *s, uint64_t ha
 
 static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, const gr_run_result *r,
                          const gr_blocking *blk, const char *status, const char *diagnosis,
-                         const char *plots, gr_error *err)
+                         const char *plots, cJSON *analysis, gr_error *err)
 {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "status", status);
@@ -91,6 +92,9 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, co
     if (scene->warnings[0]) {
         cJSON_AddStringToObject(j, "warnings", scene->warnings);
     }
+    if (analysis) {
+        cJSON_AddItemToObject(j, "analysis", analysis);
+    }
     cJSON_AddItemToObject(j, "scene", gr_scene_to_json(scene));
     char *text = cJSON_Print(j);
     cJSON_Delete(j);
@@ -135,6 +139,12 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         return rc;
     }
     snprintf(res->kernel, sizeof res->kernel, "%s", gr_sim_kernel(sim));
+    gr_observer *obs = NULL;
+    rc = gr_observer_create(scene, &obs, err);
+    if (rc) {
+        gr_sim_free(sim);
+        return rc;
+    }
     const uint64_t hash = gr_scene_hash(scene);
     const double dt = gr_sim_dt(sim);
     const int64_t per_sample = llround(scene->sample_every / dt) > 0 ? llround(scene->sample_every / dt) : 1;
@@ -188,6 +198,15 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         bool sampling = k > warm_samples;
         if (sampling) {
             gr_blocking_add(&blk, T);
+            if (gr_observer_count(obs) > 0) {
+                gr_particles p = gr_sim_particles(sim);
+                rc = gr_observer_sample(obs, &p, t, &step_err);
+                if (rc) {
+                    status = "failed";
+                    snprintf(diagnosis, sizeof diagnosis, "%s", step_err.message);
+                    break;
+                }
+            }
         }
         fprintf(ft.f, "%.9g,%.9g,%.9g,%s\n", t, T, sampling ? gr_blocking_mean(&blk) : (double)NAN, sampling ? "sample" : "warmup");
         gr_ledger l = gr_sim_ledger(sim);
@@ -234,7 +253,16 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     if (scene->plots) {
         plots = gr_plot_run(dir, scene->dim, plot_note, sizeof plot_note) == GR_OK ? "temperature.png, ledger.png" : plot_note;
     }
-    int rc_s = write_summary(dir, scene, sim, res, &blk, status, diagnosis[0] ? diagnosis : NULL, plots, &io_err);
+    cJSON *analysis = NULL;
+    int rc_o = GR_OK;
+    if (gr_observer_count(obs) > 0) {
+        analysis = cJSON_CreateObject();
+        gr_output out = {.dir = dir, .scene = scene, .scene_hash = hash, .summary = analysis, .plots = scene->plots};
+        rc_o = gr_observer_finish(obs, &out, &io_err);
+    }
+    gr_observer_free(obs);
+    int rc_i = gr_scene_save(scene, dir, &io_err);
+    int rc_s = write_summary(dir, scene, sim, res, &blk, status, diagnosis[0] ? diagnosis : NULL, plots, analysis, &io_err);
     gr_sim_free(sim);
     if (strcmp(status, "unstable") == 0) {
         *err = step_err;
@@ -243,7 +271,11 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     if (io) {
         return io;
     }
-    if (rc_t || rc_l || rc_b || rc_s) {
+    if (strcmp(status, "failed") == 0 && !io) {
+        *err = step_err;
+        return GR_EIO;
+    }
+    if (rc_t || rc_l || rc_b || rc_s || rc_o || rc_i) {
         *err = io_err;
         return GR_EIO;
     }

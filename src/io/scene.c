@@ -14,8 +14,9 @@
 #include <strings.h>
 
 #include "granule/scene.h"
+#include "io/files.h"
 
-typedef enum { K_DOUBLE, K_INT, K_BOOL, K_UINT64, K_STRING, K_ENUM, K_NORMAL, K_TANGENTIAL } key_type;
+typedef enum { K_DOUBLE, K_INT, K_BOOL, K_UINT64, K_STRING, K_ENUM, K_NORMAL, K_TANGENTIAL, K_LIST } key_type;
 
 typedef struct scene_key {
     const char *section;
@@ -56,6 +57,7 @@ static const scene_key keys[] = {
     {"run", "sample_every", "s", K_DOUBLE, "1e-3", 0, INFINITY, true, true, NULL, "interval between samples (uniform in time)", OFF(sample_every)},
     {"run", "seed", "", K_UINT64, "1", 0, 1.8446744073709552e19, false, false, NULL, "random seed: placement, initial velocities and noise are pure functions of it", OFF(seed)},
     {"run", "progress", "", K_BOOL, "true", 0, 1, false, false, NULL, "progress line with ETA on a terminal (never in CI logs or when stderr is not a terminal)", OFF(progress)},
+    {"analysis", "observables", "", K_LIST, "", 0, 0, false, false, NULL, "statistics to accumulate while sampling, comma-separated (granule observables lists them); empty = temperature only", OFF(observables)},
     {"output", "dir", "", K_STRING, "out", 0, 0, false, false, NULL, "output folder (granule run --out overrides it)", OFF(out_dir)},
     {"output", "snapshot_every", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "interval between extended-XYZ snapshots; 0 = none", OFF(snapshot_every)},
     {"output", "plots", "", K_BOOL, "true", 0, 1, false, false, NULL, "write PNG plots with gnuplot at the end of the run (skipped with a note if gnuplot is missing)", OFF(plots)},
@@ -210,6 +212,13 @@ static void append_known_keys(char *buf, size_t n, const char *section)
             }
         }
     }
+    if (strcmp(section, "analysis") == 0) {
+        for (int o = 0; gr_observables[o]; o++) {
+            for (int i = 0; i < gr_observables[o]->n_params; i++) {
+                len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s", gr_observables[o]->params[i].name);
+            }
+        }
+    }
 }
 
 /* ---------- loading ---------- */
@@ -264,6 +273,29 @@ static int apply(loader *ld, const char *section, const char *name, const char *
                 return fail_at(err, w, section, name, "%s", detail);
             }
             snprintf((char *)slot, cap, "%s", value);
+            break;
+        }
+        case K_LIST: {
+            char buf[256];
+            if (strlen(value) >= sizeof buf) {
+                return fail_at(err, w, section, name, "%s", "list too long");
+            }
+            snprintf(buf, sizeof buf, "%s", value);
+            char *save = NULL, clean[256] = "";
+            for (char *tok = strtok_r(buf, ", \t", &save); tok; tok = strtok_r(NULL, ", \t", &save)) {
+                if (!gr_observable_find(tok)) {
+                    char list[400] = "";
+                    size_t len = 0;
+                    for (int j = 0; gr_observables[j]; j++) {
+                        len += (size_t)snprintf(list + len, sizeof list - len, "%s%s", len ? ", " : "", gr_observables[j]->name);
+                    }
+                    snprintf(detail, sizeof detail, "unknown observable '%s'; choose from %s", tok, list);
+                    return fail_at(err, w, section, name, "%s", detail);
+                }
+                size_t cl = strlen(clean);
+                snprintf(clean + cl, sizeof clean - cl, "%s%s", cl ? "," : "", tok);
+            }
+            snprintf((char *)slot, 256, "%s", clean);
             break;
         }
         case K_ENUM: {
@@ -332,6 +364,18 @@ static int apply(loader *ld, const char *section, const char *name, const char *
         }
         return GR_OK;
     }
+    if (strcmp(section, "analysis") == 0) {
+        for (int o = 0; gr_observables[o]; o++) {
+            for (int q = 0; q < gr_observables[o]->n_params; q++) {
+                const gr_param *p = &gr_observables[o]->params[q];
+                if (strcmp(p->name, name) == 0) {
+                    key_type t = p->type == GR_PARAM_BOOL ? K_BOOL : p->type == GR_PARAM_INT ? K_INT : K_DOUBLE;
+                    return set_number((char *)&s->analysis + p->offset, t, p->min, p->max, p->min_open,
+                                      p->max_open, value, w, section, name, err);
+                }
+            }
+        }
+    }
     if (strcmp(section, "model") == 0) {
         const gr_model *owner = NULL;
         const gr_param *p = find_model_param(name, &owner);
@@ -343,7 +387,7 @@ static int apply(loader *ld, const char *section, const char *name, const char *
     }
     char known[600] = "";
     if (!section_known(section)) {
-        snprintf(detail, sizeof detail, "unknown section [%s]; sections: system, placement, model, noise, integrator, run, output", section);
+        snprintf(detail, sizeof detail, "unknown section [%s]; sections: system, placement, model, noise, integrator, run, analysis, output", section);
         return fail_at(err, w, section, name, "%s", detail);
     }
     append_known_keys(known, sizeof known, section);
@@ -394,7 +438,7 @@ static char *read_line(char *str, int num, void *stream)
             if (p[1 + len] == ']' && !section_known(name)) {
                 where w = {r->ld->file, r->ld->line, NULL};
                 r->ld->rc = fail_at(r->ld->err, &w, name, "", "%s",
-                                    "unknown section; sections: system, placement, model, noise, integrator, run, output");
+                                    "unknown section; sections: system, placement, model, noise, integrator, run, analysis, output");
             }
         }
     }
@@ -416,6 +460,19 @@ static void apply_defaults(loader *ld)
             char *slot = (char *)&ld->scene->contact + p->offset;
             if (p->type == GR_PARAM_BOOL) {
                 *(bool *)slot = p->def != 0.0;
+            } else {
+                *(double *)slot = p->def;
+            }
+        }
+    }
+    for (int o = 0; gr_observables[o]; o++) {
+        for (int i = 0; i < gr_observables[o]->n_params; i++) {
+            const gr_param *p = &gr_observables[o]->params[i];
+            char *slot = (char *)&ld->scene->analysis + p->offset;
+            if (p->type == GR_PARAM_BOOL) {
+                *(bool *)slot = p->def != 0.0;
+            } else if (p->type == GR_PARAM_INT) {
+                *(int *)slot = (int)p->def;
             } else {
                 *(double *)slot = p->def;
             }
@@ -616,6 +673,7 @@ static const char *type_name(key_type t)
     case K_ENUM: return "choice";
     case K_NORMAL: return "model";
     case K_TANGENTIAL: return "model";
+    case K_LIST: return "list";
     }
     return "";
 }
@@ -647,6 +705,23 @@ void gr_scene_keys_markdown(FILE *out)
         }
         fprintf(out, "| `%s` | %s | %s | %s | %s | %s |\n", k->name, type_name(k->type), k->unit,
                 k->def ? k->def : "(unset)", range, k->doc);
+        if (strcmp(k->name, "observables") == 0) {
+            for (int o = 0; gr_observables[o]; o++) {
+                for (int j = 0; j < gr_observables[o]->n_params; j++) {
+                    const gr_param *p = &gr_observables[o]->params[j];
+                    char r[96] = "", def[32];
+                    range_text(r, sizeof r, p->min, p->max, p->min_open, p->max_open);
+                    snprintf(def, sizeof def, "%g", p->def);
+                    if (p->type == GR_PARAM_BOOL) {
+                        snprintf(r, sizeof r, "%s", "");
+                        snprintf(def, sizeof def, "%s", p->def != 0.0 ? "true" : "false");
+                    }
+                    fprintf(out, "| `%s` | %s | %s | %s | %s | (%s) %s |\n", p->name,
+                            p->type == GR_PARAM_BOOL ? "true/false" : p->type == GR_PARAM_INT ? "integer" : "number",
+                            p->unit, def, r, gr_observables[o]->name, p->doc);
+                }
+            }
+        }
         if (strcmp(k->name, "tangential") == 0) {
             for (int m = 0; gr_models[m]; m++) {
                 for (int j = 0; j < gr_models[m]->n_params; j++) {
@@ -667,4 +742,93 @@ void gr_scene_keys_markdown(FILE *out)
             }
         }
     }
+}
+
+/* ---------- saving ---------- */
+
+static void save_value(FILE *f, const scene_key *k, const gr_scene *s)
+{
+    const void *slot = (const char *)s + k->offset;
+    switch (k->type) {
+    case K_DOUBLE: fprintf(f, "%.17g", *(const double *)slot); break;
+    case K_INT: fprintf(f, "%d", *(const int *)slot); break;
+    case K_BOOL: fprintf(f, "%s", *(const bool *)slot ? "true" : "false"); break;
+    case K_UINT64: fprintf(f, "%llu", (unsigned long long)*(const uint64_t *)slot); break;
+    case K_STRING:
+    case K_LIST: fprintf(f, "%s", (const char *)slot); break;
+    case K_ENUM: {
+        int idx = *(const int *)slot, i = 0;
+        const char *c = k->choices;
+        while (i < idx && strchr(c, '|')) {
+            c = strchr(c, '|') + 1;
+            i++;
+        }
+        fprintf(f, "%.*s", (int)strcspn(c, "|"), c);
+        break;
+    }
+    case K_NORMAL:
+    case K_TANGENTIAL: {
+        const gr_model *m = *(const gr_model *const *)slot;
+        fprintf(f, "%s", m ? m->name : "none");
+        break;
+    }
+    }
+}
+
+static void save_params(FILE *f, const gr_param *ps, int n, const void *base)
+{
+    for (int i = 0; i < n; i++) {
+        const void *slot = (const char *)base + ps[i].offset;
+        if (ps[i].type == GR_PARAM_BOOL) {
+            fprintf(f, "%s = %s\n", ps[i].name, *(const bool *)slot ? "true" : "false");
+        } else if (ps[i].type == GR_PARAM_INT) {
+            fprintf(f, "%s = %d\n", ps[i].name, *(const int *)slot);
+        } else {
+            fprintf(f, "%s = %.17g\n", ps[i].name, *(const double *)slot);
+        }
+    }
+}
+
+int gr_scene_save(const gr_scene *s, const char *dir, gr_error *err)
+{
+    gr_file f;
+    int rc = gr_file_open(&f, dir, "scene.ini", err);
+    if (rc) {
+        return rc;
+    }
+    fprintf(f.f, "; resolved scene of this run (from %s); every key as the run used it\n", s->source);
+    const char *section = "";
+    for (int i = 0; i < n_keys; i++) {
+        const scene_key *k = &keys[i];
+        if (k->offset == offsetof(gr_scene, packing_fraction) || k->offset == offsetof(gr_scene, reduced_length)) {
+            continue; /* derived: L is written */
+        }
+        if (k->offset == offsetof(gr_scene, dt) && s->dt <= 0.0) {
+            continue;
+        }
+        if (k->offset == offsetof(gr_scene, steps_per_contact) && s->dt > 0.0) {
+            continue;
+        }
+        if (strcmp(section, k->section) != 0) {
+            section = k->section;
+            fprintf(f.f, "\n[%s]\n", section);
+        }
+        fprintf(f.f, "%s = ", k->name);
+        save_value(f.f, k, s);
+        fputc('\n', f.f);
+        if (strcmp(k->name, "tangential") == 0) {
+            const gr_model *used[2] = {s->normal, s->tangential};
+            for (int u = 0; u < 2; u++) {
+                if (used[u]) {
+                    save_params(f.f, used[u]->params, used[u]->n_params, &s->contact);
+                }
+            }
+        }
+        if (strcmp(k->name, "observables") == 0) {
+            for (int o = 0; gr_observables[o]; o++) {
+                save_params(f.f, gr_observables[o]->params, gr_observables[o]->n_params, &s->analysis);
+            }
+        }
+    }
+    return gr_file_commit(&f, err);
 }

@@ -1,0 +1,115 @@
+/* moments: velocity moments <|v|^m>, m = 1 .. moments_max (eq. 3.11; 3.10 for m = 2), averaged
+ * over particles and, uniformly in time, over samples, with block-averaging errors. In 2D |v| is
+ * the speed and each component's moments <|v_x|^m> are reported too. Velocities are taken
+ * relative to the mean velocity of the frame, as T of eq. 2.19. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "analysis/obs_util.h"
+#include "granule/analysis.h"
+#include "granule/scene.h"
+
+#define MAX_M 16
+
+static const gr_param params[] = {
+    {"moments_max", "", GR_PARAM_INT, 12, 1, MAX_M, false, false,
+     "highest velocity moment m of <|v|^m> (3.11)", offsetof(gr_analysis_params, moments_max)},
+};
+
+typedef struct moments {
+    int m_max, dim;
+    gr_blocking speed[MAX_M + 1]; /* <|v|^m> (1D: |v_x|^m) */
+    gr_blocking comp[MAX_M + 1];  /* <|v_x|^m> and <|v_y|^m> pooled (2D) */
+} moments;
+
+static int create(const gr_scene *scene, void **state, gr_error *err)
+{
+    moments *m = calloc(1, sizeof *m);
+    if (!m) {
+        return GR_FAIL(err, GR_ENOMEM, "moments: out of memory");
+    }
+    m->m_max = scene->analysis.moments_max;
+    m->dim = scene->dim;
+    for (int k = 0; k <= MAX_M; k++) {
+        gr_blocking_init(&m->speed[k]);
+        gr_blocking_init(&m->comp[k]);
+    }
+    *state = m;
+    return GR_OK;
+}
+
+static int sample(void *state, const gr_particles *p, double t, gr_error *err)
+{
+    (void)t;
+    (void)err;
+    moments *m = state;
+    double mean[2];
+    gr_obs_mean_velocity(p, mean);
+    double s[MAX_M + 1] = {0}, c[MAX_M + 1] = {0};
+    for (int i = 0; i < p->n; i++) {
+        double ux = p->vx[i] - mean[0], uy = p->dim == 2 ? p->vy[i] - mean[1] : 0.0;
+        double speed = sqrt(ux * ux + uy * uy), ax = fabs(ux), ay = fabs(uy);
+        double ps = 1.0, px = 1.0, py = 1.0;
+        for (int k = 1; k <= m->m_max; k++) {
+            ps *= speed;
+            px *= ax;
+            py *= ay;
+            s[k] += ps;
+            c[k] += p->dim == 2 ? 0.5 * (px + py) : px;
+        }
+    }
+    for (int k = 1; k <= m->m_max; k++) {
+        gr_blocking_add(&m->speed[k], s[k] / p->n);
+        gr_blocking_add(&m->comp[k], c[k] / p->n);
+    }
+    return GR_OK;
+}
+
+static int finish(void *state, const gr_output *out, gr_error *err)
+{
+    moments *m = state;
+    gr_file f;
+    int rc = gr_obs_csv_open(out, "moments.csv",
+                             "velocity moments <|v|^m> (3.11), relative to the frame's mean velocity; "
+                             "speed = |v| (2D) or |v_x| (1D), component = mean of <|v_x|^m> and <|v_y|^m>; "
+                             "units (m/s)^m; errors from block averaging over samples",
+                             &f, err);
+    if (rc) {
+        return rc;
+    }
+    fprintf(f.f, "m,speed_moment,speed_stderr,component_moment,component_stderr,samples\n");
+    cJSON *j = cJSON_AddObjectToObject(out->summary, "moments");
+    cJSON *arr = cJSON_AddArrayToObject(j, "speed");
+    cJSON *err_arr = cJSON_AddArrayToObject(j, "speed_stderr");
+    for (int k = 1; k <= m->m_max; k++) {
+        double mk = gr_blocking_mean(&m->speed[k]), ek = gr_blocking_stderr(&m->speed[k], NULL, NULL);
+        double ck = gr_blocking_mean(&m->comp[k]), dk = gr_blocking_stderr(&m->comp[k], NULL, NULL);
+        fprintf(f.f, "%d,%.10g,%.6g,%.10g,%.6g,%lld\n", k, mk, ek, ck, dk, (long long)m->speed[k].count[0]);
+        cJSON_AddItemToArray(arr, cJSON_CreateNumber(isfinite(mk) ? mk : 0.0));
+        cJSON_AddItemToArray(err_arr, cJSON_CreateNumber(isfinite(ek) ? ek : 0.0));
+    }
+    cJSON_AddStringToObject(j, "file", "moments.csv");
+    rc = gr_file_commit(&f, err);
+    if (!rc && out->plots) {
+        gr_obs_plot(out, "moments.png",
+                    "set logscale y\nset xlabel 'm'\nset ylabel '<|v|^m>'\nset title 'Velocity moments (3.11)'\n"
+                    "plot 'moments.csv' skip 3 using 1:2:3 with yerrorbars title 'speed', "
+                    "'' skip 3 using 1:4:5 with yerrorbars title 'component'");
+    }
+    return rc;
+}
+
+static void destroy(void *state) { free(state); }
+
+const gr_observable_type gr_obs_moments = {
+    .name = "moments",
+    .summary = "velocity moments <|v|^m>, m = 1..12 (3.10-3.11), with block-averaging errors",
+    .dims = 3,
+    .params = params,
+    .n_params = sizeof params / sizeof params[0],
+    .create = create,
+    .sample = sample,
+    .finish = finish,
+    .destroy = destroy,
+};
