@@ -5,6 +5,7 @@
  * The temperature average and its error bar come from streaming block averaging (2.20). */
 #include <cjson/cJSON.h>
 #include <math.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -18,6 +19,7 @@
 #include "granule_config.h"
 #include "io/files.h"
 #include "io/plot.h"
+#include "analysis/mean_field.h"
 #include "io/scene_json.h"
 #include "io/snapshot.h"
 
@@ -36,7 +38,7 @@ static void csv_header(FILE *f, const char *what, const gr_scene *s, uint64_t ha
 
 static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, const gr_run_result *r,
                          const gr_blocking *blk, const char *status, const char *diagnosis,
-                         const char *plots, cJSON *analysis, gr_error *err)
+                         const char *plots, cJSON *analysis, cJSON *mean_field, gr_error *err)
 {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "status", status);
@@ -94,6 +96,9 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, co
     }
     if (analysis) {
         cJSON_AddItemToObject(j, "analysis", analysis);
+    }
+    if (mean_field) {
+        cJSON_AddItemToObject(j, "mean_field", mean_field);
     }
     cJSON_AddItemToObject(j, "scene", gr_scene_to_json(scene));
     char *text = cJSON_Print(j);
@@ -177,6 +182,13 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
 
     gr_blocking blk;
     gr_blocking_init(&blk);
+    /* an undriven (cooling) run keeps its T(t) for the Haff's-law fit */
+    int64_t haff_n = 0, haff_cap = scene->D > 0.0 ? 0 : run_samples + 1;
+    double *haff_t = haff_cap ? malloc(sizeof(double) * (size_t)haff_cap) : NULL;
+    double *haff_T = haff_cap ? malloc(sizeof(double) * (size_t)haff_cap) : NULL;
+    if (haff_cap && (!haff_t || !haff_T)) {
+        haff_cap = 0;
+    }
     double stepping = 0.0, last_report = now(), start = now();
     int64_t next_snap = 0;
     int snap_index = 0;
@@ -198,6 +210,10 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         bool sampling = k > warm_samples;
         if (sampling) {
             gr_blocking_add(&blk, T);
+            if (haff_n < haff_cap) {
+                haff_t[haff_n] = t;
+                haff_T[haff_n++] = T;
+            }
             if (gr_observer_count(obs) > 0) {
                 gr_particles p = gr_sim_particles(sim);
                 rc = gr_observer_sample(obs, &p, t, &step_err);
@@ -262,7 +278,12 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     }
     gr_observer_free(obs);
     int rc_i = gr_scene_save(scene, dir, &io_err);
-    int rc_s = write_summary(dir, scene, sim, res, &blk, status, diagnosis[0] ? diagnosis : NULL, plots, analysis, &io_err);
+    cJSON *mean_field = scene->D > 0.0 ? gr_mean_field_steady(scene, res->T_mean)
+                                       : gr_mean_field_haff(scene, haff_t, haff_T, (int)haff_n);
+    free(haff_t);
+    free(haff_T);
+    int rc_s = write_summary(dir, scene, sim, res, &blk, status, diagnosis[0] ? diagnosis : NULL, plots, analysis,
+                             mean_field, &io_err);
     gr_sim_free(sim);
     if (strcmp(status, "unstable") == 0) {
         *err = step_err;

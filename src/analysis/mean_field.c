@@ -1,0 +1,81 @@
+/* Mean-field references. Each is printed with the measured value and the compensation constant
+ * the measurement implies, so a user sees at once how far the mean-field picture holds. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "analysis/mean_field.h"
+#include "granule/analysis.h"
+
+cJSON *gr_mean_field_steady(const gr_scene *s, double T_mean)
+{
+    if (s->D <= 0.0 || !(T_mean > 0.0)) {
+        return NULL;
+    }
+    const double M = s->mass, D = s->D, d = 2.0 * s->radius;
+    cJSON *j = cJSON_CreateObject();
+    if (s->dim == 1) {
+        /* Williams-MacKintosh (3.7): <v^2>^(3/2) = (4C/N) D L' / (M^2 (1 - eps^2)); in 1D T = <v^2> */
+        double e = s->contact.eps_n, lp = s->L - s->N * d;
+        if (e >= 1.0 || lp <= 0.0) {
+            cJSON_Delete(j);
+            return NULL;
+        }
+        double pred = pow(4.0 / s->N * D * lp / (M * M * (1.0 - e * e)), 2.0 / 3.0);
+        cJSON_AddStringToObject(j, "reference", "Williams-MacKintosh (3.7) with C = 1");
+        cJSON_AddNumberToObject(j, "v2_predicted", pred);
+        cJSON_AddNumberToObject(j, "v2_measured", T_mean);
+        cJSON_AddNumberToObject(j, "C_implied", pow(T_mean / pred, 1.5));
+    } else {
+        /* 2D equation of state (5.2): <|v|>^3 = (C1/phi) D d pi / (M^2 (2 - eps_n^2 - eps_t^2)),
+         * with <|v|> estimated from T as for a Gaussian, <|v|> = sqrt(pi T / 4) (T of eq. 2.19) */
+        double en = s->contact.eps_n, et = s->tangential && s->tangential->params ? s->contact.eps_t : 1.0;
+        double loss = 2.0 - en * en - et * et;
+        if (loss <= 0.0) {
+            cJSON_Delete(j);
+            return NULL;
+        }
+        double pred = cbrt(D * d * M_PI / (s->packing_fraction * M * M * loss));
+        double meas = sqrt(M_PI * T_mean / 4.0);
+        cJSON_AddStringToObject(j, "reference", "2D equation of state (5.2) with C1 = 1; <|v|> = sqrt(pi T/4) (Gaussian estimate)");
+        cJSON_AddNumberToObject(j, "mean_speed_predicted", pred);
+        cJSON_AddNumberToObject(j, "mean_speed_measured", meas);
+        cJSON_AddNumberToObject(j, "C1_implied", pow(meas / pred, 3.0));
+    }
+    return j;
+}
+
+cJSON *gr_mean_field_haff(const gr_scene *s, const double *t, const double *T, int n)
+{
+    /* T^(-1/2) = T0^(-1/2) (1 + t/t0) is a straight line in t: intercept a, slope b, t0 = a/b */
+    double *y = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        if (T[i] > 0.0) {
+            y[m] = 1.0 / sqrt(T[i]);
+            m++;
+        }
+    }
+    gr_fit f;
+    gr_error err = {0};
+    cJSON *j = NULL;
+    if (m >= 3 && m == n && gr_fit_line(t, y, NULL, m, &f, &err) == GR_OK && f.p[1] > 0.0) {
+        double T0 = 1.0 / (f.p[0] * f.p[0]), t0 = f.p[0] / f.p[1];
+        double phi = s->dim == 2 ? s->packing_fraction : 0.0;
+        j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "reference", "Haff's law (1.2): T = T0 / (1 + t/t0)^2");
+        cJSON_AddNumberToObject(j, "T0_fit", T0);
+        cJSON_AddNumberToObject(j, "t0_fit", t0);
+        cJSON_AddNumberToObject(j, "t0_fit_stderr", t0 * hypot(f.err[0] / f.p[0], f.err[1] / f.p[1]));
+        if (s->dim == 2 && phi > 0.0) {
+            /* eq. 1.2: 1/t0 = (4/sqrt(pi)) (1 - eps) phi T0^(1/2) / (s*(phi) d), s* = (1-phi)^2/(1-7phi/16) */
+            double sstar = (1.0 - phi) * (1.0 - phi) / (1.0 - 7.0 * phi / 16.0);
+            double rate = 4.0 / sqrt(M_PI) * (1.0 - s->contact.eps_n) * phi / (sstar * 2.0 * s->radius);
+            cJSON_AddNumberToObject(j, "t0_haff", 1.0 / (rate * sqrt(T0 / s->dim)));
+            cJSON_AddNumberToObject(j, "t0_haff_T_eq_2_19", 1.0 / (rate * sqrt(T0)));
+            cJSON_AddStringToObject(j, "note", "eq. 1.2 with eps = eps_n and T0 per degree of freedom (T of eq. 2.19 / dim); "
+                                               "t0_haff_T_eq_2_19 uses T0 of eq. 2.19 (all components)");
+        }
+    }
+    free(y);
+    return j;
+}
