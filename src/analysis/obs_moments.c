@@ -80,14 +80,16 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     }
     fprintf(f.f, "m,speed_moment,speed_stderr,component_moment,component_stderr,samples\n");
     cJSON *j = cJSON_AddObjectToObject(out->summary, "moments");
-    cJSON *arr = cJSON_AddArrayToObject(j, "speed");
-    cJSON *err_arr = cJSON_AddArrayToObject(j, "speed_stderr");
+    cJSON *arr = cJSON_AddObjectToObject(j, "speed");
+    cJSON *err_arr = cJSON_AddObjectToObject(j, "speed_stderr");
     for (int k = 1; k <= m->m_max; k++) {
         double mk = gr_blocking_mean(&m->speed[k]), ek = gr_blocking_stderr(&m->speed[k], NULL, NULL);
         double ck = gr_blocking_mean(&m->comp[k]), dk = gr_blocking_stderr(&m->comp[k], NULL, NULL);
         fprintf(f.f, "%d,%.10g,%.6g,%.10g,%.6g,%lld\n", k, mk, ek, ck, dk, (long long)m->speed[k].count[0]);
-        cJSON_AddItemToArray(arr, cJSON_CreateNumber(isfinite(mk) ? mk : 0.0));
-        cJSON_AddItemToArray(err_arr, cJSON_CreateNumber(isfinite(ek) ? ek : 0.0));
+        char key[8];
+        snprintf(key, sizeof key, "m%d", k);
+        cJSON_AddNumberToObject(arr, key, isfinite(mk) ? mk : 0.0);
+        cJSON_AddNumberToObject(err_arr, key, isfinite(ek) ? ek : 0.0);
     }
     cJSON_AddStringToObject(j, "file", "moments.csv");
     rc = gr_file_commit(&f, err);

@@ -15,6 +15,7 @@ int cmd_models(int argc, char **argv);
 int cmd_keys(int argc, char **argv);
 int cmd_plot(int argc, char **argv);
 int cmd_analyse(int argc, char **argv);
+int cmd_compare(int argc, char **argv);
 int cmd_observables(int argc, char **argv);
 int cmd_spm(int argc, char **argv);
 int cmd_bisect(int argc, char **argv);

@@ -50,6 +50,7 @@ static void usage(FILE *f)
             "  keys           list every scene key (Markdown)\n"
             "  plot DIR       (re)draw the plots of a run folder\n"
             "  analyse DIR    feed a run's snapshots to the analysis layer's observables\n"
+            "  compare SCENE  the same scene under several collision models, side by side\n"
             "  observables    list the observables (statistics) a scene can ask for\n"
             "theory models (no N-body run; thesis ch. 3, 5, 6, App. B):\n"
             "  spm            Single Particle Model: Q(v,l), P(v), the predicted tail exponent\n"
@@ -73,7 +74,7 @@ int main(int argc, char **argv)
         const char *name;
         int (*fn)(int, char **);
     } table[] = {{"run", cmd_run}, {"collide", cmd_collide}, {"models", cmd_models},
-                 {"keys", cmd_keys}, {"plot", cmd_plot}, {"analyse", cmd_analyse},
+                 {"keys", cmd_keys}, {"plot", cmd_plot}, {"analyse", cmd_analyse}, {"compare", cmd_compare},
                  {"analyze", cmd_analyse}, {"observables", cmd_observables}, {"spm", cmd_spm}, {"bisect", cmd_bisect},
                  {"cascade", cmd_cascade}, {"fokker-planck", cmd_fokker_planck}};
     for (size_t i = 0; i < sizeof table / sizeof table[0]; i++) {

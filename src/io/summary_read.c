@@ -1,0 +1,54 @@
+/* summary.json reader: whole file into cJSON, numbers by dotted path. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/summary_read.h"
+
+cJSON *gr_summary_read(const char *dir, gr_error *err)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        GR_FAIL(err, GR_EIO, "%s: missing", path);
+        return NULL;
+    }
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *text = n > 0 ? malloc((size_t)n + 1) : NULL;
+    if (!text || fread(text, 1, (size_t)n, f) != (size_t)n) {
+        fclose(f);
+        free(text);
+        GR_FAIL(err, GR_EIO, "%s: cannot read", path);
+        return NULL;
+    }
+    fclose(f);
+    text[n] = 0;
+    cJSON *j = cJSON_Parse(text);
+    free(text);
+    if (!j) {
+        GR_FAIL(err, GR_EINVAL, "%s: not valid JSON", path);
+    }
+    return j;
+}
+
+double gr_summary_number(const cJSON *root, const char *path)
+{
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s", path);
+    const cJSON *node = root;
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ".", &save); tok && node; tok = strtok_r(NULL, ".", &save)) {
+        if (cJSON_IsArray(node)) {
+            char *end;
+            long i = strtol(tok, &end, 10);
+            node = *end ? NULL : cJSON_GetArrayItem(node, (int)i);
+        } else {
+            node = cJSON_GetObjectItemCaseSensitive(node, tok);
+        }
+    }
+    return node && cJSON_IsNumber(node) ? node->valuedouble : (double)NAN;
+}

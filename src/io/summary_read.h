@@ -1,0 +1,14 @@
+/* Reading a run folder's summary.json back (for compare, sweep and tests). */
+#ifndef GR_SUMMARY_READ_H
+#define GR_SUMMARY_READ_H
+
+#include <cjson/cJSON.h>
+
+#include "granule/status.h"
+
+/* Parse dir/summary.json; the caller deletes the result. NULL with err set if missing/invalid. */
+cJSON *gr_summary_read(const char *dir, gr_error *err);
+/* A number at a dotted path ("ledger.injected", "analysis.moments.speed.1"); NAN if absent. */
+double gr_summary_number(const cJSON *root, const char *path);
+
+#endif
