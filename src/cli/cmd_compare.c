@@ -107,7 +107,7 @@ int cmd_compare(int argc, char **argv)
     gr_scene scenes[16];
     for (int k = 0; k < n; k++) {
         char spec[128];
-        snprintf(spec, sizeof spec, "%s", list[k].spec);
+        snprintf(spec, sizeof spec, "%.127s", list[k].spec);
         bool clamp = false;
         char *at = strchr(spec, '@');
         if (at) {
