@@ -23,13 +23,14 @@
 
 #define GR_BISECT_MAX_LEVELS 24    /* 2^24 partitions (128 MiB of lengths) */
 #define GR_BISECT_MAX_MOMENTS 12   /* <x^m>, m = 1..12 */
-#define GR_BISECT_POWER_A_MAX 0.95 /* closer to 1 a^(1/(1-A)) underflows double precision */
+#define GR_BISECT_POWER_A_MIN -100.0 /* below, a^(1/(1-A)) rounds to 1 */
+#define GR_BISECT_POWER_A_MAX 0.95   /* above (normalisable up to 1), it underflows double precision */
 
 /* ------------------------------------------------------------------------------------------
  * The partition probability U_0(a), 0 < a < 1 (3.29-3.30). */
 typedef enum gr_bisect_u0_kind {
     GR_BISECT_U0_UNIFORM, /* U_0(a) = 1 (sec. 3.4.2) */
-    GR_BISECT_U0_POWER,   /* U_0(a) = (1 - A)/2 (a^-A + (1 - a)^-A), A <= 0.95 (end of sec. 3.4.3) */
+    GR_BISECT_U0_POWER,   /* U_0(a) = (1 - A)/2 (a^-A + (1 - a)^-A), -100 <= A <= 0.95 (end of sec. 3.4.3) */
     GR_BISECT_U0_TABLE    /* piecewise-linear density through user points (a, U), normalised */
 } gr_bisect_u0_kind;
 
@@ -60,9 +61,9 @@ void gr_bisect_u0_free(gr_bisect_u0 *u);
 double gr_bisect_u0_density(const gr_bisect_u0 *u, double a);
 /* One fraction a in (0, 1) drawn from U_0 (exactly: inversion; never 0 or 1). */
 double gr_bisect_u0_sample(const gr_bisect_u0 *u, gsl_rng *r);
-/* mu_m = integral U_0(a) (a^m + (1-a)^m)/2 da, the m-th moment of the factor every partition is
- * multiplied by at each level (for m > 0; any real m > -1 for tables and power laws with A < 1 - ...).
- * Then <x_n^m> = mu_m^n (3.37 for U_0 = 1: mu_m = 1/(1+m)). */
+/* mu_m = integral U_0(a) (a^m + (1-a)^m)/2 da (real m >= 0): the m-th moment of the factor a
+ * partition's length is multiplied by at each level, so that <x_n^m> = mu_m^n (3.28-3.29; for
+ * U_0 = 1, mu_m = 1/(1+m) and this is 3.37). By adaptive quadrature (closed form for U_0 = 1). */
 int gr_bisect_u0_moment(const gr_bisect_u0 *u, double m, double *mu, gr_error *err);
 /* Mean and variance of z = -ln(factor), the step of -ln x per level (uniform: 1 and 1). */
 int gr_bisect_u0_log_stats(const gr_bisect_u0 *u, double *mean, double *var, gr_error *err);

@@ -51,6 +51,7 @@ static void usage(FILE *f)
             "  plot DIR       (re)draw the plots of a run folder\n"
             "  analyse DIR    feed a run's snapshots to the analysis layer's observables\n"
             "  compare SCENE  the same scene under several collision models, side by side\n"
+            "  sweep FILE     a scene over lists of keys and seeds, in parallel, resumable, with fits\n"
             "  observables    list the observables (statistics) a scene can ask for\n"
             "theory models (no N-body run; thesis ch. 3, 5, 6, App. B):\n"
             "  spm            Single Particle Model: Q(v,l), P(v), the predicted tail exponent\n"
@@ -74,7 +75,7 @@ int main(int argc, char **argv)
         const char *name;
         int (*fn)(int, char **);
     } table[] = {{"run", cmd_run}, {"collide", cmd_collide}, {"models", cmd_models},
-                 {"keys", cmd_keys}, {"plot", cmd_plot}, {"analyse", cmd_analyse}, {"compare", cmd_compare},
+                 {"keys", cmd_keys}, {"plot", cmd_plot}, {"analyse", cmd_analyse}, {"compare", cmd_compare}, {"sweep", cmd_sweep},
                  {"analyze", cmd_analyse}, {"observables", cmd_observables}, {"spm", cmd_spm}, {"bisect", cmd_bisect},
                  {"cascade", cmd_cascade}, {"fokker-planck", cmd_fokker_planck}};
     for (size_t i = 0; i < sizeof table / sizeof table[0]; i++) {
