@@ -1,30 +1,355 @@
-/* pair observable: placeholder, being written (issue 4). Not registered yet. */
-#include "granule/observe.h"
+/* pair: real-space structure of the 2D system (thesis sec. 4.2).
+ *
+ *   g(R)  the angularly averaged pair correlation function (4.10),
+ *   C(R)  the mean number of other particles within a distance R of a particle (4.15),
+ *   n(R)  = C(R) - n_bar(R), its excess over a homogeneous (ideal-gas) system (4.17),
+ *
+ * and a power-law fit n(R) ~ A'' R^D_f (4.16-4.17) over a fixed window, giving the fractal
+ * dimension D_f of the large-scale structure (the D_f of S(k) ~ k^-D_f, 4.4, via 4.12-4.14).
+ *
+ * Per frame every pair closer than R_max = min(gr_rmax d, L/2) (minimum image; d = 2 r) is found
+ * with a cell list (O(N) for fixed R_max) and binned into gr_bins equal bins of width
+ * w = R_max / gr_bins. Frames are fed uniformly in time and each has weight 1.
+ *
+ * Normalisation. With P_b the mean number of (unordered) pairs per frame in bin b, of area
+ * A_b = pi (R_hi^2 - R_lo^2) (the exact shell, 2 pi R dR of 4.10 integrated over the bin),
+ *
+ *   g_b = P_b / (N (N-1) / (2 L^2) A_b)                                   (4.10)
+ *
+ * i.e. 4.10 with the ideal-gas pair count N(N-1)/2 instead of N^2/2, so that N uniform random
+ * points give g = 1 exactly on average (4.10 as printed gives 1 - 1/N). With n = (N-1)/L^2 the
+ * density of the other particles seen from one,
+ *
+ *   C(R_hi) = (2/N) sum_{b' <= b} P_b' = n sum_{b' <= b} g_b' A_b'         (4.15, exact at R_hi)
+ *   n(R_hi) = C(R_hi) - n pi R_hi^2                                      (4.17)
+ *
+ * C and n are cumulative counts and are exact at the bins' upper edges R_hi (no binning error).
+ *
+ * Errors. g, C and n of every bin are time averages of per-frame values, and their errors come
+ * from block averaging over frames (gr_blocking_stderr, the plateau estimate). With fewer than 16
+ * frames blocking has no usable level and the ideal-gas counting error is used instead:
+ * sigma(P_b) = sqrt(total count in b) / frames (and likewise for the cumulative count of C).
+ * n(R) differs from C(R) by a constant, so they share their error.
+ *
+ * D_f fit. n(R_hi) is fitted as A'' R^D_f (gr_fit_power_law, weighted by the errors of n) over
+ * bins with 2 d <= R_hi <= R_max / 2 (beyond the contact shells, well inside the periodic box,
+ * where the sum rule sum_box n (g - 1) dA = 0 bends n(R) back to 0); bins with n <= 0 are left
+ * out (a log-log fit). The values of n at neighbouring R are strongly correlated (cumulative
+ * counts), so the chi-square error of D_f is optimistic; the reported error is the larger of it
+ * and a jackknife error over up to 32 equal batches of consecutive frames (streaming batch means,
+ * the batch length doubling as the run grows).
+ *
+ * Positions may lie anywhere (snapshots hold [0, L), a running simulation may be slightly
+ * outside): they are wrapped into [0, L) here. N and L must stay those of the first frame. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
 
-static int create(const struct gr_scene *scene, void **state, gr_error *err)
+#include "analysis/obs_util.h"
+#include "granule/analysis.h"
+#include "granule/scene.h"
+
+#define PAIR_MAX_BINS 8192
+#define CELL_DIV 2            /* cells of side >= R_max / CELL_DIV: a (2 CELL_DIV + 1)^2 stencil */
+#define N_BATCH 32            /* batches of consecutive frames for the jackknife error of D_f */
+#define FIT_LO_D 2.0          /* D_f fit window: R_hi >= FIT_LO_D diameters ... */
+#define FIT_HI_FRAC 0.5       /* ... and R_hi <= FIT_HI_FRAC R_max */
+#define PEAK_MAX_D 1.5        /* first peak: maximum of g over bins centred below 1.5 d */
+#define TAIL_FROM_FRAC 0.5    /* g_tail: mean g over R_max / 2 <= R < R_max (cf. Fig. 4.7) */
+
+static const gr_param params[] = {
+    {"gr_bins", "", GR_PARAM_INT, 400, 1, PAIR_MAX_BINS, false, false,
+     "bins of g(R), C(R), n(R) over 0 <= R < R_max (4.10, 4.15-4.17)", offsetof(gr_analysis_params, gr_bins)},
+    {"gr_rmax", "d", GR_PARAM_DOUBLE, 20, 0, 1e4, true, false,
+     "largest pair distance R_max in diameters (clamped to L/2)", offsetof(gr_analysis_params, gr_rmax)},
+};
+
+typedef struct pair {
+    /* fixed at create */
+    int nbins;
+    double d, L, R_max, width, inv_width, rmax_d;
+    int N;
+    bool clamped;
+    double *area;           /* A_b = pi (R_hi^2 - R_lo^2) */
+    gr_blocking *g_blk;     /* per-frame g_b */
+    gr_blocking *c_blk;     /* per-frame C(R_hi of b) */
+    gr_blocking tail_blk;   /* per-frame mean g over the tail window */
+    int tail_from;          /* first bin of the tail window */
+    int64_t *frame_count;   /* pairs per bin in the current frame */
+    double *c_frame;        /* C(R_hi) of the current frame */
+    double *total;          /* pairs per bin, all frames (exact up to 2^53) */
+    int64_t frames;
+    /* batch means of C for the jackknife of D_f */
+    double *batch;          /* N_BATCH x nbins sums of per-frame C */
+    int64_t batch_len, batch_fill; /* frames per full batch; frames in the current batch */
+    int n_full;             /* completed batches */
+    /* cell list, allocated at the first frame */
+    int M;                  /* cells per side */
+    int nox, noy;           /* distinct cell offsets per axis */
+    int off[2 * CELL_DIV + 1];
+    double *xs, *ys;        /* wrapped positions sorted by cell */
+    int *cell_of, *cell_start, *cell_fill;
+} pair;
+
+static void destroy(void *state)
 {
-    (void)scene;
-    (void)state;
-    return GR_FAIL(err, GR_EINVAL, "observable pair is not available yet");
+    pair *s = state;
+    if (!s) {
+        return;
+    }
+    free(s->area);
+    free(s->g_blk);
+    free(s->c_blk);
+    free(s->frame_count);
+    free(s->c_frame);
+    free(s->total);
+    free(s->batch);
+    free(s->xs);
+    free(s->ys);
+    free(s->cell_of);
+    free(s->cell_start);
+    free(s->cell_fill);
+    free(s);
 }
+
+static int create(const gr_scene *scene, void **state, gr_error *err)
+{
+    const gr_analysis_params *a = &scene->analysis;
+    if (scene->dim != 2) {
+        return GR_FAIL(err, GR_EINVAL, "pair: g(R) is defined for dim = 2 only (scene has dim = %d)", scene->dim);
+    }
+    if (a->gr_bins < 1 || a->gr_bins > PAIR_MAX_BINS) {
+        return GR_FAIL(err, GR_EINVAL, "pair: [analysis] gr_bins = %d outside [1, %d]", a->gr_bins, PAIR_MAX_BINS);
+    }
+    if (!(a->gr_rmax > 0.0) || !isfinite(a->gr_rmax)) {
+        return GR_FAIL(err, GR_EINVAL, "pair: [analysis] gr_rmax = %g must be a finite number > 0 (diameters)", a->gr_rmax);
+    }
+    if (!(scene->radius > 0.0) || !isfinite(scene->radius) || !(scene->L > 0.0) || !isfinite(scene->L)) {
+        return GR_FAIL(err, GR_EINVAL, "pair: needs radius > 0 and L > 0 (radius = %g, L = %g)", scene->radius, scene->L);
+    }
+    if (scene->N < 2) {
+        return GR_FAIL(err, GR_EINVAL, "pair: needs N >= 2 particles (N = %d)", scene->N);
+    }
+    pair *s = calloc(1, sizeof *s);
+    if (!s) {
+        return GR_FAIL(err, GR_ENOMEM, "pair: out of memory");
+    }
+    s->nbins = a->gr_bins;
+    s->d = 2.0 * scene->radius;
+    s->L = scene->L;
+    s->N = scene->N;
+    s->rmax_d = a->gr_rmax;
+    s->R_max = a->gr_rmax * s->d;
+    if (s->R_max > 0.5 * s->L) {
+        s->R_max = 0.5 * s->L; /* beyond L/2 a minimum-image shell is cut by the box */
+        s->clamped = true;
+    }
+    s->width = s->R_max / s->nbins;
+    s->inv_width = s->nbins / s->R_max;
+    size_t nb = (size_t)s->nbins;
+    s->area = malloc(sizeof(double) * nb);
+    s->g_blk = malloc(sizeof(gr_blocking) * nb);
+    s->c_blk = malloc(sizeof(gr_blocking) * nb);
+    s->frame_count = calloc(nb, sizeof(int64_t));
+    s->c_frame = calloc(nb, sizeof(double));
+    s->total = calloc(nb, sizeof(double));
+    s->batch = calloc(nb * N_BATCH, sizeof(double));
+    if (!s->area || !s->g_blk || !s->c_blk || !s->frame_count || !s->c_frame || !s->total || !s->batch) {
+        destroy(s);
+        return GR_FAIL(err, GR_ENOMEM, "pair: out of memory for %d bins", s->nbins);
+    }
+    for (int b = 0; b < s->nbins; b++) {
+        double lo = b * s->width, hi = (b + 1) * s->width;
+        s->area[b] = M_PI * (hi * hi - lo * lo);
+        gr_blocking_init(&s->g_blk[b]);
+        gr_blocking_init(&s->c_blk[b]);
+    }
+    gr_blocking_init(&s->tail_blk);
+    s->tail_from = (int)floor(TAIL_FROM_FRAC * s->nbins);
+    s->batch_len = 1;
+    *state = s;
+    return GR_OK;
+}
+
+/* Cells of side L/M >= R_max / CELL_DIV (with a margin against rounding in the cell index), at
+ * most about one per particle. Along an axis with fewer than 2 CELL_DIV + 1 cells the stencil
+ * would alias: then every cell of that axis is a neighbour, each once. */
+static int build_cells(pair *s, gr_error *err)
+{
+    double side_min = (s->R_max + 1e-10 * s->L) / CELL_DIV;
+    double m = floor(s->L / side_min);
+    int cap = (int)ceil(sqrt((double)s->N)) + 1;
+    s->M = m < 1.0 ? 1 : (m > cap ? cap : (int)m);
+    if (s->M >= 2 * CELL_DIV + 1) {
+        s->nox = 2 * CELL_DIV + 1;
+        for (int k = 0; k < s->nox; k++) {
+            s->off[k] = k - CELL_DIV;
+        }
+    } else {
+        s->nox = s->M;
+        for (int k = 0; k < s->nox; k++) {
+            s->off[k] = k;
+        }
+    }
+    s->noy = s->nox;
+    size_t n = (size_t)s->N, nc = (size_t)s->M * (size_t)s->M;
+    s->xs = malloc(sizeof(double) * n);
+    s->ys = malloc(sizeof(double) * n);
+    s->cell_of = malloc(sizeof(int) * n);
+    s->cell_start = malloc(sizeof(int) * (nc + 1));
+    s->cell_fill = malloc(sizeof(int) * nc);
+    if (!s->xs || !s->ys || !s->cell_of || !s->cell_start || !s->cell_fill) {
+        return GR_FAIL(err, GR_ENOMEM, "pair: out of memory for the cell list of %d particles", s->N);
+    }
+    return GR_OK;
+}
+
+static inline double wrap(double x, double L)
+{
+    x = fmod(x, L);
+    if (x < 0.0) {
+        x += L;
+    }
+    return x < L ? x : 0.0; /* x + L may round up to L */
+}
+
+static inline double min_image(double dx, double L)
+{
+    if (dx > 0.5 * L) {
+        return dx - L;
+    }
+    if (dx < -0.5 * L) {
+        return dx + L;
+    }
+    return dx;
+}
+
+/* All pairs of cell a (particles [a0, a1)) with cell b, or within a when same. */
+static void count_cells(pair *s, int a0, int a1, int b0, int b1, bool same)
+{
+    const double L = s->L, r2max = s->R_max * s->R_max, inv = s->inv_width;
+    const int last = s->nbins - 1;
+    for (int i = a0; i < a1; i++) {
+        double xi = s->xs[i], yi = s->ys[i];
+        for (int j = same ? i + 1 : b0; j < b1; j++) {
+            double dx = min_image(s->xs[j] - xi, L), dy = min_image(s->ys[j] - yi, L);
+            double r2 = dx * dx + dy * dy;
+            if (r2 < r2max) {
+                int b = (int)(sqrt(r2) * inv);
+                s->frame_count[b < last ? b : last]++;
+            }
+        }
+    }
+}
+
+static void batch_add(pair *s, const double *c)
+{
+    /* streaming batch means: at most N_BATCH batches; when all are full, merge neighbours */
+    if (s->n_full == N_BATCH) {
+        size_t nb = (size_t)s->nbins;
+        for (int k = 0; k < N_BATCH / 2; k++) {
+            double *to = s->batch + (size_t)k * nb, *a = s->batch + (size_t)(2 * k) * nb, *b = a + nb;
+            for (size_t q = 0; q < nb; q++) {
+                to[q] = a[q] + b[q];
+            }
+        }
+        memset(s->batch + (size_t)(N_BATCH / 2) * nb, 0, sizeof(double) * nb * (N_BATCH / 2));
+        s->n_full = N_BATCH / 2;
+        s->batch_len *= 2;
+    }
+    double *cur = s->batch + (size_t)s->n_full * (size_t)s->nbins;
+    for (int b = 0; b < s->nbins; b++) {
+        cur[b] += c[b];
+    }
+    if (++s->batch_fill == s->batch_len) {
+        s->n_full++;
+        s->batch_fill = 0;
+    }
+}
+
 static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 {
-    (void)state;
-    (void)p;
     (void)t;
-    (void)err;
+    pair *s = state;
+    if (p->dim != 2 || !p->y) {
+        return GR_FAIL(err, GR_EINVAL, "pair: frame is %dD, g(R) needs 2D positions", p->dim);
+    }
+    if (p->n != s->N || fabs(p->L - s->L) > 1e-12 * s->L) {
+        return GR_FAIL(err, GR_EINVAL, "pair: frame has N = %d, L = %.10g but the scene has N = %d, L = %.10g",
+                       p->n, p->L, s->N, s->L);
+    }
+    if (!s->xs) {
+        int rc = build_cells(s, err);
+        if (rc) {
+            return rc;
+        }
+    }
+    const int n = s->N, M = s->M, nc = M * M;
+    const double L = s->L, cell_scale = M / L;
+    /* wrap, assign cells, counting sort */
+    memset(s->cell_fill, 0, sizeof(int) * (size_t)nc);
+    for (int i = 0; i < n; i++) {
+        if (!isfinite(p->x[i]) || !isfinite(p->y[i])) {
+            return GR_FAIL(err, GR_EINVAL, "pair: particle %d has a non-finite position", i);
+        }
+        double x = wrap(p->x[i], L), y = wrap(p->y[i], L);
+        int cx = (int)(x * cell_scale), cy = (int)(y * cell_scale);
+        cx = cx < M ? cx : M - 1;
+        cy = cy < M ? cy : M - 1;
+        s->cell_of[i] = cy * M + cx;
+        s->cell_fill[cy * M + cx]++;
+    }
+    s->cell_start[0] = 0;
+    for (int c = 0; c < nc; c++) {
+        s->cell_start[c + 1] = s->cell_start[c] + s->cell_fill[c];
+        s->cell_fill[c] = s->cell_start[c];
+    }
+    for (int i = 0; i < n; i++) {
+        int k = s->cell_fill[s->cell_of[i]]++;
+        s->xs[k] = wrap(p->x[i], L);
+        s->ys[k] = wrap(p->y[i], L);
+    }
+    /* every unordered pair of neighbouring cells once (cell b > cell a), and each cell with itself */
+    memset(s->frame_count, 0, sizeof(int64_t) * (size_t)s->nbins);
+    for (int cy = 0; cy < M; cy++) {
+        for (int cx = 0; cx < M; cx++) {
+            int a = cy * M + cx;
+            int a0 = s->cell_start[a], a1 = s->cell_start[a + 1];
+            if (a0 == a1) {
+                continue;
+            }
+            for (int oy = 0; oy < s->noy; oy++) {
+                int by = ((cy + s->off[oy]) % M + M) % M;
+                for (int ox = 0; ox < s->nox; ox++) {
+                    int bx = ((cx + s->off[ox]) % M + M) % M;
+                    int b = by * M + bx;
+                    if (b < a) {
+                        continue;
+                    }
+                    count_cells(s, a0, a1, s->cell_start[b], s->cell_start[b + 1], b == a);
+                }
+            }
+        }
+    }
+    /* per-frame g_b (4.10), C(R_hi) (4.15) and the tail mean of g */
+    const double norm = 0.5 * (double)n * (double)(n - 1) / (L * L); /* ideal-gas pairs per area */
+    double cum = 0.0, tail_pairs = 0.0, tail_area = 0.0;
+    for (int b = 0; b < s->nbins; b++) {
+        double cnt = (double)s->frame_count[b];
+        s->total[b] += cnt;
+        cum += cnt;
+        s->c_frame[b] = 2.0 * cum / n;
+        gr_blocking_add(&s->g_blk[b], cnt / (norm * s->area[b]));
+        gr_blocking_add(&s->c_blk[b], s->c_frame[b]);
+        if (b >= s->tail_from) {
+            tail_pairs += cnt;
+            tail_area += s->area[b];
+        }
+    }
+    gr_blocking_add(&s->tail_blk, tail_pairs / (norm * tail_area));
+    batch_add(s, s->c_frame);
+    s->frames++;
     return GR_OK;
 }
-static int finish(void *state, const gr_output *out, gr_error *err)
-{
-    (void)state;
-    (void)out;
-    (void)err;
-    return GR_OK;
-}
-static void destroy(void *state) { (void)state; }
-
-const gr_observable_type gr_obs_pair = {
-    .name = "pair", .summary = "placeholder", .dims = 3, .create = create, .sample = sample,
-    .finish = finish, .destroy = destroy,
-};
