@@ -1,12 +1,17 @@
 /* The shared analysis primitives: block averaging, histograms (App. A.1) and GSL fits, checked
  * against analytic answers and synthetic data with known parameters (fixed seeds). */
 #include <check.h>
+#include <cjson/cJSON.h>
+#include <stdio.h>
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 #include <math.h>
 #include <stdlib.h>
 
 #include "granule/analysis.h"
+#include "granule/observe.h"
+#include "granule/scene.h"
+#include "granule/sim.h"
 
 START_TEST(test_blocking_white_noise)
 {
@@ -135,6 +140,66 @@ START_TEST(test_stretched_exp_fit)
 }
 END_TEST
 
+/* Two particles on a ring of length L, elastic, no noise, approaching at +-v: they collide, part,
+ * travel round and collide again on the other side (the ring's wrap pair). Between collisions each
+ * crosses half the free length, so every free path is (L - 2d)/2, to within a step's travel v dt. */
+START_TEST(test_contact_events_and_free_path)
+{
+    extern const gr_observable_type gr_obs_freepath;
+    gr_scene sc;
+    gr_scene_default(&sc);
+    sc.dim = 1;
+    sc.N = 2;
+    sc.L = 0.1;
+    sc.D = 0.0;
+    sc.noise_mode = GR_NOISE_NONE;
+    sc.contact.eps_n = 1.0;
+    sc.analysis.freepath_bins = 400;
+    sc.analysis.freepath_min = 1.0;
+    const double d = 2.0 * sc.radius, v = 0.5;
+    double x[2] = {0.02, 0.02 + d + 0.01}, vx[2] = {v, -v};
+    gr_sim *s;
+    gr_error err = {0};
+    ck_assert_msg(gr_sim_create_with_state(&sc, 2, x, NULL, vx, NULL, &s, &err) == 0, "%s", err.message);
+    ck_assert_int_eq(gr_sim_track_contacts(s, &err), 0);
+    void *state;
+    ck_assert_int_eq(gr_obs_freepath.create(&sc, &state, &err), 0);
+    /* first contact after 0.01 / (2v), then one every (L - 2d)/(2v): run through 5 contacts */
+    int64_t steps = (int64_t)((0.01 / (2.0 * v) + 4.5 * (sc.L - 2.0 * d) / (2.0 * v)) / gr_sim_dt(s));
+    ck_assert_int_eq(gr_sim_step(s, steps, &err), 0);
+    int64_t n;
+    const gr_contact_event *ev = gr_sim_events(s, &n);
+    int starts = 0, ends = 0;
+    for (int64_t k = 0; k < n; k++) {
+        starts += ev[k].kind > 0;
+        ends += ev[k].kind < 0;
+    }
+    /* 5 collisions, each starts and ends a contact for both particles */
+    ck_assert_int_eq(gr_sim_collisions(s), 5);
+    ck_assert_int_eq(starts, 10);
+    ck_assert_int_eq(ends, 10);
+    ck_assert_int_eq(gr_obs_freepath.events(state, ev, n, &err), 0);
+    /* 4 free paths per particle (the first contact has no preceding end) */
+    char tmpl[] = "/tmp/granule-fp-XXXXXX";
+    char *dir = mkdtemp(tmpl);
+    ck_assert_ptr_nonnull(dir);
+    cJSON *sum = cJSON_CreateObject();
+    gr_output out = {.dir = dir, .scene = &sc, .summary = sum, .plots = false};
+    ck_assert_int_eq(gr_obs_freepath.finish(state, &out, &err), 0);
+    const cJSON *j = cJSON_GetObjectItem(sum, "freepath");
+    ck_assert_int_eq((int)cJSON_GetObjectItem(j, "paths")->valuedouble, 8);
+    double mean = cJSON_GetObjectItem(j, "mean_over_d")->valuedouble * d;
+    double expect = 0.5 * (sc.L - 2.0 * d), tol = 2.0 * v * gr_sim_dt(s) + 2e-3 * d;
+    ck_assert_msg(fabs(mean - expect) < tol, "mean free path %.9g, expected %.9g +- %.3g", mean, expect, tol);
+    cJSON_Delete(sum);
+    gr_obs_freepath.destroy(state);
+    gr_sim_free(s);
+    char cmd[256];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    ck_assert_int_eq(system(cmd), 0);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("analysis");
@@ -145,6 +210,7 @@ int main(void)
     tcase_add_test(t, test_histogram_density);
     tcase_add_test(t, test_power_law_fit);
     tcase_add_test(t, test_stretched_exp_fit);
+    tcase_add_test(t, test_contact_events_and_free_path);
     suite_add_tcase(s, t);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);

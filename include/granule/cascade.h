@@ -56,12 +56,16 @@ typedef struct gr_cascade_settings {
     double L;                   /* box side, m (sec. 6.2.2 uses 1 m; Fig. 6.3 uses 0.2 m) */
     int configurations;         /* configurations averaged in S(k) (6.5) */
     unsigned long seed;         /* of the caller's gsl_rng_mt19937 (GSL uses the low 32 bits) */
-    double fit_q_min, fit_q_max; /* D_f fit over the integer |q| bins q_min..q_max, k = 2 pi q / L */
+    double fit_q_min, fit_q_max; /* D_f fit over the integer |q| bins q_min..q_max, k = 2 pi q / L;
+                                    fit_q_max = 0: automatic (gr_cascade_fit_range) */
 } gr_cascade_settings;
 
-/* levels 8 (the thesis's 256 x 256), UCP, L = 1 m, 200 configurations, seed 1, fit bins 1..16
- * (docs/theory-cascade.md explains the range). */
+/* levels 8 (the thesis's 256 x 256), UCP, L = 1 m, 200 configurations, seed 1, automatic fit range. */
 void gr_cascade_settings_default(gr_cascade_settings *s);
+/* The fit range in bins: q_min = fit_q_min, q_max = fit_q_max or, when 0, 2^(levels-3) (structure at
+ * least 8 squares wide, where the squares' own form factor still changes S by under 2 %), but at
+ * least 4 and at most 2^(levels-1) (docs/theory-cascade.md). */
+void gr_cascade_fit_range(const gr_cascade_settings *s, double *q_min, double *q_max);
 /* Refuse out-of-range values with a one-line message naming the setting. */
 int gr_cascade_settings_check(const gr_cascade_settings *s, gr_error *err);
 
@@ -179,6 +183,8 @@ typedef struct gr_cascade_placement_result {
     double phi;         /* n pi r^2 / L^2 (2.24) */
 } gr_cascade_placement_result;
 
+/* The checks that need no field: n >= 1, r > 0, L >= 4r, packing fraction <= the jamming limit. */
+int gr_cascade_placement_check(const gr_cascade_placement *p, double L, gr_error *err);
 /* x, y: n entries each, in [0, L). The field must be finished (level == levels). */
 int gr_cascade_place(const gr_cascade_field *f, const gr_cascade_placement *p, gsl_rng *rng, double *x,
                      double *y, gr_cascade_placement_result *res, gr_error *err);

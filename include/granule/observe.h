@@ -28,6 +28,8 @@ typedef struct gr_analysis_params {
     double sk_kd_max;     /* 2D: S(k) for |k| d up to this (4.2-4.3) */
     int gr_bins;          /* 2D: bins of g(R), C(R), n(R) (4.10, 4.15-4.17) */
     double gr_rmax;       /* 2D: largest R in diameters */
+    int freepath_bins;    /* free-path distribution P_l(l), log bins (4.18) */
+    double freepath_min;  /* smallest binned free path, in diameters */
 } gr_analysis_params;
 
 /* Where an observable writes its results. */
@@ -51,6 +53,10 @@ typedef struct gr_observable_type {
     /* Write CSV (commented header), plots, and the summary member. */
     int (*finish)(void *state, const gr_output *out, gr_error *err);
     void (*destroy)(void *state);
+    /* Optional: contact events (free paths, post-collision velocities) since the previous sample;
+     * NULL for observables that only need frames. Events exist only while a run samples, not in
+     * `granule analyse` (snapshots do not record contacts). */
+    int (*events)(void *state, const gr_contact_event *ev, int64_t n, gr_error *err);
 } gr_observable_type;
 
 /* The registry, NULL-terminated. */
@@ -63,6 +69,9 @@ int gr_observer_create(const struct gr_scene *scene, gr_observer **out, gr_error
 int gr_observer_sample(gr_observer *o, const gr_particles *p, double t, gr_error *err);
 int gr_observer_finish(gr_observer *o, const gr_output *out, gr_error *err);
 int gr_observer_count(const gr_observer *o);
+/* Whether any enabled observable takes contact events. */
+bool gr_observer_needs_events(const gr_observer *o);
+int gr_observer_events(gr_observer *o, const gr_contact_event *ev, int64_t n, gr_error *err);
 void gr_observer_free(gr_observer *o);
 
 #endif

@@ -12,4 +12,15 @@ typedef struct gr_particles {
     const double *vx, *vy;
 } gr_particles;
 
+/* A particle's contact state changed: it touched another particle for the first time since it was
+ * last free (kind = +1, "collision"), or it lost its last contact (kind = -1). Positions are as
+ * the simulation stores them (1D unwrapped, 2D wrapped into [0, L)); velocities are those of the
+ * step in which the change was seen (accurate to O(dt)). */
+typedef struct gr_contact_event {
+    int i;
+    int kind;
+    double t;
+    double x, y, vx, vy;
+} gr_contact_event;
+
 #endif

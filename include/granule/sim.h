@@ -72,6 +72,13 @@ gr_ledger gr_sim_ledger(gr_sim *sim);
 double gr_sim_temperature(const gr_sim *sim);
 /* Largest overlap (d - r) / d among pairs in contact now. */
 double gr_sim_max_overlap(gr_sim *sim);
+/* Record contact events (see gr_contact_event) from now on; costs one pass over the contacts per
+ * step, so it is off unless an observable needs it. */
+int gr_sim_track_contacts(gr_sim *sim, gr_error *err);
+/* The events recorded since the last gr_sim_clear_events. */
+const gr_contact_event *gr_sim_events(const gr_sim *sim, int64_t *n);
+void gr_sim_clear_events(gr_sim *sim);
+
 /* Total momentum, kg m/s (p[1] = 0 in 1D). */
 void gr_sim_momentum(const gr_sim *sim, double p[2]);
 

@@ -41,13 +41,18 @@ typedef struct gr_spm_settings {
     int dim;          /* 1: interval [-l, l]; 2: disc of radius l (default 2) */
     double mass;      /* M, kg (default 3.53e-5, Table 2.2) */
     double D;         /* noise strength, N^2 s (default 1e-8, Table 2.2) */
-    double step;      /* sampling interval in units of t_l of each walk (default 1e-3) */
+    double step;      /* sampling interval in units of t_l of each walk (default 3e-3) */
     double dt;        /* > 0: a fixed sampling interval in seconds for every walk instead (the
                        * thesis' fixed time step); 0 (default) uses `step` */
     int refine;       /* bridge-refinement levels near the boundary, 0..30 (default 10) */
     int64_t walks;    /* walks per radius (circle) or in all (full) (default 20000) */
     int batches;      /* independent batches of walks for the error bars, >= 2 (default 20) */
     uint64_t seed;    /* default 1 */
+    double tilt;      /* full SPM: importance sampling of long free paths, >= 1 (default 1:
+                       * none). The distribution-function value u of each free path is drawn as
+                       * 1 - (1 - U)^tilt, U uniform, and the walk weighed by
+                       * tilt (1 - u)^(1 - 1/tilt); for 4.25 this draws l with C / tilt. It
+                       * reaches further into the tail of P(v) for the same number of walks. */
     /* Optional progress report: fraction done in [0, 1]. Called from the sampling loop about
      * every 1000 walks; never by the library's own choice of output. */
     void (*progress)(double fraction, void *user);

@@ -198,7 +198,7 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         overlaps += g->s[i] < 0.0;
     }
     /* ring order: the centre distances go exactly once around the ring */
-    if (!(fabs(wound - L) <= 1e-9 * L)) {
+    if (!(fabs(wound - L) <= 1e-6 * L)) {
         return GR_FAIL(err, GR_EINVAL,
                        "gaps: the particles at t = %g s are not in ring order (neighbour distances add up to %.6g L, not L)",
                        t, wound / L);
@@ -301,7 +301,7 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
     /* reduced moments <(R_h / <R_h>)^m> against m, with the Poisson (Gamma(h)) values */
     len = (size_t)snprintf(body, sizeof body,
                            "set logscale y\nset format y '10^{%%L}'\nset key top left\nset xlabel 'm'\n"
-                           "set ylabel '<(R_{i,i+h} N / (h L^\\047))^m>'\n"
+                           "set ylabel \"<(R_{i,i+h} N / (h L'))^m>\"\n"
                            "set title 'Moments of the neighbour separations (3.18), N = %d; dashed: Poisson points (Gamma(h))'\n"
                            "set xrange [0.5:%d.5]\nplot ",
                            g->n, M_MAX);
@@ -381,14 +381,14 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         double scale = h * g->mean;
         cJSON *o = cJSON_CreateObject();
         cJSON_AddNumberToObject(o, "h", h);
-        cJSON *or = cJSON_AddArrayToObject(o, "moments_reduced");
+        cJSON *jo = cJSON_AddArrayToObject(o, "moments_reduced");
         for (int m = 1; m <= M_MAX; m++) {
             const gr_blocking *bl = &g->mom[h - 1][m];
             int conv = 0;
             double mk = gr_blocking_mean(bl), ek = gr_blocking_stderr(bl, NULL, &conv), sc = pow(scale, m);
             fprintf(f.f, "%d,%d,%.10g,%.6g,%.10g,%.6g,%d,%lld\n", h, m, mk, ek, mk / sc, ek / sc, conv,
                     (long long)bl->count[0]);
-            cJSON_AddItemToArray(or, num(mk / sc));
+            cJSON_AddItemToArray(jo, num(mk / sc));
             if (m == 1) {
                 cJSON_AddItemToObject(o, "mean", num(mk));
                 cJSON_AddItemToObject(o, "mean_stderr", num(ek));

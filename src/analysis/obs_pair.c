@@ -353,3 +353,252 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     s->frames++;
     return GR_OK;
 }
+
+static void add_number(cJSON *o, const char *name, double v)
+{
+    if (isfinite(v)) {
+        cJSON_AddNumberToObject(o, name, v);
+    } else {
+        cJSON_AddNullToObject(o, name);
+    }
+}
+
+/* Error of a per-frame average: blocking plateau, or (fewer than 16 frames) sqrt(count). */
+static double frame_error(const pair *s, const gr_blocking *blk, double count, double scale, bool *ok)
+{
+    double e = gr_blocking_stderr(blk, NULL, NULL);
+    if (isfinite(e)) {
+        return e;
+    }
+    *ok = false;
+    return sqrt(count) * scale / (double)s->frames;
+}
+
+/* Power-law fit of n(R_hi) = A'' R^D_f (4.17) over the window [lo, hi); returns points used. */
+static int fit_window(const pair *s, const double *n_of, const double *sigma, int lo, int hi, gr_fit *fit,
+                      double *x, double *y, double *e, gr_error *err)
+{
+    int m = 0;
+    for (int b = lo; b < hi; b++) {
+        if (n_of[b] > 0.0 && sigma[b] > 0.0) {
+            x[m] = (b + 1) * s->width;
+            y[m] = n_of[b];
+            e[m] = sigma[b];
+            m++;
+        }
+    }
+    if (m < 3) {
+        return m;
+    }
+    return gr_fit_power_law(x, y, e, m, fit, err) == GR_OK ? m : -1;
+}
+
+static int finish(void *state, const gr_output *out, gr_error *err)
+{
+    pair *s = state;
+    const int nb = s->nbins, N = s->N;
+    const double L = s->L, dens = (N - 1) / (L * L); /* density of the others, n of 4.15-4.17 */
+    const double norm = 0.5 * (double)N * (double)(N - 1) / (L * L);
+    gr_file f;
+    int rc = gr_obs_csv_open(out, "pair.csv",
+                             "pair correlation g(R) (4.10, normalised by the ideal-gas pair count N(N-1)/2 per area "
+                             "2 pi R dR/L^2, shell area exact per bin) at the bin centre R; C = mean number of others "
+                             "within R_hi (4.15) and n = C - (N-1)/L^2 pi R_hi^2 (4.17), cumulative up to the bin's "
+                             "upper edge R_hi; pairs = total pair count in the bin over all frames; errors from block "
+                             "averaging over frames (sqrt(count) with fewer than 16 frames); R in m, d = 2 radius",
+                             &f, err);
+    if (rc) {
+        return rc;
+    }
+    fprintf(f.f, "R,R_over_d,g,g_error,C,n,n_error,R_lo,R_hi,pairs\n");
+    cJSON *j = cJSON_AddObjectToObject(out->summary, "pair");
+    cJSON_AddStringToObject(j, "file", "pair.csv");
+    cJSON_AddNumberToObject(j, "frames", (double)s->frames);
+    cJSON_AddNumberToObject(j, "bins", nb);
+    cJSON_AddNumberToObject(j, "d", s->d);
+    cJSON_AddNumberToObject(j, "R_max", s->R_max);
+    cJSON_AddNumberToObject(j, "R_max_over_d", s->R_max / s->d);
+    cJSON_AddBoolToObject(j, "R_max_clamped_to_half_box", s->clamped);
+    cJSON_AddNumberToObject(j, "bin_width_over_d", s->width / s->d);
+    if (s->frames == 0) {
+        cJSON_AddStringToObject(j, "note", "no frames sampled");
+        return gr_file_commit(&f, err);
+    }
+    double *g = malloc(sizeof(double) * (size_t)nb * 6);
+    if (!g) {
+        gr_file_abandon(&f);
+        return GR_FAIL(err, GR_ENOMEM, "pair: out of memory");
+    }
+    double *ge = g + nb, *nr = g + 2 * nb, *ne = g + 3 * nb, *fx = g + 4 * nb, *fy = g + 5 * nb;
+    double *fe = malloc(sizeof(double) * (size_t)nb);
+    if (!fe) {
+        free(g);
+        gr_file_abandon(&f);
+        return GR_FAIL(err, GR_ENOMEM, "pair: out of memory");
+    }
+    bool blocking = true;
+    int unconverged = 0;
+    double cum = 0.0;
+    for (int b = 0; b < nb; b++) {
+        double lo = b * s->width, hi = (b + 1) * s->width, r = 0.5 * (lo + hi);
+        cum += s->total[b];
+        g[b] = gr_blocking_mean(&s->g_blk[b]);
+        ge[b] = frame_error(s, &s->g_blk[b], s->total[b], 1.0 / (norm * s->area[b]), &blocking);
+        double c = gr_blocking_mean(&s->c_blk[b]);
+        ne[b] = frame_error(s, &s->c_blk[b], cum, 2.0 / N, &blocking);
+        nr[b] = c - dens * M_PI * hi * hi;
+        int conv = 1;
+        if (s->frames >= 16) {
+            gr_blocking_stderr(&s->g_blk[b], NULL, &conv);
+            unconverged += !conv && s->total[b] > 0.0;
+        }
+        fprintf(f.f, "%.10g,%.10g,%.10g,%.6g,%.10g,%.10g,%.6g,%.10g,%.10g,%.0f\n", r, r / s->d, g[b], ge[b], c, nr[b],
+                ne[b], lo, hi, s->total[b]);
+    }
+    cJSON_AddStringToObject(j, "errors", blocking ? "block averaging over frames"
+                                                  : "sqrt(counts) (fewer than 16 frames for block averaging)");
+    if (blocking) {
+        cJSON_AddNumberToObject(j, "g_bins_blocking_unconverged", unconverged);
+    }
+
+    /* first peak: the largest g among bins centred below PEAK_MAX_D d (the contact shell) */
+    int pk = 0, peak_end = (int)ceil(PEAK_MAX_D * s->d / s->width - 0.5); /* bins centred below 1.5 d */
+    peak_end = peak_end < 1 ? nb : (peak_end < nb ? peak_end : nb);     /* none: all bins */
+    for (int b = 1; b < peak_end; b++) {
+        pk = g[b] > g[pk] ? b : pk;
+    }
+    cJSON *jp = cJSON_AddObjectToObject(j, "first_peak");
+    add_number(jp, "R", (pk + 0.5) * s->width);
+    add_number(jp, "R_over_d", (pk + 0.5) * s->width / s->d);
+    add_number(jp, "g", g[pk]);
+    add_number(jp, "g_error", ge[pk]);
+    cJSON_AddStringToObject(jp, "definition", "largest g(R) over bins centred below 1.5 d");
+
+    /* g_tail: mean g over R_max/2 <= R < R_max (Fig. 4.7's constant fit) */
+    cJSON *jt = cJSON_AddObjectToObject(j, "g_tail");
+    double tail_total = 0.0, tail_area = 0.0;
+    for (int b = s->tail_from; b < nb; b++) {
+        tail_total += s->total[b];
+        tail_area += s->area[b];
+    }
+    add_number(jt, "value", gr_blocking_mean(&s->tail_blk));
+    add_number(jt, "error", frame_error(s, &s->tail_blk, tail_total, 1.0 / (norm * tail_area), &blocking));
+    add_number(jt, "R_from_over_d", s->tail_from * s->width / s->d);
+    add_number(jt, "R_to_over_d", s->R_max / s->d);
+
+    /* D_f from n(R) ~ A'' R^D_f (4.17) over 2 d <= R_hi <= R_max / 2 */
+    int lo = (int)ceil(FIT_LO_D * s->d / s->width - 1.0 - 1e-9), hi = (int)floor(FIT_HI_FRAC * nb + 1e-9);
+    lo = lo < 0 ? 0 : lo;
+    cJSON *jd = cJSON_AddObjectToObject(j, "D_f");
+    add_number(jd, "R_from_over_d", (lo + 1) * s->width / s->d);
+    add_number(jd, "R_to_over_d", hi * s->width / s->d);
+    gr_fit fit;
+    gr_error ferr = {0};
+    int used = hi - lo >= 3 ? fit_window(s, nr, ne, lo, hi, &fit, fx, fy, fe, &ferr) : 0;
+    double jk = NAN;
+    if (used >= 3) {
+        /* jackknife over the full batches: leave one batch out, refit */
+        int B = s->n_full;
+        if (B >= 8) {
+            double *nj = malloc(sizeof(double) * (size_t)nb), *dj = malloc(sizeof(double) * (size_t)B);
+            bool ok = nj && dj;
+            for (int k = 0; ok && k < B; k++) {
+                double frames_k = (double)(B - 1) * (double)s->batch_len;
+                for (int b = 0; b < nb; b++) {
+                    double sum = 0.0;
+                    for (int q = 0; q < B; q++) {
+                        sum += q == k ? 0.0 : s->batch[(size_t)q * (size_t)nb + (size_t)b];
+                    }
+                    double hr = (b + 1) * s->width;
+                    nj[b] = sum / frames_k - dens * M_PI * hr * hr;
+                }
+                gr_fit fk;
+                gr_error kerr = {0};
+                ok = fit_window(s, nj, ne, lo, hi, &fk, fx, fy, fe, &kerr) >= 3;
+                dj[k] = fk.p[1];
+            }
+            if (ok) {
+                double mean = 0.0, var = 0.0;
+                for (int k = 0; k < B; k++) {
+                    mean += dj[k] / B;
+                }
+                for (int k = 0; k < B; k++) {
+                    var += (dj[k] - mean) * (dj[k] - mean);
+                }
+                jk = sqrt(var * (B - 1) / B);
+            }
+            free(nj);
+            free(dj);
+            /* the jackknife refits reused fx/fy/fe: refit the central values */
+            fit_window(s, nr, ne, lo, hi, &fit, fx, fy, fe, &ferr);
+        }
+        double e = isfinite(jk) ? fmax(fit.err[1], jk) : fit.err[1];
+        add_number(jd, "value", fit.p[1]);
+        add_number(jd, "error", e);
+        add_number(jd, "fit_error", fit.err[1]);
+        add_number(jd, "jackknife_error", jk);
+        cJSON_AddNumberToObject(jd, "jackknife_batches", isfinite(jk) ? s->n_full : 0);
+        add_number(jd, "A", fit.p[0]);
+        add_number(jd, "A_error", fit.err[0]);
+        add_number(jd, "A_over_d", fit.p[0] * pow(s->d, fit.p[1])); /* n = A_over_d (R/d)^D_f */
+        add_number(jd, "chi2_red", fit.chi2_red);
+        cJSON_AddNumberToObject(jd, "points", used);
+        cJSON_AddNumberToObject(jd, "points_left_out", hi - lo - used);
+    } else {
+        cJSON_AddNullToObject(jd, "value");
+        cJSON_AddNullToObject(jd, "error");
+        char note[900];
+        snprintf(note, sizeof note, "no fit: %d bins of the window have n(R) > 0 with an error (3 needed)%s%s",
+                 used < 0 ? 0 : used, used < 0 ? "; " : "", used < 0 ? ferr.message : "");
+        cJSON_AddStringToObject(jd, "note", note);
+    }
+    cJSON_AddStringToObject(jd, "definition", "n(R) = C(R) - n pi R^2 ~ A R^D_f (4.17), weighted log-log fit at bin "
+                                              "upper edges R_hi in [2 d, R_max/2], bins with n <= 0 left out; error = "
+                                              "max(fit, jackknife over batches of frames)");
+    rc = gr_file_commit(&f, err);
+    if (!rc && out->plots) {
+        char body[1600];
+        snprintf(body, sizeof body,
+                 "set xlabel 'R / d'\nset ylabel 'g(R)'\nset title 'Pair correlation g(R) (4.10), %lld frames'\n"
+                 "set key top right\n"
+                 "plot 'pair.csv' skip 3 using 2:3:4 with yerrorbars pt 7 ps 0.4 lc rgb '#246' title 'g(R)', "
+                 "1 with lines dt 2 lc rgb 'black' title 'ideal gas'",
+                 (long long)s->frames);
+        gr_obs_plot(out, "pair_g.png", body);
+        if (used >= 3) {
+            snprintf(body, sizeof body,
+                     "set logscale xy\nset xlabel 'R / d'\nset ylabel 'n(R) = C(R) - n pi R^2'\n"
+                     "set title 'Excess neighbours n(R) (4.17); fit over %.3g d <= R <= %.3g d'\nset key top left\n"
+                     "plot 'pair.csv' skip 3 using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars pt 7 ps 0.4 "
+                     "lc rgb '#246' title 'n(R)', [%.10g:%.10g] %.10g * x**%.10g with lines lw 2 lc rgb '#c33' "
+                     "title sprintf('D_f = %.3f +- %.3f')",
+                     (lo + 1) * s->width / s->d, hi * s->width / s->d, s->d, (lo + 1) * s->width / s->d,
+                     hi * s->width / s->d, fit.p[0] * pow(s->d, fit.p[1]), fit.p[1], fit.p[1],
+                     isfinite(jk) ? fmax(fit.err[1], jk) : fit.err[1]);
+        } else {
+            snprintf(body, sizeof body,
+                     "set logscale xy\nset xlabel 'R / d'\nset ylabel 'n(R) = C(R) - n pi R^2'\n"
+                     "set title 'Excess neighbours n(R) (4.17); no power-law fit'\n"
+                     "plot 'pair.csv' skip 3 using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars pt 7 ps 0.4 "
+                     "lc rgb '#246' title 'n(R)'",
+                     s->d);
+        }
+        gr_obs_plot(out, "pair_n.png", body);
+    }
+    free(g);
+    free(fe);
+    return rc;
+}
+
+const gr_observable_type gr_obs_pair = {
+    .name = "pair",
+    .summary = "pair correlation g(R) (4.10), neighbours within R, C(R) (4.15), excess n(R) = C - n pi R^2 and "
+               "D_f from n ~ R^D_f (4.17); 2D",
+    .dims = 2,
+    .params = params,
+    .n_params = sizeof params / sizeof params[0],
+    .create = create,
+    .sample = sample,
+    .finish = finish,
+    .destroy = destroy,
+};

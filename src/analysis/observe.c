@@ -6,9 +6,11 @@
 #include "granule/scene.h"
 
 extern const gr_observable_type gr_obs_moments;
+extern const gr_observable_type gr_obs_freepath;
 
 const gr_observable_type *const gr_observables[] = {
     &gr_obs_moments,
+    &gr_obs_freepath,
     NULL,
 };
 
@@ -90,6 +92,29 @@ int gr_observer_finish(gr_observer *o, const gr_output *out, gr_error *err)
 }
 
 int gr_observer_count(const gr_observer *o) { return o ? o->n : 0; }
+
+bool gr_observer_needs_events(const gr_observer *o)
+{
+    for (int i = 0; o && i < o->n; i++) {
+        if (o->type[i]->events) {
+            return true;
+        }
+    }
+    return false;
+}
+
+int gr_observer_events(gr_observer *o, const gr_contact_event *ev, int64_t n, gr_error *err)
+{
+    for (int i = 0; i < o->n; i++) {
+        if (o->type[i]->events) {
+            int rc = o->type[i]->events(o->state[i], ev, n, err);
+            if (rc) {
+                return rc;
+            }
+        }
+    }
+    return GR_OK;
+}
 
 void gr_observer_free(gr_observer *o)
 {

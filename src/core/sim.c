@@ -40,6 +40,9 @@ void gr_sim_free(gr_sim *s)
     free(s->nl_j);
     free(s->nl_contact);
     free(s->pair_contact);
+    free(s->contacts);
+    free(s->contacts_now);
+    free(s->events);
     free(s);
 }
 

@@ -46,6 +46,12 @@ struct gr_sim {
     /* 1D: pair (i, i+1 mod n) contact flags */
     uint8_t *pair_contact;
 
+    /* contact events (only when tracked) */
+    uint16_t *contacts;     /* contacts of each particle at the last force evaluation */
+    uint16_t *contacts_now;
+    gr_contact_event *events;
+    int64_t n_events, cap_events;
+
     gr_kernel_id kernel;
     char kernel_name[160];
 
@@ -64,6 +70,9 @@ struct gr_sim {
 int gr_place(gr_sim *s, gr_error *err);
 /* Refuse overlapping positions (tolerance 1e-9 d); used for every initial state. */
 int gr_check_overlaps(const gr_sim *s, gr_error *err);
+
+/* src/core/events.c: per-particle contact transitions after a force evaluation */
+int gr_events_update(gr_sim *s, gr_error *err);
 
 /* src/core/neighbours.c */
 int gr_neighbours_alloc(gr_sim *s, gr_error *err);

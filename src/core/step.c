@@ -340,6 +340,12 @@ int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
         gr_force_report r;
         gr_forces(s, &r);
         set_shares(s, &r);
+        if (s->contacts) {
+            int rc = gr_events_update(s, err);
+            if (rc) {
+                return rc;
+            }
+        }
         s->elastic = r.elastic;
         s->collisions += r.new_contacts;
         s->last = r;

@@ -146,7 +146,11 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     snprintf(res->kernel, sizeof res->kernel, "%s", gr_sim_kernel(sim));
     gr_observer *obs = NULL;
     rc = gr_observer_create(scene, &obs, err);
+    if (!rc && gr_observer_needs_events(obs)) {
+        rc = gr_sim_track_contacts(sim, err);
+    }
     if (rc) {
+        gr_observer_free(obs);
         gr_sim_free(sim);
         return rc;
     }
@@ -208,6 +212,9 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         }
         double t = gr_sim_time(sim), T = gr_sim_temperature(sim);
         bool sampling = k > warm_samples;
+        if (!sampling) {
+            gr_sim_clear_events(sim); /* events of the warm-up are not statistics */
+        }
         if (sampling) {
             gr_blocking_add(&blk, T);
             if (haff_n < haff_cap) {
@@ -216,7 +223,11 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
             }
             if (gr_observer_count(obs) > 0) {
                 gr_particles p = gr_sim_particles(sim);
-                rc = gr_observer_sample(obs, &p, t, &step_err);
+                int64_t n_ev = 0;
+                const gr_contact_event *ev = gr_sim_events(sim, &n_ev);
+                rc = n_ev ? gr_observer_events(obs, ev, n_ev, &step_err) : GR_OK;
+                gr_sim_clear_events(sim);
+                rc = rc ? rc : gr_observer_sample(obs, &p, t, &step_err);
                 if (rc) {
                     status = "failed";
                     snprintf(diagnosis, sizeof diagnosis, "%s", step_err.message);

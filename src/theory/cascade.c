@@ -58,7 +58,14 @@ void gr_cascade_settings_default(gr_cascade_settings *s)
     s->configurations = 200;
     s->seed = 1;
     s->fit_q_min = 1.0;
-    s->fit_q_max = 16.0;
+    s->fit_q_max = 0.0; /* automatic */
+}
+
+void gr_cascade_fit_range(const gr_cascade_settings *s, double *q_min, double *q_max)
+{
+    const double top = ldexp(1.0, s->levels - 1); /* the last bin, |q| = 2^n / 2 */
+    *q_min = s->fit_q_min;
+    *q_max = s->fit_q_max > 0.0 ? s->fit_q_max : fmin(fmax(ldexp(1.0, s->levels - 3), 4.0), top);
 }
 
 /* the four numbers a_c the variant shares a square by (Meakin: the table's or the caller's) */
@@ -95,12 +102,15 @@ int gr_cascade_settings_check(const gr_cascade_settings *s, gr_error *err)
             return GR_FAIL(err, GR_EINVAL, "cascade: Meakin numbers p must not all be 0");
         }
     }
-    const double qmax = ldexp(1.0, s->levels - 1);
-    if (!(s->fit_q_min >= 1.0) || !(s->fit_q_max <= qmax) || !(s->fit_q_max >= s->fit_q_min + 1.0)) {
+    const double top = ldexp(1.0, s->levels - 1);
+    double q_min, q_max;
+    gr_cascade_fit_range(s, &q_min, &q_max);
+    /* an explicit range must hold 3 bins; the automatic one may not (levels < 3: no fit, not an error) */
+    if (!(q_min >= 1.0) || !(s->fit_q_max >= 0.0) ||
+        (s->fit_q_max > 0.0 && (!(q_max <= top) || !(q_max >= q_min + 2.0)))) {
         return GR_FAIL(err, GR_EINVAL,
-                       "cascade: the fit range must satisfy 1 <= q_min <= q_max - 1 and q_max <= 2^(levels-1) = %g, "
-                       "got %g..%g",
-                       qmax, s->fit_q_min, s->fit_q_max);
+                       "cascade: the fit range must hold at least 3 bins within 1..2^(levels-1) = %g, got %g..%g",
+                       top, q_min, q_max);
     }
     return GR_OK;
 }
@@ -365,7 +375,7 @@ struct gr_cascade_sk {
     gr_cascade_settings s;
     int side, nh, nbins, configs;
     fftw_plan plan;
-    double *in;           /* planning array (FFTW-aligned like every field) */
+    double *in;           /* planning array, freed once planned */
     fftw_complex *out;    /* side x (side/2 + 1) */
     double *sum;          /* sum over configurations of S on the half plane */
     gr_histogram h_S, h_n, h_q; /* per configuration: sum of S, vectors, sum of |q| per bin */
@@ -440,6 +450,8 @@ int gr_cascade_sk_alloc(const gr_cascade_settings *s, gr_cascade_sk **out, gr_er
     }
     /* FFTW_ESTIMATE: the same plan (and so bit-identical sums) on every run */
     sk->plan = fftw_plan_dft_r2c_2d(sk->side, sk->side, sk->in, sk->out, FFTW_ESTIMATE);
+    fftw_free(sk->in); /* fields are transformed with the new-array interface; same FFTW alignment */
+    sk->in = NULL;
     if (!sk->plan) {
         gr_cascade_sk_free(sk);
         return GR_FAIL(err, GR_ENOMEM, "cascade S(k): FFTW could not plan a %d x %d transform", sk->side, sk->side);
@@ -647,28 +659,39 @@ static size_t cdf_search(const double *cdf, size_t n, double u)
     return lo;
 }
 
-int gr_cascade_place(const gr_cascade_field *f, const gr_cascade_placement *p, gsl_rng *rng, double *x,
-                     double *y, gr_cascade_placement_result *res, gr_error *err)
+int gr_cascade_placement_check(const gr_cascade_placement *p, double L, gr_error *err)
 {
-    memset(res, 0, sizeof *res);
-    const double L = f->L, r = p->radius, d = 2.0 * r;
+    const double r = p->radius;
     if (p->n < 1) {
         return GR_FAIL(err, GR_EINVAL, "cascade placement: need at least 1 disc, got %d", p->n);
     }
     if (!(r > 0.0) || !isfinite(r)) {
         return GR_FAIL(err, GR_EINVAL, "cascade placement: radius must be > 0 m, got %g", r);
     }
-    if (!(L >= 2.0 * d)) {
+    if (!(L >= 4.0 * r)) {
         return GR_FAIL(err, GR_EINVAL, "cascade placement: the box (L = %g m) must be at least two diameters (%g m)",
-                       L, 2.0 * d);
+                       L, 4.0 * r);
     }
-    res->phi = p->n * M_PI * r * r / (L * L); /* (2.24) */
-    if (res->phi > GR_CASCADE_RSA_JAMMING) {
+    const double phi = p->n * M_PI * r * r / (L * L); /* (2.24) */
+    if (phi > GR_CASCADE_RSA_JAMMING) {
         return GR_FAIL(err, GR_EINVAL,
                        "cascade placement: %d discs of radius %g m in a %g m box have packing fraction %.3f, above "
-                       "the %.3f that random sequential placement can reach; lower --place or --radius or enlarge --box",
-                       p->n, r, L, res->phi, GR_CASCADE_RSA_JAMMING);
+                       "the %.3f that random sequential placement can reach; place fewer or smaller discs or enlarge the box",
+                       p->n, r, L, phi, GR_CASCADE_RSA_JAMMING);
     }
+    return GR_OK;
+}
+
+int gr_cascade_place(const gr_cascade_field *f, const gr_cascade_placement *p, gsl_rng *rng, double *x,
+                     double *y, gr_cascade_placement_result *res, gr_error *err)
+{
+    memset(res, 0, sizeof *res);
+    const double L = f->L, r = p->radius, d = 2.0 * r;
+    int rc = gr_cascade_placement_check(p, L, err);
+    if (rc) {
+        return rc;
+    }
+    res->phi = p->n * M_PI * r * r / (L * L); /* (2.24) */
     if (f->level != f->levels) {
         return GR_FAIL(err, GR_EINVAL, "cascade placement: the field is unfinished (level %d of %d)", f->level,
                        f->levels);
@@ -696,7 +719,6 @@ int gr_cascade_place(const gr_cascade_field *f, const gr_cascade_placement *p, g
         total += f->m[c] > 0.0 ? f->m[c] : 0.0;
         cdf[c] = total;
     }
-    int rc = GR_OK;
     if (!(total > 0.0) || !isfinite(total)) {
         rc = GR_FAIL(err, GR_EINVAL, "cascade placement: the field's total probability is %g: nowhere to place discs",
                      total);
@@ -710,7 +732,7 @@ int gr_cascade_place(const gr_cascade_field *f, const gr_cascade_placement *p, g
         if (res->attempts >= budget) {
             rc = GR_FAIL(err, GR_EINVAL,
                          "cascade placement: placed only %d of %d discs (radius %g m) in %lld attempts: the field's "
-                         "likely squares are full; lower --place or --radius, or use fewer --levels",
+                         "likely squares are full; place fewer or smaller discs, or use fewer levels",
                          placed, p->n, r, (long long)res->attempts);
             break;
         }

@@ -44,12 +44,13 @@ void gr_spm_settings_default(gr_spm_settings *s)
     s->dim = 2;
     s->mass = GR_SPM_MASS_DEFAULT;
     s->D = GR_SPM_D_DEFAULT;
-    s->step = 1e-3;
+    s->step = 3e-3;
     s->dt = 0.0;
     s->refine = 10;
     s->walks = 20000;
     s->batches = 20;
     s->seed = 1;
+    s->tilt = 1.0;
 }
 
 int gr_spm_settings_check(const gr_spm_settings *s, gr_error *err)
@@ -78,6 +79,9 @@ int gr_spm_settings_check(const gr_spm_settings *s, gr_error *err)
     if (s->batches < 2 || s->batches > s->walks) {
         return GR_FAIL(err, GR_EINVAL, "spm: batches must lie in 2..walks (%lld), got %d", (long long)s->walks,
                        s->batches);
+    }
+    if (!(s->tilt >= 1.0 && s->tilt <= 100.0)) {
+        return GR_FAIL(err, GR_EINVAL, "spm: tilt must lie in [1, 100], got %g", s->tilt);
     }
     return GR_OK;
 }
@@ -208,6 +212,7 @@ typedef struct walker {
     int dim, refine;
     uint64_t seed;
     double tau, sq_tau, sq_tau3_12; /* sampling interval and its free-flight amplitudes */
+    double five_sq_tau;
     /* output of a walk */
     double *w;      /* |w| of each component at the sample times */
     double *wt;     /* trapezoid weight of each entry */
@@ -225,6 +230,7 @@ static void walker_set_tau(walker *wk, double tau)
     wk->tau = tau;
     wk->sq_tau = sqrt(tau);
     wk->sq_tau3_12 = sqrt(tau * tau * tau / 12.0);
+    wk->five_sq_tau = 5.0 * wk->sq_tau;
 }
 
 static int walker_push(walker *wk, const double *v, double weight, gr_error *err)
@@ -259,6 +265,14 @@ static bool may_cross(const double *x0, const double *v0, const double *x1, cons
     double r = sqrt(fmax(norm2(x0, dim), norm2(x1, dim)));
     double s = sqrt(fmax(norm2(v0, dim), norm2(v1, dim)));
     return r + 0.5 * H * (s + 5.0 * sqrt(H)) >= 1.0;
+}
+
+/* may_cross for a whole sampling interval, with one square root (the hot path). */
+static inline bool near_boundary(const walker *wk, double r0sq, double r1sq, const double *v0, const double *v1)
+{
+    double reach = 0.5 * wk->tau * (sqrt(fmax(norm2(v0, wk->dim), norm2(v1, wk->dim))) + wk->five_sq_tau);
+    double r2 = fmax(r0sq, r1sq);
+    return reach >= 1.0 || r2 >= (1.0 - reach) * (1.0 - reach);
 }
 
 /* First exit in the interval (x0, v0) -> (x1, v1) of length H (both ends inside), looked for at
@@ -312,6 +326,7 @@ static int walk_run(walker *wk, uint64_t key, gr_error *err)
     wk->bridge_exit = false;
     const int64_t max_steps = (int64_t)(MAX_TIME / wk->tau) + 1;
     double pending = 0.5; /* weight owed to the current sample point by the interval before it */
+    double r0sq = 0.0;    /* |x|^2 at the current sample point */
     for (int64_t k = 0;; k++) {
         if (k >= max_steps || k > (int64_t)UINT32_MAX - BLOCK) {
             return GR_FAIL(err, GR_EINVAL, "spm: a walk did not reach the boundary within %g t_l (%lld steps)", MAX_TIME,
@@ -333,11 +348,11 @@ static int walk_run(walker *wk, uint64_t key, gr_error *err)
         double s = -1.0, ve[2] = {v1[0], v1[1]};
         if (r1 >= 1.0) {
             /* crossed between the two looks: place the exit by linear interpolation in r */
-            double r0 = sqrt(norm2(x, dim));
+            double r0 = sqrt(r0sq);
             r1 = sqrt(r1);
             s = r1 > r0 ? (1.0 - r0) / (r1 - r0) : 1.0;
             s = fmin(fmax(s, 0.0), 1.0);
-        } else if (wk->refine > 0) {
+        } else if (wk->refine > 0 && near_boundary(wk, r0sq, r1, v, v1)) {
             double t = bridge_search(wk, x, v, x1, v1, wk->tau, wk->refine, ve);
             if (t >= 0.0) {
                 s = t / wk->tau;
@@ -361,6 +376,7 @@ static int walk_run(walker *wk, uint64_t key, gr_error *err)
             return rc;
         }
         pending = 1.0;
+        r0sq = r1;
         for (int c = 0; c < dim; c++) {
             x[c] = x1[c];
             v[c] = v1[c];
@@ -922,11 +938,18 @@ int gr_spm_full(const gr_spm_settings *s, const gr_spm_pl *pl, bool weight_time,
     walker_set_tau(&wk, s->step);
     stats_acc acc = {0};
     const double t_ref = gr_spm_time_scale(s, gr_spm_pl_mean(pl));
-    double l_sum = 0.0, v2_sum = 0.0, wsum = 0.0;
+    double l_sum = 0.0, iw_sum = 0.0, v2_sum = 0.0, wsum = 0.0;
     for (int64_t n = 0; n < s->walks; n++) {
         /* step two of sec. 5.2.3: the radius from P_l (by its distribution function, not by
          * rejection) */
-        double l = gr_spm_pl_quantile(pl, gr_noise_uniform(s->seed, STREAM_L, (uint64_t)n, 0));
+        double U = gr_noise_uniform(s->seed, STREAM_L, (uint64_t)n, 0), u = U, iw = 1.0;
+        if (s->tilt > 1.0) {
+            /* importance sampling: 1 - u = (1 - U)^tilt has density (1 - u)^(1/tilt - 1) / tilt */
+            double q = pow(1.0 - U, s->tilt);
+            u = 1.0 - q;
+            iw = s->tilt * pow(q, 1.0 - 1.0 / s->tilt);
+        }
+        double l = gr_spm_pl_quantile(pl, u);
         if (!(l > 0.0) || !isfinite(l)) {
             rc = GR_FAIL(err, GR_EINVAL, "spm: drew the free path %g from P_l; check the P_l table", l);
             break;
@@ -942,7 +965,7 @@ int gr_spm_full(const gr_spm_settings *s, const gr_spm_pl *pl, bool weight_time,
         }
         /* a walk's samples weigh its duration / tau in all; uniformly in time each sample is
          * tau t_l seconds; per walk equally, 1 / (duration / tau) */
-        double mult = weight_time ? wk.tau * tl / t_ref : wk.tau / wk.duration;
+        double mult = iw * (weight_time ? wk.tau * tl / t_ref : wk.tau / wk.duration);
         gr_histogram *h = &out->p.batch[n % s->batches];
         for (int64_t i = 0; i < wk.n; i++) {
             double v = wk.w[i] * u, w = wk.wt[i] * mult;
@@ -950,7 +973,8 @@ int gr_spm_full(const gr_spm_settings *s, const gr_spm_pl *pl, bool weight_time,
             v2_sum += w * v * v;
             wsum += w;
         }
-        l_sum += l;
+        l_sum += iw * l;
+        iw_sum += iw;
         stats_add(&acc, &out->stats, &wk);
         if (s->progress && n % 1000 == 999) {
             s->progress((double)(n + 1) / (double)s->walks, s->user);
@@ -965,7 +989,7 @@ int gr_spm_full(const gr_spm_settings *s, const gr_spm_pl *pl, bool weight_time,
         return rc;
     }
     stats_finish(&acc, &out->stats);
-    out->l_mean = l_sum / (double)s->walks;
+    out->l_mean = l_sum / iw_sum;
     out->v2_mean = wsum > 0.0 ? v2_sum / wsum : (double)NAN;
     return GR_OK;
 }
