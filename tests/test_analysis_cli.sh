@@ -33,6 +33,14 @@ check test $? -eq 2
 "$granule" analyse "$tmp/run2" --set analysis.observables=moments >/dev/null 2>&1
 check test $? -eq 2
 
+# event-driven observables in a 2D run: free paths and post-collision velocities
+"$granule" run "$src/docs/scenes/steady-2d.ini" --quiet --out "$tmp/ev" --set system.N=400 --set system.L=0.06 \
+    --set run.warmup=0.005 --set run.duration=0.02 --set output.plots=false \
+    --set analysis.observables=freepath,postcollision >/dev/null
+check test -f "$tmp/ev/freepath.csv"
+check test -f "$tmp/ev/postcollision.csv"
+check python3 -c "import json,sys; a=json.load(open(sys.argv[1]))['analysis']; sys.exit(0 if a['freepath']['paths']>100 and a['postcollision']['post_samples']>100 else 1)" "$tmp/ev/summary.json"
+
 # compare: two models, one table row each, same initial state
 check "$granule" compare "$src/docs/scenes/steady-2d.ini" --models spring_dashpot+tangential_dashpot,spring_dashpot+sliding_friction \
     --set system.N=200 --set system.L=0.1 --set run.warmup=0 --set run.duration=0.005 --set output.plots=false --out "$tmp/cmp"

@@ -59,7 +59,11 @@ void gr_bisect_u0_free(gr_bisect_u0 *u);
 
 /* The normalised density U_0(a) (0 outside [0, 1] and outside a table's span). */
 double gr_bisect_u0_density(const gr_bisect_u0 *u, double a);
-/* One fraction a in (0, 1) drawn from U_0 (exactly: inversion; never 0 or 1). */
+/* One split drawn from U_0 by inversion, as the process uses it: the smaller fraction
+ * f = min(a, 1 - a) in (0, 1/2] (never 0), and whether it lies on the left (a = f) or the right
+ * (a = 1 - f). Keeping f rather than a preserves fractions far below 2^-53 (power:A near 1). */
+double gr_bisect_u0_draw(const gr_bisect_u0 *u, gsl_rng *r, bool *small_left);
+/* The same draw as the fraction a = f or 1 - f, in (0, 1] (1 only when 1 - a < 2^-53 is lost). */
 double gr_bisect_u0_sample(const gr_bisect_u0 *u, gsl_rng *r);
 /* mu_m = integral U_0(a) (a^m + (1-a)^m)/2 da (real m >= 0): the m-th moment of the factor a
  * partition's length is multiplied by at each level, so that <x_n^m> = mu_m^n (3.28-3.29; for

@@ -92,14 +92,14 @@ typedef struct gr_fp_quad gr_fp_quad;
 int gr_fp_quad_alloc(const gr_fp_settings *s, gr_fp_quad **out, gr_error *err);
 void gr_fp_quad_free(gr_fp_quad *q);
 
-/* P(x, v) of (B.32) for an injection rate R = 1 per unit length per unit time (multiply by R),
- * 0 <= x <= L, any v (P(x, -v) = P(L - x, v), Property II). Units s^2/m^2 * s^-1 ... i.e.
- * particles per (m * m/s) for R = 1 / (m s). `abserr` (may be NULL) is GSL's error estimate. */
+/* P(x, v) of (B.32) divided by the injection rate R (particles per metre per second), for
+ * 0 <= x <= L and any v (P(x, -v) = P(L - x, v), Property II): particles per (m * m/s) per unit R,
+ * i.e. units of s^2 / m. `abserr` (may be NULL) is GSL's error estimate, scaled alike. */
 int gr_fp_density(gr_fp_quad *q, double x, double v, double *P, double *abserr, gr_error *err);
 /* P(x, v) as printed in (B.32): the thesis's prefactor R / Gamma(2/3) and literal 2F1 bracket
  * (reduced units Gamma = 1 as in the thesis, rescaled like gr_fp_density). */
 int gr_fp_density_thesis(gr_fp_quad *q, double x, double v, double *P, double *abserr, gr_error *err);
-/* Q(v, L) = int_0^L P(x, v) dx (B.33-B.34) for R = 1 (same normalisation as gr_fp_density). */
+/* Q(v, L) = int_0^L P(x, v) dx (B.33-B.34) divided by R (same normalisation as gr_fp_density). */
 int gr_fp_Q(gr_fp_quad *q, double v, double *Q, double *abserr, gr_error *err);
 /* Q(v, L) as printed in (B.34) (thesis prefactor). */
 int gr_fp_Q_thesis(gr_fp_quad *q, double v, double *Q, double *abserr, gr_error *err);
@@ -133,6 +133,8 @@ int gr_fp_exit_moment(gr_fp_quad *q, double m, double *value, gr_error *err);
 typedef struct gr_fp_sim_result {
     gr_histogram q;       /* velocity, sampled every step (density = time-uniform pdf) */
     double *q_err;        /* q.nbins errors of the density from the walk-to-walk scatter */
+    double *q_cov;        /* q.nbins^2 covariance matrix of the bin densities (same origin) */
+    double *q_walks;      /* q.nbins: number of walks that contributed to each bin */
     gr_histogram exit_right, exit_left; /* exit speed |v| at x = L and at x = 0, per released
                                            walker (density integrates to the exit fraction) */
     int64_t walkers, right_exits, left_exits, truncated;
@@ -155,18 +157,26 @@ int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
 void gr_fp_sim_result_free(gr_fp_sim_result *r);
 
 /* ------------------------------------------------------------------------------------------
- * Comparison of a simulation with the quadrature: chi-square over bins whose expected count is at
- * least `min_expected` (bin means of the quadrature against the histogram density, with the
- * walk-scatter errors for Q and sqrt(X) errors for the exit histogram). */
+ * Comparison of a simulation with the quadrature: pulls z_i = (histogram density - quadrature bin
+ * mean) / error over the well-populated bins, with the walk-scatter errors for Q (bins that at
+ * least `min_walks` walks visited and with as many expected samples) and sqrt(X) errors for the
+ * exit histogram (bins with at least `min_expected` expected exits). The pulls of Q are
+ * correlated (one walk feeds many bins), so chi2 = sum z_i^2 is referred to the Satterthwaite
+ * approximation a chi2(nu): with R the correlation matrix of the pulls, nu = n^2 / sum R_ij^2 and
+ * a = n / nu (same mean n, same variance 2 sum R_ij^2). The full r^T C^-1 r is reported too, but
+ * it needs walkers >> bins to be trusted (an estimated covariance inflates it otherwise). */
 typedef struct gr_fp_chi2 {
-    double chi2;
-    int dof;          /* number of bins used (the model has no fitted parameter) */
-    double p_value;   /* upper tail of the chi-square distribution */
+    double chi2;      /* sum of squared pulls */
+    int dof;          /* bins used (the model has no fitted parameter) */
+    double dof_eff;   /* nu of the Satterthwaite approximation (= dof for independent bins) */
+    double p_value;   /* P(chi2(nu) > chi2 nu / dof) */
     double max_abs_z; /* largest |pull| among the bins used */
+    double chi2_full; /* r^T C^-1 r with the estimated covariance; NAN if C is not positive definite */
+    double p_full;    /* its upper tail for dof degrees of freedom (NAN with chi2_full) */
 } gr_fp_chi2;
 
 /* model[i] receives the quadrature bin mean for every bin (may be NULL). */
-int gr_fp_compare_Q(gr_fp_quad *q, const gr_fp_sim_result *r, double min_expected, double *model,
+int gr_fp_compare_Q(gr_fp_quad *q, const gr_fp_sim_result *r, double min_walks, double *model,
                     gr_fp_chi2 *out, gr_error *err);
 /* Exit velocities at both ends pooled (|v| at x = 0 mirrors x = L by Property II), compared with
  * 2 x the exit-velocity density of gr_fp_exit_pdf_bin. */

@@ -129,31 +129,47 @@ int gr_spm_circle(const gr_spm_settings *s, double radius, int index, int nbins,
                   gr_spm_q *out, gr_error *err);
 void gr_spm_q_free(gr_spm_q *q);
 
+/* A statistic of a distribution with a leave-one-batch-out jackknife error (the bins are
+ * correlated, since one walk fills many of them, so a fit's own chi-square errors are too small).
+ * fn gets, per bin, the centre x, the density p, its batch error e and the merged sample count;
+ * it writes nout numbers to out and returns 0, or non-zero when it cannot (then the jackknife
+ * fails with GR_EINVAL). value = fn on all batches; jk_err[k] = sqrt((B-1)/B sum_j (t_j - t)^2)
+ * over the B leave-one-out estimates t_j (the error bars stay those of all batches). */
+typedef int (*gr_spm_stat_fn)(const double *x, const double *p, const double *e, const double *count, int n,
+                              double *out, void *user);
+int gr_spm_dist_jackknife(const gr_spm_dist *d, gr_spm_stat_fn fn, void *user, int nout, double *value,
+                          double *jk_err, gr_error *err);
+
 /* The Gaussian tail 5.12 fitted to Q: ln Q(w) = ln A - b w^2 over the bins with w >= wfrom and at
- * least min_count samples (a weighted straight line in w^2 with gr_fit_line). p[0] = ln A,
- * p[1] = -b. Also a free-exponent check: Q = A exp(-(w/tau)^beta) over the same bins
- * (gr_fit_stretched_exp); beta = 2 for a Gaussian tail. */
+ * least min_count samples (a weighted straight line in w^2 with gr_fit_line), and a free-exponent
+ * check Q = A exp(-(w/tau)^beta) over the same bins (gr_fit_stretched_exp; beta = 2 for a Gaussian
+ * tail). Errors are jackknife errors over the batches. */
 typedef struct gr_spm_tail_fit {
     double wfrom, wto;
     double b, b_err;          /* the coefficient of 5.12 (thesis 0.98) */
     double A, A_err;          /* amplitude of the scaled density */
-    double chi2_red;
+    double chi2_red;          /* of the line fit with the batch errors (bins correlated) */
     int n_points;
-    double beta, beta_err;    /* free-exponent fit */
-    double beta_chi2_red;
+    double beta, beta_err;    /* free-exponent fit (NAN if it failed) */
 } gr_spm_tail_fit;
 int gr_spm_q_tail_fit(const gr_spm_q *q, double wfrom, double min_count, gr_spm_tail_fit *out,
                       gr_error *err);
 
-/* Collapse of two scaled Q histograms (same bins): chi^2 = sum (Q_a - Q_b)^2 / (s_a^2 + s_b^2)
- * over the bins where both hold at least min_count samples; p-value from the chi-square law. */
+/* Collapse of two scaled Q histograms (same bins and number of batches): over the bins where
+ * both hold at least min_count samples, chi^2 = sum (Q_a - Q_b)^2 / (s_a^2 + s_b^2) with Q the
+ * mean and s the standard error of the batch densities. Neighbouring bins are correlated, so the
+ * chi-square law's p-value (p_chi2) is only indicative; p_value comes from a permutation test:
+ * the 2B batches are exchangeable when the curves collapse, and p_value is the fraction of
+ * `permutations` random re-splits (a fixed generator: reproducible) with a chi^2 at least as
+ * large as the observed one. permutations = 0 skips it (p_value = p_chi2). */
 typedef struct gr_spm_collapse {
     double chi2;
     int dof;
-    double chi2_red, p_value;
+    double chi2_red, p_chi2, p_value;
+    int permutations;
     double max_abs_z;
 } gr_spm_collapse;
-int gr_spm_q_collapse(const gr_spm_q *a, const gr_spm_q *b, double min_count,
+int gr_spm_q_collapse(const gr_spm_q *a, const gr_spm_q *b, double min_count, int permutations,
                       gr_spm_collapse *out, gr_error *err);
 
 /* ---------------------------------------------------------------------------------------------
@@ -243,24 +259,32 @@ typedef struct gr_spm_rfm_info {
     int64_t particles;        /* per frame (the last one read) */
     double t_first, t_last;
     double v2_mean;           /* <v^2> per component over the frames read */
+    double v_max;             /* largest |v| component seen */
 } gr_spm_rfm_info;
 int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm_rfm_info *info,
                          gr_error *err);
 
-/* Compare two P(v) tails given on the same bins (v centres ascending): the SPM curve is scaled
- * vertically by k (the thesis' Fig. 5.10 does the same) fitted over the bins v >= v_from where
- * both are positive; then, going down from the highest bin where both have data, bins agree
- * when |P_rfm - k P_spm| <= z_max * sqrt(e_rfm^2 + (k e_spm)^2). `decades` is
- * log10(P_rfm(v_lo) / P_rfm(v_hi)) over the contiguous agreeing range [v_lo, v_hi]. */
+/* Compare two P(v) tails given on the same bins (v centres ascending, equal widths). The SPM
+ * curve is scaled vertically by k (the thesis' Fig. 5.10 does the same), fitted over the bins
+ * v >= v_from where both are positive; with fit_scale also horizontally, k P_spm(v / s) / s (ln P_spm
+ * interpolated linearly between bin centres), which is the SPM P(v) for free paths scaled by s^3
+ * (the SPM is self-similar; for 4.25 that is C -> C s^(-3 (D_f - 1))). Then, going down from the
+ * highest bin where both have data, bins agree when |P_rfm - model| <= z_max sqrt(e_rfm^2 +
+ * e_model^2); `decades` is log10(P_rfm(v_lo) / P_rfm(v_hi)) over that contiguous range, and
+ * frac_within the fraction of all bins v >= v_from within z_max. */
 typedef struct gr_spm_compare {
-    double v_from, k, k_err;
+    double v_from, k, k_err, s, s_err;  /* s = 1 unless fit_scale */
     double chi2_red;          /* over the bins v >= v_from */
     int n_points;
     double v_agree_lo, v_agree_hi, decades;
     int agree_bins;
+    double frac_within;
 } gr_spm_compare;
 int gr_spm_compare_tails(const double *v, const double *p_spm, const double *e_spm,
                          const double *p_rfm, const double *e_rfm, int n, double v_from,
-                         double z_max, gr_spm_compare *out, gr_error *err);
+                         double z_max, bool fit_scale, gr_spm_compare *out, gr_error *err);
+/* The compared model at bin i: k P_spm(v_i / s) / s and its error (0 where P_spm is unknown). */
+double gr_spm_compare_model(const gr_spm_compare *c, const double *v, const double *p_spm,
+                            const double *e_spm, int n, int i, double *model_err);
 
 #endif

@@ -19,6 +19,9 @@
  *     not on N, so runs with different N at the same L' share bins (renormalisation, 3.25);
  *   - the moments <R_{i,i+h}^m>, m = 1..12 ((3.18) for h = 1), averaged over i per frame and then
  *     over frames with block-averaging errors.
+ * finish() also fits the logarithmic form (3.22), G_1 L' = A (-ln(R/L'))^(n_N - 1), to the bins
+ * beyond the mean separation (R >= L'/N), and plots G_h on log-log axes against R and against
+ * -ln(R/L') (Fig. 3.12).
  *
  * Overlaps: soft particles in contact overlap by delta > 0, giving s_i = -delta < 0. Following
  * (3.17) literally the separation is |s_i| = delta (tiny against L'/N for stiff springs); then
@@ -46,8 +49,7 @@
 #define BINS_MIN 2
 #define BINS_MAX 10000
 #define LOG_DECADES 8.0   /* logarithmic bins cover [1e-8 L', L') */
-#define FIT_G_MAX 1e-2    /* (3.22) is fitted where G_1 L' < 1e-2 (Fig. 3.12) */
-#define FIT_MIN_COUNT 5.0 /* and the bin holds at least this many separations */
+#define FIT_MIN_COUNT 5.0 /* (3.22) is fitted to bins holding at least this many separations */
 
 static const gr_param params[] = {
     {"gaps_h_max", "", GR_PARAM_INT, 8, 1, H_LIMIT, false, false,
@@ -254,7 +256,7 @@ static int plot_orders(int h_max, int *hs)
     return k;
 }
 
-static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, bool fit_ok)
+static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, bool fit_ok, double u_lo, double u_hi)
 {
     int hs[32], nh = plot_orders(g->h_max, hs);
     const char *bin = g->log_bins ? "log" : "lin";
@@ -279,7 +281,7 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
 
     /* Fig. 3.12: G_h L' against -ln(R/L') on log-log axes, with the fit (3.22) for h = 1 */
     len = (size_t)snprintf(body, sizeof body,
-                           "set logscale xy\nset format y '10^{%%L}'\nset key bottom left\n"
+                           "set logscale xy\nset format y '10^{%%L}'\nset key top left\n"
                            "set xlabel \"-ln(R/L')\"\nset ylabel \"G_h(R;N) L'\"\n"
                            "set title \"Neighbour distributions against -ln R (Fig. 3.12), N = %d, %s bins\"\nplot ",
                            g->n, bin);
@@ -291,8 +293,9 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
     }
     if (fit_ok && len < sizeof body) {
         len += (size_t)snprintf(body + len, sizeof body - len,
-                                ", %.10g * x**%.10g with lines dt 2 lc rgb 'black' title sprintf('(3.22) fit, n_N = %%.3f', %.10g)",
-                                fit->p[0], fit->p[1], fit->p[1] + 1.0);
+                                ", [%.10g:%.10g] %.10g * x**%.10g with lines lw 2 dt 2 lc rgb 'black' "
+                                "title sprintf('(3.22) fit, n_N = %%.2f', %.10g)",
+                                u_lo, u_hi, fit->p[0], fit->p[1], fit->p[1] + 1.0);
     }
     if (len < sizeof body) {
         gr_obs_plot(out, "gaps_lnR.png", body);
@@ -386,7 +389,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
             const gr_blocking *bl = &g->mom[h - 1][m];
             int conv = 0;
             double mk = gr_blocking_mean(bl), ek = gr_blocking_stderr(bl, NULL, &conv), sc = pow(scale, m);
-            fprintf(f.f, "%d,%d,%.10g,%.6g,%.10g,%.6g,%d,%lld\n", h, m, mk, ek, mk / sc, ek / sc, conv,
+            fprintf(f.f, "%d,%d,%.15g,%.6g,%.15g,%.6g,%d,%lld\n", h, m, mk, ek, mk / sc, ek / sc, conv,
                     (long long)bl->count[0]);
             cJSON_AddItemToArray(jo, num(mk / sc));
             if (m == 1) {
@@ -400,10 +403,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
             }
         }
         const gr_histogram *lin = &g->lin[h - 1];
-        cJSON_AddItemToObject(o, "beyond_reduced_length", num(lin->total > 0 ? lin->above / lin->total : NAN));
+        cJSON_AddItemToObject(o, "beyond_reduced_length", num(lin->total > 0 ? lin->above / lin->total : (double)NAN));
         if (g->log_bins) {
             const gr_histogram *lg = &g->lg[h - 1];
-            cJSON_AddItemToObject(o, "below_log_range", num(lg->total > 0 ? lg->below / lg->total : NAN));
+            cJSON_AddItemToObject(o, "below_log_range", num(lg->total > 0 ? lg->below / lg->total : (double)NAN));
         }
         cJSON_AddItemToArray(jh, o);
     }
@@ -415,7 +418,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     /* ---- checks and the (3.22) fit ---- */
     double nsep = (double)g->frames * g->n;
     cJSON_AddItemToObject(j, "mean_signed_separation", num(gr_blocking_mean(&g->signed_mean)));
-    cJSON_AddItemToObject(j, "overlap_fraction", num(nsep > 0 ? g->overlaps / nsep : NAN));
+    cJSON_AddItemToObject(j, "overlap_fraction", num(nsep > 0 ? g->overlaps / nsep : (double)NAN));
     cJSON_AddItemToObject(j, "R1_min", num(g->r1_min));
     cJSON_AddItemToObject(j, "R1_max", num(g->r1_max));
     if (g->log_bins) {
@@ -424,18 +427,23 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         cJSON_AddItemToArray(lr, cJSON_CreateNumber(g->lg[0].hi));
     }
 
-    /* (3.22): G_1(R;N) L' = A (-ln(R/L'))^(n_N - 1) in the tail where G_1 L' < 1e-2 */
+    /* (3.22): G_1(R;N) L' = A (-ln(R/L'))^(n_N - 1) at large R, here every bin beyond the mean
+     * separation, L'/N <= R < L' (Fig. 3.12: the form holds at large R and bends away at small R,
+     * where collisions dominate) */
     const gr_histogram *h1 = g->log_bins ? &g->lg[0] : &g->lin[0];
     double *fx = malloc(sizeof(double) * (size_t)h1->nbins), *fy = malloc(sizeof(double) * (size_t)h1->nbins),
            *fs = malloc(sizeof(double) * (size_t)h1->nbins);
     int np = 0;
+    double u_lo = INFINITY, u_hi = -INFINITY;
     gr_fit fit = {0};
     bool fit_ok = false;
     if (fx && fy && fs) {
         for (int i = 0; i < h1->nbins; i++) {
             double R = gr_histogram_center(h1, i), G = gr_histogram_density(h1, i) * g->Lr;
-            if (h1->count[i] >= FIT_MIN_COUNT && R < g->Lr && G < FIT_G_MAX) {
+            if (h1->count[i] >= FIT_MIN_COUNT && gr_histogram_lower(h1, i) >= g->mean && R < g->Lr) {
                 fx[np] = -log(R / g->Lr);
+                u_lo = fmin(u_lo, fx[np]);
+                u_hi = fmax(u_hi, fx[np]);
                 fy[np] = G;
                 fs[np] = gr_histogram_density_error(h1, i) * g->Lr;
                 np++;
@@ -448,8 +456,12 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     free(fy);
     free(fs);
     cJSON *jf = cJSON_AddObjectToObject(j, "fit_3_22");
-    cJSON_AddStringToObject(jf, "form", "G_1(R;N) L' = A (-ln(R/L'))^(n_N - 1), bins with G_1 L' < 1e-2 and >= 5 counts");
+    cJSON_AddStringToObject(jf, "form", "G_1(R;N) L' = A (-ln(R/L'))^(n_N - 1), bins with L'/N <= R < L' and >= 5 counts");
     cJSON_AddNumberToObject(jf, "points", np);
+    if (np > 0) {
+        cJSON_AddNumberToObject(jf, "neg_ln_R_min", u_lo);
+        cJSON_AddNumberToObject(jf, "neg_ln_R_max", u_hi);
+    }
     if (fit_ok) {
         cJSON_AddItemToObject(jf, "n_N", num(fit.p[1] + 1.0));
         cJSON_AddItemToObject(jf, "n_N_stderr", num(fit.err[1]));
@@ -460,7 +472,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     }
 
     if (out->plots && g->frames > 0) {
-        write_plots(g, out, &fit, fit_ok);
+        write_plots(g, out, &fit, fit_ok, u_lo, u_hi);
     }
     return GR_OK;
 }

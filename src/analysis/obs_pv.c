@@ -586,7 +586,7 @@ static int write_speed_csv(const gr_output *out, const pv *s, double speed_rms, 
     fprintf(f.f, "c,density,density_error,counts,c_lo,c_hi,speed\n");
     for (int i = 0; i < h->nbins; i++) {
         double v = gr_histogram_center(h, i);
-        fprintf(f.f, "%.8g,%.10g,%.6g,%.0f,%.8g,%.8g,%.10g\n", v / speed_rms, gr_histogram_density(h, i) * speed_rms,
+        fprintf(f.f, "%.10g,%.10g,%.6g,%.0f,%.10g,%.10g,%.10g\n", v / speed_rms, gr_histogram_density(h, i) * speed_rms,
                 gr_histogram_density_error(h, i) * speed_rms, h->count[i], gr_histogram_lower(h, i) / speed_rms,
                 gr_histogram_upper(h, i) / speed_rms, v);
     }

@@ -62,7 +62,10 @@ struct gr_sk_plan {
     double e3[GR_SK_MSP_MAX + 1]; /* exp(-(l h)^2 / (4 tau)) */
     double *grid;
     fftw_complex *spec;
-    fftw_plan fft;
+    fftw_plan rows, cols; /* r2c along x of every row, then along y of the columns n_x <= n_max */
+    int *row_of, *bucket; /* particles sorted by grid row (locality), capacity cap */
+    double *xs, *ys;
+    int cap;
     size_t *idx;    /* spectrum index of each vector */
     double *deconv; /* (pi/tau) e^{tau |n|^2} / Mr^2 of each vector */
     /* direct sum (allocated at its first use) */
@@ -94,9 +97,16 @@ void gr_sk_plan_free(gr_sk_plan *pl)
     if (!pl) {
         return;
     }
-    if (pl->fft) {
-        fftw_destroy_plan(pl->fft);
+    if (pl->rows) {
+        fftw_destroy_plan(pl->rows);
     }
+    if (pl->cols) {
+        fftw_destroy_plan(pl->cols);
+    }
+    free(pl->row_of);
+    free(pl->bucket);
+    free(pl->xs);
+    free(pl->ys);
     fftw_free(pl->grid);
     fftw_free(pl->spec);
     free(pl->nx);
@@ -150,11 +160,12 @@ int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_erro
     pl->nsq = (long)floor(n_cut * n_cut * (1.0 + 1e-12));
     pl->n_max = isqrt_floor(pl->nsq);
     const int n = pl->n_max;
-    /* the half plane: n_x = 0, n_y = 1..n_max, then n_x = 1..n_max, |n_y| <= sqrt(nsq - n_x^2) */
+    /* the half plane n_x > 0, or n_x = 0 and n_y > 0, row by row: n_y = -n_max..n_max, then
+     * n_x = 0..sqrt(nsq - n_y^2) (the order of the FFT's output in memory) */
     long count = 0;
-    for (int a = 0; a <= n; a++) {
-        int bm = isqrt_floor(pl->nsq - (long)a * a);
-        count += a == 0 ? bm : 2 * bm + 1;
+    for (int b = -n; b <= n; b++) {
+        int am = isqrt_floor(pl->nsq - (long)b * b);
+        count += b > 0 ? am + 1 : am;
     }
     pl->nv = (int)count;
     pl->nx = malloc(sizeof(int) * (size_t)count);
@@ -176,22 +187,30 @@ int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_erro
     const size_t cells = (size_t)pl->Mr * (size_t)pl->Mr;
     pl->grid = fftw_malloc(sizeof(double) * cells);
     pl->spec = fftw_malloc(sizeof(fftw_complex) * (size_t)pl->Mr * (size_t)pl->Mc);
-    if (!pl->nx || !pl->ny || !pl->idx || !pl->deconv || !pl->grid || !pl->spec) {
+    pl->bucket = malloc(sizeof(int) * ((size_t)pl->Mr + 1));
+    if (!pl->nx || !pl->ny || !pl->idx || !pl->deconv || !pl->grid || !pl->spec || !pl->bucket) {
         gr_sk_plan_free(pl);
         return GR_FAIL(err, GR_ENOMEM, "sk: out of memory (%d vectors, %d^2 grid)", (int)count, (int)(cells ? pl->Mr : 0));
     }
-    /* FFTW_ESTIMATE: the plan depends only on the size (same arithmetic in every run); the
-     * planner is not thread-safe, so plans are made here, once, never per frame */
-    pl->fft = fftw_plan_dft_r2c_2d(pl->Mr, pl->Mr, pl->grid, pl->spec, FFTW_ESTIMATE);
-    if (!pl->fft) {
+    /* The 2D transform, pruned: real-to-complex along x for every row, then complex along y only
+     * for the n_max + 1 columns n_x = 0..n_max that are kept (0.65 of a full 2D r2c transform).
+     * FFTW_ESTIMATE: the plan depends only on the size, so every run does the same arithmetic
+     * (FFTW_MEASURE would be ~20% faster but picks plans by timing). The planner is not
+     * thread-safe: plans are made here, once, never per frame. */
+    int len = pl->Mr;
+    pl->rows = fftw_plan_many_dft_r2c(1, &len, pl->Mr, pl->grid, NULL, 1, pl->Mr, pl->spec, NULL, 1, pl->Mc,
+                                      FFTW_ESTIMATE);
+    pl->cols = fftw_plan_many_dft(1, &len, n + 1, pl->spec, NULL, pl->Mc, 1, pl->spec, NULL, pl->Mc, 1,
+                                  FFTW_FORWARD, FFTW_ESTIMATE);
+    if (!pl->rows || !pl->cols) {
         gr_sk_plan_free(pl);
         return GR_FAIL(err, GR_ENOMEM, "sk: FFTW could not plan a %d x %d transform", pl->Mr, pl->Mr);
     }
     const double norm = (M_PI / pl->tau) / ((double)pl->Mr * pl->Mr);
     int v = 0;
-    for (int a = 0; a <= n; a++) {
-        int bm = isqrt_floor(pl->nsq - (long)a * a);
-        for (int b = a == 0 ? 1 : -bm; b <= bm; b++, v++) {
+    for (int b = -n; b <= n; b++) {
+        int am = isqrt_floor(pl->nsq - (long)b * b);
+        for (int a = b > 0 ? 0 : 1; a <= am; a++, v++) {
             pl->nx[v] = a;
             pl->ny[v] = b;
             /* spectrum row = k_y (negative k_y wrap to Mr + k_y), column = k_x >= 0 */
@@ -253,9 +272,43 @@ static int weights(const gr_sk_plan *pl, double coord, double *w)
     return m0 - msp + 1;
 }
 
-static void compute_gridding(gr_sk_plan *pl, int n, const double *x, const double *y, double *S)
+static int compute_gridding(gr_sk_plan *pl, int n, const double *x, const double *y, double *S, gr_error *err)
 {
     const int Mr = pl->Mr, w2 = 2 * pl->msp;
+    if (n > pl->cap) { /* the first frame (or a larger N): the only allocation after the plan */
+        free(pl->row_of);
+        free(pl->xs);
+        free(pl->ys);
+        pl->row_of = malloc(sizeof(int) * (size_t)n);
+        pl->xs = malloc(sizeof(double) * (size_t)n);
+        pl->ys = malloc(sizeof(double) * (size_t)n);
+        pl->cap = pl->row_of && pl->xs && pl->ys ? n : 0;
+        if (!pl->cap) {
+            return GR_FAIL(err, GR_ENOMEM, "sk: out of memory (%d particles)", n);
+        }
+    }
+    /* visit the particles row by row of the grid (a stable counting sort): the 2 msp rows one
+     * particle touches are then still in cache for the next (25-30% faster at N = 5e4-1e5) */
+    int *bucket = pl->bucket;
+    memset(bucket, 0, sizeof(int) * ((size_t)Mr + 1));
+    for (int j = 0; j < n; j++) {
+        double u = y[j] / pl->L;
+        u -= floor(u);
+        int r = (int)(u * Mr);
+        r = r < Mr ? r : Mr - 1;
+        pl->row_of[j] = r;
+        bucket[r + 1]++;
+    }
+    for (int r = 0; r < Mr; r++) {
+        bucket[r + 1] += bucket[r];
+    }
+    for (int j = 0; j < n; j++) { /* scatter (cheaper than gathering in the loop below) */
+        int at = bucket[pl->row_of[j]]++;
+        pl->xs[at] = x[j];
+        pl->ys[at] = y[j];
+    }
+    x = pl->xs;
+    y = pl->ys;
     double *grid = pl->grid;
     memset(grid, 0, sizeof(double) * (size_t)Mr * (size_t)Mr);
     double wx[2 * GR_SK_MSP_MAX], wy[2 * GR_SK_MSP_MAX];
@@ -263,13 +316,15 @@ static void compute_gridding(gr_sk_plan *pl, int n, const double *x, const doubl
     for (int j = 0; j < n; j++) {
         int x0 = weights(pl, x[j], wx), y0 = weights(pl, y[j], wy);
         bool wrap_x = x0 < 0 || x0 + w2 > Mr;
-        if (wrap_x) {
+        if (wrap_x) { /* Mr >= 2 msp: one wrap at most */
             for (int i = 0; i < w2; i++) {
-                cols[i] = ((x0 + i) % Mr + Mr) % Mr;
+                int c = x0 + i;
+                cols[i] = c < 0 ? c + Mr : c >= Mr ? c - Mr : c;
             }
         }
         for (int r = 0; r < w2; r++) {
-            int row = ((y0 + r) % Mr + Mr) % Mr;
+            int row = y0 + r;
+            row = row < 0 ? row + Mr : row >= Mr ? row - Mr : row;
             double *g = grid + (size_t)row * (size_t)Mr;
             const double wr = wy[r];
             if (!wrap_x) {
@@ -284,13 +339,15 @@ static void compute_gridding(gr_sk_plan *pl, int n, const double *x, const doubl
             }
         }
     }
-    fftw_execute(pl->fft);
+    fftw_execute(pl->rows);
+    fftw_execute(pl->cols);
     const double inv_n = 1.0 / n;
     for (int v = 0; v < pl->nv; v++) {
         const double *c = pl->spec[pl->idx[v]];
         const double f = pl->deconv[v];
         S[v] = (c[0] * c[0] + c[1] * c[1]) * f * f * inv_n;
     }
+    return GR_OK;
 }
 
 static int direct_alloc(gr_sk_plan *pl, gr_error *err)
@@ -385,8 +442,7 @@ int gr_sk_compute(gr_sk_plan *pl, int method, int n, const double *x, const doub
     if (method != GR_SK_GRIDDING) {
         return GR_FAIL(err, GR_EINVAL, "sk: unknown method %d", method);
     }
-    compute_gridding(pl, n, x, y, S);
-    return GR_OK;
+    return compute_gridding(pl, n, x, y, S, err);
 }
 
 /* ------------------------------------------------------------------------------------------

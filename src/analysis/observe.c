@@ -7,10 +7,12 @@
 
 extern const gr_observable_type gr_obs_moments;
 extern const gr_observable_type gr_obs_freepath;
+extern const gr_observable_type gr_obs_postcollision;
 
 const gr_observable_type *const gr_observables[] = {
     &gr_obs_moments,
     &gr_obs_freepath,
+    &gr_obs_postcollision,
     NULL,
 };
 

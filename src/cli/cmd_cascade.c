@@ -475,9 +475,9 @@ int cmd_cascade(int argc, char **argv)
                  "set title \"Multiplicative cascade %s, n = %d, %d configurations: D_f = %.3f +- %.3f "
                  "(Table 6.2: %s)\"\n"
                  "A = %.17g\nD = %.17g\n"
-                 "plot 'sk.csv' skip %d using 2:4:5 with yerrorbars pt 7 ps 0.5 lc rgb '#246' title 'S(k), eq. 6.5', "
-                 "'' skip %d using 2:6 with lines lc rgb '#c60' dt 2 title 'exact configuration average', "
-                 "[%.9g:%.9g] A * x**(-D) with lines lw 2 lc rgb '#c33' title 'fit A k^{-D_f}'\n",
+                 "plot 'sk.csv' skip %d using 2:4:5 with yerrorbars pt 7 ps 0.5 lc rgb '#224466' title 'S(k), eq. 6.5', "
+                 "'' skip %d using 2:6 with lines lc rgb '#cc6600' dt 2 title 'exact configuration average', "
+                 "[%.9g:%.9g] A * x**(-D) with lines lw 2 lc rgb '#cc2222' title 'fit A k^{-D_f}'\n",
                  vi->label, s.levels, s.configurations, fit.D_f, fit.D_f_err, thesis, fit.A, fit.D_f, skip_sk,
                  skip_sk, fit.k_min, fit.k_max);
     } else {
@@ -490,7 +490,7 @@ int cmd_cascade(int argc, char **argv)
     strcat(plots, gr_plot_script(out, "sk.png", body, note, sizeof note) ? note : "sk.png");
     snprintf(body, sizeof body,
              "set size ratio -1\nset xrange [0:%.9g]\nset yrange [0:%.9g]\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n"
-             "set palette defined (0 'white', 1 '#99aabb', 2 '#224466', 3 'black')\nset cblabel 'log_{10}(4^{%d} m_{i,j})'\n"
+             "set palette defined (0 'white', 1 '#99aabb', 2 '#224466', 3 'black')\nset cblabel 'log_{10}(4^{%d} m_{i,j})'\nset cbrange [-4:4]\n"
              "set title \"Cascade field %s, configuration 1 (%d x %d)\"\n"
              "plot 'field.csv' skip 5 using 1:2:($3 > 0 ? log10($3) : 1/0) with image notitle\n",
              s.L, s.L, field_level, vi->label, 1 << field_level, 1 << field_level);
@@ -502,7 +502,7 @@ int cmd_cascade(int argc, char **argv)
                  "set xlabel 'x (m)'\nset ylabel 'y (m)'\nunset grid\n"
                  "set title \"%d discs (r = %g m, phi = %.3f) placed from the %s field (Fig. 6.3)\"\n"
                  "plot 'snapshots/snap_000000.xyz' skip 2 using 2:3:8 with circles fill solid 0.6 noborder "
-                 "lc rgb '#246' notitle\n",
+                 "lc rgb '#224466' notitle\n",
                  s.L, s.L, place.n, place.radius, pres.phi, vi->label);
         strcat(plots, ", ");
         strcat(plots, gr_plot_script(out, "placement.png", body, note, sizeof note) ? note : "placement.png");

@@ -225,9 +225,9 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
                 gr_particles p = gr_sim_particles(sim);
                 int64_t n_ev = 0;
                 const gr_contact_event *ev = gr_sim_events(sim, &n_ev);
-                rc = n_ev ? gr_observer_events(obs, ev, n_ev, &step_err) : GR_OK;
+                rc = gr_observer_sample(obs, &p, t, &step_err);
+                rc = rc ? rc : n_ev ? gr_observer_events(obs, ev, n_ev, &step_err) : GR_OK;
                 gr_sim_clear_events(sim);
-                rc = rc ? rc : gr_observer_sample(obs, &p, t, &step_err);
                 if (rc) {
                     status = "failed";
                     snprintf(diagnosis, sizeof diagnosis, "%s", step_err.message);

@@ -17,6 +17,7 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_integration.h>
 #include <gsl/gsl_sf_gamma.h>
+#include <gsl/gsl_sf_psi.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -409,7 +410,6 @@ double gr_bisect_u0_density(const gr_bisect_u0 *u, double a)
     return 0.0;
 }
 
-/* One draw: the smaller fraction f = min(a, 1 - a) in (0, 1/2] and whether it is the left piece. */
 static inline double draw(const gr_bisect_u0 *u, gsl_rng *r, bool *small_left)
 {
     for (;;) {
@@ -456,15 +456,13 @@ static inline double draw(const gr_bisect_u0 *u, gsl_rng *r, bool *small_left)
     }
 }
 
+double gr_bisect_u0_draw(const gr_bisect_u0 *u, gsl_rng *r, bool *small_left) { return draw(u, r, small_left); }
+
 double gr_bisect_u0_sample(const gr_bisect_u0 *u, gsl_rng *r)
 {
-    for (;;) {
-        bool small_left;
-        double f = draw(u, r, &small_left), a = small_left ? f : 1.0 - f;
-        if (a < 1.0) {
-            return a;
-        }
-    }
+    bool small_left;
+    double f = draw(u, r, &small_left);
+    return small_left ? f : 1.0 - f;
 }
 
 /* E[g] under the symmetrised U_0 by adaptive quadrature (QAGS copes with the integrable end-point
@@ -527,6 +525,13 @@ int gr_bisect_u0_moment(const gr_bisect_u0 *u, double m, double *mu, gr_error *e
         *mu = 1.0 / (1.0 + m); /* 3.37 with n = 1 */
         return GR_OK;
     }
+    if (u->kind == GR_BISECT_U0_POWER) {
+        /* U_0 is the equal mixture of b ~ (1-A) b^-A and 1 - b: <b^m> = (1-A)/(m+1-A) and
+         * <(1-b)^m> = (1-A) B(1-A, m+1) */
+        const double s = 1.0 - u->A;
+        *mu = 0.5 * s * (1.0 / (m + s) + gsl_sf_beta(s, m + 1.0));
+        return GR_OK;
+    }
     return u0_expect(u, 0, m, mu, err);
 }
 
@@ -535,6 +540,15 @@ int gr_bisect_u0_log_stats(const gr_bisect_u0 *u, double *mean, double *var, gr_
     if (u->kind == GR_BISECT_U0_UNIFORM) {
         *mean = 1.0; /* -ln a of a uniform a is exponential with mean 1 (3.36: Gamma(n, 1) in -ln x) */
         *var = 1.0;
+        return GR_OK;
+    }
+    if (u->kind == GR_BISECT_U0_POWER) {
+        /* the same mixture, s = 1 - A: <-ln b> = 1/s, <ln^2 b> = 2/s^2, <-ln(1-b)> = psi(1+s) - psi(1),
+         * <ln^2(1-b)> = (psi(1+s) - psi(1))^2 + psi'(1) - psi'(1+s) (derivatives of B(s, t) at t = 1) */
+        const double s = 1.0 - u->A, d = gsl_sf_psi(1.0 + s) - gsl_sf_psi(1.0);
+        *mean = 0.5 * (1.0 / s + d);
+        double second = 0.5 * (2.0 / (s * s) + d * d + gsl_sf_psi_1(1.0) - gsl_sf_psi_1(1.0 + s));
+        *var = fmax(second - *mean * *mean, 0.0);
         return GR_OK;
     }
     double m1, m2;
@@ -598,7 +612,7 @@ double gr_bisect_pn_uniform_mass(int n, double lo, double hi)
     if (!(hi > lo) || n < 1) {
         return 0.0;
     }
-    double z_small = -log(hi), z_big = lo > 0.0 ? -log(lo) : INFINITY;
+    double z_small = -log(hi), z_big = lo > 0.0 ? -log(lo) : (double)INFINITY;
     if (z_small > n) {
         return gsl_cdf_gamma_Q(z_small, n, 1.0) - (isinf(z_big) ? 0.0 : gsl_cdf_gamma_Q(z_big, n, 1.0));
     }
@@ -961,8 +975,9 @@ int gr_bisect_g1_load(gr_bisect_g1 *g, const char *path, gr_error *err)
     }
     for (int i = 0; i < t.n; i++) {
         if (!(t.x[i] >= 0.0) || (i > 0 && !(t.x[i] > t.x[i - 1]))) {
+            double bad = t.x[i];
             csv_table_free(&t);
-            return GR_FAIL(err, GR_EINVAL, "%s: R must be >= 0 and increase strictly (row %d: R = %g)", path, i + 1, t.x[i]);
+            return GR_FAIL(err, GR_EINVAL, "%s: R must be >= 0 and increase strictly (row %d: R = %g)", path, i + 1, bad);
         }
         if (!(t.y[i] >= 0.0) || (t.e && !(t.e[i] >= 0.0))) {
             csv_table_free(&t);
@@ -1234,16 +1249,24 @@ static void draw_plots(const char *dir, const gr_bisect_settings *s, const gr_bi
     const int n = res->levels;
     const gr_histogram *h = &res->pn;
     gp_quote(name, sizeof name, u->name);
-    /* P_n(x) against 3.36 on log axes (Fig. 3.15) */
+    /* P_n(x) against 3.36 on log axes (Fig. 3.15), down to a decade below the smallest density shown */
+    double ymin = INFINITY;
+    for (int b = 0; b < h->nbins; b++) {
+        if (h->count[b] >= 5.0) {
+            ymin = fmin(ymin, 0.1 * gr_histogram_density(h, b));
+        }
+    }
+    ymin = isfinite(ymin) ? ymin : 1e-300;
     snprintf(bodies[0], sizeof *bodies,
              "set logscale xy\nset format x '10^{%%L}'\nset format y '10^{%%L}'\nset samples 1000\n"
-             "set xrange [%g:1]\nset key bottom left\n"
+             "set xrange [%g:1]\nset yrange [%g:*]\nset key bottom left\n"
              "set title 'Multiplicative bisection: P_n(x) at n = %d (N = %lld), %lld realisations, U_0 = %s'\n"
              "set xlabel 'partition length x'\nset ylabel 'P_n(x)'\n"
              "f(x) = (-log(x))**(%d-1)/gamma(%d)\n"
-             "plot 'pn.csv' using 3:6:7 with yerrorbars pt 7 ps 0.5 lc rgb '#1f4e9a' title 'simulated (sqrt(X) errors)', "
-             "f(x) with lines lw 2 lc rgb '#c33' title '(-ln x)^{n-1}/(n-1)!  (eq. 3.36, uniform U_0)'\n",
-             first >= 0 ? gr_histogram_lower(h, first) : h->lo, n, 1LL << n, (long long)res->repetitions, name, n, n);
+             "plot 'pn.csv' using ($5>=5?$3:1/0):6:7 with yerrorbars pt 7 ps 0.5 lc rgb '#1f4e9a' "
+             "title 'simulated (bins with >= 5 partitions, sqrt(X) errors)', "
+             "f(x) with lines lw 2 lc rgb '#cc3333' title '(-ln x)^{n-1}/(n-1)!  (eq. 3.36, uniform U_0)'\n",
+             first >= 0 ? gr_histogram_lower(h, first) : h->lo, ymin, n, 1LL << n, (long long)res->repetitions, name, n, n);
     const char *pngs[4] = {"pn.png", "moments.png", "moments_N.png", "collapse.png"};
     /* <x^m> at level n against (1+m)^-n (3.37) */
     int len = snprintf(bodies[1], sizeof *bodies,
@@ -1251,7 +1274,7 @@ static void draw_plots(const char *dir, const gr_bisect_settings *s, const gr_bi
                        "set title 'Moments of the partition lengths at level n = %d, U_0 = %s'\n"
                        "set xlabel 'm'\nset ylabel '<x^m>'\n"
                        "plot 'moments.csv' using ($1==%d?$3:1/0):4:5 with yerrorbars pt 7 lc rgb '#1f4e9a' title 'simulated', "
-                       "(1+x)**(-%d) with lines lw 2 lc rgb '#c33' title '(1+m)^{-n}  (eq. 3.37, uniform U_0)'",
+                       "(1+x)**(-%d) with lines lw 2 lc rgb '#cc3333' title '(1+m)^{-n}  (eq. 3.37, uniform U_0)'",
                        res->moments_max, n, name, n, n);
     if (u->kind != GR_BISECT_U0_UNIFORM && len > 0 && (size_t)len < sizeof *bodies) {
         snprintf(bodies[1] + len, sizeof *bodies - (size_t)len,
@@ -1304,7 +1327,11 @@ static void draw_plots(const char *dir, const gr_bisect_settings *s, const gr_bi
         }
     }
     free(bodies);
-    snprintf(note, note_size, "%s%s%s", drawn, drawn[0] && failed[0] ? "; " : "", failed);
+    snprintf(note, note_size, "%s", drawn);
+    if (failed[0]) {
+        size_t nl = strlen(note);
+        snprintf(note + nl, note_size - nl, "%s%s", nl ? "; " : "", failed);
+    }
 }
 
 static cJSON *number_or_null(double v) { return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull(); }

@@ -159,14 +159,17 @@ void gr_cascade_field_reset(gr_cascade_field *f)
 
 double gr_cascade_field_total(const gr_cascade_field *f)
 {
+    /* Neumaier's compensated sum: the result reflects the field, not 4^n roundings of the sum */
     const int s = 1 << f->level;
-    double total = 0.0;
+    double total = 0.0, comp = 0.0;
     for (int j = 0; j < s; j++) {
         for (int i = 0; i < s; i++) {
-            total += f->m[(size_t)j * (size_t)f->side + (size_t)i];
+            const double x = f->m[(size_t)j * (size_t)f->side + (size_t)i], t = total + x;
+            comp += fabs(total) >= fabs(x) ? (total - t) + x : (x - t) + total;
+            total = t;
         }
     }
-    return total;
+    return total + comp;
 }
 
 /* The 24 orders in which Meakin's four numbers can be dealt to the four children. */

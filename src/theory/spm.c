@@ -491,90 +491,230 @@ int gr_spm_circle(const gr_spm_settings *s, double radius, int index, int nbins,
 
 void gr_spm_q_free(gr_spm_q *q) { gr_spm_dist_free(&q->q); }
 
-int gr_spm_q_tail_fit(const gr_spm_q *q, double wfrom, double min_count, gr_spm_tail_fit *out, gr_error *err)
+int gr_spm_dist_jackknife(const gr_spm_dist *d, gr_spm_stat_fn fn, void *user, int nout, double *value,
+                          double *jk_err, gr_error *err)
 {
-    memset(out, 0, sizeof *out);
-    const gr_histogram *h = &q->q.all;
-    int nb = h->nbins, m = 0;
+    const int nb = d->all.nbins, B = d->nbatches;
+    if (nout < 1 || nout > 16) {
+        return GR_FAIL(err, GR_EINVAL, "spm: jackknife of 1..16 numbers, got %d", nout);
+    }
     double *x = malloc(sizeof(double) * (size_t)nb * 4);
     if (!x) {
         return GR_FAIL(err, GR_ENOMEM, "spm: out of memory");
     }
-    double *y = x + nb, *sg = y + nb, *ww = sg + nb;
-    out->wto = wfrom;
+    double *p = x + nb, *e = p + nb, *c = e + nb;
     for (int i = 0; i < nb; i++) {
-        double w = gr_histogram_center(h, i), p = gr_spm_dist_density(&q->q, i), e = gr_spm_dist_error(&q->q, i);
-        if (w >= wfrom && h->count[i] >= min_count && p > 0.0 && e > 0.0 && isfinite(e)) {
-            ww[m] = w;
-            x[m] = w * w;
-            y[m] = log(p);
-            sg[m] = e / p;
-            m++;
-            out->wto = w;
-        }
+        x[i] = gr_histogram_center(&d->all, i);
+        p[i] = gr_spm_dist_density(d, i);
+        e[i] = gr_spm_dist_error(d, i);
+        c[i] = d->all.count[i];
     }
-    out->wfrom = wfrom;
-    out->n_points = m;
-    if (m < 3) {
+    int rc = fn(x, p, e, c, nb, value, user);
+    if (rc) {
         free(x);
-        return GR_FAIL(err, GR_EINVAL, "spm: Q tail fit: only %d bins with w >= %g and >= %g samples; use more walks or a lower --fit-from",
-                       m, wfrom, min_count);
+        return GR_FAIL(err, GR_EINVAL, "spm: the statistic cannot be computed from all batches");
     }
-    gr_fit f;
-    int rc = gr_fit_line(x, y, sg, m, &f, err);
-    if (!rc) {
-        out->b = -f.p[1];
-        out->b_err = f.err[1];
-        out->A = exp(f.p[0]);
-        out->A_err = out->A * f.err[0];
-        out->chi2_red = f.chi2_red;
-        /* the free-exponent check on the densities themselves */
-        for (int i = 0; i < m; i++) {
-            y[i] = exp(y[i]);
-            sg[i] *= y[i];
+    double t[16], sum[16] = {0}, sum2[16] = {0};
+    int used = 0;
+    for (int j = 0; j < B; j++) {
+        const gr_histogram *h = &d->batch[j];
+        double total = d->all.total - h->total;
+        if (!(total > 0.0)) {
+            continue;
         }
-        double p0[3] = {out->A, 1.0 / sqrt(fmax(out->b, 1e-3)), 2.0};
-        gr_fit g;
-        gr_error e2 = {0};
-        if (gr_fit_stretched_exp(ww, y, sg, m, p0, &g, &e2) == 0) {
-            out->beta = g.p[2];
-            out->beta_err = g.err[2];
-            out->beta_chi2_red = g.chi2_red;
-        } else {
-            out->beta = out->beta_err = out->beta_chi2_red = (double)NAN;
+        for (int i = 0; i < nb; i++) {
+            double w = gr_histogram_upper(&d->all, i) - gr_histogram_lower(&d->all, i);
+            p[i] = 0.5 * (d->all.count[i] - h->count[i]) / (total * w);
         }
+        if (fn(x, p, e, c, nb, t, user)) {
+            free(x);
+            return GR_FAIL(err, GR_EINVAL, "spm: the statistic cannot be computed without batch %d", j);
+        }
+        for (int k = 0; k < nout; k++) {
+            sum[k] += t[k];
+            sum2[k] += t[k] * t[k];
+        }
+        used++;
     }
     free(x);
-    return rc;
+    for (int k = 0; k < nout; k++) {
+        double mean = used ? sum[k] / used : 0.0;
+        double var = used ? fmax(sum2[k] / used - mean * mean, 0.0) : (double)NAN;
+        jk_err[k] = used > 1 ? sqrt((double)(used - 1) * var) : (double)NAN;
+    }
+    return GR_OK;
 }
 
-int gr_spm_q_collapse(const gr_spm_q *a, const gr_spm_q *b, double min_count, gr_spm_collapse *out, gr_error *err)
+typedef struct qfit_par {
+    double wfrom, min_count;
+    int full;  /* also the free-exponent fit */
+    int calls; /* the first call sees all batches */
+    gr_spm_tail_fit *out;
+} qfit_par;
+
+/* out = (b, ln A, beta) */
+static int qfit_stat(const double *xw, const double *p, const double *e, const double *count, int n, double *out, void *user)
+{
+    qfit_par *q = user;
+    double x[512], y[512], sg[512], ww[512], yy[512], ss[512];
+    int m = 0;
+    for (int i = 0; i < n && m < 512; i++) {
+        if (xw[i] >= q->wfrom && count[i] >= q->min_count && p[i] > 0.0 && e[i] > 0.0 && isfinite(e[i])) {
+            ww[m] = xw[i];
+            x[m] = xw[i] * xw[i];
+            y[m] = log(p[i]);
+            sg[m] = e[i] / p[i];
+            yy[m] = p[i];
+            ss[m] = e[i];
+            m++;
+        }
+    }
+    if (m < 3) {
+        return 1;
+    }
+    gr_fit f;
+    gr_error e2 = {0};
+    if (gr_fit_line(x, y, sg, m, &f, &e2)) {
+        return 1;
+    }
+    out[0] = -f.p[1];
+    out[1] = f.p[0];
+    out[2] = (double)NAN;
+    bool first = q->calls++ == 0;
+    if (first) {
+        q->out->n_points = m;
+        q->out->wto = ww[m - 1];
+        q->out->chi2_red = f.chi2_red;
+    }
+    if (q->full) {
+        double p0[3] = {exp(f.p[0]), 1.0 / sqrt(fmax(out[0], 1e-3)), 2.0};
+        gr_fit g;
+        if (gr_fit_stretched_exp(ww, yy, ss, m, p0, &g, &e2) == 0) {
+            out[2] = g.p[2];
+        } else if (first) {
+            q->full = 0; /* no free-exponent check: it failed on all data */
+        }
+    }
+    return 0;
+}
+
+int gr_spm_q_tail_fit(const gr_spm_q *q, double wfrom, double min_count, gr_spm_tail_fit *out, gr_error *err)
+{
+    memset(out, 0, sizeof *out);
+    out->wfrom = out->wto = wfrom;
+    qfit_par par = {wfrom, min_count, 1, 0, out};
+    double v[3], e[3];
+    int rc = gr_spm_dist_jackknife(&q->q, qfit_stat, &par, 3, v, e, err);
+    if (rc) {
+        return GR_FAIL(err, GR_EINVAL, "spm: Q tail fit: too few bins with w >= %g and >= %g samples; use more walks or a lower --fit-from",
+                       wfrom, min_count);
+    }
+    out->b = v[0];
+    out->b_err = e[0];
+    out->A = exp(v[1]);
+    out->A_err = out->A * e[1];
+    out->beta = par.full ? v[2] : (double)NAN;
+    out->beta_err = par.full ? e[2] : (double)NAN;
+    return GR_OK;
+}
+
+/* chi^2 of the collapse from batch densities: groups given by the index list (first B in A) */
+static double split_chi2(const double *dens, int m, int B, const int *idx, double *max_abs_z)
+{
+    double chi2 = 0.0;
+    for (int i = 0; i < m; i++) {
+        double s[2] = {0.0, 0.0}, s2[2] = {0.0, 0.0};
+        for (int g = 0; g < 2; g++) {
+            for (int j = 0; j < B; j++) {
+                double x = dens[(size_t)idx[g * B + j] * (size_t)m + (size_t)i];
+                s[g] += x;
+                s2[g] += x * x;
+            }
+        }
+        double mean[2], se2[2];
+        for (int g = 0; g < 2; g++) {
+            mean[g] = s[g] / B;
+            se2[g] = fmax(s2[g] / B - mean[g] * mean[g], 0.0) * B / (B - 1.0) / B;
+        }
+        double den = se2[0] + se2[1];
+        if (den > 0.0) {
+            double z2 = (mean[0] - mean[1]) * (mean[0] - mean[1]) / den;
+            chi2 += z2;
+            if (max_abs_z) {
+                *max_abs_z = fmax(*max_abs_z, sqrt(z2));
+            }
+        }
+    }
+    return chi2;
+}
+
+int gr_spm_q_collapse(const gr_spm_q *a, const gr_spm_q *b, double min_count, int permutations,
+                      gr_spm_collapse *out, gr_error *err)
 {
     memset(out, 0, sizeof *out);
     const gr_histogram *ha = &a->q.all, *hb = &b->q.all;
-    if (ha->nbins != hb->nbins || ha->lo != hb->lo || ha->hi != hb->hi) {
-        return GR_FAIL(err, GR_EINVAL, "spm: collapse needs the same scaled bins for both radii");
+    if (ha->nbins != hb->nbins || ha->lo != hb->lo || ha->hi != hb->hi || a->q.nbatches != b->q.nbatches) {
+        return GR_FAIL(err, GR_EINVAL, "spm: collapse needs the same scaled bins and batches for both radii");
     }
-    for (int i = 0; i < ha->nbins; i++) {
-        if (ha->count[i] < min_count || hb->count[i] < min_count) {
-            continue;
-        }
-        double pa = gr_spm_dist_density(&a->q, i), pb = gr_spm_dist_density(&b->q, i);
-        double ea = gr_spm_dist_error(&a->q, i), eb = gr_spm_dist_error(&b->q, i);
-        double s2 = ea * ea + eb * eb;
-        if (!(s2 > 0.0) || !isfinite(s2)) {
-            continue;
-        }
-        double z = (pa - pb) / sqrt(s2);
-        out->chi2 += z * z;
-        out->max_abs_z = fmax(out->max_abs_z, fabs(z));
-        out->dof++;
+    if (permutations < 0) {
+        return GR_FAIL(err, GR_EINVAL, "spm: permutations must be >= 0, got %d", permutations);
     }
-    if (out->dof < 1) {
+    const int B = a->q.nbatches, nb = ha->nbins;
+    int *sel = malloc(sizeof(int) * (size_t)nb), m = 0;
+    if (!sel) {
+        return GR_FAIL(err, GR_ENOMEM, "spm: out of memory");
+    }
+    for (int i = 0; i < nb; i++) {
+        if (ha->count[i] >= min_count && hb->count[i] >= min_count) {
+            sel[m++] = i;
+        }
+    }
+    if (m < 1) {
+        free(sel);
         return GR_FAIL(err, GR_EINVAL, "spm: collapse: no bins with >= %g samples in both histograms", min_count);
     }
-    out->chi2_red = out->chi2 / out->dof;
-    out->p_value = gsl_cdf_chisq_Q(out->chi2, (double)out->dof);
+    double *dens = malloc(sizeof(double) * (size_t)(2 * B) * (size_t)m);
+    int *idx = malloc(sizeof(int) * (size_t)(2 * B));
+    if (!dens || !idx) {
+        free(sel);
+        free(dens);
+        free(idx);
+        return GR_FAIL(err, GR_ENOMEM, "spm: out of memory");
+    }
+    for (int g = 0; g < 2; g++) {
+        const gr_spm_dist *d = g ? &b->q : &a->q;
+        for (int j = 0; j < B; j++) {
+            for (int k = 0; k < m; k++) {
+                dens[(size_t)(g * B + j) * (size_t)m + (size_t)k] = 0.5 * gr_histogram_density(&d->batch[j], sel[k]);
+            }
+        }
+    }
+    for (int j = 0; j < 2 * B; j++) {
+        idx[j] = j;
+    }
+    out->chi2 = split_chi2(dens, m, B, idx, &out->max_abs_z);
+    out->dof = m;
+    out->chi2_red = out->chi2 / m;
+    out->p_chi2 = gsl_cdf_chisq_Q(out->chi2, (double)m);
+    out->p_value = out->p_chi2;
+    if (permutations > 0) {
+        int exceed = 0;
+        for (int r = 0; r < permutations; r++) {
+            /* Fisher-Yates with a fixed counter-based generator: reproducible */
+            for (int j = 2 * B - 1; j > 0; j--) {
+                int k = (int)(gr_noise_uniform(0x5350u, STREAM_L, (uint64_t)r, (uint64_t)j) * (j + 1));
+                int t = idx[j];
+                idx[j] = idx[k];
+                idx[k] = t;
+            }
+            exceed += split_chi2(dens, m, B, idx, NULL) >= out->chi2;
+        }
+        out->permutations = permutations;
+        out->p_value = (exceed + 1.0) / (permutations + 1.0);
+    }
+    free(sel);
+    free(dens);
+    free(idx);
     return GR_OK;
 }
 
@@ -942,14 +1082,14 @@ int gr_spm_full(const gr_spm_settings *s, const gr_spm_pl *pl, bool weight_time,
     for (int64_t n = 0; n < s->walks; n++) {
         /* step two of sec. 5.2.3: the radius from P_l (by its distribution function, not by
          * rejection) */
-        double U = gr_noise_uniform(s->seed, STREAM_L, (uint64_t)n, 0), u = U, iw = 1.0;
+        double U = gr_noise_uniform(s->seed, STREAM_L, (uint64_t)n, 0), F = U, iw = 1.0;
         if (s->tilt > 1.0) {
-            /* importance sampling: 1 - u = (1 - U)^tilt has density (1 - u)^(1/tilt - 1) / tilt */
+            /* importance sampling: 1 - F = (1 - U)^tilt has density (1 - F)^(1/tilt - 1) / tilt */
             double q = pow(1.0 - U, s->tilt);
-            u = 1.0 - q;
+            F = 1.0 - q;
             iw = s->tilt * pow(q, 1.0 - 1.0 / s->tilt);
         }
-        double l = gr_spm_pl_quantile(pl, u);
+        double l = gr_spm_pl_quantile(pl, F);
         if (!(l > 0.0) || !isfinite(l)) {
             rc = GR_FAIL(err, GR_EINVAL, "spm: drew the free path %g from P_l; check the P_l table", l);
             break;
@@ -1242,6 +1382,7 @@ int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm
             }
             for (int c = 0; c < dim; c++) {
                 gr_histogram_add(h, fabs(vel[c]), 1.0);
+                info->v_max = fmax(info->v_max, fabs(vel[c]));
                 v2 += vel[c] * vel[c];
                 nv++;
             }
@@ -1269,61 +1410,166 @@ int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm
     return rc;
 }
 
-int gr_spm_compare_tails(const double *v, const double *p_spm, const double *e_spm, const double *p_rfm,
-                         const double *e_rfm, int n, double v_from, double z_max, gr_spm_compare *out, gr_error *err)
+/* ln P_spm and its relative error at velocity u, linear between bin centres; false outside the
+ * bins or where P_spm is zero */
+static bool spm_at(const double *v, const double *p, const double *e, int n, double u, double *lnp, double *rel)
 {
-    memset(out, 0, sizeof *out);
-    out->v_from = v_from;
-    if (!(z_max > 0.0)) {
-        return GR_FAIL(err, GR_EINVAL, "spm: the agreement criterion needs z_max > 0");
+    if (!(u >= v[0]) || !(u <= v[n - 1])) {
+        return false;
     }
-    /* k = sum w P_r P_s / sum w P_s^2 with w = 1/(e_r^2 + k^2 e_s^2), iterated */
-    double k = 1.0;
+    double dv = (v[n - 1] - v[0]) / (n - 1);
+    int i = (int)((u - v[0]) / dv);
+    i = i < 0 ? 0 : (i > n - 2 ? n - 2 : i);
+    if (!(p[i] > 0.0) || !(p[i + 1] > 0.0)) {
+        return false;
+    }
+    double t = (u - v[i]) / (v[i + 1] - v[i]);
+    *lnp = (1.0 - t) * log(p[i]) + t * log(p[i + 1]);
+    *rel = (1.0 - t) * e[i] / p[i] + t * e[i + 1] / p[i + 1];
+    return isfinite(*rel);
+}
+
+typedef struct cmp_ctx {
+    const double *v, *ps, *es, *pr, *er;
+    int n;
+    double v_from;
+} cmp_ctx;
+
+/* best k for a given s (iterated weights) and its chi^2 */
+static double cmp_chi2(const cmp_ctx *c, double s, double *k_out, double *k_err, int *m_out)
+{
+    double k = 1.0, den = 0.0, chi2 = 0.0;
+    int m = 0;
     for (int it = 0; it < 50; it++) {
-        double num = 0.0, den = 0.0;
-        for (int i = 0; i < n; i++) {
-            if (v[i] >= v_from && p_spm[i] > 0.0 && p_rfm[i] > 0.0 && e_rfm[i] > 0.0) {
-                double w = 1.0 / (e_rfm[i] * e_rfm[i] + k * k * e_spm[i] * e_spm[i]);
-                num += w * p_rfm[i] * p_spm[i];
-                den += w * p_spm[i] * p_spm[i];
+        double num = 0.0;
+        den = 0.0;
+        for (int i = 0; i < c->n; i++) {
+            double lp, rel;
+            if (c->v[i] >= c->v_from && c->pr[i] > 0.0 && c->er[i] > 0.0 && spm_at(c->v, c->ps, c->es, c->n, c->v[i] / s, &lp, &rel)) {
+                double q = exp(lp) / s, eq = q * rel;
+                double w = 1.0 / (c->er[i] * c->er[i] + k * k * eq * eq);
+                num += w * c->pr[i] * q;
+                den += w * q * q;
             }
         }
         if (!(den > 0.0)) {
-            return GR_FAIL(err, GR_EINVAL, "spm: no bins with v >= %g where both P(v) are positive", v_from);
+            *m_out = 0;
+            return (double)INFINITY;
         }
         double knew = num / den;
-        out->k_err = 1.0 / sqrt(den);
         bool done = fabs(knew - k) <= 1e-12 * fabs(knew);
         k = knew;
         if (done) {
             break;
         }
     }
-    double chi2 = 0.0;
-    int m = 0;
-    for (int i = 0; i < n; i++) {
-        if (v[i] >= v_from && p_spm[i] > 0.0 && p_rfm[i] > 0.0 && e_rfm[i] > 0.0) {
-            double r = p_rfm[i] - k * p_spm[i];
-            chi2 += r * r / (e_rfm[i] * e_rfm[i] + k * k * e_spm[i] * e_spm[i]);
+    for (int i = 0; i < c->n; i++) {
+        double lp, rel;
+        if (c->v[i] >= c->v_from && c->pr[i] > 0.0 && c->er[i] > 0.0 && spm_at(c->v, c->ps, c->es, c->n, c->v[i] / s, &lp, &rel)) {
+            double q = exp(lp) / s, eq = q * rel, r = c->pr[i] - k * q;
+            chi2 += r * r / (c->er[i] * c->er[i] + k * k * eq * eq);
             m++;
         }
     }
+    *k_out = k;
+    *k_err = 1.0 / sqrt(den);
+    *m_out = m;
+    return chi2;
+}
+
+double gr_spm_compare_model(const gr_spm_compare *c, const double *v, const double *p_spm, const double *e_spm, int n,
+                            int i, double *model_err)
+{
+    double lp, rel;
+    if (!spm_at(v, p_spm, e_spm, n, v[i] / c->s, &lp, &rel)) {
+        *model_err = 0.0;
+        return 0.0;
+    }
+    double q = c->k * exp(lp) / c->s;
+    *model_err = q * rel;
+    return q;
+}
+
+int gr_spm_compare_tails(const double *v, const double *p_spm, const double *e_spm, const double *p_rfm,
+                         const double *e_rfm, int n, double v_from, double z_max, bool fit_scale, gr_spm_compare *out,
+                         gr_error *err)
+{
+    memset(out, 0, sizeof *out);
+    out->v_from = v_from;
+    out->s = 1.0;
+    if (!(z_max > 0.0) || n < 3) {
+        return GR_FAIL(err, GR_EINVAL, "spm: the comparison needs z_max > 0 and at least 3 bins");
+    }
+    cmp_ctx c = {v, p_spm, e_spm, p_rfm, e_rfm, n, v_from};
+    int m;
+    double k, ke, chi2 = cmp_chi2(&c, 1.0, &k, &ke, &m);
+    if (m < 1) {
+        return GR_FAIL(err, GR_EINVAL, "spm: no bins with v >= %g where both P(v) are positive", v_from);
+    }
+    if (fit_scale) {
+        /* a scan of ln s over [1/3, 3] by the reduced chi^2 (s changes which bins overlap; only
+         * scales that keep at least half of the bins count), then golden-section refinement */
+        double best = m > 2 ? chi2 / (m - 2) : (double)INFINITY, bs = 1.0;
+        for (int j = 0; j <= 220; j++) {
+            double sc = exp(log(3.0) * (j - 110) / 110.0), kk, kke;
+            int mm;
+            double x = cmp_chi2(&c, sc, &kk, &kke, &mm);
+            if (mm >= 3 && 2 * mm >= m && x / (mm - 2) < best) {
+                best = x / (mm - 2);
+                bs = sc;
+            }
+        }
+        double lo = log(bs) - log(3.0) / 110.0, hi = log(bs) + log(3.0) / 110.0, g = 0.5 * (sqrt(5.0) - 1.0);
+        for (int it = 0; it < 40; it++) {
+            double a = hi - g * (hi - lo), b = lo + g * (hi - lo), kk, kke;
+            int ma, mb;
+            double fa = cmp_chi2(&c, exp(a), &kk, &kke, &ma), fb = cmp_chi2(&c, exp(b), &kk, &kke, &mb);
+            fa /= ma > 2 ? ma - 2 : 1;
+            fb /= mb > 2 ? mb - 2 : 1;
+            if (fa < fb) {
+                hi = b;
+            } else {
+                lo = a;
+            }
+        }
+        double s = exp(0.5 * (lo + hi));
+        chi2 = cmp_chi2(&c, s, &k, &ke, &m);
+        out->s = s;
+        /* error of s from chi^2 + 1 (reduced-chi^2 scaled below) by a parabola through +-1% */
+        double kk, kke;
+        int m1, m2;
+        double cp = cmp_chi2(&c, s * 1.01, &kk, &kke, &m1), cm = cmp_chi2(&c, s / 1.01, &kk, &kke, &m2);
+        double curv = (cp + cm - 2.0 * chi2) / (log(1.01) * log(1.01)); /* d2 chi2 / d(ln s)^2 */
+        out->s_err = curv > 0.0 ? s * sqrt(2.0 / curv) : (double)NAN;
+    }
     out->k = k;
+    out->k_err = ke;
     out->n_points = m;
-    out->chi2_red = m > 1 ? chi2 / (m - 1) : (double)NAN;
-    if (m > 1 && out->chi2_red > 1.0) {
+    int npar = fit_scale ? 2 : 1;
+    out->chi2_red = m > npar ? chi2 / (m - npar) : (double)NAN;
+    if (m > npar && out->chi2_red > 1.0) {
         out->k_err *= sqrt(out->chi2_red);
+        out->s_err *= sqrt(out->chi2_red);
     }
     /* the agreeing tail: from the highest bin where both have data, downwards */
-    int hi = -1, lo = -1;
+    int hi = -1, lo = -1, tail = 0, within = 0;
+    bool broken = false;
     for (int i = n - 1; i >= 0; i--) {
-        bool both = p_spm[i] > 0.0 && p_rfm[i] > 0.0 && e_rfm[i] > 0.0 && isfinite(e_spm[i]);
-        if (!both) {
+        double me, q = gr_spm_compare_model(out, v, p_spm, e_spm, n, i, &me);
+        if (!(q > 0.0) || !(p_rfm[i] > 0.0) || !(e_rfm[i] > 0.0)) {
             continue; /* an empty bin in either is no evidence either way */
         }
-        double z = (p_rfm[i] - k * p_spm[i]) / sqrt(e_rfm[i] * e_rfm[i] + k * k * e_spm[i] * e_spm[i]);
+        double z = (p_rfm[i] - q) / sqrt(e_rfm[i] * e_rfm[i] + me * me);
+        if (v[i] >= v_from) {
+            tail++;
+            within += fabs(z) <= z_max;
+        }
+        if (broken) {
+            continue;
+        }
         if (fabs(z) > z_max) {
-            break;
+            broken = true;
+            continue;
         }
         if (hi < 0) {
             hi = i;
@@ -1331,6 +1577,7 @@ int gr_spm_compare_tails(const double *v, const double *p_spm, const double *e_s
         lo = i;
         out->agree_bins++;
     }
+    out->frac_within = tail ? (double)within / tail : (double)NAN;
     if (hi >= 0) {
         out->v_agree_lo = v[lo];
         out->v_agree_hi = v[hi];
