@@ -538,7 +538,7 @@ START_TEST(test_collapse)
     /* (3.36) itself, written as an RFM table at N = 2^7, collapses onto -ln R at every R */
     make_tmp_dir();
     const int n = 7;
-    char text[20000];
+    char text[40000];
     int len = snprintf(text, sizeof text, "# exact P_7 as a G_1 table\n# system: N = 128, eps = 0.1\nR,G\n");
     for (int i = 1; i < 100; i++) {
         double R = i / 100.0;
@@ -572,6 +572,39 @@ START_TEST(test_collapse)
     ck_assert_double_eq_tol(G0, gr_bisect_pn_uniform(n, 0.7), 1e-14);
     ck_assert_double_eq_tol(g.G_err[10], 0.1 * g.G[10], 1e-15);
     gr_bisect_g1_free(&g);
+    /* a run folder of the gaps observable: gaps.csv (every h, linear and log bins, R in m) and N, L'
+     * in summary.json; the folder and the file both read as the h = 1 log-binned rows at L' = 1 */
+    char run[200];
+    snprintf(run, sizeof run, "%s/run", tmp_dir);
+    ck_assert_int_eq(mkdir(run, 0777), 0);
+    write_file("run/summary.json", "{\"status\": \"completed\", \"gaps\": {\"N\": 128, \"reduced_length\": 0.5}}\n");
+    len = snprintf(text, sizeof text, "# granule: G_h(R;N) (3.21, 3.24); x = R N / (h L')\n# scene s.ini, seed 1\n"
+                                      "h,binning,R_lo,R_hi,R,count,density,density_error,neg_ln_R,x,density_x,density_x_error\n");
+    for (int h = 1; h <= 2; h++) {
+        for (int b = 0; b < 2; b++) {
+            for (int i = 1; i < 60; i++) {
+                double R = b ? pow(10.0, -6.0 + i / 10.0) : i / 60.0; /* reduced */
+                double G = h == 1 && b ? gr_bisect_pn_uniform(n, R) : 1.0;
+                len += snprintf(text + len, sizeof text - (size_t)len, "%d,%s,0,0,%.17g,5,%.17g,%.17g,0,0,0,0\n", h,
+                                b ? "log" : "lin", 0.5 * R, 2.0 * G, 0.2 * G);
+            }
+        }
+    }
+    write_file("run/gaps.csv", text);
+    for (int k = 0; k < 2; k++) {
+        char path[300];
+        snprintf(path, sizeof path, "%s%s", run, k ? "/gaps.csv" : "");
+        ck_assert_msg(gr_bisect_g1_load(&g, path, &err) == GR_OK, "%s: %s", path, err.message);
+        ck_assert_int_eq(g.n_points, 59);
+        ck_assert_double_eq(g.N, 128.0);
+        ck_assert_double_eq(g.reduced_length, 0.5);
+        ck_assert_double_eq_tol(g.R[0], 1e-6 * pow(10.0, 0.1), 1e-20);
+        ck_assert_int_eq(gr_bisect_g1_at(&g, 0.7, &G0, &err), GR_OK);
+        /* between log bins 0.63 and 0.79, exact for (3.36) (linear interpolation would be 2.7 times off) */
+        ck_assert_double_eq_tol(G0 / gr_bisect_pn_uniform(n, 0.7), 1.0, 1e-12);
+        ck_assert_double_eq_tol(g.G[30], gr_bisect_pn_uniform(n, g.R[30]), 1e-12 * g.G[30]);
+        gr_bisect_g1_free(&g);
+    }
     remove_tree(tmp_dir);
 }
 END_TEST

@@ -785,10 +785,27 @@ START_TEST(test_outputs_and_plots)
     ck_assert_int_eq(cJSON_GetArraySize(cJSON_GetObjectItem(r.gaps, "neighbours")), 5);
     ck_assert_int_eq(cJSON_GetArraySize(cJSON_GetObjectItem(r.gaps, "moments_stderr")), 12);
     ck_assert(cJSON_IsObject(cJSON_GetObjectItem(r.gaps, "fit_3_22")));
+    /* binning: gaps_bins linear bins on [0, L'), as many logarithmic bins on [1e-8 L', L') */
+    for (int h = 1; h <= 5; h++) {
+        int n;
+        const row *lin = hist_rows(&r, h, "lin", &n);
+        ck_assert_int_eq(n, 60);
+        ck_assert_double_eq(lin[0].lo, 0.0);
+        ck_assert_double_eq_tol(lin[59].hi, 1.0, 1e-12);
+        ck_assert_double_eq_tol(lin[1].lo, 1.0 / 60, 1e-10); /* CSV has 10 digits */
+        const row *lg = hist_rows(&r, h, "log", &n);
+        ck_assert_int_eq(n, 60);
+        ck_assert_double_eq_tol(lg[0].lo, 1e-8, 1e-18);
+        ck_assert_double_eq_tol(lg[59].hi, 1.0, 1e-12);
+        ck_assert_double_eq_tol(lg[30].lo, 1e-4, 1e-13);
+        ck_assert_double_eq_tol(lg[10].R, sqrt(lg[10].lo * lg[10].hi), 1e-9 * lg[10].R);
+        ck_assert_double_eq_tol(lg[10].neg_ln_R, -log(lg[10].R), 1e-8);
+    }
     const cJSON *nb = cJSON_GetArrayItem(cJSON_GetObjectItem(r.gaps, "neighbours"), 2);
     ck_assert_double_eq(jnum(nb, "h"), 3);
     ck_assert_double_eq_tol(jnum(nb, "mean"), 3.0 / 64, 1e-12);
     ck_assert_double_eq_tol(jnum(nb, "below_log_range"), 0.0, 1e-6);
+    ck_assert_double_eq(jnum(nb, "beyond_reduced_length"), 0.0);
     if (gnuplot) {
         const char *png[] = {"gaps.png", "gaps_lnR.png", "gaps_moments.png"};
         for (int i = 0; i < 3; i++) {

@@ -161,10 +161,13 @@ double gr_bisect_collapse_factor(double n, double R0, double G0); /* A_N (3.40) 
 double gr_bisect_collapse_map(double n, double A_N, double G);    /* (3.39) */
 
 /* A nearest-neighbour distribution G_1(R;N) of the 1D RFM read from CSV: '#' comment lines, of which
- * one must carry "N = <particles>" and may carry "reduced_length = <L'>" (R is divided by L' and G
+ * one carries "N = <particles>" and may carry "reduced_length = <L'>" (R is divided by L' and G
  * multiplied by it, so the table is at L' = 1 as in the thesis); an optional header naming the
  * columns R, G (or G_1, density) and G_err (or density_error), so a gr_histogram_write_csv(h, f, "R")
- * table reads as it is; otherwise the columns are R, G[, G_err]. R strictly increasing, G >= 0. */
+ * table reads as it is; otherwise the columns are R, G[, G_err]. R strictly increasing, G >= 0.
+ * A header with columns h and binning (the gaps.csv of a 1D run with the gaps observable) gives its
+ * h = 1 rows, logarithmic bins if present; without an "N =" comment, N and L' come from the run's
+ * summary.json ("gaps": {"N", "reduced_length"}) beside the file. path may also be the run folder. */
 typedef struct gr_bisect_g1 {
     int n_points;
     double *R, *G, *G_err; /* G_err NULL when the file has none */
@@ -173,7 +176,9 @@ typedef struct gr_bisect_g1 {
 } gr_bisect_g1;
 int gr_bisect_g1_load(gr_bisect_g1 *g, const char *path, gr_error *err);
 void gr_bisect_g1_free(gr_bisect_g1 *g);
-/* G at R by linear interpolation; GR_EINVAL outside the table. */
+/* G at R, interpolated linearly in ln G against ln(-ln R) between the neighbouring rows (exact for
+ * the logarithmic form G ~ (-ln R)^(n_N - 1) of 3.22; linearly in G where a G is 0); GR_EINVAL
+ * outside the table. */
 int gr_bisect_g1_at(const gr_bisect_g1 *g, double R, double *G, gr_error *err);
 
 /* ------------------------------------------------------------------------------------------

@@ -22,7 +22,7 @@
 
 #include "granule/status.h"
 
-#define GR_CASCADE_MAX_LEVELS 12 /* 4096 x 4096 cells: about 0.4 GB with the FFT buffers */
+#define GR_CASCADE_MAX_LEVELS 12 /* 4096 x 4096 squares: about 0.35 GB with the FFT buffers */
 
 typedef enum gr_cascade_variant {
     GR_CASCADE_UCP = 0,     /* a ~ U(0,1), A = a1 + a2 + a3 + a4 (6.2)-(6.3): conserves probability */
@@ -63,8 +63,9 @@ typedef struct gr_cascade_settings {
 /* levels 8 (the thesis's 256 x 256), UCP, L = 1 m, 200 configurations, seed 1, automatic fit range. */
 void gr_cascade_settings_default(gr_cascade_settings *s);
 /* The fit range in bins: q_min = fit_q_min, q_max = fit_q_max or, when 0, 2^(levels-3) (structure at
- * least 8 squares wide, where the squares' own form factor still changes S by under 2 %), but at
- * least 4 and at most 2^(levels-1) (docs/theory-cascade.md). */
+ * least 8 squares wide; S is periodic in q with period 2^n and bends over towards the last bin
+ * 2^(n-1), where its mirror image at 2^n - q is as large as itself), but at least 4 and at most
+ * 2^(levels-1) (docs/theory-cascade.md). */
 void gr_cascade_fit_range(const gr_cascade_settings *s, double *q_min, double *q_max);
 /* Refuse out-of-range values with a one-line message naming the setting. */
 int gr_cascade_settings_check(const gr_cascade_settings *s, gr_error *err);
@@ -86,7 +87,8 @@ void gr_cascade_field_free(gr_cascade_field *f);
 /* Level 0: one square of probability 1. */
 void gr_cascade_field_reset(gr_cascade_field *f);
 /* One level more (6.2): every square of the current level is broken into four with the
- * variant's multipliers, drawn from rng. Refuses when already at f->levels. */
+ * variant's multipliers, drawn from rng. Refuses when already at f->levels. The settings are
+ * expected to have passed gr_cascade_settings_check (only the variant and p are used). */
 int gr_cascade_refine(const gr_cascade_settings *s, gsl_rng *rng, gr_cascade_field *f, gr_error *err);
 /* Reset and refine to f->levels. totals (NULL or levels + 1 entries) receives the total
  * probability sum_{i,j} m_{i,j}(l) at every level l. */

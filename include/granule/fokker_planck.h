@@ -56,7 +56,7 @@ typedef struct gr_fp_settings {
     /* simulation */
     int64_t walkers;       /* number of particles released (default 100000) */
     uint64_t seed;         /* gsl_rng_mt19937 seed */
-    double steps_per_T0;   /* time steps per T0 = L / V (default 2000) */
+    double steps_per_T0;   /* time steps per T0 = L / V (default 1000) */
     double max_T0;         /* a walk still inside after max_T0 * T0 is cut off and reported */
     gr_fp_start start;
     int bins;              /* velocity bins of Q over [-vmax, vmax] (even; default 100) */
@@ -159,7 +159,8 @@ void gr_fp_sim_result_free(gr_fp_sim_result *r);
 /* ------------------------------------------------------------------------------------------
  * Comparison of a simulation with the quadrature: pulls z_i = (histogram density - quadrature bin
  * mean) / error over the well-populated bins, with the walk-scatter errors for Q (bins that at
- * least `min_walks` walks visited and with as many expected samples) and sqrt(X) errors for the
+ * least `min_walks` walks visited and with as many expected samples; 100 keeps the pulls Gaussian:
+ * in bins that only a few walks reach the scatter is skewed and its estimate too small) and sqrt(X) errors for the
  * exit histogram (bins with at least `min_expected` expected exits). The pulls of Q are
  * correlated (one walk feeds many bins), so chi2 = sum z_i^2 is referred to the Satterthwaite
  * approximation a chi2(nu): with R the correlation matrix of the pulls, nu = n^2 / sum R_ij^2 and

@@ -174,7 +174,7 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     }
     const double L = p->L, d = 2.0 * p->radius, Lr = L - p->n * d;
     if (!(fabs(Lr - g->Lr) <= 1e-9 * g->Lr + 1e-12 * L)) {
-        return GR_FAIL(err, GR_EINVAL, "gaps: frame at t = %g s has L' = L - N d = %.10g m, the scene %.10g m", t, Lr,
+        return GR_FAIL(err, GR_EINVAL, "gaps: frame at t = %g s has L' = L - N d = %.10g m, but the scene's L' is %.10g m", t, Lr,
                        g->Lr);
     }
     const int n = p->n;

@@ -32,12 +32,14 @@
  * n(R) differs from C(R) by a constant, so they share their error.
  *
  * D_f fit. n(R_hi) is fitted as A'' R^D_f (gr_fit_power_law, weighted by the errors of n) over
- * bins with 2 d <= R_hi <= R_max / 2 (beyond the contact shells, well inside the periodic box,
- * where the sum rule sum_box n (g - 1) dA = 0 bends n(R) back to 0); bins with n <= 0 are left
- * out (a log-log fit). The values of n at neighbouring R are strongly correlated (cumulative
- * counts), so the chi-square error of D_f is optimistic; the reported error is the larger of it
- * and a jackknife error over up to 32 equal batches of consecutive frames (streaming batch means,
- * the batch length doubling as the run grows).
+ * bins with max(2 d, R_max / 4) <= R_hi <= R_max / 2: beyond the contact shells, whose integrated
+ * exclusion hole and peaks add a constant to n(R) (4.15 integrated from 0), and inside R_max / 2,
+ * away from the box scale where the sum rule n sum_box (g - 1) dA = 0 bends n(R) back to 0. The
+ * window moves with gr_rmax (default 20 d: 5 d .. 10 d). Bins with n <= 0 are left out (a log-log
+ * fit). The values of n at neighbouring R are strongly correlated (cumulative counts), so the
+ * chi-square error of D_f is optimistic; the reported error is the larger of it and a jackknife
+ * error over 16-32 equal batches of consecutive frames (streaming batch means, the batch length
+ * doubling as the run grows; frames of an unfinished batch count in the value, not the jackknife).
  *
  * Positions may lie anywhere (snapshots hold [0, L), a running simulation may be slightly
  * outside): they are wrapped into [0, L) here. N and L must stay those of the first frame. */
@@ -54,7 +56,8 @@
 #define PAIR_MAX_BINS 8192
 #define CELL_DIV 2            /* cells of side >= R_max / CELL_DIV: a (2 CELL_DIV + 1)^2 stencil */
 #define N_BATCH 32            /* batches of consecutive frames for the jackknife error of D_f */
-#define FIT_LO_D 2.0          /* D_f fit window: R_hi >= FIT_LO_D diameters ... */
+#define FIT_LO_D 2.0          /* D_f fit window: R_hi >= max(FIT_LO_D d, FIT_LO_FRAC R_max) ... */
+#define FIT_LO_FRAC 0.25
 #define FIT_HI_FRAC 0.5       /* ... and R_hi <= FIT_HI_FRAC R_max */
 #define PEAK_MAX_D 1.5        /* first peak: maximum of g over bins centred below 1.5 d */
 #define TAIL_FROM_FRAC 0.5    /* g_tail: mean g over R_max / 2 <= R < R_max (cf. Fig. 4.7) */
@@ -69,7 +72,7 @@ static const gr_param params[] = {
 typedef struct pair {
     /* fixed at create */
     int nbins;
-    double d, L, R_max, width, inv_width, rmax_d;
+    double d, L, R_max, width, inv_width;
     int N;
     bool clamped;
     double *area;           /* A_b = pi (R_hi^2 - R_lo^2) */
@@ -124,10 +127,12 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
         return GR_FAIL(err, GR_EINVAL, "pair: [analysis] gr_bins = %d outside [1, %d]", a->gr_bins, PAIR_MAX_BINS);
     }
     if (!(a->gr_rmax > 0.0) || !isfinite(a->gr_rmax)) {
-        return GR_FAIL(err, GR_EINVAL, "pair: [analysis] gr_rmax = %g must be a finite number > 0 (diameters)", a->gr_rmax);
+        return GR_FAIL(err, GR_EINVAL, "pair: [analysis] gr_rmax = %g must be a finite number > 0 (diameters)",
+                       a->gr_rmax);
     }
     if (!(scene->radius > 0.0) || !isfinite(scene->radius) || !(scene->L > 0.0) || !isfinite(scene->L)) {
-        return GR_FAIL(err, GR_EINVAL, "pair: needs radius > 0 and L > 0 (radius = %g, L = %g)", scene->radius, scene->L);
+        return GR_FAIL(err, GR_EINVAL, "pair: needs radius > 0 and L > 0 (radius = %g, L = %g)", scene->radius,
+                       scene->L);
     }
     if (scene->N < 2) {
         return GR_FAIL(err, GR_EINVAL, "pair: needs N >= 2 particles (N = %d)", scene->N);
@@ -140,7 +145,6 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
     s->d = 2.0 * scene->radius;
     s->L = scene->L;
     s->N = scene->N;
-    s->rmax_d = a->gr_rmax;
     s->R_max = a->gr_rmax * s->d;
     if (s->R_max > 0.5 * s->L) {
         s->R_max = 0.5 * s->L; /* beyond L/2 a minimum-image shell is cut by the box */
@@ -201,6 +205,13 @@ static int build_cells(pair *s, gr_error *err)
     s->cell_start = malloc(sizeof(int) * (nc + 1));
     s->cell_fill = malloc(sizeof(int) * nc);
     if (!s->xs || !s->ys || !s->cell_of || !s->cell_start || !s->cell_fill) {
+        free(s->xs);
+        free(s->ys);
+        free(s->cell_of);
+        free(s->cell_start);
+        free(s->cell_fill);
+        s->xs = s->ys = NULL;
+        s->cell_of = s->cell_start = s->cell_fill = NULL;
         return GR_FAIL(err, GR_ENOMEM, "pair: out of memory for the cell list of %d particles", s->N);
     }
     return GR_OK;
@@ -208,6 +219,9 @@ static int build_cells(pair *s, gr_error *err)
 
 static inline double wrap(double x, double L)
 {
+    if (x >= 0.0 && x < L) {
+        return x;
+    }
     x = fmod(x, L);
     if (x < 0.0) {
         x += L;
@@ -226,19 +240,27 @@ static inline double min_image(double dx, double L)
     return dx;
 }
 
-/* All pairs of cell a (particles [a0, a1)) with cell b, or within a when same. */
-static void count_cells(pair *s, int a0, int a1, int b0, int b1, bool same)
+/* All pairs of cell a (particles [a0, a1)) with cell b (particles [b0, b1)), or within a when
+ * same. Unaliased stencil: cell b's image next to a is b shifted by (sx, sy) (0 or +-L), which is
+ * the minimum image for every pair closer than R_max; aliased: minimum image per pair. */
+static void count_cells(pair *s, int a0, int a1, int b0, int b1, bool same, double sx, double sy, bool aliased)
 {
     const double L = s->L, r2max = s->R_max * s->R_max, inv = s->inv_width;
     const int last = s->nbins - 1;
+    const double *xs = s->xs, *ys = s->ys;
+    int64_t *count = s->frame_count;
     for (int i = a0; i < a1; i++) {
-        double xi = s->xs[i], yi = s->ys[i];
+        double xi = xs[i] - sx, yi = ys[i] - sy;
         for (int j = same ? i + 1 : b0; j < b1; j++) {
-            double dx = min_image(s->xs[j] - xi, L), dy = min_image(s->ys[j] - yi, L);
+            double dx = xs[j] - xi, dy = ys[j] - yi;
+            if (aliased) {
+                dx = min_image(dx, L);
+                dy = min_image(dy, L);
+            }
             double r2 = dx * dx + dy * dy;
             if (r2 < r2max) {
                 int b = (int)(sqrt(r2) * inv);
-                s->frame_count[b < last ? b : last]++;
+                count[b < last ? b : last]++;
             }
         }
     }
@@ -276,7 +298,7 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     if (p->dim != 2 || !p->y) {
         return GR_FAIL(err, GR_EINVAL, "pair: frame is %dD, g(R) needs 2D positions", p->dim);
     }
-    if (p->n != s->N || fabs(p->L - s->L) > 1e-12 * s->L) {
+    if (p->n != s->N || !(fabs(p->L - s->L) <= 1e-9 * s->L)) {
         return GR_FAIL(err, GR_EINVAL, "pair: frame has N = %d, L = %.10g but the scene has N = %d, L = %.10g",
                        p->n, p->L, s->N, s->L);
     }
@@ -313,6 +335,7 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     }
     /* every unordered pair of neighbouring cells once (cell b > cell a), and each cell with itself */
     memset(s->frame_count, 0, sizeof(int64_t) * (size_t)s->nbins);
+    const bool aliased = M < 2 * CELL_DIV + 1;
     for (int cy = 0; cy < M; cy++) {
         for (int cx = 0; cx < M; cx++) {
             int a = cy * M + cx;
@@ -321,14 +344,16 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
                 continue;
             }
             for (int oy = 0; oy < s->noy; oy++) {
-                int by = ((cy + s->off[oy]) % M + M) % M;
+                int yr = cy + s->off[oy], by = (yr % M + M) % M;
+                double sy = aliased ? 0.0 : (yr < 0 ? -L : (yr >= M ? L : 0.0));
                 for (int ox = 0; ox < s->nox; ox++) {
-                    int bx = ((cx + s->off[ox]) % M + M) % M;
+                    int xr = cx + s->off[ox], bx = (xr % M + M) % M;
+                    double sx = aliased ? 0.0 : (xr < 0 ? -L : (xr >= M ? L : 0.0));
                     int b = by * M + bx;
                     if (b < a) {
                         continue;
                     }
-                    count_cells(s, a0, a1, s->cell_start[b], s->cell_start[b + 1], b == a);
+                    count_cells(s, a0, a1, s->cell_start[b], s->cell_start[b + 1], b == a, sx, sy, aliased);
                 }
             }
         }
@@ -486,8 +511,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     add_number(jt, "R_from_over_d", s->tail_from * s->width / s->d);
     add_number(jt, "R_to_over_d", s->R_max / s->d);
 
-    /* D_f from n(R) ~ A'' R^D_f (4.17) over 2 d <= R_hi <= R_max / 2 */
-    int lo = (int)ceil(FIT_LO_D * s->d / s->width - 1.0 - 1e-9), hi = (int)floor(FIT_HI_FRAC * nb + 1e-9);
+    /* D_f from n(R) ~ A'' R^D_f (4.17) over max(2 d, R_max / 4) <= R_hi <= R_max / 2; bin b's
+     * upper edge is (b + 1) w, so the window is the bins lo .. hi - 1 */
+    double fit_from = fmax(FIT_LO_D * s->d, FIT_LO_FRAC * s->R_max);
+    int lo = (int)ceil(fit_from / s->width - 1.0 - 1e-9), hi = (int)floor(FIT_HI_FRAC * nb + 1e-9);
     lo = lo < 0 ? 0 : lo;
     cJSON *jd = cJSON_AddObjectToObject(j, "D_f");
     add_number(jd, "R_from_over_d", (lo + 1) * s->width / s->d);
@@ -515,7 +542,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                 gr_fit fk;
                 gr_error kerr = {0};
                 ok = fit_window(s, nj, ne, lo, hi, &fk, fx, fy, fe, &kerr) >= 3;
-                dj[k] = fk.p[1];
+                dj[k] = ok ? fk.p[1] : 0.0;
             }
             if (ok) {
                 double mean = 0.0, var = 0.0;
@@ -529,8 +556,6 @@ static int finish(void *state, const gr_output *out, gr_error *err)
             }
             free(nj);
             free(dj);
-            /* the jackknife refits reused fx/fy/fe: refit the central values */
-            fit_window(s, nr, ne, lo, hi, &fit, fx, fy, fe, &ferr);
         }
         double e = isfinite(jk) ? fmax(fit.err[1], jk) : fit.err[1];
         add_number(jd, "value", fit.p[1]);
@@ -552,36 +577,41 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                  used < 0 ? 0 : used, used < 0 ? "; " : "", used < 0 ? ferr.message : "");
         cJSON_AddStringToObject(jd, "note", note);
     }
-    cJSON_AddStringToObject(jd, "definition", "n(R) = C(R) - n pi R^2 ~ A R^D_f (4.17), weighted log-log fit at bin "
-                                              "upper edges R_hi in [2 d, R_max/2], bins with n <= 0 left out; error = "
-                                              "max(fit, jackknife over batches of frames)");
+    cJSON_AddStringToObject(jd, "definition",
+                            "n(R) = C(R) - n pi R^2 ~ A R^D_f (4.17), weighted log-log fit at bin upper edges R_hi "
+                            "in [max(2 d, R_max/4), R_max/2], bins with n <= 0 left out; error = max(fit, jackknife "
+                            "over batches of frames)");
     rc = gr_file_commit(&f, err);
     if (!rc && out->plots) {
         char body[1600];
         snprintf(body, sizeof body,
                  "set xlabel 'R / d'\nset ylabel 'g(R)'\nset title 'Pair correlation g(R) (4.10), %lld frames'\n"
                  "set key top right\n"
-                 "plot 'pair.csv' skip 3 using 2:3:4 with yerrorbars pt 7 ps 0.4 lc rgb '#246' title 'g(R)', "
+                 "set bars 0\n"
+                 "plot 'pair.csv' skip 3 using 2:3:4 with yerrorlines pt 7 ps 0.3 lc rgb '#246' title 'g(R)', "
                  "1 with lines dt 2 lc rgb 'black' title 'ideal gas'",
                  (long long)s->frames);
         gr_obs_plot(out, "pair_g.png", body);
         if (used >= 3) {
             snprintf(body, sizeof body,
-                     "set logscale xy\nset xlabel 'R / d'\nset ylabel 'n(R) = C(R) - n pi R^2'\n"
+                     "set logscale xy\nset bars 0\nset xrange [1:%.10g]\nset xlabel 'R / d'\n"
+                     "set ylabel 'n(R) = C(R) - n pi R^2'\n"
                      "set title 'Excess neighbours n(R) (4.17); fit over %.3g d <= R <= %.3g d'\nset key top left\n"
                      "plot 'pair.csv' skip 3 using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars pt 7 ps 0.4 "
                      "lc rgb '#246' title 'n(R)', [%.10g:%.10g] %.10g * x**%.10g with lines lw 2 lc rgb '#c33' "
-                     "title sprintf('D_f = %.3f +- %.3f')",
-                     (lo + 1) * s->width / s->d, hi * s->width / s->d, s->d, (lo + 1) * s->width / s->d,
-                     hi * s->width / s->d, fit.p[0] * pow(s->d, fit.p[1]), fit.p[1], fit.p[1],
+                     "title 'D_f = %.3f +- %.3f'",
+                     s->R_max / s->d, (lo + 1) * s->width / s->d, hi * s->width / s->d, s->d,
+                     (lo + 1) * s->width / s->d, hi * s->width / s->d, fit.p[0] * pow(s->d, fit.p[1]), fit.p[1],
+                     fit.p[1],
                      isfinite(jk) ? fmax(fit.err[1], jk) : fit.err[1]);
         } else {
             snprintf(body, sizeof body,
-                     "set logscale xy\nset xlabel 'R / d'\nset ylabel 'n(R) = C(R) - n pi R^2'\n"
+                     "set logscale xy\nset bars 0\nset xrange [1:%.10g]\nset xlabel 'R / d'\n"
+                     "set ylabel 'n(R) = C(R) - n pi R^2'\n"
                      "set title 'Excess neighbours n(R) (4.17); no power-law fit'\n"
                      "plot 'pair.csv' skip 3 using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars pt 7 ps 0.4 "
                      "lc rgb '#246' title 'n(R)'",
-                     s->d);
+                     s->R_max / s->d, s->d);
         }
         gr_obs_plot(out, "pair_n.png", body);
     }

@@ -35,7 +35,7 @@
  * them identical; they belong in a header such as src/analysis/sk.h). */
 typedef struct gr_sk_plan gr_sk_plan;
 enum { GR_SK_GRIDDING = 0, GR_SK_DIRECT = 1 };
-#define GR_SK_MSP_DEFAULT 6 /* Gaussian half-width in grid points; chosen with bench/bench_sk.c */
+#define GR_SK_MSP_DEFAULT 8 /* Gaussian half-width in grid points; chosen with bench/bench_sk.c */
 #define GR_SK_MSP_MAX 16
 #define GR_SK_NMAX_LIMIT 1024 /* largest |n_x|, |n_y|: a ~4100^2 grid, 270 MB */
 /* All vectors with n_x^2 + n_y^2 <= n_cut^2 in the half plane, for a box of side L; gridding with
@@ -173,7 +173,7 @@ int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_erro
     pl->idx = malloc(sizeof(size_t) * (size_t)count);
     pl->deconv = malloc(sizeof(double) * (size_t)count);
     /* Greengard & Lee: M = 2 n_max + 1 modes per dimension, oversampling R = M_r / M >= 2,
-     * tau = pi msp / (M^2 R (R - 1/2)) (their eq. 9 with their M_sp = msp) */
+     * tau = pi msp / (M^2 R (R - 1/2)) (their sec. 3, M_sp = msp; physics notes sec. 6.1) */
     const int M = 2 * n + 1;
     pl->msp = msp;
     pl->Mr = fft_size(2 * M > 2 * msp ? 2 * M : 2 * msp);
@@ -190,7 +190,7 @@ int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_erro
     pl->bucket = malloc(sizeof(int) * ((size_t)pl->Mr + 1));
     if (!pl->nx || !pl->ny || !pl->idx || !pl->deconv || !pl->grid || !pl->spec || !pl->bucket) {
         gr_sk_plan_free(pl);
-        return GR_FAIL(err, GR_ENOMEM, "sk: out of memory (%d vectors, %d^2 grid)", (int)count, (int)(cells ? pl->Mr : 0));
+        return GR_FAIL(err, GR_ENOMEM, "sk: out of memory (%d vectors, %d^2 grid)", (int)count, pl->Mr);
     }
     /* The 2D transform, pruned: real-to-complex along x for every row, then complex along y only
      * for the n_max + 1 columns n_x = 0..n_max that are kept (0.65 of a full 2D r2c transform).
@@ -814,7 +814,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     fprintf(f.f, "n,k,kd,S,S_err,vectors,independent_vectors\n");
     for (int b = 0; b < st->nbins; b++) {
         const sk_bin *B = &st->bins[b];
-        if (!B->count) {
+        if (!B->count || !st->frames) {
             continue;
         }
         double k = B->ksum / B->count;
@@ -834,7 +834,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         return rc;
     }
     fprintf(f.f, "n2,k,kd,S,S_err,vectors,independent_vectors,in_fit\n");
-    for (int b = 0; b < st->nshells; b++) {
+    for (int b = 0; b < st->nshells && st->frames; b++) {
         const sk_bin *B = &st->shells[b];
         double k = dk * sqrt((double)st->shell_q[b]);
         fprintf(f.f, "%ld,%.10g,%.10g,%.10g,%.6g,%d,%d,%d\n", st->shell_q[b], k, k * st->d,

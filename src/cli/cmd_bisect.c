@@ -185,7 +185,7 @@ int cmd_bisect(int argc, char **argv)
     /* inputs first: a bad U_0 or G_1 table is refused before any output or work */
     gr_bisect_u0 u0;
     if (gr_bisect_u0_parse(&u0, u0_spec, &err)) {
-        cli_error("bisect: --u0 %s", err.message);
+        cli_error("bisect: --u0: %s", err.message);
         return EXIT_REFUSED;
     }
     gr_bisect_g1 g1[MAX_G1];
@@ -196,7 +196,7 @@ int cmd_bisect(int argc, char **argv)
             if (g1[loaded].R) {
                 loaded++;
             }
-            cli_error("bisect: --g1 %s", err.message);
+            cli_error("bisect: --g1: %s", err.message);
             rc = EXIT_REFUSED;
             break;
         }
@@ -233,10 +233,13 @@ int cmd_bisect(int argc, char **argv)
             rc = err.code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
         } else {
             const gr_bisect_zeta *z2 = s.moments_max >= 2 ? &res.zeta[1] : &res.zeta[0];
-            printf("%s: n = %d, %lld realisations (%.4g partitions) in %.3g s; zeta_%d = %.4f +- %.4f (predicted %.4f); "
-                   "plots: %s\n",
-                   out, s.levels, (long long)s.repetitions, res.segments, res.wall_seconds, z2->m, z2->zeta,
-                   z2->err_jackknife, z2->predicted, o.plots_note);
+            char zeta[160] = "no zeta fit with one level";
+            if (isfinite(z2->zeta)) {
+                snprintf(zeta, sizeof zeta, "zeta_%d = %.4f +- %.4f (predicted %.4f)", z2->m, z2->zeta,
+                         z2->err_jackknife, z2->predicted);
+            }
+            printf("%s: n = %d, %lld realisations (%.4g partitions) in %.3g s; %s; plots: %s\n", out, s.levels,
+                   (long long)s.repetitions, res.segments, res.wall_seconds, zeta, o.plots_note);
         }
         gr_bisect_result_free(&res);
     }

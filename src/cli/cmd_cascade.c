@@ -6,7 +6,8 @@
  *   sk.csv         circular average of S(k) with errors and the exact expectation
  *   levels.csv     total probability per level over the configurations (UCP: exactly 1)
  *   field.csv      the first configuration's field (coarse-grained to at most 256 x 256)
- *   snapshots/snap_000000.xyz   with --place: the discs, extended XYZ as `granule run` writes
+ *   snapshots/snap_000000.xyz   with --place: the discs, extended XYZ as `granule run` writes,
+ *                  and scene.ini (dim 2, N, L, radius) so that `granule analyse DIR` reads them
  *   sk.png, field.png, placement.png   gnuplot */
 #include <cjson/cJSON.h>
 #include <gsl/gsl_rng.h>
@@ -20,6 +21,7 @@
 
 #include "cli/cli.h"
 #include "granule/cascade.h"
+#include "granule/scene.h"
 #include "granule/sim.h"
 #include "granule_commit.h"
 #include "granule_config.h"
@@ -59,8 +61,9 @@ static void usage(FILE *f)
             "  --force             overwrite the results of an earlier run in DIR\n"
             "  --quiet             no progress line\n\n"
             "Writes DIR/summary.json, sk.csv, levels.csv, field.csv, sk.png, field.png and, with --place,\n"
-            "snapshots/snap_000000.xyz and placement.png. Exit status: 0 done, 2 refused input (one line\n"
-            "on stderr; also when the placement is impossible), 1 other failures.\n",
+            "snapshots/snap_000000.xyz, scene.ini (so granule analyse DIR reads them) and placement.png.\n"
+            "Docs: docs/theory-cascade.md. Exit status: 0 done, 2 refused input (one line on stderr; also\n"
+            "when the placement is impossible), 1 other failures.\n",
             GR_CASCADE_MAX_LEVELS, s.levels, s.configurations, s.seed, s.L);
 }
 
@@ -162,12 +165,31 @@ static int write_levels(const run_info *ri, const double *mean, const double *m2
     return gr_file_commit(&f, err);
 }
 
-/* the field relative to uniform, 4^l m, coarse-grained by block sums to level l <= FIELD_CSV_MAX_LEVELS */
-static int write_field(const run_info *ri, const gr_cascade_field *fld, int *level_out, gr_error *err)
+/* The field relative to uniform, 4^l m, coarse-grained by block sums to level
+ * l = min(levels, FIELD_CSV_MAX_LEVELS) (out: 4^l values, row-major). */
+static int coarse_field(const gr_cascade_field *fld, double *out)
 {
     const int l = fld->levels < FIELD_CSV_MAX_LEVELS ? fld->levels : FIELD_CSV_MAX_LEVELS;
     const int n = 1 << l, block = fld->side / n;
-    *level_out = l;
+    const double scale = ldexp(1.0, 2 * l);
+    for (int j = 0; j < n; j++) {
+        for (int i = 0; i < n; i++) {
+            double sum = 0.0;
+            for (int b = 0; b < block; b++) {
+                const double *row = fld->m + (size_t)(j * block + b) * (size_t)fld->side + (size_t)(i * block);
+                for (int a = 0; a < block; a++) {
+                    sum += row[a];
+                }
+            }
+            out[j * n + i] = scale * sum;
+        }
+    }
+    return l;
+}
+
+static int write_field(const run_info *ri, const double *coarse, int l, gr_error *err)
+{
+    const int n = 1 << l, block = 1 << (ri->s->levels - l);
     gr_file f;
     int rc = gr_file_open(&f, ri->dir, "field.csv", err);
     if (rc) {
@@ -178,17 +200,10 @@ static int write_field(const run_info *ri, const gr_cascade_field *fld, int *lev
                  "# density = 4^%d m, the probability relative to a uniform field\n",
             n, n, block, block, l);
     fprintf(f.f, "x,y,density\n");
-    const double h = ri->s->L / n, scale = ldexp(1.0, 2 * l);
+    const double h = ri->s->L / n;
     for (int j = 0; j < n; j++) {
         for (int i = 0; i < n; i++) {
-            double sum = 0.0;
-            for (int b = 0; b < block; b++) {
-                const double *row = fld->m + (size_t)(j * block + b) * (size_t)fld->side + (size_t)(i * block);
-                for (int a = 0; a < block; a++) {
-                    sum += row[a];
-                }
-            }
-            fprintf(f.f, "%.9g,%.9g,%.9g\n", (i + 0.5) * h, (j + 0.5) * h, scale * sum);
+            fprintf(f.f, "%.9g,%.9g,%.9g\n", (i + 0.5) * h, (j + 0.5) * h, coarse[j * n + i]);
         }
     }
     return gr_file_commit(&f, err);
@@ -271,7 +286,7 @@ int cmd_cascade(int argc, char **argv)
                 if (!int_option(a, v, 1, 1e9, &x)) {
                     return EXIT_REFUSED;
                 }
-                *(a[6] == 'i' ? &s.fit_q_min : &s.fit_q_max) = x;
+                *(!strcmp(a, "--fit-min") ? &s.fit_q_min : &s.fit_q_max) = x;
             } else if (!strcmp(a, "--box") || !strcmp(a, "--radius")) {
                 if (!cli_number(a, v, &x)) {
                     return EXIT_REFUSED;
@@ -280,7 +295,7 @@ int cmd_cascade(int argc, char **argv)
                     cli_error("cascade: %s must be a length > 0 m, got %s", a, v);
                     return EXIT_REFUSED;
                 }
-                if (a[2] == 'b') {
+                if (!strcmp(a, "--box")) {
                     s.L = x;
                 } else {
                     place.radius = x;
@@ -325,9 +340,10 @@ int cmd_cascade(int argc, char **argv)
         return EXIT_REFUSED;
     }
     const gr_cascade_variant_info *vi = gr_cascade_variant_get(s.variant);
-    const size_t cells = (size_t)1 << (2 * s.levels);
     double *totals = NULL, *t_mean = NULL, *t_m2 = NULL, *t_lo = NULL, *t_hi = NULL, *px = NULL, *py = NULL, *pv = NULL;
-    gr_cascade_field *field = NULL, *first = NULL;
+    double *coarse = NULL;
+    int field_level = 0;
+    gr_cascade_field *field = NULL;
     gr_cascade_sk *sk = NULL;
     gr_cascade_sk_bin *bins = NULL;
     gsl_rng *rng = NULL, *prng = NULL;
@@ -343,8 +359,9 @@ int cmd_cascade(int argc, char **argv)
     t_m2 = calloc((size_t)nl, sizeof(double));
     t_lo = calloc((size_t)nl, sizeof(double));
     t_hi = calloc((size_t)nl, sizeof(double));
+    coarse = malloc(sizeof(double) << (2 * (s.levels < FIELD_CSV_MAX_LEVELS ? s.levels : FIELD_CSV_MAX_LEVELS)));
     rng = gsl_rng_alloc(gsl_rng_mt19937);
-    if (!totals || !t_mean || !t_m2 || !t_lo || !t_hi || !rng) {
+    if (!totals || !t_mean || !t_m2 || !t_lo || !t_hi || !coarse || !rng) {
         cli_error("cascade: out of memory");
         status = EXIT_FAILED;
         goto done;
@@ -354,8 +371,7 @@ int cmd_cascade(int argc, char **argv)
         t_hi[l] = -INFINITY;
     }
     gsl_rng_set(rng, s.seed);
-    if ((rc = gr_cascade_field_alloc(s.levels, s.L, &field, &err)) || (rc = gr_cascade_field_alloc(s.levels, s.L, &first, &err)) ||
-        (rc = gr_cascade_sk_alloc(&s, &sk, &err))) {
+    if ((rc = gr_cascade_field_alloc(s.levels, s.L, &field, &err)) || (rc = gr_cascade_sk_alloc(&s, &sk, &err))) {
         cli_error("%s", err.message);
         status = rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
         goto done;
@@ -379,8 +395,7 @@ int cmd_cascade(int argc, char **argv)
             t_hi[l] = fmax(t_hi[l], totals[l]);
         }
         if (c == 0) {
-            memcpy(first->m, field->m, sizeof(double) * cells);
-            first->level = field->level;
+            field_level = coarse_field(field, coarse);
             if (do_place) { /* Fig. 6.3, from the first field, before the long part */
                 const double t0 = now();
                 px = malloc(sizeof(double) * (size_t)place.n);
@@ -393,7 +408,7 @@ int cmd_cascade(int argc, char **argv)
                     goto done;
                 }
                 gsl_rng_set(prng, derived_seed(s.seed));
-                if ((rc = gr_cascade_place(first, &place, prng, px, py, &pres, &err))) {
+                if ((rc = gr_cascade_place(field, &place, prng, px, py, &pres, &err))) {
                     cli_error("%s", err.message);
                     status = rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
                     goto done;
@@ -439,11 +454,10 @@ int cmd_cascade(int argc, char **argv)
     }
 
     run_info ri = {&s, vi, out};
-    int field_level = 0;
     gr_error io_err = {0};
     int io = write_sk(&ri, bins, nb, q_min, q_max, &io_err);
     io = io ? io : write_levels(&ri, t_mean, t_m2, t_lo, t_hi, s.configurations, &io_err);
-    io = io ? io : write_field(&ri, first, &field_level, &io_err);
+    io = io ? io : write_field(&ri, coarse, field_level, &io_err);
     char snapdir[1000] = "";
     if (!io && do_place) {
         snprintf(snapdir, sizeof snapdir, "%s/snapshots", out);
@@ -453,6 +467,18 @@ int cmd_cascade(int argc, char **argv)
             gr_particles p = {.n = place.n, .dim = 2, .L = s.L, .radius = place.radius, .mass = 3.53e-5,
                               .x = px, .y = py, .vx = pv, .vy = pv};
             io = gr_snapshot_write(snapdir, 0, &p, 0.0, &io_err);
+        }
+        if (!io) { /* the system, so that `granule analyse DIR` can read the snapshot */
+            gr_scene scene;
+            gr_scene_default(&scene);
+            scene.dim = 2;
+            scene.N = place.n;
+            scene.L = s.L;
+            scene.radius = place.radius;
+            snprintf(scene.out_dir, sizeof scene.out_dir, "%s", out);
+            snprintf(scene.source, sizeof scene.source, "granule cascade --variant %s --levels %d --seed %lu --place %d",
+                     vi->name, s.levels, s.seed, place.n);
+            io = gr_scene_save(&scene, out, &io_err);
         }
     }
     if (io) {
@@ -583,13 +609,13 @@ int cmd_cascade(int argc, char **argv)
         goto done;
     }
     if (have_fit) {
-        printf("%s: %s, %d levels, %d configurations: D_f = %.3f +- %.3f over k L/2pi = %g..%g "
+        printf("%s: %s, %d levels, %d configuration%s: D_f = %.3f +- %.3f over k L/2pi = %g..%g "
                "(exact average %.3f, D_2 = %.3f; Table 6.2: %s) in %.2f s\n",
-               out, vi->label, s.levels, s.configurations, fit.D_f, fit.D_f_err, q_min, q_max, fit_exp.D_f,
+               out, vi->label, s.levels, s.configurations, s.configurations == 1 ? "" : "s", fit.D_f, fit.D_f_err, q_min, q_max, fit_exp.D_f,
                gr_cascade_d2(&s), thesis, wall);
     } else {
-        printf("%s: %s, %d levels, %d configurations: %s; %.2f s\n", out, vi->label, s.levels, s.configurations,
-               fit_note, wall);
+        printf("%s: %s, %d levels, %d configuration%s: %s; %.2f s\n", out, vi->label, s.levels, s.configurations,
+               s.configurations == 1 ? "" : "s", fit_note, wall);
     }
     if (do_place) {
         printf("%s: %d discs placed (phi = %.3f, %lld attempts) -> %s/snap_000000.xyz\n", out, place.n, pres.phi,
@@ -605,9 +631,9 @@ done:
     free(px);
     free(py);
     free(pv);
+    free(coarse);
     free(bins);
     gr_cascade_field_free(field);
-    gr_cascade_field_free(first);
     gr_cascade_sk_free(sk);
     if (rng) {
         gsl_rng_free(rng);

@@ -780,6 +780,88 @@ static double tail_531(double v, const double *q, double *g, void *user)
     return q[0] + q[1] * lv - q[2] * va;
 }
 
+typedef struct pv_fit_par {
+    double from, alpha, S, h;
+    double chi2_red; /* of the fit to all batches (the first call) */
+    int points;
+    int calls;
+} pv_fit_par;
+
+static int pv_select(const pv_fit_par *q, const double *x, const double *p, const double *e, const double *count, int n,
+                     double *vx, double *vy, double *vs)
+{
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        if (x[i] >= q->from && p[i] > 0.0 && e[i] > 0.0 && isfinite(e[i]) && count[i] > 0.0) {
+            vx[m] = x[i];
+            vy[m] = p[i];
+            vs[m] = e[i];
+            m++;
+        }
+    }
+    return m;
+}
+
+/* A exp(-(v/v_A)^alpha): out = (A, v_A, alpha) */
+static int pv_stretched(const double *x, const double *p, const double *e, const double *count, int n, double *out, void *user)
+{
+    pv_fit_par *q = user;
+    double *vx = malloc(sizeof(double) * (size_t)n * 3);
+    if (!vx) {
+        return 1;
+    }
+    double *vy = vx + n, *vs = vy + n;
+    int m = pv_select(q, x, p, e, count, n, vx, vy, vs);
+    gr_fit f;
+    gr_error e2 = {0};
+    double p0[3] = {m ? vy[0] * exp(1.0) : 1.0, m ? vx[0] : 1.0, 1.0};
+    int rc = m >= 4 ? gr_fit_stretched_exp(vx, vy, vs, m, p0, &f, &e2) : 1;
+    free(vx);
+    if (rc) {
+        return 1;
+    }
+    for (int k = 0; k < 3; k++) {
+        out[k] = f.p[k];
+    }
+    if (q->calls++ == 0) {
+        q->chi2_red = f.chi2_red;
+        q->points = m;
+    }
+    return 0;
+}
+
+/* ln P = ln A0 + h ln v - S v^alpha with alpha fixed: out = (ln A0, h, S) */
+static int pv_531(const double *x, const double *p, const double *e, const double *count, int n, double *out, void *user)
+{
+    pv_fit_par *q = user;
+    double *vx = malloc(sizeof(double) * (size_t)n * 3);
+    if (!vx) {
+        return 1;
+    }
+    double *vy = vx + n, *vs = vy + n;
+    int m = pv_select(q, x, p, e, count, n, vx, vy, vs);
+    for (int i = 0; i < m; i++) {
+        vs[i] /= vy[i];
+        vy[i] = log(vy[i]);
+    }
+    gr_fit f;
+    gr_error e2 = {0};
+    double q0[3] = {m ? vy[0] + q->S * pow(vx[0], q->alpha) - q->h * log(vx[0]) : 0.0, q->h, q->S};
+    int rc = m >= 4 ? gr_fit_nonlinear(tail_531, &q->alpha, vx, vy, vs, m, 3, q0, &f, &e2) : 1;
+    free(vx);
+    if (rc) {
+        return 1;
+    }
+    for (int k = 0; k < 3; k++) {
+        out[k] = f.p[k];
+    }
+    if (q->calls++ == 0) {
+        q->chi2_red = f.chi2_red;
+        q->points = m;
+    }
+    return 0;
+}
+
 static int cmd_full(int argc, char **argv)
 {
     options o = {.out = "out/spm-full", .plots = true, .bins = 100};
@@ -923,9 +1005,9 @@ static int cmd_full(int argc, char **argv)
     gr_spm_prediction pred;
     bool have_pred = isfinite(pred_df) && gr_spm_predict(pred_df, gr_spm_B(&o.s, GR_SPM_THESIS_B_COEF), pred_C, &pred, &err) == 0;
 
-    /* the RFM's P(v): first its largest |v| when the range is automatic */
+    /* the RFM's snapshots: checked before any work, and their largest |v| for the range */
     gr_spm_rfm_info info = {0};
-    if (run_dir && isnan(vmax)) {
+    if (run_dir) {
         gr_histogram probe;
         if (gr_histogram_init(&probe, 1, 0.0, 1e-300, false, &err) ||
             gr_spm_rfm_histogram(run_dir, t_from, &probe, &info, &err)) {
@@ -942,9 +1024,9 @@ static int cmd_full(int argc, char **argv)
         }
     }
     if (isnan(vmax)) {
-        /* 5 u_l at the largest free path expected among the walks (tilted: quantile 1 - N^-tilt) */
+        /* 3 u_l at the largest free path expected among the walks (tilted: quantile 1 - N^-tilt) */
         double lbig = gr_spm_pl_quantile(&pl, 1.0 - pow((double)o.s.walks, -o.s.tilt));
-        vmax = 5.0 * gr_spm_velocity_scale(&o.s, lbig);
+        vmax = 3.0 * gr_spm_velocity_scale(&o.s, lbig);
         if (run_dir) {
             vmax = fmax(vmax, 1.02 * info.v_max); /* the run's fastest component fits too */
         }
@@ -977,7 +1059,7 @@ static int cmd_full(int argc, char **argv)
         cli_error("out of memory");
         return EXIT_FAILED;
     }
-    double *ps_ = v + nb, *es = ps_ + nb, *pr = es + nb, *er = pr + nb, *lnp = er + nb, *sl = lnp + nb, *vv = sl + nb;
+    double *ps_ = v + nb, *es = ps_ + nb, *pr = es + nb, *er = pr + nb;
     for (int i = 0; i < nb; i++) {
         v[i] = gr_histogram_center(&res.p.all, i);
         ps_[i] = gr_spm_dist_density(&res.p, i);
@@ -987,35 +1069,27 @@ static int cmd_full(int argc, char **argv)
     if (isnan(fit_from)) {
         fit_from = 3.0 * v_rms;
     }
-    /* tail fits of the SPM P(v): a free stretched exponential, and 5.31 with alpha fixed */
-    gr_fit sfit = {0}, f531 = {0};
-    bool have_sfit = false, have_531 = false;
-    {
-        int m = 0;
-        for (int i = 0; i < nb; i++) {
-            if (v[i] >= fit_from && ps_[i] > 0.0 && es[i] > 0.0 && res.p.all.count[i] > 0.0) {
-                vv[m] = v[i];
-                lnp[m] = ps_[i];
-                sl[m] = es[i];
-                m++;
-            }
-        }
-        gr_error e2 = {0};
-        double p0[3] = {m ? lnp[0] * exp(1.0) : 1.0, fit_from, 1.0};
-        have_sfit = m >= 4 && gr_fit_stretched_exp(vv, lnp, sl, m, p0, &sfit, &e2) == 0;
-        if (have_pred && m >= 4) {
-            for (int i = 0; i < m; i++) {
-                sl[i] /= lnp[i];
-                lnp[i] = log(lnp[i]);
-            }
-            double q0[3] = {lnp[0] + pred.S * pow(vv[0], pred.alpha), pred.h, pred.S};
-            have_531 = gr_fit_nonlinear(tail_531, &pred.alpha, vv, lnp, sl, m, 3, q0, &f531, &e2) == 0;
+    /* tail fits of the SPM P(v), jackknife errors: a free stretched exponential, and 5.31 with
+     * alpha fixed at the prediction */
+    pv_fit_par fp = {fit_from, have_pred ? pred.alpha : 1.0, have_pred ? pred.S : 10.0, have_pred ? pred.h : 0.5, 0.0, 0, 0};
+    double sfit[3], sfit_err[3], f531[3], f531_err[3];
+    gr_error e2 = {0};
+    bool have_sfit = gr_spm_dist_jackknife(&res.p, pv_stretched, &fp, 3, sfit, sfit_err, &e2) == 0;
+    double sfit_chi2 = fp.chi2_red;
+    int sfit_points = fp.points;
+    fp.calls = 0;
+    bool have_531 = have_pred && gr_spm_dist_jackknife(&res.p, pv_531, &fp, 3, f531, f531_err, &e2) == 0;
+    double f531_chi2 = fp.chi2_red;
+    double v_data = 0.0; /* the largest v with SPM data */
+    for (int i = 0; i < nb; i++) {
+        if (ps_[i] > 0.0) {
+            v_data = gr_histogram_upper(&res.p.all, i);
         }
     }
 
     /* the RFM */
-    gr_spm_compare cmp = {0};
-    bool have_cmp = false;
+    gr_spm_compare cmp = {0}, cmp2 = {0};
+    bool have_cmp = false, have_cmp2 = false;
     gr_histogram rh = {0};
     if (run_dir) {
         rc = gr_histogram_init(&rh, nb, 0.0, vmax, false, &err);
@@ -1033,10 +1107,12 @@ static int cmd_full(int argc, char **argv)
             if (isnan(compare_from)) {
                 compare_from = 2.0 * sqrt(info.v2_mean);
             }
-            gr_error e2 = {0};
-            have_cmp = gr_spm_compare_tails(v, ps_, es, pr, er, nb, compare_from, z_max, &cmp, &e2) == 0;
+            have_cmp = gr_spm_compare_tails(v, ps_, es, pr, er, nb, compare_from, z_max, false, &cmp, &e2) == 0;
+            have_cmp2 = gr_spm_compare_tails(v, ps_, es, pr, er, nb, compare_from, z_max, true, &cmp2, &e2) == 0;
         }
     }
+    /* the free-path scale the fitted velocity scale s stands for: l -> s^3 l */
+    double implied_C = pl.kind == GR_SPM_PL_FITTED && have_cmp2 ? pl.C * pow(cmp2.s, -3.0 * pl.beta) : (double)NAN;
 
     /* p_v.csv */
     gr_file f;
@@ -1047,11 +1123,11 @@ static int cmd_full(int argc, char **argv)
         csv_head(f.f, "P(v) of the full SPM (sec. 5.2.3), one velocity component", &o);
         fprintf(f.f, "# P_l: %s; weight %s; tilt %g\n", pl.source, weight_time ? "uniform in time" : "per walk", o.s.tilt);
         fprintf(f.f, "# v in m/s, P in s/m (density of the signed component); errors from the spread between batches;\n"
-                     "# P_531: A0 v^h exp(-S v^alpha) of 5.31 with alpha = %g and S, h, A0 fitted over v >= %g m/s\n",
-                have_pred ? pred.alpha : (double)NAN, fit_from);
+                     "# P_531: A0 v^h exp(-S v^alpha) of 5.31 with alpha = %g and S, h, A0 fitted over %g <= v <= %g m/s\n",
+                have_pred ? pred.alpha : (double)NAN, fit_from, v_data);
         fprintf(f.f, "v_lo,v_hi,v,samples,P,P_err,P_err_poisson,P_531\n");
         for (int i = 0; i < nb; i++) {
-            double p531 = have_531 && v[i] > 0.0 ? exp(tail_531(v[i], f531.p, NULL, &pred.alpha)) : (double)NAN;
+            double p531 = have_531 && v[i] >= fit_from && v[i] <= v_data ? exp(tail_531(v[i], f531, NULL, &fp.alpha)) : (double)NAN;
             fprintf(f.f, "%.6g,%.6g,%.6g,%.6g,%.6g,%.4g,%.4g,%.6g\n", gr_histogram_lower(&res.p.all, i),
                     gr_histogram_upper(&res.p.all, i), v[i], res.p.all.count[i], ps_[i], es[i],
                     gr_spm_dist_poisson_error(&res.p, i), p531);
@@ -1068,9 +1144,10 @@ static int cmd_full(int argc, char **argv)
         fprintf(f.f, "l,P,P_fit\n");
         if (pl.kind == GR_SPM_PL_TABLE) {
             for (int i = 0; i < pl.n; i++) {
-                double fit = have_plfit ? plfit.A0 * pow(pl.l[i], plfit.beta - 1.0) * exp(-plfit.C * pow(pl.l[i], plfit.beta))
-                                        : (double)NAN;
-                fprintf(f.f, "%.6g,%.6g,%.6g\n", pl.l[i], pl.p[i], pl.l[i] >= plfit.lfrom ? fit : (double)NAN);
+                double fit = have_plfit && pl.l[i] >= plfit.lfrom
+                                 ? plfit.A0 * pow(pl.l[i], plfit.beta - 1.0) * exp(-plfit.C * pow(pl.l[i], plfit.beta))
+                                 : (double)NAN;
+                fprintf(f.f, "%.6g,%.6g,%.6g\n", pl.l[i], pl.p[i], fit);
             }
         } else {
             double lo = gr_spm_pl_quantile(&pl, 1e-6), hi = gr_spm_pl_quantile(&pl, 1.0 - 1e-12);
@@ -1087,15 +1164,19 @@ static int cmd_full(int argc, char **argv)
             csv_head(f.f, "SPM P(v) against the Random Force Model's P(v) per component (Fig. 5.10)", &o);
             fprintf(f.f, "# run %s: %d frames with Time >= %g s (%d skipped), %lld particles, %dD; P_rfm errors sqrt(X)\n", run_dir,
                     info.frames, t_from, info.frames_skipped, (long long)info.particles, info.dim);
-            fprintf(f.f, "# k = %g +- %g scales the SPM (fitted over v >= %g m/s); agree: |z| <= %g in the contiguous tail\n",
-                    cmp.k, cmp.k_err, compare_from, z_max);
-            fprintf(f.f, "v,P_spm,P_spm_err,P_spm_scaled,P_rfm,P_rfm_err,z,agree\n");
+            fprintf(f.f, "# P_spm_scaled = k P_spm, k = %g +- %g fitted over v >= %g m/s; P_spm_fit = k2 P_spm(v/s)/s, k2 = %g,\n"
+                         "# s = %g +- %g (velocity scale fitted too); agree: |z| <= %g in the contiguous tail\n",
+                    cmp.k, cmp.k_err, compare_from, cmp2.k, cmp2.s, cmp2.s_err, z_max);
+            fprintf(f.f, "v,P_spm,P_spm_err,P_spm_scaled,P_rfm,P_rfm_err,z,agree,P_spm_fit,z_fit,agree_fit\n");
             for (int i = 0; i < nb; i++) {
-                double s2 = er[i] * er[i] + cmp.k * cmp.k * es[i] * es[i];
-                double z = s2 > 0.0 && ps_[i] > 0.0 && pr[i] > 0.0 ? (pr[i] - cmp.k * ps_[i]) / sqrt(s2) : (double)NAN;
-                int agree = have_cmp && cmp.agree_bins > 0 && v[i] >= cmp.v_agree_lo && v[i] <= cmp.v_agree_hi;
-                fprintf(f.f, "%.6g,%.6g,%.4g,%.6g,%.6g,%.4g,%.4g,%d\n", v[i], ps_[i], es[i], cmp.k * ps_[i], pr[i], er[i], z,
-                        agree);
+                double m1e, m1 = gr_spm_compare_model(&cmp, v, ps_, es, nb, i, &m1e);
+                double m2e, m2 = gr_spm_compare_model(&cmp2, v, ps_, es, nb, i, &m2e);
+                double z1 = m1 > 0.0 && pr[i] > 0.0 ? (pr[i] - m1) / sqrt(er[i] * er[i] + m1e * m1e) : (double)NAN;
+                double z2 = m2 > 0.0 && pr[i] > 0.0 ? (pr[i] - m2) / sqrt(er[i] * er[i] + m2e * m2e) : (double)NAN;
+                int a1 = have_cmp && cmp.agree_bins > 0 && v[i] >= cmp.v_agree_lo && v[i] <= cmp.v_agree_hi;
+                int a2 = have_cmp2 && cmp2.agree_bins > 0 && v[i] >= cmp2.v_agree_lo && v[i] <= cmp2.v_agree_hi;
+                fprintf(f.f, "%.6g,%.6g,%.4g,%.6g,%.6g,%.4g,%.4g,%d,%.6g,%.4g,%d\n", v[i], ps_[i], es[i], m1, pr[i], er[i], z1,
+                        a1, m2, z2, a2);
             }
             rc = gr_file_commit(&f, &err);
         }
@@ -1130,16 +1211,17 @@ static int cmd_full(int argc, char **argv)
     cJSON *rj = cJSON_AddObjectToObject(j, "spm");
     json_stats(rj, &res.stats);
     json_num(rj, "vmax", vmax);
+    json_num(rj, "v_max_with_data", v_data);
     json_num(rj, "v_rms", v_rms);
     json_num(rj, "fit_from", fit_from);
     if (have_sfit) {
         cJSON *t = cJSON_AddObjectToObject(rj, "stretched_exp_fit");
-        json_num(t, "alpha", sfit.p[2]);
-        json_num(t, "alpha_err", sfit.err[2]);
-        json_num(t, "v_A", sfit.p[1]);
-        json_num(t, "v_A_err", sfit.err[1]);
-        json_num(t, "chi2_red", sfit.chi2_red);
-        cJSON_AddNumberToObject(t, "points", sfit.n_points);
+        json_num(t, "alpha", sfit[2]);
+        json_num(t, "alpha_err", sfit_err[2]);
+        json_num(t, "v_A", sfit[1]);
+        json_num(t, "v_A_err", sfit_err[1]);
+        json_num(t, "chi2_red", sfit_chi2);
+        cJSON_AddNumberToObject(t, "points", sfit_points);
     }
     if (have_pred) {
         cJSON *t = cJSON_AddObjectToObject(rj, "prediction_5_27_5_31");
@@ -1151,11 +1233,11 @@ static int cmd_full(int argc, char **argv)
         json_num(t, "S", pred.S);
         json_num(t, "v_A", pred.v_A);
         if (have_531) {
-            json_num(t, "fit_S", f531.p[2]);
-            json_num(t, "fit_S_err", f531.err[2]);
-            json_num(t, "fit_h", f531.p[1]);
-            json_num(t, "fit_h_err", f531.err[1]);
-            json_num(t, "fit_chi2_red", f531.chi2_red);
+            json_num(t, "fit_S", f531[2]);
+            json_num(t, "fit_S_err", f531_err[2]);
+            json_num(t, "fit_h", f531[1]);
+            json_num(t, "fit_h_err", f531_err[1]);
+            json_num(t, "fit_chi2_red", f531_chi2);
         }
     }
     if (run_dir) {
@@ -1166,18 +1248,31 @@ static int cmd_full(int argc, char **argv)
         json_num(t, "t_from", t_from);
         cJSON_AddNumberToObject(t, "particles", (double)info.particles);
         json_num(t, "v_rms", sqrt(info.v2_mean));
+        json_num(t, "v_max", info.v_max);
         json_num(t, "mass_of_run", run_mass);
         json_num(t, "D_of_run", run_D);
-        if (have_cmp) {
-            json_num(t, "compare_from", cmp.v_from);
-            json_num(t, "k", cmp.k);
-            json_num(t, "k_err", cmp.k_err);
-            json_num(t, "chi2_red_above_compare_from", cmp.chi2_red);
-            json_num(t, "agree_v_lo", cmp.v_agree_lo);
-            json_num(t, "agree_v_hi", cmp.v_agree_hi);
-            cJSON_AddNumberToObject(t, "agree_bins", cmp.agree_bins);
-            json_num(t, "agree_decades", cmp.decades);
-            json_num(t, "z_max", z_max);
+        json_num(t, "compare_from", compare_from);
+        json_num(t, "z_max", z_max);
+        for (int w = 0; w < 2; w++) {
+            const gr_spm_compare *c = w ? &cmp2 : &cmp;
+            if (!(w ? have_cmp2 : have_cmp)) {
+                continue;
+            }
+            cJSON *x = cJSON_AddObjectToObject(t, w ? "amplitude_and_velocity_scale" : "amplitude_only");
+            json_num(x, "k", c->k);
+            json_num(x, "k_err", c->k_err);
+            json_num(x, "s", c->s);
+            json_num(x, "s_err", c->s_err);
+            if (w) {
+                json_num(x, "implied_C", implied_C);
+            }
+            json_num(x, "chi2_red", c->chi2_red);
+            cJSON_AddNumberToObject(x, "points", c->n_points);
+            json_num(x, "agree_v_lo", c->v_agree_lo);
+            json_num(x, "agree_v_hi", c->v_agree_hi);
+            cJSON_AddNumberToObject(x, "agree_bins", c->agree_bins);
+            json_num(x, "agree_decades", c->decades);
+            json_num(x, "fraction_of_tail_bins_within_z_max", c->frac_within);
         }
     }
     cJSON_AddNumberToObject(j, "wall_seconds", wall);
@@ -1187,18 +1282,22 @@ static int cmd_full(int argc, char **argv)
         int k = snprintf(body, sizeof body,
                          "set title 'P(v) of the Single Particle Model (sec. 5.2.3), %dD'\n"
                          "set xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\nset logscale y\nset format y '10^{%%L}'\n"
-                         "set key top right\nplot 'p_v.csv' using 3:($5>0 ? $5 : 1/0):6 with yerrorbars pt 7 ps 0.4 title 'SPM'",
-                         o.s.dim);
+                         "set key top right\nset xrange [0:%g]\n"
+                         "plot 'p_v.csv' using 3:($5>0 ? $5 : 1/0):($5-$6 > 0 ? $5-$6 : $5/10):($5+$6) with yerrorbars "
+                         "pt 7 ps 0.4 title 'SPM'",
+                         o.s.dim, run_dir ? fmax(v_data, 1.02 * info.v_max) : v_data);
         if (have_531) {
-            k += snprintf(body + k, sizeof body - (size_t)k, ", '' using 3:($3>=%g ? $8 : 1/0) with lines lw 2 lc rgb 'black' "
+            k += snprintf(body + k, sizeof body - (size_t)k, ", '' using 3:8 with lines lw 2 lc rgb 'black' "
                                                              "title 'fit of 5.31, alpha = %.3f fixed'",
-                          fit_from, pred.alpha);
+                          pred.alpha);
         }
         if (run_dir) {
             k += snprintf(body + k, sizeof body - (size_t)k,
-                          ", 'compare.csv' using 1:($5>0 ? $5 : 1/0):6 with yerrorbars pt 6 ps 0.6 title 'RFM run', "
-                          "'' using 1:($4>0 ? $4 : 1/0) with lines dt 2 lw 2 title 'SPM x k = %.3g'",
-                          cmp.k);
+                          ", 'compare.csv' using 1:($5>0 ? $5 : 1/0):($5-$6 > 0 ? $5-$6 : $5/10):($5+$6) with yerrorbars "
+                          "pt 6 ps 0.6 title 'RFM run', "
+                          "'' using 1:($4>0 ? $4 : 1/0) with lines dt 2 lw 2 title 'SPM x %.3g', "
+                          "'' using 1:($9>0 ? $9 : 1/0) with lines dt 3 lw 2 title 'SPM x %.3g, v scaled by %.3g'",
+                          cmp.k, cmp2.k, cmp2.s);
         }
         snprintf(body + k, sizeof body - (size_t)k, "\n");
         plot(&o, j, "p_v.png", body);
@@ -1214,30 +1313,44 @@ static int cmd_full(int argc, char **argv)
     if (!rc) {
         printf("%s: SPM P(v), %dD, %lld walks (%s), l from %s, %.1f s\n", o.out, o.s.dim, (long long)o.s.walks,
                weight_time ? "uniform in time" : "per walk", pl.source, wall);
-        printf("  <l> = %.4g m, v_rms = %.4g m/s, mean first-passage time %.4f t_l\n", res.l_mean, v_rms,
-               res.stats.exit_time_mean);
+        printf("  <l> = %.4g m, v_rms = %.4g m/s, data up to %.3g m/s, mean first-passage time %.4f t_l\n", res.l_mean, v_rms,
+               v_data, res.stats.exit_time_mean);
         if (pl_path && have_plfit) {
             printf("  P_l tail (4.25) over l >= %.3g m: D_f = %.3f +- %.3f, C = %.4g +- %.2g\n", plfit.lfrom, plfit.df,
                    plfit.df_err, plfit.C, plfit.C_err);
         }
         if (have_sfit) {
-            printf("  tail v >= %.3g m/s: stretched exponential alpha = %.3f +- %.3f (chi2/dof %.2f)\n", fit_from, sfit.p[2],
-                   sfit.err[2], sfit.chi2_red);
+            printf("  tail v >= %.3g m/s: stretched exponential alpha = %.3f +- %.3f (jackknife; chi2/dof %.2f)\n", fit_from,
+                   sfit[2], sfit_err[2], sfit_chi2);
         }
         if (have_pred) {
             printf("  prediction: alpha = %.4f (5.29), h = %.4f (5.31), S = %.4g, v_A = %.4g m/s (5.27, b = 0.98)", pred.alpha,
                    pred.h, pred.S, pred.v_A);
             if (have_531) {
-                printf("; fitted with alpha fixed: S = %.4g +- %.2g, h = %.3f +- %.3f", f531.p[2], f531.err[2], f531.p[1],
-                       f531.err[1]);
+                printf("; fitted with alpha fixed: S = %.4g +- %.2g, h = %.3f +- %.3f", f531[2], f531_err[2], f531[1],
+                       f531_err[1]);
             }
             printf("\n");
         }
-        if (run_dir && have_cmp) {
-            printf("  RFM %s: %d frames, v_rms = %.4g m/s; SPM x %.4g agrees (|z| <= %g) for %.3g <= v <= %.3g m/s: %.2f decades of P(v)\n",
-                   run_dir, info.frames, sqrt(info.v2_mean), cmp.k, z_max, cmp.v_agree_lo, cmp.v_agree_hi, cmp.decades);
-        } else if (run_dir) {
-            printf("  RFM %s: %d frames; no comparison possible (no common tail bins)\n", run_dir, info.frames);
+        if (run_dir) {
+            printf("  RFM %s: %d frames, %lld particles, v_rms = %.4g m/s\n", run_dir, info.frames, (long long)info.particles,
+                   sqrt(info.v2_mean));
+            if (have_cmp) {
+                printf("    SPM x %.4g: agrees (|z| <= %g) for %.3g <= v <= %.3g m/s, %.2f decades of P(v); %.0f%% of the bins "
+                       "v >= %.3g within\n",
+                       cmp.k, z_max, cmp.v_agree_lo, cmp.v_agree_hi, cmp.decades, 100.0 * cmp.frac_within, compare_from);
+            }
+            if (have_cmp2) {
+                printf("    SPM x %.4g, v x %.4g +- %.2g", cmp2.k, cmp2.s, cmp2.s_err);
+                if (isfinite(implied_C)) {
+                    printf(" (C = %.4g)", implied_C);
+                }
+                printf(": agrees for %.3g <= v <= %.3g m/s, %.2f decades; %.0f%% of the tail bins within\n", cmp2.v_agree_lo,
+                       cmp2.v_agree_hi, cmp2.decades, 100.0 * cmp2.frac_within);
+            }
+            if (!have_cmp && !have_cmp2) {
+                printf("    no comparison possible (no common tail bins)\n");
+            }
         }
     }
     gr_histogram_free(&rh);
@@ -1473,7 +1586,7 @@ static int cmd_predict(int argc, char **argv)
 int cmd_spm(int argc, char **argv)
 {
     if (argc < 2) {
-        usage_main(stderr);
+        cli_error("spm: give a mode: circle, full or predict (granule spm --help)");
         return EXIT_REFUSED;
     }
     const char *m = argv[1];

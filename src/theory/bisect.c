@@ -23,6 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 #include <time.h>
 
 #include "granule/bisect.h"
@@ -125,8 +126,15 @@ static int find_column(char **fields, int nf, const char *const *names)
     return -1;
 }
 
-static int csv_read(const char *path, const char *const *x_names, const char *const *y_names,
-                    const char *const *e_names, csv_table *t, gr_error *err)
+/* Column names looked up in a header line (case-insensitive, first match wins); without a header,
+ * or when the header names none of them, x and y are the first two columns and e the third. Rows
+ * are kept only where each filter column that the header has holds the filter value. */
+typedef struct csv_spec {
+    const char *const *x, *const *y, *const *e; /* e NULL: no error column */
+    const char *filter_column[2], *filter_value[2];
+} csv_spec;
+
+static int csv_read(const char *path, const csv_spec *spec, csv_table *t, gr_error *err)
 {
     memset(t, 0, sizeof *t);
     FILE *f = fopen(path, "r");
@@ -134,7 +142,7 @@ static int csv_read(const char *path, const char *const *x_names, const char *co
         return GR_FAIL(err, GR_EIO, "cannot read %s: %s", path, strerror(errno));
     }
     char line[4096], *fields[64];
-    int lineno = 0, cx = 0, cy = 1, ce = -1, rc = GR_OK;
+    int lineno = 0, cx = 0, cy = 1, ce = -1, fc[2] = {-1, -1}, rc = GR_OK;
     bool have_columns = false;
     size_t used = 0;
     while (fgets(line, sizeof line, f)) {
@@ -158,24 +166,33 @@ static int csv_read(const char *path, const char *const *x_names, const char *co
         double v;
         if (!have_columns) {
             have_columns = true;
+            ce = spec->e && nf >= 3 ? 2 : -1;
             if (!parse_number(fields[0], &v)) { /* a header line */
-                int hx = find_column(fields, nf, x_names), hy = find_column(fields, nf, y_names);
+                int hx = find_column(fields, nf, spec->x), hy = find_column(fields, nf, spec->y);
                 if (hx >= 0 && hy >= 0) {
                     cx = hx;
                     cy = hy;
-                    ce = find_column(fields, nf, e_names);
-                } else {
-                    ce = e_names && nf >= 3 ? 2 : -1;
+                    ce = find_column(fields, nf, spec->e);
+                }
+                for (int k = 0; k < 2; k++) {
+                    const char *names[2] = {spec->filter_column[k], NULL};
+                    fc[k] = spec->filter_column[k] ? find_column(fields, nf, names) : -1;
                 }
                 continue;
             }
-            ce = e_names && nf >= 3 ? 2 : -1;
         }
         int need = (cx > cy ? cx : cy) + 1;
+        for (int k = 0; k < 2; k++) {
+            need = fc[k] + 1 > need ? fc[k] + 1 : need;
+        }
         need = ce + 1 > need ? ce + 1 : need;
         if (nf < need) {
             rc = GR_FAIL(err, GR_EINVAL, "%s:%d: expected %d columns, found %d", path, lineno, need, nf);
             break;
+        }
+        if ((fc[0] >= 0 && strcmp(fields[fc[0]], spec->filter_value[0])) ||
+            (fc[1] >= 0 && strcmp(fields[fc[1]], spec->filter_value[1]))) {
+            continue;
         }
         double xv, yv, ev = 0.0;
         const char *bad = !parse_number(fields[cx], &xv) ? fields[cx]
@@ -216,13 +233,20 @@ static int csv_read(const char *path, const char *const *x_names, const char *co
         rc = GR_FAIL(err, GR_EIO, "cannot read %s: %s", path, strerror(errno));
     }
     fclose(f);
-    if (!rc && t->n < 2) {
-        rc = GR_FAIL(err, GR_EINVAL, "%s: needs at least 2 data rows, found %d", path, t->n);
-    }
     if (rc) {
         csv_table_free(t);
     }
     return rc;
+}
+
+static int csv_need_rows(const char *path, csv_table *t, const char *what, gr_error *err)
+{
+    if (t->n >= 2) {
+        return GR_OK;
+    }
+    int n = t->n;
+    csv_table_free(t);
+    return GR_FAIL(err, GR_EINVAL, "%s: needs at least 2 data rows%s, found %d", path, what, n);
 }
 
 /* "key = value" (or "key: value") anywhere in the comment text; key matched as a whole word. */
@@ -349,9 +373,13 @@ int gr_bisect_u0_table(gr_bisect_u0 *u, const double *a, const double *U, int n,
 int gr_bisect_u0_load(gr_bisect_u0 *u, const char *path, gr_error *err)
 {
     static const char *const xn[] = {"a", NULL}, *const yn[] = {"U", "U_0", "U0", "density", NULL};
+    const csv_spec spec = {.x = xn, .y = yn};
     memset(u, 0, sizeof *u);
     csv_table t;
-    int rc = csv_read(path, xn, yn, NULL, &t, err);
+    int rc = csv_read(path, &spec, &t, err);
+    if (!rc) {
+        rc = csv_need_rows(path, &t, "", err);
+    }
     if (rc) {
         return rc;
     }
@@ -953,36 +981,114 @@ void gr_bisect_g1_free(gr_bisect_g1 *g)
     g->n_points = 0;
 }
 
+/* N and L' from a run folder's summary.json ("gaps": {"N", "reduced_length"}, written by the 1D
+ * gaps observable); false if the file or the keys are missing. */
+static bool run_gaps_info(const char *dir, double *N, double *Lr)
+{
+    char path[1240];
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        return false;
+    }
+    char *text = NULL;
+    size_t len = 0, cap = 0;
+    for (;;) {
+        if (len + 4096 + 1 > cap) {
+            cap = 2 * cap + 8192;
+            char *nt = realloc(text, cap);
+            if (!nt) {
+                break;
+            }
+            text = nt;
+        }
+        size_t r = fread(text + len, 1, 4096, f);
+        len += r;
+        if (r < 4096) {
+            break;
+        }
+    }
+    fclose(f);
+    bool ok = false;
+    if (text && len + 1 <= cap) {
+        text[len] = 0;
+        cJSON *j = cJSON_Parse(text);
+        const cJSON *gaps = cJSON_GetObjectItemCaseSensitive(j, "gaps");
+        const cJSON *n = cJSON_GetObjectItemCaseSensitive(gaps, "N"), *l = cJSON_GetObjectItemCaseSensitive(gaps, "reduced_length");
+        if (cJSON_IsNumber(n) && cJSON_IsNumber(l)) {
+            *N = n->valuedouble;
+            *Lr = l->valuedouble;
+            ok = true;
+        }
+        cJSON_Delete(j);
+    }
+    free(text);
+    return ok;
+}
+
 int gr_bisect_g1_load(gr_bisect_g1 *g, const char *path, gr_error *err)
 {
     static const char *const xn[] = {"R", NULL}, *const yn[] = {"G", "G_1", "G1", "density", NULL},
                              *const en[] = {"G_err", "G_error", "G_1_err", "density_error", "sigma", NULL};
     memset(g, 0, sizeof *g);
+    /* a run folder stands for its gaps.csv; a gaps.csv (columns h, binning, ...) gives its h = 1
+     * rows, logarithmic bins if it has them, and N, L' from the summary.json beside it */
+    char csv[1240], dir[1200];
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        snprintf(dir, sizeof dir, "%s", path);
+        snprintf(csv, sizeof csv, "%s/gaps.csv", path);
+    } else {
+        const char *slash = strrchr(path, '/');
+        snprintf(csv, sizeof csv, "%s", path);
+        snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) : 1, slash ? path : ".");
+    }
+    csv_spec spec = {.x = xn, .y = yn, .e = en, .filter_column = {"h", "binning"}, .filter_value = {"1", "log"}};
     csv_table t;
-    int rc = csv_read(path, xn, yn, en, &t, err);
+    int rc = csv_read(csv, &spec, &t, err);
+    if (!rc && t.n < 2) { /* a gaps.csv without logarithmic bins */
+        csv_table_free(&t);
+        spec.filter_value[1] = "lin";
+        rc = csv_read(csv, &spec, &t, err);
+    }
+    if (!rc) {
+        rc = csv_need_rows(csv, &t, " (of G_1)", err);
+    }
     if (rc) {
         return rc;
     }
-    double N = NAN, Lr = 1.0;
-    if (!comment_value(t.comments, "N", &N) || !(N > 2.0)) {
+    double N = NAN, Lr = 1.0, runN = NAN, runLr = 1.0;
+    bool have_run = run_gaps_info(dir, &runN, &runLr);
+    if (!comment_value(t.comments, "N", &N) && have_run) {
+        N = runN;
+        Lr = runLr;
+    }
+    if (!(N > 2.0)) {
         csv_table_free(&t);
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: needs a comment line '# N = <particles>' with N > 2 (n = log2 N enters the collapse 3.39)", path);
+                       "%s: needs a comment line '# N = <particles>' with N > 2, or a run's summary.json beside it "
+                       "(n = log2 N enters the collapse 3.39)", csv);
     }
     if (comment_value(t.comments, "reduced_length", &Lr) && !(Lr > 0.0)) {
         csv_table_free(&t);
-        return GR_FAIL(err, GR_EINVAL, "%s: reduced_length must be > 0, got %g", path, Lr);
+        return GR_FAIL(err, GR_EINVAL, "%s: reduced_length must be > 0, got %g", csv, Lr);
+    }
+    if (!(Lr > 0.0)) {
+        csv_table_free(&t);
+        return GR_FAIL(err, GR_EINVAL, "%s: the run's reduced_length must be > 0, got %g", csv, Lr);
     }
     for (int i = 0; i < t.n; i++) {
         if (!(t.x[i] >= 0.0) || (i > 0 && !(t.x[i] > t.x[i - 1]))) {
             double bad = t.x[i];
             csv_table_free(&t);
-            return GR_FAIL(err, GR_EINVAL, "%s: R must be >= 0 and increase strictly (row %d: R = %g)", path, i + 1, bad);
+            return GR_FAIL(err, GR_EINVAL, "%s: R must be >= 0 and increase strictly (row %d: R = %g)", csv, i + 1, bad);
         }
         if (!(t.y[i] >= 0.0) || (t.e && !(t.e[i] >= 0.0))) {
             csv_table_free(&t);
-            return GR_FAIL(err, GR_EINVAL, "%s: G and its error must be >= 0 (row %d)", path, i + 1);
+            return GR_FAIL(err, GR_EINVAL, "%s: G and its error must be >= 0 (row %d)", csv, i + 1);
         }
+    }
+    for (int i = 0; i < t.n; i++) {
         t.x[i] /= Lr; /* to L' = 1 as in the thesis: R -> R/L', G -> G L' */
         t.y[i] *= Lr;
         if (t.e) {
@@ -1014,8 +1120,16 @@ int gr_bisect_g1_at(const gr_bisect_g1 *g, double R, double *G, gr_error *err)
             hi = mid;
         }
     }
-    double t = (R - g->R[lo]) / (g->R[hi] - g->R[lo]);
-    *G = g->G[lo] + t * (g->G[hi] - g->G[lo]);
+    const double R0 = g->R[lo], R1 = g->R[hi], G0 = g->G[lo], G1 = g->G[hi];
+    if (R == R0 || R == R1) {
+        *G = R == R0 ? G0 : G1;
+    } else if (R0 > 0.0 && R1 < 1.0 && G0 > 0.0 && G1 > 0.0) {
+        /* ln G linear in ln(-ln R): exact for the logarithmic form G ~ (-ln R)^(n_N - 1) (3.22) */
+        double u = log(-log(R)), u0 = log(-log(R0)), u1 = log(-log(R1));
+        *G = exp(log(G0) + (u - u0) / (u1 - u0) * (log(G1) - log(G0)));
+    } else {
+        *G = G0 + (R - R0) / (R1 - R0) * (G1 - G0);
+    }
     return GR_OK;
 }
 
@@ -1223,13 +1337,16 @@ static int write_collapse(const char *dir, const gr_bisect_settings *s, const gr
     return gr_file_commit(&f, err);
 }
 
-/* gnuplot string literals: single quotes doubled */
+/* Literal text inside a single-quoted gnuplot string drawn as enhanced text: quotes doubled,
+ * the enhanced-text operators (_ ^ { } @ & ~ \) escaped with a backslash. */
 static void gp_quote(char *dst, size_t size, const char *src)
 {
     size_t j = 0;
     for (size_t i = 0; src[i] && j + 3 < size; i++) {
         if (src[i] == '\'') {
             dst[j++] = '\'';
+        } else if (strchr("_^{}@&~\\", src[i])) {
+            dst[j++] = '\\';
         }
         dst[j++] = src[i];
     }

@@ -48,7 +48,7 @@ void gr_fp_settings_default(gr_fp_settings *s)
     s->inner_quadrature = false;
     s->walkers = 100000;
     s->seed = 1;
-    s->steps_per_T0 = 2000.0;
+    s->steps_per_T0 = 1000.0;
     s->max_T0 = 200.0;
     s->start = GR_FP_START_UNIFORM;
     s->bins = 100;
@@ -141,24 +141,32 @@ static double hyp_series(double z)
 
 static double a2_const(void);
 
-/* gsl_sf_hyperg_2F1_e(-1/3, 1; 5/6; z), 0 <= z < 1, with its status checked. GSL's own error
- * estimate is useless for these parameters (it reports err ~ 1 for values ~ 1 whose true error is
- * ~1e-16; GSL bug reports: savannah #54998), so the value is checked instead against the Gauss
- * series (z <= 1/2) or, for z > 1/2, against the connection formula below; a disagreement above
- * 1e-12 is an error. */
+/* gsl_sf_hyperg_2F1_e(-1/3, 1; 5/6; z), 0 <= z < 1, with its status checked. Two defects of
+ * GSL 2.7.1 for these parameters are guarded against:
+ *  - its error estimate is useless (err ~ 1 for values ~ 1 whose true error is ~1e-16; see the
+ *    GSL bug reports on hyperg_2F1, e.g. savannah #54998), so the value is checked instead
+ *    against the Gauss series (z <= 1/2) or the connection formula (z > 1/2), and a disagreement
+ *    above 1e-12 is an error;
+ *  - for 1 - z < ~1e-13 it returns Gauss's value 2F1(1) = -1 and drops the (1-z)^(1/6) term of
+ *    the connection formula (measured: 1 - z = 1e-13 gives -1.0 for the true -0.98718), so there
+ *    the connection formula is used. */
 static int hyp(double z, double *out, gr_error *err)
 {
-    gsl_sf_result r;
-    int st = gsl_sf_hyperg_2F1_e(-THIRD, 1.0, 5.0 / 6.0, z, &r);
-    if (st != GSL_SUCCESS || !isfinite(r.val)) {
-        return GR_FAIL(err, GR_EUNSTABLE, "gsl_sf_hyperg_2F1(-1/3, 1; 5/6; %.17g) failed: %s", z, gsl_strerror(st));
-    }
     double check;
     if (z <= 0.5) {
         check = hyp_series(z);
     } else {
-        double y = 1.0 - z; /* 2F1(..; 1 - y) = -2F1(..; y) + a2 [y(1-y)]^(1/6) */
+        double y = 1.0 - z; /* exact for z in [1/2, 1]: 2F1(..; 1 - y) = -2F1(..; y) + a2 [y(1-y)]^(1/6) */
         check = -hyp_series(y) + a2_const() * pow(y * (1.0 - y), 1.0 / 6.0);
+        if (y < 1e-12) {
+            *out = check;
+            return GR_OK;
+        }
+    }
+    gsl_sf_result r;
+    int st = gsl_sf_hyperg_2F1_e(-THIRD, 1.0, 5.0 / 6.0, z, &r);
+    if (st != GSL_SUCCESS || !isfinite(r.val)) {
+        return GR_FAIL(err, GR_EUNSTABLE, "gsl_sf_hyperg_2F1(-1/3, 1; 5/6; %.17g) failed: %s", z, gsl_strerror(st));
     }
     if (!(fabs(r.val - check) <= 1e-12 * fmax(1.0, fabs(check)))) {
         return GR_FAIL(err, GR_EUNSTABLE, "gsl_sf_hyperg_2F1(-1/3, 1; 5/6; %.17g) = %.17g disagrees with the series value %.17g",
