@@ -54,9 +54,9 @@ typedef struct gr_fp_settings {
     bool inner_quadrature; /* evaluate B.34's inner z-integral by QAG instead of its closed form
                               z^(1/3) E_{4/3}(v^3 / (9 Gamma z)) (slower; a cross-check) */
     /* simulation */
-    int64_t walkers;       /* number of particles released (default 100000) */
+    int64_t walkers;       /* number of particles released (default 200000) */
     uint64_t seed;         /* gsl_rng_mt19937 seed */
-    double steps_per_T0;   /* time steps per T0 = L / V (default 1000) */
+    double steps_per_T0;   /* time steps per T0 = L / V (default 200) */
     double max_T0;         /* a walk still inside after max_T0 * T0 is cut off and reported */
     gr_fp_start start;
     int bins;              /* velocity bins of Q over [-vmax, vmax] (even; default 100) */
@@ -146,7 +146,7 @@ typedef struct gr_fp_sim_result {
     double abs_v_mean, abs_v_mean_err;        /* <|v|> */
     double exit_speed_mean, exit_speed_err;   /* <|v_exit|> over all exits */
     double exit_speed2_mean, exit_speed2_err; /* <v_exit^2> */
-    double wall_seconds;
+    double wall_seconds, cpu_seconds; /* elapsed and CPU time of the simulation */
 } gr_fp_sim_result;
 
 /* Called now and then with the fraction done; return non-zero to stop (GR_EINVAL "stopped"). */

@@ -37,9 +37,10 @@ static void usage(FILE *f)
             "  --length L        interval length, m (default 1; L = 2 l of B.33)\n"
             "  --D D             noise strength, N^2 s (default 1)\n"
             "  --mass M          particle mass, kg (default 1; the thesis figures use L = D = M = 1)\n"
-            "  --walkers W       walkers to release (default 100000)\n"
+            "  --walkers W       walkers to release (default 200000)\n"
             "  --seed S          gsl_rng_mt19937 seed (default 1)\n"
-            "  --steps N         time steps per T0 (default 1000)\n"
+            "  --steps N         time steps per T0 (default 200; the results do not move within their\n"
+            "                    errors down to 40, see the docs)\n"
             "  --start uniform|centre  release point: uniform in (0, L), the model B.32 solves (default),\n"
             "                    or the centre (the Single Particle Model, sec. 5.3.1; B.32 does not\n"
             "                    describe it and only exact identities are checked then)\n"
@@ -479,7 +480,8 @@ int cmd_fokker_planck(int argc, char **argv)
         json_num(sj, "Q_pdf_at_0_fit", q0fit);
         json_num(sj, "Q_pdf_at_0_fit_err", q0fit_err);
         cJSON_AddNumberToObject(sj, "seconds", r.wall_seconds);
-        cJSON_AddNumberToObject(sj, "steps_per_second", r.wall_seconds > 0.0 ? (double)r.steps / r.wall_seconds : 0.0);
+        cJSON_AddNumberToObject(sj, "cpu_seconds", r.cpu_seconds);
+        cJSON_AddNumberToObject(sj, "steps_per_cpu_second", r.cpu_seconds > 0.0 ? (double)r.steps / r.cpu_seconds : 0.0);
         /* exact identities of the process, any symmetric start (docs): Q(0) = <|v_exit|>/(2 Gamma <T>),
          * <v^2> = Gamma L Q(0) */
         cJSON *id = cJSON_AddObjectToObject(j, "identities");

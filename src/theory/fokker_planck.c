@@ -46,9 +46,9 @@ void gr_fp_settings_default(gr_fp_settings *s)
     s->epsrel = 1e-9;
     s->limit = 1000;
     s->inner_quadrature = false;
-    s->walkers = 100000;
+    s->walkers = 200000;
     s->seed = 1;
-    s->steps_per_T0 = 1000.0;
+    s->steps_per_T0 = 200.0;
     s->max_T0 = 200.0;
     s->start = GR_FP_START_UNIFORM;
     s->bins = 100;
@@ -792,10 +792,10 @@ static void ratio_estimate(const walk_acc *a, int k, double *mean, double *err)
     *err = sqrt(fmax(var, 0.0));
 }
 
-static double now_seconds(void)
+static double now_seconds(clockid_t clock)
 {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(clock, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
@@ -819,7 +819,7 @@ int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
     if (rc) {
         return rc;
     }
-    const double t_start = now_seconds();
+    const double t_start = now_seconds(CLOCK_MONOTONIC), cpu_start = now_seconds(CLOCK_THREAD_CPUTIME_ID);
     const double V = gr_fp_velocity_scale(s), T0 = gr_fp_time_scale(s);
     const double vmax = s->vmax_V * V;
     const int nb = s->bins;
@@ -933,7 +933,7 @@ int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
                 S_nN[i] += n * Nw;
                 for (int b2 = 0; b2 < ntouched; b2++) {
                     int j = touched[b2];
-                    if (j < nb) {
+                    if (j < nb && j >= i) { /* upper triangle; mirrored below */
                         S_nn[(size_t)i * (size_t)nb + (size_t)j] += n * local[j];
                     }
                 }
@@ -984,6 +984,11 @@ int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
         /* bin densities p_i / w with covariance sum_walks (n_i - p_i N)(n_j - p_j N) / (S_N w)^2 */
         const double SN = acc.sum_n, w = 2.0 * vmax / nb;
         for (int i = 0; i < nb; i++) {
+            for (int j = 0; j < i; j++) {
+                S_nn[(size_t)i * (size_t)nb + (size_t)j] = S_nn[(size_t)j * (size_t)nb + (size_t)i];
+            }
+        }
+        for (int i = 0; i < nb; i++) {
             double pi = out->q.count[i] / SN;
             for (int j = 0; j < nb; j++) {
                 double pj = out->q.count[j] / SN;
@@ -1016,7 +1021,8 @@ int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
         }
         out->tau = tau * T0;
     }
-    out->wall_seconds = now_seconds() - t_start;
+    out->wall_seconds = now_seconds(CLOCK_MONOTONIC) - t_start;
+    out->cpu_seconds = now_seconds(CLOCK_THREAD_CPUTIME_ID) - cpu_start;
     free(local);
     free(touched);
     free(S_nN);
