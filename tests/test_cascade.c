@@ -236,8 +236,8 @@ END_TEST
 
 START_TEST(test_circular_bins)
 {
-    /* every lattice vector with 0 < |q| < 2^n/2 + 1/2 falls in exactly one bin, and a bin's S is the mean of
-     * the configuration-averaged S over its vectors */
+    /* every lattice vector with 0 < |q| < 2^n/2 + 1/2 falls in exactly one bin, and a bin's S (and exact
+     * average) is the mean of the configuration-averaged S (exact average) over its vectors */
     gr_cascade_settings s = settings(GR_CASCADE_MEAKIN2, 5);
     gr_error err = {0};
     gr_cascade_field *f;
@@ -255,7 +255,7 @@ START_TEST(test_circular_bins)
     ck_assert_int_eq(nb, 16);
     gr_cascade_sk_bin *b = malloc(sizeof *b * (size_t)nb);
     gr_cascade_sk_bins(sk, b);
-    double sumS[16] = {0}, sumq[16] = {0};
+    double sumS[16] = {0}, sumE[16] = {0}, sumq[16] = {0};
     int count[16] = {0}, total = 0;
     for (int qy = -16; qy <= 16; qy++) {
         for (int qx = -16; qx <= 16; qx++) {
@@ -266,6 +266,7 @@ START_TEST(test_circular_bins)
             int bin = (int)floor(q + 0.5) - 1;
             count[bin]++;
             sumS[bin] += gr_cascade_sk_mean(sk, qx, qy);
+            sumE[bin] += gr_cascade_sk_expected(&s, qx, qy);
             sumq[bin] += q;
             total++;
         }
@@ -279,6 +280,9 @@ START_TEST(test_circular_bins)
         ck_assert_msg(fabs(b[i].S - sumS[i] / count[i]) < 1e-12 * b[i].S, "bin %d: %g vs %g", i + 1, b[i].S,
                       sumS[i] / count[i]);
         ck_assert(b[i].S_err > 0.0);
+        /* the bins' exact average (phases from a table) equals the per-vector one (phases from sin/cos) */
+        ck_assert_msg(fabs(b[i].S_expected - sumE[i] / count[i]) < 1e-12 * b[i].S_expected, "bin %d: %.15g vs %.15g",
+                      i + 1, b[i].S_expected, sumE[i] / count[i]);
         counted += b[i].vectors;
     }
     ck_assert_int_eq(counted, total);

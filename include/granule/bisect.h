@@ -67,17 +67,20 @@ double gr_bisect_u0_draw(const gr_bisect_u0 *u, gsl_rng *r, bool *small_left);
 double gr_bisect_u0_sample(const gr_bisect_u0 *u, gsl_rng *r);
 /* mu_m = integral U_0(a) (a^m + (1-a)^m)/2 da (real m >= 0): the m-th moment of the factor a
  * partition's length is multiplied by at each level, so that <x_n^m> = mu_m^n (3.28-3.29; for
- * U_0 = 1, mu_m = 1/(1+m) and this is 3.37). By adaptive quadrature (closed form for U_0 = 1). */
+ * U_0 = 1, mu_m = 1/(1+m) and this is 3.37). Closed forms for the uniform and power U_0 (beta
+ * function), adaptive quadrature for tables. */
 int gr_bisect_u0_moment(const gr_bisect_u0 *u, double m, double *mu, gr_error *err);
-/* Mean and variance of z = -ln(factor), the step of -ln x per level (uniform: 1 and 1). */
+/* Mean and variance of z = -ln(factor), the step of -ln x per level (uniform: 1 and 1; power:
+ * digamma closed forms; tables: quadrature). */
 int gr_bisect_u0_log_stats(const gr_bisect_u0 *u, double *mean, double *var, gr_error *err);
 
 /* ------------------------------------------------------------------------------------------
  * The process itself. */
 
 /* One level (3.26-3.27): partition i of length L becomes partitions 2i and 2i+1 of lengths a L and
- * L - a L (left to right, as the boundaries r_{2i} and r_{2i+1}). x holds count lengths and room for
- * 2 count. The two halves sum to L to within one rounding. */
+ * (1 - a) L (left to right, as the boundaries r_{2i} and r_{2i+1}), computed as f L and L - f L with
+ * f = min(a, 1 - a). x holds count lengths and room for 2 count. The two halves sum to L to within
+ * one rounding. */
 void gr_bisect_level(const gr_bisect_u0 *u, gsl_rng *r, double *x, size_t count);
 /* A realisation to level n: x (2^levels entries) receives the partition lengths, x[0] = 1 first. */
 int gr_bisect_realise(const gr_bisect_u0 *u, int levels, gsl_rng *r, double *x, gr_error *err);

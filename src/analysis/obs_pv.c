@@ -55,9 +55,9 @@ enum { REF_FRAMES = 8, REF_MAX_VALUES = 1 << 20, MIN_FIT_POINTS = 5, MIN_DECADE_
 
 static const gr_param params[] = {
     {"pv_bins", "", GR_PARAM_INT, 400, 10, 1000000, false, false,
-     "bins of P(v) per component and of |v| (App. A.1)", offsetof(gr_analysis_params, pv_bins)},
+     "bins of P(v) per component and of the speed (App. A.1)", offsetof(gr_analysis_params, pv_bins)},
     {"pv_range", "", GR_PARAM_DOUBLE, 12, 1, 1000, false, false,
-     "P(v) covers |v| < pv_range sqrt(T_ref), T_ref the mean T (2.19) of the first 8 sampled frames",
+     "P(v) spans +-pv_range sqrt(T_ref), T_ref the mean T (2.19) of the first 8 sampled frames",
      offsetof(gr_analysis_params, pv_range)},
 };
 

@@ -900,22 +900,22 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     if (out->plots && st->frames > 0) {
         char body[2400];
         int len = snprintf(body, sizeof body,
-                           "set logscale xy\nset xlabel 'k d'\nset ylabel 'S(k)'\nset key top right\n"
+                           "set logscale xy\nset samples 1000\nset xlabel 'k d'\nset ylabel 'S(k)'\nset key top right\n"
                            "set title 'Structure factor (4.2-4.3), %lld frames'\n",
                            (long long)st->frames);
         if (isfinite(st->kD)) {
             len += snprintf(body + len, sizeof body - (size_t)len,
-                            "set arrow from %.8g, graph 0 to %.8g, graph 1 nohead dt 3 lc rgb '#888'\n"
-                            "set label 'k_D d' at %.8g, graph 0.95 offset 0.5,0 tc rgb '#888'\n",
+                            "set arrow from %.8g, graph 0 to %.8g, graph 1 nohead dt 3 lc rgb '#888888'\n"
+                            "set label 'k_D d' at %.8g, graph 0.95 offset 0.5,0 tc rgb '#888888'\n",
                             st->kD * st->d, st->kD * st->d, st->kD * st->d);
         }
         len += snprintf(body + len, sizeof body - (size_t)len,
-                        "plot 'sk.csv' skip 3 using 3:4:5 with yerrorbars pt 7 ps 0.5 lc rgb '#36c' title '|n| bins', "
-                        "'sk_shells.csv' skip 3 using 3:4 with points pt 6 ps 0.7 lc rgb '#c63' title 'shells |n|^2'");
+                        "plot 'sk.csv' skip 3 using 3:4:5 with yerrorbars pt 7 ps 0.5 lc rgb '#1f5fbf' title '|n| bins', "
+                        "'sk_shells.csv' skip 3 using 3:4 with points pt 6 ps 0.7 lc rgb '#e08030' title 'shells |n|^2'");
         if (F.done) {
             snprintf(body + len, sizeof body - (size_t)len,
                      ", (x >= %.8g && x <= %.8g) ? %.10g * (x / %.10g)**(-%.10g) : 1/0 with lines lw 2 lc rgb "
-                     "'#c33' title sprintf('S = A k^{-D_f}, D_f = %.3f +- %.3f')",
+                     "'#cc3333' title 'S = A k^{-D_f}, D_f = %.3f +- %.3f'",
                      F.k_lo * st->d * 0.98, F.k_hi * st->d * 1.02, F.fit.p[0], st->d, -F.fit.p[1], -F.fit.p[1],
                      F.fit.err[1]);
         }

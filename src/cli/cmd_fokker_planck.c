@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "cli/cli.h"
+#include "granule/analysis.h"
 #include "granule/fokker_planck.h"
 #include "granule_commit.h"
 #include "granule_config.h"
@@ -125,6 +126,61 @@ static void plot(const options *o, cJSON *plots, cJSON *notes, const char *png, 
 static double z_score(double x, double err, double expect)
 {
     return err > 0.0 ? (x - expect) / err : (double)NAN;
+}
+
+/* Stretched-exponential fit A exp(-(|v|/v0)^beta) to the tail |v| in [a, b] (the shared GSL fit of
+ * granule/analysis.h): of the quadrature curve (1% weights, a shape measure), or of the simulated
+ * histogram folded over v -> -v (errors from the walk covariance; bins visited by min_walks walks). */
+static int tail_fit(gr_fp_quad *q, const gr_fp_sim_result *r, double min_walks, double a, double b, gr_fit *f,
+                    gr_error *err)
+{
+    double x[400], y[400], sg[400];
+    int n = 0;
+    if (!r) {
+        for (int k = 0; k < 60; k++) {
+            double v = a + (b - a) * k / 59.0, p;
+            int rc = gr_fp_Q_pdf(q, v, &p, NULL, err);
+            if (rc) {
+                return rc;
+            }
+            x[n] = v;
+            y[n] = p;
+            sg[n++] = 0.01 * p;
+        }
+    } else {
+        const gr_histogram *h = &r->q;
+        const int nb = h->nbins;
+        for (int i = nb / 2; i < nb && n < 400; i++) {
+            int m = nb - 1 - i;
+            double c = gr_histogram_center(h, i);
+            if (c < a || c > b || r->q_walks[i] < min_walks || r->q_walks[m] < min_walks) {
+                continue;
+            }
+            double var = r->q_cov[(size_t)i * nb + i] + r->q_cov[(size_t)m * nb + m] + 2.0 * r->q_cov[(size_t)i * nb + m];
+            x[n] = c;
+            y[n] = 0.5 * (gr_histogram_density(h, i) + gr_histogram_density(h, m));
+            sg[n++] = 0.5 * sqrt(fmax(var, 0.0));
+        }
+        if (n < 4) {
+            return GR_FAIL(err, GR_EINVAL, "tail fit: only %d well-populated bins in [%g, %g]", n, a, b);
+        }
+    }
+    double p0[3] = {y[0] * exp(1.0), a, 2.0};
+    return gr_fit_stretched_exp(x, y, sg, n, p0, f, err);
+}
+
+static cJSON *fit_json(const gr_fit *f, double V, double a, double b)
+{
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddNumberToObject(j, "from_over_V", a / V);
+    cJSON_AddNumberToObject(j, "to_over_V", b / V);
+    json_num(j, "A", f->p[0]);
+    json_num(j, "v0_over_V", f->p[1] / V);
+    json_num(j, "v0_over_V_err", f->err[1] / V);
+    json_num(j, "beta", f->p[2]);
+    json_num(j, "beta_err", f->err[2]);
+    json_num(j, "chi2_red", f->chi2_red);
+    return j;
 }
 
 static int parse(int argc, char **argv, options *o, int *done)
@@ -323,7 +379,6 @@ int cmd_fokker_planck(int argc, char **argv)
     options o;
     memset(&o, 0, sizeof o);
     gr_fp_settings_default(&o.s);
-    o.s.steps_per_T0 = 1000.0;
     o.out = "out/fokker-planck";
     o.plots = true;
     o.sim = true;
@@ -402,6 +457,16 @@ int cmd_fokker_planck(int argc, char **argv)
     cJSON_AddNumberToObject(qj, "thesis_prefactor_ratio", gr_fp_thesis_prefactor_ratio());
     cJSON_AddNumberToObject(qj, "kappa", gr_fp_kappa());
     cJSON_AddNumberToObject(qj, "seconds", quad_seconds);
+    /* effective tail exponents of the quadrature (the asymptote is beta = 3, see the docs) */
+    const double fit_ranges[3][2] = {{1.0, 3.0}, {1.5, 4.0}, {3.0, 6.0}};
+    cJSON *tf = cJSON_AddArrayToObject(qj, "tail_fits");
+    for (int k = 0; k < 3; k++) {
+        gr_fit fit;
+        gr_error ferr = {0};
+        if (tail_fit(q, NULL, 0.0, fit_ranges[k][0] * V, fit_ranges[k][1] * V, &fit, &ferr) == 0) {
+            cJSON_AddItemToArray(tf, fit_json(&fit, V, fit_ranges[k][0] * V, fit_ranges[k][1] * V));
+        }
+    }
     cJSON *plots = cJSON_AddArrayToObject(j, "plots");
     cJSON *notes = cJSON_CreateArray();
 
@@ -411,6 +476,14 @@ int cmd_fokker_planck(int argc, char **argv)
 
     gr_fp_sim_result r;
     memset(&r, 0, sizeof r);
+    if (!o.sim) { /* tables of an earlier run in this folder would no longer match summary.json */
+        char stale[1200];
+        const char *names[] = {"q.csv", "exit.csv"};
+        for (int k = 0; k < 2; k++) {
+            snprintf(stale, sizeof stale, "%s/%s", o.out, names[k]);
+            remove(stale);
+        }
+    }
     double *qm = NULL, *em = NULL;
     if (o.sim) {
         progress_state ps = {.t0 = now()};
@@ -440,6 +513,17 @@ int cmd_fokker_planck(int argc, char **argv)
         gr_error fit_err = {0};
         if (!rc && gr_fp_sim_Q0(&r, 0.3 * V, &q0fit, &q0fit_err, &fit_err)) {
             cJSON_AddItemToArray(notes, cJSON_CreateString(fit_err.message));
+        }
+        gr_fit sim_fit, quad_fit;
+        bool have_fit = false;
+        if (!rc) {
+            /* the range the simulation resolves: |v| in [1.5 V, 3.5 V] */
+            gr_error ferr = {0};
+            have_fit = tail_fit(q, &r, o.min_walks, 1.5 * V, fmin(3.5, o.s.vmax_V) * V, &sim_fit, &ferr) == 0 &&
+                       tail_fit(q, NULL, 0.0, 1.5 * V, fmin(3.5, o.s.vmax_V) * V, &quad_fit, &ferr) == 0;
+            if (!have_fit) {
+                cJSON_AddItemToArray(notes, cJSON_CreateString(ferr.message));
+            }
         }
         const double compare_seconds = now() - t0;
         if (!rc) rc = write_tables(&o, &r, qm, em, V, T0, &err);
@@ -525,6 +609,10 @@ int cmd_fokker_planck(int argc, char **argv)
         cJSON_AddNumberToObject(cej, "bins", ce.dof);
         json_num(cej, "p_value", ce.p_value);
         json_num(cej, "max_abs_pull", ce.max_abs_z);
+        if (have_fit) {
+            cJSON_AddItemToObject(cj, "tail_fit_simulation", fit_json(&sim_fit, V, 1.5 * V, fmin(3.5, o.s.vmax_V) * V));
+            cJSON_AddItemToObject(cj, "tail_fit_quadrature", fit_json(&quad_fit, V, 1.5 * V, fmin(3.5, o.s.vmax_V) * V));
+        }
         cJSON_AddNumberToObject(cj, "seconds", compare_seconds);
 
         printf("simulation (%s start): %lld walkers, %lld steps in %.2f s: <T_exit> = %.6g +- %.2g s, <v^2> = %.6g +- %.2g\n",

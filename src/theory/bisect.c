@@ -438,6 +438,8 @@ double gr_bisect_u0_density(const gr_bisect_u0 *u, double a)
     return 0.0;
 }
 
+/* One split (gr_bisect_u0_draw): the smaller fraction f = min(a, 1 - a) in (0, 1/2] and whether it
+ * is the left piece. */
 static inline double draw(const gr_bisect_u0 *u, gsl_rng *r, bool *small_left)
 {
     for (;;) {
@@ -981,7 +983,7 @@ void gr_bisect_g1_free(gr_bisect_g1 *g)
     g->n_points = 0;
 }
 
-/* N and L' from a run folder's summary.json ("gaps": {"N", "reduced_length"}, written by the 1D
+/* N and L' from a run folder's summary.json ("analysis": {"gaps": {"N", "reduced_length"}}, written by the 1D
  * gaps observable); false if the file or the keys are missing. */
 static bool run_gaps_info(const char *dir, double *N, double *Lr)
 {
@@ -1013,7 +1015,11 @@ static bool run_gaps_info(const char *dir, double *N, double *Lr)
     if (text && len + 1 <= cap) {
         text[len] = 0;
         cJSON *j = cJSON_Parse(text);
-        const cJSON *gaps = cJSON_GetObjectItemCaseSensitive(j, "gaps");
+        /* a run folder writes analysis.gaps; a bare "gaps" member is accepted too */
+        const cJSON *gaps = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(j, "analysis"), "gaps");
+        if (!gaps) {
+            gaps = cJSON_GetObjectItemCaseSensitive(j, "gaps");
+        }
         const cJSON *n = cJSON_GetObjectItemCaseSensitive(gaps, "N"), *l = cJSON_GetObjectItemCaseSensitive(gaps, "reduced_length");
         if (cJSON_IsNumber(n) && cJSON_IsNumber(l)) {
             *N = n->valuedouble;

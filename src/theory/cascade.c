@@ -332,7 +332,9 @@ typedef struct moments {
     double mean[4], second[4][4];
 } moments;
 
-static double expected_with(const moments *mo, int levels, double qx, double qy)
+/* The recursion of gr_cascade_sk_expected. `table` (NULL or 2^(levels+1) entries e^{i pi j / 2^levels})
+ * turns every phase of an integer q into a lookup: e^{i pi q 2^l / 2^n} = table[q 2^l mod 2^(n+1)]. */
+static double expected_with(const moments *mo, int levels, const double complex *table, double qx, double qy)
 {
     const double *mean = mo->mean;
     const double(*second)[4] = mo->second;
@@ -340,12 +342,15 @@ static double expected_with(const moments *mo, int levels, double qx, double qy)
     for (int c = 0; c < 4; c++) {
         diag += second[c][c];
     }
+    const long period = 2L << levels;
+    const long iqx = table ? (((long)qx % period) + period) % period : 0;
+    const long iqy = table ? (((long)qy % period) + period) % period : 0;
     const double kx0 = ldexp(qx, -levels), ky0 = ldexp(qy, -levels);
     double S = 1.0;
-    double complex M = expipi(kx0 + ky0);
+    double complex M = table ? table[(iqx + iqy) % period] : expipi(kx0 + ky0);
     for (int l = 1; l <= levels; l++) {
-        const double kx = ldexp(kx0, l), ky = ldexp(ky0, l);
-        const double complex ex = expipi(kx), ey = expipi(ky);
+        const double complex ex = table ? table[(iqx << l) % period] : expipi(ldexp(kx0, l));
+        const double complex ey = table ? table[(iqy << l) % period] : expipi(ldexp(ky0, l));
         const double complex ph[4] = {1.0, ex, ey, ex * ey}; /* e^{2 pi i kappa . o_c}, o_c = (g, h)/2 */
         double cross = 0.0;
         double complex Mn = 0.0;
@@ -368,7 +373,7 @@ double gr_cascade_sk_expected(const gr_cascade_settings *s, double qx, double qy
 {
     moments mo;
     gr_cascade_moments(s, mo.mean, mo.second);
-    return expected_with(&mo, s->levels, qx, qy);
+    return expected_with(&mo, s->levels, NULL, qx, qy);
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -462,6 +467,15 @@ int gr_cascade_sk_alloc(const gr_cascade_settings *s, gr_cascade_sk **out, gr_er
     /* the vectors per bin, their mean |q| and the exact expected S, once */
     moments mo;
     gr_cascade_moments(s, mo.mean, mo.second);
+    const long period = 2L << s->levels;
+    double complex *table = malloc(sizeof(double complex) * (size_t)period);
+    if (!table) {
+        gr_cascade_sk_free(sk);
+        return GR_FAIL(err, GR_ENOMEM, "cascade S(k): out of memory");
+    }
+    for (long j = 0; j < period; j++) {
+        table[j] = expipi(ldexp((double)j, -s->levels));
+    }
     const int h = sk->side / 2;
     for (int qy = -h; qy <= h; qy++) {
         for (int qx = 0; qx <= h; qx++) {
@@ -469,10 +483,11 @@ int gr_cascade_sk_alloc(const gr_cascade_settings *s, gr_cascade_sk **out, gr_er
             if (in_half_disc(sk->side, qx, qy, &q)) {
                 gr_histogram_add(&sk->h_n, q, 2.0);
                 gr_histogram_add(&sk->h_q, q, 2.0 * q);
-                gr_histogram_add(&sk->h_S, q, 2.0 * expected_with(&mo, s->levels, qx, qy));
+                gr_histogram_add(&sk->h_S, q, 2.0 * expected_with(&mo, s->levels, table, qx, qy));
             }
         }
     }
+    free(table);
     for (int b = 0; b < sk->nbins; b++) {
         sk->bin_expected[b] = sk->h_n.count[b] > 0.0 ? sk->h_S.count[b] / sk->h_n.count[b] : (double)NAN;
     }
