@@ -110,7 +110,7 @@ START_TEST(test_unoncp_not_conserving)
     ck_assert_int_eq(gr_cascade_field_alloc(s.levels, 1.0, &f, &err), 0);
     gsl_rng *r = rng_new(5);
     const int C = 400;
-    double totals[7], sum[7] = {0}, sum2[7] = {0}, lo = INFINITY, hi = -INFINITY;
+    double totals[7], sum[7] = {0}, sum2[7] = {0}, lo = (double)INFINITY, hi = -(double)INFINITY;
     for (int c = 0; c < C; c++) {
         ck_assert_int_eq(gr_cascade_generate(&s, r, f, totals, &err), 0);
         for (int l = 0; l <= s.levels; l++) {
@@ -472,7 +472,7 @@ START_TEST(test_placement_no_overlap)
     ck_assert(res.rejected > 0);
     const double L = 0.2, d = 2.0 * p.radius;
     ck_assert_double_eq_tol(res.phi, p.n * M_PI * p.radius * p.radius / (L * L), 1e-15);
-    double closest = INFINITY;
+    double closest = (double)INFINITY;
     for (int i = 0; i < p.n; i++) {
         ck_assert(x[i] >= 0.0 && x[i] < L && y[i] >= 0.0 && y[i] < L);
         for (int j = 0; j < i; j++) { /* brute force, periodic minimum image */
@@ -591,7 +591,7 @@ START_TEST(test_bad_inputs)
     b = s;
     b.L = 0.0;
     ck_assert_int_eq(gr_cascade_settings_check(&b, &err), GR_EINVAL);
-    b.L = NAN;
+    b.L = (double)NAN;
     ck_assert_int_eq(gr_cascade_settings_check(&b, &err), GR_EINVAL);
     b = s;
     b.configurations = 0;

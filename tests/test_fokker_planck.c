@@ -236,12 +236,17 @@ START_TEST(test_reference_values)
     double P;
     ck_assert_int_eq(gr_fp_density(q, 0.3, 0.0, &P, NULL, &err), 0);
     ck_assert_msg(REL(P, 0.6837546086038032589187338) < 1e-10, "P(0.3, 0) = %.17g", P);
-    const double ve[] = {0.01, 0.1, 0.5, 1.0, 2.0, 3.0};
-    const double PL[] = {0.1177698595167934694, 0.30405274193762552055, 0.40597105971735911653,
+    /* arrivals at x = L, down to v = 1e-8 V where P(L, v) ~ 1.2776 v^(1/2) is a 1e-4 difference of two
+     * terms near 3 and the kernel switches on in a 1e-8-wide layer next to a singularity (the
+     * "numerical instabilities at small velocities" of Fig. B.1) */
+    const double ve[] = {1e-8, 1e-6, 1e-3, 0.01, 0.1, 0.5, 1.0, 2.0, 3.0};
+    const double PL[] = {0.00012775985667746339271, 0.0012766985667746339272, 0.039404376342303686566,
+                         0.1177698595167934694, 0.30405274193762552055, 0.40597105971735911653,
                          0.30539170209495446981, 0.073931054017379417572, 0.004641315094864259115};
+    const double tol[] = {1e-6, 1e-7, 1e-9, 2e-9, 2e-9, 2e-9, 2e-9, 2e-9, 2e-9};
     for (size_t i = 0; i < sizeof ve / sizeof ve[0]; i++) {
         ck_assert_int_eq(gr_fp_exit_over_v(q, ve[i], &P, NULL, &err), 0);
-        ck_assert_msg(REL(P, PL[i]) < 2e-9, "P(L, %g) = %.17g vs %.17g", ve[i], P, PL[i]);
+        ck_assert_msg(REL(P, PL[i]) < tol[i], "P(L, %g) = %.17g vs %.17g", ve[i], P, PL[i]);
     }
     double m;
     ck_assert_int_eq(gr_fp_moment(q, 2.0, &m, &err), 0);

@@ -492,8 +492,10 @@ START_TEST(test_cascade_fractal_dimension)
     const double D1 = -log2(0.30), D2 = -log2(0.52);
     double e1, e2, c1, c2;
     double f1 = cascade_fit(p1, 2024, &e1, &c1), f2 = cascade_fit(p2, 2025, &e2, &c2);
-    ck_assert_msg(fabs(f1 - D1) < 0.25 && e1 > 0.0 && e1 < 0.15 && isfinite(c1), "cascade 1: D_f = %g +- %g, D_2 = %g", f1, e1, D1);
-    ck_assert_msg(fabs(f2 - D2) < 0.25 && e2 > 0.0 && e2 < 0.15 && isfinite(c2), "cascade 2: D_f = %g +- %g, D_2 = %g", f2, e2, D2);
+    ck_assert_msg(fabs(f1 - D1) < 0.25 && e1 > 0.0 && e1 < 0.15 && isfinite(c1), "cascade 1: D_f = %g +- %g, D_2 = %g",
+                  f1, e1, D1);
+    ck_assert_msg(fabs(f2 - D2) < 0.25 && e2 > 0.0 && e2 < 0.15 && isfinite(c2), "cascade 2: D_f = %g +- %g, D_2 = %g",
+                  f2, e2, D2);
     ck_assert_msg(f1 - f2 > 0.5, "D_f %g and %g not told apart", f1, f2);
 }
 END_TEST

@@ -246,7 +246,8 @@ void gr_sk_plan_grid(const gr_sk_plan *pl, int *grid, double *tau)
 /* Gaussian weights of one coordinate: grid index of the first of 2 msp points (unwrapped, may be
  * negative or >= Mr) and w[j] = exp(-(xi - l h)^2 / (4 tau)), l = j - msp + 1, where the particle
  * sits at (m0 + xi/h) h. Fast Gaussian gridding (Greengard & Lee sec. 3): exp(-xi^2/4tau) *
- * exp(xi h/2tau)^l * exp(-(l h)^2/4tau), three exponentials per coordinate. */
+ * exp(xi h/2tau)^l * exp(-(l h)^2/4tau): two exponentials per coordinate, the last factor
+ * tabulated in the plan. */
 static int weights(const gr_sk_plan *pl, double coord, double *w)
 {
     double u = coord / pl->L;
@@ -288,7 +289,7 @@ static int compute_gridding(gr_sk_plan *pl, int n, const double *x, const double
         }
     }
     /* visit the particles row by row of the grid (a stable counting sort): the 2 msp rows one
-     * particle touches are then still in cache for the next (25-30% faster at N = 5e4-1e5) */
+     * particle touches are then still in cache for the next (~20% faster at N = 5e4-1e5) */
     int *bucket = pl->bucket;
     memset(bucket, 0, sizeof(int) * ((size_t)Mr + 1));
     for (int j = 0; j < n; j++) {

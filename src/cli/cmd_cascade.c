@@ -367,8 +367,8 @@ int cmd_cascade(int argc, char **argv)
         goto done;
     }
     for (int l = 0; l < nl; l++) {
-        t_lo[l] = INFINITY;
-        t_hi[l] = -INFINITY;
+        t_lo[l] = (double)INFINITY;
+        t_hi[l] = -(double)INFINITY;
     }
     gsl_rng_set(rng, s.seed);
     if ((rc = gr_cascade_field_alloc(s.levels, s.L, &field, &err)) || (rc = gr_cascade_sk_alloc(&s, &sk, &err))) {

@@ -130,9 +130,11 @@ static double z_score(double x, double err, double expect)
 
 /* Stretched-exponential fit A exp(-(|v|/v0)^beta) to the tail |v| in [a, b] (the shared GSL fit of
  * granule/analysis.h): of the quadrature curve (1% weights, a shape measure), or of the simulated
- * histogram folded over v -> -v (errors from the walk covariance; bins visited by min_walks walks). */
-static int tail_fit(gr_fp_quad *q, const gr_fp_sim_result *r, double min_walks, double a, double b, gr_fit *f,
-                    gr_error *err)
+ * histogram folded over v -> -v (errors from the walk covariance; bins visited by min_walks walks),
+ * or, when `model` (bin means of the quadrature) is given, of the model on the same bins with the
+ * same errors, so that the two fits can be compared. */
+static int tail_fit(gr_fp_quad *q, const gr_fp_sim_result *r, const double *model, double vscale, double min_walks,
+                    double a, double b, gr_fit *f, gr_error *err)
 {
     double x[400], y[400], sg[400];
     int n = 0;
@@ -158,14 +160,14 @@ static int tail_fit(gr_fp_quad *q, const gr_fp_sim_result *r, double min_walks, 
             }
             double var = r->q_cov[(size_t)i * nb + i] + r->q_cov[(size_t)m * nb + m] + 2.0 * r->q_cov[(size_t)i * nb + m];
             x[n] = c;
-            y[n] = 0.5 * (gr_histogram_density(h, i) + gr_histogram_density(h, m));
+            y[n] = model ? 0.5 * (model[i] + model[m]) : 0.5 * (gr_histogram_density(h, i) + gr_histogram_density(h, m));
             sg[n++] = 0.5 * sqrt(fmax(var, 0.0));
         }
         if (n < 4) {
             return GR_FAIL(err, GR_EINVAL, "tail fit: only %d well-populated bins in [%g, %g]", n, a, b);
         }
     }
-    double p0[3] = {y[0] * exp(1.0), a, 2.0};
+    double p0[3] = {1.0 / vscale, vscale, 2.0}; /* (1, 1, 2) in units of V: converges for every range used */
     return gr_fit_stretched_exp(x, y, sg, n, p0, f, err);
 }
 
@@ -463,7 +465,7 @@ int cmd_fokker_planck(int argc, char **argv)
     for (int k = 0; k < 3; k++) {
         gr_fit fit;
         gr_error ferr = {0};
-        if (tail_fit(q, NULL, 0.0, fit_ranges[k][0] * V, fit_ranges[k][1] * V, &fit, &ferr) == 0) {
+        if (tail_fit(q, NULL, NULL, V, 0.0, fit_ranges[k][0] * V, fit_ranges[k][1] * V, &fit, &ferr) == 0) {
             cJSON_AddItemToArray(tf, fit_json(&fit, V, fit_ranges[k][0] * V, fit_ranges[k][1] * V));
         }
     }
@@ -519,8 +521,8 @@ int cmd_fokker_planck(int argc, char **argv)
         if (!rc) {
             /* the range the simulation resolves: |v| in [1.5 V, 3.5 V] */
             gr_error ferr = {0};
-            have_fit = tail_fit(q, &r, o.min_walks, 1.5 * V, fmin(3.5, o.s.vmax_V) * V, &sim_fit, &ferr) == 0 &&
-                       tail_fit(q, NULL, 0.0, 1.5 * V, fmin(3.5, o.s.vmax_V) * V, &quad_fit, &ferr) == 0;
+            have_fit = tail_fit(q, &r, NULL, V, o.min_walks, 1.5 * V, fmin(3.5, o.s.vmax_V) * V, &sim_fit, &ferr) == 0 &&
+                       tail_fit(q, &r, qm, V, o.min_walks, 1.5 * V, fmin(3.5, o.s.vmax_V) * V, &quad_fit, &ferr) == 0;
             if (!have_fit) {
                 cJSON_AddItemToArray(notes, cJSON_CreateString(ferr.message));
             }

@@ -16,13 +16,13 @@
 static const gr_cascade_variant_info variants[GR_CASCADE_NVARIANTS] = {
     [GR_CASCADE_UCP] = {"ucp", "UCP", {0, 0, 0, 0}, 1.602, 0.066, true},
     [GR_CASCADE_UNONCP] = {"unoncp", "UnonCP", {0, 0, 0, 0}, 1.595, 0.064, false},
-    [GR_CASCADE_SYMMETRISED] = {"symmetrised", "Symmetrised Cascade", {0, 0, 0, 0}, NAN, NAN, true},
+    [GR_CASCADE_SYMMETRISED] = {"symmetrised", "Symmetrised Cascade", {0, 0, 0, 0}, (double)NAN, (double)NAN, true},
     [GR_CASCADE_MEAKIN1] = {"meakin1", "Meakin 1", {0.001, 0.15, 0.32, 0.53}, 1.287, 0.084, true},
     [GR_CASCADE_MEAKIN2] = {"meakin2", "Meakin 2", {0.02, 0.32, 0.32, 0.34}, 1.596, 0.147, true},
     [GR_CASCADE_MEAKIN3] = {"meakin3", "Meakin 3", {0.18, 0.21, 0.29, 0.31}, 1.828, 0.233, true},
     [GR_CASCADE_MEAKIN4] = {"meakin4", "Meakin 4", {0.07, 0.26, 0.32, 0.36}, 1.689, 0.178, true},
-    [GR_CASCADE_MEAKIN] = {"meakin", "Meakin (custom p)", {0, 0, 0, 0}, NAN, NAN, true},
-    [GR_CASCADE_UNIFORM] = {"uniform", "uniform (control)", {0, 0, 0, 0}, NAN, NAN, true},
+    [GR_CASCADE_MEAKIN] = {"meakin", "Meakin (custom p)", {0, 0, 0, 0}, (double)NAN, (double)NAN, true},
+    [GR_CASCADE_UNIFORM] = {"uniform", "uniform (control)", {0, 0, 0, 0}, (double)NAN, (double)NAN, true},
 };
 
 const gr_cascade_variant_info *gr_cascade_variant_get(gr_cascade_variant v)
@@ -325,7 +325,7 @@ double gr_cascade_d2(const gr_cascade_settings *s)
 static double complex expipi(double x)
 {
     x = fmod(x, 2.0);
-    return CMPLX(cos(M_PI * x), sin(M_PI * x));
+    return cos(M_PI * x) + (double complex)I * sin(M_PI * x);
 }
 
 typedef struct moments {
@@ -613,8 +613,8 @@ int gr_cascade_fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, do
     }
     int n = 0;
     bool weighted = !expected;
-    out->q_min = INFINITY;
-    out->q_max = -INFINITY;
+    out->q_min = (double)INFINITY;
+    out->q_max = -(double)INFINITY;
     for (int b = 0; b < nbins; b++) {
         const gr_cascade_sk_bin *o = &bins[b];
         const double S = expected ? o->S_expected : o->S;
