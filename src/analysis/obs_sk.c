@@ -215,7 +215,7 @@ int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_erro
             pl->ny[v] = b;
             /* spectrum row = k_y (negative k_y wrap to Mr + k_y), column = k_x >= 0 */
             pl->idx[v] = (size_t)(b >= 0 ? b : pl->Mr + b) * (size_t)pl->Mc + (size_t)a;
-            pl->deconv[v] = norm * exp(pl->tau * (double)((long)a * a + (long)b * b));
+            pl->deconv[v] = norm * exp(0.9 * pl->tau * (double)((long)a * a + (long)b * b));
         }
     }
     *out = pl;
