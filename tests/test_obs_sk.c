@@ -27,15 +27,7 @@
 
 extern const gr_observable_type gr_obs_sk;
 
-/* The S(k) engine of src/analysis/obs_sk.c (declarations repeated from there; keep identical). */
-typedef struct gr_sk_plan gr_sk_plan;
-enum { GR_SK_GRIDDING = 0, GR_SK_DIRECT = 1 };
-int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_error *err);
-void gr_sk_plan_free(gr_sk_plan *pl);
-int gr_sk_plan_vectors(const gr_sk_plan *pl, const int **nx, const int **ny);
-void gr_sk_plan_grid(const gr_sk_plan *pl, int *grid, double *tau);
-int gr_sk_compute(gr_sk_plan *pl, int method, int n, const double *x, const double *y, double *S,
-                  gr_error *err);
+#include "analysis/sk.h"
 
 #define MSP 8 /* GR_SK_MSP_DEFAULT */
 #define CASCADE_N 16000

@@ -402,7 +402,7 @@ START_TEST(test_free_paths)
     char path[512];
     snprintf(path, sizeof path, "%s/pl.csv", tmpdir);
     gr_spm_pl t;
-    ck_assert_msg(gr_spm_pl_load(&t, path, &err) == 0, "%s", err.message);
+    ck_assert_msg(gr_spm_pl_load(&t, path, 0.0, &err) == 0, "%s", err.message);
     ck_assert_int_eq(t.n, 601);
     ck_assert(t.perr != NULL);
     ck_assert_msg(fabs(gr_spm_pl_mean(&t) / mean - 1.0) < 0.01, "table mean %g vs %g", gr_spm_pl_mean(&t), mean);
@@ -566,18 +566,26 @@ START_TEST(test_refusals)
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         write_file("bad.csv", files[i].text);
         snprintf(path, sizeof path, "%s/bad.csv", tmpdir);
-        ck_assert_msg(gr_spm_pl_load(&pl, path, &err) == GR_EINVAL, "%s accepted", files[i].why);
+        ck_assert_msg(gr_spm_pl_load(&pl, path, 0.0, &err) == GR_EINVAL, "%s accepted", files[i].why);
         ck_assert_msg(strstr(err.message, "bad.csv") != NULL, "%s: message does not name the file: %s", files[i].why,
                       err.message);
     }
     snprintf(path, sizeof path, "%s/missing.csv", tmpdir);
-    ck_assert(gr_spm_pl_load(&pl, path, &err) != 0);
+    ck_assert(gr_spm_pl_load(&pl, path, 0.0, &err) != 0);
     /* "density" and "density_error" (gr_histogram_write_csv's names) are accepted */
     write_file("hist.csv", "# c\nl_lo,l_hi,l,count,density,density_error\n0,0.2,0.1,5,1,0.1\n0.2,0.4,0.3,3,0.5,0.1\n"
                            "0.4,0.6,0.5,1,0.25,0.1\n");
     snprintf(path, sizeof path, "%s/hist.csv", tmpdir);
-    ck_assert_msg(gr_spm_pl_load(&pl, path, &err) == 0, "%s", err.message);
+    ck_assert_msg(gr_spm_pl_load(&pl, path, 0.0, &err) == 0, "%s", err.message);
     ck_assert(pl.n == 3 && pl.perr != NULL);
+    gr_spm_pl_free(&pl);
+    /* a run's freepath.csv: free paths in diameters, converted with the diameter */
+    write_file("freepath.csv", "# c\nl_over_d_lo,l_over_d_hi,l_over_d,count,density,density_error\n"
+                               "0,0.2,0.1,5,1,0.1\n0.2,0.4,0.3,3,0.5,0.1\n0.4,0.6,0.5,1,0.25,0.1\n");
+    snprintf(path, sizeof path, "%s/freepath.csv", tmpdir);
+    ck_assert(gr_spm_pl_load(&pl, path, 0.0, &err) == GR_EINVAL);
+    ck_assert_msg(gr_spm_pl_load(&pl, path, 0.003, &err) == 0, "%s", err.message);
+    ck_assert(fabs(pl.l[1] - 0.0009) < 1e-15 && fabs(gr_spm_pl_mean(&pl) / 0.003 - 0.0575 / 0.225) < 1e-9);
     gr_spm_pl_free(&pl);
 }
 END_TEST

@@ -189,10 +189,12 @@ typedef struct gr_spm_pl {
 
 int gr_spm_pl_fitted(gr_spm_pl *pl, double df, double C, gr_error *err);
 /* Read a CSV file: '#' lines are comments; the first other line names the columns; the free path
- * is the column "l" and the density the column "P" (or "density", as gr_histogram_write_csv
- * writes); an optional error column "P_err" (or "density_error"). Other columns are ignored. At
- * least 3 rows with l > 0 ascending, P >= 0 and a positive integral. */
-int gr_spm_pl_load(gr_spm_pl *pl, const char *path, gr_error *err);
+ * is the column "l" (m) and the density the column "P" (or "density", as gr_histogram_write_csv
+ * writes); an optional error column "P_err" (or "density_error"). Other columns are ignored. A
+ * run's freepath.csv (the freepath observable) has "l_over_d" instead of "l": then `diameter`
+ * (m, the particle diameter) converts it, and must be > 0. At least 3 rows with l > 0 ascending,
+ * P >= 0 and a positive integral. */
+int gr_spm_pl_load(gr_spm_pl *pl, const char *path, double diameter, gr_error *err);
 void gr_spm_pl_free(gr_spm_pl *pl);
 /* The normalised density at l, and the free path with distribution function value u in [0, 1). */
 double gr_spm_pl_density(const gr_spm_pl *pl, double l);

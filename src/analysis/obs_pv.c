@@ -40,7 +40,7 @@
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
-enum { REF_FRAMES = 8, REF_MAX_VALUES = 1 << 20, MIN_FIT_POINTS = 5, MIN_DECADE_POINTS = 6 };
+enum { REF_FRAMES = 8, REF_MAX_VALUES = 1 << 20, MIN_FIT_POINTS = 5, MIN_DECADE_POINTS = 6, MIN_PAIRS = 5, MAX_SCAN = 512 };
 
 #define COUNT_MIN 50.0        /* Tables 5.1 and A.1: bins with fewer counts are ignored */
 #define COUNT_MAX_5_1 50000.0 /* Table 5.1: "the lowest three decades" */
@@ -345,6 +345,10 @@ typedef struct tail_result {
     bool accepted, contiguous; /* some alpha with chi2_red < CHI2_RED_MAX; accepted set in one piece */
     double alpha_lo, alpha_hi; /* accepted range */
     double alpha_best, chi2_best, lnA_best, lnv0_best, lnv0_err_best; /* smallest chi2_red of the scan */
+    int nscan;
+    double chi2_scan[MAX_SCAN]; /* chi2_red per alpha of the scan (NAN where the fit failed) */
+    int pairs;                  /* mirrored bin pairs v, -v both inside the window */
+    double dispersion;          /* <(X(v) - X(-v))^2 / (X(v) + X(-v))> over those pairs: 1 for Poisson counts */
     bool free_ok;
     gr_fit free_fit; /* p = (A_0 counts, v0 in units of sqrt(T_ref), alpha) */
 } tail_result;
@@ -372,13 +376,31 @@ static void fit_tail(points *pt, const gr_histogram *h, double scale, double cmi
         yhi = fmax(yhi, pt->y[i]);
     }
     r->decades = log10(yhi / ylo);
+    /* Over-dispersion of the counts, from the symmetry P(v) = P(-v) of a steady state: for
+     * independent (Poisson) counts X(v) - X(-v) has variance X(v) + X(-v). Correlated samples
+     * (frames close in time, particles of one cluster) make it larger: sqrt(X) errors are then too
+     * small by sqrt(dispersion). Not in the thesis; reported beside its acceptance rule. */
+    double dsum = 0.0;
+    for (int i = 0; i < h->nbins; i++) {
+        int j = h->nbins - 1 - i;
+        double a = h->count[i], b = h->count[j];
+        if (gr_histogram_center(h, i) > 0.0 && a >= cmin && a <= cmax && b >= cmin && b <= cmax) {
+            dsum += (a - b) * (a - b) / (a + b);
+            r->pairs++;
+        }
+    }
+    r->dispersion = r->pairs >= MIN_PAIRS ? dsum / r->pairs : NOVALUE;
     int nscan = (int)lround((ALPHA_SCAN_MAX - ALPHA_SCAN_MIN) / ALPHA_SCAN_STEP) + 1, last = -2, pieces = 0;
+    nscan = nscan > MAX_SCAN ? MAX_SCAN : nscan;
+    r->nscan = nscan;
     for (int k = 0; k < nscan; k++) {
         double alpha = ALPHA_SCAN_MIN + k * ALPHA_SCAN_STEP;
         gr_fit f;
+        r->chi2_scan[k] = NOVALUE;
         if (!fit_fixed_alpha(pt, alpha, &f) || !isfinite(f.chi2_red)) {
             continue;
         }
+        r->chi2_scan[k] = f.chi2_red;
         r->any = true;
         if (f.chi2_red < r->chi2_best) {
             r->chi2_best = f.chi2_red;
@@ -483,6 +505,27 @@ static void add_tail_summary(cJSON *j, const tail_result *r, double scale, doubl
     add_num(j, "v0_err", r->any ? exp(r->lnv0_best) * r->lnv0_err_best * scale : NOVALUE);
     add_num(j, "v0_over_vrms", r->any ? exp(r->lnv0_best) * scale / v_rms : NOVALUE);
     add_num(j, "A", r->any ? exp(r->lnA_best) / (total * w) : NOVALUE);
+    /* the same acceptance with errors sqrt(dispersion X_i) (chi2_red / dispersion < 1.2) */
+    cJSON *jd = cJSON_AddObjectToObject(j, "dispersion_corrected");
+    add_num(jd, "dispersion", r->dispersion);
+    cJSON_AddNumberToObject(jd, "pairs", r->pairs);
+    double phi = isfinite(r->dispersion) ? fmax(1.0, r->dispersion) : NOVALUE, lo = NOVALUE, hi = NOVALUE;
+    for (int k = 0; k < r->nscan && isfinite(phi); k++) {
+        if (isfinite(r->chi2_scan[k]) && r->chi2_scan[k] / phi < CHI2_RED_MAX) {
+            double alpha = ALPHA_SCAN_MIN + k * ALPHA_SCAN_STEP;
+            lo = isfinite(lo) ? lo : alpha;
+            hi = alpha;
+        }
+    }
+    cJSON_AddBoolToObject(jd, "accepted", isfinite(lo));
+    cJSON *drange = cJSON_AddArrayToObject(jd, "alpha_range");
+    if (isfinite(lo)) {
+        cJSON_AddItemToArray(drange, cJSON_CreateNumber(lo));
+        cJSON_AddItemToArray(drange, cJSON_CreateNumber(hi));
+    }
+    add_num(jd, "alpha", 0.5 * (lo + hi));
+    add_num(jd, "alpha_halfwidth", 0.5 * (hi - lo));
+    add_num(jd, "chi2_red", r->any && isfinite(phi) ? r->chi2_best / phi : NOVALUE);
     cJSON *fr = cJSON_AddObjectToObject(j, "free");
     cJSON_AddBoolToObject(fr, "converged", r->free_ok);
     const gr_fit *f = &r->free_fit;
@@ -618,6 +661,19 @@ static double moon_constant(const pv *s, double v_rms, double P0, double alpha_T
 static void draw_plots(const gr_output *out, const pv *s, const tail_result *tail, double v_rms, double P0, double ymin,
                        const double C[3])
 {
+    /* x ranges: where there are counts, plus a margin */
+    double vlim = 0.0, slim = 0.0;
+    for (int i = 0; i < s->comp.nbins; i++) {
+        if (s->comp.count[i] > 0.0) {
+            vlim = fmax(vlim, fabs(gr_histogram_upper(&s->comp, i)));
+            vlim = fmax(vlim, fabs(gr_histogram_lower(&s->comp, i)));
+        }
+        if (s->speed.count[i] > 0.0) {
+            slim = fmax(slim, gr_histogram_upper(&s->speed, i));
+        }
+    }
+    vlim = vlim > 0.0 ? 1.05 * vlim : s->comp.hi;
+    slim = (slim > 0.0 ? 1.05 * slim : s->speed.hi) / sqrt(s->sum_u2 / (double)s->particles);
     char body[4096], label[160];
     if (tail->free_ok) {
         snprintf(label, sizeof label, "stretched exponential (5.5), alpha = %.3f", tail->free_fit.p[2]);
@@ -625,7 +681,7 @@ static void draw_plots(const gr_output *out, const pv *s, const tail_result *tai
         snprintf(label, sizeof label, "stretched exponential (5.5), best alpha of the scan");
     }
     snprintf(body, sizeof body,
-             "set logscale y\nset format y '10^{%%L}'\nset yrange [%g:*]\n"
+             "set logscale y\nset format y '10^{%%L}'\nset yrange [%g:*]\nset xrange [%g:%g]\n"
              "set xlabel 'v (m/s), one component'\nset ylabel 'P(v) (s/m)'\n"
              "set title 'Velocity distribution (App. A.1): tail fit (5.5), crossover P_0 (5.32)'\n"
              "s = %.10g\ngauss(x) = exp(-x*x/(2*s*s))/sqrt(2*pi*s*s)\n"
@@ -633,7 +689,7 @@ static void draw_plots(const gr_output *out, const pv *s, const tail_result *tai
              "'' skip 3 using 1:9 with lines lw 2 lc rgb '#cc3333' title '%s', "
              "'' skip 3 using 1:10 with lines lw 2 dt 2 lc rgb '#339933' title 'crossover P_0(v) (5.32), alpha = 1', "
              "gauss(x) with lines dt 3 lc rgb '#888888' title 'Gaussian of the same <v^2>'",
-             ymin, v_rms, label);
+             ymin, -vlim, vlim, v_rms, label);
     gr_obs_plot(out, "pv.png", body);
 
     snprintf(body, sizeof body,
@@ -647,13 +703,13 @@ static void draw_plots(const gr_output *out, const pv *s, const tail_result *tai
     gr_obs_plot(out, "pv_tail.png", body);
 
     snprintf(body, sizeof body,
-             "set logscale y\nset format y '10^{%%L}'\nset yrange [%g:*]\n"
+             "set logscale y\nset format y '10^{%%L}'\nset yrange [%g:*]\nset xrange [0:%g]\n"
              "set xlabel '|v| / sqrt(<|v|^2>)'\nset ylabel 'P(c)'\n"
              "set title 'Scaled %s distribution'\n"
              "mb(c) = %s\n"
              "plot 'pv_speed.csv' skip 3 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 ps 0.4 lc rgb '#222244' title 'data', "
              "mb(x) with lines lw 2 dt 2 lc rgb '#888888' title 'Maxwell-Boltzmann, same <|v|^2>'",
-             ymin * v_rms, s->dim == 2 ? "speed" : "|v|",
+             ymin * v_rms, slim, s->dim == 2 ? "speed" : "|v|",
              s->dim == 2 ? "c > 0 ? 2*c*exp(-c*c) : 1/0" : "c > 0 ? sqrt(2/pi)*exp(-c*c/2) : 1/0");
     gr_obs_plot(out, "pv_speed.png", body);
 }

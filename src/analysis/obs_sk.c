@@ -29,26 +29,7 @@
 #include "analysis/obs_util.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
-
-/* ------------------------------------------------------------------------------------------
- * The S(k) engine. tests/test_obs_sk.c and bench/bench_sk.c repeat these declarations (keep
- * them identical; they belong in a header such as src/analysis/sk.h). */
-typedef struct gr_sk_plan gr_sk_plan;
-enum { GR_SK_GRIDDING = 0, GR_SK_DIRECT = 1 };
-#define GR_SK_MSP_DEFAULT 8 /* Gaussian half-width in grid points; chosen with bench/bench_sk.c */
-#define GR_SK_MSP_MAX 16
-#define GR_SK_NMAX_LIMIT 1024 /* largest |n_x|, |n_y|: a ~4100^2 grid, 270 MB */
-/* All vectors with n_x^2 + n_y^2 <= n_cut^2 in the half plane, for a box of side L; gridding with
- * half-width msp (1..GR_SK_MSP_MAX). */
-int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_error *err);
-void gr_sk_plan_free(gr_sk_plan *pl);
-/* Number of vectors; *nx, *ny (if not NULL) point at their integer components. */
-int gr_sk_plan_vectors(const gr_sk_plan *pl, const int **nx, const int **ny);
-/* Grid side M_r and Gaussian width tau of the gridding. */
-void gr_sk_plan_grid(const gr_sk_plan *pl, int *grid, double *tau);
-/* S of every vector for n particles at (x, y) (any real coordinates; periodic in L). */
-int gr_sk_compute(gr_sk_plan *pl, int method, int n, const double *x, const double *y, double *S,
-                  gr_error *err);
+#include "analysis/sk.h"
 
 struct gr_sk_plan {
     double L, n_cut;
@@ -215,7 +196,7 @@ int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_erro
             pl->ny[v] = b;
             /* spectrum row = k_y (negative k_y wrap to Mr + k_y), column = k_x >= 0 */
             pl->idx[v] = (size_t)(b >= 0 ? b : pl->Mr + b) * (size_t)pl->Mc + (size_t)a;
-            pl->deconv[v] = norm * exp(0.9 * pl->tau * (double)((long)a * a + (long)b * b));
+            pl->deconv[v] = norm * exp(pl->tau * (double)((long)a * a + (long)b * b));
         }
     }
     *out = pl;
@@ -451,7 +432,7 @@ int gr_sk_compute(gr_sk_plan *pl, int method, int n, const double *x, const doub
 
 static const gr_param params[] = {
     {"sk_kd_max", "", GR_PARAM_DOUBLE, 4.0, 0.0, 64.0, true, false,
-     "S(k) on every lattice vector k = 2 pi n / L (4.3) with 0 < |k| d <= sk_kd_max",
+     "S(k) on every lattice vector k = 2 pi n / L (4.3), n != 0, with k d <= sk_kd_max",
      offsetof(gr_analysis_params, sk_kd_max)},
 };
 

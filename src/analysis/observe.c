@@ -9,12 +9,14 @@ extern const gr_observable_type gr_obs_moments;
 extern const gr_observable_type gr_obs_freepath;
 extern const gr_observable_type gr_obs_postcollision;
 extern const gr_observable_type gr_obs_gaps;
+extern const gr_observable_type gr_obs_sk;
 
 const gr_observable_type *const gr_observables[] = {
     &gr_obs_moments,
     &gr_obs_freepath,
     &gr_obs_postcollision,
     &gr_obs_gaps,
+    &gr_obs_sk,
     NULL,
 };
 

@@ -770,7 +770,7 @@ static char *trim(char *s)
     return s;
 }
 
-int gr_spm_pl_load(gr_spm_pl *pl, const char *path, gr_error *err)
+int gr_spm_pl_load(gr_spm_pl *pl, const char *path, double diameter, gr_error *err)
 {
     memset(pl, 0, sizeof *pl);
     FILE *f = fopen(path, "r");
@@ -782,6 +782,7 @@ int gr_spm_pl_load(gr_spm_pl *pl, const char *path, gr_error *err)
     char line[4096];
     char *names[64];
     int ncol = 0, cl = -1, cp = -1, ce = -1, lineno = 0, cap = 0, rc = GR_OK;
+    double unit = 1.0; /* metres per unit of the free-path column */
     char header[4096];
     while (fgets(line, sizeof line, f)) {
         lineno++;
@@ -798,9 +799,17 @@ int gr_spm_pl_load(gr_spm_pl *pl, const char *path, gr_error *err)
             cl = find_column(names, ncol, "l", NULL);
             cp = find_column(names, ncol, "P", "density");
             ce = find_column(names, ncol, "P_err", "density_error");
+            if (cl < 0 && (cl = find_column(names, ncol, "l_over_d", NULL)) >= 0) {
+                if (!(diameter > 0.0) || !isfinite(diameter)) {
+                    rc = GR_FAIL(err, GR_EINVAL, "%s:%d: free paths in diameters (l_over_d): the particle diameter is needed", path,
+                                 lineno);
+                    break;
+                }
+                unit = diameter;
+            }
             if (cl < 0 || cp < 0) {
-                rc = GR_FAIL(err, GR_EINVAL, "%s:%d: the header must name the columns l and P (or density), got '%s'", path,
-                             lineno, s);
+                rc = GR_FAIL(err, GR_EINVAL, "%s:%d: the header must name the columns l (or l_over_d) and P (or density), got '%s'",
+                             path, lineno, s);
                 break;
             }
             continue;
@@ -822,7 +831,7 @@ int gr_spm_pl_load(gr_spm_pl *pl, const char *path, gr_error *err)
             rc = GR_FAIL(err, GR_EINVAL, "%s:%d: expected %d numbers separated by commas", path, lineno, ncol);
             break;
         }
-        double l = val[cl], p = val[cp], e = ce >= 0 ? val[ce] : 0.0;
+        double l = val[cl] * unit, p = val[cp] / unit, e = ce >= 0 ? val[ce] / unit : 0.0;
         if (!(l > 0.0) || !isfinite(l) || !(p >= 0.0) || !isfinite(p) || (ce >= 0 && !(e >= 0.0))) {
             rc = GR_FAIL(err, GR_EINVAL, "%s:%d: need l > 0, P >= 0%s, got l = %g, P = %g", path, lineno,
                          ce >= 0 ? " and an error >= 0" : "", l, p);
