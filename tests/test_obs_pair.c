@@ -8,7 +8,8 @@
  *   - with R_max = L/2 the pairs counted plus the brute-force pairs beyond L/2 (the box corners)
  *     are N(N-1)/2 per frame, and g integrates back to the counts;
  *   - points on a line give D_f = 1;
- *   - bad parameters and bad frames are refused. */
+ *   - bad parameters and bad frames are refused.
+ * PAIR_TEST_VERBOSE=1 prints the ideal-gas and line statistics the bounds are checked against. */
 #include <check.h>
 #include <cjson/cJSON.h>
 #include <gsl/gsl_randist.h>

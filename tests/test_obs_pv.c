@@ -281,6 +281,11 @@ START_TEST(gaussian_1d_matches_density_and_alpha_2)
     ck_assert_msg(fabs(num(pv, "tail.v0") / (sqrt(2.0) * sigma) - 1.0) < 0.03, "v0 %g", num(pv, "tail.v0"));
     ck_assert_msg(num(pv, "tail.chi2_red") < 1.2, "chi2_red %g", num(pv, "tail.chi2_red"));
     ck_assert_msg(fabs(num(pv, "v_rms") / sigma - 1.0) < 0.01, "v_rms %g", num(pv, "v_rms"));
+    /* independent samples: X(v) - X(-v) scatters as Poisson counts */
+    double phi = num(pv, "tail.dispersion_corrected.dispersion");
+    ck_assert_msg(phi > 0.6 && phi < 1.5, "dispersion %g of independent samples", phi);
+    ck_assert(cJSON_IsTrue(cJSON_GetObjectItem(
+        cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "tail"), "dispersion_corrected"), "accepted")));
     /* the crossover (5.32) of a Gaussian: v_r = sqrt(2) sigma, crossover far out */
     ck_assert_msg(fabs(num(pv, "crossover.v_r") / (sqrt(2.0) * sigma) - 1.0) < 0.05, "v_r %g",
                   num(pv, "crossover.v_r"));
@@ -387,6 +392,49 @@ START_TEST(exponential_tails_give_alpha_1)
     ck_assert_msg(fabs(num(pv, "crossover.v_A") / 0.1 - 1.0) < 0.1, "v_A %g", num(pv, "crossover.v_A"));
     cJSON_Delete(root);
     gr_obs_pv.destroy(st);
+}
+END_TEST
+
+START_TEST(overdispersed_counts_detected)
+{
+    /* every frame sampled 10 times over: counts come in multiples of 10, their variance is 10 X, and
+     * the thesis's sqrt(X) errors are sqrt(10) too small. The mirror-bin dispersion finds the factor,
+     * the thesis's acceptance rejects the true alpha = 1, the dispersion-corrected one keeps it. */
+    gr_scene s;
+    pv_scene(&s, 1, 400, 12.0);
+    void *st;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_obs_pv.create(&s, &st, &err), GR_OK);
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 31);
+    const int n = 5000;
+    double *vx = malloc(sizeof(double) * n), dummy;
+    gen_ctx g = {0.1, 1.0};
+    for (int f = 0; f < 20; f++) {
+        for (int i = 0; i < n; i++) {
+            draw_gen(r, &g, &vx[i], &dummy);
+        }
+        gr_particles p = {.n = n, .dim = 1, .L = 1.0, .vx = vx};
+        for (int k = 0; k < 10; k++) {
+            ck_assert_int_eq(gr_obs_pv.sample(st, &p, 10 * f + k, &err), GR_OK);
+        }
+    }
+    cJSON *root;
+    cJSON *pv = finish_into(st, &s, false, &root);
+    double phi = num(pv, "tail.dispersion_corrected.dispersion");
+    ck_assert_msg(phi > 6.0 && phi < 16.0, "dispersion %g, expected about 10", phi);
+    ck_assert_msg(num(pv, "tail.chi2_red") > 3.0, "chi2_red %g with sqrt(X) errors", num(pv, "tail.chi2_red"));
+    ck_assert(!cJSON_IsTrue(cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "tail"), "accepted")) ||
+              num(pv, "tail.alpha_halfwidth") < 0.02);
+    cJSON *dc = cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "tail"), "dispersion_corrected");
+    ck_assert(cJSON_IsTrue(cJSON_GetObjectItem(dc, "accepted")));
+    double mid = num(dc, "alpha"), half = num(dc, "alpha_halfwidth");
+    ck_assert_msg(fabs(mid - 1.0) <= half + 1e-9, "dispersion-corrected alpha %g +- %g misses 1", mid, half);
+    ck_assert_msg(fabs(num(pv, "tail.free.alpha") - 1.0) < 0.1, "free alpha %g", num(pv, "tail.free.alpha"));
+    free(vx);
+    cJSON_Delete(root);
+    gr_obs_pv.destroy(st);
+    gsl_rng_free(r);
 }
 END_TEST
 
@@ -873,6 +921,7 @@ static Suite *pv_suite(void)
     tcase_add_checked_fixture(fits, setup, teardown);
     tcase_set_timeout(fits, 120);
     tcase_add_test(fits, exponential_tails_give_alpha_1);
+    tcase_add_test(fits, overdispersed_counts_detected);
     tcase_add_test(fits, stretched_tails_give_alpha_1_5_in_2d);
     tcase_add_test(fits, crossover_fit_recovers_vr_vc);
     suite_add_tcase(s, fits);

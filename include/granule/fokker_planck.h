@@ -58,6 +58,8 @@ typedef struct gr_fp_settings {
     uint64_t seed;         /* gsl_rng_mt19937 seed */
     double steps_per_T0;   /* time steps per T0 = L / V (default 200) */
     double max_T0;         /* a walk still inside after max_T0 * T0 is cut off and reported */
+    int refine;            /* levels of exact bridge bisection near the walls (default 8; 0: only
+                              the Hermite test on each step) */
     gr_fp_start start;
     int bins;              /* velocity bins of Q over [-vmax, vmax] (even; default 100) */
     int exit_bins;         /* bins of the exit velocity over [0, vmax] (default 50) */
@@ -125,9 +127,10 @@ int gr_fp_exit_moment(gr_fp_quad *q, double m, double *value, gr_error *err);
  * The simulation. Each walker starts at rest and is advanced with the exact Gaussian sampler of
  * the free random-acceleration process over steps tau (physics notes sec. 1.2):
  *   dv = sqrt(2 D tau) / M g1,   dx = v tau + (tau/2) dv + sqrt(D tau^3 / 6) / M g2.
- * Absorption is detected at step ends and, inside a step, on the cubic Hermite interpolant of
- * (x, v) at both ends (the conditional mean path), whose first crossing gives the exit time and
- * velocity. The velocity is recorded at the end of every step the walker survives (uniformly in
+ * Absorption inside a step is looked for near the walls by bisecting the exact bridge of the
+ * process (the midpoint given both ends is Gaussian) for `refine` levels, and on the finest
+ * pieces with the cubic Hermite interpolant of (x, v) at their ends (the conditional mean path),
+ * whose first crossing gives the exit time and velocity. The velocity is recorded at the end of every step the walker survives (uniformly in
  * time). Samples of one walk are correlated, so bin errors are computed from the walk-to-walk
  * scatter (the walk is the independent unit); sqrt(X) errors are kept beside them. */
 typedef struct gr_fp_sim_result {

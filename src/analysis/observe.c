@@ -10,6 +10,7 @@ extern const gr_observable_type gr_obs_freepath;
 extern const gr_observable_type gr_obs_postcollision;
 extern const gr_observable_type gr_obs_gaps;
 extern const gr_observable_type gr_obs_sk;
+extern const gr_observable_type gr_obs_pair;
 
 const gr_observable_type *const gr_observables[] = {
     &gr_obs_moments,
@@ -17,6 +18,7 @@ const gr_observable_type *const gr_observables[] = {
     &gr_obs_postcollision,
     &gr_obs_gaps,
     &gr_obs_sk,
+    &gr_obs_pair,
     NULL,
 };
 

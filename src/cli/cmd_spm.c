@@ -83,12 +83,15 @@ static void usage_circle(FILE *f)
 static void usage_full(FILE *f)
 {
     fprintf(f,
-            "usage: granule spm full (--pl FILE | --df D_f [--C C]) [--compare-run DIR] [options]\n\n"
+            "usage: granule spm full (--pl FILE | --df D_f [--C C]) [--compare-run DIR] [options]\n"
+            "       granule spm full --compare-run DIR [options]   (P_l from DIR/freepath.csv)\n\n"
             "The SPM of thesis sec. 5.2.3: every walk draws its radius l from the free-path\n"
             "distribution P_l(l); the velocity distribution P(v) of one component is sampled\n"
             "uniformly in time over all walks (integral identity 5.10).\n"
             "  --pl FILE         measured P_l: CSV with a header naming columns l (m) and P (or\n"
-            "                    density; optional P_err or density_error); '#' lines are comments\n"
+            "                    density; optional P_err or density_error); '#' lines are comments;\n"
+            "                    or a run's freepath.csv (l_over_d: diameters, see --diameter)\n"
+            "  --diameter D      particle diameter, m, for l_over_d (default: the run folder's)\n"
             "  --df D_f          use the fitted form 4.25, P_l ~ l^(D_f-2) exp(-C l^(D_f-1))\n"
             "  --C C             its constant, m^-(D_f-1) (default 121: phi = 0.530, thesis sec. 5.3.3)\n"
             "  --tail-from L     fit 4.25 to the --pl table for l >= L (default: from its maximum)\n"
@@ -119,7 +122,9 @@ static void usage_predict(FILE *f)
             "  F = B/C, gamma = 3 (D_f - 1), P(v) ~ v^h exp(-S |v|^alpha)  (5.27)\n"
             "  h = 3 (D_f - 1) / (3 D_f - 1)                            (5.30-5.31)\n"
             "  --df D_f          fractal dimension (e.g. 1.63)\n"
-            "  --pl FILE         or fit 4.25 to a measured P_l table (columns l, P) for D_f and C\n"
+            "  --pl FILE         or fit 4.25 to a measured P_l table (columns l, P; or a run's\n"
+            "                    freepath.csv, columns l_over_d, density) for D_f and C\n"
+            "  --diameter D      particle diameter, m, for l_over_d (default: the run folder's)\n"
             "  --tail-from L     fit over l >= L, m (default: from the maximum of P)\n"
             "  --C C             C of 4.25, m^-(D_f-1) (default 121 with --df: thesis sec. 5.3.3)\n"
             "  --b B             Q's Gaussian tail coefficient of 5.12 (default 0.98; granule spm\n"
@@ -711,10 +716,11 @@ static int cmd_circle(int argc, char **argv)
 /* ------------------------------------------------------------------------------------------- *
  * full */
 
-/* Mass, D, dim and warm-up from a run folder's summary.json (any may stay unknown). */
-static void run_scene(const char *dir, double *mass, double *D, int *dim, double *warmup)
+/* Mass, D, dim, warm-up and particle diameter from a run folder's summary.json (any may stay
+ * unknown: NAN or 0). */
+static void run_scene(const char *dir, double *mass, double *D, int *dim, double *warmup, double *diameter)
 {
-    *mass = *D = *warmup = (double)NAN;
+    *mass = *D = *warmup = *diameter = (double)NAN;
     *dim = 0;
     char path[1200];
     snprintf(path, sizeof path, "%s/summary.json", dir);
@@ -764,7 +770,31 @@ static void run_scene(const char *dir, double *mass, double *D, int *dim, double
     if (cJSON_IsNumber(x)) {
         *warmup = x->valuedouble;
     }
+    x = cJSON_GetObjectItem(cJSON_GetObjectItem(sc, "system"), "radius");
+    if (cJSON_IsNumber(x)) {
+        *diameter = 2.0 * x->valuedouble;
+    }
     cJSON_Delete(j);
+}
+
+/* The particle diameter for a P_l file in diameters: --diameter, else the run folder's around it. */
+static double pl_diameter(const char *pl_path, double given)
+{
+    if (given > 0.0) {
+        return given;
+    }
+    char dir[1300];
+    snprintf(dir, sizeof dir, "%.1200s", pl_path);
+    char *slash = strrchr(dir, '/');
+    if (slash) {
+        *slash = 0;
+    } else {
+        snprintf(dir, sizeof dir, ".");
+    }
+    double m, D, w, d;
+    int dim;
+    run_scene(dir, &m, &D, &dim, &w, &d);
+    return d > 0.0 ? d : 0.0;
 }
 
 /* A0 v^h exp(-S v^alpha) with the predicted alpha fixed: ln P - ... linear in (1, ln v, v^alpha);
@@ -868,7 +898,8 @@ static int cmd_full(int argc, char **argv)
     gr_spm_settings_default(&o.s);
     o.s.walks = 200000;
     const char *pl_path = NULL, *run_dir = NULL;
-    double df = (double)NAN, C = (double)NAN, tail_from = 0.0, vmax = (double)NAN, fit_from = (double)NAN, t_from = (double)NAN, compare_from = (double)NAN, z_max = 3.0;
+    double df = (double)NAN, C = (double)NAN, tail_from = 0.0, vmax = (double)NAN, fit_from = (double)NAN, t_from = (double)NAN,
+           compare_from = (double)NAN, z_max = 3.0, diameter = (double)NAN;
     bool weight_time = true;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -903,7 +934,7 @@ static int cmd_full(int argc, char **argv)
         }
         double x;
         static const char *const nums[] = {"--df", "--C", "--tail-from", "--vmax", "--fit-from", "--t-from",
-                                           "--compare-from", "--z-max", "--tilt"};
+                                           "--compare-from", "--z-max", "--tilt", "--diameter"};
         bool known = false;
         for (size_t k = 0; k < sizeof nums / sizeof nums[0]; k++) {
             known |= !strcmp(a, nums[k]);
@@ -931,12 +962,31 @@ static int cmd_full(int argc, char **argv)
             compare_from = x;
         } else if (!strcmp(a, "--z-max")) {
             z_max = x;
+        } else if (!strcmp(a, "--diameter")) {
+            diameter = x;
         } else {
             o.s.tilt = x;
         }
     }
+    char auto_pl[1200];
+    if (!pl_path && isnan(df) && run_dir) {
+        /* Fig. 5.10: the run's own free paths (the freepath observable) */
+        snprintf(auto_pl, sizeof auto_pl, "%s/freepath.csv", run_dir);
+        FILE *probe = fopen(auto_pl, "r");
+        if (!probe) {
+            cli_error("spm full: %s has no freepath.csv (run it with [analysis] observables = freepath); give --pl FILE or --df D_f",
+                      run_dir);
+            return EXIT_REFUSED;
+        }
+        fclose(probe);
+        pl_path = auto_pl;
+    }
     if ((pl_path != NULL) == !isnan(df)) {
         cli_error("spm full: give either --pl FILE or --df D_f");
+        return EXIT_REFUSED;
+    }
+    if (!isnan(diameter) && !(diameter > 0.0 && isfinite(diameter))) {
+        cli_error("spm full: --diameter must be > 0 m, got %g", diameter);
         return EXIT_REFUSED;
     }
     if (pl_path && !isnan(C)) {
@@ -956,10 +1006,10 @@ static int cmd_full(int argc, char **argv)
         cli_error("spm full: --t-from and --compare-from need --compare-run DIR");
         return EXIT_REFUSED;
     }
-    double run_mass = (double)NAN, run_D = (double)NAN, warmup = (double)NAN;
+    double run_mass = (double)NAN, run_D = (double)NAN, warmup = (double)NAN, run_d = (double)NAN;
     int run_dim = 0;
     if (run_dir) {
-        run_scene(run_dir, &run_mass, &run_D, &run_dim, &warmup);
+        run_scene(run_dir, &run_mass, &run_D, &run_dim, &warmup, &run_d);
         if (!o.mass_set && run_mass > 0.0) {
             o.s.mass = run_mass;
         }
@@ -983,8 +1033,8 @@ static int cmd_full(int argc, char **argv)
     bool have_plfit = false;
     char plfit_note[sizeof(((gr_error *)0)->message)] = "";
     if (pl_path) {
-        if (gr_spm_pl_load(&pl, pl_path, &err)) {
-            cli_error("%s", err.message);
+        if (gr_spm_pl_load(&pl, pl_path, pl_diameter(pl_path, isnan(diameter) ? 0.0 : diameter), &err)) {
+            cli_error("%s%s", err.message, strstr(err.message, "diameter") ? " (give --diameter D in m)" : "");
             return exit_code(&err);
         }
         gr_error e2 = {0};
@@ -1372,7 +1422,8 @@ static int cmd_predict(int argc, char **argv)
     options o = {.out = "out/spm-predict", .plots = true, .bins = 0};
     gr_spm_settings_default(&o.s);
     const char *pl_path = NULL;
-    double df = (double)NAN, C = (double)NAN, b = GR_SPM_THESIS_B_COEF, tail_from = 0.0, vmax = (double)NAN;
+    double df = (double)NAN, C = (double)NAN, b = GR_SPM_THESIS_B_COEF, tail_from = 0.0, vmax = (double)NAN,
+           diameter = 0.0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -1392,7 +1443,8 @@ static int cmd_predict(int argc, char **argv)
         }
         if (i + 1 >= argc) {
             if (!strcmp(a, "--out") || !strcmp(a, "--pl") || !strcmp(a, "--df") || !strcmp(a, "--C") || !strcmp(a, "--b") ||
-                !strcmp(a, "--mass") || !strcmp(a, "--D") || !strcmp(a, "--tail-from") || !strcmp(a, "--vmax")) {
+                !strcmp(a, "--mass") || !strcmp(a, "--D") || !strcmp(a, "--tail-from") || !strcmp(a, "--vmax") ||
+                !strcmp(a, "--diameter")) {
                 cli_error("spm: %s needs a value", a);
             } else {
                 unknown("predict", a, usage_predict);
@@ -1408,7 +1460,7 @@ static int cmd_predict(int argc, char **argv)
             continue;
         }
         double x;
-        static const char *const nums[] = {"--df", "--C", "--b", "--mass", "--D", "--tail-from", "--vmax"};
+        static const char *const nums[] = {"--df", "--C", "--b", "--mass", "--D", "--tail-from", "--vmax", "--diameter"};
         bool known = false;
         for (size_t k = 0; k < sizeof nums / sizeof nums[0]; k++) {
             known |= !strcmp(a, nums[k]);
@@ -1432,6 +1484,8 @@ static int cmd_predict(int argc, char **argv)
             o.s.D = x;
         } else if (!strcmp(a, "--tail-from")) {
             tail_from = x;
+        } else if (!strcmp(a, "--diameter")) {
+            diameter = x;
         } else {
             vmax = x;
         }
@@ -1460,8 +1514,8 @@ static int cmd_predict(int argc, char **argv)
     gr_spm_pl_fit plfit = {0};
     if (pl_path) {
         gr_spm_pl pl;
-        if (gr_spm_pl_load(&pl, pl_path, &err)) {
-            cli_error("%s", err.message);
+        if (gr_spm_pl_load(&pl, pl_path, pl_diameter(pl_path, diameter), &err)) {
+            cli_error("%s%s", err.message, strstr(err.message, "diameter") ? " (give --diameter D in m)" : "");
             return exit_code(&err);
         }
         int rc = gr_spm_pl_fit_tail(&pl, tail_from, &plfit, &err);

@@ -50,6 +50,7 @@ void gr_fp_settings_default(gr_fp_settings *s)
     s->seed = 1;
     s->steps_per_T0 = 200.0;
     s->max_T0 = 200.0;
+    s->refine = 8;
     s->start = GR_FP_START_UNIFORM;
     s->bins = 100;
     s->exit_bins = 50;
@@ -87,6 +88,9 @@ int gr_fp_settings_check(const gr_fp_settings *s, gr_error *err)
     }
     if (!(s->max_T0 >= 1.0 && s->max_T0 <= 1e6)) {
         return GR_FAIL(err, GR_EINVAL, "max_T0 (walk cut-off in units of T0) must lie in [1, 1e6], got %g", s->max_T0);
+    }
+    if (s->refine < 0 || s->refine > 30) {
+        return GR_FAIL(err, GR_EINVAL, "refine (bridge bisection levels) must lie in [0, 30], got %d", s->refine);
     }
     if (s->start != GR_FP_START_UNIFORM && s->start != GR_FP_START_CENTRE) {
         return GR_FAIL(err, GR_EINVAL, "start must be uniform or centre");
@@ -799,6 +803,43 @@ static bool hermite_exit(double x0, double v0, double x1, double v1, double tau,
 #undef HV
 }
 
+/* The first exit within a step from (x0, v0) to (x1, v1) of length h (reduced units, Gamma = 1),
+ * found by bisecting the exact bridge of the random-acceleration process: given both ends, the
+ * midpoint is Gaussian with mean (the Hermite cubic at h/2)
+ *     x_m = (x0 + x1)/2 + h (v0 - v1)/8,   v_m = 3 (x1 - x0)/(2h) - (v0 + v1)/4
+ * and independent variances Var(x_m) = (h/2)^3 / 12, Var(v_m) = (h/2) / 4 (<eta eta'> = 2 delta).
+ * Sub-intervals that cannot come near a wall (Hermite reach 4/27 h (|v0|+|v1|) plus 6 standard
+ * deviations of the bridge) are skipped; after `depth` levels the Hermite test decides. Sampling
+ * the midpoints from their exact conditional law leaves the step's end state unbiased. Returns
+ * true with *t_out the exit time from the start of the step. */
+static bool bridge_exit(gsl_rng *rng, double x0, double v0, double x1, double v1, double h, int depth, double *t_out,
+                        double *vel, int *side)
+{
+    const double margin = (4.0 / 27.0) * h * (fabs(v0) + fabs(v1)) + (depth > 0 ? 6.0 * sqrt(h * h * h / 12.0) : 0.0);
+    if (fmin(x0, x1) - margin > 0.0 && fmax(x0, x1) + margin < 1.0) {
+        return false;
+    }
+    if (depth == 0) {
+        double se;
+        if (hermite_exit(x0, v0, x1, v1, h, &se, vel, side)) {
+            *t_out = se * h;
+            return true;
+        }
+        return false;
+    }
+    const double a = 0.5 * h;
+    const double xm = 0.5 * (x0 + x1) + 0.125 * h * (v0 - v1) + sqrt(a * a * a / 12.0) * gsl_ran_gaussian_ziggurat(rng, 1.0);
+    const double vm = 1.5 * (x1 - x0) / h - 0.25 * (v0 + v1) + sqrt(0.25 * a) * gsl_ran_gaussian_ziggurat(rng, 1.0);
+    if (bridge_exit(rng, x0, v0, xm, vm, a, depth - 1, t_out, vel, side)) {
+        return true;
+    }
+    if (bridge_exit(rng, xm, vm, x1, v1, a, depth - 1, t_out, vel, side)) {
+        *t_out += a;
+        return true;
+    }
+    return false;
+}
+
 typedef struct walk_acc {
     double sum_n, sum_n2;           /* samples per walk */
     double F[6], F2[6], FN[6];      /* per-walk sums of v, v^2, v^3, v^4 (1..4) and |v| (5) */
@@ -909,18 +950,15 @@ int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
             double dv = sv * g1;
             double x1 = x + v * h + 0.5 * h * dv + sx * g2;
             double v1 = v + dv;
-            /* the Hermite cubic stays within 4/27 h (|v| + |v1|) of [min, max] of the ends */
-            double reach = (4.0 / 27.0) * h * (fabs(v) + fabs(v1));
-            double lo = fmin(x, x1) - reach, hi = fmax(x, x1) + reach;
-            if (lo <= 0.0 || hi >= 1.0) {
-                double se, ve;
-                int sd;
-                if (hermite_exit(x, v, x1, v1, h, &se, &ve, &sd)) {
-                    t_exit = t + se * h;
-                    v_exit = ve;
-                    side = sd;
-                    break;
-                }
+            /* an exit inside the step: exact bridge bisection near the walls, then the Hermite
+             * cubic (which stays within 4/27 h (|v| + |v1|) of [min, max] of the ends) */
+            double te, ve;
+            int sd;
+            if (bridge_exit(rng, x, v, x1, v1, h, s->refine, &te, &ve, &sd)) {
+                t_exit = t + te;
+                v_exit = ve;
+                side = sd;
+                break;
             }
             t += h;
             h = tau;
