@@ -373,7 +373,7 @@ START_TEST(test_bad_inputs)
         const char *what;
         gr_fp_settings s;
     } bad_case;
-    bad_case bad[12];
+    bad_case bad[14];
     int n = 0;
 #define BAD(label, change)                                                                                   \
     do {                                                                                                     \
@@ -394,6 +394,8 @@ START_TEST(test_bad_inputs)
     BAD("vmax < 0", b.vmax_V = -1.0);
     BAD("start 7", b.start = (gr_fp_start)7);
     BAD("V underflows", (b.D = 1e-300, b.M = 1e200));
+    BAD("refine -1", b.refine = -1);
+    BAD("max_T0 0", b.max_T0 = 0.0);
 #undef BAD
     for (int i = 0; i < n; i++) {
         memset(&err, 0, sizeof err);

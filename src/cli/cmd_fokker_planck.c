@@ -22,10 +22,10 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "usage: granule fokker-planck [--length L] [--D D] [--mass M] [--walkers W] [--seed S]\n"
-            "                             [--steps N] [--start uniform|centre] [--bins N] [--exit-bins N]\n"
-            "                             [--vmax X] [--epsrel E] [--inner-quadrature] [--points N]\n"
-            "                             [--min-walks N] [--no-sim] [--no-plots] [--quiet] [--force]\n"
-            "                             [--out DIR]\n\n"
+            "                             [--steps N] [--refine K] [--start uniform|centre] [--bins N]\n"
+            "                             [--exit-bins N] [--vmax X] [--epsrel E] [--inner-quadrature]\n"
+            "                             [--points N] [--min-walks N] [--no-sim] [--no-plots] [--quiet]\n"
+            "                             [--force] [--out DIR]\n\n"
             "Thesis App. B: particles start at rest in [0, L], are driven by white noise of strength D\n"
             "(<eta eta'> = 2 D delta) and are absorbed at x = 0 and x = L. Evaluates the stationary\n"
             "Fokker-Planck solution P(x, v) (B.32) and the time-uniform velocity distribution\n"
@@ -42,6 +42,8 @@ static void usage(FILE *f)
             "  --seed S          gsl_rng_mt19937 seed (default 1)\n"
             "  --steps N         time steps per T0 (default 200; the results do not move within their\n"
             "                    errors down to 40, see the docs)\n"
+            "  --refine K        levels of exact bridge bisection that look for exits inside a step\n"
+            "                    near the walls (default 8; 0: the Hermite test on whole steps only)\n"
             "  --start uniform|centre  release point: uniform in (0, L), the model B.32 solves (default),\n"
             "                    or the centre (the Single Particle Model, sec. 5.3.1; B.32 does not\n"
             "                    describe it and only exact identities are checked then)\n"
@@ -108,9 +110,9 @@ static void csv_head(FILE *f, const char *what, const options *o, double V, doub
     const gr_fp_settings *s = &o->s;
     fprintf(f, "# granule %s (%s) fokker-planck: %s\n", GR_VERSION, GR_COMMIT, what);
     fprintf(f, "# L = %.9g m, D = %.9g N^2 s, M = %.9g kg, V = (D L/M^2)^(1/3) = %.9g m/s, T0 = L/V = %.9g s, "
-               "start %s, walkers %lld, steps per T0 %g, seed %llu, epsrel %g\n",
+               "start %s, walkers %lld, steps per T0 %g, refine %d, seed %llu, epsrel %g\n",
             s->L, s->D, s->M, V, T0, s->start == GR_FP_START_CENTRE ? "centre" : "uniform", (long long)s->walkers,
-            s->steps_per_T0, (unsigned long long)s->seed, s->epsrel);
+            s->steps_per_T0, s->refine, (unsigned long long)s->seed, s->epsrel);
 }
 
 static void plot(const options *o, cJSON *plots, cJSON *notes, const char *png, const char *body)
@@ -224,7 +226,8 @@ static int parse(int argc, char **argv, options *o, int *done)
             }
             i++;
             bool integral = !strcmp(a, "--walkers") || !strcmp(a, "--seed") || !strcmp(a, "--bins") ||
-                            !strcmp(a, "--exit-bins") || !strcmp(a, "--points") || !strcmp(a, "--min-walks");
+                            !strcmp(a, "--exit-bins") || !strcmp(a, "--points") || !strcmp(a, "--min-walks") ||
+                            !strcmp(a, "--refine");
             if (integral && (!(x >= 0.0 && x <= 1e15) || x != floor(x))) {
                 cli_error("fokker-planck: %s needs a whole number >= 0, got '%s'", a, v);
                 return EXIT_REFUSED;
@@ -241,6 +244,8 @@ static int parse(int argc, char **argv, options *o, int *done)
                 o->s.seed = (uint64_t)x;
             } else if (!strcmp(a, "--steps")) {
                 o->s.steps_per_T0 = x;
+            } else if (!strcmp(a, "--refine")) {
+                o->s.refine = x > 1e6 ? 1000001 : (int)x;
             } else if (!strcmp(a, "--bins")) {
                 o->s.bins = x > 1e6 ? 1000001 : (int)x;
             } else if (!strcmp(a, "--exit-bins")) {
@@ -435,6 +440,7 @@ int cmd_fokker_planck(int argc, char **argv)
     cJSON_AddNumberToObject(st, "seed", (double)o.s.seed);
     cJSON_AddStringToObject(st, "rng", "gsl_rng_mt19937");
     cJSON_AddNumberToObject(st, "steps_per_T0", o.s.steps_per_T0);
+    cJSON_AddNumberToObject(st, "refine", o.s.refine);
     cJSON_AddNumberToObject(st, "bins", o.s.bins);
     cJSON_AddNumberToObject(st, "exit_bins", o.s.exit_bins);
     cJSON_AddNumberToObject(st, "vmax_over_V", o.s.vmax_V);

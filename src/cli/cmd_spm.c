@@ -142,7 +142,7 @@ typedef struct options {
     gr_spm_settings s;
     const char *out;
     bool force, quiet, plots;
-    bool mass_set, D_set, dim_set, walks_set, batches_set;
+    bool mass_set, D_set, dim_set;
     int bins;
 } options;
 
@@ -223,7 +223,6 @@ static int common_option(int argc, char **argv, int *i, options *o)
             return -1;
         }
         o->s.walks = (int64_t)x;
-        o->walks_set = true;
     } else if (!strcmp(a, "--step")) {
         o->s.step = x;
     } else if (!strcmp(a, "--dt")) {
@@ -238,7 +237,6 @@ static int common_option(int argc, char **argv, int *i, options *o)
             return -1;
         }
         o->s.batches = (int)x;
-        o->batches_set = true;
     } else if (!strcmp(a, "--seed")) {
         if (!integer_option(a, x, 0, 9007199254740992.0)) {
             return -1;
@@ -264,10 +262,9 @@ static bool value_number(int argc, char **argv, int *i, double *x)
     return cli_number(opt, argv[++*i], x);
 }
 
-static void unknown(const char *mode, const char *a, void (*usage)(FILE *))
+static void unknown(const char *mode, const char *a)
 {
     cli_error("spm %s: unknown option %s (granule spm %s --help lists them)", mode, a, mode);
-    (void)usage;
 }
 
 typedef struct progress_state {
@@ -459,7 +456,7 @@ static int cmd_circle(int argc, char **argv)
                 fit_from = x;
             }
         } else {
-            unknown("circle", a, usage_circle);
+            unknown("circle", a);
             return EXIT_REFUSED;
         }
     }
@@ -940,7 +937,7 @@ static int cmd_full(int argc, char **argv)
             known |= !strcmp(a, nums[k]);
         }
         if (!known) {
-            unknown("full", a, usage_full);
+            unknown("full", a);
             return EXIT_REFUSED;
         }
         if (!value_number(argc, argv, &i, &x)) {
@@ -1447,7 +1444,7 @@ static int cmd_predict(int argc, char **argv)
                 !strcmp(a, "--diameter")) {
                 cli_error("spm: %s needs a value", a);
             } else {
-                unknown("predict", a, usage_predict);
+                unknown("predict", a);
             }
             return EXIT_REFUSED;
         }
@@ -1466,7 +1463,7 @@ static int cmd_predict(int argc, char **argv)
             known |= !strcmp(a, nums[k]);
         }
         if (!known) {
-            unknown("predict", a, usage_predict);
+            unknown("predict", a);
             return EXIT_REFUSED;
         }
         if (!value_number(argc, argv, &i, &x)) {

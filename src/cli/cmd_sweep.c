@@ -217,6 +217,9 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     for (int m = 1; m <= 12; m++) {
         fprintf(f.f, ",m%d,m%d_stderr", m, m);
     }
+    for (int m = 1; m <= 12; m++) {
+        fprintf(f.f, ",R%d,R%d_stderr", m, m);
+    }
     fputc('\n', f.f);
     int n_col = s->n_keys;
     int n_idx = -1;
@@ -228,6 +231,8 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     /* moments per point, kept for the fits */
     double (*mom)[13] = calloc((size_t)n_points, sizeof *mom);
     double (*mom_err)[13] = calloc((size_t)n_points, sizeof *mom_err);
+    double (*rmom)[13] = calloc((size_t)n_points, sizeof *rmom);
+    double (*rmom_err)[13] = calloc((size_t)n_points, sizeof *rmom_err);
     for (long k = 0; k < n_points; k++) {
         int idx[MAX_KEYS] = {0}, seed;
         decode(s, k, idx, &seed);
@@ -255,6 +260,14 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
                 }
             }
             fprintf(f.f, ",%.8g,%.4g", mom[k][m], mom_err[k][m]);
+            /* 1D neighbour separations <R^m> (3.18) from the gaps observable, for zeta_m (3.20) */
+            snprintf(p1, sizeof p1, "analysis.gaps.moments.%d", m - 1);
+            snprintf(p2, sizeof p2, "analysis.gaps.moments_stderr.%d", m - 1);
+            rmom[k][m] = gr_summary_number(j, p1);
+            rmom_err[k][m] = gr_summary_number(j, p2);
+        }
+        for (int m = 1; m <= 12; m++) {
+            fprintf(f.f, ",%.8g,%.4g", rmom[k][m], rmom_err[k][m]);
         }
         fputc('\n', f.f);
         cJSON_Delete(j);
@@ -266,13 +279,13 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
         gr_file e;
         rc = gr_file_open(&e, s->out, "exponents.csv", &err);
         if (!rc) {
-            fprintf(e.f, "# granule sweep: <|v|^m> = A N^-xi_m (3.8, 3.13) per combination of the other keys\n");
+            fprintf(e.f, "# granule sweep: <|v|^m> = A N^-xi_m (3.8, 3.13) and <R^m> = A N^-zeta_m (3.20), per combination of the other keys\n");
             for (int i = 0; i < s->n_keys; i++) {
                 if (i != n_idx) {
                     fprintf(e.f, "%s,", s->key[i]);
                 }
             }
-            fprintf(e.f, "m,xi_m,xi_m_error,A,chi2_red,points\n");
+            fprintf(e.f, "quantity,m,exponent,exponent_error,A,chi2_red,points\n");
             long groups = 1;
             for (int i = 0; i < s->n_keys; i++) {
                 groups *= i == n_idx ? 1 : s->n_values[i];
@@ -289,7 +302,9 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
                     gv[i] = (int)(g % s->n_values[i]);
                     g /= s->n_values[i];
                 }
+                for (int q = 0; q < 2; q++)
                 for (int m = 1; m <= 12; m++) {
+                    double(*val)[13] = q == 0 ? mom : rmom, (*verr)[13] = q == 0 ? mom_err : rmom_err;
                     double x[MAX_VALUES], y[MAX_VALUES], sig[MAX_VALUES];
                     int np = 0;
                     for (int v = 0; v < s->n_values[n_idx]; v++) {
@@ -302,10 +317,10 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
                             for (int i = 0; i < s->n_keys && match; i++) {
                                 match = i == n_idx || idx[i] == gv[i];
                             }
-                            if (match && isfinite(mom[k][m])) {
-                                sum += mom[k][m];
-                                sum2 += mom[k][m] * mom[k][m];
-                                esum += isfinite(mom_err[k][m]) ? mom_err[k][m] * mom_err[k][m] : 0.0;
+                            if (match && isfinite(val[k][m])) {
+                                sum += val[k][m];
+                                sum2 += val[k][m] * val[k][m];
+                                esum += isfinite(verr[k][m]) ? verr[k][m] * verr[k][m] : 0.0;
                                 cnt++;
                             }
                         }
@@ -326,7 +341,8 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
                                 fprintf(e.f, "%s,", s->value[i][gv[i]]);
                             }
                         }
-                        fprintf(e.f, "%d,%.6g,%.3g,%.6g,%.4g,%d\n", m, -fit.p[1], fit.err[1], fit.p[0], fit.chi2_red, np);
+                        fprintf(e.f, "%s,%d,%.6g,%.3g,%.6g,%.4g,%d\n", q == 0 ? "xi" : "zeta", m, -fit.p[1], fit.err[1],
+                                fit.p[0], fit.chi2_red, np);
                     }
                 }
             }
@@ -335,6 +351,8 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     }
     free(mom);
     free(mom_err);
+    free(rmom);
+    free(rmom_err);
     if (rc) {
         cli_error("sweep: %s", err.message);
         return EXIT_FAILED;

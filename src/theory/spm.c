@@ -316,7 +316,7 @@ static double bridge_search(walker *wk, const double *x0, const double *v0, cons
 static int walk_run(walker *wk, uint64_t key, gr_error *err)
 {
     const int dim = wk->dim;
-    double x[2] = {0.0, 0.0}, v[2] = {0.0, 0.0}, x1[2], v1[2];
+    double x[2] = {0.0, 0.0}, v[2] = {0.0, 0.0}, x1[2] = {0.0, 0.0}, v1[2] = {0.0, 0.0};
     double g1[2 * BLOCK], g2[2 * BLOCK];
     wk->n = 0;
     wk->key = key;
