@@ -543,10 +543,10 @@ START_TEST(test_sim_identities)
     const gr_fp_sim_result *rs[2] = {&res_u, &res_c};
     for (int k = 0; k < 2; k++) {
         const gr_fp_sim_result *r = rs[k];
-        const double V = gr_fp_velocity_scale(&sim_u), Gamma = sim_u.D / (sim_u.M * sim_u.M);
+        const double Gamma = sim_u.D / (sim_u.M * sim_u.M);
         double q0, q0e;
         gr_error err = {0};
-        ck_assert_msg(gr_fp_sim_Q0(r, 0.5 * V, &q0, &q0e, &err) == 0, "%s", err.message);
+        ck_assert_msg(gr_fp_sim_Q0(r, &q0, &q0e, &err) == 0, "%s", err.message);
         double id = r->exit_speed_mean / (2.0 * Gamma * r->mean_exit_time);
         double ide = id * hypot(r->exit_speed_err / r->exit_speed_mean, r->mean_exit_time_err / r->mean_exit_time);
         ck_assert_msg(fabs(q0 - id) < 4.0 * hypot(q0e, ide), "run %d: Q(0) fit %.5f +- %.5f, from exits %.5f +- %.5f", k, q0,
@@ -619,7 +619,7 @@ START_TEST(test_sim_coarse_steps)
     double T = gr_fp_mean_exit_time(q), q0, q0f, q0fe, e1;
     ck_assert_int_eq(gr_fp_Q_pdf(q, 0.0, &q0, NULL, &err), 0);
     ck_assert_int_eq(gr_fp_exit_moment(q, 1.0, &e1, &err), 0);
-    ck_assert_msg(gr_fp_sim_Q0(&r, 0.3, &q0f, &q0fe, &err) == 0, "%s", err.message);
+    ck_assert_msg(gr_fp_sim_Q0(&r, &q0f, &q0fe, &err) == 0, "%s", err.message);
     ck_assert_msg(fabs(r.mean_exit_time - T) < 4.0 * r.mean_exit_time_err, "T %g +- %g vs %g", r.mean_exit_time,
                   r.mean_exit_time_err, T);
     ck_assert_msg(fabs(r.exit_speed_mean - e1) < 4.0 * r.exit_speed_err, "<|v_exit|> %g +- %g vs %g", r.exit_speed_mean,

@@ -202,8 +202,8 @@ double gr_spm_pl_quantile(const gr_spm_pl *pl, double u);
 double gr_spm_pl_mean(const gr_spm_pl *pl);
 
 /* Fit the tail of a tabulated P_l with 4.25, ln P = ln A0 + (beta - 1) ln l - C l^beta, over the
- * points with l >= lfrom (lfrom <= 0: from the maximum of P), weighted by the relative errors when
- * the file has them. p = (ln A0, C, beta); D_f = beta + 1. */
+ * points with l >= lfrom (lfrom <= 0: the longest 10% of the paths, l >= the 0.9 quantile),
+ * weighted by the relative errors when the file has them (else by their scatter). D_f = beta + 1. */
 typedef struct gr_spm_pl_fit {
     double lfrom, lto;
     double A0, C, C_err, beta, beta_err, df, df_err;
@@ -271,9 +271,12 @@ int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm
  * v >= v_from where both are positive; with fit_scale also horizontally, k P_spm(v / s) / s (ln P_spm
  * interpolated linearly between bin centres), which is the SPM P(v) for free paths scaled by s^3
  * (the SPM is self-similar; for 4.25 that is C -> C s^(-3 (D_f - 1))). Then, going down from the
- * highest bin where both have data, bins agree when |P_rfm - model| <= z_max sqrt(e_rfm^2 +
+ * highest bin where both have data, bins agree when |P_rfm - model| <= z_max sqrt(s_rfm^2 +
  * e_model^2); `decades` is log10(P_rfm(v_lo) / P_rfm(v_hi)) over that contiguous range, and
- * frac_within the fraction of all bins v >= v_from within z_max. */
+ * frac_within the fraction of all bins v >= v_from within z_max. e_rfm must be sqrt(X) errors:
+ * s_rfm^2 = model e_rfm^2 / P_rfm is then the Poisson variance of the count the model expects
+ * (Pearson; the fits use it too), which the observed sqrt(X) underestimates for low-count
+ * deficits. */
 typedef struct gr_spm_compare {
     double v_from, k, k_err, s, s_err;  /* s = 1 unless fit_scale */
     double chi2_red;          /* over the bins v >= v_from */

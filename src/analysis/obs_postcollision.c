@@ -1,8 +1,9 @@
 /* postcollision: the post-collision velocity distribution P(v_0) (sec. 5.2, Fig. 5.9): the
  * velocity components of a particle at the moment it becomes free after a collision (from the
  * engine's contact events), beside the full P(v) of the sampled frames in the same bins, so the
- * two can be overlaid as in Fig. 5.9. Velocities are unscaled (m/s). The bin range is fixed from
- * the first sampled frame: |v| < pv_range sqrt(T_first) per component. */
+ * two can be overlaid as in Fig. 5.9. Velocities are unscaled (m/s). The bins are those of the
+ * pv observable's parameters (pv_bins, pv_range): |v| < pv_range sqrt(T_first), T of eq. 2.19 in
+ * the first sampled frame. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdlib.h>
@@ -45,7 +46,7 @@ static int sample(void *state, const gr_particles *f, double t, gr_error *err)
             double ux = f->vx[i] - mean[0], uy = f->dim == 2 ? f->vy[i] - mean[1] : 0.0;
             T += ux * ux + uy * uy;
         }
-        double vmax = p->range * sqrt(T / (f->n * f->dim)); /* per-component rms */
+        double vmax = p->range * sqrt(T / f->n); /* pv's convention: pv_range sqrt(T), T of eq. 2.19 */
         if (!(vmax > 0.0)) {
             return GR_OK; /* nothing moves yet: fix the range at a later frame */
         }

@@ -21,7 +21,9 @@
  *    [50, 5 000], reported too). alpha is scanned on a grid (A_0 and v0 fitted for each value) and
  *    accepted when the reduced chi-square is below 1.2 — the accepted range is the thesis's
  *    "alpha +- halfwidth"; a free three-parameter fit gives the best alpha with its error, and free
- *    fits over single decades of counts show how the local exponent changes along the tail;
+ *    fits over single decades of counts show how the local exponent changes along the tail. Not in
+ *    the thesis: the over-dispersion of the counts, measured from the symmetry X(v) ~ X(-v), and the
+ *    acceptance repeated with errors sqrt(dispersion X_i) (correlated frames make sqrt(X) too small);
  *  - the crossover function (5.32) P_0(v) = D exp(-(v/v_r)^2 / (1 + |v/v_c|^(2-alpha))) with
  *    alpha = 1 (as in Tables 5.3-5.4), on every bin with at least 50 counts, giving v_r, v_c,
  *    v_A = v_r^2/v_c and P(v_c)/P(0) = exp(-(v_c/v_r)^2/2);

@@ -11,6 +11,7 @@ extern const gr_observable_type gr_obs_postcollision;
 extern const gr_observable_type gr_obs_gaps;
 extern const gr_observable_type gr_obs_sk;
 extern const gr_observable_type gr_obs_pair;
+extern const gr_observable_type gr_obs_pv;
 
 const gr_observable_type *const gr_observables[] = {
     &gr_obs_moments,
@@ -19,6 +20,7 @@ const gr_observable_type *const gr_observables[] = {
     &gr_obs_gaps,
     &gr_obs_sk,
     &gr_obs_pair,
+    &gr_obs_pv,
     NULL,
 };
 

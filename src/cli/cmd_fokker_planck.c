@@ -31,10 +31,11 @@ static void usage(FILE *f)
             "Fokker-Planck solution P(x, v) (B.32) and the time-uniform velocity distribution\n"
             "Q(v, L) = int P dx (B.33-B.34) by adaptive quadrature (GSL QAGS/QAG, 2F1(-1/3,1;5/6;.)),\n"
             "simulates the same walkers (exact Gaussian steps, velocities sampled uniformly in time,\n"
-            "exits found on the cubic Hermite path) and compares them: Fig. B.2 (Q) and Fig. B.1 (the\n"
-            "density of arrivals at x = L divided by v). The printed B.32/B.34 prefactor is 2 3^(1/3)\n"
-            "too large (it violates particle conservation); granule uses the corrected one and also\n"
-            "tabulates the printed form. Scales: V = (D L / M^2)^(1/3), T0 = L / V.\n"
+            "exits found by exact bridge bisection near the walls) and compares them: Fig. B.2 (Q)\n"
+            "and Fig. B.1 (the density of arrivals at x = L divided by v). The printed B.32/B.34\n"
+            "prefactor is 2 3^(1/3) too large (it violates particle conservation); granule uses the\n"
+            "corrected one and also tabulates the printed form. Scales: V = (D L / M^2)^(1/3),\n"
+            "T0 = L / V.\n"
             "  --length L        interval length, m (default 1; L = 2 l of B.33)\n"
             "  --D D             noise strength, N^2 s (default 1)\n"
             "  --mass M          particle mass, kg (default 1; the thesis figures use L = D = M = 1)\n"
@@ -519,7 +520,7 @@ int cmd_fokker_planck(int argc, char **argv)
         if (!rc) rc = gr_fp_compare_Q(q, &r, o.min_walks, qm, &cq, &err);
         if (!rc) rc = gr_fp_compare_exit(q, &r, 20.0, em, &ce, &err);
         gr_error fit_err = {0};
-        if (!rc && gr_fp_sim_Q0(&r, 0.3 * V, &q0fit, &q0fit_err, &fit_err)) {
+        if (!rc && gr_fp_sim_Q0(&r, &q0fit, &q0fit_err, &fit_err)) {
             cJSON_AddItemToArray(notes, cJSON_CreateString(fit_err.message));
         }
         gr_fit sim_fit, quad_fit;
@@ -661,7 +662,9 @@ int cmd_fokker_planck(int argc, char **argv)
                  "set xlabel 'v (m/s)'\nset ylabel 'P(L, v) / (R L)  (s^2/m^2)'\nset key top right\n"
                  "plot 'exit_curve.csv' skip 3 using 1:3 with lines lw 2 lc rgb '#cc3333' title '%s'%s\n",
                  uniform ? "quadrature B.32" : "quadrature B.32 (uniform start, reference)",
-                 o.sim ? ", 'exit.csv' skip 3 using 3:8:9 with yerrorbars pt 7 ps 0.6 lc rgb '#1f5fbf' title 'simulation, both ends pooled (sqrt(X) errors)'" : "");
+                 o.sim ? ", 'exit.csv' skip 3 using 3:8:9 with yerrorbars pt 7 ps 0.6 lc rgb '#1f5fbf' title 'simulation, both ends pooled (sqrt(X) errors)', "
+                         "'' skip 3 using 3:($10 / (2 * $3)) with points pt 6 ps 1.1 lc rgb '#cc3333' title 'quadrature, bin means treated alike'"
+                       : "");
         plot(&o, plots, notes, "exit.png", body);
     }
     if (cJSON_GetArraySize(notes) > 0) {

@@ -94,7 +94,8 @@ static void usage_full(FILE *f)
             "  --diameter D      particle diameter, m, for l_over_d (default: the run folder's)\n"
             "  --df D_f          use the fitted form 4.25, P_l ~ l^(D_f-2) exp(-C l^(D_f-1))\n"
             "  --C C             its constant, m^-(D_f-1) (default 121: phi = 0.530, thesis sec. 5.3.3)\n"
-            "  --tail-from L     fit 4.25 to the --pl table for l >= L (default: from its maximum)\n"
+            "  --tail-from L     fit 4.25 to the --pl table for l >= L, m (default: the longest 10%%\n"
+            "                    of the paths)\n"
             "  --weight time|walk  sample uniformly in time (default, the thesis' simulation) or weigh\n"
             "                    every walk equally (5.10 with Q normalised per walk)\n"
             "  --tilt K          importance sampling of long free paths (default 1: none; e.g. 4\n"
@@ -125,7 +126,7 @@ static void usage_predict(FILE *f)
             "  --pl FILE         or fit 4.25 to a measured P_l table (columns l, P; or a run's\n"
             "                    freepath.csv, columns l_over_d, density) for D_f and C\n"
             "  --diameter D      particle diameter, m, for l_over_d (default: the run folder's)\n"
-            "  --tail-from L     fit over l >= L, m (default: from the maximum of P)\n"
+            "  --tail-from L     fit over l >= L, m (default: the longest 10%% of the paths)\n"
             "  --C C             C of 4.25, m^-(D_f-1) (default 121 with --df: thesis sec. 5.3.3)\n"
             "  --b B             Q's Gaussian tail coefficient of 5.12 (default 0.98; granule spm\n"
             "                    circle measures it); B = b (M^2/2D)^(2/3)\n"
@@ -1191,7 +1192,7 @@ static int cmd_full(int argc, char **argv)
         fprintf(f.f, "l,P,P_fit\n");
         if (pl.kind == GR_SPM_PL_TABLE) {
             for (int i = 0; i < pl.n; i++) {
-                double fit = have_plfit && pl.l[i] >= plfit.lfrom
+                double fit = have_plfit && pl.l[i] >= plfit.lfrom && pl.l[i] <= plfit.lto
                                  ? plfit.A0 * pow(pl.l[i], plfit.beta - 1.0) * exp(-plfit.C * pow(pl.l[i], plfit.beta))
                                  : (double)NAN;
                 fprintf(f.f, "%.6g,%.6g,%.6g\n", pl.l[i], pl.p[i], fit);
@@ -1350,7 +1351,7 @@ static int cmd_full(int argc, char **argv)
         plot(&o, j, "p_v.png", body);
         snprintf(body, sizeof body,
                  "set title 'Free-path distribution P_l(l) used (sec. 4.3)'\nset xlabel 'l (m)'\nset ylabel 'P_l(l) (1/m)'\n"
-                 "set logscale xy\nset format y '10^{%%L}'\nset key top right\n"
+                 "set logscale xy\nset format y '10^{%%L}'\nset format x '10^{%%L}'\nset key top right\n"
                  "plot 'pl.csv' using 1:($2>0 ? $2 : 1/0) with linespoints pt 7 ps 0.4 title 'P_l', "
                  "'' using 1:($3>0 ? $3 : 1/0) with lines lw 2 dt 2 title '4.25'\n");
         plot(&o, j, "pl.png", body);

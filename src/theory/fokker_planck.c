@@ -1215,37 +1215,28 @@ int gr_fp_compare_exit(gr_fp_quad *q, const gr_fp_sim_result *r, double min_expe
     return GR_OK;
 }
 
-int gr_fp_sim_Q0(const gr_fp_sim_result *r, double vfit, double *Q0, double *Q0_err, gr_error *err)
+int gr_fp_sim_Q0(const gr_fp_sim_result *r, double *Q0, double *Q0_err, gr_error *err)
 {
     const gr_histogram *h = &r->q;
     const int nb = h->nbins, half = nb / 2;
-    double x[1000], y[1000], sg[1000];
-    int n = 0;
-    for (int k = 0; k < half && n < 1000; k++) {
-        int ip = half + k, im = half - 1 - k; /* mirror pair around the edge at v = 0 */
-        double c = gr_histogram_center(h, ip);
-        if (c >= vfit) {
-            break;
+    if (!r->q_cov || nb < 4) {
+        return GR_FAIL(err, GR_EINVAL, "Q(0) from the histogram: need a simulation result with at least 4 bins");
+    }
+    /* the two innermost bins on each side (centres c and 3c), folded over v -> -v, extrapolated
+     * linearly to v = 0: Q(0) = 1.5 d(c) - 0.5 d(3c) */
+    const int idx[4] = {half, half - 1, half + 1, half - 2};
+    const double w[4] = {0.75, 0.75, -0.25, -0.25};
+    double q0 = 0.0, var = 0.0;
+    for (int a = 0; a < 4; a++) {
+        if (r->q_walks[idx[a]] < 1.0) {
+            return GR_FAIL(err, GR_EINVAL, "Q(0) from the histogram: the bins next to v = 0 are empty");
         }
-        size_t pp = (size_t)ip * (size_t)nb + (size_t)ip, mm = (size_t)im * (size_t)nb + (size_t)im,
-               pm = (size_t)ip * (size_t)nb + (size_t)im;
-        x[n] = c;
-        y[n] = 0.5 * (gr_histogram_density(h, ip) + gr_histogram_density(h, im));
-        sg[n] = 0.5 * sqrt(fmax(r->q_cov[pp] + r->q_cov[mm] + 2.0 * r->q_cov[pm], 0.0));
-        if (!(sg[n] > 0.0)) {
-            return GR_FAIL(err, GR_EINVAL, "Q(0) fit: bin at |v| = %g is empty", c);
+        q0 += w[a] * gr_histogram_density(h, idx[a]);
+        for (int b = 0; b < 4; b++) {
+            var += w[a] * w[b] * r->q_cov[(size_t)idx[a] * (size_t)nb + (size_t)idx[b]];
         }
-        n++;
     }
-    if (n < 3) {
-        return GR_FAIL(err, GR_EINVAL, "Q(0) fit: need at least 3 bins with |v| < %g (have %d)", vfit, n);
-    }
-    gr_fit f;
-    int rc = gr_fit_line(x, y, sg, n, &f, err);
-    if (rc) {
-        return rc;
-    }
-    *Q0 = f.p[0];
-    *Q0_err = f.err[0];
+    *Q0 = q0;
+    *Q0_err = sqrt(fmax(var, 0.0));
     return GR_OK;
 }

@@ -990,13 +990,9 @@ int gr_spm_pl_fit_tail(const gr_spm_pl *pl, double lfrom, gr_spm_pl_fit *out, gr
         return GR_FAIL(err, GR_EINVAL, "spm: the tail fit needs a measured P_l table");
     }
     if (lfrom <= 0.0) {
-        int imax = 0;
-        for (int i = 1; i < pl->n; i++) {
-            if (pl->p[i] > pl->p[imax]) {
-                imax = i;
-            }
-        }
-        lfrom = pl->l[imax];
+        /* the longest 10% of the paths: 4.25 is a long-distance form (sec. 4.3.3 fits the lowest
+         * decades of P_l) */
+        lfrom = gr_spm_pl_quantile(pl, 0.9);
     }
     int n = pl->n, m = 0;
     double *x = malloc(sizeof(double) * (size_t)n * 4);
@@ -1438,6 +1434,15 @@ static bool spm_at(const double *v, const double *p, const double *e, int n, dou
     return isfinite(*rel);
 }
 
+/* The variance of the run's density in a bin, for sqrt(X) errors e of the density p: the Poisson
+ * variance of the count the model m expects (Pearson), m e^2 / p, since the observed count's
+ * sqrt(X) exaggerates low-count deficits; at least a fraction of the observed one. */
+static double pearson_var(double p, double e, double m)
+{
+    double obs = e * e;
+    return p > 0.0 && m > 0.0 ? fmax(m * obs / p, 0.25 * obs) : obs;
+}
+
 typedef struct cmp_ctx {
     const double *v, *ps, *es, *pr, *er;
     int n;
@@ -1456,7 +1461,7 @@ static double cmp_chi2(const cmp_ctx *c, double s, double *k_out, double *k_err,
             double lp, rel;
             if (c->v[i] >= c->v_from && c->pr[i] > 0.0 && c->er[i] > 0.0 && spm_at(c->v, c->ps, c->es, c->n, c->v[i] / s, &lp, &rel)) {
                 double q = exp(lp) / s, eq = q * rel;
-                double w = 1.0 / (c->er[i] * c->er[i] + k * k * eq * eq);
+                double w = 1.0 / (pearson_var(c->pr[i], c->er[i], k * q) + k * k * eq * eq);
                 num += w * c->pr[i] * q;
                 den += w * q * q;
             }
@@ -1476,7 +1481,7 @@ static double cmp_chi2(const cmp_ctx *c, double s, double *k_out, double *k_err,
         double lp, rel;
         if (c->v[i] >= c->v_from && c->pr[i] > 0.0 && c->er[i] > 0.0 && spm_at(c->v, c->ps, c->es, c->n, c->v[i] / s, &lp, &rel)) {
             double q = exp(lp) / s, eq = q * rel, r = c->pr[i] - k * q;
-            chi2 += r * r / (c->er[i] * c->er[i] + k * k * eq * eq);
+            chi2 += r * r / (pearson_var(c->pr[i], c->er[i], k * q) + k * k * eq * eq);
             m++;
         }
     }
@@ -1568,7 +1573,7 @@ int gr_spm_compare_tails(const double *v, const double *p_spm, const double *e_s
         if (!(q > 0.0) || !(p_rfm[i] > 0.0) || !(e_rfm[i] > 0.0)) {
             continue; /* an empty bin in either is no evidence either way */
         }
-        double z = (p_rfm[i] - q) / sqrt(e_rfm[i] * e_rfm[i] + me * me);
+        double z = (p_rfm[i] - q) / sqrt(pearson_var(p_rfm[i], e_rfm[i], q) + me * me);
         if (v[i] >= v_from) {
             tail++;
             within += fabs(z) <= z_max;
