@@ -20,7 +20,9 @@ static void usage(FILE *f)
                "  --models spring_dashpot+tangential_dashpot,spring_dashpot+tangential_dashpot@clamp,spring_dashpot+sliding_friction\n"
                "Writes DIR/<label>/ (a full run folder each), DIR/compare.csv and compare.md (T, collisions, energy\n"
                "dissipated by mechanism, wall time, particle-steps/s and every scalar the enabled observables report)\n"
-               "and DIR/temperature.png with the T(t) of all runs overlaid. Default DIR: out/compare.\n");
+               "and DIR/temperature.png with the T(t) of all runs overlaid. With the pv observable enabled\n"
+               "(--set analysis.observables=pv) also the collapse P'(v) = P(v) P_0(1)/P(1) of (5.4) in\n"
+               "pv_collapse.csv/.png. Default DIR: out/compare.\n");
 }
 
 typedef struct entry {
@@ -47,6 +49,135 @@ static void flatten(cJSON *row, const char *prefix, const cJSON *node)
                 }
             }
         }
+    }
+}
+
+/* Read columns `xcol` and `ycol` of a CSV with '#' comments and one header line. */
+static int read_columns(const char *path, const char *xcol, const char *ycol, double **x, double **y)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        return 0;
+    }
+    char line[4096];
+    int ix = -1, iy = -1, n = 0, cap = 0;
+    *x = *y = NULL;
+    while (fgets(line, sizeof line, f)) {
+        if (line[0] == '#') {
+            continue;
+        }
+        line[strcspn(line, "\n")] = 0;
+        if (ix < 0 && iy < 0) { /* header */
+            int c = 0;
+            char *save = NULL;
+            for (char *tok = strtok_r(line, ",", &save); tok; tok = strtok_r(NULL, ",", &save), c++) {
+                ix = !strcmp(tok, xcol) ? c : ix;
+                iy = !strcmp(tok, ycol) ? c : iy;
+            }
+            if (ix < 0 || iy < 0) {
+                break;
+            }
+            continue;
+        }
+        double vx = NAN, vy = NAN;
+        int c = 0;
+        char *save = NULL;
+        for (char *tok = strtok_r(line, ",", &save); tok; tok = strtok_r(NULL, ",", &save), c++) {
+            vx = c == ix ? atof(tok) : vx;
+            vy = c == iy ? atof(tok) : vy;
+        }
+        if (n == cap) {
+            cap = cap ? 2 * cap : 256;
+            *x = realloc(*x, sizeof(double) * (size_t)cap);
+            *y = realloc(*y, sizeof(double) * (size_t)cap);
+        }
+        (*x)[n] = vx;
+        (*y)[n] = vy;
+        n++;
+    }
+    fclose(f);
+    return n;
+}
+
+/* P at |v| = 1 (scaled units): mean of the two bins nearest +1 and -1 */
+static double at_one(const double *x, const double *y, int n)
+{
+    double best_p = INFINITY, best_m = INFINITY, yp = NAN, ym = NAN;
+    for (int i = 0; i < n; i++) {
+        if (fabs(x[i] - 1.0) < best_p) {
+            best_p = fabs(x[i] - 1.0);
+            yp = y[i];
+        }
+        if (fabs(x[i] + 1.0) < best_m) {
+            best_m = fabs(x[i] + 1.0);
+            ym = y[i];
+        }
+    }
+    return 0.5 * (yp + ym);
+}
+
+/* The data collapse of (5.4): P'(v) = P(v) P_0(1) / P(1) in units of v_rms, P_0 = the first model,
+ * so the tails of all models can be compared in shape (pv observable needed). */
+static void pv_collapse(const char *out, const entry *list, int n)
+{
+    double *xs[16] = {0}, *ys[16] = {0}, scale[16];
+    int len[16] = {0};
+    char path[1400];
+    for (int k = 0; k < n; k++) {
+        snprintf(path, sizeof path, "%s/%s/pv.csv", out, list[k].label);
+        len[k] = read_columns(path, "v_over_vrms", "density_scaled", &xs[k], &ys[k]);
+        if (len[k] == 0) {
+            for (int j = 0; j <= k; j++) {
+                free(xs[j]);
+                free(ys[j]);
+            }
+            return; /* no pv in these runs */
+        }
+    }
+    double p0 = at_one(xs[0], ys[0], len[0]);
+    for (int k = 0; k < n; k++) {
+        double pk = at_one(xs[k], ys[k], len[k]);
+        scale[k] = pk > 0.0 ? p0 / pk : (double)NAN;
+    }
+    gr_file f;
+    gr_error err = {0};
+    if (gr_file_open(&f, out, "pv_collapse.csv", &err) == GR_OK) {
+        fprintf(f.f, "# granule compare: P'(v) = P(v) P_0(1)/P(1) (5.4), v in units of v_rms, P_0 = %s; one column pair per model\n",
+                list[0].spec);
+        for (int k = 0; k < n; k++) {
+            fprintf(f.f, "%sv_%d,P_%d", k ? "," : "", k, k);
+        }
+        fputc('\n', f.f);
+        int rows = 0;
+        for (int k = 0; k < n; k++) {
+            rows = len[k] > rows ? len[k] : rows;
+        }
+        for (int i = 0; i < rows; i++) {
+            for (int k = 0; k < n; k++) {
+                if (i < len[k] && ys[k][i] > 0.0) {
+                    fprintf(f.f, "%s%.6g,%.6g", k ? "," : "", xs[k][i], ys[k][i] * scale[k]);
+                } else {
+                    fprintf(f.f, "%s,", k ? "," : "");
+                }
+            }
+            fputc('\n', f.f);
+        }
+        if (gr_file_commit(&f, &err) == GR_OK) {
+            char body[4096];
+            size_t blen = (size_t)snprintf(body, sizeof body,
+                                           "set logscale y\nset xlabel 'v / v_{rms}'\nset ylabel \"P'(v) (5.4)\"\n"
+                                           "set title 'Velocity distributions rescaled at v = v_{rms} (5.4)'\nplot ");
+            for (int k = 0; k < n && blen < sizeof body; k++) {
+                blen += (size_t)snprintf(body + blen, sizeof body - blen, "%s'pv_collapse.csv' skip 2 using %d:%d with lines title '%s' noenhanced",
+                                         k ? ", " : "", 2 * k + 1, 2 * k + 2, list[k].spec);
+            }
+            char note[300];
+            gr_plot_script(out, "pv_collapse.png", body, note, sizeof note);
+        }
+    }
+    for (int k = 0; k < n; k++) {
+        free(xs[k]);
+        free(ys[k]);
     }
 }
 
@@ -235,11 +366,12 @@ int cmd_compare(int argc, char **argv)
     char body[4096];
     size_t len = (size_t)snprintf(body, sizeof body, "set title 'T(t) under each model'\nset xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\nplot ");
     for (int j = 0; j < n && len < sizeof body; j++) {
-        len += (size_t)snprintf(body + len, sizeof body - len, "%s'%s/temperature.csv' skip 3 using 1:2 with lines title '%s'",
+        len += (size_t)snprintf(body + len, sizeof body - len, "%s'%s/temperature.csv' skip 3 using 1:2 with lines title '%s' noenhanced",
                                 j ? ", " : "", list[j].label, list[j].spec);
     }
     char note[300];
     gr_plot_script(out, "temperature.png", body, note, sizeof note);
+    pv_collapse(out, list, n);
     cJSON_Delete(rows);
     for (int j = 0; j < n; j++) {
         cJSON_Delete(list[j].summary);
