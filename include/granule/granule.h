@@ -3,11 +3,19 @@
 #ifndef GRANULE_H
 #define GRANULE_H
 
+#include "granule/analysis.h"
+#include "granule/bisect.h"
+#include "granule/cascade.h"
 #include "granule/collide.h"
+#include "granule/fokker_planck.h"
 #include "granule/model.h"
 #include "granule/noise.h"
+#include "granule/observe.h"
+#include "granule/particles.h"
+#include "granule/run.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
+#include "granule/spm.h"
 #include "granule/status.h"
 
 #endif
