@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential meson ninja-build pkg-config git
           libgsl-dev libsundials-dev check libinih-dev libcjson-dev librandom123-dev
-          libfftw3-dev gnuplot-nox)
+          libfftw3-dev libcairo2-dev gnuplot-nox)
 missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
