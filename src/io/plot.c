@@ -66,6 +66,14 @@ int gr_plot_script(const char *dir, const char *png_name, const char *body, char
         snprintf(note, note_size, "skipped: gnuplot not found (apt-get install gnuplot-nox)");
         return 1;
     }
+    /* keep the body beside the picture so `granule plot DIR` can redraw it */
+    char gp[1200];
+    snprintf(gp, sizeof gp, "%s/%.*s.gp", dir, (int)(strlen(png_name) > 4 ? strlen(png_name) - 4 : strlen(png_name)), png_name);
+    FILE *script = fopen(gp, "w");
+    if (script) {
+        fprintf(script, "# granule: gnuplot body of %s (run inside this folder); granule plot DIR redraws it\n%s\n", png_name, body);
+        fclose(script);
+    }
     char cmd[1400];
     snprintf(cmd, sizeof cmd, "cd '%s' && gnuplot >/dev/null 2>&1", dir);
     FILE *g = popen(cmd, "w");
