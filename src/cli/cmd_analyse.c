@@ -21,7 +21,8 @@ static void usage(FILE *f)
                "                       [--out OUT] [--force]\n\n"
                "Reads DIR/scene.ini and the snapshots DIR/snapshots/snap_*.xyz of a finished run and feeds\n"
                "every frame to the observables named in [analysis] observables (granule observables lists\n"
-               "them; --set changes them or their parameters). Writes OUT (default DIR/analysis):\n"
+               "them; --set changes them or their parameters); frames of the warm-up (t <= run.warmup) are\n"
+               "skipped, as in a run. Writes OUT (default DIR/analysis):\n"
                "summary.json and one CSV (and PNG) per observable, exactly as a run that sampled them.\n");
 }
 
@@ -96,6 +97,10 @@ int cmd_analyse(int argc, char **argv)
         rc = gr_snapshot_read(g.gl_pathv[k], &f, &err);
         if (rc) {
             break;
+        }
+        if (f.t <= scene.warmup * (1.0 + 1e-12)) {
+            gr_frame_free(&f); /* the warm-up is not sampled, as in a run */
+            continue;
         }
         if (f.n != scene.N || f.dim != scene.dim) {
             rc = GR_FAIL(&err, GR_EINVAL, "%s: %d particles in %dD, but the scene has N = %d in %dD", g.gl_pathv[k], f.n, f.dim, scene.N, scene.dim);
