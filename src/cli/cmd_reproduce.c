@@ -245,8 +245,12 @@ int cmd_reproduce(int argc, char **argv)
         usage(stderr);
         return EXIT_REFUSED;
     }
+    char absolute[4096];
+    if (realpath(src, absolute)) {
+        src = absolute; /* the sweep file resolves its scene relative to itself */
+    }
     char check[1200];
-    snprintf(check, sizeof check, "%s/docs/scenes/rfm-1d.ini", src);
+    snprintf(check, sizeof check, "%.1000s/docs/scenes/rfm-1d.ini", src);
     if (access(check, R_OK) != 0) {
         cli_error("reproduce: %s not found; run from the source tree or pass --source DIR", check);
         return EXIT_REFUSED;

@@ -1,9 +1,70 @@
-/* Pictures of snapshots drawn with cairo (being written; see picture.c). */
+/* Snapshot pictures drawn with cairo (issue 4; thesis Figs. 2.6 and 2.9).
+ *
+ * Particles are drawn to scale and filled with a colour from a ramp by their speed relative to the
+ * frame's rms speed, s = |v| / v_rms with v_rms = sqrt(<|v|^2>) over the frame, clipped at
+ * opt->vmax (default 3). Both ramps follow the thesis convention: slow = light, fast = dark
+ * (Fig. 2.9: "the fastest particles are black-shaded whereas the majority slow moving particles
+ * are lightly-shaded"; Fig. 2.6: "darker shaded particles are faster"):
+ *   GR_CMAP_VIRIDIS  viridis read backwards: slow = yellow (#fde725), fast = dark violet (#440154)
+ *   GR_CMAP_GREY     light grey (0.88) to black, as the thesis figures
+ * opt->levels = k > 1 quantises the ramp into k shades (Fig. 2.9 uses 3).
+ *
+ * 2D (Fig. 2.9): the periodic box as a square of opt->size pixels (default 1000), y pointing up,
+ * every disc at its true radius; a disc crossing an edge is drawn on both (all) sides. Below the box
+ * a panel holds the time, N, v_rms and the colour bar with its labels.
+ * 1D (Fig. 2.6): the ring is cut into segments drawn as rows (the line wrapped like text, so discs
+ * stay a readable size); gr_picture_strip stacks several frames: within each segment block one row
+ * per frame, time running downwards, so a cluster's history reads down the block. A disc crossing a
+ * segment boundary (or the ring's end) is drawn at both ends.
+ *
+ * Labels are drawn with a built-in 5x7 bitmap font: no fontconfig, identical pictures on every
+ * machine. PNGs are written to a temporary file beside the target and renamed (src/io/files.h), so
+ * a PNG appears whole or not at all; an error leaves no file behind and an earlier PNG untouched. */
 #ifndef GR_PICTURE_H
 #define GR_PICTURE_H
 
-#include "granule/status.h"
+#include <stdbool.h>
+#include <stddef.h>
 
+#include "granule/status.h"
+#include "io/snapshot.h"
+
+typedef enum { GR_CMAP_VIRIDIS = 0, GR_CMAP_GREY = 1 } gr_colormap;
+
+/* Zero-initialise; a zero field takes its default. */
+typedef struct gr_picture_options {
+    int size;             /* 2D: box side in px; 1D: image width in px. 0 = 1000; [64, 8192] */
+    gr_colormap colormap; /* default GR_CMAP_VIRIDIS */
+    double vmax;          /* |v|/v_rms at which the ramp saturates; 0 = 3; (0, 1000] */
+    int levels;           /* 0 = continuous ramp, k in [2, 64]: k shades */
+    bool hide_labels;     /* true: no panel (box or rows only) */
+} gr_picture_options;
+
+/* Largest image side and pixel count accepted (a larger picture is refused with GR_EINVAL). */
+#define GR_PICTURE_MAX_SIDE 8192
+#define GR_PICTURE_MAX_PIXELS (40L * 1000L * 1000L)
+
+/* One frame: 2D as the box picture, 1D as a one-frame strip. radius in m (> 0, 2 radius <= L).
+ * Errors: GR_EINVAL for bad input (non-finite positions or velocities, radius, options, sizes),
+ * GR_EIO for a cairo or file failure (message includes cairo's or the system's reason). */
+int gr_picture_frame(const gr_frame *f, double radius, const char *png_path, const gr_picture_options *opt,
+                     gr_error *err);
+
+/* 1D frames (all with the same N and L) stacked as rows, first frame on top (Fig. 2.6). */
+int gr_picture_strip(const gr_frame *frames, int n, double radius, const char *png_path,
+                     const gr_picture_options *opt, gr_error *err);
+
+/* The picture of a run folder: DIR/snapshot.png from the last snapshot in DIR/snapshots (2D) or
+ * DIR/snapshots.png stacking the last (up to) 40 snapshots (1D). The radius comes from
+ * DIR/scene.ini when it loads, else from the snapshots' radius column. No snapshots: GR_EINVAL. */
 int gr_picture_run(const char *run_dir, gr_error *err);
+
+/* As gr_picture_run with options (NULL = defaults); the path written is copied to png_path
+ * (may be NULL). */
+int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *png_path, size_t png_path_size,
+                      gr_error *err);
+
+/* The fill colour (sRGB components in [0, 1]) of a particle with |v|/v_rms = ratio. */
+void gr_picture_colour(const gr_picture_options *opt, double ratio, double rgb[3]);
 
 #endif
