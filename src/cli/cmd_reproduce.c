@@ -68,7 +68,7 @@ static int finish_report(gr_file *f, double t0, bool quick, gr_error *err)
 static int fig2_10(const char *src, const char *out, bool quick, gr_error *err)
 {
     char scene[1100], dir[1200];
-    snprintf(scene, sizeof scene, "%s/docs/scenes/steady-2d.ini", src);
+    snprintf(scene, sizeof scene, "%.1000s/docs/scenes/steady-2d.ini", src);
     const char *kinds[] = {"hexagonal", "square", "uniform"};
     gr_file f;
     if (!report_open(out, &f, err)) {
@@ -157,7 +157,7 @@ static int fig3_2(const char *src, const char *out, bool quick, gr_error *err)
 static int rfm2d(const char *src, const char *out, bool quick, bool want_sk, gr_error *err)
 {
     char scene[1100], dir[1200];
-    snprintf(scene, sizeof scene, "%s/docs/scenes/rfm-2d.ini", src);
+    snprintf(scene, sizeof scene, "%.1000s/docs/scenes/rfm-2d.ini", src);
     snprintf(dir, sizeof dir, "%.1000s/run", out);
     gr_file f;
     if (!report_open(out, &f, err)) {
