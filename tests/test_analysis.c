@@ -200,6 +200,25 @@ START_TEST(test_contact_events_and_free_path)
 }
 END_TEST
 
+/* exact data: the fit must still succeed (zero residual never meets relative tolerances) */
+START_TEST(test_stretched_exp_exact_data)
+{
+    enum { N = 50 };
+    double x[N], y[N];
+    for (int i = 0; i < N; i++) {
+        x[i] = 0.1 + 0.2 * i;
+        y[i] = 2.0 * exp(-pow(x[i] / 1.5, 0.8));
+    }
+    gr_fit f;
+    gr_error err = {0};
+    const double p0[3] = {1.0, 1.0, 1.0};
+    ck_assert_msg(gr_fit_stretched_exp(x, y, NULL, N, p0, &f, &err) == 0, "%s", err.message);
+    ck_assert_double_eq_tol(f.p[0], 2.0, 1e-8);
+    ck_assert_double_eq_tol(f.p[1], 1.5, 1e-8);
+    ck_assert_double_eq_tol(f.p[2], 0.8, 1e-8);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("analysis");
@@ -211,6 +230,7 @@ int main(void)
     tcase_add_test(t, test_power_law_fit);
     tcase_add_test(t, test_stretched_exp_fit);
     tcase_add_test(t, test_contact_events_and_free_path);
+    tcase_add_test(t, test_stretched_exp_exact_data);
     suite_add_tcase(s, t);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);

@@ -325,7 +325,7 @@ static int check_frame(const gr_frame *f, int index, double radius, gr_error *er
         return GR_FAIL(err, GR_EINVAL, "picture: particle radius %g m (need a finite radius > 0)", radius);
     }
     if (2.0 * radius > f->L) {
-        return GR_FAIL(err, GR_EINVAL, "picture: particle diameter %g m exceeds the box length L = %g m", 2.0 * radius, f->L);
+        return GR_FAIL(err, GR_EINVAL, "picture: particle radius %g m: the diameter exceeds the box length L = %g m", radius, f->L);
     }
     if (f->n < 0 || f->n > 100000000) {
         return GR_FAIL(err, GR_EINVAL, "picture: frame%s has %d particles", which, f->n);
