@@ -468,7 +468,7 @@ START_TEST(test_run_folder_2d)
     gr_run_options ro = {.force = true};
     gr_run_result res;
     ck_assert_msg(gr_run(&sc, &ro, &res, &err) == GR_OK, "%s", err.message);
-    char run[300], png[400], snap[400], last[400];
+    char run[300], png[400], snap[400], last[600];
     snprintf(run, sizeof run, "%s/run", g_dir);
     snprintf(snap, sizeof snap, "%s/snapshots", run);
     ck_assert_msg(count_entries(snap, NULL, 0) >= 2, "the run wrote fewer than two snapshots");

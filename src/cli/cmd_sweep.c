@@ -17,6 +17,7 @@
 #include "granule/analysis.h"
 #include "granule/run.h"
 #include "io/files.h"
+#include "io/plot.h"
 #include "io/summary_read.h"
 
 #define MAX_KEYS 8
@@ -201,6 +202,74 @@ static void write_manifest(const sweep *s, long k, const char *dir)
     cJSON_Delete(j);
 }
 
+/* xi_m / m and zeta_m / m against m, one curve per combination of the other keys (Figs. 3.5, 3.11):
+ * regroup exponents.csv into gnuplot index blocks and draw exponents.png. */
+static void plot_exponents(const char *out)
+{
+    char path[1300];
+    snprintf(path, sizeof path, "%s/exponents.csv", out);
+    FILE *in = fopen(path, "r");
+    if (!in) {
+        return;
+    }
+    char lines[4096][160];
+    int n = 0;
+    char line[512];
+    while (n < 4096 && fgets(line, sizeof line, in)) {
+        if (line[0] != '#' && !strstr(line, "quantity")) {
+            snprintf(lines[n++], sizeof lines[0], "%.159s", line);
+        }
+    }
+    fclose(in);
+    gr_file f;
+    gr_error err = {0};
+    if (gr_file_open(&f, out, "exponents_blocks.dat", &err)) {
+        return;
+    }
+    /* a block starts whenever the text before ",xi," or ",zeta," changes */
+    char prev[160] = "", titles[64][160];
+    int blocks = 0;
+    for (int i = 0; i < n; i++) {
+        char *q = strstr(lines[i], "xi,") == lines[i] || strstr(lines[i], "zeta,") == lines[i] ? lines[i] : strstr(lines[i], ",xi,");
+        if (!q) {
+            q = strstr(lines[i], ",zeta,");
+        }
+        if (!q) {
+            continue;
+        }
+        char key[160];
+        snprintf(key, sizeof key, "%.*s%s", (int)(q - lines[i] < 140 ? q - lines[i] : 140), lines[i], strstr(q, "zeta") ? " zeta_m/m" : " xi_m/m");
+        if (strcmp(key, prev) != 0) {
+            if (blocks > 0) {
+                fprintf(f.f, "\n\n");
+            }
+            if (blocks < 64) {
+                snprintf(titles[blocks], sizeof titles[0], "%s", key);
+            }
+            blocks++;
+            snprintf(prev, sizeof prev, "%s", key);
+        }
+        int m;
+        double x, xe;
+        char *fields = strchr(q + 1, ',');
+        if (fields && sscanf(fields + 1, "%d,%lf,%lf", &m, &x, &xe) == 3) {
+            fprintf(f.f, "%d,%.6g,%.6g\n", m, x / m, xe / m);
+        }
+    }
+    if (gr_file_commit(&f, &err) || blocks == 0) {
+        return;
+    }
+    char body[8192];
+    size_t len = (size_t)snprintf(body, sizeof body, "set xlabel 'm'\nset ylabel 'exponent / m'\nset key outside\n"
+                                                      "set title 'xi_m/m (3.13) and zeta_m/m (3.20) from the sweep' noenhanced\nplot ");
+    for (int b = 0; b < blocks && b < 64 && len < sizeof body; b++) {
+        len += (size_t)snprintf(body + len, sizeof body - len, "%s'exponents_blocks.dat' index %d using 1:2:3 with yerrorlines title '%s' noenhanced",
+                                b ? ", " : "", b, titles[b]);
+    }
+    char note[300];
+    gr_plot_script(out, "exponents.png", body, note, sizeof note);
+}
+
 static int write_tables(const sweep *s, long n_points, const char *const *status)
 {
     gr_error err = {0};
@@ -347,6 +416,9 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
                 }
             }
             rc = gr_file_commit(&e, &err);
+            if (!rc) {
+                plot_exponents(s->out);
+            }
         }
     }
     free(mom);

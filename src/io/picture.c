@@ -402,7 +402,7 @@ static int text_scale(int width)
 
 static int panel_height(int s)
 {
-    return 3 * s + 10 * s + 3 * s + 8 * s + 2 * s + 10 * s + 10 * s + 3 * s;
+    return 6 * s + 10 * s + 3 * s + 8 * s + 2 * s + 10 * s + 10 * s + 3 * s;
 }
 
 /* The panel occupying [0, width) x [y0, y0 + panel_height): left/right captions, the colour bar with
@@ -411,7 +411,7 @@ static void draw_panel(cairo_t *cr, const popts *p, int width, double y0, const 
                        const char *caption)
 {
     int s = text_scale(width);
-    double y = y0 + 3 * s;
+    double y = y0 + 6 * s;
     cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
     draw_text(cr, 4 * s, y, s, left);
     double wr = text_width(s, right);
@@ -471,6 +471,11 @@ static int picture_2d(const gr_frame *f, double radius, const char *png_path, co
         return rc;
     }
     const double L = f->L, pxm = size / L, rp = radius * pxm, vrms = rms_speed(f);
+    /* the box outline first: discs at the edge are drawn over it, so every centre shows its colour */
+    cairo_set_source_rgb(cr, 0.45, 0.45, 0.45);
+    cairo_set_line_width(cr, 1.0);
+    cairo_rectangle(cr, 0.5, 0.5, size - 1.0, size - 1.0);
+    cairo_stroke(cr);
     cairo_save(cr);
     cairo_rectangle(cr, 0, 0, size, size);
     cairo_clip(cr);
@@ -493,10 +498,6 @@ static int picture_2d(const gr_frame *f, double radius, const char *png_path, co
         }
     }
     cairo_restore(cr);
-    cairo_set_source_rgb(cr, 0.45, 0.45, 0.45);
-    cairo_set_line_width(cr, 1.0);
-    cairo_rectangle(cr, 0.5, 0.5, size - 1.0, size - 1.0);
-    cairo_stroke(cr);
     if (p->labels) {
         char left[96], right[64], caption[128];
         snprintf(left, sizeof left, "t = %.6g s", f->t);
@@ -535,7 +536,8 @@ static int picture_strip(const gr_frame *frames, int n, double radius, const cha
 {
     const double L = frames[0].L;
     strip_layout l = {.width = p->size, .s = text_scale(p->size)};
-    l.gutter = p->labels ? 6 * 11 + 6 : 2 * l.s; /* row times in the small (scale 1) font */
+    const bool row_labels = p->labels && n > 1; /* each row's time, in the small (scale 1) font */
+    l.gutter = row_labels ? 6 * 11 + 6 : 2 * l.s;
     l.top = 3 * l.s;
     l.gap = 5 * l.s;
     /* cut the ring into segments so a disc is ~10 px wide, as long as the picture stays in bounds */
@@ -569,12 +571,15 @@ static int picture_strip(const gr_frame *frames, int n, double radius, const cha
             snprintf(label, sizeof label, "x = %.4g .. %.4g m", a, b);
             cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
             draw_text(cr, x0, y + 1.5 * l.s, l.s, label);
+            if (row_labels) {
+                draw_text(cr, 2, y + l.caption_h - 9, 1, "t (s)");
+            }
             y += l.caption_h;
         }
         for (int j = 0; j < n; j++, y += l.row_h) {
             const gr_frame *f = &frames[j];
             const double vrms = rms_speed(f), ymid = y + 0.5 * l.row_h;
-            if (p->labels && j % row_label_every == 0) {
+            if (row_labels && j % row_label_every == 0) {
                 snprintf(label, sizeof label, "%.4g", f->t);
                 cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
                 draw_text(cr, 2, floor(ymid - 3.5), 1, label);
