@@ -14,11 +14,13 @@
 #include <errno.h>
 #include <ftw.h>
 #include <math.h>
+#include <signal.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -431,10 +433,31 @@ START_TEST(test_refusals)
     long n1;
     char *after = slurp(png, &n1);
     ck_assert_msg(n0 == n1 && memcmp(before, after, (size_t)n0) == 0, "a refused call changed %s", png);
-    free(before);
     free(after);
     char name[300] = "";
     ck_assert_msg(count_entries(g_dir, name, sizeof name) == 1, "refusals left files behind (e.g. %s)", name);
+
+    /* a write failing half-way (file size limit: the PNG of 400 px is larger than 2000 bytes):
+     * GR_EIO with the system's reason, the temporary removed, the earlier picture untouched */
+    {
+        struct rlimit old_lim, lim;
+        ck_assert_int_eq(getrlimit(RLIMIT_FSIZE, &old_lim), 0);
+        lim = old_lim;
+        lim.rlim_cur = 2000;
+        void (*old_handler)(int) = signal(SIGXFSZ, SIG_IGN);
+        ck_assert_int_eq(setrlimit(RLIMIT_FSIZE, &lim), 0);
+        gr_picture_options big = {.size = 400};
+        err = (gr_error){0};
+        int rc = gr_picture_frame(&f, r, png, &big, &err);
+        setrlimit(RLIMIT_FSIZE, &old_lim);
+        signal(SIGXFSZ, old_handler);
+        expect_refusal(rc, &err, GR_EIO, "File too large", "write failure");
+        after = slurp(png, &n1);
+        ck_assert_msg(n0 == n1 && memcmp(before, after, (size_t)n0) == 0, "a failed write changed %s", png);
+        free(after);
+        ck_assert_msg(count_entries(g_dir, name, sizeof name) == 1, "a failed write left files behind (e.g. %s)", name);
+    }
+    free(before);
 
     /* an unwritable destination: GR_EIO, nothing created */
     err = (gr_error){0};

@@ -86,7 +86,9 @@ int cmd_plot(int argc, char **argv)
     snprintf(path, sizeof path, "%s/snapshots", dir);
     if (access(path, R_OK) == 0) {
         gr_error err = {0};
-        if (gr_picture_run(dir, &err) == 0) {
+        char png[1300];
+        if (gr_picture_run_ex(dir, NULL, png, sizeof png, &err) == 0) {
+            printf("%s\n", png);
             drawn++;
         } else {
             cli_error("plot %s: %s", dir, err.message);

@@ -555,7 +555,7 @@ static int picture_strip(const gr_frame *frames, int n, double radius, const cha
     cairo_t *cr;
     int rc = canvas_new(l.width, l.height, png_path, &surf, &cr, err);
     if (rc) {
-        if (rc == GR_EINVAL) {
+        if (rc == GR_EINVAL && err) {
             snprintf(err->message + strlen(err->message), sizeof err->message - strlen(err->message),
                      " (%d frames: draw fewer or choose a smaller width)", n);
         }

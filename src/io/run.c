@@ -19,6 +19,7 @@
 #include "granule_config.h"
 #include "io/files.h"
 #include "io/plot.h"
+#include "io/picture.h"
 #include "analysis/mean_field.h"
 #include "io/scene_json.h"
 #include "io/snapshot.h"
@@ -289,6 +290,20 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     }
     gr_observer_free(obs);
     int rc_i = gr_scene_save(scene, dir, &io_err);
+    char picture_note[900] = "";
+    if (scene->plots && snap_index > 0) {
+        /* the snapshot picture coloured by speed (Figs. 2.6, 2.9), drawn with cairo */
+        gr_error perr = {0};
+        char png[1300];
+        if (gr_picture_run_ex(dir, NULL, png, sizeof png, &perr) == 0) {
+            snprintf(picture_note, sizeof picture_note, ", %.200s", strrchr(png, '/') ? strrchr(png, '/') + 1 : png);
+        } else {
+            snprintf(picture_note, sizeof picture_note, "; snapshot picture failed: %.800s", perr.message);
+        }
+    }
+    char plots_text[1200];
+    snprintf(plots_text, sizeof plots_text, "%s%s", plots, picture_note);
+    plots = plots_text;
     cJSON *mean_field = scene->D > 0.0 ? gr_mean_field_steady(scene, res->T_mean)
                                        : gr_mean_field_haff(scene, haff_t, haff_T, (int)haff_n);
     free(haff_t);
