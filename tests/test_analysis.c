@@ -219,6 +219,96 @@ START_TEST(test_stretched_exp_exact_data)
 }
 END_TEST
 
+/* Coverage: over many synthetic data sets the reported 1-sigma errors must contain the true
+ * parameter about 68.3 % of the time (binomial 3-sigma band for 400 trials: +-7 %). */
+START_TEST(test_fit_error_coverage)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 17);
+    enum { TRIALS = 400, N = 30 };
+    int cover_b = 0, cover_beta = 0;
+    gr_error err = {0};
+    for (int k = 0; k < TRIALS; k++) {
+        double x[N], y[N], s[N];
+        for (int i = 0; i < N; i++) {
+            x[i] = pow(10.0, 2.0 * i / (N - 1));
+            double t = 3.0 * pow(x[i], -0.7);
+            s[i] = 0.02 * t;
+            y[i] = t + gsl_ran_gaussian(r, s[i]);
+        }
+        gr_fit f;
+        ck_assert_int_eq(gr_fit_power_law(x, y, s, N, &f, &err), 0);
+        cover_b += fabs(f.p[1] + 0.7) <= f.err[1];
+        for (int i = 0; i < N; i++) {
+            x[i] = 0.2 + 0.3 * i;
+            double t = 1.0 * exp(-pow(x[i] / 2.0, 0.8));
+            s[i] = 0.01 * t + 1e-4;
+            y[i] = t + gsl_ran_gaussian(r, s[i]);
+        }
+        const double p0[3] = {0.8, 1.5, 1.0};
+        ck_assert_int_eq(gr_fit_stretched_exp(x, y, s, N, p0, &f, &err), 0);
+        cover_beta += fabs(f.p[2] - 0.8) <= f.err[2];
+    }
+    double fb = (double)cover_b / TRIALS, fbeta = (double)cover_beta / TRIALS;
+    /* the errors are scaled by max(1, sqrt(chi2/dof)), which can only widen them: allow up to 80 % */
+    ck_assert_msg(fb > 0.61 && fb < 0.80, "power-law exponent covered in %.3f of trials", fb);
+    ck_assert_msg(fbeta > 0.61 && fbeta < 0.80, "stretched-exponential beta covered in %.3f of trials", fbeta);
+    gsl_rng_free(r);
+}
+END_TEST
+
+/* The moments observable on Gaussian velocities: 2D speeds are Rayleigh distributed, so
+ * <|v|^m> = (2 s^2)^(m/2) Gamma(1 + m/2) for per-component variance s^2 (the frame mean is removed,
+ * a relative correction of order 1/N). */
+START_TEST(test_moments_gaussian)
+{
+    extern const gr_observable_type gr_obs_moments;
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 23);
+    gr_scene sc;
+    gr_scene_default(&sc);
+    sc.dim = 2;
+    sc.N = 20000;
+    sc.analysis.moments_max = 6;
+    void *state;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_obs_moments.create(&sc, &state, &err), 0);
+    double *vx = malloc(sizeof(double) * sc.N), *vy = malloc(sizeof(double) * sc.N), *x = calloc(sc.N, sizeof(double));
+    const double sd = 0.3;
+    for (int frame = 0; frame < 32; frame++) {
+        for (int i = 0; i < sc.N; i++) {
+            vx[i] = gsl_ran_gaussian(r, sd);
+            vy[i] = gsl_ran_gaussian(r, sd);
+        }
+        gr_particles p = {.n = sc.N, .dim = 2, .L = 1.0, .radius = 1e-3, .mass = 1.0, .x = x, .y = x, .vx = vx, .vy = vy};
+        ck_assert_int_eq(gr_obs_moments.sample(state, &p, 0.0, &err), 0);
+    }
+    char tmpl[] = "/tmp/granule-mom-XXXXXX";
+    char *dir = mkdtemp(tmpl);
+    cJSON *sum = cJSON_CreateObject();
+    gr_output out = {.dir = dir, .scene = &sc, .summary = sum, .plots = false};
+    ck_assert_int_eq(gr_obs_moments.finish(state, &out, &err), 0);
+    const cJSON *speed = cJSON_GetObjectItem(cJSON_GetObjectItem(sum, "moments"), "speed");
+    const cJSON *speed_err = cJSON_GetObjectItem(cJSON_GetObjectItem(sum, "moments"), "speed_stderr");
+    for (int m = 1; m <= 6; m++) {
+        char key[8];
+        snprintf(key, sizeof key, "m%d", m);
+        double got = cJSON_GetObjectItem(speed, key)->valuedouble, e = cJSON_GetObjectItem(speed_err, key)->valuedouble;
+        double want = pow(2.0 * sd * sd, 0.5 * m) * tgamma(1.0 + 0.5 * m);
+        ck_assert_msg(fabs(got - want) < 5.0 * e + 1e-3 * want, "m = %d: %.6g +- %.2g, Rayleigh %.6g", m, got, e, want);
+    }
+    cJSON_Delete(sum);
+    gr_obs_moments.destroy(state);
+    free(vx);
+    free(vy);
+    free(x);
+    gsl_rng_free(r);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    ck_assert_int_eq(system(cmd), 0);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("analysis");
@@ -231,6 +321,8 @@ int main(void)
     tcase_add_test(t, test_stretched_exp_fit);
     tcase_add_test(t, test_contact_events_and_free_path);
     tcase_add_test(t, test_stretched_exp_exact_data);
+    tcase_add_test(t, test_fit_error_coverage);
+    tcase_add_test(t, test_moments_gaussian);
     suite_add_tcase(s, t);
     SRunner *sr = srunner_create(s);
     srunner_run_all(sr, CK_NORMAL);

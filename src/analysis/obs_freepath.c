@@ -7,6 +7,7 @@
  * folded (only possible in very dilute systems; the count of paths longer than L/4 is reported). */
 #include <cjson/cJSON.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
@@ -142,6 +143,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     }
     gr_fit fit;
     gr_error ferr = {0};
+    bool fitted = false;
     if (m >= 5) {
         double p0[3] = {log(y[0] * pow(x[0], 0.4)), log(1.0 / pow(x[m / 2], 0.6)), 1.6};
         if (gr_fit_nonlinear(tail, NULL, x, y, s, m, 3, p0, &fit, &ferr) == GR_OK) {
@@ -153,14 +155,25 @@ static int finish(void *state, const gr_output *out, gr_error *err)
             cJSON_AddNumberToObject(t, "l_min_over_d", x[0]);
             cJSON_AddNumberToObject(t, "l_max_over_d", x[m - 1]);
             cJSON_AddNumberToObject(t, "bins", m);
+            cJSON_AddNumberToObject(t, "A0", exp(fit.p[0]));
+            fitted = true;
         } else {
             cJSON_AddStringToObject(j, "tail_fit_4_25", ferr.message);
         }
     }
     if (!rc && out->plots && f->paths) {
-        gr_obs_plot(out, "freepath.png",
-                    "set logscale xy\nset xlabel 'l / d'\nset ylabel 'P_l(l)'\nset title 'Free-path distribution (4.18)'\n"
-                    "plot 'freepath.csv' skip 3 using 3:($4>0?$5:1/0):6 with yerrorbars title 'P_l(l)'");
+        char body[1200], fitline[600] = "";
+        if (fitted) {
+            snprintf(fitline, sizeof fitline,
+                     ", (x >= %.6g && x <= %.6g) ? %.8g * exp(-%.8g * x**(%.8g - 1)) * x**(%.8g - 2) : 1/0 "
+                     "lw 2 title sprintf('(4.25), D_f = %.3f')",
+                     x[0], x[m - 1], exp(fit.p[0]), exp(fit.p[1]), fit.p[2], fit.p[2], fit.p[2]);
+        }
+        snprintf(body, sizeof body,
+                 "set logscale xy\nset xlabel 'l / d'\nset ylabel 'P_l(l)'\nset title 'Free-path distribution (4.18)'\n"
+                 "set samples 400\nplot 'freepath.csv' skip 3 using 3:($4>0?$5:1/0):6 with yerrorbars title 'P_l(l)'%s",
+                 fitline);
+        gr_obs_plot(out, "freepath.png", body);
     }
     return rc;
 }
