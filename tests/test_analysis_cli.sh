@@ -112,5 +112,12 @@ check test $? -eq 1
 check grep -q ",completed," "$tmp/sw2/sweep.csv"
 check grep -q ",failed," "$tmp/sw2/sweep.csv"
 
+# reproduce: unknown figure refused; every observable is listed
+"$granule" reproduce nonsense >/dev/null 2>&1
+check test $? -eq 2
+for o in moments pv postcollision freepath gaps sk pair; do
+    check grep -q "^$o " <("$granule" observables)
+done
+
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]
