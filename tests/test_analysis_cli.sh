@@ -112,6 +112,14 @@ check test $? -eq 1
 check grep -q ",completed," "$tmp/sw2/sweep.csv"
 check grep -q ",failed," "$tmp/sw2/sweep.csv"
 
+# the energy-ledger guard stops a run whose time step is far too coarse (forced), keeping outputs
+"$granule" run "$src/docs/scenes/steady-2d.ini" --quiet --out "$tmp/coarse" --set integrator.dt=8e-6 \
+    --set integrator.force_dt=true --set run.warmup=0 --set run.duration=0.02 --set output.plots=false >/dev/null 2>&1
+check test $? -eq 3
+check grep -q '"status":.*"unstable"' "$tmp/coarse/summary.json"
+check grep -q "energy ledger does not balance" "$tmp/coarse/summary.json"
+check test -s "$tmp/coarse/temperature.csv"
+
 # reproduce: unknown figure refused; every observable is listed
 "$granule" reproduce nonsense >/dev/null 2>&1
 check test $? -eq 2

@@ -49,6 +49,7 @@ typedef struct gr_scene {
     double warmup, duration, sample_every; /* s */
     uint64_t seed;
     bool progress;    /* progress line on a terminal */
+    double ledger_tolerance; /* stop when |ledger residual| exceeds this fraction of the energy moved; 0 = off */
     /* [analysis] */
     char observables[256]; /* comma-separated names from the observable registry; "" = none */
     gr_analysis_params analysis;

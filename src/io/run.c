@@ -238,9 +238,24 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         }
         fprintf(ft.f, "%.9g,%.9g,%.9g,%s\n", t, T, sampling ? gr_blocking_mean(&blk) : (double)NAN, sampling ? "sample" : "warmup");
         gr_ledger l = gr_sim_ledger(sim);
+        double moved = l.injected + gr_ledger_dissipated(&l) + l.removed_com;
+        double residual = gr_ledger_residual(&l);
+        bool ledger_broken = scene->ledger_tolerance > 0.0 && moved > 0.0 &&
+                             fabs(residual) > scene->ledger_tolerance * fmax(moved, l.initial);
         fprintf(fl.f, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.6g\n", t, l.kinetic, l.elastic,
                 l.injected, l.dissipated_normal, l.dissipated_tangential, l.dissipated_friction,
                 l.removed_com, gr_ledger_residual(&l));
+        if (ledger_broken) {
+            status = "unstable";
+            snprintf(step_err.message, sizeof step_err.message,
+                     "energy ledger does not balance at t = %.6g s (step %lld): residual %.3g J is %.3g of the energy moved "
+                     "(tolerance %.3g, run.ledger_tolerance); dt = %g s is too coarse for these contacts (%.1f steps per contact)",
+                     t, (long long)gr_sim_steps(sim), residual, fabs(residual) / fmax(moved, l.initial),
+                     scene->ledger_tolerance, dt, gr_sim_coeffs(sim)->t_c / dt);
+            step_err.code = GR_EUNSTABLE;
+            snprintf(diagnosis, sizeof diagnosis, "%s", step_err.message);
+            break;
+        }
         if (snap_every > 0 && gr_sim_steps(sim) >= next_snap) {
             gr_particles p = gr_sim_particles(sim);
             rc = gr_snapshot_write(snapdir, snap_index++, &p, t, err);

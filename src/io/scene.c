@@ -56,6 +56,7 @@ static const scene_key keys[] = {
     {"run", "duration", "s", K_DOUBLE, "10.0", 0, INFINITY, false, true, NULL, "simulated time of sampling", OFF(duration)},
     {"run", "sample_every", "s", K_DOUBLE, "1e-3", 0, INFINITY, true, true, NULL, "interval between samples (uniform in time)", OFF(sample_every)},
     {"run", "seed", "", K_UINT64, "1", 0, 1.8446744073709552e19, false, false, NULL, "random seed: placement, initial velocities and noise are pure functions of it", OFF(seed)},
+    {"run", "ledger_tolerance", "", K_DOUBLE, "0.05", 0, 1, false, false, NULL, "stop the run as unstable when the energy ledger's residual exceeds this fraction of the energy injected + dissipated (it is ~2e-3 at the thesis dt; 0 = no check)", OFF(ledger_tolerance)},
     {"run", "progress", "", K_BOOL, "true", 0, 1, false, false, NULL, "progress line with ETA on a terminal (never in CI logs or when stderr is not a terminal)", OFF(progress)},
     {"analysis", "observables", "", K_LIST, "", 0, 0, false, false, NULL, "statistics to accumulate while sampling, comma-separated (granule observables lists them); empty = temperature only", OFF(observables)},
     {"output", "dir", "", K_STRING, "out", 0, 0, false, false, NULL, "output folder (granule run --out overrides it)", OFF(out_dir)},
