@@ -18,6 +18,7 @@ int cmd_analyse(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_sweep(int argc, char **argv);
 int cmd_reproduce(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
 int cmd_observables(int argc, char **argv);
 int cmd_spm(int argc, char **argv);
 int cmd_bisect(int argc, char **argv);

@@ -53,6 +53,7 @@ static void usage(FILE *f)
             "  compare SCENE  the same scene under several collision models, side by side\n"
             "  sweep FILE     a scene over lists of keys and seeds, in parallel, resumable, with fits\n"
             "  reproduce NAME rerun a thesis figure (fig2.10, fig3.2, fig4.2, fig5.3) and report it\n"
+            "  bench          regenerate the throughput tables of docs/performance.md on this machine\n"
             "  observables    list the observables (statistics) a scene can ask for\n"
             "theory models (no N-body run; thesis ch. 3, 5, 6, App. B):\n"
             "  spm            Single Particle Model: Q(v,l), P(v), the predicted tail exponent\n"
@@ -76,7 +77,7 @@ int main(int argc, char **argv)
         const char *name;
         int (*fn)(int, char **);
     } table[] = {{"run", cmd_run}, {"collide", cmd_collide}, {"models", cmd_models},
-                 {"keys", cmd_keys}, {"plot", cmd_plot}, {"analyse", cmd_analyse}, {"compare", cmd_compare}, {"sweep", cmd_sweep}, {"reproduce", cmd_reproduce},
+                 {"keys", cmd_keys}, {"plot", cmd_plot}, {"analyse", cmd_analyse}, {"compare", cmd_compare}, {"sweep", cmd_sweep}, {"reproduce", cmd_reproduce}, {"bench", cmd_bench},
                  {"analyze", cmd_analyse}, {"observables", cmd_observables}, {"spm", cmd_spm}, {"bisect", cmd_bisect},
                  {"cascade", cmd_cascade}, {"fokker-planck", cmd_fokker_planck}};
     for (size_t i = 0; i < sizeof table / sizeof table[0]; i++) {
