@@ -5,7 +5,11 @@
  *   temperature.csv  T(t) (2.19) with its running average, warm-up included
  *   blocks.csv       block-averaging analysis of T behind T_stderr (Fig. 2.8)
  *   ledger.csv       the energy ledger at every sample
- *   snapshots/       extended XYZ frames (OVITO reads them) every snapshot_every */
+ *   scene.ini        the resolved scene (rerun it, or `granule analyse DIR` reads it)
+ *   snapshots/       extended XYZ frames (OVITO reads them) every snapshot_every
+ *   <observable>.csv one or more per enabled [analysis] observable (docs/analysis.md)
+ *   *.png, *.gp      plots and the gnuplot bodies `granule plot DIR` redraws them from;
+ *                    snapshot.png / snapshots.png (cairo) when snapshots were written */
 #ifndef GRANULE_RUN_H
 #define GRANULE_RUN_H
 

@@ -170,19 +170,3 @@ int gr_neighbours_build(gr_sim *s, gr_error *err)
     s->rebuilds++;
     return GR_OK;
 }
-
-int gr_neighbours_need_rebuild(const gr_sim *s)
-{
-    if (s->scene.skin <= 0.0) {
-        return 1;
-    }
-    const double limit = 0.25 * (s->cutoff - s->d) * (s->cutoff - s->d); /* (skin / 2)^2 */
-    const double L = s->L;
-    double worst = 0.0;
-    for (int i = 0; i < s->n; i++) {
-        double dx = wrap_delta(s->x[i] - s->x_ref[i], L), dy = wrap_delta(s->y[i] - s->y_ref[i], L);
-        double r2 = dx * dx + dy * dy;
-        worst = r2 > worst ? r2 : worst;
-    }
-    return worst > limit;
-}

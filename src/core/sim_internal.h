@@ -77,7 +77,6 @@ int gr_events_update(gr_sim *s, gr_error *err);
 /* src/core/neighbours.c */
 int gr_neighbours_alloc(gr_sim *s, gr_error *err);
 int gr_neighbours_build(gr_sim *s, gr_error *err);
-int gr_neighbours_need_rebuild(const gr_sim *s);
 
 /* src/core/kernels.c: one force evaluation with the kernel chosen at creation */
 void gr_forces(gr_sim *s, gr_force_report *r);
