@@ -17,7 +17,9 @@
 
 typedef enum { GR_PLACE_HEXAGONAL, GR_PLACE_SQUARE, GR_PLACE_UNIFORM, GR_PLACE_CLUSTER, GR_PLACE_RANDOM } gr_placement_kind;
 typedef enum { GR_NOISE_NONE, GR_NOISE_SYMMETRISED, GR_NOISE_COM } gr_noise_mode;
-typedef enum { GR_INTEGRATOR_VERLET } gr_integrator_kind;
+typedef enum { GR_INTEGRATOR_VERLET, GR_INTEGRATOR_EVENT, GR_INTEGRATOR_HYBRID } gr_integrator_kind;
+/* How the random force drives free flight in the event-driven and hybrid integrators. */
+typedef enum { GR_FREE_FLIGHT_EXACT, GR_FREE_FLIGHT_KICKS } gr_free_flight_noise;
 
 typedef struct gr_scene {
     /* [system] */
@@ -45,6 +47,8 @@ typedef struct gr_scene {
     double steps_per_contact;
     bool force_dt;    /* accept dt > t_c / 10 */
     double skin;      /* Verlet-list skin in diameters; 0 = rebuild the cell list every step */
+    gr_free_flight_noise free_flight; /* event/hybrid: exact sampling or velocity kicks */
+    double kick_interval; /* event: s between noise updates; hybrid: s per window of free flight */
     /* [run] */
     double warmup, duration, sample_every; /* s */
     uint64_t seed;

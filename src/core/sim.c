@@ -5,7 +5,9 @@
 #include <string.h>
 
 #include "core/sim_internal.h"
+#include "event/event.h"
 #include "granule/noise.h"
+#include "hybrid/hybrid.h"
 
 static double *alloc_array(int n)
 {
@@ -22,6 +24,8 @@ void gr_sim_free(gr_sim *s)
     if (!s) {
         return;
     }
+    gr_event_free(s);
+    gr_hybrid_free(s);
     free(s->x);
     free(s->y);
     free(s->vx);
@@ -167,6 +171,11 @@ static int finish(gr_sim *s, gr_error *err)
     s->share[2] = total > 0.0 ? r.power_friction / total : 0.0;
     gr_ledger l = gr_sim_ledger(s);
     s->initial_energy = l.kinetic + l.elastic;
+    switch (s->scene.integrator) {
+    case GR_INTEGRATOR_EVENT: return gr_event_init(s, err);
+    case GR_INTEGRATOR_HYBRID: return gr_hybrid_init(s, err);
+    case GR_INTEGRATOR_VERLET: break;
+    }
     return GR_OK;
 }
 

@@ -64,6 +64,10 @@ struct gr_sim {
     double injected, diss_n, diss_t, diss_f, removed_com;
     double share[3]; /* fractions of the last step's dissipation by normal/tangential/friction */
     gr_force_report last;
+
+    /* other integrators (NULL for verlet): src/event/, src/hybrid/ */
+    struct gr_event_state *ev;
+    struct gr_hybrid_state *hy;
 };
 
 /* src/core/placement.c: fill x, y for the scene's placement kind. */

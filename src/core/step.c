@@ -21,6 +21,8 @@
 #include <string.h>
 
 #include "core/sim_internal.h"
+#include "event/event.h"
+#include "hybrid/hybrid.h"
 #include "granule/noise.h"
 
 /* Sums in the step loops are kept in LANES independent partial sums (particle i goes to lane
@@ -292,6 +294,12 @@ static int check_finite(gr_sim *s, gr_error *err)
 
 int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
 {
+    if (s->ev) {
+        return gr_event_step(s, nsteps, err);
+    }
+    if (s->hy) {
+        return gr_hybrid_step(s, nsteps, err);
+    }
     const bool noise = s->scene.noise_mode != GR_NOISE_NONE && s->scene.D > 0.0;
     const bool com = s->scene.noise_mode == GR_NOISE_COM;
     const double skin_half2 = 0.25 * (s->cutoff - s->d) * (s->cutoff - s->d);

@@ -43,7 +43,12 @@ cJSON *gr_scene_to_json(const gr_scene *s)
         cJSON_AddNumberToObject(nz, "com_interval", s->com_interval);
     }
     cJSON *in = cJSON_AddObjectToObject(root, "integrator");
-    cJSON_AddStringToObject(in, "kind", "verlet");
+    static const char *kinds[] = {"verlet", "event", "hybrid"};
+    cJSON_AddStringToObject(in, "kind", kinds[s->integrator]);
+    if (s->integrator != GR_INTEGRATOR_VERLET) {
+        cJSON_AddStringToObject(in, "free_flight", s->free_flight == GR_FREE_FLIGHT_EXACT ? "exact" : "kicks");
+        cJSON_AddNumberToObject(in, "kick_interval", s->kick_interval);
+    }
     if (s->dt > 0.0) {
         cJSON_AddNumberToObject(in, "dt", s->dt);
     } else {
