@@ -6,7 +6,9 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential meson ninja-build pkg-config git
           libgsl-dev libsundials-dev check libinih-dev libcjson-dev librandom123-dev
-          libfftw3-dev libcairo2-dev gnuplot-nox)
+          libfftw3-dev libcairo2-dev gnuplot-nox zlib1g-dev
+          libopenmpi-dev openmpi-bin # MPI: granule sweep over ranks (docs/cluster.md)
+          clang libclang-rt-dev) # libFuzzer + sanitizers: scripts/fuzz.sh (docs/fuzzing.md)
 missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

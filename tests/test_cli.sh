@@ -101,6 +101,17 @@ for k in expected_loss contact_time max_overlap eps_n_measured eps_t_measured; d
 done
 run "$G" collide --case 9
 if [[ $rc -eq 2 ]]; then pass "collide --case 9 exits 2"; else fail "collide --case 9 exits $rc, expected 2" "$err"; fi
+# CVODE tolerance: the reference error follows --rtol (exact loss 1 - 0.1^2 = 0.99 head-on)
+ref_err() { "$G" collide --case 1 --dim 1 --eps-n 0.1 --mass 3.53e-5 --radius 1.5e-3 --reference --rtol "$1" |
+            python3 -c 'import json,sys; print(abs(json.load(sys.stdin)["reference_energy_loss"] - 0.99))'; }
+e_tight=$(ref_err 1e-12) e_loose=$(ref_err 1e-5)
+if python3 -c "import sys; sys.exit(0 if $e_tight < 1e-12 and 1e-9 < $e_loose < 1e-3 else 1)"; then
+    pass "collide --reference --rtol: error $e_tight at 1e-12, $e_loose at 1e-5"
+else
+    fail "collide --reference --rtol: error $e_tight at 1e-12, $e_loose at 1e-5"
+fi
+run "$G" collide --reference --rtol 1
+if [[ $rc -eq 2 && $err == *"allowed range"* ]]; then pass "collide --rtol 1 refused with the range"; else fail "collide --rtol 1: exit $rc" "$err"; fi
 
 # ---------- models and keys ----------
 run "$G" models

@@ -860,6 +860,80 @@ START_TEST(docs_scenes_load)
 }
 END_TEST
 
+/* gr_scene_load_buffer (the fuzz targets' entry point) is gr_scene_load on text in memory: the
+ * same scene, and refusals name the given name and line. */
+START_TEST(load_buffer_matches_file)
+{
+    const char *text = "[system]\ndim = 1\nN = 10\nreduced_length = 0.5\n[placement]\nkind = uniform\n[model]\neps_n = 0.3\n";
+    const char *set[] = {"run.seed=7"};
+    gr_scene a, b;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_scene_load(&a, write_scene(text), set, 1, &err), GR_OK);
+    ck_assert_int_eq(gr_scene_load_buffer(&b, "mem.ini", text, strlen(text), set, 1, &err), GR_OK);
+    ck_assert_int_eq(b.N, 10);
+    ck_assert(b.L == a.L && b.contact.eps_n == a.contact.eps_n && b.seed == 7 && a.seed == 7);
+    ck_assert_str_eq(b.source, "mem.ini");
+    /* not NUL-terminated: only len bytes are read (the cut leaves "N = 1") */
+    ck_assert_int_eq(gr_scene_load_buffer(&b, "mem.ini", "[system]\nN = 12", 14, NULL, 0, &err), GR_OK);
+    ck_assert_int_eq(b.N, 1);
+    ck_assert_int_eq(gr_scene_load_buffer(&b, "mem.ini", "", 0, NULL, 0, &err), GR_OK);
+    const char *bad = "[system]\n\nN = many\n";
+    ck_assert_int_eq(gr_scene_load_buffer(&b, "mem.ini", bad, strlen(bad), NULL, 0, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "mem.ini:3:") && strstr(err.message, "[system] N"), "%s", err.message);
+}
+END_TEST
+
+/* Found while fuzzing: seeds were read with strtoull after a strtod range check, so "1e3" ran
+ * with seed 1, "0x10" with seed 0 and 2^64 with 2^64 - 1, silently. */
+START_TEST(refuse_seed_not_digits)
+{
+    expect_refused_at("[run]\nseed = 1e3\n", 2, 0, "[run] seed", "decimal digits", (char *)NULL);
+    expect_refused_at("[run]\nseed = 0x10\n", 2, 0, "[run] seed", "decimal digits", (char *)NULL);
+    expect_refused_at("[run]\n\nseed = 18446744073709551616\n", 3, 0, "[run] seed", (char *)NULL);
+    const char *ok = "[run]\nseed = 18446744073709551615\n";
+    gr_scene sc;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_scene_load_buffer(&sc, "seed.ini", ok, strlen(ok), NULL, 0, &err), GR_OK);
+    ck_assert(sc.seed == UINT64_MAX);
+}
+END_TEST
+
+/* Found by tests/fuzz: a box of more than 1e9 diameters overflowed int lattice indices (UB; the
+ * release build then claimed the box was "narrower than a particle"). Refused by name now. */
+START_TEST(refuse_box_beyond_1e9_diameters)
+{
+    expect_refused_at("[system]\n"
+                      "dim = 2\n"
+                      "N = 12\n"
+                      "L = 9103232\n",
+                      4, 0, "[system] L", "particle diameters", "1e9", (char *)NULL);
+}
+END_TEST
+
+/* Found by tests/fuzz: random placement in a dilute box allocated (L/d)^2 grid cells (L = 200 m:
+ * 4e9 cells, an int overflow and a crash); the grid is now O(N). */
+START_TEST(sim_random_placement_dilute_box)
+{
+    const char *text = "[system]\ndim = 2\nN = 32\nL = 200\n[placement]\nkind = random\n";
+    gr_scene sc;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_scene_load_buffer(&sc, "dilute.ini", text, strlen(text), NULL, 0, &err), GR_OK);
+    gr_sim *sim = NULL;
+    ck_assert_msg(gr_sim_create(&sc, &sim, &err) == GR_OK, "%s", err.message);
+    gr_particles p = gr_sim_particles(sim);
+    for (int i = 0; i < p.n; i++) {
+        ck_assert(p.x[i] >= 0.0 && p.x[i] < sc.L && p.y[i] >= 0.0 && p.y[i] < sc.L);
+        for (int j = 0; j < i; j++) {
+            double dx = fabs(p.x[i] - p.x[j]), dy = fabs(p.y[i] - p.y[j]);
+            dx = fmin(dx, sc.L - dx);
+            dy = fmin(dy, sc.L - dy);
+            ck_assert(dx * dx + dy * dy >= 4.0 * sc.radius * sc.radius);
+        }
+    }
+    gr_sim_free(sim);
+}
+END_TEST
+
 static Suite *scene_suite(void)
 {
     Suite *s = suite_create("scene");
@@ -883,6 +957,8 @@ static Suite *scene_suite(void)
     tcase_add_test(refuse, refuse_hexagonal_in_1d);
     tcase_add_test(refuse, refuse_short_ring_1d);
     tcase_add_test(refuse, refuse_packing_fraction_above_hexagonal);
+    tcase_add_test(refuse, refuse_box_beyond_1e9_diameters);
+    tcase_add_test(refuse, refuse_seed_not_digits);
     suite_add_tcase(s, refuse);
 
     TCase *load = tcase_create("load");
@@ -895,12 +971,14 @@ static Suite *scene_suite(void)
     tcase_add_test(load, reduced_length_sets_L);
     tcase_add_test(load, unused_model_key_warns);
     tcase_add_test(load, docs_scenes_load);
+    tcase_add_test(load, load_buffer_matches_file);
     suite_add_tcase(s, load);
 
     TCase *sim = tcase_create("sim");
     tcase_add_checked_fixture(sim, setup, teardown);
     tcase_add_test(sim, sim_dt_1e6_accepted);
     tcase_add_test(sim, sim_dt_5e6_refused_unless_forced);
+    tcase_add_test(sim, sim_random_placement_dilute_box);
     suite_add_tcase(s, sim);
 
     TCase *run = tcase_create("run");

@@ -30,6 +30,7 @@ typedef struct gr_collide_setup {
     int dim;         /* 1 or 2 */
     double phase;    /* in [0, 1): where in a time step the contact begins (averaging over it
                         removes the discretisation's phase noise) */
+    double ref_rtol; /* relative tolerance of the CVODE reference (default 1e-12) */
 } gr_collide_setup;
 
 void gr_collide_setup_default(gr_collide_setup *s);
@@ -53,7 +54,7 @@ typedef struct gr_collide_result {
 int gr_collide_run(const gr_collide_setup *s, const gr_collision_case *cs, gr_collide_result *out,
                    gr_error *err);
 
-/* Integrate the same contact with CVODE (Adams, rtol 1e-12, scaled units) and root-finding for the end of the
+/* Integrate the same contact with CVODE (Adams, rtol s->ref_rtol (1e-12 by default), scaled units) and root-finding for the end of the
  * contact; dt and phase are ignored. */
 int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
                          gr_collide_result *out, gr_error *err);

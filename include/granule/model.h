@@ -36,6 +36,7 @@ typedef struct gr_contact_params {
     double eps_t; /* tangential coefficient of restitution (2.10) */
     double mu;    /* sliding-friction coefficient (2.7) */
     bool clamp;   /* true: normal force never attractive, gamma_n from the clamped restitution */
+    double tc;    /* hard_sphere: TC-model time, s; 0 = the matching spring-dashpot's contact time */
 } gr_contact_params;
 
 typedef enum {

@@ -7,6 +7,7 @@
 #define GRANULE_OBSERVE_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "granule/model.h"
@@ -15,6 +16,8 @@
 
 struct gr_scene;
 struct cJSON;
+struct gr_blob;
+struct gr_blob_reader;
 
 /* Parameters of every observable, set from the scene's [analysis] section. Each observable type
  * declares which of them it reads (gr_param offsets into this struct). */
@@ -57,6 +60,11 @@ typedef struct gr_observable_type {
      * NULL for observables that only need frames. Events exist only while a run samples, not in
      * `granule analyse` (snapshots do not record contacts). */
     int (*events)(void *state, const gr_contact_event *ev, int64_t n, gr_error *err);
+    /* Checkpoints (docs/checkpoints.md): append every accumulator to `out` (src/io/blob.h), and
+     * restore them into a state just created from the same scene, so that sampling continues
+     * bit for bit. NULL: the observable cannot be checkpointed (a run using it refuses to). */
+    int (*save)(const void *state, struct gr_blob *out, gr_error *err);
+    int (*load)(void *state, struct gr_blob_reader *in, gr_error *err);
 } gr_observable_type;
 
 /* The registry, NULL-terminated. */
@@ -73,5 +81,9 @@ int gr_observer_count(const gr_observer *o);
 bool gr_observer_needs_events(const gr_observer *o);
 int gr_observer_events(gr_observer *o, const gr_contact_event *ev, int64_t n, gr_error *err);
 void gr_observer_free(gr_observer *o);
+/* All enabled observables' accumulators (name, length, payload each), for a checkpoint; and
+ * back into an observer created from the same scene (names and order must agree). */
+int gr_observer_save(const gr_observer *o, struct gr_blob *out, gr_error *err);
+int gr_observer_load(gr_observer *o, const void *data, size_t len, gr_error *err);
 
 #endif

@@ -13,6 +13,7 @@
 #ifndef GRANULE_RUN_H
 #define GRANULE_RUN_H
 
+#include <signal.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -32,6 +33,12 @@ typedef struct gr_run_options {
     /* called about twice a second of wall time; NULL for none */
     void (*progress)(const gr_progress *p, void *user);
     void *user;
+    /* continue the interrupted run in scene->out_dir from its checkpoint (docs/checkpoints.md);
+     * the scene must be the one the checkpoint was written with */
+    bool resume;
+    /* when *stop becomes non-zero (e.g. set by a SIGTERM handler) the run writes a checkpoint at
+     * the next step boundary and returns with result.stopped = 1; NULL for none */
+    volatile sig_atomic_t *stop;
 } gr_run_options;
 
 typedef struct gr_run_result {
@@ -41,6 +48,12 @@ typedef struct gr_run_result {
     double wall_seconds, particle_steps_per_second;
     gr_ledger ledger;
     char kernel[160];
+    /* 0 ran to the end (or became unstable); 1 stopped on request, 2 stopped before the
+     * scene's wall_limit ran out: a checkpoint was written, resume with gr_run_options.resume */
+    int stopped;
+    int64_t checkpoints;       /* written by this call */
+    double checkpoint_seconds; /* wall time spent writing them */
+    char checkpoint_error[256]; /* first failed periodic checkpoint ("" if none) */
 } gr_run_result;
 
 /* Run the scene into scene->out_dir. On an unstable run the outputs written so far are kept,

@@ -8,6 +8,7 @@
 #define GRANULE_SCENE_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -54,6 +55,9 @@ typedef struct gr_scene {
     uint64_t seed;
     bool progress;    /* progress line on a terminal */
     double ledger_tolerance; /* stop when |ledger residual| exceeds this fraction of the energy moved; 0 = off */
+    double checkpoint_every; /* simulated s between checkpoints; 0 = off (docs/checkpoints.md) */
+    double checkpoint_wall;  /* wall-clock s between checkpoints; 0 = off */
+    double wall_limit;       /* wall-clock budget, s: checkpoint and stop before it runs out; 0 = none */
     /* [analysis] */
     char observables[256]; /* comma-separated names from the observable registry; "" = none */
     gr_analysis_params analysis;
@@ -80,10 +84,16 @@ typedef struct gr_scene_override {
  * resolve derived quantities (L from packing fraction, ...). */
 int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, int n_overrides,
                   gr_error *err);
+/* The same from scene text in memory (text[0..len), not NUL-terminated; `name` stands for the
+ * file in messages). Used by the fuzz harness (tests/fuzz) and anything holding a scene in memory. */
+int gr_scene_load_buffer(gr_scene *s, const char *name, const char *text, size_t len,
+                         const char *const *overrides, int n_overrides, gr_error *err);
 
 /* Write the resolved scene as dir/scene.ini (atomically): every key with the value the run used,
  * so `granule run DIR/scene.ini` repeats the run and `granule analyse DIR` knows the system. */
 int gr_scene_save(const gr_scene *s, const char *dir, gr_error *err);
+/* The same text written to a stream (checkpoints keep it to check a resumed scene). */
+void gr_scene_write(const gr_scene *s, FILE *f);
 
 /* Write the reference of every scene key (engine keys and every model's parameters) as
  * Markdown; docs/scene-keys.md is this output. */

@@ -49,6 +49,12 @@ int gr_sim_create(const gr_scene *scene, gr_sim **out, gr_error *err);
 int gr_sim_create_with_state(const gr_scene *scene, int n, const double *x, const double *y,
                              const double *vx, const double *vy, gr_sim **out, gr_error *err);
 
+/* Same as gr_sim_create_with_state, with the particles first put into a canonical order (1D: by
+ * x; 2D: by cell of a grid of side >= d, row-major, then x, then y), so that the trajectory does
+ * not depend on the order they are given in: gr_sim_particles then lists them in that order. */
+int gr_sim_create_canonical(const gr_scene *scene, int n, const double *x, const double *y,
+                            const double *vx, const double *vy, gr_sim **out, gr_error *err);
+
 void gr_sim_free(gr_sim *sim);
 
 /* Advance by nsteps time steps. Returns GR_EUNSTABLE with a diagnosis (step, time, particle,
@@ -57,6 +63,15 @@ void gr_sim_free(gr_sim *sim);
 int gr_sim_step(gr_sim *sim, int64_t nsteps, gr_error *err);
 
 gr_particles gr_sim_particles(const gr_sim *sim);
+/* Threads for the simulation core (all simulations of the process): n >= 1, or 0 for the
+ * default, which is 1 unless the environment sets OMP_NUM_THREADS (then that). `--threads N`
+ * calls it. Results do not depend on the thread count (docs/performance.md, "Threads"). */
+void gr_set_threads(int n);
+/* The setting resolved: threads the core and the costly observables (S(k), g(R)) may use. */
+int gr_get_threads(void);
+/* Threads a step of sim uses now: the setting above, but 1 in 1D, for at most 1024 particles
+ * (one block), without OpenMP, or when called from inside a parallel region. */
+int gr_sim_threads(const gr_sim *sim);
 double gr_sim_time(const gr_sim *sim);
 int64_t gr_sim_steps(const gr_sim *sim);
 double gr_sim_dt(const gr_sim *sim);
@@ -66,6 +81,9 @@ const char *gr_sim_kernel(const gr_sim *sim);
 int64_t gr_sim_collisions(const gr_sim *sim);
 /* Neighbour-list rebuilds since creation. */
 int64_t gr_sim_rebuilds(const gr_sim *sim);
+/* Events processed by the event-driven integrator (collisions, cell crossings, per-particle
+ * noise updates) since creation; 0 for the other integrators. */
+int64_t gr_sim_events_processed(const gr_sim *sim);
 /* Current ledger (kinetic and elastic energies evaluated now). */
 gr_ledger gr_sim_ledger(gr_sim *sim);
 /* Granular temperature (2.19): T = (1/N) sum |v_i - <v>|^2, all components. */

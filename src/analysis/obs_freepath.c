@@ -11,6 +11,7 @@
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -188,6 +189,40 @@ static void destroy(void *state)
     free(f);
 }
 
+/* Checkpoints: where each free particle's path began, and the histogram so far. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const freepath *f = state;
+    gr_blob_put_f64s(out, f->x0, f->n);
+    gr_blob_put_f64s(out, f->y0, f->n);
+    gr_blob_put_u64(out, (uint64_t)f->n);
+    gr_blob_put(out, f->free_since, (size_t)f->n);
+    gr_blob_put_histogram(out, &f->h);
+    gr_blob_put_f64(out, f->sum);
+    gr_blob_put_f64(out, f->long_paths);
+    gr_blob_put_i64(out, f->paths);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    freepath *f = state;
+    gr_blob_get_f64s(in, f->x0, f->n);
+    gr_blob_get_f64s(in, f->y0, f->n);
+    uint64_t n = gr_blob_get_u64(in);
+    if (!in->bad && n != (uint64_t)f->n) {
+        gr_blob_fail(in, "%llu particles in the checkpoint, %d in the scene", (unsigned long long)n, f->n);
+    }
+    gr_blob_get(in, f->free_since, in->bad ? 0 : (size_t)f->n);
+    gr_blob_get_histogram(in, &f->h);
+    f->sum = gr_blob_get_f64(in);
+    f->long_paths = gr_blob_get_f64(in);
+    f->paths = gr_blob_get_i64(in);
+    return GR_OK;
+}
+
 const gr_observable_type gr_obs_freepath = {
     .name = "freepath",
     .summary = "free-path distribution P_l(l) between contacts (4.18) with the tail fit (4.25); needs a run (contact events)",
@@ -198,5 +233,7 @@ const gr_observable_type gr_obs_freepath = {
     .sample = sample,
     .finish = finish,
     .destroy = destroy,
+    .save = save,
+    .load = load,
     .events = events,
 };

@@ -41,6 +41,7 @@
 #include <string.h>
 
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -477,6 +478,54 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return GR_OK;
 }
 
+/* Checkpoints: every histogram and blocking accumulator (the per-frame arrays are scratch). */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const gaps *g = state;
+    gr_blob_put_u64(out, (uint64_t)g->h_max);
+    gr_blob_put_i64(out, g->frames);
+    for (int h = 0; h < g->h_max; h++) {
+        gr_blob_put_histogram(out, &g->lin[h]);
+        if (g->log_bins) {
+            gr_blob_put_histogram(out, &g->lg[h]);
+        }
+        for (int m = 0; m <= M_MAX; m++) {
+            gr_blob_put_blocking(out, &g->mom[h][m]);
+        }
+    }
+    gr_blob_put_blocking(out, &g->signed_mean);
+    gr_blob_put_f64(out, g->overlaps);
+    gr_blob_put_f64(out, g->r1_min);
+    gr_blob_put_f64(out, g->r1_max);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    gaps *g = state;
+    uint64_t h_max = gr_blob_get_u64(in);
+    if (!in->bad && h_max != (uint64_t)g->h_max) {
+        gr_blob_fail(in, "gaps_h_max = %llu in the checkpoint, %d in the scene", (unsigned long long)h_max, g->h_max);
+    }
+    g->frames = gr_blob_get_i64(in);
+    for (int h = 0; h < g->h_max && !in->bad; h++) {
+        gr_blob_get_histogram(in, &g->lin[h]);
+        if (g->log_bins) {
+            gr_blob_get_histogram(in, &g->lg[h]);
+        }
+        for (int m = 0; m <= M_MAX; m++) {
+            gr_blob_get_blocking(in, &g->mom[h][m]);
+        }
+    }
+    gr_blob_get_blocking(in, &g->signed_mean);
+    g->overlaps = gr_blob_get_f64(in);
+    g->r1_min = gr_blob_get_f64(in);
+    g->r1_max = gr_blob_get_f64(in);
+    return GR_OK;
+}
+
 const gr_observable_type gr_obs_gaps = {
     .name = "gaps",
     .summary = "1D neighbour separations in reduced coordinates (3.16-3.17): G_h(R;N), h = 1..gaps_h_max "
@@ -488,4 +537,6 @@ const gr_observable_type gr_obs_gaps = {
     .sample = sample,
     .finish = finish,
     .destroy = destroy,
+    .save = save,
+    .load = load,
 };

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -104,6 +105,34 @@ static int finish(void *state, const gr_output *out, gr_error *err)
 
 static void destroy(void *state) { free(state); }
 
+/* Checkpoints: the blocking accumulators of every moment. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const moments *m = state;
+    gr_blob_put_u64(out, (uint64_t)m->m_max);
+    for (int k = 0; k <= MAX_M; k++) {
+        gr_blob_put_blocking(out, &m->speed[k]);
+        gr_blob_put_blocking(out, &m->comp[k]);
+    }
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    moments *m = state;
+    uint64_t m_max = gr_blob_get_u64(in);
+    if (!in->bad && m_max != (uint64_t)m->m_max) {
+        gr_blob_fail(in, "moments_max = %llu in the checkpoint, %d in the scene", (unsigned long long)m_max, m->m_max);
+    }
+    for (int k = 0; k <= MAX_M && !in->bad; k++) {
+        gr_blob_get_blocking(in, &m->speed[k]);
+        gr_blob_get_blocking(in, &m->comp[k]);
+    }
+    return GR_OK;
+}
+
 const gr_observable_type gr_obs_moments = {
     .name = "moments",
     .summary = "velocity moments <|v|^m>, m = 1..12 (3.10-3.11), with block-averaging errors",
@@ -114,4 +143,6 @@ const gr_observable_type gr_obs_moments = {
     .sample = sample,
     .finish = finish,
     .destroy = destroy,
+    .save = save,
+    .load = load,
 };

@@ -50,8 +50,10 @@
 #include <string.h>
 
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
+#include "granule/sim.h"
 
 #define PAIR_MAX_BINS 8192
 #define CELL_DIV 2            /* cells of side >= R_max / CELL_DIV: a (2 CELL_DIV + 1)^2 stencil */
@@ -243,12 +245,12 @@ static inline double min_image(double dx, double L)
 /* All pairs of cell a (particles [a0, a1)) with cell b (particles [b0, b1)), or within a when
  * same. Unaliased stencil: cell b's image next to a is b shifted by (sx, sy) (0 or +-L), which is
  * the minimum image for every pair closer than R_max; aliased: minimum image per pair. */
-static void count_cells(pair *s, int a0, int a1, int b0, int b1, bool same, double sx, double sy, bool aliased)
+static void count_cells(const pair *s, int64_t *count, int a0, int a1, int b0, int b1, bool same, double sx, double sy,
+                        bool aliased)
 {
     const double L = s->L, r2max = s->R_max * s->R_max, inv = s->inv_width;
     const int last = s->nbins - 1;
     const double *xs = s->xs, *ys = s->ys;
-    int64_t *count = s->frame_count;
     for (int i = a0; i < a1; i++) {
         double xi = xs[i] - sx, yi = ys[i] - sy;
         for (int j = same ? i + 1 : b0; j < b1; j++) {
@@ -333,30 +335,56 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         s->xs[k] = wrap(p->x[i], L);
         s->ys[k] = wrap(p->y[i], L);
     }
-    /* every unordered pair of neighbouring cells once (cell b > cell a), and each cell with itself */
+    /* every unordered pair of neighbouring cells once (cell b > cell a), and each cell with itself;
+     * rows of cells shared by the threads, each counting into its own histogram (integer counts:
+     * the sum does not depend on the thread count) */
     memset(s->frame_count, 0, sizeof(int64_t) * (size_t)s->nbins);
     const bool aliased = M < 2 * CELL_DIV + 1;
-    for (int cy = 0; cy < M; cy++) {
-        for (int cx = 0; cx < M; cx++) {
-            int a = cy * M + cx;
-            int a0 = s->cell_start[a], a1 = s->cell_start[a + 1];
-            if (a0 == a1) {
+    bool oom = false;
+    const int T = n >= 4096 ? gr_get_threads() : 1;
+#pragma omp parallel num_threads(T) if (T > 1)
+    {
+        int64_t *count = calloc((size_t)s->nbins, sizeof(int64_t));
+#pragma omp for schedule(dynamic, 1)
+        for (int cy = 0; cy < M; cy++) {
+            if (!count) {
                 continue;
             }
-            for (int oy = 0; oy < s->noy; oy++) {
-                int yr = cy + s->off[oy], by = (yr % M + M) % M;
-                double sy = aliased ? 0.0 : (yr < 0 ? -L : (yr >= M ? L : 0.0));
-                for (int ox = 0; ox < s->nox; ox++) {
-                    int xr = cx + s->off[ox], bx = (xr % M + M) % M;
-                    double sx = aliased ? 0.0 : (xr < 0 ? -L : (xr >= M ? L : 0.0));
-                    int b = by * M + bx;
-                    if (b < a) {
-                        continue;
+            for (int cx = 0; cx < M; cx++) {
+                int a = cy * M + cx;
+                int a0 = s->cell_start[a], a1 = s->cell_start[a + 1];
+                if (a0 == a1) {
+                    continue;
+                }
+                for (int oy = 0; oy < s->noy; oy++) {
+                    int yr = cy + s->off[oy], by = (yr % M + M) % M;
+                    double sy = aliased ? 0.0 : (yr < 0 ? -L : (yr >= M ? L : 0.0));
+                    for (int ox = 0; ox < s->nox; ox++) {
+                        int xr = cx + s->off[ox], bx = (xr % M + M) % M;
+                        double sx = aliased ? 0.0 : (xr < 0 ? -L : (xr >= M ? L : 0.0));
+                        int b = by * M + bx;
+                        if (b < a) {
+                            continue;
+                        }
+                        count_cells(s, count, a0, a1, s->cell_start[b], s->cell_start[b + 1], b == a, sx, sy, aliased);
                     }
-                    count_cells(s, a0, a1, s->cell_start[b], s->cell_start[b + 1], b == a, sx, sy, aliased);
                 }
             }
         }
+#pragma omp critical(gr_pair_count)
+        {
+            if (count) {
+                for (int b = 0; b < s->nbins; b++) {
+                    s->frame_count[b] += count[b];
+                }
+            } else {
+                oom = true;
+            }
+        }
+        free(count);
+    }
+    if (oom) {
+        return GR_FAIL(err, GR_ENOMEM, "pair: out of memory for the g(R) histogram");
     }
     /* per-frame g_b (4.10), C(R_hi) (4.15) and the tail mean of g */
     const double norm = 0.5 * (double)n * (double)(n - 1) / (L * L); /* ideal-gas pairs per area */
@@ -623,6 +651,57 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return rc;
 }
 
+/* Checkpoints: blocking accumulators, pair totals and the batch sums (the cell lists and the
+ * per-frame arrays are scratch). */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const pair *s = state;
+    const size_t nb = (size_t)s->nbins;
+    gr_blob_put_u64(out, nb);
+    for (size_t b = 0; b < nb; b++) {
+        gr_blob_put_blocking(out, &s->g_blk[b]);
+        gr_blob_put_blocking(out, &s->c_blk[b]);
+    }
+    gr_blob_put_blocking(out, &s->tail_blk);
+    gr_blob_put_f64s(out, s->total, (int64_t)nb);
+    gr_blob_put_i64(out, s->frames);
+    gr_blob_put_f64s(out, s->batch, (int64_t)(nb * N_BATCH));
+    gr_blob_put_i64(out, s->batch_len);
+    gr_blob_put_i64(out, s->batch_fill);
+    gr_blob_put_i64(out, s->n_full);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    pair *s = state;
+    const size_t nb = (size_t)s->nbins;
+    uint64_t m = gr_blob_get_u64(in);
+    if (!in->bad && m != nb) {
+        gr_blob_fail(in, "gr_bins = %llu in the checkpoint, %zu in the scene", (unsigned long long)m, nb);
+    }
+    for (size_t b = 0; b < nb && !in->bad; b++) {
+        gr_blob_get_blocking(in, &s->g_blk[b]);
+        gr_blob_get_blocking(in, &s->c_blk[b]);
+    }
+    gr_blob_get_blocking(in, &s->tail_blk);
+    gr_blob_get_f64s(in, s->total, (int64_t)nb);
+    s->frames = gr_blob_get_i64(in);
+    gr_blob_get_f64s(in, s->batch, (int64_t)(nb * N_BATCH));
+    s->batch_len = gr_blob_get_i64(in);
+    s->batch_fill = gr_blob_get_i64(in);
+    int64_t n_full = gr_blob_get_i64(in);
+    if (!in->bad && (n_full < 0 || n_full > N_BATCH || s->batch_len < 1 || s->batch_fill < 0 ||
+                     s->batch_fill >= s->batch_len || (n_full == N_BATCH && s->batch_fill != 0))) {
+        gr_blob_fail(in, "batch counters (%lld full, %lld of %lld) are inconsistent", (long long)n_full,
+                     (long long)s->batch_fill, (long long)s->batch_len);
+    }
+    s->n_full = (int)n_full;
+    return GR_OK;
+}
+
 const gr_observable_type gr_obs_pair = {
     .name = "pair",
     .summary = "pair correlation g(R) (4.10), neighbours within R, C(R) (4.15), excess n(R) = C - n pi R^2 and "
@@ -634,4 +713,6 @@ const gr_observable_type gr_obs_pair = {
     .sample = sample,
     .finish = finish,
     .destroy = destroy,
+    .save = save,
+    .load = load,
 };

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -138,6 +139,46 @@ static void destroy(void *state)
     free(p);
 }
 
+/* Checkpoints: the binning (fixed at the first moving frame) and both histograms. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const postcollision *p = state;
+    gr_blob_put_u32(out, p->ready);
+    if (p->ready) {
+        gr_blob_put_histogram(out, &p->post);
+        gr_blob_put_histogram(out, &p->all);
+    }
+    gr_blob_put_f64(out, p->post_v2);
+    gr_blob_put_f64(out, p->all_v2);
+    gr_blob_put_i64(out, p->post_n);
+    gr_blob_put_i64(out, p->all_n);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    postcollision *p = state;
+    uint32_t ready = gr_blob_get_u32(in);
+    if (ready && !in->bad) {
+        if (gr_blob_get_histogram_new(in, &p->post, false)) {
+            p->ready = true; /* destroy frees both from here on */
+            if (!gr_blob_get_histogram_new(in, &p->all, false)) {
+                gr_histogram_free(&p->all);
+            }
+        }
+        if (!in->bad && (p->post.nbins != p->bins || p->all.nbins != p->bins)) {
+            gr_blob_fail(in, "%d bins in the checkpoint, pv_bins = %d in the scene", p->post.nbins, p->bins);
+        }
+    }
+    p->post_v2 = gr_blob_get_f64(in);
+    p->all_v2 = gr_blob_get_f64(in);
+    p->post_n = gr_blob_get_i64(in);
+    p->all_n = gr_blob_get_i64(in);
+    return GR_OK;
+}
+
 const gr_observable_type gr_obs_postcollision = {
     .name = "postcollision",
     .summary = "post-collision velocity distribution P(v_0) beside P(v) (Fig. 5.9); needs a run (contact events)",
@@ -148,5 +189,7 @@ const gr_observable_type gr_obs_postcollision = {
     .sample = sample,
     .finish = finish,
     .destroy = destroy,
+    .save = save,
+    .load = load,
     .events = events,
 };

@@ -39,6 +39,7 @@
 #include <string.h>
 
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -872,6 +873,72 @@ static void destroy(void *state)
     free(s);
 }
 
+/* Checkpoints: the reference frames (until the binning is fixed), then the histograms. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const pv *s = state;
+    gr_blob_put_u32(out, s->fixed);
+    gr_blob_put_i64(out, s->ref_frames);
+    gr_blob_put_f64(out, s->ref_T_sum);
+    gr_blob_put_f64(out, s->T_ref);
+    if (s->fixed) {
+        gr_blob_put_histogram(out, &s->comp);
+        gr_blob_put_histogram(out, &s->speed);
+    } else {
+        gr_blob_put_f64s(out, s->buf, (int64_t)s->nbuf);
+    }
+    gr_blob_put_i64(out, s->frames);
+    gr_blob_put_i64(out, s->particles);
+    gr_blob_put_f64(out, s->sum_u2);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    pv *s = state;
+    uint32_t fixed = gr_blob_get_u32(in);
+    int64_t ref_frames = gr_blob_get_i64(in);
+    if (!in->bad && (ref_frames < 0 || ref_frames > REF_FRAMES)) {
+        gr_blob_fail(in, "%lld reference frames (at most %d)", (long long)ref_frames, REF_FRAMES);
+    }
+    s->ref_frames = (int)ref_frames;
+    s->ref_T_sum = gr_blob_get_f64(in);
+    s->T_ref = gr_blob_get_f64(in);
+    if (in->bad) {
+        return GR_OK;
+    }
+    if (fixed) {
+        if (gr_blob_get_histogram_new(in, &s->comp, false)) {
+            s->fixed = true; /* destroy frees both from here on */
+            if (!gr_blob_get_histogram_new(in, &s->speed, false)) {
+                gr_histogram_free(&s->speed);
+            }
+        }
+        if (!in->bad && (s->comp.nbins != s->bins || s->speed.nbins != s->bins)) {
+            gr_blob_fail(in, "%d bins in the checkpoint, pv_bins = %d in the scene", s->comp.nbins, s->bins);
+        }
+    } else {
+        int64_t nbuf = gr_blob_get_i64(in);
+        if (!in->bad && (nbuf < 0 || (uint64_t)nbuf > REF_MAX_VALUES || (uint64_t)nbuf > (in->len - in->pos) / sizeof(double))) {
+            gr_blob_fail(in, "%lld buffered reference values do not fit", (long long)nbuf);
+        }
+        if (in->bad) {
+            return GR_OK;
+        }
+        s->buf = malloc(sizeof(double) * (size_t)(nbuf > 0 ? nbuf : 1));
+        if (!s->buf) {
+            return GR_FAIL(err, GR_ENOMEM, "pv: out of memory for the reference frames");
+        }
+        s->nbuf = s->capbuf = (size_t)nbuf;
+        gr_blob_get(in, s->buf, sizeof(double) * (size_t)nbuf);
+    }
+    s->frames = gr_blob_get_i64(in);
+    s->particles = gr_blob_get_i64(in);
+    s->sum_u2 = gr_blob_get_f64(in);
+    return GR_OK;
+}
+
 const gr_observable_type gr_obs_pv = {
     .name = "pv",
     .summary = "velocity distribution P(v) per component (App. A.1), stretched-exponential tails (5.5) with the "
@@ -883,4 +950,6 @@ const gr_observable_type gr_obs_pv = {
     .sample = sample,
     .finish = finish,
     .destroy = destroy,
+    .save = save,
+    .load = load,
 };

@@ -25,10 +25,15 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
+#include "granule/sim.h"
 #include "analysis/sk.h"
 
 struct gr_sk_plan {
@@ -293,30 +298,61 @@ static int compute_gridding(gr_sk_plan *pl, int n, const double *x, const double
     y = pl->ys;
     double *grid = pl->grid;
     memset(grid, 0, sizeof(double) * (size_t)Mr * (size_t)Mr);
-    double wx[2 * GR_SK_MSP_MAX], wy[2 * GR_SK_MSP_MAX];
-    int cols[2 * GR_SK_MSP_MAX];
-    for (int j = 0; j < n; j++) {
-        int x0 = weights(pl, x[j], wx), y0 = weights(pl, y[j], wy);
-        bool wrap_x = x0 < 0 || x0 + w2 > Mr;
-        if (wrap_x) { /* Mr >= 2 msp: one wrap at most */
-            for (int i = 0; i < w2; i++) {
-                int c = x0 + i;
-                cols[i] = c < 0 ? c + Mr : c >= Mr ? c - Mr : c;
-            }
-        }
-        for (int r = 0; r < w2; r++) {
-            int row = y0 + r;
-            row = row < 0 ? row + Mr : row >= Mr ? row - Mr : row;
-            double *g = grid + (size_t)row * (size_t)Mr;
-            const double wr = wy[r];
-            if (!wrap_x) {
-                g += x0;
-                for (int i = 0; i < w2; i++) {
-                    g[i] += wr * wx[i];
+    /* Threads own bands of grid rows and add, in particle order, the part of every particle's
+     * footprint that falls in their band: each grid value is the same sum as with one thread. */
+    int T = n >= 4096 ? gr_get_threads() : 1;
+    T = T < Mr / w2 ? T : (Mr / w2 > 0 ? Mr / w2 : 1);
+#pragma omp parallel num_threads(T) if (T > 1)
+    {
+#ifdef _OPENMP
+        const int tid = omp_get_thread_num(), nth = omp_get_num_threads();
+#else
+        const int tid = 0, nth = 1;
+#endif
+        const int R0 = (int)((int64_t)Mr * tid / nth), R1 = (int)((int64_t)Mr * (tid + 1) / nth);
+        double wx[2 * GR_SK_MSP_MAX], wy[2 * GR_SK_MSP_MAX];
+        int cols[2 * GR_SK_MSP_MAX];
+        for (int j = 0; j < n; j++) {
+            if (nth > 1) { /* does the footprint (rows m0 - msp + 1 .. m0 + msp, wrapped) meet the band? */
+                double u = y[j] / pl->L;
+                u -= floor(u);
+                int m0 = (int)(u * Mr);
+                m0 = m0 < Mr ? m0 : Mr - 1;
+                bool meets = false;
+                for (int r = 0; r < w2 && !meets; r++) {
+                    int row = m0 - pl->msp + 1 + r;
+                    row = row < 0 ? row + Mr : row >= Mr ? row - Mr : row;
+                    meets = row >= R0 && row < R1;
                 }
-            } else {
+                if (!meets) {
+                    continue;
+                }
+            }
+            int x0 = weights(pl, x[j], wx), y0 = weights(pl, y[j], wy);
+            bool wrap_x = x0 < 0 || x0 + w2 > Mr;
+            if (wrap_x) { /* Mr >= 2 msp: one wrap at most */
                 for (int i = 0; i < w2; i++) {
-                    g[cols[i]] += wr * wx[i];
+                    int c = x0 + i;
+                    cols[i] = c < 0 ? c + Mr : c >= Mr ? c - Mr : c;
+                }
+            }
+            for (int r = 0; r < w2; r++) {
+                int row = y0 + r;
+                row = row < 0 ? row + Mr : row >= Mr ? row - Mr : row;
+                if (row < R0 || row >= R1) {
+                    continue;
+                }
+                double *g = grid + (size_t)row * (size_t)Mr;
+                const double wr = wy[r];
+                if (!wrap_x) {
+                    g += x0;
+                    for (int i = 0; i < w2; i++) {
+                        g[i] += wr * wx[i];
+                    }
+                } else {
+                    for (int i = 0; i < w2; i++) {
+                        g[cols[i]] += wr * wx[i];
+                    }
                 }
             }
         }
@@ -906,6 +942,51 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return GR_OK;
 }
 
+/* Checkpoints: the pooled sums and the blocking accumulator of every bin and shell (the vector
+ * tables and the NUFFT plan are re-created from the scene). */
+static void put_bins(gr_blob *out, const sk_bin *b, int n)
+{
+    gr_blob_put_u64(out, (uint64_t)n);
+    for (int i = 0; i < n; i++) {
+        gr_blob_put_f64(out, b[i].pool);
+        gr_blob_put_f64(out, b[i].pool2);
+        gr_blob_put_blocking(out, &b[i].acc);
+    }
+}
+
+static void get_bins(gr_blob_reader *in, sk_bin *b, int n, const char *what)
+{
+    uint64_t m = gr_blob_get_u64(in);
+    if (!in->bad && m != (uint64_t)n) {
+        gr_blob_fail(in, "%llu %s in the checkpoint, %d for this scene", (unsigned long long)m, what, n);
+    }
+    for (int i = 0; i < n && !in->bad; i++) {
+        b[i].pool = gr_blob_get_f64(in);
+        b[i].pool2 = gr_blob_get_f64(in);
+        gr_blob_get_blocking(in, &b[i].acc);
+    }
+}
+
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const sk_state *st = state;
+    gr_blob_put_i64(out, st->frames);
+    put_bins(out, st->bins, st->nbins);
+    put_bins(out, st->shells, st->nshells);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    sk_state *st = state;
+    st->frames = gr_blob_get_i64(in);
+    get_bins(in, st->bins, st->nbins, "circular bins");
+    get_bins(in, st->shells, st->nshells, "shells");
+    return GR_OK;
+}
+
 const gr_observable_type gr_obs_sk = {
     .name = "sk",
     .summary = "structure factor S(k) on the k-lattice (4.2-4.3) by Gaussian-gridding NUFFT, circular "
@@ -917,4 +998,6 @@ const gr_observable_type gr_obs_sk = {
     .sample = sample,
     .finish = finish,
     .destroy = destroy,
+    .save = save,
+    .load = load,
 };

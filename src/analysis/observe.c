@@ -1,9 +1,11 @@
 /* The observable registry and the set of observables a scene enables. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "granule/observe.h"
 #include "granule/scene.h"
+#include "io/blob.h"
 
 extern const gr_observable_type gr_obs_moments;
 extern const gr_observable_type gr_obs_freepath;
@@ -124,6 +126,71 @@ int gr_observer_events(gr_observer *o, const gr_contact_event *ev, int64_t n, gr
         }
     }
     return GR_OK;
+}
+
+int gr_observer_save(const gr_observer *o, gr_blob *out, gr_error *err)
+{
+    gr_blob_put_u64(out, (uint64_t)gr_observer_count(o));
+    for (int i = 0; o && i < o->n; i++) {
+        if (!o->type[i]->save) {
+            return GR_FAIL(err, GR_EINVAL, "[analysis] observables: %s cannot be checkpointed yet", o->type[i]->name);
+        }
+        gr_blob one = {0};
+        int rc = o->type[i]->save(o->state[i], &one, err);
+        rc = rc ? rc : gr_blob_ok(&one, err);
+        if (!rc) {
+            gr_blob_put_str(out, o->type[i]->name);
+            gr_blob_put_u64(out, one.len);
+            gr_blob_put(out, one.data, one.len);
+        }
+        gr_blob_free(&one);
+        if (rc) {
+            return rc;
+        }
+    }
+    return gr_blob_ok(out, err);
+}
+
+int gr_observer_load(gr_observer *o, const void *data, size_t len, gr_error *err)
+{
+    gr_blob_reader r;
+    gr_blob_reader_init(&r, data, len, "OBS (observables)");
+    uint64_t n = gr_blob_get_u64(&r);
+    if (!r.bad && n != (uint64_t)gr_observer_count(o)) {
+        gr_blob_fail(&r, "%llu observables in the checkpoint, %d enabled in the scene", (unsigned long long)n,
+                     gr_observer_count(o));
+    }
+    for (int i = 0; !r.bad && i < o->n; i++) {
+        char name[64];
+        gr_blob_get_str(&r, name, sizeof name);
+        uint64_t one_len = gr_blob_get_u64(&r);
+        if (!r.bad && strcmp(name, o->type[i]->name) != 0) {
+            gr_blob_fail(&r, "observable %d is %s in the checkpoint, %s in the scene", i + 1, name, o->type[i]->name);
+        }
+        const void *one = gr_blob_view(&r, (size_t)one_len);
+        if (!r.bad && one_len > len) {
+            gr_blob_fail(&r, "observable %s claims %llu bytes", name, (unsigned long long)one_len);
+        }
+        if (r.bad) {
+            break;
+        }
+        if (!o->type[i]->load) {
+            return GR_FAIL(err, GR_EINVAL, "[analysis] observables: %s cannot be restored from a checkpoint", name);
+        }
+        gr_blob_reader sub;
+        char what[96];
+        snprintf(what, sizeof what, "OBS/%s", name);
+        gr_blob_reader_init(&sub, one, (size_t)one_len, what);
+        int rc = o->type[i]->load(o->state[i], &sub, err);
+        if (rc) {
+            return rc;
+        }
+        rc = gr_blob_done(&sub, err);
+        if (rc) {
+            return rc;
+        }
+    }
+    return gr_blob_done(&r, err);
 }
 
 void gr_observer_free(gr_observer *o)

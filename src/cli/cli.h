@@ -7,7 +7,9 @@
 #include "granule/status.h"
 
 /* Exit codes */
-enum { EXIT_OK = 0, EXIT_FAILED = 1, EXIT_REFUSED = 2, EXIT_UNSTABLE = 3 };
+enum { EXIT_OK = 0, EXIT_FAILED = 1, EXIT_REFUSED = 2, EXIT_UNSTABLE = 3,
+       EXIT_WALL_LIMIT = 4, /* stopped before run.wall_limit ran out; checkpoint written (docs/checkpoints.md) */
+       EXIT_STOPPED = 5 };  /* stopped by SIGTERM/SIGINT; checkpoint written */
 
 int cmd_run(int argc, char **argv);
 int cmd_collide(int argc, char **argv);
@@ -31,5 +33,8 @@ void cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 bool cli_interactive(void);
 /* Parse a number option value or print an error naming the option. */
 bool cli_number(const char *opt, const char *text, double *out);
+/* --threads N: use N OpenMP threads (1 to 1024; results do not depend on N). False (after an
+ * error naming the allowed range) for anything else. Defined in cmd_run.c. */
+bool cli_threads(const char *text);
 
 #endif

@@ -1,5 +1,6 @@
-/* granule bench [core|scaling|noise|sk|all]: regenerate the throughput tables of
- * docs/performance.md on this machine (the bench programs live in bench/; this runs them). */
+/* granule bench [PART|all]: regenerate the tables and plots of docs/performance.md (and the
+ * benchmark tables of docs/event-driven.md, docs/hybrid.md, docs/checkpoints.md) on this machine.
+ * The bench programs and scripts live in bench/; this runs them, one part or all in order. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,16 +9,48 @@
 #include "cli/cli.h"
 #include "granule_config.h"
 
+/* One part: a script of bench/ taking [BUILD_DIR] [--quick], or a bench program of the build. */
+typedef struct {
+    const char *name;
+    const char *script;  /* bench/NAME.sh, or NULL for a program */
+    const char *program; /* bench/NAME in the build folder, or NULL */
+    const char *quick;   /* its quick-mode arguments */
+    const char *doc;
+} bench_part;
+
+static const bench_part parts[] = {
+    {"core", "core_throughput.sh", NULL, "--quick",
+     "particle-steps/s of the 2D and 1D RFM scenes, Verlet list vs cell list every step"},
+    {"scaling", "scaling.sh", NULL, "--quick", "particle-steps/s against N (2D, 1D) and the cost of each effect"},
+    {"throughput", "throughput_all.sh", NULL, "--quick",
+     "every model and integrator against N (2D 1e3-1e5, 1D 1e2-1e4), threads;\n"
+     "                   out/bench/throughput.md, docs/img/scaling.png"},
+    {"threads", "threads.sh", NULL, "--quick", "OpenMP speed-up of the soft-sphere core (docs/performance.md, Threads)"},
+    {"noise", NULL, "bench_noise", "--repeats 3", "ns per normal variate of the random force"},
+    {"sk", NULL, "bench_sk", "--quick", "S(k) per frame: gridding vs direct sum, accuracy"},
+    {"accuracy", "accuracy_cost.sh", NULL, "--quick",
+     "error (collision energy loss, steady temperature) against wall seconds per\n"
+     "                   simulated second as dt grows; out/bench/accuracy-*.md, docs/img/accuracy-*.png"},
+    {"event", "event_throughput.sh", NULL, "--quick", "event-driven collisions/s and events/s (docs/event-driven.md)"},
+    {"hybrid", "hybrid_speedup.sh", NULL, "--quick", "hybrid against soft-sphere: speed-up at equal accuracy (docs/hybrid.md)"},
+    {"hybrid-agreement", "hybrid_agreement.sh", NULL, "--quick", "hybrid against soft-sphere over several seeds (long)"},
+    {"lammps", "lammps.sh", NULL, "--quick",
+     "the 2D RFM scene and single collisions side by side with LAMMPS (skipped\n"
+     "                   without lmp; --install installs the Debian package lammps, as root)"},
+};
+enum { N_PARTS = sizeof parts / sizeof parts[0] };
+
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: granule bench [core|scaling|noise|sk|all] [--quick]\n\n"
-               "  core     particle-steps/s of the 2D and 1D RFM scenes, Verlet list vs cell list every step\n"
-               "  scaling  particle-steps/s against N (2D, 1D) and the cost of each effect\n"
-               "  noise    ns per normal variate of the random force\n"
-               "  sk       S(k) per frame: gridding vs direct sum, accuracy\n"
-               "  all      every one of them (default)\n"
-               "Each prints the machine, compiler flags and commit beside the numbers; --quick runs tiny sizes.\n"
-               "Runs the programs of %s/bench built in %s.\n", GR_SOURCE_DIR, GR_BUILD_DIR);
+    fprintf(f, "usage: granule bench [PART|all] [--quick] [--install]\n\n");
+    for (int k = 0; k < N_PARTS; k++) {
+        fprintf(f, "  %-16s %s\n", parts[k].name, parts[k].doc);
+    }
+    fprintf(f, "  %-16s every one of them, in this order (default)\n\n"
+               "Each prints the machine, compiler flags and commit beside the numbers; --quick runs tiny sizes\n"
+               "(what the test suite runs). A part whose script is not in this source tree is skipped with a note.\n"
+               "Runs the programs and scripts of %s/bench built in %s.\n",
+            "all", GR_SOURCE_DIR, GR_BUILD_DIR);
 }
 
 static int run(const char *cmd)
@@ -28,16 +61,40 @@ static int run(const char *cmd)
     return rc == 0 ? 0 : 1;
 }
 
+static int run_part(const bench_part *p, bool quick, bool install)
+{
+    char cmd[4096], path[1200];
+    if (p->script) {
+        snprintf(path, sizeof path, "%s/bench/%s", GR_SOURCE_DIR, p->script);
+        if (access(path, R_OK) != 0) {
+            printf("bench %s: skipped: %s is not in this source tree\n", p->name, path);
+            return 0;
+        }
+        snprintf(cmd, sizeof cmd, "cd '%s' && bash 'bench/%s' '%s' %s%s", GR_SOURCE_DIR, p->script, GR_BUILD_DIR,
+                 quick ? p->quick : "", install && !strcmp(p->name, "lammps") ? " --install" : "");
+    } else {
+        snprintf(path, sizeof path, "%s/bench/%s", GR_BUILD_DIR, p->program);
+        if (access(path, X_OK) != 0) {
+            printf("bench %s: skipped: %s is not built\n", p->name, path);
+            return 0;
+        }
+        snprintf(cmd, sizeof cmd, "'%s' %s", path, quick ? p->quick : "");
+    }
+    return run(cmd);
+}
+
 int cmd_bench(int argc, char **argv)
 {
     const char *what = "all";
-    bool quick = false;
+    bool quick = false, install = false;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
             usage(stdout);
             return EXIT_OK;
         } else if (!strcmp(argv[i], "--quick")) {
             quick = true;
+        } else if (!strcmp(argv[i], "--install")) {
+            install = true;
         } else if (argv[i][0] != '-') {
             what = argv[i];
         } else {
@@ -45,12 +102,12 @@ int cmd_bench(int argc, char **argv)
             return EXIT_REFUSED;
         }
     }
-    const char *names[] = {"core", "scaling", "noise", "sk"};
     bool all = !strcmp(what, "all"), known = all;
-    for (int k = 0; k < 4; k++) {
-        known |= !strcmp(what, names[k]);
+    for (int k = 0; k < N_PARTS; k++) {
+        known |= !strcmp(what, parts[k].name);
     }
     if (!known) {
+        cli_error("bench: unknown part '%s'", what);
         usage(stderr);
         return EXIT_REFUSED;
     }
@@ -60,23 +117,14 @@ int cmd_bench(int argc, char **argv)
         cli_error("bench: %s not found: build the project (ninja -C %s) first", path, GR_BUILD_DIR);
         return EXIT_FAILED;
     }
-    char cmd[4096];
     int failures = 0;
-    if (all || !strcmp(what, "core")) {
-        snprintf(cmd, sizeof cmd, "cd '%s' && bash bench/core_throughput.sh '%s' %s", GR_SOURCE_DIR, GR_BUILD_DIR, quick ? "--quick" : "");
-        failures += run(cmd);
+    for (int k = 0; k < N_PARTS; k++) {
+        if (all || !strcmp(what, parts[k].name)) {
+            failures += run_part(&parts[k], quick, install);
+        }
     }
-    if (all || !strcmp(what, "scaling")) {
-        snprintf(cmd, sizeof cmd, "cd '%s' && bash bench/scaling.sh '%s' %s", GR_SOURCE_DIR, GR_BUILD_DIR, quick ? "--quick" : "");
-        failures += run(cmd);
-    }
-    if (all || !strcmp(what, "noise")) {
-        snprintf(cmd, sizeof cmd, "'%s/bench/bench_noise'%s", GR_BUILD_DIR, quick ? " --repeats 3" : "");
-        failures += run(cmd);
-    }
-    if (all || !strcmp(what, "sk")) {
-        snprintf(cmd, sizeof cmd, "'%s/bench/bench_sk'%s", GR_BUILD_DIR, quick ? " --quick" : "");
-        failures += run(cmd);
+    if (failures) {
+        fprintf(stderr, "granule bench: %d part%s failed\n", failures, failures == 1 ? "" : "s");
     }
     return failures ? EXIT_FAILED : EXIT_OK;
 }

@@ -26,14 +26,15 @@ static double now(void)
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: granule reproduce NAME [--fidelity quick|full] [--out DIR] [--source DIR]\n\n"
+    fprintf(f, "usage: granule reproduce NAME [--fidelity quick|full] [--out DIR] [--source DIR] [--threads N]\n\n"
                "NAME: fig2.10   steady T of the sec. 2.3.3 scene for three placements (Fig. 2.10)\n"
                "      fig3.2    xi_2 of <v^2> ~ N^-xi_2 against eps in 1D, L' = 1 (Figs. 3.1-3.2)\n"
                "      fig4.2    S(k) and D_f of the 2D RFM, phi = 0.53, eps = 0.1 (Fig. 4.2, Tables 4.1-4.3)\n"
                "      fig5.3    P(v) tails of the same system, accepted alpha range (Fig. 5.3, Tables 5.1-5.2)\n"
                "      all       every one of them\n"
                "Runs go to DIR/NAME (default out/reproduce), the report to DIR/NAME/report.md and stdout.\n"
-               "--source DIR: the granule source tree holding docs/scenes (default: the working folder).\n");
+               "--source DIR: the granule source tree holding docs/scenes (default: the working folder).\n"
+               "--threads N: threads for the 2D runs (default 1); results do not depend on N.\n");
 }
 
 static int run_scene(const char *scene_path, const char *const *sets, int n_sets, const char *out, gr_error *err)
@@ -112,19 +113,22 @@ static int fig3_2(const char *src, const char *out, bool quick, gr_error *err)
     char sweep_path[1200], sweep_out[1200];
     snprintf(sweep_path, sizeof sweep_path, "%.1000s/sweep.ini", out);
     snprintf(sweep_out, sizeof sweep_out, "%.1000s/sweep", out);
-    FILE *s = fopen(sweep_path, "w");
-    if (!s) {
+    gr_file sf;
+    if (gr_file_open(&sf, out, "sweep.ini", err)) {
         gr_file_abandon(&f);
-        return GR_FAIL(err, GR_EIO, "cannot write %s", sweep_path);
+        return GR_EIO;
     }
-    fprintf(s, "[sweep]\nscene = %s/docs/scenes/rfm-1d.ini\nout = %s\nseeds = %s\n[vary]\nsystem.N = %s\nmodel.eps_n = %s\n"
+    fprintf(sf.f, "[sweep]\nscene = %s/docs/scenes/rfm-1d.ini\nout = %s\nseeds = %s\n[vary]\nsystem.N = %s\nmodel.eps_n = %s\n"
                "[set]\nrun.warmup = %s\nrun.duration = %s\noutput.plots = false\noutput.snapshot_every = 0\n",
             src, sweep_out, quick ? "1, 2" : "1, 2, 3",
             quick ? "100, 158, 251, 398, 631" : "100, 158, 251, 398, 631, 1000, 1585",
             quick ? "0.1, 0.5, 0.9" : "0.01, 0.1, 0.3, 0.5, 0.7, 0.9, 0.99", quick ? "2" : "10", quick ? "20" : "200");
-    fclose(s);
-    char *argv[] = {"sweep", sweep_path, NULL};
-    int rc = cmd_sweep(2, argv);
+    if (gr_file_commit(&sf, err)) {
+        gr_file_abandon(&f);
+        return GR_EIO;
+    }
+    char *argv[] = {"sweep", "--all", sweep_path, NULL}; /* all points, even inside a batch-array task */
+    int rc = cmd_sweep(3, argv);
     fprintf(f.f, "### Figs. 3.1-3.2: xi_2 of <v^2> = lambda N^-xi_2 (3.8), 1D, L' = 1 m\n\n"
                  "N = %s; T averaged over %s s after %s s (in 1D <v^2> = T); %s seeds per point; "
                  "power law fitted with the seed spread as error (`granule sweep`).\n\n"
@@ -229,6 +233,10 @@ int cmd_reproduce(int argc, char **argv)
             out = argv[++i];
         } else if (!strcmp(argv[i], "--source") && i + 1 < argc) {
             src = argv[++i];
+        } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
+            if (!cli_threads(argv[++i])) {
+                return EXIT_REFUSED;
+            }
         } else if (argv[i][0] != '-' && !name) {
             name = argv[i];
         } else {

@@ -1,4 +1,6 @@
-/* granule run SCENE [--out DIR] [--set section.key=value ...] [--force] [--quiet] */
+/* granule run SCENE [--out DIR] [--set section.key=value ...] [--force] [--quiet] [--wall-limit S] [--threads N]
+ * granule run --resume DIR [--set run.wall_limit=S ...] [--quiet] [--threads N] */
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,7 +10,9 @@
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: granule run SCENE [--out DIR] [--set section.key=value ...] [--force] [--quiet]\n\n"
+    fprintf(f, "usage: granule run SCENE [--out DIR] [--set section.key=value ...] [--force] [--quiet] [--wall-limit S]\n"
+               "                 [--threads N]\n"
+               "       granule run --resume DIR [--set run.wall_limit=S ...] [--quiet] [--threads N]\n\n"
                "Runs SCENE (an INI file, see docs/scene-keys.md): warm-up, then sampling every\n"
                "run.sample_every. Writes DIR/summary.json, temperature.csv, blocks.csv, ledger.csv,\n"
                "snapshots/ (output.snapshot_every) and PNG plots (output.plots).\n"
@@ -16,7 +20,13 @@ static void usage(FILE *f)
                "  --set K=V    override a scene key, e.g. --set model.eps_n=0.5 (repeatable)\n"
                "  --force      overwrite the results of an earlier run in DIR\n"
                "  --quiet      no progress line\n"
-               "Exit status: 0 completed, 2 scene refused, 3 run became unstable, 1 other failure.\n");
+               "  --threads N  threads for the 2D core (default 1, or OMP_NUM_THREADS); the results are\n"
+               "               bit-identical for every N (docs/performance.md)\n"
+               "  --wall-limit S  write a checkpoint and stop before S seconds of wall time (run.wall_limit)\n"
+               "  --resume DIR continue the interrupted run in DIR from DIR/checkpoint (docs/checkpoints.md)\n"
+               "SIGTERM or SIGINT writes a checkpoint at the next step boundary and stops (a second one kills).\n"
+               "Exit status: 0 completed, 2 scene refused, 3 run became unstable, 1 other failure,\n"
+               "4 stopped for the wall-time limit, 5 stopped by a signal (both with a checkpoint to resume).\n");
 }
 
 static void progress(const gr_progress *p, void *user)
@@ -29,9 +39,30 @@ static void progress(const gr_progress *p, void *user)
     fflush(stderr);
 }
 
+static volatile sig_atomic_t stop_requested;
+
+static void on_stop_signal(int sig)
+{
+    (void)sig;
+    stop_requested = 1; /* the run checkpoints at the next step boundary; SA_RESETHAND: a second signal kills */
+}
+
+bool cli_threads(const char *text)
+{
+    char *end;
+    long t = strtol(text, &end, 10);
+    if (end == text || *end != '\0' || t < 1 || t > 1024) {
+        cli_error("--threads %s: expected an integer from 1 to 1024", text);
+        return false;
+    }
+    gr_set_threads((int)t);
+    return true;
+}
+
 int cmd_run(int argc, char **argv)
 {
-    const char *scene_path = NULL, *out = NULL;
+    const char *scene_path = NULL, *out = NULL, *resume = NULL;
+    char wall_set[80] = "";
     const char **sets = calloc((size_t)argc, sizeof(char *));
     int n_sets = 0;
     bool force = false, quiet = false;
@@ -51,6 +82,16 @@ int cmd_run(int argc, char **argv)
             force = true;
         } else if (!strcmp(a, "--quiet")) {
             quiet = true;
+        } else if (!strcmp(a, "--resume") && i + 1 < argc) {
+            resume = argv[++i];
+        } else if (!strcmp(a, "--threads") && i + 1 < argc) {
+            if (!cli_threads(argv[++i])) {
+                free(sets);
+                return EXIT_REFUSED;
+            }
+        } else if (!strcmp(a, "--wall-limit") && i + 1 < argc) {
+            snprintf(wall_set, sizeof wall_set, "run.wall_limit=%.60s", argv[++i]);
+            sets[n_sets++] = wall_set;
         } else if (a[0] == '-') {
             cli_error("run: unknown option %s", a);
             usage(stderr);
@@ -63,6 +104,17 @@ int cmd_run(int argc, char **argv)
             free(sets);
             return EXIT_REFUSED;
         }
+    }
+    char resume_scene[1100];
+    if (resume) {
+        if (scene_path || out || force) {
+            cli_error("run: --resume %s continues the run in that folder with its own scene.ini; give no SCENE, --out or --force", resume);
+            free(sets);
+            return EXIT_REFUSED;
+        }
+        snprintf(resume_scene, sizeof resume_scene, "%s/scene.ini", resume);
+        scene_path = resume_scene;
+        out = resume;
     }
     if (!scene_path) {
         usage(stderr);
@@ -87,7 +139,16 @@ int cmd_run(int argc, char **argv)
     if (scene.warnings[0]) {
         fprintf(stderr, "granule: warning: %s", scene.warnings);
     }
-    gr_run_options opt = {.force = force};
+    if (scene.integrator != GR_INTEGRATOR_VERLET && (scene.checkpoint_every > 0.0 || scene.wall_limit > 0.0 || resume)) {
+        fprintf(stderr, "granule: warning: checkpoints are not available for [integrator] kind = %s yet: "
+                        "a stop (wall limit, signal) ends the run with status \"interrupted\" and cannot be resumed\n",
+                scene.integrator == GR_INTEGRATOR_EVENT ? "event" : "hybrid");
+    }
+    gr_run_options opt = {.force = force, .resume = resume != NULL, .stop = &stop_requested};
+    struct sigaction sa = {.sa_handler = on_stop_signal, .sa_flags = SA_RESETHAND};
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGINT, &sa, NULL);
     if (!quiet && scene.progress && cli_interactive()) {
         opt.progress = progress;
     }
@@ -95,6 +156,12 @@ int cmd_run(int argc, char **argv)
     rc = gr_run(&scene, &opt, &res, &err);
     if (opt.progress) {
         fputc('\n', stderr);
+    }
+    if (rc == GR_OK && res.stopped) {
+        cli_error("%s at step %lld (%lld samples): checkpoint written to %s/checkpoint; continue with: granule run --resume %s",
+                  res.stopped == 1 ? "stopped by a signal" : "stopped before the wall-time limit (run.wall_limit)",
+                  (long long)res.steps, (long long)res.samples, scene.out_dir, scene.out_dir);
+        return res.stopped == 1 ? EXIT_STOPPED : EXIT_WALL_LIMIT;
     }
     if (rc == GR_EUNSTABLE) {
         cli_error("%s (outputs so far kept in %s)", err.message, scene.out_dir);

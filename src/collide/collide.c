@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "core/sim_internal.h"
+#include "event/rule.h"
 #include "granule/collide.h"
 
 int gr_collision_case_table21(int number, double radius, gr_collision_case *out, gr_error *err)
@@ -34,13 +35,14 @@ void gr_collide_setup_default(gr_collide_setup *s)
                         v / w0 = 1 mm, so r = 0.1 m keeps it below 1% of d */
     s->steps_per_contact = 50.0;
     s->dim = 2;
+    s->ref_rtol = 1e-12;
 }
 
 double gr_collide_expected_loss(const gr_contact_coeffs *c, const gr_contact_params *p, double angle_deg)
 {
     double a = angle_deg * M_PI / 180.0, cos2 = cos(a) * cos(a), sin2 = 1.0 - cos2;
     double en = c->eps_n_exact, et = 1.0;
-    if (c->tangential == GR_TANGENTIAL_DASHPOT) {
+    if (c->tangential == GR_TANGENTIAL_DASHPOT || c->normal == GR_NORMAL_HARD_SPHERE) {
         et = p->eps_t;
     } else if (c->tangential == GR_TANGENTIAL_FRICTION && sin2 > 0.0) {
         /* tangential impulse mu (1 + eps_n) m12 |g_n| while sliding (physics notes sec. 4.2) */
@@ -64,6 +66,45 @@ static double contact_time_of(const double r[2], const double g[2], double d)
     return c / (-b + sqrt(disc)); /* cancellation-free root (physics notes sec. 3.3) */
 }
 
+/* hard_sphere: the instantaneous rule (src/event/rule.h) applied at the exact contact instant */
+static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc, double t_hit,
+                        gr_collide_result *out, gr_error *err)
+{
+    const int dim = cs->dim;
+    gr_contact_params p = cs->contact;
+    if (dim == 1) {
+        p.eps_t = 1.0;
+    }
+    gr_contact_coeffs coeffs;
+    int rc = gr_contact_prepare(cs->normal, NULL, &p, 0.5 * cs->mass, 0.0, &coeffs, err);
+    if (rc) {
+        return rc;
+    }
+    double v1[2] = {cc->v1[0], dim == 2 ? cc->v1[1] : 0.0}, v2[2] = {cc->v2[0], dim == 2 ? cc->v2[1] : 0.0};
+    double r[2] = {cc->x2[0] - cc->x1[0] + (v2[0] - v1[0]) * t_hit, dim == 2 ? cc->x2[1] - cc->x1[1] + (v2[1] - v1[1]) * t_hit : 0.0};
+    double rn = hypot(r[0], r[1]), n[2] = {r[0] / rn, r[1] / rn};
+    double g0[2] = {v2[0] - v1[0], v2[1] - v1[1]};
+    double gg0 = g0[0] * g0[0] + g0[1] * g0[1];
+    double gn0 = g0[0] * n[0] + g0[1] * n[1], gt0 = g0[0] * n[1] - g0[1] * n[0];
+    double p0[2] = {v1[0] + v2[0], v1[1] + v2[1]};
+    double u1[2] = {v1[0], v1[1]}, u2[2] = {v2[0], v2[1]}, de_n, de_t;
+    gr_event_collide(cs->mass, p.eps_n, p.eps_t, n[0], n[1], &u1[0], &u1[1], &u2[0], &u2[1], &de_n, &de_t);
+    double g1[2] = {u2[0] - u1[0], u2[1] - u1[1]};
+    out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1]) / gg0;
+    out->impact_angle = acos(fmin(1.0, fabs(gn0) / sqrt(gg0))) * 180.0 / M_PI;
+    out->expected_loss = gr_collide_expected_loss(&coeffs, &p, out->impact_angle);
+    out->contact_time = 0.0;
+    out->max_overlap = 0.0;
+    out->eps_n_measured = -(g1[0] * n[0] + g1[1] * n[1]) / gn0;
+    out->eps_t_measured = fabs(gt0) > 1e-12 * sqrt(gg0) ? (g1[0] * n[1] - g1[1] * n[0]) / gt0 : (double)NAN;
+    out->momentum_error = hypot(u1[0] + u2[0] - p0[0], u1[1] + u2[1] - p0[1]) / hypot(p0[0], p0[1]);
+    out->normal_impulse = cs->mass * fabs((u1[0] - v1[0]) * n[0] + (u1[1] - v1[1]) * n[1]);
+    out->tangential_impulse = cs->mass * fabs((u1[0] - v1[0]) * n[1] - (u1[1] - v1[1]) * n[0]);
+    out->tangential_reversed = gt0 * (g1[0] * n[1] - g1[1] * n[0]) < 0.0;
+    out->dt = 0.0;
+    return GR_OK;
+}
+
 int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_collide_result *out,
                    gr_error *err)
 {
@@ -75,6 +116,9 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     double t_hit = contact_time_of(r0, g0, d);
     if (t_hit < 0.0) {
         return GR_FAIL(err, GR_EINVAL, "the two particles never touch: their relative motion misses by more than d = %g m", d);
+    }
+    if (cs->normal && (cs->normal->kind & GR_MODEL_EVENT)) {
+        return collide_hard(cs, cc, t_hit, out, err);
     }
     gr_scene sc;
     gr_scene_default(&sc);

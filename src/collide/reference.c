@@ -55,7 +55,6 @@ enum { REF_NEQ = 6, REF_NROOT = 5 };
 enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT };
 enum { ROOT_END = 0, ROOT_MAX_OVERLAP, ROOT_STICK, ROOT_FN_SIGN, ROOT_DEGENERATE };
 
-#define REF_RTOL 1e-12
 #define REF_ATOL 1e-14                 /* nondimensional: state components are O(1) */
 #define REF_GUARD_CONTACTS 1000.0      /* give up after this many undamped contact times pi/w0 */
 #define REF_MAX_STEPS 1000000L         /* per CVode call */
@@ -325,7 +324,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
 
     REF_CHECK(CVodeSetErrHandlerFn(mem, ref_err_handler, &ctx), "CVodeSetErrHandlerFn");
     REF_CHECK(CVodeInit(mem, ref_rhs, 0.0, y), "CVodeInit");
-    REF_CHECK(CVodeSStolerances(mem, REF_RTOL, REF_ATOL), "CVodeSStolerances");
+    REF_CHECK(CVodeSStolerances(mem, s->ref_rtol > 0.0 ? s->ref_rtol : 1e-12, REF_ATOL), "CVodeSStolerances");
     REF_CHECK(CVodeSetUserData(mem, &ctx), "CVodeSetUserData");
     REF_CHECK(CVodeSetLinearSolver(mem, LS, A), "CVodeSetLinearSolver");
     REF_CHECK(CVodeSetMaxNumSteps(mem, REF_MAX_STEPS), "CVodeSetMaxNumSteps");

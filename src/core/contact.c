@@ -6,11 +6,13 @@
 extern const gr_model gr_model_spring_dashpot;
 extern const gr_model gr_model_tangential_dashpot;
 extern const gr_model gr_model_sliding_friction;
+extern const gr_model gr_model_hard_sphere;
 
 const gr_model *const gr_models[] = {
     &gr_model_spring_dashpot,
     &gr_model_tangential_dashpot,
     &gr_model_sliding_friction,
+    &gr_model_hard_sphere,
     NULL,
 };
 

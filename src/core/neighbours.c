@@ -112,10 +112,16 @@ int gr_neighbours_build(gr_sim *s, gr_error *err)
                                    "unstable run: particle %d has a non-finite position (%g, %g) at step %lld",
                                    i, xw[i], yw[i], (long long)s->step);
                 }
+                const double x0 = xw[i], y0 = yw[i];
                 xw[i] -= L * floor(xw[i] / L);
                 yw[i] -= L * floor(yw[i] / L);
                 xw[i] = xw[i] >= L ? 0.0 : xw[i];
                 yw[i] = yw[i] >= L ? 0.0 : yw[i];
+                if (!(xw[i] >= 0.0 && yw[i] >= 0.0)) { /* |x| >> L: floor lost the box (tests/fuzz) */
+                    return GR_FAIL(err, GR_EUNSTABLE,
+                                   "unstable run: particle %d moved %g box lengths in one step, at step %lld",
+                                   i, fmax(fabs(x0), fabs(y0)) / L, (long long)s->step);
+                }
             }
         }
         /* counting sort of particles by cell */

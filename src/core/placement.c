@@ -215,10 +215,13 @@ static int place_random(gr_sim *s, gr_error *err)
                        "%s: [placement] kind = random cannot reach phi = %.3f: random sequential addition jams near 0.547; use hexagonal (any phi <= 0.9069)",
                        s->scene.source, phi);
     }
-    /* brute-force rejection against a coarse grid of already placed particles */
+    /* brute-force rejection against a coarse grid of already placed particles; cells of side
+     * >= d, at most about 2N of them, so a dilute box costs O(N) memory (found by tests/fuzz) */
     int side = (int)floor(s->L / s->d);
-    if (side < 1) {
-        side = 1;
+    const int max_side = (int)ceil(sqrt(2.0 * s->n)) + 1;
+    side = side < max_side ? side : max_side;
+    if (side < 3) {
+        side = 1; /* one cell holding everyone (the neighbour scan below assumes 3 or more) */
     }
     double cell = s->L / side;
     int *head = malloc(sizeof(int) * (size_t)side * (size_t)side), *next = malloc(sizeof(int) * (size_t)s->n);
@@ -329,6 +332,8 @@ int gr_check_overlaps(const gr_sim *s, gr_error *err)
         }
     } else {
         int side = (int)floor(L / d);
+        const int max_side = (int)ceil(sqrt(2.0 * s->n)) + 1; /* O(N) cells however dilute */
+        side = side < max_side ? side : max_side;
         if (side < 3 || (long)s->n * s->n < 4000000L) {
             for (int i = 0; i < s->n; i++) {
                 for (int j = i + 1; j < s->n; j++) {

@@ -3,11 +3,51 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "core/sim_internal.h"
 #include "event/event.h"
 #include "granule/noise.h"
 #include "hybrid/hybrid.h"
+
+static _Atomic int threads_setting; /* gr_set_threads; 0: default */
+
+void gr_set_threads(int n) { threads_setting = n > 0 ? n : 0; }
+
+int gr_get_threads(void)
+{
+#ifdef _OPENMP
+    if (omp_in_parallel()) {
+        return 1;
+    }
+    int t = threads_setting;
+    if (t == 0) { /* default: one thread, unless OMP_NUM_THREADS asks for more */
+        const char *env = getenv("OMP_NUM_THREADS");
+        t = env && *env ? omp_get_max_threads() : 1;
+    }
+    return t;
+#else
+    return 1;
+#endif
+}
+
+int gr_team(const gr_sim *s)
+{
+#ifdef _OPENMP
+    if (s->dim != 2 || s->nblk < 2) {
+        return 1;
+    }
+    int t = gr_get_threads();
+    return t < s->nblk ? t : s->nblk;
+#else
+    (void)s;
+    return 1;
+#endif
+}
+
+int gr_sim_threads(const gr_sim *s) { return gr_team(s); }
 
 static double *alloc_array(int n)
 {
@@ -47,6 +87,14 @@ void gr_sim_free(gr_sim *s)
     free(s->contacts);
     free(s->contacts_now);
     free(s->events);
+    free(s->blk);
+    free(s->par_row);
+    free(s->cross_start);
+    free(s->cross_p);
+    free(s->cross_i);
+    free(s->in_start);
+    free(s->in_k);
+    free(s->pair_f);
     free(s);
 }
 
@@ -117,6 +165,8 @@ static int alloc_state(const gr_scene *scene, int n, gr_sim **out, gr_error *err
     s->fx = alloc_array(n);
     s->gx = alloc_array(n);
     s->noise = alloc_array(n * s->dim);
+    s->nblk = n > 0 ? (n + GR_BLOCK - 1) / GR_BLOCK : 1;
+    s->blk = calloc((size_t)s->nblk * GR_BLK_FIELDS, sizeof(double));
     if (s->dim == 2) {
         s->y = alloc_array(n);
         s->vy = alloc_array(n);
@@ -125,7 +175,7 @@ static int alloc_state(const gr_scene *scene, int n, gr_sim **out, gr_error *err
     } else {
         s->pair_contact = calloc((size_t)n + 1, 1);
     }
-    if (!s->x || !s->vx || !s->fx || !s->gx || !s->noise ||
+    if (!s->x || !s->vx || !s->fx || !s->gx || !s->noise || !s->blk ||
         (s->dim == 2 ? (!s->y || !s->vy || !s->fy || !s->gy) : !s->pair_contact)) {
         gr_sim_free(s);
         return GR_FAIL(err, GR_ENOMEM, "out of memory for %d particles", n);
@@ -243,6 +293,77 @@ int gr_sim_create_with_state(const gr_scene *scene, int n, const double *x, cons
     }
     *out = s;
     return GR_OK;
+}
+
+/* Canonical order (gr_sim_create_canonical): 1D by x; 2D by cell of a grid of side >= d in
+ * row-major order, then x, then y, on the wrapped positions. Distinct positions (every accepted
+ * state has them) get a unique order, and neighbours in space are near in the order. */
+typedef struct canon_key {
+    int64_t cell;
+    double x, y;
+    int i;
+} canon_key;
+
+static int canon_cmp(const void *pa, const void *pb)
+{
+    const canon_key *a = pa, *b = pb;
+    if (a->cell != b->cell) {
+        return a->cell < b->cell ? -1 : 1;
+    }
+    if (a->x != b->x) {
+        return a->x < b->x ? -1 : 1;
+    }
+    if (a->y != b->y) {
+        return a->y < b->y ? -1 : 1;
+    }
+    return 0;
+}
+
+int gr_sim_create_canonical(const gr_scene *scene, int n, const double *x, const double *y, const double *vx,
+                            const double *vy, gr_sim **out, gr_error *err)
+{
+    *out = NULL;
+    const int dim = scene->dim;
+    const double L = scene->L, d = 2.0 * scene->radius;
+    if (n < 1) {
+        return gr_sim_create_with_state(scene, n, x, y, vx, vy, out, err);
+    }
+    canon_key *key = malloc(sizeof *key * (size_t)n);
+    double *buf = malloc(sizeof(double) * 4 * (size_t)n);
+    if (!key || !buf) {
+        free(key);
+        free(buf);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for %d particles", n);
+    }
+    int64_t side = dim == 2 && d > 0.0 && L > d ? (int64_t)floor(L / d) : 1;
+    const int64_t max_side = (int64_t)ceil(sqrt((double)n)) + 1; /* about one particle per cell */
+    side = side < 1 ? 1 : (side > max_side ? max_side : side);
+    for (int i = 0; i < n; i++) {
+        key[i].i = i;
+        key[i].x = x[i];
+        key[i].y = 0.0;
+        key[i].cell = 0;
+        if (dim == 2 && isfinite(x[i]) && isfinite(y[i])) {
+            const double xw = x[i] - L * floor(x[i] / L), yw = y[i] - L * floor(y[i] / L);
+            int64_t cx = (int64_t)(xw / L * (double)side), cy = (int64_t)(yw / L * (double)side);
+            cx = cx >= side ? side - 1 : (cx < 0 ? 0 : cx);
+            cy = cy >= side ? side - 1 : (cy < 0 ? 0 : cy);
+            key[i] = (canon_key){.cell = cx + side * cy, .x = xw, .y = yw, .i = i};
+        }
+    }
+    qsort(key, (size_t)n, sizeof *key, canon_cmp);
+    double *px = buf, *py = buf + n, *pvx = buf + 2 * (size_t)n, *pvy = buf + 3 * (size_t)n;
+    for (int k = 0; k < n; k++) {
+        const int i = key[k].i;
+        px[k] = x[i];
+        pvx[k] = vx[i];
+        py[k] = dim == 2 ? y[i] : 0.0;
+        pvy[k] = dim == 2 ? vy[i] : 0.0;
+    }
+    free(key);
+    int rc = gr_sim_create_with_state(scene, n, px, py, pvx, pvy, out, err);
+    free(buf);
+    return rc;
 }
 
 gr_particles gr_sim_particles(const gr_sim *s)

@@ -65,10 +65,39 @@ struct gr_sim {
     double share[3]; /* fractions of the last step's dissipation by normal/tangential/friction */
     gr_force_report last;
 
+    /* Threads (docs/performance.md, "Threads"). Every sum over particles or pairs is formed per
+     * block of GR_BLOCK particles (rows of the pair list) and the blocks are combined in block
+     * order, whatever the thread count; a thread owns whole blocks. */
+    int nblk;            /* ceil(n / GR_BLOCK) */
+    double *blk;         /* GR_BLK_FIELDS partial results per block */
+    /* 2D forces with T > 1 threads (kernels.c): thread t owns the rows (and the forces) of
+     * particles [par_row[t], par_row[t+1]); a listed pair whose j lies outside the row owner's
+     * range is a "cross" pair, computed first into pair_f and added by the owner of j in list
+     * order, so every force is summed exactly as in the one-thread scatter. */
+    int par_threads;     /* T the cross lists were built for (0: not built) */
+    int64_t par_rebuilds; /* s->rebuilds when they were built */
+    int *par_row;        /* T + 1 */
+    int *cross_start;    /* T + 1: the cross pairs of thread t are k in [cross_start[t], cross_start[t+1]) */
+    int *cross_p, *cross_i; /* list entry and row of cross pair k, ascending in p */
+    int *in_start, *in_k; /* n + 1 / ncross: the cross pairs acting on particle j, ascending in k */
+    double *pair_f;      /* 4 per cross pair: Fx, Fy, Gx, Gy on j */
+    int64_t cross_cap;
+
     /* other integrators (NULL for verlet): src/event/, src/hybrid/ */
     struct gr_event_state *ev;
     struct gr_hybrid_state *hy;
 };
+
+/* Block size of the fixed-order reductions (a multiple of the step's 8 lanes and of 2, so
+ * blocks start on the same lane and noise pair as in one pass). Runs of up to GR_BLOCK particles
+ * sum exactly as without blocks. */
+#define GR_BLOCK 1024
+#define GR_BLK_FIELDS 8
+
+/* Threads to use for a 2D step of s: 1 in 1D, when there are fewer than two blocks, or inside
+ * an enclosing parallel region; otherwise the gr_set_threads setting, at most one per block.
+ * The results do not depend on it. */
+int gr_team(const gr_sim *s);
 
 /* src/core/placement.c: fill x, y for the scene's placement kind. */
 int gr_place(gr_sim *s, gr_error *err);

@@ -15,7 +15,11 @@
  * The random force held over a step has standard deviation sqrt(2D/dt) per component, so the
  * velocity kick is sqrt(2 D dt) / M * g, g standard normal. Symmetrised mode subtracts the mean
  * kick (2.18); com mode removes the centre-of-mass velocity every com_interval instead
- * (sec. 2.3.1). The ledger records the exact kinetic energy each kick adds. */
+ * (sec. 2.3.1). The ledger records the exact kinetic energy each kick adds.
+ *
+ * Threads (2D): the noise and the kick-drift pass run over blocks of GR_BLOCK particles shared by
+ * the threads, and every sum is combined block by block in block order, so a run is bit-identical
+ * for every thread count (docs/performance.md, "Threads"). */
 #include <math.h>
 #include <stdbool.h>
 #include <string.h>
@@ -103,36 +107,82 @@ static void set_shares(gr_sim *s, const gr_force_report *r)
     }
 }
 
-/* Draw this step's normals and the means the symmetrised mode subtracts (2.18). */
-static void draw_noise(gr_sim *s, double mean[2])
+/* Lane sums of g[0..m) (m a multiple of LANES except in the last block), even and odd lanes
+ * apart: with dim = 2 the components alternate, so even lanes hold x and odd lanes y. */
+static void noise_sums(const double *restrict g, const int m, const int dim, double out[2])
 {
-    const int n = s->n, dim = s->dim;
-    gr_noise_normals(s->scene.seed, GR_STREAM_NOISE, (uint64_t)s->step, 0, n, dim, s->noise);
-    mean[0] = mean[1] = 0.0;
-    if (s->scene.noise_mode == GR_NOISE_SYMMETRISED && n > 1) {
-        const double *restrict g = s->noise;
-        double acc[LANES] = {0}; /* lanes: vectorised, same sum on every machine */
-        const int m = n * dim, full = m / LANES * LANES;
-        for (int i0 = 0; i0 < full; i0 += LANES) {
-            for (int l = 0; l < LANES; l++) {
-                acc[l] += g[i0 + l];
-            }
-        }
-        for (int i = full; i < m; i++) {
-            acc[i - full] += g[i];
-        }
-        /* with dim = 2 components alternate, so even lanes hold x and odd lanes y (LANES even) */
-        double m0 = 0.0, m1 = 0.0;
+    double acc[LANES] = {0}; /* lanes: vectorised, same sum on every machine */
+    const int full = m / LANES * LANES;
+    for (int i0 = 0; i0 < full; i0 += LANES) {
         for (int l = 0; l < LANES; l++) {
-            if (dim == 1 || l % 2 == 0) {
-                m0 += acc[l];
-            } else {
-                m1 += acc[l];
-            }
+            acc[l] += g[i0 + l];
         }
-        mean[0] = m0 / n;
-        mean[1] = m1 / n;
     }
+    for (int i = full; i < m; i++) {
+        acc[i - full] += g[i];
+    }
+    double m0 = 0.0, m1 = 0.0;
+    for (int l = 0; l < LANES; l++) {
+        if (dim == 1 || l % 2 == 0) {
+            m0 += acc[l];
+        } else {
+            m1 += acc[l];
+        }
+    }
+    out[0] = m0;
+    out[1] = m1;
+}
+
+/* Fields of s->blk the noise sums use (apart from those of the opening pass, which may run
+ * while other threads still read them). */
+enum { B_NOISE0 = 6, B_NOISE1 = 7 };
+
+/* Draw the normals of block b (bs particles per block) and, if sym, its lane sums. */
+static inline void draw_block(gr_sim *s, const int b, const int bs, const int sym)
+{
+    const int n = s->n, dim = s->dim, lo = b * bs, m = (b + 1) * bs < n ? bs : n - lo;
+    gr_noise_normals(s->scene.seed, GR_STREAM_NOISE, (uint64_t)s->step, (uint32_t)lo, m, dim, s->noise + (size_t)lo * dim);
+    if (sym) {
+        noise_sums(s->noise + (size_t)lo * dim, m * dim, dim, s->blk + (size_t)b * GR_BLK_FIELDS + B_NOISE0);
+    }
+}
+
+/* The means of the symmetrised mode from the block sums, in block order. */
+static void noise_mean(const gr_sim *s, const int nb, const int sym, double mean[2])
+{
+    mean[0] = mean[1] = 0.0;
+    if (sym) {
+        double m0 = 0.0, m1 = 0.0;
+        for (int b = 0; b < nb; b++) {
+            m0 += s->blk[(size_t)b * GR_BLK_FIELDS + B_NOISE0];
+            m1 += s->blk[(size_t)b * GR_BLK_FIELDS + B_NOISE1];
+        }
+        mean[0] = m0 / s->n;
+        mean[1] = m1 / s->n;
+    }
+}
+
+static inline int symmetrised(const gr_sim *s) { return s->scene.noise_mode == GR_NOISE_SYMMETRISED && s->n > 1; }
+
+/* Draw this step's normals and the means the symmetrised mode subtracts (2.18): per block of
+ * GR_BLOCK particles (T threads share the blocks), block sums combined in block order. (2D with
+ * T > 1 threads draws inside the opening pass instead: noise_open_2d_*.) */
+static void draw_noise(gr_sim *s, double mean[2], const int T)
+{
+    /* 1D runs on one thread: one block, as ever */
+    const int n = s->n, bs = s->dim == 1 ? (n > 0 ? n : 1) : GR_BLOCK, nb = (n + bs - 1) / bs;
+    const int sym = symmetrised(s);
+    if (T > 1) {
+#pragma omp parallel for schedule(static) num_threads(T)
+        for (int b = 0; b < nb; b++) {
+            draw_block(s, b, bs, sym);
+        }
+    } else {
+        for (int b = 0; b < nb; b++) {
+            draw_block(s, b, bs, sym);
+        }
+    }
+    noise_mean(s, nb, sym, mean);
 }
 
 /* Open a step in one pass: (if `closing`) the previous step's closing half kick, the opening half
@@ -190,10 +240,14 @@ open_step_1d(gr_sim *restrict s, const int noise, const double mean, const int c
     return s->mass * lanes_total(added);
 }
 
-static inline __attribute__((always_inline)) double
-open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], const int closing, open_report *o)
+/* open_step_2d on the particles [lo, hi) (lo a multiple of LANES); writes the block's sums to
+ * part: added, work_close, work_open, velocity sum, largest squared displacement. */
+enum { P_ADDED, P_WC, P_WO, P_SUM, P_DISP2 };
+
+static inline __attribute__((always_inline)) void
+open_range_2d(gr_sim *restrict s, const int lo, const int hi, const int noise, const double mean[2], const int closing,
+              double *restrict part)
 {
-    const int n = s->n;
     const double h = 0.5 * s->dt / s->mass, dt = s->dt, L = s->L, half = 0.5 * L;
     const double amp = noise ? sqrt(2.0 * s->scene.D * s->dt) / s->mass : 0.0;
     const double m0 = mean[0], m1 = mean[1];
@@ -234,14 +288,14 @@ open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], const in
         const double d2 = ddx * ddx + ddy * ddy;                                                   \
         worst[l] = d2 > worst[l] ? d2 : worst[l];                                                  \
     } while (0)
-    const int full = n / LANES * LANES;
-    for (int i0 = 0; i0 < full; i0 += LANES) {
+    const int full = lo + (hi - lo) / LANES * LANES;
+    for (int i0 = lo; i0 < full; i0 += LANES) {
 #pragma omp simd
         for (int l = 0; l < LANES; l++) {
             OPEN_2D(i0 + l, l);
         }
     }
-    for (int i = full; i < n; i++) {
+    for (int i = full; i < hi; i++) {
         OPEN_2D(i, i - full);
     }
 #undef OPEN_2D
@@ -249,11 +303,100 @@ open_step_2d(gr_sim *restrict s, const int noise, const double mean[2], const in
     for (int l = 0; l < LANES; l++) {
         worst_all = worst[l] > worst_all ? worst[l] : worst_all;
     }
-    o->disp2 = worst_all;
-    o->work_close = 0.5 * dt * lanes_total(wc);
-    o->work_open = 0.5 * dt * lanes_total(wo);
-    o->finite = isfinite(lanes_total(sum)) && isfinite(o->work_open);
-    return s->mass * lanes_total(added);
+    part[P_DISP2] = worst_all;
+    part[P_WC] = lanes_total(wc);
+    part[P_WO] = lanes_total(wo);
+    part[P_SUM] = lanes_total(sum);
+    part[P_ADDED] = lanes_total(added);
+}
+
+/* The 2D opening pass over blocks of GR_BLOCK particles (shared by T threads); block sums are
+ * combined in block order, so the result does not depend on T. One function per (noise,
+ * closing) pair, so that the constants reach the loop body that OpenMP outlines. */
+#define OPEN_BLOCKS_2D(name, NOISE, CLOSING)                                                       \
+    static void name(gr_sim *restrict s, const double mean[2], const int T)                        \
+    {                                                                                              \
+        const int n = s->n, nb = s->nblk;                                                          \
+        double *blk = s->blk;                                                                      \
+        if (T > 1) {                                                                               \
+            _Pragma("omp parallel for schedule(static) num_threads(T)")                            \
+            for (int b = 0; b < nb; b++) {                                                         \
+                const int lo = b * GR_BLOCK, hi = lo + GR_BLOCK < n ? lo + GR_BLOCK : n;           \
+                open_range_2d(s, lo, hi, NOISE, mean, CLOSING, blk + (size_t)b * GR_BLK_FIELDS);   \
+            }                                                                                      \
+        } else {                                                                                   \
+            for (int b = 0; b < nb; b++) {                                                         \
+                const int lo = b * GR_BLOCK, hi = lo + GR_BLOCK < n ? lo + GR_BLOCK : n;           \
+                open_range_2d(s, lo, hi, NOISE, mean, CLOSING, blk + (size_t)b * GR_BLK_FIELDS);   \
+            }                                                                                      \
+        }                                                                                          \
+    }
+OPEN_BLOCKS_2D(open_blocks_2d_00, 0, 0)
+OPEN_BLOCKS_2D(open_blocks_2d_01, 0, 1)
+OPEN_BLOCKS_2D(open_blocks_2d_10, 1, 0)
+OPEN_BLOCKS_2D(open_blocks_2d_11, 1, 1)
+#undef OPEN_BLOCKS_2D
+
+/* With noise on T > 1 threads: draw the noise, form its means and run the opening pass in one
+ * parallel region (one fork and join per step fewer); the arithmetic is that of draw_noise and
+ * open_blocks_2d_1*. Returns the means in mean. */
+#define NOISE_OPEN_2D(name, CLOSING)                                                               \
+    static void name(gr_sim *restrict s, double mean[2], const int T)                              \
+    {                                                                                              \
+        const int n = s->n, nb = s->nblk, sym = symmetrised(s);                                    \
+        double *blk = s->blk;                                                                      \
+        _Pragma("omp parallel num_threads(T)")                                                     \
+        {                                                                                          \
+            _Pragma("omp for schedule(static)")                                                    \
+            for (int b = 0; b < nb; b++) {                                                         \
+                draw_block(s, b, GR_BLOCK, sym);                                                   \
+            }                                                                                      \
+            double m[2];                                                                           \
+            noise_mean(s, nb, sym, m); /* every thread, the same numbers */                        \
+            _Pragma("omp for schedule(static)")                                                    \
+            for (int b = 0; b < nb; b++) {                                                         \
+                const int lo = b * GR_BLOCK, hi = lo + GR_BLOCK < n ? lo + GR_BLOCK : n;           \
+                open_range_2d(s, lo, hi, 1, m, CLOSING, blk + (size_t)b * GR_BLK_FIELDS);          \
+            }                                                                                      \
+            _Pragma("omp master")                                                                  \
+            {                                                                                      \
+                mean[0] = m[0];                                                                    \
+                mean[1] = m[1];                                                                    \
+            }                                                                                      \
+        }                                                                                          \
+    }
+NOISE_OPEN_2D(noise_open_2d_0, 0)
+NOISE_OPEN_2D(noise_open_2d_1, 1)
+#undef NOISE_OPEN_2D
+
+/* The 2D opening pass; with noise on T > 1 threads it also draws the noise (mean is then
+ * filled in), otherwise draw_noise has run. */
+static double open_step_2d(gr_sim *restrict s, const int noise, double mean[2], const int closing,
+                           open_report *o, const int T)
+{
+    const int nb = s->nblk;
+    const double *blk = s->blk;
+    if (noise && T > 1) {
+        (closing ? noise_open_2d_1 : noise_open_2d_0)(s, mean, T);
+    } else if (noise) {
+        (closing ? open_blocks_2d_11 : open_blocks_2d_10)(s, mean, T);
+    } else {
+        (closing ? open_blocks_2d_01 : open_blocks_2d_00)(s, mean, T);
+    }
+    double added = 0.0, wc = 0.0, wo = 0.0, sum = 0.0, worst = 0.0;
+    for (int b = 0; b < nb; b++) {
+        const double *q = blk + (size_t)b * GR_BLK_FIELDS;
+        added += q[P_ADDED];
+        wc += q[P_WC];
+        wo += q[P_WO];
+        sum += q[P_SUM];
+        worst = q[P_DISP2] > worst ? q[P_DISP2] : worst;
+    }
+    o->disp2 = worst;
+    o->work_close = 0.5 * s->dt * wc;
+    o->work_open = 0.5 * s->dt * wo;
+    o->finite = isfinite(sum) && isfinite(o->work_open);
+    return s->mass * added;
 }
 
 /* Remove the centre-of-mass velocity; returns the kinetic energy removed. */
@@ -303,6 +446,7 @@ int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
     const bool noise = s->scene.noise_mode != GR_NOISE_NONE && s->scene.D > 0.0;
     const bool com = s->scene.noise_mode == GR_NOISE_COM;
     const double skin_half2 = 0.25 * (s->cutoff - s->d) * (s->cutoff - s->d);
+    const int team = gr_team(s); /* threads (results do not depend on it) */
     /* Velocities are synchronised (full step) between calls. Inside a call the closing half kick
      * of one step and the opening half kick of the next use the same forces and are applied as one
      * kick; the last step closes with a half kick. */
@@ -318,16 +462,16 @@ int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
             }
             s->removed_com += remove_com(s);
         }
-        if (noise) {
-            draw_noise(s, mean);
+        if (noise && (s->dim == 1 || team == 1)) { /* else drawn in open_step_2d */
+            draw_noise(s, mean, team);
         }
         const int close_here = closing && !com_now;
         if (s->dim == 1) {
             s->injected += noise ? (close_here ? open_step_1d(s, 1, mean[0], 1, &o) : open_step_1d(s, 1, mean[0], 0, &o))
                                  : (close_here ? open_step_1d(s, 0, 0.0, 1, &o) : open_step_1d(s, 0, 0.0, 0, &o));
         } else {
-            s->injected += noise ? (close_here ? open_step_2d(s, 1, mean, 1, &o) : open_step_2d(s, 1, mean, 0, &o))
-                                 : (close_here ? open_step_2d(s, 0, mean, 1, &o) : open_step_2d(s, 0, mean, 0, &o));
+            s->injected += noise ? (close_here ? open_step_2d(s, 1, mean, 1, &o, team) : open_step_2d(s, 1, mean, 0, &o, team))
+                                 : (close_here ? open_step_2d(s, 0, mean, 1, &o, team) : open_step_2d(s, 0, mean, 0, &o, team));
         }
         if (close_here) {
             book_dissipation(s, o.work_close);

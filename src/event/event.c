@@ -1,15 +1,673 @@
-/* Placeholder until the event-driven core lands: refuse instead of silently running Verlet. */
-#include "event/event.h"
+/* The event-driven integrator: kick windows, free-flight noise, the calendar, the 1D ring core,
+ * the energy ledger and the hooks called by src/core (sim.c, step.c). The 2D core is
+ * event_2d.c; the collision rule is rule.h. Design and measurements: docs/event-driven.md.
+ *
+ * Noise (stream GR_STREAM_FREE_FLIGHT): window k draws, per particle and component, g1 from
+ * counter step 2k and (exact mode) g2 from step 2k + 1.
+ *  - exact: (dv, dx) of the random-acceleration process over tau (gr_free_flight_sample,
+ *    include/granule/free_flight.h: Var dv = 2 D tau / M^2, Cov = D tau^2 / M^2,
+ *    Var dx = 2 D tau^3 / (3 M^2), Chandrasekhar 1943), followed as the piecewise-constant
+ *    accelerations a1, a2 (gr_free_flight_accelerations) so collisions stay exact events;
+ *  - kicks: a velocity jump sqrt(2 D tau) / M g1 at the middle of the window (notes sec. 1.2),
+ *    ballistic flight in between.
+ * Symmetrised mode (2.18): the mean over all particles of the sampled increments (dv, dx) is
+ * subtracted per component and window, i.e. every particle's acceleration/kick loses the same
+ * mean, so total momentum is conserved exactly as in the soft-sphere step. Com mode removes the
+ * centre-of-mass velocity at window ends every com_interval (booked as removed_com).
+ *
+ * Ledger: every collision books its exact loss (rule.h) into diss_n / diss_t; the free-flight
+ * work is the kinetic-energy change along each particle's trajectory between its successive base
+ * states, booked whenever a base is replaced (collision, window end) and for the part since the
+ * base when the state is reported, so the ledger closes to rounding (elastic energy is 0). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "event/event_internal.h"
+#include "event/rule.h"
+#include "granule/free_flight.h"
+#include "granule/noise.h"
+
+/* ---------- calendar: indexed binary heap ---------- */
+
+static inline bool before(const gr_heap *h, int a, int b)
+{
+    if (h->t[a] != h->t[b]) {
+        return h->t[a] < h->t[b];
+    }
+    if (h->ph[a] != h->ph[b]) {
+        return h->ph[a] < h->ph[b];
+    }
+    return a < b;
+}
+
+static void sift_down(gr_heap *h, int k)
+{
+    const int e = h->node[k];
+    for (;;) {
+        int c = 2 * k + 1;
+        if (c >= h->m) {
+            break;
+        }
+        if (c + 1 < h->m && before(h, h->node[c + 1], h->node[c])) {
+            c++;
+        }
+        if (!before(h, h->node[c], e)) {
+            break;
+        }
+        h->node[k] = h->node[c];
+        h->pos[h->node[k]] = k;
+        k = c;
+    }
+    h->node[k] = e;
+    h->pos[e] = k;
+}
+
+static void sift_up(gr_heap *h, int k)
+{
+    const int e = h->node[k];
+    while (k > 0) {
+        int p = (k - 1) / 2;
+        if (!before(h, e, h->node[p])) {
+            break;
+        }
+        h->node[k] = h->node[p];
+        h->pos[h->node[k]] = k;
+        k = p;
+    }
+    h->node[k] = e;
+    h->pos[e] = k;
+}
+
+/* Full mode: all `cap` entries live in the heap (never-due ones at +inf). Sparse mode: only
+ * entries with a finite time are in the heap (pos = -1 otherwise), so a window start costs
+ * O(entries due in the window) instead of O(N); docs/event-driven.md compares the two. */
+void gr_heap_build(gr_heap *h)
+{
+    h->m = 0;
+    for (int e = 0; e < h->cap; e++) {
+        if (!h->sparse || h->t[e] < GR_EV_INF) {
+            h->node[h->m] = e;
+            h->pos[e] = h->m++;
+        } else {
+            h->pos[e] = -1;
+        }
+    }
+    for (int k = h->m / 2 - 1; k >= 0; k--) {
+        sift_down(h, k);
+    }
+}
+
+void gr_heap_update(gr_heap *h, int e)
+{
+    int k = h->pos[e];
+    if (h->sparse) {
+        if (k < 0) {
+            if (!(h->t[e] < GR_EV_INF)) {
+                return;
+            }
+            k = h->m++;
+            h->node[k] = e;
+            h->pos[e] = k;
+            sift_up(h, k);
+            return;
+        }
+        if (!(h->t[e] < GR_EV_INF)) { /* remove: the last entry takes its place */
+            const int last = h->node[--h->m];
+            h->pos[e] = -1;
+            if (last == e) {
+                return;
+            }
+            h->node[k] = last;
+            h->pos[last] = k;
+            e = last;
+        }
+    }
+    if (k > 0 && before(h, e, h->node[(k - 1) / 2])) {
+        sift_up(h, k);
+    } else {
+        sift_down(h, k);
+    }
+}
+
+static int heap_alloc(gr_heap *h, int m)
+{
+    h->m = m;
+    h->cap = m;
+    const char *cal = getenv("GRANULE_EVENT_CALENDAR"); /* benchmarks: full | sparse (default) */
+    h->sparse = !(cal && strcmp(cal, "full") == 0);
+    size_t n = (size_t)(m > 0 ? m : 1);
+    h->node = malloc(n * sizeof(int));
+    h->pos = malloc(n * sizeof(int));
+    h->t = malloc(n * sizeof(double));
+    h->ph = calloc(n, 1);
+    return h->node && h->pos && h->t && h->ph ? 0 : -1;
+}
+
+/* ---------- contact events for the free-path and post-collision observables ---------- */
+
+int gr_ev_record(gr_sim *s, int i, int kind, double t, double x, double y, double vx, double vy,
+                 gr_error *err)
+{
+    if (s->n_events == s->cap_events) {
+        int64_t cap = 2 * s->cap_events;
+        gr_contact_event *e = realloc(s->events, sizeof *e * (size_t)cap);
+        if (!e) {
+            return GR_FAIL(err, GR_ENOMEM, "out of memory for %lld contact events", (long long)cap);
+        }
+        s->events = e;
+        s->cap_events = cap;
+    }
+    s->events[s->n_events++] = (gr_contact_event){.i = i, .kind = kind, .t = t, .x = x, .y = y, .vx = vx, .vy = vy};
+    return GR_OK;
+}
+
+/* ---------- windows ---------- */
+
+static inline double ke2(double vx, double vy) { return vx * vx + vy * vy; }
+
+/* Advance every particle to the end of the window (local time tau), booking the free-flight work,
+ * and start the next window: base time 0, state at the old window's end. */
+static void end_window(gr_sim *s)
+{
+    struct gr_event_state *e = s->ev;
+    double work = 0.0;
+    for (int i = 0; i < e->n; i++) {
+        double x, v, y = 0.0, w = 0.0;
+        gr_ev_state_x(e, i, e->tau, 1, &x, &v);
+        if (e->dim == 2) {
+            gr_ev_state_y(e, i, e->tau, 1, &y, &w);
+            work += ke2(v, w) - ke2(e->bv[i], e->bw[i]);
+            e->by[i] = y;
+            e->bw[i] = w;
+        } else {
+            work += v * v - e->bv[i] * e->bv[i];
+        }
+        e->bx[i] = x;
+        e->bv[i] = v;
+        e->t0[i] = 0.0;
+        e->past[i] = 0;
+    }
+    e->injected += 0.5 * e->M * work;
+    e->win++;
+    e->now = 0.0;
+    e->phase = 0;
+    e->kicks += e->n;
+}
+
+/* Centre-of-mass reset (com noise mode) on the base velocities at a window start. */
+static void remove_com(gr_sim *s)
+{
+    struct gr_event_state *e = s->ev;
+    double before = 0.0, after = 0.0;
+    double *v[2] = {e->bv, e->bw};
+    for (int c = 0; c < e->dim; c++) {
+        double m = 0.0;
+        for (int i = 0; i < e->n; i++) {
+            m += v[c][i];
+        }
+        m /= e->n;
+        for (int i = 0; i < e->n; i++) {
+            before += v[c][i] * v[c][i];
+            v[c][i] -= m;
+            after += v[c][i] * v[c][i];
+        }
+    }
+    s->removed_com += 0.5 * e->M * (before - after);
+}
+
+/* Draw the window's free-flight noise: a1, a2, J per particle and component. */
+static void draw_noise(gr_sim *s)
+{
+    struct gr_event_state *e = s->ev;
+    const int n = e->n, dim = e->dim;
+    double *a1[2] = {e->a1x, e->a1y}, *a2[2] = {e->a2x, e->a2y}, *j[2] = {e->jx, e->jy};
+    if (!e->noise) {
+        return; /* stays zero */
+    }
+    const double D = s->scene.D, M = e->M, tau = e->tau;
+    double *g1 = e->g, *g2 = e->g + (size_t)n * dim;
+    gr_noise_normals(s->scene.seed, GR_STREAM_FREE_FLIGHT, 2 * (uint64_t)e->win, 0, n, dim, g1);
+    if (e->exact) {
+        gr_noise_normals(s->scene.seed, GR_STREAM_FREE_FLIGHT, 2 * (uint64_t)e->win + 1, 0, n, dim, g2);
+    }
+    const bool sym = s->scene.noise_mode == GR_NOISE_SYMMETRISED;
+    for (int c = 0; c < dim; c++) {
+        double mdv = 0.0, mdx = 0.0;
+        for (int i = 0; i < n; i++) {
+            double dv, dx;
+            gr_free_flight_sample(D, M, tau, g1[i * dim + c], e->exact ? g2[i * dim + c] : 0.0, &dv, &dx);
+            a1[c][i] = dv; /* increments first, accelerations below */
+            a2[c][i] = dx;
+            mdv += dv;
+            mdx += dx;
+        }
+        mdv = sym ? mdv / n : 0.0;
+        mdx = sym ? mdx / n : 0.0;
+        for (int i = 0; i < n; i++) {
+            double dv = a1[c][i] - mdv, dx = a2[c][i] - mdx; /* (2.18) */
+            if (e->exact) {
+                gr_free_flight_accelerations(tau, dv, dx, &a1[c][i], &a2[c][i]);
+                j[c][i] = 0.0;
+            } else {
+                a1[c][i] = a2[c][i] = 0.0;
+                j[c][i] = dv;
+            }
+        }
+    }
+}
+
+/* ---------- 1D ring: only neighbours collide; one calendar entry per pair (k, k+1 mod n) ---------- */
+
+static double predict_pair_1d(const struct gr_event_state *e, int k, int *phase)
+{
+    const int i = k, j = k + 1 < e->n ? k + 1 : 0;
+    const double wrap = k + 1 < e->n ? 0.0 : e->L;
+    double xi, vi, xj, vj;
+    *phase = e->phase;
+    if (e->no_collisions) {
+        return GR_EV_INF;
+    }
+    gr_ev_state_x(e, i, e->now, e->phase, &xi, &vi);
+    gr_ev_state_x(e, j, e->now, e->phase, &xj, &vj);
+    double f0 = xj + wrap - xi - e->d, f1 = vj - vi;
+    if (e->phase == 0) {
+        const double A = e->a1x[j] - e->a1x[i];
+        double t = gr_ev_first_quadratic(f0, f1, 0.5 * A, e->h - e->now);
+        if (t < GR_EV_INF) {
+            return e->now + t;
+        }
+        /* second half: relative state at the middle, after the jump */
+        gr_ev_state_x(e, i, e->h, 1, &xi, &vi);
+        gr_ev_state_x(e, j, e->h, 1, &xj, &vj);
+        f0 = xj + wrap - xi - e->d;
+        f1 = vj - vi;
+        *phase = 1;
+        t = gr_ev_first_quadratic(f0, f1, 0.5 * (e->a2x[j] - e->a2x[i]), e->tau - e->h);
+        return t < GR_EV_INF ? e->h + t : GR_EV_INF;
+    }
+    double t = gr_ev_first_quadratic(f0, f1, 0.5 * (e->a2x[j] - e->a2x[i]), e->tau - e->now);
+    return t < GR_EV_INF ? e->now + t : GR_EV_INF;
+}
+
+static void repredict_1d(struct gr_event_state *e, int k)
+{
+    int ph;
+    e->heap.t[k] = predict_pair_1d(e, k, &ph);
+    e->heap.ph[k] = (uint8_t)ph;
+    gr_heap_update(&e->heap, k);
+}
+
+static int check_1d(gr_sim *s, gr_error *err)
+{
+    struct gr_event_state *e = s->ev;
+    for (int k = 0; k < e->n && e->n > 1; k++) {
+        const int j = k + 1 < e->n ? k + 1 : 0;
+        double xi, vi, xj, vj;
+        gr_ev_state_x(e, k, e->now, e->phase, &xi, &vi);
+        gr_ev_state_x(e, j, e->now, e->phase, &xj, &vj);
+        double gap = xj + (j == 0 ? e->L : 0.0) - xi - e->d;
+        if (gap < -1e-9 * e->d) {
+            return GR_FAIL(err, GR_EUNSTABLE, "event check: particles %d and %d overlap by %.3g d at t = %.9g s",
+                           k, j, -gap / e->d, (double)e->win * e->tau + e->now);
+        }
+    }
+    return GR_OK;
+}
+
+/* Rebase particle i at the current instant with state (x, v), booking the free-flight work. */
+static inline void rebase_1d(struct gr_event_state *e, int i, double x, double v_before, double v_after)
+{
+    e->injected += 0.5 * e->M * (v_before * v_before - e->bv[i] * e->bv[i]);
+    e->t0[i] = e->now;
+    e->bx[i] = x;
+    e->bv[i] = v_after;
+    e->past[i] = (uint8_t)e->phase;
+}
+
+static int process_1d(gr_sim *s, double t_limit, gr_error *err)
+{
+    struct gr_event_state *e = s->ev;
+    gr_heap *hp = &e->heap;
+    const double t_win = (double)e->win * e->tau;
+    while (hp->m > 0) {
+        const int k = hp->node[0];
+        const double t = hp->t[k];
+        if (!(t <= t_limit)) {
+            break;
+        }
+        e->now = t;
+        e->phase = hp->ph[k];
+        const int i = k, j = k + 1 < e->n ? k + 1 : 0;
+        double xi, vi, xj, vj;
+        gr_ev_state_x(e, i, t, e->phase, &xi, &vi);
+        gr_ev_state_x(e, j, t, e->phase, &xj, &vj);
+        const double t_abs = t_win + t;
+        double push = e->phase ? e->a2x[i] - e->a2x[j] : e->a1x[i] - e->a1x[j];
+        if (vi - vj <= 0.0) {
+            if (xj + (j == 0 ? e->L : 0.0) - xi - e->d > 1e-9 * e->d) {
+                /* not approaching at the predicted instant (a root at a piece boundary): re-predict */
+                e->invalid++;
+                repredict_1d(e, k);
+                continue;
+            }
+            if (!(e->a1x[i] != e->a1x[j] || e->a2x[i] != e->a2x[j])) {
+                e->invalid++; /* touching, receding, no acceleration: nothing will happen */
+                repredict_1d(e, k);
+                continue;
+            }
+            push = fabs(push); /* touching, about to approach: separate as a pressed contact */
+        }
+        const bool approaching = vi - vj > 0.0;
+        if (t_abs == e->stall_t) {
+            if (++e->stall > 1000000) {
+                return GR_FAIL(err, GR_EUNSTABLE,
+                               "event-driven run stalled: more than 1e6 collisions at t = %.12g s (pair %d, %d); "
+                               "the TC time tc may be 0 with a sticking restitution", t_abs, i, j);
+            }
+        } else {
+            e->stall = 0;
+            e->stall_t = t_abs;
+        }
+        const bool elastic = gr_ev_tc_elastic(e, i, j, t_abs);
+        double ui = vi, uj = vj, zero1 = 0.0, zero2 = 0.0, de_n, de_t;
+        de_n = de_t = 0.0;
+        if (approaching) { /* a pressed pair that is not approaching only gets the floor */
+            gr_event_collide(e->M, elastic ? 1.0 : e->eps_n, 1.0, 1.0, 0.0, &ui, &zero1, &uj, &zero2, &de_n, &de_t);
+        }
+        if (push > 0.0 && uj - ui < 0.5 * push * e->tc) {
+            /* contact floor (docs/event-driven.md): a pair pressed together by the noise separates
+             * fast enough to come back no sooner than tc, so it cannot stall time */
+            const double k0 = ui * ui + uj * uj, dv = 0.5 * (0.5 * push * e->tc - (uj - ui));
+            ui -= dv;
+            uj += dv;
+            e->injected += 0.5 * e->M * (ui * ui + uj * uj - k0);
+            e->floor_energy += 0.5 * e->M * (ui * ui + uj * uj - k0);
+            e->floors++;
+        }
+        if (s->contacts) {
+            int rc = gr_ev_record(s, i, +1, t_abs, xi, 0.0, vi, 0.0, err);
+            rc = rc ? rc : gr_ev_record(s, j, +1, t_abs, xj, 0.0, vj, 0.0, err);
+            rc = rc ? rc : gr_ev_record(s, i, -1, t_abs, xi, 0.0, ui, 0.0, err);
+            rc = rc ? rc : gr_ev_record(s, j, -1, t_abs, xj, 0.0, uj, 0.0, err);
+            if (rc) {
+                return rc;
+            }
+        }
+        rebase_1d(e, i, xi, vi, ui);
+        rebase_1d(e, j, xj, vj, uj);
+        if (!elastic) {
+            s->diss_n += de_n;
+        } else {
+            e->tc_elastic++;
+        }
+        e->last[i] = e->last[j] = t_abs;
+        e->collisions++;
+        s->collisions++;
+        repredict_1d(e, k);
+        if (e->n > 2) {
+            repredict_1d(e, k > 0 ? k - 1 : e->n - 1);
+            repredict_1d(e, j);
+        } else if (e->n == 2) {
+            repredict_1d(e, 1 - k);
+        }
+        if (e->check) {
+            int rc = check_1d(s, err);
+            if (rc) {
+                return rc;
+            }
+        }
+    }
+    return GR_OK;
+}
+
+static void window_1d(gr_sim *s)
+{
+    struct gr_event_state *e = s->ev;
+    const int n = e->n;
+    if (n < 2) {
+        return;
+    }
+    if (e->now != 0.0 || e->no_collisions) { /* not at a window start: the general predictor */
+        for (int k = 0; k < n; k++) {
+            int ph;
+            e->heap.t[k] = predict_pair_1d(e, k, &ph);
+            e->heap.ph[k] = (uint8_t)ph;
+        }
+        gr_heap_build(&e->heap);
+        return;
+    }
+    /* window start: every base is at local time 0 before the middle; precompute the states at
+     * the middle (after the jump) once per particle (the scratch normals are free again) */
+    double *xh = e->g, *vh = e->g + n;
+    const double h = e->h;
+    for (int i = 0; i < n; i++) {
+        xh[i] = e->bx[i] + h * (e->bv[i] + 0.5 * e->a1x[i] * h);
+        vh[i] = e->bv[i] + e->a1x[i] * h + e->jx[i];
+    }
+    for (int k = 0; k < n; k++) {
+        const int j = k + 1 < n ? k + 1 : 0;
+        const double wrap = k + 1 < n ? 0.0 : e->L;
+        double t = gr_ev_first_quadratic(e->bx[j] + wrap - e->bx[k] - e->d, e->bv[j] - e->bv[k],
+                                         0.5 * (e->a1x[j] - e->a1x[k]), h);
+        int ph = 0;
+        if (!(t < GR_EV_INF)) {
+            t = gr_ev_first_quadratic(xh[j] + wrap - xh[k] - e->d, vh[j] - vh[k], 0.5 * (e->a2x[j] - e->a2x[k]), e->tau - h);
+            t = t < GR_EV_INF ? h + t : GR_EV_INF;
+            ph = 1;
+        }
+        e->heap.t[k] = t;
+        e->heap.ph[k] = (uint8_t)ph;
+    }
+    gr_heap_build(&e->heap);
+}
+
+/* ---------- the hooks ---------- */
+
+static void start_window(gr_sim *s)
+{
+    struct gr_event_state *e = s->ev;
+    if (s->scene.noise_mode == GR_NOISE_COM && e->win > 0 && e->win % e->com_every == 0) {
+        remove_com(s);
+    }
+    draw_noise(s);
+    if (e->dim == 1) {
+        window_1d(s);
+    } else {
+        gr_ev2d_window(s);
+    }
+}
+
+/* Write the state at local time t into s->x, vx (y, vy) and bring s->injected up to date. */
+static void report(gr_sim *s, double t)
+{
+    struct gr_event_state *e = s->ev;
+    double work = 0.0;
+    const int phase = t > e->h || (t == e->h && e->phase);
+    for (int i = 0; i < e->n; i++) {
+        double x, v;
+        gr_ev_state_x(e, i, t, phase, &x, &v);
+        s->x[i] = x;
+        s->vx[i] = v;
+        if (e->dim == 2) {
+            double y, w;
+            gr_ev_state_y(e, i, t, phase, &y, &w);
+            s->x[i] = x - e->L * floor(x / e->L);
+            s->y[i] = y - e->L * floor(y / e->L);
+            s->vy[i] = w;
+            work += ke2(v, w) - ke2(e->bv[i], e->bw[i]);
+        } else {
+            work += v * v - e->bv[i] * e->bv[i];
+        }
+    }
+    s->injected = e->injected + 0.5 * e->M * work;
+}
 
 int gr_event_init(gr_sim *s, gr_error *err)
 {
-    return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kind = event is not available in this build", s->scene.source);
+    if (s->cc.normal != GR_NORMAL_HARD_SPHERE) {
+        return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kind = event needs [model] normal = hard_sphere", s->scene.source);
+    }
+    if (!(s->scene.kick_interval > 0.0)) {
+        return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kick_interval = %g: allowed range (0, inf) s", s->scene.source, s->scene.kick_interval);
+    }
+    struct gr_event_state *e = calloc(1, sizeof *e);
+    if (!e) {
+        return GR_FAIL(err, GR_ENOMEM, "out of memory");
+    }
+    s->ev = e;
+    const int n = s->n;
+    e->n = n;
+    e->dim = s->dim;
+    e->noise = s->scene.noise_mode != GR_NOISE_NONE && s->scene.D > 0.0;
+    /* without noise the windows only bound the predictions: make them long */
+    e->tau = e->noise ? s->scene.kick_interval : fmax(s->scene.kick_interval, 1.0);
+    e->h = 0.5 * e->tau;
+    e->M = s->mass;
+    e->L = s->L;
+    e->d = s->d;
+    e->d2 = s->d * s->d;
+    e->eps_n = s->scene.contact.eps_n;
+    e->eps_t = s->dim == 2 ? s->scene.contact.eps_t : 1.0;
+    e->tc = s->cc.t_c;
+    e->exact = s->scene.free_flight == GR_FREE_FLIGHT_EXACT;
+    e->com_every = (int64_t)llround(s->scene.com_interval / e->tau);
+    e->com_every = e->com_every < 1 ? 1 : e->com_every;
+    e->stall_t = -GR_EV_INF;
+    const char *check = getenv("GRANULE_EVENT_CHECK");
+    e->check = check && check[0] == '1';
+    size_t sz = sizeof(double) * (size_t)(n > 0 ? n : 1);
+    double **arrays[] = {&e->t0, &e->bx, &e->bv, &e->a1x, &e->a2x, &e->jx, &e->last,
+                         &e->by, &e->bw, &e->a1y, &e->a2y, &e->jy};
+    int n_arrays = s->dim == 2 ? 12 : 7;
+    bool ok = true;
+    for (int a = 0; a < n_arrays; a++) {
+        *arrays[a] = calloc(1, sz);
+        ok = ok && *arrays[a];
+    }
+    e->g = malloc(sz * 2 * (size_t)s->dim);
+    e->past = calloc((size_t)(n > 0 ? n : 1), 1);
+    ok = ok && e->g && e->past && !heap_alloc(&e->heap, s->dim == 1 ? (n > 1 ? n : 0) : n);
+    if (!ok) {
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for the event-driven state of %d particles", n);
+    }
+    for (int i = 0; i < n; i++) {
+        e->bx[i] = s->x[i];
+        e->bv[i] = s->vx[i];
+        if (s->dim == 2) {
+            e->by[i] = s->y[i];
+            e->bw[i] = s->vy[i];
+        }
+        e->last[i] = -GR_EV_INF;
+    }
+    if (s->dim == 2) {
+        int rc = gr_ev2d_alloc(s, err);
+        if (rc) {
+            return rc;
+        }
+    }
+    /* the window containing the current time (a run may start at step > 0 only via restarts) */
+    double t = (double)s->step * s->dt;
+    e->win = (int64_t)floor(t / e->tau);
+    e->now = t - (double)e->win * e->tau; /* bases at the current time inside the window */
+    for (int i = 0; i < n; i++) {
+        e->t0[i] = e->now;
+    }
+    e->phase = e->now > e->h;
+    for (int i = 0; i < n; i++) {
+        e->past[i] = (uint8_t)e->phase;
+    }
+    start_window(s);
+    s->elastic = 0.0;
+    s->last = (gr_force_report){0};
+    s->share[0] = 1.0;
+    s->share[1] = s->share[2] = 0.0;
+    snprintf(s->kernel_name, sizeof s->kernel_name, "event-%s-%s-tc",
+             s->dim == 1 ? "1d-ring" : (e->ncell > 1 ? "2d-cells" : "2d-allpairs"),
+             !e->noise ? "nonoise" : e->exact ? "exact" : "kicks");
+    return GR_OK;
 }
 
 int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err)
 {
-    (void)nsteps;
-    return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kind = event is not available in this build", s->scene.source);
+    struct gr_event_state *e = s->ev;
+    const double T = (double)(s->step + nsteps) * s->dt;
+    for (;;) {
+        const double local = T - (double)e->win * e->tau;
+        const double limit = local < e->tau ? local : e->tau;
+        int rc = e->dim == 1 ? process_1d(s, limit, err) : gr_ev2d_process(s, limit, err);
+        if (rc) {
+            return rc;
+        }
+        if (local < e->tau) {
+            report(s, local > e->now ? local : e->now);
+            break;
+        }
+        end_window(s);
+        start_window(s);
+    }
+    s->step += nsteps;
+    for (int i = 0; i < s->n; i++) {
+        double sum = s->x[i] + s->vx[i] + (s->dim == 2 ? s->y[i] + s->vy[i] : 0.0);
+        if (!isfinite(sum)) {
+            return GR_FAIL(err, GR_EUNSTABLE, "event-driven run: particle %d has a non-finite position or velocity at t = %.6g s",
+                           i, gr_sim_time(s));
+        }
+    }
+    return GR_OK;
 }
 
-void gr_event_free(gr_sim *s) { (void)s; }
+void gr_event_free(gr_sim *s)
+{
+    struct gr_event_state *e = s->ev;
+    if (!e) {
+        return;
+    }
+    double *arrays[] = {e->t0, e->bx, e->bv, e->by, e->bw, e->a1x, e->a2x, e->jx, e->a1y, e->a2y, e->jy, e->last, e->g};
+    for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++) {
+        free(arrays[a]);
+    }
+    free(e->past);
+    free(e->heap.node);
+    free(e->heap.pos);
+    free(e->heap.t);
+    free(e->heap.ph);
+    free(e->partner);
+    free(e->count);
+    free(e->ev_count);
+    free(e->cell_of);
+    free(e->head);
+    free(e->next);
+    free(e->prev);
+    free(e);
+    s->ev = NULL;
+}
+
+int64_t gr_sim_events_processed(const gr_sim *s)
+{
+    return s->ev ? s->ev->collisions + s->ev->crossings + s->ev->kicks : 0;
+}
+
+void gr_event_stats(const gr_sim *s, gr_event_counts *c)
+{
+    const struct gr_event_state *e = s->ev;
+    *c = (gr_event_counts){0};
+    if (e) {
+        *c = (gr_event_counts){.collisions = e->collisions, .crossings = e->crossings, .kicks = e->kicks,
+                               .invalid = e->invalid, .tc_elastic = e->tc_elastic, .floors = e->floors,
+                               .floor_energy = e->floor_energy};
+    }
+}
+
+void gr_event_set_debug(gr_sim *s, bool check_overlaps, bool no_collisions)
+{
+    if (s->ev) {
+        s->ev->check = check_overlaps;
+        s->ev->no_collisions = no_collisions;
+        if (s->dim == 1) {
+            window_1d(s);
+        } else {
+            gr_ev2d_window(s);
+        }
+    }
+}

@@ -1,9 +1,11 @@
 /* The event-driven integrator ([integrator] kind = event, [model] normal = hard_sphere):
  * instantaneous collisions (2.1, 2.2, 2.10) between free flights driven by the random force.
- * Called by src/core/sim.c and src/core/step.c; the state lives behind gr_sim.ev. */
+ * Called by src/core/sim.c and src/core/step.c; the state lives behind gr_sim.ev.
+ * docs/event-driven.md describes the algorithm. */
 #ifndef GR_EVENT_H
 #define GR_EVENT_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "core/sim_internal.h"
@@ -14,5 +16,18 @@ int gr_event_init(gr_sim *s, gr_error *err);
  * time and s->step has advanced by nsteps. */
 int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err);
 void gr_event_free(gr_sim *s);
+
+/* Counts since creation (all zero for other integrators). kicks = particle updates at window
+ * ends; invalid = calendar entries found stale when they came due; tc_elastic = collisions made
+ * elastic by the TC rule; floors = separations raised by the contact floor. */
+typedef struct gr_event_counts {
+    int64_t collisions, crossings, kicks, invalid, tc_elastic, floors;
+    double floor_energy; /* J added by the contact floor (part of the injected energy) */
+} gr_event_counts;
+void gr_event_stats(const gr_sim *s, gr_event_counts *c);
+
+/* Test hooks: check every pair for overlap after every collision (also GRANULE_EVENT_CHECK=1),
+ * and free flight without collisions. Predictions are redone at the current time. */
+void gr_event_set_debug(gr_sim *s, bool check_overlaps, bool no_collisions);
 
 #endif

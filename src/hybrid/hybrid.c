@@ -1,15 +1,371 @@
-/* Placeholder until the hybrid integrator lands: refuse instead of silently running Verlet. */
-#include "hybrid/hybrid.h"
+/* The hybrid integrator: windows, rollbacks, the centre-of-mass correction, the ledger
+ * (docs/hybrid.md).
+ *
+ * One window of m steps (tau = m dt; the last window of a gr_sim_step call may be shorter):
+ *   1. choose the active set from the state now (active.c; never from this window's noise);
+ *   2. draw every particle's noise for the window (window_noise.c): free particles leap the
+ *      window exactly (velocity and position increments with the law of m Verlet kicks on a free
+ *      particle), active ones are stepped m times by the soft-sphere scheme (child.c) with kicks
+ *      bridged to the same increments;
+ *   3. misses: a pair with a free member that overlaps (1D: or crossed) at the end -> restore the
+ *      window's start state, make that pair active, redo. The noise is a pure function of the
+ *      counters, so the redo replays the same noise paths (no bias from the rejection);
+ *   4. symmetrised noise (2.18), see below; then s->step += m.
+ *
+ * Symmetrised noise. The thesis subtracts the mean random force over all particles from every
+ * particle every step (2.18). That is the same uniform acceleration A(t) = -(1/N) sum_i eta_i / M
+ * for every particle. Contact forces depend only on relative positions and velocities, which a
+ * uniform acceleration does not change, so the symmetrised trajectories are the raw-noise ones
+ * seen from the frame that moves with the centre of mass: x_i^sym(t) = x_i(t) - X(t),
+ * v_i^sym(t) = v_i(t) - V(t), where V and X are the centre-of-mass velocity and displacement
+ * the raw noise produced (total momentum is zero at the window start and contacts conserve it).
+ * So we integrate with raw noise and, at each window end, subtract V from every velocity and X
+ * from every position. The kinetic energy this removes, N M V^2 / 2 (exactly, since
+ * sum v_i = N V), is subtracted from `injected`: the injected energy is then the work of the
+ * symmetrised force, as for Verlet (dim D/M (1 - 1/N) per particle and second on average), and
+ * the ledger closes as before. The dissipation is the same in both frames because internal
+ * forces sum to zero (sum G_i . V = 0).
+ * com mode: raw noise, and the centre-of-mass velocity is removed at the window ends that fall on
+ * multiples of com_interval (windows are cut there), booked in removed_com as for Verlet. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hybrid/hy_internal.h"
+
+static double *dalloc(int n)
+{
+    size_t bytes = ((sizeof(double) * (size_t)(n > 0 ? n : 1)) + 63) & ~(size_t)63;
+    double *p = aligned_alloc(64, bytes);
+    if (p) {
+        memset(p, 0, bytes);
+    }
+    return p;
+}
+
+void gr_hybrid_free(gr_sim *s)
+{
+    gr_hybrid_state *h = s ? s->hy : NULL;
+    if (!h) {
+        return;
+    }
+    gr_sim_free(h->child);
+    double *d[] = {h->x0, h->y0, h->vx0, h->vy0, h->fx0, h->fy0, h->gx0, h->gy0, h->c_lo, h->c_hi,
+                   h->c_xi, h->env_lo, h->env_hi, h->ff, h->kick, h->tmp, h->lam, h->xl, h->yl};
+    for (size_t k = 0; k < sizeof d / sizeof d[0]; k++) {
+        free(d[k]);
+    }
+    free(h->active);
+    free(h->forced);
+    free(h->list);
+    free(h->env_list);
+    free(h->uf);
+    free(h->pi);
+    free(h->pj);
+    free(h->cell_head);
+    free(h->cell_next);
+    free(h);
+    s->hy = NULL;
+}
 
 int gr_hybrid_init(gr_sim *s, gr_error *err)
 {
-    return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kind = hybrid is not available in this build", s->scene.source);
+    const gr_scene *sc = &s->scene;
+    const double tau = sc->kick_interval, ratio = tau / s->dt;
+    const int64_t m = llround(ratio);
+    if (!(m >= 1) || fabs(ratio - (double)m) > 1e-6 * ratio) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [integrator] kick_interval = %g s must be a whole multiple (>= 1) of dt = %g s for kind = hybrid "
+                       "(e.g. %g or %g s)",
+                       sc->source, tau, s->dt, fmax(1.0, floor(ratio)) * s->dt, fmax(1.0, ceil(ratio)) * s->dt);
+    }
+    if ((double)m * (double)s->n > 4294967295.0 || m > 1000000) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [integrator] kick_interval = %g s is %lld steps; kind = hybrid needs N x steps per window <= 2^32 "
+                       "and at most 1e6 steps per window (use kick_interval <= %g s)",
+                       sc->source, tau, (long long)m, fmin(1e6, 4294967295.0 / s->n) * s->dt);
+    }
+    gr_hybrid_state *h = calloc(1, sizeof *h);
+    if (!h) {
+        return GR_FAIL(err, GR_ENOMEM, "out of memory");
+    }
+    s->hy = h;
+    h->m = (int)m;
+    h->margin_c = GR_HYBRID_MARGIN_SIGMAS;
+    h->kicks = sc->free_flight == GR_FREE_FLIGHT_KICKS;
+    const int n = s->n, dim = s->dim;
+    h->x0 = dalloc(n);
+    h->vx0 = dalloc(n);
+    h->fx0 = dalloc(n);
+    h->gx0 = dalloc(n);
+    if (dim == 2) {
+        h->y0 = dalloc(n);
+        h->vy0 = dalloc(n);
+        h->fy0 = dalloc(n);
+        h->gy0 = dalloc(n);
+        h->xl = dalloc(n);
+        h->yl = dalloc(n);
+    }
+    h->c_lo = dalloc(n);
+    h->c_hi = dalloc(n);
+    h->c_xi = dalloc(n);
+    h->env_lo = dalloc(n);
+    h->env_hi = dalloc(n);
+    h->ff = dalloc(2 * dim * n);
+    h->lam = dalloc(2 * dim * n);
+    h->tmp = dalloc(2 * n);
+    h->active = calloc((size_t)n, 1);
+    h->forced = calloc((size_t)n, 1);
+    h->list = malloc(sizeof(int) * (size_t)n);
+    h->env_list = malloc(sizeof(int) * (size_t)n);
+    h->uf = malloc(sizeof(int) * (size_t)n);
+    h->cell_next = malloc(sizeof(int) * (size_t)n);
+    if (!h->x0 || !h->vx0 || !h->fx0 || !h->gx0 || (dim == 2 && (!h->y0 || !h->vy0 || !h->fy0 || !h->gy0 || !h->xl || !h->yl)) ||
+        !h->c_lo || !h->c_hi || !h->c_xi || !h->env_lo || !h->env_hi || !h->ff || !h->lam || !h->tmp || !h->active || !h->forced || !h->list || !h->env_list || !h->uf ||
+        !h->cell_next) {
+        return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for %d particles", n);
+    }
+    int rc = gr_hy_child_create(s, h, err);
+    if (rc) {
+        return rc;
+    }
+    char soft[sizeof s->kernel_name];
+    snprintf(soft, sizeof soft, "%s", s->kernel_name); /* the soft-sphere kernel the child runs */
+    snprintf(s->kernel_name, sizeof s->kernel_name, "hybrid-%dd-%s(window %g s)/%.100s", dim,
+             h->kicks ? "kicks" : "exact", (double)m * s->dt, soft);
+    return GR_OK;
+}
+
+void gr_hybrid_set_margin(gr_sim *s, double sigmas)
+{
+    if (s->hy) {
+        s->hy->margin_c = sigmas;
+    }
+}
+
+int gr_sim_hybrid_stats(const gr_sim *s, gr_hybrid_stats *st)
+{
+    memset(st, 0, sizeof *st);
+    const gr_hybrid_state *h = s->hy;
+    if (!h) {
+        return 0;
+    }
+    st->windows = h->windows;
+    st->rollbacks = h->rollbacks;
+    st->steps = h->steps;
+    st->active_steps = h->active_steps;
+    st->active_fraction = h->steps > 0 ? (double)h->active_steps / ((double)h->steps * s->n) : 0.0;
+    st->margin_sigmas = h->margin_c;
+    st->window = h->m * s->dt;
+    return 1;
+}
+
+/* The ledger and counters a window changes. */
+typedef struct saved {
+    double injected, diss_n, diss_t, diss_f, removed_com, elastic, share[3];
+    int64_t collisions, rebuilds;
+    gr_force_report last;
+} saved;
+
+static void save(gr_sim *s, gr_hybrid_state *h, saved *v)
+{
+    const size_t b = sizeof(double) * (size_t)s->n;
+    memcpy(h->x0, s->x, b);
+    memcpy(h->vx0, s->vx, b);
+    memcpy(h->fx0, s->fx, b);
+    memcpy(h->gx0, s->gx, b);
+    if (s->dim == 2) {
+        memcpy(h->y0, s->y, b);
+        memcpy(h->vy0, s->vy, b);
+        memcpy(h->fy0, s->fy, b);
+        memcpy(h->gy0, s->gy, b);
+    }
+    *v = (saved){.injected = s->injected, .diss_n = s->diss_n, .diss_t = s->diss_t, .diss_f = s->diss_f,
+                 .removed_com = s->removed_com, .elastic = s->elastic, .collisions = s->collisions,
+                 .rebuilds = s->rebuilds, .last = s->last};
+    memcpy(v->share, s->share, sizeof v->share);
+}
+
+static void restore(gr_sim *s, gr_hybrid_state *h, const saved *v)
+{
+    const size_t b = sizeof(double) * (size_t)s->n;
+    memcpy(s->x, h->x0, b);
+    memcpy(s->vx, h->vx0, b);
+    memcpy(s->fx, h->fx0, b);
+    memcpy(s->gx, h->gx0, b);
+    if (s->dim == 2) {
+        memcpy(s->y, h->y0, b);
+        memcpy(s->vy, h->vy0, b);
+        memcpy(s->fy, h->fy0, b);
+        memcpy(s->gy, h->gy0, b);
+    }
+    s->injected = v->injected;
+    s->diss_n = v->diss_n;
+    s->diss_t = v->diss_t;
+    s->diss_f = v->diss_f;
+    s->removed_com = v->removed_com;
+    s->elastic = v->elastic;
+    s->collisions = v->collisions;
+    s->rebuilds = v->rebuilds;
+    s->last = v->last;
+    memcpy(s->share, v->share, sizeof s->share);
+}
+
+/* Contact events of the child (child indices) into the parent's record (parent indices). */
+static int take_events(gr_sim *s, gr_hybrid_state *h, gr_error *err)
+{
+    gr_sim *c = h->child;
+    if (!s->contacts || !c->contacts || h->n_active == 0) {
+        return GR_OK;
+    }
+    if (s->n_events + c->n_events > s->cap_events) {
+        int64_t cap = 2 * (s->n_events + c->n_events) + 1024;
+        gr_contact_event *e = realloc(s->events, sizeof *e * (size_t)cap);
+        if (!e) {
+            return GR_FAIL(err, GR_ENOMEM, "out of memory for %lld contact events", (long long)cap);
+        }
+        s->events = e;
+        s->cap_events = cap;
+    }
+    for (int64_t k = 0; k < c->n_events; k++) {
+        gr_contact_event e = c->events[k];
+        e.i = h->list[e.i];
+        s->events[s->n_events++] = e;
+    }
+    c->n_events = 0;
+    for (int q = 0; q < h->n_active; q++) {
+        s->contacts[h->list[q]] = c->contacts[q];
+    }
+    return GR_OK;
+}
+
+/* Symmetrised mode: go to the centre-of-mass frame (see the top of this file). */
+static void centre(gr_sim *s, gr_hybrid_state *h)
+{
+    const int n = s->n;
+    const double L = s->L;
+    double *pos[2] = {s->x, s->y}, *vel[2] = {s->vx, s->vy}, *start[2] = {h->x0, h->y0};
+    for (int c = 0; c < s->dim; c++) {
+        double V = 0.0, X = 0.0;
+        for (int i = 0; i < n; i++) {
+            double dx = pos[c][i] - start[c][i];
+            if (s->dim == 2) {
+                dx += dx > 0.5 * L ? -L : (dx < -0.5 * L ? L : 0.0);
+            }
+            V += vel[c][i];
+            X += dx;
+        }
+        V /= n;
+        X /= n;
+        for (int i = 0; i < n; i++) {
+            vel[c][i] -= V;
+            double xn = pos[c][i] - X;
+            if (s->dim == 2) {
+                xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
+            }
+            pos[c][i] = xn;
+        }
+        s->injected -= 0.5 * s->mass * n * V * V;
+    }
+}
+
+static double remove_com_velocity(gr_sim *s)
+{
+    double removed = 0.0;
+    double *v[2] = {s->vx, s->vy};
+    for (int c = 0; c < s->dim; c++) {
+        double mean = 0.0;
+        for (int i = 0; i < s->n; i++) {
+            mean += v[c][i];
+        }
+        mean /= s->n;
+        for (int i = 0; i < s->n; i++) {
+            v[c][i] -= mean;
+        }
+        removed += 0.5 * s->mass * s->n * mean * mean;
+    }
+    return removed;
+}
+
+static int window(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
+{
+    const int64_t start = s->step;
+    saved sv;
+    save(s, h, &sv);
+    gr_hy_draw_window(s, h, start);
+    for (int attempt = 0;; attempt++) {
+        if (attempt > GR_HYBRID_MAX_ROLLBACKS) {
+            memset(h->forced, 1, (size_t)s->n); /* cannot miss */
+        }
+        int missed = 0;
+        int rc = gr_hy_select(s, h, m, err);
+        if (!rc) {
+            rc = gr_hy_active_kicks(s, h, start, m, err);
+        }
+        if (!rc) {
+            if (h->n_active == 0) {
+                s->elastic = 0.0;
+                s->last = (gr_force_report){.worst_i = -1, .worst_j = -1};
+            }
+            rc = gr_hy_child_run(s, h, m, &missed, err);
+        }
+        if (rc) {
+            restore(s, h, &sv);
+            return rc;
+        }
+        if (!missed) {
+            s->injected += gr_hy_leap_free(s, h, m);
+            rc = gr_hy_misses(s, h, err, &missed);
+            if (rc) {
+                return rc;
+            }
+        }
+        if (!missed) {
+            break;
+        }
+        h->rollbacks++;
+        restore(s, h, &sv);
+    }
+    int rc = take_events(s, h, err);
+    if (rc) {
+        return rc;
+    }
+    memset(h->forced, 0, (size_t)s->n);
+    const int noise = s->scene.noise_mode != GR_NOISE_NONE && s->scene.D > 0.0;
+    s->step += m;
+    if (noise && s->scene.noise_mode == GR_NOISE_SYMMETRISED && s->n > 1) {
+        centre(s, h);
+    } else if (s->scene.noise_mode == GR_NOISE_COM && s->step % s->com_every == 0) {
+        s->removed_com += remove_com_velocity(s);
+    }
+    h->windows++;
+    h->steps += m;
+    h->active_steps += (int64_t)h->n_active * m;
+    for (int i = 0; i < s->n; i++) {
+        double sum = s->x[i] + s->vx[i] + (s->dim == 2 ? s->y[i] + s->vy[i] : 0.0);
+        if (!isfinite(sum)) {
+            return GR_FAIL(err, GR_EUNSTABLE, "unstable run: particle %d has a non-finite position or velocity at step %lld (t = %.6g s)",
+                           i, (long long)s->step, gr_sim_time(s));
+        }
+    }
+    return GR_OK;
 }
 
 int gr_hybrid_step(gr_sim *s, int64_t nsteps, gr_error *err)
 {
-    (void)nsteps;
-    return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kind = hybrid is not available in this build", s->scene.source);
+    gr_hybrid_state *h = s->hy;
+    int64_t done = 0;
+    while (done < nsteps) {
+        int64_t m = h->m < nsteps - done ? h->m : nsteps - done;
+        if (s->scene.noise_mode == GR_NOISE_COM) { /* cut windows at the resets */
+            const int64_t next = (s->step / s->com_every + 1) * s->com_every;
+            m = m < next - s->step ? m : next - s->step;
+        }
+        int rc = window(s, h, (int)m, err);
+        if (rc) {
+            return rc;
+        }
+        done += m;
+    }
+    return GR_OK;
 }
-
-void gr_hybrid_free(gr_sim *s) { (void)s; }

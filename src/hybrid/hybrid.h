@@ -1,6 +1,8 @@
-/* The hybrid integrator ([integrator] kind = hybrid): free flight event-driven,
- * contacts integrated by the soft-sphere model (docs/hybrid.md).
- * Called by src/core/sim.c and src/core/step.c; the state lives behind gr_sim.hy. */
+/* The hybrid integrator ([integrator] kind = hybrid, docs/hybrid.md): time is cut into windows of
+ * kick_interval; particles that cannot touch anybody during a window leap it in one exact
+ * free-flight draw, the others (the "active" set) are integrated step by step by the soft-sphere
+ * kernels in a private child simulation. Called by src/core/sim.c and src/core/step.c; the state
+ * lives behind gr_sim.hy. */
 #ifndef GR_HYBRID_H
 #define GR_HYBRID_H
 
@@ -8,11 +10,30 @@
 
 #include "core/sim_internal.h"
 
-/* Build the event state after positions, velocities and coefficients are set. */
+/* Build the hybrid state after positions, velocities, coefficients and forces are set. */
 int gr_hybrid_init(gr_sim *s, gr_error *err);
 /* Advance by nsteps * s->dt of simulated time; on return s->x, vx (y, vy) hold the state at that
- * time and s->step has advanced by nsteps. */
+ * time, s->step has advanced by nsteps and the ledger is updated as for Verlet. */
 int gr_hybrid_step(gr_sim *s, int64_t nsteps, gr_error *err);
 void gr_hybrid_free(gr_sim *s);
+
+/* Counters since creation (all zero for other integrators). */
+typedef struct gr_hybrid_stats {
+    int64_t windows;          /* windows completed */
+    int64_t rollbacks;        /* windows redone because a free particle met somebody */
+    int64_t steps;            /* time steps covered */
+    int64_t active_steps;     /* particle-steps integrated by the soft-sphere child */
+    double active_fraction;   /* active_steps / (N steps) */
+    double margin_sigmas;     /* c of the active-set rule */
+    double window;            /* s */
+} gr_hybrid_stats;
+
+/* Returns 1 and fills *st for a hybrid simulation, 0 otherwise. */
+int gr_sim_hybrid_stats(const gr_sim *s, gr_hybrid_stats *st);
+
+/* Tests and benches: change the safety factor c of the active-set margin (default
+ * GR_HYBRID_MARGIN_SIGMAS); a huge c makes every particle active. */
+#define GR_HYBRID_MARGIN_SIGMAS 6.0
+void gr_hybrid_set_margin(gr_sim *s, double sigmas);
 
 #endif

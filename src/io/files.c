@@ -15,27 +15,73 @@ int gr_file_open(gr_file *out, const char *dir, const char *name, gr_error *err)
     snprintf(out->tmp, sizeof out->tmp, "%s.tmp%ld", out->path, (long)getpid());
     out->f = fopen(out->tmp, "w");
     if (!out->f) {
-        return GR_FAIL(err, GR_EIO, "cannot write %s: %s", out->tmp, strerror(errno));
+        return gr_file_fail(out->path, errno, err);
     }
     return GR_OK;
 }
 
+/* Why an earlier buffered write of this stream failed. stdio may drop the buffer it could not
+ * write, so a later fflush can succeed and errno may have moved on: ask the file system again
+ * by appending to the (already lost) temporary file until it refuses. */
+static int lost_write_reason(FILE *f)
+{
+    int fd = fileno(f);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        return EIO;
+    }
+    static const char zeros[65536];
+    off_t at = st.st_size;
+    for (int i = 0; i < 4; i++) {
+        ssize_t w = pwrite(fd, zeros, sizeof zeros, at);
+        if (w < 0) {
+            return errno;
+        }
+        at += w;
+    }
+    return EIO; /* there is room again: the failure was not (or no longer) a full disk */
+}
+
 int gr_file_commit(gr_file *out, gr_error *err)
 {
-    int bad = ferror(out->f) || fflush(out->f) != 0 || fsync(fileno(out->f)) != 0;
-    int saved = errno;
-    bad |= fclose(out->f) != 0;
+    int e = fflush(out->f) != 0 ? errno : 0;
+    if (!e && ferror(out->f)) {
+        e = lost_write_reason(out->f); /* an earlier write failed and its data are gone */
+    }
+    if (!e && fsync(fileno(out->f)) != 0 && errno != EINVAL) {
+        e = errno; /* EINVAL: a file system without fsync (e.g. a pipe); nothing to sync */
+    }
+    if (fclose(out->f) != 0 && !e) {
+        e = errno;
+    }
     out->f = NULL;
-    if (bad) {
-        unlink(out->tmp);
-        return GR_FAIL(err, GR_EIO, "cannot write %s: %s", out->path, strerror(saved ? saved : errno));
+    if (e) {
+        unlink(out->tmp); /* never leave a half-written file behind */
+        return gr_file_fail(out->path, e, err);
     }
     if (rename(out->tmp, out->path) != 0) {
-        int e = errno;
+        int r = errno;
         unlink(out->tmp);
-        return GR_FAIL(err, GR_EIO, "cannot move %s into place: %s", out->path, strerror(e));
+        return GR_FAIL(err, GR_EIO, "cannot move %s into place: %s", out->path, strerror(r));
     }
     return GR_OK;
+}
+
+int gr_file_check(gr_file *out, gr_error *err)
+{
+    if (!out->f || !ferror(out->f)) {
+        return GR_OK;
+    }
+    int e = fflush(out->f) != 0 ? errno : lost_write_reason(out->f);
+    return gr_file_fail(out->path, e, err);
+}
+
+int gr_file_fail(const char *path, int errnum, gr_error *err)
+{
+    if (errnum == ENOSPC || errnum == EDQUOT) {
+        return GR_FAIL(err, GR_EIO, "disk full while writing %s: %s", path, strerror(errnum));
+    }
+    return GR_FAIL(err, GR_EIO, "cannot write %s: %s", path, strerror(errnum));
 }
 
 void gr_file_abandon(gr_file *out)
@@ -88,7 +134,15 @@ int gr_output_dir_prepare(const char *dir, bool force, gr_error *err)
     if (fd < 0) {
         return GR_FAIL(err, GR_EIO, "output folder %s is not writable: %s", dir, strerror(errno));
     }
-    close(fd);
+    /* one byte, so a disk that is already full is refused before the run starts */
+    int e = write(fd, "\n", 1) == 1 ? 0 : errno ? errno : ENOSPC;
+    e = close(fd) != 0 && !e ? errno : e;
     unlink(probe);
+    if (e == ENOSPC || e == EDQUOT) {
+        return GR_FAIL(err, GR_EIO, "disk full: output folder %s has no space left: %s", dir, strerror(e));
+    }
+    if (e) {
+        return GR_FAIL(err, GR_EIO, "output folder %s is not writable: %s", dir, strerror(e));
+    }
     return GR_OK;
 }

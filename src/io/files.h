@@ -18,6 +18,13 @@ int gr_file_open(gr_file *out, const char *dir, const char *name, gr_error *err)
 /* fflush + fsync + rename; closes the file either way. */
 int gr_file_commit(gr_file *out, gr_error *err);
 void gr_file_abandon(gr_file *out);
+/* GR_OK while every write to the file so far succeeded; otherwise the error (e.g. "disk full
+ * while writing DIR/FILE: No space left on device"), so a long run stops at once instead of
+ * finding out at commit. The file stays open: gr_file_commit/abandon still owe it a close. */
+int gr_file_check(gr_file *out, gr_error *err);
+/* Record the error for a failed write of `path` (errno `errnum`): ENOSPC/EDQUOT read "disk full
+ * while writing PATH: ...", anything else "cannot write PATH: ...". Returns GR_EIO. */
+int gr_file_fail(const char *path, int errnum, gr_error *err);
 
 /* Create dir (and parents); refuse a folder holding another run's summary.json unless force;
  * prove it is writable. */

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/files.h"
 #include "io/plot.h"
 
 static int gnuplot_available(void)
@@ -67,12 +68,16 @@ int gr_plot_script(const char *dir, const char *png_name, const char *body, char
         return 1;
     }
     /* keep the body beside the picture so `granule plot DIR` can redraw it */
-    char gp[1200];
-    snprintf(gp, sizeof gp, "%s/%.*s.gp", dir, (int)(strlen(png_name) > 4 ? strlen(png_name) - 4 : strlen(png_name)), png_name);
-    FILE *script = fopen(gp, "w");
-    if (script) {
-        fprintf(script, "# granule: gnuplot body of %s (run inside this folder); granule plot DIR redraws it\n%s\n", png_name, body);
-        fclose(script);
+    char gp[300];
+    snprintf(gp, sizeof gp, "%.*s.gp", (int)(strlen(png_name) > 4 ? strlen(png_name) - 4 : strlen(png_name)), png_name);
+    gr_file script;
+    gr_error gp_err = {0};
+    if (gr_file_open(&script, dir, gp, &gp_err) == GR_OK) {
+        fprintf(script.f, "# granule: gnuplot body of %s (run inside this folder); granule plot DIR redraws it\n%s\n", png_name, body);
+        if (gr_file_commit(&script, &gp_err) != GR_OK) {
+            snprintf(note, note_size, "failed: %s", gp_err.message);
+            return 1;
+        }
     }
     char cmd[1400];
     snprintf(cmd, sizeof cmd, "cd '%s' && gnuplot >/dev/null 2>&1", dir);

@@ -23,6 +23,9 @@
 #include "analysis/mean_field.h"
 #include "io/scene_json.h"
 #include "io/snapshot.h"
+#include "io/run_checkpoint.h"
+#include "core/sim_state.h"
+#include "hybrid/hybrid.h"
 
 static double now(void)
 {
@@ -54,6 +57,11 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, co
     cJSON_AddNumberToObject(j, "samples", (double)r->samples);
     cJSON_AddNumberToObject(j, "wall_seconds", r->wall_seconds);
     cJSON_AddNumberToObject(j, "particle_steps_per_second", r->particle_steps_per_second);
+    cJSON_AddNumberToObject(j, "checkpoints_written", (double)r->checkpoints); /* this session (docs/checkpoints.md) */
+    cJSON_AddNumberToObject(j, "checkpoint_seconds", r->checkpoint_seconds);
+    if (r->checkpoint_error[0]) {
+        cJSON_AddStringToObject(j, "checkpoint_error", r->checkpoint_error);
+    }
     cJSON_AddNumberToObject(j, "steps", (double)r->steps);
     cJSON_AddNumberToObject(j, "simulated_seconds", gr_sim_time(sim));
     cJSON_AddNumberToObject(j, "collisions", (double)r->collisions);
@@ -75,6 +83,19 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, co
     cJSON_AddNumberToObject(led, "residual", res);
     cJSON_AddNumberToObject(led, "relative_residual", scale > 0.0 ? res / scale : 0.0);
     cJSON_AddStringToObject(j, "kernel", r->kernel);
+    cJSON_AddNumberToObject(j, "threads", gr_sim_threads(sim)); /* results do not depend on it */
+    gr_hybrid_stats hs;
+    if (gr_sim_hybrid_stats(sim, &hs)) { /* docs/hybrid.md */
+        cJSON *hj = cJSON_AddObjectToObject(j, "hybrid");
+        cJSON_AddNumberToObject(hj, "window", hs.window);
+        cJSON_AddNumberToObject(hj, "windows", (double)hs.windows);
+        cJSON_AddNumberToObject(hj, "rollbacks", (double)hs.rollbacks);
+        cJSON_AddNumberToObject(hj, "active_fraction", hs.active_fraction);
+        cJSON_AddNumberToObject(hj, "margin_sigmas", hs.margin_sigmas);
+    }
+    const double events = (double)gr_sim_events_processed(sim); /* event-driven runs; 0 otherwise */
+    cJSON_AddNumberToObject(j, "events_processed", events);
+    cJSON_AddNumberToObject(j, "events_per_second", r->wall_seconds > 0.0 ? events / r->wall_seconds : 0.0);
     const gr_contact_coeffs *c = gr_sim_coeffs(sim);
     cJSON *co = cJSON_AddObjectToObject(j, "contact");
     cJSON_AddNumberToObject(co, "dt", gr_sim_dt(sim));
@@ -134,14 +155,31 @@ static int write_blocks(const char *dir, const gr_scene *s, uint64_t hash, const
 int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res, gr_error *err)
 {
     memset(res, 0, sizeof *res);
+    const double t_enter = now();
+    /* resuming (docs/checkpoints.md): the scene must be the checkpoint's; its source is restored */
+    const bool resume = opt && opt->resume;
+    gr_scene resumed;
+    gr_checkpoint ck;
+    void *ck_buf = NULL;
+    if (resume) {
+        resumed = *scene;
+        int rc = gr_run_resume_open(scene->out_dir, &resumed, &ck_buf, &ck, err);
+        if (rc) {
+            return rc;
+        }
+        scene = &resumed;
+    }
     const char *dir = scene->out_dir;
-    int rc = gr_output_dir_prepare(dir, opt && opt->force, err);
+    int rc = resume ? GR_OK : gr_output_dir_prepare(dir, opt && opt->force, err);
+    rc = rc || resume ? rc : gr_run_checkpoint_guard(dir, opt && opt->force, err);
+    rc = rc || resume ? rc : gr_scene_save(scene, dir, err); /* a resume reads it back */
     if (rc) {
         return rc;
     }
     gr_sim *sim;
     rc = gr_sim_create(scene, &sim, err);
     if (rc) {
+        free(ck_buf);
         return rc;
     }
     snprintf(res->kernel, sizeof res->kernel, "%s", gr_sim_kernel(sim));
@@ -153,6 +191,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     if (rc) {
         gr_observer_free(obs);
         gr_sim_free(sim);
+        free(ck_buf);
         return rc;
     }
     const uint64_t hash = gr_scene_hash(scene);
@@ -162,15 +201,16 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     const int64_t run_samples = llround(scene->duration / scene->sample_every);
     const int64_t snap_every = scene->snapshot_every > 0.0 ? llround(scene->snapshot_every / dt) : 0;
     char snapdir[1100];
-    snprintf(snapdir, sizeof snapdir, "%s/snapshots", dir);
+    snprintf(snapdir, sizeof snapdir, "%.1080s/snapshots", dir);
     if (snap_every > 0 && mkdir(snapdir, 0777) != 0 && access(snapdir, W_OK) != 0) {
         gr_sim_free(sim);
+        free(ck_buf);
         return GR_FAIL(err, GR_EIO, "cannot create %s", snapdir);
     }
 
-    gr_file ft, fl;
-    rc = gr_file_open(&ft, dir, "temperature.csv", err);
-    if (!rc) {
+    gr_file ft = {0}, fl = {0};
+    rc = resume ? GR_OK : gr_file_open(&ft, dir, "temperature.csv", err); /* a resume continues them */
+    if (!rc && !resume) {
         rc = gr_file_open(&fl, dir, "ledger.csv", err);
         if (rc) {
             gr_file_abandon(&ft);
@@ -178,12 +218,15 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     }
     if (rc) {
         gr_sim_free(sim);
+        free(ck_buf);
         return rc;
     }
+    if (!resume) {
     csv_header(ft.f, "granular temperature T(t) of eq. 2.19, m^2/s^2; running_mean over the sampling phase", scene, hash);
     fprintf(ft.f, "t,T,running_mean,phase\n");
     csv_header(fl.f, "energy ledger, J (residual = kinetic + elastic - initial - injected + dissipated + removed_com)", scene, hash);
     fprintf(fl.f, "t,kinetic,elastic,injected,dissipated_normal,dissipated_tangential,dissipated_friction,removed_com,residual\n");
+    }
 
     gr_blocking blk;
     gr_blocking_init(&blk);
@@ -197,17 +240,68 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     double stepping = 0.0, last_report = now(), start = now();
     int64_t next_snap = 0;
     int snap_index = 0;
+    /* checkpoints (docs/checkpoints.md): at sample boundaries every checkpoint_every (simulated)
+     * or checkpoint_wall (wall clock); on a stop request (signal, wall budget) at the next step
+     * boundary. Steps run in chunks of about 0.1 s so a request is seen quickly; splitting
+     * gr_sim_step calls does not change a bit of the result. */
+    gr_run_ckpt ckst = {.k_next = 0, .per_sample = per_sample, .warm_samples = warm_samples, .run_samples = run_samples,
+                        .blk = &blk, .haff_n = &haff_n, .haff_cap = haff_cap, .haff_t = haff_t, .haff_T = haff_T,
+                        .next_snap = &next_snap, .snap_index = &snap_index, .ft = &ft, .fl = &fl};
+    if (resume) {
+        rc = gr_run_resume_state(&ck, dir, sim, obs, &ckst, err);
+        free(ck_buf);
+        if (rc) {
+            free(haff_t);
+            free(haff_T);
+            gr_observer_free(obs);
+            gr_sim_free(sim);
+            return rc;
+        }
+    }
+    gr_error ck_err = {0};
+    const bool can_checkpoint = gr_sim_checkpointable(sim, &ck_err) == GR_OK;
+    const int64_t ckpt_samples = scene->checkpoint_every > 0.0
+                                     ? (llround(scene->checkpoint_every / scene->sample_every) > 0 ? llround(scene->checkpoint_every / scene->sample_every) : 1)
+                                     : 0;
+    const int64_t steps_at_start = gr_sim_steps(sim);
+    double last_ckpt = now(), chunk_wall = 0.0;
+    double ckpt_cost = 1e-2 + 8.0 * 14.0 * (double)scene->N / 2e8; /* until one is measured */
+    int64_t chunk = per_sample < 16 ? per_sample : 16;
+    /* GRANULE_CHUNK_STEPS caps the chunk (tests use it to stop between samples for certain) */
+    const char *cap_env = getenv("GRANULE_CHUNK_STEPS");
+    const int64_t chunk_cap = cap_env && atoll(cap_env) > 0 ? atoll(cap_env) : per_sample;
+    chunk = chunk < chunk_cap ? chunk : chunk_cap;
+    int stop = 0; /* 1: signal, 2: wall-clock budget */
+    bool stopped_early = false;
     const char *status = "completed";
     char diagnosis[800] = "";
     gr_error step_err = {0};
-    for (int64_t k = 0; k <= warm_samples + run_samples; k++) {
+    for (int64_t k = ckst.k_next; k <= warm_samples + run_samples; k++) {
         if (k > 0) {
-            double t0 = now();
-            rc = gr_sim_step(sim, per_sample, &step_err);
-            stepping += now() - t0;
+            while (rc == GR_OK && gr_sim_steps(sim) < k * per_sample) {
+                const int64_t todo = k * per_sample - gr_sim_steps(sim);
+                double t0 = now();
+                rc = gr_sim_step(sim, todo < chunk ? todo : chunk, &step_err);
+                chunk_wall = now() - t0;
+                stepping += chunk_wall;
+                chunk = chunk_wall < 0.05 && chunk < chunk_cap ? (2 * chunk < chunk_cap ? 2 * chunk : chunk_cap)
+                        : chunk_wall > 0.2 && chunk > 1 ? chunk / 2
+                                                        : chunk;
+                stop = opt && opt->stop && *opt->stop ? 1
+                       : scene->wall_limit > 0.0 && now() - t_enter + 2.0 * chunk_wall + 2.0 * ckpt_cost + 1.0 >= scene->wall_limit ? 2
+                                                                                                                            : 0;
+                if (stop) {
+                    break;
+                }
+            }
             if (rc) {
                 status = "unstable";
                 snprintf(diagnosis, sizeof diagnosis, "%s", step_err.message);
+                break;
+            }
+            if (stop && gr_sim_steps(sim) < k * per_sample) { /* stop between two samples */
+                ckst.k_next = k;
+                stopped_early = true;
                 break;
             }
         }
@@ -245,6 +339,12 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         fprintf(fl.f, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.6g\n", t, l.kinetic, l.elastic,
                 l.injected, l.dissipated_normal, l.dissipated_tangential, l.dissipated_friction,
                 l.removed_com, gr_ledger_residual(&l));
+        /* a full disk stops the run now, not at the end (the message names the file) */
+        rc = gr_file_check(&ft, err);
+        rc = rc ? rc : gr_file_check(&fl, err);
+        if (rc) {
+            break;
+        }
         if (ledger_broken) {
             status = "unstable";
             snprintf(step_err.message, sizeof step_err.message,
@@ -264,6 +364,34 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
             }
             next_snap += snap_every;
         }
+        if (k < warm_samples + run_samples) {
+            stop = stop ? stop
+                   : opt && opt->stop && *opt->stop ? 1
+                   : scene->wall_limit > 0.0 && now() - t_enter + 2.0 * chunk_wall + 2.0 * ckpt_cost + 1.0 >= scene->wall_limit ? 2
+                                                                                                                        : 0;
+            bool due = (ckpt_samples > 0 && (k + 1) % ckpt_samples == 0) ||
+                       (scene->checkpoint_wall > 0.0 && now() - last_ckpt >= scene->checkpoint_wall);
+            if (can_checkpoint && due && !stop) {
+                ckst.k_next = k + 1;
+                double used = 0.0;
+                size_t bytes = 0;
+                gr_error werr = {0};
+                if (gr_run_checkpoint_write(dir, scene, sim, obs, &ckst, &used, &bytes, &werr) == GR_OK) {
+                    res->checkpoints++;
+                    res->checkpoint_seconds += used;
+                    ckpt_cost = used;
+                } else if (!res->checkpoint_error[0]) {
+                    /* reported in summary.json; the previous checkpoint is kept */
+                    snprintf(res->checkpoint_error, sizeof res->checkpoint_error, "%.255s", werr.message);
+                }
+                last_ckpt = now();
+            }
+            if (stop) {
+                ckst.k_next = k + 1;
+                stopped_early = true;
+                break;
+            }
+        }
         if (opt && opt->progress && (now() - last_report > 0.5 || k == warm_samples + run_samples)) {
             last_report = now();
             double t_end = (double)(warm_samples + run_samples) * (double)per_sample * dt;
@@ -274,11 +402,42 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
             opt->progress(&p, opt->user);
         }
     }
+    stop = stopped_early ? stop : 0; /* a request after the last sample changes nothing */
+    if (stop && can_checkpoint && strcmp(status, "completed") == 0 && rc == GR_OK) {
+        double used = 0.0;
+        size_t bytes = 0;
+        rc = gr_run_checkpoint_write(dir, scene, sim, obs, &ckst, &used, &bytes, err);
+        if (rc == GR_OK) {
+            /* the streamed CSVs stay as they are for the resume to continue */
+            fclose(ft.f);
+            fclose(fl.f);
+            free(haff_t);
+            free(haff_T);
+            gr_observer_free(obs);
+            res->steps = gr_sim_steps(sim);
+            res->collisions = gr_sim_collisions(sim);
+            res->samples = blk.count[0];
+            res->wall_seconds = now() - start;
+            res->checkpoints++;
+            res->checkpoint_seconds += used;
+            res->stopped = stop;
+            gr_sim_free(sim);
+            return GR_OK;
+        }
+        status = "interrupted"; /* no checkpoint: finish the outputs instead */
+        snprintf(diagnosis, sizeof diagnosis, "stopped (%s) but the checkpoint could not be written: %.700s",
+                 stop == 1 ? "signal" : "wall-clock budget", err->message);
+        rc = GR_OK;
+    } else if (stop && strcmp(status, "completed") == 0) {
+        status = "interrupted";
+        snprintf(diagnosis, sizeof diagnosis, "stopped (%s) at t = %.6g s; %.700s", stop == 1 ? "signal" : "wall-clock budget",
+                 gr_sim_time(sim), ck_err.message);
+    }
     res->samples = blk.count[0];
     res->steps = gr_sim_steps(sim);
     res->collisions = gr_sim_collisions(sim);
     res->wall_seconds = now() - start;
-    res->particle_steps_per_second = stepping > 0.0 ? (double)scene->N * (double)res->steps / stepping : 0.0;
+    res->particle_steps_per_second = stepping > 0.0 ? (double)scene->N * (double)(res->steps - steps_at_start) / stepping : 0.0;
     res->ledger = gr_sim_ledger(sim);
     res->T_mean = gr_blocking_mean(&blk);
     res->T_stderr = gr_blocking_stderr(&blk, NULL, &res->T_stderr_converged);
@@ -325,6 +484,12 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     free(haff_T);
     int rc_s = write_summary(dir, scene, sim, res, &blk, status, diagnosis[0] ? diagnosis : NULL, plots, analysis,
                              mean_field, &io_err);
+    if (rc_s == GR_OK && strcmp(status, "completed") == 0) {
+        /* finished: summary.json now refuses a resume, and the checkpoint is no longer needed */
+        char ckpt[1200];
+        snprintf(ckpt, sizeof ckpt, "%.1100s/%s", dir, GR_CHECKPOINT_NAME);
+        unlink(ckpt);
+    }
     gr_sim_free(sim);
     if (strcmp(status, "unstable") == 0) {
         *err = step_err;
@@ -332,6 +497,9 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     }
     if (io) {
         return io;
+    }
+    if (strcmp(status, "interrupted") == 0) { /* stopped without a checkpoint */
+        return GR_FAIL(err, GR_EIO, "%.600s (outputs so far written; this run cannot be resumed)", diagnosis);
     }
     if (strcmp(status, "failed") == 0 && !io) {
         *err = step_err;

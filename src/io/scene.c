@@ -59,6 +59,9 @@ static const scene_key keys[] = {
     {"run", "sample_every", "s", K_DOUBLE, "1e-3", 0, INFINITY, true, true, NULL, "interval between samples (uniform in time)", OFF(sample_every)},
     {"run", "seed", "", K_UINT64, "1", 0, 1.8446744073709552e19, false, false, NULL, "random seed: placement, initial velocities and noise are pure functions of it", OFF(seed)},
     {"run", "ledger_tolerance", "", K_DOUBLE, "0.05", 0, 1, false, false, NULL, "stop the run as unstable when the energy ledger's residual exceeds this fraction of the energy injected + dissipated (it is ~2e-3 at the thesis dt; 0 = no check)", OFF(ledger_tolerance)},
+    {"run", "checkpoint_every", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "simulated time between checkpoints (taken at the next sample; docs/checkpoints.md); 0 = none", OFF(checkpoint_every)},
+    {"run", "checkpoint_wall", "s", K_DOUBLE, "1800", 0, INFINITY, false, true, NULL, "wall-clock time between checkpoints (taken at the next sample); 0 = none. Checkpoints never change results", OFF(checkpoint_wall)},
+    {"run", "wall_limit", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "wall-clock budget: write a checkpoint and stop (exit status 4) before it runs out; resume with granule run --resume DIR; 0 = none", OFF(wall_limit)},
     {"run", "progress", "", K_BOOL, "true", 0, 1, false, false, NULL, "progress line with ETA on a terminal (never in CI logs or when stderr is not a terminal)", OFF(progress)},
     {"analysis", "observables", "", K_LIST, "", 0, 0, false, false, NULL, "statistics to accumulate while sampling, comma-separated (granule observables lists them); empty = temperature only", OFF(observables)},
     {"output", "dir", "", K_STRING, "out", 0, 0, false, false, NULL, "output folder (granule run --out overrides it)", OFF(out_dir)},
@@ -180,7 +183,21 @@ static int set_number(void *slot, key_type type, double min, double max, bool mi
     if (type == K_INT) {
         *(int *)slot = (int)x;
     } else if (type == K_UINT64) {
-        *(uint64_t *)slot = strtoull(value, NULL, 10);
+        /* digits only: "1e3", "0x10" or 2^64 must not become another seed (found by tests/fuzz) */
+        char *end;
+        errno = 0;
+        unsigned long long u = strtoull(value, &end, 10);
+        if (*end == '.' && end > value) { /* "1000.0" is 1000 */
+            end += 1 + strspn(end + 1, "0");
+        }
+        while (*end == ' ' || *end == '\t') {
+            end++;
+        }
+        if (*end || errno == ERANGE || strchr(value, '-') || strchr(value, '+')) {
+            snprintf(detail, sizeof detail, "%s is not an integer written in decimal digits; allowed range [0, 18446744073709551615]", value);
+            return fail_at(err, w, section, name, "%s", detail);
+        }
+        *(uint64_t *)slot = u;
     } else {
         *(double *)slot = x;
     }
@@ -565,6 +582,11 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
                  s->packing_fraction);
         return fail_at(err, &len_at, "system", len_key, "%s", detail);
     }
+    if (!(s->L / d <= 1e9)) { /* cell and lattice indices are ints (found by tests/fuzz) */
+        snprintf(detail, sizeof detail, "L = %g m is %g particle diameters across; at most 1e9 are supported (allowed L/d range (0, 1e9])",
+                 s->L, s->L / d);
+        return fail_at(err, &len_at, "system", len_key, "%s", detail);
+    }
     if (g->dt && g->steps_per_contact) {
         return fail_at(err, &g->at_dt, "integrator", "dt", "%s", "give dt or steps_per_contact, not both");
     }
@@ -583,6 +605,31 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
             return fail_at(err, &w, "placement", "kind", "%s", detail);
         }
     }
+    /* the event-driven integrator and the hard_sphere rule need each other (docs/event-driven.md) */
+    const bool event_rule = s->normal && (s->normal->kind & GR_MODEL_EVENT);
+    if (s->integrator == GR_INTEGRATOR_EVENT && !event_rule) {
+        where w = where_of(g, s, "integrator", "kind");
+        snprintf(detail, sizeof detail, "kind = event needs [model] normal = hard_sphere (normal = %s is a force law); allowed with %s: verlet | hybrid",
+                 s->normal ? s->normal->name : "?", s->normal ? s->normal->name : "it");
+        return fail_at(err, &w, "integrator", "kind", "%s", detail);
+    }
+    if (event_rule && s->integrator != GR_INTEGRATOR_EVENT) {
+        where w = where_of(g, s, "model", "normal");
+        snprintf(detail, sizeof detail, "%s is an instantaneous collision rule and needs [integrator] kind = event; allowed with kind = verlet or hybrid: spring_dashpot",
+                 s->normal->name);
+        return fail_at(err, &w, "model", "normal", "%s", detail);
+    }
+    if (event_rule && !(s->contact.eps_n > 0.0)) {
+        where w = where_of(g, s, "model", "normal");
+        return fail_at(err, &w, "model", "eps_n", "%s",
+                       "hard_sphere needs eps_n in (0, 1]: at eps_n = 0 a touching pair keeps zero normal speed and time stops; use e.g. 0.001");
+    }
+    if (s->integrator == GR_INTEGRATOR_EVENT && s->tangential) {
+        where w = where_of(g, s, "model", "tangential");
+        snprintf(detail, sizeof detail, "%s is a force law; with kind = event the tangential restitution is hard_sphere's eps_t; allowed: none",
+                 s->tangential->name);
+        return fail_at(err, &w, "model", "tangential", "%s", detail);
+    }
     if (s->D == 0.0) {
         s->noise_mode = GR_NOISE_NONE;
     }
@@ -600,20 +647,23 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     return GR_OK;
 }
 
-int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, int n_overrides,
-                  gr_error *err)
+/* Read the scene from `in` (named `path` in messages), or open `path` when `in` is NULL. */
+static int load(gr_scene *s, const char *path, FILE *in, const char *const *overrides, int n_overrides,
+                gr_error *err)
 {
     gr_scene_default(s);
     loader ld = {.scene = s, .err = err, .rc = GR_OK, .file = path};
     if (path) {
         snprintf(s->source, sizeof s->source, "%s", path);
-        FILE *f = fopen(path, "r");
+        FILE *f = in ? in : fopen(path, "r");
         if (!f) {
             return GR_FAIL(err, GR_EIO, "%s: cannot open scene file: %s", path, strerror(errno));
         }
         line_reader r = {f, &ld};
         int bad = ini_parse_stream(read_line, &r, scene_ini_line, &ld);
-        fclose(f);
+        if (!in) {
+            fclose(f);
+        }
         if (ld.rc != GR_OK) {
             return ld.rc;
         }
@@ -661,6 +711,25 @@ int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, i
         }
     }
     return resolve(s, &ld.g, model_keys, n_model_keys, err);
+}
+
+int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, int n_overrides,
+                  gr_error *err)
+{
+    return load(s, path, NULL, overrides, n_overrides, err);
+}
+
+int gr_scene_load_buffer(gr_scene *s, const char *name, const char *text, size_t len,
+                         const char *const *overrides, int n_overrides, gr_error *err)
+{
+    static char empty[1];
+    FILE *f = fmemopen(len ? (void *)text : empty, len, "r");
+    if (!f) {
+        return GR_FAIL(err, GR_ENOMEM, "%s: cannot read scene text: %s", name, strerror(errno));
+    }
+    int rc = load(s, name ? name : "<buffer>", f, overrides, n_overrides, err);
+    fclose(f);
+    return rc;
 }
 
 /* ---------- documentation ---------- */
@@ -799,7 +868,13 @@ int gr_scene_save(const gr_scene *s, const char *dir, gr_error *err)
     if (rc) {
         return rc;
     }
-    fprintf(f.f, "; resolved scene of this run (from %s); every key as the run used it\n", s->source);
+    gr_scene_write(s, f.f);
+    return gr_file_commit(&f, err);
+}
+
+void gr_scene_write(const gr_scene *s, FILE *f)
+{
+    fprintf(f, "; resolved scene of this run (from %s); every key as the run used it\n", s->source);
     const char *section = "";
     for (int i = 0; i < n_keys; i++) {
         const scene_key *k = &keys[i];
@@ -814,24 +889,23 @@ int gr_scene_save(const gr_scene *s, const char *dir, gr_error *err)
         }
         if (strcmp(section, k->section) != 0) {
             section = k->section;
-            fprintf(f.f, "\n[%s]\n", section);
+            fprintf(f, "\n[%s]\n", section);
         }
-        fprintf(f.f, "%s = ", k->name);
-        save_value(f.f, k, s);
-        fputc('\n', f.f);
+        fprintf(f, "%s = ", k->name);
+        save_value(f, k, s);
+        fputc('\n', f);
         if (strcmp(k->name, "tangential") == 0) {
             const gr_model *used[2] = {s->normal, s->tangential};
             for (int u = 0; u < 2; u++) {
                 if (used[u]) {
-                    save_params(f.f, used[u]->params, used[u]->n_params, &s->contact);
+                    save_params(f, used[u]->params, used[u]->n_params, &s->contact);
                 }
             }
         }
         if (strcmp(k->name, "observables") == 0) {
             for (int o = 0; gr_observables[o]; o++) {
-                save_params(f.f, gr_observables[o]->params, gr_observables[o]->n_params, &s->analysis);
+                save_params(f, gr_observables[o]->params, gr_observables[o]->n_params, &s->analysis);
             }
         }
     }
-    return gr_file_commit(&f, err);
 }

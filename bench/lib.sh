@@ -1,0 +1,46 @@
+# Shared helpers of the bench scripts (sourced, not run). Expects $build (the build folder).
+#
+# bench_outputs QUICK NAME: sets $out (CSV and Markdown tables) and $img (plots). A full run
+#   writes out/bench/ and docs/img/, the files docs/performance.md shows; --quick writes a
+#   temporary folder that is removed on exit, so the test suite never touches the source tree.
+# probe_kind SCENE KIND [--set k=v ...]: prints nothing and returns 0 when the integrator kind
+#   runs in this build; otherwise prints "skipped: not built (...)" and returns 1.
+# bench_header: one comment line with the date, machine, compiler flags and commit.
+
+bench_outputs() {
+    local quick=$1 name=$2
+    if [[ $quick == true ]]; then
+        out=$(mktemp -d "/tmp/granule-bench-$name.XXXXXX")
+        img=$out
+        # shellcheck disable=SC2064
+        trap "rm -rf '$out'" EXIT
+    else
+        out=${GRANULE_BENCH_OUT:-out/bench}
+        img=${GRANULE_BENCH_IMG:-docs/img}
+        mkdir -p "$out" "$img"
+    fi
+}
+
+probe_kind() {
+    local scene=$1 kind=$2
+    shift 2
+    local msg
+    if msg=$(timeout -k 5 20 "$build/bench/bench_throughput" "$scene" --set system.N=20 --set integrator.kind="$kind" "$@" \
+        --warmup-steps 0 --steps 1 --repeats 1 2>&1 >/dev/null); then
+        return 0
+    fi
+    if [[ -z $msg ]]; then
+        echo "skipped: $kind did not finish a 20-particle, one-step probe within 20 s"
+    elif grep -qi "not available\|not a normal model\|unknown\|choose one of" <<<"$msg"; then
+        echo "skipped: not built ($kind: ${msg#bench_throughput: })"
+    else
+        echo "skipped: $kind failed on a 20-particle probe: ${msg#bench_throughput: }"
+    fi
+    return 1
+}
+
+bench_header() {
+    local cpu
+    cpu=$(grep -m1 'model name' /proc/cpuinfo 2>/dev/null | cut -d: -f2- | sed 's/^ *//')
+    echo "# $(date -u +%Y-%m-%dT%H:%MZ), ${cpu:-unknown CPU}, $(nproc --all) cores, commit $(git rev-parse --short=12 HEAD 2>/dev/null || echo unknown)"
+}

@@ -1,0 +1,321 @@
+/* Collecting a sweep: every point folder is read back (whoever ran it), one row per point goes
+ * into OUT/sweep.csv, and when system.N varies the velocity moments are fitted against N:
+ * <|v|^m> = A N^-xi_m (3.8, 3.13) and, from the gaps observable, <R^m> = A N^-zeta_m (3.20), into
+ * OUT/exponents.csv and exponents.png. Missing and failed points are named on stderr. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "cli/sweep.h"
+#include "granule/analysis.h"
+#include "io/files.h"
+#include "io/plot.h"
+#include "io/summary_read.h"
+
+/* xi_m / m and zeta_m / m against m, one curve per combination of the other keys (Figs. 3.5, 3.11):
+ * regroup exponents.csv into gnuplot index blocks and draw exponents.png. */
+static void plot_exponents(const char *out)
+{
+    char path[1300];
+    snprintf(path, sizeof path, "%s/exponents.csv", out);
+    FILE *in = fopen(path, "r");
+    if (!in) {
+        return;
+    }
+    char lines[4096][160];
+    int n = 0;
+    char line[512];
+    while (n < 4096 && fgets(line, sizeof line, in)) {
+        if (line[0] != '#' && !strstr(line, "quantity")) {
+            snprintf(lines[n++], sizeof lines[0], "%.159s", line);
+        }
+    }
+    fclose(in);
+    gr_file f;
+    gr_error err = {0};
+    if (gr_file_open(&f, out, "exponents_blocks.dat", &err)) {
+        return;
+    }
+    /* a block starts whenever the text before ",xi," or ",zeta," changes */
+    char prev[160] = "", titles[64][160];
+    int blocks = 0;
+    for (int i = 0; i < n; i++) {
+        char *q = strstr(lines[i], "xi,") == lines[i] || strstr(lines[i], "zeta,") == lines[i] ? lines[i] : strstr(lines[i], ",xi,");
+        if (!q) {
+            q = strstr(lines[i], ",zeta,");
+        }
+        if (!q) {
+            continue;
+        }
+        char key[160];
+        snprintf(key, sizeof key, "%.*s%s", (int)(q - lines[i] < 140 ? q - lines[i] : 140), lines[i], strstr(q, "zeta") ? " zeta_m/m" : " xi_m/m");
+        if (strcmp(key, prev) != 0) {
+            if (blocks > 0) {
+                fprintf(f.f, "\n\n");
+            }
+            if (blocks < 64) {
+                snprintf(titles[blocks], sizeof titles[0], "%s", key);
+            }
+            blocks++;
+            snprintf(prev, sizeof prev, "%s", key);
+        }
+        int m;
+        double x, xe;
+        char *fields = strchr(q + 1, ',');
+        if (fields && sscanf(fields + 1, "%d,%lf,%lf", &m, &x, &xe) == 3) {
+            fprintf(f.f, "%d,%.6g,%.6g\n", m, x / m, xe / m);
+        }
+    }
+    if (gr_file_commit(&f, &err) || blocks == 0) {
+        return;
+    }
+    char body[8192];
+    size_t len = (size_t)snprintf(body, sizeof body, "set xlabel 'm'\nset ylabel 'exponent / m'\nset key outside\n"
+                                                      "set title 'xi_m/m (3.13) and zeta_m/m (3.20) from the sweep' noenhanced\nplot ");
+    for (int b = 0; b < blocks && b < 64 && len < sizeof body; b++) {
+        len += (size_t)snprintf(body + len, sizeof body - len, "%s'exponents_blocks.dat' index %d using 1:2:3 with yerrorlines title '%s' noenhanced",
+                                b ? ", " : "", b, titles[b]);
+    }
+    char note[300];
+    gr_plot_script(out, "exponents.png", body, note, sizeof note);
+}
+
+static int write_tables(const sweep *s, long n_points, const char *const *status)
+{
+    gr_error err = {0};
+    gr_file f;
+    if (gr_file_open(&f, s->out, "sweep.csv", &err)) {
+        cli_error("sweep: %s", err.message);
+        return EXIT_FAILED;
+    }
+    fprintf(f.f, "# granule sweep of %s: one row per point; moments <|v|^m> in (m/s)^m\npoint,seed", s->scene);
+    for (int i = 0; i < s->n_keys; i++) {
+        fprintf(f.f, ",%s", s->key[i]);
+    }
+    fprintf(f.f, ",status,T_mean,T_stderr,collisions,particle_steps_per_second");
+    for (int m = 1; m <= 12; m++) {
+        fprintf(f.f, ",m%d,m%d_stderr", m, m);
+    }
+    for (int m = 1; m <= 12; m++) {
+        fprintf(f.f, ",R%d,R%d_stderr", m, m);
+    }
+    fputc('\n', f.f);
+    int n_col = s->n_keys;
+    int n_idx = -1;
+    for (int i = 0; i < s->n_keys; i++) {
+        if (!strcmp(s->key[i], "system.N")) {
+            n_idx = i;
+        }
+    }
+    /* moments per point, kept for the fits */
+    double (*mom)[13] = calloc((size_t)n_points, sizeof *mom);
+    double (*mom_err)[13] = calloc((size_t)n_points, sizeof *mom_err);
+    double (*rmom)[13] = calloc((size_t)n_points, sizeof *rmom);
+    double (*rmom_err)[13] = calloc((size_t)n_points, sizeof *rmom_err);
+    for (long k = 0; k < n_points; k++) {
+        int idx[SWEEP_MAX_KEYS] = {0}, seed;
+        sweep_decode(s, k, idx, &seed);
+        char dir[1100];
+        sweep_point_dir(s, k, dir, sizeof dir);
+        /* a missing or stale point's folder holds nothing of these settings */
+        bool has_run = !strcmp(status[k], "completed") || !strcmp(status[k], "unstable") || !strcmp(status[k], "failed");
+        gr_error read_err = {0};
+        cJSON *j = has_run ? gr_summary_read(dir, &read_err) : NULL;
+        fprintf(f.f, "%ld,%llu", k, s->seeds[seed]);
+        for (int i = 0; i < n_col; i++) {
+            fprintf(f.f, ",%s", s->value[i][idx[i]]);
+        }
+        fprintf(f.f, ",%s,%.8g,%.4g,%.0f,%.4g", status[k], gr_summary_number(j, "T_mean"), gr_summary_number(j, "T_stderr"),
+                gr_summary_number(j, "collisions"), gr_summary_number(j, "particle_steps_per_second"));
+        for (int m = 1; m <= 12; m++) {
+            char p1[64], p2[64];
+            snprintf(p1, sizeof p1, "analysis.moments.speed.m%d", m);
+            snprintf(p2, sizeof p2, "analysis.moments.speed_stderr.m%d", m);
+            mom[k][m] = gr_summary_number(j, p1);
+            mom_err[k][m] = gr_summary_number(j, p2);
+            if (m == 2 && isnan(mom[k][m])) {
+                /* without the moments observable <v^2> is known only in 1D, where it equals T */
+                const cJSON *sc = j ? cJSON_GetObjectItem(cJSON_GetObjectItem(j, "scene"), "system") : NULL;
+                if (sc && gr_summary_number(sc, "dim") == 1.0) {
+                    mom[k][m] = gr_summary_number(j, "T_mean");
+                    mom_err[k][m] = gr_summary_number(j, "T_stderr");
+                }
+            }
+            fprintf(f.f, ",%.8g,%.4g", mom[k][m], mom_err[k][m]);
+            if (strcmp(status[k], "completed") != 0) { /* shown, but only completed runs are fitted */
+                mom[k][m] = NAN;
+            }
+            /* 1D neighbour separations <R^m> (3.18) from the gaps observable, for zeta_m (3.20) */
+            snprintf(p1, sizeof p1, "analysis.gaps.moments.%d", m - 1);
+            snprintf(p2, sizeof p2, "analysis.gaps.moments_stderr.%d", m - 1);
+            rmom[k][m] = gr_summary_number(j, p1);
+            rmom_err[k][m] = gr_summary_number(j, p2);
+        }
+        for (int m = 1; m <= 12; m++) {
+            fprintf(f.f, ",%.8g,%.4g", rmom[k][m], rmom_err[k][m]);
+            if (strcmp(status[k], "completed") != 0) {
+                rmom[k][m] = NAN;
+            }
+        }
+        fputc('\n', f.f);
+        cJSON_Delete(j);
+    }
+    int rc = gr_file_commit(&f, &err);
+    if (!rc && n_idx >= 0 && s->n_values[n_idx] >= 3) {
+        /* xi_m: for each combination of the other keys, average the seeds at each N and fit
+         * <|v|^m> = A N^-xi_m with the spread of the seeds (or the runs' own errors) as sigma */
+        gr_file e;
+        rc = gr_file_open(&e, s->out, "exponents.csv", &err);
+        if (!rc) {
+            fprintf(e.f, "# granule sweep: <|v|^m> = A N^-xi_m (3.8, 3.13) and <R^m> = A N^-zeta_m (3.20), per combination of the other keys\n");
+            for (int i = 0; i < s->n_keys; i++) {
+                if (i != n_idx) {
+                    fprintf(e.f, "%s,", s->key[i]);
+                }
+            }
+            fprintf(e.f, "quantity,m,exponent,exponent_error,A,chi2_red,points\n");
+            long groups = 1;
+            for (int i = 0; i < s->n_keys; i++) {
+                groups *= i == n_idx ? 1 : s->n_values[i];
+            }
+            for (long gidx = 0; gidx < groups; gidx++) {
+                /* the value index of each non-N key for this group */
+                int gv[SWEEP_MAX_KEYS];
+                long g = gidx;
+                for (int i = s->n_keys - 1; i >= 0; i--) {
+                    if (i == n_idx) {
+                        gv[i] = 0;
+                        continue;
+                    }
+                    gv[i] = (int)(g % s->n_values[i]);
+                    g /= s->n_values[i];
+                }
+                for (int q = 0; q < 2; q++)
+                for (int m = 1; m <= 12; m++) {
+                    double(*val)[13] = q == 0 ? mom : rmom, (*verr)[13] = q == 0 ? mom_err : rmom_err;
+                    double x[SWEEP_MAX_VALUES], y[SWEEP_MAX_VALUES], sig[SWEEP_MAX_VALUES];
+                    int np = 0;
+                    for (int v = 0; v < s->n_values[n_idx]; v++) {
+                        double sum = 0.0, sum2 = 0.0, esum = 0.0;
+                        int cnt = 0;
+                        for (long k = 0; k < n_points; k++) {
+                            int idx[SWEEP_MAX_KEYS] = {0}, seed;
+                            sweep_decode(s, k, idx, &seed);
+                            bool match = idx[n_idx] == v;
+                            for (int i = 0; i < s->n_keys && match; i++) {
+                                match = i == n_idx || idx[i] == gv[i];
+                            }
+                            if (match && isfinite(val[k][m])) {
+                                sum += val[k][m];
+                                sum2 += val[k][m] * val[k][m];
+                                esum += isfinite(verr[k][m]) ? verr[k][m] * verr[k][m] : 0.0;
+                                cnt++;
+                            }
+                        }
+                        if (cnt > 0) {
+                            double mean = sum / cnt;
+                            double spread = cnt > 1 ? sqrt(fmax(sum2 / cnt - mean * mean, 0.0) / (cnt - 1)) : 0.0;
+                            double own = sqrt(esum) / cnt;
+                            x[np] = atof(s->value[n_idx][v]);
+                            y[np] = mean;
+                            sig[np] = fmax(spread, own);
+                            np += sig[np] > 0.0;
+                        }
+                    }
+                    gr_fit fit;
+                    if (np >= 3 && gr_fit_power_law(x, y, sig, np, &fit, &err) == GR_OK) {
+                        for (int i = 0; i < s->n_keys; i++) {
+                            if (i != n_idx) {
+                                fprintf(e.f, "%s,", s->value[i][gv[i]]);
+                            }
+                        }
+                        fprintf(e.f, "%s,%d,%.6g,%.3g,%.6g,%.4g,%d\n", q == 0 ? "xi" : "zeta", m, -fit.p[1], fit.err[1],
+                                fit.p[0], fit.chi2_red, np);
+                    }
+                }
+            }
+            rc = gr_file_commit(&e, &err);
+            if (!rc) {
+                plot_exponents(s->out);
+            }
+        }
+    }
+    free(mom);
+    free(mom_err);
+    free(rmom);
+    free(rmom_err);
+    if (rc) {
+        cli_error("sweep: %s", err.message);
+        return EXIT_FAILED;
+    }
+    return EXIT_OK;
+}
+
+/* "3, 5-9, 12" from a sorted list of point indices (shortened past len). */
+static void ranges(const long *k, long n, char *out, size_t len)
+{
+    size_t used = 0;
+    out[0] = 0;
+    for (long i = 0; i < n && used + 32 < len; i++) {
+        long j = i;
+        while (j + 1 < n && k[j + 1] == k[j] + 1) {
+            j++;
+        }
+        used += (size_t)(j > i ? snprintf(out + used, len - used, "%s%ld-%ld", i ? ", " : "", k[i], k[j])
+                               : snprintf(out + used, len - used, "%s%ld", i ? ", " : "", k[i]));
+        i = j;
+    }
+    if (used + 32 >= len) {
+        snprintf(out + used, len - used, ", ...");
+    }
+}
+
+int sweep_collect(const sweep *s, const uint64_t *hash, long *n_bad)
+{
+    gr_error err = {0};
+    *n_bad = s->n_points;
+    if (gr_output_dir_prepare(s->out, true, &err)) {
+        cli_error("sweep: %s", err.message);
+        return EXIT_FAILED;
+    }
+    const char **status = calloc((size_t)s->n_points, sizeof *status);
+    long *missing = calloc((size_t)s->n_points, sizeof *missing), *failed = calloc((size_t)s->n_points, sizeof *failed);
+    long n_missing = 0, n_failed = 0;
+    for (long k = 0; k < s->n_points; k++) {
+        char why[800];
+        point_state st = sweep_point_state(s, k, hash[k], why, sizeof why);
+        status[k] = sweep_state_name(st);
+        if (st == POINT_COMPLETED) {
+            continue;
+        }
+        if (st == POINT_FAILED || st == POINT_UNSTABLE) {
+            failed[n_failed++] = k;
+            fprintf(stderr, "sweep: point %ld %s: %s\n", k, status[k], why);
+        } else {
+            missing[n_missing++] = k;
+            if (why[0]) {
+                fprintf(stderr, "sweep: point %ld %s: %s\n", k, status[k], why);
+            }
+        }
+    }
+    char list[600];
+    if (n_missing) {
+        ranges(missing, n_missing, list, sizeof list);
+        fprintf(stderr, "sweep: unfinished points (%ld; never run, still running or killed, or run with other settings): %s\n",
+                n_missing, list);
+    }
+    if (n_failed) {
+        ranges(failed, n_failed, list, sizeof list);
+        fprintf(stderr, "sweep: failed points (%ld): %s (errors in OUT/pNNNN/point.json; they run again on the next sweep or --point K)\n",
+                n_failed, list);
+    }
+    int rc = write_tables(s, s->n_points, status);
+    *n_bad = n_missing + n_failed;
+    free(status);
+    free(missing);
+    free(failed);
+    return rc;
+}

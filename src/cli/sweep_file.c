@@ -1,0 +1,183 @@
+/* The sweep file ([sweep], [vary], [set]) and its points: point k is one combination of the
+ * varied values and one seed, numbered from 0 with the seed fastest, then the last [vary] key. */
+#include <ini.h>
+#include <libgen.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "cli/sweep.h"
+
+static int split_list(const char *text, char out[][64], int max)
+{
+    char buf[4096];
+    snprintf(buf, sizeof buf, "%s", text);
+    int n = 0;
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ", \t", &save); tok && n < max; tok = strtok_r(NULL, ", \t", &save)) {
+        snprintf(out[n++], 64, "%s", tok);
+    }
+    return n;
+}
+
+static int on_line(void *user, const char *section, const char *name, const char *value)
+{
+    sweep *s = user;
+    if (!strcmp(section, "sweep")) {
+        if (!strcmp(name, "scene")) {
+            snprintf(s->scene, sizeof s->scene, "%s", value);
+        } else if (!strcmp(name, "out")) {
+            snprintf(s->out, sizeof s->out, "%s", value);
+        } else if (!strcmp(name, "jobs")) {
+            char *end;
+            long j = strtol(value, &end, 10);
+            if (*end || j < 1 || j > 4096) {
+                snprintf(s->error, sizeof s->error, "[sweep] jobs = %s: expected an integer in 1..4096", value);
+                return 0;
+            }
+            s->jobs = (int)j;
+        } else if (!strcmp(name, "seeds")) {
+            char v[SWEEP_MAX_VALUES][64];
+            s->n_seeds = split_list(value, v, SWEEP_MAX_VALUES);
+            for (int i = 0; i < s->n_seeds; i++) {
+                char *end;
+                s->seeds[i] = strtoull(v[i], &end, 10);
+                if (*end || v[i][0] == '-') {
+                    snprintf(s->error, sizeof s->error, "[sweep] seeds: '%.64s' is not a non-negative integer", v[i]);
+                    return 0;
+                }
+            }
+        } else {
+            snprintf(s->error, sizeof s->error, "[sweep] %s: unknown key; keys: scene, out, seeds, jobs", name);
+            return 0;
+        }
+    } else if (!strcmp(section, "vary")) {
+        if (s->n_keys == SWEEP_MAX_KEYS) {
+            snprintf(s->error, sizeof s->error, "[vary]: at most %d keys", SWEEP_MAX_KEYS);
+            return 0;
+        }
+        snprintf(s->key[s->n_keys], 128, "%s", name);
+        s->n_values[s->n_keys] = split_list(value, s->value[s->n_keys], SWEEP_MAX_VALUES);
+        if (s->n_values[s->n_keys] == 0 || !strchr(name, '.')) {
+            snprintf(s->error, sizeof s->error, "[vary] %s: expected section.key = v1, v2, ... (at most %d values)", name,
+                     SWEEP_MAX_VALUES);
+            return 0;
+        }
+        s->n_keys++;
+    } else if (!strcmp(section, "set")) {
+        if (s->n_sets == SWEEP_MAX_SETS || !strchr(name, '.')) {
+            snprintf(s->error, sizeof s->error, "[set] %s: expected section.key = value (at most %d lines)", name, SWEEP_MAX_SETS);
+            return 0;
+        }
+        snprintf(s->set[s->n_sets++], 256, "%s=%s", name, value);
+    } else {
+        snprintf(s->error, sizeof s->error, "[%s]: unknown section; sections: sweep, vary, set", section);
+        return 0;
+    }
+    return 1;
+}
+
+int sweep_load(sweep *s, const char *file)
+{
+    snprintf(s->file, sizeof s->file, "%s", file);
+    snprintf(s->out, sizeof s->out, "out/sweep");
+    int bad = ini_parse(file, on_line, s);
+    if (bad != 0 || s->error[0]) {
+        if (bad < 0) {
+            cli_error("sweep: %s: cannot open", file);
+        } else {
+            cli_error("sweep: %s:%d: %s", file, bad, s->error[0] ? s->error : "not an INI line");
+        }
+        return EXIT_REFUSED;
+    }
+    if (!s->scene[0]) {
+        cli_error("sweep: %s: [sweep] scene is missing", file);
+        return EXIT_REFUSED;
+    }
+    if (s->scene[0] != '/') { /* relative to the sweep file's folder */
+        char copy[1024], joined[1100];
+        snprintf(copy, sizeof copy, "%s", file);
+        snprintf(joined, sizeof joined, "%.500s/%.500s", dirname(copy), s->scene);
+        snprintf(s->scene, sizeof s->scene, "%.1010s", joined);
+    }
+    if (s->n_seeds == 0) {
+        s->n_seeds = 1;
+        s->seeds[0] = 1;
+    }
+    s->n_points = s->n_seeds;
+    for (int i = 0; i < s->n_keys; i++) {
+        s->n_points *= s->n_values[i];
+        if (s->n_points > SWEEP_MAX_POINTS) {
+            break;
+        }
+    }
+    if (s->n_points < 1 || s->n_points > SWEEP_MAX_POINTS) {
+        cli_error("sweep: %s: more than %ld points (keys x seeds); between 1 and %ld allowed", file, SWEEP_MAX_POINTS,
+                  SWEEP_MAX_POINTS);
+        return EXIT_REFUSED;
+    }
+    return EXIT_OK;
+}
+
+void sweep_decode(const sweep *s, long k, int idx[SWEEP_MAX_KEYS], int *seed)
+{
+    *seed = (int)(k % s->n_seeds);
+    k /= s->n_seeds;
+    for (int i = s->n_keys - 1; i >= 0; i--) {
+        idx[i] = (int)(k % s->n_values[i]);
+        k /= s->n_values[i];
+    }
+}
+
+int sweep_overrides(const sweep *s, long k, char store[][256], const char **ptrs)
+{
+    int idx[SWEEP_MAX_KEYS] = {0}, seed, m = 0;
+    sweep_decode(s, k, idx, &seed);
+    for (int i = 0; i < s->n_sets; i++) {
+        snprintf(store[m], 256, "%s", s->set[i]);
+        ptrs[m] = store[m];
+        m++;
+    }
+    for (int i = 0; i < s->n_keys; i++) {
+        snprintf(store[m], 256, "%s=%s", s->key[i], s->value[i][idx[i]]);
+        ptrs[m] = store[m];
+        m++;
+    }
+    snprintf(store[m], 256, "run.seed=%llu", s->seeds[seed]);
+    ptrs[m] = store[m];
+    return m + 1;
+}
+
+int sweep_point_scene(const sweep *s, long k, gr_scene *sc, gr_error *err)
+{
+    char store[SWEEP_MAX_OVERRIDES][256];
+    const char *ptrs[SWEEP_MAX_OVERRIDES];
+    int m = sweep_overrides(s, k, store, ptrs);
+    return gr_scene_load(sc, s->scene, ptrs, m, err);
+}
+
+void sweep_point_dir(const sweep *s, long k, char *dir, size_t len)
+{
+    snprintf(dir, len, "%.1000s/p%04ld", s->out, k);
+}
+
+void sweep_list(const sweep *s, FILE *f)
+{
+    fprintf(f, "# %s: %ld points (0 .. %ld), into %s/pNNNN; a batch array of them: --array=0-%ld (SLURM)\n", s->file,
+            s->n_points, s->n_points - 1, s->out, s->n_points - 1);
+    fprintf(f, "# point");
+    for (int i = 0; i < s->n_keys; i++) {
+        fprintf(f, " %s", s->key[i]);
+    }
+    fprintf(f, " run.seed\n");
+    for (long k = 0; k < s->n_points; k++) {
+        int idx[SWEEP_MAX_KEYS] = {0}, seed;
+        sweep_decode(s, k, idx, &seed);
+        fprintf(f, "%ld", k);
+        for (int i = 0; i < s->n_keys; i++) {
+            fprintf(f, " %s=%s", s->key[i], s->value[i][idx[i]]);
+        }
+        fprintf(f, " run.seed=%llu\n", s->seeds[seed]);
+    }
+}

@@ -1,0 +1,299 @@
+/* One sweep point: its folder OUT/pNNNN, its manifest point.json (what was run, by whom, where,
+ * when, and how it ended) and the child process that runs it. A point whose manifest says
+ * "completed" for the same scene hash, beside a completed summary.json, is finished and never
+ * rerun; anything else (missing, killed while running, failed, unstable, other settings) is run. */
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "cli/cli.h"
+#include "cli/sweep.h"
+#include "granule/run.h"
+#include "granule_commit.h"
+#include "granule_config.h"
+#include "io/files.h"
+#include "io/scene_json.h"
+#include "io/summary_read.h"
+
+void sweep_now_iso(char out[32])
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    struct tm tm;
+    gmtime_r(&ts.tv_sec, &tm);
+    char base[24];
+    strftime(base, sizeof base, "%Y-%m-%dT%H:%M:%S", &tm);
+    snprintf(out, 32, "%.19s.%03dZ", base, (int)(ts.tv_nsec / 1000000L) % 1000);
+}
+
+double sweep_monotonic(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+const char *sweep_state_name(point_state st)
+{
+    static const char *const names[] = {"missing", "running", "completed", "failed", "unstable", "stale"};
+    return names[st];
+}
+
+static cJSON *read_json(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        return NULL;
+    }
+    char *text = NULL;
+    size_t len = 0, cap = 0;
+    char buf[4096];
+    size_t got;
+    while ((got = fread(buf, 1, sizeof buf, f)) > 0) {
+        if (len + got + 1 > cap) {
+            cap = 2 * (len + got + 1);
+            char *grown = realloc(text, cap);
+            if (!grown) {
+                free(text);
+                fclose(f);
+                return NULL;
+            }
+            text = grown;
+        }
+        memcpy(text + len, buf, got);
+        len += got;
+    }
+    fclose(f);
+    if (!text) {
+        return NULL;
+    }
+    text[len] = 0;
+    cJSON *j = cJSON_Parse(text);
+    free(text);
+    return j;
+}
+
+static const char *json_string(const cJSON *j, const char *name)
+{
+    const cJSON *v = cJSON_GetObjectItem(j, name);
+    return cJSON_IsString(v) ? v->valuestring : NULL;
+}
+
+point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, size_t len)
+{
+    char dir[1100], path[1200], want[20];
+    sweep_point_dir(s, k, dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/point.json", dir);
+    snprintf(want, sizeof want, "%016llx", (unsigned long long)hash);
+    why[0] = 0;
+    cJSON *m = read_json(path);
+    const char *status = json_string(m, "status"), *have = json_string(m, "scene_hash");
+    point_state st;
+    if (!m || !status) {
+        st = POINT_MISSING;
+    } else if (!have || strcmp(have, want) != 0) {
+        snprintf(why, len, "run with other settings (scene hash %s, now %s)", have ? have : "none", want);
+        st = POINT_STALE;
+    } else if (!strcmp(status, "running")) {
+        snprintf(why, len, "started %s on %s, not finished", json_string(m, "started") ? json_string(m, "started") : "?",
+                 json_string(m, "host") ? json_string(m, "host") : "?");
+        st = POINT_RUNNING;
+    } else if (!strcmp(status, "completed")) {
+        gr_error err = {0};
+        cJSON *sum = gr_summary_read(dir, &err);
+        const char *ss = json_string(sum, "status");
+        st = ss && !strcmp(ss, "completed") ? POINT_COMPLETED : POINT_FAILED;
+        if (st == POINT_FAILED) {
+            snprintf(why, len, "point.json says completed but %s/summary.json does not", dir);
+        }
+        cJSON_Delete(sum);
+    } else {
+        const char *e = json_string(m, "error");
+        snprintf(why, len, "%s", e ? e : status);
+        st = !strcmp(status, "unstable") ? POINT_UNSTABLE : POINT_FAILED;
+    }
+    cJSON_Delete(m);
+    return st;
+}
+
+static void write_manifest(const sweep *s, long k, const char *dir, const char *runner, const sweep_child *c,
+                           const char *finished, double wall, const char *status, int code, const char *error)
+{
+    int idx[SWEEP_MAX_KEYS] = {0}, seed;
+    sweep_decode(s, k, idx, &seed);
+    char store[SWEEP_MAX_OVERRIDES][256];
+    const char *ptrs[SWEEP_MAX_OVERRIDES];
+    int n_over = sweep_overrides(s, k, store, ptrs);
+    char hash[20], host[256] = "unknown";
+    snprintf(hash, sizeof hash, "%016llx", (unsigned long long)c->hash);
+    gethostname(host, sizeof host - 1);
+
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddNumberToObject(j, "point", (double)k);
+    cJSON_AddNumberToObject(j, "points", (double)s->n_points);
+    cJSON_AddStringToObject(j, "status", status);
+    if (code >= 0) {
+        cJSON_AddNumberToObject(j, "exit_code", code);
+    }
+    if (error && error[0]) {
+        cJSON_AddStringToObject(j, "error", error);
+    }
+    cJSON_AddStringToObject(j, "sweep", s->file);
+    cJSON_AddStringToObject(j, "scene", s->scene);
+    cJSON_AddStringToObject(j, "scene_hash", hash);
+    cJSON *keys = cJSON_AddObjectToObject(j, "keys");
+    for (int i = 0; i < s->n_keys; i++) {
+        cJSON_AddStringToObject(keys, s->key[i], s->value[i][idx[i]]);
+    }
+    cJSON_AddNumberToObject(j, "seed", (double)s->seeds[seed]);
+    cJSON *over = cJSON_AddArrayToObject(j, "overrides");
+    for (int i = 0; i < n_over; i++) {
+        cJSON_AddItemToArray(over, cJSON_CreateString(ptrs[i]));
+    }
+    cJSON_AddStringToObject(j, "granule_version", GR_VERSION);
+    cJSON_AddStringToObject(j, "commit", GR_COMMIT);
+    cJSON_AddStringToObject(j, "host", host);
+    cJSON_AddStringToObject(j, "runner", runner);
+    cJSON_AddStringToObject(j, "started", c->started);
+    if (finished) {
+        cJSON_AddStringToObject(j, "finished", finished);
+        cJSON_AddNumberToObject(j, "wall_seconds", round(wall * 1000.0) / 1000.0);
+    }
+    char *text = cJSON_Print(j);
+    gr_file f;
+    gr_error err = {0};
+    if (text && !gr_file_open(&f, dir, "point.json", &err)) {
+        fputs(text, f.f);
+        fputc('\n', f.f);
+        gr_file_commit(&f, &err);
+    }
+    if (err.message[0]) {
+        fprintf(stderr, "granule sweep: point %ld: %s\n", k, err.message);
+    }
+    cJSON_free(text);
+    cJSON_Delete(j);
+}
+
+/* In the child: run point k into dir; the error message (if any) goes down fd. */
+static int child_run(const sweep *s, long k, const char *dir, int fd, pid_t parent)
+{
+    prctl(PR_SET_PDEATHSIG, SIGTERM); /* a killed sweep takes its runs with it */
+    if (getppid() != parent) {
+        return EXIT_FAILED;
+    }
+    gr_scene sc;
+    gr_error err = {0};
+    int code;
+    if (sweep_point_scene(s, k, &sc, &err)) {
+        code = EXIT_REFUSED;
+    } else {
+        snprintf(sc.out_dir, sizeof sc.out_dir, "%.1000s", dir);
+        sc.progress = false;
+        gr_run_options opt = {.force = true}; /* an unfinished point's folder is ours to redo */
+        gr_run_result res;
+        int rc = gr_run(&sc, &opt, &res, &err);
+        code = rc == GR_OK ? EXIT_OK : rc == GR_EUNSTABLE ? EXIT_UNSTABLE : rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
+    }
+    if (code != EXIT_OK) {
+        fprintf(stderr, "granule sweep: point %ld: %s\n", k, err.message);
+        size_t len = strlen(err.message);
+        if (write(fd, err.message, len) != (ssize_t)len) {
+            code = code ? code : EXIT_FAILED;
+        }
+    }
+    return code;
+}
+
+int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c, gr_error *err)
+{
+    char dir[1100];
+    sweep_point_dir(s, k, dir, sizeof dir);
+    memset(c, 0, sizeof *c);
+    c->k = k;
+    c->fd = -1;
+    gr_scene sc;
+    if (sweep_point_scene(s, k, &sc, err)) {
+        return GR_EINVAL;
+    }
+    c->hash = gr_scene_hash(&sc);
+    int rc = gr_output_dir_prepare(dir, true, err);
+    if (rc) {
+        return rc;
+    }
+    sweep_now_iso(c->started);
+    c->t0 = sweep_monotonic();
+    write_manifest(s, k, dir, runner, c, NULL, 0.0, "running", -1, NULL);
+    int p[2];
+    if (pipe(p) != 0) {
+        return GR_FAIL(err, GR_EIO, "point %ld: cannot create a pipe: %s", k, strerror(errno));
+    }
+    fflush(NULL);
+    pid_t parent = getpid();
+    pid_t pid = fork();
+    if (pid == 0) {
+        close(p[0]);
+        _exit(child_run(s, k, dir, p[1], parent));
+    }
+    close(p[1]);
+    if (pid < 0) {
+        close(p[0]);
+        return GR_FAIL(err, GR_EIO, "point %ld: cannot fork: %s", k, strerror(errno));
+    }
+    c->pid = pid;
+    c->fd = p[0];
+    return GR_OK;
+}
+
+int sweep_point_finish(const sweep *s, const char *runner, sweep_child *c, int ws)
+{
+    char msg[700] = "";
+    ssize_t got = 0, n;
+    while (c->fd >= 0 && got < (ssize_t)sizeof msg - 1 && (n = read(c->fd, msg + got, sizeof msg - 1 - (size_t)got)) > 0) {
+        got += n;
+    }
+    msg[got > 0 ? got : 0] = 0;
+    if (c->fd >= 0) {
+        close(c->fd);
+        c->fd = -1;
+    }
+    int code;
+    if (WIFEXITED(ws)) {
+        code = WEXITSTATUS(ws);
+        if (code != EXIT_OK && !msg[0]) {
+            snprintf(msg, sizeof msg, "the run exited with status %d", code);
+        }
+    } else {
+        code = EXIT_FAILED;
+        int sig = WIFSIGNALED(ws) ? WTERMSIG(ws) : 0;
+        snprintf(msg, sizeof msg, "the run was killed by signal %d (%s)", sig, strsignal(sig));
+    }
+    const char *status = code == EXIT_OK ? "completed" : code == EXIT_UNSTABLE ? "unstable" : code == EXIT_REFUSED ? "refused" : "failed";
+    char dir[1100], finished[32];
+    sweep_point_dir(s, c->k, dir, sizeof dir);
+    sweep_now_iso(finished);
+    write_manifest(s, c->k, dir, runner, c, finished, sweep_monotonic() - c->t0, status, code, msg);
+    c->pid = 0;
+    return code;
+}
+
+int sweep_point_run(const sweep *s, long k, const char *runner)
+{
+    sweep_child c;
+    gr_error err = {0};
+    if (sweep_point_start(s, k, runner, &c, &err)) {
+        fprintf(stderr, "granule sweep: point %ld: %s\n", k, err.message);
+        return err.code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
+    }
+    int ws = 0;
+    while (waitpid(c.pid, &ws, 0) < 0 && errno == EINTR) {
+    }
+    return sweep_point_finish(s, runner, &c, ws);
+}

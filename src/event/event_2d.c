@@ -1,0 +1,477 @@
+/* The 2D event-driven core: periodic square box, cell list with cell-crossing events, one
+ * calendar entry per particle (its earliest predicted event: a collision with a partner, checked
+ * lazily against the partner's collision counter, or the crossing into a neighbouring cell;
+ * "Single" scheduling, ../shared/notes/physics-algorithms.md sec. 3.1-3.2).
+ *
+ * Cells have side >= d, so a particle can only touch particles of its own and the 8 adjacent
+ * cells; a particle's membership is kept exact by crossing events, and after every change of its
+ * trajectory (collision) or cell (crossing) it is predicted again against those 9 cells. Fewer
+ * than 3 cells per side: all pairs, no crossings. Positions stay in [0, L): a crossing out of
+ * the box wraps the particle's base. Pair geometry uses the minimum image. */
+#include <stdlib.h>
+
+#include "event/event_internal.h"
+#include "event/rule.h"
+
+int gr_ev2d_alloc(gr_sim *s, gr_error *err)
+{
+    struct gr_event_state *e = s->ev;
+    const size_t n = (size_t)(e->n > 0 ? e->n : 1);
+    e->ncell = (int)floor(e->L / e->d);
+    if (e->ncell < 3) {
+        e->ncell = 1;
+    }
+    /* no more cells than about 2 per particle: bigger cells only cost a few more pair checks */
+    const int most = (int)ceil(sqrt(2.0 * e->n)) + 1;
+    if (e->ncell > most) {
+        e->ncell = most >= 3 ? most : 1;
+    }
+    e->cell = e->L / e->ncell;
+    e->partner = malloc(n * sizeof(int));
+    e->count = calloc(n, sizeof(int64_t));
+    e->ev_count = calloc(n, sizeof(int64_t));
+    e->cell_of = malloc(n * sizeof(int));
+    e->next = malloc(n * sizeof(int));
+    e->prev = malloc(n * sizeof(int));
+    e->head = malloc(sizeof(int) * (size_t)e->ncell * (size_t)e->ncell);
+    if (!e->partner || !e->count || !e->ev_count || !e->cell_of || !e->next || !e->prev || !e->head) {
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for the event-driven cell list");
+    }
+    return GR_OK;
+}
+
+static inline void cell_insert(struct gr_event_state *e, int i, int c)
+{
+    e->cell_of[i] = c;
+    e->prev[i] = -1;
+    e->next[i] = e->head[c];
+    if (e->head[c] >= 0) {
+        e->prev[e->head[c]] = i;
+    }
+    e->head[c] = i;
+}
+
+static inline void cell_remove(struct gr_event_state *e, int i)
+{
+    const int c = e->cell_of[i];
+    if (e->prev[i] >= 0) {
+        e->next[e->prev[i]] = e->next[i];
+    } else {
+        e->head[c] = e->next[i];
+    }
+    if (e->next[i] >= 0) {
+        e->prev[e->next[i]] = e->prev[i];
+    }
+}
+
+/* Relative state of j seen from i at local time t (minimum image). */
+static inline void rel(const struct gr_event_state *e, int i, int j, double t, int phase, double *rx,
+                       double *ry, double *wx, double *wy)
+{
+    double xi, vi, yi, ui, xj, vj, yj, uj;
+    gr_ev_state_x(e, i, t, phase, &xi, &vi);
+    gr_ev_state_y(e, i, t, phase, &yi, &ui);
+    gr_ev_state_x(e, j, t, phase, &xj, &vj);
+    gr_ev_state_y(e, j, t, phase, &yj, &uj);
+    *rx = xj - xi;
+    *ry = yj - yi;
+    *rx -= e->L * rint(*rx / e->L);
+    *ry -= e->L * rint(*ry / e->L);
+    *wx = vj - vi;
+    *wy = uj - ui;
+}
+
+/* First contact of the pair within one piece of constant relative acceleration A. */
+static inline double piece_contact(const struct gr_event_state *e, double rx, double ry, double wx,
+                                   double wy, double Ax, double Ay, double T)
+{
+    const double r2 = rx * rx + ry * ry, w2 = wx * wx + wy * wy, A2 = Ax * Ax + Ay * Ay;
+    const double reach = sqrt(w2) * T + 0.5 * sqrt(A2) * T * T;
+    if (r2 > (e->d + reach) * (e->d + reach)) {
+        return GR_EV_INF; /* cannot get within d during this piece */
+    }
+    const double f0 = r2 - e->d2, f1 = 2.0 * (rx * wx + ry * wy);
+    if (A2 == 0.0) {
+        return gr_ev_first_quadratic(f0, f1, w2, T);
+    }
+    const double c[5] = {f0, f1, w2 + rx * Ax + ry * Ay, wx * Ax + wy * Ay, 0.25 * A2};
+    /* f(t) >= c0 + min(c1, 0) T + min(c2, 0) T^2 + min(c3, 0) T^3 on [0, T] (c4 >= 0) */
+    if (f0 > 0.0 && f0 + T * (fmin(c[1], 0.0) + T * (fmin(c[2], 0.0) + T * fmin(c[3], 0.0))) > 0.0) {
+        return GR_EV_INF;
+    }
+    return gr_ev_first_quartic(c, T);
+}
+
+static double pair_time(const struct gr_event_state *e, int i, int j, int *phase)
+{
+    double rx, ry, wx, wy;
+    rel(e, i, j, e->now, e->phase, &rx, &ry, &wx, &wy);
+    *phase = e->phase;
+    if (e->phase == 0) {
+        double t = piece_contact(e, rx, ry, wx, wy, e->a1x[j] - e->a1x[i], e->a1y[j] - e->a1y[i], e->h - e->now);
+        if (t < GR_EV_INF) {
+            return e->now + t;
+        }
+        rel(e, i, j, e->h, 1, &rx, &ry, &wx, &wy);
+        *phase = 1;
+        t = piece_contact(e, rx, ry, wx, wy, e->a2x[j] - e->a2x[i], e->a2y[j] - e->a2y[i], e->tau - e->h);
+        return t < GR_EV_INF ? e->h + t : GR_EV_INF;
+    }
+    double t = piece_contact(e, rx, ry, wx, wy, e->a2x[j] - e->a2x[i], e->a2y[j] - e->a2y[i], e->tau - e->now);
+    return t < GR_EV_INF ? e->now + t : GR_EV_INF;
+}
+
+/* Earliest exit through the cell walls lo/hi of one coordinate within one piece. */
+static inline double piece_exit(double x, double v, double a, double lo, double hi, double T, int *face, int f_lo)
+{
+    double t_hi = gr_ev_first_quadratic(hi - x, -v, -0.5 * a, T);
+    double t_lo = gr_ev_first_quadratic(x - lo, v, 0.5 * a, T);
+    *face = t_lo < t_hi ? f_lo : f_lo + 1;
+    return t_lo < t_hi ? t_lo : t_hi;
+}
+
+static double crossing_time(const struct gr_event_state *e, int i, int *face, int *phase)
+{
+    const int c = e->cell_of[i], cx = c % e->ncell, cy = c / e->ncell;
+    const double xlo = cx * e->cell, xhi = cx + 1 == e->ncell ? e->L : (cx + 1) * e->cell;
+    const double ylo = cy * e->cell, yhi = cy + 1 == e->ncell ? e->L : (cy + 1) * e->cell;
+    double x, v, y, w;
+    int fx, fy;
+    *phase = e->phase;
+    double t0 = e->now;
+    for (int piece = e->phase; piece < 2; piece++) {
+        gr_ev_state_x(e, i, t0, piece, &x, &v);
+        gr_ev_state_y(e, i, t0, piece, &y, &w);
+        const double T = (piece == 0 ? e->h : e->tau) - t0;
+        const double ax = piece == 0 ? e->a1x[i] : e->a2x[i], ay = piece == 0 ? e->a1y[i] : e->a2y[i];
+        double tx = piece_exit(x, v, ax, xlo, xhi, T, &fx, 0);
+        double ty = piece_exit(y, w, ay, ylo, yhi, T, &fy, 2);
+        double t = tx < ty ? tx : ty;
+        if (t < GR_EV_INF) {
+            *face = tx < ty ? fx : fy;
+            *phase = piece;
+            return t0 + t;
+        }
+        t0 = e->h;
+    }
+    return GR_EV_INF;
+}
+
+/* The particle's crossing as its provisional event. */
+static void predict_crossing(struct gr_event_state *e, int i)
+{
+    double best = GR_EV_INF;
+    int who = -1, best_phase = e->phase;
+    if (e->ncell > 1) {
+        int face, ph;
+        double t = crossing_time(e, i, &face, &ph);
+        if (t < best) {
+            best = t;
+            who = -1 - face;
+            best_phase = ph;
+        }
+    }
+    e->heap.t[i] = best;
+    e->heap.ph[i] = (uint8_t)best_phase;
+    e->partner[i] = who;
+    e->ev_count[i] = 0;
+}
+
+static inline void offer(struct gr_event_state *e, int i, int j, double t, int ph)
+{
+    if (t < e->heap.t[i] || (t == e->heap.t[i] && ph < e->heap.ph[i])) {
+        e->heap.t[i] = t;
+        e->heap.ph[i] = (uint8_t)ph;
+        e->partner[i] = j;
+        e->ev_count[i] = e->count[j];
+    }
+}
+
+/* All particles at a window start: every pair is solved once and offered to both. */
+static void predict_all(struct gr_event_state *e)
+{
+    for (int i = 0; i < e->n; i++) {
+        predict_crossing(e, i);
+    }
+    if (e->no_collisions) {
+        return;
+    }
+    const int nc = e->ncell, span = nc > 1 ? 1 : 0;
+    for (int i = 0; i < e->n; i++) {
+        const int c = e->cell_of[i], cx = c % nc, cy = c / nc;
+        for (int dy = -span; dy <= span; dy++) {
+            const int yy = (cy + dy + nc) % nc;
+            for (int dx = -span; dx <= span; dx++) {
+                const int xx = (cx + dx + nc) % nc;
+                for (int j = e->head[yy * nc + xx]; j >= 0; j = e->next[j]) {
+                    if (j <= i) {
+                        continue;
+                    }
+                    int ph;
+                    double t = pair_time(e, i, j, &ph);
+                    if (t < GR_EV_INF) {
+                        offer(e, i, j, t, ph);
+                        offer(e, j, i, t, ph);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/* The particle's earliest event in the rest of the window. */
+static void predict(struct gr_event_state *e, int i)
+{
+    double best = GR_EV_INF;
+    int who = -1, best_phase = e->phase;
+    if (e->ncell > 1) {
+        int face, ph;
+        double t = crossing_time(e, i, &face, &ph);
+        if (t < best) {
+            best = t;
+            who = -1 - face;
+            best_phase = ph;
+        }
+    }
+    if (!e->no_collisions) {
+        const int nc = e->ncell, c = e->cell_of[i], cx = c % nc, cy = c / nc;
+        const int span = nc > 1 ? 1 : 0;
+        for (int dy = -span; dy <= span; dy++) {
+            const int yy = (cy + dy + nc) % nc;
+            for (int dx = -span; dx <= span; dx++) {
+                const int xx = (cx + dx + nc) % nc;
+                for (int j = e->head[yy * nc + xx]; j >= 0; j = e->next[j]) {
+                    if (j == i) {
+                        continue;
+                    }
+                    int ph;
+                    double t = pair_time(e, i, j, &ph);
+                    if (t < best || (t == best && ph < best_phase)) {
+                        best = t;
+                        who = j;
+                        best_phase = ph;
+                    }
+                }
+            }
+        }
+    }
+    e->heap.t[i] = best;
+    e->heap.ph[i] = (uint8_t)best_phase;
+    e->partner[i] = who;
+    e->ev_count[i] = who >= 0 ? e->count[who] : 0;
+}
+
+void gr_ev2d_window(gr_sim *s)
+{
+    struct gr_event_state *e = s->ev;
+    const int nc = e->ncell;
+    for (int c = 0; c < nc * nc; c++) {
+        e->head[c] = -1;
+    }
+    for (int i = 0; i < e->n; i++) {
+        /* bases are at the window start here: wrap them into the box */
+        e->bx[i] -= e->L * floor(e->bx[i] / e->L);
+        e->by[i] -= e->L * floor(e->by[i] / e->L);
+        int cx = (int)(e->bx[i] / e->cell), cy = (int)(e->by[i] / e->cell);
+        cx = cx < 0 ? 0 : cx >= nc ? nc - 1 : cx;
+        cy = cy < 0 ? 0 : cy >= nc ? nc - 1 : cy;
+        cell_insert(e, i, cy * nc + cx);
+    }
+    predict_all(e);
+    gr_heap_build(&e->heap);
+}
+
+static inline void rebase(struct gr_event_state *e, int i, double x, double y, double vx0, double vy0,
+                          double vx, double vy)
+{
+    e->injected += 0.5 * e->M * (vx0 * vx0 + vy0 * vy0 - e->bv[i] * e->bv[i] - e->bw[i] * e->bw[i]);
+    e->t0[i] = e->now;
+    e->bx[i] = x;
+    e->by[i] = y;
+    e->bv[i] = vx;
+    e->bw[i] = vy;
+    e->past[i] = (uint8_t)e->phase;
+}
+
+static int check_2d(gr_sim *s, gr_error *err)
+{
+    struct gr_event_state *e = s->ev;
+    for (int i = 0; i < e->n; i++) {
+        for (int j = i + 1; j < e->n; j++) {
+            double rx, ry, wx, wy;
+            rel(e, i, j, e->now, e->phase, &rx, &ry, &wx, &wy);
+            double r = sqrt(rx * rx + ry * ry);
+            if (r < e->d * (1.0 - 1e-9)) {
+                return GR_FAIL(err, GR_EUNSTABLE, "event check: particles %d and %d overlap by %.3g d at t = %.9g s",
+                               i, j, 1.0 - r / e->d, (double)e->win * e->tau + e->now);
+            }
+        }
+    }
+    return GR_OK;
+}
+
+static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
+{
+    struct gr_event_state *e = s->ev;
+    double xi, vi, yi, ui, xj, vj, yj, uj;
+    gr_ev_state_x(e, i, e->now, e->phase, &xi, &vi);
+    gr_ev_state_y(e, i, e->now, e->phase, &yi, &ui);
+    gr_ev_state_x(e, j, e->now, e->phase, &xj, &vj);
+    gr_ev_state_y(e, j, e->now, e->phase, &yj, &uj);
+    double rx = xj - xi, ry = yj - yi;
+    rx -= e->L * rint(rx / e->L);
+    ry -= e->L * rint(ry / e->L);
+    const double r = sqrt(rx * rx + ry * ry), nx = rx / r, ny = ry / r;
+    const double gn = (vi - vj) * nx + (ui - uj) * ny; /* > 0: approaching */
+    const double Ax = (e->phase ? e->a2x[j] - e->a2x[i] : e->a1x[j] - e->a1x[i]);
+    const double Ay = (e->phase ? e->a2y[j] - e->a2y[i] : e->a1y[j] - e->a1y[i]);
+    double push = -(Ax * nx + Ay * ny); /* > 0: the noise presses the pair together */
+    if (gn <= 0.0) {
+        if (r > e->d * (1.0 + 1e-9)) {
+            return 1; /* not a collision after all: predict again */
+        }
+        /* touching without approaching: the quartic saw the pair about to approach (a critical
+         * point at rounding distance); separate it as a pressed contact so time moves on */
+        if (Ax == 0.0 && Ay == 0.0) {
+            return 1; /* no acceleration: a touching pair that does not approach stays apart */
+        }
+        push = fmax(push, sqrt(Ax * Ax + Ay * Ay));
+    }
+    const bool elastic = gr_ev_tc_elastic(e, i, j, t_abs);
+    double pi_x = vi, pi_y = ui, pj_x = vj, pj_y = uj, de_n, de_t;
+    de_n = de_t = 0.0;
+    if (gn > 0.0) { /* a pressed pair that is not approaching only gets the floor */
+        gr_event_collide(e->M, elastic ? 1.0 : e->eps_n, elastic ? 1.0 : e->eps_t, nx, ny, &pi_x, &pi_y, &pj_x, &pj_y, &de_n, &de_t);
+    }
+    if (push > 0.0) {
+        /* contact floor (docs/event-driven.md): separate at least fast enough that the pressing
+         * noise brings the pair back no sooner than tc, so a pressed pair cannot stall time */
+        const double floor_speed = 0.5 * push * e->tc;
+        const double sep = (pj_x - pi_x) * nx + (pj_y - pi_y) * ny;
+        if (sep < floor_speed) {
+            const double k0 = pi_x * pi_x + pi_y * pi_y + pj_x * pj_x + pj_y * pj_y;
+            const double dv = 0.5 * (floor_speed - sep);
+            pi_x -= dv * nx;
+            pi_y -= dv * ny;
+            pj_x += dv * nx;
+            pj_y += dv * ny;
+            const double added = 0.5 * e->M * (pi_x * pi_x + pi_y * pi_y + pj_x * pj_x + pj_y * pj_y - k0);
+            e->injected += added;
+            e->floor_energy += added;
+            e->floors++;
+        }
+    }
+    if (s->contacts) {
+        const double L = e->L;
+        double wxi = xi - L * floor(xi / L), wyi = yi - L * floor(yi / L);
+        double wxj = xj - L * floor(xj / L), wyj = yj - L * floor(yj / L);
+        int rc = gr_ev_record(s, i, +1, t_abs, wxi, wyi, vi, ui, err);
+        rc = rc ? rc : gr_ev_record(s, j, +1, t_abs, wxj, wyj, vj, uj, err);
+        rc = rc ? rc : gr_ev_record(s, i, -1, t_abs, wxi, wyi, pi_x, pi_y, err);
+        rc = rc ? rc : gr_ev_record(s, j, -1, t_abs, wxj, wyj, pj_x, pj_y, err);
+        if (rc) {
+            return -rc;
+        }
+    }
+    rebase(e, i, xi, yi, vi, ui, pi_x, pi_y);
+    rebase(e, j, xj, yj, vj, uj, pj_x, pj_y);
+    if (elastic) {
+        e->tc_elastic++;
+    } else {
+        s->diss_n += de_n;
+        s->diss_t += de_t;
+    }
+    e->last[i] = e->last[j] = t_abs;
+    e->count[i]++;
+    e->count[j]++;
+    e->collisions++;
+    s->collisions++;
+    return 0;
+}
+
+int gr_ev2d_process(gr_sim *s, double t_limit, gr_error *err)
+{
+    struct gr_event_state *e = s->ev;
+    gr_heap *hp = &e->heap;
+    const double t_win = (double)e->win * e->tau;
+    while (hp->m > 0) {
+        const int i = hp->node[0];
+        const double t = hp->t[i];
+        if (!(t <= t_limit)) {
+            break;
+        }
+        e->now = t;
+        e->phase = hp->ph[i];
+        const int p = e->partner[i];
+        const double t_abs = t_win + t;
+        if (p >= 0) {
+            if (e->count[p] != e->ev_count[i]) {
+                e->invalid++;
+                predict(e, i);
+                gr_heap_update(hp, i);
+                continue;
+            }
+            if (t_abs == e->stall_t) {
+                if (++e->stall > 1000000) {
+                    return GR_FAIL(err, GR_EUNSTABLE, "event-driven run stalled: more than 1e6 collisions at t = %.12g s (particles %d, %d)",
+                                   t_abs, i, p);
+                }
+            } else {
+                e->stall = 0;
+                e->stall_t = t_abs;
+            }
+            int rc = collide(s, i, p, t_abs, err);
+            if (rc < 0) {
+                return -rc;
+            }
+            if (rc > 0) {
+                e->invalid++;
+            } else if (e->check) {
+                rc = check_2d(s, err);
+                if (rc) {
+                    return rc;
+                }
+            }
+            predict(e, i);
+            gr_heap_update(hp, i);
+            if (rc == 0) {
+                predict(e, p);
+                gr_heap_update(hp, p);
+            }
+            continue;
+        }
+        /* cell crossing: rebase at the wall, move to the neighbouring cell, wrap at the box edge */
+        const int face = -1 - p, nc = e->ncell;
+        double x, v, y, w;
+        gr_ev_state_x(e, i, t, e->phase, &x, &v);
+        gr_ev_state_y(e, i, t, e->phase, &y, &w);
+        rebase(e, i, x, y, v, w, v, w);
+        int c = e->cell_of[i], cx = c % nc, cy = c / nc;
+        switch (face) {
+        case 0: cx--; break;
+        case 1: cx++; break;
+        case 2: cy--; break;
+        default: cy++; break;
+        }
+        if (cx < 0) {
+            cx = nc - 1;
+            e->bx[i] += e->L;
+        } else if (cx >= nc) {
+            cx = 0;
+            e->bx[i] -= e->L;
+        }
+        if (cy < 0) {
+            cy = nc - 1;
+            e->by[i] += e->L;
+        } else if (cy >= nc) {
+            cy = 0;
+            e->by[i] -= e->L;
+        }
+        cell_remove(e, i);
+        cell_insert(e, i, cy * nc + cx);
+        e->crossings++;
+        predict(e, i);
+        gr_heap_update(hp, i);
+    }
+    return GR_OK;
+}

@@ -1,0 +1,173 @@
+/* Private state of the event-driven core (src/event/). docs/event-driven.md describes the design.
+ *
+ * Time is cut into global kick windows [k tau, (k + 1) tau). Inside window k every particle
+ * follows a known trajectory: acceleration a1 on the first half, a velocity jump J at the middle,
+ * acceleration a2 on the second half (exact free flight: a1, a2 of gr_free_flight_accelerations,
+ * J = 0; kicks: a1 = a2 = 0, J = the kick), interrupted only by collisions. A particle's trajectory
+ * is stored as its state (x, v) at its own base time t0 (local time, offset from the window
+ * start) plus `past` (1: the mid-window change is already behind the base). Only events inside
+ * the current window are predicted; at the window end everybody is advanced, new noise is drawn
+ * and everything is predicted again. Events at the same time are ordered by (time, phase, index),
+ * phase 0 meaning "before the mid-window change" at time tau / 2. */
+#ifndef GR_EVENT_INTERNAL_H
+#define GR_EVENT_INTERNAL_H
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "core/sim_internal.h"
+#include "event/event.h"
+
+#define GR_EV_INF ((double)INFINITY)
+
+/* Indexed binary min-heap over entries 0..cap-1 keyed by (t, phase, index): event.c. */
+typedef struct gr_heap {
+    int m, cap;    /* entries in the heap, entries in all */
+    bool sparse;   /* only entries with a finite time are kept in the heap */
+    int *node;  /* node[k] = entry at heap position k */
+    int *pos;   /* pos[e] = heap position of entry e */
+    double *t;  /* key of entry e */
+    uint8_t *ph; /* phase of entry e */
+} gr_heap;
+
+struct gr_event_state {
+    int n, dim;
+    double tau, h;         /* window length and its middle */
+    int64_t win;           /* current window; it starts at win * tau */
+    double now;            /* local time of the last processed event */
+    int phase;             /* phase of now */
+    double M, L, d, d2;
+    double eps_n, eps_t, tc;
+    bool exact;            /* free_flight = exact */
+    bool noise;
+    /* trajectories */
+    double *t0, *bx, *bv, *by, *bw; /* base time, x, vx, y, vy */
+    uint8_t *past;
+    double *a1x, *a2x, *jx, *a1y, *a2y, *jy;
+    double *last;          /* absolute time of each particle's last collision (TC rule) */
+    double *g;             /* scratch for normals, 2 n dim */
+    /* calendar */
+    gr_heap heap;
+    /* 2D: per-particle event (partner >= 0: collision, -1 - face: cell crossing) */
+    int *partner;
+    int64_t *count, *ev_count;
+    int ncell;             /* cells per side (1 = all pairs, no crossing events) */
+    double cell;           /* cell side */
+    int *cell_of, *head, *next, *prev;
+    /* statistics */
+    int64_t collisions, crossings, kicks, invalid, tc_elastic, floors;
+    double injected;       /* booked free-flight work up to each particle's base */
+    double floor_energy;   /* added by the contact floor (included in injected) */
+    int64_t com_every;     /* windows between centre-of-mass resets (com mode) */
+    /* test hooks */
+    bool check;            /* check for overlaps after every event */
+    bool no_collisions;    /* free flight only */
+    int64_t stall;         /* events at the same instant in a row */
+    double stall_t;
+};
+
+/* One component of particle i's trajectory at local time t in the given phase (0: first half of
+ * the window, 1: second half). */
+static inline void gr_ev_traj(const struct gr_event_state *e, double t0, double bx, double bv,
+                              int past, double a1, double a2, double j, double t, int phase,
+                              double *x, double *v)
+{
+    if (past || !phase) { /* the phase, not t, decides: t = h may be off by rounding */
+        const double a = past ? a2 : a1, s = t - t0;
+        *x = bx + s * (bv + 0.5 * a * s);
+        *v = bv + a * s;
+    } else {
+        const double s1 = e->h - t0, s2 = t - e->h;
+        const double xh = bx + s1 * (bv + 0.5 * a1 * s1);
+        const double vh = bv + a1 * s1 + j;
+        *x = xh + s2 * (vh + 0.5 * a2 * s2);
+        *v = vh + a2 * s2;
+    }
+}
+
+static inline void gr_ev_state_x(const struct gr_event_state *e, int i, double t, int phase,
+                                 double *x, double *v)
+{
+    gr_ev_traj(e, e->t0[i], e->bx[i], e->bv[i], e->past[i], e->a1x[i], e->a2x[i], e->jx[i], t,
+               phase, x, v);
+}
+
+static inline void gr_ev_state_y(const struct gr_event_state *e, int i, double t, int phase,
+                                 double *y, double *v)
+{
+    gr_ev_traj(e, e->t0[i], e->by[i], e->bw[i], e->past[i], e->a1y[i], e->a2y[i], e->jy[i], t,
+               phase, y, v);
+}
+
+/* First time in [0, T] at which f(t) = f0 + f1 t + c t^2 is <= 0 while decreasing (a contact or
+ * a crossing), or GR_EV_INF. f0 <= 0 and f1 < 0: now (an overlapping pair that approaches,
+ * Bannerman et al. 2014); f0 <= 0 and not approaching: the first time it starts to approach
+ * while still overlapping, or the next down-crossing. Roots use the cancellation-free forms
+ * (../shared/notes/physics-algorithms.md sec. 3.3). */
+static inline double gr_ev_first_quadratic(double f0, double f1, double c, double T)
+{
+    if (f0 <= 0.0) {
+        if (f1 < 0.0) {
+            return 0.0;
+        }
+        if (c >= 0.0) {
+            return GR_EV_INF;
+        }
+        const double ts = -0.5 * f1 / c; /* f' = 0 */
+        if (ts > T) {
+            return GR_EV_INF;
+        }
+        if (f0 + ts * (f1 + c * ts) <= 0.0) {
+            return ts;
+        }
+        /* positive in between: the larger root */
+        const double disc = f1 * f1 - 4.0 * c * f0;
+        const double q = -0.5 * (f1 + sqrt(disc > 0.0 ? disc : 0.0));
+        const double t = q / c;
+        return t <= T ? t : GR_EV_INF;
+    }
+    if (f0 + T * (fmin(f1, 0.0) + T * fmin(c, 0.0)) > 0.0) {
+        return GR_EV_INF; /* a lower bound of f on [0, T] stays positive */
+    }
+    if (c == 0.0) {
+        const double t = -f0 / f1;
+        return t <= T ? t : GR_EV_INF;
+    }
+    const double disc = f1 * f1 - 4.0 * c * f0;
+    if (disc < 0.0) {
+        return GR_EV_INF;
+    }
+    double t;
+    if (f1 < 0.0) {
+        t = f0 / (0.5 * (-f1 + sqrt(disc))); /* the smaller positive root */
+    } else {
+        t = -0.5 * (f1 + sqrt(disc)) / c; /* c < 0: the only positive root */
+    }
+    return t <= T ? t : GR_EV_INF;
+}
+
+/* First time in [0, T] at which the quartic f(t) = sum_k c[k] t^k is <= 0 while decreasing:
+ * monotone pieces of f are isolated by the real roots of f' (which come from those of f''),
+ * then bisection with Newton steps. event_solve.c. */
+double gr_ev_first_quartic(const double c[5], double T);
+
+/* calendar (event.c) */
+void gr_heap_build(gr_heap *h);
+void gr_heap_update(gr_heap *h, int e);
+
+/* common helpers (event.c) */
+int gr_ev_record(gr_sim *s, int i, int kind, double t, double x, double y, double vx, double vy,
+                 gr_error *err);
+/* TC rule: restitution coefficients of a collision between i and j at absolute time t */
+static inline bool gr_ev_tc_elastic(const struct gr_event_state *e, int i, int j, double t)
+{
+    return t - e->last[i] < e->tc || t - e->last[j] < e->tc;
+}
+
+/* 2D core (event_2d.c) */
+int gr_ev2d_alloc(gr_sim *s, gr_error *err);
+void gr_ev2d_window(gr_sim *s);          /* cells and all predictions at a window start */
+int gr_ev2d_process(gr_sim *s, double t_limit, gr_error *err);
+
+#endif

@@ -1,0 +1,162 @@
+/* Contact times under piecewise-constant accelerations (exact free flight, 2D): the first time
+ * in [0, T] at which f(t) = |r + w t + A t^2 / 2|^2 - d^2, a quartic, is <= 0 while decreasing.
+ * Robust root isolation instead of a closed-form quartic: the real roots of f' split [0, T] into
+ * pieces on which f is monotone (the roots of f' are found the same way from f''), a sign change
+ * on a decreasing piece brackets the contact, bisection finishes it. Returns the bracket end with
+ * f > 0 (just before contact), or 0 when the pair already overlaps and approaches. */
+#include "event/event_internal.h"
+
+static double peval(const double *c, int deg, double t)
+{
+    double y = c[deg];
+    for (int k = deg - 1; k >= 0; k--) {
+        y = y * t + c[k];
+    }
+    return y;
+}
+
+/* Safeguarded Newton on the bracket [lo, hi] whose end lo has the sign of flo: Newton steps
+ * that stay strictly inside the bracket, bisection otherwise; returns the end with lo's sign. */
+static double bisect(const double *c, int deg, double lo, double hi, double flo)
+{
+    double dc[4];
+    for (int k = 0; k < deg; k++) {
+        dc[k] = (k + 1) * c[k + 1];
+    }
+    double t = 0.5 * (lo + hi);
+    for (int it = 0; it < 200; it++) {
+        double ft = peval(c, deg, t);
+        if ((ft > 0.0) == (flo > 0.0)) {
+            lo = t;
+        } else {
+            hi = t;
+        }
+        if (ft == 0.0) {
+            return t; /* an exact root */
+        }
+        double df = peval(dc, deg - 1, t);
+        double next = df != 0.0 ? t - ft / df : 0.5 * (lo + hi);
+        if (!(next > fmin(lo, hi) && next < fmax(lo, hi)) || fabs(next - t) > 0.5 * fabs(hi - lo)) {
+            next = 0.5 * (lo + hi);
+        }
+        if (next == lo || next == hi || next == t) {
+            break;
+        }
+        t = next;
+    }
+    /* Newton may have approached from one side only: probe across the root, then finish the
+     * bracket by bisection so the returned end really lies next to the root */
+    double probe = t - 2.0 * (peval(c, deg, t) / peval(dc, deg - 1, t));
+    if (probe > fmin(lo, hi) && probe < fmax(lo, hi)) {
+        double fp = peval(c, deg, probe);
+        if ((fp > 0.0) == (flo > 0.0)) {
+            lo = probe;
+        } else {
+            hi = probe;
+        }
+    }
+    for (int it = 0; it < 200; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (mid == lo || mid == hi) {
+            break;
+        }
+        double fm = peval(c, deg, mid);
+        if ((fm > 0.0) == (flo > 0.0)) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+/* All real roots of the polynomial in (a, b), ascending; returns their number (<= deg). */
+static int roots_in(const double *c, int deg, double a, double b, double *out)
+{
+    while (deg > 0 && c[deg] == 0.0) {
+        deg--;
+    }
+    int n = 0;
+    if (deg == 1) {
+        double t = -c[0] / c[1];
+        if (t > a && t < b) {
+            out[n++] = t;
+        }
+        return n;
+    }
+    if (deg == 2) {
+        double disc = c[1] * c[1] - 4.0 * c[2] * c[0];
+        if (disc < 0.0) {
+            return 0;
+        }
+        double q = -0.5 * (c[1] + (c[1] >= 0.0 ? sqrt(disc) : -sqrt(disc)));
+        double r1 = q / c[2], r2 = q != 0.0 ? c[0] / q : r1;
+        if (r1 > r2) {
+            double tmp = r1;
+            r1 = r2;
+            r2 = tmp;
+        }
+        if (r1 > a && r1 < b) {
+            out[n++] = r1;
+        }
+        if (r2 > a && r2 < b && r2 != r1) {
+            out[n++] = r2;
+        }
+        return n;
+    }
+    if (deg < 1) {
+        return 0;
+    }
+    double dc[4], crit[4], pts[6];
+    for (int k = 0; k < deg; k++) {
+        dc[k] = (k + 1) * c[k + 1];
+    }
+    int m = roots_in(dc, deg - 1, a, b, crit);
+    pts[0] = a;
+    for (int k = 0; k < m; k++) {
+        pts[k + 1] = crit[k];
+    }
+    pts[m + 1] = b;
+    for (int k = 0; k <= m; k++) {
+        double fp = peval(c, deg, pts[k]), fq = peval(c, deg, pts[k + 1]);
+        if (fq == 0.0 && k < m) {
+            out[n++] = pts[k + 1];
+        } else if ((fp > 0.0 && fq < 0.0) || (fp < 0.0 && fq > 0.0)) {
+            out[n++] = bisect(c, deg, pts[k], pts[k + 1], fp);
+        }
+    }
+    return n;
+}
+
+double gr_ev_first_quartic(const double c[5], double T)
+{
+    int deg = 4;
+    while (deg > 0 && c[deg] == 0.0) {
+        deg--;
+    }
+    double dc[4], crit[4], pts[6];
+    for (int k = 0; k < deg; k++) {
+        dc[k] = (k + 1) * c[k + 1];
+    }
+    int m = deg > 0 ? roots_in(dc, deg - 1, 0.0, T, crit) : 0;
+    pts[0] = 0.0;
+    for (int k = 0; k < m; k++) {
+        pts[k + 1] = crit[k];
+    }
+    pts[m + 1] = T;
+    for (int k = 0; k <= m; k++) {
+        double p = pts[k], q = pts[k + 1];
+        double fp = peval(c, deg, p), fq = peval(c, deg, q);
+        bool decreasing = fq < fp || (fq == fp && deg > 0 && peval(dc, deg - 1, 0.5 * (p + q)) < 0.0);
+        if (!decreasing) {
+            continue;
+        }
+        if (fp <= 0.0) {
+            return p;
+        }
+        if (fq <= 0.0) {
+            return bisect(c, deg, p, q, fp);
+        }
+    }
+    return GR_EV_INF;
+}

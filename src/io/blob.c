@@ -1,0 +1,236 @@
+/* Binary blobs for checkpoints (see blob.h). */
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/blob.h"
+
+void gr_blob_free(gr_blob *b)
+{
+    free(b->data);
+    *b = (gr_blob){0};
+}
+
+void gr_blob_put(gr_blob *b, const void *p, size_t n)
+{
+    if (b->oom || n == 0) {
+        return;
+    }
+    if (b->len + n > b->cap) {
+        size_t cap = b->cap ? b->cap : 4096;
+        while (cap < b->len + n) {
+            cap *= 2;
+        }
+        unsigned char *d = realloc(b->data, cap);
+        if (!d) {
+            b->oom = true;
+            return;
+        }
+        b->data = d;
+        b->cap = cap;
+    }
+    memcpy(b->data + b->len, p, n);
+    b->len += n;
+}
+
+void gr_blob_put_u32(gr_blob *b, uint32_t v) { gr_blob_put(b, &v, sizeof v); }
+void gr_blob_put_u64(gr_blob *b, uint64_t v) { gr_blob_put(b, &v, sizeof v); }
+void gr_blob_put_i64(gr_blob *b, int64_t v) { gr_blob_put(b, &v, sizeof v); }
+void gr_blob_put_f64(gr_blob *b, double v) { gr_blob_put(b, &v, sizeof v); }
+
+void gr_blob_put_f64s(gr_blob *b, const double *v, int64_t n)
+{
+    gr_blob_put_i64(b, n);
+    gr_blob_put(b, v, sizeof(double) * (size_t)n);
+}
+
+void gr_blob_put_str(gr_blob *b, const char *s)
+{
+    uint64_t n = strlen(s);
+    gr_blob_put_u64(b, n);
+    gr_blob_put(b, s, n);
+}
+
+void gr_blob_put_blocking(gr_blob *b, const gr_blocking *k)
+{
+    gr_blob_put(b, k->count, sizeof k->count);
+    gr_blob_put(b, k->sum, sizeof k->sum);
+    gr_blob_put(b, k->sum2, sizeof k->sum2);
+    gr_blob_put(b, k->pending, sizeof k->pending);
+    for (int i = 0; i < GR_BLOCKING_LEVELS; i++) {
+        unsigned char c = (unsigned char)(k->has_pending[i] != 0);
+        gr_blob_put(b, &c, 1);
+    }
+}
+
+void gr_blob_put_histogram(gr_blob *b, const gr_histogram *h)
+{
+    gr_blob_put_u64(b, (uint64_t)h->nbins);
+    gr_blob_put_f64(b, h->lo);
+    gr_blob_put_f64(b, h->hi);
+    gr_blob_put(b, h->count, sizeof(double) * (size_t)h->nbins);
+    gr_blob_put_f64(b, h->below);
+    gr_blob_put_f64(b, h->above);
+    gr_blob_put_f64(b, h->total);
+}
+
+int gr_blob_ok(const gr_blob *b, gr_error *err)
+{
+    return b->oom ? GR_FAIL(err, GR_ENOMEM, "out of memory writing a checkpoint (%zu bytes so far)", b->len) : GR_OK;
+}
+
+void gr_blob_reader_init(gr_blob_reader *r, const void *data, size_t len, const char *what)
+{
+    *r = (gr_blob_reader){.data = data, .len = len, .what = what};
+}
+
+void gr_blob_fail(gr_blob_reader *r, const char *fmt, ...)
+{
+    if (r->bad) {
+        return;
+    }
+    r->bad = true;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(r->why, sizeof r->why, fmt, ap);
+    va_end(ap);
+}
+
+const void *gr_blob_view(gr_blob_reader *r, size_t n)
+{
+    if (r->bad) {
+        return NULL;
+    }
+    if (n > r->len - r->pos) {
+        gr_blob_fail(r, "ends at byte %zu of the section, %zu more bytes needed", r->len, n - (r->len - r->pos));
+        return NULL;
+    }
+    const void *p = r->data + r->pos;
+    r->pos += n;
+    return p;
+}
+
+bool gr_blob_get(gr_blob_reader *r, void *p, size_t n)
+{
+    const void *src = gr_blob_view(r, n);
+    if (!src) {
+        return false;
+    }
+    if (n) {
+        memcpy(p, src, n);
+    }
+    return true;
+}
+
+uint32_t gr_blob_get_u32(gr_blob_reader *r)
+{
+    uint32_t v = 0;
+    gr_blob_get(r, &v, sizeof v);
+    return v;
+}
+
+uint64_t gr_blob_get_u64(gr_blob_reader *r)
+{
+    uint64_t v = 0;
+    gr_blob_get(r, &v, sizeof v);
+    return v;
+}
+
+int64_t gr_blob_get_i64(gr_blob_reader *r)
+{
+    int64_t v = 0;
+    gr_blob_get(r, &v, sizeof v);
+    return v;
+}
+
+double gr_blob_get_f64(gr_blob_reader *r)
+{
+    double v = 0.0;
+    gr_blob_get(r, &v, sizeof v);
+    return v;
+}
+
+bool gr_blob_get_f64s(gr_blob_reader *r, double *v, int64_t n)
+{
+    int64_t m = gr_blob_get_i64(r);
+    if (!r->bad && m != n) {
+        gr_blob_fail(r, "holds %lld values where %lld are expected", (long long)m, (long long)n);
+    }
+    return gr_blob_get(r, v, sizeof(double) * (size_t)(r->bad ? 0 : n)) && !r->bad;
+}
+
+bool gr_blob_get_str(gr_blob_reader *r, char *s, size_t cap)
+{
+    uint64_t n = gr_blob_get_u64(r);
+    if (!r->bad && n >= cap) {
+        gr_blob_fail(r, "a string of %llu bytes exceeds the %zu allowed", (unsigned long long)n, cap - 1);
+    }
+    if (r->bad || !gr_blob_get(r, s, (size_t)n)) {
+        s[0] = 0;
+        return false;
+    }
+    s[n] = 0;
+    return true;
+}
+
+bool gr_blob_get_blocking(gr_blob_reader *r, gr_blocking *k)
+{
+    gr_blob_get(r, k->count, sizeof k->count);
+    gr_blob_get(r, k->sum, sizeof k->sum);
+    gr_blob_get(r, k->sum2, sizeof k->sum2);
+    gr_blob_get(r, k->pending, sizeof k->pending);
+    for (int i = 0; i < GR_BLOCKING_LEVELS; i++) {
+        unsigned char c = 0;
+        gr_blob_get(r, &c, 1);
+        k->has_pending[i] = c != 0;
+    }
+    return !r->bad;
+}
+
+bool gr_blob_get_histogram(gr_blob_reader *r, gr_histogram *h)
+{
+    uint64_t nb = gr_blob_get_u64(r);
+    double lo = gr_blob_get_f64(r), hi = gr_blob_get_f64(r);
+    if (!r->bad && (nb != (uint64_t)h->nbins || lo != h->lo || hi != h->hi)) {
+        gr_blob_fail(r, "histogram of %llu bins on [%g, %g) where the scene gives %d bins on [%g, %g)",
+                     (unsigned long long)nb, lo, hi, h->nbins, h->lo, h->hi);
+    }
+    if (r->bad) {
+        return false;
+    }
+    gr_blob_get(r, h->count, sizeof(double) * (size_t)h->nbins);
+    h->below = gr_blob_get_f64(r);
+    h->above = gr_blob_get_f64(r);
+    h->total = gr_blob_get_f64(r);
+    return !r->bad;
+}
+
+bool gr_blob_get_histogram_new(gr_blob_reader *r, gr_histogram *h, bool log_bins)
+{
+    memset(h, 0, sizeof *h);
+    uint64_t nb = gr_blob_get_u64(r);
+    double lo = gr_blob_get_f64(r), hi = gr_blob_get_f64(r);
+    if (r->bad) {
+        return false;
+    }
+    if (nb < 1 || nb > (r->len - r->pos) / sizeof(double)) {
+        gr_blob_fail(r, "histogram of %llu bins does not fit in the section", (unsigned long long)nb);
+        return false;
+    }
+    gr_error e = {0};
+    if (gr_histogram_init(h, (int)nb, lo, hi, log_bins, &e) != GR_OK) {
+        gr_blob_fail(r, "%s", e.message);
+        return false;
+    }
+    r->pos -= 8 + 8 + 8; /* read it again through the checked path */
+    return gr_blob_get_histogram(r, h);
+}
+
+int gr_blob_done(gr_blob_reader *r, gr_error *err)
+{
+    if (!r->bad && r->pos != r->len) {
+        gr_blob_fail(r, "%zu unexpected bytes after its end (byte %zu of %zu)", r->len - r->pos, r->pos, r->len);
+    }
+    return r->bad ? GR_FAIL(err, GR_EINVAL, "checkpoint section %s: %s", r->what, r->why) : GR_OK;
+}

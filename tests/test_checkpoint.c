@@ -1,0 +1,392 @@
+/* Tests of checkpoints (docs/checkpoints.md): the file format (src/io/checkpoint.c), the blob
+ * reader's bounds checks (src/io/blob.c), the simulation state (src/core/sim_state.c) and the
+ * observables' save/load hooks.
+ *
+ *   - a checkpoint image round-trips; every truncation and every single-byte change of it is
+ *     refused with a message (never a crash, never a silent success)
+ *   - a simulation saved after T steps and loaded into a fresh one continues bit for bit like
+ *     the original (2D with contact tracking and com noise, 1D), and gr_sim_step split into
+ *     uneven calls equals one call (what chunked stepping in the run driver relies on)
+ *   - a state saved for another N is refused naming both
+ *   - observers (every 1D and 2D observable) saved after some frames and loaded into fresh ones
+ *     accumulate exactly like the originals: their saves after further frames are byte-equal
+ *
+ * GRANULE_TEST_QUICK=1 shortens the runs. */
+#include <check.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/sim_state.h"
+#include "granule/observe.h"
+#include "granule/scene.h"
+#include "granule/sim.h"
+#include "io/blob.h"
+#include "io/checkpoint.h"
+
+static int quick(void)
+{
+    const char *v = getenv("GRANULE_TEST_QUICK");
+    return v && *v && strcmp(v, "0") != 0;
+}
+
+static void scene_of(gr_scene *s, const char *const *sets, int n)
+{
+    gr_error err = {0};
+    int rc = gr_scene_load(s, NULL, sets, n, &err);
+    ck_assert_msg(rc == GR_OK, "%s", err.message);
+}
+
+/* ---------- format ---------- */
+
+static void *image_of(size_t *len)
+{
+    static const char a[] = "first section", c[] = "third";
+    double b[4] = {1.0, -2.5, 3.25e-300, 1e300};
+    const gr_checkpoint_section sec[] = {{"AAAA", a, sizeof a}, {"BBBB", b, sizeof b}, {"CCCC", c, 0}, {"DDDD", c, sizeof c}};
+    void *img;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_checkpoint_build(0x1234abcdULL, sec, 4, &img, len, &err), GR_OK);
+    return img;
+}
+
+START_TEST(test_format_round_trip)
+{
+    size_t len;
+    unsigned char *img = image_of(&len);
+    gr_checkpoint ck;
+    gr_error err = {0};
+    ck_assert_msg(gr_checkpoint_read_buffer(img, len, &ck, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_eq(ck.n_sections, 4);
+    ck_assert_uint_eq(ck.scene_hash, 0x1234abcdULL);
+    ck_assert_uint_eq(ck.version, GR_CHECKPOINT_VERSION);
+    const gr_checkpoint_section *s = gr_checkpoint_find(&ck, "BBBB");
+    ck_assert_ptr_nonnull(s);
+    ck_assert_uint_eq(s->len, 4 * sizeof(double));
+    double b[4];
+    memcpy(b, s->data, sizeof b);
+    ck_assert(b[2] == 3.25e-300 && b[3] == 1e300);
+    ck_assert_uint_eq(gr_checkpoint_find(&ck, "CCCC")->len, 0);
+    ck_assert_str_eq(gr_checkpoint_find(&ck, "AAAA")->data, "first section");
+    ck_assert_ptr_null(gr_checkpoint_find(&ck, "EEEE"));
+    free(img);
+}
+END_TEST
+
+START_TEST(test_format_truncation_and_corruption)
+{
+    size_t len;
+    unsigned char *img = image_of(&len);
+    unsigned char *copy = malloc(len);
+    gr_checkpoint ck;
+    for (size_t cut = 0; cut < len; cut++) { /* every truncation, each in a buffer of exactly that size */
+        unsigned char *t = malloc(cut ? cut : 1);
+        memcpy(t, img, cut);
+        gr_error err = {0};
+        ck_assert_int_eq(gr_checkpoint_read_buffer(t, cut, &ck, &err), GR_EINVAL);
+        ck_assert_msg(cut < 8 ? strstr(err.message, "not a granule checkpoint") != NULL
+                              : strstr(err.message, "truncated at byte") != NULL,
+                      "cut at %zu: %s", cut, err.message);
+        free(t);
+    }
+    for (size_t i = 0; i < len; i++) { /* every byte changed, two ways */
+        for (int flip = 0; flip < 2; flip++) {
+            memcpy(copy, img, len);
+            copy[i] ^= flip ? 0xff : 0x01;
+            gr_error err = {0};
+            ck_assert_msg(gr_checkpoint_read_buffer(copy, len, &ck, &err) == GR_EINVAL && err.message[0],
+                          "byte %zu ^ %d accepted", i, flip ? 0xff : 1);
+        }
+    }
+    /* a wrong version is named as such (before the checksum) */
+    memcpy(copy, img, len);
+    copy[8] = 7;
+    gr_error err = {0};
+    gr_checkpoint_read_buffer(copy, len, &ck, &err);
+    ck_assert_msg(strstr(err.message, "format version 7") != NULL, "%s", err.message);
+    /* trailing garbage */
+    unsigned char *longer = malloc(len + 3);
+    memcpy(longer, img, len);
+    memset(longer + len, 0, 3);
+    ck_assert_int_eq(gr_checkpoint_read_buffer(longer, len + 3, &ck, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "trailing") != NULL, "%s", err.message);
+    free(longer);
+    free(copy);
+    free(img);
+}
+END_TEST
+
+START_TEST(test_blob_reader_bounds)
+{
+    gr_blob b = {0};
+    gr_blob_put_u64(&b, 3);
+    gr_blob_put_f64(&b, 1.5);
+    gr_blob_reader r;
+    gr_blob_reader_init(&r, b.data, b.len, "TEST");
+    ck_assert_uint_eq(gr_blob_get_u64(&r), 3);
+    ck_assert(gr_blob_get_f64(&r) == 1.5);
+    gr_error err = {0};
+    ck_assert_int_eq(gr_blob_done(&r, &err), GR_OK);
+    /* an array that claims 3 doubles where 1 is stored */
+    gr_blob_reader_init(&r, b.data, b.len, "TEST");
+    double v[3];
+    ck_assert(!gr_blob_get_f64s(&r, v, 3));
+    ck_assert_int_eq(gr_blob_done(&r, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "checkpoint section TEST") != NULL, "%s", err.message);
+    /* reading past the end, and leftover bytes */
+    gr_blob_reader_init(&r, b.data, 4, "TEST");
+    gr_blob_get_u64(&r);
+    ck_assert_int_eq(gr_blob_done(&r, &err), GR_EINVAL);
+    gr_blob_reader_init(&r, b.data, b.len, "TEST");
+    gr_blob_get_u64(&r);
+    ck_assert_int_eq(gr_blob_done(&r, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "unexpected bytes") != NULL, "%s", err.message);
+    /* strings longer than the destination */
+    gr_blob s = {0};
+    gr_blob_put_str(&s, "abcdefgh");
+    char small[4];
+    gr_blob_reader_init(&r, s.data, s.len, "TEST");
+    ck_assert(!gr_blob_get_str(&r, small, sizeof small));
+    ck_assert_str_eq(small, "");
+    gr_blob_free(&s);
+    gr_blob_free(&b);
+}
+END_TEST
+
+/* ---------- simulation state ---------- */
+
+static void assert_same_sim(gr_sim *a, gr_sim *b)
+{
+    gr_particles pa = gr_sim_particles(a), pb = gr_sim_particles(b);
+    ck_assert_int_eq(pa.n, pb.n);
+    size_t bytes = sizeof(double) * (size_t)pa.n;
+    ck_assert(memcmp(pa.x, pb.x, bytes) == 0);
+    ck_assert(memcmp(pa.vx, pb.vx, bytes) == 0);
+    if (pa.dim == 2) {
+        ck_assert(memcmp(pa.y, pb.y, bytes) == 0);
+        ck_assert(memcmp(pa.vy, pb.vy, bytes) == 0);
+    }
+    gr_ledger la = gr_sim_ledger(a), lb = gr_sim_ledger(b);
+    ck_assert(memcmp(&la, &lb, sizeof la) == 0);
+    ck_assert_int_eq(gr_sim_steps(a), gr_sim_steps(b));
+    ck_assert_int_eq(gr_sim_collisions(a), gr_sim_collisions(b));
+    ck_assert_int_eq(gr_sim_rebuilds(a), gr_sim_rebuilds(b));
+    int64_t na, nb;
+    const gr_contact_event *ea = gr_sim_events(a, &na), *eb = gr_sim_events(b, &nb);
+    ck_assert_int_eq(na, nb);
+    for (int64_t k = 0; k < na; k++) {
+        ck_assert(ea[k].i == eb[k].i && ea[k].kind == eb[k].kind && ea[k].t == eb[k].t && ea[k].x == eb[k].x &&
+                  ea[k].vx == eb[k].vx && ea[k].y == eb[k].y && ea[k].vy == eb[k].vy);
+    }
+}
+
+/* Step T, save, step T2 more; a fresh simulation loaded from the save and stepped T2 must agree
+ * bit for bit. */
+static void resume_case(const char *const *sets, int n_sets, bool track, int64_t T, int64_t T2)
+{
+    gr_scene sc;
+    scene_of(&sc, sets, n_sets);
+    gr_error err = {0};
+    gr_sim *a, *b;
+    ck_assert_msg(gr_sim_create(&sc, &a, &err) == GR_OK, "%s", err.message);
+    if (track) {
+        ck_assert_int_eq(gr_sim_track_contacts(a, &err), GR_OK);
+    }
+    ck_assert_msg(gr_sim_step(a, T, &err) == GR_OK, "%s", err.message);
+    gr_blob blob = {0};
+    ck_assert_msg(gr_sim_save_state(a, &blob, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_sim_step(a, T2, &err) == GR_OK, "%s", err.message);
+
+    ck_assert_msg(gr_sim_create(&sc, &b, &err) == GR_OK, "%s", err.message);
+    if (track) {
+        ck_assert_int_eq(gr_sim_track_contacts(b, &err), GR_OK);
+    }
+    gr_blob_reader r;
+    gr_blob_reader_init(&r, blob.data, blob.len, "SIM");
+    ck_assert_msg(gr_sim_load_state(b, &r, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_sim_step(b, T2, &err) == GR_OK, "%s", err.message);
+    assert_same_sim(a, b);
+    if (track) {
+        ck_assert_msg(gr_sim_collisions(a) > 0, "the case should have collisions");
+    }
+    gr_sim_free(a);
+    gr_sim_free(b);
+    gr_blob_free(&blob);
+}
+
+START_TEST(test_sim_state_2d)
+{
+    /* dense and hot enough for contacts, list rebuilds and events; com mode resets on a step
+     * schedule that the split must respect */
+    static const char *const sets[] = {"system.dim=2", "system.N=400", "system.packing_fraction=0.45",
+                                       "model.tangential=tangential_dashpot", "model.eps_n=0.6", "model.eps_t=0.6",
+                                       "noise.D=1e-7", "noise.mode=com", "noise.com_interval=1e-4",
+                                       "integrator.dt=1e-6", "placement.v0=1"};
+    int64_t T = quick() ? 300 : 1500;
+    resume_case(sets, 11, true, T, T + 37);
+    resume_case(sets, 7, false, T, T); /* symmetrised noise, steps_per_contact, no tracking */
+}
+END_TEST
+
+START_TEST(test_sim_state_1d)
+{
+    static const char *const sets[] = {"system.dim=1", "system.N=300", "system.reduced_length=0.05",
+                                       "placement.kind=uniform", "model.eps_n=0.5", "noise.D=1e-7",
+                                       "integrator.dt=1e-6", "placement.v0=1"};
+    int64_t T = quick() ? 300 : 2000;
+    resume_case(sets, 8, true, T, T + 11);
+}
+END_TEST
+
+START_TEST(test_split_steps_equal_one_call)
+{
+    static const char *const sets[] = {"system.dim=2", "system.N=300", "system.packing_fraction=0.45",
+                                       "model.tangential=tangential_dashpot", "noise.D=1e-7", "noise.mode=com",
+                                       "noise.com_interval=5e-5", "integrator.dt=1e-6", "placement.v0=1"};
+    gr_scene sc;
+    scene_of(&sc, sets, 9);
+    gr_error err = {0};
+    gr_sim *a, *b;
+    ck_assert_int_eq(gr_sim_create(&sc, &a, &err), GR_OK);
+    ck_assert_int_eq(gr_sim_create(&sc, &b, &err), GR_OK);
+    ck_assert_int_eq(gr_sim_step(a, 1000, &err), GR_OK);
+    static const int64_t parts[] = {1, 49, 50, 7, 393, 100, 400}; /* sums to 1000; crosses com resets */
+    for (size_t i = 0; i < sizeof parts / sizeof parts[0]; i++) {
+        ck_assert_int_eq(gr_sim_step(b, parts[i], &err), GR_OK);
+    }
+    assert_same_sim(a, b);
+    gr_sim_free(a);
+    gr_sim_free(b);
+}
+END_TEST
+
+START_TEST(test_sim_state_mismatch_refused)
+{
+    static const char *const s1[] = {"system.dim=2", "system.N=100", "system.packing_fraction=0.3"};
+    static const char *const s2[] = {"system.dim=2", "system.N=120", "system.packing_fraction=0.3"};
+    gr_scene a_sc, b_sc;
+    scene_of(&a_sc, s1, 3);
+    scene_of(&b_sc, s2, 3);
+    gr_error err = {0};
+    gr_sim *a, *b;
+    ck_assert_int_eq(gr_sim_create(&a_sc, &a, &err), GR_OK);
+    ck_assert_int_eq(gr_sim_create(&b_sc, &b, &err), GR_OK);
+    gr_blob blob = {0};
+    ck_assert_int_eq(gr_sim_save_state(a, &blob, &err), GR_OK);
+    gr_blob_reader r;
+    gr_blob_reader_init(&r, blob.data, blob.len, "SIM");
+    ck_assert_int_eq(gr_sim_load_state(b, &r, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "100 particles") && strstr(err.message, "120"), "%s", err.message);
+    /* every truncation of the state is refused, never read past */
+    for (size_t cut = 0; cut < blob.len; cut += 1 + blob.len / 200) {
+        gr_sim *c;
+        ck_assert_int_eq(gr_sim_create(&a_sc, &c, &err), GR_OK);
+        gr_blob_reader_init(&r, blob.data, cut, "SIM");
+        ck_assert_int_eq(gr_sim_load_state(c, &r, &err), GR_EINVAL);
+        gr_sim_free(c);
+    }
+    gr_sim_free(a);
+    gr_sim_free(b);
+    gr_blob_free(&blob);
+}
+END_TEST
+
+/* ---------- observables ---------- */
+
+/* Sample F frames of a simulation into observer A, save, load into B; F more frames into both:
+ * their saves must be byte-equal. */
+static void observer_case(const char *const *sets, int n_sets, int F)
+{
+    gr_scene sc;
+    scene_of(&sc, sets, n_sets);
+    gr_error err = {0};
+    gr_sim *sim;
+    gr_observer *a, *b;
+    ck_assert_msg(gr_sim_create(&sc, &sim, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_observer_create(&sc, &a, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_observer_create(&sc, &b, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_eq(gr_sim_track_contacts(sim, &err), GR_OK);
+    gr_blob mid = {0};
+    for (int f = 0; f < 2 * F; f++) {
+        ck_assert_msg(gr_sim_step(sim, 100, &err) == GR_OK, "%s", err.message);
+        gr_particles p = gr_sim_particles(sim);
+        int64_t n_ev;
+        const gr_contact_event *ev = gr_sim_events(sim, &n_ev);
+        for (int k = 0; k < (f < F ? 1 : 2); k++) {
+            gr_observer *o = k == 0 ? a : b;
+            ck_assert_msg(gr_observer_sample(o, &p, gr_sim_time(sim), &err) == GR_OK, "%s", err.message);
+            ck_assert_msg(!n_ev || gr_observer_events(o, ev, n_ev, &err) == GR_OK, "%s", err.message);
+        }
+        gr_sim_clear_events(sim);
+        if (f == F - 1) {
+            ck_assert_msg(gr_observer_save(a, &mid, &err) == GR_OK, "%s", err.message);
+            ck_assert_msg(gr_observer_load(b, mid.data, mid.len, &err) == GR_OK, "%s", err.message);
+            /* a truncated save is refused */
+            gr_observer *c;
+            ck_assert_int_eq(gr_observer_create(&sc, &c, &err), GR_OK);
+            ck_assert_int_eq(gr_observer_load(c, mid.data, mid.len - 1, &err), GR_EINVAL);
+            gr_observer_free(c);
+        }
+    }
+    gr_blob sa = {0}, sb = {0};
+    ck_assert_int_eq(gr_observer_save(a, &sa, &err), GR_OK);
+    ck_assert_int_eq(gr_observer_save(b, &sb, &err), GR_OK);
+    ck_assert_uint_eq(sa.len, sb.len);
+    ck_assert_msg(memcmp(sa.data, sb.data, sa.len) == 0, "observer state differs after resume");
+    ck_assert_msg(sa.len != mid.len || memcmp(sa.data, mid.data, mid.len) != 0, "the frames after the save changed nothing");
+    gr_blob_free(&mid);
+    gr_blob_free(&sa);
+    gr_blob_free(&sb);
+    gr_observer_free(a);
+    gr_observer_free(b);
+    gr_sim_free(sim);
+}
+
+START_TEST(test_observers_2d)
+{
+    /* F = 4 < pv's 8 reference frames: the save happens while pv still buffers */
+    static const char *const sets[] = {"system.dim=2", "system.N=300", "system.packing_fraction=0.45",
+                                       "noise.D=1e-7", "integrator.dt=1e-6", "placement.v0=1",
+                                       "analysis.observables=moments,freepath,postcollision,sk,pair,pv"};
+    observer_case(sets, 7, 4);
+    observer_case(sets, 7, quick() ? 9 : 12);
+}
+END_TEST
+
+START_TEST(test_observers_1d)
+{
+    static const char *const sets[] = {"system.dim=1", "system.N=200", "system.reduced_length=0.05",
+                                       "placement.kind=uniform", "noise.D=1e-7", "integrator.dt=1e-6", "placement.v0=1",
+                                       "analysis.observables=moments,freepath,postcollision,gaps,pv",
+                                       "analysis.gaps_log=true"};
+    observer_case(sets, 9, quick() ? 9 : 12);
+}
+END_TEST
+
+static Suite *suite(void)
+{
+    Suite *s = suite_create("checkpoint");
+    TCase *t = tcase_create("checkpoint");
+    tcase_set_timeout(t, 600);
+    tcase_add_test(t, test_format_round_trip);
+    tcase_add_test(t, test_format_truncation_and_corruption);
+    tcase_add_test(t, test_blob_reader_bounds);
+    tcase_add_test(t, test_sim_state_2d);
+    tcase_add_test(t, test_sim_state_1d);
+    tcase_add_test(t, test_split_steps_equal_one_call);
+    tcase_add_test(t, test_sim_state_mismatch_refused);
+    tcase_add_test(t, test_observers_2d);
+    tcase_add_test(t, test_observers_1d);
+    suite_add_tcase(s, t);
+    return s;
+}
+
+int main(void)
+{
+    SRunner *r = srunner_create(suite());
+    srunner_run_all(r, CK_NORMAL);
+    int failed = srunner_ntests_failed(r);
+    srunner_free(r);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}

@@ -1,0 +1,532 @@
+/* Tests of the event-driven integrator (src/event/, models/hard_sphere.c): the collision rule
+ * (2.1, 2.2, 2.10) and its energy loss (2.13, 2.14, Table 2.1), elastic gases that must conserve
+ * energy and never overlap (checked after every collision), free flight under the random force
+ * against the random-acceleration process (both free_flight methods), long dissipative runs
+ * that would collapse without the TC rule, the three-particle collapse, the ledger, determinism
+ * and scene validation.
+ *
+ * Particles are those of Table 2.2 (r = 1.5 mm, M = 3.53e-5 kg, D = 1e-8 N^2 s) unless a test says
+ * otherwise. Statistical tolerances are 5 sigma of the sampling distribution (fixed seeds);
+ * deterministic ones come from rounding. GRANULE_TEST_QUICK=1 shortens the long runs;
+ * GRANULE_TEST_VERBOSE=1 prints the measured quantities. */
+#include <check.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/sim_internal.h"
+#include "event/event.h"
+#include "event/event_internal.h"
+#include "event/rule.h"
+#include "granule/collide.h"
+#include "granule/model.h"
+#include "granule/scene.h"
+#include "granule/sim.h"
+
+#define MASS 3.53e-5
+#define RADIUS 1.5e-3
+#define DIAM (2.0 * RADIUS)
+#define D_NOISE 1e-8
+
+static int env_flag(const char *name)
+{
+    const char *v = getenv(name);
+    return v && v[0] && strcmp(v, "0") != 0;
+}
+static int quick(void) { return env_flag("GRANULE_TEST_QUICK"); }
+static int verbose(void) { return env_flag("GRANULE_TEST_VERBOSE"); }
+
+/* A resolved scene from overrides (every test scene goes through the real parser). */
+static gr_scene scene_of(const char *const *ov, int n)
+{
+    gr_scene sc;
+    gr_error err = {0};
+    int rc = gr_scene_load(&sc, NULL, ov, n, &err);
+    ck_assert_msg(rc == GR_OK, "scene: %s", err.message);
+    return sc;
+}
+
+static gr_sim *sim_of(const gr_scene *sc)
+{
+    gr_sim *s;
+    gr_error err = {0};
+    int rc = gr_sim_create(sc, &s, &err);
+    ck_assert_msg(rc == GR_OK, "create: %s", err.message);
+    return s;
+}
+
+static double relative_residual(gr_sim *s)
+{
+    gr_ledger l = gr_sim_ledger(s);
+    double scale = fmax(l.injected + gr_ledger_dissipated(&l), l.initial);
+    return gr_ledger_residual(&l) / scale;
+}
+
+/* ---------- the collision rule ---------- */
+
+/* Energy and momentum of the rule to rounding, for random geometries and coefficients. */
+START_TEST(test_rule_energy_momentum)
+{
+    const double M = 2.0;
+    uint64_t st = 12345;
+    for (int k = 0; k < 10000; k++) {
+        double u[8];
+        for (int q = 0; q < 8; q++) {
+            st = st * 6364136223846793005ULL + 1442695040888963407ULL;
+            u[q] = (double)(st >> 11) / 9007199254740992.0;
+        }
+        double en = u[0], et = u[1], a = 2.0 * M_PI * u[2];
+        double nx = cos(a), ny = sin(a);
+        double v1x = u[3] - 0.5, v1y = u[4] - 0.5, v2x = u[5] - 0.5, v2y = u[6] - 0.5;
+        double e0 = 0.5 * M * (v1x * v1x + v1y * v1y + v2x * v2x + v2y * v2y);
+        double px = v1x + v2x, py = v1y + v2y;
+        double gn = (v1x - v2x) * nx + (v1y - v2y) * ny, gt = -(v1x - v2x) * ny + (v1y - v2y) * nx;
+        double de_n, de_t;
+        gr_event_collide(M, en, et, nx, ny, &v1x, &v1y, &v2x, &v2y, &de_n, &de_t);
+        double e1 = 0.5 * M * (v1x * v1x + v1y * v1y + v2x * v2x + v2y * v2y);
+        ck_assert_msg(fabs(e0 - e1 - de_n - de_t) <= 1e-14 * e0, "energy: lost %.17g, booked %.17g", e0 - e1, de_n + de_t);
+        ck_assert(fabs(v1x + v2x - px) <= 1e-15 && fabs(v1y + v2y - py) <= 1e-15);
+        /* (2.2) and (2.10) */
+        double gn1 = (v1x - v2x) * nx + (v1y - v2y) * ny, gt1 = -(v1x - v2x) * ny + (v1y - v2y) * nx;
+        ck_assert(fabs(gn1 + en * gn) <= 1e-14);
+        ck_assert(fabs(gt1 - et * gt) <= 1e-14);
+    }
+}
+END_TEST
+
+/* Table 2.1 through `granule collide --model hard_sphere`: head-on 1 - eps^2 (2.13), 45 degrees
+ * 1 - (eps_n^2 + eps_t^2)/2 (2.14); the expected values are computed here, not by the library. */
+static const double EPS_PAIRS[][2] = {{0.1, 0.1}, {0.6, 0.6}, {0.9, 0.3}, {0.3, 1.0}, {1.0, 1.0}};
+
+START_TEST(test_rule_table21)
+{
+    const double en = EPS_PAIRS[_i][0], et = EPS_PAIRS[_i][1];
+    gr_collide_setup cs;
+    gr_collide_setup_default(&cs);
+    cs.normal = gr_model_find("hard_sphere");
+    ck_assert(cs.normal != NULL);
+    cs.contact.eps_n = en;
+    cs.contact.eps_t = et;
+    gr_error err = {0};
+    for (int number = 1; number <= 4; number++) {
+        gr_collision_case c;
+        ck_assert_int_eq(gr_collision_case_table21(number, cs.radius, &c, &err), GR_OK);
+        cs.dim = number == 1 ? 1 : 2;
+        gr_collide_result r;
+        ck_assert_msg(gr_collide_run(&cs, &c, &r, &err) == GR_OK, "%s", err.message);
+        /* impact normal from the exact free flight, independent of the library */
+        double rx = c.x2[0] - c.x1[0], ry = cs.dim == 2 ? c.x2[1] - c.x1[1] : 0.0;
+        double gx = c.v2[0] - c.v1[0], gy = cs.dim == 2 ? c.v2[1] - c.v1[1] : 0.0;
+        double d = 2.0 * cs.radius, b = rx * gx + ry * gy, g2 = gx * gx + gy * gy;
+        double t = (-b - sqrt(b * b - g2 * (rx * rx + ry * ry - d * d))) / g2;
+        double nx = (rx + gx * t) / d, ny = (ry + gy * t) / d;
+        double cos2 = (gx * nx + gy * ny) * (gx * nx + gy * ny) / g2;
+        double expect = (1.0 - en * en) * cos2 + (1.0 - et * et) * (1.0 - cos2);
+        if (verbose()) {
+            printf("case %d eps (%g, %g): loss %.17g expected %.17g angle %.3f\n", number, en, et, r.energy_loss, expect, r.impact_angle);
+        }
+        ck_assert_msg(fabs(r.energy_loss - expect) <= 1e-12, "case %d: loss %.17g, expected %.17g", number, r.energy_loss, expect);
+        ck_assert_msg(fabs(r.energy_loss - r.expected_loss) <= 1e-14, "case %d: library expectation %.17g", number, r.expected_loss);
+        ck_assert(r.momentum_error <= 1e-15);
+        if (number == 1) {
+            ck_assert(fabs(r.energy_loss - (1.0 - en * en)) <= 1e-15); /* (2.13) */
+        }
+    }
+    /* an exact 45-degree impact: (2.14) */
+    gr_collision_case c45 = {{0, 0}, {1, 0}, {0.5, 2.0 * cs.radius * sqrt(0.5)}, {0, 0}};
+    cs.dim = 2;
+    gr_collide_result r;
+    ck_assert(gr_collide_run(&cs, &c45, &r, &err) == GR_OK);
+    ck_assert_msg(fabs(r.energy_loss - (1.0 - 0.5 * (en * en + et * et))) <= 1e-12, "45 deg: %.17g", r.energy_loss);
+}
+END_TEST
+
+/* The contact-time solvers against a dense scan: random pair geometries under constant relative
+ * acceleration; the first time |r(t)| <= d while approaching must agree with the scan to its
+ * resolution, and no contact may be missed or invented. */
+START_TEST(test_contact_solvers)
+{
+    uint64_t st = 99;
+    int found = 0;
+    const int cases = quick() ? 2000 : 20000;
+    for (int k = 0; k < cases; k++) {
+        double u[7];
+        for (int q = 0; q < 7; q++) {
+            st = st * 6364136223846793005ULL + 1442695040888963407ULL;
+            u[q] = (double)(st >> 11) / 9007199254740992.0 - 0.5;
+        }
+        const double d = 1.0, T = 1.0;
+        double rx = 1.0 + 0.3 * u[0] + 0.3, ry = 0.6 * u[1], wx = 2.0 * u[2], wy = 2.0 * u[3];
+        double Ax = k % 2 ? 4.0 * u[4] : 0.0, Ay = k % 2 ? 4.0 * u[5] : 0.0;
+        double c[5] = {rx * rx + ry * ry - d * d, 2.0 * (rx * wx + ry * wy), wx * wx + wy * wy + rx * Ax + ry * Ay,
+                       wx * Ax + wy * Ay, 0.25 * (Ax * Ax + Ay * Ay)};
+        if (c[0] <= 0.0) {
+            continue;
+        }
+        double t = k % 2 ? gr_ev_first_quartic(c, T) : gr_ev_first_quadratic(c[0], c[1], c[2], T);
+        /* scan */
+        const int S = 10000;
+        double ts = INFINITY;
+        for (int q = 1; q <= S; q++) {
+            double x = (double)q / S * T;
+            double f = c[0] + x * (c[1] + x * (c[2] + x * (c[3] + x * c[4])));
+            if (f <= 0.0) {
+                ts = x;
+                break;
+            }
+        }
+        if (isinf(ts)) {
+            /* a miss is only allowed to be a graze within the scan resolution */
+            ck_assert_msg(isinf(t) || t > T - 1e-4 || fabs(c[0] + t * (c[1] + t * (c[2] + t * (c[3] + t * c[4])))) < 1e-6,
+                          "k %d: solver %.9g, scan none", k, t);
+        } else {
+            found++;
+            ck_assert_msg(t <= ts && t >= ts - 1.5 / S, "k %d: solver %.9g, scan %.9g", k, t, ts);
+        }
+    }
+    ck_assert(found > cases / 20);
+}
+END_TEST
+
+/* ---------- elastic gases: energy, momentum, no overlap ---------- */
+
+static void elastic_gas(int dim, int n, const char *len, int64_t min_collisions, bool check)
+{
+    char sdim[32], sn[32];
+    snprintf(sdim, sizeof sdim, "system.dim=%d", dim);
+    snprintf(sn, sizeof sn, "system.N=%d", n);
+    const char *ov[] = {sdim, sn, len, "placement.kind=uniform", "placement.v0=0.5", "model.normal=hard_sphere",
+                        "model.eps_n=1", "model.eps_t=1", "noise.D=0", "integrator.kind=event"};
+    gr_scene sc = scene_of(ov, 10);
+    gr_sim *s = sim_of(&sc);
+    gr_event_set_debug(s, check, false);
+    gr_ledger l0 = gr_sim_ledger(s);
+    double p0[2];
+    gr_sim_momentum(s, p0);
+    gr_error err = {0};
+    while (gr_sim_collisions(s) < min_collisions) {
+        int rc = gr_sim_step(s, 1000, &err);
+        ck_assert_msg(rc == GR_OK, "%s", err.message);
+    }
+    gr_ledger l1 = gr_sim_ledger(s);
+    double p1[2];
+    gr_sim_momentum(s, p1);
+    double rel = (l1.kinetic - l0.kinetic) / l0.kinetic;
+    double prms = MASS * 0.5 * sqrt((double)n);
+    if (verbose()) {
+        printf("elastic %dD N=%d: %lld collisions, dE/E = %.3g, dp = %.3g, dissipated %.3g\n", dim, n,
+               (long long)gr_sim_collisions(s), rel, hypot(p1[0] - p0[0], p1[1] - p0[1]) / prms, gr_ledger_dissipated(&l1));
+    }
+    /* rounding only: ~1e-16 per collision, random-walking */
+    ck_assert_msg(fabs(rel) < 1e-11, "energy drift %.3g over %lld collisions", rel, (long long)gr_sim_collisions(s));
+    ck_assert(hypot(p1[0] - p0[0], p1[1] - p0[1]) < 1e-12 * prms);
+    ck_assert(gr_ledger_dissipated(&l1) == 0.0);
+    gr_sim_free(s);
+}
+
+START_TEST(test_elastic_gas_1d)
+{
+    elastic_gas(1, 100, "system.reduced_length=0.3", quick() ? 30000 : 1000000, true);
+}
+END_TEST
+
+START_TEST(test_elastic_gas_2d)
+{
+    elastic_gas(2, 64, "system.packing_fraction=0.4", quick() ? 3000 : 30000, true); /* O(N^2) check per event */
+    elastic_gas(2, 1000, "system.packing_fraction=0.4", quick() ? 30000 : 1000000, false);
+}
+END_TEST
+
+/* ---------- free flight: the random-acceleration process ---------- */
+
+/* Collisions off, no initial velocity, raw noise (com mode without resets): after t = 2 tau,
+ * per component <v^2> = 2 D t / M^2, <x v> = D t^2 / M^2 and <x^2> = 2 D t^3 / (3 M^2) for exact
+ * sampling; kicks at the middle of each interval give 2 D / M^2 (t^3/3 - tau^2 t / 12) (the
+ * midpoint sum of (t - s)^2). The run is split into calls that end inside windows. */
+START_TEST(test_free_flight)
+{
+    const int dim = 1 + _i / 2;
+    const bool exact = _i % 2 == 0;
+    const int n = dim == 1 ? 20000 : 10000;
+    const double tau = 4e-5, dt = 1e-6;
+    char sdim[32], sn[32], ff[64];
+    snprintf(sdim, sizeof sdim, "system.dim=%d", dim);
+    snprintf(sn, sizeof sn, "system.N=%d", n);
+    snprintf(ff, sizeof ff, "integrator.free_flight=%s", exact ? "exact" : "kicks");
+    const char *ov[] = {sdim, sn, dim == 1 ? "system.L=1000" : "system.L=10", "placement.kind=uniform", "placement.v0=0",
+                        "model.normal=hard_sphere", "noise.mode=com", "noise.com_interval=1e9", "noise.D=1e-8",
+                        "integrator.kind=event", "integrator.dt=1e-6", "integrator.kick_interval=4e-5", ff, "run.seed=7"};
+    gr_scene sc = scene_of(ov, 14);
+    gr_sim *s = sim_of(&sc);
+    gr_event_set_debug(s, false, true);
+    double *x0 = malloc(sizeof(double) * (size_t)n * 2);
+    for (int i = 0; i < n; i++) {
+        x0[2 * i] = s->x[i];
+        x0[2 * i + 1] = dim == 2 ? s->y[i] : 0.0;
+    }
+    gr_error err = {0};
+    const int64_t steps = (int64_t)llround(2.0 * tau / dt);
+    for (int64_t k = 0; k < steps;) {
+        int64_t m = steps - k < 7 ? steps - k : 7;
+        ck_assert(gr_sim_step(s, m, &err) == GR_OK);
+        k += m;
+    }
+    const double t = gr_sim_time(s);
+    ck_assert(fabs(t - 2.0 * tau) < 1e-15);
+    double sv = 0, sv2 = 0, sx = 0, sx2 = 0, sxv = 0, sxv2 = 0;
+    const int samples = n * dim;
+    for (int i = 0; i < n; i++) {
+        for (int c = 0; c < dim; c++) {
+            double v = c == 0 ? s->vx[i] : s->vy[i];
+            double dx = (c == 0 ? s->x[i] : s->y[i]) - x0[2 * i + c];
+            if (dim == 2) {
+                dx -= sc.L * rint(dx / sc.L);
+            }
+            sv += v * v;
+            sv2 += v * v * v * v;
+            sx += dx * dx;
+            sx2 += dx * dx * dx * dx;
+            sxv += dx * v;
+            sxv2 += dx * v * dx * v;
+        }
+    }
+    const double M2 = MASS * MASS;
+    const double ev = 2.0 * D_NOISE * t / M2, exv = D_NOISE * t * t / M2;
+    const double ex = exact ? 2.0 * D_NOISE * t * t * t / (3.0 * M2) : 2.0 * D_NOISE / M2 * (t * t * t / 3.0 - tau * tau * t / 12.0);
+    double m[3] = {sv / samples, sx / samples, sxv / samples}, e[3] = {ev, ex, exv};
+    double var[3] = {sv2 / samples - m[0] * m[0], sx2 / samples - m[1] * m[1], sxv2 / samples - m[2] * m[2]};
+    const char *name[3] = {"<v^2>", "<x^2>", "<x v>"};
+    for (int q = 0; q < 3; q++) {
+        double z = (m[q] - e[q]) / sqrt(var[q] / samples);
+        if (verbose()) {
+            printf("%dD %s %s: %.6g expected %.6g (z = %.2f)\n", dim, exact ? "exact" : "kicks", name[q], m[q], e[q], z);
+        }
+        ck_assert_msg(fabs(z) < 5.0, "%dD %s %s = %.6g, expected %.6g (z = %.2f)", dim, exact ? "exact" : "kicks", name[q], m[q], e[q], z);
+    }
+    /* the ledger: injected equals the kinetic energy gained */
+    ck_assert(fabs(relative_residual(s)) < 1e-12);
+    free(x0);
+    gr_sim_free(s);
+}
+END_TEST
+
+/* Symmetrised noise (2.18): total momentum stays exactly where it started; the injection rate
+ * is d D (1 - 1/N) / M per particle. */
+START_TEST(test_symmetrised_momentum)
+{
+    const int dim = 1 + _i;
+    char sdim[32];
+    snprintf(sdim, sizeof sdim, "system.dim=%d", dim);
+    const char *ov[] = {sdim, "system.N=400", dim == 1 ? "system.reduced_length=0.4" : "system.packing_fraction=0.3",
+                        "placement.kind=uniform", "model.normal=hard_sphere", "model.eps_n=0.5", "model.eps_t=0.5",
+                        "noise.D=1e-8", "integrator.kind=event", "integrator.free_flight=exact", "run.seed=3"};
+    gr_scene sc = scene_of(ov, 11);
+    gr_sim *s = sim_of(&sc);
+    gr_error err = {0};
+    double p0[2], p1[2];
+    gr_sim_momentum(s, p0);
+    ck_assert(gr_sim_step(s, (int64_t)llround(0.05 / s->dt), &err) == GR_OK);
+    gr_sim_momentum(s, p1);
+    double scale = MASS * sqrt(gr_sim_temperature(s) * 400);
+    ck_assert_msg(hypot(p1[0] - p0[0], p1[1] - p0[1]) < 1e-12 * scale, "momentum moved by %.3g", hypot(p1[0] - p0[0], p1[1] - p0[1]) / scale);
+    ck_assert(fabs(relative_residual(s)) < 1e-12);
+    ck_assert(gr_sim_collisions(s) > 1000);
+    gr_sim_free(s);
+}
+END_TEST
+
+/* ---------- collapse: long dissipative runs ---------- */
+
+/* 1D N = 1000, L' = 1, eps = 0.001 and 2D phi = 0.53, eps_n = eps_t = 0.1: without the TC rule
+ * these collapse (the event rate diverges); with it they run for long simulated times with the
+ * ledger closing and finite state. Loop: 1D exact, 1D kicks, 2D exact, 2D kicks. */
+START_TEST(test_collapse_long)
+{
+    const int dim = 1 + _i / 2;
+    const bool exact = _i % 2 == 0;
+    const double T = dim == 1 ? (quick() ? 0.3 : 10.0) : (quick() ? 0.1 : 5.0); /* 2D 5 s: ~10 s CPU */
+    char ff[64];
+    snprintf(ff, sizeof ff, "integrator.free_flight=%s", exact ? "exact" : "kicks");
+    const char *ov1[] = {"system.dim=1", "system.N=1000", "system.reduced_length=1", "placement.kind=uniform",
+                         "model.normal=hard_sphere", "model.eps_n=0.001", "noise.D=1e-8", "integrator.kind=event", ff};
+    const char *ov2[] = {"system.dim=2", "system.N=500", "system.packing_fraction=0.53", "placement.kind=hexagonal",
+                         "model.normal=hard_sphere", "model.eps_n=0.1", "model.eps_t=0.1", "noise.D=1e-8",
+                         "integrator.kind=event", ff};
+    gr_scene sc = dim == 1 ? scene_of(ov1, 9) : scene_of(ov2, 10);
+    gr_sim *s = sim_of(&sc);
+    gr_error err = {0};
+    const int64_t chunk = (int64_t)llround(0.1 / s->dt);
+    int64_t prev = 0, max_rate = 0;
+    for (double t = 0.0; t < T - 1e-9; t += 0.1) {
+        int rc = gr_sim_step(s, chunk, &err);
+        ck_assert_msg(rc == GR_OK, "t = %g: %s", t, err.message);
+        int64_t c = gr_sim_collisions(s);
+        max_rate = c - prev > max_rate ? c - prev : max_rate;
+        prev = c;
+    }
+    gr_event_counts ec;
+    gr_event_stats(s, &ec);
+    double res = relative_residual(s);
+    if (verbose()) {
+        printf("collapse %dD %s: t = %g s, %lld collisions (max %lld per 0.1 s), %lld TC-elastic, %lld floors, %lld crossings, "
+               "floor energy %.3g of injected %.3g, T = %.4g, ledger %.3g\n", dim, exact ? "exact" : "kicks", gr_sim_time(s),
+               (long long)ec.collisions, (long long)max_rate, (long long)ec.tc_elastic, (long long)ec.floors,
+               (long long)ec.crossings, ec.floor_energy, gr_sim_ledger(s).injected, gr_sim_temperature(s), res);
+    }
+    ck_assert(isfinite(gr_sim_temperature(s)) && gr_sim_temperature(s) > 0.0);
+    ck_assert_msg(fabs(res) < 1e-9, "ledger residual %.3g", res);
+    ck_assert(ec.collisions > 0 && ec.tc_elastic > 0);
+    gr_sim_free(s);
+}
+END_TEST
+
+/* Three particles at eps = 0.05 < 7 - 4 sqrt 3 collapse (McNamara & Young 1992). Without the TC
+ * rule (tc set to 0 in the event state) the collisions pile up geometrically until the relative
+ * speeds reach rounding and the triplet moves as one (or the calendar stalls); with the default
+ * tc the sequence ends after a few collisions and the particles fly apart. */
+static void three_particles(bool tc_rule, int64_t *collisions, double *spread_speed, int *rc)
+{
+    const char *ov[] = {"system.dim=1", "system.N=3", "system.L=1", "placement.kind=uniform", "model.normal=hard_sphere",
+                        "model.eps_n=0.05", "noise.D=0", "integrator.kind=event"};
+    gr_scene sc = scene_of(ov, 8);
+    double x[3] = {0.4, 0.4 + DIAM + 1e-4, 0.4 + 2 * DIAM + 4e-4}, v[3] = {1.0, 0.0, -1.0};
+    gr_sim *s;
+    gr_error err = {0};
+    ck_assert(gr_sim_create_with_state(&sc, 3, x, NULL, v, NULL, &s, &err) == GR_OK);
+    ck_assert(s->ev->tc > 1e-6 && s->ev->tc < 1e-4); /* the matching soft contact lasts ~2e-5 s */
+    if (!tc_rule) {
+        s->ev->tc = 0.0;
+    }
+    *rc = gr_sim_step(s, (int64_t)llround(0.01 / s->dt), &err);
+    *collisions = gr_sim_collisions(s);
+    *spread_speed = s->vx[2] - s->vx[0];
+    if (*rc == GR_OK) {
+        ck_assert_msg(fabs(relative_residual(s)) < 1e-12, "ledger residual %.3g after %lld collisions",
+                      relative_residual(s), (long long)*collisions);
+    }
+    gr_sim_free(s);
+}
+
+START_TEST(test_tc_three_particles)
+{
+    int64_t c_tc, c_none;
+    double sp_tc, sp_none;
+    int rc_tc, rc_none;
+    three_particles(true, &c_tc, &sp_tc, &rc_tc);
+    three_particles(false, &c_none, &sp_none, &rc_none);
+    if (verbose()) {
+        printf("three particles: TC %lld collisions, spread %.3g m/s; no TC %lld collisions, spread %.3g m/s (rc %d)\n",
+               (long long)c_tc, sp_tc, (long long)c_none, sp_none, rc_none);
+        fflush(stdout);
+    }
+    ck_assert_int_eq(rc_tc, GR_OK);
+    ck_assert(c_tc >= 3 && c_tc < 20);
+    ck_assert(sp_tc > 0.05); /* they fly apart with a finite relative speed */
+    /* without TC: a geometric sequence of collisions until the relative speeds reach rounding */
+    ck_assert(rc_none != GR_OK || (c_none >= 20 && fabs(sp_none) < 1e-9));
+}
+END_TEST
+
+/* ---------- determinism, validation ---------- */
+
+START_TEST(test_split_calls_identical)
+{
+    const int dim = 1 + _i;
+    char sdim[32];
+    snprintf(sdim, sizeof sdim, "system.dim=%d", dim);
+    const char *ov[] = {sdim, "system.N=200", dim == 1 ? "system.reduced_length=0.2" : "system.packing_fraction=0.4",
+                        "placement.kind=uniform", "model.normal=hard_sphere", "model.eps_n=0.3", "noise.D=1e-8",
+                        "integrator.kind=event", "integrator.kick_interval=3.3e-5"};
+    gr_scene sc = scene_of(ov, 9);
+    gr_sim *a = sim_of(&sc), *b = sim_of(&sc);
+    gr_error err = {0};
+    ck_assert(gr_sim_step(a, 30000, &err) == GR_OK);
+    for (int k = 0; k < 30000; k++) {
+        ck_assert(gr_sim_step(b, 1, &err) == GR_OK);
+    }
+    for (int i = 0; i < a->n; i++) {
+        ck_assert(a->x[i] == b->x[i] && a->vx[i] == b->vx[i]);
+        if (dim == 2) {
+            ck_assert(a->y[i] == b->y[i] && a->vy[i] == b->vy[i]);
+        }
+    }
+    ck_assert_msg(gr_sim_collisions(a) == gr_sim_collisions(b) && gr_sim_collisions(a) > 0, "collisions %lld vs %lld",
+                  (long long)gr_sim_collisions(a), (long long)gr_sim_collisions(b));
+    ck_assert(gr_sim_events_processed(a) > gr_sim_collisions(a));
+    ck_assert(strncmp(gr_sim_kernel(a), "event-", 6) == 0);
+    gr_sim_free(a);
+    gr_sim_free(b);
+}
+END_TEST
+
+static void refused(const char *const *ov, int n, const char *needle)
+{
+    gr_scene sc;
+    gr_error err = {0};
+    int rc = gr_scene_load(&sc, NULL, ov, n, &err);
+    if (rc == GR_OK) {
+        gr_sim *s;
+        rc = gr_sim_create(&sc, &s, &err);
+        if (rc == GR_OK) {
+            gr_sim_free(s);
+        }
+    }
+    ck_assert_msg(rc != GR_OK, "accepted: %s", ov[n - 1]);
+    ck_assert_msg(strstr(err.message, needle), "message '%s' lacks '%s'", err.message, needle);
+}
+
+START_TEST(test_validation)
+{
+    const char *a[] = {"integrator.kind=event"};
+    refused(a, 1, "hard_sphere");
+    const char *b[] = {"model.normal=hard_sphere"};
+    refused(b, 1, "kind = event");
+    const char *c[] = {"model.normal=hard_sphere", "integrator.kind=event", "model.tangential=tangential_dashpot"};
+    refused(c, 3, "tangential");
+    const char *d[] = {"model.normal=hard_sphere", "integrator.kind=event", "model.eps_n=0"};
+    refused(d, 3, "eps_n");
+    const char *e[] = {"model.normal=hard_sphere", "integrator.kind=hybrid"};
+    refused(e, 2, "kind = event");
+}
+END_TEST
+
+static Suite *event_suite(void)
+{
+    Suite *s = suite_create("event");
+    TCase *tr = tcase_create("rule");
+    tcase_add_test(tr, test_rule_energy_momentum);
+    tcase_add_test(tr, test_contact_solvers);
+    tcase_add_loop_test(tr, test_rule_table21, 0, (int)(sizeof EPS_PAIRS / sizeof EPS_PAIRS[0]));
+    tcase_add_test(tr, test_validation);
+    suite_add_tcase(s, tr);
+    TCase *te = tcase_create("elastic");
+    tcase_set_timeout(te, 600);
+    tcase_add_test(te, test_elastic_gas_1d);
+    tcase_add_test(te, test_elastic_gas_2d);
+    suite_add_tcase(s, te);
+    TCase *tn = tcase_create("noise");
+    tcase_set_timeout(tn, 600);
+    tcase_add_loop_test(tn, test_free_flight, 0, 4);
+    tcase_add_loop_test(tn, test_symmetrised_momentum, 0, 2);
+    tcase_add_loop_test(tn, test_split_calls_identical, 0, 2);
+    suite_add_tcase(s, tn);
+    TCase *t3 = tcase_create("tc");
+    tcase_add_test(t3, test_tc_three_particles);
+    suite_add_tcase(s, t3);
+    TCase *tc = tcase_create("collapse");
+    tcase_set_timeout(tc, 600);
+    tcase_add_loop_test(tc, test_collapse_long, 0, 4);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+int main(void)
+{
+    SRunner *sr = srunner_create(event_suite());
+    srunner_run_all(sr, CK_NORMAL);
+    int failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}

@@ -1,0 +1,477 @@
+/* Tests of the hybrid integrator (src/hybrid/, docs/hybrid.md): exact free flight, the energy
+ * ledger and momentum, independence of the result from the active set (huge margin, rollbacks),
+ * equality with Verlet without noise, agreement with Verlet on the 1D RFM scene, 2D, contact
+ * events, and refusals.
+ *
+ * Scenes are the files of docs/scenes with overrides (GRANULE_SOURCE_DIR). Fixed seeds throughout;
+ * statistical tolerances are z-scores (|z| < 4.5 for single moments, combined block-averaging
+ * errors for the agreement test). GRANULE_TEST_QUICK=1 (ASan) shrinks the runs;
+ * GRANULE_TEST_VERBOSE=1 prints the measured numbers. */
+#define _POSIX_C_SOURCE 200809L
+#include <check.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/sim_internal.h"
+#include "granule/analysis.h"
+#include "granule/scene.h"
+#include "granule/sim.h"
+#include "hybrid/hybrid.h"
+
+static int env_flag(const char *name)
+{
+    const char *v = getenv(name);
+    return v && *v && strcmp(v, "0") != 0;
+}
+
+static int quick(void) { return env_flag("GRANULE_TEST_QUICK"); }
+
+#define VERBOSE(...)                                                                               \
+    do {                                                                                           \
+        if (env_flag("GRANULE_TEST_VERBOSE")) {                                                    \
+            fprintf(stderr, __VA_ARGS__);                                                          \
+        }                                                                                          \
+    } while (0)
+
+/* docs/scenes/NAME with --set style overrides (NULL-terminated). */
+static gr_scene load(const char *name, const char *const *over)
+{
+    const char *src = getenv("GRANULE_SOURCE_DIR");
+    char path[2048];
+    snprintf(path, sizeof path, "%s/docs/scenes/%s", src ? src : ".", name);
+    int n = 0;
+    while (over[n]) {
+        n++;
+    }
+    gr_scene sc;
+    gr_error err = {0};
+    int rc = gr_scene_load(&sc, path, over, n, &err);
+    ck_assert_msg(rc == GR_OK, "scene %s: %s", path, err.message);
+    return sc;
+}
+
+static gr_sim *create(const gr_scene *sc)
+{
+    gr_sim *s = NULL;
+    gr_error err = {0};
+    int rc = gr_sim_create(sc, &s, &err);
+    ck_assert_msg(rc == GR_OK, "gr_sim_create: %s", err.message);
+    return s;
+}
+
+static void step(gr_sim *s, int64_t n)
+{
+    gr_error err = {0};
+    int rc = gr_sim_step(s, n, &err);
+    ck_assert_msg(rc == GR_OK, "gr_sim_step: %s", err.message);
+}
+
+/* ---- free flight: no contact possible ------------------------------------------------------ */
+
+/* N particles 1 m apart on a ring (1D) starting at rest, raw noise (com mode with resets far
+ * beyond the run). After K windows of m steps each particle's (v, x - x0) must have exactly the
+ * law of K m Verlet kicks: Var v = 2 D t / M^2, Var x = (2 D dt^3 / M^2) n(n+1)(2n+1)/6 with
+ * n = K m (-> 2 D t^3 / (3 M^2)), Cov = (2 D dt^2 / M^2) n(n+1)/2. Checked by z-scores of the
+ * sample moments over N particles; free_flight = kicks likewise with its own variance. */
+static void free_moments(int kicks)
+{
+    const int N = quick() ? 2000 : 20000;
+    char nb[64];
+    snprintf(nb, sizeof nb, "system.N=%d", N);
+    const char *over[] = {nb, "system.reduced_length=20000", "placement.v0=0", "noise.mode=com",
+                          "noise.com_interval=1000", "integrator.kind=hybrid",
+                          "integrator.kick_interval=1e-4", kicks ? "integrator.free_flight=kicks" : "integrator.free_flight=exact",
+                          NULL};
+    gr_scene sc = load("rfm-1d.ini", over);
+    gr_sim *s = create(&sc);
+    double *x0 = malloc(sizeof(double) * N);
+    memcpy(x0, s->x, sizeof(double) * N);
+    const int64_t n = 2350; /* 23 full windows of 100 steps and one of 50 */
+    step(s, 1000);
+    step(s, 1350);
+    gr_hybrid_stats st;
+    ck_assert(gr_sim_hybrid_stats(s, &st));
+    ck_assert_int_eq(st.windows, 10 + 14);
+    ck_assert_int_eq(st.rollbacks, 0);
+    ck_assert_msg(st.active_fraction == 0.0, "active fraction %g in a dilute gas", st.active_fraction);
+    const double dt = s->dt, M = s->mass, D = sc.D, t = n * dt;
+    const double dn = (double)n;
+    double vv = 2.0 * D * t / (M * M), xx, xv;
+    if (!kicks) {
+        xx = 2.0 * D * dt * dt * dt / (M * M) * dn * (dn + 1.0) * (2.0 * dn + 1.0) / 6.0;
+        xv = 2.0 * D * dt * dt / (M * M) * dn * (dn + 1.0) / 2.0;
+    } else { /* one kick per window at its middle step: window w of m steps kicks at step w m + m/2 */
+        xx = xv = 0.0;
+        const int64_t ms[2] = {100, 50};
+        int64_t t0 = 0;
+        for (int w = 0; w < 24; w++) {
+            const int64_t m = w < 23 ? ms[0] : ms[1];
+            const double var = 2.0 * D * m * dt / (M * M), lever = (double)(n - (t0 + m / 2)) * dt;
+            xx += var * lever * lever;
+            xv += var * lever;
+            t0 += m;
+        }
+    }
+    double mv = 0.0, mx = 0.0, mc = 0.0, m4v = 0.0, m4x = 0.0;
+    for (int i = 0; i < N; i++) {
+        const double v = s->vx[i], x = s->x[i] - x0[i];
+        mv += v * v;
+        mx += x * x;
+        mc += x * v;
+        m4v += v * v * v * v;
+        m4x += x * x * x * x;
+    }
+    mv /= N;
+    mx /= N;
+    mc /= N;
+    /* Gaussian: Var(v^2) = 2 vv^2, Var(x^2) = 2 xx^2, Var(xv) = xx vv + xv^2 */
+    const double zv = (mv - vv) / sqrt(2.0 * vv * vv / N), zx = (mx - xx) / sqrt(2.0 * xx * xx / N);
+    const double zc = (mc - xv) / sqrt((xx * vv + xv * xv) / N);
+    VERBOSE("free flight (%s): <v^2> %.5g vs %.5g (z %.2f), <x^2> %.5g vs %.5g (z %.2f), <xv> %.5g vs %.5g (z %.2f); "
+            "continuum 2Dt^3/3M^2 = %.5g\n",
+            kicks ? "kicks" : "exact", mv, vv, zv, mx, xx, zx, mc, xv, zc, 2.0 * D * t * t * t / (3.0 * M * M));
+    ck_assert_msg(fabs(zv) < 4.5, "<v^2> %g vs %g: z = %g", mv, vv, zv);
+    ck_assert_msg(fabs(zx) < 4.5, "<x^2> %g vs %g: z = %g", mx, xx, zx);
+    ck_assert_msg(fabs(zc) < 4.5, "<xv> %g vs %g: z = %g", mc, xv, zc);
+    /* the ledger: injected energy is exactly the kinetic energy gained (no contacts) */
+    gr_ledger l = gr_sim_ledger(s);
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) < 1e-9 * l.injected, "free-flight ledger residual %g of %g",
+                  gr_ledger_residual(&l), l.injected);
+    free(x0);
+    gr_sim_free(s);
+}
+
+START_TEST(test_free_flight_exact) { free_moments(0); }
+END_TEST
+
+START_TEST(test_free_flight_kicks) { free_moments(1); }
+END_TEST
+
+/* ---- ledger and momentum on the 1D RFM scene ----------------------------------------------- */
+
+START_TEST(test_ledger_momentum_1d)
+{
+    const char *over[] = {quick() ? "system.N=200" : "system.N=1000", quick() ? "system.reduced_length=0.2" : "system.reduced_length=1",
+                          "integrator.kind=hybrid", "integrator.kick_interval=3e-5", NULL};
+    gr_scene sc = load("rfm-1d.ini", over);
+    gr_sim *s = create(&sc);
+    const int64_t steps = quick() ? 30000 : 200000;
+    step(s, steps / 2);
+    step(s, steps / 2 + 7); /* a span that is not a multiple of the window */
+    gr_ledger l = gr_sim_ledger(s);
+    const double rel = gr_ledger_residual(&l) / l.injected;
+    double p[2];
+    gr_sim_momentum(s, p);
+    const double pscale = s->mass * sqrt(gr_sim_temperature(s)) * s->n;
+    gr_hybrid_stats st;
+    gr_sim_hybrid_stats(s, &st);
+    VERBOSE("1D ledger: residual %.3g of injected %.4g J; momentum %.3g (scale %.3g); "
+            "active %.3f, rollbacks %lld, collisions %lld\n",
+            rel, l.injected, p[0], pscale, st.active_fraction, (long long)st.rollbacks, (long long)gr_sim_collisions(s));
+    /* the same scene with Verlet: the residual is the springs' O(dt^2) energy error, which the
+     * hybrid shares (same steps for every contact); every other energy change is booked exactly */
+    const char *ov[] = {over[0], over[1], NULL};
+    gr_scene scv = load("rfm-1d.ini", ov);
+    gr_sim *v = create(&scv);
+    step(v, steps + 7);
+    gr_ledger lv = gr_sim_ledger(v);
+    const double rel_v = gr_ledger_residual(&lv) / lv.injected;
+    gr_sim_free(v);
+    VERBOSE("1D ledger: Verlet residual %.3g of injected %.4g J\n", rel_v, lv.injected);
+    ck_assert_int_eq(gr_sim_steps(s), steps + 7);
+    ck_assert_msg(gr_sim_collisions(s) > 1000, "only %lld collisions", (long long)gr_sim_collisions(s));
+    ck_assert_msg(fabs(rel) < 1.25 * fabs(rel_v) + 2e-4, "ledger residual %g of the injected energy (Verlet %g)", rel, rel_v);
+    ck_assert_msg(fabs(p[0]) < 1e-12 * pscale, "momentum %g (scale %g)", p[0], pscale);
+    ck_assert_msg(st.active_fraction > 0.0 && st.active_fraction < 1.0, "active fraction %g", st.active_fraction);
+    gr_sim_free(s);
+}
+END_TEST
+
+START_TEST(test_ledger_momentum_2d)
+{
+    const char *over[] = {quick() ? "system.N=300" : "system.N=1000", quick() ? "system.L=0.0775" : "system.L=0.1414",
+                          "integrator.kind=hybrid", "integrator.kick_interval=2e-5", NULL};
+    gr_scene sc = load("steady-2d.ini", over);
+    gr_sim *s = create(&sc);
+    const int64_t steps = quick() ? 3000 : 20000;
+    step(s, steps);
+    gr_ledger l = gr_sim_ledger(s);
+    const double rel = gr_ledger_residual(&l) / l.injected;
+    double p[2];
+    gr_sim_momentum(s, p);
+    const double pscale = s->mass * sqrt(gr_sim_temperature(s)) * s->n;
+    gr_hybrid_stats st;
+    gr_sim_hybrid_stats(s, &st);
+    VERBOSE("2D ledger: residual %.3g of injected %.4g J; momentum (%.3g, %.3g) (scale %.3g); active %.3f, rollbacks %lld, "
+            "collisions %lld\n",
+            rel, l.injected, p[0], p[1], pscale, st.active_fraction, (long long)st.rollbacks, (long long)gr_sim_collisions(s));
+    ck_assert_msg(gr_sim_collisions(s) > 100, "only %lld collisions", (long long)gr_sim_collisions(s));
+    ck_assert_msg(fabs(rel) < 3e-3, "ledger residual %g of the injected energy", rel);
+    ck_assert_msg(fabs(p[0]) < 1e-12 * pscale && fabs(p[1]) < 1e-12 * pscale, "momentum (%g, %g)", p[0], p[1]);
+    gr_sim_free(s);
+}
+END_TEST
+
+/* ---- the active set does not change the result --------------------------------------------- */
+
+/* Largest |x_a - x_b| over particles. */
+static double max_diff(const gr_sim *a, const gr_sim *b)
+{
+    double w = 0.0;
+    for (int i = 0; i < a->n; i++) {
+        double dx = fabs(a->x[i] - b->x[i]);
+        if (a->dim == 2) { /* periodic box: minimum image per component */
+            const double dy = fabs(a->y[i] - b->y[i]);
+            dx = fmax(fmin(dx, a->L - dx), fmin(dy, a->L - dy));
+        }
+        w = dx > w ? dx : w;
+    }
+    return w;
+}
+
+/* Without noise a hybrid run whose every particle is active is Verlet, operation for operation:
+ * same forces, same kick-drift-kick arithmetic. With the normal margin free particles leap
+ * (x + v tau instead of m additions of v dt), which only changes rounding. */
+START_TEST(test_no_noise_equals_verlet)
+{
+    const char *ov[] = {"system.N=200", "system.reduced_length=0.2", "placement.v0=1", "noise.mode=none", NULL};
+    const char *oh[] = {"system.N=200", "system.reduced_length=0.2", "placement.v0=1", "noise.mode=none",
+                        "integrator.kind=hybrid", "integrator.kick_interval=2e-5", NULL};
+    gr_scene sv = load("rfm-1d.ini", ov), sh = load("rfm-1d.ini", oh);
+    gr_sim *v = create(&sv), *all = create(&sh), *h = create(&sh);
+    gr_hybrid_set_margin(all, 1e9);
+    const int64_t n = quick() ? 3000 : 10000;
+    step(v, n);
+    step(all, n - 13);
+    step(all, 13);
+    step(h, n);
+    const double d_all = max_diff(v, all), d_h = max_diff(v, h);
+    gr_ledger lv = gr_sim_ledger(v), la = gr_sim_ledger(all);
+    gr_hybrid_stats st;
+    gr_sim_hybrid_stats(h, &st);
+    VERBOSE("no noise: |x_verlet - x_all_active| = %.3g m, |x_verlet - x_hybrid| = %.3g m; collisions %lld / %lld / %lld; "
+            "hybrid active %.3f\n",
+            d_all, d_h, (long long)gr_sim_collisions(v), (long long)gr_sim_collisions(all), (long long)gr_sim_collisions(h),
+            st.active_fraction);
+    ck_assert_msg(gr_sim_collisions(v) > 50, "only %lld collisions", (long long)gr_sim_collisions(v));
+    ck_assert_msg(d_all == 0.0, "all-active hybrid differs from Verlet by %g m", d_all);
+    ck_assert_int_eq(gr_sim_collisions(all), gr_sim_collisions(v));
+    ck_assert_msg(fabs(la.dissipated_normal - lv.dissipated_normal) <= 1e-12 * lv.dissipated_normal,
+                  "dissipation %.17g vs %.17g", la.dissipated_normal, lv.dissipated_normal);
+    ck_assert_msg(d_h < 1e-9, "hybrid differs from Verlet by %g m", d_h);
+    ck_assert_int_eq(gr_sim_collisions(h), gr_sim_collisions(v));
+    ck_assert_msg(st.active_fraction < 0.9, "active fraction %g", st.active_fraction);
+    gr_sim_free(v);
+    gr_sim_free(all);
+    gr_sim_free(h);
+}
+END_TEST
+
+/* With noise, each particle's noise path in a window is fixed by the counters whether it is
+ * leaped or stepped (bridged kicks), so the normal margin, a huge margin (everybody active) and
+ * a tiny one (c = 0.2 in 1D, 0 in 2D: many misses, each redone after a rollback) give the same
+ * trajectory up to rounding. */
+static void same_path(const char *scene, const char *const *over, int64_t n, double tol, double tiny_c)
+{
+    gr_scene sc = load(scene, over);
+    gr_sim *all = create(&sc), *h = create(&sc), *tiny = create(&sc);
+    gr_hybrid_set_margin(all, 1e9);
+    gr_hybrid_set_margin(tiny, tiny_c);
+    step(all, n);
+    step(h, n);
+    step(tiny, n);
+    gr_hybrid_stats sa, sh, st;
+    gr_sim_hybrid_stats(all, &sa);
+    gr_sim_hybrid_stats(h, &sh);
+    gr_sim_hybrid_stats(tiny, &st);
+    const double d_h = max_diff(all, h), d_t = max_diff(all, tiny);
+    VERBOSE("%s: |all - normal| %.3g m, |all - tiny| %.3g m; active %.3f / %.3f / %.3f; rollbacks %lld / %lld; "
+            "collisions %lld / %lld / %lld\n",
+            scene, d_h, d_t, sa.active_fraction, sh.active_fraction, st.active_fraction, (long long)sh.rollbacks,
+            (long long)st.rollbacks, (long long)gr_sim_collisions(all), (long long)gr_sim_collisions(h),
+            (long long)gr_sim_collisions(tiny));
+    ck_assert_msg(sa.active_fraction == 1.0, "huge margin: active fraction %g", sa.active_fraction);
+    ck_assert_msg(gr_sim_collisions(all) > 20, "only %lld collisions", (long long)gr_sim_collisions(all));
+    ck_assert_msg(st.rollbacks > 0, "c = %g never rolled back", tiny_c);
+    ck_assert_msg(d_h < tol, "normal margin differs from all-active by %g m", d_h);
+    ck_assert_msg(d_t < tol, "rollbacks differ from all-active by %g m", d_t);
+    ck_assert_int_eq(gr_sim_collisions(h), gr_sim_collisions(all));
+    ck_assert_int_eq(gr_sim_collisions(tiny), gr_sim_collisions(all));
+    gr_sim_free(all);
+    gr_sim_free(h);
+    gr_sim_free(tiny);
+}
+
+START_TEST(test_active_set_invariance_1d)
+{
+    const char *over[] = {"system.N=200", "system.reduced_length=0.2", "placement.v0=0.5", "integrator.kind=hybrid",
+                          "integrator.kick_interval=5e-5", NULL};
+    /* chaos: rounding differences (1e-13 m after the first leaps) grow by collisions to ~1e-9 m
+     * after 10^4 steps here (1e-5 m after 2 10^4); 5000 steps keep them at ~1e-12 m */
+    same_path("rfm-1d.ini", over, quick() ? 3000 : 5000, 1e-9, 0.2);
+}
+END_TEST
+
+START_TEST(test_active_set_invariance_2d)
+{
+    /* strong noise and long windows, so that c = 0 misses often */
+    const char *over[] = {"system.N=200", "system.L=0.06", "placement.kind=random", "placement.v0=0.5", "noise.D=1e-6",
+                          "integrator.kind=hybrid", "integrator.kick_interval=1e-4", NULL};
+    same_path("steady-2d.ini", over, quick() ? 2500 : 4000, 1e-9, 0.0);
+}
+END_TEST
+
+/* ---- agreement with Verlet on the 1D RFM scene ---------------------------------------------- */
+
+typedef struct obs {
+    gr_blocking T, R2;
+} obs;
+
+/* Time averages of T (2.19) and of the reduced-gap moment <R^2> (3.18) with blocking errors. */
+static void sample(const gr_sim *s, obs *o)
+{
+    gr_blocking_add(&o->T, gr_sim_temperature(s));
+    double r2 = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        const double g = (i + 1 < s->n ? s->x[i + 1] - s->x[i] : s->x[0] + s->L - s->x[i]) - s->d;
+        r2 += g * g;
+    }
+    gr_blocking_add(&o->R2, r2 / s->n);
+}
+
+/* One run appended to o (blocks across the junction of two runs are as independent as any). */
+static void run_obs(const char *const *over, double warm, double dur, obs *o, double *wall)
+{
+    gr_scene sc = load("rfm-1d.ini", over);
+    gr_sim *s = create(&sc);
+    const int64_t every = 1000;
+    step(s, (int64_t)llround(warm / s->dt));
+    struct timespec a, b;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &a);
+    for (int64_t k = 0; k < (int64_t)llround(dur / s->dt) / every; k++) {
+        step(s, every);
+        sample(s, o);
+    }
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &b);
+    *wall += (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
+    gr_sim_free(s);
+}
+
+START_TEST(test_agreement_1d)
+{
+    /* two independent runs per integrator: seeds 11, 13 (Verlet) and 12, 14 (hybrid) */
+    const int q = quick();
+    const char *seeds[2][2] = {{"run.seed=11", "run.seed=13"}, {"run.seed=12", "run.seed=14"}};
+    const double warm = q ? 0.05 : 0.2, dur = q ? 0.1 : 0.5;
+    obs v, h;
+    gr_blocking_init(&v.T);
+    gr_blocking_init(&v.R2);
+    gr_blocking_init(&h.T);
+    gr_blocking_init(&h.R2);
+    double cv = 0.0, ch = 0.0;
+    for (int r = 0; r < 2; r++) {
+        const char *ov[] = {q ? "system.N=200" : "system.N=1000", q ? "system.reduced_length=0.2" : "system.reduced_length=1",
+                            seeds[0][r], NULL};
+        const char *oh[] = {q ? "system.N=200" : "system.N=1000", q ? "system.reduced_length=0.2" : "system.reduced_length=1",
+                            seeds[1][r], "integrator.kind=hybrid", "integrator.kick_interval=3e-5", NULL};
+        run_obs(ov, warm, dur, &v, &cv);
+        run_obs(oh, warm, dur, &h, &ch);
+    }
+    int lv, c;
+    const double Tv = gr_blocking_mean(&v.T), Th = gr_blocking_mean(&h.T);
+    const double eTv = gr_blocking_stderr(&v.T, &lv, &c), eTh = gr_blocking_stderr(&h.T, &lv, &c);
+    const double Rv = gr_blocking_mean(&v.R2), Rh = gr_blocking_mean(&h.R2);
+    const double eRv = gr_blocking_stderr(&v.R2, &lv, &c), eRh = gr_blocking_stderr(&h.R2, &lv, &c);
+    const double zT = (Th - Tv) / hypot(eTv, eTh), zR = (Rh - Rv) / hypot(eRv, eRh);
+    VERBOSE("agreement 1D: T verlet %.5g +- %.2g, hybrid %.5g +- %.2g (z %.2f); <R^2> verlet %.5g +- %.2g, hybrid %.5g +- %.2g "
+            "(z %.2f); cpu %.2f s vs %.2f s\n",
+            Tv, eTv, Th, eTh, zT, Rv, eRv, Rh, eRh, zR, cv, ch);
+    ck_assert_msg(fabs(zT) < 4.0, "T: verlet %g +- %g, hybrid %g +- %g", Tv, eTv, Th, eTh);
+    ck_assert_msg(fabs(zR) < 4.0, "<R^2>: verlet %g +- %g, hybrid %g +- %g", Rv, eRv, Rh, eRh);
+}
+END_TEST
+
+/* ---- contact events ------------------------------------------------------------------------ */
+
+/* With tracking on, the hybrid records the same events (particle, kind, step) as an all-active
+ * run of the same seed, mapped back to parent indices. */
+START_TEST(test_contact_events)
+{
+    const char *over[] = {"system.N=200", "system.reduced_length=0.2", "placement.v0=0.5", "integrator.kind=hybrid",
+                          "integrator.kick_interval=5e-5", NULL};
+    gr_scene sc = load("rfm-1d.ini", over);
+    gr_sim *all = create(&sc), *h = create(&sc);
+    gr_hybrid_set_margin(all, 1e9);
+    gr_error err = {0};
+    ck_assert_int_eq(gr_sim_track_contacts(all, &err), GR_OK);
+    ck_assert_int_eq(gr_sim_track_contacts(h, &err), GR_OK);
+    step(all, 5000);
+    step(h, 5000);
+    int64_t na, nh;
+    const gr_contact_event *ea = gr_sim_events(all, &na), *eh = gr_sim_events(h, &nh);
+    VERBOSE("events: %lld all-active, %lld hybrid\n", (long long)na, (long long)nh);
+    ck_assert_msg(na > 20, "only %lld events", (long long)na);
+    ck_assert_int_eq(na, nh);
+    /* order within a step differs (child order); compare as multisets keyed by (t, i, kind) */
+    int64_t matched = 0;
+    for (int64_t k = 0; k < nh; k++) {
+        ck_assert(eh[k].i >= 0 && eh[k].i < sc.N);
+        for (int64_t q = 0; q < na; q++) {
+            if (ea[q].i == eh[k].i && ea[q].kind == eh[k].kind && ea[q].t == eh[k].t) {
+                matched++;
+                break;
+            }
+        }
+    }
+    ck_assert_int_eq(matched, nh);
+    gr_sim_free(all);
+    gr_sim_free(h);
+}
+END_TEST
+
+/* ---- refusals ------------------------------------------------------------------------------ */
+
+START_TEST(test_refuse_window)
+{
+    const char *over[] = {"integrator.kind=hybrid", "integrator.kick_interval=2.5e-6", NULL};
+    gr_scene sc = load("rfm-1d.ini", over);
+    gr_sim *s = NULL;
+    gr_error err = {0};
+    int rc = gr_sim_create(&sc, &s, &err);
+    ck_assert_int_eq(rc, GR_EINVAL);
+    ck_assert_ptr_null(s);
+    ck_assert_msg(strstr(err.message, "kick_interval") && strstr(err.message, "multiple") && strstr(err.message, "rfm-1d.ini"),
+                  "message: %s", err.message);
+}
+END_TEST
+
+static Suite *hybrid_suite(void)
+{
+    Suite *s = suite_create("hybrid");
+    TCase *t = tcase_create("core");
+    tcase_set_timeout(t, 600);
+    tcase_add_test(t, test_free_flight_exact);
+    tcase_add_test(t, test_free_flight_kicks);
+    tcase_add_test(t, test_ledger_momentum_1d);
+    tcase_add_test(t, test_ledger_momentum_2d);
+    tcase_add_test(t, test_no_noise_equals_verlet);
+    tcase_add_test(t, test_active_set_invariance_1d);
+    tcase_add_test(t, test_active_set_invariance_2d);
+    tcase_add_test(t, test_contact_events);
+    tcase_add_test(t, test_refuse_window);
+    tcase_add_test(t, test_agreement_1d);
+    suite_add_tcase(s, t);
+    return s;
+}
+
+int main(void)
+{
+    SRunner *sr = srunner_create(hybrid_suite());
+    srunner_run_all(sr, CK_NORMAL);
+    int failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}

@@ -1,0 +1,328 @@
+#!/usr/bin/env bash
+# Exact restarts (docs/checkpoints.md): a run interrupted and resumed ends bit-identical to one
+# that never stopped.
+#   - 2D scene with every 2D observable and snapshots, 1D scene (com noise mode) with every 1D
+#     observable: straight run vs run stopped by SIGTERM (exit 5) + --resume, vs a run stopped
+#     again and again by --wall-limit (exit 4) + --resume, vs kill -9 after a checkpoint +
+#     --resume; summary.json (wall-time and checkpoint-count lines excepted), every CSV and every
+#     snapshot compared byte for byte
+#   - refusals: flipped byte (checksum), truncated file, other format version, not a checkpoint,
+#     different scene (names the key), finished run, missing checkpoint, fresh run over an
+#     interrupted one without --force
+#   - an unstable scene stops with exit 3, keeps its earlier outputs and its last checkpoint
+#     (which still loads, and reproduces the same instability)
+#
+# usage: tests/test_resume.sh path/to/granule
+# GRANULE_TEST_QUICK=1 (the sanitizer build) shortens the runs.
+set -euo pipefail
+
+if [[ $# -lt 1 || ! -x "$1" ]]; then
+    echo "usage: $0 path/to/granule" >&2
+    exit 2
+fi
+G=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/granule-test-resume-XXXXXX")
+pids=()
+cleanup() {
+    for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null || true; done
+    rm -rf "$TMP"
+}
+trap cleanup EXIT
+export CI=1
+cd "$TMP"
+
+passed=0
+failed=0
+pass() { passed=$((passed + 1)); echo "ok   $1"; }
+fail() { failed=$((failed + 1)); echo "FAIL $1"; [[ $# -gt 1 ]] && printf '     %s\n' "${@:2}"; return 0; }
+
+run() {
+    set +e
+    "$@" >"$TMP/stdout" 2>"$TMP/stderr"
+    rc=$?
+    set -e
+    err=$(cat "$TMP/stderr")
+}
+
+quick=${GRANULE_TEST_QUICK:-0}
+if [[ $quick == 1 ]]; then n2=120 n1=100 dur2=0.03 dur1=0.03; else n2=300 n1=200 dur2=0.05 dur1=0.06; fi
+
+# 2D: N = 300 (quick: 120), every 2D observable, snapshots; 5000 steps per sample
+cat >s2.ini <<EOF
+[system]
+dim = 2
+N = $n2
+packing_fraction = 0.4
+[model]
+normal = spring_dashpot
+tangential = tangential_dashpot
+eps_n = 0.6
+eps_t = 0.6
+[noise]
+D = 1e-8
+[integrator]
+dt = 1e-6
+[run]
+warmup = 0.005
+duration = $dur2
+sample_every = 5e-3
+checkpoint_wall = 0
+[analysis]
+observables = moments, freepath, postcollision, sk, pair, pv
+[output]
+plots = false
+snapshot_every = 0.01
+EOF
+# 1D: N = 200 (quick: 100) on a ring, com noise mode (centre-of-mass resets on a step schedule)
+cat >s1.ini <<EOF
+[system]
+dim = 1
+N = $n1
+reduced_length = 0.5
+[placement]
+kind = uniform
+[model]
+normal = spring_dashpot
+eps_n = 0.5
+[noise]
+D = 1e-8
+mode = com
+com_interval = 3e-4
+[integrator]
+dt = 1e-6
+[run]
+warmup = 0.01
+duration = $dur1
+sample_every = 2e-3
+checkpoint_wall = 0
+[analysis]
+observables = moments, freepath, postcollision, gaps, pv
+[output]
+plots = false
+snapshot_every = 0.02
+EOF
+
+# same DIR_A DIR_B: summary.json (wall-time and checkpoint lines and the folder name excepted),
+# every CSV and snapshot byte for byte
+same() {
+    local a=$1 b=$2 f rel
+    local skip='wall_seconds|particle_steps_per_second|checkpoint|"dir"'
+    if ! diff <(grep -Ev "$skip" "$a/summary.json") <(grep -Ev "$skip" "$b/summary.json") >"$TMP/diff"; then
+        echo "summary.json differs: $(head -4 "$TMP/diff" | tr '\n' ' ')"
+        return 1
+    fi
+    for f in "$a"/*.csv "$a"/snapshots/*; do
+        rel=${f#"$a"/}
+        [[ -e $f ]] || continue
+        if ! cmp -s "$f" "$b/$rel"; then
+            echo "$rel differs"
+            return 1
+        fi
+    done
+    if ls "$b" | grep -q '\.tmp'; then
+        echo "temporary files left in $b: $(ls "$b" | grep '\.tmp' | tr '\n' ' ')"
+        return 1
+    fi
+    return 0
+}
+
+# wait_for FILE PID: until FILE exists (or the process ended)
+wait_for() {
+    for _ in $(seq 1 600); do
+        [[ -e $1 ]] && return 0
+        kill -0 "$2" 2>/dev/null || return 1
+        sleep 0.02
+    done
+    return 1
+}
+
+for d in 2 1; do
+    scene=s$d.ini
+    run "$G" run "$scene" --out ref$d --quiet
+    [[ $rc -eq 0 ]] || fail "${d}D reference run exits $rc" "$err"
+
+    # SIGTERM once a checkpoint exists: exit 5, checkpoint kept, no summary; resume finishes it
+    "$G" run "$scene" --out term$d --quiet --set run.checkpoint_every=0.004 >/dev/null 2>"$TMP/term.err" &
+    pid=$!
+    pids+=("$pid")
+    if wait_for "term$d/checkpoint" "$pid"; then sleep 0.1; kill -TERM "$pid" 2>/dev/null || true; fi
+    set +e
+    wait "$pid"
+    rc=$?
+    set -e
+    if [[ $rc -eq 5 && -s term$d/checkpoint && ! -e term$d/summary.json ]] && grep -q "resume" "$TMP/term.err"; then
+        pass "${d}D: SIGTERM writes a checkpoint and exits 5"
+    else
+        fail "${d}D: SIGTERM: exit $rc (want 5; the run may have finished before the signal)" "$(cat "$TMP/term.err")"
+    fi
+    run "$G" run --resume term$d --quiet
+    if [[ $rc -eq 0 ]] && msg=$(same ref$d term$d); then
+        pass "${d}D: run T + resume equals the uninterrupted run bit for bit"
+    else
+        fail "${d}D: SIGTERM + resume (exit $rc)" "$err" "${msg:-}"
+    fi
+
+    # a wall-time budget: stop with exit 4 and resume, again and again, until done; steps run in
+    # chunks of at most 777 (GRANULE_CHUNK_STEPS), so most stops fall between two samples
+    wl=$([[ $d == 2 ]] && echo 1.5 || echo 1.15)
+    per=$([[ $d == 2 ]] && echo 5000 || echo 2000)
+    sessions=0
+    mid=0
+    rc=4
+    first=1
+    while [[ $rc -eq 4 && $sessions -lt 60 ]]; do
+        if [[ $first == 1 ]]; then
+            run env GRANULE_CHUNK_STEPS=777 "$G" run "$scene" --out wall$d --quiet --wall-limit "$wl"
+            first=0
+        else
+            run env GRANULE_CHUNK_STEPS=777 "$G" run --resume wall$d --quiet --wall-limit "$wl"
+        fi
+        sessions=$((sessions + 1))
+        step=$(grep -o 'at step [0-9]*' <<<"$err" | grep -o '[0-9]*' || true)
+        if [[ -n $step ]] && ((step % per != 0)); then mid=$((mid + 1)); fi
+    done
+    if [[ $rc -eq 0 && $sessions -ge 2 && $mid -ge 1 ]] && msg=$(same ref$d wall$d); then
+        pass "${d}D: $sessions sessions under --wall-limit (exit 4 each; $mid stopped between samples) equal the uninterrupted run"
+    else
+        fail "${d}D: --wall-limit sessions: $sessions ($mid between samples), last exit $rc (want 0 after >= 2, >= 1 between samples)" "$err" "${msg:-}"
+    fi
+
+    # kill -9 after a checkpoint: the rows and snapshots written after it are redone identically
+    "$G" run "$scene" --out kill$d --quiet --set run.checkpoint_every=0.004 >/dev/null 2>&1 &
+    pid=$!
+    pids+=("$pid")
+    if wait_for "kill$d/checkpoint" "$pid"; then sleep 0.15; kill -9 "$pid" 2>/dev/null || true; fi
+    set +e
+    { wait "$pid"; } 2>/dev/null
+    rc=$?
+    set -e
+    if [[ $rc -ne 137 ]]; then
+        fail "${d}D: kill -9 did not hit the running process (exit $rc)"
+    fi
+    run "$G" run --resume kill$d --quiet
+    if [[ $rc -eq 0 ]] && msg=$(same ref$d kill$d); then
+        pass "${d}D: kill -9 after a checkpoint + resume equals the uninterrupted run"
+    else
+        fail "${d}D: kill -9 + resume (exit $rc)" "$err" "${msg:-}"
+    fi
+done
+
+# ---------- refusals ----------
+# an interrupted run to corrupt (copied fresh for each case)
+"$G" run s2.ini --out base --quiet --set run.checkpoint_every=0.004 --wall-limit 1.2 >/dev/null 2>&1 || true
+if [[ ! -s base/checkpoint || -e base/summary.json ]]; then
+    fail "could not make an interrupted run to corrupt"
+fi
+size=$(stat -c %s base/checkpoint)
+refused() { # NAME PATTERN: the resume of case/ fails with exit 2 and a message matching PATTERN
+    run "$G" run --resume case --quiet
+    if [[ $rc -eq 2 && $err == *"$2"* ]]; then
+        pass "$1 is refused: ${err:0:150}"
+    else
+        fail "$1: exit $rc (want 2 and '$2')" "$err"
+    fi
+    if [[ -e case/summary.json ]]; then fail "$1: a refused resume wrote summary.json"; fi
+}
+fresh() { rm -rf case; cp -r base case; }
+
+fresh
+printf '\xff' | dd of=case/checkpoint bs=1 seek=$((size / 2)) conv=notrunc status=none
+orig=$(dd if=base/checkpoint bs=1 skip=$((size / 2)) count=1 status=none | od -An -tx1 | tr -d ' ')
+if [[ $orig == ff ]]; then printf '\x00' | dd of=case/checkpoint bs=1 seek=$((size / 2)) conv=notrunc status=none; fi
+refused "a flipped byte" "checksum mismatch"
+
+fresh
+truncate -s $((size - 100)) case/checkpoint
+refused "a truncated checkpoint" "truncated at byte $((size - 100)) of $size"
+
+fresh
+truncate -s 20 case/checkpoint
+refused "a checkpoint cut inside its header" "truncated at byte 20"
+
+fresh
+printf '\x63' | dd of=case/checkpoint bs=1 seek=8 conv=notrunc status=none
+refused "another format version" "format version 99"
+
+fresh
+echo "not a checkpoint" >case/checkpoint
+refused "a foreign file" "not a granule checkpoint"
+
+fresh
+rm case/checkpoint
+refused "a missing checkpoint" "cannot open the checkpoint"
+
+fresh
+run "$G" run --resume case --quiet --set model.eps_n=0.5
+if [[ $rc -eq 2 && $err == *"[model] eps_n = 0.59999999999999998 in the checkpoint, 0.5 now"* ]]; then
+    pass "a different scene is refused, naming the key: ${err:0:160}"
+else
+    fail "a different scene: exit $rc" "$err"
+fi
+fresh
+sed -i 's/^seed = .*/seed = 7/' case/scene.ini
+refused "an edited scene.ini" "[run] seed = 1 in the checkpoint, 7 now"
+
+fresh
+run "$G" run s2.ini --out case --quiet
+if [[ $rc -eq 2 && $err == *"--resume"* && -s case/checkpoint ]]; then
+    pass "a fresh run over an interrupted one is refused without --force"
+else
+    fail "a fresh run over an interrupted one: exit $rc" "$err"
+fi
+
+run "$G" run --resume ref2 --quiet
+if [[ $rc -eq 2 && $err == *"has finished"* ]]; then
+    pass "resuming a finished run is refused (its results are kept)"
+else
+    fail "resuming a finished run: exit $rc" "$err"
+fi
+
+# ---------- the instability guard keeps outputs and the last checkpoint ----------
+cat >u.ini <<EOF
+[system]
+dim = 2
+N = 200
+packing_fraction = 0.5
+[model]
+normal = spring_dashpot
+eps_n = 0.9
+[noise]
+D = 1e-6
+[integrator]
+dt = 1e-5
+force_dt = true
+[run]
+warmup = 0
+duration = 0.2
+sample_every = 1e-4
+checkpoint_every = 2e-4
+ledger_tolerance = 0
+[output]
+plots = false
+snapshot_every = 2e-4
+EOF
+run "$G" run u.ini --out unstable --quiet
+if [[ $rc -eq 3 && $err == *"unstable run"* && -s unstable/checkpoint && -s unstable/temperature.csv &&
+      -s unstable/snapshots/snap_000000.xyz ]] && grep -q '"status":.*"unstable"' unstable/summary.json; then
+    pass "an unstable run exits 3 and keeps its outputs and last checkpoint"
+else
+    fail "unstable run: exit $rc" "$err" "$(ls unstable 2>&1 | tr '\n' ' ')"
+fi
+diag=$(grep -o 'particles [0-9]* and [0-9]* overlap by [0-9.]* d at step [0-9]*' <<<"$err" || true)
+cp unstable/checkpoint "$TMP/unstable.ckpt"
+run "$G" run --resume unstable --quiet
+if [[ $rc -eq 2 && $err == *"status unstable"* ]] && cmp -s unstable/checkpoint "$TMP/unstable.ckpt"; then
+    pass "the unstable run's folder refuses a resume and its checkpoint is untouched"
+else
+    fail "resume of an unstable run: exit $rc" "$err"
+fi
+rm unstable/summary.json
+run "$G" run --resume unstable --quiet
+if [[ $rc -eq 3 && -n $diag ]] && grep -q "$diag" unstable/summary.json; then
+    pass "the kept checkpoint is valid: resumed, it meets the same instability ($diag)"
+else
+    fail "resuming from the unstable run's checkpoint: exit $rc" "$err"
+fi
+
+echo "$passed passed, $failed failed"
+[[ $failed -eq 0 ]]
