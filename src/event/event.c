@@ -162,6 +162,65 @@ int gr_ev_record(gr_sim *s, int i, int kind, double t, double x, double y, doubl
     return GR_OK;
 }
 
+/* ---------- progress guards ---------- */
+
+/* An event rate that diverges (a Zeno sequence: particles in exact contact passing momentum round
+ * a closed cluster, an inelastic collapse, absurd speeds crossing cells) never ends a step: stop
+ * it as unstable with a diagnosis. budget = 1e6 + 10 N events must take at least
+ * min_span = 1e-6 kick_interval of simulated time, i.e. the guard fires above about
+ * 1e16 events/s at the default tau = 1e-4 s; dense 2D runs of 1e4 discs stay below 1e8
+ * (docs/event-driven.md, "Progress guards"). */
+int gr_ev_guard_check(gr_sim *s, double t_abs, int i, int j, gr_error *err)
+{
+    struct gr_event_state *e = s->ev;
+    if (e->stop && *e->stop) {
+        e->guard_n--; /* the entry is handled again by the next call */
+        return GR_EV_STOPPED;
+    }
+    const int64_t events = e->guard_n - e->guard_mark_n;
+    if (events < e->budget) {
+        return 0;
+    }
+    const double span = t_abs - e->guard_mark_t;
+    if (span < e->min_span) {
+        return GR_FAIL(err, GR_EUNSTABLE,
+                       "event-driven run unstable: the event rate diverges: %lld events in %.3g s of simulated time "
+                       "(%.3g events/s, the guard allows %lld events per %.3g s) at step %lld, t = %.12g s, "
+                       "the last between particles %d and %d. Particles in exact contact (e.g. [placement] kind = "
+                       "hexagonal with L a multiple of d), an inelastic collapse without the TC rule, or absurd speeds "
+                       "cause this; use a placement with gaps (uniform, random) or check the speeds",
+                       (long long)events, span, span > 0.0 ? (double)events / span : GR_EV_INF, (long long)e->budget,
+                       e->min_span, (long long)s->step, t_abs, i, j);
+    }
+    e->guard_mark_n = e->guard_n;
+    e->guard_mark_t = t_abs;
+    return 0;
+}
+
+/* The contact floor is a small stand-in for a sustained contact (measured: 0.1-1% of the injected
+ * energy). A floor event adds about (tc / (2 tau))^2 of one particle's random-force work per
+ * window, so at tc >> tau (a soft k_s) the floor, not the noise, drives the system and, with every
+ * collision TC-elastic, nothing dissipates: the energy runs away. Stop when the floor has added
+ * GR_EV_FLOOR_RATIO times the random force's mean work d D N t / M (t at least one window). */
+#define GR_EV_FLOOR_RATIO 10.0
+
+int gr_ev_floor_check(gr_sim *s, int i, int j, double t_abs, double floor_speed, gr_error *err)
+{
+    struct gr_event_state *e = s->ev;
+    const double work = e->work_rate * fmax(t_abs - e->t_start, e->tau);
+    if (e->floor_energy <= GR_EV_FLOOR_RATIO * work) {
+        return GR_OK;
+    }
+    return GR_FAIL(err, GR_EUNSTABLE,
+                   "event-driven run unstable: the contact floor has injected %.3g J, more than %g times the random force's "
+                   "mean work %.3g J, at step %lld, t = %.12g s (particles %d and %d separated at %.3g m/s, against the "
+                   "noise increment %.3g m/s per window). The floor speed push * tc / 2 grows with tc / kick_interval = "
+                   "%.3g: lower [model] tc (or raise k_s) or [integrator] kick_interval, or use free_flight = kicks; "
+                   "floors at one instant over and over mean particles in exact contact (use a placement with gaps)",
+                   e->floor_energy, GR_EV_FLOOR_RATIO, work, (long long)s->step, t_abs, i, j, floor_speed,
+                   sqrt(2.0 * s->scene.D * e->tau) / e->M, e->tc / e->tau);
+}
+
 /* ---------- windows ---------- */
 
 static inline double ke2(double vx, double vy) { return vx * vx + vy * vy; }
@@ -336,9 +395,13 @@ static int process_1d(gr_sim *s, double t_limit, gr_error *err)
         if (!(t <= t_limit)) {
             break;
         }
+        const int i = k, j = k + 1 < e->n ? k + 1 : 0;
+        int grc = gr_ev_guard(s, e, t_win + t, i, j, err);
+        if (grc) {
+            return grc;
+        }
         e->now = t;
         e->phase = hp->ph[k];
-        const int i = k, j = k + 1 < e->n ? k + 1 : 0;
         double xi, vi, xj, vj;
         gr_ev_state_x(e, i, t, e->phase, &xi, &vi);
         gr_ev_state_x(e, j, t, e->phase, &xj, &vj);
@@ -359,16 +422,6 @@ static int process_1d(gr_sim *s, double t_limit, gr_error *err)
             push = fabs(push); /* touching, about to approach: separate as a pressed contact */
         }
         const bool approaching = vi - vj > 0.0;
-        if (t_abs == e->stall_t) {
-            if (++e->stall > 1000000) {
-                return GR_FAIL(err, GR_EUNSTABLE,
-                               "event-driven run stalled: more than 1e6 collisions at t = %.12g s (pair %d, %d); "
-                               "the TC time tc may be 0 with a sticking restitution", t_abs, i, j);
-            }
-        } else {
-            e->stall = 0;
-            e->stall_t = t_abs;
-        }
         const bool elastic = gr_ev_tc_elastic(e, i, j, t_abs);
         double ui = vi, uj = vj, zero1 = 0.0, zero2 = 0.0, de_n, de_t;
         de_n = de_t = 0.0;
@@ -384,6 +437,10 @@ static int process_1d(gr_sim *s, double t_limit, gr_error *err)
             e->injected += 0.5 * e->M * (ui * ui + uj * uj - k0);
             e->floor_energy += 0.5 * e->M * (ui * ui + uj * uj - k0);
             e->floors++;
+            int rc = gr_ev_floor_check(s, i, j, t_abs, uj - ui, err);
+            if (rc) {
+                return rc;
+            }
         }
         if (s->contacts) {
             int rc = gr_ev_record(s, i, +1, t_abs, xi, 0.0, vi, 0.0, err);
@@ -503,6 +560,48 @@ static void report(gr_sim *s, double t)
     s->injected = e->injected + 0.5 * e->M * work;
 }
 
+/* Absurd speeds: a particle that would cross the box more than GR_EV_MAX_BOXES times per kick
+ * interval makes ~N cells of crossing events per crossing and, far enough out, event times that
+ * local time cannot resolve (4.3e95 m/s: 1e91 boxes per window). Refused at creation (bad input,
+ * velocities from [placement] v0 or the given state), stopped as unstable at a window start (a
+ * runaway). Non-finite velocities or positions are refused the same way. */
+#define GR_EV_MAX_BOXES 1e3
+
+static int check_speeds(const gr_sim *s, const double *x, const double *vx, const double *y, const double *vy,
+                        double tau, bool at_start, gr_error *err)
+{
+    double vmax = 0.0;
+    int worst = 0;
+    for (int i = 0; i < s->n; i++) {
+        const double wy = s->dim == 2 ? vy[i] : 0.0, yy = s->dim == 2 ? y[i] : 0.0;
+        const double v = sqrt(vx[i] * vx[i] + wy * wy);
+        if (!isfinite(v) || !isfinite(x[i]) || !isfinite(yy)) {
+            vmax = GR_EV_INF;
+            worst = i;
+            break;
+        }
+        if (v > vmax) {
+            vmax = v;
+            worst = i;
+        }
+    }
+    if (!(vmax * tau > GR_EV_MAX_BOXES * s->L)) {
+        return GR_OK;
+    }
+    if (at_start) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: particle %d starts with speed %.3g m/s: it would cross the box (L = %g m) %.3g times per kick "
+                       "interval %g s; the event-driven integrator allows at most %g (check [placement] v0, allowed "
+                       "range [0, %.3g] m/s for this box)",
+                       s->scene.source, worst, vmax, s->L, vmax * tau / s->L, tau, GR_EV_MAX_BOXES,
+                       2.0 * GR_EV_MAX_BOXES * s->L / tau / sqrt(s->dim));
+    }
+    return GR_FAIL(err, GR_EUNSTABLE,
+                   "event-driven run unstable: particle %d reached speed %.3g m/s at step %lld, t = %.6g s: it crosses the "
+                   "box (L = %g m) %.3g times per kick interval (allowed %g); energy is running away",
+                   worst, vmax, (long long)s->step, gr_sim_time(s), s->L, vmax * tau / s->L, GR_EV_MAX_BOXES);
+}
+
 int gr_event_init(gr_sim *s, gr_error *err)
 {
     if (s->cc.normal != GR_NORMAL_HARD_SPHERE) {
@@ -533,7 +632,9 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->exact = s->scene.free_flight == GR_FREE_FLIGHT_EXACT;
     e->com_every = (int64_t)llround(s->scene.com_interval / e->tau);
     e->com_every = e->com_every < 1 ? 1 : e->com_every;
-    e->stall_t = -GR_EV_INF;
+    e->budget = 1000000 + 10 * (int64_t)n;
+    e->min_span = 1e-6 * s->scene.kick_interval;
+    e->work_rate = e->noise ? s->dim * s->scene.D * n / e->M : 0.0;
     const char *check = getenv("GRANULE_EVENT_CHECK");
     e->check = check && check[0] == '1';
     size_t sz = sizeof(double) * (size_t)(n > 0 ? n : 1);
@@ -551,6 +652,10 @@ int gr_event_init(gr_sim *s, gr_error *err)
     if (!ok) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory for the event-driven state of %d particles", n);
     }
+    int rc = check_speeds(s, s->x, s->vx, s->y, s->vy, s->scene.kick_interval, true, err);
+    if (rc) {
+        return rc;
+    }
     for (int i = 0; i < n; i++) {
         e->bx[i] = s->x[i];
         e->bv[i] = s->vx[i];
@@ -561,7 +666,7 @@ int gr_event_init(gr_sim *s, gr_error *err)
         e->last[i] = -GR_EV_INF;
     }
     if (s->dim == 2) {
-        int rc = gr_ev2d_alloc(s, err);
+        rc = gr_ev2d_alloc(s, err);
         if (rc) {
             return rc;
         }
@@ -573,6 +678,8 @@ int gr_event_init(gr_sim *s, gr_error *err)
     for (int i = 0; i < n; i++) {
         e->t0[i] = e->now;
     }
+    e->t_start = t;
+    e->guard_mark_t = t;
     e->phase = e->now > e->h;
     for (int i = 0; i < n; i++) {
         e->past[i] = (uint8_t)e->phase;
@@ -596,6 +703,9 @@ int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err)
         const double local = T - (double)e->win * e->tau;
         const double limit = local < e->tau ? local : e->tau;
         int rc = e->dim == 1 ? process_1d(s, limit, err) : gr_ev2d_process(s, limit, err);
+        if (rc == GR_EV_STOPPED) {
+            return GR_OK; /* stop requested: s->step and the reported state stay where they were */
+        }
         if (rc) {
             return rc;
         }
@@ -604,7 +714,14 @@ int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err)
             break;
         }
         end_window(s);
+        rc = check_speeds(s, e->bx, e->bv, e->by, e->bw, s->scene.kick_interval, false, err);
+        if (rc) {
+            return rc;
+        }
         start_window(s);
+        if (e->stop && *e->stop) {
+            return GR_OK; /* between windows: nothing lost either */
+        }
     }
     s->step += nsteps;
     for (int i = 0; i < s->n; i++) {
@@ -656,6 +773,13 @@ void gr_event_stats(const gr_sim *s, gr_event_counts *c)
         *c = (gr_event_counts){.collisions = e->collisions, .crossings = e->crossings, .kicks = e->kicks,
                                .invalid = e->invalid, .tc_elastic = e->tc_elastic, .floors = e->floors,
                                .floor_energy = e->floor_energy};
+    }
+}
+
+void gr_event_set_stop(gr_sim *s, volatile sig_atomic_t *stop)
+{
+    if (s->ev) {
+        s->ev->stop = stop;
     }
 }
 

@@ -5,6 +5,7 @@
 #ifndef GR_EVENT_H
 #define GR_EVENT_H
 
+#include <signal.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -13,9 +14,15 @@
 /* Build the event state after positions, velocities and coefficients are set. */
 int gr_event_init(gr_sim *s, gr_error *err);
 /* Advance by nsteps * s->dt of simulated time; on return s->x, vx (y, vy) hold the state at that
- * time and s->step has advanced by nsteps. */
+ * time and s->step has advanced by nsteps. Exception: when the flag given to gr_event_set_stop
+ * becomes non-zero, the call returns GR_OK early with s->step and s->x unchanged (the events
+ * done so far are kept; calling again continues bit-identically). An unstable run (diverging
+ * event rate, runaway speeds, a contact floor that outgrows the random force) returns
+ * GR_EUNSTABLE with a diagnosis. */
 int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err);
 void gr_event_free(gr_sim *s);
+/* Poll *stop (e.g. set by a SIGTERM handler) every few thousand events; NULL for none. */
+void gr_event_set_stop(gr_sim *s, volatile sig_atomic_t *stop);
 
 /* Counts since creation (all zero for other integrators). kicks = particle updates at window
  * ends; invalid = calendar entries found stale when they came due; tc_elastic = collisions made

@@ -310,6 +310,7 @@ static int check_2d(gr_sim *s, gr_error *err)
     return GR_OK;
 }
 
+/* Returns 0 after the collision, 1 when it is none after all (predict again), < 0 an error code. */
 static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
 {
     struct gr_event_state *e = s->ev;
@@ -359,6 +360,9 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
             e->injected += added;
             e->floor_energy += added;
             e->floors++;
+            if (gr_ev_floor_check(s, i, j, t_abs, floor_speed, err)) {
+                return GR_EUNSTABLE; /* before the rebase: the state stays that of the last event */
+            }
         }
     }
     if (s->contacts) {
@@ -370,7 +374,7 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
         rc = rc ? rc : gr_ev_record(s, i, -1, t_abs, wxi, wyi, pi_x, pi_y, err);
         rc = rc ? rc : gr_ev_record(s, j, -1, t_abs, wxj, wyj, pj_x, pj_y, err);
         if (rc) {
-            return -rc;
+            return rc; /* negative: an error code */
         }
     }
     rebase(e, i, xi, yi, vi, ui, pi_x, pi_y);
@@ -400,10 +404,14 @@ int gr_ev2d_process(gr_sim *s, double t_limit, gr_error *err)
         if (!(t <= t_limit)) {
             break;
         }
-        e->now = t;
-        e->phase = hp->ph[i];
         const int p = e->partner[i];
         const double t_abs = t_win + t;
+        int grc = gr_ev_guard(s, e, t_abs, i, p, err);
+        if (grc) {
+            return grc;
+        }
+        e->now = t;
+        e->phase = hp->ph[i];
         if (p >= 0) {
             if (e->count[p] != e->ev_count[i]) {
                 e->invalid++;
@@ -411,18 +419,9 @@ int gr_ev2d_process(gr_sim *s, double t_limit, gr_error *err)
                 gr_heap_update(hp, i);
                 continue;
             }
-            if (t_abs == e->stall_t) {
-                if (++e->stall > 1000000) {
-                    return GR_FAIL(err, GR_EUNSTABLE, "event-driven run stalled: more than 1e6 collisions at t = %.12g s (particles %d, %d)",
-                                   t_abs, i, p);
-                }
-            } else {
-                e->stall = 0;
-                e->stall_t = t_abs;
-            }
             int rc = collide(s, i, p, t_abs, err);
             if (rc < 0) {
-                return -rc;
+                return rc;
             }
             if (rc > 0) {
                 e->invalid++;

@@ -13,6 +13,7 @@
 #define GR_EVENT_INTERNAL_H
 
 #include <math.h>
+#include <signal.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -63,9 +64,36 @@ struct gr_event_state {
     /* test hooks */
     bool check;            /* check for overlaps after every event */
     bool no_collisions;    /* free flight only */
-    int64_t stall;         /* events at the same instant in a row */
-    double stall_t;
+    /* progress guard (event.c, gr_ev_guard): every event counts; every GR_EV_POLL events the
+     * stop flag is polled, every `budget` events the simulated time they took is checked */
+    int64_t guard_n, guard_mark_n, budget;
+    double guard_mark_t;   /* absolute time at the last check */
+    double min_span;       /* shortest time `budget` events may take: 1e-6 kick_interval */
+    double work_rate;      /* mean random-force power, W (floor guard) */
+    double t_start;        /* absolute time at creation */
+    volatile sig_atomic_t *stop; /* gr_event_set_stop: return early when it becomes non-zero */
 };
+
+#define GR_EV_POLL 4096
+#define GR_EV_STOPPED 1 /* a process function's return: the stop flag was seen, nothing lost */
+
+/* Slow path of gr_ev_guard (event.c): polls the stop flag; every `budget` events fails with a
+ * diagnosis if they took less than min_span of simulated time (a diverging event rate). */
+int gr_ev_guard_check(gr_sim *s, double t_abs, int i, int j, gr_error *err);
+
+/* Call once per processed calendar entry (collision, crossing, stale entry) before handling it:
+ * 0 go on, GR_EV_STOPPED stop requested (the entry stays in the calendar), < 0 unstable. */
+static inline int gr_ev_guard(gr_sim *s, struct gr_event_state *e, double t_abs, int i, int j, gr_error *err)
+{
+    if (++e->guard_n % GR_EV_POLL != 0) {
+        return 0;
+    }
+    return gr_ev_guard_check(s, t_abs, i, j, err);
+}
+
+/* After the contact floor added energy (event.c): fails when the floor has injected more than the
+ * random force's mean work since creation (at least one window's worth). */
+int gr_ev_floor_check(gr_sim *s, int i, int j, double t_abs, double floor_speed, gr_error *err);
 
 /* One component of particle i's trajectory at local time t in the given phase (0: first half of
  * the window, 1: second half). */

@@ -3,8 +3,18 @@
  * Robust root isolation instead of a closed-form quartic: the real roots of f' split [0, T] into
  * pieces on which f is monotone (the roots of f' are found the same way from f''), a sign change
  * on a decreasing piece brackets the contact, bisection finishes it. Returns the bracket end with
- * f > 0 (just before contact), or 0 when the pair already overlaps and approaches. */
+ * f > 0 (just before contact), or 0 when the pair already overlaps and approaches.
+ *
+ * Work is bounded for any input: every root search stops when its bracket is narrower than
+ * tol = 4 DBL_EPSILON T (T the window piece; event times are local times in [0, tau], whose
+ * rounding is of that order anyway) or after ITER_CAP steps, whichever comes first, so a root
+ * near 0 is not chased through the subnormal range; non-finite coefficients give no event (the
+ * step's finiteness check reports the state). */
+#include <float.h>
+
 #include "event/event_internal.h"
+
+#define ITER_CAP 120 /* Newton/bisection steps per phase: 2^-120 of any bracket is below tol */
 
 static double peval(const double *c, int deg, double t)
 {
@@ -16,15 +26,16 @@ static double peval(const double *c, int deg, double t)
 }
 
 /* Safeguarded Newton on the bracket [lo, hi] whose end lo has the sign of flo: Newton steps
- * that stay strictly inside the bracket, bisection otherwise; returns the end with lo's sign. */
-static double bisect(const double *c, int deg, double lo, double hi, double flo)
+ * that stay strictly inside the bracket, bisection otherwise; returns the end with lo's sign
+ * once |hi - lo| <= tol (or after ITER_CAP steps of each phase). */
+static double bisect(const double *c, int deg, double lo, double hi, double flo, double tol)
 {
     double dc[4];
     for (int k = 0; k < deg; k++) {
         dc[k] = (k + 1) * c[k + 1];
     }
     double t = 0.5 * (lo + hi);
-    for (int it = 0; it < 200; it++) {
+    for (int it = 0; it < ITER_CAP && fabs(hi - lo) > tol; it++) {
         double ft = peval(c, deg, t);
         if ((ft > 0.0) == (flo > 0.0)) {
             lo = t;
@@ -55,7 +66,7 @@ static double bisect(const double *c, int deg, double lo, double hi, double flo)
             hi = probe;
         }
     }
-    for (int it = 0; it < 200; it++) {
+    for (int it = 0; it < ITER_CAP && fabs(hi - lo) > tol; it++) {
         double mid = 0.5 * (lo + hi);
         if (mid == lo || mid == hi) {
             break;
@@ -70,8 +81,8 @@ static double bisect(const double *c, int deg, double lo, double hi, double flo)
     return lo;
 }
 
-/* All real roots of the polynomial in (a, b), ascending; returns their number (<= deg). */
-static int roots_in(const double *c, int deg, double a, double b, double *out)
+/* All real roots of the polynomial in (a, b), ascending (to within tol); returns their number (<= deg). */
+static int roots_in(const double *c, int deg, double a, double b, double tol, double *out)
 {
     while (deg > 0 && c[deg] == 0.0) {
         deg--;
@@ -111,7 +122,7 @@ static int roots_in(const double *c, int deg, double a, double b, double *out)
     for (int k = 0; k < deg; k++) {
         dc[k] = (k + 1) * c[k + 1];
     }
-    int m = roots_in(dc, deg - 1, a, b, crit);
+    int m = roots_in(dc, deg - 1, a, b, tol, crit);
     pts[0] = a;
     for (int k = 0; k < m; k++) {
         pts[k + 1] = crit[k];
@@ -122,7 +133,7 @@ static int roots_in(const double *c, int deg, double a, double b, double *out)
         if (fq == 0.0 && k < m) {
             out[n++] = pts[k + 1];
         } else if ((fp > 0.0 && fq < 0.0) || (fp < 0.0 && fq > 0.0)) {
-            out[n++] = bisect(c, deg, pts[k], pts[k + 1], fp);
+            out[n++] = bisect(c, deg, pts[k], pts[k + 1], fp, tol);
         }
     }
     return n;
@@ -130,6 +141,11 @@ static int roots_in(const double *c, int deg, double a, double b, double *out)
 
 double gr_ev_first_quartic(const double c[5], double T)
 {
+    if (!(isfinite(c[0]) && isfinite(c[1]) && isfinite(c[2]) && isfinite(c[3]) && isfinite(c[4]) && T > 0.0 &&
+          isfinite(T))) {
+        return GR_EV_INF;
+    }
+    const double tol = 4.0 * DBL_EPSILON * T;
     int deg = 4;
     while (deg > 0 && c[deg] == 0.0) {
         deg--;
@@ -138,7 +154,7 @@ double gr_ev_first_quartic(const double c[5], double T)
     for (int k = 0; k < deg; k++) {
         dc[k] = (k + 1) * c[k + 1];
     }
-    int m = deg > 0 ? roots_in(dc, deg - 1, 0.0, T, crit) : 0;
+    int m = deg > 0 ? roots_in(dc, deg - 1, 0.0, T, tol, crit) : 0;
     pts[0] = 0.0;
     for (int k = 0; k < m; k++) {
         pts[k + 1] = crit[k];
@@ -155,7 +171,7 @@ double gr_ev_first_quartic(const double c[5], double T)
             return p;
         }
         if (fq <= 0.0) {
-            return bisect(c, deg, p, q, fp);
+            return bisect(c, deg, p, q, fp, tol);
         }
     }
     return GR_EV_INF;

@@ -26,6 +26,7 @@
 #include "io/run_checkpoint.h"
 #include "core/sim_state.h"
 #include "hybrid/hybrid.h"
+#include "event/event.h"
 
 static double now(void)
 {
@@ -183,6 +184,9 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         return rc;
     }
     snprintf(res->kernel, sizeof res->kernel, "%s", gr_sim_kernel(sim));
+    /* an event-driven step can be long (dense or hot systems): it polls the stop flag itself and
+     * returns early, with the step count unchanged, when a stop is requested */
+    gr_event_set_stop(sim, opt ? opt->stop : NULL);
     gr_observer *obs = NULL;
     rc = gr_observer_create(scene, &obs, err);
     if (!rc && gr_observer_needs_events(obs)) {

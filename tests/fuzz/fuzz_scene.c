@@ -59,18 +59,9 @@ static void tiny_run(const gr_scene *s)
     if (gr_sim_create(s, &sim, &err) != GR_OK) {
         return; /* refused with a message: a clean error */
     }
-    /* KNOWN, open (docs/fuzzing.md): a step of the event-driven integrator can run without end
-     * (tests/fuzz/known/event-hang-*.ini). Until it bounds its work, event/hybrid scenes are
-     * parsed and created but stepped only with GRANULE_FUZZ_EVENT=1, so the CI run stays
-     * deterministic and campaigns go on finding new things elsewhere. */
-    static int step_event = -1;
-    if (step_event < 0) {
-        step_event = getenv("GRANULE_FUZZ_EVENT") != NULL;
-    }
-    if (s->integrator != GR_INTEGRATOR_VERLET && !step_event) {
-        gr_sim_free(sim);
-        return;
-    }
+    /* event/hybrid scenes are stepped too: the event-driven core refuses absurd speeds and stops
+     * diverging event rates and a runaway contact floor with a diagnosis (past hangs:
+     * corpus/scene/regress-event-*.ini, docs/event-driven.md "Progress guards") */
     int64_t steps = STEP_CAP;
     if (s->integrator != GR_INTEGRATOR_VERLET) {
         /* the event-driven integrators work per noise window (kick_interval) inside a step of dt:
