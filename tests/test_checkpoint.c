@@ -10,6 +10,10 @@
  *   - a state saved for another N is refused naming both
  *   - observers (every 1D and 2D observable) saved after some frames and loaded into fresh ones
  *     accumulate exactly like the originals: their saves after further frames are byte-equal
+ *   - the event-driven (1D ring; 2D with cells, kicks, com) and hybrid (1D; 2D com) integrators:
+ *     saved, loaded and continued in uneven calls (gr_sim_call_steps) equal the original bit for
+ *     bit, counters included; every truncation of their state is refused; an event-driven call
+ *     stopped by the stop flag, saved and resumed, equals an uninterrupted run
  *
  * GRANULE_TEST_QUICK=1 shortens the runs. */
 #include <check.h>
@@ -19,6 +23,8 @@
 #include <string.h>
 
 #include "core/sim_state.h"
+#include "event/event.h"
+#include "hybrid/hybrid.h"
 #include "granule/observe.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
@@ -364,6 +370,133 @@ START_TEST(test_observers_1d)
 }
 END_TEST
 
+/* ---------- the event-driven and hybrid integrators ---------- */
+
+static void assert_same_integrator(gr_sim *a, gr_sim *b)
+{
+    assert_same_sim(a, b);
+    gr_event_counts ea, eb;
+    gr_event_stats(a, &ea);
+    gr_event_stats(b, &eb);
+    ck_assert(memcmp(&ea, &eb, sizeof ea) == 0);
+    gr_hybrid_stats ha, hb;
+    ck_assert_int_eq(gr_sim_hybrid_stats(a, &ha), gr_sim_hybrid_stats(b, &hb));
+    ck_assert(memcmp(&ha, &hb, sizeof ha) == 0);
+}
+
+/* resume_case, but the continuation of the loaded copy is cut into uneven calls the way the run
+ * driver cuts it (gr_sim_call_steps); every truncation of the saved state is refused. */
+static void integrator_case(const char *const *sets, int n_sets, int64_t T, int64_t T2)
+{
+    gr_scene sc;
+    scene_of(&sc, sets, n_sets);
+    gr_error err = {0};
+    gr_sim *a, *b;
+    ck_assert_msg(gr_sim_create(&sc, &a, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_eq(gr_sim_track_contacts(a, &err), GR_OK);
+    ck_assert_msg(gr_sim_step(a, T, &err) == GR_OK, "%s", err.message);
+    gr_blob blob = {0};
+    ck_assert_msg(gr_sim_save_state(a, &blob, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_sim_step(a, T2, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_sim_collisions(a) > 0, "the case should have collisions");
+
+    ck_assert_msg(gr_sim_create(&sc, &b, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_eq(gr_sim_track_contacts(b, &err), GR_OK);
+    gr_blob_reader r;
+    gr_blob_reader_init(&r, blob.data, blob.len, "SIM");
+    ck_assert_msg(gr_sim_load_state(b, &r, &err) == GR_OK, "%s", err.message);
+    static const int64_t wants[] = {1, 49, 50, 7, 393, 100, 17};
+    for (int k = 0; gr_sim_steps(b) < T + T2; k++) {
+        int64_t n = gr_sim_call_steps(b, wants[k % 7], T + T2 - gr_sim_steps(b));
+        ck_assert(n >= 1 && n <= T + T2 - gr_sim_steps(b));
+        ck_assert_msg(gr_sim_step(b, n, &err) == GR_OK, "%s", err.message);
+    }
+    assert_same_integrator(a, b);
+    for (size_t cut = 0; cut < blob.len; cut += 1 + blob.len / 300) {
+        gr_sim *c;
+        ck_assert_int_eq(gr_sim_create(&sc, &c, &err), GR_OK);
+        ck_assert_int_eq(gr_sim_track_contacts(c, &err), GR_OK);
+        gr_blob_reader_init(&r, blob.data, cut, "SIM");
+        ck_assert_int_eq(gr_sim_load_state(c, &r, &err), GR_EINVAL);
+        gr_sim_free(c);
+    }
+    gr_sim_free(a);
+    gr_sim_free(b);
+    gr_blob_free(&blob);
+}
+
+START_TEST(test_event_state)
+{
+    static const char *const s1[] = {"system.dim=1", "system.N=100", "system.reduced_length=0.2",
+                                     "placement.kind=uniform", "model.normal=hard_sphere", "model.eps_n=0.5",
+                                     "noise.D=1e-7", "integrator.kind=event", "integrator.kick_interval=1e-4",
+                                     "placement.v0=1"};
+    integrator_case(s1, 10, quick() ? 3001 : 20001, quick() ? 3000 : 20000);
+    /* 2D with cells (crossings), kicks instead of exact free flight, com resets */
+    static const char *const s2[] = {"system.dim=2", "system.N=200", "system.packing_fraction=0.3",
+                                     "model.normal=hard_sphere", "model.eps_n=0.6", "model.eps_t=0.8",
+                                     "noise.D=1e-7", "noise.mode=com", "noise.com_interval=3e-4",
+                                     "integrator.kind=event", "integrator.kick_interval=1e-4",
+                                     "integrator.free_flight=kicks", "placement.v0=1"};
+    integrator_case(s2, 13, quick() ? 1001 : 5001, quick() ? 1000 : 5000);
+}
+END_TEST
+
+/* A call interrupted by a stop request keeps the events it did; a checkpoint taken then and
+ * resumed with gr_sim_call_steps (which widens the next call to what is owed) continues exactly. */
+START_TEST(test_event_stop_then_resume)
+{
+    static const char *const sets[] = {"system.dim=2", "system.N=200", "system.packing_fraction=0.35",
+                                       "model.normal=hard_sphere", "model.eps_n=0.6", "noise.D=1e-7",
+                                       "integrator.kind=event", "integrator.kick_interval=1e-4", "placement.v0=1"};
+    gr_scene sc;
+    scene_of(&sc, sets, 9);
+    gr_error err = {0};
+    gr_sim *a, *b, *c;
+    ck_assert_int_eq(gr_sim_create(&sc, &c, &err), GR_OK);
+    int64_t big = 0; /* the reference: steps until more than 6000 events */
+    for (gr_event_counts k = {0}; k.collisions + k.invalid < 6000; gr_event_stats(c, &k)) {
+        ck_assert_msg(gr_sim_step(c, 500, &err) == GR_OK, "%s", err.message);
+        big += 500;
+    }
+    ck_assert_int_eq(gr_sim_create(&sc, &a, &err), GR_OK);
+    volatile sig_atomic_t stop = 1;
+    gr_event_set_stop(a, &stop);
+    ck_assert_int_eq(gr_sim_step(a, big, &err), GR_OK);
+    ck_assert_int_eq(gr_sim_steps(a), 0); /* stopped after GR_EV_POLL events */
+    ck_assert_int_eq(gr_event_owed_steps(a), big);
+    gr_blob blob = {0};
+    ck_assert_msg(gr_sim_save_state(a, &blob, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_eq(gr_sim_create(&sc, &b, &err), GR_OK);
+    gr_blob_reader r;
+    gr_blob_reader_init(&r, blob.data, blob.len, "SIM");
+    ck_assert_msg(gr_sim_load_state(b, &r, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_eq(gr_sim_call_steps(b, 7, big), big); /* not 7: the events are past step 7 */
+    ck_assert_msg(gr_sim_step(b, gr_sim_call_steps(b, 7, big), &err) == GR_OK, "%s", err.message);
+    ck_assert_int_eq(gr_event_owed_steps(b), 0);
+    assert_same_integrator(b, c);
+    gr_sim_free(a);
+    gr_sim_free(b);
+    gr_sim_free(c);
+    gr_blob_free(&blob);
+}
+END_TEST
+
+START_TEST(test_hybrid_state)
+{
+    static const char *const s1[] = {"system.dim=1", "system.N=200", "system.reduced_length=0.2",
+                                     "placement.kind=uniform", "model.eps_n=0.5", "noise.D=1e-7",
+                                     "integrator.kind=hybrid", "integrator.dt=1e-6", "integrator.kick_interval=3e-5",
+                                     "placement.v0=1"};
+    integrator_case(s1, 10, quick() ? 1013 : 5013, quick() ? 1000 : 5000);
+    static const char *const s2[] = {"system.dim=2", "system.N=200", "system.packing_fraction=0.35",
+                                     "model.eps_n=0.6", "noise.D=1e-7", "noise.mode=com", "noise.com_interval=1e-4",
+                                     "integrator.kind=hybrid", "integrator.dt=1e-6", "integrator.kick_interval=2e-5",
+                                     "placement.v0=1"};
+    integrator_case(s2, 11, quick() ? 507 : 2007, quick() ? 500 : 2000);
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("checkpoint");
@@ -378,6 +511,9 @@ static Suite *suite(void)
     tcase_add_test(t, test_sim_state_mismatch_refused);
     tcase_add_test(t, test_observers_2d);
     tcase_add_test(t, test_observers_1d);
+    tcase_add_test(t, test_event_state);
+    tcase_add_test(t, test_event_stop_then_resume);
+    tcase_add_test(t, test_hybrid_state);
     suite_add_tcase(s, t);
     return s;
 }

@@ -6,6 +6,8 @@
 #     again and again by --wall-limit (exit 4) + --resume, vs kill -9 after a checkpoint +
 #     --resume; summary.json (wall-time and checkpoint-count lines excepted), every CSV and every
 #     snapshot compared byte for byte
+#   - the event-driven and hybrid integrators (1D, N = 100): SIGTERM + --resume and repeated
+#     --wall-limit stops + --resume, compared the same way
 #   - refusals: flipped byte (checksum), truncated file, other format version, not a checkpoint,
 #     different scene (names the key), finished run, missing checkpoint, fresh run over an
 #     interrupted one without --force
@@ -106,7 +108,7 @@ EOF
 # every CSV and snapshot byte for byte
 same() {
     local a=$1 b=$2 f rel
-    local skip='wall_seconds|particle_steps_per_second|checkpoint|"dir"'
+    local skip='wall_seconds|_per_second|checkpoint|"dir"'
     if ! diff <(grep -Ev "$skip" "$a/summary.json") <(grep -Ev "$skip" "$b/summary.json") >"$TMP/diff"; then
         echo "summary.json differs: $(head -4 "$TMP/diff" | tr '\n' ' ')"
         return 1
@@ -140,9 +142,12 @@ for d in 2 1; do
     scene=s$d.ini
     run "$G" run "$scene" --out ref$d --quiet
     [[ $rc -eq 0 ]] || fail "${d}D reference run exits $rc" "$err"
+    # the background runs below pause halfway (GRANULE_TEST_PAUSE_AT_STEP) until they are signalled
+    # or killed, so they are still running when the signal comes, on a machine of any speed
+    half=$(( $(grep -o '"steps":[[:space:]]*[0-9]*' ref$d/summary.json | grep -o '[0-9]*$') / 2 ))
 
     # SIGTERM once a checkpoint exists: exit 5, checkpoint kept, no summary; resume finishes it
-    "$G" run "$scene" --out term$d --quiet --set run.checkpoint_every=0.004 >/dev/null 2>"$TMP/term.err" &
+    GRANULE_TEST_PAUSE_AT_STEP=$half "$G" run "$scene" --out term$d --quiet --set run.checkpoint_every=0.004 >/dev/null 2>"$TMP/term.err" &
     pid=$!
     pids+=("$pid")
     if wait_for "term$d/checkpoint" "$pid"; then sleep 0.1; kill -TERM "$pid" 2>/dev/null || true; fi
@@ -165,6 +170,7 @@ for d in 2 1; do
     # a wall-time budget: stop with exit 4 and resume, again and again, until done; steps run in
     # chunks of at most 777 (GRANULE_CHUNK_STEPS), so most stops fall between two samples
     wl=$([[ $d == 2 ]] && echo 1.5 || echo 1.15)
+    tick=$([[ $d == 2 ]] && echo 0.01 || echo 0.002) # GRANULE_TEST_CLOCK_TICK: a machine-independent clock
     per=$([[ $d == 2 ]] && echo 5000 || echo 2000)
     sessions=0
     mid=0
@@ -172,10 +178,10 @@ for d in 2 1; do
     first=1
     while [[ $rc -eq 4 && $sessions -lt 60 ]]; do
         if [[ $first == 1 ]]; then
-            run env GRANULE_CHUNK_STEPS=777 "$G" run "$scene" --out wall$d --quiet --wall-limit "$wl"
+            run env GRANULE_TEST_CLOCK_TICK=$tick GRANULE_CHUNK_STEPS=777 "$G" run "$scene" --out wall$d --quiet --wall-limit "$wl"
             first=0
         else
-            run env GRANULE_CHUNK_STEPS=777 "$G" run --resume wall$d --quiet --wall-limit "$wl"
+            run env GRANULE_TEST_CLOCK_TICK=$tick GRANULE_CHUNK_STEPS=777 "$G" run --resume wall$d --quiet --wall-limit "$wl"
         fi
         sessions=$((sessions + 1))
         step=$(grep -o 'at step [0-9]*' <<<"$err" | grep -o '[0-9]*' || true)
@@ -188,7 +194,7 @@ for d in 2 1; do
     fi
 
     # kill -9 after a checkpoint: the rows and snapshots written after it are redone identically
-    "$G" run "$scene" --out kill$d --quiet --set run.checkpoint_every=0.004 >/dev/null 2>&1 &
+    GRANULE_TEST_PAUSE_AT_STEP=$half "$G" run "$scene" --out kill$d --quiet --set run.checkpoint_every=0.004 >/dev/null 2>&1 &
     pid=$!
     pids+=("$pid")
     if wait_for "kill$d/checkpoint" "$pid"; then sleep 0.15; kill -9 "$pid" 2>/dev/null || true; fi
@@ -207,9 +213,127 @@ for d in 2 1; do
     fi
 done
 
+# ---------- the event-driven and hybrid integrators ----------
+# docs/scenes/rfm-1d-event.ini (kick_interval 2e-5 s, so that stepping, not sampling, takes most
+# of the time and stops fall between samples) and rfm-1d-hybrid.ini shrunk to N = 100 and short
+# runs, with every 1D observable: straight run vs SIGTERM (exit 5) + --resume and vs repeated --wall-limit stops
+# (exit 4) + --resume, compared as above. The event-driven state is mid-window at every call
+# boundary (per-particle base times, the window's noise, the calendar); the hybrid's windows must
+# fall at the same steps however the run is cut into calls.
+if [[ $quick == 1 ]]; then dure=0.5 durh=0.3; else dure=1.0 durh=0.8; fi
+common='[system]
+dim = 1
+N = 100
+reduced_length = 1.0
+radius = 1.5e-3
+mass = 3.53e-5
+[placement]
+kind = uniform
+v0 = 0.1
+[noise]
+D = 1e-8
+mode = symmetrised
+[analysis]
+observables = moments, freepath, postcollision, gaps, pv'
+cat >se.ini <<EOF
+$common
+[output]
+plots = false
+snapshot_every = 0.25
+[model]
+normal = hard_sphere
+k_s = 5e5
+eps_n = 0.1
+tc = 0
+[integrator]
+kind = event
+free_flight = exact
+kick_interval = 2e-5
+[run]
+warmup = 0.05
+duration = $dure
+sample_every = 2e-3
+checkpoint_wall = 0
+EOF
+cat >sh.ini <<EOF
+$common
+[output]
+plots = false
+snapshot_every = 0.1
+[model]
+normal = spring_dashpot
+tangential = none
+k_s = 5e5
+eps_n = 0.1
+clamp = false
+[integrator]
+kind = hybrid
+dt = 1e-6
+kick_interval = 3e-5
+free_flight = exact
+[run]
+warmup = 0.01
+duration = $durh
+sample_every = 1e-3
+checkpoint_wall = 0
+EOF
+for d in e h; do
+    name=$([[ $d == e ]] && echo "event-driven" || echo "hybrid")
+    scene=s$d.ini
+    run "$G" run "$scene" --out ref$d --quiet
+    [[ $rc -eq 0 ]] || fail "$name reference run exits $rc" "$err"
+    # steps per sample, for telling stops between samples
+    steps=$(grep -o '"steps":[[:space:]]*[0-9]*' ref$d/summary.json | grep -o '[0-9]*$' || echo 0)
+    per=$(awk -v n="$steps" -v t="$([[ $d == e ]] && echo "$dure 0.05 2e-3" || echo "$durh 0.01 1e-3")" \
+        'BEGIN { split(t, a, " "); printf "%d", n / int((a[1] + a[2]) / a[3] + 0.5) }')
+
+    GRANULE_TEST_PAUSE_AT_STEP=$((steps / 2)) "$G" run "$scene" --out term$d --quiet --set run.checkpoint_every=0.002 >/dev/null 2>"$TMP/term.err" &
+    pid=$!
+    pids+=("$pid")
+    if wait_for "term$d/checkpoint" "$pid"; then kill -TERM "$pid" 2>/dev/null || true; fi
+    set +e
+    wait "$pid"
+    rc=$?
+    set -e
+    if [[ $rc -eq 5 && -s term$d/checkpoint && ! -e term$d/summary.json ]] && grep -q "resume" "$TMP/term.err"; then
+        pass "$name: SIGTERM writes a checkpoint and exits 5"
+    else
+        fail "$name: SIGTERM: exit $rc (want 5; the run may have finished before the signal)" "$(cat "$TMP/term.err")"
+    fi
+    run "$G" run --resume term$d --quiet
+    if [[ $rc -eq 0 ]] && msg=$(same ref$d term$d); then
+        pass "$name: run + SIGTERM + resume equals the uninterrupted run bit for bit"
+    else
+        fail "$name: SIGTERM + resume (exit $rc)" "$err" "${msg:-}"
+    fi
+
+    # a machine-independent clock (GRANULE_TEST_CLOCK_TICK) sized for about ten sessions
+    tick=$(awk -v s="$steps" 'BEGIN { printf "%.3g", s > 0 ? 2.9 / s : 1e-4 }')
+    sessions=0
+    mid=0
+    rc=4
+    first=1
+    while [[ $rc -eq 4 && $sessions -lt 60 ]]; do
+        if [[ $first == 1 ]]; then
+            run env GRANULE_TEST_CLOCK_TICK=$tick GRANULE_CHUNK_STEPS=97 "$G" run "$scene" --out wall$d --quiet --wall-limit 1.05
+            first=0
+        else
+            run env GRANULE_TEST_CLOCK_TICK=$tick GRANULE_CHUNK_STEPS=97 "$G" run --resume wall$d --quiet --wall-limit 1.05
+        fi
+        sessions=$((sessions + 1))
+        step=$(grep -o 'at step [0-9]*' <<<"$err" | grep -o '[0-9]*' || true)
+        if [[ -n $step && $per -gt 0 ]] && ((step % per != 0)); then mid=$((mid + 1)); fi
+    done
+    if [[ $rc -eq 0 && $sessions -ge 2 && $mid -ge 1 ]] && msg=$(same ref$d wall$d); then
+        pass "$name: $sessions sessions under --wall-limit (exit 4 each; $mid stopped between samples) equal the uninterrupted run"
+    else
+        fail "$name: --wall-limit sessions: $sessions ($mid between samples), last exit $rc (want 0 after >= 2, >= 1 between samples)" "$err" "${msg:-}"
+    fi
+done
+
 # ---------- refusals ----------
 # an interrupted run to corrupt (copied fresh for each case)
-"$G" run s2.ini --out base --quiet --set run.checkpoint_every=0.004 --wall-limit 1.2 >/dev/null 2>&1 || true
+GRANULE_TEST_CLOCK_TICK=0.01 "$G" run s2.ini --out base --quiet --set run.checkpoint_every=0.004 --wall-limit 1.2 >/dev/null 2>&1 || true
 if [[ ! -s base/checkpoint || -e base/summary.json ]]; then
     fail "could not make an interrupted run to corrupt"
 fi

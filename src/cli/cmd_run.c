@@ -139,11 +139,6 @@ int cmd_run(int argc, char **argv)
     if (scene.warnings[0]) {
         fprintf(stderr, "granule: warning: %s", scene.warnings);
     }
-    if (scene.integrator != GR_INTEGRATOR_VERLET && (scene.checkpoint_every > 0.0 || scene.wall_limit > 0.0 || resume)) {
-        fprintf(stderr, "granule: warning: checkpoints are not available for [integrator] kind = %s yet: "
-                        "a stop (wall limit, signal) ends the run with status \"interrupted\" and cannot be resumed\n",
-                scene.integrator == GR_INTEGRATOR_EVENT ? "event" : "hybrid");
-    }
     gr_run_options opt = {.force = force, .resume = resume != NULL, .stop = &stop_requested};
     struct sigaction sa = {.sa_handler = on_stop_signal, .sa_flags = SA_RESETHAND};
     sigemptyset(&sa.sa_mask);

@@ -1,4 +1,5 @@
-/* Saving and restoring a Verlet simulation's state for exact restarts (docs/checkpoints.md).
+/* Saving and restoring a simulation's state for exact restarts (docs/checkpoints.md): the Verlet
+ * part below, then the event-driven or hybrid part (src/event/event_state.c, src/hybrid/hy_state.c).
  *
  * Between two gr_sim_step calls the velocities are synchronised, and the next step depends on:
  * positions and velocities; the forces of the last evaluation (fx, fy), their non-conservative
@@ -18,18 +19,39 @@
 
 #include "core/sim_internal.h"
 #include "core/sim_state.h"
+#include "event/event.h"
+#include "hybrid/hybrid.h"
 
 #define SIM_STATE_TAG 0x53494d31u /* "SIM1": bump when the layout below changes */
 
 int gr_sim_checkpointable(const gr_sim *s, gr_error *err)
 {
-    if (s->ev || s->hy || s->scene.integrator != GR_INTEGRATOR_VERLET) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "%s: [integrator] kind = %s: checkpoints are implemented for the verlet integrator only "
-                       "(the event-driven and hybrid integrators do not expose their state yet)",
-                       s->scene.source, s->scene.integrator == GR_INTEGRATOR_EVENT ? "event" : "hybrid");
+    /* every integrator: the event-driven and hybrid ones append their own part (event_state.c,
+     * hy_state.c) */
+    const bool known = (s->scene.integrator == GR_INTEGRATOR_VERLET && !s->ev && !s->hy) ||
+                       (s->scene.integrator == GR_INTEGRATOR_EVENT && s->ev) ||
+                       (s->scene.integrator == GR_INTEGRATOR_HYBRID && s->hy);
+    if (!known) {
+        return GR_FAIL(err, GR_EINVAL, "%s: internal error: the integrator state does not match [integrator] kind",
+                       s->scene.source);
     }
     return GR_OK;
+}
+
+int64_t gr_sim_call_steps(const gr_sim *s, int64_t want, int64_t todo)
+{
+    int64_t n = want < todo ? want : todo;
+    const int64_t owed = gr_event_owed_steps(s);
+    if (owed > n && owed <= todo) {
+        n = owed;
+    }
+    const int64_t q = gr_hybrid_window_steps(s);
+    if (q > 1 && n < todo) { /* end on a window boundary: at or before step + n, else the next one */
+        const int64_t end = (s->step + n) / q * q;
+        n = end > s->step ? end - s->step : q - s->step % q;
+        n = n < todo ? n : todo;
+    }
+    return n;
 }
 
 static void put_report(gr_blob *b, const gr_force_report *r)
@@ -110,7 +132,13 @@ int gr_sim_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
             gr_blob_put(b, v, sizeof v);
         }
     }
-    return gr_blob_ok(b, err);
+    rc = gr_blob_ok(b, err);
+    if (!rc && s->ev) {
+        rc = gr_event_save_state(s, b, err);
+    } else if (!rc && s->hy) {
+        rc = gr_hybrid_save_state(s, b, err);
+    }
+    return rc;
 }
 
 /* Compare a stored scalar with the one the scene gives, bit for bit. */
@@ -256,5 +284,10 @@ int gr_sim_load_state(gr_sim *s, gr_blob_reader *b, gr_error *err)
             *e = (gr_contact_event){.i = (int)i, .kind = (int)kind, .t = v[0], .x = v[1], .y = v[2], .vx = v[3], .vy = v[4]};
         }
     }
-    return gr_blob_done(b, err);
+    if (!b->bad && s->ev) {
+        rc = gr_event_load_state(s, b, err);
+    } else if (!b->bad && s->hy) {
+        rc = gr_hybrid_load_state(s, b, err);
+    }
+    return rc ? rc : gr_blob_done(b, err);
 }

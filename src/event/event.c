@@ -704,6 +704,7 @@ int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err)
         const double limit = local < e->tau ? local : e->tau;
         int rc = e->dim == 1 ? process_1d(s, limit, err) : gr_ev2d_process(s, limit, err);
         if (rc == GR_EV_STOPPED) {
+            e->owed_to = s->step + nsteps; /* the next call must reach at least this step */
             return GR_OK; /* stop requested: s->step and the reported state stay where they were */
         }
         if (rc) {
@@ -720,10 +721,12 @@ int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err)
         }
         start_window(s);
         if (e->stop && *e->stop) {
+            e->owed_to = s->step + nsteps;
             return GR_OK; /* between windows: nothing lost either */
         }
     }
     s->step += nsteps;
+    e->owed_to = 0;
     for (int i = 0; i < s->n; i++) {
         double sum = s->x[i] + s->vx[i] + (s->dim == 2 ? s->y[i] + s->vy[i] : 0.0);
         if (!isfinite(sum)) {

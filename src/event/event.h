@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include "core/sim_internal.h"
+#include "io/blob.h"
 
 /* Build the event state after positions, velocities and coefficients are set. */
 int gr_event_init(gr_sim *s, gr_error *err);
@@ -23,6 +24,17 @@ int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err);
 void gr_event_free(gr_sim *s);
 /* Poll *stop (e.g. set by a SIGTERM handler) every few thousand events; NULL for none. */
 void gr_event_set_stop(gr_sim *s, volatile sig_atomic_t *stop);
+/* After a call that returned early on a stop request: the steps it still owes (its target minus
+ * s->step), else 0. Events up to an instant inside those steps are already done, so the next
+ * call must go at least that far (a shorter one could not report its end state). */
+int64_t gr_event_owed_steps(const gr_sim *s);
+
+/* Exact restarts (event_state.c, docs/checkpoints.md): append / read back everything the next
+ * gr_event_step depends on (called by src/core/sim_state.c after the soft-sphere part). Load
+ * into a simulation freshly created from the same scene; the calendar is rebuilt from the
+ * stored keys. */
+int gr_event_save_state(const gr_sim *s, gr_blob *b, gr_error *err);
+int gr_event_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err);
 
 /* Counts since creation (all zero for other integrators). kicks = particle updates at window
  * ends; invalid = calendar entries found stale when they came due; tc_elastic = collisions made

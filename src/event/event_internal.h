@@ -71,6 +71,7 @@ struct gr_event_state {
     double min_span;       /* shortest time `budget` events may take: 1e-6 kick_interval */
     double work_rate;      /* mean random-force power, W (floor guard) */
     double t_start;        /* absolute time at creation */
+    int64_t owed_to;       /* target step of a call that returned early on a stop (0: none) */
     volatile sig_atomic_t *stop; /* gr_event_set_stop: return early when it becomes non-zero */
 };
 

@@ -1,7 +1,8 @@
 /* The hybrid integrator: windows, rollbacks, the centre-of-mass correction, the ledger
  * (docs/hybrid.md).
  *
- * One window of m steps (tau = m dt; the last window of a gr_sim_step call may be shorter):
+ * One window of m steps (tau = m dt) covers steps [k m, (k + 1) m); the end of a gr_sim_step call
+ * or a com reset cuts it short (then the next window runs to the next multiple of m):
  *   1. choose the active set from the state now (active.c; never from this window's noise);
  *   2. draw every particle's noise for the window (window_noise.c): free particles leap the
  *      window exactly (velocity and position increments with the law of m Verlet kicks on a free
@@ -356,7 +357,10 @@ int gr_hybrid_step(gr_sim *s, int64_t nsteps, gr_error *err)
     gr_hybrid_state *h = s->hy;
     int64_t done = 0;
     while (done < nsteps) {
-        int64_t m = h->m < nsteps - done ? h->m : nsteps - done;
+        /* windows are [k m, (k + 1) m) (cut at call ends and com resets): where they fall does not
+         * depend on where earlier calls ended */
+        int64_t m = h->m - s->step % h->m;
+        m = m < nsteps - done ? m : nsteps - done;
         if (s->scene.noise_mode == GR_NOISE_COM) { /* cut windows at the resets */
             const int64_t next = (s->step / s->com_every + 1) * s->com_every;
             m = m < next - s->step ? m : next - s->step;

@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "core/sim_internal.h"
+#include "io/blob.h"
 
 /* Build the hybrid state after positions, velocities, coefficients and forces are set. */
 int gr_hybrid_init(gr_sim *s, gr_error *err);
@@ -35,5 +36,16 @@ int gr_sim_hybrid_stats(const gr_sim *s, gr_hybrid_stats *st);
  * GR_HYBRID_MARGIN_SIGMAS); a huge c makes every particle active. */
 #define GR_HYBRID_MARGIN_SIGMAS 6.0
 void gr_hybrid_set_margin(gr_sim *s, double sigmas);
+
+/* Steps per full window (1 for other integrators). Windows are cut at multiples of it, at com
+ * resets and at the ends of gr_sim_step calls, so a run is independent of how its steps are
+ * split into calls as long as calls end on multiples of it (or where the caller must stop
+ * anyway, e.g. at a sample): gr_sim_call_steps (src/core/sim_state.h) does that. */
+int64_t gr_hybrid_window_steps(const gr_sim *s);
+
+/* Exact restarts (hy_state.c, docs/checkpoints.md): append / read back the hybrid's own state
+ * (called by src/core/sim_state.c after the soft-sphere part) between gr_sim_step calls. */
+int gr_hybrid_save_state(const gr_sim *s, gr_blob *b, gr_error *err);
+int gr_hybrid_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err);
 
 #endif

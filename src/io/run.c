@@ -28,11 +28,39 @@
 #include "hybrid/hybrid.h"
 #include "event/event.h"
 
+/* Wall clock. GRANULE_TEST_CLOCK_TICK = S replaces it by a clock that advances S seconds per
+ * reading, so the tests of --wall-limit stop at the same places on any machine. */
 static double now(void)
 {
+    static double tick = -1.0, fake = 0.0;
+    if (tick < 0.0) {
+        const char *e = getenv("GRANULE_TEST_CLOCK_TICK");
+        tick = e && atof(e) > 0.0 ? atof(e) : 0.0;
+    }
+    if (tick > 0.0) {
+        return fake += tick;
+    }
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* GRANULE_TEST_PAUSE_AT_STEP = K: once step K is passed, wait (up to 60 s) for a stop request
+ * or a kill, so the tests of SIGTERM and kill -9 hit a running process on any machine. */
+static void test_pause(const gr_sim *sim, const gr_run_options *opt)
+{
+    static int64_t at = -1;
+    if (at < 0) {
+        const char *e = getenv("GRANULE_TEST_PAUSE_AT_STEP");
+        at = e && atoll(e) > 0 ? atoll(e) : 0;
+    }
+    if (at > 0 && gr_sim_steps(sim) >= at) {
+        at = 0; /* once */
+        const struct timespec slice = {0, 10000000};
+        for (int i = 0; i < 6000 && !(opt && opt->stop && *opt->stop); i++) {
+            nanosleep(&slice, NULL);
+        }
+    }
 }
 
 static void csv_header(FILE *f, const char *what, const gr_scene *s, uint64_t hash)
@@ -285,12 +313,13 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
             while (rc == GR_OK && gr_sim_steps(sim) < k * per_sample) {
                 const int64_t todo = k * per_sample - gr_sim_steps(sim);
                 double t0 = now();
-                rc = gr_sim_step(sim, todo < chunk ? todo : chunk, &step_err);
+                rc = gr_sim_step(sim, gr_sim_call_steps(sim, chunk, todo), &step_err);
                 chunk_wall = now() - t0;
                 stepping += chunk_wall;
                 chunk = chunk_wall < 0.05 && chunk < chunk_cap ? (2 * chunk < chunk_cap ? 2 * chunk : chunk_cap)
                         : chunk_wall > 0.2 && chunk > 1 ? chunk / 2
                                                         : chunk;
+                test_pause(sim, opt);
                 stop = opt && opt->stop && *opt->stop ? 1
                        : scene->wall_limit > 0.0 && now() - t_enter + 2.0 * chunk_wall + 2.0 * ckpt_cost + 1.0 >= scene->wall_limit ? 2
                                                                                                                             : 0;
