@@ -179,8 +179,11 @@ static void zero_forces(gr_sim *s, int lo, int hi)
     memset(s->gy + lo, 0, m);
 }
 
-/* Cross-pair lists for T threads (see sim_internal.h), after every list rebuild. Thread t owns
- * the blocks [t nblk / T, (t+1) nblk / T). Returns 0 when out of memory (then one thread runs). */
+/* Cross-pair lists for T threads (see sim_internal.h), after every list rebuild. Thread t owns a
+ * contiguous range of whole blocks, chosen so that the threads get about equal work (pairs of
+ * the list plus particles): clustered states put most pairs in a few blocks. Any block-aligned
+ * split gives the same sums (the order of additions per particle and per block is fixed), so
+ * the split only changes the speed. Returns 0 when out of memory (then one thread runs). */
 static int build_cross(gr_sim *s, int T)
 {
     const int n = s->n;
@@ -199,10 +202,28 @@ static int build_cross(gr_sim *s, int T)
     if (!row || !cs || !s->in_start) {
         return 0;
     }
-    for (int t = 0; t <= T; t++) {
-        int b = (int)((int64_t)t * s->nblk / T);
-        row[t] = b * GR_BLOCK < n ? b * GR_BLOCK : n;
+    /* work of the rows before block b: pairs + particles; split at the blocks closest to t/T */
+    const int64_t total = (int64_t)start[n] + n;
+    row[0] = 0;
+    int b = 0;
+    for (int t = 1; t < T; t++) {
+        const int64_t goal = total * t / T;
+        while (b < s->nblk) {
+            const int r = (b + 1) * GR_BLOCK < n ? (b + 1) * GR_BLOCK : n;
+            const int64_t w = (int64_t)start[r] + r, w0 = (int64_t)start[b * GR_BLOCK] + (int64_t)b * GR_BLOCK;
+            if (w >= goal) {
+                if (goal - w0 > w - goal) {
+                    b++; /* the boundary after block b is closer */
+                }
+                break;
+            }
+            b++;
+        }
+        const int lo = b < row[t - 1] / GR_BLOCK + 1 ? row[t - 1] / GR_BLOCK + 1 : b; /* >= 1 block each */
+        row[t] = lo * GR_BLOCK < n ? lo * GR_BLOCK : n;
+        b = lo;
     }
+    row[T] = n;
     int64_t nc = 0;
     for (int t = 0; t < T; t++) {
         for (int p = start[row[t]]; p < start[row[t + 1]]; p++) {
