@@ -308,7 +308,9 @@ for d in e h; do
     fi
 
     # a machine-independent clock (GRANULE_TEST_CLOCK_TICK) sized for about ten sessions
-    tick=$(awk -v s="$steps" 'BEGIN { printf "%.3g", s > 0 ? 2.9 / s : 1e-4 }')
+    # (a chunk costs about 3 readings, a session may use 0.05 s minus 2 chunks and 2 checkpoints:
+    #  c chunks of up to 97 steps per session need tick = 0.05 / (3 c + 6); aim at ~8 sessions)
+    tick=$(awk -v s="$steps" 'BEGIN { c = s / 640; if (c < 1) c = 1; printf "%.3g", 0.05 / (3 * c + 6) }')
     sessions=0
     mid=0
     rc=4
