@@ -138,6 +138,53 @@ wait_for() {
     return 1
 }
 
+# sigterm_case NAME TAG SCENE PAUSE_STEP EVERY PAUSE_SECONDS: a run paused at PAUSE_STEP
+# (GRANULE_TEST_PAUSE_AT_STEP) gets SIGTERM once a checkpoint exists: exit 5, checkpoint kept, no
+# summary; --resume finishes it bit-identical to refTAG
+sigterm_case() {
+    local name=$1 tag=$2 scene=$3 pause=$4 every=$5 delay=$6 pid
+    GRANULE_TEST_PAUSE_AT_STEP=$pause "$G" run "$scene" --out term$tag --quiet --set run.checkpoint_every="$every" >/dev/null 2>"$TMP/term.err" &
+    pid=$!
+    pids+=("$pid")
+    if wait_for "term$tag/checkpoint" "$pid"; then sleep "$delay"; kill -TERM "$pid" 2>/dev/null || true; fi
+    set +e
+    wait "$pid"
+    rc=$?
+    set -e
+    if [[ $rc -eq 5 && -s term$tag/checkpoint && ! -e term$tag/summary.json ]] && grep -q "resume" "$TMP/term.err"; then
+        pass "$name: SIGTERM writes a checkpoint and exits 5"
+    else
+        fail "$name: SIGTERM: exit $rc (want 5; the run may have finished before the signal)" "$(cat "$TMP/term.err")"
+    fi
+    run "$G" run --resume term$tag --quiet
+    if [[ $rc -eq 0 ]] && msg=$(same ref$tag term$tag); then
+        pass "$name: run + SIGTERM + resume equals the uninterrupted run bit for bit"
+    else
+        fail "$name: SIGTERM + resume (exit $rc)" "$err" "${msg:-}"
+    fi
+}
+
+# wall_case NAME TAG SCENE TICK CHUNK LIMIT PER: stop with exit 4 under --wall-limit LIMIT and
+# resume, again and again, until done (test clock GRANULE_TEST_CLOCK_TICK = TICK, chunks of at
+# most CHUNK steps, so most stops fall between two samples of PER steps); the result must equal refTAG
+wall_case() {
+    local name=$1 tag=$2 scene=$3 tick=$4 chunk=$5 wl=$6 per=$7 sessions=0 mid=0 step
+    local -a what=(run "$scene" --out wall$tag)
+    rc=4
+    while [[ $rc -eq 4 && $sessions -lt 60 ]]; do
+        run env GRANULE_TEST_CLOCK_TICK="$tick" GRANULE_CHUNK_STEPS="$chunk" "$G" "${what[@]}" --quiet --wall-limit "$wl"
+        what=(run --resume wall$tag)
+        sessions=$((sessions + 1))
+        step=$(grep -o 'at step [0-9]*' <<<"$err" | grep -o '[0-9]*' || true)
+        if [[ -n $step && $per -gt 0 ]] && ((step % per != 0)); then mid=$((mid + 1)); fi
+    done
+    if [[ $rc -eq 0 && $sessions -ge 2 && $mid -ge 1 ]] && msg=$(same ref$tag wall$tag); then
+        pass "$name: $sessions sessions under --wall-limit (exit 4 each; $mid stopped between samples) equal the uninterrupted run"
+    else
+        fail "$name: --wall-limit sessions: $sessions ($mid between samples), last exit $rc (want 0 after >= 2, >= 1 between samples)" "$err" "${msg:-}"
+    fi
+}
+
 for d in 2 1; do
     scene=s$d.ini
     run "$G" run "$scene" --out ref$d --quiet
@@ -146,51 +193,13 @@ for d in 2 1; do
     # or killed, so they are still running when the signal comes, on a machine of any speed
     half=$(( $(grep -o '"steps":[[:space:]]*[0-9]*' ref$d/summary.json | grep -o '[0-9]*$') / 2 ))
 
-    # SIGTERM once a checkpoint exists: exit 5, checkpoint kept, no summary; resume finishes it
-    GRANULE_TEST_PAUSE_AT_STEP=$half "$G" run "$scene" --out term$d --quiet --set run.checkpoint_every=0.004 >/dev/null 2>"$TMP/term.err" &
-    pid=$!
-    pids+=("$pid")
-    if wait_for "term$d/checkpoint" "$pid"; then sleep 0.1; kill -TERM "$pid" 2>/dev/null || true; fi
-    set +e
-    wait "$pid"
-    rc=$?
-    set -e
-    if [[ $rc -eq 5 && -s term$d/checkpoint && ! -e term$d/summary.json ]] && grep -q "resume" "$TMP/term.err"; then
-        pass "${d}D: SIGTERM writes a checkpoint and exits 5"
-    else
-        fail "${d}D: SIGTERM: exit $rc (want 5; the run may have finished before the signal)" "$(cat "$TMP/term.err")"
-    fi
-    run "$G" run --resume term$d --quiet
-    if [[ $rc -eq 0 ]] && msg=$(same ref$d term$d); then
-        pass "${d}D: run T + resume equals the uninterrupted run bit for bit"
-    else
-        fail "${d}D: SIGTERM + resume (exit $rc)" "$err" "${msg:-}"
-    fi
+    sigterm_case "${d}D" "$d" "$scene" "$half" 0.004 0.1
 
-    # a wall-time budget: stop with exit 4 and resume, again and again, until done; steps run in
-    # chunks of at most 777 (GRANULE_CHUNK_STEPS), so most stops fall between two samples
-    wl=$([[ $d == 2 ]] && echo 1.5 || echo 1.15)
-    tick=$([[ $d == 2 ]] && echo 0.01 || echo 0.002) # GRANULE_TEST_CLOCK_TICK: a machine-independent clock
-    per=$([[ $d == 2 ]] && echo 5000 || echo 2000)
-    sessions=0
-    mid=0
-    rc=4
-    first=1
-    while [[ $rc -eq 4 && $sessions -lt 60 ]]; do
-        if [[ $first == 1 ]]; then
-            run env GRANULE_TEST_CLOCK_TICK=$tick GRANULE_CHUNK_STEPS=777 "$G" run "$scene" --out wall$d --quiet --wall-limit "$wl"
-            first=0
-        else
-            run env GRANULE_TEST_CLOCK_TICK=$tick GRANULE_CHUNK_STEPS=777 "$G" run --resume wall$d --quiet --wall-limit "$wl"
-        fi
-        sessions=$((sessions + 1))
-        step=$(grep -o 'at step [0-9]*' <<<"$err" | grep -o '[0-9]*' || true)
-        if [[ -n $step ]] && ((step % per != 0)); then mid=$((mid + 1)); fi
-    done
-    if [[ $rc -eq 0 && $sessions -ge 2 && $mid -ge 1 ]] && msg=$(same ref$d wall$d); then
-        pass "${d}D: $sessions sessions under --wall-limit (exit 4 each; $mid stopped between samples) equal the uninterrupted run"
+    # a wall-time budget: stop with exit 4 and resume, again and again, until done
+    if [[ $d == 2 ]]; then
+        wall_case "2D" 2 "$scene" 0.01 777 1.5 5000
     else
-        fail "${d}D: --wall-limit sessions: $sessions ($mid between samples), last exit $rc (want 0 after >= 2, >= 1 between samples)" "$err" "${msg:-}"
+        wall_case "1D" 1 "$scene" 0.002 777 1.15 2000
     fi
 
     # kill -9 after a checkpoint: the rows and snapshots written after it are redone identically
@@ -287,50 +296,13 @@ for d in e h; do
     per=$(awk -v n="$steps" -v t="$([[ $d == e ]] && echo "$dure 0.05 2e-3" || echo "$durh 0.01 1e-3")" \
         'BEGIN { split(t, a, " "); printf "%d", n / int((a[1] + a[2]) / a[3] + 0.5) }')
 
-    GRANULE_TEST_PAUSE_AT_STEP=$((steps / 2)) "$G" run "$scene" --out term$d --quiet --set run.checkpoint_every=0.002 >/dev/null 2>"$TMP/term.err" &
-    pid=$!
-    pids+=("$pid")
-    if wait_for "term$d/checkpoint" "$pid"; then kill -TERM "$pid" 2>/dev/null || true; fi
-    set +e
-    wait "$pid"
-    rc=$?
-    set -e
-    if [[ $rc -eq 5 && -s term$d/checkpoint && ! -e term$d/summary.json ]] && grep -q "resume" "$TMP/term.err"; then
-        pass "$name: SIGTERM writes a checkpoint and exits 5"
-    else
-        fail "$name: SIGTERM: exit $rc (want 5; the run may have finished before the signal)" "$(cat "$TMP/term.err")"
-    fi
-    run "$G" run --resume term$d --quiet
-    if [[ $rc -eq 0 ]] && msg=$(same ref$d term$d); then
-        pass "$name: run + SIGTERM + resume equals the uninterrupted run bit for bit"
-    else
-        fail "$name: SIGTERM + resume (exit $rc)" "$err" "${msg:-}"
-    fi
+    sigterm_case "$name" "$d" "$scene" $((steps / 2)) 0.002 0
 
     # a machine-independent clock (GRANULE_TEST_CLOCK_TICK) sized for about ten sessions
     # (a chunk costs about 3 readings, a session may use 0.05 s minus 2 chunks and 2 checkpoints:
     #  c chunks of up to 97 steps per session need tick = 0.05 / (3 c + 6); aim at ~8 sessions)
     tick=$(awk -v s="$steps" 'BEGIN { c = s / 640; if (c < 1) c = 1; printf "%.3g", 0.05 / (3 * c + 6) }')
-    sessions=0
-    mid=0
-    rc=4
-    first=1
-    while [[ $rc -eq 4 && $sessions -lt 60 ]]; do
-        if [[ $first == 1 ]]; then
-            run env GRANULE_TEST_CLOCK_TICK=$tick GRANULE_CHUNK_STEPS=97 "$G" run "$scene" --out wall$d --quiet --wall-limit 1.05
-            first=0
-        else
-            run env GRANULE_TEST_CLOCK_TICK=$tick GRANULE_CHUNK_STEPS=97 "$G" run --resume wall$d --quiet --wall-limit 1.05
-        fi
-        sessions=$((sessions + 1))
-        step=$(grep -o 'at step [0-9]*' <<<"$err" | grep -o '[0-9]*' || true)
-        if [[ -n $step && $per -gt 0 ]] && ((step % per != 0)); then mid=$((mid + 1)); fi
-    done
-    if [[ $rc -eq 0 && $sessions -ge 2 && $mid -ge 1 ]] && msg=$(same ref$d wall$d); then
-        pass "$name: $sessions sessions under --wall-limit (exit 4 each; $mid stopped between samples) equal the uninterrupted run"
-    else
-        fail "$name: --wall-limit sessions: $sessions ($mid between samples), last exit $rc (want 0 after >= 2, >= 1 between samples)" "$err" "${msg:-}"
-    fi
+    wall_case "$name" "$d" "$scene" "$tick" 97 1.05 "$per"
 done
 
 # ---------- refusals ----------

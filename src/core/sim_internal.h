@@ -104,6 +104,10 @@ int gr_place(gr_sim *s, gr_error *err);
 /* Refuse overlapping positions (tolerance 1e-9 d); used for every initial state. */
 int gr_check_overlaps(const gr_sim *s, gr_error *err);
 
+/* src/core/step.c: remove the centre-of-mass velocity (com noise mode); returns the kinetic
+ * energy removed. */
+double gr_remove_com(gr_sim *s);
+
 /* src/core/events.c: per-particle contact transitions after a force evaluation */
 int gr_events_update(gr_sim *s, gr_error *err);
 

@@ -400,7 +400,7 @@ static double open_step_2d(gr_sim *restrict s, const int noise, double mean[2], 
 }
 
 /* Remove the centre-of-mass velocity; returns the kinetic energy removed. */
-static double remove_com(gr_sim *s)
+double gr_remove_com(gr_sim *s)
 {
     double removed = 0.0;
     double *v[2] = {s->vx, s->vy};
@@ -460,7 +460,7 @@ int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
                 bool finite;
                 book_dissipation(s, half_kick(s, &finite));
             }
-            s->removed_com += remove_com(s);
+            s->removed_com += gr_remove_com(s);
         }
         if (noise && (s->dim == 1 || team == 1)) { /* else drawn in open_step_2d */
             draw_noise(s, mean, team);

@@ -270,24 +270,6 @@ static void centre(gr_sim *s, gr_hybrid_state *h)
     }
 }
 
-static double remove_com_velocity(gr_sim *s)
-{
-    double removed = 0.0;
-    double *v[2] = {s->vx, s->vy};
-    for (int c = 0; c < s->dim; c++) {
-        double mean = 0.0;
-        for (int i = 0; i < s->n; i++) {
-            mean += v[c][i];
-        }
-        mean /= s->n;
-        for (int i = 0; i < s->n; i++) {
-            v[c][i] -= mean;
-        }
-        removed += 0.5 * s->mass * s->n * mean * mean;
-    }
-    return removed;
-}
-
 static int window(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
 {
     const int64_t start = s->step;
@@ -337,7 +319,7 @@ static int window(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
     if (noise && s->scene.noise_mode == GR_NOISE_SYMMETRISED && s->n > 1) {
         centre(s, h);
     } else if (s->scene.noise_mode == GR_NOISE_COM && s->step % s->com_every == 0) {
-        s->removed_com += remove_com_velocity(s);
+        s->removed_com += gr_remove_com(s);
     }
     h->windows++;
     h->steps += m;
