@@ -536,6 +536,10 @@ START_TEST(test_validation)
     const char *f[] = {"model.normal=hard_sphere", "integrator.kind=event", "system.N=3", "placement.kind=uniform",
                        "placement.v0=4.3e95"};
     refused(f, 5, "per kick interval");
+    /* tests/fuzz/corpus/scene/regress-event-huge-noise.ini: D = 1e78, 4e41 m/s kicks per window */
+    const char *g[] = {"model.normal=hard_sphere", "integrator.kind=event", "system.N=3", "placement.kind=uniform",
+                       "noise.D=1e78"};
+    refused(g, 5, "[noise] D");
 }
 END_TEST
 

@@ -656,6 +656,17 @@ int gr_event_init(gr_sim *s, gr_error *err)
     if (rc) {
         return rc;
     }
+    /* the same limit for the noise: a 10-sigma velocity increment of one window,
+     * sqrt(2 D tau) / M per component (free_flight.h), must not cross the box GR_EV_MAX_BOXES times */
+    const double tau = s->scene.kick_interval, vlim = GR_EV_MAX_BOXES * s->L / tau;
+    if (10.0 * sqrt(2.0 * s->scene.D * tau) / s->mass > vlim) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [noise] D = %g N^2 s gives velocity kicks of %.3g m/s per kick interval (%g s), which would "
+                       "cross the box (L = %g m) more than %g times per interval; allowed range for the event-driven "
+                       "integrator here: [0, %.3g] N^2 s",
+                       s->scene.source, s->scene.D, sqrt(2.0 * s->scene.D * tau) / s->mass, tau, s->L,
+                       GR_EV_MAX_BOXES, pow(vlim * s->mass / 10.0, 2) / (2.0 * tau));
+    }
     for (int i = 0; i < n; i++) {
         e->bx[i] = s->x[i];
         e->bv[i] = s->vx[i];
