@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # granule sweep on clusters (docs/cluster.md), on tiny 1D scenes:
 #   resume: --list, --point K, the batch-array index from the environment (with --array-base),
-#           --collect naming missing and failed points, per-point manifests, a sweep killed midway
-#           and rerun runs only its unfinished points, changed settings rerun a finished point;
+#           --collect naming missing and failed points, per-point manifests, a sweep stopped by
+#           SIGTERM mid-point continues that point from its checkpoint (same results as an
+#           uninterrupted sweep), a sweep killed midway and rerun runs only its unfinished points,
+#           changed settings rerun a finished point;
 #   mpi:    mpirun -n 2 granule sweep gives the same per-point results, sweep.csv and
 #           exponents.csv as the serial sweep (skipped with exit 77 only when built without MPI).
 # usage: test_sweep_cluster.sh GRANULE SOURCE_DIR resume|mpi [mpi-built: yes|no]
@@ -160,6 +162,33 @@ EOT
     check test $? -eq 1
     check grep -q '"status":.*"completed"' "$tmp/fail/p0000/point.json"
     check grep -q "failed points (1): 1 " "$tmp/fail.log"
+
+    # SIGTERM to a sweep (a batch system ending the job) while point 0 runs: the run writes a
+    # checkpoint (it gets SIGTERM itself when the sweep dies, PR_SET_PDEATHSIG); the rerun continues
+    # it from there and every result equals the uninterrupted serial sweep's
+    sweep_file stop 0.02
+    GRANULE_TEST_PAUSE_AT_STEP=10000 "$granule" sweep "$tmp/stop.ini" --jobs 1 >/dev/null 2>"$tmp/stop1.log" &
+    bg=$!
+    for _ in $(seq 1 600); do # the point's folder exists once it runs; the pause holds it at step 10000
+        [[ -f $tmp/stop/p0000/scene.ini ]] && break
+        sleep 0.05
+    done
+    sleep 1
+    kill -TERM "$bg" 2>/dev/null
+    wait "$bg" 2>/dev/null
+    bg=
+    for _ in $(seq 1 200); do
+        grep -qs "stopped by a signal" "$tmp/stop1.log" && break
+        sleep 0.05
+    done
+    check grep -q "point 0: stopped by a signal at step 10000; checkpoint written" "$tmp/stop1.log"
+    check test -f "$tmp/stop/p0000/checkpoint"
+    check test ! -f "$tmp/stop/p0000/summary.json"
+    out=$("$granule" sweep "$tmp/stop.ini" --jobs 1 2>"$tmp/stop2.log")
+    check grep -q "6 run now, 0 already finished, 0 failed" <<<"$out"
+    check grep -q "point 0: continuing from $tmp/stop/p0000/checkpoint" "$tmp/stop2.log"
+    check test "$(grep -c "continuing from" "$tmp/stop2.log")" -eq 1
+    check same "$tmp/serial" "$tmp/stop"
 
     # kill a sweep after its first point finished; the rerun runs only the unfinished points
     sweep_file kill 0.5

@@ -99,7 +99,7 @@ static int run_one(const sweep *s, long k, const uint64_t *hash, const char *run
     int code = sweep_point_run(s, k, runner);
     char dir[1100];
     sweep_point_dir(s, k, dir, sizeof dir);
-    fprintf(stderr, "sweep: point %ld %s (%s/point.json)\n", k, code == EXIT_OK ? "completed" : code == EXIT_UNSTABLE ? "unstable" : code == EXIT_REFUSED ? "refused" : "failed", dir);
+    fprintf(stderr, "sweep: point %ld %s (%s/point.json)\n", k, sweep_exit_name(code), dir);
     return code;
 }
 

@@ -61,6 +61,8 @@ typedef enum {
     POINT_STALE,     /* finished, but with other settings (the scene hash differs) */
 } point_state;
 
+/* How a point run ended, as point.json and the progress lines name it (EXIT_* of cli/cli.h). */
+const char *sweep_exit_name(int code);
 const char *sweep_state_name(point_state st);
 /* The state of point k on disk; why gets the manifest's error or the hash mismatch. */
 point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, size_t len);

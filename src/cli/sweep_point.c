@@ -1,11 +1,16 @@
 /* One sweep point: its folder OUT/pNNNN, its manifest point.json (what was run, by whom, where,
  * when, and how it ended) and the child process that runs it. A point whose manifest says
  * "completed" for the same scene hash, beside a completed summary.json, is finished and never
- * rerun; anything else (missing, killed while running, failed, unstable, other settings) is run. */
+ * rerun; anything else (missing, killed while running, stopped, failed, unstable, other settings)
+ * is run. A point whose folder holds a checkpoint (written every run.checkpoint_every /
+ * checkpoint_wall, or when SIGTERM/SIGINT reached the run) continues from it, exactly as
+ * `granule run --resume` would; a checkpoint that is refused (corrupt, other settings) is
+ * discarded and the point starts again, with a note on stderr. */
 #include <cjson/cJSON.h>
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,6 +24,7 @@
 #include "granule/run.h"
 #include "granule_commit.h"
 #include "granule_config.h"
+#include "io/checkpoint.h"
 #include "io/files.h"
 #include "io/scene_json.h"
 #include "io/summary_read.h"
@@ -39,6 +45,15 @@ double sweep_monotonic(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+const char *sweep_exit_name(int code)
+{
+    return code == EXIT_OK         ? "completed"
+           : code == EXIT_UNSTABLE ? "unstable"
+           : code == EXIT_REFUSED  ? "refused"
+           : code == EXIT_STOPPED || code == EXIT_WALL_LIMIT ? "stopped"
+                                   : "failed";
 }
 
 const char *sweep_state_name(point_state st)
@@ -183,8 +198,29 @@ static void write_manifest(const sweep *s, long k, const char *dir, const char *
 }
 
 /* In the child: run point k into dir; the error message (if any) goes down fd. */
+static volatile sig_atomic_t point_stop;
+
+static void on_point_stop(int sig)
+{
+    (void)sig;
+    point_stop = 1;
+}
+
+static bool has_checkpoint(const char *dir)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%s/%s", dir, GR_CHECKPOINT_NAME);
+    return access(path, F_OK) == 0;
+}
+
 static int child_run(const sweep *s, long k, const char *dir, int fd, pid_t parent)
 {
+    /* SIGTERM/SIGINT (a batch system ending the job, or the sweep's own death below) stop the run
+     * at its next step with a checkpoint, which the next run of the sweep continues */
+    struct sigaction sa = {.sa_handler = on_point_stop, .sa_flags = SA_RESETHAND};
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGINT, &sa, NULL);
     prctl(PR_SET_PDEATHSIG, SIGTERM); /* a killed sweep takes its runs with it */
     if (getppid() != parent) {
         return EXIT_FAILED;
@@ -197,10 +233,28 @@ static int child_run(const sweep *s, long k, const char *dir, int fd, pid_t pare
     } else {
         snprintf(sc.out_dir, sizeof sc.out_dir, "%.1000s", dir);
         sc.progress = false;
-        gr_run_options opt = {.force = true}; /* an unfinished point's folder is ours to redo */
+        gr_run_options opt = {.force = true, .stop = &point_stop}; /* an unfinished point's folder is ours to redo */
         gr_run_result res;
-        int rc = gr_run(&sc, &opt, &res, &err);
+        int rc;
+        if (has_checkpoint(dir)) {
+            fprintf(stderr, "granule sweep: point %ld: continuing from %s/%s\n", k, dir, GR_CHECKPOINT_NAME);
+            gr_run_options resume = {.resume = true, .stop = &point_stop};
+            rc = gr_run(&sc, &resume, &res, &err);
+            if (rc == GR_EINVAL && !point_stop) {
+                fprintf(stderr, "granule sweep: point %ld: starting again, its checkpoint cannot be continued: %s\n", k, err.message);
+                err = (gr_error){0};
+                rc = gr_run(&sc, &opt, &res, &err);
+            }
+        } else {
+            rc = gr_run(&sc, &opt, &res, &err);
+        }
         code = rc == GR_OK ? EXIT_OK : rc == GR_EUNSTABLE ? EXIT_UNSTABLE : rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
+        if (rc == GR_OK && res.stopped) {
+            code = res.stopped == 1 ? EXIT_STOPPED : EXIT_WALL_LIMIT;
+            snprintf(err.message, sizeof err.message,
+                     "stopped %s at step %lld; checkpoint written to %.300s/%s, the next run of the sweep continues it",
+                     res.stopped == 1 ? "by a signal" : "before run.wall_limit", (long long)res.steps, dir, GR_CHECKPOINT_NAME);
+        }
     }
     if (code != EXIT_OK) {
         fprintf(stderr, "granule sweep: point %ld: %s\n", k, err.message);
@@ -275,7 +329,7 @@ int sweep_point_finish(const sweep *s, const char *runner, sweep_child *c, int w
         int sig = WIFSIGNALED(ws) ? WTERMSIG(ws) : 0;
         snprintf(msg, sizeof msg, "the run was killed by signal %d (%s)", sig, strsignal(sig));
     }
-    const char *status = code == EXIT_OK ? "completed" : code == EXIT_UNSTABLE ? "unstable" : code == EXIT_REFUSED ? "refused" : "failed";
+    const char *status = sweep_exit_name(code);
     char dir[1100], finished[32];
     sweep_point_dir(s, c->k, dir, sizeof dir);
     sweep_now_iso(finished);

@@ -33,7 +33,7 @@ void sweep_queue_done(sweep_queue *q, long k, int code, const char *who)
 {
     q->run++;
     q->failed += code != EXIT_OK;
-    const char *what = code == EXIT_OK ? "completed" : code == EXIT_UNSTABLE ? "unstable" : code == EXIT_REFUSED ? "refused" : "failed";
+    const char *what = sweep_exit_name(code);
     fprintf(stderr, "sweep: point %ld %s%s%s (%ld/%ld)\n", k, what, who ? " on " : "", who ? who : "", q->run + q->skipped,
             q->s->n_points);
 }
