@@ -7,7 +7,7 @@
  * The scene is advanced `--warmup` simulated seconds, then R timed blocks of `--time` simulated
  * seconds; the median block is reported. CPU time (CLOCK_PROCESS_CPUTIME_ID) is used beside wall
  * time because the machines we share are busy. The calendar is picked with the environment
- * variable GRANULE_EVENT_CALENDAR = sparse (default) | full (docs/event-driven.md). */
+ * variable GRANULE_EVENT_CALENDAR = bucket (default) | sparse | full (docs/event-driven.md). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -109,7 +109,7 @@ int main(int argc, char **argv)
     bench_machine(cpu, sizeof cpu);
     printf("%-28s N=%-6d %-28s calendar=%-6s collisions/s=%.3g crossings/s=%.3g kicks/s=%.3g events/s=%.3g "
            "cpu_per_simulated_s=%.3g wall_per_simulated_s=%.3g tc_elastic=%.2f floors=%.2f invalid=%.2f T=%.4g | %s | %s\n",
-           label, sc.N, gr_sim_kernel(s), cal && cal[0] ? cal : "sparse", (double)m->c.collisions / m->cpu,
+           label, sc.N, gr_sim_kernel(s), cal && cal[0] ? cal : "bucket", (double)m->c.collisions / m->cpu,
            (double)m->c.crossings / m->cpu, (double)m->c.kicks / m->cpu, events / m->cpu, m->cpu / span, m->wall / span,
            m->c.collisions ? (double)m->c.tc_elastic / (double)m->c.collisions : 0.0,
            m->c.collisions ? (double)m->c.floors / (double)m->c.collisions : 0.0,

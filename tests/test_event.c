@@ -3,12 +3,13 @@
  * energy and never overlap (checked after every collision), free flight under the random force
  * against the random-acceleration process (both free_flight methods), long dissipative runs
  * that would collapse without the TC rule, the three-particle collapse, the ledger, determinism
- * and scene validation.
+ * (split calls, the three calendars) and scene validation.
  *
  * Particles are those of Table 2.2 (r = 1.5 mm, M = 3.53e-5 kg, D = 1e-8 N^2 s) unless a test says
  * otherwise. Statistical tolerances are 5 sigma of the sampling distribution (fixed seeds);
  * deterministic ones come from rounding. GRANULE_TEST_QUICK=1 shortens the long runs;
  * GRANULE_TEST_VERBOSE=1 prints the measured quantities. */
+#define _POSIX_C_SOURCE 200809L /* setenv */
 #include <check.h>
 #include <float.h>
 #include <math.h>
@@ -474,15 +475,29 @@ END_TEST
 
 /* ---------- determinism, validation ---------- */
 
+/* A noisy hard-sphere gas on a uniform start: dim, N = n (1D: L' = n / 1000 m; 2D: packing
+ * fraction phi), restitution eps, kick interval tau. */
+static gr_scene event_gas(int dim, int n, double phi, double eps, double tau)
+{
+    char sdim[32], sn[32], extent[64], se[48], st[48];
+    snprintf(sdim, sizeof sdim, "system.dim=%d", dim);
+    snprintf(sn, sizeof sn, "system.N=%d", n);
+    if (dim == 1) {
+        snprintf(extent, sizeof extent, "system.reduced_length=%g", n / 1000.0);
+    } else {
+        snprintf(extent, sizeof extent, "system.packing_fraction=%g", phi);
+    }
+    snprintf(se, sizeof se, "model.eps_n=%g", eps);
+    snprintf(st, sizeof st, "integrator.kick_interval=%g", tau);
+    const char *ov[] = {sdim, sn, extent, "placement.kind=uniform", "model.normal=hard_sphere", se, "noise.D=1e-8",
+                        "integrator.kind=event", st};
+    return scene_of(ov, 9);
+}
+
 START_TEST(test_split_calls_identical)
 {
     const int dim = 1 + _i;
-    char sdim[32];
-    snprintf(sdim, sizeof sdim, "system.dim=%d", dim);
-    const char *ov[] = {sdim, "system.N=200", dim == 1 ? "system.reduced_length=0.2" : "system.packing_fraction=0.4",
-                        "placement.kind=uniform", "model.normal=hard_sphere", "model.eps_n=0.3", "noise.D=1e-8",
-                        "integrator.kind=event", "integrator.kick_interval=3.3e-5"};
-    gr_scene sc = scene_of(ov, 9);
+    gr_scene sc = event_gas(dim, 200, 0.4, 0.3, 3.3e-5);
     gr_sim *a = sim_of(&sc), *b = sim_of(&sc);
     gr_error err = {0};
     ck_assert(gr_sim_step(a, 30000, &err) == GR_OK);
@@ -501,6 +516,44 @@ START_TEST(test_split_calls_identical)
     ck_assert(strncmp(gr_sim_kernel(a), "event-", 6) == 0);
     gr_sim_free(a);
     gr_sim_free(b);
+}
+END_TEST
+
+/* The three calendars (calendar.c: sparse heap, full heap, calendar queue) pop events in the same
+ * total order (t, phase, index), so a run is the same to the last bit whichever is used; 1D and 2D,
+ * clustered enough that many events share a bucket. */
+START_TEST(test_calendars_identical)
+{
+    const int dim = 1 + _i;
+    gr_scene sc = event_gas(dim, 300, 0.5, 0.2, 3e-5);
+    static const char *const kinds[] = {"sparse", "full", "bucket"};
+    gr_sim *s[3];
+    gr_error err = {0};
+    for (int c = 0; c < 3; c++) {
+        setenv("GRANULE_EVENT_CALENDAR", kinds[c], 1);
+        s[c] = sim_of(&sc);
+        ck_assert_int_eq(s[c]->ev->heap.kind, (int)(c == 0 ? GR_CAL_SPARSE : c == 1 ? GR_CAL_FULL : GR_CAL_BUCKET));
+        ck_assert(gr_sim_step(s[c], quick() ? 20000 : 60000, &err) == GR_OK);
+    }
+    unsetenv("GRANULE_EVENT_CALENDAR");
+    for (int c = 1; c < 3; c++) {
+        for (int i = 0; i < s[0]->n; i++) {
+            ck_assert_msg(s[0]->x[i] == s[c]->x[i] && s[0]->vx[i] == s[c]->vx[i], "%s: particle %d differs", kinds[c], i);
+            if (dim == 2) {
+                ck_assert(s[0]->y[i] == s[c]->y[i] && s[0]->vy[i] == s[c]->vy[i]);
+            }
+        }
+        ck_assert_int_eq(gr_sim_events_processed(s[0]), gr_sim_events_processed(s[c]));
+        ck_assert_int_eq(gr_sim_collisions(s[0]), gr_sim_collisions(s[c]));
+    }
+    if (verbose()) {
+        printf("calendars %dD: %lld events, %lld collisions, identical\n", dim, (long long)gr_sim_events_processed(s[0]),
+               (long long)gr_sim_collisions(s[0]));
+    }
+    ck_assert(gr_sim_collisions(s[0]) > 200); /* the runs did collide */
+    for (int c = 0; c < 3; c++) {
+        gr_sim_free(s[c]);
+    }
 }
 END_TEST
 
@@ -642,6 +695,7 @@ static Suite *event_suite(void)
     tcase_add_loop_test(tn, test_free_flight, 0, 4);
     tcase_add_loop_test(tn, test_symmetrised_momentum, 0, 2);
     tcase_add_loop_test(tn, test_split_calls_identical, 0, 2);
+    tcase_add_loop_test(tn, test_calendars_identical, 0, 2);
     suite_add_tcase(s, tn);
     TCase *t3 = tcase_create("tc");
     tcase_add_test(t3, test_tc_three_particles);

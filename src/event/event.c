@@ -1,4 +1,4 @@
-/* The event-driven integrator: kick windows, free-flight noise, the calendar, the 1D ring core,
+/* The event-driven integrator: kick windows, free-flight noise, the 1D ring core,
  * the energy ledger and the hooks called by src/core (sim.c, step.c). The 2D core is
  * event_2d.c; the collision rule is rule.h. Design and measurements: docs/event-driven.md.
  *
@@ -27,122 +27,6 @@
 #include "event/rule.h"
 #include "granule/free_flight.h"
 #include "granule/noise.h"
-
-/* ---------- calendar: indexed binary heap ---------- */
-
-static inline bool before(const gr_heap *h, int a, int b)
-{
-    if (h->t[a] != h->t[b]) {
-        return h->t[a] < h->t[b];
-    }
-    if (h->ph[a] != h->ph[b]) {
-        return h->ph[a] < h->ph[b];
-    }
-    return a < b;
-}
-
-static void sift_down(gr_heap *h, int k)
-{
-    const int e = h->node[k];
-    for (;;) {
-        int c = 2 * k + 1;
-        if (c >= h->m) {
-            break;
-        }
-        if (c + 1 < h->m && before(h, h->node[c + 1], h->node[c])) {
-            c++;
-        }
-        if (!before(h, h->node[c], e)) {
-            break;
-        }
-        h->node[k] = h->node[c];
-        h->pos[h->node[k]] = k;
-        k = c;
-    }
-    h->node[k] = e;
-    h->pos[e] = k;
-}
-
-static void sift_up(gr_heap *h, int k)
-{
-    const int e = h->node[k];
-    while (k > 0) {
-        int p = (k - 1) / 2;
-        if (!before(h, e, h->node[p])) {
-            break;
-        }
-        h->node[k] = h->node[p];
-        h->pos[h->node[k]] = k;
-        k = p;
-    }
-    h->node[k] = e;
-    h->pos[e] = k;
-}
-
-/* Full mode: all `cap` entries live in the heap (never-due ones at +inf). Sparse mode: only
- * entries with a finite time are in the heap (pos = -1 otherwise), so a window start costs
- * O(entries due in the window) instead of O(N); docs/event-driven.md compares the two. */
-void gr_heap_build(gr_heap *h)
-{
-    h->m = 0;
-    for (int e = 0; e < h->cap; e++) {
-        if (!h->sparse || h->t[e] < GR_EV_INF) {
-            h->node[h->m] = e;
-            h->pos[e] = h->m++;
-        } else {
-            h->pos[e] = -1;
-        }
-    }
-    for (int k = h->m / 2 - 1; k >= 0; k--) {
-        sift_down(h, k);
-    }
-}
-
-void gr_heap_update(gr_heap *h, int e)
-{
-    int k = h->pos[e];
-    if (h->sparse) {
-        if (k < 0) {
-            if (!(h->t[e] < GR_EV_INF)) {
-                return;
-            }
-            k = h->m++;
-            h->node[k] = e;
-            h->pos[e] = k;
-            sift_up(h, k);
-            return;
-        }
-        if (!(h->t[e] < GR_EV_INF)) { /* remove: the last entry takes its place */
-            const int last = h->node[--h->m];
-            h->pos[e] = -1;
-            if (last == e) {
-                return;
-            }
-            h->node[k] = last;
-            h->pos[last] = k;
-            e = last;
-        }
-    }
-    if (k > 0 && before(h, e, h->node[(k - 1) / 2])) {
-        sift_up(h, k);
-    } else {
-        sift_down(h, k);
-    }
-}
-
-static int heap_alloc(gr_heap *h, int m)
-{
-    h->m = m;
-    h->cap = m;
-    const char *cal = getenv("GRANULE_EVENT_CALENDAR"); /* benchmarks: full | sparse (default) */
-    h->sparse = !(cal && strcmp(cal, "full") == 0);
-    size_t n = (size_t)(m > 0 ? m : 1);
-    h->node = malloc(n * sizeof(int));
-    h->pos = malloc(n * sizeof(int));
-    h->t = malloc(n * sizeof(double));
-    h->ph = calloc(n, 1);
-    return h->node && h->pos && h->t && h->ph ? 0 : -1;
-}
 
 /* ---------- contact events for the free-path and post-collision observables ---------- */
 
@@ -389,8 +273,7 @@ static int process_1d(gr_sim *s, double t_limit, gr_error *err)
     struct gr_event_state *e = s->ev;
     gr_heap *hp = &e->heap;
     const double t_win = (double)e->win * e->tau;
-    while (hp->m > 0) {
-        const int k = hp->node[0];
+    for (int k; (k = gr_heap_min(hp)) >= 0;) {
         const double t = hp->t[k];
         if (!(t <= t_limit)) {
             break;
@@ -648,7 +531,7 @@ int gr_event_init(gr_sim *s, gr_error *err)
     }
     e->g = malloc(sz * 2 * (size_t)s->dim);
     e->past = calloc((size_t)(n > 0 ? n : 1), 1);
-    ok = ok && e->g && e->past && !heap_alloc(&e->heap, s->dim == 1 ? (n > 1 ? n : 0) : n);
+    ok = ok && e->g && e->past && !gr_heap_alloc(&e->heap, s->dim == 1 ? (n > 1 ? n : 0) : n, e->tau);
     if (!ok) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory for the event-driven state of %d particles", n);
     }
@@ -759,10 +642,7 @@ void gr_event_free(gr_sim *s)
         free(arrays[a]);
     }
     free(e->past);
-    free(e->heap.node);
-    free(e->heap.pos);
-    free(e->heap.t);
-    free(e->heap.ph);
+    gr_heap_free(&e->heap);
     free(e->partner);
     free(e->count);
     free(e->ev_count);

@@ -398,8 +398,7 @@ int gr_ev2d_process(gr_sim *s, double t_limit, gr_error *err)
     struct gr_event_state *e = s->ev;
     gr_heap *hp = &e->heap;
     const double t_win = (double)e->win * e->tau;
-    while (hp->m > 0) {
-        const int i = hp->node[0];
+    for (int i; (i = gr_heap_min(hp)) >= 0;) {
         const double t = hp->t[i];
         if (!(t <= t_limit)) {
             break;

@@ -22,14 +22,19 @@
 
 #define GR_EV_INF ((double)INFINITY)
 
-/* Indexed binary min-heap over entries 0..cap-1 keyed by (t, phase, index): event.c. */
+/* The event calendar over entries 0..cap-1 keyed by (t, phase, index): calendar.c. */
+typedef enum { GR_CAL_SPARSE, GR_CAL_FULL, GR_CAL_BUCKET } gr_cal_kind;
 typedef struct gr_heap {
-    int m, cap;    /* entries in the heap, entries in all */
-    bool sparse;   /* only entries with a finite time are kept in the heap */
-    int *node;  /* node[k] = entry at heap position k */
-    int *pos;   /* pos[e] = heap position of entry e */
-    double *t;  /* key of entry e */
-    uint8_t *ph; /* phase of entry e */
+    int m, cap;       /* entries in the calendar, entries in all */
+    gr_cal_kind kind; /* GRANULE_EVENT_CALENDAR: bucket (default), sparse or full */
+    int *node;        /* heap: node[k] = entry at heap position k */
+    int *pos;         /* heap: heap position of entry e; bucket: its bucket; -1 = not in */
+    double *t;        /* key of entry e */
+    uint8_t *ph;      /* phase of entry e */
+    /* bucket: nb buckets of width span / nb over the window, doubly linked lists */
+    double span, inv_w;
+    int nb, cur;      /* buckets, first possibly non-empty one */
+    int *head, *next, *prev;
 } gr_heap;
 
 struct gr_event_state {
@@ -181,9 +186,12 @@ static inline double gr_ev_first_quadratic(double f0, double f1, double c, doubl
  * then bisection with Newton steps. event_solve.c. */
 double gr_ev_first_quartic(const double c[5], double T);
 
-/* calendar (event.c) */
-void gr_heap_build(gr_heap *h);
-void gr_heap_update(gr_heap *h, int e);
+/* calendar (calendar.c) */
+int gr_heap_alloc(gr_heap *h, int cap, double span); /* 0 or -1 (out of memory) */
+void gr_heap_free(gr_heap *h);
+void gr_heap_build(gr_heap *h);           /* after every key was set (window start, restore) */
+void gr_heap_update(gr_heap *h, int e);   /* after entry e's key changed */
+int gr_heap_min(gr_heap *h);              /* the next entry, -1 if none */
 
 /* common helpers (event.c) */
 int gr_ev_record(gr_sim *s, int i, int kind, double t, double x, double y, double vx, double vy,

@@ -15,7 +15,7 @@
  *
  * The calendar's heap layout is not stored: entries pop in the total order (time, phase,
  * index), which does not depend on the layout, so gr_heap_build on the stored keys pops exactly
- * the same sequence (in the full or sparse mode GRANULE_EVENT_CALENDAR picks now). The noise
+ * the same sequence (in whichever calendar GRANULE_EVENT_CALENDAR picks now, calendar.c). The noise
  * normals are scratch (a window's draw is kept as a1, a2, J). */
 #include <string.h>
 
