@@ -315,12 +315,19 @@ START_TEST(test_active_set_invariance_1d)
 }
 END_TEST
 
+/* 2D with each tangential law of the scene's contact model: the tangential dashpot of
+ * steady-2d.ini, sliding friction (2.7) and none */
 START_TEST(test_active_set_invariance_2d)
 {
+    static const char *const tangential[][2] = {{"model.tangential=tangential_dashpot", "model.eps_t=0.6"},
+                                                {"model.tangential=sliding_friction", "model.mu=0.3"},
+                                                {"model.tangential=none", "model.eps_n=0.6"}};
     /* strong noise and long windows, so that c = 0 misses often */
     const char *over[] = {"system.N=200", "system.L=0.06", "placement.kind=random", "placement.v0=0.5", "noise.D=1e-6",
-                          "integrator.kind=hybrid", "integrator.kick_interval=1e-4", NULL};
-    same_path("steady-2d.ini", over, quick() ? 2500 : 4000, 1e-9, 0.0);
+                          "integrator.kind=hybrid", "integrator.kick_interval=1e-4", tangential[_i][0], tangential[_i][1], NULL};
+    /* chaos amplifies rounding (1e-16 m after 500 steps) about tenfold per 500 steps, a bit faster
+     * with friction (2e-9 m after 4000 steps, 2.5e-10 m after 3000): horizons keep it below 1e-9 m */
+    same_path("steady-2d.ini", over, quick() ? 2500 : (_i == 1 ? 3000 : 4000), 1e-9, 0.0);
 }
 END_TEST
 
@@ -596,7 +603,7 @@ static Suite *hybrid_suite(void)
     tcase_add_test(t, test_ledger_momentum_2d);
     tcase_add_test(t, test_no_noise_equals_verlet);
     tcase_add_test(t, test_active_set_invariance_1d);
-    tcase_add_test(t, test_active_set_invariance_2d);
+    tcase_add_loop_test(t, test_active_set_invariance_2d, 0, 3);
     tcase_add_test(t, test_contact_events);
     tcase_add_test(t, test_refuse_window);
     tcase_add_loop_test(t, test_agreement_1d, 0, 3);
