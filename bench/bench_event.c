@@ -104,12 +104,11 @@ int main(int argc, char **argv)
     qsort(b, (size_t)repeats, sizeof b[0], cmp_block);
     const block *m = &b[repeats / 2];
     const double events = (double)(m->c.collisions + m->c.crossings + m->c.kicks);
-    const char *cal = getenv("GRANULE_EVENT_CALENDAR");
     char cpu[256];
     bench_machine(cpu, sizeof cpu);
     printf("%-28s N=%-6d %-28s calendar=%-6s collisions/s=%.3g crossings/s=%.3g kicks/s=%.3g events/s=%.3g "
            "cpu_per_simulated_s=%.3g wall_per_simulated_s=%.3g tc_elastic=%.2f floors=%.2f invalid=%.2f T=%.4g | %s | %s\n",
-           label, sc.N, gr_sim_kernel(s), cal && cal[0] ? cal : "bucket", (double)m->c.collisions / m->cpu,
+           label, sc.N, gr_sim_kernel(s), gr_event_calendar(s), (double)m->c.collisions / m->cpu,
            (double)m->c.crossings / m->cpu, (double)m->c.kicks / m->cpu, events / m->cpu, m->cpu / span, m->wall / span,
            m->c.collisions ? (double)m->c.tc_elastic / (double)m->c.collisions : 0.0,
            m->c.collisions ? (double)m->c.floors / (double)m->c.collisions : 0.0,

@@ -535,6 +535,12 @@ START_TEST(test_calendars_identical)
         ck_assert_int_eq(s[c]->ev->heap.kind, (int)(c == 0 ? GR_CAL_SPARSE : c == 1 ? GR_CAL_FULL : GR_CAL_BUCKET));
         ck_assert(gr_sim_step(s[c], quick() ? 20000 : 60000, &err) == GR_OK);
     }
+    /* a misspelt calendar is refused by name, never silently replaced by the default */
+    setenv("GRANULE_EVENT_CALENDAR", "spars", 1);
+    gr_sim *bad = NULL;
+    ck_assert_int_eq(gr_sim_create(&sc, &bad, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "GRANULE_EVENT_CALENDAR = 'spars'") && strstr(err.message, "bucket"), "message: %s",
+                  err.message);
     unsetenv("GRANULE_EVENT_CALENDAR");
     for (int c = 1; c < 3; c++) {
         for (int i = 0; i < s[0]->n; i++) {

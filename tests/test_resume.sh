@@ -367,6 +367,13 @@ if [[ $rc -eq 2 && $err == *"--resume"* && -s case/checkpoint ]]; then
 else
     fail "a fresh run over an interrupted one: exit $rc" "$err"
 fi
+had_partials=$(ls case | grep -c '\.tmp[0-9]' || true)
+run "$G" run s2.ini --out case --quiet --force
+if [[ $rc -eq 0 && $had_partials -gt 0 && ! -e case/checkpoint && -s case/summary.json ]] && ! ls case | grep -q '\.tmp'; then
+    pass "--force over an interrupted run discards its checkpoint and its $had_partials partial files"
+else
+    fail "--force over an interrupted run: exit $rc, $had_partials partial files before, now: $(ls case | tr '\n' ' ')" "$err"
+fi
 
 run "$G" run --resume ref2 --quiet
 if [[ $rc -eq 2 && $err == *"has finished"* ]]; then

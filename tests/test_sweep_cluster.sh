@@ -3,7 +3,8 @@
 #   resume: --list, --point K, the batch-array index from the environment (with --array-base),
 #           --collect naming missing and failed points, per-point manifests, a sweep stopped by
 #           SIGTERM mid-point continues that point from its checkpoint (same results as an
-#           uninterrupted sweep), a sweep killed midway and rerun runs only its unfinished points,
+#           uninterrupted sweep; a corrupt checkpoint is discarded and the point starts again), a
+#           sweep killed midway and rerun runs only its unfinished points,
 #           changed settings rerun a finished point;
 #   mpi:    mpirun -n 2 granule sweep gives the same per-point results, sweep.csv and
 #           exponents.csv as the serial sweep (skipped with exit 77 only when built without MPI).
@@ -166,29 +167,41 @@ EOT
     # SIGTERM to a sweep (a batch system ending the job) while point 0 runs: the run writes a
     # checkpoint (it gets SIGTERM itself when the sweep dies, PR_SET_PDEATHSIG); the rerun continues
     # it from there and every result equals the uninterrupted serial sweep's
-    sweep_file stop 0.02
-    GRANULE_TEST_PAUSE_AT_STEP=10000 "$granule" sweep "$tmp/stop.ini" --jobs 1 >/dev/null 2>"$tmp/stop1.log" &
-    bg=$!
-    for _ in $(seq 1 600); do # the point's folder exists once it runs; the pause holds it at step 10000
-        [[ -f $tmp/stop/p0000/scene.ini ]] && break
-        sleep 0.05
-    done
-    sleep 1
-    kill -TERM "$bg" 2>/dev/null
-    wait "$bg" 2>/dev/null
-    bg=
-    for _ in $(seq 1 200); do
-        grep -qs "stopped by a signal" "$tmp/stop1.log" && break
-        sleep 0.05
-    done
-    check grep -q "point 0: stopped by a signal at step 10000; checkpoint written" "$tmp/stop1.log"
-    check test -f "$tmp/stop/p0000/checkpoint"
-    check test ! -f "$tmp/stop/p0000/summary.json"
+    stop_point0() { # NAME: a sweep of 6 points stopped by SIGTERM while point 0 is held at step 10000
+        sweep_file "$1" 0.02
+        GRANULE_TEST_PAUSE_AT_STEP=10000 "$granule" sweep "$tmp/$1.ini" --jobs 1 >/dev/null 2>"$tmp/$1-1.log" &
+        bg=$!
+        for _ in $(seq 1 600); do # the point's folder exists once it runs; the pause holds it at step 10000
+            [[ -f $tmp/$1/p0000/scene.ini ]] && break
+            sleep 0.05
+        done
+        sleep 1
+        kill -TERM "$bg" 2>/dev/null
+        wait "$bg" 2>/dev/null
+        bg=
+        for _ in $(seq 1 200); do
+            grep -qs "stopped by a signal" "$tmp/$1-1.log" && break
+            sleep 0.05
+        done
+        check grep -q "point 0: stopped by a signal at step 10000; checkpoint written" "$tmp/$1-1.log"
+        check test -f "$tmp/$1/p0000/checkpoint"
+        check test ! -f "$tmp/$1/p0000/summary.json"
+    }
+    stop_point0 stop
     out=$("$granule" sweep "$tmp/stop.ini" --jobs 1 2>"$tmp/stop2.log")
     check grep -q "6 run now, 0 already finished, 0 failed" <<<"$out"
     check grep -q "point 0: continuing from $tmp/stop/p0000/checkpoint" "$tmp/stop2.log"
     check test "$(grep -c "continuing from" "$tmp/stop2.log")" -eq 1
     check same "$tmp/serial" "$tmp/stop"
+    # a checkpoint that cannot be continued (here corrupt) is discarded, with its partial files, and
+    # the point starts again
+    stop_point0 corrupt
+    printf '\xa5' | dd of="$tmp/corrupt/p0000/checkpoint" bs=1 seek=200 conv=notrunc status=none
+    out=$("$granule" sweep "$tmp/corrupt.ini" --jobs 1 2>"$tmp/corrupt2.log")
+    check grep -q "6 run now, 0 already finished, 0 failed" <<<"$out"
+    check grep -q "point 0: starting again, its checkpoint cannot be continued: .*checksum mismatch" "$tmp/corrupt2.log"
+    check test -z "$(ls "$tmp/corrupt/p0000" | grep '\.tmp')"
+    check same "$tmp/serial" "$tmp/corrupt"
 
     # kill a sweep after its first point finished; the rerun runs only the unfinished points
     sweep_file kill 0.5

@@ -4,7 +4,8 @@
  * h->t / h->ph; t is local time inside the current prediction window [0, span] or +inf (nothing
  * due). The next event is the entry with the smallest (t, phase, index), a total order, so every
  * calendar below pops the same sequence and a run does not depend on the choice
- * (test_event.c runs all three). GRANULE_EVENT_CALENDAR picks one, for benchmarks:
+ * (test_event.c runs all three). The environment variable GRANULE_EVENT_CALENDAR picks one, for
+ * benchmarks (event.c refuses any other value by name):
  *
  *   bucket (default)  a calendar queue (Brown 1988): the window [0, span] cut into nb buckets
  *                     of equal width, nb ~ the number of finite keys at the window start; each
@@ -226,14 +227,32 @@ int gr_heap_min(gr_heap *h)
     return h->m > 0 ? h->node[0] : -1;
 }
 
-int gr_heap_alloc(gr_heap *h, int cap, double span)
+static const char *const cal_names[] = {[GR_CAL_SPARSE] = "sparse", [GR_CAL_FULL] = "full", [GR_CAL_BUCKET] = "bucket"};
+
+int gr_heap_kind_parse(const char *name, gr_cal_kind *kind)
+{
+    *kind = GR_CAL_BUCKET;
+    if (!name || !name[0]) {
+        return 0;
+    }
+    for (int k = 0; k < 3; k++) {
+        if (!strcmp(name, cal_names[k])) {
+            *kind = (gr_cal_kind)k;
+            return 0;
+        }
+    }
+    return -1;
+}
+
+const char *gr_heap_name(const gr_heap *h) { return cal_names[h->kind]; }
+
+int gr_heap_alloc(gr_heap *h, int cap, double span, gr_cal_kind kind)
 {
     memset(h, 0, sizeof *h);
     h->m = cap;
     h->cap = cap;
     h->span = span;
-    const char *cal = getenv("GRANULE_EVENT_CALENDAR");
-    h->kind = cal && !strcmp(cal, "full") ? GR_CAL_FULL : cal && !strcmp(cal, "sparse") ? GR_CAL_SPARSE : GR_CAL_BUCKET;
+    h->kind = kind;
     const size_t n = (size_t)(cap > 16 ? cap : 16);
     h->node = malloc(n * sizeof(int));
     h->pos = malloc(n * sizeof(int));

@@ -520,6 +520,14 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->work_rate = e->noise ? s->dim * s->scene.D * n / e->M : 0.0;
     const char *check = getenv("GRANULE_EVENT_CHECK");
     e->check = check && check[0] == '1';
+    const char *cal = getenv("GRANULE_EVENT_CALENDAR"); /* benchmarks: calendar.c */
+    gr_cal_kind kind;
+    if (gr_heap_kind_parse(cal, &kind)) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "environment variable GRANULE_EVENT_CALENDAR = '%.40s' is not an event calendar: use bucket (the "
+                       "default), sparse or full (docs/event-driven.md)",
+                       cal);
+    }
     size_t sz = sizeof(double) * (size_t)(n > 0 ? n : 1);
     double **arrays[] = {&e->t0, &e->bx, &e->bv, &e->a1x, &e->a2x, &e->jx, &e->last,
                          &e->by, &e->bw, &e->a1y, &e->a2y, &e->jy};
@@ -531,7 +539,7 @@ int gr_event_init(gr_sim *s, gr_error *err)
     }
     e->g = malloc(sz * 2 * (size_t)s->dim);
     e->past = calloc((size_t)(n > 0 ? n : 1), 1);
-    ok = ok && e->g && e->past && !gr_heap_alloc(&e->heap, s->dim == 1 ? (n > 1 ? n : 0) : n, e->tau);
+    ok = ok && e->g && e->past && !gr_heap_alloc(&e->heap, s->dim == 1 ? (n > 1 ? n : 0) : n, e->tau, kind);
     if (!ok) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory for the event-driven state of %d particles", n);
     }
@@ -658,6 +666,8 @@ int64_t gr_sim_events_processed(const gr_sim *s)
 {
     return s->ev ? s->ev->collisions + s->ev->crossings + s->ev->kicks : 0;
 }
+
+const char *gr_event_calendar(const gr_sim *s) { return s->ev ? gr_heap_name(&s->ev->heap) : "none"; }
 
 void gr_event_stats(const gr_sim *s, gr_event_counts *c)
 {

@@ -187,7 +187,10 @@ static inline double gr_ev_first_quadratic(double f0, double f1, double c, doubl
 double gr_ev_first_quartic(const double c[5], double T);
 
 /* calendar (calendar.c) */
-int gr_heap_alloc(gr_heap *h, int cap, double span); /* 0 or -1 (out of memory) */
+/* "bucket" (also NULL or ""), "sparse" or "full" into *kind; -1 for anything else */
+int gr_heap_kind_parse(const char *name, gr_cal_kind *kind);
+const char *gr_heap_name(const gr_heap *h);
+int gr_heap_alloc(gr_heap *h, int cap, double span, gr_cal_kind kind); /* 0 or -1 (out of memory) */
 void gr_heap_free(gr_heap *h);
 void gr_heap_build(gr_heap *h);           /* after every key was set (window start, restore) */
 void gr_heap_update(gr_heap *h, int e);   /* after entry e's key changed */

@@ -9,6 +9,7 @@
  *         the snapshot schedule, and the streamed CSVs' temporary names and lengths
  * Checkpoints are taken between gr_sim_step calls and never change what a run computes: the
  * streamed CSVs are flushed (which only moves bytes to the kernel) and the state is read. */
+#include <dirent.h>
 #include <errno.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -119,12 +120,36 @@ int gr_run_checkpoint_write(const char *dir, const gr_scene *scene, const gr_sim
     return rc;
 }
 
+/* Partial files of an earlier, interrupted run in dir: NAME.tmpPID (src/io/files.c), which only
+ * a resume adopts. A fresh run starts before it opens any file of its own, so all are stale. */
+static int remove_partials(const char *dir, gr_error *err)
+{
+    DIR *d = opendir(dir);
+    if (!d) {
+        return GR_OK; /* gr_output_dir_prepare made it; nothing to clean */
+    }
+    int rc = GR_OK;
+    for (struct dirent *de; !rc && (de = readdir(d));) {
+        const char *tmp = strstr(de->d_name, ".tmp");
+        if (!tmp || tmp == de->d_name || !tmp[4] || strspn(tmp + 4, "0123456789") != strlen(tmp + 4)) {
+            continue;
+        }
+        char path[1400];
+        snprintf(path, sizeof path, "%s/%s", dir, de->d_name);
+        if (unlink(path) != 0 && errno != ENOENT) {
+            rc = GR_FAIL(err, GR_EIO, "cannot remove %s, a partial file of an interrupted run: %s", path, strerror(errno));
+        }
+    }
+    closedir(d);
+    return rc;
+}
+
 int gr_run_checkpoint_guard(const char *dir, bool force, gr_error *err)
 {
     char path[1200];
     snprintf(path, sizeof path, "%s/%s", dir, GR_CHECKPOINT_NAME);
     if (access(path, F_OK) != 0) {
-        return GR_OK;
+        return force ? remove_partials(dir, err) : GR_OK;
     }
     if (!force) {
         return GR_FAIL(err, GR_EINVAL,
@@ -135,7 +160,7 @@ int gr_run_checkpoint_guard(const char *dir, bool force, gr_error *err)
     if (unlink(path) != 0) {
         return GR_FAIL(err, GR_EIO, "cannot remove the old checkpoint %s: %s", path, strerror(errno));
     }
-    return GR_OK;
+    return remove_partials(dir, err);
 }
 
 /* ---------- scene comparison ---------- */

@@ -33,7 +33,8 @@ int gr_run_checkpoint_write(const char *dir, const gr_scene *scene, const gr_sim
                             const gr_run_ckpt *st, double *seconds, size_t *bytes, gr_error *err);
 
 /* Refuse to start a fresh run over an interrupted one (dir/checkpoint without summary.json)
- * unless `force`, which deletes the old checkpoint. */
+ * unless `force`, which deletes the old checkpoint and the interrupted run's partial files
+ * (NAME.tmpPID). */
 int gr_run_checkpoint_guard(const char *dir, bool force, gr_error *err);
 
 /* Open dir's checkpoint for a resume: refuses a folder whose run finished (summary.json), a
