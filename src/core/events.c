@@ -49,10 +49,10 @@ const gr_contact_event *gr_sim_events(const gr_sim *s, int64_t *n)
 
 void gr_sim_clear_events(gr_sim *s) { s->n_events = 0; }
 
-static int push(gr_sim *s, int i, int kind, gr_error *err)
+int gr_events_append(gr_sim *s, gr_contact_event ev, gr_error *err)
 {
     if (s->n_events == s->cap_events) {
-        int64_t cap = 2 * s->cap_events;
+        int64_t cap = 2 * s->cap_events + 1024;
         gr_contact_event *e = realloc(s->events, sizeof *e * (size_t)cap);
         if (!e) {
             return GR_FAIL(err, GR_ENOMEM, "out of memory for %lld contact events", (long long)cap);
@@ -60,10 +60,17 @@ static int push(gr_sim *s, int i, int kind, gr_error *err)
         s->events = e;
         s->cap_events = cap;
     }
-    s->events[s->n_events++] = (gr_contact_event){
-        .i = i, .kind = kind, .t = (double)s->step * s->dt, .x = s->x[i], .y = s->dim == 2 ? s->y[i] : 0.0,
-        .vx = s->vx[i], .vy = s->dim == 2 ? s->vy[i] : 0.0};
+    s->events[s->n_events++] = ev;
     return GR_OK;
+}
+
+/* Particle i's contact begins (+1) or ends (-1) at this step: its state now. */
+static int push(gr_sim *s, int i, int kind, gr_error *err)
+{
+    return gr_events_append(s, (gr_contact_event){.i = i, .kind = kind, .t = (double)s->step * s->dt, .x = s->x[i],
+                                                   .y = s->dim == 2 ? s->y[i] : 0.0, .vx = s->vx[i],
+                                                   .vy = s->dim == 2 ? s->vy[i] : 0.0},
+                            err);
 }
 
 int gr_events_update(gr_sim *s, gr_error *err)

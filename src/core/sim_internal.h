@@ -110,6 +110,8 @@ double gr_remove_com(gr_sim *s);
 
 /* src/core/events.c: per-particle contact transitions after a force evaluation */
 int gr_events_update(gr_sim *s, gr_error *err);
+/* Append one contact event to s->events (grown as needed). */
+int gr_events_append(gr_sim *s, gr_contact_event ev, gr_error *err);
 
 /* src/core/neighbours.c */
 int gr_neighbours_alloc(gr_sim *s, gr_error *err);

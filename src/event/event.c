@@ -33,17 +33,7 @@
 int gr_ev_record(gr_sim *s, int i, int kind, double t, double x, double y, double vx, double vy,
                  gr_error *err)
 {
-    if (s->n_events == s->cap_events) {
-        int64_t cap = 2 * s->cap_events;
-        gr_contact_event *e = realloc(s->events, sizeof *e * (size_t)cap);
-        if (!e) {
-            return GR_FAIL(err, GR_ENOMEM, "out of memory for %lld contact events", (long long)cap);
-        }
-        s->events = e;
-        s->cap_events = cap;
-    }
-    s->events[s->n_events++] = (gr_contact_event){.i = i, .kind = kind, .t = t, .x = x, .y = y, .vx = vx, .vy = vy};
-    return GR_OK;
+    return gr_events_append(s, (gr_contact_event){.i = i, .kind = kind, .t = t, .x = x, .y = y, .vx = vx, .vy = vy}, err);
 }
 
 /* ---------- progress guards ---------- */

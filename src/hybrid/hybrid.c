@@ -219,19 +219,13 @@ static int take_events(gr_sim *s, gr_hybrid_state *h, gr_error *err)
     if (!s->contacts || !c->contacts || h->n_active == 0) {
         return GR_OK;
     }
-    if (s->n_events + c->n_events > s->cap_events) {
-        int64_t cap = 2 * (s->n_events + c->n_events) + 1024;
-        gr_contact_event *e = realloc(s->events, sizeof *e * (size_t)cap);
-        if (!e) {
-            return GR_FAIL(err, GR_ENOMEM, "out of memory for %lld contact events", (long long)cap);
-        }
-        s->events = e;
-        s->cap_events = cap;
-    }
     for (int64_t k = 0; k < c->n_events; k++) {
         gr_contact_event e = c->events[k];
         e.i = h->list[e.i];
-        s->events[s->n_events++] = e;
+        int rc = gr_events_append(s, e, err);
+        if (rc) {
+            return rc;
+        }
     }
     c->n_events = 0;
     for (int q = 0; q < h->n_active; q++) {
