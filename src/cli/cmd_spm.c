@@ -22,6 +22,7 @@
 #include "granule_config.h"
 #include "io/files.h"
 #include "io/plot.h"
+#include "io/summary_read.h"
 
 #define MAX_RADII 32
 /* C of 4.25 measured for phi = 0.530, L = 0.6 m, eps = 0.1 (thesis sec. 5.3.3) */
@@ -720,37 +721,11 @@ static void run_scene(const char *dir, double *mass, double *D, int *dim, double
 {
     *mass = *D = *warmup = *diameter = (double)NAN;
     *dim = 0;
-    char path[1200];
-    snprintf(path, sizeof path, "%s/summary.json", dir);
-    FILE *f = fopen(path, "r");
-    if (!f) {
+    gr_error err = {0};
+    cJSON *j = gr_summary_read(dir, &err);
+    if (!j) {
         return;
     }
-    char *text = NULL;
-    size_t n = 0, cap = 0;
-    char buf[65536];
-    size_t got;
-    while ((got = fread(buf, 1, sizeof buf, f)) > 0) {
-        if (n + got + 1 > cap) {
-            cap = 2 * (n + got + 1);
-            char *t = realloc(text, cap);
-            if (!t) {
-                free(text);
-                fclose(f);
-                return;
-            }
-            text = t;
-        }
-        memcpy(text + n, buf, got);
-        n += got;
-    }
-    fclose(f);
-    if (!text) {
-        return;
-    }
-    text[n] = 0;
-    cJSON *j = cJSON_Parse(text);
-    free(text);
     cJSON *sc = cJSON_GetObjectItem(j, "scene");
     cJSON *x = cJSON_GetObjectItem(cJSON_GetObjectItem(sc, "system"), "mass");
     if (cJSON_IsNumber(x)) {

@@ -62,40 +62,6 @@ const char *sweep_state_name(point_state st)
     return names[st];
 }
 
-static cJSON *read_json(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        return NULL;
-    }
-    char *text = NULL;
-    size_t len = 0, cap = 0;
-    char buf[4096];
-    size_t got;
-    while ((got = fread(buf, 1, sizeof buf, f)) > 0) {
-        if (len + got + 1 > cap) {
-            cap = 2 * (len + got + 1);
-            char *grown = realloc(text, cap);
-            if (!grown) {
-                free(text);
-                fclose(f);
-                return NULL;
-            }
-            text = grown;
-        }
-        memcpy(text + len, buf, got);
-        len += got;
-    }
-    fclose(f);
-    if (!text) {
-        return NULL;
-    }
-    text[len] = 0;
-    cJSON *j = cJSON_Parse(text);
-    free(text);
-    return j;
-}
-
 static const char *json_string(const cJSON *j, const char *name)
 {
     const cJSON *v = cJSON_GetObjectItem(j, name);
@@ -109,7 +75,8 @@ point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, 
     snprintf(path, sizeof path, "%s/point.json", dir);
     snprintf(want, sizeof want, "%016llx", (unsigned long long)hash);
     why[0] = 0;
-    cJSON *m = read_json(path);
+    gr_error jerr = {0};
+    cJSON *m = gr_json_read(path, &jerr); /* NULL: missing or unreadable, i.e. never run */
     const char *status = json_string(m, "status"), *have = json_string(m, "scene_hash");
     point_state st;
     if (!m || !status) {

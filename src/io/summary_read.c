@@ -1,4 +1,4 @@
-/* summary.json reader: whole file into cJSON, numbers by dotted path. */
+/* JSON files read back (summary.json, sweep manifests): whole file into cJSON, numbers by dotted path. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -6,10 +6,8 @@
 
 #include "io/summary_read.h"
 
-cJSON *gr_summary_read(const char *dir, gr_error *err)
+cJSON *gr_json_read(const char *path, gr_error *err)
 {
-    char path[1200];
-    snprintf(path, sizeof path, "%s/summary.json", dir);
     FILE *f = fopen(path, "rb");
     if (!f) {
         GR_FAIL(err, GR_EIO, "%s: missing", path);
@@ -33,6 +31,13 @@ cJSON *gr_summary_read(const char *dir, gr_error *err)
         GR_FAIL(err, GR_EINVAL, "%s: not valid JSON", path);
     }
     return j;
+}
+
+cJSON *gr_summary_read(const char *dir, gr_error *err)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    return gr_json_read(path, err);
 }
 
 double gr_summary_number(const cJSON *root, const char *path)

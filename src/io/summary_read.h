@@ -6,6 +6,8 @@
 
 #include "granule/status.h"
 
+/* Parse a JSON file; the caller deletes the result. NULL with err set if missing/invalid. */
+cJSON *gr_json_read(const char *path, gr_error *err);
 /* Parse dir/summary.json; the caller deletes the result. NULL with err set if missing/invalid. */
 cJSON *gr_summary_read(const char *dir, gr_error *err);
 /* A number at a dotted path ("ledger.injected", "analysis.moments.speed.1"); NAN if absent. */
