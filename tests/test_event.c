@@ -26,19 +26,12 @@
 #include "granule/model.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
+#include "test_env.h"
 
 #define MASS 3.53e-5
 #define RADIUS 1.5e-3
 #define DIAM (2.0 * RADIUS)
 #define D_NOISE 1e-8
-
-static int env_flag(const char *name)
-{
-    const char *v = getenv(name);
-    return v && v[0] && strcmp(v, "0") != 0;
-}
-static int quick(void) { return env_flag("GRANULE_TEST_QUICK"); }
-static int verbose(void) { return env_flag("GRANULE_TEST_VERBOSE"); }
 
 /* A resolved scene from overrides (every test scene goes through the real parser). */
 static gr_scene scene_of(const char *const *ov, int n)

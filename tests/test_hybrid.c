@@ -20,21 +20,7 @@
 #include "granule/scene.h"
 #include "granule/sim.h"
 #include "hybrid/hybrid.h"
-
-static int env_flag(const char *name)
-{
-    const char *v = getenv(name);
-    return v && *v && strcmp(v, "0") != 0;
-}
-
-static int quick(void) { return env_flag("GRANULE_TEST_QUICK"); }
-
-#define VERBOSE(...)                                                                               \
-    do {                                                                                           \
-        if (env_flag("GRANULE_TEST_VERBOSE")) {                                                    \
-            fprintf(stderr, __VA_ARGS__);                                                          \
-        }                                                                                          \
-    } while (0)
+#include "test_env.h"
 
 /* docs/scenes/NAME with --set style overrides (NULL-terminated). */
 static gr_scene load(const char *name, const char *const *over)

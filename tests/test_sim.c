@@ -31,6 +31,7 @@
 #include "granule/noise.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
+#include "test_env.h"
 
 #define MASS 3.53e-5  /* kg, Table 2.2 */
 #define RADIUS 1.5e-3 /* m */
@@ -41,21 +42,6 @@
 
 /* ------------------------------------------------------------------------------------------ */
 /* helpers */
-
-static int env_flag(const char *name)
-{
-    const char *v = getenv(name);
-    return v && *v && strcmp(v, "0") != 0;
-}
-
-static int quick(void) { return env_flag("GRANULE_TEST_QUICK"); }
-
-#define VERBOSE(...)                                                                               \
-    do {                                                                                           \
-        if (env_flag("GRANULE_TEST_VERBOSE")) {                                                    \
-            fprintf(stderr, __VA_ARGS__);                                                          \
-        }                                                                                          \
-    } while (0)
 
 /* A 2D (or 1D) scene of Table 2.2 particles with no noise, the unclamped spring-dashpot law and
  * the engine's default time step (t_c / 50). packing_fraction is filled in as the scene loader

@@ -30,14 +30,9 @@
 #include "granule_config.h"
 #include "analysis/sk.h"
 #include "granule/observe.h"
+#include "test_env.h"
 
 extern const gr_observable_type gr_obs_pair; /* src/analysis/obs_pair.c */
-
-static int env_flag(const char *name)
-{
-    const char *v = getenv(name);
-    return v && *v && strcmp(v, "0") != 0;
-}
 
 static int64_t steps_full(void) { return env_flag("GRANULE_TEST_QUICK") ? 1000 : 10000; }
 
