@@ -163,7 +163,7 @@ static void bucket_build(gr_heap *h)
     for (int e = 0; e < h->cap; e++) {
         finite += h->t[e] < GR_EV_INF;
     }
-    h->nb = finite < 16 ? 16 : (finite > h->cap ? h->cap : finite);
+    h->nb = finite > h->cap ? h->cap : finite;
     h->nb = h->nb < 16 ? 16 : h->nb; /* head has room for max(cap, 16) */
     h->inv_w = h->span > 0.0 ? h->nb / h->span : 0.0;
     for (int b = 0; b < h->nb; b++) {
