@@ -181,6 +181,15 @@ START_TEST(refuse_empty_unknown_section)
 }
 END_TEST
 
+/* a path the saved scene.ini would read back as a comment (fuzz finding: "dir =; text") */
+START_TEST(refuse_path_read_back_as_comment)
+{
+    expect_refused_at("[output]\n"
+                      "dir =; not a path\n",
+                      2, 0, "[output] dir", "may not begin with ';'", (char *)NULL);
+}
+END_TEST
+
 START_TEST(refuse_bad_number)
 {
     expect_refused_at("[system]\n"
@@ -942,6 +951,7 @@ static Suite *scene_suite(void)
     tcase_add_test(refuse, refuse_unknown_key);
     tcase_add_test(refuse, refuse_unknown_section);
     tcase_add_test(refuse, refuse_empty_unknown_section);
+    tcase_add_test(refuse, refuse_path_read_back_as_comment);
     tcase_add_test(refuse, refuse_bad_number);
     tcase_add_test(refuse, refuse_bad_boolean);
     tcase_add_test(refuse, refuse_bad_choice);

@@ -292,6 +292,13 @@ static int apply(loader *ld, const char *section, const char *name, const char *
                 snprintf(detail, sizeof detail, "must be a non-empty path shorter than %zu characters", cap);
                 return fail_at(err, w, section, name, "%s", detail);
             }
+            /* the saved scene.ini writes "key = value", and inih reads a ';' after whitespace as the
+             * start of a comment: such a path would not survive a resume */
+            if (value[0] == ';' || strstr(value, " ;") || strstr(value, "\t;")) {
+                return fail_at(err, w, section, name, "%s",
+                               "a path may not begin with ';' or have one after a space: the saved scene.ini would read "
+                               "the rest as a comment");
+            }
             snprintf((char *)slot, cap, "%s", value);
             break;
         }
