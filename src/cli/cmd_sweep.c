@@ -69,8 +69,9 @@ static bool parse_long(const char *opt, const char *text, long *out)
     return true;
 }
 
-/* Load (and so validate) the scene of every point in [from, to) and keep its hash. */
-static int hash_points(const sweep *s, uint64_t *hash, long from, long to)
+/* Load (and so validate) the scene of every point in [from, to) and keep its hash and its
+ * predicted CPU seconds (guess may be NULL). */
+static int hash_points(const sweep *s, uint64_t *hash, double *guess, long from, long to)
 {
     for (long k = from; k < to; k++) {
         gr_scene sc;
@@ -80,6 +81,9 @@ static int hash_points(const sweep *s, uint64_t *hash, long from, long to)
             return EXIT_REFUSED;
         }
         hash[k] = gr_scene_hash(&sc);
+        if (guess) {
+            guess[k] = sweep_point_cost_guess(&sc);
+        }
     }
     return EXIT_OK;
 }
@@ -163,6 +167,7 @@ int cmd_sweep(int argc, char **argv)
         return EXIT_OK;
     }
     hash = calloc((size_t)s->n_points, sizeof *hash);
+    double *guess = calloc((size_t)s->n_points, sizeof *guess);
     const char *mpi_var = NULL;
     int ranks = sweep_mpi_launched(&mpi_var);
     const char *arr_var = NULL, *arr_text = NULL;
@@ -195,7 +200,7 @@ int cmd_sweep(int argc, char **argv)
         goto done;
     }
     if (point >= 0) {
-        rc = hash_points(s, hash, point, point + 1);
+        rc = hash_points(s, hash, NULL, point, point + 1);
         if (!rc) {
             char runner[128] = "point";
             if (arr_var) {
@@ -205,7 +210,7 @@ int cmd_sweep(int argc, char **argv)
         }
         goto done;
     }
-    rc = hash_points(s, hash, 0, s->n_points);
+    rc = hash_points(s, hash, guess, 0, s->n_points);
     if (rc) {
         goto done;
     }
@@ -240,7 +245,8 @@ int cmd_sweep(int argc, char **argv)
     }
     fprintf(stderr, "sweep: %ld points (%d keys x %d seeds), %d parallel runs, into %s\n", s->n_points, s->n_keys, s->n_seeds,
             s->jobs, s->out);
-    sweep_queue q = {.s = s, .hash = hash};
+    sweep_queue q = {.s = s, .hash = hash, .guess = guess, .jobs = s->jobs};
+    sweep_queue_start(&q);
     sweep_run_local(&q, s->jobs, "local", NULL, NULL);
     long bad = 0;
     rc = sweep_collect(s, hash, &bad);
@@ -248,6 +254,7 @@ int cmd_sweep(int argc, char **argv)
            q.failed);
     rc = rc ? rc : bad ? EXIT_FAILED : EXIT_OK;
 done:
+    free(guess);
     free(hash);
     free(s);
     return rc;

@@ -52,7 +52,7 @@ static void usage(FILE *f)
             "  analyse DIR    feed a run's snapshots to the analysis layer's observables\n"
             "  compare SCENE  the same scene under several collision models, side by side\n"
             "  sweep FILE     a scene over lists of keys and seeds, in parallel, resumable, with fits\n"
-            "  reproduce NAME rerun a thesis figure (fig2.10, fig3.2, fig4.2, fig5.3) and report it\n"
+            "  reproduce NAME run a thesis-reproduction campaign (--list) and write its result set\n"
             "  bench          regenerate the throughput tables of docs/performance.md on this machine\n"
             "  observables    list the observables (statistics) a scene can ask for\n"
             "theory models (no N-body run; thesis ch. 3, 5, 6, App. B):\n"

@@ -10,6 +10,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <sys/resource.h>
 #include <sys/types.h>
 
 #include "granule/scene.h"
@@ -17,7 +18,8 @@
 #define SWEEP_MAX_KEYS 8
 #define SWEEP_MAX_VALUES 64
 #define SWEEP_MAX_SETS 64
-#define SWEEP_MAX_OVERRIDES (SWEEP_MAX_SETS + SWEEP_MAX_KEYS + 1)
+#define SWEEP_MAX_LINKED 4 /* keys varied together: [vary] a+b = 1/2, 3/4 */
+#define SWEEP_MAX_OVERRIDES (SWEEP_MAX_SETS + SWEEP_MAX_LINKED * SWEEP_MAX_KEYS + 1)
 #define SWEEP_MAX_POINTS 100000L
 
 typedef struct sweep {
@@ -75,15 +77,23 @@ typedef struct sweep_child {
     double t0;       /* monotonic start */
     char started[32];
     uint64_t hash;
+    double cpu_before; /* CPU seconds of earlier sessions of this point (it continues a checkpoint) */
+    double cpu;        /* CPU seconds of this child (user + system, from wait4) */
 } sweep_child;
 
 /* Prepare point k's folder, write its manifest (status "running") and fork the child running
  * it. runner names who runs it ("local", "mpi rank 1 of 2", "array SLURM_ARRAY_TASK_ID=3").
  * GR_OK or an error (nothing forked). */
 int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c, gr_error *err);
-/* After the child's exit: write the final manifest; returns the point's exit code
- * (EXIT_OK, EXIT_FAILED, EXIT_REFUSED, EXIT_UNSTABLE). */
-int sweep_point_finish(const sweep *s, const char *runner, sweep_child *c, int wait_status);
+/* After the child's exit (wait_status and usage from wait4): write the final manifest, with the
+ * point's CPU seconds over all its sessions; returns the point's exit code (EXIT_OK, EXIT_FAILED,
+ * EXIT_REFUSED, EXIT_UNSTABLE). */
+int sweep_point_finish(const sweep *s, const char *runner, sweep_child *c, int wait_status, const struct rusage *usage);
+/* CPU seconds point k has cost so far (its manifest's cpu_seconds), NAN if not recorded. */
+double sweep_point_cpu(const sweep *s, long k);
+/* A rough prediction of a point's CPU seconds from its scene (particle-steps times a default cost
+ * per particle-step), used for ETAs until finished points calibrate it. */
+double sweep_point_cost_guess(const gr_scene *sc);
 /* start + wait + finish. */
 int sweep_point_run(const sweep *s, long k, const char *runner);
 
@@ -91,14 +101,25 @@ int sweep_point_run(const sweep *s, long k, const char *runner);
 typedef struct sweep_queue {
     const sweep *s;
     const uint64_t *hash; /* scene hash of every point */
+    const double *guess;  /* predicted CPU seconds of every point (NULL: no ETA) */
     long next;
     long skipped, run, failed;
+    double cpu_done, guess_done; /* finished points: measured CPU s and their prediction */
+    double guess_left;           /* prediction for the points not finished */
+    long finished;               /* points completed, in this run or before */
+    int jobs;
 } sweep_queue;
 
 /* The next point to run (finished points are skipped with a log line), or -1 when none is left. */
 long sweep_queue_next(sweep_queue *q);
-/* Record a finished point's exit code: log line and counters. */
+/* Record a finished point's exit code: log line with the CPU time spent and the ETA, counters. */
 void sweep_queue_done(sweep_queue *q, long k, int code, const char *who);
+/* Before running: sum the predictions, count the points finished earlier with their CPU time, and
+ * print the progress line. */
+void sweep_queue_start(sweep_queue *q);
+/* One line on stderr: points finished, CPU-hours spent and, scaled by how the finished points
+ * compare with their prediction, the CPU-hours left and the wall time at q->jobs parallel runs. */
+void sweep_queue_progress(const sweep_queue *q);
 /* Hands out points to remote workers while the local loop runs; returns how many workers are
  * still busy (0 when none or all are done). */
 typedef int (*sweep_serve_fn)(void *ctx, sweep_queue *q);

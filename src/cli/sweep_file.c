@@ -64,6 +64,23 @@ static int on_line(void *user, const char *section, const char *name, const char
                      SWEEP_MAX_VALUES);
             return 0;
         }
+        /* linked keys, varied together: system.N+system.packing_fraction = 1000/0.177, 2000/0.353 */
+        int parts = 1;
+        for (const char *c = name; *c; c++) {
+            parts += *c == '+';
+        }
+        for (int v = 0; v < s->n_values[s->n_keys]; v++) {
+            int got = 1;
+            for (const char *c = s->value[s->n_keys][v]; *c; c++) {
+                got += *c == '/';
+            }
+            if (got != parts || parts > SWEEP_MAX_LINKED) {
+                snprintf(s->error, sizeof s->error,
+                         "[vary] %s: value '%s' has %d part%s for %d linked key%s (at most %d, written a+b = 1/2, 3/4)", name,
+                         s->value[s->n_keys][v], got, got == 1 ? "" : "s", parts, parts == 1 ? "" : "s", SWEEP_MAX_LINKED);
+                return 0;
+            }
+        }
         s->n_keys++;
     } else if (!strcmp(section, "set")) {
         if (s->n_sets == SWEEP_MAX_SETS || !strchr(name, '.')) {
@@ -139,10 +156,16 @@ int sweep_overrides(const sweep *s, long k, char store[][256], const char **ptrs
         ptrs[m] = store[m];
         m++;
     }
-    for (int i = 0; i < s->n_keys; i++) {
-        snprintf(store[m], 256, "%s=%s", s->key[i], s->value[i][idx[i]]);
-        ptrs[m] = store[m];
-        m++;
+    for (int i = 0; i < s->n_keys; i++) { /* a+b = x/y gives a=x and b=y */
+        char keys[128], values[64], *ks = NULL, *vs = NULL;
+        snprintf(keys, sizeof keys, "%s", s->key[i]);
+        snprintf(values, sizeof values, "%s", s->value[i][idx[i]]);
+        char *key = strtok_r(keys, "+", &ks), *value = strtok_r(values, "/", &vs);
+        for (; key && value; key = strtok_r(NULL, "+", &ks), value = strtok_r(NULL, "/", &vs)) {
+            snprintf(store[m], 256, "%s=%s", key, value);
+            ptrs[m] = store[m];
+            m++;
+        }
     }
     snprintf(store[m], 256, "run.seed=%llu", s->seeds[seed]);
     ptrs[m] = store[m];

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -149,6 +150,7 @@ static void write_manifest(const sweep *s, long k, const char *dir, const char *
         cJSON_AddStringToObject(j, "finished", finished);
         cJSON_AddNumberToObject(j, "wall_seconds", round(wall * 1000.0) / 1000.0);
     }
+    cJSON_AddNumberToObject(j, "cpu_seconds", round((c->cpu_before + c->cpu) * 1000.0) / 1000.0);
     char *text = cJSON_Print(j);
     gr_file f;
     gr_error err = {0};
@@ -251,6 +253,10 @@ int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c
     }
     sweep_now_iso(c->started);
     c->t0 = sweep_monotonic();
+    if (has_checkpoint(dir)) { /* continuing: the CPU time of the earlier sessions counts too */
+        double before = sweep_point_cpu(s, k);
+        c->cpu_before = isfinite(before) ? before : 0.0;
+    }
     write_manifest(s, k, dir, runner, c, NULL, 0.0, "running", -1, NULL);
     int p[2];
     if (pipe(p) != 0) {
@@ -273,8 +279,11 @@ int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c
     return GR_OK;
 }
 
-int sweep_point_finish(const sweep *s, const char *runner, sweep_child *c, int ws)
+int sweep_point_finish(const sweep *s, const char *runner, sweep_child *c, int ws, const struct rusage *ru)
 {
+    c->cpu = ru ? (double)ru->ru_utime.tv_sec + 1e-6 * (double)ru->ru_utime.tv_usec + (double)ru->ru_stime.tv_sec +
+                      1e-6 * (double)ru->ru_stime.tv_usec
+                : 0.0;
     char msg[700] = "";
     ssize_t got = 0, n;
     while (c->fd >= 0 && got < (ssize_t)sizeof msg - 1 && (n = read(c->fd, msg + got, sizeof msg - 1 - (size_t)got)) > 0) {
@@ -314,7 +323,30 @@ int sweep_point_run(const sweep *s, long k, const char *runner)
         return err.code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
     int ws = 0;
-    while (waitpid(c.pid, &ws, 0) < 0 && errno == EINTR) {
+    struct rusage ru = {0};
+    while (wait4(c.pid, &ws, 0, &ru) < 0 && errno == EINTR) {
     }
-    return sweep_point_finish(s, runner, &c, ws);
+    return sweep_point_finish(s, runner, &c, ws, &ru);
+}
+
+double sweep_point_cpu(const sweep *s, long k)
+{
+    char dir[1100], path[1200];
+    sweep_point_dir(s, k, dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/point.json", dir);
+    gr_error err = {0};
+    cJSON *m = gr_json_read(path, &err);
+    double cpu = gr_summary_number(m, "cpu_seconds");
+    cJSON_Delete(m);
+    return cpu;
+}
+
+double sweep_point_cost_guess(const gr_scene *sc)
+{
+    /* ns per particle-step of the soft-sphere core on one core (docs/performance.md: 1D ~3.6,
+     * 2D 11-20); the event-driven and hybrid integrators are usually cheaper, and the finished
+     * points correct the guess anyway */
+    double ns = sc->dim == 1 ? 4.0 : 16.0;
+    double dt = sc->dt > 0.0 ? sc->dt : 1e-6;
+    return 1e-9 * ns * (double)sc->N * (sc->warmup + sc->duration) / dt;
 }

@@ -1,14 +1,63 @@
 /* The local scheduler: points are handed out in index order to up to `jobs` child processes (and,
  * under MPI, to the other ranks through a serve callback); finished points are skipped. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <time.h>
 
 #include "cli/cli.h"
 #include "cli/sweep.h"
+
+/* Point k is finished: move its prediction from "left" to "done", with its measured CPU time. */
+static void account(sweep_queue *q, long k)
+{
+    if (!q->guess) {
+        return;
+    }
+    double cpu = sweep_point_cpu(q->s, k);
+    q->guess_left -= q->guess[k];
+    if (isfinite(cpu)) {
+        q->cpu_done += cpu;
+        q->guess_done += q->guess[k];
+    }
+}
+
+void sweep_queue_start(sweep_queue *q)
+{
+    if (!q->guess) {
+        return;
+    }
+    for (long k = 0; k < q->s->n_points; k++) {
+        q->guess_left += q->guess[k];
+    }
+    for (long k = 0; k < q->s->n_points && !q->s->force; k++) {
+        char why[800];
+        if (sweep_point_state(q->s, k, q->hash[k], why, sizeof why) == POINT_COMPLETED) {
+            q->finished++;
+            account(q, k);
+        }
+    }
+    sweep_queue_progress(q);
+}
+
+void sweep_queue_progress(const sweep_queue *q)
+{
+    if (!q->guess) {
+        return;
+    }
+    /* the finished points calibrate the prediction (the machine, the load, the integrator) */
+    double scale = q->guess_done > 0.0 && q->cpu_done > 0.0 ? q->cpu_done / q->guess_done : 1.0;
+    double left = q->finished >= q->s->n_points ? 0.0 : fmax(0.0, q->guess_left) * scale / 3600.0;
+    int jobs = q->jobs > 0 ? q->jobs : 1;
+    fprintf(stderr, "sweep: %ld/%ld points finished; %.3g CPU-h spent on them, about %.3g CPU-h left (%.3g h of wall time at %d "
+                    "parallel run%s%s)\n",
+            q->finished, q->s->n_points, q->cpu_done / 3600.0, left, left / jobs, jobs, jobs == 1 ? "" : "s",
+            q->guess_done > 0.0 ? "" : "; a first guess until a point finishes");
+}
 
 long sweep_queue_next(sweep_queue *q)
 {
@@ -36,6 +85,11 @@ void sweep_queue_done(sweep_queue *q, long k, int code, const char *who)
     const char *what = sweep_exit_name(code);
     fprintf(stderr, "sweep: point %ld %s%s%s (%ld/%ld)\n", k, what, who ? " on " : "", who ? who : "", q->run + q->skipped,
             q->s->n_points);
+    if (code == EXIT_OK) {
+        q->finished++;
+        account(q, k);
+    }
+    sweep_queue_progress(q);
 }
 
 void sweep_run_local(sweep_queue *q, int jobs, const char *runner, sweep_serve_fn serve, void *ctx)
@@ -74,7 +128,8 @@ void sweep_run_local(sweep_queue *q, int jobs, const char *runner, sweep_serve_f
             continue;
         }
         int ws = 0;
-        pid_t pid = waitpid(-1, &ws, serve ? WNOHANG : 0);
+        struct rusage ru = {0};
+        pid_t pid = wait4(-1, &ws, serve ? WNOHANG : 0, &ru);
         if (pid < 0 && errno == EINTR) {
             continue;
         }
@@ -89,7 +144,7 @@ void sweep_run_local(sweep_queue *q, int jobs, const char *runner, sweep_serve_f
         for (int i = 0; i < jobs; i++) {
             if (slot[i].pid == pid) {
                 long k = slot[i].k;
-                int code = sweep_point_finish(q->s, runner, &slot[i], ws);
+                int code = sweep_point_finish(q->s, runner, &slot[i], ws, &ru);
                 sweep_queue_done(q, k, code, serve ? "rank 0" : NULL);
                 running--;
             }

@@ -1,0 +1,90 @@
+/* Reproduction campaigns: one file per set of runs behind thesis figures and tables
+ * (docs/campaigns/NAME.ini, compiled into the library), run as a `granule sweep`, analysed into a
+ * small result set (CSV + JSON + figures) and a generated page, docs/reproduction.md.
+ * The format and the analysis kinds are documented in docs/campaigns/README.md. */
+#ifndef GRANULE_CAMPAIGN_H
+#define GRANULE_CAMPAIGN_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "granule/status.h"
+
+#define GR_CAMPAIGN_MAX_LINES 64
+#define GR_CAMPAIGN_MAX_RESULTS 12
+#define GR_CAMPAIGN_MAX_VARY 8
+
+typedef enum { GR_FIDELITY_QUICK = 0, GR_FIDELITY_FULL = 1 } gr_fidelity;
+
+/* How a [result ID] section turns the runs into numbers (docs/campaigns/README.md):
+ * MEAN       y averaged over seeds for every combination of the varied keys;
+ * POWER_LAW  y = A x^-exponent fitted over x (usually system.N) in [x_min, x_max] per
+ *            combination of the `by` keys, and per m when y names {m};
+ * RUNNING    the running average of T(t) and its means over `period` seconds (Fig. 2.8). */
+typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING } gr_result_kind;
+
+typedef struct gr_campaign_result {
+    char id[32];          /* e.g. "fig3.2", "table3.1" */
+    char title[256];
+    gr_result_kind kind;
+    char quantity[64];    /* e.g. "xi_2", "zeta_m", "D_f" */
+    char unit[32];
+    char y[128];          /* dotted summary.json path; {m} and {m-1} are replaced by m */
+    char y_err[128];      /* the run's own error of y (used when a group has one seed) */
+    char x[64];           /* POWER_LAW: the varied key on the abscissa */
+    double x_min, x_max;  /* POWER_LAW: fit window */
+    char by[256];         /* POWER_LAW: comma-separated keys that label a fit */
+    int m_lo, m_hi;       /* moments: m = m_lo..m_hi (0 = no {m}) */
+    bool per_m;           /* report exponent / m (Fig. 3.5) */
+    double period;        /* RUNNING: seconds per period mean */
+    char thesis[2048];    /* "GROUP: value +- error; ..." (GROUP as in results.csv) */
+    char thesis_source[256];
+    char note[2048];      /* what a reader should know (shown on the page) */
+} gr_campaign_result;
+
+typedef struct gr_campaign_line {
+    char section[16]; /* sweep, vary, set */
+    char key[96];
+    char value[512];
+} gr_campaign_line;
+
+typedef struct gr_campaign {
+    char name[64];
+    char source[1024];  /* where it was read from: "embedded docs/campaigns/NAME.ini" or a path */
+    char title[256];
+    char covers[256];   /* the figures and tables it serves, e.g. "Fig. 3.1, Fig. 3.2, Table 3.1" */
+    char scene[128];    /* a scene of docs/scenes, e.g. "rfm-1d.ini" */
+    char about[2048];   /* what is run and why (warm-up, run length, seeds), for the page */
+    int n_lines[2];     /* the sweep body of each fidelity ([sweep.F], [vary.F], [set] + [set.F]) */
+    gr_campaign_line lines[2][GR_CAMPAIGN_MAX_LINES];
+    int n_results;
+    gr_campaign_result results[GR_CAMPAIGN_MAX_RESULTS];
+} gr_campaign;
+
+/* Load a campaign by name (the compiled-in docs/campaigns/NAME.ini), by a figure or table it
+ * covers ("fig3.2", "table3.1"), or from a file path. */
+int gr_campaign_load(gr_campaign *c, const char *name_or_path, gr_error *err);
+/* The names of the compiled-in campaigns, in order; returns how many (at most max). */
+int gr_campaign_names(const char **names, int max);
+
+/* Write DIR/scene.ini (the embedded scene) and DIR/sweep.ini (points into DIR/runs) for the
+ * fidelity; sweep_path gets DIR/sweep.ini. Existing runs are kept: rerunning continues. */
+int gr_campaign_materialise(const gr_campaign *c, gr_fidelity fid, const char *dir, char *sweep_path, size_t len,
+                            gr_error *err);
+/* Number of points of the fidelity's sweep (seeds x every [vary] list). */
+long gr_campaign_points(const gr_campaign *c, gr_fidelity fid);
+
+/* Read the finished points of DIR/runs and write RESULTS/results.csv, results.json, one data CSV
+ * and one figure per result (the thesis's values overlaid), and archive every finished point in
+ * RESULTS/points. *finished gets the finished points. */
+int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results, long *finished,
+                        gr_error *err);
+
+/* Put the points archived in RESULTS/points back into DIR/runs where DIR has no finished run of
+ * its own, so that the sweep runs only what is missing; *restored gets how many. */
+int gr_campaign_restore(const char *dir, const char *results, long *restored, gr_error *err);
+
+/* Generate the reproduction page (Markdown) from every RESULTS_ROOT/NAME/results.json. */
+int gr_reproduction_page(const char *results_root, const char *out_path, gr_error *err);
+
+#endif

@@ -1,0 +1,372 @@
+/* A campaign file (docs/campaigns/README.md): [campaign] (title, covers, scene, about), the sweep of
+ * each fidelity ([sweep.quick] / [sweep.full] seeds, [vary.quick] / [vary.full] lists, [set] for
+ * both and [set.quick] / [set.full]) and one [result ID] section per figure or table. Loading
+ * checks every key; materialising writes a plain sweep file beside the embedded scene. */
+#include <ctype.h>
+#include <ini.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "granule/campaign.h"
+#include "io/files.h"
+#include "reproduce/embedded.h"
+
+const char *gr_embedded_find(const char *name)
+{
+    for (int i = 0; i < gr_embedded_count; i++) {
+        if (!strcmp(gr_embedded_files[i].name, name)) {
+            return gr_embedded_files[i].text;
+        }
+    }
+    return NULL;
+}
+
+typedef struct parse_ctx {
+    gr_campaign *c;
+    char error[512];
+} parse_ctx;
+
+static bool parse_double(const char *v, double *out)
+{
+    char *end;
+    double x = strtod(v, &end);
+    while (isspace((unsigned char)*end)) {
+        end++;
+    }
+    if (end == v || *end || !isfinite(x)) {
+        return false;
+    }
+    *out = x;
+    return true;
+}
+
+static int campaign_key(parse_ctx *p, const char *name, const char *value)
+{
+    gr_campaign *c = p->c;
+    struct {
+        const char *key;
+        char *dst;
+        size_t size;
+    } keys[] = {{"title", c->title, sizeof c->title}, {"covers", c->covers, sizeof c->covers},
+                {"scene", c->scene, sizeof c->scene}, {"about", c->about, sizeof c->about}};
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
+        if (!strcmp(name, keys[i].key)) {
+            if (keys[i].dst[0] && !strcmp(name, "about")) { /* continued over several lines */
+                size_t len = strlen(keys[i].dst);
+                snprintf(keys[i].dst + len, keys[i].size - len, " %s", value);
+            } else {
+                snprintf(keys[i].dst, keys[i].size, "%s", value);
+            }
+            return 1;
+        }
+    }
+    snprintf(p->error, sizeof p->error, "[campaign] %s: unknown key; keys: title, covers, scene, about", name);
+    return 0;
+}
+
+static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, const char *value)
+{
+    struct {
+        const char *key;
+        char *dst;
+        size_t size;
+    } text[] = {{"title", r->title, sizeof r->title},       {"quantity", r->quantity, sizeof r->quantity},
+                {"unit", r->unit, sizeof r->unit},          {"y", r->y, sizeof r->y},
+                {"y_err", r->y_err, sizeof r->y_err},       {"x", r->x, sizeof r->x},
+                {"by", r->by, sizeof r->by},                {"thesis_source", r->thesis_source, sizeof r->thesis_source}};
+    for (size_t i = 0; i < sizeof text / sizeof text[0]; i++) {
+        if (!strcmp(name, text[i].key)) {
+            snprintf(text[i].dst, text[i].size, "%s", value);
+            return 1;
+        }
+    }
+    if (!strcmp(name, "thesis") || !strcmp(name, "note")) { /* may continue over several lines */
+        char *dst = name[0] == 't' ? r->thesis : r->note;
+        size_t size = name[0] == 't' ? sizeof r->thesis : sizeof r->note, len = strlen(dst);
+        snprintf(dst + len, size - len, "%s%s", len ? (name[0] == 't' ? "; " : " ") : "", value);
+        return 1;
+    }
+    if (!strcmp(name, "kind")) {
+        if (!strcmp(value, "mean")) {
+            r->kind = GR_RESULT_MEAN;
+        } else if (!strcmp(value, "power_law")) {
+            r->kind = GR_RESULT_POWER_LAW;
+        } else if (!strcmp(value, "running_mean")) {
+            r->kind = GR_RESULT_RUNNING;
+        } else {
+            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean", r->id, value);
+            return 0;
+        }
+        return 1;
+    }
+    if (!strcmp(name, "m")) {
+        if (sscanf(value, "%d-%d", &r->m_lo, &r->m_hi) != 2 || r->m_lo < 1 || r->m_hi < r->m_lo || r->m_hi > 12) {
+            snprintf(p->error, sizeof p->error, "[result %s] m = %s: expected a range LO-HI within 1-12", r->id, value);
+            return 0;
+        }
+        return 1;
+    }
+    if (!strcmp(name, "per_m")) {
+        r->per_m = !strcmp(value, "true");
+        if (!r->per_m && strcmp(value, "false")) {
+            snprintf(p->error, sizeof p->error, "[result %s] per_m = %s: true or false", r->id, value);
+            return 0;
+        }
+        return 1;
+    }
+    double *num = !strcmp(name, "x_min") ? &r->x_min : !strcmp(name, "x_max") ? &r->x_max : !strcmp(name, "period") ? &r->period : NULL;
+    if (num) {
+        if (!parse_double(value, num) || *num <= 0.0) {
+            snprintf(p->error, sizeof p->error, "[result %s] %s = %s: expected a positive number", r->id, name, value);
+            return 0;
+        }
+        return 1;
+    }
+    snprintf(p->error, sizeof p->error,
+             "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, x_max, by, m, per_m, period, "
+             "thesis, thesis_source, note",
+             r->id, name);
+    return 0;
+}
+
+static int on_line(void *user, const char *section, const char *name, const char *value)
+{
+    parse_ctx *p = user;
+    gr_campaign *c = p->c;
+    if (!strcmp(section, "campaign")) {
+        return campaign_key(p, name, value);
+    }
+    if (!strncmp(section, "result ", 7)) {
+        const char *id = section + 7;
+        gr_campaign_result *r = c->n_results ? &c->results[c->n_results - 1] : NULL;
+        if (!r || strcmp(r->id, id)) {
+            if (c->n_results == GR_CAMPAIGN_MAX_RESULTS) {
+                snprintf(p->error, sizeof p->error, "[%s]: at most %d results per campaign", section, GR_CAMPAIGN_MAX_RESULTS);
+                return 0;
+            }
+            r = &c->results[c->n_results++];
+            snprintf(r->id, sizeof r->id, "%s", id);
+            r->x_max = INFINITY;
+            r->period = 20.0;
+        }
+        return result_key(p, r, name, value);
+    }
+    /* sweep sections: [set] for both fidelities, [sweep.F] [vary.F] [set.F] for one */
+    char base[16] = "";
+    int fid = -1;
+    const char *dot = strchr(section, '.');
+    if (!strcmp(section, "set")) {
+        snprintf(base, sizeof base, "set");
+    } else if (dot && (size_t)(dot - section) < sizeof base) {
+        snprintf(base, sizeof base, "%.*s", (int)(dot - section), section);
+        fid = !strcmp(dot + 1, "quick") ? GR_FIDELITY_QUICK : !strcmp(dot + 1, "full") ? GR_FIDELITY_FULL : -1;
+    }
+    if ((strcmp(base, "sweep") && strcmp(base, "vary") && strcmp(base, "set")) || (fid < 0 && strcmp(section, "set"))) {
+        snprintf(p->error, sizeof p->error,
+                 "[%s]: unknown section; sections: campaign, set, sweep.quick, vary.quick, set.quick, sweep.full, vary.full, "
+                 "set.full, result ID",
+                 section);
+        return 0;
+    }
+    for (int f = 0; f < 2; f++) {
+        if (fid >= 0 && f != fid) {
+            continue;
+        }
+        if (c->n_lines[f] == GR_CAMPAIGN_MAX_LINES) {
+            snprintf(p->error, sizeof p->error, "[%s]: at most %d sweep lines per fidelity", section, GR_CAMPAIGN_MAX_LINES);
+            return 0;
+        }
+        gr_campaign_line *l = &c->lines[f][c->n_lines[f]++];
+        snprintf(l->section, sizeof l->section, "%s", base);
+        snprintf(l->key, sizeof l->key, "%s", name);
+        snprintf(l->value, sizeof l->value, "%s", value);
+    }
+    return 1;
+}
+
+/* "fig3.2" matches covers = "Fig. 3.1, Fig. 3.2": compare with spaces, dots after words and case
+ * ignored ("Fig. 3.2" -> "fig3.2"). */
+static void normalise(const char *in, char *out, size_t len)
+{
+    size_t n = 0;
+    for (const char *s = in; *s && n + 1 < len; s++) {
+        if (isspace((unsigned char)*s) || (*s == '.' && s > in && isalpha((unsigned char)s[-1]))) {
+            continue;
+        }
+        out[n++] = (char)tolower((unsigned char)*s);
+    }
+    out[n] = 0;
+}
+
+static bool covers(const char *list, const char *want)
+{
+    char buf[256], w[64];
+    snprintf(buf, sizeof buf, "%s", list);
+    normalise(want, w, sizeof w);
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        char t[64];
+        normalise(tok, t, sizeof t);
+        if (!strcmp(t, w)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+static int parse_text(gr_campaign *c, const char *text, const char *where, gr_error *err)
+{
+    parse_ctx p = {.c = c};
+    int bad = ini_parse_string(text, on_line, &p);
+    if (bad) {
+        return GR_FAIL(err, GR_EINVAL, "%s:%d: %s", where, bad, p.error[0] ? p.error : "not an INI line");
+    }
+    if (!c->title[0] || !c->scene[0]) {
+        return GR_FAIL(err, GR_EINVAL, "%s: [campaign] needs title and scene", where);
+    }
+    char scene[200];
+    snprintf(scene, sizeof scene, "scenes/%s", c->scene);
+    if (!gr_embedded_find(scene)) {
+        return GR_FAIL(err, GR_EINVAL, "%s: [campaign] scene = %s: not a scene of docs/scenes (granule reproduce --list)", where,
+                       c->scene);
+    }
+    for (int f = 0; f < 2; f++) {
+        if (gr_campaign_points(c, (gr_fidelity)f) <= 0) {
+            return GR_FAIL(err, GR_EINVAL, "%s: no [vary.%s] lists", where, f ? "full" : "quick");
+        }
+    }
+    for (int i = 0; i < c->n_results; i++) {
+        const gr_campaign_result *r = &c->results[i];
+        if (r->kind != GR_RESULT_RUNNING && !r->y[0]) {
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] needs y (a summary.json path)", where, r->id);
+        }
+        if (r->kind == GR_RESULT_POWER_LAW && !r->x[0]) {
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = power_law needs x (the varied key)", where, r->id);
+        }
+    }
+    return GR_OK;
+}
+
+int gr_campaign_load(gr_campaign *c, const char *name, gr_error *err)
+{
+    memset(c, 0, sizeof *c);
+    struct stat st;
+    if (strchr(name, '/') || (strlen(name) > 4 && !strcmp(name + strlen(name) - 4, ".ini"))) {
+        if (stat(name, &st) != 0 || !S_ISREG(st.st_mode)) {
+            return GR_FAIL(err, GR_EINVAL, "%s: not a campaign file", name);
+        }
+        FILE *f = fopen(name, "rb");
+        char *text = calloc(1, (size_t)st.st_size + 1);
+        size_t got = f && text ? fread(text, 1, (size_t)st.st_size, f) : 0;
+        if (f) {
+            fclose(f);
+        }
+        int rc = got == (size_t)st.st_size ? parse_text(c, text, name, err) : GR_FAIL(err, GR_EIO, "%s: cannot read", name);
+        free(text);
+        const char *base = strrchr(name, '/') ? strrchr(name, '/') + 1 : name;
+        snprintf(c->name, sizeof c->name, "%.*s", (int)(strlen(base) > 4 ? strlen(base) - 4 : strlen(base)), base);
+        snprintf(c->source, sizeof c->source, "%s", name);
+        return rc;
+    }
+    for (int i = 0; i < gr_embedded_count; i++) {
+        const char *n = gr_embedded_files[i].name;
+        if (strncmp(n, "campaigns/", 10)) {
+            continue;
+        }
+        char own[64];
+        snprintf(own, sizeof own, "%.*s", (int)(strlen(n) - 14), n + 10); /* campaigns/NAME.ini */
+        gr_campaign probe;
+        memset(&probe, 0, sizeof probe);
+        gr_error perr = {0};
+        if (parse_text(&probe, gr_embedded_files[i].text, n, &perr)) {
+            return GR_FAIL(err, GR_EINVAL, "%s", perr.message); /* a broken built-in campaign is a bug: say so */
+        }
+        if (!strcmp(own, name) || covers(probe.covers, name)) {
+            *c = probe;
+            snprintf(c->name, sizeof c->name, "%s", own);
+            snprintf(c->source, sizeof c->source, "docs/%s (built in)", n);
+            return GR_OK;
+        }
+    }
+    return GR_FAIL(err, GR_EINVAL, "no campaign or figure named '%s' (granule reproduce --list)", name);
+}
+
+int gr_campaign_names(const char **names, int max)
+{
+    int n = 0;
+    for (int i = 0; i < gr_embedded_count && n < max; i++) {
+        if (!strncmp(gr_embedded_files[i].name, "campaigns/", 10) && strstr(gr_embedded_files[i].name, ".ini")) {
+            names[n++] = gr_embedded_files[i].name;
+        }
+    }
+    return n;
+}
+
+static long count_list(const char *value)
+{
+    long n = 0;
+    bool in = false;
+    for (const char *s = value; *s; s++) {
+        bool sep = *s == ',' || isspace((unsigned char)*s);
+        n += !sep && !in;
+        in = !sep;
+    }
+    return n;
+}
+
+long gr_campaign_points(const gr_campaign *c, gr_fidelity fid)
+{
+    long points = 1, vary = 0;
+    for (int i = 0; i < c->n_lines[fid]; i++) {
+        const gr_campaign_line *l = &c->lines[fid][i];
+        if (!strcmp(l->section, "vary")) {
+            points *= count_list(l->value);
+            vary++;
+        } else if (!strcmp(l->section, "sweep") && !strcmp(l->key, "seeds")) {
+            points *= count_list(l->value);
+        }
+    }
+    return vary ? points : 0;
+}
+
+int gr_campaign_materialise(const gr_campaign *c, gr_fidelity fid, const char *dir, char *sweep_path, size_t len,
+                            gr_error *err)
+{
+    int rc = gr_output_dir_prepare(dir, true, err);
+    if (rc) {
+        return rc;
+    }
+    char scene_name[200];
+    snprintf(scene_name, sizeof scene_name, "scenes/%s", c->scene);
+    gr_file f;
+    if ((rc = gr_file_open(&f, dir, "scene.ini", err))) {
+        return rc;
+    }
+    fputs(gr_embedded_find(scene_name), f.f);
+    if ((rc = gr_file_commit(&f, err)) || (rc = gr_file_open(&f, dir, "sweep.ini", err))) {
+        return rc;
+    }
+    fprintf(f.f, "; campaign %s (%s fidelity), written by granule reproduce from %s\n", c->name,
+            fid == GR_FIDELITY_FULL ? "full" : "quick", c->source);
+    static const char *const order[] = {"sweep", "vary", "set"};
+    for (int s = 0; s < 3; s++) {
+        fprintf(f.f, "[%s]\n", order[s]);
+        if (s == 0) {
+            fprintf(f.f, "scene = scene.ini\nout = %s/runs\n", dir);
+        }
+        for (int i = 0; i < c->n_lines[fid]; i++) {
+            const gr_campaign_line *l = &c->lines[fid][i];
+            if (!strcmp(l->section, order[s])) {
+                fprintf(f.f, "%s = %s\n", l->key, l->value);
+            }
+        }
+    }
+    if ((rc = gr_file_commit(&f, err))) {
+        return rc;
+    }
+    snprintf(sweep_path, len, "%s/sweep.ini", dir);
+    return GR_OK;
+}

@@ -1,0 +1,66 @@
+/* The finished points of a campaign's sweep, read back from DIR/runs/pNNNN (point.json +
+ * summary.json), and the per-result analyses that turn them into rows. */
+#ifndef GR_REPRODUCE_CAMPAIGN_POINTS_H
+#define GR_REPRODUCE_CAMPAIGN_POINTS_H
+
+#include <cjson/cJSON.h>
+#include <stdio.h>
+
+#include "granule/campaign.h"
+
+typedef struct campaign_point {
+    char dir[1100];
+    cJSON *manifest; /* point.json: keys, seed, cpu_seconds, scene_hash, commit */
+    cJSON *summary;  /* summary.json */
+    double cpu_seconds, sim_seconds;
+} campaign_point;
+
+typedef struct campaign_points {
+    int n;
+    campaign_point *p;
+} campaign_points;
+
+/* Every completed point under dir/runs (unfinished and failed ones are left out). */
+int campaign_points_read(const char *dir, campaign_points *pts, gr_error *err);
+void campaign_points_free(campaign_points *pts);
+/* The value of varied key `key` of a point ("" if not varied). */
+const char *campaign_point_key(const campaign_point *p, const char *key);
+
+/* Keep every point's manifest and summary in RESULTS/points (campaign_archive.c). */
+int campaign_archive(const campaign_points *pts, const char *results, gr_error *err);
+
+/* One row of results.csv: a number of ours beside the thesis's. */
+typedef struct campaign_row {
+    char group[160];   /* the varied values it belongs to, e.g. "model.eps_n=0.1" */
+    int m;             /* moment order, 0 if none */
+    double value, error;
+    double error_fit, error_seeds; /* the two estimates behind `error` (NAN if not applicable) */
+    int n_seeds, n_x;  /* seeds averaged; abscissa points in a fit */
+    double chi2_red, x_lo, x_hi;
+    double thesis, thesis_error; /* NAN if the thesis gives none */
+    char thesis_note[128];
+    double z;          /* (ours - thesis) / sqrt(error^2 + thesis_error^2) */
+    double sim_seconds, cpu_seconds;
+    char hashes[160];  /* scene hashes of the points used (first few) */
+} campaign_row;
+
+typedef struct campaign_rows {
+    int n, cap;
+    campaign_row *r;
+} campaign_rows;
+
+campaign_row *campaign_rows_add(campaign_rows *rows);
+void campaign_rows_free(campaign_rows *rows);
+
+/* The analyses (campaign_analyse.c): rows from points, the data behind the figure into `data`
+ * (a CSV with a header line) and the gnuplot body of the figure into `plot`. */
+int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
+                  FILE *data, gr_error *err);
+int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
+                       FILE *data, gr_error *err);
+int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
+                     FILE *data, gr_error *err);
+/* Fill thesis, thesis_error and z of a row from the result's thesis list. */
+void campaign_row_thesis(const gr_campaign_result *r, campaign_row *row);
+
+#endif

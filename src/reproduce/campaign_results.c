@@ -1,0 +1,315 @@
+/* A campaign's result set: results.csv (one row per number, every field), results.json (the same
+ * plus the campaign's description, cost and provenance), one data CSV per result and its figures
+ * with the thesis's values overlaid. Small files, meant to be committed under docs/results/NAME. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "granule/campaign.h"
+#include "granule_commit.h"
+#include "io/files.h"
+#include "io/plot.h"
+#include "reproduce/campaign_points.h"
+
+static const char *kind_name(gr_result_kind k)
+{
+    return k == GR_RESULT_MEAN ? "mean" : k == GR_RESULT_POWER_LAW ? "power_law" : "running_mean";
+}
+
+static void add_num(cJSON *o, const char *name, double v)
+{
+    if (isfinite(v)) {
+        cJSON_AddNumberToObject(o, name, v);
+    } else {
+        cJSON_AddNullToObject(o, name);
+    }
+}
+
+static void csv_num(FILE *f, double v)
+{
+    if (isfinite(v)) {
+        fprintf(f, ",%.6g", v);
+    } else {
+        fprintf(f, ",");
+    }
+}
+
+/* ours against the thesis, one point per row (labels on the x axis) */
+static void plot_compare(const char *dir, const gr_campaign_result *r, const campaign_rows *rows)
+{
+    char name[80];
+    snprintf(name, sizeof name, "%s_compare.dat", r->id);
+    gr_file f;
+    gr_error err = {0};
+    if (gr_file_open(&f, dir, name, &err)) {
+        return;
+    }
+    for (int i = 0; i < rows->n; i++) {
+        const campaign_row *w = &rows->r[i];
+        char label[200];
+        snprintf(label, sizeof label, "%s%s", strchr(w->group, '=') ? strchr(w->group, '=') + 1 : w->group, "");
+        if (w->m) {
+            snprintf(label + strlen(label), sizeof label - strlen(label), " m=%d", w->m);
+        }
+        fprintf(f.f, "%d \"%s\" %.6g %.6g %.6g %.6g\n", i, label, w->value, w->error, w->thesis,
+                isfinite(w->thesis_error) ? w->thesis_error : 0.0);
+    }
+    if (gr_file_commit(&f, &err)) {
+        return;
+    }
+    char body[2048], png[80], note[256];
+    snprintf(body, sizeof body,
+             "set title \"%s\\n{/*0.8 %s}\" noenhanced\nset ylabel '%s%s%s' noenhanced\nset xtics rotate by -40 noenhanced\n"
+             "set key top left\nset offsets 0.5, 0.5, 0, 0\nset grid ytics lc rgb '#dddddd'\n"
+             "plot '%s' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule', "
+             "'' using ($1+0.15):5:6 with yerrorbars pt 6 ps 1.2 lc rgb '#c0392b' title 'thesis'\n",
+             r->title, r->thesis_source[0] ? r->thesis_source : r->id, r->quantity, r->unit[0] ? " / " : "", r->unit, name);
+    snprintf(png, sizeof png, "%s.png", r->id);
+    gr_plot_script(dir, png, body, note, sizeof note);
+}
+
+/* The power-law data regrouped as gnuplot index blocks, one per (group, m), each with a title
+ * line; returns the number of blocks. */
+static int power_law_blocks(const char *dir, const char *id)
+{
+    char path[1200], name[80];
+    snprintf(path, sizeof path, "%s/%s_data.csv", dir, id);
+    snprintf(name, sizeof name, "%s_blocks.dat", id);
+    FILE *in = fopen(path, "r");
+    gr_file f;
+    gr_error err = {0};
+    if (!in || gr_file_open(&f, dir, name, &err)) {
+        if (in) {
+            fclose(in);
+        }
+        return 0;
+    }
+    char line[512], prev[200] = "";
+    int blocks = 0;
+    bool header = true;
+    while (fgets(line, sizeof line, in)) {
+        if (header) {
+            header = false;
+            continue;
+        }
+        char *q = strchr(line + 1, '"'); /* group is quoted: "...",m,x,mean,error,seeds,in_fit */
+        int m, n, in_fit;
+        double x, y, e;
+        if (!q || sscanf(q + 1, ",%d,%lf,%lf,%lf,%d,%d", &m, &x, &y, &e, &n, &in_fit) != 7) {
+            continue;
+        }
+        char key[200];
+        snprintf(key, sizeof key, "%.*s%s%.0d", (int)(q - line - 1), line + 1, m ? " m=" : "", m);
+        if (strcmp(key, prev)) {
+            fprintf(f.f, "%s\"%s\"\n", blocks ? "\n\n" : "", key);
+            snprintf(prev, sizeof prev, "%s", key);
+            blocks++;
+        }
+        fprintf(f.f, "%.9g %.9g %.9g %d\n", x, y, isfinite(e) ? e : 0.0, in_fit);
+    }
+    fclose(in);
+    return gr_file_commit(&f, &err) ? 0 : blocks;
+}
+
+/* the data behind a fit or a running average */
+static void plot_data(const char *dir, const gr_campaign_result *r)
+{
+    char body[2048], png[80], note[256];
+    if (r->kind == GR_RESULT_POWER_LAW) {
+        int blocks = power_law_blocks(dir, r->id);
+        if (!blocks) {
+            return;
+        }
+        snprintf(body, sizeof body,
+                 "set logscale xy\nset key outside right noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
+                 "set title \"%s: the points of every fit\\n{/*0.8 open: outside the fit window %g-%g}\" noenhanced\n"
+                 "plot for [i=0:%d] '%s_blocks.dat' index i using 1:($4 ? $2 : 1/0):3 with yerrorbars pt 7 lc i+1 title columnheader(1), "
+                 "for [i=0:%d] '' index i using 1:($4 ? 1/0 : $2) with points pt 6 lc i+1 notitle\n",
+                 r->x, r->y, r->id, r->x_min, isfinite(r->x_max) ? r->x_max : 1e300, blocks - 1, r->id, blocks - 1);
+    } else if (r->kind == GR_RESULT_RUNNING) {
+        snprintf(body, sizeof body,
+                 "set datafile separator ','\nset key outside right\nset xlabel 'sampling time t (s)'\nset ylabel 'T (m^2/s^2)'\n"
+                 "set title 'Means over %g s (points) and the running average (lines), every seed' noenhanced\n"
+                 "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.6 lc rgb '#1f5fbf' title 'period means', "
+                 "'' skip 1 using 3:5 with lines lw 2 lc rgb '#c0392b' title 'running average'\n",
+                 r->period, r->id);
+    } else {
+        return;
+    }
+    snprintf(png, sizeof png, "%s_data.png", r->id);
+    gr_plot_script(dir, png, body, note, sizeof note);
+}
+
+static void row_json(cJSON *arr, const campaign_row *w)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "group", w->group);
+    if (w->m) {
+        cJSON_AddNumberToObject(o, "m", w->m);
+    }
+    add_num(o, "value", w->value);
+    add_num(o, "error", w->error);
+    add_num(o, "error_fit_or_run", w->error_fit);
+    add_num(o, "error_seeds", w->error_seeds);
+    cJSON_AddNumberToObject(o, "seeds", w->n_seeds);
+    if (w->n_x) {
+        cJSON_AddNumberToObject(o, "fit_points", w->n_x);
+    }
+    add_num(o, "chi2_red", w->chi2_red);
+    add_num(o, "x_lo", w->x_lo);
+    add_num(o, "x_hi", w->x_hi);
+    add_num(o, "thesis", w->thesis);
+    add_num(o, "thesis_error", w->thesis_error);
+    cJSON_AddStringToObject(o, "thesis_note", w->thesis_note);
+    add_num(o, "z", w->z);
+    add_num(o, "simulated_seconds", w->sim_seconds);
+    add_num(o, "cpu_seconds", w->cpu_seconds);
+    cJSON_AddStringToObject(o, "scene_hashes", w->hashes);
+    cJSON_AddItemToArray(arr, o);
+}
+
+static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r, const campaign_row *w)
+{
+    fprintf(f, "%s,%s,%s,\"%s\",%d", c->name, r->id, r->quantity, w->group, w->m);
+    csv_num(f, w->value);
+    csv_num(f, w->error);
+    csv_num(f, w->error_fit);
+    csv_num(f, w->error_seeds);
+    fprintf(f, ",%d,%d", w->n_seeds, w->n_x);
+    csv_num(f, w->chi2_red);
+    csv_num(f, w->x_lo);
+    csv_num(f, w->x_hi);
+    csv_num(f, w->thesis);
+    csv_num(f, w->thesis_error);
+    csv_num(f, w->z);
+    csv_num(f, w->sim_seconds);
+    csv_num(f, w->cpu_seconds);
+    fprintf(f, ",%s,%s\n", w->hashes, GR_COMMIT);
+}
+
+static int analyse_one(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, const char *results,
+                       campaign_rows *rows, gr_error *err)
+{
+    char name[80];
+    snprintf(name, sizeof name, "%s_data.csv", r->id);
+    gr_file data;
+    int rc = gr_file_open(&data, results, name, err);
+    if (rc) {
+        return rc;
+    }
+    rc = r->kind == GR_RESULT_MEAN        ? campaign_mean(c, r, pts, rows, data.f, err)
+         : r->kind == GR_RESULT_POWER_LAW ? campaign_power_law(c, r, pts, rows, data.f, err)
+                                          : campaign_running(c, r, pts, rows, data.f, err);
+    if (rc) {
+        gr_file_abandon(&data);
+        return rc;
+    }
+    return gr_file_commit(&data, err);
+}
+
+int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results, long *finished,
+                        gr_error *err)
+{
+    campaign_points pts;
+    int rc = campaign_points_read(dir, &pts, err);
+    if (rc) {
+        return rc;
+    }
+    *finished = pts.n;
+    if ((rc = gr_output_dir_prepare(results, true, err))) {
+        campaign_points_free(&pts);
+        return rc;
+    }
+    double cpu = 0.0, sim = 0.0;
+    for (int i = 0; i < pts.n; i++) {
+        cpu += isfinite(pts.p[i].cpu_seconds) ? pts.p[i].cpu_seconds : 0.0;
+        sim += isfinite(pts.p[i].sim_seconds) ? pts.p[i].sim_seconds : 0.0;
+    }
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddStringToObject(j, "campaign", c->name);
+    cJSON_AddStringToObject(j, "title", c->title);
+    cJSON_AddStringToObject(j, "covers", c->covers);
+    cJSON_AddStringToObject(j, "about", c->about);
+    cJSON_AddStringToObject(j, "fidelity", fid == GR_FIDELITY_FULL ? "full" : "quick");
+    cJSON_AddStringToObject(j, "scene", c->scene);
+    cJSON_AddStringToObject(j, "commit", GR_COMMIT);
+    cJSON_AddNumberToObject(j, "points_finished", pts.n);
+    cJSON_AddNumberToObject(j, "points_total", (double)gr_campaign_points(c, fid));
+    cJSON_AddNumberToObject(j, "cpu_seconds", round(cpu));
+    cJSON_AddNumberToObject(j, "cpu_hours", round(cpu / 36.0) / 100.0);
+    cJSON_AddNumberToObject(j, "simulated_seconds", sim);
+    cJSON *commits = cJSON_AddArrayToObject(j, "run_commits");
+    for (int i = 0; i < pts.n; i++) {
+        const cJSON *cm = cJSON_GetObjectItem(pts.p[i].manifest, "commit");
+        bool seen = false;
+        const cJSON *e;
+        cJSON_ArrayForEach(e, commits)
+        {
+            seen |= cJSON_IsString(cm) && !strcmp(e->valuestring, cm->valuestring);
+        }
+        if (cJSON_IsString(cm) && !seen) {
+            cJSON_AddItemToArray(commits, cJSON_CreateString(cm->valuestring));
+        }
+    }
+    cJSON *arr = cJSON_AddArrayToObject(j, "results");
+    gr_file csv;
+    if ((rc = gr_file_open(&csv, results, "results.csv", err))) {
+        cJSON_Delete(j);
+        campaign_points_free(&pts);
+        return rc;
+    }
+    fprintf(csv.f, "campaign,result,quantity,group,m,value,error,error_fit_or_run,error_seeds,seeds,fit_points,chi2_red,x_lo,"
+                   "x_hi,thesis,thesis_error,z,simulated_seconds,cpu_seconds,scene_hashes,commit\n");
+    for (int i = 0; i < c->n_results && !rc; i++) {
+        const gr_campaign_result *r = &c->results[i];
+        campaign_rows rows = {0};
+        rc = analyse_one(c, r, &pts, results, &rows, err);
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "id", r->id);
+        cJSON_AddStringToObject(o, "title", r->title);
+        cJSON_AddStringToObject(o, "kind", kind_name(r->kind));
+        cJSON_AddStringToObject(o, "quantity", r->quantity);
+        cJSON_AddStringToObject(o, "unit", r->unit);
+        cJSON_AddStringToObject(o, "y", r->y);
+        if (r->kind == GR_RESULT_POWER_LAW) {
+            cJSON_AddStringToObject(o, "x", r->x);
+            add_num(o, "x_min", r->x_min);
+            add_num(o, "x_max", r->x_max);
+            cJSON_AddBoolToObject(o, "per_m", r->per_m);
+        }
+        cJSON_AddStringToObject(o, "thesis_source", r->thesis_source);
+        cJSON_AddStringToObject(o, "note", r->note);
+        cJSON *ra = cJSON_AddArrayToObject(o, "rows");
+        for (int k = 0; k < rows.n; k++) {
+            row_json(ra, &rows.r[k]);
+            row_csv(csv.f, c, r, &rows.r[k]);
+        }
+        cJSON_AddItemToArray(arr, o);
+        if (!rc && rows.n) {
+            plot_compare(results, r, &rows);
+            plot_data(results, r);
+        }
+        campaign_rows_free(&rows);
+    }
+    if (rc) {
+        gr_file_abandon(&csv);
+    } else {
+        rc = gr_file_commit(&csv, err);
+    }
+    char *text = cJSON_Print(j);
+    gr_file jf;
+    if (!rc && text && !(rc = gr_file_open(&jf, results, "results.json", err))) {
+        fputs(text, jf.f);
+        fputc('\n', jf.f);
+        rc = gr_file_commit(&jf, err);
+    }
+    cJSON_free(text);
+    cJSON_Delete(j);
+    if (!rc) {
+        rc = campaign_archive(&pts, results, err);
+    }
+    campaign_points_free(&pts);
+    return rc;
+}

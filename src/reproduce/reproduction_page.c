@@ -1,0 +1,184 @@
+/* docs/reproduction.md, generated from the committed result sets (RESULTS_ROOT/NAME/results.json):
+ * an overview of what was run and what it cost, then one section per campaign and one table per
+ * figure or table of the thesis: the thesis's value, ours +- error, z, seeds and CPU time. */
+#include <cjson/cJSON.h>
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "granule/campaign.h"
+#include "io/files.h"
+#include "io/summary_read.h"
+
+static const char *str(const cJSON *o, const char *name)
+{
+    const cJSON *v = cJSON_GetObjectItem(o, name);
+    return cJSON_IsString(v) ? v->valuestring : "";
+}
+
+static double num(const cJSON *o, const char *name)
+{
+    const cJSON *v = cJSON_GetObjectItem(o, name);
+    return cJSON_IsNumber(v) ? v->valuedouble : (double)NAN;
+}
+
+/* value +- error with the error to two significant figures and the value to the same place */
+static void pm(char *out, size_t len, double v, double e)
+{
+    if (!isfinite(v)) {
+        snprintf(out, len, "no value");
+        return;
+    }
+    if (!isfinite(e) || e <= 0.0) {
+        snprintf(out, len, "%.4g", v);
+        return;
+    }
+    int digits = 1 - (int)floor(log10(e));
+    digits = digits < 0 ? 0 : digits > 8 ? 8 : digits;
+    snprintf(out, len, "%.*f +- %.*f", digits, v, digits, e);
+}
+
+static int by_name(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+static void result_table(FILE *f, const cJSON *res, const char *campaign, const char *link_root)
+{
+    fprintf(f, "### %s: %s\n\n", str(res, "id"), str(res, "title"));
+    const char *unit = str(res, "unit");
+    fprintf(f, "| %s | thesis%s%s%s | granule | z | seeds | fit / runs | CPU-h |\n|---|---|---|---|---|---|---|\n",
+            !strcmp(str(res, "kind"), "power_law") ? "fit of" : "run", unit[0] ? " (" : "", unit, unit[0] ? ")" : "");
+    const cJSON *row;
+    cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
+    {
+        char ours[64], theirs[96], group[200], fit[96] = "";
+        pm(ours, sizeof ours, num(row, "value"), num(row, "error"));
+        double tv = num(row, "thesis");
+        if (isfinite(tv)) {
+            pm(theirs, sizeof theirs, tv, num(row, "thesis_error"));
+            if (str(row, "thesis_note")[0]) {
+                snprintf(theirs + strlen(theirs), sizeof theirs - strlen(theirs), " %s", str(row, "thesis_note"));
+            }
+        } else {
+            snprintf(theirs, sizeof theirs, "not quoted");
+        }
+        snprintf(group, sizeof group, "%s", str(row, "group"));
+        if (isfinite(num(row, "m"))) {
+            snprintf(group + strlen(group), sizeof group - strlen(group), ", m = %.0f", num(row, "m"));
+        }
+        if (isfinite(num(row, "fit_points"))) {
+            snprintf(fit, sizeof fit, "%.0f points, %.4g-%.4g, chi2/dof %.2g", num(row, "fit_points"), num(row, "x_lo"),
+                     num(row, "x_hi"), num(row, "chi2_red"));
+        } else {
+            snprintf(fit, sizeof fit, "%.0f s simulated", num(row, "simulated_seconds"));
+        }
+        double z = num(row, "z");
+        char zs[32] = "";
+        if (isfinite(z)) {
+            snprintf(zs, sizeof zs, "%s%+.1f%s", fabs(z) > 2.0 ? "**" : "", z, fabs(z) > 2.0 ? "**" : "");
+        }
+        fprintf(f, "| %s | %s | %s | %s | %.0f | %s | %.2f |\n", group, theirs, ours, zs, num(row, "seeds"), fit,
+                num(row, "cpu_seconds") / 3600.0);
+    }
+    if (str(res, "note")[0]) {
+        fprintf(f, "\n%s\n", str(res, "note"));
+    }
+    if (str(res, "thesis_source")[0]) {
+        fprintf(f, "\nThesis values: %s.\n", str(res, "thesis_source"));
+    }
+    fprintf(f, "\n![%s](%s/%s/%s.png)\n", str(res, "id"), link_root, campaign, str(res, "id"));
+    if (strcmp(str(res, "kind"), "mean")) {
+        fprintf(f, "![%s data](%s/%s/%s_data.png)\n", str(res, "id"), link_root, campaign, str(res, "id"));
+    }
+    fprintf(f, "\n");
+}
+
+int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
+{
+    DIR *d = opendir(root);
+    if (!d) {
+        return GR_FAIL(err, GR_EIO, "%s: no result sets (granule reproduce NAME --results %s/NAME writes one)", root, root);
+    }
+    char *names[256];
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)) && n < 256) {
+        if (e->d_name[0] != '.') {
+            names[n++] = strdup(e->d_name);
+        }
+    }
+    closedir(d);
+    qsort(names, (size_t)n, sizeof *names, by_name);
+    cJSON *sets[256];
+    int ns = 0;
+    for (int i = 0; i < n; i++) {
+        char path[1300];
+        snprintf(path, sizeof path, "%s/%s/results.json", root, names[i]);
+        gr_error ignore = {0};
+        cJSON *j = gr_json_read(path, &ignore);
+        if (j) {
+            sets[ns++] = j;
+        }
+    }
+    char dir[1100], base[256];
+    snprintf(dir, sizeof dir, "%s", out_path);
+    char *slash = strrchr(dir, '/');
+    const char *file = slash ? slash + 1 : out_path;
+    if (slash) {
+        *slash = 0;
+    } else {
+        snprintf(dir, sizeof dir, ".");
+    }
+    const char *rb = strrchr(root, '/');
+    snprintf(base, sizeof base, "%s", rb ? rb + 1 : root); /* the page sits beside the results folder */
+    gr_file f;
+    int rc = gr_file_open(&f, dir, file, err);
+    if (rc) {
+        goto done;
+    }
+    fprintf(f.f, "# Reproducing the thesis\n\n"
+                 "<!-- generated by `granule reproduce --page` from %s/*/results.json: do not edit; change\n"
+                 "     docs/campaigns/*.ini or the campaign notes and regenerate -->\n\n"
+                 "Every number below comes from a campaign, a file under `docs/campaigns/` that names the scene, the\n"
+                 "runs (sizes, run lengths, seeds) and the analysis; `granule reproduce NAME --fidelity full` runs it\n"
+                 "(resumable at any point, over local cores, MPI ranks or a batch array like `granule sweep`), and\n"
+                 "its small result set is committed under `docs/results/NAME/`. Error bars come from independent\n"
+                 "seeds (docs/campaigns/README.md says how); z = (granule - thesis) / sqrt(error^2 + thesis error^2),\n"
+                 "in bold where |z| > 2. The energy loss per collision of Fig. 2.5 is checked in\n"
+                 "[collision-accuracy.md](collision-accuracy.md) and by tests/test_collide.c.\n\n"
+                 "| campaign | covers | fidelity | points | simulated s | CPU-h |\n|---|---|---|---|---|---|\n",
+            root);
+    double total = 0.0;
+    for (int i = 0; i < ns; i++) {
+        fprintf(f.f, "| [%s](#%s) | %s | %s | %.0f of %.0f | %.0f | %.2f |\n", str(sets[i], "campaign"), str(sets[i], "campaign"),
+                str(sets[i], "covers"), str(sets[i], "fidelity"), num(sets[i], "points_finished"), num(sets[i], "points_total"),
+                num(sets[i], "simulated_seconds"), num(sets[i], "cpu_seconds") / 3600.0);
+        total += num(sets[i], "cpu_seconds");
+    }
+    fprintf(f.f, "| total | | | | | %.2f |\n\n", total / 3600.0);
+    for (int i = 0; i < ns; i++) {
+        const cJSON *s = sets[i];
+        fprintf(f.f, "<a id=\"%s\"></a>\n## %s (%s)\n\n%s\n\n", str(s, "campaign"), str(s, "title"), str(s, "covers"), str(s, "about"));
+        fprintf(f.f, "Run: `granule reproduce %s --fidelity %s` (scene `docs/scenes/%s`); %.0f of %.0f points finished, "
+                     "%.0f s simulated, %.2f CPU-hours; analysed at commit %s.\n\n",
+                str(s, "campaign"), str(s, "fidelity"), str(s, "scene"), num(s, "points_finished"), num(s, "points_total"),
+                num(s, "simulated_seconds"), num(s, "cpu_seconds") / 3600.0, str(s, "commit"));
+        const cJSON *res;
+        cJSON_ArrayForEach(res, cJSON_GetObjectItem(s, "results"))
+        {
+            result_table(f.f, res, str(s, "campaign"), base);
+        }
+    }
+    rc = gr_file_commit(&f, err);
+done:
+    for (int i = 0; i < ns; i++) {
+        cJSON_Delete(sets[i]);
+    }
+    for (int i = 0; i < n; i++) {
+        free(names[i]);
+    }
+    return rc;
+}
