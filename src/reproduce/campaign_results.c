@@ -59,15 +59,26 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
     if (gr_file_commit(&f, &err)) {
         return;
     }
+    bool thesis = false, ours = false;
+    for (int i = 0; i < rows->n; i++) {
+        thesis |= isfinite(rows->r[i].thesis);
+        ours |= isfinite(rows->r[i].value);
+    }
+    if (!ours) {
+        fprintf(stderr, "reproduce: %s: no value in any row, no figure\n", r->id);
+        return;
+    }
     char body[2048], png[80], note[256];
     snprintf(body, sizeof body,
-             "set title \"%s\\n{/*0.8 %s}\" noenhanced\nset ylabel '%s%s%s' noenhanced\nset xtics rotate by -40 noenhanced\n"
+             "set datafile separator whitespace\nset title \"%s\" noenhanced\nset ylabel '%s%s%s' noenhanced\nset xtics rotate by -40 noenhanced\n"
              "set key top left\nset offsets 0.5, 0.5, 0, 0\nset grid ytics lc rgb '#dddddd'\n"
-             "plot '%s' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule', "
-             "'' using ($1+0.15):5:6 with yerrorbars pt 6 ps 1.2 lc rgb '#c0392b' title 'thesis'\n",
-             r->title, r->thesis_source[0] ? r->thesis_source : r->id, r->quantity, r->unit[0] ? " / " : "", r->unit, name);
+             "plot '%s' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'%s\n",
+             r->title, r->quantity, r->unit[0] ? " / " : "", r->unit, name,
+             thesis ? ", '' using ($1+0.15):5:6 with yerrorbars pt 6 ps 1.2 lc rgb '#c0392b' title 'thesis'" : "");
     snprintf(png, sizeof png, "%s.png", r->id);
-    gr_plot_script(dir, png, body, note, sizeof note);
+    if (gr_plot_script(dir, png, body, note, sizeof note)) {
+        fprintf(stderr, "reproduce: %s/%s not drawn: %s\n", dir, png, note);
+    }
 }
 
 /* The power-law data regrouped as gnuplot index blocks, one per (group, m), each with a title
@@ -97,7 +108,7 @@ static int power_law_blocks(const char *dir, const char *id)
         char *q = strchr(line + 1, '"'); /* group is quoted: "...",m,x,mean,error,seeds,in_fit */
         int m, n, in_fit;
         double x, y, e;
-        if (!q || sscanf(q + 1, ",%d,%lf,%lf,%lf,%d,%d", &m, &x, &y, &e, &n, &in_fit) != 7) {
+        if (!q || sscanf(q + 1, ",%d,%lf,%lf,%lf,%d,%d", &m, &x, &y, &e, &n, &in_fit) != 6) {
             continue;
         }
         char key[200];
@@ -122,12 +133,14 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
         if (!blocks) {
             return;
         }
+        char window[64];
+        snprintf(window, sizeof window, isfinite(r->x_max) ? "%g-%g" : "from %g", r->x_min, r->x_max);
         snprintf(body, sizeof body,
-                 "set logscale xy\nset key outside right noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
-                 "set title \"%s: the points of every fit\\n{/*0.8 open: outside the fit window %g-%g}\" noenhanced\n"
-                 "plot for [i=0:%d] '%s_blocks.dat' index i using 1:($4 ? $2 : 1/0):3 with yerrorbars pt 7 lc i+1 title columnheader(1), "
-                 "for [i=0:%d] '' index i using 1:($4 ? 1/0 : $2) with points pt 6 lc i+1 notitle\n",
-                 r->x, r->y, r->id, r->x_min, isfinite(r->x_max) ? r->x_max : 1e300, blocks - 1, r->id, blocks - 1);
+                 "set datafile separator whitespace\nset logscale xy\nset key outside right noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
+                 "set title \"%s: the points of every fit (open: outside the fit window, %s)\" noenhanced\n"
+                 "plot for [i=0:%d] '%s_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 lc i+1 title columnheader(1), "
+                 "for [i=0:%d] '' index i using 1:($4 > 0 ? 1/0 : $2) with points pt 6 lc i+1 notitle\n",
+                 r->x, r->y, r->id, window, blocks - 1, r->id, blocks - 1);
     } else if (r->kind == GR_RESULT_RUNNING) {
         snprintf(body, sizeof body,
                  "set datafile separator ','\nset key outside right\nset xlabel 'sampling time t (s)'\nset ylabel 'T (m^2/s^2)'\n"
@@ -139,7 +152,9 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
         return;
     }
     snprintf(png, sizeof png, "%s_data.png", r->id);
-    gr_plot_script(dir, png, body, note, sizeof note);
+    if (gr_plot_script(dir, png, body, note, sizeof note)) {
+        fprintf(stderr, "reproduce: %s/%s not drawn: %s\n", dir, png, note);
+    }
 }
 
 static void row_json(cJSON *arr, const campaign_row *w)
