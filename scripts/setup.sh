@@ -8,7 +8,9 @@ packages=(build-essential meson ninja-build pkg-config git
           libgsl-dev libsundials-dev check libinih-dev libcjson-dev librandom123-dev
           libfftw3-dev libcairo2-dev gnuplot-nox zlib1g-dev
           libopenmpi-dev openmpi-bin # MPI: granule sweep over ranks (docs/cluster.md)
-          clang libclang-rt-dev) # libFuzzer + sanitizers: scripts/fuzz.sh (docs/fuzzing.md)
+          clang libclang-rt-dev # libFuzzer + sanitizers: scripts/fuzz.sh (docs/fuzzing.md)
+          python3-dev python3-numpy python3-pandas python3-matplotlib # import granule (docs/python.md)
+          lammps) # the LAMMPS bridge and its test (docs/lammps.md)
 missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -63,6 +63,10 @@ void gr_sim_free(gr_sim *sim);
 int gr_sim_step(gr_sim *sim, int64_t nsteps, gr_error *err);
 
 gr_particles gr_sim_particles(const gr_sim *sim);
+/* The contact forces of the last force evaluation, N (n entries each; *fy is NULL in 1D). The
+ * arrays, like those of gr_sim_particles, live as long as the simulation and are updated in place
+ * by every step (the Python module hands them out as numpy views). */
+void gr_sim_forces(const gr_sim *sim, const double **fx, const double **fy);
 /* Threads for the simulation core (all simulations of the process): n >= 1, or 0 for the
  * default, which is 1 unless the environment sets OMP_NUM_THREADS (then that). `--threads N`
  * calls it. Results do not depend on the thread count (docs/performance.md, "Threads"). */

@@ -26,6 +26,7 @@ int cmd_spm(int argc, char **argv);
 int cmd_bisect(int argc, char **argv);
 int cmd_cascade(int argc, char **argv);
 int cmd_fokker_planck(int argc, char **argv);
+int cmd_export(int argc, char **argv);
 
 /* Print "granule: <message>" on stderr. */
 void cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));

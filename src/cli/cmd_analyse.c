@@ -13,22 +13,73 @@
 #include "granule_config.h"
 #include "io/files.h"
 #include "io/scene_json.h"
+#include "io/lammps_dump.h"
 #include "io/snapshot.h"
 
 static void usage(FILE *f)
 {
     fprintf(f, "usage: granule analyse DIR [--set analysis.observables=a,b ...] [--set section.key=value ...]\n"
-               "                       [--out OUT] [--force]\n\n"
+               "                       [--out OUT] [--force] [--lammps-dump FILE]\n\n"
                "Reads DIR/scene.ini and the snapshots DIR/snapshots/snap_*.xyz of a finished run and feeds\n"
                "every frame to the observables named in [analysis] observables (granule observables lists\n"
                "them; --set changes them or their parameters); frames of the warm-up (t <= run.warmup) are\n"
                "skipped, as in a run. Writes OUT (default DIR/analysis):\n"
-               "summary.json and one CSV (and PNG) per observable, exactly as a run that sampled them.\n");
+               "summary.json and one CSV (and PNG) per observable, exactly as a run that sampled them.\n"
+               "--lammps-dump FILE reads the frames from a LAMMPS text dump (dump custom with id x y vx vy,\n"
+               "e.g. of a deck from `granule export lammps`) instead of the snapshots; DIR (default: the\n"
+               "dump's folder) holds the scene.ini; frame times are timestep * integrator.dt (docs/lammps.md).\n");
+}
+
+/* Frames of a run folder's snapshots or of a LAMMPS dump, one at a time. */
+typedef struct frame_source {
+    glob_t g;
+    size_t next, total;
+    gr_lammps_dump *dump;
+    double dt;
+} frame_source;
+
+static int source_open(frame_source *src, const char *dir, const char *dump, double dt, gr_error *err)
+{
+    memset(src, 0, sizeof *src);
+    src->dt = dt;
+    if (dump) {
+        return gr_lammps_dump_open(dump, &src->dump, err);
+    }
+    char path[1200];
+    snprintf(path, sizeof path, "%.1150s/snapshots/snap_*.xyz", dir);
+    if (glob(path, 0, NULL, &src->g) != 0 || src->g.gl_pathc == 0) {
+        globfree(&src->g);
+        return GR_FAIL(err, GR_EINVAL, "no snapshots in %s/snapshots (run with output.snapshot_every > 0)", dir);
+    }
+    src->total = src->g.gl_pathc;
+    return GR_OK;
+}
+
+/* 1 with a frame in f, 0 after the last, negative on error. */
+static int source_next(frame_source *src, gr_frame *f, gr_error *err)
+{
+    if (src->dump) {
+        return gr_lammps_dump_next(src->dump, src->dt, f, err);
+    }
+    if (src->next >= src->total) {
+        return 0;
+    }
+    int rc = gr_snapshot_read(src->g.gl_pathv[src->next++], f, err);
+    return rc ? rc : 1;
+}
+
+static void source_close(frame_source *src)
+{
+    if (src->dump) {
+        gr_lammps_dump_close(src->dump);
+    } else {
+        globfree(&src->g);
+    }
 }
 
 int cmd_analyse(int argc, char **argv)
 {
-    const char *dir = NULL, *out_dir = NULL;
+    const char *dir = NULL, *out_dir = NULL, *dump = NULL;
     const char **sets = calloc((size_t)argc + 1, sizeof(char *));
     int n_sets = 0;
     bool force = false;
@@ -41,6 +92,8 @@ int cmd_analyse(int argc, char **argv)
             sets[n_sets++] = argv[++i];
         } else if (!strcmp(argv[i], "--out") && i + 1 < argc) {
             out_dir = argv[++i];
+        } else if (!strcmp(argv[i], "--lammps-dump") && i + 1 < argc) {
+            dump = argv[++i];
         } else if (!strcmp(argv[i], "--force")) {
             force = true;
         } else if (argv[i][0] != '-' && !dir) {
@@ -52,13 +105,23 @@ int cmd_analyse(int argc, char **argv)
             return EXIT_REFUSED;
         }
     }
+    char path[1200], outbuf[1200], dumpdir[1200];
+    if (!dir && dump) { /* the folder of the dump */
+        snprintf(dumpdir, sizeof dumpdir, "%s", dump);
+        char *slash = strrchr(dumpdir, '/');
+        if (slash) {
+            *slash = '\0';
+        } else {
+            snprintf(dumpdir, sizeof dumpdir, ".");
+        }
+        dir = dumpdir;
+    }
     if (!dir) {
         usage(stderr);
         free(sets);
         return EXIT_REFUSED;
     }
-    char path[1200], outbuf[1200];
-    snprintf(path, sizeof path, "%s/scene.ini", dir);
+    snprintf(path, sizeof path, "%.1150s/scene.ini", dir);
     gr_scene scene;
     gr_error err = {0};
     int rc = gr_scene_load(&scene, path, sets, n_sets, &err);
@@ -71,54 +134,56 @@ int cmd_analyse(int argc, char **argv)
         cli_error("analyse: no observables chosen; add --set analysis.observables=NAME[,NAME] (granule observables lists them)");
         return EXIT_REFUSED;
     }
-    snprintf(path, sizeof path, "%s/snapshots/snap_*.xyz", dir);
-    glob_t g;
-    if (glob(path, 0, NULL, &g) != 0 || g.gl_pathc == 0) {
-        cli_error("analyse: no snapshots in %s/snapshots (run with output.snapshot_every > 0)", dir);
-        return EXIT_REFUSED;
-    }
     if (!out_dir) {
-        snprintf(outbuf, sizeof outbuf, "%s/analysis", dir);
+        snprintf(outbuf, sizeof outbuf, "%.1150s/analysis", dir);
         out_dir = outbuf;
     }
     gr_observer *obs = NULL;
+    frame_source src;
+    rc = source_open(&src, dir, dump, scene.dt, &err);
+    if (rc) {
+        cli_error("analyse: %s", err.message);
+        return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
+    }
     rc = gr_output_dir_prepare(out_dir, force, &err);
     if (!rc) {
         rc = gr_observer_create(&scene, &obs, &err);
     }
     if (rc) {
-        globfree(&g);
+        source_close(&src);
         cli_error("analyse: %s", err.message);
         return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
-    size_t frames = 0;
-    for (size_t k = 0; k < g.gl_pathc && !rc; k++) {
-        gr_frame f;
-        rc = gr_snapshot_read(g.gl_pathv[k], &f, &err);
+    size_t frames = 0, read = 0;
+    gr_frame fr;
+    while ((rc = source_next(&src, &fr, &err)) == 1) {
+        read++;
+        rc = GR_OK;
+        if (fr.t <= scene.warmup * (1.0 + 1e-12)) {
+            gr_frame_free(&fr); /* the warm-up is not sampled, as in a run */
+            continue;
+        }
+        if (fr.n != scene.N || fr.dim != scene.dim) {
+            rc = GR_FAIL(&err, GR_EINVAL, "%s: %d particles in %dD, but the scene has N = %d in %dD",
+                         dump ? dump : src.g.gl_pathv[src.next - 1], fr.n, fr.dim, scene.N, scene.dim);
+        } else {
+            gr_particles p = {.n = fr.n, .dim = fr.dim, .L = fr.L, .radius = scene.radius, .mass = scene.mass,
+                              .x = fr.x, .y = fr.y, .vx = fr.vx, .vy = fr.vy};
+            rc = gr_observer_sample(obs, &p, fr.t, &err);
+            frames++;
+        }
+        gr_frame_free(&fr);
         if (rc) {
             break;
         }
-        if (f.t <= scene.warmup * (1.0 + 1e-12)) {
-            gr_frame_free(&f); /* the warm-up is not sampled, as in a run */
-            continue;
-        }
-        if (f.n != scene.N || f.dim != scene.dim) {
-            rc = GR_FAIL(&err, GR_EINVAL, "%s: %d particles in %dD, but the scene has N = %d in %dD", g.gl_pathv[k], f.n, f.dim, scene.N, scene.dim);
-        } else {
-            gr_particles p = {.n = f.n, .dim = f.dim, .L = f.L, .radius = scene.radius, .mass = scene.mass,
-                              .x = f.x, .y = f.y, .vx = f.vx, .vy = f.vy};
-            rc = gr_observer_sample(obs, &p, f.t, &err);
-            frames++;
-        }
-        gr_frame_free(&f);
         if (cli_interactive()) {
-            fprintf(stderr, "\ranalyse: %zu / %zu frames", k + 1, g.gl_pathc);
+            fprintf(stderr, "\ranalyse: %zu frames", read);
         }
     }
     if (cli_interactive()) {
         fputc('\n', stderr);
     }
-    globfree(&g);
+    source_close(&src);
     if (rc) {
         gr_observer_free(obs);
         cli_error("analyse: %s", err.message);
@@ -128,7 +193,7 @@ int cmd_analyse(int argc, char **argv)
     gr_output out = {.dir = out_dir, .scene = &scene, .scene_hash = gr_scene_hash(&scene), .summary = analysis, .plots = scene.plots};
     rc = gr_observer_finish(obs, &out, &err);
     gr_observer_free(obs);
-    cJSON_AddStringToObject(sum, "source", dir);
+    cJSON_AddStringToObject(sum, "source", dump ? dump : dir);
     cJSON_AddNumberToObject(sum, "frames", (double)frames);
     cJSON_AddStringToObject(sum, "granule_version", GR_VERSION);
     cJSON_AddStringToObject(sum, "commit", GR_COMMIT);

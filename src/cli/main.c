@@ -49,12 +49,13 @@ static void usage(FILE *f)
             "  models         list the collision models and their parameters\n"
             "  keys           list every scene key (Markdown)\n"
             "  plot DIR       (re)draw the plots of a run folder\n"
-            "  analyse DIR    feed a run's snapshots to the analysis layer's observables\n"
+            "  analyse DIR    feed a run's snapshots (or a LAMMPS dump) to the analysis layer's observables\n"
             "  compare SCENE  the same scene under several collision models, side by side\n"
             "  sweep FILE     a scene over lists of keys and seeds, in parallel, resumable, with fits\n"
             "  reproduce NAME run a thesis-reproduction campaign (--list) and write its result set\n"
             "  bench          regenerate the throughput tables of docs/performance.md on this machine\n"
             "  observables    list the observables (statistics) a scene can ask for\n"
+            "  export lammps SCENE  a LAMMPS deck + data file of the scene (docs/lammps.md)\n"
             "theory models (no N-body run; thesis ch. 3, 5, 6, App. B):\n"
             "  spm            Single Particle Model: Q(v,l), P(v), the predicted tail exponent\n"
             "  bisect         multiplicative bisection process (sec. 3.4)\n"
@@ -79,7 +80,7 @@ int main(int argc, char **argv)
     } table[] = {{"run", cmd_run}, {"collide", cmd_collide}, {"models", cmd_models},
                  {"keys", cmd_keys}, {"plot", cmd_plot}, {"analyse", cmd_analyse}, {"compare", cmd_compare}, {"sweep", cmd_sweep}, {"reproduce", cmd_reproduce}, {"bench", cmd_bench},
                  {"analyze", cmd_analyse}, {"observables", cmd_observables}, {"spm", cmd_spm}, {"bisect", cmd_bisect},
-                 {"cascade", cmd_cascade}, {"fokker-planck", cmd_fokker_planck}};
+                 {"cascade", cmd_cascade}, {"fokker-planck", cmd_fokker_planck}, {"export", cmd_export}};
     for (size_t i = 0; i < sizeof table / sizeof table[0]; i++) {
         if (strcmp(cmd, table[i].name) == 0) {
             return table[i].fn(argc - 1, argv + 1);

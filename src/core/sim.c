@@ -372,6 +372,12 @@ gr_particles gr_sim_particles(const gr_sim *s)
                           .mass = s->mass, .x = s->x, .y = s->y, .vx = s->vx, .vy = s->vy};
 }
 
+void gr_sim_forces(const gr_sim *s, const double **fx, const double **fy)
+{
+    *fx = s->fx;
+    *fy = s->dim == 2 ? s->fy : NULL;
+}
+
 double gr_sim_time(const gr_sim *s) { return (double)s->step * s->dt; }
 int64_t gr_sim_steps(const gr_sim *s) { return s->step; }
 double gr_sim_dt(const gr_sim *s) { return s->dt; }

@@ -1,0 +1,83 @@
+"""granule from Python: scenes, simulations stepped in place, the analysis layer's observables,
+and run folders as numpy/pandas (docs/python.md). Everything physical runs in libgranule (the C
+extension granule._granule); this package only converts.
+
+    import granule
+    scene = granule.load_scene("docs/scenes/rfm-2d.ini", set={"system.N": 300, "system.L": 0.08})
+    sim = granule.Sim(scene)
+    sim.step(1000)
+    sim.vx            # read-only numpy view on the simulation's own array
+"""
+import json
+import os
+import tempfile
+
+from ._granule import Error, Observer, Scene, SceneError, Sim, version
+from ._granule import run as _run
+from .runfolder import read_csv, read_lammps_dump, read_run, read_snapshot, read_snapshots
+
+__all__ = ["Error", "SceneError", "Scene", "Sim", "Observer", "load_scene", "observe", "run",
+           "read_run", "read_csv", "read_snapshot", "read_snapshots", "read_lammps_dump", "version"]
+
+
+def _overrides(set):
+    """--set style overrides from a dict {"section.key": value} or a list of "section.key=value"."""
+    if set is None:
+        return []
+    if isinstance(set, dict):
+        return [f"{k}={_ini_value(v)}" for k, v in set.items()]
+    return [str(s) for s in set]
+
+
+def _ini_value(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (list, tuple)):
+        return ",".join(str(x) for x in v)
+    return repr(v) if isinstance(v, float) else str(v)
+
+
+def load_scene(source=None, set=None):
+    """A Scene from a file path, a dict {section: {key: value}} or None (defaults), with --set
+    overrides (dict or list). Invalid keys or values raise SceneError with granule's message."""
+    if source is None or isinstance(source, (str, os.PathLike)):
+        return Scene(None if source is None else os.fspath(source), _overrides(set))
+    if isinstance(source, dict):
+        lines = []
+        for section, keys in source.items():
+            lines.append(f"[{section}]")
+            lines += [f"{k} = {_ini_value(v)}" for k, v in keys.items()]
+        return Scene(None, _overrides(set), text="\n".join(lines) + "\n", name="<dict>")
+    raise TypeError("load_scene: expected a path, a dict or None")
+
+
+def scene_dict(scene):
+    """The resolved scene as a dict (the "scene" member of summary.json)."""
+    return json.loads(scene.to_json())
+
+
+def observe(scene, frames, out=None):
+    """Feed frames (Sims, or dicts with t, x, vx[, y, vy]) to the observables the scene names and
+    return {observable: {"summary": dict, "tables": {csv name: pandas.DataFrame or numpy array}}}.
+    The CSVs go to `out` (kept) or a temporary folder."""
+    obs = Observer(scene)
+    for f in frames:
+        if isinstance(f, Sim):
+            obs.sample(f)
+        else:
+            obs.sample_frame(**{k: f[k] for k in ("t", "x", "vx", "y", "vy", "L") if f.get(k) is not None})
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = out or tmp
+        summary = json.loads(obs.finish(folder))
+        return {name: {"summary": member, "tables": _tables(folder, name)} for name, member in summary.items()}
+
+
+def _tables(folder, name):
+    return {f[:-4]: read_csv(os.path.join(folder, f)) for f in sorted(os.listdir(folder))
+            if f.endswith(".csv") and (f[:-4] == name or f.startswith(name + "_"))}
+
+
+def run(scene, out=None, force=False):
+    """`granule run` of a Scene into out (default its output.dir); returns the run's result dict
+    (T_mean, T_stderr, steps, ...). Read the folder with read_run(result["dir"])."""
+    return _run(scene, out, force)

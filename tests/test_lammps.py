@@ -1,0 +1,113 @@
+"""The LAMMPS bridge (docs/lammps.md): export the 2D RFM scene at N = 300, run it on 2 MPI ranks with
+Debian's LAMMPS, read its dump with `granule analyse --lammps-dump`, and require agreement with
+granule's own run of the same scene (same initial state, independent noise) within errors:
+T (2.19) and g(R) (4.10) from granule's observables with their block-averaging errors, P(v) (App.
+A.1) from granule's pv.csv in coarse bins with errors from block averaging over the frames.
+
+    test_lammps.py GRANULE_EXE SOURCE_DIR     exit 77 (skipped) without lmp
+"""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+import granule
+
+exe, src = sys.argv[1], sys.argv[2]
+lmp = next((shutil.which(b) for b in ("lmp", "lmp_serial", "lmp_mpi") if shutil.which(b)), None)
+if not lmp:
+    print("skipped: no lmp (Debian package lammps; scripts/setup.sh installs it)")
+    sys.exit(77)
+mpirun = shutil.which("mpirun")
+ranks = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-n", "2"] if mpirun else []
+Z_MAX = 3.0  # every comparison: |difference| < 3 combined standard errors
+sets = {"system.N": 300, "system.L": 0.08, "run.warmup": 0.04, "run.duration": 0.12, "run.sample_every": 1e-3,
+        "output.snapshot_every": 1e-3, "output.plots": "false", "analysis.observables": "moments,pv,pair"}
+set_args = sum((["--set", f"{k}={v}"] for k, v in sets.items()), [])
+scene_path = os.path.join(src, "docs", "scenes", "rfm-2d.ini")
+failures = []
+
+
+def compare(what, a, ea, b, eb):
+    z = abs(a - b) / np.hypot(ea, eb)
+    ok = bool(z < Z_MAX)
+    print(f"{'ok  ' if ok else 'FAIL'} {what}: granule {a:.5g} +- {ea:.2g}, LAMMPS {b:.5g} +- {eb:.2g}, z = {z:.2f}")
+    if not ok:
+        failures.append(what)
+
+
+def block_mean(per_frame, blocks=10):
+    """Mean over frames and its block-averaging standard error (rows = frames)."""
+    a = np.asarray(per_frame)
+    m = len(a) // blocks
+    means = a[: m * blocks].reshape(blocks, m, *a.shape[1:]).mean(axis=1)
+    return a.mean(axis=0), means.std(axis=0, ddof=1) / np.sqrt(blocks)
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    lmpdir, rundir = os.path.join(tmp, "lammps"), os.path.join(tmp, "granule")
+    subprocess.run([exe, "export", "lammps", scene_path, "--out", lmpdir] + set_args, check=True)
+    r = subprocess.run(ranks + [lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
+    if r.returncode != 0:
+        print(open(os.path.join(lmpdir, "log.lammps")).read()[-2000:])
+        sys.exit("LAMMPS failed on the exported deck")
+    dump = os.path.join(lmpdir, "dump.granule.lammpstrj")
+    subprocess.run([exe, "analyse", "--lammps-dump", dump], check=True)
+    subprocess.run([exe, "run", scene_path, "--out", rundir] + set_args, check=True)
+    g = json.load(open(os.path.join(rundir, "summary.json")))["analysis"]
+    la = json.load(open(os.path.join(lmpdir, "analysis", "summary.json")))["analysis"]
+    print(f"granule analyse read {la['pv']['frames']} LAMMPS frames; granule sampled {g['pv']['frames']}")
+    if la["pv"]["frames"] != g["pv"]["frames"]:
+        failures.append("frame count")
+
+    # T (2.19) = <|v - <v>|^2>, the m = 2 speed moment, block-averaging errors
+    compare("T (m^2/s^2)", g["moments"]["speed"]["m2"], g["moments"]["speed_stderr"]["m2"],
+            la["moments"]["speed"]["m2"], la["moments"]["speed_stderr"]["m2"])
+
+    # g(R): the first peak and coarse shells; a shell's error is the mean of its bins' block
+    # errors (neighbouring bins are correlated, so errors are not added in quadrature)
+    compare("g(R) first peak", g["pair"]["first_peak"]["g"], g["pair"]["first_peak"]["g_error"],
+            la["pair"]["first_peak"]["g"], la["pair"]["first_peak"]["g_error"])
+    pg = granule.read_csv(os.path.join(rundir, "pair.csv"))
+    pl = granule.read_csv(os.path.join(lmpdir, "analysis", "pair.csv"))
+    for lo, hi in ((1.0, 1.2), (1.2, 1.8), (1.8, 2.5), (2.5, 4.0), (4.0, 8.0)):
+        sel = (pg["R_over_d"] >= lo) & (pg["R_over_d"] < hi)
+        compare(f"g(R) mean over {lo} <= R/d < {hi}", pg["g"][sel].mean(), pg["g_error"][sel].mean(),
+                pl["g"][sel].mean(), pl["g_error"][sel].mean())
+
+    # P(v) of one component: fractions in coarse |v| bins (units of sqrt(T/2) of granule's run)
+    scale = np.sqrt(g["moments"]["speed"]["m2"] / 2)
+    edges = np.array([0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.5, np.inf]) * scale
+
+    def coarse_from_pv(folder):
+        """Coarse fractions from the fine bins, each split by overlap (the fine grids of the two
+        runs differ: they scale with each run's own T_ref)."""
+        pv = granule.read_csv(os.path.join(folder, "pv.csv"))
+        knots = np.append(pv["v_lo"].to_numpy(), pv["v_hi"].to_numpy()[-1])
+        cum = np.append(0.0, np.cumsum(pv["counts"].to_numpy())) / pv["counts"].sum()
+        F = lambda v: np.interp(v, knots, cum)
+        e = np.minimum(edges, knots[-1])
+        return np.array([F(e[k + 1]) - F(e[k]) + F(-e[k]) - F(-e[k + 1]) for k in range(len(e) - 1)])
+
+    def coarse_per_frame(frames):
+        rows = []
+        for f in frames:
+            v = np.abs(np.concatenate([f["vx"] - f["vx"].mean(), f["vy"] - f["vy"].mean()]))
+            rows.append(np.histogram(v, bins=edges)[0] / v.size)
+        return rows
+
+    t_warm = sets["run.warmup"] * (1 + 1e-12)
+    fr_g = [f for f in granule.read_snapshots(rundir) if f["t"] > t_warm]
+    fr_l = [f for f in granule.read_lammps_dump(dump, 1e-6) if f["t"] > t_warm]
+    (_, err_g), (_, err_l) = block_mean(coarse_per_frame(fr_g)), block_mean(coarse_per_frame(fr_l))
+    pg_c, pl_c = coarse_from_pv(rundir), coarse_from_pv(os.path.join(lmpdir, "analysis"))
+    for k in range(len(edges) - 1):
+        compare(f"P(v) fraction {edges[k] / scale:.1f} <= |v_x|/sqrt(T/2) < {edges[k + 1] / scale:.1f}",
+                pg_c[k], err_g[k], pl_c[k], err_l[k])
+
+print(f"{len(failures)} failed")
+sys.exit(1 if failures else 0)
