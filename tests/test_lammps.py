@@ -25,7 +25,7 @@ if not lmp:
 mpirun = shutil.which("mpirun")
 ranks = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-n", "2"] if mpirun else []
 Z_MAX = 3.0  # every comparison: |difference| < 3 combined standard errors
-sets = {"system.N": 300, "system.L": 0.08, "run.warmup": 0.04, "run.duration": 0.12, "run.sample_every": 1e-3,
+sets = {"system.N": 300, "system.L": 0.08, "run.warmup": 0.05, "run.duration": 0.2, "run.sample_every": 1e-3,
         "output.snapshot_every": 1e-3, "output.plots": "false", "analysis.observables": "moments,pv,pair"}
 set_args = sum((["--set", f"{k}={v}"] for k, v in sets.items()), [])
 scene_path = os.path.join(src, "docs", "scenes", "rfm-2d.ini")
