@@ -228,7 +228,7 @@ int cmd_sweep(int argc, char **argv)
             rc = EXIT_REFUSED;
             goto done;
         }
-        rc = sweep_mpi_run(s, hash, &argc, &argv);
+        rc = sweep_mpi_run(s, hash, guess, &argc, &argv);
         goto done;
     }
     if (jobs > 0) {

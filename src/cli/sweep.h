@@ -135,9 +135,9 @@ int sweep_collect(const sweep *s, const uint64_t *hash, long *n_bad);
 /* The number of ranks if this process was started by an MPI launcher (mpirun, mpiexec, srun),
  * else 0; var names the variable seen. */
 int sweep_mpi_launched(const char **var);
-/* Distribute the points over the ranks (rank 0 hands them out and runs some itself), then rank 0
- * collects. Returns this rank's exit code. */
-int sweep_mpi_run(sweep *s, const uint64_t *hash, int *argc, char ***argv);
+/* Distribute the points over the ranks (rank 0 hands them out and runs some itself, printing the
+ * CPU-hours spent and left from guess), then rank 0 collects. Returns this rank's exit code. */
+int sweep_mpi_run(sweep *s, const uint64_t *hash, const double *guess, int *argc, char ***argv);
 /* True when built with MPI. */
 bool sweep_mpi_available(void);
 

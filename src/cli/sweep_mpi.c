@@ -72,7 +72,7 @@ static int serve(void *ctx, sweep_queue *q)
     return d->active;
 }
 
-int sweep_mpi_run(sweep *s, const uint64_t *hash, int *argc, char ***argv)
+int sweep_mpi_run(sweep *s, const uint64_t *hash, const double *guess, int *argc, char ***argv)
 {
     int inited = 0;
     MPI_Initialized(&inited);
@@ -94,7 +94,8 @@ int sweep_mpi_run(sweep *s, const uint64_t *hash, int *argc, char ***argv)
         }
         fprintf(stderr, "sweep: %ld points (%d keys x %d seeds) over %d MPI ranks, into %s\n", s->n_points, s->n_keys,
                 s->n_seeds, size, s->out);
-        sweep_queue q = {.s = s, .hash = hash};
+        sweep_queue q = {.s = s, .hash = hash, .guess = guess, .jobs = size};
+        sweep_queue_start(&q);
         dispatcher d = {.active = size - 1};
         sweep_run_local(&q, 1, runner, serve, &d);
         long bad = 0;
@@ -126,7 +127,7 @@ bool sweep_mpi_available(void)
     return false;
 }
 
-int sweep_mpi_run(sweep *s, const uint64_t *hash, int *argc, char ***argv)
+int sweep_mpi_run(sweep *s, const uint64_t *hash, const double *guess, int *argc, char ***argv)
 {
     (void)s;
     (void)hash;
