@@ -70,8 +70,9 @@ static void print_results(const char *results)
             printf("  %-34s ", group);
             print_pm(gr_summary_number(row, "value"), gr_summary_number(row, "error"));
             print_pm(gr_summary_number(row, "thesis"), gr_summary_number(row, "thesis_error"));
-            double z = gr_summary_number(row, "z");
-            printf(isfinite(z) ? "%+.1f\n" : "\n", z);
+            double z = gr_summary_number(row, "z"), bad = gr_summary_number(row, "runs_not_converged");
+            printf(isfinite(z) ? "%+6.1f" : "      ", z);
+            printf(bad > 0 ? "  (%.0f run%s: T's block error not converged)\n" : "\n", bad, bad == 1 ? "" : "s");
         }
     }
     printf("\n%s/results.json: %.0f of %.0f points, %.3g CPU-hours\n", results, gr_summary_number(j, "points_finished"),

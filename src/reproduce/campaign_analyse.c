@@ -128,6 +128,7 @@ static void add_cost(campaign_row *row, const campaign_point *p)
 {
     row->cpu_seconds += isfinite(p->cpu_seconds) ? p->cpu_seconds : 0.0;
     row->sim_seconds += isfinite(p->sim_seconds) ? p->sim_seconds : 0.0;
+    row->unconverged += cJSON_IsFalse(cJSON_GetObjectItem(p->summary, "T_stderr_converged"));
     const cJSON *h = cJSON_GetObjectItem(p->manifest, "scene_hash");
     if (cJSON_IsString(h) && !strstr(row->hashes, h->valuestring) && strlen(row->hashes) + 18 < sizeof row->hashes) {
         size_t len = strlen(row->hashes);

@@ -41,6 +41,7 @@ typedef struct campaign_row {
     char thesis_note[128];
     double z;          /* (ours - thesis) / sqrt(error^2 + thesis_error^2) */
     double sim_seconds, cpu_seconds;
+    int unconverged;   /* runs whose own (block-averaging) error of T had not converged */
     char hashes[160];  /* scene hashes of the points used (first few) */
 } campaign_row;
 

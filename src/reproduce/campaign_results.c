@@ -181,6 +181,7 @@ static void row_json(cJSON *arr, const campaign_row *w)
     add_num(o, "z", w->z);
     add_num(o, "simulated_seconds", w->sim_seconds);
     add_num(o, "cpu_seconds", w->cpu_seconds);
+    cJSON_AddNumberToObject(o, "runs_not_converged", w->unconverged);
     cJSON_AddStringToObject(o, "scene_hashes", w->hashes);
     cJSON_AddItemToArray(arr, o);
 }
@@ -201,7 +202,7 @@ static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r, 
     csv_num(f, w->z);
     csv_num(f, w->sim_seconds);
     csv_num(f, w->cpu_seconds);
-    fprintf(f, ",%s,%s\n", w->hashes, GR_COMMIT);
+    fprintf(f, ",%d,%s,%s\n", w->unconverged, w->hashes, GR_COMMIT);
 }
 
 static int analyse_one(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, const char *results,
@@ -276,7 +277,7 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
         return rc;
     }
     fprintf(csv.f, "campaign,result,quantity,group,m,value,error,error_fit_or_run,error_seeds,seeds,fit_points,chi2_red,x_lo,"
-                   "x_hi,thesis,thesis_error,z,simulated_seconds,cpu_seconds,scene_hashes,commit\n");
+                   "x_hi,thesis,thesis_error,z,simulated_seconds,cpu_seconds,runs_not_converged,scene_hashes,commit\n");
     for (int i = 0; i < c->n_results && !rc; i++) {
         const gr_campaign_result *r = &c->results[i];
         campaign_rows rows = {0};

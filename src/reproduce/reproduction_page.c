@@ -80,8 +80,10 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         if (isfinite(z)) {
             snprintf(zs, sizeof zs, "%s%+.1f%s", fabs(z) > 2.0 ? "**" : "", z, fabs(z) > 2.0 ? "**" : "");
         }
-        fprintf(f, "| %s | %s | %s | %s | %.0f | %s | %.2f |\n", group, theirs, ours, zs, num(row, "seeds"), fit,
-                num(row, "cpu_seconds") / 3600.0);
+        char seeds[64];
+        double bad = num(row, "runs_not_converged");
+        snprintf(seeds, sizeof seeds, bad > 0 ? "%.0f (%.0f with T's block error not converged)" : "%.0f", num(row, "seeds"), bad);
+        fprintf(f, "| %s | %s | %s | %s | %s | %s | %.2f |\n", group, theirs, ours, zs, seeds, fit, num(row, "cpu_seconds") / 3600.0);
     }
     if (str(res, "note")[0]) {
         fprintf(f, "\n%s\n", str(res, "note"));
