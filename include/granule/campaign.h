@@ -20,8 +20,9 @@ typedef enum { GR_FIDELITY_QUICK = 0, GR_FIDELITY_FULL = 1 } gr_fidelity;
  * MEAN       y averaged over seeds for every combination of the varied keys;
  * POWER_LAW  y = A x^-exponent fitted over x (usually system.N) in [x_min, x_max] per
  *            combination of the `by` keys, and per m when y names {m};
- * RUNNING    the running average of T(t) and its means over `period` seconds (Fig. 2.8). */
-typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING } gr_result_kind;
+ * RUNNING    the running average of T(t) and its means over `period` seconds (Fig. 2.8);
+ * RISE       the time T(t) takes to reach 90 % of its steady value (Fig. 2.7). */
+typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING, GR_RESULT_RISE } gr_result_kind;
 
 typedef struct gr_campaign_result {
     char id[32];          /* e.g. "fig3.2", "table3.1" */

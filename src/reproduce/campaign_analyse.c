@@ -11,9 +11,7 @@
 #include "io/summary_read.h"
 #include "reproduce/campaign_points.h"
 
-#define MAX_GROUPS 256
 #define MAX_X 64
-#define MAX_SEEDS 64
 
 /* The path of y (or y_err) for moment m: {m} -> m, {m-1} -> m - 1. */
 static void path_for(const char *pattern, int m, char *out, size_t len)
@@ -57,7 +55,7 @@ static void short_key(const char *key, char *out, size_t len)
 
 /* "k=v, k=v" of the point's varied keys (without their sections): those in `only` (all if NULL),
  * minus `except`. */
-static void group_of(const campaign_point *p, const char *only, const char *except, char *out, size_t len)
+void campaign_group_of(const campaign_point *p, const char *only, const char *except, char *out, size_t len)
 {
     out[0] = 0;
     size_t n = 0;
@@ -76,18 +74,18 @@ static void group_of(const campaign_point *p, const char *only, const char *exce
     }
 }
 
-static int seed_of(const campaign_point *p)
+int campaign_seed_of(const campaign_point *p)
 {
     return (int)gr_summary_number(p->manifest, "seed");
 }
 
 /* The distinct groups in order of first appearance. */
-static int groups(const campaign_points *pts, const char *only, const char *except, char g[][160])
+int campaign_groups(const campaign_points *pts, const char *only, const char *except, char g[][160])
 {
     int n = 0;
     for (int i = 0; i < pts->n; i++) {
         char label[160];
-        group_of(&pts->p[i], only, except, label, sizeof label);
+        campaign_group_of(&pts->p[i], only, except, label, sizeof label);
         int j = 0;
         while (j < n && strcmp(g[j], label)) {
             j++;
@@ -99,7 +97,7 @@ static int groups(const campaign_points *pts, const char *only, const char *exce
     return n;
 }
 
-static void mean_sd(const double *v, int n, double *mean, double *se)
+void campaign_mean_sd(const double *v, int n, double *mean, double *se)
 {
     double s = 0.0, s2 = 0.0;
     for (int i = 0; i < n; i++) {
@@ -113,7 +111,7 @@ static void mean_sd(const double *v, int n, double *mean, double *se)
 }
 
 /* Seeds when there are three or more; otherwise the larger of what there is. */
-static double headline_error(double seeds, double other, int n_seeds)
+double campaign_headline_error(double seeds, double other, int n_seeds)
 {
     if (n_seeds >= 3 && isfinite(seeds)) {
         return seeds;
@@ -124,7 +122,7 @@ static double headline_error(double seeds, double other, int n_seeds)
     return isfinite(seeds) ? seeds : other;
 }
 
-static void add_cost(campaign_row *row, const campaign_point *p)
+void campaign_add_cost(campaign_row *row, const campaign_point *p)
 {
     row->cpu_seconds += isfinite(p->cpu_seconds) ? p->cpu_seconds : 0.0;
     row->sim_seconds += isfinite(p->sim_seconds) ? p->sim_seconds : 0.0;
@@ -136,38 +134,57 @@ static void add_cost(campaign_row *row, const campaign_point *p)
     }
 }
 
+int campaign_members(const campaign_points *pts, const char *group, const campaign_point **members, int max)
+{
+    int n = 0;
+    for (int i = 0; i < pts->n && n < max; i++) {
+        char label[160];
+        campaign_group_of(&pts->p[i], NULL, NULL, label, sizeof label);
+        if (!strcmp(label, group)) {
+            members[n++] = &pts->p[i];
+        }
+    }
+    return n;
+}
+
+campaign_row *campaign_group_row(campaign_rows *rows, const char *group)
+{
+    campaign_row *row = campaign_rows_add(rows);
+    snprintf(row->group, sizeof row->group, "%.159s", group);
+    return row;
+}
+
 int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
                   FILE *data, gr_error *err)
 {
     (void)c;
     (void)err;
     static char g[MAX_GROUPS][160];
-    int ng = groups(pts, NULL, NULL, g);
+    int ng = campaign_groups(pts, NULL, NULL, g);
     fprintf(data, "group,seed,value,run_error\n");
     for (int gi = 0; gi < ng; gi++) {
         double v[MAX_SEEDS], e2 = 0.0;
         int n = 0, n_err = 0;
-        campaign_row *row = campaign_rows_add(rows);
-        snprintf(row->group, sizeof row->group, "%.159s", g[gi]);
-        for (int i = 0; i < pts->n && n < MAX_SEEDS; i++) {
-            char label[160];
-            group_of(&pts->p[i], NULL, NULL, label, sizeof label);
-            double y = gr_summary_number(pts->p[i].summary, r->y);
-            if (strcmp(label, g[gi]) || !isfinite(y)) {
+        campaign_row *row = campaign_group_row(rows, g[gi]);
+        const campaign_point *m[MAX_SEEDS];
+        int nm = campaign_members(pts, g[gi], m, MAX_SEEDS);
+        for (int i = 0; i < nm; i++) {
+            double y = gr_summary_number(m[i]->summary, r->y);
+            if (!isfinite(y)) {
                 continue;
             }
-            double ye = r->y_err[0] ? gr_summary_number(pts->p[i].summary, r->y_err) : (double)NAN;
-            fprintf(data, "\"%s\",%d,%.9g,%.9g\n", g[gi], seed_of(&pts->p[i]), y, ye);
+            double ye = r->y_err[0] ? gr_summary_number(m[i]->summary, r->y_err) : (double)NAN;
+            fprintf(data, "\"%s\",%d,%.9g,%.9g\n", g[gi], campaign_seed_of(m[i]), y, ye);
             v[n++] = y;
             if (isfinite(ye)) {
                 e2 += ye * ye;
                 n_err++;
             }
-            add_cost(row, &pts->p[i]);
+            campaign_add_cost(row, m[i]);
         }
-        mean_sd(v, n, &row->value, &row->error_seeds);
+        campaign_mean_sd(v, n, &row->value, &row->error_seeds);
         row->error_fit = n_err == n && n ? sqrt(e2) / n : (double)NAN; /* the runs' own errors, combined */
-        row->error = headline_error(row->error_seeds, row->error_fit, n);
+        row->error = campaign_headline_error(row->error_seeds, row->error_fit, n);
         row->n_seeds = n;
         campaign_row_thesis(r, row);
     }
@@ -179,7 +196,7 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
 {
     (void)c;
     static char g[MAX_GROUPS][160];
-    int ng = groups(pts, r->by[0] ? r->by : NULL, r->by[0] ? NULL : r->x, g);
+    int ng = campaign_groups(pts, r->by[0] ? r->by : NULL, r->by[0] ? NULL : r->x, g);
     int m_lo = r->m_lo ? r->m_lo : 0, m_hi = r->m_lo ? r->m_hi : 0;
     fprintf(data, "group,m,x,mean,error,seeds,in_fit\n");
     for (int gi = 0; gi < ng; gi++) {
@@ -196,7 +213,7 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
             /* the abscissae of this group, in the order met */
             for (int i = 0; i < pts->n; i++) {
                 char label[160];
-                group_of(&pts->p[i], r->by[0] ? r->by : NULL, r->by[0] ? NULL : r->x, label, sizeof label);
+                campaign_group_of(&pts->p[i], r->by[0] ? r->by : NULL, r->by[0] ? NULL : r->x, label, sizeof label);
                 double x = atof(campaign_point_key(&pts->p[i], r->x));
                 double y = gr_summary_number(pts->p[i].summary, yp);
                 if (strcmp(label, g[gi]) || !(x > 0.0) || !isfinite(y)) {
@@ -218,7 +235,7 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
                 if (xi == nx) {
                     continue;
                 }
-                int seed = seed_of(&pts->p[i]), si = 0;
+                int seed = campaign_seed_of(&pts->p[i]), si = 0;
                 while (si < n_seed && seeds[si] != seed) {
                     si++;
                 }
@@ -232,7 +249,7 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
                 es[xi] += r->y_err[0] ? gr_summary_number(pts->p[i].summary, ep) : (double)NAN; /* summed below */
                 counts[xi]++;
                 if (xs[xi] >= r->x_min && xs[xi] <= r->x_max) {
-                    add_cost(row, &pts->p[i]);
+                    campaign_add_cost(row, &pts->p[i]);
                 }
             }
             /* per abscissa: the seed mean and its error */
@@ -246,9 +263,9 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
                         v[n++] = per_seed[s][xi];
                     }
                 }
-                mean_sd(v, n, &mean, &se);
+                campaign_mean_sd(v, n, &mean, &se);
                 double run_err = n ? es[xi] / n / sqrt((double)n) : (double)NAN; /* mean of run errors / sqrt(n) */
-                double e = headline_error(se, run_err, n);
+                double e = campaign_headline_error(se, run_err, n);
                 bool in = xs[xi] >= r->x_min && xs[xi] <= r->x_max;
                 fprintf(data, "\"%s\",%d,%.9g,%.9g,%.9g,%d,%d\n", g[gi], m, xs[xi], mean, e, n, in);
                 if (in) {
@@ -298,8 +315,8 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
                 }
             }
             double mean_e;
-            mean_sd(ex, ne, &mean_e, &row->error_seeds);
-            row->error = headline_error(row->error_seeds, row->error_fit, ne);
+            campaign_mean_sd(ex, ne, &mean_e, &row->error_seeds);
+            row->error = campaign_headline_error(row->error_seeds, row->error_fit, ne);
             if (isfinite(row->error_seeds) && isfinite(row->error_fit)) {
                 row->error = fmax(row->error_seeds, row->error_fit); /* both are honest estimates: keep the larger */
             }
@@ -309,104 +326,3 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
     return GR_OK;
 }
 
-/* T(t) of one run from temperature.csv (comment lines skipped, columns found by name): period
- * means over the sampling phase, appended to data; returns the number of periods. */
-static int run_periods(const campaign_point *p, double period, const char *group, FILE *data, double *means, int max)
-{
-    char path[1200];
-    snprintf(path, sizeof path, "%s/temperature.csv", p->dir);
-    FILE *f = fopen(path, "r");
-    if (!f) {
-        return 0;
-    }
-    char line[512];
-    int col_t = -1, col_T = -1, col_phase = -1, n = 0;
-    double t0 = NAN, sum = 0.0, total = 0.0;
-    long count = 0, total_count = 0;
-    while (fgets(line, sizeof line, f)) {
-        if (line[0] == '#') {
-            continue;
-        }
-        char *fields[8];
-        int nfields = 0;
-        char *save = NULL;
-        for (char *tok = strtok_r(line, ",\n", &save); tok && nfields < 8; tok = strtok_r(NULL, ",\n", &save)) {
-            fields[nfields++] = tok;
-        }
-        if (col_t < 0) {
-            for (int i = 0; i < nfields; i++) {
-                col_t = !strcmp(fields[i], "t") ? i : col_t;
-                col_T = !strcmp(fields[i], "T") ? i : col_T;
-                col_phase = !strcmp(fields[i], "phase") ? i : col_phase;
-            }
-            if (col_t < 0 || col_T < 0 || col_phase < 0) {
-                break;
-            }
-            continue;
-        }
-        if (nfields <= col_phase || strcmp(fields[col_phase], "sample")) {
-            continue;
-        }
-        double t = atof(fields[col_t]), T = atof(fields[col_T]);
-        if (!isfinite(t0)) {
-            t0 = t;
-        }
-        sum += T;
-        count++;
-        total += T;
-        total_count++;
-        if (t - t0 >= period * (n + 1) - 1e-9 && n < max) {
-            means[n] = sum / (double)count;
-            fprintf(data, "\"%s\",%d,%.6g,%.9g,%.9g\n", group, seed_of(p), t - t0, means[n], total / (double)total_count);
-            n++;
-            sum = 0.0;
-            count = 0;
-        }
-    }
-    fclose(f);
-    return n;
-}
-
-int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                     FILE *data, gr_error *err)
-{
-    (void)c;
-    (void)err;
-    static char g[MAX_GROUPS][160];
-    int ng = groups(pts, NULL, NULL, g);
-    fprintf(data, "group,seed,t,period_mean,running_mean\n");
-    for (int gi = 0; gi < ng; gi++) {
-        campaign_row *row = campaign_rows_add(rows);
-        snprintf(row->group, sizeof row->group, "%.159s", g[gi]);
-        double all[4096], seed_means[MAX_SEEDS];
-        int n_all = 0, n_seed = 0;
-        for (int i = 0; i < pts->n && n_seed < MAX_SEEDS; i++) {
-            char label[160];
-            group_of(&pts->p[i], NULL, NULL, label, sizeof label);
-            if (strcmp(label, g[gi])) {
-                continue;
-            }
-            /* a period of at most a tenth of the sampling, so that short (quick) runs still have ten */
-            double period = fmin(r->period, 0.1 * gr_summary_number(pts->p[i].summary, "scene.run.duration"));
-            double means[1024], m, se;
-            int n = run_periods(&pts->p[i], period, g[gi], data, means, 1024);
-            if (n == 0) {
-                continue;
-            }
-            mean_sd(means, n, &m, &se);
-            seed_means[n_seed++] = m;
-            for (int k = 0; k < n && n_all < 4096; k++) {
-                all[n_all++] = means[k];
-            }
-            add_cost(row, &pts->p[i]);
-        }
-        double m_all;
-        mean_sd(seed_means, n_seed, &row->value, &row->error_seeds);
-        mean_sd(all, n_all, &m_all, &row->error_fit); /* period means treated as independent */
-        row->error = headline_error(row->error_seeds, row->error_fit, n_seed);
-        row->n_seeds = n_seed;
-        row->n_x = n_all;
-        campaign_row_thesis(r, row);
-    }
-    return GR_OK;
-}

@@ -96,8 +96,11 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
             r->kind = GR_RESULT_POWER_LAW;
         } else if (!strcmp(value, "running_mean")) {
             r->kind = GR_RESULT_RUNNING;
+        } else if (!strcmp(value, "rise_time")) {
+            r->kind = GR_RESULT_RISE;
         } else {
-            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean", r->id, value);
+            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time", r->id,
+                     value);
             return 0;
         }
         return 1;
@@ -240,7 +243,7 @@ static int parse_text(gr_campaign *c, const char *text, const char *where, gr_er
     }
     for (int i = 0; i < c->n_results; i++) {
         const gr_campaign_result *r = &c->results[i];
-        if (r->kind != GR_RESULT_RUNNING && !r->y[0]) {
+        if (r->kind != GR_RESULT_RUNNING && r->kind != GR_RESULT_RISE && !r->y[0]) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] needs y (a summary.json path)", where, r->id);
         }
         if (r->kind == GR_RESULT_POWER_LAW && !r->x[0]) {

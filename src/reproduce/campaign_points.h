@@ -61,6 +61,29 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
                        FILE *data, gr_error *err);
 int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
                      FILE *data, gr_error *err);
+int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
+                  FILE *data, gr_error *err);
+
+/* Shared by the analyses (campaign_analyse.c). */
+#define MAX_GROUPS 256
+#define MAX_SEEDS 64
+/* "k=v, k=v" of a point's varied keys (sections dropped): those in `only` (all if NULL), minus `except`. */
+void campaign_group_of(const campaign_point *p, const char *only, const char *except, char *out, size_t len);
+/* The distinct groups of the points in order of first appearance; returns how many. */
+int campaign_groups(const campaign_points *pts, const char *only, const char *except, char g[][160]);
+/* Mean and standard error of the mean (NAN with fewer than 2 values). */
+void campaign_mean_sd(const double *v, int n, double *mean, double *se);
+/* The error a row reports: the seeds' when there are 3 or more, else the larger estimate. */
+double campaign_headline_error(double seeds, double other, int n_seeds);
+/* Book a point's CPU and simulated seconds, scene hash and convergence flag into a row. */
+void campaign_add_cost(campaign_row *row, const campaign_point *p);
+int campaign_seed_of(const campaign_point *p);
+/* The points of a group of all varied keys (as campaign_groups(pts, NULL, NULL, ...) names it);
+ * returns how many (at most max). */
+int campaign_members(const campaign_points *pts, const char *group, const campaign_point **members, int max);
+/* A new row for a group. */
+campaign_row *campaign_group_row(campaign_rows *rows, const char *group);
+
 /* Fill thesis, thesis_error and z of a row from the result's thesis list. */
 void campaign_row_thesis(const gr_campaign_result *r, campaign_row *row);
 

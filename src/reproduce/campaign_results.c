@@ -15,7 +15,7 @@
 
 static const char *kind_name(gr_result_kind k)
 {
-    return k == GR_RESULT_MEAN ? "mean" : k == GR_RESULT_POWER_LAW ? "power_law" : "running_mean";
+    return k == GR_RESULT_MEAN ? "mean" : k == GR_RESULT_POWER_LAW ? "power_law" : k == GR_RESULT_RUNNING ? "running_mean" : "rise_time";
 }
 
 static void add_num(cJSON *o, const char *name, double v)
@@ -148,6 +148,13 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
                  "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.6 lc rgb '#1f5fbf' title 'period means', "
                  "'' skip 1 using 3:5 with lines lw 2 lc rgb '#c0392b' title 'running average'\n",
                  r->period, r->id);
+    } else if (r->kind == GR_RESULT_RISE) {
+        snprintf(body, sizeof body,
+                 "set key outside right\nset xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\n"
+                 "set title 'T(t) from the start of every run (lines: its steady value)' noenhanced\n"
+                 "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.3 lc rgb '#1f5fbf' title 'T(t)', "
+                 "'' skip 1 using 3:5 with lines lw 2 lc rgb '#c0392b' title 'steady T (second half)'\n",
+                 r->id);
     } else {
         return;
     }
@@ -217,7 +224,8 @@ static int analyse_one(const gr_campaign *c, const gr_campaign_result *r, const 
     }
     rc = r->kind == GR_RESULT_MEAN        ? campaign_mean(c, r, pts, rows, data.f, err)
          : r->kind == GR_RESULT_POWER_LAW ? campaign_power_law(c, r, pts, rows, data.f, err)
-                                          : campaign_running(c, r, pts, rows, data.f, err);
+         : r->kind == GR_RESULT_RUNNING   ? campaign_running(c, r, pts, rows, data.f, err)
+                                          : campaign_rise(c, r, pts, rows, data.f, err);
     if (rc) {
         gr_file_abandon(&data);
         return rc;

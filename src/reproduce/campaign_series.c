@@ -1,0 +1,181 @@
+/* The analyses of T(t) (docs/campaigns/README.md): the running average and period means of Fig.
+ * 2.8, and the rise of T to its steady value of Fig. 2.7, from each run's temperature.csv. */
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "io/summary_read.h"
+#include "reproduce/campaign_points.h"
+
+/* T(t) of one run from its temperature.csv (comment lines skipped, columns found by name); with
+ * sample_only, the sampling phase only. Returns the number of samples (t and T malloc'ed). */
+static int read_series(const campaign_point *p, bool sample_only, double **t_out, double **T_out)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%s/temperature.csv", p->dir);
+    FILE *f = fopen(path, "r");
+    *t_out = *T_out = NULL;
+    if (!f) {
+        return 0;
+    }
+    char line[512];
+    int col_t = -1, col_T = -1, col_phase = -1, n = 0, cap = 0;
+    while (fgets(line, sizeof line, f)) {
+        if (line[0] == '#') {
+            continue;
+        }
+        char *fields[8];
+        int nfields = 0;
+        char *save = NULL;
+        for (char *tok = strtok_r(line, ",\n", &save); tok && nfields < 8; tok = strtok_r(NULL, ",\n", &save)) {
+            fields[nfields++] = tok;
+        }
+        if (col_t < 0) {
+            for (int i = 0; i < nfields; i++) {
+                col_t = !strcmp(fields[i], "t") ? i : col_t;
+                col_T = !strcmp(fields[i], "T") ? i : col_T;
+                col_phase = !strcmp(fields[i], "phase") ? i : col_phase;
+            }
+            if (col_t < 0 || col_T < 0 || col_phase < 0) {
+                break;
+            }
+            continue;
+        }
+        if (nfields <= col_phase || (sample_only && strcmp(fields[col_phase], "sample"))) {
+            continue;
+        }
+        if (n == cap) {
+            cap = cap ? 2 * cap : 4096;
+            *t_out = realloc(*t_out, (size_t)cap * sizeof **t_out);
+            *T_out = realloc(*T_out, (size_t)cap * sizeof **T_out);
+        }
+        (*t_out)[n] = atof(fields[col_t]);
+        (*T_out)[n++] = atof(fields[col_T]);
+    }
+    fclose(f);
+    return n;
+}
+
+/* Means of T over periods of the sampling phase, appended to data with the running average;
+ * returns the number of periods. */
+static int run_periods(const campaign_point *p, double period, const char *group, FILE *data, double *means, int max)
+{
+    double *t, *T;
+    int ns = read_series(p, true, &t, &T), n = 0, count = 0;
+    double sum = 0.0, total = 0.0;
+    for (int i = 0; i < ns; i++) {
+        sum += T[i];
+        total += T[i];
+        count++;
+        if (t[i] - t[0] >= period * (n + 1) - 1e-9 && n < max) {
+            means[n] = sum / count;
+            fprintf(data, "\"%s\",%d,%.6g,%.9g,%.9g\n", group, campaign_seed_of(p), t[i] - t[0], means[n], total / (i + 1));
+            n++;
+            sum = 0.0;
+            count = 0;
+        }
+    }
+    free(t);
+    free(T);
+    return n;
+}
+
+int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
+                     FILE *data, gr_error *err)
+{
+    (void)c;
+    (void)err;
+    static char g[MAX_GROUPS][160];
+    int ng = campaign_groups(pts, NULL, NULL, g);
+    fprintf(data, "group,seed,t,period_mean,running_mean\n");
+    for (int gi = 0; gi < ng; gi++) {
+        campaign_row *row = campaign_group_row(rows, g[gi]);
+        double all[4096], seed_means[MAX_SEEDS];
+        int n_all = 0, n_seed = 0;
+        const campaign_point *mem[MAX_SEEDS];
+        int nm = campaign_members(pts, g[gi], mem, MAX_SEEDS);
+        for (int i = 0; i < nm; i++) {
+            /* a period of at most a tenth of the sampling, so that short (quick) runs still have ten */
+            double period = fmin(r->period, 0.1 * gr_summary_number(mem[i]->summary, "scene.run.duration"));
+            double means[1024], m, se;
+            int n = run_periods(mem[i], period, g[gi], data, means, 1024);
+            if (n == 0) {
+                continue;
+            }
+            campaign_mean_sd(means, n, &m, &se);
+            seed_means[n_seed++] = m;
+            for (int k = 0; k < n && n_all < 4096; k++) {
+                all[n_all++] = means[k];
+            }
+            campaign_add_cost(row, mem[i]);
+        }
+        double m_all;
+        campaign_mean_sd(seed_means, n_seed, &row->value, &row->error_seeds);
+        campaign_mean_sd(all, n_all, &m_all, &row->error_fit); /* period means treated as independent */
+        row->error = campaign_headline_error(row->error_seeds, row->error_fit, n_seed);
+        row->n_seeds = n_seed;
+        row->n_x = n_all;
+        campaign_row_thesis(r, row);
+    }
+    return GR_OK;
+}
+
+/* Fig. 2.7: the time T(t) takes to rise to its steady value, here the first time its mean over a
+ * 50 ms window reaches 90 % of the mean over the second half of the run. */
+static double rise_time(const campaign_point *p, const char *group, FILE *data)
+{
+    double *t, *T;
+    int n = read_series(p, false, &t, &T);
+    double rise = NAN, steady = 0.0;
+    for (int i = n / 2; i < n; i++) {
+        steady += T[i] / (n - n / 2);
+    }
+    int w = 0;
+    while (w < n && t[w] - t[0] < 0.05) {
+        w++; /* samples per window */
+    }
+    double sum = 0.0;
+    for (int i = 0; i < n / 2 && w > 0; i++) {
+        sum += T[i] - (i >= w ? T[i - w] : 0.0);
+        if (i >= w - 1 && !(rise >= 0.0) && sum / w >= 0.9 * steady) {
+            rise = t[i];
+        }
+        if (i % 10 == 0) {
+            fprintf(data, "\"%s\",%d,%.6g,%.9g,%.9g\n", group, campaign_seed_of(p), t[i], T[i], steady);
+        }
+    }
+    free(t);
+    free(T);
+    return rise;
+}
+
+int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
+                  FILE *data, gr_error *err)
+{
+    (void)c;
+    (void)err;
+    static char g[MAX_GROUPS][160];
+    int ng = campaign_groups(pts, NULL, NULL, g);
+    fprintf(data, "group,seed,t,T,steady_T\n");
+    for (int gi = 0; gi < ng; gi++) {
+        campaign_row *row = campaign_group_row(rows, g[gi]);
+        double v[MAX_SEEDS];
+        int n = 0;
+        const campaign_point *mem[MAX_SEEDS];
+        int nm = campaign_members(pts, g[gi], mem, MAX_SEEDS);
+        for (int i = 0; i < nm; i++) {
+            double rt = rise_time(mem[i], g[gi], data);
+            if (isfinite(rt)) {
+                v[n++] = rt;
+                campaign_add_cost(row, mem[i]);
+            }
+        }
+        campaign_mean_sd(v, n, &row->value, &row->error_seeds);
+        row->error = row->error_seeds;
+        row->n_seeds = n;
+        campaign_row_thesis(r, row);
+    }
+    return GR_OK;
+}
