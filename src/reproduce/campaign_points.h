@@ -64,6 +64,10 @@ int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const ca
 int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
                   FILE *data, gr_error *err);
 
+/* Is the warm-up long enough? The mean of T over the first quarter of a run's sampling relative to
+ * the mean over the rest, minus 1 (NAN without temperature.csv). */
+double campaign_warmup_drift(const campaign_point *p);
+
 /* Shared by the analyses (campaign_analyse.c). */
 #define MAX_GROUPS 256
 #define MAX_SEEDS 64

@@ -264,6 +264,25 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
     cJSON_AddNumberToObject(j, "cpu_seconds", round(cpu));
     cJSON_AddNumberToObject(j, "cpu_hours", round(cpu / 36.0) / 100.0);
     cJSON_AddNumberToObject(j, "simulated_seconds", sim);
+    /* the warm-up: T over the first quarter of the sampling against the rest, over every run */
+    double drift[4096];
+    int nd = 0;
+    for (int i = 0; i < pts.n && nd < 4096; i++) {
+        double d = campaign_warmup_drift(&pts.p[i]);
+        if (isfinite(d)) {
+            drift[nd++] = d;
+        }
+    }
+    if (nd > 0) {
+        double dm, de;
+        campaign_mean_sd(drift, nd, &dm, &de);
+        cJSON *w = cJSON_AddObjectToObject(j, "warmup_check");
+        cJSON_AddStringToObject(w, "what", "mean over runs of <T>(first quarter of sampling) / <T>(rest) - 1");
+        cJSON_AddNumberToObject(w, "runs", nd);
+        add_num(w, "drift", dm);
+        add_num(w, "drift_error", de);
+        add_num(w, "z", isfinite(de) && de > 0.0 ? dm / de : (double)NAN);
+    }
     cJSON *commits = cJSON_AddArrayToObject(j, "run_commits");
     for (int i = 0; i < pts.n; i++) {
         const cJSON *cm = cJSON_GetObjectItem(pts.p[i].manifest, "commit");

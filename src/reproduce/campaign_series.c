@@ -179,3 +179,21 @@ int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campa
     }
     return GR_OK;
 }
+
+double campaign_warmup_drift(const campaign_point *p)
+{
+    double *t, *T;
+    int n = read_series(p, true, &t, &T);
+    double first = 0.0, rest = 0.0;
+    int q = n / 4;
+    for (int i = 0; i < n; i++) {
+        if (i < q) {
+            first += T[i];
+        } else {
+            rest += T[i];
+        }
+    }
+    free(t);
+    free(T);
+    return q > 0 && rest > 0.0 ? (first / q) / (rest / (n - q)) - 1.0 : (double)NAN;
+}

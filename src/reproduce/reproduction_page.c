@@ -168,6 +168,14 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
                      "%.0f s simulated, %.2f CPU-hours; analysed at commit %s.\n\n",
                 str(s, "campaign"), str(s, "fidelity"), str(s, "scene"), num(s, "points_finished"), num(s, "points_total"),
                 num(s, "simulated_seconds"), num(s, "cpu_seconds") / 3600.0, str(s, "commit"));
+        const cJSON *w = cJSON_GetObjectItem(s, "warmup_check");
+        if (w) {
+            double z = num(w, "z");
+            fprintf(f.f, "Warm-up check: over %.0f runs, <T> in the first quarter of the sampling differs from the rest by "
+                         "%+.1f %% +- %.1f %% (z = %+.1f)%s\n\n",
+                    num(w, "runs"), 100.0 * num(w, "drift"), 100.0 * num(w, "drift_error"), z,
+                    fabs(z) > 2.0 ? ": **the warm-up may be too short**." : ": no sign of a transient left in the sampling.");
+        }
         const cJSON *res;
         cJSON_ArrayForEach(res, cJSON_GetObjectItem(s, "results"))
         {
