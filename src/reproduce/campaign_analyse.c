@@ -280,7 +280,8 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
             row->n_x = nf;
             row->n_seeds = nf ? min_seeds : 0;
             if (nf < 3) {
-                continue; /* a line through two points has no error: no value */
+                campaign_row_thesis(r, row); /* the thesis's value is shown even without ours */
+                continue;                    /* a line through two points has no error: no value */
             }
             row->x_lo = fx[0];
             row->x_hi = fx[0];

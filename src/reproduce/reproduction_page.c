@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "granule/campaign.h"
 #include "io/files.h"
@@ -45,7 +46,17 @@ static int by_name(const void *a, const void *b)
     return strcmp(*(char *const *)a, *(char *const *)b);
 }
 
-static void result_table(FILE *f, const cJSON *res, const char *campaign, const char *link_root)
+/* A Markdown image line if ROOT/CAMPAIGN/NAME exists. */
+static void figure(FILE *f, const char *root, const char *link_root, const char *campaign, const char *id, const char *suffix)
+{
+    char path[1400];
+    snprintf(path, sizeof path, "%s/%s/%s%s.png", root, campaign, id, suffix);
+    if (access(path, R_OK) == 0) {
+        fprintf(f, "![%s%s](%s/%s/%s%s.png)\n", id, suffix, link_root, campaign, id, suffix);
+    }
+}
+
+static void result_table(FILE *f, const cJSON *res, const char *campaign, const char *root, const char *link_root)
 {
     fprintf(f, "### %s: %s\n\n", str(res, "id"), str(res, "title"));
     const char *unit = str(res, "unit");
@@ -69,7 +80,9 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         if (isfinite(num(row, "m"))) {
             snprintf(group + strlen(group), sizeof group - strlen(group), ", m = %.0f", num(row, "m"));
         }
-        if (isfinite(num(row, "fit_points"))) {
+        if (isfinite(num(row, "fit_points")) && num(row, "fit_points") < 3) {
+            snprintf(fit, sizeof fit, "%.0f of the 3 points a fit needs", num(row, "fit_points"));
+        } else if (isfinite(num(row, "fit_points"))) {
             snprintf(fit, sizeof fit, "%.0f points, %.4g-%.4g, chi2/dof %.2g", num(row, "fit_points"), num(row, "x_lo"),
                      num(row, "x_hi"), num(row, "chi2_red"));
         } else {
@@ -91,10 +104,9 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
     if (str(res, "thesis_source")[0]) {
         fprintf(f, "\nThesis values: %s.\n", str(res, "thesis_source"));
     }
-    fprintf(f, "\n![%s](%s/%s/%s.png)\n", str(res, "id"), link_root, campaign, str(res, "id"));
-    if (strcmp(str(res, "kind"), "mean")) {
-        fprintf(f, "![%s data](%s/%s/%s_data.png)\n", str(res, "id"), link_root, campaign, str(res, "id"));
-    }
+    fprintf(f, "\n");
+    figure(f, root, link_root, campaign, str(res, "id"), "");
+    figure(f, root, link_root, campaign, str(res, "id"), "_data");
     fprintf(f, "\n");
 }
 
@@ -179,7 +191,7 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
         const cJSON *res;
         cJSON_ArrayForEach(res, cJSON_GetObjectItem(s, "results"))
         {
-            result_table(f.f, res, str(s, "campaign"), base);
+            result_table(f.f, res, str(s, "campaign"), root, base);
         }
     }
     rc = gr_file_commit(&f, err);
