@@ -94,6 +94,10 @@ int gr_scene_load_buffer(gr_scene *s, const char *name, const char *text, size_t
 int gr_scene_save(const gr_scene *s, const char *dir, gr_error *err);
 /* The same text written to a stream (checkpoints keep it to check a resumed scene). */
 void gr_scene_write(const gr_scene *s, FILE *f);
+/* gr_scene_write keeps the load's warnings as comment lines with this prefix; a resume restores
+ * them into s->warnings from DIR/scene.ini, so summary.json is that of an uninterrupted run. */
+#define GR_SCENE_WARNING_PREFIX "; warning: "
+void gr_scene_saved_warnings(gr_scene *s, const char *dir);
 
 /* Write the reference of every scene key (engine keys and every model's parameters) as
  * Markdown; docs/scene-keys.md is this output. */

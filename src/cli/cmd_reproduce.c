@@ -250,6 +250,9 @@ int cmd_reproduce(int argc, char **argv)
         known |= !strcmp(name, names[k]);
     }
     if (!known) {
+        if (name) {
+            cli_error("reproduce: unknown figure '%s'; one of fig2.10, fig3.2, fig4.2, fig5.3, all", name);
+        }
         usage(stderr);
         return EXIT_REFUSED;
     }

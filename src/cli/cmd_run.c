@@ -39,6 +39,12 @@ static void progress(const gr_progress *p, void *user)
     fflush(stderr);
 }
 
+static void notice(const char *message, void *user)
+{
+    (void)user;
+    cli_error("warning: %s", message);
+}
+
 static volatile sig_atomic_t stop_requested;
 
 static void on_stop_signal(int sig)
@@ -139,7 +145,7 @@ int cmd_run(int argc, char **argv)
     if (scene.warnings[0]) {
         fprintf(stderr, "granule: warning: %s", scene.warnings);
     }
-    gr_run_options opt = {.force = force, .resume = resume != NULL, .stop = &stop_requested};
+    gr_run_options opt = {.force = force, .resume = resume != NULL, .stop = &stop_requested, .notice = notice};
     struct sigaction sa = {.sa_handler = on_stop_signal, .sa_flags = SA_RESETHAND};
     sigemptyset(&sa.sa_mask);
     sigaction(SIGTERM, &sa, NULL);
@@ -152,6 +158,10 @@ int cmd_run(int argc, char **argv)
     if (opt.progress) {
         fputc('\n', stderr);
     }
+    if (res.notes[0]) {
+        fprintf(stderr, "granule: note: %s", res.notes);
+    }
+
     if (rc == GR_OK && res.stopped) {
         cli_error("%s at step %lld (%lld samples): checkpoint written to %s/checkpoint; continue with: granule run --resume %s",
                   res.stopped == 1 ? "stopped by a signal" : "stopped before the wall-time limit (run.wall_limit)",

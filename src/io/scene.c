@@ -12,9 +12,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include "granule/scene.h"
 #include "io/files.h"
+#include "io/scene_lines.h"
 
 typedef enum { K_DOUBLE, K_INT, K_BOOL, K_UINT64, K_STRING, K_ENUM, K_NORMAL, K_TANGENTIAL, K_LIST } key_type;
 
@@ -259,6 +261,8 @@ typedef struct loader {
     const char *file;
     int line;
     bool defaults; /* applying defaults: do not mark keys as given */
+    bool has_system; /* a [system] section was read */
+    const char *long_value; /* the value of a long line (scene_lines.h) */
     char seen[128][136]; /* "section.key" seen in the file, to refuse duplicates */
     int n_seen;
 } loader;
@@ -440,28 +444,36 @@ static int scene_ini_line(void *user, const char *section, const char *name, con
     if (ld->n_seen < 128) {
         snprintf(ld->seen[ld->n_seen++], sizeof ld->seen[0], "%s", id);
     }
+    if (ld->long_value && strcmp(value, GR_LONG_VALUE) == 0) {
+        value = ld->long_value;
+    }
     ld->rc = apply(ld, section, name, value, &w);
     return ld->rc == GR_OK;
 }
 
-/* inih reads one line per call of the reader: counting calls gives the line number. */
+/* inih reads one line per call of the reader; scene_lines.c hands it whole lines and counts them. */
 typedef struct line_reader {
-    FILE *f;
+    gr_line_reader lines;
     loader *ld;
 } line_reader;
 
 static char *read_line(char *str, int num, void *stream)
 {
     line_reader *r = stream;
-    char *s = fgets(str, num, r->f);
+    char *s = r->ld->rc == GR_OK ? gr_line_read(str, num, &r->lines) : NULL;
+    r->ld->line = r->lines.line;
+    if (r->lines.problem[0] && r->ld->rc == GR_OK) {
+        r->ld->rc = GR_FAIL(r->ld->err, GR_EINVAL, "%s:%d: %s", r->ld->file, r->ld->line, r->lines.problem);
+    }
+    r->ld->long_value = r->lines.long_value;
     if (s) {
-        r->ld->line++;
         /* inih reports keys, not sections: catch a misspelt section even when it is empty */
         const char *p = s + strspn(s, " \t");
         if (*p == '[' && r->ld->rc == GR_OK) {
             char name[64];
             size_t len = strcspn(p + 1, "]");
             snprintf(name, sizeof name, "%.*s", (int)(len < 63 ? len : 63), p + 1);
+            r->ld->has_system |= p[1 + len] == ']' && strcmp(name, "system") == 0;
             if (p[1 + len] == ']' && !section_known(name)) {
                 where w = {r->ld->file, r->ld->line, NULL};
                 r->ld->rc = fail_at(r->ld->err, &w, name, "", "%s",
@@ -470,6 +482,19 @@ static char *read_line(char *str, int num, void *stream)
         }
     }
     return s;
+}
+
+/* A scene is a regular file (not a folder, device or pipe) that is not empty. */
+static int check_scene_file(FILE *f, const char *path, gr_error *err)
+{
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0) {
+        return GR_FAIL(err, GR_EIO, "%s: cannot read scene file: %s", path, strerror(errno));
+    }
+    if (!S_ISREG(st.st_mode)) {
+        return GR_FAIL(err, GR_EINVAL, "%s: not a regular file (a scene is an INI file, see docs/scene-keys.md)", path);
+    }
+    return GR_OK;
 }
 
 static void apply_defaults(loader *ld)
@@ -666,19 +691,30 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
         if (!f) {
             return GR_FAIL(err, GR_EIO, "%s: cannot open scene file: %s", path, strerror(errno));
         }
-        line_reader r = {f, &ld};
-        int bad = ini_parse_stream(read_line, &r, scene_ini_line, &ld);
+        int rc = in ? GR_OK : check_scene_file(f, path, err);
+        line_reader r = {{.f = f}, &ld};
+        int bad = rc ? 0 : ini_parse_stream(read_line, &r, scene_ini_line, &ld);
+        const bool content = r.lines.content;
+        gr_line_reader_free(&r.lines);
         if (!in) {
             fclose(f);
         }
-        if (ld.rc != GR_OK) {
-            return ld.rc;
+        if (rc || ld.rc != GR_OK) {
+            return rc ? rc : ld.rc;
         }
         if (bad > 0) {
             return GR_FAIL(err, GR_EINVAL, "%s:%d: not an INI line (expected [section] or key = value)", path, bad);
         }
         if (bad < 0) {
             return GR_FAIL(err, GR_EIO, "%s: could not be read", path);
+        }
+        if (!content) {
+            return GR_FAIL(err, GR_EINVAL, "%s: the scene is empty (only blanks and comments); it needs at least a [system] "
+                           "section with dim and N (docs/scene-keys.md)", path);
+        }
+        if (!ld.has_system) {
+            return GR_FAIL(err, GR_EINVAL, "%s: no [system] section; a scene names at least its system (dim, N; docs/scene-keys.md)",
+                           path);
         }
     }
     for (int i = 0; i < n_overrides; i++) {
@@ -868,6 +904,25 @@ static void save_params(FILE *f, const gr_param *ps, int n, const void *base)
     }
 }
 
+void gr_scene_saved_warnings(gr_scene *s, const char *dir)
+{
+    char path[1200], line[1200];
+    snprintf(path, sizeof path, "%.1100s/scene.ini", dir);
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        return;
+    }
+    s->warnings[0] = '\0';
+    const size_t plen = strlen(GR_SCENE_WARNING_PREFIX);
+    while (fgets(line, sizeof line, f)) {
+        if (strncmp(line, GR_SCENE_WARNING_PREFIX, plen) == 0) {
+            size_t len = strlen(s->warnings);
+            snprintf(s->warnings + len, sizeof s->warnings - len, "%s", line + plen);
+        }
+    }
+    fclose(f);
+}
+
 int gr_scene_save(const gr_scene *s, const char *dir, gr_error *err)
 {
     gr_file f;
@@ -882,6 +937,12 @@ int gr_scene_save(const gr_scene *s, const char *dir, gr_error *err)
 void gr_scene_write(const gr_scene *s, FILE *f)
 {
     fprintf(f, "; resolved scene of this run (from %s); every key as the run used it\n", s->source);
+    /* the load's warnings, for a resumed run's summary.json (gr_scene_saved_warnings) */
+    for (const char *w = s->warnings; *w;) {
+        size_t n = strcspn(w, "\n");
+        fprintf(f, "%s%.*s\n", GR_SCENE_WARNING_PREFIX, (int)n, w);
+        w += n + (w[n] == '\n');
+    }
     const char *section = "";
     for (int i = 0; i < n_keys; i++) {
         const scene_key *k = &keys[i];
