@@ -184,8 +184,11 @@ int cmd_run(int argc, char **argv)
     if (res.T_stderr == res.T_stderr) {
         snprintf(err_text, sizeof err_text, "%.2g", res.T_stderr);
     }
-    printf("%s: T = %.6g +- %s m^2/s^2 over %lld samples; %lld collisions; %.3g particle-steps/s; kernel %s\n",
-           scene.out_dir, res.T_mean, err_text, (long long)res.samples, (long long)res.collisions,
+    /* an error bar whose blocking never reached a plateau is a lower bound: say so on the same line */
+    const char *unconverged = res.T_stderr == res.T_stderr && !res.T_stderr_converged
+                                  ? " (WARNING: error bar not converged, T_stderr_converged = false: run longer)" : "";
+    printf("%s: T = %.6g +- %s m^2/s^2%s over %lld samples; %lld collisions; %.3g particle-steps/s; kernel %s\n",
+           scene.out_dir, res.T_mean, err_text, unconverged, (long long)res.samples, (long long)res.collisions,
            res.particle_steps_per_second, res.kernel);
     return EXIT_OK;
 }
