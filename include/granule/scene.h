@@ -84,6 +84,9 @@ typedef struct gr_scene_override {
  * resolve derived quantities (L from packing fraction, ...). */
 int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, int n_overrides,
                   gr_error *err);
+/* gr_scene_load for a scene a user hands to a command: also refuses a file that is empty or only
+ * comments, or has no [system] section (gr_scene_load accepts partial scenes, e.g. in tests). */
+int gr_scene_load_whole(gr_scene *s, const char *path, const char *const *overrides, int n_overrides, gr_error *err);
 /* The same from scene text in memory (text[0..len), not NUL-terminated; `name` stands for the
  * file in messages). Used by the fuzz harness (tests/fuzz) and anything holding a scene in memory. */
 int gr_scene_load_buffer(gr_scene *s, const char *name, const char *text, size_t len,

@@ -285,7 +285,7 @@ int cmd_compare(int argc, char **argv)
         for (int i = 0; i < 3; i++) {
             all[m++] = assign[k][i];
         }
-        if (gr_scene_load(&scenes[k], scene_path, all, m, &err)) {
+        if (gr_scene_load_whole(&scenes[k], scene_path, all, m, &err)) {
             cli_error("compare: %s: %s", list[k].spec, err.message);
             free(sets);
             return EXIT_REFUSED;

@@ -129,7 +129,7 @@ int cmd_run(int argc, char **argv)
     }
     gr_scene scene;
     gr_error err = {0};
-    int rc = gr_scene_load(&scene, scene_path, sets, n_sets, &err);
+    int rc = gr_scene_load_whole(&scene, scene_path, sets, n_sets, &err);
     free(sets);
     if (rc) {
         cli_error("%s", err.message);

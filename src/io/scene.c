@@ -681,7 +681,7 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
 
 /* Read the scene from `in` (named `path` in messages), or open `path` when `in` is NULL. */
 static int load(gr_scene *s, const char *path, FILE *in, const char *const *overrides, int n_overrides,
-                gr_error *err)
+                bool whole_scene, gr_error *err)
 {
     gr_scene_default(s);
     loader ld = {.scene = s, .err = err, .rc = GR_OK, .file = path};
@@ -708,11 +708,11 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
         if (bad < 0) {
             return GR_FAIL(err, GR_EIO, "%s: could not be read", path);
         }
-        if (!content) {
+        if (whole_scene && !content) {
             return GR_FAIL(err, GR_EINVAL, "%s: the scene is empty (only blanks and comments); it needs at least a [system] "
                            "section with dim and N (docs/scene-keys.md)", path);
         }
-        if (!ld.has_system) {
+        if (whole_scene && !ld.has_system) {
             return GR_FAIL(err, GR_EINVAL, "%s: no [system] section; a scene names at least its system (dim, N; docs/scene-keys.md)",
                            path);
         }
@@ -759,7 +759,12 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
 int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, int n_overrides,
                   gr_error *err)
 {
-    return load(s, path, NULL, overrides, n_overrides, err);
+    return load(s, path, NULL, overrides, n_overrides, false, err);
+}
+
+int gr_scene_load_whole(gr_scene *s, const char *path, const char *const *overrides, int n_overrides, gr_error *err)
+{
+    return load(s, path, NULL, overrides, n_overrides, true, err);
 }
 
 int gr_scene_load_buffer(gr_scene *s, const char *name, const char *text, size_t len,
@@ -770,7 +775,7 @@ int gr_scene_load_buffer(gr_scene *s, const char *name, const char *text, size_t
     if (!f) {
         return GR_FAIL(err, GR_ENOMEM, "%s: cannot read scene text: %s", name, strerror(errno));
     }
-    int rc = load(s, name ? name : "<buffer>", f, overrides, n_overrides, err);
+    int rc = load(s, name ? name : "<buffer>", f, overrides, n_overrides, false, err);
     fclose(f);
     return rc;
 }
