@@ -196,5 +196,23 @@ else
     fail "re-run with --force did not replace summary.json"
 fi
 
+# ---------- the schedule (issue 14): snapshots independent of samples, checkpoint_every beyond the run ----------
+printf '%s\n' '[system]' 'dim = 1' 'N = 20' 'reduced_length = 0.1' '[placement]' 'kind = uniform' '[run]' 'warmup = 0' \
+    'duration = 0.05' 'sample_every = 1e-3' 'checkpoint_every = 1e300' '[output]' 'plots = false' 'snapshot_every = 1e-4' >"$TMP/sched.ini"
+run "$G" run "$TMP/sched.ini" --out "$TMP/sched-out"
+nsnap=$(ls "$TMP/sched-out/snapshots" 2>/dev/null | wc -l)
+if [[ $rc -eq 0 && $nsnap -eq 501 ]]; then pass "snapshot_every = 1e-4 with sample_every = 1e-3: 501 snapshots"; else fail "snapshot schedule: exit $rc, $nsnap snapshots, expected 501" "$err"; fi
+if python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["checkpoints_written"] == 0 else 1)' "$TMP/sched-out/summary.json" 2>/dev/null; then
+    pass "checkpoint_every = 1e300: no checkpoint during the run"
+else
+    fail "checkpoint_every = 1e300 wrote checkpoints"
+fi
+conv=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["T_stderr_converged"])' "$TMP/sched-out/summary.json" 2>/dev/null)
+if [[ $conv == False && $out == *"T_stderr_converged = false"* ]] || [[ $conv == True && $out != *"not converged"* ]]; then
+    pass "result line carries the T_stderr_converged warning ($conv)"
+else
+    fail "result line and T_stderr_converged = $conv disagree" "$out"
+fi
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -892,6 +892,44 @@ START_TEST(load_buffer_matches_file)
 }
 END_TEST
 
+/* Issue 14: inih split lines longer than 197 characters and read the tail as a new line; a NUL
+ * cut a value short; a comments-only scene ran the defaults. */
+START_TEST(lines_read_whole)
+{
+    char text[1200], dir[600];
+    memset(dir, 'd', sizeof dir);
+    dir[sizeof dir - 1] = 0;
+    /* a long comment whose tail looks like a key is a comment */
+    snprintf(text, sizeof text, "[system]\ndim = 2\n; %0197d seed = 42\n", 0);
+    gr_scene s;
+    gr_error err = {0};
+    ck_assert_msg(gr_scene_load_whole(&s, write_scene(text), NULL, 0, &err) == GR_OK, "%s", err.message);
+    ck_assert(s.seed == 1);
+    /* a long value is read whole (inline comment removed), and the next line keeps its number */
+    snprintf(text, sizeof text, "[system]\ndim = 2\n[output]\ndir = %s ; a comment\nplots = 1x\n", dir);
+    char p[700];
+    snprintf(p, sizeof p, "%s", write_scene(text));
+    snprintf(text, sizeof text, "[system]\ndim = 2\n[output]\ndir = %s ; a comment\n", dir);
+    ck_assert_msg(gr_scene_load_whole(&s, write_scene(text), NULL, 0, &err) == GR_OK, "%s", err.message);
+    ck_assert_str_eq(s.out_dir, dir);
+    char at[800];
+    snprintf(at, sizeof at, "%s:5:", p);
+    ck_assert_int_eq(gr_scene_load_whole(&s, p, NULL, 0, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, at) && strstr(err.message, "plots"), "%s", err.message);
+    /* a NUL byte or another control byte is refused at its line */
+    const char nul[] = "[system]\ndim = 2\nN = 5\0000\n";
+    ck_assert_int_eq(gr_scene_load_buffer(&s, "nul.ini", nul, sizeof nul - 1, NULL, 0, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "nul.ini:3:") && strstr(err.message, "control byte 0x00"), "%s", err.message);
+    /* a whole scene needs content and a [system] section; a folder is not a scene */
+    ck_assert_int_eq(gr_scene_load_whole(&s, write_scene("; only a comment\n"), NULL, 0, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "empty"), "%s", err.message);
+    ck_assert_int_eq(gr_scene_load_whole(&s, write_scene("[run]\nseed = 3\n"), NULL, 0, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "[system]"), "%s", err.message);
+    ck_assert_int_eq(gr_scene_load_whole(&s, g_dir, NULL, 0, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "not a regular file"), "%s", err.message);
+}
+END_TEST
+
 /* Found while fuzzing: seeds were read with strtoull after a strtod range check, so "1e3" ran
  * with seed 1, "0x10" with seed 0 and 2^64 with 2^64 - 1, silently. */
 START_TEST(refuse_seed_not_digits)
@@ -969,6 +1007,7 @@ static Suite *scene_suite(void)
     tcase_add_test(refuse, refuse_packing_fraction_above_hexagonal);
     tcase_add_test(refuse, refuse_box_beyond_1e9_diameters);
     tcase_add_test(refuse, refuse_seed_not_digits);
+    tcase_add_test(refuse, lines_read_whole);
     suite_add_tcase(s, refuse);
 
     TCase *load = tcase_create("load");

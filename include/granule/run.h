@@ -39,6 +39,9 @@ typedef struct gr_run_options {
     /* when *stop becomes non-zero (e.g. set by a SIGTERM handler) the run writes a checkpoint at
      * the next step boundary and returns with result.stopped = 1; NULL for none */
     volatile sig_atomic_t *stop;
+    /* called when something goes wrong that the run survives (a periodic checkpoint that could
+     * not be written, e.g. for lack of space), with the message, when it happens; NULL for none */
+    void (*notice)(const char *message, void *user);
 } gr_run_options;
 
 typedef struct gr_run_result {
@@ -54,6 +57,7 @@ typedef struct gr_run_result {
     int64_t checkpoints;       /* written by this call */
     double checkpoint_seconds; /* wall time spent writing them */
     char checkpoint_error[256]; /* first failed periodic checkpoint ("" if none) */
+    char notes[600];            /* schedule roundings worth stating, one per line ("" if none) */
 } gr_run_result;
 
 /* Run the scene into scene->out_dir. On an unstable run the outputs written so far are kept,

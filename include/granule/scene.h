@@ -84,6 +84,9 @@ typedef struct gr_scene_override {
  * resolve derived quantities (L from packing fraction, ...). */
 int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, int n_overrides,
                   gr_error *err);
+/* gr_scene_load for a scene a user hands to a command: also refuses a file that is empty or only
+ * comments, or has no [system] section (gr_scene_load accepts partial scenes, e.g. in tests). */
+int gr_scene_load_whole(gr_scene *s, const char *path, const char *const *overrides, int n_overrides, gr_error *err);
 /* The same from scene text in memory (text[0..len), not NUL-terminated; `name` stands for the
  * file in messages). Used by the fuzz harness (tests/fuzz) and anything holding a scene in memory. */
 int gr_scene_load_buffer(gr_scene *s, const char *name, const char *text, size_t len,
@@ -94,6 +97,10 @@ int gr_scene_load_buffer(gr_scene *s, const char *name, const char *text, size_t
 int gr_scene_save(const gr_scene *s, const char *dir, gr_error *err);
 /* The same text written to a stream (checkpoints keep it to check a resumed scene). */
 void gr_scene_write(const gr_scene *s, FILE *f);
+/* gr_scene_write keeps the load's warnings as comment lines with this prefix; a resume restores
+ * them into s->warnings from DIR/scene.ini, so summary.json is that of an uninterrupted run. */
+#define GR_SCENE_WARNING_PREFIX "; warning: "
+void gr_scene_saved_warnings(gr_scene *s, const char *dir);
 
 /* Write the reference of every scene key (engine keys and every model's parameters) as
  * Markdown; docs/scene-keys.md is this output. */

@@ -3,6 +3,7 @@
 #define GR_CLI_H
 
 #include <stdbool.h>
+#include <stdio.h>
 
 #include "granule/status.h"
 
@@ -28,8 +29,12 @@ int cmd_cascade(int argc, char **argv);
 int cmd_fokker_planck(int argc, char **argv);
 int cmd_export(int argc, char **argv);
 
-/* Print "granule: <message>" on stderr. */
+/* Print "granule: <message>" on stderr, one line, control bytes and invalid UTF-8 as \xNN. */
 void cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* Print text with the same escaping. */
+void cli_print_escaped(FILE *f, const char *text);
+/* The exit status for a library status: 0 ok, 2 refused input (GR_EINVAL), 3 unstable, 1 other. */
+int cli_exit_code(int status);
 /* True when progress lines may be drawn (stderr is a terminal and CI is not set). */
 bool cli_interactive(void);
 /* Parse a number option value or print an error naming the option. */

@@ -154,7 +154,7 @@ int cmd_collide(int argc, char **argv)
         }
         if (gr_collide_run(&s, &cs, &r, &err)) {
             cli_error("collide: %s", err.message);
-            return err.code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
+            return cli_exit_code(err.code);
         }
         lo = fmin(lo, r.energy_loss);
         hi = fmax(hi, r.energy_loss);
@@ -194,7 +194,7 @@ int cmd_collide(int argc, char **argv)
         if (gr_collide_reference(&s, &cs, &ref, &err)) {
             cJSON_Delete(o);
             cli_error("collide --reference: %s", err.message);
-            return EXIT_FAILED;
+            return cli_exit_code(err.code);
         }
         add_result(o, "reference_", &ref);
     }

@@ -5,9 +5,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli/cli.h"
 #include "granule/run.h"
+#include "io/checkpoint.h"
 #include "io/files.h"
 #include "io/plot.h"
 #include "io/summary_read.h"
@@ -181,6 +183,29 @@ static void pv_collapse(const char *out, const entry *list, int n)
     }
 }
 
+/* The first result of an earlier comparison in `out` (its tables, or a model's finished or
+ * interrupted run), named in `what`; false when there is none. */
+static bool earlier_comparison(const char *out, const entry *list, int n, char *what, size_t len)
+{
+    const char *tables[] = {"compare.md", "compare.csv"};
+    for (int i = 0; i < 2; i++) {
+        snprintf(what, len, "%s/%s", out, tables[i]);
+        if (access(what, F_OK) == 0) {
+            return true;
+        }
+    }
+    for (int k = 0; k < n; k++) {
+        const char *runs[] = {"summary.json", GR_CHECKPOINT_NAME};
+        for (int i = 0; i < 2; i++) {
+            snprintf(what, len, "%s/%s/%s", out, list[k].label, runs[i]);
+            if (access(what, F_OK) == 0) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
 int cmd_compare(int argc, char **argv)
 {
     const char *scene_path = NULL, *models = NULL, *out = "out/compare";
@@ -214,11 +239,6 @@ int cmd_compare(int argc, char **argv)
         return EXIT_REFUSED;
     }
     gr_error err = {0};
-    if (gr_output_dir_prepare(out, force, &err)) {
-        cli_error("compare: %s", err.message);
-        free(sets);
-        return err.code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
-    }
     entry list[16];
     int n = 0;
     char buf[1024];
@@ -265,7 +285,7 @@ int cmd_compare(int argc, char **argv)
         for (int i = 0; i < 3; i++) {
             all[m++] = assign[k][i];
         }
-        if (gr_scene_load(&scenes[k], scene_path, all, m, &err)) {
+        if (gr_scene_load_whole(&scenes[k], scene_path, all, m, &err)) {
             cli_error("compare: %s: %s", list[k].spec, err.message);
             free(sets);
             return EXIT_REFUSED;
@@ -273,6 +293,16 @@ int cmd_compare(int argc, char **argv)
         snprintf(scenes[k].out_dir, sizeof scenes[k].out_dir, "%s/%s", out, list[k].label);
     }
     free(sets);
+    /* only now, with every model's scene accepted, is the folder touched; an earlier comparison
+     * (its table or any model's run) is kept unless --force */
+    if (!force && earlier_comparison(out, list, n, buf, sizeof buf)) {
+        cli_error("compare: %s already holds a comparison (%s); choose another folder or pass --force to overwrite it", out, buf);
+        return EXIT_REFUSED;
+    }
+    if (gr_output_dir_prepare(out, force, &err)) {
+        cli_error("compare: %s", err.message);
+        return cli_exit_code(err.code);
+    }
     int failures = 0;
     for (int k = 0; k < n; k++) {
         fprintf(stderr, "compare: %s (%d/%d)\n", list[k].spec, k + 1, n);

@@ -39,6 +39,12 @@ static void progress(const gr_progress *p, void *user)
     fflush(stderr);
 }
 
+static void notice(const char *message, void *user)
+{
+    (void)user;
+    cli_error("warning: %s", message);
+}
+
 static volatile sig_atomic_t stop_requested;
 
 static void on_stop_signal(int sig)
@@ -123,7 +129,7 @@ int cmd_run(int argc, char **argv)
     }
     gr_scene scene;
     gr_error err = {0};
-    int rc = gr_scene_load(&scene, scene_path, sets, n_sets, &err);
+    int rc = gr_scene_load_whole(&scene, scene_path, sets, n_sets, &err);
     free(sets);
     if (rc) {
         cli_error("%s", err.message);
@@ -139,7 +145,7 @@ int cmd_run(int argc, char **argv)
     if (scene.warnings[0]) {
         fprintf(stderr, "granule: warning: %s", scene.warnings);
     }
-    gr_run_options opt = {.force = force, .resume = resume != NULL, .stop = &stop_requested};
+    gr_run_options opt = {.force = force, .resume = resume != NULL, .stop = &stop_requested, .notice = notice};
     struct sigaction sa = {.sa_handler = on_stop_signal, .sa_flags = SA_RESETHAND};
     sigemptyset(&sa.sa_mask);
     sigaction(SIGTERM, &sa, NULL);
@@ -152,6 +158,10 @@ int cmd_run(int argc, char **argv)
     if (opt.progress) {
         fputc('\n', stderr);
     }
+    if (res.notes[0]) {
+        fprintf(stderr, "granule: note: %s", res.notes);
+    }
+
     if (rc == GR_OK && res.stopped) {
         cli_error("%s at step %lld (%lld samples): checkpoint written to %s/checkpoint; continue with: granule run --resume %s",
                   res.stopped == 1 ? "stopped by a signal" : "stopped before the wall-time limit (run.wall_limit)",
@@ -174,8 +184,11 @@ int cmd_run(int argc, char **argv)
     if (res.T_stderr == res.T_stderr) {
         snprintf(err_text, sizeof err_text, "%.2g", res.T_stderr);
     }
-    printf("%s: T = %.6g +- %s m^2/s^2 over %lld samples; %lld collisions; %.3g particle-steps/s; kernel %s\n",
-           scene.out_dir, res.T_mean, err_text, (long long)res.samples, (long long)res.collisions,
+    /* an error bar whose blocking never reached a plateau is a lower bound: say so on the same line */
+    const char *unconverged = res.T_stderr == res.T_stderr && !res.T_stderr_converged
+                                  ? " (WARNING: error bar not converged, T_stderr_converged = false: run longer)" : "";
+    printf("%s: T = %.6g +- %s m^2/s^2%s over %lld samples; %lld collisions; %.3g particle-steps/s; kernel %s\n",
+           scene.out_dir, res.T_mean, err_text, unconverged, (long long)res.samples, (long long)res.collisions,
            res.particle_steps_per_second, res.kernel);
     return EXIT_OK;
 }

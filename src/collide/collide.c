@@ -122,7 +122,7 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     }
     gr_scene sc;
     gr_scene_default(&sc);
-    snprintf(sc.source, sizeof sc.source, "collide");
+    snprintf(sc.source, sizeof sc.source, "options"); /* messages read "collide: options: [..] key ..." */
     sc.dim = dim;
     sc.N = 2;
     sc.radius = cs->radius;

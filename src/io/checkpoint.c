@@ -220,7 +220,7 @@ int gr_checkpoint_load_file(const char *dir, void **buf, size_t *len, gr_error *
     struct stat st;
     if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
         fclose(f);
-        return GR_FAIL(err, GR_EIO, "%s: not a regular file", path);
+        return GR_FAIL(err, GR_EINVAL, "%s: not a regular file (a checkpoint is a file granule wrote)", path);
     }
     size_t n = (size_t)st.st_size;
     unsigned char *p = malloc(n ? n : 1);

@@ -116,9 +116,22 @@ static int mkdir_p(const char *dir, gr_error *err)
     return GR_OK;
 }
 
+int gr_output_path_check(const char *dir, gr_error *err)
+{
+    for (const unsigned char *c = (const unsigned char *)dir; *c; c++) {
+        if (*c < 0x20 || *c == 0x7f) {
+            return GR_FAIL(err, GR_EINVAL, "output folder %s: the name holds a %s (byte 0x%02x); the run's scene.ini could "
+                           "not name it and the run could never be resumed: choose a name without control characters",
+                           dir, *c == '\n' ? "newline" : "control character", *c);
+        }
+    }
+    return *dir ? GR_OK : GR_FAIL(err, GR_EINVAL, "output folder: empty name");
+}
+
 int gr_output_dir_prepare(const char *dir, bool force, gr_error *err)
 {
-    int rc = mkdir_p(dir, err);
+    int rc = gr_output_path_check(dir, err);
+    rc = rc ? rc : mkdir_p(dir, err);
     if (rc) {
         return rc;
     }

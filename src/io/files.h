@@ -26,6 +26,10 @@ int gr_file_check(gr_file *out, gr_error *err);
  * while writing PATH: ...", anything else "cannot write PATH: ...". Returns GR_EIO. */
 int gr_file_fail(const char *path, int errnum, gr_error *err);
 
+/* Refuse an output folder name with control characters (a newline would make its scene.ini
+ * unreadable, so the run could never be resumed): GR_EINVAL naming the byte. */
+int gr_output_path_check(const char *dir, gr_error *err);
+
 /* Create dir (and parents); refuse a folder holding another run's summary.json unless force;
  * prove it is writable. */
 int gr_output_dir_prepare(const char *dir, bool force, gr_error *err);

@@ -24,6 +24,7 @@
 #include "io/scene_json.h"
 #include "io/snapshot.h"
 #include "io/run_checkpoint.h"
+#include "io/run_schedule.h"
 #include "core/sim_state.h"
 #include "hybrid/hybrid.h"
 #include "event/event.h"
@@ -142,8 +143,10 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, co
         cJSON_AddItemToArray(bl, cJSON_CreateNumber(gr_blocking_stderr_at(blk, k)));
     }
     cJSON_AddStringToObject(j, "plots", plots);
-    if (scene->warnings[0]) {
-        cJSON_AddStringToObject(j, "warnings", scene->warnings);
+    if (scene->warnings[0] || r->notes[0]) {
+        char all[sizeof scene->warnings + sizeof r->notes];
+        snprintf(all, sizeof all, "%s%s", scene->warnings, r->notes);
+        cJSON_AddStringToObject(j, "warnings", all);
     }
     if (analysis) {
         cJSON_AddItemToObject(j, "analysis", analysis);
@@ -181,6 +184,15 @@ static int write_blocks(const char *dir, const gr_scene *s, uint64_t hash, const
     return gr_file_commit(&f, err);
 }
 
+/* the snapshot due at this step; the next one snap_every steps later */
+static int write_snapshot(gr_sim *sim, const char *snapdir, int *index, int64_t *next, int64_t snap_every, gr_error *err)
+{
+    gr_particles p = gr_sim_particles(sim);
+    int rc = gr_snapshot_write(snapdir, (*index)++, &p, gr_sim_time(sim), err);
+    *next += snap_every;
+    return rc;
+}
+
 int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res, gr_error *err)
 {
     memset(res, 0, sizeof *res);
@@ -199,14 +211,11 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         scene = &resumed;
     }
     const char *dir = scene->out_dir;
-    int rc = resume ? GR_OK : gr_output_dir_prepare(dir, opt && opt->force, err);
-    rc = rc || resume ? rc : gr_run_checkpoint_guard(dir, opt && opt->force, err);
-    rc = rc || resume ? rc : gr_scene_save(scene, dir, err); /* a resume reads it back */
-    if (rc) {
-        return rc;
-    }
-    gr_sim *sim;
-    rc = gr_sim_create(scene, &sim, err);
+    /* everything that can refuse the scene (dt, placement, observables, schedule) is checked
+     * before the output folder is touched: a refused run leaves it as it was */
+    int rc = gr_output_path_check(dir, err);
+    gr_sim *sim = NULL;
+    rc = rc ? rc : gr_sim_create(scene, &sim, err);
     if (rc) {
         free(ck_buf);
         return rc;
@@ -220,6 +229,12 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     if (!rc && gr_observer_needs_events(obs)) {
         rc = gr_sim_track_contacts(sim, err);
     }
+    const double dt = gr_sim_dt(sim);
+    gr_run_schedule plan;
+    rc = rc ? rc : gr_run_schedule_make(scene, dt, &plan, res->notes, sizeof res->notes, err);
+    rc = rc || resume ? rc : gr_output_dir_prepare(dir, opt && opt->force, err);
+    rc = rc || resume ? rc : gr_run_checkpoint_guard(dir, opt && opt->force, err);
+    rc = rc || resume ? rc : gr_scene_save(scene, dir, err); /* a resume reads it back */
     if (rc) {
         gr_observer_free(obs);
         gr_sim_free(sim);
@@ -227,11 +242,8 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         return rc;
     }
     const uint64_t hash = gr_scene_hash(scene);
-    const double dt = gr_sim_dt(sim);
-    const int64_t per_sample = llround(scene->sample_every / dt) > 0 ? llround(scene->sample_every / dt) : 1;
-    const int64_t warm_samples = llround(scene->warmup / scene->sample_every);
-    const int64_t run_samples = llround(scene->duration / scene->sample_every);
-    const int64_t snap_every = scene->snapshot_every > 0.0 ? llround(scene->snapshot_every / dt) : 0;
+    const int64_t per_sample = plan.per_sample, warm_samples = plan.warm_samples, run_samples = plan.run_samples;
+    const int64_t snap_every = plan.snap_every;
     char snapdir[1100];
     snprintf(snapdir, sizeof snapdir, "%.1080s/snapshots", dir);
     if (snap_every > 0 && mkdir(snapdir, 0777) != 0 && access(snapdir, W_OK) != 0) {
@@ -282,6 +294,9 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     if (resume) {
         rc = gr_run_resume_state(&ck, dir, sim, obs, &ckst, err);
         free(ck_buf);
+        while (!rc && snap_every > 0 && next_snap < gr_sim_steps(sim)) {
+            next_snap += snap_every; /* a checkpoint of a version that snapshotted at samples */
+        }
         if (rc) {
             free(haff_t);
             free(haff_T);
@@ -292,9 +307,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     }
     gr_error ck_err = {0};
     const bool can_checkpoint = gr_sim_checkpointable(sim, &ck_err) == GR_OK;
-    const int64_t ckpt_samples = scene->checkpoint_every > 0.0
-                                     ? (llround(scene->checkpoint_every / scene->sample_every) > 0 ? llround(scene->checkpoint_every / scene->sample_every) : 1)
-                                     : 0;
+    const int64_t ckpt_samples = plan.ckpt_samples;
     const int64_t steps_at_start = gr_sim_steps(sim);
     double last_ckpt = now(), chunk_wall = 0.0;
     double ckpt_cost = 1e-2 + 8.0 * 14.0 * (double)scene->N / 2e8; /* until one is measured */
@@ -311,7 +324,8 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     for (int64_t k = ckst.k_next; k <= warm_samples + run_samples; k++) {
         if (k > 0) {
             while (rc == GR_OK && gr_sim_steps(sim) < k * per_sample) {
-                const int64_t todo = k * per_sample - gr_sim_steps(sim);
+                const int64_t until = snap_every > 0 && next_snap < k * per_sample ? next_snap : k * per_sample;
+                const int64_t todo = until - gr_sim_steps(sim);
                 double t0 = now();
                 rc = gr_sim_step(sim, gr_sim_call_steps(sim, chunk, todo), &step_err);
                 chunk_wall = now() - t0;
@@ -319,6 +333,12 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
                 chunk = chunk_wall < 0.05 && chunk < chunk_cap ? (2 * chunk < chunk_cap ? 2 * chunk : chunk_cap)
                         : chunk_wall > 0.2 && chunk > 1 ? chunk / 2
                                                         : chunk;
+                if (rc == GR_OK && snap_every > 0 && gr_sim_steps(sim) == next_snap && next_snap < k * per_sample) {
+                    rc = write_snapshot(sim, snapdir, &snap_index, &next_snap, snap_every, err);
+                    if (rc) {
+                        break;
+                    }
+                }
                 test_pause(sim, opt);
                 stop = opt && opt->stop && *opt->stop ? 1
                        : scene->wall_limit > 0.0 && now() - t_enter + 2.0 * chunk_wall + 2.0 * ckpt_cost + 1.0 >= scene->wall_limit ? 2
@@ -326,6 +346,9 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
                 if (stop) {
                     break;
                 }
+            }
+            if (rc && err->code && !step_err.code) {
+                break; /* a snapshot could not be written */
             }
             if (rc) {
                 status = "unstable";
@@ -389,13 +412,11 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
             snprintf(diagnosis, sizeof diagnosis, "%s", step_err.message);
             break;
         }
-        if (snap_every > 0 && gr_sim_steps(sim) >= next_snap) {
-            gr_particles p = gr_sim_particles(sim);
-            rc = gr_snapshot_write(snapdir, snap_index++, &p, t, err);
+        if (snap_every > 0 && gr_sim_steps(sim) == next_snap) {
+            rc = write_snapshot(sim, snapdir, &snap_index, &next_snap, snap_every, err);
             if (rc) {
                 break;
             }
-            next_snap += snap_every;
         }
         if (k < warm_samples + run_samples) {
             stop = stop ? stop
@@ -413,9 +434,16 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
                     res->checkpoints++;
                     res->checkpoint_seconds += used;
                     ckpt_cost = used;
-                } else if (!res->checkpoint_error[0]) {
-                    /* reported in summary.json; the previous checkpoint is kept */
-                    snprintf(res->checkpoint_error, sizeof res->checkpoint_error, "%.255s", werr.message);
+                } else {
+                    if (!res->checkpoint_error[0]) { /* reported in summary.json; the previous checkpoint is kept */
+                        snprintf(res->checkpoint_error, sizeof res->checkpoint_error, "%.255s", werr.message);
+                    }
+                    if (opt && opt->notice) {
+                        char text[400];
+                        snprintf(text, sizeof text, "checkpoint not written at t = %.6g s (the previous one is kept): %.300s",
+                                 gr_sim_time(sim), werr.message);
+                        opt->notice(text, opt->user);
+                    }
                 }
                 last_ckpt = now();
             }

@@ -326,6 +326,7 @@ int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoi
         *buf = NULL;
         return GR_FAIL(err, GR_EINVAL, "%s/%s is refused: %s", dir, GR_CHECKPOINT_NAME, cerr.message);
     }
+    gr_scene_saved_warnings(scene, dir); /* the first start's warnings, for summary.json */
     return GR_OK;
 }
 

@@ -12,9 +12,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include "granule/scene.h"
 #include "io/files.h"
+#include "io/scene_lines.h"
 
 typedef enum { K_DOUBLE, K_INT, K_BOOL, K_UINT64, K_STRING, K_ENUM, K_NORMAL, K_TANGENTIAL, K_LIST } key_type;
 
@@ -65,7 +67,7 @@ static const scene_key keys[] = {
     {"run", "progress", "", K_BOOL, "true", 0, 1, false, false, NULL, "progress line with ETA on a terminal (never in CI logs or when stderr is not a terminal)", OFF(progress)},
     {"analysis", "observables", "", K_LIST, "", 0, 0, false, false, NULL, "statistics to accumulate while sampling, comma-separated (granule observables lists them); empty = temperature only", OFF(observables)},
     {"output", "dir", "", K_STRING, "out", 0, 0, false, false, NULL, "output folder (granule run --out overrides it)", OFF(out_dir)},
-    {"output", "snapshot_every", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "interval between extended-XYZ snapshots; 0 = none", OFF(snapshot_every)},
+    {"output", "snapshot_every", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "interval between extended-XYZ snapshots, a whole number of steps, independent of sample_every; 0 = none", OFF(snapshot_every)},
     {"output", "plots", "", K_BOOL, "true", 0, 1, false, false, NULL, "write PNG plots with gnuplot at the end of the run (skipped with a note if gnuplot is missing)", OFF(plots)},
 };
 #undef OFF
@@ -259,6 +261,8 @@ typedef struct loader {
     const char *file;
     int line;
     bool defaults; /* applying defaults: do not mark keys as given */
+    bool has_system; /* a [system] section was read */
+    const char *long_value; /* the value of a long line (scene_lines.h) */
     char seen[128][136]; /* "section.key" seen in the file, to refuse duplicates */
     int n_seen;
 } loader;
@@ -440,28 +444,36 @@ static int scene_ini_line(void *user, const char *section, const char *name, con
     if (ld->n_seen < 128) {
         snprintf(ld->seen[ld->n_seen++], sizeof ld->seen[0], "%s", id);
     }
+    if (ld->long_value && strcmp(value, GR_LONG_VALUE) == 0) {
+        value = ld->long_value;
+    }
     ld->rc = apply(ld, section, name, value, &w);
     return ld->rc == GR_OK;
 }
 
-/* inih reads one line per call of the reader: counting calls gives the line number. */
+/* inih reads one line per call of the reader; scene_lines.c hands it whole lines and counts them. */
 typedef struct line_reader {
-    FILE *f;
+    gr_line_reader lines;
     loader *ld;
 } line_reader;
 
 static char *read_line(char *str, int num, void *stream)
 {
     line_reader *r = stream;
-    char *s = fgets(str, num, r->f);
+    char *s = r->ld->rc == GR_OK ? gr_line_read(str, num, &r->lines) : NULL;
+    r->ld->line = r->lines.line;
+    if (r->lines.problem[0] && r->ld->rc == GR_OK) {
+        r->ld->rc = GR_FAIL(r->ld->err, GR_EINVAL, "%s:%d: %s", r->ld->file, r->ld->line, r->lines.problem);
+    }
+    r->ld->long_value = r->lines.long_value;
     if (s) {
-        r->ld->line++;
         /* inih reports keys, not sections: catch a misspelt section even when it is empty */
         const char *p = s + strspn(s, " \t");
         if (*p == '[' && r->ld->rc == GR_OK) {
             char name[64];
             size_t len = strcspn(p + 1, "]");
             snprintf(name, sizeof name, "%.*s", (int)(len < 63 ? len : 63), p + 1);
+            r->ld->has_system |= p[1 + len] == ']' && strcmp(name, "system") == 0;
             if (p[1 + len] == ']' && !section_known(name)) {
                 where w = {r->ld->file, r->ld->line, NULL};
                 r->ld->rc = fail_at(r->ld->err, &w, name, "", "%s",
@@ -470,6 +482,19 @@ static char *read_line(char *str, int num, void *stream)
         }
     }
     return s;
+}
+
+/* A scene is a regular file (not a folder, device or pipe) that is not empty. */
+static int check_scene_file(FILE *f, const char *path, gr_error *err)
+{
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0) {
+        return GR_FAIL(err, GR_EIO, "%s: cannot read scene file: %s", path, strerror(errno));
+    }
+    if (!S_ISREG(st.st_mode)) {
+        return GR_FAIL(err, GR_EINVAL, "%s: not a regular file (a scene is an INI file, see docs/scene-keys.md)", path);
+    }
+    return GR_OK;
 }
 
 static void apply_defaults(loader *ld)
@@ -656,7 +681,7 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
 
 /* Read the scene from `in` (named `path` in messages), or open `path` when `in` is NULL. */
 static int load(gr_scene *s, const char *path, FILE *in, const char *const *overrides, int n_overrides,
-                gr_error *err)
+                bool whole_scene, gr_error *err)
 {
     gr_scene_default(s);
     loader ld = {.scene = s, .err = err, .rc = GR_OK, .file = path};
@@ -666,19 +691,30 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
         if (!f) {
             return GR_FAIL(err, GR_EIO, "%s: cannot open scene file: %s", path, strerror(errno));
         }
-        line_reader r = {f, &ld};
-        int bad = ini_parse_stream(read_line, &r, scene_ini_line, &ld);
+        int rc = in ? GR_OK : check_scene_file(f, path, err);
+        line_reader r = {{.f = f}, &ld};
+        int bad = rc ? 0 : ini_parse_stream(read_line, &r, scene_ini_line, &ld);
+        const bool content = r.lines.content;
+        gr_line_reader_free(&r.lines);
         if (!in) {
             fclose(f);
         }
-        if (ld.rc != GR_OK) {
-            return ld.rc;
+        if (rc || ld.rc != GR_OK) {
+            return rc ? rc : ld.rc;
         }
         if (bad > 0) {
             return GR_FAIL(err, GR_EINVAL, "%s:%d: not an INI line (expected [section] or key = value)", path, bad);
         }
         if (bad < 0) {
             return GR_FAIL(err, GR_EIO, "%s: could not be read", path);
+        }
+        if (whole_scene && !content) {
+            return GR_FAIL(err, GR_EINVAL, "%s: the scene is empty (only blanks and comments); it needs at least a [system] "
+                           "section with dim and N (docs/scene-keys.md)", path);
+        }
+        if (whole_scene && !ld.has_system) {
+            return GR_FAIL(err, GR_EINVAL, "%s: no [system] section; a scene names at least its system (dim, N; docs/scene-keys.md)",
+                           path);
         }
     }
     for (int i = 0; i < n_overrides; i++) {
@@ -723,7 +759,12 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
 int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, int n_overrides,
                   gr_error *err)
 {
-    return load(s, path, NULL, overrides, n_overrides, err);
+    return load(s, path, NULL, overrides, n_overrides, false, err);
+}
+
+int gr_scene_load_whole(gr_scene *s, const char *path, const char *const *overrides, int n_overrides, gr_error *err)
+{
+    return load(s, path, NULL, overrides, n_overrides, true, err);
 }
 
 int gr_scene_load_buffer(gr_scene *s, const char *name, const char *text, size_t len,
@@ -734,7 +775,7 @@ int gr_scene_load_buffer(gr_scene *s, const char *name, const char *text, size_t
     if (!f) {
         return GR_FAIL(err, GR_ENOMEM, "%s: cannot read scene text: %s", name, strerror(errno));
     }
-    int rc = load(s, name ? name : "<buffer>", f, overrides, n_overrides, err);
+    int rc = load(s, name ? name : "<buffer>", f, overrides, n_overrides, false, err);
     fclose(f);
     return rc;
 }
@@ -763,7 +804,21 @@ void gr_scene_keys_markdown(FILE *out)
                  "Generated by `granule keys` from the parser's own tables (src/io/scene.c and the\n"
                  "models' parameter tables), so it always matches what the parser accepts. Ranges\n"
                  "use [ ] for inclusive and ( ) for exclusive bounds. Any key can be overridden on\n"
-                 "the command line with `--set section.key=value`.\n");
+                 "the command line with `--set section.key=value`.\n\n"
+                 "A scene is a regular, non-empty text file with at least a `[system]` section; a\n"
+                 "folder, an empty or comments-only file, control bytes (NUL included) are refused\n"
+                 "with the file and line. Lines of any length are read whole (a long value is kept\n"
+                 "entire; a line that is neither a comment nor `key = value` is refused at its line).\n\n"
+                 "**Schedule** (src/io/run_schedule.h): `run.sample_every` and `output.snapshot_every`\n"
+                 "are rounded to the nearest whole number of time steps dt (shorter than dt is refused;\n"
+                 "a rounding that moves an interval by more than 1 %% is stated on stderr and in\n"
+                 "summary.json's `warnings`); `run.warmup` and `run.duration` must be whole numbers\n"
+                 "of `run.sample_every` and the duration must hold at least one sample, so the run\n"
+                 "simulates exactly the time written; snapshots are taken every `snapshot_every`\n"
+                 "from t = 0, independently of the samples; `run.checkpoint_every` counts whole\n"
+                 "samples (rounded up), and one longer than the run means no periodic checkpoint;\n"
+                 "at most 2^52 steps. Whatever is refused names the key and the allowed range, and\n"
+                 "is refused before the output folder is touched.\n");
     const char *section = "";
     for (int i = 0; i < n_keys; i++) {
         const scene_key *k = &keys[i];
@@ -868,6 +923,25 @@ static void save_params(FILE *f, const gr_param *ps, int n, const void *base)
     }
 }
 
+void gr_scene_saved_warnings(gr_scene *s, const char *dir)
+{
+    char path[1200], line[1200];
+    snprintf(path, sizeof path, "%.1100s/scene.ini", dir);
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        return;
+    }
+    s->warnings[0] = '\0';
+    const size_t plen = strlen(GR_SCENE_WARNING_PREFIX);
+    while (fgets(line, sizeof line, f)) {
+        if (strncmp(line, GR_SCENE_WARNING_PREFIX, plen) == 0) {
+            size_t len = strlen(s->warnings);
+            snprintf(s->warnings + len, sizeof s->warnings - len, "%s", line + plen);
+        }
+    }
+    fclose(f);
+}
+
 int gr_scene_save(const gr_scene *s, const char *dir, gr_error *err)
 {
     gr_file f;
@@ -882,6 +956,12 @@ int gr_scene_save(const gr_scene *s, const char *dir, gr_error *err)
 void gr_scene_write(const gr_scene *s, FILE *f)
 {
     fprintf(f, "; resolved scene of this run (from %s); every key as the run used it\n", s->source);
+    /* the load's warnings, for a resumed run's summary.json (gr_scene_saved_warnings) */
+    for (const char *w = s->warnings; *w;) {
+        size_t n = strcspn(w, "\n");
+        fprintf(f, "%s%.*s\n", GR_SCENE_WARNING_PREFIX, (int)n, w);
+        w += n + (w[n] == '\n');
+    }
     const char *section = "";
     for (int i = 0; i < n_keys; i++) {
         const scene_key *k = &keys[i];

@@ -1,0 +1,215 @@
+#!/usr/bin/env bash
+# The bad-input battery (issue 14): one table of scene, arguments, expected exit code, words the
+# message must hold and the state of the output folder afterwards. Every refusal must exit with
+# the documented code, explain itself in words a user can act on, escape binary bytes, and leave
+# the output folder exactly as it was: absent when it was absent (no scene.ini, no empty
+# folder), byte for byte the earlier run or comparison when one was there.
+#
+# usage: tests/test_bad_inputs.sh path/to/granule [--list]
+# A case that still runs after 20 s fails (exit 124): a refusal is immediate.
+# Prints one line per case and "N passed, M failed"; exits non-zero if any case failed.
+set -uo pipefail
+if [[ $# -lt 1 || ! -x "$1" ]]; then
+    echo "usage: $0 path/to/granule" >&2
+    exit 2
+fi
+G=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/granule-bad-inputs-XXXXXX")
+trap 'rm -rf "$TMP"' EXIT
+export CI=1
+
+# the base scene: a 1D ring of 20 particles, 10 samples; --set varies it per case
+BASE="$TMP/base.ini"
+printf '%s\n' '[system]' 'dim = 1' 'N = 20' 'reduced_length = 0.1' '[placement]' 'kind = uniform' \
+    '[run]' 'warmup = 0' 'duration = 0.01' 'sample_every = 1e-3' '[output]' 'plots = false' >"$BASE"
+# fixtures an output folder may start from: a finished run and a finished comparison
+"$G" run "$BASE" --out "$TMP/fixture-run" >/dev/null 2>&1 || { echo "FAIL: fixture run" >&2; exit 1; }
+"$G" compare "$BASE" --models spring_dashpot,spring_dashpot@clamp --out "$TMP/fixture-compare" >/dev/null 2>&1 ||
+    { echo "FAIL: fixture compare" >&2; exit 1; }
+mkdir -p "$TMP/ckdir/checkpoint" && cp "$TMP/fixture-run/scene.ini" "$TMP/ckdir/"
+mkdir -p "$TMP/ckzero" && cp "$TMP/fixture-run/scene.ini" "$TMP/ckzero/" && ln -s /dev/zero "$TMP/ckzero/checkpoint"
+
+# snapshot of a folder: every path with its type and content hash ("absent" when it does not exist)
+state() {
+    [[ -e $1 ]] || { echo absent; return; }
+    (cd "$1" && find . -printf '%y %p\n' | sort && find . -type f -print0 | sort -z | xargs -0 -r sha256sum)
+}
+
+# The table. Fields are separated by " | ":
+#   SCENE   base | file:TEXT (printf %b; the scene file holds TEXT) | dir (a folder) | missing
+#   ARGS    the command after `granule`, with $S the scene, $O the output folder (eval'd)
+#   EXIT    the expected exit code
+#   WORDS   ';'-separated texts the message must contain; !TEXT must not appear; ASCII: the
+#           message is printable ASCII only
+#   FOLDER  new (the output folder does not exist and must not afterwards) | run | compare
+#           (it starts as a copy of that fixture and must end byte for byte the same)
+cases=$(cat <<'TABLE'
+base | run $S --out $O --set model.eps_n=1.5 | 2 | eps_n;[0, 1] | new
+base | run $S --out $O --set model.eps_n=-0.1 | 2 | eps_n;[0, 1] | new
+base | run $S --out $O --set system.dim=3 | 2 | dim;[1, 2] | new
+base | run $S --out $O --set system.N=0 | 2 | N | new
+base | run $S --out $O --set system.N=abc | 2 | N | new
+base | run $S --out $O --set system.N=5.5 | 2 | N | new
+base | run $S --out $O --set system.N=1e9 | 2 | N | new
+base | run $S --out $O --set system.radius=0 | 2 | radius | new
+base | run $S --out $O --set system.mass=-1 | 2 | mass | new
+base | run $S --out $O --set system.L=0 | 2 | L | new
+base | run $S --out $O --set system.packing_fraction=0.5 | 2 | packing_fraction | new
+base | run $S --out $O --set system.dim=2 --set system.packing_fraction=0.95 | 2 | packing_fraction | new
+base | run $S --out $O --set run.sample_every=0 | 2 | sample_every | new
+base | run $S --out $O --set run.sample_every=nan | 2 | sample_every | new
+base | run $S --out $O --set run.duration=-1 | 2 | duration | new
+base | run $S --out $O --set run.duration=inf | 2 | duration | new
+base | run $S --out $O --set run.warmup=-1 | 2 | warmup | new
+base | run $S --out $O --set run.seed=-1 | 2 | seed | new
+base | run $S --out $O --set run.seed=12abc | 2 | seed | new
+base | run $S --out $O --set run.ledger_tolerance=2 | 2 | ledger_tolerance | new
+base | run $S --out $O --set run.checkpoint_every=-1 | 2 | checkpoint_every | new
+base | run $S --out $O --set run.wall_limit=-1 | 2 | wall_limit | new
+base | run $S --out $O --set run.progress=maybe | 2 | progress | new
+base | run $S --out $O --set noise.D=-1 | 2 | D | new
+base | run $S --out $O --set noise.mode=bogus | 2 | mode;symmetrised | new
+base | run $S --out $O --set noise.com_interval=0 | 2 | com_interval | new
+base | run $S --out $O --set placement.kind=bogus | 2 | kind;uniform | new
+base | run $S --out $O --set placement.v0=-1 | 2 | v0 | new
+base | run $S --out $O --set integrator.kind=bogus | 2 | kind;verlet | new
+base | run $S --out $O --set integrator.steps_per_contact=5 | 2 | steps_per_contact | new
+base | run $S --out $O --set integrator.skin=11 | 2 | skin | new
+base | run $S --out $O --set integrator.kick_interval=0 | 2 | kick_interval | new
+file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[placement]\nkind = uniform\n[integrator]\ndt = 1e-9\nsteps_per_contact = 50\n | run $S --out $O | 2 | dt;steps_per_contact | new
+base | run $S --out $O --set integrator.dt=1e-3 | 2 | dt | new
+base | run $S --out $O --set model.normal=nosuch | 2 | normal;spring_dashpot | new
+base | run $S --out $O --set model.tangential=nosuch | 2 | tangential | new
+base | run $S --out $O --set model.k_s=0 | 2 | k_s | new
+base | run $S --out $O --set model.clamp=perhaps | 2 | clamp | new
+base | run $S --out $O --set analysis.observables=nosuch | 2 | observables;nosuch | new
+base | run $S --out $O --set analysis.pv_bins=5 | 2 | pv_bins | new
+base | run $S --out $O --set analysis.moments_max=0 | 2 | moments_max | new
+base | run $S --out $O --set analysis.gaps_h_max=300 | 2 | gaps_h_max | new
+base | run $S --out $O --set analysis.observables=gaps --set analysis.gaps_h_max=25 | 2 | gaps_h_max | new
+base | run $S --out $O --set output.snapshot_every=-1 | 2 | snapshot_every | new
+base | run $S --out $O --set output.plots=maybe | 2 | plots | new
+base | run $S --out $O --set bogus.key=1 | 2 | unknown section | new
+base | run $S --out $O --set system.bogus=1 | 2 | unknown key | new
+base | run $S --out $O --set noequals | 2 | section.key=value | new
+base | run $S --out $O --set system.dim=2 --set system.N=50 --set system.L=0.01 --set placement.kind=square | 2 | N | new
+file:[system]\ndim = 2\nN = 50\n[model]\neps_n = 1.5\n | run $S --out $O | 2 | :5:;eps_n;[0, 1] | new
+file:[system]\ndim = 2\ndim = 1\n | run $S --out $O | 2 | :3:;given twice | new
+file:[sytem]\ndim = 1\n | run $S --out $O | 2 | :1:;unknown section | new
+file:[system]\nthis is not ini\n | run $S --out $O | 2 | :2:;not an INI line | new
+file:[system]\ndim = 1\nL = 0.1\nreduced_length = 0.1\n | run $S --out $O | 2 | L;reduced_length | new
+missing | run $S --out $O | 2 | cannot open | new
+dir | run $S --out $O | 2 | not a regular file | new
+file: | run $S --out $O | 2 | empty | new
+file:; only a comment\n# and another\n | run $S --out $O | 2 | [system] | new
+file:[run]\nduration = 0.01\n | run $S --out $O | 2 | [system] | new
+file:[system]\ndim = 1\nN = 5\x000\n | run $S --out $O | 2 | :3:;control | new
+file:[system]\ndim = 1\nN = 5\x01\n | run $S --out $O | 2 | :3:;control;ASCII | new
+file:[system]\n\xff\xfe = 1\n | run $S --out $O | 2 | :2:;\\xff;ASCII | new
+file:[system]\ndim = 1\n[output]\ndir = 0123456789012345678901234567890123456789012345678901234567890123456789012345678901234567890123456789012345678901234567890123456789012345678901234567890123456789012345678901234567890123456789012345678901234567890123456789\nplots = 1x\n | run $S | 2 | :5:;plots | new
+file:[system]\ndim = 1\n[run]\nseed = 0123456789012345678901234567890123456789012345678901234567890123456789012345678901234567890123456789012345678901234567890123456789012345678901234567890123456789012345678901234567890123456789012345678901234567890123456789\n | run $S --out $O | 2 | :4:;seed | new
+base | run $S --out $O --set integrator.dt=1e-30 | 2 | integrator.dt;run.sample_every | new
+base | run $S --out $O --set run.sample_every=0.1 | 2 | run.sample_every;run.duration | new
+base | run $S --out $O --set run.sample_every=1e-9 | 2 | run.sample_every;dt | new
+base | run $S --out $O --set run.duration=0 | 2 | run.duration | new
+base | run $S --out $O --set run.duration=0.0105 | 2 | run.duration;whole number | new
+base | run $S --out $O --set run.warmup=0.0005 | 2 | run.warmup;whole number | new
+base | run $S --out $O --set output.snapshot_every=1e-12 | 2 | output.snapshot_every;dt | new
+base | run $S --out $'$O\nnext' | 2 | newline | new
+base | run $S --out $O --force --set model.eps_n=2 | 2 | eps_n | run
+base | run $S --out $O --force --set integrator.dt=1e-30 | 2 | integrator.dt | run
+base | run $S --out $O | 2 | summary.json;--force | run
+base | run $S --out $O --threads 0 | 2 | --threads | new
+base | run $S --out $O --bogus | 2 | unknown option | new
+base | run $S $S --out $O | 2 | one scene | new
+base | run --out $O | 2 | usage | new
+base | run --resume $O | 2 | $O | new
+base | run --resume $O --out $O | 2 | --resume | run
+base | run --resume $O | 2 | completed | run
+base | run --resume $TMP/ckdir | 2 | checkpoint | new
+base | run --resume $TMP/ckzero | 2 | checkpoint | new
+base | run $S --out $O --wall-limit abc | 2 | wall_limit | new
+base | nosuchcommand | 2 | unknown command | new
+base | collide --case 9 | 2 | case | new
+base | collide --reference --rtol 1 | 2 | allowed range | new
+base | collide --model hard_sphere --reference | 2 | reference;hard_sphere | new
+base | collide --eps-n 2 | 2 | eps | new
+base | collide --model nosuch | 2 | nosuch;!collide: collide: | new
+base | collide --bogus | 2 | --bogus;!collide: collide: | new
+base | collide --dim 3 | 2 | dim | new
+base | collide --steps-per-contact 5 | 2 | steps_per_contact;!collide: collide: | new
+base | compare $S --out $O --models nosuch | 2 | nosuch | new
+base | compare $S --out $O --models spring_dashpot@bogus | 2 | @clamp | new
+base | compare $S --out $O | 2 | usage | new
+missing | compare $S --out $O --models spring_dashpot | 2 | cannot open | new
+base | compare $S --out $O --models spring_dashpot,spring_dashpot@clamp | 2 | --force | compare
+base | compare $S --out $O --models spring_dashpot | 2 | --force | compare
+base | compare $S --out $O --models spring_dashpot --set model.eps_n=3 | 2 | eps_n | compare
+missing | sweep $S | 2 | cannot open | new
+file:[sweep]\nbogus = 1\n | sweep $S | 2 | bogus | new
+base | analyse $O --out $O/analysis | 2 | $O | new
+base | analyse $O --set analysis.observables=nosuch | 2 | nosuch | run
+base | plot $O | 2 | $O | new
+base | reproduce nosuch --out $O | 2 | nosuch | new
+base | reproduce fig2.10 --fidelity bogus --out $O | 2 | fidelity | new
+base | spm bogus | 2 | bogus | new
+base | spm circle --out $O --bogus | 2 | --bogus | new
+base | bisect --out $O --levels 0 | 2 | levels | new
+base | cascade --out $O --levels 20 | 2 | levels | new
+base | fokker-planck --out $O --length -1 | 2 | length | new
+base | bench bogus | 2 | bogus | new
+TABLE
+)
+
+[[ ${2:-} == --list ]] && { printf '%s\n' "$cases"; exit 0; }
+passed=0 failed=0 i=0
+while IFS= read -r row; do
+    [[ -z $row ]] && continue
+    i=$((i + 1))
+    IFS='|' read -r scene args code words folder <<<"$row"
+    scene=${scene# } scene=${scene% } args=${args# } args=${args% } code=${code// /} words=${words# } words=${words% }
+    folder=${folder// /}
+    c="$TMP/case$i"
+    mkdir -p "$c"
+    S="$c/scene.ini" O="$c/out"
+    case $scene in
+        base) S=$BASE ;;
+        file:*) printf '%b' "${scene#file:}" >"$S" ;;
+        dir) S="$c/a-folder" && mkdir -p "$S" ;;
+        missing) S="$c/no-such.ini" ;;
+    esac
+    case $folder in
+        run) cp -a "$TMP/fixture-run" "$O" ;;
+        compare) cp -a "$TMP/fixture-compare" "$O" ;;
+    esac
+    before=$(state "$O")
+    eval "set -- $args"
+    (cd "$c" && timeout 20 "$G" "$@" >"$c/stdout" 2>"$c/stderr")
+    rc=$?
+    after=$(state "$O")
+    [[ -e $O ]] || after=$(state "$c/out"$'\n'"next")
+    problems=()
+    [[ $rc == "$code" ]] || problems+=("exit $rc, expected $code")
+    IFS=';' read -ra want <<<"$words"
+    for w in "${want[@]}"; do
+        w=$(eval "printf '%s' \"$w\"")
+        if [[ $w == ASCII ]]; then
+            LC_ALL=C grep -q '[^[:print:][:space:]]' "$c/stderr" && problems+=("message holds raw non-printable bytes")
+        elif [[ $w == '!'* ]]; then
+            grep -qiF -- "${w#!}" "$c/stderr" && problems+=("message holds '${w#!}'")
+        else
+            grep -qiF -- "$w" "$c/stderr" || problems+=("message lacks '$w'")
+        fi
+    done
+    [[ $after == "$before" ]] || problems+=("output folder changed")
+    if ((${#problems[@]} == 0)); then
+        passed=$((passed + 1))
+        echo "ok   $i granule $args"
+    else
+        failed=$((failed + 1))
+        echo "FAIL $i granule $args [$scene]"
+        printf '     %s\n' "${problems[@]}" "stderr: $(head -c 300 "$c/stderr" | tr '\n' ' ' | LC_ALL=C tr -c '[:print:]' '?')"
+    fi
+done <<<"$cases"
+echo "$passed passed, $failed failed"
+[[ $failed -eq 0 ]]
