@@ -208,8 +208,10 @@ EOT
     [[ $quick == 1 ]] && sweep_file kill 0.25
     "$granule" sweep "$tmp/kill.ini" --jobs 1 >/dev/null 2>"$tmp/kill1.log" &
     bg=$!
+    # kill it while point 1 runs (point 0 finished): waiting for point 0 alone could kill the sweep
+    # between two points on a loaded machine, with no point left running
     for _ in $(seq 1 600); do
-        grep -qs '"completed"' "$tmp/kill/p0000/point.json" && break
+        grep -qs '"completed"' "$tmp/kill/p0000/point.json" && grep -qs '"running"' "$tmp/kill/p0001/point.json" && break
         sleep 0.05
     done
     kill -KILL "$bg" 2>/dev/null
