@@ -8,7 +8,10 @@ packages=(build-essential meson ninja-build pkg-config git
           libgsl-dev libsundials-dev check libinih-dev libcjson-dev librandom123-dev
           libfftw3-dev libcairo2-dev gnuplot-nox zlib1g-dev
           libopenmpi-dev openmpi-bin # MPI: granule sweep over ranks (docs/cluster.md)
-          clang libclang-rt-dev) # libFuzzer + sanitizers: scripts/fuzz.sh (docs/fuzzing.md)
+          clang libclang-rt-dev # libFuzzer + sanitizers: scripts/fuzz.sh (docs/fuzzing.md)
+          libhdf5-dev # H5MD trajectories (docs/trajectories.md)
+          # readers the suite runs on our outputs with Debian's /usr/bin/python3 (docs/trajectories.md)
+          python3-ase python3-mdanalysis python3-h5py python3-pandas python3-numpy)
 missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

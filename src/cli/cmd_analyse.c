@@ -1,7 +1,6 @@
 /* granule analyse DIR: feed a run's snapshots to the observables of the analysis layer (the same
  * code that samples during a run) and write the results into DIR/analysis (or --out). */
 #include <cjson/cJSON.h>
-#include <glob.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,13 +12,14 @@
 #include "granule_config.h"
 #include "io/files.h"
 #include "io/scene_json.h"
-#include "io/snapshot.h"
+#include "io/trajectory.h"
 
 static void usage(FILE *f)
 {
     fprintf(f, "usage: granule analyse DIR [--set analysis.observables=a,b ...] [--set section.key=value ...]\n"
                "                       [--out OUT] [--force]\n\n"
-               "Reads DIR/scene.ini and the snapshots DIR/snapshots/snap_*.xyz of a finished run and feeds\n"
+               "Reads DIR/scene.ini and the trajectory of a finished run (DIR/trajectory.h5, DIR/snapshots/trajectory.xyz\n"
+               "or DIR/snapshots/snap_*.xyz, as output.trajectory wrote it) and feeds\n"
                "every frame to the observables named in [analysis] observables (granule observables lists\n"
                "them; --set changes them or their parameters); frames of the warm-up (t <= run.warmup) are\n"
                "skipped, as in a run. Writes OUT (default DIR/analysis):\n"
@@ -71,11 +71,12 @@ int cmd_analyse(int argc, char **argv)
         cli_error("analyse: no observables chosen; add --set analysis.observables=NAME[,NAME] (granule observables lists them)");
         return EXIT_REFUSED;
     }
-    snprintf(path, sizeof path, "%s/snapshots/snap_*.xyz", dir);
-    glob_t g;
-    if (glob(path, 0, NULL, &g) != 0 || g.gl_pathc == 0) {
-        cli_error("analyse: no snapshots in %s/snapshots (run with output.snapshot_every > 0)", dir);
-        return EXIT_REFUSED;
+    gr_traj_reader *traj;
+    int64_t n_frames = 0;
+    rc = gr_traj_reader_open(dir, &traj, &n_frames, &err);
+    if (rc) {
+        cli_error("analyse: %s", err.message);
+        return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
     if (!out_dir) {
         snprintf(outbuf, sizeof outbuf, "%s/analysis", dir);
@@ -87,14 +88,14 @@ int cmd_analyse(int argc, char **argv)
         rc = gr_observer_create(&scene, &obs, &err);
     }
     if (rc) {
-        globfree(&g);
+        gr_traj_reader_close(traj);
         cli_error("analyse: %s", err.message);
         return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
     size_t frames = 0;
-    for (size_t k = 0; k < g.gl_pathc && !rc; k++) {
+    for (int64_t k = 0; k < n_frames && !rc; k++) {
         gr_frame f;
-        rc = gr_snapshot_read(g.gl_pathv[k], &f, &err);
+        rc = gr_traj_reader_frame(traj, k, &f, &err);
         if (rc) {
             break;
         }
@@ -103,7 +104,8 @@ int cmd_analyse(int argc, char **argv)
             continue;
         }
         if (f.n != scene.N || f.dim != scene.dim) {
-            rc = GR_FAIL(&err, GR_EINVAL, "%s: %d particles in %dD, but the scene has N = %d in %dD", g.gl_pathv[k], f.n, f.dim, scene.N, scene.dim);
+            rc = GR_FAIL(&err, GR_EINVAL, "%s, frame %lld: %d particles in %dD, but the scene has N = %d in %dD",
+                         gr_traj_reader_source(traj), (long long)k, f.n, f.dim, scene.N, scene.dim);
         } else {
             gr_particles p = {.n = f.n, .dim = f.dim, .L = f.L, .radius = scene.radius, .mass = scene.mass,
                               .x = f.x, .y = f.y, .vx = f.vx, .vy = f.vy};
@@ -112,13 +114,13 @@ int cmd_analyse(int argc, char **argv)
         }
         gr_frame_free(&f);
         if (cli_interactive()) {
-            fprintf(stderr, "\ranalyse: %zu / %zu frames", k + 1, g.gl_pathc);
+            fprintf(stderr, "\ranalyse: %lld / %lld frames", (long long)k + 1, (long long)n_frames);
         }
     }
     if (cli_interactive()) {
         fputc('\n', stderr);
     }
-    globfree(&g);
+    gr_traj_reader_close(traj);
     if (rc) {
         gr_observer_free(obs);
         cli_error("analyse: %s", err.message);

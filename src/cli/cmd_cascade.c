@@ -466,7 +466,7 @@ int cmd_cascade(int argc, char **argv)
         } else {
             gr_particles p = {.n = place.n, .dim = 2, .L = s.L, .radius = place.radius, .mass = 3.53e-5,
                               .x = px, .y = py, .vx = pv, .vy = pv};
-            io = gr_snapshot_write(snapdir, 0, &p, 0.0, &io_err);
+            io = gr_snapshot_write(snapdir, 0, &p, 0.0, 0, &io_err);
         }
         if (!io) { /* the system, so that `granule analyse DIR` can read the snapshot */
             gr_scene scene;

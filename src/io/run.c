@@ -22,7 +22,7 @@
 #include "io/picture.h"
 #include "analysis/mean_field.h"
 #include "io/scene_json.h"
-#include "io/snapshot.h"
+#include "io/trajectory.h"
 #include "io/run_checkpoint.h"
 #include "core/sim_state.h"
 #include "hybrid/hybrid.h"
@@ -232,13 +232,6 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     const int64_t warm_samples = llround(scene->warmup / scene->sample_every);
     const int64_t run_samples = llround(scene->duration / scene->sample_every);
     const int64_t snap_every = scene->snapshot_every > 0.0 ? llround(scene->snapshot_every / dt) : 0;
-    char snapdir[1100];
-    snprintf(snapdir, sizeof snapdir, "%.1080s/snapshots", dir);
-    if (snap_every > 0 && mkdir(snapdir, 0777) != 0 && access(snapdir, W_OK) != 0) {
-        gr_sim_free(sim);
-        free(ck_buf);
-        return GR_FAIL(err, GR_EIO, "cannot create %s", snapdir);
-    }
 
     gr_file ft = {0}, fl = {0};
     rc = resume ? GR_OK : gr_file_open(&ft, dir, "temperature.csv", err); /* a resume continues them */
@@ -272,13 +265,15 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     double stepping = 0.0, last_report = now(), start = now();
     int64_t next_snap = 0;
     int snap_index = 0;
+    gr_traj_writer traj = {0};
     /* checkpoints (docs/checkpoints.md): at sample boundaries every checkpoint_every (simulated)
      * or checkpoint_wall (wall clock); on a stop request (signal, wall budget) at the next step
      * boundary. Steps run in chunks of about 0.1 s so a request is seen quickly; splitting
      * gr_sim_step calls does not change a bit of the result. */
     gr_run_ckpt ckst = {.k_next = 0, .per_sample = per_sample, .warm_samples = warm_samples, .run_samples = run_samples,
                         .blk = &blk, .haff_n = &haff_n, .haff_cap = haff_cap, .haff_t = haff_t, .haff_T = haff_T,
-                        .next_snap = &next_snap, .snap_index = &snap_index, .ft = &ft, .fl = &fl};
+                        .next_snap = &next_snap, .snap_index = &snap_index, .ft = &ft, .fl = &fl,
+                        .traj = &traj};
     if (resume) {
         rc = gr_run_resume_state(&ck, dir, sim, obs, &ckst, err);
         free(ck_buf);
@@ -289,6 +284,16 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
             gr_sim_free(sim);
             return rc;
         }
+    }
+    /* the trajectory: a resume cuts the frames written after the checkpoint */
+    rc = gr_traj_writer_open(&traj, scene, dir, resume ? snap_index : -1, err);
+    if (rc) {
+        gr_traj_writer_close(&traj, &(gr_error){0});
+        free(haff_t);
+        free(haff_T);
+        gr_observer_free(obs);
+        gr_sim_free(sim);
+        return rc;
     }
     gr_error ck_err = {0};
     const bool can_checkpoint = gr_sim_checkpointable(sim, &ck_err) == GR_OK;
@@ -391,7 +396,8 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         }
         if (snap_every > 0 && gr_sim_steps(sim) >= next_snap) {
             gr_particles p = gr_sim_particles(sim);
-            rc = gr_snapshot_write(snapdir, snap_index++, &p, t, err);
+            rc = gr_traj_writer_frame(&traj, &p, t, gr_sim_steps(sim), err);
+            snap_index = (int)traj.frames;
             if (rc) {
                 break;
             }
@@ -441,7 +447,8 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         size_t bytes = 0;
         rc = gr_run_checkpoint_write(dir, scene, sim, obs, &ckst, &used, &bytes, err);
         if (rc == GR_OK) {
-            /* the streamed CSVs stay as they are for the resume to continue */
+            /* the streamed CSVs and the trajectory stay as they are for the resume to continue */
+            gr_traj_writer_close(&traj, &(gr_error){0});
             fclose(ft.f);
             fclose(fl.f);
             free(haff_t);
@@ -480,6 +487,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         status = "failed";
         snprintf(diagnosis, sizeof diagnosis, "%s", err->message);
     }
+    int rc_j = gr_traj_writer_close(&traj, &io_err);
     int rc_t = gr_file_commit(&ft, &io_err);
     int rc_l = gr_file_commit(&fl, rc_t ? &step_err : &io_err);
     int rc_b = write_blocks(dir, scene, hash, &blk, &io_err);
@@ -538,7 +546,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         *err = step_err;
         return GR_EIO;
     }
-    if (rc_t || rc_l || rc_b || rc_s || rc_o || rc_i) {
+    if (rc_j || rc_t || rc_l || rc_b || rc_s || rc_o || rc_i) {
         *err = io_err;
         return GR_EIO;
     }
