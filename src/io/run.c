@@ -63,9 +63,9 @@ static void test_pause(const gr_sim *sim, const gr_run_options *opt)
     }
 }
 
-static void csv_header(FILE *f, const char *what, const gr_scene *s, uint64_t hash)
+static void csv_header(gr_file *f, const char *what, const gr_scene *s, uint64_t hash)
 {
-    fprintf(f, "# granule %s (%s)\n# scene %s, hash %016llx, seed %llu\n", what, GR_VERSION,
+    gr_file_note(f, "# granule %s (%s)\n# scene %s, hash %016llx, seed %llu\n", what, GR_VERSION,
             s->source, (unsigned long long)hash, (unsigned long long)s->seed);
 }
 
@@ -172,7 +172,7 @@ static int write_blocks(const char *dir, const gr_scene *s, uint64_t hash, const
     if (rc) {
         return rc;
     }
-    csv_header(f.f, "block averaging of T (Flyvbjerg-Petersen); T in m^2/s^2, block length in s", s, hash);
+    csv_header(&f, "block averaging of T (Flyvbjerg-Petersen); T in m^2/s^2, block length in s", s, hash);
     fprintf(f.f, "level,block_seconds,blocks,T_mean,T_stderr\n");
     for (int k = 0; k < GR_BLOCKING_LEVELS && b->count[k] >= 2; k++) {
         fprintf(f.f, "%d,%.9g,%lld,%.9g,%.9g\n", k, ldexp(s->sample_every, k), (long long)b->count[k],
@@ -247,9 +247,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         return rc;
     }
     if (!resume) {
-    csv_header(ft.f, "granular temperature T(t) of eq. 2.19, m^2/s^2; running_mean over the sampling phase", scene, hash);
     fprintf(ft.f, "t,T,running_mean,phase\n");
-    csv_header(fl.f, "energy ledger, J (residual = kinetic + elastic - initial - injected + dissipated + removed_com)", scene, hash);
     fprintf(fl.f, "t,kinetic,elastic,injected,dissipated_normal,dissipated_tangential,dissipated_friction,removed_com,residual\n");
     }
 
@@ -285,6 +283,9 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
             return rc;
         }
     }
+    /* the tables' notes (NAME.meta.json at commit) are kept in memory, so a resume writes them again */
+    csv_header(&ft, "granular temperature T(t) of eq. 2.19, m^2/s^2; running_mean over the sampling phase", scene, hash);
+    csv_header(&fl, "energy ledger, J (residual = kinetic + elastic - initial - injected + dissipated + removed_com)", scene, hash);
     /* the trajectory: a resume cuts the frames written after the checkpoint */
     rc = gr_traj_writer_open(&traj, scene, dir, resume ? snap_index : -1, err);
     if (rc) {
