@@ -16,12 +16,8 @@ SRC=$2
 part=$3
 PY=/usr/bin/python3
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/granule-test-readers-XXXXXX")
-pids=() # same cleanup as tests/test_resume.sh
-cleanup() {
-    for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null || true; done
-    rm -rf "$TMP"
-}
-trap cleanup EXIT
+bg=0 # a background run to kill on exit
+trap 'if ((bg)); then kill -9 $bg 2>/dev/null || true; fi; rm -rf "$TMP"' EXIT
 export CI=1
 cd "$TMP"
 need() {
@@ -117,7 +113,7 @@ EOF
         GRANULE_TEST_PAUSE_AT_STEP=9000 "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out k$fmt "${small2d[@]}" \
             --set output.trajectory=$fmt --set run.checkpoint_every=0.004 >/dev/null 2>&1 &
         pid=$!
-        pids+=("$pid")
+        bg=$pid
         for _ in $(seq 1 1500); do [[ -e k$fmt/checkpoint ]] && break; sleep 0.02; done
         sleep 0.3
         kill -9 "$pid" 2>/dev/null || true
