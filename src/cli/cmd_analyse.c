@@ -73,7 +73,7 @@ int cmd_analyse(int argc, char **argv)
     }
     gr_traj_reader *traj;
     int64_t n_frames = 0;
-    rc = gr_traj_reader_open(dir, &traj, &n_frames, &err);
+    rc = gr_traj_reader_open(dir, (int)scene.trajectory, &traj, &n_frames, &err);
     if (rc) {
         cli_error("analyse: %s", err.message);
         return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;

@@ -204,7 +204,7 @@ static int metadata_write(gr_h5md *h, const gr_h5md_desc *d)
     H5Pset_deflate(dcpl, 1);
     hid_t m = H5Dcreate2(h->file, "/particles/all/mass", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
     for (int i = 0; i < d->n; i++) {
-        h->buf[i % (3 * d->n)] = d->mass; /* buf holds 3 n >= n values */
+        h->buf[i] = d->mass; /* buf holds 3 n values */
     }
     st |= m < 0 || H5Dwrite(m, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, h->buf) < 0 || attr_string(m, "unit", "kg");
     if (m >= 0) {

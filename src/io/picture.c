@@ -675,7 +675,7 @@ static int read_frames(const char *run_dir, int64_t first, int64_t last, gr_fram
 {
     gr_traj_reader *r;
     int64_t count;
-    int rc = gr_traj_reader_open(run_dir, &r, &count, err);
+    int rc = gr_traj_reader_open(run_dir, -1, &r, &count, err);
     for (int64_t k = first; !rc && k <= last; k++) {
         rc = gr_traj_reader_frame(r, k, &frames[k - first], err);
     }
@@ -697,7 +697,7 @@ int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *
     char path[1200], out[1100];
     gr_traj_reader *r;
     int64_t count = 0;
-    rc = gr_traj_reader_open(run_dir, &r, &count, err);
+    rc = gr_traj_reader_open(run_dir, -1, &r, &count, err);
     gr_traj_reader_close(r);
     if (!rc && count == 0) {
         rc = GR_FAIL(err, GR_EINVAL, "%s: no snapshots (an empty trajectory); set output.snapshot_every", run_dir);

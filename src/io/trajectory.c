@@ -144,7 +144,7 @@ static int64_t xyz_count(FILE *f)
     return k;
 }
 
-int gr_traj_reader_open(const char *dir, gr_traj_reader **out, int64_t *frames, gr_error *err)
+int gr_traj_reader_open(const char *dir, int want, gr_traj_reader **out, int64_t *frames, gr_error *err)
 {
     *out = NULL;
     gr_traj_reader *r = calloc(1, sizeof *r);
@@ -153,7 +153,7 @@ int gr_traj_reader_open(const char *dir, gr_traj_reader **out, int64_t *frames, 
     }
     struct stat st;
     snprintf(r->source, sizeof r->source, "%.1100s/trajectory.h5", dir);
-    if (stat(r->source, &st) == 0) {
+    if ((want < 0 && stat(r->source, &st) == 0) || want == GR_TRAJ_H5MD) {
         r->format = GR_TRAJ_H5MD;
         int rc = gr_h5md_open_read(r->source, &r->h5, frames, err);
         if (rc) {
@@ -164,12 +164,14 @@ int gr_traj_reader_open(const char *dir, gr_traj_reader **out, int64_t *frames, 
         return GR_OK;
     }
     snprintf(r->source, sizeof r->source, "%.1100s/snapshots/trajectory.xyz", dir);
-    if (stat(r->source, &st) == 0) {
+    if ((want < 0 && stat(r->source, &st) == 0) || want == GR_TRAJ_XYZ) {
         r->format = GR_TRAJ_XYZ;
         r->xyz = fopen(r->source, "r");
         if (!r->xyz) {
+            int e = errno;
             free(r);
-            return GR_FAIL(err, GR_EIO, "cannot open %s/snapshots/trajectory.xyz: %s", dir, strerror(errno));
+            return GR_FAIL(err, e == ENOENT ? GR_EINVAL : GR_EIO, "cannot open %s/snapshots/trajectory.xyz (output.trajectory = xyz): %s",
+                           dir, strerror(e));
         }
         *frames = xyz_count(r->xyz);
         *out = r;

@@ -31,7 +31,10 @@ int gr_traj_writer_close(gr_traj_writer *w, gr_error *err);
 
 /* Reading a run folder's frames in order. */
 typedef struct gr_traj_reader gr_traj_reader;
-int gr_traj_reader_open(const char *dir, gr_traj_reader **r, int64_t *frames, gr_error *err);
+/* Open the trajectory of run folder dir in format `want` (the run's output.trajectory), or, with
+ * want < 0, whichever it holds: trajectory.h5, else snapshots/trajectory.xyz, else the per-frame
+ * snapshots. */
+int gr_traj_reader_open(const char *dir, int want, gr_traj_reader **r, int64_t *frames, gr_error *err);
 /* Frame k (0-based, in increasing k order for the multi-frame XYZ file). */
 int gr_traj_reader_frame(gr_traj_reader *r, int64_t k, gr_frame *f, gr_error *err);
 /* Name of what was read (for messages), e.g. "DIR/trajectory.h5". */
