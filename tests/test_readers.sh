@@ -123,7 +123,7 @@ EOF
 import h5py
 with h5py.File('kh5md/trajectory.h5', 'r') as f:
     n = f['particles/all/position/value'].shape[0]
-    assert n >= 3 and f['particles/all/position/time'].shape[0] >= n, n
+    assert n >= 2 and f['particles/all/position/time'].shape[0] >= n, n  # the frames before the first checkpoint
 print('ok a killed run leaves trajectory.h5 readable (%d frames)' % n)"
         "$G" run --resume k$fmt --quiet
     done
