@@ -69,6 +69,17 @@ static void csv_header(gr_file *f, const char *what, const gr_scene *s, uint64_t
             s->source, (unsigned long long)hash, (unsigned long long)s->seed);
 }
 
+/* Close a streamed table without moving it into place (a resume continues it), dropping its notes. */
+static void stream_leave(gr_file *f)
+{
+    if (f->f) {
+        fclose(f->f);
+        f->f = NULL;
+    }
+    free(f->notes);
+    f->notes = NULL;
+}
+
 static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, const gr_run_result *r,
                          const gr_blocking *blk, const char *status, const char *diagnosis,
                          const char *plots, cJSON *analysis, cJSON *mean_field, gr_error *err)
@@ -290,6 +301,8 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     rc = gr_traj_writer_open(&traj, scene, dir, resume ? snap_index : -1, err);
     if (rc) {
         gr_traj_writer_close(&traj, &(gr_error){0});
+        stream_leave(&ft);
+        stream_leave(&fl);
         free(haff_t);
         free(haff_T);
         gr_observer_free(obs);
@@ -450,8 +463,8 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         if (rc == GR_OK) {
             /* the streamed CSVs and the trajectory stay as they are for the resume to continue */
             gr_traj_writer_close(&traj, &(gr_error){0});
-            fclose(ft.f);
-            fclose(fl.f);
+            stream_leave(&ft);
+            stream_leave(&fl);
             free(haff_t);
             free(haff_T);
             gr_observer_free(obs);
