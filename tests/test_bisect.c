@@ -654,7 +654,12 @@ START_TEST(test_write)
     const char *files[] = {"pn.csv", "moments.csv", "zeta.csv", "collapse.csv"};
     for (size_t i = 0; i < 4; i++) {
         char *t = slurp(out, files[i]);
-        ck_assert_msg(!strncmp(t, "# granule bisect", 16), "%s lacks the commented header", files[i]);
+        ck_assert_msg(t[0] != '#' && strchr(t, ',') && strchr(t, ',') < strchr(t, '\n'), "%s: not a plain CSV", files[i]);
+        free(t);
+        char meta[64];
+        snprintf(meta, sizeof meta, "%.*s.meta.json", (int)(strlen(files[i]) - 4), files[i]);
+        t = slurp(out, meta);
+        ck_assert_msg(strstr(t, "granule bisect"), "%s lacks the notes", meta);
         free(t);
     }
     char *t = slurp(out, "summary.json");

@@ -178,7 +178,10 @@ else
     fail "tiny run: summary.json lacks SPEC keys or the --set values" "$(cat "$TMP/py")"
 fi
 for f in temperature.csv ledger.csv; do
-    if [[ -s "$OUT/$f" && $(head -c1 "$OUT/$f") == "#" ]]; then pass "tiny run: $f with a '#' header"; else fail "tiny run: $f missing or without '#' header"; fi
+    # column names on the first line, the notes (what, units, scene, hash, seed) in NAME.meta.json
+    if [[ -s "$OUT/$f" && $(head -c2 "$OUT/$f") == "t," ]] && grep -q '"notes"' "$OUT/${f%.csv}.meta.json"; then
+        pass "tiny run: $f with its column names first and ${f%.csv}.meta.json"
+    else fail "tiny run: $f missing, not starting with its column names, or without ${f%.csv}.meta.json"; fi
 done
 if ! ls -A "$OUT" 2>/dev/null | grep -q '\.tmp'; then pass "tiny run: no temporary files"; else fail "tiny run left temporaries" "$(ls -A "$OUT")"; fi
 

@@ -93,9 +93,11 @@ static FILE *open_csv(const char *dir, const char *name, char *header, size_t n)
     FILE *f = fopen(path, "r");
     ck_assert_msg(f != NULL, "missing %s", path);
     char line[1024];
-    /* two commented lines (tool, what; scene, hash, seed), then the column names */
-    ck_assert(fgets(line, sizeof line, f) && line[0] == '#');
-    ck_assert(fgets(line, sizeof line, f) && line[0] == '#');
+    /* the column names first; the notes (tool, what; scene, hash, seed) in NAME.meta.json */
+    snprintf(path, sizeof path, "%s/%.*s.meta.json", dir, (int)(strlen(name) - 4), name);
+    FILE *meta = fopen(path, "r");
+    ck_assert_msg(meta && fgets(line, sizeof line, meta) && line[0] == '{', "missing or empty %s", path);
+    fclose(meta);
     ck_assert(fgets(header, (int)n, f) && header[0] != '#');
     return f;
 }

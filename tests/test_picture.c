@@ -558,7 +558,7 @@ START_TEST(test_run_folder_1d)
     ck_assert_int_eq(mkdir(snap, 0777), 0);
     gr_error err = {0};
     ck_assert_int_eq(gr_picture_run(g_dir, &err), GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "no snapshots") != NULL, "%s", err.message);
+    ck_assert_msg(strstr(err.message, "no trajectory") != NULL, "%s", err.message);
     for (int k = 0; k < 45; k++) {
         char p[500];
         snprintf(p, sizeof p, "%s/snap_%06d.xyz", snap, k);

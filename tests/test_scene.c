@@ -734,19 +734,20 @@ START_TEST(run_refuses_existing_summary_unless_forced)
 }
 END_TEST
 
-/* The commented header of a CSV: at least one '#' line, then a column row starting `first`. */
+/* A CSV that plain readers load: the column row starting `first` on the first line (no comments),
+ * its notes in NAME.meta.json beside it. */
 static int check_csv(const char *dir, const char *name, const char *first)
 {
     char path[600];
     snprintf(path, sizeof path, "%s/%s", dir, name);
     char *text = slurp(path);
-    ck_assert_msg(text[0] == '#', "%s does not start with a '#' comment", name);
+    ck_assert_msg(text[0] != '#', "%s starts with a '#' comment (pandas.read_csv would fail)", name);
     char *line = text;
-    while (*line == '#') {
-        line = strchr(line, '\n');
-        ck_assert_msg(line != NULL, "%s has only comments", name);
-        line++;
-    }
+    char meta[600];
+    snprintf(meta, sizeof meta, "%s/%.*s.meta.json", dir, (int)(strlen(name) - 4), name);
+    char *notes = slurp(meta);
+    ck_assert_msg(strstr(notes, "\"notes\"") && strstr(notes, "hash"), "%s lacks the notes: %s", meta, notes);
+    free(notes);
     ck_assert_msg(strncmp(line, first, strlen(first)) == 0, "%s: column row '%.40s' should start '%s'", name, line, first);
     int rows = 0;
     for (char *q = strchr(line, '\n'); q && q[1]; q = strchr(q + 1, '\n')) {

@@ -1,12 +1,16 @@
 /* `granule run` as a library call: warm-up, sampling at a fixed interval, outputs.
  *
- * Writes into the output folder (every file atomically: temporary file, fsync, rename):
+ * Writes into the output folder (every file atomically: temporary file, fsync, rename; the
+ * multi-frame trajectories grow in place, docs/trajectories.md):
  *   summary.json     SPEC sec. 7 keys, the ledger, the chosen kernel and the resolved scene
  *   temperature.csv  T(t) (2.19) with its running average, warm-up included
  *   blocks.csv       block-averaging analysis of T behind T_stderr (Fig. 2.8)
  *   ledger.csv       the energy ledger at every sample
+ *   NAME.meta.json   beside every NAME.csv: what it holds, units, scene, hash, seed (the CSVs
+ *                    themselves are plain: pandas.read_csv reads them without options)
  *   scene.ini        the resolved scene (rerun it, or `granule analyse DIR` reads it)
- *   snapshots/       extended XYZ frames (OVITO reads them) every snapshot_every
+ *   snapshots/ or trajectory.h5  frames every snapshot_every (output.trajectory: extended XYZ
+ *                    per frame or multi-frame, or H5MD; ASE, OVITO, MDAnalysis read them)
  *   <observable>.csv one or more per enabled [analysis] observable (docs/analysis.md)
  *   *.png, *.gp      plots and the gnuplot bodies `granule plot DIR` redraws them from;
  *                    snapshot.png / snapshots.png (cairo) when snapshots were written */

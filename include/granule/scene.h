@@ -21,6 +21,8 @@ typedef enum { GR_NOISE_NONE, GR_NOISE_SYMMETRISED, GR_NOISE_COM } gr_noise_mode
 typedef enum { GR_INTEGRATOR_VERLET, GR_INTEGRATOR_EVENT, GR_INTEGRATOR_HYBRID } gr_integrator_kind;
 /* How the random force drives free flight in the event-driven and hybrid integrators. */
 typedef enum { GR_FREE_FLIGHT_EXACT, GR_FREE_FLIGHT_KICKS } gr_free_flight_noise;
+/* Where the frames of output.snapshot_every go (docs/trajectories.md). */
+typedef enum { GR_TRAJ_SNAPSHOTS, GR_TRAJ_XYZ, GR_TRAJ_H5MD } gr_trajectory_format;
 
 typedef struct gr_scene {
     /* [system] */
@@ -64,6 +66,7 @@ typedef struct gr_scene {
     /* [output] */
     char out_dir[1024];
     double snapshot_every; /* s; 0 = no snapshots */
+    gr_trajectory_format trajectory; /* one file per frame, one multi-frame XYZ, or H5MD */
     bool plots;
     /* where the scene came from (for messages and summary.json) */
     char source[1024];

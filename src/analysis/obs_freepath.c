@@ -172,7 +172,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         }
         snprintf(body, sizeof body,
                  "set logscale xy\nset xlabel 'l / d'\nset ylabel 'P_l(l)'\nset title 'Free-path distribution (4.18)'\n"
-                 "set samples 400\nplot 'freepath.csv' skip 3 using 3:($4>0?$5:1/0):6 with yerrorbars title 'P_l(l)'%s",
+                 "set samples 400\nplot 'freepath.csv' skip 1 using 3:($4>0?$5:1/0):6 with yerrorbars title 'P_l(l)'%s",
                  fitline);
         gr_obs_plot(out, "freepath.png", body);
     }

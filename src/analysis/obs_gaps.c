@@ -272,7 +272,7 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
                            g->n, g->Lr, bin);
     for (int k = 0; k < nh && len < sizeof body; k++) {
         len += (size_t)snprintf(body + len, sizeof body - len,
-                                "%s'gaps.csv' skip 3 using (($1 == %d && strcol(2) eq '%s' && $7 > 0) ? $5 : 1/0):7 "
+                                "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $7 > 0) ? $5 : 1/0):7 "
                                 "with linespoints pt 7 ps 0.5 title 'h = %d'",
                                 k ? ", " : "", hs[k], bin, hs[k]);
     }
@@ -288,7 +288,7 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
                            g->n, bin);
     for (int k = 0; k < nh && len < sizeof body; k++) {
         len += (size_t)snprintf(body + len, sizeof body - len,
-                                "%s'gaps.csv' skip 3 using (($1 == %d && strcol(2) eq '%s' && $7 > 0 && $9 > 0) ? $9 : 1/0):($7 * %.10g) "
+                                "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $7 > 0 && $9 > 0) ? $9 : 1/0):($7 * %.10g) "
                                 "with linespoints pt 7 ps 0.5 title 'h = %d'",
                                 k ? ", " : "", hs[k], bin, g->Lr, hs[k]);
     }
@@ -311,7 +311,7 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
                            g->n, M_MAX);
     for (int k = 0; k < nh && len < sizeof body; k++) {
         len += (size_t)snprintf(body + len, sizeof body - len,
-                                "%s'gaps_moments.csv' skip 3 using ($1 == %d ? $2 : 1/0):5:6 with yerrorlines pt 7 ps 0.6 lc %d title 'h = %d', "
+                                "%s'gaps_moments.csv' skip 1 using ($1 == %d ? $2 : 1/0):5:6 with yerrorlines pt 7 ps 0.6 lc %d title 'h = %d', "
                                 "[1:%d] exp(lgamma(%d + x) - lgamma(%d) - x * log(%d)) with lines dt 2 lc %d notitle",
                                 k ? ", " : "", hs[k], k + 1, hs[k], M_MAX, hs[k], hs[k], hs[k], k + 1);
     }

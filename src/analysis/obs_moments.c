@@ -97,8 +97,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     if (!rc && out->plots) {
         gr_obs_plot(out, "moments.png",
                     "set logscale y\nset xlabel 'm'\nset ylabel '<|v|^m>'\nset title 'Velocity moments (3.11)'\n"
-                    "plot 'moments.csv' skip 3 using 1:2:3 with yerrorbars title 'speed', "
-                    "'' skip 3 using 1:4:5 with yerrorbars title 'component'");
+                    "plot 'moments.csv' skip 1 using 1:2:3 with yerrorbars title 'speed', "
+                    "'' skip 1 using 1:4:5 with yerrorbars title 'component'");
     }
     return rc;
 }

@@ -616,7 +616,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                  "set xlabel 'R / d'\nset ylabel 'g(R)'\nset title 'Pair correlation g(R) (4.10), %lld frames'\n"
                  "set key top right\n"
                  "set bars 0\n"
-                 "plot 'pair.csv' skip 3 using 2:3:4 with yerrorlines pt 7 ps 0.3 lc rgb '#224466' title 'g(R)', "
+                 "plot 'pair.csv' skip 1 using 2:3:4 with yerrorlines pt 7 ps 0.3 lc rgb '#224466' title 'g(R)', "
                  "1 with lines dt 2 lc rgb 'black' title 'ideal gas'",
                  (long long)s->frames);
         gr_obs_plot(out, "pair_g.png", body);
@@ -626,8 +626,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                      "set logscale xy\nset bars 0\nset xrange [1:%.10g]\nset xlabel 'R / d'\n"
                      "set ylabel 'n(R) = C(R) - n pi R^2'\n"
                      "set title 'Excess neighbours n(R) (4.17); fit over %.3g d <= R <= %.3g d'\nset key top left\n"
-                     "plot 'pair.csv' skip 3 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lc rgb '#224466' "
-                     "title 'n(R)', '' skip 3 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars pt 7 "
+                     "plot 'pair.csv' skip 1 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lc rgb '#224466' "
+                     "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars pt 7 "
                      "ps 0.4 lc rgb '#224466' notitle, [%.10g:%.10g] %.10g * x**%.10g with lines lw 2 lc rgb '#cc3333' "
                      "title 'D_f = %.3f +- %.3f'",
                      s->R_max / s->d, (lo + 1) * s->width / s->d, hi * s->width / s->d, s->d, every, s->d,
@@ -639,8 +639,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                      "set logscale xy\nset bars 0\nset xrange [1:%.10g]\nset xlabel 'R / d'\n"
                      "set ylabel 'n(R) = C(R) - n pi R^2'\n"
                      "set title 'Excess neighbours n(R) (4.17); no power-law fit'\n"
-                     "plot 'pair.csv' skip 3 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lc rgb '#224466' "
-                     "title 'n(R)', '' skip 3 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars pt 7 "
+                     "plot 'pair.csv' skip 1 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lc rgb '#224466' "
+                     "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars pt 7 "
                      "ps 0.4 lc rgb '#224466' notitle",
                      s->R_max / s->d, s->d, every, s->d);
         }

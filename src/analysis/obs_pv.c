@@ -688,9 +688,9 @@ static void draw_plots(const gr_output *out, const pv *s, const tail_result *tai
              "set xlabel 'v (m/s), one component'\nset ylabel 'P(v) (s/m)'\n"
              "set title 'Velocity distribution (App. A.1): tail fit (5.5), crossover P_0 (5.32)'\n"
              "s = %.10g\ngauss(x) = exp(-x*x/(2*s*s))/sqrt(2*pi*s*s)\n"
-             "plot 'pv.csv' skip 3 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 ps 0.4 lc rgb '#222244' title 'P(v)', "
-             "'' skip 3 using 1:9 with lines lw 2 lc rgb '#cc3333' title '%s', "
-             "'' skip 3 using 1:10 with lines lw 2 dt 2 lc rgb '#339933' title 'crossover P_0(v) (5.32), alpha = 1', "
+             "plot 'pv.csv' skip 1 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 ps 0.4 lc rgb '#222244' title 'P(v)', "
+             "'' skip 1 using 1:9 with lines lw 2 lc rgb '#cc3333' title '%s', "
+             "'' skip 1 using 1:10 with lines lw 2 dt 2 lc rgb '#339933' title 'crossover P_0(v) (5.32), alpha = 1', "
              "gauss(x) with lines dt 3 lc rgb '#888888' title 'Gaussian of the same <v^2>'",
              ymin, -vlim, vlim, v_rms, label);
     gr_obs_plot(out, "pv.png", body);
@@ -698,7 +698,7 @@ static void draw_plots(const gr_output *out, const pv *s, const tail_result *tai
     snprintf(body, sizeof body,
              "set xlabel 'ln(v/v_{rms})'\nset ylabel '-ln(-ln(P(v)/P(0)))'\nset key top right\n"
              "set title 'Tail plot of Moon et al. (5.6), P(0) = %.4g s/m: lines of slope -alpha_T'\n"
-             "plot 'pv_tail.csv' skip 3 using 2:7 with points pt 7 ps 0.5 lc rgb '#222244' title 'data, P(v) = (P(v)+P(-v))/2', "
+             "plot 'pv_tail.csv' skip 1 using 2:7 with points pt 7 ps 0.5 lc rgb '#222244' title 'data, P(v) = (P(v)+P(-v))/2', "
              "-2*x + (%.10g) with lines lw 2 lc rgb '#888888' title 'alpha_T = 2', "
              "-1.5*x + (%.10g) with lines lw 2 dt 2 lc rgb '#cc3333' title 'alpha_T = 1.5', "
              "-1.16*x + (%.10g) with lines lw 2 dt 4 lc rgb '#339933' title 'alpha_T = 1.16'",
@@ -710,7 +710,7 @@ static void draw_plots(const gr_output *out, const pv *s, const tail_result *tai
              "set xlabel '|v| / sqrt(<|v|^2>)'\nset ylabel 'P(c)'\n"
              "set title 'Scaled %s distribution'\n"
              "mb(c) = %s\n"
-             "plot 'pv_speed.csv' skip 3 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 ps 0.4 lc rgb '#222244' title 'data', "
+             "plot 'pv_speed.csv' skip 1 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 ps 0.4 lc rgb '#222244' title 'data', "
              "mb(x) with lines lw 2 dt 2 lc rgb '#888888' title 'Maxwell-Boltzmann, same <|v|^2>'",
              ymin * v_rms, slim, s->dim == 2 ? "speed" : "|v|",
              s->dim == 2 ? "c > 0 ? 2*c*exp(-c*c) : 1/0" : "c > 0 ? sqrt(2/pi)*exp(-c*c/2) : 1/0");

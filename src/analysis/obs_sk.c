@@ -928,8 +928,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                             st->kD * st->d, st->kD * st->d, st->kD * st->d);
         }
         len += snprintf(body + len, sizeof body - (size_t)len,
-                        "plot 'sk.csv' skip 3 using 3:4:5 with yerrorbars pt 7 ps 0.5 lc rgb '#1f5fbf' title '|n| bins', "
-                        "'sk_shells.csv' skip 3 using 3:4 with points pt 6 ps 0.7 lc rgb '#e08030' title 'shells |n|^2'");
+                        "plot 'sk.csv' skip 1 using 3:4:5 with yerrorbars pt 7 ps 0.5 lc rgb '#1f5fbf' title '|n| bins', "
+                        "'sk_shells.csv' skip 1 using 3:4 with points pt 6 ps 0.7 lc rgb '#e08030' title 'shells |n|^2'");
         if (F.done) {
             snprintf(body + len, sizeof body - (size_t)len,
                      ", (x >= %.8g && x <= %.8g) ? %.10g * (x / %.10g)**(-%.10g) : 1/0 with lines lw 2 lc rgb "

@@ -26,7 +26,7 @@ int gr_obs_csv_open(const gr_output *out, const char *name, const char *what, gr
     if (rc) {
         return rc;
     }
-    fprintf(f->f, "# granule %s: %s\n# scene %s, hash %016llx, seed %llu\n", GR_VERSION, what,
+    gr_file_note(f, "# granule %s: %s\n# scene %s, hash %016llx, seed %llu\n", GR_VERSION, what,
             out->scene->source, (unsigned long long)out->scene_hash, (unsigned long long)out->scene->seed);
     return GR_OK;
 }

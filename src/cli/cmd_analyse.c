@@ -1,7 +1,6 @@
 /* granule analyse DIR: feed a run's snapshots to the observables of the analysis layer (the same
  * code that samples during a run) and write the results into DIR/analysis (or --out). */
 #include <cjson/cJSON.h>
-#include <glob.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,12 +14,14 @@
 #include "io/scene_json.h"
 #include "io/lammps_dump.h"
 #include "io/snapshot.h"
+#include "io/trajectory.h"
 
 static void usage(FILE *f)
 {
     fprintf(f, "usage: granule analyse DIR [--set analysis.observables=a,b ...] [--set section.key=value ...]\n"
                "                       [--out OUT] [--force] [--lammps-dump FILE]\n\n"
-               "Reads DIR/scene.ini and the snapshots DIR/snapshots/snap_*.xyz of a finished run and feeds\n"
+               "Reads DIR/scene.ini and the trajectory of a finished run (DIR/trajectory.h5, DIR/snapshots/trajectory.xyz\n"
+               "or DIR/snapshots/snap_*.xyz, as output.trajectory wrote it) and feeds\n"
                "every frame to the observables named in [analysis] observables (granule observables lists\n"
                "them; --set changes them or their parameters); frames of the warm-up (t <= run.warmup) are\n"
                "skipped, as in a run. Writes OUT (default DIR/analysis):\n"
@@ -30,32 +31,26 @@ static void usage(FILE *f)
                "dump's folder) holds the scene.ini; frame times are timestep * integrator.dt (docs/lammps.md).\n");
 }
 
-/* Frames of a run folder's snapshots or of a LAMMPS dump, one at a time. */
+/* Frames of a run folder's trajectory (any output.trajectory format) or of a LAMMPS dump, one at
+ * a time. */
 typedef struct frame_source {
-    glob_t g;
-    size_t next, total;
+    gr_traj_reader *traj;
+    int64_t next, total;
     gr_lammps_dump *dump;
     double dt;
 } frame_source;
 
-static int source_open(frame_source *src, const char *dir, const char *dump, double dt, gr_error *err)
+static int source_open(frame_source *src, const char *dir, const char *dump, const gr_scene *scene, gr_error *err)
 {
     memset(src, 0, sizeof *src);
-    src->dt = dt;
+    src->dt = scene->dt;
     if (dump) {
         return gr_lammps_dump_open(dump, &src->dump, err);
     }
-    char path[1200];
-    snprintf(path, sizeof path, "%.1150s/snapshots/snap_*.xyz", dir);
-    if (glob(path, 0, NULL, &src->g) != 0 || src->g.gl_pathc == 0) {
-        globfree(&src->g);
-        return GR_FAIL(err, GR_EINVAL, "no snapshots in %s/snapshots (run with output.snapshot_every > 0)", dir);
-    }
-    src->total = src->g.gl_pathc;
-    return GR_OK;
+    return gr_traj_reader_open(dir, (int)scene->trajectory, &src->traj, &src->total, err);
 }
 
-/* 1 with a frame in f, 0 after the last, negative on error. */
+/* 1 with a frame in f, 0 after the last, an error code otherwise. */
 static int source_next(frame_source *src, gr_frame *f, gr_error *err)
 {
     if (src->dump) {
@@ -64,7 +59,7 @@ static int source_next(frame_source *src, gr_frame *f, gr_error *err)
     if (src->next >= src->total) {
         return 0;
     }
-    int rc = gr_snapshot_read(src->g.gl_pathv[src->next++], f, err);
+    int rc = gr_traj_reader_frame(src->traj, src->next++, f, err);
     return rc ? rc : 1;
 }
 
@@ -73,7 +68,7 @@ static void source_close(frame_source *src)
     if (src->dump) {
         gr_lammps_dump_close(src->dump);
     } else {
-        globfree(&src->g);
+        gr_traj_reader_close(src->traj);
     }
 }
 
@@ -140,7 +135,7 @@ int cmd_analyse(int argc, char **argv)
     }
     gr_observer *obs = NULL;
     frame_source src;
-    rc = source_open(&src, dir, dump, scene.dt, &err);
+    rc = source_open(&src, dir, dump, &scene, &err);
     if (rc) {
         cli_error("analyse: %s", err.message);
         return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
@@ -164,8 +159,8 @@ int cmd_analyse(int argc, char **argv)
             continue;
         }
         if (fr.n != scene.N || fr.dim != scene.dim) {
-            rc = GR_FAIL(&err, GR_EINVAL, "%s: %d particles in %dD, but the scene has N = %d in %dD",
-                         dump ? dump : src.g.gl_pathv[src.next - 1], fr.n, fr.dim, scene.N, scene.dim);
+            rc = GR_FAIL(&err, GR_EINVAL, "%s, frame %zu: %d particles in %dD, but the scene has N = %d in %dD",
+                         dump ? dump : gr_traj_reader_source(src.traj), read, fr.n, fr.dim, scene.N, scene.dim);
         } else {
             gr_particles p = {.n = fr.n, .dim = fr.dim, .L = fr.L, .radius = scene.radius, .mass = scene.mass,
                               .x = fr.x, .y = fr.y, .vx = fr.vx, .vy = fr.vy};

@@ -117,11 +117,11 @@ typedef struct run_info {
     const char *dir;
 } run_info;
 
-static void csv_header(FILE *f, const run_info *ri, const char *what)
+static void csv_header(gr_file *f, const run_info *ri, const char *what)
 {
     const gr_cascade_settings *s = ri->s;
-    fprintf(f, "# granule cascade (%s, %s): %s\n", GR_VERSION, GR_COMMIT, what);
-    fprintf(f, "# variant %s (%s), levels %d (%d x %d squares), L = %.9g m, %d configurations, seed %lu (gsl mt19937)\n",
+    gr_file_note(f, "# granule cascade (%s, %s): %s\n", GR_VERSION, GR_COMMIT, what);
+    gr_file_note(f, "# variant %s (%s), levels %d (%d x %d squares), L = %.9g m, %d configurations, seed %lu (gsl mt19937)\n",
             ri->vi->name, ri->vi->label, s->levels, 1 << s->levels, 1 << s->levels, s->L, s->configurations, s->seed);
 }
 
@@ -132,8 +132,8 @@ static int write_sk(const run_info *ri, const gr_cascade_sk_bin *b, int nb, doub
     if (rc) {
         return rc;
     }
-    csv_header(f.f, ri, "structure factor S(k) of eq. 6.5, circular average (sec. 4.1)");
-    fprintf(f.f, "# q: bin q-1/2 <= |k| L/(2 pi) < q+1/2; k: mean |k| of its lattice vectors, 1/m; vectors: how many;\n"
+    csv_header(&f, ri, "structure factor S(k) of eq. 6.5, circular average (sec. 4.1)");
+    gr_file_note(&f, "# q: bin q-1/2 <= |k| L/(2 pi) < q+1/2; k: mean |k| of its lattice vectors, 1/m; vectors: how many;\n"
                  "# S, S_err: configuration average and its standard error; S_expected: exact average (second moments);\n"
                  "# in_fit: 1 for the bins of the D_f fit\n");
     fprintf(f.f, "q,k,vectors,S,S_err,S_expected,in_fit\n");
@@ -155,8 +155,8 @@ static int write_levels(const run_info *ri, const double *mean, const double *m2
     double mu[4], second[4][4];
     gr_cascade_moments(ri->s, mu, second);
     const double growth = mu[0] + mu[1] + mu[2] + mu[3];
-    csv_header(f.f, ri, "total probability sum m_{i,j}(l) at each level l over the configurations");
-    fprintf(f.f, "# expected: (sum_c E[w_c])^l; sd: standard deviation over configurations (0 for a conserving variant)\n");
+    csv_header(&f, ri, "total probability sum m_{i,j}(l) at each level l over the configurations");
+    gr_file_note(&f, "# expected: (sum_c E[w_c])^l; sd: standard deviation over configurations (0 for a conserving variant)\n");
     fprintf(f.f, "level,side,total_mean,total_sd,total_min,total_max,expected\n");
     for (int l = 0; l <= ri->s->levels; l++) {
         fprintf(f.f, "%d,%d,%.17g,%.6g,%.17g,%.17g,%.17g\n", l, 1 << l, mean[l], C > 1 ? sqrt(m2[l] / (C - 1)) : 0.0,
@@ -195,8 +195,8 @@ static int write_field(const run_info *ri, const double *coarse, int l, gr_error
     if (rc) {
         return rc;
     }
-    csv_header(f.f, ri, "the first configuration's field");
-    fprintf(f.f, "# %d x %d squares (blocks of %d x %d finest squares summed); x, y: square centre (6.1), m;\n"
+    csv_header(&f, ri, "the first configuration's field");
+    gr_file_note(&f, "# %d x %d squares (blocks of %d x %d finest squares summed); x, y: square centre (6.1), m;\n"
                  "# density = 4^%d m, the probability relative to a uniform field\n",
             n, n, block, block, l);
     fprintf(f.f, "x,y,density\n");
@@ -466,7 +466,7 @@ int cmd_cascade(int argc, char **argv)
         } else {
             gr_particles p = {.n = place.n, .dim = 2, .L = s.L, .radius = place.radius, .mass = 3.53e-5,
                               .x = px, .y = py, .vx = pv, .vy = pv};
-            io = gr_snapshot_write(snapdir, 0, &p, 0.0, &io_err);
+            io = gr_snapshot_write(snapdir, 0, &p, 0.0, 0, &io_err);
         }
         if (!io) { /* the system, so that `granule analyse DIR` can read the snapshot */
             gr_scene scene;
@@ -489,7 +489,7 @@ int cmd_cascade(int argc, char **argv)
 
     /* plots */
     char plots[600] = "", note[300], body[3000];
-    const int skip_sk = 6; /* sk.csv: 5 comment lines + the column names */
+    const int skip_sk = 1; /* sk.csv: the column names (notes are in sk.meta.json) */
     char thesis[64] = "none";
     if (isfinite(vi->thesis_D_f)) {
         snprintf(thesis, sizeof thesis, "%.3f +- %.3f", vi->thesis_D_f, vi->thesis_D_f_err);
@@ -518,7 +518,7 @@ int cmd_cascade(int argc, char **argv)
              "set size ratio -1\nset xrange [0:%.9g]\nset yrange [0:%.9g]\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n"
              "set palette defined (0 'white', 1 '#99aabb', 2 '#224466', 3 'black')\nset cblabel 'log_{10}(4^{%d} m_{i,j})'\nset cbrange [-4:4]\n"
              "set title \"Cascade field %s, configuration 1 (%d x %d)\"\n"
-             "plot 'field.csv' skip 5 using 1:2:($3 > 0 ? log10($3) : 1/0) with image notitle\n",
+             "plot 'field.csv' skip 1 using 1:2:($3 > 0 ? log10($3) : 1/0) with image notitle\n",
              s.L, s.L, field_level, vi->label, 1 << field_level, 1 << field_level);
     strcat(plots, ", ");
     strcat(plots, gr_plot_script(out, "field.png", body, note, sizeof note) ? note : "field.png");

@@ -144,25 +144,15 @@ static void pv_collapse(const char *out, const entry *list, int n)
     gr_file f;
     gr_error err = {0};
     if (gr_file_open(&f, out, "pv_collapse.csv", &err) == GR_OK) {
-        fprintf(f.f, "# granule compare: P'(v) = P(v) P_0(1)/P(1) (5.4), v in units of v_rms, P_0 = %s; one column pair per model\n",
-                list[0].spec);
+        gr_file_note(&f, "granule compare: P'(v) = P(v) P_0(1)/P(1) (5.4), v in units of v_rms, P_0 = %s; one row per "
+                         "model and bin with P > 0 (a long table: filter on model)", list[0].spec);
+        fprintf(f.f, "model,v_over_vrms,P_scaled\n");
         for (int k = 0; k < n; k++) {
-            fprintf(f.f, "%sv_%d,P_%d", k ? "," : "", k, k);
-        }
-        fputc('\n', f.f);
-        int rows = 0;
-        for (int k = 0; k < n; k++) {
-            rows = len[k] > rows ? len[k] : rows;
-        }
-        for (int i = 0; i < rows; i++) {
-            for (int k = 0; k < n; k++) {
-                if (i < len[k] && ys[k][i] > 0.0) {
-                    fprintf(f.f, "%s%.6g,%.6g", k ? "," : "", xs[k][i], ys[k][i] * scale[k]);
-                } else {
-                    fprintf(f.f, "%s,", k ? "," : "");
+            for (int i = 0; i < len[k]; i++) {
+                if (ys[k][i] > 0.0) {
+                    fprintf(f.f, "%s,%.6g,%.6g\n", list[k].spec, xs[k][i], ys[k][i] * scale[k]);
                 }
             }
-            fputc('\n', f.f);
         }
         if (gr_file_commit(&f, &err) == GR_OK) {
             char body[4096];
@@ -170,8 +160,8 @@ static void pv_collapse(const char *out, const entry *list, int n)
                                            "set logscale y\nset xlabel 'v / v_{rms}'\nset ylabel \"P'(v) (5.4)\"\n"
                                            "set title 'Velocity distributions rescaled at v = v_{rms} (5.4)'\nplot ");
             for (int k = 0; k < n && blen < sizeof body; k++) {
-                blen += (size_t)snprintf(body + blen, sizeof body - blen, "%s'pv_collapse.csv' skip 2 using %d:%d with lines title '%s' noenhanced",
-                                         k ? ", " : "", 2 * k + 1, 2 * k + 2, list[k].spec);
+                blen += (size_t)snprintf(body + blen, sizeof body - blen, "%s'pv_collapse.csv' skip 1 using 2:(strcol(1) eq '%s' ? $3 : 1/0) with lines title '%s' noenhanced",
+                                         k ? ", " : "", list[k].spec, list[k].spec);
             }
             char note[300];
             gr_plot_script(out, "pv_collapse.png", body, note, sizeof note);
@@ -355,7 +345,8 @@ int cmd_compare(int argc, char **argv)
         cli_error("compare: %s", err.message);
         return EXIT_FAILED;
     }
-    fprintf(csv.f, "# granule compare of %s: one row per model, same initial state and noise seed\nmodel,kernel", scene_path);
+    gr_file_note(&csv, "granule compare of %s: one row per model, same initial state and noise seed", scene_path);
+    fprintf(csv.f, "model,kernel");
     for (int i = 0; i < nc; i++) {
         fprintf(csv.f, ",%s", cols[i]);
     }
@@ -396,7 +387,7 @@ int cmd_compare(int argc, char **argv)
     char body[4096];
     size_t len = (size_t)snprintf(body, sizeof body, "set title 'T(t) under each model'\nset xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\nplot ");
     for (int j = 0; j < n && len < sizeof body; j++) {
-        len += (size_t)snprintf(body + len, sizeof body - len, "%s'%s/temperature.csv' skip 3 using 1:2 with lines title '%s' noenhanced",
+        len += (size_t)snprintf(body + len, sizeof body - len, "%s'%s/temperature.csv' skip 1 using 1:2 with lines title '%s' noenhanced",
                                 j ? ", " : "", list[j].label, list[j].spec);
     }
     char note[300];

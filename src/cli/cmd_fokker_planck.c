@@ -106,11 +106,11 @@ static void json_num(cJSON *o, const char *key, double v)
     }
 }
 
-static void csv_head(FILE *f, const char *what, const options *o, double V, double T0)
+static void csv_head(gr_file *f, const char *what, const options *o, double V, double T0)
 {
     const gr_fp_settings *s = &o->s;
-    fprintf(f, "# granule %s (%s) fokker-planck: %s\n", GR_VERSION, GR_COMMIT, what);
-    fprintf(f, "# L = %.9g m, D = %.9g N^2 s, M = %.9g kg, V = (D L/M^2)^(1/3) = %.9g m/s, T0 = L/V = %.9g s, "
+    gr_file_note(f, "# granule %s (%s) fokker-planck: %s\n", GR_VERSION, GR_COMMIT, what);
+    gr_file_note(f, "# L = %.9g m, D = %.9g N^2 s, M = %.9g kg, V = (D L/M^2)^(1/3) = %.9g m/s, T0 = L/V = %.9g s, "
                "start %s, walkers %lld, steps per T0 %g, refine %d, seed %llu, epsrel %g\n",
             s->L, s->D, s->M, V, T0, s->start == GR_FP_START_CENTRE ? "centre" : "uniform", (long long)s->walkers,
             s->steps_per_T0, s->refine, (unsigned long long)s->seed, s->epsrel);
@@ -293,7 +293,7 @@ static int write_curves(const options *o, gr_fp_quad *q, double V, double T0, gr
     if (rc) {
         return rc;
     }
-    csv_head(f.f, "Q(v, L) of (B.33-B.34) by quadrature. Q_pdf: the time-uniform velocity density, 1/(m/s); "
+    csv_head(&f, "Q(v, L) of (B.33-B.34) by quadrature. Q_pdf: the time-uniform velocity density, 1/(m/s); "
                   "Q_per_R: int_0^L P(x, v) dx per unit injection rate R (1/(m s)), s^2; Q_thesis_per_R: the same "
                   "with (B.34) as printed (prefactor R/Gamma(2/3), 2 3^(1/3) too large); abserr: GSL's estimate for Q_per_R",
              o, V, T0);
@@ -317,7 +317,7 @@ static int write_curves(const options *o, gr_fp_quad *q, double V, double T0, gr
     if (rc) {
         return rc;
     }
-    csv_head(f.f, "arrivals at x = L (Fig. B.1) by quadrature of (B.32). P_L_over_RL: P(L, v) / (R L), the density of "
+    csv_head(&f, "arrivals at x = L (Fig. B.1) by quadrature of (B.32). P_L_over_RL: P(L, v) / (R L), the density of "
                   "arrival velocities per released particle divided by v, s^2/m^2; exit_pdf: v P(L, v)/(R L), the "
                   "arrival-velocity density at x = L (integrates to 1/2); P_L_thesis_over_RL: (B.32) as printed",
              o, V, T0);
@@ -345,7 +345,7 @@ static int write_tables(const options *o, const gr_fp_sim_result *r, const doubl
     if (rc) {
         return rc;
     }
-    csv_head(f.f, "simulated Q(v, L): velocities sampled uniformly in time (every step survived). density: 1/(m/s); "
+    csv_head(&f, "simulated Q(v, L): velocities sampled uniformly in time (every step survived). density: 1/(m/s); "
                   "error: from the walk-to-walk scatter (the walk is the independent unit); error_sqrtX: sqrt(X) / "
                   "(total width), too small here because the samples of one walk are correlated; quadrature: bin mean "
                   "of (B.34) normalised (uniform start); pull = (density - quadrature) / error",
@@ -366,7 +366,7 @@ static int write_tables(const options *o, const gr_fp_sim_result *r, const doubl
     if (rc) {
         return rc;
     }
-    csv_head(f.f, "simulated arrival speeds |v| at both ends, pooled (Property II: x = 0 mirrors x = L). density: per "
+    csv_head(&f, "simulated arrival speeds |v| at both ends, pooled (Property II: x = 0 mirrors x = L). density: per "
                   "released walker per m/s, integrates to the exit fraction; error: sqrt(X) (exits are independent); "
                   "P_L_over_RL = density / (2 v) at the bin centre, the quantity of Fig. B.1; quadrature: bin mean of 2 v P(L, v)/(R L)",
              o, V, T0);
@@ -642,28 +642,28 @@ int cmd_fokker_planck(int argc, char **argv)
         char simpart[512] = "";
         if (o.sim) {
             snprintf(simpart, sizeof simpart,
-                     ", 'q.csv' skip 3 using 3:6:7 with yerrorbars pt 7 ps 0.6 lc rgb '#1f5fbf' title '%s (walk-scatter errors)'",
+                     ", 'q.csv' skip 1 using 3:6:7 with yerrorbars pt 7 ps 0.6 lc rgb '#1f5fbf' title '%s (walk-scatter errors)'",
                      simlabel);
         }
         snprintf(body, sizeof body,
                  "set title 'Q(v, L): velocity sampled uniformly in time until the first exit (Fig. B.2)'\n"
                  "set xlabel 'v (m/s)'\nset ylabel 'Q(v, L) (s/m, normalised)'\nset key top right\n"
-                 "plot 'q_curve.csv' skip 3 using 1:3 with lines lw 2 lc rgb '#cc3333' title '%s'%s\n",
+                 "plot 'q_curve.csv' skip 1 using 1:3 with lines lw 2 lc rgb '#cc3333' title '%s'%s\n",
                  qlabel, simpart);
         plot(&o, plots, notes, "q.png", body);
         snprintf(body, sizeof body,
                  "set title 'Q(v, L), logarithmic (tail: exp(-|v|^3 M^2/(9 D L)) times a power of v)'\n"
                  "set xlabel 'v (m/s)'\nset ylabel 'Q(v, L) (s/m, normalised)'\nset logscale y\nset key bottom center\n"
-                 "plot 'q_curve.csv' skip 3 using 1:($3 > 0 ? $3 : 1/0) with lines lw 2 lc rgb '#cc3333' title '%s'%s\n",
-                 qlabel, o.sim ? ", 'q.csv' skip 3 using 3:($6 > 0 ? $6 : 1/0):7 with yerrorbars pt 7 ps 0.5 lc rgb '#1f5fbf' title 'simulation'" : "");
+                 "plot 'q_curve.csv' skip 1 using 1:($3 > 0 ? $3 : 1/0) with lines lw 2 lc rgb '#cc3333' title '%s'%s\n",
+                 qlabel, o.sim ? ", 'q.csv' skip 1 using 3:($6 > 0 ? $6 : 1/0):7 with yerrorbars pt 7 ps 0.5 lc rgb '#1f5fbf' title 'simulation'" : "");
         plot(&o, plots, notes, "q_log.png", body);
         snprintf(body, sizeof body,
                  "set title 'Arrivals at x = L: P(L, v) / (R L) (Fig. B.1)'\n"
                  "set xlabel 'v (m/s)'\nset ylabel 'P(L, v) / (R L)  (s^2/m^2)'\nset key top right\n"
-                 "plot 'exit_curve.csv' skip 3 using 1:3 with lines lw 2 lc rgb '#cc3333' title '%s'%s\n",
+                 "plot 'exit_curve.csv' skip 1 using 1:3 with lines lw 2 lc rgb '#cc3333' title '%s'%s\n",
                  uniform ? "quadrature B.32" : "quadrature B.32 (uniform start, reference)",
-                 o.sim ? ", 'exit.csv' skip 3 using 3:8:9 with yerrorbars pt 7 ps 0.6 lc rgb '#1f5fbf' title 'simulation, both ends pooled (sqrt(X) errors)', "
-                         "'' skip 3 using 3:($10 / (2 * $3)) with points pt 6 ps 1.1 lc rgb '#cc3333' title 'quadrature, bin means treated alike'"
+                 o.sim ? ", 'exit.csv' skip 1 using 3:8:9 with yerrorbars pt 7 ps 0.6 lc rgb '#1f5fbf' title 'simulation, both ends pooled (sqrt(X) errors)', "
+                         "'' skip 1 using 3:($10 / (2 * $3)) with points pt 6 ps 1.1 lc rgb '#cc3333' title 'quadrature, bin means treated alike'"
                        : "");
         plot(&o, plots, notes, "exit.png", body);
     }

@@ -295,11 +295,11 @@ static void progress_end(progress_state *p)
 
 static int exit_code(const gr_error *err) { return err->code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED; }
 
-static void csv_head(FILE *f, const char *what, const options *o)
+static void csv_head(gr_file *f, const char *what, const options *o)
 {
     const gr_spm_settings *s = &o->s;
-    fprintf(f, "# granule %s (%s) spm: %s\n", GR_VERSION, GR_COMMIT, what);
-    fprintf(f, "# dim %d, M = %g kg, D = %g N^2 s, %s = %g, refine %d, walks %lld, batches %d, seed %llu\n", s->dim,
+    gr_file_note(f, "# granule %s (%s) spm: %s\n", GR_VERSION, GR_COMMIT, what);
+    gr_file_note(f, "# dim %d, M = %g kg, D = %g N^2 s, %s = %g, refine %d, walks %lld, batches %d, seed %llu\n", s->dim,
             s->mass, s->D, s->dt > 0.0 ? "dt (s)" : "step (t_l)", s->dt > 0.0 ? s->dt : s->step, s->refine,
             (long long)s->walks, s->batches, (unsigned long long)s->seed);
 }
@@ -551,8 +551,8 @@ static int cmd_circle(int argc, char **argv)
         rc = gr_file_open(&f, o.out, "q.csv", &err);
     }
     if (!rc) {
-        csv_head(f.f, "Q(v,l) of sec. 5.3.1, one velocity component, sampled uniformly in time", &o);
-        fprintf(f.f, "# w = |v| / u_l, u_l = (2 D l / M^2)^(1/3); Q_scaled = u_l Q(v,l) (density of the signed scaled\n"
+        csv_head(&f, "Q(v,l) of sec. 5.3.1, one velocity component, sampled uniformly in time", &o);
+        gr_file_note(&f, "# w = |v| / u_l, u_l = (2 D l / M^2)^(1/3); Q_scaled = u_l Q(v,l) (density of the signed scaled\n"
                      "# component: collapses under v / l^(1/3)); Q in s/m; errors from the spread between batches\n"
                      "# (_poisson: the sqrt(X) error of App. A.1, too small because samples of one walk correlate)\n");
         fprintf(f.f, "radius_index,radius,w_lo,w_hi,w,v,samples,Q_scaled,Q_scaled_err,Q_scaled_err_poisson,Q,Q_err\n");
@@ -572,8 +572,8 @@ static int cmd_circle(int argc, char **argv)
         rc = gr_file_open(&f, o.out, "q_radii.csv", &err);
     }
     if (!rc) {
-        csv_head(f.f, "per radius: scales, first-passage time, Gaussian tail fit (5.12), collapse against the first radius", &o);
-        fprintf(f.f, "# u_l in m/s, t_l in s, tau = sampling interval / t_l; exit_time and w2 (<w^2> per component in\n"
+        csv_head(&f, "per radius: scales, first-passage time, Gaussian tail fit (5.12), collapse against the first radius", &o);
+        gr_file_note(&f, "# u_l in m/s, t_l in s, tau = sampling interval / t_l; exit_time and w2 (<w^2> per component in\n"
                      "# time) in the walk's units; b of Q ~ A exp(-b w^2) over w >= %g (thesis: 0.98); beta: free-exponent fit;\n"
                      "# chi2 between the scaled Q of this radius and of the first one over bins with >= %g samples in both\n",
                 fit_from, min_count);
@@ -1143,9 +1143,9 @@ static int cmd_full(int argc, char **argv)
         rc = gr_file_open(&f, o.out, "p_v.csv", &err);
     }
     if (!rc) {
-        csv_head(f.f, "P(v) of the full SPM (sec. 5.2.3), one velocity component", &o);
-        fprintf(f.f, "# P_l: %s; weight %s; tilt %g\n", pl.source, weight_time ? "uniform in time" : "per walk", o.s.tilt);
-        fprintf(f.f, "# v in m/s, P in s/m (density of the signed component); errors from the spread between batches;\n"
+        csv_head(&f, "P(v) of the full SPM (sec. 5.2.3), one velocity component", &o);
+        gr_file_note(&f, "# P_l: %s; weight %s; tilt %g\n", pl.source, weight_time ? "uniform in time" : "per walk", o.s.tilt);
+        gr_file_note(&f, "# v in m/s, P in s/m (density of the signed component); errors from the spread between batches;\n"
                      "# P_531: A0 v^h exp(-S v^alpha) of 5.31 with alpha = %g and S, h, A0 fitted over %g <= v <= %g m/s\n",
                 have_pred ? pred.alpha : (double)NAN, fit_from, v_data);
         fprintf(f.f, "v_lo,v_hi,v,samples,P,P_err,P_err_poisson,P_531\n");
@@ -1162,8 +1162,8 @@ static int cmd_full(int argc, char **argv)
         rc = gr_file_open(&f, o.out, "pl.csv", &err);
     }
     if (!rc) {
-        csv_head(f.f, "the free-path distribution P_l(l) the walks drew from (sec. 4.3)", &o);
-        fprintf(f.f, "# %s; l in m, P in 1/m (normalised); P_fit: 4.25 fitted to the table's tail (if any)\n", pl.source);
+        csv_head(&f, "the free-path distribution P_l(l) the walks drew from (sec. 4.3)", &o);
+        gr_file_note(&f, "# %s; l in m, P in 1/m (normalised); P_fit: 4.25 fitted to the table's tail (if any)\n", pl.source);
         fprintf(f.f, "l,P,P_fit\n");
         if (pl.kind == GR_SPM_PL_TABLE) {
             for (int i = 0; i < pl.n; i++) {
@@ -1184,10 +1184,10 @@ static int cmd_full(int argc, char **argv)
     if (!rc && run_dir) {
         rc = gr_file_open(&f, o.out, "compare.csv", &err);
         if (!rc) {
-            csv_head(f.f, "SPM P(v) against the Random Force Model's P(v) per component (Fig. 5.10)", &o);
-            fprintf(f.f, "# run %s: %d frames with Time >= %g s (%d skipped), %lld particles, %dD; P_rfm errors sqrt(X)\n", run_dir,
+            csv_head(&f, "SPM P(v) against the Random Force Model's P(v) per component (Fig. 5.10)", &o);
+            gr_file_note(&f, "# run %s: %d frames with Time >= %g s (%d skipped), %lld particles, %dD; P_rfm errors sqrt(X)\n", run_dir,
                     info.frames, t_from, info.frames_skipped, (long long)info.particles, info.dim);
-            fprintf(f.f, "# P_spm_scaled = k P_spm, k = %g +- %g fitted over v >= %g m/s; P_spm_fit = k2 P_spm(v/s)/s, k2 = %g,\n"
+            gr_file_note(&f, "# P_spm_scaled = k P_spm, k = %g +- %g fitted over v >= %g m/s; P_spm_fit = k2 P_spm(v/s)/s, k2 = %g,\n"
                          "# s = %g +- %g (velocity scale fitted too); agree: |z| <= %g in the contiguous tail\n",
                     cmp.k, cmp.k_err, compare_from, cmp2.k, cmp2.s, cmp2.s_err, z_max);
             fprintf(f.f, "v,P_spm,P_spm_err,P_spm_scaled,P_rfm,P_rfm_err,z,agree,P_spm_fit,z_fit,agree_fit\n");
@@ -1525,10 +1525,10 @@ static int cmd_predict(int argc, char **argv)
     int rc = gr_file_open(&f, o.out, "prediction.csv", &err);
     double last_delta = (double)NAN;
     if (!rc) {
-        fprintf(f.f, "# granule %s (%s) spm: the SPM integral identity's tail (sec. 5.3.2)\n", GR_VERSION, GR_COMMIT);
-        fprintf(f.f, "# D_f = %g, alpha = %g, h = %g, B = %g (b = %g, M = %g kg, D = %g N^2 s), C = %g, S = %g, v_A = %g m/s\n",
+        gr_file_note(&f, "# granule %s (%s) spm: the SPM integral identity's tail (sec. 5.3.2)\n", GR_VERSION, GR_COMMIT);
+        gr_file_note(&f, "# D_f = %g, alpha = %g, h = %g, B = %g (b = %g, M = %g kg, D = %g N^2 s), C = %g, S = %g, v_A = %g m/s\n",
                 p.df, p.alpha, p.h, p.B, b, o.s.mass, o.s.D, p.C, p.S, p.v_A);
-        fprintf(f.f, "# ln_I: ln of 5.13 (A_2 = 1) integrated numerically; ln_asym: 5.26 = -S v^alpha + ln sqrt(2 pi / -f''(y_m));\n"
+        gr_file_note(&f, "# ln_I: ln of 5.13 (A_2 = 1) integrated numerically; ln_asym: 5.26 = -S v^alpha + ln sqrt(2 pi / -f''(y_m));\n"
                      "# P_531 = v^h exp(-S v^alpha) (5.31 with A_0 = 1); v in m/s\n");
         fprintf(f.f, "v,ln_I,ln_asym,delta,P_531\n");
         for (int i = 1; i <= 200 && !rc; i++) {

@@ -91,7 +91,8 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
         cli_error("sweep: %s", err.message);
         return EXIT_FAILED;
     }
-    fprintf(f.f, "# granule sweep of %s: one row per point; moments <|v|^m> in (m/s)^m\npoint,seed", s->scene);
+    gr_file_note(&f, "granule sweep of %s: one row per point; moments <|v|^m> in (m/s)^m", s->scene);
+    fprintf(f.f, "point,seed");
     for (int i = 0; i < s->n_keys; i++) {
         fprintf(f.f, ",%s", s->key[i]);
     }
@@ -170,7 +171,7 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
         gr_file e;
         rc = gr_file_open(&e, s->out, "exponents.csv", &err);
         if (!rc) {
-            fprintf(e.f, "# granule sweep: <|v|^m> = A N^-xi_m (3.8, 3.13) and <R^m> = A N^-zeta_m (3.20), per combination of the other keys\n");
+            gr_file_note(&e, "# granule sweep: <|v|^m> = A N^-xi_m (3.8, 3.13) and <R^m> = A N^-zeta_m (3.20), per combination of the other keys\n");
             for (int i = 0; i < s->n_keys; i++) {
                 if (i != n_idx) {
                     fprintf(e.f, "%s,", s->key[i]);

@@ -1,6 +1,9 @@
 /* Atomic output files and output-folder checks: a reader never sees a half-written file, and a
  * full disk or unwritable folder is reported with the path and the system's reason. */
+#include <cjson/cJSON.h>
 #include <errno.h>
+#include <stdarg.h>
+#include <stdlib.h>
 #include <fcntl.h>
 #include <stdio.h>
 #include <string.h>
@@ -13,6 +16,8 @@ int gr_file_open(gr_file *out, const char *dir, const char *name, gr_error *err)
 {
     snprintf(out->path, sizeof out->path, "%s/%s", dir, name);
     snprintf(out->tmp, sizeof out->tmp, "%s.tmp%ld", out->path, (long)getpid());
+    out->notes = NULL;
+    out->notes_len = 0;
     out->f = fopen(out->tmp, "w");
     if (!out->f) {
         return gr_file_fail(out->path, errno, err);
@@ -42,8 +47,63 @@ static int lost_write_reason(FILE *f)
     return EIO; /* there is room again: the failure was not (or no longer) a full disk */
 }
 
+void gr_file_note(gr_file *out, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int len = vsnprintf(NULL, 0, fmt, ap);
+    va_end(ap);
+    char *grown = len > 0 ? realloc(out->notes, out->notes_len + (size_t)len + 1) : NULL;
+    if (!grown) {
+        return; /* notes are a convenience; the table is the result */
+    }
+    va_start(ap, fmt);
+    vsnprintf(grown + out->notes_len, (size_t)len + 1, fmt, ap);
+    va_end(ap);
+    out->notes = grown;
+    out->notes_len += (size_t)len;
+}
+
+/* NAME.meta.json beside NAME.csv (see gr_file_note) */
+static int notes_commit(const gr_file *t, gr_error *err)
+{
+    const char *slash = strrchr(t->path, '/'), *base = slash ? slash + 1 : t->path;
+    char dir[1100], name[300];
+    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - t->path) : 1, slash ? t->path : ".");
+    const char *dot = strrchr(base, '.');
+    snprintf(name, sizeof name, "%.*s.meta.json", dot ? (int)(dot - base) : (int)strlen(base), base);
+    cJSON *j = cJSON_CreateObject(), *notes = cJSON_AddArrayToObject(j, "notes");
+    cJSON_AddStringToObject(j, "file", base);
+    char *text = t->notes;
+    for (char *line = strtok(text, "\n"); line; line = strtok(NULL, "\n")) {
+        line += line[0] == '#' ? 1 + (line[1] == ' ') : 0;
+        if (line[0]) {
+            cJSON_AddItemToArray(notes, cJSON_CreateString(line));
+        }
+    }
+    char *json = cJSON_Print(j);
+    cJSON_Delete(j);
+    gr_file f;
+    int rc = json ? gr_file_open(&f, dir, name, err) : GR_FAIL(err, GR_ENOMEM, "out of memory for %s", name);
+    if (!rc) {
+        fprintf(f.f, "%s\n", json);
+        rc = gr_file_commit(&f, err);
+    }
+    cJSON_free(json);
+    return rc;
+}
+
 int gr_file_commit(gr_file *out, gr_error *err)
 {
+    if (out->notes) {
+        int rc = notes_commit(out, err);
+        free(out->notes);
+        out->notes = NULL;
+        if (rc) {
+            gr_file_abandon(out);
+            return rc;
+        }
+    }
     int e = fflush(out->f) != 0 ? errno : 0;
     if (!e && ferror(out->f)) {
         e = lost_write_reason(out->f); /* an earlier write failed and its data are gone */
@@ -86,6 +146,8 @@ int gr_file_fail(const char *path, int errnum, gr_error *err)
 
 void gr_file_abandon(gr_file *out)
 {
+    free(out->notes);
+    out->notes = NULL;
     if (out->f) {
         fclose(out->f);
         out->f = NULL;

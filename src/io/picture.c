@@ -2,7 +2,6 @@
  * 2.9). See picture.h for the conventions. Every cairo call's status is checked (a failure is
  * GR_EIO with cairo's message) and PNGs are written through gr_file (temporary + fsync + rename). */
 #include <cairo.h>
-#include <dirent.h>
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
@@ -15,6 +14,7 @@
 #include "io/files.h"
 #include "io/picture.h"
 #include "io/snapshot.h"
+#include "io/trajectory.h"
 
 enum { DEFAULT_SIZE = 1000, MIN_SIZE = 64, RUN_STRIP_FRAMES = 40 };
 #define DEFAULT_VMAX 3.0
@@ -670,63 +670,17 @@ int gr_picture_frame(const gr_frame *f, double radius, const char *png_path, con
 
 /* ---------- run folders ---------- */
 
-typedef struct snap_name {
-    long index;
-    char name[64];
-} snap_name;
-
-static int by_index(const void *a, const void *b)
+/* Frames first..last (inclusive) of a run folder's trajectory (any output.trajectory format). */
+static int read_frames(const char *run_dir, int64_t first, int64_t last, gr_frame *frames, gr_error *err)
 {
-    long x = ((const snap_name *)a)->index, y = ((const snap_name *)b)->index;
-    return (x > y) - (x < y);
-}
-
-/* The snapshot files snap_<digits>.xyz of dir, sorted by index. */
-static int list_snapshots(const char *dir, snap_name **out, int *count, gr_error *err)
-{
-    *out = NULL;
-    *count = 0;
-    DIR *d = opendir(dir);
-    if (!d) {
-        return GR_FAIL(err, errno == ENOENT ? GR_EINVAL : GR_EIO, "%s: %s (no snapshots; set output.snapshot_every)",
-                       dir, strerror(errno));
+    gr_traj_reader *r;
+    int64_t count;
+    int rc = gr_traj_reader_open(run_dir, -1, &r, &count, err);
+    for (int64_t k = first; !rc && k <= last; k++) {
+        rc = gr_traj_reader_frame(r, k, &frames[k - first], err);
     }
-    int cap = 0;
-    struct dirent *e;
-    while ((e = readdir(d))) {
-        const char *nm = e->d_name;
-        size_t len = strlen(nm);
-        if (len < 10 || len >= 64 || strncmp(nm, "snap_", 5) || strcmp(nm + len - 4, ".xyz")) {
-            continue;
-        }
-        bool digits = true;
-        for (size_t i = 5; i < len - 4; i++) {
-            digits = digits && nm[i] >= '0' && nm[i] <= '9';
-        }
-        if (!digits) {
-            continue;
-        }
-        if (*count == cap) {
-            cap = cap ? 2 * cap : 64;
-            snap_name *grown = realloc(*out, sizeof **out * (size_t)cap);
-            if (!grown) {
-                closedir(d);
-                free(*out);
-                *out = NULL;
-                return GR_FAIL(err, GR_ENOMEM, "%s: out of memory listing snapshots", dir);
-            }
-            *out = grown;
-        }
-        (*out)[*count].index = strtol(nm + 5, NULL, 10);
-        snprintf((*out)[*count].name, sizeof (*out)[*count].name, "%s", nm);
-        (*count)++;
-    }
-    closedir(d);
-    if (*count == 0) {
-        return GR_FAIL(err, GR_EINVAL, "%s: no snapshots (snap_NNNNNN.xyz); set output.snapshot_every", dir);
-    }
-    qsort(*out, (size_t)*count, sizeof **out, by_index);
-    return GR_OK;
+    gr_traj_reader_close(r);
+    return rc;
 }
 
 int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *png_path, size_t png_path_size,
@@ -740,38 +694,39 @@ int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *
     if (rc) {
         return rc;
     }
-    char snapdir[1024], path[1200], out[1100];
-    snprintf(snapdir, sizeof snapdir, "%s/snapshots", run_dir);
-    snap_name *names;
-    int count;
-    rc = list_snapshots(snapdir, &names, &count, err);
+    char path[1200], out[1100];
+    gr_traj_reader *r;
+    int64_t count = 0;
+    rc = gr_traj_reader_open(run_dir, -1, &r, &count, err);
+    gr_traj_reader_close(r);
+    if (!rc && count == 0) {
+        rc = GR_FAIL(err, GR_EINVAL, "%s: no snapshots (an empty trajectory); set output.snapshot_every", run_dir);
+    }
     if (rc) {
         return rc;
     }
     /* the last frame decides the kind of picture; a 1D run stacks up to 40 successive frames */
     gr_frame last;
-    snprintf(path, sizeof path, "%s/%s", snapdir, names[count - 1].name);
-    rc = gr_snapshot_read(path, &last, err);
+    rc = read_frames(run_dir, count - 1, count - 1, &last, err);
     if (rc) {
-        free(names);
         return rc;
     }
-    int nf = last.dim == 2 ? 1 : (count < RUN_STRIP_FRAMES ? count : RUN_STRIP_FRAMES);
+    int nf = last.dim == 2 ? 1 : (count < RUN_STRIP_FRAMES ? (int)count : RUN_STRIP_FRAMES);
     gr_frame *frames = calloc((size_t)nf, sizeof *frames);
     if (!frames) {
         gr_frame_free(&last);
-        free(names);
         return GR_FAIL(err, GR_ENOMEM, "%s: out of memory", run_dir);
     }
     frames[nf - 1] = last;
+    if (nf > 1) {
+        rc = read_frames(run_dir, count - nf, count - 2, frames, err);
+    }
     for (int j = 0; j < nf - 1 && !rc; j++) {
-        snprintf(path, sizeof path, "%s/%s", snapdir, names[count - nf + j].name);
-        rc = gr_snapshot_read(path, &frames[j], err);
-        if (!rc && frames[j].dim != last.dim) {
-            rc = GR_FAIL(err, GR_EINVAL, "%s is %dD but the last snapshot is %dD", path, frames[j].dim, last.dim);
+        if (frames[j].dim != last.dim) {
+            rc = GR_FAIL(err, GR_EINVAL, "%s: frame %lld is %dD but the last one is %dD", run_dir, (long long)(count - nf + j),
+                         frames[j].dim, last.dim);
         }
     }
-    free(names);
     /* the radius: the run's scene.ini, else the snapshots' radius column */
     double radius = last.radius;
     gr_error scene_err = {0};

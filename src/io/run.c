@@ -22,7 +22,7 @@
 #include "io/picture.h"
 #include "analysis/mean_field.h"
 #include "io/scene_json.h"
-#include "io/snapshot.h"
+#include "io/trajectory.h"
 #include "io/run_checkpoint.h"
 #include "io/run_schedule.h"
 #include "core/sim_state.h"
@@ -64,10 +64,21 @@ static void test_pause(const gr_sim *sim, const gr_run_options *opt)
     }
 }
 
-static void csv_header(FILE *f, const char *what, const gr_scene *s, uint64_t hash)
+static void csv_header(gr_file *f, const char *what, const gr_scene *s, uint64_t hash)
 {
-    fprintf(f, "# granule %s (%s)\n# scene %s, hash %016llx, seed %llu\n", what, GR_VERSION,
+    gr_file_note(f, "# granule %s (%s)\n# scene %s, hash %016llx, seed %llu\n", what, GR_VERSION,
             s->source, (unsigned long long)hash, (unsigned long long)s->seed);
+}
+
+/* Close a streamed table without moving it into place (a resume continues it), dropping its notes. */
+static void stream_leave(gr_file *f)
+{
+    if (f->f) {
+        fclose(f->f);
+        f->f = NULL;
+    }
+    free(f->notes);
+    f->notes = NULL;
 }
 
 static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, const gr_run_result *r,
@@ -175,7 +186,7 @@ static int write_blocks(const char *dir, const gr_scene *s, uint64_t hash, const
     if (rc) {
         return rc;
     }
-    csv_header(f.f, "block averaging of T (Flyvbjerg-Petersen); T in m^2/s^2, block length in s", s, hash);
+    csv_header(&f, "block averaging of T (Flyvbjerg-Petersen); T in m^2/s^2, block length in s", s, hash);
     fprintf(f.f, "level,block_seconds,blocks,T_mean,T_stderr\n");
     for (int k = 0; k < GR_BLOCKING_LEVELS && b->count[k] >= 2; k++) {
         fprintf(f.f, "%d,%.9g,%lld,%.9g,%.9g\n", k, ldexp(s->sample_every, k), (long long)b->count[k],
@@ -184,11 +195,12 @@ static int write_blocks(const char *dir, const gr_scene *s, uint64_t hash, const
     return gr_file_commit(&f, err);
 }
 
-/* the snapshot due at this step; the next one snap_every steps later */
-static int write_snapshot(gr_sim *sim, const char *snapdir, int *index, int64_t *next, int64_t snap_every, gr_error *err)
+/* the trajectory frame due at this step (output.trajectory); the next one snap_every steps later */
+static int write_frame(gr_sim *sim, gr_traj_writer *traj, int *index, int64_t *next, int64_t snap_every, gr_error *err)
 {
     gr_particles p = gr_sim_particles(sim);
-    int rc = gr_snapshot_write(snapdir, (*index)++, &p, gr_sim_time(sim), err);
+    int rc = gr_traj_writer_frame(traj, &p, gr_sim_time(sim), gr_sim_steps(sim), err);
+    *index = (int)traj->frames;
     *next += snap_every;
     return rc;
 }
@@ -244,13 +256,6 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     const uint64_t hash = gr_scene_hash(scene);
     const int64_t per_sample = plan.per_sample, warm_samples = plan.warm_samples, run_samples = plan.run_samples;
     const int64_t snap_every = plan.snap_every;
-    char snapdir[1100];
-    snprintf(snapdir, sizeof snapdir, "%.1080s/snapshots", dir);
-    if (snap_every > 0 && mkdir(snapdir, 0777) != 0 && access(snapdir, W_OK) != 0) {
-        gr_sim_free(sim);
-        free(ck_buf);
-        return GR_FAIL(err, GR_EIO, "cannot create %s", snapdir);
-    }
 
     gr_file ft = {0}, fl = {0};
     rc = resume ? GR_OK : gr_file_open(&ft, dir, "temperature.csv", err); /* a resume continues them */
@@ -266,9 +271,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         return rc;
     }
     if (!resume) {
-    csv_header(ft.f, "granular temperature T(t) of eq. 2.19, m^2/s^2; running_mean over the sampling phase", scene, hash);
     fprintf(ft.f, "t,T,running_mean,phase\n");
-    csv_header(fl.f, "energy ledger, J (residual = kinetic + elastic - initial - injected + dissipated + removed_com)", scene, hash);
     fprintf(fl.f, "t,kinetic,elastic,injected,dissipated_normal,dissipated_tangential,dissipated_friction,removed_com,residual\n");
     }
 
@@ -284,13 +287,15 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     double stepping = 0.0, last_report = now(), start = now();
     int64_t next_snap = 0;
     int snap_index = 0;
+    gr_traj_writer traj = {0};
     /* checkpoints (docs/checkpoints.md): at sample boundaries every checkpoint_every (simulated)
      * or checkpoint_wall (wall clock); on a stop request (signal, wall budget) at the next step
      * boundary. Steps run in chunks of about 0.1 s so a request is seen quickly; splitting
      * gr_sim_step calls does not change a bit of the result. */
     gr_run_ckpt ckst = {.k_next = 0, .per_sample = per_sample, .warm_samples = warm_samples, .run_samples = run_samples,
                         .blk = &blk, .haff_n = &haff_n, .haff_cap = haff_cap, .haff_t = haff_t, .haff_T = haff_T,
-                        .next_snap = &next_snap, .snap_index = &snap_index, .ft = &ft, .fl = &fl};
+                        .next_snap = &next_snap, .snap_index = &snap_index, .ft = &ft, .fl = &fl,
+                        .traj = &traj};
     if (resume) {
         rc = gr_run_resume_state(&ck, dir, sim, obs, &ckst, err);
         free(ck_buf);
@@ -304,6 +309,21 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
             gr_sim_free(sim);
             return rc;
         }
+    }
+    /* the tables' notes (NAME.meta.json at commit) are kept in memory, so a resume writes them again */
+    csv_header(&ft, "granular temperature T(t) of eq. 2.19, m^2/s^2; running_mean over the sampling phase", scene, hash);
+    csv_header(&fl, "energy ledger, J (residual = kinetic + elastic - initial - injected + dissipated + removed_com)", scene, hash);
+    /* the trajectory: a resume cuts the frames written after the checkpoint */
+    rc = gr_traj_writer_open(&traj, scene, dir, resume ? snap_index : -1, err);
+    if (rc) {
+        gr_traj_writer_close(&traj, &(gr_error){0});
+        stream_leave(&ft);
+        stream_leave(&fl);
+        free(haff_t);
+        free(haff_T);
+        gr_observer_free(obs);
+        gr_sim_free(sim);
+        return rc;
     }
     gr_error ck_err = {0};
     const bool can_checkpoint = gr_sim_checkpointable(sim, &ck_err) == GR_OK;
@@ -334,7 +354,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
                         : chunk_wall > 0.2 && chunk > 1 ? chunk / 2
                                                         : chunk;
                 if (rc == GR_OK && snap_every > 0 && gr_sim_steps(sim) == next_snap && next_snap < k * per_sample) {
-                    rc = write_snapshot(sim, snapdir, &snap_index, &next_snap, snap_every, err);
+                    rc = write_frame(sim, &traj, &snap_index, &next_snap, snap_every, err);
                     if (rc) {
                         break;
                     }
@@ -413,7 +433,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
             break;
         }
         if (snap_every > 0 && gr_sim_steps(sim) == next_snap) {
-            rc = write_snapshot(sim, snapdir, &snap_index, &next_snap, snap_every, err);
+            rc = write_frame(sim, &traj, &snap_index, &next_snap, snap_every, err);
             if (rc) {
                 break;
             }
@@ -469,9 +489,10 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         size_t bytes = 0;
         rc = gr_run_checkpoint_write(dir, scene, sim, obs, &ckst, &used, &bytes, err);
         if (rc == GR_OK) {
-            /* the streamed CSVs stay as they are for the resume to continue */
-            fclose(ft.f);
-            fclose(fl.f);
+            /* the streamed CSVs and the trajectory stay as they are for the resume to continue */
+            gr_traj_writer_close(&traj, &(gr_error){0});
+            stream_leave(&ft);
+            stream_leave(&fl);
             free(haff_t);
             free(haff_T);
             gr_observer_free(obs);
@@ -508,6 +529,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         status = "failed";
         snprintf(diagnosis, sizeof diagnosis, "%s", err->message);
     }
+    int rc_j = gr_traj_writer_close(&traj, &io_err);
     int rc_t = gr_file_commit(&ft, &io_err);
     int rc_l = gr_file_commit(&fl, rc_t ? &step_err : &io_err);
     int rc_b = write_blocks(dir, scene, hash, &blk, &io_err);
@@ -566,7 +588,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         *err = step_err;
         return GR_EIO;
     }
-    if (rc_t || rc_l || rc_b || rc_s || rc_o || rc_i) {
+    if (rc_j || rc_t || rc_l || rc_b || rc_s || rc_o || rc_i) {
         *err = io_err;
         return GR_EIO;
     }

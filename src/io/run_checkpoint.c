@@ -60,6 +60,7 @@ int gr_run_checkpoint_write(const char *dir, const gr_scene *scene, const gr_sim
     int64_t len_t = 0, len_l = 0;
     int rc = sync_stream(st->ft, &len_t, err);
     rc = rc ? rc : sync_stream(st->fl, &len_l, err);
+    rc = rc ? rc : gr_traj_writer_sync(st->traj, err);
     if (rc) {
         return rc;
     }

@@ -13,6 +13,7 @@
 #include "granule/sim.h"
 #include "io/checkpoint.h"
 #include "io/files.h"
+#include "io/trajectory.h"
 
 /* The run driver's own state at a step boundary. */
 typedef struct gr_run_ckpt {
@@ -24,6 +25,7 @@ typedef struct gr_run_ckpt {
     int64_t *next_snap;             /* step of the next snapshot */
     int *snap_index;
     gr_file *ft, *fl;               /* temperature.csv and ledger.csv, being streamed */
+    gr_traj_writer *traj;           /* the trajectory (its frame count is *snap_index) */
 } gr_run_ckpt;
 
 /* Write dir/checkpoint: the resolved scene text, the simulation, the observables and the

@@ -67,7 +67,8 @@ static const scene_key keys[] = {
     {"run", "progress", "", K_BOOL, "true", 0, 1, false, false, NULL, "progress line with ETA on a terminal (never in CI logs or when stderr is not a terminal)", OFF(progress)},
     {"analysis", "observables", "", K_LIST, "", 0, 0, false, false, NULL, "statistics to accumulate while sampling, comma-separated (granule observables lists them); empty = temperature only", OFF(observables)},
     {"output", "dir", "", K_STRING, "out", 0, 0, false, false, NULL, "output folder (granule run --out overrides it)", OFF(out_dir)},
-    {"output", "snapshot_every", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "interval between extended-XYZ snapshots, a whole number of steps, independent of sample_every; 0 = none", OFF(snapshot_every)},
+    {"output", "snapshot_every", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "interval between frames of the trajectory (output.trajectory), a whole number of steps, independent of sample_every; 0 = none", OFF(snapshot_every)},
+    {"output", "trajectory", "", K_ENUM, "snapshots", 0, 0, false, false, "snapshots|xyz|h5md", "format of the frames written every snapshot_every (docs/trajectories.md): snapshots = one extended-XYZ file per frame (snapshots/snap_NNNNNN.xyz), xyz = one multi-frame extended-XYZ file (snapshots/trajectory.xyz), h5md = one H5MD file (trajectory.h5: HDF5, chunked, deflate-compressed; MDAnalysis and OVITO read it)", OFF(trajectory)},
     {"output", "plots", "", K_BOOL, "true", 0, 1, false, false, NULL, "write PNG plots with gnuplot at the end of the run (skipped with a note if gnuplot is missing)", OFF(plots)},
 };
 #undef OFF

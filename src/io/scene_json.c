@@ -66,6 +66,8 @@ cJSON *gr_scene_to_json(const gr_scene *s)
     cJSON *out = cJSON_AddObjectToObject(root, "output");
     cJSON_AddStringToObject(out, "dir", s->out_dir);
     cJSON_AddNumberToObject(out, "snapshot_every", s->snapshot_every);
+    static const char *traj[] = {"snapshots", "xyz", "h5md"};
+    cJSON_AddStringToObject(out, "trajectory", traj[s->trajectory]);
     cJSON_AddBoolToObject(out, "plots", s->plots);
     return root;
 }

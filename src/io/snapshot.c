@@ -1,4 +1,6 @@
-/* Snapshots in extended XYZ (readable by OVITO and ASE): one frame per file, written atomically. */
+/* Snapshots in extended XYZ (ASE 3.22, OVITO, MDAnalysis and granule read them; the layout and
+ * what each reader makes of a 2D or 1D box are in docs/trajectories.md). One frame per file
+ * (written atomically) or many frames in one file (src/io/trajectory.c). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -7,7 +9,23 @@
 #include "io/files.h"
 #include "io/snapshot.h"
 
-int gr_snapshot_write(const char *dir, int index, const gr_particles *p, double t, gr_error *err)
+void gr_xyz_write_frame(FILE *f, const gr_particles *p, double t, int64_t step)
+{
+    const double d = 2.0 * p->radius;
+    const double Ly = p->dim == 2 ? p->L : d;
+    fprintf(f, "%d\nLattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T %s F\" Time=%.17g Step=%lld "
+               "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3\n",
+            p->n, p->L, Ly, d, p->dim == 2 ? "T" : "F", t, (long long)step);
+    for (int i = 0; i < p->n; i++) {
+        const double x = p->x[i] - p->L * floor(p->x[i] / p->L);
+        const double y = p->dim == 2 ? p->y[i] : 0.5 * d;
+        const double vy = p->dim == 2 ? p->vy[i] : 0.0;
+        fprintf(f, "X %.17g %.17g %.17g %.17g %.17g 0 %.17g %.17g %.17g %.17g 0\n", x, y, 0.5 * d, p->vx[i], vy,
+                p->radius, p->mass, p->mass * p->vx[i], p->mass * vy);
+    }
+}
+
+int gr_snapshot_write(const char *dir, int index, const gr_particles *p, double t, int64_t step, gr_error *err)
 {
     char name[64];
     snprintf(name, sizeof name, "snap_%06d.xyz", index);
@@ -16,16 +34,7 @@ int gr_snapshot_write(const char *dir, int index, const gr_particles *p, double 
     if (rc) {
         return rc;
     }
-    double Ly = p->dim == 2 ? p->L : 1.0;
-    fprintf(f.f, "%d\nLattice=\"%.17g 0 0 0 %.17g 0 0 0 1\" pbc=\"T %s F\" Time=%.17g "
-                 "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1\n",
-            p->n, p->L, Ly, p->dim == 2 ? "T" : "F", t);
-    for (int i = 0; i < p->n; i++) {
-        double x = p->x[i] - p->L * floor(p->x[i] / p->L);
-        double y = p->dim == 2 ? p->y[i] : 0.5;
-        double vy = p->dim == 2 ? p->vy[i] : 0.0;
-        fprintf(f.f, "G %.17g %.17g 0 %.17g %.17g 0 %.17g\n", x, y, p->vx[i], vy, p->radius);
-    }
+    gr_xyz_write_frame(f.f, p, t, step);
     return gr_file_commit(&f, err);
 }
 
@@ -38,68 +47,133 @@ void gr_frame_free(gr_frame *f)
     f->x = f->y = f->vx = f->vy = NULL;
 }
 
-int gr_snapshot_read(const char *path, gr_frame *f, gr_error *err)
+int gr_frame_alloc(gr_frame *f, int n, int dim, gr_error *err)
 {
-    memset(f, 0, sizeof *f);
-    FILE *in = fopen(path, "r");
-    if (!in) {
-        return GR_FAIL(err, GR_EIO, "%s: cannot open snapshot", path);
-    }
-    char line[1024];
-    long n = 0;
-    if (!fgets(line, sizeof line, in) || sscanf(line, "%ld", &n) != 1 || n < 1 || n > 100000000L) {
-        fclose(in);
-        return GR_FAIL(err, GR_EINVAL, "%s:1: expected the particle count", path);
-    }
-    if (!fgets(line, sizeof line, in)) {
-        fclose(in);
-        return GR_FAIL(err, GR_EINVAL, "%s:2: missing comment line", path);
-    }
-    double lx = 0, ly = 0;
-    const char *lat = strstr(line, "Lattice=\""), *tm = strstr(line, "Time="), *pbc = strstr(line, "pbc=\"");
-    double dummy;
-    if (!lat || sscanf(lat + 9, "%lf %lf %lf %lf %lf", &lx, &dummy, &dummy, &dummy, &ly) != 5 || !(lx > 0.0) ||
-        !strstr(line, "Properties=species:S:1:pos:R:3:velo:R:3")) {
-        fclose(in);
-        return GR_FAIL(err, GR_EINVAL, "%s:2: not a granule extended-XYZ frame (need Lattice, Properties=species:S:1:pos:R:3:velo:R:3)", path);
-    }
-    f->dim = pbc && strncmp(pbc + 5, "T F", 3) == 0 ? 1 : 2;
-    f->t = tm ? strtod(tm + 5, NULL) : 0.0;
-    f->L = lx;
-    f->n = (int)n;
+    f->n = n;
+    f->dim = dim;
     f->x = malloc(sizeof(double) * (size_t)n);
     f->vx = malloc(sizeof(double) * (size_t)n);
-    f->y = malloc(sizeof(double) * (size_t)n);
-    f->vy = malloc(sizeof(double) * (size_t)n);
-    if (!f->x || !f->vx || !f->y || !f->vy) {
-        fclose(in);
+    f->y = dim == 2 ? malloc(sizeof(double) * (size_t)n) : NULL;
+    f->vy = dim == 2 ? malloc(sizeof(double) * (size_t)n) : NULL;
+    if (!f->x || !f->vx || (dim == 2 && (!f->y || !f->vy))) {
         gr_frame_free(f);
-        return GR_FAIL(err, GR_ENOMEM, "%s: out of memory for %ld particles", path, n);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for a frame of %d particles", n);
     }
+    return GR_OK;
+}
+
+/* Columns of the Properties we need: first column of pos, velo, momenta, masses, radius (-1 if
+ * absent) and the total number of columns. */
+typedef struct xyz_columns {
+    int pos, velo, momenta, masses, radius, total;
+} xyz_columns;
+
+static int parse_properties(const char *line, xyz_columns *c)
+{
+    *c = (xyz_columns){-1, -1, -1, -1, -1, 0};
+    const char *p = strstr(line, "Properties=");
+    if (!p) {
+        return -1;
+    }
+    p += 11;
+    while (*p && *p != ' ' && *p != '\n' && *p != '\r') {
+        char name[64], type[8];
+        int count = 0, used = 0;
+        if (sscanf(p, "%63[^:]:%7[^:]:%d%n", name, type, &count, &used) != 3 || count < 1) {
+            return -1;
+        }
+        int *slot = !strcmp(name, "pos") ? &c->pos : !strcmp(name, "velo") ? &c->velo : !strcmp(name, "momenta") ? &c->momenta
+                    : !strcmp(name, "masses") ? &c->masses : !strcmp(name, "radius") ? &c->radius : NULL;
+        if (slot) {
+            *slot = c->total;
+        }
+        c->total += count;
+        p += used + (p[used] == ':');
+    }
+    return c->pos >= 0 && (c->velo >= 0 || (c->momenta >= 0 && c->masses >= 0)) && c->total <= 64 ? 0 : -1;
+}
+
+int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr_error *err)
+{
+    memset(f, 0, sizeof *f);
+    char line[4096];
+    long n = 0;
+    if (!fgets(line, sizeof line, in)) {
+        return 1;
+    }
+    ++*line_no;
+    if (sscanf(line, "%ld", &n) != 1 || n < 1 || n > 100000000L) {
+        return GR_FAIL(err, GR_EINVAL, "%s:%ld: expected the particle count", path, *line_no);
+    }
+    if (!fgets(line, sizeof line, in)) {
+        return GR_FAIL(err, GR_EINVAL, "%s:%ld: missing comment line", path, *line_no + 1);
+    }
+    ++*line_no;
+    double lx = 0, dummy;
+    const char *lat = strstr(line, "Lattice=\""), *tm = strstr(line, "Time="), *pbc = strstr(line, "pbc=\"");
+    xyz_columns c;
+    if (!lat || sscanf(lat + 9, "%lf %lf", &lx, &dummy) != 2 || !(lx > 0.0) || parse_properties(line, &c) != 0) {
+        return GR_FAIL(err, GR_EINVAL, "%s:%ld: not a granule extended-XYZ frame (need Lattice and Properties with "
+                                       "pos and velo, or momenta and masses)", path, *line_no);
+    }
+    int rc = gr_frame_alloc(f, (int)n, pbc && strncmp(pbc + 5, "T F", 3) == 0 ? 1 : 2, err);
+    if (rc) {
+        return rc;
+    }
+    f->t = tm ? strtod(tm + 5, NULL) : 0.0;
+    f->L = lx;
     for (long i = 0; i < n; i++) {
-        char sp[16];
-        double z, vz, r = 0.0;
+        double v[64];
+        ++*line_no;
         if (!fgets(line, sizeof line, in)) {
-            fclose(in);
             gr_frame_free(f);
             return GR_FAIL(err, GR_EINVAL, "%s: truncated: %ld of %ld particles", path, i, n);
         }
-        int got = sscanf(line, "%15s %lf %lf %lf %lf %lf %lf %lf", sp, &f->x[i], &f->y[i], &z, &f->vx[i], &f->vy[i], &vz, &r);
-        if (got < 7 || !isfinite(f->x[i]) || !isfinite(f->vx[i])) {
-            fclose(in);
+        char *s = line + strspn(line, " \t");
+        s += strcspn(s, " \t"); /* the species */
+        int got = 0;
+        for (; got < c.total - 1; got++) {
+            char *end;
+            v[got] = strtod(s, &end);
+            if (end == s) {
+                break;
+            }
+            s = end;
+        }
+        const int need = (c.velo >= 0 ? c.velo : c.momenta) + (f->dim == 2 ? 1 : 0);
+        if (got < c.total - 1 || got <= need) {
             gr_frame_free(f);
-            return GR_FAIL(err, GR_EINVAL, "%s:%ld: expected species x y z vx vy vz [radius]", path, i + 3);
+            return GR_FAIL(err, GR_EINVAL, "%s:%ld: expected %d columns", path, *line_no, c.total);
         }
-        if (got == 8) {
-            f->radius = r;
+        /* v[] starts after the species column */
+        const double m = c.velo >= 0 ? 1.0 : v[c.masses - 1];
+        const double *vel = c.velo >= 0 ? &v[c.velo - 1] : &v[c.momenta - 1];
+        f->x[i] = v[c.pos - 1];
+        f->vx[i] = vel[0] / m;
+        if (f->dim == 2) {
+            f->y[i] = v[c.pos];
+            f->vy[i] = vel[1] / m;
         }
-    }
-    fclose(in);
-    if (f->dim == 1) {
-        free(f->y);
-        free(f->vy);
-        f->y = f->vy = NULL;
-        /* 1D frames are written wrapped into [0, L): restore the ring order for the analysis */
+        if (c.radius >= 0) {
+            f->radius = v[c.radius - 1];
+        }
+        if (!isfinite(f->x[i]) || !isfinite(f->vx[i])) {
+            gr_frame_free(f);
+            return GR_FAIL(err, GR_EINVAL, "%s:%ld: position or velocity not finite", path, *line_no);
+        }
     }
     return GR_OK;
+}
+
+int gr_snapshot_read(const char *path, gr_frame *f, gr_error *err)
+{
+    FILE *in = fopen(path, "r");
+    if (!in) {
+        memset(f, 0, sizeof *f);
+        return GR_FAIL(err, GR_EIO, "%s: cannot open snapshot", path);
+    }
+    long line_no = 0;
+    int rc = gr_xyz_read_frame(in, path, &line_no, f, err);
+    fclose(in);
+    return rc == 1 ? GR_FAIL(err, GR_EINVAL, "%s:1: expected the particle count", path) : rc;
 }

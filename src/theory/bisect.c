@@ -1167,10 +1167,10 @@ static int process_anchor_bin(const gr_bisect_result *res, const gr_bisect_setti
 /* ==========================================================================================
  * Outputs */
 
-static void csv_header(FILE *f, const gr_bisect_settings *s, const gr_bisect_u0 *u, const char *what)
+static void csv_header(gr_file *f, const gr_bisect_settings *s, const gr_bisect_u0 *u, const char *what)
 {
-    fprintf(f, "# granule bisect %s (commit %s): %s\n", GR_VERSION, GR_COMMIT, what);
-    fprintf(f, "# multiplicative bisection process (thesis sec. 3.4): n = %d levels (N = 2^n = %lld partitions), "
+    gr_file_note(f, "# granule bisect %s (commit %s): %s\n", GR_VERSION, GR_COMMIT, what);
+    gr_file_note(f, "# multiplicative bisection process (thesis sec. 3.4): n = %d levels (N = 2^n = %lld partitions), "
                "%lld realisations, U_0 = %s, gsl_rng_mt19937 seed %llu\n",
             s->levels, 1LL << s->levels, (long long)s->repetitions, u->name, (unsigned long long)s->seed);
 }
@@ -1192,12 +1192,12 @@ static int write_pn(const char *dir, const gr_bisect_settings *s, const gr_bisec
     if (rc) {
         return rc;
     }
-    csv_header(f.f, s, u, "P_n(x), the distribution of partition lengths x at level n");
-    fprintf(f.f, "# log bins (%d per decade; empty bins at either end left out); density = count / (partitions * "
+    csv_header(&f, s, u, "P_n(x), the distribution of partition lengths x at level n");
+    gr_file_note(&f, "# log bins (%d per decade; empty bins at either end left out); density = count / (partitions * "
                  "width) with sqrt(count) errors (App. A.1); density_error_reps from the spread of the counts over "
                  "realisations (the partitions of one realisation are correlated)\n",
             s->bins_per_decade);
-    fprintf(f.f, "# uniform_3_36 = (-ln x)^(n-1)/(n-1)! at the bin centre (eq. 3.36, the uniform U_0); "
+    gr_file_note(&f, "# uniform_3_36 = (-ln x)^(n-1)/(n-1)! at the bin centre (eq. 3.36, the uniform U_0); "
                  "uniform_3_36_bin = its average over the bin; %.0f of %.0f partitions fell below x = %g\n",
             h->below, h->total, h->lo);
     fprintf(f.f, "x_lo,x_hi,x,minus_ln_x,count,density,density_error,density_error_reps,uniform_3_36,uniform_3_36_bin\n");
@@ -1220,8 +1220,8 @@ static int write_moments(const char *dir, const gr_bisect_settings *s, const gr_
     if (rc) {
         return rc;
     }
-    csv_header(f.f, s, u, "moments <x^m> of the partition lengths at every level k (N = 2^k partitions)");
-    fprintf(f.f, "# moment = mean over realisations of the mean over the N partitions; moment_error = standard "
+    csv_header(&f, s, u, "moments <x^m> of the partition lengths at every level k (N = 2^k partitions)");
+    gr_file_note(&f, "# moment = mean over realisations of the mean over the N partitions; moment_error = standard "
                  "error from its spread over realisations; predicted = mu_m^k, mu_m = <(a^m + (1-a)^m)/2> under "
                  "U_0 (= (1+m)^-k for the uniform U_0, eq. 3.37); z = (moment - predicted) / moment_error\n");
     fprintf(f.f, "level,N,m,moment,moment_error,predicted,z\n");
@@ -1253,12 +1253,12 @@ static int write_zeta(const char *dir, const gr_bisect_settings *s, const gr_bis
     if (rc) {
         return rc;
     }
-    csv_header(f.f, s, u, "the exponents zeta_m of <x^m> = A N^-zeta_m (eqs. 3.20, 3.38; Table 3.1)");
-    fprintf(f.f, "# chi-square power-law fit over N = 2^k, k = %d..%d, with the moments' standard errors; "
+    csv_header(&f, s, u, "the exponents zeta_m of <x^m> = A N^-zeta_m (eqs. 3.20, 3.38; Table 3.1)");
+    gr_file_note(&f, "# chi-square power-law fit over N = 2^k, k = %d..%d, with the moments' standard errors; "
                  "zeta_error_fit from the fit (levels taken as independent, as the thesis), zeta_error_jackknife "
                  "from %d groups of realisations (levels of one realisation are correlated)\n",
             res->fit_level_min, res->levels, s->jackknife_groups < s->repetitions ? s->jackknife_groups : (int)s->repetitions);
-    fprintf(f.f, "# zeta_predicted = -log2 mu_m for this U_0; zeta_uniform_3_38 = ln(1+m)/ln 2; "
+    gr_file_note(&f, "# zeta_predicted = -log2 mu_m for this U_0; zeta_uniform_3_38 = ln(1+m)/ln 2; "
                  "zeta_rfm_table_3_1 = the 1D Random Force Model's measured value (Table 3.1, m <= 5)\n");
     fprintf(f.f, "m,zeta,zeta_error_fit,zeta_error_jackknife,chi2_red,prefactor,prefactor_error,zeta_predicted,"
                  "zeta_uniform_3_38,zeta_rfm_table_3_1,zeta_rfm_error\n");
@@ -1311,10 +1311,10 @@ static int write_collapse(const char *dir, const gr_bisect_settings *s, const gr
     if (rc) {
         return rc;
     }
-    csv_header(f.f, s, u, "the collapse G(R;N) -> A_N G^(1/(n-1)), n = log2 N (eq. 3.39)");
-    fprintf(f.f, "# A_N = -ln(R_0) G(R_0;N)^(-1/(n-1)) (eq. 3.40) so every set passes through -ln R_0 at R_0; "
+    csv_header(&f, s, u, "the collapse G(R;N) -> A_N G^(1/(n-1)), n = log2 N (eq. 3.39)");
+    gr_file_note(&f, "# A_N = -ln(R_0) G(R_0;N)^(-1/(n-1)) (eq. 3.40) so every set passes through -ln R_0 at R_0; "
                  "the uniform process collapses onto -ln R. Sets are separated by two blank lines (gnuplot index)\n");
-    fprintf(f.f, "# set 0: the process (G = P_n(x) at the bin centres R = x), n = %d, anchored at R_0 = %.6g "
+    gr_file_note(&f, "# set 0: the process (G = P_n(x) at the bin centres R = x), n = %d, anchored at R_0 = %.6g "
                  "(the bin centre%s), A_N = %.8g\n",
             res->levels, ci->anchor_R,
             gr_histogram_lower(h, ci->anchor_bin) <= s->anchor && s->anchor < gr_histogram_upper(h, ci->anchor_bin)
@@ -1323,7 +1323,7 @@ static int write_collapse(const char *dir, const gr_bisect_settings *s, const gr
             ci->A_N);
     for (int k = 0; k < out->n_g1; k++) {
         const gr_bisect_g1 *g = &out->g1[k];
-        fprintf(f.f, "# set %d: RFM G_1 from %s, N = %g (n = %.6g), reduced_length %g, anchored at R_0 = %g, A_N = %.8g\n",
+        gr_file_note(&f, "# set %d: RFM G_1 from %s, N = %g (n = %.6g), reduced_length %g, anchored at R_0 = %g, A_N = %.8g\n",
                 k + 1, g->name, g->N, log2(g->N), g->reduced_length, s->anchor, ci->g_A[k]);
     }
     fprintf(f.f, "set,N,n,R,minus_ln_R,G,G_error,collapsed,collapsed_error\n");

@@ -1,0 +1,193 @@
+#!/usr/bin/env bash
+# Real readers on granule's real outputs, with Debian's /usr/bin/python3 (docs/trajectories.md):
+#   ase   ASE 3.22 (python3-ase) reads a 2D and a 1D snapshot and the multi-frame trajectory.xyz:
+#         species, positions, get_velocities(), masses, radii, cell and pbc; frame times
+#   h5md  MDAnalysis (python3-mdanalysis + python3-h5py) reads trajectory.h5: frames, times, box,
+#         positions and velocities equal to the XYZ trajectory of the same run; granule analyse on
+#         the H5MD file gives the in-run observables; kill -9 after a checkpoint leaves a file h5py
+#         reads, and --resume ends with the same frames as an uninterrupted run (also trajectory.xyz)
+#   csv   every CSV of a run, a compare and a sweep folder loads with plain pandas.read_csv(path)
+#         and numpy.genfromtxt(path, names=True, delimiter=','); pv_collapse.csv is a long table
+# Exit 77 (skipped) only when the part's Python package cannot be imported.
+# usage: tests/test_readers.sh path/to/granule SOURCE_DIR ase|h5md|csv
+set -euo pipefail
+G=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+SRC=$2
+part=$3
+PY=/usr/bin/python3
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/granule-test-readers-XXXXXX")
+bg=0 # a background run to kill on exit
+trap 'if ((bg)); then kill -9 $bg 2>/dev/null || true; fi; rm -rf "$TMP"' EXIT
+export CI=1
+cd "$TMP"
+need() {
+    if ! "$PY" -c "import $1" 2>/dev/null; then
+        echo "skipped: $PY cannot import $1 (apt-get install $2)"
+        exit 77
+    fi
+}
+small2d=(--set system.N=300 --set system.L=0.08 --set run.warmup=0.004 --set run.duration=0.012
+         --set run.sample_every=0.002 --set output.snapshot_every=0.002 --set output.plots=false --quiet)
+
+case $part in
+ase)
+    need ase python3-ase
+    "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out r2 "${small2d[@]}" --set output.trajectory=snapshots
+    "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out x2 "${small2d[@]}" --set output.trajectory=xyz
+    "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out r1 --set system.dim=1 --set system.N=100 --set system.L=1 \
+        --set placement.kind=uniform --set model.tangential=none --set run.warmup=0 --set run.duration=0.004 --set run.sample_every=0.002 \
+        --set output.snapshot_every=0.002 --set output.plots=false --quiet
+    "$PY" - <<'EOF'
+import glob, warnings
+import numpy as np
+import ase.io
+warnings.simplefilter("ignore")
+M, r = 3.53e-5, 1.5e-3
+def check(path, L, dim):
+    a = ase.io.read(path)
+    assert set(a.get_chemical_symbols()) == {"X"}, a.get_chemical_symbols()[:3]
+    assert np.allclose(a.get_masses(), M, rtol=1e-15), a.get_masses()[:3]
+    v = a.get_velocities()
+    assert np.allclose(v, a.arrays["velo"], rtol=1e-12, atol=1e-15), (v[:2], a.arrays["velo"][:2])
+    assert np.abs(v[:, :dim]).max() > 0 and np.all(v[:, dim:] == 0)
+    assert np.allclose(a.arrays["radius"], r)
+    want = [L, L, 2 * r] if dim == 2 else [L, 2 * r, 2 * r]
+    assert np.allclose(a.cell.lengths(), want), (a.cell.lengths(), want)
+    assert list(a.pbc) == [True, dim == 2, False], a.pbc
+    assert np.all(a.positions[:, 0] >= 0) and np.all(a.positions[:, 0] < L)
+    return a
+for p in sorted(glob.glob("r2/snapshots/snap_*.xyz")):
+    check(p, 0.08, 2)
+for p in sorted(glob.glob("r1/snapshots/snap_*.xyz")):
+    check(p, 1.0, 1)
+frames = ase.io.read("x2/snapshots/trajectory.xyz", index=":")
+files = sorted(glob.glob("r2/snapshots/snap_*.xyz"))
+assert len(frames) == len(files) == 9, (len(frames), len(files))
+for k, (a, f) in enumerate(zip(frames, files)):
+    b = ase.io.read(f)
+    assert abs(a.info["Time"] - 0.002 * k) < 1e-12, a.info
+    assert np.array_equal(a.positions, b.positions) and np.array_equal(a.get_velocities(), b.get_velocities())
+print("ok ASE %s: 2D and 1D snapshots and a %d-frame trajectory.xyz" % (ase.__version__, len(frames)))
+EOF
+    "$G" analyse x2 --set analysis.observables=pv,moments >/dev/null
+    "$G" analyse r2 --set analysis.observables=pv,moments >/dev/null
+    cmp x2/analysis/pv.csv r2/analysis/pv.csv && cmp x2/analysis/moments.csv r2/analysis/moments.csv
+    echo "ok granule analyse reads trajectory.xyz as the per-frame snapshots"
+    ;;
+h5md)
+    need MDAnalysis python3-mdanalysis
+    need h5py python3-h5py
+    obs=(--set analysis.observables=pv,moments,sk,pair)
+    "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out h "${small2d[@]}" "${obs[@]}" --set output.trajectory=h5md
+    "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out x "${small2d[@]}" "${obs[@]}" --set output.trajectory=xyz
+    "$PY" - <<'EOF'
+import warnings
+import numpy as np
+warnings.simplefilter("ignore")
+import MDAnalysis as mda, h5py, ase.io
+u = mda.Universe.empty(300, trajectory=False)
+u.load_new("h/trajectory.h5", format="H5MD", convert_units=False)
+xyz = ase.io.read("x/snapshots/trajectory.xyz", index=":")
+assert len(u.trajectory) == len(xyz) == 9, (len(u.trajectory), len(xyz))
+for k, ts in enumerate(u.trajectory):
+    assert abs(ts.time - 0.002 * k) < 1e-12, ts.time
+    assert ts.data["step"] == 2000 * k, ts.data
+    assert np.allclose(ts.dimensions, [0.08, 0.08, 3e-3, 90, 90, 90]), ts.dimensions
+    assert np.array_equal(ts.positions.astype(float), np.float32(xyz[k].positions)), k
+    assert np.allclose(ts.velocities, xyz[k].get_velocities(), rtol=1e-6, atol=1e-9), k
+with h5py.File("h/trajectory.h5", "r") as f:
+    p = f["particles/all/position/value"]
+    assert p.compression == "gzip" and p.chunks[0] == 1, (p.compression, p.chunks)
+    assert np.array_equal(p[8], xyz[8].positions), "double positions differ from the XYZ"
+    assert list(f["particles/all/box"].attrs["boundary"]) == ["periodic", "periodic", "none"]
+    assert f["particles/all/velocity/value"].attrs["unit"] == "m s-1"
+print("ok MDAnalysis %s: %d frames, times, steps, box, positions and velocities" % (mda.__version__, len(u.trajectory)))
+EOF
+    "$G" analyse h --set run.warmup=0.004 >/dev/null
+    for f in pv.csv moments.csv sk.csv pair.csv; do
+        cmp h/$f h/analysis/$f || { echo "FAIL analyse of trajectory.h5: $f differs from the run's"; exit 1; }
+    done
+    echo "ok granule analyse of trajectory.h5 gives the in-run pv, moments, sk, pair"
+    # kill -9 after a checkpoint, then --resume: the same frames as the uninterrupted run
+    for fmt in h5md xyz; do
+        GRANULE_TEST_PAUSE_AT_STEP=9000 "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out k$fmt "${small2d[@]}" \
+            --set output.trajectory=$fmt --set run.checkpoint_every=0.004 >/dev/null 2>&1 &
+        pid=$!
+        bg=$pid
+        for _ in $(seq 1 1500); do [[ -e k$fmt/checkpoint ]] && break; sleep 0.02; done
+        sleep 0.3
+        kill -9 "$pid" 2>/dev/null || true
+        set +e; { wait "$pid"; } 2>/dev/null; rc=$?; set -e
+        [[ $rc -eq 137 ]] || { echo "FAIL kill -9 did not hit the $fmt run (exit $rc)"; exit 1; }
+        [[ $fmt == xyz ]] || "$PY" -c "
+import h5py
+with h5py.File('kh5md/trajectory.h5', 'r') as f:
+    n = f['particles/all/position/value'].shape[0]
+    assert n >= 2 and f['particles/all/position/time'].shape[0] >= n, n  # the frames before the first checkpoint
+print('ok a killed run leaves trajectory.h5 readable (%d frames)' % n)"
+        "$G" run --resume k$fmt --quiet
+    done
+    "$PY" - <<'EOF'
+import numpy as np, h5py, ase.io
+with h5py.File("h/trajectory.h5", "r") as a, h5py.File("kh5md/trajectory.h5", "r") as b:
+    for name in ["position/value", "velocity/value", "position/time", "position/step", "box/edges/value"]:
+        x, y = a["particles/all/" + name][()], b["particles/all/" + name][()]
+        assert x.shape == y.shape and np.array_equal(x, y), name
+ref, got = ase.io.read("x/snapshots/trajectory.xyz", index=":"), ase.io.read("kxyz/snapshots/trajectory.xyz", index=":")
+assert len(ref) == len(got) and all(np.array_equal(p.positions, q.positions) for p, q in zip(ref, got))
+print("ok kill -9 + --resume: trajectory.h5 and trajectory.xyz equal the uninterrupted run's")
+EOF
+    ;;
+csv)
+    need pandas python3-pandas
+    need numpy python3-numpy
+    "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out run "${small2d[@]}" \
+        --set analysis.observables=pv,moments,sk,pair,freepath,postcollision --set output.plots=true
+    "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out run1 --set system.dim=1 --set system.N=100 --set system.L=1 \
+        --set placement.kind=uniform --set model.tangential=none --set run.warmup=0 --set run.duration=0.004 --set run.sample_every=0.002 \
+        --set analysis.observables=gaps,moments --set output.plots=false --quiet
+    "$G" compare "$SRC/docs/scenes/rfm-2d.ini" --models spring_dashpot+tangential_dashpot,spring_dashpot --out cmp \
+        "${small2d[@]:0:${#small2d[@]}-1}" --set analysis.observables=pv >/dev/null
+    cat >sw.ini <<EOF
+[sweep]
+scene = $SRC/docs/scenes/rfm-2d.ini
+out = sweep
+[vary]
+system.N = 100, 200
+[set]
+system.L = 0.08
+run.warmup = 0.002
+run.duration = 0.004
+run.sample_every = 0.002
+output.plots = false
+analysis.observables = moments
+EOF
+    "$G" sweep sw.ini >/dev/null 2>&1 || { echo "FAIL sweep"; cat sweep/*.log 2>/dev/null | tail -5; exit 1; }
+    "$PY" - <<'EOF'
+import glob, json, os, warnings
+import numpy as np, pandas as pd
+warnings.simplefilter("ignore")
+files = sorted(glob.glob("run/*.csv") + glob.glob("run1/*.csv") + glob.glob("cmp/*.csv") + glob.glob("cmp/*/*.csv")
+               + glob.glob("sweep/*.csv") + glob.glob("sweep/*/*.csv"))
+assert len(files) > 20, files
+for f in files:
+    df = pd.read_csv(f)
+    assert len(df.columns) > 1 and len(df) > 0, f
+    assert not any(str(c).startswith("#") or str(c).startswith("Unnamed") for c in df.columns), (f, list(df.columns))
+    a = np.genfromtxt(f, names=True, delimiter=",", dtype=None, encoding="utf-8")
+    assert a.dtype.names and len(a.dtype.names) == len(df.columns), (f, a.dtype.names, list(df.columns))
+    meta = f[:-4] + ".meta.json"
+    if os.path.exists(meta):
+        assert json.load(open(meta))["file"] == os.path.basename(f), meta
+for need in ["run/temperature.csv", "run/ledger.csv", "run/pv.csv", "cmp/compare.csv", "cmp/pv_collapse.csv", "sweep/sweep.csv"]:
+    assert need in files, need
+    assert os.path.exists(need[:-4] + ".meta.json"), need
+pc = pd.read_csv("cmp/pv_collapse.csv")
+assert list(pc.columns) == ["model", "v_over_vrms", "P_scaled"] and pc["model"].nunique() == 2 and pc.notna().all().all()
+t = pd.read_csv("run/temperature.csv")
+assert list(t.columns) == ["t", "T", "running_mean", "phase"] and len(t) == 9
+print("ok pandas %s and numpy %s read %d CSVs without options" % (pd.__version__, np.__version__, len(files)))
+EOF
+    ;;
+*) echo "unknown part $part" >&2; exit 2 ;;
+esac
