@@ -12,12 +12,16 @@
 typedef struct gr_file {
     FILE *f;
     char path[1100], tmp[1120];
+    bool keep_on_error; /* a streamed file a checkpoint records: a failed commit keeps the temporary */
 } gr_file;
 
 int gr_file_open(gr_file *out, const char *dir, const char *name, gr_error *err);
-/* fflush + fsync + rename; closes the file either way. */
+/* fflush + fsync + rename; closes the file either way. On failure the temporary is deleted
+ * unless keep_on_error. */
 int gr_file_commit(gr_file *out, gr_error *err);
 void gr_file_abandon(gr_file *out);
+/* Close without committing and keep the temporary (a checkpoint records it; a resume adopts it). */
+void gr_file_keep(gr_file *out);
 /* GR_OK while every write to the file so far succeeded; otherwise the error (e.g. "disk full
  * while writing DIR/FILE: No space left on device"), so a long run stops at once instead of
  * finding out at commit. The file stays open: gr_file_commit/abandon still owe it a close. */
