@@ -24,6 +24,20 @@ check python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if
 check "$granule" analyse "$tmp/run1" --set analysis.observables=moments
 check test -f "$tmp/run1/analysis/moments.csv"
 check python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if d['frames']==5 else 1)" "$tmp/run1/analysis/summary.json"
+# ... and, from 5 frames (fewer than GR_MIN_FRAMES = 16), warns on stderr and in summary.json
+check grep -q "analyse: warning: only 5 frames" <<<"$("$granule" analyse "$tmp/run1" --out "$tmp/an-few" --set analysis.observables=moments 2>&1)"
+check python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if 'only 5 frames' in d['warnings'] else 1)" "$tmp/an-few/summary.json"
+
+# warnings a user must see (issue 14): a 2D box with 2 lattice shells below k' gives no D_f, and
+# says why; spm full --compare-run on 5 frames gives no "agrees" verdict but a warning
+"$granule" run "$src/docs/scenes/steady-2d.ini" --quiet --out "$tmp/few" --set system.N=300 --set system.L=0.05 \
+    --set run.warmup=0.005 --set run.duration=0.01 --set output.snapshot_every=0.002 --set output.plots=false \
+    --set analysis.observables=sk,freepath >/dev/null
+check python3 -c "import json,sys; f=json.load(open(sys.argv[1]))['analysis']['sk']['fit']; sys.exit(0 if f['shells'] == 2 and 'D_f' not in f and 'a fit needs 3' in f['status'] else 1)" "$tmp/few/summary.json"
+spm_out=$("$granule" spm full --compare-run "$tmp/few" --out "$tmp/few-spm" --walks 20000 2>&1)
+check grep -q "WARNING: no verdict: 5 frames" <<<"$spm_out"
+check test "$(grep -c "agrees" <<<"$spm_out")" -eq 0
+check python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if 'no agreement verdict' in d['rfm']['warning'] else 1)" "$tmp/few-spm/summary.json"
 
 # offline analysis of snapshots equals the in-run result: snapshots at every sample, no warm-up
 "$granule" run "$src/docs/scenes/steady-2d.ini" --quiet --out "$tmp/same" --set system.N=300 --set system.L=0.06 \
@@ -71,6 +85,20 @@ check "$granule" compare "$src/docs/scenes/steady-2d.ini" --models spring_dashpo
     --set system.N=200 --set system.L=0.1 --set run.warmup=0 --set run.duration=0.005 --set output.plots=false --out "$tmp/cmp"
 check test "$(grep -vc '^#' "$tmp/cmp/compare.csv")" -eq 3
 check grep -q "sliding_friction" "$tmp/cmp/compare.md"
+# T_stderr_converged is a column, and each model whose error bar is not converged is named under the table
+check python3 - "$tmp/cmp" <<'PY'
+import csv, sys
+d = sys.argv[1]
+rows = list(csv.DictReader(l for l in open(d + "/compare.csv") if not l.startswith("#")))
+md = open(d + "/compare.md").read()
+assert "| T_stderr_converged |" in md
+flags = [r["T_stderr_converged"] for r in rows]
+assert all(f in ("0", "1") for f in flags), flags
+for r in rows:
+    warned = ("**Warning**: %s: the error bar of T is not converged" % r["model"]) in md
+    assert warned == (r["T_stderr_converged"] == "0"), r["model"]
+assert "0" in flags, "a 0.005 s run should not have a converged error bar"
+PY
 "$granule" compare "$src/docs/scenes/steady-2d.ini" --models nonsense --out "$tmp/cmp2" >/dev/null 2>&1
 check test $? -eq 2
 
@@ -92,6 +120,7 @@ analysis.observables = moments
 EOT
 check "$granule" sweep "$tmp/sweep.ini"
 check test "$(grep -vc '^#' "$tmp/sw/sweep.csv")" -eq 7
+check python3 -c "import csv,sys; r=list(csv.DictReader(l for l in open(sys.argv[1]) if l[0] != '#')); sys.exit(0 if all(x['T_stderr_converged'] in ('0', '1') for x in r) else 1)" "$tmp/sw/sweep.csv"
 check test -f "$tmp/sw/exponents.csv"
 out=$("$granule" sweep "$tmp/sweep.ini" 2>/dev/null)
 check grep -q "0 run now, 6 already finished" <<<"$out"

@@ -28,6 +28,11 @@ printf '%s\n' '[system]' 'dim = 1' 'N = 20' 'reduced_length = 0.1' '[placement]'
     { echo "FAIL: fixture compare" >&2; exit 1; }
 mkdir -p "$TMP/ckdir/checkpoint" && cp "$TMP/fixture-run/scene.ini" "$TMP/ckdir/"
 mkdir -p "$TMP/ckzero" && cp "$TMP/fixture-run/scene.ini" "$TMP/ckzero/" && ln -s /dev/zero "$TMP/ckzero/checkpoint"
+# runs stopped by a full disk (docs/checkpoints.md, "A full disk"): summary.json says write_failed;
+# one kept its checkpoint (a fresh run over it must point to --resume), one had none to keep
+cp -a "$TMP/fixture-run" "$TMP/wf-ck" && sed -i 's/"status":[[:space:]]*"completed"/"status": "write_failed"/' "$TMP/wf-ck/summary.json" &&
+    echo not-a-checkpoint >"$TMP/wf-ck/checkpoint"
+cp -a "$TMP/wf-ck" "$TMP/wf-nock" && rm "$TMP/wf-nock/checkpoint"
 
 # snapshot of a folder: every path with its type and content hash ("absent" when it does not exist)
 state() {
@@ -128,6 +133,9 @@ base | run --resume $O --out $O | 2 | --resume | run
 base | run --resume $O | 2 | completed | run
 base | run --resume $TMP/ckdir | 2 | checkpoint | new
 base | run --resume $TMP/ckzero | 2 | checkpoint | new
+base | run $S --out $TMP/wf-ck | 2 | --resume $TMP/wf-ck;--force | new
+base | run --resume $TMP/wf-ck | 2 | not a granule checkpoint | new
+base | run --resume $TMP/wf-nock | 2 | checkpoint | new
 base | run $S --out $O --wall-limit abc | 2 | wall_limit | new
 base | nosuchcommand | 2 | unknown command | new
 base | collide --case 9 | 2 | case | new

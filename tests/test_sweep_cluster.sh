@@ -68,12 +68,13 @@ for p in pts:
     ma, mb = json.load(open(f"{a}/{p}/point.json")), json.load(open(f"{b}/{p}/point.json"))
     ok &= ma["scene_hash"] == mb["scene_hash"] and ma["overrides"] == mb["overrides"] and ma["status"] == "completed"
 def rows(d):
-    out = []
+    out, drop = [], None
     for line in open(d + "/sweep.csv"):
         if line.startswith("#"):
             continue
         f = line.rstrip("\n").split(",")
-        out.append(f[:7] + f[8:])  # column 7: particle_steps_per_second
+        drop = f.index("particle_steps_per_second") if drop is None else drop  # the header row
+        out.append(f[:drop] + f[drop + 1:])
     return out
 if rows(a) != rows(b):
     print("sweep.csv differs", file=sys.stderr)

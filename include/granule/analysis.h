@@ -69,6 +69,15 @@ typedef struct gr_fit {
     int n_points;
 } gr_fit;
 
+/* The fewest frames (samples) whose statistics carry an error bar: T's block averaging needs 16
+ * (`granule run` reports "n/a (< 16 samples)"); `granule analyse` warns and `granule spm full
+ * --compare-run` gives no agreement verdict below it (docs/analysis.md). */
+#define GR_MIN_FRAMES 16
+
+/* The fewest points a two-parameter fit (line, power law) reports a value from: with 2 the line
+ * passes through both, chi2 = 0 and the error bar means nothing (docs/analysis.md, "Fits"). */
+#define GR_FIT_MIN_POINTS 3
+
 /* Weighted straight line y = p0 + p1 x (sigma may be NULL for unit weights). */
 int gr_fit_line(const double *x, const double *y, const double *sigma, int n, gr_fit *out, gr_error *err);
 /* Power law y = A x^b fitted as a line in ln x, ln y (points with y <= 0 are skipped; sigma is the

@@ -48,6 +48,8 @@ typedef struct gr_run_options {
     void (*notice)(const char *message, void *user);
 } gr_run_options;
 
+#define GR_RUN_STOPPED_WRITE 3
+
 typedef struct gr_run_result {
     double T_mean, T_stderr;
     int T_stderr_converged;
@@ -56,7 +58,9 @@ typedef struct gr_run_result {
     gr_ledger ledger;
     char kernel[160];
     /* 0 ran to the end (or became unstable); 1 stopped on request, 2 stopped before the
-     * scene's wall_limit ran out: a checkpoint was written, resume with gr_run_options.resume */
+     * scene's wall_limit ran out: a checkpoint was written, resume with gr_run_options.resume;
+     * GR_RUN_STOPPED_WRITE (with GR_EIO): an output could not be written (a full disk) and the
+     * last checkpoint was kept: resume once there is space */
     int stopped;
     int64_t checkpoints;       /* written by this call */
     double checkpoint_seconds; /* wall time spent writing them */

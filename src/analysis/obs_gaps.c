@@ -451,7 +451,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
             }
         }
         gr_error fit_err = {0};
-        fit_ok = np >= 3 && gr_fit_power_law(fx, fy, fs, np, &fit, &fit_err) == GR_OK;
+        fit_ok = np >= GR_FIT_MIN_POINTS && gr_fit_power_law(fx, fy, fs, np, &fit, &fit_err) == GR_OK;
     }
     free(fx);
     free(fy);

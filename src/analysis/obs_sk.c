@@ -796,14 +796,14 @@ static void fit_window(const sk_state *st, sk_fit *F, gr_error *err)
         F->k_hi = k[n - 1];
     }
     gr_error ferr = {0};
-    if (n < 2) {
-        snprintf(F->note, sizeof F->note, "no fit: %d lattice shell(s) below k' = %g /m (2 pi / L = %g /m)", n,
-                 st->kprime, dk);
+    if (n < GR_FIT_MIN_POINTS) {
+        snprintf(F->note, sizeof F->note, "no fit: %d lattice shell(s) below k' = %g /m (2 pi / L = %g /m), a fit needs %d",
+                 n, st->kprime, dk, GR_FIT_MIN_POINTS);
     } else if (gr_fit_power_law(k, S, F->weighted ? e : NULL, n, &F->fit, &ferr) != GR_OK) {
         snprintf(F->note, sizeof F->note, "no fit: %.150s", ferr.message);
     } else {
         F->done = true;
-        snprintf(F->note, sizeof F->note, "%s", F->fit.dof > 0 ? "ok" : "2 points: no chi2");
+        snprintf(F->note, sizeof F->note, "ok");
     }
     (void)err;
     free(k);
@@ -926,6 +926,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                             "set arrow from %.8g, graph 0 to %.8g, graph 1 nohead dt 3 lc rgb '#888888'\n"
                             "set label 'k_D d' at %.8g, graph 0.95 offset 0.5,0 tc rgb '#888888'\n",
                             st->kD * st->d, st->kD * st->d, st->kD * st->d);
+        }
+        if (!F.done) { /* say on the plot why there is no D_f */
+            len += snprintf(body + len, sizeof body - (size_t)len, "set label \"%.150s\" at graph 0.03, graph 0.06 noenhanced\n",
+                            F.note);
         }
         len += snprintf(body + len, sizeof body - (size_t)len,
                         "plot 'sk.csv' skip 1 using 3:4:5 with yerrorbars pt 7 ps 0.5 lc rgb '#1f5fbf' title '|n| bins', "

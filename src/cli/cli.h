@@ -10,7 +10,8 @@
 /* Exit codes */
 enum { EXIT_OK = 0, EXIT_FAILED = 1, EXIT_REFUSED = 2, EXIT_UNSTABLE = 3,
        EXIT_WALL_LIMIT = 4, /* stopped before run.wall_limit ran out; checkpoint written (docs/checkpoints.md) */
-       EXIT_STOPPED = 5 };  /* stopped by SIGTERM/SIGINT; checkpoint written */
+       EXIT_STOPPED = 5,    /* stopped by SIGTERM/SIGINT; checkpoint written */
+       EXIT_WRITE_FAILED = 6 }; /* an output could not be written (a full disk); checkpoint kept, resume */
 
 int cmd_run(int argc, char **argv);
 int cmd_collide(int argc, char **argv);

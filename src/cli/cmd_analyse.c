@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli/cli.h"
+#include "granule/analysis.h"
 #include "granule/observe.h"
 #include "granule/scene.h"
 #include "granule_commit.h"
@@ -190,6 +191,12 @@ int cmd_analyse(int argc, char **argv)
     gr_observer_free(obs);
     cJSON_AddStringToObject(sum, "source", dump ? dump : dir);
     cJSON_AddNumberToObject(sum, "frames", (double)frames);
+    char few[200] = "";
+    if (frames < GR_MIN_FRAMES) {
+        snprintf(few, sizeof few, "only %zu frames after the warm-up, fewer than the %d that statistics with error bars need",
+                 frames, GR_MIN_FRAMES);
+        cJSON_AddStringToObject(sum, "warnings", few);
+    }
     cJSON_AddStringToObject(sum, "granule_version", GR_VERSION);
     cJSON_AddStringToObject(sum, "commit", GR_COMMIT);
     cJSON_AddItemToObject(sum, "scene", gr_scene_to_json(&scene));
@@ -207,6 +214,9 @@ int cmd_analyse(int argc, char **argv)
     if (rc || rc_s) {
         cli_error("analyse: %s", rc ? err.message : ferr.message);
         return EXIT_FAILED;
+    }
+    if (few[0]) {
+        fprintf(stderr, "analyse: warning: %s\n", few);
     }
     printf("%s: %zu frames analysed\n", out_dir, frames);
     return EXIT_OK;

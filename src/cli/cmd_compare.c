@@ -310,7 +310,7 @@ int cmd_compare(int argc, char **argv)
     for (int k = 0; k < n; k++) {
         cJSON *row = cJSON_CreateObject();
         const cJSON *s = list[k].summary;
-        const char *fixed[] = {"T_mean", "T_stderr", "collisions", "ledger.injected", "ledger.dissipated_normal",
+        const char *fixed[] = {"T_mean", "T_stderr", "T_stderr_converged", "collisions", "ledger.injected", "ledger.dissipated_normal",
                                "ledger.dissipated_tangential", "ledger.dissipated_friction", "wall_seconds",
                                "particle_steps_per_second"};
         for (size_t i = 0; i < sizeof fixed / sizeof fixed[0]; i++) {
@@ -380,6 +380,15 @@ int cmd_compare(int argc, char **argv)
             fprintf(md.f, " %.6g |", c ? c->valuedouble : (double)NAN);
         }
         fputc('\n', md.f);
+    }
+    /* an error bar whose blocking never reached a plateau is a lower bound: say so under the table */
+    for (int j = 0; j < n; j++) {
+        if (list[j].summary && gr_summary_number(list[j].summary, "T_stderr_converged") == 0.0) {
+            fprintf(md.f, "\n**Warning**: %s: the error bar of T is not converged (T_stderr_converged = 0): it is a "
+                          "lower bound; run longer.\n", list[j].spec);
+            fprintf(stderr, "compare: warning: %s: the error bar of T is not converged (T_stderr_converged = false): run longer\n",
+                    list[j].spec);
+        }
     }
     rc = gr_file_commit(&csv, &err);
     rc = rc ? rc : gr_file_commit(&md, &err);

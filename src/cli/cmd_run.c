@@ -26,7 +26,8 @@ static void usage(FILE *f)
                "  --resume DIR continue the interrupted run in DIR from DIR/checkpoint (docs/checkpoints.md)\n"
                "SIGTERM or SIGINT writes a checkpoint at the next step boundary and stops (a second one kills).\n"
                "Exit status: 0 completed, 2 scene refused, 3 run became unstable, 1 other failure,\n"
-               "4 stopped for the wall-time limit, 5 stopped by a signal (both with a checkpoint to resume).\n");
+               "4 stopped for the wall-time limit, 5 stopped by a signal (both with a checkpoint to resume),\n"
+               "6 an output could not be written, e.g. a full disk (checkpoint kept: free space, then --resume).\n");
 }
 
 static void progress(const gr_progress *p, void *user)
@@ -167,6 +168,10 @@ int cmd_run(int argc, char **argv)
                   res.stopped == 1 ? "stopped by a signal" : "stopped before the wall-time limit (run.wall_limit)",
                   (long long)res.steps, (long long)res.samples, scene.out_dir, scene.out_dir);
         return res.stopped == 1 ? EXIT_STOPPED : EXIT_WALL_LIMIT;
+    }
+    if (rc && res.stopped == GR_RUN_STOPPED_WRITE) {
+        cli_error("%s", err.message);
+        return EXIT_WRITE_FAILED;
     }
     if (rc == GR_EUNSTABLE) {
         cli_error("%s (outputs so far kept in %s)", err.message, scene.out_dir);

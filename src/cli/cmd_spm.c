@@ -17,6 +17,7 @@
 #include <time.h>
 
 #include "cli/cli.h"
+#include "granule/analysis.h"
 #include "granule/spm.h"
 #include "granule_commit.h"
 #include "granule_config.h"
@@ -1276,6 +1277,9 @@ static int cmd_full(int argc, char **argv)
         json_num(t, "D_of_run", run_D);
         json_num(t, "compare_from", compare_from);
         json_num(t, "z_max", z_max);
+        if (info.frames < GR_MIN_FRAMES) {
+            cJSON_AddStringToObject(t, "warning", "fewer frames than the 16 a comparison needs: no agreement verdict");
+        }
         for (int w = 0; w < 2; w++) {
             const gr_spm_compare *c = w ? &cmp2 : &cmp;
             if (!(w ? have_cmp2 : have_cmp)) {
@@ -1358,12 +1362,17 @@ static int cmd_full(int argc, char **argv)
         if (run_dir) {
             printf("  RFM %s: %d frames, %lld particles, v_rms = %.4g m/s\n", run_dir, info.frames, (long long)info.particles,
                    sqrt(info.v2_mean));
-            if (have_cmp) {
+            const bool few = info.frames < GR_MIN_FRAMES; /* error bars of P_rfm not to be trusted */
+            if (few) {
+                printf("    WARNING: no verdict: %d frames, fewer than the %d a comparison needs (run longer or sample "
+                       "more often)\n", info.frames, GR_MIN_FRAMES);
+            }
+            if (have_cmp && !few) {
                 printf("    SPM x %.4g: agrees (|z| <= %g) for %.3g <= v <= %.3g m/s, %.2f decades of P(v); %.0f%% of the bins "
                        "v >= %.3g within\n",
                        cmp.k, z_max, cmp.v_agree_lo, cmp.v_agree_hi, cmp.decades, 100.0 * cmp.frac_within, compare_from);
             }
-            if (have_cmp2) {
+            if (have_cmp2 && !few) {
                 printf("    SPM x %.4g, v x %.4g +- %.2g", cmp2.k, cmp2.s, cmp2.s_err);
                 if (isfinite(implied_C)) {
                     printf(" (C = %.4g)", implied_C);
@@ -1371,7 +1380,7 @@ static int cmd_full(int argc, char **argv)
                 printf(": agrees for %.3g <= v <= %.3g m/s, %.2f decades; %.0f%% of the tail bins within\n", cmp2.v_agree_lo,
                        cmp2.v_agree_hi, cmp2.decades, 100.0 * cmp2.frac_within);
             }
-            if (!have_cmp && !have_cmp2) {
+            if (!have_cmp && !have_cmp2 && !few) {
                 printf("    no comparison possible (no common tail bins)\n");
             }
         }

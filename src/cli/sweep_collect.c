@@ -96,7 +96,7 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     for (int i = 0; i < s->n_keys; i++) {
         fprintf(f.f, ",%s", s->key[i]);
     }
-    fprintf(f.f, ",status,T_mean,T_stderr,collisions,particle_steps_per_second");
+    fprintf(f.f, ",status,T_mean,T_stderr,T_stderr_converged,collisions,particle_steps_per_second");
     for (int m = 1; m <= 12; m++) {
         fprintf(f.f, ",m%d,m%d_stderr", m, m);
     }
@@ -129,8 +129,9 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
         for (int i = 0; i < n_col; i++) {
             fprintf(f.f, ",%s", s->value[i][idx[i]]);
         }
-        fprintf(f.f, ",%s,%.8g,%.4g,%.0f,%.4g", status[k], gr_summary_number(j, "T_mean"), gr_summary_number(j, "T_stderr"),
-                gr_summary_number(j, "collisions"), gr_summary_number(j, "particle_steps_per_second"));
+        /* T_stderr_converged 0: the error bar is a lower bound (docs/analysis.md) */
+        fprintf(f.f, ",%s,%.8g,%.4g,%.0f,%.0f,%.4g", status[k], gr_summary_number(j, "T_mean"), gr_summary_number(j, "T_stderr"),
+                gr_summary_number(j, "T_stderr_converged"), gr_summary_number(j, "collisions"), gr_summary_number(j, "particle_steps_per_second"));
         for (int m = 1; m <= 12; m++) {
             char p1[64], p2[64];
             snprintf(p1, sizeof p1, "analysis.moments.speed.m%d", m);
@@ -227,7 +228,7 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
                         }
                     }
                     gr_fit fit;
-                    if (np >= 3 && gr_fit_power_law(x, y, sig, np, &fit, &err) == GR_OK) {
+                    if (np >= GR_FIT_MIN_POINTS && gr_fit_power_law(x, y, sig, np, &fit, &err) == GR_OK) {
                         for (int i = 0; i < s->n_keys; i++) {
                             if (i != n_idx) {
                                 fprintf(e.f, "%s,", s->value[i][gv[i]]);

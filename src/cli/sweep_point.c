@@ -53,7 +53,7 @@ const char *sweep_exit_name(int code)
     return code == EXIT_OK         ? "completed"
            : code == EXIT_UNSTABLE ? "unstable"
            : code == EXIT_REFUSED  ? "refused"
-           : code == EXIT_STOPPED || code == EXIT_WALL_LIMIT ? "stopped"
+           : code == EXIT_STOPPED || code == EXIT_WALL_LIMIT || code == EXIT_WRITE_FAILED ? "stopped"
                                    : "failed";
 }
 
@@ -217,7 +217,9 @@ static int child_run(const sweep *s, long k, const char *dir, int fd, pid_t pare
         } else {
             rc = gr_run(&sc, &opt, &res, &err);
         }
-        code = rc == GR_OK ? EXIT_OK : rc == GR_EUNSTABLE ? EXIT_UNSTABLE : rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
+        code = rc == GR_OK ? EXIT_OK : rc == GR_EUNSTABLE ? EXIT_UNSTABLE : rc == GR_EINVAL ? EXIT_REFUSED
+             : res.stopped == GR_RUN_STOPPED_WRITE ? EXIT_WRITE_FAILED /* checkpoint kept: the next run continues it */
+                                                   : EXIT_FAILED;
         if (rc == GR_OK && res.stopped) {
             code = res.stopped == 1 ? EXIT_STOPPED : EXIT_WALL_LIMIT;
             snprintf(err.message, sizeof err.message,

@@ -18,6 +18,7 @@ int gr_file_open(gr_file *out, const char *dir, const char *name, gr_error *err)
     snprintf(out->tmp, sizeof out->tmp, "%s.tmp%ld", out->path, (long)getpid());
     out->notes = NULL;
     out->notes_len = 0;
+    out->keep_on_error = false;
     out->f = fopen(out->tmp, "w");
     if (!out->f) {
         return gr_file_fail(out->path, errno, err);
@@ -116,7 +117,9 @@ int gr_file_commit(gr_file *out, gr_error *err)
     }
     out->f = NULL;
     if (e) {
-        unlink(out->tmp); /* never leave a half-written file behind */
+        if (!out->keep_on_error) {
+            unlink(out->tmp); /* never leave a half-written file behind */
+        }
         return gr_file_fail(out->path, e, err);
     }
     if (rename(out->tmp, out->path) != 0) {
@@ -142,6 +145,14 @@ int gr_file_fail(const char *path, int errnum, gr_error *err)
         return GR_FAIL(err, GR_EIO, "disk full while writing %s: %s", path, strerror(errnum));
     }
     return GR_FAIL(err, GR_EIO, "cannot write %s: %s", path, strerror(errnum));
+}
+
+void gr_file_keep(gr_file *out)
+{
+    if (out->f) {
+        fclose(out->f); /* may fail on a full disk: the checkpoint's length is on disk already */
+        out->f = NULL;
+    }
 }
 
 void gr_file_abandon(gr_file *out)

@@ -14,10 +14,12 @@ typedef struct gr_file {
     char path[1100], tmp[1120];
     char *notes; /* gr_file_note text, NULL if none */
     size_t notes_len;
+    bool keep_on_error; /* a streamed file a checkpoint records: a failed commit keeps the temporary */
 } gr_file;
 
 int gr_file_open(gr_file *out, const char *dir, const char *name, gr_error *err);
-/* fflush + fsync + rename; closes the file either way. */
+/* fflush + fsync + rename; closes the file either way. On failure the temporary is deleted
+ * unless keep_on_error. */
 int gr_file_commit(gr_file *out, gr_error *err);
 void gr_file_abandon(gr_file *out);
 /* Metadata of a table (what it is, units, scene, hash, seed) kept out of the table itself so that
@@ -25,6 +27,8 @@ void gr_file_abandon(gr_file *out);
  * options: printf-style text, one note per line (a leading "# " is dropped), written at commit
  * to the sidecar NAME.meta.json ({"file": "NAME.csv", "notes": [...]}) beside NAME.csv. */
 void gr_file_note(gr_file *out, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Close without committing and keep the temporary (a checkpoint records it; a resume adopts it). */
+void gr_file_keep(gr_file *out);
 /* GR_OK while every write to the file so far succeeded; otherwise the error (e.g. "disk full
  * while writing DIR/FILE: No space left on device"), so a long run stops at once instead of
  * finding out at commit. The file stays open: gr_file_commit/abandon still owe it a close. */

@@ -244,8 +244,9 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     const double dt = gr_sim_dt(sim);
     gr_run_schedule plan;
     rc = rc ? rc : gr_run_schedule_make(scene, dt, &plan, res->notes, sizeof res->notes, err);
-    rc = rc || resume ? rc : gr_output_dir_prepare(dir, opt && opt->force, err);
     rc = rc || resume ? rc : gr_run_checkpoint_guard(dir, opt && opt->force, err);
+    rc = rc || resume ? rc : gr_output_dir_prepare(dir, opt && opt->force, err);
+    rc = rc || resume ? rc : gr_run_clear_leftovers(dir, err); /* an old checkpoint (--force), NAME.tmpPID */
     rc = rc || resume ? rc : gr_scene_save(scene, dir, err); /* a resume reads it back */
     if (rc) {
         gr_observer_free(obs);
@@ -526,29 +527,50 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     gr_error io_err = {0};
     int io = rc && !strcmp(status, "completed") ? rc : GR_OK; /* a snapshot write failure */
     if (io) {
-        status = "failed";
+        status = "failed"; /* GR_RUN_STATUS_WRITE_FAILED below when a checkpoint is kept */
         snprintf(diagnosis, sizeof diagnosis, "%s", err->message);
     }
+    /* the trajectory: flushed and closed first (its frames up to the checkpoint stay readable) */
     int rc_j = gr_traj_writer_close(&traj, &io_err);
-    int rc_t = gr_file_commit(&ft, &io_err);
-    int rc_l = gr_file_commit(&fl, rc_t ? &step_err : &io_err);
-    int rc_b = write_blocks(dir, scene, hash, &blk, &io_err);
+    /* a write that fails (a full disk) while a checkpoint is on disk stops the run resumably: the
+     * checkpoint and the streamed temporaries are kept, and a resume redoes the rest once there
+     * is space (docs/checkpoints.md, "A full disk") */
+    const bool resumable = gr_run_checkpoint_present(dir);
+    ft.keep_on_error = fl.keep_on_error = resumable;
+    bool write_stop = (io || rc_j) && resumable;
+    int rc_t = GR_OK, rc_l = GR_OK, rc_b = GR_OK, rc_o = GR_OK, rc_i = GR_OK;
     const char *plots = "not requested";
     char plot_note[300];
-    if (scene->plots) {
-        plots = gr_plot_run(dir, scene->dim, plot_note, sizeof plot_note) == GR_OK ? "temperature.png, ledger.png" : plot_note;
-    }
     cJSON *analysis = NULL;
-    int rc_o = GR_OK;
-    if (gr_observer_count(obs) > 0) {
-        analysis = cJSON_CreateObject();
-        gr_output out = {.dir = dir, .scene = scene, .scene_hash = hash, .summary = analysis, .plots = scene->plots};
-        rc_o = gr_observer_finish(obs, &out, &io_err);
+    if (write_stop) {
+        gr_file_keep(&ft);
+        gr_file_keep(&fl);
+    } else {
+        /* io_err keeps the first failure (the message names that file), `later` the rest */
+        gr_error later = {0};
+        rc_t = gr_file_commit(&ft, rc_j ? &later : &io_err);
+        rc_l = gr_file_commit(&fl, rc_j || rc_t ? &later : &io_err);
+        rc_b = write_blocks(dir, scene, hash, &blk, rc_t || rc_l ? &later : &io_err);
+        if (scene->plots) {
+            plots = gr_plot_run(dir, scene->dim, plot_note, sizeof plot_note) == GR_OK ? "temperature.png, ledger.png" : plot_note;
+        }
+        if (gr_observer_count(obs) > 0) {
+            analysis = cJSON_CreateObject();
+            gr_output out = {.dir = dir, .scene = scene, .scene_hash = hash, .summary = analysis, .plots = scene->plots};
+            rc_o = gr_observer_finish(obs, &out, rc_t || rc_l || rc_b ? &later : &io_err);
+        }
+        rc_i = gr_scene_save(scene, dir, rc_t || rc_l || rc_b || rc_o ? &later : &io_err);
     }
     gr_observer_free(obs);
-    int rc_i = gr_scene_save(scene, dir, &io_err);
+    if (!write_stop && resumable && strcmp(status, "completed") == 0 && (rc_j || rc_t || rc_l || rc_b || rc_o || rc_i)) {
+        write_stop = true;
+        snprintf(diagnosis, sizeof diagnosis, "%s", io_err.message);
+    }
+    if (write_stop) {
+        status = GR_RUN_STATUS_WRITE_FAILED;
+    }
     char picture_note[900] = "";
-    if (scene->plots && snap_index > 0) {
+    if (scene->plots && snap_index > 0 && !write_stop) {
         /* the snapshot picture coloured by speed (Figs. 2.6, 2.9), drawn with cairo */
         gr_error perr = {0};
         char png[1300];
@@ -567,13 +589,22 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     free(haff_T);
     int rc_s = write_summary(dir, scene, sim, res, &blk, status, diagnosis[0] ? diagnosis : NULL, plots, analysis,
                              mean_field, &io_err);
-    if (rc_s == GR_OK && strcmp(status, "completed") == 0) {
-        /* finished: summary.json now refuses a resume, and the checkpoint is no longer needed */
-        char ckpt[1200];
-        snprintf(ckpt, sizeof ckpt, "%.1100s/%s", dir, GR_CHECKPOINT_NAME);
-        unlink(ckpt);
+    if (rc_s && resumable && strcmp(status, "completed") == 0) {
+        write_stop = true; /* no summary.json: the checkpoint is the run */
+        snprintf(diagnosis, sizeof diagnosis, "%s", io_err.message);
     }
+    if (rc_s == GR_OK && strcmp(status, "completed") == 0) {
+        /* finished: summary.json now refuses a resume; the checkpoint and any partial file of an
+         * earlier, killed attempt are no longer needed */
+        rc_s = gr_run_clear_leftovers(dir, &io_err);
+    }
+    const double t_stop = gr_sim_time(sim);
     gr_sim_free(sim);
+    if (write_stop) {
+        res->stopped = GR_RUN_STOPPED_WRITE;
+        return GR_FAIL(err, GR_EIO, "%.600s; the run stopped at t = %.6g s and keeps its checkpoint: free space, then "
+                       "continue it with granule run --resume %s", diagnosis, t_stop, dir);
+    }
     if (strcmp(status, "unstable") == 0) {
         *err = step_err;
         return GR_EUNSTABLE;

@@ -121,13 +121,14 @@ int gr_run_checkpoint_write(const char *dir, const gr_scene *scene, const gr_sim
     return rc;
 }
 
-/* Partial files of an earlier, interrupted run in dir: NAME.tmpPID (src/io/files.c), which only
- * a resume adopts. A fresh run starts before it opens any file of its own, so all are stale. */
+/* Partial files NAME.tmpPID (src/io/files.c) in folder `dir`: left by a process that was killed
+ * or stopped while writing. Only a resume adopts two of them (the streamed CSVs it names), so
+ * wherever this is called (a fresh start, a finished run) all are stale. */
 static int remove_partials(const char *dir, gr_error *err)
 {
     DIR *d = opendir(dir);
     if (!d) {
-        return GR_OK; /* gr_output_dir_prepare made it; nothing to clean */
+        return GR_OK; /* no such folder (e.g. no snapshots): nothing to clean */
     }
     int rc = GR_OK;
     for (struct dirent *de; !rc && (de = readdir(d));) {
@@ -145,23 +146,34 @@ static int remove_partials(const char *dir, gr_error *err)
     return rc;
 }
 
-int gr_run_checkpoint_guard(const char *dir, bool force, gr_error *err)
+bool gr_run_checkpoint_present(const char *dir)
 {
     char path[1200];
     snprintf(path, sizeof path, "%s/%s", dir, GR_CHECKPOINT_NAME);
-    if (access(path, F_OK) != 0) {
-        return force ? remove_partials(dir, err) : GR_OK;
+    return access(path, F_OK) == 0;
+}
+
+int gr_run_checkpoint_guard(const char *dir, bool force, gr_error *err)
+{
+    if (force || !gr_run_checkpoint_present(dir)) {
+        return GR_OK;
     }
-    if (!force) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "output folder %s holds the checkpoint of an interrupted run: continue it with "
-                       "granule run --resume %s, or pass --force to discard it and start again",
-                       dir, dir);
-    }
-    if (unlink(path) != 0) {
+    return GR_FAIL(err, GR_EINVAL,
+                   "output folder %s holds the checkpoint of an interrupted run: continue it with "
+                   "granule run --resume %s, or pass --force to discard it and start again",
+                   dir, dir);
+}
+
+int gr_run_clear_leftovers(const char *dir, gr_error *err)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%.1100s/%s", dir, GR_CHECKPOINT_NAME);
+    if (unlink(path) != 0 && errno != ENOENT) {
         return GR_FAIL(err, GR_EIO, "cannot remove the old checkpoint %s: %s", path, strerror(errno));
     }
-    return remove_partials(dir, err);
+    int rc = remove_partials(dir, err);
+    snprintf(path, sizeof path, "%.1100s/snapshots", dir);
+    return rc ? rc : remove_partials(path, err);
 }
 
 /* ---------- scene comparison ---------- */
@@ -265,8 +277,9 @@ int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoi
     char path[1200];
     snprintf(path, sizeof path, "%s/summary.json", dir);
     FILE *sf = fopen(path, "r");
+    char status[64] = "?";
     if (sf) {
-        char head[4096] = "", status[64] = "?";
+        char head[4096] = "";
         size_t got = fread(head, 1, sizeof head - 1, sf);
         head[got] = 0;
         fclose(sf);
@@ -274,6 +287,9 @@ int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoi
         if (s) {
             sscanf(s + 9, " \"%63[^\"]\"", status);
         }
+    }
+    /* a run stopped by a failed write (a full disk) kept its checkpoint: it continues */
+    if (sf && strcmp(status, GR_RUN_STATUS_WRITE_FAILED) != 0) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: this run has finished (summary.json, status %s): there is nothing to resume and its "
                        "results are not overwritten; start a new run in another folder",

@@ -34,10 +34,18 @@ typedef struct gr_run_ckpt {
 int gr_run_checkpoint_write(const char *dir, const gr_scene *scene, const gr_sim *sim, const gr_observer *obs,
                             const gr_run_ckpt *st, double *seconds, size_t *bytes, gr_error *err);
 
-/* Refuse to start a fresh run over an interrupted one (dir/checkpoint without summary.json)
- * unless `force`, which deletes the old checkpoint and the interrupted run's partial files
- * (NAME.tmpPID). */
+/* Refuse to start a fresh run over an interrupted one (dir/checkpoint) unless `force`; changes
+ * nothing, so it can run before the output folder is checked. */
 int gr_run_checkpoint_guard(const char *dir, bool force, gr_error *err);
+bool gr_run_checkpoint_present(const char *dir);
+
+/* Delete dir/checkpoint and every partial file NAME.tmpPID in dir and dir/snapshots: where a
+ * fresh run starts (after gr_run_checkpoint_guard) and where a run has finished. */
+int gr_run_clear_leftovers(const char *dir, gr_error *err);
+
+/* summary.json's status of a run stopped because an output could not be written (a full disk)
+ * while its checkpoint was kept: the only status a resume accepts (docs/checkpoints.md). */
+#define GR_RUN_STATUS_WRITE_FAILED "write_failed"
 
 /* Open dir's checkpoint for a resume: refuses a folder whose run finished (summary.json), a
  * missing, truncated, corrupt or foreign checkpoint, and a scene that differs from the one the

@@ -55,5 +55,5 @@ double gr_summary_number(const cJSON *root, const char *path)
             node = cJSON_GetObjectItemCaseSensitive(node, tok);
         }
     }
-    return node && cJSON_IsNumber(node) ? node->valuedouble : (double)NAN;
+    return node && cJSON_IsNumber(node) ? node->valuedouble : cJSON_IsBool(node) ? (double)cJSON_IsTrue(node) : (double)NAN;
 }

@@ -10,7 +10,8 @@
 cJSON *gr_json_read(const char *path, gr_error *err);
 /* Parse dir/summary.json; the caller deletes the result. NULL with err set if missing/invalid. */
 cJSON *gr_summary_read(const char *dir, gr_error *err);
-/* A number at a dotted path ("ledger.injected", "analysis.moments.speed.1"); NAN if absent. */
+/* A number at a dotted path ("ledger.injected", "analysis.moments.speed.1"); a true/false flag
+ * ("T_stderr_converged") reads 1/0; NAN if absent. */
 double gr_summary_number(const cJSON *root, const char *path);
 
 #endif

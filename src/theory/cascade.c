@@ -634,7 +634,7 @@ int gr_cascade_fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, do
         n++;
     }
     gr_fit fit;
-    int rc = n >= 3 ? gr_fit_power_law(x, y, weighted ? sg : NULL, n, &fit, err)
+    int rc = n >= GR_FIT_MIN_POINTS ? gr_fit_power_law(x, y, weighted ? sg : NULL, n, &fit, err)
                     : GR_FAIL(err, GR_EINVAL, "cascade fit: need at least 3 bins with S > 0 in q = %g..%g, got %d",
                               q_min, q_max, n);
     free(x);
