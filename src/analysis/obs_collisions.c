@@ -117,12 +117,6 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     return GR_OK;
 }
 
-static void rows(FILE *f, const void *ctx)
-{
-    const collisions *c = ctx;
-    gr_histogram_write_csv(&c->h, f, "tau");
-}
-
 static int finish(void *state, const gr_output *out, gr_error *err)
 {
     collisions *c = state;
@@ -149,8 +143,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                 "particle, density per s in log "
                 "bins, sqrt(X) errors",
         .columns = NULL,
-        .rows = rows,
-        .ctx = c,
+        .rows = gr_obs_histogram_rows,
+        .ctx = &(gr_obs_histogram){&c->h, "tau"},
         .png = c->tau_n > 0 ? "collisions.png" : NULL,
         .plot = "set logscale xy\nset xlabel 'time between collisions tau "
                 "(s)'\nset ylabel 'P(tau) (1/s)'\n"

@@ -63,6 +63,12 @@ int gr_obs_table_write(const gr_output *out, const gr_obs_table *t, gr_error *er
     return rc;
 }
 
+void gr_obs_histogram_rows(FILE *f, const void *ctx)
+{
+    const gr_obs_histogram *h = ctx;
+    gr_histogram_write_csv(h->h, f, h->xname);
+}
+
 double gr_obs_stderr(const gr_blocking *b)
 {
     double e = gr_blocking_stderr(b, NULL, NULL);

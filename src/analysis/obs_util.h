@@ -34,6 +34,13 @@ typedef struct gr_obs_table {
     const char *plot;    /* gnuplot body, drawn when the CSV was written and out->plots is set */
 } gr_obs_table;
 
+/* Rows of a histogram (gr_histogram_write_csv, its own column line): ctx is a gr_obs_histogram. */
+typedef struct gr_obs_histogram {
+    const gr_histogram *h;
+    const char *xname;
+} gr_obs_histogram;
+void gr_obs_histogram_rows(FILE *f, const void *ctx);
+
 /* gr_obs_csv_open, the column line, the rows, commit; then the plot (gr_obs_plot). */
 int gr_obs_table_write(const gr_output *out, const gr_obs_table *t, gr_error *err);
 /* The error of a time average: the blocking plateau, or with fewer than 16 samples the naive
