@@ -98,6 +98,12 @@ static inline cJSON *h_finish(const gr_observable_type *t, void *st, const gr_sc
     return summary;
 }
 
+static inline void h_done(h_table *t, cJSON *summary)
+{
+    free(t->v);
+    cJSON_Delete(summary);
+}
+
 static inline double h_at(const h_table *t, int row, int col) { return t->v[row * t->cols + col]; }
 
 /* summary number at a.b (b may be NULL); NAN for null */

@@ -265,8 +265,7 @@ START_TEST(test_collisions_periodic)
     }
     ck_assert_int_ge(hit, 0);
     ck_assert(h_at(&tab, hit, 0) <= 0.0125 && 0.0125 < h_at(&tab, hit, 1));
-    free(tab.v);
-    cJSON_Delete(j);
+    h_done(&tab, j);
 }
 END_TEST
 
@@ -286,8 +285,7 @@ START_TEST(test_collisions_none)
     ck_assert(isnan(h_num(c, "rate_per_particle", NULL)));
     ck_assert_ptr_nonnull(cJSON_GetObjectItem(c, "note"));
     ck_assert_double_eq(h_num(c, "collisions", NULL), 0.0);
-    free(tab.v);
-    cJSON_Delete(j);
+    h_done(&tab, j);
 }
 END_TEST
 

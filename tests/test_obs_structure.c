@@ -171,8 +171,7 @@ START_TEST(test_pressure_ideal_gas)
     ck_assert_double_eq_tol(h_num(cJSON_GetObjectItem(p, "eos_5_2"), "C1", NULL), C1, 1e-9 * C1);
     ck_assert_int_eq(tab.rows, 9);
     gsl_rng_free(r);
-    free(tab.v);
-    cJSON_Delete(j);
+    h_done(&tab, j);
 }
 END_TEST
 
@@ -195,8 +194,7 @@ static void overlap_pair(int dim)
     ck_assert_double_eq_tol(h_num(p, "collisional_yy", NULL), 0.0, 1e-12 * W);
     ck_assert_double_eq_tol(h_num(p, "P", NULL), W / dim, 1e-9 * W);
     ck_assert_double_eq(h_num(p, "contacts_per_frame", NULL), 1.0);
-    free(tab.v);
-    cJSON_Delete(j);
+    h_done(&tab, j);
 }
 
 START_TEST(test_pressure_overlap_2d) { overlap_pair(2); }
@@ -239,8 +237,7 @@ START_TEST(test_vcorr_random)
                       h_at(&tab, b, 4), h_at(&tab, b, 5));
     }
     gsl_rng_free(r);
-    free(tab.v);
-    cJSON_Delete(j);
+    h_done(&tab, j);
 }
 END_TEST
 
@@ -260,8 +257,7 @@ START_TEST(test_vcorr_pair)
     ck_assert_double_eq_tol(h_num(c, "r_first", NULL), 0.015, 1e-12);
     ck_assert_double_eq_tol(h_num(c, "C_L_first", NULL), -0.4, 1e-12);
     ck_assert_double_eq_tol(h_num(c, "C_T_first", NULL), -1.6, 1e-12);
-    free(tab.v);
-    cJSON_Delete(j);
+    h_done(&tab, j);
 }
 END_TEST
 

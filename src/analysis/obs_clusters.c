@@ -15,6 +15,7 @@
 
 #include "analysis/obs_cells.h"
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -132,8 +133,9 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 {
     (void)t;
     clusters *c = state;
-    if (p->n != c->n) {
-        return GR_FAIL(err, GR_EINVAL, "clusters: a frame of %d particles, the scene has %d", p->n, c->n);
+    int bad = gr_obs_check_frame("clusters", p, c->n, err);
+    if (bad) {
+        return bad;
     }
     for (int k = 0; k < KINDS; k++) {
         int rc = frame(c, p, k, err);
@@ -195,6 +197,35 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return gr_obs_table_write(out, &t, err);
 }
 
+/* Checkpoints: the size counts and the accumulators of both kinds. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const clusters *c = state;
+    gr_blob_put_i64(out, c->frames);
+    for (int k = 0; k < KINDS; k++) {
+        gr_blob_put_f64s(out, c->hist[k], (int64_t)c->n + 1);
+        gr_blob_put_blocking(out, &c->mean_size[k]);
+        gr_blob_put_blocking(out, &c->largest[k]);
+        gr_blob_put_blocking(out, &c->count[k]);
+    }
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    clusters *c = state;
+    c->frames = gr_blob_get_i64(in);
+    for (int k = 0; k < KINDS && !in->bad; k++) {
+        gr_blob_get_f64s(in, c->hist[k], (int64_t)c->n + 1);
+        gr_blob_get_blocking(in, &c->mean_size[k]);
+        gr_blob_get_blocking(in, &c->largest[k]);
+        gr_blob_get_blocking(in, &c->count[k]);
+    }
+    return GR_OK;
+}
+
 const gr_observable_type gr_obs_clusters = {
     .name = "clusters",
     .summary = "contact-cluster and density-cluster size distributions "
@@ -206,4 +237,6 @@ const gr_observable_type gr_obs_clusters = {
     .sample = sample,
     .finish = finish,
     .destroy = destroy,
+    .save = save,
+    .load = load,
 };

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -155,6 +156,43 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return gr_obs_table_write(out, &t, err);
 }
 
+/* Checkpoints: each particle's last collision, the sample times, the counts and accumulators. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const collisions *c = state;
+    gr_blob_put_f64s(out, c->last, c->n);
+    gr_blob_put_f64(out, c->t_first);
+    gr_blob_put_f64(out, c->t_prev);
+    gr_blob_put_f64(out, c->t_prev2);
+    gr_blob_put_i64(out, c->frames);
+    gr_blob_put_i64(out, c->since);
+    gr_blob_put_i64(out, c->total);
+    gr_blob_put_f64(out, c->tau_sum);
+    gr_blob_put_i64(out, c->tau_n);
+    gr_blob_put_histogram(out, &c->h);
+    gr_blob_put_blocking(out, &c->rate);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    collisions *c = state;
+    gr_blob_get_f64s(in, c->last, c->n);
+    c->t_first = gr_blob_get_f64(in);
+    c->t_prev = gr_blob_get_f64(in);
+    c->t_prev2 = gr_blob_get_f64(in);
+    c->frames = gr_blob_get_i64(in);
+    c->since = gr_blob_get_i64(in);
+    c->total = gr_blob_get_i64(in);
+    c->tau_sum = gr_blob_get_f64(in);
+    c->tau_n = gr_blob_get_i64(in);
+    gr_blob_get_histogram(in, &c->h);
+    gr_blob_get_blocking(in, &c->rate);
+    return GR_OK;
+}
+
 const gr_observable_type gr_obs_collisions = {
     .name = "collisions",
     .summary = "collision rate per particle and the distribution of times "
@@ -166,5 +204,7 @@ const gr_observable_type gr_obs_collisions = {
     .sample = sample,
     .finish = finish,
     .destroy = destroy,
+    .save = save,
+    .load = load,
     .events = events,
 };

@@ -6,6 +6,7 @@
 
 #include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 
 int gr_lag_init(gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error *err)
 {
@@ -98,4 +99,27 @@ int gr_lag_fit_line(const gr_lag *g, int lo, int hi, gr_fit *fit, gr_error *err)
         return GR_FAIL(err, GR_EINVAL, "%d usable lags (need 3)", m);
     }
     return gr_fit_line(x, y, s, m, fit, err);
+}
+
+void gr_lag_save(const gr_lag *g, gr_blob *out)
+{
+    gr_blob_put_u64(out, (uint64_t)g->lags);
+    gr_blob_put_i64(out, g->frames);
+    gr_blob_put_f64(out, g->t_first);
+    gr_blob_put_f64(out, g->t_last);
+    gr_blob_put_f64s(out, g->ring, 2 * (int64_t)g->n * (g->lags + 1));
+    gr_obs_put_blockings(out, g->acc, g->lags + 1);
+}
+
+void gr_lag_load(gr_lag *g, gr_blob_reader *in)
+{
+    uint64_t lags = gr_blob_get_u64(in);
+    if (!in->bad && lags != (uint64_t)g->lags) {
+        gr_blob_fail(in, "%llu lags in the checkpoint, %d in the scene", (unsigned long long)lags, g->lags);
+    }
+    g->frames = gr_blob_get_i64(in);
+    g->t_first = gr_blob_get_f64(in);
+    g->t_last = gr_blob_get_f64(in);
+    gr_blob_get_f64s(in, g->ring, 2 * (int64_t)g->n * (g->lags + 1));
+    gr_obs_get_blockings(in, g->acc, g->lags + 1);
 }

@@ -38,4 +38,10 @@ double gr_lag_mean(const gr_lag *g, int l, double *stderr_out, int64_t *samples)
  * >= 2 origins); 0 on success. */
 int gr_lag_fit_line(const gr_lag *g, int lo, int hi, gr_fit *fit, gr_error *err);
 
+struct gr_blob;
+struct gr_blob_reader;
+/* Checkpoints: the ring, the times and the accumulators; load into a gr_lag initialised alike. */
+void gr_lag_save(const gr_lag *g, struct gr_blob *out);
+void gr_lag_load(gr_lag *g, struct gr_blob_reader *in);
+
 #endif

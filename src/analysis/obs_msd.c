@@ -22,6 +22,7 @@
 
 #include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 #include "granule/scene.h"
 
 static const gr_param params[] = {
@@ -85,8 +86,9 @@ static double step(double now, double *prev, double L, int64_t *jumps)
 static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 {
     msd *m = state;
-    if (p->n != m->n) {
-        return GR_FAIL(err, GR_EINVAL, "msd: a frame of %d particles, the scene has %d", p->n, m->n);
+    int bad = gr_obs_check_frame("msd", p, m->n, err);
+    if (bad) {
+        return bad;
     }
     for (int i = 0; i < m->n; i++) {
         if (m->lag.frames == 0) {
@@ -150,6 +152,33 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return GR_OK;
 }
 
+/* Checkpoints: the unwrapped and last positions, the jump count and the lag ring. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const msd *m = state;
+    gr_blob_put_f64s(out, m->ux, m->n);
+    gr_blob_put_f64s(out, m->uy, m->n);
+    gr_blob_put_f64s(out, m->px, m->n);
+    gr_blob_put_f64s(out, m->py, m->n);
+    gr_blob_put_i64(out, m->jumps);
+    gr_lag_save(&m->lag, out);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    msd *m = state;
+    gr_blob_get_f64s(in, m->ux, m->n);
+    gr_blob_get_f64s(in, m->uy, m->n);
+    gr_blob_get_f64s(in, m->px, m->n);
+    gr_blob_get_f64s(in, m->py, m->n);
+    m->jumps = gr_blob_get_i64(in);
+    gr_lag_load(&m->lag, in);
+    return GR_OK;
+}
+
 const gr_observable_type gr_obs_msd = {
     .name = "msd",
     .summary = "mean-square displacement of unwrapped positions and the "
@@ -161,4 +190,6 @@ const gr_observable_type gr_obs_msd = {
     .sample = sample,
     .finish = finish,
     .destroy = destroy,
+    .save = save,
+    .load = load,
 };

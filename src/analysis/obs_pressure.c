@@ -25,6 +25,7 @@
 
 #include "analysis/obs_cells.h"
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -110,8 +111,9 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 {
     (void)t;
     pressure *s = state;
-    if (p->n != s->n) {
-        return GR_FAIL(err, GR_EINVAL, "pressure: a frame of %d particles, the scene has %d", p->n, s->n);
+    int bad = gr_obs_check_frame("pressure", p, s->n, err);
+    if (bad) {
+        return bad;
     }
     double k[3] = {0.0, 0.0, 0.0}, speed = 0.0;
     gr_obs_mean_velocity(p, s->mean);
@@ -200,6 +202,27 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return gr_obs_table_write(out, &t, err);
 }
 
+/* Checkpoints: the counts and the accumulators of every series. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const pressure *s = state;
+    gr_blob_put_i64(out, s->frames);
+    gr_blob_put_i64(out, s->contacts);
+    gr_obs_put_blockings(out, s->b, N_SERIES);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    pressure *s = state;
+    s->frames = gr_blob_get_i64(in);
+    s->contacts = gr_blob_get_i64(in);
+    gr_obs_get_blockings(in, s->b, N_SERIES);
+    return GR_OK;
+}
+
 const gr_observable_type gr_obs_pressure = {
     .name = "pressure",
     .summary = "pressure and stress tensor, kinetic + collisional virial; 2D: "
@@ -211,4 +234,6 @@ const gr_observable_type gr_obs_pressure = {
     .sample = sample,
     .finish = finish,
     .destroy = destroy,
+    .save = save,
+    .load = load,
 };

@@ -7,6 +7,7 @@
 #include "analysis/obs_util.h"
 #include "granule/scene.h"
 #include "granule_config.h"
+#include "io/blob.h"
 #include "io/plot.h"
 
 void gr_obs_mean_velocity(const gr_particles *p, double mean[2])
@@ -82,6 +83,14 @@ cJSON *gr_obs_summary(const gr_output *out, const char *key, const char *file)
     return j;
 }
 
+int gr_obs_check_frame(const char *name, const gr_particles *p, int n, gr_error *err)
+{
+    if (p->n != n) {
+        return GR_FAIL(err, GR_EINVAL, "%s: a frame of %d particles, the scene has %d", name, p->n, n);
+    }
+    return GR_OK;
+}
+
 void gr_obs_add_number(cJSON *o, const char *name, double v)
 {
     if (isfinite(v)) {
@@ -112,4 +121,18 @@ int gr_obs_lag_csv(const gr_output *out, const gr_lag *lag, const char *name, co
     cJSON_AddNumberToObject(j, "samples", (double)lag->frames);
     return gr_obs_table_write(out, &(gr_obs_table){.name = name, .what = what, .columns = columns, .rows = lag_rows, .ctx = lag},
                               err);
+}
+
+void gr_obs_put_blockings(gr_blob *out, const gr_blocking *b, int n)
+{
+    for (int i = 0; i < n; i++) {
+        gr_blob_put_blocking(out, &b[i]);
+    }
+}
+
+void gr_obs_get_blockings(gr_blob_reader *in, gr_blocking *b, int n)
+{
+    for (int i = 0; i < n && !in->bad; i++) {
+        gr_blob_get_blocking(in, &b[i]);
+    }
 }

@@ -48,6 +48,13 @@ int gr_obs_table_write(const gr_output *out, const gr_obs_table *t, gr_error *er
 double gr_obs_stderr(const gr_blocking *b);
 /* The observable's member of the summary: an object `key` holding "file": file first. */
 cJSON *gr_obs_summary(const gr_output *out, const char *key, const char *file);
+/* GR_EINVAL unless the frame has the scene's n particles (observables keeping per-particle state). */
+int gr_obs_check_frame(const char *name, const gr_particles *p, int n, gr_error *err);
+struct gr_blob;
+struct gr_blob_reader;
+/* Checkpoints: n blocking accumulators in a row. */
+void gr_obs_put_blockings(struct gr_blob *out, const gr_blocking *b, int n);
+void gr_obs_get_blockings(struct gr_blob_reader *in, gr_blocking *b, int n);
 /* A number, or null when it is not finite (JSON has no nan). */
 void gr_obs_add_number(cJSON *o, const char *name, double v);
 /* A lag table (obs_lag.h) as CSV: tau (s), mean, block-averaging error, origins; and into `j`

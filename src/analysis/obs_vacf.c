@@ -19,6 +19,7 @@
 
 #include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 #include "granule/scene.h"
 
 static const gr_param params[] = {
@@ -53,8 +54,9 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
 static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 {
     gr_lag *g = state;
-    if (p->n != g->n) {
-        return GR_FAIL(err, GR_EINVAL, "vacf: a frame of %d particles, the scene has %d", p->n, g->n);
+    int bad = gr_obs_check_frame("vacf", p, g->n, err);
+    if (bad) {
+        return bad;
     }
     return gr_lag_add(g, p->vx, p->dim == 2 ? p->vy : NULL, t, err);
 }
@@ -123,6 +125,21 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return GR_OK;
 }
 
+/* Checkpoints: the lag ring. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    gr_lag_save(state, out);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    gr_lag_load(state, in);
+    return GR_OK;
+}
+
 const gr_observable_type gr_obs_vacf = {
     .name = "vacf",
     .summary = "velocity autocorrelation C(tau) and its Green-Kubo integral "
@@ -134,4 +151,6 @@ const gr_observable_type gr_obs_vacf = {
     .sample = sample,
     .finish = finish,
     .destroy = destroy,
+    .save = save,
+    .load = load,
 };

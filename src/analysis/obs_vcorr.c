@@ -16,6 +16,7 @@
 
 #include "analysis/obs_cells.h"
 #include "analysis/obs_util.h"
+#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -182,6 +183,33 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return gr_obs_table_write(out, &t, err);
 }
 
+/* Checkpoints: the frame count and the accumulators of every bin. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const vcorr *s = state;
+    gr_blob_put_u64(out, (uint64_t)s->bins);
+    gr_blob_put_i64(out, s->frames);
+    gr_obs_put_blockings(out, s->bl, s->bins);
+    gr_obs_put_blockings(out, s->bt, s->bins);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    vcorr *s = state;
+    uint64_t bins = gr_blob_get_u64(in);
+    if (!in->bad && bins != (uint64_t)s->bins) {
+        gr_blob_fail(in, "%llu bins in the checkpoint, vcorr_bins = %d in the scene", (unsigned long long)bins,
+                     s->bins);
+    }
+    s->frames = gr_blob_get_i64(in);
+    gr_obs_get_blockings(in, s->bl, s->bins);
+    gr_obs_get_blockings(in, s->bt, s->bins);
+    return GR_OK;
+}
+
 const gr_observable_type gr_obs_vcorr = {
     .name = "vcorr",
     .summary = "spatial velocity correlations, longitudinal C_L(r) and "
@@ -193,4 +221,6 @@ const gr_observable_type gr_obs_vcorr = {
     .sample = sample,
     .finish = finish,
     .destroy = destroy,
+    .save = save,
+    .load = load,
 };
