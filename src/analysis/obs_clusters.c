@@ -186,7 +186,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .rows = rows,
         .ctx = c,
         .png = c->frames > 0 ? "clusters.png" : NULL,
-        .plot = "set logscale xy\nset xlabel 'cluster size s'\nset ylabel "
+        .plot = "set logscale xy\nset format y '10^{%L}'\nset xlabel 'cluster size s'\nset ylabel "
                 "'clusters of size s per frame'\n"
                 "set title 'Cluster-size distributions'\n"
                 "plot 'clusters.csv' skip 3 using 1:($2>0?$2:1/0) with "

@@ -147,10 +147,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .rows = gr_obs_histogram_rows,
         .ctx = &(gr_obs_histogram){&c->h, "tau"},
         .png = c->tau_n > 0 ? "collisions.png" : NULL,
-        .plot = "set logscale xy\nset xlabel 'time between collisions tau "
+        .plot = "set logscale xy\nset format xy '10^{%L}'\nset xlabel 'time between collisions tau "
                 "(s)'\nset ylabel 'P(tau) (1/s)'\n"
                 "set title 'Times between collisions of a particle'\n"
-                "plot 'collisions.csv' skip 3 using 3:($4>0?$5:1/0):6 with "
+                "plot 'collisions.csv' skip 3 using ($4>0?$3:1/0):5:6 with "
                 "yerrorbars title 'P(tau)'",
     };
     return gr_obs_table_write(out, &t, err);

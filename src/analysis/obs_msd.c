@@ -142,7 +142,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     if (out->plots && m->lag.frames > 1) {
         char body[900];
         snprintf(body, sizeof body,
-                 "set logscale xy\nset xlabel 'lag tau (s)'\nset ylabel 'MSD "
+                 "set logscale xy\nset format xy '10^{%%L}'\nset xlabel 'lag tau (s)'\nset ylabel 'MSD "
                  "(m^2)'\nset title 'Mean-square displacement'\n"
                  "plot 'msd.csv' skip 3 using 1:($4>0&&$1>0?$2:1/0):3 with "
                  "yerrorbars title 'MSD'%s",

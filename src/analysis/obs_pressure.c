@@ -194,7 +194,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .png = s->frames > 0 ? "pressure.png" : NULL,
         .plot = "set style data histograms\nset style histogram errorbars gap "
                 "1\nset style fill solid 0.5\n"
-                "set ylabel 'pressure'\nset title 'Pressure: kinetic and "
+                "set ylabel 'pressure (N/m in 2D, N in 1D)'\nset title 'Pressure: kinetic and "
                 "collisional parts'\n"
                 "set xtics rotate by -30\nplot 'pressure.csv' skip 3 every "
                 "::0::7 using 2:3:xtic(1) title 'P_{ab}'",
