@@ -80,6 +80,48 @@ check test -f "$tmp/ev/freepath.csv"
 check test -f "$tmp/ev/postcollision.csv"
 check python3 -c "import json,sys; a=json.load(open(sys.argv[1]))['analysis']; sys.exit(0 if a['freepath']['paths']>100 and a['postcollision']['post_samples']>100 else 1)" "$tmp/ev/summary.json"
 
+# the transport, structure and pressure observables (docs/analysis.md): in a run and from snapshots
+# at every sample, equal; collisions only in the run (rate x N x time = collisions counted)
+for dim in 1 2; do
+    scene=$src/docs/scenes/steady-2d.ini
+    extra=(--set system.N=300 --set system.L=0.06 --set analysis.observables=msd,vacf,vcorr,clusters,pressure,collisions)
+    if [[ $dim == 1 ]]; then
+        scene=$src/docs/scenes/rfm-1d.ini
+        extra=(--set system.N=200 --set analysis.observables=msd,vacf,clusters,pressure,collisions)
+    fi
+    "$granule" run "$scene" --quiet --out "$tmp/new$dim" "${extra[@]}" --set run.warmup=0.005 --set run.duration=0.02 \
+        --set run.sample_every=0.001 --set output.snapshot_every=0.001 --set analysis.msd_lags=10 \
+        --set analysis.vacf_lags=10 >/dev/null
+    check "$granule" analyse "$tmp/new$dim"
+    check python3 - "$tmp/new$dim" "$dim" <<'PY'
+import json, sys
+d, dim = sys.argv[1], int(sys.argv[2])
+s = json.load(open(d + "/summary.json"))
+run, off = s["analysis"], json.load(open(d + "/analysis/summary.json"))["analysis"]
+ok = True
+def close(a, b, rel=1e-9):
+    return a is not None and b is not None and abs(a - b) <= rel * max(abs(a), abs(b), 1e-300)
+ok &= close(run["msd"]["D_self"]["value"], off["msd"]["D_self"]["value"], 1e-6)
+ok &= close(run["vacf"]["D_green_kubo"]["value"], off["vacf"]["D_green_kubo"]["value"], 1e-6)
+ok &= close(run["pressure"]["P"], off["pressure"]["P"], 1e-6) and run["pressure"]["P"] > 0
+ok &= run["pressure"]["contacts_per_frame"] > 0 and run["pressure"]["collisional_xx"] > 0
+ok &= run["clusters"]["contact"]["mean_size"] == off["clusters"]["contact"]["mean_size"]
+ok &= run["msd"]["suspect_jumps"] == 0
+if dim == 2:
+    ok &= "C1" in run["pressure"]["eos_5_2"] and close(run["vcorr"]["C_L_first"], off["vcorr"]["C_L_first"], 1e-6)
+c = run["collisions"]
+ok &= c["collisions"] > 0 and c["rate_per_particle"] > 0 and c["rate_per_particle_error"] > 0
+t = (run["msd"]["samples"] - 1) * run["msd"]["interval"]
+ok &= close(c["rate_per_particle"] * s["scene"]["system"]["N"] * t, c["collisions"], 1e-6)
+ok &= off["collisions"]["collisions"] == 0 and off["collisions"]["rate_per_particle"] is None and "note" in off["collisions"]
+for f in ["msd.csv", "vacf.csv", "clusters.csv", "pressure.csv", "collisions.csv"] + (["vcorr.csv"] if dim == 2 else []):
+    ok &= open(d + "/" + f).readline().startswith("# granule")
+if not ok:
+    print(json.dumps({k: run[k] for k in ["msd", "pressure", "collisions"]}, indent=1), file=sys.stderr)
+sys.exit(0 if ok else 1)
+PY
+done
+
 # compare: two models, one table row each, same initial state
 check "$granule" compare "$src/docs/scenes/steady-2d.ini" --models spring_dashpot+tangential_dashpot,spring_dashpot+sliding_friction \
     --set system.N=200 --set system.L=0.1 --set run.warmup=0 --set run.duration=0.005 --set output.plots=false --out "$tmp/cmp"

@@ -370,6 +370,28 @@ START_TEST(test_observers_1d)
 }
 END_TEST
 
+/* the transport, structure and pressure observables (lag rings, unwrapped positions, cluster
+ * counts, per-particle collision times) continue bit for bit */
+START_TEST(test_observers_new_2d)
+{
+    static const char *const sets[] = {"system.dim=2", "system.N=300", "system.packing_fraction=0.45",
+                                       "noise.D=1e-7", "integrator.dt=1e-6", "placement.v0=1",
+                                       "analysis.observables=msd,vacf,vcorr,clusters,pressure,collisions",
+                                       "analysis.msd_lags=5", "analysis.vacf_lags=5"};
+    observer_case(sets, 9, quick() ? 9 : 12);
+}
+END_TEST
+
+START_TEST(test_observers_new_1d)
+{
+    static const char *const sets[] = {"system.dim=1", "system.N=200", "system.reduced_length=0.05",
+                                       "placement.kind=uniform", "noise.D=1e-7", "integrator.dt=1e-6", "placement.v0=1",
+                                       "analysis.observables=msd,vacf,clusters,pressure,collisions",
+                                       "analysis.msd_lags=5"};
+    observer_case(sets, 9, quick() ? 9 : 12);
+}
+END_TEST
+
 /* ---------- the event-driven and hybrid integrators ---------- */
 
 static void assert_same_integrator(gr_sim *a, gr_sim *b)
@@ -511,6 +533,8 @@ static Suite *suite(void)
     tcase_add_test(t, test_sim_state_mismatch_refused);
     tcase_add_test(t, test_observers_2d);
     tcase_add_test(t, test_observers_1d);
+    tcase_add_test(t, test_observers_new_2d);
+    tcase_add_test(t, test_observers_new_1d);
     tcase_add_test(t, test_event_state);
     tcase_add_test(t, test_event_stop_then_resume);
     tcase_add_test(t, test_hybrid_state);

@@ -33,6 +33,12 @@ typedef struct gr_analysis_params {
     double gr_rmax;       /* 2D: largest R in diameters */
     int freepath_bins;    /* free-path distribution P_l(l), log bins (4.18) */
     double freepath_min;  /* smallest binned free path, in diameters */
+    int msd_lags;         /* msd: lags (in sample intervals) of the mean-square displacement */
+    int vacf_lags;        /* vacf: lags of the velocity autocorrelation */
+    int vcorr_bins;       /* 2D: bins of the spatial velocity correlations */
+    double vcorr_rmax;    /* 2D: largest distance of the velocity correlations, in diameters */
+    double cluster_distance; /* density clusters: centres closer than this many diameters */
+    int collision_bins;   /* log bins of the times between collisions */
 } gr_analysis_params;
 
 /* Where an observable writes its results. */

@@ -112,16 +112,14 @@ static double tail(double l, const double *p, double *g, void *user)
 static int finish(void *state, const gr_output *out, gr_error *err)
 {
     freepath *f = state;
-    gr_file file;
-    int rc = gr_obs_csv_open(out, "freepath.csv",
-                             "free-path distribution P_l(l) (4.18): l in units of d, density per unit l/d, sqrt(X) errors; "
-                             "paths from the end of a particle's last contact to the start of its next",
-                             &file, err);
-    if (rc) {
-        return rc;
-    }
-    gr_histogram_write_csv(&f->h, file.f, "l_over_d");
-    rc = gr_file_commit(&file, err);
+    const gr_obs_table table = {
+        .name = "freepath.csv",
+        .what = "free-path distribution P_l(l) (4.18): l in units of d, density per unit l/d, sqrt(X) errors; "
+                "paths from the end of a particle's last contact to the start of its next",
+        .rows = gr_obs_histogram_rows,
+        .ctx = &(gr_obs_histogram){&f->h, "l_over_d"},
+    };
+    int rc = gr_obs_table_write(out, &table, err); /* the summary is written either way */
     cJSON *j = cJSON_AddObjectToObject(out->summary, "freepath");
     cJSON_AddNumberToObject(j, "paths", (double)f->paths);
     cJSON_AddNumberToObject(j, "mean_over_d", f->paths ? f->sum / f->paths / f->d : 0.0);

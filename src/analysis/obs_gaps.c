@@ -320,6 +320,66 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
     }
 }
 
+static void gaps_rows(FILE *f, const void *ctx)
+{
+    const gaps *g = ctx;
+    for (int h = 1; h <= g->h_max; h++) {
+        double scale = h * g->mean;
+        for (int b = 0; b < (g->log_bins ? 2 : 1); b++) {
+            const gr_histogram *hist = b ? &g->lg[h - 1] : &g->lin[h - 1];
+            for (int i = 0; i < hist->nbins; i++) {
+                double R = gr_histogram_center(hist, i), den = gr_histogram_density(hist, i),
+                       de = gr_histogram_density_error(hist, i);
+                fprintf(f, "%d,%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.10g,%.10g,%.10g,%.6g\n", h, b ? "log" : "lin",
+                        gr_histogram_lower(hist, i), gr_histogram_upper(hist, i), R, hist->count[i], den, de,
+                        -log(R / g->Lr), R / scale, den * scale, de * scale);
+            }
+        }
+    }
+}
+
+/* gaps_moments.csv rows; the summary's moment arrays are filled on the way */
+typedef struct moment_rows_ctx {
+    const gaps *g;
+    cJSON *jm, *je, *jr, *jh;
+} moment_rows_ctx;
+
+static void moment_rows(FILE *f, const void *ctx)
+{
+    const moment_rows_ctx *c = ctx;
+    const gaps *g = c->g;
+    for (int h = 1; h <= g->h_max; h++) {
+        double scale = h * g->mean;
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddNumberToObject(o, "h", h);
+        cJSON *jo = cJSON_AddArrayToObject(o, "moments_reduced");
+        for (int m = 1; m <= M_MAX; m++) {
+            const gr_blocking *bl = &g->mom[h - 1][m];
+            int conv = 0;
+            double mk = gr_blocking_mean(bl), ek = gr_blocking_stderr(bl, NULL, &conv), sc = pow(scale, m);
+            fprintf(f, "%d,%d,%.15g,%.6g,%.15g,%.6g,%d,%lld\n", h, m, mk, ek, mk / sc, ek / sc, conv,
+                    (long long)bl->count[0]);
+            cJSON_AddItemToArray(jo, num(mk / sc));
+            if (m == 1) {
+                cJSON_AddItemToObject(o, "mean", num(mk));
+                cJSON_AddItemToObject(o, "mean_stderr", num(ek));
+            }
+            if (h == 1) {
+                cJSON_AddItemToArray(c->jm, num(mk));
+                cJSON_AddItemToArray(c->je, num(ek));
+                cJSON_AddItemToArray(c->jr, num(mk / sc));
+            }
+        }
+        const gr_histogram *lin = &g->lin[h - 1];
+        cJSON_AddItemToObject(o, "beyond_reduced_length", num(lin->total > 0 ? lin->above / lin->total : (double)NAN));
+        if (g->log_bins) {
+            const gr_histogram *lg = &g->lg[h - 1];
+            cJSON_AddItemToObject(o, "below_log_range", num(lg->total > 0 ? lg->below / lg->total : (double)NAN));
+        }
+        cJSON_AddItemToArray(c->jh, o);
+    }
+}
+
 static int finish(void *state, const gr_output *out, gr_error *err)
 {
     gaps *g = state;
@@ -338,80 +398,39 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     }
 
     /* ---- gaps.csv: every G_h in every binning ---- */
-    gr_file f;
-    int rc = gr_obs_csv_open(out, "gaps.csv",
-                             "h-th neighbour separation distributions G_h(R;N) (3.21, 3.24) in reduced coordinates "
-                             "(3.16), R = |r'_{i+h} - r'_i| in m; density in 1/m with sqrt(X) errors (App. A.1), "
-                             "normalised by all separations sampled; neg_ln_R = -ln(R/L') (Fig. 3.12); "
-                             "x = R N / (h L') and density_x = density h L' / N (mean-scaled, for 3.25 overlays)",
-                             &f, err);
-    if (rc) {
-        return rc;
-    }
-    fprintf(f.f, "h,binning,R_lo,R_hi,R,count,density,density_error,neg_ln_R,x,density_x,density_x_error\n");
-    for (int h = 1; h <= g->h_max; h++) {
-        double scale = h * g->mean;
-        for (int b = 0; b < (g->log_bins ? 2 : 1); b++) {
-            const gr_histogram *hist = b ? &g->lg[h - 1] : &g->lin[h - 1];
-            for (int i = 0; i < hist->nbins; i++) {
-                double R = gr_histogram_center(hist, i), den = gr_histogram_density(hist, i),
-                       de = gr_histogram_density_error(hist, i);
-                fprintf(f.f, "%d,%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.10g,%.10g,%.10g,%.6g\n", h, b ? "log" : "lin",
-                        gr_histogram_lower(hist, i), gr_histogram_upper(hist, i), R, hist->count[i], den, de,
-                        -log(R / g->Lr), R / scale, den * scale, de * scale);
-            }
-        }
-    }
-    rc = gr_file_commit(&f, err);
+    gr_obs_table t = {
+        .name = "gaps.csv",
+        .what = "h-th neighbour separation distributions G_h(R;N) (3.21, 3.24) in reduced coordinates "
+                "(3.16), R = |r'_{i+h} - r'_i| in m; density in 1/m with sqrt(X) errors (App. A.1), "
+                "normalised by all separations sampled; neg_ln_R = -ln(R/L') (Fig. 3.12); "
+                "x = R N / (h L') and density_x = density h L' / N (mean-scaled, for 3.25 overlays)",
+        .columns = "h,binning,R_lo,R_hi,R,count,density,density_error,neg_ln_R,x,density_x,density_x_error",
+        .rows = gaps_rows,
+        .ctx = g,
+    };
+    int rc = gr_obs_table_write(out, &t, err);
     if (rc) {
         return rc;
     }
 
-    /* ---- gaps_moments.csv: <R_{i,i+h}^m> (3.18 for h = 1) ---- */
-    rc = gr_obs_csv_open(out, "gaps_moments.csv",
-                         "moments <R^m> of the h-th neighbour separations R_{i,i+h} (3.18 for h = 1) in m^m, averaged "
-                         "over particles and uniformly in time, block-averaging errors; reduced = <(R N / (h L'))^m> "
-                         "(Poisson points: Gamma(h + m) / (Gamma(h) h^m) for large N)",
-                         &f, err);
-    if (rc) {
-        return rc;
-    }
-    fprintf(f.f, "h,m,moment,stderr,reduced_moment,reduced_stderr,converged,samples\n");
-    cJSON *jm = cJSON_AddArrayToObject(j, "moments");
-    cJSON *je = cJSON_AddArrayToObject(j, "moments_stderr");
-    cJSON *jr = cJSON_AddArrayToObject(j, "moments_reduced");
-    cJSON *jh = cJSON_AddArrayToObject(j, "neighbours");
-    for (int h = 1; h <= g->h_max; h++) {
-        double scale = h * g->mean;
-        cJSON *o = cJSON_CreateObject();
-        cJSON_AddNumberToObject(o, "h", h);
-        cJSON *jo = cJSON_AddArrayToObject(o, "moments_reduced");
-        for (int m = 1; m <= M_MAX; m++) {
-            const gr_blocking *bl = &g->mom[h - 1][m];
-            int conv = 0;
-            double mk = gr_blocking_mean(bl), ek = gr_blocking_stderr(bl, NULL, &conv), sc = pow(scale, m);
-            fprintf(f.f, "%d,%d,%.15g,%.6g,%.15g,%.6g,%d,%lld\n", h, m, mk, ek, mk / sc, ek / sc, conv,
-                    (long long)bl->count[0]);
-            cJSON_AddItemToArray(jo, num(mk / sc));
-            if (m == 1) {
-                cJSON_AddItemToObject(o, "mean", num(mk));
-                cJSON_AddItemToObject(o, "mean_stderr", num(ek));
-            }
-            if (h == 1) {
-                cJSON_AddItemToArray(jm, num(mk));
-                cJSON_AddItemToArray(je, num(ek));
-                cJSON_AddItemToArray(jr, num(mk / sc));
-            }
-        }
-        const gr_histogram *lin = &g->lin[h - 1];
-        cJSON_AddItemToObject(o, "beyond_reduced_length", num(lin->total > 0 ? lin->above / lin->total : (double)NAN));
-        if (g->log_bins) {
-            const gr_histogram *lg = &g->lg[h - 1];
-            cJSON_AddItemToObject(o, "below_log_range", num(lg->total > 0 ? lg->below / lg->total : (double)NAN));
-        }
-        cJSON_AddItemToArray(jh, o);
-    }
-    rc = gr_file_commit(&f, err);
+    /* ---- gaps_moments.csv: <R_{i,i+h}^m> (3.18 for h = 1), and the same into the summary ---- */
+    const moment_rows_ctx mrows = {
+        .g = g,
+        .jm = cJSON_AddArrayToObject(j, "moments"),
+        .je = cJSON_AddArrayToObject(j, "moments_stderr"),
+        .jr = cJSON_AddArrayToObject(j, "moments_reduced"),
+        .jh = cJSON_AddArrayToObject(j, "neighbours"),
+    };
+    t = (gr_obs_table){
+        .name = "gaps_moments.csv",
+        .what = "moments <R^m> of the h-th neighbour separations R_{i,i+h} (3.18 for h = 1) in m^m, averaged "
+                "over particles and uniformly in time, block-averaging errors; reduced = <(R N / (h L'))^m> "
+                "(Poisson points: Gamma(h + m) / (Gamma(h) h^m) for large N)",
+        .columns = "h,m,moment,stderr,reduced_moment,reduced_stderr,converged,samples",
+        .rows = moment_rows,
+        .ctx = &mrows,
+    };
+    rc = gr_obs_table_write(out, &t, err);
     if (rc) {
         return rc;
     }

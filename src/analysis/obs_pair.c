@@ -407,15 +407,6 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     return GR_OK;
 }
 
-static void add_number(cJSON *o, const char *name, double v)
-{
-    if (isfinite(v)) {
-        cJSON_AddNumberToObject(o, name, v);
-    } else {
-        cJSON_AddNullToObject(o, name);
-    }
-}
-
 /* Error of a per-frame average: blocking plateau, or (fewer than 16 frames) sqrt(count). */
 static double frame_error(const pair *s, const gr_blocking *blk, double count, double scale, bool *ok)
 {
@@ -446,24 +437,36 @@ static int fit_window(const pair *s, const double *n_of, const double *sigma, in
     return gr_fit_power_law(x, y, e, m, fit, err) == GR_OK ? m : -1;
 }
 
+/* pair.csv: one row per bin from the finished arrays (none before the first frame) */
+typedef struct pair_rows_ctx {
+    const pair *s;
+    const double *g, *ge, *c, *n, *ne;
+} pair_rows_ctx;
+
+static const char pair_csv_what[] =
+    "pair correlation g(R) (4.10, normalised by the ideal-gas pair count N(N-1)/2 per area "
+    "2 pi R dR/L^2, shell area exact per bin) at the bin centre R; C = mean number of others "
+    "within R_hi (4.15) and n = C - (N-1)/L^2 pi R_hi^2 (4.17), cumulative up to the bin's "
+    "upper edge R_hi; pairs = total pair count in the bin over all frames; errors from block "
+    "averaging over frames (sqrt(count) with fewer than 16 frames); R in m, d = 2 radius";
+
+static void pair_rows(FILE *f, const void *ctx)
+{
+    const pair_rows_ctx *c = ctx;
+    const pair *s = c->s;
+    for (int b = 0; b < s->nbins && s->frames > 0; b++) {
+        double lo = b * s->width, hi = (b + 1) * s->width, r = 0.5 * (lo + hi);
+        fprintf(f, "%.10g,%.10g,%.10g,%.6g,%.10g,%.10g,%.6g,%.10g,%.10g,%.0f\n", r, r / s->d, c->g[b], c->ge[b], c->c[b],
+                c->n[b], c->ne[b], lo, hi, s->total[b]);
+    }
+}
+
 static int finish(void *state, const gr_output *out, gr_error *err)
 {
     pair *s = state;
     const int nb = s->nbins, N = s->N;
     const double L = s->L, dens = (N - 1) / (L * L); /* density of the others, n of 4.15-4.17 */
     const double norm = 0.5 * (double)N * (double)(N - 1) / (L * L);
-    gr_file f;
-    int rc = gr_obs_csv_open(out, "pair.csv",
-                             "pair correlation g(R) (4.10, normalised by the ideal-gas pair count N(N-1)/2 per area "
-                             "2 pi R dR/L^2, shell area exact per bin) at the bin centre R; C = mean number of others "
-                             "within R_hi (4.15) and n = C - (N-1)/L^2 pi R_hi^2 (4.17), cumulative up to the bin's "
-                             "upper edge R_hi; pairs = total pair count in the bin over all frames; errors from block "
-                             "averaging over frames (sqrt(count) with fewer than 16 frames); R in m, d = 2 radius",
-                             &f, err);
-    if (rc) {
-        return rc;
-    }
-    fprintf(f.f, "R,R_over_d,g,g_error,C,n,n_error,R_lo,R_hi,pairs\n");
     cJSON *j = cJSON_AddObjectToObject(out->summary, "pair");
     cJSON_AddStringToObject(j, "file", "pair.csv");
     cJSON_AddNumberToObject(j, "frames", (double)s->frames);
@@ -473,27 +476,33 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddNumberToObject(j, "R_max_over_d", s->R_max / s->d);
     cJSON_AddBoolToObject(j, "R_max_clamped_to_half_box", s->clamped);
     cJSON_AddNumberToObject(j, "bin_width_over_d", s->width / s->d);
+    pair_rows_ctx rows = {.s = s};
+    gr_obs_table t = {.name = "pair.csv", .what = pair_csv_what, .columns = "R,R_over_d,g,g_error,C,n,n_error,R_lo,R_hi,pairs",
+                      .rows = pair_rows, .ctx = &rows};
     if (s->frames == 0) {
         cJSON_AddStringToObject(j, "note", "no frames sampled");
-        return gr_file_commit(&f, err);
+        return gr_obs_table_write(out, &t, err);
     }
-    double *g = malloc(sizeof(double) * (size_t)nb * 6);
+    double *g = malloc(sizeof(double) * (size_t)nb * 7);
     if (!g) {
-        gr_file_abandon(&f);
         return GR_FAIL(err, GR_ENOMEM, "pair: out of memory");
     }
-    double *ge = g + nb, *nr = g + 2 * nb, *ne = g + 3 * nb, *fx = g + 4 * nb, *fy = g + 5 * nb;
+    double *ge = g + nb, *nr = g + 2 * nb, *ne = g + 3 * nb, *fx = g + 4 * nb, *fy = g + 5 * nb, *cv = g + 6 * nb;
     double *fe = malloc(sizeof(double) * (size_t)nb);
     if (!fe) {
         free(g);
-        gr_file_abandon(&f);
         return GR_FAIL(err, GR_ENOMEM, "pair: out of memory");
     }
+    rows.g = g;
+    rows.ge = ge;
+    rows.c = cv;
+    rows.n = nr;
+    rows.ne = ne;
     bool blocking = true;
     int unconverged = 0;
     double cum = 0.0;
     for (int b = 0; b < nb; b++) {
-        double lo = b * s->width, hi = (b + 1) * s->width, r = 0.5 * (lo + hi);
+        double hi = (b + 1) * s->width;
         cum += s->total[b];
         g[b] = gr_blocking_mean(&s->g_blk[b]);
         ge[b] = frame_error(s, &s->g_blk[b], s->total[b], 1.0 / (norm * s->area[b]), &blocking);
@@ -505,8 +514,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
             gr_blocking_stderr(&s->g_blk[b], NULL, &conv);
             unconverged += !conv && s->total[b] > 0.0;
         }
-        fprintf(f.f, "%.10g,%.10g,%.10g,%.6g,%.10g,%.10g,%.6g,%.10g,%.10g,%.0f\n", r, r / s->d, g[b], ge[b], c, nr[b],
-                ne[b], lo, hi, s->total[b]);
+        cv[b] = c;
     }
     cJSON_AddStringToObject(j, "errors", blocking ? "block averaging over frames"
                                                   : "sqrt(counts) (fewer than 16 frames for block averaging)");
@@ -521,10 +529,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         pk = g[b] > g[pk] ? b : pk;
     }
     cJSON *jp = cJSON_AddObjectToObject(j, "first_peak");
-    add_number(jp, "R", (pk + 0.5) * s->width);
-    add_number(jp, "R_over_d", (pk + 0.5) * s->width / s->d);
-    add_number(jp, "g", g[pk]);
-    add_number(jp, "g_error", ge[pk]);
+    gr_obs_add_number(jp, "R", (pk + 0.5) * s->width);
+    gr_obs_add_number(jp, "R_over_d", (pk + 0.5) * s->width / s->d);
+    gr_obs_add_number(jp, "g", g[pk]);
+    gr_obs_add_number(jp, "g_error", ge[pk]);
     cJSON_AddStringToObject(jp, "definition", "largest g(R) over bins centred below 1.5 d");
 
     /* g_tail: mean g over R_max/2 <= R < R_max (Fig. 4.7's constant fit) */
@@ -534,10 +542,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         tail_total += s->total[b];
         tail_area += s->area[b];
     }
-    add_number(jt, "value", gr_blocking_mean(&s->tail_blk));
-    add_number(jt, "error", frame_error(s, &s->tail_blk, tail_total, 1.0 / (norm * tail_area), &blocking));
-    add_number(jt, "R_from_over_d", s->tail_from * s->width / s->d);
-    add_number(jt, "R_to_over_d", s->R_max / s->d);
+    gr_obs_add_number(jt, "value", gr_blocking_mean(&s->tail_blk));
+    gr_obs_add_number(jt, "error", frame_error(s, &s->tail_blk, tail_total, 1.0 / (norm * tail_area), &blocking));
+    gr_obs_add_number(jt, "R_from_over_d", s->tail_from * s->width / s->d);
+    gr_obs_add_number(jt, "R_to_over_d", s->R_max / s->d);
 
     /* D_f from n(R) ~ A'' R^D_f (4.17) over max(2 d, R_max / 4) <= R_hi <= R_max / 2; bin b's
      * upper edge is (b + 1) w, so the window is the bins lo .. hi - 1 */
@@ -545,8 +553,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     int lo = (int)ceil(fit_from / s->width - 1.0 - 1e-9), hi = (int)floor(FIT_HI_FRAC * nb + 1e-9);
     lo = lo < 0 ? 0 : lo;
     cJSON *jd = cJSON_AddObjectToObject(j, "D_f");
-    add_number(jd, "R_from_over_d", (lo + 1) * s->width / s->d);
-    add_number(jd, "R_to_over_d", hi * s->width / s->d);
+    gr_obs_add_number(jd, "R_from_over_d", (lo + 1) * s->width / s->d);
+    gr_obs_add_number(jd, "R_to_over_d", hi * s->width / s->d);
     gr_fit fit;
     gr_error ferr = {0};
     int used = hi - lo >= 3 ? fit_window(s, nr, ne, lo, hi, &fit, fx, fy, fe, &ferr) : 0;
@@ -586,15 +594,15 @@ static int finish(void *state, const gr_output *out, gr_error *err)
             free(dj);
         }
         double e = isfinite(jk) ? fmax(fit.err[1], jk) : fit.err[1];
-        add_number(jd, "value", fit.p[1]);
-        add_number(jd, "error", e);
-        add_number(jd, "fit_error", fit.err[1]);
-        add_number(jd, "jackknife_error", jk);
+        gr_obs_add_number(jd, "value", fit.p[1]);
+        gr_obs_add_number(jd, "error", e);
+        gr_obs_add_number(jd, "fit_error", fit.err[1]);
+        gr_obs_add_number(jd, "jackknife_error", jk);
         cJSON_AddNumberToObject(jd, "jackknife_batches", isfinite(jk) ? s->n_full : 0);
-        add_number(jd, "A", fit.p[0]);
-        add_number(jd, "A_error", fit.err[0]);
-        add_number(jd, "A_over_d", fit.p[0] * pow(s->d, fit.p[1])); /* n = A_over_d (R/d)^D_f */
-        add_number(jd, "chi2_red", fit.chi2_red);
+        gr_obs_add_number(jd, "A", fit.p[0]);
+        gr_obs_add_number(jd, "A_error", fit.err[0]);
+        gr_obs_add_number(jd, "A_over_d", fit.p[0] * pow(s->d, fit.p[1])); /* n = A_over_d (R/d)^D_f */
+        gr_obs_add_number(jd, "chi2_red", fit.chi2_red);
         cJSON_AddNumberToObject(jd, "points", used);
         cJSON_AddNumberToObject(jd, "points_left_out", hi - lo - used);
     } else {
@@ -609,7 +617,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                             "n(R) = C(R) - n pi R^2 ~ A R^D_f (4.17), weighted log-log fit at bin upper edges R_hi "
                             "in [max(2 d, R_max/4), R_max/2], bins with n <= 0 left out; error = max(fit, jackknife "
                             "over batches of frames)");
-    rc = gr_file_commit(&f, err);
+    int rc = gr_obs_table_write(out, &t, err);
     if (!rc && out->plots) {
         char body[1600];
         snprintf(body, sizeof body,

@@ -92,6 +92,16 @@ static int events(void *state, const gr_contact_event *ev, int64_t n, gr_error *
     return GR_OK;
 }
 
+static void rows(FILE *f, const void *ctx)
+{
+    const postcollision *p = ctx;
+    for (int i = 0; i < p->post.nbins; i++) {
+        fprintf(f, "%.8g,%.8g,%.4g,%.0f,%.8g,%.4g,%.0f\n", gr_histogram_center(&p->post, i),
+                gr_histogram_density(&p->post, i), gr_histogram_density_error(&p->post, i), p->post.count[i],
+                gr_histogram_density(&p->all, i), gr_histogram_density_error(&p->all, i), p->all.count[i]);
+    }
+}
+
 static int finish(void *state, const gr_output *out, gr_error *err)
 {
     postcollision *p = state;
@@ -100,33 +110,24 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         cJSON_AddStringToObject(j, "note", "no frame sampled");
         return GR_OK;
     }
-    gr_file f;
-    int rc = gr_obs_csv_open(out, "postcollision.csv",
-                             "post-collision velocity distribution P(v_0) (Fig. 5.9) beside the full P(v), per component, "
-                             "v in m/s, densities per m/s with sqrt(X) errors",
-                             &f, err);
-    if (rc) {
-        return rc;
-    }
-    fprintf(f.f, "v,post_density,post_error,post_count,all_density,all_error,all_count\n");
-    for (int i = 0; i < p->post.nbins; i++) {
-        fprintf(f.f, "%.8g,%.8g,%.4g,%.0f,%.8g,%.4g,%.0f\n", gr_histogram_center(&p->post, i),
-                gr_histogram_density(&p->post, i), gr_histogram_density_error(&p->post, i), p->post.count[i],
-                gr_histogram_density(&p->all, i), gr_histogram_density_error(&p->all, i), p->all.count[i]);
-    }
-    rc = gr_file_commit(&f, err);
+    const gr_obs_table t = {
+        .name = "postcollision.csv",
+        .what = "post-collision velocity distribution P(v_0) (Fig. 5.9) beside the full P(v), per component, "
+                "v in m/s, densities per m/s with sqrt(X) errors",
+        .columns = "v,post_density,post_error,post_count,all_density,all_error,all_count",
+        .rows = rows,
+        .ctx = p,
+        .png = "postcollision.png",
+        .plot = "set logscale y\nset xlabel 'v (m/s)'\nset ylabel 'probability density'\n"
+                "set title 'Post-collision and full velocity distributions (Fig. 5.9)'\n"
+                "plot 'postcollision.csv' skip 1 using 1:($4>0?$2:1/0) with points pt 7 ps 0.5 title 'P(v_0) after "
+                "collision', '' skip 1 using 1:($7>0?$5:1/0) with lines lw 2 title 'P(v)'",
+    };
     cJSON_AddNumberToObject(j, "post_samples", (double)p->post_n);
     cJSON_AddNumberToObject(j, "post_v2", p->post_n ? p->post_v2 / p->post_n : 0.0);
     cJSON_AddNumberToObject(j, "all_v2", p->all_n ? p->all_v2 / p->all_n : 0.0);
     cJSON_AddStringToObject(j, "file", "postcollision.csv");
-    if (!rc && out->plots) {
-        gr_obs_plot(out, "postcollision.png",
-                    "set logscale y\nset xlabel 'v (m/s)'\nset ylabel 'probability density'\n"
-                    "set title 'Post-collision and full velocity distributions (Fig. 5.9)'\n"
-                    "plot 'postcollision.csv' skip 1 using 1:($4>0?$2:1/0) with points pt 7 ps 0.5 title 'P(v_0) after collision', "
-                    "'' skip 1 using 1:($7>0?$5:1/0) with lines lw 2 title 'P(v)'");
-    }
-    return rc;
+    return gr_obs_table_write(out, &t, err);
 }
 
 static void destroy(void *state)

@@ -472,45 +472,36 @@ static void fit_crossover(points *pt, const gr_histogram *h, double scale, doubl
 /* ------------------------------------------------------------------------------------------
  * Output. */
 
-static void add_num(cJSON *o, const char *key, double x)
-{
-    if (isfinite(x)) {
-        cJSON_AddNumberToObject(o, key, x);
-    } else {
-        cJSON_AddNullToObject(o, key);
-    }
-}
-
 static void add_tail_summary(cJSON *j, const tail_result *r, double scale, double v_rms, double total, double w)
 {
     cJSON *win = cJSON_AddObjectToObject(j, "window");
-    add_num(win, "counts_min", r->cmin);
-    add_num(win, "counts_max", r->cmax);
-    add_num(win, "chi2_red_max", CHI2_RED_MAX);
+    gr_obs_add_number(win, "counts_min", r->cmin);
+    gr_obs_add_number(win, "counts_max", r->cmax);
+    gr_obs_add_number(win, "chi2_red_max", CHI2_RED_MAX);
     cJSON_AddStringToObject(win, "reference", r->reference);
     cJSON_AddNumberToObject(j, "n_points", r->n);
-    add_num(j, "v_min", r->n >= MIN_FIT_POINTS ? r->u_lo * scale : NOVALUE);
-    add_num(j, "v_max", r->n >= MIN_FIT_POINTS ? r->u_hi * scale : NOVALUE);
-    add_num(j, "decades", r->n >= MIN_FIT_POINTS ? r->decades : NOVALUE);
+    gr_obs_add_number(j, "v_min", r->n >= MIN_FIT_POINTS ? r->u_lo * scale : NOVALUE);
+    gr_obs_add_number(j, "v_max", r->n >= MIN_FIT_POINTS ? r->u_hi * scale : NOVALUE);
+    gr_obs_add_number(j, "decades", r->n >= MIN_FIT_POINTS ? r->decades : NOVALUE);
     cJSON_AddBoolToObject(j, "accepted", r->accepted);
     cJSON *range = cJSON_AddArrayToObject(j, "alpha_range");
     if (r->accepted) {
         cJSON_AddItemToArray(range, cJSON_CreateNumber(r->alpha_lo));
         cJSON_AddItemToArray(range, cJSON_CreateNumber(r->alpha_hi));
     }
-    add_num(j, "alpha", r->accepted ? 0.5 * (r->alpha_lo + r->alpha_hi) : NOVALUE);
-    add_num(j, "alpha_halfwidth", r->accepted ? 0.5 * (r->alpha_hi - r->alpha_lo) : NOVALUE);
+    gr_obs_add_number(j, "alpha", r->accepted ? 0.5 * (r->alpha_lo + r->alpha_hi) : NOVALUE);
+    gr_obs_add_number(j, "alpha_halfwidth", r->accepted ? 0.5 * (r->alpha_hi - r->alpha_lo) : NOVALUE);
     cJSON_AddBoolToObject(j, "contiguous", r->contiguous);
-    add_num(j, "alpha_step", ALPHA_SCAN_STEP);
-    add_num(j, "alpha_best", r->any ? r->alpha_best : NOVALUE);
-    add_num(j, "chi2_red", r->any ? r->chi2_best : NOVALUE);
-    add_num(j, "v0", r->any ? exp(r->lnv0_best) * scale : NOVALUE);
-    add_num(j, "v0_err", r->any ? exp(r->lnv0_best) * r->lnv0_err_best * scale : NOVALUE);
-    add_num(j, "v0_over_vrms", r->any ? exp(r->lnv0_best) * scale / v_rms : NOVALUE);
-    add_num(j, "A", r->any ? exp(r->lnA_best) / (total * w) : NOVALUE);
+    gr_obs_add_number(j, "alpha_step", ALPHA_SCAN_STEP);
+    gr_obs_add_number(j, "alpha_best", r->any ? r->alpha_best : NOVALUE);
+    gr_obs_add_number(j, "chi2_red", r->any ? r->chi2_best : NOVALUE);
+    gr_obs_add_number(j, "v0", r->any ? exp(r->lnv0_best) * scale : NOVALUE);
+    gr_obs_add_number(j, "v0_err", r->any ? exp(r->lnv0_best) * r->lnv0_err_best * scale : NOVALUE);
+    gr_obs_add_number(j, "v0_over_vrms", r->any ? exp(r->lnv0_best) * scale / v_rms : NOVALUE);
+    gr_obs_add_number(j, "A", r->any ? exp(r->lnA_best) / (total * w) : NOVALUE);
     /* the same acceptance with errors sqrt(dispersion X_i) (chi2_red / dispersion < 1.2) */
     cJSON *jd = cJSON_AddObjectToObject(j, "dispersion_corrected");
-    add_num(jd, "dispersion", r->dispersion);
+    gr_obs_add_number(jd, "dispersion", r->dispersion);
     cJSON_AddNumberToObject(jd, "pairs", r->pairs);
     double phi = isfinite(r->dispersion) ? fmax(1.0, r->dispersion) : NOVALUE, lo = NOVALUE, hi = NOVALUE;
     for (int k = 0; k < r->nscan && isfinite(phi); k++) {
@@ -526,18 +517,18 @@ static void add_tail_summary(cJSON *j, const tail_result *r, double scale, doubl
         cJSON_AddItemToArray(drange, cJSON_CreateNumber(lo));
         cJSON_AddItemToArray(drange, cJSON_CreateNumber(hi));
     }
-    add_num(jd, "alpha", 0.5 * (lo + hi));
-    add_num(jd, "alpha_halfwidth", 0.5 * (hi - lo));
-    add_num(jd, "chi2_red", r->any && isfinite(phi) ? r->chi2_best / phi : NOVALUE);
+    gr_obs_add_number(jd, "alpha", 0.5 * (lo + hi));
+    gr_obs_add_number(jd, "alpha_halfwidth", 0.5 * (hi - lo));
+    gr_obs_add_number(jd, "chi2_red", r->any && isfinite(phi) ? r->chi2_best / phi : NOVALUE);
     cJSON *fr = cJSON_AddObjectToObject(j, "free");
     cJSON_AddBoolToObject(fr, "converged", r->free_ok);
     const gr_fit *f = &r->free_fit;
-    add_num(fr, "alpha", r->free_ok ? f->p[2] : NOVALUE);
-    add_num(fr, "alpha_err", r->free_ok ? f->err[2] : NOVALUE);
-    add_num(fr, "v0", r->free_ok ? f->p[1] * scale : NOVALUE);
-    add_num(fr, "v0_err", r->free_ok ? f->err[1] * scale : NOVALUE);
-    add_num(fr, "A", r->free_ok ? f->p[0] / (total * w) : NOVALUE);
-    add_num(fr, "chi2_red", r->free_ok ? f->chi2_red : NOVALUE);
+    gr_obs_add_number(fr, "alpha", r->free_ok ? f->p[2] : NOVALUE);
+    gr_obs_add_number(fr, "alpha_err", r->free_ok ? f->err[2] : NOVALUE);
+    gr_obs_add_number(fr, "v0", r->free_ok ? f->p[1] * scale : NOVALUE);
+    gr_obs_add_number(fr, "v0_err", r->free_ok ? f->err[1] * scale : NOVALUE);
+    gr_obs_add_number(fr, "A", r->free_ok ? f->p[0] / (total * w) : NOVALUE);
+    gr_obs_add_number(fr, "chi2_red", r->free_ok ? f->chi2_red : NOVALUE);
     cJSON_AddNumberToObject(fr, "dof", r->free_ok ? f->dof : 0);
 }
 
@@ -553,11 +544,30 @@ static double tail_density(const tail_result *r, double u, double total, double 
     return NOVALUE;
 }
 
-static int write_pv_csv(const gr_output *out, const pv *s, const tail_result *tail, const crossover_result *xo,
-                        double v_rms, gr_error *err)
+typedef struct pv_rows_ctx {
+    const pv *s;
+    const tail_result *tail;
+    const crossover_result *xo;
+    double v_rms, P0, speed_rms;
+} pv_rows_ctx;
+
+static void pv_rows(FILE *f, const void *ctx)
 {
-    const gr_histogram *h = &s->comp;
-    double scale = sqrt(s->T_ref), w = (h->hi - h->lo) / h->nbins, alpha = CROSSOVER_ALPHA;
+    const pv_rows_ctx *c = ctx;
+    const gr_histogram *h = &c->s->comp;
+    double scale = sqrt(c->s->T_ref), w = (h->hi - h->lo) / h->nbins, alpha = CROSSOVER_ALPHA, v_rms = c->v_rms;
+    for (int i = 0; i < h->nbins; i++) {
+        double v = gr_histogram_center(h, i), d = gr_histogram_density(h, i);
+        double fx = c->xo->ok ? model_crossover(v / scale, c->xo->fit.p, NULL, &alpha) / (h->total * w) : NOVALUE;
+        fprintf(f, "%.10g,%.10g,%.6g,%.0f,%.10g,%.10g,%.8g,%.10g,%.6g,%.6g\n", v, d, gr_histogram_density_error(h, i),
+                h->count[i], gr_histogram_lower(h, i), gr_histogram_upper(h, i), v / v_rms, d * v_rms,
+                tail_density(c->tail, v / scale, h->total, w), fx);
+    }
+}
+
+static int write_pv_csv(const gr_output *out, const pv_rows_ctx *c, gr_error *err)
+{
+    const gr_histogram *h = &c->s->comp;
     char what[900];
     snprintf(what, sizeof what,
              "velocity distribution P(v) of one component (App. A.1; %s), relative to the frame's mean velocity, "
@@ -565,78 +575,85 @@ static int write_pv_csv(const gr_output *out, const pv *s, const tail_result *ta
              "density in s/m normalised to all %.0f sampled components, density_error = sqrt(counts)/(N_s dv) (A.5); "
              "v_over_vrms = v/sqrt(<v_x^2>), density_scaled = density sqrt(<v_x^2>); fit_stretched = tail fit (5.5), "
              "fit_crossover = P_0(v) (5.32), alpha = 1",
-             s->dim == 2 ? "x and y pooled" : "1D", h->hi, h->hi, s->T_ref, h->total);
-    gr_file f;
-    int rc = gr_obs_csv_open(out, "pv.csv", what, &f, err);
-    if (rc) {
-        return rc;
-    }
-    fprintf(f.f, "v,density,density_error,counts,v_lo,v_hi,v_over_vrms,density_scaled,fit_stretched,fit_crossover\n");
-    for (int i = 0; i < h->nbins; i++) {
-        double v = gr_histogram_center(h, i), d = gr_histogram_density(h, i);
-        double fx = xo->ok ? model_crossover(v / scale, xo->fit.p, NULL, &alpha) / (h->total * w) : NOVALUE;
-        fprintf(f.f, "%.10g,%.10g,%.6g,%.0f,%.10g,%.10g,%.8g,%.10g,%.6g,%.6g\n", v, d, gr_histogram_density_error(h, i),
-                h->count[i], gr_histogram_lower(h, i), gr_histogram_upper(h, i), v / v_rms, d * v_rms,
-                tail_density(tail, v / scale, h->total, w), fx);
-    }
-    return gr_file_commit(&f, err);
+             c->s->dim == 2 ? "x and y pooled" : "1D", h->hi, h->hi, c->s->T_ref, h->total);
+    const gr_obs_table t = {
+        .name = "pv.csv",
+        .what = what,
+        .columns = "v,density,density_error,counts,v_lo,v_hi,v_over_vrms,density_scaled,fit_stretched,fit_crossover",
+        .rows = pv_rows,
+        .ctx = c,
+    };
+    return gr_obs_table_write(out, &t, err);
 }
 
 /* Positive half folded with the negative one: P(v) = (P(v) + P(-v))/2 (the bins are symmetric about
  * 0), and the variable of the tail plot (5.6). */
-static int write_tail_csv(const gr_output *out, const pv *s, double v_rms, double P0, gr_error *err)
+static void tail_rows(FILE *f, const void *ctx)
 {
-    const gr_histogram *h = &s->comp;
-    double w = (h->hi - h->lo) / h->nbins;
-    char what[600];
-    snprintf(what, sizeof what,
-             "tail of P(v) folded about 0, P_sym(v) = (P(v) + P(-v))/2 for v > 0, in s/m; v_rms = sqrt(<v_x^2>) = %.6g m/s, "
-             "P(0) = %.6g s/m (the largest P(v)); moon = -ln(-ln(P_sym/P(0))) of the tail plot (5.6), nan where undefined",
-             v_rms, P0);
-    gr_file f;
-    int rc = gr_obs_csv_open(out, "pv_tail.csv", what, &f, err);
-    if (rc) {
-        return rc;
-    }
-    fprintf(f.f, "v_over_vrms,ln_v_over_vrms,density_sym,density_sym_error,counts,P_over_P0,moon\n");
+    const pv_rows_ctx *c = ctx;
+    const gr_histogram *h = &c->s->comp;
+    double w = (h->hi - h->lo) / h->nbins, v_rms = c->v_rms, P0 = c->P0;
     for (int i = 0; i < h->nbins; i++) {
         double v = gr_histogram_center(h, i);
         if (!(v > 0.0)) {
             continue;
         }
-        double c = h->count[i] + h->count[h->nbins - 1 - i];
-        if (c <= 0.0) {
+        double n = h->count[i] + h->count[h->nbins - 1 - i];
+        if (n <= 0.0) {
             continue;
         }
-        double d = c / (2.0 * h->total * w), de = sqrt(c) / (2.0 * h->total * w), ratio = d / P0;
+        double d = n / (2.0 * h->total * w), de = sqrt(n) / (2.0 * h->total * w), ratio = d / P0;
         double moon = ratio > 0.0 && ratio < 1.0 ? -log(-log(ratio)) : NOVALUE;
-        fprintf(f.f, "%.8g,%.8g,%.10g,%.6g,%.0f,%.8g,%.8g\n", v / v_rms, log(v / v_rms), d, de, c, ratio, moon);
+        fprintf(f, "%.8g,%.8g,%.10g,%.6g,%.0f,%.8g,%.8g\n", v / v_rms, log(v / v_rms), d, de, n, ratio, moon);
     }
-    return gr_file_commit(&f, err);
 }
 
-static int write_speed_csv(const gr_output *out, const pv *s, double speed_rms, gr_error *err)
+static int write_tail_csv(const gr_output *out, const pv_rows_ctx *c, gr_error *err)
 {
-    const gr_histogram *h = &s->speed;
+    char what[600];
+    snprintf(what, sizeof what,
+             "tail of P(v) folded about 0, P_sym(v) = (P(v) + P(-v))/2 for v > 0, in s/m; v_rms = sqrt(<v_x^2>) = %.6g m/s, "
+             "P(0) = %.6g s/m (the largest P(v)); moon = -ln(-ln(P_sym/P(0))) of the tail plot (5.6), nan where undefined",
+             c->v_rms, c->P0);
+    const gr_obs_table t = {
+        .name = "pv_tail.csv",
+        .what = what,
+        .columns = "v_over_vrms,ln_v_over_vrms,density_sym,density_sym_error,counts,P_over_P0,moon",
+        .rows = tail_rows,
+        .ctx = c,
+    };
+    return gr_obs_table_write(out, &t, err);
+}
+
+static void speed_rows(FILE *f, const void *ctx)
+{
+    const pv_rows_ctx *c = ctx;
+    const gr_histogram *h = &c->s->speed;
+    double speed_rms = c->speed_rms;
+    for (int i = 0; i < h->nbins; i++) {
+        double v = gr_histogram_center(h, i);
+        fprintf(f, "%.10g,%.10g,%.6g,%.0f,%.10g,%.10g,%.10g\n", v / speed_rms, gr_histogram_density(h, i) * speed_rms,
+                gr_histogram_density_error(h, i) * speed_rms, h->count[i], gr_histogram_lower(h, i) / speed_rms,
+                gr_histogram_upper(h, i) / speed_rms, v);
+    }
+}
+
+static int write_speed_csv(const gr_output *out, const pv_rows_ctx *c, gr_error *err)
+{
     char what[600];
     snprintf(what, sizeof what,
              "scaled speed distribution: c = |v|/sqrt(<|v|^2>) (|v| the %s relative to the frame's mean velocity), "
              "sqrt(<|v|^2>) = %.6g m/s over the run; density per unit c normalised to all %.0f sampled particles, "
              "sqrt(counts) errors (A.5); speed in m/s",
-             s->dim == 2 ? "speed" : "absolute velocity", speed_rms, h->total);
-    gr_file f;
-    int rc = gr_obs_csv_open(out, "pv_speed.csv", what, &f, err);
-    if (rc) {
-        return rc;
-    }
-    fprintf(f.f, "c,density,density_error,counts,c_lo,c_hi,speed\n");
-    for (int i = 0; i < h->nbins; i++) {
-        double v = gr_histogram_center(h, i);
-        fprintf(f.f, "%.10g,%.10g,%.6g,%.0f,%.10g,%.10g,%.10g\n", v / speed_rms, gr_histogram_density(h, i) * speed_rms,
-                gr_histogram_density_error(h, i) * speed_rms, h->count[i], gr_histogram_lower(h, i) / speed_rms,
-                gr_histogram_upper(h, i) / speed_rms, v);
-    }
-    return gr_file_commit(&f, err);
+             c->s->dim == 2 ? "speed" : "absolute velocity", c->speed_rms, c->s->speed.total);
+    const gr_obs_table t = {
+        .name = "pv_speed.csv",
+        .what = what,
+        .columns = "c,density,density_error,counts,c_lo,c_hi,speed",
+        .rows = speed_rows,
+        .ctx = c,
+    };
+    return gr_obs_table_write(out, &t, err);
 }
 
 /* C of the line -alpha_T ln(v/v_rms) + C (5.6) closest (least squares) to the tail-plot points with
@@ -773,8 +790,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     for (double lo = COUNT_MIN; lo < cmax && tail.any; lo *= 10.0) {
         points_select(&pt, h, scale, lo, 10.0 * lo, true);
         cJSON *d = cJSON_CreateObject();
-        add_num(d, "counts_min", lo);
-        add_num(d, "counts_max", 10.0 * lo);
+        gr_obs_add_number(d, "counts_min", lo);
+        gr_obs_add_number(d, "counts_max", 10.0 * lo);
         cJSON_AddNumberToObject(d, "n_points", pt.n);
         gr_fit f;
         gr_error e = {0};
@@ -782,10 +799,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         bool ok = pt.n >= MIN_DECADE_POINTS && gr_fit_stretched_exp(pt.x, pt.y, pt.sig, pt.n, p0, &f, &e) == GR_OK &&
                   fit_finite(&f) && f.p[1] > 0.0 && f.p[2] > 0.0 && isfinite(f.err[2]);
         cJSON_AddBoolToObject(d, "converged", ok);
-        add_num(d, "alpha", ok ? f.p[2] : NOVALUE);
-        add_num(d, "alpha_err", ok ? f.err[2] : NOVALUE);
-        add_num(d, "v0", ok ? f.p[1] * scale : NOVALUE);
-        add_num(d, "chi2_red", ok ? f.chi2_red : NOVALUE);
+        gr_obs_add_number(d, "alpha", ok ? f.p[2] : NOVALUE);
+        gr_obs_add_number(d, "alpha_err", ok ? f.err[2] : NOVALUE);
+        gr_obs_add_number(d, "v0", ok ? f.p[1] * scale : NOVALUE);
+        gr_obs_add_number(d, "chi2_red", ok ? f.chi2_red : NOVALUE);
         cJSON_AddItemToArray(local, d);
     }
     points_free(&pt);
@@ -797,14 +814,14 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddItemToArray(files, cJSON_CreateString("pv_tail.csv"));
     cJSON_AddItemToArray(files, cJSON_CreateString("pv_speed.csv"));
     cJSON_AddNumberToObject(j, "components", h->total);
-    add_num(j, "v_max", h->hi);
-    add_num(j, "bin_width", w);
-    add_num(j, "T_ref", s->T_ref);
+    gr_obs_add_number(j, "v_max", h->hi);
+    gr_obs_add_number(j, "bin_width", w);
+    gr_obs_add_number(j, "T_ref", s->T_ref);
     cJSON_AddNumberToObject(j, "T_ref_frames", s->ref_frames);
-    add_num(j, "T_mean", T_mean);
-    add_num(j, "v_rms", v_rms);
-    add_num(j, "out_of_range_fraction", h->total > 0.0 ? (h->below + h->above) / h->total : NOVALUE);
-    add_num(j, "P0", P0);
+    gr_obs_add_number(j, "T_mean", T_mean);
+    gr_obs_add_number(j, "v_rms", v_rms);
+    gr_obs_add_number(j, "out_of_range_fraction", h->total > 0.0 ? (h->below + h->above) / h->total : NOVALUE);
+    gr_obs_add_number(j, "P0", P0);
     cJSON *jt = cJSON_AddObjectToObject(j, "tail");
     cJSON_AddStringToObject(jt, "equation", "P(v) = A exp(-(|v|/v0)^alpha) (5.5), fitted to counts with sqrt(X) errors");
     add_tail_summary(jt, &tail, scale, v_rms, h->total, w);
@@ -816,20 +833,20 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddStringToObject(jx, "equation", "P_0(v) = D exp(-(v/v_r)^2 / (1 + |v/v_c|^(2-alpha))) (5.32), alpha = 1");
     cJSON_AddBoolToObject(jx, "converged", xo.ok);
     cJSON_AddNumberToObject(jx, "n_points", xo.n);
-    add_num(jx, "counts_min", COUNT_MIN);
-    add_num(jx, "alpha", CROSSOVER_ALPHA);
+    gr_obs_add_number(jx, "counts_min", COUNT_MIN);
+    gr_obs_add_number(jx, "alpha", CROSSOVER_ALPHA);
     if (xo.ok) {
         double vr = exp(xo.fit.p[1]) * scale, vc = exp(xo.fit.p[2]) * scale;
-        add_num(jx, "D", exp(xo.fit.p[0]) / (h->total * w));
-        add_num(jx, "v_r", vr);
-        add_num(jx, "v_r_err", vr * xo.fit.err[1]);
-        add_num(jx, "v_c", vc);
-        add_num(jx, "v_c_err", vc * xo.fit.err[2]);
-        add_num(jx, "v_c_over_v_r", vc / vr);
-        add_num(jx, "v_A", vr * vr / vc);
-        add_num(jx, "P_vc_over_P0", exp(-0.5 * (vc / vr) * (vc / vr)));
-        add_num(jx, "v_r_over_vrms", vr / v_rms);
-        add_num(jx, "chi2_red", xo.fit.chi2_red);
+        gr_obs_add_number(jx, "D", exp(xo.fit.p[0]) / (h->total * w));
+        gr_obs_add_number(jx, "v_r", vr);
+        gr_obs_add_number(jx, "v_r_err", vr * xo.fit.err[1]);
+        gr_obs_add_number(jx, "v_c", vc);
+        gr_obs_add_number(jx, "v_c_err", vc * xo.fit.err[2]);
+        gr_obs_add_number(jx, "v_c_over_v_r", vc / vr);
+        gr_obs_add_number(jx, "v_A", vr * vr / vc);
+        gr_obs_add_number(jx, "P_vc_over_P0", exp(-0.5 * (vc / vr) * (vc / vr)));
+        gr_obs_add_number(jx, "v_r_over_vrms", vr / v_rms);
+        gr_obs_add_number(jx, "chi2_red", xo.fit.chi2_red);
         cJSON_AddBoolToObject(jx, "v_c_beyond_data", vc > xo.u_data_max * scale);
     }
 
@@ -838,22 +855,23 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON *jm = cJSON_AddObjectToObject(j, "moon");
     cJSON_AddStringToObject(jm, "equation", "-ln(-ln(P(v)/P(0))) = -alpha_T ln(v/v_rms) + C (5.6)");
     cJSON_AddStringToObject(jm, "file", "pv_tail.csv");
-    add_num(jm, "C_alpha_2", C[0]);
-    add_num(jm, "C_alpha_1_5", C[1]);
-    add_num(jm, "C_alpha_1_16", C[2]);
+    gr_obs_add_number(jm, "C_alpha_2", C[0]);
+    gr_obs_add_number(jm, "C_alpha_1_5", C[1]);
+    gr_obs_add_number(jm, "C_alpha_1_16", C[2]);
 
     cJSON *jsp = cJSON_AddObjectToObject(j, "speed");
     cJSON_AddStringToObject(jsp, "file", "pv_speed.csv");
-    add_num(jsp, "rms", speed_rms);
-    add_num(jsp, "out_of_range_fraction",
+    gr_obs_add_number(jsp, "rms", speed_rms);
+    gr_obs_add_number(jsp, "out_of_range_fraction",
             s->speed.total > 0.0 ? (s->speed.below + s->speed.above) / s->speed.total : NOVALUE);
 
-    int rc = write_pv_csv(out, s, &tail, &xo, v_rms, err);
+    const pv_rows_ctx rows = {.s = s, .tail = &tail, .xo = &xo, .v_rms = v_rms, .P0 = P0, .speed_rms = speed_rms};
+    int rc = write_pv_csv(out, &rows, err);
     if (!rc) {
-        rc = write_tail_csv(out, s, v_rms, P0, err);
+        rc = write_tail_csv(out, &rows, err);
     }
     if (!rc) {
-        rc = write_speed_csv(out, s, speed_rms, err);
+        rc = write_speed_csv(out, &rows, err);
     }
     if (!rc && out->plots) {
         draw_plots(out, s, &tail, v_rms, P0, ymin, C);

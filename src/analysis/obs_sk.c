@@ -734,15 +734,6 @@ static double bin_error(const sk_bin *b, int64_t frames)
     return NAN;
 }
 
-static void add_number(cJSON *o, const char *name, double v)
-{
-    if (isfinite(v)) {
-        cJSON_AddNumberToObject(o, name, v);
-    } else {
-        cJSON_AddNullToObject(o, name);
-    }
-}
-
 /* The fit of S(k) = A k^-D_f (4.4) over the exact shells with k < k'. */
 typedef struct sk_fit {
     bool done;
@@ -811,6 +802,39 @@ static void fit_window(const sk_state *st, sk_fit *F, gr_error *err)
     free(e);
 }
 
+/* sk.csv and sk_shells.csv, one row per |n| bin / exact shell */
+typedef struct sk_rows_ctx {
+    const sk_state *st;
+    const sk_fit *fit;
+} sk_rows_ctx;
+
+static void sk_rows(FILE *f, const void *ctx)
+{
+    const sk_state *st = ((const sk_rows_ctx *)ctx)->st;
+    for (int b = 0; b < st->nbins; b++) {
+        const sk_bin *B = &st->bins[b];
+        if (!B->count || !st->frames) {
+            continue;
+        }
+        double k = B->ksum / B->count;
+        fprintf(f, "%d,%.10g,%.10g,%.10g,%.6g,%d,%d\n", b + 1, k, k * st->d, gr_blocking_mean(&B->acc),
+                bin_error(B, st->frames), 2 * B->count, B->count);
+    }
+}
+
+static void shell_rows(FILE *f, const void *ctx)
+{
+    const sk_rows_ctx *c = ctx;
+    const sk_state *st = c->st;
+    const double dk = 2.0 * M_PI / st->L;
+    for (int b = 0; b < st->nshells && st->frames; b++) {
+        const sk_bin *B = &st->shells[b];
+        double k = dk * sqrt((double)st->shell_q[b]);
+        fprintf(f, "%ld,%.10g,%.10g,%.10g,%.6g,%d,%d,%d\n", st->shell_q[b], k, k * st->d, gr_blocking_mean(&B->acc),
+                bin_error(B, st->frames), 2 * B->count, B->count, c->fit->done && b < c->fit->shells ? 1 : 0);
+    }
+}
+
 static int finish(void *state, const gr_output *out, gr_error *err)
 {
     sk_state *st = state;
@@ -818,28 +842,16 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     sk_fit F;
     fit_window(st, &F, err);
 
-    gr_file f;
     char what[400];
     snprintf(what, sizeof what,
              "structure factor S(k) = |rho(k)|^2/N (4.2) on k = 2 pi n/L (4.3), circular average over |n| bins "
              "of width 1 (n = bin centre), k = mean |k| of the bin in 1/m, d = %g m, %lld frames; S_err: %s; "
              "vectors = full plane (half are independent, S(-k) = S(k))",
              st->d, (long long)st->frames, error_method(st->frames));
-    int rc = gr_obs_csv_open(out, "sk.csv", what, &f, err);
-    if (rc) {
-        return rc;
-    }
-    fprintf(f.f, "n,k,kd,S,S_err,vectors,independent_vectors\n");
-    for (int b = 0; b < st->nbins; b++) {
-        const sk_bin *B = &st->bins[b];
-        if (!B->count || !st->frames) {
-            continue;
-        }
-        double k = B->ksum / B->count;
-        fprintf(f.f, "%d,%.10g,%.10g,%.10g,%.6g,%d,%d\n", b + 1, k, k * st->d, gr_blocking_mean(&B->acc),
-                bin_error(B, st->frames), 2 * B->count, B->count);
-    }
-    rc = gr_file_commit(&f, err);
+    const sk_rows_ctx rows = {.st = st, .fit = &F};
+    gr_obs_table t = {.name = "sk.csv", .what = what, .columns = "n,k,kd,S,S_err,vectors,independent_vectors",
+                      .rows = sk_rows, .ctx = &rows};
+    int rc = gr_obs_table_write(out, &t, err);
     if (rc) {
         return rc;
     }
@@ -847,19 +859,9 @@ static int finish(void *state, const gr_output *out, gr_error *err)
              "structure factor S(k) (4.2) averaged over each exact shell |n|^2 = n2 (k = 2 pi |n|/L in 1/m) up "
              "to |n| = %g; in_fit = 1: inside the D_f fit window k < k' = %g /m; %lld frames; S_err: %s",
              st->n_shell, st->kprime, (long long)st->frames, error_method(st->frames));
-    rc = gr_obs_csv_open(out, "sk_shells.csv", what, &f, err);
-    if (rc) {
-        return rc;
-    }
-    fprintf(f.f, "n2,k,kd,S,S_err,vectors,independent_vectors,in_fit\n");
-    for (int b = 0; b < st->nshells && st->frames; b++) {
-        const sk_bin *B = &st->shells[b];
-        double k = dk * sqrt((double)st->shell_q[b]);
-        fprintf(f.f, "%ld,%.10g,%.10g,%.10g,%.6g,%d,%d,%d\n", st->shell_q[b], k, k * st->d,
-                gr_blocking_mean(&B->acc), bin_error(B, st->frames), 2 * B->count, B->count,
-                F.done && b < F.shells ? 1 : 0);
-    }
-    rc = gr_file_commit(&f, err);
+    t = (gr_obs_table){.name = "sk_shells.csv", .what = what,
+                       .columns = "n2,k,kd,S,S_err,vectors,independent_vectors,in_fit", .rows = shell_rows, .ctx = &rows};
+    rc = gr_obs_table_write(out, &t, err);
     if (rc) {
         return rc;
     }
@@ -883,18 +885,18 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddNumberToObject(j, "eps_t", st->eps_t);
     cJSON_AddStringToObject(j, "eps_t_from", st->eps_t_from);
     cJSON_AddNumberToObject(j, "l0", st->l0);
-    add_number(j, "k_D", st->kD);
-    add_number(j, "k_D_d", st->kD * st->d);
-    add_number(j, "L_min", st->Lmin);
-    add_number(j, "L_Eff", st->Leff);
+    gr_obs_add_number(j, "k_D", st->kD);
+    gr_obs_add_number(j, "k_D_d", st->kD * st->d);
+    gr_obs_add_number(j, "L_min", st->Lmin);
+    gr_obs_add_number(j, "L_Eff", st->Leff);
     cJSON_AddNumberToObject(j, "L", st->L);
     if (isfinite(st->Leff)) {
         cJSON_AddBoolToObject(j, "L_above_L_Eff", st->L > st->Leff);
     } else {
         cJSON_AddNullToObject(j, "L_above_L_Eff");
     }
-    add_number(j, "k_prime", st->kprime);
-    add_number(j, "k_prime_d", st->kprime * st->d);
+    gr_obs_add_number(j, "k_prime", st->kprime);
+    gr_obs_add_number(j, "k_prime_d", st->kprime * st->d);
     cJSON *fj = cJSON_AddObjectToObject(j, "fit");
     cJSON_AddStringToObject(fj, "model", "S(k) = A k^-D_f (4.4) over the exact shells with k < k'");
     cJSON_AddStringToObject(fj, "status", F.note);
@@ -906,11 +908,11 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         cJSON_AddNumberToObject(fj, "kd_lo", F.k_lo * st->d);
         cJSON_AddNumberToObject(fj, "kd_hi", F.k_hi * st->d);
         cJSON_AddNumberToObject(fj, "points", F.fit.n_points);
-        add_number(fj, "D_f", -F.fit.p[1]);
-        add_number(fj, "D_f_err", F.fit.err[1]);
-        add_number(fj, "A", F.fit.p[0]);
-        add_number(fj, "A_err", F.fit.err[0]);
-        add_number(fj, "chi2_red", F.fit.chi2_red);
+        gr_obs_add_number(fj, "D_f", -F.fit.p[1]);
+        gr_obs_add_number(fj, "D_f_err", F.fit.err[1]);
+        gr_obs_add_number(fj, "A", F.fit.p[0]);
+        gr_obs_add_number(fj, "A_err", F.fit.err[0]);
+        gr_obs_add_number(fj, "chi2_red", F.fit.chi2_red);
         cJSON_AddNumberToObject(fj, "dof", F.fit.dof);
         cJSON_AddBoolToObject(fj, "weighted", F.weighted);
     }

@@ -1,10 +1,13 @@
 /* Helpers shared by the observables. */
 #include <cjson/cJSON.h>
+#include <math.h>
 #include <stdio.h>
 
+#include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
 #include "granule/scene.h"
 #include "granule_config.h"
+#include "io/blob.h"
 #include "io/plot.h"
 
 void gr_obs_mean_velocity(const gr_particles *p, double mean[2])
@@ -40,5 +43,96 @@ void gr_obs_plot(const gr_output *out, const char *png, const char *body)
             notes = cJSON_AddArrayToObject(out->summary, "plot_notes");
         }
         cJSON_AddItemToArray(notes, cJSON_CreateString(note));
+    }
+}
+
+int gr_obs_table_write(const gr_output *out, const gr_obs_table *t, gr_error *err)
+{
+    gr_file f;
+    int rc = gr_obs_csv_open(out, t->name, t->what, &f, err);
+    if (rc) {
+        return rc;
+    }
+    if (t->columns) {
+        fprintf(f.f, "%s\n", t->columns);
+    }
+    t->rows(f.f, t->ctx);
+    rc = gr_file_commit(&f, err);
+    if (!rc && out->plots && t->png) {
+        gr_obs_plot(out, t->png, t->plot);
+    }
+    return rc;
+}
+
+void gr_obs_histogram_rows(FILE *f, const void *ctx)
+{
+    const gr_obs_histogram *h = ctx;
+    gr_histogram_write_csv(h->h, f, h->xname);
+}
+
+double gr_obs_stderr(const gr_blocking *b)
+{
+    double e = gr_blocking_stderr(b, NULL, NULL);
+    return isfinite(e) ? e : gr_blocking_stderr_at(b, 0);
+}
+
+cJSON *gr_obs_summary(const gr_output *out, const char *key, const char *file)
+{
+    cJSON *j = cJSON_AddObjectToObject(out->summary, key);
+    cJSON_AddStringToObject(j, "file", file);
+    return j;
+}
+
+int gr_obs_check_frame(const char *name, const gr_particles *p, int n, gr_error *err)
+{
+    if (p->n != n) {
+        return GR_FAIL(err, GR_EINVAL, "%s: a frame of %d particles, the scene has %d", name, p->n, n);
+    }
+    return GR_OK;
+}
+
+void gr_obs_add_number(cJSON *o, const char *name, double v)
+{
+    if (isfinite(v)) {
+        cJSON_AddNumberToObject(o, name, v);
+    } else {
+        cJSON_AddNullToObject(o, name);
+    }
+}
+
+static void lag_rows(FILE *f, const void *ctx)
+{
+    const gr_lag *g = ctx;
+    const double dt = gr_lag_interval(g);
+    for (int l = 0; l <= g->lags; l++) {
+        int64_t c;
+        double e, v = gr_lag_mean(g, l, &e, &c);
+        if (c > 0) {
+            fprintf(f, "%.8g,%.10g,%.6g,%lld\n", l * dt, v, isfinite(e) ? e : 0.0, (long long)c);
+        }
+    }
+}
+
+int gr_obs_lag_csv(const gr_output *out, const gr_lag *lag, const char *name, const char *what, const char *columns,
+                   cJSON *j, gr_error *err)
+{
+    cJSON_AddStringToObject(j, "file", name);
+    gr_obs_add_number(j, "interval", gr_lag_interval(lag));
+    cJSON_AddNumberToObject(j, "samples", (double)lag->frames);
+    return gr_obs_table_write(out, &(gr_obs_table){.name = name, .what = what, .columns = columns, .rows = lag_rows, .ctx = lag},
+                              err);
+}
+
+void gr_obs_put_blockings(gr_blob *out, const gr_blocking *b, int n)
+{
+    for (int i = 0; i < n; i++) {
+        gr_blob_put_blocking(out, &b[i]);
+    }
+}
+
+void gr_obs_get_blockings(gr_blob_reader *in, gr_blocking *b, int n)
+{
+    for (int i = 0; i < n && !in->bad; i++) {
+        gr_blob_get_blocking(in, &b[i]);
     }
 }

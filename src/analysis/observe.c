@@ -14,6 +14,12 @@ extern const gr_observable_type gr_obs_gaps;
 extern const gr_observable_type gr_obs_sk;
 extern const gr_observable_type gr_obs_pair;
 extern const gr_observable_type gr_obs_pv;
+extern const gr_observable_type gr_obs_msd;
+extern const gr_observable_type gr_obs_vacf;
+extern const gr_observable_type gr_obs_vcorr;
+extern const gr_observable_type gr_obs_clusters;
+extern const gr_observable_type gr_obs_pressure;
+extern const gr_observable_type gr_obs_collisions;
 
 const gr_observable_type *const gr_observables[] = {
     &gr_obs_moments,
@@ -23,6 +29,12 @@ const gr_observable_type *const gr_observables[] = {
     &gr_obs_sk,
     &gr_obs_pair,
     &gr_obs_pv,
+    &gr_obs_msd,
+    &gr_obs_vacf,
+    &gr_obs_vcorr,
+    &gr_obs_clusters,
+    &gr_obs_pressure,
+    &gr_obs_collisions,
     NULL,
 };
 

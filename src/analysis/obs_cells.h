@@ -1,0 +1,26 @@
+/* Pairs of particles closer than a cut-off in one frame, for the observables
+ * that need them (vcorr, clusters, pressure): a cell list over the periodic box
+ * (2D) or ring (1D) with cells of side >= r_cut, minimum image; a brute-force
+ * double loop when fewer than 3 cells fit per side. Each unordered pair is
+ * visited once with the separation r_j - r_i (minimum image). */
+#ifndef GR_OBS_CELLS_H
+#define GR_OBS_CELLS_H
+
+#include "granule/particles.h"
+#include "granule/status.h"
+
+typedef void (*gr_pair_visit)(int i, int j, double dx, double dy, double r2, void *user);
+
+typedef struct gr_cells {
+    int cap_n, cap_cells;
+    int *head, *next; /* linked lists per cell */
+} gr_cells;
+
+/* Visit every pair with |r_ij| < r_cut (r_cut <= L/2). `cells` is a reusable
+ * workspace, zero-initialised before the first call and released with
+ * gr_cells_free. */
+int gr_cells_pairs(gr_cells *cells, const gr_particles *p, double r_cut, gr_pair_visit visit, void *user,
+                   gr_error *err);
+void gr_cells_free(gr_cells *cells);
+
+#endif

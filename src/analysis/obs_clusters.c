@@ -1,0 +1,242 @@
+/* clusters: cluster-size distributions, 1D and 2D, from union-find over the
+ * pairs of a frame. contact clusters: particles touching, |r_ij| <= d (1 +
+ * 1e-9) (d = 2 r; overlapping soft particles and particles exactly at contact
+ * both count); density clusters: centres closer than cluster_distance * d (a
+ * key; default 1.5 d). Per frame every cluster of size s adds 1 to n(s); the
+ * distribution is reported as the mean number of clusters of each size per
+ * frame, the fraction of particles in clusters of size s (s n(s) / N), and the
+ * per-frame mean and largest cluster sizes with block-averaging errors. Memory:
+ * N counters per kind, independent of the run length. Known answers: a touching
+ * chain is one cluster of N; particles further apart than the threshold are N
+ * singletons. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "analysis/obs_cells.h"
+#include "analysis/obs_util.h"
+#include "io/blob.h"
+#include "granule/analysis.h"
+#include "granule/scene.h"
+
+#define CONTACT_TOL 1e-9
+
+static const gr_param params[] = {
+    {"cluster_distance", "d", GR_PARAM_DOUBLE, 1.5, 1, 1e3, false, false,
+     "(clusters) density clusters join centres closer than this many diameters",
+     offsetof(gr_analysis_params, cluster_distance)},
+};
+
+enum { CONTACT, DENSITY, KINDS };
+static const char *const kind_name[KINDS] = {"contact", "density"};
+
+typedef struct clusters {
+    int n;
+    double cut[KINDS]; /* m */
+    int *parent, *size;
+    double *hist[KINDS]; /* clusters of size s, summed over frames (index s, 1 ..
+                            n) */
+    gr_blocking mean_size[KINDS], largest[KINDS], count[KINDS];
+    gr_cells cells;
+    int64_t frames;
+} clusters;
+
+static void destroy(void *state)
+{
+    clusters *c = state;
+    free(c->parent);
+    free(c->size);
+    for (int k = 0; k < KINDS; k++) {
+        free(c->hist[k]);
+    }
+    gr_cells_free(&c->cells);
+    free(c);
+}
+
+static int create(const gr_scene *scene, void **state, gr_error *err)
+{
+    clusters *c = calloc(1, sizeof *c);
+    if (!c) {
+        return GR_FAIL(err, GR_ENOMEM, "clusters: out of memory");
+    }
+    c->n = scene->N;
+    double d = 2.0 * scene->radius;
+    c->cut[CONTACT] = fmin(d * (1.0 + CONTACT_TOL), 0.5 * scene->L);
+    c->cut[DENSITY] = fmin(scene->analysis.cluster_distance * d, 0.5 * scene->L);
+    c->parent = malloc(sizeof(int) * (size_t)c->n);
+    c->size = malloc(sizeof(int) * (size_t)(c->n + 1));
+    bool ok = c->parent && c->size;
+    for (int k = 0; k < KINDS; k++) {
+        c->hist[k] = calloc((size_t)c->n + 1, sizeof(double));
+        ok = ok && c->hist[k];
+        gr_blocking_init(&c->mean_size[k]);
+        gr_blocking_init(&c->largest[k]);
+        gr_blocking_init(&c->count[k]);
+    }
+    if (!ok) {
+        destroy(c);
+        return GR_FAIL(err, GR_ENOMEM, "clusters: out of memory");
+    }
+    *state = c;
+    return GR_OK;
+}
+
+static int root(int *parent, int i)
+{
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]]; /* path halving */
+        i = parent[i];
+    }
+    return i;
+}
+
+static void join(int i, int j, double dx, double dy, double r2, void *user)
+{
+    (void)dx;
+    (void)dy;
+    (void)r2;
+    int *parent = user;
+    int a = root(parent, i), b = root(parent, j);
+    if (a != b) {
+        parent[a < b ? b : a] = a < b ? a : b;
+    }
+}
+
+static int frame(clusters *c, const gr_particles *p, int k, gr_error *err)
+{
+    for (int i = 0; i < c->n; i++) {
+        c->parent[i] = i;
+        c->size[i] = 0;
+    }
+    int rc = gr_cells_pairs(&c->cells, p, c->cut[k], join, c->parent, err);
+    if (rc) {
+        return rc;
+    }
+    for (int i = 0; i < c->n; i++) {
+        c->size[root(c->parent, i)]++;
+    }
+    int n_clusters = 0, largest = 0;
+    for (int i = 0; i < c->n; i++) {
+        if (c->size[i] > 0) {
+            c->hist[k][c->size[i]] += 1.0;
+            n_clusters++;
+            largest = c->size[i] > largest ? c->size[i] : largest;
+        }
+    }
+    gr_blocking_add(&c->count[k], n_clusters);
+    gr_blocking_add(&c->mean_size[k], (double)c->n / n_clusters);
+    gr_blocking_add(&c->largest[k], largest);
+    return GR_OK;
+}
+
+static int sample(void *state, const gr_particles *p, double t, gr_error *err)
+{
+    (void)t;
+    clusters *c = state;
+    int bad = gr_obs_check_frame("clusters", p, c->n, err);
+    if (bad) {
+        return bad;
+    }
+    for (int k = 0; k < KINDS; k++) {
+        int rc = frame(c, p, k, err);
+        if (rc) {
+            return rc;
+        }
+    }
+    c->frames++;
+    return GR_OK;
+}
+
+static void rows(FILE *f, const void *ctx)
+{
+    const clusters *c = ctx;
+    double fr = c->frames > 0 ? (double)c->frames : 1.0;
+    for (int s = 1; s <= c->n; s++) {
+        if (c->hist[CONTACT][s] > 0.0 || c->hist[DENSITY][s] > 0.0) {
+            fprintf(f, "%d,%.8g,%.8g,%.8g,%.8g\n", s, c->hist[CONTACT][s] / fr, s * c->hist[CONTACT][s] / fr / c->n,
+                    c->hist[DENSITY][s] / fr, s * c->hist[DENSITY][s] / fr / c->n);
+        }
+    }
+}
+
+static int finish(void *state, const gr_output *out, gr_error *err)
+{
+    clusters *c = state;
+    cJSON *j = gr_obs_summary(out, "clusters", "clusters.csv");
+    cJSON_AddNumberToObject(j, "frames", (double)c->frames);
+    for (int k = 0; k < KINDS; k++) {
+        cJSON *o = cJSON_AddObjectToObject(j, kind_name[k]);
+        cJSON_AddNumberToObject(o, "distance", c->cut[k]);
+        gr_obs_add_number(o, "clusters_per_frame", gr_blocking_mean(&c->count[k]));
+        gr_obs_add_number(o, "clusters_per_frame_error", gr_obs_stderr(&c->count[k]));
+        gr_obs_add_number(o, "mean_size", gr_blocking_mean(&c->mean_size[k]));
+        gr_obs_add_number(o, "mean_size_error", gr_obs_stderr(&c->mean_size[k]));
+        gr_obs_add_number(o, "largest", gr_blocking_mean(&c->largest[k]));
+        gr_obs_add_number(o, "largest_error", gr_obs_stderr(&c->largest[k]));
+    }
+    const gr_obs_table t = {
+        .name = "clusters.csv",
+        .what = "cluster-size distributions: mean number of clusters of size s "
+                "per frame and the fraction "
+                "of particles in them; contact clusters (touching, |r_ij| <= d) "
+                "and density clusters "
+                "(|r_ij| < cluster_distance d)",
+        .columns = "size,contact_clusters,contact_fraction,density_clusters,"
+                   "density_fraction",
+        .rows = rows,
+        .ctx = c,
+        .png = c->frames > 0 ? "clusters.png" : NULL,
+        .plot = "set logscale xy\nset format y '10^{%L}'\nset xlabel 'cluster size s'\nset ylabel "
+                "'clusters of size s per frame'\n"
+                "set title 'Cluster-size distributions'\n"
+                "plot 'clusters.csv' skip 1 using 1:($2>0?$2:1/0) with "
+                "linespoints title 'contact clusters', "
+                "'' skip 1 using 1:($4>0?$4:1/0) with linespoints title 'density "
+                "clusters'",
+    };
+    return gr_obs_table_write(out, &t, err);
+}
+
+/* Checkpoints: the size counts and the accumulators of both kinds. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const clusters *c = state;
+    gr_blob_put_i64(out, c->frames);
+    for (int k = 0; k < KINDS; k++) {
+        gr_blob_put_f64s(out, c->hist[k], (int64_t)c->n + 1);
+        gr_blob_put_blocking(out, &c->mean_size[k]);
+        gr_blob_put_blocking(out, &c->largest[k]);
+        gr_blob_put_blocking(out, &c->count[k]);
+    }
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    clusters *c = state;
+    c->frames = gr_blob_get_i64(in);
+    for (int k = 0; k < KINDS && !in->bad; k++) {
+        gr_blob_get_f64s(in, c->hist[k], (int64_t)c->n + 1);
+        gr_blob_get_blocking(in, &c->mean_size[k]);
+        gr_blob_get_blocking(in, &c->largest[k]);
+        gr_blob_get_blocking(in, &c->count[k]);
+    }
+    return GR_OK;
+}
+
+const gr_observable_type gr_obs_clusters = {
+    .name = "clusters",
+    .summary = "contact-cluster and density-cluster size distributions "
+               "(union-find over the pairs of each frame)",
+    .dims = 3,
+    .params = params,
+    .n_params = sizeof params / sizeof params[0],
+    .create = create,
+    .sample = sample,
+    .finish = finish,
+    .destroy = destroy,
+    .save = save,
+    .load = load,
+};

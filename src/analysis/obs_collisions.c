@@ -1,0 +1,210 @@
+/* collisions: the collision rate per particle and the distribution of the times
+ * between a particle's successive collisions, from the engine's contact events
+ * (a collision is a particle touching another for the first time since it was
+ * last free, kind = +1), so it needs a run: `granule analyse` has no events and
+ * reports that. The rate is counted per sampling interval, nu = (collisions in
+ * the interval) / (N * interval), and time-averaged with block-averaging
+ * errors; the times tau between collisions of the same particle are binned in
+ * collision_bins logarithmic bins from 1e-9 s to 1e5 s (densities with sqrt(X)
+ * errors). For a Poisson process of rate nu the density is nu exp(-nu tau) and
+ * <tau> = 1 / nu. Memory: one time per particle and the bins. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "analysis/obs_util.h"
+#include "io/blob.h"
+#include "granule/analysis.h"
+#include "granule/scene.h"
+
+#define TAU_LO 1e-9 /* s */
+#define TAU_HI 1e5
+
+static const gr_param params[] = {
+    {"collision_bins", "", GR_PARAM_INT, 112, 4, 10000, false, false,
+     "(collisions) log bins of the times between a particle's collisions, 1e-9 "
+     "s .. 1e5 s",
+     offsetof(gr_analysis_params, collision_bins)},
+};
+
+typedef struct collisions {
+    int n;
+    double *last;                    /* time of each particle's last collision; NAN before the first */
+    double t_first, t_prev, t_prev2; /* first sample, the last two samples */
+    int64_t frames;
+    int64_t since, total; /* collisions since the previous sample, and in all */
+    double tau_sum;
+    int64_t tau_n;
+    gr_histogram h;
+    gr_blocking rate;
+} collisions;
+
+static void destroy(void *state)
+{
+    collisions *c = state;
+    gr_histogram_free(&c->h);
+    free(c->last);
+    free(c);
+}
+
+static int create(const gr_scene *scene, void **state, gr_error *err)
+{
+    collisions *c = calloc(1, sizeof *c);
+    if (!c) {
+        return GR_FAIL(err, GR_ENOMEM, "collisions: out of memory");
+    }
+    c->n = scene->N;
+    c->last = malloc(sizeof(double) * (size_t)c->n);
+    int rc = gr_histogram_init(&c->h, scene->analysis.collision_bins, TAU_LO, TAU_HI, true, err);
+    if (rc || !c->last) {
+        destroy(c);
+        return rc ? rc : GR_FAIL(err, GR_ENOMEM, "collisions: out of memory");
+    }
+    for (int i = 0; i < c->n; i++) {
+        c->last[i] = NAN;
+    }
+    gr_blocking_init(&c->rate);
+    *state = c;
+    return GR_OK;
+}
+
+static int events(void *state, const gr_contact_event *ev, int64_t n, gr_error *err)
+{
+    collisions *c = state;
+    for (int64_t k = 0; k < n; k++) {
+        int i = ev[k].i;
+        if (i < 0 || i >= c->n) {
+            return GR_FAIL(err, GR_EINVAL, "collisions: event for particle %d of %d", i, c->n);
+        }
+        if (ev[k].kind <= 0 || c->frames == 0 || !(ev[k].t > c->t_first)) {
+            continue; /* count from the first sample on */
+        }
+        if (isfinite(c->last[i])) {
+            double tau = ev[k].t - c->last[i];
+            gr_histogram_add(&c->h, tau, 1.0);
+            c->tau_sum += tau;
+            c->tau_n++;
+        }
+        c->last[i] = ev[k].t;
+        c->since++;
+        c->total++;
+    }
+    return GR_OK;
+}
+
+/* The events of the interval (t_{k-1}, t_k] arrive after the sample at t_k
+ * (src/io/run.c): at sample k + 1 `since` holds those of the interval that
+ * ended at the previous sample. */
+static void close_interval(collisions *c)
+{
+    if (c->frames >= 2 && c->t_prev > c->t_prev2) {
+        gr_blocking_add(&c->rate, (double)c->since / (c->n * (c->t_prev - c->t_prev2)));
+    }
+    c->since = 0;
+}
+
+static int sample(void *state, const gr_particles *p, double t, gr_error *err)
+{
+    (void)p;
+    (void)err;
+    collisions *c = state;
+    close_interval(c);
+    if (c->frames == 0) {
+        c->t_first = t;
+    }
+    c->t_prev2 = c->t_prev;
+    c->t_prev = t;
+    c->frames++;
+    return GR_OK;
+}
+
+static int finish(void *state, const gr_output *out, gr_error *err)
+{
+    collisions *c = state;
+    cJSON *j = gr_obs_summary(out, "collisions", "collisions.csv");
+    close_interval(c); /* the last interval's events came after the last sample */
+    cJSON_AddNumberToObject(j, "collisions", (double)c->total);
+    double e = gr_blocking_stderr(&c->rate, NULL, NULL);
+    bool any = c->total > 0;
+    gr_obs_add_number(j, "rate_per_particle", any ? gr_blocking_mean(&c->rate) : (double)NAN);
+    gr_obs_add_number(j, "rate_per_particle_error",
+                      !any              ? (double)NAN
+                          : isfinite(e) ? e
+                                        : gr_blocking_stderr_at(&c->rate, 0));
+    gr_obs_add_number(j, "mean_time_between", c->tau_n ? c->tau_sum / c->tau_n : (double)NAN);
+    cJSON_AddNumberToObject(j, "intervals", (double)c->tau_n);
+    if (c->total == 0) {
+        cJSON_AddStringToObject(j, "note",
+                                "no collision events: none happened, or the frames came from snapshots "
+                                "(granule analyse has no contact events)");
+    }
+    const gr_obs_table t = {
+        .name = "collisions.csv",
+        .what = "times tau (s) between successive collisions of the same "
+                "particle, density per s in log "
+                "bins, sqrt(X) errors",
+        .columns = NULL,
+        .rows = gr_obs_histogram_rows,
+        .ctx = &(gr_obs_histogram){&c->h, "tau"},
+        .png = c->tau_n > 0 ? "collisions.png" : NULL,
+        .plot = "set logscale xy\nset format xy '10^{%L}'\nset xlabel 'time between collisions tau "
+                "(s)'\nset ylabel 'P(tau) (1/s)'\n"
+                "set title 'Times between collisions of a particle'\n"
+                "plot 'collisions.csv' skip 1 using ($4>0?$3:1/0):5:6 with "
+                "yerrorbars title 'P(tau)'",
+    };
+    return gr_obs_table_write(out, &t, err);
+}
+
+/* Checkpoints: each particle's last collision, the sample times, the counts and accumulators. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const collisions *c = state;
+    gr_blob_put_f64s(out, c->last, c->n);
+    gr_blob_put_f64(out, c->t_first);
+    gr_blob_put_f64(out, c->t_prev);
+    gr_blob_put_f64(out, c->t_prev2);
+    gr_blob_put_i64(out, c->frames);
+    gr_blob_put_i64(out, c->since);
+    gr_blob_put_i64(out, c->total);
+    gr_blob_put_f64(out, c->tau_sum);
+    gr_blob_put_i64(out, c->tau_n);
+    gr_blob_put_histogram(out, &c->h);
+    gr_blob_put_blocking(out, &c->rate);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    collisions *c = state;
+    gr_blob_get_f64s(in, c->last, c->n);
+    c->t_first = gr_blob_get_f64(in);
+    c->t_prev = gr_blob_get_f64(in);
+    c->t_prev2 = gr_blob_get_f64(in);
+    c->frames = gr_blob_get_i64(in);
+    c->since = gr_blob_get_i64(in);
+    c->total = gr_blob_get_i64(in);
+    c->tau_sum = gr_blob_get_f64(in);
+    c->tau_n = gr_blob_get_i64(in);
+    gr_blob_get_histogram(in, &c->h);
+    gr_blob_get_blocking(in, &c->rate);
+    return GR_OK;
+}
+
+const gr_observable_type gr_obs_collisions = {
+    .name = "collisions",
+    .summary = "collision rate per particle and the distribution of times "
+               "between a particle's collisions; needs a run",
+    .dims = 3,
+    .params = params,
+    .n_params = sizeof params / sizeof params[0],
+    .create = create,
+    .sample = sample,
+    .finish = finish,
+    .destroy = destroy,
+    .save = save,
+    .load = load,
+    .events = events,
+};

@@ -1,0 +1,125 @@
+/* Time correlations over a ring of recent frames (see obs_lag.h). */
+#include <assert.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis/obs_lag.h"
+#include "analysis/obs_util.h"
+#include "io/blob.h"
+
+int gr_lag_init(gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error *err)
+{
+    memset(g, 0, sizeof *g);
+    g->n = n;
+    g->dim = dim;
+    g->lags = lags;
+    g->kind = kind;
+    g->ring = malloc(sizeof(double) * 2 * (size_t)n * (size_t)(lags + 1));
+    g->acc = malloc(sizeof(gr_blocking) * (size_t)(lags + 1));
+    if (!g->ring || !g->acc) {
+        gr_lag_free(g);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for %d lags of %d particles", lags, n);
+    }
+    for (int l = 0; l <= lags; l++) {
+        gr_blocking_init(&g->acc[l]);
+    }
+    return GR_OK;
+}
+
+void gr_lag_free(gr_lag *g)
+{
+    free(g->ring);
+    free(g->acc);
+    g->ring = NULL;
+    g->acc = NULL;
+}
+
+int gr_lag_add(gr_lag *g, const double *a, const double *b, double t, gr_error *err)
+{
+    (void)err;
+    const int slots = g->lags + 1, n = g->n;
+    double *now = g->ring + 2 * (size_t)n * (size_t)(g->frames % slots);
+    for (int i = 0; i < n; i++) {
+        now[2 * i] = a[i];
+        now[2 * i + 1] = b ? b[i] : 0.0;
+    }
+    int64_t lmax = g->frames < g->lags ? g->frames : g->lags;
+    for (int64_t l = 0; l <= lmax; l++) {
+        const double *then = g->ring + 2 * (size_t)n * (size_t)((g->frames - l) % slots);
+        double s = 0.0;
+        for (int k = 0; k < 2 * n; k++) {
+            s += g->kind == GR_LAG_DOT ? now[k] * then[k] : (now[k] - then[k]) * (now[k] - then[k]);
+        }
+        gr_blocking_add(&g->acc[l], s / n);
+    }
+    if (g->frames == 0) {
+        g->t_first = t;
+    }
+    g->t_last = t;
+    g->frames++;
+    return GR_OK;
+}
+
+double gr_lag_interval(const gr_lag *g)
+{
+    return g->frames > 1 ? (g->t_last - g->t_first) / (double)(g->frames - 1) : 0.0;
+}
+
+double gr_lag_mean(const gr_lag *g, int l, double *stderr_out, int64_t *samples)
+{
+    const gr_blocking *b = &g->acc[l];
+    int64_t count = b->count[0];
+    if (stderr_out) {
+        *stderr_out = gr_obs_stderr(b);
+    }
+    if (samples) {
+        *samples = count;
+    }
+    return gr_blocking_mean(b);
+}
+
+int gr_lag_fit_line(const gr_lag *g, int lo, int hi, gr_fit *fit, gr_error *err)
+{
+    static_assert(GR_LAG_MAX < 4096, "lag fit arrays");
+    double x[GR_LAG_MAX + 1], y[GR_LAG_MAX + 1], s[GR_LAG_MAX + 1];
+    int m = 0;
+    const double dt = gr_lag_interval(g);
+    for (int l = lo; l <= hi && l <= g->lags; l++) {
+        int64_t c;
+        double e, v = gr_lag_mean(g, l, &e, &c);
+        if (c >= 2 && isfinite(v) && isfinite(e) && e > 0.0) {
+            x[m] = l * dt;
+            y[m] = v;
+            s[m] = e;
+            m++;
+        }
+    }
+    if (m < 3) {
+        return GR_FAIL(err, GR_EINVAL, "%d usable lags (need 3)", m);
+    }
+    return gr_fit_line(x, y, s, m, fit, err);
+}
+
+void gr_lag_save(const gr_lag *g, gr_blob *out)
+{
+    gr_blob_put_u64(out, (uint64_t)g->lags);
+    gr_blob_put_i64(out, g->frames);
+    gr_blob_put_f64(out, g->t_first);
+    gr_blob_put_f64(out, g->t_last);
+    gr_blob_put_f64s(out, g->ring, 2 * (int64_t)g->n * (g->lags + 1));
+    gr_obs_put_blockings(out, g->acc, g->lags + 1);
+}
+
+void gr_lag_load(gr_lag *g, gr_blob_reader *in)
+{
+    uint64_t lags = gr_blob_get_u64(in);
+    if (!in->bad && lags != (uint64_t)g->lags) {
+        gr_blob_fail(in, "%llu lags in the checkpoint, %d in the scene", (unsigned long long)lags, g->lags);
+    }
+    g->frames = gr_blob_get_i64(in);
+    g->t_first = gr_blob_get_f64(in);
+    g->t_last = gr_blob_get_f64(in);
+    gr_blob_get_f64s(in, g->ring, 2 * (int64_t)g->n * (g->lags + 1));
+    gr_obs_get_blockings(in, g->acc, g->lags + 1);
+}

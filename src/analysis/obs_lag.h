@@ -1,0 +1,47 @@
+/* Time correlations over a window of recent frames, shared by msd and vacf: a
+ * ring of the last `lags` frames (2 components per particle), so memory is N *
+ * lags and does not grow with the run. Each new frame s is paired with the
+ * frames s - l, l = 0 .. min(lags, s), and the particle average of f(frame s,
+ * frame s - l) is added to a block-averaging accumulator of lag l: every sample
+ * is a time origin (origins at s - l). */
+#ifndef GR_OBS_LAG_H
+#define GR_OBS_LAG_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "granule/analysis.h"
+#include "granule/status.h"
+
+#define GR_LAG_MAX 2000 /* most lags an observable may keep */
+
+typedef enum { GR_LAG_DISPLACEMENT2, GR_LAG_DOT } gr_lag_kind;
+
+typedef struct gr_lag {
+    int n, dim, lags;
+    gr_lag_kind kind; /* |a(s) - a(s-l)|^2 (msd) or a(s) . a(s-l) (vacf) */
+    double *ring;     /* (lags + 1) frames of 2 n values, slot s % (lags + 1) */
+    int64_t frames;
+    double t_first, t_last;
+    gr_blocking *acc; /* lags + 1 accumulators */
+} gr_lag;
+
+int gr_lag_init(gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error *err);
+void gr_lag_free(gr_lag *g);
+/* One frame of n values per component (b is NULL in 1D) at time t. */
+int gr_lag_add(gr_lag *g, const double *a, const double *b, double t, gr_error *err);
+/* Mean interval between frames (0 before the second frame). */
+double gr_lag_interval(const gr_lag *g);
+/* Mean and block-averaging error at lag l; samples = origins seen. */
+double gr_lag_mean(const gr_lag *g, int l, double *stderr_out, int64_t *samples);
+/* A weighted straight-line fit y = p0 + p1 tau over lags lo .. hi (those with
+ * >= 2 origins); 0 on success. */
+int gr_lag_fit_line(const gr_lag *g, int lo, int hi, gr_fit *fit, gr_error *err);
+
+struct gr_blob;
+struct gr_blob_reader;
+/* Checkpoints: the ring, the times and the accumulators; load into a gr_lag initialised alike. */
+void gr_lag_save(const gr_lag *g, struct gr_blob *out);
+void gr_lag_load(gr_lag *g, struct gr_blob_reader *in);
+
+#endif

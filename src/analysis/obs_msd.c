@@ -1,0 +1,195 @@
+/* msd: the mean-square displacement <|r_i(t0 + tau) - r_i(t0)|^2> over
+ * particles and time origins (every sample is an origin; lags tau = l * Delta,
+ * l = 1 .. msd_lags, Delta the sampling interval), with block-averaging errors
+ * over origins, and the self-diffusion coefficient from the long-time slope,
+ * MSD = 2 dim D_self tau + c fitted over the upper half of the lags.
+ *
+ * Positions are unwrapped here: between consecutive samples a particle's
+ * displacement is taken under the minimum image (ring of length L in 1D, box in
+ * 2D) and accumulated, so crossings of the periodic boundary are followed as
+ * long as no particle moves more than L/2 between samples; displacements beyond
+ * L/4 are counted and reported ("suspect_jumps": sample more often).
+ *
+ * Known answers: a free RFM particle (no collisions) has v(t) a Wiener process
+ * with <dv^2> = 2 D t / M^2 per component (2.15, 2.22), so from an origin t0
+ * with <v(t0)^2> = v2 per component, MSD per component = v2 tau^2 + (2 D / M^2)
+ * tau^3 / 3: it has no diffusive regime (D_self is not defined without
+ * dissipation). A Langevin particle with friction gamma and temperature T has
+ * D_self = T / (M gamma). Memory is N * msd_lags. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "analysis/obs_lag.h"
+#include "analysis/obs_util.h"
+#include "io/blob.h"
+#include "granule/scene.h"
+
+static const gr_param params[] = {
+    {"msd_lags", "", GR_PARAM_INT, 50, 2, GR_LAG_MAX, false, false,
+     "lags of the mean-square displacement, in sampling intervals (memory N x "
+     "msd_lags)",
+     offsetof(gr_analysis_params, msd_lags)},
+};
+
+typedef struct msd {
+    int n, dim;
+    double L;
+    double *ux, *uy, *px, *py; /* unwrapped positions, last raw positions */
+    int64_t jumps;
+    gr_lag lag;
+} msd;
+
+static void destroy(void *state)
+{
+    msd *m = state;
+    gr_lag_free(&m->lag);
+    free(m->ux);
+    free(m->uy);
+    free(m->px);
+    free(m->py);
+    free(m);
+}
+
+static int create(const gr_scene *scene, void **state, gr_error *err)
+{
+    msd *m = calloc(1, sizeof *m);
+    if (!m) {
+        return GR_FAIL(err, GR_ENOMEM, "msd: out of memory");
+    }
+    m->n = scene->N;
+    m->dim = scene->dim;
+    m->L = scene->L;
+    size_t n = (size_t)m->n;
+    m->ux = calloc(n, sizeof(double));
+    m->uy = calloc(n, sizeof(double));
+    m->px = calloc(n, sizeof(double));
+    m->py = calloc(n, sizeof(double));
+    int rc = gr_lag_init(&m->lag, m->n, m->dim, scene->analysis.msd_lags, GR_LAG_DISPLACEMENT2, err);
+    if (rc || !m->ux || !m->uy || !m->px || !m->py) {
+        destroy(m);
+        return rc ? rc : GR_FAIL(err, GR_ENOMEM, "msd: out of memory");
+    }
+    *state = m;
+    return GR_OK;
+}
+
+static double step(double now, double *prev, double L, int64_t *jumps)
+{
+    double d = now - *prev;
+    d -= L * rint(d / L);
+    *jumps += fabs(d) > 0.25 * L;
+    *prev = now;
+    return d;
+}
+
+static int sample(void *state, const gr_particles *p, double t, gr_error *err)
+{
+    msd *m = state;
+    int bad = gr_obs_check_frame("msd", p, m->n, err);
+    if (bad) {
+        return bad;
+    }
+    for (int i = 0; i < m->n; i++) {
+        if (m->lag.frames == 0) {
+            m->ux[i] = m->px[i] = p->x[i];
+            m->uy[i] = m->py[i] = p->dim == 2 ? p->y[i] : 0.0;
+            continue;
+        }
+        m->ux[i] += step(p->x[i], &m->px[i], m->L, &m->jumps);
+        if (p->dim == 2) {
+            m->uy[i] += step(p->y[i], &m->py[i], m->L, &m->jumps);
+        }
+    }
+    return gr_lag_add(&m->lag, m->ux, p->dim == 2 ? m->uy : NULL, t, err);
+}
+
+static int finish(void *state, const gr_output *out, gr_error *err)
+{
+    msd *m = state;
+    const char *what = "mean-square displacement <|r(t0 + tau) - r(t0)|^2> (m^2) "
+                       "of unwrapped positions, averaged over "
+                       "particles and time origins (every sample); errors from "
+                       "block averaging over origins";
+    cJSON *j = cJSON_AddObjectToObject(out->summary, "msd");
+    int rc = gr_obs_lag_csv(out, &m->lag, "msd.csv", what, "tau,msd,msd_stderr,origins", j, err);
+    if (rc) {
+        return rc;
+    }
+    cJSON_AddNumberToObject(j, "suspect_jumps", (double)m->jumps);
+    gr_fit fit;
+    gr_error ferr = {0};
+    const int lo = m->lag.lags / 2 > 1 ? m->lag.lags / 2 : 1;
+    char fitline[400] = "";
+    if (gr_lag_fit_line(&m->lag, lo, m->lag.lags, &fit, &ferr) == GR_OK) {
+        cJSON *d = cJSON_AddObjectToObject(j, "D_self");
+        gr_obs_add_number(d, "value", fit.p[1] / (2.0 * m->dim));
+        gr_obs_add_number(d, "error", fit.err[1] / (2.0 * m->dim));
+        gr_obs_add_number(d, "chi2_red", fit.chi2_red);
+        gr_obs_add_number(d, "tau_min", lo * gr_lag_interval(&m->lag));
+        gr_obs_add_number(d, "tau_max", m->lag.lags * gr_lag_interval(&m->lag));
+        cJSON_AddStringToObject(d, "note",
+                                "MSD = 2 dim D_self tau + c over the upper half of "
+                                "the lags; the lags are "
+                                "correlated, so the error is indicative");
+        snprintf(fitline, sizeof fitline,
+                 ", (x >= %.6g) ? %.8g + %.8g * x : 1/0 lw 2 title sprintf('slope: "
+                 "D = %%.3g m^2/s', %.8g)",
+                 lo * gr_lag_interval(&m->lag), fit.p[0], fit.p[1], fit.p[1] / (2.0 * m->dim));
+    } else {
+        cJSON_AddStringToObject(j, "D_self", ferr.message);
+    }
+    if (out->plots && m->lag.frames > 1) {
+        char body[900];
+        snprintf(body, sizeof body,
+                 "set logscale xy\nset format xy '10^{%%L}'\nset xlabel 'lag tau (s)'\nset ylabel 'MSD "
+                 "(m^2)'\nset title 'Mean-square displacement'\n"
+                 "plot 'msd.csv' skip 1 using 1:($4>0&&$1>0?$2:1/0):3 with "
+                 "yerrorbars title 'MSD'%s",
+                 fitline);
+        gr_obs_plot(out, "msd.png", body);
+    }
+    return GR_OK;
+}
+
+/* Checkpoints: the unwrapped and last positions, the jump count and the lag ring. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const msd *m = state;
+    gr_blob_put_f64s(out, m->ux, m->n);
+    gr_blob_put_f64s(out, m->uy, m->n);
+    gr_blob_put_f64s(out, m->px, m->n);
+    gr_blob_put_f64s(out, m->py, m->n);
+    gr_blob_put_i64(out, m->jumps);
+    gr_lag_save(&m->lag, out);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    msd *m = state;
+    gr_blob_get_f64s(in, m->ux, m->n);
+    gr_blob_get_f64s(in, m->uy, m->n);
+    gr_blob_get_f64s(in, m->px, m->n);
+    gr_blob_get_f64s(in, m->py, m->n);
+    m->jumps = gr_blob_get_i64(in);
+    gr_lag_load(&m->lag, in);
+    return GR_OK;
+}
+
+const gr_observable_type gr_obs_msd = {
+    .name = "msd",
+    .summary = "mean-square displacement of unwrapped positions and the "
+               "self-diffusion coefficient (long-time slope)",
+    .dims = 3,
+    .params = params,
+    .n_params = sizeof params / sizeof params[0],
+    .create = create,
+    .sample = sample,
+    .finish = finish,
+    .destroy = destroy,
+    .save = save,
+    .load = load,
+};

@@ -1,0 +1,239 @@
+/* pressure: the pressure tensor (stress with the sign of a pressure) of the
+ * periodic system, P_ab = (1/V) [ sum_i M u_ia u_ib  +  sum_{pairs i<j} r_ij,a
+ * F_ij,b ], kinetic part plus the collisional virial (Irving-Kirkwood /
+ * Clausius), with V = L^2 (2D) or the ring length L (1D, where P is a force), u
+ * = v - <v>_frame (T of 2.19), r_ij = r_j - r_i under the minimum image and
+ * F_ij the force of i on j. P = trace / dim. In 1D and 2D the ideal-gas limit
+ * is P = n T with n = N / V and T = M <u_x^2>.
+ *
+ * The contact force is the normal spring-dashpot law of the scene, F_n = k_s xi
+ * - gamma_n g_n (2.4-2.5; xi = d - |r_ij| the overlap, g_n the normal relative
+ * velocity; clamped to F_n >= 0 if the scene clamps), recomputed here from the
+ * scene's coefficients (gr_contact_prepare), so frames from snapshots are
+ * measured alike. Tangential forces are left out (their virial is antisymmetric
+ * at first order and small; the summary says so). Event-driven (hard-sphere)
+ * runs have no force law: only the kinetic part is reported there.
+ *
+ * In 2D the summary compares with the mean-field equation of state (5.2),
+ *     <|v|>^3 = (C_1 / phi) D d pi / (M^2 (2 - eps_n^2 - eps_t^2)),
+ * by reporting the C_1 the measured mean speed implies (eps_t = 1 without a
+ * tangential law), and the compressibility factor Z = P / (n T). Per-frame
+ * values are time-averaged with block-averaging errors. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "analysis/obs_cells.h"
+#include "analysis/obs_util.h"
+#include "io/blob.h"
+#include "granule/analysis.h"
+#include "granule/scene.h"
+
+enum { KXX, KYY, KXY, CXX, CYY, CXY, P_TOTAL, NT, SPEED, N_SERIES };
+static const char *const series_name[N_SERIES] = {"kinetic_xx",     "kinetic_yy",     "kinetic_xy", "collisional_xx",
+                                                  "collisional_yy", "collisional_xy", "P",          "nT",
+                                                  "mean_speed"};
+
+typedef struct pressure {
+    int n, dim;
+    double L, V, mass, d, phi, D, eps_n, eps_t;
+    bool forces;
+    gr_contact_coeffs cc;
+    const gr_particles *p; /* the frame being visited */
+    double mean[2], w[3];  /* mean velocity; the frame's virial xx, yy, xy */
+    int64_t contacts, frames;
+    gr_blocking b[N_SERIES];
+    gr_cells cells;
+} pressure;
+
+static void destroy(void *state)
+{
+    pressure *s = state;
+    gr_cells_free(&s->cells);
+    free(s);
+}
+
+static int create(const gr_scene *scene, void **state, gr_error *err)
+{
+    pressure *s = calloc(1, sizeof *s);
+    if (!s) {
+        return GR_FAIL(err, GR_ENOMEM, "pressure: out of memory");
+    }
+    s->n = scene->N;
+    s->dim = scene->dim;
+    s->L = scene->L;
+    s->V = scene->dim == 2 ? scene->L * scene->L : scene->L;
+    s->mass = scene->mass;
+    s->d = 2.0 * scene->radius;
+    s->phi = scene->N * M_PI * scene->radius * scene->radius / (scene->L * scene->L); /* (2.24) */
+    s->D = scene->D;
+    s->eps_n = scene->contact.eps_n;
+    s->eps_t = scene->tangential ? scene->contact.eps_t : 1.0;
+    if (scene->normal) {
+        int rc = gr_contact_prepare(scene->normal, scene->tangential, &scene->contact, gr_scene_m12(scene), 0.0, &s->cc,
+                                    err);
+        if (rc) {
+            free(s);
+            return rc;
+        }
+        s->forces = s->cc.normal == GR_NORMAL_SPRING_DASHPOT;
+    }
+    for (int k = 0; k < N_SERIES; k++) {
+        gr_blocking_init(&s->b[k]);
+    }
+    *state = s;
+    return GR_OK;
+}
+
+/* r_ij F_ij of one contact, F_ij = f_n n the normal force of i on j (2.4-2.5)
+ */
+static void virial(int i, int j, double dx, double dy, double r2, void *user)
+{
+    pressure *s = user;
+    const gr_particles *p = s->p;
+    double dist = sqrt(r2);
+    if (dist == 0.0) {
+        return;
+    }
+    double nx = dx / dist, ny = dy / dist;
+    double gx = p->vx[j] - p->vx[i], gy = p->dim == 2 ? p->vy[j] - p->vy[i] : 0.0;
+    double f_n = s->cc.k_s * (s->d - dist) - s->cc.gamma_n * (gx * nx + gy * ny);
+    if (s->cc.clamp && f_n < 0.0) {
+        f_n = 0.0;
+    }
+    s->w[0] += dist * f_n * nx * nx;
+    s->w[1] += dist * f_n * ny * ny;
+    s->w[2] += dist * f_n * nx * ny;
+    s->contacts++;
+}
+
+static int sample(void *state, const gr_particles *p, double t, gr_error *err)
+{
+    (void)t;
+    pressure *s = state;
+    int bad = gr_obs_check_frame("pressure", p, s->n, err);
+    if (bad) {
+        return bad;
+    }
+    double k[3] = {0.0, 0.0, 0.0}, speed = 0.0;
+    gr_obs_mean_velocity(p, s->mean);
+    for (int i = 0; i < p->n; i++) {
+        double ux = p->vx[i] - s->mean[0], uy = p->dim == 2 ? p->vy[i] - s->mean[1] : 0.0;
+        k[0] += s->mass * ux * ux;
+        k[1] += s->mass * uy * uy;
+        k[2] += s->mass * ux * uy;
+        speed += sqrt(ux * ux + uy * uy);
+    }
+    s->w[0] = s->w[1] = s->w[2] = 0.0;
+    if (s->forces) {
+        s->p = p;
+        int rc = gr_cells_pairs(&s->cells, p, fmin(s->d, 0.5 * s->L), virial, s, err);
+        if (rc) {
+            return rc;
+        }
+    }
+    double v[N_SERIES] = {k[0] / s->V, k[1] / s->V, k[2] / s->V, s->w[0] / s->V, s->w[1] / s->V, s->w[2] / s->V};
+    v[P_TOTAL] = (v[KXX] + v[KYY] + v[CXX] + v[CYY]) / s->dim;
+    v[NT] = (k[0] + k[1]) / s->dim / s->V; /* n T, T = M <u^2> / dim (2.19) */
+    v[SPEED] = speed / p->n;
+    for (int q = 0; q < N_SERIES; q++) {
+        gr_blocking_add(&s->b[q], v[q]);
+    }
+    s->frames++;
+    return GR_OK;
+}
+
+static void rows(FILE *f, const void *ctx)
+{
+    const pressure *s = ctx;
+    for (int q = 0; q < N_SERIES; q++) {
+        fprintf(f, "%s,%.10g,%.6g\n", series_name[q], gr_blocking_mean(&s->b[q]), gr_obs_stderr(&s->b[q]));
+    }
+}
+
+static int finish(void *state, const gr_output *out, gr_error *err)
+{
+    pressure *s = state;
+    cJSON *j = gr_obs_summary(out, "pressure", "pressure.csv");
+    cJSON_AddNumberToObject(j, "frames", (double)s->frames);
+    cJSON_AddStringToObject(j, "unit", s->dim == 2 ? "N/m (force per unit length, 2D pressure)" : "N (1D pressure)");
+    for (int q = 0; q < N_SERIES; q++) {
+        char key[64];
+        gr_obs_add_number(j, series_name[q], gr_blocking_mean(&s->b[q]));
+        snprintf(key, sizeof key, "%s_error", series_name[q]);
+        gr_obs_add_number(j, key, gr_obs_stderr(&s->b[q]));
+    }
+    double P = gr_blocking_mean(&s->b[P_TOTAL]), nT = gr_blocking_mean(&s->b[NT]);
+    gr_obs_add_number(j, "Z", nT > 0.0 ? P / nT : (double)NAN);
+    gr_obs_add_number(j, "contacts_per_frame", s->frames ? (double)s->contacts / s->frames : (double)NAN);
+    cJSON_AddStringToObject(j, "virial",
+                            s->forces ? "normal spring-dashpot force (2.4-2.5); tangential forces left out"
+                                      : "none: the scene has no contact force law (kinetic part only)");
+    if (s->dim == 2) {
+        double v = gr_blocking_mean(&s->b[SPEED]);
+        double rhs =
+            s->D * s->d * M_PI / (s->phi * s->mass * s->mass * (2.0 - s->eps_n * s->eps_n - s->eps_t * s->eps_t));
+        cJSON *e = cJSON_AddObjectToObject(j, "eos_5_2");
+        gr_obs_add_number(e, "mean_speed_cubed", v * v * v);
+        gr_obs_add_number(e, "rhs_over_C1", rhs);
+        gr_obs_add_number(e, "C1", rhs > 0.0 && isfinite(rhs) ? v * v * v / rhs : (double)NAN);
+        gr_obs_add_number(e, "C1_error",
+                          rhs > 0.0 && isfinite(rhs) ? 3.0 * v * v * gr_obs_stderr(&s->b[SPEED]) / rhs : (double)NAN);
+        cJSON_AddStringToObject(e, "equation", "<|v|>^3 = (C_1/phi) D d pi / (M^2 (2 - eps_n^2 - eps_t^2)) (5.2)");
+    }
+    const gr_obs_table t = {
+        .name = "pressure.csv",
+        .what = "pressure tensor P_ab = (sum_i M u_a u_b + sum_pairs r_a F_b) / "
+                "V (V = L^2 in 2D, L in 1D), "
+                "kinetic and collisional parts, total P = trace / dim, n T, and "
+                "the mean speed (m/s); "
+                "block-averaging errors over frames",
+        .columns = "quantity,value,stderr",
+        .rows = rows,
+        .ctx = s,
+        .png = s->frames > 0 ? "pressure.png" : NULL,
+        .plot = "set style data histograms\nset style histogram errorbars gap "
+                "1\nset style fill solid 0.5\n"
+                "set ylabel 'pressure (N/m in 2D, N in 1D)'\nset title 'Pressure: kinetic and "
+                "collisional parts'\n"
+                "set xtics rotate by -30\nplot 'pressure.csv' skip 1 every "
+                "::0::7 using 2:3:xtic(1) title 'P_{ab}'",
+    };
+    return gr_obs_table_write(out, &t, err);
+}
+
+/* Checkpoints: the counts and the accumulators of every series. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const pressure *s = state;
+    gr_blob_put_i64(out, s->frames);
+    gr_blob_put_i64(out, s->contacts);
+    gr_obs_put_blockings(out, s->b, N_SERIES);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    pressure *s = state;
+    s->frames = gr_blob_get_i64(in);
+    s->contacts = gr_blob_get_i64(in);
+    gr_obs_get_blockings(in, s->b, N_SERIES);
+    return GR_OK;
+}
+
+const gr_observable_type gr_obs_pressure = {
+    .name = "pressure",
+    .summary = "pressure and stress tensor, kinetic + collisional virial; 2D: "
+               "C_1 of the equation of state (5.2)",
+    .dims = 3,
+    .params = NULL,
+    .n_params = 0,
+    .create = create,
+    .sample = sample,
+    .finish = finish,
+    .destroy = destroy,
+    .save = save,
+    .load = load,
+};

@@ -1,0 +1,156 @@
+/* vacf: the velocity autocorrelation function per component,
+ *     C(tau) = <v_i(t0) . v_i(t0 + tau)> / dim,
+ * over particles and time origins (every sample; tau = l Delta, l = 0 ..
+ * vacf_lags), with block-averaging errors over origins, and its Green-Kubo
+ * integral D_GK = int_0^tau_max C(tau) dtau      (trapezoid rule over the
+ * lags), the self-diffusion coefficient to compare with msd's long-time slope
+ * (D_self = MSD / (2 dim tau)). Velocities are the lab-frame ones (the
+ * symmetrised noise keeps the total momentum at zero).
+ *
+ * Known answers: free RFM particles (no collisions) have Wiener velocities,
+ * independent increments of zero mean, so C(tau) = <v(t0)^2> per component at
+ * every lag (flat); a Langevin particle (friction gamma, temperature T) has C =
+ * (T/M) exp(-gamma tau) and D_GK = T/(M gamma) when tau_max >> 1/gamma. The
+ * error of D_GK adds the lags' errors in quadrature (the lags are correlated,
+ * so it is indicative). Memory is N * vacf_lags. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "analysis/obs_lag.h"
+#include "analysis/obs_util.h"
+#include "io/blob.h"
+#include "granule/scene.h"
+
+static const gr_param params[] = {
+    {"vacf_lags", "", GR_PARAM_INT, 50, 2, GR_LAG_MAX, false, false,
+     "lags of the velocity autocorrelation, in sampling intervals (memory N x "
+     "vacf_lags)",
+     offsetof(gr_analysis_params, vacf_lags)},
+};
+
+static void destroy(void *state)
+{
+    gr_lag *g = state;
+    gr_lag_free(g);
+    free(g);
+}
+
+static int create(const gr_scene *scene, void **state, gr_error *err)
+{
+    gr_lag *g = calloc(1, sizeof *g);
+    if (!g) {
+        return GR_FAIL(err, GR_ENOMEM, "vacf: out of memory");
+    }
+    int rc = gr_lag_init(g, scene->N, scene->dim, scene->analysis.vacf_lags, GR_LAG_DOT, err);
+    if (rc) {
+        free(g);
+        return rc;
+    }
+    *state = g;
+    return GR_OK;
+}
+
+static int sample(void *state, const gr_particles *p, double t, gr_error *err)
+{
+    gr_lag *g = state;
+    int bad = gr_obs_check_frame("vacf", p, g->n, err);
+    if (bad) {
+        return bad;
+    }
+    return gr_lag_add(g, p->vx, p->dim == 2 ? p->vy : NULL, t, err);
+}
+
+/* The largest lag with at least 2 time origins (the run may be shorter than
+ * vacf_lags). */
+static int last_lag(const gr_lag *g)
+{
+    int last = 0;
+    for (int l = 1; l <= g->lags; l++) {
+        int64_t c;
+        gr_lag_mean(g, l, NULL, &c);
+        last = c >= 2 ? l : last;
+    }
+    return last;
+}
+
+/* Green-Kubo: the trapezoid integral of C up to lag `last` (lag means sum the
+ * components: / dim). */
+static double green_kubo(const gr_lag *g, int last, double *error)
+{
+    const double dt = gr_lag_interval(g);
+    double sum = 0.0, var = 0.0;
+    for (int l = 0; l <= last; l++) {
+        double e, v = gr_lag_mean(g, l, &e, NULL);
+        double w = (l == 0 || l == last ? 0.5 : 1.0) * dt / g->dim;
+        sum += w * v;
+        var += w * w * (isfinite(e) ? e * e : 0.0);
+    }
+    *error = sqrt(var);
+    return last > 0 ? sum : (double)NAN;
+}
+
+static int finish(void *state, const gr_output *out, gr_error *err)
+{
+    gr_lag *g = state;
+    const char *what = "velocity autocorrelation <v(t0) . v(t0 + tau)> summed "
+                       "over components (m^2/s^2; / dim for "
+                       "C(tau) per component), averaged over particles and time "
+                       "origins; block-averaging errors";
+    cJSON *j = cJSON_AddObjectToObject(out->summary, "vacf");
+    int rc = gr_obs_lag_csv(out, g, "vacf.csv", what, "tau,vv,vv_stderr,origins", j, err);
+    if (rc) {
+        return rc;
+    }
+    const int last = last_lag(g);
+    double e, D = green_kubo(g, last, &e);
+    cJSON *d = cJSON_AddObjectToObject(j, "D_green_kubo");
+    gr_obs_add_number(d, "value", D);
+    gr_obs_add_number(d, "error", e);
+    gr_obs_add_number(d, "tau_max", last * gr_lag_interval(g));
+    int64_t c0;
+    double v0 = gr_lag_mean(g, 0, NULL, &c0), vl = gr_lag_mean(g, last, NULL, NULL);
+    gr_obs_add_number(j, "C0_per_component", c0 ? v0 / g->dim : (double)NAN);
+    gr_obs_add_number(j, "C_end_over_C0", c0 && last > 0 ? vl / v0 : (double)NAN);
+    if (out->plots && g->frames > 1) {
+        gr_obs_plot(out, "vacf.png",
+                    "set xlabel 'lag tau (s)'\nset ylabel 'C(tau) / C(0)'\nset "
+                    "title 'Velocity autocorrelation'\n"
+                    "stats 'vacf.csv' skip 1 every ::0::0 using 2 nooutput\nc0 = "
+                    "STATS_max\n"
+                    "plot 'vacf.csv' skip 1 using 1:($2/c0):($3/c0) with "
+                    "yerrorbars title 'C(tau) / C(0)', "
+                    "0 lc rgb 'gray' notitle");
+    }
+    return GR_OK;
+}
+
+/* Checkpoints: the lag ring. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    gr_lag_save(state, out);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    gr_lag_load(state, in);
+    return GR_OK;
+}
+
+const gr_observable_type gr_obs_vacf = {
+    .name = "vacf",
+    .summary = "velocity autocorrelation C(tau) and its Green-Kubo integral "
+               "(self-diffusion, compare with msd)",
+    .dims = 3,
+    .params = params,
+    .n_params = sizeof params / sizeof params[0],
+    .create = create,
+    .sample = sample,
+    .finish = finish,
+    .destroy = destroy,
+    .save = save,
+    .load = load,
+};

@@ -1,0 +1,226 @@
+/* vcorr (2D): spatial velocity correlations against distance. For every pair
+ * closer than R_max = min(vcorr_rmax d, L/2) (minimum image), with r_hat the
+ * unit vector from i to j and u = v - <v>_frame the velocities relative to the
+ * frame's mean, C_L(r) = <(u_i . r_hat)(u_j . r_hat)>,   C_T(r) = <(u_i x
+ * r_hat)(u_j x r_hat)>, the longitudinal and transverse correlations, averaged
+ * over the pairs in each of vcorr_bins equal bins of r and normalised per frame
+ * by <|u|^2>/2 (the per-component variance, T/M of 2.19), so C = 1 for
+ * velocities moving together and 0 for independent ones. Each frame's
+ * normalised bin averages are time-averaged with block-averaging errors
+ * (memory: bins only). Known answers: independent random velocities give C_L =
+ * C_T = 0 within errors (the mean subtraction leaves -1/(N-1)); a pair with u_1
+ * = -u_2 gives C_L = -2 u_par^2 / |u|^2. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "analysis/obs_cells.h"
+#include "analysis/obs_util.h"
+#include "io/blob.h"
+#include "granule/analysis.h"
+#include "granule/scene.h"
+
+#define VCORR_MAX_BINS 2000
+
+static const gr_param params[] = {
+    {"vcorr_bins", "", GR_PARAM_INT, 50, 2, VCORR_MAX_BINS, false, false,
+     "(2D) bins of the spatial velocity correlations C_L(r), C_T(r)", offsetof(gr_analysis_params, vcorr_bins)},
+    {"vcorr_rmax", "d", GR_PARAM_DOUBLE, 10, 0, 1e6, true, false,
+     "(2D) largest distance of the velocity correlations, in diameters (at "
+     "most L/2)",
+     offsetof(gr_analysis_params, vcorr_rmax)},
+};
+
+typedef struct vcorr {
+    int bins;
+    double rmax, w, d;     /* m */
+    const double *ux, *uy; /* the frame being visited */
+    double *ux_buf, *uy_buf, *sl, *st, *cnt;
+    gr_blocking *bl, *bt;
+    gr_cells cells;
+    int64_t frames;
+} vcorr;
+
+static void destroy(void *state)
+{
+    vcorr *s = state;
+    free(s->ux_buf);
+    free(s->uy_buf);
+    free(s->sl);
+    free(s->st);
+    free(s->cnt);
+    free(s->bl);
+    free(s->bt);
+    gr_cells_free(&s->cells);
+    free(s);
+}
+
+static int create(const gr_scene *scene, void **state, gr_error *err)
+{
+    vcorr *s = calloc(1, sizeof *s);
+    if (!s) {
+        return GR_FAIL(err, GR_ENOMEM, "vcorr: out of memory");
+    }
+    s->bins = scene->analysis.vcorr_bins;
+    s->rmax = fmin(scene->analysis.vcorr_rmax * 2.0 * scene->radius, 0.5 * scene->L);
+    s->w = s->rmax / s->bins;
+    s->d = 2.0 * scene->radius;
+    size_t b = (size_t)s->bins, n = (size_t)scene->N;
+    s->ux_buf = malloc(n * sizeof(double));
+    s->uy_buf = malloc(n * sizeof(double));
+    s->sl = malloc(b * sizeof(double));
+    s->st = malloc(b * sizeof(double));
+    s->cnt = malloc(b * sizeof(double));
+    s->bl = malloc(b * sizeof(gr_blocking));
+    s->bt = malloc(b * sizeof(gr_blocking));
+    if (!s->ux_buf || !s->uy_buf || !s->sl || !s->st || !s->cnt || !s->bl || !s->bt) {
+        destroy(s);
+        return GR_FAIL(err, GR_ENOMEM, "vcorr: out of memory");
+    }
+    for (int k = 0; k < s->bins; k++) {
+        gr_blocking_init(&s->bl[k]);
+        gr_blocking_init(&s->bt[k]);
+    }
+    *state = s;
+    return GR_OK;
+}
+
+static void visit(int i, int j, double dx, double dy, double r2, void *user)
+{
+    vcorr *s = user;
+    double r = sqrt(r2);
+    int k = (int)(r / s->w);
+    if (k >= s->bins || r == 0.0) {
+        return;
+    }
+    double ex = dx / r, ey = dy / r;
+    s->sl[k] += (s->ux[i] * ex + s->uy[i] * ey) * (s->ux[j] * ex + s->uy[j] * ey);
+    s->st[k] += (s->ux[i] * ey - s->uy[i] * ex) * (s->ux[j] * ey - s->uy[j] * ex);
+    s->cnt[k] += 1.0;
+}
+
+static int sample(void *state, const gr_particles *p, double t, gr_error *err)
+{
+    (void)t;
+    vcorr *s = state;
+    double mean[2], c0 = 0.0;
+    gr_obs_mean_velocity(p, mean);
+    for (int i = 0; i < p->n; i++) {
+        s->ux_buf[i] = p->vx[i] - mean[0];
+        s->uy_buf[i] = p->vy[i] - mean[1];
+        c0 += 0.5 * (s->ux_buf[i] * s->ux_buf[i] + s->uy_buf[i] * s->uy_buf[i]);
+    }
+    c0 /= p->n;
+    if (!(c0 > 0.0)) {
+        return GR_OK; /* nothing moves: no correlation to normalise */
+    }
+    s->ux = s->ux_buf;
+    s->uy = s->uy_buf;
+    for (int k = 0; k < s->bins; k++) {
+        s->sl[k] = s->st[k] = s->cnt[k] = 0.0;
+    }
+    int rc = gr_cells_pairs(&s->cells, p, s->rmax, visit, s, err);
+    if (rc) {
+        return rc;
+    }
+    for (int k = 0; k < s->bins; k++) {
+        if (s->cnt[k] > 0.0) {
+            gr_blocking_add(&s->bl[k], s->sl[k] / s->cnt[k] / c0);
+            gr_blocking_add(&s->bt[k], s->st[k] / s->cnt[k] / c0);
+        }
+    }
+    s->frames++;
+    return GR_OK;
+}
+
+static void rows(FILE *f, const void *ctx)
+{
+    const vcorr *s = ctx;
+    for (int k = 0; k < s->bins; k++) {
+        if (s->bl[k].count[0] > 0) {
+            fprintf(f, "%.8g,%.8g,%.10g,%.6g,%.10g,%.6g,%lld\n", (k + 0.5) * s->w, (k + 0.5) * s->w / s->d,
+                    gr_blocking_mean(&s->bl[k]), gr_obs_stderr(&s->bl[k]), gr_blocking_mean(&s->bt[k]),
+                    gr_obs_stderr(&s->bt[k]), (long long)s->bl[k].count[0]);
+        }
+    }
+}
+
+static int finish(void *state, const gr_output *out, gr_error *err)
+{
+    vcorr *s = state;
+    cJSON *j = gr_obs_summary(out, "vcorr", "vcorr.csv");
+    cJSON_AddNumberToObject(j, "frames", (double)s->frames);
+    cJSON_AddNumberToObject(j, "r_max", s->rmax);
+    /* the nearest bin with pairs: the correlation at contact range */
+    for (int k = 0; k < s->bins; k++) {
+        if (s->bl[k].count[0] > 0) {
+            gr_obs_add_number(j, "r_first", (k + 0.5) * s->w);
+            gr_obs_add_number(j, "C_L_first", gr_blocking_mean(&s->bl[k]));
+            gr_obs_add_number(j, "C_L_first_error", gr_obs_stderr(&s->bl[k]));
+            gr_obs_add_number(j, "C_T_first", gr_blocking_mean(&s->bt[k]));
+            gr_obs_add_number(j, "C_T_first_error", gr_obs_stderr(&s->bt[k]));
+            break;
+        }
+    }
+    const gr_obs_table t = {
+        .name = "vcorr.csv",
+        .what = "spatial velocity correlations (2D): longitudinal C_L and "
+                "transverse C_T against the pair "
+                "distance r (m), normalised by <|u|^2>/2 per frame, u relative "
+                "to the frame's mean; "
+                "block-averaging errors over frames",
+        .columns = "r,r_over_d,C_L,C_L_stderr,C_T,C_T_stderr,frames",
+        .rows = rows,
+        .ctx = s,
+        .png = s->frames > 0 ? "vcorr.png" : NULL,
+        .plot = "set xlabel 'distance r (m)'\nset ylabel 'C(r), normalised'\nset "
+                "title 'Spatial velocity correlations'\n"
+                "plot 'vcorr.csv' skip 1 using 1:3:4 with yerrorbars title "
+                "'longitudinal C_L', "
+                "'' skip 1 using 1:5:6 with yerrorbars title 'transverse C_T', 0 "
+                "lc rgb 'gray' notitle",
+    };
+    return gr_obs_table_write(out, &t, err);
+}
+
+/* Checkpoints: the frame count and the accumulators of every bin. */
+static int save(const void *state, gr_blob *out, gr_error *err)
+{
+    (void)err;
+    const vcorr *s = state;
+    gr_blob_put_u64(out, (uint64_t)s->bins);
+    gr_blob_put_i64(out, s->frames);
+    gr_obs_put_blockings(out, s->bl, s->bins);
+    gr_obs_put_blockings(out, s->bt, s->bins);
+    return GR_OK;
+}
+
+static int load(void *state, gr_blob_reader *in, gr_error *err)
+{
+    (void)err;
+    vcorr *s = state;
+    uint64_t bins = gr_blob_get_u64(in);
+    if (!in->bad && bins != (uint64_t)s->bins) {
+        gr_blob_fail(in, "%llu bins in the checkpoint, vcorr_bins = %d in the scene", (unsigned long long)bins,
+                     s->bins);
+    }
+    s->frames = gr_blob_get_i64(in);
+    gr_obs_get_blockings(in, s->bl, s->bins);
+    gr_obs_get_blockings(in, s->bt, s->bins);
+    return GR_OK;
+}
+
+const gr_observable_type gr_obs_vcorr = {
+    .name = "vcorr",
+    .summary = "spatial velocity correlations, longitudinal C_L(r) and "
+               "transverse C_T(r) (2D)",
+    .dims = 2,
+    .params = params,
+    .n_params = sizeof params / sizeof params[0],
+    .create = create,
+    .sample = sample,
+    .finish = finish,
+    .destroy = destroy,
+    .save = save,
+    .load = load,
+};

@@ -1,0 +1,282 @@
+/* The frame observables vcorr, clusters and pressure on configurations with a
+ * known answer: clusters - a touching chain (1D ring, 2D row and square lattice
+ * at spacing d) is one contact cluster; spacing 1.2 d gives N contact
+ * singletons but one density cluster (cluster_distance 1.5); spacing 2 d gives
+ * singletons of both kinds; two separate touching chains are two clusters;
+ *   pressure - an ideal gas (no contacts) has P = n T exactly, no virial, Z =
+ * 1, and the C_1 of the equation of state (5.2) follows from the mean speed;
+ * two particles at rest overlapping by xi along x give P_xx = |r| k_s xi / V,
+ * P_yy = 0 (1D: P = |r| k_s xi / L); vcorr    - independent random velocities
+ * give C_L = C_T = 0 within errors; a pair with u_1 = -u_2 = (1, 2) at 1.5 d
+ * along x gives C_L = -0.4, C_T = -1.6. */
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#include "obs_harness.h"
+
+extern const gr_observable_type gr_obs_clusters, gr_obs_pressure, gr_obs_vcorr;
+
+static const cJSON *kind(const cJSON *j, const char *k)
+{
+    return cJSON_GetObjectItem(cJSON_GetObjectItem(j, "clusters"), k);
+}
+
+/* One frame of n particles on a row (1D ring or a 2D row at y = L/2) at the
+ * given spacing from x0; returns the analysis summary. */
+static cJSON *row_frame(int dim, int n, double L, double spacing, double x0, h_table *tab)
+{
+    gr_scene sc;
+    const double d = 1e-3;
+    h_scene(&sc, dim, n, L, 0.5 * d);
+    sc.analysis.cluster_distance = 1.5;
+    double x[64], y[64], v[64] = {0};
+    for (int i = 0; i < n; i++) {
+        x[i] = x0 + i * spacing * d;
+        y[i] = 0.5 * L;
+    }
+    void *st = h_create(&gr_obs_clusters, &sc);
+    h_sample(&gr_obs_clusters, st, &sc, x, y, v, v, 0.0);
+    return h_finish(&gr_obs_clusters, st, &sc, "clusters.csv", tab);
+}
+
+static void check_row(int dim)
+{
+    h_table tab;
+    /* touching chain of 20 across the periodic boundary: one contact cluster */
+    cJSON *j = row_frame(dim, 20, 0.1, 1.0, 0.095, &tab);
+    ck_assert_double_eq(h_num(kind(j, "contact"), "clusters_per_frame", NULL), 1.0);
+    ck_assert_double_eq(h_num(kind(j, "contact"), "largest", NULL), 20.0);
+    ck_assert_int_eq(tab.rows, 1);
+    ck_assert_double_eq(h_at(&tab, 0, 0), 20.0);
+    ck_assert_double_eq(h_at(&tab, 0, 1), 1.0); /* one cluster of size 20 per frame */
+    ck_assert_double_eq(h_at(&tab, 0, 2), 1.0); /* holding every particle */
+    cJSON_Delete(j);
+    free(tab.v);
+    /* spacing 1.2 d: contact singletons, one density cluster */
+    j = row_frame(dim, 20, 0.1, 1.2, 0.01, &tab);
+    ck_assert_double_eq(h_num(kind(j, "contact"), "clusters_per_frame", NULL), 20.0);
+    ck_assert_double_eq(h_num(kind(j, "contact"), "mean_size", NULL), 1.0);
+    ck_assert_double_eq(h_num(kind(j, "density"), "clusters_per_frame", NULL), 1.0);
+    ck_assert_double_eq(h_num(kind(j, "density"), "largest", NULL), 20.0);
+    cJSON_Delete(j);
+    free(tab.v);
+    /* spacing 2 d: singletons of both kinds */
+    j = row_frame(dim, 20, 0.1, 2.0, 0.01, &tab);
+    ck_assert_double_eq(h_num(kind(j, "density"), "clusters_per_frame", NULL), 20.0);
+    ck_assert_double_eq(h_num(kind(j, "contact"), "largest", NULL), 1.0);
+    ck_assert_int_eq(tab.rows, 1);
+    ck_assert_double_eq(h_at(&tab, 0, 0), 1.0);
+    ck_assert_double_eq(h_at(&tab, 0, 1), 20.0);
+    cJSON_Delete(j);
+    free(tab.v);
+}
+
+START_TEST(test_clusters_row_1d) { check_row(1); }
+END_TEST
+
+START_TEST(test_clusters_row_2d) { check_row(2); }
+END_TEST
+
+/* 2D: a touching 6 x 6 square lattice is one cluster; two touching chains of 7
+ * and 5 separated by 3 d are two contact clusters (sizes 7 and 5). */
+START_TEST(test_clusters_lattice_2d)
+{
+    gr_scene sc;
+    const double d = 1e-3, L = 0.05;
+    h_scene(&sc, 2, 36, L, 0.5 * d);
+    sc.analysis.cluster_distance = 1.5;
+    double x[36], y[36], v[36] = {0};
+    for (int i = 0; i < 36; i++) {
+        x[i] = 0.01 + (i % 6) * d;
+        y[i] = 0.02 + (i / 6) * d;
+    }
+    void *st = h_create(&gr_obs_clusters, &sc);
+    h_sample(&gr_obs_clusters, st, &sc, x, y, v, v, 0.0);
+    h_table tab;
+    cJSON *j = h_finish(&gr_obs_clusters, st, &sc, "clusters.csv", &tab);
+    ck_assert_double_eq(h_num(kind(j, "contact"), "largest", NULL), 36.0);
+    ck_assert_double_eq(h_num(kind(j, "contact"), "clusters_per_frame", NULL), 1.0);
+    cJSON_Delete(j);
+    free(tab.v);
+
+    h_scene(&sc, 2, 12, L, 0.5 * d);
+    sc.analysis.cluster_distance = 1.5;
+    for (int i = 0; i < 12; i++) {
+        x[i] = i < 7 ? 0.01 + i * d : 0.01 + (i + 3) * d;
+        y[i] = 0.03;
+    }
+    st = h_create(&gr_obs_clusters, &sc);
+    for (int f = 0; f < 3; f++) {
+        h_sample(&gr_obs_clusters, st, &sc, x, y, v, v, f);
+    }
+    j = h_finish(&gr_obs_clusters, st, &sc, "clusters.csv", &tab);
+    ck_assert_double_eq(h_num(kind(j, "contact"), "clusters_per_frame", NULL), 2.0);
+    ck_assert_double_eq(h_num(kind(j, "contact"), "largest", NULL), 7.0);
+    ck_assert_double_eq(h_num(kind(j, "contact"), "mean_size", NULL), 6.0);
+    ck_assert_int_eq(tab.rows, 2);
+    ck_assert_double_eq(h_at(&tab, 0, 0), 5.0);
+    ck_assert_double_eq(h_at(&tab, 1, 0), 7.0);
+    ck_assert_double_eq_tol(h_at(&tab, 1, 2), 7.0 / 12.0, 1e-8);
+    cJSON_Delete(j);
+    free(tab.v);
+}
+END_TEST
+
+/* Ideal gas: random points far apart relative to their size, Gaussian
+ * velocities. */
+START_TEST(test_pressure_ideal_gas)
+{
+    gr_scene sc;
+    enum { N = 500, F = 20 };
+    const double L = 1.0, M = 3.53e-5;
+    h_scene(&sc, 2, N, L, 1e-6);
+    sc.mass = M;
+    sc.D = 1e-8;
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 3);
+    void *st = h_create(&gr_obs_pressure, &sc);
+    double x[N], y[N], vx[N], vy[N], nT = 0.0, speed = 0.0;
+    for (int f = 0; f < F; f++) {
+        double m[2] = {0, 0};
+        for (int i = 0; i < N; i++) {
+            x[i] = L * gsl_rng_uniform(r);
+            y[i] = L * gsl_rng_uniform(r);
+            vx[i] = 0.3 * gsl_ran_gaussian_ziggurat(r, 1.0);
+            vy[i] = 0.3 * gsl_ran_gaussian_ziggurat(r, 1.0);
+            m[0] += vx[i] / N;
+            m[1] += vy[i] / N;
+        }
+        for (int i = 0; i < N; i++) {
+            double ux = vx[i] - m[0], uy = vy[i] - m[1];
+            nT += M * (ux * ux + uy * uy) / 2.0 / (L * L) / F;
+            speed += sqrt(ux * ux + uy * uy) / N / F;
+        }
+        h_sample(&gr_obs_pressure, st, &sc, x, y, vx, vy, f);
+    }
+    h_table tab;
+    cJSON *j = h_finish(&gr_obs_pressure, st, &sc, "pressure.csv", &tab);
+    const cJSON *p = cJSON_GetObjectItem(j, "pressure");
+    ck_assert_double_eq_tol(h_num(p, "P", NULL), nT, 1e-12 * nT);
+    ck_assert_double_eq_tol(h_num(p, "nT", NULL), nT, 1e-12 * nT);
+    ck_assert_double_eq_tol(h_num(p, "Z", NULL), 1.0, 1e-12);
+    ck_assert_double_eq(h_num(p, "collisional_xx", NULL), 0.0);
+    ck_assert_double_eq(h_num(p, "contacts_per_frame", NULL), 0.0);
+    /* N M <u_x^2> / L^2 and the same for y: n T from each diagonal component
+     * within errors */
+    ck_assert_double_eq_tol(h_num(p, "kinetic_xx", NULL), nT, 4.0 * h_num(p, "kinetic_xx_error", NULL));
+    /* (5.2): C_1 = <|v|>^3 phi M^2 (2 - eps_n^2 - eps_t^2) / (D d pi) */
+    double phi = N * M_PI * sc.radius * sc.radius / (L * L), eps_t = sc.tangential ? sc.contact.eps_t : 1.0;
+    double C1 = pow(speed, 3) * phi * M * M * (2.0 - sc.contact.eps_n * sc.contact.eps_n - eps_t * eps_t) /
+        (sc.D * 2.0 * sc.radius * M_PI);
+    ck_assert_double_eq_tol(h_num(cJSON_GetObjectItem(p, "eos_5_2"), "C1", NULL), C1, 1e-9 * C1);
+    ck_assert_int_eq(tab.rows, 9);
+    gsl_rng_free(r);
+    h_done(&tab, j);
+}
+END_TEST
+
+/* Two particles at rest overlapping by xi: the virial of the spring (2.4), no
+ * dashpot at rest. */
+static void overlap_pair(int dim)
+{
+    gr_scene sc;
+    const double d = 3e-3, xi = 1e-5, L = 0.1;
+    h_scene(&sc, dim, 2, L, 0.5 * d);
+    ck_assert_ptr_nonnull(sc.normal);
+    double x[2] = {L - 0.4 * d, 0.6 * d - xi}, y[2] = {0.05, 0.05}, v[2] = {0, 0}; /* across the boundary */
+    void *st = h_create(&gr_obs_pressure, &sc);
+    h_sample(&gr_obs_pressure, st, &sc, x, y, v, v, 0.0);
+    h_table tab;
+    cJSON *j = h_finish(&gr_obs_pressure, st, &sc, "pressure.csv", &tab);
+    const cJSON *p = cJSON_GetObjectItem(j, "pressure");
+    double V = dim == 2 ? L * L : L, W = (d - xi) * sc.contact.k_s * xi / V;
+    ck_assert_double_eq_tol(h_num(p, "collisional_xx", NULL), W, 1e-9 * W);
+    ck_assert_double_eq_tol(h_num(p, "collisional_yy", NULL), 0.0, 1e-12 * W);
+    ck_assert_double_eq_tol(h_num(p, "P", NULL), W / dim, 1e-9 * W);
+    ck_assert_double_eq(h_num(p, "contacts_per_frame", NULL), 1.0);
+    h_done(&tab, j);
+}
+
+START_TEST(test_pressure_overlap_2d) { overlap_pair(2); }
+END_TEST
+
+START_TEST(test_pressure_overlap_1d) { overlap_pair(1); }
+END_TEST
+
+START_TEST(test_vcorr_random)
+{
+    gr_scene sc;
+    enum { N = 1000, F = 40 };
+    const double L = 1.0;
+    h_scene(&sc, 2, N, L, 5e-3);
+    sc.analysis.vcorr_bins = 10;
+    sc.analysis.vcorr_rmax = 10;
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 5);
+    void *st = h_create(&gr_obs_vcorr, &sc);
+    double x[N], y[N], vx[N], vy[N];
+    for (int f = 0; f < F; f++) {
+        for (int i = 0; i < N; i++) {
+            x[i] = L * gsl_rng_uniform(r);
+            y[i] = L * gsl_rng_uniform(r);
+            vx[i] = gsl_ran_gaussian_ziggurat(r, 1.0);
+            vy[i] = gsl_ran_gaussian_ziggurat(r, 1.0);
+        }
+        h_sample(&gr_obs_vcorr, st, &sc, x, y, vx, vy, f);
+    }
+    h_table tab;
+    cJSON *j = h_finish(&gr_obs_vcorr, st, &sc, "vcorr.csv", &tab);
+    ck_assert_str_eq(tab.columns, "r,r_over_d,C_L,C_L_stderr,C_T,C_T_stderr,frames\n");
+    ck_assert_int_eq(tab.rows, 10);
+    for (int b = 0; b < tab.rows; b++) {
+        ck_assert_double_eq_tol(h_at(&tab, b, 1), (b + 0.5), 1e-9);
+        ck_assert_msg(h_at(&tab, b, 3) > 0.0 && h_at(&tab, b, 3) < 0.1, "error %g", h_at(&tab, b, 3));
+        ck_assert_msg(fabs(h_at(&tab, b, 2)) < 4.0 * h_at(&tab, b, 3), "C_L(%g) = %g +- %g", h_at(&tab, b, 0),
+                      h_at(&tab, b, 2), h_at(&tab, b, 3));
+        ck_assert_msg(fabs(h_at(&tab, b, 4)) < 4.0 * h_at(&tab, b, 5), "C_T(%g) = %g +- %g", h_at(&tab, b, 0),
+                      h_at(&tab, b, 4), h_at(&tab, b, 5));
+    }
+    gsl_rng_free(r);
+    h_done(&tab, j);
+}
+END_TEST
+
+START_TEST(test_vcorr_pair)
+{
+    gr_scene sc;
+    h_scene(&sc, 2, 2, 1.0, 5e-3);
+    sc.analysis.vcorr_bins = 10;
+    sc.analysis.vcorr_rmax = 10;
+    double x[2] = {0.9925, 0.0075}, y[2] = {0.5, 0.5}, vx[2] = {1.0, -1.0}, vy[2] = {2.0, -2.0}; /* r = 1.5 d */
+    void *st = h_create(&gr_obs_vcorr, &sc);
+    h_sample(&gr_obs_vcorr, st, &sc, x, y, vx, vy, 0.0);
+    h_table tab;
+    cJSON *j = h_finish(&gr_obs_vcorr, st, &sc, "vcorr.csv", &tab);
+    const cJSON *c = cJSON_GetObjectItem(j, "vcorr");
+    ck_assert_int_eq(tab.rows, 1);
+    ck_assert_double_eq_tol(h_num(c, "r_first", NULL), 0.015, 1e-12);
+    ck_assert_double_eq_tol(h_num(c, "C_L_first", NULL), -0.4, 1e-12);
+    ck_assert_double_eq_tol(h_num(c, "C_T_first", NULL), -1.6, 1e-12);
+    h_done(&tab, j);
+}
+END_TEST
+
+int main(void)
+{
+    Suite *s = suite_create("obs_structure");
+    TCase *t = tcase_create("analysis");
+    tcase_add_test(t, test_clusters_row_1d);
+    tcase_add_test(t, test_clusters_row_2d);
+    tcase_add_test(t, test_clusters_lattice_2d);
+    tcase_add_test(t, test_pressure_ideal_gas);
+    tcase_add_test(t, test_pressure_overlap_2d);
+    tcase_add_test(t, test_pressure_overlap_1d);
+    tcase_add_test(t, test_vcorr_random);
+    tcase_add_test(t, test_vcorr_pair);
+    suite_add_tcase(s, t);
+    SRunner *sr = srunner_create(s);
+    srunner_run_all(sr, CK_NORMAL);
+    int failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
