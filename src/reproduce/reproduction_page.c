@@ -4,6 +4,7 @@
 #include <cjson/cJSON.h>
 #include <dirent.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -171,6 +172,22 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
                 str(sets[i], "covers"), str(sets[i], "fidelity"), num(sets[i], "points_finished"), num(sets[i], "points_total"),
                 num(sets[i], "simulated_seconds"), num(sets[i], "cpu_seconds") / 3600.0);
         total += num(sets[i], "cpu_seconds");
+    }
+    /* the built-in campaigns without a result set here */
+    const char *builtin[64];
+    int nb = gr_campaign_names(builtin, 64);
+    for (int b = 0; b < nb; b++) {
+        char name[64];
+        snprintf(name, sizeof name, "%.*s", (int)(strlen(builtin[b]) - 14), builtin[b] + 10);
+        bool have = false;
+        for (int i = 0; i < ns; i++) {
+            have |= !strcmp(str(sets[i], "campaign"), name);
+        }
+        gr_campaign c;
+        gr_error ignore = {0};
+        if (!have && gr_campaign_load(&c, name, &ignore) == GR_OK) {
+            fprintf(f.f, "| %s | %s | not run yet | 0 of %ld | | |\n", name, c.covers, gr_campaign_points(&c, GR_FIDELITY_FULL));
+        }
     }
     fprintf(f.f, "| total | | | | | %.2f |\n\n", total / 3600.0);
     for (int i = 0; i < ns; i++) {
