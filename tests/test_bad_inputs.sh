@@ -155,6 +155,7 @@ base | compare $S --out $O --models spring_dashpot | 2 | --force | compare
 base | compare $S --out $O --models spring_dashpot --set model.eps_n=3 | 2 | eps_n | compare
 missing | sweep $S | 2 | cannot open | new
 file:[sweep]\nbogus = 1\n | sweep $S | 2 | bogus | new
+file:[sweep]\nscene = /dev/null\nout = /nonexistent-granule-out\n[vary]\nsystem.N = 10\n | sweep $S | 2 | not a regular file | new
 base | analyse $O --out $O/analysis | 2 | $O | new
 base | analyse $O --set analysis.observables=nosuch | 2 | nosuch | run
 base | plot $O | 2 | $O | new

@@ -177,7 +177,7 @@ int sweep_point_scene(const sweep *s, long k, gr_scene *sc, gr_error *err)
     char store[SWEEP_MAX_OVERRIDES][256];
     const char *ptrs[SWEEP_MAX_OVERRIDES];
     int m = sweep_overrides(s, k, store, ptrs);
-    return gr_scene_load(sc, s->scene, ptrs, m, err);
+    return gr_scene_load_whole(sc, s->scene, ptrs, m, err); /* an empty or sectionless scene is refused */
 }
 
 void sweep_point_dir(const sweep *s, long k, char *dir, size_t len)
