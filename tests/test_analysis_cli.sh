@@ -115,7 +115,8 @@ t = (run["msd"]["samples"] - 1) * run["msd"]["interval"]
 ok &= close(c["rate_per_particle"] * s["scene"]["system"]["N"] * t, c["collisions"], 1e-6)
 ok &= off["collisions"]["collisions"] == 0 and off["collisions"]["rate_per_particle"] is None and "note" in off["collisions"]
 for f in ["msd.csv", "vacf.csv", "clusters.csv", "pressure.csv", "collisions.csv"] + (["vcorr.csv"] if dim == 2 else []):
-    ok &= open(d + "/" + f).readline().startswith("# granule")
+    ok &= not open(d + "/" + f).readline().startswith("#")  # plain CSV: the column names first
+    ok &= "granule" in open(d + "/" + f[:-4] + ".meta.json").read()  # the notes beside it
 if not ok:
     print(json.dumps({k: run[k] for k in ["msd", "pressure", "collisions"]}, indent=1), file=sys.stderr)
 sys.exit(0 if ok else 1)
