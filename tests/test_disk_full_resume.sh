@@ -104,8 +104,10 @@ for size in $sizes; do
     echo "${size} KiB: exit $rc at ${file:-?}, then ${again[0]} gave identical outputs"
     umount "$mnt"
 done
-# every kind of output file filled the disk at least once
-for want in temperature.csv ledger.csv 'snapshots/' blocks.csv 'pv[a-z_]*.csv' scene.ini summary.json; do
+# every kind of output file filled the disk at least once (a table or, at its commit, the notes
+# sidecar NAME.meta.json written just before it is moved into place)
+for want in 'temperature\.(csv|meta\.json)' 'ledger\.(csv|meta\.json)' 'snapshots/' 'blocks\.(csv|meta\.json)' \
+            'pv[a-z_]*\.(csv|meta\.json)' scene.ini summary.json; do
     grep -qE "(^| )$want" <<<"$hit" || { echo "FAIL: no size of the scan filled the disk while writing $want (hit:$hit)"; exit 1; }
 done
 echo "files that filled the disk:$(tr ' ' '\n' <<<"$hit" | sed 's|snapshots/.*|snapshots/|' | sort -u | tr '\n' ' ')"

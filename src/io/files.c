@@ -100,8 +100,12 @@ int gr_file_commit(gr_file *out, gr_error *err)
         int rc = notes_commit(out, err);
         free(out->notes);
         out->notes = NULL;
-        if (rc) {
-            gr_file_abandon(out);
+        if (rc) { /* a streamed table a checkpoint records keeps its temporary, as for its own write */
+            if (out->keep_on_error) {
+                gr_file_keep(out);
+            } else {
+                gr_file_abandon(out);
+            }
             return rc;
         }
     }
