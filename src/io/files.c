@@ -153,6 +153,8 @@ int gr_file_fail(const char *path, int errnum, gr_error *err)
 
 void gr_file_keep(gr_file *out)
 {
+    free(out->notes); /* a resume writes the notes again */
+    out->notes = NULL;
     if (out->f) {
         fclose(out->f); /* may fail on a full disk: the checkpoint's length is on disk already */
         out->f = NULL;
