@@ -154,6 +154,13 @@ base | compare $S --out $O --models spring_dashpot,spring_dashpot@clamp | 2 | --
 base | compare $S --out $O --models spring_dashpot | 2 | --force | compare
 base | compare $S --out $O --models spring_dashpot --set model.eps_n=3 | 2 | eps_n | compare
 missing | sweep $S | 2 | cannot open | new
+missing | reproduce $S --out $O | 2 | not a campaign file | new
+base | reproduce nosuch --out $O | 2 | nosuch;--list | new
+base | reproduce ch3-moments --fidelity medium --out $O | 2 | quick or full | new
+file:[campaign]\nbogus = 1\n | reproduce $S --out $O | 2 | bogus;title, covers | new
+file:[campaign]\ntitle = t\nscene = nosuch.ini\n | reproduce $S --out $O | 2 | nosuch.ini | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N+model.eps_n = 10\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n | reproduce $S --out $O | 2 | linked;nothing was run | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 10\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[set]\nmodel.nosuch = 1\n | reproduce $S --out $O | 2 | nosuch;nothing was run | new
 file:[sweep]\nbogus = 1\n | sweep $S | 2 | bogus | new
 file:[sweep]\nscene = /dev/null\nout = /nonexistent-granule-out\n[vary]\nsystem.N = 10\n | sweep $S | 2 | not a regular file | new
 base | analyse $O --out $O/analysis | 2 | $O | new

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "cli/cli.h"
 #include "granule/campaign.h"
@@ -100,6 +101,36 @@ static int list_campaigns(void)
     return EXIT_OK;
 }
 
+/* A refused campaign leaves the output folder as it was: remove the sweep file and scene written
+ * into dir and every folder of out/NAME/FIDELITY that did not exist before (existed[0..2]). */
+static void undo_materialise(const char *dir, const bool existed[3])
+{
+    char path[4300], parent[4300];
+    snprintf(path, sizeof path, "%s/sweep.ini", dir);
+    unlink(path);
+    snprintf(path, sizeof path, "%s/scene.ini", dir);
+    unlink(path);
+    snprintf(path, sizeof path, "%s", dir);
+    for (int level = 2; level >= 0; level--) {
+        if (!existed[level]) {
+            rmdir(path); /* only if empty: anything of the user's stays */
+        }
+        snprintf(parent, sizeof parent, "%s", path);
+        char *slash = strrchr(parent, '/');
+        if (!slash) {
+            break;
+        }
+        *slash = 0;
+        snprintf(path, sizeof path, "%s", parent);
+    }
+}
+
+static bool is_dir(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
 /* Under an MPI launcher only rank 0 analyses (every rank runs the sweep). */
 static bool mpi_worker(void)
 {
@@ -185,6 +216,10 @@ int cmd_reproduce(int argc, char **argv)
         return EXIT_REFUSED;
     }
     snprintf(dir, sizeof dir, "%.1000s/%s/%s", out, c->name, fid == GR_FIDELITY_FULL ? "full" : "quick");
+    char level[1200];
+    bool existed[3] = {is_dir(out), false, is_dir(dir)};
+    snprintf(level, sizeof level, "%.1000s/%s", out, c->name);
+    existed[1] = is_dir(level);
     if (gr_output_dir_prepare(dir, true, &err) || !realpath(dir, abs_dir)) {
         cli_error("reproduce: %s: %s", dir, err.message[0] ? err.message : "cannot resolve the folder");
         free(c);
@@ -220,6 +255,15 @@ int cmd_reproduce(int argc, char **argv)
             sargv[sargc++] = "--all"; /* every point here, even inside a batch-array task's environment */
         }
         rc = cmd_sweep(sargc, sargv);
+        if (rc == EXIT_REFUSED) { /* the sweep said why: a key or value of the campaign */
+            if (!mpi_worker()) {
+                undo_materialise(abs_dir, existed);
+                cli_error("reproduce: %s refused: the sweep above was written from its [sweep.F], [vary.F] and [set] "
+                          "sections; nothing was run or kept", c->source);
+            }
+            free(c);
+            return rc;
+        }
         if (one_point || mpi_worker()) {
             free(c);
             return rc; /* the other points run elsewhere: analyse with --collect when all are done */
