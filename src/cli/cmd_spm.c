@@ -351,23 +351,6 @@ static void json_stats(cJSON *o, const gr_spm_walk_stats *st)
     cJSON_AddNumberToObject(o, "exits_found_by_refinement", (double)st->bridge_exits);
 }
 
-static int write_json(const char *dir, cJSON *j, gr_error *err)
-{
-    char *text = cJSON_Print(j);
-    if (!text) {
-        return GR_FAIL(err, GR_ENOMEM, "out of memory");
-    }
-    gr_file f;
-    int rc = gr_file_open(&f, dir, "summary.json", err);
-    if (!rc) {
-        fputs(text, f.f);
-        fputc('\n', f.f);
-        rc = gr_file_commit(&f, err);
-    }
-    cJSON_free(text);
-    return rc;
-}
-
 /* Draw a plot; on failure note why in the summary's plot_notes. */
 static void plot(const options *o, cJSON *j, const char *png, const char *body)
 {
@@ -684,7 +667,7 @@ static int cmd_circle(int argc, char **argv)
             left -= (size_t)k;
         }
         plot(&o, j, "q_raw.png", body);
-        rc = write_json(o.out, j, &err);
+        rc = gr_json_write(o.out, "summary.json", j, &err);
     }
     cJSON_Delete(j);
     if (!rc) {
@@ -1334,7 +1317,7 @@ static int cmd_full(int argc, char **argv)
                  "plot 'pl.csv' using 1:($2>0 ? $2 : 1/0) with linespoints pt 7 ps 0.4 title 'P_l', "
                  "'' using 1:($3>0 ? $3 : 1/0) with lines lw 2 dt 2 title '4.25'\n");
         plot(&o, j, "pl.png", body);
-        rc = write_json(o.out, j, &err);
+        rc = gr_json_write(o.out, "summary.json", j, &err);
     }
     cJSON_Delete(j);
     if (!rc) {
@@ -1598,7 +1581,7 @@ static int cmd_predict(int argc, char **argv)
                  "'' using 1:3 with lines dt 2 lw 2 title 'steepest descent 5.26: -S v^{%.3f} + ln (2 pi / |f_{yy}|)^{1/2}'\n",
                  p.alpha);
         plot(&o, j, "prediction.png", body);
-        rc = write_json(o.out, j, &err);
+        rc = gr_json_write(o.out, "summary.json", j, &err);
     }
     cJSON_Delete(j);
     if (rc) {

@@ -18,6 +18,7 @@
 #include "granule_commit.h"
 #include "granule_config.h"
 #include "io/files.h"
+#include "io/summary_read.h"
 #include "io/plot.h"
 #include "io/picture.h"
 #include "analysis/mean_field.h"
@@ -166,16 +167,8 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, co
         cJSON_AddItemToObject(j, "mean_field", mean_field);
     }
     cJSON_AddItemToObject(j, "scene", gr_scene_to_json(scene));
-    char *text = cJSON_Print(j);
+    int rc = gr_json_write(dir, "summary.json", j, err);
     cJSON_Delete(j);
-    gr_file f;
-    int rc = gr_file_open(&f, dir, "summary.json", err);
-    if (!rc) {
-        fputs(text, f.f);
-        fputc('\n', f.f);
-        rc = gr_file_commit(&f, err);
-    }
-    cJSON_free(text);
     return rc;
 }
 

@@ -4,7 +4,25 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/files.h"
 #include "io/summary_read.h"
+
+int gr_json_write(const char *dir, const char *name, const cJSON *j, gr_error *err)
+{
+    char *text = cJSON_Print(j);
+    if (!text) {
+        return GR_FAIL(err, GR_ENOMEM, "%s: out of memory", name);
+    }
+    gr_file f;
+    int rc = gr_file_open(&f, dir, name, err);
+    if (!rc) {
+        fputs(text, f.f);
+        fputc('\n', f.f);
+        rc = gr_file_commit(&f, err);
+    }
+    cJSON_free(text);
+    return rc;
+}
 
 cJSON *gr_json_read(const char *path, gr_error *err)
 {

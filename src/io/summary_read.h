@@ -1,4 +1,5 @@
-/* Reading a run folder's summary.json back (for compare, sweep and tests). */
+/* JSON files: summary.json and manifests read back (for compare, sweep and tests), and any cJSON
+ * tree written atomically. */
 #ifndef GR_SUMMARY_READ_H
 #define GR_SUMMARY_READ_H
 
@@ -6,6 +7,8 @@
 
 #include "granule/status.h"
 
+/* Write j, indented, to DIR/NAME atomically (temporary + rename, io/files.h). */
+int gr_json_write(const char *dir, const char *name, const cJSON *j, gr_error *err);
 /* Parse a JSON file; the caller deletes the result. NULL with err set if missing/invalid. */
 cJSON *gr_json_read(const char *path, gr_error *err);
 /* Parse dir/summary.json; the caller deletes the result. NULL with err set if missing/invalid. */

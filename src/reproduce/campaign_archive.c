@@ -15,20 +15,6 @@
 #include "io/summary_read.h"
 #include "reproduce/campaign_points.h"
 
-static int write_json(const char *dir, const char *name, const cJSON *j, gr_error *err)
-{
-    char *text = cJSON_Print(j);
-    gr_file f;
-    int rc = text ? gr_file_open(&f, dir, name, err) : GR_FAIL(err, GR_ENOMEM, "out of memory");
-    if (!rc) {
-        fputs(text, f.f);
-        fputc('\n', f.f);
-        rc = gr_file_commit(&f, err);
-    }
-    cJSON_free(text);
-    return rc;
-}
-
 int campaign_archive(const campaign_points *pts, const char *results, gr_error *err)
 {
     char dir[1200];
@@ -41,7 +27,7 @@ int campaign_archive(const campaign_points *pts, const char *results, gr_error *
         cJSON *j = cJSON_CreateObject();
         cJSON_AddItemReferenceToObject(j, "point", pts->p[i].manifest);
         cJSON_AddItemReferenceToObject(j, "summary", pts->p[i].summary);
-        rc = write_json(dir, name, j, err);
+        rc = gr_json_write(dir, name, j, err);
         cJSON_Delete(j);
     }
     return rc;
@@ -79,8 +65,8 @@ int gr_campaign_restore(const char *dir, const char *results, long *restored, gr
         const cJSON *m = cJSON_GetObjectItem(j, "point"), *s = cJSON_GetObjectItem(j, "summary");
         if (!cJSON_IsObject(m) || !cJSON_IsObject(s)) {
             rc = j ? GR_FAIL(err, GR_EINVAL, "%s: not an archived point (point and summary objects)", path) : GR_EIO;
-        } else if (!(rc = gr_output_dir_prepare(point_dir, true, err)) && !(rc = write_json(point_dir, "summary.json", s, err))) {
-            rc = write_json(point_dir, "point.json", m, err); /* last: the point counts as finished only when both exist */
+        } else if (!(rc = gr_output_dir_prepare(point_dir, true, err)) && !(rc = gr_json_write(point_dir, "summary.json", s, err))) {
+            rc = gr_json_write(point_dir, "point.json", m, err); /* last: the point counts as finished only when both exist */
             *restored += !rc;
         }
         cJSON_Delete(j);

@@ -11,6 +11,7 @@
 #include "granule_commit.h"
 #include "io/files.h"
 #include "io/plot.h"
+#include "io/summary_read.h"
 #include "reproduce/campaign_points.h"
 
 static const char *kind_name(gr_result_kind k)
@@ -341,14 +342,9 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
     } else {
         rc = gr_file_commit(&csv, err);
     }
-    char *text = cJSON_Print(j);
-    gr_file jf;
-    if (!rc && text && !(rc = gr_file_open(&jf, results, "results.json", err))) {
-        fputs(text, jf.f);
-        fputc('\n', jf.f);
-        rc = gr_file_commit(&jf, err);
+    if (!rc) {
+        rc = gr_json_write(results, "results.json", j, err);
     }
-    cJSON_free(text);
     cJSON_Delete(j);
     if (!rc) {
         rc = campaign_archive(&pts, results, err);

@@ -30,6 +30,7 @@
 #include "granule_commit.h"
 #include "granule_config.h"
 #include "io/files.h"
+#include "io/summary_read.h"
 #include "io/plot.h"
 
 static double now(void)
@@ -1571,19 +1572,8 @@ static int write_summary(const char *dir, const gr_bisect_settings *s, const gr_
     cJSON_AddNumberToObject(settings, "jackknife_groups", s->jackknife_groups);
     cJSON_AddNumberToObject(settings, "anchor", s->anchor);
     cJSON_AddNumberToObject(settings, "anchor_min_count", s->anchor_min_count);
-    char *text = cJSON_Print(j);
+    int rc = gr_json_write(dir, "summary.json", j, err);
     cJSON_Delete(j);
-    if (!text) {
-        return GR_FAIL(err, GR_ENOMEM, "summary.json: out of memory");
-    }
-    gr_file f;
-    int rc = gr_file_open(&f, dir, "summary.json", err);
-    if (!rc) {
-        fputs(text, f.f);
-        fputc('\n', f.f);
-        rc = gr_file_commit(&f, err);
-    }
-    cJSON_free(text);
     return rc;
 }
 
