@@ -21,8 +21,11 @@ typedef enum { GR_FIDELITY_QUICK = 0, GR_FIDELITY_FULL = 1 } gr_fidelity;
  * POWER_LAW  y = A x^-exponent fitted over x (usually system.N) in [x_min, x_max] per
  *            combination of the `by` keys, and per m when y names {m};
  * RUNNING    the running average of T(t) and its means over `period` seconds (Fig. 2.8);
- * RISE       the time T(t) takes to reach 90 % of its steady value (Fig. 2.7). */
-typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING, GR_RESULT_RISE } gr_result_kind;
+ * RISE       the time T(t) takes to reach 90 % of its steady value (Fig. 2.7);
+ * CURVE      a table column y(x) of every run (e.g. G_1(R) of gaps.csv) averaged over seeds bin by
+ *            bin, one curve per combination of the varied keys, optionally mapped (`transform`) and
+ *            summarised by the slope of a power law over [x_min, x_max]. */
+typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING, GR_RESULT_RISE, GR_RESULT_CURVE } gr_result_kind;
 
 typedef struct gr_campaign_result {
     char id[32];          /* e.g. "fig3.2", "table3.1" */
@@ -30,9 +33,14 @@ typedef struct gr_campaign_result {
     gr_result_kind kind;
     char quantity[64];    /* e.g. "xi_2", "zeta_m", "D_f" */
     char unit[32];
-    char y[128];          /* dotted summary.json path; {m} and {m-1} are replaced by m */
-    char y_err[128];      /* the run's own error of y (used when a group has one seed) */
-    char x[64];           /* POWER_LAW: the varied key on the abscissa */
+    char y[128];          /* dotted summary.json path; {m} and {m-1} are replaced by m (CURVE: a column) */
+    char y_err[128];      /* the run's own error of y (used when a group has one seed) (CURVE: a column) */
+    char x[64];           /* POWER_LAW: the varied key on the abscissa (CURVE: a column) */
+    char table[64];       /* CURVE: the run's CSV, e.g. "gaps.csv" */
+    char where[128];      /* CURVE: the rows used, "column=value, ..." */
+    char select[128];     /* CURVE: only the curves whose group has every "key=value" listed */
+    char transform[32];   /* CURVE: "" or "bisection_collapse" (thesis 3.39-3.40) */
+    double collapse_at;   /* CURVE: x_0 of the collapse, where every mapped curve equals -ln x_0 */
     double x_min, x_max;  /* POWER_LAW: fit window */
     char by[256];         /* POWER_LAW: comma-separated keys that label a fit */
     int m_lo, m_hi;       /* moments: m = m_lo..m_hi (0 = no {m}) */

@@ -2,9 +2,10 @@
  * point's manifest and summary.json, ~10 kB each), so that a committed result set carries its
  * campaign across machines and sessions: a later `granule reproduce` puts the archived points back
  * into its runs folder, the sweep sees them finished (same scene hash) and runs only the rest.
- * Only summary.json comes back: an analysis that reads a run's CSVs (running_mean) needs the runs. */
+ * summary.json comes back, and the series of every curve result (series.json, 6 significant digits); an analysis that reads T(t) (running_mean, rise_time) needs the runs. */
 #include <cjson/cJSON.h>
 #include <dirent.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,7 +16,48 @@
 #include "io/summary_read.h"
 #include "reproduce/campaign_points.h"
 
-int campaign_archive(const campaign_points *pts, const char *results, gr_error *err)
+static double digits6(double v)
+{
+    char buf[32];
+    snprintf(buf, sizeof buf, "%.6g", v);
+    return atof(buf);
+}
+
+/* {"KEY": {"x": [...], "y": [...], "e": [...]}, ...} of the campaign's curve results for one point */
+static cJSON *curve_series(const gr_campaign *c, const campaign_point *p)
+{
+    cJSON *all = cJSON_CreateObject();
+    double *x = malloc(3 * 4096 * sizeof *x), *y = x + 4096, *e = y + 4096;
+    for (int i = 0; i < c->n_results; i++) {
+        const gr_campaign_result *r = &c->results[i];
+        char key[512];
+        campaign_curve_key(r, key, sizeof key);
+        if (r->kind != GR_RESULT_CURVE || cJSON_GetObjectItem(all, key)) {
+            continue;
+        }
+        const int n = campaign_curve_series(p, r, x, y, e);
+        if (n == 0) {
+            continue;
+        }
+        cJSON *o = cJSON_AddObjectToObject(all, key);
+        cJSON *ax = cJSON_AddArrayToObject(o, "x"), *ay = cJSON_AddArrayToObject(o, "y"), *ae = cJSON_AddArrayToObject(o, "e");
+        for (int k = 0; k < n; k++) {
+            if (isfinite(y[k])) { /* zeros too: the seed average counts them */
+                cJSON_AddItemToArray(ax, cJSON_CreateNumber(digits6(x[k])));
+                cJSON_AddItemToArray(ay, cJSON_CreateNumber(digits6(y[k])));
+                cJSON_AddItemToArray(ae, isfinite(e[k]) ? cJSON_CreateNumber(digits6(e[k])) : cJSON_CreateNull());
+            }
+        }
+    }
+    free(x);
+    if (!all->child) {
+        cJSON_Delete(all);
+        return NULL;
+    }
+    return all;
+}
+
+int campaign_archive(const gr_campaign *c, const campaign_points *pts, const char *results, gr_error *err)
 {
     char dir[1200];
     snprintf(dir, sizeof dir, "%.1100s/points", results);
@@ -27,6 +69,10 @@ int campaign_archive(const campaign_points *pts, const char *results, gr_error *
         cJSON *j = cJSON_CreateObject();
         cJSON_AddItemReferenceToObject(j, "point", pts->p[i].manifest);
         cJSON_AddItemReferenceToObject(j, "summary", pts->p[i].summary);
+        cJSON *series = curve_series(c, &pts->p[i]);
+        if (series) {
+            cJSON_AddItemToObject(j, "series", series);
+        }
         rc = gr_json_write(dir, name, j, err);
         cJSON_Delete(j);
     }
@@ -65,7 +111,10 @@ int gr_campaign_restore(const char *dir, const char *results, long *restored, gr
         const cJSON *m = cJSON_GetObjectItem(j, "point"), *s = cJSON_GetObjectItem(j, "summary");
         if (!cJSON_IsObject(m) || !cJSON_IsObject(s)) {
             rc = j ? GR_FAIL(err, GR_EINVAL, "%s: not an archived point (point and summary objects)", path) : GR_EIO;
-        } else if (!(rc = gr_output_dir_prepare(point_dir, true, err)) && !(rc = gr_json_write(point_dir, "summary.json", s, err))) {
+        } else if (!(rc = gr_output_dir_prepare(point_dir, true, err)) && !(rc = gr_json_write(point_dir, "summary.json", s, err)) &&
+                   !(rc = cJSON_IsObject(cJSON_GetObjectItem(j, "series"))
+                              ? gr_json_write(point_dir, "series.json", cJSON_GetObjectItem(j, "series"), err)
+                              : GR_OK)) {
             rc = gr_json_write(point_dir, "point.json", m, err); /* last: the point counts as finished only when both exist */
             *restored += !rc;
         }

@@ -76,7 +76,9 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     } text[] = {{"title", r->title, sizeof r->title},       {"quantity", r->quantity, sizeof r->quantity},
                 {"unit", r->unit, sizeof r->unit},          {"y", r->y, sizeof r->y},
                 {"y_err", r->y_err, sizeof r->y_err},       {"x", r->x, sizeof r->x},
-                {"by", r->by, sizeof r->by},                {"thesis_source", r->thesis_source, sizeof r->thesis_source}};
+                {"by", r->by, sizeof r->by},                {"thesis_source", r->thesis_source, sizeof r->thesis_source},
+                {"table", r->table, sizeof r->table},       {"where", r->where, sizeof r->where},
+                {"select", r->select, sizeof r->select}};
     for (size_t i = 0; i < sizeof text / sizeof text[0]; i++) {
         if (!strcmp(name, text[i].key)) {
             snprintf(text[i].dst, text[i].size, "%s", value);
@@ -98,9 +100,11 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
             r->kind = GR_RESULT_RUNNING;
         } else if (!strcmp(value, "rise_time")) {
             r->kind = GR_RESULT_RISE;
+        } else if (!strcmp(value, "curve")) {
+            r->kind = GR_RESULT_CURVE;
         } else {
-            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time", r->id,
-                     value);
+            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, curve",
+                     r->id, value);
             return 0;
         }
         return 1;
@@ -120,7 +124,19 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         }
         return 1;
     }
-    double *num = !strcmp(name, "x_min") ? &r->x_min : !strcmp(name, "x_max") ? &r->x_max : !strcmp(name, "period") ? &r->period : NULL;
+    if (!strcmp(name, "transform")) {
+        if (strcmp(value, "none") && strcmp(value, "bisection_collapse")) {
+            snprintf(p->error, sizeof p->error, "[result %s] transform = %s: allowed none, bisection_collapse", r->id, value);
+            return 0;
+        }
+        snprintf(r->transform, sizeof r->transform, "%s", strcmp(value, "none") ? value : "");
+        return 1;
+    }
+    double *num = !strcmp(name, "x_min")       ? &r->x_min
+                  : !strcmp(name, "x_max")     ? &r->x_max
+                  : !strcmp(name, "period")    ? &r->period
+                  : !strcmp(name, "collapse_at") ? &r->collapse_at
+                                               : NULL;
     if (num) {
         if (!parse_double(value, num) || *num <= 0.0) {
             snprintf(p->error, sizeof p->error, "[result %s] %s = %s: expected a positive number", r->id, name, value);
@@ -130,7 +146,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     }
     snprintf(p->error, sizeof p->error,
              "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, x_max, by, m, per_m, period, "
-             "thesis, thesis_source, note",
+             "table, where, select, transform, collapse_at, thesis, thesis_source, note",
              r->id, name);
     return 0;
 }
@@ -248,6 +264,13 @@ static int parse_text(gr_campaign *c, const char *text, const char *where, gr_er
         }
         if (r->kind == GR_RESULT_POWER_LAW && !r->x[0]) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = power_law needs x (the varied key)", where, r->id);
+        }
+        if (r->kind == GR_RESULT_CURVE && (!r->table[0] || !r->x[0])) {
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = curve needs table (a run's CSV) and x, y (its columns)", where,
+                           r->id);
+        }
+        if (r->transform[0] && !(r->collapse_at > 0.0 && r->collapse_at < 1.0)) {
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] transform = %s needs collapse_at in (0, 1)", where, r->id, r->transform);
         }
     }
     return GR_OK;

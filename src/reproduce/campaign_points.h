@@ -4,6 +4,7 @@
 #define GR_REPRODUCE_CAMPAIGN_POINTS_H
 
 #include <cjson/cJSON.h>
+#include <stdbool.h>
 #include <stdio.h>
 
 #include "granule/campaign.h"
@@ -26,8 +27,8 @@ void campaign_points_free(campaign_points *pts);
 /* The value of varied key `key` of a point ("" if not varied). */
 const char *campaign_point_key(const campaign_point *p, const char *key);
 
-/* Keep every point's manifest and summary in RESULTS/points (campaign_archive.c). */
-int campaign_archive(const campaign_points *pts, const char *results, gr_error *err);
+/* Keep every point's manifest, summary and curve series in RESULTS/points (campaign_archive.c). */
+int campaign_archive(const gr_campaign *c, const campaign_points *pts, const char *results, gr_error *err);
 
 /* One row of results.csv: a number of ours beside the thesis's. */
 typedef struct campaign_row {
@@ -63,6 +64,18 @@ int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const ca
                      FILE *data, gr_error *err);
 int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
                   FILE *data, gr_error *err);
+int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
+                   FILE *data, gr_error *err);
+/* A CURVE result's series of one run (from its table, or from the archive's series.json): x, y, e
+ * (at most 4096 rows each); returns the number of rows. */
+int campaign_curve_series(const campaign_point *p, const gr_campaign_result *r, double *x, double *y, double *e);
+/* The name a CURVE result's series is archived under (results sharing table and columns share it). */
+void campaign_curve_key(const gr_campaign_result *r, char *out, size_t len);
+/* The bisection collapse (thesis 3.39-3.40) of G(x) in place: x -> -ln x, G -> A_N G^(1/(n-1)) with
+ * n = log2 N and A_N such that the mapped G(x0) (interpolated log-log between the bins around x0,
+ * x ascending) is -ln x0; errors propagated. False (nothing changed) when G there is not positive
+ * or N <= 2. */
+bool campaign_bisection_collapse(double N, double x0, double *x, double *y, double *e, int n);
 
 /* Is the warm-up long enough? The mean of T over the first quarter of a run's sampling relative to
  * the mean over the rest, minus 1 (NAN without temperature.csv). */

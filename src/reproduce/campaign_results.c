@@ -16,7 +16,11 @@
 
 static const char *kind_name(gr_result_kind k)
 {
-    return k == GR_RESULT_MEAN ? "mean" : k == GR_RESULT_POWER_LAW ? "power_law" : k == GR_RESULT_RUNNING ? "running_mean" : "rise_time";
+    return k == GR_RESULT_MEAN        ? "mean"
+           : k == GR_RESULT_POWER_LAW ? "power_law"
+           : k == GR_RESULT_RUNNING   ? "running_mean"
+           : k == GR_RESULT_CURVE     ? "curve"
+                                      : "rise_time";
 }
 
 static void add_num(cJSON *o, const char *name, double v)
@@ -65,8 +69,10 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
         thesis |= isfinite(rows->r[i].thesis);
         ours |= isfinite(rows->r[i].value);
     }
-    if (!ours) {
-        fprintf(stderr, "reproduce: %s: no value in any row, no figure\n", r->id);
+    if (!ours) { /* a curve without a fit window has its figure in ID_data.png only */
+        if (r->kind != GR_RESULT_CURVE) {
+            fprintf(stderr, "reproduce: %s: no value in any row, no figure\n", r->id);
+        }
         return;
     }
     char body[2048], png[80], note[256];
@@ -142,6 +148,19 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
                  "plot for [i=0:%d] '%s_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 lc i+1 title columnheader(1), "
                  "for [i=0:%d] '' index i using 1:($4 > 0 ? 1/0 : $2) with points pt 6 lc i+1 notitle\n",
                  r->x, r->y, r->id, window, blocks - 1, r->id, blocks - 1);
+    } else if (r->kind == GR_RESULT_CURVE) {
+        int blocks = power_law_blocks(dir, r->id);
+        if (!blocks) {
+            return;
+        }
+        const bool map = r->transform[0] != 0;
+        snprintf(body, sizeof body,
+                 "set datafile separator whitespace\nset logscale xy\nset format x '%%g'\nset format y '10^{%%L}'\n"
+                 "set key %s noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
+                 "set title \"%s\" noenhanced\n"
+                 "plot for [i=0:%d] '%s_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i+1 title columnheader(1)%s\n",
+                 map ? "inside top left" : "outside right", map ? "-ln R" : r->x, map ? "A_N G^{1/(n-1)}  (3.39)" : r->y, r->title, blocks - 1, r->id,
+                 map ? ", x with lines dt 2 lw 2 lc rgb 'black' title 'uniform bisection (3.36): -ln R'" : "");
     } else if (r->kind == GR_RESULT_RUNNING) {
         snprintf(body, sizeof body,
                  "set datafile separator ','\nset key outside right\nset xlabel 'sampling time t (s)'\nset ylabel 'T (m^2/s^2)'\n"
@@ -226,6 +245,7 @@ static int analyse_one(const gr_campaign *c, const gr_campaign_result *r, const 
     rc = r->kind == GR_RESULT_MEAN        ? campaign_mean(c, r, pts, rows, data.f, err)
          : r->kind == GR_RESULT_POWER_LAW ? campaign_power_law(c, r, pts, rows, data.f, err)
          : r->kind == GR_RESULT_RUNNING   ? campaign_running(c, r, pts, rows, data.f, err)
+         : r->kind == GR_RESULT_CURVE     ? campaign_curve(c, r, pts, rows, data.f, err)
                                           : campaign_rise(c, r, pts, rows, data.f, err);
     if (rc) {
         gr_file_abandon(&data);
@@ -347,7 +367,7 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
     }
     cJSON_Delete(j);
     if (!rc) {
-        rc = campaign_archive(&pts, results, err);
+        rc = campaign_archive(c, &pts, results, err);
     }
     campaign_points_free(&pts);
     return rc;
