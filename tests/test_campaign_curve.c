@@ -87,6 +87,13 @@ START_TEST(test_series_from_table_with_filter)
     snprintf(r.where, sizeof r.where, "h=2, binning=log");
     ck_assert_int_eq(campaign_curve_series(&p, &r, x, y, e), 1);
     ck_assert_double_eq(y[0], 50.0);
+    /* a placeholder takes the point's varied value: h = N / 512 (renormalisation, 3.25) */
+    p.manifest = cJSON_Parse("{\"keys\": {\"system.N\": \"1024\"}}");
+    snprintf(r.where, sizeof r.where, "h={system.N/512}, binning=log");
+    ck_assert_int_eq(campaign_curve_series(&p, &r, x, y, e), 1);
+    ck_assert_double_eq(y[0], 50.0);
+    cJSON_Delete(p.manifest);
+    p.manifest = NULL;
     snprintf(r.y, sizeof r.y, "no_such_column");
     ck_assert_int_eq(campaign_curve_series(&p, &r, x, y, e), 0);
     unlink(path);

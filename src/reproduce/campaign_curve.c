@@ -71,8 +71,41 @@ static int split(char *line, char **fields, int max)
     return n;
 }
 
+/* `where` with every {KEY} or {KEY/DIV} replaced by the point's value of the varied KEY (divided by
+ * DIV and printed as an integer when DIV is given): "h={system.N/512}" is h=2 for N = 1024. */
+static void expand_where(const campaign_point *p, const char *where, char *out, size_t len)
+{
+    size_t n = 0;
+    for (const char *s = where; *s && n + 1 < len;) {
+        const char *end = *s == '{' ? strchr(s, '}') : NULL;
+        if (!end) {
+            out[n++] = *s++;
+            continue;
+        }
+        char key[96];
+        snprintf(key, sizeof key, "%.*s", (int)(end - s - 1), s + 1);
+        char *slash = strchr(key, '/');
+        double div = 0.0;
+        if (slash) {
+            *slash = 0;
+            div = atof(slash + 1);
+        }
+        const char *v = campaign_point_key(p, key);
+        if (div > 0.0) {
+            n += (size_t)snprintf(out + n, len - n, "%.0f", atof(v) / div);
+        } else {
+            n += (size_t)snprintf(out + n, len - n, "%s", v);
+        }
+        n = n < len ? n : len - 1;
+        s = end + 1;
+    }
+    out[n] = 0;
+}
+
 static int read_table(const campaign_point *p, const gr_campaign_result *r, double *x, double *y, double *e)
 {
+    char where[256];
+    expand_where(p, r->where, where, sizeof where);
     char path[1300];
     snprintf(path, sizeof path, "%s/%s", p->dir, r->table);
     FILE *f = fopen(path, "r");
@@ -93,7 +126,7 @@ static int read_table(const campaign_point *p, const gr_campaign_result *r, doub
             cy = column_of(fields, nf, r->y);
             ce = r->y_err[0] ? column_of(fields, nf, r->y_err) : -1;
             char buf[256];
-            snprintf(buf, sizeof buf, "%s", r->where);
+            snprintf(buf, sizeof buf, "%s", where);
             char *save = NULL;
             for (char *tok = strtok_r(buf, ",", &save); tok && n_where < 16; tok = strtok_r(NULL, ",", &save)) {
                 cw[n_where++] = column_of(fields, nf, tok);
@@ -108,7 +141,7 @@ static int read_table(const campaign_point *p, const gr_campaign_result *r, doub
         for (int k = 0; k < n_where; k++) {
             need = cw[k] > need ? cw[k] : need;
         }
-        if (nf <= need || !row_matches(r->where, fields, cw, n_where)) {
+        if (nf <= need || !row_matches(where, fields, cw, n_where)) {
             continue;
         }
         x[n] = atof(fields[cx]);

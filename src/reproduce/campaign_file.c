@@ -240,6 +240,20 @@ static int parse_text(gr_campaign *c, const char *text, const char *where, gr_er
 {
     parse_ctx p = {.c = c};
     int bad = ini_parse_string(text, on_line, &p);
+    if (bad > 0 && !p.error[0]) { /* inih cuts a line at INI_MAX_LINE and parses the rest as the next one */
+        const char *line = text, *prev = NULL;
+        for (int i = 1; i < bad && line; i++) {
+            prev = line;
+            line = strchr(line, '\n');
+            line = line ? line + 1 : NULL;
+        }
+        const char *lng = prev && strcspn(prev, "\n") >= INI_MAX_LINE - 1 ? prev : line && strcspn(line, "\n") >= INI_MAX_LINE - 1 ? line : NULL;
+        if (lng) {
+            bad -= lng == prev;
+            snprintf(p.error, sizeof p.error, "line longer than %d characters (split it: about, note and thesis may repeat)",
+                     INI_MAX_LINE - 2);
+        }
+    }
     if (bad) {
         return GR_FAIL(err, GR_EINVAL, "%s:%d: %s", where, bad, p.error[0] ? p.error : "not an INI line");
     }
