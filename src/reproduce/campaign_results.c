@@ -154,12 +154,14 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
             return;
         }
         const bool map = r->transform[0] != 0;
+        const char *axes = !strcmp(r->axes, "linear") ? "" : !strcmp(r->axes, "linlog") ? "set logscale y\nset format y '10^{%L}'\n"
+                                                                                         : "set logscale xy\nset format y '10^{%L}'\n";
         snprintf(body, sizeof body,
-                 "set datafile separator whitespace\nset logscale xy\nset format x '%%g'\nset format y '10^{%%L}'\n"
+                 "set datafile separator whitespace\n%sset format x '%%g'\n"
                  "set key %s noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
                  "set title \"%s\" noenhanced\n"
                  "plot for [i=0:%d] '%s_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i+1 title columnheader(1)%s\n",
-                 map ? "inside top left" : "outside right", map ? "-ln R" : r->x, map ? "A_N G^{1/(n-1)}  (3.39)" : r->quantity, r->title, blocks - 1, r->id,
+                 axes, map ? "inside top left" : "outside right", map ? "-ln R" : r->x, map ? "A_N G^{1/(n-1)}  (3.39)" : r->quantity, r->title, blocks - 1, r->id,
                  map ? ", x with lines dt 2 lw 2 lc rgb 'black' title 'uniform bisection (3.36): -ln R'" : "");
     } else if (r->kind == GR_RESULT_RUNNING) {
         snprintf(body, sizeof body,
