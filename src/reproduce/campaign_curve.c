@@ -223,7 +223,7 @@ bool campaign_bisection_collapse(double N, double x0, double *x, double *y, doub
 
 /* Slope b of y = a x^b over the window (NAN with too few points); *err its error. */
 static double slope(const gr_campaign_result *r, const double *x, const double *y, const double *e, int n, double *err,
-                    int *used)
+                    int *used, double *chi2_red)
 {
     double fx[MAX_BINS], fy[MAX_BINS], fe[MAX_BINS];
     int m = 0;
@@ -244,6 +244,7 @@ static double slope(const gr_campaign_result *r, const double *x, const double *
         *err = NAN;
         return NAN;
     }
+    *chi2_red = weights ? fit.chi2_red : (double)NAN;
     *err = fit.err[1];
     return fit.p[1];
 }
@@ -305,8 +306,8 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
             campaign_add_cost(row, members[k]);
             row->n_seeds++;
             acc_add(acc, x, y, e, n);
-            double se;
-            const double b = slope(r, x, y, e, n, &se, &used);
+            double se, chi2;
+            const double b = slope(r, x, y, e, n, &se, &used, &chi2);
             if (isfinite(b) && ns < MAX_SEEDS) {
                 slopes[ns++] = b;
             }
@@ -320,7 +321,7 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
             e[i] = campaign_headline_error(se_seeds, se_runs, m);
         }
         if (r->x_min > 0.0 || isfinite(r->x_max)) {
-            row->value = slope(r, x, y, e, acc->n, &slope_err_fit, &used);
+            row->value = slope(r, x, y, e, acc->n, &slope_err_fit, &used, &row->chi2_red);
             row->n_x = used;
             row->x_lo = r->x_min;
             row->x_hi = r->x_max;

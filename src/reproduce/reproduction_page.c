@@ -60,10 +60,34 @@ static void figure(FILE *f, const char *root, const char *link_root, const char 
 static void result_table(FILE *f, const cJSON *res, const char *campaign, const char *root, const char *link_root)
 {
     fprintf(f, "### %s: %s\n\n", str(res, "id"), str(res, "title"));
+    const cJSON *row;
+    bool values = false;
+    double runs = 0.0, cpu = 0.0;
+    int curves = 0;
+    cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
+    {
+        values |= isfinite(num(row, "value"));
+        runs += num(row, "seeds");
+        cpu += num(row, "cpu_seconds");
+        curves++;
+    }
+    if (!values && !strcmp(str(res, "kind"), "curve")) { /* a figure to compare by eye: no table of blanks */
+        fprintf(f, "A figure only (the thesis gives no number): %d curves from %.0f runs, %.2f CPU-hours.\n", curves, runs,
+                cpu / 3600.0);
+        if (str(res, "note")[0]) {
+            fprintf(f, "\n%s\n", str(res, "note"));
+        }
+        if (str(res, "thesis_source")[0]) {
+            fprintf(f, "\nThesis: %s.\n", str(res, "thesis_source"));
+        }
+        fprintf(f, "\n");
+        figure(f, root, link_root, campaign, str(res, "id"), "_data");
+        fprintf(f, "\n");
+        return;
+    }
     const char *unit = str(res, "unit");
     fprintf(f, "| %s | thesis%s%s%s | granule | z | seeds | fit / runs | CPU-h |\n|---|---|---|---|---|---|---|\n",
             !strcmp(str(res, "kind"), "power_law") ? "fit of" : "run", unit[0] ? " (" : "", unit, unit[0] ? ")" : "");
-    const cJSON *row;
     cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
     {
         char ours[64], theirs[96], group[200], fit[96] = "";
