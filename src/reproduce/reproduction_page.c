@@ -57,6 +57,25 @@ static void figure(FILE *f, const char *root, const char *link_root, const char 
     }
 }
 
+/* A result's note, where the thesis's values come from, and its figures (the comparison only when
+ * there are numbers to compare). */
+static void notes_and_figures(FILE *f, const cJSON *res, const char *campaign, const char *root, const char *link_root,
+                              bool numbers)
+{
+    if (str(res, "note")[0]) {
+        fprintf(f, "\n%s\n", str(res, "note"));
+    }
+    if (str(res, "thesis_source")[0]) {
+        fprintf(f, "\nThesis%s: %s.\n", numbers ? " values" : "", str(res, "thesis_source"));
+    }
+    fprintf(f, "\n");
+    if (numbers) {
+        figure(f, root, link_root, campaign, str(res, "id"), "");
+    }
+    figure(f, root, link_root, campaign, str(res, "id"), "_data");
+    fprintf(f, "\n");
+}
+
 static void result_table(FILE *f, const cJSON *res, const char *campaign, const char *root, const char *link_root)
 {
     fprintf(f, "### %s: %s\n\n", str(res, "id"), str(res, "title"));
@@ -74,15 +93,7 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
     if (!values && !strcmp(str(res, "kind"), "curve")) { /* a figure to compare by eye: no table of blanks */
         fprintf(f, "A figure only (the thesis gives no number): %d curves from %.0f runs, %.2f CPU-hours.\n", curves, runs,
                 cpu / 3600.0);
-        if (str(res, "note")[0]) {
-            fprintf(f, "\n%s\n", str(res, "note"));
-        }
-        if (str(res, "thesis_source")[0]) {
-            fprintf(f, "\nThesis: %s.\n", str(res, "thesis_source"));
-        }
-        fprintf(f, "\n");
-        figure(f, root, link_root, campaign, str(res, "id"), "_data");
-        fprintf(f, "\n");
+        notes_and_figures(f, res, campaign, root, link_root, false);
         return;
     }
     const char *unit = str(res, "unit");
@@ -123,16 +134,7 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         snprintf(seeds, sizeof seeds, bad > 0 ? "%.0f (%.0f with T's block error not converged)" : "%.0f", num(row, "seeds"), bad);
         fprintf(f, "| %s | %s | %s | %s | %s | %s | %.2f |\n", group, theirs, ours, zs, seeds, fit, num(row, "cpu_seconds") / 3600.0);
     }
-    if (str(res, "note")[0]) {
-        fprintf(f, "\n%s\n", str(res, "note"));
-    }
-    if (str(res, "thesis_source")[0]) {
-        fprintf(f, "\nThesis values: %s.\n", str(res, "thesis_source"));
-    }
-    fprintf(f, "\n");
-    figure(f, root, link_root, campaign, str(res, "id"), "");
-    figure(f, root, link_root, campaign, str(res, "id"), "_data");
-    fprintf(f, "\n");
+    notes_and_figures(f, res, campaign, root, link_root, true);
 }
 
 int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
