@@ -42,6 +42,8 @@ typedef struct gr_campaign_result {
     char transform[32];   /* CURVE: "" or "bisection_collapse" (thesis 3.39-3.40) */
     double collapse_at;   /* CURVE: x_0 of the collapse, where every mapped curve equals -ln x_0 */
     char axes[16];        /* CURVE: the figure's axes, "loglog" (default), "linlog" (log y) or "linear" */
+    char overlay[32];     /* CURVE: "" or "bisection": beside every curve the uniform bisection process's
+                             P_n(x) = (-ln x)^(n-1)/(n-1)! (3.36), n = log2 N, no parameter fitted */
     double x_min, x_max;  /* POWER_LAW: fit window */
     char by[256];         /* POWER_LAW: comma-separated keys that label a fit */
     int m_lo, m_hi;       /* moments: m = m_lo..m_hi (0 = no {m}) */

@@ -338,6 +338,15 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
                         acc->count[i], in);
             }
         }
+        if (!strcmp(r->overlay, "bisection") && nm > 0 && acc->n > 0) { /* 3.36, beside the curve: seeds = 0 */
+            const double nb = log2(atof(campaign_point_key(members[0], "system.N")));
+            for (int i = 0; i < acc->n; i++) {
+                if (acc->x[i] > 0.0 && acc->x[i] < 1.0 && acc->sum[i] > 0.0) { /* where the curve has data */
+                    const double P = exp((nb - 1.0) * log(-log(acc->x[i])) - lgamma(nb));
+                    fprintf(data, "\"uniform bisection (3.36), n = %.4g\",0,%.9g,%.9g,0,0,0\n", nb, acc->x[i], P);
+                }
+            }
+        }
     }
     free(acc);
     free(x);

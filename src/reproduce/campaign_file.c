@@ -78,7 +78,8 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
                 {"y_err", r->y_err, sizeof r->y_err},       {"x", r->x, sizeof r->x},
                 {"by", r->by, sizeof r->by},                {"thesis_source", r->thesis_source, sizeof r->thesis_source},
                 {"table", r->table, sizeof r->table},       {"where", r->where, sizeof r->where},
-                {"select", r->select, sizeof r->select},    {"axes", r->axes, sizeof r->axes}};
+                {"select", r->select, sizeof r->select},    {"axes", r->axes, sizeof r->axes},
+                {"overlay", r->overlay, sizeof r->overlay}};
     for (size_t i = 0; i < sizeof text / sizeof text[0]; i++) {
         if (!strcmp(name, text[i].key)) {
             snprintf(text[i].dst, text[i].size, "%s", value);
@@ -146,7 +147,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     }
     snprintf(p->error, sizeof p->error,
              "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, x_max, by, m, per_m, period, "
-             "table, where, select, transform, collapse_at, axes, thesis, thesis_source, note",
+             "table, where, select, transform, collapse_at, axes, overlay, thesis, thesis_source, note",
              r->id, name);
     return 0;
 }
@@ -285,6 +286,9 @@ static int parse_text(gr_campaign *c, const char *text, const char *where, gr_er
         }
         if (r->axes[0] && strcmp(r->axes, "loglog") && strcmp(r->axes, "linlog") && strcmp(r->axes, "linear")) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] axes = %s: allowed loglog, linlog, linear", where, r->id, r->axes);
+        }
+        if (r->overlay[0] && strcmp(r->overlay, "bisection")) {
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] overlay = %s: allowed bisection", where, r->id, r->overlay);
         }
         if (r->transform[0] && !(r->collapse_at > 0.0 && r->collapse_at < 1.0)) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] transform = %s needs collapse_at in (0, 1)", where, r->id, r->transform);
