@@ -23,8 +23,8 @@
 #include <string.h>
 
 #include "core/sim_state.h"
-#include "event/event.h"
-#include "hybrid/hybrid.h"
+#include "integrators/event/event.h"
+#include "integrators/hybrid/hybrid.h"
 #include "granule/observe.h"
 #include "granule/scene.h"
 #include "granule/sim.h"

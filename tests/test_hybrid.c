@@ -19,7 +19,7 @@
 #include "granule/analysis.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
-#include "hybrid/hybrid.h"
+#include "integrators/hybrid/hybrid.h"
 #include "test_env.h"
 
 /* docs/scenes/NAME with --set style overrides (NULL-terminated). */

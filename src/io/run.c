@@ -27,8 +27,6 @@
 #include "io/run_checkpoint.h"
 #include "io/run_schedule.h"
 #include "core/sim_state.h"
-#include "hybrid/hybrid.h"
-#include "event/event.h"
 
 /* Wall clock. GRANULE_TEST_CLOCK_TICK = S replaces it by a clock that advances S seconds per
  * reading, so the tests of --wall-limit stop at the same places on any machine. */
@@ -126,14 +124,12 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, co
     cJSON_AddNumberToObject(led, "relative_residual", scale > 0.0 ? res / scale : 0.0);
     cJSON_AddStringToObject(j, "kernel", r->kernel);
     cJSON_AddNumberToObject(j, "threads", gr_sim_threads(sim)); /* results do not depend on it */
-    gr_hybrid_stats hs;
-    if (gr_sim_hybrid_stats(sim, &hs)) { /* docs/hybrid.md */
-        cJSON *hj = cJSON_AddObjectToObject(j, "hybrid");
-        cJSON_AddNumberToObject(hj, "window", hs.window);
-        cJSON_AddNumberToObject(hj, "windows", (double)hs.windows);
-        cJSON_AddNumberToObject(hj, "rollbacks", (double)hs.rollbacks);
-        cJSON_AddNumberToObject(hj, "active_fraction", hs.active_fraction);
-        cJSON_AddNumberToObject(hj, "margin_sigmas", hs.margin_sigmas);
+    const gr_integrator_type *it = gr_sim_integrator(sim); /* its own figures, e.g. "hybrid" (docs/hybrid.md) */
+    gr_integrator_figure fig[16];
+    const int n_fig = it->describe ? it->describe(sim, fig, 16) : 0;
+    cJSON *fj = n_fig > 0 ? cJSON_AddObjectToObject(j, it->section ? it->section : it->name) : NULL;
+    for (int f = 0; f < n_fig; f++) {
+        cJSON_AddNumberToObject(fj, fig[f].name, fig[f].value);
     }
     const double events = (double)gr_sim_events_processed(sim); /* event-driven runs; 0 otherwise */
     cJSON_AddNumberToObject(j, "events_processed", events);
@@ -228,7 +224,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     snprintf(res->kernel, sizeof res->kernel, "%s", gr_sim_kernel(sim));
     /* an event-driven step can be long (dense or hot systems): it polls the stop flag itself and
      * returns early, with the step count unchanged, when a stop is requested */
-    gr_event_set_stop(sim, opt ? opt->stop : NULL);
+    gr_sim_set_stop(sim, opt ? opt->stop : NULL);
     gr_observer *obs = NULL;
     rc = gr_observer_create(scene, &obs, err);
     if (!rc && gr_observer_needs_events(obs)) {
