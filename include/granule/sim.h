@@ -12,6 +12,7 @@
 
 #include <signal.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "granule/model.h"
@@ -143,6 +144,16 @@ int gr_sim_track_contacts(gr_sim *sim, gr_error *err);
 /* The events recorded since the last gr_sim_clear_events. */
 const gr_contact_event *gr_sim_events(const gr_sim *sim, int64_t *n);
 void gr_sim_clear_events(gr_sim *sim);
+
+/* The complete state of a simulation as bytes, for exact restarts in memory or in a file of the
+ * caller's (checkpoints: docs/checkpoints.md): *data (free() it) holds everything the next
+ * gr_sim_step depends on, the integrator's part included. Call between gr_sim_step calls. */
+int gr_sim_state_save(const gr_sim *sim, void **data, size_t *len, gr_error *err);
+/* Overwrite the state of sim, freshly created from the same parameters (and with contact
+ * tracking on if the saved one had it), with saved bytes; stepping on is then bit-identical to
+ * stepping the saved simulation. Refuses bytes of another system (N, dim, dt, L, d, mass, kernel,
+ * integrator) or truncated ones with GR_EINVAL; sim must then be freed. */
+int gr_sim_state_load(gr_sim *sim, const void *data, size_t len, gr_error *err);
 
 /* Total momentum, kg m/s (p[1] = 0 in 1D). */
 void gr_sim_momentum(const gr_sim *sim, double p[2]);

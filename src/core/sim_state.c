@@ -273,3 +273,26 @@ int gr_sim_load_state(gr_sim *s, gr_blob_reader *b, gr_error *err)
     }
     return rc ? rc : gr_blob_done(b, err);
 }
+
+int gr_sim_state_save(const gr_sim *s, void **data, size_t *len, gr_error *err)
+{
+    gr_blob b = {0};
+    *data = NULL;
+    *len = 0;
+    int rc = gr_sim_save_state(s, &b, err);
+    rc = rc ? rc : gr_blob_ok(&b, err);
+    if (rc) {
+        gr_blob_free(&b);
+        return rc;
+    }
+    *data = b.data;
+    *len = b.len;
+    return GR_OK;
+}
+
+int gr_sim_state_load(gr_sim *s, const void *data, size_t len, gr_error *err)
+{
+    gr_blob_reader r;
+    gr_blob_reader_init(&r, data, len, "SIM");
+    return gr_sim_load_state(s, &r, err);
+}
