@@ -13,7 +13,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "event/event.h"
+#include "integrators/event/event.h"
 #include "granule/granule.h"
 #include "granule_commit.h"
 #include "bench_util.h"
@@ -72,7 +72,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_event: %s\n", err.message);
         return 1;
     }
-    if (sc.integrator != GR_INTEGRATOR_EVENT) {
+    if (!sc.integrator->instantaneous) {
         fprintf(stderr, "bench_event: %s is not an event-driven scene (set integrator.kind=event, model.normal=hard_sphere)\n", scene_path);
         gr_sim_free(s);
         return 2;

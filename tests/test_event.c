@@ -1,4 +1,4 @@
-/* Tests of the event-driven integrator (src/event/, models/hard_sphere.c): the collision rule
+/* Tests of the event-driven integrator (src/integrators/event/, src/event/rule.h, models/hard_sphere.c): the collision rule
  * (2.1, 2.2, 2.10) and its energy loss (2.13, 2.14, Table 2.1), elastic gases that must conserve
  * energy and never overlap (checked after every collision), free flight under the random force
  * against the random-acceleration process (both free_flight methods), long dissipative runs
@@ -19,8 +19,8 @@
 #include <string.h>
 
 #include "core/sim_internal.h"
-#include "event/event.h"
-#include "event/event_internal.h"
+#include "integrators/event/event.h"
+#include "integrators/event/event_internal.h"
 #include "event/rule.h"
 #include "granule/collide.h"
 #include "granule/model.h"
@@ -432,9 +432,9 @@ static void three_particles(bool tc_rule, int64_t *collisions, double *spread_sp
     gr_sim *s;
     gr_error err = {0};
     ck_assert(gr_sim_create_with_state(&sc, 3, x, NULL, v, NULL, &s, &err) == GR_OK);
-    ck_assert(s->ev->tc > 1e-6 && s->ev->tc < 1e-4); /* the matching soft contact lasts ~2e-5 s */
+    ck_assert(gr_ev(s)->tc > 1e-6 && gr_ev(s)->tc < 1e-4); /* the matching soft contact lasts ~2e-5 s */
     if (!tc_rule) {
-        s->ev->tc = 0.0;
+        gr_ev(s)->tc = 0.0;
     }
     *rc = gr_sim_step(s, (int64_t)llround(0.01 / s->dt), &err);
     *collisions = gr_sim_collisions(s);
@@ -525,7 +525,7 @@ START_TEST(test_calendars_identical)
     for (int c = 0; c < 3; c++) {
         setenv("GRANULE_EVENT_CALENDAR", kinds[c], 1);
         s[c] = sim_of(&sc);
-        ck_assert_int_eq(s[c]->ev->heap.kind, (int)(c == 0 ? GR_CAL_SPARSE : c == 1 ? GR_CAL_FULL : GR_CAL_BUCKET));
+        ck_assert_int_eq(gr_ev(s[c])->heap.kind, (int)(c == 0 ? GR_CAL_SPARSE : c == 1 ? GR_CAL_FULL : GR_CAL_BUCKET));
         ck_assert(gr_sim_step(s[c], quick() ? 20000 : 60000, &err) == GR_OK);
     }
     /* a misspelt calendar is refused by name, never silently replaced by the default */
@@ -619,7 +619,7 @@ START_TEST(test_guards)
     gr_scene sc = _i == 0 ? scene_of(floor_ov, 8) : _i == 1 ? scene_of(ring2, 10) : _i == 2 ? scene_of(ring1, 9) : scene_of(gap, 9);
     gr_sim *s = sim_of(&sc);
     if (quick()) {
-        s->ev->budget = 50000; /* the same check on 20 times fewer events (the ASan build) */
+        gr_ev(s)->budget = 50000; /* the same check on 20 times fewer events (the ASan build) */
     }
     gr_error err = {0};
     int rc = gr_sim_step(s, _i == 3 ? (int64_t)llround(0.01 / s->dt) : 1, &err);

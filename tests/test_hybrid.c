@@ -1,4 +1,4 @@
-/* Tests of the hybrid integrator (src/hybrid/, docs/hybrid.md): exact free flight, the energy
+/* Tests of the hybrid integrator (src/integrators/hybrid/, docs/hybrid.md): exact free flight, the energy
  * ledger and momentum, independence of the result from the active set (huge margin, rollbacks),
  * equality with Verlet without noise, agreement with Verlet on the 1D RFM scene, 2D, contact
  * events, and refusals.
@@ -19,7 +19,7 @@
 #include "granule/analysis.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
-#include "hybrid/hybrid.h"
+#include "integrators/hybrid/hybrid.h"
 #include "test_env.h"
 
 /* docs/scenes/NAME with --set style overrides (NULL-terminated). */

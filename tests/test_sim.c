@@ -1278,6 +1278,39 @@ START_TEST(test_determinism)
 }
 END_TEST
 
+/* The library without the scene parser: a gr_sim_params filled by hand (as a C program or the
+ * Python module would) gives the trajectory of the same scene through gr_sim_create bit for bit;
+ * a missing or unknown integrator is refused naming the registered ones. */
+START_TEST(test_params_without_scene)
+{
+    const int S = quick() ? 500 : 1500;
+    gr_scene sc = busy_scene(77);
+    gr_sim_params p = {.dim = 2, .N = 120, .L = side_for(120, 0.5), .radius = RADIUS, .mass = MASS,
+                       .placement = GR_PLACE_UNIFORM, .v0 = 5.0, .normal = gr_model_find("spring_dashpot"),
+                       .tangential = gr_model_find("sliding_friction"),
+                       .contact = {.k_s = K_S, .eps_n = 0.6, .eps_t = 0.6, .mu = 0.5, .clamp = false},
+                       .D = D_NOISE, .noise_mode = GR_NOISE_SYMMETRISED, .com_interval = 1.0,
+                       .integrator = gr_integrator_find("verlet"), .steps_per_contact = 20.0, .skin = 0.3,
+                       .seed = 77, .source = "hand-made"};
+    gr_sim *a = create(&sc), *b = NULL;
+    gr_error err = {0};
+    ck_assert_msg(gr_sim_new(&p, &b, &err) == GR_OK, "%s", err.message);
+    ck_assert_str_eq(gr_sim_integrator(b)->name, "verlet");
+    step(a, S);
+    step(b, S);
+    ck_assert(gr_sim_collisions(a) > 50);
+    ck_assert_msg(same_state(a, b), "gr_sim_new(params) and gr_sim_create(scene) differ");
+    gr_sim_free(a);
+    gr_sim_free(b);
+    p.integrator = gr_integrator_find("leapfrog");
+    ck_assert_ptr_null(p.integrator);
+    b = NULL;
+    ck_assert_int_eq(gr_sim_new(&p, &b, &err), GR_EINVAL);
+    ck_assert_ptr_null(b);
+    ck_assert_msg(strstr(err.message, "hand-made") && strstr(err.message, "verlet | event | hybrid"), "%s", err.message);
+}
+END_TEST
+
 /* The random force is a pure function of (seed, step, particle id, component): in a box where no
  * particle touches another, the velocity change of particle i in step k is exactly
  * sqrt(2 D dt)/M (g - <g>), g = gr_noise_normal1(seed, GR_STREAM_NOISE, k, i, c), mean over
@@ -1521,6 +1554,7 @@ static Suite *sim_suite(void)
     TCase *td = tcase_create("determinism");
     tcase_set_timeout(td, 600);
     tcase_add_test(td, test_determinism);
+    tcase_add_test(td, test_params_without_scene);
     tcase_add_test(td, test_noise_counter_based);
     suite_add_tcase(s, td);
     TCase *tu = tcase_create("unstable");

@@ -8,6 +8,7 @@
 #include "granule/cascade.h"
 #include "granule/collide.h"
 #include "granule/fokker_planck.h"
+#include "granule/integrator.h"
 #include "granule/model.h"
 #include "granule/noise.h"
 #include "granule/observe.h"

@@ -14,13 +14,9 @@
 
 #include "granule/model.h"
 #include "granule/observe.h"
+#include "granule/sim.h"
 #include "granule/status.h"
 
-typedef enum { GR_PLACE_HEXAGONAL, GR_PLACE_SQUARE, GR_PLACE_UNIFORM, GR_PLACE_CLUSTER, GR_PLACE_RANDOM } gr_placement_kind;
-typedef enum { GR_NOISE_NONE, GR_NOISE_SYMMETRISED, GR_NOISE_COM } gr_noise_mode;
-typedef enum { GR_INTEGRATOR_VERLET, GR_INTEGRATOR_EVENT, GR_INTEGRATOR_HYBRID } gr_integrator_kind;
-/* How the random force drives free flight in the event-driven and hybrid integrators. */
-typedef enum { GR_FREE_FLIGHT_EXACT, GR_FREE_FLIGHT_KICKS } gr_free_flight_noise;
 /* Where the frames of output.snapshot_every go (docs/trajectories.md). */
 typedef enum { GR_TRAJ_SNAPSHOTS, GR_TRAJ_XYZ, GR_TRAJ_H5MD } gr_trajectory_format;
 
@@ -45,7 +41,7 @@ typedef struct gr_scene {
     gr_noise_mode noise_mode;
     double com_interval; /* com mode: seconds between centre-of-mass velocity removals */
     /* [integrator] */
-    gr_integrator_kind integrator;
+    const gr_integrator_type *integrator; /* from the registry (granule/integrator.h) */
     double dt;        /* s; 0 = derive from steps_per_contact */
     double steps_per_contact;
     bool force_dt;    /* accept dt > t_c / 10 */
@@ -109,11 +105,26 @@ void gr_scene_saved_warnings(gr_scene *s, const char *dir);
  * Markdown; docs/scene-keys.md is this output. */
 void gr_scene_keys_markdown(FILE *out);
 
-/* Names for enums, for summaries and messages. */
-const char *gr_placement_name(gr_placement_kind k);
-const char *gr_noise_mode_name(gr_noise_mode m);
-
 /* Reduced mass of two identical particles. */
 static inline double gr_scene_m12(const gr_scene *s) { return 0.5 * s->mass; }
+
+/* The simulation parameters of a scene (src/io/scene_sim.c): what gr_sim_new needs. */
+void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p);
+
+/* Build a simulation from a resolved scene (gr_sim_new with gr_scene_sim_params): place the
+ * particles (sec. 2.1.4), give them small random velocities, prepare the models and choose the
+ * kernel. Refuses overlapping placements and time steps too large for the contact (unless the
+ * scene forces them). */
+int gr_sim_create(const gr_scene *scene, gr_sim **out, gr_error *err);
+
+/* Same, with positions and velocities given (n particles, y/vy ignored in 1D). Used by
+ * `granule collide` and tests; the scene's N and placement are ignored. */
+int gr_sim_create_with_state(const gr_scene *scene, int n, const double *x, const double *y,
+                             const double *vx, const double *vy, gr_sim **out, gr_error *err);
+
+/* Same as gr_sim_create_with_state, with the particles first put into a canonical order
+ * (gr_sim_new_canonical). */
+int gr_sim_create_canonical(const gr_scene *scene, int n, const double *x, const double *y,
+                            const double *vx, const double *vy, gr_sim **out, gr_error *err);
 
 #endif

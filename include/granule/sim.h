@@ -1,6 +1,7 @@
 /* A simulation: particle state (structure of arrays), the chosen contact kernel, the random
- * force, neighbour finding and the energy ledger. Create one from a resolved scene, advance it
- * by steps, read its state.
+ * force, neighbour finding and the energy ledger. Create one from a plain parameter struct
+ * (gr_sim_params; a scene fills one: gr_scene_sim_params, or gr_sim_create in scene.h), advance
+ * it by steps with its integrator (granule/integrator.h), read its state.
  *
  * Time stepping (docs/integrator.md): velocity Verlet in kick-drift-kick form. The random
  * force of one step enters as a velocity kick between the two half kicks, so positions are
@@ -9,12 +10,14 @@
 #ifndef GRANULE_SIM_H
 #define GRANULE_SIM_H
 
+#include <signal.h>
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "granule/model.h"
 #include "granule/particles.h"
-#include "granule/scene.h"
+#include "granule/integrator.h"
 #include "granule/status.h"
 
 typedef struct gr_sim gr_sim;
@@ -39,25 +42,61 @@ double gr_ledger_dissipated(const gr_ledger *l);
 double gr_ledger_residual(const gr_ledger *l);
 
 
-/* Build a simulation from a resolved scene: place the particles (sec. 2.1.4), give them small
- * random velocities, prepare the models and choose the kernel. Refuses overlapping placements
- * and time steps too large for the contact (unless the scene forces them). */
-int gr_sim_create(const gr_scene *scene, gr_sim **out, gr_error *err);
+typedef enum { GR_PLACE_HEXAGONAL, GR_PLACE_SQUARE, GR_PLACE_UNIFORM, GR_PLACE_CLUSTER, GR_PLACE_RANDOM } gr_placement_kind;
+typedef enum { GR_NOISE_NONE, GR_NOISE_SYMMETRISED, GR_NOISE_COM } gr_noise_mode;
+/* How the random force drives free flight in the event-driven and hybrid integrators. */
+typedef enum { GR_FREE_FLIGHT_EXACT, GR_FREE_FLIGHT_KICKS } gr_free_flight_noise;
 
-/* Same, with positions and velocities given (n particles, y/vy ignored in 1D). Used by
- * `granule collide` and tests; the scene's N and placement are ignored. */
-int gr_sim_create_with_state(const gr_scene *scene, int n, const double *x, const double *y,
-                             const double *vx, const double *vy, gr_sim **out, gr_error *err);
+/* Names for enums, for summaries and messages. */
+const char *gr_placement_name(gr_placement_kind k);
+const char *gr_noise_mode_name(gr_noise_mode m);
 
-/* Same as gr_sim_create_with_state, with the particles first put into a canonical order (1D: by
+/* Everything the engine needs to build and advance a simulation, in SI units: the scene's
+ * [system], [placement], [model], [noise] and [integrator] keys and the seed (docs/scene-keys.md
+ * documents each). Fill it by hand to drive the library without the scene parser. */
+typedef struct gr_sim_params {
+    int dim;                    /* 1 or 2 */
+    int N;                      /* particles (gr_sim_new) */
+    double L;                   /* box side (2D) or ring length (1D), m */
+    double radius, mass;        /* m, kg */
+    gr_placement_kind placement;
+    double v0;                  /* initial velocities v0 * U(-0.5, 0.5) per component, m/s */
+    const gr_model *normal;
+    const gr_model *tangential; /* NULL: none */
+    gr_contact_params contact;
+    double D;                   /* noise strength, N^2 s (2.15, 2.22) */
+    gr_noise_mode noise_mode;
+    double com_interval;        /* com mode: s between centre-of-mass velocity removals */
+    const gr_integrator_type *integrator; /* gr_integrator_find("verlet"), ... */
+    double dt;                  /* s; 0 = t_c / steps_per_contact */
+    double steps_per_contact;
+    bool force_dt;              /* accept dt > t_c / 10 */
+    double skin;                /* Verlet-list skin in diameters */
+    gr_free_flight_noise free_flight; /* event / hybrid */
+    double kick_interval;       /* event / hybrid, s */
+    uint64_t seed;
+    char source[1024];          /* names the input in messages (a scene file, "python", ...) */
+} gr_sim_params;
+
+/* Build a simulation: place the particles (sec. 2.1.4), give them small random velocities,
+ * prepare the models, choose the kernel and create the integrator's state. Refuses overlapping
+ * placements and time steps too large for the contact (unless p->force_dt). */
+int gr_sim_new(const gr_sim_params *p, gr_sim **out, gr_error *err);
+
+/* Same, with positions and velocities given (n particles, y/vy ignored in 1D); p->N and the
+ * placement are ignored. */
+int gr_sim_new_with_state(const gr_sim_params *p, int n, const double *x, const double *y,
+                          const double *vx, const double *vy, gr_sim **out, gr_error *err);
+
+/* Same as gr_sim_new_with_state, with the particles first put into a canonical order (1D: by
  * x; 2D: by cell of a grid of side >= d, row-major, then x, then y), so that the trajectory does
  * not depend on the order they are given in: gr_sim_particles then lists them in that order. */
-int gr_sim_create_canonical(const gr_scene *scene, int n, const double *x, const double *y,
-                            const double *vx, const double *vy, gr_sim **out, gr_error *err);
+int gr_sim_new_canonical(const gr_sim_params *p, int n, const double *x, const double *y,
+                         const double *vx, const double *vy, gr_sim **out, gr_error *err);
 
 void gr_sim_free(gr_sim *sim);
 
-/* Advance by nsteps time steps. Returns GR_EUNSTABLE with a diagnosis (step, time, particle,
+/* Advance by nsteps time steps with the simulation's integrator. Returns GR_EUNSTABLE with a diagnosis (step, time, particle,
  * quantity) if a non-finite value or runaway overlap appears; the state is then left as it was
  * at the failing step. */
 int gr_sim_step(gr_sim *sim, int64_t nsteps, gr_error *err);
@@ -85,6 +124,11 @@ const char *gr_sim_kernel(const gr_sim *sim);
 int64_t gr_sim_collisions(const gr_sim *sim);
 /* Neighbour-list rebuilds since creation. */
 int64_t gr_sim_rebuilds(const gr_sim *sim);
+/* The integrator (its type: name, hooks). */
+const gr_integrator_type *gr_sim_integrator(const gr_sim *sim);
+/* Poll *stop (e.g. set by a SIGTERM handler) during long steps, for integrators that can return
+ * early (event: see gr_integrator_type.set_stop); NULL for none. */
+void gr_sim_set_stop(gr_sim *sim, volatile sig_atomic_t *stop);
 /* Events processed by the event-driven integrator (collisions, cell crossings, per-particle
  * noise updates) since creation; 0 for the other integrators. */
 int64_t gr_sim_events_processed(const gr_sim *sim);
@@ -100,6 +144,16 @@ int gr_sim_track_contacts(gr_sim *sim, gr_error *err);
 /* The events recorded since the last gr_sim_clear_events. */
 const gr_contact_event *gr_sim_events(const gr_sim *sim, int64_t *n);
 void gr_sim_clear_events(gr_sim *sim);
+
+/* The complete state of a simulation as bytes, for exact restarts in memory or in a file of the
+ * caller's (checkpoints: docs/checkpoints.md): *data (free() it) holds everything the next
+ * gr_sim_step depends on, the integrator's part included. Call between gr_sim_step calls. */
+int gr_sim_state_save(const gr_sim *sim, void **data, size_t *len, gr_error *err);
+/* Overwrite the state of sim, freshly created from the same parameters (and with contact
+ * tracking on if the saved one had it), with saved bytes; stepping on is then bit-identical to
+ * stepping the saved simulation. Refuses bytes of another system (N, dim, dt, L, d, mass, kernel,
+ * integrator) or truncated ones with GR_EINVAL; sim must then be freed. */
+int gr_sim_state_load(gr_sim *sim, const void *data, size_t len, gr_error *err);
 
 /* Total momentum, kg m/s (p[1] = 0 in 1D). */
 void gr_sim_momentum(const gr_sim *sim, double p[2]);

@@ -78,6 +78,46 @@ static PyObject *sim_ledger(pyg_sim *self, PyObject *unused)
                          l.removed_com, "dissipated", gr_ledger_dissipated(&l), "residual", gr_ledger_residual(&l));
 }
 
+/* The core's state as bytes (gr_sim_state_save): pickle it, keep it, restore it into a Sim of
+ * the same scene to step on bit-identically. */
+static PyObject *sim_state(pyg_sim *self, PyObject *unused)
+{
+    if (!ready(self)) {
+        return NULL;
+    }
+    void *data = NULL;
+    size_t len = 0;
+    gr_error err = {0};
+    if (gr_sim_state_save(self->sim, &data, &len, &err)) {
+        return pyg_raise(&err);
+    }
+    PyObject *b = PyBytes_FromStringAndSize(data, (Py_ssize_t)len);
+    free(data);
+    return b;
+}
+
+static PyObject *sim_restore(pyg_sim *self, PyObject *args)
+{
+    Py_buffer buf;
+    if (!ready(self) || !PyArg_ParseTuple(args, "y*", &buf)) {
+        return NULL;
+    }
+    gr_error err = {0};
+    int rc = gr_sim_state_load(self->sim, buf.buf, (size_t)buf.len, &err);
+    PyBuffer_Release(&buf);
+    if (rc) {
+        /* a refused state may have been read in part: start the Sim afresh from its scene */
+        gr_sim *fresh = NULL;
+        gr_error e2 = {0};
+        if (gr_sim_create(&((pyg_scene *)self->scene)->scene, &fresh, &e2) == GR_OK) {
+            gr_sim_free(self->sim);
+            self->sim = fresh;
+        }
+        return pyg_raise(&err);
+    }
+    Py_RETURN_NONE;
+}
+
 enum { F_X, F_Y, F_VX, F_VY, F_FX, F_FY };
 
 static PyObject *sim_array(pyg_sim *self, void *which)
@@ -138,6 +178,9 @@ static PyGetSetDef sim_getset[] = {
 static PyMethodDef sim_methods[] = {
     {"step", (PyCFunction)sim_step, METH_VARARGS, "step(n=1): advance n time steps (the GIL is released)"},
     {"ledger", (PyCFunction)sim_ledger, METH_NOARGS, "the energy ledger, J, as a dict"},
+    {"state", (PyCFunction)sim_state, METH_NOARGS, "state(): the complete simulation state as bytes (exact restarts)"},
+    {"restore", (PyCFunction)sim_restore, METH_VARARGS,
+     "restore(state): continue from bytes of state() taken from a Sim of the same scene; stepping on is bit-identical"},
     {NULL}};
 
 PyTypeObject pyg_sim_type = {

@@ -10,6 +10,7 @@
 #include "core/sim_internal.h"
 #include "event/rule.h"
 #include "granule/collide.h"
+#include "granule/scene.h"
 
 int gr_collision_case_table21(int number, double radius, gr_collision_case *out, gr_error *err)
 {

@@ -15,7 +15,7 @@
 int gr_neighbours_alloc(gr_sim *s, gr_error *err)
 {
     int n = s->n;
-    s->cutoff = s->d * (1.0 + s->scene.skin);
+    s->cutoff = s->d * (1.0 + s->params.skin);
     int side = (int)floor(s->L / s->cutoff);
     /* more cells than about 2 per particle only cost memory and time */
     int max_side = (int)ceil(sqrt(2.0 * n)) + 1;

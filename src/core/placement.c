@@ -13,11 +13,17 @@
 #include "core/sim_internal.h"
 #include "granule/noise.h"
 
+const char *gr_placement_name(gr_placement_kind k)
+{
+    static const char *names[] = {"hexagonal", "square", "uniform", "cluster", "random"};
+    return names[k];
+}
+
 static int place_1d(gr_sim *s, gr_error *err)
 {
     int n = s->n;
     double L = s->L, d = s->d;
-    switch (s->scene.placement) {
+    switch (s->params.placement) {
     case GR_PLACE_UNIFORM:
         for (int i = 0; i < n; i++) {
             s->x[i] = (i + 0.5) * L / n;
@@ -37,7 +43,7 @@ static int place_1d(gr_sim *s, gr_error *err)
         }
         double sum = 0.0;
         for (int i = 0; i < n; i++) {
-            u[i] = -log(1.0 - gr_noise_uniform(s->scene.seed, GR_STREAM_PLACEMENT, (uint64_t)i, 0));
+            u[i] = -log(1.0 - gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, (uint64_t)i, 0));
             sum += u[i];
         }
         double pos = 0.0;
@@ -49,7 +55,7 @@ static int place_1d(gr_sim *s, gr_error *err)
         return GR_OK;
     }
     default:
-        return GR_FAIL(err, GR_EINVAL, "placement %s is not available in 1D", gr_placement_name(s->scene.placement));
+        return GR_FAIL(err, GR_EINVAL, "placement %s is not available in 1D", gr_placement_name(s->params.placement));
     }
 }
 
@@ -58,8 +64,8 @@ static int capacity_error(gr_sim *s, gr_error *err, long cap, const char *what)
     return GR_FAIL(err, GR_EINVAL,
                    "%s: [placement] kind = %s holds at most %ld particles in L = %g m with d = %g m (%s); N = %d. "
                    "Use a larger L or a smaller N%s",
-                   s->scene.source, gr_placement_name(s->scene.placement), cap, s->L, s->d, what, s->n,
-                   s->scene.placement == GR_PLACE_HEXAGONAL ? "" : ", or kind = hexagonal (densest)");
+                   s->params.source, gr_placement_name(s->params.placement), cap, s->L, s->d, what, s->n,
+                   s->params.placement == GR_PLACE_HEXAGONAL ? "" : ", or kind = hexagonal (densest)");
 }
 
 /* Hexagonal packing. A bed of touching rows (spacing a = L / floor(L/d) >= d, row height
@@ -213,7 +219,7 @@ static int place_random(gr_sim *s, gr_error *err)
     if (phi > 0.5) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: [placement] kind = random cannot reach phi = %.3f: random sequential addition jams near 0.547; use hexagonal (any phi <= 0.9069)",
-                       s->scene.source, phi);
+                       s->params.source, phi);
     }
     /* brute-force rejection against a coarse grid of already placed particles; cells of side
      * >= d, at most about 2N of them, so a dilute box costs O(N) memory (found by tests/fuzz) */
@@ -242,10 +248,10 @@ static int place_random(gr_sim *s, gr_error *err)
                 free(next);
                 return GR_FAIL(err, GR_EINVAL,
                                "%s: [placement] kind = random: no free spot found for particle %d after %llu attempts; use hexagonal",
-                               s->scene.source, i, (unsigned long long)attempt);
+                               s->params.source, i, (unsigned long long)attempt);
             }
-            double x = s->L * gr_noise_uniform(s->scene.seed, GR_STREAM_PLACEMENT, attempt, 0);
-            double y = s->L * gr_noise_uniform(s->scene.seed, GR_STREAM_PLACEMENT, attempt, 1);
+            double x = s->L * gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, attempt, 0);
+            double y = s->L * gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, attempt, 1);
             int cx = (int)(x / cell) % side, cy = (int)(y / cell) % side;
             int ok = 1;
             for (int ox = -1; ox <= 1 && ok; ox++) {
@@ -282,7 +288,7 @@ int gr_place(gr_sim *s, gr_error *err)
     if (s->dim == 1) {
         return place_1d(s, err);
     }
-    switch (s->scene.placement) {
+    switch (s->params.placement) {
     case GR_PLACE_HEXAGONAL: return place_hexagonal(s, err);
     case GR_PLACE_SQUARE: return place_square(s, err);
     case GR_PLACE_UNIFORM: return place_uniform(s, err);
@@ -377,7 +383,7 @@ int gr_check_overlaps(const gr_sim *s, gr_error *err)
     if (worst > tol) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: initial state overlaps: particles %d and %d overlap by %.3g d (tolerance %g d); refusing to start (the spring energy would explode the packing)",
-                       s->scene.source, wi, wj, worst, tol);
+                       s->params.source, wi, wj, worst, tol);
     }
     return GR_OK;
 }

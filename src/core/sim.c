@@ -1,5 +1,6 @@
 /* Creating a simulation: allocate the particle arrays, place the particles, give them small
- * random velocities, derive the contact coefficients and the time step, choose the kernel. */
+ * random velocities, derive the contact coefficients and the time step, choose the kernel, let
+ * the integrator build its state; stepping through the integrator's hooks. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,9 +9,7 @@
 #endif
 
 #include "core/sim_internal.h"
-#include "event/event.h"
 #include "granule/noise.h"
-#include "hybrid/hybrid.h"
 
 static _Atomic int threads_setting; /* gr_set_threads; 0: default */
 
@@ -64,8 +63,9 @@ void gr_sim_free(gr_sim *s)
     if (!s) {
         return;
     }
-    gr_event_free(s);
-    gr_hybrid_free(s);
+    if (s->integrator && s->integrator->free) {
+        s->integrator->free(s);
+    }
     free(s->x);
     free(s->y);
     free(s->vx);
@@ -102,8 +102,8 @@ void gr_sim_free(gr_sim *s)
  * for the contact (fewer than 10 steps, sec. 2.1.2) or for an overdamped dashpot is refused. */
 static int prepare_contact(gr_sim *s, gr_error *err)
 {
-    const gr_scene *sc = &s->scene;
-    double m12 = gr_scene_m12(sc);
+    const gr_sim_params *sc = &s->params;
+    double m12 = 0.5 * sc->mass; /* reduced mass of two identical particles */
     int rc = gr_contact_prepare(sc->normal, sc->tangential, &sc->contact, m12, 0.0, &s->cc, err);
     if (rc) {
         return rc;
@@ -148,18 +148,25 @@ static int prepare_contact(gr_sim *s, gr_error *err)
     return gr_contact_prepare(sc->normal, sc->tangential, &sc->contact, m12, dt, &s->cc, err);
 }
 
-static int alloc_state(const gr_scene *scene, int n, gr_sim **out, gr_error *err)
+static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *err)
 {
+    if (!p->integrator || !p->integrator->step) {
+        char names[200];
+        gr_integrator_names(names, sizeof names, " | ");
+        return GR_FAIL(err, GR_EINVAL, "%s: no integrator given (gr_sim_params.integrator); registered: %s", p->source,
+                       names);
+    }
     gr_sim *s = calloc(1, sizeof *s);
     if (!s) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory");
     }
-    s->scene = *scene;
+    s->params = *p;
+    s->integrator = p->integrator;
     s->n = n;
-    s->dim = scene->dim;
-    s->L = scene->L;
-    s->d = 2.0 * scene->radius;
-    s->mass = scene->mass;
+    s->dim = p->dim;
+    s->L = p->L;
+    s->d = 2.0 * p->radius;
+    s->mass = p->mass;
     s->x = alloc_array(n);
     s->vx = alloc_array(n);
     s->fx = alloc_array(n);
@@ -207,7 +214,7 @@ static int finish(gr_sim *s, gr_error *err)
         }
     }
     gr_kernel_choose(s);
-    s->com_every = (int64_t)llround(s->scene.com_interval / s->dt);
+    s->com_every = (int64_t)llround(s->params.com_interval / s->dt);
     if (s->com_every < 1) {
         s->com_every = 1;
     }
@@ -221,19 +228,14 @@ static int finish(gr_sim *s, gr_error *err)
     s->share[2] = total > 0.0 ? r.power_friction / total : 0.0;
     gr_ledger l = gr_sim_ledger(s);
     s->initial_energy = l.kinetic + l.elastic;
-    switch (s->scene.integrator) {
-    case GR_INTEGRATOR_EVENT: return gr_event_init(s, err);
-    case GR_INTEGRATOR_HYBRID: return gr_hybrid_init(s, err);
-    case GR_INTEGRATOR_VERLET: break;
-    }
-    return GR_OK;
+    return s->integrator->create ? s->integrator->create(s, err) : GR_OK;
 }
 
-int gr_sim_create(const gr_scene *scene, gr_sim **out, gr_error *err)
+int gr_sim_new(const gr_sim_params *p, gr_sim **out, gr_error *err)
 {
     *out = NULL;
     gr_sim *s;
-    int rc = alloc_state(scene, scene->N, &s, err);
+    int rc = alloc_state(p, p->N, &s, err);
     if (rc) {
         return rc;
     }
@@ -245,7 +247,7 @@ int gr_sim_create(const gr_scene *scene, gr_sim **out, gr_error *err)
         double *v[2] = {s->vx, s->vy};
         for (int c = 0; c < s->dim; c++) {
             for (int i = 0; i < s->n; i++) {
-                v[c][i] = scene->v0 * (gr_noise_uniform(scene->seed, GR_STREAM_INIT_VELOCITY, (uint64_t)i, (uint64_t)c) - 0.5);
+                v[c][i] = p->v0 * (gr_noise_uniform(p->seed, GR_STREAM_INIT_VELOCITY, (uint64_t)i, (uint64_t)c) - 0.5);
                 mean[c] += v[c][i];
             }
             mean[c] /= s->n;
@@ -263,16 +265,16 @@ int gr_sim_create(const gr_scene *scene, gr_sim **out, gr_error *err)
     return GR_OK;
 }
 
-int gr_sim_create_with_state(const gr_scene *scene, int n, const double *x, const double *y,
-                             const double *vx, const double *vy, gr_sim **out, gr_error *err)
+int gr_sim_new_with_state(const gr_sim_params *p, int n, const double *x, const double *y,
+                          const double *vx, const double *vy, gr_sim **out, gr_error *err)
 {
     *out = NULL;
     gr_sim *s;
-    int rc = alloc_state(scene, n, &s, err);
+    int rc = alloc_state(p, n, &s, err);
     if (rc) {
         return rc;
     }
-    s->scene.N = n;
+    s->params.N = n;
     for (int i = 0; i < n; i++) {
         if (!isfinite(x[i]) || !isfinite(vx[i]) || (s->dim == 2 && (!isfinite(y[i]) || !isfinite(vy[i])))) {
             gr_sim_free(s);
@@ -295,7 +297,7 @@ int gr_sim_create_with_state(const gr_scene *scene, int n, const double *x, cons
     return GR_OK;
 }
 
-/* Canonical order (gr_sim_create_canonical): 1D by x; 2D by cell of a grid of side >= d in
+/* Canonical order (gr_sim_new_canonical): 1D by x; 2D by cell of a grid of side >= d in
  * row-major order, then x, then y, on the wrapped positions. Distinct positions (every accepted
  * state has them) get a unique order, and neighbours in space are near in the order. */
 typedef struct canon_key {
@@ -319,14 +321,14 @@ static int canon_cmp(const void *pa, const void *pb)
     return 0;
 }
 
-int gr_sim_create_canonical(const gr_scene *scene, int n, const double *x, const double *y, const double *vx,
-                            const double *vy, gr_sim **out, gr_error *err)
+int gr_sim_new_canonical(const gr_sim_params *p, int n, const double *x, const double *y, const double *vx,
+                         const double *vy, gr_sim **out, gr_error *err)
 {
     *out = NULL;
-    const int dim = scene->dim;
-    const double L = scene->L, d = 2.0 * scene->radius;
+    const int dim = p->dim;
+    const double L = p->L, d = 2.0 * p->radius;
     if (n < 1) {
-        return gr_sim_create_with_state(scene, n, x, y, vx, vy, out, err);
+        return gr_sim_new_with_state(p, n, x, y, vx, vy, out, err);
     }
     canon_key *key = malloc(sizeof *key * (size_t)n);
     double *buf = malloc(sizeof(double) * 4 * (size_t)n);
@@ -361,7 +363,7 @@ int gr_sim_create_canonical(const gr_scene *scene, int n, const double *x, const
         pvy[k] = dim == 2 ? vy[i] : 0.0;
     }
     free(key);
-    int rc = gr_sim_create_with_state(scene, n, px, py, pvx, pvy, out, err);
+    int rc = gr_sim_new_with_state(p, n, px, py, pvx, pvy, out, err);
     free(buf);
     return rc;
 }
@@ -385,6 +387,47 @@ const gr_contact_coeffs *gr_sim_coeffs(const gr_sim *s) { return &s->cc; }
 const char *gr_sim_kernel(const gr_sim *s) { return s->kernel_name; }
 int64_t gr_sim_collisions(const gr_sim *s) { return s->collisions; }
 int64_t gr_sim_rebuilds(const gr_sim *s) { return s->rebuilds; }
+const gr_integrator_type *gr_sim_integrator(const gr_sim *s) { return s->integrator; }
+
+int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err) { return s->integrator->step(s, nsteps, err); }
+
+void gr_sim_set_stop(gr_sim *s, volatile sig_atomic_t *stop)
+{
+    if (s->integrator->set_stop) {
+        s->integrator->set_stop(s, stop);
+    }
+}
+
+int64_t gr_sim_events_processed(const gr_sim *s)
+{
+    return s->integrator->events ? s->integrator->events(s) : 0;
+}
+
+const char *gr_noise_mode_name(gr_noise_mode m)
+{
+    static const char *names[] = {"none", "symmetrised", "com"};
+    return names[m];
+}
+
+/* Remove the centre-of-mass velocity; returns the kinetic energy removed. */
+double gr_remove_com(gr_sim *s)
+{
+    double removed = 0.0;
+    double *v[2] = {s->vx, s->vy};
+    for (int c = 0; c < s->dim; c++) {
+        double mean = 0.0;
+        for (int i = 0; i < s->n; i++) {
+            mean += v[c][i];
+        }
+        mean /= s->n;
+        for (int i = 0; i < s->n; i++) {
+            v[c][i] -= mean;
+        }
+        removed += 0.5 * s->mass * s->n * mean * mean;
+    }
+    return removed;
+}
+
 
 double gr_ledger_dissipated(const gr_ledger *l)
 {

@@ -1,6 +1,6 @@
 /* The simulation object. Hot per-particle state is kept as separate aligned arrays (structure of
- * arrays); cold bookkeeping (scene, ledger totals, names) lives beside it. Only src/core sees
- * this layout. */
+ * arrays); cold bookkeeping (parameters, ledger totals, names) lives beside it. src/core and the
+ * integrators (src/integrators/) see this layout. */
 #ifndef GR_SIM_INTERNAL_H
 #define GR_SIM_INTERNAL_H
 
@@ -23,7 +23,10 @@ typedef enum { KERNEL_1D, KERNEL_2D_N, KERNEL_2D_N_CLAMP, KERNEL_2D_NT, KERNEL_2
                KERNEL_2D_NF, KERNEL_2D_NF_CLAMP } gr_kernel_id;
 
 struct gr_sim {
-    gr_scene scene;
+    union { /* the parameters it was created with; `scene` is their former name */
+        gr_sim_params params;
+        gr_sim_params scene;
+    };
     gr_contact_coeffs cc;
     int n, dim;
     double L, d, mass, dt;
@@ -83,9 +86,9 @@ struct gr_sim {
     double *pair_f;      /* 4 per cross pair: Fx, Fy, Gx, Gy on j */
     int64_t cross_cap;
 
-    /* other integrators (NULL for verlet): src/event/, src/hybrid/ */
-    struct gr_event_state *ev;
-    struct gr_hybrid_state *hy;
+    /* the integrator (params.integrator, src/integrators/) and its own state (NULL for verlet) */
+    const gr_integrator_type *integrator;
+    void *integrator_state;
 };
 
 /* Block size of the fixed-order reductions (a multiple of the step's 8 lanes and of 2, so
@@ -104,7 +107,7 @@ int gr_place(gr_sim *s, gr_error *err);
 /* Refuse overlapping positions (tolerance 1e-9 d); used for every initial state. */
 int gr_check_overlaps(const gr_sim *s, gr_error *err);
 
-/* src/core/step.c: remove the centre-of-mass velocity (com noise mode); returns the kinetic
+/* src/core/sim.c: remove the centre-of-mass velocity (com noise mode); returns the kinetic
  * energy removed. */
 double gr_remove_com(gr_sim *s);
 

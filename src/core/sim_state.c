@@ -1,5 +1,7 @@
-/* Saving and restoring a simulation's state for exact restarts (docs/checkpoints.md): the Verlet
- * part below, then the event-driven or hybrid part (src/event/event_state.c, src/hybrid/hy_state.c).
+/* Saving and restoring a simulation's state for exact restarts (docs/checkpoints.md): the core's
+ * part below, then the integrator's own (its save / load hooks, e.g.
+ * src/integrators/event/event_state.c, src/integrators/hybrid/hy_state.c). The state goes into a
+ * byte buffer (src/core/blob.h); the io layer writes it to a file (src/io/checkpoint.c).
  *
  * Between two gr_sim_step calls the velocities are synchronised, and the next step depends on:
  * positions and velocities; the forces of the last evaluation (fx, fy), their non-conservative
@@ -19,39 +21,23 @@
 
 #include "core/sim_internal.h"
 #include "core/sim_state.h"
-#include "event/event.h"
-#include "hybrid/hybrid.h"
 
 #define SIM_STATE_TAG 0x53494d31u /* "SIM1": bump when the layout below changes */
 
 int gr_sim_checkpointable(const gr_sim *s, gr_error *err)
 {
-    /* every integrator: the event-driven and hybrid ones append their own part (event_state.c,
-     * hy_state.c) */
-    const bool known = (s->scene.integrator == GR_INTEGRATOR_VERLET && !s->ev && !s->hy) ||
-                       (s->scene.integrator == GR_INTEGRATOR_EVENT && s->ev) ||
-                       (s->scene.integrator == GR_INTEGRATOR_HYBRID && s->hy);
-    if (!known) {
-        return GR_FAIL(err, GR_EINVAL, "%s: internal error: the integrator state does not match [integrator] kind",
-                       s->scene.source);
+    /* an integrator with state of its own must save it */
+    if (s->integrator_state && (!s->integrator->save || !s->integrator->load)) {
+        return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kind = %s cannot save its state (no checkpoints)",
+                       s->params.source, s->integrator->name);
     }
     return GR_OK;
 }
 
 int64_t gr_sim_call_steps(const gr_sim *s, int64_t want, int64_t todo)
 {
-    int64_t n = want < todo ? want : todo;
-    const int64_t owed = gr_event_owed_steps(s);
-    if (owed > n && owed <= todo) {
-        n = owed;
-    }
-    const int64_t q = gr_hybrid_window_steps(s);
-    if (q > 1 && n < todo) { /* end on a window boundary: at or before step + n, else the next one */
-        const int64_t end = (s->step + n) / q * q;
-        n = end > s->step ? end - s->step : q - s->step % q;
-        n = n < todo ? n : todo;
-    }
-    return n;
+    const int64_t n = want < todo ? want : todo;
+    return s->integrator->call_steps ? s->integrator->call_steps(s, n, todo) : n;
 }
 
 static void put_report(gr_blob *b, const gr_force_report *r)
@@ -133,10 +119,8 @@ int gr_sim_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
         }
     }
     rc = gr_blob_ok(b, err);
-    if (!rc && s->ev) {
-        rc = gr_event_save_state(s, b, err);
-    } else if (!rc && s->hy) {
-        rc = gr_hybrid_save_state(s, b, err);
+    if (!rc && s->integrator->save) {
+        rc = s->integrator->save(s, b, err);
     }
     return rc;
 }
@@ -284,10 +268,31 @@ int gr_sim_load_state(gr_sim *s, gr_blob_reader *b, gr_error *err)
             *e = (gr_contact_event){.i = (int)i, .kind = (int)kind, .t = v[0], .x = v[1], .y = v[2], .vx = v[3], .vy = v[4]};
         }
     }
-    if (!b->bad && s->ev) {
-        rc = gr_event_load_state(s, b, err);
-    } else if (!b->bad && s->hy) {
-        rc = gr_hybrid_load_state(s, b, err);
+    if (!b->bad && s->integrator->load) {
+        rc = s->integrator->load(s, b, err);
     }
     return rc ? rc : gr_blob_done(b, err);
+}
+
+int gr_sim_state_save(const gr_sim *s, void **data, size_t *len, gr_error *err)
+{
+    gr_blob b = {0};
+    *data = NULL;
+    *len = 0;
+    int rc = gr_sim_save_state(s, &b, err);
+    rc = rc ? rc : gr_blob_ok(&b, err);
+    if (rc) {
+        gr_blob_free(&b);
+        return rc;
+    }
+    *data = b.data;
+    *len = b.len;
+    return GR_OK;
+}
+
+int gr_sim_state_load(gr_sim *s, const void *data, size_t len, gr_error *err)
+{
+    gr_blob_reader r;
+    gr_blob_reader_init(&r, data, len, "SIM");
+    return gr_sim_load_state(s, &r, err);
 }

@@ -1,21 +1,21 @@
-/* The complete state of a soft-sphere (Verlet) simulation as bytes, for exact restarts
- * (docs/checkpoints.md); the event-driven and hybrid integrators append their own parts
- * (src/event/event_state.c, src/hybrid/hy_state.c). Private to the tree: src/io/checkpoint.c and tests use it. */
+/* The complete state of a simulation as bytes, for exact restarts (docs/checkpoints.md): the
+ * core's part, then the integrator's own (its save / load hooks). Private to the tree:
+ * src/io/run_checkpoint.c writes the bytes to a file, tests use it. */
 #ifndef GR_SIM_STATE_H
 #define GR_SIM_STATE_H
 
 #include "granule/sim.h"
-#include "io/blob.h"
+#include "core/blob.h"
 
-/* GR_OK if this simulation's state can be saved (every integrator: verlet, event, hybrid);
- * otherwise GR_EINVAL with the reason. */
+/* GR_OK if this simulation's state can be saved (every registered integrator can); otherwise
+ * GR_EINVAL with the reason. */
 int gr_sim_checkpointable(const gr_sim *s, gr_error *err);
 
 /* How many steps the next gr_sim_step call should take when the caller would like `want` and
- * must stop after `todo` (e.g. at the next sample): min(want, todo), widened to what an
- * event-driven call interrupted by a stop still owes, and for the hybrid moved to a window
- * boundary (or todo) so that the windows, and so the results, do not depend on how the steps are
- * split (which run.c chooses from the wall clock). */
+ * must stop after `todo` (e.g. at the next sample): min(want, todo), adjusted by the integrator's
+ * call_steps hook (event: widened to what a call interrupted by a stop still owes; hybrid: moved
+ * to a window boundary, or todo) so that the results do not depend on how the steps are split
+ * (which run.c chooses from the wall clock). */
 int64_t gr_sim_call_steps(const gr_sim *s, int64_t want, int64_t todo);
 
 /* Append everything the next gr_sim_step depends on. Call between gr_sim_step calls. */

@@ -32,7 +32,7 @@ static int refuse_unmappable(const gr_scene *s, gr_error *err)
     if (s->dim != 2) {
         return GR_FAIL(err, GR_EINVAL, "export lammps: %s: LAMMPS has no 1D systems (dimension is 2 or 3); export a 2D scene", s->source);
     }
-    if (s->integrator != GR_INTEGRATOR_VERLET) {
+    if (strcmp(s->integrator->name, "verlet") != 0) {
         return GR_FAIL(err, GR_EINVAL, "export lammps: %s: LAMMPS is time-stepped only; set integrator.kind = verlet (its event-driven and hybrid integrators have no LAMMPS equivalent)", s->source);
     }
     if (strcmp(s->normal->name, "spring_dashpot") != 0) {

@@ -1,71 +1,19 @@
-/* Binary blobs for checkpoints: a growable write buffer and a bounds-checked reader.
- *
- * Values are stored in the machine's own byte order and sizes (the checkpoint header records
- * both and refuses a file from a different machine layout), so doubles round-trip bit for bit.
- * A writer that ran out of memory remembers it (gr_blob_ok); a reader that would run past the
- * end stops, records where (section, offset, wanted bytes) and every later read fails, so
- * callers may check once at the end of a section. */
+/* Checkpoint blobs with the analysis layer's accumulators: the core's byte buffer
+ * (src/core/blob.h) plus block averages and histograms (src/io/blob_stats.c). */
 #ifndef GR_BLOB_H
 #define GR_BLOB_H
 
-#include <stdbool.h>
-#include <stddef.h>
-#include <stdint.h>
-
+#include "core/blob.h"
 #include "granule/analysis.h"
-#include "granule/status.h"
 
-typedef struct gr_blob {
-    unsigned char *data;
-    size_t len, cap;
-    bool oom;
-} gr_blob;
-
-void gr_blob_free(gr_blob *b);
-void gr_blob_put(gr_blob *b, const void *p, size_t n);
-void gr_blob_put_u32(gr_blob *b, uint32_t v);
-void gr_blob_put_u64(gr_blob *b, uint64_t v);
-void gr_blob_put_i64(gr_blob *b, int64_t v);
-void gr_blob_put_f64(gr_blob *b, double v);
-/* A length-prefixed array (u64 count, then the elements). */
-void gr_blob_put_f64s(gr_blob *b, const double *v, int64_t n);
-void gr_blob_put_str(gr_blob *b, const char *s);
 void gr_blob_put_blocking(gr_blob *b, const gr_blocking *k);
 /* Counts only (the binning is checked against the one re-created from the scene on load). */
 void gr_blob_put_histogram(gr_blob *b, const gr_histogram *h);
-/* GR_OK, or GR_ENOMEM with a message. */
-int gr_blob_ok(const gr_blob *b, gr_error *err);
-
-typedef struct gr_blob_reader {
-    const unsigned char *data;
-    size_t len, pos;
-    const char *what; /* section name, for messages */
-    bool bad;
-    char why[200];    /* first failure */
-} gr_blob_reader;
-
-void gr_blob_reader_init(gr_blob_reader *r, const void *data, size_t len, const char *what);
-bool gr_blob_get(gr_blob_reader *r, void *p, size_t n);
-uint32_t gr_blob_get_u32(gr_blob_reader *r);
-uint64_t gr_blob_get_u64(gr_blob_reader *r);
-int64_t gr_blob_get_i64(gr_blob_reader *r);
-double gr_blob_get_f64(gr_blob_reader *r);
-/* An array written by gr_blob_put_f64s whose count must be exactly n. */
-bool gr_blob_get_f64s(gr_blob_reader *r, double *v, int64_t n);
-/* A string of at most cap - 1 bytes, NUL-terminated into s. */
-bool gr_blob_get_str(gr_blob_reader *r, char *s, size_t cap);
-/* A borrowed view of the next n bytes (NULL on failure). */
-const void *gr_blob_view(gr_blob_reader *r, size_t n);
 bool gr_blob_get_blocking(gr_blob_reader *r, gr_blocking *k);
 /* Into a histogram already initialised with the same number of bins. */
 bool gr_blob_get_histogram(gr_blob_reader *r, gr_histogram *h);
 /* Into an uninitialised histogram: the stored binning (linear or log as given) is re-created
  * (for accumulators whose range is fixed from the first frames). */
 bool gr_blob_get_histogram_new(gr_blob_reader *r, gr_histogram *h, bool log_bins);
-/* Mark the reader failed with a message (printf-style), unless it already failed. */
-void gr_blob_fail(gr_blob_reader *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-/* GR_OK if every read succeeded and the section was consumed exactly; otherwise GR_EINVAL with
- * "checkpoint section <what>: <why>". */
-int gr_blob_done(gr_blob_reader *r, gr_error *err);
 
 #endif

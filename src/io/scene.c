@@ -18,7 +18,7 @@
 #include "io/files.h"
 #include "io/scene_lines.h"
 
-typedef enum { K_DOUBLE, K_INT, K_BOOL, K_UINT64, K_STRING, K_ENUM, K_NORMAL, K_TANGENTIAL, K_LIST } key_type;
+typedef enum { K_DOUBLE, K_INT, K_BOOL, K_UINT64, K_STRING, K_ENUM, K_NORMAL, K_TANGENTIAL, K_INTEGRATOR, K_LIST } key_type;
 
 typedef struct scene_key {
     const char *section;
@@ -49,7 +49,7 @@ static const scene_key keys[] = {
     {"noise", "D", "N^2 s", K_DOUBLE, "1e-8", 0, INFINITY, false, true, NULL, "noise strength (2.15, 2.22); 0 switches the random force off (Table 2.2: 1e-8)", OFF(D)},
     {"noise", "mode", "", K_ENUM, "symmetrised", 0, 0, false, false, "none|symmetrised|com", "symmetrised: forces shifted to sum to zero every step (2.18); com: centre-of-mass velocity removed every com_interval (sec. 2.3.1); none: no random force", OFF(noise_mode)},
     {"noise", "com_interval", "s", K_DOUBLE, "1e-3", 0, INFINITY, true, true, NULL, "com mode: time between centre-of-mass velocity removals", OFF(com_interval)},
-    {"integrator", "kind", "", K_ENUM, "verlet", 0, 0, false, false, "verlet|event|hybrid", "verlet: soft-sphere velocity Verlet (docs/integrator.md); event: event-driven hard spheres (needs [model] normal = hard_sphere, docs/event-driven.md); hybrid: free flight event-driven, contacts by the soft-sphere model (docs/hybrid.md)", OFF(integrator)},
+    {"integrator", "kind", "", K_INTEGRATOR, "verlet", 0, 0, false, false, NULL, NULL /* the registry's summaries */, OFF(integrator)},
     {"integrator", "dt", "s", K_DOUBLE, NULL, 0, INFINITY, true, true, NULL, "time step; give dt or steps_per_contact, not both", OFF(dt)},
     {"integrator", "steps_per_contact", "", K_DOUBLE, "50", 10, 1e9, false, false, NULL, "dt = t_c / steps_per_contact, t_c = duration of a binary contact; fewer than 10 is refused (sec. 2.1.2)", OFF(steps_per_contact)},
     {"integrator", "force_dt", "", K_BOOL, "false", 0, 1, false, false, NULL, "accept a dt larger than t_c / 10 (results will be wrong; for stability studies)", OFF(force_dt)},
@@ -74,16 +74,17 @@ static const scene_key keys[] = {
 #undef OFF
 static const int n_keys = sizeof keys / sizeof keys[0];
 
-const char *gr_placement_name(gr_placement_kind k)
+/* The registered integrators with (or without) instantaneous collisions, joined by sep. */
+static void integrator_names_where(bool instantaneous, const char *sep, char *buf, size_t cap)
 {
-    static const char *names[] = {"hexagonal", "square", "uniform", "cluster", "random"};
-    return names[k];
-}
-
-const char *gr_noise_mode_name(gr_noise_mode m)
-{
-    static const char *names[] = {"none", "symmetrised", "com"};
-    return names[m];
+    size_t len = 0;
+    buf[0] = 0;
+    for (int j = 0; gr_integrators[j] && len < cap; j++) {
+        if (gr_integrators[j]->instantaneous == instantaneous) {
+            int w = snprintf(buf + len, cap - len, "%s%s", len ? sep : "", gr_integrators[j]->name);
+            len += w > 0 ? (size_t)w : 0;
+        }
+    }
 }
 
 /* ---------- values ---------- */
@@ -370,6 +371,20 @@ static int apply(loader *ld, const char *section, const char *name, const char *
             *(const gr_model **)slot = m;
             break;
         }
+        case K_INTEGRATOR: { /* the registry (granule/integrator.h) */
+            const gr_integrator_type *t = NULL;
+            for (int j = 0; gr_integrators[j]; j++) {
+                t = strcasecmp(gr_integrators[j]->name, value) == 0 ? gr_integrators[j] : t;
+            }
+            if (!t) {
+                char names[200];
+                gr_integrator_names(names, sizeof names, "|");
+                snprintf(detail, sizeof detail, "'%s' is not allowed; choose one of %s", value, names);
+                return fail_at(err, w, section, name, "%s", detail);
+            }
+            *(const gr_integrator_type **)slot = t;
+            break;
+        }
         default:
             rc = set_number(slot, k->type, k->min, k->max, k->min_open, k->max_open, value, w,
                             section, name, err);
@@ -638,18 +653,23 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
             return fail_at(err, &w, "placement", "kind", "%s", detail);
         }
     }
-    /* the event-driven integrator and the hard_sphere rule need each other (docs/event-driven.md) */
+    /* integrators of instantaneous collisions (event) and the instantaneous rules (hard_sphere)
+     * need each other (docs/event-driven.md) */
     const bool event_rule = s->normal && (s->normal->kind & GR_MODEL_EVENT);
-    if (s->integrator == GR_INTEGRATOR_EVENT && !event_rule) {
+    char soft[160], hard[160];
+    integrator_names_where(false, " | ", soft, sizeof soft);
+    if (s->integrator->instantaneous && !event_rule) {
         where w = where_of(g, s, "integrator", "kind");
-        snprintf(detail, sizeof detail, "kind = event needs [model] normal = hard_sphere (normal = %s is a force law); allowed with %s: verlet | hybrid",
-                 s->normal ? s->normal->name : "?", s->normal ? s->normal->name : "it");
+        snprintf(detail, sizeof detail, "kind = %s needs [model] normal = hard_sphere (normal = %s is a force law); allowed with %s: %s",
+                 s->integrator->name, s->normal ? s->normal->name : "?", s->normal ? s->normal->name : "it", soft);
         return fail_at(err, &w, "integrator", "kind", "%s", detail);
     }
-    if (event_rule && s->integrator != GR_INTEGRATOR_EVENT) {
+    if (event_rule && !s->integrator->instantaneous) {
         where w = where_of(g, s, "model", "normal");
-        snprintf(detail, sizeof detail, "%s is an instantaneous collision rule and needs [integrator] kind = event; allowed with kind = verlet or hybrid: spring_dashpot",
-                 s->normal->name);
+        integrator_names_where(true, " | ", hard, sizeof hard);
+        integrator_names_where(false, " or ", soft, sizeof soft);
+        snprintf(detail, sizeof detail, "%s is an instantaneous collision rule and needs [integrator] kind = %s; allowed with kind = %s: spring_dashpot",
+                 s->normal->name, hard, soft);
         return fail_at(err, &w, "model", "normal", "%s", detail);
     }
     if (event_rule && !(s->contact.eps_n > 0.0)) {
@@ -657,10 +677,10 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
         return fail_at(err, &w, "model", "eps_n", "%s",
                        "hard_sphere needs eps_n in (0, 1]: at eps_n = 0 a touching pair keeps zero normal speed and time stops; use e.g. 0.001");
     }
-    if (s->integrator == GR_INTEGRATOR_EVENT && s->tangential) {
+    if (s->integrator->instantaneous && s->tangential) {
         where w = where_of(g, s, "model", "tangential");
-        snprintf(detail, sizeof detail, "%s is a force law; with kind = event the tangential restitution is hard_sphere's eps_t; allowed: none",
-                 s->tangential->name);
+        snprintf(detail, sizeof detail, "%s is a force law; with kind = %s the tangential restitution is hard_sphere's eps_t; allowed: none",
+                 s->tangential->name, s->integrator->name);
         return fail_at(err, &w, "model", "tangential", "%s", detail);
     }
     if (s->D == 0.0) {
@@ -791,7 +811,8 @@ static const char *type_name(key_type t)
     case K_BOOL: return "true/false";
     case K_UINT64: return "integer";
     case K_STRING: return "path";
-    case K_ENUM: return "choice";
+    case K_ENUM:
+    case K_INTEGRATOR: return "choice";
     case K_NORMAL: return "model";
     case K_TANGENTIAL: return "model";
     case K_LIST: return "list";
@@ -835,11 +856,18 @@ void gr_scene_keys_markdown(FILE *out)
                     *c = '/';
                 }
             }
+        } else if (k->type == K_INTEGRATOR) {
+            gr_integrator_names(range, sizeof range, "/");
         } else if (k->type == K_DOUBLE || k->type == K_INT) {
             range_text(range, sizeof range, k->min, k->max, k->min_open, k->max_open);
         }
+        char doc[1024] = "";
+        for (int j = 0; k->type == K_INTEGRATOR && gr_integrators[j]; j++) {
+            size_t len = strlen(doc);
+            snprintf(doc + len, sizeof doc - len, "%s%s: %s", j ? "; " : "", gr_integrators[j]->name, gr_integrators[j]->summary);
+        }
         fprintf(out, "| `%s` | %s | %s | %s | %s | %s |\n", k->name, type_name(k->type), k->unit,
-                k->def ? k->def : "(unset)", range, k->doc);
+                k->def ? k->def : "(unset)", range, k->doc ? k->doc : doc);
         if (strcmp(k->name, "observables") == 0) {
             for (int o = 0; gr_observables[o]; o++) {
                 for (int j = 0; j < gr_observables[o]->n_params; j++) {
@@ -907,6 +935,7 @@ static void save_value(FILE *f, const scene_key *k, const gr_scene *s)
         fprintf(f, "%s", m ? m->name : "none");
         break;
     }
+    case K_INTEGRATOR: fprintf(f, "%s", (*(const gr_integrator_type *const *)slot)->name); break;
     }
 }
 

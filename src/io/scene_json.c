@@ -43,9 +43,8 @@ cJSON *gr_scene_to_json(const gr_scene *s)
         cJSON_AddNumberToObject(nz, "com_interval", s->com_interval);
     }
     cJSON *in = cJSON_AddObjectToObject(root, "integrator");
-    static const char *kinds[] = {"verlet", "event", "hybrid"};
-    cJSON_AddStringToObject(in, "kind", kinds[s->integrator]);
-    if (s->integrator != GR_INTEGRATOR_VERLET) {
+    cJSON_AddStringToObject(in, "kind", s->integrator->name);
+    if (s->integrator->free_flight) {
         cJSON_AddStringToObject(in, "free_flight", s->free_flight == GR_FREE_FLIGHT_EXACT ? "exact" : "kicks");
         cJSON_AddNumberToObject(in, "kick_interval", s->kick_interval);
     }

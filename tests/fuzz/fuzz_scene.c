@@ -63,7 +63,7 @@ static void tiny_run(const gr_scene *s)
      * diverging event rates and a runaway contact floor with a diagnosis (past hangs:
      * corpus/scene/regress-event-*.ini, docs/event-driven.md "Progress guards") */
     int64_t steps = STEP_CAP;
-    if (s->integrator != GR_INTEGRATOR_VERLET) {
+    if (s->integrator->free_flight) {
         /* the event-driven integrators work per noise window (kick_interval) inside a step of dt:
          * cap the windows too, as N and the steps are capped */
         double windows = gr_sim_dt(sim) / s->kick_interval;

@@ -35,13 +35,13 @@
 #include <string.h>
 
 #include "granule/noise.h"
-#include "hybrid/hy_internal.h"
+#include "integrators/hybrid/hy_internal.h"
 
 #define KICK_FLAG (UINT64_C(1) << 63)
 
 static inline int has_noise(const gr_sim *s)
 {
-    return s->scene.noise_mode != GR_NOISE_NONE && s->scene.D > 0.0;
+    return s->params.noise_mode != GR_NOISE_NONE && s->params.D > 0.0;
 }
 
 void gr_hy_draw_window(const gr_sim *s, gr_hybrid_state *h, int64_t start)
@@ -54,9 +54,9 @@ void gr_hy_draw_window(const gr_sim *s, gr_hybrid_state *h, int64_t start)
         double *tmp = h->tmp;
         uint64_t step = (uint64_t)start | ((uint64_t)c << 62);
         if (s->dim == 1) {
-            gr_noise_normals(s->scene.seed, GR_STREAM_HYBRID, step, 0, s->n, 2, h->ff);
+            gr_noise_normals(s->params.seed, GR_STREAM_HYBRID, step, 0, s->n, 2, h->ff);
         } else {
-            gr_noise_normals(s->scene.seed, GR_STREAM_HYBRID, step, 0, s->n, 2, tmp);
+            gr_noise_normals(s->params.seed, GR_STREAM_HYBRID, step, 0, s->n, 2, tmp);
             for (int p = 0; p < s->n; p++) {
                 h->ff[(p * 2 + c) * 2] = tmp[2 * p];
                 h->ff[(p * 2 + c) * 2 + 1] = tmp[2 * p + 1];
@@ -81,7 +81,7 @@ void gr_hy_free_increment(const gr_sim *s, const gr_hybrid_state *h, int m, int 
         *dv = *dx = 0.0;
         return;
     }
-    const double a = sqrt(2.0 * s->scene.D * s->dt) / s->mass;
+    const double a = sqrt(2.0 * s->params.D * s->dt) / s->mass;
     double s1, s2;
     sums(h, s->dim, m, p, c, &s1, &s2);
     *dv = a * s1;
@@ -92,7 +92,7 @@ double gr_hy_leap_free(gr_sim *s, gr_hybrid_state *h, int m)
 {
     const int n = s->n, dim = s->dim, noise = has_noise(s);
     const double tau = m * s->dt, L = s->L, M = s->mass;
-    const double a = noise ? sqrt(2.0 * s->scene.D * s->dt) / M : 0.0, dm = (double)m;
+    const double a = noise ? sqrt(2.0 * s->params.D * s->dt) / M : 0.0, dm = (double)m;
     /* dv = a S1, dx = a dt S2 with (S1, S2) from sums(); kicks: dx = (m - m/2) dt dv */
     const double c1 = a * sqrt(dm);
     const double c21 = h->kicks ? c1 * (double)(m - m / 2) * s->dt : a * s->dt * 0.5 * (dm + 1.0) * sqrt(dm);
@@ -145,7 +145,7 @@ int gr_hy_active_kicks(const gr_sim *s, gr_hybrid_state *h, int64_t start, int m
         memset(h->lam, 0, sizeof(double) * 2 * (size_t)dim * (size_t)na);
         return GR_OK;
     }
-    h->kick_amp = sqrt(2.0 * s->scene.D * s->dt) / s->mass;
+    h->kick_amp = sqrt(2.0 * s->params.D * s->dt) / s->mass;
     const double dm = (double)m;
     const double G11 = dm, G12 = 0.5 * dm * (dm + 1.0), G22 = dm * (dm + 1.0) * (2.0 * dm + 1.0) / 6.0;
     const double det = G11 * G22 - G12 * G12;
@@ -161,7 +161,7 @@ int gr_hy_active_kicks(const gr_sim *s, gr_hybrid_state *h, int64_t start, int m
         }
         double *raw = h->kick + (size_t)q0 * md;
         if (!single) {
-            gr_noise_normals(s->scene.seed, GR_STREAM_HYBRID, (uint64_t)start | KICK_FLAG,
+            gr_noise_normals(s->params.seed, GR_STREAM_HYBRID, (uint64_t)start | KICK_FLAG,
                              (uint32_t)((int64_t)h->list[q0] * m), (q1 - q0) * m, dim, raw);
         } else {
             memset(raw, 0, sizeof(double) * (size_t)(q1 - q0) * (size_t)md);

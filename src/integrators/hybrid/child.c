@@ -19,17 +19,18 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hybrid/hy_internal.h"
+#include "integrators/hybrid/hy_internal.h"
+#include "integrators/verlet/verlet.h"
 
 #define RUNAWAY_OVERLAP 0.5 /* as step.c */
 #define LANES 8             /* partial sums, as step.c */
 
 int gr_hy_child_create(gr_sim *s, gr_hybrid_state *h, gr_error *err)
 {
-    gr_scene sc = s->scene;
-    sc.integrator = GR_INTEGRATOR_VERLET;
+    gr_sim_params sc = s->params;
+    sc.integrator = &gr_integrator_verlet;
     sc.noise_mode = GR_NOISE_NONE;
-    int rc = gr_sim_create_with_state(&sc, s->n, s->x, s->y, s->vx, s->vy, &h->child, err);
+    int rc = gr_sim_new_with_state(&sc, s->n, s->x, s->y, s->vx, s->vy, &h->child, err);
     if (rc) {
         return rc;
     }
@@ -268,7 +269,7 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
                            (long long)c->step, c->step * dt);
         }
         c->step++;
-        if (dim == 2 && (c->scene.skin <= 0.0 || worst2 > skin_half2)) {
+        if (dim == 2 && (c->params.skin <= 0.0 || worst2 > skin_half2)) {
             int rc = gr_neighbours_build(c, err);
             if (rc) {
                 return rc;

@@ -18,7 +18,7 @@
 #include <stdint.h>
 
 #include "core/sim_internal.h"
-#include "event/event.h"
+#include "integrators/event/event.h"
 
 #define GR_EV_INF ((double)INFINITY)
 

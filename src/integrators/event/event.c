@@ -23,7 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "event/event_internal.h"
+#include "integrators/event/event_internal.h"
 #include "event/rule.h"
 #include "granule/free_flight.h"
 #include "granule/noise.h"
@@ -46,7 +46,7 @@ int gr_ev_record(gr_sim *s, int i, int kind, double t, double x, double y, doubl
  * (docs/event-driven.md, "Progress guards"). */
 int gr_ev_guard_check(gr_sim *s, double t_abs, int i, int j, gr_error *err)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     if (e->stop && *e->stop) {
         e->guard_n--; /* the entry is handled again by the next call */
         return GR_EV_STOPPED;
@@ -80,7 +80,7 @@ int gr_ev_guard_check(gr_sim *s, double t_abs, int i, int j, gr_error *err)
 
 int gr_ev_floor_check(gr_sim *s, int i, int j, double t_abs, double floor_speed, gr_error *err)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     const double work = e->work_rate * fmax(t_abs - e->t_start, e->tau);
     if (e->floor_energy <= GR_EV_FLOOR_RATIO * work) {
         return GR_OK;
@@ -92,7 +92,7 @@ int gr_ev_floor_check(gr_sim *s, int i, int j, double t_abs, double floor_speed,
                    "%.3g: lower [model] tc (or raise k_s) or [integrator] kick_interval, or use free_flight = kicks; "
                    "floors at one instant over and over mean particles in exact contact (use a placement with gaps)",
                    e->floor_energy, GR_EV_FLOOR_RATIO, work, (long long)s->step, t_abs, i, j, floor_speed,
-                   sqrt(2.0 * s->scene.D * e->tau) / e->M, e->tc / e->tau);
+                   sqrt(2.0 * s->params.D * e->tau) / e->M, e->tc / e->tau);
 }
 
 /* ---------- windows ---------- */
@@ -103,7 +103,7 @@ static inline double ke2(double vx, double vy) { return vx * vx + vy * vy; }
  * and start the next window: base time 0, state at the old window's end. */
 static void end_window(gr_sim *s)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     double work = 0.0;
     for (int i = 0; i < e->n; i++) {
         double x, v, y = 0.0, w = 0.0;
@@ -131,7 +131,7 @@ static void end_window(gr_sim *s)
 /* Centre-of-mass reset (com noise mode) on the base velocities at a window start. */
 static void remove_com(gr_sim *s)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     double before = 0.0, after = 0.0;
     double *v[2] = {e->bv, e->bw};
     for (int c = 0; c < e->dim; c++) {
@@ -152,19 +152,19 @@ static void remove_com(gr_sim *s)
 /* Draw the window's free-flight noise: a1, a2, J per particle and component. */
 static void draw_noise(gr_sim *s)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     const int n = e->n, dim = e->dim;
     double *a1[2] = {e->a1x, e->a1y}, *a2[2] = {e->a2x, e->a2y}, *j[2] = {e->jx, e->jy};
     if (!e->noise) {
         return; /* stays zero */
     }
-    const double D = s->scene.D, M = e->M, tau = e->tau;
+    const double D = s->params.D, M = e->M, tau = e->tau;
     double *g1 = e->g, *g2 = e->g + (size_t)n * dim;
-    gr_noise_normals(s->scene.seed, GR_STREAM_FREE_FLIGHT, 2 * (uint64_t)e->win, 0, n, dim, g1);
+    gr_noise_normals(s->params.seed, GR_STREAM_FREE_FLIGHT, 2 * (uint64_t)e->win, 0, n, dim, g1);
     if (e->exact) {
-        gr_noise_normals(s->scene.seed, GR_STREAM_FREE_FLIGHT, 2 * (uint64_t)e->win + 1, 0, n, dim, g2);
+        gr_noise_normals(s->params.seed, GR_STREAM_FREE_FLIGHT, 2 * (uint64_t)e->win + 1, 0, n, dim, g2);
     }
-    const bool sym = s->scene.noise_mode == GR_NOISE_SYMMETRISED;
+    const bool sym = s->params.noise_mode == GR_NOISE_SYMMETRISED;
     for (int c = 0; c < dim; c++) {
         double mdv = 0.0, mdx = 0.0;
         for (int i = 0; i < n; i++) {
@@ -233,7 +233,7 @@ static void repredict_1d(struct gr_event_state *e, int k)
 
 static int check_1d(gr_sim *s, gr_error *err)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     for (int k = 0; k < e->n && e->n > 1; k++) {
         const int j = k + 1 < e->n ? k + 1 : 0;
         double xi, vi, xj, vj;
@@ -260,7 +260,7 @@ static inline void rebase_1d(struct gr_event_state *e, int i, double x, double v
 
 static int process_1d(gr_sim *s, double t_limit, gr_error *err)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     gr_heap *hp = &e->heap;
     const double t_win = (double)e->win * e->tau;
     for (int k; (k = gr_heap_min(hp)) >= 0;) {
@@ -353,7 +353,7 @@ static int process_1d(gr_sim *s, double t_limit, gr_error *err)
 
 static void window_1d(gr_sim *s)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     const int n = e->n;
     if (n < 2) {
         return;
@@ -396,8 +396,8 @@ static void window_1d(gr_sim *s)
 
 static void start_window(gr_sim *s)
 {
-    struct gr_event_state *e = s->ev;
-    if (s->scene.noise_mode == GR_NOISE_COM && e->win > 0 && e->win % e->com_every == 0) {
+    struct gr_event_state *e = gr_ev(s);
+    if (s->params.noise_mode == GR_NOISE_COM && e->win > 0 && e->win % e->com_every == 0) {
         remove_com(s);
     }
     draw_noise(s);
@@ -411,7 +411,7 @@ static void start_window(gr_sim *s)
 /* Write the state at local time t into s->x, vx (y, vy) and bring s->injected up to date. */
 static void report(gr_sim *s, double t)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     double work = 0.0;
     const int phase = t > e->h || (t == e->h && e->phase);
     for (int i = 0; i < e->n; i++) {
@@ -466,7 +466,7 @@ static int check_speeds(const gr_sim *s, const double *x, const double *vx, cons
                        "%s: particle %d starts with speed %.3g m/s: it would cross the box (L = %g m) %.3g times per kick "
                        "interval %g s; the event-driven integrator allows at most %g (check [placement] v0, allowed "
                        "range [0, %.3g] m/s for this box)",
-                       s->scene.source, worst, vmax, s->L, vmax * tau / s->L, tau, GR_EV_MAX_BOXES,
+                       s->params.source, worst, vmax, s->L, vmax * tau / s->L, tau, GR_EV_MAX_BOXES,
                        2.0 * GR_EV_MAX_BOXES * s->L / tau / sqrt(s->dim));
     }
     return GR_FAIL(err, GR_EUNSTABLE,
@@ -478,36 +478,36 @@ static int check_speeds(const gr_sim *s, const double *x, const double *vx, cons
 int gr_event_init(gr_sim *s, gr_error *err)
 {
     if (s->cc.normal != GR_NORMAL_HARD_SPHERE) {
-        return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kind = event needs [model] normal = hard_sphere", s->scene.source);
+        return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kind = event needs [model] normal = hard_sphere", s->params.source);
     }
-    if (!(s->scene.kick_interval > 0.0)) {
-        return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kick_interval = %g: allowed range (0, inf) s", s->scene.source, s->scene.kick_interval);
+    if (!(s->params.kick_interval > 0.0)) {
+        return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kick_interval = %g: allowed range (0, inf) s", s->params.source, s->params.kick_interval);
     }
     struct gr_event_state *e = calloc(1, sizeof *e);
     if (!e) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory");
     }
-    s->ev = e;
+    s->integrator_state = e;
     const int n = s->n;
     e->n = n;
     e->dim = s->dim;
-    e->noise = s->scene.noise_mode != GR_NOISE_NONE && s->scene.D > 0.0;
+    e->noise = s->params.noise_mode != GR_NOISE_NONE && s->params.D > 0.0;
     /* without noise the windows only bound the predictions: make them long */
-    e->tau = e->noise ? s->scene.kick_interval : fmax(s->scene.kick_interval, 1.0);
+    e->tau = e->noise ? s->params.kick_interval : fmax(s->params.kick_interval, 1.0);
     e->h = 0.5 * e->tau;
     e->M = s->mass;
     e->L = s->L;
     e->d = s->d;
     e->d2 = s->d * s->d;
-    e->eps_n = s->scene.contact.eps_n;
-    e->eps_t = s->dim == 2 ? s->scene.contact.eps_t : 1.0;
+    e->eps_n = s->params.contact.eps_n;
+    e->eps_t = s->dim == 2 ? s->params.contact.eps_t : 1.0;
     e->tc = s->cc.t_c;
-    e->exact = s->scene.free_flight == GR_FREE_FLIGHT_EXACT;
-    e->com_every = (int64_t)llround(s->scene.com_interval / e->tau);
+    e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
+    e->com_every = (int64_t)llround(s->params.com_interval / e->tau);
     e->com_every = e->com_every < 1 ? 1 : e->com_every;
     e->budget = 1000000 + 10 * (int64_t)n;
-    e->min_span = 1e-6 * s->scene.kick_interval;
-    e->work_rate = e->noise ? s->dim * s->scene.D * n / e->M : 0.0;
+    e->min_span = 1e-6 * s->params.kick_interval;
+    e->work_rate = e->noise ? s->dim * s->params.D * n / e->M : 0.0;
     const char *check = getenv("GRANULE_EVENT_CHECK");
     e->check = check && check[0] == '1';
     const char *cal = getenv("GRANULE_EVENT_CALENDAR"); /* benchmarks: calendar.c */
@@ -533,19 +533,19 @@ int gr_event_init(gr_sim *s, gr_error *err)
     if (!ok) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory for the event-driven state of %d particles", n);
     }
-    int rc = check_speeds(s, s->x, s->vx, s->y, s->vy, s->scene.kick_interval, true, err);
+    int rc = check_speeds(s, s->x, s->vx, s->y, s->vy, s->params.kick_interval, true, err);
     if (rc) {
         return rc;
     }
     /* the same limit for the noise: a 10-sigma velocity increment of one window,
      * sqrt(2 D tau) / M per component (free_flight.h), must not cross the box GR_EV_MAX_BOXES times */
-    const double tau = s->scene.kick_interval, vlim = GR_EV_MAX_BOXES * s->L / tau;
-    if (10.0 * sqrt(2.0 * s->scene.D * tau) / s->mass > vlim) {
+    const double tau = s->params.kick_interval, vlim = GR_EV_MAX_BOXES * s->L / tau;
+    if (10.0 * sqrt(2.0 * s->params.D * tau) / s->mass > vlim) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: [noise] D = %g N^2 s gives velocity kicks of %.3g m/s per kick interval (%g s), which would "
                        "cross the box (L = %g m) more than %g times per interval; allowed range for the event-driven "
                        "integrator here: [0, %.3g] N^2 s",
-                       s->scene.source, s->scene.D, sqrt(2.0 * s->scene.D * tau) / s->mass, tau, s->L,
+                       s->params.source, s->params.D, sqrt(2.0 * s->params.D * tau) / s->mass, tau, s->L,
                        GR_EV_MAX_BOXES, pow(vlim * s->mass / 10.0, 2) / (2.0 * tau));
     }
     for (int i = 0; i < n; i++) {
@@ -589,7 +589,7 @@ int gr_event_init(gr_sim *s, gr_error *err)
 
 int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     const double T = (double)(s->step + nsteps) * s->dt;
     for (;;) {
         const double local = T - (double)e->win * e->tau;
@@ -607,7 +607,7 @@ int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err)
             break;
         }
         end_window(s);
-        rc = check_speeds(s, e->bx, e->bv, e->by, e->bw, s->scene.kick_interval, false, err);
+        rc = check_speeds(s, e->bx, e->bv, e->by, e->bw, s->params.kick_interval, false, err);
         if (rc) {
             return rc;
         }
@@ -631,7 +631,7 @@ int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err)
 
 void gr_event_free(gr_sim *s)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     if (!e) {
         return;
     }
@@ -649,19 +649,19 @@ void gr_event_free(gr_sim *s)
     free(e->next);
     free(e->prev);
     free(e);
-    s->ev = NULL;
+    s->integrator_state = NULL;
 }
 
-int64_t gr_sim_events_processed(const gr_sim *s)
+int64_t gr_event_processed(const gr_sim *s)
 {
-    return s->ev ? s->ev->collisions + s->ev->crossings + s->ev->kicks : 0;
+    return gr_ev(s) ? gr_ev(s)->collisions + gr_ev(s)->crossings + gr_ev(s)->kicks : 0;
 }
 
-const char *gr_event_calendar(const gr_sim *s) { return s->ev ? gr_heap_name(&s->ev->heap) : "none"; }
+const char *gr_event_calendar(const gr_sim *s) { return gr_ev(s) ? gr_heap_name(&gr_ev(s)->heap) : "none"; }
 
 void gr_event_stats(const gr_sim *s, gr_event_counts *c)
 {
-    const struct gr_event_state *e = s->ev;
+    const struct gr_event_state *e = gr_ev(s);
     *c = (gr_event_counts){0};
     if (e) {
         *c = (gr_event_counts){.collisions = e->collisions, .crossings = e->crossings, .kicks = e->kicks,
@@ -672,16 +672,16 @@ void gr_event_stats(const gr_sim *s, gr_event_counts *c)
 
 void gr_event_set_stop(gr_sim *s, volatile sig_atomic_t *stop)
 {
-    if (s->ev) {
-        s->ev->stop = stop;
+    if (gr_ev(s)) {
+        gr_ev(s)->stop = stop;
     }
 }
 
 void gr_event_set_debug(gr_sim *s, bool check_overlaps, bool no_collisions)
 {
-    if (s->ev) {
-        s->ev->check = check_overlaps;
-        s->ev->no_collisions = no_collisions;
+    if (gr_ev(s)) {
+        gr_ev(s)->check = check_overlaps;
+        gr_ev(s)->no_collisions = no_collisions;
         if (s->dim == 1) {
             window_1d(s);
         } else {

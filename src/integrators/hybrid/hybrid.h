@@ -1,15 +1,23 @@
 /* The hybrid integrator ([integrator] kind = hybrid, docs/hybrid.md): time is cut into windows of
  * kick_interval; particles that cannot touch anybody during a window leap it in one exact
  * free-flight draw, the others (the "active" set) are integrated step by step by the soft-sphere
- * kernels in a private child simulation. Called by src/core/sim.c and src/core/step.c; the state
- * lives behind gr_sim.hy. */
+ * kernels in a private child simulation. A registered integrator (gr_integrator_hybrid,
+ * hybrid_type.c); its state lives behind gr_sim.integrator_state. */
 #ifndef GR_HYBRID_H
 #define GR_HYBRID_H
 
 #include <stdint.h>
 
+#include "core/blob.h"
 #include "core/sim_internal.h"
-#include "io/blob.h"
+
+extern const gr_integrator_type gr_integrator_hybrid;
+
+/* The hybrid state of s, or NULL when s is not a hybrid simulation. */
+static inline struct gr_hybrid_state *gr_hy(const gr_sim *s)
+{
+    return s->integrator == &gr_integrator_hybrid ? (struct gr_hybrid_state *)s->integrator_state : NULL;
+}
 
 /* Build the hybrid state after positions, velocities, coefficients and forces are set. */
 int gr_hybrid_init(gr_sim *s, gr_error *err);
@@ -40,11 +48,13 @@ void gr_hybrid_set_margin(gr_sim *s, double sigmas);
 /* Steps per full window (1 for other integrators). Windows are cut at multiples of it, at com
  * resets and at the ends of gr_sim_step calls, so a run is independent of how its steps are
  * split into calls as long as calls end on multiples of it (or where the caller must stop
- * anyway, e.g. at a sample): gr_sim_call_steps (src/core/sim_state.h) does that. */
+ * anyway, e.g. at a sample): gr_sim_call_steps (src/core/sim_state.h) does that through the
+ * call_steps hook (hybrid_type.c). */
 int64_t gr_hybrid_window_steps(const gr_sim *s);
 
 /* Exact restarts (hy_state.c, docs/checkpoints.md): append / read back the hybrid's own state
- * (called by src/core/sim_state.c after the soft-sphere part) between gr_sim_step calls. */
+ * (the save / load hooks: src/core/sim_state.c calls them after the soft-sphere part) between
+ * gr_sim_step calls. */
 int gr_hybrid_save_state(const gr_sim *s, gr_blob *b, gr_error *err);
 int gr_hybrid_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err);
 

@@ -29,10 +29,11 @@
  * com mode: raw noise, and the centre-of-mass velocity is removed at the window ends that fall on
  * multiples of com_interval (windows are cut there), booked in removed_com as for Verlet. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "hybrid/hy_internal.h"
+#include "integrators/hybrid/hy_internal.h"
 
 static double *dalloc(int n)
 {
@@ -46,7 +47,7 @@ static double *dalloc(int n)
 
 void gr_hybrid_free(gr_sim *s)
 {
-    gr_hybrid_state *h = s ? s->hy : NULL;
+    gr_hybrid_state *h = s ? gr_hy(s) : NULL;
     if (!h) {
         return;
     }
@@ -66,12 +67,12 @@ void gr_hybrid_free(gr_sim *s)
     free(h->cell_head);
     free(h->cell_next);
     free(h);
-    s->hy = NULL;
+    s->integrator_state = NULL;
 }
 
 int gr_hybrid_init(gr_sim *s, gr_error *err)
 {
-    const gr_scene *sc = &s->scene;
+    const gr_sim_params *sc = &s->params;
     const double tau = sc->kick_interval, ratio = tau / s->dt;
     const int64_t m = llround(ratio);
     if (!(m >= 1) || fabs(ratio - (double)m) > 1e-6 * ratio) {
@@ -90,7 +91,7 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
     if (!h) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory");
     }
-    s->hy = h;
+    s->integrator_state = h;
     h->m = (int)m;
     h->margin_c = GR_HYBRID_MARGIN_SIGMAS;
     h->kicks = sc->free_flight == GR_FREE_FLIGHT_KICKS;
@@ -139,15 +140,15 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
 
 void gr_hybrid_set_margin(gr_sim *s, double sigmas)
 {
-    if (s->hy) {
-        s->hy->margin_c = sigmas;
+    if (gr_hy(s)) {
+        gr_hy(s)->margin_c = sigmas;
     }
 }
 
 int gr_sim_hybrid_stats(const gr_sim *s, gr_hybrid_stats *st)
 {
     memset(st, 0, sizeof *st);
-    const gr_hybrid_state *h = s->hy;
+    const gr_hybrid_state *h = gr_hy(s);
     if (!h) {
         return 0;
     }
@@ -308,11 +309,11 @@ static int window(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
         return rc;
     }
     memset(h->forced, 0, (size_t)s->n);
-    const int noise = s->scene.noise_mode != GR_NOISE_NONE && s->scene.D > 0.0;
+    const int noise = s->params.noise_mode != GR_NOISE_NONE && s->params.D > 0.0;
     s->step += m;
-    if (noise && s->scene.noise_mode == GR_NOISE_SYMMETRISED && s->n > 1) {
+    if (noise && s->params.noise_mode == GR_NOISE_SYMMETRISED && s->n > 1) {
         centre(s, h);
-    } else if (s->scene.noise_mode == GR_NOISE_COM && s->step % s->com_every == 0) {
+    } else if (s->params.noise_mode == GR_NOISE_COM && s->step % s->com_every == 0) {
         s->removed_com += gr_remove_com(s);
     }
     h->windows++;
@@ -330,14 +331,14 @@ static int window(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
 
 int gr_hybrid_step(gr_sim *s, int64_t nsteps, gr_error *err)
 {
-    gr_hybrid_state *h = s->hy;
+    gr_hybrid_state *h = gr_hy(s);
     int64_t done = 0;
     while (done < nsteps) {
         /* windows are [k m, (k + 1) m) (cut at call ends and com resets): where they fall does not
          * depend on where earlier calls ended */
         int64_t m = h->m - s->step % h->m;
         m = m < nsteps - done ? m : nsteps - done;
-        if (s->scene.noise_mode == GR_NOISE_COM) { /* cut windows at the resets */
+        if (s->params.noise_mode == GR_NOISE_COM) { /* cut windows at the resets */
             const int64_t next = (s->step / s->com_every + 1) * s->com_every;
             m = m < next - s->step ? m : next - s->step;
         }

@@ -14,13 +14,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hybrid/hy_internal.h"
+#include "integrators/hybrid/hy_internal.h"
 
 #define HYBRID_STATE_TAG 0x48594231u /* "HYB1": bump when the layout below changes */
 
 int gr_hybrid_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
 {
-    const gr_hybrid_state *h = s->hy;
+    const gr_hybrid_state *h = gr_hy(s);
     gr_blob_put_u32(b, HYBRID_STATE_TAG);
     gr_blob_put_i64(b, h->m);
     gr_blob_put_i64(b, h->kicks);
@@ -42,7 +42,7 @@ int gr_hybrid_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
 
 int gr_hybrid_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err)
 {
-    gr_hybrid_state *h = s->hy;
+    gr_hybrid_state *h = gr_hy(s);
     const int n = s->n;
     uint32_t tag = gr_blob_get_u32(r);
     if (!r->bad && tag != HYBRID_STATE_TAG) {
@@ -108,5 +108,5 @@ int gr_hybrid_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err)
 
 int64_t gr_hybrid_window_steps(const gr_sim *s)
 {
-    return s->hy ? s->hy->m : 1;
+    return gr_hy(s) ? gr_hy(s)->m : 1;
 }

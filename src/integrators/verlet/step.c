@@ -24,10 +24,8 @@
 #include <stdbool.h>
 #include <string.h>
 
-#include "core/sim_internal.h"
-#include "event/event.h"
-#include "hybrid/hybrid.h"
 #include "granule/noise.h"
+#include "integrators/verlet/verlet.h"
 
 /* Sums in the step loops are kept in LANES independent partial sums (particle i goes to lane
  * i % LANES) combined in a fixed order at the end: the compiler can then vectorise the loop while
@@ -141,7 +139,7 @@ enum { B_NOISE0 = 6, B_NOISE1 = 7 };
 static inline void draw_block(gr_sim *s, const int b, const int bs, const int sym)
 {
     const int n = s->n, dim = s->dim, lo = b * bs, m = (b + 1) * bs < n ? bs : n - lo;
-    gr_noise_normals(s->scene.seed, GR_STREAM_NOISE, (uint64_t)s->step, (uint32_t)lo, m, dim, s->noise + (size_t)lo * dim);
+    gr_noise_normals(s->params.seed, GR_STREAM_NOISE, (uint64_t)s->step, (uint32_t)lo, m, dim, s->noise + (size_t)lo * dim);
     if (sym) {
         noise_sums(s->noise + (size_t)lo * dim, m * dim, dim, s->blk + (size_t)b * GR_BLK_FIELDS + B_NOISE0);
     }
@@ -162,7 +160,7 @@ static void noise_mean(const gr_sim *s, const int nb, const int sym, double mean
     }
 }
 
-static inline int symmetrised(const gr_sim *s) { return s->scene.noise_mode == GR_NOISE_SYMMETRISED && s->n > 1; }
+static inline int symmetrised(const gr_sim *s) { return s->params.noise_mode == GR_NOISE_SYMMETRISED && s->n > 1; }
 
 /* Draw this step's normals and the means the symmetrised mode subtracts (2.18): per block of
  * GR_BLOCK particles (T threads share the blocks), block sums combined in block order. (2D with
@@ -200,7 +198,7 @@ open_step_1d(gr_sim *restrict s, const int noise, const double mean, const int c
 {
     const int n = s->n;
     const double h = 0.5 * s->dt / s->mass, dt = s->dt;
-    const double amp = noise ? sqrt(2.0 * s->scene.D * s->dt) / s->mass : 0.0;
+    const double amp = noise ? sqrt(2.0 * s->params.D * s->dt) / s->mass : 0.0;
     double *restrict x = s->x, *restrict v = s->vx;
     const double *restrict f = s->fx, *restrict g = s->noise, *restrict gnc = s->gx;
     double added[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0};
@@ -249,7 +247,7 @@ open_range_2d(gr_sim *restrict s, const int lo, const int hi, const int noise, c
               double *restrict part)
 {
     const double h = 0.5 * s->dt / s->mass, dt = s->dt, L = s->L, half = 0.5 * L;
-    const double amp = noise ? sqrt(2.0 * s->scene.D * s->dt) / s->mass : 0.0;
+    const double amp = noise ? sqrt(2.0 * s->params.D * s->dt) / s->mass : 0.0;
     const double m0 = mean[0], m1 = mean[1];
     double *restrict x = s->x, *restrict y = s->y, *restrict vx = s->vx, *restrict vy = s->vy;
     const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict g = s->noise;
@@ -399,25 +397,6 @@ static double open_step_2d(gr_sim *restrict s, const int noise, double mean[2], 
     return s->mass * added;
 }
 
-/* Remove the centre-of-mass velocity; returns the kinetic energy removed. */
-double gr_remove_com(gr_sim *s)
-{
-    double removed = 0.0;
-    double *v[2] = {s->vx, s->vy};
-    for (int c = 0; c < s->dim; c++) {
-        double mean = 0.0;
-        for (int i = 0; i < s->n; i++) {
-            mean += v[c][i];
-        }
-        mean /= s->n;
-        for (int i = 0; i < s->n; i++) {
-            v[c][i] -= mean;
-        }
-        removed += 0.5 * s->mass * s->n * mean * mean;
-    }
-    return removed;
-}
-
 static int check_finite(gr_sim *s, gr_error *err)
 {
     for (int i = 0; i < s->n; i++) {
@@ -435,16 +414,10 @@ static int check_finite(gr_sim *s, gr_error *err)
 /* Overlap beyond this fraction of d means the springs cannot hold the particles apart. */
 #define RUNAWAY_OVERLAP 0.5
 
-int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
+int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
 {
-    if (s->ev) {
-        return gr_event_step(s, nsteps, err);
-    }
-    if (s->hy) {
-        return gr_hybrid_step(s, nsteps, err);
-    }
-    const bool noise = s->scene.noise_mode != GR_NOISE_NONE && s->scene.D > 0.0;
-    const bool com = s->scene.noise_mode == GR_NOISE_COM;
+    const bool noise = s->params.noise_mode != GR_NOISE_NONE && s->params.D > 0.0;
+    const bool com = s->params.noise_mode == GR_NOISE_COM;
     const double skin_half2 = 0.25 * (s->cutoff - s->d) * (s->cutoff - s->d);
     const int team = gr_team(s); /* threads (results do not depend on it) */
     /* Velocities are synchronised (full step) between calls. Inside a call the closing half kick
@@ -483,7 +456,7 @@ int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
             return rc ? rc : GR_FAIL(err, GR_EUNSTABLE, "unstable run: non-finite energy at step %lld", (long long)s->step);
         }
         s->step++;
-        if (s->dim == 2 && (s->scene.skin <= 0.0 || disp2 > skin_half2)) {
+        if (s->dim == 2 && (s->params.skin <= 0.0 || disp2 > skin_half2)) {
             int rc = gr_neighbours_build(s, err);
             if (rc) {
                 return rc;

@@ -28,7 +28,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hybrid/hy_internal.h"
+#include "integrators/hybrid/hy_internal.h"
 
 static int find(int *uf, int i)
 {
@@ -54,24 +54,24 @@ static void unite(int *uf, int i, int j)
 
 static double noise_sx(const gr_sim *s, const gr_hybrid_state *h, int m)
 {
-    if (s->scene.noise_mode == GR_NOISE_NONE || s->scene.D <= 0.0) {
+    if (s->params.noise_mode == GR_NOISE_NONE || s->params.D <= 0.0) {
         return 0.0;
     }
-    const double tau = m * s->dt, sv = sqrt(2.0 * s->scene.D * tau) / s->mass;
+    const double tau = m * s->dt, sv = sqrt(2.0 * s->params.D * tau) / s->mass;
     if (h->kicks) {
         return sv * (double)(m - m / 2) * s->dt;
     }
     const double dm = (double)m;
-    return sqrt(2.0 * s->scene.D * tau * tau * tau / (3.0 * s->mass * s->mass) *
+    return sqrt(2.0 * s->params.D * tau * tau * tau / (3.0 * s->mass * s->mass) *
                 (1.0 + 1.5 / dm + 0.5 / (dm * dm)));
 }
 
 static double noise_sv(const gr_sim *s, int m)
 {
-    if (s->scene.noise_mode == GR_NOISE_NONE || s->scene.D <= 0.0) {
+    if (s->params.noise_mode == GR_NOISE_NONE || s->params.D <= 0.0) {
         return 0.0;
     }
-    return sqrt(2.0 * s->scene.D * m * s->dt) / s->mass;
+    return sqrt(2.0 * s->params.D * m * s->dt) / s->mass;
 }
 
 /* ---- 1D: the ring ------------------------------------------------------------------------- */

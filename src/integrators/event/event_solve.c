@@ -12,7 +12,7 @@
  * step's finiteness check reports the state). */
 #include <float.h>
 
-#include "event/event_internal.h"
+#include "integrators/event/event_internal.h"
 
 #define ITER_CAP 120 /* Newton/bisection steps per phase: 2^-120 of any bracket is below tol */
 

@@ -19,7 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "event/event_internal.h"
+#include "integrators/event/event_internal.h"
 
 static inline bool before(const gr_heap *h, int a, int b)
 {

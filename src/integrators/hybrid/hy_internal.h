@@ -8,7 +8,7 @@
 
 #include <stdint.h>
 
-#include "hybrid/hybrid.h"
+#include "integrators/hybrid/hybrid.h"
 
 /* Velocities in an active cluster stay within [min, max] of the cluster's start velocities
  * widened by this fraction of the spread (plus noise and spring release); docs/hybrid.md. */

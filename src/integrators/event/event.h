@@ -1,7 +1,7 @@
 /* The event-driven integrator ([integrator] kind = event, [model] normal = hard_sphere):
  * instantaneous collisions (2.1, 2.2, 2.10) between free flights driven by the random force.
- * Called by src/core/sim.c and src/core/step.c; the state lives behind gr_sim.ev.
- * docs/event-driven.md describes the algorithm. */
+ * A registered integrator (gr_integrator_event, event_type.c); its state lives behind
+ * gr_sim.integrator_state. docs/event-driven.md describes the algorithm. */
 #ifndef GR_EVENT_H
 #define GR_EVENT_H
 
@@ -9,8 +9,16 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "core/blob.h"
 #include "core/sim_internal.h"
-#include "io/blob.h"
+
+extern const gr_integrator_type gr_integrator_event;
+
+/* The event state of s, or NULL when s is not event-driven. */
+static inline struct gr_event_state *gr_ev(const gr_sim *s)
+{
+    return s->integrator == &gr_integrator_event ? (struct gr_event_state *)s->integrator_state : NULL;
+}
 
 /* Build the event state after positions, velocities and coefficients are set. */
 int gr_event_init(gr_sim *s, gr_error *err);
@@ -28,9 +36,12 @@ void gr_event_set_stop(gr_sim *s, volatile sig_atomic_t *stop);
  * s->step), else 0. Events up to an instant inside those steps are already done, so the next
  * call must go at least that far (a shorter one could not report its end state). */
 int64_t gr_event_owed_steps(const gr_sim *s);
+/* Events processed (collisions, cell crossings, noise updates) since creation. */
+int64_t gr_event_processed(const gr_sim *s);
 
 /* Exact restarts (event_state.c, docs/checkpoints.md): append / read back everything the next
- * gr_event_step depends on (called by src/core/sim_state.c after the soft-sphere part). Load
+ * gr_event_step depends on (the save / load hooks: src/core/sim_state.c calls them after the
+ * soft-sphere part). Load
  * into a simulation freshly created from the same scene; the calendar is rebuilt from the
  * stored keys. */
 int gr_event_save_state(const gr_sim *s, gr_blob *b, gr_error *err);

@@ -19,7 +19,7 @@
  * normals are scratch (a window's draw is kept as a1, a2, J). */
 #include <string.h>
 
-#include "event/event_internal.h"
+#include "integrators/event/event_internal.h"
 
 #define EVENT_STATE_TAG 0x45565431u /* "EVT1": bump when the layout below changes */
 
@@ -42,7 +42,7 @@ static void get_i32s(gr_blob_reader *r, int *v, int64_t n, const char *what)
 
 int gr_event_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
 {
-    const struct gr_event_state *e = s->ev;
+    const struct gr_event_state *e = gr_ev(s);
     const int64_t n = e->n;
     gr_blob_put_u32(b, EVENT_STATE_TAG);
     gr_blob_put_i64(b, n);
@@ -101,7 +101,7 @@ static void check_range(gr_blob_reader *r, const int *v, int64_t n, int lo, int 
 
 int gr_event_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     const int64_t n = e->n;
     uint32_t tag = gr_blob_get_u32(r);
     if (!r->bad && tag != EVENT_STATE_TAG) {
@@ -204,5 +204,5 @@ int gr_event_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err)
 
 int64_t gr_event_owed_steps(const gr_sim *s)
 {
-    return s->ev && s->ev->owed_to > s->step ? s->ev->owed_to - s->step : 0;
+    return gr_ev(s) && gr_ev(s)->owed_to > s->step ? gr_ev(s)->owed_to - s->step : 0;
 }

@@ -10,12 +10,12 @@
  * the box wraps the particle's base. Pair geometry uses the minimum image. */
 #include <stdlib.h>
 
-#include "event/event_internal.h"
+#include "integrators/event/event_internal.h"
 #include "event/rule.h"
 
 int gr_ev2d_alloc(gr_sim *s, gr_error *err)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     const size_t n = (size_t)(e->n > 0 ? e->n : 1);
     e->ncell = (int)floor(e->L / e->d);
     if (e->ncell < 3) {
@@ -263,7 +263,7 @@ static void predict(struct gr_event_state *e, int i)
 
 void gr_ev2d_window(gr_sim *s)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     const int nc = e->ncell;
     for (int c = 0; c < nc * nc; c++) {
         e->head[c] = -1;
@@ -295,7 +295,7 @@ static inline void rebase(struct gr_event_state *e, int i, double x, double y, d
 
 static int check_2d(gr_sim *s, gr_error *err)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     for (int i = 0; i < e->n; i++) {
         for (int j = i + 1; j < e->n; j++) {
             double rx, ry, wx, wy;
@@ -313,7 +313,7 @@ static int check_2d(gr_sim *s, gr_error *err)
 /* Returns 0 after the collision, 1 when it is none after all (predict again), < 0 an error code. */
 static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     double xi, vi, yi, ui, xj, vj, yj, uj;
     gr_ev_state_x(e, i, e->now, e->phase, &xi, &vi);
     gr_ev_state_y(e, i, e->now, e->phase, &yi, &ui);
@@ -395,7 +395,7 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
 
 int gr_ev2d_process(gr_sim *s, double t_limit, gr_error *err)
 {
-    struct gr_event_state *e = s->ev;
+    struct gr_event_state *e = gr_ev(s);
     gr_heap *hp = &e->heap;
     const double t_win = (double)e->win * e->tau;
     for (int i; (i = gr_heap_min(hp)) >= 0;) {

@@ -1,0 +1,28 @@
+/* The event-driven integrator's registration: its hooks for the core and the run driver. */
+#include "integrators/event/event.h"
+
+/* A call interrupted by a stop owes the steps up to its target: events up to an instant inside
+ * them are done, so the next call must reach at least that far (if the caller may go there). */
+static int64_t event_call_steps(const gr_sim *s, int64_t n, int64_t todo)
+{
+    const int64_t owed = gr_event_owed_steps(s);
+    return owed > n && owed <= todo ? owed : n;
+}
+
+static int event_save(const gr_sim *s, struct gr_blob *b, gr_error *err) { return gr_event_save_state(s, b, err); }
+static int event_load(gr_sim *s, struct gr_blob_reader *r, gr_error *err) { return gr_event_load_state(s, r, err); }
+
+const gr_integrator_type gr_integrator_event = {
+    .name = "event",
+    .summary = "event-driven hard spheres (needs [model] normal = hard_sphere, docs/event-driven.md)",
+    .instantaneous = true,
+    .free_flight = true,
+    .create = gr_event_init,
+    .step = gr_event_step,
+    .free = gr_event_free,
+    .call_steps = event_call_steps,
+    .save = event_save,
+    .load = event_load,
+    .set_stop = gr_event_set_stop,
+    .events = gr_event_processed,
+};

@@ -1,0 +1,47 @@
+/* The hybrid integrator's registration: its hooks for the core and the run driver. */
+#include "integrators/hybrid/hybrid.h"
+
+/* End a call on a window boundary (at or before step + n, else the next one) unless the caller
+ * must stop earlier, so the windows do not depend on how the steps are split into calls. */
+static int64_t hybrid_call_steps(const gr_sim *s, int64_t n, int64_t todo)
+{
+    const int64_t q = gr_hybrid_window_steps(s);
+    if (q > 1 && n < todo) {
+        const int64_t end = (s->step + n) / q * q;
+        n = end > s->step ? end - s->step : q - s->step % q;
+        n = n < todo ? n : todo;
+    }
+    return n;
+}
+
+static int hybrid_save(const gr_sim *s, struct gr_blob *b, gr_error *err) { return gr_hybrid_save_state(s, b, err); }
+static int hybrid_load(gr_sim *s, struct gr_blob_reader *r, gr_error *err) { return gr_hybrid_load_state(s, r, err); }
+
+/* summary.json "hybrid" (docs/hybrid.md) */
+static int hybrid_describe(const gr_sim *s, gr_integrator_figure *out, int cap)
+{
+    gr_hybrid_stats st;
+    if (!gr_sim_hybrid_stats(s, &st) || cap < 5) {
+        return 0;
+    }
+    out[0] = (gr_integrator_figure){"window", st.window};
+    out[1] = (gr_integrator_figure){"windows", (double)st.windows};
+    out[2] = (gr_integrator_figure){"rollbacks", (double)st.rollbacks};
+    out[3] = (gr_integrator_figure){"active_fraction", st.active_fraction};
+    out[4] = (gr_integrator_figure){"margin_sigmas", st.margin_sigmas};
+    return 5;
+}
+
+const gr_integrator_type gr_integrator_hybrid = {
+    .name = "hybrid",
+    .summary = "free flight event-driven, contacts by the soft-sphere model (docs/hybrid.md)",
+    .free_flight = true,
+    .create = gr_hybrid_init,
+    .step = gr_hybrid_step,
+    .free = gr_hybrid_free,
+    .call_steps = hybrid_call_steps,
+    .save = hybrid_save,
+    .load = hybrid_load,
+    .describe = hybrid_describe,
+    .section = "hybrid",
+};

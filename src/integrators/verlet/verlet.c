@@ -1,0 +1,8 @@
+/* The verlet integrator's registration (the scheme itself is step.c). */
+#include "integrators/verlet/verlet.h"
+
+const gr_integrator_type gr_integrator_verlet = {
+    .name = "verlet",
+    .summary = "soft-sphere velocity Verlet (docs/integrator.md)",
+    .step = gr_verlet_step,
+};

@@ -1,0 +1,39 @@
+/* From a scene to a simulation: the scene's engine keys copied into the core's plain parameter
+ * struct (the core never sees gr_scene), and the scene-level gr_sim_create* conveniences. */
+#include <stdio.h>
+
+#include "granule/scene.h"
+
+void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p)
+{
+    *p = (gr_sim_params){.dim = s->dim, .N = s->N, .L = s->L, .radius = s->radius, .mass = s->mass,
+                         .placement = s->placement, .v0 = s->v0, .normal = s->normal, .tangential = s->tangential,
+                         .contact = s->contact, .D = s->D, .noise_mode = s->noise_mode, .com_interval = s->com_interval,
+                         .integrator = s->integrator, .dt = s->dt, .steps_per_contact = s->steps_per_contact,
+                         .force_dt = s->force_dt, .skin = s->skin, .free_flight = s->free_flight,
+                         .kick_interval = s->kick_interval, .seed = s->seed};
+    snprintf(p->source, sizeof p->source, "%s", s->source);
+}
+
+int gr_sim_create(const gr_scene *scene, gr_sim **out, gr_error *err)
+{
+    gr_sim_params p;
+    gr_scene_sim_params(scene, &p);
+    return gr_sim_new(&p, out, err);
+}
+
+int gr_sim_create_with_state(const gr_scene *scene, int n, const double *x, const double *y, const double *vx,
+                             const double *vy, gr_sim **out, gr_error *err)
+{
+    gr_sim_params p;
+    gr_scene_sim_params(scene, &p);
+    return gr_sim_new_with_state(&p, n, x, y, vx, vy, out, err);
+}
+
+int gr_sim_create_canonical(const gr_scene *scene, int n, const double *x, const double *y, const double *vx,
+                            const double *vy, gr_sim **out, gr_error *err)
+{
+    gr_sim_params p;
+    gr_scene_sim_params(scene, &p);
+    return gr_sim_new_canonical(&p, n, x, y, vx, vy, out, err);
+}

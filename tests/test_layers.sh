@@ -1,0 +1,27 @@
+#!/bin/bash
+# The layering of docs/architecture.md, checked on the source: the core (src/core) knows no
+# integrator and no io (it takes a gr_sim_params and hands its state to a byte buffer), and the
+# run driver reaches the integrators only through their interface (granule/integrator.h).
+# Usage: test_layers.sh SOURCE_ROOT
+set -u
+root=$1
+fail=0
+bad() { echo "FAIL: $*"; fail=1; }
+
+core_includes=$(grep -n '#include "\(io\|event\|hybrid\|integrators\|analysis\|cli\|theory\)/' "$root"/src/core/*.[ch])
+[ -z "$core_includes" ] || bad "src/core includes a layer above it:"$'\n'"$core_includes"
+core_names=$(grep -nw 'gr_scene\|gr_event_[a-z_]*\|gr_hybrid_[a-z_]*\|gr_verlet_[a-z_]*\|gr_integrator_verlet\|gr_integrator_event\|gr_integrator_hybrid\|gr_blocking\|gr_histogram' "$root"/src/core/*.[ch] | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
+[ -z "$core_names" ] || bad "src/core names an integrator or the scene:"$'\n'"$core_names"
+# the integrators build on the core, never on io
+int_includes=$(grep -rn '#include "io/' "$root"/src/integrators)
+[ -z "$int_includes" ] || bad "src/integrators includes io:"$'\n'"$int_includes"
+# the run driver and the rest of io call the integrator interface, not an integrator
+io_includes=$(grep -rn '#include "integrators/' "$root"/src/io "$root"/src/cli "$root"/src/analysis)
+[ -z "$io_includes" ] || bad "io / cli / analysis include an integrator directly:"$'\n'"$io_includes"
+# every integrator folder is registered
+for d in "$root"/src/integrators/*/; do
+    name=$(basename "$d")
+    grep -q "&gr_integrator_$name," "$root/src/integrators/registry.c" || bad "src/integrators/$name is not in registry.c"
+done
+[ $fail = 0 ] && echo "layers: ok (core free of io and of integrators; run driver uses the interface)"
+exit $fail
