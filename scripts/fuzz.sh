@@ -2,7 +2,7 @@
 # Build granule's libFuzzer targets (clang, ASan + UBSan) and fuzz them (docs/fuzzing.md).
 #   scripts/fuzz.sh [--quick | --replay | --time SECONDS] [--build DIR] [TARGET ...]
 #     --quick      each target ~10 s from the committed corpus (CI; total < 1 min); fails on any
-#                  crash, hang (> 10 s per input), leak or sanitizer report
+#                  crash, hang (> 30 s per input), leak or sanitizer report
 #     --replay     run every committed corpus input once (regression check, a few seconds)
 #     --time S     fuzz each target for S seconds (a campaign; new inputs go to DIR/corpus-TARGET)
 #   TARGET: scene, sweep, checkpoint (default: every target that was built).
@@ -67,7 +67,7 @@ for t in "${targets[@]}"; do
     [[ $t == scene ]] && extra=("$src/docs/scenes")
     [[ $t == sweep ]] && extra=("$src/docs/sweeps")
     [[ -x "$exe" ]] || { echo "fuzz.sh: $t: not built (see tests/fuzz/meson.build)" >&2; status=1; continue; }
-    opts=(-timeout=10 -rss_limit_mb=1024 -malloc_limit_mb=512 -artifact_prefix="$build/crash-$t-" -print_final_stats=1)
+    opts=(-timeout=30 -rss_limit_mb=1024 -malloc_limit_mb=512 -artifact_prefix="$build/crash-$t-" -print_final_stats=1)
     [[ -f "$dict" ]] && opts+=(-dict="$dict")
     log="$build/fuzz-$t.log"
     if [[ "$mode" == replay ]]; then
