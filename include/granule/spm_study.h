@@ -34,6 +34,13 @@
  *   c = 2^(2/3) <w^2>,  c' = 2^(-1/3) <T / t_l>. */
 double gr_spm_c_from_w2(double w2);
 double gr_spm_cprime_from_exit_time(double exit_time);
+/* c and c' with their errors from a set of walks (errors scale by the same factors) */
+typedef struct gr_spm_constants {
+    double c, c_err, c_prime, c_prime_err;
+} gr_spm_constants;
+void gr_spm_constants_of(const gr_spm_walk_stats *st, gr_spm_constants *out);
+/* The inverse-variance mean of c and c' over radii (they do not depend on l). */
+void gr_spm_constants_pool(const gr_spm_constants *per, int n, gr_spm_constants *out);
 
 /* ------------------------------------------------------------------------------------------- *
  * circle: Q(v, l) for fixed radii (sec. 5.3.1) */
@@ -55,7 +62,8 @@ typedef struct gr_spm_circle_report {
     gr_spm_collapse collapse[GR_SPM_MAX_RADII]; /* [r] against radius 0; [0] unused */
     gr_spm_tail_fit pooled_fit;
     char pooled_note[GR_SPM_NOTE];
-    double w2_err[GR_SPM_MAX_RADII];          /* error of <w^2> from the batches */
+    gr_spm_constants constants[GR_SPM_MAX_RADII]; /* c, c' per radius */
+    gr_spm_constants pooled_constants;
     double wall_seconds;
 } gr_spm_circle_report;
 
@@ -74,8 +82,9 @@ typedef struct gr_spm_full_params {
     int bins;
     const char *pl_path;  /* a P_l table, or NULL */
     const char *run_dir;  /* an RFM run to compare with, or NULL */
-    double df, C;         /* the fitted form 4.25 (NAN: not given; df defaults to 1.63 when
-                             neither pl_path nor run_dir is given, C to 121) */
+    double df, C;         /* the fitted form 4.25 (NAN: not given; df defaults to 1.63 (the
+                             thesis' D_f, sec. 4.2) when neither pl_path nor run_dir is given,
+                             C to 121) */
     double tail_from;     /* fit 4.25 to the table over l >= tail_from, m (0: the longest 10%) */
     double vmax;          /* NAN: from P_l and the walks */
     double fit_from;      /* NAN: 3 v_rms */
@@ -100,6 +109,7 @@ typedef struct gr_spm_full_report {
     gr_spm_rfm_info info;
     double run_mass, run_D;
     /* computed by run */
+    gr_spm_constants constants; /* c, c' over walks of all l (each in units of its own l) */
     gr_spm_full_result res;
     bool have_res;
     int nb;
@@ -142,7 +152,7 @@ typedef struct gr_spm_predict_params {
 } gr_spm_predict_params;
 
 typedef struct gr_spm_predict_report {
-    bool df_defaulted;
+    bool df_defaulted;    /* D_f = 1.63 was taken because neither --df nor --pl was given */
     gr_spm_pl_fit plfit;
     gr_spm_prediction p;
     double alpha_err;     /* from the error of the fitted D_f; NAN with --df */

@@ -30,9 +30,13 @@ static void usage_main(FILE *f)
             "of a disc (2D) or interval (1D) of radius l and is driven by the random force until it\n"
             "first reaches the boundary; its velocity is sampled uniformly in time.\n"
             "  circle   Q(v,l) for fixed radii: collapse under v / l^(1/3), Gaussian tail 5.12\n"
-            "  full     P(v) with l drawn from P_l(l) (--pl FILE or --df D_f [--C C], eq. 4.25);\n"
+            "  full     P(v) with l drawn from P_l(l) (--pl FILE or --df D_f [--C C], eq. 4.25;\n"
+            "           D_f defaults to the thesis' 1.63);\n"
             "           --compare-run DIR overlays a Random Force Model run's P(v)\n"
             "  predict  alpha = 6(D_f - 1)/(3 D_f - 1) (5.29), v_A (5.27), H(v) ~ v^h (5.30-5.31)\n"
+            "Every mode writes into --out (default out/spm-MODE) and ends with 'wrote DIR'. The SPM's\n"
+            "constants are printed in the thesis' convention: <v_x^2> = c (D l/M^2)^(2/3) and\n"
+            "<T_fp> = c' (l^2 M^2/D)^(1/3), with their errors.\n"
             "Free flight is sampled exactly; see docs/theory-spm.md for the model, the options, the\n"
             "output files and measured results.\n"
             "Exit status: 0 done, 2 bad input, 1 other failure.\n");
@@ -58,13 +62,13 @@ static void usage_circle(FILE *f)
 static void usage_predict(FILE *f)
 {
     fprintf(f,
-            "usage: granule spm predict (--df D_f | --pl FILE) [--C C] [--b B] [options]\n\n"
+            "usage: granule spm predict [--df D_f | --pl FILE] [--C C] [--b B] [options]\n\n"
             "The asymptotic tail of P(v) from the SPM integral identity (thesis sec. 5.3.2):\n"
             "  alpha = 6 (D_f - 1) / (3 D_f - 1)                       (5.29)\n"
             "  S = B (gamma/2F)^(2/(gamma+2)) + C (2F/gamma)^(gamma/(gamma+2)), v_A = S^(-1/alpha),\n"
             "  F = B/C, gamma = 3 (D_f - 1), P(v) ~ v^h exp(-S |v|^alpha)  (5.27)\n"
             "  h = 3 (D_f - 1) / (3 D_f - 1)                            (5.30-5.31)\n"
-            "  --df D_f          fractal dimension (e.g. 1.63)\n"
+            "  --df D_f          fractal dimension (default 1.63 +- 0.03, the thesis' D_f, sec. 4.2)\n"
             "  --pl FILE         or fit 4.25 to a measured P_l table (columns l, P; or a run's\n"
             "                    freepath.csv, columns l_over_d, density) for D_f and C\n"
             "  --diameter D      particle diameter, m, for l_over_d (default: the run folder's)\n"
@@ -167,9 +171,9 @@ static int cmd_circle(int argc, char **argv)
                r.wall_seconds);
         for (int k = 0; k < p.n_radii; k++) {
             const gr_spm_walk_stats *st = &r.q[k].stats;
-            printf("  l = %g m: u_l = %.4g m/s, <T> = %.4f +- %.4f t_l, <w^2> = %.4f, b = %.4f +- %.4f (w >= %g)", p.radii[k],
-                   r.q[k].u, st->exit_time_mean, st->exit_time_err, st->w2_time_mean, r.fit[k].b, r.fit[k].b_err,
-                   p.fit_from);
+            printf("  l = %g m: u_l = %.4g m/s, <T> = %.4f +- %.4f t_l, <w^2> = %.4f +- %.4f, b = %.4f +- %.4f (w >= %g)",
+                   p.radii[k], r.q[k].u, st->exit_time_mean, st->exit_time_err, st->w2_time_mean, st->w2_time_err,
+                   r.fit[k].b, r.fit[k].b_err, p.fit_from);
             if (k > 0) {
                 printf(", collapse vs l = %g: chi2/dof = %.3g (%d bins, p = %.3g)", p.radii[0], r.collapse[k].chi2_red,
                        r.collapse[k].dof, r.collapse[k].p_value);
@@ -178,6 +182,8 @@ static int cmd_circle(int argc, char **argv)
         }
         printf("  pooled Gaussian tail (5.12): b = %.4f +- %.4f (thesis 0.98), i.e. B = %.4g s^2 m^-4/3; free exponent %.3f +- %.3f\n",
                pf->b, pf->b_err, gr_spm_B(&p.s, pf->b), pf->beta, pf->beta_err);
+        spm_print_constants(&r.pooled_constants, "inverse-variance mean over the radii");
+        printf("wrote %s\n", o.out);
     }
     gr_spm_circle_report_free(&r);
     if (rc) {
@@ -242,7 +248,9 @@ static int cmd_predict(int argc, char **argv)
         return spm_exit_code(&err);
     }
     const gr_spm_prediction *q = &r.p;
-    printf("%s: D_f = %.4g%s\n", out, p.df, p.pl_path ? " (fitted to the P_l tail)" : "");
+    printf("%s: D_f = %.4g%s\n", out, p.df,
+           p.pl_path ? " (fitted to the P_l tail)"
+                     : r.df_defaulted ? " (default: the thesis' D_f = 1.63 +- 0.03, sec. 4.2; give --df or --pl to change it)" : "");
     if (p.pl_path) {
         printf("  P_l tail (4.25) over %.3g <= l <= %.3g m: D_f = %.3f +- %.3f, C = %.4g +- %.2g, chi2/dof %.2f\n",
                r.plfit.lfrom, r.plfit.lto, r.plfit.df, r.plfit.df_err, r.plfit.C, r.plfit.C_err, r.plfit.chi2_red);
@@ -251,6 +259,7 @@ static int cmd_predict(int argc, char **argv)
     printf("  H(v) ~ v^h, h = 3(D_f - 1)/(3 D_f - 1) = %.4f (5.30-5.31)\n", q->h);
     printf("  B = %.4g (b = %g), C = %.4g: S = %.4g (m/s)^-alpha, v_A = S^(-1/alpha) = %.4g m/s (5.27)\n", q->B, p.b, q->C,
            q->S, q->v_A);
+    printf("wrote %s\n", out);
     return EXIT_OK;
 }
 

@@ -16,7 +16,7 @@ int cmd_spm_full(int argc, char **argv);
 static void usage_full(FILE *f)
 {
     fprintf(f,
-            "usage: granule spm full (--pl FILE | --df D_f [--C C]) [--compare-run DIR] [options]\n"
+            "usage: granule spm full [--pl FILE | --df D_f [--C C]] [--compare-run DIR] [options]\n"
             "       granule spm full --compare-run DIR [options]   (P_l from DIR/freepath.csv)\n\n"
             "The SPM of thesis sec. 5.2.3: every walk draws its radius l from the free-path\n"
             "distribution P_l(l); the velocity distribution P(v) of one component is sampled\n"
@@ -25,7 +25,8 @@ static void usage_full(FILE *f)
             "                    density; optional P_err or density_error); '#' lines are comments;\n"
             "                    or a run's freepath.csv (l_over_d: diameters, see --diameter)\n"
             "  --diameter D      particle diameter, m, for l_over_d (default: the run folder's)\n"
-            "  --df D_f          use the fitted form 4.25, P_l ~ l^(D_f-2) exp(-C l^(D_f-1))\n"
+            "  --df D_f          use the fitted form 4.25, P_l ~ l^(D_f-2) exp(-C l^(D_f-1)); without\n"
+            "                    --pl and --compare-run D_f defaults to 1.63 (the thesis' D_f, sec. 4.2)\n"
             "  --C C             its constant, m^-(D_f-1) (default 121: phi = 0.530, thesis sec. 5.3.3)\n"
             "  --tail-from L     fit 4.25 to the --pl table for l >= L, m (default: the longest 10%%\n"
             "                    of the paths)\n"
@@ -114,8 +115,12 @@ static void print_report(const char *out, const gr_spm_full_params *p, const gr_
 {
     printf("%s: SPM P(v), %dD, %lld walks (%s), l from %s, %.1f s\n", out, p->s.dim, (long long)p->s.walks,
            p->weight_time ? "uniform in time" : "per walk", r->pl.source, r->wall_seconds);
+    if (r->df_defaulted) {
+        printf("  D_f = 1.63: the default, the thesis' D_f = 1.63 +- 0.03 (sec. 4.2); give --df, --pl or --compare-run to change it\n");
+    }
     printf("  <l> = %.4g m, v_rms = %.4g m/s, data up to %.3g m/s, mean first-passage time %.4f t_l\n", r->res.l_mean,
            r->v_rms, r->v_data, r->res.stats.exit_time_mean);
+    spm_print_constants(&r->constants, "every walk in the units of its own l");
     if (p->pl_path && r->have_plfit) {
         printf("  P_l tail (4.25) over l >= %.3g m: D_f = %.3f +- %.3f, C = %.4g +- %.2g\n", r->plfit.lfrom, r->plfit.df,
                r->plfit.df_err, r->plfit.C, r->plfit.C_err);
@@ -181,6 +186,7 @@ int cmd_spm_full(int argc, char **argv)
     }
     if (!rc) {
         print_report(o.out, &p, &r);
+        printf("wrote %s\n", o.out);
     }
     gr_spm_full_report_free(&r);
     if (rc) {

@@ -6,6 +6,7 @@
 #include <stdbool.h>
 
 #include "granule/spm.h"
+#include "granule/spm_study.h"
 
 #define SPM_COMMON_HELP                                                                                      \
     "  --dim 1|2         interval or disc (default 2)\n"                                                      \
@@ -41,6 +42,8 @@ void spm_unknown(const char *mode, const char *a);
 /* Turn on the progress line on stderr (when interactive and not --quiet). */
 void spm_progress_on(spm_options *o, const char *label);
 void spm_progress_off(spm_options *o);
+/* "  SPM constants (thesis convention): c = .. +- .., c' = .. +- .. (how)" */
+void spm_print_constants(const gr_spm_constants *c, const char *how);
 /* exit status for a library error */
 int spm_exit_code(const gr_error *err);
 

@@ -157,3 +157,10 @@ void spm_progress_off(spm_options *o)
         o->s->progress = NULL;
     }
 }
+
+void spm_print_constants(const gr_spm_constants *c, const char *how)
+{
+    printf("  constants (thesis convention): <v_x^2> = c (D l/M^2)^(2/3), c = %.4f +- %.4f; "
+           "<T_fp> = c' (l^2 M^2/D)^(1/3), c' = %.4f +- %.4f (%s)\n",
+           c->c, c->c_err, c->c_prime, c->c_prime_err, how);
+}

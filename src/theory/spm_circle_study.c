@@ -16,6 +16,36 @@
 double gr_spm_c_from_w2(double w2) { return pow(2.0, 2.0 / 3.0) * w2; }
 double gr_spm_cprime_from_exit_time(double exit_time) { return pow(2.0, -1.0 / 3.0) * exit_time; }
 
+void gr_spm_constants_of(const gr_spm_walk_stats *st, gr_spm_constants *out)
+{
+    out->c = gr_spm_c_from_w2(st->w2_time_mean);
+    out->c_err = gr_spm_c_from_w2(st->w2_time_err);
+    out->c_prime = gr_spm_cprime_from_exit_time(st->exit_time_mean);
+    out->c_prime_err = gr_spm_cprime_from_exit_time(st->exit_time_err);
+}
+
+/* one term of an inverse-variance mean */
+static void pool_add(double *w, double *wx, double x, double e)
+{
+    if (isfinite(x) && e > 0.0 && isfinite(e)) {
+        *w += 1.0 / (e * e);
+        *wx += x / (e * e);
+    }
+}
+
+void gr_spm_constants_pool(const gr_spm_constants *per, int n, gr_spm_constants *out)
+{
+    double w1 = 0.0, s1 = 0.0, w2 = 0.0, s2 = 0.0;
+    for (int k = 0; k < n; k++) {
+        pool_add(&w1, &s1, per[k].c, per[k].c_err);
+        pool_add(&w2, &s2, per[k].c_prime, per[k].c_prime_err);
+    }
+    out->c = w1 > 0.0 ? s1 / w1 : (double)NAN;
+    out->c_err = w1 > 0.0 ? 1.0 / sqrt(w1) : (double)NAN;
+    out->c_prime = w2 > 0.0 ? s2 / w2 : (double)NAN;
+    out->c_prime_err = w2 > 0.0 ? 1.0 / sqrt(w2) : (double)NAN;
+}
+
 void gr_spm_circle_params_default(gr_spm_circle_params *p)
 {
     memset(p, 0, sizeof *p);
@@ -123,6 +153,10 @@ int gr_spm_circle_run(const gr_spm_circle_params *p, gr_spm_circle_report *r, gr
             r->collapse[k].chi2_red = r->collapse[k].p_value = r->collapse[k].p_chi2 = (double)NAN;
         }
     }
+    for (int k = 0; k < r->n_radii; k++) {
+        gr_spm_constants_of(&r->q[k].stats, &r->constants[k]);
+    }
+    gr_spm_constants_pool(r->constants, r->n_radii, &r->pooled_constants);
     if (!rc) {
         gr_error e2 = {0};
         if (gr_spm_q_tail_fit(&r->pooled, p->fit_from, MIN_COUNT, &r->pooled_fit, &e2)) {
@@ -178,18 +212,21 @@ static int write_q(const char *dir, const gr_spm_circle_params *p, const gr_spm_
                     &p->s);
     gr_file_note(&f, "# u_l in m/s, t_l in s, tau = sampling interval / t_l; exit_time and w2 (<w^2> per component in\n"
                      "# time) in the walk's units; b of Q ~ A exp(-b w^2) over w >= %g (thesis: 0.98); beta: free-exponent fit;\n"
-                     "# chi2 between the scaled Q of this radius and of the first one over bins with >= %g samples in both\n",
+                     "# chi2 between the scaled Q of this radius and of the first one over bins with >= %g samples in both;\n"
+                     "# c, c_prime: the thesis' constants of <v_x^2> = c (D l/M^2)^(2/3), <T_fp> = c' (l^2 M^2/D)^(1/3)\n",
                  p->fit_from, MIN_COUNT);
     fprintf(f.f, "radius,u_l,t_l,tau,walks,exit_time,exit_time_err,w2,b,b_err,A,fit_chi2_red,beta,beta_err,"
-                 "collapse_chi2,collapse_dof,collapse_p\n");
+                 "collapse_chi2,collapse_dof,collapse_p,w2_err,c,c_err,c_prime,c_prime_err\n");
     for (int k = 0; k < r->n_radii; k++) {
         const gr_spm_walk_stats *st = &r->q[k].stats;
         const gr_spm_tail_fit *ft = &r->fit[k];
         const gr_spm_collapse *c = &r->collapse[k];
-        fprintf(f.f, "%.6g,%.6g,%.6g,%.6g,%lld,%.6g,%.3g,%.6g,%.5g,%.3g,%.5g,%.3g,%.4g,%.3g,%.5g,%d,%.4g\n", p->radii[k],
-                r->q[k].u, r->q[k].t_scale, r->q[k].tau, (long long)st->walks, st->exit_time_mean, st->exit_time_err,
-                st->w2_time_mean, ft->b, ft->b_err, ft->A, ft->chi2_red, ft->beta, ft->beta_err, k ? c->chi2 : 0.0,
-                k ? c->dof : 0, k ? c->p_value : 1.0);
+        const gr_spm_constants *cc = &r->constants[k];
+        fprintf(f.f, "%.6g,%.6g,%.6g,%.6g,%lld,%.6g,%.3g,%.6g,%.5g,%.3g,%.5g,%.3g,%.4g,%.3g,%.5g,%d,%.4g,%.3g,%.6g,%.3g,%.6g,%.3g\n",
+                p->radii[k], r->q[k].u, r->q[k].t_scale, r->q[k].tau, (long long)st->walks, st->exit_time_mean,
+                st->exit_time_err, st->w2_time_mean, ft->b, ft->b_err, ft->A, ft->chi2_red, ft->beta, ft->beta_err,
+                k ? c->chi2 : 0.0, k ? c->dof : 0, k ? c->p_value : 1.0, st->w2_time_err, cc->c, cc->c_err, cc->c_prime,
+                cc->c_prime_err);
     }
     return gr_file_commit(&f, err);
 }
@@ -252,6 +289,7 @@ static cJSON *summary(const gr_spm_circle_params *p, const gr_spm_circle_report 
     if (r->pooled_note[0]) {
         cJSON_AddStringToObject(pj, "note", r->pooled_note);
     }
+    gr_spm_json_constants(j, &r->pooled_constants, "inverse-variance mean over the radii");
     cJSON_AddNumberToObject(j, "wall_seconds", r->wall_seconds);
     cJSON_AddArrayToObject(j, "plots");
     return j;
@@ -266,15 +304,16 @@ static void plots(const char *dir, bool on, cJSON *j, const gr_spm_circle_params
     int k = snprintf(b, left,
                      "set title 'Q(v,l) rescaled: collapse under v / l^{1/3} (sec. 5.3.1), %dD'\n"
                      "set xlabel 'w = |v| / u_l,  u_l = (2Dl/M^2)^{1/3}'\nset ylabel 'u_l Q(v,l)'\n"
-                     "set logscale y\nset format y '10^{%%L}'\nset key top right\n"
+                     "set logscale y\nset format y '10^{%%L}'\nset format x '%%g'\nset key top right\n"
                      "A = %.10g\nb = %.10g\nbt = %.10g\n"
                      "plot ",
                      p->s.dim, isfinite(pf->A) ? pf->A : 1.0, isfinite(pf->b) ? pf->b : 1.0, GR_SPM_THESIS_B_COEF);
     b += k;
     left -= (size_t)k;
     for (int i = 0; i < r->n_radii; i++) {
-        k = snprintf(b, left, "'q.csv' using 5:(($1==%d && $8>0) ? $8 : 1/0):9 with yerrorbars pt 7 ps 0.5 title 'l = %g m', ",
-                     i, p->radii[i]);
+        k = snprintf(b, left,
+                     "'q.csv' using 5:(($1==%d && $8>0) ? $8 : 1/0):9 with yerrorbars pt %d ps 0.5 lc rgb '%s' title 'l = %g m', ",
+                     i, 5 + 2 * (i / 6 % 4), gr_spm_colour(i % 6), p->radii[i]);
         b += k;
         left -= (size_t)k;
     }
@@ -287,13 +326,14 @@ static void plots(const char *dir, bool on, cJSON *j, const gr_spm_circle_params
     left = sizeof body;
     k = snprintf(b, left,
                  "set title 'Q(v,l) for fixed radii (sec. 5.3.1), %dD'\nset xlabel '|v| (m/s)'\nset ylabel 'Q(v,l) (s/m)'\n"
-                 "set logscale y\nset format y '10^{%%L}'\nset key top right\nplot ",
+                 "set logscale y\nset format y '10^{%%L}'\nset format x '%%g'\nset key top right\nplot ",
                  p->s.dim);
     b += k;
     left -= (size_t)k;
     for (int i = 0; i < r->n_radii; i++) {
-        k = snprintf(b, left, "'q.csv' using 6:(($1==%d && $11>0) ? $11 : 1/0) with linespoints pt 7 ps 0.4 title 'l = %g m'%s",
-                     i, p->radii[i], i + 1 < r->n_radii ? ", " : "\n");
+        k = snprintf(b, left,
+                     "'q.csv' using 6:(($1==%d && $11>0) ? $11 : 1/0) with linespoints pt %d ps 0.4 lc rgb '%s' title 'l = %g m'%s",
+                     i, 5 + 2 * (i / 6 % 4), gr_spm_colour(i % 6), p->radii[i], i + 1 < r->n_radii ? ", " : "\n");
         b += k;
         left -= (size_t)k;
     }

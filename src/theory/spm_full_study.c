@@ -112,8 +112,13 @@ int gr_spm_full_prepare(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *
         fclose(probe);
         p->pl_path = r->auto_pl;
     }
+    if (!p->pl_path && isnan(p->df)) {
+        /* neither a P_l table nor D_f: the thesis' D_f = 1.63 +- 0.03 (sec. 4.2, Table 4.1) */
+        p->df = GR_SPM_THESIS_DF;
+        r->df_defaulted = true;
+    }
     if ((p->pl_path != NULL) == !isnan(p->df)) {
-        return GR_FAIL(err, GR_EINVAL, "spm full: give either --pl FILE or --df D_f");
+        return GR_FAIL(err, GR_EINVAL, "spm full: give either --pl FILE or --df D_f, not both");
     }
     if (!isnan(p->diameter) && !(p->diameter > 0.0 && isfinite(p->diameter))) {
         return GR_FAIL(err, GR_EINVAL, "spm full: --diameter must be > 0 m, got %g", p->diameter);
@@ -355,6 +360,7 @@ int gr_spm_full_run(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *err)
         r->e_spm[i] = gr_spm_dist_error(&r->res.p, i);
     }
     r->v_rms = sqrt(r->res.v2_mean);
+    gr_spm_constants_of(&r->res.stats, &r->constants);
     if (isnan(p->fit_from)) {
         p->fit_from = 3.0 * r->v_rms;
     }

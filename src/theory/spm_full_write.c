@@ -108,6 +108,7 @@ static void json_free_paths(cJSON *j, const gr_spm_full_params *p, const gr_spm_
         }
     } else {
         cJSON_AddNumberToObject(pj, "D_f", p->df);
+        cJSON_AddStringToObject(pj, "D_f_source", r->df_defaulted ? "default: the thesis' 1.63 (sec. 4.2)" : "--df");
         cJSON_AddNumberToObject(pj, "C", p->C);
     }
 }
@@ -195,10 +196,10 @@ static void plots(const char *dir, bool on, cJSON *j, const gr_spm_full_params *
     int k = snprintf(body, sizeof body,
                      "set title 'P(v) of the Single Particle Model (sec. 5.2.3), %dD'\n"
                      "set xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\nset logscale y\nset format y '10^{%%L}'\n"
-                     "set key top right\nset xrange [0:%g]\n"
+                     "set format x '%%g'\nset key top right\nset xrange [0:%g]\n"
                      "plot 'p_v.csv' using 3:($5>0 ? $5 : 1/0):($5-$6 > 0 ? $5-$6 : $5/10):($5+$6) with yerrorbars "
-                     "pt 7 ps 0.4 title 'SPM'",
-                     p->s.dim, p->run_dir ? fmax(r->v_data, 1.02 * r->info.v_max) : r->v_data);
+                     "pt 7 ps 0.4 lc rgb '%s' title 'SPM'",
+                     p->s.dim, p->run_dir ? fmax(r->v_data, 1.02 * r->info.v_max) : r->v_data, gr_spm_colour(0));
     if (r->have_531) {
         k += snprintf(body + k, sizeof body - (size_t)k,
                       ", '' using 3:8 with lines lw 2 lc rgb 'black' "
@@ -206,20 +207,26 @@ static void plots(const char *dir, bool on, cJSON *j, const gr_spm_full_params *
                       r->pred.alpha);
     }
     if (p->run_dir) {
+        /* the SPM's amplitude k (and velocity scale s) are fitted to the run's tail: say so in the
+         * legend instead of an unexplained factor */
         k += snprintf(body + k, sizeof body - (size_t)k,
                       ", 'compare.csv' using 1:($5>0 ? $5 : 1/0):($5-$6 > 0 ? $5-$6 : $5/10):($5+$6) with yerrorbars "
-                      "pt 6 ps 0.6 title 'RFM run', "
-                      "'' using 1:($4>0 ? $4 : 1/0) with lines dt 2 lw 2 title 'SPM x %.3g', "
-                      "'' using 1:($9>0 ? $9 : 1/0) with lines dt 3 lw 2 title 'SPM x %.3g, v scaled by %.3g'",
-                      r->cmp.k, r->cmp2.k, r->cmp2.s);
+                      "pt 6 ps 0.6 lc rgb '%s' title 'RFM run', "
+                      "'' using 1:($4>0 ? $4 : 1/0) with lines dt 2 lw 2 lc rgb '%s' "
+                      "title 'k P_{SPM}(v), amplitude k = %.3g fitted to the run for v >= %.3g m/s', "
+                      "'' using 1:($9>0 ? $9 : 1/0) with lines dt 3 lw 2 lc rgb '%s' "
+                      "title 'k P_{SPM}(v/s)/s, k = %.3g and velocity scale s = %.3g fitted'",
+                      gr_spm_colour(1), gr_spm_colour(2), r->cmp.k, p->compare_from, gr_spm_colour(3), r->cmp2.k,
+                      r->cmp2.s);
     }
     snprintf(body + k, sizeof body - (size_t)k, "\n");
     gr_spm_plot(dir, on, j, "p_v.png", body);
     snprintf(body, sizeof body,
              "set title 'Free-path distribution P_l(l) used (sec. 4.3)'\nset xlabel 'l (m)'\nset ylabel 'P_l(l) (1/m)'\n"
              "set logscale xy\nset format y '10^{%%L}'\nset format x '10^{%%L}'\nset key top right\n"
-             "plot 'pl.csv' using 1:($2>0 ? $2 : 1/0) with linespoints pt 7 ps 0.4 title 'P_l', "
-             "'' using 1:($3>0 ? $3 : 1/0) with lines lw 2 dt 2 title '4.25'\n");
+             "plot 'pl.csv' using 1:($2>0 ? $2 : 1/0) with linespoints pt 7 ps 0.4 lc rgb '%s' title 'P_l', "
+             "'' using 1:($3>0 ? $3 : 1/0) with lines lw 2 dt 2 lc rgb 'black' title '4.25'\n",
+             gr_spm_colour(0));
     gr_spm_plot(dir, on, j, "pl.png", body);
 }
 

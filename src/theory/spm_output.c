@@ -4,6 +4,7 @@
 #include <math.h>
 #include <time.h>
 
+#include "granule/spm_study.h"
 #include "granule_commit.h"
 #include "granule_config.h"
 #include "io/plot.h"
@@ -56,9 +57,26 @@ void gr_spm_json_stats(cJSON *o, const gr_spm_walk_stats *st)
     gr_spm_json_num(o, "exit_time_mean_t_l", st->exit_time_mean);
     gr_spm_json_num(o, "exit_time_err_t_l", st->exit_time_err);
     gr_spm_json_num(o, "w2_time_mean", st->w2_time_mean);
+    gr_spm_json_num(o, "w2_time_err", st->w2_time_err);
     gr_spm_json_num(o, "exit_speed2_over_exit_time", st->exit_speed2_mean / st->exit_time_mean);
     cJSON_AddNumberToObject(o, "bridge_points", (double)st->bridge_points);
     cJSON_AddNumberToObject(o, "exits_found_by_refinement", (double)st->bridge_exits);
+    gr_spm_constants c;
+    gr_spm_constants_of(st, &c);
+    gr_spm_json_constants(o, &c, NULL);
+}
+
+void gr_spm_json_constants(cJSON *o, const gr_spm_constants *c, const char *note)
+{
+    cJSON *t = cJSON_AddObjectToObject(o, "constants");
+    cJSON_AddStringToObject(t, "convention", "<v_x^2> = c (D l/M^2)^(2/3), <T_fp> = c' (l^2 M^2/D)^(1/3)");
+    gr_spm_json_num(t, "c", c->c);
+    gr_spm_json_num(t, "c_err", c->c_err);
+    gr_spm_json_num(t, "c_prime", c->c_prime);
+    gr_spm_json_num(t, "c_prime_err", c->c_prime_err);
+    if (note) {
+        cJSON_AddStringToObject(t, "note", note);
+    }
 }
 
 void gr_spm_plot(const char *dir, bool plots, cJSON *j, const char *png, const char *body)
@@ -96,4 +114,12 @@ void gr_spm_json_pl_fit(cJSON *t, const gr_spm_pl_fit *f)
     gr_spm_json_num(t, "C_err", f->C_err);
     gr_spm_json_num(t, "chi2_red", f->chi2_red);
     cJSON_AddNumberToObject(t, "points", f->n_points);
+}
+
+/* Okabe-Ito colours without the yellow (too faint on white), then black and grey */
+static const char *const colours[] = {"#0072b2", "#d55e00", "#009e73", "#cc79a7", "#56b4e9", "#e69f00", "#000000", "#7f7f7f"};
+
+const char *gr_spm_colour(int k)
+{
+    return colours[k % (int)(sizeof colours / sizeof colours[0])];
 }

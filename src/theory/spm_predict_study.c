@@ -26,8 +26,13 @@ int gr_spm_predict_prepare(gr_spm_predict_params *p, gr_spm_predict_report *r, g
 {
     memset(r, 0, sizeof *r);
     r->alpha_err = (double)NAN;
+    if (!p->pl_path && isnan(p->df)) {
+        /* the thesis' D_f = 1.63 +- 0.03 (sec. 4.2, Table 4.1) */
+        p->df = GR_SPM_THESIS_DF;
+        r->df_defaulted = true;
+    }
     if ((p->pl_path != NULL) == !isnan(p->df)) {
-        return GR_FAIL(err, GR_EINVAL, "spm predict: give either --df D_f or --pl FILE");
+        return GR_FAIL(err, GR_EINVAL, "spm predict: give either --df D_f or --pl FILE, not both");
     }
     if (!(p->b > 0.0) || !isfinite(p->b)) {
         return GR_FAIL(err, GR_EINVAL, "spm predict: --b must be > 0, got %g", p->b);
@@ -110,6 +115,7 @@ static cJSON *summary(const gr_spm_predict_params *in, const gr_spm_predict_repo
     cJSON *j = gr_spm_json_head("predict");
     cJSON *ij = cJSON_AddObjectToObject(j, "input");
     gr_spm_json_num(ij, "D_f", in->df);
+    cJSON_AddStringToObject(ij, "D_f_source", in->pl_path ? "fitted to the P_l table" : r->df_defaulted ? "default: the thesis' 1.63 (sec. 4.2)" : "--df");
     gr_spm_json_num(ij, "C", in->C);
     gr_spm_json_num(ij, "b", in->b);
     gr_spm_json_num(ij, "mass", in->s.mass);
@@ -148,10 +154,10 @@ int gr_spm_predict_write(const char *dir, const gr_spm_predict_params *in, const
     char body[2048];
     snprintf(body, sizeof body,
              "set title 'SPM integral 5.13 (numerical) and its steepest-descent form 5.26'\n"
-             "set xlabel 'v (m/s)'\nset ylabel 'ln I(v)'\nset key top right\n"
-             "plot 'prediction.csv' using 1:2 with lines lw 2 title 'ln I, numerical', "
-             "'' using 1:3 with lines dt 2 lw 2 title 'steepest descent 5.26: -S v^{%.3f} + ln (2 pi / |f_{yy}|)^{1/2}'\n",
-             r->p.alpha);
+             "set xlabel 'v (m/s)'\nset ylabel 'ln I(v)'\nset format x '%%g'\nset format y '%%g'\nset key top right\n"
+             "plot 'prediction.csv' using 1:2 with lines lw 2 lc rgb '%s' title 'ln I, numerical', "
+             "'' using 1:3 with lines dt 2 lw 2 lc rgb '%s' title 'steepest descent 5.26: -S v^{%.3f} + ln (2 pi / |f_{yy}|)^{1/2}'\n",
+             gr_spm_colour(0), gr_spm_colour(1), r->p.alpha);
     gr_spm_plot(dir, plots, j, "prediction.png", body);
     rc = gr_json_write(dir, "summary.json", j, err);
     cJSON_Delete(j);
