@@ -94,12 +94,12 @@ static void print_rfm(const gr_spm_full_params *p, const gr_spm_full_report *r)
         return;
     }
     if (r->have_cmp) {
-        printf("    SPM x %.4g: agrees (|z| <= %g) for %.3g <= v <= %.3g m/s, %.2f decades of P(v); %.0f%% of the bins "
+        printf("    k P_spm(v), amplitude k = %.4g fitted: agrees (|z| <= %g) for %.3g <= v <= %.3g m/s, %.2f decades of P(v); %.0f%% of the bins "
                "v >= %.3g within\n",
                c1->k, p->z_max, c1->v_agree_lo, c1->v_agree_hi, c1->decades, 100.0 * c1->frac_within, p->compare_from);
     }
     if (r->have_cmp2) {
-        printf("    SPM x %.4g, v x %.4g +- %.2g", c2->k, c2->s, c2->s_err);
+        printf("    k P_spm(v/s)/s, amplitude k = %.4g and velocity scale s = %.4g +- %.2g fitted", c2->k, c2->s, c2->s_err);
         if (isfinite(r->implied_C)) {
             printf(" (C = %.4g)", r->implied_C);
         }
