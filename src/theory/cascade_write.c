@@ -9,6 +9,7 @@
 #include "granule/cascade_study.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
+#include "analysis/obs_util.h"
 #include "granule_commit.h"
 #include "granule_config.h"
 #include "io/files.h"
@@ -194,15 +195,6 @@ static void plots(const run_info *ri, const gr_cascade_study_params *p, const gr
     }
 }
 
-static void add_number_or_null(cJSON *o, const char *key, double v)
-{
-    if (isfinite(v)) {
-        cJSON_AddNumberToObject(o, key, v);
-    } else {
-        cJSON_AddNullToObject(o, key);
-    }
-}
-
 static void json_fit(cJSON *j, const gr_cascade_study *st)
 {
     cJSON *fo = cJSON_AddObjectToObject(j, "fit");
@@ -218,21 +210,21 @@ static void json_fit(cJSON *j, const gr_cascade_study *st)
     cJSON_AddNumberToObject(fo, "points", st->fit.points);
     cJSON_AddNumberToObject(fo, "A", st->fit.A);
     cJSON_AddNumberToObject(fo, "A_err", st->fit.A_err);
-    add_number_or_null(fo, "chi2_red", st->fit.chi2_red);
+    gr_obs_add_number(fo, "chi2_red", st->fit.chi2_red);
     cJSON_AddNumberToObject(fo, "exact_average_D_f_err", st->fit_exp.D_f_err);
     if (st->have_unweighted) {
         cJSON *u = cJSON_AddObjectToObject(fo, "unweighted");
         cJSON_AddStringToObject(u, "model", "the same line with equal weights per k shell, errors from the scatter");
-        add_number_or_null(u, "D_f", st->fit_unweighted.D_f);
-        add_number_or_null(u, "D_f_err", st->fit_unweighted.D_f_err);
-        add_number_or_null(u, "A", st->fit_unweighted.A);
-        add_number_or_null(u, "residual_variance_ln_S", st->fit_unweighted.chi2_red);
+        gr_obs_add_number(u, "D_f", st->fit_unweighted.D_f);
+        gr_obs_add_number(u, "D_f_err", st->fit_unweighted.D_f_err);
+        gr_obs_add_number(u, "A", st->fit_unweighted.A);
+        gr_obs_add_number(u, "residual_variance_ln_S", st->fit_unweighted.chi2_red);
     }
     const gr_cascade_fit *h = gr_cascade_study_headline(st);
     cJSON *hj = cJSON_AddObjectToObject(j, "headline");
     cJSON_AddStringToObject(hj, "fit", st->headline_unweighted ? "unweighted" : "weighted");
-    add_number_or_null(hj, "D_f", h->D_f);
-    add_number_or_null(hj, "D_f_err", h->D_f_err);
+    gr_obs_add_number(hj, "D_f", h->D_f);
+    gr_obs_add_number(hj, "D_f_err", h->D_f_err);
     cJSON_AddStringToObject(hj, "why", st->headline_why);
 }
 
@@ -256,12 +248,12 @@ static cJSON *summary(const gr_cascade_study_params *p, const gr_cascade_study *
     cJSON_AddNumberToObject(j, "configurations", s->configurations);
     cJSON_AddNumberToObject(j, "seed", (double)s->seed);
     cJSON_AddStringToObject(j, "rng", "gsl_rng_mt19937");
-    add_number_or_null(j, "D_f", st->have_fit ? st->fit.D_f : (double)NAN);
-    add_number_or_null(j, "D_f_err", st->have_fit ? st->fit.D_f_err : (double)NAN);
-    add_number_or_null(j, "D_f_exact_average", st->have_fit ? st->fit_exp.D_f : (double)NAN);
-    add_number_or_null(j, "D_2", s->variant == GR_CASCADE_UNIFORM ? (double)NAN : gr_cascade_d2(s));
-    add_number_or_null(j, "thesis_D_f", vi->thesis_D_f);
-    add_number_or_null(j, "thesis_D_f_err", vi->thesis_D_f_err);
+    gr_obs_add_number(j, "D_f", st->have_fit ? st->fit.D_f : (double)NAN);
+    gr_obs_add_number(j, "D_f_err", st->have_fit ? st->fit.D_f_err : (double)NAN);
+    gr_obs_add_number(j, "D_f_exact_average", st->have_fit ? st->fit_exp.D_f : (double)NAN);
+    gr_obs_add_number(j, "D_2", s->variant == GR_CASCADE_UNIFORM ? (double)NAN : gr_cascade_d2(s));
+    gr_obs_add_number(j, "thesis_D_f", vi->thesis_D_f);
+    gr_obs_add_number(j, "thesis_D_f_err", vi->thesis_D_f_err);
     json_fit(j, st);
     cJSON *to = cJSON_AddObjectToObject(j, "total_probability");
     const int C = s->configurations;

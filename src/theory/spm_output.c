@@ -4,6 +4,7 @@
 #include <math.h>
 #include <time.h>
 
+#include "analysis/obs_util.h"
 #include "granule/spm_study.h"
 #include "granule_commit.h"
 #include "granule_config.h"
@@ -34,11 +35,7 @@ void gr_spm_json_settings(cJSON *j, const gr_spm_settings *s, int bins)
 
 void gr_spm_json_num(cJSON *o, const char *key, double v)
 {
-    if (isfinite(v)) {
-        cJSON_AddNumberToObject(o, key, v);
-    } else {
-        cJSON_AddNullToObject(o, key);
-    }
+    gr_obs_add_number(o, key, v);
 }
 
 cJSON *gr_spm_json_head(const char *mode)
