@@ -6,8 +6,10 @@
 #include "granule/analysis.h"
 #include "granule/bisect.h"
 #include "granule/cascade.h"
+#include "granule/cascade_study.h"
 #include "granule/collide.h"
 #include "granule/fokker_planck.h"
+#include "granule/fokker_planck_study.h"
 #include "granule/model.h"
 #include "granule/noise.h"
 #include "granule/observe.h"
@@ -16,6 +18,7 @@
 #include "granule/scene.h"
 #include "granule/sim.h"
 #include "granule/spm.h"
+#include "granule/spm_study.h"
 #include "granule/status.h"
 
 #endif
