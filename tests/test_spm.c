@@ -178,6 +178,32 @@ START_TEST(test_w2_error_calibrated)
 }
 END_TEST
 
+START_TEST(test_study_defaults)
+{
+    /* the library call behind `granule spm predict` / `full`: no free paths given -> the thesis'
+     * D_f = 1.63 (and says so); D_f with a table -> refused; the same prediction as gr_spm_predict */
+    gr_spm_predict_params p;
+    gr_spm_predict_params_default(&p);
+    gr_spm_predict_report r;
+    gr_error err = {0};
+    ck_assert_msg(gr_spm_predict_prepare(&p, &r, &err) == 0, "%s", err.message);
+    ck_assert(r.df_defaulted && p.df == GR_SPM_THESIS_DF && p.C == GR_SPM_THESIS_C);
+    ck_assert(fabs(r.p.alpha - 6.0 * 0.63 / (3.0 * 1.63 - 1.0)) < 1e-12);
+    gr_spm_predict_params_default(&p);
+    p.df = 1.5;
+    ck_assert(gr_spm_predict_prepare(&p, &r, &err) == 0 && !r.df_defaulted);
+    p.pl_path = "no-such-file.csv";
+    ck_assert_int_eq(gr_spm_predict_prepare(&p, &r, &err), GR_EINVAL);
+    ck_assert(strstr(err.message, "not both") != NULL);
+    gr_spm_full_params f;
+    gr_spm_full_params_default(&f);
+    gr_spm_full_report fr;
+    ck_assert_msg(gr_spm_full_prepare(&f, &fr, &err) == 0, "%s", err.message);
+    ck_assert(fr.df_defaulted && f.df == GR_SPM_THESIS_DF && fr.have_pred && f.vmax > 0.0);
+    gr_spm_full_report_free(&fr);
+}
+END_TEST
+
 START_TEST(test_collapse)
 {
     /* Q(v, l) for two radii a factor 8 apart (u_l a factor 2), with one fixed time step dt in
@@ -669,6 +695,7 @@ int main(void)
     tcase_add_test(t, test_bridge_midpoint);
     tcase_add_test(t, test_constants_convention);
     tcase_add_test(t, test_w2_error_calibrated);
+    tcase_add_test(t, test_study_defaults);
     tcase_add_test(t, test_collapse);
     tcase_add_test(t, test_collapse_physical_units);
     tcase_add_test(t, test_gaussian_tail);
