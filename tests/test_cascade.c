@@ -63,6 +63,37 @@ static const gr_cascade_variant conserving[] = {GR_CASCADE_UCP, GR_CASCADE_SYMME
                                                 GR_CASCADE_MEAKIN2, GR_CASCADE_MEAKIN3, GR_CASCADE_MEAKIN4,
                                                 GR_CASCADE_UNIFORM};
 
+START_TEST(test_unweighted_fit)
+{
+    /* S = A k^-D exactly: both fits give D. With a shell-to-shell scatter of +-10% (what the
+     * lattice does) and tiny error bars, the weighted chi2/dof is huge; the unweighted fit still
+     * finds D within its error from the scatter, and that error is the scatter's, not S_err's. */
+    gr_cascade_sk_bin b[40];
+    const double A = 3.0, D = 1.6;
+    for (int pass = 0; pass < 2; pass++) {
+        for (int i = 0; i < 40; i++) {
+            const double k = 2.0 * M_PI * (i + 1), wiggle = pass ? 1.0 + 0.1 * ((i % 3) - 1.0) : 1.0;
+            b[i] = (gr_cascade_sk_bin){.q = i + 1, .k = k, .vectors = 4 * (i + 1), .S = A * pow(k, -D) * wiggle,
+                                       .S_err = 1e-3 * A * pow(k, -D), .S_expected = A * pow(k, -D)};
+        }
+        gr_cascade_fit w, u;
+        gr_error err = {0};
+        ck_assert(gr_cascade_fit_df(b, 40, 1, 40, false, &w, &err) == 0);
+        ck_assert(gr_cascade_fit_df_unweighted(b, 40, 1, 40, &u, &err) == 0);
+        ck_assert_int_eq(u.points, 40);
+        if (!pass) {
+            ck_assert(fabs(u.D_f - D) < 1e-10 && fabs(w.D_f - D) < 1e-10 && fabs(u.A / A - 1.0) < 1e-9);
+        } else {
+            ck_assert_msg(w.chi2_red > 100.0, "weighted chi2/dof %g", w.chi2_red);
+            ck_assert_msg(fabs(u.D_f - D) < 3.0 * u.D_f_err, "unweighted D_f %g +- %g", u.D_f, u.D_f_err);
+            /* the residual variance of ln S is that of ln(1 + 0.1 {-1, 0, 1}): about 0.0067 */
+            ck_assert_msg(fabs(u.chi2_red / 0.0067 - 1.0) < 0.2, "residual variance %g", u.chi2_red);
+            ck_assert(u.D_f_err > 0.005 && u.D_f_err < 0.1);
+        }
+    }
+}
+END_TEST
+
 START_TEST(test_conserving_variants)
 {
     /* (6.2)-(6.3): the four children share their parent's probability exactly (to rounding), so the
@@ -675,6 +706,7 @@ int main(void)
     TCase *unit = tcase_create("unit");
     tcase_add_loop_test(unit, test_conserving_variants, 0, (int)(sizeof conserving / sizeof conserving[0]));
     tcase_add_test(unit, test_unoncp_not_conserving);
+    tcase_add_test(unit, test_unweighted_fit);
     tcase_add_test(unit, test_reproducible);
     tcase_add_test(unit, test_fft_equals_direct_sum);
     tcase_add_test(unit, test_uniform_field_has_no_structure);

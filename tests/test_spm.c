@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "granule/spm.h"
+#include "granule/spm_study.h"
 
 static bool quick(void)
 {
@@ -113,6 +114,95 @@ static void circle(gr_spm_settings *s, double l, int index, gr_spm_q *q)
     gr_error err = {0};
     ck_assert_msg(gr_spm_circle(s, l, index, 45, 4.5, q, &err) == 0, "%s", err.message);
 }
+
+START_TEST(test_constants_convention)
+{
+    /* c and c' in the thesis' convention, <v_x^2> = c (D l/M^2)^(2/3) and <T_fp> = c' (l^2 M^2/D)^(1/3),
+     * checked in SI units against what they summarise: <v_x^2> from the time-sampled velocity
+     * histogram Q(v, l) (second moment of the signed component, m^2/s^2) and the mean
+     * first-passage time in seconds. A wrong power of 2 in either conversion is off by >= 26%. */
+    gr_spm_settings s;
+    gr_spm_settings_default(&s);
+    s.walks = quick() ? 2000 : 6000;
+    s.seed = 11;
+    const double l = 0.02;
+    gr_spm_q q;
+    circle(&s, l, 0, &q);
+    gr_spm_constants c;
+    gr_spm_constants_of(&q.stats, &c);
+    double v2 = 0.0; /* Q is the density of the signed scaled component: 2 int_0^wmax Q w^2 dw */
+    const gr_histogram *h = &q.q.all;
+    for (int i = 0; i < h->nbins; i++) {
+        double w = gr_histogram_center(h, i), dw = gr_histogram_upper(h, i) - gr_histogram_lower(h, i);
+        v2 += 2.0 * gr_spm_dist_density(&q.q, i) * w * w * dw;
+    }
+    v2 *= q.u * q.u;
+    const double v2_c = c.c * pow(s.D * l / (s.mass * s.mass), 2.0 / 3.0);
+    ck_assert_msg(fabs(v2_c / v2 - 1.0) < 0.03, "<v_x^2> = %g from c, %g from Q", v2_c, v2);
+    const double T = q.stats.exit_time_mean * q.t_scale, T_c = c.c_prime * cbrt(l * l * s.mass * s.mass / s.D);
+    ck_assert_msg(fabs(T_c / T - 1.0) < 1e-12, "<T_fp> = %g s from c', %g s measured", T_c, T);
+    ck_assert(c.c_err > 0.0 && c.c_err < 0.05 * c.c && c.c_prime_err > 0.0 && c.c_prime_err < 0.05 * c.c_prime);
+    /* pooling: an inverse-variance mean lies between its inputs with a smaller error */
+    gr_spm_constants per[2] = {{1.0, 0.1, 2.0, 0.2}, {1.2, 0.1, 2.4, 0.1}}, pooled;
+    gr_spm_constants_pool(per, 2, &pooled);
+    ck_assert(fabs(pooled.c - 1.1) < 1e-12 && fabs(pooled.c_err - 0.1 / sqrt(2.0)) < 1e-12);
+    ck_assert(fabs(pooled.c_prime - (2.0 / 0.04 + 2.4 / 0.01) / (1 / 0.04 + 1 / 0.01)) < 1e-12);
+    gr_spm_q_free(&q);
+}
+END_TEST
+
+START_TEST(test_w2_error_calibrated)
+{
+    /* The error bar of <w^2> (ratio estimator over independent walks) against the scatter of
+     * <w^2> over independent seeds: their ratio must be 1 within the sampling error of a
+     * standard deviation from K seeds (relative 1/sqrt(2(K-1)) = 0.16 for K = 20; bounds ~3 sigma). */
+    const int K = 20;
+    double m[20], e_mean = 0.0, mean = 0.0, var = 0.0;
+    for (int k = 0; k < K; k++) {
+        gr_spm_settings s;
+        gr_spm_settings_default(&s);
+        s.walks = quick() ? 600 : 1500;
+        s.seed = 100 + (uint64_t)k;
+        gr_spm_q q;
+        circle(&s, 0.01, 0, &q);
+        m[k] = q.stats.w2_time_mean;
+        e_mean += q.stats.w2_time_err / K;
+        mean += m[k] / K;
+        gr_spm_q_free(&q);
+    }
+    for (int k = 0; k < K; k++) {
+        var += (m[k] - mean) * (m[k] - mean) / (K - 1);
+    }
+    const double ratio = sqrt(var) / e_mean;
+    ck_assert_msg(ratio > 0.55 && ratio < 1.5, "scatter of <w^2> over seeds / its error bar = %g", ratio);
+}
+END_TEST
+
+START_TEST(test_study_defaults)
+{
+    /* the library call behind `granule spm predict` / `full`: no free paths given -> the thesis'
+     * D_f = 1.63 (and says so); D_f with a table -> refused; the same prediction as gr_spm_predict */
+    gr_spm_predict_params p;
+    gr_spm_predict_params_default(&p);
+    gr_spm_predict_report r;
+    gr_error err = {0};
+    ck_assert_msg(gr_spm_predict_prepare(&p, &r, &err) == 0, "%s", err.message);
+    ck_assert(r.df_defaulted && p.df == GR_SPM_THESIS_DF && p.C == GR_SPM_THESIS_C);
+    ck_assert(fabs(r.p.alpha - 6.0 * 0.63 / (3.0 * 1.63 - 1.0)) < 1e-12);
+    gr_spm_predict_params_default(&p);
+    p.df = 1.5;
+    ck_assert(gr_spm_predict_prepare(&p, &r, &err) == 0 && !r.df_defaulted);
+    p.pl_path = "no-such-file.csv";
+    ck_assert_int_eq(gr_spm_predict_prepare(&p, &r, &err), GR_EINVAL);
+    ck_assert(strstr(err.message, "not both") != NULL);
+    gr_spm_full_params f;
+    gr_spm_full_params_default(&f);
+    gr_spm_full_report fr;
+    ck_assert_msg(gr_spm_full_prepare(&f, &fr, &err) == 0, "%s", err.message);
+    ck_assert(fr.df_defaulted && f.df == GR_SPM_THESIS_DF && fr.have_pred && f.vmax > 0.0);
+    gr_spm_full_report_free(&fr);
+}
+END_TEST
 
 START_TEST(test_collapse)
 {
@@ -603,6 +693,9 @@ int main(void)
     tcase_set_timeout(t, 300);
     tcase_add_test(t, test_free_flight_moments);
     tcase_add_test(t, test_bridge_midpoint);
+    tcase_add_test(t, test_constants_convention);
+    tcase_add_test(t, test_w2_error_calibrated);
+    tcase_add_test(t, test_study_defaults);
     tcase_add_test(t, test_collapse);
     tcase_add_test(t, test_collapse_physical_units);
     tcase_add_test(t, test_gaussian_tail);

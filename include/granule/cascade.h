@@ -160,6 +160,14 @@ typedef struct gr_cascade_fit {
 
 int gr_cascade_fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max, bool expected,
                       gr_cascade_fit *out, gr_error *err);
+/* The same line with equal weights per k shell; its errors come from the scatter about the line.
+ * Where the weighted fit's chi2/dof is large the scatter is the lattice's shell structure (how
+ * many vectors a shell has, which directions), not noise in S: the error bars S_err do not
+ * describe it, and this fit is the one to quote (gr_cascade_study headlines it then). */
+int gr_cascade_fit_df_unweighted(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max,
+                                 gr_cascade_fit *out, gr_error *err);
+/* chi2/dof of the weighted fit above which the unweighted fit is reported and headlined */
+#define GR_CASCADE_CHI2_LARGE 3.0
 
 /* ------------------------------------------------------------------------------------------
  * Placement of Fig. 6.3: n discs of radius r in the periodic box of side f->L, one at a time,

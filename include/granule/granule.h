@@ -6,8 +6,10 @@
 #include "granule/analysis.h"
 #include "granule/bisect.h"
 #include "granule/cascade.h"
+#include "granule/cascade_study.h"
 #include "granule/collide.h"
 #include "granule/fokker_planck.h"
+#include "granule/fokker_planck_study.h"
 #include "granule/integrator.h"
 #include "granule/model.h"
 #include "granule/noise.h"
@@ -17,6 +19,7 @@
 #include "granule/scene.h"
 #include "granule/sim.h"
 #include "granule/spm.h"
+#include "granule/spm_study.h"
 #include "granule/status.h"
 
 #endif

@@ -109,6 +109,7 @@ typedef struct gr_spm_walk_stats {
     int64_t bridge_exits;   /* walks whose exit was found only by the refinement */
     double exit_time_mean, exit_time_err;  /* first-passage time / t_l */
     double w2_time_mean;    /* <w^2> per component, uniformly in time */
+    double w2_time_err;     /* its standard error (walks independent; ratio estimator) */
     double exit_speed2_mean; /* <|w|^2> at the exit; = dim * exit_time_mean (Ito) */
 } gr_spm_walk_stats;
 

@@ -1,6 +1,10 @@
 /* granule bench [PART|all]: regenerate the tables and plots of docs/performance.md (and the
  * benchmark tables of docs/event-driven.md, docs/hybrid.md, docs/checkpoints.md) on this machine.
- * The bench programs and scripts live in bench/; this runs them, one part or all in order. */
+ * The bench programs and scripts live in bench/; this runs them, one part or all in order.
+ * Tables and plots go to --out (default out/bench in the current folder); only --update-docs
+ * writes them into the source tree's out/bench and docs/img, the files the docs show. --quick is a
+ * smoke test (tiny sizes, the test suite's) and says so. */
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -42,15 +46,20 @@ enum { N_PARTS = sizeof parts / sizeof parts[0] };
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: granule bench [PART|all] [--quick] [--install]\n\n");
+    fprintf(f, "usage: granule bench [PART|all] [--quick] [--out DIR | --update-docs] [--install]\n\n");
     for (int k = 0; k < N_PARTS; k++) {
         fprintf(f, "  %-16s %s\n", parts[k].name, parts[k].doc);
     }
     fprintf(f, "  %-16s every one of them, in this order (default)\n\n"
-               "Each prints the machine, compiler flags and commit beside the numbers; --quick runs tiny sizes\n"
-               "(what the test suite runs). A part whose script is not in this source tree is skipped with a note.\n"
+               "Each prints the machine, compiler flags and commit beside the numbers.\n"
+               "  --quick          a smoke test: tiny sizes (what the test suite runs), every part once; the\n"
+               "                   numbers are not benchmarks and nothing is kept\n"
+               "  --out DIR        tables (CSV, Markdown) in DIR, plots in DIR/img (default out/bench)\n"
+               "  --update-docs    write into the source tree instead: %s/out/bench and\n"
+               "                   %s/docs/img, the files docs/performance.md shows\n"
+               "A part whose script is not in this source tree is skipped with a note.\n"
                "Runs the programs and scripts of %s/bench built in %s.\n",
-            "all", GR_SOURCE_DIR, GR_BUILD_DIR);
+            "all", GR_SOURCE_DIR, GR_SOURCE_DIR, GR_SOURCE_DIR, GR_BUILD_DIR);
 }
 
 static int run(const char *cmd)
@@ -83,16 +92,50 @@ static int run_part(const bench_part *p, bool quick, bool install)
     return run(cmd);
 }
 
+/* Where a full run writes: GRANULE_BENCH_OUT and GRANULE_BENCH_IMG for bench/lib.sh (absolute,
+ * since the scripts run in the source tree). */
+static int set_outputs(const char *out, bool update_docs)
+{
+    char dir[PATH_MAX + 1000], img[PATH_MAX + 1010], cwd[PATH_MAX];
+    if (update_docs) {
+        snprintf(dir, sizeof dir, "%s/out/bench", GR_SOURCE_DIR);
+        snprintf(img, sizeof img, "%s/docs/img", GR_SOURCE_DIR);
+    } else {
+        if (out[0] != '/' && getcwd(cwd, sizeof cwd)) {
+            snprintf(dir, sizeof dir, "%s/%s", cwd, out);
+        } else {
+            snprintf(dir, sizeof dir, "%s", out);
+        }
+        snprintf(img, sizeof img, "%s/img", dir);
+    }
+    if (setenv("GRANULE_BENCH_OUT", dir, 1) || setenv("GRANULE_BENCH_IMG", img, 1)) {
+        cli_error("bench: cannot set the output folder %s", dir);
+        return EXIT_FAILED;
+    }
+    printf("granule bench: tables in %s, plots in %s%s\n", dir, img,
+           update_docs ? " (--update-docs: the source tree's files)" : "");
+    return EXIT_OK;
+}
+
 int cmd_bench(int argc, char **argv)
 {
-    const char *what = "all";
-    bool quick = false, install = false;
+    const char *what = "all", *out = "out/bench";
+    bool quick = false, install = false, update_docs = false, out_given = false;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
             usage(stdout);
             return EXIT_OK;
         } else if (!strcmp(argv[i], "--quick")) {
             quick = true;
+        } else if (!strcmp(argv[i], "--update-docs")) {
+            update_docs = true;
+        } else if (!strcmp(argv[i], "--out")) {
+            if (i + 1 >= argc || strlen(argv[i + 1]) > 900) {
+                cli_error("bench: --out needs a folder (at most 900 characters)");
+                return EXIT_REFUSED;
+            }
+            out = argv[++i];
+            out_given = true;
         } else if (!strcmp(argv[i], "--install")) {
             install = true;
         } else if (argv[i][0] != '-') {
@@ -111,12 +154,23 @@ int cmd_bench(int argc, char **argv)
         usage(stderr);
         return EXIT_REFUSED;
     }
+    if (update_docs && (out_given || quick)) {
+        cli_error("bench: --update-docs writes the source tree's files; it takes neither --out nor --quick");
+        return EXIT_REFUSED;
+    }
     char path[1200];
     snprintf(path, sizeof path, "%s/bench/bench_throughput", GR_BUILD_DIR);
     if (access(path, X_OK) != 0) {
         cli_error("bench: %s not found: build the project (ninja -C %s) first", path, GR_BUILD_DIR);
         return EXIT_FAILED;
     }
+    if (quick) {
+        printf("granule bench --quick: SMOKE TEST: tiny sizes, every part once, nothing kept; the numbers below are not "
+               "benchmarks (run without --quick for those)\n");
+    } else if (set_outputs(out, update_docs)) {
+        return EXIT_FAILED;
+    }
+    fflush(stdout);
     int failures = 0;
     for (int k = 0; k < N_PARTS; k++) {
         if (all || !strcmp(what, parts[k].name)) {
@@ -125,6 +179,10 @@ int cmd_bench(int argc, char **argv)
     }
     if (failures) {
         fprintf(stderr, "granule bench: %d part%s failed\n", failures, failures == 1 ? "" : "s");
+    }
+    if (quick) {
+        printf("granule bench --quick: smoke test %s (%d part%s failed); not benchmark numbers\n",
+               failures ? "FAILED" : "passed", failures, failures == 1 ? "" : "s");
     }
     return failures ? EXIT_FAILED : EXIT_OK;
 }

@@ -16,7 +16,7 @@
 static void usage(FILE *f)
 {
     fprintf(f,
-            "usage: granule bisect --out DIR [--levels N] [--repetitions R] [--u0 uniform|power:A|FILE]\n"
+            "usage: granule bisect [--out DIR] [--levels N] [--repetitions R] [--u0 uniform|power:A|FILE]\n"
             "                      [--seed S] [--g1 FILE ...] [--moments M] [--bins-per-decade B]\n"
             "                      [--fit-from K] [--jackknife G] [--anchor R0] [--no-plots] [--force] [--quiet]\n\n"
             "Bisects the unit interval N times (2^N partitions), every partition at a fraction a drawn from\n"
@@ -40,6 +40,7 @@ static void usage(FILE *f)
             "  --fit-from K       fit zeta_m over levels K..N (default 1)\n"
             "  --jackknife G      groups of realisations for the jackknife errors (default 32)\n"
             "  --anchor R0        R_0 of A_N (3.40; default 0.7)\n"
+            "  --out DIR          output folder (default out/bisect)\n"
             "  --no-plots         no PNGs\n"
             "  --force            overwrite the results of an earlier run in DIR\n"
             "  --quiet            no progress line\n"
@@ -89,7 +90,7 @@ int cmd_bisect(int argc, char **argv)
 {
     gr_bisect_settings s;
     gr_bisect_settings_default(&s);
-    const char *out = NULL, *u0_spec = "uniform", *g1_paths[MAX_G1];
+    const char *out = "out/bisect", *u0_spec = "uniform", *g1_paths[MAX_G1];
     int n_g1 = 0;
     bool force = false, quiet = false, plots = true;
     for (int i = 1; i < argc; i++) {
@@ -169,10 +170,6 @@ int cmd_bisect(int argc, char **argv)
             }
         }
     }
-    if (!out) {
-        cli_error("bisect: --out DIR is required (granule bisect --help)");
-        return EXIT_REFUSED;
-    }
     if (strlen(out) > 1000) {
         cli_error("bisect: --out %.40s...: path too long", out);
         return EXIT_REFUSED;
@@ -240,6 +237,7 @@ int cmd_bisect(int argc, char **argv)
             }
             printf("%s: n = %d, %lld realisations (%.4g partitions) in %.3g s; %s; plots: %s\n", out, s.levels,
                    (long long)s.repetitions, res.segments, res.wall_seconds, zeta, o.plots_note);
+            printf("wrote %s\n", out);
         }
         gr_bisect_result_free(&res);
     }

@@ -23,10 +23,55 @@ static void usage(FILE *f)
             "default 1e-12, allowed [1e-14, 1e-2]) and adds reference_energy_loss. Defaults: case 1, spring_dashpot, eps 0.6, k 5e5 N/m,\n"
             "r = 0.1 m (so the overlap v/w0 = 1 mm stays small), dt = t_c/50. --model hard_sphere applies the\n"
             "instantaneous rule of the event-driven integrator (exact loss; contact_time 0). For the RFM particles use\n"
-            "--mass 3.53e-5 --radius 1.5e-3.\n");
+            "--mass 3.53e-5 --radius 1.5e-3.\n"
+            "Ranges: --eps-n (0, 1] (eps_n = 0 is a sticking pair that never separates, so there is no\n"
+            "collision to measure; a scene may use it with spring_dashpot), --eps-t [0, 1], --mu >= 0.\n"
+            "The JSON lists only the parameters the chosen model uses (granule models; --eps-t and --mu\n"
+            "need a tangential model, --k and --dt a soft one) and gives every unit in \"units\".\n");
 }
 
-static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r)
+/* the unit of every key collide prints (1: a pure number) */
+static const struct {
+    const char *key, *unit;
+} units[] = {{"eps_n", "1"}, {"eps_t", "1"}, {"mu", "1"}, {"k_s", "N/m"}, {"tc", "s"}, {"mass", "kg"},
+             {"radius", "m"}, {"dt", "s"}, {"energy_loss", "1 (fraction of the relative kinetic energy)"},
+             {"expected_loss", "1"}, {"contact_time", "s"}, {"max_overlap", "m"}, {"eps_n_measured", "1"},
+             {"eps_t_measured", "1"}, {"impact_angle", "degrees"}, {"momentum_error", "1 (|p' - p| / |p|)"},
+             {"normal_impulse", "N s"}, {"tangential_impulse", "N s"}, {"relative_error", "1"},
+             {"energy_loss_min", "1"}, {"energy_loss_max", "1"}};
+
+/* does the normal or the tangential model take the scene key `name`? */
+static bool model_uses(const gr_collide_setup *s, const char *name)
+{
+    const gr_model *m[2] = {s->normal, s->tangential};
+    for (int k = 0; k < 2; k++) {
+        for (int i = 0; m[k] && i < m[k]->n_params; i++) {
+            if (!strcmp(m[k]->params[i].name, name)) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+/* "units": the unit of every number in o */
+static void add_units(cJSON *o)
+{
+    cJSON *u = cJSON_CreateObject();
+    for (size_t i = 0; i < sizeof units / sizeof units[0]; i++) {
+        char ref[64];
+        snprintf(ref, sizeof ref, "reference_%s", units[i].key);
+        if (cJSON_GetObjectItem(o, units[i].key)) {
+            cJSON_AddStringToObject(u, units[i].key, units[i].unit);
+        }
+        if (cJSON_GetObjectItem(o, ref)) {
+            cJSON_AddStringToObject(u, ref, units[i].unit);
+        }
+    }
+    cJSON_AddItemToObject(o, "units", u);
+}
+
+static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r, bool instantaneous)
 {
     char key[64];
     struct {
@@ -38,6 +83,9 @@ static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r)
              {"impact_angle", r->impact_angle}, {"momentum_error", r->momentum_error},
              {"normal_impulse", r->normal_impulse}, {"tangential_impulse", r->tangential_impulse}};
     for (size_t i = 0; i < sizeof f / sizeof f[0]; i++) {
+        if (instantaneous && (!strcmp(f[i].name, "contact_time") || !strcmp(f[i].name, "max_overlap"))) {
+            continue; /* an instantaneous collision has neither */
+        }
         snprintf(key, sizeof key, "%s%s", prefix, f[i].name);
         if (isfinite(f[i].v)) {
             cJSON_AddNumberToObject(o, key, f[i].v);
@@ -54,6 +102,10 @@ int cmd_collide(int argc, char **argv)
     int number = 1, phases = 1;
     bool reference = false;
     const char *model = "spring_dashpot";
+    struct {
+        const char *opt, *key;
+        bool set;
+    } given[] = {{"--eps-t", "eps_t", false}, {"--mu", "mu", false}, {"--k", "k_s", false}, {"--clamp", "clamp", false}};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         double x;
@@ -64,6 +116,7 @@ int cmd_collide(int argc, char **argv)
             reference = true;
         } else if (!strcmp(a, "--clamp")) {
             s.contact.clamp = true;
+            given[3].set = true;
         } else if (!strcmp(a, "--force-dt")) {
             s.force_dt = true;
         } else if (!strcmp(a, "--model") && v) {
@@ -80,10 +133,13 @@ int cmd_collide(int argc, char **argv)
                 s.contact.eps_n = x;
             } else if (!strcmp(a, "--eps-t")) {
                 s.contact.eps_t = x;
+                given[0].set = true;
             } else if (!strcmp(a, "--mu")) {
                 s.contact.mu = x;
+                given[1].set = true;
             } else if (!strcmp(a, "--k")) {
                 s.contact.k_s = x;
+                given[2].set = true;
             } else if (!strcmp(a, "--dt")) {
                 s.dt = x;
             } else if (!strcmp(a, "--steps-per-contact")) {
@@ -139,6 +195,18 @@ int cmd_collide(int argc, char **argv)
         cli_error("collide: --model %s: hard_sphere carries its own tangential restitution (--eps-t); give it without +TANGENTIAL", model);
         return EXIT_REFUSED;
     }
+    if (s.contact.eps_n == 0.0) {
+        /* spring_dashpot documents [0, 1] with 0 = sticking (a scene may use it), hard_sphere and
+         * the clamped law (0, 1]: either way no collision ends, so collide has nothing to measure */
+        cli_error("collide: --eps-n 0 is a sticking pair that never separates, so there is no collision to measure; "
+                  "collide needs eps_n in (0, 1] (allowed range), e.g. 0.001");
+        return EXIT_REFUSED;
+    }
+    for (size_t k = 0; k < sizeof given / sizeof given[0]; k++) {
+        if (given[k].set && !model_uses(&s, given[k].key)) {
+            fprintf(stderr, "granule: collide: warning: %s does not apply to --model %s (ignored)\n", given[k].opt, model);
+        }
+    }
     gr_collision_case cs;
     gr_error err = {0};
     if (gr_collision_case_table21(number, s.radius, &cs, &err)) {
@@ -173,16 +241,27 @@ int cmd_collide(int argc, char **argv)
     cJSON *o = cJSON_CreateObject();
     cJSON_AddNumberToObject(o, "case", number);
     cJSON_AddStringToObject(o, "model", model);
-    cJSON_AddNumberToObject(o, "eps_n", s.contact.eps_n);
-    cJSON_AddNumberToObject(o, "eps_t", s.contact.eps_t);
-    cJSON_AddNumberToObject(o, "mu", s.contact.mu);
-    cJSON_AddBoolToObject(o, "clamp", s.contact.clamp);
-    cJSON_AddNumberToObject(o, "k_s", s.contact.k_s);
+    const bool instantaneous = (s.normal->kind & GR_MODEL_EVENT) != 0;
+    /* only the parameters the chosen models take (their [model] keys) */
+    const struct {
+        const char *key;
+        double v;
+    } params[] = {{"eps_n", s.contact.eps_n}, {"eps_t", s.contact.eps_t}, {"mu", s.contact.mu}, {"k_s", s.contact.k_s}};
+    for (size_t k = 0; k < sizeof params / sizeof params[0]; k++) {
+        if (model_uses(&s, params[k].key)) {
+            cJSON_AddNumberToObject(o, params[k].key, params[k].v);
+        }
+    }
+    if (model_uses(&s, "clamp")) {
+        cJSON_AddBoolToObject(o, "clamp", s.contact.clamp);
+    }
     cJSON_AddNumberToObject(o, "mass", s.mass);
     cJSON_AddNumberToObject(o, "radius", s.radius);
-    cJSON_AddNumberToObject(o, "dt", r.dt);
+    if (!instantaneous) {
+        cJSON_AddNumberToObject(o, "dt", r.dt);
+    }
     cJSON_AddNumberToObject(o, "phases", phases);
-    add_result(o, "", &sum);
+    add_result(o, "", &sum, instantaneous);
     cJSON_AddNumberToObject(o, "relative_error", (sum.energy_loss - sum.expected_loss) / fmax(sum.expected_loss, 1e-300));
     if (phases > 1) {
         cJSON_AddNumberToObject(o, "energy_loss_min", lo);
@@ -196,8 +275,9 @@ int cmd_collide(int argc, char **argv)
             cli_error("collide --reference: %s", err.message);
             return cli_exit_code(err.code);
         }
-        add_result(o, "reference_", &ref);
+        add_result(o, "reference_", &ref, instantaneous);
     }
+    add_units(o);
     char *text = cJSON_Print(o);
     puts(text);
     cJSON_free(text);

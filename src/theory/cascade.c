@@ -598,8 +598,8 @@ double gr_cascade_sk_direct(const gr_cascade_field *f, int qx, int qy)
     return re * re + im * im;
 }
 
-int gr_cascade_fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max, bool expected,
-                      gr_cascade_fit *out, gr_error *err)
+static int fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max, bool expected, bool unweighted,
+                  gr_cascade_fit *out, gr_error *err)
 {
     memset(out, 0, sizeof *out);
     double *x = malloc(sizeof(double) * (size_t)(nbins > 0 ? nbins : 1));
@@ -612,7 +612,7 @@ int gr_cascade_fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, do
         return GR_FAIL(err, GR_ENOMEM, "cascade fit: out of memory");
     }
     int n = 0;
-    bool weighted = !expected;
+    bool weighted = !expected && !unweighted;
     out->q_min = (double)INFINITY;
     out->q_max = -(double)INFINITY;
     for (int b = 0; b < nbins; b++) {
@@ -650,6 +650,18 @@ int gr_cascade_fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, do
     out->chi2_red = fit.chi2_red;
     out->points = n;
     return GR_OK;
+}
+
+int gr_cascade_fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max, bool expected,
+                      gr_cascade_fit *out, gr_error *err)
+{
+    return fit_df(bins, nbins, q_min, q_max, expected, false, out, err);
+}
+
+int gr_cascade_fit_df_unweighted(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max,
+                                 gr_cascade_fit *out, gr_error *err)
+{
+    return fit_df(bins, nbins, q_min, q_max, false, true, out, err);
 }
 
 /* ------------------------------------------------------------------------------------------

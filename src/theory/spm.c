@@ -403,6 +403,7 @@ static void walker_free(walker *wk)
 /* running sums for gr_spm_walk_stats */
 typedef struct stats_acc {
     double t_sum, t2_sum, w2_sum, weight_sum, e2_sum;
+    double aa, ab, bb; /* per walk a = sum wt w^2, b = sum wt: for the error of <w^2> = sum a / sum b */
 } stats_acc;
 
 static void stats_add(stats_acc *a, gr_spm_walk_stats *st, const walker *wk)
@@ -414,10 +415,17 @@ static void stats_add(stats_acc *a, gr_spm_walk_stats *st, const walker *wk)
     a->t_sum += wk->duration;
     a->t2_sum += wk->duration * wk->duration;
     a->e2_sum += wk->exit_speed2;
+    double wa = 0.0, wb = 0.0;
     for (int64_t i = 0; i < wk->n; i++) {
-        a->w2_sum += wk->wt[i] * wk->w[i] * wk->w[i];
+        double x = wk->wt[i] * wk->w[i] * wk->w[i];
+        a->w2_sum += x;
         a->weight_sum += wk->wt[i];
+        wa += x;
+        wb += wk->wt[i];
     }
+    a->aa += wa * wa;
+    a->ab += wa * wb;
+    a->bb += wb * wb;
 }
 
 static void stats_finish(const stats_acc *a, gr_spm_walk_stats *st)
@@ -427,6 +435,11 @@ static void stats_finish(const stats_acc *a, gr_spm_walk_stats *st)
     double var = fmax(a->t2_sum / n - st->exit_time_mean * st->exit_time_mean, 0.0);
     st->exit_time_err = n > 1 ? sqrt(var / (n - 1.0)) : (double)NAN;
     st->w2_time_mean = a->weight_sum > 0.0 ? a->w2_sum / a->weight_sum : (double)NAN;
+    /* <w^2> is a ratio of sums over independent walks, R = sum a / sum b: its error by the delta
+     * method, var R = sum (a - R b)^2 / (n (n - 1) b_mean^2) */
+    double R = st->w2_time_mean, bm = a->weight_sum / n;
+    double ss = fmax(a->aa - 2.0 * R * a->ab + R * R * a->bb, 0.0);
+    st->w2_time_err = n > 1 && bm > 0.0 ? sqrt(ss / (n * (n - 1.0))) / bm : (double)NAN;
     st->exit_speed2_mean = a->e2_sum / n;
 }
 
