@@ -1,11 +1,14 @@
-/* Collision-model plugins: each model is one `const gr_model` defined in models/, listed once
- * in the registry and looked up by name.
+/* Collision-model plugins: each model is one file, models/NAME.h, holding its parameter
+ * descriptors, its `prepare` and its pair law (a static inline function); models/list.h lists
+ * every model once, and the registry `gr_models`, the force kernels and the conformance suite
+ * are generated from that list (docs/architecture.md, "How to add a collision model").
  *
  * A model declares its parameters (name, unit, default, allowed range, one-line doc); the scene
  * parser validates scene keys against them and `granule models` lists them. Its `prepare`
  * turns physical inputs (k_s, restitution coefficients, masses, time step) into solver
  * coefficients once per run. The core never calls a model per pair: the coefficients feed
- * specialised pair loops chosen once per run (see src/core/kernels_2d.c). */
+ * specialised pair loops, instantiated from the models' laws and chosen once per run
+ * (src/core/kernels.c, models/law.h). */
 #ifndef GRANULE_MODEL_H
 #define GRANULE_MODEL_H
 
@@ -47,10 +50,17 @@ typedef enum {
 
 typedef enum { GR_TANGENTIAL_NONE = 0, GR_TANGENTIAL_DASHPOT, GR_TANGENTIAL_FRICTION } gr_tangential_law;
 
-/* Solver coefficients derived once per run by the models' prepare functions. */
+struct gr_model;
+
+/* Solver coefficients derived once per run by the models' prepare functions. `normal` and
+ * `tangential` name the thesis's laws for code that special-cases them (GR_NORMAL_NONE for any
+ * other law); `normal_model` / `tangential_model` are the models themselves (set by
+ * gr_contact_prepare). A law with constants of its own keeps them in law_n / law_t (the model's
+ * file names the slots). */
 typedef struct gr_contact_coeffs {
     gr_normal_law normal;
     gr_tangential_law tangential;
+    const struct gr_model *normal_model, *tangential_model;
     double m12;     /* reduced mass of a colliding pair, kg */
     double k_s;     /* N/m */
     double gamma_n; /* normal dashpot, kg/s (2.5) */
@@ -61,6 +71,9 @@ typedef struct gr_contact_coeffs {
     double eps_n_exact; /* restitution the continuous-time law really gives */
     double gamma_t; /* tangential dashpot, kg/s (2.9) */
     double mu;      /* sliding friction (2.7) */
+    double e_scale; /* elastic energy of a contact = e_scale * (the law's e), J per unit of e */
+    double law_n[4]; /* constants private to the normal law */
+    double law_t[4]; /* constants private to the tangential law */
 } gr_contact_coeffs;
 
 typedef enum {
@@ -79,6 +92,12 @@ typedef struct gr_model {
      * may read it. `dt` is the time step (0 when the caller only wants the continuous law). */
     int (*prepare)(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                    gr_error *err);
+    /* Tangential laws (optional): true when the prepared coefficients make the law do nothing
+     * (eps_t = 1, mu = 0); the kernel without it then runs. Called once per run. */
+    bool (*inert)(const gr_contact_coeffs *c);
+    /* Event rules: the normal force law whose kernel evaluates forces when the engine asks for
+     * them (the initial state, which has no overlaps), with the coefficients prepare set. */
+    const char *force_law;
 } gr_model;
 
 /* The registry: every built-in model, NULL-terminated. */

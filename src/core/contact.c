@@ -1,20 +1,9 @@
-/* The model registry and the combination of a normal law with a tangential law. */
+/* Looking models up, and the combination of a normal law with a tangential law. */
 #include <string.h>
 
 #include "granule/model.h"
 
-extern const gr_model gr_model_spring_dashpot;
-extern const gr_model gr_model_tangential_dashpot;
-extern const gr_model gr_model_sliding_friction;
-extern const gr_model gr_model_hard_sphere;
-
-const gr_model *const gr_models[] = {
-    &gr_model_spring_dashpot,
-    &gr_model_tangential_dashpot,
-    &gr_model_sliding_friction,
-    &gr_model_hard_sphere,
-    NULL,
-};
+/* gr_models, the list itself, is generated from models/list.h in models/registry.c. */
 
 const gr_model *gr_model_find(const char *name)
 {
@@ -37,6 +26,8 @@ int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
     if (tangential && tangential->kind != GR_MODEL_TANGENTIAL) {
         return GR_FAIL(err, GR_EINVAL, "'%s' is not a tangential model", tangential->name);
     }
+    c->normal_model = normal;
+    c->tangential_model = tangential;
     int rc = normal->prepare(p, m12, dt, c, err);
     if (rc == GR_OK && tangential) {
         rc = tangential->prepare(p, m12, dt, c, err);

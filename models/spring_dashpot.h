@@ -8,13 +8,34 @@
  *    and the restitution is that of Schwager & Poeschel (2007); gamma_n is found by inverting it,
  *    so the requested eps_n still holds exactly in continuous time.
  * docs/models.md compares both. */
+#ifndef GR_MODELS_SPRING_DASHPOT_H
+#define GR_MODELS_SPRING_DASHPOT_H
+
 #include <math.h>
+
+#include "models/law.h"
+
+extern const gr_model gr_model_spring_dashpot;
+
+/* The pair law (2.4-2.5): f = k_s xi - gamma_n g_n, elastic energy k_s xi^2 / 2. */
+GR_LAW gr_normal_force gr_normal_spring_dashpot(const gr_contact_coeffs *c, const double xi, const double g_n,
+                                                const int clamp)
+{
+    const double k = c->k_s;
+    double f = k * xi - c->gamma_n * g_n;
+    if (clamp) {
+        f = f > 0.0 ? f : 0.0;
+    }
+    return (gr_normal_force){.f = f, .f_d = f - k * xi, .e = xi * xi};
+}
+
+#ifdef GR_MODEL_IMPL
+/* the descriptor and prepare: compiled once, in models/registry.c */
 #include <stddef.h>
 
 #include "core/restitution.h"
-#include "granule/model.h"
 
-static const gr_param params[] = {
+static const gr_param spring_dashpot_params[] = {
     {"k_s", "N/m", GR_PARAM_DOUBLE, 5e5, 0.0, INFINITY, true, true,
      "normal spring constant (2.4); Table 2.2: 5e5", offsetof(gr_contact_params, k_s)},
     {"eps_n", "", GR_PARAM_DOUBLE, 0.6, 0.0, 1.0, false, false,
@@ -26,7 +47,7 @@ static const gr_param params[] = {
      offsetof(gr_contact_params, clamp)},
 };
 
-static int prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
+static int spring_dashpot_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                    gr_error *err)
 {
     (void)dt;
@@ -51,6 +72,7 @@ static int prepare(const gr_contact_params *p, double m12, double dt, gr_contact
         c->eps_n_exact = p->eps_n;
     }
     c->gamma_n = 2.0 * c->zeta * sqrt(p->k_s * m12);
+    c->e_scale = 0.5 * p->k_s; /* U = k_s xi^2 / 2 */
     return GR_OK;
 }
 
@@ -58,7 +80,10 @@ const gr_model gr_model_spring_dashpot = {
     .name = "spring_dashpot",
     .summary = "linear spring-dashpot normal force (thesis 2.4-2.6), optionally clamped repulsive",
     .kind = GR_MODEL_NORMAL,
-    .params = params,
-    .n_params = sizeof params / sizeof params[0],
-    .prepare = prepare,
+    .params = spring_dashpot_params,
+    .n_params = sizeof spring_dashpot_params / sizeof spring_dashpot_params[0],
+    .prepare = spring_dashpot_prepare,
 };
+#endif /* GR_MODEL_IMPL */
+
+#endif

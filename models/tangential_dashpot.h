@@ -6,18 +6,39 @@
  * the undamped contact time; the real contact lasts pi/w (unclamped) or t_e (clamped), so we use
  * the actual duration of the chosen normal law: gamma_t = -m12 ln(eps_t) / t_c. Eq. 2.12 would
  * give eps_t^(1/sqrt(1 - zeta^2)) instead (docs/models.md). */
+#ifndef GR_MODELS_TANGENTIAL_DASHPOT_H
+#define GR_MODELS_TANGENTIAL_DASHPOT_H
+
 #include <math.h>
+
+#include "models/law.h"
+
+extern const gr_model gr_model_tangential_dashpot;
+
+/* The pair law (2.9): f_t = -gamma_t g_t while the normal force acts; dissipates gamma_t g_t^2. */
+enum { GR_BOOK_tangential_dashpot = GR_BOOK_TANGENTIAL };
+GR_LAW gr_tangential_force gr_tangential_tangential_dashpot(const gr_contact_coeffs *c, const gr_tangential_in in)
+{
+    gr_tangential_force o = {.f = 0.0, .p = 0.0};
+    if (in.acts) {
+        const double gt = c->gamma_t;
+        o.f = -gt * in.g_t;
+        o.p = gt * in.g_t * in.g_t;
+    }
+    return o;
+}
+
+#ifdef GR_MODEL_IMPL
+/* the descriptor and prepare: compiled once, in models/registry.c */
 #include <stddef.h>
 
-#include "granule/model.h"
-
-static const gr_param params[] = {
+static const gr_param tangential_dashpot_params[] = {
     {"eps_t", "", GR_PARAM_DOUBLE, 0.6, 0.0, 1.0, false, false,
      "tangential coefficient of restitution (2.10); 1 = no tangential dissipation",
      offsetof(gr_contact_params, eps_t)},
 };
 
-static int prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
+static int tangential_dashpot_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                    gr_error *err)
 {
     (void)err;
@@ -35,11 +56,18 @@ static int prepare(const gr_contact_params *p, double m12, double dt, gr_contact
     return GR_OK;
 }
 
+/* eps_t = 1 gives gamma_t = 0: the law does nothing, the kernel without it runs */
+static bool tangential_dashpot_inert(const gr_contact_coeffs *c) { return c->gamma_t == 0.0; }
+
 const gr_model gr_model_tangential_dashpot = {
     .name = "tangential_dashpot",
     .summary = "tangential dashpot (thesis 2.9-2.12), gamma_t set for the actual contact duration",
     .kind = GR_MODEL_TANGENTIAL,
-    .params = params,
-    .n_params = sizeof params / sizeof params[0],
-    .prepare = prepare,
+    .params = tangential_dashpot_params,
+    .n_params = sizeof tangential_dashpot_params / sizeof tangential_dashpot_params[0],
+    .prepare = tangential_dashpot_prepare,
+    .inert = tangential_dashpot_inert,
 };
+#endif /* GR_MODEL_IMPL */
+
+#endif
