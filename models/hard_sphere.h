@@ -100,8 +100,24 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
     c->eps_n_exact = p->eps_n;
     c->gamma_n = 0.0; /* no force law: kernels see a hard sphere as force-free */
     c->e_scale = 0.5 * c->k_s;
+    c->law_t[0] = p->eps_t; /* the rule's tangential restitution */
     c->gamma_t = 0.0;
     return GR_OK;
+}
+
+/* Its restitution law: eps_n and eps_t exactly, at any speed, in no time. */
+static gr_normal_impact hard_sphere_impact(const gr_contact_coeffs *c, double v_n)
+{
+    (void)v_n;
+    return (gr_normal_impact){c->eps_n_exact, 0.0, 1.0 + c->eps_n_exact};
+}
+
+static double hard_sphere_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t)
+{
+    (void)n;
+    (void)v_n;
+    (void)v_t;
+    return c->law_t[0];
 }
 
 const gr_model gr_model_hard_sphere = {
@@ -112,6 +128,9 @@ const gr_model gr_model_hard_sphere = {
     .n_params = sizeof hard_sphere_params / sizeof hard_sphere_params[0],
     .prepare = hard_sphere_prepare,
     .force_law = "spring_dashpot",
+    .impact = hard_sphere_impact,
+    .restitution_t = hard_sphere_restitution_t,
+    .elastic = "eps_n=1 eps_t=1",
 };
 #endif /* GR_MODEL_IMPL */
 

@@ -48,6 +48,14 @@ static int sliding_friction_prepare(const gr_contact_params *p, double m12, doub
     return GR_OK;
 }
 
+/* Its restitution law (binary impact without rotation): the tangential impulse is mu int |F_n| dt
+ * until g_t stops, so eps_t = max(0, 1 - mu (int |F_n| dt / m12) / v_t), i.e.
+ * max(0, 1 - mu (1 + eps_n) v_n / v_t) for a repulsive normal force (physics notes sec. 4.2). */
+static double sliding_friction_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t)
+{
+    return fmax(0.0, 1.0 - c->mu * n.impulse_abs * v_n / v_t);
+}
+
 /* mu = 0: no friction, the kernel without it runs */
 static bool sliding_friction_inert(const gr_contact_coeffs *c) { return c->mu == 0.0; }
 
@@ -59,6 +67,8 @@ const gr_model gr_model_sliding_friction = {
     .n_params = sizeof sliding_friction_params / sizeof sliding_friction_params[0],
     .prepare = sliding_friction_prepare,
     .inert = sliding_friction_inert,
+    .restitution_t = sliding_friction_restitution_t,
+    .elastic = "mu=0",
 };
 #endif /* GR_MODEL_IMPL */
 

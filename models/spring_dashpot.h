@@ -76,6 +76,29 @@ static int spring_dashpot_prepare(const gr_contact_params *p, double m12, double
     return GR_OK;
 }
 
+/* Its impact: eps_n and t_c the same at every speed (2.6, or Schwager-Poeschel clamped). The
+ * unclamped force turns attractive at the end of the contact, so int |F_n| dt exceeds the net
+ * impulse m12 (1 + eps_n) v_n: with xi' = v e^(-beta t) (cos wt - (beta/w) sin wt), int |F_n| dt
+ * = m12 (total variation of xi') = m12 v (1 - eps_n + 2 u), -u v the minimum of xi', reached
+ * where xi'' = 0, at w t* = pi - atan2(2 beta w, w^2 - beta^2) (critical damping: beta t* = 2). */
+static gr_normal_impact spring_dashpot_impact(const gr_contact_coeffs *c, double v_n)
+{
+    (void)v_n;
+    gr_normal_impact o = {c->eps_n_exact, c->t_c, 1.0 + c->eps_n_exact};
+    if (!c->clamp && c->zeta > 0.0) {
+        const double beta = c->zeta * c->w0, w = c->w0 * sqrt(fmax(0.0, 1.0 - c->zeta * c->zeta));
+        double u;
+        if (w > 0.0) {
+            const double ts = (M_PI - atan2(2.0 * beta * w, w * w - beta * beta)) / w;
+            u = -exp(-beta * ts) * (cos(w * ts) - beta / w * sin(w * ts));
+        } else {
+            u = exp(-2.0); /* xi' = v e^(-beta t) (1 - beta t), minimum at beta t = 2 */
+        }
+        o.impulse_abs = 1.0 - c->eps_n_exact + 2.0 * u;
+    }
+    return o;
+}
+
 const gr_model gr_model_spring_dashpot = {
     .name = "spring_dashpot",
     .summary = "linear spring-dashpot normal force (thesis 2.4-2.6), optionally clamped repulsive",
@@ -83,6 +106,8 @@ const gr_model gr_model_spring_dashpot = {
     .params = spring_dashpot_params,
     .n_params = sizeof spring_dashpot_params / sizeof spring_dashpot_params[0],
     .prepare = spring_dashpot_prepare,
+    .impact = spring_dashpot_impact,
+    .elastic = "eps_n=1",
 };
 #endif /* GR_MODEL_IMPL */
 

@@ -56,6 +56,19 @@ static int tangential_dashpot_prepare(const gr_contact_params *p, double m12, do
     return GR_OK;
 }
 
+/* Its restitution law: without rotation g_t decays as exp(-gamma_t t / m12) while the normal
+ * force acts, for the contact duration t_c of the normal law (a sticking contact: pi / w0). */
+static double tangential_dashpot_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t)
+{
+    (void)v_n;
+    (void)v_t;
+    double t_c = n.t_c;
+    if (!isfinite(t_c)) {
+        t_c = M_PI / c->w0;
+    }
+    return exp(-c->gamma_t * t_c / c->m12);
+}
+
 /* eps_t = 1 gives gamma_t = 0: the law does nothing, the kernel without it runs */
 static bool tangential_dashpot_inert(const gr_contact_coeffs *c) { return c->gamma_t == 0.0; }
 
@@ -67,6 +80,8 @@ const gr_model gr_model_tangential_dashpot = {
     .n_params = sizeof tangential_dashpot_params / sizeof tangential_dashpot_params[0],
     .prepare = tangential_dashpot_prepare,
     .inert = tangential_dashpot_inert,
+    .restitution_t = tangential_dashpot_restitution_t,
+    .elastic = "eps_t=1",
 };
 #endif /* GR_MODEL_IMPL */
 

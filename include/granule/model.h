@@ -52,6 +52,14 @@ typedef enum { GR_TANGENTIAL_NONE = 0, GR_TANGENTIAL_DASHPOT, GR_TANGENTIAL_FRIC
 
 struct gr_model;
 
+/* A normal law's binary head-on impact at normal speed v_n, in continuous time (two equal discs,
+ * no rotation): what the tangential laws' restitution needs. */
+typedef struct gr_normal_impact {
+    double eps_n;       /* normal restitution */
+    double t_c;         /* contact duration, s (0: instantaneous; infinite: the pair sticks) */
+    double impulse_abs; /* int |F_n| dt / (m12 v_n): 1 + eps_n unless the force turns attractive */
+} gr_normal_impact;
+
 /* Solver coefficients derived once per run by the models' prepare functions. `normal` and
  * `tangential` name the thesis's laws for code that special-cases them (GR_NORMAL_NONE for any
  * other law); `normal_model` / `tangential_model` are the models themselves (set by
@@ -98,6 +106,16 @@ typedef struct gr_model {
     /* Event rules: the normal force law whose kernel evaluates forces when the engine asks for
      * them (the initial state, which has no overlaps), with the coefficients prepare set. */
     const char *force_law;
+    /* The model's own restitution law, in continuous time, for a binary impact of two equal
+     * discs without rotation (the conformance suite and `granule collide` check the engine
+     * against it). Normal laws and event rules: the impact at normal speed v_n > 0 (the same at
+     * every speed for the linear law). Tangential laws (and event rules): the tangential
+     * restitution given that normal impact and the impact speeds v_n, v_t > 0. */
+    gr_normal_impact (*impact)(const gr_contact_coeffs *c, double v_n);
+    double (*restitution_t)(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t);
+    /* Parameter settings that make the model conserve energy ("eps_n=1", space-separated
+     * key=value); the conformance suite applies them to test elastic impacts. */
+    const char *elastic;
 } gr_model;
 
 /* The registry: every built-in model, NULL-terminated. */
@@ -108,6 +126,11 @@ const gr_model *gr_model_find(const char *name);
 
 /* Derive coefficients for a normal model combined with an optional tangential model
  * (tangential may be NULL). */
+/* Expected fraction of the relative kinetic energy a binary impact loses, from the models' own
+ * restitution laws (gr_model.restitution etc.): (1 - eps_n^2) cos^2 a + (1 - eps_t^2) sin^2 a for
+ * impact speed `speed` (m/s) at angle `angle_deg` between -g and the normal. */
+double gr_contact_expected_loss(const gr_contact_coeffs *c, double speed, double angle_deg);
+
 int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
                        const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                        gr_error *err);

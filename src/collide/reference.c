@@ -407,7 +407,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     memset(out, 0, sizeof *out);
     out->energy_loss = 1.0 - gg1 / gg0;
     out->impact_angle = atan2(fabs(gt0), -gn0) * (180.0 / M_PI);
-    out->expected_loss = gr_collide_expected_loss(&coeffs, &s->contact, out->impact_angle);
+    out->expected_loss = gr_contact_expected_loss(&coeffs, speed, out->impact_angle);
     out->contact_time = tau / w0;
     out->max_overlap = xi_max * len;
     out->eps_n_measured = -st.gn / gn0;

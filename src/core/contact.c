@@ -1,4 +1,5 @@
 /* Looking models up, and the combination of a normal law with a tangential law. */
+#include <math.h>
 #include <string.h>
 
 #include "granule/model.h"
@@ -33,4 +34,23 @@ int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
         rc = tangential->prepare(p, m12, dt, c, err);
     }
     return rc;
+}
+
+double gr_contact_expected_loss(const gr_contact_coeffs *c, double speed, double angle_deg)
+{
+    const gr_model *nm = c->normal_model, *tm = c->tangential_model;
+    double a = angle_deg * M_PI / 180.0, cos2 = cos(a) * cos(a), sin2 = 1.0 - cos2;
+    double v_n = speed * sqrt(cos2), v_t = speed * sqrt(sin2);
+    gr_normal_impact ni = {c->eps_n_exact, c->t_c, 1.0 + c->eps_n_exact};
+    if (nm && nm->impact) {
+        ni = nm->impact(c, v_n);
+    }
+    double et = 1.0;
+    if (sin2 > 0.0) {
+        const gr_model *law = tm ? tm : nm; /* an event rule carries its own tangential rule */
+        if (law && law->restitution_t) {
+            et = law->restitution_t(c, ni, v_n, v_t);
+        }
+    }
+    return (1.0 - ni.eps_n * ni.eps_n) * cos2 + (1.0 - et * et) * sin2;
 }
