@@ -100,6 +100,8 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
     c->eps_n_exact = p->eps_n;
     c->gamma_n = 0.0; /* no force law: kernels see a hard sphere as force-free */
     c->e_scale = 0.5 * c->k_s;
+    c->pow_a = 1.0;
+    c->pow_p = 0.0;
     c->law_t[0] = p->eps_t; /* the rule's tangential restitution */
     c->gamma_t = 0.0;
     return GR_OK;

@@ -15,13 +15,15 @@
 #define GR_MODELS_LIST_H
 
 #include "models/spring_dashpot.h"
+#include "models/hertz.h"
 #include "models/tangential_dashpot.h"
 #include "models/sliding_friction.h"
 #include "models/hard_sphere.h"
 
 /* normal force laws: models/NAME.h defines gr_normal_NAME and gr_model_NAME */
 #define GR_NORMAL_MODELS(X, A) \
-    X(A, spring_dashpot)
+    X(A, spring_dashpot)       \
+    X(A, hertz)
 
 /* tangential force laws: gr_tangential_NAME, GR_BOOK_NAME and gr_model_NAME */
 #define GR_TANGENTIAL_MODELS(X, A) \

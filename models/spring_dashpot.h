@@ -73,6 +73,8 @@ static int spring_dashpot_prepare(const gr_contact_params *p, double m12, double
     }
     c->gamma_n = 2.0 * c->zeta * sqrt(p->k_s * m12);
     c->e_scale = 0.5 * p->k_s; /* U = k_s xi^2 / 2 */
+    c->pow_a = 1.0;
+    c->pow_p = 0.0;
     return GR_OK;
 }
 

@@ -6,7 +6,7 @@
  *     (gr_collide_reference): to 1e-7 head-on, to the turning of the line of centres obliquely;
  *   - be integrated by the engine's kernels (gr_collide_run) to first order: the phase-averaged
  *     energy loss within K_DT dt / t_c of the reference (docs/collision-accuracy.md derives
- *     constants <= 0.9 for the linear laws);
+ *     C_N = 0.25 for the linear normal law; measured <= 0.1 here for every law);
  *   - conserve momentum (to rounding, < 1e-12 relative);
  *   - be symmetric under exchanging the two particles (the same loss to 1e-12);
  *   - conserve energy when its `elastic` settings are applied (eps = 1, no friction): reference
@@ -36,12 +36,13 @@
 #define RADIUS 1.5e-3
 #define DIAM (2.0 * RADIUS)
 #define STEPS 200.0 /* steps per contact of the engine runs */
-#define K_DT 1.0    /* engine vs reference: |loss difference| <= K_DT dt / t_c */
+#define K_DT 0.25   /* engine vs reference: |loss difference| <= K_DT dt / t_c */
 #define MAX_COMBOS 256
 
 typedef struct combo {
     const gr_model *normal, *tangential;
     int clamp, dim;
+    const char *variant; /* the normal law's mode (gr_model.variants), NULL if it has one */
 } combo;
 
 static combo combos[MAX_COMBOS];
@@ -56,54 +57,22 @@ static void enumerate(void)
         if (!(nm->kind & GR_MODEL_NORMAL) || (nm->kind & GR_MODEL_EVENT)) {
             continue;
         }
-        for (int clamp = 0; clamp < 2; clamp++) {
-            combos[n_combos++] = (combo){nm, NULL, clamp, 1};
-            combos[n_combos++] = (combo){nm, NULL, clamp, 2};
-            for (int b = 0; gr_models[b]; b++) {
-                if (gr_models[b]->kind == GR_MODEL_TANGENTIAL && n_combos < MAX_COMBOS) {
-                    combos[n_combos++] = (combo){nm, gr_models[b], clamp, 2};
+        for (int v = 0; v == 0 || (nm->variants && nm->variants[v]); v++) {
+            const char *var = nm->variants ? nm->variants[v] : NULL;
+            for (int clamp = 0; clamp < 2 && n_combos + 2 < MAX_COMBOS; clamp++) {
+                combos[n_combos++] = (combo){nm, NULL, clamp, 1, var};
+                combos[n_combos++] = (combo){nm, NULL, clamp, 2, var};
+                for (int b = 0; gr_models[b]; b++) {
+                    if (gr_models[b]->kind == GR_MODEL_TANGENTIAL && n_combos < MAX_COMBOS) {
+                        combos[n_combos++] = (combo){nm, gr_models[b], clamp, 2, var};
+                    }
                 }
             }
         }
     }
 }
 
-static const gr_param *find_param(const char *name)
-{
-    for (int m = 0; gr_models[m]; m++) {
-        for (int i = 0; i < gr_models[m]->n_params; i++) {
-            if (strcmp(gr_models[m]->params[i].name, name) == 0) {
-                return &gr_models[m]->params[i];
-            }
-        }
-    }
-    return NULL;
-}
-
-static void set_param(gr_contact_params *p, const gr_param *d, double v)
-{
-    char *slot = (char *)p + d->offset;
-    if (d->type == GR_PARAM_BOOL) {
-        *(bool *)slot = v != 0.0;
-    } else {
-        *(double *)slot = v;
-    }
-}
-
-/* the defaults of every descriptor, as the scene loader applies them */
-static gr_contact_params defaults(void)
-{
-    gr_contact_params p;
-    memset(&p, 0, sizeof p);
-    for (int m = 0; gr_models[m]; m++) {
-        for (int i = 0; i < gr_models[m]->n_params; i++) {
-            set_param(&p, &gr_models[m]->params[i], gr_models[m]->params[i].def);
-        }
-    }
-    return p;
-}
-
-/* apply a model's "key=value key=value" settings */
+/* apply a model's "key=value key=value" settings (checked against the descriptors) */
 static void apply_settings(gr_contact_params *p, const char *settings)
 {
     char buf[256];
@@ -112,15 +81,24 @@ static void apply_settings(gr_contact_params *p, const char *settings)
         char *eq = strchr(tok, '=');
         ck_assert_msg(eq, "settings '%s': '%s' is not key=value", settings, tok);
         *eq = '\0';
-        const gr_param *d = find_param(tok);
-        ck_assert_msg(d, "settings '%s': no model has a parameter '%s'", settings, tok);
-        set_param(p, d, strcmp(eq + 1, "true") == 0 ? 1.0 : strcmp(eq + 1, "false") == 0 ? 0.0 : atof(eq + 1));
+        gr_error err = {0};
+        ck_assert_msg(gr_contact_set(p, tok, eq + 1, &err) == GR_OK, "settings '%s': %s", settings, err.message);
     }
+}
+
+/* every descriptor's default (as a scene without [model] keys), then the combination's mode */
+static gr_contact_params defaults_of(const combo *c)
+{
+    gr_contact_params p;
+    gr_contact_defaults(&p);
+    apply_settings(&p, c->variant);
+    return p;
 }
 
 static const char *name_of(const combo *c, char *buf, size_t n)
 {
-    snprintf(buf, n, "%dd %s%s%s%s", c->dim, c->normal->name, c->clamp ? "[clamped]" : "", c->tangential ? "+" : "",
+    snprintf(buf, n, "%dd %s%s%s%s%s%s%s", c->dim, c->normal->name, c->variant ? "(" : "", c->variant ? c->variant : "",
+             c->variant ? ")" : "", c->clamp ? "[clamped]" : "", c->tangential ? "+" : "",
              c->tangential ? c->tangential->name : "");
     return buf;
 }
@@ -195,7 +173,7 @@ START_TEST(test_restitution_law)
     const combo *c = &combos[_i];
     char what[260], name[160];
     name_of(c, name, sizeof name);
-    gr_collide_setup s = setup_of(c, defaults());
+    gr_collide_setup s = setup_of(c, defaults_of(c));
     gr_contact_coeffs k;
     ck_assert_msg(coeffs_of(&s, &k), "%s: the defaults are refused", name);
     for (int a = 0; a < (c->dim == 2 ? 3 : 1); a++) {
@@ -226,7 +204,7 @@ START_TEST(test_engine_vs_reference)
     const combo *c = &combos[_i];
     char what[260], name[160];
     name_of(c, name, sizeof name);
-    gr_collide_setup s = setup_of(c, defaults());
+    gr_collide_setup s = setup_of(c, defaults_of(c));
     gr_contact_coeffs k;
     ck_assert(coeffs_of(&s, &k));
     const int nph = quick() ? 2 : 4;
@@ -266,7 +244,7 @@ START_TEST(test_elastic)
     const combo *c = &combos[_i];
     char what[260], name[160];
     name_of(c, name, sizeof name);
-    gr_contact_params p = defaults();
+    gr_contact_params p = defaults_of(c);
     apply_settings(&p, c->normal->elastic);
     if (c->tangential && c->dim == 2) {
         apply_settings(&p, c->tangential->elastic);
@@ -282,7 +260,8 @@ START_TEST(test_elastic)
         gr_error err = {0};
         ck_assert_msg(gr_collide_reference(&s, &cs, &ref, &err) == GR_OK, "%s: %s", what, err.message);
         ck_assert_msg(fabs(ref.energy_loss) <= 1e-9, "%s: reference loses %.3e", what, ref.energy_loss);
-        ck_assert_msg(fabs(gr_contact_expected_loss(&k, speed, angle)) <= 1e-12, "%s: the law predicts a loss %.3e", what,
+        /* 1e-9: a law may be a numerical integration of its own (hertz) */
+        ck_assert_msg(fabs(gr_contact_expected_loss(&k, speed, angle)) <= 1e-9, "%s: the law predicts a loss %.3e", what,
                       gr_contact_expected_loss(&k, speed, angle));
         double mom = 0.0, ov = 0.0;
         const double loss = engine_loss(s, &cs, &k, speed, angle, quick() ? 2 : 8, &mom, &ov, what);
@@ -330,10 +309,10 @@ START_TEST(test_hard_cases)
             if (d->type != GR_PARAM_DOUBLE || strncmp(d->name, "eps", 3) != 0) {
                 continue;
             }
-            gr_contact_params p = defaults();
+            gr_contact_params p = defaults_of(c);
             for (int lo = 0; lo < 2; lo++) {
                 const double v = lo == 0 && !d->min_open ? d->min : d->min + 1e-6;
-                set_param(&p, d, v);
+                *(double *)((char *)&p + d->offset) = v;
                 gr_collide_setup s = setup_of(c, p);
                 gr_contact_coeffs k;
                 gr_error err = {0};
@@ -349,7 +328,7 @@ START_TEST(test_hard_cases)
             }
         }
     }
-    const gr_contact_params p = defaults();
+    const gr_contact_params p = defaults_of(c);
     const double hard_speeds[] = {1e-5, 10.0};
     for (int v = 0; v < 2; v++) {
         snprintf(what, sizeof what, "%s at %g m/s", name, hard_speeds[v]);
@@ -374,7 +353,7 @@ static double pair_run(const combo *c, double cx, double cy, double out[4], doub
     sc.mass = MASS;
     sc.normal = c->normal;
     sc.tangential = c->dim == 2 ? c->tangential : NULL;
-    sc.contact = defaults();
+    sc.contact = defaults_of(c);
     sc.contact.clamp = c->clamp;
     sc.D = 0.0;
     sc.noise_mode = GR_NOISE_NONE;

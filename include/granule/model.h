@@ -40,6 +40,10 @@ typedef struct gr_contact_params {
     double mu;    /* sliding-friction coefficient (2.7) */
     bool clamp;   /* true: normal force never attractive, gamma_n from the clamped restitution */
     double tc;    /* hard_sphere: TC-model time, s; 0 = the matching spring-dashpot's contact time */
+    double k_h;   /* hertz: stiffness of F = k_h xi^(3/2), N/m^(3/2) */
+    bool viscoelastic; /* hertz: damping of Brilliantov et al. (A), not calibrated to eps_n */
+    double visco_A;    /* hertz: the viscoelastic time A, s */
+    double v_max;      /* hertz: the fastest impact the time step must resolve, m/s */
 } gr_contact_params;
 
 typedef enum {
@@ -80,6 +84,10 @@ typedef struct gr_contact_coeffs {
     double gamma_t; /* tangential dashpot, kg/s (2.9) */
     double mu;      /* sliding friction (2.7) */
     double e_scale; /* elastic energy of a contact = e_scale * (the law's e), J per unit of e */
+    /* The normal law as F = k_s xi^pow_a - gamma_n xi^pow_p g_n (before the clamp): pow_a = 1,
+     * pow_p = 0 for the linear law; hertz has 3/2 and 1/2 or 1/4 (k_s, gamma_n then in the units
+     * these powers need). The CVODE reference (src/collide/reference.c) integrates this form. */
+    double pow_a, pow_p;
     double law_n[4]; /* constants private to the normal law */
     double law_t[4]; /* constants private to the tangential law */
 } gr_contact_coeffs;
@@ -116,6 +124,9 @@ typedef struct gr_model {
     /* Parameter settings that make the model conserve energy ("eps_n=1", space-separated
      * key=value); the conformance suite applies them to test elastic impacts. */
     const char *elastic;
+    /* Optional, NULL-terminated: settings selecting each mode of the law ("viscoelastic=true");
+     * the conformance suite tests every mode as a combination of its own. */
+    const char *const *variants;
 } gr_model;
 
 /* The registry: every built-in model, NULL-terminated. */
@@ -126,6 +137,13 @@ const gr_model *gr_model_find(const char *name);
 
 /* Derive coefficients for a normal model combined with an optional tangential model
  * (tangential may be NULL). */
+/* Every model parameter at its descriptor's default (as a scene without [model] keys has them). */
+void gr_contact_defaults(gr_contact_params *p);
+
+/* Set the model parameter `name` from text, checked against its descriptor's type and range;
+ * GR_EINVAL (naming the key and the allowed range) if unknown or out of range. */
+int gr_contact_set(gr_contact_params *p, const char *name, const char *value, gr_error *err);
+
 /* Expected fraction of the relative kinetic energy a binary impact loses, from the models' own
  * restitution laws (gr_model.restitution etc.): (1 - eps_n^2) cos^2 a + (1 - eps_t^2) sin^2 a for
  * impact speed `speed` (m/s) at angle `angle_deg` between -g and the normal. */

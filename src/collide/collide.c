@@ -29,7 +29,12 @@ void gr_collide_setup_default(gr_collide_setup *s)
 {
     memset(s, 0, sizeof *s);
     s->normal = gr_model_find("spring_dashpot");
-    s->contact = (gr_contact_params){.k_s = 5e5, .eps_n = 0.6, .eps_t = 0.6, .mu = 0.5, .clamp = false};
+    gr_contact_defaults(&s->contact); /* every model's defaults (hertz: k_h, v_max, ...) */
+    s->contact.k_s = 5e5;
+    s->contact.eps_n = 0.6;
+    s->contact.eps_t = 0.6;
+    s->contact.mu = 0.5;
+    s->contact.clamp = false;
     s->mass = 1.0;
     s->radius = 0.1; /* Table 2.1 gives no radius; with 1 kg masses and k_s = 5e5 the overlap is
                         v / w0 = 1 mm, so r = 0.1 m keeps it below 1% of d */

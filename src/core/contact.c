@@ -1,5 +1,6 @@
 /* Looking models up, and the combination of a normal law with a tangential law. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "granule/model.h"
@@ -34,6 +35,53 @@ int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
         rc = tangential->prepare(p, m12, dt, c, err);
     }
     return rc;
+}
+
+void gr_contact_defaults(gr_contact_params *p)
+{
+    memset(p, 0, sizeof *p);
+    for (int m = 0; gr_models[m]; m++) {
+        for (int i = 0; i < gr_models[m]->n_params; i++) {
+            const gr_param *d = &gr_models[m]->params[i];
+            char *slot = (char *)p + d->offset;
+            if (d->type == GR_PARAM_BOOL) {
+                *(bool *)slot = d->def != 0.0;
+            } else {
+                *(double *)slot = d->def;
+            }
+        }
+    }
+}
+
+int gr_contact_set(gr_contact_params *p, const char *name, const char *value, gr_error *err)
+{
+    for (int m = 0; gr_models[m]; m++) {
+        for (int i = 0; i < gr_models[m]->n_params; i++) {
+            const gr_param *d = &gr_models[m]->params[i];
+            if (strcmp(d->name, name) != 0) {
+                continue;
+            }
+            char *slot = (char *)p + d->offset;
+            if (d->type == GR_PARAM_BOOL) {
+                if (strcmp(value, "true") != 0 && strcmp(value, "false") != 0) {
+                    return GR_FAIL(err, GR_EINVAL, "[model] %s = %s: allowed true or false", name, value);
+                }
+                *(bool *)slot = strcmp(value, "true") == 0;
+                return GR_OK;
+            }
+            char *end = NULL;
+            double x = strtod(value, &end);
+            bool ok = end != value && *end == '\0' && isfinite(x) && (d->min_open ? x > d->min : x >= d->min) &&
+                      (d->max_open ? x < d->max : x <= d->max);
+            if (!ok) {
+                return GR_FAIL(err, GR_EINVAL, "[model] %s = %s: allowed range %c%g, %g%c %s", name, value,
+                               d->min_open ? '(' : '[', d->min, d->max, d->max_open ? ')' : ']', d->unit);
+            }
+            *(double *)slot = x;
+            return GR_OK;
+        }
+    }
+    return GR_FAIL(err, GR_EINVAL, "[model] %s: no model has this parameter (granule models lists them)", name);
 }
 
 double gr_contact_expected_loss(const gr_contact_coeffs *c, double speed, double angle_deg)
