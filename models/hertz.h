@@ -210,13 +210,21 @@ static int hertz_prepare(const gr_contact_params *p, double m12, double dt, gr_c
     const gr_normal_impact at_max = hertz_impact(c, p->v_max);
     c->t_c = at_max.t_c;
     c->eps_n_exact = at_max.eps_n;
-    c->w0 = M_PI / (isfinite(c->t_c) ? c->t_c : 3.2187 * hertz_x0(c, p->v_max) / p->v_max);
-    c->zeta = 0.0; /* no linear damping ratio: the dt checks use t_c(v_max) */
+    /* The contact linearised at the scaled overlap X = 1 of the v_max impact: stiffness
+     * (3/2) X^(1/2) and damping c X^p in scaled units, i.e. w0 = sqrt(3/2) / t0 and a damping
+     * ratio c / (2 sqrt(3/2)). The time step's explicit-damping checks (2 zeta w0 dt < 1, and
+     * the half-step lag near critical damping) use them, so an overdamped contact gets a
+     * smaller step or is refused instead of gaining energy. */
+    const double t0 = hertz_x0(c, p->v_max) / p->v_max;
+    c->w0 = sqrt(1.5) / t0;
+    c->zeta = hertz_scaled_damping(c, p->v_max) / (2.0 * sqrt(1.5));
     c->e_scale = 0.4 * p->k_h; /* U = (2/5) k_h xi^(5/2) */
     return GR_OK;
 }
 
 static const char *const hertz_variants[] = {"viscoelastic=false", "viscoelastic=true", NULL};
+/* beta ~ 300 (the pair sticks), and Tsuji damping for eps_n = 1e-3 */
+static const char *const hertz_extremes[] = {"viscoelastic=true visco_A=1e-3", "viscoelastic=false eps_n=0.001", NULL};
 
 const gr_model gr_model_hertz = {
     .name = "hertz",
@@ -229,6 +237,7 @@ const gr_model gr_model_hertz = {
     .impact = hertz_impact,
     .elastic = "eps_n=1 visco_A=0",
     .variants = hertz_variants,
+    .extremes = hertz_extremes,
 };
 #endif /* GR_MODEL_IMPL */
 

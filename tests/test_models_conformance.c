@@ -11,7 +11,8 @@
  *   - be symmetric under exchanging the two particles (the same loss to 1e-12);
  *   - conserve energy when its `elastic` settings are applied (eps = 1, no friction): reference
  *     to 1e-9, engine to (pi dt / t_c)^2 (the kink of the force at xi = 0);
- *   - give no NaN in hard cases (eps at the minimum its descriptor or prepare allows, grazing
+ *   - give no NaN in hard cases (eps at the minimum its descriptor or prepare allows, the
+ *     model's own extremes (gr_model.extremes), grazing
  *     impacts, very slow and fast impacts, contacts across the periodic boundary): either a
  *     clean refusal with a message or finite results with a loss in [0, 1];
  *   - close the energy ledger over a collision to the integrator's second order, (pi dt / t_c)^2.
@@ -325,6 +326,16 @@ START_TEST(test_hard_cases)
                     snprintf(what, sizeof what, "%s, %s = %g, angle %g", name, d->name, v, a ? 60.0 : 0.0);
                     hard_case(c, &p, 0.1, a ? 60.0 : 0.0, what);
                 }
+            }
+        }
+    }
+    for (int m = 0; m < 2; m++) {
+        for (int e = 0; laws[m] && laws[m]->extremes && laws[m]->extremes[e]; e++) {
+            gr_contact_params x = defaults_of(c);
+            apply_settings(&x, laws[m]->extremes[e]);
+            for (int a = 0; a < (c->dim == 2 ? 2 : 1); a++) {
+                snprintf(what, sizeof what, "%s, %s, angle %g", name, laws[m]->extremes[e], a ? 60.0 : 0.0);
+                hard_case(c, &x, 0.1, a ? 60.0 : 0.0, what);
             }
         }
     }

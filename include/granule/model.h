@@ -127,6 +127,10 @@ typedef struct gr_model {
     /* Optional, NULL-terminated: settings selecting each mode of the law ("viscoelastic=true");
      * the conformance suite tests every mode as a combination of its own. */
     const char *const *variants;
+    /* Optional, NULL-terminated: extreme settings beyond the eps minima (which the suite tries by
+     * itself), e.g. an overdamped viscoelastic time; each must give finite results or a clean
+     * refusal. */
+    const char *const *extremes;
 } gr_model;
 
 /* The registry: every built-in model, NULL-terminated. */
