@@ -793,6 +793,53 @@ START_TEST(test_reference_agreement)
 }
 END_TEST
 
+/* ---- hertz: known limits of its restitution laws ------------------------------------------- */
+
+/* Viscoelastic hertz (Brilliantov et al. 1996): for weak damping the restitution follows the
+ * expansion of Schwager & Poeschel (PRE 57, 650 (1998)), eps = 1 - C1 b + C2 b^2 - ..., with
+ * b = (3/2) A (k_h / m12)^(2/5) v^(1/5), C1 = 1.15344, C2 = 0.79826; the third-order term is
+ * below 2 b^3. Tsuji mode gives the requested eps_n at every speed. Both from the model's own law
+ * (gr_model.impact), which the conformance suite checks against CVODE. */
+START_TEST(test_hertz_limits)
+{
+    const gr_model *hz = gr_model_find("hertz");
+    ck_assert_ptr_nonnull(hz);
+    gr_contact_params p;
+    gr_contact_defaults(&p);
+    const double m12 = 0.5 * 3.53e-5;
+    p.viscoelastic = true;
+    const double As[] = {1e-9, 1e-8, 3e-8};
+    for (int a = 0; a < 3; a++) {
+        p.visco_A = As[a];
+        gr_contact_coeffs k;
+        gr_error err = {0};
+        ck_assert_msg(gr_contact_prepare(hz, NULL, &p, m12, 0.0, &k, &err) == GR_OK, "%s", err.message);
+        for (double v = 0.01; v <= 10.0; v *= 10.0) {
+            const double b = 1.5 * As[a] * pow(p.k_h / m12, 0.4) * pow(v, 0.2);
+            const double e = hz->impact(&k, v).eps_n, series = 1.0 - 1.15344 * b + 0.79826 * b * b;
+            ck_assert_msg(fabs(e - series) <= 2.0 * b * b * b + 1e-8, /* 1e-8: the law is an RK4 integration */ "A %g v %g: eps %.12f, expansion %.12f (b %.3g)", As[a],
+                          v, e, series, b);
+        }
+    }
+    p.viscoelastic = false;
+    const double epss[] = {0.05, 0.3, 0.6, 0.95};
+    for (int clamp = 0; clamp < 2; clamp++) {
+        for (int i = 0; i < 4; i++) {
+            p.eps_n = epss[i];
+            p.clamp = clamp;
+            gr_contact_coeffs k;
+            gr_error err = {0};
+            ck_assert_msg(gr_contact_prepare(hz, NULL, &p, m12, 0.0, &k, &err) == GR_OK, "%s", err.message);
+            for (double v = 0.001; v <= 10.0; v *= 10.0) {
+                const double e = hz->impact(&k, v).eps_n;
+                ck_assert_msg(fabs(e - epss[i]) <= 1e-10, "Tsuji %s eps_n %g at %g m/s: %.12f",
+                              clamp ? "clamped" : "unclamped", epss[i], v, e);
+            }
+        }
+    }
+}
+END_TEST
+
 static Suite *collide_suite(void)
 {
     Suite *s = suite_create("collide");
@@ -824,6 +871,7 @@ static Suite *collide_suite(void)
     tcase_add_test(hard, test_plastic_limits);
     tcase_add_loop_test(hard, test_stiff_spring, 0, 2);
     tcase_add_loop_test(hard, test_coarse_step, 0, 2);
+    tcase_add_test(hard, test_hertz_limits);
     suite_add_tcase(s, hard);
     return s;
 }

@@ -59,9 +59,6 @@ int gr_collide_run(const gr_collide_setup *s, const gr_collision_case *cs, gr_co
 int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
                          gr_collide_result *out, gr_error *err);
 
-/* Expected fraction of relative kinetic energy lost for impact angle `angle_deg` (no rotation):
- * (1 - eps_n^2) cos^2 + (1 - eps_t^2) sin^2, with eps_t of sliding friction derived from mu. */
-double gr_collide_expected_loss(const gr_contact_coeffs *c, const gr_contact_params *p,
-                                double angle_deg);
+/* The expected loss of a collision is the models' own law: gr_contact_expected_loss (model.h). */
 
 #endif

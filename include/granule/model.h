@@ -1,11 +1,14 @@
-/* Collision-model plugins: each model is one `const gr_model` defined in models/, listed once
- * in the registry and looked up by name.
+/* Collision-model plugins: each model is one file, models/NAME.h, holding its parameter
+ * descriptors, its `prepare` and its pair law (a static inline function); models/list.h lists
+ * every model once, and the registry `gr_models`, the force kernels and the conformance suite
+ * are generated from that list (docs/architecture.md, "How to add a collision model").
  *
  * A model declares its parameters (name, unit, default, allowed range, one-line doc); the scene
  * parser validates scene keys against them and `granule models` lists them. Its `prepare`
  * turns physical inputs (k_s, restitution coefficients, masses, time step) into solver
  * coefficients once per run. The core never calls a model per pair: the coefficients feed
- * specialised pair loops chosen once per run (see src/core/kernels_2d.c). */
+ * specialised pair loops, instantiated from the models' laws and chosen once per run
+ * (src/core/kernels.c, models/law.h). */
 #ifndef GRANULE_MODEL_H
 #define GRANULE_MODEL_H
 
@@ -37,6 +40,10 @@ typedef struct gr_contact_params {
     double mu;    /* sliding-friction coefficient (2.7) */
     bool clamp;   /* true: normal force never attractive, gamma_n from the clamped restitution */
     double tc;    /* hard_sphere: TC-model time, s; 0 = the matching spring-dashpot's contact time */
+    double k_h;   /* hertz: stiffness of F = k_h xi^(3/2), N/m^(3/2) */
+    bool viscoelastic; /* hertz: damping of Brilliantov et al. (A), not calibrated to eps_n */
+    double visco_A;    /* hertz: the viscoelastic time A, s */
+    double v_max;      /* hertz: the fastest impact the time step must resolve, m/s */
 } gr_contact_params;
 
 typedef enum {
@@ -47,10 +54,25 @@ typedef enum {
 
 typedef enum { GR_TANGENTIAL_NONE = 0, GR_TANGENTIAL_DASHPOT, GR_TANGENTIAL_FRICTION } gr_tangential_law;
 
-/* Solver coefficients derived once per run by the models' prepare functions. */
+struct gr_model;
+
+/* A normal law's binary head-on impact at normal speed v_n, in continuous time (two equal discs,
+ * no rotation): what the tangential laws' restitution needs. */
+typedef struct gr_normal_impact {
+    double eps_n;       /* normal restitution */
+    double t_c;         /* contact duration, s (0: instantaneous; infinite: the pair sticks) */
+    double impulse_abs; /* int |F_n| dt / (m12 v_n): 1 + eps_n unless the force turns attractive */
+} gr_normal_impact;
+
+/* Solver coefficients derived once per run by the models' prepare functions. `normal` and
+ * `tangential` name the thesis's laws for code that special-cases them (GR_NORMAL_NONE for any
+ * other law); `normal_model` / `tangential_model` are the models themselves (set by
+ * gr_contact_prepare). A law with constants of its own keeps them in law_n / law_t (the model's
+ * file names the slots). */
 typedef struct gr_contact_coeffs {
     gr_normal_law normal;
     gr_tangential_law tangential;
+    const struct gr_model *normal_model, *tangential_model;
     double m12;     /* reduced mass of a colliding pair, kg */
     double k_s;     /* N/m */
     double gamma_n; /* normal dashpot, kg/s (2.5) */
@@ -61,6 +83,13 @@ typedef struct gr_contact_coeffs {
     double eps_n_exact; /* restitution the continuous-time law really gives */
     double gamma_t; /* tangential dashpot, kg/s (2.9) */
     double mu;      /* sliding friction (2.7) */
+    double e_scale; /* elastic energy of a contact = e_scale * (the law's e), J per unit of e */
+    /* The normal law as F = k_s xi^pow_a - gamma_n xi^pow_p g_n (before the clamp): pow_a = 1,
+     * pow_p = 0 for the linear law; hertz has 3/2 and 1/2 or 1/4 (k_s, gamma_n then in the units
+     * these powers need). The CVODE reference (src/collide/reference.c) integrates this form. */
+    double pow_a, pow_p;
+    double law_n[4]; /* constants private to the normal law */
+    double law_t[4]; /* constants private to the tangential law */
 } gr_contact_coeffs;
 
 typedef enum {
@@ -79,6 +108,29 @@ typedef struct gr_model {
      * may read it. `dt` is the time step (0 when the caller only wants the continuous law). */
     int (*prepare)(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                    gr_error *err);
+    /* Tangential laws (optional): true when the prepared coefficients make the law do nothing
+     * (eps_t = 1, mu = 0); the kernel without it then runs. Called once per run. */
+    bool (*inert)(const gr_contact_coeffs *c);
+    /* Event rules: the normal force law whose kernel evaluates forces when the engine asks for
+     * them (the initial state, which has no overlaps), with the coefficients prepare set. */
+    const char *force_law;
+    /* The model's own restitution law, in continuous time, for a binary impact of two equal
+     * discs without rotation (the conformance suite and `granule collide` check the engine
+     * against it). Normal laws and event rules: the impact at normal speed v_n > 0 (the same at
+     * every speed for the linear law). Tangential laws (and event rules): the tangential
+     * restitution given that normal impact and the impact speeds v_n, v_t > 0. */
+    gr_normal_impact (*impact)(const gr_contact_coeffs *c, double v_n);
+    double (*restitution_t)(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t);
+    /* Parameter settings that make the model conserve energy ("eps_n=1", space-separated
+     * key=value); the conformance suite applies them to test elastic impacts. */
+    const char *elastic;
+    /* Optional, NULL-terminated: settings selecting each mode of the law ("viscoelastic=true");
+     * the conformance suite tests every mode as a combination of its own. */
+    const char *const *variants;
+    /* Optional, NULL-terminated: extreme settings beyond the eps minima (which the suite tries by
+     * itself), e.g. an overdamped viscoelastic time; each must give finite results or a clean
+     * refusal. */
+    const char *const *extremes;
 } gr_model;
 
 /* The registry: every built-in model, NULL-terminated. */
@@ -89,6 +141,18 @@ const gr_model *gr_model_find(const char *name);
 
 /* Derive coefficients for a normal model combined with an optional tangential model
  * (tangential may be NULL). */
+/* Every model parameter at its descriptor's default (as a scene without [model] keys has them). */
+void gr_contact_defaults(gr_contact_params *p);
+
+/* Set the model parameter `name` from text, checked against its descriptor's type and range;
+ * GR_EINVAL (naming the key and the allowed range) if unknown or out of range. */
+int gr_contact_set(gr_contact_params *p, const char *name, const char *value, gr_error *err);
+
+/* Expected fraction of the relative kinetic energy a binary impact loses, from the models' own
+ * restitution laws (gr_model.restitution etc.): (1 - eps_n^2) cos^2 a + (1 - eps_t^2) sin^2 a for
+ * impact speed `speed` (m/s) at angle `angle_deg` between -g and the normal. */
+double gr_contact_expected_loss(const gr_contact_coeffs *c, double speed, double angle_deg);
+
 int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
                        const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                        gr_error *err);

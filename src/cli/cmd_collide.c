@@ -13,7 +13,8 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: granule collide [--case N] [--model NORMAL[+TANGENTIAL]] [--eps-n E] [--eps-t E]\n"
             "                       [--mu MU] [--k K] [--dt DT | --steps-per-contact S] [--mass M]\n"
-            "                       [--radius R] [--clamp] [--dim 1|2] [--phases P] [--force-dt] [--reference [--rtol TOL]]\n\n"
+            "                       [--radius R] [--clamp] [--dim 1|2] [--phases P] [--force-dt] [--reference [--rtol TOL]]\n"
+            "                       [--set KEY=VALUE ...] [--speeds V1,V2,...]\n\n"
             "Runs collision N (1-4) of Table 2.1 (particle 2 at rest; 1 kg masses unless --mass) and\n"
             "prints one JSON object: energy_loss (fraction of the relative kinetic energy lost),\n"
             "expected_loss (1 - eps^2 head-on, 1 - (eps_n^2 + eps_t^2)/2 at 45 degrees; in general\n"
@@ -23,7 +24,11 @@ static void usage(FILE *f)
             "default 1e-12, allowed [1e-14, 1e-2]) and adds reference_energy_loss. Defaults: case 1, spring_dashpot, eps 0.6, k 5e5 N/m,\n"
             "r = 0.1 m (so the overlap v/w0 = 1 mm stays small), dt = t_c/50. --model hard_sphere applies the\n"
             "instantaneous rule of the event-driven integrator (exact loss; contact_time 0). For the RFM particles use\n"
-            "--mass 3.53e-5 --radius 1.5e-3.\n"
+            "--mass 3.53e-5 --radius 1.5e-3. --set KEY=VALUE sets any model parameter of `granule models` (e.g.\n"
+            "--model hertz --set viscoelastic=true --set visco_A=1e-6). --speeds V1,V2,... adds restitution_vs_speed:\n"
+            "head-on impacts at these relative speeds (m/s), each with the engine's eps_n, the model's own law eps_n(v)\n"
+            "and contact time t_c(v) (and the CVODE reference with --reference); for hertz the time step then\n"
+            "follows each impact (dt = t_c(v) / steps-per-contact).\n"
             "Ranges: --eps-n (0, 1] (eps_n = 0 is a sticking pair that never separates, so there is no\n"
             "collision to measure; a scene may use it with spring_dashpot), --eps-t [0, 1], --mu >= 0.\n"
             "The JSON lists only the parameters the chosen model uses (granule models; --eps-t and --mu\n"
@@ -95,6 +100,66 @@ static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r,
     }
 }
 
+/* restitution_vs_speed: head-on impacts at each speed of the comma-separated list */
+static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, int phases, bool reference)
+{
+    cJSON *arr = cJSON_AddArrayToObject(o, "restitution_vs_speed");
+    char buf[512];
+    snprintf(buf, sizeof buf, "%s", list);
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        char *end = NULL;
+        const double v = strtod(tok, &end);
+        if (end == tok || *end || !(v > 0.0) || !isfinite(v)) {
+            cli_error("collide: --speeds: '%s' is not a speed > 0 (m/s)", tok);
+            return EXIT_REFUSED;
+        }
+        gr_collide_setup s = *s0;
+        gr_contact_coeffs k;
+        gr_error err = {0};
+        if (gr_contact_prepare(s.normal, s.dim == 2 ? s.tangential : NULL, &s.contact, 0.5 * s.mass, 0.0, &k, &err)) {
+            cli_error("collide: %s", err.message);
+            return EXIT_REFUSED;
+        }
+        const gr_normal_impact law = s.normal->impact ? s.normal->impact(&k, v)
+                                                      : (gr_normal_impact){k.eps_n_exact, k.t_c, 1.0 + k.eps_n_exact};
+        if (s.dt == 0.0 && law.t_c > 0.0 && isfinite(law.t_c)) {
+            s.dt = law.t_c / s.steps_per_contact; /* resolve this impact */
+        }
+        const double gap = 0.5 * s.radius; /* head-on, particle 2 at rest */
+        gr_collision_case cs = {{0.0, 0.0}, {v, 0.0}, {2.0 * s.radius + gap, 0.0}, {0.0, 0.0}};
+        double eps = 0.0;
+        for (int p = 0; p < phases; p++) {
+            gr_collide_result r;
+            s.phase = phases == 1 ? 0.0 : (p + 0.5) / phases;
+            if (gr_collide_run(&s, &cs, &r, &err)) {
+                cli_error("collide: %g m/s: %s", v, err.message);
+                return EXIT_REFUSED;
+            }
+            eps += r.eps_n_measured / phases;
+        }
+        cJSON *e = cJSON_CreateObject();
+        cJSON_AddNumberToObject(e, "speed", v);
+        cJSON_AddNumberToObject(e, "eps_n_measured", eps);
+        cJSON_AddNumberToObject(e, "eps_n_law", law.eps_n);
+        if (isfinite(law.t_c)) {
+            cJSON_AddNumberToObject(e, "contact_time_law", law.t_c);
+        } else {
+            cJSON_AddNullToObject(e, "contact_time_law");
+        }
+        cJSON_AddNumberToObject(e, "dt", s.dt);
+        if (reference) {
+            gr_collide_result ref;
+            if (gr_collide_reference(&s, &cs, &ref, &err)) {
+                cli_error("collide --reference: %g m/s: %s", v, err.message);
+                return EXIT_REFUSED;
+            }
+            cJSON_AddNumberToObject(e, "eps_n_reference", ref.eps_n_measured);
+        }
+        cJSON_AddItemToArray(arr, e);
+    }
+    return EXIT_OK;
+}
+
 int cmd_collide(int argc, char **argv)
 {
     gr_collide_setup s;
@@ -106,6 +171,7 @@ int cmd_collide(int argc, char **argv)
         const char *opt, *key;
         bool set;
     } given[] = {{"--eps-t", "eps_t", false}, {"--mu", "mu", false}, {"--k", "k_s", false}, {"--clamp", "clamp", false}};
+    const char *speeds = NULL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         double x;
@@ -121,6 +187,19 @@ int cmd_collide(int argc, char **argv)
             s.force_dt = true;
         } else if (!strcmp(a, "--model") && v) {
             model = v;
+            i++;
+        } else if (!strcmp(a, "--set") && v) {
+            char key[64];
+            const char *eq = strchr(v, '=');
+            gr_error e = {0};
+            snprintf(key, sizeof key, "%.*s", eq ? (int)(eq - v) : 0, v);
+            if (!eq || gr_contact_set(&s.contact, key, eq + 1, &e) != GR_OK) {
+                cli_error("collide: --set %s: %s", v, eq ? e.message : "expected KEY=VALUE");
+                return EXIT_REFUSED;
+            }
+            i++;
+        } else if (!strcmp(a, "--speeds") && v) {
+            speeds = v;
             i++;
         } else if (v && a[0] == '-' && a[1] == '-') {
             if (!cli_number(a, v, &x)) {
@@ -276,6 +355,10 @@ int cmd_collide(int argc, char **argv)
             return cli_exit_code(err.code);
         }
         add_result(o, "reference_", &ref, instantaneous);
+    }
+    if (speeds && add_speeds(o, &s, speeds, phases, reference) != EXIT_OK) {
+        cJSON_Delete(o);
+        return EXIT_REFUSED;
     }
     add_units(o);
     char *text = cJSON_Print(o);

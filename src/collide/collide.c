@@ -30,26 +30,18 @@ void gr_collide_setup_default(gr_collide_setup *s)
 {
     memset(s, 0, sizeof *s);
     s->normal = gr_model_find("spring_dashpot");
-    s->contact = (gr_contact_params){.k_s = 5e5, .eps_n = 0.6, .eps_t = 0.6, .mu = 0.5, .clamp = false};
+    gr_contact_defaults(&s->contact); /* every model's defaults (hertz: k_h, v_max, ...) */
+    s->contact.k_s = 5e5;
+    s->contact.eps_n = 0.6;
+    s->contact.eps_t = 0.6;
+    s->contact.mu = 0.5;
+    s->contact.clamp = false;
     s->mass = 1.0;
     s->radius = 0.1; /* Table 2.1 gives no radius; with 1 kg masses and k_s = 5e5 the overlap is
                         v / w0 = 1 mm, so r = 0.1 m keeps it below 1% of d */
     s->steps_per_contact = 50.0;
     s->dim = 2;
     s->ref_rtol = 1e-12;
-}
-
-double gr_collide_expected_loss(const gr_contact_coeffs *c, const gr_contact_params *p, double angle_deg)
-{
-    double a = angle_deg * M_PI / 180.0, cos2 = cos(a) * cos(a), sin2 = 1.0 - cos2;
-    double en = c->eps_n_exact, et = 1.0;
-    if (c->tangential == GR_TANGENTIAL_DASHPOT || c->normal == GR_NORMAL_HARD_SPHERE) {
-        et = p->eps_t;
-    } else if (c->tangential == GR_TANGENTIAL_FRICTION && sin2 > 0.0) {
-        /* tangential impulse mu (1 + eps_n) m12 |g_n| while sliding (physics notes sec. 4.2) */
-        et = fmax(0.0, 1.0 - c->mu * (1.0 + en) * sqrt(cos2 / sin2));
-    }
-    return (1.0 - en * en) * cos2 + (1.0 - et * et) * sin2;
 }
 
 /* Time at which |r + g t| first equals d (r, g relative position and velocity), or -1. */
@@ -93,7 +85,7 @@ static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc,
     double g1[2] = {u2[0] - u1[0], u2[1] - u1[1]};
     out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1]) / gg0;
     out->impact_angle = acos(fmin(1.0, fabs(gn0) / sqrt(gg0))) * 180.0 / M_PI;
-    out->expected_loss = gr_collide_expected_loss(&coeffs, &p, out->impact_angle);
+    out->expected_loss = gr_contact_expected_loss(&coeffs, sqrt(gg0), out->impact_angle);
     out->contact_time = 0.0;
     out->max_overlap = 0.0;
     out->eps_n_measured = -(g1[0] * n[0] + g1[1] * n[1]) / gn0;
@@ -228,7 +220,7 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     double g1[2] = {s->vx[1] - s->vx[0], dim == 2 ? s->vy[1] - s->vy[0] : 0.0};
     double t_end[2] = {n_end[1], -n_end[0]};
     out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1]) / gg0;
-    out->expected_loss = gr_collide_expected_loss(&s->cc, &sc.contact, out->impact_angle);
+    out->expected_loss = gr_contact_expected_loss(&s->cc, sqrt(gg0), out->impact_angle);
     out->contact_time = (double)active * s->dt;
     out->eps_n_measured = -(g1[0] * n_end[0] + g1[1] * n_end[1]) / gn0;
     out->eps_t_measured = fabs(gt0) > 1e-12 * sqrt(gg0) ? (g1[0] * t_end[0] + g1[1] * t_end[1]) / gt0 : (double)NAN;

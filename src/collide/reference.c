@@ -7,6 +7,8 @@
  * Physics (thesis sec. 2.1.2), in the relative frame r = x2 - x1, g = v2 - v1, m12 = M/2:
  *   m12 dg/dt = F_n n + F_t t,   dr/dt = g,   n = r/|r|,  t = n rotated by +90 deg (2.8),
  *   F_n = k_s xi - gamma_n g.n,  xi = d - |r| > 0                                   (2.4-2.5)
+ *   or any power law F_n = k xi^a - gamma xi^p g.n the model declares (gr_contact_coeffs pow_a,
+ *   pow_p): hertz has a = 3/2, p = 1/2 (viscoelastic) or 1/4 (Tsuji)
  *   tangential dashpot   F_t = -gamma_t g.t                                        (2.9-2.12)
  *   sliding friction     F_t = -mu |F_n| sign(g.t) while g.t != 0, then 0 (no spring)   (2.7)
  * The unclamped contact ends when xi returns to 0 (the thesis); with clamping, F_n = max(0, F_n),
@@ -15,6 +17,7 @@
  * the same window (xi > 0 unclamped, F_n > 0 clamped).
  *
  * Numerics. The state is nondimensionalised with the undamped contact frequency w0 = sqrt(k/m12)
+ * (a power law: w0 = (k V^(a-1) / m12)^(1/(a+1)), which makes the scaled spring force X^a)
  * and the impact speed V = |g|: time w0 t, velocity g / V, length (r - r_c) w0 / V where r_c is
  * the separation at first touch (|r_c| = d exactly), so every component is O(1) and one scalar
  * atol serves all. The overlap is computed without cancellation as
@@ -64,7 +67,8 @@ enum { ROOT_END = 0, ROOT_MAX_OVERLAP, ROOT_STICK, ROOT_FN_SIGN, ROOT_DEGENERATE
 typedef struct ref_ctx {
     double D;        /* diameter in units of V / w0 */
     double n0[2];    /* unit normal at first touch, from 1 to 2 */
-    double c_n;      /* gamma_n / (m12 w0) = 2 zeta */
+    double c_n;      /* gamma_n len^p / (m12 w0) (= 2 zeta for the linear law) */
+    double pow_a, pow_p; /* the normal law's powers (1, 0 linear) */
     double c_t;      /* gamma_t / (m12 w0) */
     double mu;
     gr_tangential_law tangential;
@@ -105,7 +109,12 @@ static int ref_eval(ref_ctx *c, const double *y, ref_state *s)
     s->xi = -(2.0 * u_dot_rc + uu) / (c->D + rn);
     s->gn = y[Y_G0] * s->n[0] + y[Y_G1] * s->n[1];
     s->gt = y[Y_G0] * s->t[0] + y[Y_G1] * s->t[1];
-    s->fn = s->xi - c->c_n * s->gn; /* k_s xi - gamma_n g.n over m12 w0 V (2.4-2.5) */
+    if (c->pow_a == 1.0 && c->pow_p == 0.0) {
+        s->fn = s->xi - c->c_n * s->gn; /* k_s xi - gamma_n g.n over m12 w0 V (2.4-2.5) */
+    } else {
+        const double X = fmax(s->xi, 0.0); /* CVODE may try a point just past the end */
+        s->fn = pow(X, c->pow_a) - c->c_n * pow(X, c->pow_p) * s->gn;
+    }
     switch (c->tangential) {
     case GR_TANGENTIAL_DASHPOT:
         s->ft = -c->c_t * s->gt; /* (2.9) */
@@ -209,12 +218,13 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     if (rc != GR_OK) {
         return rc;
     }
-    if (coeffs.normal != GR_NORMAL_SPRING_DASHPOT) {
+    if (!(coeffs.pow_a >= 1.0) || !(coeffs.pow_p >= 0.0) || (s->normal->kind & GR_MODEL_EVENT)) {
         return GR_FAIL(err, GR_EINVAL,
-                       "reference collision: '%s' is not a force law; the CVODE reference "
-                       "integrates spring_dashpot contacts only",
+                       "reference collision: '%s' is not a power-law force (k xi^a - gamma xi^p g.n); "
+                       "the CVODE reference integrates force laws only",
                        s->normal->name);
     }
+    const bool linear = coeffs.pow_a == 1.0 && coeffs.pow_p == 0.0;
     if (!(coeffs.k_s > 0.0) || !isfinite(coeffs.k_s) || !(coeffs.gamma_n >= 0.0) ||
         !isfinite(coeffs.gamma_n) || !(coeffs.gamma_t >= 0.0) || !isfinite(coeffs.gamma_t) ||
         !(coeffs.mu >= 0.0) || !isfinite(coeffs.mu)) {
@@ -228,7 +238,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
      * never returns to it: the pair sticks and the contact never ends. Integrating would only
      * find a spurious crossing once xi sinks below the tolerance, so refuse up front. */
     const double zeta = coeffs.gamma_n / (2.0 * sqrt(coeffs.k_s * m12));
-    if (!coeffs.clamp && zeta >= 1.0) {
+    if (linear && !coeffs.clamp && zeta >= 1.0) {
         return GR_FAIL(err, GR_EINVAL,
                        "reference collision: contact did not end (the pair sticks: critical "
                        "damping, zeta = %g >= 1 with clamp = false)",
@@ -268,12 +278,15 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     double rc_vec[2] = {r[0] + g[0] * t_touch, r[1] + g[1] * t_touch};
     const double rc_len = hypot(rc_vec[0], rc_vec[1]);
 
-    const double w0 = sqrt(coeffs.k_s / m12);
+    const double w0 = linear ? sqrt(coeffs.k_s / m12)
+                             : pow(coeffs.k_s * pow(speed, coeffs.pow_a - 1.0) / m12, 1.0 / (coeffs.pow_a + 1.0));
     const double len = speed / w0; /* length unit V / w0 */
     ref_ctx ctx = {
         .D = d / len,
         .n0 = {rc_vec[0] / rc_len, rc_vec[1] / rc_len},
-        .c_n = coeffs.gamma_n / (m12 * w0),
+        .c_n = coeffs.gamma_n * (linear ? 1.0 : pow(len, coeffs.pow_p)) / (m12 * w0),
+        .pow_a = coeffs.pow_a,
+        .pow_p = coeffs.pow_p,
         .c_t = coeffs.gamma_t / (m12 * w0),
         .mu = coeffs.mu,
         .tangential = coeffs.tangential,
@@ -407,7 +420,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     memset(out, 0, sizeof *out);
     out->energy_loss = 1.0 - gg1 / gg0;
     out->impact_angle = atan2(fabs(gt0), -gn0) * (180.0 / M_PI);
-    out->expected_loss = gr_collide_expected_loss(&coeffs, &s->contact, out->impact_angle);
+    out->expected_loss = gr_contact_expected_loss(&coeffs, speed, out->impact_angle);
     out->contact_time = tau / w0;
     out->max_overlap = xi_max * len;
     out->eps_n_measured = -st.gn / gn0;

@@ -1,20 +1,11 @@
-/* The model registry and the combination of a normal law with a tangential law. */
+/* Looking models up, and the combination of a normal law with a tangential law. */
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "granule/model.h"
 
-extern const gr_model gr_model_spring_dashpot;
-extern const gr_model gr_model_tangential_dashpot;
-extern const gr_model gr_model_sliding_friction;
-extern const gr_model gr_model_hard_sphere;
-
-const gr_model *const gr_models[] = {
-    &gr_model_spring_dashpot,
-    &gr_model_tangential_dashpot,
-    &gr_model_sliding_friction,
-    &gr_model_hard_sphere,
-    NULL,
-};
+/* gr_models, the list itself, is generated from models/list.h in models/registry.c. */
 
 const gr_model *gr_model_find(const char *name)
 {
@@ -37,9 +28,77 @@ int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
     if (tangential && tangential->kind != GR_MODEL_TANGENTIAL) {
         return GR_FAIL(err, GR_EINVAL, "'%s' is not a tangential model", tangential->name);
     }
+    c->normal_model = normal;
+    c->tangential_model = tangential;
     int rc = normal->prepare(p, m12, dt, c, err);
     if (rc == GR_OK && tangential) {
         rc = tangential->prepare(p, m12, dt, c, err);
     }
     return rc;
+}
+
+void gr_contact_defaults(gr_contact_params *p)
+{
+    memset(p, 0, sizeof *p);
+    for (int m = 0; gr_models[m]; m++) {
+        for (int i = 0; i < gr_models[m]->n_params; i++) {
+            const gr_param *d = &gr_models[m]->params[i];
+            char *slot = (char *)p + d->offset;
+            if (d->type == GR_PARAM_BOOL) {
+                *(bool *)slot = d->def != 0.0;
+            } else {
+                *(double *)slot = d->def;
+            }
+        }
+    }
+}
+
+int gr_contact_set(gr_contact_params *p, const char *name, const char *value, gr_error *err)
+{
+    for (int m = 0; gr_models[m]; m++) {
+        for (int i = 0; i < gr_models[m]->n_params; i++) {
+            const gr_param *d = &gr_models[m]->params[i];
+            if (strcmp(d->name, name) != 0) {
+                continue;
+            }
+            char *slot = (char *)p + d->offset;
+            if (d->type == GR_PARAM_BOOL) {
+                if (strcmp(value, "true") != 0 && strcmp(value, "false") != 0) {
+                    return GR_FAIL(err, GR_EINVAL, "[model] %s = %s: allowed true or false", name, value);
+                }
+                *(bool *)slot = strcmp(value, "true") == 0;
+                return GR_OK;
+            }
+            char *end = NULL;
+            double x = strtod(value, &end);
+            bool ok = end != value && *end == '\0' && isfinite(x) && (d->min_open ? x > d->min : x >= d->min) &&
+                      (d->max_open ? x < d->max : x <= d->max);
+            if (!ok) {
+                return GR_FAIL(err, GR_EINVAL, "[model] %s = %s: allowed range %c%g, %g%c %s", name, value,
+                               d->min_open ? '(' : '[', d->min, d->max, d->max_open ? ')' : ']', d->unit);
+            }
+            *(double *)slot = x;
+            return GR_OK;
+        }
+    }
+    return GR_FAIL(err, GR_EINVAL, "[model] %s: no model has this parameter (granule models lists them)", name);
+}
+
+double gr_contact_expected_loss(const gr_contact_coeffs *c, double speed, double angle_deg)
+{
+    const gr_model *nm = c->normal_model, *tm = c->tangential_model;
+    double a = angle_deg * M_PI / 180.0, cos2 = cos(a) * cos(a), sin2 = 1.0 - cos2;
+    double v_n = speed * sqrt(cos2), v_t = speed * sqrt(sin2);
+    gr_normal_impact ni = {c->eps_n_exact, c->t_c, 1.0 + c->eps_n_exact};
+    if (nm && nm->impact) {
+        ni = nm->impact(c, v_n);
+    }
+    double et = 1.0;
+    if (sin2 > 0.0) {
+        const gr_model *law = tm ? tm : nm; /* an event rule carries its own tangential rule */
+        if (law && law->restitution_t) {
+            et = law->restitution_t(c, ni, v_n, v_t);
+        }
+    }
+    return (1.0 - ni.eps_n * ni.eps_n) * cos2 + (1.0 - et * et) * sin2;
 }

@@ -1,18 +1,18 @@
 /* Contact-force kernels. One pair loop, written once as an always-inline function and
- * instantiated for each combination of contact laws the scene can ask for (normal only, normal +
- * tangential dashpot, normal + sliding friction, each clamped or not, and the 1D ring), so the
- * compiler removes every branch on a law that is off. The kernel is chosen once per run
- * (gr_kernel_choose); there is no per-pair indirect call.
+ * instantiated for every legal combination of contact laws named in models/list.h (each normal
+ * law alone and with each tangential law, clamped or not, in 2D; each normal law clamped or not
+ * on the 1D ring), so the compiler inlines the models' laws (models/NAME.h, interface in
+ * models/law.h) and removes every branch on a law that is off. The kernel is chosen once per run
+ * (gr_kernel_choose); there is no per-pair indirect call. Adding a model needs no edit here.
  *
- * Contact laws for a pair i < j at overlap xi = d - |r_ij| > 0, n = r_ij / |r_ij| (from i to j),
- * g = v_j - v_i, g_n = g.n (< 0 approaching), t = n rotated by 90 degrees (2.8), g_t = g.t:
- *   normal (2.4-2.5):      F_n = k_s xi - gamma_n g_n, clamped to >= 0 if asked
- *   tangential dashpot (2.9): F_t = -gamma_t g_t while the normal force acts
- *   sliding friction (2.7): F_t = -sign(g_t) min(mu |F_n|, m12 |g_t| / dt)  (no chatter)
- * The force on j is F_n n + F_t t, on i its opposite (Newton's third law).
- * Dissipation rates for the ledger: the normal law's non-spring part F_d = F_n - k_s xi does work
- * F_d g_n on the relative motion, so it dissipates -F_d g_n (gamma_n g_n^2 unclamped; the spring
- * energy that vanishes while the clamp holds F_n at zero is counted here too).
+ * For a pair i < j at overlap xi = d - |r_ij| > 0, n = r_ij / |r_ij| (from i to j),
+ * g = v_j - v_i, g_n = g.n (< 0 approaching), t = n rotated by 90 degrees (2.8), g_t = g.t, the
+ * normal law gives f_n and its non-conservative part f_d, the tangential law f_t and its
+ * dissipation; the force on j is f_n n + f_t t, on i its opposite (Newton's third law).
+ * Ledger: the normal law's non-conservative part does work f_d g_n on the relative motion, so
+ * it dissipates -f_d g_n (for the linear law gamma_n g_n^2 unclamped; the spring energy that
+ * vanishes while the clamp holds f_n at zero is counted here too); a tangential law books its
+ * own dissipation into its ledger column (GR_BOOK_NAME).
  *
  * Threads (2D): see KERNEL_2D below; every force is the same sequence of additions for any thread
  * count, and the ledger sums are formed per block of rows (docs/performance.md, "Threads"). */
@@ -22,12 +22,60 @@
 #include <string.h>
 
 #include "core/sim_internal.h"
+#include "models/list.h"
 
 #ifdef _OPENMP
 #include <omp.h>
 #endif
 
-enum { TANG_NONE = 0, TANG_DASHPOT = 1, TANG_FRICTION = 2 };
+/* Compile-time ids of the laws, from the list: NL_NAME for normal laws, TL_NAME for
+ * tangential laws (TL_none = no tangential law). */
+#define GR_NL_ID(A, NAME) NL_##NAME,
+#define GR_TL_ID(A, NAME) TL_##NAME,
+enum { GR_NORMAL_MODELS(GR_NL_ID, ) NL_COUNT };
+enum { TL_none = 0, GR_TANGENTIAL_MODELS(GR_TL_ID, ) TL_COUNT };
+#undef GR_NL_ID
+#undef GR_TL_ID
+
+/* The law `nl` (a constant after inlining, so the switch folds to one inlined call). */
+static inline __attribute__((always_inline)) gr_normal_force
+normal_law(const int nl, const gr_contact_coeffs *c, const double xi, const double g_n, const int clamp)
+{
+    switch (nl) {
+#define GR_NL_CASE(A, NAME)                                                                        \
+    case NL_##NAME:                                                                                \
+        return gr_normal_##NAME(c, xi, g_n, clamp);
+        GR_NORMAL_MODELS(GR_NL_CASE, )
+#undef GR_NL_CASE
+    }
+    __builtin_unreachable();
+}
+
+static inline __attribute__((always_inline)) gr_tangential_force
+tangential_law(const int tl, const gr_contact_coeffs *c, const gr_tangential_in in)
+{
+    switch (tl) {
+#define GR_TL_CASE(A, NAME)                                                                        \
+    case TL_##NAME:                                                                                \
+        return gr_tangential_##NAME(c, in);
+        GR_TANGENTIAL_MODELS(GR_TL_CASE, )
+#undef GR_TL_CASE
+    }
+    return (gr_tangential_force){.f = 0.0, .p = 0.0};
+}
+
+/* The ledger column of tangential law tl: GR_BOOK_TANGENTIAL or GR_BOOK_FRICTION (0: none). */
+static inline __attribute__((always_inline)) int book_of(const int tl)
+{
+    switch (tl) {
+#define GR_TL_BOOK(A, NAME)                                                                        \
+    case TL_##NAME:                                                                                \
+        return GR_BOOK_##NAME;
+        GR_TANGENTIAL_MODELS(GR_TL_BOOK, )
+#undef GR_TL_BOOK
+    }
+    return 0;
+}
 
 static inline double wrap_delta(double dx, double L)
 {
@@ -42,27 +90,27 @@ static inline double wrap_delta(double dx, double L)
 /* One pair of the 2D list: the force on j (F, on i -F), its non-conservative part G, and the
  * ledger terms. Returns 0 (nothing set) when the pair does not overlap. */
 typedef struct pair_out {
-    double Fx, Fy, Gx, Gy, el, pn, pt, pf, ov;
+    double Fx, Fy, Gx, Gy, el, pn, pt, ov; /* pt: the tangential law's dissipation (its column) */
 } pair_out;
 
 /* What every pair needs, loaded once per loop. */
 typedef struct pair_ctx {
     const double *restrict x, *restrict y, *restrict vx, *restrict vy;
-    double L, d, d2, k, gn, gt, mu, m12_dt;
+    double L, d, d2, m12_dt;
+    gr_contact_coeffs cc; /* the laws' coefficients, a local copy */
 } pair_ctx;
 
 static inline __attribute__((always_inline)) pair_ctx ctx_of(const gr_sim *s)
 {
     return (pair_ctx){.x = s->x, .y = s->y, .vx = s->vx, .vy = s->vy, .L = s->L, .d = s->d, .d2 = s->d * s->d,
-                      .k = s->cc.k_s, .gn = s->cc.gamma_n, .gt = s->cc.gamma_t, .mu = s->cc.mu,
-                      .m12_dt = s->cc.m12 / s->dt};
+                      .m12_dt = s->cc.m12 / s->dt, .cc = s->cc};
 }
 
 static inline __attribute__((always_inline)) int
-pair_2d(const pair_ctx c, const int i, const int j, const int tang, const int clamp, pair_out *restrict o)
+pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang, const int clamp,
+        pair_out *restrict o)
 {
     const double L = c.L, d = c.d;
-    const double k = c.k, gn = c.gn, gt = c.gt, mu = c.mu;
     const double dx = wrap_delta(c.x[j] - c.x[i], L), dy = wrap_delta(c.y[j] - c.y[i], L);
     const double r2 = dx * dx + dy * dy;
     if (r2 >= c.d2) {
@@ -73,33 +121,23 @@ pair_2d(const pair_ctx c, const int i, const int j, const int tang, const int cl
     const double nx = dx * inv, ny = dy * inv, ov = d - dist;
     const double gx = c.vx[j] - c.vx[i], gy = c.vy[j] - c.vy[i];
     const double g_n = gx * nx + gy * ny;
-    double f_n = k * ov - gn * g_n;
-    if (clamp) {
-        f_n = f_n > 0.0 ? f_n : 0.0;
-    }
-    o->el = ov * ov;
-    o->pn = (f_n - k * ov) * g_n;
+    const gr_normal_force fn = normal_law(nl, &c.cc, ov, g_n, clamp);
+    const double f_n = fn.f;
+    o->el = fn.e;
+    o->pn = fn.f_d * g_n;
     o->ov = ov;
     o->pt = 0.0;
-    o->pf = 0.0;
-    const double f_d = f_n - k * ov; /* non-conservative part of the normal force */
+    const double f_d = fn.f_d; /* non-conservative part of the normal force */
     double Gx = f_d * nx, Gy = f_d * ny;
     double Fx = f_n * nx, Fy = f_n * ny;
-    if (tang != TANG_NONE) {
+    if (tang != TL_none) {
         const double tx = ny, ty = -nx;
         const double g_t = gx * tx + gy * ty;
-        double f_t = 0.0;
-        if (tang == TANG_DASHPOT) {
-            if (!clamp || f_n > 0.0) {
-                f_t = -gt * g_t;
-                o->pt = gt * g_t * g_t;
-            }
-        } else {
-            const double cap = c.m12_dt * fabs(g_t), slide = mu * fabs(f_n);
-            const double mag = slide < cap ? slide : cap;
-            f_t = g_t > 0.0 ? -mag : (g_t < 0.0 ? mag : 0.0);
-            o->pf = f_t * g_t;
-        }
+        const gr_tangential_in in = {.g_t = g_t, .f_n = f_n, .acts = !clamp || f_n > 0.0, .m12_dt = c.m12_dt,
+                                     .hist = NULL};
+        const gr_tangential_force ft = tangential_law(tang, &c.cc, in);
+        const double f_t = ft.f;
+        o->pt = ft.p;
         Fx += f_t * tx;
         Fy += f_t * ty;
         Gx += f_t * tx;
@@ -118,11 +156,11 @@ enum { B_EL, B_PN, B_PT, B_PF, B_WORST, B_FRESH };
 /* The rows [r0, r1) of the half list, scattering f[j] += F for j in [lo, hi) (all = 1: every j,
  * one thread) and f[i] -= sum of its row. Sums of the block in list order. */
 static inline __attribute__((always_inline)) void
-rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int hi, const int all, const int tang,
-        const int clamp, double *restrict part)
+rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int hi, const int all, const int nl,
+        const int tang, const int clamp, double *restrict part)
 {
     double *restrict fx = s->fx, *restrict fy = s->fy, *restrict gx_ = s->gx, *restrict gy_ = s->gy;
-    const int *restrict start = s->nl_start, *restrict nl = s->nl_j;
+    const int *restrict start = s->nl_start, *restrict list = s->nl_j;
     uint8_t *restrict touching = s->nl_contact;
     const pair_ctx c = ctx_of(s);
     double elastic = 0.0, pn = 0.0, pt = 0.0, pf = 0.0, worst = 0.0;
@@ -130,9 +168,9 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
     for (int i = r0; i < r1; i++) {
         double fxi = 0.0, fyi = 0.0, gxi = 0.0, gyi = 0.0;
         for (int p = start[i]; p < start[i + 1]; p++) {
-            const int j = nl[p];
+            const int j = list[p];
             pair_out o;
-            if (!pair_2d(c, i, j, tang, clamp, &o)) {
+            if (!pair_2d(c, i, j, nl, tang, clamp, &o)) {
                 touching[p] = 0;
                 continue;
             }
@@ -141,10 +179,10 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
             elastic += o.el;
             pn -= o.pn;
             worst = o.ov > worst ? o.ov : worst;
-            if (tang == TANG_DASHPOT) {
+            if (book_of(tang) == GR_BOOK_TANGENTIAL) {
                 pt += o.pt;
-            } else if (tang == TANG_FRICTION) {
-                pf -= o.pf;
+            } else if (book_of(tang) == GR_BOOK_FRICTION) {
+                pf += o.pt;
             }
             fxi -= o.Fx;
             fyi -= o.Fy;
@@ -310,26 +348,27 @@ static inline void add_incoming(gr_sim *restrict s, int lo, int hi, int q0, int 
  * that does not overlap adds +0.0, which changes no sum that starts from +0.0), so the result
  * is bit-identical for every T. Ledger sums are per block and combined in block order. */
 static inline __attribute__((always_inline)) void
-serial_2d(gr_sim *restrict s, const int tang, const int clamp)
+serial_2d(gr_sim *restrict s, const int nl, const int tang, const int clamp)
 {
     const int n = s->n;
     zero_forces(s, 0, n);
     for (int b = 0; b < s->nblk; b++) {
         const int r1 = (b + 1) * GR_BLOCK < n ? (b + 1) * GR_BLOCK : n;
-        rows_2d(s, b * GR_BLOCK, r1, 0, n, 1, tang, clamp, s->blk + (size_t)b * GR_BLK_FIELDS);
+        rows_2d(s, b * GR_BLOCK, r1, 0, n, 1, nl, tang, clamp, s->blk + (size_t)b * GR_BLK_FIELDS);
     }
 }
 
 /* The part of thread tid of nth (inside a parallel region) of the T-thread evaluation. */
 static inline __attribute__((always_inline)) void
-threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const int tang, const int clamp)
+threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const int nl, const int tang,
+            const int clamp)
 {
     const pair_ctx c = ctx_of(s);
     for (int t = tid; t < T; t += nth) {
         for (int q = s->cross_start[t]; q < s->cross_start[t + 1]; q++) {
             pair_out o;
             double *f = s->pair_f + 4 * (size_t)q;
-            if (pair_2d(c, s->cross_i[q], s->nl_j[s->cross_p[q]], tang, clamp, &o)) {
+            if (pair_2d(c, s->cross_i[q], s->nl_j[s->cross_p[q]], nl, tang, clamp, &o)) {
                 f[0] = o.Fx;
                 f[1] = o.Fy;
                 f[2] = o.Gx;
@@ -346,7 +385,7 @@ threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const
         add_incoming(s, lo, hi, 0, s->cross_start[t]);
         for (int r0 = lo; r0 < hi; r0 += GR_BLOCK) {
             const int r1 = r0 + GR_BLOCK < hi ? r0 + GR_BLOCK : hi;
-            rows_2d(s, r0, r1, lo, hi, 0, tang, clamp, s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS);
+            rows_2d(s, r0, r1, lo, hi, 0, nl, tang, clamp, s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS);
         }
         add_incoming(s, lo, hi, s->cross_start[t + 1], s->cross_start[T]);
     }
@@ -403,7 +442,7 @@ static void report_2d(gr_sim *s, gr_force_report *r)
             }
         }
     }
-    r->elastic = 0.5 * s->cc.k_s * elastic;
+    r->elastic = s->cc.e_scale * elastic;
     r->power_normal = pn;
     r->power_tangential = pt;
     r->power_friction = pf;
@@ -415,10 +454,12 @@ static void report_2d(gr_sim *s, gr_force_report *r)
 
 /* 1D ring: particle i touches only i+1 (mod n); positions are kept unwrapped and ordered, so the
  * gap of the last pair is x_0 + L - x_{n-1}. */
-static void pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const int clamp)
+static inline __attribute__((always_inline)) void
+pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const int nl, const int clamp)
 {
     const int n = s->n;
-    const double L = s->L, d = s->d, k = s->cc.k_s, gn = s->cc.gamma_n;
+    const double L = s->L, d = s->d;
+    const gr_contact_coeffs cc = s->cc;
     const double *restrict x = s->x, *restrict v = s->vx;
     double *restrict f = s->fx, *restrict fnc = s->gx;
     uint8_t *restrict touching = s->pair_contact;
@@ -442,12 +483,10 @@ static void pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const 
             touching[i] = 1;
             const double ov = d - gap;
             const double g_n = v[j] - v[i];
-            f_n = k * ov - gn * g_n;
-            if (clamp) {
-                f_n = f_n > 0.0 ? f_n : 0.0;
-            }
-            f_d = f_n - k * ov;
-            elastic += ov * ov;
+            const gr_normal_force fn = normal_law(nl, &cc, ov, g_n, clamp);
+            f_n = fn.f;
+            f_d = fn.f_d;
+            elastic += fn.e;
             pn -= f_d * g_n;
             if (ov > worst) {
                 worst = ov;
@@ -463,7 +502,7 @@ static void pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const 
     }
     f[0] += carry; /* the wrap pair (n-1, 0) pushes particle 0 */
     fnc[0] += carry_d;
-    r->elastic = 0.5 * k * elastic;
+    r->elastic = cc.e_scale * elastic;
     r->power_normal = pn;
     r->power_tangential = 0.0;
     r->power_friction = 0.0;
@@ -475,74 +514,80 @@ static void pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const 
 
 /* One function per contact-law combination; the parallel region is written in each, so that the
  * constants reach the body OpenMP outlines. */
-#define KERNEL_2D(name, TANG, CLAMP)                                                               \
-    static void name(gr_sim *s, gr_force_report *r)                                                \
+#define KERNEL_2D(NL, TL, CLAMP)                                                                   \
+    static void kernel_2d_##NL##_##TL##_##CLAMP(gr_sim *s, gr_force_report *r)                     \
     {                                                                                              \
         const int T = team_2d(s);                                                                  \
         if (T == 1) {                                                                              \
-            serial_2d(s, TANG, CLAMP);                                                             \
+            serial_2d(s, NL_##NL, TL_##TL, CLAMP);                                                 \
         } else {                                                                                   \
-            _Pragma("omp parallel num_threads(T)") threaded_2d(s, T, THREAD_ID, THREAD_COUNT, TANG, CLAMP); \
+            _Pragma("omp parallel num_threads(T)")                                                 \
+                threaded_2d(s, T, THREAD_ID, THREAD_COUNT, NL_##NL, TL_##TL, CLAMP);               \
         }                                                                                          \
         report_2d(s, r);                                                                           \
     }
-KERNEL_2D(kernel_2d_n, TANG_NONE, 0)
-KERNEL_2D(kernel_2d_n_clamp, TANG_NONE, 1)
-KERNEL_2D(kernel_2d_nt, TANG_DASHPOT, 0)
-KERNEL_2D(kernel_2d_nt_clamp, TANG_DASHPOT, 1)
-KERNEL_2D(kernel_2d_nf, TANG_FRICTION, 0)
-KERNEL_2D(kernel_2d_nf_clamp, TANG_FRICTION, 1)
-#undef KERNEL_2D
+#define KERNEL_1D(NL, CLAMP)                                                                       \
+    static void kernel_1d_##NL##_##CLAMP(gr_sim *s, gr_force_report *r) { pair_loop_1d(s, r, NL_##NL, CLAMP); }
+#define KERNELS_NT(NL, TL) KERNEL_2D(NL, TL, 0) KERNEL_2D(NL, TL, 1)
+#define KERNELS_N(A, NL)                                                                           \
+    KERNEL_1D(NL, 0) KERNEL_1D(NL, 1) KERNELS_NT(NL, none) GR_TANGENTIAL_MODELS(KERNELS_NT, NL)
+GR_NORMAL_MODELS(KERNELS_N, )
+
+/* The table of every instance: gr_kernel_id is an index into it. */
+typedef struct kernel_entry {
+    void (*run)(gr_sim *s, gr_force_report *r);
+    int dim, nl, tl, clamp;
+    const char *normal, *tangential; /* model names ("" for no tangential law) */
+} kernel_entry;
+
+#define ENTRY_2D(NL, TL, CLAMP) {kernel_2d_##NL##_##TL##_##CLAMP, 2, NL_##NL, TL_##TL, CLAMP, #NL, #TL},
+#define ENTRIES_NT(NL, TL) ENTRY_2D(NL, TL, 0) ENTRY_2D(NL, TL, 1)
+#define ENTRIES_N(A, NL)                                                                           \
+    {kernel_1d_##NL##_0, 1, NL_##NL, TL_none, 0, #NL, "none"},                                     \
+        {kernel_1d_##NL##_1, 1, NL_##NL, TL_none, 1, #NL, "none"}, ENTRIES_NT(NL, none)           \
+            GR_TANGENTIAL_MODELS(ENTRIES_NT, NL)
+static const kernel_entry kernels[] = {GR_NORMAL_MODELS(ENTRIES_N, )};
+enum { N_KERNELS = sizeof kernels / sizeof kernels[0] };
 
 void gr_forces(gr_sim *s, gr_force_report *r)
 {
-    switch (s->kernel) {
-    case KERNEL_1D: pair_loop_1d(s, r, s->cc.clamp); break;
-    case KERNEL_2D_N: kernel_2d_n(s, r); break;
-    case KERNEL_2D_N_CLAMP: kernel_2d_n_clamp(s, r); break;
-    case KERNEL_2D_NT: kernel_2d_nt(s, r); break;
-    case KERNEL_2D_NT_CLAMP: kernel_2d_nt_clamp(s, r); break;
-    case KERNEL_2D_NF: kernel_2d_nf(s, r); break;
-    case KERNEL_2D_NF_CLAMP: kernel_2d_nf_clamp(s, r); break;
-    }
+    kernels[s->kernel].run(s, r); /* one call per force evaluation, not per pair */
 }
 
 void gr_kernel_choose(gr_sim *s)
 {
     const gr_contact_coeffs *c = &s->cc;
-    int clamp = c->clamp;
-    int tang = c->tangential == GR_TANGENTIAL_DASHPOT ? TANG_DASHPOT
-               : c->tangential == GR_TANGENTIAL_FRICTION ? TANG_FRICTION : TANG_NONE;
-    /* a tangential dashpot with eps_t = 1 does nothing: skip its work */
-    if (tang == TANG_DASHPOT && c->gamma_t == 0.0) {
-        tang = TANG_NONE;
+    const gr_model *normal = c->normal_model, *tangential = c->tangential_model;
+    /* an event rule has no force law: it names the law that stands in (no overlaps arise) */
+    const char *nname = normal && normal->force_law ? normal->force_law : normal ? normal->name : "";
+    /* a tangential law whose coefficients make it do nothing (eps_t = 1, mu = 0): skip its work */
+    const char *tname = tangential && !(tangential->inert && tangential->inert(c)) ? tangential->name : "none";
+    int k = 0;
+    while (k < N_KERNELS && !(kernels[k].dim == s->dim && kernels[k].clamp == (int)c->clamp &&
+                              strcmp(kernels[k].normal, nname) == 0 &&
+                              strcmp(kernels[k].tangential, s->dim == 1 ? "none" : tname) == 0)) {
+        k++;
     }
-    if (tang == TANG_FRICTION && c->mu == 0.0) {
-        tang = TANG_NONE;
+    if (k == N_KERNELS) {
+        /* unreachable: every registered force law has every instance; gr_sim_create checks the
+         * models before choosing */
+        fprintf(stderr, "granule: internal error: no kernel for %s/%s\n", nname, tname);
+        abort();
     }
-    if (s->dim == 1) {
-        s->kernel = KERNEL_1D;
-    } else {
-        static const gr_kernel_id table[3][2] = {{KERNEL_2D_N, KERNEL_2D_N_CLAMP},
-                                                 {KERNEL_2D_NT, KERNEL_2D_NT_CLAMP},
-                                                 {KERNEL_2D_NF, KERNEL_2D_NF_CLAMP}};
-        s->kernel = table[tang][clamp];
-    }
-    static const char *tname[] = {"", "+tangential_dashpot", "+sliding_friction"};
+    s->kernel = k;
     const char *noise = s->scene.noise_mode == GR_NOISE_NONE ? "no-noise"
                         : s->scene.noise_mode == GR_NOISE_COM ? "noise-com" : "noise-symmetrised";
     const char *nb = s->dim == 1 ? "1d-ring" : (s->scene.skin > 0.0 ? "2d-verlet-list" : "2d-cell-list");
-    snprintf(s->kernel_name, sizeof s->kernel_name, "%s/spring_dashpot%s%s/%s", nb,
-             clamp ? "[clamped]" : "", tname[tang], noise);
+    const kernel_entry *e = &kernels[k];
+    snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s/%s", nb, e->normal, e->clamp ? "[clamped]" : "",
+             e->tl != TL_none ? "+" : "", e->tl != TL_none ? e->tangential : "", noise);
 }
 
+/* Every pair by brute force with the chosen kernel's laws (runtime law ids: test code). */
 void gr_forces_bruteforce(const gr_sim *s, double *fx, double *fy, double *elastic)
 {
-    const double L = s->L, d = s->d, k = s->cc.k_s, gn = s->cc.gamma_n, gt = s->cc.gamma_t;
-    const double mu = s->cc.mu, m12_dt = s->cc.m12 / s->dt;
-    int tang = s->kernel == KERNEL_2D_NT || s->kernel == KERNEL_2D_NT_CLAMP ? TANG_DASHPOT
-               : s->kernel == KERNEL_2D_NF || s->kernel == KERNEL_2D_NF_CLAMP ? TANG_FRICTION
-                                                                                : TANG_NONE;
+    const kernel_entry *e = &kernels[s->kernel];
+    const double L = s->L, d = s->d, m12_dt = s->cc.m12 / s->dt;
     *elastic = 0.0;
     for (int i = 0; i < s->n; i++) {
         fx[i] = 0.0;
@@ -561,20 +606,13 @@ void gr_forces_bruteforce(const gr_sim *s, double *fx, double *fy, double *elast
             double nx = dx / dist, ny = dy / dist, ov = d - dist;
             double gx = s->vx[j] - s->vx[i], gy = s->dim == 2 ? s->vy[j] - s->vy[i] : 0.0;
             double g_n = gx * nx + gy * ny;
-            double f_n = k * ov - gn * g_n;
-            if (s->cc.clamp && f_n < 0.0) {
-                f_n = 0.0;
-            }
-            *elastic += 0.5 * k * ov * ov;
-            double Fx = f_n * nx, Fy = f_n * ny;
-            if (tang) {
-                double tx = ny, ty = -nx, g_t = gx * tx + gy * ty, f_t = 0.0;
-                if (tang == TANG_DASHPOT && (!s->cc.clamp || f_n > 0.0)) {
-                    f_t = -gt * g_t;
-                } else if (tang == TANG_FRICTION) {
-                    double mag = fmin(mu * fabs(f_n), m12_dt * fabs(g_t));
-                    f_t = g_t > 0.0 ? -mag : (g_t < 0.0 ? mag : 0.0);
-                }
+            gr_normal_force fn = normal_law(e->nl, &s->cc, ov, g_n, e->clamp);
+            *elastic += s->cc.e_scale * fn.e;
+            double Fx = fn.f * nx, Fy = fn.f * ny;
+            if (e->tl != TL_none) {
+                double tx = ny, ty = -nx, g_t = gx * tx + gy * ty;
+                gr_tangential_in in = {.g_t = g_t, .f_n = fn.f, .acts = !e->clamp || fn.f > 0.0, .m12_dt = m12_dt};
+                double f_t = tangential_law(e->tl, &s->cc, in).f;
                 Fx += f_t * tx;
                 Fy += f_t * ty;
             }

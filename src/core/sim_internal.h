@@ -19,8 +19,7 @@ typedef struct gr_force_report {
     int worst_i, worst_j;  /* the pair with max_overlap */
 } gr_force_report;
 
-typedef enum { KERNEL_1D, KERNEL_2D_N, KERNEL_2D_N_CLAMP, KERNEL_2D_NT, KERNEL_2D_NT_CLAMP,
-               KERNEL_2D_NF, KERNEL_2D_NF_CLAMP } gr_kernel_id;
+typedef int gr_kernel_id; /* index into the kernel instances of kernels.c (from models/list.h) */
 
 struct gr_sim {
     union { /* the parameters it was created with; `scene` is their former name */

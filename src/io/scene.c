@@ -522,17 +522,7 @@ static void apply_defaults(loader *ld)
             apply(ld, keys[i].section, keys[i].name, keys[i].def, &w);
         }
     }
-    for (int m = 0; gr_models[m]; m++) {
-        for (int i = 0; i < gr_models[m]->n_params; i++) {
-            const gr_param *p = &gr_models[m]->params[i];
-            char *slot = (char *)&ld->scene->contact + p->offset;
-            if (p->type == GR_PARAM_BOOL) {
-                *(bool *)slot = p->def != 0.0;
-            } else {
-                *(double *)slot = p->def;
-            }
-        }
-    }
+    gr_contact_defaults(&ld->scene->contact);
     for (int o = 0; gr_observables[o]; o++) {
         for (int i = 0; i < gr_observables[o]->n_params; i++) {
             const gr_param *p = &gr_observables[o]->params[i];

@@ -2,7 +2,7 @@
  * 2.10): momentum conserved, the normal relative velocity reversed and scaled by eps_n, the
  * tangential relative velocity scaled by eps_t (same sign, eq. 2.10), so a collision at impact
  * angle a loses (1 - eps_n^2) cos^2 a + (1 - eps_t^2) sin^2 a of the relative kinetic energy
- * (2.13, 2.14). The rule itself is src/event/rule.h.
+ * (2.13, 2.14). The rule is gr_event_collide below.
  *
  * Inelastic collapse is cured by the TC model (Luding & McNamara, Granular Matter 1, 113 (1998);
  * ../shared/notes/physics-algorithms.md sec. 2): a collision is elastic if either particle
@@ -10,13 +10,53 @@
  * spring-dashpot (k_s, eps_n; eq. 2.6, unclamped), so event-driven and soft-sphere runs stop
  * dissipating in the same multi-contact situations; `tc` overrides it. The matching contact also
  * sets the nominal clock tick dt = t_c / steps_per_contact (the step of gr_sim_step). */
+#ifndef GR_MODELS_HARD_SPHERE_H
+#define GR_MODELS_HARD_SPHERE_H
+
+#include "models/law.h"
+
+extern const gr_model gr_model_hard_sphere;
+
+/* The rule itself: the instantaneous collision of two equal masses (thesis eqs. 2.1, 2.2, 2.10),
+ * called by the event-driven integrator (src/event/, through src/event/rule.h) and by
+ * `granule collide --model hard_sphere`.
+ *
+ * With n the unit normal from particle 1 to particle 2 and g = v1 - v2 (so g.n > 0 when the pair
+ * approaches), t the unit tangent:
+ *   (v1' + v2') = (v1 + v2)                     momentum (2.1)
+ *   (v2' - v1').n = eps_n (v1 - v2).n           normal restitution (2.2)
+ *   (v1' - v2').t = eps_t (v1 - v2).t           tangential restitution (2.10), same sign
+ * hence v1' = v1 - (1 + eps_n)/2 (g.n) n - (1 - eps_t)/2 (g.t) t and v2' = v2 + (the same).
+ * The relative kinetic energy m12 |g|^2 / 2 (m12 = M/2) loses
+ *   dE_n = m12/2 (1 - eps_n^2) (g.n)^2,   dE_t = m12/2 (1 - eps_t^2) (g.t)^2,
+ * i.e. the fraction 1 - eps^2 head-on (2.13) and 1 - (eps_n^2 + eps_t^2)/2 at 45 degrees (2.14). */
+/* Apply the rule to (v1, v2) in place (2D: components x, y; 1D: pass y components of 0 and
+ * n = (+-1, 0)). Returns the dissipated energies in *de_n, *de_t (J) for particles of mass M. */
+static inline void gr_event_collide(double M, double eps_n, double eps_t, double nx, double ny,
+                                    double *v1x, double *v1y, double *v2x, double *v2y,
+                                    double *de_n, double *de_t)
+{
+    const double gx = *v1x - *v2x, gy = *v1y - *v2y;
+    const double gn = gx * nx + gy * ny;
+    const double gt = gy * nx - gx * ny; /* t = (-ny, nx) */
+    const double jn = 0.5 * (1.0 + eps_n) * gn, jt = 0.5 * (1.0 - eps_t) * gt;
+    const double dx = jn * nx - jt * ny, dy = jn * ny + jt * nx;
+    *v1x -= dx;
+    *v1y -= dy;
+    *v2x += dx;
+    *v2y += dy;
+    *de_n = 0.25 * M * (1.0 - eps_n * eps_n) * gn * gn;
+    *de_t = 0.25 * M * (1.0 - eps_t * eps_t) * gt * gt;
+}
+
+#ifdef GR_MODEL_IMPL
+/* the descriptor and prepare: compiled once, in models/registry.c */
 #include <math.h>
 #include <stddef.h>
 
 #include "core/restitution.h"
-#include "granule/model.h"
 
-static const gr_param params[] = {
+static const gr_param hard_sphere_params[] = {
     {"k_s", "N/m", GR_PARAM_DOUBLE, 5e5, 0.0, INFINITY, true, true,
      "spring constant of the matching soft contact; sets the TC contact time t_c (2.6)",
      offsetof(gr_contact_params, k_s)},
@@ -31,7 +71,7 @@ static const gr_param params[] = {
      offsetof(gr_contact_params, tc)},
 };
 
-static int prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
+static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                    gr_error *err)
 {
     (void)dt;
@@ -59,15 +99,41 @@ static int prepare(const gr_contact_params *p, double m12, double dt, gr_contact
     c->t_c = gr_duration_unclamped(c->zeta) / c->w0;
     c->eps_n_exact = p->eps_n;
     c->gamma_n = 0.0; /* no force law: kernels see a hard sphere as force-free */
+    c->e_scale = 0.5 * c->k_s;
+    c->pow_a = 1.0;
+    c->pow_p = 0.0;
+    c->law_t[0] = p->eps_t; /* the rule's tangential restitution */
     c->gamma_t = 0.0;
     return GR_OK;
+}
+
+/* Its restitution law: eps_n and eps_t exactly, at any speed, in no time. */
+static gr_normal_impact hard_sphere_impact(const gr_contact_coeffs *c, double v_n)
+{
+    (void)v_n;
+    return (gr_normal_impact){c->eps_n_exact, 0.0, 1.0 + c->eps_n_exact};
+}
+
+static double hard_sphere_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t)
+{
+    (void)n;
+    (void)v_n;
+    (void)v_t;
+    return c->law_t[0];
 }
 
 const gr_model gr_model_hard_sphere = {
     .name = "hard_sphere",
     .summary = "instantaneous collisions (2.1, 2.2, 2.10) with the TC model against collapse; needs [integrator] kind = event",
     .kind = GR_MODEL_NORMAL | GR_MODEL_EVENT,
-    .params = params,
-    .n_params = sizeof params / sizeof params[0],
-    .prepare = prepare,
+    .params = hard_sphere_params,
+    .n_params = sizeof hard_sphere_params / sizeof hard_sphere_params[0],
+    .prepare = hard_sphere_prepare,
+    .force_law = "spring_dashpot",
+    .impact = hard_sphere_impact,
+    .restitution_t = hard_sphere_restitution_t,
+    .elastic = "eps_n=1 eps_t=1",
 };
+#endif /* GR_MODEL_IMPL */
+
+#endif

@@ -1,0 +1,244 @@
+/* hertz: the Hertzian normal contact force F_n = k_h xi^(3/2) plus a damping, in two modes:
+ *  - viscoelastic = true (Brilliantov, Spahn, Hertzsch & Poeschel, Phys. Rev. E 53, 5382 (1996)):
+ *      F_n = k_h xi^(3/2) + (3/2) A k_h sqrt(xi) xi',   xi' = -g_n,
+ *    with the material's viscoelastic time A (visco_A). The restitution depends on the impact
+ *    speed: scaling xi by x0 = (m12 v^2 / k_h)^(2/5) and t by t0 = x0 / v leaves
+ *      X'' = -X^(3/2) - (3/2) beta sqrt(X) X',  X(0) = 0, X'(0) = 1,
+ *    with the single parameter beta = A (k_h / m12)^(2/5) v^(1/5), so eps_n(v) = E(beta(v)):
+ *    eps = 1 - C1 b + C2 b^2 - ..., b = 3 beta / 2, C1 = 1.15344, C2 = 0.79826 for weak damping
+ *    (Schwager & Poeschel, PRE 57, 650 (1998); tests/test_collide.c checks it).
+ *  - viscoelastic = false (Tsuji, Tanaka & Ishida, Powder Technol. 71, 239 (1992)):
+ *      F_n = k_h xi^(3/2) + alpha sqrt(m12 k_h) xi^(1/4) xi',
+ *    whose scaled equation X'' = -X^(3/2) - alpha X^(1/4) X' has no speed in it: the restitution is
+ *    the same at every impact speed. alpha is found by an exact numerical inversion of E(alpha)
+ *    = eps_n (bisection on the scaled contact, integrated below), not Tsuji's fitted curve.
+ * clamp = true holds F_n >= 0: the contact then ends when the force vanishes (the restitution
+ * inverted for is that of the clamped contact), otherwise when the overlap returns to zero (the
+ * damping pulls at the end, as in the thesis's linear law).
+ *
+ * The contact duration t_c = T(beta) t0 falls as v^(-1/5) with the impact speed: the time step
+ * resolves the fastest impact a scene declares, v_max (dt = t_c(v_max) / steps_per_contact, and a
+ * dt giving fewer than 10 steps for that contact is refused); slower impacts get more steps.
+ * docs/models.md tabulates eps(v) and t_c(v). */
+#ifndef GR_MODELS_HERTZ_H
+#define GR_MODELS_HERTZ_H
+
+#include <math.h>
+
+#include "models/law.h"
+
+extern const gr_model gr_model_hertz;
+
+/* The pair law: k_s = k_h, gamma_n the damping coefficient, law_n[0] = 1 for the xi^(1/4)
+ * damping (Tsuji), 0 for sqrt(xi) (viscoelastic): f = k_h xi^(3/2) - gamma_n xi^p g_n. Elastic
+ * energy (2/5) k_h xi^(5/2). */
+GR_LAW gr_normal_force gr_normal_hertz(const gr_contact_coeffs *c, const double xi, const double g_n, const int clamp)
+{
+    const double s = sqrt(xi), k = c->k_s;
+    const double spring = k * xi * s;
+    const double xp = c->law_n[0] != 0.0 ? sqrt(s) : s;
+    double f = spring - c->gamma_n * xp * g_n;
+    if (clamp) {
+        f = f > 0.0 ? f : 0.0;
+    }
+    return (gr_normal_force){.f = f, .f_d = f - spring, .e = xi * xi * s};
+}
+
+#ifdef GR_MODEL_IMPL
+/* the descriptor and prepare: compiled once, in models/registry.c */
+#include <stddef.h>
+
+#define HERTZ_STEP 2e-4    /* largest RK4 step of the scaled contact (elastic duration 3.2187) */
+#define HERTZ_STICK 20.0 /* a scaled contact longer than this (6 elastic ones) counts as sticking */
+
+/* The scaled contact X'' = -F, F = X^(3/2) + c X^p X' (p = 1/4 if quarter, else 1/2), from
+ * X = 0, X' = 1 until X returns to 0 (or F to 0 with the clamp), by RK4. X^p is not smooth at
+ * X = 0, so near both ends the step shrinks to 5% of the time X needs to reach 0 (a graded
+ * mesh, down to 1e-10): the result then agrees with the CVODE reference to ~1e-9. Returns the impact:
+ * eps = -X' at the end, t_c = the scaled duration, impulse_abs = int |F| dtau. */
+static double hertz_force(double X, double V, double c, int quarter)
+{
+    const double s = sqrt(fmax(X, 0.0));
+    return X * s + c * (quarter ? sqrt(s) : s) * V;
+}
+
+static gr_normal_impact hertz_scaled_impact(double c, int quarter, int clamp)
+{
+    double X = 0.0, V = 1.0, tau = 0.0, jabs = 0.0, past_max = 0;
+    for (;;) {
+        const double h = fmin(HERTZ_STEP, fmax(1e-10, 0.05 * X / fmax(fabs(V), 1e-3)));
+        const double k1x = V, k1v = -hertz_force(X, V, c, quarter);
+        const double k2x = V + 0.5 * h * k1v, k2v = -hertz_force(X + 0.5 * h * k1x, V + 0.5 * h * k1v, c, quarter);
+        const double k3x = V + 0.5 * h * k2v, k3v = -hertz_force(X + 0.5 * h * k2x, V + 0.5 * h * k2v, c, quarter);
+        const double k4x = V + h * k3v, k4v = -hertz_force(X + h * k3x, V + h * k3v, c, quarter);
+        const double X1 = X + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+        const double V1 = V + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+        past_max = past_max || V1 < 0.0;
+        /* the end: X back to 0, or (clamped) the force down to 0 after the maximum overlap;
+         * interpolate linearly inside the step (X'' vanishes there, so V is accurate) */
+        const double g0 = clamp ? hertz_force(X, V, c, quarter) : X, g1 = clamp ? hertz_force(X1, V1, c, quarter) : X1;
+        if (past_max && g1 <= 0.0 && tau > 0.0) {
+            const double w = g0 > g1 ? g0 / (g0 - g1) : 1.0;
+            const double Ve = V + w * (V1 - V);
+            jabs += fabs(V - Ve);
+            return (gr_normal_impact){.eps_n = -Ve, .t_c = tau + w * h, .impulse_abs = jabs};
+        }
+        if (past_max && !clamp && fabs(V1) < 1e-9 && X1 > 0.0) {
+            /* overdamped tail: the overlap creeps towards 0 and the pair sticks */
+            return (gr_normal_impact){.eps_n = 0.0, .t_c = INFINITY, .impulse_abs = jabs + fabs(V1 - V)};
+        }
+        jabs += fabs(V1 - V); /* int |F| = total variation of X' (F changes sign at most once) */
+        X = X1;
+        V = V1;
+        tau += h;
+        if (tau > HERTZ_STICK) {
+            return (gr_normal_impact){.eps_n = 0.0, .t_c = INFINITY, .impulse_abs = jabs};
+        }
+    }
+}
+
+/* x0 = (m12 v^2 / k_h)^(2/5), the scaled contact's length unit */
+static double hertz_x0(const gr_contact_coeffs *c, double v) { return pow(c->m12 * v * v / c->k_s, 0.4); }
+
+/* The damping parameter of the scaled equation at impact speed v: c = (3/2) beta (viscoelastic)
+ * or alpha (Tsuji, the same at every v). */
+static double hertz_scaled_damping(const gr_contact_coeffs *c, double v)
+{
+    if (c->law_n[0] != 0.0) {
+        return c->gamma_n / sqrt(c->m12 * c->k_s);
+    }
+    const double t0 = hertz_x0(c, v) / v;
+    return c->gamma_n / c->k_s / t0; /* (3/2) A / t0 */
+}
+
+/* Its impact at normal speed v_n: the scaled contact in units x0, t0 = x0 / v_n, speed v_n. */
+static gr_normal_impact hertz_impact(const gr_contact_coeffs *c, double v_n)
+{
+    gr_normal_impact o = hertz_scaled_impact(hertz_scaled_damping(c, v_n), c->law_n[0] != 0.0, c->clamp);
+    o.t_c *= hertz_x0(c, v_n) / v_n;
+    return o;
+}
+
+/* alpha with E(alpha) = eps (Tsuji mode), by bisection: E falls monotonically from 1 at alpha = 0.
+ * Cached per thread for the last (eps, clamp). */
+static double hertz_alpha_of(double eps, int clamp, gr_error *err, int *rc)
+{
+    static _Thread_local double last_eps = -1.0, last_alpha;
+    static _Thread_local int last_clamp = -1;
+    *rc = GR_OK;
+    if (eps >= 1.0) {
+        return 0.0;
+    }
+    if (eps == last_eps && clamp == last_clamp) {
+        return last_alpha;
+    }
+    double lo = 0.0, hi = 1.0;
+    while (hertz_scaled_impact(hi, 1, clamp).eps_n > eps) {
+        lo = hi;
+        hi *= 2.0;
+        if (hi > 1e4) {
+            *rc = GR_FAIL(err, GR_EINVAL,
+                          "[model] eps_n = %g: hertz%s cannot reach it (alpha > 1e4); allowed range: "
+                          "eps_n >= %.3g",
+                          eps, clamp ? " with clamp = true" : "", hertz_scaled_impact(1e4, 1, clamp).eps_n);
+            return 0.0;
+        }
+    }
+    for (int it = 0; it < 50 && hi - lo > 1e-13 * hi; it++) {
+        const double mid = 0.5 * (lo + hi);
+        if (hertz_scaled_impact(mid, 1, clamp).eps_n > eps) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    last_eps = eps;
+    last_clamp = clamp;
+    last_alpha = 0.5 * (lo + hi);
+    return last_alpha;
+}
+
+static const gr_param hertz_params[] = {
+    {"k_h", "N/m^1.5", GR_PARAM_DOUBLE, 1e9, 0.0, INFINITY, true, true,
+     "hertz: stiffness of F_n = k_h xi^(3/2); 1e9 gives the RFM discs about the linear law's overlap at 0.1 m/s",
+     offsetof(gr_contact_params, k_h)},
+    {"eps_n", "", GR_PARAM_DOUBLE, 0.6, 0.0, 1.0, false, false,
+     "normal coefficient of restitution (2.2); 1 = elastic, 0 = sticking (unclamped only)",
+     offsetof(gr_contact_params, eps_n)},
+    {"clamp", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,
+     "true: normal force never attractive, the contact ends when it vanishes (damping calibrated to that "
+     "contact); false: it ends when the overlap does",
+     offsetof(gr_contact_params, clamp)},
+    {"viscoelastic", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,
+     "hertz: true = damping (3/2) A k_h sqrt(xi) xi' of Brilliantov et al. 1996, eps_n depends on the impact "
+     "speed (eps_n ignored); false = damping ~ xi^(1/4) xi' calibrated to a constant eps_n (Tsuji 1992, exact inversion)",
+     offsetof(gr_contact_params, viscoelastic)},
+    {"visco_A", "s", GR_PARAM_DOUBLE, 1e-6, 0.0, INFINITY, false, true,
+     "hertz, viscoelastic = true: the viscoelastic time A; 0 = elastic", offsetof(gr_contact_params, visco_A)},
+    {"v_max", "m/s", GR_PARAM_DOUBLE, 1.0, 0.0, INFINITY, true, true,
+     "hertz: the fastest impact (normal relative speed) the time step must resolve; dt = t_c(v_max) / steps_per_contact",
+     offsetof(gr_contact_params, v_max)},
+};
+
+static int hertz_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c, gr_error *err)
+{
+    (void)dt;
+    c->normal = GR_NORMAL_NONE;
+    c->k_s = p->k_h;
+    c->m12 = m12;
+    c->clamp = p->clamp;
+    c->pow_a = 1.5;
+    if (p->viscoelastic) {
+        c->law_n[0] = 0.0;
+        c->pow_p = 0.5;
+        c->gamma_n = 1.5 * p->visco_A * p->k_h;
+    } else {
+        if (p->clamp && !(p->eps_n > 0.0)) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "[model] eps_n = 0 cannot be reached with clamp = true (it needs an infinite "
+                           "damping); allowed range with clamping: (0, 1]");
+        }
+        int rc = GR_OK;
+        const double alpha = hertz_alpha_of(p->eps_n, p->clamp, err, &rc);
+        if (rc != GR_OK) {
+            return rc;
+        }
+        c->law_n[0] = 1.0;
+        c->pow_p = 0.25;
+        c->gamma_n = alpha * sqrt(m12 * p->k_h);
+    }
+    const gr_normal_impact at_max = hertz_impact(c, p->v_max);
+    c->t_c = at_max.t_c;
+    c->eps_n_exact = at_max.eps_n;
+    /* The contact linearised at the scaled overlap X = 1 of the v_max impact: stiffness
+     * (3/2) X^(1/2) and damping c X^p in scaled units, i.e. w0 = sqrt(3/2) / t0 and a damping
+     * ratio c / (2 sqrt(3/2)). The time step's explicit-damping checks (2 zeta w0 dt < 1, and
+     * the half-step lag near critical damping) use them, so an overdamped contact gets a
+     * smaller step or is refused instead of gaining energy. */
+    const double t0 = hertz_x0(c, p->v_max) / p->v_max;
+    c->w0 = sqrt(1.5) / t0;
+    c->zeta = hertz_scaled_damping(c, p->v_max) / (2.0 * sqrt(1.5));
+    c->e_scale = 0.4 * p->k_h; /* U = (2/5) k_h xi^(5/2) */
+    return GR_OK;
+}
+
+static const char *const hertz_variants[] = {"viscoelastic=false", "viscoelastic=true", NULL};
+/* beta ~ 300 (the pair sticks), and Tsuji damping for eps_n = 1e-3 */
+static const char *const hertz_extremes[] = {"viscoelastic=true visco_A=1e-3", "viscoelastic=false eps_n=0.001", NULL};
+
+const gr_model gr_model_hertz = {
+    .name = "hertz",
+    .summary = "Hertzian normal force k_h xi^(3/2), viscoelastic (eps(v), Brilliantov 1996) or calibrated to a "
+               "constant eps_n (Tsuji 1992, exact inversion)",
+    .kind = GR_MODEL_NORMAL,
+    .params = hertz_params,
+    .n_params = sizeof hertz_params / sizeof hertz_params[0],
+    .prepare = hertz_prepare,
+    .impact = hertz_impact,
+    .elastic = "eps_n=1 visco_A=0",
+    .variants = hertz_variants,
+    .extremes = hertz_extremes,
+};
+#endif /* GR_MODEL_IMPL */
+
+#endif

@@ -1,0 +1,61 @@
+/* The interface between a collision model's pair law and the engine's kernels.
+ *
+ * A model file (models/NAME.h, listed in models/list.h) defines its law as a static inline
+ * function with one of the signatures below; src/core/kernels.c instantiates one pair loop per
+ * legal combination of laws (normal x tangential x clamp, 1D and 2D) from the list, so every
+ * call inlines and the compiler drops whatever a combination does not use. There is no call
+ * through a pointer per pair. docs/architecture.md, "How to add a collision model", walks
+ * through it.
+ *
+ * Geometry of a pair i < j (thesis sec. 2.1): overlap xi = d - |r_ij| > 0, n = r_ij / |r_ij|
+ * from i to j, g = v_j - v_i, g_n = g.n (< 0 while approaching), t = n rotated by -90 degrees
+ * (2.8), g_t = g.t. The engine applies F = f_n n + f_t t to j and -F to i. */
+#ifndef GR_MODELS_LAW_H
+#define GR_MODELS_LAW_H
+
+#include "granule/model.h"
+
+#define GR_LAW static inline __attribute__((always_inline))
+
+/* A normal law: gr_normal_NAME(const gr_contact_coeffs *c, double xi, double g_n, int clamp)
+ * returns
+ *   f   the normal force on j along n (repulsive > 0), clamped to >= 0 when clamp is set;
+ *   f_d its non-conservative part, f minus the elastic force dU/dxi. The ledger books -f_d g_n
+ *       as normal dissipation (with the clamp this includes the elastic energy that vanishes
+ *       while the force is held at zero), and f_d goes into the engine's non-conservative force;
+ *   e   the elastic energy of the contact in units of c->e_scale (U = e_scale * e): the kernel
+ *       sums e over contacts and multiplies once (the linear law returns xi^2, e_scale = k/2).
+ * `clamp` is a compile-time constant of the kernel instance (the copy of c->clamp), so the
+ * branch vanishes. */
+typedef struct gr_normal_force {
+    double f, f_d, e;
+} gr_normal_force;
+
+/* What a tangential law sees at one contact.
+ *   g_t    tangential relative velocity at the contact point. Today (no rotation) g.t; a
+ *          rotation-aware kernel will add the surface velocities -(r_i w_i + r_j w_j) here, so
+ *          a law written against g_t needs no change.
+ *   f_n    the normal force the normal law just returned (after the clamp);
+ *   acts   the normal contact acts: always with an unclamped law, f_n > 0 with the clamp;
+ *   m12_dt reduced mass over the time step (the impulse that stops g_t in one step is
+ *          m12_dt |g_t|);
+ *   hist   per-contact history slot (NULL today: no law keeps history yet). A history law
+ *          (Cundall-Strack spring) will read and update its accumulated displacement here; the
+ *          kernel will own the storage, one slot per neighbour-list entry. */
+typedef struct gr_tangential_in {
+    double g_t, f_n;
+    int acts;
+    double m12_dt;
+    double *hist;
+} gr_tangential_in;
+
+/* A tangential law: gr_tangential_NAME(const gr_contact_coeffs *c, gr_tangential_in in)
+ * returns the force on j along t and the power it dissipates (>= 0), which the kernel books
+ * into the ledger column GR_BOOK_NAME (one of the two below, a constant in the model file). */
+typedef struct gr_tangential_force {
+    double f, p;
+} gr_tangential_force;
+
+enum { GR_BOOK_TANGENTIAL = 1, GR_BOOK_FRICTION = 2 };
+
+#endif

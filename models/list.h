@@ -1,0 +1,38 @@
+/* The list of every collision model: one line per model, and the file that defines it.
+ *
+ * Adding a model: write models/NAME.h (copy the closest existing model; docs/architecture.md,
+ * "How to add a collision model"), then add its #include below and its one entry to the list of
+ * its kind. Everything else is generated from these lists: the registry `gr_models`
+ * (models/registry.c), the specialised force kernels (src/core/kernels.c: every normal law with
+ * no tangential law and with each tangential law, clamped and not, in 2D; every normal law
+ * clamped and not on the 1D ring) and the conformance suite (tests/test_models_conformance.c,
+ * which loops over `gr_models`).
+ *
+ * The lists are X-macros: GR_NORMAL_MODELS(X, A) expands X(A, NAME) for every normal force law,
+ * and so on. `A` is passed through untouched so that a list can be expanded inside another
+ * (the kernels pair each normal law with each tangential law). */
+#ifndef GR_MODELS_LIST_H
+#define GR_MODELS_LIST_H
+
+#include "models/spring_dashpot.h"
+#include "models/hertz.h"
+#include "models/tangential_dashpot.h"
+#include "models/sliding_friction.h"
+#include "models/hard_sphere.h"
+
+/* normal force laws: models/NAME.h defines gr_normal_NAME and gr_model_NAME */
+#define GR_NORMAL_MODELS(X, A) \
+    X(A, spring_dashpot)       \
+    X(A, hertz)
+
+/* tangential force laws: gr_tangential_NAME, GR_BOOK_NAME and gr_model_NAME */
+#define GR_TANGENTIAL_MODELS(X, A) \
+    X(A, tangential_dashpot)       \
+    X(A, sliding_friction)
+
+/* instantaneous rules of the event-driven integrator: gr_model_NAME (the rule is called by
+ * src/event/ through its header) */
+#define GR_EVENT_MODELS(X, A) \
+    X(A, hard_sphere)
+
+#endif

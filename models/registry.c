@@ -1,0 +1,11 @@
+/* The registry of collision models, generated from models/list.h: every model's descriptor and
+ * prepare are compiled here (GR_MODEL_IMPL), in the order of the lists (normal laws, tangential
+ * laws, event rules). */
+#define GR_MODEL_IMPL
+#include "models/list.h"
+
+#define GR_REGISTRY_ENTRY(A, NAME) &gr_model_##NAME,
+const gr_model *const gr_models[] = {
+    GR_NORMAL_MODELS(GR_REGISTRY_ENTRY, ) GR_TANGENTIAL_MODELS(GR_REGISTRY_ENTRY, )
+        GR_EVENT_MODELS(GR_REGISTRY_ENTRY, ) NULL,
+};

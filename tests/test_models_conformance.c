@@ -1,0 +1,488 @@
+/* Conformance suite of the collision models: every registered soft model (gr_models, generated
+ * from models/list.h), in every legal combination (each normal force law alone and with each
+ * tangential law, clamped and not, in 2D; each normal law on the 1D ring), must
+ *   - follow its own restitution law (gr_model.restitution / duration / restitution_t, hence
+ *     gr_contact_expected_loss) over impact speeds and angles, checked on the CVODE reference
+ *     (gr_collide_reference): to 1e-7 head-on, to the turning of the line of centres obliquely;
+ *   - be integrated by the engine's kernels (gr_collide_run) to first order: the phase-averaged
+ *     energy loss within K_DT dt / t_c of the reference (docs/collision-accuracy.md derives
+ *     C_N = 0.25 for the linear normal law; measured <= 0.1 here for every law);
+ *   - conserve momentum (to rounding, < 1e-12 relative);
+ *   - be symmetric under exchanging the two particles (the same loss to 1e-12);
+ *   - conserve energy when its `elastic` settings are applied (eps = 1, no friction): reference
+ *     to 1e-9, engine to (pi dt / t_c)^2 (the kink of the force at xi = 0);
+ *   - give no NaN in hard cases (eps at the minimum its descriptor or prepare allows, the
+ *     model's own extremes (gr_model.extremes), grazing
+ *     impacts, very slow and fast impacts, contacts across the periodic boundary): either a
+ *     clean refusal with a message or finite results with a loss in [0, 1];
+ *   - close the energy ledger over a collision to the integrator's second order, (pi dt / t_c)^2.
+ * A new model added to models/list.h is picked up here without editing this file.
+ *
+ * Particles: the RFM's discs of Table 2.2 (M = 3.53e-5 kg, r = 1.5 mm) with every model
+ * parameter at its descriptor default, the scene's defaults. GRANULE_TEST_QUICK=1 uses fewer
+ * speeds and phases. */
+#include <check.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "granule/collide.h"
+#include "granule/model.h"
+#include "granule/scene.h"
+#include "granule/sim.h"
+#include "test_env.h"
+
+#define MASS 3.53e-5
+#define RADIUS 1.5e-3
+#define DIAM (2.0 * RADIUS)
+#define STEPS 200.0 /* steps per contact of the engine runs */
+#define K_DT 0.25   /* engine vs reference: |loss difference| <= K_DT dt / t_c */
+#define MAX_COMBOS 256
+
+typedef struct combo {
+    const gr_model *normal, *tangential;
+    int clamp, dim;
+    const char *variant; /* the normal law's mode (gr_model.variants), NULL if it has one */
+} combo;
+
+static combo combos[MAX_COMBOS];
+static int n_combos;
+
+/* every legal combination of the registry's soft laws */
+static void enumerate(void)
+{
+    n_combos = 0;
+    for (int a = 0; gr_models[a]; a++) {
+        const gr_model *nm = gr_models[a];
+        if (!(nm->kind & GR_MODEL_NORMAL) || (nm->kind & GR_MODEL_EVENT)) {
+            continue;
+        }
+        for (int v = 0; v == 0 || (nm->variants && nm->variants[v]); v++) {
+            const char *var = nm->variants ? nm->variants[v] : NULL;
+            for (int clamp = 0; clamp < 2 && n_combos + 2 < MAX_COMBOS; clamp++) {
+                combos[n_combos++] = (combo){nm, NULL, clamp, 1, var};
+                combos[n_combos++] = (combo){nm, NULL, clamp, 2, var};
+                for (int b = 0; gr_models[b]; b++) {
+                    if (gr_models[b]->kind == GR_MODEL_TANGENTIAL && n_combos < MAX_COMBOS) {
+                        combos[n_combos++] = (combo){nm, gr_models[b], clamp, 2, var};
+                    }
+                }
+            }
+        }
+    }
+}
+
+/* apply a model's "key=value key=value" settings (checked against the descriptors) */
+static void apply_settings(gr_contact_params *p, const char *settings)
+{
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s", settings ? settings : "");
+    for (char *save = NULL, *tok = strtok_r(buf, " ", &save); tok; tok = strtok_r(NULL, " ", &save)) {
+        char *eq = strchr(tok, '=');
+        ck_assert_msg(eq, "settings '%s': '%s' is not key=value", settings, tok);
+        *eq = '\0';
+        gr_error err = {0};
+        ck_assert_msg(gr_contact_set(p, tok, eq + 1, &err) == GR_OK, "settings '%s': %s", settings, err.message);
+    }
+}
+
+/* every descriptor's default (as a scene without [model] keys), then the combination's mode */
+static gr_contact_params defaults_of(const combo *c)
+{
+    gr_contact_params p;
+    gr_contact_defaults(&p);
+    apply_settings(&p, c->variant);
+    return p;
+}
+
+static const char *name_of(const combo *c, char *buf, size_t n)
+{
+    snprintf(buf, n, "%dd %s%s%s%s%s%s%s", c->dim, c->normal->name, c->variant ? "(" : "", c->variant ? c->variant : "",
+             c->variant ? ")" : "", c->clamp ? "[clamped]" : "", c->tangential ? "+" : "",
+             c->tangential ? c->tangential->name : "");
+    return buf;
+}
+
+static gr_collide_setup setup_of(const combo *c, gr_contact_params p)
+{
+    gr_collide_setup s;
+    gr_collide_setup_default(&s);
+    s.normal = c->normal;
+    s.tangential = c->tangential;
+    p.clamp = c->clamp;
+    s.contact = p;
+    s.mass = MASS;
+    s.radius = RADIUS;
+    s.dim = c->dim;
+    return s;
+}
+
+/* particle 1 moving at `speed` along x hits particle 2 at rest at `angle` degrees */
+static gr_collision_case impact(double speed, double angle)
+{
+    double a = angle * M_PI / 180.0;
+    return (gr_collision_case){{0.0, 0.0}, {speed, 0.0}, {2.0 * DIAM, DIAM * sin(a)}, {0.0, 0.0}};
+}
+
+/* coefficients of the setup; false when its prepare refuses these parameters */
+static bool coeffs_of(const gr_collide_setup *s, gr_contact_coeffs *k)
+{
+    gr_error err = {0};
+    const gr_model *t = s->dim == 2 ? s->tangential : NULL;
+    return gr_contact_prepare(s->normal, t, &s->contact, 0.5 * s->mass, 0.0, k, &err) == GR_OK;
+}
+
+/* the model's contact duration at this impact */
+static double duration_of(const gr_contact_coeffs *k, double speed, double angle)
+{
+    const double v_n = speed * cos(angle * M_PI / 180.0);
+    double t = k->normal_model->impact(k, v_n).t_c;
+    return isfinite(t) ? t : M_PI / k->w0;
+}
+
+/* Engine run averaged over `nph` contact phases, dt = t_c(v) / STEPS. Returns the mean loss;
+ * *mom the largest momentum error. */
+static double engine_loss(gr_collide_setup s, const gr_collision_case *cs, const gr_contact_coeffs *k, double speed,
+                          double angle, int nph, double *mom, double *overlap, const char *what)
+{
+    s.dt = duration_of(k, speed, angle) / STEPS;
+    double sum = 0.0;
+    *mom = 0.0;
+    *overlap = INFINITY;
+    for (int q = 0; q < nph; q++) {
+        s.phase = (q + 0.5) / nph;
+        gr_collide_result r;
+        gr_error err = {0};
+        int rc = gr_collide_run(&s, cs, &r, &err);
+        ck_assert_msg(rc == GR_OK, "%s: engine run failed: %s", what, err.message);
+        ck_assert_msg(isfinite(r.energy_loss), "%s: loss %g", what, r.energy_loss);
+        sum += r.energy_loss;
+        *mom = fmax(*mom, r.momentum_error);
+        *overlap = fmin(*overlap, r.max_overlap);
+    }
+    return sum / nph;
+}
+
+static const double speeds[] = {0.01, 0.1, 1.0};
+static const double angles[] = {0.0, 30.0, 60.0};
+static int n_speeds(void) { return quick() ? 2 : 3; }
+
+/* 1. the CVODE reference follows the model's own restitution law */
+START_TEST(test_restitution_law)
+{
+    const combo *c = &combos[_i];
+    char what[260], name[160];
+    name_of(c, name, sizeof name);
+    gr_collide_setup s = setup_of(c, defaults_of(c));
+    gr_contact_coeffs k;
+    ck_assert_msg(coeffs_of(&s, &k), "%s: the defaults are refused", name);
+    for (int a = 0; a < (c->dim == 2 ? 3 : 1); a++) {
+        for (int v = 0; v < n_speeds(); v++) {
+            snprintf(what, sizeof what, "%s, %g m/s at %g deg", name, speeds[v], angles[a]);
+            gr_collision_case cs = impact(speeds[v], angles[a]);
+            gr_collide_result r;
+            gr_error err = {0};
+            ck_assert_msg(gr_collide_reference(&s, &cs, &r, &err) == GR_OK, "%s: reference: %s", what, err.message);
+            const double want = gr_contact_expected_loss(&k, speeds[v], angles[a]);
+            /* obliquely the line of centres turns by ~ v_t t_c / d during the contact, which the
+             * fixed-normal law ignores */
+            const double t_c = duration_of(&k, speeds[v], angles[a]);
+            const double turn = speeds[v] * sin(angles[a] * M_PI / 180.0) * t_c / DIAM;
+            const double tol = 1e-7 + 2.0 * turn;
+            VERBOSE("%s: reference loss %.10f, law %.10f (tol %.2e)\n", what, r.energy_loss, want, tol);
+            ck_assert_msg(fabs(r.energy_loss - want) <= tol, "%s: reference loss %.10f, the model's law %.10f (tol %.2e)",
+                          what, r.energy_loss, want, tol);
+            ck_assert_msg(fabs(r.impact_angle - angles[a]) <= 1e-6, "%s: impact angle %g", what, r.impact_angle);
+        }
+    }
+}
+END_TEST
+
+/* 2. the engine integrates the law to first order, conserves momentum, and is symmetric */
+START_TEST(test_engine_vs_reference)
+{
+    const combo *c = &combos[_i];
+    char what[260], name[160];
+    name_of(c, name, sizeof name);
+    gr_collide_setup s = setup_of(c, defaults_of(c));
+    gr_contact_coeffs k;
+    ck_assert(coeffs_of(&s, &k));
+    const int nph = quick() ? 2 : 4;
+    for (int a = 0; a < (c->dim == 2 ? 2 : 1); a++) {
+        const double angle = a ? 45.0 : 0.0;
+        for (int v = 0; v < n_speeds(); v += 2) {
+            snprintf(what, sizeof what, "%s, %g m/s at %g deg", name, speeds[v], angle);
+            gr_collision_case cs = impact(speeds[v], angle);
+            gr_collide_result ref;
+            gr_error err = {0};
+            ck_assert_msg(gr_collide_reference(&s, &cs, &ref, &err) == GR_OK, "%s: %s", what, err.message);
+            double mom = 0.0, ov = 0.0, ov2 = 0.0;
+            const double loss = engine_loss(s, &cs, &k, speeds[v], angle, nph, &mom, &ov, what);
+            const double tol = K_DT / STEPS;
+            VERBOSE("%s: engine %.8f, reference %.8f, |diff| %.2e (tol %.2e), momentum %.1e\n", what, loss,
+                    ref.energy_loss, fabs(loss - ref.energy_loss), tol, mom);
+            ck_assert_msg(fabs(loss - ref.energy_loss) <= tol, "%s: engine loss %.8f, reference %.8f (tol %.2e)", what,
+                          loss, ref.energy_loss, tol);
+            ck_assert_msg(mom < 1e-12, "%s: momentum error %.3e", what, mom);
+            /* the same impact with the particles exchanged and the picture point-reflected (so
+             * that the 1D order holds): the pair law sees i and j swapped, n and t reversed. The
+             * positions differ by rounding (~ 1e-16 of the box) relative to the overlap. */
+            gr_collision_case sw = {{-cs.x2[0], -cs.x2[1]}, {-cs.v2[0], -cs.v2[1]}, {-cs.x1[0], -cs.x1[1]}, {-cs.v1[0], -cs.v1[1]}};
+            double mom2 = 0.0;
+            const double loss2 = engine_loss(s, &sw, &k, speeds[v], angle, nph, &mom2, &ov2, what);
+            const double sym_tol = 1e-12 + 16.0 * 2.2e-16 * (64.0 * DIAM) / ov;
+            ck_assert_msg(fabs(loss2 - loss) <= sym_tol, "%s: loss %.17g, with the particles exchanged %.17g (tol %.2e)",
+                          what, loss, loss2, sym_tol);
+        }
+    }
+}
+END_TEST
+
+/* 3. the elastic settings conserve energy */
+START_TEST(test_elastic)
+{
+    const combo *c = &combos[_i];
+    char what[260], name[160];
+    name_of(c, name, sizeof name);
+    gr_contact_params p = defaults_of(c);
+    apply_settings(&p, c->normal->elastic);
+    if (c->tangential && c->dim == 2) {
+        apply_settings(&p, c->tangential->elastic);
+    }
+    gr_collide_setup s = setup_of(c, p);
+    gr_contact_coeffs k;
+    ck_assert_msg(coeffs_of(&s, &k), "%s: the elastic settings '%s' are refused", name, c->normal->elastic);
+    for (int a = 0; a < (c->dim == 2 ? 2 : 1); a++) {
+        const double angle = a ? 45.0 : 0.0, speed = 0.1;
+        snprintf(what, sizeof what, "%s elastic, %g m/s at %g deg", name, speed, angle);
+        gr_collision_case cs = impact(speed, angle);
+        gr_collide_result ref;
+        gr_error err = {0};
+        ck_assert_msg(gr_collide_reference(&s, &cs, &ref, &err) == GR_OK, "%s: %s", what, err.message);
+        ck_assert_msg(fabs(ref.energy_loss) <= 1e-9, "%s: reference loses %.3e", what, ref.energy_loss);
+        /* 1e-9: a law may be a numerical integration of its own (hertz) */
+        ck_assert_msg(fabs(gr_contact_expected_loss(&k, speed, angle)) <= 1e-9, "%s: the law predicts a loss %.3e", what,
+                      gr_contact_expected_loss(&k, speed, angle));
+        double mom = 0.0, ov = 0.0;
+        const double loss = engine_loss(s, &cs, &k, speed, angle, quick() ? 2 : 8, &mom, &ov, what);
+        const double tol = pow(M_PI / STEPS, 2.0);
+        ck_assert_msg(fabs(loss) <= tol, "%s: engine loss %.3e (tol %.2e)", what, loss, tol);
+    }
+}
+END_TEST
+
+/* a hard case: a clean refusal or finite results */
+static void hard_case(const combo *c, const gr_contact_params *p, double speed, double angle, const char *what)
+{
+    gr_collide_setup s = setup_of(c, *p);
+    gr_contact_coeffs k;
+    if (!coeffs_of(&s, &k)) {
+        return; /* prepare refuses these parameters with a message (checked by the caller) */
+    }
+    gr_collision_case cs = impact(speed, angle);
+    s.dt = duration_of(&k, speed, angle) / 50.0;
+    gr_collide_result r;
+    gr_error err = {0};
+    int rc = gr_collide_run(&s, &cs, &r, &err);
+    if (rc != GR_OK) {
+        ck_assert_msg(err.message[0] != '\0', "%s: refused (%d) without a message", what, rc);
+        return;
+    }
+    ck_assert_msg(isfinite(r.energy_loss) && isfinite(r.eps_n_measured) && isfinite(r.max_overlap) &&
+                      isfinite(r.contact_time),
+                  "%s: loss %g eps_n %g overlap %g", what, r.energy_loss, r.eps_n_measured, r.max_overlap);
+    ck_assert_msg(r.energy_loss >= -1e-6 && r.energy_loss <= 1.0 + 1e-9, "%s: loss %.17g outside [0, 1]", what,
+                  r.energy_loss);
+}
+
+/* 4. hard cases: every restitution-like parameter at the minimum its descriptor allows (or just
+ * above, when the minimum is open or prepare refuses it), grazing, slow and fast impacts */
+START_TEST(test_hard_cases)
+{
+    const combo *c = &combos[_i];
+    char what[260], name[160];
+    name_of(c, name, sizeof name);
+    const gr_model *laws[2] = {c->normal, c->dim == 2 ? c->tangential : NULL};
+    for (int m = 0; m < 2; m++) {
+        for (int i = 0; laws[m] && i < laws[m]->n_params; i++) {
+            const gr_param *d = &laws[m]->params[i];
+            if (d->type != GR_PARAM_DOUBLE || strncmp(d->name, "eps", 3) != 0) {
+                continue;
+            }
+            gr_contact_params p = defaults_of(c);
+            for (int lo = 0; lo < 2; lo++) {
+                const double v = lo == 0 && !d->min_open ? d->min : d->min + 1e-6;
+                *(double *)((char *)&p + d->offset) = v;
+                gr_collide_setup s = setup_of(c, p);
+                gr_contact_coeffs k;
+                gr_error err = {0};
+                const gr_model *t = s.dim == 2 ? s.tangential : NULL;
+                if (gr_contact_prepare(s.normal, t, &s.contact, 0.5 * MASS, 0.0, &k, &err) != GR_OK) {
+                    ck_assert_msg(err.message[0] != '\0', "%s: %s = %g refused without a message", name, d->name, v);
+                    continue;
+                }
+                for (int a = 0; a < (c->dim == 2 ? 2 : 1); a++) {
+                    snprintf(what, sizeof what, "%s, %s = %g, angle %g", name, d->name, v, a ? 60.0 : 0.0);
+                    hard_case(c, &p, 0.1, a ? 60.0 : 0.0, what);
+                }
+            }
+        }
+    }
+    for (int m = 0; m < 2; m++) {
+        for (int e = 0; laws[m] && laws[m]->extremes && laws[m]->extremes[e]; e++) {
+            gr_contact_params x = defaults_of(c);
+            apply_settings(&x, laws[m]->extremes[e]);
+            for (int a = 0; a < (c->dim == 2 ? 2 : 1); a++) {
+                snprintf(what, sizeof what, "%s, %s, angle %g", name, laws[m]->extremes[e], a ? 60.0 : 0.0);
+                hard_case(c, &x, 0.1, a ? 60.0 : 0.0, what);
+            }
+        }
+    }
+    const gr_contact_params p = defaults_of(c);
+    const double hard_speeds[] = {1e-5, 10.0};
+    for (int v = 0; v < 2; v++) {
+        snprintf(what, sizeof what, "%s at %g m/s", name, hard_speeds[v]);
+        hard_case(c, &p, hard_speeds[v], 0.0, what);
+    }
+    if (c->dim == 2) {
+        snprintf(what, sizeof what, "%s, grazing at 89.9 deg", name);
+        hard_case(c, &p, 0.1, 89.9, what);
+    }
+}
+END_TEST
+
+/* Two discs colliding head-on (2D: at 30 degrees) with the pair centred at (cx, cy) of a box of
+ * side L; returns the final velocities and the ledger residual relative to the initial energy. */
+static double pair_run(const combo *c, double cx, double cy, double out[4], double *resid, double *t_over_dt)
+{
+    gr_scene sc;
+    gr_scene_default(&sc);
+    sc.dim = c->dim;
+    sc.N = 2;
+    sc.radius = RADIUS;
+    sc.mass = MASS;
+    sc.normal = c->normal;
+    sc.tangential = c->dim == 2 ? c->tangential : NULL;
+    sc.contact = defaults_of(c);
+    sc.contact.clamp = c->clamp;
+    sc.D = 0.0;
+    sc.noise_mode = GR_NOISE_NONE;
+    sc.L = 40.0 * DIAM;
+    sc.skin = 0.3;
+    const double speed = 0.1, a = c->dim == 2 ? 30.0 * M_PI / 180.0 : 0.0;
+    gr_contact_coeffs k;
+    gr_error err = {0};
+    ck_assert(gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * MASS, 0.0, &k, &err) == GR_OK);
+    sc.dt = duration_of(&k, speed, 0.0) / STEPS;
+    /* contact begins 10.5 steps in (mid-step, so rounding cannot move it by a step); 1 moves +x, 2 moves -x, offset by d sin a in y */
+    const double gap = 10.5 * sc.dt * speed, half = 0.5 * (DIAM * cos(a) + gap);
+    double x[2] = {cx - half, cx + half}, y[2] = {cy - 0.5 * DIAM * sin(a), cy + 0.5 * DIAM * sin(a)};
+    for (int p = 0; p < 2; p++) {
+        x[p] -= sc.L * floor(x[p] / sc.L);
+        y[p] -= sc.L * floor(y[p] / sc.L);
+    }
+    double vx[2] = {0.5 * speed, -0.5 * speed}, vy[2] = {0.0, 0.0};
+    /* the 1D ring keeps the particles in order: across the boundary particle 1 comes first */
+    const int swap = c->dim == 1 && x[0] > x[1];
+    if (swap) {
+        double t = x[0];
+        x[0] = x[1];
+        x[1] = t;
+        vx[0] = -0.5 * speed;
+        vx[1] = 0.5 * speed;
+    }
+    gr_sim *s = NULL;
+    int rc = gr_sim_create_with_state(&sc, 2, x, c->dim == 2 ? y : NULL, vx, c->dim == 2 ? vy : NULL, &s, &err);
+    ck_assert_msg(rc == GR_OK, "create: %s", err.message);
+    const int64_t steps = (int64_t)(3.0 * STEPS) + 40;
+    rc = gr_sim_step(s, steps, &err);
+    ck_assert_msg(rc == GR_OK, "step: %s", err.message);
+    gr_particles pp = gr_sim_particles(s);
+    out[0] = pp.vx[swap];
+    out[1] = pp.vx[1 - swap];
+    out[2] = c->dim == 2 ? pp.vy[0] : 0.0;
+    out[3] = c->dim == 2 ? pp.vy[1] : 0.0;
+    gr_ledger l = gr_sim_ledger(s);
+    *resid = gr_ledger_residual(&l) / l.initial;
+    *t_over_dt = duration_of(&k, speed, 0.0) / gr_sim_dt(s);
+    const int64_t coll = gr_sim_collisions(s);
+    gr_sim_free(s);
+    return (double)coll;
+}
+
+/* 5. a contact across the periodic boundary equals the same contact inside the box, and the
+ * ledger closes over a collision to first order */
+START_TEST(test_periodic_and_ledger)
+{
+    const combo *c = &combos[_i];
+    char name[160];
+    name_of(c, name, sizeof name);
+    const double L = 40.0 * DIAM;
+    double mid[4], edge[4], r_mid, r_edge, steps;
+    const double coll = pair_run(c, 0.5 * L, 0.5 * L, mid, &r_mid, &steps);
+    pair_run(c, 0.0, c->dim == 2 ? 0.0 : 0.5 * L, edge, &r_edge, &steps);
+    ck_assert_msg(coll >= 1.0, "%s: the pair did not collide", name);
+    for (int q = 0; q < 4; q++) {
+        ck_assert_msg(isfinite(edge[q]), "%s: velocity %d is %g across the boundary", name, q, edge[q]);
+        ck_assert_msg(fabs(edge[q] - mid[q]) <= 1e-9 * 0.1, "%s: velocity %d %.17g across the boundary, %.17g inside",
+                      name, q, edge[q], mid[q]);
+    }
+    /* after the collision the elastic energy is 0; the ledger's residual is the velocity-Verlet
+     * energy error of the contact, second order: (w dt)^2 / 4 per collision at most for the
+     * linear law (docs/collision-accuracy.md), w ~ pi / t_c */
+    const double tol = pow(M_PI / steps, 2.0);
+    VERBOSE("%s: ledger residual %.3e of the initial energy (tol %.2e)\n", name, r_mid, tol);
+    ck_assert_msg(fabs(r_mid) <= tol && fabs(r_edge) <= tol, "%s: ledger residual %.3e / %.3e of the initial energy (tol %.2e)",
+                  name, r_mid, r_edge, tol);
+}
+END_TEST
+
+/* 6. the suite sees the registry: every soft normal law and every tangential law is in a combo */
+START_TEST(test_registry_covered)
+{
+    for (int m = 0; gr_models[m]; m++) {
+        const gr_model *md = gr_models[m];
+        if (md->kind & GR_MODEL_EVENT) {
+            ck_assert_msg(md->impact && md->restitution_t, "%s: an event rule needs its restitution law", md->name);
+            continue;
+        }
+        int seen = 0;
+        for (int i = 0; i < n_combos; i++) {
+            seen += combos[i].normal == md || combos[i].tangential == md;
+        }
+        ck_assert_msg(seen > 0, "model %s is in no combination", md->name);
+        ck_assert_msg(md->elastic && md->elastic[0], "%s: no elastic settings", md->name);
+        if (md->kind & GR_MODEL_NORMAL) {
+            ck_assert_msg(md->impact, "%s: a normal law needs its impact (restitution law)", md->name);
+        } else {
+            ck_assert_msg(md->restitution_t, "%s: a tangential law needs restitution_t", md->name);
+        }
+    }
+}
+END_TEST
+
+static Suite *suite(void)
+{
+    enumerate();
+    Suite *s = suite_create("models_conformance");
+    TCase *tc = tcase_create("conformance");
+    tcase_add_test(tc, test_registry_covered);
+    tcase_add_loop_test(tc, test_restitution_law, 0, n_combos);
+    tcase_add_loop_test(tc, test_engine_vs_reference, 0, n_combos);
+    tcase_add_loop_test(tc, test_elastic, 0, n_combos);
+    tcase_add_loop_test(tc, test_hard_cases, 0, n_combos);
+    tcase_add_loop_test(tc, test_periodic_and_ledger, 0, n_combos);
+    tcase_set_timeout(tc, 300);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+int main(void)
+{
+    SRunner *sr = srunner_create(suite());
+    srunner_run_all(sr, CK_NORMAL);
+    int failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
