@@ -575,9 +575,9 @@ void gr_kernel_choose(gr_sim *s)
         abort();
     }
     s->kernel = k;
-    const char *noise = s->scene.noise_mode == GR_NOISE_NONE ? "no-noise"
-                        : s->scene.noise_mode == GR_NOISE_COM ? "noise-com" : "noise-symmetrised";
-    const char *nb = s->dim == 1 ? "1d-ring" : (s->scene.skin > 0.0 ? "2d-verlet-list" : "2d-cell-list");
+    const char *noise = s->params.noise_mode == GR_NOISE_NONE ? "no-noise"
+                        : s->params.noise_mode == GR_NOISE_COM ? "noise-com" : "noise-symmetrised";
+    const char *nb = s->dim == 1 ? "1d-ring" : (s->params.skin > 0.0 ? "2d-verlet-list" : "2d-cell-list");
     const kernel_entry *e = &kernels[k];
     snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s/%s", nb, e->normal, e->clamp ? "[clamped]" : "",
              e->tl != TL_none ? "+" : "", e->tl != TL_none ? e->tangential : "", noise);

@@ -22,10 +22,7 @@ typedef struct gr_force_report {
 typedef int gr_kernel_id; /* index into the kernel instances of kernels.c (from models/list.h) */
 
 struct gr_sim {
-    union { /* the parameters it was created with; `scene` is their former name */
-        gr_sim_params params;
-        gr_sim_params scene;
-    };
+    gr_sim_params params; /* the parameters it was created with */
     gr_contact_coeffs cc;
     int n, dim;
     double L, d, mass, dt;
