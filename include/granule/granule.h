@@ -7,6 +7,7 @@
 #include "granule/bisect.h"
 #include "granule/cascade.h"
 #include "granule/collide.h"
+#include "granule/compare.h"
 #include "granule/fokker_planck.h"
 #include "granule/model.h"
 #include "granule/noise.h"

@@ -8,6 +8,17 @@
 #include "io/files.h"
 #include "io/plot.h"
 
+/* Okabe-Ito's colour-blind-safe set without its yellow, orange and sky blue, completed by black, wine,
+ * brown and purple: every colour has a contrast ratio of at least 3:1 against white. */
+const char *const gr_plot_palette[GR_PLOT_COLOURS] = {"#0072b2", "#d55e00", "#009e73", "#cc79a7",
+                                                     "#000000", "#882255", "#8c510a", "#5e3c99"};
+
+void gr_plot_series_style(int k, char *buf, size_t size)
+{
+    k = k < 0 ? 0 : k;
+    snprintf(buf, size, "lc rgb '%s' dt %d lw 2", gr_plot_palette[k % GR_PLOT_COLOURS], 1 + k % 4);
+}
+
 static int gnuplot_available(void)
 {
     return system("command -v gnuplot >/dev/null 2>&1") == 0;
