@@ -9,10 +9,12 @@
 #include "granule/compare.h"
 #include "granule/run.h"
 #include "io/files.h"
+#include "io/plot.h"
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: granule compare SCENE --models SPEC[,SPEC...] [--set section.key=value ...] [--out DIR] [--force]\n\n"
+    fprintf(f, "usage: granule compare SCENE --models SPEC[,SPEC...] [--set section.key=value ...] [--out DIR] [--force]\n"
+               "                      [--format png|svg|pdf]\n\n"
                "Runs SCENE once per model SPEC with the same initial state and the same noise (same seed):\n"
                "SPEC = NORMAL[+TANGENTIAL][@clamp][@INTEGRATOR], INTEGRATOR = verlet | event | hybrid, e.g.\n"
                "  --models spring_dashpot,spring_dashpot@hybrid,hard_sphere@event\n"
@@ -48,6 +50,8 @@ int cmd_compare(int argc, char **argv)
             out = argv[++i];
         } else if (!strcmp(argv[i], "--force")) {
             force = true;
+        } else if (!strcmp(argv[i], "--format") && i + 1 < argc) {
+            rc = cli_plot_format(argv[++i]) ? EXIT_OK : EXIT_REFUSED;
         } else if (argv[i][0] != '-' && !scene_path) {
             scene_path = argv[i];
         } else {
@@ -97,6 +101,8 @@ int cmd_compare(int argc, char **argv)
         if (gr_run(&scenes[k], &opt, &res, &err)) {
             cli_error("compare: %s: %s", specs[k].text, err.message);
             failures++;
+        } else {
+            gr_plot_summary_update(scenes[k].out_dir);
         }
     }
     gr_compare_table *t = gr_compare_table_build(out, scene_path, scenes[0].dim, specs, n);
