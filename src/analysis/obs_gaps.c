@@ -297,7 +297,7 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
         char legend[120];
         gr_plot_legend_value("fit (3.22), n_N", fit->p[1] + 1.0, fit->err[1], legend, sizeof legend);
         len += (size_t)snprintf(body + len, sizeof body - len,
-                                ", [%.10g:%.10g] %.10g * x**%.10g with lines lw 3 dt 2 lc rgb 'black' title '%s'", u_lo, u_hi,
+                                ", [%.10g:%.10g] %.10g * x**%.10g with lines lw 4 dt 2 lc rgb '#707070' title '%s'", u_lo, u_hi,
                                 fit->p[0], fit->p[1], legend);
     }
     if (len < sizeof body) {

@@ -57,11 +57,11 @@ void gr_plot_series_style(int k, char *buf, size_t size)
     snprintf(buf, size, "lc rgb '%s' dt %d lw 2", gr_plot_palette[k % GR_PLOT_COLOURS], 1 + k % 4);
 }
 
-/* Which of x and y the body puts on a log scale without choosing their tick format:
- * flags[0] = x, flags[1] = y. */
-static void log_axes_without_format(const char *body, bool flags[2])
+/* Which of x and y the body puts on a log scale (log[0] = x, log[1] = y) and which it chooses the
+ * tick format of (format[0], format[1]). */
+static void scan_axes(const char *body, bool log[2], bool format[2])
 {
-    bool log[2] = {false, false}, format[2] = {false, false};
+    log[0] = log[1] = format[0] = format[1] = false;
     for (const char *line = body; line && *line; line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL) {
         while (*line == ' ') {
             line++;
@@ -90,8 +90,6 @@ static void log_axes_without_format(const char *body, bool flags[2])
         which[0] |= all;
         which[1] |= all;
     }
-    flags[0] = log[0] && !format[0];
-    flags[1] = log[1] && !format[1];
 }
 
 char *gr_plot_compose(const char *body, const char *output, gr_plot_format f)
@@ -115,13 +113,16 @@ char *gr_plot_compose(const char *body, const char *output, gr_plot_format f)
     /* ticks: "%h" prints 1e-05 as 1x10^{-5} and 100 as 100, never 0.000010 or 100.0000000;
      * log axes read 10^{n}. Margins: autoscaled ranges reach 3-6 % beyond the data, so no point or
      * error bar sits on the frame. The body may override any of this. */
-    bool log[2];
-    log_axes_without_format(body, log);
+    bool log[2], format[2];
+    scan_axes(body, log, format);
+    /* a linear axis ends at the data plus the margin; a log axis at whole decades beyond it, so
+     * that it always carries labelled ticks */
     len += (size_t)snprintf(s + len, size - len,
-                            "set format x '%s'\nset format y '%s'\nset offsets graph 0.03, graph 0.03, graph 0.06, graph 0.06\n"
+                            "set format x '%s'\nset format y '%s'\n%s%sset offsets graph 0.03, graph 0.03, graph 0.06, graph 0.06\n"
                             "set grid lc rgb '#d0d0d0' lw 1 dt 1\nset border lw 1.5\nset key noopaque samplen 2.5\n"
                             "set output '%s'\n%s\nset output\n",
-                            log[0] ? "10^{%L}" : "%h", log[1] ? "10^{%L}" : "%h", output, body);
+                            log[0] && !format[0] ? "10^{%L}" : "%h", log[1] && !format[1] ? "10^{%L}" : "%h",
+                            log[0] ? "" : "set autoscale xfix\n", log[1] ? "" : "set autoscale yfix\n", output, body);
     return s;
 }
 
@@ -201,7 +202,7 @@ int gr_plot_run(const char *dir, int dim, char *note, size_t note_size)
     snprintf(body, sizeof body,
              "set title \"Granular temperature\\n{/*0.75 eq. (2.19); running mean over the sampling phase}\"\n"
              "set xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\nset key top right\n"
-             "plot 'temperature.csv' skip 1 using 1:2 with lines lw 1 lc rgb '#9aa7b4' title 'T(t)', "
+             "plot 'temperature.csv' skip 1 using 1:2 with lines lw 1 lc rgb '#a0a0a0' title 'T(t)', "
              "'' skip 1 using 1:3 with lines lw 3 lc rgb '%s' title 'running mean'\n",
              gr_plot_palette[1]);
     if (gr_plot_script(dir, "temperature.png", body, note, note_size)) {
@@ -209,11 +210,11 @@ int gr_plot_run(const char *dir, int dim, char *note, size_t note_size)
     }
     snprintf(body, sizeof body,
              "set title \"Energy ledger\\n{/*0.75 residual = kinetic + elastic - initial - injected + dissipated}\"\n"
-             "set xlabel 't (s)'\nset ylabel 'energy (J)'\nset key outside right top\n"
+             "set xlabel 't (s)'\nset ylabel 'energy (J)'\nset key top left\n"
              "plot 'ledger.csv' skip 1 using 1:4 with lines lw 3 lt 1 title 'injected by noise', "
              "'' skip 1 using 1:($5+$6+$7) with lines lw 3 lt 2 title 'dissipated (all)', "
              "'' skip 1 using 1:5 with lines dt 2 lt 3 title 'dissipated normal', "
-             "'' skip 1 using 1:($6+$7) with lines dt 4 lt 4 title \"dissipated tangential\\n+ friction\", "
+             "'' skip 1 using 1:($6+$7) with lines dt 4 lt 4 title 'dissipated tangential + friction', "
              "'' skip 1 using 1:($2+$3) with lines lt 6 title 'kinetic + elastic', "
              "'' skip 1 using 1:9 with lines lt 5 dt 3 title 'residual'\n");
     return gr_plot_script(dir, "ledger.png", body, note, note_size);
