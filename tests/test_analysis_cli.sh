@@ -161,6 +161,27 @@ check grep -q "events/s" "$tmp/cmpi/compare.md"
 check test $? -eq 2
 check grep -q "needs \[model\] normal = hard_sphere" "$tmp/cmpi2.err"
 check test ! -e "$tmp/cmpi2"
+# granule plot recurses into the models of a comparison; --format svg; summary.json lists the pictures
+"$granule" plot "$tmp/cmpi" --format svg >"$tmp/plot.out" 2>&1
+check test $? -eq 0
+check test -s "$tmp/cmpi/temperature.svg"
+check test -s "$tmp/cmpi/spring_dashpot_hybrid/temperature.svg"
+check grep -q '"temperature.svg"' "$tmp/cmpi/hard_sphere_event/summary.json"
+"$granule" plot "$tmp/cmpi" --format jpeg >/dev/null 2>"$tmp/plot.err"
+check test $? -eq 2
+check grep -q "png, svg or pdf" "$tmp/plot.err"
+# granule run --format pdf: every plot a PDF, all listed in summary.json
+check "$granule" run "$src/docs/scenes/rfm-1d.ini" --set system.N=50 --set run.warmup=0 --set run.duration=0.01 \
+    --set analysis.observables=moments --set output.snapshot_every=0 --format pdf --out "$tmp/pdfrun" --quiet
+check python3 - "$tmp/pdfrun" <<'PY'
+import json, os, sys
+d = sys.argv[1]
+plots = json.load(open(d + "/summary.json"))["plots"]
+assert sorted(plots) == sorted(f for f in os.listdir(d) if f.endswith(".pdf")), plots
+assert {"temperature.pdf", "ledger.pdf", "moments.pdf"} <= set(plots), plots
+assert all(open(os.path.join(d, f), "rb").read(4) == b"%PDF" for f in plots)
+assert not [f for f in os.listdir(d) if f.endswith(".png")]
+PY
 "$granule" compare "$src/docs/scenes/rfm-1d.ini" --models spring_dashpot@warp --out "$tmp/cmpi2" >/dev/null 2>"$tmp/cmpi2.err"
 check test $? -eq 2
 check grep -q "@verlet | @event | @hybrid" "$tmp/cmpi2.err"

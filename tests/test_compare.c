@@ -308,7 +308,7 @@ START_TEST(test_mixed_integrators)
     snprintf(path, sizeof path, "%s/temperature.gp", g_dir);
     if (access(path, R_OK) == 0) { /* written by gr_plot_script, which needs gnuplot */
         const char *gp = slurp(path);
-        ck_assert(strstr(gp, "set key outside"));
+        ck_assert(strstr(gp, "set key below"));
         for (int k = 0; k < 3; k++) {
             char style[80];
             gr_plot_series_style(k, style, sizeof style);

@@ -90,7 +90,7 @@ void gr_compare_table_print(const gr_compare_table *t, FILE *f);
 
 /* The overlaid plots of a comparison: temperature.png (T(t) of every model) and, when the runs
  * have the pv observable, pv_collapse.csv/.png (the collapse (5.4)). Distinct colours and dash
- * types for up to 8 models, the legend outside the data. Failures only fill `note`. */
+ * types for up to 8 models, the legend below the data. Failures only fill `note`. */
 void gr_compare_plots(const char *out, const gr_compare_spec *specs, int n, char *note, size_t note_size);
 
 /* "value +- error" with the error to two significant digits and the value to the same decimal

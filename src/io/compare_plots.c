@@ -129,10 +129,10 @@ static void pv_collapse(const char *out, const gr_compare_spec *specs, int n, ch
             if (gr_file_commit(&f, &err) == GR_OK) {
                 char body[6000];
                 size_t blen = (size_t)snprintf(body, sizeof body,
-                                               "set logscale y\nset format y '10^{%%L}'\nset key outside right top\n"
+                                               "set logscale y\nset format y '10^{%%L}'\nset key below\n"
                                                "set xlabel 'v / v_{rms}'\nset ylabel \"P'(v) = P(v) P_0(1) / P(1)\"\n"
-                                               "set title \"Velocity distributions rescaled at v = v_{rms}\\n{/*0.8 eq. (5.4); "
-                                               "reference P_0: %s}\" noenhanced\nplot ", specs[0].text);
+                                               "set title \"Velocity distributions of the models, matched at v = v_{rms}\\n{/*0.75 "
+                                               "eq. (5.4); P_0: the first model}\"\nplot ");
                 for (int k = 0; k < n && blen < sizeof body; k++) {
                     char style[80];
                     gr_plot_series_style(k, style, sizeof style);
@@ -158,7 +158,7 @@ void gr_compare_plots(const char *out, const gr_compare_spec *specs, int n, char
     note[0] = 0;
     char body[6000];
     size_t len = (size_t)snprintf(body, sizeof body,
-                                  "set title 'Granular temperature under each model'\nset key outside right top\n"
+                                  "set title 'Granular temperature under each model'\nset key below\n"
                                   "set xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\nset format y '%%g'\n");
     len = overlay(body, sizeof body, len, specs, n, "%s/temperature.csv", "skip 1 using 1:2");
     if (len < sizeof body) {

@@ -54,7 +54,8 @@ void gr_plot_file_name(const char *png_name, char *buf, size_t size)
 void gr_plot_series_style(int k, char *buf, size_t size)
 {
     k = k < 0 ? 0 : k;
-    snprintf(buf, size, "lc rgb '%s' dt %d lw 2", gr_plot_palette[k % GR_PLOT_COLOURS], 1 + k % 4);
+    static const int dash[4] = {1, 2, 4, 5}; /* solid, dashed, dash-dot, dash-dot-dot: no dots, which vanish */
+    snprintf(buf, size, "lc rgb '%s' dt %d lw 2", gr_plot_palette[k % GR_PLOT_COLOURS], dash[k % 4]);
 }
 
 /* Which of x and y the body puts on a log scale (log[0] = x, log[1] = y) and which it chooses the

@@ -47,7 +47,7 @@ void gr_plot_legend_value(const char *name, double value, double error, char *bu
  * order overlays use them; the preamble makes them gnuplot's line types 1-8. */
 #define GR_PLOT_COLOURS 8
 extern const char *const gr_plot_palette[GR_PLOT_COLOURS];
-/* The style of series k of an overlay (0-based): "lc rgb '<palette k>' dt <1-4> lw 2", so that
+/* The style of series k of an overlay (0-based): "lc rgb '<palette k>' dt <1, 2, 4, 5> lw 2", so that
  * up to eight series differ in colour and neighbours also in dash type. */
 void gr_plot_series_style(int k, char *buf, size_t size);
 
