@@ -123,25 +123,68 @@ sys.exit(0 if ok else 1)
 PY
 done
 
-# compare: two models, one table row each, same initial state
+# compare: two models, one table row each, same initial state; the headline table on stdout
 check "$granule" compare "$src/docs/scenes/steady-2d.ini" --models spring_dashpot+tangential_dashpot,spring_dashpot+sliding_friction \
     --set system.N=200 --set system.L=0.1 --set run.warmup=0 --set run.duration=0.005 --set output.plots=false --out "$tmp/cmp"
+"$granule" compare "$src/docs/scenes/steady-2d.ini" --models spring_dashpot+tangential_dashpot,spring_dashpot+sliding_friction \
+    --set system.N=200 --set system.L=0.1 --set run.warmup=0 --set run.duration=0.005 --set output.plots=false --out "$tmp/cmp" \
+    --force >"$tmp/cmp.out" 2>/dev/null
+check grep -q "^T (m^2/s^2) " "$tmp/cmp.out"
+check grep -q "particle-steps/s" "$tmp/cmp.out"
 check test "$(grep -vc '^#' "$tmp/cmp/compare.csv")" -eq 3
 check grep -q "sliding_friction" "$tmp/cmp/compare.md"
-# T_stderr_converged is a column, and each model whose error bar is not converged is named under the table
-check python3 - "$tmp/cmp" <<'PY'
+# T_stderr_converged is a column, each model whose error bar is not converged is marked in its
+# T cell with the footnote under the table, and no nan anywhere
+check python3 - "$tmp/cmp" "$tmp/cmp.out" <<'PY'
 import csv, sys
 d = sys.argv[1]
 rows = list(csv.DictReader(l for l in open(d + "/compare.csv") if not l.startswith("#")))
 md = open(d + "/compare.md").read()
-assert "| T_stderr_converged |" in md
+out = open(sys.argv[2]).read()
+assert "| T (m^2/s^2) |" in md
 flags = [r["T_stderr_converged"] for r in rows]
 assert all(f in ("0", "1") for f in flags), flags
 for r in rows:
-    warned = ("**Warning**: %s: the error bar of T is not converged" % r["model"]) in md
-    assert warned == (r["T_stderr_converged"] == "0"), r["model"]
+    assert (r["T_note"].endswith(" *")) == (r["T_stderr_converged"] == "0"), r["model"]
 assert "0" in flags, "a 0.005 s run should not have a converged error bar"
+assert "*: the error bar of T is not converged" in md and "*: the error bar of T is not converged" in out
+for text in (md, out, open(d + "/compare.csv").read()):
+    assert "nan" not in text.lower(), text
+assert "n/a: 2D" in md  # the G_1 exponent of a 2D scene
 PY
+# compare with mixed integrators: one 1D scene under verlet, hybrid and event-driven
+check "$granule" compare "$src/docs/scenes/rfm-1d.ini" --models spring_dashpot,spring_dashpot@hybrid,hard_sphere@event \
+    --set system.N=50 --set run.warmup=0 --set run.duration=0.01 --set output.plots=false --set output.snapshot_every=0 --out "$tmp/cmpi"
+check grep -q "| integrator | verlet | hybrid | event |" "$tmp/cmpi/compare.md"
+check grep -q "events/s" "$tmp/cmpi/compare.md"
+"$granule" compare "$src/docs/scenes/rfm-1d.ini" --models spring_dashpot@event --out "$tmp/cmpi2" >/dev/null 2>"$tmp/cmpi2.err"
+check test $? -eq 2
+check grep -q "needs \[model\] normal = hard_sphere" "$tmp/cmpi2.err"
+check test ! -e "$tmp/cmpi2"
+# granule plot recurses into the models of a comparison; --format svg; summary.json lists the pictures
+"$granule" plot "$tmp/cmpi" --format svg >"$tmp/plot.out" 2>&1
+check test $? -eq 0
+check test -s "$tmp/cmpi/temperature.svg"
+check test -s "$tmp/cmpi/spring_dashpot_hybrid/temperature.svg"
+check grep -q '"temperature.svg"' "$tmp/cmpi/hard_sphere_event/summary.json"
+"$granule" plot "$tmp/cmpi" --format jpeg >/dev/null 2>"$tmp/plot.err"
+check test $? -eq 2
+check grep -q "png, svg or pdf" "$tmp/plot.err"
+# granule run --format pdf: every plot a PDF, all listed in summary.json
+check "$granule" run "$src/docs/scenes/rfm-1d.ini" --set system.N=50 --set run.warmup=0 --set run.duration=0.01 \
+    --set analysis.observables=moments --set output.snapshot_every=0 --format pdf --out "$tmp/pdfrun" --quiet
+check python3 - "$tmp/pdfrun" <<'PY'
+import json, os, sys
+d = sys.argv[1]
+plots = json.load(open(d + "/summary.json"))["plots"]
+assert sorted(plots) == sorted(f for f in os.listdir(d) if f.endswith(".pdf")), plots
+assert {"temperature.pdf", "ledger.pdf", "moments.pdf"} <= set(plots), plots
+assert all(open(os.path.join(d, f), "rb").read(4) == b"%PDF" for f in plots)
+assert not [f for f in os.listdir(d) if f.endswith(".png")]
+PY
+"$granule" compare "$src/docs/scenes/rfm-1d.ini" --models spring_dashpot@warp --out "$tmp/cmpi2" >/dev/null 2>"$tmp/cmpi2.err"
+check test $? -eq 2
+check grep -q "@verlet | @event | @hybrid" "$tmp/cmpi2.err"
 "$granule" compare "$src/docs/scenes/steady-2d.ini" --models nonsense --out "$tmp/cmp2" >/dev/null 2>&1
 check test $? -eq 2
 

@@ -148,6 +148,12 @@ base | collide --dim 3 | 2 | dim | new
 base | collide --steps-per-contact 5 | 2 | steps_per_contact;!collide: collide: | new
 base | compare $S --out $O --models nosuch | 2 | nosuch | new
 base | compare $S --out $O --models spring_dashpot@bogus | 2 | @clamp | new
+base | compare $S --out $O --models nosuch@event | 2 | nosuch;spring_dashpot;hard_sphere | new
+base | compare $S --out $O --models spring_dashpot+nosuch | 2 | nosuch;tangential_dashpot;sliding_friction | new
+base | compare $S --out $O --models spring_dashpot@warp | 2 | @warp;@verlet;@hybrid | new
+base | compare $S --out $O --models spring_dashpot@event@hybrid | 2 | twice | new
+base | compare $S --out $O --models spring_dashpot,spring_dashpot@event | 2 | spring_dashpot@event: ;hard_sphere | new
+base | compare $S --out $O --models spring_dashpot,spring_dashpot | 2 | share the folder | new
 base | compare $S --out $O | 2 | usage | new
 missing | compare $S --out $O --models spring_dashpot | 2 | cannot open | new
 base | compare $S --out $O --models spring_dashpot,spring_dashpot@clamp | 2 | --force | compare

@@ -577,10 +577,77 @@ START_TEST(test_run_folder_1d)
     ck_assert_msg(strstr(written, "/snapshots.png") != NULL, "%s", written);
     image im = load_png(written);
     ck_assert_int_eq(im.w, 1000);
-    /* one segment (0.3 m at ~1000 px) of 40 rows of >= 3 px: taller than 40 * 3 */
-    ck_assert_msg(im.h > 40 * 3, "height %d", im.h);
+    /* the space-time diagram of all 45 frames (1D runs) */
+    gr_spacetime_layout l;
+    ck_assert_int_eq(gr_picture_spacetime_layout(45, 0.3, 0.0015, NULL, &l, &err), GR_OK);
+    ck_assert_int_eq(im.h, l.height);
+    ck_assert_int_eq(l.row_h, 12); /* 900 / 45 = 20 px per frame, at most 12 */
     image_free(&im);
     assert_no_temporaries(g_dir);
+}
+END_TEST
+
+
+/* The 1D space-time diagram: x across the ring, frame j in the j-th band of rows from the top,
+ * every particle a mark at its position in the colour of its |v| / v_rms, on the dark ground; a
+ * mark across the ring's end appears at both ends; the picture's size is the layout's. */
+START_TEST(test_spacetime)
+{
+    enum { NF = 30 };
+    const double L = 1.0, r = 0.002;
+    gr_frame fr[NF];
+    for (int j = 0; j < NF; j++) {
+        fr[j] = frame_new(4, 1, L, 0.01 * j);
+        fr[j].x[0] = 0.25;             /* at rest */
+        fr[j].x[1] = 0.5 + 0.01 * j;   /* moving right at 1 m/s */
+        fr[j].vx[1] = 1.0;
+        fr[j].x[2] = 0.0;              /* on the ring's end, -1 m/s */
+        fr[j].vx[2] = -1.0;
+        fr[j].x[3] = 0.75;             /* at rest */
+    }
+    gr_picture_options opt = {.size = 1000};
+    gr_error err = {0};
+    gr_spacetime_layout l;
+    ck_assert_int_eq(gr_picture_spacetime_layout(NF, L, r, &opt, &l, &err), GR_OK);
+    ck_assert_int_eq(l.width, 1000);
+    ck_assert_int_eq(l.row_h, 12); /* 900 / 30 = 30, at most 12 */
+    ck_assert_msg(l.x0 > 0 && l.y0 > 0 && l.x0 + l.w <= l.width && l.y0 + NF * l.row_h < l.height, "layout %d %d %d %d", l.x0,
+                  l.y0, l.w, l.height);
+    ck_assert_double_eq_tol(l.mark, fmax(1.0, 2.0 * r * l.w / L), 1e-12);
+    const char *png = in_dir("spacetime.png");
+    ck_assert_msg(gr_picture_spacetime(fr, NF, r, png, &opt, &err) == GR_OK, "%s", err.message);
+    image im = load_png(png);
+    ck_assert_int_eq(im.w, l.width);
+    ck_assert_int_eq(im.h, l.height);
+    const double vrms = sqrt(0.5);
+    double c_still[3], c_moving[3];
+    gr_picture_colour(&opt, 0.0, c_still);
+    gr_picture_colour(&opt, 1.0 / vrms, c_moving);
+    const double g = GR_SPACETIME_GROUND / 255.0;
+    for (int j = 0; j < NF; j += 7) {
+        const int y = l.y0 + j * l.row_h + l.row_h / 2;
+        expect_pixel(&im, l.x0 + (int)(0.25 * l.w), y, c_still[0], c_still[1], c_still[2], 2, "particle at rest");
+        expect_pixel(&im, l.x0 + (int)((0.5 + 0.01 * j) * l.w), y, c_moving[0], c_moving[1], c_moving[2], 2, "moving particle");
+        expect_pixel(&im, l.x0, y, c_moving[0], c_moving[1], c_moving[2], 2, "mark on the ring's end, left");
+        expect_pixel(&im, l.x0 + l.w - 1, y, c_moving[0], c_moving[1], c_moving[2], 2, "mark on the ring's end, right");
+        expect_pixel(&im, l.x0 + (int)(0.4 * l.w), y, g, g, g, 0, "the ground");
+        /* time runs down: the moving particle is not yet at its last position in row j < NF - 1 */
+        if (j < NF - 1) {
+            expect_pixel(&im, l.x0 + (int)((0.5 + 0.01 * (NF - 1)) * l.w), y, g, g, g, 0, "later position, earlier row");
+        }
+    }
+    image_free(&im);
+    /* refusals: 2D frames, no frames, too many frames */
+    gr_frame two = frame_new(2, 2, L, 0.0);
+    ck_assert_int_eq(gr_picture_spacetime(&two, 1, r, in_dir("bad.png"), &opt, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "1D") != NULL, "%s", err.message);
+    ck_assert_int_eq(gr_picture_spacetime(fr, 0, r, in_dir("bad.png"), &opt, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_picture_spacetime_layout(GR_SPACETIME_MAX_FRAMES + 1, L, r, &opt, &l, &err), GR_EINVAL);
+    ck_assert_int_eq(access(in_dir("bad.png"), F_OK), -1);
+    gr_frame_free(&two);
+    for (int j = 0; j < NF; j++) {
+        gr_frame_free(&fr[j]);
+    }
 }
 END_TEST
 
@@ -596,6 +663,7 @@ static Suite *picture_suite(void)
     tcase_add_test(tc, test_refusals);
     tcase_add_test(tc, test_run_folder_2d);
     tcase_add_test(tc, test_run_folder_1d);
+    tcase_add_test(tc, test_spacetime);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
+#include "io/plot.h"
 #include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
@@ -163,14 +164,16 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     if (!rc && out->plots && f->paths) {
         char body[1200], fitline[600] = "";
         if (fitted) {
+            char legend[120];
+            gr_plot_legend_value("fit (4.25), D_f", fit.p[2], fit.err[2], legend, sizeof legend);
             snprintf(fitline, sizeof fitline,
-                     ", (x >= %.6g && x <= %.6g) ? %.8g * exp(-%.8g * x**(%.8g - 1)) * x**(%.8g - 2) : 1/0 "
-                     "lw 2 title sprintf('(4.25), D_f = %.3f')",
-                     x[0], x[m - 1], exp(fit.p[0]), exp(fit.p[1]), fit.p[2], fit.p[2], fit.p[2]);
+                     ", [%.6g:%.6g] %.8g * exp(-%.8g * x**(%.8g - 1)) * x**(%.8g - 2) with lines lw 3 lt 2 title '%s'",
+                     x[0], x[m - 1], exp(fit.p[0]), exp(fit.p[1]), fit.p[2], fit.p[2], legend);
         }
         snprintf(body, sizeof body,
-                 "set logscale xy\nset xlabel 'l / d'\nset ylabel 'P_l(l)'\nset title 'Free-path distribution (4.18)'\n"
-                 "set samples 400\nplot 'freepath.csv' skip 1 using 3:($4>0?$5:1/0):6 with yerrorbars title 'P_l(l)'%s",
+                 "set logscale xy\nset xlabel 'free path l / d'\nset ylabel 'P_l(l)'\n"
+                 "set title \"Distribution of free paths between contacts\\n{/*0.75 eq. (4.18); fit of the tail (4.25)}\"\n"
+                 "set samples 400\nplot 'freepath.csv' skip 1 using 3:($4>0?$5:1/0):6 with yerrorbars lt 1 title 'P_l(l)'%s",
                  fitline);
         gr_obs_plot(out, "freepath.png", body);
     }

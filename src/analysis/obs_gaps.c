@@ -41,6 +41,7 @@
 #include <string.h>
 
 #include "analysis/obs_util.h"
+#include "io/plot.h"
 #include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
@@ -268,13 +269,13 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
     len = (size_t)snprintf(body, sizeof body,
                            "set logscale xy\nset format y '10^{%%L}'\nset format x '10^{%%L}'\nset key bottom left\n"
                            "set xlabel \"R (m, reduced coordinates 3.16)\"\nset ylabel 'G_h(R;N) (1/m)'\n"
-                           "set title \"h-th neighbour distributions G_h(R;N) (3.21, 3.24), N = %d, L' = %g m, %s bins\"\nplot ",
+                           "set title \"Distances to the h-th neighbour, N = %d, L' = %g m\\n{/*0.75 G_h(R;N), eqs. (3.21, 3.24); %s bins}\"\nplot ",
                            g->n, g->Lr, bin);
     for (int k = 0; k < nh && len < sizeof body; k++) {
         len += (size_t)snprintf(body + len, sizeof body - len,
                                 "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $7 > 0) ? $5 : 1/0):7 "
-                                "with linespoints pt 7 ps 0.5 title 'h = %d'",
-                                k ? ", " : "", hs[k], bin, hs[k]);
+                                "with linespoints lt %d pt 7 ps 0.5 title 'h = %d'",
+                                k ? ", " : "", hs[k], bin, k + 1, hs[k]);
     }
     if (len < sizeof body) {
         gr_obs_plot(out, "gaps.png", body);
@@ -284,19 +285,20 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
     len = (size_t)snprintf(body, sizeof body,
                            "set logscale xy\nset format y '10^{%%L}'\nset key top left\n"
                            "set xlabel \"-ln(R/L')\"\nset ylabel \"G_h(R;N) L'\"\n"
-                           "set title \"Neighbour distributions against -ln R (Fig. 3.12), N = %d, %s bins\"\nplot ",
+                           "set title \"Neighbour distributions against -ln(R/L'), N = %d\\n{/*0.75 Fig. 3.12; fit of (3.22) to h = 1 over its window; %s bins}\"\nplot ",
                            g->n, bin);
     for (int k = 0; k < nh && len < sizeof body; k++) {
         len += (size_t)snprintf(body + len, sizeof body - len,
                                 "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $7 > 0 && $9 > 0) ? $9 : 1/0):($7 * %.10g) "
-                                "with linespoints pt 7 ps 0.5 title 'h = %d'",
-                                k ? ", " : "", hs[k], bin, g->Lr, hs[k]);
+                                "with linespoints lt %d pt 7 ps 0.5 title 'h = %d'",
+                                k ? ", " : "", hs[k], bin, g->Lr, k + 1, hs[k]);
     }
     if (fit_ok && len < sizeof body) {
+        char legend[120];
+        gr_plot_legend_value("fit (3.22), n_N", fit->p[1] + 1.0, fit->err[1], legend, sizeof legend);
         len += (size_t)snprintf(body + len, sizeof body - len,
-                                ", [%.10g:%.10g] %.10g * x**%.10g with lines lw 2 dt 2 lc rgb 'black' "
-                                "title sprintf('(3.22) fit, n_N = %%.2f', %.10g)",
-                                u_lo, u_hi, fit->p[0], fit->p[1], fit->p[1] + 1.0);
+                                ", [%.10g:%.10g] %.10g * x**%.10g with lines lw 4 dt 2 lc rgb '#707070' title '%s'", u_lo, u_hi,
+                                fit->p[0], fit->p[1], legend);
     }
     if (len < sizeof body) {
         gr_obs_plot(out, "gaps_lnR.png", body);
@@ -306,7 +308,7 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
     len = (size_t)snprintf(body, sizeof body,
                            "set logscale y\nset format y '10^{%%L}'\nset key top left\nset xlabel 'm'\n"
                            "set ylabel \"<(R_{i,i+h} N / (h L'))^m>\"\n"
-                           "set title 'Moments of the neighbour separations (3.18), N = %d; dashed: Poisson points (Gamma(h))'\n"
+                           "set title \"Moments of the neighbour separations, N = %d\\n{/*0.75 eq. (3.18); dashed: Poisson points (Gamma(h))}\"\n"
                            "set xrange [0.5:%d.5]\nplot ",
                            g->n, M_MAX);
     for (int k = 0; k < nh && len < sizeof body; k++) {

@@ -96,9 +96,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     rc = gr_file_commit(&f, err);
     if (!rc && out->plots) {
         gr_obs_plot(out, "moments.png",
-                    "set logscale y\nset xlabel 'm'\nset ylabel '<|v|^m>'\nset title 'Velocity moments (3.11)'\n"
-                    "plot 'moments.csv' skip 1 using 1:2:3 with yerrorbars title 'speed', "
-                    "'' skip 1 using 1:4:5 with yerrorbars title 'component'");
+                    "set logscale y\nset xlabel 'm'\nset ylabel '<|v|^m> (m^m/s^m)'\nset key top left\nset xtics 1\n"
+                    "set title \"Velocity moments\\n{/*0.75 eq. (3.11); error bars: block averaging}\"\n"
+                    "plot 'moments.csv' skip 1 using 1:2:3 with yerrorbars pt 6 ps 1.6 title 'speed |v|', "
+                    "'' skip 1 using 1:4:5 with yerrorbars pt 7 ps 0.8 title 'one component |v_x|'");
     }
     return rc;
 }

@@ -22,6 +22,7 @@
 
 #include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
+#include "io/plot.h"
 #include "io/blob.h"
 #include "granule/scene.h"
 
@@ -132,10 +133,11 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                                 "MSD = 2 dim D_self tau + c over the upper half of "
                                 "the lags; the lags are "
                                 "correlated, so the error is indicative");
-        snprintf(fitline, sizeof fitline,
-                 ", (x >= %.6g) ? %.8g + %.8g * x : 1/0 lw 2 title sprintf('slope: "
-                 "D = %%.3g m^2/s', %.8g)",
-                 lo * gr_lag_interval(&m->lag), fit.p[0], fit.p[1], fit.p[1] / (2.0 * m->dim));
+        char legend[120];
+        gr_plot_legend_value("linear fit, D_{self} (m^2/s)", fit.p[1] / (2.0 * m->dim), fit.err[1] / (2.0 * m->dim),
+                             legend, sizeof legend);
+        snprintf(fitline, sizeof fitline, ", [%.6g:%.6g] %.8g + %.8g * x with lines lw 3 lt 2 title '%s'",
+                 lo * gr_lag_interval(&m->lag), m->lag.lags * gr_lag_interval(&m->lag), fit.p[0], fit.p[1], legend);
     } else {
         cJSON_AddStringToObject(j, "D_self", ferr.message);
     }
@@ -143,7 +145,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         char body[900];
         snprintf(body, sizeof body,
                  "set logscale xy\nset format xy '10^{%%L}'\nset xlabel 'lag tau (s)'\nset ylabel 'MSD "
-                 "(m^2)'\nset title 'Mean-square displacement'\n"
+                 "(m^2)'\nset key top left\n"
+                 "set title \"Mean-square displacement\\n{/*0.75 unwrapped positions; line: the fit over its window}\"\n"
                  "plot 'msd.csv' skip 1 using 1:($4>0&&$1>0?$2:1/0):3 with "
                  "yerrorbars title 'MSD'%s",
                  fitline);

@@ -50,6 +50,7 @@
 #include <string.h>
 
 #include "analysis/obs_util.h"
+#include "io/plot.h"
 #include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
@@ -621,35 +622,37 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     if (!rc && out->plots) {
         char body[1600];
         snprintf(body, sizeof body,
-                 "set xlabel 'R / d'\nset ylabel 'g(R)'\nset title 'Pair correlation g(R) (4.10), %lld frames'\n"
+                 "set xlabel 'R / d'\nset ylabel 'g(R)'\n"
+                 "set title \"Pair correlation function, %lld frames\\n{/*0.75 eq. (4.10)}\"\n"
                  "set key top right\n"
                  "set bars 0\n"
-                 "plot 'pair.csv' skip 1 using 2:3:4 with yerrorlines pt 7 ps 0.3 lc rgb '#224466' title 'g(R)', "
-                 "1 with lines dt 2 lc rgb 'black' title 'ideal gas'",
+                 "plot 'pair.csv' skip 1 using 2:3:4 with yerrorlines lt 1 pt 7 ps 0.3 title 'g(R)', "
+                 "1 with lines dt 2 lt 5 title 'ideal gas'",
                  (long long)s->frames);
         gr_obs_plot(out, "pair_g.png", body);
         int every = nb > 50 ? nb / 50 : 1; /* error bars on about 50 points */
         if (used >= 3) {
+            char legend[120];
+            gr_plot_legend_value("fit A R^{D_f}, D_f", fit.p[1], isfinite(jk) ? fmax(fit.err[1], jk) : fit.err[1], legend,
+                                 sizeof legend);
             snprintf(body, sizeof body,
                      "set logscale xy\nset bars 0\nset xrange [1:%.10g]\nset xlabel 'R / d'\n"
                      "set ylabel 'n(R) = C(R) - n pi R^2'\n"
-                     "set title 'Excess neighbours n(R) (4.17); fit over %.3g d <= R <= %.3g d'\nset key top left\n"
-                     "plot 'pair.csv' skip 1 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lc rgb '#224466' "
-                     "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars pt 7 "
-                     "ps 0.4 lc rgb '#224466' notitle, [%.10g:%.10g] %.10g * x**%.10g with lines lw 2 lc rgb '#cc3333' "
-                     "title 'D_f = %.3f +- %.3f'",
+                     "set title \"Excess neighbours within R\\n{/*0.75 eq. (4.17); fit over %.3g d <= R <= %.3g d}\"\n"
+                     "set key top left\n"
+                     "plot 'pair.csv' skip 1 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lt 1 "
+                     "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars lt 1 pt 7 "
+                     "ps 0.4 notitle, [%.10g:%.10g] %.10g * x**%.10g with lines lw 3 lt 2 title '%s'",
                      s->R_max / s->d, (lo + 1) * s->width / s->d, hi * s->width / s->d, s->d, every, s->d,
-                     (lo + 1) * s->width / s->d, hi * s->width / s->d, fit.p[0] * pow(s->d, fit.p[1]), fit.p[1],
-                     fit.p[1],
-                     isfinite(jk) ? fmax(fit.err[1], jk) : fit.err[1]);
+                     (lo + 1) * s->width / s->d, hi * s->width / s->d, fit.p[0] * pow(s->d, fit.p[1]), fit.p[1], legend);
         } else {
             snprintf(body, sizeof body,
                      "set logscale xy\nset bars 0\nset xrange [1:%.10g]\nset xlabel 'R / d'\n"
                      "set ylabel 'n(R) = C(R) - n pi R^2'\n"
-                     "set title 'Excess neighbours n(R) (4.17); no power-law fit'\n"
-                     "plot 'pair.csv' skip 1 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lc rgb '#224466' "
-                     "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars pt 7 "
-                     "ps 0.4 lc rgb '#224466' notitle",
+                     "set title \"Excess neighbours within R\\n{/*0.75 eq. (4.17); too few bins for the power-law fit}\"\n"
+                     "plot 'pair.csv' skip 1 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lt 1 "
+                     "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars lt 1 pt 7 "
+                     "ps 0.4 notitle",
                      s->R_max / s->d, s->d, every, s->d);
         }
         gr_obs_plot(out, "pair_n.png", body);

@@ -119,7 +119,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .ctx = p,
         .png = "postcollision.png",
         .plot = "set logscale y\nset xlabel 'v (m/s)'\nset ylabel 'probability density'\n"
-                "set title 'Post-collision and full velocity distributions (Fig. 5.9)'\n"
+                "set title \"Velocities just after a collision and of all particles\\n{/*0.75 Fig. 5.9}\"\n"
                 "plot 'postcollision.csv' skip 1 using 1:($4>0?$2:1/0) with points pt 7 ps 0.5 title 'P(v_0) after "
                 "collision', '' skip 1 using 1:($7>0?$5:1/0) with lines lw 2 title 'P(v)'",
     };

@@ -196,7 +196,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                 "1\nset style fill solid 0.5\n"
                 "set ylabel 'pressure (N/m in 2D, N in 1D)'\nset title 'Pressure: kinetic and "
                 "collisional parts'\n"
-                "set xtics rotate by -30\nplot 'pressure.csv' skip 1 every "
+                "set xtics rotate by -30 noenhanced\nplot 'pressure.csv' skip 1 every "
                 "::0::7 using 2:3:xtic(1) title 'P_{ab}'",
     };
     return gr_obs_table_write(out, &t, err);

@@ -39,6 +39,7 @@
 #include <string.h>
 
 #include "analysis/obs_util.h"
+#include "io/plot.h"
 #include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
@@ -695,40 +696,46 @@ static void draw_plots(const gr_output *out, const pv *s, const tail_result *tai
     vlim = vlim > 0.0 ? 1.05 * vlim : s->comp.hi;
     slim = (slim > 0.0 ? 1.05 * slim : s->speed.hi) / sqrt(s->sum_u2 / (double)s->particles);
     char body[4096], label[160];
-    if (tail->free_ok) {
-        snprintf(label, sizeof label, "stretched exponential (5.5), alpha = %.3f", tail->free_fit.p[2]);
+    /* the tail fit is drawn over its window only (|v| in [v_lo, v_hi]), its alpha with the error */
+    const double scale = sqrt(s->T_ref), v_lo = tail->n > 0 ? tail->u_lo * scale : 0.0, v_hi = tail->n > 0 ? tail->u_hi * scale : 0.0;
+    if (tail->accepted) {
+        gr_plot_legend_value("fit (5.5), accepted \u03b1", 0.5 * (tail->alpha_lo + tail->alpha_hi),
+                             0.5 * (tail->alpha_hi - tail->alpha_lo), label, sizeof label);
+    } else if (tail->free_ok) {
+        gr_plot_legend_value("free fit (5.5), \u03b1", tail->free_fit.p[2], tail->free_fit.err[2], label, sizeof label);
     } else {
-        snprintf(label, sizeof label, "stretched exponential (5.5), best alpha of the scan");
+        snprintf(label, sizeof label, "fit (5.5), best \u03b1 of the scan = %.2f", tail->alpha_best);
     }
     snprintf(body, sizeof body,
              "set logscale y\nset format y '10^{%%L}'\nset yrange [%g:*]\nset xrange [%g:%g]\n"
-             "set xlabel 'v (m/s), one component'\nset ylabel 'P(v) (s/m)'\n"
-             "set title 'Velocity distribution (App. A.1): tail fit (5.5), crossover P_0 (5.32)'\n"
+             "set xlabel 'v (m/s), one component'\nset ylabel 'P(v) (s/m)'\nset key top right\n"
+             "set title \"Velocity distribution\\n{/*0.75 App. A.1; tail fit (5.5) over its window, crossover P_0 (5.32)}\"\n"
              "s = %.10g\ngauss(x) = exp(-x*x/(2*s*s))/sqrt(2*pi*s*s)\n"
-             "plot 'pv.csv' skip 1 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 ps 0.4 lc rgb '#222244' title 'P(v)', "
-             "'' skip 1 using 1:9 with lines lw 2 lc rgb '#cc3333' title '%s', "
-             "'' skip 1 using 1:10 with lines lw 2 dt 2 lc rgb '#339933' title 'crossover P_0(v) (5.32), alpha = 1', "
-             "gauss(x) with lines dt 3 lc rgb '#888888' title 'Gaussian of the same <v^2>'",
-             ymin, -vlim, vlim, v_rms, label);
+             "plot 'pv.csv' skip 1 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars lt 1 pt 7 ps 0.5 title 'P(v)', "
+             "'' skip 1 using 1:((abs($1) >= %.10g && abs($1) <= %.10g) ? $9 : 1/0) with lines lw 3 lt 2 title '%s', "
+             "'' skip 1 using 1:10 with lines lw 2 dt 2 lt 3 title 'crossover P_0(v) (5.32)', "
+             "gauss(x) with lines dt 3 lt 5 title 'Gaussian of the same <v^2>'",
+             ymin, -vlim, vlim, v_rms, v_lo, v_hi, label);
     gr_obs_plot(out, "pv.png", body);
 
     snprintf(body, sizeof body,
              "set xlabel 'ln(v/v_{rms})'\nset ylabel '-ln(-ln(P(v)/P(0)))'\nset key top right\n"
-             "set title 'Tail plot of Moon et al. (5.6), P(0) = %.4g s/m: lines of slope -alpha_T'\n"
-             "plot 'pv_tail.csv' skip 1 using 2:7 with points pt 7 ps 0.5 lc rgb '#222244' title 'data, P(v) = (P(v)+P(-v))/2', "
-             "-2*x + (%.10g) with lines lw 2 lc rgb '#888888' title 'alpha_T = 2', "
-             "-1.5*x + (%.10g) with lines lw 2 dt 2 lc rgb '#cc3333' title 'alpha_T = 1.5', "
-             "-1.16*x + (%.10g) with lines lw 2 dt 4 lc rgb '#339933' title 'alpha_T = 1.16'",
+             "set title \"Tail plot of Moon et al.: straight lines are stretched exponentials\\n{/*0.75 eq. (5.6), P(0) = %.4g s/m; "
+             "lines of slope -\u03b1_T}\"\n"
+             "plot 'pv_tail.csv' skip 1 using 2:7 with points lt 1 pt 7 ps 0.5 title 'data, (P(v)+P(-v))/2', "
+             "-2*x + (%.10g) with lines lw 2 lt 5 title '\u03b1_T = 2 (Gaussian)', "
+             "-1.5*x + (%.10g) with lines lw 2 dt 2 lt 2 title '\u03b1_T = 1.5', "
+             "-1.16*x + (%.10g) with lines lw 2 dt 4 lt 3 title '\u03b1_T = 1.16'",
              P0, isfinite(C[0]) ? C[0] : 0.0, isfinite(C[1]) ? C[1] : 0.0, isfinite(C[2]) ? C[2] : 0.0);
     gr_obs_plot(out, "pv_tail.png", body);
 
     snprintf(body, sizeof body,
              "set logscale y\nset format y '10^{%%L}'\nset yrange [%g:*]\nset xrange [0:%g]\n"
-             "set xlabel '|v| / sqrt(<|v|^2>)'\nset ylabel 'P(c)'\n"
-             "set title 'Scaled %s distribution'\n"
+             "set xlabel 'c = |v| / sqrt(<|v|^2>)'\nset ylabel 'P(c)'\n"
+             "set title 'Distribution of the scaled %s'\n"
              "mb(c) = %s\n"
-             "plot 'pv_speed.csv' skip 1 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 ps 0.4 lc rgb '#222244' title 'data', "
-             "mb(x) with lines lw 2 dt 2 lc rgb '#888888' title 'Maxwell-Boltzmann, same <|v|^2>'",
+             "plot 'pv_speed.csv' skip 1 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars lt 1 pt 7 ps 0.5 title 'data', "
+             "mb(x) with lines lw 2 dt 2 lt 5 title 'Maxwell-Boltzmann, same <|v|^2>'",
              ymin * v_rms, slim, s->dim == 2 ? "speed" : "|v|",
              s->dim == 2 ? "c > 0 ? 2*c*exp(-c*c) : 1/0" : "c > 0 ? sqrt(2/pi)*exp(-c*c/2) : 1/0");
     gr_obs_plot(out, "pv_speed.png", body);

@@ -30,6 +30,7 @@
 #endif
 
 #include "analysis/obs_util.h"
+#include "io/plot.h"
 #include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
@@ -920,8 +921,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     if (out->plots && st->frames > 0) {
         char body[2400];
         int len = snprintf(body, sizeof body,
-                           "set logscale xy\nset samples 1000\nset xlabel 'k d'\nset ylabel 'S(k)'\nset key top right\n"
-                           "set title 'Structure factor (4.2-4.3), %lld frames'\n",
+                           "set logscale xy\nset samples 1000\nset xlabel 'k d (wave number x diameter)'\nset ylabel 'S(k)'\n"
+                           "set key top right\n"
+                           "set title \"Structure factor, %lld frames\\n{/*0.75 eqs. (4.2-4.3); error bars: block averaging over frames; "
+                           "fit (4.4) over its window}\"\n",
                            (long long)st->frames);
         if (isfinite(st->kD)) {
             len += snprintf(body + len, sizeof body - (size_t)len,
@@ -934,14 +937,15 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                             F.note);
         }
         len += snprintf(body + len, sizeof body - (size_t)len,
-                        "plot 'sk.csv' skip 1 using 3:4:5 with yerrorbars pt 7 ps 0.5 lc rgb '#1f5fbf' title '|n| bins', "
-                        "'sk_shells.csv' skip 1 using 3:4 with points pt 6 ps 0.7 lc rgb '#e08030' title 'shells |n|^2'");
+                        "plot 'sk.csv' skip 1 using 3:4:5 with yerrorbars lt 1 pt 7 ps 0.6 "
+                        "title 'circular average (rings of width 2\u03c0/L)', "
+                        "'sk_shells.csv' skip 1 using 3:($4 > 0 ? $4 : 1/0):5 with yerrorbars lt 2 pt 6 ps 1.0 "
+                        "title 'exact shells (same |k| on the lattice)'");
         if (F.done) {
-            snprintf(body + len, sizeof body - (size_t)len,
-                     ", (x >= %.8g && x <= %.8g) ? %.10g * (x / %.10g)**(-%.10g) : 1/0 with lines lw 2 lc rgb "
-                     "'#cc3333' title 'S = A k^{-D_f}, D_f = %.3f +- %.3f'",
-                     F.k_lo * st->d * 0.98, F.k_hi * st->d * 1.02, F.fit.p[0], st->d, -F.fit.p[1], -F.fit.p[1],
-                     F.fit.err[1]);
+            char legend[120];
+            gr_plot_legend_value("fit S = A k^{-D_f}, D_f", -F.fit.p[1], F.fit.err[1], legend, sizeof legend);
+            snprintf(body + len, sizeof body - (size_t)len, ", [%.8g:%.8g] %.10g * (x / %.10g)**(-%.10g) with lines lw 3 lt 5 title '%s'",
+                     F.k_lo * st->d, F.k_hi * st->d, F.fit.p[0], st->d, -F.fit.p[1], legend);
         }
         gr_obs_plot(out, "sk.png", body);
     }

@@ -43,5 +43,8 @@ bool cli_number(const char *opt, const char *text, double *out);
 /* --threads N: use N OpenMP threads (1 to 1024; results do not depend on N). False (after an
  * error naming the allowed range) for anything else. Defined in cmd_run.c. */
 bool cli_threads(const char *text);
+/* --format png|svg|pdf: draw every plot of this command in that format (gr_plot_set_format).
+ * False (after an error naming the allowed values) for anything else. Defined in cmd_run.c. */
+bool cli_plot_format(const char *text);
 
 #endif

@@ -1,10 +1,12 @@
-/* granule plot DIR: redraw every plot of a run folder (or of an analyse/compare/theory folder):
- * the temperature and ledger plots of a run, and every picture an observable or command drew,
- * from the gnuplot bodies (*.gp) kept beside them; also the snapshot picture. */
+/* granule plot DIR [--format png|svg|pdf]: redraw every plot of a run folder (or of an analyse,
+ * compare, sweep or theory folder, and of the run folders inside it): the pictures an observable
+ * or command drew, from the gnuplot bodies (*.gp) kept beside them, and the snapshot picture. */
+#include <dirent.h>
 #include <glob.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "cli/cli.h"
@@ -36,14 +38,15 @@ static int redraw_scripts(const char *dir, int *drawn)
         body[len] = 0;
         char *first = strchr(body, '\n'); /* skip the header comment */
         const char *base = strrchr(g.gl_pathv[k], '/') + 1;
-        char png[512], note[300];
+        char png[512], picture[600], note[300];
         snprintf(png, sizeof png, "%.*s.png", (int)(strlen(base) - 3), base);
+        gr_plot_file_name(png, picture, sizeof picture);
         char *copy = strdup(first ? first + 1 : body);
         if (gr_plot_script(dir, png, copy, note, sizeof note) == 0) {
-            printf("%s/%s\n", dir, png);
+            printf("%s/%s\n", dir, picture);
             (*drawn)++;
         } else {
-            cli_error("plot %s/%s: %s", dir, png, note);
+            cli_error("plot %s/%s: %s", dir, picture, note);
             failures++;
         }
         free(copy);
@@ -53,48 +56,110 @@ static int redraw_scripts(const char *dir, int *drawn)
     return failures;
 }
 
-int cmd_plot(int argc, char **argv)
+static bool exists(const char *dir, const char *name)
 {
-    if (argc != 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
-        printf("usage: granule plot DIR\nRedraws every plot in DIR (and DIR/analysis): T(t) and the energy ledger of a run, every\n"
-               "observable's and command's pictures from the gnuplot bodies (*.gp) kept beside them, and the\n"
-               "snapshot picture coloured by speed (cairo). Needs gnuplot for the graphs.\n");
-        return argc == 2 ? EXIT_OK : EXIT_REFUSED;
-    }
-    const char *dir = argv[1];
-    if (access(dir, R_OK) != 0) {
-        cli_error("plot %s: no such folder", dir);
-        return EXIT_REFUSED;
-    }
-    int drawn = 0, failures = 0;
+    char path[1300];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return access(path, R_OK) == 0;
+}
+
+/* One folder: its scripts (and its analysis/ folder's), a run's snapshot picture, the run's
+ * summary.json list of pictures; then every sub-folder that is a run or holds scripts (the
+ * models of a comparison, the points of a sweep), `depth` levels down. */
+static int redraw_folder(const char *dir, int depth, int *drawn)
+{
+    int failures = 0;
     char note[300], path[1200];
-    snprintf(path, sizeof path, "%s/temperature.csv", dir);
-    if (access(path, R_OK) == 0) {
+    /* a run folder written before the temperature and ledger bodies were kept */
+    if (exists(dir, "temperature.csv") && exists(dir, "ledger.csv") && !exists(dir, "temperature.gp")) {
         if (gr_plot_run(dir, 0, note, sizeof note)) {
             cli_error("plot %s: %s", dir, note);
             failures++;
         } else {
-            printf("%s/temperature.png\n%s/ledger.png\n", dir, dir);
-            drawn += 2;
+            printf("%s/temperature.%s\n%s/ledger.%s\n", dir, gr_plot_extension(gr_plot_get_format()), dir,
+                   gr_plot_extension(gr_plot_get_format()));
+            *drawn += 2;
         }
     }
-    failures += redraw_scripts(dir, &drawn);
+    failures += redraw_scripts(dir, drawn);
     snprintf(path, sizeof path, "%s/analysis", dir);
     if (access(path, R_OK) == 0) {
-        failures += redraw_scripts(path, &drawn);
+        failures += redraw_scripts(path, drawn);
     }
-    snprintf(path, sizeof path, "%s/snapshots", dir);
-    if (access(path, R_OK) == 0) {
+    if (exists(dir, "snapshots")) {
         gr_error err = {0};
         char png[1300];
         if (gr_picture_run_ex(dir, NULL, png, sizeof png, &err) == 0) {
             printf("%s\n", png);
-            drawn++;
+            (*drawn)++;
         } else {
             cli_error("plot %s: %s", dir, err.message);
             failures++;
         }
     }
+    if (exists(dir, "summary.json")) {
+        gr_plot_summary_update(dir);
+    }
+    DIR *d = depth > 0 ? opendir(dir) : NULL;
+    for (struct dirent *e; d && (e = readdir(d));) {
+        if (e->d_name[0] == '.' || !strcmp(e->d_name, "analysis") || !strcmp(e->d_name, "snapshots")) {
+            continue;
+        }
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        struct stat st;
+        if (stat(path, &st) != 0 || !S_ISDIR(st.st_mode)) {
+            continue;
+        }
+        bool wanted = exists(path, "summary.json");
+        if (!wanted) {
+            char pattern[1300];
+            snprintf(pattern, sizeof pattern, "%s/*.gp", path);
+            glob_t g;
+            wanted = glob(pattern, 0, NULL, &g) == 0;
+            globfree(&g);
+        }
+        if (wanted) {
+            failures += redraw_folder(path, depth - 1, drawn);
+        }
+    }
+    if (d) {
+        closedir(d);
+    }
+    return failures;
+}
+
+int cmd_plot(int argc, char **argv)
+{
+    const char *dir = NULL;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+            printf("usage: granule plot DIR [--format png|svg|pdf]\n"
+                   "Redraws every plot in DIR (and DIR/analysis, and the run folders inside a compare or sweep\n"
+                   "folder): every observable's and command's pictures from the gnuplot bodies (*.gp) kept beside\n"
+                   "them and the snapshot picture coloured by speed (cairo, PNG); a run's summary.json then lists\n"
+                   "every picture. --format draws the graphs as png (default), svg or pdf. Needs gnuplot.\n");
+            return EXIT_OK;
+        } else if (!strcmp(argv[i], "--format") && i + 1 < argc) {
+            if (!cli_plot_format(argv[++i])) {
+                return EXIT_REFUSED;
+            }
+        } else if (argv[i][0] != '-' && !dir) {
+            dir = argv[i];
+        } else {
+            cli_error("plot: unexpected argument %s (usage: granule plot DIR [--format png|svg|pdf])", argv[i]);
+            return EXIT_REFUSED;
+        }
+    }
+    if (!dir) {
+        cli_error("plot: usage: granule plot DIR [--format png|svg|pdf]");
+        return EXIT_REFUSED;
+    }
+    if (access(dir, R_OK) != 0) {
+        cli_error("plot %s: no such folder", dir);
+        return EXIT_REFUSED;
+    }
+    int drawn = 0;
+    const int failures = redraw_folder(dir, 2, &drawn);
     if (drawn == 0 && failures == 0) {
         cli_error("plot %s: nothing to draw (no run outputs found)", dir);
         return EXIT_REFUSED;

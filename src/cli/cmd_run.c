@@ -7,21 +7,23 @@
 
 #include "cli/cli.h"
 #include "granule/run.h"
+#include "io/plot.h"
 
 static void usage(FILE *f)
 {
     fprintf(f, "usage: granule run SCENE [--out DIR] [--set section.key=value ...] [--force] [--quiet] [--wall-limit S]\n"
-               "                 [--threads N]\n"
+               "                 [--threads N] [--format png|svg|pdf]\n"
                "       granule run --resume DIR [--set run.wall_limit=S ...] [--quiet] [--threads N]\n\n"
                "Runs SCENE (an INI file, see docs/scene-keys.md): warm-up, then sampling every\n"
                "run.sample_every. Writes DIR/summary.json, temperature.csv, blocks.csv, ledger.csv,\n"
-               "snapshots/ (output.snapshot_every) and PNG plots (output.plots).\n"
+               "snapshots/ (output.snapshot_every) and plots (output.plots, docs/plots.md).\n"
                "  --out DIR    output folder (default: the scene's output.dir)\n"
                "  --set K=V    override a scene key, e.g. --set model.eps_n=0.5 (repeatable)\n"
                "  --force      overwrite the results of an earlier run in DIR\n"
                "  --quiet      no progress line\n"
                "  --threads N  threads for the 2D core (default 1, or OMP_NUM_THREADS); the results are\n"
                "               bit-identical for every N (docs/performance.md)\n"
+               "  --format F   plots as png (default), svg or pdf (the snapshot picture stays PNG)\n"
                "  --wall-limit S  write a checkpoint and stop before S seconds of wall time (run.wall_limit)\n"
                "  --resume DIR continue the interrupted run in DIR from DIR/checkpoint (docs/checkpoints.md)\n"
                "SIGTERM or SIGINT writes a checkpoint at the next step boundary and stops (a second one kills).\n"
@@ -66,6 +68,17 @@ bool cli_threads(const char *text)
     return true;
 }
 
+bool cli_plot_format(const char *text)
+{
+    const int f = gr_plot_format_parse(text);
+    if (f < 0) {
+        cli_error("--format %s: expected png, svg or pdf", text);
+        return false;
+    }
+    gr_plot_set_format((gr_plot_format)f);
+    return true;
+}
+
 int cmd_run(int argc, char **argv)
 {
     const char *scene_path = NULL, *out = NULL, *resume = NULL;
@@ -93,6 +106,11 @@ int cmd_run(int argc, char **argv)
             resume = argv[++i];
         } else if (!strcmp(a, "--threads") && i + 1 < argc) {
             if (!cli_threads(argv[++i])) {
+                free(sets);
+                return EXIT_REFUSED;
+            }
+        } else if (!strcmp(a, "--format") && i + 1 < argc) {
+            if (!cli_plot_format(argv[++i])) {
                 free(sets);
                 return EXIT_REFUSED;
             }
@@ -161,6 +179,9 @@ int cmd_run(int argc, char **argv)
     }
     if (res.notes[0]) {
         fprintf(stderr, "granule: note: %s", res.notes);
+    }
+    if (rc == GR_OK && !res.stopped) {
+        gr_plot_summary_update(scene.out_dir); /* summary.json lists every picture drawn */
     }
 
     if (rc == GR_OK && res.stopped) {

@@ -73,11 +73,16 @@ static void plot_exponents(const char *out)
         return;
     }
     char body[8192];
-    size_t len = (size_t)snprintf(body, sizeof body, "set xlabel 'm'\nset ylabel 'exponent / m'\nset key outside\n"
-                                                      "set title 'xi_m/m (3.13) and zeta_m/m (3.20) from the sweep' noenhanced\nplot ");
+    size_t len = (size_t)snprintf(body, sizeof body,
+                                  "set xlabel 'order m'\nset ylabel 'exponent / m'\nset key outside right top\nset xtics 1\n"
+                                  "set title \"Scaling exponents with N, per order m, from the sweep\\n{/*0.75 \u03be_m/m of "
+                                  "<|v|^m> ~ N^{-\u03be_m} (3.13), \u03b6_m/m of <R^m> ~ N^{-\u03b6_m} (3.20)}\"\nplot ");
     for (int b = 0; b < blocks && b < 64 && len < sizeof body; b++) {
-        len += (size_t)snprintf(body + len, sizeof body - len, "%s'exponents_blocks.dat' index %d using 1:2:3 with yerrorlines title '%s' noenhanced",
-                                b ? ", " : "", b, titles[b]);
+        char style[80];
+        gr_plot_series_style(b, style, sizeof style);
+        len += (size_t)snprintf(body + len, sizeof body - len,
+                                "%s'exponents_blocks.dat' index %d using 1:2:3 with yerrorlines %s pt 7 title '%s' noenhanced",
+                                b ? ", " : "", b, style, titles[b]);
     }
     char note[300];
     gr_plot_script(out, "exponents.png", body, note, sizeof note);

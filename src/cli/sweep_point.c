@@ -27,6 +27,7 @@
 #include "granule_config.h"
 #include "io/checkpoint.h"
 #include "io/files.h"
+#include "io/plot.h"
 #include "io/scene_json.h"
 #include "io/summary_read.h"
 
@@ -216,6 +217,9 @@ static int child_run(const sweep *s, long k, const char *dir, int fd, pid_t pare
             }
         } else {
             rc = gr_run(&sc, &opt, &res, &err);
+        }
+        if (rc == GR_OK && !res.stopped) {
+            gr_plot_summary_update(dir); /* summary.json lists every picture drawn */
         }
         code = rc == GR_OK ? EXIT_OK : rc == GR_EUNSTABLE ? EXIT_UNSTABLE : rc == GR_EINVAL ? EXIT_REFUSED
              : res.stopped == GR_RUN_STOPPED_WRITE ? EXIT_WRITE_FAILED /* checkpoint kept: the next run continues it */

@@ -13,23 +13,20 @@
 #include "granule/scene.h"
 #include "io/files.h"
 #include "io/picture.h"
+#include "io/picture_internal.h"
 #include "io/snapshot.h"
 #include "io/trajectory.h"
 
-enum { DEFAULT_SIZE = 1000, MIN_SIZE = 64, RUN_STRIP_FRAMES = 40 };
+enum { DEFAULT_SIZE = 1000, MIN_SIZE = 64, RUN_SPACETIME_FRAMES = 800 };
+/* the space-time diagram of a run reads at most this many particle positions (memory) */
+#define RUN_SPACETIME_PARTICLES 2e6
 #define DEFAULT_VMAX 3.0
 #define GREY_LIGHT 0.88 /* the slowest shade of the grey ramp */
 
 /* ---------- options and colours ---------- */
 
-typedef struct popts {
-    int size, levels;
-    gr_colormap cmap;
-    double vmax;
-    bool labels;
-} popts;
 
-static int resolve_options(const gr_picture_options *o, popts *p, gr_error *err)
+int pic_resolve_options(const gr_picture_options *o, popts *p, gr_error *err)
 {
     *p = (popts){.size = DEFAULT_SIZE, .levels = 0, .cmap = GR_CMAP_VIRIDIS, .vmax = DEFAULT_VMAX, .labels = true};
     if (!o) {
@@ -62,7 +59,7 @@ static const unsigned char viridis8[8][3] = {
 };
 
 /* ratio = |v| / v_rms -> colour; u = 0 slow (light) .. 1 fast (dark) */
-static void ramp(const popts *p, double ratio, double rgb[3])
+void pic_ramp(const popts *p, double ratio, double rgb[3])
 {
     double u = ratio / p->vmax;
     u = u > 0.0 ? (u < 1.0 ? u : 1.0) : 0.0; /* NaN -> 0 */
@@ -87,10 +84,10 @@ void gr_picture_colour(const gr_picture_options *opt, double ratio, double rgb[3
 {
     popts p;
     gr_error ignored;
-    if (resolve_options(opt, &p, &ignored) != GR_OK) {
-        resolve_options(NULL, &p, &ignored);
+    if (pic_resolve_options(opt, &p, &ignored) != GR_OK) {
+        pic_resolve_options(NULL, &p, &ignored);
     }
-    ramp(&p, ratio, rgb);
+    pic_ramp(&p, ratio, rgb);
 }
 
 /* ---------- a 5x7 bitmap font (no fontconfig: identical on every machine, clean under ASan) ---------- */
@@ -171,7 +168,7 @@ static const glyph *find_glyph(char c)
     return &unknown_glyph;
 }
 
-static double text_width(int s, const char *text)
+double pic_text_width(int s, const char *text)
 {
     size_t n = strlen(text);
     return n ? (double)(6 * (int)n - 1) * s : 0.0;
@@ -179,7 +176,7 @@ static double text_width(int s, const char *text)
 
 /* Draw text with its top-left corner at (x, y), each font pixel s x s device pixels, in the
  * current source colour. */
-static void draw_text(cairo_t *cr, double x, double y, int s, const char *text)
+void pic_draw_text(cairo_t *cr, double x, double y, int s, const char *text)
 {
     cairo_new_path(cr);
     for (const char *c = text; *c; c++, x += 6.0 * s) {
@@ -202,7 +199,7 @@ static int cairo_fail(gr_error *err, const char *png_path, const char *what, cai
     return GR_FAIL(err, GR_EIO, "%s: cairo could not %s: %s", png_path, what, cairo_status_to_string(st));
 }
 
-static int canvas_new(int w, int h, const char *png_path, cairo_surface_t **surf, cairo_t **cr, gr_error *err)
+int pic_canvas_new(int w, int h, const char *png_path, cairo_surface_t **surf, cairo_t **cr, gr_error *err)
 {
     *surf = NULL;
     *cr = NULL;
@@ -249,7 +246,7 @@ static cairo_status_t sink_write(void *closure, const unsigned char *data, unsig
 }
 
 /* Check the drawing, write the PNG atomically, free the canvas. */
-static int canvas_save(cairo_surface_t *surf, cairo_t *cr, const char *png_path, gr_error *err)
+int pic_canvas_save(cairo_surface_t *surf, cairo_t *cr, const char *png_path, gr_error *err)
 {
     cairo_status_t st = cairo_status(cr);
     cairo_destroy(cr);
@@ -289,7 +286,7 @@ static int canvas_save(cairo_surface_t *surf, cairo_t *cr, const char *png_path,
     return gr_file_commit(&out, err);
 }
 
-static int check_png_path(const char *png_path, gr_error *err)
+int pic_check_png_path(const char *png_path, gr_error *err)
 {
     if (!png_path || !png_path[0]) {
         return GR_FAIL(err, GR_EINVAL, "picture: no PNG path given");
@@ -306,7 +303,7 @@ static int check_png_path(const char *png_path, gr_error *err)
 
 /* ---------- frames ---------- */
 
-static int check_frame(const gr_frame *f, int index, double radius, gr_error *err)
+int pic_check_frame(const gr_frame *f, int index, double radius, gr_error *err)
 {
     char which[32] = "";
     if (index >= 0) {
@@ -347,30 +344,30 @@ static int check_frame(const gr_frame *f, int index, double radius, gr_error *er
     return GR_OK;
 }
 
-static double speed(const gr_frame *f, int i)
+double pic_speed(const gr_frame *f, int i)
 {
     return f->dim == 2 ? hypot(f->vx[i], f->vy[i]) : fabs(f->vx[i]);
 }
 
 /* sqrt(<|v|^2>) without overflow */
-static double rms_speed(const gr_frame *f)
+double pic_rms_speed(const gr_frame *f)
 {
     double m = 0.0, s = 0.0;
     for (int i = 0; i < f->n; i++) {
-        double v = speed(f, i);
+        double v = pic_speed(f, i);
         m = v > m ? v : m;
     }
     if (!(m > 0.0) || !isfinite(m)) {
         return isfinite(m) ? 0.0 : m;
     }
     for (int i = 0; i < f->n; i++) {
-        double v = speed(f, i) / m;
+        double v = pic_speed(f, i) / m;
         s += v * v;
     }
     return m * sqrt(s / f->n);
 }
 
-static double wrap(double x, double L)
+double pic_wrap(double x, double L)
 {
     double w = x - L * floor(x / L);
     return w >= L || w < 0.0 ? 0.0 : w;
@@ -394,36 +391,36 @@ static void draw_disc(cairo_t *cr, double cx, double cy, double rp, const double
 
 /* ---------- the panel: captions and colour bar ---------- */
 
-static int text_scale(int width)
+int pic_text_scale(int width)
 {
     int s = width / 450;
     return s < 1 ? 1 : (s > 8 ? 8 : s);
 }
 
-static int panel_height(int s)
+int pic_panel_height(int s)
 {
     return 6 * s + 10 * s + 3 * s + 8 * s + 2 * s + 10 * s + 10 * s + 3 * s;
 }
 
 /* The panel occupying [0, width) x [y0, y0 + panel_height): left/right captions, the colour bar with
  * its ticks and a caption under it. */
-static void draw_panel(cairo_t *cr, const popts *p, int width, double y0, const char *left, const char *right,
+void pic_draw_panel(cairo_t *cr, const popts *p, int width, double y0, const char *left, const char *right,
                        const char *caption)
 {
-    int s = text_scale(width);
+    int s = pic_text_scale(width);
     double y = y0 + 6 * s;
     cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-    draw_text(cr, 4 * s, y, s, left);
-    double wr = text_width(s, right);
-    if (4 * s + text_width(s, left) + 6 * s + wr <= width - 4 * s) {
-        draw_text(cr, width - 4 * s - wr, y, s, right);
+    pic_draw_text(cr, 4 * s, y, s, left);
+    double wr = pic_text_width(s, right);
+    if (4 * s + pic_text_width(s, left) + 6 * s + wr <= width - 4 * s) {
+        pic_draw_text(cr, width - 4 * s - wr, y, s, right);
     }
     y += 13 * s;
     /* the bar, one device column at a time in the ramp's own colours */
     double bx0 = 8 * s, bx1 = width - 14 * s, bh = 8 * s;
     double rgb[3];
     for (int px = (int)bx0; px < (int)bx1; px++) {
-        ramp(p, (px + 0.5 - bx0) / (bx1 - bx0) * p->vmax, rgb);
+        pic_ramp(p, (px + 0.5 - bx0) / (bx1 - bx0) * p->vmax, rgb);
         cairo_set_source_rgb(cr, rgb[0], rgb[1], rgb[2]);
         cairo_rectangle(cr, px, y, 1.0, bh);
         cairo_fill(cr);
@@ -446,31 +443,31 @@ static void draw_panel(cairo_t *cr, const popts *p, int width, double y0, const 
         cairo_rectangle(cr, floor(tx), y + bh, 1.0, 2 * s);
         cairo_fill(cr);
         snprintf(label, sizeof label, end ? "%g+" : "%g", r);
-        double lw = text_width(s, label), lx = tx - (end ? 0.5 * text_width(s, label) - 3 * s : 0.5 * lw);
+        double lw = pic_text_width(s, label), lx = tx - (end ? 0.5 * pic_text_width(s, label) - 3 * s : 0.5 * lw);
         lx = lx < 0 ? 0 : (lx + lw > width ? width - lw : lx);
-        draw_text(cr, lx, y + bh + 3 * s, s, label);
+        pic_draw_text(cr, lx, y + bh + 3 * s, s, label);
         if (end) {
             break;
         }
     }
     y += bh + 2 * s + 10 * s;
-    double wc = text_width(s, caption);
-    draw_text(cr, wc < width ? 0.5 * (width - wc) : 0.0, y, s, caption);
+    double wc = pic_text_width(s, caption);
+    pic_draw_text(cr, wc < width ? 0.5 * (width - wc) : 0.0, y, s, caption);
 }
 
 /* ---------- 2D ---------- */
 
 static int picture_2d(const gr_frame *f, double radius, const char *png_path, const popts *p, gr_error *err)
 {
-    int size = p->size, s = text_scale(size);
-    int height = size + (p->labels ? panel_height(s) : 0);
+    int size = p->size, s = pic_text_scale(size);
+    int height = size + (p->labels ? pic_panel_height(s) : 0);
     cairo_surface_t *surf;
     cairo_t *cr;
-    int rc = canvas_new(size, height, png_path, &surf, &cr, err);
+    int rc = pic_canvas_new(size, height, png_path, &surf, &cr, err);
     if (rc) {
         return rc;
     }
-    const double L = f->L, pxm = size / L, rp = radius * pxm, vrms = rms_speed(f);
+    const double L = f->L, pxm = size / L, rp = radius * pxm, vrms = pic_rms_speed(f);
     /* the box outline first: discs at the edge are drawn over it, so every centre shows its colour */
     cairo_set_source_rgb(cr, 0.45, 0.45, 0.45);
     cairo_set_line_width(cr, 1.0);
@@ -481,8 +478,8 @@ static int picture_2d(const gr_frame *f, double radius, const char *png_path, co
     cairo_clip(cr);
     double rgb[3];
     for (int i = 0; i < f->n; i++) {
-        double x = wrap(f->x[i], L), y = wrap(f->y[i], L);
-        ramp(p, vrms > 0.0 ? speed(f, i) / vrms : 0.0, rgb);
+        double x = pic_wrap(f->x[i], L), y = pic_wrap(f->y[i], L);
+        pic_ramp(p, vrms > 0.0 ? pic_speed(f, i) / vrms : 0.0, rgb);
         for (int a = -1; a <= 1; a++) {
             double X = x + a * L;
             if (X + radius < 0.0 || X - radius > L) {
@@ -503,12 +500,12 @@ static int picture_2d(const gr_frame *f, double radius, const char *png_path, co
         snprintf(left, sizeof left, "t = %.6g s", f->t);
         snprintf(right, sizeof right, "N = %d  L = %.4g m", f->n, L);
         snprintf(caption, sizeof caption, "speed |v| / v_rms,  v_rms = %.4g m/s", vrms);
-        if (text_width(s, caption) > size) {
+        if (pic_text_width(s, caption) > size) {
             snprintf(caption, sizeof caption, "|v| / v_rms");
         }
-        draw_panel(cr, p, size, size, left, right, caption);
+        pic_draw_panel(cr, p, size, size, left, right, caption);
     }
-    return canvas_save(surf, cr, png_path, err);
+    return pic_canvas_save(surf, cr, png_path, err);
 }
 
 /* ---------- 1D strips ---------- */
@@ -527,7 +524,7 @@ static void strip_measure(strip_layout *l, int nframes, int nseg, double L, doub
     int d = (int)ceil(2.0 * l->rp) + 2;
     l->row_h = d < 3 ? 3 : (d > 200 ? 200 : d);
     l->caption_h = p->labels && nseg > 1 ? 10 * l->s : 0;
-    long h = l->top + (long)nseg * (l->caption_h + (long)nframes * l->row_h + l->gap) + (p->labels ? panel_height(l->s) : 0);
+    long h = l->top + (long)nseg * (l->caption_h + (long)nframes * l->row_h + l->gap) + (p->labels ? pic_panel_height(l->s) : 0);
     l->height = h > INT32_MAX ? INT32_MAX : (int)h;
 }
 
@@ -535,7 +532,7 @@ static int picture_strip(const gr_frame *frames, int n, double radius, const cha
                          gr_error *err)
 {
     const double L = frames[0].L;
-    strip_layout l = {.width = p->size, .s = text_scale(p->size)};
+    strip_layout l = {.width = p->size, .s = pic_text_scale(p->size)};
     const bool row_labels = p->labels && n > 1; /* each row's time, in the small (scale 1) font */
     l.gutter = row_labels ? 6 * 11 + 6 : 2 * l.s;
     l.top = 3 * l.s;
@@ -553,7 +550,7 @@ static int picture_strip(const gr_frame *frames, int n, double radius, const cha
     }
     cairo_surface_t *surf;
     cairo_t *cr;
-    int rc = canvas_new(l.width, l.height, png_path, &surf, &cr, err);
+    int rc = pic_canvas_new(l.width, l.height, png_path, &surf, &cr, err);
     if (rc) {
         if (rc == GR_EINVAL && err) {
             snprintf(err->message + strlen(err->message), sizeof err->message - strlen(err->message),
@@ -570,19 +567,19 @@ static int picture_strip(const gr_frame *frames, int n, double radius, const cha
         if (l.caption_h) {
             snprintf(label, sizeof label, "x = %.4g .. %.4g m", a, b);
             cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-            draw_text(cr, x0, y + 1.5 * l.s, l.s, label);
+            pic_draw_text(cr, x0, y + 1.5 * l.s, l.s, label);
             if (row_labels) {
-                draw_text(cr, 2, y + l.caption_h - 9, 1, "t (s)");
+                pic_draw_text(cr, 2, y + l.caption_h - 9, 1, "t (s)");
             }
             y += l.caption_h;
         }
         for (int j = 0; j < n; j++, y += l.row_h) {
             const gr_frame *f = &frames[j];
-            const double vrms = rms_speed(f), ymid = y + 0.5 * l.row_h;
+            const double vrms = pic_rms_speed(f), ymid = y + 0.5 * l.row_h;
             if (row_labels && j % row_label_every == 0) {
                 snprintf(label, sizeof label, "%.4g", f->t);
                 cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
-                draw_text(cr, 2, floor(ymid - 3.5), 1, label);
+                pic_draw_text(cr, 2, floor(ymid - 3.5), 1, label);
             }
             cairo_save(cr);
             cairo_rectangle(cr, x0, y, l.seg_len * l.pxm, l.row_h);
@@ -591,7 +588,7 @@ static int picture_strip(const gr_frame *frames, int n, double radius, const cha
             cairo_rectangle(cr, x0, floor(ymid), l.seg_len * l.pxm, 1.0);
             cairo_fill(cr);
             for (int i = 0; i < f->n; i++) {
-                double x = wrap(f->x[i], L);
+                double x = pic_wrap(f->x[i], L);
                 bool coloured = false;
                 for (int m = -1; m <= 1; m++) {
                     double X = x + m * L;
@@ -599,7 +596,7 @@ static int picture_strip(const gr_frame *frames, int n, double radius, const cha
                         continue;
                     }
                     if (!coloured) {
-                        ramp(p, vrms > 0.0 ? speed(f, i) / vrms : 0.0, rgb);
+                        pic_ramp(p, vrms > 0.0 ? pic_speed(f, i) / vrms : 0.0, rgb);
                         coloured = true;
                     }
                     draw_disc(cr, x0 + (X - a) * l.pxm, ymid, l.rp, rgb);
@@ -613,26 +610,26 @@ static int picture_strip(const gr_frame *frames, int n, double radius, const cha
         char left[96], right[64], caption[128];
         if (n == 1) {
             snprintf(left, sizeof left, "t = %.6g s", frames[0].t);
-            snprintf(caption, sizeof caption, "speed |v| / v_rms,  v_rms = %.4g m/s", rms_speed(&frames[0]));
+            snprintf(caption, sizeof caption, "speed |v| / v_rms,  v_rms = %.4g m/s", pic_rms_speed(&frames[0]));
         } else {
             snprintf(left, sizeof left, "t = %.5g .. %.5g s, down", frames[0].t, frames[n - 1].t);
             snprintf(caption, sizeof caption, "speed |v| / v_rms (v_rms of each row)");
         }
         snprintf(right, sizeof right, "N = %d  L = %.4g m", frames[0].n, L);
-        if (text_width(l.s, caption) > l.width) {
+        if (pic_text_width(l.s, caption) > l.width) {
             snprintf(caption, sizeof caption, "|v| / v_rms");
         }
-        draw_panel(cr, p, l.width, l.height - panel_height(l.s), left, right, caption);
+        pic_draw_panel(cr, p, l.width, l.height - pic_panel_height(l.s), left, right, caption);
     }
-    return canvas_save(surf, cr, png_path, err);
+    return pic_canvas_save(surf, cr, png_path, err);
 }
 
 int gr_picture_strip(const gr_frame *frames, int n, double radius, const char *png_path,
                      const gr_picture_options *opt, gr_error *err)
 {
     popts p;
-    int rc = check_png_path(png_path, err);
-    rc = rc ? rc : resolve_options(opt, &p, err);
+    int rc = pic_check_png_path(png_path, err);
+    rc = rc ? rc : pic_resolve_options(opt, &p, err);
     if (rc) {
         return rc;
     }
@@ -640,7 +637,7 @@ int gr_picture_strip(const gr_frame *frames, int n, double radius, const char *p
         return GR_FAIL(err, GR_EINVAL, "%s: a strip needs at least one frame (got %d)", png_path, n);
     }
     for (int j = 0; j < n; j++) {
-        rc = check_frame(&frames[j], j, radius, err);
+        rc = pic_check_frame(&frames[j], j, radius, err);
         if (rc) {
             return rc;
         }
@@ -659,9 +656,9 @@ int gr_picture_frame(const gr_frame *f, double radius, const char *png_path, con
                      gr_error *err)
 {
     popts p;
-    int rc = check_png_path(png_path, err);
-    rc = rc ? rc : resolve_options(opt, &p, err);
-    rc = rc ? rc : check_frame(f, -1, radius, err);
+    int rc = pic_check_png_path(png_path, err);
+    rc = rc ? rc : pic_resolve_options(opt, &p, err);
+    rc = rc ? rc : pic_check_frame(f, -1, radius, err);
     if (rc) {
         return rc;
     }
@@ -690,7 +687,7 @@ int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *
         return GR_FAIL(err, GR_EINVAL, "picture: run folder name missing or too long");
     }
     popts p;
-    int rc = resolve_options(opt, &p, err);
+    int rc = pic_resolve_options(opt, &p, err);
     if (rc) {
         return rc;
     }
@@ -705,13 +702,17 @@ int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *
     if (rc) {
         return rc;
     }
-    /* the last frame decides the kind of picture; a 1D run stacks up to 40 successive frames */
+    /* the last frame decides the kind of picture; a 1D run draws up to 800 successive frames */
     gr_frame last;
     rc = read_frames(run_dir, count - 1, count - 1, &last, err);
     if (rc) {
         return rc;
     }
-    int nf = last.dim == 2 ? 1 : (count < RUN_STRIP_FRAMES ? (int)count : RUN_STRIP_FRAMES);
+    int nf = 1;
+    if (last.dim == 1) {
+        const double fit = fmax(2.0, floor(RUN_SPACETIME_PARTICLES / fmax(1.0, (double)last.n)));
+        nf = (int)fmin((double)count, fmin((double)RUN_SPACETIME_FRAMES, fit));
+    }
     gr_frame *frames = calloc((size_t)nf, sizeof *frames);
     if (!frames) {
         gr_frame_free(&last);
@@ -745,7 +746,7 @@ int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *
     if (!rc) {
         snprintf(out, sizeof out, "%s/%s", run_dir, last.dim == 2 ? "snapshot.png" : "snapshots.png");
         rc = last.dim == 2 ? gr_picture_frame(&frames[0], radius, out, opt, err)
-                           : gr_picture_strip(frames, nf, radius, out, opt, err);
+                           : gr_picture_spacetime(frames, nf, radius, out, opt, err);
         if (!rc && png_path && png_path_size) {
             snprintf(png_path, png_path_size, "%s", out);
         }

@@ -12,7 +12,8 @@
  * 2D (Fig. 2.9): the periodic box as a square of opt->size pixels (default 1000), y pointing up,
  * every disc at its true radius; a disc crossing an edge is drawn on both (all) sides. Below the box
  * a panel holds the time, N, v_rms and the colour bar with its labels.
- * 1D (Fig. 2.6): the ring is cut into segments drawn as rows (the line wrapped like text, so discs
+ * 1D, a run folder: the space-time diagram (gr_picture_spacetime) of its snapshots.
+ * 1D (Fig. 2.6), gr_picture_strip: the ring is cut into segments drawn as rows (the line wrapped like text, so discs
  * stay a readable size); gr_picture_strip stacks several frames: within each segment block one row
  * per frame, time running downwards, so a cluster's history reads down the block. A disc crossing a
  * segment boundary (or the ring's end) is drawn at both ends.
@@ -54,8 +55,33 @@ int gr_picture_frame(const gr_frame *f, double radius, const char *png_path, con
 int gr_picture_strip(const gr_frame *frames, int n, double radius, const char *png_path,
                      const gr_picture_options *opt, gr_error *err);
 
+/* Where a space-time diagram puts its data: the plot area [x0, x0 + w) x [y0, y0 + n row_h) in
+ * pixels, frame j in the rows [y0 + j row_h, y0 + (j + 1) row_h), x = 0 at x0 and x = L at x0 + w;
+ * a particle is a mark `mark` px wide centred on its position; the image is width x height. */
+typedef struct gr_spacetime_layout {
+    int width, height;
+    int x0, y0, w, row_h;
+    double mark;
+} gr_spacetime_layout;
+
+/* The space-time diagram of 1D frames (all with the same N and L, in time order): x across the
+ * whole ring, t down, one band of row_h px per frame (row_h = 900 / n, within [1, 12]); every
+ * particle a mark of its diameter (at least 1 px) coloured by |v| / v_rms of its frame, on a dark
+ * ground (GR_SPACETIME_GROUND) so that the slow, light particles of a cluster stand out; a cluster
+ * forming is a band of light marks narrowing down the picture, dissolving one fanning out. Ticks
+ * and labels: x (m) above, t (s) on the left; the colour bar below. At most GR_SPACETIME_MAX_FRAMES
+ * frames. */
+#define GR_SPACETIME_MAX_FRAMES 2000
+#define GR_SPACETIME_GROUND 0x1e /* grey level of the ground, 0x1e1e1e */
+int gr_picture_spacetime(const gr_frame *frames, int n, double radius, const char *png_path,
+                         const gr_picture_options *opt, gr_error *err);
+/* The layout gr_picture_spacetime uses for n frames of a ring of length L (GR_EINVAL for bad
+ * options or n outside [1, GR_SPACETIME_MAX_FRAMES]). */
+int gr_picture_spacetime_layout(int n, double L, double radius, const gr_picture_options *opt, gr_spacetime_layout *l,
+                                gr_error *err);
+
 /* The picture of a run folder: DIR/snapshot.png from the last snapshot in DIR/snapshots (2D) or
- * DIR/snapshots.png stacking the last (up to) 40 snapshots (1D). The radius comes from
+ * DIR/snapshots.png, the space-time diagram of the last (up to) 800 snapshots (1D). The radius comes from
  * DIR/scene.ini when it loads, else from the snapshots' radius column. No snapshots: GR_EINVAL. */
 int gr_picture_run(const char *run_dir, gr_error *err);
 

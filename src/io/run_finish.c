@@ -249,6 +249,9 @@ int gr_run_finish(gr_run_ctx *c)
     free(c->haff_T);
     r.s = write_summary(c->dir, c->scene, c->sim, c->res, &c->blk, c->status, c->diagnosis[0] ? c->diagnosis : NULL, plots,
                         analysis, mean_field, &io_err);
+    if (r.s == GR_OK && c->scene->plots) {
+        gr_plot_summary_update(c->dir); /* "plots": every picture in the folder, as run/compare/sweep list them */
+    }
     if (r.s && resumable && strcmp(c->status, "completed") == 0) {
         write_stop = true; /* no summary.json: the checkpoint is the run */
         snprintf(c->diagnosis, sizeof c->diagnosis, "%s", io_err.message);
