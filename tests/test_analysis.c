@@ -114,6 +114,46 @@ START_TEST(test_power_law_fit)
 }
 END_TEST
 
+/* Runs at the same x are averaged before the fit; the mean's sigma is the seeds' standard error
+ * (here larger than the runs' own errors) and a run with no value is left out. */
+START_TEST(test_power_law_fit_over_seeds)
+{
+    const double Ns[4] = {100, 200, 400, 800};
+    double x[13], y[13], e[13];
+    int n = 0;
+    for (int i = 0; i < 4; i++) {
+        for (int s = 0; s < 3; s++) { /* three seeds: +-5 % around 2 N^-0.5 */
+            x[n] = Ns[i];
+            y[n] = 2.0 * pow(Ns[i], -0.5) * (1.0 + 0.05 * (s - 1));
+            e[n++] = 1e-6;
+        }
+    }
+    x[n] = 1600;
+    y[n] = NAN; /* a failed run */
+    e[n++] = NAN;
+    gr_fit fit;
+    gr_error err = {0};
+    int n_x = 0;
+    ck_assert_int_eq(gr_fit_power_law_seeds(x, y, e, n, &fit, &n_x, &err), GR_OK);
+    ck_assert_int_eq(n_x, 4);
+    ck_assert_double_eq_tol(fit.p[1], -0.5, 1e-12); /* the seeds' means lie exactly on the law */
+    ck_assert_double_eq_tol(fit.p[0], 2.0, 1e-10);
+    /* the error of each mean is the seeds' standard error, 0.05 y / sqrt(3) (relative), not 1e-6 */
+    gr_fit plain;
+    double mx[4], my[4], ms[4];
+    for (int i = 0; i < 4; i++) {
+        mx[i] = Ns[i];
+        my[i] = 2.0 * pow(Ns[i], -0.5);
+        ms[i] = 0.05 * my[i] / sqrt(3.0);
+    }
+    ck_assert_int_eq(gr_fit_power_law(mx, my, ms, 4, &plain, &err), GR_OK);
+    ck_assert_double_eq_tol(fit.err[1], plain.err[1], 1e-12);
+    /* two sizes are not a fit */
+    ck_assert_int_eq(gr_fit_power_law_seeds(x, y, e, 6, &fit, &n_x, &err), GR_EINVAL);
+    ck_assert_int_eq(n_x, 2);
+}
+END_TEST
+
 START_TEST(test_stretched_exp_fit)
 {
     /* physics notes sec. 6.2: A = 1, tau = 2.5, beta = 0.6, 200 points, 1% noise, from
@@ -318,6 +358,7 @@ int main(void)
     tcase_add_test(t, test_blocking_correlated);
     tcase_add_test(t, test_histogram_density);
     tcase_add_test(t, test_power_law_fit);
+    tcase_add_test(t, test_power_law_fit_over_seeds);
     tcase_add_test(t, test_stretched_exp_fit);
     tcase_add_test(t, test_contact_events_and_free_path);
     tcase_add_test(t, test_stretched_exp_exact_data);

@@ -83,6 +83,13 @@ int gr_fit_line(const double *x, const double *y, const double *sigma, int n, gr
 /* Power law y = A x^b fitted as a line in ln x, ln y (points with y <= 0 are skipped; sigma is the
  * error of y and becomes sigma/y). p[0] = A, p[1] = b. */
 int gr_fit_power_law(const double *x, const double *y, const double *sigma, int n, gr_fit *out, gr_error *err);
+/* The same fit over independent runs: run i measured y[i] (its own error yerr[i], NAN if none) at
+ * x[i]; runs at the same x (seeds) are averaged first, each mean's sigma being the larger of the
+ * seeds' standard error and the runs' own errors combined (block averaging alone is optimistic for
+ * a clustering gas). Runs with a non-finite y are left out. *n_x gets the number of distinct x
+ * fitted; fewer than GR_FIT_MIN_POINTS of them is GR_EINVAL. */
+int gr_fit_power_law_seeds(const double *x, const double *y, const double *yerr, int n, gr_fit *out, int *n_x,
+                           gr_error *err);
 
 /* General nonlinear least squares (gsl_multifit_nlinear, trust region with geodesic
  * acceleration). `model` returns y(x; p) and, if dydp is not NULL, the n_params derivatives. */

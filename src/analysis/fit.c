@@ -90,6 +90,46 @@ int gr_fit_power_law(const double *x, const double *y, const double *sigma, int 
     return GR_OK;
 }
 
+int gr_fit_power_law_seeds(const double *x, const double *y, const double *yerr, int n, gr_fit *out, int *n_x,
+                           gr_error *err)
+{
+    double *mx = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1) * 3), *my = mx + (n > 0 ? n : 1), *ms = my + (n > 0 ? n : 1);
+    if (!mx) {
+        return GR_FAIL(err, GR_ENOMEM, "power-law fit: out of memory");
+    }
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        bool first = isfinite(y[i]);
+        for (int k = 0; k < i && first; k++) {
+            first = !(x[k] == x[i] && isfinite(y[k]));
+        }
+        if (!first) {
+            continue; /* its x was averaged with an earlier run's */
+        }
+        double sum = 0.0, sum2 = 0.0, own2 = 0.0;
+        int cnt = 0;
+        for (int k = i; k < n; k++) {
+            if (x[k] == x[i] && isfinite(y[k])) {
+                sum += y[k];
+                sum2 += y[k] * y[k];
+                own2 += isfinite(yerr[k]) ? yerr[k] * yerr[k] : 0.0;
+                cnt++;
+            }
+        }
+        const double mean = sum / cnt;
+        const double spread = cnt > 1 ? sqrt(fmax(sum2 / cnt - mean * mean, 0.0) / (cnt - 1)) : 0.0;
+        mx[m] = x[i];
+        my[m] = mean;
+        ms[m] = fmax(spread, sqrt(own2) / cnt);
+        m += ms[m] > 0.0;
+    }
+    *n_x = m;
+    int rc = m >= GR_FIT_MIN_POINTS ? gr_fit_power_law(mx, my, ms, m, out, err)
+                                    : GR_FAIL(err, GR_EINVAL, "power-law fit: %d distinct x with errors, %d needed", m, GR_FIT_MIN_POINTS);
+    free(mx);
+    return rc;
+}
+
 typedef struct nl_data {
     gr_fit_model model;
     void *user;

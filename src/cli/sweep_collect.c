@@ -172,8 +172,9 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     }
     int rc = gr_file_commit(&f, &err);
     if (!rc && n_idx >= 0 && s->n_values[n_idx] >= 3) {
-        /* xi_m: for each combination of the other keys, average the seeds at each N and fit
-         * <|v|^m> = A N^-xi_m with the spread of the seeds (or the runs' own errors) as sigma */
+        /* xi_m: for each combination of the other keys, <|v|^m> = A N^-xi_m over the seeds
+         * (gr_fit_power_law_seeds: seeds averaged at each N, the larger of their spread and the runs'
+         * own errors as sigma) */
         gr_file e;
         rc = gr_file_open(&e, s->out, "exponents.csv", &err);
         if (!rc) {
@@ -203,37 +204,26 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
                 for (int q = 0; q < 2; q++)
                 for (int m = 1; m <= 12; m++) {
                     double(*val)[13] = q == 0 ? mom : rmom, (*verr)[13] = q == 0 ? mom_err : rmom_err;
-                    double x[SWEEP_MAX_VALUES], y[SWEEP_MAX_VALUES], sig[SWEEP_MAX_VALUES];
-                    int np = 0;
-                    for (int v = 0; v < s->n_values[n_idx]; v++) {
-                        double sum = 0.0, sum2 = 0.0, esum = 0.0;
-                        int cnt = 0;
-                        for (long k = 0; k < n_points; k++) {
-                            int idx[SWEEP_MAX_KEYS] = {0}, seed;
-                            sweep_decode(s, k, idx, &seed);
-                            bool match = idx[n_idx] == v;
-                            for (int i = 0; i < s->n_keys && match; i++) {
-                                match = i == n_idx || idx[i] == gv[i];
-                            }
-                            if (match && isfinite(val[k][m])) {
-                                sum += val[k][m];
-                                sum2 += val[k][m] * val[k][m];
-                                esum += isfinite(verr[k][m]) ? verr[k][m] * verr[k][m] : 0.0;
-                                cnt++;
-                            }
+                    double *x = malloc(3 * sizeof(double) * (size_t)n_points), *y = x + n_points, *ye = y + n_points;
+                    int nr = 0, np = 0;
+                    for (long k = 0; k < n_points; k++) { /* this group's runs, in point order */
+                        int idx[SWEEP_MAX_KEYS] = {0}, seed;
+                        sweep_decode(s, k, idx, &seed);
+                        bool match = true;
+                        for (int i = 0; i < s->n_keys && match; i++) {
+                            match = i == n_idx || idx[i] == gv[i];
                         }
-                        if (cnt > 0) {
-                            double mean = sum / cnt;
-                            double spread = cnt > 1 ? sqrt(fmax(sum2 / cnt - mean * mean, 0.0) / (cnt - 1)) : 0.0;
-                            double own = sqrt(esum) / cnt;
-                            x[np] = atof(s->value[n_idx][v]);
-                            y[np] = mean;
-                            sig[np] = fmax(spread, own);
-                            np += sig[np] > 0.0;
+                        if (match) {
+                            x[nr] = atof(s->value[n_idx][idx[n_idx]]);
+                            y[nr] = val[k][m];
+                            ye[nr++] = verr[k][m];
                         }
                     }
                     gr_fit fit;
-                    if (np >= GR_FIT_MIN_POINTS && gr_fit_power_law(x, y, sig, np, &fit, &err) == GR_OK) {
+                    gr_error ignore = {0}; /* too few sizes: no row */
+                    const int fitted = gr_fit_power_law_seeds(x, y, ye, nr, &fit, &np, &ignore) == GR_OK;
+                    free(x);
+                    if (fitted) {
                         for (int i = 0; i < s->n_keys; i++) {
                             if (i != n_idx) {
                                 fprintf(e.f, "%s,", s->value[i][gv[i]]);
