@@ -76,11 +76,8 @@ echo "uninterrupted run: ${need_k} KiB"
 sizes=""
 # coarse through the run (tables, snapshots), page by page through the final writes (the old
 # checkpoint and scene.ini stay until the end, so the final writes need more than need_k)
-# (the sanitizer pass, GRANULE_TEST_QUICK=1, takes every third size: the release pass scans them all)
-coarse=16 fine=4
-if [[ -n "${GRANULE_TEST_QUICK:-}" ]]; then coarse=48 fine=12; fi
-for ((s = 8; s < need_k - 96; s += coarse)); do sizes+=" $s"; done
-for ((s = need_k - 96; s < need_k + 64; s += fine)); do sizes+=" $s"; done
+for ((s = 8; s < need_k - 96; s += 16)); do sizes+=" $s"; done
+for ((s = need_k - 96; s < need_k + 64; s += 4)); do sizes+=" $s"; done
 hit=""
 for size in $sizes; do
     mount -t tmpfs -o size=${size}k granule-test "$mnt" || exit 99
