@@ -127,7 +127,7 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
         }
         const double gap = 0.5 * s.radius; /* head-on, particle 2 at rest */
         gr_collision_case cs = {{0.0, 0.0}, {v, 0.0}, {2.0 * s.radius + gap, 0.0}, {0.0, 0.0}};
-        double eps = 0.0;
+        double eps = 0.0, t_contact = 0.0;
         for (int p = 0; p < phases; p++) {
             gr_collide_result r;
             s.phase = phases == 1 ? 0.0 : (p + 0.5) / phases;
@@ -136,6 +136,7 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
                 return EXIT_REFUSED;
             }
             eps += r.eps_n_measured / phases;
+            t_contact += r.contact_time / phases;
         }
         cJSON *e = cJSON_CreateObject();
         cJSON_AddNumberToObject(e, "speed", v);
@@ -146,6 +147,7 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
         } else {
             cJSON_AddNullToObject(e, "contact_time_law");
         }
+        cJSON_AddNumberToObject(e, "contact_time_measured", t_contact); /* steps with a force x dt */
         cJSON_AddNumberToObject(e, "dt", s.dt);
         if (reference) {
             gr_collide_result ref;
@@ -154,6 +156,7 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
                 return EXIT_REFUSED;
             }
             cJSON_AddNumberToObject(e, "eps_n_reference", ref.eps_n_measured);
+            cJSON_AddNumberToObject(e, "contact_time_reference", ref.contact_time);
         }
         cJSON_AddItemToArray(arr, e);
     }
