@@ -41,15 +41,8 @@ done
 granule="$build/granule"
 coeffs="$build/bench/bench_coeffs"
 
-find_lmp() {
-    for b in lmp lmp_serial lmp_mpi; do
-        if command -v "$b" >/dev/null 2>&1; then
-            command -v "$b"
-            return 0
-        fi
-    done
-    return 1
-}
+# shellcheck source=bench/lib.sh
+source bench/lib.sh # find_lmp
 lmp=$(find_lmp || true)
 if [[ -z $lmp && $install == 1 ]]; then
     if [[ $(id -u) == 0 ]] && command -v apt-get >/dev/null; then

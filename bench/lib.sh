@@ -5,6 +5,8 @@
 #   temporary folder that is removed on exit, so the test suite never touches the source tree.
 # probe_kind SCENE KIND [--set k=v ...]: prints nothing and returns 0 when the integrator kind
 #   runs in this build; otherwise prints "skipped: not built (...)" and returns 1.
+# find_lmp: prints the path of the first lmp / lmp_serial / lmp_mpi on PATH built with the GRANULAR
+#   package, or returns 1.
 # bench_header: one comment line with the date, machine, compiler flags and commit.
 
 bench_outputs() {
@@ -43,4 +45,16 @@ bench_header() {
     local cpu
     cpu=$(grep -m1 'model name' /proc/cpuinfo 2>/dev/null | cut -d: -f2- | sed 's/^ *//')
     echo "# $(date -u +%Y-%m-%dT%H:%MZ), ${cpu:-unknown CPU}, $(nproc --all) cores, commit $(git rev-parse --short=12 HEAD 2>/dev/null || echo unknown)"
+}
+
+find_lmp() {
+    local b
+    for b in lmp lmp_serial lmp_mpi; do
+        # (the help text is read whole first: grep -q closing the pipe early would fail under pipefail)
+        if command -v "$b" >/dev/null 2>&1 && grep -qw GRANULAR <<<"$("$b" -h 2>/dev/null)"; then
+            command -v "$b"
+            return 0
+        fi
+    done
+    return 1
 }

@@ -26,8 +26,9 @@ static void usage(FILE *f)
             "instantaneous rule of the event-driven integrator (exact loss; contact_time 0). For the RFM particles use\n"
             "--mass 3.53e-5 --radius 1.5e-3. --set KEY=VALUE sets any model parameter of `granule models` (e.g.\n"
             "--model hertz --set viscoelastic=true --set visco_A=1e-6). --speeds V1,V2,... adds restitution_vs_speed:\n"
-            "head-on impacts at these relative speeds (m/s), each with the engine's eps_n, the model's own law eps_n(v)\n"
-            "and contact time t_c(v) (and the CVODE reference with --reference); for hertz the time step then\n"
+            "head-on impacts at these relative speeds (m/s), each with the engine's eps_n and contact time (steps with\n"
+            "a force x dt), the model's own law eps_n(v) and contact time t_c(v) (and the CVODE reference's with\n"
+            "--reference); for hertz the time step then\n"
             "follows each impact (dt = t_c(v) / steps-per-contact).\n"
             "Ranges: --eps-n (0, 1] (eps_n = 0 is a sticking pair that never separates, so there is no\n"
             "collision to measure; a scene may use it with spring_dashpot), --eps-t [0, 1], --mu >= 0.\n"
@@ -127,7 +128,7 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
         }
         const double gap = 0.5 * s.radius; /* head-on, particle 2 at rest */
         gr_collision_case cs = {{0.0, 0.0}, {v, 0.0}, {2.0 * s.radius + gap, 0.0}, {0.0, 0.0}};
-        double eps = 0.0;
+        double eps = 0.0, t_contact = 0.0;
         for (int p = 0; p < phases; p++) {
             gr_collide_result r;
             s.phase = phases == 1 ? 0.0 : (p + 0.5) / phases;
@@ -136,6 +137,7 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
                 return EXIT_REFUSED;
             }
             eps += r.eps_n_measured / phases;
+            t_contact += r.contact_time / phases;
         }
         cJSON *e = cJSON_CreateObject();
         cJSON_AddNumberToObject(e, "speed", v);
@@ -146,6 +148,7 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
         } else {
             cJSON_AddNullToObject(e, "contact_time_law");
         }
+        cJSON_AddNumberToObject(e, "contact_time_measured", t_contact); /* steps with a force x dt */
         cJSON_AddNumberToObject(e, "dt", s.dt);
         if (reference) {
             gr_collide_result ref;
@@ -154,6 +157,7 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
                 return EXIT_REFUSED;
             }
             cJSON_AddNumberToObject(e, "eps_n_reference", ref.eps_n_measured);
+            cJSON_AddNumberToObject(e, "contact_time_reference", ref.contact_time);
         }
         cJSON_AddItemToArray(arr, e);
     }

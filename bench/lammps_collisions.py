@@ -1,0 +1,290 @@
+"""Single head-on collisions in granule and in LAMMPS (pair_style granular), law by law and speed by
+speed (docs/lammps.md, "Single collisions against LAMMPS"; bench/lammps_collisions.sh runs it).
+
+Both engines integrate the same pair with the same velocity-Verlet scheme (the dashpot sees the
+half-step velocity), the same time step dt = t_c(v) / steps_per_contact and the same start (the
+pair one step before touching, as `granule collide` places it), so they must agree to rounding:
+restitution eps_n = (v2' - v1') / v and the number of steps with a contact force. Both are also
+compared with the law's exact restitution (granule's eps_n(v)) and the CVODE reference, whose
+difference is the discretisation error common to both engines.
+
+Parameter mapping (granule -> LAMMPS pair_coeff, R = r_i r_j / (r_i + r_j) = r/2, meff = M/2 = m12):
+  spring_dashpot  F = k_s xi - gamma_n g_n          -> hooke k_s gamma_n damping velocity
+  hertz, Tsuji    F = k_h xi^1.5 + alpha sqrt(m12 k_h) xi^(1/4) xi'
+                  -> hertz k_h/sqrt(R) COR damping tsuji: LAMMPS's hertz is k_n a xi with
+                     a = sqrt(R xi), and tsuji's damping alpha(COR) sqrt(meff k_n a) is our form;
+                     COR is chosen so that LAMMPS's fitted alpha(COR) equals granule's exact alpha
+  hertz, visco    F = k_h xi^1.5 + (3/2) A k_h sqrt(xi) xi'
+                  -> hertz k_h/sqrt(R) eta damping viscoelastic, eta = (3/2) A k_h / (meff sqrt(R))
+                     (LAMMPS: eta a meff xi')
+  clamp = true    -> keyword limit_damping (F_n >= 0)
+
+    /usr/bin/python3 bench/lammps_collisions.py --build BUILD --lmp LMP [--quick] [--speeds ...]
+        [--steps-per-contact S] [--convergence V] [--json OUT]
+Exit 1 when any pair of engines differs by more than --tol (default 1e-9, see TOL below).
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+MASS, RADIUS = 3.53e-5, 1.5e-3  # the RFM discs
+# Same scheme, same dt, same start: the engines differ only by the rounding of the force
+# arithmetic (e.g. LAMMPS forms k_n a xi with a = sqrt(R xi)), ~1e-16 per step, ~1e-13 after
+# 1e4 steps of a contact; one step more or less in a contact would show as ~2 zeta w0 dt ~ 1e-4.
+# 1e-9 leaves room for the rounding and still catches any mapping or scheme difference.
+TOL = 1e-9
+
+# name -> (granule --model, granule --set list); k_s = 5e5 N/m and k_h = 1e9 N/m^1.5 are the defaults
+LAWS = {
+    "spring_dashpot": ("spring_dashpot", ["eps_n=0.6"]),
+    "spring_dashpot clamped": ("spring_dashpot", ["eps_n=0.6", "clamp=true"]),
+    "hertz Tsuji": ("hertz", ["eps_n=0.6"]),
+    "hertz Tsuji clamped": ("hertz", ["eps_n=0.6", "clamp=true"]),
+    "hertz viscoelastic": ("hertz", ["viscoelastic=true", "visco_A=1e-6"]),
+    "hertz viscoelastic clamped": ("hertz", ["viscoelastic=true", "visco_A=1e-6", "clamp=true"]),
+}
+
+
+def tsuji_alpha(cor):
+    """LAMMPS's damping tsuji: alpha(e), Tsuji et al. 1992's fit, as pair_granular.cpp evaluates it."""
+    return (1.2728 - 4.2783 * cor + 11.087 * cor ** 2 - 22.348 * cor ** 3 + 27.467 * cor ** 4
+            - 18.022 * cor ** 5 + 4.8218 * cor ** 6)
+
+
+def tsuji_cor_for(alpha):
+    """The COR to give LAMMPS so that its alpha(COR) is our alpha (alpha(e) falls on [0, 1])."""
+    lo, hi = 0.0, 1.0
+    if not tsuji_alpha(hi) <= alpha <= tsuji_alpha(lo):
+        raise ValueError(f"alpha = {alpha} outside LAMMPS's Tsuji fit range [{tsuji_alpha(1.0)}, {tsuji_alpha(0.0)}]")
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if tsuji_alpha(mid) > alpha:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def scaled_restitution(alpha, clamp):
+    """E(alpha) of the scaled Tsuji contact X'' = -X^1.5 - alpha X^(1/4) X' (docs/models.md), by an
+    independent integrator (scipy DOP853): used for LAMMPS's own alpha(COR). None without scipy."""
+    try:
+        from scipy.integrate import solve_ivp
+    except ImportError:
+        return None
+
+    def force(X, V):
+        X = max(X, 0.0)
+        return X ** 1.5 + alpha * X ** 0.25 * V
+
+    def rhs(_t, y):
+        return [y[1], -force(y[0], y[1])]
+
+    def end(_t, y):
+        return force(y[0], y[1]) if clamp else y[0]
+    end.terminal, end.direction = True, -1
+    sol = solve_ivp(rhs, (0.0, 50.0), [0.0, 1.0], method="DOP853", rtol=1e-13, atol=1e-15, events=end,
+                    first_step=1e-8)
+    return -sol.y_events[0][0][1]
+
+
+def coefficients(build, model, sets):
+    """granule's own coefficients (bench_coeffs prints what gr_contact_prepare derives)."""
+    args = [os.path.join(build, "bench", "bench_coeffs"), os.path.join(SRC, "docs", "scenes", "rfm-2d.ini"),
+            "--set", f"model.normal={model}", "--set", "model.tangential=none",
+            "--set", f"system.mass={MASS!r}", "--set", f"system.radius={RADIUS!r}"]
+    for s in sets:
+        args += ["--set", "model." + s]
+    out = subprocess.run(args, check=True, capture_output=True, text=True).stdout
+    return {k: v for k, v in (ln.split("=", 1) for ln in out.split())}
+
+
+def lammps_pair_coeff(model, sets, c):
+    k, gamma_n, m12 = float(c["k_s"]), float(c["gamma_n"]), float(c["m12"])
+    R = RADIUS * RADIUS / (2 * RADIUS)
+    clamp = " limit_damping" if "clamp=true" in sets else ""
+    tail = f" tangential linear_nohistory 0.0 0.0{clamp}"
+    if model == "spring_dashpot":
+        return f"hooke {k!r} {gamma_n!r} damping velocity" + tail, {}
+    kn = k / math.sqrt(R)
+    if "viscoelastic=true" in sets:
+        return f"hertz {kn!r} {gamma_n / (m12 * math.sqrt(R))!r} damping viscoelastic" + tail, {}
+    alpha = gamma_n / math.sqrt(m12 * k)
+    cor = tsuji_cor_for(alpha)
+    return f"hertz {kn!r} {cor!r} damping tsuji" + tail, {"alpha": alpha, "lammps_cor": cor}
+
+
+def granule_collide(build, model, sets, speeds, spc):
+    args = [os.path.join(build, "granule"), "collide", "--model", model, "--mass", repr(MASS), "--radius", repr(RADIUS),
+            "--speeds", ",".join(repr(v) for v in speeds), "--steps-per-contact", repr(spc), "--reference"]
+    for s in sets:
+        args += ["--set", s]
+    return json.loads(subprocess.run(args, check=True, capture_output=True, text=True).stdout)["restitution_vs_speed"]
+
+
+def lammps_collide(lmp, work, pair_coeff, v, dt, t_c):
+    """One head-on collision in LAMMPS, placed as granule collide places it: particle 2 at rest at
+    2r + r/2 ahead, both moved along their free flight to one step before contact."""
+    d = 2 * RADIUS
+    gap = 0.5 * RADIUS
+    r0 = d + gap
+    L = 64 * d
+    c = r0 * r0 - d * d
+    t_hit = c / (r0 * v + math.sqrt((r0 * v) ** 2 - v * v * c))  # granule's contact_time_of
+    t0 = t_hit - min(t_hit, dt)
+    x1 = 0.5 * L + v * t0 - 0.5 * r0
+    x2 = 0.5 * L + r0 - 0.5 * r0
+    steps = int(math.ceil(2.0 * t_c / dt)) + 20
+    with open(os.path.join(work, "pair.data"), "w") as f:
+        f.write(f"granule head-on pair\n\n2 atoms\n1 atom types\n\n0 {L!r} xlo xhi\n0 {L!r} ylo yhi\n"
+                f"{-d!r} {d!r} zlo zhi\n\nAtoms # sphere\n\n"
+                f"1 1 {d!r} 1.0 {x1!r} {0.5 * L!r} 0.0\n2 1 {d!r} 1.0 {x2!r} {0.5 * L!r} 0.0\n\n"
+                f"Velocities\n\n1 {v!r} 0.0 0.0 0.0 0.0 0.0\n2 0.0 0.0 0.0 0.0 0.0 0.0\n")
+    with open(os.path.join(work, "pair.in"), "w") as f:
+        f.write(f"""units si
+dimension 2
+boundary p p p
+atom_style sphere
+atom_modify map array
+comm_modify vel yes
+read_data pair.data
+set type 1 mass {MASS!r}
+pair_style granular
+pair_coeff * * {pair_coeff}
+neighbor {0.3 * d!r} bin
+neigh_modify delay 0 every 1 check yes
+fix 1 all nve
+fix 2 all enforce2d
+timestep {dt!r}
+variable on equal "fx[2] != 0.0"
+fix count all ave/time 1 {steps} {steps} v_on file count.dat format " %.17g"
+thermo 0
+run {steps}
+print "$(vx[1]:%.17g) $(vx[2]:%.17g)" file velocities.dat screen no
+""")
+    subprocess.run([lmp, "-in", "pair.in", "-log", "none", "-screen", "none"], cwd=work, check=True)
+    v1, v2 = (float(x) for x in open(os.path.join(work, "velocities.dat")).read().split())
+    mean_on = float(open(os.path.join(work, "count.dat")).read().split("\n")[2].split()[1])
+    return (v2 - v1) / v, round(mean_on * steps)
+
+
+def run(build, lmp, speeds, spc, laws=LAWS):
+    rows = []
+    with tempfile.TemporaryDirectory() as work:
+        for name in laws:
+            model, sets = LAWS[name]
+            c = coefficients(build, model, sets)
+            pair_coeff, extra = lammps_pair_coeff(model, sets, c)
+            for g in granule_collide(build, model, sets, speeds, spc):
+                eps_l, n_l = lammps_collide(lmp, work, pair_coeff, g["speed"], g["dt"], g["contact_time_law"])
+                rows.append(dict(law=name, speed=g["speed"], dt=g["dt"], eps_law=g["eps_n_law"],
+                                 eps_reference=g["eps_n_reference"], eps_granule=g["eps_n_measured"], eps_lammps=eps_l,
+                                 rel_diff=abs(eps_l - g["eps_n_measured"]) / g["eps_n_law"],
+                                 steps_granule=round(g["contact_time_measured"] / g["dt"]), steps_lammps=n_l,
+                                 t_c_law=g["contact_time_law"], t_c_reference=g["contact_time_reference"],
+                                 pair_coeff=pair_coeff, **extra))
+    return rows
+
+
+def lammps_own_tsuji(lmp, build, speeds, spc, eps=0.6, clamp=False):
+    """LAMMPS's own calibration (damping tsuji COR = eps): the fitted alpha(eps), its exact
+    restitution E(alpha) and what LAMMPS measures, at each speed."""
+    sets = [f"eps_n={eps!r}"] + (["clamp=true"] if clamp else [])
+    c = coefficients(build, "hertz", sets)
+    R = RADIUS / 2
+    alpha = tsuji_alpha(eps)
+    exact = scaled_restitution(alpha, clamp)
+    tail = " limit_damping" if clamp else ""
+    pair_coeff = f"hertz {float(c['k_s']) / math.sqrt(R)!r} {eps!r} damping tsuji tangential linear_nohistory 0.0 0.0{tail}"
+    rows = []
+    with tempfile.TemporaryDirectory() as work:
+        for g in granule_collide(build, "hertz", sets, speeds, spc):
+            eps_l, _ = lammps_collide(lmp, work, pair_coeff, g["speed"], g["dt"], 2 * g["contact_time_law"])
+            rows.append(dict(speed=g["speed"], cor=eps, alpha_fit=alpha, eps_exact_fit=exact, eps_lammps=eps_l,
+                             eps_granule=g["eps_n_measured"], alpha_exact=float(c["gamma_n"]) / math.sqrt(float(c["m12"]) * float(c["k_s"]))))
+    return rows
+
+
+def fmt6(x):
+    return "n/a (needs python3-scipy)" if x is None else f"{x:.6f}"
+
+
+def markdown(rows, own):
+    out = ["| law | v (m/s) | eps law (exact) | eps CVODE | eps granule | eps LAMMPS | rel. diff. | "
+           "contact steps granule / LAMMPS | t_c law (s) | t_c granule (s) |",
+           "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        out.append(f"| {r['law']} | {r['speed']:g} | {r['eps_law']:.9f} | {r['eps_reference']:.9f} | {r['eps_granule']:.9f} | "
+                   f"{r['eps_lammps']:.9f} | {r['rel_diff']:.1e} | {r['steps_granule']} / {r['steps_lammps']} | "
+                   f"{r['t_c_law']:.6e} | {r['steps_granule'] * r['dt']:.6e} |")
+    if own:
+        o = own[0]
+        out += ["", f"LAMMPS's own `damping tsuji` with COR = {o['cor']}: fitted alpha = {o['alpha_fit']:.6f} "
+                f"(granule's exact inversion: {o['alpha_exact']:.6f}); the exact restitution of the fitted alpha "
+                f"E(alpha_fit) = {fmt6(o['eps_exact_fit'])}", "",
+                "| v (m/s) | requested eps | E(alpha_fit) | eps LAMMPS (tsuji COR) | eps granule (exact alpha) |",
+                "|---|---|---|---|---|"]
+        for o in own:
+            out.append(f"| {o['speed']:g} | {o['cor']} | {fmt6(o['eps_exact_fit'])} | {o['eps_lammps']:.6f} | {o['eps_granule']:.6f} |")
+    return "\n".join(out)
+
+
+def convergence(build, lmp, v, spcs):
+    """Both engines against the exact law as the step shrinks (first order for a dashpot that sees
+    the half-step velocity): at which resolution each is within 1e-6 of the law."""
+    rows = []
+    for spc in spcs:
+        for r in run(build, lmp, [v], spc):
+            rows.append(dict(r, steps_per_contact=spc))
+    return rows
+
+
+def markdown_convergence(rows):
+    out = ["| law | steps per contact | (granule - law) / law | (LAMMPS - law) / law | (granule - CVODE) / CVODE | |granule - LAMMPS| / law |",
+           "|---|---|---|---|---|---|"]
+    for r in rows:
+        out.append(f"| {r['law']} | {r['steps_per_contact']:g} | {(r['eps_granule'] - r['eps_law']) / r['eps_law']:+.2e} | "
+                   f"{(r['eps_lammps'] - r['eps_law']) / r['eps_law']:+.2e} | "
+                   f"{(r['eps_granule'] - r['eps_reference']) / r['eps_reference']:+.2e} | {r['rel_diff']:.1e} |")
+    return "\n".join(out)
+
+
+SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", default=os.path.join(SRC, "build"))
+    ap.add_argument("--lmp", required=True)
+    ap.add_argument("--quick", action="store_true", help="two speeds, 1000 steps per contact")
+    ap.add_argument("--speeds", default="0.001,0.01,0.1,1,3")
+    ap.add_argument("--steps-per-contact", type=float, default=1e4)
+    ap.add_argument("--convergence", type=float, metavar="V",
+                    help="also step sizes from 1e3 to 1e6 steps per contact at impact speed V (m/s)")
+    ap.add_argument("--json")
+    ap.add_argument("--tol", type=float, default=TOL)
+    a = ap.parse_args()
+    speeds = [float(x) for x in a.speeds.split(",")]
+    spc = a.steps_per_contact
+    if a.quick:
+        speeds, spc = [0.1, 1.0], 1000.0
+    rows = run(a.build, a.lmp, speeds, spc)
+    own = lammps_own_tsuji(a.lmp, a.build, speeds, spc)
+    print(markdown(rows, own))
+    conv = []
+    if a.convergence:
+        conv = convergence(a.build, a.lmp, a.convergence, [1e3, 1e4, 1e5, 1e6])
+        print(f"\nConvergence at v = {a.convergence:g} m/s:\n")
+        print(markdown_convergence(conv))
+        rows += conv
+    if a.json:
+        json.dump({"rows": rows, "lammps_tsuji": own, "steps_per_contact": spc}, open(a.json, "w"), indent=1)
+    bad = [r for r in rows if not (r["rel_diff"] <= a.tol and r["steps_granule"] == r["steps_lammps"])]
+    for r in bad:
+        print(f"lammps_collisions: MISMATCH {r['law']} at {r['speed']} m/s: eps {r['eps_granule']!r} vs "
+              f"{r['eps_lammps']!r} (rel. {r['rel_diff']:.2e} > {a.tol:g}), contact steps {r['steps_granule']} vs "
+              f"{r['steps_lammps']}", file=sys.stderr)
+    sys.exit(1 if bad else 0)

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Single head-on collisions in granule and in LAMMPS (pair_style granular), every normal law
+# (spring_dashpot and hertz Tsuji / viscoelastic, clamped and not) at several impact speeds:
+# restitution and contact steps of both engines at the same time step, against the law's exact
+# restitution and the CVODE reference (docs/lammps.md, "Single collisions against LAMMPS").
+#
+#   bench/lammps_collisions.sh [BUILD_DIR] [--quick] [--speeds V1,V2,...] [--steps-per-contact S]
+#                              [--convergence V] [--json OUT]
+#
+# Defaults: speeds 0.001,0.01,0.1,1,3 m/s, 1e4 steps per contact; --convergence V adds 1e3..1e6
+# steps per contact at speed V (about a minute). --quick: two speeds at 1e3 steps per contact.
+# Exits 1 when the engines differ by more than 1e-9 relative or by a contact step; skips (exit 0)
+# without an lmp built with the GRANULAR package. The Python part is bench/lammps_collisions.py
+# (Debian's /usr/bin/python3; scipy optional, for the exact restitution of LAMMPS's own Tsuji fit).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=build
+if [[ $# -gt 0 && $1 != -* ]]; then
+    build=$1
+    shift
+fi
+# shellcheck source=bench/lib.sh
+source bench/lib.sh
+lmp=$(find_lmp || true)
+if [[ -z $lmp ]]; then
+    echo "lammps_collisions: skipped: no lmp with pair_style granular (Debian package lammps)"
+    exit 0
+fi
+for p in "$build/granule" "$build/bench/bench_coeffs"; do
+    [[ -x $p ]] || { echo "lammps_collisions: $p not found: build the project (ninja -C $build) first" >&2; exit 1; }
+done
+lmp_help=$("$lmp" -h 2>/dev/null || true)
+lmp_version=$(grep -m1 -o 'Simulator - .*' <<<"$lmp_help" | sed 's/Simulator - //' || true)
+echo "$(bench_header), $lmp: LAMMPS ${lmp_version:-(version unknown)}"
+echo
+/usr/bin/python3 bench/lammps_collisions.py --build "$build" --lmp "$lmp" "$@"
