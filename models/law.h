@@ -32,13 +32,16 @@ typedef struct gr_normal_force {
 } gr_normal_force;
 
 /* What a tangential law sees at one contact.
- *   g_t    tangential relative velocity at the contact point. Today (no rotation) g.t; a
- *          rotation-aware kernel will add the surface velocities -(r_i w_i + r_j w_j) here, so
- *          a law written against g_t needs no change.
+ *   g_t    tangential relative velocity at the contact point: g.t without rotation; with
+ *          rotation (kernels instantiated with rot = 1) g.t + r (w_i + w_j), the surface
+ *          velocities included (sign: w counterclockwise, t = (n_y, -n_x); the surface of i at
+ *          the contact moves with v_i + w_i z x (r n) = v_i - r w_i t, that of j with
+ *          v_j + r w_j t), so a law written against g_t needs no change. The force f t on j
+ *          then exerts the torque r f on j and on i alike.
  *   f_n    the normal force the normal law just returned (after the clamp);
  *   acts   the normal contact acts: always with an unclamped law, f_n > 0 with the clamp;
- *   m12_dt reduced mass over the time step (the impulse that stops g_t in one step is
- *          m12_dt |g_t|);
+ *   m12_dt the contact point's tangential mass over the time step (the impulse that stops g_t
+ *          in one step is m12_dt |g_t|): m12 / dt without rotation, m_t / dt with it;
  *   hist   per-contact history slot (NULL today: no law keeps history yet). A history law
  *          (Cundall-Strack spring) will read and update its accumulated displacement here; the
  *          kernel will own the storage, one slot per neighbour-list entry. */
@@ -57,5 +60,16 @@ typedef struct gr_tangential_force {
 } gr_tangential_force;
 
 enum { GR_BOOK_TANGENTIAL = 1, GR_BOOK_FRICTION = 2 };
+
+/* The scene keys of rotation, declared by every tangential law that acts at the contact point
+ * (gr_model.contact_point): put GR_ROTATION_PARAMS into the law's parameter table. */
+#define GR_ROTATION_PARAMS                                                                         \
+    {"rotation", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,                                  \
+     "true: the discs rotate (angular velocity, torque); the law acts on the contact point's "    \
+     "tangential velocity g.t + r (w_i + w_j); false: no rotation (the thesis)",                  \
+     offsetof(gr_contact_params, rotation)},                                                       \
+    {"inertia_factor", "", GR_PARAM_DOUBLE, 0.5, 0.0, 1.0, true, false,                           \
+     "rotation: moment of inertia I = q M r^2, q in (0, 1]; 1/2 uniform disc, 1 thin ring",        \
+     offsetof(gr_contact_params, inertia_factor)}
 
 #endif

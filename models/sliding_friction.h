@@ -35,6 +35,7 @@ GR_LAW gr_tangential_force gr_tangential_sliding_friction(const gr_contact_coeff
 static const gr_param sliding_friction_params[] = {
     {"mu", "", GR_PARAM_DOUBLE, 0.5, 0.0, INFINITY, false, true,
      "sliding-friction coefficient (2.7)", offsetof(gr_contact_params, mu)},
+    GR_ROTATION_PARAMS,
 };
 
 static int sliding_friction_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
@@ -53,7 +54,8 @@ static int sliding_friction_prepare(const gr_contact_params *p, double m12, doub
  * max(0, 1 - mu (1 + eps_n) v_n / v_t) for a repulsive normal force (physics notes sec. 4.2). */
 static double sliding_friction_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t)
 {
-    return fmax(0.0, 1.0 - c->mu * n.impulse_abs * v_n / v_t);
+    /* with rotation the tangential impulse J changes the contact point's velocity by J / m_t */
+    return fmax(0.0, 1.0 - c->mu * n.impulse_abs * (c->m12 / c->m_t) * v_n / v_t);
 }
 
 /* mu = 0: no friction, the kernel without it runs */
@@ -67,6 +69,7 @@ const gr_model gr_model_sliding_friction = {
     .n_params = sizeof sliding_friction_params / sizeof sliding_friction_params[0],
     .prepare = sliding_friction_prepare,
     .inert = sliding_friction_inert,
+    .contact_point = true,
     .restitution_t = sliding_friction_restitution_t,
     .elastic = "mu=0",
 };

@@ -36,6 +36,7 @@ static const gr_param tangential_dashpot_params[] = {
     {"eps_t", "", GR_PARAM_DOUBLE, 0.6, 0.0, 1.0, false, false,
      "tangential coefficient of restitution (2.10); 1 = no tangential dissipation",
      offsetof(gr_contact_params, eps_t)},
+    GR_ROTATION_PARAMS,
 };
 
 static int tangential_dashpot_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
@@ -49,15 +50,20 @@ static int tangential_dashpot_prepare(const gr_contact_params *p, double m12, do
     }
     /* An explicit step multiplies v_t by (1 - gamma_t dt / m12); gamma_t = m12 / dt removes it in
      * one step, the closest a time step can get to eps_t = 0. */
+    /* With rotation the contact point's tangential velocity has the mass m_t (c->m_t, set before
+     * prepare; m12 without rotation), so eps_t is always the restitution of that velocity. */
+    (void)m12;
+    const double m_t = c->m_t;
     double step = dt > 0.0 ? dt : t_c / 50.0;
-    double gamma_max = m12 / step;
-    double gamma = p->eps_t > 0.0 ? -m12 * log(p->eps_t) / t_c : gamma_max;
+    double gamma_max = m_t / step;
+    double gamma = p->eps_t > 0.0 ? -m_t * log(p->eps_t) / t_c : gamma_max;
     c->gamma_t = fmin(gamma, gamma_max);
     return GR_OK;
 }
 
-/* Its restitution law: without rotation g_t decays as exp(-gamma_t t / m12) while the normal
- * force acts, for the contact duration t_c of the normal law (a sticking contact: pi / w0). */
+/* Its restitution law: g_t (at the contact point) decays as exp(-gamma_t t / m_t) while the
+ * normal force acts, for the contact duration t_c of the normal law (a sticking contact:
+ * pi / w0); m_t = m12 without rotation, m12 q / (1 + q) with it. */
 static double tangential_dashpot_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t)
 {
     (void)v_n;
@@ -66,7 +72,7 @@ static double tangential_dashpot_restitution_t(const gr_contact_coeffs *c, gr_no
     if (!isfinite(t_c)) {
         t_c = M_PI / c->w0;
     }
-    return exp(-c->gamma_t * t_c / c->m12);
+    return exp(-c->gamma_t * t_c / c->m_t);
 }
 
 /* eps_t = 1 gives gamma_t = 0: the law does nothing, the kernel without it runs */
@@ -80,6 +86,7 @@ const gr_model gr_model_tangential_dashpot = {
     .n_params = sizeof tangential_dashpot_params / sizeof tangential_dashpot_params[0],
     .prepare = tangential_dashpot_prepare,
     .inert = tangential_dashpot_inert,
+    .contact_point = true,
     .restitution_t = tangential_dashpot_restitution_t,
     .elastic = "eps_t=1",
 };

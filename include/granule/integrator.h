@@ -38,6 +38,9 @@ typedef struct gr_integrator_type {
     /* Particles fly freely between contacts under the random force, with the scene's
      * [integrator] free_flight and kick_interval (event, hybrid). */
     bool free_flight;
+    /* Kicks the angular velocities with the torques (gr_sim omega, tq) when a scene has rotation
+     * ([model] rotation = true); an integrator without it refuses such a scene. */
+    bool rotation;
 
     /* Build the integrator's state (into the simulation's integrator_state) once positions,
      * velocities, coefficients, the time step and the first forces are set. NULL: none. */

@@ -44,6 +44,8 @@ typedef struct gr_contact_params {
     bool viscoelastic; /* hertz: damping of Brilliantov et al. (A), not calibrated to eps_n */
     double visco_A;    /* hertz: the viscoelastic time A, s */
     double v_max;      /* hertz: the fastest impact the time step must resolve, m/s */
+    bool rotation;         /* a tangential law at the contact point: discs rotate (omega, torque) */
+    double inertia_factor; /* rotation: moment of inertia I = q M r^2, q (1/2: uniform disc) */
 } gr_contact_params;
 
 typedef enum {
@@ -83,6 +85,12 @@ typedef struct gr_contact_coeffs {
     double eps_n_exact; /* restitution the continuous-time law really gives */
     double gamma_t; /* tangential dashpot, kg/s (2.9) */
     double mu;      /* sliding friction (2.7) */
+    /* Rotation (gr_contact_params.rotation with a tangential law that acts at the contact point):
+     * q = inertia_factor; m_t is the mass that resists the contact point's tangential relative
+     * motion, m12 without rotation and m12 q / (1 + q) with it (docs/models.md, "Rotation"). */
+    bool rotation;
+    double q;
+    double m_t;
     double e_scale; /* elastic energy of a contact = e_scale * (the law's e), J per unit of e */
     /* The normal law as F = k_s xi^pow_a - gamma_n xi^pow_p g_n (before the clamp): pow_a = 1,
      * pow_p = 0 for the linear law; hertz has 3/2 and 1/2 or 1/4 (k_s, gamma_n then in the units
@@ -111,6 +119,9 @@ typedef struct gr_model {
     /* Tangential laws (optional): true when the prepared coefficients make the law do nothing
      * (eps_t = 1, mu = 0); the kernel without it then runs. Called once per run. */
     bool (*inert)(const gr_contact_coeffs *c);
+    /* Tangential laws: the force acts at the contact point, so the discs may rotate (the scene
+     * key rotation = true is then legal; the law then sees the contact point's velocity). */
+    bool contact_point;
     /* Event rules: the normal force law whose kernel evaluates forces when the engine asks for
      * them (the initial state, which has no overlaps), with the coefficients prepare set. */
     const char *force_law;

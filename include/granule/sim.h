@@ -24,7 +24,8 @@ typedef struct gr_sim gr_sim;
 
 /* Energies in J, accumulated since the simulation was created. */
 typedef struct gr_ledger {
-    double kinetic;        /* current kinetic energy sum M v^2 / 2 */
+    double kinetic;        /* current kinetic energy sum M v^2 / 2 (+ sum I w^2 / 2 with rotation) */
+    double rotational;     /* its rotational part sum I w^2 / 2 (0 without rotation) */
     double elastic;        /* current spring energy sum k_s xi^2 / 2 */
     double initial;        /* kinetic + elastic at creation */
     double injected;       /* work done by the random force */

@@ -30,7 +30,21 @@ int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
     }
     c->normal_model = normal;
     c->tangential_model = tangential;
+    if (p->rotation && !(tangential && tangential->contact_point)) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "[model] rotation = true needs a tangential law that acts at the contact point (%s)%s%s",
+                       "tangential_dashpot, sliding_friction", tangential ? "; given " : ", none given",
+                       tangential ? tangential->name : "");
+    }
     int rc = normal->prepare(p, m12, dt, c, err);
+    /* Rotation: two equal discs (mass m, radius R, I = q m R^2). An impulse J along t on j (-J on
+     * i) changes g.t by J / m12 and, through the torques R J on both discs (same sign),
+     * R (w_i + w_j) by 2 R^2 J / I = J / (q m12): the contact point's tangential velocity changes
+     * by J (1 + 1/q) / m12, so m_t = m12 / (1 + 1/q) = m12 q / (1 + q) (m12 / 3 for a disc; for
+     * spheres, q = 2/5, the familiar 2/7 m12, e.g. Luding, Granular Matter 10, 235 (2008)). */
+    c->rotation = p->rotation;
+    c->q = p->inertia_factor;
+    c->m_t = p->rotation ? m12 * p->inertia_factor / (1.0 + p->inertia_factor) : m12;
     if (rc == GR_OK && tangential) {
         rc = tangential->prepare(p, m12, dt, c, err);
     }

@@ -6,9 +6,13 @@
  * (gr_kernel_choose); there is no per-pair indirect call. Adding a model needs no edit here.
  *
  * For a pair i < j at overlap xi = d - |r_ij| > 0, n = r_ij / |r_ij| (from i to j),
- * g = v_j - v_i, g_n = g.n (< 0 approaching), t = n rotated by 90 degrees (2.8), g_t = g.t, the
- * normal law gives f_n and its non-conservative part f_d, the tangential law f_t and its
- * dissipation; the force on j is f_n n + f_t t, on i its opposite (Newton's third law).
+ * g = v_j - v_i, g_n = g.n (< 0 approaching), t = (n_y, -n_x) (n rotated by -90 degrees, 2.8),
+ * g_t = g.t, the normal law gives f_n and its non-conservative part f_d, the tangential law f_t
+ * and its dissipation; the force on j is f_n n + f_t t, on i its opposite (Newton's third law).
+ * Rotation (instances with rot = 1, only with a tangential law): g_t is the contact point's
+ * g.t + r (w_i + w_j) (models/law.h gives the sign), and f_t exerts the torque r f_t on i and on j
+ * alike (equal radii; the contact point is at r_i + r n = r_j - r n: (-r n) x (f_t t) =
+ * r f_t for j, (r n) x (-f_t t) = r f_t for i, since n x t = -1).
  * Ledger: the normal law's non-conservative part does work f_d g_n on the relative motion, so
  * it dissipates -f_d g_n (for the linear law gamma_n g_n^2 unclamped; the spring energy that
  * vanishes while the clamp holds f_n at zero is counted here too); a tangential law books its
@@ -91,23 +95,25 @@ static inline double wrap_delta(double dx, double L)
  * ledger terms. Returns 0 (nothing set) when the pair does not overlap. */
 typedef struct pair_out {
     double Fx, Fy, Gx, Gy, el, pn, pt, ov; /* pt: the tangential law's dissipation (its column) */
+    double tq; /* rotation: the torque r f_t on i and on j */
 } pair_out;
 
 /* What every pair needs, loaded once per loop. */
 typedef struct pair_ctx {
     const double *restrict x, *restrict y, *restrict vx, *restrict vy;
-    double L, d, d2, m12_dt;
+    const double *restrict w; /* omega (rotation only) */
+    double L, d, d2, m12_dt, r;
     gr_contact_coeffs cc; /* the laws' coefficients, a local copy */
 } pair_ctx;
 
 static inline __attribute__((always_inline)) pair_ctx ctx_of(const gr_sim *s)
 {
-    return (pair_ctx){.x = s->x, .y = s->y, .vx = s->vx, .vy = s->vy, .L = s->L, .d = s->d, .d2 = s->d * s->d,
-                      .m12_dt = s->cc.m12 / s->dt, .cc = s->cc};
+    return (pair_ctx){.x = s->x, .y = s->y, .vx = s->vx, .vy = s->vy, .w = s->omega, .L = s->L, .d = s->d,
+                      .d2 = s->d * s->d, .m12_dt = s->cc.m_t / s->dt, .r = 0.5 * s->d, .cc = s->cc};
 }
 
 static inline __attribute__((always_inline)) int
-pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang, const int clamp,
+pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang, const int clamp, const int rot,
         pair_out *restrict o)
 {
     const double L = c.L, d = c.d;
@@ -132,12 +138,18 @@ pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang
     double Fx = f_n * nx, Fy = f_n * ny;
     if (tang != TL_none) {
         const double tx = ny, ty = -nx;
-        const double g_t = gx * tx + gy * ty;
+        double g_t = gx * tx + gy * ty;
+        if (rot) {
+            g_t += c.r * (c.w[i] + c.w[j]); /* the surface velocities at the contact point */
+        }
         const gr_tangential_in in = {.g_t = g_t, .f_n = f_n, .acts = !clamp || f_n > 0.0, .m12_dt = c.m12_dt,
                                      .hist = NULL};
         const gr_tangential_force ft = tangential_law(tang, &c.cc, in);
         const double f_t = ft.f;
         o->pt = ft.p;
+        if (rot) {
+            o->tq = c.r * f_t;
+        }
         Fx += f_t * tx;
         Fy += f_t * ty;
         Gx += f_t * tx;
@@ -157,20 +169,21 @@ enum { B_EL, B_PN, B_PT, B_PF, B_WORST, B_FRESH };
  * one thread) and f[i] -= sum of its row. Sums of the block in list order. */
 static inline __attribute__((always_inline)) void
 rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int hi, const int all, const int nl,
-        const int tang, const int clamp, double *restrict part)
+        const int tang, const int clamp, const int rot, double *restrict part)
 {
     double *restrict fx = s->fx, *restrict fy = s->fy, *restrict gx_ = s->gx, *restrict gy_ = s->gy;
+    double *restrict tq = s->tq;
     const int *restrict start = s->nl_start, *restrict list = s->nl_j;
     uint8_t *restrict touching = s->nl_contact;
     const pair_ctx c = ctx_of(s);
     double elastic = 0.0, pn = 0.0, pt = 0.0, pf = 0.0, worst = 0.0;
     int64_t fresh = 0;
     for (int i = r0; i < r1; i++) {
-        double fxi = 0.0, fyi = 0.0, gxi = 0.0, gyi = 0.0;
+        double fxi = 0.0, fyi = 0.0, gxi = 0.0, gyi = 0.0, tqi = 0.0;
         for (int p = start[i]; p < start[i + 1]; p++) {
             const int j = list[p];
             pair_out o;
-            if (!pair_2d(c, i, j, nl, tang, clamp, &o)) {
+            if (!pair_2d(c, i, j, nl, tang, clamp, rot, &o)) {
                 touching[p] = 0;
                 continue;
             }
@@ -188,17 +201,26 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
             fyi -= o.Fy;
             gxi -= o.Gx;
             gyi -= o.Gy;
+            if (rot) {
+                tqi += o.tq;
+            }
             if (all || (j >= lo && j < hi)) {
                 fx[j] += o.Fx;
                 fy[j] += o.Fy;
                 gx_[j] += o.Gx;
                 gy_[j] += o.Gy;
+                if (rot) {
+                    tq[j] += o.tq;
+                }
             }
         }
         fx[i] += fxi;
         fy[i] += fyi;
         gx_[i] += gxi;
         gy_[i] += gyi;
+        if (rot) {
+            tq[i] += tqi;
+        }
     }
     part[B_EL] = elastic;
     part[B_PN] = pn;
@@ -215,6 +237,9 @@ static void zero_forces(gr_sim *s, int lo, int hi)
     memset(s->fy + lo, 0, m);
     memset(s->gx + lo, 0, m);
     memset(s->gy + lo, 0, m);
+    if (s->tq) {
+        memset(s->tq + lo, 0, m);
+    }
 }
 
 /* Cross-pair lists for T threads (see sim_internal.h), after every list rebuild. Thread t owns a
@@ -274,12 +299,17 @@ static int build_cross(gr_sim *s, int T)
         free(s->cross_i);
         free(s->in_k);
         free(s->pair_f);
+        free(s->pair_tq);
+        s->pair_tq = NULL;
         s->cross_p = malloc(sizeof(int) * (size_t)cap);
         s->cross_i = malloc(sizeof(int) * (size_t)cap);
         s->in_k = malloc(sizeof(int) * (size_t)cap);
         s->pair_f = malloc(4 * sizeof(double) * (size_t)cap);
+        if (s->tq) {
+            s->pair_tq = malloc(sizeof(double) * (size_t)cap);
+        }
         s->cross_cap = cap;
-        if (!s->cross_p || !s->cross_i || !s->in_k || !s->pair_f) {
+        if (!s->cross_p || !s->cross_i || !s->in_k || !s->pair_f || (s->tq && !s->pair_tq)) {
             s->cross_cap = 0;
             return 0;
         }
@@ -318,12 +348,13 @@ static int build_cross(gr_sim *s, int T)
 }
 
 /* Add the cross pairs q in [q0, q1) of the incoming list of each particle in [lo, hi). */
-static inline void add_incoming(gr_sim *restrict s, int lo, int hi, int q0, int q1)
+static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict s, int lo, int hi, int q0, int q1,
+                                                               const int rot)
 {
     const int *restrict in = s->in_start, *restrict ink = s->in_k;
-    const double *restrict pf = s->pair_f;
+    const double *restrict pf = s->pair_f, *restrict ptq = s->pair_tq;
     for (int j = lo; j < hi; j++) {
-        double ax = s->fx[j], ay = s->fy[j], bx = s->gx[j], by = s->gy[j];
+        double ax = s->fx[j], ay = s->fy[j], bx = s->gx[j], by = s->gy[j], tj = rot ? s->tq[j] : 0.0;
         for (int e = in[j]; e < in[j + 1]; e++) {
             const int q = ink[e];
             if (q >= q0 && q < q1) {
@@ -331,12 +362,18 @@ static inline void add_incoming(gr_sim *restrict s, int lo, int hi, int q0, int 
                 ay += pf[4 * q + 1];
                 bx += pf[4 * q + 2];
                 by += pf[4 * q + 3];
+                if (rot) {
+                    tj += ptq[q];
+                }
             }
         }
         s->fx[j] = ax;
         s->fy[j] = ay;
         s->gx[j] = bx;
         s->gy[j] = by;
+        if (rot) {
+            s->tq[j] = tj;
+        }
     }
 }
 
@@ -348,33 +385,39 @@ static inline void add_incoming(gr_sim *restrict s, int lo, int hi, int q0, int 
  * that does not overlap adds +0.0, which changes no sum that starts from +0.0), so the result
  * is bit-identical for every T. Ledger sums are per block and combined in block order. */
 static inline __attribute__((always_inline)) void
-serial_2d(gr_sim *restrict s, const int nl, const int tang, const int clamp)
+serial_2d(gr_sim *restrict s, const int nl, const int tang, const int clamp, const int rot)
 {
     const int n = s->n;
     zero_forces(s, 0, n);
     for (int b = 0; b < s->nblk; b++) {
         const int r1 = (b + 1) * GR_BLOCK < n ? (b + 1) * GR_BLOCK : n;
-        rows_2d(s, b * GR_BLOCK, r1, 0, n, 1, nl, tang, clamp, s->blk + (size_t)b * GR_BLK_FIELDS);
+        rows_2d(s, b * GR_BLOCK, r1, 0, n, 1, nl, tang, clamp, rot, s->blk + (size_t)b * GR_BLK_FIELDS);
     }
 }
 
 /* The part of thread tid of nth (inside a parallel region) of the T-thread evaluation. */
 static inline __attribute__((always_inline)) void
 threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const int nl, const int tang,
-            const int clamp)
+            const int clamp, const int rot)
 {
     const pair_ctx c = ctx_of(s);
     for (int t = tid; t < T; t += nth) {
         for (int q = s->cross_start[t]; q < s->cross_start[t + 1]; q++) {
             pair_out o;
             double *f = s->pair_f + 4 * (size_t)q;
-            if (pair_2d(c, s->cross_i[q], s->nl_j[s->cross_p[q]], nl, tang, clamp, &o)) {
+            if (pair_2d(c, s->cross_i[q], s->nl_j[s->cross_p[q]], nl, tang, clamp, rot, &o)) {
                 f[0] = o.Fx;
                 f[1] = o.Fy;
                 f[2] = o.Gx;
                 f[3] = o.Gy;
+                if (rot) {
+                    s->pair_tq[q] = o.tq;
+                }
             } else {
                 f[0] = f[1] = f[2] = f[3] = 0.0;
+                if (rot) {
+                    s->pair_tq[q] = 0.0;
+                }
             }
         }
     }
@@ -382,12 +425,12 @@ threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const
     for (int t = tid; t < T; t += nth) {
         const int lo = s->par_row[t], hi = s->par_row[t + 1];
         zero_forces(s, lo, hi);
-        add_incoming(s, lo, hi, 0, s->cross_start[t]);
+        add_incoming(s, lo, hi, 0, s->cross_start[t], rot);
         for (int r0 = lo; r0 < hi; r0 += GR_BLOCK) {
             const int r1 = r0 + GR_BLOCK < hi ? r0 + GR_BLOCK : hi;
-            rows_2d(s, r0, r1, lo, hi, 0, nl, tang, clamp, s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS);
+            rows_2d(s, r0, r1, lo, hi, 0, nl, tang, clamp, rot, s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS);
         }
-        add_incoming(s, lo, hi, s->cross_start[t + 1], s->cross_start[T]);
+        add_incoming(s, lo, hi, s->cross_start[t + 1], s->cross_start[T], rot);
     }
 }
 
@@ -514,38 +557,41 @@ pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const int nl, cons
 
 /* One function per contact-law combination; the parallel region is written in each, so that the
  * constants reach the body OpenMP outlines. */
-#define KERNEL_2D(NL, TL, CLAMP)                                                                   \
-    static void kernel_2d_##NL##_##TL##_##CLAMP(gr_sim *s, gr_force_report *r)                     \
+#define KERNEL_2D(NL, TL, CLAMP, ROT)                                                              \
+    static void kernel_2d_##NL##_##TL##_##CLAMP##ROT(gr_sim *s, gr_force_report *r)                \
     {                                                                                              \
         const int T = team_2d(s);                                                                  \
         if (T == 1) {                                                                              \
-            serial_2d(s, NL_##NL, TL_##TL, CLAMP);                                                 \
+            serial_2d(s, NL_##NL, TL_##TL, CLAMP, ROT);                                            \
         } else {                                                                                   \
             _Pragma("omp parallel num_threads(T)")                                                 \
-                threaded_2d(s, T, THREAD_ID, THREAD_COUNT, NL_##NL, TL_##TL, CLAMP);               \
+                threaded_2d(s, T, THREAD_ID, THREAD_COUNT, NL_##NL, TL_##TL, CLAMP, ROT);          \
         }                                                                                          \
         report_2d(s, r);                                                                           \
     }
 #define KERNEL_1D(NL, CLAMP)                                                                       \
     static void kernel_1d_##NL##_##CLAMP(gr_sim *s, gr_force_report *r) { pair_loop_1d(s, r, NL_##NL, CLAMP); }
-#define KERNELS_NT(NL, TL) KERNEL_2D(NL, TL, 0) KERNEL_2D(NL, TL, 1)
+/* rotation (the last digit) only with a tangential law */
+#define KERNELS_NT(NL, TL) KERNEL_2D(NL, TL, 0, 0) KERNEL_2D(NL, TL, 1, 0) KERNEL_2D(NL, TL, 0, 1) KERNEL_2D(NL, TL, 1, 1)
 #define KERNELS_N(A, NL)                                                                           \
-    KERNEL_1D(NL, 0) KERNEL_1D(NL, 1) KERNELS_NT(NL, none) GR_TANGENTIAL_MODELS(KERNELS_NT, NL)
+    KERNEL_1D(NL, 0) KERNEL_1D(NL, 1) KERNEL_2D(NL, none, 0, 0) KERNEL_2D(NL, none, 1, 0)         \
+        GR_TANGENTIAL_MODELS(KERNELS_NT, NL)
 GR_NORMAL_MODELS(KERNELS_N, )
 
 /* The table of every instance: gr_kernel_id is an index into it. */
 typedef struct kernel_entry {
     void (*run)(gr_sim *s, gr_force_report *r);
-    int dim, nl, tl, clamp;
+    int dim, nl, tl, clamp, rot;
     const char *normal, *tangential; /* model names ("" for no tangential law) */
 } kernel_entry;
 
-#define ENTRY_2D(NL, TL, CLAMP) {kernel_2d_##NL##_##TL##_##CLAMP, 2, NL_##NL, TL_##TL, CLAMP, #NL, #TL},
-#define ENTRIES_NT(NL, TL) ENTRY_2D(NL, TL, 0) ENTRY_2D(NL, TL, 1)
+#define ENTRY_2D(NL, TL, CLAMP, ROT)                                                               \
+    {kernel_2d_##NL##_##TL##_##CLAMP##ROT, 2, NL_##NL, TL_##TL, CLAMP, ROT, #NL, #TL},
+#define ENTRIES_NT(NL, TL) ENTRY_2D(NL, TL, 0, 0) ENTRY_2D(NL, TL, 1, 0) ENTRY_2D(NL, TL, 0, 1) ENTRY_2D(NL, TL, 1, 1)
 #define ENTRIES_N(A, NL)                                                                           \
-    {kernel_1d_##NL##_0, 1, NL_##NL, TL_none, 0, #NL, "none"},                                     \
-        {kernel_1d_##NL##_1, 1, NL_##NL, TL_none, 1, #NL, "none"}, ENTRIES_NT(NL, none)           \
-            GR_TANGENTIAL_MODELS(ENTRIES_NT, NL)
+    {kernel_1d_##NL##_0, 1, NL_##NL, TL_none, 0, 0, #NL, "none"},                                  \
+        {kernel_1d_##NL##_1, 1, NL_##NL, TL_none, 1, 0, #NL, "none"}, ENTRY_2D(NL, none, 0, 0)    \
+            ENTRY_2D(NL, none, 1, 0) GR_TANGENTIAL_MODELS(ENTRIES_NT, NL)
 static const kernel_entry kernels[] = {GR_NORMAL_MODELS(ENTRIES_N, )};
 enum { N_KERNELS = sizeof kernels / sizeof kernels[0] };
 
@@ -562,8 +608,10 @@ void gr_kernel_choose(gr_sim *s)
     const char *nname = normal && normal->force_law ? normal->force_law : normal ? normal->name : "";
     /* a tangential law whose coefficients make it do nothing (eps_t = 1, mu = 0): skip its work */
     const char *tname = tangential && !(tangential->inert && tangential->inert(c)) ? tangential->name : "none";
+    /* rotation with a law that does nothing (eps_t = 1, mu = 0): the spins stay as they are */
+    const int rot = s->omega && strcmp(tname, "none") != 0;
     int k = 0;
-    while (k < N_KERNELS && !(kernels[k].dim == s->dim && kernels[k].clamp == (int)c->clamp &&
+    while (k < N_KERNELS && !(kernels[k].dim == s->dim && kernels[k].clamp == (int)c->clamp && kernels[k].rot == rot &&
                               strcmp(kernels[k].normal, nname) == 0 &&
                               strcmp(kernels[k].tangential, s->dim == 1 ? "none" : tname) == 0)) {
         k++;
@@ -579,15 +627,15 @@ void gr_kernel_choose(gr_sim *s)
                         : s->params.noise_mode == GR_NOISE_COM ? "noise-com" : "noise-symmetrised";
     const char *nb = s->dim == 1 ? "1d-ring" : (s->params.skin > 0.0 ? "2d-verlet-list" : "2d-cell-list");
     const kernel_entry *e = &kernels[k];
-    snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s/%s", nb, e->normal, e->clamp ? "[clamped]" : "",
-             e->tl != TL_none ? "+" : "", e->tl != TL_none ? e->tangential : "", noise);
+    snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s%s/%s", nb, e->normal, e->clamp ? "[clamped]" : "",
+             e->tl != TL_none ? "+" : "", e->tl != TL_none ? e->tangential : "", e->rot ? "+rotation" : "", noise);
 }
 
 /* Every pair by brute force with the chosen kernel's laws (runtime law ids: test code). */
 void gr_forces_bruteforce(const gr_sim *s, double *fx, double *fy, double *elastic)
 {
     const kernel_entry *e = &kernels[s->kernel];
-    const double L = s->L, d = s->d, m12_dt = s->cc.m12 / s->dt;
+    const double L = s->L, d = s->d, m12_dt = s->cc.m_t / s->dt;
     *elastic = 0.0;
     for (int i = 0; i < s->n; i++) {
         fx[i] = 0.0;
@@ -611,6 +659,9 @@ void gr_forces_bruteforce(const gr_sim *s, double *fx, double *fy, double *elast
             double Fx = fn.f * nx, Fy = fn.f * ny;
             if (e->tl != TL_none) {
                 double tx = ny, ty = -nx, g_t = gx * tx + gy * ty;
+                if (e->rot) {
+                    g_t += 0.5 * d * (s->omega[i] + s->omega[j]);
+                }
                 gr_tangential_in in = {.g_t = g_t, .f_n = fn.f, .acts = !e->clamp || fn.f > 0.0, .m12_dt = m12_dt};
                 double f_t = tangential_law(e->tl, &s->cc, in).f;
                 Fx += f_t * tx;

@@ -95,6 +95,9 @@ void gr_sim_free(gr_sim *s)
     free(s->in_start);
     free(s->in_k);
     free(s->pair_f);
+    free(s->pair_tq);
+    free(s->omega);
+    free(s->tq);
     free(s);
 }
 
@@ -191,10 +194,30 @@ static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *er
     return GR_OK;
 }
 
+/* Rotation ([model] rotation = true): angular velocities (zero) and torques, 2D and an
+ * integrator that kicks them only. I = q M r^2. */
+static int alloc_rotation(gr_sim *s, gr_error *err)
+{
+    if (s->dim != 2 || !s->integrator->rotation) {
+        return GR_FAIL(err, GR_EINVAL, "%s: [model] rotation = true needs dim = 2 and an integrator that rotates the "
+                       "discs (verlet); given dim = %d, kind = %s", s->params.source, s->dim, s->integrator->name);
+    }
+    s->omega = calloc((size_t)s->n + 1, sizeof(double));
+    s->tq = calloc((size_t)s->n + 1, sizeof(double));
+    if (!s->omega || !s->tq) {
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for %d angular velocities", s->n);
+    }
+    s->inertia = s->cc.q * s->mass * 0.25 * s->d * s->d;
+    return GR_OK;
+}
+
 /* Everything after the positions and velocities are set. */
 static int finish(gr_sim *s, gr_error *err)
 {
     int rc = prepare_contact(s, err);
+    if (!rc && s->cc.rotation) {
+        rc = alloc_rotation(s, err);
+    }
     if (!rc) {
         rc = gr_check_overlaps(s, err);
     }
@@ -448,7 +471,13 @@ gr_ledger gr_sim_ledger(gr_sim *s)
             ke += s->vy[i] * s->vy[i];
         }
     }
-    return (gr_ledger){.kinetic = 0.5 * s->mass * ke, .elastic = s->elastic,
+    double rot = 0.0; /* sum I w^2 / 2, part of the kinetic energy */
+    for (int i = 0; s->omega && i < s->n; i++) {
+        rot += s->omega[i] * s->omega[i];
+    }
+    rot *= 0.5 * s->inertia;
+    return (gr_ledger){.kinetic = s->omega ? 0.5 * s->mass * ke + rot : 0.5 * s->mass * ke, .rotational = rot,
+                       .elastic = s->elastic,
                        .initial = s->initial_energy, .injected = s->injected,
                        .dissipated_normal = s->diss_n, .dissipated_tangential = s->diss_t,
                        .dissipated_friction = s->diss_f, .removed_com = s->removed_com};

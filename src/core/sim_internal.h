@@ -31,6 +31,10 @@ struct gr_sim {
     double *x, *y, *vx, *vy, *fx, *fy;
     double *gx, *gy; /* the non-conservative part of (fx, fy): everything but the springs k_s xi */
     double *noise; /* n * dim normals of the current step */
+    /* Rotation (2D, only when cc.rotation): angular velocity, rad/s (counterclockwise), and the
+     * torque of the last force evaluation, N m; moment of inertia q M r^2. NULL otherwise. */
+    double *omega, *tq;
+    double inertia;
 
     /* 2D neighbour finding: cell list feeding a half Verlet list in CSR form */
     double cutoff;        /* d (1 + skin) */
@@ -80,6 +84,7 @@ struct gr_sim {
     int *cross_p, *cross_i; /* list entry and row of cross pair k, ascending in p */
     int *in_start, *in_k; /* n + 1 / ncross: the cross pairs acting on particle j, ascending in k */
     double *pair_f;      /* 4 per cross pair: Fx, Fy, Gx, Gy on j */
+    double *pair_tq;     /* rotation: the torque of each cross pair (NULL otherwise) */
     int64_t cross_cap;
 
     /* the integrator (params.integrator, src/integrators/) and its own state (NULL for verlet) */

@@ -41,6 +41,37 @@ static inline double lanes_total(const double *acc)
     return t;
 }
 
+/* Rotation: the half kicks of the angular velocities, w += tau dt / 2I, in the same kick-drift-kick
+ * rhythm as v (the torques tq of the last force evaluation). Returns the work of the torques,
+ * exactly as for v: tau (w + dw/2) dt/2 per half kick, summed in particle order. The torques come
+ * from the tangential forces only, which are all non-conservative (dashpot, friction), so the work
+ * is all dissipation (booked with the translational work of G). `closing` merges the previous
+ * step's closing kick as open_step_* does; its work goes to *wc, the opening kick's to *wo. */
+static bool spin_kicks(gr_sim *s, const int closing, const int opening, double *wc, double *wo)
+{
+    const double h = 0.5 * s->dt / s->inertia;
+    double *restrict w = s->omega;
+    const double *restrict tq = s->tq;
+    double c = 0.0, o = 0.0, sum = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        const double dw = h * tq[i];
+        double wi = w[i];
+        if (closing) {
+            c += tq[i] * (wi + 0.5 * dw);
+            wi += dw;
+        }
+        if (opening) {
+            o += tq[i] * (wi + 0.5 * dw);
+            wi += dw;
+        }
+        w[i] = wi;
+        sum += wi;
+    }
+    *wc += 0.5 * s->dt * c;
+    *wo += 0.5 * s->dt * o;
+    return isfinite(sum) && isfinite(c) && isfinite(o);
+}
+
 /* Closing half kick. Returns the work done on the particles by the non-conservative part of the
  * contact forces (dashpots, friction, a clamp), exactly: a kick dv changes the kinetic energy of
  * particle i by F_i . (v_i + dv_i/2) dt/2, so the part due to G_i = F_i - (spring forces) is
@@ -80,7 +111,12 @@ static double half_kick(gr_sim *s, bool *finite)
         sum = lanes_total(sl);
     }
     *finite = isfinite(sum) && isfinite(work);
-    return work * 0.5 * s->dt;
+    if (!s->omega) {
+        return work * 0.5 * s->dt;
+    }
+    double spin = 0.0, unused = 0.0;
+    *finite = spin_kicks(s, 1, 0, &spin, &unused) && *finite;
+    return work * 0.5 * s->dt + spin;
 }
 
 /* Book energy dissipated (= minus the work of the non-conservative forces), split between the
@@ -445,6 +481,9 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
         } else {
             s->injected += noise ? (close_here ? open_step_2d(s, 1, mean, 1, &o, team) : open_step_2d(s, 1, mean, 0, &o, team))
                                  : (close_here ? open_step_2d(s, 0, mean, 1, &o, team) : open_step_2d(s, 0, mean, 0, &o, team));
+        }
+        if (s->omega && !spin_kicks(s, close_here, 1, &o.work_close, &o.work_open)) {
+            o.finite = false;
         }
         if (close_here) {
             book_dissipation(s, o.work_close);
