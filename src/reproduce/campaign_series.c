@@ -65,18 +65,23 @@ static int run_periods(const campaign_point *p, double period, const char *group
     double *t, *T;
     int ns = read_series(p, true, &t, &T), n = 0, count = 0;
     double sum = 0.0, total = 0.0;
+    /* the first sample stands for the interval that ends at it, so sample i closes a sampling
+     * time of t[i] - t[0] + dt_sample (else the last period of a run falls one sample short) */
+    const double dt_sample = ns > 1 ? t[1] - t[0] : 0.0;
     for (int i = 0; i < ns; i++) {
         sum += T[i];
         total += T[i];
         count++;
-        if (t[i] - t[0] >= period * (n + 1) - 1e-9 && n < max) {
+        const double elapsed = t[i] - t[0] + dt_sample;
+        if (elapsed >= period * (n + 1) - 1e-6 * period && n < max) {
             means[n] = sum / count;
-            fprintf(data, "\"%s\",%d,%.6g,%.9g,%.9g\n", group, campaign_seed_of(p), t[i] - t[0], means[n], total / (i + 1));
+            fprintf(data, "\"%s\",%d,%.6g,%.9g,%.9g\n", group, campaign_seed_of(p), elapsed, means[n], total / (i + 1));
             n++;
             sum = 0.0;
             count = 0;
         }
     }
+    fprintf(data, "\n"); /* a blank line ends this run's curve in the plot */
     free(t);
     free(T);
     return n;
@@ -146,6 +151,7 @@ static double rise_time(const campaign_point *p, const char *group, FILE *data)
             fprintf(data, "\"%s\",%d,%.6g,%.9g,%.9g\n", group, campaign_seed_of(p), t[i], T[i], steady);
         }
     }
+    fprintf(data, "\n"); /* a blank line ends this run's curve in the plot */
     free(t);
     free(T);
     return rise;
