@@ -146,6 +146,13 @@ base | collide --model nosuch | 2 | nosuch;!collide: collide: | new
 base | collide --bogus | 2 | --bogus;!collide: collide: | new
 base | collide --dim 3 | 2 | dim | new
 base | collide --steps-per-contact 5 | 2 | steps_per_contact;!collide: collide: | new
+base | cost $S --out $O --tolerance 0 | 2 | --tolerance;(0, 1) | new
+base | cost $S --out $O --tolerance 150% | 2 | --tolerance | new
+base | cost $S --out $O --observable nosuch | 2 | nosuch;T or loss | new
+base | cost $S --out $O --calibrate -1 | 2 | --calibrate | new
+base | cost $S --out $O --phases 0 | 2 | --phases | new
+base | cost $S --out $O --set model.normal=hard_sphere --set model.tangential=none --set integrator.kind=event | 2 | hard_sphere;instantaneous | new
+missing | cost $S --out $O | 2 | cannot open | new
 base | compare $S --out $O --models nosuch | 2 | nosuch | new
 base | compare $S --out $O --models spring_dashpot@bogus | 2 | @clamp | new
 base | compare $S --out $O --models nosuch@event | 2 | nosuch;spring_dashpot;hard_sphere | new

@@ -20,6 +20,7 @@ int cmd_keys(int argc, char **argv);
 int cmd_plot(int argc, char **argv);
 int cmd_analyse(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
+int cmd_cost(int argc, char **argv);
 int cmd_sweep(int argc, char **argv);
 int cmd_reproduce(int argc, char **argv);
 int cmd_bench(int argc, char **argv);

@@ -87,6 +87,7 @@ static void usage(FILE *f)
             "  plot DIR       (re)draw the plots of a run folder\n"
             "  analyse DIR    feed a run's snapshots (or a LAMMPS dump) to the analysis layer's observables\n"
             "  compare SCENE  the same scene under several collision models, side by side\n"
+            "  cost SCENE     the time step a tolerance needs and the wall time it costs here\n"
             "  sweep FILE     a scene over lists of keys and seeds, in parallel, resumable, with fits\n"
             "  reproduce NAME run a thesis-reproduction campaign (--list) and write its result set\n"
             "  bench          regenerate the throughput tables of docs/performance.md on this machine\n"
@@ -114,7 +115,7 @@ int main(int argc, char **argv)
         const char *name;
         int (*fn)(int, char **);
     } table[] = {{"run", cmd_run}, {"collide", cmd_collide}, {"models", cmd_models},
-                 {"keys", cmd_keys}, {"plot", cmd_plot}, {"analyse", cmd_analyse}, {"compare", cmd_compare}, {"sweep", cmd_sweep}, {"reproduce", cmd_reproduce}, {"bench", cmd_bench},
+                 {"keys", cmd_keys}, {"plot", cmd_plot}, {"analyse", cmd_analyse}, {"compare", cmd_compare}, {"cost", cmd_cost}, {"sweep", cmd_sweep}, {"reproduce", cmd_reproduce}, {"bench", cmd_bench},
                  {"analyze", cmd_analyse}, {"observables", cmd_observables}, {"spm", cmd_spm}, {"bisect", cmd_bisect},
                  {"cascade", cmd_cascade}, {"fokker-planck", cmd_fokker_planck}, {"export", cmd_export}};
     for (size_t i = 0; i < sizeof table / sizeof table[0]; i++) {

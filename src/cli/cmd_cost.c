@@ -1,0 +1,170 @@
+/* granule cost SCENE --observable T|loss --tolerance 1%: the largest time step that keeps the
+ * observable within the tolerance and the wall time of the scene's run with it on this machine
+ * (include/granule/cost.h, docs/performance.md "What accuracy costs"). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "granule/cost.h"
+#include "io/files.h"
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: granule cost SCENE [--observable T|loss] [--tolerance TOL[%%]] [--calibrate SECONDS]\n"
+               "                   [--phases K] [--threads N] [--set section.key=value ...] [--out DIR]\n\n"
+               "Which time step keeps the observable within TOL (relative; '1%%' or 0.01; default 1%%), and how long\n"
+               "the scene's run (warm-up + duration) takes with it on this machine:\n"
+               "  T     the steady temperature (2.19): the contact's energy-loss error at each dt, computed against\n"
+               "        the CVODE reference, through the energy balance of the driven gas (T ~ (1-eps^2)^(-2/3))\n"
+               "  loss  the energy lost in one collision, worst contact phase (head-on and, in 2D, oblique)\n"
+               "Candidate time steps run from 64 down to 2.5 steps per contact, plus the scene's own dt; the\n"
+               "recommendation is the largest dt whose error, and that of every smaller dt, is within TOL. Its\n"
+               "wall time is measured by a calibration run of SECONDS (default 10) of the scene at that dt,\n"
+               "in blocks; the prediction's +- is the spread of the blocks. Writes DIR/cost.json (default out/cost).\n");
+}
+
+static bool parse_tolerance(const char *text, double *tol)
+{
+    char *end;
+    double v = strtod(text, &end);
+    if (end != text && *end == '%' && end[1] == '\0') {
+        v /= 100.0;
+    } else if (end == text || *end != '\0') {
+        return false;
+    }
+    *tol = v;
+    return v > 0.0 && v < 1.0;
+}
+
+static void print_answer(const gr_cost_answer *a, const gr_cost_request *rq)
+{
+    printf("contact duration t_c = %.4g s; observable %s, tolerance %.3g%%\n\n", a->t_c,
+           rq->observable == GR_COST_T ? "T (steady temperature)" : "loss (energy lost per collision)",
+           100.0 * rq->tolerance);
+    printf("  %-11s %9s %14s %14s %12s  %s\n", "dt (s)", "t_c/dt", "loss err mean", "loss err worst",
+           rq->observable == GR_COST_T ? "T error" : "error", "");
+    for (int i = 0; i < a->n; i++) {
+        const gr_cost_candidate *c = &a->c[i];
+        char mark[64] = "";
+        snprintf(mark, sizeof mark, "%s%s%s", c->meets ? "ok" : c->finite ? "" : "unstable (clusters)",
+                 c->scene_dt ? (c->meets || !c->finite ? ", the scene's dt" : "the scene's dt") : "",
+                 i == a->best ? "  <- recommended" : "");
+        if (c->finite) {
+            printf("  %-11.4g %9.3g %+14.2e %+14.2e %+12.2e  %s\n", c->dt, c->steps_per_contact, c->loss_error_mean,
+                   c->loss_error_worst, c->error, mark);
+        } else {
+            printf("  %-11.4g %9.3g %14s %14s %12s  %s\n", c->dt, c->steps_per_contact, "-", "-", "-", mark);
+        }
+    }
+    printf("\n");
+    if (a->best < 0) {
+        printf("no candidate time step keeps the error within %.3g%%: the finest (t_c/dt = %.3g) has %+.2e\n",
+               100.0 * rq->tolerance, a->n ? a->c[0].steps_per_contact : 0.0, a->n ? a->c[0].error : (double)NAN);
+        return;
+    }
+    const gr_cost_candidate *b = &a->c[a->best];
+    printf("use dt = %.4g s (%.3g steps per contact; [integrator] dt = %.4g, force_dt = true if above t_c/10)\n", b->dt,
+           b->steps_per_contact, b->dt);
+    if (isfinite(a->predicted_wall)) {
+        printf("predicted wall time for %.4g simulated s: %.4g +- %.2g s (%.4g +- %.2g wall s per simulated s, %d "
+               "calibration blocks, %.3g particle-steps/s)\n",
+               a->simulated_seconds, a->predicted_wall, a->predicted_wall_err, a->wall_per_simulated,
+               a->wall_per_simulated_err, a->blocks, a->particle_steps_per_second);
+        if (a->scene >= 0 && a->scene != a->best) {
+            printf("the scene's own dt = %.4g s would take about %.3gx as long\n", a->c[a->scene].dt,
+                   b->dt / a->c[a->scene].dt);
+        }
+    }
+}
+
+int cmd_cost(int argc, char **argv)
+{
+    const char *scene_path = NULL, *out = "out/cost";
+    const char **sets = calloc((size_t)argc + 1, sizeof(char *));
+    int n_sets = 0, rc = EXIT_OK;
+    gr_cost_request rq;
+    gr_cost_request_default(&rq);
+    for (int i = 1; i < argc && rc == EXIT_OK; i++) {
+        const char *a = argv[i];
+        const bool has = i + 1 < argc;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            usage(stdout);
+            free(sets);
+            return EXIT_OK;
+        } else if (!strcmp(a, "--observable") && has) {
+            int o = gr_cost_observable_parse(argv[++i]);
+            if (o < 0) {
+                cli_error("cost: --observable %s: expected T or loss", argv[i]);
+                rc = EXIT_REFUSED;
+            }
+            rq.observable = (gr_cost_observable)o;
+        } else if (!strcmp(a, "--tolerance") && has) {
+            if (!parse_tolerance(argv[++i], &rq.tolerance)) {
+                cli_error("cost: --tolerance %s: expected a relative tolerance in (0, 1) or a percentage, e.g. 0.01 or 1%%",
+                          argv[i]);
+                rc = EXIT_REFUSED;
+            }
+        } else if (!strcmp(a, "--calibrate") && has) {
+            char *end;
+            rq.calibrate_seconds = strtod(argv[++i], &end);
+            if (end == argv[i] || *end || !(rq.calibrate_seconds >= 0.0 && rq.calibrate_seconds <= 86400.0)) {
+                cli_error("cost: --calibrate %s: expected wall seconds from 0 (no calibration) to 86400", argv[i]);
+                rc = EXIT_REFUSED;
+            }
+        } else if (!strcmp(a, "--phases") && has) {
+            char *end;
+            long k = strtol(argv[++i], &end, 10);
+            if (end == argv[i] || *end || k < 1 || k > 1000) {
+                cli_error("cost: --phases %s: expected an integer from 1 to 1000", argv[i]);
+                rc = EXIT_REFUSED;
+            }
+            rq.phases = (int)k;
+        } else if (!strcmp(a, "--threads") && has) {
+            rc = cli_threads(argv[++i]) ? EXIT_OK : EXIT_REFUSED;
+        } else if (!strcmp(a, "--set") && has) {
+            sets[n_sets++] = argv[++i];
+        } else if (!strcmp(a, "--out") && has) {
+            out = argv[++i];
+        } else if (a[0] != '-' && !scene_path) {
+            scene_path = a;
+        } else {
+            cli_error("cost: unexpected argument %s", a);
+            rc = EXIT_REFUSED;
+        }
+    }
+    if (rc == EXIT_OK && !scene_path) {
+        usage(stderr);
+        rc = EXIT_REFUSED;
+    }
+    gr_scene sc;
+    gr_error err = {0};
+    if (rc == EXIT_OK && gr_scene_load_whole(&sc, scene_path, sets, n_sets, &err)) {
+        cli_error("cost: %s", err.message);
+        rc = EXIT_REFUSED;
+    }
+    free(sets);
+    if (rc != EXIT_OK) {
+        return rc;
+    }
+    gr_cost_answer ans;
+    if (gr_cost_errors(&sc, &rq, &ans, &err)) {
+        cli_error("cost: %s: %s", scene_path, err.message);
+        return err.code == GR_EINVAL ? EXIT_REFUSED : cli_exit_code(err.code);
+    }
+    if (ans.best >= 0 && rq.calibrate_seconds > 0.0) {
+        fprintf(stderr, "cost: calibrating dt = %.4g s for %g s of wall time\n", ans.c[ans.best].dt, rq.calibrate_seconds);
+        if (gr_cost_calibrate(&sc, ans.c[ans.best].dt, rq.calibrate_seconds, &ans, &err)) {
+            cli_error("cost: calibration run: %s", err.message);
+            return cli_exit_code(err.code);
+        }
+    }
+    print_answer(&ans, &rq);
+    if (gr_output_dir_prepare(out, false, &err) || gr_cost_write(&ans, &rq, scene_path, out, &err)) {
+        cli_error("cost: %s", err.message);
+        return cli_exit_code(err.code);
+    }
+    printf("wrote %s/cost.json\n", out);
+    return ans.best >= 0 ? EXIT_OK : EXIT_FAILED;
+}

@@ -1,0 +1,230 @@
+/* granule cost (include/granule/cost.h): the error of each candidate time step is the engine's
+ * own collision against CVODE, it grows with dt, the recommendation is the largest dt within the
+ * tolerance, scenes without a time step are refused, and the calibrated wall time predicts a real
+ * run of the scene. */
+#include <check.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+#include "granule/collide.h"
+#include "granule/cost.h"
+#include "granule/run.h"
+
+static void load(gr_scene *sc, const char *name, const char *const *sets, int n)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/docs/scenes/%s", getenv("GRANULE_SOURCE_DIR"), name);
+    gr_error err = {0};
+    ck_assert_msg(gr_scene_load(sc, path, sets, n, &err) == GR_OK, "%s", err.message);
+}
+
+static const char *small1d[] = {"system.N=100", "system.reduced_length=0.1", "run.warmup=0.01", "run.duration=0.04"};
+
+/* The error reported for a candidate is the engine's collision at that dt against the reference,
+ * averaged over the same phases: recomputed here from gr_collide_run directly. */
+START_TEST(errors_are_the_collisions)
+{
+    gr_scene sc;
+    load(&sc, "rfm-1d.ini", small1d, 4);
+    gr_cost_request rq;
+    gr_cost_request_default(&rq);
+    rq.phases = 8;
+    gr_cost_answer a;
+    gr_error err = {0};
+    ck_assert_msg(gr_cost_errors(&sc, &rq, &a, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_ge(a.n, 8);
+    ck_assert_int_ge(a.scene, 0);
+    ck_assert(a.c[a.scene].scene_dt && a.c[a.scene].dt == sc.dt);
+    gr_collide_setup su;
+    gr_collide_setup_default(&su);
+    su.normal = sc.normal;
+    su.tangential = sc.tangential;
+    su.contact = sc.contact;
+    su.mass = sc.mass;
+    su.radius = sc.radius;
+    su.dim = 1;
+    su.force_dt = true;
+    gr_collision_case cs;
+    gr_collide_result ref, r;
+    ck_assert(gr_collision_case_table21(1, sc.radius, &cs, &err) == GR_OK);
+    ck_assert(gr_collide_reference(&su, &cs, &ref, &err) == GR_OK);
+    /* for a linear spring-dashpot the reference is 1 - eps^2 (2.13) */
+    ck_assert_double_eq_tol(ref.energy_loss, 1.0 - sc.contact.eps_n * sc.contact.eps_n, 1e-8);
+    const gr_cost_candidate *c = &a.c[a.scene];
+    double sum = 0.0;
+    for (int k = 0; k < 8; k++) {
+        su.dt = c->dt;
+        su.phase = (k + 0.5) / 8;
+        ck_assert(gr_collide_run(&su, &cs, &r, &err) == GR_OK);
+        sum += (r.energy_loss - ref.energy_loss) / ref.energy_loss;
+    }
+    ck_assert_double_eq_tol(c->loss_error_mean, sum / 8, 1e-12);
+    /* T through the energy balance: -2/3 of the larger loss error, so the opposite sign */
+    ck_assert(c->error * c->loss_error_mean < 0.0);
+    ck_assert(fabs(c->error) >= 2.0 / 3.0 * fabs(c->loss_error_mean) * (1 - 1e-12));
+}
+END_TEST
+
+/* Velocity Verlet's contact error is first order in dt: it grows with dt over the stable
+ * candidates (by at least a third per ladder step, which is ~1.4x in dt), and the largest
+ * candidates (2.5 steps per contact, past the stability limit) are refused as unstable. */
+START_TEST(error_grows_with_dt)
+{
+    gr_scene sc;
+    load(&sc, "rfm-1d.ini", small1d, 4);
+    gr_cost_request rq;
+    gr_cost_request_default(&rq);
+    rq.phases = 8;
+    gr_cost_answer a;
+    gr_error err = {0};
+    ck_assert(gr_cost_errors(&sc, &rq, &a, &err) == GR_OK);
+    int stable = 0, prev = -1;
+    for (int i = 0; i < a.n; i++) {
+        if (a.c[i].scene_dt || !a.c[i].finite) {
+            continue;
+        }
+        if (prev >= 0) {
+            ck_assert_msg(fabs(a.c[i].loss_error_mean) > 1.2 * fabs(a.c[prev].loss_error_mean), "dt %g: %g, dt %g: %g",
+                          a.c[prev].dt, a.c[prev].loss_error_mean, a.c[i].dt, a.c[i].loss_error_mean);
+            stable++;
+        }
+        prev = i;
+    }
+    ck_assert_int_ge(stable, 5);
+    ck_assert(!a.c[a.n - 1].finite);
+    ck_assert(!a.c[a.n - 1].meets);
+}
+END_TEST
+
+/* The recommendation is the largest dt that meets the tolerance; a tighter tolerance gives a
+ * smaller dt; one below every candidate's error gives none. */
+START_TEST(recommendation_is_the_largest_dt_within_tolerance)
+{
+    gr_scene sc;
+    load(&sc, "rfm-1d.ini", small1d, 4);
+    gr_error err = {0};
+    double prev_dt = INFINITY;
+    const double tols[] = {0.05, 0.01, 0.003, 0.0015};
+    for (int k = 0; k < 4; k++) {
+        gr_cost_request rq;
+        gr_cost_request_default(&rq);
+        rq.phases = 8;
+        rq.tolerance = tols[k];
+        rq.calibrate_seconds = 0;
+        gr_cost_answer a;
+        ck_assert(gr_cost_advise(&sc, &rq, &a, &err) == GR_OK);
+        ck_assert_int_ge(a.best, 0);
+        ck_assert(fabs(a.c[a.best].error) <= tols[k]);
+        for (int i = 0; i <= a.best; i++) {
+            ck_assert(a.c[i].meets);
+        }
+        ck_assert(a.best == a.n - 1 || !a.c[a.best + 1].meets);
+        ck_assert(a.best == a.n - 1 || !a.c[a.best + 1].finite || fabs(a.c[a.best + 1].error) > tols[k]);
+        ck_assert(a.c[a.best].dt <= prev_dt);
+        prev_dt = a.c[a.best].dt;
+        ck_assert(!isfinite(a.predicted_wall)); /* not calibrated */
+    }
+    gr_cost_request rq;
+    gr_cost_request_default(&rq);
+    rq.tolerance = 1e-5;
+    gr_cost_answer a;
+    ck_assert(gr_cost_advise(&sc, &rq, &a, &err) == GR_OK);
+    ck_assert_int_eq(a.best, -1);
+    /* loss: the worst phase, never smaller than the mean */
+    rq.observable = GR_COST_LOSS;
+    rq.tolerance = 0.01;
+    ck_assert(gr_cost_errors(&sc, &rq, &a, &err) == GR_OK);
+    for (int i = 0; i < a.n; i++) {
+        if (a.c[i].finite) {
+            ck_assert(fabs(a.c[i].error) >= fabs(a.c[i].loss_error_mean));
+        }
+    }
+}
+END_TEST
+
+START_TEST(refuses_what_has_no_time_step)
+{
+    gr_scene sc;
+    load(&sc, "rfm-1d-event.ini", NULL, 0);
+    gr_cost_request rq;
+    gr_cost_request_default(&rq);
+    gr_cost_answer a;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_cost_errors(&sc, &rq, &a, &err), GR_EINVAL);
+    ck_assert_ptr_nonnull(strstr(err.message, "instantaneous"));
+    load(&sc, "rfm-1d.ini", NULL, 0);
+    rq.tolerance = 0.0;
+    err = (gr_error){0};
+    ck_assert_int_eq(gr_cost_errors(&sc, &rq, &a, &err), GR_EINVAL);
+    ck_assert_ptr_nonnull(strstr(err.message, "tolerance"));
+}
+END_TEST
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The prediction against a real run of the scene at the recommended dt, back to back on the
+ * same machine. The run also samples and writes its outputs, which the calibration does not
+ * time, and a test machine's load changes between the two; so this checks the arithmetic of the
+ * prediction (per simulated second, warm-up included, the particle count and dt of the scene) to
+ * within a factor of two. bench/cost_check.sh compares it on a quiet machine. */
+START_TEST(prediction_matches_a_real_run)
+{
+    const char *sets[] = {"system.N=400", "system.reduced_length=0.4", "run.warmup=0.1", "run.duration=0.6",
+                          "output.plots=false", "output.snapshot_every=0", "run.progress=false"};
+    gr_scene sc;
+    load(&sc, "rfm-1d.ini", sets, 7);
+    gr_cost_request rq;
+    gr_cost_request_default(&rq);
+    rq.phases = 4;
+    rq.calibrate_seconds = getenv("GRANULE_TEST_QUICK") ? 0.5 : 1.5;
+    gr_cost_answer a;
+    gr_error err = {0};
+    ck_assert_msg(gr_cost_advise(&sc, &rq, &a, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_ge(a.best, 0);
+    ck_assert_int_ge(a.blocks, 8);
+    ck_assert(a.predicted_wall > 0.0 && a.predicted_wall_err >= 0.0);
+    ck_assert_double_eq_tol(a.simulated_seconds, 0.7, 1e-12);
+    char dir[] = "/tmp/granule-test-cost.XXXXXX";
+    ck_assert_ptr_nonnull(mkdtemp(dir));
+    snprintf(sc.out_dir, sizeof sc.out_dir, "%s/run", dir);
+    sc.dt = a.c[a.best].dt;
+    sc.force_dt = true;
+    gr_run_options opt = {.force = true};
+    gr_run_result res;
+    const double t0 = now();
+    ck_assert_msg(gr_run(&sc, &opt, &res, &err) == GR_OK, "%s", err.message);
+    const double wall = now() - t0;
+    fprintf(stderr, "cost: predicted %.3g +- %.2g s, real run %.3g s (ratio %.3g)\n", a.predicted_wall,
+            a.predicted_wall_err, wall, wall / a.predicted_wall);
+    ck_assert_msg(wall > 0.5 * a.predicted_wall && wall < 2.0 * a.predicted_wall, "predicted %g s, ran %g s",
+                  a.predicted_wall, wall);
+    char cmd[1100];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    ck_assert_int_eq(system(cmd), 0);
+}
+END_TEST
+
+int main(void)
+{
+    Suite *s = suite_create("cost");
+    TCase *tc = tcase_create("cost");
+    tcase_set_timeout(tc, 600);
+    tcase_add_test(tc, errors_are_the_collisions);
+    tcase_add_test(tc, error_grows_with_dt);
+    tcase_add_test(tc, recommendation_is_the_largest_dt_within_tolerance);
+    tcase_add_test(tc, refuses_what_has_no_time_step);
+    tcase_add_test(tc, prediction_matches_a_real_run);
+    suite_add_tcase(s, tc);
+    SRunner *sr = srunner_create(s);
+    srunner_run_all(sr, CK_NORMAL);
+    int failed = srunner_ntests_failed(sr);
+    srunner_free(sr);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
