@@ -35,6 +35,7 @@ static const bench_part parts[] = {
     {"accuracy", "accuracy_cost.sh", NULL, "--quick",
      "error (collision energy loss, steady temperature) against wall seconds per\n"
      "                   simulated second as dt grows; out/bench/accuracy-*.md, docs/img/accuracy-*.png"},
+    {"cost", "cost_check.sh", NULL, "--quick", "granule cost's recommended dt and predicted wall time against real runs"},
     {"event", "event_throughput.sh", NULL, "--quick", "event-driven collisions/s and events/s (docs/event-driven.md)"},
     {"hybrid", "hybrid_speedup.sh", NULL, "--quick", "hybrid against soft-sphere: speed-up at equal accuracy (docs/hybrid.md)"},
     {"hybrid-agreement", "hybrid_agreement.sh", NULL, "--quick", "hybrid against soft-sphere over several seeds (long)"},
