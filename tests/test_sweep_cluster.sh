@@ -93,6 +93,10 @@ if [[ $part == resume ]]; then
     check test "$(grep -vc '^#' <<<"$out")" -eq 6
     check grep -q "^1 system.N=20 run.seed=2$" <<<"$out"
     check grep -q "^4 system.N=80 run.seed=1$" <<<"$out"
+    # a [vary] list continues on a line that repeats its key (an INI line holds 200 characters)
+    sed 's/^system.N = \(.*\)$/system.N = 20\nsystem.N = 40, 80/' "$tmp/serial.ini" >"$tmp/split.ini"
+    check test "$(grep -c "^system.N = " "$tmp/split.ini")" -eq 2
+    check diff <("$granule" sweep "$tmp/serial.ini" --list | grep -v '^#') <("$granule" sweep "$tmp/split.ini" --list | grep -v '^#')
     # the serial sweep: every point has a completed manifest naming its overrides and host
     check "$granule" sweep "$tmp/serial.ini" --jobs 1
     check python3 - "$tmp/serial/p0003/point.json" <<'PY'

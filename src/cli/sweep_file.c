@@ -53,13 +53,18 @@ static int on_line(void *user, const char *section, const char *name, const char
             return 0;
         }
     } else if (!strcmp(section, "vary")) {
-        if (s->n_keys == SWEEP_MAX_KEYS) {
+        /* a list longer than a line continues on a line that repeats the key */
+        const bool more = s->n_keys > 0 && !strcmp(s->key[s->n_keys - 1], name);
+        if (more) {
+            s->n_keys--;
+        } else if (s->n_keys == SWEEP_MAX_KEYS) {
             snprintf(s->error, sizeof s->error, "[vary]: at most %d keys", SWEEP_MAX_KEYS);
             return 0;
         }
+        const int had = more ? s->n_values[s->n_keys] : 0;
         snprintf(s->key[s->n_keys], 128, "%s", name);
-        s->n_values[s->n_keys] = split_list(value, s->value[s->n_keys], SWEEP_MAX_VALUES);
-        if (s->n_values[s->n_keys] == 0 || !strchr(name, '.')) {
+        s->n_values[s->n_keys] = had + split_list(value, s->value[s->n_keys] + had, SWEEP_MAX_VALUES - had);
+        if (s->n_values[s->n_keys] == had || !strchr(name, '.')) {
             snprintf(s->error, sizeof s->error, "[vary] %s: expected section.key = v1, v2, ... (at most %d values)", name,
                      SWEEP_MAX_VALUES);
             return 0;
@@ -69,7 +74,7 @@ static int on_line(void *user, const char *section, const char *name, const char
         for (const char *c = name; *c; c++) {
             parts += *c == '+';
         }
-        for (int v = 0; v < s->n_values[s->n_keys]; v++) {
+        for (int v = had; v < s->n_values[s->n_keys]; v++) {
             int got = 1;
             for (const char *c = s->value[s->n_keys][v]; *c; c++) {
                 got += *c == '/';

@@ -199,6 +199,18 @@ static int on_line(void *user, const char *section, const char *name, const char
             snprintf(p->error, sizeof p->error, "[%s]: at most %d sweep lines per fidelity", section, GR_CAMPAIGN_MAX_LINES);
             return 0;
         }
+        gr_campaign_line *last = c->n_lines[f] ? &c->lines[f][c->n_lines[f] - 1] : NULL;
+        if (!strcmp(base, "vary") && last && !strcmp(last->section, "vary") && !strcmp(last->key, name)) {
+            /* a list longer than a line continues on a line that repeats the key */
+            size_t used = strlen(last->value);
+            if (used + 2 + strlen(value) >= sizeof last->value) {
+                snprintf(p->error, sizeof p->error, "[%s] %s: the list is longer than %zu characters", section, name,
+                         sizeof last->value - 1);
+                return 0;
+            }
+            snprintf(last->value + used, sizeof last->value - used, ", %s", value);
+            continue;
+        }
         gr_campaign_line *l = &c->lines[f][c->n_lines[f]++];
         snprintf(l->section, sizeof l->section, "%s", base);
         snprintf(l->key, sizeof l->key, "%s", name);
@@ -406,9 +418,26 @@ int gr_campaign_materialise(const gr_campaign *c, gr_fidelity fid, const char *d
         }
         for (int i = 0; i < c->n_lines[fid]; i++) {
             const gr_campaign_line *l = &c->lines[fid][i];
-            if (!strcmp(l->section, order[s])) {
-                fprintf(f.f, "%s = %s\n", l->key, l->value);
+            if (strcmp(l->section, order[s])) {
+                continue;
             }
+            /* a long list goes on several lines that repeat the key (INI lines hold INI_MAX_LINE
+             * characters; inih cuts the names it hands over for indented continuation lines) */
+            fprintf(f.f, "%s =", l->key);
+            int col = (int)strlen(l->key) + 2;
+            const char *v = l->value;
+            while (*v) {
+                size_t n = strcspn(v, ",");
+                if (col > (int)strlen(l->key) + 2 && col + (int)n > 190) {
+                    fprintf(f.f, "\n%s =", l->key);
+                    col = (int)strlen(l->key) + 2;
+                }
+                fprintf(f.f, " %.*s%s", (int)n, v, v[n + (v[n] != 0) + strspn(v + n + (v[n] != 0), " \t")] ? "," : "");
+                col += (int)n + 2;
+                v += n + (v[n] != 0);
+                v += strspn(v, " \t");
+            }
+            fputc('\n', f.f);
         }
     }
     if ((rc = gr_file_commit(&f, err))) {
