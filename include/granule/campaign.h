@@ -24,8 +24,11 @@ typedef enum { GR_FIDELITY_QUICK = 0, GR_FIDELITY_FULL = 1 } gr_fidelity;
  * RISE       the time T(t) takes to reach 90 % of its steady value (Fig. 2.7);
  * CURVE      a table column y(x) of every run (e.g. G_1(R) of gaps.csv) averaged over seeds bin by
  *            bin, one curve per combination of the varied keys, optionally mapped (`transform`) and
- *            summarised by the slope of a power law over [x_min, x_max]. */
-typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING, GR_RESULT_RISE, GR_RESULT_CURVE } gr_result_kind;
+ *            summarised by the slope of a power law over [x_min, x_max];
+ * CASCADE    y averaged over seeds as MEAN (the RFM's D_f of S(k)), beside the same S(k) analysis of
+ *            discs placed from `configurations` multiplicative-cascade fields (UCP, 256 x 256, the
+ *            runs' N, L and radius; Fig. 6.3), and both configurations side by side. */
+typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING, GR_RESULT_RISE, GR_RESULT_CURVE, GR_RESULT_CASCADE } gr_result_kind;
 
 typedef struct gr_campaign_result {
     char id[32];          /* e.g. "fig3.2", "table3.1" */
@@ -49,6 +52,7 @@ typedef struct gr_campaign_result {
     int m_lo, m_hi;       /* moments: m = m_lo..m_hi (0 = no {m}) */
     bool per_m;           /* report exponent / m (Fig. 3.5) */
     double period;        /* RUNNING: seconds per period mean */
+    int configurations;   /* CASCADE: cascade placements averaged (default 20) */
     char thesis[2048];    /* "GROUP: value +- error; ..." (GROUP as in results.csv) */
     char thesis_source[256];
     char note[2048];      /* what a reader should know (shown on the page) */

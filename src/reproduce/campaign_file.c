@@ -103,8 +103,10 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
             r->kind = GR_RESULT_RISE;
         } else if (!strcmp(value, "curve")) {
             r->kind = GR_RESULT_CURVE;
+        } else if (!strcmp(value, "cascade")) {
+            r->kind = GR_RESULT_CASCADE;
         } else {
-            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, curve",
+            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, curve, cascade",
                      r->id, value);
             return 0;
         }
@@ -115,6 +117,16 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
             snprintf(p->error, sizeof p->error, "[result %s] m = %s: expected a range LO-HI within 1-12", r->id, value);
             return 0;
         }
+        return 1;
+    }
+    if (!strcmp(name, "configurations")) {
+        char *end;
+        long k = strtol(value, &end, 10);
+        if (end == value || *end || k < 1 || k > 1000) {
+            snprintf(p->error, sizeof p->error, "[result %s] configurations = %s: expected an integer from 1 to 1000", r->id, value);
+            return 0;
+        }
+        r->configurations = (int)k;
         return 1;
     }
     if (!strcmp(name, "per_m")) {
@@ -171,6 +183,7 @@ static int on_line(void *user, const char *section, const char *name, const char
             snprintf(r->id, sizeof r->id, "%s", id);
             r->x_max = INFINITY;
             r->period = 20.0;
+            r->configurations = 20;
         }
         return result_key(p, r, name, value);
     }

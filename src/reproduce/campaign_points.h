@@ -64,6 +64,9 @@ int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const ca
                      FILE *data, gr_error *err);
 int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
                   FILE *data, gr_error *err);
+/* CASCADE (Fig. 6.3): also writes RESULTS/ID_positions.csv (campaign_cascade.c). */
+int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
+                     const char *results, FILE *data, gr_error *err);
 int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
                    FILE *data, gr_error *err);
 /* A CURVE result's series of one run (from its table, or from the archive's series.json): x, y, e

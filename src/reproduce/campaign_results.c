@@ -20,6 +20,7 @@ static const char *kind_name(gr_result_kind k)
            : k == GR_RESULT_POWER_LAW ? "power_law"
            : k == GR_RESULT_RUNNING   ? "running_mean"
            : k == GR_RESULT_CURVE     ? "curve"
+           : k == GR_RESULT_CASCADE   ? "cascade"
                                       : "rise_time";
 }
 
@@ -170,6 +171,15 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
                  "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.6 lc rgb '#1f5fbf' title 'period means', "
                  "'' skip 1 using 3:5 with lines lw 2 lc rgb '#c0392b' title 'running average'\n",
                  r->period, r->id);
+    } else if (r->kind == GR_RESULT_CASCADE) {
+        snprintf(body, sizeof body,
+                 "set datafile separator ','\nset size ratio -1\nunset key\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n"
+                 "set multiplot layout 1,2 title 'The same system: a snapshot of the RFM (left) and discs placed from a "
+                 "multiplicative cascade (right)' noenhanced\n"
+                 "plot '%s_positions.csv' skip 1 using 2:(strcol(1) eq 'rfm' ? $3 : 1/0) with points pt 7 ps 0.5 lc rgb '#1f5fbf'\n"
+                 "plot '%s_positions.csv' skip 1 using 2:(strcol(1) eq 'cascade' ? $3 : 1/0) with points pt 7 ps 0.5 lc rgb '#c0392b'\n"
+                 "unset multiplot\n",
+                 r->id, r->id);
     } else if (r->kind == GR_RESULT_RISE) {
         snprintf(body, sizeof body,
                  "set key outside right\nset xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\n"
@@ -248,6 +258,7 @@ static int analyse_one(const gr_campaign *c, const gr_campaign_result *r, const 
          : r->kind == GR_RESULT_POWER_LAW ? campaign_power_law(c, r, pts, rows, data.f, err)
          : r->kind == GR_RESULT_RUNNING   ? campaign_running(c, r, pts, rows, data.f, err)
          : r->kind == GR_RESULT_CURVE     ? campaign_curve(c, r, pts, rows, data.f, err)
+         : r->kind == GR_RESULT_CASCADE   ? campaign_cascade(c, r, pts, rows, results, data.f, err)
                                           : campaign_rise(c, r, pts, rows, data.f, err);
     if (rc) {
         gr_file_abandon(&data);
