@@ -33,11 +33,12 @@
  * t), so "friction impulse <= mu x normal impulse" also holds when the unclamped law pulls.
  *
  * Rotation (gr_contact_coeffs.rotation, discs of moment of inertia I = q M r^2 at rest before):
- * the tangential law sees the contact point's velocity g.t + S, S = -r (w1 + w2) in this t's
- * sign (the engine's t is the opposite, models/law.h), and the torques of F_t on both discs give
- * dS/dt = 2 r^2 F_t / I = F_t / (q m12) (scaled: dS/dtau = f_t / q); S is a seventh state
- * component, so the contact point's restitution, the spins and the energy they carry come out
- * of the same integration. The end of sliding is then g.t + S = 0.
+ * the tangential law sees the contact point's velocity g.t + S, S = -a (w1 + w2) in this t's
+ * sign (the engine's t is the opposite, models/law.h), a = |r| / 2 the lever arm of both discs,
+ * and the torques a F_t on both give d(w1 + w2)/dt = -2 a F_t / I. W = (w1 + w2) / w0 is a
+ * seventh state component (scaled: dW/dtau = -2 |r| f_t / (q D^2), D the scaled diameter; at
+ * |r| = d, dS/dt = F_t / (q m12)), so the contact point's restitution, the spins and the energy
+ * they carry come out of the same integration. The end of sliding is then g.t + S = 0.
  *
  * Refused (GR_EINVAL / GR_EUNSTABLE, never integrated to a wrong answer): an unclamped contact
  * at critical or over-damping (zeta >= 1: xi decays to 0 but never returns to it, the pair
@@ -62,7 +63,7 @@
 #include "granule/collide.h"
 
 enum { REF_NEQ = 7, REF_NROOT = 5 };
-enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT, Y_S };
+enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT, Y_W };
 enum { ROOT_END = 0, ROOT_MAX_OVERLAP, ROOT_STICK, ROOT_FN_SIGN, ROOT_DEGENERATE };
 
 #define REF_ATOL 1e-14                 /* nondimensional: state components are O(1) */
@@ -77,7 +78,7 @@ typedef struct ref_ctx {
     double c_n;      /* gamma_n len^p / (m12 w0) (= 2 zeta for the linear law) */
     double pow_a, pow_p; /* the normal law's powers (1, 0 linear) */
     double c_t;      /* gamma_t / (m12 w0) */
-    bool rot;        /* rotation: the law sees g.t + S, dS/dtau = f_t / q */
+    bool rot;        /* rotation: the law sees g.t - (|r| / 2) W */
     double q;        /* rotation: I / (M r^2) */
     double mu;
     gr_tangential_law tangential;
@@ -94,7 +95,8 @@ typedef struct ref_state {
     double xi;         /* overlap, units V / w0 */
     double axial;      /* r . n0 / d: 1 at the touch, 0 when the centres meet */
     double gn, gt;     /* relative velocity along n and t, units V */
-    double gc;         /* the contact point's tangential velocity, gt (+ S with rotation) */
+    double gc;         /* the contact point's tangential velocity, gt (- |r| W / 2 with rotation) */
+    double rn;         /* |r|, units V / w0 */
     double fn, ft;     /* forces along n and t, units m12 w0 V */
 } ref_state;
 
@@ -119,7 +121,8 @@ static int ref_eval(ref_ctx *c, const double *y, ref_state *s)
     s->xi = -(2.0 * u_dot_rc + uu) / (c->D + rn);
     s->gn = y[Y_G0] * s->n[0] + y[Y_G1] * s->n[1];
     s->gt = y[Y_G0] * s->t[0] + y[Y_G1] * s->t[1];
-    s->gc = c->rot ? s->gt + y[Y_S] : s->gt;
+    s->rn = rn;
+    s->gc = c->rot ? s->gt - 0.5 * rn * y[Y_W] : s->gt;
     if (c->pow_a == 1.0 && c->pow_p == 0.0) {
         s->fn = s->xi - c->c_n * s->gn; /* k_s xi - gamma_n g.n over m12 w0 V (2.4-2.5) */
     } else {
@@ -156,7 +159,7 @@ static int ref_rhs(sunrealtype t, N_Vector yv, N_Vector ydotv, void *user)
     yd[Y_G1] = s.fn * s.n[1] + s.ft * s.t[1];
     yd[Y_JN] = fabs(s.fn);
     yd[Y_JT] = fabs(s.ft);
-    yd[Y_S] = c->rot ? s.ft / c->q : 0.0;
+    yd[Y_W] = c->rot ? -2.0 * s.rn * s.ft / (c->q * c->D * c->D) : 0.0;
     return 0;
 }
 
@@ -341,7 +344,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     yd[Y_G1] = G0[1];
     yd[Y_JN] = 0.0;
     yd[Y_JT] = 0.0;
-    yd[Y_S] = 0.0;
+    yd[Y_W] = 0.0;
 
     int rootdir[REF_NROOT];
     rootdir[ROOT_END] = -1;
@@ -411,12 +414,13 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
             /* Sliding stops; without a tangential spring it never restarts (g.t stays 0). */
             ctx.sliding = false;
             if (ctx.rot) {
-                /* the impulse that cancels the residual gc at the root moves g.t by q/(1+q) of it
-                 * and S by 1/(1+q) */
-                const double a = st.gc / (1.0 + ctx.q);
-                yd[Y_G0] -= ctx.q * a * st.t[0];
-                yd[Y_G1] -= ctx.q * a * st.t[1];
-                yd[Y_S] -= a;
+                /* the impulse J that cancels the residual gc at the root: J / m12 on g.t and
+                 * rho J / (q m12) on S = -|r| W / 2, rho = (|r| / D)^2 */
+                const double rho = st.rn * st.rn / (ctx.D * ctx.D);
+                const double j = -st.gc / (1.0 + rho / ctx.q);
+                yd[Y_G0] += j * st.t[0];
+                yd[Y_G1] += j * st.t[1];
+                yd[Y_W] -= 2.0 * (rho / ctx.q) * j / st.rn;
             } else {
                 yd[Y_G0] = st.gn * st.n[0];
                 yd[Y_G1] = st.gn * st.n[1];
@@ -442,8 +446,8 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     const double gg1 = G1[0] * G1[0] + G1[1] * G1[1];
 
     memset(out, 0, sizeof *out);
-    /* rotation: the spin energy I (w1^2 + w2^2) / 2 over m12 V^2 / 2 is q S^2 (w1 = w2 = -S V / 2r) */
-    const double spin_e = ctx.rot ? ctx.q * yd[Y_S] * yd[Y_S] : 0.0;
+    /* rotation: the spin energy I (w1^2 + w2^2) / 2 over m12 V^2 / 2 is q (D W / 2)^2 (w1 = w2 = W w0 / 2) */
+    const double spin_e = ctx.rot ? ctx.q * 0.25 * ctx.D * ctx.D * yd[Y_W] * yd[Y_W] : 0.0;
     out->energy_loss = 1.0 - (gg1 + spin_e) / gg0;
     out->impact_angle = atan2(fabs(gt0), -gn0) * (180.0 / M_PI);
     out->expected_loss = gr_contact_expected_loss(&coeffs, speed, out->impact_angle);
@@ -454,7 +458,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     out->tangential_reversed =
         has_tangent && st.gc * gt0 < 0.0 && fabs(st.gc) >= REF_TANGENT_FLOOR;
     if (ctx.rot) {
-        out->omega1 = out->omega2 = -0.5 * yd[Y_S] * speed / s->radius;
+        out->omega1 = out->omega2 = 0.5 * yd[Y_W] * w0;
     }
     out->normal_impulse = fabs(yd[Y_JN]) * m12 * speed;
     out->tangential_impulse = fabs(yd[Y_JT]) * m12 * speed;
