@@ -13,7 +13,8 @@
  *   - the energy ledger closes with the spin energy booked, in a driven many-particle run;
  *   - a checkpoint carries omega: 2N steps equal N + save/load + N, bit for bit;
  *   - integrators that do not rotate the discs, 1D and laws without a contact point refuse
- *     rotation = true with a message naming the key.
+ *     rotation = true with a message naming the key, and omega0 without rotation is refused;
+ *   - [placement] omega0 gives the rotational temperature q r^2 omega0^2 / 12, in the ledger.
  * Particles: the RFM's discs (M = 3.53e-5 kg, r = 1.5 mm, k_s = 5e5 N/m). */
 #include <check.h>
 #include <math.h>
@@ -342,6 +343,7 @@ START_TEST(test_refusals)
         {"rfm-2d-event.ini", {"model.rotation=true", NULL, NULL}},
         {"rfm-2d.ini", {"model.rotation=true", "model.tangential=none", NULL}},
         {"rfm-1d.ini", {"model.rotation=true", NULL, NULL}},
+        {"rfm-2d.ini", {"placement.omega0=10", NULL, NULL}},
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         int nsets = 0;
@@ -368,6 +370,30 @@ START_TEST(test_refusals)
 }
 END_TEST
 
+/* 7. [placement] omega0: the initial spins omega0 U(-0.5, 0.5) give T_rot = I <w^2> / M =
+ * q r^2 omega0^2 / 12 (to the sampling error of N discs: the relative deviation of a mean of u^2,
+ * u uniform, is 0.894 / sqrt(N); 5 of them allowed), booked in the ledger's initial energy */
+START_TEST(test_initial_spins)
+{
+    gr_scene sc;
+    const char *sets[] = {"system.N=600", "system.L=0.082", "model.rotation=true", "placement.omega0=300"};
+    load_scene(&sc, "rfm-2d.ini", sets, 4);
+    gr_sim *s = NULL;
+    gr_error err = {0};
+    ck_assert_msg(gr_sim_create(&sc, &s, &err) == GR_OK, "%s", err.message);
+    const double T_rot = gr_sim_rotational_temperature(s), q = sc.contact.inertia_factor;
+    const double want = q * RADIUS * RADIUS * 300.0 * 300.0 / 12.0, tol = 5.0 * 0.894 / sqrt(600.0);
+    gr_ledger l = gr_sim_ledger(s);
+    VERBOSE("omega0 300 rad/s: T_rot %.5g, expected %.5g (tol %.2f relative); KE_rot %.4g J of initial %.4g J\n", T_rot,
+            want, tol, l.rotational, l.initial);
+    ck_assert_msg(fabs(T_rot / want - 1.0) <= tol, "T_rot %g, expected %g", T_rot, want);
+    ck_assert_msg(fabs(l.rotational - 0.5 * sc.N * MASS * T_rot) <= 1e-12 * l.rotational, "KE_rot %g, N M T_rot / 2 %g",
+                  l.rotational, 0.5 * sc.N * MASS * T_rot);
+    ck_assert_msg(l.initial == l.kinetic + l.elastic && l.rotational > 0.0, "the initial energy leaves the spins out");
+    gr_sim_free(s);
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("rotation");
@@ -378,6 +404,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_ledger_closes);
     tcase_add_test(tc, test_checkpoint_bits);
     tcase_add_test(tc, test_refusals);
+    tcase_add_test(tc, test_initial_spins);
     tcase_set_timeout(tc, 300);
     suite_add_tcase(s, tc);
     return s;
