@@ -67,7 +67,8 @@ enum { GR_BOOK_TANGENTIAL = 1, GR_BOOK_FRICTION = 2 };
 #define GR_ROTATION_PARAMS                                                                         \
     {"rotation", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,                                  \
      "true: the discs rotate (angular velocity, torque); the law acts on the contact point's "    \
-     "tangential velocity g.t + r (w_i + w_j); false: no rotation (the thesis)",                  \
+     "tangential velocity g.t + a (w_i + w_j), a = |r_ij| / 2 (docs/models.md, Rotation); false: no "  \
+     "rotation (the thesis)",                  \
      offsetof(gr_contact_params, rotation)},                                                       \
     {"inertia_factor", "", GR_PARAM_DOUBLE, 0.5, 0.0, 1.0, true, false,                           \
      "rotation: moment of inertia I = q M r^2, q in (0, 1]; 1/2 uniform disc, 1 thin ring",        \
