@@ -33,11 +33,12 @@ typedef struct gr_normal_force {
 
 /* What a tangential law sees at one contact.
  *   g_t    tangential relative velocity at the contact point: g.t without rotation; with
- *          rotation (kernels instantiated with rot = 1) g.t + r (w_i + w_j), the surface
- *          velocities included (sign: w counterclockwise, t = (n_y, -n_x); the surface of i at
- *          the contact moves with v_i + w_i z x (r n) = v_i - r w_i t, that of j with
- *          v_j + r w_j t), so a law written against g_t needs no change. The force f t on j
- *          then exerts the torque r f on j and on i alike.
+ *          rotation (kernels instantiated with rot = 1) g.t + a (w_i + w_j), the surface
+ *          velocities included (sign: w counterclockwise, t = (n_y, -n_x); a = |r_ij| / 2 is
+ *          the distance of either centre to the contact point, so the surface of i at the
+ *          contact moves with v_i + w_i z x (a n) = v_i - a w_i t, that of j with v_j + a w_j t),
+ *          so a law written against g_t needs no change. The force f t on j then exerts the
+ *          torque a f on j and on i alike (angular momentum conserved exactly).
  *   f_n    the normal force the normal law just returned (after the clamp);
  *   acts   the normal contact acts: always with an unclamped law, f_n > 0 with the clamp;
  *   m12_dt the contact point's tangential mass over the time step (the impulse that stops g_t
@@ -66,7 +67,8 @@ enum { GR_BOOK_TANGENTIAL = 1, GR_BOOK_FRICTION = 2 };
 #define GR_ROTATION_PARAMS                                                                         \
     {"rotation", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,                                  \
      "true: the discs rotate (angular velocity, torque); the law acts on the contact point's "    \
-     "tangential velocity g.t + r (w_i + w_j); false: no rotation (the thesis)",                  \
+     "tangential velocity g.t + a (w_i + w_j), a = |r_ij| / 2 (docs/models.md, Rotation); false: no "  \
+     "rotation (the thesis)",                  \
      offsetof(gr_contact_params, rotation)},                                                       \
     {"inertia_factor", "", GR_PARAM_DOUBLE, 0.5, 0.0, 1.0, true, false,                           \
      "rotation: moment of inertia I = q M r^2, q in (0, 1]; 1/2 uniform disc, 1 thin ring",        \

@@ -99,6 +99,28 @@ for k in expected_loss contact_time max_overlap eps_n_measured eps_t_measured; d
         fail "collide JSON lacks $k"
     fi
 done
+# rotation: the spins after an oblique impact (RFM discs, small overlap), the contact point's eps_t,
+# the loss with the spin energy against the law, the CVODE reference's spins; no omega without it
+run "$G" collide --case 4 --model spring_dashpot+tangential_dashpot --eps-t 0.3 --mass 3.53e-5 --radius 1.5e-3 \
+    --set rotation=true --phases 4 --steps-per-contact 200 --reference
+if [[ $rc -eq 0 ]] && python3 -c '
+import json, sys
+d = json.loads(sys.argv[1])
+w, wr = d["omega1"], d["reference_omega1"]
+ok = d["rotation"] and w == d["omega2"] and w > 0 and abs(w - wr) <= 1e-2 * wr
+ok = ok and abs(d["eps_t_measured"] - 0.3) <= 0.01 and abs(d["energy_loss"] - d["expected_loss"]) <= 0.01 * d["expected_loss"]
+ok = ok and d["units"]["omega1"].startswith("rad/s")
+sys.exit(0 if ok else 1)' "$out" 2>"$TMP/py"; then
+    pass "collide --set rotation=true: omega1 = omega2 > 0 as the reference's, eps_t 0.3 at the contact point"
+else
+    fail "collide --set rotation=true: spins or contact-point eps_t wrong (exit $rc)" "$out" "$err $(cat "$TMP/py")"
+fi
+run "$G" collide --case 4 --model spring_dashpot+tangential_dashpot
+if [[ $rc -eq 0 ]] && python3 -c 'import json, sys; sys.exit(1 if "omega1" in json.loads(sys.argv[1]) else 0)' "$out"; then
+    pass "collide without rotation prints no omega"
+else
+    fail "collide without rotation prints omega (exit $rc)" "$out"
+fi
 run "$G" collide --case 9
 if [[ $rc -eq 2 ]]; then pass "collide --case 9 exits 2"; else fail "collide --case 9 exits $rc, expected 2" "$err"; fi
 # CVODE tolerance: the reference error follows --rtol (exact loss 1 - 0.1^2 = 0.99 head-on)

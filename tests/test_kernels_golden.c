@@ -34,6 +34,9 @@ typedef struct golden_case {
 static const golden_case cases[] = {
     {"rfm-2d.ini", {NULL}, 600, UINT64_C(0x3a6820c86bac931d)},
     {"rfm-2d.ini", {"model.clamp=true", NULL}, 600, UINT64_C(0xc0734f240e2c1d7c)},
+    /* rotation = false (the default) is the trajectory of the thesis, bit for bit */
+    {"rfm-2d.ini", {"model.rotation=false", NULL}, 600, UINT64_C(0x3a6820c86bac931d)},
+    {"rfm-2d.ini", {"model.tangential=sliding_friction", "model.mu=0.3", "model.rotation=false"}, 600, UINT64_C(0x47687f6efa0f884f)},
     {"rfm-2d.ini", {"model.tangential=none", NULL}, 600, UINT64_C(0xf271d1070c2be18e)},
     {"rfm-2d.ini", {"model.tangential=none", "model.clamp=true", NULL}, 600, UINT64_C(0x751615ea7305399e)},
     {"rfm-2d.ini", {"model.tangential=sliding_friction", "model.mu=0.3", NULL}, 600, UINT64_C(0x47687f6efa0f884f)},

@@ -43,6 +43,7 @@
 typedef struct combo {
     const gr_model *normal, *tangential;
     int clamp, dim;
+    int rot; /* [model] rotation = true (a tangential law at the contact point) */
     const char *variant; /* the normal law's mode (gr_model.variants), NULL if it has one */
 } combo;
 
@@ -61,11 +62,14 @@ static void enumerate(void)
         for (int v = 0; v == 0 || (nm->variants && nm->variants[v]); v++) {
             const char *var = nm->variants ? nm->variants[v] : NULL;
             for (int clamp = 0; clamp < 2 && n_combos + 2 < MAX_COMBOS; clamp++) {
-                combos[n_combos++] = (combo){nm, NULL, clamp, 1, var};
-                combos[n_combos++] = (combo){nm, NULL, clamp, 2, var};
+                combos[n_combos++] = (combo){nm, NULL, clamp, 1, 0, var};
+                combos[n_combos++] = (combo){nm, NULL, clamp, 2, 0, var};
                 for (int b = 0; gr_models[b]; b++) {
-                    if (gr_models[b]->kind == GR_MODEL_TANGENTIAL && n_combos < MAX_COMBOS) {
-                        combos[n_combos++] = (combo){nm, gr_models[b], clamp, 2, var};
+                    const gr_model *tm = gr_models[b];
+                    for (int rot = 0; rot <= (tm->contact_point ? 1 : 0); rot++) {
+                        if (tm->kind == GR_MODEL_TANGENTIAL && n_combos < MAX_COMBOS) {
+                            combos[n_combos++] = (combo){nm, tm, clamp, 2, rot, var};
+                        }
                     }
                 }
             }
@@ -93,14 +97,15 @@ static gr_contact_params defaults_of(const combo *c)
     gr_contact_params p;
     gr_contact_defaults(&p);
     apply_settings(&p, c->variant);
+    p.rotation = c->rot;
     return p;
 }
 
 static const char *name_of(const combo *c, char *buf, size_t n)
 {
-    snprintf(buf, n, "%dd %s%s%s%s%s%s%s", c->dim, c->normal->name, c->variant ? "(" : "", c->variant ? c->variant : "",
+    snprintf(buf, n, "%dd %s%s%s%s%s%s%s%s", c->dim, c->normal->name, c->variant ? "(" : "", c->variant ? c->variant : "",
              c->variant ? ")" : "", c->clamp ? "[clamped]" : "", c->tangential ? "+" : "",
-             c->tangential ? c->tangential->name : "");
+             c->tangential ? c->tangential->name : "", c->rot ? "(rotation)" : "");
     return buf;
 }
 

@@ -96,7 +96,9 @@ with tempfile.TemporaryDirectory() as tmp:
     check(r["T_mean"] == run["summary"]["T_mean"], f"granule.run T_mean {r['T_mean']} = CLI's {run['summary']['T_mean']}")
 
     # 6. the state as bytes (gr_sim_state_save): restored into a fresh Sim, stepping on is bit-identical
-    for kind, extra in (("verlet", []), ("hybrid", ["integrator.kick_interval=5e-6"]),
+    # (verlet with rotation: the spins are in the state, and in the ledger's kinetic energy compared below)
+    for kind, extra in (("verlet", []), ("verlet", ["model.rotation=true", "placement.omega0=200"]),
+                        ("hybrid", ["integrator.kick_interval=5e-6"]),
                         ("event", ["model.normal=hard_sphere", "model.tangential=none"])):
         sc = granule.load_scene(scene_path, set=[f"{k}={v}" for k, v in sets.items()] + [f"integrator.kind={kind}"] + extra)
         a, b = granule.Sim(sc), granule.Sim(sc)

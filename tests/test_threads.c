@@ -59,6 +59,9 @@ static uint64_t state_hash(gr_sim *s)
         h = fnv(h, p.y, sizeof(double) * (size_t)p.n);
         h = fnv(h, p.vy, sizeof(double) * (size_t)p.n);
     }
+    if (s->omega) {
+        h = fnv(h, s->omega, sizeof(double) * (size_t)s->n);
+    }
     gr_ledger l = gr_sim_ledger(s);
     double led[8] = {l.kinetic, l.elastic, l.initial, l.injected, l.dissipated_normal, l.dissipated_tangential,
                      l.dissipated_friction, l.removed_com};
@@ -334,6 +337,30 @@ START_TEST(test_threads_pair)
 }
 END_TEST
 
+/* rotation (the torques of cross pairs go through pair_tq): 1 and 2 threads, bit for bit, for both
+ * contact-point tangential laws */
+START_TEST(test_threads_rotation)
+{
+    static const char *laws[][2] = {{"model.tangential=tangential_dashpot", "model.eps_t=0.3"},
+                                    {"model.tangential=sliding_friction", "model.mu=0.4"}};
+    for (int k = 0; k < 2; k++) {
+        const char *sets[] = {"system.N=1500", "system.L=0.13", "placement.v0=0.5", "noise.D=1e-6", "model.rotation=true",
+                              laws[k][0], laws[k][1]};
+        gr_scene sc;
+        load_scene(&sc, "rfm-2d.ini", sets, 7);
+        int cross2 = 0;
+        const int64_t steps = steps_full() / 2;
+        uint64_t h1 = run_placed(&sc, 1, steps, NULL);
+        uint64_t h2 = run_placed(&sc, 2, steps, &cross2);
+#ifdef _OPENMP
+        ck_assert_msg(cross2 > 0, "two threads did not split the pair list (no cross pairs)");
+#endif
+        ck_assert_msg(h1 == h2, "%s with rotation: 1 and 2 threads differ: %016llx vs %016llx", laws[k][0],
+                      (unsigned long long)h1, (unsigned long long)h2);
+    }
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("threads");
@@ -341,6 +368,7 @@ static Suite *suite(void)
     tcase_set_timeout(tc, 600);
     tcase_add_test(tc, test_threads_rfm2d);
     tcase_add_test(tc, test_threads_friction_com);
+    tcase_add_test(tc, test_threads_rotation);
     tcase_add_test(tc, test_threads_1d);
     tcase_add_test(tc, test_order_2d);
     tcase_add_test(tc, test_order_1d);

@@ -10,6 +10,8 @@ typedef struct gr_particles {
     double radius, mass;
     const double *x, *y;
     const double *vx, *vy;
+    const double *omega; /* angular velocities, rad/s counterclockwise (2D with [model] rotation =
+                            true; NULL otherwise) */
 } gr_particles;
 
 /* A particle's contact state changed: it touched another particle for the first time since it was

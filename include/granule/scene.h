@@ -32,6 +32,7 @@ typedef struct gr_scene {
     /* [placement] */
     gr_placement_kind placement;
     double v0;        /* initial velocities v0 * U(-0.5, 0.5) per component, m/s */
+    double omega0;    /* rotation: initial angular velocities omega0 * U(-0.5, 0.5), rad/s */
     /* [model] */
     const gr_model *normal;
     const gr_model *tangential; /* NULL: no tangential law */

@@ -62,6 +62,7 @@ typedef struct gr_sim_params {
     double radius, mass;        /* m, kg */
     gr_placement_kind placement;
     double v0;                  /* initial velocities v0 * U(-0.5, 0.5) per component, m/s */
+    double omega0;              /* rotation: initial angular velocities omega0 * U(-0.5, 0.5), rad/s */
     const gr_model *normal;
     const gr_model *tangential; /* NULL: none */
     gr_contact_params contact;
@@ -137,6 +138,9 @@ int64_t gr_sim_events_processed(const gr_sim *sim);
 gr_ledger gr_sim_ledger(gr_sim *sim);
 /* Granular temperature (2.19): T = (1/N) sum |v_i - <v>|^2, all components. */
 double gr_sim_temperature(const gr_sim *sim);
+/* With rotation: T_rot = I <w^2> / M, m^2/s^2, the rotational degree of freedom in the units of
+ * T (equipartition: T_rot = T / 2 in 2D, since T sums two translational ones); NaN without. */
+double gr_sim_rotational_temperature(const gr_sim *sim);
 /* Largest overlap (d - r) / d among pairs in contact now. */
 double gr_sim_max_overlap(gr_sim *sim);
 /* Record contact events (see gr_contact_event) from now on; costs one pass over the contacts per

@@ -33,7 +33,11 @@ static void usage(FILE *f)
             "Ranges: --eps-n (0, 1] (eps_n = 0 is a sticking pair that never separates, so there is no\n"
             "collision to measure; a scene may use it with spring_dashpot), --eps-t [0, 1], --mu >= 0.\n"
             "The JSON lists only the parameters the chosen model uses (granule models; --eps-t and --mu\n"
-            "need a tangential model, --k and --dt a soft one) and gives every unit in \"units\".\n");
+            "need a tangential model, --k and --dt a soft one) and gives every unit in \"units\".\n"
+            "Rotation (--set rotation=true [--set inertia_factor=Q] with tangential_dashpot or sliding_friction):\n"
+            "energy_loss then includes the spin energy I w^2 / 2 of both discs, eps_t_measured is the contact\n"
+            "point's tangential restitution (g.t + r (w1 + w2) after over before; the discs start without spin),\n"
+            "and omega1, omega2 give the angular velocities after the collision (rad/s, counterclockwise).\n");
 }
 
 /* the unit of every key collide prints (1: a pure number) */
@@ -44,7 +48,8 @@ static const struct {
              {"expected_loss", "1"}, {"contact_time", "s"}, {"max_overlap", "m"}, {"eps_n_measured", "1"},
              {"eps_t_measured", "1"}, {"impact_angle", "degrees"}, {"momentum_error", "1 (|p' - p| / |p|)"},
              {"normal_impulse", "N s"}, {"tangential_impulse", "N s"}, {"relative_error", "1"},
-             {"energy_loss_min", "1"}, {"energy_loss_max", "1"}};
+             {"energy_loss_min", "1"}, {"energy_loss_max", "1"}, {"omega1", "rad/s (counterclockwise)"},
+             {"omega2", "rad/s (counterclockwise)"}, {"inertia_factor", "1 (I = q M r^2)"}};
 
 /* does the normal or the tangential model take the scene key `name`? */
 static bool model_uses(const gr_collide_setup *s, const char *name)
@@ -77,7 +82,7 @@ static void add_units(cJSON *o)
     cJSON_AddItemToObject(o, "units", u);
 }
 
-static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r, bool instantaneous)
+static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r, bool instantaneous, bool rotation)
 {
     char key[64];
     struct {
@@ -87,8 +92,12 @@ static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r,
              {"contact_time", r->contact_time}, {"max_overlap", r->max_overlap},
              {"eps_n_measured", r->eps_n_measured}, {"eps_t_measured", r->eps_t_measured},
              {"impact_angle", r->impact_angle}, {"momentum_error", r->momentum_error},
-             {"normal_impulse", r->normal_impulse}, {"tangential_impulse", r->tangential_impulse}};
+             {"normal_impulse", r->normal_impulse}, {"tangential_impulse", r->tangential_impulse},
+             {"omega1", r->omega1}, {"omega2", r->omega2}};
     for (size_t i = 0; i < sizeof f / sizeof f[0]; i++) {
+        if (!rotation && !strncmp(f[i].name, "omega", 5)) {
+            continue; /* angular velocities only with [model] rotation = true */
+        }
         if (instantaneous && (!strcmp(f[i].name, "contact_time") || !strcmp(f[i].name, "max_overlap"))) {
             continue; /* an instantaneous collision has neither */
         }
@@ -318,6 +327,8 @@ int cmd_collide(int argc, char **argv)
         sum.normal_impulse += r.normal_impulse / phases;
         sum.tangential_impulse += r.tangential_impulse / phases;
         sum.tangential_reversed |= r.tangential_reversed;
+        sum.omega1 += r.omega1 / phases;
+        sum.omega2 += r.omega2 / phases;
     }
     sum.expected_loss = r.expected_loss;
     sum.impact_angle = r.impact_angle;
@@ -338,13 +349,18 @@ int cmd_collide(int argc, char **argv)
     if (model_uses(&s, "clamp")) {
         cJSON_AddBoolToObject(o, "clamp", s.contact.clamp);
     }
+    const bool rotation = s.dim == 2 && s.tangential && s.tangential->contact_point && s.contact.rotation;
+    if (rotation) {
+        cJSON_AddBoolToObject(o, "rotation", true);
+        cJSON_AddNumberToObject(o, "inertia_factor", s.contact.inertia_factor);
+    }
     cJSON_AddNumberToObject(o, "mass", s.mass);
     cJSON_AddNumberToObject(o, "radius", s.radius);
     if (!instantaneous) {
         cJSON_AddNumberToObject(o, "dt", r.dt);
     }
     cJSON_AddNumberToObject(o, "phases", phases);
-    add_result(o, "", &sum, instantaneous);
+    add_result(o, "", &sum, instantaneous, rotation);
     cJSON_AddNumberToObject(o, "relative_error", (sum.energy_loss - sum.expected_loss) / fmax(sum.expected_loss, 1e-300));
     if (phases > 1) {
         cJSON_AddNumberToObject(o, "energy_loss_min", lo);
@@ -358,7 +374,7 @@ int cmd_collide(int argc, char **argv)
             cli_error("collide --reference: %s", err.message);
             return cli_exit_code(err.code);
         }
-        add_result(o, "reference_", &ref, instantaneous);
+        add_result(o, "reference_", &ref, instantaneous, rotation);
     }
     if (speeds && add_speeds(o, &s, speeds, phases, reference) != EXIT_OK) {
         cJSON_Delete(o);

@@ -198,7 +198,7 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
             }
             jn += fabs(Fx * nx + Fy * ny) * s->dt; /* int |F_n| dt: the bound of friction */
             jt += fabs(Fx * ny - Fy * nx) * s->dt;
-            double g_t = gx * ny - gy * nx;
+            double g_t = gx * ny - gy * nx + (s->omega ? cs->radius * (s->omega[0] + s->omega[1]) : 0.0);
             if (gt0 * g_t < -1e-12 * sqrt(gg0)) {
                 out->tangential_reversed = true;
             }
@@ -219,11 +219,20 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     }
     double g1[2] = {s->vx[1] - s->vx[0], dim == 2 ? s->vy[1] - s->vy[0] : 0.0};
     double t_end[2] = {n_end[1], -n_end[0]};
-    out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1]) / gg0;
+    /* rotation: the surface velocities at the contact point (models/law.h) and the spin energy
+     * in units of m12 (I w^2 / 2 over m12 / 2) */
+    double spin_t = 0.0, spin_e = 0.0;
+    if (s->omega) {
+        out->omega1 = s->omega[0];
+        out->omega2 = s->omega[1];
+        spin_t = cs->radius * (s->omega[0] + s->omega[1]);
+        spin_e = s->inertia * (s->omega[0] * s->omega[0] + s->omega[1] * s->omega[1]) / (0.5 * cs->mass);
+    }
+    out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1] + spin_e) / gg0;
     out->expected_loss = gr_contact_expected_loss(&s->cc, sqrt(gg0), out->impact_angle);
     out->contact_time = (double)active * s->dt;
     out->eps_n_measured = -(g1[0] * n_end[0] + g1[1] * n_end[1]) / gn0;
-    out->eps_t_measured = fabs(gt0) > 1e-12 * sqrt(gg0) ? (g1[0] * t_end[0] + g1[1] * t_end[1]) / gt0 : (double)NAN;
+    out->eps_t_measured = fabs(gt0) > 1e-12 * sqrt(gg0) ? (g1[0] * t_end[0] + g1[1] * t_end[1] + spin_t) / gt0 : (double)NAN;
     double p_after[2];
     gr_sim_momentum(s, p_after);
     out->momentum_error = hypot(p_after[0] - p_before[0], p_after[1] - p_before[1]) / hypot(p_before[0], p_before[1]);

@@ -1,6 +1,6 @@
 /* The reference integration of one binary contact: gr_collide_reference integrates the relative
  * motion of two identical discs through a single contact with SUNDIALS CVODE (variable-order
- * Adams, Newton iteration with a dense 6x6 solver, rtol 1e-12) and root-finding, so the engine's
+ * Adams, Newton iteration with a dense 7x7 solver, rtol 1e-12) and root-finding, so the engine's
  * time-stepped kernels and the exact restitution formulas can be checked against an independent,
  * essentially exact answer (`granule collide --reference` and the collision tests).
  *
@@ -32,6 +32,14 @@
  * components, J_n = int |F_n| dt and J_t = int |F_t| dt (projections on the instantaneous n and
  * t), so "friction impulse <= mu x normal impulse" also holds when the unclamped law pulls.
  *
+ * Rotation (gr_contact_coeffs.rotation, discs of moment of inertia I = q M r^2 at rest before):
+ * the tangential law sees the contact point's velocity g.t + S, S = -a (w1 + w2) in this t's
+ * sign (the engine's t is the opposite, models/law.h), a = |r| / 2 the lever arm of both discs,
+ * and the torques a F_t on both give d(w1 + w2)/dt = -2 a F_t / I. W = (w1 + w2) / w0 is a
+ * seventh state component (scaled: dW/dtau = -2 |r| f_t / (q D^2), D the scaled diameter; at
+ * |r| = d, dS/dt = F_t / (q m12)), so the contact point's restitution, the spins and the energy
+ * they carry come out of the same integration. The end of sliding is then g.t + S = 0.
+ *
  * Refused (GR_EINVAL / GR_EUNSTABLE, never integrated to a wrong answer): an unclamped contact
  * at critical or over-damping (zeta >= 1: xi decays to 0 but never returns to it, the pair
  * sticks), a contact still running after 1000 undamped contact times, and an overlap that
@@ -54,8 +62,8 @@
 
 #include "granule/collide.h"
 
-enum { REF_NEQ = 6, REF_NROOT = 5 };
-enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT };
+enum { REF_NEQ = 7, REF_NROOT = 5 };
+enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT, Y_W };
 enum { ROOT_END = 0, ROOT_MAX_OVERLAP, ROOT_STICK, ROOT_FN_SIGN, ROOT_DEGENERATE };
 
 #define REF_ATOL 1e-14                 /* nondimensional: state components are O(1) */
@@ -70,6 +78,8 @@ typedef struct ref_ctx {
     double c_n;      /* gamma_n len^p / (m12 w0) (= 2 zeta for the linear law) */
     double pow_a, pow_p; /* the normal law's powers (1, 0 linear) */
     double c_t;      /* gamma_t / (m12 w0) */
+    bool rot;        /* rotation: the law sees g.t - (|r| / 2) W */
+    double q;        /* rotation: I / (M r^2) */
     double mu;
     gr_tangential_law tangential;
     bool clamp;
@@ -85,6 +95,8 @@ typedef struct ref_state {
     double xi;         /* overlap, units V / w0 */
     double axial;      /* r . n0 / d: 1 at the touch, 0 when the centres meet */
     double gn, gt;     /* relative velocity along n and t, units V */
+    double gc;         /* the contact point's tangential velocity, gt (- |r| W / 2 with rotation) */
+    double rn;         /* |r|, units V / w0 */
     double fn, ft;     /* forces along n and t, units m12 w0 V */
 } ref_state;
 
@@ -109,6 +121,8 @@ static int ref_eval(ref_ctx *c, const double *y, ref_state *s)
     s->xi = -(2.0 * u_dot_rc + uu) / (c->D + rn);
     s->gn = y[Y_G0] * s->n[0] + y[Y_G1] * s->n[1];
     s->gt = y[Y_G0] * s->t[0] + y[Y_G1] * s->t[1];
+    s->rn = rn;
+    s->gc = c->rot ? s->gt - 0.5 * rn * y[Y_W] : s->gt;
     if (c->pow_a == 1.0 && c->pow_p == 0.0) {
         s->fn = s->xi - c->c_n * s->gn; /* k_s xi - gamma_n g.n over m12 w0 V (2.4-2.5) */
     } else {
@@ -117,7 +131,7 @@ static int ref_eval(ref_ctx *c, const double *y, ref_state *s)
     }
     switch (c->tangential) {
     case GR_TANGENTIAL_DASHPOT:
-        s->ft = -c->c_t * s->gt; /* (2.9) */
+        s->ft = -c->c_t * s->gc; /* (2.9) */
         break;
     case GR_TANGENTIAL_FRICTION:
         s->ft = c->sliding ? -c->mu * c->fn_sign * s->fn * c->s0 : 0.0; /* (2.7) */
@@ -145,6 +159,7 @@ static int ref_rhs(sunrealtype t, N_Vector yv, N_Vector ydotv, void *user)
     yd[Y_G1] = s.fn * s.n[1] + s.ft * s.t[1];
     yd[Y_JN] = fabs(s.fn);
     yd[Y_JT] = fabs(s.ft);
+    yd[Y_W] = c->rot ? -2.0 * s.rn * s.ft / (c->q * c->D * c->D) : 0.0;
     return 0;
 }
 
@@ -159,7 +174,7 @@ static int ref_roots(sunrealtype t, N_Vector yv, sunrealtype *gout, void *user)
     bool sliding = c->tangential == GR_TANGENTIAL_FRICTION && c->sliding;
     gout[ROOT_END] = c->clamp ? s.fn : s.xi;
     gout[ROOT_MAX_OVERLAP] = s.gn;
-    gout[ROOT_STICK] = sliding ? c->s0 * s.gt : 1.0;
+    gout[ROOT_STICK] = sliding ? c->s0 * s.gc : 1.0;
     gout[ROOT_FN_SIGN] = sliding && !c->clamp ? c->fn_sign * s.fn : 1.0;
     gout[ROOT_DEGENERATE] = s.axial - REF_AXIAL_FLOOR;
     return 0;
@@ -290,6 +305,8 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
         .c_t = coeffs.gamma_t / (m12 * w0),
         .mu = coeffs.mu,
         .tangential = coeffs.tangential,
+        .rot = coeffs.rotation && coeffs.tangential != GR_TANGENTIAL_NONE,
+        .q = coeffs.q,
         .clamp = coeffs.clamp,
         .fn_sign = 1.0,
     };
@@ -327,6 +344,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     yd[Y_G1] = G0[1];
     yd[Y_JN] = 0.0;
     yd[Y_JT] = 0.0;
+    yd[Y_W] = 0.0;
 
     int rootdir[REF_NROOT];
     rootdir[ROOT_END] = -1;
@@ -395,8 +413,18 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
         if (found[ROOT_STICK] && ctx.sliding) {
             /* Sliding stops; without a tangential spring it never restarts (g.t stays 0). */
             ctx.sliding = false;
-            yd[Y_G0] = st.gn * st.n[0];
-            yd[Y_G1] = st.gn * st.n[1];
+            if (ctx.rot) {
+                /* the impulse J that cancels the residual gc at the root: J / m12 on g.t and
+                 * rho J / (q m12) on S = -|r| W / 2, rho = (|r| / D)^2 */
+                const double rho = st.rn * st.rn / (ctx.D * ctx.D);
+                const double j = -st.gc / (1.0 + rho / ctx.q);
+                yd[Y_G0] += j * st.t[0];
+                yd[Y_G1] += j * st.t[1];
+                yd[Y_W] -= 2.0 * (rho / ctx.q) * j / st.rn;
+            } else {
+                yd[Y_G0] = st.gn * st.n[0];
+                yd[Y_G1] = st.gn * st.n[1];
+            }
             restart = true;
         }
         if (found[ROOT_FN_SIGN]) {
@@ -418,15 +446,20 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     const double gg1 = G1[0] * G1[0] + G1[1] * G1[1];
 
     memset(out, 0, sizeof *out);
-    out->energy_loss = 1.0 - gg1 / gg0;
+    /* rotation: the spin energy I (w1^2 + w2^2) / 2 over m12 V^2 / 2 is q (D W / 2)^2 (w1 = w2 = W w0 / 2) */
+    const double spin_e = ctx.rot ? ctx.q * 0.25 * ctx.D * ctx.D * yd[Y_W] * yd[Y_W] : 0.0;
+    out->energy_loss = 1.0 - (gg1 + spin_e) / gg0;
     out->impact_angle = atan2(fabs(gt0), -gn0) * (180.0 / M_PI);
     out->expected_loss = gr_contact_expected_loss(&coeffs, speed, out->impact_angle);
     out->contact_time = tau / w0;
     out->max_overlap = xi_max * len;
     out->eps_n_measured = -st.gn / gn0;
-    out->eps_t_measured = has_tangent ? st.gt / gt0 : (double)NAN;
+    out->eps_t_measured = has_tangent ? st.gc / gt0 : (double)NAN;
     out->tangential_reversed =
-        has_tangent && st.gt * gt0 < 0.0 && fabs(st.gt) >= REF_TANGENT_FLOOR;
+        has_tangent && st.gc * gt0 < 0.0 && fabs(st.gc) >= REF_TANGENT_FLOOR;
+    if (ctx.rot) {
+        out->omega1 = out->omega2 = 0.5 * yd[Y_W] * w0;
+    }
     out->normal_impulse = fabs(yd[Y_JN]) * m12 * speed;
     out->tangential_impulse = fabs(yd[Y_JT]) * m12 * speed;
     out->dt = 0.0;

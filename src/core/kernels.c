@@ -10,9 +10,10 @@
  * g_t = g.t, the normal law gives f_n and its non-conservative part f_d, the tangential law f_t
  * and its dissipation; the force on j is f_n n + f_t t, on i its opposite (Newton's third law).
  * Rotation (instances with rot = 1, only with a tangential law): g_t is the contact point's
- * g.t + r (w_i + w_j) (models/law.h gives the sign), and f_t exerts the torque r f_t on i and on j
- * alike (equal radii; the contact point is at r_i + r n = r_j - r n: (-r n) x (f_t t) =
- * r f_t for j, (r n) x (-f_t t) = r f_t for i, since n x t = -1).
+ * g.t + a (w_i + w_j) (models/law.h gives the sign), and f_t exerts the torque a f_t on i and on j
+ * alike, a = |r_ij| / 2 (equal radii; the contact point is midway, at r_i + a n = r_j - a n:
+ * (-a n) x (f_t t) = a f_t for j, (a n) x (-f_t t) = a f_t for i, since n x t = -1). The pair's
+ * orbital torque (r_j - r_i) x (f_t t) = -2 a f_t cancels them: angular momentum is conserved.
  * Ledger: the normal law's non-conservative part does work f_d g_n on the relative motion, so
  * it dissipates -f_d g_n (for the linear law gamma_n g_n^2 unclamped; the spring energy that
  * vanishes while the clamp holds f_n at zero is counted here too); a tangential law books its
@@ -102,14 +103,14 @@ typedef struct pair_out {
 typedef struct pair_ctx {
     const double *restrict x, *restrict y, *restrict vx, *restrict vy;
     const double *restrict w; /* omega (rotation only) */
-    double L, d, d2, m12_dt, r;
+    double L, d, d2, m12_dt;
     gr_contact_coeffs cc; /* the laws' coefficients, a local copy */
 } pair_ctx;
 
 static inline __attribute__((always_inline)) pair_ctx ctx_of(const gr_sim *s)
 {
     return (pair_ctx){.x = s->x, .y = s->y, .vx = s->vx, .vy = s->vy, .w = s->omega, .L = s->L, .d = s->d,
-                      .d2 = s->d * s->d, .m12_dt = s->cc.m_t / s->dt, .r = 0.5 * s->d, .cc = s->cc};
+                      .d2 = s->d * s->d, .m12_dt = s->cc.m_t / s->dt, .cc = s->cc};
 }
 
 static inline __attribute__((always_inline)) int
@@ -139,8 +140,13 @@ pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang
     if (tang != TL_none) {
         const double tx = ny, ty = -nx;
         double g_t = gx * tx + gy * ty;
+        /* rotation: the lever arm of both discs is the distance of their centres to the contact
+         * point, |r_ij| / 2 (not r): the orbital torque -|r_ij| f_t of the pair then cancels the
+         * spin torques exactly (angular momentum is conserved), and the same arm in g_t keeps the
+         * power of the pair f_n g_n + f_t g_t (the law's dissipation is the work done) */
+        const double arm = 0.5 * dist;
         if (rot) {
-            g_t += c.r * (c.w[i] + c.w[j]); /* the surface velocities at the contact point */
+            g_t += arm * (c.w[i] + c.w[j]); /* the surface velocities at the contact point */
         }
         const gr_tangential_in in = {.g_t = g_t, .f_n = f_n, .acts = !clamp || f_n > 0.0, .m12_dt = c.m12_dt,
                                      .hist = NULL};
@@ -148,7 +154,7 @@ pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang
         const double f_t = ft.f;
         o->pt = ft.p;
         if (rot) {
-            o->tq = c.r * f_t;
+            o->tq = arm * f_t;
         }
         Fx += f_t * tx;
         Fy += f_t * ty;

@@ -211,12 +211,30 @@ static int alloc_rotation(gr_sim *s, gr_error *err)
     return GR_OK;
 }
 
+/* [placement] omega0: initial angular velocities omega0 * U(-0.5, 0.5) from the seed (the
+ * velocities' stream, component 2, which 1D and 2D velocities never draw), before the first
+ * forces and the ledger's initial energy. */
+static int spin_up(gr_sim *s, gr_error *err)
+{
+    if (s->params.omega0 > 0.0 && !s->omega) {
+        return GR_FAIL(err, GR_EINVAL, "%s: [placement] omega0 = %g needs [model] rotation = true (allowed without it: 0)",
+                       s->params.source, s->params.omega0);
+    }
+    for (int i = 0; s->omega && s->params.omega0 > 0.0 && i < s->n; i++) {
+        s->omega[i] = s->params.omega0 * (gr_noise_uniform(s->params.seed, GR_STREAM_INIT_VELOCITY, (uint64_t)i, 2) - 0.5);
+    }
+    return GR_OK;
+}
+
 /* Everything after the positions and velocities are set. */
 static int finish(gr_sim *s, gr_error *err)
 {
     int rc = prepare_contact(s, err);
     if (!rc && s->cc.rotation) {
         rc = alloc_rotation(s, err);
+    }
+    if (!rc) {
+        rc = spin_up(s, err);
     }
     if (!rc) {
         rc = gr_check_overlaps(s, err);
@@ -394,7 +412,7 @@ int gr_sim_new_canonical(const gr_sim_params *p, int n, const double *x, const d
 gr_particles gr_sim_particles(const gr_sim *s)
 {
     return (gr_particles){.n = s->n, .dim = s->dim, .L = s->L, .radius = 0.5 * s->d,
-                          .mass = s->mass, .x = s->x, .y = s->y, .vx = s->vx, .vy = s->vy};
+                          .mass = s->mass, .x = s->x, .y = s->y, .vx = s->vx, .vy = s->vy, .omega = s->omega};
 }
 
 void gr_sim_forces(const gr_sim *s, const double **fx, const double **fy)
@@ -503,6 +521,18 @@ double gr_sim_temperature(const gr_sim *s)
         }
     }
     return sum / s->n; /* eq. 2.19 */
+}
+
+double gr_sim_rotational_temperature(const gr_sim *s)
+{
+    if (!s->omega) {
+        return (double)NAN;
+    }
+    double sum = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        sum += s->omega[i] * s->omega[i];
+    }
+    return s->inertia * sum / (s->mass * s->n); /* I <w^2> / M: the one rotational degree of freedom */
 }
 
 double gr_sim_max_overlap(gr_sim *s)

@@ -13,7 +13,8 @@
  * than rebuilt: its order fixes the summation order of the forces, and a build also wraps
  * positions and derives contact flags from the velocities, so storing it is the only way that
  * is exact by construction. With contact tracking, each particle's contact count and the
- * events not yet handed to the observables are stored too. The noise buffer is scratch (redrawn
+ * events not yet handed to the observables are stored too; with rotation, the angular
+ * velocities and torques. The noise buffer is scratch (redrawn
  * every step); cell arrays are rebuilt from positions at the next list build. */
 #include <stdint.h>
 #include <stdlib.h>
@@ -117,6 +118,11 @@ int gr_sim_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
             const double v[] = {e->t, e->x, e->y, e->vx, e->vy};
             gr_blob_put(b, v, sizeof v);
         }
+    }
+    if (s->omega) {
+        /* rotation: the angular velocities and the torques the next opening half kick uses */
+        gr_blob_put_f64s(b, s->omega, n);
+        gr_blob_put_f64s(b, s->tq, n);
     }
     rc = gr_blob_ok(b, err);
     if (!rc && s->integrator->save) {
@@ -267,6 +273,10 @@ int gr_sim_load_state(gr_sim *s, gr_blob_reader *b, gr_error *err)
             }
             *e = (gr_contact_event){.i = (int)i, .kind = (int)kind, .t = v[0], .x = v[1], .y = v[2], .vx = v[3], .vy = v[4]};
         }
+    }
+    if (!b->bad && s->omega) {
+        gr_blob_get_f64s(b, s->omega, n);
+        gr_blob_get_f64s(b, s->tq, n);
     }
     if (!b->bad && s->integrator->load) {
         rc = s->integrator->load(s, b, err);

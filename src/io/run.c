@@ -127,7 +127,8 @@ static int open_tables(gr_run_ctx *c)
         }
     }
     if (!rc) {
-        fprintf(c->ft.f, "t,T,running_mean,phase\n");
+        /* rotation: T_rot = I <w^2> / M (gr_sim_rotational_temperature) as a last column */
+        fprintf(c->ft.f, "t,T,running_mean,phase%s\n", c->scene->contact.rotation ? ",T_rot" : "");
         fprintf(c->fl.f, "t,kinetic,elastic,injected,dissipated_normal,dissipated_tangential,dissipated_friction,removed_com,residual\n");
     }
     return rc;

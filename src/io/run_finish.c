@@ -31,6 +31,10 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, co
     cJSON_AddNumberToObject(j, "T_mean", r->T_mean);
     cJSON_AddNumberToObject(j, "T_stderr", r->T_stderr);
     cJSON_AddBoolToObject(j, "T_stderr_converged", r->T_stderr_converged);
+    if (scene->contact.rotation) {
+        /* rotation: the rotational temperature I <w^2> / M at the end (the series is in temperature.csv) */
+        cJSON_AddNumberToObject(j, "T_rot_final", gr_sim_rotational_temperature(sim));
+    }
     cJSON_AddNumberToObject(j, "samples", (double)r->samples);
     cJSON_AddNumberToObject(j, "wall_seconds", r->wall_seconds);
     cJSON_AddNumberToObject(j, "particle_steps_per_second", r->particle_steps_per_second);

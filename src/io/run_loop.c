@@ -105,7 +105,11 @@ static bool record(gr_run_ctx *c, int64_t k)
             }
         }
     }
-    fprintf(c->ft.f, "%.9g,%.9g,%.9g,%s\n", t, T, sampling ? gr_blocking_mean(&c->blk) : (double)NAN, sampling ? "sample" : "warmup");
+    fprintf(c->ft.f, "%.9g,%.9g,%.9g,%s", t, T, sampling ? gr_blocking_mean(&c->blk) : (double)NAN, sampling ? "sample" : "warmup");
+    if (c->scene->contact.rotation) {
+        fprintf(c->ft.f, ",%.9g", gr_sim_rotational_temperature(sim));
+    }
+    fputc('\n', c->ft.f);
     gr_ledger l = gr_sim_ledger(sim);
     double moved = l.injected + gr_ledger_dissipated(&l) + l.removed_com;
     double residual = gr_ledger_residual(&l);

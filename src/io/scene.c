@@ -44,6 +44,7 @@ static const scene_key keys[] = {
     {"system", "mass", "kg", K_DOUBLE, "3.53e-5", 0, INFINITY, true, true, NULL, "particle mass M (Table 2.2)", OFF(mass)},
     {"placement", "kind", "", K_ENUM, "hexagonal", 0, 0, false, false, "hexagonal|square|uniform|cluster|random", "initial placement (sec. 2.1.4, Fig. 2.4): hexagonal or square bed from the bottom of the box, uniform = equal area (2D) or spacing L/N (1D) per particle, cluster = one touching cluster in the middle, random = random sequential addition (phi <= 0.5)", OFF(placement)},
     {"placement", "v0", "m/s", K_DOUBLE, "0.1", 0, INFINITY, false, true, NULL, "initial velocities v0 * U(-0.5, 0.5) per component (sec. 2.2.2), mean removed", OFF(v0)},
+    {"placement", "omega0", "rad/s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "[model] rotation = true only: initial angular velocities omega0 * U(-0.5, 0.5) per disc (rotational temperature I omega0^2 / 12 M); 0 = not spinning", OFF(omega0)},
     {"model", "normal", "", K_NORMAL, "spring_dashpot", 0, 0, false, false, NULL, "normal collision model (granule models lists them)", OFF(normal)},
     {"model", "tangential", "", K_TANGENTIAL, "none", 0, 0, false, false, NULL, "none, tangential_dashpot or sliding_friction (2D only)", OFF(tangential)},
     {"noise", "D", "N^2 s", K_DOUBLE, "1e-8", 0, INFINITY, false, true, NULL, "noise strength (2.15, 2.22); 0 switches the random force off (Table 2.2: 1e-8)", OFF(D)},

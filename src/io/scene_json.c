@@ -21,6 +21,9 @@ cJSON *gr_scene_to_json(const gr_scene *s)
     cJSON *pl = cJSON_AddObjectToObject(root, "placement");
     cJSON_AddStringToObject(pl, "kind", gr_placement_name(s->placement));
     cJSON_AddNumberToObject(pl, "v0", s->v0);
+    if (s->contact.rotation) {
+        cJSON_AddNumberToObject(pl, "omega0", s->omega0); /* only then (the hashes of other scenes stay) */
+    }
     cJSON *m = cJSON_AddObjectToObject(root, "model");
     cJSON_AddStringToObject(m, "normal", s->normal ? s->normal->name : "none");
     cJSON_AddStringToObject(m, "tangential", s->tangential ? s->tangential->name : "none");

@@ -74,7 +74,7 @@ int gr_traj_writer_open(gr_traj_writer *w, const gr_scene *s, const char *dir, i
             return gr_h5md_reopen(path, resume_frames, s->N, &w->h5, err);
         }
         gr_h5md_desc d = {.n = s->N, .dim = s->dim, .L = s->L, .radius = s->radius, .mass = s->mass,
-                          .angular_velocity = false, .deflate = 1};
+                          .angular_velocity = s->dim == 2 && s->contact.rotation, .deflate = 1};
         return gr_h5md_create(path, &d, &w->h5, err);
     }
     return GR_OK;
@@ -95,7 +95,7 @@ int gr_traj_writer_frame(gr_traj_writer *w, const gr_particles *p, double t, int
             rc = gr_file_fail(path, errno, err);
         }
     } else {
-        rc = gr_h5md_append(w->h5, p, NULL, t, step, err);
+        rc = gr_h5md_append(w->h5, p, p->omega, t, step, err);
     }
     w->frames += rc == GR_OK;
     return rc;
