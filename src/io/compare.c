@@ -150,7 +150,7 @@ int gr_compare_scene_load(const gr_compare_spec *spec, const char *scene_path, c
     for (int i = 0; i < n_sets && m < 76; i++) {
         all[m++] = sets[i];
     }
-    const int own = kind >= 0 ? 4 : 3;
+    const int own = kind ? 4 : 3;
     for (int i = 0; i < own; i++) {
         all[m++] = assign[i];
     }
