@@ -128,7 +128,9 @@ static int open_tables(gr_run_ctx *c)
     }
     if (!rc) {
         fprintf(c->ft.f, "t,T,running_mean,phase\n");
-        fprintf(c->fl.f, "t,kinetic,elastic,injected,dissipated_normal,dissipated_tangential,dissipated_friction,removed_com,residual\n");
+        /* with rotation, the rotational part of the kinetic energy (sum I w^2 / 2) is one more column */
+        fprintf(c->fl.f, "t,kinetic,elastic,injected,dissipated_normal,dissipated_tangential,dissipated_friction,removed_com,"
+                         "residual%s\n", c->scene->contact.rotation ? ",rotational" : "");
     }
     return rc;
 }
