@@ -42,26 +42,9 @@ granule="$build/granule"
 coeffs="$build/bench/bench_coeffs"
 
 # shellcheck source=bench/lib.sh
-source bench/lib.sh # find_lmp
-lmp=$(find_lmp || true)
-if [[ -z $lmp && $install == 1 ]]; then
-    if [[ $(id -u) == 0 ]] && command -v apt-get >/dev/null; then
-        echo "lammps: installing the Debian package lammps" >&2
-        DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends lammps >/dev/null ||
-            { DEBIAN_FRONTEND=noninteractive apt-get update -q >/dev/null &&
-              DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends lammps >/dev/null; } || true
-        lmp=$(find_lmp || true)
-    fi
-fi
-if [[ -z $lmp ]]; then
-    echo "lammps: skipped: no lmp found (Debian package lammps; bench/lammps.sh --install installs it as root)"
-    exit 0
-fi
+source bench/lib.sh # lmp_or_skip
+lmp_or_skip lammps "$install"
 lmp_help=$("$lmp" -h 2>/dev/null || true)
-if ! grep -qw GRANULAR <<<"$lmp_help"; then
-    echo "lammps: skipped: $lmp was built without the GRANULAR package (no pair_style gran/hooke)"
-    exit 0
-fi
 for p in "$granule" "$coeffs"; do
     [[ -x $p ]] || { echo "lammps: $p not found: build the project (ninja -C $build) first" >&2; exit 1; }
 done
@@ -196,20 +179,7 @@ collision 3 "Table 2.1 case 3, oblique"
 # ---- 2. the 2D RFM scene, same initial state ----
 "$granule" run "$scene" "${sets[@]}" --set run.warmup=0 --set run.duration="$lmp_sample" --set run.sample_every="$lmp_sample" \
     --set output.snapshot_every=1e9 --set output.plots=false --out "$work/init" >/dev/null 2>&1
-python3 - "$work/init/snapshots/snap_000000.xyz" "$work/rfm.data" "$radius" <<'EOF'
-import sys
-src, out, r = sys.argv[1], sys.argv[2], float(sys.argv[3])
-lines = open(src).read().splitlines()
-n = int(lines[0]); lat = lines[1].split('"')[1].split(); L = float(lat[0])
-with open(out, "w") as f:
-    f.write(f"granule initial state ({src})\n\n{n} atoms\n1 atom types\n\n0 {L!r} xlo xhi\n0 {L!r} ylo yhi\n-{2*r!r} {2*r!r} zlo zhi\n\nAtoms # sphere\n\n")
-    vel = []
-    for i, ln in enumerate(lines[2:2 + n], 1):
-        s = ln.split()
-        f.write(f"{i} 1 {2*r!r} 1.0 {s[1]} {s[2]} 0.0\n")
-        vel.append(f"{i} {s[4]} {s[5]} 0.0 0.0 0.0 0.0\n")
-    f.write("\nVelocities\n\n" + "".join(vel))
-EOF
+/usr/bin/python3 bench/lammps_scene.py data "$work/init/snapshots/snap_000000.xyz" "$work/rfm.data"
 warm_steps=$(python3 -c "print(round($LAMMPS_WARMUP / $dt))")
 run_steps=$(python3 -c "print(round($LAMMPS_DURATION / $dt))")
 every=$(python3 -c "print(max(1, round($lmp_sample / $dt)))")

@@ -8,6 +8,9 @@
 # find_lmp: prints the path of the first lmp / lmp_serial / lmp_mpi on PATH built with the GRANULAR
 #   package, or returns 1.
 # bench_header: one comment line with the date, machine, compiler flags and commit.
+# lmp_or_skip NAME INSTALL: sets $lmp to an lmp built with GRANULAR; INSTALL = 1 installs Debian's
+#   lammps with apt-get first when none is found (as root). Without one it prints "NAME: skipped: ..."
+#   and exits 0 (the bench scripts skip, they do not fail, on a machine without LAMMPS).
 
 bench_outputs() {
     local quick=$1 name=$2
@@ -57,4 +60,22 @@ find_lmp() {
         fi
     done
     return 1
+}
+
+lmp_or_skip() {
+    local name=$1 install=$2
+    lmp=$(find_lmp || true)
+    if [[ -z $lmp && $install == 1 ]]; then
+        if [[ $(id -u) == 0 ]] && command -v apt-get >/dev/null; then
+            echo "$name: installing the Debian package lammps" >&2
+            DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends lammps >/dev/null ||
+                { DEBIAN_FRONTEND=noninteractive apt-get update -q >/dev/null &&
+                  DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends lammps >/dev/null; } || true
+            lmp=$(find_lmp || true)
+        fi
+    fi
+    if [[ -z $lmp ]]; then
+        echo "$name: skipped: no lmp built with the GRANULAR package found (Debian package lammps; --install installs it as root)"
+        exit 0
+    fi
 }

@@ -206,6 +206,20 @@ for f in temperature.csv ledger.csv; do
     else fail "tiny run: $f missing, not starting with its column names, or without ${f%.csv}.meta.json"; fi
 done
 if ! ls -A "$OUT" 2>/dev/null | grep -q '\.tmp'; then pass "tiny run: no temporary files"; else fail "tiny run left temporaries" "$(ls -A "$OUT")"; fi
+# with rotation, ledger.csv's last column is the rotational energy sum I w^2 / 2 (part of kinetic):
+# zero at the start (the discs start without spin), then positive (the tangential torques spin them)
+# and never more than the kinetic energy; without rotation there is no such column
+run "$G" run "$TMP/tiny.ini" --out "$TMP/rot-out" "${sets[@]}" --set model.tangential=tangential_dashpot --set model.rotation=true
+if [[ $rc -eq 0 ]] && ! head -1 "$OUT/ledger.csv" | grep -q rotational && /usr/bin/python3 -c '
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+rot = [float(r["rotational"]) for r in rows]
+kin = [float(r["kinetic"]) for r in rows]
+sys.exit(0 if rot[0] == 0 and rot[-1] > 0 and all(0 <= a <= k for a, k in zip(rot, kin)) else 1)' "$TMP/rot-out/ledger.csv" 2>"$TMP/py"; then
+    pass "rotation: ledger.csv has the rotational energy column (0 at t = 0, then in (0, kinetic])"
+else
+    fail "rotation: ledger.csv's rotational column missing or out of range (rc $rc)" "$err $(cat "$TMP/py") $(head -3 "$TMP/rot-out/ledger.csv")"
+fi
 
 cp "$OUT/summary.json" "$TMP/first-summary.json" 2>/dev/null || true
 run "$G" run "$TMP/tiny.ini" --out "$OUT" "${sets[@]}" --set run.seed=12

@@ -127,9 +127,11 @@ static int open_tables(gr_run_ctx *c)
         }
     }
     if (!rc) {
-        /* rotation: T_rot = I <w^2> / M (gr_sim_rotational_temperature) as a last column */
+        /* rotation: T_rot = I <w^2> / M (gr_sim_rotational_temperature) as a last column of T(t),
+         * and the rotational part of the kinetic energy (sum I w^2 / 2) as a last column of the ledger */
         fprintf(c->ft.f, "t,T,running_mean,phase%s\n", c->scene->contact.rotation ? ",T_rot" : "");
-        fprintf(c->fl.f, "t,kinetic,elastic,injected,dissipated_normal,dissipated_tangential,dissipated_friction,removed_com,residual\n");
+        fprintf(c->fl.f, "t,kinetic,elastic,injected,dissipated_normal,dissipated_tangential,dissipated_friction,removed_com,"
+                         "residual%s\n", c->scene->contact.rotation ? ",rotational" : "");
     }
     return rc;
 }

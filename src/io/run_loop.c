@@ -115,9 +115,13 @@ static bool record(gr_run_ctx *c, int64_t k)
     double residual = gr_ledger_residual(&l);
     bool ledger_broken = c->scene->ledger_tolerance > 0.0 && moved > 0.0 &&
                          fabs(residual) > c->scene->ledger_tolerance * fmax(moved, l.initial);
-    fprintf(c->fl.f, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.6g\n", t, l.kinetic, l.elastic,
+    fprintf(c->fl.f, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.6g", t, l.kinetic, l.elastic,
             l.injected, l.dissipated_normal, l.dissipated_tangential, l.dissipated_friction,
             l.removed_com, gr_ledger_residual(&l));
+    if (c->scene->contact.rotation) {
+        fprintf(c->fl.f, ",%.12g", l.rotational);
+    }
+    fputc('\n', c->fl.f);
     /* a full disk stops the run now, not at the end (the message names the file) */
     c->rc = gr_file_check(&c->ft, c->err);
     c->rc = c->rc ? c->rc : gr_file_check(&c->fl, c->err);
