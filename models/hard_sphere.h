@@ -15,6 +15,7 @@
 
 #include <math.h>
 
+#include "models/hertz.h"
 #include "models/law.h"
 
 extern const gr_model gr_model_hard_sphere;
@@ -92,6 +93,10 @@ static inline double gr_event_collide_rough(double M, double q, double R, double
     *de_t = 0.5 * m_t * (1.0 - beta * beta) * gct * gct;
     return beta;
 }
+
+/* viscoelastic hard discs: the smallest eps_n used (an impact that would stick, eps_n(v) = 0,
+ * would leave the pair touching at zero normal speed and stall the event calendar) */
+#define GR_HARD_SPHERE_MIN_EPS 1e-3
 
 #ifdef GR_MODEL_IMPL
 /* the descriptor and prepare: compiled once, in models/registry.c */
@@ -176,23 +181,56 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
     c->e_scale = 0.5 * c->k_s;
     c->pow_a = 1.0;
     c->pow_p = 0.0;
+    if (p->viscoelastic) {
+        /* eps_n(v) of the hertz viscoelastic contact with the same keys: its damping and stiffness
+         * (law_n[1], law_n[2]) feed hertz's own impact (hard_sphere_impact) */
+        gr_contact_params hp = *p;
+        hp.clamp = false;
+        gr_contact_coeffs hc = {0};
+        int rc = gr_model_hertz.prepare(&hp, m12, 0.0, &hc, err);
+        if (rc) {
+            return rc;
+        }
+        c->law_n[0] = 1.0;
+        c->law_n[1] = hc.gamma_n;
+        c->law_n[2] = hc.k_s;
+    }
     c->law_t[0] = p->eps_t; /* the rule's tangential restitution */
+    c->law_t[1] = p->beta;  /* rotation = true: Walton's beta and its Coulomb limit */
+    c->law_t[2] = p->beta_mu;
     c->gamma_t = 0.0;
     return GR_OK;
 }
 
-/* Its restitution law: eps_n and eps_t exactly, at any speed, in no time. */
+/* Its restitution law: eps_n and eps_t exactly, at any speed, in no time; viscoelastic = true:
+ * eps_n(v_n) of the hertz viscoelastic contact (hertz's own impact, so both models agree), at
+ * least GR_HARD_SPHERE_MIN_EPS. */
 static gr_normal_impact hard_sphere_impact(const gr_contact_coeffs *c, double v_n)
 {
-    (void)v_n;
-    return (gr_normal_impact){c->eps_n_exact, 0.0, 1.0 + c->eps_n_exact};
+    if (c->law_n[0] == 0.0) {
+        return (gr_normal_impact){c->eps_n_exact, 0.0, 1.0 + c->eps_n_exact};
+    }
+    gr_contact_coeffs hc = {0};
+    hc.m12 = c->m12;
+    hc.gamma_n = c->law_n[1];
+    hc.k_s = c->law_n[2];
+    hc.pow_a = 1.5;
+    hc.pow_p = 0.5; /* law_n[0] = 0: hertz's viscoelastic mode */
+    double eps = gr_model_hertz.impact(&hc, v_n).eps_n;
+    eps = eps >= GR_HARD_SPHERE_MIN_EPS ? eps : GR_HARD_SPHERE_MIN_EPS;
+    return (gr_normal_impact){eps, 0.0, 1.0 + eps};
 }
 
 static double hard_sphere_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t)
 {
-    (void)n;
-    (void)v_n;
-    (void)v_t;
+    if (c->rotation) {
+        /* the contact point's eps_t = -beta (g_ct' = -beta g_ct), for discs at rest before: g_ct = v_t */
+        double beta = c->law_t[1];
+        if (c->law_t[2] > 0.0 && v_t > 0.0) {
+            beta = fmin(beta, -1.0 + c->law_t[2] * (1.0 + n.eps_n) * (1.0 + 1.0 / c->q) * v_n / v_t);
+        }
+        return -beta;
+    }
     return c->law_t[0];
 }
 

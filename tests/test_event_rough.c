@@ -19,6 +19,7 @@
 #include "core/sim_internal.h"
 #include "core/sim_state.h"
 #include "event/rule.h"
+#include "granule/collide.h"
 #include "granule/model.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
@@ -270,6 +271,83 @@ START_TEST(test_viscoelastic_eps)
 }
 END_TEST
 
+/* `granule collide --model hard_sphere` with rotation: an impact at 45 degrees (discs not spinning
+ * before) gives the contact point's eps_t = -beta (constant, and the Coulomb value when it
+ * slides), equal spins of the size Walton's impulse gives, and the loss (1 - eps_n^2) cos^2 +
+ * (m_t / m12) (1 - beta^2) sin^2 with the spin energy counted, which is also the model's own
+ * expected loss. Viscoelastic collide runs are checked in test_viscoelastic_collide. */
+START_TEST(test_collide_rough)
+{
+    const double beta0 = 0.5, eps = 0.8, q = 0.5;
+    for (int coulomb = 0; coulomb < 2; coulomb++) {
+        gr_collide_setup cs;
+        gr_collide_setup_default(&cs);
+        cs.normal = gr_model_find("hard_sphere");
+        cs.contact.eps_n = eps;
+        cs.contact.rotation = true;
+        cs.contact.inertia_factor = q;
+        cs.contact.beta = beta0;
+        cs.contact.beta_mu = coulomb ? 0.1 : 0.0;
+        /* disc 1 moves along x at 1 m/s towards disc 2 (at rest) with impact parameter d / sqrt 2 */
+        gr_collision_case c = {{0.0, 0.0}, {1.0, 0.0}, {1.0, 2.0 * cs.radius * M_SQRT1_2}, {0.0, 0.0}};
+        gr_error err = {0};
+        gr_collide_result r;
+        ck_assert_msg(gr_collide_run(&cs, &c, &r, &err) == GR_OK, "%s", err.message);
+        const double gn = M_SQRT1_2, gt = M_SQRT1_2; /* |g| = 1 at 45 degrees */
+        double beta = beta0;
+        if (coulomb) {
+            beta = fmin(beta0, -1.0 + 0.1 * (1.0 + eps) * (1.0 + 1.0 / q) * gn / gt);
+            ck_assert(beta < beta0); /* this case slides */
+        }
+        const double m12 = 0.5 * cs.mass, m_t = m12 * q / (1.0 + q), I = q * cs.mass * cs.radius * cs.radius;
+        const double spin = (1.0 + beta) * m_t * gt * cs.radius / I;
+        const double loss = (1.0 - eps * eps) * 0.5 + (m_t / m12) * (1.0 - beta * beta) * 0.5;
+        if (verbose()) {
+            printf("collide rough (Coulomb %d): eps_t %.15g (expected %.15g), omega %.15g %.15g (|%.15g|), loss %.15g (%.15g)\n",
+                   coulomb, r.eps_t_measured, -beta, r.omega1, r.omega2, spin, r.energy_loss, loss);
+        }
+        ck_assert_msg(fabs(r.eps_t_measured + beta) <= 1e-12, "eps_t %.17g, expected %.17g", r.eps_t_measured, -beta);
+        ck_assert_msg(fabs(r.eps_n_measured - eps) <= 1e-12, "eps_n %.17g", r.eps_n_measured);
+        ck_assert(r.omega1 == r.omega2);
+        ck_assert_msg(fabs(fabs(r.omega1) - spin) <= 1e-12 * spin, "omega %.17g, expected |%.17g|", r.omega1, spin);
+        ck_assert_msg(fabs(r.energy_loss - loss) <= 1e-12, "loss %.17g, expected %.17g", r.energy_loss, loss);
+        /* the model's own law (gr_contact_expected_loss: restitution_t with the Coulomb limit) */
+        ck_assert_msg(fabs(r.expected_loss - loss) <= 1e-12, "law's loss %.17g, expected %.17g", r.expected_loss, loss);
+        ck_assert(r.momentum_error <= 1e-15);
+    }
+}
+END_TEST
+
+/* `granule collide --model hard_sphere --set viscoelastic=true`: head-on, the measured eps_n and
+ * the model's law eps_n(v) equal the engine's (test_viscoelastic_eps's hertz values, computed
+ * there through the event integrator) at the same speeds. */
+START_TEST(test_viscoelastic_collide)
+{
+    const double speeds[] = {0.01, 1.0};
+    for (int k = 0; k < 2; k++) {
+        gr_collide_setup cs;
+        gr_collide_setup_default(&cs);
+        cs.normal = gr_model_find("hard_sphere");
+        cs.mass = MASS;
+        cs.radius = RADIUS;
+        cs.contact.viscoelastic = true;
+        cs.contact.k_h = 1e9;
+        cs.contact.visco_A = 2e-7;
+        gr_collision_case c = {{0.0, 0.0}, {speeds[k], 0.0}, {2.0 * DIAM, 0.0}, {0.0, 0.0}};
+        gr_collide_result r;
+        gr_error err = {0};
+        ck_assert_msg(gr_collide_run(&cs, &c, &r, &err) == GR_OK, "%s", err.message);
+        gr_contact_params hp = cs.contact;
+        gr_contact_coeffs hc;
+        ck_assert(gr_contact_prepare(gr_model_find("hertz"), NULL, &hp, 0.5 * MASS, 0.0, &hc, &err) == GR_OK);
+        const double eps = hc.normal_model->impact(&hc, speeds[k]).eps_n;
+        ck_assert_msg(fabs(r.eps_n_measured - eps) <= 1e-12, "v = %g: collide eps_n %.15g, hertz %.15g", speeds[k],
+                      r.eps_n_measured, eps);
+        ck_assert_msg(fabs(r.expected_loss - (1.0 - eps * eps)) <= 1e-12, "law's loss %.15g", r.expected_loss);
+    }
+}
+END_TEST
+
 /* ---------- validation ---------- */
 
 START_TEST(test_validation)
@@ -300,6 +378,8 @@ static Suite *suite(void)
     tcase_add_test(tc, test_driven_ledger);
     tcase_add_test(tc, test_restart_bitwise);
     tcase_add_test(tc, test_viscoelastic_eps);
+    tcase_add_test(tc, test_collide_rough);
+    tcase_add_test(tc, test_viscoelastic_collide);
     tcase_add_test(tc, test_validation);
     suite_add_tcase(s, tc);
     return s;

@@ -36,13 +36,17 @@ typedef struct gr_collide_setup {
 void gr_collide_setup_default(gr_collide_setup *s);
 
 typedef struct gr_collide_result {
-    double energy_loss;    /* 1 - |g'|^2 / |g|^2, g = relative velocity before, g' after */
+    double energy_loss;    /* 1 - |g'|^2 / |g|^2, g = relative velocity before, g' after; with
+                              rotation 1 - E'/E, E = m12 |g|^2 / 2 + I (w1^2 + w2^2) / 2 */
     double expected_loss;  /* (1 - eps_n^2) cos^2(a) + (1 - eps_t,eff^2) sin^2(a), a = impact angle;
                               1 - eps^2 head-on (2.13), 1 - (eps_n^2+eps_t^2)/2 at 45 deg (2.14) */
     double contact_time;   /* s, while the contact force acted */
     double max_overlap;    /* m */
     double eps_n_measured; /* -g'.n' / g.n with n at the start (n') and end of contact */
-    double eps_t_measured; /* g'.t' / g.t (NaN for a head-on collision) */
+    double eps_t_measured; /* g'.t' / g.t (NaN for a head-on collision); with rotation that of
+                              the contact point, (g'.t' + r (w1' + w2')) / g.t */
+    double omega1, omega2; /* rotation: angular velocities after the collision, rad/s
+                              (counterclockwise; 0 without rotation; both start at rest) */
     double impact_angle;   /* degrees between -g and the normal at impact */
     double momentum_error; /* |p' - p| / |p| */
     double normal_impulse, tangential_impulse; /* int |F_n| dt and int |F_t| dt, N s */

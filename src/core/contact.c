@@ -115,5 +115,9 @@ double gr_contact_expected_loss(const gr_contact_coeffs *c, double speed, double
             et = law->restitution_t(c, ni, v_n, v_t);
         }
     }
-    return (1.0 - ni.eps_n * ni.eps_n) * cos2 + (1.0 - et * et) * sin2;
+    /* With rotation (discs not spinning before) the tangential impulse that brings the contact
+     * point's velocity from v_t to et v_t leaves the fraction 1 - (1 - et^2) m_t / m12 of the
+     * tangential energy in translation + rotation (docs/models.md, "Rotation"). */
+    const double share = c->rotation ? c->m_t / c->m12 : 1.0;
+    return (1.0 - ni.eps_n * ni.eps_n) * cos2 + share * (1.0 - et * et) * sin2;
 }

@@ -508,14 +508,7 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->beta = s->params.contact.beta;
     e->beta_mu = s->params.contact.beta_mu;
     e->visco = s->params.contact.viscoelastic;
-    if (e->visco) {
-        gr_contact_params hp = s->params.contact;
-        hp.rotation = false; /* the normal law alone */
-        int rc = gr_contact_prepare(gr_model_find("hertz"), NULL, &hp, s->cc.m12, 0.0, &e->visco_cc, err);
-        if (rc) {
-            return rc;
-        }
-    }
+    e->cc = &s->cc;
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
     e->com_every = (int64_t)llround(s->params.com_interval / e->tau);
     e->com_every = e->com_every < 1 ? 1 : e->com_every;

@@ -48,10 +48,9 @@ struct gr_event_state {
     /* rough discs ([model] rotation = true, 2D): Walton's rule on s->omega (models/hard_sphere.h) */
     bool rough;
     double q, R, beta, beta_mu;
-    /* viscoelastic = true: eps_n(v) of the hertz viscoelastic contact, from hertz's own impact */
+    /* viscoelastic = true: eps_n(v) of the hertz viscoelastic contact, from the model's impact */
     bool visco;
-    gr_contact_coeffs visco_cc;
-    int64_t visco_floored; /* impacts whose eps_n(v) fell below GR_EV_VISCO_MIN_EPS */
+    const gr_contact_coeffs *cc; /* the sim's coefficients (gr_sim.cc) */
     bool exact;            /* free_flight = exact */
     bool noise;
     /* trajectories */
@@ -88,23 +87,12 @@ struct gr_event_state {
 };
 
 #define GR_EV_POLL 4096
-/* viscoelastic hard discs: the smallest eps_n used (an impact that would stick, eps_n(v) = 0,
- * would leave the pair touching at zero normal speed and stall the calendar) */
-#define GR_EV_VISCO_MIN_EPS 1e-3
-
-/* eps_n of a collision at normal approach speed gn > 0 (constant, or eps_n(v) of hertz) */
-static inline double gr_ev_eps_n(struct gr_event_state *e, double gn)
+/* eps_n of a collision at normal approach speed gn > 0: constant, or (viscoelastic = true) the
+ * hard_sphere model's eps_n(v) of the hertz contact (models/hard_sphere.h; one call per collision,
+ * not per pair) */
+static inline double gr_ev_eps_n(const struct gr_event_state *e, double gn)
 {
-    if (!e->visco) {
-        return e->eps_n;
-    }
-    /* one call per collision (not per pair): hertz's own impact, so both models agree exactly */
-    double eps = e->visco_cc.normal_model->impact(&e->visco_cc, gn).eps_n;
-    if (!(eps >= GR_EV_VISCO_MIN_EPS)) {
-        e->visco_floored++;
-        eps = GR_EV_VISCO_MIN_EPS;
-    }
-    return eps;
+    return e->visco ? e->cc->normal_model->impact(e->cc, gn).eps_n : e->eps_n;
 }
 #define GR_EV_STOPPED 1 /* a process function's return: the stop flag was seen, nothing lost */
 
