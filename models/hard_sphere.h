@@ -13,6 +13,9 @@
 #ifndef GR_MODELS_HARD_SPHERE_H
 #define GR_MODELS_HARD_SPHERE_H
 
+#include <math.h>
+
+#include "models/hertz.h"
 #include "models/law.h"
 
 extern const gr_model gr_model_hard_sphere;
@@ -49,6 +52,52 @@ static inline void gr_event_collide(double M, double eps_n, double eps_t, double
     *de_t = 0.25 * M * (1.0 - eps_t * eps_t) * gt * gt;
 }
 
+/* Rough discs (rotation = true): Walton's rule (O. R. Walton, in Particulate Two-Phase Flow,
+ * ed. Roco, 1993; S. Luding, M. Huthmann, S. McNamara, A. Zippelius, PRE 58, 3416 (1998),
+ * eqs. 2-7). Discs of mass M, radius R, moment of inertia I = q M R^2, spins w (counterclockwise).
+ * The contact point's relative tangential velocity (surface of 1 minus surface of 2) is
+ *   g_ct = g.t + R (w1 + w2)                     (t = (-ny, nx), as above)
+ * and the impulse P = P_n n + P_t t on 1 (-P on 2; torque R P_t on both discs) gives
+ *   g.n' = -eps_n g.n,  g_ct' = -beta g_ct,
+ *   P_n = -(1 + eps_n) m12 g.n,  P_t = -(1 + beta) m_t g_ct,  m12 = M / 2,  m_t = m12 q / (1 + q).
+ * beta = -1: smooth (no tangential impulse, spins untouched); beta = +1: perfectly rough (g_ct
+ * reversed, energy conserved). Coulomb limit mu > 0 (Walton; Luding et al. 1998 eq. 7): the
+ * pair slides when the sticking impulse exceeds mu |P_n|, i.e. beta is replaced by
+ *   beta(g) = min(beta0, -1 + mu (1 + eps_n) (1 + 1/q) |g.n| / |g_ct|),
+ * so |P_t| = mu |P_n| when sliding. The loss of translational + rotational kinetic energy:
+ *   dE_n = m12/2 (1 - eps_n^2) (g.n)^2,   dE_t = m_t/2 (1 - beta^2) g_ct^2   (beta after the limit).
+ * Returns the beta used (beta0, or the Coulomb value when the pair slid). */
+static inline double gr_event_collide_rough(double M, double q, double R, double eps_n, double beta0, double mu,
+                                            double nx, double ny, double *v1x, double *v1y, double *v2x, double *v2y,
+                                            double *w1, double *w2, double *de_n, double *de_t)
+{
+    const double gx = *v1x - *v2x, gy = *v1y - *v2y;
+    const double gn = gx * nx + gy * ny;
+    const double gct = gy * nx - gx * ny + R * (*w1 + *w2);
+    const double m12 = 0.5 * M, m_t = m12 * q / (1.0 + q);
+    double beta = beta0;
+    if (mu > 0.0 && (1.0 + beta0) * m_t * fabs(gct) > mu * (1.0 + eps_n) * m12 * fabs(gn)) {
+        beta = -1.0 + mu * (1.0 + eps_n) * (1.0 + 1.0 / q) * fabs(gn) / fabs(gct); /* sliding */
+    }
+    /* velocity changes of 1 (2 gets the opposite): P / M */
+    const double jn = 0.5 * (1.0 + eps_n) * gn, jt = (1.0 + beta) * m_t * gct / M;
+    const double dx = jn * nx - jt * ny, dy = jn * ny + jt * nx;
+    *v1x -= dx;
+    *v1y -= dy;
+    *v2x += dx;
+    *v2y += dy;
+    const double dw = -(1.0 + beta) * m_t * gct * R / (q * M * R * R); /* R P_t / I, both discs */
+    *w1 += dw;
+    *w2 += dw;
+    *de_n = 0.25 * M * (1.0 - eps_n * eps_n) * gn * gn;
+    *de_t = 0.5 * m_t * (1.0 - beta * beta) * gct * gct;
+    return beta;
+}
+
+/* viscoelastic hard discs: the smallest eps_n used (an impact that would stick, eps_n(v) = 0,
+ * would leave the pair touching at zero normal speed and stall the event calendar) */
+#define GR_HARD_SPHERE_MIN_EPS 1e-3
+
 #ifdef GR_MODEL_IMPL
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <math.h>
@@ -69,6 +118,24 @@ static const gr_param hard_sphere_params[] = {
     {"tc", "s", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
      "TC-model time: a collision is elastic if either particle collided less than tc ago; 0 = the contact duration of the matching spring-dashpot (k_s, eps_n)",
      offsetof(gr_contact_params, tc)},
+    GR_ROTATION_PARAMS,
+    {"beta", "", GR_PARAM_DOUBLE, -1.0, -1.0, 1.0, false, false,
+     "rotation = true: tangential restitution of the contact point (Walton): -1 smooth (no spin "
+     "change), +1 perfectly rough; replaces eps_t",
+     offsetof(gr_contact_params, beta)},
+    {"beta_mu", "", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
+     "rotation = true: Coulomb friction, the tangential impulse at most beta_mu times the normal one (the pair "
+     "slides, Walton 1993); 0 = constant beta (always sticking)",
+     offsetof(gr_contact_params, beta_mu)},
+    {"viscoelastic", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,
+     "true: eps_n depends on the impact speed as for the hertz viscoelastic contact (k_h, "
+     "visco_A; eps_n ignored); false = constant eps_n",
+     offsetof(gr_contact_params, viscoelastic)},
+    {"k_h", "N/m^1.5", GR_PARAM_DOUBLE, 1e9, 0.0, INFINITY, true, true,
+     "viscoelastic = true: the hertz stiffness that sets eps_n(v)", offsetof(gr_contact_params, k_h)},
+    {"visco_A", "s", GR_PARAM_DOUBLE, 1e-6, 0.0, INFINITY, false, true,
+     "viscoelastic = true: the hertz viscoelastic time A that sets eps_n(v); 0 = elastic",
+     offsetof(gr_contact_params, visco_A)},
 };
 
 static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
@@ -82,6 +149,18 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
                        "[model] eps_n = %g: hard_sphere needs eps_n in (0, 1] (a perfectly sticking "
                        "instantaneous collision leaves the pair touching at zero normal speed); use e.g. 0.001",
                        p->eps_n);
+    }
+    if (!p->rotation && (p->beta != -1.0 || p->beta_mu != 0.0)) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "[model] beta = %g, beta_mu = %g: hard_sphere's rough collisions (beta in [-1, 1], beta_mu >= 0) "
+                       "need rotation = true; without rotation the tangential restitution is eps_t",
+                       p->beta, p->beta_mu);
+    }
+    if (p->rotation && p->beta_mu > 0.0 && p->beta == -1.0) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "[model] beta_mu = %g with beta = -1: smooth discs get no tangential impulse, so a Coulomb "
+                       "limit does nothing; set beta in (-1, 1] (the sticking value, e.g. 1) or beta_mu = 0",
+                       p->beta_mu);
     }
     if (!(p->tc >= 0.0) || !isfinite(p->tc)) {
         return GR_FAIL(err, GR_EINVAL, "[model] tc = %g: allowed range [0, inf) s", p->tc);
@@ -102,23 +181,56 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
     c->e_scale = 0.5 * c->k_s;
     c->pow_a = 1.0;
     c->pow_p = 0.0;
+    if (p->viscoelastic) {
+        /* eps_n(v) of the hertz viscoelastic contact with the same keys: its damping and stiffness
+         * (law_n[1], law_n[2]) feed hertz's own impact (hard_sphere_impact) */
+        gr_contact_params hp = *p;
+        hp.clamp = false;
+        gr_contact_coeffs hc = {0};
+        int rc = gr_model_hertz.prepare(&hp, m12, 0.0, &hc, err);
+        if (rc) {
+            return rc;
+        }
+        c->law_n[0] = 1.0;
+        c->law_n[1] = hc.gamma_n;
+        c->law_n[2] = hc.k_s;
+    }
     c->law_t[0] = p->eps_t; /* the rule's tangential restitution */
+    c->law_t[1] = p->beta;  /* rotation = true: Walton's beta and its Coulomb limit */
+    c->law_t[2] = p->beta_mu;
     c->gamma_t = 0.0;
     return GR_OK;
 }
 
-/* Its restitution law: eps_n and eps_t exactly, at any speed, in no time. */
+/* Its restitution law: eps_n and eps_t exactly, at any speed, in no time; viscoelastic = true:
+ * eps_n(v_n) of the hertz viscoelastic contact (hertz's own impact, so both models agree), at
+ * least GR_HARD_SPHERE_MIN_EPS. */
 static gr_normal_impact hard_sphere_impact(const gr_contact_coeffs *c, double v_n)
 {
-    (void)v_n;
-    return (gr_normal_impact){c->eps_n_exact, 0.0, 1.0 + c->eps_n_exact};
+    if (c->law_n[0] == 0.0) {
+        return (gr_normal_impact){c->eps_n_exact, 0.0, 1.0 + c->eps_n_exact};
+    }
+    gr_contact_coeffs hc = {0};
+    hc.m12 = c->m12;
+    hc.gamma_n = c->law_n[1];
+    hc.k_s = c->law_n[2];
+    hc.pow_a = 1.5;
+    hc.pow_p = 0.5; /* law_n[0] = 0: hertz's viscoelastic mode */
+    double eps = gr_model_hertz.impact(&hc, v_n).eps_n;
+    eps = eps >= GR_HARD_SPHERE_MIN_EPS ? eps : GR_HARD_SPHERE_MIN_EPS;
+    return (gr_normal_impact){eps, 0.0, 1.0 + eps};
 }
 
 static double hard_sphere_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t)
 {
-    (void)n;
-    (void)v_n;
-    (void)v_t;
+    if (c->rotation) {
+        /* the contact point's eps_t = -beta (g_ct' = -beta g_ct), for discs at rest before: g_ct = v_t */
+        double beta = c->law_t[1];
+        if (c->law_t[2] > 0.0 && v_t > 0.0) {
+            beta = fmin(beta, -1.0 + c->law_t[2] * (1.0 + n.eps_n) * (1.0 + 1.0 / c->q) * v_n / v_t);
+        }
+        return -beta;
+    }
     return c->law_t[0];
 }
 

@@ -27,30 +27,12 @@
 #include "granule/scene.h"
 #include "granule/sim.h"
 #include "test_env.h"
+#include "test_scenes.h"
 
 #define MASS 3.53e-5
 #define RADIUS 1.5e-3
 #define DIAM (2.0 * RADIUS)
 #define D_NOISE 1e-8
-
-/* A resolved scene from overrides (every test scene goes through the real parser). */
-static gr_scene scene_of(const char *const *ov, int n)
-{
-    gr_scene sc;
-    gr_error err = {0};
-    int rc = gr_scene_load(&sc, NULL, ov, n, &err);
-    ck_assert_msg(rc == GR_OK, "scene: %s", err.message);
-    return sc;
-}
-
-static gr_sim *sim_of(const gr_scene *sc)
-{
-    gr_sim *s;
-    gr_error err = {0};
-    int rc = gr_sim_create(sc, &s, &err);
-    ck_assert_msg(rc == GR_OK, "create: %s", err.message);
-    return s;
-}
 
 static double relative_residual(gr_sim *s)
 {
@@ -555,22 +537,6 @@ START_TEST(test_calendars_identical)
     }
 }
 END_TEST
-
-static void refused(const char *const *ov, int n, const char *needle)
-{
-    gr_scene sc;
-    gr_error err = {0};
-    int rc = gr_scene_load(&sc, NULL, ov, n, &err);
-    if (rc == GR_OK) {
-        gr_sim *s;
-        rc = gr_sim_create(&sc, &s, &err);
-        if (rc == GR_OK) {
-            gr_sim_free(s);
-        }
-    }
-    ck_assert_msg(rc != GR_OK, "accepted: %s", ov[n - 1]);
-    ck_assert_msg(strstr(err.message, needle), "message '%s' lacks '%s'", err.message, needle);
-}
 
 START_TEST(test_validation)
 {

@@ -46,6 +46,8 @@ typedef struct gr_contact_params {
     double v_max;      /* hertz: the fastest impact the time step must resolve, m/s */
     bool rotation;         /* a tangential law at the contact point: discs rotate (omega, torque) */
     double inertia_factor; /* rotation: moment of inertia I = q M r^2, q (1/2: uniform disc) */
+    double beta;    /* hard_sphere with rotation: tangential restitution at the contact point, [-1, 1] */
+    double beta_mu; /* hard_sphere with rotation: Coulomb limit of the tangential impulse (0: none) */
 } gr_contact_params;
 
 typedef enum {

@@ -81,15 +81,31 @@ static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc,
     double gn0 = g0[0] * n[0] + g0[1] * n[1], gt0 = g0[0] * n[1] - g0[1] * n[0];
     double p0[2] = {v1[0] + v2[0], v1[1] + v2[1]};
     double u1[2] = {v1[0], v1[1]}, u2[2] = {v2[0], v2[1]}, de_n, de_t;
-    gr_event_collide(cs->mass, p.eps_n, p.eps_t, n[0], n[1], &u1[0], &u1[1], &u2[0], &u2[1], &de_n, &de_t);
+    /* rough discs (rotation = true, 2D): Walton's rule with both discs at rest before; the spin
+     * energy counts in the loss and the contact point's velocity in eps_t (models/hard_sphere.h) */
+    double w1 = 0.0, w2 = 0.0, spin_t = 0.0, spin_e = 0.0;
+    p.eps_n = coeffs.normal_model->impact(&coeffs, fabs(gn0)).eps_n; /* viscoelastic: eps_n(v) */
+    if (p.rotation && dim == 2) {
+        gr_event_collide_rough(cs->mass, p.inertia_factor, cs->radius, p.eps_n, p.beta, p.beta_mu, n[0], n[1], &u1[0],
+                               &u1[1], &u2[0], &u2[1], &w1, &w2, &de_n, &de_t);
+        out->omega1 = w1;
+        out->omega2 = w2;
+        /* the rule's g = v1 - v2 and t = n rotated by +90 degrees are both reversed here (g = v2 - v1,
+         * t = n rotated by -90 degrees), so g.t is the same and the surface term +r (w1 + w2);
+         * the spin energy I (w1^2 + w2^2) / 2 in units of m12 / 2 (the |g|^2 of energy_loss) */
+        spin_t = cs->radius * (w1 + w2);
+        spin_e = 2.0 * p.inertia_factor * cs->radius * cs->radius * (w1 * w1 + w2 * w2);
+    } else {
+        gr_event_collide(cs->mass, p.eps_n, p.eps_t, n[0], n[1], &u1[0], &u1[1], &u2[0], &u2[1], &de_n, &de_t);
+    }
     double g1[2] = {u2[0] - u1[0], u2[1] - u1[1]};
-    out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1]) / gg0;
+    out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1] + spin_e) / gg0;
     out->impact_angle = acos(fmin(1.0, fabs(gn0) / sqrt(gg0))) * 180.0 / M_PI;
     out->expected_loss = gr_contact_expected_loss(&coeffs, sqrt(gg0), out->impact_angle);
     out->contact_time = 0.0;
     out->max_overlap = 0.0;
     out->eps_n_measured = -(g1[0] * n[0] + g1[1] * n[1]) / gn0;
-    out->eps_t_measured = fabs(gt0) > 1e-12 * sqrt(gg0) ? (g1[0] * n[1] - g1[1] * n[0]) / gt0 : (double)NAN;
+    out->eps_t_measured = fabs(gt0) > 1e-12 * sqrt(gg0) ? (g1[0] * n[1] - g1[1] * n[0] + spin_t) / gt0 : (double)NAN;
     out->momentum_error = hypot(u1[0] + u2[0] - p0[0], u1[1] + u2[1] - p0[1]) / hypot(p0[0], p0[1]);
     out->normal_impulse = cs->mass * fabs((u1[0] - v1[0]) * n[0] + (u1[1] - v1[1]) * n[1]);
     out->tangential_impulse = cs->mass * fabs((u1[0] - v1[0]) * n[1] - (u1[1] - v1[1]) * n[0]);

@@ -30,7 +30,8 @@ int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
     }
     c->normal_model = normal;
     c->tangential_model = tangential;
-    if (p->rotation && !(tangential && tangential->contact_point)) {
+    /* an event rule (hard_sphere) carries its own contact-point rule (beta) */
+    if (p->rotation && !(tangential && tangential->contact_point) && !(normal->kind & GR_MODEL_EVENT)) {
         return GR_FAIL(err, GR_EINVAL,
                        "[model] rotation = true needs a tangential law that acts at the contact point (%s)%s%s",
                        "tangential_dashpot, sliding_friction", tangential ? "; given " : ", none given",

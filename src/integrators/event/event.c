@@ -299,7 +299,7 @@ static int process_1d(gr_sim *s, double t_limit, gr_error *err)
         double ui = vi, uj = vj, zero1 = 0.0, zero2 = 0.0, de_n, de_t;
         de_n = de_t = 0.0;
         if (approaching) { /* a pressed pair that is not approaching only gets the floor */
-            gr_event_collide(e->M, elastic ? 1.0 : e->eps_n, 1.0, 1.0, 0.0, &ui, &zero1, &uj, &zero2, &de_n, &de_t);
+            gr_event_collide(e->M, elastic ? 1.0 : gr_ev_eps_n(e, ui - uj), 1.0, 1.0, 0.0, &ui, &zero1, &uj, &zero2, &de_n, &de_t);
         }
         if (push > 0.0 && uj - ui < 0.5 * push * e->tc) {
             /* contact floor (docs/event-driven.md): a pair pressed together by the noise separates
@@ -502,6 +502,13 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->eps_n = s->params.contact.eps_n;
     e->eps_t = s->dim == 2 ? s->params.contact.eps_t : 1.0;
     e->tc = s->cc.t_c;
+    e->rough = s->omega != NULL; /* [model] rotation = true (2D only: gr_sim refuses it in 1D) */
+    e->q = s->cc.q;
+    e->R = 0.5 * s->d;
+    e->beta = s->params.contact.beta;
+    e->beta_mu = s->params.contact.beta_mu;
+    e->visco = s->params.contact.viscoelastic;
+    e->cc = &s->cc;
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
     e->com_every = (int64_t)llround(s->params.com_interval / e->tau);
     e->com_every = e->com_every < 1 ? 1 : e->com_every;

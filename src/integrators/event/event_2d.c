@@ -342,7 +342,14 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
     double pi_x = vi, pi_y = ui, pj_x = vj, pj_y = uj, de_n, de_t;
     de_n = de_t = 0.0;
     if (gn > 0.0) { /* a pressed pair that is not approaching only gets the floor */
-        gr_event_collide(e->M, elastic ? 1.0 : e->eps_n, elastic ? 1.0 : e->eps_t, nx, ny, &pi_x, &pi_y, &pj_x, &pj_y, &de_n, &de_t);
+        const double eps_n = elastic ? 1.0 : gr_ev_eps_n(e, gn);
+        if (e->rough) {
+            /* TC-elastic collisions are smooth too (beta = -1): no tangential impulse */
+            gr_event_collide_rough(e->M, e->q, e->R, eps_n, elastic ? -1.0 : e->beta, elastic ? 0.0 : e->beta_mu, nx, ny,
+                                   &pi_x, &pi_y, &pj_x, &pj_y, &s->omega[i], &s->omega[j], &de_n, &de_t);
+        } else {
+            gr_event_collide(e->M, eps_n, elastic ? 1.0 : e->eps_t, nx, ny, &pi_x, &pi_y, &pj_x, &pj_y, &de_n, &de_t);
+        }
     }
     if (push > 0.0) {
         /* contact floor (docs/event-driven.md): separate at least fast enough that the pressing

@@ -17,6 +17,7 @@
  * index), which does not depend on the layout, so gr_heap_build on the stored keys pops exactly
  * the same sequence (in whichever calendar GRANULE_EVENT_CALENDAR picks now, calendar.c). The noise
  * normals are scratch (a window's draw is kept as a1, a2, J). */
+#include <math.h>
 #include <string.h>
 
 #include "integrators/event/event_internal.h"
@@ -85,6 +86,9 @@ int gr_event_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
         put_i32s(b, e->head, (int64_t)e->ncell * e->ncell);
         put_i32s(b, e->next, n);
         put_i32s(b, e->prev, n);
+        if (e->rough) { /* rough discs: the spins (free flight keeps them; only collisions change them) */
+            gr_blob_put_f64s(b, s->omega, n);
+        }
     }
     return gr_blob_ok(b, err);
 }
@@ -193,6 +197,14 @@ int gr_event_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err)
         }
         if (!r->bad && seen != n) {
             gr_blob_fail(r, "event state: the cell lists hold %lld of %lld particles", (long long)seen, (long long)n);
+        }
+        if (e->rough) {
+            gr_blob_get_f64s(r, s->omega, n);
+            for (int64_t i = 0; i < n && !r->bad; i++) {
+                if (!isfinite(s->omega[i])) {
+                    gr_blob_fail(r, "event state: particle %lld has angular velocity %g", (long long)i, s->omega[i]);
+                }
+            }
         }
     }
     if (r->bad) {

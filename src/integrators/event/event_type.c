@@ -17,6 +17,7 @@ const gr_integrator_type gr_integrator_event = {
     .summary = "event-driven hard spheres (needs [model] normal = hard_sphere, docs/event-driven.md)",
     .instantaneous = true,
     .free_flight = true,
+    .rotation = true, /* rough discs: spins change only at collisions (no torque in free flight) */
     .create = gr_event_init,
     .step = gr_event_step,
     .free = gr_event_free,

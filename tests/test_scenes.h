@@ -1,0 +1,48 @@
+/* Scene helpers shared by the event-driven tests (test_event.c, test_event_rough.c): a scene from
+ * key=value overrides through the real parser, a simulation from it, and a refusal check. */
+#ifndef GR_TEST_SCENES_H
+#define GR_TEST_SCENES_H
+
+#include <check.h>
+#include <string.h>
+
+#include "granule/scene.h"
+#include "granule/sim.h"
+
+/* A resolved scene from overrides (every test scene goes through the real parser). */
+static inline gr_scene scene_of(const char *const *ov, int n)
+{
+    gr_scene sc;
+    gr_error err = {0};
+    int rc = gr_scene_load(&sc, NULL, ov, n, &err);
+    ck_assert_msg(rc == GR_OK, "scene: %s", err.message);
+    return sc;
+}
+
+static inline gr_sim *sim_of(const gr_scene *sc)
+{
+    gr_sim *s;
+    gr_error err = {0};
+    int rc = gr_sim_create(sc, &s, &err);
+    ck_assert_msg(rc == GR_OK, "create: %s", err.message);
+    return s;
+}
+
+/* The scene (or the simulation made from it) is refused with a message containing `needle`. */
+static inline void refused(const char *const *ov, int n, const char *needle)
+{
+    gr_scene sc;
+    gr_error err = {0};
+    int rc = gr_scene_load(&sc, NULL, ov, n, &err);
+    if (rc == GR_OK) {
+        gr_sim *s;
+        rc = gr_sim_create(&sc, &s, &err);
+        if (rc == GR_OK) {
+            gr_sim_free(s);
+        }
+    }
+    ck_assert_msg(rc != GR_OK, "accepted: %s", ov[n - 1]);
+    ck_assert_msg(strstr(err.message, needle), "message '%s' lacks '%s'", err.message, needle);
+}
+
+#endif
