@@ -481,31 +481,36 @@ static void prepare(const struct gen *g, uint32_t c, struct prep *p)
         (w1) = WORD(c2_, c3_);                                                                     \
     } while (0)
 
-/* The ziggurat's table look-ups for the words w[0..nk): x[k] = zig_x[i], t[k] = zig_t[i] with
- * i = w[k] & 0xff. Scalar loads on purpose: on AMD Zen 4 a vector gather of 8 doubles costs more
- * than 8 loads (3 per cycle), and the gathers were the largest single cost of the fast path
+/* zig_x[i] and zig_t[i] side by side, so one 16-byte load and store moves both (filled once, in
+ * pick_kernels). */
+static _Alignas(64) double zig_xt[2 * 256];
+
+/* The ziggurat's table look-ups for the words w[0..nk): xt[2k] = zig_x[i], xt[2k+1] = zig_t[i]
+ * with i = w[k] & 0xff. Scalar loads on purpose: on AMD Zen 4 a vector gather of 8 doubles costs
+ * more than 8 loads, and the gathers were the largest single cost of the fast path
  * (docs/performance.md, "Random force generator"). Kept out of line and unvectorised so the
  * compiler does not turn the loop back into gathers. */
 __attribute__((noinline, optimize("no-tree-vectorize"))) static void
-zig_lookup(const uint64_t *restrict w, int nk, double *restrict x, double *restrict t)
+zig_lookup(const uint64_t *restrict w, int nk, double *restrict xt)
 {
     for (int k = 0; k < nk; k++) {
         const unsigned i = (unsigned)(w[k] & 0xffu);
-        x[k] = zig_x[i];
-        t[k] = zig_t[i];
+        memcpy(xt + 2 * k, zig_xt + 2 * i, 2 * sizeof *xt);
     }
 }
 
-/* The fast path on the words w[0..nk) (nk a multiple of the vector width) with their looked-up
- * x and t: the candidates go to z, and bit k of bad[] is set where the fast test failed. */
-#define ZIG_PASS(VT, VD, GE, nk, w, x, t, z, bad)                                                  \
+/* The fast path on the words w[0..nk) (nk a multiple of the vector width L) with their looked-up
+ * pairs xt: the candidates go to z, and bit k of bad[] is set where the fast test failed. EVEN and
+ * ODD pick the x and t halves out of two vectors of pairs. */
+#define ZIG_PASS(VT, VD, GE, EVEN, ODD, nk, w, xt, z, bad)                                         \
     do {                                                                                           \
-        for (int k_ = 0; k_ < (nk); k_ += (int)(sizeof(VT) / 8)) {                                 \
-            VT wv_;                                                                                \
-            VD xv_, tv_;                                                                           \
+        enum { L_ = sizeof(VT) / 8 };                                                              \
+        for (int k_ = 0; k_ < (nk); k_ += L_) {                                                    \
+            VT wv_, p0_, p1_;                                                                      \
             memcpy(&wv_, (w) + k_, sizeof wv_);                                                    \
-            memcpy(&xv_, (x) + k_, sizeof xv_);                                                    \
-            memcpy(&tv_, (t) + k_, sizeof tv_);                                                    \
+            memcpy(&p0_, (xt) + 2 * k_, sizeof p0_);                                               \
+            memcpy(&p1_, (xt) + 2 * k_ + L_, sizeof p1_);                                          \
+            VD xv_ = (VD)SHUF(p0_, p1_, EVEN), tv_ = (VD)SHUF(p0_, p1_, ODD);                      \
             VD u_ = (VD)((wv_ >> 11 & ZIG_MANT) | ZIG_ONE) - 1.0;                                  \
             VT s_ = (VT)(u_ * xv_) ^ (wv_ & ZIG_SIGN);                                             \
             memcpy((z) + k_, &s_, sizeof s_);                                                      \
@@ -518,7 +523,7 @@ zig_lookup(const uint64_t *restrict w, int nk, double *restrict x, double *restr
  * candidate, w[k] its word, bit k of bad[] (zeroed by the caller) set if zig_slow must finish it.
  * ILV_LO/HI interleave two vectors one element at a time, PAIR_LO/HI two elements at a time. */
 #define BATCH_KERNEL(NAME, TARGET, VT, VD, MUL, SWAP, WORD, GE, IOTA, ILV_LO, ILV_HI, PAIR_LO,   \
-                     PAIR_HI)                                                                      \
+                     PAIR_HI, EVEN, ODD)                                                           \
     TARGET static void NAME(const struct prep *p, int per, uint32_t pair0, int m,                  \
                             uint64_t *restrict w, double *restrict z, uint64_t *restrict bad)      \
     {                                                                                              \
@@ -546,9 +551,9 @@ zig_lookup(const uint64_t *restrict w, int nk, double *restrict x, double *restr
             }                                                                                      \
         }                                                                                          \
         const int nk = 2 * per * ((m + L - 1) / L * L);                                            \
-        _Alignas(64) double x[4 * CHUNK], t[4 * CHUNK];                                            \
-        zig_lookup(w, nk, x, t);                                                                   \
-        ZIG_PASS(VT, VD, GE, nk, w, x, t, z, bad);                                                 \
+        _Alignas(64) double xt[8 * CHUNK];                                                         \
+        zig_lookup(w, nk, xt);                                                                     \
+        ZIG_PASS(VT, VD, GE, EVEN, ODD, nk, w, xt, z, bad);                                        \
     }
 
 /* First retry blocks (step, pair[i], w3[i]) for i < cnt (rounded up to L): words a[i], b[i]. */
@@ -615,12 +620,13 @@ typedef double v8d __attribute__((vector_size(64)));
 #define AVX2 __attribute__((target("avx2")))
 #define AVX512 __attribute__((target("avx512f")))
 BATCH_KERNEL(batch_sse2, SSE2, v2u, v2d, MUL2, SWAP2, WORD2, GE2, ((v2u){0, 1}), (0, 2),
-             (1, 3), (0, 1), (2, 3))
+             (1, 3), (0, 1), (2, 3), (0, 2), (1, 3))
 BATCH_KERNEL(batch_avx2, AVX2, v4u, v4d, MUL4, SWAP4, WORD4, GE4, ((v4u){0, 1, 2, 3}),
-             (0, 4, 1, 5), (2, 6, 3, 7), (0, 1, 4, 5), (2, 3, 6, 7))
+             (0, 4, 1, 5), (2, 6, 3, 7), (0, 1, 4, 5), (2, 3, 6, 7), (0, 2, 4, 6), (1, 3, 5, 7))
 BATCH_KERNEL(batch_avx512, AVX512, v8u, v8d, MUL8, SWAP8, WORD8, GE8,
              ((v8u){0, 1, 2, 3, 4, 5, 6, 7}), (0, 8, 1, 9, 2, 10, 3, 11),
-             (4, 12, 5, 13, 6, 14, 7, 15), (0, 1, 8, 9, 2, 3, 10, 11), (4, 5, 12, 13, 6, 7, 14, 15))
+             (4, 12, 5, 13, 6, 14, 7, 15), (0, 1, 8, 9, 2, 3, 10, 11), (4, 5, 12, 13, 6, 7, 14, 15),
+             (0, 2, 4, 6, 8, 10, 12, 14), (1, 3, 5, 7, 9, 11, 13, 15))
 RETRY_KERNEL(retry_sse2, SSE2, v2u, MUL2, SWAP2, WORD2)
 RETRY_KERNEL(retry_avx2, AVX2, v4u, MUL4, SWAP4, WORD4)
 RETRY_KERNEL(retry_avx512, AVX512, v8u, MUL8, SWAP8, WORD8)
@@ -687,6 +693,10 @@ static void pick_kernels(void)
                 best = i;
             }
         }
+    }
+    for (int i = 0; i < 256; i++) {
+        zig_xt[2 * i] = zig_x[i];
+        zig_xt[2 * i + 1] = zig_t[i];
     }
     kern.batch = batch_scalar;
     kern.retry = retry_scalar;
