@@ -50,8 +50,10 @@
  * implementation of everything described here.
  *
  * Speed. Philox and the ziggurat's fast path run on whole vectors of counters in 64-bit lanes
- * (AVX-512, AVX2 or SSE2, picked at run time from the CPU, whatever -march says); the rejected
- * variates are then finished in scalar code, their first retry blocks again computed in vectors.
+ * (AVX-512, AVX2 or SSE2, picked at run time from the CPU, whatever -march says), in three passes
+ * over a batch: Philox words, the two table look-ups per word (scalar loads, cheaper than vector
+ * gathers), the fast test; the rejected variates are then finished in scalar code, their first
+ * retry blocks again computed in vectors.
  * Every kernel gives bit-identical results: Philox is integer arithmetic, and the fast path is one
  * correctly rounded subtraction and multiplication. The environment variable GRANULE_NOISE_ISA
  * (avx512, avx2, sse2 or scalar) caps the choice, for tests and benchmarks. */
@@ -404,6 +406,11 @@ static double zig_slow(const struct gen *g, uint32_t pair, uint32_t lane, uint32
     }
 }
 
+enum {
+    CHUNK = 256, /* pairs per batch: up to 4 CHUNK variates; a multiple of every vector width */
+    RETRIES = 64 /* rejected variates finished together */
+};
+
 /* ---- Philox and the fast path on vectors ----------------------------------------------------- */
 
 /* The counters of one batch differ only in words 2 (pair) and, for retries, 3; the step (words
@@ -446,7 +453,7 @@ static void prepare(const struct gen *g, uint32_t c, struct prep *p)
  * halves carry garbage that never reaches a low half: the multiplication (pmuludq) reads only the
  * low halves, and hi(q) is taken by swapping the halves of q rather than shifting. Per width:
  * MUL = 32x32->64 multiplication, SWAP = swap the halves of each lane, WORD(a, b) = the low half
- * of a with the low half of b above it, GATHER = table look-up, GE = u >= t as a bit mask. */
+ * of a with the low half of b above it, GE = u >= t as a bit mask. */
 #define PHILOX_ROUND(MUL, SWAP, c0, c1, c2, c3, ka, kb)                                            \
     do {                                                                                           \
         __typeof__(c0) q0_ = MUL(c0, m0v), q1_ = MUL(c2, m1v);                                     \
@@ -474,25 +481,49 @@ static void prepare(const struct gen *g, uint32_t c, struct prep *p)
         (w1) = WORD(c2_, c3_);                                                                     \
     } while (0)
 
-/* The fast path on a vector of words in output order k0 .. k0+L-1: the candidates go to z, the
- * words to w, and bit k of bad[] is set where the fast test failed. */
-#define ZIG_VEC(VT, VD, GATHER, GE, wv, k0, z, w, bad)                                             \
+/* zig_x[i] and zig_t[i] side by side, so one 16-byte load and store moves both (filled once, in
+ * pick_kernels). */
+static _Alignas(64) double zig_xt[2 * 256];
+
+/* The ziggurat's table look-ups for the words w[0..nk): xt[2k] = zig_x[i], xt[2k+1] = zig_t[i]
+ * with i = w[k] & 0xff. Scalar loads on purpose: on AMD Zen 4 a vector gather of 8 doubles costs
+ * more than 8 loads, and the gathers were the largest single cost of the fast path
+ * (docs/performance.md, "Random force generator"). Kept out of line and unvectorised so the
+ * compiler does not turn the loop back into gathers. */
+__attribute__((noinline, optimize("no-tree-vectorize"))) static void
+zig_lookup(const uint64_t *restrict w, int nk, double *restrict xt)
+{
+    for (int k = 0; k < nk; k++) {
+        const unsigned i = (unsigned)(w[k] & 0xffu);
+        memcpy(xt + 2 * k, zig_xt + 2 * i, 2 * sizeof *xt);
+    }
+}
+
+/* The fast path on the words w[0..nk) (nk a multiple of the vector width L) with their looked-up
+ * pairs xt: the candidates go to z, and bit k of bad[] is set where the fast test failed. EVEN and
+ * ODD pick the x and t halves out of two vectors of pairs. */
+#define ZIG_PASS(VT, VD, GE, EVEN, ODD, nk, w, xt, z, bad)                                         \
     do {                                                                                           \
-        VT i_ = (wv) & 0xffu;                                                                      \
-        VD u_ = (VD)(((wv) >> 11 & ZIG_MANT) | ZIG_ONE) - 1.0;                                     \
-        VT s_ = (VT)(u_ * GATHER(i_, zig_x)) ^ ((wv) & ZIG_SIGN);                                  \
-        uint64_t m_ = GE(u_, GATHER(i_, zig_t));                                                   \
-        memcpy((z) + (k0), &s_, sizeof s_);                                                        \
-        memcpy((w) + (k0), &(wv), sizeof(wv));                                                     \
-        (bad)[(k0) >> 6] |= m_ << ((k0) & 63);                                                     \
+        enum { L_ = sizeof(VT) / 8 };                                                              \
+        for (int k_ = 0; k_ < (nk); k_ += L_) {                                                    \
+            VT wv_, p0_, p1_;                                                                      \
+            memcpy(&wv_, (w) + k_, sizeof wv_);                                                    \
+            memcpy(&p0_, (xt) + 2 * k_, sizeof p0_);                                               \
+            memcpy(&p1_, (xt) + 2 * k_ + L_, sizeof p1_);                                          \
+            VD xv_ = (VD)SHUF(p0_, p1_, EVEN), tv_ = (VD)SHUF(p0_, p1_, ODD);                      \
+            VD u_ = (VD)((wv_ >> 11 & ZIG_MANT) | ZIG_ONE) - 1.0;                                  \
+            VT s_ = (VT)(u_ * xv_) ^ (wv_ & ZIG_SIGN);                                             \
+            memcpy((z) + k_, &s_, sizeof s_);                                                      \
+            (bad)[k_ >> 6] |= GE(u_, tv_) << (k_ & 63);                                            \
+        }                                                                                          \
     } while (0)
 
 /* One batch: pairs pair0 .. pair0+m-1 (m rounded up to the vector width L), components
  * 0 .. per-1, in output order k = 2 per j + per lane + c (j = pair - pair0): z[k] the fast-path
  * candidate, w[k] its word, bit k of bad[] (zeroed by the caller) set if zig_slow must finish it.
  * ILV_LO/HI interleave two vectors one element at a time, PAIR_LO/HI two elements at a time. */
-#define BATCH_KERNEL(NAME, TARGET, VT, VD, MUL, SWAP, WORD, GATHER, GE, IOTA, ILV_LO, ILV_HI,    \
-                     PAIR_LO, PAIR_HI)                                                             \
+#define BATCH_KERNEL(NAME, TARGET, VT, VD, MUL, SWAP, WORD, GE, IOTA, ILV_LO, ILV_HI, PAIR_LO,   \
+                     PAIR_HI, EVEN, ODD)                                                           \
     TARGET static void NAME(const struct prep *p, int per, uint32_t pair0, int m,                  \
                             uint64_t *restrict w, double *restrict z, uint64_t *restrict bad)      \
     {                                                                                              \
@@ -504,8 +535,8 @@ static void prepare(const struct gen *g, uint32_t c, struct prep *p)
             int k = 2 * per * j;                                                                   \
             if (per == 1) {                                                                        \
                 VT o0 = SHUF(a0, a1, ILV_LO), o1 = SHUF(a0, a1, ILV_HI);                           \
-                ZIG_VEC(VT, VD, GATHER, GE, o0, k, z, w, bad);                                     \
-                ZIG_VEC(VT, VD, GATHER, GE, o1, k + L, z, w, bad);                                 \
+                memcpy(w + k, &o0, sizeof o0);                                                     \
+                memcpy(w + k + L, &o1, sizeof o1);                                                 \
             } else {                                                                               \
                 VT b0, b1;                                                                         \
                 PHILOX_FIRST(VT, MUL, SWAP, WORD, &p[1], pair, b0, b1);                            \
@@ -513,12 +544,16 @@ static void prepare(const struct gen *g, uint32_t c, struct prep *p)
                 VT ql = SHUF(a1, b1, ILV_LO), qh = SHUF(a1, b1, ILV_HI);                           \
                 VT o0 = SHUF(pl, ql, PAIR_LO), o1 = SHUF(pl, ql, PAIR_HI);                         \
                 VT o2 = SHUF(ph, qh, PAIR_LO), o3 = SHUF(ph, qh, PAIR_HI);                         \
-                ZIG_VEC(VT, VD, GATHER, GE, o0, k, z, w, bad);                                     \
-                ZIG_VEC(VT, VD, GATHER, GE, o1, k + L, z, w, bad);                                 \
-                ZIG_VEC(VT, VD, GATHER, GE, o2, k + 2 * L, z, w, bad);                             \
-                ZIG_VEC(VT, VD, GATHER, GE, o3, k + 3 * L, z, w, bad);                             \
+                memcpy(w + k, &o0, sizeof o0);                                                     \
+                memcpy(w + k + L, &o1, sizeof o1);                                                 \
+                memcpy(w + k + 2 * L, &o2, sizeof o2);                                             \
+                memcpy(w + k + 3 * L, &o3, sizeof o3);                                             \
             }                                                                                      \
         }                                                                                          \
+        const int nk = 2 * per * ((m + L - 1) / L * L);                                            \
+        _Alignas(64) double xt[8 * CHUNK];                                                         \
+        zig_lookup(w, nk, xt);                                                                     \
+        ZIG_PASS(VT, VD, GE, EVEN, ODD, nk, w, xt, z, bad);                                        \
     }
 
 /* First retry blocks (step, pair[i], w3[i]) for i < cnt (rounded up to L): words a[i], b[i]. */
@@ -568,32 +603,30 @@ typedef double v8d __attribute__((vector_size(64)));
 #define MUL2(a, b) ((v2u)_mm_mul_epu32((__m128i)(a), (__m128i)(b)))
 #define SWAP2(a) ((v2u)_mm_shuffle_epi32((__m128i)(a), 0xb1))
 #define WORD2(a, b) (((a) & 0xffffffffu) | (b) << 32)
-#define GATHER2(i, t) ((v2d){(t)[(i)[0]], (t)[(i)[1]]})
 #define GE2(u, t) ((uint64_t)_mm_movemask_pd(_mm_cmpge_pd((__m128d)(u), (__m128d)(t))))
 
 #define MUL4(a, b) ((v4u)_mm256_mul_epu32((__m256i)(a), (__m256i)(b)))
 #define SWAP4(a) ((v4u)_mm256_shuffle_epi32((__m256i)(a), 0xb1))
 #define WORD4(a, b) ((v4u)_mm256_blend_epi32((__m256i)(a), (__m256i)SWAP4(b), 0xaa))
-#define GATHER4(i, t) ((v4d)_mm256_i64gather_pd((t), (__m256i)(i), 8))
 #define GE4(u, t)                                                                                  \
     ((uint64_t)_mm256_movemask_pd(_mm256_cmp_pd((__m256d)(u), (__m256d)(t), _CMP_GE_OQ)))
 
 #define MUL8(a, b) ((v8u)_mm512_mul_epu32((__m512i)(a), (__m512i)(b)))
 #define SWAP8(a) ((v8u)_mm512_shuffle_epi32((__m512i)(a), _MM_PERM_CDAB))
 #define WORD8(a, b) ((v8u)_mm512_mask_blend_epi32(0xaaaa, (__m512i)(a), (__m512i)SWAP8(b)))
-#define GATHER8(i, t) ((v8d)_mm512_i64gather_pd((__m512i)(i), (t), 8))
 #define GE8(u, t) ((uint64_t)_mm512_cmp_pd_mask((__m512d)(u), (__m512d)(t), _CMP_GE_OQ))
 
 #define SSE2 __attribute__((target("sse2")))
 #define AVX2 __attribute__((target("avx2")))
 #define AVX512 __attribute__((target("avx512f")))
-BATCH_KERNEL(batch_sse2, SSE2, v2u, v2d, MUL2, SWAP2, WORD2, GATHER2, GE2, ((v2u){0, 1}), (0, 2),
-             (1, 3), (0, 1), (2, 3))
-BATCH_KERNEL(batch_avx2, AVX2, v4u, v4d, MUL4, SWAP4, WORD4, GATHER4, GE4, ((v4u){0, 1, 2, 3}),
-             (0, 4, 1, 5), (2, 6, 3, 7), (0, 1, 4, 5), (2, 3, 6, 7))
-BATCH_KERNEL(batch_avx512, AVX512, v8u, v8d, MUL8, SWAP8, WORD8, GATHER8, GE8,
+BATCH_KERNEL(batch_sse2, SSE2, v2u, v2d, MUL2, SWAP2, WORD2, GE2, ((v2u){0, 1}), (0, 2),
+             (1, 3), (0, 1), (2, 3), (0, 2), (1, 3))
+BATCH_KERNEL(batch_avx2, AVX2, v4u, v4d, MUL4, SWAP4, WORD4, GE4, ((v4u){0, 1, 2, 3}),
+             (0, 4, 1, 5), (2, 6, 3, 7), (0, 1, 4, 5), (2, 3, 6, 7), (0, 2, 4, 6), (1, 3, 5, 7))
+BATCH_KERNEL(batch_avx512, AVX512, v8u, v8d, MUL8, SWAP8, WORD8, GE8,
              ((v8u){0, 1, 2, 3, 4, 5, 6, 7}), (0, 8, 1, 9, 2, 10, 3, 11),
-             (4, 12, 5, 13, 6, 14, 7, 15), (0, 1, 8, 9, 2, 3, 10, 11), (4, 5, 12, 13, 6, 7, 14, 15))
+             (4, 12, 5, 13, 6, 14, 7, 15), (0, 1, 8, 9, 2, 3, 10, 11), (4, 5, 12, 13, 6, 7, 14, 15),
+             (0, 2, 4, 6, 8, 10, 12, 14), (1, 3, 5, 7, 9, 11, 13, 15))
 RETRY_KERNEL(retry_sse2, SSE2, v2u, MUL2, SWAP2, WORD2)
 RETRY_KERNEL(retry_avx2, AVX2, v4u, MUL4, SWAP4, WORD4)
 RETRY_KERNEL(retry_avx512, AVX512, v8u, MUL8, SWAP8, WORD8)
@@ -661,6 +694,10 @@ static void pick_kernels(void)
             }
         }
     }
+    for (int i = 0; i < 256; i++) {
+        zig_xt[2 * i] = zig_x[i];
+        zig_xt[2 * i + 1] = zig_t[i];
+    }
     kern.batch = batch_scalar;
     kern.retry = retry_scalar;
 #if NOISE_X86
@@ -679,10 +716,6 @@ static void pick_kernels(void)
 
 /* ---- Public functions ------------------------------------------------------------------------ */
 
-enum {
-    CHUNK = 256, /* pairs per batch: up to 4 CHUNK variates; a multiple of every vector width */
-    RETRIES = 64 /* rejected variates finished together */
-};
 
 /* Finish the rejected variates k of a batch (pairs from p): rk[i] their output positions. */
 static void finish(const struct prep *prep, int per, uint32_t p, int cnt, const int *rk,
