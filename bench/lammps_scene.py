@@ -16,6 +16,7 @@ A case whose model this build lacks (granule models) is reported as skipped; so 
 cannot express (the error says why). Agreement is statistical: the script reports, it does not judge.
 """
 import argparse
+import csv
 import json
 import math
 import os
@@ -146,7 +147,8 @@ def z(a, ea, b, eb):
 
 
 def granule_side(folder, warmup, N, q, r):
-    T = [(float(t), float(v)) for t, v, _, ph in (ln.split(",") for ln in open(os.path.join(folder, "temperature.csv")).read().split()[1:]) if ph == "sample"]
+    with open(os.path.join(folder, "temperature.csv")) as f:
+        T = [(float(row["t"]), float(row["T"])) for row in csv.DictReader(f) if row["phase"] == "sample"]
     frames = []
     for f in sorted(os.listdir(os.path.join(folder, "snapshots"))):
         t, _, v, _ = read_xyz(os.path.join(folder, "snapshots", f))
