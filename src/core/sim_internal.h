@@ -45,12 +45,6 @@ struct gr_sim {
     int *nl_j;
     uint8_t *nl_contact;  /* pair was in contact at the last force evaluation */
     int64_t nl_cap;
-    /* contact history (src/core/contact_history.c): one slot per list entry, NULL unless the
-     * tangential law keeps history; the non-zero slots saved by pair across a rebuild */
-    double *nl_hist;
-    int64_t *hist_start;
-    int *hist_j;
-    double *hist_v;
 
     /* 1D: pair (i, i+1 mod n) contact flags */
     uint8_t *pair_contact;
@@ -96,6 +90,13 @@ struct gr_sim {
     /* the integrator (params.integrator, src/integrators/) and its own state (NULL for verlet) */
     const gr_integrator_type *integrator;
     void *integrator_state;
+
+    /* contact history (src/core/contact_history.c): one slot per list entry, NULL unless the
+     * tangential law keeps history; the non-zero slots saved by pair across a rebuild */
+    double *nl_hist;
+    int64_t *hist_start;
+    int *hist_j;
+    double *hist_v;
 };
 
 /* Block size of the fixed-order reductions (a multiple of the step's 8 lanes and of 2, so
