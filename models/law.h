@@ -55,9 +55,11 @@ typedef struct gr_tangential_in {
 
 /* A tangential law: gr_tangential_NAME(const gr_contact_coeffs *c, gr_tangential_in in)
  * returns the force on j along t and the power it dissipates (>= 0), which the kernel books
- * into the ledger column GR_BOOK_NAME (one of the two below, a constant in the model file). */
+ * into the ledger column GR_BOOK_NAME (one of the two below, a constant in the model file), and
+ * e, the elastic energy the law stores in the contact (J; 0 for a law without history, the
+ * tangential spring of models/tangential_spring.h: k_t s^2 / 2). */
 typedef struct gr_tangential_force {
-    double f, p;
+    double f, p, e;
 } gr_tangential_force;
 
 enum { GR_BOOK_TANGENTIAL = 1, GR_BOOK_FRICTION = 2 };

@@ -395,6 +395,83 @@ static gr_scene dilute_scene(int n, gr_noise_mode mode)
  *    energy removed, none here) to rounding: each step's injected energy is summed from the
  *    exact identity dv (v + dv / 2), so the two differ by a few ulps of KE per step;
  *    1e-10 relative after 1000 steps is ~1e3 times that. */
+/* The contact history store (src/core/contact_history.c) keeps each pair's value across a rebuild
+ * that lists pairs from the other particle and in another order (a translation of the whole state
+ * changes the cells), and a checkpoint restores it bit for bit. */
+static double history_key(int i, int j)
+{
+    const int a = i < j ? i : j, b = i < j ? j : i;
+    return 1.0 + a * 1000.0 + b + 1.0 / 3.0;
+}
+
+START_TEST(test_contact_history_by_pair)
+{
+    gr_scene sc = base_scene(2, 150, 14.0 * DIAM);
+    sc.skin = 0.3;
+    sc.placement = GR_PLACE_UNIFORM;
+    gr_sim *s = create(&sc);
+    gr_error err = {0};
+    /* the placement numbers the particles row by row, so a neighbour cell's particles always
+     * have the larger index: shuffle them so that the listing particle depends on the cells */
+    for (int i = s->n - 1; i > 0; i--) {
+        const int k = (int)((7919u * (unsigned)i + 13u) % (unsigned)(i + 1));
+        const double tx = s->x[i], ty = s->y[i];
+        s->x[i] = s->x[k];
+        s->y[i] = s->y[k];
+        s->x[k] = tx;
+        s->y[k] = ty;
+    }
+    ck_assert_int_eq(gr_neighbours_build(s, &err), GR_OK);
+    ck_assert_int_eq(gr_history_enable(s, &err), GR_OK);
+    const int n = s->n;
+    const int64_t pairs = s->nl_start[n];
+    ck_assert_msg(pairs > 100, "only %lld listed pairs", (long long)pairs);
+    uint8_t *was_ij = calloc((size_t)n * (size_t)n, 1); /* old orientation: 1 = listed from i */
+    for (int i = 0; i < n; i++) {
+        for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
+            s->nl_hist[p] = history_key(i, s->nl_j[p]);
+            was_ij[(size_t)i * (size_t)n + (size_t)s->nl_j[p]] = 1;
+        }
+    }
+    const double shift_x = 0.37 * s->cutoff, shift_y = 0.61 * s->cutoff;
+    for (int i = 0; i < n; i++) {
+        s->x[i] += shift_x;
+        s->y[i] += shift_y;
+    }
+    ck_assert_int_eq(gr_neighbours_build(s, &err), GR_OK);
+    ck_assert_int_eq(s->nl_start[n], pairs); /* a translation: the same pairs */
+    int flipped = 0;
+    for (int i = 0; i < n; i++) {
+        for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
+            const int j = s->nl_j[p];
+            flipped += !was_ij[(size_t)i * (size_t)n + (size_t)j];
+            ck_assert_msg(s->nl_hist[p] == history_key(i, j), "pair (%d, %d): %.17g", i, j, s->nl_hist[p]);
+        }
+    }
+    ck_assert_msg(flipped > 0, "no pair changed its listing: the test proves nothing");
+    /* a sparse history: one contact remembers something */
+    for (int i = 0; i < n; i++) {
+        for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
+            s->nl_hist[p] = 0.0;
+        }
+    }
+    s->nl_hist[0] = 7.5;
+    /* the checkpoint: save, load into a fresh sim of the same scene, same slots bit for bit */
+    void *data = NULL;
+    size_t len = 0;
+    ck_assert_int_eq(gr_sim_state_save(s, &data, &len, &err), GR_OK);
+    gr_sim *t = create(&sc);
+    ck_assert_int_eq(gr_history_enable(t, &err), GR_OK);
+    ck_assert_msg(gr_sim_state_load(t, data, len, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_eq(t->nl_start[n], s->nl_start[n]);
+    ck_assert(memcmp(t->nl_hist, s->nl_hist, sizeof(double) * (size_t)pairs) == 0);
+    free(data);
+    free(was_ij);
+    gr_sim_free(t);
+    gr_sim_free(s);
+}
+END_TEST
+
 START_TEST(test_noise_increment_statistics)
 {
     const gr_noise_mode mode = _i == 0 ? GR_NOISE_SYMMETRISED : GR_NOISE_COM;
@@ -1532,6 +1609,7 @@ static Suite *sim_suite(void)
     TCase *tc = tcase_create("neighbours");
     tcase_set_timeout(tc, 600);
     tcase_add_loop_test(tc, test_forces_list_vs_bruteforce_static, 0, 1);
+    tcase_add_test(tc, test_contact_history_by_pair);
     tcase_add_loop_test(tc, test_forces_list_vs_bruteforce_trajectory, 0, 6);
     suite_add_tcase(s, tc);
     TCase *tn = tcase_create("noise");

@@ -53,6 +53,13 @@ static int grow(gr_sim *s, int64_t need, gr_error *err)
         return GR_FAIL(err, GR_ENOMEM, "out of memory growing the neighbour list to %lld pairs", (long long)cap);
     }
     s->nl_contact = c;
+    if (s->nl_hist) { /* contact history (contact_history.c): one slot per entry */
+        double *h = realloc(s->nl_hist, sizeof(double) * (size_t)cap);
+        if (!h) {
+            return GR_FAIL(err, GR_ENOMEM, "out of memory growing the contact history to %lld pairs", (long long)cap);
+        }
+        s->nl_hist = h;
+    }
     s->nl_cap = cap;
     return GR_OK;
 }
@@ -85,6 +92,12 @@ int gr_neighbours_build(gr_sim *s, gr_error *err)
     const double L = s->L, rc2 = s->cutoff * s->cutoff, d2 = s->d * s->d;
     const double *x = s->x, *y = s->y;
     int64_t count = 0;
+    if (s->nl_hist) { /* keep each contact's history by pair across the rebuild */
+        int rc = gr_history_save(s, err);
+        if (rc) {
+            return rc;
+        }
+    }
     if (nc == 0) {
         for (int i = 0; i < n; i++) {
             s->nl_start[i] = (int)count;
@@ -171,6 +184,9 @@ int gr_neighbours_build(gr_sim *s, gr_error *err)
         }
     }
     s->nl_start[n] = (int)count;
+    if (s->nl_hist) {
+        gr_history_restore(s);
+    }
     memcpy(s->x_ref, x, sizeof(double) * (size_t)n);
     memcpy(s->y_ref, y, sizeof(double) * (size_t)n);
     s->rebuilds++;

@@ -83,6 +83,10 @@ void gr_sim_free(gr_sim *s)
     free(s->nl_start);
     free(s->nl_j);
     free(s->nl_contact);
+    free(s->nl_hist);
+    free(s->hist_start);
+    free(s->hist_j);
+    free(s->hist_v);
     free(s->pair_contact);
     free(s->contacts);
     free(s->contacts_now);

@@ -90,6 +90,13 @@ struct gr_sim {
     /* the integrator (params.integrator, src/integrators/) and its own state (NULL for verlet) */
     const gr_integrator_type *integrator;
     void *integrator_state;
+
+    /* contact history (src/core/contact_history.c): one slot per list entry, NULL unless the
+     * tangential law keeps history; the non-zero slots saved by pair across a rebuild */
+    double *nl_hist;
+    int64_t *hist_start;
+    int *hist_j;
+    double *hist_v;
 };
 
 /* Block size of the fixed-order reductions (a multiple of the step's 8 lanes and of 2, so
@@ -120,6 +127,11 @@ int gr_events_append(gr_sim *s, gr_contact_event ev, gr_error *err);
 /* src/core/neighbours.c */
 int gr_neighbours_alloc(gr_sim *s, gr_error *err);
 int gr_neighbours_build(gr_sim *s, gr_error *err);
+
+/* contact history: allocate the slots (zero), save them by pair before a rebuild, restore after */
+int gr_history_enable(gr_sim *s, gr_error *err);
+int gr_history_save(gr_sim *s, gr_error *err);
+void gr_history_restore(gr_sim *s);
 
 /* src/core/kernels.c: one force evaluation with the kernel chosen at creation */
 void gr_forces(gr_sim *s, gr_force_report *r);

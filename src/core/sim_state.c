@@ -104,6 +104,9 @@ int gr_sim_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
         gr_blob_put(b, s->nl_start, sizeof(int) * ((size_t)n + 1));
         gr_blob_put(b, s->nl_j, sizeof(int) * (size_t)pairs);
         gr_blob_put(b, s->nl_contact, (size_t)pairs);
+        if (s->nl_hist) { /* the contact history (contact_history.c), when the law keeps one */
+            gr_blob_put_f64s(b, s->nl_hist, pairs);
+        }
     } else {
         gr_blob_put(b, s->pair_contact, (size_t)n + 1);
     }
@@ -209,7 +212,11 @@ int gr_sim_load_state(gr_sim *s, gr_blob_reader *b, gr_error *err)
             if (c) {
                 s->nl_contact = c;
             }
-            if (!j || !c) {
+            double *h = c && s->nl_hist ? realloc(s->nl_hist, sizeof(double) * (size_t)pairs) : NULL;
+            if (h) {
+                s->nl_hist = h;
+            }
+            if (!j || !c || (s->nl_hist && !h)) {
                 return GR_FAIL(err, GR_ENOMEM, "out of memory for a neighbour list of %lld pairs", (long long)pairs);
             }
             s->nl_cap = pairs;
@@ -219,6 +226,9 @@ int gr_sim_load_state(gr_sim *s, gr_blob_reader *b, gr_error *err)
         gr_blob_get(b, s->nl_start, sizeof(int) * ((size_t)n + 1));
         gr_blob_get(b, s->nl_j, sizeof(int) * (size_t)pairs);
         gr_blob_get(b, s->nl_contact, (size_t)pairs);
+        if (s->nl_hist) {
+            gr_blob_get_f64s(b, s->nl_hist, pairs);
+        }
         /* the kernels index with these: refuse anything that is not a valid half list */
         for (int i = 0; i < n && !b->bad; i++) {
             if (s->nl_start[i] < 0 || s->nl_start[i] > s->nl_start[i + 1]) {
