@@ -1,0 +1,11 @@
+# granule: gnuplot body of fig3.10_data.gp (run inside this folder); granule plot DIR redraws it
+set datafile separator whitespace
+set logscale xy
+set format y '10^{%L}'
+set format x '%g'
+set key outside right noenhanced
+set xlabel 'R' noenhanced
+set ylabel 'G_1' noenhanced
+set title "Nearest-neighbour distribution G_1(R) at N = 1585 for every eps (3.21)" noenhanced
+plot for [i=0:0] 'fig3.10_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i+1 title columnheader(1)
+

@@ -1,0 +1,11 @@
+# granule: gnuplot body of fig3.13_data.gp (run inside this folder); granule plot DIR redraws it
+set datafile separator whitespace
+set logscale xy
+set format y '10^{%L}'
+set format x '%g'
+set key outside right noenhanced
+set xlabel 'R' noenhanced
+set ylabel 'G_h' noenhanced
+set title "Renormalisation (3.25): G_h(R; N) with h = N/512 against G_1(R; 512)" noenhanced
+plot for [i=0:3] 'fig3.13_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i+1 title columnheader(1)
+
