@@ -144,6 +144,26 @@ START_TEST(recommendation_is_the_largest_dt_within_tolerance)
 }
 END_TEST
 
+/* An elastic contact (eps = 1) loses nothing: its errors are fractions of the collision's energy,
+ * the well-resolved steps are stable and within 1 %, and one step is recommended. */
+START_TEST(elastic_contact)
+{
+    const char *sets[] = {"system.N=100", "system.reduced_length=0.1", "model.eps_n=1"};
+    gr_scene sc;
+    load(&sc, "rfm-1d.ini", sets, 3);
+    gr_cost_request rq;
+    gr_cost_request_default(&rq);
+    rq.phases = 8;
+    rq.calibrate_seconds = 0;
+    gr_cost_answer a;
+    gr_error err = {0};
+    ck_assert_msg(gr_cost_advise(&sc, &rq, &a, &err) == GR_OK, "%s", err.message);
+    ck_assert(a.c[0].finite && isfinite(a.c[0].loss_error_mean) && fabs(a.c[0].loss_error_worst) < 1e-2);
+    ck_assert_int_ge(a.best, 0);
+    ck_assert(!a.c[a.n - 1].finite);
+}
+END_TEST
+
 START_TEST(refuses_what_has_no_time_step)
 {
     gr_scene sc;
@@ -219,6 +239,7 @@ int main(void)
     tcase_add_test(tc, errors_are_the_collisions);
     tcase_add_test(tc, error_grows_with_dt);
     tcase_add_test(tc, recommendation_is_the_largest_dt_within_tolerance);
+    tcase_add_test(tc, elastic_contact);
     tcase_add_test(tc, refuses_what_has_no_time_step);
     tcase_add_test(tc, prediction_matches_a_real_run);
     suite_add_tcase(s, tc);

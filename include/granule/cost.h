@@ -39,7 +39,8 @@ typedef struct gr_cost_candidate {
     double dt;                /* s */
     double steps_per_contact; /* t_c / dt */
     bool scene_dt;            /* the scene's own time step */
-    double loss_error_mean;   /* relative error of the loss per collision, mean over phases (signed) */
+    double loss_error_mean;   /* relative error of the loss per collision, mean over phases (signed);
+                                 relative to the collision's energy when the contact loses < 0.1 % */
     double loss_error_worst;  /* the same, worst phase and case (signed) */
     double cluster_loss_error; /* mean loss error of the stiffest many-body mode (cost.c) */
     double error;             /* the observable's relative error (signed) */
