@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Real readers on granule's real outputs, with Debian's /usr/bin/python3 (docs/trajectories.md):
 #   ase   ASE 3.22 (python3-ase) reads a 2D and a 1D snapshot and the multi-frame trajectory.xyz:
-#         species, positions, get_velocities(), masses, radii, cell and pbc; frame times
+#         species, positions, get_velocities(), masses, radii, cell and pbc; frame times; the spins
+#         (omega) of a rotating run
 #   h5md  MDAnalysis (python3-mdanalysis + python3-h5py) reads trajectory.h5: frames, times, box,
 #         positions and velocities equal to the XYZ trajectory of the same run; granule analyse on
 #         the H5MD file gives the in-run observables; kill -9 after a checkpoint leaves a file h5py
@@ -69,6 +70,19 @@ for k, (a, f) in enumerate(zip(frames, files)):
     assert np.array_equal(a.positions, b.positions) and np.array_equal(a.get_velocities(), b.get_velocities())
 print("ok ASE %s: 2D and 1D snapshots and a %d-frame trajectory.xyz" % (ase.__version__, len(frames)))
 EOF
+    # rotation: the spins are the extended-XYZ column omega:R:3 (only then), read by ASE as an array
+    "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out xr "${small2d[@]}" --set output.trajectory=xyz \
+        --set model.rotation=true --set placement.omega0=200
+    "$PY" - <<'EOF'
+import ase.io, numpy as np
+frames = ase.io.read("xr/snapshots/trajectory.xyz", index=":")
+plain = ase.io.read("x2/snapshots/trajectory.xyz")
+assert "omega" not in plain.arrays
+for a in frames:
+    w = a.arrays["omega"]
+    assert w.shape == (300, 3) and np.all(w[:, :2] == 0) and np.abs(w[:, 2]).max() > 0, w.shape
+print("ok ASE reads the spins (omega) of a rotating run, %d frames" % len(frames))
+EOF
     "$G" analyse x2 --set analysis.observables=pv,moments >/dev/null
     "$G" analyse r2 --set analysis.observables=pv,moments >/dev/null
     cmp x2/analysis/pv.csv r2/analysis/pv.csv && cmp x2/analysis/moments.csv r2/analysis/moments.csv
@@ -102,6 +116,22 @@ with h5py.File("h/trajectory.h5", "r") as f:
     assert list(f["particles/all/box"].attrs["boundary"]) == ["periodic", "periodic", "none"]
     assert f["particles/all/velocity/value"].attrs["unit"] == "m s-1"
 print("ok MDAnalysis %s: %d frames, times, steps, box, positions and velocities" % (mda.__version__, len(u.trajectory)))
+EOF
+    # rotation: /particles/all/angular_velocity (only then), the same values as the XYZ's omega
+    "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out hr "${small2d[@]}" --set output.trajectory=h5md \
+        --set model.rotation=true --set placement.omega0=200
+    "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out xr "${small2d[@]}" --set output.trajectory=xyz \
+        --set model.rotation=true --set placement.omega0=200
+    "$PY" - <<'EOF'
+import h5py, ase.io, numpy as np
+xyz = ase.io.read("xr/snapshots/trajectory.xyz", index=":")
+with h5py.File("hr/trajectory.h5", "r") as f, h5py.File("h/trajectory.h5", "r") as g:
+    assert "angular_velocity" not in g["particles/all"]
+    w = f["particles/all/angular_velocity/value"]
+    assert w.shape == (len(xyz), 300, 3), w.shape
+    for k, a in enumerate(xyz):
+        assert np.array_equal(w[k], a.arrays["omega"]), k
+print("ok h5py reads the spins (angular_velocity) of a rotating run, equal to the XYZ's")
 EOF
     "$G" analyse h --set run.warmup=0.004 >/dev/null
     for f in pv.csv moments.csv sk.csv pair.csv; do
