@@ -126,10 +126,10 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         }
         double z = num(row, "z");
         char zs[32] = "";
-        if (isfinite(z)) {
+        if (gr_campaign_exact_match(num(row, "value"), num(row, "thesis"), num(row, "thesis_error"))) {
+            snprintf(zs, sizeof zs, "exact (1e-4)"); /* also for result sets collected before the rule */
+        } else if (isfinite(z)) {
             snprintf(zs, sizeof zs, "%s%+.1f%s", fabs(z) > 2.0 ? "**" : "", z, fabs(z) > 2.0 ? "**" : "");
-        } else if (gr_campaign_exact_match(num(row, "value"), num(row, "thesis"), num(row, "thesis_error"))) {
-            snprintf(zs, sizeof zs, "exact (1e-4)");
         }
         char seeds[64];
         double bad = num(row, "runs_not_converged");
