@@ -222,6 +222,21 @@ static const gr_param *find_model_param(const char *name, const gr_model **owner
     return NULL;
 }
 
+/* Whether model m's parameter i was already listed by an earlier model (several share a key:
+ * eps_n, rotation, ...), so that a key list names it once. */
+static bool model_param_listed_before(int m, int i)
+{
+    const char *name = gr_models[m]->params[i].name;
+    for (int a = 0; a <= m; a++) {
+        for (int b = 0; b < (a < m ? gr_models[a]->n_params : i); b++) {
+            if (strcmp(gr_models[a]->params[b].name, name) == 0) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
 static void append_known_keys(char *buf, size_t n, const char *section)
 {
     size_t len = strlen(buf);
@@ -233,7 +248,9 @@ static void append_known_keys(char *buf, size_t n, const char *section)
     if (strcmp(section, "model") == 0) {
         for (int m = 0; gr_models[m]; m++) {
             for (int i = 0; i < gr_models[m]->n_params; i++) {
-                len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s", gr_models[m]->params[i].name);
+                if (!model_param_listed_before(m, i)) {
+                    len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s", gr_models[m]->params[i].name);
+                }
             }
         }
     }
