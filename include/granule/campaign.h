@@ -39,7 +39,7 @@ typedef enum { GR_FIDELITY_QUICK = 0, GR_FIDELITY_FULL = 1 } gr_fidelity;
  * CASCADE    y averaged over seeds as MEAN (the RFM's D_f of S(k)), beside the same S(k) analysis of
  *            discs placed from `configurations` multiplicative-cascade fields (UCP, 256 x 256, the
  *            runs' N, L and radius; Fig. 6.3), and both configurations side by side. */
-typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING, GR_RESULT_RISE, GR_RESULT_CURVE, GR_RESULT_CASCADE } gr_result_kind;
+typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING, GR_RESULT_RISE, GR_RESULT_SETTLE, GR_RESULT_CURVE, GR_RESULT_CASCADE } gr_result_kind;
 
 typedef struct gr_campaign_result {
     char id[32];          /* e.g. "fig3.2", "table3.1" */

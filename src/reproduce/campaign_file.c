@@ -101,12 +101,14 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
             r->kind = GR_RESULT_RUNNING;
         } else if (!strcmp(value, "rise_time")) {
             r->kind = GR_RESULT_RISE;
+        } else if (!strcmp(value, "settle_time")) {
+            r->kind = GR_RESULT_SETTLE;
         } else if (!strcmp(value, "curve")) {
             r->kind = GR_RESULT_CURVE;
         } else if (!strcmp(value, "cascade")) {
             r->kind = GR_RESULT_CASCADE;
         } else {
-            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, curve, cascade",
+            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, settle_time, curve, cascade",
                      r->id, value);
             return 0;
         }
@@ -299,7 +301,7 @@ static int parse_text(gr_campaign *c, const char *text, const char *where, gr_er
     }
     for (int i = 0; i < c->n_results; i++) {
         const gr_campaign_result *r = &c->results[i];
-        if (r->kind != GR_RESULT_RUNNING && r->kind != GR_RESULT_RISE && !r->y[0]) {
+        if (r->kind != GR_RESULT_RUNNING && r->kind != GR_RESULT_RISE && r->kind != GR_RESULT_SETTLE && !r->y[0]) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] needs y (a summary.json path)", where, r->id);
         }
         if (r->kind == GR_RESULT_POWER_LAW && !r->x[0]) {

@@ -180,7 +180,7 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
                  "plot '%s_positions.csv' skip 1 using 2:(strcol(1) eq 'cascade' ? $3 : 1/0) with points pt 7 ps 0.5 lc rgb '#c0392b'\n"
                  "unset multiplot\n",
                  r->id, r->id);
-    } else if (r->kind == GR_RESULT_RISE) {
+    } else if (r->kind == GR_RESULT_RISE || r->kind == GR_RESULT_SETTLE) {
         snprintf(body, sizeof body,
                  "set key outside right\nset xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\n"
                  "set title 'T(t) from the start of every run (lines: its steady value)' noenhanced\n"
@@ -298,10 +298,19 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
     cJSON_AddNumberToObject(j, "cpu_seconds", round(cpu));
     cJSON_AddNumberToObject(j, "cpu_hours", round(cpu / 36.0) / 100.0);
     cJSON_AddNumberToObject(j, "simulated_seconds", sim);
-    /* the warm-up: T over the first quarter of the sampling against the rest, over every run */
+    /* the warm-up: T over the first quarter of the sampling against the rest, over every run; not
+     * for a campaign about the transient itself (Fig. 2.7 samples from t = 0 on purpose) */
+    bool transient = false;
+    for (int k = 0; k < c->n_results; k++) {
+        transient |= c->results[k].kind == GR_RESULT_RISE || c->results[k].kind == GR_RESULT_SETTLE;
+    }
+    if (transient) {
+        cJSON_AddStringToObject(cJSON_AddObjectToObject(j, "warmup_check"), "not_applicable",
+                                "the campaign measures the rise of T from t = 0");
+    }
     double drift[4096];
     int nd = 0;
-    for (int i = 0; i < pts.n && nd < 4096; i++) {
+    for (int i = 0; i < pts.n && nd < 4096 && !transient; i++) {
         double d = campaign_warmup_drift(&pts.p[i]);
         if (isfinite(d)) {
             drift[nd++] = d;
