@@ -82,7 +82,7 @@ bool campaign_bisection_collapse(double N, double x0, double *x, double *y, doub
 
 /* Is the warm-up long enough? The mean of T over the first quarter of a run's sampling relative to
  * the mean over the rest, minus 1 (NAN without temperature.csv). */
-double campaign_warmup_drift(const campaign_point *p);
+double campaign_warmup_drift(const campaign_point *p, double *error);
 
 /* Shared by the analyses (campaign_analyse.c). */
 #define MAX_GROUPS 256

@@ -308,22 +308,34 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
         cJSON_AddStringToObject(cJSON_AddObjectToObject(j, "warmup_check"), "not_applicable",
                                 "the campaign measures the rise of T from t = 0");
     }
-    double drift[4096];
-    int nd = 0;
+    double drift[4096], run_var = 0.0;
+    int nd = 0, nvar = 0;
     for (int i = 0; i < pts.n && nd < 4096 && !transient; i++) {
-        double d = campaign_warmup_drift(&pts.p[i]);
+        double e, d = campaign_warmup_drift(&pts.p[i], &e);
         if (isfinite(d)) {
             drift[nd++] = d;
+            if (isfinite(e)) {
+                run_var += e * e;
+                nvar++;
+            }
         }
     }
     if (nd > 0) {
-        double dm, de;
-        campaign_mean_sd(drift, nd, &dm, &de);
+        /* the error: the seeds' scatter with three runs or more, else the larger of it and the
+         * runs' own block errors (campaign_headline_error, as for every result) */
+        double dm, de_seeds;
+        campaign_mean_sd(drift, nd, &dm, &de_seeds);
+        const double de_runs = nvar == nd ? sqrt(run_var) / nd : (double)NAN;
+        const double de = campaign_headline_error(de_seeds, de_runs, nd);
         cJSON *w = cJSON_AddObjectToObject(j, "warmup_check");
-        cJSON_AddStringToObject(w, "what", "mean over runs of <T>(first quarter of sampling) / <T>(rest) - 1");
+        cJSON_AddStringToObject(w, "what", "mean over runs of <T>(first quarter of sampling) / <T>(rest) - 1; error: the "
+                                           "seeds' scatter (3 runs or more), else the larger of it and the runs' own "
+                                           "error from 8 blocks of each run's sampling");
         cJSON_AddNumberToObject(w, "runs", nd);
         add_num(w, "drift", dm);
         add_num(w, "drift_error", de);
+        add_num(w, "drift_error_seeds", de_seeds);
+        add_num(w, "drift_error_runs", de_runs);
         add_num(w, "z", isfinite(de) && de > 0.0 ? dm / de : (double)NAN);
     }
     cJSON *commits = cJSON_AddArrayToObject(j, "run_commits");
