@@ -126,6 +126,34 @@ def granule_collide(build, model, sets, speeds, spc):
     return json.loads(subprocess.run(args, check=True, capture_output=True, text=True).stdout)["restitution_vs_speed"]
 
 
+def write_pair_data(work, L, p1, p2, v1, w1, w2):
+    """pair.data: the two discs (diameter d) at p1, p2 in a square box of side L, particle 1 moving
+    with v1, particle 2 at rest, spins w1, w2 (rad/s about z)."""
+    d = 2 * RADIUS
+    with open(os.path.join(work, "pair.data"), "w") as f:
+        f.write(f"granule pair\n\n2 atoms\n1 atom types\n\n0 {L!r} xlo xhi\n0 {L!r} ylo yhi\n"
+                f"{-d!r} {d!r} zlo zhi\n\nAtoms # sphere\n\n"
+                f"1 1 {d!r} 1.0 {p1[0]!r} {p1[1]!r} 0.0\n2 1 {d!r} 1.0 {p2[0]!r} {p2[1]!r} 0.0\n\n"
+                f"Velocities\n\n1 {v1[0]!r} {v1[1]!r} 0.0 0.0 0.0 {w1!r}\n2 0.0 0.0 0.0 0.0 0.0 {w2!r}\n")
+
+
+def deck_head(pair_lines):
+    """The input deck up to the integrator: 2D SI, the pair of pair.data with the RFM mass."""
+    pair = "\n".join(pair_lines)
+    return f"""units si
+dimension 2
+boundary p p p
+atom_style sphere
+atom_modify map array
+comm_modify vel yes
+read_data pair.data
+set type 1 mass {MASS!r}
+{pair}
+neighbor {0.3 * 2 * RADIUS!r} bin
+neigh_modify delay 0 every 1 check yes
+"""
+
+
 def lammps_collide(lmp, work, pair_coeff, v, dt, t_c):
     """One head-on collision in LAMMPS, placed as granule collide places it: particle 2 at rest at
     2r + r/2 ahead, both moved along their free flight to one step before contact."""
@@ -139,25 +167,9 @@ def lammps_collide(lmp, work, pair_coeff, v, dt, t_c):
     x1 = 0.5 * L + v * t0 - 0.5 * r0
     x2 = 0.5 * L + r0 - 0.5 * r0
     steps = int(math.ceil(2.0 * t_c / dt)) + 20
-    with open(os.path.join(work, "pair.data"), "w") as f:
-        f.write(f"granule head-on pair\n\n2 atoms\n1 atom types\n\n0 {L!r} xlo xhi\n0 {L!r} ylo yhi\n"
-                f"{-d!r} {d!r} zlo zhi\n\nAtoms # sphere\n\n"
-                f"1 1 {d!r} 1.0 {x1!r} {0.5 * L!r} 0.0\n2 1 {d!r} 1.0 {x2!r} {0.5 * L!r} 0.0\n\n"
-                f"Velocities\n\n1 {v!r} 0.0 0.0 0.0 0.0 0.0\n2 0.0 0.0 0.0 0.0 0.0 0.0\n")
+    write_pair_data(work, L, (x1, 0.5 * L), (x2, 0.5 * L), (v, 0.0), 0.0, 0.0)
     with open(os.path.join(work, "pair.in"), "w") as f:
-        f.write(f"""units si
-dimension 2
-boundary p p p
-atom_style sphere
-atom_modify map array
-comm_modify vel yes
-read_data pair.data
-set type 1 mass {MASS!r}
-pair_style granular
-pair_coeff * * {pair_coeff}
-neighbor {0.3 * d!r} bin
-neigh_modify delay 0 every 1 check yes
-fix 1 all nve
+        f.write(deck_head(["pair_style granular", f"pair_coeff * * {pair_coeff}"]) + f"""fix 1 all nve
 fix 2 all enforce2d
 timestep {dt!r}
 variable on equal "fx[2] != 0.0"
@@ -372,25 +384,9 @@ def lammps_oblique(lmp, work, pair_lines, v, angle, w1, w2, dt, t_c):
     p1 = (0.5 * L + x1[0] + v1[0] * t0 - 0.5 * r0[0], 0.5 * L + x1[1] + v1[1] * t0 - 0.5 * r0[1])
     p2 = (0.5 * L + x2[0] + 0.0 * t0 - 0.5 * r0[0], 0.5 * L + x2[1] + 0.0 * t0 - 0.5 * r0[1])
     steps = int(math.ceil(2.0 * t_c / dt)) + 20
-    with open(os.path.join(work, "pair.data"), "w") as f:
-        f.write(f"granule oblique pair\n\n2 atoms\n1 atom types\n\n0 {L!r} xlo xhi\n0 {L!r} ylo yhi\n"
-                f"{-d!r} {d!r} zlo zhi\n\nAtoms # sphere\n\n"
-                f"1 1 {d!r} 1.0 {p1[0]!r} {p1[1]!r} 0.0\n2 1 {d!r} 1.0 {p2[0]!r} {p2[1]!r} 0.0\n\n"
-                f"Velocities\n\n1 {v1[0]!r} {v1[1]!r} 0.0 0.0 0.0 {w1!r}\n2 0.0 0.0 0.0 0.0 0.0 {w2!r}\n")
-    pair = "\n".join(pair_lines)
+    write_pair_data(work, L, p1, p2, v1, w1, w2)
     with open(os.path.join(work, "pair.in"), "w") as f:
-        f.write(f"""units si
-dimension 2
-boundary p p p
-atom_style sphere
-atom_modify map array
-comm_modify vel yes
-read_data pair.data
-set type 1 mass {MASS!r}
-{pair}
-neighbor {0.3 * d!r} bin
-neigh_modify delay 0 every 1 check yes
-fix 1 all nve/sphere disc
+        f.write(deck_head(pair_lines) + f"""fix 1 all nve/sphere disc
 fix 2 all enforce2d
 timestep {dt!r}
 thermo 0
