@@ -274,9 +274,10 @@ def markdown_convergence(rows):
 # (I = M r^2 / 2, granule's inertia_factor = 1/2), from the same state at the same dt. Mapping
 # (LAMMPS 2021: damp_tangential = x * damp_normal_prefactor, F_t = -min(mu |F_n|, damp_tangential
 # |v_tr|) v_tr / |v_tr|, |F_n| clamped to >= 0 with limit_damping):
-#   tangential_dashpot  F_t = -gamma_t g_t   -> tangential linear_nohistory gamma_t/gamma_n 1e4
-#                       (damping velocity: damp_normal_prefactor = gamma_n; mu = 1e4 keeps the
-#                       Coulomb cap out of the way)
+#   tangential_dashpot  F_t = -gamma_t g_t   -> tangential linear_nohistory gamma_t/gamma_n 1e200
+#                       (damping velocity: damp_normal_prefactor = gamma_n; mu = 1e200 keeps the
+#                       Coulomb cap mu |F_n| out of the way: 1e4 is not enough where F_n falls
+#                       continuously to 0 at the end of a clamped contact, measured 2.3e-6)
 #   sliding_friction    F_t = -sign(g_t) min(mu |F_n|, m_t |g_t| / dt)   (granule's chatter-free
 #                       law) -> tangential linear_nohistory (m_t/dt)/gamma_n mu: LAMMPS's damping
 #                       branch of the min is exactly granule's one-step cap, m_t = m12 q/(1 + q)
@@ -329,7 +330,7 @@ def oblique_pair_style(kind, model, sets, c, dt):
     if kind == "dashpot":
         return ["pair_style granular",
                 f"pair_coeff * * hooke {k!r} {gamma_n!r} damping velocity "
-                f"tangential linear_nohistory {gamma_t / gamma_n!r} 1e4{clamp}"]
+                f"tangential linear_nohistory {gamma_t / gamma_n!r} {OVERLAY_MU!r}{clamp}"]
     if kind == "friction":
         q = 0.5
         m_t = m12 * q / (1.0 + q)
