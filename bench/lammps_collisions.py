@@ -19,8 +19,11 @@ Parameter mapping (granule -> LAMMPS pair_coeff, R = r_i r_j / (r_i + r_j) = r/2
                      (LAMMPS: eta a meff xi')
   clamp = true    -> keyword limit_damping (F_n >= 0)
 
+Then oblique collisions with rotation (run_oblique below; docs/lammps.md, "Oblique collisions
+with rotation").
+
     /usr/bin/python3 bench/lammps_collisions.py --build BUILD --lmp LMP [--quick] [--speeds ...]
-        [--steps-per-contact S] [--convergence V] [--json OUT]
+        [--steps-per-contact S] [--convergence V] [--oblique-speeds ...] [--no-oblique] [--json OUT]
 Exit 1 when any pair of engines differs by more than --tol (default 1e-9, see TOL below).
 """
 import argparse
