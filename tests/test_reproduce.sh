@@ -67,7 +67,8 @@ ids = ["fig4.10-tail", "fig5.12-C", "fig5.12-predicted", "fig5.12", "fig5.12-fre
 res = {r["id"]: r for r in json.load(open(os.path.join(d, "results.json")))["results"]}
 ok = all(i in res and res[i]["kind"] == "spm" and len(res[i]["rows"]) == 2 for i in ids)
 cols = ["group", "seed", "D_f", "C", "alpha", "S_predicted", "S", "S_error", "S_over_predicted", "A0_over_P0", "slope_P0",
-        "slope_A0", "v_lo", "v_hi", "fit_points", "decades", "chi2_red_531", "A0", "P0", "h", "pl_l_lo", "pl_l_hi", "pl_points"]
+        "slope_A0", "v_lo", "v_hi", "fit_points", "decades", "chi2_red_531", "A0", "P0", "alpha_fit", "h_fit", "pl_l_lo", "pl_l_hi",
+        "pl_points"]
 for i in ids:
     rows = list(csv.DictReader(open(os.path.join(d, i + "_data.csv"))))
     ok &= len(rows) == 4 and all(c in rows[0] for c in cols)
@@ -76,7 +77,9 @@ for i in ids:
     ok &= tail.startswith('"N+L=') and len(tail.splitlines()) > 20
     ok &= os.path.getsize(os.path.join(d, i + "_data.png")) > 0
 fixed = list(csv.DictReader(open(os.path.join(d, "fig5.12_data.csv"))))
-ok &= all(r["D_f"] == "1.63" and abs(float(r["alpha"]) - 0.9717) < 1e-3 for r in fixed)
+ok &= all(r["D_f"] == "1.63" and abs(float(r["alpha_fit"]) - 0.9717) < 1e-3 for r in fixed)
+expo = list(csv.DictReader(open(os.path.join(d, "fig5.13_data.csv"))))
+ok &= all(r["alpha_fit"] == "1" and r["h_fit"] == "0" for r in expo if r["alpha_fit"] not in ("", "0"))
 if not ok:
     print("spm results incomplete")
 sys.exit(0 if ok else 1)

@@ -70,6 +70,8 @@ typedef struct gr_campaign_result {
     double period;        /* RUNNING: seconds per period mean */
     int configurations;   /* CASCADE: cascade placements averaged (default 20) */
     double df;            /* SPM: D_f fixed for C, alpha and h (0: the run's free 4.25 fit) */
+    bool tail_exponential; /* SPM: fit P(v)'s tail with A0 exp(-S |v|) (alpha = 1, h = 0: the thesis's
+                              A0 of Fig. 5.13) instead of 5.31 at the predicted alpha and h */
     char thesis[2048];    /* "GROUP: value +- error; ..." (GROUP as in results.csv) */
     char thesis_source[256];
     char note[2048];      /* what a reader should know (shown on the page) */

@@ -150,6 +150,14 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         snprintf(r->transform, sizeof r->transform, "%s", strcmp(value, "none") ? value : "");
         return 1;
     }
+    if (!strcmp(name, "tail")) {
+        r->tail_exponential = !strcmp(value, "exponential");
+        if (!r->tail_exponential && strcmp(value, "5.31")) {
+            snprintf(p->error, sizeof p->error, "[result %s] tail = %s: allowed 5.31, exponential", r->id, value);
+            return 0;
+        }
+        return 1;
+    }
     if (!strcmp(name, "df")) {
         if (!parse_double(value, &r->df) || !(r->df > 1.0 && r->df < 2.0)) {
             snprintf(p->error, sizeof p->error, "[result %s] df = %s: expected D_f in (1, 2) (2D free paths, 4.25)", r->id, value);
@@ -171,7 +179,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     }
     snprintf(p->error, sizeof p->error,
              "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, x_max, by, m, per_m, period, "
-             "table, where, select, transform, collapse_at, axes, overlay, configurations, df, thesis, thesis_source, note",
+             "table, where, select, transform, collapse_at, axes, overlay, configurations, df, tail, thesis, thesis_source, note",
              r->id, name);
     return 0;
 }

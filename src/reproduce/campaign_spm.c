@@ -10,7 +10,8 @@
  *   - the run's P(v) (pv.csv, folded about 0) fitted with 5.31 at that alpha and h: S measured,
  *     A0 and A0/P(0), and the slopes of the tail plot of Fig. 5.13 for P' = P(0) and P' = A0, over
  *     v >= x_min v_rms (default 2, beyond the crossover v_c ~ 1.5 v_r of Table 5.3) in bins with at
- *     least 50 counts (the low end of Table 5.1's window).
+ *     least 50 counts (the low end of Table 5.1's window); with `tail = exponential` the fit is
+ *     A0 exp(-S |v|) instead (alpha = 1, h = 0), the thesis's A0 of Fig. 5.13.
  * The row of a group is the seed mean of the quantity `y` names, its error the seeds' standard
  * error (with fewer than 3 seeds the larger of that and the runs' fit errors). The tables come from
  * the run folder or, for a point restored from a result set, from the series the archive keeps
@@ -165,8 +166,11 @@ static void analyse_run(const gr_campaign_result *r, const campaign_point *pt, s
     o->n = gr_spm_fold_pv(v, p, e, n, o->v, o->p, o->e, o->counts);
     o->v_rms = gr_summary_number(s, "analysis.pv.v_rms");
     const double x_lo = r->x_min > 0.0 ? r->x_min : SPM_X_MIN;
+    /* tail = exponential: A0 exp(-S |v|), the thesis's "exponential fitted asymptotically" of Fig. 5.13 */
+    const double alpha = r->tail_exponential ? 1.0 : pred.alpha, h = r->tail_exponential ? 0.0 : pred.h;
     o->have_tail = o->n > 0 && gr_spm_tail531_fit(o->v, o->p, o->e, o->counts, o->n, gr_summary_number(s, "analysis.pv.P0"), o->v_rms,
-                                                  pred.alpha, pred.h, x_lo, r->x_max, SPM_COUNTS_MIN, pred.S, &o->t, &ignore) == GR_OK;
+                                                  alpha, h, x_lo, r->x_max, SPM_COUNTS_MIN, r->tail_exponential ? 0.0 : pred.S, &o->t,
+                                                  &ignore) == GR_OK;
     if (o->have_tail) {
         o->q[Q_S] = o->t.S;
         o->q_err[Q_S] = o->t.S_err;
@@ -257,7 +261,7 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
     for (int k = 0; k < Q_COUNT; k++) {
         fprintf(data, ",%s,%s_error", quantities[k], quantities[k]);
     }
-    fprintf(data, ",v_lo,v_hi,fit_points,decades,chi2_red_531,A0,P0,h,pl_l_lo,pl_l_hi,pl_points,pl_chi2_red\n");
+    fprintf(data, ",v_lo,v_hi,fit_points,decades,chi2_red_531,A0,P0,alpha_fit,h_fit,pl_l_lo,pl_l_hi,pl_points,pl_chi2_red\n");
     static char g[MAX_GROUPS][160];
     const int ng = campaign_groups(pts, NULL, NULL, g);
     int blocks = 0;
@@ -275,8 +279,8 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
             for (int k = 0; k < Q_COUNT; k++) {
                 fprintf(data, ",%.9g,%.9g", o.q[k], o.q_err[k]);
             }
-            fprintf(data, ",%.6g,%.6g,%d,%.4g,%.4g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.4g\n", o.t.v_lo, o.t.v_hi, o.t.n_points, o.t.decades,
-                    o.t.chi2_red, o.t.A0, o.t.P0, o.t.h, o.pl_lo, o.pl_hi, o.pl_points, o.C_fit_chi2);
+            fprintf(data, ",%.6g,%.6g,%d,%.4g,%.4g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.4g\n", o.t.v_lo, o.t.v_hi, o.t.n_points,
+                    o.t.decades, o.t.chi2_red, o.t.A0, o.t.P0, o.t.alpha, o.t.h, o.pl_lo, o.pl_hi, o.pl_points, o.C_fit_chi2);
             if (o.have_tail && !drawn) {
                 write_block(tail, g[gi], &o, blocks == 0);
                 drawn = true;
