@@ -307,16 +307,10 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
             spm_run_free(&o);
         }
         campaign_mean_sd(v, n, &row->value, &row->error_seeds);
-        if (n == 1) {
-            row->value = v[0];
-        }
         row->error_fit = n_err == n && n ? sqrt(e2) / n : (double)NAN;
         row->error = campaign_headline_error(row->error_seeds, row->error_fit, n);
         row->chi2_red = n && row->n_x ? chi2 / n : (double)NAN; /* of the fits behind the quantity */
         row->n_seeds = n;
-        if (n == 0) {
-            row->value = row->error = (double)NAN;
-        }
         campaign_row_thesis(r, row);
     }
     free(buf);
