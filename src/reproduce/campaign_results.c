@@ -21,6 +21,8 @@ static const char *kind_name(gr_result_kind k)
            : k == GR_RESULT_RUNNING   ? "running_mean"
            : k == GR_RESULT_CURVE     ? "curve"
            : k == GR_RESULT_CASCADE   ? "cascade"
+           : k == GR_RESULT_SPM       ? "spm"
+           : k == GR_RESULT_SETTLE    ? "settle_time"
                                       : "rise_time";
 }
 
@@ -259,6 +261,7 @@ static int analyse_one(const gr_campaign *c, const gr_campaign_result *r, const 
          : r->kind == GR_RESULT_RUNNING   ? campaign_running(c, r, pts, rows, data.f, err)
          : r->kind == GR_RESULT_CURVE     ? campaign_curve(c, r, pts, rows, data.f, err)
          : r->kind == GR_RESULT_CASCADE   ? campaign_cascade(c, r, pts, rows, results, data.f, err)
+         : r->kind == GR_RESULT_SPM       ? campaign_spm(c, r, pts, rows, results, data.f, err)
                                           : campaign_rise(c, r, pts, rows, data.f, err);
     if (rc) {
         gr_file_abandon(&data);
