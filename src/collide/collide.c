@@ -127,6 +127,10 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
         return GR_FAIL(err, GR_EINVAL, "the two particles never touch: their relative motion misses by more than d = %g m", d);
     }
     if (cs->normal && (cs->normal->kind & GR_MODEL_EVENT)) {
+        if (cs->w1 != 0.0 || cs->w2 != 0.0 || cs->rolling) {
+            return GR_FAIL(err, GR_EINVAL, "%s: the rule starts from discs without spin and has no rolling law (allowed: "
+                           "w1 = w2 = 0, rolling = none)", cs->normal->name);
+        }
         return collide_hard(cs, cc, t_hit, out, err);
     }
     gr_scene sc;
@@ -138,6 +142,7 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     sc.mass = cs->mass;
     sc.normal = cs->normal;
     sc.tangential = dim == 2 ? cs->tangential : NULL;
+    sc.rolling = dim == 2 ? cs->rolling : NULL;
     sc.contact = cs->contact;
     sc.D = 0.0;
     sc.noise_mode = GR_NOISE_NONE;
@@ -149,8 +154,15 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     /* the time step first (it sets how far before contact to start) */
     gr_contact_coeffs coeffs;
     int rc = gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * sc.mass, 0.0, &coeffs, err);
+    if (!rc) {
+        rc = gr_contact_prepare_rolling(sc.rolling, &sc.contact, 0.5 * sc.mass, 0.0, &coeffs, err);
+    }
     if (rc) {
         return rc;
+    }
+    if ((cs->w1 != 0.0 || cs->w2 != 0.0) && !(coeffs.rotation && dim == 2)) {
+        return GR_FAIL(err, GR_EINVAL, "initial spins w1 = %g, w2 = %g rad/s need rotation = true in 2D (allowed otherwise: 0)",
+                       cs->w1, cs->w2);
     }
     double t_c = isfinite(coeffs.t_c) ? coeffs.t_c : M_PI / coeffs.w0;
     double dt_guess = sc.dt > 0.0 ? sc.dt : t_c / sc.steps_per_contact;
@@ -169,6 +181,13 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     rc = gr_sim_create_with_state(&sc, 2, x, y, vx, vy, &s, err);
     if (rc) {
         return rc;
+    }
+    /* initial spins (the pair is not touching yet, so the first forces need no update) */
+    double spin_e0 = 0.0;
+    if (s->omega) {
+        s->omega[0] = cs->w1;
+        s->omega[1] = cs->w2;
+        spin_e0 = s->inertia * (cs->w1 * cs->w1 + cs->w2 * cs->w2) / (0.5 * cs->mass);
     }
     out->dt = s->dt;
     /* the normal at impact, from the exact free flight */
@@ -244,7 +263,8 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
         spin_t = cs->radius * (s->omega[0] + s->omega[1]);
         spin_e = s->inertia * (s->omega[0] * s->omega[0] + s->omega[1] * s->omega[1]) / (0.5 * cs->mass);
     }
-    out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1] + spin_e) / gg0;
+    out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1] + spin_e) / (gg0 + spin_e0);
+    out->spin_loss = (spin_e0 - spin_e) / (gg0 + spin_e0);
     out->expected_loss = gr_contact_expected_loss(&s->cc, sqrt(gg0), out->impact_angle);
     out->contact_time = (double)active * s->dt;
     out->eps_n_measured = -(g1[0] * n_end[0] + g1[1] * n_end[1]) / gn0;

@@ -217,6 +217,12 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     if (!s->normal) {
         return GR_FAIL(err, GR_EINVAL, "reference collision: no normal collision model given");
     }
+    /* a rolling law acts only on a difference of spins, and the reference starts both at rest,
+     * where equal discs keep equal spins: it does nothing there */
+    if (s->w1 != 0.0 || s->w2 != 0.0) {
+        return GR_FAIL(err, GR_EINVAL, "reference collision: initial spins (w1 = %g, w2 = %g rad/s) are not integrated "
+                       "(allowed: 0; the engine run takes them)", s->w1, s->w2);
+    }
     if (!(s->mass > 0.0) || !isfinite(s->mass) || !(s->radius > 0.0) || !isfinite(s->radius)) {
         return GR_FAIL(err, GR_EINVAL,
                        "reference collision: mass (%g kg) and radius (%g m) must be positive",
