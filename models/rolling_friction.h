@@ -72,10 +72,20 @@ static int rolling_friction_prepare(const gr_contact_params *p, double m12, doub
 /* mu_r = 0: no torque, the kernel without it runs */
 static bool rolling_friction_inert(const gr_contact_coeffs *c) { return c->mu_r == 0.0; }
 
+/* an enormous coefficient: the torque is then always the limit that stops the rolling in a step */
+static const char *const rolling_friction_extremes[] = {"mu_r=1e9", NULL};
+
 /* Its restitution-like law, for a binary impact (2D): the pair delivers the angular impulse
- * J = min(mu_r R_eff int |F_n| dt, I |dw_0| / 2) against the relative spin dw_0 = w_i - w_j, so
- * the spins lose J |dw_0| - J^2 / I of their energy (tests/test_rolling.c checks the engine
- * against this). The translation is untouched. */
+ * J = min(mu_r R_eff int |F_n| dt, I |dw_0| / 2) against the relative spin dw_0 = w_i - w_j
+ * (each disc's spin changes by J / I towards the other's), so the spins lose
+ * I (w_i^2 + w_j^2) / 2 before minus after = J |dw_0| - J^2 / I of their energy (the conformance
+ * suite and tests/test_rolling.c check the engine against this). The translation is untouched. */
+static double rolling_friction_spin_loss(const gr_contact_coeffs *c, double p_n, double r_eff, double inertia, double dw0)
+{
+    const double J = fmin(c->mu_r * r_eff * fabs(p_n), 0.5 * inertia * fabs(dw0));
+    return J * fabs(dw0) - J * J / inertia;
+}
+
 const gr_model gr_model_rolling_friction = {
     .name = "rolling_friction",
     .summary = "rolling resistance: torques -+ mu_r |F_n| R_eff against w_i - w_j (constant directional torque)",
@@ -84,7 +94,9 @@ const gr_model gr_model_rolling_friction = {
     .n_params = sizeof rolling_friction_params / sizeof rolling_friction_params[0],
     .prepare = rolling_friction_prepare,
     .inert = rolling_friction_inert,
+    .spin_loss = rolling_friction_spin_loss,
     .elastic = "mu_r=0",
+    .extremes = rolling_friction_extremes,
 };
 #endif /* GR_MODEL_IMPL */
 

@@ -139,6 +139,10 @@ typedef struct gr_model {
      * restitution given that normal impact and the impact speeds v_n, v_t > 0. */
     gr_normal_impact (*impact)(const gr_contact_coeffs *c, double v_n);
     double (*restitution_t)(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t);
+    /* Rolling laws: the spin energy (J) one contact takes from two discs of moment of inertia
+     * `inertia` whose spins differ by dw0 (w_i - w_j, the contact point not slipping) while it
+     * transmits the normal impulse p_n = int |F_n| dt; r_eff = r / 2 for equal discs. */
+    double (*spin_loss)(const gr_contact_coeffs *c, double p_n, double r_eff, double inertia, double dw0);
     /* Parameter settings that make the model conserve energy ("eps_n=1", space-separated
      * key=value); the conformance suite applies them to test elastic impacts. */
     const char *elastic;
