@@ -50,8 +50,8 @@ GR_LAW gr_rolling_torque gr_rolling_rolling_friction(const gr_contact_coeffs *c,
 
 static const gr_param rolling_friction_params[] = {
     {"mu_r", "", GR_PARAM_DOUBLE, 0.1, 0.0, INFINITY, false, true,
-     "rolling_friction: coefficient of rolling resistance, torque mu_r |F_n| R_eff (R_eff = r / 2) against "
-     "w_i - w_j; 0 = none",
+     "coefficient of rolling resistance: a torque pair of magnitude mu_r F_n R_eff (F_n the normal force, "
+     "R_eff = r / 2) against w_i - w_j; 0 = none",
      offsetof(gr_contact_params, mu_r)},
 };
 
