@@ -14,6 +14,8 @@
  * alike, a = |r_ij| / 2 (equal radii; the contact point is midway, at r_i + a n = r_j - a n:
  * (-a n) x (f_t t) = a f_t for j, (a n) x (-f_t t) = a f_t for i, since n x t = -1). The pair's
  * orbital torque (r_j - r_i) x (f_t t) = -2 a f_t cancels them: angular momentum is conserved.
+ * Rolling laws (rotation instances only, RL_NAME; models/rolling_friction.h): a torque pair -m on
+ * i, +m on j from w_i - w_j and f_n, no force; its power is booked with friction.
  * Ledger: the normal law's non-conservative part does work f_d g_n on the relative motion, so
  * it dissipates -f_d g_n (for the linear law gamma_n g_n^2 unclamped; the spring energy that
  * vanishes while the clamp holds f_n at zero is counted here too); a tangential law books its
