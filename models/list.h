@@ -19,6 +19,7 @@
 #include "models/tangential_dashpot.h"
 #include "models/sliding_friction.h"
 #include "models/hard_sphere.h"
+#include "models/rolling_friction.h"
 
 /* normal force laws: models/NAME.h defines gr_normal_NAME and gr_model_NAME */
 #define GR_NORMAL_MODELS(X, A) \
@@ -29,6 +30,10 @@
 #define GR_TANGENTIAL_MODELS(X, A) \
     X(A, tangential_dashpot)       \
     X(A, sliding_friction)
+
+/* rolling-resistance torques (rotation only): gr_rolling_NAME and gr_model_NAME */
+#define GR_ROLLING_MODELS(X, A) \
+    X(A, rolling_friction)
 
 /* instantaneous rules of the event-driven integrator: gr_model_NAME (the rule is called by
  * src/event/ through its header) */

@@ -115,6 +115,27 @@ sys.exit(0 if ok else 1)' "$out" 2>"$TMP/py"; then
 else
     fail "collide --set rotation=true: spins or contact-point eps_t wrong (exit $rc)" "$out" "$err $(cat "$TMP/py")"
 fi
+# rolling resistance: counter-rotating discs head-on (the contact point does not slip), the spins
+# lose what the law says (with the measured normal impulse), the spins slow down but keep their sign
+run "$G" collide --case 1 --model spring_dashpot+sliding_friction+rolling_friction --set rotation=true --set mu_r=0.05 \
+    --omega1 50 --omega2 -50 --steps-per-contact 200
+if [[ $rc -eq 0 ]] && python3 -c '
+import json, sys
+d = json.loads(sys.argv[1])
+ok = d["rolling"] == "rolling_friction" and d["mu_r"] == 0.05 and d["omega1_before"] == 50
+ok = ok and 0 < d["omega1"] < 50 and d["omega2"] == -d["omega1"] and d["spin_loss"] > 0
+ok = ok and abs(d["spin_loss"] - d["spin_loss_rolling_law"]) <= 1e-9 * d["spin_loss"]
+sys.exit(0 if ok else 1)' "$out" 2>"$TMP/py"; then
+    pass "collide +rolling_friction: spin_loss = the law's, spins slowed"
+else
+    fail "collide +rolling_friction: spin loss or spins wrong (exit $rc)" "$out" "$err $(cat "$TMP/py")"
+fi
+run "$G" collide --case 1 --model spring_dashpot+sliding_friction+rolling_friction
+if [[ $rc -eq 2 && "$err" == *"rotation = true"* ]]; then
+    pass "collide +rolling_friction without rotation exits 2 naming rotation"
+else
+    fail "collide +rolling_friction without rotation: exit $rc" "$err"
+fi
 run "$G" collide --case 4 --model spring_dashpot+tangential_dashpot
 if [[ $rc -eq 0 ]] && python3 -c 'import json, sys; sys.exit(1 if "omega1" in json.loads(sys.argv[1]) else 0)' "$out"; then
     pass "collide without rotation prints no omega"

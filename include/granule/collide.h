@@ -28,6 +28,7 @@ int gr_collision_case_oblique(double speed, double angle_deg, double radius, gr_
 typedef struct gr_collide_setup {
     const gr_model *normal;     /* spring_dashpot (or hard_sphere once event rules exist) */
     const gr_model *tangential; /* NULL, tangential_dashpot or sliding_friction */
+    const gr_model *rolling;    /* NULL or rolling_friction (needs contact.rotation) */
     gr_contact_params contact;
     double mass;     /* of each particle, kg (Table 2.1: 1 kg) */
     double radius;   /* m */
@@ -57,8 +58,11 @@ typedef struct gr_collide_result {
     double eps_t_measured; /* g'.t' / g.t (NaN for a head-on collision); with rotation that of
                               the contact point, (g'.t' + r (w1' + w2')) / (g.t + r (w1 + w2)) */
     double omega1, omega2; /* rotation: angular velocities after the collision, rad/s
-                              (counterclockwise; 0 without rotation) */
+                              (counterclockwise; 0 without rotation; they start at the setup's
+                              omega1, omega2; with initial spins E includes them) */
     double v1[2], v2[2];   /* the particles' velocities after the collision, m/s */
+    double spin_loss;      /* rotation: I (w1^2 + w2^2) / 2 before minus after, over E (the spins'
+                              share of energy_loss; rolling resistance takes it from there) */
     double impact_angle;   /* degrees between -g and the normal at impact */
     double momentum_error; /* |p' - p| / |p| */
     double normal_impulse, tangential_impulse; /* int |F_n| dt and int |F_t| dt, N s */

@@ -159,6 +159,9 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
             return GR_FAIL(err, GR_EINVAL, "--omega1/--omega2: hard_sphere's rule starts the discs without spin; "
                            "initial spins need a soft normal law (allowed with hard_sphere: 0)");
         }
+        if (cs->rolling) {
+            return GR_FAIL(err, GR_EINVAL, "%s: the rule has no rolling law (allowed: rolling = none)", cs->normal->name);
+        }
         return collide_hard(cs, cc, t_hit, out, err);
     }
     gr_scene sc;
@@ -170,6 +173,7 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     sc.mass = cs->mass;
     sc.normal = cs->normal;
     sc.tangential = dim == 2 ? cs->tangential : NULL;
+    sc.rolling = dim == 2 ? cs->rolling : NULL;
     sc.contact = cs->contact;
     sc.D = 0.0;
     sc.noise_mode = GR_NOISE_NONE;
@@ -181,6 +185,9 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     /* the time step first (it sets how far before contact to start) */
     gr_contact_coeffs coeffs;
     int rc = gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * sc.mass, 0.0, &coeffs, err);
+    if (!rc) {
+        rc = gr_contact_prepare_rolling(sc.rolling, &sc.contact, 0.5 * sc.mass, 0.0, &coeffs, err);
+    }
     if (rc) {
         return rc;
     }
@@ -290,6 +297,7 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
         spin_e = s->inertia * (s->omega[0] * s->omega[0] + s->omega[1] * s->omega[1]) / (0.5 * cs->mass);
     }
     out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1] + spin_e) / (gg0 + spin_e0);
+    out->spin_loss = (spin_e0 - spin_e) / (gg0 + spin_e0);
     /* the models' restitution laws assume discs without spin before the impact */
     out->expected_loss = spun ? (double)NAN : gr_contact_expected_loss(&s->cc, sqrt(gg0), out->impact_angle);
     out->contact_time = (double)active * s->dt;

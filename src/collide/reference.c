@@ -217,6 +217,14 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     if (!s->normal) {
         return GR_FAIL(err, GR_EINVAL, "reference collision: no normal collision model given");
     }
+    /* a rolling law acts only on a difference of spins, which equal discs keep at its start
+     * (the contact's torques on both are equal): the reference, which does not integrate the
+     * rolling law, is exact only when the spins start equal */
+    if (s->rolling && s->omega1 != s->omega2) {
+        return GR_FAIL(err, GR_EINVAL, "reference collision: a rolling law with unequal initial spins (omega1 = %g, "
+                       "omega2 = %g rad/s) is not integrated (allowed: omega1 = omega2; the engine run takes them)",
+                       s->omega1, s->omega2);
+    }
     if (!(s->mass > 0.0) || !isfinite(s->mass) || !(s->radius > 0.0) || !isfinite(s->radius)) {
         return GR_FAIL(err, GR_EINVAL,
                        "reference collision: mass (%g kg) and radius (%g m) must be positive",

@@ -28,8 +28,11 @@ cJSON *gr_scene_to_json(const gr_scene *s)
     cJSON *m = cJSON_AddObjectToObject(root, "model");
     cJSON_AddStringToObject(m, "normal", s->normal ? s->normal->name : "none");
     cJSON_AddStringToObject(m, "tangential", s->tangential ? s->tangential->name : "none");
-    const gr_model *used[2] = {s->normal, s->tangential};
-    for (int u = 0; u < 2; u++) {
+    if (s->rolling) {
+        cJSON_AddStringToObject(m, "rolling", s->rolling->name); /* only then (the hashes of other scenes stay) */
+    }
+    const gr_model *used[3] = {s->normal, s->tangential, s->rolling};
+    for (int u = 0; u < 3; u++) {
         for (int i = 0; used[u] && i < used[u]->n_params; i++) {
             const gr_param *p = &used[u]->params[i];
             const char *slot = (const char *)&s->contact + p->offset;
