@@ -362,6 +362,19 @@ START_TEST(test_rotation_modifier)
     ck_assert_msg(strstr(err.message, "'spring_dashpot@rotation'") && strstr(err.message, "contact point"), "%s", err.message);
     /* hard discs have the key themselves (rough discs, docs/event-driven.md) */
     ck_assert_int_eq(gr_compare_spec_parse("hard_sphere@rotation", &bad, &err), GR_OK);
+    /* a rolling law is the third part, on spinning discs only */
+    ck_assert_int_eq(gr_compare_spec_parse("spring_dashpot+tangential_dashpot+rolling_friction@rotation", &bad, &err), GR_OK);
+    ck_assert_str_eq(bad.rolling, "rolling_friction");
+    ck_assert_int_eq(gr_compare_spec_parse("spring_dashpot+tangential_dashpot+rolling_friction", &bad, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "@rotation"), "%s", err.message);
+    ck_assert_int_eq(gr_compare_spec_parse("spring_dashpot+tangential_dashpot+nosuch@rotation", &bad, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "nosuch") && strstr(err.message, "rolling_friction"), "%s", err.message);
+    gr_compare_spec roll;
+    ck_assert_int_eq(gr_compare_spec_parse("spring_dashpot+tangential_dashpot+rolling_friction@rotation", &roll, &err), GR_OK);
+    gr_scene rs;
+    ck_assert_msg(gr_compare_scene_load(&roll, path, NULL, 0, g_dir, &rs, &err) == GR_OK, "%s", err.message);
+    ck_assert_ptr_nonnull(rs.rolling);
+    ck_assert_str_eq(rs.rolling->name, "rolling_friction");
 }
 END_TEST
 

@@ -17,7 +17,7 @@ static void usage(FILE *f)
     fprintf(f, "usage: granule compare SCENE --models SPEC[,SPEC...] [--set section.key=value ...] [--out DIR] [--force]\n"
                "                      [--format png|svg|pdf]\n\n"
                "Runs SCENE once per model SPEC with the same initial state and the same noise (same seed):\n"
-               "SPEC = NORMAL[+TANGENTIAL][@clamp][@rotation][@INTEGRATOR], INTEGRATOR = verlet | event | hybrid, e.g.\n"
+               "SPEC = NORMAL[+TANGENTIAL[+ROLLING]][@clamp][@rotation][@INTEGRATOR], INTEGRATOR = verlet | event | hybrid, e.g.\n"
                "  --models spring_dashpot,spring_dashpot@hybrid,hard_sphere@event\n"
                "  --models spring_dashpot+tangential_dashpot,spring_dashpot+tangential_dashpot@clamp,spring_dashpot+sliding_friction\n"
                "  --models spring_dashpot+tangential_dashpot,spring_dashpot+tangential_dashpot@rotation,hard_sphere@rotation\n"

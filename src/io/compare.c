@@ -85,9 +85,13 @@ int gr_compare_spec_parse(const char *text, gr_compare_spec *spec, gr_error *err
         }
         mod = next;
     }
-    char *plus = strchr(buf, '+');
+    char *plus = strchr(buf, '+'), *plus2 = NULL;
     if (plus) {
         *plus++ = 0;
+        plus2 = strchr(plus, '+');
+        if (plus2) {
+            *plus2++ = 0;
+        }
     }
     const gr_model *normal = gr_model_find(buf);
     if (!normal || !(normal->kind & (GR_MODEL_NORMAL | GR_MODEL_EVENT))) {
@@ -103,6 +107,17 @@ int gr_compare_spec_parse(const char *text, gr_compare_spec *spec, gr_error *err
             return GR_FAIL(err, GR_EINVAL, "'%s': unknown tangential model '%s'; allowed: %s", text, plus, names);
         }
         snprintf(spec->tangential, sizeof spec->tangential, "%.63s", plus);
+    }
+    if (plus2) {
+        const gr_model *roll = gr_model_find(plus2);
+        if (!roll || !(roll->kind & GR_MODEL_ROLLING)) {
+            model_names(GR_MODEL_ROLLING, names, sizeof names);
+            return GR_FAIL(err, GR_EINVAL, "'%s': unknown rolling model '%s'; allowed: %s", text, plus2, names);
+        }
+        if (!spec->rotation) {
+            return GR_FAIL(err, GR_EINVAL, "'%s': a rolling law acts on spinning discs: add @rotation", text);
+        }
+        snprintf(spec->rolling, sizeof spec->rolling, "%.63s", plus2);
     }
     if (spec->rotation && !model_has_param(normal, "rotation") &&
         !model_has_param(plus ? gr_model_find(plus) : NULL, "rotation")) {
@@ -166,18 +181,19 @@ int gr_compare_scene_load(const gr_compare_spec *spec, const char *scene_path, c
      * "ignored" and the scene's value cannot matter) */
     const bool has_rotation = model_has_param(normal, "rotation") ||
                               (spec->tangential[0] && model_has_param(gr_model_find(spec->tangential), "rotation"));
-    char assign[5][160];
+    char assign[6][160];
     snprintf(assign[0], sizeof assign[0], "model.normal=%s", spec->normal);
     snprintf(assign[1], sizeof assign[1], "model.tangential=%s", spec->tangential[0] ? spec->tangential : "none");
     snprintf(assign[2], sizeof assign[2], "model.clamp=%s", spec->clamp ? "true" : "false");
     snprintf(assign[3], sizeof assign[3], "model.rotation=%s", spec->rotation ? "true" : "false");
     snprintf(assign[4], sizeof assign[4], "integrator.kind=%s", kind ? kind : "verlet");
+    snprintf(assign[5], sizeof assign[5], "model.rolling=%s", spec->rolling[0] ? spec->rolling : "none");
     const char *all[80];
     int m = 0;
-    for (int i = 0; i < n_sets && m < 75; i++) {
+    for (int i = 0; i < n_sets && m < 74; i++) {
         all[m++] = sets[i];
     }
-    for (int i = 0; i < 5; i++) {
+    for (int i = 0; i < 6; i++) {
         if ((i == 3 && !has_rotation) || (i == 4 && !kind)) {
             continue;
         }
