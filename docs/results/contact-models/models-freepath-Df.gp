@@ -1,6 +1,6 @@
 # granule: gnuplot body of models-freepath-Df.gp (run inside this folder); granule plot DIR redraws it
 set datafile separator whitespace
-set title "D_f from the free-path tail, fit of (4.25), under each contact model" noenhanced
+set title "D_f from the free-path tail (4.25), fitted where the thesis fits it (P_l < 1 per metre), under each contact model" noenhanced
 set ylabel 'D_f' noenhanced
 set xtics rotate by -40 noenhanced
 set key top left
