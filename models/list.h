@@ -18,6 +18,7 @@
 #include "models/hertz.h"
 #include "models/tangential_dashpot.h"
 #include "models/sliding_friction.h"
+#include "models/tangential_spring.h"
 #include "models/hard_sphere.h"
 
 /* normal force laws: models/NAME.h defines gr_normal_NAME and gr_model_NAME */
@@ -28,7 +29,13 @@
 /* tangential force laws: gr_tangential_NAME, GR_BOOK_NAME and gr_model_NAME */
 #define GR_TANGENTIAL_MODELS(X, A) \
     X(A, tangential_dashpot)       \
-    X(A, sliding_friction)
+    X(A, sliding_friction)         \
+    X(A, tangential_spring)
+
+/* the tangential laws above that keep a per-contact history (gr_tangential_in.hist; the kernels
+ * then carry one slot per pair, src/core/contact_history.c) */
+#define GR_HISTORY_MODELS(X, A) \
+    X(A, tangential_spring)
 
 /* instantaneous rules of the event-driven integrator: gr_model_NAME (the rule is called by
  * src/event/ through its header) */
