@@ -117,14 +117,14 @@ typedef struct pair_out {
 typedef struct pair_ctx {
     const double *restrict x, *restrict y, *restrict vx, *restrict vy;
     const double *restrict w; /* omega (rotation only) */
-    double L, d, d2, m12_dt, dt;
+    double L, d, d2, m12_dt;
     gr_contact_coeffs cc; /* the laws' coefficients, a local copy */
 } pair_ctx;
 
 static inline __attribute__((always_inline)) pair_ctx ctx_of(const gr_sim *s)
 {
     return (pair_ctx){.x = s->x, .y = s->y, .vx = s->vx, .vy = s->vy, .w = s->omega, .L = s->L, .d = s->d,
-                      .d2 = s->d * s->d, .m12_dt = s->cc.m_t / s->dt, .dt = s->dt, .cc = s->cc};
+                      .d2 = s->d * s->d, .m12_dt = s->cc.m_t / s->dt, .cc = s->cc};
 }
 
 /* h: the pair's history slot (history laws; 0 otherwise), passed by value: the law updates a copy,
@@ -177,11 +177,12 @@ pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang
         Fy += f_t * ty;
         if (history_of(tang)) {
             /* the spring's part -k_t s is conservative (its energy is ft.e), the rest goes into G;
-             * the energy the law dropped is booked directly, so it leaves the share of the rate */
+             * the energy the law dropped is booked directly, so the rate that sets the ledger's
+             * shares is the power of G's tangential part alone (the dashpot's) */
             o->hs = slot;
             o->et = ft.e;
             o->lost = ft.lost;
-            o->pt = ft.p - ft.lost / c.dt;
+            o->pt = -(f_t - ft.fc) * g_t;
             Gx += (f_t - ft.fc) * tx;
             Gy += (f_t - ft.fc) * ty;
         } else {
