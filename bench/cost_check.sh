@@ -37,22 +37,27 @@ else
 fi
 sets+=(--set output.plots=false --set output.snapshot_every=0 --set run.progress=false)
 bench_header
-echo "| scene | tolerance | dt (s) | steps per contact | predicted wall (s) | real wall (s) | real / predicted |"
-echo "|---|---|---|---|---|---|---|"
+echo "| scene | tolerance | integrator | dt (s) | steps per contact | predicted wall (s) | real wall (s) | real / predicted |"
+echo "|---|---|---|---|---|---|---|---|"
 for s in "${scenes[@]}"; do
     scene=docs/scenes/$s.ini
     extra=()
     [[ $quick == false && $s == rfm-2d ]] && extra=(--set run.warmup=0.1 --set run.duration=${COST_DURATION:-0.9})
     "$granule" cost "$scene" --tolerance "$tol" --calibrate "$calib" "${sets[@]}" "${extra[@]}" --out "$work/$s" >"$work/$s.txt" 2>&1 ||
         { echo "cost_check: $s: granule cost found no time step: $(tail -n 3 "$work/$s.txt")" >&2; continue; }
-    read -r dt spc pred perr < <(/usr/bin/python3 -c "
+    read -r dt spc pred perr kind window < <(/usr/bin/python3 -c "
 import json, sys; r = json.load(open('$work/$s/cost.json'))['recommended']
-print(r['dt'], r['steps_per_contact'], r['predicted_wall'], r['predicted_wall_err'])")
+print(r['dt'], r['steps_per_contact'], r['predicted_wall'], r['predicted_wall_err'], r.get('integrator', 'verlet'),
+      r.get('window') or 0)")
+    how=(--set integrator.kind="$kind")
+    [[ $kind == hybrid ]] && how+=(--set integrator.kick_interval="$window")
     t0=$(date +%s.%N)
-    "$granule" run "$scene" "${sets[@]}" "${extra[@]}" --set integrator.dt="$dt" --set integrator.force_dt=true \
+    "$granule" run "$scene" "${sets[@]}" "${extra[@]}" "${how[@]}" --set integrator.dt="$dt" --set integrator.force_dt=true \
         --out "$work/$s-run" >"$work/$s-run.log" 2>&1
     t1=$(date +%s.%N)
+    label=$kind
+    [[ $kind == hybrid ]] && label="hybrid, window $(printf '%.3g' "$window") s"
     python3 -c "
 dt, spc, pred, perr, real = $dt, $spc, $pred, $perr, $t1 - $t0
-print(f'| $s | $tol | {dt:.4g} | {spc:.3g} | {pred:.3g} +- {perr:.2g} | {real:.3g} | {real / pred:.3f} |')"
+print(f'| $s | $tol | $label | {dt:.4g} | {spc:.3g} | {pred:.3g} +- {perr:.2g} | {real:.3g} | {real / pred:.3f} |')"
 done | tee "$out/cost-check.md"

@@ -234,6 +234,16 @@ static double hard_sphere_restitution_t(const gr_contact_coeffs *c, gr_normal_im
     return c->law_t[0];
 }
 
+/* the modes the conformance suite checks as combinations of their own: smooth discs with eps_t,
+ * eps_n(v), rough discs with a constant beta (Walton) and Coulomb-limited (beta_mu), and rough
+ * viscoelastic discs */
+static const char *const hard_sphere_variants[] = {"rotation=false",
+                                                   "viscoelastic=true",
+                                                   "rotation=true beta=0.5",
+                                                   "rotation=true beta=1 beta_mu=0.2",
+                                                   "rotation=true beta=0.5 beta_mu=0.1 viscoelastic=true",
+                                                   NULL};
+
 const gr_model gr_model_hard_sphere = {
     .name = "hard_sphere",
     .summary = "instantaneous collisions (2.1, 2.2, 2.10) with the TC model against collapse; needs [integrator] kind = event",
@@ -244,7 +254,8 @@ const gr_model gr_model_hard_sphere = {
     .force_law = "spring_dashpot",
     .impact = hard_sphere_impact,
     .restitution_t = hard_sphere_restitution_t,
-    .elastic = "eps_n=1 eps_t=1",
+    .elastic = "eps_n=1 eps_t=1 beta=-1 beta_mu=0 visco_A=0",
+    .variants = hard_sphere_variants,
 };
 #endif /* GR_MODEL_IMPL */
 

@@ -75,6 +75,23 @@ typedef struct gr_tangential_force {
 
 enum { GR_BOOK_TANGENTIAL = 1, GR_BOOK_FRICTION = 2 };
 
+/* What a rolling law sees at one contact (rotation kernels only; models/rolling_friction.h).
+ *   dw     w_i - w_j, the relative spin (the rolling velocity is r_eff dw);
+ *   f_n    the normal force after the clamp;  acts  as for a tangential law;
+ *   r_eff  r_i r_j / (r_i + r_j), r / 2 for equal discs;
+ *   i_2dt  I / (2 dt): the torque pair that stops dw within one step is i_2dt |dw|.
+ * A rolling law returns m, the torque on j (-m on i: the pair exerts no net torque and no force),
+ * and p, the power it dissipates, m dw >= 0 (booked with friction). */
+typedef struct gr_rolling_in {
+    double dw, f_n;
+    int acts;
+    double r_eff, i_2dt;
+} gr_rolling_in;
+
+typedef struct gr_rolling_torque {
+    double m, p;
+} gr_rolling_torque;
+
 /* The scene keys of rotation, declared by every tangential law that acts at the contact point
  * (gr_model.contact_point): put GR_ROTATION_PARAMS into the law's parameter table. */
 #define GR_ROTATION_PARAMS                                                                         \

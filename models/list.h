@@ -20,6 +20,7 @@
 #include "models/sliding_friction.h"
 #include "models/tangential_spring.h"
 #include "models/hard_sphere.h"
+#include "models/rolling_friction.h"
 
 /* normal force laws: models/NAME.h defines gr_normal_NAME and gr_model_NAME */
 #define GR_NORMAL_MODELS(X, A) \
@@ -36,6 +37,10 @@
  * then carry one slot per pair, src/core/contact_history.c) */
 #define GR_HISTORY_MODELS(X, A) \
     X(A, tangential_spring)
+
+/* rolling-resistance torques (rotation only): gr_rolling_NAME and gr_model_NAME */
+#define GR_ROLLING_MODELS(X, A) \
+    X(A, rolling_friction)
 
 /* instantaneous rules of the event-driven integrator: gr_model_NAME (the rule is called by
  * src/event/ through its header) */

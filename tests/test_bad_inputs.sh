@@ -146,6 +146,13 @@ base | collide --model nosuch | 2 | nosuch;!collide: collide: | new
 base | collide --bogus | 2 | --bogus;!collide: collide: | new
 base | collide --dim 3 | 2 | dim | new
 base | collide --steps-per-contact 5 | 2 | steps_per_contact;!collide: collide: | new
+base | collide --speed 0 | 2 | --speed;> 0;!collide: collide: | new
+base | collide --speed 1 --angle 90 | 2 | --angle;[0, 90) | new
+base | collide --speed 1 --angle -5 | 2 | --angle;[0, 90) | new
+base | collide --angle 30 | 2 | --angle;--speed | new
+base | collide --speed 1 --angle 30 --dim 1 | 2 | --dim 2 | new
+base | collide --speed 1 --angle 30 --omega1 5 | 2 | --omega1;rotation | new
+base | collide --speed 1 --model hard_sphere --set rotation=true --omega2 5 | 2 | --omega2;hard_sphere | new
 base | cost $S --out $O --tolerance 0 | 2 | --tolerance;(0, 1) | new
 base | cost $S --out $O --tolerance 150% | 2 | --tolerance | new
 base | cost $S --out $O --observable nosuch | 2 | nosuch;T or loss | new

@@ -101,6 +101,20 @@ START_TEST(test_series_from_table_with_filter)
 }
 END_TEST
 
+
+/* A thesis value with no quoted error that ours equals to rounding (Table 3.1's zeta_1 = 1 came
+ * out 0.999996 +- 1e-6, z = -3.9) is exact: no z. A real difference, or a quoted error, keeps it. */
+START_TEST(test_exact_match_has_no_z)
+{
+    ck_assert(gr_campaign_exact_match(0.999996, 1.0, NAN));
+    ck_assert(gr_campaign_exact_match(1.0, 1.0, 0.0));
+    ck_assert(!gr_campaign_exact_match(0.999, 1.0, NAN));
+    ck_assert(!gr_campaign_exact_match(1.0, 1.0, 0.01));
+    ck_assert(!gr_campaign_exact_match(NAN, 1.0, NAN));
+    ck_assert(!gr_campaign_exact_match(1e-9, 0.0, NAN)); /* no relative scale at 0 */
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("campaign_curve");
@@ -108,6 +122,7 @@ int main(void)
     tcase_add_test(t, test_collapse_of_uniform_bisection_is_minus_ln_R);
     tcase_add_test(t, test_collapse_detects_another_power);
     tcase_add_test(t, test_series_from_table_with_filter);
+    tcase_add_test(t, test_exact_match_has_no_z);
     suite_add_tcase(s, t);
     SRunner *r = srunner_create(s);
     srunner_run_all(r, CK_NORMAL);

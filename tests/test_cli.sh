@@ -115,11 +115,50 @@ sys.exit(0 if ok else 1)' "$out" 2>"$TMP/py"; then
 else
     fail "collide --set rotation=true: spins or contact-point eps_t wrong (exit $rc)" "$out" "$err $(cat "$TMP/py")"
 fi
+# rolling resistance: counter-rotating discs head-on (the contact point does not slip), the spins
+# lose what the law says (with the measured normal impulse), the spins slow down but keep their sign
+run "$G" collide --case 1 --model spring_dashpot+sliding_friction+rolling_friction --set rotation=true --set mu_r=0.05 \
+    --omega1 50 --omega2 -50 --steps-per-contact 200
+if [[ $rc -eq 0 ]] && python3 -c '
+import json, sys
+d = json.loads(sys.argv[1])
+ok = d["rolling"] == "rolling_friction" and d["mu_r"] == 0.05 and d["omega1_before"] == 50
+ok = ok and 0 < d["omega1"] < 50 and d["omega2"] == -d["omega1"] and d["spin_loss"] > 0
+ok = ok and abs(d["spin_loss"] - d["spin_loss_rolling_law"]) <= 1e-9 * d["spin_loss"]
+sys.exit(0 if ok else 1)' "$out" 2>"$TMP/py"; then
+    pass "collide +rolling_friction: spin_loss = the law's, spins slowed"
+else
+    fail "collide +rolling_friction: spin loss or spins wrong (exit $rc)" "$out" "$err $(cat "$TMP/py")"
+fi
+run "$G" collide --case 1 --model spring_dashpot+sliding_friction+rolling_friction
+if [[ $rc -eq 2 && "$err" == *"rotation = true"* ]]; then
+    pass "collide +rolling_friction without rotation exits 2 naming rotation"
+else
+    fail "collide +rolling_friction without rotation: exit $rc" "$err"
+fi
 run "$G" collide --case 4 --model spring_dashpot+tangential_dashpot
 if [[ $rc -eq 0 ]] && python3 -c 'import json, sys; sys.exit(1 if "omega1" in json.loads(sys.argv[1]) else 0)' "$out"; then
     pass "collide without rotation prints no omega"
 else
     fail "collide without rotation prints omega (exit $rc)" "$out"
+fi
+# oblique impact at a chosen speed and angle with initial spins: the JSON names them, momentum is
+# conserved (v1' + v2' = v1 = 0.8 (cos 45, sin 45)), the spins change by equal amounts, no
+# restitution law for spinning discs (expected_loss null), the velocities carry units
+run "$G" collide --speed 0.8 --angle 45 --model spring_dashpot+tangential_dashpot --set rotation=true \
+    --omega1 100 --omega2 -50 --mass 3.53e-5 --radius 1.5e-3
+if [[ $rc -eq 0 ]] && python3 -c '
+import json, math, sys
+d = json.loads(sys.argv[1])
+v1, v2, c = d["v1_after"], d["v2_after"], 0.8 * math.cos(math.radians(45))
+ok = d["speed"] == 0.8 and d["angle"] == 45 and "case" not in d and d["omega1_before"] == 100 and d["omega2_before"] == -50
+ok = ok and all(abs(v1[k] + v2[k] - c) <= 1e-12 for k in (0, 1)) and d["expected_loss"] is None
+ok = ok and abs((d["omega1"] - 100) - (d["omega2"] + 50)) <= 1e-9 * abs(d["omega1"] - 100) and d["omega1"] != 100
+ok = ok and abs(d["impact_angle"] - 45) < 1e-9 and d["units"]["v1_after"] == "m/s"
+sys.exit(0 if ok else 1)' "$out" 2>"$TMP/py"; then
+    pass "collide --speed 0.8 --angle 45 --omega1 100 --omega2 -50: momentum conserved, equal spin changes, units"
+else
+    fail "collide --speed/--angle/--omega: JSON wrong (exit $rc)" "$out" "$err $(cat "$TMP/py")"
 fi
 run "$G" collide --case 9
 if [[ $rc -eq 2 ]]; then pass "collide --case 9 exits 2"; else fail "collide --case 9 exits $rc, expected 2" "$err"; fi

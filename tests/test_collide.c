@@ -840,6 +840,143 @@ START_TEST(test_hertz_limits)
 }
 END_TEST
 
+/* ---- oblique impacts at a chosen speed and angle, initial spins (gr_collision_case_oblique) --- */
+
+/* Out-of-range speeds, angles and spins are refused, naming the flag and the allowed range. */
+START_TEST(test_oblique_refusals)
+{
+    gr_collision_case c;
+    gr_error err = {0};
+    const double bad_speeds[] = {0.0, -1.0, NAN, INFINITY};
+    for (size_t i = 0; i < sizeof bad_speeds / sizeof bad_speeds[0]; i++) {
+        memset(&err, 0, sizeof err);
+        ck_assert_int_eq(gr_collision_case_oblique(bad_speeds[i], 30.0, 1.5e-3, &c, &err), GR_EINVAL);
+        ck_assert_msg(strstr(err.message, "--speed") && strstr(err.message, "> 0"), "speed %g: '%s'", bad_speeds[i],
+                      err.message);
+    }
+    const double bad_angles[] = {-1.0, 90.0, 120.0, NAN};
+    for (size_t i = 0; i < sizeof bad_angles / sizeof bad_angles[0]; i++) {
+        memset(&err, 0, sizeof err);
+        ck_assert_int_eq(gr_collision_case_oblique(1.0, bad_angles[i], 1.5e-3, &c, &err), GR_EINVAL);
+        ck_assert_msg(strstr(err.message, "--angle") && strstr(err.message, "[0, 90)"), "angle %g: '%s'", bad_angles[i],
+                      err.message);
+    }
+    /* initial spins without rotation, and non-finite spins */
+    ck_assert_int_eq(gr_collision_case_oblique(1.0, 30.0, SETS[1].radius, &c, &err), GR_OK);
+    gr_collide_setup s = make_setup(1, "tangential_dashpot", 0.6, 0.6, 0.0, false, 2, 0.0);
+    s.omega1 = 10.0;
+    gr_collide_result r;
+    memset(&err, 0, sizeof err);
+    ck_assert_int_eq(gr_collide_run(&s, &c, &r, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "--omega1") && strstr(err.message, "rotation"), "'%s'", err.message);
+    memset(&err, 0, sizeof err);
+    ck_assert_int_eq(gr_collide_reference(&s, &c, &r, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "rotation"), "'%s'", err.message);
+    s.contact.rotation = true;
+    s.omega2 = NAN;
+    memset(&err, 0, sizeof err);
+    ck_assert_int_eq(gr_collide_run(&s, &c, &r, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "--omega") && strstr(err.message, "finite"), "'%s'", err.message);
+}
+END_TEST
+
+static const double OBLIQUE_ANGLES[5] = {0.0, 20.0, 40.0, 60.0, 80.0};
+
+/* The oblique impact at speed v and angle in the engine (r) and in the CVODE reference (ref). */
+static void oblique_both(const gr_collide_setup *s, double v, double angle, gr_collide_result *r, gr_collide_result *ref)
+{
+    gr_collision_case c;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_collision_case_oblique(v, angle, s->radius, &c, &err), GR_OK);
+    ck_assert_msg(gr_collide_run(s, &c, r, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_collide_reference(s, &c, ref, &err) == GR_OK, "%s", err.message);
+}
+
+/* An elastic frictionless oblique impact conserves energy: eps_n = 1 and no tangential law (loop
+ * 0-4), or rotation with inert tangential laws (eps_t = 1 dashpot: 5-9; mu = 0 friction: 10-14)
+ * and spinning discs, whose spins must come out unchanged. The bound on the engine is the
+ * energy wobble of velocity Verlet on the harmonic contact, (w0 dt)^2 / 4 of the energy (the
+ * spring force is continuous at both ends of the contact, so nothing first order); the CVODE
+ * reference conserves it to its tolerance. */
+START_TEST(test_oblique_elastic)
+{
+    const double angle = OBLIQUE_ANGLES[_i % 5], v = 1.0;
+    const char *tangential = _i < 5 ? NULL : (_i < 10 ? "tangential_dashpot" : "sliding_friction");
+    gr_collide_setup s = make_setup(1, tangential, 1.0, 1.0, 0.0, false, 2, 0.0);
+    if (tangential) {
+        s.contact.rotation = true;
+        s.omega1 = 0.3 * v / s.radius;
+        s.omega2 = -0.7 * v / s.radius;
+    }
+    gr_collide_result r, ref;
+    oblique_both(&s, v, angle, &r, &ref);
+    const double w0 = sqrt(K_S / (0.5 * s.mass)), bound = 0.25 * (w0 * r.dt) * (w0 * r.dt);
+    ck_assert_msg(fabs(r.energy_loss) <= bound, "%s, %g deg: energy loss %.3e beyond the Verlet bound %.3e",
+                  tangential ? tangential : "no tangential law", angle, r.energy_loss, bound);
+    ck_assert_msg(fabs(ref.energy_loss) <= 1e-9, "reference: energy loss %.3e", ref.energy_loss);
+    if (tangential) {
+        ck_assert(r.omega1 == s.omega1 && r.omega2 == s.omega2);
+        ck_assert_msg(fabs(ref.omega1 - s.omega1) <= 1e-12 * fabs(s.omega1) && fabs(ref.omega2 - s.omega2) <= 1e-12 * fabs(s.omega2),
+                      "reference spins %.17g %.17g", ref.omega1, ref.omega2);
+    }
+    /* the outgoing normal velocity is reversed: eps_n = 1 up to the same wobble (amplitude: its root) */
+    ck_assert_msg(fabs(r.eps_n_measured - 1.0) <= 2.0 * sqrt(bound), "eps_n %.9f", r.eps_n_measured);
+}
+END_TEST
+
+/* Without a tangential law the tangential velocity is unchanged: the force is central, so the
+ * relative angular momentum r x g is conserved (exactly by velocity Verlet: each kick is along
+ * r), and at |r| = d again g'.t = g.t. The engine measures t at its last force-bearing step,
+ * within a step's turn of the line of centres, so |eps_t - 1| <= 2 |g| dt / d; the reference
+ * ends at |r| = d exactly. Damped normal law, eps_n = 0.6 and 0.9 (loop / 4), unclamped: the
+ * clamped law ends the contact where F_n vanishes, at |r| < d, where g'.t = g.t d / |r|. */
+START_TEST(test_oblique_tangential_unchanged)
+{
+    const double angle = OBLIQUE_ANGLES[1 + _i % 4], v = 1.0;
+    gr_collide_setup s = make_setup(1, NULL, _i < 4 ? 0.6 : 0.9, 0.6, 0.0, false, 2, 0.0);
+    gr_collide_result r, ref;
+    oblique_both(&s, v, angle, &r, &ref);
+    const double bound = 2.0 * v * r.dt / (2.0 * s.radius);
+    ck_assert_msg(fabs(r.eps_t_measured - 1.0) <= bound, "%g deg: eps_t %.12f, bound %.2e", angle, r.eps_t_measured, bound);
+    ck_assert_msg(fabs(ref.eps_t_measured - 1.0) <= 1e-9, "reference eps_t %.15f", ref.eps_t_measured);
+    ck_assert_msg(fabs(r.impact_angle - angle) <= 1e-9, "impact angle %.12f, asked %g", r.impact_angle, angle);
+    ck_assert_msg(r.eps_n_measured > 0.5 && r.eps_n_measured < 1.0, "eps_n %.9f", r.eps_n_measured);
+}
+END_TEST
+
+/* Initial spins with a tangential dashpot: the engine converges to the CVODE reference (which
+ * starts W = w1 + w2 at the given spins, an independent implementation of the same physics) at
+ * first order, the spins change by equal amounts (equal torques a F_t on both discs), and the
+ * contact point's tangential restitution is the law's eps_t whatever the spins were. Loop: 0-1
+ * spins against / with the impact's tangential motion, 2-3 the same at 500 steps per contact. */
+START_TEST(test_oblique_spins)
+{
+    const double v = 1.0, spins[2][2] = {{-0.4, 0.25}, {0.5, 0.3}};
+    gr_collide_setup s = make_setup(1, "tangential_dashpot", 0.6, 0.6, 0.0, false, 2, 0.0);
+    s.contact.rotation = true;
+    s.steps_per_contact = _i < 2 ? 50.0 : 500.0;
+    s.omega1 = spins[_i % 2][0] * v / s.radius;
+    s.omega2 = spins[_i % 2][1] * v / s.radius;
+    gr_collide_result r, ref;
+    oblique_both(&s, v, 60.0, &r, &ref);
+    const gr_contact_coeffs k = coeffs_of(&s);
+    const double h = r.dt / k.t_c, scale = v / s.radius;
+    ck_assert_msg(fabs((r.omega1 - s.omega1) - (r.omega2 - s.omega2)) <= 1e-9 * scale, "spins changed unequally");
+    ck_assert_msg(fabs(r.omega1 - ref.omega1) <= h * scale && fabs(r.omega2 - ref.omega2) <= h * scale,
+                  "spins %.9g %.9g vs the reference %.9g %.9g (dt/t_c = %.3g)", r.omega1, r.omega2, ref.omega1, ref.omega2, h);
+    for (int d = 0; d < 2; d++) {
+        ck_assert_msg(fabs(r.v1[d] - ref.v1[d]) <= h * v && fabs(r.v2[d] - ref.v2[d]) <= h * v, "velocities, component %d", d);
+    }
+    /* eps_t of the contact point: the law's 0.6 (reference: to its O(xi/d) geometry, xi/d ~ 2e-3) */
+    ck_assert_msg(fabs(ref.eps_t_measured - 0.6) <= 10.0 * ref.max_overlap / (2.0 * s.radius), "reference eps_t %.9f",
+                  ref.eps_t_measured);
+    ck_assert_msg(fabs(r.eps_t_measured - ref.eps_t_measured) <= (K_EDGE + 1.0) * fabs(log(0.6)) * h * 0.6,
+                  "eps_t %.9f vs the reference %.9f", r.eps_t_measured, ref.eps_t_measured);
+    ck_assert_msg(isnan(r.expected_loss) && isnan(ref.expected_loss), "no restitution law for spinning discs");
+    ck_assert_msg(r.energy_loss > 0.0 && r.energy_loss < 1.0, "energy loss %g", r.energy_loss);
+}
+END_TEST
+
 static Suite *collide_suite(void)
 {
     Suite *s = suite_create("collide");
@@ -858,6 +995,10 @@ static Suite *collide_suite(void)
     tcase_add_loop_test(obl, test_45_degrees, 0, 8);
     tcase_add_loop_test(obl, test_sliding_friction, 0, 6);
     tcase_add_loop_test(obl, test_reference_agreement, 0, 4);
+    tcase_add_test(obl, test_oblique_refusals);
+    tcase_add_loop_test(obl, test_oblique_elastic, 0, 15);
+    tcase_add_loop_test(obl, test_oblique_tangential_unchanged, 0, 8);
+    tcase_add_loop_test(obl, test_oblique_spins, 0, 4);
     suite_add_tcase(s, obl);
 
     TCase *inv = tcase_create("invariants");

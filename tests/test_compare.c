@@ -229,7 +229,8 @@ START_TEST(test_headline_reasons)
     snprintf(path, sizeof path, "%s/compare.csv", g_dir);
     const char *csv = slurp(path);
     ck_assert(!strstr(csv, "nan"));
-    ck_assert(strstr(csv, "model,integrator,kernel,status,T,T_err,T_note,tail_alpha,tail_alpha_err,tail_alpha_note,D_f,D_f_err,D_f_note"));
+    ck_assert(strstr(csv, "model,integrator,kernel,status,T,T_err,T_note,T_rot,T_rot_note,tail_alpha,tail_alpha_err,tail_alpha_note,D_f,"
+                            "D_f_err,D_f_note"));
     ck_assert(strstr(csv, "fit failed: fewer than 3 shells below k'"));
     snprintf(path, sizeof path, "%s/compare.json", g_dir);
     cJSON *j = gr_json_read(path, &err);
@@ -323,6 +324,47 @@ START_TEST(test_mixed_integrators)
 }
 END_TEST
 
+/* @rotation sets model.rotation = true (false without it, whatever the scene says); the table
+ * gives the spin's temperature of a rotating run and says "no rotation" for the others; a spec
+ * whose laws do not act at the contact point cannot rotate, and is refused before anything runs. */
+START_TEST(test_rotation_modifier)
+{
+    gr_compare_spec specs[2], bad;
+    gr_error err = {0};
+    int n;
+    ck_assert_int_eq(gr_compare_specs_parse("spring_dashpot+tangential_dashpot,spring_dashpot+tangential_dashpot@rotation", specs, 2,
+                                            &n, &err), GR_OK);
+    ck_assert(!specs[0].rotation && specs[1].rotation);
+    ck_assert_str_eq(specs[1].label, "spring_dashpot_tangential_dashpot_rotation");
+    ck_assert_int_eq(gr_compare_spec_parse("spring_dashpot+tangential_dashpot@rotation@rotation", &bad, &err), GR_EINVAL);
+    ck_assert(strstr(err.message, "twice") && strstr(err.message, "@rotation"));
+    char path[400];
+    snprintf(path, sizeof path, "%s/discs.ini", g_dir);
+    FILE *f = fopen(path, "w");
+    ck_assert_ptr_nonnull(f);
+    fprintf(f, "[system]\ndim = 2\nN = 60\nL = 0.03\n[placement]\nkind = uniform\nv0 = 0.3\n"
+               "[model]\nrotation = true\neps_n = 0.5\neps_t = 0.5\n[noise]\nD = 1e-8\n[integrator]\ndt = 1e-6\n"
+               "[run]\nwarmup = 0\nduration = 0.004\nsample_every = 1e-3\n[output]\nplots = false\nsnapshot_every = 0\n");
+    fclose(f);
+    for (int k = 0; k < 2; k++) {
+        gr_scene s;
+        ck_assert_msg(gr_compare_scene_load(&specs[k], path, NULL, 0, g_dir, &s, &err) == GR_OK, "%s", err.message);
+        ck_assert_int_eq(s.contact.rotation, k == 1); /* the scene's rotation = true is the spec's to decide */
+        gr_run_options opt = {0};
+        gr_run_result res;
+        ck_assert_msg(gr_run(&s, &opt, &res, &err) == GR_OK, "%s: %s", specs[k].text, err.message);
+    }
+    gr_compare_table *t = gr_compare_table_build(g_dir, path, 2, specs, 2);
+    ck_assert_str_eq(cell(t, "T_rot", 0), "n/a: no rotation");
+    ck_assert_msg(t->row[1].cell[1].value > 0.0 && isfinite(t->row[1].cell[1].value), "T_rot %s", cell(t, "T_rot", 1));
+    gr_compare_table_free(t);
+    ck_assert_int_eq(gr_compare_spec_parse("spring_dashpot@rotation", &bad, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "'spring_dashpot@rotation'") && strstr(err.message, "contact point"), "%s", err.message);
+    /* hard discs have the key themselves (rough discs, docs/event-driven.md) */
+    ck_assert_int_eq(gr_compare_spec_parse("hard_sphere@rotation", &bad, &err), GR_OK);
+}
+END_TEST
+
 /* The shared palette: eight distinct colours, each with a contrast of at least 3:1 on white
  * (WCAG relative luminance); neighbouring overlay styles differ in colour and dash type. */
 START_TEST(test_palette)
@@ -360,6 +402,7 @@ static Suite *compare_suite(void)
     tcase_add_test(tc, test_format);
     tcase_add_test(tc, test_headline_reasons);
     tcase_add_test(tc, test_mixed_integrators);
+    tcase_add_test(tc, test_rotation_modifier);
     tcase_add_test(tc, test_palette);
     suite_add_tcase(s, tc);
     return s;

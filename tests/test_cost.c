@@ -6,10 +6,12 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "granule/collide.h"
 #include "granule/cost.h"
+#include "granule/integrator.h"
 #include "granule/run.h"
 
 static void load(gr_scene *sc, const char *name, const char *const *sets, int n)
@@ -125,6 +127,7 @@ START_TEST(recommendation_is_the_largest_dt_within_tolerance)
         ck_assert(a.c[a.best].dt <= prev_dt);
         prev_dt = a.c[a.best].dt;
         ck_assert(!isfinite(a.predicted_wall)); /* not calibrated */
+        ck_assert_int_eq(a.best_option, -1);
     }
     gr_cost_request rq;
     gr_cost_request_default(&rq);
@@ -211,23 +214,62 @@ START_TEST(prediction_matches_a_real_run)
     ck_assert_int_ge(a.blocks, 8);
     ck_assert(a.predicted_wall > 0.0 && a.predicted_wall_err >= 0.0);
     ck_assert_double_eq_tol(a.simulated_seconds, 0.7, 1e-12);
+    /* Verlet and the hybrid at three windows were timed; the recommendation is the cheapest */
+    ck_assert_int_eq(a.n_options, 4);
+    ck_assert_str_eq(a.option[0].integrator, "verlet");
+    for (int k = 0; k < a.n_options; k++) {
+        ck_assert_msg(a.option[k].ok, "%s: %s", a.option[k].integrator, a.option[k].note);
+        ck_assert_int_ge(a.option[k].blocks, 8);
+        ck_assert(a.option[a.best_option].wall_per_simulated <= a.option[k].wall_per_simulated);
+        if (k) {
+            ck_assert_str_eq(a.option[k].integrator, "hybrid");
+            const double m = a.option[k].window / a.c[a.best].dt;
+            ck_assert_msg(fabs(m - round(m)) < 1e-9 && m >= 10.0, "window %g s = %g dt", a.option[k].window, m);
+        }
+    }
+    ck_assert_double_eq(a.wall_per_simulated, a.option[a.best_option].wall_per_simulated);
     char dir[] = "/tmp/granule-test-cost.XXXXXX";
     ck_assert_ptr_nonnull(mkdtemp(dir));
     snprintf(sc.out_dir, sizeof sc.out_dir, "%s/run", dir);
     sc.dt = a.c[a.best].dt;
     sc.force_dt = true;
+    if (a.option[a.best_option].window > 0.0) { /* run what was recommended */
+        sc.integrator = gr_integrator_find("hybrid");
+        sc.kick_interval = a.option[a.best_option].window;
+    }
     gr_run_options opt = {.force = true};
     gr_run_result res;
     const double t0 = now();
     ck_assert_msg(gr_run(&sc, &opt, &res, &err) == GR_OK, "%s", err.message);
     const double wall = now() - t0;
-    fprintf(stderr, "cost: predicted %.3g +- %.2g s, real run %.3g s (ratio %.3g)\n", a.predicted_wall,
-            a.predicted_wall_err, wall, wall / a.predicted_wall);
+    fprintf(stderr, "cost: %s: predicted %.3g +- %.2g s, real run %.3g s (ratio %.3g)\n",
+            a.option[a.best_option].integrator, a.predicted_wall, a.predicted_wall_err, wall, wall / a.predicted_wall);
     ck_assert_msg(wall > 0.5 * a.predicted_wall && wall < 2.0 * a.predicted_wall, "predicted %g s, ran %g s",
                   a.predicted_wall, wall);
     char cmd[1100];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     ck_assert_int_eq(system(cmd), 0);
+}
+END_TEST
+
+/* A scene the hybrid cannot run (rotating discs) is timed with Verlet alone; each hybrid option
+ * says why it was not timed, and Verlet is recommended. */
+START_TEST(hybrid_refused_is_said)
+{
+    const char *sets[] = {"system.N=200", "system.L=0.05", "model.rotation=true", "run.progress=false"};
+    gr_scene sc;
+    load(&sc, "rfm-2d.ini", sets, 4);
+    gr_cost_answer a = {0};
+    a.simulated_seconds = 1.0;
+    gr_error err = {0};
+    ck_assert_msg(gr_cost_calibrate(&sc, sc.dt, 0.3, &a, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_eq(a.best_option, 0);
+    ck_assert(a.option[0].ok && a.wall_per_simulated == a.option[0].wall_per_simulated);
+    ck_assert_int_eq(a.n_options, 4);
+    for (int k = 1; k < a.n_options; k++) {
+        ck_assert(!a.option[k].ok);
+        ck_assert_msg(strstr(a.option[k].note, "rotation"), "%s", a.option[k].note);
+    }
 }
 END_TEST
 
@@ -237,6 +279,7 @@ int main(void)
     TCase *tc = tcase_create("cost");
     tcase_set_timeout(tc, 600);
     tcase_add_test(tc, errors_are_the_collisions);
+    tcase_add_test(tc, hybrid_refused_is_said);
     tcase_add_test(tc, error_grows_with_dt);
     tcase_add_test(tc, recommendation_is_the_largest_dt_within_tolerance);
     tcase_add_test(tc, elastic_contact);

@@ -21,6 +21,15 @@
  * checks are replaced by engine checks against its two limits (spring_limits): sticking
  * (mu -> inf: an undamped tangential oscillator, eps_t = cos(w_t t_c)) and sliding (small mu: the
  * Coulomb law, eps_t = 1 - mu (1 + eps_n) v_n / v_t), and no NaN at the Coulomb limit.
+ * Rolling laws (GR_ROLLING_MODELS) join every rotating combination: the checks above (with the
+ * discs not spinning a rolling law must change nothing), and their own spin_loss law on head-on
+ * impacts of counter-rotating discs, rolling on and rolling arrested.
+ * Event rules (hard_sphere), in every mode of gr_model.variants (smooth eps_t, viscoelastic
+ * eps_n(v), rough with a constant Walton beta, Coulomb-limited beta_mu, rough viscoelastic), 1D
+ * and 2D: the loss equals the rule's own restitution law to rounding over speeds and angles,
+ * momentum and (applied directly) angular momentum are conserved, exchanging the particles
+ * changes nothing, the elastic settings (eps_n = eps_t = 1, beta = -1) and beta = +1 conserve
+ * energy, and extreme settings, grazing, slow and fast impacts give finite results.
  * A new model added to models/list.h is picked up here without editing this file.
  *
  * Particles: the RFM's discs of Table 2.2 (M = 3.53e-5 kg, r = 1.5 mm) with every model
@@ -36,6 +45,7 @@
 #include "granule/model.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
+#include "models/hard_sphere.h" /* the rough rule itself, for angular momentum */
 #include "test_env.h"
 
 #define MASS 3.53e-5
@@ -50,10 +60,14 @@ typedef struct combo {
     int clamp, dim;
     int rot; /* [model] rotation = true (a tangential law at the contact point) */
     const char *variant; /* the normal law's mode (gr_model.variants), NULL if it has one */
+    const gr_model *rolling; /* a rolling law (rotation kernels only), NULL if none */
 } combo;
 
 static combo combos[MAX_COMBOS];
 static int n_combos;
+/* the event rules' combinations (each rule's mode, 1D and 2D), checked by their own tests below */
+static combo events[MAX_COMBOS];
+static int n_events;
 
 /* every legal combination of the registry's soft laws */
 static void enumerate(void)
@@ -67,16 +81,33 @@ static void enumerate(void)
         for (int v = 0; v == 0 || (nm->variants && nm->variants[v]); v++) {
             const char *var = nm->variants ? nm->variants[v] : NULL;
             for (int clamp = 0; clamp < 2 && n_combos + 2 < MAX_COMBOS; clamp++) {
-                combos[n_combos++] = (combo){nm, NULL, clamp, 1, 0, var};
-                combos[n_combos++] = (combo){nm, NULL, clamp, 2, 0, var};
+                combos[n_combos++] = (combo){nm, NULL, clamp, 1, 0, var, NULL};
+                combos[n_combos++] = (combo){nm, NULL, clamp, 2, 0, var, NULL};
                 for (int b = 0; gr_models[b]; b++) {
                     const gr_model *tm = gr_models[b];
                     for (int rot = 0; rot <= (tm->contact_point ? 1 : 0); rot++) {
                         if (tm->kind == GR_MODEL_TANGENTIAL && n_combos < MAX_COMBOS) {
-                            combos[n_combos++] = (combo){nm, tm, clamp, 2, rot, var};
+                            combos[n_combos++] = (combo){nm, tm, clamp, 2, rot, var, NULL};
+                        }
+                        /* every rolling law with rotation */
+                        for (int r = 0; rot && tm->kind == GR_MODEL_TANGENTIAL && gr_models[r]; r++) {
+                            if (gr_models[r]->kind == GR_MODEL_ROLLING && n_combos < MAX_COMBOS) {
+                                combos[n_combos++] = (combo){nm, tm, clamp, 2, 1, var, gr_models[r]};
+                            }
                         }
                     }
                 }
+            }
+        }
+    }
+    n_events = 0;
+    for (int a = 0; gr_models[a]; a++) {
+        const gr_model *em = gr_models[a];
+        for (int v = 0; (em->kind & GR_MODEL_EVENT) && (v == 0 || (em->variants && em->variants[v])); v++) {
+            const char *var = em->variants ? em->variants[v] : NULL;
+            const int rot = var && strstr(var, "rotation=true") != NULL;
+            for (int dim = rot ? 2 : 1; dim <= 2 && n_events < MAX_COMBOS; dim++) {
+                events[n_events++] = (combo){em, NULL, 0, dim, rot, var, NULL};
             }
         }
     }
@@ -108,9 +139,10 @@ static gr_contact_params defaults_of(const combo *c)
 
 static const char *name_of(const combo *c, char *buf, size_t n)
 {
-    snprintf(buf, n, "%dd %s%s%s%s%s%s%s%s", c->dim, c->normal->name, c->variant ? "(" : "", c->variant ? c->variant : "",
+    snprintf(buf, n, "%dd %s%s%s%s%s%s%s%s%s%s", c->dim, c->normal->name, c->variant ? "(" : "", c->variant ? c->variant : "",
              c->variant ? ")" : "", c->clamp ? "[clamped]" : "", c->tangential ? "+" : "",
-             c->tangential ? c->tangential->name : "", c->rot ? "(rotation)" : "");
+             c->tangential ? c->tangential->name : "", c->rot ? "(rotation)" : "", c->rolling ? "+" : "",
+             c->rolling ? c->rolling->name : "");
     return buf;
 }
 
@@ -120,6 +152,7 @@ static gr_collide_setup setup_of(const combo *c, gr_contact_params p)
     gr_collide_setup_default(&s);
     s.normal = c->normal;
     s.tangential = c->tangential;
+    s.rolling = c->rolling;
     p.clamp = c->clamp;
     s.contact = p;
     s.mass = MASS;
@@ -139,8 +172,9 @@ static gr_collision_case impact(double speed, double angle)
 static bool coeffs_of(const gr_collide_setup *s, gr_contact_coeffs *k)
 {
     gr_error err = {0};
-    const gr_model *t = s->dim == 2 ? s->tangential : NULL;
-    return gr_contact_prepare(s->normal, t, &s->contact, 0.5 * s->mass, 0.0, k, &err) == GR_OK;
+    const gr_model *t = s->dim == 2 ? s->tangential : NULL, *r = s->dim == 2 ? s->rolling : NULL;
+    return gr_contact_prepare(s->normal, t, &s->contact, 0.5 * s->mass, 0.0, k, &err) == GR_OK &&
+           gr_contact_prepare_rolling(r, &s->contact, 0.5 * s->mass, 0.0, k, &err) == GR_OK;
 }
 
 /* the model's contact duration at this impact */
@@ -354,6 +388,9 @@ START_TEST(test_elastic)
     if (c->tangential && c->dim == 2) {
         apply_settings(&p, c->tangential->elastic);
     }
+    if (c->rolling) {
+        apply_settings(&p, c->rolling->elastic);
+    }
     gr_collide_setup s = setup_of(c, p);
     gr_contact_coeffs k;
     ck_assert_msg(coeffs_of(&s, &k), "%s: the elastic settings '%s' are refused", name, c->normal->elastic);
@@ -408,7 +445,7 @@ START_TEST(test_hard_cases)
     const combo *c = &combos[_i];
     char what[260], name[160];
     name_of(c, name, sizeof name);
-    const gr_model *laws[2] = {c->normal, c->dim == 2 ? c->tangential : NULL};
+    const gr_model *laws[3] = {c->normal, c->dim == 2 ? c->tangential : NULL, c->rolling};
     for (int m = 0; m < 2; m++) {
         for (int i = 0; laws[m] && i < laws[m]->n_params; i++) {
             const gr_param *d = &laws[m]->params[i];
@@ -434,7 +471,7 @@ START_TEST(test_hard_cases)
             }
         }
     }
-    for (int m = 0; m < 2; m++) {
+    for (int m = 0; m < 3; m++) {
         for (int e = 0; laws[m] && laws[m]->extremes && laws[m]->extremes[e]; e++) {
             gr_contact_params x = defaults_of(c);
             apply_settings(&x, laws[m]->extremes[e]);
@@ -469,6 +506,7 @@ static double pair_run(const combo *c, double cx, double cy, double out[4], doub
     sc.mass = MASS;
     sc.normal = c->normal;
     sc.tangential = c->dim == 2 ? c->tangential : NULL;
+    sc.rolling = c->rolling;
     sc.contact = defaults_of(c);
     sc.contact.clamp = c->clamp;
     sc.D = 0.0;
@@ -543,23 +581,202 @@ START_TEST(test_periodic_and_ledger)
 }
 END_TEST
 
+/* the combinations with a rolling law (their index in combos) */
+static int rolls[MAX_COMBOS];
+static int n_rolls;
+
+/* 7. a rolling law takes from the spins what its own law says: a head-on impact of
+ * counter-rotating discs (w1 = -w2: the contact point does not slip, so the tangential law does
+ * nothing and the rolling law acts alone), spinning fast (the law's torque all through the
+ * contact) and slowly (the relative rolling stops). The engine's normal impulse differs from the
+ * normal law's by O(dt / t_c) (docs/collision-accuracy.md): 0.5 dt / t_c relative. */
+START_TEST(test_rolling_law)
+{
+    const combo *c = &combos[rolls[_i]];
+    char what[300], name[160];
+    name_of(c, name, sizeof name);
+    gr_collide_setup s = setup_of(c, defaults_of(c));
+    gr_contact_coeffs k;
+    ck_assert_msg(coeffs_of(&s, &k), "%s: the defaults are refused", name);
+    const double inertia = k.q * MASS * RADIUS * RADIUS, r_eff = 0.5 * RADIUS, m12 = 0.5 * MASS;
+    for (int v = 0; v < n_speeds(); v += 2) {
+        const double speed = speeds[v];
+        const gr_normal_impact ni = k.normal_model->impact(&k, speed);
+        const double p_n = m12 * ni.impulse_abs * speed;
+        /* the relative spin the contact just stops: J_max = I dw / 2 = mu_r r_eff p_n (law-free
+         * guess from the full-torque value: the law decides which regime it is) */
+        const double w_stop = c->rolling->spin_loss(&k, p_n, r_eff, inertia, 1e30) / (1e30 * inertia);
+        const double ws[2] = {20.0 * w_stop, 0.3 * w_stop};
+        for (int q = 0; q < 2; q++) {
+            s.omega1 = ws[q];
+            s.omega2 = -ws[q];
+            snprintf(what, sizeof what, "%s, %g m/s head-on, w1 = -w2 = %.4g rad/s", name, speed, ws[q]);
+            gr_collision_case cs = impact(speed, 0.0);
+            s.dt = duration_of(&k, speed, 0.0) / STEPS;
+            gr_collide_result r;
+            gr_error err = {0};
+            ck_assert_msg(gr_collide_run(&s, &cs, &r, &err) == GR_OK, "%s: %s", what, err.message);
+            const double e0 = 0.5 * m12 * speed * speed + inertia * ws[q] * ws[q];
+            const double got = r.spin_loss * e0, want = c->rolling->spin_loss(&k, p_n, r_eff, inertia, 2.0 * ws[q]);
+            VERBOSE("%s: spin loss %.8e J, the law %.8e J (rel %.2e)\n", what, got, want, got / want - 1.0);
+            ck_assert_msg(want > 0.0 && fabs(got - want) <= 0.5 / STEPS * want, "%s: spin loss %.10e J, the law %.10e J", what,
+                          got, want);
+            ck_assert_msg(r.omega1 + r.omega2 == 0.0, "%s: the contact point slipped (w1 + w2 = %g)", what, r.omega1 + r.omega2);
+            ck_assert_msg(r.momentum_error < 1e-12, "%s: momentum error %.3e", what, r.momentum_error);
+        }
+    }
+}
+END_TEST
+
+/* ---------- event rules (instantaneous collisions; every mode in gr_model.variants) ---------- */
+
+/* the event rule's collision as `granule collide` applies it; false if refused */
+static bool event_collide(const combo *c, gr_contact_params p, double speed, double angle, int swap, gr_collide_result *r,
+                          gr_error *err)
+{
+    gr_collide_setup s = setup_of(c, p);
+    gr_collision_case cs = impact(speed, angle);
+    if (swap) {
+        gr_collision_case sw = {{-cs.x2[0], -cs.x2[1]}, {-cs.v2[0], -cs.v2[1]}, {-cs.x1[0], -cs.x1[1]}, {-cs.v1[0], -cs.v1[1]}};
+        cs = sw;
+    }
+    return gr_collide_run(&s, &cs, r, err) == GR_OK;
+}
+
+/* 8. the rule follows its own restitution law (eps_n or eps_n(v); eps_t, or the contact point's
+ * -beta, Coulomb-limited, with the spins' share m_t / m12) exactly, conserves momentum, is
+ * symmetric under exchanging the particles; and, applied directly, conserves angular momentum
+ * (orbital about the origin + spins) */
+START_TEST(test_event_rule)
+{
+    const combo *c = &events[_i];
+    char what[300], name[160];
+    name_of(c, name, sizeof name);
+    const gr_contact_params p = defaults_of(c);
+    gr_collide_setup s = setup_of(c, p);
+    gr_contact_coeffs k;
+    ck_assert_msg(coeffs_of(&s, &k), "%s: the defaults are refused", name);
+    for (int a = 0; a < (c->dim == 2 ? 3 : 1); a++) {
+        for (int v = 0; v < n_speeds(); v++) {
+            snprintf(what, sizeof what, "%s, %g m/s at %g deg", name, speeds[v], angles[a]);
+            gr_collide_result r, rs;
+            gr_error err = {0};
+            ck_assert_msg(event_collide(c, p, speeds[v], angles[a], 0, &r, &err), "%s: %s", what, err.message);
+            const double want = gr_contact_expected_loss(&k, speeds[v], angles[a]);
+            VERBOSE("%s: loss %.15f, the rule's law %.15f, spins %g %g\n", what, r.energy_loss, want, r.omega1, r.omega2);
+            ck_assert_msg(fabs(r.energy_loss - want) <= 1e-12, "%s: loss %.17g, the rule's law %.17g", what, r.energy_loss, want);
+            ck_assert_msg(r.momentum_error < 1e-12, "%s: momentum error %.3e", what, r.momentum_error);
+            if (c->rot && a > 0) {
+                ck_assert_msg(r.omega1 != 0.0 && r.omega1 == r.omega2, "%s: spins %g %g", what, r.omega1, r.omega2);
+            }
+            ck_assert_msg(event_collide(c, p, speeds[v], angles[a], 1, &rs, &err), "%s: %s", what, err.message);
+            ck_assert_msg(fabs(rs.energy_loss - r.energy_loss) <= 1e-12, "%s: loss %.17g, exchanged %.17g", what,
+                          r.energy_loss, rs.energy_loss);
+            ck_assert_msg(fabs(rs.omega1 - r.omega2) <= 1e-9 * fabs(r.omega2) + 1e-300 &&
+                              fabs(rs.omega2 - r.omega1) <= 1e-9 * fabs(r.omega1) + 1e-300,
+                          "%s: spins %g %g, exchanged %g %g", what, r.omega1, r.omega2, rs.omega2, rs.omega1);
+        }
+    }
+    if (c->rot) {
+        /* angular momentum of the rough rule, discs touching at (0, 0) and d n, with spins */
+        const double M = MASS, R = RADIUS, I = k.q * M * R * R;
+        for (int a = 0; a < 3; a++) {
+            const double th = (angles[a] + 10.0) * M_PI / 180.0, nx = cos(th), ny = sin(th);
+            double v1x = 0.3, v1y = 0.05, v2x = -0.1, v2y = 0.02, w1 = 40.0, w2 = -15.0, de_n, de_t;
+            const double r2x = DIAM * nx, r2y = DIAM * ny;
+            const double l0 = M * (r2x * v2y - r2y * v2x) + I * (w1 + w2);
+            const double eps = k.normal_model->impact(&k, fabs((v1x - v2x) * nx + (v1y - v2y) * ny)).eps_n;
+            gr_event_collide_rough(M, k.q, R, eps, k.law_t[1], k.law_t[2], nx, ny, &v1x, &v1y, &v2x, &v2y, &w1, &w2, &de_n,
+                                   &de_t);
+            const double l1 = M * (r2x * v2y - r2y * v2x) + I * (w1 + w2);
+            const double scale = M * DIAM * 0.3 + I * 55.0;
+            ck_assert_msg(fabs(l1 - l0) <= 1e-13 * scale, "%s: angular momentum %.17g -> %.17g", name, l0, l1);
+        }
+    }
+}
+END_TEST
+
+/* 9. the elastic settings (eps_n = 1, eps_t = 1, beta = -1, no viscous loss) conserve energy, and
+ * so do perfectly rough discs (beta = +1) */
+START_TEST(test_event_elastic)
+{
+    const combo *c = &events[_i];
+    char what[300], name[160];
+    name_of(c, name, sizeof name);
+    for (int rough = 0; rough <= c->rot; rough++) {
+        gr_contact_params p = defaults_of(c);
+        apply_settings(&p, c->normal->elastic);
+        if (rough) {
+            apply_settings(&p, "beta=1");
+        }
+        for (int a = 0; a < (c->dim == 2 ? 2 : 1); a++) {
+            snprintf(what, sizeof what, "%s elastic%s, at %g deg", name, rough ? " (beta = 1)" : "", a ? 45.0 : 0.0);
+            gr_collide_result r;
+            gr_error err = {0};
+            ck_assert_msg(event_collide(c, p, 0.1, a ? 45.0 : 0.0, 0, &r, &err), "%s: %s", what, err.message);
+            ck_assert_msg(fabs(r.energy_loss) <= 1e-12, "%s: loss %.3e", what, r.energy_loss);
+        }
+    }
+}
+END_TEST
+
+/* 10. hard cases: the smallest eps_n and beta the descriptors allow, the strongest Coulomb limit,
+ * grazing, slow and fast impacts give finite results or a clean refusal */
+START_TEST(test_event_hard_cases)
+{
+    const combo *c = &events[_i];
+    char what[300], name[160];
+    name_of(c, name, sizeof name);
+    static const char *const extremes[] = {"eps_n=1e-9", "eps_t=0", "beta=-0.999999", "beta=1 beta_mu=1e9", "beta=1 beta_mu=1e-9",
+                                           "visco_A=1", NULL};
+    static const double hard[][2] = {{0.1, 89.9}, {1e-5, 0.0}, {10.0, 30.0}, {10.0, 89.99}};
+    for (int e = -1; e < 0 || extremes[e]; e++) {
+        gr_contact_params p = defaults_of(c);
+        if (e >= 0) {
+            apply_settings(&p, extremes[e]);
+        }
+        for (int h = 0; h < 4; h++) {
+            if (c->dim == 1 && hard[h][1] != 0.0) {
+                continue;
+            }
+            snprintf(what, sizeof what, "%s, %s, %g m/s at %g deg", name, e >= 0 ? extremes[e] : "defaults", hard[h][0], hard[h][1]);
+            gr_collide_result r;
+            gr_error err = {0};
+            if (!event_collide(c, p, hard[h][0], hard[h][1], 0, &r, &err)) {
+                ck_assert_msg(err.message[0] != '\0', "%s: refused without a message", what);
+                continue;
+            }
+            ck_assert_msg(isfinite(r.energy_loss) && isfinite(r.eps_n_measured) && isfinite(r.omega1) && isfinite(r.omega2),
+                          "%s: loss %g eps_n %g spins %g %g", what, r.energy_loss, r.eps_n_measured, r.omega1, r.omega2);
+            ck_assert_msg(r.energy_loss >= -1e-12 && r.energy_loss <= 1.0 + 1e-12, "%s: loss %.17g", what, r.energy_loss);
+        }
+    }
+}
+END_TEST
+
 /* 6. the suite sees the registry: every soft normal law and every tangential law is in a combo */
 START_TEST(test_registry_covered)
 {
     for (int m = 0; gr_models[m]; m++) {
         const gr_model *md = gr_models[m];
+        int seen = 0;
         if (md->kind & GR_MODEL_EVENT) {
             ck_assert_msg(md->impact && md->restitution_t, "%s: an event rule needs its restitution law", md->name);
+            for (int i = 0; i < n_events; i++) {
+                seen += events[i].normal == md;
+            }
+            ck_assert_msg(seen > 0, "event rule %s is in no combination", md->name);
             continue;
         }
-        int seen = 0;
         for (int i = 0; i < n_combos; i++) {
-            seen += combos[i].normal == md || combos[i].tangential == md;
+            seen += combos[i].normal == md || combos[i].tangential == md || combos[i].rolling == md;
         }
         ck_assert_msg(seen > 0, "model %s is in no combination", md->name);
         ck_assert_msg(md->elastic && md->elastic[0], "%s: no elastic settings", md->name);
         if (md->kind & GR_MODEL_NORMAL) {
             ck_assert_msg(md->impact, "%s: a normal law needs its impact (restitution law)", md->name);
+        } else if (md->kind & GR_MODEL_ROLLING) {
+            ck_assert_msg(md->spin_loss, "%s: a rolling law needs spin_loss", md->name);
         } else {
             ck_assert_msg(md->restitution_t || may_lack_reference(md), "%s: a tangential law needs restitution_t",
                           md->name);
@@ -583,6 +800,16 @@ static Suite *suite(void)
     tcase_add_loop_test(tc, test_elastic, 0, n_combos);
     tcase_add_loop_test(tc, test_hard_cases, 0, n_combos);
     tcase_add_loop_test(tc, test_periodic_and_ledger, 0, n_combos);
+    n_rolls = 0;
+    for (int i = 0; i < n_combos; i++) {
+        if (combos[i].rolling) {
+            rolls[n_rolls++] = i;
+        }
+    }
+    tcase_add_loop_test(tc, test_rolling_law, 0, n_rolls);
+    tcase_add_loop_test(tc, test_event_rule, 0, n_events);
+    tcase_add_loop_test(tc, test_event_elastic, 0, n_events);
+    tcase_add_loop_test(tc, test_event_hard_cases, 0, n_events);
     tcase_set_timeout(tc, 300);
     suite_add_tcase(s, tc);
     return s;

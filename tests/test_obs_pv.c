@@ -261,7 +261,8 @@ START_TEST(gaussian_1d_matches_density_and_alpha_2)
     csv c;
     read_csv("pv.csv", &c);
     ck_assert_int_eq(c.rows, 400);
-    ck_assert_str_eq(c.columns, "v,density,density_error,counts,v_lo,v_hi,v_over_vrms,density_scaled,fit_stretched,fit_crossover");
+    ck_assert_str_eq(c.columns, "v,density,density_error,counts,v_lo,v_hi,v_over_vrms,density_scaled,fit_stretched,fit_crossover,"
+                                  "fit_crossover_log");
     /* velocities relative to the frame mean: each is N(0, sigma^2 (1 - 1/n)) */
     mix m = {sigma * sqrt(1.0 - 1.0 / n), 0.0};
     int dof;
@@ -530,6 +531,17 @@ START_TEST(crossover_fit_recovers_vr_vc)
     ck_assert_double_eq_tol(num(xo, "v_A"), fvr * fvr / fvc, 1e-12);
     /* Table 5.3: P(v_c)/P(0) = 0.313 for v_c/v_r = 1.524 */
     ck_assert_msg(fabs(num(xo, "P_vc_over_P0") - 0.313) < 0.03, "P(v_c)/P(0) = %g", num(xo, "P_vc_over_P0"));
+    /* the fit on log axes (equal weights on ln X) recovers the same P_0: on data that follow (5.32)
+     * the two weightings differ by their noise only; its bins of 50 counts carry 14 % noise on ln X,
+     * so its v_c is looser */
+    cJSON *xl = cJSON_GetObjectItem(pv, "crossover_log");
+    ck_assert(cJSON_IsTrue(cJSON_GetObjectItem(xl, "converged")));
+    double lvr = num(xl, "v_r"), lvc = num(xl, "v_c");
+    ck_assert_msg(fabs(lvr / vr - 1.0) < 0.03, "log fit: v_r %g +- %g, true %g", lvr, num(xl, "v_r_err"), vr);
+    ck_assert_msg(fabs(lvc / vc - 1.0) < 0.1, "log fit: v_c %g +- %g, true %g", lvc, num(xl, "v_c_err"), vc);
+    ck_assert_msg(fabs(lvr - vr) < 4.0 * num(xl, "v_r_err") && fabs(lvc - vc) < 4.0 * num(xl, "v_c_err"),
+                  "log fit errors too small: v_r %g +- %g, v_c %g +- %g", lvr, num(xl, "v_r_err"), lvc, num(xl, "v_c_err"));
+    ck_assert_double_eq_tol(num(xl, "P_vc_over_P0"), exp(-0.5 * (lvc / lvr) * (lvc / lvr)), 1e-12);
     free(x.cdf);
     cJSON_Delete(root);
     gr_obs_pv.destroy(st);
@@ -620,7 +632,8 @@ START_TEST(files_and_summary)
                                  "tail.alpha_halfwidth", "tail.alpha_best", "tail.chi2_red", "tail.v0", "tail.A",
                                  "tail.free.alpha", "tail.free.alpha_err", "tail.free.v0", "tail.free.chi2_red",
                                  "crossover.v_r", "crossover.v_c", "crossover.v_c_over_v_r", "crossover.P_vc_over_P0",
-                                 "crossover.v_A", "crossover.chi2_red", "moon.C_alpha_2", "moon.C_alpha_1_5",
+                                 "crossover.v_A", "crossover.chi2_red", "crossover_log.v_r", "crossover_log.v_c",
+                                 "crossover_log.v_c_over_v_r", "crossover_log.P_vc_over_P0", "moon.C_alpha_2", "moon.C_alpha_1_5",
                                  "moon.C_alpha_1_16", "speed.rms"};
     for (size_t k = 0; k < sizeof tail_fields / sizeof tail_fields[0]; k++) {
         ck_assert_msg(isfinite(num(pv, tail_fields[k])), "pv.%s missing", tail_fields[k]);

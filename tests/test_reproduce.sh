@@ -55,6 +55,56 @@ if [[ -d $tmp/results/ch6-cascade ]]; then
     check test "$(grep -c "^cascade," "$tmp/results/ch6-cascade/fig6.3_positions.csv")" -eq 400
     check test -s "$tmp/results/ch6-cascade/fig6.3_data.png"
 fi
+# Figs. 5.12-5.13 (kind spm): every run's SPM analysis in the data CSV, the P(v) blocks of the
+# figures, both figures; a result set restored elsewhere (no run tables, only the archived series)
+# gives the same rows
+if [[ -d $tmp/results/ch4-structure ]]; then
+    d=$tmp/results/ch4-structure
+    check python3 - "$d" <<'PY'
+import csv, json, os, sys
+d = sys.argv[1]
+ids = ["fig4.10-tail", "fig5.12-C", "fig5.12-predicted", "fig5.12", "fig5.12-free", "fig5.13", "fig5.13-P0", "fig5.13-A0"]
+res = {r["id"]: r for r in json.load(open(os.path.join(d, "results.json")))["results"]}
+ok = all(i in res and res[i]["kind"] == "spm" and len(res[i]["rows"]) == 2 for i in ids)
+cols = ["group", "seed", "D_f", "C", "alpha", "S_predicted", "S", "S_error", "S_over_predicted", "A0_over_P0", "slope_P0",
+        "slope_A0", "v_lo", "v_hi", "fit_points", "decades", "chi2_red_531", "A0", "P0", "alpha_fit", "h_fit", "pl_l_lo", "pl_l_hi",
+        "pl_points"]
+for i in ids:
+    rows = list(csv.DictReader(open(os.path.join(d, i + "_data.csv"))))
+    ok &= len(rows) == 4 and all(c in rows[0] for c in cols)
+    ok &= any(r[res[i]["y"]] not in ("", "nan") for r in rows)  # the runs give the quantity, not necessarily right
+    tail = open(os.path.join(d, i + "_tail.dat")).read()
+    ok &= tail.startswith('"N+L=') and len(tail.splitlines()) > 20
+    ok &= os.path.getsize(os.path.join(d, i + "_data.png")) > 0
+fixed = list(csv.DictReader(open(os.path.join(d, "fig5.12_data.csv"))))
+ok &= all(r["D_f"] == "1.63" and abs(float(r["alpha_fit"]) - 0.9717) < 1e-3 for r in fixed)
+expo = list(csv.DictReader(open(os.path.join(d, "fig5.13_data.csv"))))
+ok &= all(r["alpha_fit"] == "1" and r["h_fit"] == "0" for r in expo if r["alpha_fit"] not in ("", "0"))
+if not ok:
+    print("spm results incomplete")
+sys.exit(0 if ok else 1)
+PY
+    cp -r "$d" "$tmp/spm-restored"
+    "$granule" reproduce ch4-structure --out "$tmp/spm-elsewhere" --results "$tmp/spm-restored" --jobs 1 >/dev/null 2>"$tmp/spm-restored.err"
+    check test $? -eq 0
+    check grep -q "finished points restored" "$tmp/spm-restored.err"
+    check test ! -e "$tmp/spm-elsewhere/ch4-structure/quick/runs/p0000/pv.csv"
+    check python3 - "$d" "$tmp/spm-restored" <<'PY'
+import csv, os, sys
+a, b = sys.argv[1:3]
+ok = True
+for i in ["fig4.10-tail", "fig5.12", "fig5.13-A0"]:
+    ra, rb = (list(csv.DictReader(open(os.path.join(x, i + "_data.csv")))) for x in (a, b))
+    for x, y in zip(ra, rb):
+        for k in ["D_f", "C", "S", "slope_A0"]:
+            u, v = float(x[k] or "nan"), float(y[k] or "nan")
+            same = (u != u and v != v) or abs(u - v) <= 1e-3 * abs(u)
+            if not same:
+                print("restored", i, x["group"], x["seed"], k, u, v); ok = False
+    ok &= len(ra) == len(rb) == 4
+sys.exit(0 if ok else 1)
+PY
+fi
 
 # the page: one section per campaign, every thesis value of every row on it
 "$granule" reproduce --page --results-root "$tmp/results" --output "$tmp/reproduction.md" >/dev/null
@@ -124,6 +174,15 @@ check test $? -eq 2
 "$granule" reproduce $killed --fidelity medium >/dev/null 2>&1
 check test $? -eq 2
 check "$granule" reproduce table3.1 --help
+# an spm result with an unknown quantity, a D_f out of range, an unknown tail form: refused, naming
+# the file, the key and what is allowed
+for bad in "y = Sx|y = Sx: allowed D_f, C, alpha" "df = 2.5|df = 2.5: expected D_f in (1, 2)" "tail = gauss|tail = gauss: allowed 5.31, exponential"; do
+    printf '[campaign]\ntitle = t\nscene = rfm-2d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 100\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 100\n[result r1]\nkind = spm\ny = S\n%s\n' "${bad%%|*}" >"$tmp/bad-spm.ini"
+    "$granule" reproduce "$tmp/bad-spm.ini" --out "$tmp/bad-spm-out" >/dev/null 2>"$tmp/bad-spm.err"
+    check test $? -eq 2
+    check grep -q "bad-spm.ini.*\[result r1\].*${bad#*|}" "$tmp/bad-spm.err"
+    check test ! -e "$tmp/bad-spm-out"
+done
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

@@ -23,6 +23,7 @@
 #include "granule/scene.h"
 #include "granule/sim.h"
 #include "granule/status.h"
+#include "io/scene_json.h"
 
 /* ---------- a fresh temporary folder per test ---------- */
 
@@ -115,6 +116,45 @@ static char *slurp(const char *path)
     fclose(f);
     return buf;
 }
+
+/* A run recorded by an older granule (its scene JSON lacks keys added since, at their defaults)
+ * ran the same physics; a changed value, a new key away from its default or a key granule no
+ * longer has did not (sweeps and campaigns resume across versions, src/cli/sweep_point.c). */
+START_TEST(recorded_scene_compatibility)
+{
+    const char *path = write_scene("[system]\ndim = 2\nN = 50\nL = 0.05\n[model]\ntangential = tangential_dashpot\n");
+    gr_scene s;
+    gr_error err = {0};
+    ck_assert_msg(gr_scene_load(&s, path, NULL, 0, &err) == GR_OK, "%s", err.message);
+    char why[400] = "";
+    char *text = cJSON_PrintUnformatted(gr_scene_to_json(&s)); /* leaked object: test only */
+    cJSON *rec = cJSON_Parse(text);
+    ck_assert_msg(gr_scene_json_compatible(rec, &s, why, sizeof why), "%s", why);
+    /* an older run: no rotation keys yet (they are at their defaults now), another output folder */
+    cJSON *m = cJSON_GetObjectItem(rec, "model");
+    cJSON_DeleteItemFromObject(m, "rotation");
+    cJSON_DeleteItemFromObject(m, "inertia_factor");
+    cJSON_ReplaceItemInObject(cJSON_GetObjectItem(rec, "output"), "dir", cJSON_CreateString("elsewhere"));
+    ck_assert_msg(gr_scene_json_compatible(rec, &s, why, sizeof why), "%s", why);
+    /* the same older run against a scene that rotates: not the same physics */
+    s.contact.rotation = true;
+    ck_assert(!gr_scene_json_compatible(rec, &s, why, sizeof why));
+    ck_assert_msg(strstr(why, "not its default"), "%s", why); /* [placement] omega0 or [model] rotation */
+    s.contact.rotation = false;
+    /* a changed value */
+    cJSON_ReplaceItemInObject(m, "eps_n", cJSON_CreateNumber(0.3));
+    ck_assert(!gr_scene_json_compatible(rec, &s, why, sizeof why));
+    ck_assert_msg(strstr(why, "[model] eps_n was 0.3"), "%s", why);
+    /* a key granule no longer has */
+    cJSON_ReplaceItemInObject(m, "eps_n", cJSON_CreateNumber(s.contact.eps_n));
+    cJSON_AddNumberToObject(m, "warp", 9);
+    ck_assert(!gr_scene_json_compatible(rec, &s, why, sizeof why));
+    ck_assert_msg(strstr(why, "warp") && strstr(why, "no longer"), "%s", why);
+    ck_assert(!gr_scene_json_compatible(NULL, &s, why, sizeof why));
+    cJSON_Delete(rec);
+    cJSON_free(text);
+}
+END_TEST
 
 /* ---------- refusals ---------- */
 
@@ -1022,6 +1062,7 @@ static Suite *scene_suite(void)
     tcase_add_test(load, unused_model_key_warns);
     tcase_add_test(load, docs_scenes_load);
     tcase_add_test(load, load_buffer_matches_file);
+    tcase_add_test(load, recorded_scene_compatibility);
     suite_add_tcase(s, load);
 
     TCase *sim = tcase_create("sim");

@@ -5,14 +5,25 @@
 #ifndef GRANULE_CAMPAIGN_H
 #define GRANULE_CAMPAIGN_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 
 #include "granule/status.h"
 
 #define GR_CAMPAIGN_MAX_LINES 64
-#define GR_CAMPAIGN_MAX_RESULTS 12
+#define GR_CAMPAIGN_MAX_RESULTS 20
 #define GR_CAMPAIGN_MAX_VARY 8
+
+/* A thesis value quoted without an error that ours equals to 1e-4 relative is exact by
+ * construction (Table 3.1's zeta_1 = 1: the fit reproduces it to rounding, ~1e-6): a z of our
+ * rounding against no error would mean nothing, so there is none and the page says "exact". */
+#define GR_CAMPAIGN_EXACT_REL 1e-4
+static inline bool gr_campaign_exact_match(double value, double thesis, double thesis_error)
+{
+    return !(thesis_error > 0.0) && isfinite(value) && isfinite(thesis) &&
+           fabs(value - thesis) <= GR_CAMPAIGN_EXACT_REL * fabs(thesis);
+}
 
 typedef enum { GR_FIDELITY_QUICK = 0, GR_FIDELITY_FULL = 1 } gr_fidelity;
 
@@ -27,8 +38,13 @@ typedef enum { GR_FIDELITY_QUICK = 0, GR_FIDELITY_FULL = 1 } gr_fidelity;
  *            summarised by the slope of a power law over [x_min, x_max];
  * CASCADE    y averaged over seeds as MEAN (the RFM's D_f of S(k)), beside the same S(k) analysis of
  *            discs placed from `configurations` multiplicative-cascade fields (UCP, 256 x 256, the
- *            runs' N, L and radius; Fig. 6.3), and both configurations side by side. */
-typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING, GR_RESULT_RISE, GR_RESULT_CURVE, GR_RESULT_CASCADE } gr_result_kind;
+ *            runs' N, L and radius; Fig. 6.3), and both configurations side by side;
+ * SPM        the Single Particle Model's prediction of the P(v) tail (5.27-5.31) from each run's free
+ *            paths against the run's P(v) (Figs. 5.12-5.13): y names the quantity reported, one of
+ *            GR_CAMPAIGN_SPM_QUANTITIES; `df` fixes D_f (0: the free 4.25 fit of the run). */
+typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING, GR_RESULT_RISE, GR_RESULT_SETTLE, GR_RESULT_CURVE, GR_RESULT_CASCADE,
+               GR_RESULT_SPM } gr_result_kind;
+#define GR_CAMPAIGN_SPM_QUANTITIES "D_f, C, alpha, S_predicted, S, S_over_predicted, A0_over_P0, slope_P0, slope_A0"
 
 typedef struct gr_campaign_result {
     char id[32];          /* e.g. "fig3.2", "table3.1" */
@@ -47,12 +63,15 @@ typedef struct gr_campaign_result {
     char axes[16];        /* CURVE: the figure's axes, "loglog" (default), "linlog" (log y) or "linear" */
     char overlay[32];     /* CURVE: "" or "bisection": beside every curve the uniform bisection process's
                              P_n(x) = (-ln x)^(n-1)/(n-1)! (3.36), n = log2 N, no parameter fitted */
-    double x_min, x_max;  /* POWER_LAW: fit window */
+    double x_min, x_max;  /* POWER_LAW: fit window; SPM: the P(v) tail window in v / v_rms */
     char by[256];         /* POWER_LAW: comma-separated keys that label a fit */
     int m_lo, m_hi;       /* moments: m = m_lo..m_hi (0 = no {m}) */
     bool per_m;           /* report exponent / m (Fig. 3.5) */
     double period;        /* RUNNING: seconds per period mean */
     int configurations;   /* CASCADE: cascade placements averaged (default 20) */
+    double df;            /* SPM: D_f fixed for C, alpha and h (0: the run's free 4.25 fit) */
+    bool tail_exponential; /* SPM: fit P(v)'s tail with A0 exp(-S |v|) (alpha = 1, h = 0: the thesis's
+                              A0 of Fig. 5.13) instead of 5.31 at the predicted alpha and h */
     char thesis[2048];    /* "GROUP: value +- error; ..." (GROUP as in results.csv) */
     char thesis_source[256];
     char note[2048];      /* what a reader should know (shown on the page) */

@@ -18,9 +18,17 @@ typedef struct gr_collision_case {
 /* Collision `number` (1-4) of Table 2.1 for particles of the given radius. */
 int gr_collision_case_table21(int number, double radius, gr_collision_case *out, gr_error *err);
 
+/* An oblique impact (2D): particle 2 at rest, particle 1 approaching with relative speed `speed`
+ * (m/s, > 0) at `angle_deg` in [0, 90) degrees between -g and the line of centres at first touch,
+ * which is the x axis (n = (1, 0) at impact, so the outgoing normal and tangential velocities are
+ * the x and y components); the pair starts r/2 apart along the normal. Refused out of range,
+ * naming the flag (--speed, --angle) and the allowed range. */
+int gr_collision_case_oblique(double speed, double angle_deg, double radius, gr_collision_case *out, gr_error *err);
+
 typedef struct gr_collide_setup {
     const gr_model *normal;     /* spring_dashpot (or hard_sphere once event rules exist) */
     const gr_model *tangential; /* NULL, tangential_dashpot or sliding_friction */
+    const gr_model *rolling;    /* NULL or rolling_friction (needs contact.rotation) */
     gr_contact_params contact;
     double mass;     /* of each particle, kg (Table 2.1: 1 kg) */
     double radius;   /* m */
@@ -31,22 +39,30 @@ typedef struct gr_collide_setup {
     double phase;    /* in [0, 1): where in a time step the contact begins (averaging over it
                         removes the discretisation's phase noise) */
     double ref_rtol; /* relative tolerance of the CVODE reference (default 1e-12) */
+    double omega1, omega2; /* initial angular velocities, rad/s counterclockwise (default 0;
+                              nonzero needs rotation: [model] rotation = true) */
 } gr_collide_setup;
 
 void gr_collide_setup_default(gr_collide_setup *s);
 
 typedef struct gr_collide_result {
     double energy_loss;    /* 1 - |g'|^2 / |g|^2, g = relative velocity before, g' after; with
-                              rotation 1 - E'/E, E = m12 |g|^2 / 2 + I (w1^2 + w2^2) / 2 */
+                              rotation 1 - E'/E, E = m12 |g|^2 / 2 + I (w1^2 + w2^2) / 2 (the
+                              spins before and after) */
     double expected_loss;  /* (1 - eps_n^2) cos^2(a) + (1 - eps_t,eff^2) sin^2(a), a = impact angle;
-                              1 - eps^2 head-on (2.13), 1 - (eps_n^2+eps_t^2)/2 at 45 deg (2.14) */
+                              1 - eps^2 head-on (2.13), 1 - (eps_n^2+eps_t^2)/2 at 45 deg (2.14);
+                              NaN when the discs spin before the impact (no such law) */
     double contact_time;   /* s, while the contact force acted */
     double max_overlap;    /* m */
     double eps_n_measured; /* -g'.n' / g.n with n at the start (n') and end of contact */
     double eps_t_measured; /* g'.t' / g.t (NaN for a head-on collision); with rotation that of
-                              the contact point, (g'.t' + r (w1' + w2')) / g.t */
+                              the contact point, (g'.t' + r (w1' + w2')) / (g.t + r (w1 + w2)) */
     double omega1, omega2; /* rotation: angular velocities after the collision, rad/s
-                              (counterclockwise; 0 without rotation; both start at rest) */
+                              (counterclockwise; 0 without rotation; they start at the setup's
+                              omega1, omega2; with initial spins E includes them) */
+    double v1[2], v2[2];   /* the particles' velocities after the collision, m/s */
+    double spin_loss;      /* rotation: I (w1^2 + w2^2) / 2 before minus after, over E (the spins'
+                              share of energy_loss; rolling resistance takes it from there) */
     double impact_angle;   /* degrees between -g and the normal at impact */
     double momentum_error; /* |p' - p| / |p| */
     double normal_impulse, tangential_impulse; /* int |F_n| dt and int |F_t| dt, N s */

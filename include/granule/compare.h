@@ -1,8 +1,8 @@
 /* Comparisons: one scene, the same initial state and noise seed, run under several collision
  * models and integrators, and one table a physicist reads like a paper's (docs/compare.md).
  *
- * A model SPEC is NORMAL[+TANGENTIAL][@MODIFIER...], a modifier being `clamp` or an integrator
- * (`verlet`, `event`, `hybrid`): "spring_dashpot+tangential_dashpot@clamp", "spring_dashpot@hybrid",
+ * A model SPEC is NORMAL[+TANGENTIAL][@MODIFIER...], a modifier being `clamp`, `rotation` (the
+ * discs rotate: model.rotation = true; without it false) or an integrator (`verlet`, `event`, `hybrid`): "spring_dashpot+tangential_dashpot@clamp", "spring_dashpot@hybrid",
  * "hard_sphere@event". Without an integrator, an event rule (hard_sphere) runs event-driven and a
  * force law runs with the scene's integrator (verlet if the scene is event-driven).
  *
@@ -30,6 +30,7 @@ typedef struct gr_compare_spec {
     char normal[64];      /* a normal law or an event rule */
     char tangential[64];  /* "" = none */
     bool clamp;
+    bool rotation;        /* @rotation: model.rotation = true (false without it, whatever the scene says) */
     int integrator;       /* index into gr_integrators (granule/integrator.h), or -1 when the spec names none */
 } gr_compare_spec;
 

@@ -15,7 +15,9 @@
  * the energy lost per collision shifts T by -(2/3) delta (T ~ (1 - eps^2)^(-2/3); the same
  * homogeneous argument that gives xi_2 = 2/3 in sec. 3.2). The wall time is measured: a short
  * calibration run of the scene at the chosen dt on this machine, in blocks, whose spread is the
- * prediction's uncertainty. */
+ * prediction's uncertainty. The calibration also times the hybrid integrator at the same dt over a
+ * few windows (docs/hybrid.md): its contacts are the same Verlet steps and its free flights exact
+ * in law, so its error is the time step's, and only the cost differs; the cheapest is recommended. */
 #ifndef GRANULE_COST_H
 #define GRANULE_COST_H
 
@@ -55,6 +57,19 @@ typedef struct gr_cost_request {
     int phases;                /* contact phases per collision (default 16) */
 } gr_cost_request;
 
+/* One integrator timed by the calibration, at the recommended dt. */
+#define GR_COST_MAX_OPTIONS 4
+typedef struct gr_cost_option {
+    char integrator[16];           /* "verlet" or "hybrid" */
+    double window;                 /* hybrid: kick_interval (s), a whole number of dt; verlet: 0 */
+    bool ok;                       /* timed; else note says why (the scene refuses this integrator) */
+    char note[800];
+    double wall_per_simulated;     /* median over blocks, wall s per simulated s */
+    double wall_per_simulated_err; /* half the 16-84 % spread of the blocks */
+    int blocks;
+    double particle_steps_per_second; /* N / dt particle-steps per simulated second, per wall second */
+} gr_cost_option;
+
 typedef struct gr_cost_answer {
     int n;
     gr_cost_candidate c[GR_COST_MAX_CANDIDATES]; /* ordered by increasing dt */
@@ -62,7 +77,10 @@ typedef struct gr_cost_answer {
     int best;                  /* index of the recommended dt (the largest that meets), or -1 */
     int scene;                 /* index of the scene's own dt */
     double simulated_seconds;  /* warm-up + duration of the scene */
-    /* calibration at c[best] (NAN when not calibrated) */
+    /* calibration at c[best]: every integrator timed, and the recommended one (best_option) */
+    int n_options, best_option;     /* best_option -1 when not calibrated */
+    gr_cost_option option[GR_COST_MAX_OPTIONS];
+    /* the recommended option's numbers (NAN when not calibrated) */
     double wall_per_simulated;      /* median over blocks, wall s per simulated s */
     double wall_per_simulated_err;  /* half the 16-84 % spread of the blocks */
     int blocks;
@@ -76,8 +94,10 @@ void gr_cost_request_default(gr_cost_request *r);
  * contacts are instantaneous (event-driven hard spheres: nothing to step). */
 int gr_cost_errors(const gr_scene *scene, const gr_cost_request *rq, gr_cost_answer *out, gr_error *err);
 
-/* Time `seconds` of wall time of the scene at time step dt on this machine in blocks, from the
- * scene's start; fills the calibration fields of out (simulated_seconds must be set). */
+/* Time the scene at time step dt on this machine in blocks, from the scene's start: Verlet and
+ * the hybrid at windows of 10, 30 and 100 dt (a hybrid scene: its own window first), `seconds` of
+ * wall time shared among them; fills the options, the recommended (cheapest) one and the
+ * calibration fields of out (simulated_seconds must be set). */
 int gr_cost_calibrate(const gr_scene *scene, double dt, double seconds, gr_cost_answer *out, gr_error *err);
 
 /* Both: the errors, the recommendation and, when rq->calibrate_seconds > 0 and a candidate

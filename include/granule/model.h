@@ -48,6 +48,7 @@ typedef struct gr_contact_params {
     double inertia_factor; /* rotation: moment of inertia I = q M r^2, q (1/2: uniform disc) */
     double beta;    /* hard_sphere with rotation: tangential restitution at the contact point, [-1, 1] */
     double beta_mu; /* hard_sphere with rotation: Coulomb limit of the tangential impulse (0: none) */
+    double mu_r;    /* rolling_friction: coefficient of rolling resistance */
     /* tangential_spring (models/tangential_spring.h) */
     double kt_ratio; /* k_t / k_s (linear normal law) */
     double k_t;      /* tangential spring constant, N/m (0: kt_ratio k_s) */
@@ -104,12 +105,16 @@ typedef struct gr_contact_coeffs {
     double pow_a, pow_p;
     double law_n[4]; /* constants private to the normal law */
     double law_t[4]; /* constants private to the tangential law */
+    /* Rolling resistance (gr_contact_prepare_rolling; NULL / 0 without): the law and mu_r. */
+    const struct gr_model *rolling_model;
+    double mu_r;
 } gr_contact_coeffs;
 
 typedef enum {
     GR_MODEL_NORMAL = 1,     /* a normal contact force law */
     GR_MODEL_TANGENTIAL = 2, /* a tangential contact force law */
-    GR_MODEL_EVENT = 4       /* an instantaneous event rule (event-driven integrator) */
+    GR_MODEL_EVENT = 4,      /* an instantaneous event rule (event-driven integrator) */
+    GR_MODEL_ROLLING = 8     /* a rolling-resistance torque law (needs rotation) */
 } gr_model_kind;
 
 typedef struct gr_model {
@@ -122,7 +127,7 @@ typedef struct gr_model {
      * may read it. `dt` is the time step (0 when the caller only wants the continuous law). */
     int (*prepare)(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                    gr_error *err);
-    /* Tangential laws (optional): true when the prepared coefficients make the law do nothing
+    /* Tangential and rolling laws (optional): true when the prepared coefficients make the law do nothing
      * (eps_t = 1, mu = 0); the kernel without it then runs. Called once per run. */
     bool (*inert)(const gr_contact_coeffs *c);
     /* Tangential laws: the force acts at the contact point, so the discs may rotate (the scene
@@ -138,6 +143,10 @@ typedef struct gr_model {
      * restitution given that normal impact and the impact speeds v_n, v_t > 0. */
     gr_normal_impact (*impact)(const gr_contact_coeffs *c, double v_n);
     double (*restitution_t)(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t);
+    /* Rolling laws: the spin energy (J) one contact takes from two discs of moment of inertia
+     * `inertia` whose spins differ by dw0 (w_i - w_j, the contact point not slipping) while it
+     * transmits the normal impulse p_n = int |F_n| dt; r_eff = r / 2 for equal discs. */
+    double (*spin_loss)(const gr_contact_coeffs *c, double p_n, double r_eff, double inertia, double dw0);
     /* Parameter settings that make the model conserve energy ("eps_n=1", space-separated
      * key=value); the conformance suite applies them to test elastic impacts. */
     const char *elastic;
@@ -173,5 +182,10 @@ double gr_contact_expected_loss(const gr_contact_coeffs *c, double speed, double
 int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
                        const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                        gr_error *err);
+
+/* Add a rolling law (NULL: none) to coefficients gr_contact_prepare has made; it needs
+ * c->rotation (GR_EINVAL naming the keys otherwise). */
+int gr_contact_prepare_rolling(const gr_model *rolling, const gr_contact_params *p, double m12, double dt,
+                               gr_contact_coeffs *c, gr_error *err);
 
 #endif

@@ -36,6 +36,7 @@ typedef struct gr_scene {
     /* [model] */
     const gr_model *normal;
     const gr_model *tangential; /* NULL: no tangential law */
+    const gr_model *rolling;    /* NULL: no rolling resistance */
     gr_contact_params contact;
     /* [noise] */
     double D;         /* noise strength, N^2 s (2.15, 2.22) */

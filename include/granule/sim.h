@@ -65,6 +65,7 @@ typedef struct gr_sim_params {
     double omega0;              /* rotation: initial angular velocities omega0 * U(-0.5, 0.5), rad/s */
     const gr_model *normal;
     const gr_model *tangential; /* NULL: none */
+    const gr_model *rolling;    /* rolling resistance (needs contact.rotation); NULL: none */
     gr_contact_params contact;
     double D;                   /* noise strength, N^2 s (2.15, 2.22) */
     gr_noise_mode noise_mode;

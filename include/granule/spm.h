@@ -293,4 +293,44 @@ int gr_spm_compare_tails(const double *v, const double *p_spm, const double *e_s
 double gr_spm_compare_model(const gr_spm_compare *c, const double *v, const double *p_spm,
                             const double *e_spm, int n, int i, double *model_err);
 
+/* ---------------------------------------------------------------------------------------------
+ * The RFM's P(v) against the SPM's asymptotic form, as measured from a run's tables (Figs.
+ * 5.12-5.13; src/theory/spm_rfm_tail.c, docs/theory-spm.md).
+ *
+ * Fold a P(v) given on bins symmetric about 0 (v ascending, as the pv observable's pv.csv):
+ * P_sym(|v|) = (P(v) + P(-v)) / 2 with error sqrt(e(v)^2 + e(-v)^2) / 2, and the counts behind
+ * it, (P/e)^2 summed over both sides (the errors are sqrt(X) ones, A.5). Writes the bins with
+ * v > 0 ascending and returns how many; 0 when the bins are not symmetric about 0. */
+int gr_spm_fold_pv(const double *v, const double *p, const double *e, int n, double *vf, double *pf, double *ef,
+                   double *counts);
+
+/* 5.31 with alpha and h fixed, ln P = ln A0 + h ln v - S |v|^alpha (v in m/s), fitted to the
+ * folded P(v) as a weighted line in v^alpha over the window x_lo <= v / v_rms <= x_hi where the
+ * bin has at least counts_min counts; errors scaled by sqrt(chi2/dof) when that exceeds 1
+ * (counts sampled every ms are correlated). Then the tail plot of Fig. 5.13 over the same bins,
+ * -ln(-ln(P / P')) against ln(v / v_rms), a weighted line for P' = P(0) and for P' = A0: for P
+ * exactly A0 exp(-S v^alpha) its slope with P' = A0 is -alpha. With S_pred > 0 also the amplitude
+ * of 5.31 with S fixed at S_pred (the line of Fig. 5.12). */
+typedef struct gr_spm_tail531 {
+    double alpha, h;              /* fixed */
+    double v_lo, v_hi, decades;   /* the bins fitted (m/s) and log10 P(v_lo) / P(v_hi) */
+    int n_points;
+    double S, S_err, lnA0, lnA0_err, chi2_red;
+    double A0, P0, A0_over_P0;
+    double lnA0_at_S_pred;        /* NAN without S_pred */
+    double slope_P0, slope_P0_err, slope_A0, slope_A0_err;
+    double icpt_P0, icpt_A0;      /* the lines' intercepts, at ln(v / v_rms) = 0 */
+} gr_spm_tail531;
+int gr_spm_tail531_fit(const double *v, const double *p, const double *e, const double *counts, int n, double P0,
+                       double v_rms, double alpha, double h, double x_lo, double x_hi, double counts_min, double S_pred,
+                       gr_spm_tail531 *out, gr_error *err);
+/* ln of 5.31 at v: ln A0 + h ln v - S v^alpha. */
+double gr_spm_tail531_log(double lnA0, double h, double S, double alpha, double v);
+
+/* C of 4.25 with beta = D_f - 1 fixed, ln P - (beta - 1) ln l = ln A0 - C l^beta, a weighted line
+ * in l^beta over the points l_lo <= l <= l_hi with P > 0 and e > 0 (C in the units of l^-beta; a
+ * table in diameters gives C per d^beta: C_SI = C d^-beta). Errors scaled by sqrt(chi2/dof) > 1. */
+int gr_spm_pl_fit_C(const double *l, const double *p, const double *e, int n, double beta, double l_lo, double l_hi,
+                    double *C, double *C_err, double *chi2_red, gr_error *err);
+
 #endif

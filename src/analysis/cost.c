@@ -89,6 +89,7 @@ int gr_cost_errors(const gr_scene *sc, const gr_cost_request *rq, gr_cost_answer
     out->best = out->scene = -1;
     out->wall_per_simulated = out->wall_per_simulated_err = NAN;
     out->predicted_wall = out->predicted_wall_err = out->particle_steps_per_second = NAN;
+    out->best_option = -1;
     out->simulated_seconds = sc->warmup + sc->duration;
     if (sc->normal->kind & GR_MODEL_EVENT) {
         return GR_FAIL(err, GR_EINVAL,

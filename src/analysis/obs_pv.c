@@ -240,21 +240,43 @@ static double model_fixed_alpha(double x, const double *q, double *g, void *user
     return y;
 }
 
-/* (5.32): X(u) = exp(q0 - (u/v_r)^2 / (1 + |u/v_c|^(2 - alpha))), q = (ln D, ln v_r, ln v_c). */
-static double model_crossover(double x, const double *q, double *g, void *user)
+/* The exponent of (5.32), E(u) = (u/v_r)^2 / (1 + |u/v_c|^(2 - alpha)) with q = (ln D, ln v_r, ln v_c),
+ * and its derivatives dE/dq (dE/dq0 = 0). */
+static double crossover_exponent(double x, const double *q, double beta, double dE[3])
 {
-    double beta = 2.0 - *(const double *)user;
     double ax = fabs(x);
     double r = ax * exp(-q[1]), gg = r * r;
     double hm1 = ax > 0.0 ? pow(ax * exp(-q[2]), beta) : 0.0, h = 1.0 + hm1;
     double E = isfinite(hm1) ? gg / h : 0.0;
+    dE[0] = 0.0;
+    dE[1] = -2.0 * E;
+    dE[2] = isfinite(hm1) ? gg * beta * hm1 / (h * h) : 0.0;
+    return E;
+}
+
+/* (5.32): X(u) = exp(q0 - E(u)), fitted to the counts. */
+static double model_crossover(double x, const double *q, double *g, void *user)
+{
+    double dE[3], E = crossover_exponent(x, q, 2.0 - *(const double *)user, dE);
     double y = clamp_exp(q[0] - E);
     if (g) {
         g[0] = y;
-        g[1] = y * 2.0 * E;
-        g[2] = isfinite(hm1) ? -y * gg * beta * hm1 / (h * h) : 0.0;
+        g[1] = -y * dE[1];
+        g[2] = -y * dE[2];
     }
     return y;
+}
+
+/* ln of (5.32): ln X(u) = q0 - E(u), fitted to ln(counts) with equal weights (a fit on log axes). */
+static double model_crossover_ln(double x, const double *q, double *g, void *user)
+{
+    double dE[3], E = crossover_exponent(x, q, 2.0 - *(const double *)user, dE);
+    if (g) {
+        g[0] = 1.0;
+        g[1] = -dE[1];
+        g[2] = -dE[2];
+    }
+    return q[0] - E;
 }
 
 static bool fit_finite(const gr_fit *f)
@@ -442,7 +464,14 @@ typedef struct crossover_result {
     double u_data_max; /* largest |u| among the fitted points */
 } crossover_result;
 
-static void fit_crossover(points *pt, const gr_histogram *h, double scale, double v_rms, crossover_result *r)
+/* Two fits of (5.32) to the same bins (count >= COUNT_MIN):
+ *  - `poisson`: the counts with sqrt(X) errors, the maximum-likelihood fit; the peak's bins, which
+ *    hold most counts, decide it;
+ *  - `log`: ln X with equal weights, the least-squares fit of the curve drawn on log axes (Fig. 5.14),
+ *    where every bin counts the same and the tail pulls v_c in. The thesis says only "best fitting";
+ *    docs/analysis-velocity.md compares the two with its Tables 5.3-5.4. */
+static void fit_crossover(points *pt, const gr_histogram *h, double scale, double v_rms, bool log_axes,
+                          crossover_result *r)
 {
     memset(r, 0, sizeof *r);
     points_select(pt, h, scale, COUNT_MIN, HUGE_D, false);
@@ -454,6 +483,9 @@ static void fit_crossover(points *pt, const gr_histogram *h, double scale, doubl
     for (int i = 0; i < pt->n; i++) {
         ymax = fmax(ymax, pt->y[i]);
         r->u_data_max = fmax(r->u_data_max, fabs(pt->x[i]));
+        if (log_axes) {
+            pt->y[i] = log(pt->y[i]); /* the selected counts are >= COUNT_MIN > 0 */
+        }
     }
     /* Gaussian start v_r = sqrt(2) v_rms; several crossover velocities, keep the best fit */
     double alpha = CROSSOVER_ALPHA, vr0 = sqrt(2.0) * v_rms / scale;
@@ -462,16 +494,50 @@ static void fit_crossover(points *pt, const gr_histogram *h, double scale, doubl
         double q0[3] = {log(ymax), log(vr0), log(vc_start[k] * vr0)};
         gr_fit f;
         gr_error e = {0};
-        if (gr_fit_nonlinear(model_crossover, &alpha, pt->x, pt->y, pt->sig, pt->n, 3, q0, &f, &e) == GR_OK &&
-            fit_finite(&f) && (!r->ok || f.chi2 < r->fit.chi2)) {
+        int rc = log_axes ? gr_fit_nonlinear(model_crossover_ln, &alpha, pt->x, pt->y, NULL, pt->n, 3, q0, &f, &e)
+                          : gr_fit_nonlinear(model_crossover, &alpha, pt->x, pt->y, pt->sig, pt->n, 3, q0, &f, &e);
+        if (rc == GR_OK && fit_finite(&f) && (!r->ok || f.chi2 < r->fit.chi2)) {
             r->fit = f;
             r->ok = true;
+        }
+    }
+    if (r->ok && log_axes && r->fit.dof > 0 && r->fit.chi2_red < 1.0) {
+        /* unit weights: the scatter about the curve is the error of ln X, so the parameter errors
+         * scale with sqrt(chi2/dof) both ways (gr_fit_nonlinear only scales them up) */
+        for (int k = 0; k < 3; k++) {
+            r->fit.err[k] *= sqrt(r->fit.chi2_red);
         }
     }
 }
 
 /* ------------------------------------------------------------------------------------------
  * Output. */
+
+static void add_crossover_summary(cJSON *jx, const crossover_result *xo, const char *weighting, double scale,
+                                  double v_rms, double norm)
+{
+    cJSON_AddStringToObject(jx, "equation", "P_0(v) = D exp(-(v/v_r)^2 / (1 + |v/v_c|^(2-alpha))) (5.32), alpha = 1");
+    cJSON_AddStringToObject(jx, "weighting", weighting);
+    cJSON_AddBoolToObject(jx, "converged", xo->ok);
+    cJSON_AddNumberToObject(jx, "n_points", xo->n);
+    gr_obs_add_number(jx, "counts_min", COUNT_MIN);
+    gr_obs_add_number(jx, "alpha", CROSSOVER_ALPHA);
+    if (xo->ok) {
+        double vr = exp(xo->fit.p[1]) * scale, vc = exp(xo->fit.p[2]) * scale;
+        gr_obs_add_number(jx, "D", exp(xo->fit.p[0]) / norm);
+        gr_obs_add_number(jx, "v_r", vr);
+        gr_obs_add_number(jx, "v_r_err", vr * xo->fit.err[1]);
+        gr_obs_add_number(jx, "v_c", vc);
+        gr_obs_add_number(jx, "v_c_err", vc * xo->fit.err[2]);
+        gr_obs_add_number(jx, "v_c_over_v_r", vc / vr);
+        gr_obs_add_number(jx, "v_A", vr * vr / vc);
+        /* P_0(v_c)/P_0(0): at v = v_c the denominator of (5.32) is 2 (the thesis's column) */
+        gr_obs_add_number(jx, "P_vc_over_P0", exp(-0.5 * (vc / vr) * (vc / vr)));
+        gr_obs_add_number(jx, "v_r_over_vrms", vr / v_rms);
+        gr_obs_add_number(jx, "chi2_red", xo->fit.chi2_red);
+        cJSON_AddBoolToObject(jx, "v_c_beyond_data", vc > xo->u_data_max * scale);
+    }
+}
 
 static void add_tail_summary(cJSON *j, const tail_result *r, double scale, double v_rms, double total, double w)
 {
@@ -548,7 +614,7 @@ static double tail_density(const tail_result *r, double u, double total, double 
 typedef struct pv_rows_ctx {
     const pv *s;
     const tail_result *tail;
-    const crossover_result *xo;
+    const crossover_result *xo, *xo_log;
     double v_rms, P0, speed_rms;
 } pv_rows_ctx;
 
@@ -560,27 +626,30 @@ static void pv_rows(FILE *f, const void *ctx)
     for (int i = 0; i < h->nbins; i++) {
         double v = gr_histogram_center(h, i), d = gr_histogram_density(h, i);
         double fx = c->xo->ok ? model_crossover(v / scale, c->xo->fit.p, NULL, &alpha) / (h->total * w) : NOVALUE;
-        fprintf(f, "%.10g,%.10g,%.6g,%.0f,%.10g,%.10g,%.8g,%.10g,%.6g,%.6g\n", v, d, gr_histogram_density_error(h, i),
+        double fl = c->xo_log->ok ? model_crossover(v / scale, c->xo_log->fit.p, NULL, &alpha) / (h->total * w) : NOVALUE;
+        fprintf(f, "%.10g,%.10g,%.6g,%.0f,%.10g,%.10g,%.8g,%.10g,%.6g,%.6g,%.6g\n", v, d, gr_histogram_density_error(h, i),
                 h->count[i], gr_histogram_lower(h, i), gr_histogram_upper(h, i), v / v_rms, d * v_rms,
-                tail_density(c->tail, v / scale, h->total, w), fx);
+                tail_density(c->tail, v / scale, h->total, w), fx, fl);
     }
 }
 
 static int write_pv_csv(const gr_output *out, const pv_rows_ctx *c, gr_error *err)
 {
     const gr_histogram *h = &c->s->comp;
-    char what[900];
+    char what[1100];
     snprintf(what, sizeof what,
              "velocity distribution P(v) of one component (App. A.1; %s), relative to the frame's mean velocity, "
              "sampled uniformly in time; v in m/s on [-%g, %g) = pv_range sqrt(T_ref), T_ref = %.6g m^2/s^2; "
              "density in s/m normalised to all %.0f sampled components, density_error = sqrt(counts)/(N_s dv) (A.5); "
              "v_over_vrms = v/sqrt(<v_x^2>), density_scaled = density sqrt(<v_x^2>); fit_stretched = tail fit (5.5), "
-             "fit_crossover = P_0(v) (5.32), alpha = 1",
+             "fit_crossover = P_0(v) (5.32), alpha = 1, fitted to the counts, fit_crossover_log = the same fitted on "
+             "log axes (summary members crossover and crossover_log)",
              c->s->dim == 2 ? "x and y pooled" : "1D", h->hi, h->hi, c->s->T_ref, h->total);
     const gr_obs_table t = {
         .name = "pv.csv",
         .what = what,
-        .columns = "v,density,density_error,counts,v_lo,v_hi,v_over_vrms,density_scaled,fit_stretched,fit_crossover",
+        .columns = "v,density,density_error,counts,v_lo,v_hi,v_over_vrms,density_scaled,fit_stretched,fit_crossover,"
+                   "fit_crossover_log",
         .rows = pv_rows,
         .ctx = c,
     };
@@ -778,7 +847,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     gsl_error_handler_t *old_handler = gsl_set_error_handler_off();
     points pt;
     tail_result tail, tail_a1;
-    crossover_result xo;
+    crossover_result xo, xo_log;
     if (points_alloc(&pt, h->nbins)) {
         points_free(&pt);
         gsl_set_error_handler(old_handler);
@@ -786,7 +855,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     }
     fit_tail(&pt, h, scale, COUNT_MIN, COUNT_MAX_5_1, "Table 5.1", &tail);
     fit_tail(&pt, h, scale, COUNT_MIN, COUNT_MAX_A_1, "Table A.1", &tail_a1);
-    fit_crossover(&pt, h, scale, v_rms, &xo);
+    fit_crossover(&pt, h, scale, v_rms, false, &xo);
+    fit_crossover(&pt, h, scale, v_rms, true, &xo_log);
 
     /* free fits of (5.5) over single decades of counts: the local exponent along the tail */
     cJSON *local = cJSON_CreateArray();
@@ -836,26 +906,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON *ja = cJSON_AddObjectToObject(j, "tail_a1");
     add_tail_summary(ja, &tail_a1, scale, v_rms, h->total, w);
 
-    cJSON *jx = cJSON_AddObjectToObject(j, "crossover");
-    cJSON_AddStringToObject(jx, "equation", "P_0(v) = D exp(-(v/v_r)^2 / (1 + |v/v_c|^(2-alpha))) (5.32), alpha = 1");
-    cJSON_AddBoolToObject(jx, "converged", xo.ok);
-    cJSON_AddNumberToObject(jx, "n_points", xo.n);
-    gr_obs_add_number(jx, "counts_min", COUNT_MIN);
-    gr_obs_add_number(jx, "alpha", CROSSOVER_ALPHA);
-    if (xo.ok) {
-        double vr = exp(xo.fit.p[1]) * scale, vc = exp(xo.fit.p[2]) * scale;
-        gr_obs_add_number(jx, "D", exp(xo.fit.p[0]) / (h->total * w));
-        gr_obs_add_number(jx, "v_r", vr);
-        gr_obs_add_number(jx, "v_r_err", vr * xo.fit.err[1]);
-        gr_obs_add_number(jx, "v_c", vc);
-        gr_obs_add_number(jx, "v_c_err", vc * xo.fit.err[2]);
-        gr_obs_add_number(jx, "v_c_over_v_r", vc / vr);
-        gr_obs_add_number(jx, "v_A", vr * vr / vc);
-        gr_obs_add_number(jx, "P_vc_over_P0", exp(-0.5 * (vc / vr) * (vc / vr)));
-        gr_obs_add_number(jx, "v_r_over_vrms", vr / v_rms);
-        gr_obs_add_number(jx, "chi2_red", xo.fit.chi2_red);
-        cJSON_AddBoolToObject(jx, "v_c_beyond_data", vc > xo.u_data_max * scale);
-    }
+    add_crossover_summary(cJSON_AddObjectToObject(j, "crossover"), &xo, "Poisson: the counts with sqrt(X) errors",
+                          scale, v_rms, h->total * w);
+    add_crossover_summary(cJSON_AddObjectToObject(j, "crossover_log"), &xo_log,
+                          "log axes: ln X with equal weights", scale, v_rms, h->total * w);
 
     double C[3] = {moon_constant(s, v_rms, P0, 2.0, true), moon_constant(s, v_rms, P0, 1.5, false),
                    moon_constant(s, v_rms, P0, 1.16, false)};
@@ -872,7 +926,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     gr_obs_add_number(jsp, "out_of_range_fraction",
             s->speed.total > 0.0 ? (s->speed.below + s->speed.above) / s->speed.total : NOVALUE);
 
-    const pv_rows_ctx rows = {.s = s, .tail = &tail, .xo = &xo, .v_rms = v_rms, .P0 = P0, .speed_rms = speed_rms};
+    const pv_rows_ctx rows = {.s = s, .tail = &tail, .xo = &xo, .xo_log = &xo_log, .v_rms = v_rms, .P0 = P0, .speed_rms = speed_rms};
     int rc = write_pv_csv(out, &rows, err);
     if (!rc) {
         rc = write_tail_csv(out, &rows, err);

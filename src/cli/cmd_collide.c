@@ -11,10 +11,11 @@
 static void usage(FILE *f)
 {
     fprintf(f,
-            "usage: granule collide [--case N] [--model NORMAL[+TANGENTIAL]] [--eps-n E] [--eps-t E]\n"
+            "usage: granule collide [--case N] [--model NORMAL[+TANGENTIAL[+ROLLING]]] [--eps-n E] [--eps-t E]\n"
             "                       [--mu MU] [--k K] [--dt DT | --steps-per-contact S] [--mass M]\n"
             "                       [--radius R] [--clamp] [--dim 1|2] [--phases P] [--force-dt] [--reference [--rtol TOL]]\n"
-            "                       [--set KEY=VALUE ...] [--speeds V1,V2,...]\n\n"
+            "                       [--set KEY=VALUE ...] [--speeds V1,V2,...]\n"
+            "                       [--speed V --angle DEG] [--omega1 W1] [--omega2 W2]\n\n"
             "Runs collision N (1-4) of Table 2.1 (particle 2 at rest; 1 kg masses unless --mass) and\n"
             "prints one JSON object: energy_loss (fraction of the relative kinetic energy lost),\n"
             "expected_loss (1 - eps^2 head-on, 1 - (eps_n^2 + eps_t^2)/2 at 45 degrees; in general\n"
@@ -37,7 +38,16 @@ static void usage(FILE *f)
             "Rotation (--set rotation=true [--set inertia_factor=Q] with tangential_dashpot or sliding_friction):\n"
             "energy_loss then includes the spin energy I w^2 / 2 of both discs, eps_t_measured is the contact\n"
             "point's tangential restitution (g.t + r (w1 + w2) after over before; the discs start without spin),\n"
-            "and omega1, omega2 give the angular velocities after the collision (rad/s, counterclockwise).\n");
+            "and omega1, omega2 give the angular velocities after the collision (rad/s, counterclockwise).\n"
+            "Oblique impact (instead of --case; 2D): --speed V (relative speed, m/s, > 0) --angle DEG (between -g and\n"
+            "the line of centres at first touch, [0, 90); default 0), particle 2 at rest; the normal at impact is the\n"
+            "x axis, so v1_after, v2_after (velocities after the collision) give the normal (x) and tangential (y)\n"
+            "components. --omega1, --omega2: initial angular velocities (rad/s, counterclockwise; need rotation);\n"
+            "expected_loss is then null (the restitution laws assume discs without spin); energy_loss counts the\n"
+            "spins' energy too, and spin_loss gives their share of it. Rolling resistance: --model\n"
+            "NORMAL+TANGENTIAL+rolling_friction --set rotation=true [--set mu_r=M]; spin_loss_rolling_law is its law\n"
+            "(J |w1 - w2| - J^2 / I, J = min(mu_r r/2 normal_impulse, I |w1 - w2| / 2), over the initial energy), which\n"
+            "spin_loss equals when the contact point does not slip (head-on, --omega2 = -omega1).\n");
 }
 
 /* the unit of every key collide prints (1: a pure number) */
@@ -49,13 +59,17 @@ static const struct {
              {"eps_t_measured", "1"}, {"impact_angle", "degrees"}, {"momentum_error", "1 (|p' - p| / |p|)"},
              {"normal_impulse", "N s"}, {"tangential_impulse", "N s"}, {"relative_error", "1"},
              {"energy_loss_min", "1"}, {"energy_loss_max", "1"}, {"omega1", "rad/s (counterclockwise)"},
-             {"omega2", "rad/s (counterclockwise)"}, {"inertia_factor", "1 (I = q M r^2)"}};
+             {"omega2", "rad/s (counterclockwise)"}, {"inertia_factor", "1 (I = q M r^2)"},
+             {"v1_after", "m/s"}, {"v2_after", "m/s"}, {"speed", "m/s"}, {"angle", "degrees"},
+             {"omega1_before", "rad/s (counterclockwise)"}, {"omega2_before", "rad/s (counterclockwise)"},
+             {"mu_r", "1"}, {"spin_loss", "1 (fraction of the initial energy)"},
+             {"spin_loss_rolling_law", "1 (fraction of the initial energy)"}};
 
 /* does the normal or the tangential model take the scene key `name`? */
 static bool model_uses(const gr_collide_setup *s, const char *name)
 {
-    const gr_model *m[2] = {s->normal, s->tangential};
-    for (int k = 0; k < 2; k++) {
+    const gr_model *m[3] = {s->normal, s->tangential, s->rolling};
+    for (int k = 0; k < 3; k++) {
         for (int i = 0; m[k] && i < m[k]->n_params; i++) {
             if (!strcmp(m[k]->params[i].name, name)) {
                 return true;
@@ -107,6 +121,11 @@ static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r,
         } else {
             cJSON_AddNullToObject(o, key);
         }
+    }
+    const double *v[2] = {r->v1, r->v2};
+    for (int p = 0; p < 2; p++) {
+        snprintf(key, sizeof key, "%sv%d_after", prefix, p + 1);
+        cJSON_AddItemToObject(o, key, cJSON_CreateDoubleArray(v[p], 2));
     }
 }
 
@@ -185,6 +204,8 @@ int cmd_collide(int argc, char **argv)
         bool set;
     } given[] = {{"--eps-t", "eps_t", false}, {"--mu", "mu", false}, {"--k", "k_s", false}, {"--clamp", "clamp", false}};
     const char *speeds = NULL;
+    double speed = 0.0, angle = 0.0; /* oblique impact: --speed V [--angle DEG] */
+    bool oblique = false, angle_given = false;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         double x;
@@ -244,6 +265,16 @@ int cmd_collide(int argc, char **argv)
                 s.dim = (int)x;
             } else if (!strcmp(a, "--phases")) {
                 phases = (int)x;
+            } else if (!strcmp(a, "--speed")) {
+                speed = x;
+                oblique = true;
+            } else if (!strcmp(a, "--angle")) {
+                angle = x;
+                angle_given = true;
+            } else if (!strcmp(a, "--omega1")) {
+                s.omega1 = x;
+            } else if (!strcmp(a, "--omega2")) {
+                s.omega2 = x;
             } else if (!strcmp(a, "--rtol")) {
                 if (!(x >= 1e-14 && x <= 1e-2)) {
                     cli_error("collide: --rtol %g is outside the allowed range [1e-14, 1e-2]", x);
@@ -270,17 +301,23 @@ int cmd_collide(int argc, char **argv)
         cli_error("collide: --k, --mass and --radius must be > 0, --dt >= 0, --mu >= 0, --dim 1 or 2, --phases >= 1");
         return EXIT_REFUSED;
     }
-    char normal[64], tangential[64] = "";
-    const char *plus = strchr(model, '+');
+    char normal[64], tangential[64] = "", rolling[64] = "";
+    const char *plus = strchr(model, '+'), *plus2 = plus ? strchr(plus + 1, '+') : NULL;
     snprintf(normal, sizeof normal, "%.*s", plus ? (int)(plus - model) : (int)strlen(model), model);
     if (plus) {
-        snprintf(tangential, sizeof tangential, "%s", plus + 1);
+        snprintf(tangential, sizeof tangential, "%.*s", plus2 ? (int)(plus2 - plus - 1) : (int)strlen(plus + 1), plus + 1);
+    }
+    if (plus2) {
+        snprintf(rolling, sizeof rolling, "%s", plus2 + 1);
     }
     s.normal = gr_model_find(normal);
     s.tangential = tangential[0] ? gr_model_find(tangential) : NULL;
+    s.rolling = rolling[0] ? gr_model_find(rolling) : NULL;
     if (!s.normal || !(s.normal->kind & (GR_MODEL_NORMAL | GR_MODEL_EVENT)) ||
-        (tangential[0] && (!s.tangential || s.tangential->kind != GR_MODEL_TANGENTIAL))) {
-        cli_error("collide: --model %s: expected NORMAL[+TANGENTIAL], e.g. spring_dashpot+tangential_dashpot (granule models lists them)", model);
+        (tangential[0] && (!s.tangential || s.tangential->kind != GR_MODEL_TANGENTIAL)) ||
+        (rolling[0] && (!s.rolling || s.rolling->kind != GR_MODEL_ROLLING))) {
+        cli_error("collide: --model %s: expected NORMAL[+TANGENTIAL[+ROLLING]], e.g. spring_dashpot+tangential_dashpot or "
+                  "spring_dashpot+sliding_friction+rolling_friction (granule models lists them)", model);
         return EXIT_REFUSED;
     }
     if ((s.normal->kind & GR_MODEL_EVENT) && s.tangential) {
@@ -299,9 +336,18 @@ int cmd_collide(int argc, char **argv)
             fprintf(stderr, "granule: collide: warning: %s does not apply to --model %s (ignored)\n", given[k].opt, model);
         }
     }
+    if (angle_given && !oblique) {
+        cli_error("collide: --angle needs --speed V (an oblique impact; --case N gives Table 2.1's geometries)");
+        return EXIT_REFUSED;
+    }
+    if (oblique && s.dim != 2) {
+        cli_error("collide: --speed/--angle: an oblique impact needs --dim 2");
+        return EXIT_REFUSED;
+    }
     gr_collision_case cs;
     gr_error err = {0};
-    if (gr_collision_case_table21(number, s.radius, &cs, &err)) {
+    if (oblique ? gr_collision_case_oblique(speed, angle, s.radius, &cs, &err)
+                : gr_collision_case_table21(number, s.radius, &cs, &err)) {
         cli_error("collide: %s", err.message);
         return EXIT_REFUSED;
     }
@@ -329,18 +375,29 @@ int cmd_collide(int argc, char **argv)
         sum.tangential_reversed |= r.tangential_reversed;
         sum.omega1 += r.omega1 / phases;
         sum.omega2 += r.omega2 / phases;
+        for (int k = 0; k < 2; k++) {
+            sum.v1[k] += r.v1[k] / phases;
+            sum.v2[k] += r.v2[k] / phases;
+        }
+        sum.spin_loss += r.spin_loss / phases;
     }
     sum.expected_loss = r.expected_loss;
     sum.impact_angle = r.impact_angle;
     cJSON *o = cJSON_CreateObject();
-    cJSON_AddNumberToObject(o, "case", number);
+    if (oblique) {
+        cJSON_AddNumberToObject(o, "speed", speed);
+        cJSON_AddNumberToObject(o, "angle", angle);
+    } else {
+        cJSON_AddNumberToObject(o, "case", number);
+    }
     cJSON_AddStringToObject(o, "model", model);
     const bool instantaneous = (s.normal->kind & GR_MODEL_EVENT) != 0;
     /* only the parameters the chosen models take (their [model] keys) */
     const struct {
         const char *key;
         double v;
-    } params[] = {{"eps_n", s.contact.eps_n}, {"eps_t", s.contact.eps_t}, {"mu", s.contact.mu}, {"k_s", s.contact.k_s}};
+    } params[] = {{"eps_n", s.contact.eps_n}, {"eps_t", s.contact.eps_t}, {"mu", s.contact.mu}, {"k_s", s.contact.k_s},
+                  {"mu_r", s.contact.mu_r}};
     for (size_t k = 0; k < sizeof params / sizeof params[0]; k++) {
         if (model_uses(&s, params[k].key)) {
             cJSON_AddNumberToObject(o, params[k].key, params[k].v);
@@ -353,6 +410,23 @@ int cmd_collide(int argc, char **argv)
     if (rotation) {
         cJSON_AddBoolToObject(o, "rotation", true);
         cJSON_AddNumberToObject(o, "inertia_factor", s.contact.inertia_factor);
+        cJSON_AddNumberToObject(o, "omega1_before", s.omega1);
+        cJSON_AddNumberToObject(o, "omega2_before", s.omega2);
+        cJSON_AddNumberToObject(o, "spin_loss", sum.spin_loss);
+    }
+    if (rotation && s.rolling) {
+        /* the rolling law's spin loss with the measured normal impulse, over the initial energy */
+        gr_contact_coeffs k;
+        gr_error e2 = {0};
+        if (gr_contact_prepare(s.normal, s.tangential, &s.contact, 0.5 * s.mass, 0.0, &k, &e2) == GR_OK &&
+            gr_contact_prepare_rolling(s.rolling, &s.contact, 0.5 * s.mass, 0.0, &k, &e2) == GR_OK) {
+            const double inertia = s.contact.inertia_factor * s.mass * s.radius * s.radius;
+            const double g2 = (cs.v2[0] - cs.v1[0]) * (cs.v2[0] - cs.v1[0]) + (cs.v2[1] - cs.v1[1]) * (cs.v2[1] - cs.v1[1]);
+            const double e0 = 0.25 * s.mass * g2 + 0.5 * inertia * (s.omega1 * s.omega1 + s.omega2 * s.omega2);
+            cJSON_AddStringToObject(o, "rolling", s.rolling->name);
+            cJSON_AddNumberToObject(o, "spin_loss_rolling_law",
+                                    s.rolling->spin_loss(&k, sum.normal_impulse, 0.5 * s.radius, inertia, s.omega1 - s.omega2) / e0);
+        }
     }
     cJSON_AddNumberToObject(o, "mass", s.mass);
     cJSON_AddNumberToObject(o, "radius", s.radius);

@@ -22,7 +22,9 @@ static void usage(FILE *f)
                "Candidate time steps run from 64 down to 2.5 steps per contact, plus the scene's own dt; the\n"
                "recommendation is the largest dt whose error, and that of every smaller dt, is within TOL. Its\n"
                "wall time is measured by a calibration run of SECONDS (default 10) of the scene at that dt,\n"
-               "in blocks; the prediction's +- is the spread of the blocks. Writes DIR/cost.json (default out/cost).\n");
+               "in blocks, shared between Verlet and the hybrid integrator at windows of 10, 30 and 100 dt (same\n"
+               "contact steps, free flights exact: the same error); the cheapest is recommended, and the\n"
+               "prediction's +- is the spread of its blocks. Writes DIR/cost.json (default out/cost).\n");
 }
 
 static bool parse_tolerance(const char *text, double *tol)
@@ -65,8 +67,33 @@ static void print_answer(const gr_cost_answer *a, const gr_cost_request *rq)
         return;
     }
     const gr_cost_candidate *b = &a->c[a->best];
-    printf("use dt = %.4g s (%.3g steps per contact; [integrator] dt = %.4g, force_dt = true if above t_c/10)\n", b->dt,
-           b->steps_per_contact, b->dt);
+    if (a->best_option >= 0) {
+        printf("integrators timed at that dt:\n");
+        for (int k = 0; k < a->n_options; k++) {
+            const gr_cost_option *o = &a->option[k];
+            char name[48];
+            snprintf(name, sizeof name, o->window > 0.0 ? "%s, window %.3g s" : "%s", o->integrator, o->window);
+            if (o->ok) {
+                printf("  %-26s %10.4g +- %-8.2g wall s per simulated s%s\n", name, o->wall_per_simulated,
+                       o->wall_per_simulated_err, k == a->best_option ? "  <- recommended" : "");
+            } else {
+                printf("  %-26s not timed: %s\n", name, o->note);
+            }
+        }
+        const gr_cost_option *o = &a->option[a->best_option];
+        if (o->window > 0.0) {
+            printf("use the hybrid integrator, dt = %.4g s (%.3g steps per contact), window %.4g s ([integrator] kind = "
+                   "hybrid, dt = %.4g, kick_interval = %.4g, force_dt = true if above t_c/10)\n",
+                   b->dt, b->steps_per_contact, o->window, b->dt, o->window);
+        } else {
+            printf("use verlet, dt = %.4g s (%.3g steps per contact; [integrator] kind = verlet, dt = %.4g, force_dt = "
+                   "true if above t_c/10)\n",
+                   b->dt, b->steps_per_contact, b->dt);
+        }
+    } else {
+        printf("use dt = %.4g s (%.3g steps per contact; [integrator] dt = %.4g, force_dt = true if above t_c/10)\n",
+               b->dt, b->steps_per_contact, b->dt);
+    }
     if (isfinite(a->predicted_wall)) {
         printf("predicted wall time for %.4g simulated s: %.4g +- %.2g s (%.4g +- %.2g wall s per simulated s, %d "
                "calibration blocks, %.3g particle-steps/s)\n",

@@ -18,7 +18,9 @@ int cmd_models(int argc, char **argv)
     for (int m = 0; gr_models[m]; m++) {
         const gr_model *md = gr_models[m];
         const char *kind = md->kind == GR_MODEL_NORMAL ? "normal force law"
-                           : md->kind == GR_MODEL_TANGENTIAL ? "tangential force law" : "event rule";
+                           : md->kind == GR_MODEL_TANGENTIAL ? "tangential force law"
+                           : md->kind == GR_MODEL_ROLLING    ? "rolling torque law"
+                                                             : "event rule";
         printf(markdown ? "### `%s` (%s)\n\n%s\n\n" : "%s  [%s]\n  %s\n", md->name, kind, md->summary);
         if (markdown && md->n_params) {
             printf("| parameter | unit | default | allowed | meaning |\n|---|---|---|---|---|\n");

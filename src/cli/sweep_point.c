@@ -70,6 +70,25 @@ static const char *json_string(const cJSON *j, const char *name)
     return cJSON_IsString(v) ? v->valuestring : NULL;
 }
 
+/* A point whose hash differs may still have run this physics: written by an older granule that
+ * did not know keys added since (the hash covers every key). Compare its recorded scene. */
+static bool same_physics(const sweep *s, long k, const char *dir, char *why, size_t len)
+{
+    gr_scene sc;
+    gr_error err = {0};
+    if (sweep_point_scene(s, k, &sc, &err)) {
+        snprintf(why, len, "%.300s", err.message);
+        return false;
+    }
+    cJSON *sum = gr_summary_read(dir, &err);
+    bool same = sum && gr_scene_json_compatible(cJSON_GetObjectItem(sum, "scene"), &sc, why, len);
+    if (!sum) {
+        snprintf(why, len, "no summary.json to compare");
+    }
+    cJSON_Delete(sum);
+    return same;
+}
+
 point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, size_t len)
 {
     char dir[1100], path[1200], want[20];
@@ -77,14 +96,17 @@ point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, 
     snprintf(path, sizeof path, "%s/point.json", dir);
     snprintf(want, sizeof want, "%016llx", (unsigned long long)hash);
     why[0] = 0;
+    char diff[400] = "";
     gr_error jerr = {0};
     cJSON *m = gr_json_read(path, &jerr); /* NULL: missing or unreadable, i.e. never run */
     const char *status = json_string(m, "status"), *have = json_string(m, "scene_hash");
     point_state st;
     if (!m || !status) {
         st = POINT_MISSING;
-    } else if (!have || strcmp(have, want) != 0) {
-        snprintf(why, len, "run with other settings (scene hash %s, now %s)", have ? have : "none", want);
+    } else if ((!have || strcmp(have, want) != 0) &&
+               (strcmp(status, "completed") != 0 || !same_physics(s, k, dir, diff, sizeof diff))) {
+        snprintf(why, len, "run with other settings (scene hash %s, now %s%s%s)", have ? have : "none", want,
+                 diff[0] ? "; " : "", diff);
         st = POINT_STALE;
     } else if (!strcmp(status, "running")) {
         snprintf(why, len, "started %s on %s, not finished", json_string(m, "started") ? json_string(m, "started") : "?",

@@ -26,6 +26,25 @@ int gr_collision_case_table21(int number, double radius, gr_collision_case *out,
     return GR_OK;
 }
 
+int gr_collision_case_oblique(double speed, double angle_deg, double radius, gr_collision_case *out, gr_error *err)
+{
+    if (!(speed > 0.0) || !isfinite(speed)) {
+        return GR_FAIL(err, GR_EINVAL, "--speed %g: the impact speed must be > 0 and finite (m/s)", speed);
+    }
+    if (!(angle_deg >= 0.0 && angle_deg < 90.0)) {
+        return GR_FAIL(err, GR_EINVAL, "--angle %g: the impact angle must lie in [0, 90) degrees (90: the discs only graze)",
+                       angle_deg);
+    }
+    if (!(radius > 0.0) || !isfinite(radius)) {
+        return GR_FAIL(err, GR_EINVAL, "--radius %g: must be > 0 (m)", radius);
+    }
+    /* at first touch x1 = 0, x2 = (d, 0): n = (1, 0); -g = v1 makes the angle a with n. Start
+     * r/2 back along v1 (the pair is then at least d apart: |x2 - x1|^2 = d^2 + d r cos a + r^2/4) */
+    const double a = angle_deg * M_PI / 180.0, c = cos(a), sn = sin(a);
+    *out = (gr_collision_case){{-0.5 * radius * c, -0.5 * radius * sn}, {speed * c, speed * sn}, {2.0 * radius, 0.0}, {0.0, 0.0}};
+    return GR_OK;
+}
+
 void gr_collide_setup_default(gr_collide_setup *s)
 {
     memset(s, 0, sizeof *s);
@@ -111,6 +130,10 @@ static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc,
     out->tangential_impulse = cs->mass * fabs((u1[0] - v1[0]) * n[1] - (u1[1] - v1[1]) * n[0]);
     out->tangential_reversed = gt0 * (g1[0] * n[1] - g1[1] * n[0]) < 0.0;
     out->dt = 0.0;
+    for (int k = 0; k < 2; k++) {
+        out->v1[k] = u1[k];
+        out->v2[k] = u2[k];
+    }
     return GR_OK;
 }
 
@@ -126,7 +149,19 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     if (t_hit < 0.0) {
         return GR_FAIL(err, GR_EINVAL, "the two particles never touch: their relative motion misses by more than d = %g m", d);
     }
+    const bool spun = cs->omega1 != 0.0 || cs->omega2 != 0.0;
+    if (!isfinite(cs->omega1) || !isfinite(cs->omega2)) {
+        return GR_FAIL(err, GR_EINVAL, "--omega1 %g, --omega2 %g: the initial angular velocities must be finite (rad/s)",
+                       cs->omega1, cs->omega2);
+    }
     if (cs->normal && (cs->normal->kind & GR_MODEL_EVENT)) {
+        if (spun) {
+            return GR_FAIL(err, GR_EINVAL, "--omega1/--omega2: hard_sphere's rule starts the discs without spin; "
+                           "initial spins need a soft normal law (allowed with hard_sphere: 0)");
+        }
+        if (cs->rolling) {
+            return GR_FAIL(err, GR_EINVAL, "%s: the rule has no rolling law (allowed: rolling = none)", cs->normal->name);
+        }
         return collide_hard(cs, cc, t_hit, out, err);
     }
     gr_scene sc;
@@ -138,6 +173,7 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     sc.mass = cs->mass;
     sc.normal = cs->normal;
     sc.tangential = dim == 2 ? cs->tangential : NULL;
+    sc.rolling = dim == 2 ? cs->rolling : NULL;
     sc.contact = cs->contact;
     sc.D = 0.0;
     sc.noise_mode = GR_NOISE_NONE;
@@ -149,6 +185,9 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     /* the time step first (it sets how far before contact to start) */
     gr_contact_coeffs coeffs;
     int rc = gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * sc.mass, 0.0, &coeffs, err);
+    if (!rc) {
+        rc = gr_contact_prepare_rolling(sc.rolling, &sc.contact, 0.5 * sc.mass, 0.0, &coeffs, err);
+    }
     if (rc) {
         return rc;
     }
@@ -171,6 +210,19 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
         return rc;
     }
     out->dt = s->dt;
+    if (spun && !s->omega) {
+        gr_sim_free(s);
+        return GR_FAIL(err, GR_EINVAL, "--omega1/--omega2: initial spins need rotation: [model] rotation = true with a "
+                       "tangential law at the contact point (tangential_dashpot, sliding_friction; allowed without: 0)");
+    }
+    /* initial spins: free flight does not change them, so they hold at the start too */
+    double spin_t0 = 0.0, spin_e0 = 0.0;
+    if (s->omega) {
+        s->omega[0] = cs->omega1;
+        s->omega[1] = cs->omega2;
+        spin_t0 = cs->radius * (cs->omega1 + cs->omega2);
+        spin_e0 = s->inertia * (cs->omega1 * cs->omega1 + cs->omega2 * cs->omega2) / (0.5 * cs->mass);
+    }
     /* the normal at impact, from the exact free flight */
     double rh[2] = {r0[0] + g0[0] * t_hit, r0[1] + g0[1] * t_hit};
     double nh = hypot(rh[0], rh[1]);
@@ -215,7 +267,7 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
             jn += fabs(Fx * nx + Fy * ny) * s->dt; /* int |F_n| dt: the bound of friction */
             jt += fabs(Fx * ny - Fy * nx) * s->dt;
             double g_t = gx * ny - gy * nx + (s->omega ? cs->radius * (s->omega[0] + s->omega[1]) : 0.0);
-            if (gt0 * g_t < -1e-12 * sqrt(gg0)) {
+            if ((gt0 + spin_t0) * g_t < -1e-12 * sqrt(gg0)) {
                 out->tangential_reversed = true;
             }
         } else if (touched) {
@@ -244,11 +296,18 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
         spin_t = cs->radius * (s->omega[0] + s->omega[1]);
         spin_e = s->inertia * (s->omega[0] * s->omega[0] + s->omega[1] * s->omega[1]) / (0.5 * cs->mass);
     }
-    out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1] + spin_e) / gg0;
-    out->expected_loss = gr_contact_expected_loss(&s->cc, sqrt(gg0), out->impact_angle);
+    out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1] + spin_e) / (gg0 + spin_e0);
+    out->spin_loss = (spin_e0 - spin_e) / (gg0 + spin_e0);
+    /* the models' restitution laws assume discs without spin before the impact */
+    out->expected_loss = spun ? (double)NAN : gr_contact_expected_loss(&s->cc, sqrt(gg0), out->impact_angle);
     out->contact_time = (double)active * s->dt;
     out->eps_n_measured = -(g1[0] * n_end[0] + g1[1] * n_end[1]) / gn0;
-    out->eps_t_measured = fabs(gt0) > 1e-12 * sqrt(gg0) ? (g1[0] * t_end[0] + g1[1] * t_end[1] + spin_t) / gt0 : (double)NAN;
+    const double gc0 = gt0 + spin_t0; /* the contact point's tangential velocity before */
+    out->eps_t_measured = fabs(gc0) > 1e-12 * sqrt(gg0) ? (g1[0] * t_end[0] + g1[1] * t_end[1] + spin_t) / gc0 : (double)NAN;
+    out->v1[0] = s->vx[0];
+    out->v1[1] = dim == 2 ? s->vy[0] : 0.0;
+    out->v2[0] = s->vx[1];
+    out->v2[1] = dim == 2 ? s->vy[1] : 0.0;
     double p_after[2];
     gr_sim_momentum(s, p_after);
     out->momentum_error = hypot(p_after[0] - p_before[0], p_after[1] - p_before[1]) / hypot(p_before[0], p_before[1]);

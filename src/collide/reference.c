@@ -217,6 +217,14 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     if (!s->normal) {
         return GR_FAIL(err, GR_EINVAL, "reference collision: no normal collision model given");
     }
+    /* a rolling law acts only on a difference of spins, which equal discs keep at its start
+     * (the contact's torques on both are equal): the reference, which does not integrate the
+     * rolling law, is exact only when the spins start equal */
+    if (s->rolling && s->omega1 != s->omega2) {
+        return GR_FAIL(err, GR_EINVAL, "reference collision: a rolling law with unequal initial spins (omega1 = %g, "
+                       "omega2 = %g rad/s) is not integrated (allowed: omega1 = omega2; the engine run takes them)",
+                       s->omega1, s->omega2);
+    }
     if (!(s->mass > 0.0) || !isfinite(s->mass) || !(s->radius > 0.0) || !isfinite(s->radius)) {
         return GR_FAIL(err, GR_EINVAL,
                        "reference collision: mass (%g kg) and radius (%g m) must be positive",
@@ -318,7 +326,14 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     const double t0[2] = {-ctx.n0[1], ctx.n0[0]};
     const double G0[2] = {g[0] / speed, g[1] / speed};
     const double gn0 = G0[0] * ctx.n0[0] + G0[1] * ctx.n0[1];
-    const double gt0 = G0[0] * t0[0] + G0[1] * t0[1];
+    /* initial spins (rotation only): W0 = (w1 + w2) / w0, and the contact point's tangential
+     * velocity before, gt0 = g.t + S0, S0 = -(D / 2) W0 at the touch (|r| = D) */
+    if (!ctx.rot && (s->omega1 != 0.0 || s->omega2 != 0.0)) {
+        return GR_FAIL(err, GR_EINVAL, "reference collision: initial spins need rotation ([model] rotation = true "
+                       "with a tangential law; allowed without: 0)");
+    }
+    const double W0 = ctx.rot ? (s->omega1 + s->omega2) / w0 : 0.0;
+    const double gt0 = G0[0] * t0[0] + G0[1] * t0[1] - 0.5 * ctx.D * W0;
     const bool has_tangent = fabs(gt0) >= REF_TANGENT_FLOOR;
     ctx.sliding = ctx.tangential == GR_TANGENTIAL_FRICTION && has_tangent;
     ctx.s0 = gt0 < 0.0 ? -1.0 : 1.0;
@@ -349,7 +364,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     yd[Y_G1] = G0[1];
     yd[Y_JN] = 0.0;
     yd[Y_JT] = 0.0;
-    yd[Y_W] = 0.0;
+    yd[Y_W] = W0;
 
     int rootdir[REF_NROOT];
     rootdir[ROOT_END] = -1;
@@ -451,11 +466,18 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     const double gg1 = G1[0] * G1[0] + G1[1] * G1[1];
 
     memset(out, 0, sizeof *out);
-    /* rotation: the spin energy I (w1^2 + w2^2) / 2 over m12 V^2 / 2 is q (D W / 2)^2 (w1 = w2 = W w0 / 2) */
-    const double spin_e = ctx.rot ? ctx.q * 0.25 * ctx.D * ctx.D * yd[Y_W] * yd[Y_W] : 0.0;
-    out->energy_loss = 1.0 - (gg1 + spin_e) / gg0;
-    out->impact_angle = atan2(fabs(gt0), -gn0) * (180.0 / M_PI);
-    out->expected_loss = gr_contact_expected_loss(&coeffs, speed, out->impact_angle);
+    /* rotation: equal torques on both discs change each spin by half the change of W; the spin
+     * energy I (w1^2 + w2^2) / 2 over m12 V^2 / 2 is 2 q (D / 2)^2 (w1^2 + w2^2) / w0^2 */
+    const double w1a = s->omega1 + 0.5 * (yd[Y_W] - W0) * w0, w2a = s->omega2 + 0.5 * (yd[Y_W] - W0) * w0;
+    const double spin_scale = 0.5 * ctx.q * ctx.D * ctx.D / (w0 * w0);
+    const double spin_e = ctx.rot ? spin_scale * (w1a * w1a + w2a * w2a) : 0.0;
+    const double spin_e0 = ctx.rot ? spin_scale * (s->omega1 * s->omega1 + s->omega2 * s->omega2) : 0.0;
+    const bool spun = W0 != 0.0 || spin_e0 != 0.0;
+    out->energy_loss = 1.0 - (gg1 + spin_e) / (gg0 + spin_e0);
+    const double gtt0 = G0[0] * t0[0] + G0[1] * t0[1]; /* the centres' g.t, for the impact angle */
+    out->impact_angle = atan2(fabs(gtt0), -gn0) * (180.0 / M_PI);
+    /* the models' restitution laws assume discs without spin before the impact */
+    out->expected_loss = spun ? (double)NAN : gr_contact_expected_loss(&coeffs, speed, out->impact_angle);
     out->contact_time = tau / w0;
     out->max_overlap = xi_max * len;
     out->eps_n_measured = -st.gn / gn0;
@@ -463,7 +485,8 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     out->tangential_reversed =
         has_tangent && st.gc * gt0 < 0.0 && fabs(st.gc) >= REF_TANGENT_FLOOR;
     if (ctx.rot) {
-        out->omega1 = out->omega2 = 0.5 * yd[Y_W] * w0;
+        out->omega1 = w1a;
+        out->omega2 = w2a;
     }
     out->normal_impulse = fabs(yd[Y_JN]) * m12 * speed;
     out->tangential_impulse = fabs(yd[Y_JT]) * m12 * speed;
@@ -477,6 +500,8 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
         double v1 = cs->v1[k] - P / s->mass, v2 = cs->v2[k] + P / s->mass;
         double pb = s->mass * (cs->v1[k] + cs->v2[k]);
         double pa = s->mass * (v1 + v2);
+        out->v1[k] = v1;
+        out->v2[k] = v2;
         p_before += pb * pb;
         p_change += (pa - pb) * (pa - pb);
     }

@@ -52,6 +52,21 @@ int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
     return rc;
 }
 
+int gr_contact_prepare_rolling(const gr_model *rolling, const gr_contact_params *p, double m12, double dt,
+                               gr_contact_coeffs *c, gr_error *err)
+{
+    c->rolling_model = NULL;
+    c->mu_r = 0.0;
+    if (!rolling) {
+        return GR_OK;
+    }
+    if (rolling->kind != GR_MODEL_ROLLING) {
+        return GR_FAIL(err, GR_EINVAL, "[model] rolling = %s: not a rolling law", rolling->name);
+    }
+    c->rolling_model = rolling;
+    return rolling->prepare(p, m12, dt, c, err);
+}
+
 void gr_contact_defaults(gr_contact_params *p)
 {
     memset(p, 0, sizeof *p);

@@ -14,6 +14,8 @@
  * alike, a = |r_ij| / 2 (equal radii; the contact point is midway, at r_i + a n = r_j - a n:
  * (-a n) x (f_t t) = a f_t for j, (a n) x (-f_t t) = a f_t for i, since n x t = -1). The pair's
  * orbital torque (r_j - r_i) x (f_t t) = -2 a f_t cancels them: angular momentum is conserved.
+ * Rolling laws (rotation instances only, RL_NAME; models/rolling_friction.h): a torque pair -m on
+ * i, +m on j from w_i - w_j and f_n, no force; its power is booked with friction.
  * Ledger: the normal law's non-conservative part does work f_d g_n on the relative motion, so
  * it dissipates -f_d g_n (for the linear law gamma_n g_n^2 unclamped; the spring energy that
  * vanishes while the clamp holds f_n at zero is counted here too); a tangential law books its
@@ -39,8 +41,12 @@
 #define GR_TL_ID(A, NAME) TL_##NAME,
 enum { GR_NORMAL_MODELS(GR_NL_ID, ) NL_COUNT };
 enum { TL_none = 0, GR_TANGENTIAL_MODELS(GR_TL_ID, ) TL_COUNT };
+/* rolling laws (RL_none = none): instantiated with rotation only */
+#define GR_RL_ID(A, NAME) RL_##NAME,
+enum { RL_none = 0, GR_ROLLING_MODELS(GR_RL_ID, ) RL_COUNT };
 #undef GR_NL_ID
 #undef GR_TL_ID
+#undef GR_RL_ID
 
 /* The law `nl` (a constant after inlining, so the switch folds to one inlined call). */
 static inline __attribute__((always_inline)) gr_normal_force
@@ -82,6 +88,19 @@ static inline __attribute__((always_inline)) int history_of(const int tl)
     return 0;
 }
 
+static inline __attribute__((always_inline)) gr_rolling_torque
+rolling_law(const int rl, const gr_contact_coeffs *c, const gr_rolling_in in)
+{
+    switch (rl) {
+#define GR_RL_CASE(A, NAME)                                                                        \
+    case RL_##NAME:                                                                                \
+        return gr_rolling_##NAME(c, in);
+        GR_ROLLING_MODELS(GR_RL_CASE, )
+#undef GR_RL_CASE
+    }
+    return (gr_rolling_torque){.m = 0.0, .p = 0.0};
+}
+
 /* The ledger column of tangential law tl: GR_BOOK_TANGENTIAL or GR_BOOK_FRICTION (0: none). */
 static inline __attribute__((always_inline)) int book_of(const int tl)
 {
@@ -111,6 +130,7 @@ typedef struct pair_out {
     double Fx, Fy, Gx, Gy, el, pn, pt, ov; /* pt: the tangential law's dissipation (its column) */
     double tq; /* rotation: the torque r f_t on i and on j */
     double hs, et, lost; /* history law: the pair's new slot, its stored energy (J), energy dropped (J) */
+    double rq, pr; /* rolling law: its torque on j (-rq on i) and its power (booked as friction) */
 } pair_out;
 
 /* What every pair needs, loaded once per loop. */
@@ -118,20 +138,21 @@ typedef struct pair_ctx {
     const double *restrict x, *restrict y, *restrict vx, *restrict vy;
     const double *restrict w; /* omega (rotation only) */
     double L, d, d2, m12_dt;
+    double i_2dt; /* rotation: I / (2 dt), for a rolling law */
     gr_contact_coeffs cc; /* the laws' coefficients, a local copy */
 } pair_ctx;
 
 static inline __attribute__((always_inline)) pair_ctx ctx_of(const gr_sim *s)
 {
     return (pair_ctx){.x = s->x, .y = s->y, .vx = s->vx, .vy = s->vy, .w = s->omega, .L = s->L, .d = s->d,
-                      .d2 = s->d * s->d, .m12_dt = s->cc.m_t / s->dt, .cc = s->cc};
+                      .d2 = s->d * s->d, .m12_dt = s->cc.m_t / s->dt, .i_2dt = 0.5 * s->inertia / s->dt, .cc = s->cc};
 }
 
 /* h: the pair's history slot (history laws; 0 otherwise), passed by value: the law updates a copy,
  * returned in o->hs, and the row loop writes it back once per pair. */
 static inline __attribute__((always_inline)) int
 pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang, const int clamp, const int rot,
-        const double h, pair_out *restrict o)
+        const int roll, const double h, pair_out *restrict o)
 {
     const double L = c.L, d = c.d;
     const double dx = wrap_delta(c.x[j] - c.x[i], L), dy = wrap_delta(c.y[j] - c.y[i], L);
@@ -190,6 +211,15 @@ pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang
             Gy += f_t * ty;
         }
     }
+    if (roll != RL_none) {
+        /* rolling resistance (rotation kernels only): opposite torques, no force */
+        const gr_rolling_in rin = {.dw = c.w[i] - c.w[j], .f_n = f_n, .acts = !clamp || f_n > 0.0,
+                                   .r_eff = 0.25 * d, .i_2dt = c.i_2dt};
+        const gr_rolling_torque rt = rolling_law(roll, &c.cc, rin);
+        o->tq = tang != TL_none ? o->tq : 0.0;
+        o->rq = rt.m;
+        o->pr = rt.p;
+    }
     o->Fx = Fx;
     o->Fy = Fy;
     o->Gx = Gx;
@@ -220,7 +250,7 @@ static double forget(const pair_ctx *c, const int tang, const int i, const int j
  * one thread) and f[i] -= sum of its row. Sums of the block in list order. */
 static inline __attribute__((always_inline)) void
 rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int hi, const int all, const int nl,
-        const int tang, const int clamp, const int rot, double *restrict part)
+        const int tang, const int clamp, const int rot, const int roll, double *restrict part)
 {
     double *restrict fx = s->fx, *restrict fy = s->fy, *restrict gx_ = s->gx, *restrict gy_ = s->gy;
     double *restrict tq = s->tq;
@@ -235,7 +265,7 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
         for (int p = start[i]; p < start[i + 1]; p++) {
             const int j = list[p];
             pair_out o;
-            if (!pair_2d(c, i, j, nl, tang, clamp, rot, history_of(tang) ? hist[p] : 0.0, &o)) {
+            if (!pair_2d(c, i, j, nl, tang, clamp, rot, roll, history_of(tang) ? hist[p] : 0.0, &o)) {
                 touching[p] = 0;
                 if (history_of(tang) && hist[p] != 0.0) {
                     lost += forget(&c, tang, i, j, rot, &hist[p]); /* the contact ended: its spring goes */
@@ -257,12 +287,15 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
             } else if (book_of(tang) == GR_BOOK_FRICTION) {
                 pf += o.pt;
             }
+            if (roll != RL_none) {
+                pf += o.pr;
+            }
             fxi -= o.Fx;
             fyi -= o.Fy;
             gxi -= o.Gx;
             gyi -= o.Gy;
             if (rot) {
-                tqi += o.tq;
+                tqi += roll != RL_none ? o.tq - o.rq : o.tq;
             }
             if (all || (j >= lo && j < hi)) {
                 fx[j] += o.Fx;
@@ -270,7 +303,7 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
                 gx_[j] += o.Gx;
                 gy_[j] += o.Gy;
                 if (rot) {
-                    tq[j] += o.tq;
+                    tq[j] += roll != RL_none ? o.tq + o.rq : o.tq;
                 }
             }
         }
@@ -449,20 +482,20 @@ static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict 
  * that does not overlap adds +0.0, which changes no sum that starts from +0.0), so the result
  * is bit-identical for every T. Ledger sums are per block and combined in block order. */
 static inline __attribute__((always_inline)) void
-serial_2d(gr_sim *restrict s, const int nl, const int tang, const int clamp, const int rot)
+serial_2d(gr_sim *restrict s, const int nl, const int tang, const int clamp, const int rot, const int roll)
 {
     const int n = s->n;
     zero_forces(s, 0, n);
     for (int b = 0; b < s->nblk; b++) {
         const int r1 = (b + 1) * GR_BLOCK < n ? (b + 1) * GR_BLOCK : n;
-        rows_2d(s, b * GR_BLOCK, r1, 0, n, 1, nl, tang, clamp, rot, s->blk + (size_t)b * GR_BLK_FIELDS);
+        rows_2d(s, b * GR_BLOCK, r1, 0, n, 1, nl, tang, clamp, rot, roll, s->blk + (size_t)b * GR_BLK_FIELDS);
     }
 }
 
 /* The part of thread tid of nth (inside a parallel region) of the T-thread evaluation. */
 static inline __attribute__((always_inline)) void
 threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const int nl, const int tang,
-            const int clamp, const int rot)
+            const int clamp, const int rot, const int roll)
 {
     const pair_ctx c = ctx_of(s);
     for (int t = tid; t < T; t += nth) {
@@ -472,14 +505,14 @@ threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const
             /* a history law reads the slot of the cross pair's row (this thread's): the new value is
              * written by rows_2d after the barrier, from the same old value */
             const int p = s->cross_p[q];
-            if (pair_2d(c, s->cross_i[q], s->nl_j[p], nl, tang, clamp, rot, history_of(tang) ? s->nl_hist[p] : 0.0,
-                        &o)) {
+            if (pair_2d(c, s->cross_i[q], s->nl_j[p], nl, tang, clamp, rot, roll,
+                        history_of(tang) ? s->nl_hist[p] : 0.0, &o)) {
                 f[0] = o.Fx;
                 f[1] = o.Fy;
                 f[2] = o.Gx;
                 f[3] = o.Gy;
                 if (rot) {
-                    s->pair_tq[q] = o.tq;
+                    s->pair_tq[q] = roll != RL_none ? o.tq + o.rq : o.tq;
                 }
             } else {
                 f[0] = f[1] = f[2] = f[3] = 0.0;
@@ -496,7 +529,7 @@ threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const
         add_incoming(s, lo, hi, 0, s->cross_start[t], rot);
         for (int r0 = lo; r0 < hi; r0 += GR_BLOCK) {
             const int r1 = r0 + GR_BLOCK < hi ? r0 + GR_BLOCK : hi;
-            rows_2d(s, r0, r1, lo, hi, 0, nl, tang, clamp, rot, s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS);
+            rows_2d(s, r0, r1, lo, hi, 0, nl, tang, clamp, rot, roll, s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS);
         }
         add_incoming(s, lo, hi, s->cross_start[t + 1], s->cross_start[T], rot);
     }
@@ -636,41 +669,60 @@ pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const int nl, cons
 
 /* One function per contact-law combination; the parallel region is written in each, so that the
  * constants reach the body OpenMP outlines. */
-#define KERNEL_2D(NL, TL, CLAMP, ROT)                                                              \
-    static void kernel_2d_##NL##_##TL##_##CLAMP##ROT(gr_sim *s, gr_force_report *r)                \
+#define KERNEL_2D_AS(FN, NL, TL, CLAMP, ROT, RL)                                                    \
+    static void FN(gr_sim *s, gr_force_report *r)                                                  \
     {                                                                                              \
         const int T = team_2d(s);                                                                  \
         if (T == 1) {                                                                              \
-            serial_2d(s, NL_##NL, TL_##TL, CLAMP, ROT);                                            \
+            serial_2d(s, NL_##NL, TL_##TL, CLAMP, ROT, RL);                                        \
         } else {                                                                                   \
             _Pragma("omp parallel num_threads(T)")                                                 \
-                threaded_2d(s, T, THREAD_ID, THREAD_COUNT, NL_##NL, TL_##TL, CLAMP, ROT);          \
+                threaded_2d(s, T, THREAD_ID, THREAD_COUNT, NL_##NL, TL_##TL, CLAMP, ROT, RL);      \
         }                                                                                          \
         report_2d(s, r, history_of(TL_##TL));                                                      \
     }
+#define KERNEL_2D(NL, TL, CLAMP, ROT) KERNEL_2D_AS(kernel_2d_##NL##_##TL##_##CLAMP##ROT, NL, TL, CLAMP, ROT, RL_none)
+/* rolling laws: rotation on, with no tangential law or with each one, clamped and not. The
+ * X-macro argument carries (NL, TL) as one parenthesised pair. */
+#define GR_UNPAIR(...) __VA_ARGS__
+#define KERNEL_2D_RL_(RL, NL, TL)                                                                  \
+    KERNEL_2D_AS(kernel_2d_##NL##_##TL##_01_##RL, NL, TL, 0, 1, RL_##RL)                           \
+    KERNEL_2D_AS(kernel_2d_##NL##_##TL##_11_##RL, NL, TL, 1, 1, RL_##RL)
+#define KERNEL_2D_RL(...) KERNEL_2D_RL_(__VA_ARGS__)
+#define KERNELS_RL(P, RL) KERNEL_2D_RL(RL, GR_UNPAIR P)
+#define KERNELS_ROLL(NL, TL) GR_ROLLING_MODELS(KERNELS_RL, (NL, TL))
 #define KERNEL_1D(NL, CLAMP)                                                                       \
     static void kernel_1d_##NL##_##CLAMP(gr_sim *s, gr_force_report *r) { pair_loop_1d(s, r, NL_##NL, CLAMP); }
 /* rotation (the last digit) only with a tangential law */
-#define KERNELS_NT(NL, TL) KERNEL_2D(NL, TL, 0, 0) KERNEL_2D(NL, TL, 1, 0) KERNEL_2D(NL, TL, 0, 1) KERNEL_2D(NL, TL, 1, 1)
+#define KERNELS_NT(NL, TL) KERNEL_2D(NL, TL, 0, 0) KERNEL_2D(NL, TL, 1, 0) KERNEL_2D(NL, TL, 0, 1) KERNEL_2D(NL, TL, 1, 1) \
+    KERNELS_ROLL(NL, TL)
 #define KERNELS_N(A, NL)                                                                           \
     KERNEL_1D(NL, 0) KERNEL_1D(NL, 1) KERNEL_2D(NL, none, 0, 0) KERNEL_2D(NL, none, 1, 0)         \
-        GR_TANGENTIAL_MODELS(KERNELS_NT, NL)
+        KERNELS_ROLL(NL, none) GR_TANGENTIAL_MODELS(KERNELS_NT, NL)
 GR_NORMAL_MODELS(KERNELS_N, )
 
 /* The table of every instance: gr_kernel_id is an index into it. */
 typedef struct kernel_entry {
     void (*run)(gr_sim *s, gr_force_report *r);
-    int dim, nl, tl, clamp, rot;
-    const char *normal, *tangential; /* model names ("" for no tangential law) */
+    int dim, nl, tl, clamp, rot, rl;
+    const char *normal, *tangential, *rolling; /* model names ("none" for no such law) */
 } kernel_entry;
 
 #define ENTRY_2D(NL, TL, CLAMP, ROT)                                                               \
-    {kernel_2d_##NL##_##TL##_##CLAMP##ROT, 2, NL_##NL, TL_##TL, CLAMP, ROT, #NL, #TL},
-#define ENTRIES_NT(NL, TL) ENTRY_2D(NL, TL, 0, 0) ENTRY_2D(NL, TL, 1, 0) ENTRY_2D(NL, TL, 0, 1) ENTRY_2D(NL, TL, 1, 1)
+    {kernel_2d_##NL##_##TL##_##CLAMP##ROT, 2, NL_##NL, TL_##TL, CLAMP, ROT, RL_none, #NL, #TL, "none"},
+#define ENTRY_2D_RL_(RL, NL, TL)                                                                   \
+    {kernel_2d_##NL##_##TL##_01_##RL, 2, NL_##NL, TL_##TL, 0, 1, RL_##RL, #NL, #TL, #RL},          \
+        {kernel_2d_##NL##_##TL##_11_##RL, 2, NL_##NL, TL_##TL, 1, 1, RL_##RL, #NL, #TL, #RL},
+#define ENTRY_2D_RL(...) ENTRY_2D_RL_(__VA_ARGS__)
+#define ENTRIES_RL(P, RL) ENTRY_2D_RL(RL, GR_UNPAIR P)
+#define ENTRIES_ROLL(NL, TL) GR_ROLLING_MODELS(ENTRIES_RL, (NL, TL))
+#define ENTRIES_NT(NL, TL) ENTRY_2D(NL, TL, 0, 0) ENTRY_2D(NL, TL, 1, 0) ENTRY_2D(NL, TL, 0, 1) ENTRY_2D(NL, TL, 1, 1) \
+    ENTRIES_ROLL(NL, TL)
 #define ENTRIES_N(A, NL)                                                                           \
-    {kernel_1d_##NL##_0, 1, NL_##NL, TL_none, 0, 0, #NL, "none"},                                  \
-        {kernel_1d_##NL##_1, 1, NL_##NL, TL_none, 1, 0, #NL, "none"}, ENTRY_2D(NL, none, 0, 0)    \
-            ENTRY_2D(NL, none, 1, 0) GR_TANGENTIAL_MODELS(ENTRIES_NT, NL)
+    {kernel_1d_##NL##_0, 1, NL_##NL, TL_none, 0, 0, RL_none, #NL, "none", "none"},                 \
+        {kernel_1d_##NL##_1, 1, NL_##NL, TL_none, 1, 0, RL_none, #NL, "none", "none"},             \
+        ENTRY_2D(NL, none, 0, 0) ENTRY_2D(NL, none, 1, 0) ENTRIES_ROLL(NL, none)                    \
+            GR_TANGENTIAL_MODELS(ENTRIES_NT, NL)
 static const kernel_entry kernels[] = {GR_NORMAL_MODELS(ENTRIES_N, )};
 enum { N_KERNELS = sizeof kernels / sizeof kernels[0] };
 
@@ -689,11 +741,14 @@ void gr_kernel_choose(gr_sim *s)
     const char *nname = normal && normal->force_law ? normal->force_law : normal ? normal->name : "";
     /* a tangential law whose coefficients make it do nothing (eps_t = 1, mu = 0): skip its work */
     const char *tname = tangential && !(tangential->inert && tangential->inert(c)) ? tangential->name : "none";
-    /* rotation with a law that does nothing (eps_t = 1, mu = 0): the spins stay as they are */
-    const int rot = s->omega && strcmp(tname, "none") != 0;
+    /* a rolling law (rotation only) with mu_r = 0: none */
+    const gr_model *rolling = c->rolling_model;
+    const char *rname = s->omega && rolling && !(rolling->inert && rolling->inert(c)) ? rolling->name : "none";
+    /* rotation with laws that do nothing (eps_t = 1, mu = 0, mu_r = 0): the spins stay as they are */
+    const int rot = s->omega && (strcmp(tname, "none") != 0 || strcmp(rname, "none") != 0);
     int k = 0;
     while (k < N_KERNELS && !(kernels[k].dim == s->dim && kernels[k].clamp == (int)c->clamp && kernels[k].rot == rot &&
-                              strcmp(kernels[k].normal, nname) == 0 &&
+                              strcmp(kernels[k].normal, nname) == 0 && strcmp(kernels[k].rolling, rname) == 0 &&
                               strcmp(kernels[k].tangential, s->dim == 1 ? "none" : tname) == 0)) {
         k++;
     }
@@ -708,8 +763,9 @@ void gr_kernel_choose(gr_sim *s)
                         : s->params.noise_mode == GR_NOISE_COM ? "noise-com" : "noise-symmetrised";
     const char *nb = s->dim == 1 ? "1d-ring" : (s->params.skin > 0.0 ? "2d-verlet-list" : "2d-cell-list");
     const kernel_entry *e = &kernels[k];
-    snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s%s/%s", nb, e->normal, e->clamp ? "[clamped]" : "",
-             e->tl != TL_none ? "+" : "", e->tl != TL_none ? e->tangential : "", e->rot ? "+rotation" : "", noise);
+    snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s%s%s%s/%s", nb, e->normal, e->clamp ? "[clamped]" : "",
+             e->tl != TL_none ? "+" : "", e->tl != TL_none ? e->tangential : "", e->rot ? "+rotation" : "",
+             e->rl != RL_none ? "+" : "", e->rl != RL_none ? e->rolling : "", noise);
 }
 
 /* The history slot of the pair (i, j) in the list, listed either way (0 if it is not listed). */

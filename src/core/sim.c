@@ -112,6 +112,9 @@ static int prepare_contact(gr_sim *s, gr_error *err)
     const gr_sim_params *sc = &s->params;
     double m12 = 0.5 * sc->mass; /* reduced mass of two identical particles */
     int rc = gr_contact_prepare(sc->normal, sc->tangential, &sc->contact, m12, 0.0, &s->cc, err);
+    if (!rc) {
+        rc = gr_contact_prepare_rolling(sc->rolling, &sc->contact, m12, 0.0, &s->cc, err);
+    }
     if (rc) {
         return rc;
     }
@@ -152,7 +155,8 @@ static int prepare_contact(gr_sim *s, gr_error *err)
                        s->cc.zeta * (1.0 + 0.5 * s->cc.zeta * s->cc.w0 * dt), dt_lag);
     }
     s->dt = dt;
-    return gr_contact_prepare(sc->normal, sc->tangential, &sc->contact, m12, dt, &s->cc, err);
+    int rc2 = gr_contact_prepare(sc->normal, sc->tangential, &sc->contact, m12, dt, &s->cc, err);
+    return rc2 ? rc2 : gr_contact_prepare_rolling(sc->rolling, &sc->contact, m12, dt, &s->cc, err);
 }
 
 static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *err)

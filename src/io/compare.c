@@ -21,6 +21,17 @@ static void model_names(int kinds, char *buf, size_t size)
     }
 }
 
+/* whether the model (NULL: none) has the scene key `name` among its parameters */
+static bool model_has_param(const gr_model *m, const char *name)
+{
+    for (int i = 0; m && i < m->n_params; i++) {
+        if (!strcmp(m->params[i].name, name)) {
+            return true;
+        }
+    }
+    return false;
+}
+
 /* the integrator's index in the registry (granule/integrator.h), -1 if none has that name */
 static int integrator_find(const char *name)
 {
@@ -50,7 +61,7 @@ int gr_compare_spec_parse(const char *text, gr_compare_spec *spec, gr_error *err
     if (at) {
         *at++ = 0;
     }
-    /* the modifiers: clamp and at most one integrator */
+    /* the modifiers: clamp, rotation and at most one integrator */
     for (char *mod = at; mod;) {
         char *next = strchr(mod, '@');
         if (next) {
@@ -59,13 +70,17 @@ int gr_compare_spec_parse(const char *text, gr_compare_spec *spec, gr_error *err
         int kind = integrator_find(mod);
         if (!strcmp(mod, "clamp") && !spec->clamp) {
             spec->clamp = true;
+        } else if (!strcmp(mod, "rotation") && !spec->rotation) {
+            spec->rotation = true;
         } else if (kind >= 0 && spec->integrator < 0) {
             spec->integrator = kind;
-        } else if (kind >= 0 || !strcmp(mod, "clamp")) {
-            return GR_FAIL(err, GR_EINVAL, "'%s': @%s is given twice (or two integrators); one integrator and @clamp at most",
-                           text, mod);
+        } else if (kind >= 0 || !strcmp(mod, "clamp") || !strcmp(mod, "rotation")) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "'%s': @%s is given twice (or two integrators); one integrator, @clamp and @rotation at most", text,
+                           mod);
         } else {
-            return GR_FAIL(err, GR_EINVAL, "'%s': unknown modifier @%s; allowed: @clamp and an integrator @verlet | @event | @hybrid",
+            return GR_FAIL(err, GR_EINVAL,
+                           "'%s': unknown modifier @%s; allowed: @clamp, @rotation and an integrator @verlet | @event | @hybrid",
                            text, mod);
         }
         mod = next;
@@ -88,6 +103,13 @@ int gr_compare_spec_parse(const char *text, gr_compare_spec *spec, gr_error *err
             return GR_FAIL(err, GR_EINVAL, "'%s': unknown tangential model '%s'; allowed: %s", text, plus, names);
         }
         snprintf(spec->tangential, sizeof spec->tangential, "%.63s", plus);
+    }
+    if (spec->rotation && !model_has_param(normal, "rotation") &&
+        !model_has_param(plus ? gr_model_find(plus) : NULL, "rotation")) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "'%s': @rotation needs a law that acts at the contact point: a tangential law with the key "
+                       "rotation (granule models) or an event rule that has it (hard_sphere)",
+                       text);
     }
     return GR_OK;
 }
@@ -140,18 +162,25 @@ int gr_compare_scene_load(const gr_compare_spec *spec, const char *scene_path, c
             kind = base.integrator->instantaneous ? "verlet" : base.integrator->name;
         }
     }
-    char assign[4][160];
+    /* rotation is decided by the spec where its models have the key (elsewhere the key would be
+     * "ignored" and the scene's value cannot matter) */
+    const bool has_rotation = model_has_param(normal, "rotation") ||
+                              (spec->tangential[0] && model_has_param(gr_model_find(spec->tangential), "rotation"));
+    char assign[5][160];
     snprintf(assign[0], sizeof assign[0], "model.normal=%s", spec->normal);
     snprintf(assign[1], sizeof assign[1], "model.tangential=%s", spec->tangential[0] ? spec->tangential : "none");
     snprintf(assign[2], sizeof assign[2], "model.clamp=%s", spec->clamp ? "true" : "false");
-    snprintf(assign[3], sizeof assign[3], "integrator.kind=%s", kind ? kind : "verlet");
+    snprintf(assign[3], sizeof assign[3], "model.rotation=%s", spec->rotation ? "true" : "false");
+    snprintf(assign[4], sizeof assign[4], "integrator.kind=%s", kind ? kind : "verlet");
     const char *all[80];
     int m = 0;
-    for (int i = 0; i < n_sets && m < 76; i++) {
+    for (int i = 0; i < n_sets && m < 75; i++) {
         all[m++] = sets[i];
     }
-    const int own = kind ? 4 : 3;
-    for (int i = 0; i < own; i++) {
+    for (int i = 0; i < 5; i++) {
+        if ((i == 3 && !has_rotation) || (i == 4 && !kind)) {
+            continue;
+        }
         all[m++] = assign[i];
     }
     if (gr_scene_load_whole(scene, scene_path, all, m, err)) {

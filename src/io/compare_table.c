@@ -198,6 +198,13 @@ static void fill_column(gr_compare_table *t, int k, const cJSON *s)
     } else {
         set_reason(&r[i].cell[k], "no samples");
     }
+    /* rotating discs: the spin's temperature I <w^2> / M (one degree of freedom), the last sample (T_rot_final) */
+    const double T_rot = gr_summary_number(s, "T_rot_final");
+    if (isfinite(T_rot)) {
+        set_number(&r[++i].cell[k], T_rot, NAN, NULL);
+    } else {
+        set_reason(&r[++i].cell[k], "n/a: no rotation");
+    }
     tail_cell(t, &r[++i].cell[k], s);
     df_cell(&r[++i].cell[k], s, dim);
     g1_cell(&r[++i].cell[k], s, dim);
@@ -241,6 +248,7 @@ gr_compare_table *gr_compare_table_build(const char *out, const char *scene_path
     t->n_models = n > GR_COMPARE_MAX ? GR_COMPARE_MAX : n;
     /* the order a physicist reads them: state, structure, collisions, energy, cost */
     add_row(t, "T (m^2/s^2)", "T");
+    add_row(t, "rotational T at the end (m^2/s^2)", "T_rot");
     add_row(t, "P(v) tail exponent alpha (5.5)", "tail_alpha");
     add_row(t, "fractal dimension D_f of S(k) (4.4)", "D_f");
     add_row(t, "G_1 tail exponent n_N (3.22)", "n_N");

@@ -51,6 +51,25 @@ int gr_cost_write(const gr_cost_answer *a, const gr_cost_request *rq, const char
         add_num(b, "predicted_wall", a->predicted_wall);
         add_num(b, "predicted_wall_err", a->predicted_wall_err);
         add_num(b, "particle_steps_per_second", a->particle_steps_per_second);
+        const gr_cost_option *bo = a->best_option >= 0 ? &a->option[a->best_option] : NULL;
+        cJSON_AddStringToObject(b, "integrator", bo ? bo->integrator : "verlet");
+        add_num(b, "window", bo && bo->window > 0.0 ? bo->window : (double)NAN);
+        cJSON *opts = cJSON_AddArrayToObject(root, "integrators");
+        for (int k = 0; k < a->n_options; k++) {
+            const gr_cost_option *o = &a->option[k];
+            cJSON *j = cJSON_CreateObject();
+            cJSON_AddStringToObject(j, "integrator", o->integrator);
+            add_num(j, "window", o->window > 0.0 ? o->window : (double)NAN);
+            cJSON_AddBoolToObject(j, "timed", o->ok);
+            if (!o->ok) {
+                cJSON_AddStringToObject(j, "why_not", o->note);
+            }
+            add_num(j, "wall_per_simulated", o->wall_per_simulated);
+            add_num(j, "wall_per_simulated_err", o->wall_per_simulated_err);
+            cJSON_AddNumberToObject(j, "calibration_blocks", o->blocks);
+            add_num(j, "particle_steps_per_second", o->particle_steps_per_second);
+            cJSON_AddItemToArray(opts, j);
+        }
     } else {
         cJSON_AddNullToObject(root, "recommended");
     }

@@ -18,7 +18,7 @@
 #include "io/files.h"
 #include "io/scene_lines.h"
 
-typedef enum { K_DOUBLE, K_INT, K_BOOL, K_UINT64, K_STRING, K_ENUM, K_NORMAL, K_TANGENTIAL, K_INTEGRATOR, K_LIST } key_type;
+typedef enum { K_DOUBLE, K_INT, K_BOOL, K_UINT64, K_STRING, K_ENUM, K_NORMAL, K_TANGENTIAL, K_ROLLING, K_INTEGRATOR, K_LIST } key_type;
 
 typedef struct scene_key {
     const char *section;
@@ -47,6 +47,7 @@ static const scene_key keys[] = {
     {"placement", "omega0", "rad/s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "[model] rotation = true only: initial angular velocities omega0 * U(-0.5, 0.5) per disc (rotational temperature I omega0^2 / 12 M); 0 = not spinning", OFF(omega0)},
     {"model", "normal", "", K_NORMAL, "spring_dashpot", 0, 0, false, false, NULL, "normal collision model (granule models lists them)", OFF(normal)},
     {"model", "tangential", "", K_TANGENTIAL, "none", 0, 0, false, false, NULL, "none, tangential_dashpot or sliding_friction (2D only)", OFF(tangential)},
+    {"model", "rolling", "", K_ROLLING, "none", 0, 0, false, false, NULL, "none or rolling_friction: rolling resistance, a torque pair against w_i - w_j (needs rotation = true; docs/models.md)", OFF(rolling)},
     {"noise", "D", "N^2 s", K_DOUBLE, "1e-8", 0, INFINITY, false, true, NULL, "noise strength (2.15, 2.22); 0 switches the random force off (Table 2.2: 1e-8)", OFF(D)},
     {"noise", "mode", "", K_ENUM, "symmetrised", 0, 0, false, false, "none|symmetrised|com", "symmetrised: forces shifted to sum to zero every step (2.18); com: centre-of-mass velocity removed every com_interval (sec. 2.3.1); none: no random force", OFF(noise_mode)},
     {"noise", "com_interval", "s", K_DOUBLE, "1e-3", 0, INFINITY, true, true, NULL, "com mode: time between centre-of-mass velocity removals", OFF(com_interval)},
@@ -222,6 +223,21 @@ static const gr_param *find_model_param(const char *name, const gr_model **owner
     return NULL;
 }
 
+/* Whether model m's parameter i was already listed by an earlier model (several share a key:
+ * eps_n, rotation, ...), so that a key list names it once. */
+static bool model_param_listed_before(int m, int i)
+{
+    const char *name = gr_models[m]->params[i].name;
+    for (int a = 0; a <= m; a++) {
+        for (int b = 0; b < (a < m ? gr_models[a]->n_params : i); b++) {
+            if (strcmp(gr_models[a]->params[b].name, name) == 0) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
 static void append_known_keys(char *buf, size_t n, const char *section)
 {
     size_t len = strlen(buf);
@@ -233,7 +249,9 @@ static void append_known_keys(char *buf, size_t n, const char *section)
     if (strcmp(section, "model") == 0) {
         for (int m = 0; gr_models[m]; m++) {
             for (int i = 0; i < gr_models[m]->n_params; i++) {
-                len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s", gr_models[m]->params[i].name);
+                if (!model_param_listed_before(m, i)) {
+                    len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s", gr_models[m]->params[i].name);
+                }
             }
         }
     }
@@ -351,13 +369,16 @@ static int apply(loader *ld, const char *section, const char *name, const char *
             break;
         }
         case K_NORMAL:
-        case K_TANGENTIAL: {
+        case K_TANGENTIAL:
+        case K_ROLLING: {
             const gr_model *m = strcmp(value, "none") == 0 ? NULL : gr_model_find(value);
-            gr_model_kind want = k->type == K_NORMAL ? GR_MODEL_NORMAL : GR_MODEL_TANGENTIAL;
+            gr_model_kind want = k->type == K_NORMAL       ? GR_MODEL_NORMAL
+                                 : k->type == K_TANGENTIAL ? GR_MODEL_TANGENTIAL
+                                                           : GR_MODEL_ROLLING;
             if ((!m && (k->type == K_NORMAL || strcmp(value, "none") != 0)) || (m && !(m->kind & want))) {
                 char list[256] = "";
                 size_t len = 0;
-                if (k->type == K_TANGENTIAL) {
+                if (k->type != K_NORMAL) {
                     len += (size_t)snprintf(list, sizeof list, "none");
                 }
                 for (int j = 0; gr_models[j]; j++) {
@@ -366,7 +387,7 @@ static int apply(loader *ld, const char *section, const char *name, const char *
                     }
                 }
                 snprintf(detail, sizeof detail, "'%s' is not a %s model; choose one of %s", value,
-                         k->type == K_NORMAL ? "normal" : "tangential", list);
+                         k->type == K_NORMAL ? "normal" : k->type == K_TANGENTIAL ? "tangential" : "rolling", list);
                 return fail_at(err, w, section, name, "%s", detail);
             }
             *(const gr_model **)slot = m;
@@ -668,6 +689,12 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
         return fail_at(err, &w, "model", "eps_n", "%s",
                        "hard_sphere needs eps_n in (0, 1]: at eps_n = 0 a touching pair keeps zero normal speed and time stops; use e.g. 0.001");
     }
+    if (s->rolling && (s->dim != 2 || !s->contact.rotation || s->integrator->instantaneous)) {
+        where w = where_of(g, s, "model", "rolling");
+        snprintf(detail, sizeof detail, "%s is a torque on the spins: it needs dim = 2, [model] rotation = true and a force-law integrator (verlet); given dim = %d, rotation = %s, kind = %s; allowed otherwise: none",
+                 s->rolling->name, s->dim, s->contact.rotation ? "true" : "false", s->integrator->name);
+        return fail_at(err, &w, "model", "rolling", "%s", detail);
+    }
     if (s->integrator->instantaneous && s->tangential) {
         where w = where_of(g, s, "model", "tangential");
         snprintf(detail, sizeof detail, "%s is a force law; with kind = %s the tangential restitution is hard_sphere's eps_t; allowed: none",
@@ -681,7 +708,8 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
         s->D = 0.0;
     }
     for (int i = 0; i < n_model_keys; i++) {
-        if (!model_has_param(s->normal, model_keys[i]) && !model_has_param(s->tangential, model_keys[i])) {
+        if (!model_has_param(s->normal, model_keys[i]) && !model_has_param(s->tangential, model_keys[i]) &&
+            !model_has_param(s->rolling, model_keys[i])) {
             const gr_model *owner = NULL;
             find_model_param(model_keys[i], &owner);
             warn(s, "[model] %s is ignored: it belongs to %s, which this scene does not use\n",
@@ -754,7 +782,7 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
     for (int i = 0; i < ld.n_seen && n_model_keys < 64; i++) {
         if (strncmp(ld.seen[i], "model.", 6) == 0) {
             const char *name = ld.seen[i] + 6;
-            if (strcmp(name, "normal") && strcmp(name, "tangential")) {
+            if (strcmp(name, "normal") && strcmp(name, "tangential") && strcmp(name, "rolling")) {
                 bool dup = false;
                 for (int j = 0; j < n_model_keys; j++) {
                     dup |= strcmp(model_keys[j], name) == 0;
@@ -806,6 +834,7 @@ static const char *type_name(key_type t)
     case K_INTEGRATOR: return "choice";
     case K_NORMAL: return "model";
     case K_TANGENTIAL: return "model";
+    case K_ROLLING: return "model";
     case K_LIST: return "list";
     }
     return "";
@@ -921,7 +950,8 @@ static void save_value(FILE *f, const scene_key *k, const gr_scene *s)
         break;
     }
     case K_NORMAL:
-    case K_TANGENTIAL: {
+    case K_TANGENTIAL:
+    case K_ROLLING: {
         const gr_model *m = *(const gr_model *const *)slot;
         fprintf(f, "%s", m ? m->name : "none");
         break;
@@ -1003,8 +1033,8 @@ void gr_scene_write(const gr_scene *s, FILE *f)
         save_value(f, k, s);
         fputc('\n', f);
         if (strcmp(k->name, "tangential") == 0) {
-            const gr_model *used[2] = {s->normal, s->tangential};
-            for (int u = 0; u < 2; u++) {
+            const gr_model *used[3] = {s->normal, s->tangential, s->rolling};
+            for (int u = 0; u < 3; u++) {
                 if (used[u]) {
                     save_params(f, used[u]->params, used[u]->n_params, &s->contact);
                 }

@@ -1,6 +1,7 @@
 /* The resolved scene as JSON (for summary.json) and its hash (for CSV headers). */
 #include <cjson/cJSON.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "io/scene_json.h"
 
@@ -27,8 +28,11 @@ cJSON *gr_scene_to_json(const gr_scene *s)
     cJSON *m = cJSON_AddObjectToObject(root, "model");
     cJSON_AddStringToObject(m, "normal", s->normal ? s->normal->name : "none");
     cJSON_AddStringToObject(m, "tangential", s->tangential ? s->tangential->name : "none");
-    const gr_model *used[2] = {s->normal, s->tangential};
-    for (int u = 0; u < 2; u++) {
+    if (s->rolling) {
+        cJSON_AddStringToObject(m, "rolling", s->rolling->name); /* only then (the hashes of other scenes stay) */
+    }
+    const gr_model *used[3] = {s->normal, s->tangential, s->rolling};
+    for (int u = 0; u < 3; u++) {
         for (int i = 0; used[u] && i < used[u]->n_params; i++) {
             const gr_param *p = &used[u]->params[i];
             const char *slot = (const char *)&s->contact + p->offset;
@@ -86,4 +90,106 @@ uint64_t gr_scene_hash(const gr_scene *s)
     cJSON_free(text);
     cJSON_Delete(j);
     return h;
+}
+
+/* The default of [model] key `name`, from the first registered model that has it (models share
+ * a key's default), as JSON; NULL when no model has the key. */
+static cJSON *model_param_default(const char *name)
+{
+    for (int m = 0; gr_models[m]; m++) {
+        for (int i = 0; i < gr_models[m]->n_params; i++) {
+            const gr_param *p = &gr_models[m]->params[i];
+            if (!strcmp(p->name, name)) {
+                return p->type == GR_PARAM_BOOL ? cJSON_CreateBool(p->def != 0.0) : cJSON_CreateNumber(p->def);
+            }
+        }
+    }
+    return NULL;
+}
+
+/* j as it reads back from a file (the seed is written raw, so it parses as a number); frees j */
+static cJSON *normalised(cJSON *j)
+{
+    char *text = cJSON_PrintUnformatted(j);
+    cJSON_Delete(j);
+    cJSON *back = text ? cJSON_Parse(text) : NULL;
+    cJSON_free(text);
+    return back;
+}
+
+bool gr_scene_json_compatible(const cJSON *recorded, const gr_scene *now, char *why, size_t len)
+{
+    if (!cJSON_IsObject(recorded)) {
+        snprintf(why, len, "no scene recorded");
+        return false;
+    }
+    gr_scene d;
+    gr_scene_default(&d);
+    cJSON *cur = normalised(gr_scene_to_json(now)), *def = normalised(gr_scene_to_json(&d));
+    if (!cur || !def) {
+        cJSON_Delete(cur);
+        cJSON_Delete(def);
+        snprintf(why, len, "out of memory comparing scenes");
+        return false;
+    }
+    bool ok = true;
+    const cJSON *sec;
+    cJSON_ArrayForEach(sec, cur)
+    {
+        if (!strcmp(sec->string, "output")) {
+            continue;
+        }
+        const cJSON *rsec = cJSON_GetObjectItem(recorded, sec->string), *dsec = cJSON_GetObjectItem(def, sec->string);
+        const cJSON *item;
+        cJSON_ArrayForEach(item, sec)
+        {
+            const cJSON *r = cJSON_GetObjectItem(rsec, item->string);
+            if (r) {
+                if (!cJSON_Compare(r, item, true)) {
+                    char *a = cJSON_PrintUnformatted(r), *b = cJSON_PrintUnformatted(item);
+                    snprintf(why, len, "[%s] %s was %s, now %s", sec->string, item->string, a ? a : "?", b ? b : "?");
+                    cJSON_free(a);
+                    cJSON_free(b);
+                    ok = false;
+                }
+            } else {
+                cJSON *dm = !strcmp(sec->string, "model") ? model_param_default(item->string) : NULL;
+                const cJSON *dv = dm ? dm : cJSON_GetObjectItem(dsec, item->string);
+                if (!dv || !cJSON_Compare(dv, item, true)) {
+                    char *b = cJSON_PrintUnformatted(item);
+                    snprintf(why, len, "[%s] %s = %s was not recorded and is not its default", sec->string, item->string,
+                             b ? b : "?");
+                    cJSON_free(b);
+                    ok = false;
+                }
+                cJSON_Delete(dm);
+            }
+            if (!ok) {
+                break;
+            }
+        }
+        if (!ok) {
+            break;
+        }
+    }
+    /* a key the recorded run had and granule no longer knows */
+    const cJSON *rsec;
+    cJSON_ArrayForEach(rsec, recorded)
+    {
+        const cJSON *item;
+        const cJSON *csec = cJSON_GetObjectItem(cur, rsec->string);
+        if (!ok || !strcmp(rsec->string, "output") || !cJSON_IsObject(rsec)) {
+            continue;
+        }
+        cJSON_ArrayForEach(item, rsec)
+        {
+            if (ok && !cJSON_GetObjectItem(csec, item->string)) {
+                snprintf(why, len, "[%s] %s was recorded and is no longer a key of this scene", rsec->string, item->string);
+                ok = false;
+            }
+        }
+    }
+    cJSON_Delete(cur);
+    cJSON_Delete(def);
+    return ok;
 }

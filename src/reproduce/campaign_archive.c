@@ -28,8 +28,16 @@ static cJSON *curve_series(const gr_campaign *c, const campaign_point *p)
 {
     cJSON *all = cJSON_CreateObject();
     double *x = malloc(3 * 4096 * sizeof *x), *y = x + 4096, *e = y + 4096;
+    gr_campaign_result spm[2];
+    campaign_spm_series(0, &spm[0]);
+    campaign_spm_series(1, &spm[1]);
+    bool has_spm = false;
     for (int i = 0; i < c->n_results; i++) {
-        const gr_campaign_result *r = &c->results[i];
+        has_spm |= c->results[i].kind == GR_RESULT_SPM;
+    }
+    /* the curve results' series, then those the spm kind reads (pv.csv, freepath.csv) */
+    for (int i = 0; i < c->n_results + (has_spm ? 2 : 0); i++) {
+        const gr_campaign_result *r = i < c->n_results ? &c->results[i] : &spm[i - c->n_results];
         char key[512];
         campaign_curve_key(r, key, sizeof key);
         if (r->kind != GR_RESULT_CURVE || cJSON_GetObjectItem(all, key)) {

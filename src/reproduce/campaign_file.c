@@ -12,6 +12,7 @@
 
 #include "granule/campaign.h"
 #include "io/files.h"
+#include "reproduce/campaign_points.h"
 #include "reproduce/embedded.h"
 
 const char *gr_embedded_find(const char *name)
@@ -101,12 +102,16 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
             r->kind = GR_RESULT_RUNNING;
         } else if (!strcmp(value, "rise_time")) {
             r->kind = GR_RESULT_RISE;
+        } else if (!strcmp(value, "settle_time")) {
+            r->kind = GR_RESULT_SETTLE;
         } else if (!strcmp(value, "curve")) {
             r->kind = GR_RESULT_CURVE;
         } else if (!strcmp(value, "cascade")) {
             r->kind = GR_RESULT_CASCADE;
+        } else if (!strcmp(value, "spm")) {
+            r->kind = GR_RESULT_SPM;
         } else {
-            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, curve, cascade",
+            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, settle_time, curve, cascade, spm",
                      r->id, value);
             return 0;
         }
@@ -145,6 +150,21 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         snprintf(r->transform, sizeof r->transform, "%s", strcmp(value, "none") ? value : "");
         return 1;
     }
+    if (!strcmp(name, "tail")) {
+        r->tail_exponential = !strcmp(value, "exponential");
+        if (!r->tail_exponential && strcmp(value, "5.31")) {
+            snprintf(p->error, sizeof p->error, "[result %s] tail = %s: allowed 5.31, exponential", r->id, value);
+            return 0;
+        }
+        return 1;
+    }
+    if (!strcmp(name, "df")) {
+        if (!parse_double(value, &r->df) || !(r->df > 1.0 && r->df < 2.0)) {
+            snprintf(p->error, sizeof p->error, "[result %s] df = %s: expected D_f in (1, 2) (2D free paths, 4.25)", r->id, value);
+            return 0;
+        }
+        return 1;
+    }
     double *num = !strcmp(name, "x_min")       ? &r->x_min
                   : !strcmp(name, "x_max")     ? &r->x_max
                   : !strcmp(name, "period")    ? &r->period
@@ -159,7 +179,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     }
     snprintf(p->error, sizeof p->error,
              "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, x_max, by, m, per_m, period, "
-             "table, where, select, transform, collapse_at, axes, overlay, thesis, thesis_source, note",
+             "table, where, select, transform, collapse_at, axes, overlay, configurations, df, tail, thesis, thesis_source, note",
              r->id, name);
     return 0;
 }
@@ -299,7 +319,7 @@ static int parse_text(gr_campaign *c, const char *text, const char *where, gr_er
     }
     for (int i = 0; i < c->n_results; i++) {
         const gr_campaign_result *r = &c->results[i];
-        if (r->kind != GR_RESULT_RUNNING && r->kind != GR_RESULT_RISE && !r->y[0]) {
+        if (r->kind != GR_RESULT_RUNNING && r->kind != GR_RESULT_RISE && r->kind != GR_RESULT_SETTLE && !r->y[0]) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] needs y (a summary.json path)", where, r->id);
         }
         if (r->kind == GR_RESULT_POWER_LAW && !r->x[0]) {
@@ -308,6 +328,10 @@ static int parse_text(gr_campaign *c, const char *text, const char *where, gr_er
         if (r->kind == GR_RESULT_CURVE && (!r->table[0] || !r->x[0])) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = curve needs table (a run's CSV) and x, y (its columns)", where,
                            r->id);
+        }
+        if (r->kind == GR_RESULT_SPM && !campaign_spm_quantity_known(r->y)) {
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = spm: y = %s: allowed %s", where, r->id, r->y,
+                           GR_CAMPAIGN_SPM_QUANTITIES);
         }
         if (r->axes[0] && strcmp(r->axes, "loglog") && strcmp(r->axes, "linlog") && strcmp(r->axes, "linear")) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] axes = %s: allowed loglog, linlog, linear", where, r->id, r->axes);

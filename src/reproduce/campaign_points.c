@@ -143,7 +143,9 @@ void campaign_row_thesis(const gr_campaign_result *r, campaign_row *row)
         row->thesis_error = e;
         snprintf(row->thesis_note, sizeof row->thesis_note, "%.*s", (int)strcspn(note, "\n"), note);
         double var = row->error * row->error + (isfinite(e) ? e * e : 0.0);
-        row->z = isfinite(row->value) && var > 0.0 ? (row->value - v) / sqrt(var) : (double)NAN;
+        row->z = isfinite(row->value) && var > 0.0 && !gr_campaign_exact_match(row->value, v, e)
+                     ? (row->value - v) / sqrt(var)
+                     : (double)NAN;
         return;
     }
 }

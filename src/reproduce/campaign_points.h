@@ -67,6 +67,14 @@ int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campa
 /* CASCADE (Fig. 6.3): also writes RESULTS/ID_positions.csv (campaign_cascade.c). */
 int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
                      const char *results, FILE *data, gr_error *err);
+/* SPM (Figs. 5.12-5.13, campaign_spm.c): also writes RESULTS/ID_tail.dat and draws ID_data.png. */
+int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
+                 const char *results, FILE *data, gr_error *err);
+/* Is y one of GR_CAMPAIGN_SPM_QUANTITIES? */
+bool campaign_spm_quantity_known(const char *y);
+/* The run tables the SPM kind reads, as CURVE results (which = 0: pv.csv's P(v); 1: freepath.csv's
+ * P_l), so that the archive keeps their series under the keys of fig5.4 and fig4.10. */
+void campaign_spm_series(int which, gr_campaign_result *out);
 int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
                    FILE *data, gr_error *err);
 /* A CURVE result's series of one run (from its table, or from the archive's series.json): x, y, e
@@ -82,7 +90,7 @@ bool campaign_bisection_collapse(double N, double x0, double *x, double *y, doub
 
 /* Is the warm-up long enough? The mean of T over the first quarter of a run's sampling relative to
  * the mean over the rest, minus 1 (NAN without temperature.csv). */
-double campaign_warmup_drift(const campaign_point *p);
+double campaign_warmup_drift(const campaign_point *p, double *error);
 
 /* Shared by the analyses (campaign_analyse.c). */
 #define MAX_GROUPS 256

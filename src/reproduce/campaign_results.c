@@ -21,6 +21,8 @@ static const char *kind_name(gr_result_kind k)
            : k == GR_RESULT_RUNNING   ? "running_mean"
            : k == GR_RESULT_CURVE     ? "curve"
            : k == GR_RESULT_CASCADE   ? "cascade"
+           : k == GR_RESULT_SPM       ? "spm"
+           : k == GR_RESULT_SETTLE    ? "settle_time"
                                       : "rise_time";
 }
 
@@ -180,7 +182,7 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
                  "plot '%s_positions.csv' skip 1 using 2:(strcol(1) eq 'cascade' ? $3 : 1/0) with points pt 7 ps 0.5 lc rgb '#c0392b'\n"
                  "unset multiplot\n",
                  r->id, r->id);
-    } else if (r->kind == GR_RESULT_RISE) {
+    } else if (r->kind == GR_RESULT_RISE || r->kind == GR_RESULT_SETTLE) {
         snprintf(body, sizeof body,
                  "set key outside right\nset xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\n"
                  "set title 'T(t) from the start of every run (lines: its steady value)' noenhanced\n"
@@ -259,6 +261,7 @@ static int analyse_one(const gr_campaign *c, const gr_campaign_result *r, const 
          : r->kind == GR_RESULT_RUNNING   ? campaign_running(c, r, pts, rows, data.f, err)
          : r->kind == GR_RESULT_CURVE     ? campaign_curve(c, r, pts, rows, data.f, err)
          : r->kind == GR_RESULT_CASCADE   ? campaign_cascade(c, r, pts, rows, results, data.f, err)
+         : r->kind == GR_RESULT_SPM       ? campaign_spm(c, r, pts, rows, results, data.f, err)
                                           : campaign_rise(c, r, pts, rows, data.f, err);
     if (rc) {
         gr_file_abandon(&data);
@@ -298,23 +301,44 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
     cJSON_AddNumberToObject(j, "cpu_seconds", round(cpu));
     cJSON_AddNumberToObject(j, "cpu_hours", round(cpu / 36.0) / 100.0);
     cJSON_AddNumberToObject(j, "simulated_seconds", sim);
-    /* the warm-up: T over the first quarter of the sampling against the rest, over every run */
-    double drift[4096];
-    int nd = 0;
-    for (int i = 0; i < pts.n && nd < 4096; i++) {
-        double d = campaign_warmup_drift(&pts.p[i]);
+    /* the warm-up: T over the first quarter of the sampling against the rest, over every run; not
+     * for a campaign about the transient itself (Fig. 2.7 samples from t = 0 on purpose) */
+    bool transient = false;
+    for (int k = 0; k < c->n_results; k++) {
+        transient |= c->results[k].kind == GR_RESULT_RISE || c->results[k].kind == GR_RESULT_SETTLE;
+    }
+    if (transient) {
+        cJSON_AddStringToObject(cJSON_AddObjectToObject(j, "warmup_check"), "not_applicable",
+                                "the campaign measures the rise of T from t = 0");
+    }
+    double drift[4096], run_var = 0.0;
+    int nd = 0, nvar = 0;
+    for (int i = 0; i < pts.n && nd < 4096 && !transient; i++) {
+        double e, d = campaign_warmup_drift(&pts.p[i], &e);
         if (isfinite(d)) {
             drift[nd++] = d;
+            if (isfinite(e)) {
+                run_var += e * e;
+                nvar++;
+            }
         }
     }
     if (nd > 0) {
-        double dm, de;
-        campaign_mean_sd(drift, nd, &dm, &de);
+        /* the error: the seeds' scatter with three runs or more, else the larger of it and the
+         * runs' own block errors (campaign_headline_error, as for every result) */
+        double dm, de_seeds;
+        campaign_mean_sd(drift, nd, &dm, &de_seeds);
+        const double de_runs = nvar == nd ? sqrt(run_var) / nd : (double)NAN;
+        const double de = campaign_headline_error(de_seeds, de_runs, nd);
         cJSON *w = cJSON_AddObjectToObject(j, "warmup_check");
-        cJSON_AddStringToObject(w, "what", "mean over runs of <T>(first quarter of sampling) / <T>(rest) - 1");
+        cJSON_AddStringToObject(w, "what", "mean over runs of <T>(first quarter of sampling) / <T>(rest) - 1; error: the "
+                                           "seeds' scatter (3 runs or more), else the larger of it and the runs' own "
+                                           "error from 8 blocks of each run's sampling");
         cJSON_AddNumberToObject(w, "runs", nd);
         add_num(w, "drift", dm);
         add_num(w, "drift_error", de);
+        add_num(w, "drift_error_seeds", de_seeds);
+        add_num(w, "drift_error_runs", de_runs);
         add_num(w, "z", isfinite(de) && de > 0.0 ? dm / de : (double)NAN);
     }
     cJSON *commits = cJSON_AddArrayToObject(j, "run_commits");

@@ -126,7 +126,9 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         }
         double z = num(row, "z");
         char zs[32] = "";
-        if (isfinite(z)) {
+        if (gr_campaign_exact_match(num(row, "value"), num(row, "thesis"), num(row, "thesis_error"))) {
+            snprintf(zs, sizeof zs, "exact (1e-4)"); /* also for result sets collected before the rule */
+        } else if (isfinite(z)) {
             snprintf(zs, sizeof zs, "%s%+.1f%s", fabs(z) > 2.0 ? "**" : "", z, fabs(z) > 2.0 ? "**" : "");
         }
         char seeds[64];
@@ -224,7 +226,10 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
                 str(s, "campaign"), str(s, "fidelity"), str(s, "scene"), num(s, "points_finished"), num(s, "points_total"),
                 num(s, "simulated_seconds"), num(s, "cpu_seconds") / 3600.0, str(s, "commit"));
         const cJSON *w = cJSON_GetObjectItem(s, "warmup_check");
-        if (w) {
+        const cJSON *na = cJSON_GetObjectItem(w, "not_applicable");
+        if (cJSON_IsString(na)) {
+            fprintf(f.f, "Warm-up check: not applicable (%s).\n\n", na->valuestring);
+        } else if (w) {
             double z = num(w, "z");
             fprintf(f.f, "Warm-up check: over %.0f runs, <T> in the first quarter of the sampling differs from the rest by "
                          "%+.1f %% +- %.1f %% (z = %+.1f)%s\n\n",

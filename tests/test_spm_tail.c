@@ -1,0 +1,150 @@
+/* The RFM's P(v) against the SPM's asymptotic form (Figs. 5.12-5.13; src/theory/spm_rfm_tail.c) on
+ * synthetic input whose answer is known: counts drawn (Poisson) from 5.31 with the S that
+ * gr_spm_predict gives for the thesis's D_f = 1.63 and C = 121 give back S and A0 (and a wrong alpha
+ * is rejected by chi2); the tail plot with P' = A0 of P = A0 exp(-S v^alpha) has slope -alpha
+ * exactly, and with P' = P(0) < A0 a steeper one (the thesis's -1.15 against -1.0); the fold of a
+ * symmetric histogram; C of 4.25 at fixed D_f recovered from a tabulated P_l. */
+#include <check.h>
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "granule/spm.h"
+
+#define NB 400
+
+/* A symmetric histogram of one velocity component on [-vmax, vmax): expected counts N dv f(|v|), f
+ * being 5.31 (normalisation irrelevant for the tail), drawn Poisson when rng is given. density and
+ * sqrt(X) errors as the pv observable writes them (A.5). */
+static void synthetic_pv(gsl_rng *rng, double N, double vmax, double lnA0, double h, double S, double alpha, double *v,
+                         double *p, double *e)
+{
+    const double dv = 2.0 * vmax / NB;
+    for (int i = 0; i < NB; i++) {
+        v[i] = -vmax + (i + 0.5) * dv;
+        const double a = fabs(v[i]);
+        const double mean = N * dv * exp(gr_spm_tail531_log(lnA0, h, S, alpha, a));
+        const double x = rng ? (double)gsl_ran_poisson(rng, mean) : mean;
+        p[i] = x / (N * dv);
+        e[i] = sqrt(x) / (N * dv);
+    }
+}
+
+START_TEST(test_fold)
+{
+    double v[NB], p[NB], e[NB], vf[NB], pf[NB], ef[NB], cf[NB];
+    synthetic_pv(NULL, 1e6, 2.0, 0.0, 0.0, 3.0, 1.0, v, p, e);
+    p[0] *= 3.0; /* the mirror of the last bin: the fold averages the two */
+    e[0] *= sqrt(3.0);
+    const int n = gr_spm_fold_pv(v, p, e, NB, vf, pf, ef, cf);
+    ck_assert_int_eq(n, NB / 2);
+    ck_assert(fabs(vf[0] - v[NB / 2]) < 1e-12 && vf[n - 1] == v[NB - 1]);
+    ck_assert(fabs(pf[n - 1] - 2.0 * p[NB - 1]) < 1e-12 * pf[n - 1]);
+    /* counts: (P/e)^2 of both sides, the sqrt(X) counts of A.5 */
+    const double dv = 4.0 / NB, expect = 1e6 * dv * exp(-3.0 * vf[10]) * 2.0;
+    ck_assert_msg(fabs(cf[10] - expect) < 1e-9 * expect, "counts %g, expected %g", cf[10], expect);
+    /* not symmetric about 0: refused */
+    for (int i = 0; i < NB; i++) {
+        v[i] += 0.3 * (4.0 / NB);
+    }
+    ck_assert_int_eq(gr_spm_fold_pv(v, p, e, NB, vf, pf, ef, cf), 0);
+}
+END_TEST
+
+START_TEST(test_531_recovers_S)
+{
+    /* the thesis's phi = 0.530 system: D_f = 1.63, C = 121, B = 0.154 -> S = 9.48 (5.27) */
+    gr_spm_settings st;
+    gr_spm_settings_default(&st);
+    gr_spm_prediction pred;
+    gr_error err = {0};
+    ck_assert(gr_spm_predict(1.63, gr_spm_B(&st, GR_SPM_THESIS_B_COEF), 121.0, &pred, &err) == GR_OK);
+    ck_assert(fabs(pred.S - 9.48) < 0.01);
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 7);
+    double v[NB], p[NB], e[NB], vf[NB], pf[NB], ef[NB], cf[NB];
+    const double lnA0 = log(20.0), v_rms = 0.21, P0 = 2.1;
+    int agree = 0;
+    const int trials = 5;
+    for (int k = 0; k < trials; k++) {
+        synthetic_pv(rng, 3e7, 3.6, lnA0, pred.h, pred.S, pred.alpha, v, p, e);
+        const int n = gr_spm_fold_pv(v, p, e, NB, vf, pf, ef, cf);
+        gr_spm_tail531 t;
+        ck_assert_msg(gr_spm_tail531_fit(vf, pf, ef, cf, n, P0, v_rms, pred.alpha, pred.h, 2.0, INFINITY, 50.0, pred.S, &t, &err) ==
+                          GR_OK,
+                      "%s", err.message);
+        ck_assert_msg(t.n_points > 20 && t.v_lo >= 2.0 * v_rms && t.decades > 3.0, "%d bins from %g m/s, %g decades", t.n_points, t.v_lo, t.decades);
+        ck_assert_msg(t.S_err > 0.0 && t.S_err < 0.02 * pred.S, "S error %g", t.S_err);
+        ck_assert_msg(t.chi2_red > 0.4 && t.chi2_red < 2.0, "chi2/dof %g for the true model", t.chi2_red);
+        agree += fabs(t.S - pred.S) < 2.0 * t.S_err && fabs(t.lnA0 - lnA0) < 2.0 * t.lnA0_err;
+        ck_assert_msg(fabs(t.S - pred.S) < 4.0 * t.S_err, "S = %g +- %g, drawn with %g", t.S, t.S_err, pred.S);
+        ck_assert(fabs(t.A0_over_P0 - 20.0 / P0) < 4.0 * t.lnA0_err * 20.0 / P0);
+        ck_assert(fabs(t.lnA0_at_S_pred - lnA0) < 0.01);
+        /* a wrong alpha does not fit the same counts */
+        gr_spm_tail531 w;
+        ck_assert(gr_spm_tail531_fit(vf, pf, ef, cf, n, P0, v_rms, 0.8, pred.h, 2.0, INFINITY, 50.0, 0.0, &w, &err) == GR_OK);
+        ck_assert_msg(w.chi2_red > 3.0, "alpha = 0.8 fits the alpha = 0.97 counts: chi2/dof %g", w.chi2_red);
+    }
+    ck_assert_msg(agree >= trials - 2, "S and A0 within 2 sigma in only %d of %d draws", agree, trials);
+    gsl_rng_free(rng);
+}
+END_TEST
+
+START_TEST(test_tail_plot_slopes)
+{
+    /* P = A0 exp(-S v^alpha) exactly (h = 0): -ln(-ln(P/A0)) = -alpha ln v - ln S, slope -alpha; with
+     * P' = P(0) = A0 / 7.5, -ln(S v^alpha - ln 7.5) falls faster: slope < -alpha (Fig. 5.13) */
+    double v[NB], p[NB], e[NB], vf[NB], pf[NB], ef[NB], cf[NB];
+    const double alpha = 0.9717, S = 9.48, A0 = 15.0;
+    synthetic_pv(NULL, 1e9, 3.6, log(A0), 0.0, S, alpha, v, p, e);
+    const int n = gr_spm_fold_pv(v, p, e, NB, vf, pf, ef, cf);
+    gr_spm_tail531 t;
+    gr_error err = {0};
+    ck_assert(gr_spm_tail531_fit(vf, pf, ef, cf, n, A0 / 7.5, 0.2, alpha, 0.0, 2.0, 8.0, 50.0, 0.0, &t, &err) == GR_OK);
+    ck_assert_msg(fabs(t.S - S) < 1e-9 && fabs(t.A0 - A0) < 1e-9 * A0, "S %g, A0 %g", t.S, t.A0);
+    ck_assert(fabs(t.A0_over_P0 - 7.5) < 1e-9);
+    ck_assert_msg(fabs(t.slope_A0 + alpha) < 1e-9, "slope with P' = A0: %.12g, expected %g", t.slope_A0, -alpha);
+    ck_assert_msg(t.slope_P0 < -alpha - 0.05, "slope with P' = P(0): %g, expected steeper than %g", t.slope_P0, -alpha);
+    ck_assert(t.v_hi <= 8.0 * 0.2 + 1e-12 && isnan(t.lnA0_at_S_pred));
+    /* too few bins in the window: refused, with the window in the message */
+    ck_assert_int_eq(gr_spm_tail531_fit(vf, pf, ef, cf, n, A0 / 7.5, 0.2, alpha, 0.0, 2.0, 2.01, 50.0, 0.0, &t, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_spm_tail531_fit(vf, pf, ef, cf, n, 0.0, 0.2, alpha, 0.0, 2.0, 8.0, 50.0, 0.0, &t, &err), GR_EINVAL);
+}
+END_TEST
+
+START_TEST(test_pl_fit_C)
+{
+    /* 4.25 tabulated on log bins: C back at the right D_f, not at a wrong one */
+    double l[60], p[60], e[60];
+    const double beta = 0.63, C = 121.0;
+    for (int i = 0; i < 60; i++) {
+        l[i] = 1e-4 * pow(10.0, i / 15.0);
+        p[i] = 30.0 * pow(l[i], beta - 1.0) * exp(-C * pow(l[i], beta));
+        e[i] = 1e-3 * p[i];
+    }
+    double c, c_err, chi2;
+    gr_error err = {0};
+    ck_assert(gr_spm_pl_fit_C(l, p, e, 60, beta, 1e-3, 0.05, &c, &c_err, &chi2, &err) == GR_OK);
+    ck_assert_msg(fabs(c - C) < 1e-6 * C && chi2 < 1e-9, "C = %g (chi2/dof %g)", c, chi2);
+    ck_assert(gr_spm_pl_fit_C(l, p, e, 60, 0.5, 1e-3, 0.05, &c, &c_err, &chi2, &err) == GR_OK);
+    ck_assert_msg(chi2 > 100.0 && fabs(c - C) > 0.1 * C, "the wrong D_f fits: C = %g, chi2/dof %g", c, chi2);
+    ck_assert_int_eq(gr_spm_pl_fit_C(l, p, e, 60, 0.63, 1.0, 2.0, &c, &c_err, &chi2, &err), GR_EINVAL);
+}
+END_TEST
+
+int main(void)
+{
+    Suite *s = suite_create("spm_tail");
+    TCase *t = tcase_create("spm_tail");
+    tcase_add_test(t, test_fold);
+    tcase_add_test(t, test_531_recovers_S);
+    tcase_add_test(t, test_tail_plot_slopes);
+    tcase_add_test(t, test_pl_fit_C);
+    suite_add_tcase(s, t);
+    SRunner *r = srunner_create(s);
+    srunner_run_all(r, CK_NORMAL);
+    int failed = srunner_ntests_failed(r);
+    srunner_free(r);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
