@@ -68,14 +68,21 @@ CASES = {
                         pair=lambda c: hertz_granular(c, ["model.viscoelastic=true"]), fix="nve", needs="hertz"),
     "hooke-rotation": dict(sets=ROTATE, pair=lambda c: hooke_rotation(c, f"linear_nohistory {{x!r}} {XMU!r}"),
                            fix="nve/sphere disc", needs="tangential_dashpot"),
-    # (d) hooke + tangential spring (history) + rotation: runs once `granule models` lists
-    # tangential_spring; its keys k_t / mu are a guess until that law is merged.
+    # (d) hooke + tangential spring (history, LAMMPS linear_history), no rotation: fix nve leaves
+    # omega at 0, so LAMMPS's contact point moves with the centres as granule's does without rotation
+    "hooke-history": dict(
+        sets=["model.tangential=tangential_spring", "model.k_t=2.5e5", "model.mu=1e4"],
+        pair=lambda c: ("granular", f"hooke {c['k_s']} {c['gamma_n']} tangential linear_history 2.5e5 0.0 {XMU!r} "
+                                    "damping velocity"),
+        fix="nve", needs="tangential_spring"),
+    # (e) the same with rotation: skipped until granule's tangential_spring rotates (issue 13)
     "hooke-history-rotation": dict(
+        pending="tangential_spring with rotation is not wired yet (issue 13)",
         sets=["model.tangential=tangential_spring", "model.k_t=2.5e5", "model.mu=1e4"] + ROTATE,
         pair=lambda c: hooke_rotation(c, f"linear_history {c.get('k_t', '2.5e5')} {{x!r}} {XMU!r}"),
         fix="nve/sphere disc", needs="tangential_spring"),
 }
-DEFAULT_CASES = "hooke,hertz-tsuji,hertz-visco,hooke-rotation,hooke-history-rotation"
+DEFAULT_CASES = "hooke,hertz-tsuji,hertz-visco,hooke-rotation,hooke-history,hooke-history-rotation"
 
 
 def read_xyz(path):
@@ -223,6 +230,8 @@ run {run_steps}
 def compare_case(name, case, a, work, models, data):
     if case["needs"] not in models:
         return dict(case=name, skipped=f"model not built: granule models lists no {case['needs']}")
+    if case.get("pending"):
+        return dict(case=name, skipped=case["pending"])
     sets = a.sets + case["sets"]
     set_args = sum((["--set", s] for s in sets), [])
     c = dict(ln.split("=", 1) for ln in run([a.coeffs, SCENE] + set_args).split())

@@ -43,9 +43,11 @@ typedef struct gr_normal_force {
  *   acts   the normal contact acts: always with an unclamped law, f_n > 0 with the clamp;
  *   m12_dt the contact point's tangential mass over the time step (the impulse that stops g_t
  *          in one step is m12_dt |g_t|): m12 / dt without rotation, m_t / dt with it;
- *   hist   per-contact history slot (NULL today: no law keeps history yet). A history law
- *          (Cundall-Strack spring) will read and update its accumulated displacement here; the
- *          kernel will own the storage, one slot per neighbour-list entry. */
+ *   hist   per-contact history slot, for a law listed in GR_HISTORY_MODELS (models/list.h; NULL
+ *          for the others): the law reads and updates its state here (the Cundall-Strack spring's
+ *          accumulated displacement s). The kernel passes a copy of the pair's slot and writes it
+ *          back once per pair and evaluation; the storage (src/core/contact_history.c) is one
+ *          slot per neighbour-list entry, carried by pair across rebuilds and checkpoints. */
 typedef struct gr_tangential_in {
     double g_t, f_n;
     int acts;
@@ -57,9 +59,18 @@ typedef struct gr_tangential_in {
  * returns the force on j along t and the power it dissipates (>= 0), which the kernel books
  * into the ledger column GR_BOOK_NAME (one of the two below, a constant in the model file), and
  * e, the elastic energy the law stores in the contact (J; 0 for a law without history, the
- * tangential spring of models/tangential_spring.h: k_t s^2 / 2). */
+ * tangential spring of models/tangential_spring.h: k_t s^2 / 2).
+ * A history law also returns
+ *   fc   the conservative part of f (the spring, -k_t s): the kernel leaves it out of the
+ *        non-conservative force, whose work the ledger books as dissipation, because its work
+ *        shows up as the change of e instead;
+ *   lost the stored energy the law dropped at this evaluation without any work (J): the spring
+ *        shortened at the Coulomb limit, the history forgotten when the contact ends. The kernel
+ *        reports it (gr_force_report.lost) and the integrator books it as friction.
+ * Laws without history leave both 0 (designated initialisers). */
 typedef struct gr_tangential_force {
     double f, p, e;
+    double fc, lost;
 } gr_tangential_force;
 
 enum { GR_BOOK_TANGENTIAL = 1, GR_BOOK_FRICTION = 2 };

@@ -18,6 +18,7 @@
 #include "models/hertz.h"
 #include "models/tangential_dashpot.h"
 #include "models/sliding_friction.h"
+#include "models/tangential_spring.h"
 #include "models/hard_sphere.h"
 #include "models/rolling_friction.h"
 
@@ -29,7 +30,13 @@
 /* tangential force laws: gr_tangential_NAME, GR_BOOK_NAME and gr_model_NAME */
 #define GR_TANGENTIAL_MODELS(X, A) \
     X(A, tangential_dashpot)       \
-    X(A, sliding_friction)
+    X(A, sliding_friction)         \
+    X(A, tangential_spring)
+
+/* the tangential laws above that keep a per-contact history (gr_tangential_in.hist; the kernels
+ * then carry one slot per pair, src/core/contact_history.c) */
+#define GR_HISTORY_MODELS(X, A) \
+    X(A, tangential_spring)
 
 /* rolling-resistance torques (rotation only): gr_rolling_NAME and gr_model_NAME */
 #define GR_ROLLING_MODELS(X, A) \

@@ -50,6 +50,10 @@ START_TEST(test_coulomb_limit)
         ck_assert_double_eq_tol(fabs(o.f), mu * f_n, 1e-14);
         ck_assert(o.f * sign < 0.0);                                   /* opposes the displacement */
         ck_assert_double_eq_tol(-k * s - gamma * g, o.f, 1e-13);       /* spring rescaled (LAMMPS) */
+        ck_assert(o.fc == -k * s);                                     /* the conservative part */
+        const double s_old = sign * 1.0, s_trial = s_old + g * dt;    /* dropped beyond the trapezoid's work */
+        ck_assert_double_eq_tol(o.lost, 0.5 * k * (s_old + s) * (s_trial - s), 1e-12);
+        ck_assert(o.lost > 0.0);
         ck_assert(isfinite(o.p) && o.p > 0.0);
     }
     /* F_n = 0 while the contact acts (unclamped law at the edge): no force, no NaN */
@@ -61,11 +65,13 @@ START_TEST(test_coulomb_limit)
     s = 0.0;
     o = step(&c0, &s, 0.0, f_n, 1);
     ck_assert(o.f == 0.0 && s == 0.0 && o.p == 0.0);
-    /* the contact breaks: history dropped, its energy booked as dissipated */
+    /* the contact breaks: history dropped, its energy booked as lost (dissipated) together with
+     * the work its last force did over the step, k s_old g dt / 2 (the kernel's trapezoid) */
     s = 0.01;
     o = step(&c, &s, 0.1, 0.0, 0);
     ck_assert(s == 0.0 && o.f == 0.0 && o.e == 0.0);
-    ck_assert_double_eq_tol(o.p * dt, 0.5 * k * 0.01 * 0.01, 1e-18);
+    ck_assert_double_eq_tol(o.lost, 0.5 * k * 0.01 * (0.01 + 0.1 * dt), 1e-18);
+    ck_assert_double_eq_tol(o.p * dt, o.lost, 1e-18);
 }
 END_TEST
 

@@ -49,6 +49,10 @@ typedef struct gr_contact_params {
     double beta;    /* hard_sphere with rotation: tangential restitution at the contact point, [-1, 1] */
     double beta_mu; /* hard_sphere with rotation: Coulomb limit of the tangential impulse (0: none) */
     double mu_r;    /* rolling_friction: coefficient of rolling resistance */
+    /* tangential_spring (models/tangential_spring.h) */
+    double kt_ratio; /* k_t / k_s (linear normal law) */
+    double k_t;      /* tangential spring constant, N/m (0: kt_ratio k_s) */
+    double gamma_t;  /* tangential dashpot in parallel with the spring, kg/s */
 } gr_contact_params;
 
 typedef enum {
@@ -57,7 +61,7 @@ typedef enum {
     GR_NORMAL_HARD_SPHERE /* event-driven rule (not a force law) */
 } gr_normal_law;
 
-typedef enum { GR_TANGENTIAL_NONE = 0, GR_TANGENTIAL_DASHPOT, GR_TANGENTIAL_FRICTION } gr_tangential_law;
+typedef enum { GR_TANGENTIAL_NONE = 0, GR_TANGENTIAL_DASHPOT, GR_TANGENTIAL_FRICTION, GR_TANGENTIAL_SPRING } gr_tangential_law;
 
 struct gr_model;
 

@@ -247,6 +247,11 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
                        "the CVODE reference integrates force laws only",
                        s->normal->name);
     }
+    if (coeffs.tangential == GR_TANGENTIAL_SPRING) {
+        return GR_FAIL(err, GR_EINVAL, "reference collision: the CVODE reference has no tangential_spring yet (its "
+                       "stick-slip history state s is not integrated; docs/models.md, tangential_spring); the engine "
+                       "run works");
+    }
     const bool linear = coeffs.pow_a == 1.0 && coeffs.pow_p == 0.0;
     if (!(coeffs.k_s > 0.0) || !isfinite(coeffs.k_s) || !(coeffs.gamma_n >= 0.0) ||
         !isfinite(coeffs.gamma_n) || !(coeffs.gamma_t >= 0.0) || !isfinite(coeffs.gamma_t) ||

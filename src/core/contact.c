@@ -128,6 +128,8 @@ double gr_contact_expected_loss(const gr_contact_coeffs *c, double speed, double
         const gr_model *law = tm ? tm : nm; /* an event rule carries its own tangential rule */
         if (law && law->restitution_t) {
             et = law->restitution_t(c, ni, v_n, v_t);
+        } else if (tm && !(tm->inert && tm->inert(c))) {
+            et = NAN; /* a law without a closed restitution law (tangential_spring): unknown */
         }
     }
     /* With rotation (discs not spinning before) the tangential impulse that brings the contact

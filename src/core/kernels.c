@@ -75,6 +75,19 @@ tangential_law(const int tl, const gr_contact_coeffs *c, const gr_tangential_in 
     return (gr_tangential_force){.f = 0.0, .p = 0.0};
 }
 
+/* 1 when tangential law tl keeps a per-contact history (GR_HISTORY_MODELS of models/list.h). */
+static inline __attribute__((always_inline)) int history_of(const int tl)
+{
+    switch (tl) {
+#define GR_TL_HIST(A, NAME)                                                                        \
+    case TL_##NAME:                                                                                \
+        return 1;
+        GR_HISTORY_MODELS(GR_TL_HIST, )
+#undef GR_TL_HIST
+    }
+    return 0;
+}
+
 static inline __attribute__((always_inline)) gr_rolling_torque
 rolling_law(const int rl, const gr_contact_coeffs *c, const gr_rolling_in in)
 {
@@ -116,6 +129,7 @@ static inline double wrap_delta(double dx, double L)
 typedef struct pair_out {
     double Fx, Fy, Gx, Gy, el, pn, pt, ov; /* pt: the tangential law's dissipation (its column) */
     double tq; /* rotation: the torque r f_t on i and on j */
+    double hs, et, lost; /* history law: the pair's new slot, its stored energy (J), energy dropped (J) */
     double rq, pr; /* rolling law: its torque on j (-rq on i) and its power (booked as friction) */
 } pair_out;
 
@@ -134,9 +148,11 @@ static inline __attribute__((always_inline)) pair_ctx ctx_of(const gr_sim *s)
                       .d2 = s->d * s->d, .m12_dt = s->cc.m_t / s->dt, .i_2dt = 0.5 * s->inertia / s->dt, .cc = s->cc};
 }
 
+/* h: the pair's history slot (history laws; 0 otherwise), passed by value: the law updates a copy,
+ * returned in o->hs, and the row loop writes it back once per pair. */
 static inline __attribute__((always_inline)) int
 pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang, const int clamp, const int rot,
-        const int roll, pair_out *restrict o)
+        const int roll, const double h, pair_out *restrict o)
 {
     const double L = c.L, d = c.d;
     const double dx = wrap_delta(c.x[j] - c.x[i], L), dy = wrap_delta(c.y[j] - c.y[i], L);
@@ -169,8 +185,9 @@ pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang
         if (rot) {
             g_t += arm * (c.w[i] + c.w[j]); /* the surface velocities at the contact point */
         }
+        double slot = h;
         const gr_tangential_in in = {.g_t = g_t, .f_n = f_n, .acts = !clamp || f_n > 0.0, .m12_dt = c.m12_dt,
-                                     .hist = NULL};
+                                     .hist = history_of(tang) ? &slot : NULL};
         const gr_tangential_force ft = tangential_law(tang, &c.cc, in);
         const double f_t = ft.f;
         o->pt = ft.p;
@@ -179,8 +196,20 @@ pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang
         }
         Fx += f_t * tx;
         Fy += f_t * ty;
-        Gx += f_t * tx;
-        Gy += f_t * ty;
+        if (history_of(tang)) {
+            /* the spring's part -k_t s is conservative (its energy is ft.e), the rest goes into G;
+             * the energy the law dropped is booked directly, so the rate that sets the ledger's
+             * shares is the power of G's tangential part alone (the dashpot's) */
+            o->hs = slot;
+            o->et = ft.e;
+            o->lost = ft.lost;
+            o->pt = -(f_t - ft.fc) * g_t;
+            Gx += (f_t - ft.fc) * tx;
+            Gy += (f_t - ft.fc) * ty;
+        } else {
+            Gx += f_t * tx;
+            Gy += f_t * ty;
+        }
     }
     if (roll != RL_none) {
         /* rolling resistance (rotation kernels only): opposite torques, no force */
@@ -198,8 +227,24 @@ pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang
     return 1;
 }
 
-/* Partial results of one block of rows, in s->blk (GR_BLK_FIELDS per block). */
-enum { B_EL, B_PN, B_PT, B_PF, B_WORST, B_FRESH };
+/* Partial results of one block of rows, in s->blk (GR_BLK_FIELDS per block); B_ELT, B_LOST only
+ * for a history law (past the noise sums of the step, fields 6 and 7). */
+enum { B_EL, B_PN, B_PT, B_PF, B_WORST, B_FRESH, B_ELT = 8, B_LOST = 9 };
+
+/* A history law's contact (i, j) that ended: the law forgets the slot and returns the energy it
+ * held plus the work its last force did over the step (J), which needs g_t (rare: once per contact). */
+static double forget(const pair_ctx *c, const int tang, const int i, const int j, const int rot, double *slot)
+{
+    const double dx = wrap_delta(c->x[j] - c->x[i], c->L), dy = wrap_delta(c->y[j] - c->y[i], c->L);
+    const double dist = sqrt(dx * dx + dy * dy);
+    const double tx = dy / dist, ty = -dx / dist;
+    double g_t = (c->vx[j] - c->vx[i]) * tx + (c->vy[j] - c->vy[i]) * ty;
+    if (rot) {
+        g_t += 0.5 * dist * (c->w[i] + c->w[j]);
+    }
+    const gr_tangential_in in = {.g_t = g_t, .acts = 0, .hist = slot};
+    return tangential_law(tang, &c->cc, in).lost;
+}
 
 /* The rows [r0, r1) of the half list, scattering f[j] += F for j in [lo, hi) (all = 1: every j,
  * one thread) and f[i] -= sum of its row. Sums of the block in list order. */
@@ -211,17 +256,26 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
     double *restrict tq = s->tq;
     const int *restrict start = s->nl_start, *restrict list = s->nl_j;
     uint8_t *restrict touching = s->nl_contact;
+    double *restrict hist = s->nl_hist; /* history laws only */
     const pair_ctx c = ctx_of(s);
-    double elastic = 0.0, pn = 0.0, pt = 0.0, pf = 0.0, worst = 0.0;
+    double elastic = 0.0, pn = 0.0, pt = 0.0, pf = 0.0, worst = 0.0, el_t = 0.0, lost = 0.0;
     int64_t fresh = 0;
     for (int i = r0; i < r1; i++) {
         double fxi = 0.0, fyi = 0.0, gxi = 0.0, gyi = 0.0, tqi = 0.0;
         for (int p = start[i]; p < start[i + 1]; p++) {
             const int j = list[p];
             pair_out o;
-            if (!pair_2d(c, i, j, nl, tang, clamp, rot, roll, &o)) {
+            if (!pair_2d(c, i, j, nl, tang, clamp, rot, roll, history_of(tang) ? hist[p] : 0.0, &o)) {
                 touching[p] = 0;
+                if (history_of(tang) && hist[p] != 0.0) {
+                    lost += forget(&c, tang, i, j, rot, &hist[p]); /* the contact ended: its spring goes */
+                }
                 continue;
+            }
+            if (history_of(tang)) {
+                hist[p] = o.hs; /* this thread's row: written once, after every read of it */
+                el_t += o.et;
+                lost += o.lost;
             }
             fresh += !touching[p];
             touching[p] = 1;
@@ -267,6 +321,10 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
     part[B_PF] = pf;
     part[B_WORST] = worst;
     part[B_FRESH] = (double)fresh;
+    if (history_of(tang)) {
+        part[B_ELT] = el_t;
+        part[B_LOST] = lost;
+    }
 }
 
 static void zero_forces(gr_sim *s, int lo, int hi)
@@ -444,7 +502,11 @@ threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const
         for (int q = s->cross_start[t]; q < s->cross_start[t + 1]; q++) {
             pair_out o;
             double *f = s->pair_f + 4 * (size_t)q;
-            if (pair_2d(c, s->cross_i[q], s->nl_j[s->cross_p[q]], nl, tang, clamp, rot, roll, &o)) {
+            /* a history law reads the slot of the cross pair's row (this thread's): the new value is
+             * written by rows_2d after the barrier, from the same old value */
+            const int p = s->cross_p[q];
+            if (pair_2d(c, s->cross_i[q], s->nl_j[p], nl, tang, clamp, rot, roll,
+                        history_of(tang) ? s->nl_hist[p] : 0.0, &o)) {
                 f[0] = o.Fx;
                 f[1] = o.Fy;
                 f[2] = o.Gx;
@@ -492,7 +554,7 @@ static int team_2d(gr_sim *s)
 #endif
 
 /* Combine the block sums in block order into the report. */
-static void report_2d(gr_sim *s, gr_force_report *r)
+static void report_2d(gr_sim *s, gr_force_report *r, const int hist)
 {
     const int n = s->n, nb = s->nblk;
     const double d = s->d, L = s->L;
@@ -525,6 +587,16 @@ static void report_2d(gr_sim *s, gr_force_report *r)
         }
     }
     r->elastic = s->cc.e_scale * elastic;
+    r->lost = 0.0;
+    if (hist) { /* the tangential springs' energy (J) and what the law dropped, in block order */
+        double el_t = 0.0, lost = 0.0;
+        for (int b = 0; b < nb; b++) {
+            el_t += blk[(size_t)b * GR_BLK_FIELDS + B_ELT];
+            lost += blk[(size_t)b * GR_BLK_FIELDS + B_LOST];
+        }
+        r->elastic += el_t;
+        r->lost = lost;
+    }
     r->power_normal = pn;
     r->power_tangential = pt;
     r->power_friction = pf;
@@ -588,6 +660,7 @@ pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const int nl, cons
     r->power_normal = pn;
     r->power_tangential = 0.0;
     r->power_friction = 0.0;
+    r->lost = 0.0;
     r->new_contacts = fresh;
     r->max_overlap = worst / d;
     r->worst_i = wi;
@@ -606,7 +679,7 @@ pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const int nl, cons
             _Pragma("omp parallel num_threads(T)")                                                 \
                 threaded_2d(s, T, THREAD_ID, THREAD_COUNT, NL_##NL, TL_##TL, CLAMP, ROT, RL);      \
         }                                                                                          \
-        report_2d(s, r);                                                                           \
+        report_2d(s, r, history_of(TL_##TL));                                                      \
     }
 #define KERNEL_2D(NL, TL, CLAMP, ROT) KERNEL_2D_AS(kernel_2d_##NL##_##TL##_##CLAMP##ROT, NL, TL, CLAMP, ROT, RL_none)
 /* rolling laws: rotation on, with no tangential law or with each one, clamped and not. The
@@ -653,6 +726,8 @@ typedef struct kernel_entry {
 static const kernel_entry kernels[] = {GR_NORMAL_MODELS(ENTRIES_N, )};
 enum { N_KERNELS = sizeof kernels / sizeof kernels[0] };
 
+int gr_kernel_history(const gr_sim *s) { return history_of(kernels[s->kernel].tl); }
+
 void gr_forces(gr_sim *s, gr_force_report *r)
 {
     kernels[s->kernel].run(s, r); /* one call per force evaluation, not per pair */
@@ -693,6 +768,22 @@ void gr_kernel_choose(gr_sim *s)
              e->rl != RL_none ? "+" : "", e->rl != RL_none ? e->rolling : "", noise);
 }
 
+/* The history slot of the pair (i, j) in the list, listed either way (0 if it is not listed). */
+static double list_slot(const gr_sim *s, int i, int j)
+{
+    for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
+        if (s->nl_j[p] == j) {
+            return s->nl_hist[p];
+        }
+    }
+    for (int p = s->nl_start[j]; p < s->nl_start[j + 1]; p++) {
+        if (s->nl_j[p] == i) {
+            return s->nl_hist[p];
+        }
+    }
+    return 0.0;
+}
+
 /* Every pair by brute force with the chosen kernel's laws (runtime law ids: test code). */
 void gr_forces_bruteforce(const gr_sim *s, double *fx, double *fy, double *elastic)
 {
@@ -724,7 +815,9 @@ void gr_forces_bruteforce(const gr_sim *s, double *fx, double *fy, double *elast
                 if (e->rot) {
                     g_t += 0.5 * d * (s->omega[i] + s->omega[j]);
                 }
-                gr_tangential_in in = {.g_t = g_t, .f_n = fn.f, .acts = !e->clamp || fn.f > 0.0, .m12_dt = m12_dt};
+                double slot = history_of(e->tl) ? list_slot(s, i, j) : 0.0; /* a copy: nothing changes */
+                gr_tangential_in in = {.g_t = g_t, .f_n = fn.f, .acts = !e->clamp || fn.f > 0.0, .m12_dt = m12_dt,
+                                       .hist = history_of(e->tl) ? &slot : NULL};
                 double f_t = tangential_law(e->tl, &s->cc, in).f;
                 Fx += f_t * tx;
                 Fy += f_t * ty;

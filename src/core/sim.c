@@ -263,6 +263,17 @@ static int finish(gr_sim *s, gr_error *err)
         }
     }
     gr_kernel_choose(s);
+    if (gr_kernel_history(s)) { /* a tangential law with per-contact history (models/list.h) */
+        if (strcmp(s->integrator->name, "verlet") != 0) {
+            return GR_FAIL(err, GR_EINVAL, "%s: [model] tangential = %s keeps a contact history, which only the verlet "
+                           "integrator carries; given [integrator] kind = %s (allowed: verlet)", s->params.source,
+                           s->cc.tangential_model->name, s->integrator->name);
+        }
+        int rc_h = gr_history_enable(s, err);
+        if (rc_h) {
+            return rc_h;
+        }
+    }
     s->com_every = (int64_t)llround(s->params.com_interval / s->dt);
     if (s->com_every < 1) {
         s->com_every = 1;

@@ -14,6 +14,7 @@ typedef struct gr_force_report {
     double power_normal;   /* dissipation rates, W (>= 0) */
     double power_tangential;
     double power_friction;
+    double lost;           /* energy a history law dropped without work (slip, ended contacts), J */
     int64_t new_contacts;  /* pairs that came into overlap */
     double max_overlap;    /* largest xi / d */
     int worst_i, worst_j;  /* the pair with max_overlap */
@@ -103,7 +104,7 @@ struct gr_sim {
  * blocks start on the same lane and noise pair as in one pass). Runs of up to GR_BLOCK particles
  * sum exactly as without blocks. */
 #define GR_BLOCK 1024
-#define GR_BLK_FIELDS 8
+#define GR_BLK_FIELDS 10
 
 /* Threads to use for a 2D step of s: 1 in 1D, when there are fewer than two blocks, or inside
  * an enclosing parallel region; otherwise the gr_set_threads setting, at most one per block.
@@ -135,6 +136,8 @@ void gr_history_restore(gr_sim *s);
 
 /* src/core/kernels.c: one force evaluation with the kernel chosen at creation */
 void gr_forces(gr_sim *s, gr_force_report *r);
+/* 1 when the chosen kernel's tangential law keeps a per-contact history (models/list.h). */
+int gr_kernel_history(const gr_sim *s);
 /* Brute-force O(N^2) reference forces (tests only). */
 void gr_forces_bruteforce(const gr_sim *s, double *fx, double *fy, double *elastic);
 /* Pick the kernel from the coefficients; sets s->kernel and s->kernel_name. */
