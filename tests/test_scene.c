@@ -127,7 +127,9 @@ START_TEST(recorded_scene_compatibility)
     gr_error err = {0};
     ck_assert_msg(gr_scene_load(&s, path, NULL, 0, &err) == GR_OK, "%s", err.message);
     char why[400] = "";
-    char *text = cJSON_PrintUnformatted(gr_scene_to_json(&s)); /* leaked object: test only */
+    cJSON *j = gr_scene_to_json(&s);
+    char *text = cJSON_PrintUnformatted(j);
+    cJSON_Delete(j);
     cJSON *rec = cJSON_Parse(text);
     ck_assert_msg(gr_scene_json_compatible(rec, &s, why, sizeof why), "%s", why);
     /* an older run: no rotation keys yet (they are at their defaults now), another output folder */
