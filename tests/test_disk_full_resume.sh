@@ -31,13 +31,13 @@ mu = 0.3
 kind = uniform
 [system]
 dim = 1
-N = 50
+N = 20
 reduced_length = 0.1
 [run]
 warmup = 0
-duration = 0.2
+duration = 0.1
 sample_every = 1e-3
-checkpoint_every = 0.05
+checkpoint_every = 0.025
 [analysis]
 observables = pv
 [output]

@@ -358,14 +358,14 @@ END_TEST
 
 /* ---------- collapse: long dissipative runs ---------- */
 
-/* 1D N = 1000, L' = 1, eps = 0.001 and 2D N = 500, phi = 0.53, eps_n = eps_t = 0.1, 10 s each: without the TC rule
+/* 1D N = 1000, L' = 1, eps = 0.001 and 2D N = 500, phi = 0.53, eps_n = eps_t = 0.1, 4 s each: without the TC rule
  * these collapse (the event rate diverges); with it they run for long simulated times with the
  * ledger closing and finite state. Loop: 1D exact, 1D kicks, 2D exact, 2D kicks. */
 START_TEST(test_collapse_long)
 {
     const int dim = 1 + _i / 2;
     const bool exact = _i % 2 == 0;
-    const double T = quick() ? (dim == 1 ? 0.3 : 0.1) : 10.0; /* 10 simulated s; CPU: docs/event-driven.md */
+    const double T = quick() ? (dim == 1 ? 0.3 : 0.1) : 4.0; /* 4 simulated s; CPU: docs/event-driven.md */
     char ff[64];
     snprintf(ff, sizeof ff, "integrator.free_flight=%s", exact ? "exact" : "kicks");
     const char *ov1[] = {"system.dim=1", "system.N=1000", "system.reduced_length=1", "placement.kind=uniform",
