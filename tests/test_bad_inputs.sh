@@ -186,6 +186,8 @@ file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[result a]\ntransform = flip\n |
 file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N+model.eps_n = 10\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n | reproduce $S --out $O | 2 | linked;nothing was run | new
 file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 10\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[set]\nmodel.nosuch = 1\n | reproduce $S --out $O | 2 | nosuch;nothing was run | new
 file:[sweep]\nbogus = 1\n | sweep $S | 2 | bogus | new
+file:[sweep]\n[vary]\nsystem.N = 10, 9999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999\n | sweep $S | 2 | at most 127 characters | new
+file:[sweep]\n[vary]\nsystem.N = 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42\nsystem.N = 43, 44, 45, 46, 47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63, 64, 65, 66, 67, 68, 69, 70, 71, 72, 73, 74\n | sweep $S | 2 | at most 64 values | new
 file:[sweep]\nscene = /dev/null\nout = /nonexistent-granule-out\n[vary]\nsystem.N = 10\n | sweep $S | 2 | not a regular file | new
 base | analyse $O --out $O/analysis | 2 | $O | new
 base | analyse $O --set analysis.observables=nosuch | 2 | nosuch | run

@@ -18,7 +18,8 @@
 #define SWEEP_MAX_KEYS 8
 #define SWEEP_MAX_VALUES 64
 #define SWEEP_MAX_SETS 64
-#define SWEEP_MAX_LINKED 4 /* keys varied together: [vary] a+b = 1/2, 3/4 */
+#define SWEEP_MAX_LINKED 8 /* keys varied together: [vary] a+b = 1/2, 3/4 */
+#define SWEEP_VALUE_LEN 128 /* one [vary] value, linked parts included */
 #define SWEEP_MAX_OVERRIDES (SWEEP_MAX_SETS + SWEEP_MAX_LINKED * SWEEP_MAX_KEYS + 1)
 #define SWEEP_MAX_POINTS 100000L
 
@@ -31,7 +32,7 @@ typedef struct sweep {
     int n_keys;
     char key[SWEEP_MAX_KEYS][128];
     int n_values[SWEEP_MAX_KEYS];
-    char value[SWEEP_MAX_KEYS][SWEEP_MAX_VALUES][64];
+    char value[SWEEP_MAX_KEYS][SWEEP_MAX_VALUES][SWEEP_VALUE_LEN];
     int n_sets;
     char set[SWEEP_MAX_SETS][256];
     long n_points;

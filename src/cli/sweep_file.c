@@ -9,14 +9,19 @@
 #include "cli/cli.h"
 #include "cli/sweep.h"
 
-static int split_list(const char *text, char out[][64], int max)
+/* Split a comma/blank separated list into out[0..max); -1 when a value is longer than
+ * SWEEP_VALUE_LEN - 1 characters or there are more than max values (nothing is cut silently). */
+static int split_list(const char *text, char out[][SWEEP_VALUE_LEN], int max)
 {
     char buf[4096];
     snprintf(buf, sizeof buf, "%s", text);
     int n = 0;
     char *save = NULL;
-    for (char *tok = strtok_r(buf, ", \t", &save); tok && n < max; tok = strtok_r(NULL, ", \t", &save)) {
-        snprintf(out[n++], 64, "%s", tok);
+    for (char *tok = strtok_r(buf, ", \t", &save); tok; tok = strtok_r(NULL, ", \t", &save)) {
+        if (n == max || strlen(tok) >= SWEEP_VALUE_LEN) {
+            return -1;
+        }
+        snprintf(out[n++], SWEEP_VALUE_LEN, "%s", tok);
     }
     return n;
 }
@@ -38,8 +43,13 @@ static int on_line(void *user, const char *section, const char *name, const char
             }
             s->jobs = (int)j;
         } else if (!strcmp(name, "seeds")) {
-            char v[SWEEP_MAX_VALUES][64];
+            char v[SWEEP_MAX_VALUES][SWEEP_VALUE_LEN];
             s->n_seeds = split_list(value, v, SWEEP_MAX_VALUES);
+            if (s->n_seeds < 0) {
+                snprintf(s->error, sizeof s->error, "[sweep] seeds: at most %d seeds of at most %d characters", SWEEP_MAX_VALUES,
+                         SWEEP_VALUE_LEN - 1);
+                return 0;
+            }
             for (int i = 0; i < s->n_seeds; i++) {
                 char *end;
                 s->seeds[i] = strtoull(v[i], &end, 10);
@@ -63,26 +73,28 @@ static int on_line(void *user, const char *section, const char *name, const char
         }
         const int had = more ? s->n_values[s->n_keys] : 0;
         snprintf(s->key[s->n_keys], 128, "%s", name);
-        s->n_values[s->n_keys] = had + split_list(value, s->value[s->n_keys] + had, SWEEP_MAX_VALUES - had);
-        if (s->n_values[s->n_keys] == had || !strchr(name, '.')) {
-            snprintf(s->error, sizeof s->error, "[vary] %s: expected section.key = v1, v2, ... (at most %d values)", name,
-                     SWEEP_MAX_VALUES);
+        const int got = split_list(value, s->value[s->n_keys] + had, SWEEP_MAX_VALUES - had);
+        if (got <= 0 || !strchr(name, '.')) {
+            snprintf(s->error, sizeof s->error,
+                     "[vary] %s: expected section.key = v1, v2, ... (at most %d values in all, each at most %d characters)", name,
+                     SWEEP_MAX_VALUES, SWEEP_VALUE_LEN - 1);
             return 0;
         }
+        s->n_values[s->n_keys] = had + got;
         /* linked keys, varied together: system.N+system.packing_fraction = 1000/0.177, 2000/0.353 */
         int parts = 1;
         for (const char *c = name; *c; c++) {
             parts += *c == '+';
         }
         for (int v = had; v < s->n_values[s->n_keys]; v++) {
-            int got = 1;
+            int n_parts = 1;
             for (const char *c = s->value[s->n_keys][v]; *c; c++) {
-                got += *c == '/';
+                n_parts += *c == '/';
             }
-            if (got != parts || parts > SWEEP_MAX_LINKED) {
+            if (n_parts != parts || parts > SWEEP_MAX_LINKED) {
                 snprintf(s->error, sizeof s->error,
                          "[vary] %s: value '%s' has %d part%s for %d linked key%s (at most %d, written a+b = 1/2, 3/4)", name,
-                         s->value[s->n_keys][v], got, got == 1 ? "" : "s", parts, parts == 1 ? "" : "s", SWEEP_MAX_LINKED);
+                         s->value[s->n_keys][v], n_parts, n_parts == 1 ? "" : "s", parts, parts == 1 ? "" : "s", SWEEP_MAX_LINKED);
                 return 0;
             }
         }
@@ -162,7 +174,7 @@ int sweep_overrides(const sweep *s, long k, char store[][256], const char **ptrs
         m++;
     }
     for (int i = 0; i < s->n_keys; i++) { /* a+b = x/y gives a=x and b=y */
-        char keys[128], values[64], *ks = NULL, *vs = NULL;
+        char keys[128], values[SWEEP_VALUE_LEN], *ks = NULL, *vs = NULL;
         snprintf(keys, sizeof keys, "%s", s->key[i]);
         snprintf(values, sizeof values, "%s", s->value[i][idx[i]]);
         char *key = strtok_r(keys, "+", &ks), *value = strtok_r(values, "/", &vs);
