@@ -2,9 +2,12 @@
  *
  * Wired into the engine (models/list.h, GR_HISTORY_MODELS): the kernels keep s per contact in the
  * store of src/core/contact_history.c (one slot per touching pair, carried across neighbour-list
- * rebuilds and checkpoints). Not yet: rotation (the spin kicks would book the spring's conservative
- * torque work as dissipation), the Mindlin stiffness k_t ~ sqrt(xi), the CVODE reference of
- * src/collide/reference.c (docs/models.md, "tangential_spring").
+ * rebuilds and checkpoints). With rotation (`rotation = true`) g_t is the contact point's, surface
+ * velocities included (models/law.h), and the force's torque a F_t acts on both discs; the
+ * spring's share a (-k_t s) is conservative, and the kernels keep it out of the torque work the
+ * spin kicks book as dissipation (src/integrators/verlet/step.c, spin_kicks). Not yet: the Mindlin
+ * stiffness k_t ~ sqrt(xi), the CVODE reference of src/collide/reference.c (docs/models.md,
+ * "tangential_spring").
  *
  * The contact remembers s, the tangential displacement accumulated since it formed, kept along the
  * current tangent t (in 2D s is a scalar along t; exchanging i and j reverses n, t and g but
@@ -90,6 +93,7 @@ static const gr_param tangential_spring_params[] = {
     {"mu", "", GR_PARAM_DOUBLE, 0.5, 0.0, INFINITY, false, true,
      "Coulomb limit |F_t| <= mu |F_n|: beyond it the contact slips and the spring is shortened",
      offsetof(gr_contact_params, mu)},
+    GR_ROTATION_PARAMS,
 };
 
 static int tangential_spring_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
@@ -133,7 +137,7 @@ const gr_model gr_model_tangential_spring = {
     .n_params = sizeof tangential_spring_params / sizeof tangential_spring_params[0],
     .prepare = tangential_spring_prepare,
     .inert = tangential_spring_inert,
-    .contact_point = false, /* rotation not wired yet: the key rotation is refused */
+    .contact_point = true,
     .elastic = "mu=0",
 };
 #endif /* GR_MODEL_IMPL */

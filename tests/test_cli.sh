@@ -160,6 +160,24 @@ sys.exit(0 if ok else 1)' "$out" 2>"$TMP/py"; then
 else
     fail "collide --speed/--angle/--omega: JSON wrong (exit $rc)" "$out" "$err $(cat "$TMP/py")"
 fi
+# the history spring with rotation, sticking (mu huge, no dashpot): the contact point's eps_t is
+# cos(w_t t_c), w_t = sqrt(k_t / m_t), k_t = kt_ratio k_s, m_t = m12 q / (1 + q); equal spins
+run "$G" collide --speed 0.1 --angle 30 --model spring_dashpot+tangential_spring --set rotation=true --mu 1e6 \
+    --mass 3.53e-5 --radius 1.5e-3 --steps-per-contact 200
+if [[ $rc -eq 0 ]] && python3 -c '
+import json, math, sys
+d = json.loads(sys.argv[1])
+q, m12 = d["inertia_factor"], 0.5 * d["mass"]
+w_t = math.sqrt(d["kt_ratio"] * d["k_s"] / (m12 * q / (1 + q)))
+want = math.cos(w_t * d["contact_time"])
+ok = d["rotation"] and d["k_t"] == 0 and d["gamma_t"] == 0 and d["units"]["k_t"] == "N/m"
+ok = ok and abs(d["eps_t_measured"] - want) <= 0.03 and abs(d["eps_n_measured"] - 0.6) <= 0.01
+ok = ok and d["omega1"] == d["omega2"] and d["omega1"] != 0 and d["omega1_before"] == 0
+sys.exit(0 if ok else 1)' "$out" 2>"$TMP/py"; then
+    pass "collide spring_dashpot+tangential_spring with rotation, sticking: eps_t = cos(w_t t_c), equal spins"
+else
+    fail "collide tangential_spring with rotation: eps_t, eps_n or spins wrong (exit $rc)" "$out" "$err $(cat "$TMP/py")"
+fi
 run "$G" collide --case 9
 if [[ $rc -eq 2 ]]; then pass "collide --case 9 exits 2"; else fail "collide --case 9 exits $rc, expected 2" "$err"; fi
 # CVODE tolerance: the reference error follows --rtol (exact loss 1 - 0.1^2 = 0.99 head-on)

@@ -35,7 +35,8 @@ static void usage(FILE *f)
             "collision to measure; a scene may use it with spring_dashpot), --eps-t [0, 1], --mu >= 0.\n"
             "The JSON lists only the parameters the chosen model uses (granule models; --eps-t and --mu\n"
             "need a tangential model, --k and --dt a soft one) and gives every unit in \"units\".\n"
-            "Rotation (--set rotation=true [--set inertia_factor=Q] with tangential_dashpot or sliding_friction):\n"
+            "Rotation (--set rotation=true [--set inertia_factor=Q] with tangential_dashpot, sliding_friction or\n"
+            "tangential_spring):\n"
             "energy_loss then includes the spin energy I w^2 / 2 of both discs, eps_t_measured is the contact\n"
             "point's tangential restitution (g.t + r (w1 + w2) after over before; the discs start without spin),\n"
             "and omega1, omega2 give the angular velocities after the collision (rad/s, counterclockwise).\n"
@@ -63,7 +64,8 @@ static const struct {
              {"v1_after", "m/s"}, {"v2_after", "m/s"}, {"speed", "m/s"}, {"angle", "degrees"},
              {"omega1_before", "rad/s (counterclockwise)"}, {"omega2_before", "rad/s (counterclockwise)"},
              {"mu_r", "1"}, {"spin_loss", "1 (fraction of the initial energy)"},
-             {"spin_loss_rolling_law", "1 (fraction of the initial energy)"}};
+             {"spin_loss_rolling_law", "1 (fraction of the initial energy)"}, {"kt_ratio", "1"}, {"k_t", "N/m"},
+             {"gamma_t", "kg/s"}};
 
 /* does the normal or the tangential model take the scene key `name`? */
 static bool model_uses(const gr_collide_setup *s, const char *name)
@@ -397,7 +399,8 @@ int cmd_collide(int argc, char **argv)
         const char *key;
         double v;
     } params[] = {{"eps_n", s.contact.eps_n}, {"eps_t", s.contact.eps_t}, {"mu", s.contact.mu}, {"k_s", s.contact.k_s},
-                  {"mu_r", s.contact.mu_r}};
+                  {"mu_r", s.contact.mu_r}, {"kt_ratio", s.contact.kt_ratio}, {"k_t", s.contact.k_t},
+                  {"gamma_t", s.contact.gamma_t}};
     for (size_t k = 0; k < sizeof params / sizeof params[0]; k++) {
         if (model_uses(&s, params[k].key)) {
             cJSON_AddNumberToObject(o, params[k].key, params[k].v);

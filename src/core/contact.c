@@ -34,7 +34,7 @@ int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
     if (p->rotation && !(tangential && tangential->contact_point) && !(normal->kind & GR_MODEL_EVENT)) {
         return GR_FAIL(err, GR_EINVAL,
                        "[model] rotation = true needs a tangential law that acts at the contact point (%s)%s%s",
-                       "tangential_dashpot, sliding_friction", tangential ? "; given " : ", none given",
+                       "tangential_dashpot, sliding_friction, tangential_spring", tangential ? "; given " : ", none given",
                        tangential ? tangential->name : "");
     }
     int rc = normal->prepare(p, m12, dt, c, err);

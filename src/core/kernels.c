@@ -129,6 +129,7 @@ static inline double wrap_delta(double dx, double L)
 typedef struct pair_out {
     double Fx, Fy, Gx, Gy, el, pn, pt, ov; /* pt: the tangential law's dissipation (its column) */
     double tq; /* rotation: the torque r f_t on i and on j */
+    double tg; /* rotation with a history law: tq's non-conservative part, a (f_t - f_c) (tq without the spring) */
     double hs, et, lost; /* history law: the pair's new slot, its stored energy (J), energy dropped (J) */
     double rq, pr; /* rolling law: its torque on j (-rq on i) and its power (booked as friction) */
 } pair_out;
@@ -200,6 +201,9 @@ pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang
             /* the spring's part -k_t s is conservative (its energy is ft.e), the rest goes into G;
              * the energy the law dropped is booked directly, so the rate that sets the ledger's
              * shares is the power of G's tangential part alone (the dashpot's) */
+            if (rot) {
+                o->tg = arm * (f_t - ft.fc); /* likewise for the torques (the spin kicks' booking) */
+            }
             o->hs = slot;
             o->et = ft.e;
             o->lost = ft.lost;
@@ -254,6 +258,7 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
 {
     double *restrict fx = s->fx, *restrict fy = s->fy, *restrict gx_ = s->gx, *restrict gy_ = s->gy;
     double *restrict tq = s->tq;
+    double *restrict tg = s->tg; /* rotation with a history law: tq's non-conservative part */
     const int *restrict start = s->nl_start, *restrict list = s->nl_j;
     uint8_t *restrict touching = s->nl_contact;
     double *restrict hist = s->nl_hist; /* history laws only */
@@ -261,7 +266,7 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
     double elastic = 0.0, pn = 0.0, pt = 0.0, pf = 0.0, worst = 0.0, el_t = 0.0, lost = 0.0;
     int64_t fresh = 0;
     for (int i = r0; i < r1; i++) {
-        double fxi = 0.0, fyi = 0.0, gxi = 0.0, gyi = 0.0, tqi = 0.0;
+        double fxi = 0.0, fyi = 0.0, gxi = 0.0, gyi = 0.0, tqi = 0.0, tgi = 0.0;
         for (int p = start[i]; p < start[i + 1]; p++) {
             const int j = list[p];
             pair_out o;
@@ -297,6 +302,9 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
             if (rot) {
                 tqi += roll != RL_none ? o.tq - o.rq : o.tq;
             }
+            if (rot && history_of(tang)) {
+                tgi += roll != RL_none ? o.tg - o.rq : o.tg;
+            }
             if (all || (j >= lo && j < hi)) {
                 fx[j] += o.Fx;
                 fy[j] += o.Fy;
@@ -304,6 +312,9 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
                 gy_[j] += o.Gy;
                 if (rot) {
                     tq[j] += roll != RL_none ? o.tq + o.rq : o.tq;
+                }
+                if (rot && history_of(tang)) {
+                    tg[j] += roll != RL_none ? o.tg + o.rq : o.tg;
                 }
             }
         }
@@ -313,6 +324,9 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
         gy_[i] += gyi;
         if (rot) {
             tq[i] += tqi;
+        }
+        if (rot && history_of(tang)) {
+            tg[i] += tgi;
         }
     }
     part[B_EL] = elastic;
@@ -336,6 +350,9 @@ static void zero_forces(gr_sim *s, int lo, int hi)
     memset(s->gy + lo, 0, m);
     if (s->tq) {
         memset(s->tq + lo, 0, m);
+    }
+    if (s->tg) {
+        memset(s->tg + lo, 0, m);
     }
 }
 
@@ -397,7 +414,8 @@ static int build_cross(gr_sim *s, int T)
         free(s->in_k);
         free(s->pair_f);
         free(s->pair_tq);
-        s->pair_tq = NULL;
+        free(s->pair_tg);
+        s->pair_tq = s->pair_tg = NULL;
         s->cross_p = malloc(sizeof(int) * (size_t)cap);
         s->cross_i = malloc(sizeof(int) * (size_t)cap);
         s->in_k = malloc(sizeof(int) * (size_t)cap);
@@ -405,8 +423,11 @@ static int build_cross(gr_sim *s, int T)
         if (s->tq) {
             s->pair_tq = malloc(sizeof(double) * (size_t)cap);
         }
+        if (s->tg) {
+            s->pair_tg = malloc(sizeof(double) * (size_t)cap);
+        }
         s->cross_cap = cap;
-        if (!s->cross_p || !s->cross_i || !s->in_k || !s->pair_f || (s->tq && !s->pair_tq)) {
+        if (!s->cross_p || !s->cross_i || !s->in_k || !s->pair_f || (s->tq && !s->pair_tq) || (s->tg && !s->pair_tg)) {
             s->cross_cap = 0;
             return 0;
         }
@@ -444,14 +465,16 @@ static int build_cross(gr_sim *s, int T)
     return 1;
 }
 
-/* Add the cross pairs q in [q0, q1) of the incoming list of each particle in [lo, hi). */
+/* Add the cross pairs q in [q0, q1) of the incoming list of each particle in [lo, hi) (spring:
+ * rotation with a history law, whose torques have a non-conservative part of their own, tg). */
 static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict s, int lo, int hi, int q0, int q1,
-                                                               const int rot)
+                                                               const int rot, const int spring)
 {
     const int *restrict in = s->in_start, *restrict ink = s->in_k;
-    const double *restrict pf = s->pair_f, *restrict ptq = s->pair_tq;
+    const double *restrict pf = s->pair_f, *restrict ptq = s->pair_tq, *restrict ptg = s->pair_tg;
     for (int j = lo; j < hi; j++) {
         double ax = s->fx[j], ay = s->fy[j], bx = s->gx[j], by = s->gy[j], tj = rot ? s->tq[j] : 0.0;
+        double uj = spring ? s->tg[j] : 0.0;
         for (int e = in[j]; e < in[j + 1]; e++) {
             const int q = ink[e];
             if (q >= q0 && q < q1) {
@@ -462,6 +485,9 @@ static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict 
                 if (rot) {
                     tj += ptq[q];
                 }
+                if (spring) {
+                    uj += ptg[q];
+                }
             }
         }
         s->fx[j] = ax;
@@ -470,6 +496,9 @@ static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict 
         s->gy[j] = by;
         if (rot) {
             s->tq[j] = tj;
+        }
+        if (spring) {
+            s->tg[j] = uj;
         }
     }
 }
@@ -514,10 +543,16 @@ threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const
                 if (rot) {
                     s->pair_tq[q] = roll != RL_none ? o.tq + o.rq : o.tq;
                 }
+                if (rot && history_of(tang)) {
+                    s->pair_tg[q] = roll != RL_none ? o.tg + o.rq : o.tg;
+                }
             } else {
                 f[0] = f[1] = f[2] = f[3] = 0.0;
                 if (rot) {
                     s->pair_tq[q] = 0.0;
+                }
+                if (rot && history_of(tang)) {
+                    s->pair_tg[q] = 0.0;
                 }
             }
         }
@@ -526,12 +561,12 @@ threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const
     for (int t = tid; t < T; t += nth) {
         const int lo = s->par_row[t], hi = s->par_row[t + 1];
         zero_forces(s, lo, hi);
-        add_incoming(s, lo, hi, 0, s->cross_start[t], rot);
+        add_incoming(s, lo, hi, 0, s->cross_start[t], rot, rot && history_of(tang));
         for (int r0 = lo; r0 < hi; r0 += GR_BLOCK) {
             const int r1 = r0 + GR_BLOCK < hi ? r0 + GR_BLOCK : hi;
             rows_2d(s, r0, r1, lo, hi, 0, nl, tang, clamp, rot, roll, s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS);
         }
-        add_incoming(s, lo, hi, s->cross_start[t + 1], s->cross_start[T], rot);
+        add_incoming(s, lo, hi, s->cross_start[t + 1], s->cross_start[T], rot, rot && history_of(tang));
     }
 }
 

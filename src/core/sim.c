@@ -100,8 +100,10 @@ void gr_sim_free(gr_sim *s)
     free(s->in_k);
     free(s->pair_f);
     free(s->pair_tq);
+    free(s->pair_tg);
     free(s->omega);
     free(s->tq);
+    free(s->tg);
     free(s);
 }
 
@@ -272,6 +274,10 @@ static int finish(gr_sim *s, gr_error *err)
         int rc_h = gr_history_enable(s, err);
         if (rc_h) {
             return rc_h;
+        }
+        /* rotation: the springs' torques are conservative; the kernel keeps the rest apart */
+        if (s->omega && !(s->tg = calloc((size_t)s->n + 1, sizeof(double)))) {
+            return GR_FAIL(err, GR_ENOMEM, "out of memory for %d torques", s->n);
         }
     }
     s->com_every = (int64_t)llround(s->params.com_interval / s->dt);

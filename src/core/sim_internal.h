@@ -35,6 +35,10 @@ struct gr_sim {
     /* Rotation (2D, only when cc.rotation): angular velocity, rad/s (counterclockwise), and the
      * torque of the last force evaluation, N m; moment of inertia q M r^2. NULL otherwise. */
     double *omega, *tq;
+    /* rotation with a history law (models/list.h): the non-conservative part of tq, everything
+     * but the springs' torques a k_t s, whose work the spin kicks must not book as dissipation
+     * (their energy is the springs' k_t s^2 / 2); NULL otherwise (tq is then all non-conservative) */
+    double *tg;
     double inertia;
 
     /* 2D neighbour finding: cell list feeding a half Verlet list in CSR form */
@@ -86,6 +90,7 @@ struct gr_sim {
     int *in_start, *in_k; /* n + 1 / ncross: the cross pairs acting on particle j, ascending in k */
     double *pair_f;      /* 4 per cross pair: Fx, Fy, Gx, Gy on j */
     double *pair_tq;     /* rotation: the torque of each cross pair (NULL otherwise) */
+    double *pair_tg;     /* its non-conservative part (with s->tg only) */
     int64_t cross_cap;
 
     /* the integrator (params.integrator, src/integrators/) and its own state (NULL for verlet) */

@@ -126,6 +126,9 @@ int gr_sim_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
         /* rotation: the angular velocities and the torques the next opening half kick uses */
         gr_blob_put_f64s(b, s->omega, n);
         gr_blob_put_f64s(b, s->tq, n);
+        if (s->tg) { /* a history law's: their non-conservative part, which that kick books */
+            gr_blob_put_f64s(b, s->tg, n);
+        }
     }
     rc = gr_blob_ok(b, err);
     if (!rc && s->integrator->save) {
@@ -287,6 +290,9 @@ int gr_sim_load_state(gr_sim *s, gr_blob_reader *b, gr_error *err)
     if (!b->bad && s->omega) {
         gr_blob_get_f64s(b, s->omega, n);
         gr_blob_get_f64s(b, s->tq, n);
+        if (s->tg) {
+            gr_blob_get_f64s(b, s->tg, n);
+        }
     }
     if (!b->bad && s->integrator->load) {
         rc = s->integrator->load(s, b, err);

@@ -42,26 +42,30 @@ static inline double lanes_total(const double *acc)
 }
 
 /* Rotation: the half kicks of the angular velocities, w += tau dt / 2I, in the same kick-drift-kick
- * rhythm as v (the torques tq of the last force evaluation). Returns the work of the torques,
- * exactly as for v: tau (w + dw/2) dt/2 per half kick, summed in particle order. The torques come
- * from the tangential forces only, which are all non-conservative (dashpot, friction), so the work
- * is all dissipation (booked with the translational work of G). `closing` merges the previous
- * step's closing kick as open_step_* does; its work goes to *wc, the opening kick's to *wo. */
+ * rhythm as v (the torques tq of the last force evaluation). Returns the work of the
+ * non-conservative torques, exactly as for v: tau_nc (w + dw/2) dt/2 per half kick, summed in
+ * particle order, booked as dissipation with the translational work of G. The torques come from
+ * the tangential and rolling laws; a dashpot's or friction's are all non-conservative (tau_nc =
+ * tq), a history law's spring is not: its torque's work shows up as the change of the springs'
+ * energy k_t s^2 / 2 (the spring integrates the contact point's g_t, surface velocities included),
+ * so the kernel keeps tau_nc apart in s->tg. `closing` merges the previous step's closing kick as
+ * open_step_* does; its work goes to *wc, the opening kick's to *wo. */
 static bool spin_kicks(gr_sim *s, const int closing, const int opening, double *wc, double *wo)
 {
     const double h = 0.5 * s->dt / s->inertia;
     double *restrict w = s->omega;
     const double *restrict tq = s->tq;
+    const double *restrict nc = s->tg ? s->tg : s->tq;
     double c = 0.0, o = 0.0, sum = 0.0;
     for (int i = 0; i < s->n; i++) {
         const double dw = h * tq[i];
         double wi = w[i];
         if (closing) {
-            c += tq[i] * (wi + 0.5 * dw);
+            c += nc[i] * (wi + 0.5 * dw);
             wi += dw;
         }
         if (opening) {
-            o += tq[i] * (wi + 0.5 * dw);
+            o += nc[i] * (wi + 0.5 * dw);
             wi += dw;
         }
         w[i] = wi;
