@@ -2,6 +2,7 @@
  *
  *   bench_throughput SCENE [--set section.key=value ...] [--warmup-steps W] [--steps S]
  *                    [--repeats R] [--label TEXT] [--threads T] [--csv]
+ *                    [--save-state FILE | --state FILE]
  *
  * The scene is first advanced W steps (so a lattice start has melted), then R timed blocks of S
  * steps each. Prints one line per scene: label, N, kernel, median / min / max particle-steps/s,
@@ -10,7 +11,11 @@
  * --threads T asks OpenMP for T threads (default: OMP_NUM_THREADS, else 1, so a bare run measures
  * one core). --csv prints one CSV row instead (header: --csv-header), with the wall seconds per
  * simulated second and the collisions per wall second, which is what the event-driven and hybrid
- * integrators are compared by. */
+ * integrators are compared by.
+ * A steady state takes far longer to reach than a benchmark should spend warming up (the 2D RFM
+ * scene about 1 s, 1e6 steps): --save-state FILE writes the state after the warm-up
+ * (gr_sim_state_save) and --state FILE starts from such a file instead of warming up, so every
+ * build and repeat times the same steady state (bench/steady_state.sh). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,7 +31,7 @@
 
 int main(int argc, char **argv)
 {
-    const char *scene_path = NULL, *label = NULL;
+    const char *scene_path = NULL, *label = NULL, *save_state = NULL, *state = NULL;
     const char *sets[64];
     int n_sets = 0;
     long warm = 2000, steps = 2000, repeats = 5, threads = 0;
@@ -44,6 +49,10 @@ int main(int argc, char **argv)
             label = argv[++i];
         } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             threads = atol(argv[++i]);
+        } else if (!strcmp(argv[i], "--save-state") && i + 1 < argc) {
+            save_state = argv[++i];
+        } else if (!strcmp(argv[i], "--state") && i + 1 < argc) {
+            state = argv[++i];
         } else if (!strcmp(argv[i], "--csv")) {
             csv = true;
         } else if (!strcmp(argv[i], "--csv-header")) {
@@ -52,12 +61,13 @@ int main(int argc, char **argv)
         } else if (argv[i][0] != '-' && !scene_path) {
             scene_path = argv[i];
         } else {
-            fprintf(stderr, "usage: bench_throughput SCENE [--set k=v ...] [--warmup-steps W] [--steps S] [--repeats R] [--label TEXT] [--threads T] [--csv]\n");
+            fprintf(stderr, "usage: bench_throughput SCENE [--set k=v ...] [--warmup-steps W] [--steps S] [--repeats R] [--label TEXT] [--threads T] [--csv] [--save-state FILE | --state FILE]\n");
             return 2;
         }
     }
-    if (!scene_path || steps < 1 || repeats < 1 || repeats > 1000 || threads < 0 || threads > 1024) {
-        fprintf(stderr, "bench_throughput: need a scene, --steps >= 1, 1 <= --repeats <= 1000 and 0 <= --threads <= 1024\n");
+    if (!scene_path || steps < 1 || repeats < 1 || repeats > 1000 || threads < 0 || threads > 1024 || (save_state && state)) {
+        fprintf(stderr, "bench_throughput: need a scene, --steps >= 1, 1 <= --repeats <= 1000, 0 <= --threads <= 1024 and at "
+                        "most one of --save-state and --state\n");
         return 2;
     }
     if (threads == 0) {
@@ -77,8 +87,17 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_throughput: %s\n", err.message);
         return 2;
     }
-    if (warm > 0 && gr_sim_step(sim, warm, &err)) {
+    if (state) {
+        if (bench_load_state(sim, state, &err)) {
+            fprintf(stderr, "bench_throughput: %s: %s\n", state, err.message);
+            return 2;
+        }
+    } else if (warm > 0 && gr_sim_step(sim, warm, &err)) {
         fprintf(stderr, "bench_throughput: %s\n", err.message);
+        return 1;
+    }
+    if (save_state && bench_save_state(sim, save_state, &err)) {
+        fprintf(stderr, "bench_throughput: %s: %s\n", save_state, err.message);
         return 1;
     }
     double *rate = malloc(sizeof(double) * (size_t)repeats);

@@ -24,6 +24,7 @@ for b in "$old" "$new"; do
         [[ -x $b/bench/$p ]] || { echo "compare_builds.sh: $b/bench/$p not found (build it first)" >&2; exit 2; }
     done
 done
+cores=$(nproc)
 export OMP_NUM_THREADS=1
 if $quick; then
     echo "# quick smoke test: tiny sizes, the numbers are not benchmarks"
@@ -35,7 +36,7 @@ else
         "2d|docs/scenes/rfm-2d.ini --warmup-steps ${WARM2D:-20000} --steps 2000 --repeats 5")
     noise_args=(--repeats 5 --normals 2000000)
 fi
-echo "# compare_builds $(date -u +%Y-%m-%dT%H:%MZ), $(nproc) cores, load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "# compare_builds $(date -u +%Y-%m-%dT%H:%MZ), $cores cores, load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "# old: $old   new: $new   rounds: $rounds (order alternates)"
 tmp=$(mktemp -d /tmp/granule-compare.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
