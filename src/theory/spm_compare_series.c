@@ -28,10 +28,27 @@ static void tail_alpha(const double *v, const double *p, const double *e, int n,
     if (m < SERIES_MIN_POINTS) {
         return;
     }
+    /* the start: the best of lines ln P = ln A - b v^a over a grid of a (a free start at a = 1
+     * can settle far from a Gaussian tail) */
     gr_fit f;
     gr_error ignore = {0};
-    const double p0[3] = {y[0] * exp(1.0), x[0], 1.0};
-    if (gr_fit_stretched_exp(x, y, s, m, p0, &f, &ignore) == GR_OK && isfinite(f.p[2])) {
+    double p0[3] = {y[0] * exp(1.0), x[0], 1.0}, best = INFINITY, xa[GR_SPM_SERIES_MAX_BINS], ly[GR_SPM_SERIES_MAX_BINS],
+           ls[GR_SPM_SERIES_MAX_BINS];
+    for (double a = 0.4; a <= 3.01; a += 0.1) {
+        for (int i = 0; i < m; i++) {
+            xa[i] = pow(x[i], a);
+            ly[i] = log(y[i]);
+            ls[i] = s[i] / y[i];
+        }
+        if (gr_fit_line(xa, ly, ls, m, &f, &ignore) == GR_OK && f.p[1] < 0.0 && f.chi2 < best) {
+            best = f.chi2;
+            p0[0] = exp(f.p[0]);
+            p0[1] = pow(-f.p[1], -1.0 / a);
+            p0[2] = a;
+        }
+    }
+    const int rc = gr_fit_stretched_exp(x, y, s, m, p0, &f, &ignore);
+    if (rc == GR_OK && isfinite(f.p[2])) {
         *alpha = f.p[2];
         *alpha_err = f.err[2];
         *points = m;
