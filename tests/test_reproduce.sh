@@ -229,6 +229,14 @@ for bad in "y = Sx|y = Sx: allowed D_f, C, alpha" "df = 2.5|df = 2.5: expected D
     check grep -q "bad-spm.ini.*\[result r1\].*${bad#*|}" "$tmp/bad-spm.err"
     check test ! -e "$tmp/bad-spm-out"
 done
+# an spm_compare result with a quantity of another kind or too few walks: refused the same way
+for bad in "y = S|y = S: allowed frac_within, decades" "y = k\nwalks = 10|walks = 10: expected an integer from 100"; do
+    printf '[campaign]\ntitle = t\nscene = rfm-2d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 100\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 100\n[result r1]\nkind = spm_compare\n%b\n' "${bad%%|*}" >"$tmp/bad-cmp.ini"
+    "$granule" reproduce "$tmp/bad-cmp.ini" --out "$tmp/bad-cmp-out" >/dev/null 2>"$tmp/bad-cmp.err"
+    check test $? -eq 2
+    check grep -q "bad-cmp.ini.*\[result r1\].*${bad#*|}" "$tmp/bad-cmp.err"
+    check test ! -e "$tmp/bad-cmp-out"
+done
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]
