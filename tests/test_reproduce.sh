@@ -106,6 +106,52 @@ sys.exit(0 if ok else 1)
 PY
 fi
 
+# Fig. 5.10 (kind spm_compare): every run's SPM walks from its own free paths against its
+# snapshots' P(v) in the data CSV and the figure; restored elsewhere (no snapshots, only the
+# archived series) the same rows
+if [[ -d $tmp/results/ch5-spm-compare ]]; then
+    d=$tmp/results/ch5-spm-compare
+    check python3 - "$d" <<'PY'
+import csv, json, os, sys
+d = sys.argv[1]
+res = {r["id"]: r for r in json.load(open(os.path.join(d, "results.json")))["results"]}
+ids = ["fig5.10", "fig5.10-decades", "fig5.10-k", "fig5.10-s", "fig5.10-alpha-rfm", "fig5.10-alpha-spm"]
+ok = all(i in res and res[i]["kind"] == "spm_compare" and len(res[i]["rows"]) == 1 for i in ids)
+ok &= all(res[i]["rows"][0]["value"] is not None and res[i]["rows"][0]["seeds"] == 2 for i in ids)
+for i in ids:
+    rows = list(csv.DictReader(open(os.path.join(d, i + "_data.csv"))))
+    ok &= len(rows) == 2 and all(c in rows[0] for c in ["frac_within", "decades", "k", "s", "alpha_spm", "alpha_rfm", "v_rms", "v_from"])
+    ok &= 0.0 <= float(rows[0]["frac_within"]) <= 1.0 and float(rows[0]["k"]) > 0.0
+    pv = open(os.path.join(d, i + "_pv.dat")).read()
+    ok &= pv.startswith('"N+L=') and pv.count(" seed ") == 2 and len(pv.splitlines()) > 20
+    ok &= os.path.getsize(os.path.join(d, i + "_data.png")) > 0
+point = json.load(open(os.path.join(d, "points", "p0000.json")))
+ok &= any(k.startswith("spm_compare.csv") for k in point.get("series", {}))
+if not ok:
+    print("spm_compare results incomplete")
+sys.exit(0 if ok else 1)
+PY
+    cp -r "$d" "$tmp/cmp-restored"
+    "$granule" reproduce ch5-spm-compare --out "$tmp/cmp-elsewhere" --results "$tmp/cmp-restored" --jobs 1 >/dev/null 2>"$tmp/cmp-restored.err"
+    check test $? -eq 0
+    check grep -q "finished points restored" "$tmp/cmp-restored.err"
+    check test ! -e "$tmp/cmp-elsewhere/ch5-spm-compare/quick/runs/p0000/snapshots"
+    check python3 - "$d" "$tmp/cmp-restored" <<'PY'
+import csv, os, sys
+a, b = sys.argv[1:3]
+ok = True
+for i in ["fig5.10", "fig5.10-k"]:
+    ra, rb = (list(csv.DictReader(open(os.path.join(x, i + "_data.csv")))) for x in (a, b))
+    ok &= len(ra) == len(rb) == 2
+    for x, y in zip(ra, rb):
+        for k in ["frac_within", "decades", "k", "s", "alpha_spm", "alpha_rfm"]:
+            u, v = float(x[k] or "nan"), float(y[k] or "nan")
+            if not ((u != u and v != v) or abs(u - v) <= 1e-3 * abs(u)):
+                print("restored", i, x["seed"], k, u, v); ok = False
+sys.exit(0 if ok else 1)
+PY
+fi
+
 # the page: one section per campaign, every thesis value of every row on it
 "$granule" reproduce --page --results-root "$tmp/results" --output "$tmp/reproduction.md" >/dev/null
 check test $? -eq 0
@@ -182,6 +228,14 @@ for bad in "y = Sx|y = Sx: allowed D_f, C, alpha" "df = 2.5|df = 2.5: expected D
     check test $? -eq 2
     check grep -q "bad-spm.ini.*\[result r1\].*${bad#*|}" "$tmp/bad-spm.err"
     check test ! -e "$tmp/bad-spm-out"
+done
+# an spm_compare result with a quantity of another kind or too few walks: refused the same way
+for bad in "y = S|y = S: allowed frac_within, decades" "y = k\nwalks = 10|walks = 10: expected an integer from 100"; do
+    printf '[campaign]\ntitle = t\nscene = rfm-2d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 100\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 100\n[result r1]\nkind = spm_compare\n%b\n' "${bad%%|*}" >"$tmp/bad-cmp.ini"
+    "$granule" reproduce "$tmp/bad-cmp.ini" --out "$tmp/bad-cmp-out" >/dev/null 2>"$tmp/bad-cmp.err"
+    check test $? -eq 2
+    check grep -q "bad-cmp.ini.*\[result r1\].*${bad#*|}" "$tmp/bad-cmp.err"
+    check test ! -e "$tmp/bad-cmp-out"
 done
 
 echo "$pass passed, $fail failed"

@@ -133,6 +133,59 @@ START_TEST(test_pl_fit_C)
 }
 END_TEST
 
+/* Fig. 5.10 from the two series (gr_spm_compare_series): an SPM curve of the run's shape, 2.5 times
+ * higher, gives k = 0.4, every tail bin within 3 sigma, and the same alpha for both; a Gaussian SPM
+ * curve of the same v_rms does not agree and has alpha 2; v_rms is the distribution's. */
+#define NC 200
+static void stretched(gsl_rng *rng, double N, double v0, double a, double scale, double *v, double *p, double *e)
+{
+    const double dv = 1.0 / NC, norm = v0 * tgamma(1.0 / a) / a; /* int_0^inf exp(-(v/v0)^a) dv */
+    for (int i = 0; i < NC; i++) {
+        v[i] = (i + 0.5) * dv;
+        const double count = (double)gsl_ran_poisson(rng, N * dv * exp(-pow(v[i] / v0, a)) / norm);
+        p[i] = scale * count / (N * dv);
+        e[i] = scale * sqrt(count) / (N * dv);
+    }
+}
+
+START_TEST(test_compare_series)
+{
+    double v[NC], pr[NC], er[NC], ps[NC], es[NC];
+    const double v0 = 0.1, a = 1.3;
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 510);
+    stretched(rng, 1e9, v0, a, 1.0, v, pr, er);
+    stretched(rng, 1e10, v0, a, 2.5, v, ps, es);
+    gr_spm_series_compare c;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_spm_compare_series(v, ps, es, pr, er, NC, 2.0, 3.0, &c, &err), GR_OK);
+    const double vrms = v0 * sqrt(tgamma(3.0 / a) / tgamma(1.0 / a));
+    ck_assert_double_eq_tol(c.v_rms, vrms, 0.01 * vrms);
+    ck_assert_double_eq_tol(c.v_from, 2.0 * c.v_rms, 1e-12);
+    ck_assert_double_eq_tol(c.amp.k, 0.4, 1e-3);
+    ck_assert(c.amp.frac_within > 0.95); /* Poisson counts: 3 sigma */
+    ck_assert(c.amp.decades > 5.0);
+    ck_assert_double_eq_tol(c.scaled.s, 1.0, 0.01);
+    ck_assert_double_eq_tol(c.alpha_rfm, a, 0.03);
+    ck_assert_double_eq_tol(c.alpha_spm, a, 0.03);
+    /* a Gaussian of the same v_rms */
+    const double dv = 1.0 / NC, sig = vrms;
+    for (int i = 0; i < NC; i++) {
+        const double count = (double)gsl_ran_poisson(rng, 1e10 * dv * exp(-0.5 * v[i] * v[i] / (sig * sig)) * sqrt(2.0 / M_PI) / sig);
+        ps[i] = count / (1e10 * dv);
+        es[i] = sqrt(count) / (1e10 * dv);
+    }
+    ck_assert_int_eq(gr_spm_compare_series(v, ps, es, pr, er, NC, 2.0, 3.0, &c, &err), GR_OK);
+    ck_assert(c.amp.frac_within < 0.5);
+    ck_assert_double_eq_tol(c.alpha_spm, 2.0, 0.05);
+    ck_assert_double_eq_tol(c.alpha_rfm, a, 0.03);
+    /* too few bins, a bad z_max: refused */
+    ck_assert_int_eq(gr_spm_compare_series(v, ps, es, pr, er, 2, 2.0, 3.0, &c, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_spm_compare_series(v, ps, es, pr, er, NC, 2.0, 0.0, &c, &err), GR_EINVAL);
+    gsl_rng_free(rng);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("spm_tail");
@@ -141,6 +194,7 @@ int main(void)
     tcase_add_test(t, test_531_recovers_S);
     tcase_add_test(t, test_tail_plot_slopes);
     tcase_add_test(t, test_pl_fit_C);
+    tcase_add_test(t, test_compare_series);
     suite_add_tcase(s, t);
     SRunner *r = srunner_create(s);
     srunner_run_all(r, CK_NORMAL);

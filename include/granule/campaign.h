@@ -41,10 +41,16 @@ typedef enum { GR_FIDELITY_QUICK = 0, GR_FIDELITY_FULL = 1 } gr_fidelity;
  *            runs' N, L and radius; Fig. 6.3), and both configurations side by side;
  * SPM        the Single Particle Model's prediction of the P(v) tail (5.27-5.31) from each run's free
  *            paths against the run's P(v) (Figs. 5.12-5.13): y names the quantity reported, one of
- *            GR_CAMPAIGN_SPM_QUANTITIES; `df` fixes D_f (0: the free 4.25 fit of the run). */
+ *            GR_CAMPAIGN_SPM_QUANTITIES; `df` fixes D_f (0: the free 4.25 fit of the run).
+ * SPM_COMPARE the full SPM (walks with l drawn from each run's own free paths) against the run's P(v)
+ *            from its snapshots (Fig. 5.10): y names one of GR_CAMPAIGN_SPM_COMPARE_QUANTITIES;
+ *            `walks` and `walks_quick` the walks per run at each fidelity. */
 typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING, GR_RESULT_RISE, GR_RESULT_SETTLE, GR_RESULT_CURVE, GR_RESULT_CASCADE,
-               GR_RESULT_SPM } gr_result_kind;
+               GR_RESULT_SPM, GR_RESULT_SPM_COMPARE } gr_result_kind;
 #define GR_CAMPAIGN_SPM_QUANTITIES "D_f, C, alpha, S_predicted, S, S_over_predicted, A0_over_P0, slope_P0, slope_A0"
+#define GR_CAMPAIGN_SPM_COMPARE_QUANTITIES "frac_within, decades, k, s, alpha_spm, alpha_rfm"
+#define GR_CAMPAIGN_SPM_WALKS 200000      /* SPM_COMPARE's default walks per run, full fidelity */
+#define GR_CAMPAIGN_SPM_WALKS_QUICK 5000  /* ... and quick */
 
 typedef struct gr_campaign_result {
     char id[32];          /* e.g. "fig3.2", "table3.1" */
@@ -72,6 +78,7 @@ typedef struct gr_campaign_result {
     double df;            /* SPM: D_f fixed for C, alpha and h (0: the run's free 4.25 fit) */
     bool tail_exponential; /* SPM: fit P(v)'s tail with A0 exp(-S |v|) (alpha = 1, h = 0: the thesis's
                               A0 of Fig. 5.13) instead of 5.31 at the predicted alpha and h */
+    long walks, walks_quick; /* SPM_COMPARE: SPM walks per run at full and quick fidelity (0: default) */
     char thesis[2048];    /* "GROUP: value +- error; ..." (GROUP as in results.csv) */
     char thesis_source[256];
     char note[2048];      /* what a reader should know (shown on the page) */

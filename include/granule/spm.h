@@ -293,6 +293,24 @@ int gr_spm_compare_tails(const double *v, const double *p_spm, const double *e_s
 double gr_spm_compare_model(const gr_spm_compare *c, const double *v, const double *p_spm,
                             const double *e_spm, int n, int i, double *model_err);
 
+/* Fig. 5.10 in numbers from the two series alone (src/theory/spm_compare_series.c; a campaign's
+ * kind spm_compare archives them): v_rms of the run's P(v) from its bins (sum P v^2 / sum P), both
+ * comparisons above from v_from = from_vrms v_rms (amp: k only, as the thesis's vertically scaled
+ * SPM curves; scaled: k and s), and the tail exponent alpha of A exp(-(v/v0)^alpha) fitted to each
+ * series over v >= v_from (bins with P > 0 and an error; NAN with fewer than 4). GR_EINVAL when the
+ * run's series is empty or no bin beyond v_from has both. */
+#define GR_SPM_SERIES_MAX_BINS 4096
+typedef struct gr_spm_series_compare {
+    double v_rms, v_from;
+    gr_spm_compare amp, scaled;
+    bool have_amp, have_scaled;
+    double alpha_spm, alpha_spm_err, alpha_rfm, alpha_rfm_err;
+    int points_spm, points_rfm;
+} gr_spm_series_compare;
+int gr_spm_compare_series(const double *v, const double *p_spm, const double *e_spm, const double *p_rfm,
+                          const double *e_rfm, int n, double from_vrms, double z_max, gr_spm_series_compare *out,
+                          gr_error *err);
+
 /* ---------------------------------------------------------------------------------------------
  * The RFM's P(v) against the SPM's asymptotic form, as measured from a run's tables (Figs.
  * 5.12-5.13; src/theory/spm_rfm_tail.c, docs/theory-spm.md).

@@ -327,3 +327,22 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
     return GR_OK;
 }
 
+
+int campaign_name_index(const char *const *names, int n, const char *y)
+{
+    for (int i = 0; i < n; i++) {
+        if (!strcmp(y, names[i])) {
+            return i;
+        }
+    }
+    return -1;
+}
+
+void campaign_row_of_runs(const gr_campaign_result *r, campaign_row *row, const double *v, int n, double err2_sum, int n_err)
+{
+    campaign_mean_sd(v, n, &row->value, &row->error_seeds);
+    row->error_fit = n_err == n && n ? sqrt(err2_sum) / n : (double)NAN;
+    row->error = campaign_headline_error(row->error_seeds, row->error_fit, n);
+    row->n_seeds = n;
+    campaign_row_thesis(r, row);
+}

@@ -28,16 +28,24 @@ static cJSON *curve_series(const gr_campaign *c, const campaign_point *p)
 {
     cJSON *all = cJSON_CreateObject();
     double *x = malloc(3 * 4096 * sizeof *x), *y = x + 4096, *e = y + 4096;
-    gr_campaign_result spm[2];
-    campaign_spm_series(0, &spm[0]);
-    campaign_spm_series(1, &spm[1]);
-    bool has_spm = false;
+    gr_campaign_result extra[4];
+    int n_extra = 0;
+    bool has_spm = false, has_compare = false;
     for (int i = 0; i < c->n_results; i++) {
         has_spm |= c->results[i].kind == GR_RESULT_SPM;
+        has_compare |= c->results[i].kind == GR_RESULT_SPM_COMPARE;
     }
-    /* the curve results' series, then those the spm kind reads (pv.csv, freepath.csv) */
-    for (int i = 0; i < c->n_results + (has_spm ? 2 : 0); i++) {
-        const gr_campaign_result *r = i < c->n_results ? &c->results[i] : &spm[i - c->n_results];
+    for (int w = 0; w < 2; w++) {
+        if (has_spm) {
+            campaign_spm_series(w, &extra[n_extra++]);
+        }
+        if (has_compare) {
+            campaign_spm_compare_series(w, &extra[n_extra++]);
+        }
+    }
+    /* the curve results' series, then those the spm kinds read (pv.csv, freepath.csv; spm_compare.csv) */
+    for (int i = 0; i < c->n_results + n_extra; i++) {
+        const gr_campaign_result *r = i < c->n_results ? &c->results[i] : &extra[i - c->n_results];
         char key[512];
         campaign_curve_key(r, key, sizeof key);
         if (r->kind != GR_RESULT_CURVE || cJSON_GetObjectItem(all, key)) {

@@ -110,8 +110,10 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
             r->kind = GR_RESULT_CASCADE;
         } else if (!strcmp(value, "spm")) {
             r->kind = GR_RESULT_SPM;
+        } else if (!strcmp(value, "spm_compare")) {
+            r->kind = GR_RESULT_SPM_COMPARE;
         } else {
-            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, settle_time, curve, cascade, spm",
+            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, settle_time, curve, cascade, spm, spm_compare",
                      r->id, value);
             return 0;
         }
@@ -158,6 +160,17 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         }
         return 1;
     }
+    if (!strcmp(name, "walks") || !strcmp(name, "walks_quick")) {
+        char *end;
+        long k = strtol(value, &end, 10);
+        if (end == value || *end || k < 100 || k > 100000000) {
+            snprintf(p->error, sizeof p->error, "[result %s] %s = %s: expected an integer from 100 to 100000000 (SPM walks per run)", r->id,
+                     name, value);
+            return 0;
+        }
+        *(name[5] ? &r->walks_quick : &r->walks) = k;
+        return 1;
+    }
     if (!strcmp(name, "df")) {
         if (!parse_double(value, &r->df) || !(r->df > 1.0 && r->df < 2.0)) {
             snprintf(p->error, sizeof p->error, "[result %s] df = %s: expected D_f in (1, 2) (2D free paths, 4.25)", r->id, value);
@@ -179,7 +192,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     }
     snprintf(p->error, sizeof p->error,
              "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, x_max, by, m, per_m, period, "
-             "table, where, select, transform, collapse_at, axes, overlay, configurations, df, tail, thesis, thesis_source, note",
+             "table, where, select, transform, collapse_at, axes, overlay, configurations, df, tail, walks, walks_quick, thesis, thesis_source, note",
              r->id, name);
     return 0;
 }
@@ -332,6 +345,10 @@ static int parse_text(gr_campaign *c, const char *text, const char *where, gr_er
         if (r->kind == GR_RESULT_SPM && !campaign_spm_quantity_known(r->y)) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = spm: y = %s: allowed %s", where, r->id, r->y,
                            GR_CAMPAIGN_SPM_QUANTITIES);
+        }
+        if (r->kind == GR_RESULT_SPM_COMPARE && !campaign_spm_compare_quantity_known(r->y)) {
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = spm_compare: y = %s: allowed %s", where, r->id, r->y,
+                           GR_CAMPAIGN_SPM_COMPARE_QUANTITIES);
         }
         if (r->axes[0] && strcmp(r->axes, "loglog") && strcmp(r->axes, "linlog") && strcmp(r->axes, "linear")) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] axes = %s: allowed loglog, linlog, linear", where, r->id, r->axes);

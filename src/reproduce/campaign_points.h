@@ -75,6 +75,15 @@ bool campaign_spm_quantity_known(const char *y);
 /* The run tables the SPM kind reads, as CURVE results (which = 0: pv.csv's P(v); 1: freepath.csv's
  * P_l), so that the archive keeps their series under the keys of fig5.4 and fig4.10. */
 void campaign_spm_series(int which, gr_campaign_result *out);
+/* SPM_COMPARE (Fig. 5.10, campaign_spm_compare.c): per run the full SPM from its free paths against
+ * its snapshots' P(v) (gr_spm_full_*, walks by fidelity), kept as RUN/spm_compare.csv; writes
+ * RESULTS/ID_pv.dat and draws ID_data.png. */
+int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts, campaign_rows *rows,
+                         const char *results, FILE *data, gr_error *err);
+bool campaign_spm_compare_quantity_known(const char *y);
+/* The two series it reads from spm_compare.csv as CURVE results (which = 0: the SPM's P(v); 1: the
+ * run's), so that the archive keeps them. */
+void campaign_spm_compare_series(int which, gr_campaign_result *out);
 int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
                    FILE *data, gr_error *err);
 /* A CURVE result's series of one run (from its table, or from the archive's series.json): x, y, e
@@ -111,6 +120,13 @@ int campaign_seed_of(const campaign_point *p);
 int campaign_members(const campaign_points *pts, const char *group, const campaign_point **members, int max);
 /* A new row for a group. */
 campaign_row *campaign_group_row(campaign_rows *rows, const char *group);
+
+/* The index of y among names[0..n), or -1. */
+int campaign_name_index(const char *const *names, int n, const char *y);
+/* A row from the runs' values v[0..n) of a group: their mean, the seeds' standard error, the runs'
+ * own errors combined (sqrt(err2_sum) / n when all n_err == n runs had one, else NAN), the headline
+ * error, n_seeds and the thesis columns. */
+void campaign_row_of_runs(const gr_campaign_result *r, campaign_row *row, const double *v, int n, double err2_sum, int n_err);
 
 /* Fill thesis, thesis_error and z of a row from the result's thesis list. */
 void campaign_row_thesis(const gr_campaign_result *r, campaign_row *row);

@@ -22,6 +22,7 @@ static const char *kind_name(gr_result_kind k)
            : k == GR_RESULT_CURVE     ? "curve"
            : k == GR_RESULT_CASCADE   ? "cascade"
            : k == GR_RESULT_SPM       ? "spm"
+           : k == GR_RESULT_SPM_COMPARE ? "spm_compare"
            : k == GR_RESULT_SETTLE    ? "settle_time"
                                       : "rise_time";
 }
@@ -246,8 +247,8 @@ static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r, 
     fprintf(f, ",%d,%s,%s\n", w->unconverged, w->hashes, GR_COMMIT);
 }
 
-static int analyse_one(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, const char *results,
-                       campaign_rows *rows, gr_error *err)
+static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_result *r, const campaign_points *pts,
+                       const char *results, campaign_rows *rows, gr_error *err)
 {
     char name[80];
     snprintf(name, sizeof name, "%s_data.csv", r->id);
@@ -262,6 +263,7 @@ static int analyse_one(const gr_campaign *c, const gr_campaign_result *r, const 
          : r->kind == GR_RESULT_CURVE     ? campaign_curve(c, r, pts, rows, data.f, err)
          : r->kind == GR_RESULT_CASCADE   ? campaign_cascade(c, r, pts, rows, results, data.f, err)
          : r->kind == GR_RESULT_SPM       ? campaign_spm(c, r, pts, rows, results, data.f, err)
+         : r->kind == GR_RESULT_SPM_COMPARE ? campaign_spm_compare(r, fid, pts, rows, results, data.f, err)
                                           : campaign_rise(c, r, pts, rows, data.f, err);
     if (rc) {
         gr_file_abandon(&data);
@@ -366,7 +368,7 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
     for (int i = 0; i < c->n_results && !rc; i++) {
         const gr_campaign_result *r = &c->results[i];
         campaign_rows rows = {0};
-        rc = analyse_one(c, r, &pts, results, &rows, err);
+        rc = analyse_one(c, fid, r, &pts, results, &rows, err);
         cJSON *o = cJSON_CreateObject();
         cJSON_AddStringToObject(o, "id", r->id);
         cJSON_AddStringToObject(o, "title", r->title);

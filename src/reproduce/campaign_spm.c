@@ -36,15 +36,7 @@
 static const char *const quantities[] = {"D_f", "C", "alpha", "S_predicted", "S", "S_over_predicted", "A0_over_P0", "slope_P0", "slope_A0"};
 enum { Q_DF, Q_C, Q_ALPHA, Q_SPRED, Q_S, Q_SRATIO, Q_A0P0, Q_SLOPE_P0, Q_SLOPE_A0, Q_COUNT };
 
-static int quantity_index(const char *y)
-{
-    for (int i = 0; i < Q_COUNT; i++) {
-        if (!strcmp(y, quantities[i])) {
-            return i;
-        }
-    }
-    return -1;
-}
+static int quantity_index(const char *y) { return campaign_name_index(quantities, Q_COUNT, y); }
 
 bool campaign_spm_quantity_known(const char *y) { return quantity_index(y) >= 0; }
 
@@ -306,12 +298,8 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
             }
             spm_run_free(&o);
         }
-        campaign_mean_sd(v, n, &row->value, &row->error_seeds);
-        row->error_fit = n_err == n && n ? sqrt(e2) / n : (double)NAN;
-        row->error = campaign_headline_error(row->error_seeds, row->error_fit, n);
+        campaign_row_of_runs(r, row, v, n, e2, n_err);
         row->chi2_red = n && row->n_x ? chi2 / n : (double)NAN; /* of the fits behind the quantity */
-        row->n_seeds = n;
-        campaign_row_thesis(r, row);
     }
     free(buf);
     if (fclose(tail)) {
