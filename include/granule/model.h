@@ -53,6 +53,7 @@ typedef struct gr_contact_params {
     double kt_ratio; /* k_t / k_s (linear normal law) */
     double k_t;      /* tangential spring constant, N/m (0: kt_ratio k_s) */
     double gamma_t;  /* tangential dashpot in parallel with the spring, kg/s */
+    bool mindlin;    /* k_t ~ sqrt(xi) (Mindlin; normal = hertz only) */
 } gr_contact_params;
 
 typedef enum {
