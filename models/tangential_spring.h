@@ -165,6 +165,9 @@ static int tangential_spring_prepare(const gr_contact_params *p, double m12, dou
 /* mu = 0: no tangential force at all (the Coulomb limit is 0), the kernel without it runs */
 static bool tangential_spring_inert(const gr_contact_coeffs *c) { return c->mu == 0.0; }
 
+/* the conformance suite tests both stiffnesses (Mindlin with the normal laws that accept it) */
+static const char *const tangential_spring_variants[] = {"mindlin=false", "mindlin=true", NULL};
+
 const gr_model gr_model_tangential_spring = {
     .name = "tangential_spring",
     .summary = "Cundall-Strack tangential spring with history and Coulomb limit (LAMMPS linear_history)",
@@ -176,6 +179,7 @@ const gr_model gr_model_tangential_spring = {
     .restitution_t = tangential_spring_restitution_t,
     .contact_point = false, /* rotation not wired yet: the key rotation is refused */
     .elastic = "mu=0",
+    .variants = tangential_spring_variants,
 };
 #endif /* GR_MODEL_IMPL */
 

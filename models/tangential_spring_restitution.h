@@ -20,7 +20,7 @@
 #define GR_MODELS_TANGENTIAL_SPRING_RESTITUTION_H
 
 #define SPRING_RT_STEP 2e-4    /* largest RK4 step, units t0 */
-#define SPRING_RT_TMAX 1e4     /* give up (NaN) after this long: the pair sticks */
+#define SPRING_RT_TMAX 1e4     /* give up (NaN) after this long (or 1.5 normal contacts) */
 #define SPRING_RT_EVENTS 10000 /* and after this many switches */
 
 typedef struct spring_rt {
@@ -41,10 +41,11 @@ enum { RT_END, RT_FSIGN, RT_UP, RT_DOWN, RT_STICK, RT_N };
 static spring_rt_val spring_rt_eval(const spring_rt *c, const double y[4], double dy[4])
 {
     spring_rt_val o;
-    const double X = fmax(y[0], 0.0), V = y[1], U = y[3], Xs = fmax(X, 1e-300), sq = sqrt(X);
+    const double X = fmax(y[0], 0.0), V = y[1], U = y[3], sq = sqrt(X);
     o.f = pow(X, c->a) + c->cn * pow(X, c->p) * V;
-    const double df = c->a * pow(Xs, c->a - 1.0) * V +
-                      c->cn * ((c->p != 0.0 ? c->p * pow(Xs, c->p - 1.0) * V * V : 0.0) - pow(X, c->p) * o.f);
+    /* X^(p-1) is singular at X = 0 (0 at or past the end, where the contact no longer acts) */
+    const double xp1 = X > 0.0 && c->p != 0.0 ? c->p * pow(X, c->p - 1.0) : 0.0;
+    const double df = c->a * pow(X, c->a - 1.0) * V + c->cn * (xp1 * V * V - pow(X, c->p) * o.f);
     const double kk = c->kt + c->km * sq, dk = sq > 0.0 ? 0.5 * c->km / sq * V : 0.0;
     o.lim = c->mu * c->fsign * o.f;
     if (c->slip) {
@@ -105,12 +106,16 @@ static void spring_rt_turn(spring_rt *c, double y[4])
 
 static double tangential_spring_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t)
 {
-    (void)n;
     if (!(v_t > 0.0) || !(v_n > 0.0) || c->mu == 0.0) {
         return 1.0;
     }
+    if (!isfinite(n.t_c)) {
+        return (double)NAN; /* the pair sticks: the contact never ends */
+    }
     const double a = c->pow_a, k = c->k_s;
     const double x0 = pow(c->m12 * v_n * v_n / k, 1.0 / (a + 1.0)), F0 = k * pow(x0, a);
+    /* the normal law's own contact, t_c / t0 in these units, with room to spare */
+    const double t_end = fmin(SPRING_RT_TMAX, 1.5 * n.t_c * v_n / x0 + 1.0);
     spring_rt r = {
         .a = a, .p = c->pow_p, .cn = c->gamma_n * pow(x0, c->pow_p) * v_n / F0, .clamp = c->clamp,
         .kt = c->law_t[GR_SPRING_KT] * x0 / F0, .km = c->law_t[GR_SPRING_KM] * sqrt(x0) * x0 / F0,
@@ -128,7 +133,7 @@ static double tangential_spring_restitution_t(const gr_contact_coeffs *c, gr_nor
     }
     double t = 0.0;
     int events = 0;
-    while (t < SPRING_RT_TMAX && events < SPRING_RT_EVENTS) {
+    while (t < t_end && events < SPRING_RT_EVENTS) {
         const double h = fmin(SPRING_RT_STEP, fmax(1e-10, 0.05 * y[0] / fmax(fabs(y[1]), 1e-3)));
         double g0[RT_N], g1[RT_N], y1[4];
         spring_rt_switches(&r, y, g0);

@@ -65,8 +65,9 @@
 
 enum { REF_NEQ = 11, REF_NROOT = 7 };
 /* Y_S the spring's s (tangential_spring), Y_DN / Y_DT the energy the normal and tangential laws
- * dissipate, Y_WM the energy a Mindlin spring gains without work (its k_t changes with xi) */
-enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT, Y_W, Y_S, Y_DN, Y_DT, Y_WM };
+ * dissipate, Y_KS the spring's int k_t s ds (its stored energy but for what a Mindlin k_t(xi)
+ * adds by changing) */
+enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT, Y_W, Y_S, Y_DN, Y_DT, Y_KS };
 enum { ROOT_END = 0, ROOT_MAX_OVERLAP, ROOT_STICK, ROOT_FN_SIGN, ROOT_DEGENERATE, ROOT_SLIP_UP, ROOT_SLIP_DOWN };
 
 #define REF_ATOL 1e-14                 /* nondimensional: state components are O(1) */
@@ -137,10 +138,11 @@ static void ref_spring(const ref_ctx *c, const double *y, ref_state *s)
     if (c->pow_a == 1.0 && c->pow_p == 0.0) {
         dfn = dxi - c->c_n * (s->fn + s->gt * s->gt / s->rn);
     } else {
-        const double Xs = fmax(X, 1e-300); /* X^(p-1) at the touch: an infinite rate, compared below */
-        dfn = c->pow_a * pow(Xs, c->pow_a - 1.0) * dxi -
-              c->c_n * (c->pow_p * pow(Xs, c->pow_p - 1.0) * dxi * s->gn +
-                        pow(X, c->pow_p) * (s->fn + s->gt * s->gt / s->rn));
+        /* X^(p-1): singular at X = 0 (a damping ~ X^p grows infinitely fast from the touch); 0
+         * past the end, where CVODE may try a point and the contact no longer acts */
+        const double xp1 = X > 0.0 && c->pow_p != 0.0 ? c->pow_p * pow(X, c->pow_p - 1.0) : 0.0;
+        dfn = c->pow_a * pow(X, c->pow_a - 1.0) * dxi -
+              c->c_n * (xp1 * dxi * s->gn + pow(X, c->pow_p) * (s->fn + s->gt * s->gt / s->rn));
     }
     s->lim = c->mu * c->fn_sign * s->fn;
     s->dlim = c->mu * c->fn_sign * dfn;
@@ -261,12 +263,14 @@ static int ref_rhs(sunrealtype t, N_Vector yv, N_Vector ydotv, void *user)
     yd[Y_W] = c->rot ? -2.0 * s.rn * s.ft / (c->q * c->D * c->D) : 0.0;
     /* energy: the normal law's non-conservative force -(F_n - X^a) works -(F_n - X^a) g.n; the
      * tangential force's work -F_t g_c, less what the spring stores (k_t s ds/dt), is dissipated;
-     * a Mindlin k_t(xi) changes the stored k_t s^2 / 2 by s^2 dk_t/dt / 2 without any work */
+     * a Mindlin k_t(xi) changes the stored k_t s^2 / 2 by s^2 dk_t/dt / 2 besides, without any
+     * work: that part is k_t s^2 / 2 at the end less Y_KS (dk_t/dt ~ xi^(-1/2) is singular at
+     * the ends of the contact, so it is not integrated directly) */
     const bool spring = c->tangential == GR_TANGENTIAL_SPRING;
     yd[Y_S] = spring && !c->slip ? s.gc : 0.0;
     yd[Y_DN] = -(s.fn - pow(fmax(s.xi, 0.0), c->pow_a)) * s.gn;
-    yd[Y_DT] = -s.ft * s.gc - (spring ? s.kk * s.s * s.sdot : 0.0);
-    yd[Y_WM] = spring ? 0.5 * s.s * s.s * s.dk : 0.0;
+    yd[Y_KS] = spring ? s.kk * s.s * s.sdot : 0.0;
+    yd[Y_DT] = -s.ft * s.gc - yd[Y_KS];
     return 0;
 }
 
@@ -453,7 +457,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     }
 
     SUNContext sunctx = NULL;
-    N_Vector y = NULL;
+    N_Vector y = NULL, atol = NULL;
     SUNMatrix A = NULL;
     SUNLinearSolver LS = NULL;
     void *mem = NULL;
@@ -464,7 +468,8 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
         goto done;
     }
     y = N_VNew_Serial(REF_NEQ, sunctx);
-    A = y ? SUNDenseMatrix(REF_NEQ, REF_NEQ, sunctx) : NULL;
+    atol = y ? N_VNew_Serial(REF_NEQ, sunctx) : NULL;
+    A = atol ? SUNDenseMatrix(REF_NEQ, REF_NEQ, sunctx) : NULL;
     LS = A ? SUNLinSol_Dense(y, A, sunctx) : NULL;
     mem = LS ? CVodeCreate(CV_ADAMS, sunctx) : NULL;
     if (!mem) {
@@ -482,7 +487,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     yd[Y_S] = 0.0;
     yd[Y_DN] = 0.0;
     yd[Y_DT] = 0.0;
-    yd[Y_WM] = 0.0;
+    yd[Y_KS] = 0.0;
 
     int rootdir[REF_NROOT];
     rootdir[ROOT_END] = -1;
@@ -495,7 +500,16 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
 
     REF_CHECK(CVodeSetErrHandlerFn(mem, ref_err_handler, &ctx), "CVodeSetErrHandlerFn");
     REF_CHECK(CVodeInit(mem, ref_rhs, 0.0, y), "CVodeInit");
-    REF_CHECK(CVodeSStolerances(mem, s->ref_rtol > 0.0 ? s->ref_rtol : 1e-12, REF_ATOL), "CVodeSStolerances");
+    /* the energy ledger's components Y_DN, Y_DT, Y_KS are quadratures left out of the error test
+     * (an absolute tolerance so large that their weight vanishes, as CVODE's own quadratures
+     * without error control): with a damping ~ xi^p their integrands are singular, though
+     * integrable, at the ends of the contact, which no step across the end would resolve. They
+     * follow the steps the motion needs (tests/test_spring_reference.c checks the balance). */
+    double *av = N_VGetArrayPointer(atol);
+    for (int k = 0; k < REF_NEQ; k++) {
+        av[k] = k == Y_DN || k == Y_DT || k == Y_KS ? 1e300 : REF_ATOL;
+    }
+    REF_CHECK(CVodeSVtolerances(mem, s->ref_rtol > 0.0 ? s->ref_rtol : 1e-12, atol), "CVodeSVtolerances");
     REF_CHECK(CVodeSetUserData(mem, &ctx), "CVodeSetUserData");
     REF_CHECK(CVodeSetLinearSolver(mem, LS, A), "CVodeSetLinearSolver");
     REF_CHECK(CVodeSetMaxNumSteps(mem, REF_MAX_STEPS), "CVodeSetMaxNumSteps");
@@ -613,9 +627,9 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     const double e0 = 0.5 * (gg0 + spin_e0), X_end = fmax(st.xi, 0.0);
     out->diss_normal = yd[Y_DN] / e0;
     out->diss_tangential = yd[Y_DT] / e0;
-    out->stored_lost = (pow(X_end, ctx.pow_a + 1.0) / (ctx.pow_a + 1.0) +
-                        (ctx.tangential == GR_TANGENTIAL_SPRING ? 0.5 * st.kk * st.s * st.s : 0.0)) / e0;
-    out->work_free = yd[Y_WM] / e0;
+    const double u_spring = ctx.tangential == GR_TANGENTIAL_SPRING ? 0.5 * st.kk * st.s * st.s : 0.0;
+    out->stored_lost = (pow(X_end, ctx.pow_a + 1.0) / (ctx.pow_a + 1.0) + u_spring) / e0;
+    out->work_free = (u_spring - yd[Y_KS]) / e0;
     const double gtt0 = G0[0] * t0[0] + G0[1] * t0[1]; /* the centres' g.t, for the impact angle */
     out->impact_angle = atan2(fabs(gtt0), -gn0) * (180.0 / M_PI);
     /* the models' restitution laws assume discs without spin before the impact */
@@ -673,6 +687,9 @@ done:
     }
     if (y) {
         N_VDestroy(y);
+    }
+    if (atol) {
+        N_VDestroy(atol);
     }
     if (sunctx) {
         SUNContext_Free(&sunctx);
