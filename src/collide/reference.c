@@ -64,10 +64,10 @@
 #include "models/tangential_spring.h" /* the slots of its constants in law_t */
 
 enum { REF_NEQ = 11, REF_NROOT = 7 };
-/* Y_S the spring's s (tangential_spring), Y_DN / Y_DT the energy the normal and tangential laws
- * dissipate, Y_KS the spring's int k_t s ds (its stored energy but for what a Mindlin k_t(xi)
- * adds by changing) */
-enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT, Y_W, Y_S, Y_DN, Y_DT, Y_KS };
+/* Y_S the spring's s (tangential_spring), Y_DN the energy the normal law dissipates, Y_WT the
+ * work of the tangential force on the contact point's motion, Y_KS the Mindlin spring's
+ * int k_t s ds (its stored energy but for what k_t(xi) adds by changing) */
+enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT, Y_W, Y_S, Y_DN, Y_WT, Y_KS };
 enum { ROOT_END = 0, ROOT_MAX_OVERLAP, ROOT_STICK, ROOT_FN_SIGN, ROOT_DEGENERATE, ROOT_SLIP_UP, ROOT_SLIP_DOWN };
 
 #define REF_ATOL 1e-14                 /* nondimensional: state components are O(1) */
@@ -262,15 +262,15 @@ static int ref_rhs(sunrealtype t, N_Vector yv, N_Vector ydotv, void *user)
     yd[Y_JT] = fabs(s.ft);
     yd[Y_W] = c->rot ? -2.0 * s.rn * s.ft / (c->q * c->D * c->D) : 0.0;
     /* energy: the normal law's non-conservative force -(F_n - X^a) works -(F_n - X^a) g.n; the
-     * tangential force's work -F_t g_c, less what the spring stores (k_t s ds/dt), is dissipated;
-     * a Mindlin k_t(xi) changes the stored k_t s^2 / 2 by s^2 dk_t/dt / 2 besides, without any
-     * work: that part is k_t s^2 / 2 at the end less Y_KS (dk_t/dt ~ xi^(-1/2) is singular at
-     * the ends of the contact, so it is not integrated directly) */
+     * tangential force works F_t g_c, of which a spring stores int k_t s ds, k_t s^2 / 2 at the
+     * end for a constant k_t (so only the Mindlin spring integrates it, Y_KS: its k_t(xi)
+     * changes the stored k_t s^2 / 2 by s^2 dk_t/dt / 2 besides, without any work) */
     const bool spring = c->tangential == GR_TANGENTIAL_SPRING;
     yd[Y_S] = spring && !c->slip ? s.gc : 0.0;
-    yd[Y_DN] = -(s.fn - pow(fmax(s.xi, 0.0), c->pow_a)) * s.gn;
-    yd[Y_KS] = spring ? s.kk * s.s * s.sdot : 0.0;
-    yd[Y_DT] = -s.ft * s.gc - yd[Y_KS];
+    const bool linear = c->pow_a == 1.0 && c->pow_p == 0.0; /* its F_n is smooth across xi = 0 */
+    yd[Y_DN] = -(s.fn - (linear ? s.xi : pow(fmax(s.xi, 0.0), c->pow_a))) * s.gn;
+    yd[Y_WT] = -s.ft * s.gc;
+    yd[Y_KS] = spring && c->km != 0.0 ? s.kk * s.s * s.sdot : 0.0;
     return 0;
 }
 
@@ -486,7 +486,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     yd[Y_W] = W0;
     yd[Y_S] = 0.0;
     yd[Y_DN] = 0.0;
-    yd[Y_DT] = 0.0;
+    yd[Y_WT] = 0.0;
     yd[Y_KS] = 0.0;
 
     int rootdir[REF_NROOT];
@@ -500,14 +500,14 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
 
     REF_CHECK(CVodeSetErrHandlerFn(mem, ref_err_handler, &ctx), "CVodeSetErrHandlerFn");
     REF_CHECK(CVodeInit(mem, ref_rhs, 0.0, y), "CVodeInit");
-    /* the energy ledger's components Y_DN, Y_DT, Y_KS are quadratures left out of the error test
-     * (an absolute tolerance so large that their weight vanishes, as CVODE's own quadratures
-     * without error control): with a damping ~ xi^p their integrands are singular, though
-     * integrable, at the ends of the contact, which no step across the end would resolve. They
-     * follow the steps the motion needs (tests/test_spring_reference.c checks the balance). */
+    /* Y_KS (Mindlin only) is a quadrature left out of the error test (an absolute tolerance so
+     * large that its weight vanishes, as CVODE's own quadratures without error control): slipping,
+     * its integrand k_t s ds/dt follows d(mu |F_n|)/dt, singular (though integrable) at the ends
+     * of a contact with a damping ~ xi^p, which no step across the end would resolve. It follows
+     * the steps the motion needs (tests/test_spring_reference.c checks the balance). */
     double *av = N_VGetArrayPointer(atol);
     for (int k = 0; k < REF_NEQ; k++) {
-        av[k] = k == Y_DN || k == Y_DT || k == Y_KS ? 1e300 : REF_ATOL;
+        av[k] = k == Y_KS ? 1e300 : REF_ATOL;
     }
     REF_CHECK(CVodeSVtolerances(mem, s->ref_rtol > 0.0 ? s->ref_rtol : 1e-12, atol), "CVodeSVtolerances");
     REF_CHECK(CVodeSetUserData(mem, &ctx), "CVodeSetUserData");
@@ -625,11 +625,12 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
      * elastic energy still in the contact at its end is lost with it (a clamped normal law
      * separates at xi > 0, the spring's k_t s^2 / 2 is forgotten) */
     const double e0 = 0.5 * (gg0 + spin_e0), X_end = fmax(st.xi, 0.0);
-    out->diss_normal = yd[Y_DN] / e0;
-    out->diss_tangential = yd[Y_DT] / e0;
     const double u_spring = ctx.tangential == GR_TANGENTIAL_SPRING ? 0.5 * st.kk * st.s * st.s : 0.0;
+    const double stored_t = ctx.km != 0.0 ? yd[Y_KS] : u_spring; /* int k_t s ds */
+    out->diss_normal = yd[Y_DN] / e0;
+    out->diss_tangential = (yd[Y_WT] - stored_t) / e0;
     out->stored_lost = (pow(X_end, ctx.pow_a + 1.0) / (ctx.pow_a + 1.0) + u_spring) / e0;
-    out->work_free = (u_spring - yd[Y_KS]) / e0;
+    out->work_free = (u_spring - stored_t) / e0;
     const double gtt0 = G0[0] * t0[0] + G0[1] * t0[1]; /* the centres' g.t, for the impact angle */
     out->impact_angle = atan2(fabs(gtt0), -gn0) * (180.0 / M_PI);
     /* the models' restitution laws assume discs without spin before the impact */
