@@ -55,7 +55,12 @@ GR_LAW gr_tangential_force gr_tangential_tangential_spring(const gr_contact_coef
         o.p = o.lost / dt;
         return o;
     }
-    double s = s_old + in.g_t * dt;
+    /* a contact that formed during this step has moved only since it touched, about xi / |g_n|
+     * ago: LAMMPS adds the full g_t dt, which shifts s by g_t dt / 2 on average over the contact's
+     * phase in the step and makes the restitution's error first order with a coefficient of about
+     * 0.25 dt / t_c (measured against the CVODE reference; 0.02 with this) */
+    const double dt_s = s_old == 0.0 && in.g_n < 0.0 ? fmin(dt, in.xi / -in.g_n) : dt;
+    double s = s_old + in.g_t * dt_s;
     double f = -k * s - gamma * in.g_t;
     const double f_max = c->mu * fabs(in.f_n);
     if (fabs(f) > f_max) {
