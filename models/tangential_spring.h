@@ -2,9 +2,11 @@
  *
  * Wired into the engine (models/list.h, GR_HISTORY_MODELS): the kernels keep s per contact in the
  * store of src/core/contact_history.c (one slot per touching pair, carried across neighbour-list
- * rebuilds and checkpoints). Not yet: rotation (the spin kicks would book the spring's conservative
- * torque work as dissipation), the Mindlin stiffness k_t ~ sqrt(xi), the CVODE reference of
- * src/collide/reference.c (docs/models.md, "tangential_spring").
+ * rebuilds and checkpoints). Its restitution law (models/tangential_spring_restitution.h) and the
+ * CVODE reference (src/collide/reference.c) integrate the continuous-time stick-slip. Options: a
+ * Mindlin stiffness k_t = km sqrt(xi) (`mindlin = true`, hertz only; LAMMPS `tangential mindlin`).
+ * Not yet: rotation in the engine (the spin kicks would book the spring's conservative torque work
+ * as dissipation) (docs/models.md, "tangential_spring").
  *
  * The contact remembers s, the tangential displacement accumulated since it formed, kept along the
  * current tangent t (in 2D s is a scalar along t; exchanging i and j reverses n, t and g but

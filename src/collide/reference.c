@@ -11,6 +11,8 @@
  *   pow_p): hertz has a = 3/2, p = 1/2 (viscoelastic) or 1/4 (Tsuji)
  *   tangential dashpot   F_t = -gamma_t g.t                                        (2.9-2.12)
  *   sliding friction     F_t = -mu |F_n| sign(g.t) while g.t != 0, then 0 (no spring)   (2.7)
+ *   tangential spring    F_t = -k_t s - gamma_t g.t, ds/dt = g.t, capped at mu |F_n| (stick and
+ *                        slip, ref_spring below; k_t constant or Mindlin's k_m sqrt(xi))
  * The unclamped contact ends when xi returns to 0 (the thesis); with clamping, F_n = max(0, F_n),
  * it ends when F_n falls to 0 while the pair separates, after which the pair moves apart
  * force-free (Schwager & Poeschel, Granular Matter 9, 465 (2007)). The tangential force acts in
