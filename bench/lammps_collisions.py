@@ -368,7 +368,7 @@ def granule_oblique(build, model, sets, v, angle, w1, w2, spc):
     return json.loads(out.stdout), dt, law["contact_time_law"]
 
 
-def lammps_oblique(lmp, work, pair_lines, v, angle, w1, w2, dt, t_c):
+def lammps_oblique(lmp, work, pair_lines, v, angle, w1, w2, dt, t_c, fix="nve/sphere disc"):
     """The same oblique impact in LAMMPS, placed exactly as granule collide places it (src/collide:
     gr_collision_case_oblique, then both moved along their free flight to one step before contact,
     centred in a box of side max(64 d, 8 (|r0x| + |r0y| + d)))."""
@@ -390,7 +390,7 @@ def lammps_oblique(lmp, work, pair_lines, v, angle, w1, w2, dt, t_c):
     steps = int(math.ceil(2.0 * t_c / dt)) + 20
     write_pair_data(work, L, p1, p2, v1, w1, w2)
     with open(os.path.join(work, "pair.in"), "w") as f:
-        f.write(deck_head(pair_lines) + f"""fix 1 all nve/sphere disc
+        f.write(deck_head(pair_lines) + f"""fix 1 all {fix}
 fix 2 all enforce2d
 timestep {dt!r}
 thermo 0
@@ -486,6 +486,75 @@ def markdown_oblique(rows):
     return "\n".join(out)
 
 
+# Mindlin: tangential_spring with mindlin = true (k_t = k_m sqrt(xi), k_m = kt_ratio (3/2) k_h) on
+# hertz (Tsuji), no rotation, against LAMMPS's plain `tangential mindlin k_L 0 mu` (its history is
+# the displacement, kept when the contact radius changes): LAMMPS's k_L a with a = sqrt(R xi) is
+# k_m sqrt(xi), so k_L = k_m / sqrt(R). fix nve (no rotation: the contact point's velocity is g.t in
+# both). granule collide starts the contact at a step boundary, where granule's first-step rule
+# (s grows by g_t min(dt, xi / |g_n|), docs/models.md) is LAMMPS's g_t dt, so the engines must
+# agree to rounding. The sticking case uses mu = 100 (it slips only where F_n falls to 0 at the
+# end), not more: LAMMPS turns the history with the line of centres only where |s.n| k_t > 1e-10 mu
+# |F_n| (frame_update in gran_sub_mod_tangential.cpp), so a huge mu leaves it unturned (measured,
+# clamped, 60 degrees, 1e3 steps per contact: difference 4.9e-10 at mu = 1e3, 1.6e-5 at 1e6,
+# 4.1e-5 at 1e9, granule's result the same for all three; 2.9e-8 at mu = 1e3 with 4e3 steps).
+MINDLIN = {
+    "hertz Tsuji + tangential_spring mindlin": ("hertz+tangential_spring", ["eps_n=0.6", "mindlin=true", "mu=0.5"]),
+    "hertz Tsuji clamped + tangential_spring mindlin, sticking": (
+        "hertz+tangential_spring", ["eps_n=0.6", "mindlin=true", "mu=100", "clamp=true"]),
+    "hertz viscoelastic + tangential_spring mindlin": ("hertz+tangential_spring",
+                                                       ["viscoelastic=true", "visco_A=1e-6", "mindlin=true", "mu=0.3"]),
+}
+# rounding after ~1e3-1e4 steps, and LAMMPS's frame-update threshold at mu = 100 (above; measured
+# <= 3.4e-10)
+MINDLIN_TOL = 1e-8
+MINDLIN_ANGLES = [30.0, 60.0]
+
+
+def mindlin_pair_style(sets, c):
+    """pair_style + pair_coeff of a Mindlin case (mapping above)."""
+    R = RADIUS * RADIUS / (2 * RADIUS)
+    hertz, _ = lammps_pair_coeff("hertz", sets, c)
+    hertz = hertz.replace(" tangential linear_nohistory 0.0 0.0", "")
+    k_m = (2.0 / 7.0) * 1.5 * float(c["k_s"])  # kt_ratio at its default 2/7
+    mu = float(next(x.split("=")[1] for x in sets if x.startswith("mu=")))
+    return ["pair_style granular", f"pair_coeff * * {hertz} tangential mindlin {k_m / math.sqrt(R)!r} 0.0 {mu!r}"]
+
+
+def run_mindlin(build, lmp, v, spcs, cases=MINDLIN, angles=MINDLIN_ANGLES):
+    """Every Mindlin case x angle at impact speed v and each steps-per-contact in spcs, in both
+    engines: g_n', g_t' over v after the collision and their largest difference."""
+    rows = []
+    with tempfile.TemporaryDirectory() as work:
+        for name, (model, sets) in cases.items():
+            c = coefficients_with(build, model, sets)
+            lines = mindlin_pair_style(sets, c)
+            for angle in angles:
+                for spc in spcs:
+                    g, dt, t_c = granule_oblique(build, model, sets, v, angle, 0.0, 0.0, spc)
+                    lm = lammps_oblique(lmp, work, lines, v, angle, 0.0, 0.0, dt, t_c, fix="nve")
+                    q = {e: dict(g_n=(r["v2"][0] - r["v1"][0]) / v, g_t=(r["v2"][1] - r["v1"][1]) / v)
+                         for e, r in (("granule", dict(v1=g["v1_after"], v2=g["v2_after"])), ("lammps", lm))}
+                    diff = max(abs(q["granule"][k] - q["lammps"][k]) for k in ("g_n", "g_t"))
+                    rows.append(dict(case=name, speed=v, angle=angle, steps_per_contact=spc, granule=q["granule"],
+                                     lammps=q["lammps"], diff=diff, pair_coeff=lines[1]))
+    return rows
+
+
+def markdown_mindlin(rows):
+    out = ["| case | angle | steps per contact | g_n'/v granule | g_t'/v granule | g_t'/v LAMMPS | max abs. diff. |",
+           "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        out.append(f"| {r['case']} | {r['angle']:g} | {r['steps_per_contact']:g} | {r['granule']['g_n']:.9f} | "
+                   f"{r['granule']['g_t']:.9f} | {r['lammps']['g_t']:.9f} | {r['diff']:.1e} |")
+    return "\n".join(out)
+
+
+def mindlin_failures(rows, tol=MINDLIN_TOL):
+    """The rows where the engines differ by more than tol (of v), as messages."""
+    return [f"{r['case']} at {r['speed']:g} m/s, {r['angle']:g} deg, {r['steps_per_contact']:g} steps per contact: "
+            f"engines differ by {r['diff']:.2e} > {tol:g}" for r in rows if not r["diff"] <= tol]
+
+
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 if __name__ == "__main__":
@@ -502,6 +571,9 @@ if __name__ == "__main__":
     ap.add_argument("--oblique-speeds", default=",".join(repr(v) for v in OBLIQUE_SPEEDS),
                     help="impact speeds (m/s) of the oblique cases with rotation; --quick: 1e-6 only")
     ap.add_argument("--no-oblique", action="store_true", help="head-on collisions only")
+    ap.add_argument("--mindlin-speed", type=float, default=0.1,
+                    help="impact speed (m/s) of the Mindlin cases (tangential_spring mindlin = true, no rotation)")
+    ap.add_argument("--no-mindlin", action="store_true", help="leave out the Mindlin cases")
     a = ap.parse_args()
     speeds = [float(x) for x in a.speeds.split(",")]
     spc = a.steps_per_contact
@@ -521,9 +593,16 @@ if __name__ == "__main__":
         oblique = run_oblique(a.build, a.lmp, [1e-6] if a.quick else [float(x) for x in a.oblique_speeds.split(",")], spc)
         print("\nOblique collisions with rotation:\n")
         print(markdown_oblique(oblique))
+    mindlin = []
+    if not a.no_mindlin:
+        mindlin = run_mindlin(a.build, a.lmp, a.mindlin_speed, [1e3, 2e3] if a.quick else [1e3, 4e3, 1.6e4])
+        print("\nMindlin (tangential_spring mindlin = true, no rotation) against tangential mindlin:\n")
+        print(markdown_mindlin(mindlin))
     if a.json:
-        json.dump({"rows": rows, "lammps_tsuji": own, "steps_per_contact": spc, "oblique": oblique}, open(a.json, "w"),
-                  indent=1)
+        json.dump({"rows": rows, "lammps_tsuji": own, "steps_per_contact": spc, "oblique": oblique, "mindlin": mindlin},
+                  open(a.json, "w"), indent=1)
+    for msg in mindlin_failures(mindlin):
+        print(f"lammps_collisions: MISMATCH mindlin {msg}", file=sys.stderr)
     for msg in oblique_failures(oblique):
         print(f"lammps_collisions: MISMATCH oblique {msg}", file=sys.stderr)
     bad = [r for r in rows if not (r["rel_diff"] <= a.tol and r["steps_granule"] == r["steps_lammps"])]
@@ -531,4 +610,4 @@ if __name__ == "__main__":
         print(f"lammps_collisions: MISMATCH {r['law']} at {r['speed']} m/s: eps {r['eps_granule']!r} vs "
               f"{r['eps_lammps']!r} (rel. {r['rel_diff']:.2e} > {a.tol:g}), contact steps {r['steps_granule']} vs "
               f"{r['steps_lammps']}", file=sys.stderr)
-    sys.exit(1 if bad or oblique_failures(oblique) else 0)
+    sys.exit(1 if bad or oblique_failures(oblique) or mindlin_failures(mindlin) else 0)
