@@ -16,7 +16,8 @@
  *   if |F_t| > mu |F_n|:  F_t <- mu |F_n| sign(F_t),  s <- -(F_t + gamma_t g_t) / k_t
  * (slip: the spring is shortened so that spring plus dashpot give exactly the Coulomb force;
  * LAMMPS leaves s untouched when it is 0 and then sets F_t = 0). The history is dropped (s = 0)
- * as soon as the normal force no longer acts.
+ * as soon as the normal force no longer acts. One departure from LAMMPS: in the step where the
+ * contact forms, s grows by g_t min(dt, xi / |g_n|), the time since the touch (below).
  *
  * Energy: the spring stores U_t = k_t s^2 / 2 (returned as `e`, J). Over the step the force does
  * the work F_t g_t dt on the relative motion, so what the step dissipates (dashpot + slip) is
