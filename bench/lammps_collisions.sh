@@ -5,12 +5,16 @@
 # restitution and the CVODE reference (docs/lammps.md, "Single collisions against LAMMPS").
 #
 #   bench/lammps_collisions.sh [BUILD_DIR] [--quick] [--speeds V1,V2,...] [--steps-per-contact S]
-#                              [--convergence V] [--oblique-speeds V1,...] [--no-oblique] [--json OUT]
+#                              [--convergence V] [--oblique-speeds V1,...] [--no-oblique]
+#                              [--mindlin-speed V] [--no-mindlin] [--json OUT]
 #
 # Then oblique collisions with rotation (tangential dashpot, clamped or not, sliding friction,
 # hertz + tangential dashpot) at 30 and 60 degrees, with and without spins before, at the impact
 # speeds --oblique-speeds (default 1e-6,1e-4,1e-2,1 m/s; --quick 1e-6): velocities and spins after
 # agree to 1e-6 where xi_max/d <= 1e-7, and by O(xi_max/d) (the lever arm) elsewhere.
+# Then tangential_spring with mindlin = true on hertz against LAMMPS's tangential mindlin, no
+# rotation (--mindlin-speed, default 0.1 m/s): they differ by granule's half first step only,
+# first order (halving with dt, below 1 / steps per contact).
 #
 # Defaults: speeds 0.001,0.01,0.1,1,3 m/s, 1e4 steps per contact; --convergence V adds 1e3..1e6
 # steps per contact at speed V (about a minute). --quick: two speeds at 1e3 steps per contact.

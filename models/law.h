@@ -50,6 +50,8 @@ typedef struct gr_normal_force {
  *          slot per neighbour-list entry, carried by pair across rebuilds and checkpoints. */
 typedef struct gr_tangential_in {
     double g_t, f_n;
+    double xi, g_n; /* the overlap and the normal relative velocity (a stiffness that depends on
+                       xi: tangential_spring's Mindlin option; 0 where the contact has ended) */
     int acts;
     double m12_dt;
     double *hist;

@@ -16,11 +16,13 @@
  *     impacts, very slow and fast impacts, contacts across the periodic boundary): either a
  *     clean refusal with a message or finite results with a loss in [0, 1];
  *   - close the energy ledger over a collision to the integrator's second order, (pi dt / t_c)^2.
- * Known gap: a tangential law without restitution law (restitution_t NULL) has no CVODE reference
- * either; only tangential_spring may (issue 13, listed in no_reference_yet below). Its reference
- * checks are replaced by engine checks against its two limits (spring_limits): sticking
- * (mu -> inf: an undamped tangential oscillator, eps_t = cos(w_t t_c)) and sliding (small mu: the
- * Coulomb law, eps_t = 1 - mu (1 + eps_n) v_n / v_t), and no NaN at the Coulomb limit.
+ * A tangential law with modes of its own (gr_model.variants: tangential_spring's mindlin) joins
+ * in each mode with every normal law whose prepare accepts it (Mindlin: hertz only).
+ * The history spring (tangential_spring) is held to the same checks: its restitution law is a
+ * fixed-normal integration of its stick-slip (models/tangential_spring_restitution.h), its CVODE
+ * reference integrates s with the stick/slip switches as roots (src/collide/reference.c); the
+ * reference's own limits, energy balance and convergence are checked in
+ * tests/test_spring_reference.c.
  * Rolling laws (GR_ROLLING_MODELS) join every rotating combination: the checks above (with the
  * discs not spinning a rolling law must change nothing), and their own spin_loss law on head-on
  * impacts of counter-rotating discs, rolling on and rolling arrested.
@@ -60,6 +62,7 @@ typedef struct combo {
     int clamp, dim;
     int rot; /* [model] rotation = true (a tangential law at the contact point) */
     const char *variant; /* the normal law's mode (gr_model.variants), NULL if it has one */
+    const char *tvariant; /* the tangential law's mode, NULL if it has none */
     const gr_model *rolling; /* a rolling law (rotation kernels only), NULL if none */
 } combo;
 
@@ -68,6 +71,8 @@ static int n_combos;
 /* the event rules' combinations (each rule's mode, 1D and 2D), checked by their own tests below */
 static combo events[MAX_COMBOS];
 static int n_events;
+
+static bool legal(const gr_model *nm, const char *var, const gr_model *tm, const char *tvar);
 
 /* every legal combination of the registry's soft laws */
 static void enumerate(void)
@@ -81,18 +86,25 @@ static void enumerate(void)
         for (int v = 0; v == 0 || (nm->variants && nm->variants[v]); v++) {
             const char *var = nm->variants ? nm->variants[v] : NULL;
             for (int clamp = 0; clamp < 2 && n_combos + 2 < MAX_COMBOS; clamp++) {
-                combos[n_combos++] = (combo){nm, NULL, clamp, 1, 0, var, NULL};
-                combos[n_combos++] = (combo){nm, NULL, clamp, 2, 0, var, NULL};
+                combos[n_combos++] = (combo){nm, NULL, clamp, 1, 0, var, NULL, NULL};
+                combos[n_combos++] = (combo){nm, NULL, clamp, 2, 0, var, NULL, NULL};
                 for (int b = 0; gr_models[b]; b++) {
                     const gr_model *tm = gr_models[b];
-                    for (int rot = 0; rot <= (tm->contact_point ? 1 : 0); rot++) {
-                        if (tm->kind == GR_MODEL_TANGENTIAL && n_combos < MAX_COMBOS) {
-                            combos[n_combos++] = (combo){nm, tm, clamp, 2, rot, var, NULL};
+                    for (int tv = 0; tm->kind == GR_MODEL_TANGENTIAL && (tv == 0 || (tm->variants && tm->variants[tv]));
+                         tv++) {
+                        const char *tvar = tm->variants ? tm->variants[tv] : NULL;
+                        if (!legal(nm, var, tm, tvar)) {
+                            continue; /* a mode this normal law refuses (mindlin without hertz) */
                         }
-                        /* every rolling law with rotation */
-                        for (int r = 0; rot && tm->kind == GR_MODEL_TANGENTIAL && gr_models[r]; r++) {
-                            if (gr_models[r]->kind == GR_MODEL_ROLLING && n_combos < MAX_COMBOS) {
-                                combos[n_combos++] = (combo){nm, tm, clamp, 2, 1, var, gr_models[r]};
+                        for (int rot = 0; rot <= (tm->contact_point ? 1 : 0); rot++) {
+                            if (n_combos < MAX_COMBOS) {
+                                combos[n_combos++] = (combo){nm, tm, clamp, 2, rot, var, tvar, NULL};
+                            }
+                            /* every rolling law with rotation */
+                            for (int r = 0; rot && gr_models[r]; r++) {
+                                if (gr_models[r]->kind == GR_MODEL_ROLLING && n_combos < MAX_COMBOS) {
+                                    combos[n_combos++] = (combo){nm, tm, clamp, 2, 1, var, tvar, gr_models[r]};
+                                }
                             }
                         }
                     }
@@ -107,7 +119,7 @@ static void enumerate(void)
             const char *var = em->variants ? em->variants[v] : NULL;
             const int rot = var && strstr(var, "rotation=true") != NULL;
             for (int dim = rot ? 2 : 1; dim <= 2 && n_events < MAX_COMBOS; dim++) {
-                events[n_events++] = (combo){em, NULL, 0, dim, rot, var, NULL};
+                events[n_events++] = (combo){em, NULL, 0, dim, rot, var, NULL, NULL};
             }
         }
     }
@@ -127,21 +139,47 @@ static void apply_settings(gr_contact_params *p, const char *settings)
     }
 }
 
-/* every descriptor's default (as a scene without [model] keys), then the combination's mode */
+/* every descriptor's default (as a scene without [model] keys), then the combination's modes */
 static gr_contact_params defaults_of(const combo *c)
 {
     gr_contact_params p;
     gr_contact_defaults(&p);
     apply_settings(&p, c->variant);
+    if (c->tangential) {
+        apply_settings(&p, c->tvariant);
+    }
     p.rotation = c->rot;
     return p;
 }
 
+/* whether the normal law in its mode accepts the tangential law's mode (at the defaults) */
+static bool legal(const gr_model *nm, const char *var, const gr_model *tm, const char *tvar)
+{
+    gr_contact_params p;
+    gr_contact_defaults(&p);
+    gr_error err = {0};
+    const char *modes[2] = {var, tvar};
+    for (int m = 0; m < 2; m++) { /* "key=value" (no ck_assert here: this runs before the tests) */
+        char buf[128];
+        snprintf(buf, sizeof buf, "%s", modes[m] ? modes[m] : "");
+        char *eq = strchr(buf, '=');
+        if (eq) {
+            *eq = '\0';
+            if (gr_contact_set(&p, buf, eq + 1, &err) != GR_OK) {
+                return false;
+            }
+        }
+    }
+    gr_contact_coeffs k;
+    return gr_contact_prepare(nm, tm, &p, 1.0, 0.0, &k, &err) == GR_OK;
+}
+
 static const char *name_of(const combo *c, char *buf, size_t n)
 {
-    snprintf(buf, n, "%dd %s%s%s%s%s%s%s%s%s%s", c->dim, c->normal->name, c->variant ? "(" : "", c->variant ? c->variant : "",
+    snprintf(buf, n, "%dd %s%s%s%s%s%s%s%s%s%s%s%s%s", c->dim, c->normal->name, c->variant ? "(" : "", c->variant ? c->variant : "",
              c->variant ? ")" : "", c->clamp ? "[clamped]" : "", c->tangential ? "+" : "",
-             c->tangential ? c->tangential->name : "", c->rot ? "(rotation)" : "", c->rolling ? "+" : "",
+             c->tangential ? c->tangential->name : "", c->tvariant ? "(" : "", c->tvariant ? c->tvariant : "",
+             c->tvariant ? ")" : "", c->rot ? "(rotation)" : "", c->rolling ? "+" : "",
              c->rolling ? c->rolling->name : "");
     return buf;
 }
@@ -208,96 +246,6 @@ static double engine_loss(gr_collide_setup s, const gr_collision_case *cs, const
     return sum / nph;
 }
 
-/* The laws that have no restitution law and no CVODE reference yet, and why (the only ones the
- * suite lets through without them). */
-static const char *const no_reference_yet[] = {
-    "tangential_spring", /* issue 13: the reference does not integrate the stick-slip state s yet */
-    NULL};
-
-static bool has_reference(const combo *c)
-{
-    return c->dim == 1 || !c->tangential || c->tangential->restitution_t;
-}
-
-static bool may_lack_reference(const gr_model *m)
-{
-    for (int i = 0; no_reference_yet[i]; i++) {
-        if (strcmp(m->name, no_reference_yet[i]) == 0) {
-            return true;
-        }
-    }
-    return false;
-}
-
-/* one engine impact of the combo with parameters p, averaged over phases; returns eps_t measured */
-static double engine_eps_t(const combo *c, const gr_contact_params *p, double speed, double angle, double *loss,
-                           const char *what)
-{
-    gr_collide_setup s = setup_of(c, *p);
-    gr_contact_coeffs k;
-    ck_assert_msg(coeffs_of(&s, &k), "%s: refused", what);
-    s.dt = duration_of(&k, speed, angle) / STEPS;
-    const int nph = quick() ? 2 : 4;
-    double e = 0.0;
-    *loss = 0.0;
-    for (int q = 0; q < nph; q++) {
-        s.phase = (q + 0.5) / nph;
-        gr_collide_result r;
-        gr_error err = {0};
-        gr_collision_case cs = impact(speed, angle);
-        ck_assert_msg(gr_collide_run(&s, &cs, &r, &err) == GR_OK, "%s: %s", what, err.message);
-        ck_assert_msg(isfinite(r.eps_t_measured) && isfinite(r.energy_loss) && r.momentum_error < 1e-12,
-                      "%s: eps_t %g, loss %g, momentum %g", what, r.eps_t_measured, r.energy_loss, r.momentum_error);
-        e += r.eps_t_measured / nph;
-        *loss += r.energy_loss / nph;
-    }
-    return e;
-}
-
-/* The history spring's limits, on the engine (no reference yet): sticking, mu huge and no
- * dashpot, the contact point's tangential motion is an undamped oscillator w_t = sqrt(k_t / m_t)
- * for the contact's duration: eps_t = g'.t / g.t = cos(w_t t_c) (negative: the velocity reverses;
- * Walton's beta > 0); sliding, mu small, the spring stays at the Coulomb limit: the sliding
- * friction law 1 - mu (int |F_n| dt / m_t v_n) v_n / v_t. Both to first order in dt / t_c plus the
- * turning of the line of centres. With rotation (contact_point) g_t is the contact point's and m_t
- * its tangential mass m12 q / (1 + q) (src/core/contact.c), so the same formulas hold. */
-static void spring_limits(const combo *c, const char *name)
-{
-    char what[300];
-    const double speed = 0.1, angle = 45.0;
-    gr_contact_params p = defaults_of(c);
-    p.mu = 1e6;
-    p.gamma_t = 0.0;
-    gr_collide_setup s = setup_of(c, p);
-    gr_contact_coeffs k;
-    ck_assert_msg(coeffs_of(&s, &k), "%s: sticking refused", name);
-    const double v_n = speed * cos(angle * M_PI / 180.0), v_t = speed * sin(angle * M_PI / 180.0);
-    const gr_normal_impact ni = k.normal_model->impact(&k, v_n);
-    const double t_c = duration_of(&k, speed, angle), w_t = sqrt(k.law_t[0] / k.m_t);
-    const double turn = v_t * t_c / DIAM;
-    double loss;
-    snprintf(what, sizeof what, "%s sticking (mu = 1e6)", name);
-    const double stick = engine_eps_t(c, &p, speed, angle, &loss, what), stick_want = cos(w_t * t_c);
-    VERBOSE("%s: eps_t %.6f, cos(w_t t_c) %.6f (turn %.2e)\n", what, stick, stick_want, turn);
-    ck_assert_msg(fabs(stick - stick_want) <= 4.0 / STEPS + 2.0 * turn, "%s: eps_t %.6f, cos(w_t t_c) = %.6f", what,
-                  stick, stick_want);
-    p.mu = 0.01;
-    snprintf(what, sizeof what, "%s sliding (mu = 0.01)", name);
-    const double slide = engine_eps_t(c, &p, speed, angle, &loss, what);
-    /* with rotation the impulse J changes the contact point's g_t by J / m_t, not J / m12 */
-    const double slide_want = 1.0 - p.mu * ni.impulse_abs * (k.m12 / k.m_t) * v_n / v_t;
-    VERBOSE("%s: eps_t %.6f, Coulomb %.6f\n", what, slide, slide_want);
-    ck_assert_msg(fabs(slide - slide_want) <= 0.05 * (1.0 - slide_want) + 2.0 * turn * p.mu, "%s: eps_t %.6f, Coulomb %.6f",
-                  what, slide, slide_want);
-    /* the Coulomb limit itself, F_n ~ 0 at the edges of the contact: finite, loss in [0, 1] */
-    p.mu = 1e-9;
-    snprintf(what, sizeof what, "%s at mu = 1e-9", name);
-    const double tiny = engine_eps_t(c, &p, speed, angle, &loss, what);
-    /* no tangential force: eps_t = 1 up to the turning of the line of centres (measured along t') */
-    ck_assert_msg(fabs(tiny - 1.0) <= 2.0 * turn && loss >= -1e-6 && loss <= 1.0, "%s: eps_t %.9f, loss %g", what, tiny,
-                  loss);
-}
-
 static const double speeds[] = {0.01, 0.1, 1.0};
 static const double angles[] = {0.0, 30.0, 60.0};
 static int n_speeds(void) { return quick() ? 2 : 3; }
@@ -311,10 +259,6 @@ START_TEST(test_restitution_law)
     gr_collide_setup s = setup_of(c, defaults_of(c));
     gr_contact_coeffs k;
     ck_assert_msg(coeffs_of(&s, &k), "%s: the defaults are refused", name);
-    if (!has_reference(c)) {
-        spring_limits(c, name); /* the engine against the law's limits instead */
-        return;
-    }
     for (int a = 0; a < (c->dim == 2 ? 3 : 1); a++) {
         for (int v = 0; v < n_speeds(); v++) {
             snprintf(what, sizeof what, "%s, %g m/s at %g deg", name, speeds[v], angles[a]);
@@ -354,14 +298,13 @@ START_TEST(test_engine_vs_reference)
             gr_collision_case cs = impact(speeds[v], angle);
             gr_collide_result ref = {0};
             gr_error err = {0};
-            ck_assert_msg(!has_reference(c) || gr_collide_reference(&s, &cs, &ref, &err) == GR_OK, "%s: %s", what,
-                          err.message);
+            ck_assert_msg(gr_collide_reference(&s, &cs, &ref, &err) == GR_OK, "%s: %s", what, err.message);
             double mom = 0.0, ov = 0.0, ov2 = 0.0;
             const double loss = engine_loss(s, &cs, &k, speeds[v], angle, nph, &mom, &ov, what);
             const double tol = K_DT / STEPS;
             VERBOSE("%s: engine %.8f, reference %.8f, |diff| %.2e (tol %.2e), momentum %.1e\n", what, loss,
                     ref.energy_loss, fabs(loss - ref.energy_loss), tol, mom);
-            ck_assert_msg(!has_reference(c) || fabs(loss - ref.energy_loss) <= tol,
+            ck_assert_msg(fabs(loss - ref.energy_loss) <= tol,
                           "%s: engine loss %.8f, reference %.8f (tol %.2e)", what, loss, ref.energy_loss, tol);
             ck_assert_msg(loss >= -1e-6 && loss <= 1.0 + 1e-9, "%s: engine loss %.8f", what, loss);
             ck_assert_msg(mom < 1e-12, "%s: momentum error %.3e", what, mom);
@@ -402,8 +345,7 @@ START_TEST(test_elastic)
         gr_collision_case cs = impact(speed, angle);
         gr_collide_result ref = {0};
         gr_error err = {0};
-        ck_assert_msg(!has_reference(c) || gr_collide_reference(&s, &cs, &ref, &err) == GR_OK, "%s: %s", what,
-                      err.message);
+        ck_assert_msg(gr_collide_reference(&s, &cs, &ref, &err) == GR_OK, "%s: %s", what, err.message);
         ck_assert_msg(fabs(ref.energy_loss) <= 1e-9, "%s: reference loses %.3e", what, ref.energy_loss);
         /* 1e-9: a law may be a numerical integration of its own (hertz) */
         ck_assert_msg(fabs(gr_contact_expected_loss(&k, speed, angle)) <= 1e-9, "%s: the law predicts a loss %.3e", what,
@@ -780,12 +722,7 @@ START_TEST(test_registry_covered)
         } else if (md->kind & GR_MODEL_ROLLING) {
             ck_assert_msg(md->spin_loss, "%s: a rolling law needs spin_loss", md->name);
         } else {
-            ck_assert_msg(md->restitution_t || may_lack_reference(md), "%s: a tangential law needs restitution_t",
-                          md->name);
-            if (!md->restitution_t) {
-                fprintf(stderr, "note: %s has no restitution law and no CVODE reference yet: engine checks only\n",
-                        md->name);
-            }
+            ck_assert_msg(md->restitution_t, "%s: a tangential law needs restitution_t", md->name);
         }
     }
 }

@@ -6,6 +6,7 @@
 #include <check.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "models/tangential_spring.h"
 
@@ -102,10 +103,12 @@ static double contact(double k_t, double gamma_t, double mu, double v_n, double 
 START_TEST(test_stick_reverses)
 {
     /* k_t = 2/7 k_n: w_t t_c = pi sqrt(2/7), eps_t = -g'/g = -cos(w_t t_c) = 0.0989 > 0 */
+    /* mu = 1e6: a finite mu releases the spring where mu F_n falls below k_t s at the end of the
+     * contact, which moves eps_t by about (k_t / k_n) g_0 / (2 mu v_n), 1.4e-4 at mu = 10 */
     const double k_t = 2.0 / 7.0 * 1e4, want = -cos(M_PI * sqrt(2.0 / 7.0));
     double led1 = 0.0, led2 = 0.0;
-    const double g1 = contact(k_t, 0.0, 10.0, 1.0, 0.01, 4000, &led1);
-    const double g2 = contact(k_t, 0.0, 10.0, 1.0, 0.01, 8000, &led2);
+    const double g1 = contact(k_t, 0.0, 1e6, 1.0, 0.01, 4000, &led1);
+    const double g2 = contact(k_t, 0.0, 1e6, 1.0, 0.01, 8000, &led2);
     ck_assert_msg(want > 0.09, "want %g", want);
     ck_assert_msg(fabs(-g1 / 0.01 - want) < 2e-3, "eps_t %g, want %g", -g1 / 0.01, want);
     ck_assert_msg(fabs(-g2 / 0.01 - want) < fabs(-g1 / 0.01 - want) + 1e-6, "no convergence");
@@ -126,6 +129,62 @@ START_TEST(test_slide)
 }
 END_TEST
 
+/* Mindlin (mindlin = true): k_t = km sqrt(xi) now, km sqrt(xi + g_n dt) at the previous step;
+ * the energy the stiffness change adds to k_t s^2 / 2 without work is booked in `lost` (negative
+ * while loading) so that the kernel's trapezoid work closes the ledger */
+START_TEST(test_mindlin_step)
+{
+    const double km = 4e6, xi = 2.5e-5, g_n = -0.1, g_t = 0.7, dt = 1e-4, gamma = 0.3;
+    gr_contact_coeffs c = coeffs(0.0, gamma, 0.5, dt);
+    c.law_t[GR_SPRING_KM] = km;
+    double s = 2e-4;
+    const gr_tangential_in in = {.g_t = g_t, .f_n = 100.0, .xi = xi, .g_n = g_n, .acts = 1, .hist = &s};
+    const gr_tangential_force o = gr_tangential_tangential_spring(&c, in);
+    const double k = km * sqrt(xi), k_old = km * sqrt(xi + g_n * dt), s_new = 2e-4 + g_t * dt;
+    ck_assert_double_eq_tol(s, s_new, 1e-18);
+    ck_assert_double_eq_tol(o.f, -k * s_new - gamma * g_t, 1e-12);
+    ck_assert_double_eq_tol(o.fc, -k * s_new, 1e-12);
+    ck_assert_double_eq_tol(o.e, 0.5 * k * s_new * s_new, 1e-18);
+    const double work = 0.5 * (k_old * 2e-4 + k * s_new) * g_t * dt; /* the trapezoid, on the motion */
+    const double lost = work - (o.e - 0.5 * k_old * 2e-4 * 2e-4);
+    ck_assert_double_eq_tol(o.lost, lost, 1e-15);
+    ck_assert_msg(o.lost < 0.0, "loading stiffens the spring: energy gained, lost %g", o.lost);
+    /* at the Coulomb limit the spring is shortened with the new stiffness */
+    double s2 = 2e-4;
+    gr_tangential_in in2 = in;
+    in2.f_n = 1.0;
+    in2.hist = &s2;
+    const gr_tangential_force o2 = gr_tangential_tangential_spring(&c, in2);
+    ck_assert_double_eq_tol(fabs(o2.f), 0.5, 1e-14);
+    ck_assert_double_eq_tol(-k * s2 - gamma * g_t, o2.f, 1e-12);
+}
+END_TEST
+
+/* Mindlin's prepare: km = kt_ratio (3/2) k_h (the Hertz law's own stiffness dF_n/dxi times
+ * kt_ratio), or k_t sqrt(xi / x0) with an explicit k_t; refused with a linear normal law */
+START_TEST(test_mindlin_prepare)
+{
+    gr_contact_params p;
+    gr_contact_defaults(&p);
+    p.mindlin = true;
+    p.kt_ratio = 0.8;
+    gr_contact_coeffs c;
+    gr_error err = {0};
+    const gr_model *hz = gr_model_find("hertz"), *ts = gr_model_find("tangential_spring");
+    const double m12 = 1.765e-5;
+    ck_assert_msg(gr_contact_prepare(hz, ts, &p, m12, 0.0, &c, &err) == GR_OK, "%s", err.message);
+    ck_assert_double_eq_tol(c.law_t[GR_SPRING_KM], 0.8 * 1.5 * p.k_h, 1e-9 * p.k_h);
+    ck_assert(c.law_t[GR_SPRING_KT] == 0.0);
+    p.k_t = 500.0;
+    ck_assert(gr_contact_prepare(hz, ts, &p, m12, 0.0, &c, &err) == GR_OK);
+    const double x0 = pow(m12 * p.v_max * p.v_max / p.k_h, 0.4);
+    ck_assert_double_eq_tol(c.law_t[GR_SPRING_KM] * sqrt(x0), 500.0, 1e-9);
+    ck_assert(gr_contact_prepare(gr_model_find("spring_dashpot"), ts, &p, m12, 0.0, &c, &err) == GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "mindlin") && strstr(err.message, "hertz") && strstr(err.message, "spring_dashpot"),
+                  "message: %s", err.message);
+}
+END_TEST
+
 int main(void)
 {
     Suite *su = suite_create("tangential_spring");
@@ -134,6 +193,8 @@ int main(void)
     tcase_add_test(tc, test_coulomb_limit);
     tcase_add_test(tc, test_stick_reverses);
     tcase_add_test(tc, test_slide);
+    tcase_add_test(tc, test_mindlin_step);
+    tcase_add_test(tc, test_mindlin_prepare);
     suite_add_tcase(su, tc);
     SRunner *sr = srunner_create(su);
     srunner_run_all(sr, CK_NORMAL);

@@ -53,6 +53,7 @@ typedef struct gr_contact_params {
     double kt_ratio; /* k_t / k_s (linear normal law) */
     double k_t;      /* tangential spring constant, N/m (0: kt_ratio k_s) */
     double gamma_t;  /* tangential dashpot in parallel with the spring, kg/s */
+    bool mindlin;    /* k_t ~ sqrt(xi) (Mindlin; normal = hertz only) */
 } gr_contact_params;
 
 typedef enum {
@@ -150,7 +151,8 @@ typedef struct gr_model {
     /* Parameter settings that make the model conserve energy ("eps_n=1", space-separated
      * key=value); the conformance suite applies them to test elastic impacts. */
     const char *elastic;
-    /* Optional, NULL-terminated: settings selecting each mode of the law ("viscoelastic=true");
+    /* Optional, NULL-terminated: settings selecting each mode of the law ("viscoelastic=true";
+     * tangential_spring's "mindlin=true", tested with the normal laws that accept it);
      * the conformance suite tests every mode as a combination of its own. */
     const char *const *variants;
     /* Optional, NULL-terminated: extreme settings beyond the eps minima (which the suite tries by

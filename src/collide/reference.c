@@ -11,6 +11,8 @@
  *   pow_p): hertz has a = 3/2, p = 1/2 (viscoelastic) or 1/4 (Tsuji)
  *   tangential dashpot   F_t = -gamma_t g.t                                        (2.9-2.12)
  *   sliding friction     F_t = -mu |F_n| sign(g.t) while g.t != 0, then 0 (no spring)   (2.7)
+ *   tangential spring    F_t = -k_t s - gamma_t g.t, ds/dt = g.t, capped at mu |F_n| (stick and
+ *                        slip, ref_spring below; k_t constant or Mindlin's k_m sqrt(xi))
  * The unclamped contact ends when xi returns to 0 (the thesis); with clamping, F_n = max(0, F_n),
  * it ends when F_n falls to 0 while the pair separates, after which the pair moves apart
  * force-free (Schwager & Poeschel, Granular Matter 9, 465 (2007)). The tangential force acts in
@@ -61,10 +63,14 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include "granule/collide.h"
+#include "models/tangential_spring.h" /* the slots of its constants in law_t */
 
-enum { REF_NEQ = 7, REF_NROOT = 5 };
-enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT, Y_W };
-enum { ROOT_END = 0, ROOT_MAX_OVERLAP, ROOT_STICK, ROOT_FN_SIGN, ROOT_DEGENERATE };
+enum { REF_NEQ = 11, REF_NROOT = 7 };
+/* Y_S the spring's s (tangential_spring), Y_DN the energy the normal law dissipates, Y_WT the
+ * work of the tangential force on the contact point's motion, Y_KS the Mindlin spring's
+ * int k_t s ds (its stored energy but for what k_t(xi) adds by changing) */
+enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT, Y_W, Y_S, Y_DN, Y_WT, Y_KS };
+enum { ROOT_END = 0, ROOT_MAX_OVERLAP, ROOT_STICK, ROOT_FN_SIGN, ROOT_DEGENERATE, ROOT_SLIP_UP, ROOT_SLIP_DOWN };
 
 #define REF_ATOL 1e-14                 /* nondimensional: state components are O(1) */
 #define REF_GUARD_CONTACTS 1000.0      /* give up after this many undamped contact times pi/w0 */
@@ -81,6 +87,9 @@ typedef struct ref_ctx {
     bool rot;        /* rotation: the law sees g.t - (|r| / 2) W */
     double q;        /* rotation: I / (M r^2) */
     double mu;
+    double kt0, km;  /* spring: k_t = kt0 + km sqrt(xi), over m12 w0^2 (Mindlin: kt0 = 0) */
+    bool slip;       /* spring: at the Coulomb limit, s follows the constraint (sig_t below) */
+    double sig_t;    /* spring, slipping: sign of k_t s + gamma_t g_c (= mu |F_n| sig_t) */
     gr_tangential_law tangential;
     bool clamp;
     bool sliding;    /* friction: tangential relative motion not yet stopped */
@@ -98,7 +107,98 @@ typedef struct ref_state {
     double gc;         /* the contact point's tangential velocity, gt (- |r| W / 2 with rotation) */
     double rn;         /* |r|, units V / w0 */
     double fn, ft;     /* forces along n and t, units m12 w0 V */
+    /* the spring (tangential_spring) only */
+    double kk, dk;     /* k_t at this xi and its rate d k_t / dt */
+    double s;          /* the spring's s: Y_S sticking, the Coulomb constraint's value slipping */
+    double sdot;       /* ds/dt: g_c sticking, the constraint's rate slipping */
+    double trial;      /* k_t s + gamma_t g_c (the force is -trial while sticking) */
+    double lim, dlim;  /* mu |F_n| and its rate */
+    double rate;       /* the free rate of trial, d/dt (k_t s + gamma_t g_c) with ds/dt = g_c */
+    double phi;        /* slipping: sig_t (free minus constrained rate of trial); slip goes on while > 0 */
 } ref_state;
+
+/* The Cundall-Strack spring (models/tangential_spring.h) in continuous time: F_t = -(k_t s +
+ * gamma_t g_c) with ds/dt = g_c while |F_t| < mu |F_n| (sticking); at the limit (slipping)
+ * F_t = -sig_t mu |F_n| and s is not a state any more but the algebraic value that keeps
+ * k_t s + gamma_t g_c = sig_t mu |F_n| (what the engine's rescale converges to as dt -> 0). The
+ * contact slips on while the free rate of k_t s + gamma_t g_c (ds/dt = g_c) would carry it past
+ * the limit faster than the limit moves: phi = sig_t (k_t g_c + gamma_t dg_c/dt + s dk_t/dt)
+ * - d(mu |F_n|)/dt > 0; it sticks again where phi falls through 0. Both switches are CVODE roots
+ * (|k_t s + gamma_t g_c| reaching mu |F_n| sticking, phi reaching 0 slipping), so the right-hand
+ * side is smooth inside each regime. The rates come from the geometry: d xi/dt = -g.n,
+ * d(g.n)/dt = F_n + (g.t)^2 / |r|, d(g.t)/dt = F_t - (g.n)(g.t) / |r|, and with rotation
+ * g_c = g.t - |r| W / 2 adds -(g.n) W / 2 + |r|^2 F_t / (q D^2). Called by ref_eval after the
+ * geometry and F_n are set. */
+static void ref_spring(const ref_ctx *c, const double *y, ref_state *s)
+{
+    const double X = fmax(s->xi, 0.0), sq = sqrt(X);
+    s->kk = c->kt0 + c->km * sq;
+    const double dxi = -s->gn;
+    s->dk = sq > 0.0 ? 0.5 * c->km / sq * dxi : 0.0;
+    /* d F_n / dt of F_n = X^a - c_n X^p g.n (the clamp only ends the contact where F_n = 0) */
+    double dfn;
+    if (c->pow_a == 1.0 && c->pow_p == 0.0) {
+        dfn = dxi - c->c_n * (s->fn + s->gt * s->gt / s->rn);
+    } else {
+        /* X^(p-1): singular at X = 0 (a damping ~ X^p grows infinitely fast from the touch); 0
+         * past the end, where CVODE may try a point and the contact no longer acts */
+        const double xp1 = X > 0.0 && c->pow_p != 0.0 ? c->pow_p * pow(X, c->pow_p - 1.0) : 0.0;
+        dfn = c->pow_a * pow(X, c->pow_a - 1.0) * dxi -
+              c->c_n * (xp1 * dxi * s->gn + pow(X, c->pow_p) * (s->fn + s->gt * s->gt / s->rn));
+    }
+    s->lim = c->mu * c->fn_sign * s->fn;
+    s->dlim = c->mu * c->fn_sign * dfn;
+    if (c->slip) {
+        s->ft = -c->sig_t * s->lim;
+        s->s = s->kk > 0.0 ? (c->sig_t * s->lim - c->c_t * s->gc) / s->kk : 0.0;
+    } else {
+        s->s = y[Y_S];
+        s->ft = -(s->kk * s->s + c->c_t * s->gc);
+    }
+    s->trial = s->kk * s->s + c->c_t * s->gc;
+    double dgc = s->ft - s->gn * s->gt / s->rn;
+    if (c->rot) {
+        dgc += -0.5 * s->gn * y[Y_W] + s->rn * s->rn * s->ft / (c->q * c->D * c->D);
+    }
+    s->rate = s->kk * s->gc + c->c_t * dgc + s->s * s->dk;
+    s->phi = c->sig_t * s->rate - s->dlim;
+    s->sdot = c->slip ? (c->sig_t * s->dlim - c->c_t * dgc - s->s * s->dk) / (s->kk > 0.0 ? s->kk : 1.0) : s->gc;
+}
+
+static int ref_eval(ref_ctx *c, const double *y, ref_state *s);
+
+/* The spring's regime at the touch (s = 0, xi = 0): it sticks if |k_t s + gamma_t g_c| stays
+ * within mu |F_n| just after the touch. Both sides start as powers of the time (F_n ~ t^a for an
+ * undamped law, t^p with damping, k_t s ~ t or t^(3/2) with Mindlin), so their ratio at a tiny
+ * time along the free flight decides. */
+static void ref_spring_start(ref_ctx *c, double gn0, double gc0)
+{
+    const double e = 1e-8, X = -gn0 * e;
+    const double fn = pow(X, c->pow_a) - c->c_n * pow(X, c->pow_p) * gn0;
+    const double trial = (c->kt0 + c->km * sqrt(X)) * gc0 * e + c->c_t * gc0;
+    c->slip = fabs(trial) > c->mu * fabs(fn);
+    c->sig_t = trial < 0.0 ? -1.0 : 1.0;
+}
+
+/* F_n changed sign (unclamped law pulling at the end): the limit mu |F_n| is 0 there, so the
+ * spring leaves it in whichever regime its free rate allows: slipping (in the direction of the
+ * free rate of k_t s + gamma_t g_c) if that rate beats the limit's growth, sticking otherwise. */
+static void ref_spring_turn(ref_ctx *c, double *y, const ref_state *at)
+{
+    if (c->slip) {
+        y[Y_S] = at->s;
+        c->slip = false;
+    }
+    ref_state t;
+    if (ref_eval(c, y, &t) != 0) {
+        return;
+    }
+    c->sig_t = t.rate < 0.0 ? -1.0 : 1.0;
+    c->slip = true;
+    if (ref_eval(c, y, &t) != 0 || !(t.phi > 0.0)) {
+        c->slip = false;
+    }
+}
 
 /* Geometry and forces of the current regime at state y (smooth in y). */
 static int ref_eval(ref_ctx *c, const double *y, ref_state *s)
@@ -136,6 +236,9 @@ static int ref_eval(ref_ctx *c, const double *y, ref_state *s)
     case GR_TANGENTIAL_FRICTION:
         s->ft = c->sliding ? -c->mu * c->fn_sign * s->fn * c->s0 : 0.0; /* (2.7) */
         break;
+    case GR_TANGENTIAL_SPRING:
+        ref_spring(c, y, s);
+        break;
     default:
         s->ft = 0.0;
         break;
@@ -160,6 +263,16 @@ static int ref_rhs(sunrealtype t, N_Vector yv, N_Vector ydotv, void *user)
     yd[Y_JN] = fabs(s.fn);
     yd[Y_JT] = fabs(s.ft);
     yd[Y_W] = c->rot ? -2.0 * s.rn * s.ft / (c->q * c->D * c->D) : 0.0;
+    /* energy: the normal law's non-conservative force -(F_n - X^a) works -(F_n - X^a) g.n; the
+     * tangential force works F_t g_c, of which a spring stores int k_t s ds, k_t s^2 / 2 at the
+     * end for a constant k_t (so only the Mindlin spring integrates it, Y_KS: its k_t(xi)
+     * changes the stored k_t s^2 / 2 by s^2 dk_t/dt / 2 besides, without any work) */
+    const bool spring = c->tangential == GR_TANGENTIAL_SPRING;
+    yd[Y_S] = spring && !c->slip ? s.gc : 0.0;
+    const bool linear = c->pow_a == 1.0 && c->pow_p == 0.0; /* its F_n is smooth across xi = 0 */
+    yd[Y_DN] = -(s.fn - (linear ? s.xi : pow(fmax(s.xi, 0.0), c->pow_a))) * s.gn;
+    yd[Y_WT] = -s.ft * s.gc;
+    yd[Y_KS] = spring && c->km != 0.0 ? s.kk * s.s * s.sdot : 0.0;
     return 0;
 }
 
@@ -177,6 +290,13 @@ static int ref_roots(sunrealtype t, N_Vector yv, sunrealtype *gout, void *user)
     gout[ROOT_STICK] = sliding ? c->s0 * s.gc : 1.0;
     gout[ROOT_FN_SIGN] = sliding && !c->clamp ? c->fn_sign * s.fn : 1.0;
     gout[ROOT_DEGENERATE] = s.axial - REF_AXIAL_FLOOR;
+    const bool spring = c->tangential == GR_TANGENTIAL_SPRING;
+    if (spring) {
+        gout[ROOT_STICK] = c->slip ? s.phi : 1.0;
+        gout[ROOT_FN_SIGN] = !c->clamp ? c->fn_sign * s.fn : 1.0;
+    }
+    gout[ROOT_SLIP_UP] = spring && !c->slip ? s.lim - s.trial : 1.0;
+    gout[ROOT_SLIP_DOWN] = spring && !c->slip ? s.lim + s.trial : 1.0;
     return 0;
 }
 
@@ -247,11 +367,6 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
                        "the CVODE reference integrates force laws only",
                        s->normal->name);
     }
-    if (coeffs.tangential == GR_TANGENTIAL_SPRING) {
-        return GR_FAIL(err, GR_EINVAL, "reference collision: the CVODE reference has no tangential_spring yet (its "
-                       "stick-slip history state s is not integrated; docs/models.md, tangential_spring); the engine "
-                       "run works");
-    }
     const bool linear = coeffs.pow_a == 1.0 && coeffs.pow_p == 0.0;
     if (!(coeffs.k_s > 0.0) || !isfinite(coeffs.k_s) || !(coeffs.gamma_n >= 0.0) ||
         !isfinite(coeffs.gamma_n) || !(coeffs.gamma_t >= 0.0) || !isfinite(coeffs.gamma_t) ||
@@ -315,7 +430,9 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
         .c_n = coeffs.gamma_n * (linear ? 1.0 : pow(len, coeffs.pow_p)) / (m12 * w0),
         .pow_a = coeffs.pow_a,
         .pow_p = coeffs.pow_p,
-        .c_t = coeffs.gamma_t / (m12 * w0),
+        .c_t = (coeffs.tangential == GR_TANGENTIAL_SPRING ? coeffs.law_t[GR_SPRING_GAMMA] : coeffs.gamma_t) / (m12 * w0),
+        .kt0 = coeffs.law_t[GR_SPRING_KT] / (m12 * w0 * w0),
+        .km = coeffs.law_t[GR_SPRING_KM] * sqrt(len) / (m12 * w0 * w0),
         .mu = coeffs.mu,
         .tangential = coeffs.tangential,
         .rot = coeffs.rotation && coeffs.tangential != GR_TANGENTIAL_NONE,
@@ -337,9 +454,12 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     const bool has_tangent = fabs(gt0) >= REF_TANGENT_FLOOR;
     ctx.sliding = ctx.tangential == GR_TANGENTIAL_FRICTION && has_tangent;
     ctx.s0 = gt0 < 0.0 ? -1.0 : 1.0;
+    if (ctx.tangential == GR_TANGENTIAL_SPRING) {
+        ref_spring_start(&ctx, gn0, gt0);
+    }
 
     SUNContext sunctx = NULL;
-    N_Vector y = NULL;
+    N_Vector y = NULL, atol = NULL;
     SUNMatrix A = NULL;
     SUNLinearSolver LS = NULL;
     void *mem = NULL;
@@ -350,7 +470,8 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
         goto done;
     }
     y = N_VNew_Serial(REF_NEQ, sunctx);
-    A = y ? SUNDenseMatrix(REF_NEQ, REF_NEQ, sunctx) : NULL;
+    atol = y ? N_VNew_Serial(REF_NEQ, sunctx) : NULL;
+    A = atol ? SUNDenseMatrix(REF_NEQ, REF_NEQ, sunctx) : NULL;
     LS = A ? SUNLinSol_Dense(y, A, sunctx) : NULL;
     mem = LS ? CVodeCreate(CV_ADAMS, sunctx) : NULL;
     if (!mem) {
@@ -365,6 +486,10 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     yd[Y_JN] = 0.0;
     yd[Y_JT] = 0.0;
     yd[Y_W] = W0;
+    yd[Y_S] = 0.0;
+    yd[Y_DN] = 0.0;
+    yd[Y_WT] = 0.0;
+    yd[Y_KS] = 0.0;
 
     int rootdir[REF_NROOT];
     rootdir[ROOT_END] = -1;
@@ -372,10 +497,21 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     rootdir[ROOT_STICK] = -1;
     rootdir[ROOT_FN_SIGN] = -1;
     rootdir[ROOT_DEGENERATE] = -1;
+    rootdir[ROOT_SLIP_UP] = -1;
+    rootdir[ROOT_SLIP_DOWN] = -1;
 
     REF_CHECK(CVodeSetErrHandlerFn(mem, ref_err_handler, &ctx), "CVodeSetErrHandlerFn");
     REF_CHECK(CVodeInit(mem, ref_rhs, 0.0, y), "CVodeInit");
-    REF_CHECK(CVodeSStolerances(mem, s->ref_rtol > 0.0 ? s->ref_rtol : 1e-12, REF_ATOL), "CVodeSStolerances");
+    /* Y_KS (Mindlin only) is a quadrature left out of the error test (an absolute tolerance so
+     * large that its weight vanishes, as CVODE's own quadratures without error control): slipping,
+     * its integrand k_t s ds/dt follows d(mu |F_n|)/dt, singular (though integrable) at the ends
+     * of a contact with a damping ~ xi^p, which no step across the end would resolve. It follows
+     * the steps the motion needs (tests/test_spring_reference.c checks the balance). */
+    double *av = N_VGetArrayPointer(atol);
+    for (int k = 0; k < REF_NEQ; k++) {
+        av[k] = k == Y_KS ? 1e300 : REF_ATOL;
+    }
+    REF_CHECK(CVodeSVtolerances(mem, s->ref_rtol > 0.0 ? s->ref_rtol : 1e-12, atol), "CVodeSVtolerances");
     REF_CHECK(CVodeSetUserData(mem, &ctx), "CVodeSetUserData");
     REF_CHECK(CVodeSetLinearSolver(mem, LS, A), "CVodeSetLinearSolver");
     REF_CHECK(CVodeSetMaxNumSteps(mem, REF_MAX_STEPS), "CVodeSetMaxNumSteps");
@@ -447,8 +583,21 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
             }
             restart = true;
         }
+        if (found[ROOT_STICK] && ctx.tangential == GR_TANGENTIAL_SPRING && ctx.slip) {
+            yd[Y_S] = st.s; /* the spring sticks again where the constraint left it */
+            ctx.slip = false;
+            restart = true;
+        }
+        if ((found[ROOT_SLIP_UP] || found[ROOT_SLIP_DOWN]) && !ctx.slip) {
+            ctx.slip = true; /* the spring force reached the Coulomb limit */
+            ctx.sig_t = found[ROOT_SLIP_UP] ? 1.0 : -1.0;
+            restart = true;
+        }
         if (found[ROOT_FN_SIGN]) {
             ctx.fn_sign = -ctx.fn_sign;
+            if (ctx.tangential == GR_TANGENTIAL_SPRING) {
+                ref_spring_turn(&ctx, yd, &st);
+            }
             restart = true;
         }
         if (restart) {
@@ -474,6 +623,16 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     const double spin_e0 = ctx.rot ? spin_scale * (s->omega1 * s->omega1 + s->omega2 * s->omega2) : 0.0;
     const bool spun = W0 != 0.0 || spin_e0 != 0.0;
     out->energy_loss = 1.0 - (gg1 + spin_e) / (gg0 + spin_e0);
+    /* where the energy went (fractions of E; units m12 V^2 over E = (gg0 + spin_e0) / 2): the
+     * elastic energy still in the contact at its end is lost with it (a clamped normal law
+     * separates at xi > 0, the spring's k_t s^2 / 2 is forgotten) */
+    const double e0 = 0.5 * (gg0 + spin_e0), X_end = fmax(st.xi, 0.0);
+    const double u_spring = ctx.tangential == GR_TANGENTIAL_SPRING ? 0.5 * st.kk * st.s * st.s : 0.0;
+    const double stored_t = ctx.km != 0.0 ? yd[Y_KS] : u_spring; /* int k_t s ds */
+    out->diss_normal = yd[Y_DN] / e0;
+    out->diss_tangential = (yd[Y_WT] - stored_t) / e0;
+    out->stored_lost = (pow(X_end, ctx.pow_a + 1.0) / (ctx.pow_a + 1.0) + u_spring) / e0;
+    out->work_free = (u_spring - stored_t) / e0;
     const double gtt0 = G0[0] * t0[0] + G0[1] * t0[1]; /* the centres' g.t, for the impact angle */
     out->impact_angle = atan2(fabs(gtt0), -gn0) * (180.0 / M_PI);
     /* the models' restitution laws assume discs without spin before the impact */
@@ -531,6 +690,9 @@ done:
     }
     if (y) {
         N_VDestroy(y);
+    }
+    if (atol) {
+        N_VDestroy(atol);
     }
     if (sunctx) {
         SUNContext_Free(&sunctx);

@@ -187,7 +187,7 @@ pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang
             g_t += arm * (c.w[i] + c.w[j]); /* the surface velocities at the contact point */
         }
         double slot = h;
-        const gr_tangential_in in = {.g_t = g_t, .f_n = f_n, .acts = !clamp || f_n > 0.0, .m12_dt = c.m12_dt,
+        const gr_tangential_in in = {.g_t = g_t, .f_n = f_n, .xi = ov, .g_n = g_n, .acts = !clamp || f_n > 0.0, .m12_dt = c.m12_dt,
                                      .hist = history_of(tang) ? &slot : NULL};
         const gr_tangential_force ft = tangential_law(tang, &c.cc, in);
         const double f_t = ft.f;
@@ -246,7 +246,10 @@ static double forget(const pair_ctx *c, const int tang, const int i, const int j
     if (rot) {
         g_t += 0.5 * dist * (c->w[i] + c->w[j]);
     }
-    const gr_tangential_in in = {.g_t = g_t, .acts = 0, .hist = slot};
+    /* the overlap (now negative) and g_n: a Mindlin spring's k_t of the previous step, when it held
+     * the energy that goes, is k_t(xi + g_n dt) */
+    const double g_n = ((c->vx[j] - c->vx[i]) * dx + (c->vy[j] - c->vy[i]) * dy) / dist;
+    const gr_tangential_in in = {.g_t = g_t, .xi = c->d - dist, .g_n = g_n, .acts = 0, .hist = slot};
     return tangential_law(tang, &c->cc, in).lost;
 }
 
@@ -851,7 +854,7 @@ void gr_forces_bruteforce(const gr_sim *s, double *fx, double *fy, double *elast
                     g_t += 0.5 * d * (s->omega[i] + s->omega[j]);
                 }
                 double slot = history_of(e->tl) ? list_slot(s, i, j) : 0.0; /* a copy: nothing changes */
-                gr_tangential_in in = {.g_t = g_t, .f_n = fn.f, .acts = !e->clamp || fn.f > 0.0, .m12_dt = m12_dt,
+                gr_tangential_in in = {.g_t = g_t, .f_n = fn.f, .xi = ov, .g_n = g_n, .acts = !e->clamp || fn.f > 0.0, .m12_dt = m12_dt,
                                        .hist = history_of(e->tl) ? &slot : NULL};
                 double f_t = tangential_law(e->tl, &s->cc, in).f;
                 Fx += f_t * tx;
