@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # What each collision model costs per particle-step on the 2D RFM scene (N = 12000, phi = 0.53,
 # eps = 0.1, one core): the thesis's law, then one change at a time (rotation, hertz, the history
-# spring, rolling resistance). One build, the variants interleaved round by round (the order
+# spring, rolling resistance, Mindlin). One build, the variants interleaved round by round (the order
 # rotates), so a loaded machine slows them alike; prints each run, then per variant the median
 # particle-steps/s, the ns per particle-step and the median of the per-round ratios to the
 # thesis's law. A variant whose model is not in this build is reported as such and skipped.
@@ -33,6 +33,8 @@ variants=(
     "spring+rotation|model.tangential=tangential_spring model.rotation=true"
     "spring|model.tangential=tangential_spring"
     "rolling|model.rotation=true model.rolling=rolling_friction model.mu_r=0.1"
+    "hertz+spring|model.normal=hertz model.tangential=tangential_spring"
+    "hertz+mindlin|model.normal=hertz model.tangential=tangential_spring model.mindlin=true"
 )
 echo "# model_cost $(date -u +%Y-%m-%dT%H:%MZ), $(nproc) cores, load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "# build: $build   commit: $(git rev-parse --short HEAD 2>/dev/null || echo ?)   rounds: $rounds"
