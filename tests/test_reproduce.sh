@@ -171,6 +171,16 @@ for n in names:
             lines = [l for l in page.splitlines() if l.startswith("| " + row["group"]) and ("%g" % row["thesis"]) in l]
             if not lines:
                 print("not on the page:", n, r["id"], row["group"], row["thesis"]); ok = False
+# the overview's tally: numbers with a z, |z| > 2, and of those more than 5 % off, per campaign
+for n in names:
+    d = json.load(open(os.path.join(root, n, "results.json")))
+    rows = [row for r in d["results"] for row in r["rows"] if row["z"] is not None]
+    off = [row for row in rows if abs(row["z"]) > 2]
+    off5 = [row for row in off if not abs(row["value"] - row["thesis"]) <= 0.05 * abs(row["thesis"])]
+    want = "| %d | %d | %d |" % (len(rows), len(off), len(off5))
+    line = [l for l in page.splitlines() if l.startswith("| [%s](#%s) |" % (n, n))]
+    if len(line) != 1 or not line[0].endswith(want):
+        print("tally of", n, "is not", want, line); ok = False
 sys.exit(0 if ok and seen > 0 else 1)
 PY
 
