@@ -23,8 +23,11 @@ Then oblique collisions with rotation (run_oblique below; docs/lammps.md, "Obliq
 with rotation").
 
     /usr/bin/python3 bench/lammps_collisions.py --build BUILD --lmp LMP [--quick] [--speeds ...]
-        [--steps-per-contact S] [--convergence V] [--oblique-speeds ...] [--no-oblique] [--json OUT]
-(--no-oblique also skips the history spring's oblique cases, run_history at the end.)
+        [--steps-per-contact S] [--convergence V] [--oblique-speeds ...] [--no-oblique] [--no-mindlin]
+        [--no-rolling] [--json OUT]
+(--no-oblique also skips the history spring's oblique cases, run_history; --no-rolling the rolling
+resistance against LAMMPS's rolling sds, run_rolling and run_rolling_arrest at the end, which run
+at --oblique-speeds.)
 Exit 1 when any pair of engines differs by more than --tol (default 1e-9, see TOL below).
 """
 import argparse
@@ -720,7 +723,7 @@ ROLLING_ARREST = {
 }
 # w_i - w_j agrees to ROLLING_TOL over v / r: without tangential force (kind none) at every speed,
 # and so does everything else there (measured <= 2.2e-14); with one, where xi_max/d <= 1e-7
-# (measured <= 4.1e-12). At finite overlaps a tangential law moves the two engines' trajectories
+# (measured <= 2.0e-12; 4.1e-12 at 1e-4 m/s). At finite overlaps a tangential law moves the two engines' trajectories
 # apart by its lever-arm (or first-step) term, so the normal force, and with it the rolling
 # torque's limit, differs a little: w_i - w_j then differs by ROLLING_TRAJECTORY xi_max/d at most
 # (measured 1e-5 xi_max/d, e.g. 1.4e-8 at 1 m/s, 1.7e-11 at 1e-2 m/s)
