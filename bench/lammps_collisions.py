@@ -23,8 +23,11 @@ Then oblique collisions with rotation (run_oblique below; docs/lammps.md, "Obliq
 with rotation").
 
     /usr/bin/python3 bench/lammps_collisions.py --build BUILD --lmp LMP [--quick] [--speeds ...]
-        [--steps-per-contact S] [--convergence V] [--oblique-speeds ...] [--no-oblique] [--json OUT]
-(--no-oblique also skips the history spring's oblique cases, run_history at the end.)
+        [--steps-per-contact S] [--convergence V] [--oblique-speeds ...] [--no-oblique] [--no-mindlin]
+        [--no-rolling] [--json OUT]
+(--no-oblique also skips the history spring's oblique cases, run_history; --no-rolling the rolling
+resistance against LAMMPS's rolling sds, run_rolling and run_rolling_arrest at the end, which run
+at --oblique-speeds.)
 Exit 1 when any pair of engines differs by more than --tol (default 1e-9, see TOL below).
 """
 import argparse
@@ -369,10 +372,11 @@ def granule_oblique(build, model, sets, v, angle, w1, w2, spc):
     return json.loads(out.stdout), dt, law["contact_time_law"]
 
 
-def lammps_oblique(lmp, work, pair_lines, v, angle, w1, w2, dt, t_c, fix="nve/sphere disc"):
+def lammps_oblique(lmp, work, pair_lines, v, angle, w1, w2, dt, t_c, fix="nve/sphere disc", force_max=False):
     """The same oblique impact in LAMMPS, placed exactly as granule collide places it (src/collide:
     gr_collision_case_oblique, then both moved along their free flight to one step before contact,
-    centred in a box of side max(64 d, 8 (|r0x| + |r0y| + d)))."""
+    centred in a box of side max(64 d, 8 (|r0x| + |r0y| + d))). force_max: also the largest |f|
+    on particle 2 over the run (fmax; the normal force when no tangential force acts)."""
     d = 2 * RADIUS
     a = angle * math.pi / 180.0
     c, sn = math.cos(a), math.sin(a)
@@ -390,11 +394,13 @@ def lammps_oblique(lmp, work, pair_lines, v, angle, w1, w2, dt, t_c, fix="nve/sp
     p2 = (0.5 * L + x2[0] + 0.0 * t0 - 0.5 * r0[0], 0.5 * L + x2[1] + 0.0 * t0 - 0.5 * r0[1])
     steps = int(math.ceil(2.0 * t_c / dt)) + 20
     write_pair_data(work, L, p1, p2, v1, w1, w2)
+    record = ('variable fmag equal "sqrt(fx[2]*fx[2] + fy[2]*fy[2])"\n'
+              'fix fmag all print 1 "${fmag}" file fmag.txt screen no\n') if force_max else ""
     with open(os.path.join(work, "pair.in"), "w") as f:
         f.write(deck_head(pair_lines) + f"""fix 1 all {fix}
 fix 2 all enforce2d
 timestep {dt!r}
-thermo 0
+{record}thermo 0
 dump final all custom {steps} final.txt id vx vy omegaz
 dump_modify final sort id format float %.17g
 run {steps}
@@ -414,11 +420,14 @@ run {steps}
         raise RuntimeError(f"lmp failed ({pair_lines}):\n" + "\n".join((p.stdout + p.stderr).splitlines()[-8:]))
     lines = frames[-1].split("ITEM: ATOMS")[-1].strip().split("\n")[1:]
     vals = {int(ln.split()[0]): [float(x) for x in ln.split()[1:]] for ln in lines}
-    return dict(v1=vals[1][0:2], v2=vals[2][0:2], omega1=vals[1][2], omega2=vals[2][2])
+    out = dict(v1=vals[1][0:2], v2=vals[2][0:2], omega1=vals[1][2], omega2=vals[2][2])
+    if force_max:
+        out["fmax"] = max(float(ln) for ln in open(os.path.join(work, "fmag.txt")) if not ln.startswith("#"))
+    return out
 
 
 def run_oblique(build, lmp, speeds, spc, cases=OBLIQUE, geometries=OBLIQUE_GEOMETRIES, table=OBLIQUE,
-                pair_style=oblique_pair_style):
+                pair_style=oblique_pair_style, force_max=False):
     """Every oblique case x geometry x speed in both engines. Compared (the normal at impact is x):
     the relative velocity's normal (x) and tangential (y) components after the collision, each
     over the impact speed, and both angular velocities over v / r; rel_diff is the largest.
@@ -433,7 +442,7 @@ def run_oblique(build, lmp, speeds, spc, cases=OBLIQUE, geometries=OBLIQUE_GEOME
                     w1, w2 = w1r * v / RADIUS, w2r * v / RADIUS
                     g, dt, t_c = granule_oblique(build, model, sets, v, angle, w1, w2, spc)
                     lines = pair_style(kind, model, sets, c, dt)
-                    lm = lammps_oblique(lmp, work, lines, v, angle, w1, w2, dt, t_c)
+                    lm = lammps_oblique(lmp, work, lines, v, angle, w1, w2, dt, t_c, force_max=force_max)
                     eng = {"granule": dict(v1=g["v1_after"], v2=g["v2_after"], omega1=g["omega1"], omega2=g["omega2"]),
                            "lammps": lm}
                     q = {}
@@ -445,18 +454,19 @@ def run_oblique(build, lmp, speeds, spc, cases=OBLIQUE, geometries=OBLIQUE_GEOME
                     rows.append(dict(case=name, speed=v, angle=angle, omega1_before=w1, omega2_before=w2, dt=dt,
                                      xi_over_d=g["max_overlap"] / (2 * RADIUS), granule=q["granule"], lammps=q["lammps"],
                                      diffs=diffs, rel_diff=max(diffs.values()), rel_own=own,
-                                     pair_coeff=" / ".join(lines[1:])))
+                                     pair_coeff=" / ".join(lines[1:]), lammps_fmax=lm.get("fmax")))
     return rows
 
 
 def coefficients_with(build, model, sets):
     """bench_coeffs for NORMAL+TANGENTIAL with the given model keys (gamma_t with rotation: m_t)."""
-    normal, tangential = model.split("+")
+    normal, tangential = model.split("+")[:2]  # a third part, the rolling law, sets no coefficient here
     args = [os.path.join(build, "bench", "bench_coeffs"), os.path.join(SRC, "docs", "scenes", "rfm-2d.ini"),
             "--set", f"model.normal={normal}", "--set", f"model.tangential={tangential}",
             "--set", f"system.mass={MASS!r}", "--set", f"system.radius={RADIUS!r}"]
     for s in sets:
-        args += ["--set", "model." + s]
+        if not s.startswith("mu_r="):
+            args += ["--set", "model." + s]
     out = subprocess.run(args, check=True, capture_output=True, text=True).stdout
     return {k: v for k, v in (ln.split("=", 1) for ln in out.split())}
 
@@ -641,6 +651,194 @@ def mindlin_failures(rows):
     return bad
 
 
+# ---------------------------------------------------------------------------------------------
+# Rolling resistance: rolling_friction against LAMMPS's `rolling sds` (issue 13; docs/lammps.md,
+# "Rolling resistance").
+#
+# granule's rolling_friction (models/rolling_friction.h): a torque pair -+M sign(w_i - w_j),
+# M = min(mu_r |F_n| R_eff, I |w_i - w_j| / (2 dt)), no spring. LAMMPS 2021's `rolling sds k_roll
+# gamma_roll mu_roll` (pair_granular.cpp): a rolling displacement s += v_rl dt with v_rl = R_eff
+# (w_i - w_j) z x n, the force f_r = -k_roll s - gamma_roll v_rl truncated at Frcrit = mu_roll
+# Fncrit (Fncrit = |F_n,total| for hooke and hertz, damping included, 0 where limit_damping clamps
+# it), s then reset to -(f_r + gamma_roll v_rl) / k_roll, the torques -+R_eff n x f_r, the history
+# zeroed when the discs part. In 2D the torque on i is -R_eff |f_r| sign(w_i - w_j) while the
+# spring sits at its limit, so with gamma_roll = 0 and mu_roll = mu_r it is granule's mu_r |F_n|
+# R_eff exactly (the same R_eff = r / 2, the same |F_n|), as long as the spring is at the limit in
+# every step of the contact: from its first step, when k_roll R_eff |w_i - w_j| dt exceeds
+# mu_r |F_n| of that step, and in every later one, when it exceeds the step's growth of mu_r |F_n|
+# (the truncated spring, Frcrit_old / k_roll, grows by R_eff |w_i - w_j| dt per step). A stiff
+# k_roll does both: k_roll = M (ROLL_OMEGA_DT / dt)^2, where sqrt(k_roll / M) is the angular
+# frequency of the stuck spring's relative-spin oscillation (dw'' = -2 R_eff^2 k_roll theta / I,
+# I = M r^2 / 2), so ROLL_OMEGA_DT = 0.1 resolves it with 63 steps a period (stable) while
+# k_roll dt is 1/dt times larger than the per-step growth of the limit. (k_roll = 0 is no
+# option: LAMMPS's rescaling divides by it.) The tangential laws are mapped as above; the
+# rolling torques are equal and opposite, the tangential ones equal on both discs (the same arm
+# in both engines), so the rolling law alone sets w_i - w_j, the tangential law alone w_i + w_j,
+# g_t (and g_n as always). Hence w_i - w_j must agree to rounding at every impact speed, the
+# rest within the tangential law's own bounds (lever arm, first step).
+#
+# The laws part where the relative rolling stops within the contact (mu_r R_eff int |F_n| dt >=
+# I |w_i - w_j|_0 / 2): granule's limit arrests it, w_i - w_j = 0 exactly from then on, no energy
+# stored; LAMMPS's spring crosses zero and holds, w_i - w_j oscillates about 0 (angular frequency
+# sqrt(k_roll / M)) with the energy the spring held at its limit, Frcrit^2 / (2 k_roll), at most,
+# and the discs part with a residue |w_i - w_j| <= mu_r max |F_n| sqrt(2 / (k_roll I)) (the
+# relative spin's energy I (w_i - w_j)^2 / 4 can be no more than that). ROLLING_ARREST checks
+# exactly that, on contacts without tangential force (so |f| on a disc is |F_n|).
+ROLL_OMEGA_DT = 0.1
+ROLLING = {
+    "spring_dashpot + rolling_friction (mu = 0, mu_r = 0.3)": (
+        "spring_dashpot+sliding_friction+rolling_friction", ["eps_n=0.6", "mu=0", "rotation=true", "mu_r=0.3"], "none"),
+    "spring_dashpot clamped + rolling_friction (mu = 0, mu_r = 0.1)": (
+        "spring_dashpot+sliding_friction+rolling_friction", ["eps_n=0.6", "mu=0", "rotation=true", "mu_r=0.1",
+                                                             "clamp=true"], "none"),
+    "hertz Tsuji + rolling_friction (mu = 0, mu_r = 0.3)": (
+        "hertz+sliding_friction+rolling_friction", ["eps_n=0.6", "mu=0", "rotation=true", "mu_r=0.3"], "none"),
+    "hertz viscoelastic clamped + rolling_friction (mu = 0, mu_r = 0.3)": (
+        "hertz+sliding_friction+rolling_friction", ["viscoelastic=true", "visco_A=1e-6", "clamp=true", "mu=0",
+                                                    "rotation=true", "mu_r=0.3"], "none"),
+    "spring_dashpot + tangential_dashpot + rolling_friction (mu_r = 0.3)": (
+        "spring_dashpot+tangential_dashpot+rolling_friction", ["eps_n=0.6", "eps_t=0.6", "rotation=true", "mu_r=0.3"],
+        "dashpot"),
+    "spring_dashpot + sliding_friction (mu = 0.3) + rolling_friction (mu_r = 0.1)": (
+        "spring_dashpot+sliding_friction+rolling_friction", ["eps_n=0.6", "mu=0.3", "rotation=true", "mu_r=0.1"],
+        "friction"),
+    "spring_dashpot + tangential_spring stick-slip + rolling_friction (mu_r = 0.3)": (
+        "spring_dashpot+tangential_spring+rolling_friction", ["eps_n=0.6", f"k_t={K_T!r}", f"gamma_t={GAMMA_T!r}",
+                                                              "mu=0.3", "rotation=true", "mu_r=0.3"], "history"),
+    "hertz Tsuji + tangential_dashpot + rolling_friction (mu_r = 0.1)": (
+        "hertz+tangential_dashpot+rolling_friction", ["eps_n=0.6", "eps_t=0.6", "rotation=true", "mu_r=0.1"], "overlay"),
+}
+# (angle, w1, w2 in v / r): w1 - w2 = 1 and -0.65 before; the rolling impulse changes it by about
+# mu_r (1 + eps_n) cos(angle) (2 mu_r R_eff P_n / I with P_n = m12 (1 + eps_n) v cos(angle)),
+# at most 0.52 and 0.26 here: the relative rolling never stops
+ROLLING_GEOMETRIES = [(30.0, 0.5, -0.5), (60.0, -0.4, 0.25)]
+# The same geometries with mu_r large enough to stop the relative rolling within the contact:
+# mu_r (1 + eps_n) cos(angle) = 2.8 and 1.6 (mu_r = 2; arrested at 36 % and 40 % of the normal
+# impulse, while loading), 1.4 and 0.8 (mu_r = 1; at 72 % and 81 %, while unloading)
+ROLLING_ARREST = {
+    "spring_dashpot + rolling_friction, arrested (mu = 0, mu_r = 2)": (
+        "spring_dashpot+sliding_friction+rolling_friction", ["eps_n=0.6", "mu=0", "rotation=true", "mu_r=2"], "none"),
+    "hertz Tsuji + rolling_friction, arrested (mu = 0, mu_r = 1)": (
+        "hertz+sliding_friction+rolling_friction", ["eps_n=0.6", "mu=0", "rotation=true", "mu_r=1"], "none"),
+}
+# w_i - w_j agrees to ROLLING_TOL over v / r: without tangential force (kind none) at every speed,
+# and so does everything else there (measured <= 2.2e-14); with one, where xi_max/d <= 1e-7
+# (measured <= 2.0e-12; 4.1e-12 at 1e-4 m/s). At finite overlaps a tangential law moves the two engines' trajectories
+# apart by its lever-arm (or first-step) term, so the normal force, and with it the rolling
+# torque's limit, differs a little: w_i - w_j then differs by ROLLING_TRAJECTORY xi_max/d at most
+# (measured 1e-5 xi_max/d, e.g. 1.4e-8 at 1 m/s, 1.7e-11 at 1e-2 m/s)
+ROLLING_TOL, ROLLING_TRAJECTORY = 1e-9, 1e-4
+
+
+def rolling_pair_style(kind, model, sets, c, dt):
+    """The LAMMPS lines of a ROLLING case: the tangential law's mapping (above; kind none: no
+    tangential force, granule's sliding_friction with mu = 0) + `rolling sds k_roll 0 mu_r` on the
+    pair style that carries the normal force (the first: its F_n sets Frcrit)."""
+    base = [x for x in sets if not x.startswith("mu_r=")]
+    if kind == "none":
+        lines = ["pair_style granular", "pair_coeff * * " + lammps_pair_coeff(model.split("+")[0], base, c)[0]]
+    elif kind == "history":
+        lines = history_pair_style(kind, model, base, c, dt)
+    else:
+        lines = oblique_pair_style(kind, model, base, c, dt)
+    mu_r = float(next(x.split("=")[1] for x in sets if x.startswith("mu_r=")))
+    k_roll = MASS * (ROLL_OMEGA_DT / dt) ** 2
+    lines[1] += f" rolling sds {k_roll!r} 0.0 {mu_r!r}"
+    return lines
+
+
+def with_spin_difference(rows):
+    """Adds to each row the relative spin (w1 - w2) r / v before (dw0) and after in both engines
+    (dw: granule, LAMMPS) and their difference dw_diff."""
+    for r in rows:
+        r["dw0"] = (r["omega1_before"] - r["omega2_before"]) * RADIUS / r["speed"]
+        r["dw"] = {e: r[e]["w1"] - r[e]["w2"] for e in ("granule", "lammps")}
+        r["dw_diff"] = abs(r["dw"]["granule"] - r["dw"]["lammps"])
+    return rows
+
+
+def run_rolling(build, lmp, speeds, spc, cases=ROLLING, geometries=ROLLING_GEOMETRIES):
+    """The ROLLING cases in both engines (geometries and comparison as run_oblique's)."""
+    rows = run_oblique(build, lmp, speeds, spc, cases=cases, geometries=geometries, table=ROLLING,
+                       pair_style=rolling_pair_style)
+    for r in rows:
+        r["steps_per_contact"], r["kind"] = spc, ROLLING[r["case"]][2]
+    return with_spin_difference(rows)
+
+
+def rolling_failures(rows):
+    """The ROLLING rows that break the mapping: w1 - w2 not equal to rounding (ROLLING_TOL, over
+    v / r; plus the trajectory term with a tangential force), the rolling not acting or stopping,
+    and the rest outside its tangential law's bounds (none: ROLLING_TOL too, there is no lever arm
+    without a tangential force)."""
+    bad = []
+    for r in rows:
+        what = f"{r['case']} at {r['speed']:g} m/s, {r['angle']:g} deg"
+        bound = ROLLING_TOL + (0.0 if r["kind"] == "none" else ROLLING_TRAJECTORY * r["xi_over_d"])
+        if not r["dw_diff"] <= bound:
+            bad.append(f"{what}: w1 - w2 differs by {r['dw_diff']:.2e} (v / r) > {bound:.2e}")
+        change = r["dw"]["granule"] - r["dw0"]
+        if not (abs(change) > 1e-2 and r["dw"]["granule"] * r["dw0"] > 0.0):
+            bad.append(f"{what}: w1 - w2 from {r['dw0']:g} to {r['dw']['granule']:g} (v / r): the rolling law did "
+                       "not act, or it stopped the rolling (not a non-arrest case)")
+    none = [r for r in rows if r["kind"] == "none"]
+    bad += [f"{r['case']} at {r['speed']:g} m/s, {r['angle']:g} deg: engines differ by {r['rel_diff']:.2e} > "
+            f"{ROLLING_TOL:g} without a tangential force" for r in none if not r["rel_diff"] <= ROLLING_TOL]
+    bad += history_failures([r for r in rows if r["kind"] == "history"])
+    bad += oblique_failures([r for r in rows if r["kind"] not in ("none", "history")])
+    return bad
+
+
+def run_rolling_arrest(build, lmp, speeds, spc, cases=ROLLING_ARREST, geometries=ROLLING_GEOMETRIES):
+    """The ROLLING_ARREST cases (in ROLLING's geometries), with LAMMPS's largest |F_n| (no tangential
+    force: |f| on a disc) and its residue bound mu_r max |F_n| sqrt(2 / (k_roll I)) in v / r."""
+    rows = run_oblique(build, lmp, speeds, spc, cases=cases, geometries=geometries,
+                       table=ROLLING_ARREST, pair_style=rolling_pair_style, force_max=True)
+    inertia = 0.5 * MASS * RADIUS ** 2
+    for r in with_spin_difference(rows):
+        mu_r = float(next(x.split("=")[1] for x in ROLLING_ARREST[r["case"]][1] if x.startswith("mu_r=")))
+        k_roll = MASS * (ROLL_OMEGA_DT / r["dt"]) ** 2
+        r["residue_bound"] = mu_r * r["lammps_fmax"] * math.sqrt(2.0 / (k_roll * inertia)) * RADIUS / r["speed"]
+    return rows
+
+
+# granule's arrested w1 - w2 over its value before; LAMMPS's residue must be at least this much
+# larger (a spring that springs back), and within ARREST_BOUND_SLACK of its energy bound (the
+# explicit step can overshoot the limit by one step's change)
+ARREST_ZERO, ARREST_BOUND_SLACK = 1e-12, 1.05
+
+
+def arrest_failures(rows):
+    """What the ROLLING_ARREST rows must show: translation and w1 + w2 the same in both engines
+    (rolling touches neither), granule's w1 - w2 = 0, LAMMPS's residue nonzero and within its bound."""
+    bad = []
+    for r in rows:
+        what = f"{r['case']} at {r['speed']:g} m/s, {r['angle']:g} deg"
+        g, lm = r["granule"], r["lammps"]
+        rest = max(abs(g["g_n"] - lm["g_n"]), abs(g["g_t"] - lm["g_t"]), abs(g["w1"] + g["w2"] - lm["w1"] - lm["w2"]))
+        if not rest <= ROLLING_TOL:
+            bad.append(f"{what}: g_n', g_t' or w1' + w2' differ by {rest:.2e} > {ROLLING_TOL:g}")
+        if not abs(r["dw"]["granule"]) <= ARREST_ZERO * abs(r["dw0"]):
+            bad.append(f"{what}: granule's w1 - w2 = {r['dw']['granule']:.3e} v/r after, not arrested")
+        res = abs(r["dw"]["lammps"])
+        if not ARREST_ZERO * abs(r["dw0"]) * 1e3 < res <= ARREST_BOUND_SLACK * r["residue_bound"]:
+            bad.append(f"{what}: LAMMPS's w1 - w2 = {r['dw']['lammps']:.3e} v/r after: not a spring's residue in "
+                       f"(0, {r['residue_bound']:.3e}]")
+    return bad
+
+
+def markdown_rolling(rows):
+    out = ["| case | v (m/s) | angle | (w1 - w2) r/v before | xi_max/d | (w1' - w2') r/v granule | LAMMPS | abs. diff. | "
+           "max abs. diff. of g_n', g_t', w1', w2' | same, over own values | LAMMPS residue bound |",
+           "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        bound = f"{r['residue_bound']:.3e}" if "residue_bound" in r else "-"
+        out.append(f"| {r['case']} | {r['speed']:g} | {r['angle']:g} | {r['dw0']:g} | {r['xi_over_d']:.1e} | "
+                   f"{r['dw']['granule']:.9f} | {r['dw']['lammps']:.9f} | {r['dw_diff']:.1e} | {r['rel_diff']:.1e} | "
+                   f"{r['rel_own']:.1e} | {bound} |")
+    return "\n".join(out)
+
+
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 if __name__ == "__main__":
@@ -660,6 +858,8 @@ if __name__ == "__main__":
     ap.add_argument("--mindlin-speed", type=float, default=0.1,
                     help="impact speed (m/s) of the Mindlin cases (tangential_spring mindlin = true, no rotation)")
     ap.add_argument("--no-mindlin", action="store_true", help="leave out the Mindlin cases")
+    ap.add_argument("--no-rolling", action="store_true",
+                    help="leave out rolling_friction against rolling sds (run at --oblique-speeds)")
     a = ap.parse_args()
     speeds = [float(x) for x in a.speeds.split(",")]
     spc = a.steps_per_contact
@@ -687,9 +887,21 @@ if __name__ == "__main__":
         mindlin = run_mindlin(a.build, a.lmp, a.mindlin_speed, [1e3, 2e3] if a.quick else [1e3, 4e3, 1.6e4])
         print("\nMindlin (tangential_spring mindlin = true, no rotation) against tangential mindlin:\n")
         print(markdown_mindlin(mindlin))
+    rolling, arrest = [], []
+    if not a.no_rolling:
+        rolling_speeds = [1e-6] if a.quick else [float(x) for x in a.oblique_speeds.split(",")]
+        rolling = run_rolling(a.build, a.lmp, rolling_speeds, spc)
+        arrest = run_rolling_arrest(a.build, a.lmp, rolling_speeds, spc)
+        print("\nRolling resistance (rolling_friction) against rolling sds:\n")
+        print(markdown_rolling(rolling))
+        print("\nRolling arrested within the contact (where the laws part):\n")
+        print(markdown_rolling(arrest))
     if a.json:
         json.dump({"rows": rows, "lammps_tsuji": own, "steps_per_contact": spc, "oblique": oblique, "history": history,
-                   "mindlin": mindlin}, open(a.json, "w"), indent=1)
+                   "mindlin": mindlin, "rolling": rolling, "rolling_arrest": arrest}, open(a.json, "w"), indent=1)
+    rolling_bad = rolling_failures(rolling) + arrest_failures(arrest)
+    for msg in rolling_bad:
+        print(f"lammps_collisions: MISMATCH rolling {msg}", file=sys.stderr)
     history_bad = history_failures(history)
     for msg in history_bad:
         print(f"lammps_collisions: MISMATCH history {msg}", file=sys.stderr)
@@ -702,4 +914,4 @@ if __name__ == "__main__":
         print(f"lammps_collisions: MISMATCH {r['law']} at {r['speed']} m/s: eps {r['eps_granule']!r} vs "
               f"{r['eps_lammps']!r} (rel. {r['rel_diff']:.2e} > {a.tol:g}), contact steps {r['steps_granule']} vs "
               f"{r['steps_lammps']}", file=sys.stderr)
-    sys.exit(1 if bad or oblique_failures(oblique) or history_bad or mindlin_failures(mindlin) else 0)
+    sys.exit(1 if bad or oblique_failures(oblique) or history_bad or mindlin_failures(mindlin) or rolling_bad else 0)

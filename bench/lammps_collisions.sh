@@ -6,7 +6,7 @@
 #
 #   bench/lammps_collisions.sh [BUILD_DIR] [--quick] [--speeds V1,V2,...] [--steps-per-contact S]
 #                              [--convergence V] [--oblique-speeds V1,...] [--no-oblique]
-#                              [--mindlin-speed V] [--no-mindlin] [--json OUT]
+#                              [--mindlin-speed V] [--no-mindlin] [--no-rolling] [--json OUT]
 #
 # Then oblique collisions with rotation (tangential dashpot, clamped or not, sliding friction,
 # hertz + tangential dashpot) at 30 and 60 degrees, with and without spins before, at the impact
@@ -15,6 +15,9 @@
 # Then tangential_spring with mindlin = true on hertz against LAMMPS's tangential mindlin, no
 # rotation (--mindlin-speed, default 0.1 m/s): they differ by granule's half first step only,
 # first order (halving with dt, below 1 / steps per contact).
+# Then rolling_friction against LAMMPS's rolling sds (stiff k_roll, gamma_roll = 0, mu_roll = mu_r)
+# at --oblique-speeds: w1 - w2 after agrees to rounding while the rolling keeps its direction;
+# where it stops within the contact granule ends with w1 = w2 and LAMMPS with a spring's residue.
 #
 # Defaults: speeds 0.001,0.01,0.1,1,3 m/s, 1e4 steps per contact; --convergence V adds 1e3..1e6
 # steps per contact at speed V (about a minute). --quick: two speeds at 1e3 steps per contact.

@@ -32,8 +32,20 @@ Asserted, per law and impact speed:
    against LAMMPS's tangential mindlin, no rotation, 0.1 m/s, 1e3 and 2e3 steps per contact: the
    difference is granule's half first step, first order (halving with dt within 30 %, below
    1 / steps per contact; measured 0.03-0.77 / steps per contact).
+ - rolling resistance (bench/lammps_collisions.py, run_rolling: rolling_friction against LAMMPS's
+   `rolling sds k_roll 0 mu_r` with a stiff k_roll, on pure rolling resistance (sliding_friction
+   mu = 0) with both normal laws, clamped or not, and on tangential_dashpot, sliding_friction,
+   tangential_spring and hertz + tangential_dashpot): w1' - w2' (set by the rolling law alone)
+   agrees to ROLLING_TOL = 1e-9 over v/r (measured <= 2e-12); without a tangential force every
+   compared number does (measured <= 7e-15); with one, the tangential law's bounds above hold; the
+   rolling changed w1 - w2 and did not stop it.
+ - rolling arrested within the contact (run_rolling_arrest, mu_r = 2 and 1, no tangential force),
+   where the laws part: translation and w1' + w2' equal in both engines (1e-9), granule's
+   w1' - w2' = 0 (1e-12 of its value before), LAMMPS's spring leaves a residue above 1e-9 of it
+   and below its energy bound mu_r max|F_n| sqrt(2 / (k_roll I)) (measured 8e-5 to 2e-3 v/r).
 GRANULE_TEST_QUICK=1: one head-on speed instead of two, the oblique cases at v = 1e-6 only, the
-Mindlin cases at 60 degrees only.
+Mindlin cases at 60 degrees only, the rolling cases at 1e-6 m/s only (each in one geometry,
+alternating, in both modes).
 """
 import os
 import shutil
@@ -114,9 +126,21 @@ for angle in {r["angle"] for r in history}:
     g_t = sorted(r["granule"]["g_t"] for r in history if r["angle"] == angle and r["speed"] == 1e-6)
     if not all(b - a > 1e-2 for a, b in zip(g_t, g_t[1:])):
         failures.append(f"history at {angle:g} deg: sticking, stick-slip and sliding end alike (g_t'/v {g_t})")
+# rolling_friction against rolling sds: each case in one geometry (alternating, so both are
+# covered; the bench runs every case in both), at 1e-6 m/s (quick) or 1e-6 and 1e-2 m/s
+rolling, arrest = [], []
+for table, run in ((lc.ROLLING, lc.run_rolling), (lc.ROLLING_ARREST, lc.run_rolling_arrest)):
+    for i, name in enumerate(table):
+        out = run(build, lmp, oblique_speeds, STEPS_PER_CONTACT, cases=[name], geometries=[lc.ROLLING_GEOMETRIES[i % 2]])
+        (rolling if table is lc.ROLLING else arrest).extend(out)
+print(lc.markdown_rolling(rolling))
+print(lc.markdown_rolling(arrest))
+failures += ["rolling " + m for m in lc.rolling_failures(rolling) + lc.arrest_failures(arrest)]
+if len(rolling) != len(lc.ROLLING) * len(oblique_speeds) or len(arrest) != len(lc.ROLLING_ARREST) * len(oblique_speeds):
+    failures.append(f"{len(rolling)} rolling and {len(arrest)} arrested-rolling collisions compared")
 for f in failures:
     print("FAIL", f)
-print(f"{len(rows)} head-on, {len(oblique)} oblique, {len(history)} history-spring and {len(mindlin)} Mindlin "
-      "collisions compared; "
+print(f"{len(rows)} head-on, {len(oblique)} oblique, {len(history)} history-spring, {len(mindlin)} Mindlin, "
+      f"{len(rolling)} rolling and {len(arrest)} arrested-rolling collisions compared; "
       f"{len(failures)} failures")
 sys.exit(1 if failures else 0)
