@@ -31,10 +31,6 @@
 #include "core/sim_internal.h"
 #include "models/list.h"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 /* Compile-time ids of the laws, from the list: NL_NAME for normal laws, TL_NAME for
  * tangential laws (TL_none = no tangential law). */
 #define GR_NL_ID(A, NAME) NL_##NAME,
@@ -604,14 +600,6 @@ static int team_2d(gr_sim *s)
     return T;
 }
 
-#ifdef _OPENMP
-#define THREAD_ID omp_get_thread_num()
-#define THREAD_COUNT omp_get_num_threads()
-#else
-#define THREAD_ID 0
-#define THREAD_COUNT 1
-#endif
-
 /* Combine the block sums in block order into the report. */
 static void report_2d(gr_sim *s, gr_force_report *r, const int hist)
 {
@@ -736,7 +724,7 @@ pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const int nl, cons
             serial_2d(s, NL_##NL, TL_##TL, CLAMP, ROT, RL);                                        \
         } else {                                                                                   \
             _Pragma("omp parallel num_threads(T)")                                                 \
-                threaded_2d(s, T, THREAD_ID, THREAD_COUNT, NL_##NL, TL_##TL, CLAMP, ROT, RL);      \
+                threaded_2d(s, T, GR_THREAD_ID, GR_THREAD_COUNT, NL_##NL, TL_##TL, CLAMP, ROT, RL);      \
         }                                                                                          \
         report_2d(s, r, history_of(TL_##TL));                                                      \
     }

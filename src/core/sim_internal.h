@@ -8,6 +8,16 @@
 
 #include "granule/sim.h"
 
+#ifdef _OPENMP
+#include <omp.h>
+/* the calling thread and the team size inside a parallel region (0 and 1 without OpenMP) */
+#define GR_THREAD_ID omp_get_thread_num()
+#define GR_THREAD_COUNT omp_get_num_threads()
+#else
+#define GR_THREAD_ID 0
+#define GR_THREAD_COUNT 1
+#endif
+
 /* What one force evaluation reports besides the forces. */
 typedef struct gr_force_report {
     double elastic;        /* sum k_s xi^2 / 2 over contacts, J */
