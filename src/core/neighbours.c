@@ -137,9 +137,11 @@ static int list_rows(gr_sim *s, const int r0, const int r1, rows_buf *b)
     const double L = s->L, rc2 = s->cutoff * s->cutoff, d2 = s->d * s->d;
     const double *x = s->x, *y = s->y;
     const int *start = s->cell_start, *order = s->cell_order, *cell_of = s->cell_of;
-    int64_t count = b->count;
+    int *restrict row_start = s->nl_start, *restrict js = b->j;
+    uint8_t *restrict touching = b->c;
+    int64_t count = b->count, cap = b->cap;
     for (int i = r0; i < r1; i++) {
-        s->nl_start[i] = (int)count;
+        row_start[i] = (int)count;
         int ci = cell_of[i], cx = ci % nc, cy = ci / nc;
         for (int k = 0; k < 5; k++) {
             int c = (cx + stencil[k][0] + nc) % nc + nc * ((cy + stencil[k][1]) % nc);
@@ -151,12 +153,17 @@ static int list_rows(gr_sim *s, const int r0, const int r1, rows_buf *b)
                 double dx = wrap_delta(x[j] - x[i], L), dy = wrap_delta(y[j] - y[i], L);
                 double r2 = dx * dx + dy * dy;
                 if (r2 < rc2) {
-                    if (count + 1 > b->cap && !buf_reserve(s, b, count + 1)) {
-                        b->count = count;
-                        return 0;
+                    if (count + 1 > cap) {
+                        if (!buf_reserve(s, b, count + 1)) {
+                            b->count = count;
+                            return 0;
+                        }
+                        js = b->j;
+                        touching = b->c;
+                        cap = b->cap;
                     }
-                    b->c[count] = was_touching(s, i, j, dx, dy, r2, d2);
-                    b->j[count++] = j;
+                    touching[count] = was_touching(s, i, j, dx, dy, r2, d2);
+                    js[count++] = j;
                 }
             }
         }
