@@ -523,10 +523,10 @@ static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict 
 }
 
 /* All 2D contact forces. One thread: the scatter over the whole list, f[j] += F in list order.
- * T threads: (1) the threads compute the cross pairs into pair_f (shared out by count); (2)
- * thread t sets the forces of its particles to the cross pairs from rows before its own (in list
- * order), runs the scatter over its rows (adding only to its own particles), then adds the cross
- * pairs from rows after its own. Each force is thus the same sequence of additions as with one thread (a cross pair
+ * T threads: (1) every thread computes its cross pairs into pair_f; (2) thread t sets the forces
+ * of its particles to the cross pairs from rows before its own (in list order), runs the scatter
+ * over its rows (adding only to its own particles), then adds the cross pairs from rows after
+ * its own. Each force is thus the same sequence of additions as with one thread (a cross pair
  * that does not overlap adds +0.0, which changes no sum that starts from +0.0), so the result
  * is bit-identical for every T. Ledger sums are per block and combined in block order. */
 static inline __attribute__((always_inline)) void
@@ -546,16 +546,12 @@ threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const
             const int clamp, const int rot, const int roll)
 {
     const pair_ctx c = ctx_of(s);
-    /* (1) the cross pairs, shared out by count whatever their rows (each is a pure function of
-     * the positions and velocities, written to its own slot) */
-    const int64_t ncross = s->cross_start[T];
-    {
-        const int q0 = (int)(ncross * tid / nth), q1 = (int)(ncross * (tid + 1) / nth);
-        for (int q = q0; q < q1; q++) {
+    for (int t = tid; t < T; t += nth) {
+        for (int q = s->cross_start[t]; q < s->cross_start[t + 1]; q++) {
             pair_out o;
             double *f = s->pair_f + 4 * (size_t)q;
-            /* a history law reads the slot of the cross pair's row: the new value is written by
-             * the row's thread (rows_2d) after the barrier, from the same old value */
+            /* a history law reads the slot of the cross pair's row (this thread's): the new value is
+             * written by rows_2d after the barrier, from the same old value */
             const int p = s->cross_p[q];
             if (pair_2d(c, s->cross_i[q], s->nl_j[p], nl, tang, clamp, rot, roll,
                         history_of(tang) ? s->nl_hist[p] : 0.0, &o)) {
