@@ -9,6 +9,8 @@
  * tangential dashpot and symmetrised noise (the 2D RFM), and clamped sliding friction with com
  * noise; and the 1D ring (which runs on one thread; its hash must not change either).
  *
+ * Neighbour list: rebuilt on 1, 2 and 3 threads, the same entries.
+ *
  * Observables: S(k) (gridding) and g(R) give the same numbers for 1 and 2 threads.
  *
  * Particle order: the placed state (random velocities) is given to gr_sim_create_canonical as it
@@ -134,6 +136,53 @@ START_TEST(test_threads_rfm2d)
     ck_assert_msg(cross3 > 0, "three threads did not split the pair list (no cross pairs)");
 #endif
     ck_assert_msg(s1 == s3, "1 and 3 threads differ: %016llx vs %016llx", (unsigned long long)s1, (unsigned long long)s3);
+}
+END_TEST
+
+/* The neighbour list rebuilt on 1, 2 and 3 threads (rows built in pieces, then joined): the same
+ * offsets, pairs and contact flags, entry by entry. */
+START_TEST(test_threads_list)
+{
+    gr_scene sc;
+    load_scene(&sc, "rfm-2d.ini", rfm2d_sets3, 4);
+    gr_sim *s;
+    gr_error err = {0};
+    ck_assert_msg(gr_sim_create(&sc, &s, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_sim_step(s, 300, &err) == GR_OK, "%s", err.message); /* moved, some contacts */
+    int64_t pairs[4] = {0};
+    int *start[4] = {NULL}, *js[4] = {NULL};
+    uint8_t *touch[4] = {NULL};
+    for (int t = 1; t <= 3; t++) {
+        set_threads(t);
+        ck_assert_msg(gr_neighbours_build(s, &err) == GR_OK, "%s", err.message);
+        pairs[t] = s->nl_start[s->n];
+        start[t] = malloc(sizeof(int) * ((size_t)s->n + 1));
+        js[t] = malloc(sizeof(int) * (size_t)pairs[t]);
+        touch[t] = malloc((size_t)pairs[t]);
+        memcpy(start[t], s->nl_start, sizeof(int) * ((size_t)s->n + 1));
+        memcpy(js[t], s->nl_j, sizeof(int) * (size_t)pairs[t]);
+        memcpy(touch[t], s->nl_contact, (size_t)pairs[t]);
+    }
+    set_threads(1);
+    ck_assert_msg(pairs[1] > 2 * s->n, "too few pairs (%lld) for a meaningful test", (long long)pairs[1]);
+    int touching = 0;
+    for (int64_t p = 0; p < pairs[1]; p++) {
+        touching += touch[1][p];
+    }
+    ck_assert_msg(touching > 0, "no pair in contact: the contact flags are not tested");
+    for (int t = 2; t <= 3; t++) {
+        ck_assert_msg(pairs[t] == pairs[1], "%d threads: %lld pairs, 1 thread: %lld", t, (long long)pairs[t],
+                      (long long)pairs[1]);
+        ck_assert_msg(memcmp(start[t], start[1], sizeof(int) * ((size_t)s->n + 1)) == 0, "%d threads: row offsets differ", t);
+        ck_assert_msg(memcmp(js[t], js[1], sizeof(int) * (size_t)pairs[1]) == 0, "%d threads: pairs differ", t);
+        ck_assert_msg(memcmp(touch[t], touch[1], (size_t)pairs[1]) == 0, "%d threads: contact flags differ", t);
+    }
+    for (int t = 1; t <= 3; t++) {
+        free(start[t]);
+        free(js[t]);
+        free(touch[t]);
+    }
+    gr_sim_free(s);
 }
 END_TEST
 
@@ -367,6 +416,7 @@ static Suite *suite(void)
     TCase *tc = tcase_create("threads");
     tcase_set_timeout(tc, 600);
     tcase_add_test(tc, test_threads_rfm2d);
+    tcase_add_test(tc, test_threads_list);
     tcase_add_test(tc, test_threads_friction_com);
     tcase_add_test(tc, test_threads_rotation);
     tcase_add_test(tc, test_threads_1d);

@@ -31,10 +31,6 @@
 #include "core/sim_internal.h"
 #include "models/list.h"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 /* Compile-time ids of the laws, from the list: NL_NAME for normal laws, TL_NAME for
  * tangential laws (TL_none = no tangential law). */
 #define GR_NL_ID(A, NAME) NL_##NAME,
@@ -370,16 +366,20 @@ static int build_cross(gr_sim *s, int T)
     const int *restrict start = s->nl_start, *restrict nl = s->nl_j;
     int *row = realloc(s->par_row, sizeof(int) * (size_t)(T + 1));
     int *cs = row ? realloc(s->cross_start, sizeof(int) * (size_t)(T + 1)) : NULL;
+    int *ls = cs ? realloc(s->in_list_start, sizeof(int) * (size_t)(T + 1)) : NULL;
     if (row) {
         s->par_row = row;
     }
     if (cs) {
         s->cross_start = cs;
     }
+    if (ls) {
+        s->in_list_start = ls;
+    }
     if (!s->in_start) {
         s->in_start = calloc((size_t)n + 1, sizeof(int));
     }
-    if (!row || !cs || !s->in_start) {
+    if (!row || !cs || !ls || !s->in_start) {
         return 0;
     }
     /* work of the rows before block b: pairs + particles; split at the blocks closest to t/T */
@@ -415,6 +415,7 @@ static int build_cross(gr_sim *s, int T)
         free(s->cross_p);
         free(s->cross_i);
         free(s->in_k);
+        free(s->in_list);
         free(s->pair_f);
         free(s->pair_tq);
         free(s->pair_tg);
@@ -422,6 +423,7 @@ static int build_cross(gr_sim *s, int T)
         s->cross_p = malloc(sizeof(int) * (size_t)cap);
         s->cross_i = malloc(sizeof(int) * (size_t)cap);
         s->in_k = malloc(sizeof(int) * (size_t)cap);
+        s->in_list = malloc(sizeof(int) * (size_t)cap);
         s->pair_f = malloc(4 * sizeof(double) * (size_t)cap);
         if (s->tq) {
             s->pair_tq = malloc(sizeof(double) * (size_t)cap);
@@ -430,7 +432,8 @@ static int build_cross(gr_sim *s, int T)
             s->pair_tg = malloc(sizeof(double) * (size_t)cap);
         }
         s->cross_cap = cap;
-        if (!s->cross_p || !s->cross_i || !s->in_k || !s->pair_f || (s->tq && !s->pair_tq) || (s->tg && !s->pair_tg)) {
+        if (!s->cross_p || !s->cross_i || !s->in_k || !s->in_list || !s->pair_f || (s->tq && !s->pair_tq) ||
+            (s->tg && !s->pair_tg)) {
             s->cross_cap = 0;
             return 0;
         }
@@ -463,19 +466,32 @@ static int build_cross(gr_sim *s, int T)
         in[j] = in[j - 1];
     }
     in[0] = 0;
+    /* the particles that receive cross pairs (at most one per cross pair), by thread */
+    int m = 0;
+    for (int t = 0; t < T; t++) {
+        ls[t] = m;
+        for (int j = row[t]; j < row[t + 1]; j++) {
+            if (in[j + 1] > in[j]) {
+                s->in_list[m++] = j;
+            }
+        }
+    }
+    ls[T] = m;
     s->par_threads = T;
     s->par_rebuilds = s->rebuilds;
     return 1;
 }
 
-/* Add the cross pairs q in [q0, q1) of the incoming list of each particle in [lo, hi) (spring:
+/* Add the cross pairs q in [q0, q1) of the incoming list of each particle j = in_list[l], l in
+ * [l0, l1) (the thread's particles that have any; the others have nothing to add) (spring:
  * rotation with a history law, whose torques have a non-conservative part of their own, tg). */
-static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict s, int lo, int hi, int q0, int q1,
+static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict s, int l0, int l1, int q0, int q1,
                                                                const int rot, const int spring)
 {
-    const int *restrict in = s->in_start, *restrict ink = s->in_k;
+    const int *restrict in = s->in_start, *restrict ink = s->in_k, *restrict list = s->in_list;
     const double *restrict pf = s->pair_f, *restrict ptq = s->pair_tq, *restrict ptg = s->pair_tg;
-    for (int j = lo; j < hi; j++) {
+    for (int l = l0; l < l1; l++) {
+        const int j = list[l];
         double ax = s->fx[j], ay = s->fy[j], bx = s->gx[j], by = s->gy[j], tj = rot ? s->tq[j] : 0.0;
         double uj = spring ? s->tg[j] : 0.0;
         for (int e = in[j]; e < in[j + 1]; e++) {
@@ -564,12 +580,13 @@ threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const
     for (int t = tid; t < T; t += nth) {
         const int lo = s->par_row[t], hi = s->par_row[t + 1];
         zero_forces(s, lo, hi);
-        add_incoming(s, lo, hi, 0, s->cross_start[t], rot, rot && history_of(tang));
+        const int l0 = s->in_list_start[t], l1 = s->in_list_start[t + 1];
+        add_incoming(s, l0, l1, 0, s->cross_start[t], rot, rot && history_of(tang));
         for (int r0 = lo; r0 < hi; r0 += GR_BLOCK) {
             const int r1 = r0 + GR_BLOCK < hi ? r0 + GR_BLOCK : hi;
             rows_2d(s, r0, r1, lo, hi, 0, nl, tang, clamp, rot, roll, s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS);
         }
-        add_incoming(s, lo, hi, s->cross_start[t + 1], s->cross_start[T], rot, rot && history_of(tang));
+        add_incoming(s, l0, l1, s->cross_start[t + 1], s->cross_start[T], rot, rot && history_of(tang));
     }
 }
 
@@ -582,14 +599,6 @@ static int team_2d(gr_sim *s)
     }
     return T;
 }
-
-#ifdef _OPENMP
-#define THREAD_ID omp_get_thread_num()
-#define THREAD_COUNT omp_get_num_threads()
-#else
-#define THREAD_ID 0
-#define THREAD_COUNT 1
-#endif
 
 /* Combine the block sums in block order into the report. */
 static void report_2d(gr_sim *s, gr_force_report *r, const int hist)
@@ -715,7 +724,7 @@ pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const int nl, cons
             serial_2d(s, NL_##NL, TL_##TL, CLAMP, ROT, RL);                                        \
         } else {                                                                                   \
             _Pragma("omp parallel num_threads(T)")                                                 \
-                threaded_2d(s, T, THREAD_ID, THREAD_COUNT, NL_##NL, TL_##TL, CLAMP, ROT, RL);      \
+                threaded_2d(s, T, GR_THREAD_ID, GR_THREAD_COUNT, NL_##NL, TL_##TL, CLAMP, ROT, RL);      \
         }                                                                                          \
         report_2d(s, r, history_of(TL_##TL));                                                      \
     }

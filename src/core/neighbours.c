@@ -86,6 +86,172 @@ static inline uint8_t was_touching(const gr_sim *s, int i, int j, double dx, dou
     return px * px + py * py < d2;
 }
 
+/* Entries of the list being built by one thread: s's own arrays (own, one thread) or a buffer
+ * of the thread's rows. */
+typedef struct rows_buf {
+    int *j;
+    uint8_t *c;
+    int64_t cap, count;
+    int own;
+} rows_buf;
+
+static int buf_reserve(gr_sim *s, rows_buf *b, int64_t need)
+{
+    if (need <= b->cap) {
+        return 1;
+    }
+    if (b->own) {
+        gr_error e;
+        if (grow(s, need, &e)) {
+            return 0;
+        }
+        b->j = s->nl_j;
+        b->c = s->nl_contact;
+        b->cap = s->nl_cap;
+        return 1;
+    }
+    int64_t cap = need + need / 2 + 64;
+    int *j = realloc(b->j, sizeof(int) * (size_t)cap);
+    if (j) {
+        b->j = j;
+    }
+    uint8_t *c = j ? realloc(b->c, (size_t)cap) : NULL;
+    if (c) {
+        b->c = c;
+    }
+    if (!j || !c) {
+        return 0;
+    }
+    b->cap = cap;
+    return 1;
+}
+
+/* The rows [r0, r1) of the half list from the cell list (the half stencil of each particle's
+ * cell, cells in stencil order, particles in cell order), appended to b; s->nl_start[i] gets each
+ * row's start in b. A row depends only on its particle, so rows built in pieces and put one after
+ * the other are the list built in one pass. Returns 0 when out of memory. */
+static int list_rows(gr_sim *s, const int r0, const int r1, rows_buf *b)
+{
+    static const int stencil[5][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}};
+    const int nc = s->ncell;
+    const double L = s->L, rc2 = s->cutoff * s->cutoff, d2 = s->d * s->d;
+    const double *x = s->x, *y = s->y;
+    const int *start = s->cell_start, *order = s->cell_order, *cell_of = s->cell_of;
+    int *restrict row_start = s->nl_start, *restrict js = b->j;
+    uint8_t *restrict touching = b->c;
+    int64_t count = b->count, cap = b->cap;
+    for (int i = r0; i < r1; i++) {
+        row_start[i] = (int)count;
+        int ci = cell_of[i], cx = ci % nc, cy = ci / nc;
+        for (int k = 0; k < 5; k++) {
+            int c = (cx + stencil[k][0] + nc) % nc + nc * ((cy + stencil[k][1]) % nc);
+            for (int p = start[c]; p < start[c + 1]; p++) {
+                int j = order[p];
+                if (k == 0 && j <= i) {
+                    continue;
+                }
+                double dx = wrap_delta(x[j] - x[i], L), dy = wrap_delta(y[j] - y[i], L);
+                double r2 = dx * dx + dy * dy;
+                if (r2 < rc2) {
+                    if (count + 1 > cap) {
+                        if (!buf_reserve(s, b, count + 1)) {
+                            b->count = count;
+                            return 0;
+                        }
+                        js = b->j;
+                        touching = b->c;
+                        cap = b->cap;
+                    }
+                    touching[count] = was_touching(s, i, j, dx, dy, r2, d2);
+                    js[count++] = j;
+                }
+            }
+        }
+    }
+    b->count = count;
+    return 1;
+}
+
+/* Rows of about equal work (pairs of the previous list plus particles) for T threads; any split
+ * gives the same list. */
+static void split_rows(const gr_sim *s, const int T, int *split)
+{
+    const int n = s->n;
+    const int64_t total = (int64_t)s->nl_start[n] + n;
+    int i = 0;
+    split[0] = 0;
+    for (int t = 1; t < T; t++) {
+        const int64_t goal = total * t / T;
+        while (i < n && (int64_t)s->nl_start[i] + i < goal) {
+            i++;
+        }
+        split[t] = i;
+    }
+    split[T] = n;
+}
+
+/* The list from the cell list on T threads: thread t builds the rows split[t] .. split[t+1] into a
+ * buffer of its own; the buffers are then copied one after the other into the list (with one
+ * thread: straight into it). Sets *count to the number of pairs. */
+static int list_cells(gr_sim *s, const int T, int64_t *count, gr_error *err)
+{
+    if (T <= 1) {
+        rows_buf own = {.j = s->nl_j, .c = s->nl_contact, .cap = s->nl_cap, .count = 0, .own = 1};
+        int ok = list_rows(s, 0, s->n, &own);
+        *count = own.count;
+        return ok ? GR_OK : GR_FAIL(err, GR_ENOMEM, "out of memory growing the neighbour list beyond %lld pairs",
+                                    (long long)own.count);
+    }
+    int *split = malloc(sizeof(int) * (size_t)(T + 1));
+    int64_t *off = malloc(sizeof(int64_t) * (size_t)(T + 1));
+    rows_buf *buf = calloc((size_t)T, sizeof *buf);
+    if (!split || !off || !buf) {
+        free(split);
+        free(off);
+        free(buf);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for the neighbour-list buffers of %d threads", T);
+    }
+    split_rows(s, T, split);
+    int failed = 0;
+#pragma omp parallel num_threads(T)
+    {
+        for (int t = GR_THREAD_ID; t < T; t += GR_THREAD_COUNT) {
+            if (!list_rows(s, split[t], split[t + 1], &buf[t])) {
+#pragma omp atomic write
+                failed = 1;
+            }
+        }
+#pragma omp barrier
+#pragma omp single
+        {
+            off[0] = 0;
+            for (int t = 0; t < T; t++) {
+                off[t + 1] = off[t] + buf[t].count;
+            }
+            gr_error e;
+            if (!failed && grow(s, off[T], &e)) {
+                failed = 1;
+            }
+        } /* implied barrier: the list has room for every buffer */
+        for (int t = GR_THREAD_ID; t < T && !failed; t += GR_THREAD_COUNT) {
+            memcpy(s->nl_j + off[t], buf[t].j, sizeof(int) * (size_t)buf[t].count);
+            memcpy(s->nl_contact + off[t], buf[t].c, (size_t)buf[t].count);
+            for (int i = split[t]; i < split[t + 1]; i++) {
+                s->nl_start[i] += (int)off[t];
+            }
+        }
+    }
+    *count = off[T];
+    for (int t = 0; t < T; t++) {
+        free(buf[t].j);
+        free(buf[t].c);
+    }
+    free(split);
+    free(off);
+    free(buf);
+    return failed ? GR_FAIL(err, GR_ENOMEM, "out of memory building the neighbour list on %d threads", T) : GR_OK;
+}
+
 int gr_neighbours_build(gr_sim *s, gr_error *err)
 {
     const int n = s->n, nc = s->ncell;
@@ -156,31 +322,9 @@ int gr_neighbours_build(gr_sim *s, gr_error *err)
         for (int i = 0; i < n; i++) {
             s->cell_order[fill[s->cell_of[i]]++] = i;
         }
-        static const int stencil[5][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}};
-        for (int i = 0; i < n; i++) {
-            s->nl_start[i] = (int)count;
-            int ci = s->cell_of[i], cx = ci % nc, cy = ci / nc;
-            for (int k = 0; k < 5; k++) {
-                int c = (cx + stencil[k][0] + nc) % nc + nc * ((cy + stencil[k][1]) % nc);
-                for (int p = start[c]; p < start[c + 1]; p++) {
-                    int j = s->cell_order[p];
-                    if (k == 0 && j <= i) {
-                        continue;
-                    }
-                    double dx = wrap_delta(x[j] - x[i], L), dy = wrap_delta(y[j] - y[i], L);
-                    double r2 = dx * dx + dy * dy;
-                    if (r2 < rc2) {
-                        if (count + 1 > s->nl_cap) {
-                            int rc = grow(s, count + 1, err);
-                            if (rc) {
-                                return rc;
-                            }
-                        }
-                        s->nl_contact[count] = was_touching(s, i, j, dx, dy, r2, d2);
-                        s->nl_j[count++] = j;
-                    }
-                }
-            }
+        int rc = list_cells(s, gr_team(s), &count, err);
+        if (rc) {
+            return rc;
         }
     }
     s->nl_start[n] = (int)count;

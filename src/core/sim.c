@@ -98,6 +98,8 @@ void gr_sim_free(gr_sim *s)
     free(s->cross_i);
     free(s->in_start);
     free(s->in_k);
+    free(s->in_list);
+    free(s->in_list_start);
     free(s->pair_f);
     free(s->pair_tq);
     free(s->pair_tg);

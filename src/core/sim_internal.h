@@ -8,6 +8,16 @@
 
 #include "granule/sim.h"
 
+#ifdef _OPENMP
+#include <omp.h>
+/* the calling thread and the team size inside a parallel region (0 and 1 without OpenMP) */
+#define GR_THREAD_ID omp_get_thread_num()
+#define GR_THREAD_COUNT omp_get_num_threads()
+#else
+#define GR_THREAD_ID 0
+#define GR_THREAD_COUNT 1
+#endif
+
 /* What one force evaluation reports besides the forces. */
 typedef struct gr_force_report {
     double elastic;        /* sum k_s xi^2 / 2 over contacts, J */
@@ -88,6 +98,8 @@ struct gr_sim {
     int *cross_start;    /* T + 1: the cross pairs of thread t are k in [cross_start[t], cross_start[t+1]) */
     int *cross_p, *cross_i; /* list entry and row of cross pair k, ascending in p */
     int *in_start, *in_k; /* n + 1 / ncross: the cross pairs acting on particle j, ascending in k */
+    int *in_list;         /* the particles with incoming cross pairs, ascending (at most ncross) */
+    int *in_list_start;   /* T + 1: those of thread t are in_list[in_list_start[t] .. in_list_start[t+1]) */
     double *pair_f;      /* 4 per cross pair: Fx, Fy, Gx, Gy on j */
     double *pair_tq;     /* rotation: the torque of each cross pair (NULL otherwise) */
     double *pair_tg;     /* its non-conservative part (with s->tg only) */
