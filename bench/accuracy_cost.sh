@@ -210,6 +210,28 @@ with open(sys.argv[3] + ".dat", "w") as o:
             o.write(f"{x:.5g} {y:.5g} {lab} {s if s == s else 0:.4g}\n")
         o.write("\n\n")
         n += 1
+    # the Pareto front of the collision error: the cheapest point for a given error, over the
+    # soft-sphere time steps and the hybrid runs (whose contacts are Verlet's at the scene's dt, the
+    # first soft-sphere row); error = the larger of the head-on and oblique errors against CVODE
+    def loss(r):
+        e = [abs(float(r[c])) for c in ("loss_err_cvode_headon", "loss_err_cvode_oblique") if float(r[c]) == float(r[c])]
+        return max(e) if e else float("nan")
+    soft = [r for r in rows if r["series"] == "soft-sphere dt"]
+    pts = [(float(r["wall_s_per_sim_s"]), loss(r), r["point"]) for r in soft if r["status"] == "completed"]
+    if soft:
+        pts += [(float(r["wall_s_per_sim_s"]), loss(soft[0]), r["series"].split()[0] + "-" + r["point"])
+                for r in rows if r["series"].startswith("hybrid") and r["status"] == "completed"]
+    front, best = [], float("inf")
+    for x, y, lab in sorted(p for p in pts if p[0] == p[0] and p[1] == p[1] and p[1] > 0):
+        if y < best:
+            front.append((x, y, lab))
+            best = y
+    if front:
+        o.write('"Pareto front of the collision error (verlet dt, hybrid)"\n')
+        for x, y, lab in front:
+            o.write(f"{x:.5g} {y:.5g} {lab} 0\n")
+        o.write("\n\n")
+        n += 1
 EOF
 }
 
@@ -225,6 +247,8 @@ plot() { # name title
         echo "plot: skipped (no finite errors)"
         return 0
     fi
+    local front=0
+    grep '^"' "$dat" | tail -n 1 | grep -q '^"Pareto' && front=1
     gnuplot <<EOF
 set terminal pngcairo size 1250,700 font ",11" noenhanced
 set output "$img/accuracy-$name.png"
@@ -235,7 +259,10 @@ set ylabel "|relative error|"
 set key outside right top vertical font ",9"
 set grid
 set title "$title"
-plot for [i=0:$((n - 1))] "$dat" index i using 1:2 with linespoints pt 7 title columnheader(1), \
+# the Pareto front, when written, is the last block: a thick black dashed line
+set linetype 9 lc rgb "black" lw 3 dt 2
+last = $((n - 1)); front = $front
+plot for [i=0:$((n - 1))] "$dat" index i using 1:2 with linespoints lt (front && i == last ? 9 : i + 1) pt 7 title columnheader(1), \
      "$dat" index 0 using 1:2:3 with labels offset 0,1 font ",8" notitle
 EOF
     echo "plot: $img/accuracy-$name.png"
