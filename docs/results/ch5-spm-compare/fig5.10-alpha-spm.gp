@@ -1,0 +1,10 @@
+# granule: gnuplot body of fig5.10-alpha-spm.gp (run inside this folder); granule plot DIR redraws it
+set datafile separator whitespace
+set title "Tail exponent of the SPM's P(v) from the run's free paths, same form and bins" noenhanced
+set ylabel 'alpha' noenhanced
+set xtics rotate by -40 noenhanced
+set key top left
+set offsets 0.5, 0.5, 0, 0
+set grid ytics lc rgb '#dddddd'
+plot 'fig5.10-alpha-spm_compare.dat' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'
+

@@ -1,0 +1,10 @@
+# granule: gnuplot body of fig5.10-s.gp (run inside this folder); granule plot DIR redraws it
+set datafile separator whitespace
+set title "Velocity scale s when the SPM curve may also stretch in v, k P_spm(v / s) / s (1: no stretch needed)" noenhanced
+set ylabel 's' noenhanced
+set xtics rotate by -40 noenhanced
+set key top left
+set offsets 0.5, 0.5, 0, 0
+set grid ytics lc rgb '#dddddd'
+plot 'fig5.10-s_compare.dat' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'
+
