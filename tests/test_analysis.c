@@ -12,6 +12,7 @@
 #include "granule/observe.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
+#include "check_main.h"
 
 START_TEST(test_blocking_white_noise)
 {
@@ -365,9 +366,5 @@ int main(void)
     tcase_add_test(t, test_fit_error_coverage);
     tcase_add_test(t, test_moments_gaussian);
     suite_add_tcase(s, t);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(s);
 }

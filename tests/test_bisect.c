@@ -22,6 +22,7 @@
 
 #include "granule/bisect.h"
 #include "io/files.h"
+#include "check_main.h"
 
 /* ---------- helpers ---------- */
 
@@ -847,9 +848,5 @@ static Suite *bisect_suite(void)
 int main(void)
 {
     gsl_set_error_handler_off();
-    SRunner *sr = srunner_create(bisect_suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(bisect_suite());
 }

@@ -10,6 +10,7 @@
 
 #include "granule/analysis.h"
 #include "reproduce/campaign_points.h"
+#include "check_main.h"
 
 START_TEST(test_collapse_of_uniform_bisection_is_minus_ln_R)
 {
@@ -124,9 +125,5 @@ int main(void)
     tcase_add_test(t, test_series_from_table_with_filter);
     tcase_add_test(t, test_exact_match_has_no_z);
     suite_add_tcase(s, t);
-    SRunner *r = srunner_create(s);
-    srunner_run_all(r, CK_NORMAL);
-    int failed = srunner_ntests_failed(r);
-    srunner_free(r);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(s);
 }

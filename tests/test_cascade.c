@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "granule/cascade.h"
+#include "check_main.h"
 
 static int quick(void)
 {
@@ -723,9 +724,5 @@ int main(void)
     tcase_add_test(physics, test_placement_no_overlap);
     tcase_add_test(physics, test_placement_follows_field);
     suite_add_tcase(s, physics);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? 1 : 0;
+    return gr_test_run(s);
 }

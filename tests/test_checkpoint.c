@@ -30,6 +30,7 @@
 #include "granule/sim.h"
 #include "io/blob.h"
 #include "io/checkpoint.h"
+#include "check_main.h"
 
 static int quick(void)
 {
@@ -580,9 +581,5 @@ static Suite *suite(void)
 
 int main(void)
 {
-    SRunner *r = srunner_create(suite());
-    srunner_run_all(r, CK_NORMAL);
-    int failed = srunner_ntests_failed(r);
-    srunner_free(r);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(suite());
 }

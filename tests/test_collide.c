@@ -52,6 +52,7 @@
 
 #include "granule/collide.h"
 #include "granule/model.h"
+#include "check_main.h"
 
 #define K_S 5e5          /* N/m, Table 2.2 */
 #define DT_THESIS 1e-6   /* s */
@@ -1019,9 +1020,5 @@ static Suite *collide_suite(void)
 
 int main(void)
 {
-    SRunner *sr = srunner_create(collide_suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+    return gr_test_run(collide_suite());
 }

@@ -13,6 +13,7 @@
 #include "granule/cost.h"
 #include "granule/integrator.h"
 #include "granule/run.h"
+#include "check_main.h"
 
 static void load(gr_scene *sc, const char *name, const char *const *sets, int n)
 {
@@ -286,9 +287,5 @@ int main(void)
     tcase_add_test(tc, refuses_what_has_no_time_step);
     tcase_add_test(tc, prediction_matches_a_real_run);
     suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(s);
 }

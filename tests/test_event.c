@@ -26,6 +26,7 @@
 #include "granule/model.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
+#include "check_main.h"
 #include "test_env.h"
 #include "test_scenes.h"
 
@@ -674,9 +675,5 @@ static Suite *event_suite(void)
 
 int main(void)
 {
-    SRunner *sr = srunner_create(event_suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+    return gr_test_run(event_suite());
 }

@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "granule/fokker_planck.h"
+#include "check_main.h"
 
 #define REL(a, b) (fabs((a) - (b)) / fmax(fabs(b), 1e-300))
 
@@ -708,9 +709,5 @@ int main(void)
     tcase_add_test(ts, test_sim_determinism);
     tcase_add_test(ts, test_sim_progress_stop);
     suite_add_tcase(s, ts);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(s);
 }

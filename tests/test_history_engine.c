@@ -29,6 +29,7 @@
 #include "models/tangential_spring.h"
 #include "granule/granule.h"
 #include "granule_config.h"
+#include "check_main.h"
 #include "test_env.h"
 
 static int64_t steps(int64_t full) { return env_flag("GRANULE_TEST_QUICK") ? full / 4 : full; }
@@ -492,9 +493,5 @@ int main(void)
     tcase_add_test(tc, test_angular_momentum);
     tcase_add_test(tc, test_refusals);
     suite_add_tcase(suite, tc);
-    SRunner *sr = srunner_create(suite);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(suite);
 }

@@ -20,6 +20,7 @@
 #include "granule/scene.h"
 #include "granule/sim.h"
 #include "integrators/hybrid/hybrid.h"
+#include "check_main.h"
 #include "test_env.h"
 
 /* docs/scenes/NAME with --set style overrides (NULL-terminated). */
@@ -600,9 +601,5 @@ static Suite *hybrid_suite(void)
 
 int main(void)
 {
-    SRunner *sr = srunner_create(hybrid_suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(hybrid_suite());
 }

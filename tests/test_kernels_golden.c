@@ -22,6 +22,7 @@
 #include "granule/model.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
+#include "check_main.h"
 #include "test_env.h"
 
 typedef struct golden_case {
@@ -126,9 +127,5 @@ static Suite *suite(void)
 
 int main(void)
 {
-    SRunner *sr = srunner_create(suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(suite());
 }

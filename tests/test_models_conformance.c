@@ -48,6 +48,7 @@
 #include "granule/scene.h"
 #include "granule/sim.h"
 #include "models/hard_sphere.h" /* the rough rule itself, for angular momentum */
+#include "check_main.h"
 #include "test_env.h"
 
 #define MASS 3.53e-5
@@ -756,9 +757,5 @@ static Suite *suite(void)
 
 int main(void)
 {
-    SRunner *sr = srunner_create(suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(suite());
 }

@@ -23,6 +23,8 @@
 
 #include <Random123/philox.h>
 
+#include "check_main.h"
+
 static const uint64_t SEED = UINT64_C(0x243f6a8885a308d3); /* fixed, arbitrary */
 
 /* ck_assert_msg for loops: Check records a checkpoint on every passing assertion, which costs a
@@ -617,9 +619,5 @@ int main(int argc, char **argv)
         return isa_check();
     }
     gsl_set_error_handler_off();
-    SRunner *sr = srunner_create(noise_suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed != 0;
+    return gr_test_run(noise_suite());
 }

@@ -18,6 +18,7 @@
 
 #include "granule/observe.h"
 #include "granule/scene.h"
+#include "check_main.h"
 
 extern const gr_observable_type gr_obs_gaps;
 
@@ -838,9 +839,5 @@ int main(void)
     tcase_add_test(tc, test_bad_params_refused);
     tcase_add_test(tc, test_outputs_and_plots);
     suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(s);
 }

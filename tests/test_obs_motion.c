@@ -16,6 +16,7 @@
 #include <gsl/gsl_rng.h>
 
 #include "obs_harness.h"
+#include "check_main.h"
 
 extern const gr_observable_type gr_obs_msd, gr_obs_vacf, gr_obs_collisions;
 
@@ -315,9 +316,5 @@ int main(void)
     tcase_add_test(t, test_collisions_none);
     tcase_add_test(t, test_bad_frame);
     suite_add_tcase(s, t);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(s);
 }

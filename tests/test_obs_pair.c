@@ -22,6 +22,7 @@
 
 #include "granule/observe.h"
 #include "granule/scene.h"
+#include "check_main.h"
 
 extern const gr_observable_type gr_obs_pair;
 
@@ -498,9 +499,5 @@ int main(void)
     tcase_add_test(t, test_line_fractal_dimension);
     tcase_add_test(t, test_bad_params);
     suite_add_tcase(s, t);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(s);
 }

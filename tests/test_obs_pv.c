@@ -10,7 +10,6 @@
 #include <check.h>
 #include <cjson/cJSON.h>
 #include <errno.h>
-#include <ftw.h>
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_randist.h>
@@ -26,6 +25,7 @@
 #include "granule/run.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
+#include "check_main.h"
 
 extern const gr_observable_type gr_obs_pv;
 
@@ -33,14 +33,6 @@ extern const gr_observable_type gr_obs_pv;
 
 static char g_root[240];
 static char g_dir[256];
-
-static int rm_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
-{
-    (void)sb;
-    (void)flag;
-    (void)ftw;
-    return remove(path);
-}
 
 static void setup(void)
 {
@@ -51,7 +43,7 @@ static void setup(void)
 static void teardown(void)
 {
     if (g_dir[0]) {
-        nftw(g_dir, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
+        gr_test_rm_tree(g_dir);
         g_dir[0] = 0;
     }
 }
@@ -957,21 +949,10 @@ static Suite *pv_suite(void)
 int main(void)
 {
     gsl_set_error_handler_off();
-    const char *tmp = getenv("TMPDIR");
-    snprintf(g_root, sizeof g_root, "%s/granule-test-pv-XXXXXX", tmp && *tmp ? tmp : "/tmp");
-    if (!mkdtemp(g_root)) {
-        fprintf(stderr, "test_obs_pv: mkdtemp %s: %s\n", g_root, strerror(errno));
+    if (gr_test_tmp_root(g_root, sizeof g_root, "test_obs_pv", "pv") != 0) {
         return EXIT_FAILURE;
     }
-    SRunner *sr = srunner_create(pv_suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    const char *keep = getenv("GRANULE_KEEP_TMP");
-    if (keep && *keep && strcmp(keep, "0") != 0) {
-        fprintf(stderr, "test_obs_pv: test folders kept in %s\n", g_root);
-    } else {
-        nftw(g_root, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
-    }
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    int status = gr_test_run(pv_suite());
+    gr_test_tmp_root_done(g_root, "test_obs_pv");
+    return status;
 }

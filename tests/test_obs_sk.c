@@ -28,6 +28,7 @@
 extern const gr_observable_type gr_obs_sk;
 
 #include "analysis/sk.h"
+#include "check_main.h"
 
 #define MSP 8 /* GR_SK_MSP_DEFAULT */
 #define CASCADE_N 16000
@@ -674,9 +675,5 @@ int main(void)
     tcase_add_test(tc, test_direct_method_by_environment);
     tcase_add_test(tc, test_bad_params_refused);
     suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? 1 : 0;
+    return gr_test_run(s);
 }

@@ -12,7 +12,6 @@
 #include <check.h>
 #include <dirent.h>
 #include <errno.h>
-#include <ftw.h>
 #include <math.h>
 #include <signal.h>
 #include <stdbool.h>
@@ -29,17 +28,10 @@
 #include "granule/status.h"
 #include "io/picture.h"
 #include "io/snapshot.h"
+#include "check_main.h"
 
 static char g_root[240];
 static char g_dir[256];
-
-static int rm_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
-{
-    (void)sb;
-    (void)flag;
-    (void)ftw;
-    return remove(path);
-}
 
 static void setup(void)
 {
@@ -49,9 +41,8 @@ static void setup(void)
 
 static void teardown(void)
 {
-    const char *keep = getenv("GRANULE_KEEP_TMP");
-    if (g_dir[0] && !(keep && *keep && strcmp(keep, "0") != 0)) {
-        nftw(g_dir, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
+    if (g_dir[0] && !gr_test_keep_tmp()) {
+        gr_test_rm_tree(g_dir);
     }
     g_dir[0] = 0;
 }
@@ -670,21 +661,10 @@ static Suite *picture_suite(void)
 
 int main(void)
 {
-    const char *tmp = getenv("TMPDIR");
-    snprintf(g_root, sizeof g_root, "%s/granule-test-picture-XXXXXX", tmp && *tmp ? tmp : "/tmp");
-    if (!mkdtemp(g_root)) {
-        fprintf(stderr, "test_picture: mkdtemp %s: %s\n", g_root, strerror(errno));
+    if (gr_test_tmp_root(g_root, sizeof g_root, "test_picture", "picture") != 0) {
         return EXIT_FAILURE;
     }
-    SRunner *sr = srunner_create(picture_suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    const char *keep = getenv("GRANULE_KEEP_TMP");
-    if (keep && *keep && strcmp(keep, "0") != 0) {
-        fprintf(stderr, "test_picture: test folders kept in %s\n", g_root);
-    } else {
-        nftw(g_root, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
-    }
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    int status = gr_test_run(picture_suite());
+    gr_test_tmp_root_done(g_root, "test_picture");
+    return status;
 }

@@ -9,7 +9,6 @@
 #include <ctype.h>
 #include <dirent.h>
 #include <errno.h>
-#include <ftw.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,14 +20,9 @@
 #include "granule/scene.h"
 #include "io/plot.h"
 #include "io/summary_read.h"
+#include "check_main.h"
 
 static char g_dir[256];
-
-static int rm_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
-{
-    (void)sb, (void)flag, (void)ftw;
-    return remove(path);
-}
 
 static void setup(void)
 {
@@ -40,9 +34,8 @@ static void setup(void)
 
 static void teardown(void)
 {
-    const char *keep = getenv("GRANULE_KEEP_TMP");
-    if (!(keep && *keep && strcmp(keep, "0"))) {
-        nftw(g_dir, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
+    if (!gr_test_keep_tmp()) {
+        gr_test_rm_tree(g_dir);
     }
     gr_plot_set_format(GR_PLOT_PNG);
 }
@@ -341,9 +334,5 @@ static Suite *plot_suite(void)
 
 int main(void)
 {
-    SRunner *sr = srunner_create(plot_suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(plot_suite());
 }

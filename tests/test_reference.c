@@ -15,6 +15,7 @@
 
 #include "granule/collide.h"
 #include "granule/model.h"
+#include "check_main.h"
 
 #define MASS 3.53e-5
 #define RADIUS 1.5e-3
@@ -395,9 +396,5 @@ static Suite *reference_suite(void)
 
 int main(void)
 {
-    SRunner *sr = srunner_create(reference_suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+    return gr_test_run(reference_suite());
 }

@@ -27,6 +27,7 @@
 #include "granule/model.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
+#include "check_main.h"
 #include "test_env.h"
 #include "test_scenes.h"
 
@@ -394,9 +395,5 @@ int main(void)
     tcase_add_test(tc, test_refusals);
     tcase_set_timeout(tc, 300);
     suite_add_tcase(s, tc);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(s);
 }

@@ -9,7 +9,6 @@
 #include <cjson/cJSON.h>
 #include <dirent.h>
 #include <errno.h>
-#include <ftw.h>
 #include <glob.h>
 #include <math.h>
 #include <stdarg.h>
@@ -24,20 +23,13 @@
 #include "granule/sim.h"
 #include "granule/status.h"
 #include "io/scene_json.h"
+#include "check_main.h"
 
 /* ---------- a fresh temporary folder per test ---------- */
 
 static char g_root[240]; /* made by main before Check forks; removed at the end */
 static char g_dir[256];
 static int g_files;
-
-static int rm_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
-{
-    (void)sb;
-    (void)flag;
-    (void)ftw;
-    return remove(path);
-}
 
 static void setup(void)
 {
@@ -49,7 +41,7 @@ static void setup(void)
 static void teardown(void)
 {
     if (g_dir[0]) {
-        nftw(g_dir, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
+        gr_test_rm_tree(g_dir);
         g_dir[0] = 0;
     }
 }
@@ -1090,21 +1082,10 @@ int main(void)
 {
     /* one root for every test's folder, so a failing test (whose teardown Check skips) leaves
      * nothing behind either; GRANULE_KEEP_TMP=1 keeps it for inspection */
-    const char *tmp = getenv("TMPDIR");
-    snprintf(g_root, sizeof g_root, "%s/granule-test-scene-XXXXXX", tmp && *tmp ? tmp : "/tmp");
-    if (!mkdtemp(g_root)) {
-        fprintf(stderr, "test_scene: mkdtemp %s: %s\n", g_root, strerror(errno));
+    if (gr_test_tmp_root(g_root, sizeof g_root, "test_scene", "scene") != 0) {
         return EXIT_FAILURE;
     }
-    SRunner *sr = srunner_create(scene_suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    const char *keep = getenv("GRANULE_KEEP_TMP");
-    if (keep && *keep && strcmp(keep, "0") != 0) {
-        fprintf(stderr, "test_scene: test folders kept in %s\n", g_root);
-    } else {
-        nftw(g_root, rm_entry, 16, FTW_DEPTH | FTW_PHYS);
-    }
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    int status = gr_test_run(scene_suite());
+    gr_test_tmp_root_done(g_root, "test_scene");
+    return status;
 }

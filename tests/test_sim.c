@@ -31,6 +31,7 @@
 #include "granule/noise.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
+#include "check_main.h"
 #include "test_env.h"
 
 #define MASS 3.53e-5  /* kg, Table 2.2 */
@@ -1653,9 +1654,5 @@ static Suite *sim_suite(void)
 
 int main(void)
 {
-    SRunner *sr = srunner_create(sim_suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+    return gr_test_run(sim_suite());
 }

@@ -17,6 +17,7 @@
 
 #include "granule/spm.h"
 #include "granule/spm_study.h"
+#include "check_main.h"
 
 static bool quick(void)
 {
@@ -706,14 +707,11 @@ int main(void)
     tcase_add_test(t, test_rfm_reader_and_compare);
     tcase_add_test(t, test_refusals);
     suite_add_tcase(s, t);
-    SRunner *sr = srunner_create(s);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
+    int status = gr_test_run(s);
     char cmd[600];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
     if (system(cmd) != 0) {
         fprintf(stderr, "could not remove %s\n", tmpdir);
     }
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return status;
 }

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 
 #include "granule/spm.h"
+#include "check_main.h"
 
 #define NB 400
 
@@ -196,9 +197,5 @@ int main(void)
     tcase_add_test(t, test_pl_fit_C);
     tcase_add_test(t, test_compare_series);
     suite_add_tcase(s, t);
-    SRunner *r = srunner_create(s);
-    srunner_run_all(r, CK_NORMAL);
-    int failed = srunner_ntests_failed(r);
-    srunner_free(r);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(s);
 }

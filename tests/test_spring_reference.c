@@ -23,6 +23,7 @@
 #include "granule/collide.h"
 #include "granule/model.h"
 #include "models/tangential_spring.h"
+#include "check_main.h"
 #include "test_env.h"
 
 /* the spring acting at the contact point: rotation is wired into the engine by another change
@@ -220,9 +221,5 @@ static Suite *suite(void)
 
 int main(void)
 {
-    SRunner *sr = srunner_create(suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(suite());
 }

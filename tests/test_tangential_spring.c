@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "models/tangential_spring.h"
+#include "check_main.h"
 
 static gr_contact_coeffs coeffs(double k_t, double gamma_t, double mu, double dt)
 {
@@ -196,9 +197,5 @@ int main(void)
     tcase_add_test(tc, test_mindlin_step);
     tcase_add_test(tc, test_mindlin_prepare);
     suite_add_tcase(su, tc);
-    SRunner *sr = srunner_create(su);
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed != 0;
+    return gr_test_run(su);
 }

@@ -32,6 +32,7 @@
 #include "granule_config.h"
 #include "analysis/sk.h"
 #include "granule/observe.h"
+#include "check_main.h"
 #include "test_env.h"
 
 extern const gr_observable_type gr_obs_pair; /* src/analysis/obs_pair.c */
@@ -430,9 +431,5 @@ static Suite *suite(void)
 
 int main(void)
 {
-    SRunner *sr = srunner_create(suite());
-    srunner_run_all(sr, CK_NORMAL);
-    int failed = srunner_ntests_failed(sr);
-    srunner_free(sr);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return gr_test_run(suite());
 }
