@@ -217,6 +217,7 @@ static int collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err
     const int n = s->n;
     const double L = s->L, rc2 = rc * rc, *x = s->x, *y = s->y;
     h->npairs = 0;
+    h->adj_ok = 0;
     int side = (int)floor(L / rc);
     const int max_side = (int)ceil(sqrt(2.0 * n)) + 1;
     side = side < max_side ? side : max_side;
@@ -297,6 +298,43 @@ static double max_disp(const gr_sim *s, const gr_hybrid_state *h)
     return sqrt(worst);
 }
 
+/* Candidate partners of every particle (compressed rows over h->pi/pj): rebuilt after each
+ * collect_pairs or restore (h->adj_ok = 0 there). */
+static int build_adjacency(gr_hybrid_state *h, int n, gr_error *err)
+{
+    if (!h->adj_start) {
+        h->adj_start = malloc(sizeof(int) * ((size_t)n + 1));
+    }
+    if (2 * h->npairs > h->cap_adj) {
+        free(h->adj);
+        h->cap_adj = 2 * h->cap_pairs;
+        h->adj = malloc(sizeof(int) * (size_t)h->cap_adj);
+    }
+    if (!h->adj_start || !h->adj) {
+        h->cap_adj = 0;
+        return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for the partners of %lld candidate pairs", (long long)h->npairs);
+    }
+    int *st = h->adj_start;
+    memset(st, 0, sizeof(int) * ((size_t)n + 1));
+    for (int64_t q = 0; q < h->npairs; q++) {
+        st[h->pi[q] + 1]++;
+        st[h->pj[q] + 1]++;
+    }
+    for (int i = 0; i < n; i++) {
+        st[i + 1] += st[i];
+    }
+    for (int64_t q = 0; q < h->npairs; q++) { /* fill, then shift the starts back */
+        h->adj[st[h->pi[q]]++] = h->pj[q];
+        h->adj[st[h->pj[q]]++] = h->pi[q];
+    }
+    for (int i = n; i > 0; i--) {
+        st[i] = st[i - 1];
+    }
+    st[0] = 0;
+    h->adj_ok = 1;
+    return GR_OK;
+}
+
 static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
 {
     const int n = s->n;
@@ -328,6 +366,12 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
         memcpy(h->xl, x, sizeof(double) * (size_t)n);
         memcpy(h->yl, y, sizeof(double) * (size_t)n);
     }
+    if (!h->adj_ok) {
+        int rc_ = build_adjacency(h, n, err);
+        if (rc_) {
+            return rc_;
+        }
+    }
     const double free_reach = d + c * M_SQRT2 * sx;
     for (int64_t q = 0; q < h->npairs; q++) {
         const int i = h->pi[q], j = h->pj[q];
@@ -347,49 +391,61 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
             unite(h->uf, i, j);
         }
     }
-    for (int pass = 0; pass < n; pass++) {
-        /* per-cluster speed bound, stored at the root */
-        for (int i = 0; i < n; i++) {
-            h->c_hi[i] = 0.0;
-            h->c_lo[i] = 0.0; /* max overlap of the cluster */
+    /* The closure only looks at the active particles and their candidate partners (a few per
+     * cent of the pairs): h->list holds the active particles, growing as free ones join. Every
+     * test below can only add particles or merge clusters, and a larger cluster only reaches
+     * further, so the result (the smallest closed set) does not depend on the order. */
+    int *al = h->list, na = 0;
+    for (int i = 0; i < n; i++) {
+        if (act[i]) {
+            al[na++] = i;
         }
-        for (int i = 0; i < n; i++) {
-            if (act[i]) {
-                const int r = find(h->uf, i);
-                const double sp = sqrt(vx[i] * vx[i] + vy[i] * vy[i]);
-                h->c_hi[r] = sp > h->c_hi[r] ? sp : h->c_hi[r];
-                h->c_lo[r] = h->c_xi[i] > h->c_lo[r] ? h->c_xi[i] : h->c_lo[r];
-            }
+    }
+    for (int pass = 0; pass < n; pass++) {
+        /* per-cluster speed bound and largest overlap, stored at the root */
+        for (int e = 0; e < na; e++) {
+            const int r = find(h->uf, al[e]);
+            h->c_hi[r] = 0.0;
+            h->c_lo[r] = 0.0;
+        }
+        for (int e = 0; e < na; e++) {
+            const int i = al[e], r = find(h->uf, i);
+            const double sp = sqrt(vx[i] * vx[i] + vy[i] * vy[i]);
+            h->c_hi[r] = sp > h->c_hi[r] ? sp : h->c_hi[r];
+            h->c_lo[r] = h->c_xi[i] > h->c_lo[r] ? h->c_xi[i] : h->c_lo[r];
         }
         int changed = 0;
-        for (int64_t q = 0; q < h->npairs; q++) {
-            const int i = h->pi[q], j = h->pj[q];
-            if (!act[i] && !act[j]) {
-                continue;
-            }
-            const double rx = wrap(x[j] - x[i], L), ry = wrap(y[j] - y[i], L);
-            if (act[i] && act[j]) {
-                const int a = find(h->uf, i), b = find(h->uf, j);
-                if (a == b) {
+        const int na_pass = na;
+        for (int e = 0; e < na_pass; e++) {
+            const int A = al[e];
+            for (int k = h->adj_start[A]; k < h->adj_start[A + 1]; k++) {
+                const int F = h->adj[k];
+                if (act[F] && F < A) {
+                    continue; /* an active pair is looked at once, from its smaller index */
+                }
+                const double rx = wrap(x[F] - x[A], L), ry = wrap(y[F] - y[A], L); /* r from A to F */
+                const int a = find(h->uf, A);
+                const double sa = f * h->c_hi[a] + c * sv + w0 * h->c_lo[a];
+                if (act[F]) {
+                    const int b = find(h->uf, F);
+                    if (a == b) {
+                        continue;
+                    }
+                    const double sb = f * h->c_hi[b] + c * sv + w0 * h->c_lo[b];
+                    if (sqrt(rx * rx + ry * ry) - (sa + sb) * tau < d) {
+                        unite(h->uf, a, b);
+                        changed = 1;
+                    }
                     continue;
                 }
-                const double sa = f * h->c_hi[a] + c * sv + w0 * h->c_lo[a];
-                const double sb = f * h->c_hi[b] + c * sv + w0 * h->c_lo[b];
-                if (sqrt(rx * rx + ry * ry) - (sa + sb) * tau < d) {
-                    unite(h->uf, a, b);
+                /* A active, F free: F's straight path against A's reach */
+                if (closest(rx, ry, vx[F], vy[F], tau) - sa * tau < d + c * sx) {
+                    act[F] = 1;
+                    al[na++] = F;
+                    h->c_hi[F] = h->c_lo[F] = 0.0; /* F may become the root: no stale bound */
+                    unite(h->uf, a, F);
                     changed = 1;
                 }
-                continue;
-            }
-            /* one active (A), one free (F): F's straight path against A's reach */
-            const int A = act[i] ? i : j, F = act[i] ? j : i;
-            const double sg = act[i] ? 1.0 : -1.0; /* r from A to F */
-            const int a = find(h->uf, A);
-            const double sa = f * h->c_hi[a] + c * sv + w0 * h->c_lo[a];
-            if (closest(sg * rx, sg * ry, vx[F], vy[F], tau) - sa * tau < d + c * sx) {
-                act[F] = 1;
-                unite(h->uf, a, F);
-                changed = 1;
             }
         }
         if (!changed) {
@@ -397,15 +453,15 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
         }
     }
     /* envelopes: active particles with a free candidate partner must stay within s_C t */
-    for (int i = 0; i < n; i++) {
-        h->env_lo[i] = -(double)INFINITY;
-        h->env_hi[i] = (double)INFINITY;
-    }
-    for (int64_t q = 0; q < h->npairs; q++) {
-        const int i = h->pi[q], j = h->pj[q];
-        if (act[i] != act[j]) {
-            const int A = act[i] ? i : j, a = find(h->uf, A);
-            h->env_hi[A] = f * h->c_hi[a] + c * sv + w0 * h->c_lo[a];
+    for (int e = 0; e < na; e++) {
+        const int A = al[e], a = find(h->uf, A);
+        h->env_lo[A] = -(double)INFINITY;
+        h->env_hi[A] = (double)INFINITY;
+        for (int k = h->adj_start[A]; k < h->adj_start[A + 1]; k++) {
+            if (!act[h->adj[k]]) {
+                h->env_hi[A] = f * h->c_hi[a] + c * sv + w0 * h->c_lo[a];
+                break;
+            }
         }
     }
     return GR_OK;

@@ -42,6 +42,9 @@ typedef struct gr_hybrid_state {
     double rc_pairs; /* cutoff of the candidate list (0: none) */
     double *xl, *yl; /* positions when it was built */
     int *cell_head, *cell_next, ncells_alloc;
+    /* the candidate partners of each particle: adj[adj_start[i] .. adj_start[i + 1]) */
+    int *adj_start, *adj, adj_ok;
+    int64_t cap_adj;
 
     /* window noise: 2 * dim normals per particle (free-flight draw), kicks of the active set */
     double *ff;       /* ff[(p * dim + c) * 2 + {0,1}] */

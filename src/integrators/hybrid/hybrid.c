@@ -64,6 +64,8 @@ void gr_hybrid_free(gr_sim *s)
     free(h->uf);
     free(h->pi);
     free(h->pj);
+    free(h->adj_start);
+    free(h->adj);
     free(h->cell_head);
     free(h->cell_next);
     free(h);
