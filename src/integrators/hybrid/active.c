@@ -302,8 +302,16 @@ static double max_disp(const gr_sim *s, const gr_hybrid_state *h)
  * collect_pairs or restore (h->adj_ok = 0 there). */
 static int build_adjacency(gr_hybrid_state *h, int n, gr_error *err)
 {
-    if (!h->adj_start) {
+    if (!h->adj_start) { /* first use: the closure's work arrays too */
         h->adj_start = malloc(sizeof(int) * ((size_t)n + 1));
+        h->mem_head = malloc(sizeof(int) * (size_t)n);
+        h->mem_tail = malloc(sizeof(int) * (size_t)n);
+        h->mem_next = malloc(sizeof(int) * (size_t)n);
+        h->queue = malloc(sizeof(int) * (size_t)n);
+        h->inq = calloc((size_t)n, 1);
+        if (!h->adj_start || !h->mem_head || !h->mem_tail || !h->mem_next || !h->queue || !h->inq) {
+            return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for the active-set closure of %d particles", n);
+        }
     }
     if (2 * h->npairs > h->cap_adj) {
         free(h->adj);
@@ -333,6 +341,53 @@ static int build_adjacency(gr_hybrid_state *h, int n, gr_error *err)
     st[0] = 0;
     h->adj_ok = 1;
     return GR_OK;
+}
+
+/* The work list of the 2D closure (select_2d). */
+struct closure {
+    gr_hybrid_state *h;
+    const uint8_t *act;
+    const double *vx, *vy;
+    double f, csv, w0; /* reach of a cluster: f max|v| + c sv + w0 max overlap */
+    int head, len, n;
+    int *queue;
+};
+
+static inline double reach(const struct closure *w, int root)
+{
+    return w->f * w->h->c_hi[root] + w->csv + w->w0 * w->h->c_lo[root];
+}
+
+static void push(struct closure *w, int i)
+{
+    if (!w->h->inq[i]) {
+        w->h->inq[i] = 1;
+        int t = w->head + w->len;
+        w->queue[t < w->n ? t : t - w->n] = i;
+        w->len++;
+    }
+}
+
+/* Merge the clusters with roots a and b (the smaller index becomes the root); the members of a
+ * cluster whose reach grew are examined again. */
+static void merge(struct closure *w, int a, int b)
+{
+    gr_hybrid_state *h = w->h;
+    const double ra = reach(w, a), rb = reach(w, b);
+    const int r = a < b ? a : b, o = a < b ? b : a;
+    h->c_hi[r] = h->c_hi[a] > h->c_hi[b] ? h->c_hi[a] : h->c_hi[b];
+    h->c_lo[r] = h->c_lo[a] > h->c_lo[b] ? h->c_lo[a] : h->c_lo[b];
+    const double rn = reach(w, r);
+    for (int side = 0; side < 2; side++) {
+        if (rn > (side ? rb : ra)) {
+            for (int i = h->mem_head[side ? b : a]; i >= 0; i = h->mem_next[i]) {
+                push(w, i);
+            }
+        }
+    }
+    h->uf[o] = r;
+    h->mem_next[h->mem_tail[r]] = h->mem_head[o];
+    h->mem_tail[r] = h->mem_tail[o];
 }
 
 static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
@@ -391,67 +446,69 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
             unite(h->uf, i, j);
         }
     }
-    /* The closure only looks at the active particles and their candidate partners (a few per
-     * cent of the pairs): h->list holds the active particles, growing as free ones join. Every
-     * test below can only add particles or merge clusters, and a larger cluster only reaches
-     * further, so the result (the smallest closed set) does not depend on the order. */
-    int *al = h->list, na = 0;
+    /* Closure, as a work list: a particle is (re)examined when it becomes active or when its
+     * cluster's reach grows; each examination tests its candidate partners against the current
+     * reach. Every test can only add particles or merge clusters, and a larger cluster only
+     * reaches further, so the result (the smallest closed set) does not depend on the order;
+     * it is the same set the earlier pass-until-nothing-changes loop gave. */
+    struct closure w = {h, act, vx, vy, f, c * sv, w0, 0, 0, n, h->queue};
     for (int i = 0; i < n; i++) {
         if (act[i]) {
-            al[na++] = i;
+            const int r = find(h->uf, i);
+            h->c_hi[r] = 0.0; /* max speed of the cluster */
+            h->c_lo[r] = 0.0; /* max overlap of the cluster */
+            h->mem_tail[r] = -1;
         }
     }
-    for (int pass = 0; pass < n; pass++) {
-        /* per-cluster speed bound and largest overlap, stored at the root */
-        for (int e = 0; e < na; e++) {
-            const int r = find(h->uf, al[e]);
-            h->c_hi[r] = 0.0;
-            h->c_lo[r] = 0.0;
-        }
-        for (int e = 0; e < na; e++) {
-            const int i = al[e], r = find(h->uf, i);
+    for (int i = 0; i < n; i++) {
+        if (act[i]) {
+            const int r = find(h->uf, i);
             const double sp = sqrt(vx[i] * vx[i] + vy[i] * vy[i]);
             h->c_hi[r] = sp > h->c_hi[r] ? sp : h->c_hi[r];
             h->c_lo[r] = h->c_xi[i] > h->c_lo[r] ? h->c_xi[i] : h->c_lo[r];
-        }
-        int changed = 0;
-        const int na_pass = na;
-        for (int e = 0; e < na_pass; e++) {
-            const int A = al[e];
-            for (int k = h->adj_start[A]; k < h->adj_start[A + 1]; k++) {
-                const int F = h->adj[k];
-                if (act[F] && F < A) {
-                    continue; /* an active pair is looked at once, from its smaller index */
-                }
-                const double rx = wrap(x[F] - x[A], L), ry = wrap(y[F] - y[A], L); /* r from A to F */
-                const int a = find(h->uf, A);
-                const double sa = f * h->c_hi[a] + c * sv + w0 * h->c_lo[a];
-                if (act[F]) {
-                    const int b = find(h->uf, F);
-                    if (a == b) {
-                        continue;
-                    }
-                    const double sb = f * h->c_hi[b] + c * sv + w0 * h->c_lo[b];
-                    if (sqrt(rx * rx + ry * ry) - (sa + sb) * tau < d) {
-                        unite(h->uf, a, b);
-                        changed = 1;
-                    }
-                    continue;
-                }
-                /* A active, F free: F's straight path against A's reach */
-                if (closest(rx, ry, vx[F], vy[F], tau) - sa * tau < d + c * sx) {
-                    act[F] = 1;
-                    al[na++] = F;
-                    h->c_hi[F] = h->c_lo[F] = 0.0; /* F may become the root: no stale bound */
-                    unite(h->uf, a, F);
-                    changed = 1;
-                }
+            h->mem_next[i] = -1; /* member lists: head at the root, appended at the tail */
+            if (h->mem_tail[r] < 0) {
+                h->mem_head[r] = i;
+            } else {
+                h->mem_next[h->mem_tail[r]] = i;
             }
-        }
-        if (!changed) {
-            break;
+            h->mem_tail[r] = i;
+            push(&w, i);
         }
     }
+    while (w.len > 0) {
+        const int A = w.queue[w.head];
+        w.head = w.head + 1 < n ? w.head + 1 : 0;
+        w.len--;
+        h->inq[A] = 0;
+        for (int k = h->adj_start[A]; k < h->adj_start[A + 1]; k++) {
+            const int F = h->adj[k];
+            const int a = find(h->uf, A);
+            const double rx = wrap(x[F] - x[A], L), ry = wrap(y[F] - y[A], L); /* r from A to F */
+            if (act[F]) {
+                const int b = find(h->uf, F);
+                if (a != b && sqrt(rx * rx + ry * ry) - (reach(&w, a) + reach(&w, b)) * tau < d) {
+                    merge(&w, a, b);
+                }
+            } else if (closest(rx, ry, vx[F], vy[F], tau) - reach(&w, a) * tau < d + c * sx) {
+                /* A active, F free: F's straight path against A's reach */
+                act[F] = 1;
+                h->c_hi[F] = sqrt(vx[F] * vx[F] + vy[F] * vy[F]);
+                h->c_lo[F] = h->c_xi[F];
+                h->mem_head[F] = h->mem_tail[F] = F;
+                h->mem_next[F] = -1;
+                push(&w, F);
+                merge(&w, a, F);
+            }
+        }
+    }
+    int na = 0;
+    for (int i = 0; i < n; i++) {
+        if (act[i]) {
+            h->list[na++] = i;
+        }
+    }
+    const int *al = h->list;
     /* envelopes: active particles with a free candidate partner must stay within s_C t */
     for (int e = 0; e < na; e++) {
         const int A = al[e], a = find(h->uf, A);
@@ -459,7 +516,7 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
         h->env_hi[A] = (double)INFINITY;
         for (int k = h->adj_start[A]; k < h->adj_start[A + 1]; k++) {
             if (!act[h->adj[k]]) {
-                h->env_hi[A] = f * h->c_hi[a] + c * sv + w0 * h->c_lo[a];
+                h->env_hi[A] = reach(&w, a);
                 break;
             }
         }

@@ -44,6 +44,9 @@ typedef struct gr_hybrid_state {
     int *cell_head, *cell_next, ncells_alloc;
     /* the candidate partners of each particle: adj[adj_start[i] .. adj_start[i + 1]) */
     int *adj_start, *adj, adj_ok;
+    /* the 2D closure's work list and cluster member lists (active.c) */
+    int *mem_head, *mem_tail, *mem_next, *queue;
+    uint8_t *inq;
     int64_t cap_adj;
 
     /* window noise: 2 * dim normals per particle (free-flight draw), kicks of the active set */

@@ -66,6 +66,11 @@ void gr_hybrid_free(gr_sim *s)
     free(h->pj);
     free(h->adj_start);
     free(h->adj);
+    free(h->mem_head);
+    free(h->mem_tail);
+    free(h->mem_next);
+    free(h->queue);
+    free(h->inq);
     free(h->cell_head);
     free(h->cell_next);
     free(h);
