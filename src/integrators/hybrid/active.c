@@ -298,21 +298,26 @@ static double max_disp(const gr_sim *s, const gr_hybrid_state *h)
     return sqrt(worst);
 }
 
+/* The 2D selection's work arrays, allocated on first use. */
+static int alloc_work(gr_hybrid_state *h, int n, gr_error *err)
+{
+    h->adj_start = malloc(sizeof(int) * ((size_t)n + 1));
+    h->mem_head = malloc(sizeof(int) * (size_t)n);
+    h->mem_tail = malloc(sizeof(int) * (size_t)n);
+    h->mem_next = malloc(sizeof(int) * (size_t)n);
+    h->queue = malloc(sizeof(int) * (size_t)n);
+    h->inq = calloc((size_t)n, 1);
+    h->speed = malloc(sizeof(double) * (size_t)n);
+    if (!h->adj_start || !h->mem_head || !h->mem_tail || !h->mem_next || !h->queue || !h->inq || !h->speed) {
+        return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for the active-set selection of %d particles", n);
+    }
+    return GR_OK;
+}
+
 /* Candidate partners of every particle (compressed rows over h->pi/pj): rebuilt after each
  * collect_pairs or restore (h->adj_ok = 0 there). */
 static int build_adjacency(gr_hybrid_state *h, int n, gr_error *err)
 {
-    if (!h->adj_start) { /* first use: the closure's work arrays too */
-        h->adj_start = malloc(sizeof(int) * ((size_t)n + 1));
-        h->mem_head = malloc(sizeof(int) * (size_t)n);
-        h->mem_tail = malloc(sizeof(int) * (size_t)n);
-        h->mem_next = malloc(sizeof(int) * (size_t)n);
-        h->queue = malloc(sizeof(int) * (size_t)n);
-        h->inq = calloc((size_t)n, 1);
-        if (!h->adj_start || !h->mem_head || !h->mem_tail || !h->mem_next || !h->queue || !h->inq) {
-            return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for the active-set closure of %d particles", n);
-        }
-    }
     if (2 * h->npairs > h->cap_adj) {
         free(h->adj);
         h->cap_adj = 2 * h->cap_pairs;
@@ -397,13 +402,19 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
     const double d = s->d, L = s->L, w0 = s->cc.w0, f = 1.0 + GR_HYBRID_SPREAD;
     const double *x = s->x, *y = s->y, *vx = s->vx, *vy = s->vy;
     uint8_t *act = h->active;
-    double vmax = 0.0;
+    if (!h->speed && alloc_work(h, n, err)) {
+        return GR_ENOMEM;
+    }
+    double vmax = 0.0, *speed = h->speed;
     for (int i = 0; i < n; i++) {
-        const double sp = sqrt(vx[i] * vx[i] + vy[i] * vy[i]);
-        vmax = sp > vmax ? sp : vmax;
+        speed[i] = sqrt(vx[i] * vx[i] + vy[i] * vy[i]);
+        vmax = speed[i] > vmax ? speed[i] : vmax;
         h->uf[i] = i;
         h->c_xi[i] = 0.0;
     }
+    /* Cheap rejections below compare squared distances with bounds from the speeds, widened by
+     * this relative slack so that rounding can never reject a pair the exact test would take. */
+    const double slack = 1.0 + 1e-9;
     const double xi_all = s->last.max_overlap * d;
     const double s_all = f * vmax + c * sv + w0 * xi_all;
     const double rc = d + c * M_SQRT2 * sx + 2.0 * tau * s_all;
@@ -436,7 +447,11 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
             h->c_xi[i] = ov > h->c_xi[i] ? ov : h->c_xi[i];
             h->c_xi[j] = ov > h->c_xi[j] ? ov : h->c_xi[j];
         }
-        /* cheap reject: the pair cannot close in more than |u| tau */
+        /* cheap rejects: the pair cannot close in more than |u| tau <= (|v_i| + |v_j|) tau */
+        const double bound = free_reach + tau * (speed[i] + speed[j]);
+        if (r2 > bound * bound * slack) {
+            continue;
+        }
         const double ux = vx[j] - vx[i], uy = vy[j] - vy[i], reach = free_reach + tau * sqrt(ux * ux + uy * uy);
         if (r2 >= reach * reach) {
             continue;
@@ -463,8 +478,7 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
     for (int i = 0; i < n; i++) {
         if (act[i]) {
             const int r = find(h->uf, i);
-            const double sp = sqrt(vx[i] * vx[i] + vy[i] * vy[i]);
-            h->c_hi[r] = sp > h->c_hi[r] ? sp : h->c_hi[r];
+            h->c_hi[r] = speed[i] > h->c_hi[r] ? speed[i] : h->c_hi[r];
             h->c_lo[r] = h->c_xi[i] > h->c_lo[r] ? h->c_xi[i] : h->c_lo[r];
             h->mem_next[i] = -1; /* member lists: head at the root, appended at the tail */
             if (h->mem_tail[r] < 0) {
@@ -483,17 +497,26 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
         h->inq[A] = 0;
         for (int k = h->adj_start[A]; k < h->adj_start[A + 1]; k++) {
             const int F = h->adj[k];
-            const int a = find(h->uf, A);
+            const int a = find(h->uf, A), b = act[F] ? find(h->uf, F) : -1;
+            if (a == b) {
+                continue;
+            }
             const double rx = wrap(x[F] - x[A], L), ry = wrap(y[F] - y[A], L); /* r from A to F */
-            if (act[F]) {
-                const int b = find(h->uf, F);
-                if (a != b && sqrt(rx * rx + ry * ry) - (reach(&w, a) + reach(&w, b)) * tau < d) {
+            const double r2 = rx * rx + ry * ry, ra = reach(&w, a);
+            if (b >= 0) {
+                const double rb = reach(&w, b), bound = d + (ra + rb) * tau;
+                if (r2 <= bound * bound * slack && sqrt(r2) - (ra + rb) * tau < d) {
                     merge(&w, a, b);
                 }
-            } else if (closest(rx, ry, vx[F], vy[F], tau) - reach(&w, a) * tau < d + c * sx) {
+                continue;
+            }
+            /* A active, F free: F's straight path (closest approach >= |r| - |v_F| tau) against
+             * A's reach */
+            const double bound = d + c * sx + (ra + speed[F]) * tau;
+            if (r2 <= bound * bound * slack && closest(rx, ry, vx[F], vy[F], tau) - ra * tau < d + c * sx) {
                 /* A active, F free: F's straight path against A's reach */
                 act[F] = 1;
-                h->c_hi[F] = sqrt(vx[F] * vx[F] + vy[F] * vy[F]);
+                h->c_hi[F] = speed[F];
                 h->c_lo[F] = h->c_xi[F];
                 h->mem_head[F] = h->mem_tail[F] = F;
                 h->mem_next[F] = -1;

@@ -47,6 +47,7 @@ typedef struct gr_hybrid_state {
     /* the 2D closure's work list and cluster member lists (active.c) */
     int *mem_head, *mem_tail, *mem_next, *queue;
     uint8_t *inq;
+    double *speed; /* |v| of every particle at the window start */
     int64_t cap_adj;
 
     /* window noise: 2 * dim normals per particle (free-flight draw), kicks of the active set */

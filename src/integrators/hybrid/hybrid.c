@@ -71,6 +71,7 @@ void gr_hybrid_free(gr_sim *s)
     free(h->mem_next);
     free(h->queue);
     free(h->inq);
+    free(h->speed);
     free(h->cell_head);
     free(h->cell_next);
     free(h);
