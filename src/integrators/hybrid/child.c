@@ -161,6 +161,15 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
             env_q[n_env++] = q;
         }
     }
+    /* their start positions and bounds, side by side for the per-step check */
+    double *ex = h->env_pack, *ey = ex + s->n, *elo = ey + s->n, *ehi = elo + s->n;
+    for (int e = 0; e < n_env; e++) {
+        const int p = h->list[env_q[e]];
+        ex[e] = h->x0[p];
+        ey[e] = dim == 2 ? h->y0[p] : 0.0;
+        elo[e] = h->env_lo[p];
+        ehi[e] = h->env_hi[p];
+    }
     double worst2 = 0.0;
     for (int k = 0; k < m; k++) {
         /* the kick of step k: a (raw + l1 + l2 (m - k)), window_noise.c */
@@ -263,7 +272,26 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
         /* envelopes (active.c): a particle facing a free one must stay where the selection
          * assumed it would; otherwise that free particle might have been touched: redo */
         const double t = (k + 1) * dt;
-        for (int e = 0; e < n_env; e++) {
+        int out = 0;
+        if (dim == 1) {
+            const double *restrict x = c->x;
+#pragma omp simd reduction(| : out)
+            for (int e = 0; e < n_env; e++) {
+                const double dx = x[env_q[e]] - ex[e];
+                out |= (dx > ehi[e] * t) | (dx < elo[e] * t);
+            }
+        } else {
+            const double *restrict x = c->x, *restrict y = c->y;
+#pragma omp simd reduction(| : out)
+            for (int e = 0; e < n_env; e++) {
+                double ddx = x[env_q[e]] - ex[e], ddy = y[env_q[e]] - ey[e];
+                ddx += ddx > half ? -L : (ddx < -half ? L : 0.0);
+                ddy += ddy > half ? -L : (ddy < -half ? L : 0.0);
+                const double reach = ehi[e] * t;
+                out |= ddx * ddx + ddy * ddy > reach * reach;
+            }
+        }
+        for (int e = 0; e < n_env && out; e++) { /* someone left: find and report them all */
             const int q = env_q[e], p = h->list[q];
             if (dim == 1) {
                 const double dx = c->x[q] - h->x0[p];

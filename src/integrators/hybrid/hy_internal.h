@@ -36,6 +36,7 @@ typedef struct gr_hybrid_state {
      * env_lo t <= x(t) - x(0) <= env_hi t; 2D |r(t) - r(0)| <= env_hi t; +-INFINITY = unchecked */
     double *env_lo, *env_hi;
     int *env_list; /* child indices of the particles whose envelope is checked */
+    double *env_pack; /* their start x, y, env_lo, env_hi side by side (4 N; child.c) */
     /* 2D candidate pairs (i < j) and the cell grid */
     int *pi, *pj;
     int64_t npairs, cap_pairs;

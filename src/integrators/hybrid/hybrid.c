@@ -53,7 +53,7 @@ void gr_hybrid_free(gr_sim *s)
     }
     gr_sim_free(h->child);
     double *d[] = {h->x0, h->y0, h->vx0, h->vy0, h->fx0, h->fy0, h->gx0, h->gy0, h->c_lo, h->c_hi,
-                   h->c_xi, h->env_lo, h->env_hi, h->ff, h->kick, h->tmp, h->lam, h->xl, h->yl};
+                   h->c_xi, h->env_lo, h->env_hi, h->env_pack, h->ff, h->kick, h->tmp, h->lam, h->xl, h->yl};
     for (size_t k = 0; k < sizeof d / sizeof d[0]; k++) {
         free(d[k]);
     }
@@ -121,6 +121,7 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
     h->c_xi = dalloc(n);
     h->env_lo = dalloc(n);
     h->env_hi = dalloc(n);
+    h->env_pack = dalloc(4 * n);
     h->ff = dalloc(2 * dim * n);
     h->lam = dalloc(2 * dim * n);
     h->tmp = dalloc(2 * n);
@@ -131,7 +132,7 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
     h->uf = malloc(sizeof(int) * (size_t)n);
     h->cell_next = malloc(sizeof(int) * (size_t)n);
     if (!h->x0 || !h->vx0 || !h->fx0 || !h->gx0 || (dim == 2 && (!h->y0 || !h->vy0 || !h->fy0 || !h->gy0 || !h->xl || !h->yl)) ||
-        !h->c_lo || !h->c_hi || !h->c_xi || !h->env_lo || !h->env_hi || !h->ff || !h->lam || !h->tmp || !h->active || !h->forced || !h->list || !h->env_list || !h->uf ||
+        !h->c_lo || !h->c_hi || !h->c_xi || !h->env_lo || !h->env_hi || !h->env_pack || !h->ff || !h->lam || !h->tmp || !h->active || !h->forced || !h->list || !h->env_list || !h->uf ||
         !h->cell_next) {
         return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for %d particles", n);
     }
