@@ -305,10 +305,11 @@ static int alloc_work(gr_hybrid_state *h, int n, gr_error *err)
     h->mem_head = malloc(sizeof(int) * (size_t)n);
     h->mem_tail = malloc(sizeof(int) * (size_t)n);
     h->mem_next = malloc(sizeof(int) * (size_t)n);
+    h->mem_size = malloc(sizeof(int) * (size_t)n);
     h->queue = malloc(sizeof(int) * (size_t)n);
     h->inq = calloc((size_t)n, 1);
     h->speed = malloc(sizeof(double) * (size_t)n);
-    if (!h->adj_start || !h->mem_head || !h->mem_tail || !h->mem_next || !h->queue || !h->inq || !h->speed) {
+    if (!h->adj_start || !h->mem_head || !h->mem_tail || !h->mem_next || !h->mem_size || !h->queue || !h->inq || !h->speed) {
         return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for the active-set selection of %d particles", n);
     }
     return GR_OK;
@@ -373,13 +374,14 @@ static void push(struct closure *w, int i)
     }
 }
 
-/* Merge the clusters with roots a and b (the smaller index becomes the root); the members of a
- * cluster whose reach grew are examined again. */
-static void merge(struct closure *w, int a, int b)
+/* Merge the clusters with roots a and b and return the new root. The larger cluster's root
+ * stays; the smaller one's members are relabelled, so h->uf[i] is always i's root here. The
+ * members of a cluster whose reach grew are examined again. */
+static int merge(struct closure *w, int a, int b)
 {
     gr_hybrid_state *h = w->h;
     const double ra = reach(w, a), rb = reach(w, b);
-    const int r = a < b ? a : b, o = a < b ? b : a;
+    const int r = h->mem_size[a] >= h->mem_size[b] ? a : b, o = r == a ? b : a;
     h->c_hi[r] = h->c_hi[a] > h->c_hi[b] ? h->c_hi[a] : h->c_hi[b];
     h->c_lo[r] = h->c_lo[a] > h->c_lo[b] ? h->c_lo[a] : h->c_lo[b];
     const double rn = reach(w, r);
@@ -390,9 +392,13 @@ static void merge(struct closure *w, int a, int b)
             }
         }
     }
-    h->uf[o] = r;
+    for (int i = h->mem_head[o]; i >= 0; i = h->mem_next[i]) {
+        h->uf[i] = r;
+    }
     h->mem_next[h->mem_tail[r]] = h->mem_head[o];
     h->mem_tail[r] = h->mem_tail[o];
+    h->mem_size[r] += h->mem_size[o];
+    return r;
 }
 
 static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
@@ -473,11 +479,14 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
             h->c_hi[r] = 0.0; /* max speed of the cluster */
             h->c_lo[r] = 0.0; /* max overlap of the cluster */
             h->mem_tail[r] = -1;
+            h->mem_size[r] = 0;
         }
     }
     for (int i = 0; i < n; i++) {
         if (act[i]) {
             const int r = find(h->uf, i);
+            h->uf[i] = r; /* flat from here on: merge() relabels */
+            h->mem_size[r]++;
             h->c_hi[r] = speed[i] > h->c_hi[r] ? speed[i] : h->c_hi[r];
             h->c_lo[r] = h->c_xi[i] > h->c_lo[r] ? h->c_xi[i] : h->c_lo[r];
             h->mem_next[i] = -1; /* member lists: head at the root, appended at the tail */
@@ -497,7 +506,7 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
         h->inq[A] = 0;
         for (int k = h->adj_start[A]; k < h->adj_start[A + 1]; k++) {
             const int F = h->adj[k];
-            const int a = find(h->uf, A), b = act[F] ? find(h->uf, F) : -1;
+            const int a = h->uf[A], b = act[F] ? h->uf[F] : -1;
             if (a == b) {
                 continue;
             }
@@ -514,12 +523,13 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
              * A's reach */
             const double bound = d + c * sx + (ra + speed[F]) * tau;
             if (r2 <= bound * bound * slack && closest(rx, ry, vx[F], vy[F], tau) - ra * tau < d + c * sx) {
-                /* A active, F free: F's straight path against A's reach */
                 act[F] = 1;
                 h->c_hi[F] = speed[F];
                 h->c_lo[F] = h->c_xi[F];
                 h->mem_head[F] = h->mem_tail[F] = F;
                 h->mem_next[F] = -1;
+                h->mem_size[F] = 1;
+                h->uf[F] = F;
                 push(&w, F);
                 merge(&w, a, F);
             }

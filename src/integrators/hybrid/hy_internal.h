@@ -46,7 +46,7 @@ typedef struct gr_hybrid_state {
     /* the candidate partners of each particle: adj[adj_start[i] .. adj_start[i + 1]) */
     int *adj_start, *adj, adj_ok;
     /* the 2D closure's work list and cluster member lists (active.c) */
-    int *mem_head, *mem_tail, *mem_next, *queue;
+    int *mem_head, *mem_tail, *mem_next, *mem_size, *queue;
     uint8_t *inq;
     double *speed; /* |v| of every particle at the window start */
     int64_t cap_adj;

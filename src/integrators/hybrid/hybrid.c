@@ -69,6 +69,7 @@ void gr_hybrid_free(gr_sim *s)
     free(h->mem_head);
     free(h->mem_tail);
     free(h->mem_next);
+    free(h->mem_size);
     free(h->queue);
     free(h->inq);
     free(h->speed);
