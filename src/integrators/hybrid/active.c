@@ -411,13 +411,24 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
     if (!h->speed && alloc_work(h, n, err)) {
         return GR_ENOMEM;
     }
-    double vmax = 0.0, *speed = h->speed;
-    for (int i = 0; i < n; i++) {
-        speed[i] = sqrt(vx[i] * vx[i] + vy[i] * vy[i]);
-        vmax = speed[i] > vmax ? speed[i] : vmax;
-        h->uf[i] = i;
-        h->c_xi[i] = 0.0;
+    double *restrict speed = h->speed;
+    int *restrict uf = h->uf;
+    double vml[8] = {0}; /* max speed in 8 fixed lanes, so the loop vectorises */
+    for (int i0 = 0; i0 < n; i0 += 8) {
+        const int lanes = n - i0 < 8 ? n - i0 : 8;
+#pragma omp simd
+        for (int l = 0; l < lanes; l++) {
+            const int i = i0 + l;
+            speed[i] = sqrt(vx[i] * vx[i] + vy[i] * vy[i]);
+            vml[l] = speed[i] > vml[l] ? speed[i] : vml[l];
+            uf[i] = i;
+        }
     }
+    double vmax = 0.0;
+    for (int l = 0; l < 8; l++) {
+        vmax = vml[l] > vmax ? vml[l] : vmax;
+    }
+    memset(h->c_xi, 0, sizeof(double) * (size_t)n);
     /* Cheap rejections below compare squared distances with bounds from the speeds, widened by
      * this relative slack so that rounding can never reject a pair the exact test would take. */
     const double slack = 1.0 + 1e-9;
@@ -473,31 +484,33 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
      * reaches further, so the result (the smallest closed set) does not depend on the order;
      * it is the same set the earlier pass-until-nothing-changes loop gave. */
     struct closure w = {h, act, vx, vy, f, c * sv, w0, 0, 0, n, h->queue};
+    int *al = h->list, na = 0; /* the active particles, in the order they became active */
     for (int i = 0; i < n; i++) {
         if (act[i]) {
-            const int r = find(h->uf, i);
-            h->c_hi[r] = 0.0; /* max speed of the cluster */
-            h->c_lo[r] = 0.0; /* max overlap of the cluster */
-            h->mem_tail[r] = -1;
-            h->mem_size[r] = 0;
+            al[na++] = i;
         }
     }
-    for (int i = 0; i < n; i++) {
-        if (act[i]) {
-            const int r = find(h->uf, i);
-            h->uf[i] = r; /* flat from here on: merge() relabels */
-            h->mem_size[r]++;
-            h->c_hi[r] = speed[i] > h->c_hi[r] ? speed[i] : h->c_hi[r];
-            h->c_lo[r] = h->c_xi[i] > h->c_lo[r] ? h->c_xi[i] : h->c_lo[r];
-            h->mem_next[i] = -1; /* member lists: head at the root, appended at the tail */
-            if (h->mem_tail[r] < 0) {
-                h->mem_head[r] = i;
-            } else {
-                h->mem_next[h->mem_tail[r]] = i;
-            }
-            h->mem_tail[r] = i;
-            push(&w, i);
+    for (int e = 0; e < na; e++) {
+        const int r = find(h->uf, al[e]);
+        h->c_hi[r] = 0.0; /* max speed of the cluster */
+        h->c_lo[r] = 0.0; /* max overlap of the cluster */
+        h->mem_tail[r] = -1;
+        h->mem_size[r] = 0;
+    }
+    for (int e = 0; e < na; e++) {
+        const int i = al[e], r = find(h->uf, i);
+        h->uf[i] = r; /* flat from here on: merge() relabels */
+        h->mem_size[r]++;
+        h->c_hi[r] = speed[i] > h->c_hi[r] ? speed[i] : h->c_hi[r];
+        h->c_lo[r] = h->c_xi[i] > h->c_lo[r] ? h->c_xi[i] : h->c_lo[r];
+        h->mem_next[i] = -1; /* member lists: head at the root, appended at the tail */
+        if (h->mem_tail[r] < 0) {
+            h->mem_head[r] = i;
+        } else {
+            h->mem_next[h->mem_tail[r]] = i;
         }
+        h->mem_tail[r] = i;
+        push(&w, i);
     }
     while (w.len > 0) {
         const int A = w.queue[w.head];
@@ -524,6 +537,7 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
             const double bound = d + c * sx + (ra + speed[F]) * tau;
             if (r2 <= bound * bound * slack && closest(rx, ry, vx[F], vy[F], tau) - ra * tau < d + c * sx) {
                 act[F] = 1;
+                al[na++] = F;
                 h->c_hi[F] = speed[F];
                 h->c_lo[F] = h->c_xi[F];
                 h->mem_head[F] = h->mem_tail[F] = F;
@@ -535,13 +549,6 @@ static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
             }
         }
     }
-    int na = 0;
-    for (int i = 0; i < n; i++) {
-        if (act[i]) {
-            h->list[na++] = i;
-        }
-    }
-    const int *al = h->list;
     /* envelopes: active particles with a free candidate partner must stay within s_C t */
     for (int e = 0; e < na; e++) {
         const int A = al[e], a = find(h->uf, A);
