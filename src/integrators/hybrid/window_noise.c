@@ -102,23 +102,30 @@ double gr_hy_leap_free(gr_sim *s, gr_hybrid_state *h, int m)
     double added = 0.0;
     double *pos[2] = {s->x, s->y}, *vel[2] = {s->vx, s->vy}, *frc[2] = {s->fx, s->fy}, *gnc[2] = {s->gx, s->gy};
     for (int c = 0; c < dim; c++) {
-        double *restrict x = pos[c], *restrict v = vel[c];
-        for (int p = 0; p < n; p++) {
-            if (act[p]) {
-                continue;
+        double *restrict x = pos[c], *restrict v = vel[c], *restrict fo = frc[c], *restrict gn = gnc[c];
+        /* every particle in 8 fixed lanes, the active ones left as they are (so the loop
+         * vectorises); positions stay in [0, L) by one conditional shift (a leap is << L) */
+        double adl[8] = {0};
+        for (int p0 = 0; p0 < n; p0 += 8) {
+            const int lanes = n - p0 < 8 ? n - p0 : 8;
+#pragma omp simd
+            for (int l = 0; l < lanes; l++) {
+                const int p = p0 + l, leap = !act[p];
+                const double g1 = noise ? ff[(p * dim + c) * 2] : 0.0, g2 = noise ? ff[(p * dim + c) * 2 + 1] : 0.0;
+                const double dv = c1 * g1, dx = c21 * g1 + c22 * g2, v0 = v[p];
+                double xn = x[p] + v0 * tau + dx;
+                if (dim == 2) {
+                    xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
+                }
+                adl[l] += leap ? dv * (v0 + 0.5 * dv) : 0.0;
+                x[p] = leap ? xn : x[p];
+                v[p] = leap ? v0 + dv : v0;
+                fo[p] = leap ? 0.0 : fo[p];
+                gn[p] = leap ? 0.0 : gn[p];
             }
-            const double g1 = noise ? ff[(p * dim + c) * 2] : 0.0, g2 = noise ? ff[(p * dim + c) * 2 + 1] : 0.0;
-            const double dv = c1 * g1, dx = c21 * g1 + c22 * g2, v0 = v[p];
-            added += dv * (v0 + 0.5 * dv);
-            double xn = x[p] + v0 * tau + dx;
-            if (dim == 2) {
-                xn -= L * floor(xn / L);
-                xn = xn >= L ? xn - L : xn;
-            }
-            x[p] = xn;
-            v[p] = v0 + dv;
-            frc[c][p] = 0.0;
-            gnc[c][p] = 0.0;
+        }
+        for (int l = 0; l < 8; l++) {
+            added += adl[l];
         }
     }
     return M * added;
