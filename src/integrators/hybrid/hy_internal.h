@@ -67,6 +67,24 @@ typedef struct gr_hybrid_state {
 /* Choose the active set for a window of m steps from the state now (never this window's noise):
  * pairs whose deterministic paths come within d + margin, closed over clusters; plus forced. */
 int gr_hy_select(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err);
+/* Standard deviations of a free particle's noise displacement and velocity over m steps. */
+double gr_hy_noise_sx(const gr_sim *s, const gr_hybrid_state *h, int m);
+double gr_hy_noise_sv(const gr_sim *s, int m);
+
+/* active_2d.c */
+/* The 2D active set of a window of m steps (into h->active, envelopes into h->env_hi). */
+int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err);
+/* Every pair closer than rc (minimum image) into h->pi/pj. */
+int gr_hy_collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err);
+/* Largest displacement since the candidate list was built (minimum image). */
+double gr_hy_max_disp(const gr_sim *s, const gr_hybrid_state *h);
+
+static inline double gr_hy_wrap(double dx, double L)
+{
+    return dx > 0.5 * L ? dx - L : (dx < -0.5 * L ? dx + L : dx);
+}
+
+/* active.c */
 /* After a window: 1 if some pair with a free member overlaps (1D: or crossed); marks the members
  * of every such pair in h->forced. */
 int gr_hy_misses(gr_sim *s, gr_hybrid_state *h, gr_error *err, int *found);
