@@ -30,7 +30,7 @@ static void unite(int *uf, int i, int j)
 }
 
 
-static int push_pair(gr_hybrid_state *h, int i, int j, gr_error *err)
+static inline int push_pair(gr_hybrid_state *h, int i, int j, gr_error *err)
 {
     if (h->npairs == h->cap_pairs) {
         int64_t cap = h->cap_pairs ? 2 * h->cap_pairs : 1024;
@@ -73,38 +73,64 @@ int gr_hy_collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err)
         return GR_OK;
     }
     const int nc = side * side;
-    if (nc > h->ncells_alloc) {
-        int *hd = realloc(h->cell_head, sizeof(int) * (size_t)nc);
+    if (nc + 1 > h->ncells_alloc) {
+        int *hd = realloc(h->cell_head, sizeof(int) * ((size_t)nc + 1));
         if (!hd) {
             return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for %d cells", nc);
         }
         h->cell_head = hd;
-        h->ncells_alloc = nc;
+        h->ncells_alloc = nc + 1;
     }
-    for (int q = 0; q < nc; q++) {
-        h->cell_head[q] = -1;
+    if (!h->sorted) {
+        h->sorted = malloc(sizeof(int) * (size_t)n);
+        h->xs = malloc(sizeof(double) * (size_t)n);
+        h->ys = malloc(sizeof(double) * (size_t)n);
+        if (!h->sorted || !h->xs || !h->ys) {
+            free(h->sorted);
+            h->sorted = NULL;
+            return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for the cell grid of %d particles", n);
+        }
     }
+    /* counting sort by cell: cell q holds sorted[start[q] .. start[q + 1]), positions copied
+     * alongside (xs, ys) so the pair loops read them contiguously */
+    int *start = h->cell_head, *cell = h->cell_next, *sorted = h->sorted;
+    double *xs = h->xs, *ys = h->ys;
+    memset(start, 0, sizeof(int) * ((size_t)nc + 1));
     const double inv = side / L;
-    for (int i = n - 1; i >= 0; i--) {
+    for (int i = 0; i < n; i++) {
         int cx = (int)(x[i] * inv), cy = (int)(y[i] * inv);
         cx = cx < 0 ? 0 : (cx >= side ? side - 1 : cx);
         cy = cy < 0 ? 0 : (cy >= side ? side - 1 : cy);
-        const int q = cy * side + cx;
-        h->cell_next[i] = h->cell_head[q];
-        h->cell_head[q] = i;
+        cell[i] = cy * side + cx;
+        start[cell[i] + 1]++;
     }
+    for (int q = 0; q < nc; q++) {
+        start[q + 1] += start[q];
+    }
+    for (int i = 0; i < n; i++) {
+        const int k = start[cell[i]]++;
+        sorted[k] = i;
+        xs[k] = x[i];
+        ys[k] = y[i];
+    }
+    for (int q = nc; q > 0; q--) {
+        start[q] = start[q - 1];
+    }
+    start[0] = 0;
+    /* each pair once from the half stencil (own, E, NE, N, NW) */
     static const int sx_[5] = {0, 1, 1, 0, -1}, sy_[5] = {0, 0, 1, 1, 1};
     for (int cy = 0; cy < side; cy++) {
         for (int cx = 0; cx < side; cx++) {
-            for (int i = h->cell_head[cy * side + cx]; i >= 0; i = h->cell_next[i]) {
-                for (int st = 0; st < 5; st++) {
-                    int ox = cx + sx_[st], oy = cy + sy_[st];
-                    ox = ox >= side ? ox - side : (ox < 0 ? ox + side : ox);
-                    oy = oy >= side ? oy - side : oy;
-                    int j = st == 0 ? h->cell_next[i] : h->cell_head[oy * side + ox];
-                    for (; j >= 0; j = h->cell_next[j]) {
-                        const double dx = gr_hy_wrap(x[j] - x[i], L), dy = gr_hy_wrap(y[j] - y[i], L);
-                        if (dx * dx + dy * dy < rc2 && push_pair(h, i, j, err)) {
+            const int q = cy * side + cx;
+            for (int st = 0; st < 5; st++) {
+                int ox = cx + sx_[st], oy = cy + sy_[st];
+                ox = ox >= side ? ox - side : (ox < 0 ? ox + side : ox);
+                oy = oy >= side ? oy - side : oy;
+                const int o = oy * side + ox;
+                for (int a = start[q]; a < start[q + 1]; a++) {
+                    for (int b = st == 0 ? a + 1 : start[o]; b < start[o + 1]; b++) {
+                        const double dx = gr_hy_wrap(xs[b] - xs[a], L), dy = gr_hy_wrap(ys[b] - ys[a], L);
+                        if (dx * dx + dy * dy < rc2 && push_pair(h, sorted[a], sorted[b], err)) {
                             return GR_ENOMEM;
                         }
                     }
@@ -128,12 +154,21 @@ static inline double closest(double rx, double ry, double ux, double uy, double 
 /* Largest displacement since the candidate list was built (minimum image). */
 double gr_hy_max_disp(const gr_sim *s, const gr_hybrid_state *h)
 {
-    const double L = s->L;
+    const int n = s->n;
+    const double L = s->L, *restrict x = s->x, *restrict y = s->y, *restrict xl = h->xl, *restrict yl = h->yl;
+    double wl[8] = {0}; /* 8 fixed lanes, so the loop vectorises */
+    for (int i0 = 0; i0 < n; i0 += 8) {
+        const int lanes = n - i0 < 8 ? n - i0 : 8;
+#pragma omp simd
+        for (int l = 0; l < lanes; l++) {
+            const double dx = gr_hy_wrap(x[i0 + l] - xl[i0 + l], L), dy = gr_hy_wrap(y[i0 + l] - yl[i0 + l], L);
+            const double r2 = dx * dx + dy * dy;
+            wl[l] = r2 > wl[l] ? r2 : wl[l];
+        }
+    }
     double worst = 0.0;
-    for (int i = 0; i < s->n; i++) {
-        const double dx = gr_hy_wrap(s->x[i] - h->xl[i], L), dy = gr_hy_wrap(s->y[i] - h->yl[i], L);
-        const double r2 = dx * dx + dy * dy;
-        worst = r2 > worst ? r2 : worst;
+    for (int l = 0; l < 8; l++) {
+        worst = wl[l] > worst ? wl[l] : worst;
     }
     return sqrt(worst);
 }

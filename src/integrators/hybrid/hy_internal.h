@@ -42,7 +42,9 @@ typedef struct gr_hybrid_state {
     int64_t npairs, cap_pairs;
     double rc_pairs; /* cutoff of the candidate list (0: none) */
     double *xl, *yl; /* positions when it was built */
-    int *cell_head, *cell_next, ncells_alloc;
+    int *cell_head, *cell_next, ncells_alloc; /* cell starts (counting sort) and each particle's cell */
+    int *sorted;      /* particles in cell order, with their positions xs, ys */
+    double *xs, *ys;
     /* the candidate partners of each particle: adj[adj_start[i] .. adj_start[i + 1]) */
     int *adj_start, *adj, adj_ok;
     /* the 2D closure's work list and cluster member lists (active.c) */

@@ -75,6 +75,9 @@ void gr_hybrid_free(gr_sim *s)
     free(h->speed);
     free(h->cell_head);
     free(h->cell_next);
+    free(h->sorted);
+    free(h->xs);
+    free(h->ys);
     free(h);
     s->integrator_state = NULL;
 }
