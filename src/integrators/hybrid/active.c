@@ -30,29 +30,7 @@
 
 #include "integrators/hybrid/hy_internal.h"
 
-static int find(int *uf, int i)
-{
-    while (uf[i] != i) {
-        uf[i] = uf[uf[i]];
-        i = uf[i];
-    }
-    return i;
-}
-
-static void unite(int *uf, int i, int j)
-{
-    i = find(uf, i);
-    j = find(uf, j);
-    if (i != j) {
-        if (i < j) {
-            uf[j] = i;
-        } else {
-            uf[i] = j;
-        }
-    }
-}
-
-static double noise_sx(const gr_sim *s, const gr_hybrid_state *h, int m)
+double gr_hy_noise_sx(const gr_sim *s, const gr_hybrid_state *h, int m)
 {
     if (s->params.noise_mode == GR_NOISE_NONE || s->params.D <= 0.0) {
         return 0.0;
@@ -66,7 +44,7 @@ static double noise_sx(const gr_sim *s, const gr_hybrid_state *h, int m)
                 (1.0 + 1.5 / dm + 0.5 / (dm * dm)));
 }
 
-static double noise_sv(const gr_sim *s, int m)
+double gr_hy_noise_sv(const gr_sim *s, int m)
 {
     if (s->params.noise_mode == GR_NOISE_NONE || s->params.D <= 0.0) {
         return 0.0;
@@ -84,7 +62,7 @@ static inline double gap_1d(const gr_sim *s, const double *x, int i)
 static void select_1d(gr_sim *s, gr_hybrid_state *h, int m)
 {
     const int n = s->n;
-    const double tau = m * s->dt, c = h->margin_c, sx = noise_sx(s, h, m), sv = noise_sv(s, m);
+    const double tau = m * s->dt, c = h->margin_c, sx = gr_hy_noise_sx(s, h, m), sv = gr_hy_noise_sv(s, m);
     const double w0 = s->cc.w0, free_margin = c * M_SQRT2 * sx, one_margin = c * sx;
     const double *x = s->x, *v = s->vx;
     double *restrict g = h->c_xi; /* gaps g[i] between i and i + 1 (mod n) */
@@ -183,234 +161,6 @@ static void select_1d(gr_sim *s, gr_hybrid_state *h, int m)
 #undef W
 }
 
-/* ---- 2D: candidate pairs from a cell grid ------------------------------------------------- */
-
-static inline double wrap(double dx, double L)
-{
-    return dx > 0.5 * L ? dx - L : (dx < -0.5 * L ? dx + L : dx);
-}
-
-static int push_pair(gr_hybrid_state *h, int i, int j, gr_error *err)
-{
-    if (h->npairs == h->cap_pairs) {
-        int64_t cap = h->cap_pairs ? 2 * h->cap_pairs : 1024;
-        int *a = realloc(h->pi, sizeof(int) * (size_t)cap);
-        if (a) {
-            h->pi = a;
-        }
-        int *b = a ? realloc(h->pj, sizeof(int) * (size_t)cap) : NULL;
-        if (!a || !b) {
-            return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for %lld candidate pairs", (long long)cap);
-        }
-        h->pj = b;
-        h->cap_pairs = cap;
-    }
-    h->pi[h->npairs] = i < j ? i : j;
-    h->pj[h->npairs++] = i < j ? j : i;
-    return GR_OK;
-}
-
-/* Every pair closer than rc (minimum image) into h->pi/pj: cells of side >= rc, each pair once
- * from the half stencil (own, E, NE, N, NW); all pairs when fewer than 3 cells fit per side. */
-static int collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err)
-{
-    const int n = s->n;
-    const double L = s->L, rc2 = rc * rc, *x = s->x, *y = s->y;
-    h->npairs = 0;
-    int side = (int)floor(L / rc);
-    const int max_side = (int)ceil(sqrt(2.0 * n)) + 1;
-    side = side < max_side ? side : max_side;
-    if (side < 3) {
-        for (int i = 0; i < n; i++) {
-            for (int j = i + 1; j < n; j++) {
-                const double dx = wrap(x[j] - x[i], L), dy = wrap(y[j] - y[i], L);
-                if (dx * dx + dy * dy < rc2 && push_pair(h, i, j, err)) {
-                    return GR_ENOMEM;
-                }
-            }
-        }
-        return GR_OK;
-    }
-    const int nc = side * side;
-    if (nc > h->ncells_alloc) {
-        int *hd = realloc(h->cell_head, sizeof(int) * (size_t)nc);
-        if (!hd) {
-            return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for %d cells", nc);
-        }
-        h->cell_head = hd;
-        h->ncells_alloc = nc;
-    }
-    for (int q = 0; q < nc; q++) {
-        h->cell_head[q] = -1;
-    }
-    const double inv = side / L;
-    for (int i = n - 1; i >= 0; i--) {
-        int cx = (int)(x[i] * inv), cy = (int)(y[i] * inv);
-        cx = cx < 0 ? 0 : (cx >= side ? side - 1 : cx);
-        cy = cy < 0 ? 0 : (cy >= side ? side - 1 : cy);
-        const int q = cy * side + cx;
-        h->cell_next[i] = h->cell_head[q];
-        h->cell_head[q] = i;
-    }
-    static const int sx_[5] = {0, 1, 1, 0, -1}, sy_[5] = {0, 0, 1, 1, 1};
-    for (int cy = 0; cy < side; cy++) {
-        for (int cx = 0; cx < side; cx++) {
-            for (int i = h->cell_head[cy * side + cx]; i >= 0; i = h->cell_next[i]) {
-                for (int st = 0; st < 5; st++) {
-                    int ox = cx + sx_[st], oy = cy + sy_[st];
-                    ox = ox >= side ? ox - side : (ox < 0 ? ox + side : ox);
-                    oy = oy >= side ? oy - side : oy;
-                    int j = st == 0 ? h->cell_next[i] : h->cell_head[oy * side + ox];
-                    for (; j >= 0; j = h->cell_next[j]) {
-                        const double dx = wrap(x[j] - x[i], L), dy = wrap(y[j] - y[i], L);
-                        if (dx * dx + dy * dy < rc2 && push_pair(h, i, j, err)) {
-                            return GR_ENOMEM;
-                        }
-                    }
-                }
-            }
-        }
-    }
-    return GR_OK;
-}
-
-/* Closest distance of r + u t to the origin for t in [0, tau]. */
-static inline double closest(double rx, double ry, double ux, double uy, double tau)
-{
-    const double uu = ux * ux + uy * uy;
-    double t = uu > 0.0 ? -(rx * ux + ry * uy) / uu : 0.0;
-    t = t < 0.0 ? 0.0 : (t > tau ? tau : t);
-    const double px = rx + ux * t, py = ry + uy * t;
-    return sqrt(px * px + py * py);
-}
-
-/* Largest displacement since the candidate list was built (minimum image). */
-static double max_disp(const gr_sim *s, const gr_hybrid_state *h)
-{
-    const double L = s->L;
-    double worst = 0.0;
-    for (int i = 0; i < s->n; i++) {
-        const double dx = wrap(s->x[i] - h->xl[i], L), dy = wrap(s->y[i] - h->yl[i], L);
-        const double r2 = dx * dx + dy * dy;
-        worst = r2 > worst ? r2 : worst;
-    }
-    return sqrt(worst);
-}
-
-static int select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
-{
-    const int n = s->n;
-    const double tau = m * s->dt, c = h->margin_c, sx = noise_sx(s, h, m), sv = noise_sv(s, m);
-    const double d = s->d, L = s->L, w0 = s->cc.w0, f = 1.0 + GR_HYBRID_SPREAD;
-    const double *x = s->x, *y = s->y, *vx = s->vx, *vy = s->vy;
-    uint8_t *act = h->active;
-    double vmax = 0.0;
-    for (int i = 0; i < n; i++) {
-        const double sp = sqrt(vx[i] * vx[i] + vy[i] * vy[i]);
-        vmax = sp > vmax ? sp : vmax;
-        h->uf[i] = i;
-        h->c_xi[i] = 0.0;
-    }
-    const double xi_all = s->last.max_overlap * d;
-    const double s_all = f * vmax + c * sv + w0 * xi_all;
-    const double rc = d + c * M_SQRT2 * sx + 2.0 * tau * s_all;
-    /* The candidate list is kept with a skin (like the Verlet list of src/core/neighbours.c):
-     * built with cutoff rc + skin, it holds every pair closer than rc as long as nobody has
-     * moved more than (cutoff - rc)/2 since the build. */
-    const double moved = max_disp(s, h);
-    if (!(h->rc_pairs > 0.0 && rc + 2.0 * moved <= h->rc_pairs)) {
-        h->rc_pairs = rc + GR_HYBRID_LIST_SKIN * d;
-        int rc_ = collect_pairs(s, h, h->rc_pairs, err);
-        if (rc_) {
-            h->rc_pairs = 0.0;
-            return rc_;
-        }
-        memcpy(h->xl, x, sizeof(double) * (size_t)n);
-        memcpy(h->yl, y, sizeof(double) * (size_t)n);
-    }
-    const double free_reach = d + c * M_SQRT2 * sx;
-    for (int64_t q = 0; q < h->npairs; q++) {
-        const int i = h->pi[q], j = h->pj[q];
-        const double rx = wrap(x[j] - x[i], L), ry = wrap(y[j] - y[i], L), r2 = rx * rx + ry * ry;
-        if (r2 < d * d) {
-            const double ov = d - sqrt(r2);
-            h->c_xi[i] = ov > h->c_xi[i] ? ov : h->c_xi[i];
-            h->c_xi[j] = ov > h->c_xi[j] ? ov : h->c_xi[j];
-        }
-        /* cheap reject: the pair cannot close in more than |u| tau */
-        const double ux = vx[j] - vx[i], uy = vy[j] - vy[i], reach = free_reach + tau * sqrt(ux * ux + uy * uy);
-        if (r2 >= reach * reach) {
-            continue;
-        }
-        if (closest(rx, ry, ux, uy, tau) < free_reach) {
-            act[i] = act[j] = 1;
-            unite(h->uf, i, j);
-        }
-    }
-    for (int pass = 0; pass < n; pass++) {
-        /* per-cluster speed bound, stored at the root */
-        for (int i = 0; i < n; i++) {
-            h->c_hi[i] = 0.0;
-            h->c_lo[i] = 0.0; /* max overlap of the cluster */
-        }
-        for (int i = 0; i < n; i++) {
-            if (act[i]) {
-                const int r = find(h->uf, i);
-                const double sp = sqrt(vx[i] * vx[i] + vy[i] * vy[i]);
-                h->c_hi[r] = sp > h->c_hi[r] ? sp : h->c_hi[r];
-                h->c_lo[r] = h->c_xi[i] > h->c_lo[r] ? h->c_xi[i] : h->c_lo[r];
-            }
-        }
-        int changed = 0;
-        for (int64_t q = 0; q < h->npairs; q++) {
-            const int i = h->pi[q], j = h->pj[q];
-            if (!act[i] && !act[j]) {
-                continue;
-            }
-            const double rx = wrap(x[j] - x[i], L), ry = wrap(y[j] - y[i], L);
-            if (act[i] && act[j]) {
-                const int a = find(h->uf, i), b = find(h->uf, j);
-                if (a == b) {
-                    continue;
-                }
-                const double sa = f * h->c_hi[a] + c * sv + w0 * h->c_lo[a];
-                const double sb = f * h->c_hi[b] + c * sv + w0 * h->c_lo[b];
-                if (sqrt(rx * rx + ry * ry) - (sa + sb) * tau < d) {
-                    unite(h->uf, a, b);
-                    changed = 1;
-                }
-                continue;
-            }
-            /* one active (A), one free (F): F's straight path against A's reach */
-            const int A = act[i] ? i : j, F = act[i] ? j : i;
-            const double sg = act[i] ? 1.0 : -1.0; /* r from A to F */
-            const int a = find(h->uf, A);
-            const double sa = f * h->c_hi[a] + c * sv + w0 * h->c_lo[a];
-            if (closest(sg * rx, sg * ry, vx[F], vy[F], tau) - sa * tau < d + c * sx) {
-                act[F] = 1;
-                unite(h->uf, a, F);
-                changed = 1;
-            }
-        }
-        if (!changed) {
-            break;
-        }
-    }
-    /* envelopes: active particles with a free candidate partner must stay within s_C t */
-    for (int i = 0; i < n; i++) {
-        h->env_lo[i] = -(double)INFINITY;
-        h->env_hi[i] = (double)INFINITY;
-    }
-    for (int64_t q = 0; q < h->npairs; q++) {
-        const int i = h->pi[q], j = h->pj[q];
-        if (act[i] != act[j]) {
-            const int A = act[i] ? i : j, a = find(h->uf, A);
-            h->env_hi[A] = f * h->c_hi[a] + c * sv + w0 * h->c_lo[a];
-        }
-    }
-    return GR_OK;
-}
-
 void gr_hy_envelope_miss(gr_sim *s, gr_hybrid_state *h, int p, int side)
 {
     const int n = s->n;
@@ -439,7 +189,7 @@ int gr_hy_select(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
     } else if (s->dim == 1) {
         select_1d(s, h, m);
     } else {
-        int rc = select_2d(s, h, m, err);
+        int rc = gr_hy_select_2d(s, h, m, err);
         if (rc) {
             return rc;
         }
@@ -474,9 +224,9 @@ int gr_hy_misses(gr_sim *s, gr_hybrid_state *h, gr_error *err, int *found)
     /* The candidate list holds every pair closer than rc_pairs at its build; if nobody moved
      * more than (rc_pairs - d)/2 since, it holds every pair closer than d now. */
     const double L = s->L;
-    if (!(h->rc_pairs > 0.0 && d + 2.0 * max_disp(s, h) <= h->rc_pairs)) {
+    if (!(h->rc_pairs > 0.0 && d + 2.0 * gr_hy_max_disp(s, h) <= h->rc_pairs)) {
         h->rc_pairs = 0.0; /* the list below is not a candidate list */
-        int rc = collect_pairs(s, h, d, err);
+        int rc = gr_hy_collect_pairs(s, h, d, err);
         if (rc) {
             return rc;
         }
@@ -487,7 +237,7 @@ int gr_hy_misses(gr_sim *s, gr_hybrid_state *h, gr_error *err, int *found)
         if (h->active[i] && h->active[j]) {
             continue;
         }
-        const double dx = wrap(s->x[j] - s->x[i], L), dy = wrap(s->y[j] - s->y[i], L);
+        const double dx = gr_hy_wrap(s->x[j] - s->x[i], L), dy = gr_hy_wrap(s->y[j] - s->y[i], L);
         if (dx * dx + dy * dy < d2) {
             h->forced[i] = h->forced[j] = 1;
             *found = 1;

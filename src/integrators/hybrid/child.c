@@ -161,6 +161,15 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
             env_q[n_env++] = q;
         }
     }
+    /* their start positions and bounds, side by side for the per-step check */
+    double *ex = h->env_pack, *ey = ex + s->n, *elo = ey + s->n, *ehi = elo + s->n;
+    for (int e = 0; e < n_env; e++) {
+        const int p = h->list[env_q[e]];
+        ex[e] = h->x0[p];
+        ey[e] = dim == 2 ? h->y0[p] : 0.0;
+        elo[e] = h->env_lo[p];
+        ehi[e] = h->env_hi[p];
+    }
     double worst2 = 0.0;
     for (int k = 0; k < m; k++) {
         /* the kick of step k: a (raw + l1 + l2 (m - k)), window_noise.c */
@@ -207,40 +216,82 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
                 added += adl[l];
             }
         } else {
-            for (int q = 0; q < na; q++) {
-                const double dvx0 = hk * c->fx[q], dvy0 = hk * c->fy[q];
-                double vxi = c->vx[q], vyi = c->vy[q];
-                if (k > 0) {
-                    wc += c->gx[q] * (vxi + 0.5 * dvx0) + c->gy[q] * (vyi + 0.5 * dvy0);
-                    vxi += dvx0;
-                    vyi += dvy0;
+            double *restrict x = c->x, *restrict y = c->y, *restrict vx = c->vx, *restrict vy = c->vy;
+            const double *restrict fx = c->fx, *restrict fy = c->fy, *restrict gx = c->gx, *restrict gy = c->gy;
+            const double *restrict xr = c->x_ref, *restrict yr = c->y_ref;
+            double wcl[LANES] = {0}, wol[LANES] = {0}, adl[LANES] = {0}, w2l[LANES] = {0};
+            const int closing = k > 0;
+#define CHILD_2D(q, l)                                                                             \
+    do {                                                                                           \
+        const double dvx0 = hk * fx[q], dvy0 = hk * fy[q];                                         \
+        double vxi = vx[q], vyi = vy[q];                                                           \
+        if (closing) {                                                                             \
+            wcl[l] += gx[q] * (vxi + 0.5 * dvx0) + gy[q] * (vyi + 0.5 * dvy0);                     \
+            vxi += dvx0;                                                                           \
+            vyi += dvy0;                                                                           \
+        }                                                                                          \
+        wol[l] += gx[q] * (vxi + 0.5 * dvx0) + gy[q] * (vyi + 0.5 * dvy0);                         \
+        vxi += dvx0;                                                                               \
+        vyi += dvy0;                                                                               \
+        const double dvx = amp * (raw[(q) * md] + lam[4 * (q)] + lam[4 * (q) + 1] * mk);           \
+        const double dvy = amp * (raw[(q) * md + 1] + lam[4 * (q) + 2] + lam[4 * (q) + 3] * mk);   \
+        adl[l] += dvx * (vxi + 0.5 * dvx) + dvy * (vyi + 0.5 * dvy);                               \
+        vxi += dvx;                                                                                \
+        vyi += dvy;                                                                                \
+        vx[q] = vxi;                                                                               \
+        vy[q] = vyi;                                                                               \
+        double xn = x[q] + vxi * dt, yn = y[q] + vyi * dt;                                         \
+        xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);                                                 \
+        yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);                                                 \
+        x[q] = xn;                                                                                 \
+        y[q] = yn;                                                                                 \
+        double ddx = xn - xr[q], ddy = yn - yr[q];                                                 \
+        ddx += ddx > half ? -L : (ddx < -half ? L : 0.0);                                          \
+        ddy += ddy > half ? -L : (ddy < -half ? L : 0.0);                                          \
+        const double d2 = ddx * ddx + ddy * ddy;                                                   \
+        w2l[l] = d2 > w2l[l] ? d2 : w2l[l];                                                        \
+    } while (0)
+            const int full = na / LANES * LANES;
+            for (int q0 = 0; q0 < full; q0 += LANES) {
+#pragma omp simd
+                for (int l = 0; l < LANES; l++) {
+                    CHILD_2D(q0 + l, l);
                 }
-                wo += c->gx[q] * (vxi + 0.5 * dvx0) + c->gy[q] * (vyi + 0.5 * dvy0);
-                vxi += dvx0;
-                vyi += dvy0;
-                const double dvx = amp * (raw[q * md] + lam[4 * q] + lam[4 * q + 1] * mk);
-                const double dvy = amp * (raw[q * md + 1] + lam[4 * q + 2] + lam[4 * q + 3] * mk);
-                added += dvx * (vxi + 0.5 * dvx) + dvy * (vyi + 0.5 * dvy);
-                vxi += dvx;
-                vyi += dvy;
-                c->vx[q] = vxi;
-                c->vy[q] = vyi;
-                double xn = c->x[q] + vxi * dt, yn = c->y[q] + vyi * dt;
-                xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
-                yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);
-                c->x[q] = xn;
-                c->y[q] = yn;
-                double ddx = xn - c->x_ref[q], ddy = yn - c->y_ref[q];
-                ddx += ddx > half ? -L : (ddx < -half ? L : 0.0);
-                ddy += ddy > half ? -L : (ddy < -half ? L : 0.0);
-                const double d2 = ddx * ddx + ddy * ddy;
-                worst2 = d2 > worst2 ? d2 : worst2;
+            }
+            for (int q = full; q < na; q++) {
+                CHILD_2D(q, q - full);
+            }
+#undef CHILD_2D
+            for (int l = 0; l < LANES; l++) {
+                wc += wcl[l];
+                wo += wol[l];
+                added += adl[l];
+                worst2 = w2l[l] > worst2 ? w2l[l] : worst2;
             }
         }
         /* envelopes (active.c): a particle facing a free one must stay where the selection
          * assumed it would; otherwise that free particle might have been touched: redo */
         const double t = (k + 1) * dt;
-        for (int e = 0; e < n_env; e++) {
+        int out = 0;
+        if (dim == 1) {
+            const double *restrict x = c->x;
+#pragma omp simd reduction(| : out)
+            for (int e = 0; e < n_env; e++) {
+                const double dx = x[env_q[e]] - ex[e];
+                out |= (dx > ehi[e] * t) | (dx < elo[e] * t);
+            }
+        } else {
+            const double *restrict x = c->x, *restrict y = c->y;
+#pragma omp simd reduction(| : out)
+            for (int e = 0; e < n_env; e++) {
+                double ddx = x[env_q[e]] - ex[e], ddy = y[env_q[e]] - ey[e];
+                ddx += ddx > half ? -L : (ddx < -half ? L : 0.0);
+                ddy += ddy > half ? -L : (ddy < -half ? L : 0.0);
+                const double reach = ehi[e] * t;
+                out |= ddx * ddx + ddy * ddy > reach * reach;
+            }
+        }
+        for (int e = 0; e < n_env && out; e++) { /* someone left: find and report them all */
             const int q = env_q[e], p = h->list[q];
             if (dim == 1) {
                 const double dx = c->x[q] - h->x0[p];

@@ -36,12 +36,22 @@ typedef struct gr_hybrid_state {
      * env_lo t <= x(t) - x(0) <= env_hi t; 2D |r(t) - r(0)| <= env_hi t; +-INFINITY = unchecked */
     double *env_lo, *env_hi;
     int *env_list; /* child indices of the particles whose envelope is checked */
+    double *env_pack; /* their start x, y, env_lo, env_hi side by side (4 N; child.c) */
     /* 2D candidate pairs (i < j) and the cell grid */
     int *pi, *pj;
     int64_t npairs, cap_pairs;
     double rc_pairs; /* cutoff of the candidate list (0: none) */
     double *xl, *yl; /* positions when it was built */
-    int *cell_head, *cell_next, ncells_alloc;
+    int *cell_head, *cell_next, ncells_alloc; /* cell starts (counting sort) and each particle's cell */
+    int *sorted;      /* particles in cell order, with their positions xs, ys */
+    double *xs, *ys;
+    /* the candidate partners of each particle: adj[adj_start[i] .. adj_start[i + 1]) */
+    int *adj_start, *adj, adj_ok;
+    /* the 2D closure's work list and cluster member lists (active.c) */
+    int *mem_head, *mem_tail, *mem_next, *mem_size, *queue;
+    uint8_t *inq;
+    double *speed; /* |v| of every particle at the window start */
+    int64_t cap_adj;
 
     /* window noise: 2 * dim normals per particle (free-flight draw), kicks of the active set */
     double *ff;       /* ff[(p * dim + c) * 2 + {0,1}] */
@@ -59,6 +69,24 @@ typedef struct gr_hybrid_state {
 /* Choose the active set for a window of m steps from the state now (never this window's noise):
  * pairs whose deterministic paths come within d + margin, closed over clusters; plus forced. */
 int gr_hy_select(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err);
+/* Standard deviations of a free particle's noise displacement and velocity over m steps. */
+double gr_hy_noise_sx(const gr_sim *s, const gr_hybrid_state *h, int m);
+double gr_hy_noise_sv(const gr_sim *s, int m);
+
+/* active_2d.c */
+/* The 2D active set of a window of m steps (into h->active, envelopes into h->env_hi). */
+int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err);
+/* Every pair closer than rc (minimum image) into h->pi/pj. */
+int gr_hy_collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err);
+/* Largest displacement since the candidate list was built (minimum image). */
+double gr_hy_max_disp(const gr_sim *s, const gr_hybrid_state *h);
+
+static inline double gr_hy_wrap(double dx, double L)
+{
+    return dx > 0.5 * L ? dx - L : (dx < -0.5 * L ? dx + L : dx);
+}
+
+/* active.c */
 /* After a window: 1 if some pair with a free member overlaps (1D: or crossed); marks the members
  * of every such pair in h->forced. */
 int gr_hy_misses(gr_sim *s, gr_hybrid_state *h, gr_error *err, int *found);

@@ -85,6 +85,7 @@ int gr_hybrid_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err)
             h->cap_pairs = np;
         }
         h->npairs = np;
+        h->adj_ok = 0;
         gr_blob_get(r, h->pi, sizeof(int) * (size_t)np);
         gr_blob_get(r, h->pj, sizeof(int) * (size_t)np);
         for (int64_t q = 0; q < np && !r->bad; q++) {

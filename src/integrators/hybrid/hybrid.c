@@ -53,7 +53,7 @@ void gr_hybrid_free(gr_sim *s)
     }
     gr_sim_free(h->child);
     double *d[] = {h->x0, h->y0, h->vx0, h->vy0, h->fx0, h->fy0, h->gx0, h->gy0, h->c_lo, h->c_hi,
-                   h->c_xi, h->env_lo, h->env_hi, h->ff, h->kick, h->tmp, h->lam, h->xl, h->yl};
+                   h->c_xi, h->env_lo, h->env_hi, h->env_pack, h->ff, h->kick, h->tmp, h->lam, h->xl, h->yl};
     for (size_t k = 0; k < sizeof d / sizeof d[0]; k++) {
         free(d[k]);
     }
@@ -64,8 +64,20 @@ void gr_hybrid_free(gr_sim *s)
     free(h->uf);
     free(h->pi);
     free(h->pj);
+    free(h->adj_start);
+    free(h->adj);
+    free(h->mem_head);
+    free(h->mem_tail);
+    free(h->mem_next);
+    free(h->mem_size);
+    free(h->queue);
+    free(h->inq);
+    free(h->speed);
     free(h->cell_head);
     free(h->cell_next);
+    free(h->sorted);
+    free(h->xs);
+    free(h->ys);
     free(h);
     s->integrator_state = NULL;
 }
@@ -113,6 +125,7 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
     h->c_xi = dalloc(n);
     h->env_lo = dalloc(n);
     h->env_hi = dalloc(n);
+    h->env_pack = dalloc(4 * n);
     h->ff = dalloc(2 * dim * n);
     h->lam = dalloc(2 * dim * n);
     h->tmp = dalloc(2 * n);
@@ -123,7 +136,7 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
     h->uf = malloc(sizeof(int) * (size_t)n);
     h->cell_next = malloc(sizeof(int) * (size_t)n);
     if (!h->x0 || !h->vx0 || !h->fx0 || !h->gx0 || (dim == 2 && (!h->y0 || !h->vy0 || !h->fy0 || !h->gy0 || !h->xl || !h->yl)) ||
-        !h->c_lo || !h->c_hi || !h->c_xi || !h->env_lo || !h->env_hi || !h->ff || !h->lam || !h->tmp || !h->active || !h->forced || !h->list || !h->env_list || !h->uf ||
+        !h->c_lo || !h->c_hi || !h->c_xi || !h->env_lo || !h->env_hi || !h->env_pack || !h->ff || !h->lam || !h->tmp || !h->active || !h->forced || !h->list || !h->env_list || !h->uf ||
         !h->cell_next) {
         return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for %d particles", n);
     }
@@ -235,34 +248,63 @@ static int take_events(gr_sim *s, gr_hybrid_state *h, gr_error *err)
     return GR_OK;
 }
 
-/* Symmetrised mode: go to the centre-of-mass frame (see the top of this file). */
+/* Symmetrised mode: go to the centre-of-mass frame (see the top of this file). The sums run in
+ * 8 fixed lanes (vectorised, the same order on every machine). */
 static void centre(gr_sim *s, gr_hybrid_state *h)
 {
-    const int n = s->n;
-    const double L = s->L;
+    const int n = s->n, two = s->dim == 2;
+    const double L = s->L, half = 0.5 * L;
     double *pos[2] = {s->x, s->y}, *vel[2] = {s->vx, s->vy}, *start[2] = {h->x0, h->y0};
     for (int c = 0; c < s->dim; c++) {
-        double V = 0.0, X = 0.0;
-        for (int i = 0; i < n; i++) {
-            double dx = pos[c][i] - start[c][i];
-            if (s->dim == 2) {
-                dx += dx > 0.5 * L ? -L : (dx < -0.5 * L ? L : 0.0);
+        double *restrict x = pos[c], *restrict v = vel[c];
+        const double *restrict x0 = start[c];
+        double Vl[8] = {0}, Xl[8] = {0};
+        for (int i0 = 0; i0 < n; i0 += 8) {
+            const int lanes = n - i0 < 8 ? n - i0 : 8;
+#pragma omp simd
+            for (int l = 0; l < lanes; l++) {
+                double dx = x[i0 + l] - x0[i0 + l];
+                dx += two ? (dx > half ? -L : (dx < -half ? L : 0.0)) : 0.0;
+                Vl[l] += v[i0 + l];
+                Xl[l] += dx;
             }
-            V += vel[c][i];
-            X += dx;
+        }
+        double V = 0.0, X = 0.0;
+        for (int l = 0; l < 8; l++) {
+            V += Vl[l];
+            X += Xl[l];
         }
         V /= n;
         X /= n;
+#pragma omp simd
         for (int i = 0; i < n; i++) {
-            vel[c][i] -= V;
-            double xn = pos[c][i] - X;
-            if (s->dim == 2) {
-                xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
-            }
-            pos[c][i] = xn;
+            v[i] -= V;
+            double xn = x[i] - X;
+            xn += two ? (xn < 0.0 ? L : (xn >= L ? -L : 0.0)) : 0.0;
+            x[i] = xn;
         }
         s->injected -= 0.5 * s->mass * n * V * V;
     }
+}
+
+/* 1 when every position and velocity is finite: 0 x is 0 for finite x and NaN otherwise, so
+ * one vectorised sum answers (the caller then finds the culprit). */
+static int all_finite(const gr_sim *s)
+{
+    const double *restrict x = s->x, *restrict v = s->vx, *restrict y = s->y, *restrict w = s->vy;
+    double z = 0.0;
+    if (s->dim == 1) {
+#pragma omp simd reduction(+ : z)
+        for (int i = 0; i < s->n; i++) {
+            z += 0.0 * (x[i] + v[i]);
+        }
+    } else {
+#pragma omp simd reduction(+ : z)
+        for (int i = 0; i < s->n; i++) {
+            z += 0.0 * (x[i] + v[i] + y[i] + w[i]);
+        }
+    }
+    return z == 0.0;
 }
 
 static int window(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
@@ -319,6 +361,9 @@ static int window(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
     h->windows++;
     h->steps += m;
     h->active_steps += (int64_t)h->n_active * m;
+    if (all_finite(s)) {
+        return GR_OK;
+    }
     for (int i = 0; i < s->n; i++) {
         double sum = s->x[i] + s->vx[i] + (s->dim == 2 ? s->y[i] + s->vy[i] : 0.0);
         if (!isfinite(sum)) {
