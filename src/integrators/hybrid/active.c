@@ -211,10 +211,18 @@ int gr_hy_misses(gr_sim *s, gr_hybrid_state *h, gr_error *err, int *found)
     if (h->n_active == n) {
         return GR_OK;
     }
+    const uint8_t *restrict act = h->active;
+    const double *restrict x = s->x, *restrict y = s->y;
     if (s->dim == 1) {
-        for (int i = 0; i < n && n > 1; i++) {
+        /* a vectorised test first (misses are rare), then the offenders */
+        int any = n > 1 && (!act[n - 1] || !act[0]) && gap_1d(s, x, n - 1) < 0.0;
+#pragma omp simd reduction(| : any)
+        for (int i = 0; i < n - 1; i++) {
+            any |= (x[i + 1] - x[i] - s->d < 0.0) & !(act[i] & act[i + 1]);
+        }
+        for (int i = 0; i < n && n > 1 && any; i++) {
             const int j = i + 1 < n ? i + 1 : 0;
-            if ((!h->active[i] || !h->active[j]) && gap_1d(s, s->x, i) < 0.0) {
+            if ((!act[i] || !act[j]) && gap_1d(s, x, i) < 0.0) {
                 h->forced[i] = h->forced[j] = 1;
                 *found = 1;
             }
@@ -232,12 +240,20 @@ int gr_hy_misses(gr_sim *s, gr_hybrid_state *h, gr_error *err, int *found)
         }
     }
     const double d2 = d * d;
+    const int *restrict pi = h->pi, *restrict pj = h->pj;
+    int any = 0;
+#pragma omp simd reduction(| : any)
     for (int64_t q = 0; q < h->npairs; q++) {
-        const int i = h->pi[q], j = h->pj[q];
-        if (h->active[i] && h->active[j]) {
+        const int i = pi[q], j = pj[q];
+        const double dx = gr_hy_wrap(x[j] - x[i], L), dy = gr_hy_wrap(y[j] - y[i], L);
+        any |= (dx * dx + dy * dy < d2) & !(act[i] & act[j]);
+    }
+    for (int64_t q = 0; q < h->npairs && any; q++) {
+        const int i = pi[q], j = pj[q];
+        if (act[i] && act[j]) {
             continue;
         }
-        const double dx = gr_hy_wrap(s->x[j] - s->x[i], L), dy = gr_hy_wrap(s->y[j] - s->y[i], L);
+        const double dx = gr_hy_wrap(x[j] - x[i], L), dy = gr_hy_wrap(y[j] - y[i], L);
         if (dx * dx + dy * dy < d2) {
             h->forced[i] = h->forced[j] = 1;
             *found = 1;
