@@ -202,6 +202,11 @@ base | fokker-planck --out $O --length -1 | 2 | length | new
 base | bench bogus | 2 | bogus | new
 TABLE
 )
+# a note (or thesis, about) continued over lines to more than its 2047 characters is refused, not cut
+long_line="note = $(printf 'x%.0s' {1..190})\\n"
+long_note="[campaign]\\ntitle = t\\nscene = rfm-1d.ini\\n[result a]\\n"
+for _ in {1..11}; do long_note+=$long_line; done
+cases+=$'\n'"file:$long_note | reproduce \$S --out \$O | 2 | [result a] note;at most 2047 | new"
 
 [[ ${2:-} == --list ]] && { printf '%s\n' "$cases"; exit 0; }
 passed=0 failed=0 i=0

@@ -79,7 +79,7 @@ typedef struct gr_campaign_result {
     bool tail_exponential; /* SPM: fit P(v)'s tail with A0 exp(-S |v|) (alpha = 1, h = 0: the thesis's
                               A0 of Fig. 5.13) instead of 5.31 at the predicted alpha and h */
     long walks, walks_quick; /* SPM_COMPARE: SPM walks per run at full and quick fidelity (0: default) */
-    char thesis[2048];    /* "GROUP: value +- error; ..." (GROUP as in results.csv) */
+    char thesis[4096];    /* "GROUP: value +- error; ..." (GROUP as in results.csv) */
     char thesis_source[256];
     char note[2048];      /* what a reader should know (shown on the page) */
 } gr_campaign_result;

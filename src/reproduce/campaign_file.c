@@ -44,6 +44,21 @@ static bool parse_double(const char *v, double *out)
     return true;
 }
 
+/* Appends a key that may continue over several lines (about, thesis, note) to dst; refuses when
+ * the whole would not fit instead of cutting it short on the page. */
+static int append_text(parse_ctx *p, const char *section, const char *name, char *dst, size_t size, const char *sep,
+                       const char *value)
+{
+    const size_t len = strlen(dst), add = (len ? strlen(sep) : 0) + strlen(value);
+    if (len + add >= size) {
+        snprintf(p->error, sizeof p->error, "[%s] %s: %zu characters in all, at most %zu (shorten it)", section, name,
+                 len + add, size - 1);
+        return 0;
+    }
+    snprintf(dst + len, size - len, "%s%s", len ? sep : "", value);
+    return 1;
+}
+
 static int campaign_key(parse_ctx *p, const char *name, const char *value)
 {
     gr_campaign *c = p->c;
@@ -55,9 +70,8 @@ static int campaign_key(parse_ctx *p, const char *name, const char *value)
                 {"scene", c->scene, sizeof c->scene}, {"about", c->about, sizeof c->about}};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
         if (!strcmp(name, keys[i].key)) {
-            if (keys[i].dst[0] && !strcmp(name, "about")) { /* continued over several lines */
-                size_t len = strlen(keys[i].dst);
-                snprintf(keys[i].dst + len, keys[i].size - len, " %s", value);
+            if (!strcmp(name, "about")) { /* may continue over several lines */
+                return append_text(p, "campaign", name, keys[i].dst, keys[i].size, " ", value);
             } else {
                 snprintf(keys[i].dst, keys[i].size, "%s", value);
             }
@@ -88,10 +102,10 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         }
     }
     if (!strcmp(name, "thesis") || !strcmp(name, "note")) { /* may continue over several lines */
-        char *dst = name[0] == 't' ? r->thesis : r->note;
-        size_t size = name[0] == 't' ? sizeof r->thesis : sizeof r->note, len = strlen(dst);
-        snprintf(dst + len, size - len, "%s%s", len ? (name[0] == 't' ? "; " : " ") : "", value);
-        return 1;
+        char section[48];
+        snprintf(section, sizeof section, "result %s", r->id);
+        return name[0] == 't' ? append_text(p, section, name, r->thesis, sizeof r->thesis, "; ", value)
+                              : append_text(p, section, name, r->note, sizeof r->note, " ", value);
     }
     if (!strcmp(name, "kind")) {
         if (!strcmp(value, "mean")) {

@@ -106,7 +106,7 @@ void campaign_row_thesis(const gr_campaign_result *r, campaign_row *row)
     } else {
         snprintf(want, sizeof want, "%s", row->group);
     }
-    char buf[2048];
+    char buf[sizeof r->thesis];
     snprintf(buf, sizeof buf, "%s", r->thesis);
     char *save = NULL;
     for (char *tok = strtok_r(buf, ";", &save); tok; tok = strtok_r(NULL, ";", &save)) {
