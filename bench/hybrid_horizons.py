@@ -1,0 +1,121 @@
+#!/usr/bin/env python3
+"""The ceiling of per-particle (asynchronous) hybrid windows, measured on snapshots.
+
+The hybrid (docs/hybrid.md) touches every free particle once per window: selection, the leap's
+normals, the leap, the miss check. With per-particle windows a free particle would be touched only
+when its own horizon runs out: the first time at which it could touch anybody. This script measures
+those horizons on a run's extended-XYZ snapshots (output.trajectory = snapshots) and prints, per
+frame, how many windows a free particle could leap at once (k) and the mean of 1/k over the free
+particles: the fraction of today's per-free-particle work that per-particle windows would still do.
+
+Horizon of a pair: the first t with  v_rel t + m sqrt(2) sigma_x(t) >= gap, where gap is the
+surface distance, sigma_x(t) = sqrt(2 D t^3 / 3) / M is the free-flight position spread of one
+component (docs/hybrid.md, "Why a leap is exact in law"), m the margin in sigmas, and v_rel the
+approach speed in 1D (only an approaching neighbour can touch) or |v_i - v_j| in 2D (a pair passing
+at an angle can touch too). A particle's horizon is the smallest over its pairs; k = floor(h / tau).
+This is an oracle: the velocities are those of the frame, so the horizons ignore that a
+neighbour's collision with a third particle changes its velocity (a real scheduler must then
+re-check the neighbour's partners), and the bookkeeping of a per-particle schedule is free. The
+real gain can only be smaller.
+
+usage: hybrid_horizons.py SNAPSHOT_DIR WINDOW_S D_NS2 [MARGIN_SIGMAS] [FRAMES]
+"""
+import glob
+import math
+import sys
+
+import numpy as np
+
+
+def read_frame(path):
+    with open(path) as f:
+        n = int(f.readline())
+        header = f.readline()
+        lattice = header.split('Lattice="')[1].split('"')[0].split()
+        box = float(lattice[0])
+        dim = 1 if 'pbc="T F F"' in header else 2
+        rows = [f.readline().split() for _ in range(n)]
+    a = np.array([[float(x) for x in r[1:9]] for r in rows])
+    return dim, box, a[:, 0:dim], a[:, 3:3 + dim], a[0, 6], a[0, 7]
+
+
+def spread(t, D, M, margin):
+    """m sqrt(2) sigma_x(t): the margin on the relative free-flight displacement of a pair."""
+    return margin * math.sqrt(2.0) * np.sqrt(2.0 * D * t ** 3 / 3.0) / M
+
+
+def pair_horizons(gap, vrel, D, M, margin, t_max):
+    """Largest t <= t_max with vrel t + spread(t) < gap (bisection; the left side grows with t)."""
+    lo = np.zeros_like(gap)
+    hi = np.full_like(gap, t_max)
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        ok = vrel * mid + spread(mid, D, M, margin) < gap
+        lo = np.where(ok, mid, lo)
+        hi = np.where(ok, hi, mid)
+    return np.where(gap <= 0.0, 0.0, lo)
+
+
+def horizons_1d(box, x, v, r, D, M, margin, t_max):
+    order = np.argsort(x[:, 0] % box)
+    xs, vs = x[order, 0] % box, v[order, 0]
+    gap = (np.roll(xs, -1) - xs) % box - 2.0 * r
+    approach = np.maximum(0.0, vs - np.roll(vs, -1))  # right neighbour closing in
+    h_pair = pair_horizons(gap, approach, D, M, margin, t_max)
+    h = np.minimum(h_pair, np.roll(h_pair, 1))
+    out = np.empty_like(h)
+    out[order] = h
+    return out
+
+
+def horizons_2d(box, x, v, r, D, M, margin, t_max):
+    n = len(x)
+    h = np.full(n, t_max)
+    x = x % box
+    for i0 in range(0, n, 256):  # rows in blocks: no neighbour library needed
+        d = x[i0:i0 + 256, None, :] - x[None, :, :]
+        d -= box * np.round(d / box)
+        gap = np.hypot(d[..., 0], d[..., 1]) - 2.0 * r
+        dv = v[i0:i0 + 256, None, :] - v[None, :, :]
+        vrel = np.hypot(dv[..., 0], dv[..., 1])
+        rows = np.arange(i0, min(i0 + 256, n))
+        gap[rows - i0, rows] = np.inf  # no self pair
+        near = gap < vrel * t_max + spread(t_max, D, M, margin)
+        hb = np.full(gap.shape, t_max)
+        hb[near] = pair_horizons(gap[near], vrel[near], D, M, margin, t_max)
+        h[rows] = np.minimum(h[rows], hb.min(axis=1))
+    return h
+
+
+def main(argv):
+    if len(argv) < 4:
+        sys.stderr.write(__doc__.split('usage: ')[1])
+        return 2
+    folder, tau, D = argv[1], float(argv[2]), float(argv[3])
+    margin = float(argv[4]) if len(argv) > 4 else 6.0
+    frames = int(argv[5]) if len(argv) > 5 else 3
+    paths = sorted(glob.glob(folder + '/snap_*.xyz'))
+    if not paths:
+        sys.stderr.write('%s: no snap_*.xyz frames (run with output.snapshot_every > 0)\n' % folder)
+        return 2
+    t_max = 1000 * tau
+    q_all = []
+    for path in paths[-frames:]:
+        dim, box, x, v, r, M = read_frame(path)
+        hfun = horizons_1d if dim == 1 else horizons_2d
+        h = hfun(box, x, v, r, D, M, margin, t_max)
+        k = np.floor(h / tau)
+        free = k >= 1
+        q = float(np.mean(1.0 / k[free])) if free.any() else 1.0
+        q_all.append(q)
+        print('%s: %dD, N = %d, active now %.3f, windows per leap of a free particle: median %.0f, mean %.1f; '
+              'mean 1/k over the free %.3f' % (path.split('/')[-1], dim, len(x), 1.0 - free.mean(),
+                                                np.median(k[free]) if free.any() else 0,
+                                                k[free].mean() if free.any() else 0, q))
+    print('per-free-particle work left with per-particle windows (oracle): %.3f of today\'s (mean of %d frames)' %
+          (float(np.mean(q_all)), len(q_all)))
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main(sys.argv))
