@@ -7,6 +7,8 @@ when its own horizon runs out: the first time at which it could touch anybody. T
 those horizons on a run's extended-XYZ snapshots (output.trajectory = snapshots) and prints, per
 frame, how many windows a free particle could leap at once (k) and the mean of 1/k over the free
 particles: the fraction of today's per-free-particle work that per-particle windows would still do.
+It also prints the fraction of particles in contact (overlapping someone), the most that exact
+propagation of contacting clusters could take off the active set.
 
 Horizon of a pair: the first t with  v_rel t + m sqrt(2) sigma_x(t) >= gap, where gap is the
 surface distance, sigma_x(t) = sqrt(2 D t^3 / 3) / M is the free-flight position spread of one
@@ -63,14 +65,16 @@ def horizons_1d(box, x, v, r, D, M, margin, t_max):
     approach = np.maximum(0.0, vs - np.roll(vs, -1))  # right neighbour closing in
     h_pair = pair_horizons(gap, approach, D, M, margin, t_max)
     h = np.minimum(h_pair, np.roll(h_pair, 1))
-    out = np.empty_like(h)
-    out[order] = h
-    return out
+    touching = (gap < 0.0) | np.roll(gap < 0.0, 1)
+    out, contact = np.empty_like(h), np.empty_like(touching)
+    out[order], contact[order] = h, touching
+    return out, contact
 
 
 def horizons_2d(box, x, v, r, D, M, margin, t_max):
     n = len(x)
     h = np.full(n, t_max)
+    contact = np.zeros(n, dtype=bool)
     x = x % box
     for i0 in range(0, n, 256):  # rows in blocks: no neighbour library needed
         d = x[i0:i0 + 256, None, :] - x[None, :, :]
@@ -84,7 +88,8 @@ def horizons_2d(box, x, v, r, D, M, margin, t_max):
         hb = np.full(gap.shape, t_max)
         hb[near] = pair_horizons(gap[near], vrel[near], D, M, margin, t_max)
         h[rows] = np.minimum(h[rows], hb.min(axis=1))
-    return h
+        contact[rows] = (gap < 0.0).any(axis=1)
+    return h, contact
 
 
 def main(argv):
@@ -99,21 +104,24 @@ def main(argv):
         sys.stderr.write('%s: no snap_*.xyz frames (run with output.snapshot_every > 0)\n' % folder)
         return 2
     t_max = 1000 * tau
-    q_all = []
+    q_all, c_all = [], []
     for path in paths[-frames:]:
         dim, box, x, v, r, M = read_frame(path)
         hfun = horizons_1d if dim == 1 else horizons_2d
-        h = hfun(box, x, v, r, D, M, margin, t_max)
+        h, contact = hfun(box, x, v, r, D, M, margin, t_max)
         k = np.floor(h / tau)
         free = k >= 1
         q = float(np.mean(1.0 / k[free])) if free.any() else 1.0
         q_all.append(q)
-        print('%s: %dD, N = %d, active now %.3f, windows per leap of a free particle: median %.0f, mean %.1f; '
-              'mean 1/k over the free %.3f' % (path.split('/')[-1], dim, len(x), 1.0 - free.mean(),
+        c_all.append(contact.mean())
+        print('%s: %dD, N = %d, in contact %.3f, active now %.3f, windows per leap of a free particle: median %.0f, '
+              'mean %.1f; mean 1/k over the free %.3f' % (path.split('/')[-1], dim, len(x), contact.mean(), 1.0 - free.mean(),
                                                 np.median(k[free]) if free.any() else 0,
                                                 k[free].mean() if free.any() else 0, q))
     print('per-free-particle work left with per-particle windows (oracle): %.3f of today\'s (mean of %d frames)' %
           (float(np.mean(q_all)), len(q_all)))
+    print('particles in contact (overlapping someone): %.4f (mean of the frames; the rest of the active set is '
+          'approaching, not touching)' % float(np.mean(c_all)))
     return 0
 
 
