@@ -1,0 +1,10 @@
+# granule: gnuplot body of fig5.2.gp (run inside this folder); granule plot DIR redraws it
+set datafile separator whitespace
+set title "Granular temperature (2.19) over packing fraction and dissipation" noenhanced
+set ylabel 'T / m^2/s^2' noenhanced
+set xtics rotate by -40 noenhanced
+set key top left
+set offsets 0.5, 0.5, 0, 0
+set grid ytics lc rgb '#dddddd'
+plot 'fig5.2_compare.dat' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'
+
