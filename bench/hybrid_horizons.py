@@ -26,19 +26,17 @@ import glob
 import math
 import sys
 
+import ase.io
 import numpy as np
 
 
 def read_frame(path):
-    with open(path) as f:
-        n = int(f.readline())
-        header = f.readline()
-        lattice = header.split('Lattice="')[1].split('"')[0].split()
-        box = float(lattice[0])
-        dim = 1 if 'pbc="T F F"' in header else 2
-        rows = [f.readline().split() for _ in range(n)]
-    a = np.array([[float(x) for x in r[1:9]] for r in rows])
-    return dim, box, a[:, 0:dim], a[:, 3:3 + dim], a[0, 6], a[0, 7]
+    """One extended-XYZ frame through ASE (granule's trajectories are checked readable by it):
+    dimension (from pbc), box side, positions, velocities, radius and mass of the first particle."""
+    a = ase.io.read(path)
+    dim = int(a.pbc.sum())
+    return dim, float(a.cell.lengths()[0]), a.positions[:, :dim], a.arrays["velo"][:, :dim], \
+        float(a.arrays["radius"][0]), float(a.get_masses()[0])
 
 
 def spread(t, D, M, margin):
