@@ -125,9 +125,19 @@ def main(argv):
     if len(argv) < 4:
         sys.stderr.write(__doc__.split('usage: ')[1])
         return 2
-    folder, tau, D = argv[1], float(argv[2]), float(argv[3])
-    margin = float(argv[4]) if len(argv) > 4 else 6.0
-    frames = int(argv[5]) if len(argv) > 5 else 3
+    folder = argv[1]
+    try:
+        tau, D = float(argv[2]), float(argv[3])
+        margin = float(argv[4]) if len(argv) > 4 else 6.0
+        frames = int(argv[5]) if len(argv) > 5 else 3
+    except ValueError as e:
+        sys.stderr.write('hybrid_horizons.py: %s (usage: %s)\n' % (e, __doc__.split('usage: ')[1].strip()))
+        return 2
+    for name, value, ok, allowed in (('WINDOW_S', tau, tau > 0, '> 0'), ('D_NS2', D, D >= 0, '>= 0'),
+                                     ('MARGIN_SIGMAS', margin, margin > 0, '> 0'), ('FRAMES', frames, frames >= 1, '>= 1')):
+        if not (ok and math.isfinite(value)):
+            sys.stderr.write('hybrid_horizons.py: %s = %s out of range (allowed: %s)\n' % (name, value, allowed))
+            return 2
     paths = sorted(glob.glob(folder + '/snap_*.xyz'))
     if not paths:
         sys.stderr.write('%s: no snap_*.xyz frames (run with output.snapshot_every > 0)\n' % folder)
