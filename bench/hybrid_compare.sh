@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # The hybrid integrator of two builds against Verlet, interleaved in one run: CPU seconds of whole
 # `granule run`s (warm-up from the scene's start included), window 3e-5 s, seed 1, one core, on
-# the 1D RFM scene at eps = 0.1 and 0.9 (N = 1000, 1 s + 2 s) and the 2D steady-state scene
+# the 1D RFM scene at eps = 0.1, 0.5 and 0.9 (N = 1000, 1 s + 2 s) and the 2D steady-state scene
 # (N = 2000, 0.5 s + 2 s). Usage:
 #   bench/hybrid_compare.sh OLD_BUILD NEW_BUILD [--quick] [ROUNDS]
 # A line per run (label, CPU seconds, T, active fraction, rollbacks), then per scene the median
-# over the rounds of Verlet / hybrid (old and new) and new / old. Verlet runs from NEW_BUILD.
+# over the rounds of each build's Verlet / its own hybrid (the issue's speed-up, before and after),
+# and new / old for the hybrid and for Verlet.
 # --quick runs tiny sizes (the test suite's smoke test; says so). docs/hybrid.md, "Cheaper windows".
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -48,14 +49,16 @@ print(f"{sys.argv[2]:<14} {float(sys.argv[3]):8.2f} s  T {j['T_mean']:.5g}  acti
 PY
 }
 for r in $(seq "$rounds"); do
-    for e in 0.1 0.9; do
+    for e in 0.1 0.5 0.9; do
         s1=(docs/scenes/rfm-1d.ini "${one[@]}" --set model.eps_n=$e)
         run "verlet-1d-$e" "$new" "${s1[@]}"
+        run "oldverlet-1d-$e" "$old" "${s1[@]}"
         run "old-1d-$e" "$old" "${s1[@]}" "${hy[@]}"
         run "new-1d-$e" "$new" "${s1[@]}" "${hy[@]}"
     done
     s2=(docs/scenes/steady-2d.ini "${two[@]}")
     run verlet-2d "$new" "${s2[@]}"
+    run oldverlet-2d "$old" "${s2[@]}"
     run old-2d "$old" "${s2[@]}" "${hy[@]}"
     run new-2d "$new" "${s2[@]}" "${hy[@]}"
 done | tee "$tmp/lines"
@@ -65,9 +68,9 @@ t = {}
 for line in open(sys.argv[1]):
     label, cpu = line.split()[:2]
     t.setdefault(label, []).append(float(cpu))
-print("scene      Verlet/old-hybrid  Verlet/new-hybrid  new/old (medians over rounds)")
-for sc in ("1d-0.1", "1d-0.9", "2d"):
-    v, o, n = t[f"verlet-{sc}"], t[f"old-{sc}"], t[f"new-{sc}"]
+print("scene      old: Verlet/hybrid  new: Verlet/hybrid  hybrid new/old  Verlet new/old (medians over rounds)")
+for sc in ("1d-0.1", "1d-0.5", "1d-0.9", "2d"):
+    v, ov, o, n = t[f"verlet-{sc}"], t[f"oldverlet-{sc}"], t[f"old-{sc}"], t[f"new-{sc}"]
     r = lambda a, b: st.median(x / max(y, 1e-3) for x, y in zip(a, b))
-    print(f"{sc:<10} {r(v, o):17.2f}x {r(v, n):17.2f}x {r(o, n):8.2f}x")
+    print(f"{sc:<10} {r(ov, o):18.2f}x {r(v, n):18.2f}x {r(o, n):14.2f}x {r(ov, v):14.2f}x")
 PY

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The ceiling of per-particle (asynchronous) hybrid windows (issue 17's route), measured rather than
-# built: runs the hybrid (window 3e-5 s, seed 1) on the 1D RFM scene at eps = 0.1 and 0.9 (N = 1000,
+# built: runs the hybrid (window 3e-5 s, seed 1) on the 1D RFM scene at eps = 0.1, 0.5 and 0.9 (N = 1000,
 # 1 s) and the 2D steady-state scene (N = 2000, 0.5 s), writes three snapshots after the warm-up and
 # prints, per scene, the fraction of today's per-free-particle work that per-particle windows would
 # still do (bench/hybrid_horizons.py: each free particle touched only when its own horizon runs out,
@@ -30,7 +30,7 @@ else
     two=(--set run.warmup=0.5 --set run.duration=0.03 --set output.snapshot_every=0.01)
 fi
 echo "# $(date -u +%FT%TZ) $(uname -n), $("$build/granule" --version)"
-for e in 0.1 0.9; do
+for e in 0.1 0.5 0.9; do
     echo "## 1D RFM, eps = $e"
     "$build/granule" run docs/scenes/rfm-1d.ini --out "$tmp/1d-$e" "${common[@]}" "${one[@]}" --set model.eps_n=$e
     /usr/bin/python3 bench/hybrid_horizons.py "$tmp/1d-$e/snapshots" 3e-5 1e-8
