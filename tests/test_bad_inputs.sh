@@ -183,6 +183,8 @@ file:[campaign]\ntitle = t\nscene = nosuch.ini\n | reproduce $S --out $O | 2 | n
 file:[campaign]\ntitle = t\nscene = rfm-1d.ini\nabout = xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx\n | reproduce $S --out $O | 2 | :4: line longer than 198 characters | new
 file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 10\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[result a]\nkind = curve\ny = g\n | reproduce $S --out $O | 2 | kind = curve needs table | new
 file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[result a]\ntransform = flip\n | reproduce $S --out $O | 2 | transform = flip;bisection_collapse | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[result a]\nverdict = fine: we agree\n | reproduce $S --out $O | 2 | :5:;verdict = fine;partly explained: WHY | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[result a]\nverdict = explained:\n | reproduce $S --out $O | 2 | verdict = explained:;unexplained: WHY | new
 file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N+model.eps_n = 10\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n | reproduce $S --out $O | 2 | linked;nothing was run | new
 file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 10\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[set]\nmodel.nosuch = 1\n | reproduce $S --out $O | 2 | nosuch;nothing was run | new
 file:[sweep]\nbogus = 1\n | sweep $S | 2 | bogus | new

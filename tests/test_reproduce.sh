@@ -39,6 +39,7 @@ for n in names:
     ok &= d["points_finished"] == d["points_total"] > 0 and d["cpu_seconds"] > 0
     for r in d["results"]:
         ok &= len(r["rows"]) > 0
+        ok &= r.get("verdict") in ("", "explained", "partly explained", "unexplained") and "verdict_why" in r
         for row in r["rows"]:
             missing = [f for f in fields if f not in row]
             if missing:
@@ -181,6 +182,14 @@ for n in names:
     line = [l for l in page.splitlines() if l.startswith("| [%s](#%s) |" % (n, n))]
     if len(line) != 1 or not line[0].endswith(want):
         print("tally of", n, "is not", want, line); ok = False
+    # the table of disagreements: every result with a row at |z| > 2, once, with its verdict
+    for r in d["results"]:
+        k = sum(1 for row in r["rows"] if row["z"] is not None and abs(row["z"]) > 2)
+        line = [l for l in page.splitlines() if l.startswith("| [%s: %s](#%s-%s) |" % (n, r["id"], n, r["id"]))]
+        verdict = r["verdict"] or "**not investigated yet**"
+        if len(line) != (1 if k else 0) or (k and " | %d of " % k not in line[0]) or (k and " | %s | " % verdict not in line[0]):
+            print("disagreement line of", n, r["id"], "wrong:", line); ok = False
+        ok &= ('<a id="%s-%s"></a>' % (n, r["id"])) in page
 sys.exit(0 if ok and seen > 0 else 1)
 PY
 

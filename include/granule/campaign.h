@@ -82,6 +82,9 @@ typedef struct gr_campaign_result {
     char thesis[4096];    /* "GROUP: value +- error; ..." (GROUP as in results.csv) */
     char thesis_source[256];
     char note[2048];      /* what a reader should know (shown on the page) */
+    char verdict[24];     /* where rows disagree (|z| > 2): "explained", "partly explained" or
+                             "unexplained" ("" = not judged yet); the page's table of disagreements */
+    char verdict_why[1024]; /* the verdict's one-paragraph reason */
 } gr_campaign_result;
 
 typedef struct gr_campaign_line {

@@ -107,6 +107,32 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         return name[0] == 't' ? append_text(p, section, name, r->thesis, sizeof r->thesis, "; ", value)
                               : append_text(p, section, name, r->note, sizeof r->note, " ", value);
     }
+    if (!strcmp(name, "verdict")) { /* "CATEGORY: why", the why may continue over several lines */
+        char section[48];
+        snprintf(section, sizeof section, "result %s", r->id);
+        if (r->verdict[0]) {
+            return append_text(p, section, name, r->verdict_why, sizeof r->verdict_why, " ", value);
+        }
+        static const char *const categories[] = {"explained", "partly explained", "unexplained"};
+        for (size_t i = 0; i < sizeof categories / sizeof categories[0]; i++) {
+            const size_t len = strlen(categories[i]);
+            if (!strncmp(value, categories[i], len) && value[len] == ':') {
+                const char *why = value + len + 1;
+                while (*why == ' ') {
+                    why++;
+                }
+                if (!*why) {
+                    break;
+                }
+                snprintf(r->verdict, sizeof r->verdict, "%s", categories[i]);
+                return append_text(p, section, name, r->verdict_why, sizeof r->verdict_why, " ", why);
+            }
+        }
+        snprintf(p->error, sizeof p->error,
+                 "[result %s] verdict = %.60s: expected \"explained: WHY\", \"partly explained: WHY\" or \"unexplained: WHY\"",
+                 r->id, value);
+        return 0;
+    }
     if (!strcmp(name, "kind")) {
         if (!strcmp(value, "mean")) {
             r->kind = GR_RESULT_MEAN;
@@ -206,7 +232,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     }
     snprintf(p->error, sizeof p->error,
              "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, x_max, by, m, per_m, period, "
-             "table, where, select, transform, collapse_at, axes, overlay, configurations, df, tail, walks, walks_quick, thesis, thesis_source, note",
+             "table, where, select, transform, collapse_at, axes, overlay, configurations, df, tail, walks, walks_quick, thesis, thesis_source, note, verdict",
              r->id, name);
     return 0;
 }
@@ -215,6 +241,9 @@ static int on_line(void *user, const char *section, const char *name, const char
 {
     parse_ctx *p = user;
     gr_campaign *c = p->c;
+    if (p->error[0]) { /* inih goes on after an error and reports the first one's line: keep its message */
+        return 0;
+    }
     if (!strcmp(section, "campaign")) {
         return campaign_key(p, name, value);
     }
@@ -323,7 +352,7 @@ static int parse_text(gr_campaign *c, const char *text, const char *where, gr_er
         const char *lng = prev && strcspn(prev, "\n") >= INI_MAX_LINE - 1 ? prev : line && strcspn(line, "\n") >= INI_MAX_LINE - 1 ? line : NULL;
         if (lng) {
             bad -= lng == prev;
-            snprintf(p.error, sizeof p.error, "line longer than %d characters (split it: about, note and thesis may repeat)",
+            snprintf(p.error, sizeof p.error, "line longer than %d characters (split it: about, note, thesis and verdict may repeat)",
                      INI_MAX_LINE - 2);
         }
     }

@@ -384,6 +384,8 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
         }
         cJSON_AddStringToObject(o, "thesis_source", r->thesis_source);
         cJSON_AddStringToObject(o, "note", r->note);
+        cJSON_AddStringToObject(o, "verdict", r->verdict);
+        cJSON_AddStringToObject(o, "verdict_why", r->verdict_why);
         cJSON *ra = cJSON_AddArrayToObject(o, "rows");
         for (int k = 0; k < rows.n; k++) {
             row_json(ra, &rows.r[k]);

@@ -98,9 +98,71 @@ static void notes_and_figures(FILE *f, const cJSON *res, const char *campaign, c
     fprintf(f, "\n");
 }
 
+/* Text for a Markdown table cell: '|' escaped, line breaks as spaces. */
+static void cell(FILE *f, const char *text)
+{
+    for (const char *c = text; *c; c++) {
+        if (*c == '|') {
+            fputs("\\|", f);
+        } else {
+            fputc(*c == '\n' ? ' ' : *c, f);
+        }
+    }
+}
+
+/* Every result with a row at |z| > 2 and the campaign's verdict on it (campaign files, key verdict),
+ * so a reader sees at a glance which disagreements are understood. */
+static void disagreements(FILE *f, cJSON *const *sets, int ns)
+{
+    int judged[3] = {0}, open = 0, total = 0;
+    static const char *const categories[] = {"explained", "partly explained", "unexplained"};
+    for (int pass = 0; pass < 2; pass++) {
+        if (pass == 1) {
+            fprintf(f, "## Where granule and the thesis disagree\n\n"
+                       "%d results have at least one number at |z| > 2: %d explained (the cause found and measured), "
+                       "%d partly explained, %d unexplained, %d not investigated yet. The verdict is the campaign's "
+                       "(key `verdict` in docs/campaigns/NAME.ini); the evidence is in the result's note below.\n\n"
+                       "| result | what | \\|z\\| > 2 | verdict | why |\n|---|---|---|---|---|\n",
+                    total, judged[0], judged[1], judged[2], open);
+        }
+        for (int i = 0; i < ns; i++) {
+            const cJSON *res, *row;
+            cJSON_ArrayForEach(res, cJSON_GetObjectItem(sets[i], "results"))
+            {
+                int off = 0, compared = 0;
+                cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
+                {
+                    double z = num(row, "z");
+                    compared += isfinite(z);
+                    off += isfinite(z) && fabs(z) > 2.0;
+                }
+                if (!off) {
+                    continue;
+                }
+                const char *v = str(res, "verdict");
+                if (pass == 0) {
+                    total++;
+                    int k = 0;
+                    while (k < 3 && strcmp(v, categories[k])) {
+                        k++;
+                    }
+                    k < 3 ? judged[k]++ : open++;
+                    continue;
+                }
+                fprintf(f, "| [%s: %s](#%s-%s) | %s | %d of %d | %s | ", str(sets[i], "campaign"), str(res, "id"),
+                        str(sets[i], "campaign"), str(res, "id"), str(res, "title"), off, compared,
+                        v[0] ? v : "**not investigated yet**");
+                cell(f, str(res, "verdict_why"));
+                fprintf(f, " |\n");
+            }
+        }
+    }
+    fprintf(f, "\n");
+}
+
 static void result_table(FILE *f, const cJSON *res, const char *campaign, const char *root, const char *link_root)
 {
-    fprintf(f, "### %s: %s\n\n", str(res, "id"), str(res, "title"));
+    fprintf(f, "<a id=\"%s-%s\"></a>\n### %s: %s\n\n", campaign, str(res, "id"), str(res, "id"), str(res, "title"));
     const cJSON *row;
     bool values = false;
     double runs = 0.0, cpu = 0.0;
@@ -251,6 +313,7 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
         }
     }
     fprintf(f.f, "| total | | | | | %.2f | %d | %d | %d |\n\n", total / 3600.0, all_compared, all_off, all_off5);
+    disagreements(f.f, sets, ns);
     for (int i = 0; i < ns; i++) {
         const cJSON *s = sets[i];
         fprintf(f.f, "<a id=\"%s\"></a>\n## %s (%s)\n\n%s\n\n", str(s, "campaign"), str(s, "title"), str(s, "covers"), str(s, "about"));
