@@ -147,6 +147,32 @@ double gr_hy_leap_free(gr_sim *s, gr_hybrid_state *h, int m)
     return M * added;
 }
 
+/* sum g_k and sum (m - k) g_k of g_k = raw[k * stride], k < m, in four partial sums (independent
+ * chains, the same result on every machine). The weights m - k are whole numbers, exact in double
+ * whether computed from k or counted down. Inlined with stride a constant. */
+static inline __attribute__((always_inline)) void raw_sums(const double *restrict raw, const int stride, int m,
+                                                           double a1[4], double a2[4])
+{
+    const double dm = (double)m;
+    for (int u = 0; u < 4; u++) {
+        a1[u] = a2[u] = 0.0;
+    }
+    int k = 0;
+    for (; k + 4 <= m; k += 4) {
+        const double w = dm - (double)k;
+        for (int u = 0; u < 4; u++) {
+            const double gk = raw[(k + u) * stride];
+            a1[u] += gk;
+            a2[u] += (w - (double)u) * gk;
+        }
+    }
+    for (; k < m; k++) {
+        const double gk = raw[k * stride];
+        a1[0] += gk;
+        a2[0] += (dm - k) * gk;
+    }
+}
+
 int gr_hy_active_kicks(const gr_sim *s, gr_hybrid_state *h, int64_t start, int m, gr_error *err)
 {
     const int dim = s->dim, na = h->n_active, md = m * dim;
@@ -200,20 +226,11 @@ int gr_hy_active_kicks(const gr_sim *s, gr_hybrid_state *h, int64_t start, int m
                     lam[0] = lam[1] = 0.0;
                     continue;
                 }
-                /* four partial sums: independent chains, same result on every machine */
-                double a1[4] = {0.0, 0.0, 0.0, 0.0}, a2[4] = {0.0, 0.0, 0.0, 0.0};
-                int k = 0;
-                for (; k + 4 <= m; k += 4) {
-                    for (int u = 0; u < 4; u++) {
-                        const double gk = raw[(k + u) * dim + c];
-                        a1[u] += gk;
-                        a2[u] += (dm - (k + u)) * gk;
-                    }
-                }
-                for (; k < m; k++) {
-                    const double gk = raw[k * dim + c];
-                    a1[0] += gk;
-                    a2[0] += (dm - k) * gk;
+                double a1[4], a2[4];
+                if (dim == 1) { /* contiguous: the loop vectorises */
+                    raw_sums(raw, 1, m, a1, a2);
+                } else {
+                    raw_sums(raw + c, dim, m, a1, a2);
                 }
                 const double r1 = t1 - ((a1[0] + a1[1]) + (a1[2] + a1[3]));
                 const double r2 = t2 - ((a2[0] + a2[1]) + (a2[2] + a2[3]));
