@@ -5,6 +5,9 @@
 #     2D, case 3 oblique; mean of contact phases) against 1 - eps^2 (2.13) and against the SUNDIALS
 #     CVODE integration of the same contact (granule collide --reference),
 #   - the error of the steady temperature (2.19) of a short run against a reference run at dt/REF_DIV,
+#   - in 1D the error of <R^2>, the mean squared neighbour separation (3.18), against the same reference,
+#   - the tail of P(v): the exponent alpha of the free fit of (5.5) over the Table 5.1 counts window,
+#     as a difference from the reference's alpha,
 # each against the wall seconds per simulated second of the scene at that dt (one core). Then the
 # same temperature error for the event-driven integrator (against its own exact-sampling run) and
 # the hybrid integrator (against the soft-sphere reference) as the kick interval shrinks, and the
@@ -101,6 +104,21 @@ for c in cols:
             f"{(loss - ref_loss) / ref_loss:.4e}" if ref_loss == ref_loss and ref_loss is not None else "nan"]
 while len(out) < 13:
     out.append("nan")
+def dig(d, *path):  # a number deep in a summary, nan when absent
+    for k in path:
+        try:
+            d = d[k]
+        except (KeyError, IndexError, TypeError):
+            return nan
+    return d if isinstance(d, (int, float)) else nan
+# <R^2> (1D, observable gaps: moments[1] is m = 2) and the tail exponent alpha (observable pv)
+R2, R2s = dig(s, "analysis", "gaps", "moments", 1), dig(s, "analysis", "gaps", "moments_stderr", 1)
+R2r, R2rs = dig(r, "analysis", "gaps", "moments", 1), dig(r, "analysis", "gaps", "moments_stderr", 1)
+al, als = dig(s, "analysis", "pv", "tail", "free", "alpha"), dig(s, "analysis", "pv", "tail", "free", "alpha_err")
+alr, alrs = dig(r, "analysis", "pv", "tail", "free", "alpha"), dig(r, "analysis", "pv", "tail", "free", "alpha_err")
+out += [f"{R2:.6g}", f"{(R2 - R2r) / R2r:.4e}" if R2r == R2r and R2r else "nan",
+        f"{math.hypot(R2s, R2rs) / R2r:.3e}" if R2r == R2r and R2r else "nan",
+        f"{al:.4g}", f"{al - alr:.4e}", f"{math.hypot(als, alrs):.3e}"]
 with open(csv, "a") as f:
     f.write(",".join(out) + "\n")
 EOF
@@ -111,7 +129,7 @@ scene_bench() { # name scene model dim size-sets...
     shift 4
     local size=("$@")
     local csv="$out/accuracy-$name.csv"
-    echo "series,point,status,wall_s_per_sim_s,T,T_stderr,T_ref,T_rel_error,T_rel_sigma,loss_err_formula_headon,loss_err_cvode_headon,loss_err_formula_oblique,loss_err_cvode_oblique" >"$csv"
+    echo "series,point,status,wall_s_per_sim_s,T,T_stderr,T_ref,T_rel_error,T_rel_sigma,loss_err_formula_headon,loss_err_cvode_headon,loss_err_formula_oblique,loss_err_cvode_oblique,R2,R2_rel_error,R2_rel_sigma,alpha,alpha_diff,alpha_sigma" >"$csv"
     (
         # shellcheck disable=SC1090
         source <("$coeffs" "$scene" "${size[@]}")
@@ -182,11 +200,15 @@ def f(x, fmt):
     return "n/a" if v != v else format(v, fmt)
 with open(sys.argv[2], "w") as o:
     o.write("| series | point | status | wall s per simulated s | T (m^2/s^2) | T error vs reference (+- 1 sigma) "
+            "| <R^2> error vs reference (+- 1 sigma) | tail alpha (minus the reference's, +- 1 sigma) "
             "| loss error vs 1-eps^2 (head-on) | vs CVODE (head-on) | vs formula (oblique) | vs CVODE (oblique) |\n")
-    o.write("|---|---|---|---|---|---|---|---|---|---|\n")
+    o.write("|---|---|---|---|---|---|---|---|---|---|---|---|\n")
     for r in rows:
         o.write(f"| {r['series']} | {r['point']} | {r['status']} | {f(r['wall_s_per_sim_s'], '.3g')} | {f(r['T'], '.5g')} "
-                f"| {f(r['T_rel_error'], '+.2e')} +- {f(r['T_rel_sigma'], '.1e')} | {f(r['loss_err_formula_headon'], '+.2e')} "
+                f"| {f(r['T_rel_error'], '+.2e')} +- {f(r['T_rel_sigma'], '.1e')} "
+                f"| {f(r['R2_rel_error'], '+.2e')} +- {f(r['R2_rel_sigma'], '.1e')} "
+                f"| {f(r['alpha'], '.3f')} ({f(r['alpha_diff'], '+.3f')} +- {f(r['alpha_sigma'], '.3f')}) "
+                f"| {f(r['loss_err_formula_headon'], '+.2e')} "
                 f"| {f(r['loss_err_cvode_headon'], '+.2e')} | {f(r['loss_err_formula_oblique'], '+.2e')} | {f(r['loss_err_cvode_oblique'], '+.2e')} |\n")
 # gnuplot data: one block per series, |error| > 0 only (log axes)
 series = [("T_rel_error", "soft-sphere dt", "steady T vs reference (dt/REF)"),
@@ -271,12 +293,12 @@ EOF
 bench_header
 scenes=${ACC_SCENES:-rfm-1d steady-2d}
 if [[ " $scenes " == *" rfm-1d "* ]]; then
-    scene_bench rfm-1d docs/scenes/rfm-1d.ini spring_dashpot 1 "${size1[@]}"
+    scene_bench rfm-1d docs/scenes/rfm-1d.ini spring_dashpot 1 "${size1[@]}" --set "analysis.observables=gaps, pv"
     cat "$out/accuracy-rfm-1d.md"
     plot rfm-1d "1D RFM (N = 1000, eps = 0.1): error against cost, dt from the thesis's 1e-6 s upwards"
 fi
 if [[ " $scenes " == *" steady-2d "* ]]; then
-    scene_bench steady-2d docs/scenes/steady-2d.ini spring_dashpot+tangential_dashpot 2 "${size2[@]}"
+    scene_bench steady-2d docs/scenes/steady-2d.ini spring_dashpot+tangential_dashpot 2 "${size2[@]}" --set analysis.observables=pv
     cat "$out/accuracy-steady-2d.md"
     plot steady-2d "2D steady scene (N = 2000, eps_n = eps_t = 0.6): error against cost"
 fi
