@@ -25,6 +25,11 @@ static inline bool gr_campaign_exact_match(double value, double thesis, double t
            fabs(value - thesis) <= GR_CAMPAIGN_EXACT_REL * fabs(thesis);
 }
 
+/* The verdicts a campaign may give a result whose numbers disagree with the thesis (key verdict,
+ * docs/campaigns/README.md), in the order the reproduction page counts them. */
+#define GR_CAMPAIGN_VERDICTS 3
+static const char *const gr_campaign_verdicts[GR_CAMPAIGN_VERDICTS] = {"explained", "partly explained", "unexplained"};
+
 typedef enum { GR_FIDELITY_QUICK = 0, GR_FIDELITY_FULL = 1 } gr_fidelity;
 
 /* How a [result ID] section turns the runs into numbers (docs/campaigns/README.md):

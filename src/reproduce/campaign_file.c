@@ -113,10 +113,9 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         if (r->verdict[0]) {
             return append_text(p, section, name, r->verdict_why, sizeof r->verdict_why, " ", value);
         }
-        static const char *const categories[] = {"explained", "partly explained", "unexplained"};
-        for (size_t i = 0; i < sizeof categories / sizeof categories[0]; i++) {
-            const size_t len = strlen(categories[i]);
-            if (!strncmp(value, categories[i], len) && value[len] == ':') {
+        for (int i = 0; i < GR_CAMPAIGN_VERDICTS; i++) {
+            const size_t len = strlen(gr_campaign_verdicts[i]);
+            if (!strncmp(value, gr_campaign_verdicts[i], len) && value[len] == ':') {
                 const char *why = value + len + 1;
                 while (*why == ' ') {
                     why++;
@@ -124,7 +123,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
                 if (!*why) {
                     break;
                 }
-                snprintf(r->verdict, sizeof r->verdict, "%s", categories[i]);
+                snprintf(r->verdict, sizeof r->verdict, "%s", gr_campaign_verdicts[i]);
                 return append_text(p, section, name, r->verdict_why, sizeof r->verdict_why, " ", why);
             }
         }

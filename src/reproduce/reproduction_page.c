@@ -47,25 +47,37 @@ static int by_name(const void *a, const void *b)
     return strcmp(*(char *const *)a, *(char *const *)b);
 }
 
-/* How many of a result set's numbers have a z against the thesis, how many of those |z| > 2, and how
+/* How many of a result's numbers have a z against the thesis, how many of those |z| > 2, and how
  * many of those also differ from the thesis's value by more than 5 % (many of its values come without
  * an error, and then a small error of ours alone makes |z| large). */
+static void count_off(const cJSON *res, int *compared, int *off, int *off5)
+{
+    *compared = *off = *off5 = 0;
+    const cJSON *row;
+    cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
+    {
+        double z = num(row, "z");
+        if (isfinite(z)) {
+            double t = num(row, "thesis");
+            ++*compared;
+            *off += fabs(z) > 2.0;
+            *off5 += fabs(z) > 2.0 && !(fabs(num(row, "value") - t) <= 0.05 * fabs(t));
+        }
+    }
+}
+
+/* The same over a result set. */
 static void tally(const cJSON *set, int *compared, int *off, int *off5)
 {
     *compared = *off = *off5 = 0;
-    const cJSON *res, *row;
+    const cJSON *res;
     cJSON_ArrayForEach(res, cJSON_GetObjectItem(set, "results"))
     {
-        cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
-        {
-            double z = num(row, "z");
-            if (isfinite(z)) {
-                double t = num(row, "thesis");
-                ++*compared;
-                *off += fabs(z) > 2.0;
-                *off5 += fabs(z) > 2.0 && !(fabs(num(row, "value") - t) <= 0.05 * fabs(t));
-            }
-        }
+        int c, o, o5;
+        count_off(res, &c, &o, &o5);
+        *compared += c;
+        *off += o;
+        *off5 += o5;
     }
 }
 
@@ -114,47 +126,43 @@ static void cell(FILE *f, const char *text)
  * so a reader sees at a glance which disagreements are understood. */
 static void disagreements(FILE *f, cJSON *const *sets, int ns)
 {
-    int judged[3] = {0}, open = 0, total = 0;
-    static const char *const categories[] = {"explained", "partly explained", "unexplained"};
-    for (int pass = 0; pass < 2; pass++) {
-        if (pass == 1) {
-            fprintf(f, "## Where granule and the thesis disagree\n\n"
-                       "%d results have at least one number at |z| > 2: %d explained (the cause found and measured), "
-                       "%d partly explained, %d unexplained, %d not investigated yet. The verdict is the campaign's "
-                       "(key `verdict` in docs/campaigns/NAME.ini); the evidence is in the result's note below.\n\n"
-                       "| result | what | \\|z\\| > 2 | verdict | why |\n|---|---|---|---|---|\n",
-                    total, judged[0], judged[1], judged[2], open);
-        }
-        for (int i = 0; i < ns; i++) {
-            const cJSON *res, *row;
-            cJSON_ArrayForEach(res, cJSON_GetObjectItem(sets[i], "results"))
-            {
-                int off = 0, compared = 0;
-                cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
-                {
-                    double z = num(row, "z");
-                    compared += isfinite(z);
-                    off += isfinite(z) && fabs(z) > 2.0;
+    int judged[GR_CAMPAIGN_VERDICTS + 1] = {0}, total = 0; /* the last: not investigated yet */
+    const cJSON *res;
+    for (int i = 0; i < ns; i++) {
+        cJSON_ArrayForEach(res, cJSON_GetObjectItem(sets[i], "results"))
+        {
+            int compared, off, off5;
+            count_off(res, &compared, &off, &off5);
+            if (off) {
+                int k = 0;
+                while (k < GR_CAMPAIGN_VERDICTS && strcmp(str(res, "verdict"), gr_campaign_verdicts[k])) {
+                    k++;
                 }
-                if (!off) {
-                    continue;
-                }
-                const char *v = str(res, "verdict");
-                if (pass == 0) {
-                    total++;
-                    int k = 0;
-                    while (k < 3 && strcmp(v, categories[k])) {
-                        k++;
-                    }
-                    k < 3 ? judged[k]++ : open++;
-                    continue;
-                }
-                fprintf(f, "| [%s: %s](#%s-%s) | %s | %d of %d | %s | ", str(sets[i], "campaign"), str(res, "id"),
-                        str(sets[i], "campaign"), str(res, "id"), str(res, "title"), off, compared,
-                        v[0] ? v : "**not investigated yet**");
-                cell(f, str(res, "verdict_why"));
-                fprintf(f, " |\n");
+                judged[k]++;
+                total++;
             }
+        }
+    }
+    fprintf(f, "## Where granule and the thesis disagree\n\n"
+               "%d results have at least one number at |z| > 2: %d explained (the cause found and measured), "
+               "%d partly explained, %d unexplained, %d not investigated yet. The verdict is the campaign's "
+               "(key `verdict` in docs/campaigns/NAME.ini); the evidence is in the result's note below.\n\n"
+               "| result | what | \\|z\\| > 2 | verdict | why |\n|---|---|---|---|---|\n",
+            total, judged[0], judged[1], judged[2], judged[GR_CAMPAIGN_VERDICTS]);
+    for (int i = 0; i < ns; i++) {
+        cJSON_ArrayForEach(res, cJSON_GetObjectItem(sets[i], "results"))
+        {
+            int compared, off, off5;
+            count_off(res, &compared, &off, &off5);
+            if (!off) {
+                continue;
+            }
+            const char *v = str(res, "verdict");
+            fprintf(f, "| [%s: %s](#%s-%s) | %s | %d of %d | %s | ", str(sets[i], "campaign"), str(res, "id"),
+                    str(sets[i], "campaign"), str(res, "id"), str(res, "title"), off, compared,
+                    v[0] ? v : "**not investigated yet**");
+            cell(f, str(res, "verdict_why"));
+            fprintf(f, " |\n");
         }
     }
     fprintf(f, "\n");
