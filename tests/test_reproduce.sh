@@ -132,6 +132,30 @@ if not ok:
     print("spm_compare results incomplete")
 sys.exit(0 if ok else 1)
 PY
+    # Fig. 5.11 (kind spm_circle): Q(v,l) of walks in discs of fixed radius with the runs' M and D;
+    # b per radius and pooled, the coefficient b (M^2 / 2 D l)^(2/3) per radius, u_l Q per radius
+    check python3 - "$d" <<'PY'
+import csv, json, math, os, sys
+d = sys.argv[1]
+res = {r["id"]: r for r in json.load(open(os.path.join(d, "results.json")))["results"]}
+b, c = res.get("fig5.11"), res.get("fig5.11-coefficient")
+ok = b is not None and c is not None and b["kind"] == c["kind"] == "spm_circle"
+ok = ok and [r["group"] for r in b["rows"]] == ["l=0.0036", "l=0.01", "l=0.02", "l=0.04", "pooled"]
+ok = ok and [r["group"] for r in c["rows"]] == ["l=0.0036", "l=0.01", "l=0.02", "l=0.04"]
+ok = ok and all(r["thesis"] == 0.98 for r in b["rows"]) and c["rows"][0]["thesis"] == 6.56
+rows = list(csv.DictReader(open(os.path.join(d, "fig5.11_data.csv")))) if ok else []
+for r in rows[:4]:  # the coefficient is b in physical units: b (M^2 / 2 D l)^(2/3), Table 2.2's M and D
+    l, bv, cv = float(r["l"]), float(r["b"]), float(r["coefficient"])
+    ok &= abs(cv - bv * (3.53e-5 ** 2 / (2e-8 * l)) ** (2 / 3)) <= 1e-4 * cv
+    ok &= abs(float(r["u_l"]) - (2e-8 * l / 3.53e-5 ** 2) ** (1 / 3)) <= 1e-4 * float(r["u_l"])
+ok &= len(rows) == 5
+q = open(os.path.join(d, "fig5.11_q.dat")).read() if ok else ""
+ok &= q.startswith('"l = 3.6 mm"') and q.count('"l = ') == 4
+ok &= os.path.getsize(os.path.join(d, "fig5.11_data.png")) > 0
+if not ok:
+    print("spm_circle results incomplete")
+sys.exit(0 if ok else 1)
+PY
     cp -r "$d" "$tmp/cmp-restored"
     "$granule" reproduce ch5-spm-compare --out "$tmp/cmp-elsewhere" --results "$tmp/cmp-restored" --jobs 1 >/dev/null 2>"$tmp/cmp-restored.err"
     check test $? -eq 0
@@ -256,6 +280,12 @@ for bad in "y = S|y = S: allowed frac_within, decades" "y = k\nwalks = 10|walks 
     check grep -q "bad-cmp.ini.*\[result r1\].*${bad#*|}" "$tmp/bad-cmp.err"
     check test ! -e "$tmp/bad-cmp-out"
 done
+# an spm_circle result with a quantity of another kind: refused the same way
+printf '[campaign]\ntitle = t\nscene = rfm-2d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 100\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 100\n[result r1]\nkind = spm_circle\ny = k\n' >"$tmp/bad-circle.ini"
+"$granule" reproduce "$tmp/bad-circle.ini" --out "$tmp/bad-circle-out" >/dev/null 2>"$tmp/bad-circle.err"
+check test $? -eq 2
+check grep -q "bad-circle.ini.*\[result r1\].*y = k: allowed b, coefficient" "$tmp/bad-circle.err"
+check test ! -e "$tmp/bad-circle-out"
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

@@ -49,11 +49,15 @@ typedef enum { GR_FIDELITY_QUICK = 0, GR_FIDELITY_FULL = 1 } gr_fidelity;
  *            GR_CAMPAIGN_SPM_QUANTITIES; `df` fixes D_f (0: the free 4.25 fit of the run).
  * SPM_COMPARE the full SPM (walks with l drawn from each run's own free paths) against the run's P(v)
  *            from its snapshots (Fig. 5.10): y names one of GR_CAMPAIGN_SPM_COMPARE_QUANTITIES;
- *            `walks` and `walks_quick` the walks per run at each fidelity. */
+ *            `walks` and `walks_quick` the walks per run at each fidelity.
+ * SPM_CIRCLE Q(v,l) of the SPM in discs of fixed radius with the runs' M and D (Fig. 5.11): the
+ *            Gaussian tail of 5.12 per radius and pooled; y names one of
+ *            GR_CAMPAIGN_SPM_CIRCLE_QUANTITIES; `walks` and `walks_quick` the walks per radius. */
 typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING, GR_RESULT_RISE, GR_RESULT_SETTLE, GR_RESULT_CURVE, GR_RESULT_CASCADE,
-               GR_RESULT_SPM, GR_RESULT_SPM_COMPARE } gr_result_kind;
+               GR_RESULT_SPM, GR_RESULT_SPM_COMPARE, GR_RESULT_SPM_CIRCLE } gr_result_kind;
 #define GR_CAMPAIGN_SPM_QUANTITIES "D_f, C, alpha, S_predicted, S, S_over_predicted, A0_over_P0, slope_P0, slope_A0"
 #define GR_CAMPAIGN_SPM_COMPARE_QUANTITIES "frac_within, decades, k, s, alpha_spm, alpha_rfm"
+#define GR_CAMPAIGN_SPM_CIRCLE_QUANTITIES "b, coefficient"
 #define GR_CAMPAIGN_SPM_WALKS 200000      /* SPM_COMPARE's default walks per run, full fidelity */
 #define GR_CAMPAIGN_SPM_WALKS_QUICK 5000  /* ... and quick */
 
@@ -83,7 +87,7 @@ typedef struct gr_campaign_result {
     double df;            /* SPM: D_f fixed for C, alpha and h (0: the run's free 4.25 fit) */
     bool tail_exponential; /* SPM: fit P(v)'s tail with A0 exp(-S |v|) (alpha = 1, h = 0: the thesis's
                               A0 of Fig. 5.13) instead of 5.31 at the predicted alpha and h */
-    long walks, walks_quick; /* SPM_COMPARE: SPM walks per run at full and quick fidelity (0: default) */
+    long walks, walks_quick; /* SPM_COMPARE: SPM walks per run, SPM_CIRCLE per radius, at full and quick fidelity (0: default) */
     char thesis[4096];    /* "GROUP: value +- error; ..." (GROUP as in results.csv) */
     char thesis_source[256];
     char note[2048];      /* what a reader should know (shown on the page) */

@@ -151,8 +151,10 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
             r->kind = GR_RESULT_SPM;
         } else if (!strcmp(value, "spm_compare")) {
             r->kind = GR_RESULT_SPM_COMPARE;
+        } else if (!strcmp(value, "spm_circle")) {
+            r->kind = GR_RESULT_SPM_CIRCLE;
         } else {
-            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, settle_time, curve, cascade, spm, spm_compare",
+            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, settle_time, curve, cascade, spm, spm_compare, spm_circle",
                      r->id, value);
             return 0;
         }
@@ -391,6 +393,10 @@ static int parse_text(gr_campaign *c, const char *text, const char *where, gr_er
         if (r->kind == GR_RESULT_SPM_COMPARE && !campaign_spm_compare_quantity_known(r->y)) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = spm_compare: y = %s: allowed %s", where, r->id, r->y,
                            GR_CAMPAIGN_SPM_COMPARE_QUANTITIES);
+        }
+        if (r->kind == GR_RESULT_SPM_CIRCLE && !campaign_spm_circle_quantity_known(r->y)) {
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = spm_circle: y = %s: allowed %s", where, r->id, r->y,
+                           GR_CAMPAIGN_SPM_CIRCLE_QUANTITIES);
         }
         if (r->axes[0] && strcmp(r->axes, "loglog") && strcmp(r->axes, "linlog") && strcmp(r->axes, "linear")) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] axes = %s: allowed loglog, linlog, linear", where, r->id, r->axes);

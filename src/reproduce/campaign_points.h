@@ -84,6 +84,12 @@ bool campaign_spm_compare_quantity_known(const char *y);
 /* The two series it reads from spm_compare.csv as CURVE results (which = 0: the SPM's P(v); 1: the
  * run's), so that the archive keeps them. */
 void campaign_spm_compare_series(int which, gr_campaign_result *out);
+/* SPM_CIRCLE (Fig. 5.11, campaign_spm_circle.c): Q(v,l) of walks in discs of fixed radius with the
+ * runs' M and D, the Gaussian tail of 5.12 per radius and pooled; writes RESULTS/ID_q.dat and draws
+ * ID_data.png. */
+int campaign_spm_circle(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts, campaign_rows *rows,
+                        const char *results, FILE *data, gr_error *err);
+bool campaign_spm_circle_quantity_known(const char *y);
 int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
                    FILE *data, gr_error *err);
 /* A CURVE result's series of one run (from its table, or from the archive's series.json): x, y, e

@@ -23,6 +23,7 @@ static const char *kind_name(gr_result_kind k)
            : k == GR_RESULT_CASCADE   ? "cascade"
            : k == GR_RESULT_SPM       ? "spm"
            : k == GR_RESULT_SPM_COMPARE ? "spm_compare"
+           : k == GR_RESULT_SPM_CIRCLE ? "spm_circle"
            : k == GR_RESULT_SETTLE    ? "settle_time"
                                       : "rise_time";
 }
@@ -264,6 +265,7 @@ static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_
          : r->kind == GR_RESULT_CASCADE   ? campaign_cascade(c, r, pts, rows, results, data.f, err)
          : r->kind == GR_RESULT_SPM       ? campaign_spm(c, r, pts, rows, results, data.f, err)
          : r->kind == GR_RESULT_SPM_COMPARE ? campaign_spm_compare(r, fid, pts, rows, results, data.f, err)
+         : r->kind == GR_RESULT_SPM_CIRCLE ? campaign_spm_circle(r, fid, pts, rows, results, data.f, err)
                                           : campaign_rise(c, r, pts, rows, data.f, err);
     if (rc) {
         gr_file_abandon(&data);
