@@ -55,6 +55,23 @@ if [[ -d $tmp/results/ch6-cascade ]]; then
     check grep -q "^rfm," "$tmp/results/ch6-cascade/fig6.3_positions.csv"
     check test "$(grep -c "^cascade," "$tmp/results/ch6-cascade/fig6.3_positions.csv")" -eq 400
     check test -s "$tmp/results/ch6-cascade/fig6.3_data.png"
+    # Table 6.2 (kind cascade_field): every variant's own D_f from 2 seeds at quick fidelity, the
+    # thesis's six values beside them (the symmetrised cascade has none)
+    check python3 - "$tmp/results/ch6-cascade" <<'PY'
+import csv, json, os, sys
+d = sys.argv[1]
+res = {r["id"]: r for r in json.load(open(os.path.join(d, "results.json")))["results"]}
+t = res.get("table6.2")
+names = ["UCP", "UnonCP", "Symmetrised Cascade", "Meakin 1", "Meakin 2", "Meakin 3", "Meakin 4"]
+ok = t is not None and t["kind"] == "cascade_field" and [r["group"] for r in t["rows"]] == names
+ok = ok and [r["thesis"] for r in t["rows"]] == [1.602, 1.595, None, 1.287, 1.596, 1.828, 1.689]
+ok = ok and all(r["seeds"] == 2 and r["value"] is not None and r["error"] > 0 for r in t["rows"] if r["group"] != "Symmetrised Cascade")
+rows = list(csv.DictReader(open(os.path.join(d, "table6.2_data.csv")))) if ok else []
+ok &= len(rows) == 14 and all(r["configurations"] == "10" for r in rows)
+if not ok:
+    print("cascade_field results incomplete")
+sys.exit(0 if ok else 1)
+PY
 fi
 # Figs. 5.12-5.13 (kind spm): every run's SPM analysis in the data CSV, the P(v) blocks of the
 # figures, both figures; a result set restored elsewhere (no run tables, only the archived series)

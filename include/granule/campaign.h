@@ -52,9 +52,13 @@ typedef enum { GR_FIDELITY_QUICK = 0, GR_FIDELITY_FULL = 1 } gr_fidelity;
  *            `walks` and `walks_quick` the walks per run at each fidelity.
  * SPM_CIRCLE Q(v,l) of the SPM in discs of fixed radius with the runs' M and D (Fig. 5.11): the
  *            Gaussian tail of 5.12 per radius and pooled; y names one of
- *            GR_CAMPAIGN_SPM_CIRCLE_QUANTITIES; `walks` and `walks_quick` the walks per radius. */
+ *            GR_CAMPAIGN_SPM_CIRCLE_QUANTITIES; `walks` and `walks_quick` the walks per radius.
+ * CASCADE_FIELD D_f of S(k) (6.5) of the cascade fields themselves, every variant of sec. 6.2.1 on the
+ *            thesis's 256 x 256 grid (Table 6.2), from independent seeds of `configurations` fields
+ *            each; needs no run and no y. */
 typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING, GR_RESULT_RISE, GR_RESULT_SETTLE, GR_RESULT_CURVE, GR_RESULT_CASCADE,
-               GR_RESULT_SPM, GR_RESULT_SPM_COMPARE, GR_RESULT_SPM_CIRCLE } gr_result_kind;
+               GR_RESULT_SPM, GR_RESULT_SPM_COMPARE, GR_RESULT_SPM_CIRCLE,
+               GR_RESULT_CASCADE_FIELD } gr_result_kind;
 #define GR_CAMPAIGN_SPM_QUANTITIES "D_f, C, alpha, S_predicted, S, S_over_predicted, A0_over_P0, slope_P0, slope_A0"
 #define GR_CAMPAIGN_SPM_COMPARE_QUANTITIES "frac_within, decades, k, s, alpha_spm, alpha_rfm"
 #define GR_CAMPAIGN_SPM_CIRCLE_QUANTITIES "b, coefficient"
@@ -83,7 +87,7 @@ typedef struct gr_campaign_result {
     int m_lo, m_hi;       /* moments: m = m_lo..m_hi (0 = no {m}) */
     bool per_m;           /* report exponent / m (Fig. 3.5) */
     double period;        /* RUNNING: seconds per period mean */
-    int configurations;   /* CASCADE: cascade placements averaged (default 20) */
+    int configurations;   /* CASCADE: cascade placements averaged (default 20); CASCADE_FIELD: fields per seed */
     double df;            /* SPM: D_f fixed for C, alpha and h (0: the run's free 4.25 fit) */
     bool tail_exponential; /* SPM: fit P(v)'s tail with A0 exp(-S |v|) (alpha = 1, h = 0: the thesis's
                               A0 of Fig. 5.13) instead of 5.31 at the predicted alpha and h */

@@ -153,8 +153,10 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
             r->kind = GR_RESULT_SPM_COMPARE;
         } else if (!strcmp(value, "spm_circle")) {
             r->kind = GR_RESULT_SPM_CIRCLE;
+        } else if (!strcmp(value, "cascade_field")) {
+            r->kind = GR_RESULT_CASCADE_FIELD;
         } else {
-            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, settle_time, curve, cascade, spm, spm_compare, spm_circle",
+            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, settle_time, curve, cascade, cascade_field, spm, spm_compare, spm_circle",
                      r->id, value);
             return 0;
         }
@@ -376,7 +378,8 @@ static int parse_text(gr_campaign *c, const char *text, const char *where, gr_er
     }
     for (int i = 0; i < c->n_results; i++) {
         const gr_campaign_result *r = &c->results[i];
-        if (r->kind != GR_RESULT_RUNNING && r->kind != GR_RESULT_RISE && r->kind != GR_RESULT_SETTLE && !r->y[0]) {
+        if (r->kind != GR_RESULT_RUNNING && r->kind != GR_RESULT_RISE && r->kind != GR_RESULT_SETTLE && r->kind != GR_RESULT_CASCADE_FIELD &&
+            !r->y[0]) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] needs y (a summary.json path)", where, r->id);
         }
         if (r->kind == GR_RESULT_POWER_LAW && !r->x[0]) {

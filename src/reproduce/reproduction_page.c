@@ -42,6 +42,16 @@ static void pm(char *out, size_t len, double v, double e)
     snprintf(out, len, "%.*f +- %.*f", digits, v, digits, e);
 }
 
+/* A thesis value as the thesis printed it (rounding it to its error's digits would change it). */
+static void quoted(char *out, size_t len, double v, double e)
+{
+    if (isfinite(e) && e > 0.0) {
+        snprintf(out, len, "%g +- %g", v, e);
+    } else {
+        snprintf(out, len, "%g", v);
+    }
+}
+
 static int by_name(const void *a, const void *b)
 {
     return strcmp(*(char *const *)a, *(char *const *)b);
@@ -197,7 +207,7 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         pm(ours, sizeof ours, num(row, "value"), num(row, "error"));
         double tv = num(row, "thesis");
         if (isfinite(tv)) {
-            pm(theirs, sizeof theirs, tv, num(row, "thesis_error"));
+            quoted(theirs, sizeof theirs, tv, num(row, "thesis_error"));
             if (str(row, "thesis_note")[0]) {
                 snprintf(theirs + strlen(theirs), sizeof theirs - strlen(theirs), " %s", str(row, "thesis_note"));
             }
