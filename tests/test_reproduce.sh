@@ -68,6 +68,8 @@ ok = ok and [r["thesis"] for r in t["rows"]] == [1.602, 1.595, None, 1.287, 1.59
 ok = ok and all(r["seeds"] == 2 and r["value"] is not None and r["error"] > 0 for r in t["rows"] if r["group"] != "Symmetrised Cascade")
 rows = list(csv.DictReader(open(os.path.join(d, "table6.2_data.csv")))) if ok else []
 ok &= len(rows) == 14 and all(r["configurations"] == "10" for r in rows)
+sk = open(os.path.join(d, "table6.2_sk.dat")).read() if ok else ""
+ok &= sk.startswith('"UCP (x 1e-0)"') and sk.count('"') == 14 and os.path.getsize(os.path.join(d, "table6.2_data.png")) > 0
 if not ok:
     print("cascade_field results incomplete")
 sys.exit(0 if ok else 1)

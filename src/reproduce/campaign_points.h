@@ -91,7 +91,8 @@ int campaign_spm_circle(const gr_campaign_result *r, gr_fidelity fid, const camp
                         const char *results, FILE *data, gr_error *err);
 bool campaign_spm_circle_quantity_known(const char *y);
 /* CASCADE_FIELD (Table 6.2, campaign_cascade_field.c): D_f of every cascade variant's own S(k). */
-int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaign_rows *rows, FILE *data, gr_error *err);
+int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaign_rows *rows, const char *results, FILE *data,
+                           gr_error *err);
 int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
                    FILE *data, gr_error *err);
 /* A CURVE result's series of one run (from its table, or from the archive's series.json): x, y, e

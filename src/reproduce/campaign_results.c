@@ -267,7 +267,7 @@ static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_
          : r->kind == GR_RESULT_SPM       ? campaign_spm(c, r, pts, rows, results, data.f, err)
          : r->kind == GR_RESULT_SPM_COMPARE ? campaign_spm_compare(r, fid, pts, rows, results, data.f, err)
          : r->kind == GR_RESULT_SPM_CIRCLE ? campaign_spm_circle(r, fid, pts, rows, results, data.f, err)
-         : r->kind == GR_RESULT_CASCADE_FIELD ? campaign_cascade_field(r, fid, rows, data.f, err)
+         : r->kind == GR_RESULT_CASCADE_FIELD ? campaign_cascade_field(r, fid, rows, results, data.f, err)
                                           : campaign_rise(c, r, pts, rows, data.f, err);
     if (rc) {
         gr_file_abandon(&data);
