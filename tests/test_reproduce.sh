@@ -55,6 +55,12 @@ if [[ -d $tmp/results/ch6-cascade ]]; then
     check grep -q "^rfm," "$tmp/results/ch6-cascade/fig6.3_positions.csv"
     check test "$(grep -c "^cascade," "$tmp/results/ch6-cascade/fig6.3_positions.csv")" -eq 400
     check test -s "$tmp/results/ch6-cascade/fig6.3_data.png"
+    # restored elsewhere (the archive keeps no frames) the figure keeps the RFM snapshot it had
+    cp -r "$tmp/results/ch6-cascade" "$tmp/cascade-restored"
+    "$granule" reproduce ch6-cascade --out "$tmp/cascade-elsewhere" --results "$tmp/cascade-restored" --jobs 1 >/dev/null 2>&1
+    check test $? -eq 0
+    check test "$(grep -c "^rfm," "$tmp/cascade-restored/fig6.3_positions.csv")" -eq "$(grep -c "^rfm," "$tmp/results/ch6-cascade/fig6.3_positions.csv")"
+    check cmp -s "$tmp/cascade-restored/fig6.3_positions.csv" "$tmp/results/ch6-cascade/fig6.3_positions.csv"
     # Table 6.2 (kind cascade_field): every variant's own D_f from 2 seeds at quick fidelity, the
     # thesis's six values beside them (the symmetrised cascade has none)
     check python3 - "$tmp/results/ch6-cascade" <<'PY'

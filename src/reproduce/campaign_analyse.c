@@ -9,6 +9,7 @@
 
 #include "granule/analysis.h"
 #include "io/summary_read.h"
+#include "io/plot.h"
 #include "reproduce/campaign_points.h"
 
 #define MAX_X 64
@@ -145,6 +146,14 @@ int campaign_members(const campaign_points *pts, const char *group, const campai
         }
     }
     return n;
+}
+
+void campaign_draw(const char *dir, const char *png, const char *body)
+{
+    char note[256];
+    if (gr_plot_script(dir, png, body, note, sizeof note)) {
+        fprintf(stderr, "reproduce: %s/%s not drawn: %s\n", dir, png, note);
+    }
 }
 
 campaign_row *campaign_group_row(campaign_rows *rows, const char *group)

@@ -3,7 +3,8 @@
  * cascade row runs the sk observable of a run, with the runs' N, L and radius, over discs placed
  * without overlap from `configurations` independent UCP fields of 256 x 256 squares (sec. 6.2.1,
  * gr_cascade_study with --place), and fits the same D_f. RESULTS/ID_positions.csv holds an RFM
- * snapshot and the first placement for the figure. */
+ * snapshot and the first placement for the figure; collected again from points restored from the
+ * archive (which keeps no frames), it keeps the RFM snapshot it had. */
 #include <dirent.h>
 #include <glob.h>
 #include <math.h>
@@ -15,6 +16,7 @@
 #include "granule/cascade_study.h"
 #include "granule/observe.h"
 #include "granule/scene.h"
+#include "io/files.h"
 #include "io/snapshot.h"
 #include "io/summary_read.h"
 #include "reproduce/campaign_points.h"
@@ -44,6 +46,21 @@ static void write_positions(FILE *f, const char *which, const double *x, const d
 {
     for (int i = 0; i < n; i++) {
         fprintf(f, "%s,%.9g,%.9g\n", which, x[i], y[i]);
+    }
+}
+
+/* The "rfm" rows of an earlier ID_positions.csv, copied to `to` (nothing if there is none). */
+static void keep_rfm_rows(const char *path, FILE *to)
+{
+    FILE *from = fopen(path, "r");
+    char line[256];
+    while (from && fgets(line, sizeof line, from)) {
+        if (!strncmp(line, "rfm,", 4)) {
+            fputs(line, to);
+        }
+    }
+    if (from) {
+        fclose(from);
     }
 }
 
@@ -134,24 +151,29 @@ int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const ca
     if (!(n > 0 && L > 0.0 && radius > 0.0)) {
         return GR_FAIL(err, GR_EINVAL, "cascade: the runs' summaries lack scene.system.N, L or radius");
     }
-    char path[1200];
+    char path[1200], name[96];
     snprintf(path, sizeof path, "%s/%s_positions.csv", results, r->id);
-    FILE *positions = fopen(path, "w");
-    if (!positions) {
-        return GR_FAIL(err, GR_EIO, "cannot write %s", path);
+    snprintf(name, sizeof name, "%s_positions.csv", r->id);
+    gr_file out;
+    if ((rc = gr_file_open(&out, results, name, err))) {
+        return rc;
     }
+    FILE *positions = out.f;
     fprintf(positions, "which,x,y\n");
     gr_frame f = {0};
     if (last_snapshot(p0, &f)) {
         write_positions(positions, "rfm", f.x, f.y, f.n);
+    } else {
+        keep_rfm_rows(path, positions); /* a restored point has no frames: keep the snapshot written before */
     }
     gr_frame_free(&f);
     double df = NAN, df_err = NAN;
     rc = cascade_df(c, r, n, L, radius, positions, &df, &df_err, err);
-    if (fclose(positions) && rc == GR_OK) {
-        rc = GR_FAIL(err, GR_EIO, "cannot write %s", path);
-    }
     if (rc) {
+        gr_file_abandon(&out);
+        return rc;
+    }
+    if ((rc = gr_file_commit(&out, err))) {
         return rc;
     }
     campaign_row *row = campaign_group_row(rows, CASCADE_GROUP);

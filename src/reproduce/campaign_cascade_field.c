@@ -16,7 +16,6 @@
 
 #include "granule/cascade_study.h"
 #include "io/files.h"
-#include "io/plot.h"
 #include "reproduce/campaign_points.h"
 
 #define CASCADE_FIELD_SEEDS 5
@@ -47,7 +46,7 @@ static void write_sk(FILE *f, const char *label, int i, const gr_cascade_study *
 
 static void plot_sk(const char *results, const gr_campaign_result *r, int blocks)
 {
-    char body[1024], png[96], note[256];
+    char body[1024], png[96];
     snprintf(body, sizeof body,
              "set datafile separator whitespace\nset logscale xy\nset format y '10^{%%L}'\nset key outside right noenhanced\n"
              "set xlabel 'k (1/m)'\nset ylabel 'S(k) / S(k_1) x 10^{-i}'\n"
@@ -56,9 +55,7 @@ static void plot_sk(const char *results, const gr_campaign_result *r, int blocks
              "for [i=0:%d] '' index i using 1:3 with lines lw 2 lc i+1 notitle\n",
              r->id, blocks - 1, r->id, blocks - 1);
     snprintf(png, sizeof png, "%s_data.png", r->id);
-    if (gr_plot_script(results, png, body, note, sizeof note)) {
-        fprintf(stderr, "reproduce: %s/%s not drawn: %s\n", results, png, note);
-    }
+    campaign_draw(results, png, body);
 }
 
 int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaign_rows *rows, const char *results, FILE *data,

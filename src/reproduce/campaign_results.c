@@ -10,7 +10,6 @@
 #include "granule/campaign.h"
 #include "granule_commit.h"
 #include "io/files.h"
-#include "io/plot.h"
 #include "io/summary_read.h"
 #include "reproduce/campaign_points.h"
 
@@ -81,7 +80,7 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
         }
         return;
     }
-    char body[2048], png[80], note[256];
+    char body[2048], png[80];
     snprintf(body, sizeof body,
              "set datafile separator whitespace\nset title \"%s\" noenhanced\nset ylabel '%s%s%s' noenhanced\nset xtics rotate by -40 noenhanced\n"
              "set key top left\nset offsets 0.5, 0.5, 0, 0\nset grid ytics lc rgb '#dddddd'\n"
@@ -89,9 +88,7 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
              r->title, r->quantity, r->unit[0] ? " / " : "", r->unit, name,
              thesis ? ", '' using ($1+0.15):5:6 with yerrorbars pt 6 ps 1.2 lc rgb '#c0392b' title 'thesis'" : "");
     snprintf(png, sizeof png, "%s.png", r->id);
-    if (gr_plot_script(dir, png, body, note, sizeof note)) {
-        fprintf(stderr, "reproduce: %s/%s not drawn: %s\n", dir, png, note);
-    }
+    campaign_draw(dir, png, body);
 }
 
 /* The power-law data regrouped as gnuplot index blocks, one per (group, m), each with a title
@@ -140,7 +137,7 @@ static int power_law_blocks(const char *dir, const char *id)
 /* the data behind a fit or a running average */
 static void plot_data(const char *dir, const gr_campaign_result *r)
 {
-    char body[2048], png[80], note[256];
+    char body[2048], png[80];
     if (r->kind == GR_RESULT_POWER_LAW) {
         int blocks = power_law_blocks(dir, r->id);
         if (!blocks) {
@@ -196,9 +193,7 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
         return;
     }
     snprintf(png, sizeof png, "%s_data.png", r->id);
-    if (gr_plot_script(dir, png, body, note, sizeof note)) {
-        fprintf(stderr, "reproduce: %s/%s not drawn: %s\n", dir, png, note);
-    }
+    campaign_draw(dir, png, body);
 }
 
 static void row_json(cJSON *arr, const campaign_row *w)

@@ -23,7 +23,6 @@
 #include <string.h>
 
 #include "granule/spm.h"
-#include "io/plot.h"
 #include "io/summary_read.h"
 #include "reproduce/campaign_points.h"
 
@@ -202,7 +201,7 @@ static void write_block(FILE *f, const char *group, const spm_run *o, bool first
 
 static void draw(const char *results, const gr_campaign_result *r, int blocks)
 {
-    char body[3072], png[80], note[256];
+    char body[3072], png[80];
     const int q = quantity_index(r->y);
     if (q == Q_A0P0 || q == Q_SLOPE_P0 || q == Q_SLOPE_A0) { /* Fig. 5.13 */
         snprintf(body, sizeof body,
@@ -225,9 +224,7 @@ static void draw(const char *results, const gr_campaign_result *r, int blocks)
                  r->id, blocks - 1, r->id, blocks - 1, blocks - 1);
     }
     snprintf(png, sizeof png, "%s_data.png", r->id);
-    if (gr_plot_script(results, png, body, note, sizeof note)) {
-        fprintf(stderr, "reproduce: %s/%s not drawn: %s\n", results, png, note);
-    }
+    campaign_draw(results, png, body);
 }
 
 int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,

@@ -19,7 +19,6 @@
 
 #include "granule/spm_study.h"
 #include "io/files.h"
-#include "io/plot.h"
 #include "io/summary_read.h"
 #include "reproduce/campaign_points.h"
 
@@ -74,7 +73,7 @@ static int write_q(const char *results, const gr_campaign_result *r, const gr_sp
         return rc;
     }
     const gr_spm_tail_fit *pf = &rep->pooled_fit;
-    char body[2048], png[96], note[256];
+    char body[2048], png[96];
     snprintf(body, sizeof body,
              "set datafile separator whitespace\nset logscale y\nset format y '10^{%%L}'\nset key outside right noenhanced\n"
              "set xlabel 'w = v / u_l,  u_l = (2 D l / M^2)^{1/3}'\nset ylabel 'u_l Q(v, l)'\n"
@@ -86,9 +85,7 @@ static int write_q(const char *results, const gr_campaign_result *r, const gr_sp
              rep->n_radii - 1, name, pf->wfrom, pf->A, pf->b, pf->b, pf->wfrom, pf->A * exp(-pf->b * pf->wfrom * pf->wfrom), 0.98, 0.98,
              pf->wfrom);
     snprintf(png, sizeof png, "%s_data.png", r->id);
-    if (gr_plot_script(results, png, body, note, sizeof note)) {
-        fprintf(stderr, "reproduce: %s/%s not drawn: %s\n", results, png, note);
-    }
+    campaign_draw(results, png, body);
     return GR_OK;
 }
 

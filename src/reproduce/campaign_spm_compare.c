@@ -18,7 +18,6 @@
 
 #include "granule/spm.h"
 #include "granule/spm_study.h"
-#include "io/plot.h"
 #include "reproduce/campaign_points.h"
 
 #define CMP_TABLE "spm_compare.csv"
@@ -163,7 +162,7 @@ static void write_block(FILE *f, const char *group, int seed, const cmp_run *o, 
 
 static void draw(const char *results, const gr_campaign_result *r, int blocks)
 {
-    char body[2048], png[80], note[256];
+    char body[2048], png[80];
     snprintf(body, sizeof body,
              "set datafile separator whitespace\nset datafile missing 'nan'\nset logscale y\nset format y '10^{%%L}'\n"
              "set key outside right noenhanced\nset xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\n"
@@ -172,9 +171,7 @@ static void draw(const char *results, const gr_campaign_result *r, int blocks)
              "for [i=0:%d] '' index i using 1:4 with lines lw 2 lc i+1 notitle\n",
              r->id, blocks - 1, r->id, blocks - 1);
     snprintf(png, sizeof png, "%s_data.png", r->id);
-    if (gr_plot_script(results, png, body, note, sizeof note)) {
-        fprintf(stderr, "reproduce: %s/%s not drawn: %s\n", results, png, note);
-    }
+    campaign_draw(results, png, body);
 }
 
 int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts, campaign_rows *rows,
