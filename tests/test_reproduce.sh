@@ -190,14 +190,14 @@ PY
 import csv, os, sys
 a, b = sys.argv[1:3]
 ok = True
-for i in ["fig5.10", "fig5.10-k"]:
+# the analysis reads every series at the archive's 6 digits, so the rows are equal, not close
+for i in ["fig5.10", "fig5.10-decades", "fig5.10-k", "fig5.10-s", "fig5.10-alpha-rfm", "fig5.10-alpha-spm"]:
     ra, rb = (list(csv.DictReader(open(os.path.join(x, i + "_data.csv")))) for x in (a, b))
     ok &= len(ra) == len(rb) == 2
     for x, y in zip(ra, rb):
-        for k in ["frac_within", "decades", "k", "s", "alpha_spm", "alpha_rfm"]:
-            u, v = float(x[k] or "nan"), float(y[k] or "nan")
-            if not ((u != u and v != v) or abs(u - v) <= 1e-3 * abs(u)):
-                print("restored", i, x["seed"], k, u, v); ok = False
+        for k in x:
+            if x[k] != y.get(k):
+                print("restored", i, x["seed"], k, x[k], y.get(k)); ok = False
 sys.exit(0 if ok else 1)
 PY
 fi

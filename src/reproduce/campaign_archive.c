@@ -16,7 +16,7 @@
 #include "io/summary_read.h"
 #include "reproduce/campaign_points.h"
 
-static double digits6(double v)
+double campaign_archive_digits(double v)
 {
     char buf[32];
     snprintf(buf, sizeof buf, "%.6g", v);
@@ -59,9 +59,9 @@ static cJSON *curve_series(const gr_campaign *c, const campaign_point *p)
         cJSON *ax = cJSON_AddArrayToObject(o, "x"), *ay = cJSON_AddArrayToObject(o, "y"), *ae = cJSON_AddArrayToObject(o, "e");
         for (int k = 0; k < n; k++) {
             if (isfinite(y[k])) { /* zeros too: the seed average counts them */
-                cJSON_AddItemToArray(ax, cJSON_CreateNumber(digits6(x[k])));
-                cJSON_AddItemToArray(ay, cJSON_CreateNumber(digits6(y[k])));
-                cJSON_AddItemToArray(ae, isfinite(e[k]) ? cJSON_CreateNumber(digits6(e[k])) : cJSON_CreateNull());
+                cJSON_AddItemToArray(ax, cJSON_CreateNumber(campaign_archive_digits(x[k])));
+                cJSON_AddItemToArray(ay, cJSON_CreateNumber(campaign_archive_digits(y[k])));
+                cJSON_AddItemToArray(ae, isfinite(e[k]) ? cJSON_CreateNumber(campaign_archive_digits(e[k])) : cJSON_CreateNull());
             }
         }
     }

@@ -29,6 +29,9 @@ const char *campaign_point_key(const campaign_point *p, const char *key);
 
 /* Keep every point's manifest, summary and curve series in RESULTS/points (campaign_archive.c). */
 int campaign_archive(const gr_campaign *c, const campaign_points *pts, const char *results, gr_error *err);
+/* v to the 6 significant digits the archive keeps a series at: an analysis that rounds its run's
+ * series with it gives the same numbers on archived points (%.6g round trips). */
+double campaign_archive_digits(double v);
 
 /* One row of results.csv: a number of ours beside the thesis's. */
 typedef struct campaign_row {
