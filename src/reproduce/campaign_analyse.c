@@ -148,9 +148,10 @@ int campaign_members(const campaign_points *pts, const char *group, const campai
     return n;
 }
 
-void campaign_draw(const char *dir, const char *png, const char *body)
+void campaign_draw(const char *dir, const char *id, const char *suffix, const char *body)
 {
-    char note[256];
+    char note[256], png[160];
+    snprintf(png, sizeof png, "%.100s%.40s.png", id, suffix);
     if (gr_plot_script(dir, png, body, note, sizeof note)) {
         fprintf(stderr, "reproduce: %s/%s not drawn: %s\n", dir, png, note);
     }

@@ -46,7 +46,7 @@ static void write_sk(FILE *f, const char *label, int i, const gr_cascade_study *
 
 static void plot_sk(const char *results, const gr_campaign_result *r, int blocks)
 {
-    char body[1024], png[96];
+    char body[1024];
     snprintf(body, sizeof body,
              "set datafile separator whitespace\nset logscale xy\nset format y '10^{%%L}'\nset key outside right noenhanced\n"
              "set xlabel 'k (1/m)'\nset ylabel 'S(k) / S(k_1) x 10^{-i}'\n"
@@ -54,8 +54,7 @@ static void plot_sk(const char *results, const gr_campaign_result *r, int blocks
              "plot for [i=0:%d] '%s_sk.dat' index i using 1:2 with points pt 7 ps 0.5 lc i+1 title columnheader(1), "
              "for [i=0:%d] '' index i using 1:3 with lines lw 2 lc i+1 notitle\n",
              r->id, blocks - 1, r->id, blocks - 1);
-    snprintf(png, sizeof png, "%s_data.png", r->id);
-    campaign_draw(results, png, body);
+    campaign_draw(results, r->id, "_data", body);
 }
 
 int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaign_rows *rows, const char *results, FILE *data,

@@ -114,9 +114,10 @@ bool campaign_bisection_collapse(double N, double x0, double *x, double *y, doub
 double campaign_warmup_drift(const campaign_point *p, double *error);
 
 /* Shared by the analyses (campaign_analyse.c). */
-/* Draw DIR/PNG from a gnuplot script body (io/plot.h); a figure that cannot be drawn is reported on
- * stderr and skipped, the numbers stand without it. */
-void campaign_draw(const char *dir, const char *png, const char *body);
+/* Draw DIR/ID SUFFIX.png (SUFFIX "" for the result's figure, "_data" for its data figure) from a
+ * gnuplot script body (io/plot.h); a figure that cannot be drawn is reported on stderr and skipped,
+ * the numbers stand without it. */
+void campaign_draw(const char *dir, const char *id, const char *suffix, const char *body);
 #define MAX_GROUPS 256
 #define MAX_SEEDS 64
 /* "k=v, k=v" of a point's varied keys (sections dropped): those in `only` (all if NULL), minus `except`. */

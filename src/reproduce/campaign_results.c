@@ -80,15 +80,14 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
         }
         return;
     }
-    char body[2048], png[80];
+    char body[2048];
     snprintf(body, sizeof body,
              "set datafile separator whitespace\nset title \"%s\" noenhanced\nset ylabel '%s%s%s' noenhanced\nset xtics rotate by -40 noenhanced\n"
              "set key top left\nset offsets 0.5, 0.5, 0, 0\nset grid ytics lc rgb '#dddddd'\n"
              "plot '%s' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'%s\n",
              r->title, r->quantity, r->unit[0] ? " / " : "", r->unit, name,
              thesis ? ", '' using ($1+0.15):5:6 with yerrorbars pt 6 ps 1.2 lc rgb '#c0392b' title 'thesis'" : "");
-    snprintf(png, sizeof png, "%s.png", r->id);
-    campaign_draw(dir, png, body);
+    campaign_draw(dir, r->id, "", body);
 }
 
 /* The power-law data regrouped as gnuplot index blocks, one per (group, m), each with a title
@@ -137,7 +136,7 @@ static int power_law_blocks(const char *dir, const char *id)
 /* the data behind a fit or a running average */
 static void plot_data(const char *dir, const gr_campaign_result *r)
 {
-    char body[2048], png[80];
+    char body[2048];
     if (r->kind == GR_RESULT_POWER_LAW) {
         int blocks = power_law_blocks(dir, r->id);
         if (!blocks) {
@@ -192,8 +191,7 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
     } else {
         return;
     }
-    snprintf(png, sizeof png, "%s_data.png", r->id);
-    campaign_draw(dir, png, body);
+    campaign_draw(dir, r->id, "_data", body);
 }
 
 static void row_json(cJSON *arr, const campaign_row *w)

@@ -201,7 +201,7 @@ static void write_block(FILE *f, const char *group, const spm_run *o, bool first
 
 static void draw(const char *results, const gr_campaign_result *r, int blocks)
 {
-    char body[3072], png[80];
+    char body[3072];
     const int q = quantity_index(r->y);
     if (q == Q_A0P0 || q == Q_SLOPE_P0 || q == Q_SLOPE_A0) { /* Fig. 5.13 */
         snprintf(body, sizeof body,
@@ -223,8 +223,7 @@ static void draw(const char *results, const gr_campaign_result *r, int blocks)
                  "for [i=0:%d] '' index i using 1:6 with lines lw 1 dt 2 lc i+1 notitle\n",
                  r->id, blocks - 1, r->id, blocks - 1, blocks - 1);
     }
-    snprintf(png, sizeof png, "%s_data.png", r->id);
-    campaign_draw(results, png, body);
+    campaign_draw(results, r->id, "_data", body);
 }
 
 int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,

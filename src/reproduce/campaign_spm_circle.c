@@ -34,11 +34,13 @@ bool campaign_spm_circle_quantity_known(const char *y) { return campaign_name_in
 /* (M^2 / 2 D l)^(2/3): b in the collapsed variable w times this is the coefficient of v^2 in s^2/m^2 */
 static double v2_scale(double mass, double D, double l) { return pow(mass * mass / (2.0 * D * l), 2.0 / 3.0); }
 
+/* The fit error of b, inflated by sqrt(chi2/dof) where the fit is worse than its errors say. */
+static double b_error(const gr_spm_tail_fit *f) { return f->b_err * (f->chi2_red > 1.0 ? sqrt(f->chi2_red) : 1.0); }
+
 static void fill_row(const gr_campaign_result *r, campaign_row *row, const gr_spm_tail_fit *f, double scale)
 {
-    const double inflate = f->chi2_red > 1.0 ? sqrt(f->chi2_red) : 1.0;
     row->value = f->b * scale;
-    row->error = row->error_fit = f->b_err * inflate * scale;
+    row->error = row->error_fit = b_error(f) * scale;
     row->error_seeds = NAN;
     row->n_seeds = 1;
     row->n_x = f->n_points;
@@ -73,7 +75,7 @@ static int write_q(const char *results, const gr_campaign_result *r, const gr_sp
         return rc;
     }
     const gr_spm_tail_fit *pf = &rep->pooled_fit;
-    char body[2048], png[96];
+    char body[2048];
     snprintf(body, sizeof body,
              "set datafile separator whitespace\nset logscale y\nset format y '10^{%%L}'\nset key outside right noenhanced\n"
              "set xlabel 'w = v / u_l,  u_l = (2 D l / M^2)^{1/3}'\nset ylabel 'u_l Q(v, l)'\n"
@@ -84,8 +86,7 @@ static int write_q(const char *results, const gr_campaign_result *r, const gr_sp
              "title 'thesis 5.12: b = 0.98'\n",
              rep->n_radii - 1, name, pf->wfrom, pf->A, pf->b, pf->b, pf->wfrom, pf->A * exp(-pf->b * pf->wfrom * pf->wfrom), 0.98, 0.98,
              pf->wfrom);
-    snprintf(png, sizeof png, "%s_data.png", r->id);
-    campaign_draw(results, png, body);
+    campaign_draw(results, r->id, "_data", body);
     return GR_OK;
 }
 
@@ -118,10 +119,8 @@ int campaign_spm_circle(const gr_campaign_result *r, gr_fidelity fid, const camp
         const double l = pooled ? (double)NAN : rep.q[k].radius, scale = pooled ? (double)NAN : v2_scale(p.s.mass, p.s.D, l);
         char group[64];
         snprintf(group, sizeof group, pooled ? POOLED_GROUP : "l=%g", l);
-        const double inflate = f->chi2_red > 1.0 ? sqrt(f->chi2_red) : 1.0;
         fprintf(data, "\"%s\",%.6g,%.6g,%.6g,%.6g,%.4g,%.4g,%.4g,%d,%.6g,%.6g,%.6g,%.6g\n", group, l, pooled ? (double)NAN : rep.q[k].u, f->b,
-                f->b_err * inflate, f->chi2_red, f->wfrom, f->wto, f->n_points, f->beta, f->beta_err, f->b * scale,
-                f->b_err * inflate * scale);
+                b_error(f), f->chi2_red, f->wfrom, f->wto, f->n_points, f->beta, f->beta_err, f->b * scale, b_error(f) * scale);
         if (q == Q_COEFFICIENT && pooled) {
             continue; /* the coefficient in s^2/m^2 belongs to one radius */
         }

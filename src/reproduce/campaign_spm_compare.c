@@ -171,7 +171,7 @@ static void write_block(FILE *f, const char *group, int seed, const cmp_run *o, 
 
 static void draw(const char *results, const gr_campaign_result *r, int blocks)
 {
-    char body[2048], png[80];
+    char body[2048];
     snprintf(body, sizeof body,
              "set datafile separator whitespace\nset datafile missing 'nan'\nset logscale y\nset format y '10^{%%L}'\n"
              "set key outside right noenhanced\nset xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\n"
@@ -179,8 +179,7 @@ static void draw(const char *results, const gr_campaign_result *r, int blocks)
              "plot for [i=0:%d] '%s_pv.dat' index i using 1:2 with points pt 7 ps 0.4 lc i+1 title columnheader(1), "
              "for [i=0:%d] '' index i using 1:4 with lines lw 2 lc i+1 notitle\n",
              r->id, blocks - 1, r->id, blocks - 1);
-    snprintf(png, sizeof png, "%s_data.png", r->id);
-    campaign_draw(results, png, body);
+    campaign_draw(results, r->id, "_data", body);
 }
 
 int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts, campaign_rows *rows,
