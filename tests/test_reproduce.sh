@@ -5,6 +5,7 @@
 # generated page names every thesis value. No numeric agreement is asserted at quick fidelity.
 set -uo pipefail
 granule=$(realpath "$1")
+refit="$(cd "$(dirname "$0")/.." && pwd)/scripts/refit_tail_window.py"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 pass=0
@@ -128,6 +129,25 @@ for i in ["fig4.10-tail", "fig5.12", "fig5.13-A0"]:
             if not same:
                 print("restored", i, x["group"], x["seed"], k, u, v); ok = False
     ok &= len(ra) == len(rb) == 4
+sys.exit(0 if ok else 1)
+PY
+fi
+
+# scripts/refit_tail_window.py (docs/results/investigations): at f = 1 its fit of (5.5) is the
+# run's own free fit (summary.json), so its refits for smaller samples use the campaign's method
+if [[ -d $tmp/out/ch5-alpha/quick/runs/p0001 ]]; then
+    check python3 - "$refit" "$tmp/out/ch5-alpha/quick/runs" <<'PY'
+import csv, io, json, subprocess, sys
+refit, runs = sys.argv[1:3]
+dirs = [runs + "/p0000", runs + "/p0001"]
+out = list(csv.DictReader(io.StringIO(subprocess.run([refit] + dirs, capture_output=True, text=True, check=True).stdout)))
+ok = len(out) == 2
+for d, row in zip(dirs, out):
+    free = json.load(open(d + "/summary.json"))["analysis"]["pv"]["tail"]["free"]
+    ok &= free["converged"] and abs(float(row["alpha_sample_over_1"]) - free["alpha"]) <= 1e-3
+    ok &= abs(float(row["chi2_red_sample_over_1"]) - free["chi2_red"]) <= 0.01 * free["chi2_red"]
+    if not ok:
+        print("refit", d, row["alpha_sample_over_1"], row["chi2_red_sample_over_1"], "summary", free["alpha"], free["chi2_red"])
 sys.exit(0 if ok else 1)
 PY
 fi
