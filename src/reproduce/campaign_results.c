@@ -46,6 +46,28 @@ static void csv_num(FILE *f, double v)
     }
 }
 
+/* A group label "k1=v1, k2=v2" split into its values "v1, v2" (the tick label) and its keys
+ * "k1, k2" (the axis label); a token without '=' is a value with no key. */
+static void split_group(const char *group, char *values, size_t nv, char *keys, size_t nk)
+{
+    char buf[200];
+    snprintf(buf, sizeof buf, "%s", group);
+    values[0] = keys[0] = '\0';
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        while (*tok == ' ') {
+            tok++;
+        }
+        char *eq = strchr(tok, '=');
+        const char *sep_v = values[0] ? ", " : "", *sep_k = keys[0] ? ", " : "";
+        if (eq) {
+            *eq = '\0';
+            snprintf(keys + strlen(keys), nk - strlen(keys), "%s%s", sep_k, tok);
+        }
+        snprintf(values + strlen(values), nv - strlen(values), "%s%s", sep_v, eq ? eq + 1 : tok);
+    }
+}
+
 /* ours against the thesis, one point per row (labels on the x axis) */
 static void plot_compare(const char *dir, const gr_campaign_result *r, const campaign_rows *rows)
 {
@@ -56,10 +78,14 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
     if (gr_file_open(&f, dir, name, &err)) {
         return;
     }
+    char axis[200] = "";
     for (int i = 0; i < rows->n; i++) {
         const campaign_row *w = &rows->r[i];
-        char label[200];
-        snprintf(label, sizeof label, "%s%s", strchr(w->group, '=') ? strchr(w->group, '=') + 1 : w->group, "");
+        char label[200], keys[200];
+        split_group(w->group, label, sizeof label, keys, sizeof keys);
+        if (!axis[0]) {
+            snprintf(axis, sizeof axis, "%s", keys);
+        }
         if (w->m) {
             snprintf(label + strlen(label), sizeof label - strlen(label), " m=%d", w->m);
         }
@@ -80,12 +106,14 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
         }
         return;
     }
+    /* many rows (Table 5.1's 45): vertical, smaller tick labels */
+    const char *tics = rows->n > 12 ? "set xtics rotate by 90 right font ',11' noenhanced" : "set xtics rotate by -40 noenhanced";
     char body[2048];
     snprintf(body, sizeof body,
-             "set datafile separator whitespace\nset title \"%s\" noenhanced\nset ylabel '%s%s%s' noenhanced\nset xtics rotate by -40 noenhanced\n"
-             "set key top left\nset offsets 0.5, 0.5, 0, 0\nset grid ytics lc rgb '#dddddd'\n"
+             "set datafile separator whitespace\nset title \"%s\" noenhanced\nset ylabel '%s%s%s' noenhanced\n%s\n"
+             "set xlabel '%s' noenhanced\nset key top left\nset offsets 0.5, 0.5, 0, 0\nset grid ytics lc rgb '#dddddd'\n"
              "plot '%s' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'%s\n",
-             r->title, r->quantity, r->unit[0] ? " / " : "", r->unit, name,
+             r->title, r->quantity, r->unit[0] ? " / " : "", r->unit, tics, axis, name,
              thesis ? ", '' using ($1+0.15):5:6 with yerrorbars pt 6 ps 1.2 lc rgb '#c0392b' title 'thesis'" : "");
     campaign_draw(dir, r->id, "", body);
 }
