@@ -5,7 +5,7 @@
 # generated page names every thesis value. No numeric agreement is asserted at quick fidelity.
 set -uo pipefail
 granule=$(realpath "$1")
-refit="$(cd "$(dirname "$0")/.." && pwd)/scripts/refit_tail_window.py"
+scripts="$(cd "$(dirname "$0")/.." && pwd)/scripts"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 pass=0
@@ -136,7 +136,7 @@ fi
 # scripts/refit_tail_window.py (docs/results/investigations): at f = 1 its fit of (5.5) is the
 # run's own free fit (summary.json), so its refits for smaller samples use the campaign's method
 if [[ -d $tmp/out/ch5-alpha/quick/runs/p0001 ]]; then
-    check python3 - "$refit" "$tmp/out/ch5-alpha/quick/runs" <<'PY'
+    check python3 - "$scripts/refit_tail_window.py" "$tmp/out/ch5-alpha/quick/runs" <<'PY'
 import csv, io, json, subprocess, sys
 refit, runs = sys.argv[1:3]
 dirs = [runs + "/p0000", runs + "/p0001"]
@@ -148,6 +148,30 @@ for d, row in zip(dirs, out):
     ok &= abs(float(row["chi2_red_sample_over_1"]) - free["chi2_red"]) <= 0.01 * free["chi2_red"]
     if not ok:
         print("refit", d, row["alpha_sample_over_1"], row["chi2_red_sample_over_1"], "summary", free["alpha"], free["chi2_red"])
+sys.exit(0 if ok else 1)
+PY
+fi
+
+# scripts/refit_sk_window.py: its window c = k'/k_D with no shell dropped is the run's own D_f fit
+# (a run with a fit, ch4-structure's; and one whose window holds too few shells, ch4-packing's)
+if [[ -d $tmp/out/ch4-structure/quick/runs/p0000 && -d $tmp/out/ch4-packing/quick/runs/p0000 ]]; then
+    check python3 - "$scripts/refit_sk_window.py" "$tmp/out/ch4-structure/quick/runs/p0000" "$tmp/out/ch4-packing/quick/runs/p0000" <<'PY'
+import csv, io, json, subprocess, sys
+refit, runs = sys.argv[1], sys.argv[2:]
+rows = list(csv.DictReader(io.StringIO(subprocess.run([refit] + runs, capture_output=True, text=True, check=True).stdout)))
+ok = len(rows) == 5 * len(runs)
+for run in runs:
+    sk = json.load(open(run + "/summary.json"))["analysis"]["sk"]
+    c = sk["k_prime"] / sk["k_D"]
+    own = [r for r in rows if r["run"] == run and abs(float(r["kmax_over_kD"]) - c) < 1e-6 and r["shells_dropped"] == "0"]
+    ok &= len(own) == 1 and int(own[0]["shells"]) == sk["fit"]["shells"]
+    if ok and sk["fit"]["status"] == "ok":
+        ok &= abs(float(own[0]["D_f"]) - sk["fit"]["D_f"]) <= 1e-3 and abs(float(own[0]["D_f_err"]) - sk["fit"]["D_f_err"]) <= 1e-3
+    elif ok:
+        ok &= own[0]["D_f"] == ""
+    if not ok:
+        print("refit_sk_window", run, own, sk["fit"])
+ok &= json.load(open(runs[0] + "/summary.json"))["analysis"]["sk"]["fit"]["status"] == "ok"
 sys.exit(0 if ok else 1)
 PY
 fi
