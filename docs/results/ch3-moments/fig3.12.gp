@@ -2,7 +2,8 @@
 set datafile separator whitespace
 set title "Power index n_N of the nearest-neighbour distribution G_1(R;N) ~ (-ln R)^(n_N - 1) (3.22)" noenhanced
 set ylabel 'n_N' noenhanced
-set xtics rotate by -40 noenhanced
+set xtics rotate by 90 right font ',11' noenhanced
+set xlabel 'eps_n, N' noenhanced
 set key top left
 set offsets 0.5, 0.5, 0, 0
 set grid ytics lc rgb '#dddddd'

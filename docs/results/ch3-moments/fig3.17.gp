@@ -3,6 +3,7 @@ set datafile separator whitespace
 set title "Collapse of G_1(R;N) by the bisection map (3.39-3.40), eps = 0.1" noenhanced
 set ylabel 'slope' noenhanced
 set xtics rotate by -40 noenhanced
+set xlabel 'eps_n, N' noenhanced
 set key top left
 set offsets 0.5, 0.5, 0, 0
 set grid ytics lc rgb '#dddddd'

@@ -3,6 +3,7 @@ set datafile separator whitespace
 set title "Exponent xi_2 of <v^2> = lambda N^-xi_2 (3.8) against eps" noenhanced
 set ylabel 'xi_2' noenhanced
 set xtics rotate by -40 noenhanced
+set xlabel 'eps_n' noenhanced
 set key top left
 set offsets 0.5, 0.5, 0, 0
 set grid ytics lc rgb '#dddddd'

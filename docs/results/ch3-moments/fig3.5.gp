@@ -2,7 +2,8 @@
 set datafile separator whitespace
 set title "Multi-scaling of the velocity moments: xi_m / m against m (3.13)" noenhanced
 set ylabel 'xi_m/m' noenhanced
-set xtics rotate by -40 noenhanced
+set xtics rotate by 90 right font ',11' noenhanced
+set xlabel 'eps_n' noenhanced
 set key top left
 set offsets 0.5, 0.5, 0, 0
 set grid ytics lc rgb '#dddddd'
