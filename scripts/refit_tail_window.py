@@ -88,4 +88,8 @@ def main(runs):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    try:
+        main(sys.argv[1:])
+    except (OSError, KeyError, ValueError) as e:  # a run folder without the files or fields needed
+        what = "no field %s in summary.json or the table" % e if isinstance(e, KeyError) else str(e)
+        sys.exit("%s: %s (give run folders written with the observables this refit reads)" % (sys.argv[0].split("/")[-1], what))

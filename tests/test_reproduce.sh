@@ -176,6 +176,14 @@ sys.exit(0 if ok else 1)
 PY
 fi
 
+# both refits refuse a folder without what they read, with a message and no traceback
+check bash -c '! "$1" "$2" >/dev/null 2>"$3" && grep -q "^refit_tail_window.py: .*pv.csv" "$3" && ! grep -q Traceback "$3"' _ \
+    "$scripts/refit_tail_window.py" "$tmp/no-such-run" "$tmp/refit.err"
+if [[ -d $tmp/out/ch5-alpha/quick/runs/p0000 ]]; then # a run without the sk observable
+    check bash -c '! "$1" "$2" >/dev/null 2>"$3" && grep -q "^refit_sk_window.py: no field .sk." "$3"' _ \
+        "$scripts/refit_sk_window.py" "$tmp/out/ch5-alpha/quick/runs/p0000" "$tmp/refit.err"
+fi
+
 # Fig. 5.10 (kind spm_compare): every run's SPM walks from its own free paths against its
 # snapshots' P(v) in the data CSV and the figure; restored elsewhere (no snapshots, only the
 # archived series) the same rows
