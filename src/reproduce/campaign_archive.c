@@ -57,12 +57,10 @@ static cJSON *curve_series(const gr_campaign *c, const campaign_point *p)
         }
         cJSON *o = cJSON_AddObjectToObject(all, key);
         cJSON *ax = cJSON_AddArrayToObject(o, "x"), *ay = cJSON_AddArrayToObject(o, "y"), *ae = cJSON_AddArrayToObject(o, "e");
-        for (int k = 0; k < n; k++) {
-            if (isfinite(y[k])) { /* zeros too: the seed average counts them */
-                cJSON_AddItemToArray(ax, cJSON_CreateNumber(campaign_archive_digits(x[k])));
-                cJSON_AddItemToArray(ay, cJSON_CreateNumber(campaign_archive_digits(y[k])));
-                cJSON_AddItemToArray(ae, isfinite(e[k]) ? cJSON_CreateNumber(campaign_archive_digits(e[k])) : cJSON_CreateNull());
-            }
+        for (int k = 0; k < n; k++) { /* already at 6 digits, finite y only (zeros too: the seed average counts them) */
+            cJSON_AddItemToArray(ax, cJSON_CreateNumber(x[k]));
+            cJSON_AddItemToArray(ay, cJSON_CreateNumber(y[k]));
+            cJSON_AddItemToArray(ae, isfinite(e[k]) ? cJSON_CreateNumber(e[k]) : cJSON_CreateNull());
         }
     }
     free(x);

@@ -144,9 +144,15 @@ static int read_table(const campaign_point *p, const gr_campaign_result *r, doub
         if (nf <= need || !row_matches(where, fields, cw, n_where)) {
             continue;
         }
-        x[n] = atof(fields[cx]);
-        y[n] = atof(fields[cy]);
-        e[n++] = ce >= 0 ? atof(fields[ce]) : (double)NAN;
+        /* read as the archive keeps them (campaign_archive.c): rows with a finite y, 6 digits, so
+         * that a live run and a point restored elsewhere give the same rows, fits and bins */
+        const double yv = atof(fields[cy]);
+        if (!isfinite(yv)) {
+            continue;
+        }
+        x[n] = campaign_archive_digits(atof(fields[cx]));
+        y[n] = campaign_archive_digits(yv);
+        e[n++] = ce >= 0 ? campaign_archive_digits(atof(fields[ce])) : (double)NAN;
     }
     fclose(f);
     return n;

@@ -99,7 +99,8 @@ int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaig
 int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
                    FILE *data, gr_error *err);
 /* A CURVE result's series of one run (from its table, or from the archive's series.json): x, y, e
- * (at most 4096 rows each); returns the number of rows. */
+ * (at most 4096 rows each), rows with a finite y only, at the archive's 6 digits either way (a
+ * restored point gives what the live run gave); returns the number of rows. */
 int campaign_curve_series(const campaign_point *p, const gr_campaign_result *r, double *x, double *y, double *e);
 /* The name a CURVE result's series is archived under (results sharing table and columns share it). */
 void campaign_curve_key(const gr_campaign_result *r, char *out, size_t len);

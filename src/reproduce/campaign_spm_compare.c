@@ -126,16 +126,7 @@ static void analyse_run(const campaign_point *pt, long walks, cmp_run *o)
     if (n < 3 || n2 != n) {
         return;
     }
-    o->n = n;
-    /* at the archive's precision, so that a point restored from it gives the same bins and rows
-     * (v_rms decides where the comparison starts; 9 digits against 6 can move it by one bin) */
-    for (int i = 0; i < n; i++) {
-        o->v[i] = campaign_archive_digits(o->v[i]);
-        o->ps[i] = campaign_archive_digits(o->ps[i]);
-        o->es[i] = campaign_archive_digits(o->es[i]);
-        o->pr[i] = campaign_archive_digits(o->pr[i]);
-        o->er[i] = campaign_archive_digits(o->er[i]);
-    }
+    o->n = n; /* both series at the archive's 6 digits (campaign_curve_series): live = restored */
     gr_error ignore = {0};
     o->ok = gr_spm_compare_series(o->v, o->ps, o->es, o->pr, o->er, n, CMP_FROM_VRMS, CMP_Z_MAX, &o->c, &ignore) == GR_OK;
     if (!o->ok) {
