@@ -277,6 +277,7 @@ int cmd_reproduce(int argc, char **argv)
     }
     long total = gr_campaign_points(c, fid);
     print_results(res_dir);
+    fflush(stdout); /* the tables before the warning below, also when both streams go to one pipe */
     if (finished < total) {
         fprintf(stderr, "reproduce: %s: only %ld of %ld points are finished; the numbers above use those (run the campaign "
                         "again to continue)\n", c->name, finished, total);
