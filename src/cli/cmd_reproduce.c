@@ -31,7 +31,7 @@ static void usage(FILE *f)
                "figure/table, the thesis's values overlaid) is written to --results (default DIR/NAME/FIDELITY/results;\n"
                "docs/results/NAME for the committed ones) and the numbers are printed. The campaigns and scenes are\n"
                "built into granule, so this works from any folder. quick: minutes, checks the pipeline; full: the\n"
-               "sizes and run lengths of docs/reproduction.md (hours to days of CPU time; see --list).\n");
+               "sizes and run lengths of docs/reproduction.md, which gives each campaign's CPU-hours (hours to days).\n");
 }
 
 static void print_pm(double v, double e)
@@ -84,8 +84,12 @@ static void print_results(const char *results)
 static int list_campaigns(void)
 {
     const char *names[64];
-    int n = gr_campaign_names(names, 64);
-    printf("%-18s %-6s %-6s %s\n", "campaign", "quick", "full", "covers (points per fidelity)");
+    int n = gr_campaign_names(names, 64), width = (int)strlen("campaign");
+    for (int i = 0; i < n; i++) { /* names[i] is "campaigns/NAME.ini" */
+        const int w = (int)strlen(names[i]) - 14;
+        width = w > width ? w : width;
+    }
+    printf("%-*s %-6s %-6s %s\n", width, "campaign", "quick", "full", "covers (points per fidelity)");
     for (int i = 0; i < n; i++) {
         char name[64];
         snprintf(name, sizeof name, "%.*s", (int)(strlen(names[i]) - 14), names[i] + 10);
@@ -95,7 +99,7 @@ static int list_campaigns(void)
             cli_error("reproduce: %s", err.message);
             return EXIT_FAILED;
         }
-        printf("%-18s %-6ld %-6ld %s\n", name, gr_campaign_points(&c, GR_FIDELITY_QUICK), gr_campaign_points(&c, GR_FIDELITY_FULL),
+        printf("%-*s %-6ld %-6ld %s\n", width, name, gr_campaign_points(&c, GR_FIDELITY_QUICK), gr_campaign_points(&c, GR_FIDELITY_FULL),
                c.covers);
     }
     return EXIT_OK;
