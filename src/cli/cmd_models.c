@@ -15,6 +15,14 @@ int cmd_models(int argc, char **argv)
         printf("usage: granule models [--markdown]\nLists every collision model, its kind and its parameters (unit, default, allowed range).\n");
         return strcmp(argv[1], "--help") && strcmp(argv[1], "-h") ? EXIT_REFUSED : EXIT_OK;
     }
+    int w_name = 8, w_unit = 5; /* the columns of the plain listing fit every model's longest name and unit */
+    for (int m = 0; gr_models[m]; m++) {
+        for (int i = 0; i < gr_models[m]->n_params; i++) {
+            const int wn = (int)strlen(gr_models[m]->params[i].name), wu = (int)strlen(gr_models[m]->params[i].unit);
+            w_name = wn > w_name ? wn : w_name;
+            w_unit = wu > w_unit ? wu : w_unit;
+        }
+    }
     for (int m = 0; gr_models[m]; m++) {
         const gr_model *md = gr_models[m];
         const char *kind = md->kind == GR_MODEL_NORMAL ? "normal force law"
@@ -42,7 +50,7 @@ int cmd_models(int argc, char **argv)
             if (markdown) {
                 printf("| `%s` | %s | %s | %s | %s |\n", p->name, p->unit, def, range, p->doc);
             } else {
-                printf("    %-8s %-5s default %-8s range %-12s %s\n", p->name, p->unit, def, range, p->doc);
+                printf("    %-*s %-*s default %-8s range %-12s %s\n", w_name, p->name, w_unit, p->unit, def, range, p->doc);
             }
         }
         printf("\n");
