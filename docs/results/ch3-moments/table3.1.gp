@@ -2,7 +2,7 @@
 set datafile separator whitespace
 set title "Exponents zeta_m of the neighbour-separation moments <R^m> = A N^-zeta_m" noenhanced
 set ylabel 'zeta_m' noenhanced
-set xtics rotate by -40 noenhanced
+set xtics rotate by 90 right font ',11' noenhanced
 set xlabel 'eps_n' noenhanced
 set key top left
 set offsets 0.5, 0.5, 0, 0
