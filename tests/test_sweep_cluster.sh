@@ -2,7 +2,8 @@
 # granule sweep on clusters (docs/cluster.md), on tiny 1D scenes:
 #   resume: --list, --point K, the batch-array index from the environment (with --array-base),
 #           --collect naming missing and failed points, per-point manifests, a sweep stopped by
-#           SIGTERM mid-point continues that point from its checkpoint (same results as an
+#           SIGTERM mid-point (to it, or to its whole process group) continues that point from its
+#           checkpoint (same results as an
 #           uninterrupted sweep; a corrupt checkpoint is discarded and the point starts again), a
 #           sweep killed midway and rerun runs only its unfinished points,
 #           changed settings rerun a finished point;
@@ -172,16 +173,21 @@ EOT
     # SIGTERM to a sweep (a batch system ending the job) while point 0 runs: the run writes a
     # checkpoint (it gets SIGTERM itself when the sweep dies, PR_SET_PDEATHSIG); the rerun continues
     # it from there and every result equals the uninterrupted serial sweep's
-    stop_point0() { # NAME: a sweep of 6 points stopped by SIGTERM while point 0 is held at step 10000
+    stop_point0() { # NAME [group]: a sweep of 6 points stopped by SIGTERM (to the sweep, or with
+        # group to its whole process group as scancel does) while point 0 is held at step 10000
         sweep_file "$1" 0.02
-        GRANULE_TEST_PAUSE_AT_STEP=10000 "$granule" sweep "$tmp/$1.ini" --jobs 1 >/dev/null 2>"$tmp/$1-1.log" &
+        GRANULE_TEST_PAUSE_AT_STEP=10000 setsid "$granule" sweep "$tmp/$1.ini" --jobs 1 >/dev/null 2>"$tmp/$1-1.log" &
         bg=$!
         for _ in $(seq 1 600); do # the point's folder exists once it runs; the pause holds it at step 10000
             [[ -f $tmp/$1/p0000/scene.ini ]] && break
             sleep 0.05
         done
         sleep 1
-        kill -TERM "$bg" 2>/dev/null
+        if [[ ${2-} == group ]]; then
+            kill -TERM -- "-$bg" 2>/dev/null # setsid made the sweep its group's leader
+        else
+            kill -TERM "$bg" 2>/dev/null
+        fi
         wait "$bg" 2>/dev/null
         bg=
         for _ in $(seq 1 200); do
@@ -198,6 +204,13 @@ EOT
     check grep -q "point 0: continuing from $tmp/stop/p0000/checkpoint" "$tmp/stop2.log"
     check test "$(grep -c "continuing from" "$tmp/stop2.log")" -eq 1
     check same "$tmp/serial" "$tmp/stop"
+    # the same with the sweep and its run signalled together: the run's second SIGTERM (the sweep's
+    # death) must not kill it before its checkpoint
+    stop_point0 group group
+    out=$("$granule" sweep "$tmp/group.ini" --jobs 1 2>"$tmp/group2.log")
+    check grep -q "6 run now, 0 already finished, 0 failed" <<<"$out"
+    check grep -q "point 0: continuing from $tmp/group/p0000/checkpoint" "$tmp/group2.log"
+    check same "$tmp/serial" "$tmp/group"
     # a checkpoint that cannot be continued (here corrupt) is discarded, with its partial files, and
     # the point starts again
     stop_point0 corrupt

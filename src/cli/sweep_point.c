@@ -208,8 +208,11 @@ static bool has_checkpoint(const char *dir)
 static int child_run(const sweep *s, long k, const char *dir, int fd, pid_t parent)
 {
     /* SIGTERM/SIGINT (a batch system ending the job, or the sweep's own death below) stop the run
-     * at its next step with a checkpoint, which the next run of the sweep continues */
-    struct sigaction sa = {.sa_handler = on_point_stop, .sa_flags = SA_RESETHAND};
+     * at its next step with a checkpoint, which the next run of the sweep continues. Every such
+     * signal only asks for that stop (no SA_RESETHAND, unlike granule run): a batch system or
+     * kill -- -PGID signals the sweep and its runs together, and the sweep's death then sends the
+     * run a second SIGTERM, which must not kill it before its checkpoint is written. */
+    struct sigaction sa = {.sa_handler = on_point_stop};
     sigemptyset(&sa.sa_mask);
     sigaction(SIGTERM, &sa, NULL);
     sigaction(SIGINT, &sa, NULL);
