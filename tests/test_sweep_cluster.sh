@@ -3,10 +3,10 @@
 #   resume: --list, --point K, the batch-array index from the environment (with --array-base),
 #           --collect naming missing and failed points, per-point manifests, a sweep stopped by
 #           SIGTERM mid-point (to it, or to its whole process group) continues that point from its
-#           checkpoint (same results as an
-#           uninterrupted sweep; a corrupt checkpoint is discarded and the point starts again), a
-#           sweep killed midway and rerun runs only its unfinished points,
-#           changed settings rerun a finished point;
+#           checkpoint (same results as an uninterrupted sweep; a corrupt checkpoint is discarded
+#           and the point starts again), two sweeps over one folder share its points, a sweep
+#           killed midway and rerun runs only its unfinished points, changed settings rerun a
+#           finished point;
 #   mpi:    mpirun -n 2 granule sweep gives the same per-point results, sweep.csv and
 #           exponents.csv as the serial sweep (skipped with exit 77 only when built without MPI).
 # usage: test_sweep_cluster.sh GRANULE SOURCE_DIR resume|mpi [mpi-built: yes|no]
@@ -173,8 +173,9 @@ EOT
     # SIGTERM to a sweep (a batch system ending the job) while point 0 runs: the run writes a
     # checkpoint (it gets SIGTERM itself when the sweep dies, PR_SET_PDEATHSIG); the rerun continues
     # it from there and every result equals the uninterrupted serial sweep's
-    stop_point0() { # NAME [group]: a sweep of 6 points stopped by SIGTERM (to the sweep, or with
-        # group to its whole process group as scancel does) while point 0 is held at step 10000
+    stop_point0() { # NAME [group] [DURING]: a sweep of 6 points stopped by SIGTERM (to the sweep, or
+        # with group to its whole process group as scancel does) while point 0 is held at step
+        # 10000; the function DURING NAME, if given, is called while it is held
         sweep_file "$1" 0.02
         GRANULE_TEST_PAUSE_AT_STEP=10000 setsid "$granule" sweep "$tmp/$1.ini" --jobs 1 >/dev/null 2>"$tmp/$1-1.log" &
         bg=$!
@@ -183,6 +184,7 @@ EOT
             sleep 0.05
         done
         sleep 1
+        [[ -n ${3-} ]] && "$3" "$1"
         if [[ ${2-} == group ]]; then
             kill -TERM -- "-$bg" 2>/dev/null # setsid made the sweep its group's leader
         else
@@ -220,6 +222,26 @@ EOT
     check grep -q "point 0: starting again, its checkpoint cannot be continued: .*checksum mismatch" "$tmp/corrupt2.log"
     check test -z "$(ls "$tmp/corrupt/p0000" | grep '\.tmp')"
     check same "$tmp/serial" "$tmp/corrupt"
+    # two sweeps over one folder share its points: while the first runs point 0, a second leaves
+    # it to the first (the claim on p0000/.lock) and runs the other five, and --point 0 refuses to
+    # touch it; the point then continues from the first sweep's checkpoint as before
+    second_sweep() {
+        cp "$tmp/$1/p0000/point.json" "$tmp/held.json"
+        "$granule" sweep "$tmp/$1.ini" --point 0 >/dev/null 2>"$tmp/$1-point.log"
+        check test $? -eq 1
+        check grep -q "point 0 is being run by pid [0-9]* on .* since .*; left to it" "$tmp/$1-point.log"
+        check cmp -s "$tmp/held.json" "$tmp/$1/p0000/point.json"
+        second_out=$("$granule" sweep "$tmp/$1.ini" --jobs 2 2>"$tmp/$1-second.log")
+        second_rc=$?
+    }
+    stop_point0 shared term second_sweep
+    check test "$second_rc" -eq 1 # point 0 was not finished when the second sweep ended
+    check grep -q "5 run now, 0 already finished, 0 failed, 1 left to other processes" <<<"$second_out"
+    check grep -q "point 0 is being run by pid [0-9]* on .* since .*; left to it" "$tmp/shared-second.log"
+    out=$("$granule" sweep "$tmp/shared.ini" --jobs 1 2>"$tmp/shared2.log")
+    check grep -q "1 run now, 5 already finished, 0 failed" <<<"$out"
+    check grep -q "point 0: continuing from $tmp/shared/p0000/checkpoint" "$tmp/shared2.log"
+    check same "$tmp/serial" "$tmp/shared"
 
     # kill a sweep after its first point finished; the rerun runs only the unfinished points
     sweep_file kill 0.5

@@ -31,11 +31,13 @@ static void usage(FILE *f)
                "Points are numbered from 0, seed fastest, then the last [vary] key (--list). Each runs into\n"
                "OUT/pNNNN with point.json (overrides, scene hash, version, host, times, status, error); a point\n"
                "whose manifest says completed for the same scene hash is never rerun (--force reruns it); a failed\n"
-               "point is recorded and the others go on, and the exit status is 1 naming it. Without --point the\n"
-               "array index is read from SLURM_ARRAY_TASK_ID, PBS_ARRAY_INDEX, PBS_ARRAYID, SGE_TASK_ID or\n"
-               "LSB_JOBINDEX (--all ignores them). Writes OUT/sweep.csv (one row per point) and, when system.N\n"
-               "varies, OUT/exponents.csv: <|v|^m> ~ N^-xi_m fitted per combination of the other keys (3.8, 3.13),\n"
-               "averaging seeds, with errors and reduced chi-square. Recipes: docs/cluster.md.\n");
+               "point is recorded and the others go on, and the exit status is 1 naming it. A point being run\n"
+               "by another process (its claim, OUT/pNNNN/.lock) is left to it, so sweeps started side by side\n"
+               "over one OUT share its points. Without --point the array index is read from\n"
+               "SLURM_ARRAY_TASK_ID, PBS_ARRAY_INDEX, PBS_ARRAYID, SGE_TASK_ID or LSB_JOBINDEX (--all ignores\n"
+               "them). Writes OUT/sweep.csv (one row per point) and, when system.N varies, OUT/exponents.csv:\n"
+               "<|v|^m> ~ N^-xi_m fitted per combination of the other keys (3.8, 3.13), averaging seeds, with\n"
+               "errors and reduced chi-square. Recipes: docs/cluster.md.\n");
 }
 
 /* The batch-array index from the environment of common schedulers; -1 if none. SGE writes
@@ -96,11 +98,19 @@ static int run_one(const sweep *s, long k, const uint64_t *hash, const char *run
         return EXIT_FAILED;
     }
     char why[800];
-    if (!s->force && sweep_point_state(s, k, hash[k], why, sizeof why) == POINT_COMPLETED) {
+    point_state st = sweep_point_state(s, k, hash[k], why, sizeof why);
+    if (!s->force && st == POINT_COMPLETED) {
         fprintf(stderr, "sweep: skipping finished point %ld\n", k);
         return EXIT_OK;
     }
+    if (st == POINT_CLAIMED) { /* its folder is not ours to touch */
+        fprintf(stderr, "sweep: point %ld is %s; left to it\n", k, why);
+        return EXIT_FAILED;
+    }
     int code = sweep_point_run(s, k, runner);
+    if (code == SWEEP_LEFT) {
+        return EXIT_FAILED;
+    }
     char dir[1100];
     sweep_point_dir(s, k, dir, sizeof dir);
     fprintf(stderr, "sweep: point %ld %s (%s/point.json)\n", k, sweep_exit_name(code), dir);
@@ -250,8 +260,7 @@ int cmd_sweep(int argc, char **argv)
     sweep_run_local(&q, s->jobs, "local", NULL, NULL);
     long bad = 0;
     rc = sweep_collect(s, hash, &bad);
-    printf("%s/sweep.csv: %ld points, %ld run now, %ld already finished, %ld failed\n", s->out, s->n_points, q.run, q.skipped,
-           q.failed);
+    sweep_queue_report(&q);
     rc = rc ? rc : bad ? EXIT_FAILED : EXIT_OK;
 done:
     free(guess);

@@ -57,11 +57,12 @@ void sweep_list(const sweep *s, FILE *f);
 /* --- sweep_point.c --- */
 typedef enum {
     POINT_MISSING,   /* never started (no manifest) */
-    POINT_RUNNING,   /* started, not finished: running elsewhere, or killed */
+    POINT_RUNNING,   /* started, not finished, and no process holds its claim: killed */
     POINT_COMPLETED, /* finished with these settings: never rerun */
     POINT_FAILED,    /* the run failed or was refused; the manifest holds the error */
     POINT_UNSTABLE,  /* the run stopped as unstable (exit 3); outputs kept */
     POINT_STALE,     /* finished, but with other settings (the scene hash differs) */
+    POINT_CLAIMED,   /* started, not finished, and a live process holds its claim: running now */
 } point_state;
 
 /* How a point run ended, as point.json and the progress lines name it (EXIT_* of cli/cli.h). */
@@ -80,11 +81,16 @@ typedef struct sweep_child {
     uint64_t hash;
     double cpu_before; /* CPU seconds of earlier sessions of this point (it continues a checkpoint) */
     double cpu;        /* CPU seconds of this child (user + system, from wait4) */
+    int lock_fd;       /* the claim on the point's folder (its .lock), held until the final manifest */
 } sweep_child;
 
-/* Prepare point k's folder, write its manifest (status "running") and fork the child running
- * it. runner names who runs it ("local", "mpi rank 1 of 2", "array SLURM_ARRAY_TASK_ID=3").
- * GR_OK or an error (nothing forked). */
+/* sweep_point_start's answers when it started nothing (besides GR_OK and the GR_E* errors) */
+enum { SWEEP_CLAIMED_ELSEWHERE = 1, /* a live process runs the point (err names it) */
+       SWEEP_FINISHED_ELSEWHERE = 2 /* another process finished it since its state was read */ };
+
+/* Prepare point k's folder, claim it, write its manifest (status "running") and fork the child
+ * running it. runner names who runs it ("local", "mpi rank 1 of 2", "array SLURM_ARRAY_TASK_ID=3").
+ * GR_OK, SWEEP_CLAIMED_ELSEWHERE / SWEEP_FINISHED_ELSEWHERE, or an error (nothing forked). */
 int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c, gr_error *err);
 /* After the child's exit (wait_status and usage from wait4): write the final manifest, with the
  * point's CPU seconds over all its sessions; returns the point's exit code (EXIT_OK, EXIT_FAILED,
@@ -95,7 +101,9 @@ double sweep_point_cpu(const sweep *s, long k);
 /* A rough prediction of a point's CPU seconds from its scene (particle-steps times a default cost
  * per particle-step), used for ETAs until finished points calibrate it. */
 double sweep_point_cost_guess(const gr_scene *sc);
-/* start + wait + finish. */
+/* start + wait + finish: the point's EXIT_* code, or SWEEP_LEFT when a live process holds its
+ * claim (said on stderr; nothing done). */
+enum { SWEEP_LEFT = -1 };
 int sweep_point_run(const sweep *s, long k, const char *runner);
 
 /* --- sweep_run.c --- */
@@ -105,6 +113,7 @@ typedef struct sweep_queue {
     const double *guess;  /* predicted CPU seconds of every point (NULL: no ETA) */
     long next;
     long skipped, run, failed;
+    long elsewhere; /* points left to another process that holds their claim */
     double cpu_done, guess_done; /* finished points: measured CPU s and their prediction */
     double guess_left;           /* prediction for the points not finished */
     long finished;               /* points completed, in this run or before */
@@ -118,6 +127,9 @@ void sweep_queue_done(sweep_queue *q, long k, int code, const char *who);
 /* Before running: sum the predictions, count the points finished earlier with their CPU time, and
  * print the progress line. */
 void sweep_queue_start(sweep_queue *q);
+/* After running: the stdout line "OUT/sweep.csv: N points, R run now, S already finished, F failed"
+ * (and how many were left to other processes). */
+void sweep_queue_report(const sweep_queue *q);
 /* One line on stderr: points finished, CPU-hours spent and, scaled by how the finished points
  * compare with their prediction, the CPU-hours left and the wall time at q->jobs parallel runs. */
 void sweep_queue_progress(const sweep_queue *q);

@@ -100,8 +100,7 @@ int sweep_mpi_run(sweep *s, const uint64_t *hash, const double *guess, int *argc
         sweep_run_local(&q, 1, runner, serve, &d);
         long bad = 0;
         rc = sweep_collect(s, hash, &bad);
-        printf("%s/sweep.csv: %ld points, %ld run now, %ld already finished, %ld failed\n", s->out, s->n_points, q.run,
-               q.skipped, q.failed);
+        sweep_queue_report(&q);
         rc = rc ? rc : bad ? EXIT_FAILED : EXIT_OK;
     } else {
         long msg[2] = {-1, 0};

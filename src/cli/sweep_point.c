@@ -5,15 +5,24 @@
  * is run. A point whose folder holds a checkpoint (written every run.checkpoint_every /
  * checkpoint_wall, or when SIGTERM/SIGINT reached the run) continues from it, exactly as
  * `granule run --resume` would; a checkpoint that is refused (corrupt, other settings) is
- * discarded and the point starts again, with a note on stderr. */
+ * discarded and the point starts again, with a note on stderr.
+ *
+ * A point is claimed before anything is written to its folder: an exclusive flock on
+ * pNNNN/.lock, held until its final manifest is written. Two sweeps over one folder (a second
+ * `granule sweep` or `reproduce` to use more cores, overlapping array tasks, two machines sharing
+ * the folder) then share out the points: a point claimed by a live process is left to it, and
+ * its folder is never written by two runs at once. The run inherits the claim, so it stays held
+ * while the run writes its checkpoint even if the sweep itself was killed. */
 #include <cjson/cJSON.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <signal.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -60,7 +69,7 @@ const char *sweep_exit_name(int code)
 
 const char *sweep_state_name(point_state st)
 {
-    static const char *const names[] = {"missing", "running", "completed", "failed", "unstable", "stale"};
+    static const char *const names[] = {"missing", "running", "completed", "failed", "unstable", "stale", "running"};
     return names[st];
 }
 
@@ -89,6 +98,25 @@ static bool same_physics(const sweep *s, long k, const char *dir, char *why, siz
     return same;
 }
 
+/* Whether a live process holds the claim on the point folder dir (sweep_point_start); who gets
+ * its note ("pid P on HOST since T"). */
+static bool claim_holder(const char *dir, char *who, size_t len)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%s/.lock", dir);
+    who[0] = 0;
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+        return false;
+    }
+    bool held = flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+    ssize_t n = held ? pread(fd, who, len - 1, 0) : -1;
+    who[n > 0 ? n : 0] = 0;
+    who[strcspn(who, "\n")] = 0;
+    close(fd); /* also drops the shared lock, if we got it */
+    return held;
+}
+
 point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, size_t len)
 {
     char dir[1100], path[1200], want[20];
@@ -109,9 +137,15 @@ point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, 
                  diff[0] ? "; " : "", diff);
         st = POINT_STALE;
     } else if (!strcmp(status, "running")) {
-        snprintf(why, len, "started %s on %s, not finished", json_string(m, "started") ? json_string(m, "started") : "?",
-                 json_string(m, "host") ? json_string(m, "host") : "?");
-        st = POINT_RUNNING;
+        char holder[400];
+        bool held = claim_holder(dir, holder, sizeof holder);
+        if (held) {
+            snprintf(why, len, "being run by %s", holder[0] ? holder : "another process");
+        } else {
+            snprintf(why, len, "started %s on %s, not finished, and no process runs it (killed)",
+                     json_string(m, "started") ? json_string(m, "started") : "?", json_string(m, "host") ? json_string(m, "host") : "?");
+        }
+        st = held ? POINT_CLAIMED : POINT_RUNNING;
     } else if (!strcmp(status, "completed")) {
         gr_error err = {0};
         cJSON *sum = gr_summary_read(dir, &err);
@@ -187,6 +221,93 @@ static void write_manifest(const sweep *s, long k, const char *dir, const char *
     }
     cJSON_free(text);
     cJSON_Delete(j);
+}
+
+/* The claims this process holds (one per running child): a child closes the others' so that a
+ * claim ends with its own point's child, not with a sibling that inherited it. */
+static int *claims;
+static size_t n_claims, cap_claims;
+
+/* Claim point k (its folder exists): GR_OK with *fd holding the lock, SWEEP_CLAIMED_ELSEWHERE
+ * (who names the holder) when a live process holds it, or an error. */
+static int claim(const char *dir, long k, int *fd, char *who, size_t who_len, gr_error *err)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%s/.lock", dir);
+    *fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (*fd < 0) {
+        return GR_FAIL(err, GR_EIO, "point %ld: cannot open its lock %s: %s", k, path, strerror(errno));
+    }
+    if (n_claims == cap_claims) {
+        size_t cap = cap_claims ? 2 * cap_claims : 16;
+        int *grown = realloc(claims, cap * sizeof *grown);
+        if (!grown) {
+            close(*fd);
+            *fd = -1;
+            return GR_FAIL(err, GR_ENOMEM, "point %ld: out of memory", k);
+        }
+        claims = grown;
+        cap_claims = cap;
+    }
+    /* a few tries: claim_holder's probe (another process reading the point's state) holds a
+     * shared lock for a moment, which must not pass for a live run */
+    int e = 0;
+    for (int tries = 1;; tries++) {
+        e = flock(*fd, LOCK_EX | LOCK_NB) != 0 ? errno : 0;
+        if (e != EWOULDBLOCK || tries == 5) {
+            break;
+        }
+        nanosleep(&(struct timespec){.tv_nsec = 20000000}, NULL);
+    }
+    if (e) {
+        close(*fd);
+        *fd = -1;
+        if (e == EWOULDBLOCK) {
+            claim_holder(dir, who, who_len);
+            return SWEEP_CLAIMED_ELSEWHERE;
+        }
+        /* a file system without flock (some network mounts): run unclaimed, as before claims */
+        static bool warned;
+        if (!warned) {
+            warned = true;
+            fprintf(stderr, "sweep: warning: cannot lock %s (%s): points are not claimed, so do not run two sweeps over "
+                            "this folder at once\n", path, strerror(e));
+        }
+        return GR_OK;
+    }
+    char host[256] = "unknown", now[32], line[400];
+    gethostname(host, sizeof host - 1);
+    sweep_now_iso(now);
+    int len = snprintf(line, sizeof line, "pid %ld on %.200s since %s\n", (long)getpid(), host, now);
+    if (ftruncate(*fd, 0) != 0 || pwrite(*fd, line, (size_t)len, 0) != len) {
+        /* the note is only for the message of whoever finds the point claimed */
+    }
+    claims[n_claims++] = *fd;
+    return GR_OK;
+}
+
+static void release(sweep_child *c)
+{
+    if (c->lock_fd < 0) {
+        return;
+    }
+    for (size_t i = 0; i < n_claims; i++) {
+        if (claims[i] == c->lock_fd) {
+            claims[i] = claims[--n_claims];
+            break;
+        }
+    }
+    close(c->lock_fd); /* the lock ends with the last descriptor: this one, once the child is gone */
+    c->lock_fd = -1;
+}
+
+static void close_other_claims(int own)
+{
+    for (size_t i = 0; i < n_claims; i++) {
+        if (claims[i] != own) {
+            close(claims[i]);
+        }
+    }
 }
 
 /* In the child: run point k into dir; the error message (if any) goes down fd. */
@@ -273,14 +394,25 @@ int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c
     memset(c, 0, sizeof *c);
     c->k = k;
     c->fd = -1;
+    c->lock_fd = -1;
     gr_scene sc;
     if (sweep_point_scene(s, k, &sc, err)) {
         return GR_EINVAL;
     }
     c->hash = gr_scene_hash(&sc);
     int rc = gr_output_dir_prepare(dir, true, err);
+    char who[400] = "";
+    rc = rc ? rc : claim(dir, k, &c->lock_fd, who, sizeof who, err);
+    if (rc == SWEEP_CLAIMED_ELSEWHERE) {
+        snprintf(err->message, sizeof err->message, "point %ld is being run by %s; left to it", k, who[0] ? who : "another process");
+    }
     if (rc) {
         return rc;
+    }
+    char why[800];
+    if (!s->force && sweep_point_state(s, k, c->hash, why, sizeof why) == POINT_COMPLETED) {
+        release(c); /* another process finished it since we looked */
+        return SWEEP_FINISHED_ELSEWHERE;
     }
     sweep_now_iso(c->started);
     c->t0 = sweep_monotonic();
@@ -291,6 +423,7 @@ int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c
     write_manifest(s, k, dir, runner, c, NULL, 0.0, "running", -1, NULL);
     int p[2];
     if (pipe(p) != 0) {
+        release(c);
         return GR_FAIL(err, GR_EIO, "point %ld: cannot create a pipe: %s", k, strerror(errno));
     }
     fflush(NULL);
@@ -298,11 +431,13 @@ int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c
     pid_t pid = fork();
     if (pid == 0) {
         close(p[0]);
+        close_other_claims(c->lock_fd);
         _exit(child_run(s, k, dir, p[1], parent));
     }
     close(p[1]);
     if (pid < 0) {
         close(p[0]);
+        release(c);
         return GR_FAIL(err, GR_EIO, "point %ld: cannot fork: %s", k, strerror(errno));
     }
     c->pid = pid;
@@ -341,6 +476,7 @@ int sweep_point_finish(const sweep *s, const char *runner, sweep_child *c, int w
     sweep_point_dir(s, c->k, dir, sizeof dir);
     sweep_now_iso(finished);
     write_manifest(s, c->k, dir, runner, c, finished, sweep_monotonic() - c->t0, status, code, msg);
+    release(c);
     c->pid = 0;
     return code;
 }
@@ -349,7 +485,16 @@ int sweep_point_run(const sweep *s, long k, const char *runner)
 {
     sweep_child c;
     gr_error err = {0};
-    if (sweep_point_start(s, k, runner, &c, &err)) {
+    int rc = sweep_point_start(s, k, runner, &c, &err);
+    if (rc == SWEEP_FINISHED_ELSEWHERE) {
+        fprintf(stderr, "sweep: point %ld was finished by another process meanwhile\n", k);
+        return EXIT_OK;
+    }
+    if (rc == SWEEP_CLAIMED_ELSEWHERE) {
+        fprintf(stderr, "sweep: %s\n", err.message);
+        return SWEEP_LEFT;
+    }
+    if (rc) {
         fprintf(stderr, "granule sweep: point %ld: %s\n", k, err.message);
         return err.code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }

@@ -1,5 +1,6 @@
 /* The local scheduler: points are handed out in index order to up to `jobs` child processes (and,
- * under MPI, to the other ranks through a serve callback); finished points are skipped. */
+ * under MPI, to the other ranks through a serve callback); finished points are skipped, and so
+ * are points another process is running (their folder's claim, sweep_point.c). */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -70,6 +71,11 @@ long sweep_queue_next(sweep_queue *q)
             q->skipped++;
             continue;
         }
+        if (st == POINT_CLAIMED) {
+            fprintf(stderr, "sweep: point %ld is %s; left to it\n", k, why);
+            q->elsewhere++;
+            continue;
+        }
         if (st == POINT_RUNNING || st == POINT_STALE) {
             fprintf(stderr, "sweep: point %ld: %s; running it again\n", k, why);
         }
@@ -80,6 +86,10 @@ long sweep_queue_next(sweep_queue *q)
 
 void sweep_queue_done(sweep_queue *q, long k, int code, const char *who)
 {
+    if (code == SWEEP_LEFT) { /* a worker found it claimed by another process (and said so) */
+        q->elsewhere++;
+        return;
+    }
     q->run++;
     q->failed += code != EXIT_OK;
     const char *what = sweep_exit_name(code);
@@ -109,7 +119,20 @@ void sweep_run_local(sweep_queue *q, int jobs, const char *runner, sweep_serve_f
                 free_slot++;
             }
             gr_error err = {0};
-            if (sweep_point_start(q->s, k, runner, &slot[free_slot], &err)) {
+            int rc = sweep_point_start(q->s, k, runner, &slot[free_slot], &err);
+            if (rc == SWEEP_CLAIMED_ELSEWHERE) {
+                fprintf(stderr, "sweep: %s\n", err.message);
+                q->elsewhere++;
+                continue;
+            }
+            if (rc == SWEEP_FINISHED_ELSEWHERE) {
+                fprintf(stderr, "sweep: skipping point %ld, finished by another process meanwhile\n", k);
+                q->skipped++;
+                q->finished++;
+                account(q, k);
+                continue;
+            }
+            if (rc) {
                 fprintf(stderr, "granule sweep: point %ld: %s\n", k, err.message);
                 sweep_queue_done(q, k, EXIT_FAILED, NULL);
                 continue;
@@ -151,4 +174,14 @@ void sweep_run_local(sweep_queue *q, int jobs, const char *runner, sweep_serve_f
         }
     }
     free(slot);
+}
+
+void sweep_queue_report(const sweep_queue *q)
+{
+    printf("%s/sweep.csv: %ld points, %ld run now, %ld already finished, %ld failed", q->s->out, q->s->n_points, q->run, q->skipped,
+           q->failed);
+    if (q->elsewhere) {
+        printf(", %ld left to other processes running them", q->elsewhere);
+    }
+    printf("\n");
 }
