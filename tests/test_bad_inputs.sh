@@ -196,6 +196,8 @@ base | analyse $O --set analysis.observables=nosuch | 2 | nosuch | run
 base | plot $O | 2 | $O | new
 base | reproduce nosuch --out $O | 2 | nosuch | new
 base | reproduce fig2.10 --fidelity bogus --out $O | 2 | fidelity | new
+base | reproduce ch3-moments --point 12 --out $O | 2 | --point 12: ch3-moments has points 0..11 at quick fidelity | new
+base | reproduce ch3-moments --fidelity full --point x --out $O | 2 | --point x;0..167 at full | new
 base | spm bogus | 2 | bogus | new
 base | spm circle --out $O --bogus | 2 | --bogus | new
 base | bisect --out $O --levels 0 | 2 | levels | new

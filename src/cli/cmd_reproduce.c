@@ -153,6 +153,8 @@ int cmd_reproduce(int argc, char **argv)
     const char *name = NULL, *out = "out/reproduce", *results = NULL, *root = "docs/results", *page_out = "docs/reproduction.md";
     gr_fidelity fid = GR_FIDELITY_QUICK;
     bool collect = false, page = false, one_point = false;
+    long point = -2; /* --point K (-1: not a number); checked against the campaign before anything is written */
+    const char *point_text = NULL;
     char *pass[16];
     int n_pass = 0;
     for (int i = 1; i < argc; i++) {
@@ -188,6 +190,12 @@ int cmd_reproduce(int argc, char **argv)
             }
         } else if ((!strcmp(a, "--jobs") || !strcmp(a, "--point") || !strcmp(a, "--array-base")) && has && n_pass < 14) {
             one_point |= strcmp(a, "--jobs") != 0;
+            if (!strcmp(a, "--point")) {
+                char *end;
+                point_text = argv[i + 1];
+                point = strtol(argv[i + 1], &end, 10);
+                point = *end || end == argv[i + 1] ? -1 : point;
+            }
             pass[n_pass++] = argv[i];
             pass[n_pass++] = argv[++i];
         } else if (a[0] != '-' && !name) {
@@ -219,6 +227,13 @@ int cmd_reproduce(int argc, char **argv)
         free(c);
         return EXIT_REFUSED;
     }
+    long total = gr_campaign_points(c, fid);
+    if (point != -2 && (point < 0 || point >= total)) {
+        cli_error("reproduce: --point %s: %s has points 0..%ld at %s fidelity", point_text, c->name, total - 1,
+                  fid == GR_FIDELITY_FULL ? "full" : "quick");
+        free(c);
+        return EXIT_REFUSED;
+    }
     snprintf(dir, sizeof dir, "%.1000s/%s/%s", out, c->name, fid == GR_FIDELITY_FULL ? "full" : "quick");
     char level[1200];
     bool existed[3] = {is_dir(out), false, is_dir(dir)};
@@ -234,7 +249,7 @@ int cmd_reproduce(int argc, char **argv)
         snprintf(res_dir, sizeof res_dir, "%s/results", abs_dir);
     }
     fprintf(stderr, "reproduce: campaign %s (%s), %s fidelity, %ld points, into %s\n", c->name, c->covers,
-            fid == GR_FIDELITY_FULL ? "full" : "quick", gr_campaign_points(c, fid), abs_dir);
+            fid == GR_FIDELITY_FULL ? "full" : "quick", total, abs_dir);
     if (gr_campaign_materialise(c, fid, abs_dir, sweep_path, sizeof sweep_path, &err)) {
         cli_error("reproduce: %s", err.message);
         free(c);
@@ -279,7 +294,6 @@ int cmd_reproduce(int argc, char **argv)
         free(c);
         return EXIT_FAILED;
     }
-    long total = gr_campaign_points(c, fid);
     print_results(res_dir);
     fflush(stdout); /* the tables before the warning below, also when both streams go to one pipe */
     if (finished < total) {
