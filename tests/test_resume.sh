@@ -10,7 +10,7 @@
 #     --wall-limit stops + --resume, compared the same way
 #   - refusals: flipped byte (checksum), truncated file, other format version, not a checkpoint,
 #     different scene (names the key), finished run, missing checkpoint, fresh run over an
-#     interrupted one without --force
+#     interrupted one without --force, a run or --resume into the folder of a run still going
 #   - an unstable scene stops with exit 3, keeps its earlier outputs and its last checkpoint
 #     (which still loads, and reproduces the same instability)
 #
@@ -138,6 +138,26 @@ wait_for() {
     return 1
 }
 
+# busy_case NAME SCENE DIR: while a run writes DIR, another run into DIR (with or without --force)
+# and a --resume of DIR are refused (exit 2) naming the run still going; sigterm_case then checks
+# that the first run ends as if nothing had happened
+busy_case() {
+    local name=$1 scene=$2 dir=$3 ok=1 msgs=""
+    for args in "run $scene --out $dir --quiet" "run $scene --out $dir --force --quiet" "run --resume $dir --quiet"; do
+        # shellcheck disable=SC2086
+        run "$G" $args
+        if [[ $rc -ne 2 ]] || ! grep -q "output folder $dir is in use by a run still going (pid [0-9]* on .* since .*)" <<<"$err"; then
+            ok=0
+            msgs+="granule $args: exit $rc: $err; "
+        fi
+    done
+    if [[ $ok == 1 ]] && grep -q "nothing to resume until it stops" <<<"$err"; then
+        pass "$name: a second run or a --resume into the folder of a run still going is refused (exit 2)"
+    else
+        fail "$name: a run or resume into a busy folder" "$msgs" "$err"
+    fi
+}
+
 # sigterm_case NAME TAG SCENE PAUSE_STEP EVERY PAUSE_SECONDS: a run paused at PAUSE_STEP
 # (GRANULE_TEST_PAUSE_AT_STEP) gets SIGTERM once a checkpoint exists: exit 5, checkpoint kept, no
 # summary; --resume finishes it bit-identical to refTAG
@@ -146,7 +166,11 @@ sigterm_case() {
     GRANULE_TEST_PAUSE_AT_STEP=$pause "$G" run "$scene" --out term$tag --quiet --set run.checkpoint_every="$every" >/dev/null 2>"$TMP/term.err" &
     pid=$!
     pids+=("$pid")
-    if wait_for "term$tag/checkpoint" "$pid"; then sleep "$delay"; kill -TERM "$pid" 2>/dev/null || true; fi
+    if wait_for "term$tag/checkpoint" "$pid"; then
+        busy_case "$name" "$scene" "term$tag"
+        sleep "$delay"
+        kill -TERM "$pid" 2>/dev/null || true
+    fi
     set +e
     wait "$pid"
     rc=$?

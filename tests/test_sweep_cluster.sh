@@ -223,7 +223,7 @@ EOT
     check test -z "$(ls "$tmp/corrupt/p0000" | grep '\.tmp')"
     check same "$tmp/serial" "$tmp/corrupt"
     # two sweeps over one folder share its points: while the first runs point 0, a second leaves
-    # it to the first (the claim on p0000/.lock) and runs the other five, and --point 0 refuses to
+    # it to the first (the claim on p0000/.point.lock) and runs the other five, and --point 0 refuses to
     # touch it; the point then continues from the first sweep's checkpoint as before
     second_sweep() {
         cp "$tmp/$1/p0000/point.json" "$tmp/held.json"

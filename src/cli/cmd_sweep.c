@@ -32,7 +32,7 @@ static void usage(FILE *f)
                "OUT/pNNNN with point.json (overrides, scene hash, version, host, times, status, error); a point\n"
                "whose manifest says completed for the same scene hash is never rerun (--force reruns it); a failed\n"
                "point is recorded and the others go on, and the exit status is 1 naming it. A point being run\n"
-               "by another process (its claim, OUT/pNNNN/.lock) is left to it, so sweeps started side by side\n"
+               "by another process (its claim, OUT/pNNNN/.point.lock) is left to it, so sweeps started side by side\n"
                "over one OUT share its points. Without --point the array index is read from\n"
                "SLURM_ARRAY_TASK_ID, PBS_ARRAY_INDEX, PBS_ARRAYID, SGE_TASK_ID or LSB_JOBINDEX (--all ignores\n"
                "them). Writes OUT/sweep.csv (one row per point) and, when system.N varies, OUT/exponents.csv:\n"

@@ -8,21 +8,19 @@
  * discarded and the point starts again, with a note on stderr.
  *
  * A point is claimed before anything is written to its folder: an exclusive flock on
- * pNNNN/.lock, held until its final manifest is written. Two sweeps over one folder (a second
+ * pNNNN/.point.lock (io/dir_lock.h), held until its final manifest is written. Two sweeps over one folder (a second
  * `granule sweep` or `reproduce` to use more cores, overlapping array tasks, two machines sharing
  * the folder) then share out the points: a point claimed by a live process is left to it, and
  * its folder is never written by two runs at once. The run inherits the claim, so it stays held
  * while the run writes its checkpoint even if the sweep itself was killed. */
 #include <cjson/cJSON.h>
 #include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <signal.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/file.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -35,10 +33,13 @@
 #include "granule_commit.h"
 #include "granule_config.h"
 #include "io/checkpoint.h"
+#include "io/dir_lock.h"
 #include "io/files.h"
 #include "io/plot.h"
 #include "io/scene_json.h"
 #include "io/summary_read.h"
+
+#define POINT_LOCK ".point.lock" /* the claim on a point folder */
 
 void sweep_now_iso(char out[32])
 {
@@ -98,25 +99,6 @@ static bool same_physics(const sweep *s, long k, const char *dir, char *why, siz
     return same;
 }
 
-/* Whether a live process holds the claim on the point folder dir (sweep_point_start); who gets
- * its note ("pid P on HOST since T"). */
-static bool claim_holder(const char *dir, char *who, size_t len)
-{
-    char path[1200];
-    snprintf(path, sizeof path, "%s/.lock", dir);
-    who[0] = 0;
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0) {
-        return false;
-    }
-    bool held = flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
-    ssize_t n = held ? pread(fd, who, len - 1, 0) : -1;
-    who[n > 0 ? n : 0] = 0;
-    who[strcspn(who, "\n")] = 0;
-    close(fd); /* also drops the shared lock, if we got it */
-    return held;
-}
-
 point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, size_t len)
 {
     char dir[1100], path[1200], want[20];
@@ -138,7 +120,7 @@ point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, 
         st = POINT_STALE;
     } else if (!strcmp(status, "running")) {
         char holder[400];
-        bool held = claim_holder(dir, holder, sizeof holder);
+        bool held = gr_dir_lock_held(dir, POINT_LOCK, holder, sizeof holder);
         if (held) {
             snprintf(why, len, "being run by %s", holder[0] ? holder : "another process");
         } else {
@@ -228,62 +210,35 @@ static void write_manifest(const sweep *s, long k, const char *dir, const char *
 static int *claims;
 static size_t n_claims, cap_claims;
 
-/* Claim point k (its folder exists): GR_OK with *fd holding the lock, SWEEP_CLAIMED_ELSEWHERE
+/* Claim point k (its folder exists): GR_OK with *fd holding the claim, SWEEP_CLAIMED_ELSEWHERE
  * (who names the holder) when a live process holds it, or an error. */
 static int claim(const char *dir, long k, int *fd, char *who, size_t who_len, gr_error *err)
 {
-    char path[1200];
-    snprintf(path, sizeof path, "%s/.lock", dir);
-    *fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (*fd < 0) {
-        return GR_FAIL(err, GR_EIO, "point %ld: cannot open its lock %s: %s", k, path, strerror(errno));
-    }
     if (n_claims == cap_claims) {
         size_t cap = cap_claims ? 2 * cap_claims : 16;
         int *grown = realloc(claims, cap * sizeof *grown);
         if (!grown) {
-            close(*fd);
-            *fd = -1;
             return GR_FAIL(err, GR_ENOMEM, "point %ld: out of memory", k);
         }
         claims = grown;
         cap_claims = cap;
     }
-    /* a few tries: claim_holder's probe (another process reading the point's state) holds a
-     * shared lock for a moment, which must not pass for a live run */
-    int e = 0;
-    for (int tries = 1;; tries++) {
-        e = flock(*fd, LOCK_EX | LOCK_NB) != 0 ? errno : 0;
-        if (e != EWOULDBLOCK || tries == 5) {
-            break;
-        }
-        nanosleep(&(struct timespec){.tv_nsec = 20000000}, NULL);
+    int rc = gr_dir_lock(dir, POINT_LOCK, fd, who, who_len, err);
+    if (rc == GR_LOCK_HELD) {
+        return SWEEP_CLAIMED_ELSEWHERE;
     }
-    if (e) {
-        close(*fd);
-        *fd = -1;
-        if (e == EWOULDBLOCK) {
-            claim_holder(dir, who, who_len);
-            return SWEEP_CLAIMED_ELSEWHERE;
-        }
-        /* a file system without flock (some network mounts): run unclaimed, as before claims */
+    if (!rc && *fd < 0) {
         static bool warned;
         if (!warned) {
             warned = true;
-            fprintf(stderr, "sweep: warning: cannot lock %s (%s): points are not claimed, so do not run two sweeps over "
-                            "this folder at once\n", path, strerror(e));
+            fprintf(stderr, "sweep: warning: cannot lock %s/%s (no flock on this file system): points are not claimed, "
+                            "so do not run two sweeps over this folder at once\n", dir, POINT_LOCK);
         }
-        return GR_OK;
     }
-    char host[256] = "unknown", now[32], line[400];
-    gethostname(host, sizeof host - 1);
-    sweep_now_iso(now);
-    int len = snprintf(line, sizeof line, "pid %ld on %.200s since %s\n", (long)getpid(), host, now);
-    if (ftruncate(*fd, 0) != 0 || pwrite(*fd, line, (size_t)len, 0) != len) {
-        /* the note is only for the message of whoever finds the point claimed */
+    if (!rc && *fd >= 0) {
+        claims[n_claims++] = *fd;
     }
-    claims[n_claims++] = *fd;
-    return GR_OK;
+    return rc;
 }
 
 static void release(sweep_child *c)
@@ -297,8 +252,7 @@ static void release(sweep_child *c)
             break;
         }
     }
-    close(c->lock_fd); /* the lock ends with the last descriptor: this one, once the child is gone */
-    c->lock_fd = -1;
+    gr_dir_unlock(&c->lock_fd); /* the claim ends with the last descriptor: this one, once the child is gone */
 }
 
 static void close_other_claims(int own)

@@ -14,8 +14,11 @@
 
 #include "core/sim_state.h"
 #include "granule_config.h"
+#include "io/dir_lock.h"
 #include "io/run_internal.h"
 #include "io/scene_json.h"
+
+#define RUN_LOCK ".run.lock" /* held by the run writing the folder */
 
 /* Wall clock. GRANULE_TEST_CLOCK_TICK = S replaces it by a clock that advances S seconds per
  * reading, so the tests of --wall-limit stop at the same places on any machine. */
@@ -70,6 +73,16 @@ void gr_run_stream_leave(gr_file *f)
 }
 
 
+/* A folder with a run still going (its RUN_LOCK held) is refused: a second run would delete the
+ * first one's partial files, and a resume would continue a checkpoint the first one still moves. */
+static int refuse_busy(const gr_run_ctx *c, const char *holder)
+{
+    return GR_FAIL(c->err, GR_EINVAL, "output folder %s is in use by a run still going (%s): %s", c->scene->out_dir,
+                   holder[0] ? holder : "another process",
+                   c->resume ? "it is not interrupted, so there is nothing to resume until it stops"
+                             : "wait for it to finish, or choose another folder");
+}
+
 /* Set-up, part 1: the checkpoint of a resume, the simulation, the observables, the schedule and
  * (fresh runs) the output folder. Everything that can refuse the scene (dt, placement,
  * observables, schedule) is checked before the output folder is touched: a refused run leaves it
@@ -79,6 +92,10 @@ static int open_run(gr_run_ctx *c)
     const gr_scene *scene = c->scene;
     const gr_run_options *opt = c->opt;
     gr_error *err = c->err;
+    char holder[400];
+    if (gr_dir_lock_held(scene->out_dir, RUN_LOCK, holder, sizeof holder)) { /* before any word about its files */
+        return refuse_busy(c, holder);
+    }
     /* resuming (docs/checkpoints.md): the scene must be the checkpoint's; its source is restored */
     if (c->resume) {
         c->resumed = *scene;
@@ -107,6 +124,12 @@ static int open_run(gr_run_ctx *c)
     const bool resume = c->resume;
     rc = rc || resume ? rc : gr_run_checkpoint_guard(c->dir, opt && opt->force, err);
     rc = rc || resume ? rc : gr_output_dir_prepare(c->dir, opt && opt->force, err);
+    if (!rc) {
+        rc = gr_dir_lock(c->dir, RUN_LOCK, &c->lock_fd, holder, sizeof holder, err);
+        if (rc == GR_LOCK_HELD) {
+            return refuse_busy(c, holder); /* started since the check above */
+        }
+    }
     rc = rc || resume ? rc : gr_run_clear_leftovers(c->dir, err); /* an old checkpoint (--force), NAME.tmpPID */
     rc = rc || resume ? rc : gr_scene_save(scene, c->dir, err); /* a resume reads it back */
     c->hash = gr_scene_hash(scene);
@@ -201,6 +224,7 @@ static void release(gr_run_ctx *c)
     gr_observer_free(c->obs);
     gr_sim_free(c->sim);
     free(c->ck_buf);
+    gr_dir_unlock(&c->lock_fd);
 }
 
 int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res, gr_error *err)
@@ -211,7 +235,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
         return GR_FAIL(err, GR_ENOMEM, "out of memory");
     }
     *c = (gr_run_ctx){.scene = scene, .opt = opt, .res = res, .err = err, .resume = opt && opt->resume,
-                      .t_enter = gr_run_now(), .status = "completed"};
+                      .t_enter = gr_run_now(), .status = "completed", .lock_fd = -1};
     /* set-up */
     int rc = open_run(c);
     rc = rc ? rc : open_tables(c);
@@ -228,6 +252,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     }
     /* a stop request ends in a checkpoint; otherwise the outputs are finished */
     rc = gr_run_stop(c) ? c->rc : gr_run_finish(c);
+    gr_dir_unlock(&c->lock_fd);
     free(c);
     return rc;
 }

@@ -27,6 +27,7 @@ typedef struct gr_run_ctx {
     gr_error *err;
     bool resume;
     const char *dir;
+    int lock_fd; /* RUN_LOCK in dir, held while the run writes there (io/dir_lock.h); -1 if none */
     /* the run */
     gr_sim *sim;
     gr_observer *obs;
