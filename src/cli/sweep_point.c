@@ -99,7 +99,10 @@ static bool same_physics(const sweep *s, long k, const char *dir, char *why, siz
     return same;
 }
 
-point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, size_t len)
+/* The state on disk; probe: look at the claim of a point whose manifest says running (a process
+ * must not probe a claim it holds: where flock is emulated by POSIX locks, as on NFS, closing the
+ * probe would drop its own claim). */
+static point_state state_of(const sweep *s, long k, uint64_t hash, char *why, size_t len, bool probe)
 {
     char dir[1100], path[1200], want[20];
     sweep_point_dir(s, k, dir, sizeof dir);
@@ -119,8 +122,8 @@ point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, 
                  diff[0] ? "; " : "", diff);
         st = POINT_STALE;
     } else if (!strcmp(status, "running")) {
-        char holder[400];
-        bool held = gr_dir_lock_held(dir, POINT_LOCK, holder, sizeof holder);
+        char holder[400] = "";
+        bool held = probe && gr_dir_lock_held(dir, POINT_LOCK, holder, sizeof holder);
         if (held) {
             snprintf(why, len, "being run by %s", holder[0] ? holder : "another process");
         } else {
@@ -144,6 +147,11 @@ point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, 
     }
     cJSON_Delete(m);
     return st;
+}
+
+point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, size_t len)
+{
+    return state_of(s, k, hash, why, len, true);
 }
 
 static void write_manifest(const sweep *s, long k, const char *dir, const char *runner, const sweep_child *c,
@@ -364,7 +372,7 @@ int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c
         return rc;
     }
     char why[800];
-    if (!s->force && sweep_point_state(s, k, c->hash, why, sizeof why) == POINT_COMPLETED) {
+    if (!s->force && state_of(s, k, c->hash, why, sizeof why, false) == POINT_COMPLETED) {
         release(c); /* another process finished it since we looked */
         return SWEEP_FINISHED_ELSEWHERE;
     }
