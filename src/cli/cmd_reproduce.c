@@ -190,6 +190,14 @@ int cmd_reproduce(int argc, char **argv)
             }
         } else if ((!strcmp(a, "--jobs") || !strcmp(a, "--point") || !strcmp(a, "--array-base")) && has && n_pass < 14) {
             one_point |= strcmp(a, "--jobs") != 0;
+            if (!strcmp(a, "--jobs")) { /* refused here, before the campaign's folders are made */
+                char *end;
+                long j = strtol(argv[i + 1], &end, 10);
+                if (*end || end == argv[i + 1] || j < 1 || j > 4096) {
+                    cli_error("reproduce: --jobs %s: allowed 1..4096", argv[i + 1]);
+                    return EXIT_REFUSED;
+                }
+            }
             if (!strcmp(a, "--point")) {
                 char *end;
                 point_text = argv[i + 1];
