@@ -69,7 +69,9 @@ typedef struct gr_run_result {
 } gr_run_result;
 
 /* Run the scene into scene->out_dir. On an unstable run the outputs written so far are kept,
- * summary.json records "status": "unstable" with the diagnosis, and GR_EUNSTABLE is returned. */
+ * summary.json records "status": "unstable" with the diagnosis, and GR_EUNSTABLE is returned.
+ * The folder is locked while the run writes it (out_dir/.run.lock, docs/checkpoints.md): a run
+ * or resume into a folder another run is writing is refused with GR_EINVAL, naming that run. */
 int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res, gr_error *err);
 
 #endif
