@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "cli/sweep.h"
 #include "granule/campaign.h"
 #include "io/files.h"
 #include "io/summary_read.h"
@@ -193,8 +194,8 @@ int cmd_reproduce(int argc, char **argv)
             if (!strcmp(a, "--jobs")) { /* refused here, before the campaign's folders are made */
                 char *end;
                 long j = strtol(argv[i + 1], &end, 10);
-                if (*end || end == argv[i + 1] || j < 1 || j > 4096) {
-                    cli_error("reproduce: --jobs %s: allowed 1..4096", argv[i + 1]);
+                if (*end || end == argv[i + 1] || j < 1 || j > SWEEP_MAX_JOBS) {
+                    cli_error("reproduce: --jobs %s: allowed 1..%d", argv[i + 1], SWEEP_MAX_JOBS);
                     return EXIT_REFUSED;
                 }
             }

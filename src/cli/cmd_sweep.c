@@ -98,17 +98,12 @@ static int run_one(const sweep *s, long k, const uint64_t *hash, const char *run
         return EXIT_FAILED;
     }
     char why[800];
-    point_state st = sweep_point_state(s, k, hash[k], why, sizeof why);
-    if (!s->force && st == POINT_COMPLETED) {
+    if (!s->force && sweep_point_state(s, k, hash[k], why, sizeof why) == POINT_COMPLETED) {
         fprintf(stderr, "sweep: skipping finished point %ld\n", k);
         return EXIT_OK;
     }
-    if (st == POINT_CLAIMED) { /* its folder is not ours to touch */
-        fprintf(stderr, "sweep: point %ld is %s; left to it\n", k, why);
-        return EXIT_FAILED;
-    }
     int code = sweep_point_run(s, k, runner);
-    if (code == SWEEP_LEFT) {
+    if (code == SWEEP_LEFT) { /* claimed by another process, which sweep_point_run named */
         return EXIT_FAILED;
     }
     char dir[1100];
@@ -129,8 +124,8 @@ int cmd_sweep(int argc, char **argv)
             return EXIT_OK;
         } else if (!strcmp(argv[i], "--jobs") && i + 1 < argc) {
             long j;
-            if (!parse_long("--jobs", argv[++i], &j) || j < 1 || j > 4096) {
-                cli_error("sweep: --jobs: allowed 1..4096");
+            if (!parse_long("--jobs", argv[++i], &j) || j < 1 || j > SWEEP_MAX_JOBS) {
+                cli_error("sweep: --jobs: allowed 1..%d", SWEEP_MAX_JOBS);
                 return EXIT_REFUSED;
             }
             jobs = (int)j;

@@ -22,6 +22,7 @@
 #define SWEEP_VALUE_LEN 128 /* one [vary] value, linked parts included */
 #define SWEEP_MAX_OVERRIDES (SWEEP_MAX_SETS + SWEEP_MAX_LINKED * SWEEP_MAX_KEYS + 1)
 #define SWEEP_MAX_POINTS 100000L
+#define SWEEP_MAX_JOBS 4096 /* --jobs of sweep and reproduce: 1..SWEEP_MAX_JOBS */
 
 typedef struct sweep {
     char file[1024]; /* the sweep file as given */
