@@ -5,6 +5,7 @@ campaign results whose moments follow known power laws <|v|^m> = a_m N^-(m x_m) 
   rounding and its jackknife error is 0;
 - one seed whose m = 6 moment scales differently moves the gap and gives a jackknife error equal
   to the one computed here by hand from the three leave-one-out fits;
+- --ref 1 compares with xi_1 instead of xi_2/2 (Fig. 3.4b's 0.264 - 0.228);
 - an eps with a missing seed is left out with a message; an empty folder is refused without a
   traceback.
 
@@ -68,10 +69,12 @@ with tempfile.TemporaryDirectory() as tmp:
     for r in rows:
         m = int(r["m"])
         check(r["N"] == "251-2512" and r["seeds"] == "3", "exact: sizes >= 251, three seeds: %s" % r)
-        check(abs(float(r["xi_2_over_2"]) - X[2]) < 2e-5 and abs(float(r["xi_m_over_m"]) - X[m]) < 2e-5, "exact exponents: %s" % r)
+        check(r["r"] == "2" and abs(float(r["xi_r_over_r"]) - X[2]) < 2e-5 and abs(float(r["xi_m_over_m"]) - X[m]) < 2e-5, "exact exponents: %s" % r)
         check(abs(float(r["gap"]) - (X[2] - X[m])) < 2e-5 and float(r["gap_err"]) < 2e-5, "exact gap: %s" % r)
     rc, rows, _ = run(exact, "--n-min", "100")
     check(rc == 0 and all(r["N"] == "100-2512" and r["m"] in ("5", "6") for r in rows) and len(rows) == 4, "--n-min 100, default m")
+    rc, rows, _ = run(exact, "--ref", "1", "--m", "6")
+    check(rc == 0 and len(rows) == 2 and all(r["r"] == "1" and abs(float(r["gap"]) - (X[1] - X[6])) < 2e-5 for r in rows), "--ref 1")
 
     # seed 3's m = 6 moment falls faster: x_6 + 0.01
     shifted = os.path.join(tmp, "shifted")
@@ -108,6 +111,8 @@ with tempfile.TemporaryDirectory() as tmp:
     check(rc != 0 and err.startswith("moment_exponent_gaps.py: no points/*.json") and "Traceback" not in err, "empty: %s" % err)
     rc, rows, err = run(exact, "--m", "13")
     check(rc != 0 and "moments 1-12" in err and "Traceback" not in err, "--m 13: %s" % err)
+    rc, rows, err = run(exact, "--ref", "0")
+    check(rc != 0 and "moments 1-12" in err and "Traceback" not in err, "--ref 0: %s" % err)
 
 print("moment_exponent_gaps: %d failed" % failed)
 sys.exit(1 if failed else 0)
