@@ -84,9 +84,12 @@ def main():
     a = ap.parse_args()
     if any(m < 1 or m > 12 for m in a.m + [a.ref]):
         fail("--m and --ref take moments 1-12 (analysis.moments.speed has m1-m12)")
+    rows = gaps(load(a.results), a.n_min, a.ref, a.m)
+    if not rows:
+        fail(f"no eps in {a.results} has the same >= 2 seeds at >= 3 sizes N >= {a.n_min}")
     w = csv.writer(sys.stdout, lineterminator="\n")
     w.writerow(["eps_n", "r", "m", "N", "seeds", "xi_r_over_r", "xi_m_over_m", "gap", "gap_err"])
-    for r in gaps(load(a.results), a.n_min, a.ref, a.m):
+    for r in rows:
         w.writerow(r[:5] + [f"{x:.5f}" for x in r[5:]])
 
 

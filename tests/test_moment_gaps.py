@@ -111,6 +111,8 @@ with tempfile.TemporaryDirectory() as tmp:
     check(rc != 0 and err.startswith("moment_exponent_gaps.py: no points/*.json") and "Traceback" not in err, "empty: %s" % err)
     rc, rows, err = run(exact, "--m", "13")
     check(rc != 0 and "moments 1-12" in err and "Traceback" not in err, "--m 13: %s" % err)
+    rc, rows, err = run(exact, "--n-min", "100000")  # every eps left out: refused, nothing on standard output
+    check(rc != 0 and rows == [] and "no eps in" in err and "Traceback" not in err, "--n-min 100000: %s" % err)
     rc, rows, err = run(exact, "--ref", "0")
     check(rc != 0 and "moments 1-12" in err and "Traceback" not in err, "--ref 0: %s" % err)
 
