@@ -188,6 +188,18 @@ file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[result a]\nverdict = explained:
 file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N+model.eps_n = 10\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n | reproduce $S --out $O | 2 | linked;nothing was run | new
 file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 10\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[set]\nmodel.nosuch = 1\n | reproduce $S --out $O | 2 | nosuch;nothing was run | new
 file:[sweep]\nbogus = 1\n | sweep $S | 2 | bogus | new
+file:[sweep]\nseeds = 1, 2, 1\n[vary]\nsystem.N = 10\n | sweep $S | 2 | 1 is listed twice | new
+file:[sweep]\nseeds = 1\nseeds = 2\n[vary]\nsystem.N = 10\n | sweep $S | 2 | given twice | new
+file:[sweep]\nseeds = 0x10\n[vary]\nsystem.N = 10\n | sweep $S | 2 | decimal digits | new
+file:[sweep]\nseeds = 1\n[vary]\nrun.seed = 1, 2\n | sweep $S | 2 | seeds are given twice | new
+file:[sweep]\n[vary]\nrun.seed = 1, -2\n | sweep $S | 2 | decimal digits | new
+file:[sweep]\n[vary]\nsystem.N+run.seed = 10/1, 12/2\n | sweep $S | 2 | cannot be linked | new
+file:[sweep]\n[vary]\nsystem.N = 10, 12\nmodel.eps_n = 0.5\nsystem.N = 14\n | sweep $S | 2 | system.N: given twice | new
+file:[sweep]\n[vary]\nsystem.N = 10, 12, 10\n | sweep $S | 2 | '10' is listed twice | new
+file:[sweep]\n[vary]\nsystem.N = 10\n[set]\nsystem.N = 12\n | sweep $S | 2 | either set or varied | new
+file:[sweep]\n[set]\nsystem.N = 12\n[vary]\nsystem.N = 10\n | sweep $S | 2 | either set or varied | new
+file:[sweep]\n[set]\nrun.seed = 3\n[vary]\nsystem.N = 10\n | sweep $S | 2 | [sweep] seeds | new
+file:[sweep]\n[set]\nrun.warmup = 0\nrun.warmup = 0.1\n[vary]\nsystem.N = 10\n | sweep $S | 2 | given twice | new
 file:[sweep]\n[vary]\nsystem.N = 10, 9999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999\n | sweep $S | 2 | at most 127 characters | new
 file:[sweep]\n[vary]\nsystem.N = 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42\nsystem.N = 43, 44, 45, 46, 47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63, 64, 65, 66, 67, 68, 69, 70, 71, 72, 73, 74\n | sweep $S | 2 | at most 64 values | new
 file:[sweep]\nscene = /dev/null\nout = /nonexistent-granule-out\n[vary]\nsystem.N = 10\n | sweep $S | 2 | not a regular file | new

@@ -94,6 +94,18 @@ if [[ $part == resume ]]; then
     check test "$(grep -vc '^#' <<<"$out")" -eq 6
     check grep -q "^1 system.N=20 run.seed=2$" <<<"$out"
     check grep -q "^4 system.N=80 run.seed=1$" <<<"$out"
+    # [vary] run.seed (the seed as the slowest key): each point runs the seed it is labelled with
+    sed -e '/^seeds = /d' -e 's/^\[vary\]$/[vary]\nrun.seed = 1, 2/' "$tmp/serial.ini" >"$tmp/seedvary.ini"
+    sed -i "s|^out = .*|out = $tmp/seedvary|" "$tmp/seedvary.ini"
+    out=$("$granule" sweep "$tmp/seedvary.ini" --list)
+    check grep -q "^1 run.seed=1 system.N=40$" <<<"$out"
+    check grep -q "^3 run.seed=2 system.N=20$" <<<"$out"
+    check "$granule" sweep "$tmp/seedvary.ini" --jobs 1
+    check grep -q '"seed":[[:space:]]*2' "$tmp/seedvary/p0003/point.json"
+    check grep -q '"seed":[[:space:]]*2' "$tmp/seedvary/p0003/summary.json"
+    check grep -q '^3,2,2,20,completed' "$tmp/seedvary/sweep.csv"
+    t1=$(grep '"T_mean"' "$tmp/seedvary/p0000/summary.json") t2=$(grep '"T_mean"' "$tmp/seedvary/p0003/summary.json")
+    check test "$t1" != "$t2"
     # a [vary] list continues on a line that repeats its key (an INI line holds 200 characters)
     sed 's/^system.N = \(.*\)$/system.N = 20\nsystem.N = 40, 80/' "$tmp/serial.ini" >"$tmp/split.ini"
     check test "$(grep -c "^system.N = " "$tmp/split.ini")" -eq 2

@@ -30,6 +30,8 @@ typedef struct sweep {
     int jobs;
     int n_seeds;
     unsigned long long seeds[SWEEP_MAX_VALUES];
+    bool seeds_given;  /* [sweep] seeds was written */
+    int seed_key;      /* the [vary] key that is run.seed (then it names every point's seed), or -1 */
     int n_keys;
     char key[SWEEP_MAX_KEYS][128];
     int n_values[SWEEP_MAX_KEYS];
@@ -47,6 +49,8 @@ typedef struct sweep {
 int sweep_load(sweep *s, const char *file);
 /* Point k: the value index of each varied key (last key fastest) and the seed index (fastest). */
 void sweep_decode(const sweep *s, long k, int idx[SWEEP_MAX_KEYS], int *seed);
+/* The seed point k runs with: its [vary] run.seed value, or its entry of [sweep] seeds. */
+unsigned long long sweep_point_seed(const sweep *s, long k);
 /* The --set overrides of point k: [set] lines, then the varied keys, then run.seed. */
 int sweep_overrides(const sweep *s, long k, char store[][256], const char **ptrs);
 /* Load point k's scene (the sweep's scene with the point's overrides). */

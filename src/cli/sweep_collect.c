@@ -130,7 +130,7 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
         bool has_run = !strcmp(status[k], "completed") || !strcmp(status[k], "unstable") || !strcmp(status[k], "failed");
         gr_error read_err = {0};
         cJSON *j = has_run ? gr_summary_read(dir, &read_err) : NULL;
-        fprintf(f.f, "%ld,%llu", k, s->seeds[seed]);
+        fprintf(f.f, "%ld,%llu", k, sweep_point_seed(s, k));
         for (int i = 0; i < n_col; i++) {
             fprintf(f.f, ",%s", s->value[i][idx[i]]);
         }

@@ -1,5 +1,6 @@
 /* The sweep file ([sweep], [vary], [set]) and its points: point k is one combination of the
  * varied values and one seed, numbered from 0 with the seed fastest, then the last [vary] key. */
+#include <errno.h>
 #include <ini.h>
 #include <libgen.h>
 #include <stdio.h>
@@ -26,6 +27,51 @@ static int split_list(const char *text, char out[][SWEEP_VALUE_LEN], int max)
     return n;
 }
 
+/* A seed: decimal digits only (no sign, hex, exponent or blanks), within 64 bits. */
+static bool parse_seed(const char *text, unsigned long long *seed)
+{
+    if (!*text || strspn(text, "0123456789") != strlen(text) || strlen(text) > 20) {
+        return false;
+    }
+    errno = 0;
+    *seed = strtoull(text, NULL, 10);
+    return errno == 0;
+}
+
+/* Index of [vary] or [set] key `name` so far, or -1. */
+static int find_key(const sweep *s, const char *name)
+{
+    for (int i = 0; i < s->n_keys; i++) {
+        if (!strcmp(s->key[i], name)) {
+            return i;
+        }
+    }
+    return -1;
+}
+
+static int find_set(const sweep *s, const char *name)
+{
+    const size_t n = strlen(name);
+    for (int i = 0; i < s->n_sets; i++) {
+        if (!strncmp(s->set[i], name, n) && s->set[i][n] == '=') {
+            return i;
+        }
+    }
+    return -1;
+}
+
+/* Does the (possibly linked, a+b) [vary] key name `key`? */
+static bool names_key(const char *linked, const char *key)
+{
+    const size_t n = strlen(key);
+    for (const char *p = linked; (p = strstr(p, key)) != NULL; p += n) {
+        if ((p == linked || p[-1] == '+') && (p[n] == '\0' || p[n] == '+')) {
+            return true;
+        }
+    }
+    return false;
+}
+
 static int on_line(void *user, const char *section, const char *name, const char *value)
 {
     sweep *s = user;
@@ -50,12 +96,23 @@ static int on_line(void *user, const char *section, const char *name, const char
                          SWEEP_VALUE_LEN - 1);
                 return 0;
             }
+            if (s->seeds_given) {
+                snprintf(s->error, sizeof s->error, "[sweep] seeds: given twice; list every seed on one line");
+                return 0;
+            }
+            s->seeds_given = true;
             for (int i = 0; i < s->n_seeds; i++) {
-                char *end;
-                s->seeds[i] = strtoull(v[i], &end, 10);
-                if (*end || v[i][0] == '-') {
-                    snprintf(s->error, sizeof s->error, "[sweep] seeds: '%.64s' is not a non-negative integer", v[i]);
+                if (!parse_seed(v[i], &s->seeds[i])) {
+                    snprintf(s->error, sizeof s->error, "[sweep] seeds: '%.64s' is not an integer written in decimal digits (0 .. 2^64 - 1)",
+                             v[i]);
                     return 0;
+                }
+                for (int j = 0; j < i; j++) {
+                    if (s->seeds[j] == s->seeds[i]) {
+                        snprintf(s->error, sizeof s->error, "[sweep] seeds: %llu is listed twice (two points would be one run)",
+                                 s->seeds[i]);
+                        return 0;
+                    }
                 }
             }
         } else {
@@ -65,6 +122,18 @@ static int on_line(void *user, const char *section, const char *name, const char
     } else if (!strcmp(section, "vary")) {
         /* a list longer than a line continues on a line that repeats the key */
         const bool more = s->n_keys > 0 && !strcmp(s->key[s->n_keys - 1], name);
+        if (!more && find_key(s, name) >= 0) {
+            snprintf(s->error, sizeof s->error, "[vary] %s: given twice; a list longer than a line continues on the very next line", name);
+            return 0;
+        }
+        if (!more && strchr(name, '+') && names_key(name, "run.seed")) {
+            snprintf(s->error, sizeof s->error, "[vary] %s: run.seed cannot be linked to other keys; vary it on a line of its own", name);
+            return 0;
+        }
+        if (find_set(s, name) >= 0) {
+            snprintf(s->error, sizeof s->error, "[vary] %s: also in [set]; a key is either set or varied", name);
+            return 0;
+        }
         if (more) {
             s->n_keys--;
         } else if (s->n_keys == SWEEP_MAX_KEYS) {
@@ -81,6 +150,24 @@ static int on_line(void *user, const char *section, const char *name, const char
             return 0;
         }
         s->n_values[s->n_keys] = had + got;
+        for (int v = had; v < had + got; v++) { /* a varied value listed twice would be one point twice */
+            for (int u = 0; u < v; u++) {
+                if (!strcmp(s->value[s->n_keys][u], s->value[s->n_keys][v])) {
+                    snprintf(s->error, sizeof s->error, "[vary] %s: value '%s' is listed twice", name, s->value[s->n_keys][v]);
+                    return 0;
+                }
+            }
+        }
+        if (!strcmp(name, "run.seed")) {
+            unsigned long long seed;
+            for (int v = had; v < had + got; v++) {
+                if (!parse_seed(s->value[s->n_keys][v], &seed)) {
+                    snprintf(s->error, sizeof s->error, "[vary] run.seed: '%.64s' is not an integer written in decimal digits (0 .. 2^64 - 1)",
+                             s->value[s->n_keys][v]);
+                    return 0;
+                }
+            }
+        }
         /* linked keys, varied together: system.N+system.packing_fraction = 1000/0.177, 2000/0.353 */
         int parts = 1;
         for (const char *c = name; *c; c++) {
@@ -104,6 +191,20 @@ static int on_line(void *user, const char *section, const char *name, const char
             snprintf(s->error, sizeof s->error, "[set] %s: expected section.key = value (at most %d lines)", name, SWEEP_MAX_SETS);
             return 0;
         }
+        if (find_set(s, name) >= 0) {
+            snprintf(s->error, sizeof s->error, "[set] %s: given twice", name);
+            return 0;
+        }
+        for (int i = 0; i < s->n_keys; i++) {
+            if (names_key(s->key[i], name)) {
+                snprintf(s->error, sizeof s->error, "[set] %s: also varied in [vary] %s; a key is either set or varied", name, s->key[i]);
+                return 0;
+            }
+        }
+        if (!strcmp(name, "run.seed")) {
+            snprintf(s->error, sizeof s->error, "[set] run.seed: the seeds are [sweep] seeds (or [vary] run.seed), not [set]");
+            return 0;
+        }
         snprintf(s->set[s->n_sets++], 256, "%s=%s", name, value);
     } else {
         snprintf(s->error, sizeof s->error, "[%s]: unknown section; sections: sweep, vary, set", section);
@@ -125,6 +226,11 @@ int sweep_load(sweep *s, const char *file)
         }
         return EXIT_REFUSED;
     }
+    s->seed_key = find_key(s, "run.seed");
+    if (s->seed_key >= 0 && s->seeds_given) {
+        cli_error("sweep: %s: seeds are given twice, by [sweep] seeds and by [vary] run.seed; keep one", file);
+        return EXIT_REFUSED;
+    }
     if (!s->scene[0]) {
         cli_error("sweep: %s: [sweep] scene is missing", file);
         return EXIT_REFUSED;
@@ -135,7 +241,7 @@ int sweep_load(sweep *s, const char *file)
         snprintf(joined, sizeof joined, "%.500s/%.500s", dirname(copy), s->scene);
         snprintf(s->scene, sizeof s->scene, "%.1010s", joined);
     }
-    if (s->n_seeds == 0) {
+    if (s->n_seeds == 0) { /* one seed per point: 1, or the point's [vary] run.seed */
         s->n_seeds = 1;
         s->seeds[0] = 1;
     }
@@ -164,6 +270,16 @@ void sweep_decode(const sweep *s, long k, int idx[SWEEP_MAX_KEYS], int *seed)
     }
 }
 
+unsigned long long sweep_point_seed(const sweep *s, long k)
+{
+    int idx[SWEEP_MAX_KEYS] = {0}, seed;
+    sweep_decode(s, k, idx, &seed);
+    if (s->seed_key >= 0) {
+        return strtoull(s->value[s->seed_key][idx[s->seed_key]], NULL, 10); /* checked by parse_seed */
+    }
+    return s->seeds[seed];
+}
+
 int sweep_overrides(const sweep *s, long k, char store[][256], const char **ptrs)
 {
     int idx[SWEEP_MAX_KEYS] = {0}, seed, m = 0;
@@ -183,6 +299,9 @@ int sweep_overrides(const sweep *s, long k, char store[][256], const char **ptrs
             ptrs[m] = store[m];
             m++;
         }
+    }
+    if (s->seed_key >= 0) { /* run.seed is one of the varied keys above */
+        return m;
     }
     snprintf(store[m], 256, "run.seed=%llu", s->seeds[seed]);
     ptrs[m] = store[m];
@@ -210,7 +329,7 @@ void sweep_list(const sweep *s, FILE *f)
     for (int i = 0; i < s->n_keys; i++) {
         fprintf(f, " %s", s->key[i]);
     }
-    fprintf(f, " run.seed\n");
+    fprintf(f, s->seed_key < 0 ? " run.seed\n" : "\n");
     for (long k = 0; k < s->n_points; k++) {
         int idx[SWEEP_MAX_KEYS] = {0}, seed;
         sweep_decode(s, k, idx, &seed);
@@ -218,6 +337,9 @@ void sweep_list(const sweep *s, FILE *f)
         for (int i = 0; i < s->n_keys; i++) {
             fprintf(f, " %s=%s", s->key[i], s->value[i][idx[i]]);
         }
-        fprintf(f, " run.seed=%llu\n", s->seeds[seed]);
+        if (s->seed_key < 0) {
+            fprintf(f, " run.seed=%llu", s->seeds[seed]);
+        }
+        fprintf(f, "\n");
     }
 }

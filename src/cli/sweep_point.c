@@ -183,7 +183,7 @@ static void write_manifest(const sweep *s, long k, const char *dir, const char *
     for (int i = 0; i < s->n_keys; i++) {
         cJSON_AddStringToObject(keys, s->key[i], s->value[i][idx[i]]);
     }
-    cJSON_AddNumberToObject(j, "seed", (double)s->seeds[seed]);
+    cJSON_AddNumberToObject(j, "seed", (double)sweep_point_seed(s, k));
     cJSON *over = cJSON_AddArrayToObject(j, "overrides");
     for (int i = 0; i < n_over; i++) {
         cJSON_AddItemToArray(over, cJSON_CreateString(ptrs[i]));
