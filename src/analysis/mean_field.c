@@ -44,6 +44,26 @@ cJSON *gr_mean_field_steady(const gr_scene *s, double T_mean)
     return j;
 }
 
+/* The fourth cumulant of the homogeneous cooling state of smooth inelastic hard spheres in d
+ * dimensions, first Sonine approximation: van Noije & Ernst, Granular Matter 1, 57 (1998), eq. 4.3
+ * (docs/validation.md). */
+double gr_hcs_a2(double eps, int dim)
+{
+    const double e = eps, d = dim;
+    return 16.0 * (1.0 - e) * (1.0 - 2.0 * e * e) / (9.0 + 24.0 * d - e * (41.0 - 8.0 * d) + 30.0 * (1.0 - e) * e * e);
+}
+
+/* Haff's law for smooth hard discs: d(T^-1/2)/dt = zeta / (2 sqrt T) with the Enskog cooling rate
+ * zeta = (4/sqrt(pi)) phi chi(phi) (1 - eps^2) (1 + 3 a2/16) sqrt(T) / sigma (T per degree of
+ * freedom, velocity^2; chi = (1 - 7 phi/16) / (1 - phi)^2, Henderson). Returns zeta / (2 sqrt T),
+ * i.e. 1 / (t0 sqrt(T0)) of T = T0 / (1 + t/t0)^2. The thesis's eq. 1.2 is the quasi-elastic limit
+ * (1 - eps^2 -> 2 (1 - eps), a2 -> 0), 33 % off at eps = 0.5. */
+double gr_haff_rate_2d(double phi, double eps, double sigma)
+{
+    const double chi = (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi));
+    return 2.0 / sqrt(M_PI) * phi * chi * (1.0 - eps * eps) * (1.0 + 3.0 * gr_hcs_a2(eps, 2) / 16.0) / sigma;
+}
+
 cJSON *gr_mean_field_haff(const gr_scene *s, const double *t, const double *T, int n)
 {
     /* T^(-1/2) = T0^(-1/2) (1 + t/t0) is a straight line in t: intercept a, slope b, t0 = a/b */
@@ -67,13 +87,14 @@ cJSON *gr_mean_field_haff(const gr_scene *s, const double *t, const double *T, i
         cJSON_AddNumberToObject(j, "t0_fit", t0);
         cJSON_AddNumberToObject(j, "t0_fit_stderr", t0 * hypot(f.err[0] / f.p[0], f.err[1] / f.p[1]));
         if (s->dim == 2 && phi > 0.0) {
-            /* eq. 1.2: 1/t0 = (4/sqrt(pi)) (1 - eps) phi T0^(1/2) / (s*(phi) d), s* = (1-phi)^2/(1-7phi/16) */
-            double sstar = (1.0 - phi) * (1.0 - phi) / (1.0 - 7.0 * phi / 16.0);
-            double rate = 4.0 / sqrt(M_PI) * (1.0 - s->contact.eps_n) * phi / (sstar * 2.0 * s->radius);
+            const double rate = gr_haff_rate_2d(phi, s->contact.eps_n, 2.0 * s->radius);
             cJSON_AddNumberToObject(j, "t0_haff", 1.0 / (rate * sqrt(T0 / s->dim)));
             cJSON_AddNumberToObject(j, "t0_haff_T_eq_2_19", 1.0 / (rate * sqrt(T0)));
-            cJSON_AddStringToObject(j, "note", "eq. 1.2 with eps = eps_n and T0 per degree of freedom (T of eq. 2.19 / dim); "
-                                               "t0_haff_T_eq_2_19 uses T0 of eq. 2.19 (all components)");
+            cJSON_AddNumberToObject(j, "a2_hcs", gr_hcs_a2(s->contact.eps_n, s->dim));
+            cJSON_AddStringToObject(j, "note", "Enskog cooling rate of smooth hard discs (docs/validation.md, \"Haff's law\"): "
+                                               "(1 - eps_n^2), Henderson's chi(phi), first Sonine correction (1 + 3 a2/16); "
+                                               "T0 per degree of freedom (T of eq. 2.19 / dim); t0_haff_T_eq_2_19 uses T0 of eq. 2.19. "
+                                               "The thesis's eq. 1.2 is its quasi-elastic limit, 2 (1 - eps) for 1 - eps^2, a2 = 0");
         }
     }
     free(y);
