@@ -116,6 +116,71 @@ START_TEST(test_exact_match_has_no_z)
 }
 END_TEST
 
+/* Kinds of comparison (docs/campaigns/README.md): only a thesis value with an error gives a z. */
+static campaign_row judged(const char *thesis, double value, double error)
+{
+    static gr_campaign_result r;
+    memset(&r, 0, sizeof r);
+    snprintf(r.thesis, sizeof r.thesis, "%s", thesis);
+    campaign_rows rows = {0};
+    campaign_row *w = campaign_rows_add(&rows);
+    snprintf(w->group, sizeof w->group, "eps_n=0.1");
+    w->value = value;
+    w->error = error;
+    campaign_row_thesis(&r, w);
+    campaign_row out = *w;
+    campaign_rows_free(&rows);
+    return out;
+}
+
+START_TEST(test_kinds_of_comparison)
+{
+    campaign_row w = judged("eps_n=0.1: 1.729 +- 0.008", 1.695, 0.012);
+    ck_assert_str_eq(w.comparison, "z");
+    ck_assert_double_eq_tol(w.z, (1.695 - 1.729) / hypot(0.012, 0.008), 1e-12);
+    ck_assert_int_eq(w.agrees, -1);
+    /* a value without an error: no z, within ours +- 2 errors and half its last digit */
+    w = judged("eps_n=0.1: 0.528 (the constant fit)", 0.4987, 0.0095);
+    ck_assert_str_eq(w.comparison, "stated");
+    ck_assert(isnan(w.z));
+    ck_assert_double_eq_tol(w.tolerance, 5e-4, 1e-15);
+    ck_assert_int_eq(w.agrees, 0); /* 0.0293 > 2 x 0.0095 + 0.0005 */
+    ck_assert_str_eq(w.thesis_note, "(the constant fit)");
+    ck_assert_int_eq(judged("eps_n=0.1: 0.528", 0.51, 0.0095).agrees, 1);
+    ck_assert_double_eq_tol(judged("eps_n=0.1: 7.78e-4", 7.78e-4, NAN).tolerance, 5e-7, 1e-20);
+    ck_assert_double_eq_tol(judged("eps_n=0.1: 12", 0.24, 0.001).tolerance, 0.5, 1e-15);
+    ck_assert_int_eq(judged("eps_n=0.1: 12", 0.24, 0.001).agrees, 0);
+    /* about: to one significant figure */
+    w = judged("eps_n=0.1: about 1 (one second)", 0.2, 0.05);
+    ck_assert_str_eq(w.comparison, "about");
+    ck_assert(isnan(w.z));
+    ck_assert_int_eq(w.agrees, 0); /* 0.8 > 0.5 + 0.1 */
+    ck_assert_int_eq(judged("eps_n=0.1: about 1", 0.999, 0.12).agrees, 1);
+    /* a range */
+    w = judged("eps_n=0.1: range 0.53 .. 0.667 (3.9)", 0.650, 0.002);
+    ck_assert_str_eq(w.comparison, "range");
+    ck_assert_double_eq(w.thesis_hi, 0.667);
+    ck_assert_int_eq(w.agrees, 1);
+    ck_assert_int_eq(judged("eps_n=0.1: range 0.53 .. 0.667", 0.70, 0.01).agrees, 0);
+    /* a model's value and a quantity equal by construction */
+    w = judged("eps_n=0.1: model 6.644 (bisection: log2 N)", 6.267, 0.016);
+    ck_assert_str_eq(w.comparison, "model");
+    ck_assert(isnan(w.z));
+    ck_assert_int_eq(w.agrees, 0);
+    w = judged("eps_n=0.1: exact -1.0 (by construction)", -1.0, 1e-9);
+    ck_assert_str_eq(w.comparison, "construction");
+    ck_assert(isnan(w.z));
+    ck_assert_int_eq(w.agrees, -1);
+    /* without an error of ours (one run) nothing is judged */
+    w = judged("eps_n=0.1: 1.914", 1.899, NAN);
+    ck_assert_str_eq(w.comparison, "stated");
+    ck_assert_int_eq(w.agrees, -1);
+    ck_assert_int_eq(judged("eps_n=0.1: about 1", 0.0, 0.0).agrees, 0); /* an error of 0 is an error */
+    /* another group's value does not apply */
+    ck_assert_str_eq(judged("eps_n=0.5: 0.528", 0.5, 0.01).comparison, "");
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("campaign_curve");
@@ -124,6 +189,7 @@ int main(void)
     tcase_add_test(t, test_collapse_detects_another_power);
     tcase_add_test(t, test_series_from_table_with_filter);
     tcase_add_test(t, test_exact_match_has_no_z);
+    tcase_add_test(t, test_kinds_of_comparison);
     suite_add_tcase(s, t);
     return gr_test_run(s);
 }

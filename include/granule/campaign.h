@@ -86,6 +86,7 @@ typedef struct gr_campaign_result {
     char by[256];         /* POWER_LAW: comma-separated keys that label a fit */
     int m_lo, m_hi;       /* moments: m = m_lo..m_hi (0 = no {m}) */
     bool per_m;           /* report exponent / m (Fig. 3.5) */
+    bool local_slopes;    /* POWER_LAW: also the exponent between every pair of neighbouring x (one row each) */
     double period;        /* RUNNING: seconds per period mean */
     int configurations;   /* CASCADE: cascade placements averaged (default 20); CASCADE_FIELD: fields per seed */
     double df;            /* SPM: D_f fixed for C, alpha and h (0: the run's free 4.25 fit) */
@@ -144,5 +145,11 @@ int gr_campaign_restore(const char *dir, const char *results, long *restored, gr
 
 /* Generate the reproduction page (Markdown) from every RESULTS_ROOT/NAME/results.json. */
 int gr_reproduction_page(const char *results_root, const char *out_path, gr_error *err);
+
+/* How one row of a result set (a results.json row: value, error, thesis, comparison, agrees, z)
+ * compares with the thesis, as the page and `granule reproduce` print it: "z = -3.1", "-5.6 %:
+ * differs from the stated 0.528", "inside 0.53 .. 0.667", "by construction", ... (`bold` marks
+ * |z| > 2 and disagreements for Markdown). Returns true when the row counts as a disagreement. */
+bool gr_campaign_comparison_text(const void *json_row, bool bold, char *out, size_t len);
 
 #endif

@@ -59,7 +59,7 @@ static void print_results(const char *results)
     cJSON_ArrayForEach(res, cJSON_GetObjectItem(j, "results"))
     {
         const cJSON *id = cJSON_GetObjectItem(res, "id"), *q = cJSON_GetObjectItem(res, "quantity");
-        printf("\n%s (%s)\n  %-34s %-22s %-22s %s\n", id->valuestring, q->valuestring, "", "granule", "thesis", "z");
+        printf("\n%s (%s)\n  %-34s %-22s %-22s %s\n", id->valuestring, q->valuestring, "", "granule", "thesis", "comparison");
         cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
         {
             char group[200];
@@ -72,8 +72,10 @@ static void print_results(const char *results)
             printf("  %-34s ", group);
             print_pm(gr_summary_number(row, "value"), gr_summary_number(row, "error"));
             print_pm(gr_summary_number(row, "thesis"), gr_summary_number(row, "thesis_error"));
-            double z = gr_summary_number(row, "z"), bad = gr_summary_number(row, "runs_not_converged");
-            printf(isfinite(z) ? "%+6.1f" : "      ", z);
+            double bad = gr_summary_number(row, "runs_not_converged");
+            char how[160];
+            gr_campaign_comparison_text(row, false, how, sizeof how);
+            printf("%s", how);
             printf(bad > 0 ? "  (%.0f run%s: T's block error not converged)\n" : "\n", bad, bad == 1 ? "" : "s");
         }
     }

@@ -201,6 +201,38 @@ int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campa
     return GR_OK;
 }
 
+/* The exponent between neighbouring abscissae, xi = ln(y_i / y_i+1) / ln(x_i+1 / x_i), with the
+ * error of the two (independent) seed means propagated: one row per pair, "GROUP, X=x_i-x_i+1".
+ * Where the power law only holds asymptotically, these show whether the slope still moves with x. */
+static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const char *group, int m, double scale,
+                         const double *fx, const double *fy, const double *fe, int nf)
+{
+    int order[MAX_X];
+    for (int i = 0; i < nf; i++) { /* x ascending */
+        int j = i;
+        while (j > 0 && fx[order[j - 1]] > fx[i]) {
+            order[j] = order[j - 1];
+            j--;
+        }
+        order[j] = i;
+    }
+    char short_x[64];
+    const char *dot = strrchr(r->x, '.');
+    snprintf(short_x, sizeof short_x, "%s", dot ? dot + 1 : r->x);
+    for (int k = 0; k + 1 < nf; k++) {
+        const int a = order[k], b = order[k + 1];
+        campaign_row *w = campaign_rows_add(rows);
+        snprintf(w->group, sizeof w->group, "%.100s, %.20s=%g-%g", group, short_x, fx[a], fx[b]);
+        w->m = m;
+        const double lx = log(fx[b] / fx[a]);
+        w->value = log(fy[a] / fy[b]) / lx * scale;
+        w->error = hypot(fe[a] / fy[a], fe[b] / fy[b]) / lx * scale;
+        w->n_x = 2;
+        w->x_lo = fx[a];
+        w->x_hi = fx[b];
+    }
+}
+
 int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
                        FILE *data, gr_error *err)
 {
@@ -332,6 +364,9 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
                 row->error = fmax(row->error_seeds, row->error_fit); /* both are honest estimates: keep the larger */
             }
             campaign_row_thesis(r, row);
+            if (r->local_slopes) {
+                local_slopes(r, rows, g[gi], m, scale, fx, fy, fe, nf);
+            }
         }
     }
     return GR_OK;

@@ -179,10 +179,11 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         r->configurations = (int)k;
         return 1;
     }
-    if (!strcmp(name, "per_m")) {
-        r->per_m = !strcmp(value, "true");
-        if (!r->per_m && strcmp(value, "false")) {
-            snprintf(p->error, sizeof p->error, "[result %s] per_m = %s: true or false", r->id, value);
+    if (!strcmp(name, "per_m") || !strcmp(name, "local_slopes")) {
+        bool *flag = name[0] == 'p' ? &r->per_m : &r->local_slopes;
+        *flag = !strcmp(value, "true");
+        if (!*flag && strcmp(value, "false")) {
+            snprintf(p->error, sizeof p->error, "[result %s] %s = %s: true or false", r->id, name, value);
             return 0;
         }
         return 1;
@@ -234,7 +235,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         return 1;
     }
     snprintf(p->error, sizeof p->error,
-             "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, x_max, by, m, per_m, period, "
+             "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, x_max, by, m, per_m, local_slopes, period, "
              "table, where, select, transform, collapse_at, axes, overlay, configurations, df, tail, walks, walks_quick, thesis, thesis_source, note, verdict",
              r->id, name);
     return 0;
@@ -524,6 +525,13 @@ int gr_campaign_materialise(const gr_campaign *c, gr_fidelity fid, const char *d
         for (int i = 0; i < c->n_lines[fid]; i++) {
             const gr_campaign_line *l = &c->lines[fid][i];
             if (strcmp(l->section, order[s])) {
+                continue;
+            }
+            bool overridden = false; /* a [set.F] line overrides the same key's [set] line before it */
+            for (int j = i + 1; j < c->n_lines[fid] && s == 2; j++) {
+                overridden |= !strcmp(c->lines[fid][j].section, "set") && !strcmp(c->lines[fid][j].key, l->key);
+            }
+            if (overridden) {
                 continue;
             }
             /* a long list goes on several lines that repeat the key (INI lines hold INI_MAX_LINE

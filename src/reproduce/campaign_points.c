@@ -86,7 +86,8 @@ campaign_row *campaign_rows_add(campaign_rows *rows)
     campaign_row *r = &rows->r[rows->n++];
     memset(r, 0, sizeof *r);
     r->value = r->error = r->error_fit = r->error_seeds = r->chi2_red = r->x_lo = r->x_hi = NAN;
-    r->thesis = r->thesis_error = r->z = NAN;
+    r->thesis = r->thesis_error = r->z = r->thesis_hi = r->tolerance = NAN;
+    r->agrees = -1;
     return r;
 }
 
@@ -96,8 +97,39 @@ void campaign_rows_free(campaign_rows *rows)
     memset(rows, 0, sizeof *rows);
 }
 
-/* The thesis list is "GROUP: value +- error (note); ..." where GROUP is the row's group, with
- * " m=K" appended for moments; "*" matches every group. */
+/* Half a unit of the last digit a number was written with ("0.528" -> 5e-4, "12" -> 0.5,
+ * "7.78e-4" -> 5e-7): the precision a value quoted without an error states. */
+static double half_last_digit(const char *text)
+{
+    const char *dot = strchr(text, '.');
+    size_t mantissa = strcspn(text, "eE");
+    int decimals = dot && (size_t)(dot - text) < mantissa ? (int)(mantissa - (size_t)(dot - text) - 1) : 0;
+    int exponent = mantissa < strlen(text) ? atoi(text + mantissa + 1) : 0;
+    return 0.5 * pow(10.0, exponent - decimals);
+}
+
+/* Ours against the thesis's value by the row's kind of comparison (docs/campaigns/README.md):
+ * only a value with an error gives a z; the others say whether ours agrees within ours +- 2 errors. */
+static void compare(campaign_row *row)
+{
+    const double v = row->value, t = row->thesis, slack = 2.0 * row->error;
+    row->z = NAN;
+    row->agrees = -1;
+    if (!isfinite(v) || !(row->error >= 0.0)) { /* without an error of ours (one run) nothing is judged */
+        return;
+    }
+    if (!strcmp(row->comparison, "z")) {
+        const double var = row->error * row->error + row->thesis_error * row->thesis_error;
+        row->z = var > 0.0 ? (v - t) / sqrt(var) : (double)NAN;
+    } else if (!strcmp(row->comparison, "range")) {
+        row->agrees = v + slack >= t && v - slack <= row->thesis_hi;
+    } else if (strcmp(row->comparison, "construction")) { /* stated, about, model */
+        row->agrees = fabs(v - t) <= row->tolerance + slack;
+    }
+}
+
+/* The thesis list is "GROUP: [about|model|exact|range] value [+- error | .. high] (note); ..." where
+ * GROUP is the row's group, with " m=K" appended for moments; "*" matches every group. */
 void campaign_row_thesis(const gr_campaign_result *r, campaign_row *row)
 {
     char want[200];
@@ -126,26 +158,54 @@ void campaign_row_thesis(const gr_campaign_result *r, campaign_row *row)
         if (strcmp(g, want) && strcmp(g, "*")) {
             continue;
         }
-        double v = NAN, e = NAN;
+        const char *text = colon + 1;
+        while (*text == ' ') {
+            text++;
+        }
+        static const char *const words[] = {"about", "model", "exact", "range"};
+        static const char *const kinds[] = {"about", "model", "construction", "range"};
+        const char *kind = NULL;
+        for (int k = 0; k < 4 && !kind; k++) {
+            const size_t n = strlen(words[k]);
+            if (!strncmp(text, words[k], n) && text[n] == ' ') {
+                kind = kinds[k];
+                text += n + 1;
+            }
+        }
+        double v = NAN, e = NAN, hi = NAN;
         int used = 0;
-        if (sscanf(colon + 1, " %lf +- %lf%n", &v, &e, &used) < 1) {
+        char number[64] = "";
+        if (sscanf(text, " %63[-+0-9.eE]%n", number, &used) < 1 || sscanf(number, "%lf", &v) != 1) {
             continue;
         }
-        if (!used) {
-            sscanf(colon + 1, " %lf%n", &v, &used);
+        int more = 0;
+        if (kind && !strcmp(kind, "range")) {
+            if (sscanf(text + used, " .. %lf%n", &hi, &more) < 1) {
+                continue;
+            }
+        } else if (sscanf(text + used, " +- %lf%n", &e, &more) < 1) {
             e = NAN;
+            more = 0;
         }
-        const char *note = colon + 1 + used;
+        used += more;
+        if (!kind) {
+            kind = isfinite(e) && e > 0.0 ? "z" : "stated";
+        }
+        const char *note = text + used;
         while (*note == ' ') {
             note++;
         }
         row->thesis = v;
         row->thesis_error = e;
+        row->thesis_hi = hi;
+        snprintf(row->comparison, sizeof row->comparison, "%s", kind);
+        if (!strcmp(kind, "about")) { /* "about 1": ours rounds to it at one significant figure */
+            row->tolerance = v != 0.0 ? 0.5 * pow(10.0, floor(log10(fabs(v)))) : 0.5;
+        } else if (!strcmp(kind, "stated") || !strcmp(kind, "model")) {
+            row->tolerance = half_last_digit(number);
+        }
         snprintf(row->thesis_note, sizeof row->thesis_note, "%.*s", (int)strcspn(note, "\n"), note);
-        double var = row->error * row->error + (isfinite(e) ? e * e : 0.0);
-        row->z = isfinite(row->value) && var > 0.0 && !gr_campaign_exact_match(row->value, v, e)
-                     ? (row->value - v) / sqrt(var)
-                     : (double)NAN;
+        compare(row);
         return;
     }
 }

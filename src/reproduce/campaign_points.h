@@ -43,7 +43,15 @@ typedef struct campaign_row {
     double chi2_red, x_lo, x_hi;
     double thesis, thesis_error; /* NAN if the thesis gives none */
     char thesis_note[128];
-    double z;          /* (ours - thesis) / sqrt(error^2 + thesis_error^2) */
+    /* How ours is compared with the thesis's (docs/campaigns/README.md, "Kinds of comparison"):
+     * "z" (a value with an error), "stated" (a value without one: within its stated digits),
+     * "about", "range" (thesis .. thesis_hi), "model" (a model's value, not a measurement),
+     * "construction" (equal by construction: not a result); "" when there is no thesis value. */
+    char comparison[16];
+    double thesis_hi;  /* range: the upper end */
+    double tolerance;  /* stated, about, model: how far ours may lie from the thesis's value */
+    int agrees;        /* 1 or 0 for the kinds without a z, -1 where it does not apply */
+    double z;          /* kind "z" only: (ours - thesis) / sqrt(error^2 + thesis_error^2) */
     double sim_seconds, cpu_seconds;
     int unconverged;   /* runs whose own (block-averaging) error of T had not converged */
     char hashes[160];  /* scene hashes of the points used (first few) */
@@ -147,5 +155,9 @@ void campaign_row_of_runs(const gr_campaign_result *r, campaign_row *row, const 
 
 /* Fill thesis, thesis_error and z of a row from the result's thesis list. */
 void campaign_row_thesis(const gr_campaign_result *r, campaign_row *row);
+/* Re-judge a committed result set (results.json) by today's campaign file: its words, verdicts,
+ * thesis values and comparisons replace the set's; the numbers stay (campaign_refresh.c). */
+struct cJSON;
+void campaign_refresh_json(const gr_campaign *c, struct cJSON *set);
 
 #endif

@@ -243,6 +243,14 @@ static void row_json(cJSON *arr, const campaign_row *w)
     add_num(o, "thesis", w->thesis);
     add_num(o, "thesis_error", w->thesis_error);
     cJSON_AddStringToObject(o, "thesis_note", w->thesis_note);
+    cJSON_AddStringToObject(o, "comparison", w->comparison);
+    add_num(o, "thesis_high", w->thesis_hi);
+    add_num(o, "tolerance", w->tolerance);
+    if (w->agrees >= 0) {
+        cJSON_AddBoolToObject(o, "agrees", w->agrees);
+    } else {
+        cJSON_AddNullToObject(o, "agrees");
+    }
     add_num(o, "z", w->z);
     add_num(o, "simulated_seconds", w->sim_seconds);
     add_num(o, "cpu_seconds", w->cpu_seconds);
@@ -264,6 +272,9 @@ static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r, 
     csv_num(f, w->x_hi);
     csv_num(f, w->thesis);
     csv_num(f, w->thesis_error);
+    fprintf(f, ",%s", w->comparison);
+    csv_num(f, w->thesis_hi);
+    fprintf(f, ",%s", w->agrees < 0 ? "" : w->agrees ? "1" : "0");
     csv_num(f, w->z);
     csv_num(f, w->sim_seconds);
     csv_num(f, w->cpu_seconds);
@@ -389,7 +400,7 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
         return rc;
     }
     fprintf(csv.f, "campaign,result,quantity,group,m,value,error,error_fit_or_run,error_seeds,seeds,fit_points,chi2_red,x_lo,"
-                   "x_hi,thesis,thesis_error,z,simulated_seconds,cpu_seconds,runs_not_converged,scene_hashes,commit\n");
+                   "x_hi,thesis,thesis_error,comparison,thesis_high,agrees,z,simulated_seconds,cpu_seconds,runs_not_converged,scene_hashes,commit\n");
     for (int i = 0; i < c->n_results && !rc; i++) {
         const gr_campaign_result *r = &c->results[i];
         campaign_rows rows = {0};

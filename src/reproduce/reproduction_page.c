@@ -13,6 +13,7 @@
 #include "granule/campaign.h"
 #include "io/files.h"
 #include "io/summary_read.h"
+#include "reproduce/campaign_points.h"
 
 static const char *str(const cJSON *o, const char *name)
 {
@@ -57,37 +58,49 @@ static int by_name(const void *a, const void *b)
     return strcmp(*(char *const *)a, *(char *const *)b);
 }
 
-/* How many of a result's numbers have a z against the thesis, how many of those |z| > 2, and how
- * many of those also differ from the thesis's value by more than 5 % (many of its values come without
- * an error, and then a small error of ours alone makes |z| large). */
-static void count_off(const cJSON *res, int *compared, int *off, int *off5)
+/* How many of a result's numbers have a z against the thesis, how many of those |z| > 2, how many
+ * of those also differ from the thesis's value by more than 5 %, and how many numbers are compared
+ * by a rule of their own (a value without an error, about, a range, a model's value) and how many
+ * of those differ (docs/campaigns/README.md, "Kinds of comparison"). */
+typedef struct tallies {
+    int compared, off, off5, other, differ;
+} tallies;
+
+static void count_off(const cJSON *res, tallies *t)
 {
-    *compared = *off = *off5 = 0;
+    memset(t, 0, sizeof *t);
     const cJSON *row;
     cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
     {
+        char text[160];
+        const bool differs = gr_campaign_comparison_text(row, false, text, sizeof text);
         double z = num(row, "z");
         if (isfinite(z)) {
-            double t = num(row, "thesis");
-            ++*compared;
-            *off += fabs(z) > 2.0;
-            *off5 += fabs(z) > 2.0 && !(fabs(num(row, "value") - t) <= 0.05 * fabs(t));
+            double th = num(row, "thesis");
+            t->compared++;
+            t->off += fabs(z) > 2.0;
+            t->off5 += fabs(z) > 2.0 && !(fabs(num(row, "value") - th) <= 0.05 * fabs(th));
+        } else if (cJSON_IsBool(cJSON_GetObjectItem(row, "agrees"))) { /* judged by a rule of its own */
+            t->other++;
+            t->differ += differs;
         }
     }
 }
 
 /* The same over a result set. */
-static void tally(const cJSON *set, int *compared, int *off, int *off5)
+static void tally(const cJSON *set, tallies *t)
 {
-    *compared = *off = *off5 = 0;
+    memset(t, 0, sizeof *t);
     const cJSON *res;
     cJSON_ArrayForEach(res, cJSON_GetObjectItem(set, "results"))
     {
-        int c, o, o5;
-        count_off(res, &c, &o, &o5);
-        *compared += c;
-        *off += o;
-        *off5 += o5;
+        tallies r;
+        count_off(res, &r);
+        t->compared += r.compared;
+        t->off += r.off;
+        t->off5 += r.off5;
+        t->other += r.other;
+        t->differ += r.differ;
     }
 }
 
@@ -141,9 +154,9 @@ static void disagreements(FILE *f, cJSON *const *sets, int ns)
     for (int i = 0; i < ns; i++) {
         cJSON_ArrayForEach(res, cJSON_GetObjectItem(sets[i], "results"))
         {
-            int compared, off, off5;
-            count_off(res, &compared, &off, &off5);
-            if (off) {
+            tallies t;
+            count_off(res, &t);
+            if (t.off || t.differ) {
                 int k = 0;
                 while (k < GR_CAMPAIGN_VERDICTS && strcmp(str(res, "verdict"), gr_campaign_verdicts[k])) {
                     k++;
@@ -154,27 +167,54 @@ static void disagreements(FILE *f, cJSON *const *sets, int ns)
         }
     }
     fprintf(f, "## Where granule and the thesis disagree\n\n"
-               "%d results have at least one number at |z| > 2: %d explained (the cause found and measured), "
-               "%d partly explained, %d unexplained, %d not investigated yet. The verdict is the campaign's "
-               "(key `verdict` in docs/campaigns/NAME.ini); the evidence is in the result's note below.\n\n"
-               "| result | what | \\|z\\| > 2 | verdict | why |\n|---|---|---|---|---|\n",
+               "%d results have at least one number at |z| > 2 or outside a value the thesis states without an "
+               "error: %d explained, %d partly explained, %d unexplained, %d not investigated yet. The verdict is "
+               "the campaign's (key `verdict` in docs/campaigns/NAME.ini); the evidence is in the result's note below.\n\n"
+               "| result | what | \\|z\\| > 2 | differs (no z) | verdict | why |\n|---|---|---|---|---|---|\n",
             total, judged[0], judged[1], judged[2], judged[GR_CAMPAIGN_VERDICTS]);
     for (int i = 0; i < ns; i++) {
         cJSON_ArrayForEach(res, cJSON_GetObjectItem(sets[i], "results"))
         {
-            int compared, off, off5;
-            count_off(res, &compared, &off, &off5);
-            if (!off) {
+            tallies t;
+            count_off(res, &t);
+            if (!t.off && !t.differ) {
                 continue;
             }
             const char *v = str(res, "verdict");
-            fprintf(f, "| [%s: %s](#%s-%s) | %s | %d of %d | %s | ", str(sets[i], "campaign"), str(res, "id"),
-                    str(sets[i], "campaign"), str(res, "id"), str(res, "title"), off, compared,
+            fprintf(f, "| [%s: %s](#%s-%s) | %s | %d of %d | %d of %d | %s | ", str(sets[i], "campaign"), str(res, "id"),
+                    str(sets[i], "campaign"), str(res, "id"), str(res, "title"), t.off, t.compared, t.differ, t.other,
                     v[0] ? v : "**not investigated yet**");
             cell(f, str(res, "verdict_why"));
             fprintf(f, " |\n");
         }
     }
+    fprintf(f, "\n");
+}
+
+/* The table of docs/thesis-errata.md (beside the results folder), so the page lists every slip
+ * found in the thesis where its verdicts name them. */
+static void errata(FILE *f, const char *root)
+{
+    char path[1300];
+    snprintf(path, sizeof path, "%s/../thesis-errata.md", root);
+    FILE *in = fopen(path, "r");
+    if (!in) {
+        return;
+    }
+    fprintf(f, "## Thesis errata\n\nSlips in the thesis found while reproducing it, from [thesis-errata.md](thesis-errata.md): the "
+               "thesis contradicts its own parameters, columns or derivation. Our numbers are compared with the values as "
+               "printed; the notes below name the slip where it matters.\n\n");
+    char line[8192];
+    bool in_table = false;
+    while (fgets(line, sizeof line, in)) {
+        if (line[0] == '|') {
+            fputs(line, f);
+            in_table = true;
+        } else if (in_table) {
+            break;
+        }
+    }
+    fclose(in);
     fprintf(f, "\n");
 }
 
@@ -199,7 +239,7 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         return;
     }
     const char *unit = str(res, "unit");
-    fprintf(f, "| %s | thesis%s%s%s | granule | z | seeds | fit / runs | CPU-h |\n|---|---|---|---|---|---|---|\n",
+    fprintf(f, "| %s | thesis%s%s%s | granule | comparison | seeds | fit / runs | CPU-h |\n|---|---|---|---|---|---|---|\n",
             !strcmp(str(res, "kind"), "power_law") ? "fit of" : "run", unit[0] ? " (" : "", unit, unit[0] ? ")" : "");
     cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
     {
@@ -208,6 +248,12 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         double tv = num(row, "thesis");
         if (isfinite(tv)) {
             quoted(theirs, sizeof theirs, tv, num(row, "thesis_error"));
+            const char *kind = str(row, "comparison");
+            if (!strcmp(kind, "range")) {
+                snprintf(theirs, sizeof theirs, "%g .. %g", tv, num(row, "thesis_high"));
+            } else if (!strcmp(kind, "about") || !strcmp(kind, "model")) {
+                snprintf(theirs, sizeof theirs, "%s %g", kind[0] == 'a' ? "about" : "model:", tv);
+            }
             if (str(row, "thesis_note")[0]) {
                 snprintf(theirs + strlen(theirs), sizeof theirs - strlen(theirs), " %s", str(row, "thesis_note"));
             }
@@ -218,7 +264,9 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         if (isfinite(num(row, "m"))) {
             snprintf(group + strlen(group), sizeof group - strlen(group), ", m = %.0f", num(row, "m"));
         }
-        if (isfinite(num(row, "fit_points")) && num(row, "fit_points") < 3) {
+        if (num(row, "fit_points") == 2 && isfinite(num(row, "value"))) {
+            snprintf(fit, sizeof fit, "local slope between %.4g and %.4g", num(row, "x_lo"), num(row, "x_hi"));
+        } else if (isfinite(num(row, "fit_points")) && num(row, "fit_points") < 3) {
             snprintf(fit, sizeof fit, "%.0f of the 3 points a fit needs", num(row, "fit_points"));
         } else if (isfinite(num(row, "fit_points"))) {
             snprintf(fit, sizeof fit, "%.0f points, %.4g-%.4g, chi2/dof %.2g", num(row, "fit_points"), num(row, "x_lo"),
@@ -226,13 +274,8 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         } else {
             snprintf(fit, sizeof fit, "%.0f s simulated", num(row, "simulated_seconds"));
         }
-        double z = num(row, "z");
-        char zs[32] = "";
-        if (gr_campaign_exact_match(num(row, "value"), num(row, "thesis"), num(row, "thesis_error"))) {
-            snprintf(zs, sizeof zs, "exact (1e-4)"); /* also for result sets collected before the rule */
-        } else if (isfinite(z)) {
-            snprintf(zs, sizeof zs, "%s%+.1f%s", fabs(z) > 2.0 ? "**" : "", z, fabs(z) > 2.0 ? "**" : "");
-        }
+        char zs[160];
+        gr_campaign_comparison_text(row, true, zs, sizeof zs);
         char seeds[64];
         double bad = num(row, "runs_not_converged");
         snprintf(seeds, sizeof seeds, bad > 0 ? "%.0f (%.0f with T's block error not converged)" : "%.0f", num(row, "seeds"), bad);
@@ -258,7 +301,7 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
     closedir(d);
     qsort(names, (size_t)n, sizeof *names, by_name);
     cJSON *sets[256];
-    int ns = 0;
+    int ns = 0, rc = GR_OK;
     for (int i = 0; i < n; i++) {
         char path[1300];
         snprintf(path, sizeof path, "%s/%s/results.json", root, names[i]);
@@ -266,6 +309,16 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
         cJSON *j = gr_json_read(path, &ignore);
         if (j) {
             sets[ns++] = j;
+            gr_campaign c;
+            const cJSON *name = cJSON_GetObjectItem(j, "campaign");
+            if (!cJSON_IsString(name)) {
+                rc = GR_FAIL(err, GR_EINVAL, "%s: no campaign name", path);
+                goto done;
+            }
+            if ((rc = gr_campaign_load(&c, name->valuestring, err))) { /* a broken campaign file never gives a stale page */
+                goto done;
+            }
+            campaign_refresh_json(&c, j); /* today's words and judgement, the set's numbers */
         }
     }
     char dir[1100], base[256];
@@ -280,7 +333,7 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
     const char *rb = strrchr(root, '/');
     snprintf(base, sizeof base, "%s", rb ? rb + 1 : root); /* the page sits beside the results folder */
     gr_file f;
-    int rc = gr_file_open(&f, dir, file, err);
+    rc = gr_file_open(&f, dir, file, err);
     if (rc) {
         goto done;
     }
@@ -291,27 +344,40 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
                  "runs (sizes, run lengths, seeds) and the analysis; `granule reproduce NAME --fidelity full` runs it\n"
                  "(resumable at any point, over local cores, MPI ranks or a batch array like `granule sweep`), and\n"
                  "its small result set is committed under `docs/results/NAME/`. Error bars come from independent\n"
-                 "seeds (docs/campaigns/README.md says how); z = (granule - thesis) / sqrt(error^2 + thesis error^2),\n"
-                 "in bold where |z| > 2. The energy loss per collision of Fig. 2.5 is checked in\n"
-                 "[collision-accuracy.md](collision-accuracy.md) and by tests/test_collide.c. \"with z\" counts the\n"
-                 "numbers compared with a thesis value; \"|z| > 2\" how many of them disagree (each is discussed in\n"
-                 "its section), and \"> 5 %%\" how many of those also differ by more than 5 %% (most thesis values come\n"
-                 "without an error, and then our error alone sets z).\n\n"
-                 "| campaign | covers | fidelity | points | simulated s | CPU-h | with z | \\|z\\| > 2 | > 5 %% |\n"
-                 "|---|---|---|---|---|---|---|---|---|\n",
+                 "seeds (docs/campaigns/README.md says how). The energy loss per collision of Fig. 2.5 is checked in\n"
+                 "[collision-accuracy.md](collision-accuracy.md) and by tests/test_collide.c.\n\n"
+                 "**Kinds of comparison.** Only a thesis value quoted with an error gives a z = (granule - thesis) /\n"
+                 "sqrt(error^2 + thesis error^2), in bold where |z| > 2. Every other thesis statement is compared by\n"
+                 "its own rule and never gives a z: a value quoted without an error agrees when ours +- 2 errors\n"
+                 "reaches it within half a unit of its last digit; \"about X\" when ours +- 2 errors reaches X to one\n"
+                 "significant figure; a range when ours +- 2 errors overlaps it; a model's value (the bisection model,\n"
+                 "the SPM: not a measurement of the thesis) by the value rule; a quantity equal by construction is\n"
+                 "no result. \"with z\" counts the numbers with a z, \"|z| > 2\" how many of them disagree and\n"
+                 "\"> 5 %%\" how many of those also differ by more than 5 %%; \"other\" counts the numbers judged by\n"
+                 "the other rules and \"differ\" how many of those do not agree (a number without an error of ours,\n"
+                 "from one run, is shown with its difference but not judged).\n\n"
+                 "**Verdicts.** A result that disagrees is *explained* only when a committed run isolates the\n"
+                 "mechanism: the quantity moves toward the thesis as the named cause is varied, with the trend\n"
+                 "significant in committed data. Otherwise it is *partly explained* (part of the difference is\n"
+                 "accounted for that way) or *unexplained* (the checks in its note did not find the cause). Every\n"
+                 "number a note quotes is in a committed file under docs/results/.\n\n"
+                 "| campaign | covers | fidelity | points | simulated s | CPU-h | with z | \\|z\\| > 2 | > 5 %% | other | differ |\n"
+                 "|---|---|---|---|---|---|---|---|---|---|---|\n",
             root);
     double total = 0.0;
-    int all_compared = 0, all_off = 0, all_off5 = 0;
+    tallies all = {0};
     for (int i = 0; i < ns; i++) {
-        int compared, off, off5;
-        tally(sets[i], &compared, &off, &off5);
-        all_compared += compared;
-        all_off += off;
-        all_off5 += off5;
-        fprintf(f.f, "| [%s](#%s) | %s | %s | %.0f of %.0f | %.0f | %.2f | %d | %d | %d |\n", str(sets[i], "campaign"),
+        tallies t;
+        tally(sets[i], &t);
+        all.compared += t.compared;
+        all.off += t.off;
+        all.off5 += t.off5;
+        all.other += t.other;
+        all.differ += t.differ;
+        fprintf(f.f, "| [%s](#%s) | %s | %s | %.0f of %.0f | %.0f | %.2f | %d | %d | %d | %d | %d |\n", str(sets[i], "campaign"),
                 str(sets[i], "campaign"), str(sets[i], "covers"), str(sets[i], "fidelity"), num(sets[i], "points_finished"),
-                num(sets[i], "points_total"), num(sets[i], "simulated_seconds"), num(sets[i], "cpu_seconds") / 3600.0, compared,
-                off, off5);
+                num(sets[i], "points_total"), num(sets[i], "simulated_seconds"), num(sets[i], "cpu_seconds") / 3600.0, t.compared,
+                t.off, t.off5, t.other, t.differ);
         total += num(sets[i], "cpu_seconds");
     }
     /* the built-in campaigns without a result set here */
@@ -327,11 +393,13 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
         gr_campaign c;
         gr_error ignore = {0};
         if (!have && gr_campaign_load(&c, name, &ignore) == GR_OK) {
-            fprintf(f.f, "| %s | %s | not run yet | 0 of %ld | | | | | |\n", name, c.covers, gr_campaign_points(&c, GR_FIDELITY_FULL));
+            fprintf(f.f, "| %s | %s | not run yet | 0 of %ld | | | | | | | |\n", name, c.covers, gr_campaign_points(&c, GR_FIDELITY_FULL));
         }
     }
-    fprintf(f.f, "| total | | | | | %.2f | %d | %d | %d |\n\n", total / 3600.0, all_compared, all_off, all_off5);
+    fprintf(f.f, "| total | | | | | %.2f | %d | %d | %d | %d | %d |\n\n", total / 3600.0, all.compared, all.off, all.off5, all.other,
+            all.differ);
     disagreements(f.f, sets, ns);
+    errata(f.f, root);
     for (int i = 0; i < ns; i++) {
         const cJSON *s = sets[i];
         fprintf(f.f, "<a id=\"%s\"></a>\n## %s (%s)\n\n%s\n\n", str(s, "campaign"), str(s, "title"), str(s, "covers"), str(s, "about"));
