@@ -28,6 +28,10 @@ steps = 400  # 4 samples of 100 steps; snapshot at the end
 sets = {"system.N": 300, "system.L": 0.08, "run.warmup": 0.0, "run.duration": steps * 1e-6,
         "run.sample_every": 100e-6, "output.snapshot_every": steps * 1e-6, "output.plots": False,
         "analysis.observables": "moments,pv,pair"}
+cli_version = subprocess.run([exe, "--version"], check=True, capture_output=True, text=True).stdout.split()[1]
+check(getattr(granule, "__version__", None) == granule.version == cli_version,
+      f"granule.__version__ {getattr(granule, '__version__', None)} = the C library's {granule.version} = the command's {cli_version}")
+
 with tempfile.TemporaryDirectory() as tmp:
     # 1. bit-identical to `granule run` of the same scene and seed over the same steps
     out = os.path.join(tmp, "run")
