@@ -12,16 +12,10 @@ import tempfile
 import numpy as np
 
 import granule
+from checks import check, finish
 
 exe, src = sys.argv[1], sys.argv[2]
 scene_path = os.path.join(src, "docs", "scenes", "rfm-2d.ini")
-failures = []
-
-
-def check(cond, what):
-    print(("ok   " if cond else "FAIL ") + what)
-    if not cond:
-        failures.append(what)
 
 
 steps = 400  # 4 samples of 100 steps; snapshot at the end
@@ -120,5 +114,4 @@ with tempfile.TemporaryDirectory() as tmp:
         except granule.Error as e:
             check("particles" in str(e) or "SIM" in str(e), f"{kind}: a state of another system is refused: {e}")
 
-print(f"{len(failures)} failed")
-sys.exit(1 if failures else 0)
+finish()

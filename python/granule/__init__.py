@@ -34,11 +34,15 @@ except ImportError as _e:
         f"{_here} holds {', '.join(_built)}: build granule for this interpreter with `pip install .` "
         "in the source tree (docs/python.md)", name="granule._granule") from _e
 
+from .interop import mdanalysis_universe, read_ase
+from .runfolder import (folder_kind, read_csv, read_lammps_dump, read_run, read_snapshot, read_snapshots,
+                        trajectory_files)
+
 __version__ = version  # the C library's GR_VERSION (meson.build's project version)
-from .runfolder import read_csv, read_lammps_dump, read_run, read_snapshot, read_snapshots
 
 __all__ = ["Error", "SceneError", "Scene", "Sim", "Observer", "load_scene", "observe", "run",
-           "read_run", "read_csv", "read_snapshot", "read_snapshots", "read_lammps_dump", "version", "__version__"]
+           "read_run", "folder_kind", "read_csv", "read_snapshot", "read_snapshots", "trajectory_files",
+           "read_lammps_dump", "read_ase", "mdanalysis_universe", "version", "__version__"]
 
 
 def _overrides(set):
