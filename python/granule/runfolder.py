@@ -1,5 +1,7 @@
-"""Run folders into numpy/pandas: summary.json, the CSV tables (commented header lines), the
-extended-XYZ snapshots and LAMMPS text dumps. Pure Python: it reads files granule wrote."""
+"""Folders granule writes into numpy/pandas: every folder kind (read_run: run, compare, sweep,
+reproduce result sets and campaign folders, cost, theory commands) with its JSON and CSV tables,
+and every frame of every trajectory format (read_snapshots: per-frame extended-XYZ snapshots, the
+multi-frame trajectory.xyz, trajectory.h5) and LAMMPS text dumps. Pure Python: it reads files."""
 import glob
 import io
 import json
