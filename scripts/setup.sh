@@ -10,6 +10,7 @@ packages=(build-essential meson ninja-build pkg-config git
           libopenmpi-dev openmpi-bin # MPI: granule sweep over ranks (docs/cluster.md)
           clang libclang-rt-dev # libFuzzer + sanitizers: scripts/fuzz.sh (docs/fuzzing.md)
           python3-dev python3-numpy python3-pandas python3-matplotlib # import granule (docs/python.md)
+          python3-mesonpy python3-venv # pip install . of the module, tested in a venv (docs/python.md)
           lammps # the LAMMPS bridge and its test (docs/lammps.md)
           libhdf5-dev # H5MD trajectories (docs/trajectories.md)
           # readers the suite runs on our outputs with Debian's /usr/bin/python3 (docs/trajectories.md)

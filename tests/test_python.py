@@ -12,22 +12,20 @@ import tempfile
 import numpy as np
 
 import granule
+from checks import check, finish
 
 exe, src = sys.argv[1], sys.argv[2]
 scene_path = os.path.join(src, "docs", "scenes", "rfm-2d.ini")
-failures = []
-
-
-def check(cond, what):
-    print(("ok   " if cond else "FAIL ") + what)
-    if not cond:
-        failures.append(what)
 
 
 steps = 400  # 4 samples of 100 steps; snapshot at the end
 sets = {"system.N": 300, "system.L": 0.08, "run.warmup": 0.0, "run.duration": steps * 1e-6,
         "run.sample_every": 100e-6, "output.snapshot_every": steps * 1e-6, "output.plots": False,
         "analysis.observables": "moments,pv,pair"}
+cli_version = subprocess.run([exe, "--version"], check=True, capture_output=True, text=True).stdout.split()[1]
+check(getattr(granule, "__version__", None) == granule.version == cli_version,
+      f"granule.__version__ {getattr(granule, '__version__', None)} = the C library's {granule.version} = the command's {cli_version}")
+
 with tempfile.TemporaryDirectory() as tmp:
     # 1. bit-identical to `granule run` of the same scene and seed over the same steps
     out = os.path.join(tmp, "run")
@@ -116,5 +114,4 @@ with tempfile.TemporaryDirectory() as tmp:
         except granule.Error as e:
             check("particles" in str(e) or "SIM" in str(e), f"{kind}: a state of another system is refused: {e}")
 
-print(f"{len(failures)} failed")
-sys.exit(1 if failures else 0)
+finish()

@@ -10,14 +10,39 @@ extension granule._granule); this package only converts.
 """
 import json
 import os
+import sys
 import tempfile
 
-from ._granule import Error, Observer, Scene, SceneError, Sim, version
-from ._granule import run as _run
-from .runfolder import read_csv, read_lammps_dump, read_run, read_snapshot, read_snapshots
+try:
+    import numpy  # noqa: F401  (the C extension needs it; say so instead of numpy's own ImportError)
+except ImportError as _e:
+    raise ImportError(
+        f"granule needs numpy, which {sys.executable} (Python {sys.version.split()[0]}) cannot import "
+        f"({_e}): install numpy for this interpreter (pip install numpy; Debian python3-numpy for "
+        "/usr/bin/python3, which a venv made with --system-site-packages sees), or use an interpreter "
+        "that has it (docs/python.md)", name="numpy") from None
+try:
+    from ._granule import Error, Observer, Scene, SceneError, Sim, version
+    from ._granule import run as _run
+except ImportError as _e:
+    import importlib.machinery
+    _here = os.path.dirname(os.path.abspath(__file__))
+    _built = sorted(f for f in os.listdir(_here) if f.startswith("_granule.")) or ["none"]
+    raise ImportError(
+        f"granule: the compiled part granule._granule cannot be loaded into {sys.executable} (Python "
+        f"{sys.version.split()[0]}, which loads {importlib.machinery.EXTENSION_SUFFIXES[0]}): {_e}. "
+        f"{_here} holds {', '.join(_built)}: build granule for this interpreter with `pip install .` "
+        "in the source tree (docs/python.md)", name="granule._granule") from _e
+
+from .interop import mdanalysis_universe, read_ase
+from .runfolder import (folder_kind, read_csv, read_lammps_dump, read_run, read_snapshot, read_snapshots,
+                        trajectory_files)
+
+__version__ = version  # the C library's GR_VERSION (meson.build's project version)
 
 __all__ = ["Error", "SceneError", "Scene", "Sim", "Observer", "load_scene", "observe", "run",
-           "read_run", "read_csv", "read_snapshot", "read_snapshots", "read_lammps_dump", "version"]
+           "read_run", "folder_kind", "read_csv", "read_snapshot", "read_snapshots", "trajectory_files",
+           "read_lammps_dump", "read_ase", "mdanalysis_universe", "version", "__version__"]
 
 
 def _overrides(set):
