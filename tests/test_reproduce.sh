@@ -258,6 +258,15 @@ check test $? -eq 0
 check python3 - "$tmp/results" "$tmp/reproduction.md" $campaigns <<'PY'
 import json, os, sys
 root, page, names = sys.argv[1], open(sys.argv[2]).read(), sys.argv[3:]
+UNITS = {"L": " m", "reduced_length": " m", "radius": " m", "mass": " kg", "D": " N^2 s", "dt": " s", "duration": " s", "warmup": " s"}
+def pretty(group):  # the page's labels: linked keys split, units added (reproduction_page.c)
+    out = []
+    for item in (i.strip() for i in group.split(",")):
+        if "=" not in item:
+            out.append(item); continue
+        keys, values = item.split("=", 1)
+        out += ["%s = %s%s" % (k, v, UNITS.get(k, "")) for k, v in zip(keys.split("+"), values.split("/"))]
+    return ", ".join(out)
 ok, seen = True, 0
 for n in names:
     d = json.load(open(os.path.join(root, n, "results.json")))
@@ -268,7 +277,7 @@ for n in names:
             if row["thesis"] is None:
                 continue
             seen += 1
-            lines = [l for l in page.splitlines() if l.startswith("| " + row["group"]) and ("%g" % row["thesis"]) in l]
+            lines = [l for l in page.splitlines() if l.startswith("| " + pretty(row["group"])) and ("%g" % row["thesis"]) in l]
             if not lines:
                 print("not on the page:", n, r["id"], row["group"], row["thesis"]); ok = False
 # the overview's tally: numbers with a z, |z| > 2, and of those more than 5 % off, per campaign

@@ -218,6 +218,39 @@ static void errata(FILE *f, const char *root)
     fprintf(f, "\n");
 }
 
+/* A group label as a physicist writes it: "N+L=3000/0.2, eps_n=0.1" -> "N = 3000, L = 0.2 m,
+ * eps_n = 0.1" (linked keys split, units of the lengths, masses and times added). */
+static void pretty_group(const char *group, char *out, size_t len)
+{
+    static const char *const units[][2] = {{"L", " m"}, {"reduced_length", " m"}, {"radius", " m"}, {"mass", " kg"},
+                                           {"D", " N^2 s"}, {"dt", " s"}, {"duration", " s"}, {"warmup", " s"}};
+    char buf[512];
+    snprintf(buf, sizeof buf, "%s", group);
+    size_t n = 0;
+    out[0] = 0;
+    char *save = NULL;
+    for (char *item = strtok_r(buf, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
+        while (*item == ' ') {
+            item++;
+        }
+        char *eq = strchr(item, '=');
+        if (!eq) {
+            n += (size_t)snprintf(out + n, n < len ? len - n : 0, "%s%s", n ? ", " : "", item);
+            continue;
+        }
+        *eq = 0;
+        char *ks = NULL, *vs = NULL;
+        for (char *k = strtok_r(item, "+", &ks), *v = strtok_r(eq + 1, "/", &vs); k && v;
+             k = strtok_r(NULL, "+", &ks), v = strtok_r(NULL, "/", &vs)) {
+            const char *unit = "";
+            for (size_t u = 0; u < sizeof units / sizeof units[0]; u++) {
+                unit = !strcmp(k, units[u][0]) ? units[u][1] : unit;
+            }
+            n += (size_t)snprintf(out + n, n < len ? len - n : 0, "%s%s = %s%s", n ? ", " : "", k, v, unit);
+        }
+    }
+}
+
 static void result_table(FILE *f, const cJSON *res, const char *campaign, const char *root, const char *link_root)
 {
     fprintf(f, "<a id=\"%s-%s\"></a>\n### %s: %s\n\n", campaign, str(res, "id"), str(res, "id"), str(res, "title"));
@@ -260,7 +293,7 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         } else {
             snprintf(theirs, sizeof theirs, "not quoted");
         }
-        snprintf(group, sizeof group, "%s", str(row, "group"));
+        pretty_group(str(row, "group"), group, sizeof group);
         if (isfinite(num(row, "m"))) {
             snprintf(group + strlen(group), sizeof group - strlen(group), ", m = %.0f", num(row, "m"));
         }
@@ -276,9 +309,8 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         }
         char zs[160];
         gr_campaign_comparison_text(row, true, zs, sizeof zs);
-        char seeds[64];
-        double bad = num(row, "runs_not_converged");
-        snprintf(seeds, sizeof seeds, bad > 0 ? "%.0f (%.0f with T's block error not converged)" : "%.0f", num(row, "seeds"), bad);
+        char seeds[64]; /* T's block-error convergence is summarised once per campaign */
+        snprintf(seeds, sizeof seeds, "%.0f", num(row, "seeds"));
         fprintf(f, "| %s | %s | %s | %s | %s | %s | %.2f |\n", group, theirs, ours, zs, seeds, fit, num(row, "cpu_seconds") / 3600.0);
     }
     notes_and_figures(f, res, campaign, root, link_root, true);
@@ -407,6 +439,25 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
                      "%.0f s simulated, %.2f CPU-hours; analysed at commit %s.\n\n",
                 str(s, "campaign"), str(s, "fidelity"), str(s, "scene"), num(s, "points_finished"), num(s, "points_total"),
                 num(s, "simulated_seconds"), num(s, "cpu_seconds") / 3600.0, str(s, "commit"));
+        int bad = 0, rows_seen = 0, few = 0;
+        const cJSON *rs, *rw;
+        cJSON_ArrayForEach(rs, cJSON_GetObjectItem(s, "results"))
+        {
+            cJSON_ArrayForEach(rw, cJSON_GetObjectItem(rs, "rows"))
+            {
+                rows_seen++;
+                bad += num(rw, "runs_not_converged") > 0;
+                few += isfinite(num(rw, "value")) && num(rw, "seeds") < 3;
+            }
+        }
+        if (bad) {
+            fprintf(f.f, "Error bars: %d of the %d numbers below rest on runs whose block-averaging error of T did not converge "
+                         "(the blocking never reached a plateau, so a run's own error bar is a lower bound). Where a number "
+                         "averages three or more independent seeds its error is the seeds' spread, which does not depend on that; "
+                         "%d number%s from fewer seeds use%s the larger of the spread and the runs' own errors and may be "
+                         "too small.\n\n",
+                    bad, rows_seen, few, few == 1 ? "" : "s", few == 1 ? "s" : "");
+        }
         const cJSON *w = cJSON_GetObjectItem(s, "warmup_check");
         const cJSON *na = cJSON_GetObjectItem(w, "not_applicable");
         if (cJSON_IsString(na)) {
