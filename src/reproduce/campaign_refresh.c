@@ -28,6 +28,9 @@ static void set_number(cJSON *o, const char *name, double value)
 
 void campaign_refresh_json(const gr_campaign *c, cJSON *set)
 {
+    set_string(set, "title", c->title);
+    set_string(set, "covers", c->covers);
+    set_string(set, "about", c->about);
     cJSON *res;
     cJSON_ArrayForEach(res, cJSON_GetObjectItem(set, "results"))
     {
