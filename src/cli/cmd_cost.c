@@ -188,7 +188,7 @@ int cmd_cost(int argc, char **argv)
         }
     }
     print_answer(&ans, &rq);
-    if (gr_output_dir_prepare(out, false, &err) || gr_cost_write(&ans, &rq, scene_path, out, &err)) {
+    if (gr_output_dir_prepare(out, GR_OUTPUT_RESULT, false, &err) || gr_cost_write(&ans, &rq, scene_path, out, &err)) {
         cli_error("cost: %s", err.message);
         return cli_exit_code(err.code);
     }
