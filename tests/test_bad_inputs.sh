@@ -26,6 +26,9 @@ printf '%s\n' '[system]' 'dim = 1' 'N = 20' 'reduced_length = 0.1' '[placement]'
 "$G" run "$BASE" --out "$TMP/fixture-run" >/dev/null 2>&1 || { echo "FAIL: fixture run" >&2; exit 1; }
 "$G" compare "$BASE" --models spring_dashpot,spring_dashpot@clamp --out "$TMP/fixture-compare" >/dev/null 2>&1 ||
     { echo "FAIL: fixture compare" >&2; exit 1; }
+# a run of another seed with snapshots and pv.csv (what --force must not leave behind)
+"$G" run "$BASE" --out "$TMP/fixture-snap" --set analysis.observables=pv --set output.snapshot_every=1e-3 --set run.seed=7 \
+    >/dev/null 2>&1 || { echo "FAIL: fixture run with snapshots" >&2; exit 1; }
 mkdir -p "$TMP/ckdir/checkpoint" && cp "$TMP/fixture-run/scene.ini" "$TMP/ckdir/"
 mkdir -p "$TMP/ckzero" && cp "$TMP/fixture-run/scene.ini" "$TMP/ckzero/" && ln -s /dev/zero "$TMP/ckzero/checkpoint"
 # runs stopped by a full disk (docs/checkpoints.md, "A full disk"): summary.json says write_failed;
@@ -48,7 +51,9 @@ state() {
 #           message is printable ASCII only
 #   FOLDER  new (the output folder does not exist and must not afterwards) | run | compare
 #           (it starts as a copy of that fixture and must end byte for byte the same) | foreign
-#           (the fixture run with a file of the user's, notes.txt: --force must not empty it)
+#           (the fixture run with a file of the user's, notes.txt: --force must not empty it) |
+#           scene-inside (the fixture run with the user's scene file my.ini) | snap (a run with
+#           snapshots)
 cases=$(cat <<'TABLE'
 base | run $S --out $O --set model.eps_n=1.5 | 2 | eps_n;[0, 1] | new
 base | run $S --out $O --set model.eps_n=-0.1 | 2 | eps_n;[0, 1] | new
@@ -210,11 +215,13 @@ file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n | export lammps $S --ou
 base | export lammps $S --out $O --force | 2 | LAMMPS has no 1D | run
 base | run $S --out $O | 2 | $O already holds a comparison;compare.json;--force | compare
 base | run $S --out $O --force | 2 | $O/notes.txt;did not write;--force | foreign
+base | run $O/my.ini --out $O --force | 2 | $O/my.ini;did not write | scene-inside
 base | compare $S --out $O --models spring_dashpot | 2 | $O already holds a run;summary.json;--force | run
 base | compare $S --out $O --models spring_dashpot --force | 2 | notes.txt;did not write | foreign
 file:[sweep]\nscene = ../base.ini\nout = out\n[vary]\nsystem.N = 10\n | sweep $S | 2 | out already holds a run;summary.json;--force | run
 file:[sweep]\nscene = ../base.ini\nout = out\n[vary]\nsystem.N = 10\n | sweep $S | 2 | out already holds a comparison;--force | compare
 file:[sweep]\nscene = ../base.ini\nout = out\n[vary]\nsystem.N = 10\n | sweep $S --force | 2 | notes.txt;did not write | foreign
+base | analyse $O --out $O --force | 2 | --out $O is the folder analysed | snap
 base | analyse $O --out $O/analysis | 2 | $O | new
 base | analyse $O --set analysis.observables=nosuch | 2 | nosuch | run
 base | plot $O | 2 | $O | new
@@ -269,6 +276,8 @@ while IFS= read -r row; do
         run) cp -a "$TMP/fixture-run" "$O" ;;
         compare) cp -a "$TMP/fixture-compare" "$O" ;;
         foreign) cp -a "$TMP/fixture-run" "$O" && echo "the user's own notes" >"$O/notes.txt" ;;
+        scene-inside) cp -a "$TMP/fixture-run" "$O" && cp "$BASE" "$O/my.ini" ;;
+        snap) cp -a "$TMP/fixture-snap" "$O" ;;
     esac
     before=$(state "$O")
     eval "set -- $args"
@@ -297,9 +306,7 @@ done <<<"$cases"
 # sweep or an export), afterwards it holds exactly the files a fresh command writes into a new
 # folder, and `analyse` finds no stale frames
 names() { (cd "$1" && find . -not -name .run.lock | sort); }
-big="$TMP/big-run"
-"$G" run "$BASE" --out "$big" --set analysis.observables=pv --set output.snapshot_every=1e-3 --set run.seed=7 >/dev/null 2>&1 ||
-    { echo "FAIL: fixture run with snapshots" >&2; exit 1; }
+big="$TMP/fixture-snap"
 SCENE2D="$TMP/s2d.ini"
 printf '%s\n' '[system]' 'dim = 2' 'N = 20' 'packing_fraction = 0.1' '[run]' 'warmup = 0' 'duration = 0.01' 'sample_every = 1e-3' \
     '[output]' 'plots = false' >"$SCENE2D"

@@ -286,14 +286,15 @@ static bool lock_name(const char *name)
  * checkpoints, LAMMPS files, lock files and partial files NAME.tmpPID. */
 static bool own_name(const char *name)
 {
-    static const char *const ext[] = {".csv", ".json", ".ini", ".md", ".png", ".gp", ".dat", ".xyz", ".h5", ".granule",
+    static const char *const ext[] = {".csv", ".json", ".png", ".svg", ".pdf", ".gp", ".dat", ".xyz", ".h5", ".granule",
                                       ".lammpstrj", ".lammps"};
     const char *tmp = strstr(name, ".tmp");
     if (tmp && tmp > name && (!tmp[4] || strspn(tmp + 4, "0123456789") == strlen(tmp + 4))) {
         return true; /* NAME.tmpPID, checkpoint.tmp */
     }
-    if (lock_name(name) || !strcmp(name, GR_CHECKPOINT_NAME) || !strncmp(name, ".granule-write-test.", 20)) {
-        return true;
+    if (lock_name(name) || !strcmp(name, GR_CHECKPOINT_NAME) || !strncmp(name, ".granule-write-test.", 20) ||
+        !strcmp(name, "scene.ini") || !strcmp(name, "sweep.ini") || !strcmp(name, "compare.md")) {
+        return true; /* not any *.ini or *.md: a user's scene file or notes may sit beside the results */
     }
     const char *dot = strrchr(name, '.');
     for (size_t i = 0; dot && dot > name && i < sizeof ext / sizeof ext[0]; i++) {

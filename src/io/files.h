@@ -41,7 +41,7 @@ int gr_file_fail(const char *path, int errnum, gr_error *err);
  * unreadable, so the run could never be resumed): GR_EINVAL naming the byte. */
 int gr_output_path_check(const char *dir, gr_error *err);
 
-/* What granule wrote into an output folder, told by the files at its top (docs/output.md,
+/* What granule wrote into an output folder, told by the files at its top (docs/architecture.md,
  * "Output folders"). */
 typedef enum gr_output_kind {
     GR_OUTPUT_ANY = -1, /* gr_output_dir_prepare only: a sub-folder a command manages itself (no check) */
