@@ -53,7 +53,7 @@ state() {
 #           (it starts as a copy of that fixture and must end byte for byte the same) | foreign
 #           (the fixture run with a file of the user's, notes.txt: --force must not empty it) |
 #           scene-inside (the fixture run with the user's scene file my.ini) | snap (a run with
-#           snapshots)
+#           snapshots) | failed (the fixture run, its status failed: stopped before a checkpoint)
 cases=$(cat <<'TABLE'
 base | run $S --out $O --set model.eps_n=1.5 | 2 | eps_n;[0, 1] | new
 base | run $S --out $O --set model.eps_n=-0.1 | 2 | eps_n;[0, 1] | new
@@ -137,6 +137,8 @@ base | run --out $O | 2 | usage | new
 base | run --resume $O | 2 | $O | new
 base | run --resume $O --out $O | 2 | --resume | run
 base | run --resume $O | 2 | completed | run
+base | run --resume $O | 2 | status failed;before its first checkpoint;granule run $O/scene.ini --out $O --force | failed
+base | run $S --out $O | 2 | $O already holds a run;--force | failed
 base | run --resume $TMP/ckdir | 2 | checkpoint | new
 base | run --resume $TMP/ckzero | 2 | checkpoint | new
 base | run $S --out $TMP/wf-ck | 2 | --resume $TMP/wf-ck;--force | new
@@ -278,6 +280,7 @@ while IFS= read -r row; do
         foreign) cp -a "$TMP/fixture-run" "$O" && echo "the user's own notes" >"$O/notes.txt" ;;
         scene-inside) cp -a "$TMP/fixture-run" "$O" && cp "$BASE" "$O/my.ini" ;;
         snap) cp -a "$TMP/fixture-snap" "$O" ;;
+        failed) cp -a "$TMP/fixture-run" "$O" && sed -i 's/"status":[[:space:]]*"completed"/"status": "failed"/' "$O/summary.json" ;;
     esac
     before=$(state "$O")
     eval "set -- $args"

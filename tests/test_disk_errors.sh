@@ -148,6 +148,12 @@ for size in 160 200 240 280 320 360 400; do
             grep -q 'disk full while writing' "$tmp/ferr.txt" || { echo "exit 1 without 'disk full'"; exit 1; }
             grep -q 'gaps' "$tmp/ferr.txt" && hit=1
             mount -o remount,size=8m "$tmp/fmnt"
+            if [[ $status == failed ]]; then # --resume says how to start it again
+                "$g" run --resume "$out" >/dev/null 2>"$tmp/ferr.txt"
+                rc=$?
+                [[ $rc == 2 ]] && grep -q -- "--out $out --force" "$tmp/ferr.txt" ||
+                    { cat "$tmp/ferr.txt"; echo "--resume of a failed run: exit $rc, no --force named"; exit 1; }
+            fi
             "$g" run "$tmp/s.ini" --out "$out" --set analysis.observables=gaps --set run.duration=0.1 \
                 --set output.snapshot_every=0 --quiet --force >/dev/null 2>"$tmp/ferr.txt" ||
                 { cat "$tmp/ferr.txt"; echo "--force after freeing space failed"; exit 1; }
