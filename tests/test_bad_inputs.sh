@@ -342,5 +342,16 @@ for rc_case in "${replace_cases[@]}"; do
     [[ -z $stale ]] || problems+=("--force left a folder that differs from a fresh one: $(tr '\n' ' ' <<<"$stale" | head -c 300)")
     report "--force replaces the folder as a whole: $what" "$TMP/replace$i.err"
 done
+# a reproduce campaign's folder (DIR/NAME/FIDELITY) that holds a run is refused, and left as it was
+i=$((i + 1))
+mkdir -p "$TMP/rp/ch3-moments" && cp -a "$TMP/fixture-run" "$TMP/rp/ch3-moments/quick"
+before=$(state "$TMP/rp")
+"$G" reproduce ch3-moments --out "$TMP/rp" >/dev/null 2>"$TMP/rp.err"
+rc=$?
+problems=()
+[[ $rc == 2 ]] || problems+=("exit $rc, expected 2")
+grep -qF "$TMP/rp/ch3-moments/quick already holds a run (summary.json)" "$TMP/rp.err" || problems+=("message lacks 'already holds a run'")
+[[ $(state "$TMP/rp") == "$before" ]] || problems+=("output folder changed")
+report "granule reproduce ch3-moments --out DIR, DIR/ch3-moments/quick a run" "$TMP/rp.err"
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
