@@ -396,6 +396,9 @@ static int claim_dir(const char *dir, gr_output_kind kind, bool force, gr_error 
     }
     char bad[1500] = "";
     bool busy = false;
+    if (again && !force && !has(dir, ".run.lock")) {
+        return GR_OK; /* a scene.ini no run of granule's wrote beside (a user's folder): left as it is */
+    }
     if (!all_own(dir, 6, bad, sizeof bad, &busy)) {
         if (again) {
             return GR_OK; /* a killed run's folder with files of the user's: kept, as it is */
