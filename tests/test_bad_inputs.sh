@@ -168,6 +168,7 @@ base | cost $S --out $O --calibrate -1 | 2 | --calibrate | new
 base | cost $S --out $O --phases 0 | 2 | --phases | new
 base | cost $S --out $O --set model.normal=hard_sphere --set model.tangential=none --set integrator.kind=event | 2 | hard_sphere;instantaneous | new
 missing | cost $S --out $O | 2 | cannot open | new
+base | cost $S --out $O | 2 | $O already holds a run;summary.json;--force | run
 base | cost $S --out $O --set model.eps_n=0 | 2 | t_c;nothing to resolve | new
 base | compare $S --out $O --models nosuch | 2 | nosuch | new
 base | compare $S --out $O --models spring_dashpot@bogus | 2 | @clamp | new
