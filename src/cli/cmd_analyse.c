@@ -143,8 +143,8 @@ int cmd_analyse(int argc, char **argv)
         return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
     char real_in[PATH_MAX], real_out[PATH_MAX];
-    if (realpath(dir, real_in) && realpath(out_dir, real_out) &&
-        !strncmp(real_in, real_out, strlen(real_out)) && (real_in[strlen(real_out)] == '/' || !real_in[strlen(real_out)] || !strcmp(real_out, "/"))) {
+    const size_t n_out = realpath(dir, real_in) && realpath(out_dir, real_out) ? strlen(real_out) : 0;
+    if (n_out && !strncmp(real_in, real_out, n_out) && (real_in[n_out] == '/' || !real_in[n_out] || n_out == 1)) {
         source_close(&src);
         cli_error("analyse: --out %s is the folder analysed (%s) or holds it; its results would replace their own input: "
                   "choose another folder (the default is %s/analysis)", out_dir, dir, dir);

@@ -255,7 +255,10 @@ gr_output_kind gr_output_dir_kind(const char *dir, char *what, size_t len)
         closedir(d);
     }
     const bool summary = has(dir, "summary.json"), scene = has(dir, "scene.ini");
-    const char *run = summary && scene ? "summary.json" : scene ? "scene.ini" : has(dir, GR_CHECKPOINT_NAME) ? GR_CHECKPOINT_NAME : NULL;
+    const char *run = summary && scene ? "summary.json"
+                    : scene           ? "scene.ini"
+                    : has(dir, GR_CHECKPOINT_NAME) ? GR_CHECKPOINT_NAME
+                                                   : NULL;
     if (run || summary) {
         snprintf(what, len, "%s", run ? run : "summary.json");
         return run ? GR_OUTPUT_RUN : GR_OUTPUT_RESULT;
