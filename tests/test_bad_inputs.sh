@@ -26,6 +26,9 @@ printf '%s\n' '[system]' 'dim = 1' 'N = 20' 'reduced_length = 0.1' '[placement]'
 "$G" run "$BASE" --out "$TMP/fixture-run" >/dev/null 2>&1 || { echo "FAIL: fixture run" >&2; exit 1; }
 "$G" compare "$BASE" --models spring_dashpot,spring_dashpot@clamp --out "$TMP/fixture-compare" >/dev/null 2>&1 ||
     { echo "FAIL: fixture compare" >&2; exit 1; }
+# a run of another seed with snapshots and pv.csv (what --force must not leave behind)
+"$G" run "$BASE" --out "$TMP/fixture-snap" --set analysis.observables=pv --set output.snapshot_every=1e-3 --set run.seed=7 \
+    >/dev/null 2>&1 || { echo "FAIL: fixture run with snapshots" >&2; exit 1; }
 mkdir -p "$TMP/ckdir/checkpoint" && cp "$TMP/fixture-run/scene.ini" "$TMP/ckdir/"
 mkdir -p "$TMP/ckzero" && cp "$TMP/fixture-run/scene.ini" "$TMP/ckzero/" && ln -s /dev/zero "$TMP/ckzero/checkpoint"
 # runs stopped by a full disk (docs/checkpoints.md, "A full disk"): summary.json says write_failed;
@@ -47,7 +50,10 @@ state() {
 #   WORDS   ';'-separated texts the message must contain; !TEXT must not appear; ASCII: the
 #           message is printable ASCII only
 #   FOLDER  new (the output folder does not exist and must not afterwards) | run | compare
-#           (it starts as a copy of that fixture and must end byte for byte the same)
+#           (it starts as a copy of that fixture and must end byte for byte the same) | foreign
+#           (the fixture run with a file of the user's, notes.txt: --force must not empty it) |
+#           scene-inside (the fixture run with the user's scene file my.ini) | snap (a run with
+#           snapshots) | failed (the fixture run, its status failed: stopped before a checkpoint)
 cases=$(cat <<'TABLE'
 base | run $S --out $O --set model.eps_n=1.5 | 2 | eps_n;[0, 1] | new
 base | run $S --out $O --set model.eps_n=-0.1 | 2 | eps_n;[0, 1] | new
@@ -131,6 +137,8 @@ base | run --out $O | 2 | usage | new
 base | run --resume $O | 2 | $O | new
 base | run --resume $O --out $O | 2 | --resume | run
 base | run --resume $O | 2 | completed | run
+base | run --resume $O | 2 | status failed;before its first checkpoint;granule run $O/scene.ini --out $O --force | failed
+base | run $S --out $O | 2 | $O already holds a run;--force | failed
 base | run --resume $TMP/ckdir | 2 | checkpoint | new
 base | run --resume $TMP/ckzero | 2 | checkpoint | new
 base | run $S --out $TMP/wf-ck | 2 | --resume $TMP/wf-ck;--force | new
@@ -160,6 +168,7 @@ base | cost $S --out $O --calibrate -1 | 2 | --calibrate | new
 base | cost $S --out $O --phases 0 | 2 | --phases | new
 base | cost $S --out $O --set model.normal=hard_sphere --set model.tangential=none --set integrator.kind=event | 2 | hard_sphere;instantaneous | new
 missing | cost $S --out $O | 2 | cannot open | new
+base | cost $S --out $O | 2 | $O already holds a run;summary.json;--force | run
 base | cost $S --out $O --set model.eps_n=0 | 2 | t_c;nothing to resolve | new
 base | compare $S --out $O --models nosuch | 2 | nosuch | new
 base | compare $S --out $O --models spring_dashpot@bogus | 2 | @clamp | new
@@ -203,6 +212,19 @@ file:[sweep]\n[set]\nrun.warmup = 0\nrun.warmup = 0.1\n[vary]\nsystem.N = 10\n |
 file:[sweep]\n[vary]\nsystem.N = 10, 9999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999999\n | sweep $S | 2 | at most 127 characters | new
 file:[sweep]\n[vary]\nsystem.N = 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42\nsystem.N = 43, 44, 45, 46, 47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63, 64, 65, 66, 67, 68, 69, 70, 71, 72, 73, 74\n | sweep $S | 2 | at most 64 values | new
 file:[sweep]\nscene = /dev/null\nout = /nonexistent-granule-out\n[vary]\nsystem.N = 10\n | sweep $S | 2 | not a regular file | new
+file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n | export lammps $S --out $O | 2 | $O already holds a run;summary.json;--force | run
+file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n | export lammps $S --out $O | 2 | $O already holds a comparison;compare.json;--force | compare
+file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n | export lammps $S --out $O --force | 2 | notes.txt;did not write | foreign
+base | export lammps $S --out $O --force | 2 | LAMMPS has no 1D | run
+base | run $S --out $O | 2 | $O already holds a comparison;compare.json;--force | compare
+base | run $S --out $O --force | 2 | $O/notes.txt;did not write;--force | foreign
+base | run $O/my.ini --out $O --force | 2 | $O/my.ini;did not write | scene-inside
+base | compare $S --out $O --models spring_dashpot | 2 | $O already holds a run;summary.json;--force | run
+base | compare $S --out $O --models spring_dashpot --force | 2 | notes.txt;did not write | foreign
+file:[sweep]\nscene = ../base.ini\nout = out\n[vary]\nsystem.N = 10\n | sweep $S | 2 | out already holds a run;summary.json;--force | run
+file:[sweep]\nscene = ../base.ini\nout = out\n[vary]\nsystem.N = 10\n | sweep $S | 2 | out already holds a comparison;--force | compare
+file:[sweep]\nscene = ../base.ini\nout = out\n[vary]\nsystem.N = 10\n | sweep $S --force | 2 | notes.txt;did not write | foreign
+base | analyse $O --out $O --force | 2 | --out $O is the folder analysed | snap
 base | analyse $O --out $O/analysis | 2 | $O | new
 base | analyse $O --set analysis.observables=nosuch | 2 | nosuch | run
 base | plot $O | 2 | $O | new
@@ -227,6 +249,17 @@ cases+=$'\n'"file:$long_note | reproduce \$S --out \$O | 2 | [result a] note;at 
 
 [[ ${2:-} == --list ]] && { printf '%s\n' "$cases"; exit 0; }
 passed=0 failed=0 i=0
+# report WHAT STDERR-FILE [NOTE]: case $i passed unless problems[] holds something
+report() {
+    if ((${#problems[@]} == 0)); then
+        passed=$((passed + 1))
+        echo "ok   $i $1"
+    else
+        failed=$((failed + 1))
+        echo "FAIL $i $1${3:+ $3}"
+        printf '     %s\n' "${problems[@]}" "stderr: $(head -c 300 "$2" | tr '\n' ' ' | LC_ALL=C tr -c '[:print:]' '?')"
+    fi
+}
 while IFS= read -r row; do
     [[ -z $row ]] && continue
     i=$((i + 1))
@@ -245,6 +278,10 @@ while IFS= read -r row; do
     case $folder in
         run) cp -a "$TMP/fixture-run" "$O" ;;
         compare) cp -a "$TMP/fixture-compare" "$O" ;;
+        foreign) cp -a "$TMP/fixture-run" "$O" && echo "the user's own notes" >"$O/notes.txt" ;;
+        scene-inside) cp -a "$TMP/fixture-run" "$O" && cp "$BASE" "$O/my.ini" ;;
+        snap) cp -a "$TMP/fixture-snap" "$O" ;;
+        failed) cp -a "$TMP/fixture-run" "$O" && sed -i 's/"status":[[:space:]]*"completed"/"status": "failed"/' "$O/summary.json" ;;
     esac
     before=$(state "$O")
     eval "set -- $args"
@@ -266,14 +303,56 @@ while IFS= read -r row; do
         fi
     done
     [[ $after == "$before" ]] || problems+=("output folder changed")
-    if ((${#problems[@]} == 0)); then
-        passed=$((passed + 1))
-        echo "ok   $i granule $args"
-    else
-        failed=$((failed + 1))
-        echo "FAIL $i granule $args [$scene]"
-        printf '     %s\n' "${problems[@]}" "stderr: $(head -c 300 "$c/stderr" | tr '\n' ' ' | LC_ALL=C tr -c '[:print:]' '?')"
-    fi
+    report "granule $args" "$c/stderr" "[$scene]"
 done <<<"$cases"
+# --force replaces a folder's contents as a whole (issue 39): whatever the folder held before (a
+# run of another scene with snapshots and pv.csv, a comparison of other models, a run under a
+# sweep or an export), afterwards it holds exactly the files a fresh command writes into a new
+# folder, and `analyse` finds no stale frames
+names() { (cd "$1" && find . -not -name .run.lock | sort); }
+big="$TMP/fixture-snap"
+SCENE2D="$TMP/s2d.ini"
+printf '%s\n' '[system]' 'dim = 2' 'N = 20' 'packing_fraction = 0.1' '[run]' 'warmup = 0' 'duration = 0.01' 'sample_every = 1e-3' \
+    '[output]' 'plots = false' >"$SCENE2D"
+# a sweep over folder DIR (its out) is written to DIR.ini
+sweep_file() { printf '%s\n' '[sweep]' "scene = $BASE" "out = $1" 'seeds = 1' '[vary]' 'system.N = 10, 12' >"$1.ini"; }
+replace_cases=(
+    "run over a run with snapshots|$big|run $BASE --out {}"
+    "run over a comparison|$TMP/fixture-compare|run $BASE --out {}"
+    "compare over a comparison of other models|$TMP/fixture-compare|compare $BASE --models spring_dashpot@clamp --out {}"
+    "compare over a run with snapshots|$big|compare $BASE --models spring_dashpot --out {}"
+    "sweep over a run with snapshots|$big|sweep {}.ini --jobs 1"
+    "export over a run with snapshots|$big|export lammps $SCENE2D --out {}"
+    "export over a comparison|$TMP/fixture-compare|export lammps $SCENE2D --out {}"
+)
+for rc_case in "${replace_cases[@]}"; do
+    IFS='|' read -r what from cmd <<<"$rc_case"
+    i=$((i + 1))
+    fresh="$TMP/replace$i-fresh" forced="$TMP/replace$i-forced"
+    cp -a "$from" "$forced"
+    sweep_file "$fresh" && sweep_file "$forced"
+    read -ra a <<<"${cmd//\{\}/$fresh}"
+    "$G" "${a[@]}" >/dev/null 2>"$TMP/replace$i.err"
+    rc_fresh=$?
+    read -ra a <<<"${cmd//\{\}/$forced}"
+    "$G" "${a[@]}" --force >/dev/null 2>>"$TMP/replace$i.err"
+    rc_forced=$?
+    problems=()
+    [[ $rc_fresh == 0 && $rc_forced == 0 ]] || problems+=("exit $rc_fresh (new folder), $rc_forced (--force)")
+    stale=$(diff <(names "$fresh") <(names "$forced"))
+    [[ -z $stale ]] || problems+=("--force left a folder that differs from a fresh one: $(tr '\n' ' ' <<<"$stale" | head -c 300)")
+    report "--force replaces the folder as a whole: $what" "$TMP/replace$i.err"
+done
+# a reproduce campaign's folder (DIR/NAME/FIDELITY) that holds a run is refused, and left as it was
+i=$((i + 1))
+mkdir -p "$TMP/rp/ch3-moments" && cp -a "$TMP/fixture-run" "$TMP/rp/ch3-moments/quick"
+before=$(state "$TMP/rp")
+"$G" reproduce ch3-moments --out "$TMP/rp" >/dev/null 2>"$TMP/rp.err"
+rc=$?
+problems=()
+[[ $rc == 2 ]] || problems+=("exit $rc, expected 2")
+grep -qF "$TMP/rp/ch3-moments/quick already holds a run (summary.json)" "$TMP/rp.err" || problems+=("message lacks 'already holds a run'")
+[[ $(state "$TMP/rp") == "$before" ]] || problems+=("output folder changed")
+report "granule reproduce ch3-moments --out DIR, DIR/ch3-moments/quick a run" "$TMP/rp.err"
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -649,7 +649,7 @@ START_TEST(test_write)
     ck_assert_int_eq(gr_bisect_g1_load(&g, write_file("g1.csv", text), &err), GR_OK);
     char out[200];
     snprintf(out, sizeof out, "%s/out", tmp_dir);
-    ck_assert_int_eq(gr_output_dir_prepare(out, false, &err), GR_OK);
+    ck_assert_int_eq(gr_output_dir_prepare(out, GR_OUTPUT_RESULT, false, &err), GR_OK);
     gr_bisect_output o = {.g1 = &g, .n_g1 = 1, .plots = false};
     ck_assert_msg(gr_bisect_write(out, &s, &u, &res, &o, &err) == GR_OK, "%s", err.message);
     const char *files[] = {"pn.csv", "moments.csv", "zeta.csv", "collapse.csv"};
@@ -674,12 +674,12 @@ START_TEST(test_write)
     ck_assert_double_eq(cJSON_GetObjectItem(g1, "N")->valuedouble, 16.0);
     cJSON_Delete(j);
     /* a second run into the same folder is refused unless forced */
-    ck_assert_int_eq(gr_output_dir_prepare(out, false, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_output_dir_prepare(out, GR_OUTPUT_RESULT, false, &err), GR_EINVAL);
     /* an anchor outside the G_1 table is refused before anything is written */
     s.anchor = 0.99;
     char out2[200];
     snprintf(out2, sizeof out2, "%s/out2", tmp_dir);
-    ck_assert_int_eq(gr_output_dir_prepare(out2, false, &err), GR_OK);
+    ck_assert_int_eq(gr_output_dir_prepare(out2, GR_OUTPUT_RESULT, false, &err), GR_OK);
     ck_assert_int_eq(gr_bisect_write(out2, &s, &u, &res, &o, &err), GR_EINVAL);
     ck_assert_msg(strstr(err.message, "R = 0.99") != NULL, "%s", err.message);
     char path[300];

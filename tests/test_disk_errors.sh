@@ -126,6 +126,48 @@ if ((${#ns[@]})) && "${ns[@]}" sh -c "mount -t tmpfs -o size=64k granule-test '$
         grep -q '"status": *"failed"' "$tmp/mnt.copy/out/summary.json" || fail "summary.json does not say failed"
     fi
     ran=$((ran + 1))
+    # 3d. the disk fills up in the final writes of a run with no checkpoint (a 1D run with the
+    # gaps observable: its files are written after the tables): status "failed", never
+    # "completed" with files missing (issue 39), exit 1; once space is freed, --force starts it
+    # again and completes
+    cat >"$tmp/final.sh" <<'SH'
+g="$1" tmp="$2" hit=0
+mkdir -p "$tmp/fmnt"
+for size in 160 200 240 280 320 360 400; do
+    mount -t tmpfs -o size=${size}k granule-test "$tmp/fmnt" || exit 99
+    out="$tmp/fmnt/out"
+    "$g" run "$tmp/s.ini" --out "$out" --set analysis.observables=gaps --set run.duration=0.1 \
+        --set output.snapshot_every=0 --quiet >/dev/null 2>"$tmp/ferr.txt"
+    rc=$?
+    status=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["status"])' "$out/summary.json" 2>/dev/null || echo none)
+    echo "   ${size} KiB: exit $rc, status $status: $(head -c 120 "$tmp/ferr.txt")"
+    case $rc/$status in
+        0/completed) [[ -f "$out/gaps.csv" && -f "$out/gaps.meta.json" ]] || { echo "completed without gaps.csv"; exit 1; } ;;
+        1/failed | 1/none)
+            [[ ! -f "$out/checkpoint" ]] || { echo "exit 1 with a checkpoint"; exit 1; }
+            grep -q 'disk full while writing' "$tmp/ferr.txt" || { echo "exit 1 without 'disk full'"; exit 1; }
+            grep -q 'gaps' "$tmp/ferr.txt" && hit=1
+            mount -o remount,size=8m "$tmp/fmnt"
+            if [[ $status == failed ]]; then # --resume says how to start it again
+                "$g" run --resume "$out" >/dev/null 2>"$tmp/ferr.txt"
+                rc=$?
+                [[ $rc == 2 ]] && grep -q -- "--out $out --force" "$tmp/ferr.txt" ||
+                    { cat "$tmp/ferr.txt"; echo "--resume of a failed run: exit $rc, no --force named"; exit 1; }
+            fi
+            "$g" run "$tmp/s.ini" --out "$out" --set analysis.observables=gaps --set run.duration=0.1 \
+                --set output.snapshot_every=0 --quiet --force >/dev/null 2>"$tmp/ferr.txt" ||
+                { cat "$tmp/ferr.txt"; echo "--force after freeing space failed"; exit 1; }
+            grep -qE '"status":[[:space:]]*"completed"' "$out/summary.json" && [[ -f "$out/gaps.csv" ]] ||
+                { echo "--force after freeing space: not completed"; exit 1; } ;;
+        *) cat "$tmp/ferr.txt"; echo "${size} KiB: exit $rc with status $status"; exit 1 ;;
+    esac
+    umount "$tmp/fmnt"
+done
+[[ $hit == 1 ]] || { echo "no size filled the disk while writing the gaps files"; exit 1; }
+SH
+    "${ns[@]}" bash "$tmp/final.sh" "$g" "$tmp" || fail "disk full in the final writes of a run without a checkpoint"
+    echo "ok: disk full in the final writes without a checkpoint: status failed, exit 1, --force completes"
+    ran=$((ran + 1))
 else
     skipped+=("read-only and full-disk cases (cannot mount a tmpfs here: needs root or user namespaces)")
 fi

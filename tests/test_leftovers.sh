@@ -53,6 +53,20 @@ done
 [[ -z "$(leftovers "$tmp/a")" ]] || fail "a fresh run kept the killed run's temporaries: $(leftovers "$tmp/a")"
 same_files "$tmp/ref" "$tmp/a"
 echo "ok: a fresh run over a run killed before its first checkpoint removes its temporaries"
+# ... and every other file such a run left (issue 39): a killed run of another scene with more
+# snapshots and other observables leaves none of them beside the new run (its .run.lock shows a
+# run wrote the folder); the same folder without .run.lock is a user's: nothing is removed
+mkdir -p "$tmp/a2/snapshots"
+cp "$tmp/ref/scene.ini" "$tmp/a2/" && : >"$tmp/a2/.run.lock"
+for f in gaps.csv gaps.meta.json snapshots/snap_000099.xyz temperature.csv.tmp99999; do
+    echo stale >"$tmp/a2/$f"
+done
+"$g" run "$tmp/s.ini" --out "$tmp/a2" --quiet >/dev/null 2>"$tmp/err.txt" || { cat "$tmp/err.txt"; fail "fresh run over a killed one failed"; }
+same_files "$tmp/ref" "$tmp/a2"
+mkdir -p "$tmp/a3" && cp "$tmp/s.ini" "$tmp/a3/scene.ini" && echo mine >"$tmp/a3/data.csv"
+"$g" run "$tmp/s.ini" --out "$tmp/a3" --quiet >/dev/null 2>"$tmp/err.txt" || { cat "$tmp/err.txt"; fail "run into a user's folder failed"; }
+[[ $(cat "$tmp/a3/data.csv") == mine ]] || fail "a run without --force removed a user's file"
+echo "ok: a fresh run over a run killed before its first checkpoint leaves none of its files; a user's folder keeps its files"
 
 # 2. killed during the final writes (after the last checkpoint), then resumed
 GRANULE_TEST_CLOCK_TICK=0.01 GRANULE_CHUNK_STEPS=50 "$g" run "$tmp/s.ini" --out "$tmp/b" --quiet --wall-limit 3 \

@@ -5,6 +5,7 @@
 #ifndef GRANULE_EXPORT_H
 #define GRANULE_EXPORT_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "granule/scene.h"
@@ -23,7 +24,9 @@ typedef struct gr_lammps_export {
 /* Write DIR/in.granule (the LAMMPS input deck), DIR/data.granule (the initial particles) and
  * DIR/scene.ini (the resolved scene, which `granule analyse` reads next to the dump). Refuses,
  * with the reason, what LAMMPS's GRANULAR package cannot express: 1D, the event-driven and hybrid
- * integrators, hard spheres and sliding friction. */
-int gr_export_lammps(const gr_scene *scene, const char *dir, gr_lammps_export *info, gr_error *err);
+ * integrators, hard spheres and sliding friction. A folder holding a result (an earlier export,
+ * a run, a comparison, ...) is refused unless force, which replaces its contents as a whole
+ * (docs/output.md, "Output folders"); nothing is written before the scene is accepted. */
+int gr_export_lammps(const gr_scene *scene, const char *dir, bool force, gr_lammps_export *info, gr_error *err);
 
 #endif

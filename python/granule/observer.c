@@ -123,7 +123,7 @@ static PyObject *observer_finish(pyg_observer *self, PyObject *args)
     }
     const gr_scene *s = &((pyg_scene *)self->scene)->scene;
     gr_error err = {0};
-    if (gr_output_dir_prepare(dir, true, &err)) {
+    if (gr_output_dir_prepare(dir, GR_OUTPUT_ANY, true, &err)) {
         return pyg_raise(&err);
     }
     cJSON *analysis = cJSON_CreateObject();

@@ -1,6 +1,7 @@
 /* granule analyse DIR: feed a run's snapshots to the observables of the analysis layer (the same
  * code that samples during a run) and write the results into DIR/analysis (or --out). */
 #include <cjson/cJSON.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -141,7 +142,15 @@ int cmd_analyse(int argc, char **argv)
         cli_error("analyse: %s", err.message);
         return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
-    rc = gr_output_dir_prepare(out_dir, force, &err);
+    char real_in[PATH_MAX], real_out[PATH_MAX];
+    const size_t n_out = realpath(dir, real_in) && realpath(out_dir, real_out) ? strlen(real_out) : 0;
+    if (n_out && !strncmp(real_in, real_out, n_out) && (real_in[n_out] == '/' || !real_in[n_out] || n_out == 1)) {
+        source_close(&src);
+        cli_error("analyse: --out %s is the folder analysed (%s) or holds it; its results would replace their own input: "
+                  "choose another folder (the default is %s/analysis)", out_dir, dir, dir);
+        return EXIT_REFUSED;
+    }
+    rc = gr_output_dir_prepare(out_dir, GR_OUTPUT_RESULT, force, &err);
     if (!rc) {
         rc = gr_observer_create(&scene, &obs, &err);
     }

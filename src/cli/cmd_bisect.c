@@ -203,7 +203,7 @@ int cmd_bisect(int argc, char **argv)
                         "3.30 asks U_0(a) = U_0(1-a), and the statistics see only (U(a) + U(1-a))/2\n",
                 u0.name, u0.asymmetry);
     }
-    if (!rc && gr_output_dir_prepare(out, force, &err)) {
+    if (!rc && gr_output_dir_prepare(out, GR_OUTPUT_RESULT, force, &err)) {
         cli_error("bisect: %s", err.message);
         rc = err.code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }

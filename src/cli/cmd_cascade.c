@@ -240,7 +240,7 @@ int cmd_cascade(int argc, char **argv)
     sp.placement = place;
     sp.place = do_place;
     gr_error werr = {0};
-    if (gr_output_dir_prepare(out, force, &werr)) {
+    if (gr_output_dir_prepare(out, GR_OUTPUT_RESULT, force, &werr)) {
         cli_error("%s", werr.message);
         return werr.code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }

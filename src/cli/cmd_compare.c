@@ -91,7 +91,7 @@ int cmd_compare(int argc, char **argv)
         cli_error("compare: %s already holds a comparison (%s); choose another folder or pass --force to overwrite it", out, what);
         return EXIT_REFUSED;
     }
-    if (gr_output_dir_prepare(out, force, &err)) {
+    if (gr_output_dir_prepare(out, GR_OUTPUT_COMPARE, force, &err)) {
         cli_error("compare: %s", err.message);
         return cli_exit_code(err.code);
     }

@@ -13,7 +13,7 @@
 static void usage(FILE *f)
 {
     fprintf(f, "usage: granule cost SCENE [--observable T|loss] [--tolerance TOL[%%]] [--calibrate SECONDS]\n"
-               "                   [--phases K] [--threads N] [--set section.key=value ...] [--out DIR]\n\n"
+               "                   [--phases K] [--threads N] [--set section.key=value ...] [--out DIR] [--force]\n\n"
                "Which time step keeps the observable within TOL (relative; '1%%' or 0.01; default 1%%), and how long\n"
                "the scene's run (warm-up + duration) takes with it on this machine:\n"
                "  T     the steady temperature (2.19): the contact's energy-loss error at each dt, computed against\n"
@@ -24,7 +24,9 @@ static void usage(FILE *f)
                "wall time is measured by a calibration run of SECONDS (default 10) of the scene at that dt,\n"
                "in blocks, shared between Verlet and the hybrid integrator at windows of 10, 30 and 100 dt (same\n"
                "contact steps, free flights exact: the same error); the cheapest is recommended, and the\n"
-               "prediction's +- is the spread of its blocks. Writes DIR/cost.json (default out/cost).\n");
+               "prediction's +- is the spread of its blocks. Writes DIR/cost.json (default out/cost); a DIR holding a\n"
+               "result (an earlier cost.json, a run, ...) is refused before anything is computed unless --force,\n"
+               "which replaces its contents as a whole.\n");
 }
 
 static bool parse_tolerance(const char *text, double *tol)
@@ -111,6 +113,7 @@ int cmd_cost(int argc, char **argv)
     const char *scene_path = NULL, *out = "out/cost";
     const char **sets = calloc((size_t)argc + 1, sizeof(char *));
     int n_sets = 0, rc = EXIT_OK;
+    bool force = false;
     gr_cost_request rq;
     gr_cost_request_default(&rq);
     for (int i = 1; i < argc && rc == EXIT_OK; i++) {
@@ -154,6 +157,8 @@ int cmd_cost(int argc, char **argv)
             sets[n_sets++] = argv[++i];
         } else if (!strcmp(a, "--out") && has) {
             out = argv[++i];
+        } else if (!strcmp(a, "--force")) {
+            force = true;
         } else if (a[0] != '-' && !scene_path) {
             scene_path = a;
         } else {
@@ -180,6 +185,10 @@ int cmd_cost(int argc, char **argv)
         cli_error("cost: %s: %s", scene_path, err.message);
         return err.code == GR_EINVAL ? EXIT_REFUSED : cli_exit_code(err.code);
     }
+    if (gr_output_dir_prepare(out, GR_OUTPUT_RESULT, force, &err)) { /* before the calibration run */
+        cli_error("cost: %s", err.message);
+        return cli_exit_code(err.code);
+    }
     if (ans.best >= 0 && rq.calibrate_seconds > 0.0) {
         fprintf(stderr, "cost: calibrating dt = %.4g s for %g s of wall time\n", ans.c[ans.best].dt, rq.calibrate_seconds);
         if (gr_cost_calibrate(&sc, ans.c[ans.best].dt, rq.calibrate_seconds, &ans, &err)) {
@@ -188,7 +197,7 @@ int cmd_cost(int argc, char **argv)
         }
     }
     print_answer(&ans, &rq);
-    if (gr_output_dir_prepare(out, false, &err) || gr_cost_write(&ans, &rq, scene_path, out, &err)) {
+    if (gr_cost_write(&ans, &rq, scene_path, out, &err)) {
         cli_error("cost: %s", err.message);
         return cli_exit_code(err.code);
     }

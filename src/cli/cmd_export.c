@@ -1,5 +1,6 @@
-/* granule export lammps SCENE [--out DIR] [--set ...]: write a LAMMPS deck and data file for the
+/* granule export lammps SCENE [--out DIR] [--set ...] [--force]: write a LAMMPS deck and data file for the
  * scene (the mapping lives in src/export/lammps.c; docs/lammps.md). */
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,13 +11,14 @@
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: granule export lammps SCENE [--out DIR] [--set section.key=value ...]\n\n"
+    fprintf(f, "usage: granule export lammps SCENE [--out DIR] [--set section.key=value ...] [--force]\n\n"
                "Writes DIR/in.granule (LAMMPS input deck), DIR/data.granule (the initial particles granule\n"
                "itself would start from) and DIR/scene.ini. Run it with `mpirun -n RANKS lmp -in in.granule`\n"
                "inside DIR, then `granule analyse DIR --lammps-dump DIR/dump.granule.lammpstrj`.\n"
                "DIR defaults to OUTPUT/lammps, OUTPUT being the scene's output.dir. docs/lammps.md maps\n"
                "every scene key; 1D, event-driven/hybrid integrators, hard spheres and sliding friction\n"
-               "are refused.\n");
+               "are refused. A DIR holding a result (an earlier export, a run, a comparison) is refused unless\n"
+               "--force, which replaces its contents as a whole.\n");
 }
 
 int cmd_export(int argc, char **argv)
@@ -32,6 +34,7 @@ int cmd_export(int argc, char **argv)
     const char *scene_path = NULL, *out_dir = NULL;
     const char **sets = calloc((size_t)argc + 1, sizeof(char *));
     int n_sets = 0;
+    bool force = false;
     for (int i = 2; i < argc; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
             usage(stdout);
@@ -41,6 +44,8 @@ int cmd_export(int argc, char **argv)
             sets[n_sets++] = argv[++i];
         } else if (!strcmp(argv[i], "--out") && i + 1 < argc) {
             out_dir = argv[++i];
+        } else if (!strcmp(argv[i], "--force")) {
+            force = true;
         } else if (argv[i][0] != '-' && !scene_path) {
             scene_path = argv[i];
         } else {
@@ -68,7 +73,7 @@ int cmd_export(int argc, char **argv)
         snprintf(dir, sizeof dir, "%.1080s/lammps", scene.out_dir);
     }
     gr_lammps_export info;
-    rc = gr_export_lammps(&scene, dir, &info, &err);
+    rc = gr_export_lammps(&scene, dir, force, &info, &err);
     if (rc) {
         cli_error("%s", err.message);
         return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;

@@ -213,7 +213,7 @@ int cmd_fokker_planck(int argc, char **argv)
     }
     gsl_set_error_handler_off();
     gr_error err = {0};
-    if (gr_output_dir_prepare(o.out, o.force, &err)) {
+    if (gr_output_dir_prepare(o.out, GR_OUTPUT_RESULT, o.force, &err)) {
         cli_error("fokker-planck: %s", err.message);
         return exit_code(&err);
     }

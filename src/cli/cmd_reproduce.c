@@ -250,10 +250,10 @@ int cmd_reproduce(int argc, char **argv)
     bool existed[3] = {is_dir(out), false, is_dir(dir)};
     snprintf(level, sizeof level, "%.1000s/%s", out, c->name);
     existed[1] = is_dir(level);
-    if (gr_output_dir_prepare(dir, true, &err) || !realpath(dir, abs_dir)) {
+    if (gr_output_dir_prepare(dir, GR_OUTPUT_CAMPAIGN, false, &err) || !realpath(dir, abs_dir)) {
         cli_error("reproduce: %s: %s", dir, err.message[0] ? err.message : "cannot resolve the folder");
         free(c);
-        return EXIT_FAILED;
+        return err.code ? cli_exit_code(err.code) : EXIT_FAILED;
     }
     snprintf(res_dir, sizeof res_dir, "%s", results ? results : "");
     if (!results) {

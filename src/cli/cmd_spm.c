@@ -152,7 +152,7 @@ static int cmd_circle(int argc, char **argv)
         cli_error("%s", err.message);
         return EXIT_REFUSED;
     }
-    if (gr_output_dir_prepare(o.out, o.force, &err)) {
+    if (gr_output_dir_prepare(o.out, GR_OUTPUT_RESULT, o.force, &err)) {
         cli_error("%s", err.message);
         return spm_exit_code(&err);
     }
@@ -243,7 +243,7 @@ static int cmd_predict(int argc, char **argv)
         cli_error("%s", err.message);
         return spm_exit_code(&err);
     }
-    if (gr_output_dir_prepare(out, force, &err) || gr_spm_predict_write(out, &p, &r, plots, &err)) {
+    if (gr_output_dir_prepare(out, GR_OUTPUT_RESULT, force, &err) || gr_spm_predict_write(out, &p, &r, plots, &err)) {
         cli_error("%s", err.message);
         return spm_exit_code(&err);
     }

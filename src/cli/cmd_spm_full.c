@@ -174,7 +174,7 @@ int cmd_spm_full(int argc, char **argv)
     gr_spm_full_report r;
     int rc = gr_spm_full_prepare(&p, &r, &err);
     if (!rc) {
-        rc = gr_output_dir_prepare(o.out, o.force, &err);
+        rc = gr_output_dir_prepare(o.out, GR_OUTPUT_RESULT, o.force, &err);
     }
     if (!rc) {
         spm_progress_on(&o, "spm full");

@@ -93,9 +93,9 @@ static int hash_points(const sweep *s, uint64_t *hash, double *guess, long from,
 static int run_one(const sweep *s, long k, const uint64_t *hash, const char *runner)
 {
     gr_error err = {0};
-    if (gr_output_dir_prepare(s->out, true, &err)) {
+    if (gr_output_dir_prepare(s->out, GR_OUTPUT_SWEEP, s->force, &err)) {
         cli_error("sweep: %s", err.message);
-        return EXIT_FAILED;
+        return cli_exit_code(err.code);
     }
     char why[800];
     if (!s->force && sweep_point_state(s, k, hash[k], why, sizeof why) == POINT_COMPLETED) {
@@ -243,9 +243,9 @@ int cmd_sweep(int argc, char **argv)
         s->jobs = (int)sysconf(_SC_NPROCESSORS_ONLN);
     }
     gr_error err = {0};
-    if (gr_output_dir_prepare(s->out, true, &err)) {
+    if (gr_output_dir_prepare(s->out, GR_OUTPUT_SWEEP, s->force, &err)) {
         cli_error("sweep: %s", err.message);
-        rc = EXIT_FAILED;
+        rc = cli_exit_code(err.code);
         goto done;
     }
     fprintf(stderr, "sweep: %ld points (%d keys x %d seeds), %d parallel runs, into %s\n", s->n_points, s->n_keys, s->n_seeds,

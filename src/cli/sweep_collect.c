@@ -274,9 +274,9 @@ int sweep_collect(const sweep *s, const uint64_t *hash, long *n_bad)
 {
     gr_error err = {0};
     *n_bad = s->n_points;
-    if (gr_output_dir_prepare(s->out, true, &err)) {
+    if (gr_output_dir_prepare(s->out, GR_OUTPUT_SWEEP, s->force, &err)) {
         cli_error("sweep: %s", err.message);
-        return EXIT_FAILED;
+        return cli_exit_code(err.code);
     }
     const char **status = calloc((size_t)s->n_points, sizeof *status);
     long *missing = calloc((size_t)s->n_points, sizeof *missing), *failed = calloc((size_t)s->n_points, sizeof *failed);

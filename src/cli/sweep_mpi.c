@@ -88,9 +88,9 @@ int sweep_mpi_run(sweep *s, const uint64_t *hash, const double *guess, int *argc
     int rc = EXIT_OK;
     if (rank == 0) {
         gr_error err = {0};
-        if (gr_output_dir_prepare(s->out, true, &err)) {
+        if (gr_output_dir_prepare(s->out, GR_OUTPUT_SWEEP, s->force, &err)) {
             cli_error("sweep: %s", err.message);
-            MPI_Abort(MPI_COMM_WORLD, EXIT_FAILED);
+            MPI_Abort(MPI_COMM_WORLD, cli_exit_code(err.code));
         }
         fprintf(stderr, "sweep: %ld points (%d keys x %d seeds) over %d MPI ranks, into %s\n", s->n_points, s->n_keys,
                 s->n_seeds, size, s->out);

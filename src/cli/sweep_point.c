@@ -362,7 +362,7 @@ int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c
         return GR_EINVAL;
     }
     c->hash = gr_scene_hash(&sc);
-    int rc = gr_output_dir_prepare(dir, true, err);
+    int rc = gr_output_dir_prepare(dir, GR_OUTPUT_ANY, true, err);
     char who[400] = "";
     rc = rc ? rc : claim(dir, k, &c->lock_fd, who, sizeof who, err);
     if (rc == SWEEP_CLAIMED_ELSEWHERE) {

@@ -111,7 +111,7 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export
     return gr_file_commit(&f, err);
 }
 
-int gr_export_lammps(const gr_scene *scene, const char *dir, gr_lammps_export *info, gr_error *err)
+int gr_export_lammps(const gr_scene *scene, const char *dir, bool force, gr_lammps_export *info, gr_error *err)
 {
     memset(info, 0, sizeof *info);
     int rc = refuse_unmappable(scene, err);
@@ -138,7 +138,7 @@ int gr_export_lammps(const gr_scene *scene, const char *dir, gr_lammps_export *i
     snprintf(info->deck, sizeof info->deck, "%.1080s/in.granule", dir);
     snprintf(info->data, sizeof info->data, "%.1080s/data.granule", dir);
     gr_particles p = gr_sim_particles(sim);
-    rc = gr_output_dir_prepare(dir, true, err);
+    rc = gr_output_dir_prepare(dir, GR_OUTPUT_LAMMPS, force, err);
     if (!rc) {
         rc = write_data(dir, &s, &p, err);
     }

@@ -1,6 +1,8 @@
 /* Atomic output files and output-folder checks: a reader never sees a half-written file, and a
  * full disk or unwritable folder is reported with the path and the system's reason. */
 #include <cjson/cJSON.h>
+#include <ctype.h>
+#include <dirent.h>
 #include <errno.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -10,6 +12,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "io/checkpoint.h"
+#include "io/dir_lock.h"
 #include "io/files.h"
 
 int gr_file_open(gr_file *out, const char *dir, const char *name, gr_error *err)
@@ -207,20 +211,222 @@ int gr_output_path_check(const char *dir, gr_error *err)
     return *dir ? GR_OK : GR_FAIL(err, GR_EINVAL, "output folder: empty name");
 }
 
-int gr_output_dir_prepare(const char *dir, bool force, gr_error *err)
+static bool has(const char *dir, const char *name)
+{
+    char path[1400];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    struct stat st;
+    return lstat(path, &st) == 0;
+}
+
+/* a sweep point's folder name: p and four or more digits */
+static bool point_name(const char *name)
+{
+    size_t n = strlen(name);
+    return name[0] == 'p' && n >= 5 && strspn(name + 1, "0123456789") == n - 1;
+}
+
+gr_output_kind gr_output_dir_kind(const char *dir, char *what, size_t len)
+{
+    static const struct {
+        const char *name;
+        gr_output_kind kind;
+    } marks[] = {{"compare.json", GR_OUTPUT_COMPARE}, {"compare.md", GR_OUTPUT_COMPARE}, {"compare.csv", GR_OUTPUT_COMPARE},
+                 {"sweep.ini", GR_OUTPUT_CAMPAIGN},   {"sweep.csv", GR_OUTPUT_SWEEP},    {"in.granule", GR_OUTPUT_LAMMPS},
+                 {"data.granule", GR_OUTPUT_LAMMPS},  {"cost.json", GR_OUTPUT_RESULT}};
+    snprintf(what, len, "%s", "");
+    for (size_t i = 0; i < sizeof marks / sizeof marks[0]; i++) {
+        if (has(dir, marks[i].name)) {
+            snprintf(what, len, "%s", marks[i].name);
+            return marks[i].kind;
+        }
+    }
+    DIR *d = opendir(dir);
+    for (struct dirent *de; d && (de = readdir(d));) {
+        char sub[600];
+        snprintf(sub, sizeof sub, "%.300s/point.json", de->d_name);
+        if (point_name(de->d_name) && has(dir, sub)) {
+            snprintf(what, len, "%s", sub);
+            closedir(d);
+            return GR_OUTPUT_SWEEP;
+        }
+    }
+    if (d) {
+        closedir(d);
+    }
+    const bool summary = has(dir, "summary.json"), scene = has(dir, "scene.ini");
+    const char *run = summary && scene ? "summary.json"
+                    : scene           ? "scene.ini"
+                    : has(dir, GR_CHECKPOINT_NAME) ? GR_CHECKPOINT_NAME
+                                                   : NULL;
+    if (run || summary) {
+        snprintf(what, len, "%s", run ? run : "summary.json");
+        return run ? GR_OUTPUT_RUN : GR_OUTPUT_RESULT;
+    }
+    return GR_OUTPUT_NONE;
+}
+
+const char *gr_output_kind_name(gr_output_kind kind)
+{
+    switch (kind) {
+    case GR_OUTPUT_RUN: return "a run";
+    case GR_OUTPUT_COMPARE: return "a comparison";
+    case GR_OUTPUT_SWEEP: return "a sweep";
+    case GR_OUTPUT_CAMPAIGN: return "a campaign of granule reproduce";
+    case GR_OUTPUT_LAMMPS: return "a LAMMPS export";
+    case GR_OUTPUT_RESULT: return "the results of a granule command";
+    default: return "nothing of granule's";
+    }
+}
+
+/* the folders' lock files (src/io/dir_lock.h): kept when a folder is emptied */
+static bool lock_name(const char *name)
+{
+    return !strcmp(name, ".run.lock") || !strcmp(name, ".point.lock");
+}
+
+/* A name granule writes into an output folder: its tables, notes, scenes, plots, trajectories,
+ * checkpoints, LAMMPS files, lock files and partial files NAME.tmpPID. */
+static bool own_name(const char *name)
+{
+    static const char *const ext[] = {".csv", ".json", ".png", ".svg", ".pdf", ".gp", ".dat", ".xyz", ".h5", ".granule",
+                                      ".lammpstrj", ".lammps"};
+    const char *tmp = strstr(name, ".tmp");
+    if (tmp && tmp > name && (!tmp[4] || strspn(tmp + 4, "0123456789") == strlen(tmp + 4))) {
+        return true; /* NAME.tmpPID, checkpoint.tmp */
+    }
+    if (lock_name(name) || !strcmp(name, GR_CHECKPOINT_NAME) || !strncmp(name, ".granule-write-test.", 20) ||
+        !strcmp(name, "scene.ini") || !strcmp(name, "sweep.ini") || !strcmp(name, "compare.md")) {
+        return true; /* not any *.ini or *.md: a user's scene file or notes may sit beside the results */
+    }
+    const char *dot = strrchr(name, '.');
+    for (size_t i = 0; dot && dot > name && i < sizeof ext / sizeof ext[0]; i++) {
+        if (!strcmp(dot, ext[i])) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* Everything under dir granule's own (sub-folders too, to `depth` levels)? If not, *bad names the
+ * first entry that is not (a foreign file, or a folder where a run is still going: *busy). */
+static bool all_own(const char *dir, int depth, char *bad, size_t len, bool *busy)
+{
+    DIR *d = opendir(dir);
+    if (!d) {
+        snprintf(bad, len, "%s (unreadable: %s)", dir, strerror(errno));
+        return false;
+    }
+    bool ok = true;
+    char holder[400];
+    for (struct dirent *de; ok && (de = readdir(d));) {
+        if (!strcmp(de->d_name, ".") || !strcmp(de->d_name, "..")) {
+            continue;
+        }
+        char path[1400];
+        snprintf(path, sizeof path, "%.1100s/%.290s", dir, de->d_name);
+        struct stat st;
+        if (lstat(path, &st) != 0) {
+            continue; /* gone meanwhile */
+        }
+        if (S_ISDIR(st.st_mode)) {
+            ok = depth > 0 && all_own(path, depth - 1, bad, len, busy);
+            if (!ok && !bad[0]) {
+                snprintf(bad, len, "%s", path);
+            }
+        } else if (!strcmp(de->d_name, ".run.lock") && gr_dir_lock_held(dir, de->d_name, holder, sizeof holder)) {
+            ok = false;
+            *busy = true;
+            snprintf(bad, len, "%s", dir);
+        } else if (!own_name(de->d_name) || !(S_ISREG(st.st_mode) || S_ISLNK(st.st_mode))) {
+            ok = false;
+            snprintf(bad, len, "%s", path);
+        }
+    }
+    closedir(d);
+    return ok;
+}
+
+/* Remove everything under dir (checked by all_own), but the lock files at its top and a sweep
+ * point's manifest point.json, which the sweep holding the point rewrites. */
+static int empty_dir(const char *dir, bool top, gr_error *err)
+{
+    DIR *d = opendir(dir);
+    if (!d) {
+        return GR_FAIL(err, GR_EIO, "cannot empty output folder %s: %s", dir, strerror(errno));
+    }
+    int rc = GR_OK;
+    for (struct dirent *de; !rc && (de = readdir(d));) {
+        if (!strcmp(de->d_name, ".") || !strcmp(de->d_name, "..") ||
+            (top && (lock_name(de->d_name) || (!strcmp(de->d_name, "point.json") && has(dir, ".point.lock"))))) {
+            continue;
+        }
+        char path[1400];
+        snprintf(path, sizeof path, "%.1100s/%.290s", dir, de->d_name);
+        struct stat st;
+        if (lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+            rc = empty_dir(path, false, err);
+            if (!rc && rmdir(path) != 0 && errno != ENOENT) {
+                rc = GR_FAIL(err, GR_EIO, "cannot remove %s: %s", path, strerror(errno));
+            }
+        } else if (unlink(path) != 0 && errno != ENOENT) {
+            rc = GR_FAIL(err, GR_EIO, "cannot remove %s: %s", path, strerror(errno));
+        }
+    }
+    closedir(d);
+    return rc;
+}
+
+/* The folder check of gr_output_dir_prepare: refuse, empty or leave dir as it is. */
+static int claim_dir(const char *dir, gr_output_kind kind, bool force, gr_error *err)
+{
+    char what[400];
+    const gr_output_kind held = gr_output_dir_kind(dir, what, sizeof what);
+    if (held == GR_OUTPUT_NONE) {
+        return GR_OK; /* nothing of granule's is replaced (a user's own files stay) */
+    }
+    /* continued in place: a sweep or campaign rerun (finished points are kept; --force reruns
+     * them), a run that left no result (emptied below: nothing can continue it) */
+    const bool again = held == kind && (kind == GR_OUTPUT_SWEEP || kind == GR_OUTPUT_CAMPAIGN ||
+                                        (kind == GR_OUTPUT_RUN && !has(dir, "summary.json") && !has(dir, GR_CHECKPOINT_NAME)));
+    if (again && kind != GR_OUTPUT_RUN) {
+        return GR_OK;
+    }
+    if (!again && !force) {
+        return GR_FAIL(err, GR_EINVAL, "output folder %s already holds %s (%s); choose another folder%s", dir,
+                       gr_output_kind_name(held), what,
+                       kind == GR_OUTPUT_CAMPAIGN ? "" : " or pass --force to replace it (it is emptied first)");
+    }
+    char bad[1500] = "";
+    bool busy = false;
+    if (again && !force && !has(dir, ".run.lock")) {
+        return GR_OK; /* a scene.ini no run of granule's wrote beside (a user's folder): left as it is */
+    }
+    if (!all_own(dir, 6, bad, sizeof bad, &busy)) {
+        if (again) {
+            return GR_OK; /* a killed run's folder with files of the user's: kept, as it is */
+        }
+        if (busy) {
+            return GR_FAIL(err, GR_EINVAL, "output folder %s holds %s with a run still going in %s (.run.lock): "
+                           "--force does not replace it; wait for it to finish, or choose another folder", dir,
+                           gr_output_kind_name(held), bad);
+        }
+        return GR_FAIL(err, GR_EINVAL, "output folder %s holds %s (%s) and also %s, which granule did not write: --force "
+                       "replaces only a folder of granule's own outputs; move that away or choose another folder", dir,
+                       gr_output_kind_name(held), what, bad);
+    }
+    return empty_dir(dir, true, err);
+}
+
+int gr_output_dir_prepare(const char *dir, gr_output_kind kind, bool force, gr_error *err)
 {
     int rc = gr_output_path_check(dir, err);
+    rc = rc || kind == GR_OUTPUT_ANY ? rc : claim_dir(dir, kind, force, err);
     rc = rc ? rc : mkdir_p(dir, err);
     if (rc) {
         return rc;
     }
     char probe[1200];
-    snprintf(probe, sizeof probe, "%s/summary.json", dir);
-    if (!force && access(probe, F_OK) == 0) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "output folder %s already holds a run (summary.json); choose another folder or pass --force to overwrite it",
-                       dir);
-    }
     snprintf(probe, sizeof probe, "%s/.granule-write-test.%ld", dir, (long)getpid());
     int fd = open(probe, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd < 0) {

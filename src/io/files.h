@@ -41,8 +41,33 @@ int gr_file_fail(const char *path, int errnum, gr_error *err);
  * unreadable, so the run could never be resumed): GR_EINVAL naming the byte. */
 int gr_output_path_check(const char *dir, gr_error *err);
 
-/* Create dir (and parents); refuse a folder holding another run's summary.json unless force;
- * prove it is writable. */
-int gr_output_dir_prepare(const char *dir, bool force, gr_error *err);
+/* What granule wrote into an output folder, told by the files at its top (docs/architecture.md,
+ * "Output folders"). */
+typedef enum gr_output_kind {
+    GR_OUTPUT_ANY = -1, /* gr_output_dir_prepare only: a sub-folder a command manages itself (no check) */
+    GR_OUTPUT_NONE,     /* absent, empty, or nothing granule wrote */
+    GR_OUTPUT_RUN,      /* granule run: summary.json with scene.ini, scene.ini, checkpoint */
+    GR_OUTPUT_COMPARE,  /* granule compare: compare.json, compare.md, compare.csv */
+    GR_OUTPUT_SWEEP,    /* granule sweep: sweep.csv, pNNNN/point.json */
+    GR_OUTPUT_CAMPAIGN, /* granule reproduce: sweep.ini (with scene.ini, runs/, results/) */
+    GR_OUTPUT_LAMMPS,   /* granule export lammps: in.granule, data.granule */
+    GR_OUTPUT_RESULT,   /* another command's results: summary.json without scene.ini, cost.json */
+} gr_output_kind;
+
+/* The kind of output dir holds; what (len bytes) gets the file that tells it ("" for NONE). */
+gr_output_kind gr_output_dir_kind(const char *dir, char *what, size_t len);
+/* "a run", "a comparison", ... */
+const char *gr_output_kind_name(gr_output_kind kind);
+
+/* Create dir (and parents) for a result of `kind` and prove it is writable. A folder holding a
+ * result (gr_output_dir_kind) is refused (GR_EINVAL, naming the folder, what it holds and
+ * --force) unless force; with force it is emptied as a whole first (its lock files kept), but
+ * only when everything in it is granule's own output (names granule writes: *.csv, *.json,
+ * *.ini, *.png, ...; symbolic links are removed, never followed) and no run in it is still
+ * going: otherwise it is refused even with force. Not refused, and not emptied: a folder of the same kind that a
+ * command continues (a sweep or campaign rerun into its own folder, a run that left no
+ * summary.json and no checkpoint: emptied), a folder holding nothing granule wrote. kind
+ * GR_OUTPUT_ANY only creates and probes (sub-folders a command manages itself). */
+int gr_output_dir_prepare(const char *dir, gr_output_kind kind, bool force, gr_error *err);
 
 #endif

@@ -123,7 +123,7 @@ static int open_run(gr_run_ctx *c)
     rc = rc ? rc : gr_run_schedule_make(scene, c->dt, &c->plan, c->res->notes, sizeof c->res->notes, err);
     const bool resume = c->resume;
     rc = rc || resume ? rc : gr_run_checkpoint_guard(c->dir, opt && opt->force, err);
-    rc = rc || resume ? rc : gr_output_dir_prepare(c->dir, opt && opt->force, err);
+    rc = rc || resume ? rc : gr_output_dir_prepare(c->dir, GR_OUTPUT_RUN, opt && opt->force, err);
     if (!rc) {
         rc = gr_dir_lock(c->dir, RUN_LOCK, &c->lock_fd, holder, sizeof holder, err);
         if (rc == GR_LOCK_HELD) {

@@ -289,6 +289,12 @@ int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoi
         }
     }
     /* a run stopped by a failed write (a full disk) kept its checkpoint: it continues */
+    if (sf && (!strcmp(status, "failed") || !strcmp(status, "interrupted")) && !gr_run_checkpoint_present(dir)) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: this run stopped (summary.json, status %s) before its first checkpoint, so it cannot be "
+                       "continued: start it again with granule run %s/scene.ini --out %s --force",
+                       dir, status, dir, dir);
+    }
     if (sf && strcmp(status, GR_RUN_STATUS_WRITE_FAILED) != 0) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: this run has finished (summary.json, status %s): there is nothing to resume and its "

@@ -199,8 +199,8 @@ static int exit_status(gr_run_ctx *c, bool write_stop, double t_stop, int io, co
     if (strcmp(c->status, "interrupted") == 0) { /* stopped without a checkpoint */
         return GR_FAIL(c->err, GR_EIO, "%.600s (outputs so far written; this run cannot be resumed)", c->diagnosis);
     }
-    if (strcmp(c->status, "failed") == 0 && !io) {
-        *c->err = c->step_err;
+    if (strcmp(c->status, "failed") == 0) {
+        *c->err = c->step_err.code ? c->step_err : *io_err; /* an observer's sample, or a final write */
         return GR_EIO;
     }
     if (r->j || r->t || r->l || r->b || r->s || r->o || r->i) {
@@ -239,6 +239,11 @@ int gr_run_finish(gr_run_ctx *c)
     }
     if (write_stop) {
         c->status = GR_RUN_STATUS_WRITE_FAILED;
+    } else if (strcmp(c->status, "completed") == 0 && (r.j || r.t || r.l || r.b || r.o || r.i)) {
+        /* no checkpoint to keep: the run failed (exit 1), and --force starts it again; never
+         * "completed" with outputs missing */
+        c->status = "failed";
+        snprintf(c->diagnosis, sizeof c->diagnosis, "%s", io_err.message);
     }
     char picture_note[900] = "";
     if (c->scene->plots && c->snap_index > 0 && !write_stop) {

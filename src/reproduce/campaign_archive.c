@@ -75,7 +75,7 @@ int campaign_archive(const gr_campaign *c, const campaign_points *pts, const cha
 {
     char dir[1200];
     snprintf(dir, sizeof dir, "%.1100s/points", results);
-    int rc = gr_output_dir_prepare(dir, true, err);
+    int rc = gr_output_dir_prepare(dir, GR_OUTPUT_ANY, true, err);
     for (int i = 0; i < pts->n && !rc; i++) {
         const char *base = strrchr(pts->p[i].dir, '/');
         char name[80];
@@ -125,7 +125,7 @@ int gr_campaign_restore(const char *dir, const char *results, long *restored, gr
         const cJSON *m = cJSON_GetObjectItem(j, "point"), *s = cJSON_GetObjectItem(j, "summary");
         if (!cJSON_IsObject(m) || !cJSON_IsObject(s)) {
             rc = j ? GR_FAIL(err, GR_EINVAL, "%s: not an archived point (point and summary objects)", path) : GR_EIO;
-        } else if (!(rc = gr_output_dir_prepare(point_dir, true, err)) && !(rc = gr_json_write(point_dir, "summary.json", s, err)) &&
+        } else if (!(rc = gr_output_dir_prepare(point_dir, GR_OUTPUT_ANY, true, err)) && !(rc = gr_json_write(point_dir, "summary.json", s, err)) &&
                    !(rc = cJSON_IsObject(cJSON_GetObjectItem(j, "series"))
                               ? gr_json_write(point_dir, "series.json", cJSON_GetObjectItem(j, "series"), err)
                               : GR_OK)) {

@@ -500,7 +500,7 @@ long gr_campaign_points(const gr_campaign *c, gr_fidelity fid)
 int gr_campaign_materialise(const gr_campaign *c, gr_fidelity fid, const char *dir, char *sweep_path, size_t len,
                             gr_error *err)
 {
-    int rc = gr_output_dir_prepare(dir, true, err);
+    int rc = gr_output_dir_prepare(dir, GR_OUTPUT_ANY, true, err);
     if (rc) {
         return rc;
     }

@@ -317,7 +317,7 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
         return rc;
     }
     *finished = pts.n;
-    if ((rc = gr_output_dir_prepare(results, true, err))) {
+    if ((rc = gr_output_dir_prepare(results, GR_OUTPUT_ANY, true, err))) {
         campaign_points_free(&pts);
         return rc;
     }
