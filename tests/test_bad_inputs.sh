@@ -217,6 +217,13 @@ base | bisect --out $O --levels 0 | 2 | levels | new
 base | cascade --out $O --levels 20 | 2 | levels | new
 base | fokker-planck --out $O --length -1 | 2 | length | new
 base | bench bogus | 2 | bogus | new
+base | collide --speed 1e6 | 2 | passed through each other;tunnelled;--dt | new
+base | collide --speeds 1,1e6 | 2 | 1e+06 m/s;tunnelled | new
+base | collide --dt 1e-20 | 2 | dt = 1e-20 s;more than the 1e+07;--dt | new
+base | collide --speed 10 --angle 89.999 --model spring_dashpot+tangential_spring | 2 | grazing;turned;--angle | new
+base | collide --speed 1 --angle 89.999 --model spring_dashpot+tangential_spring | 2 | never came into contact;--angle | new
+base | collide --phases 1000000000 | 2 | --phases 1000000000;from 1 to 1000 | new
+base | collide --phases 1e300 | 2 | --phases;from 1 to 1000 | new
 TABLE
 )
 # a note (or thesis, about) continued over lines to more than its 2047 characters is refused, not cut
