@@ -21,6 +21,7 @@
 
 #include "core/sim_state.h"
 #include "io/blob.h"
+#include "io/files.h"
 #include "io/run_checkpoint.h"
 #include "io/scene_json.h"
 
@@ -276,7 +277,8 @@ int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoi
     *buf = NULL;
     char path[1200];
     snprintf(path, sizeof path, "%s/summary.json", dir);
-    FILE *sf = fopen(path, "r");
+    int why;
+    FILE *sf = gr_input_fopen(path, &why);
     char status[64] = "?";
     if (sf) {
         char head[4096] = "";

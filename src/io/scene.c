@@ -523,16 +523,18 @@ static char *read_line(char *str, int num, void *stream)
 }
 
 /* A scene is a regular file (not a folder, device or pipe) that is not empty. */
-static int check_scene_file(FILE *f, const char *path, gr_error *err)
+/* Open the scene file without blocking on a FIFO; anything but a regular file is refused. */
+static int open_scene_file(const char *path, FILE **f, gr_error *err)
 {
-    struct stat st;
-    if (fstat(fileno(f), &st) != 0) {
-        return GR_FAIL(err, GR_EIO, "%s: cannot read scene file: %s", path, strerror(errno));
+    int why = 0;
+    *f = gr_input_fopen(path, &why);
+    if (*f) {
+        return GR_OK;
     }
-    if (!S_ISREG(st.st_mode)) {
+    if (why < 0) {
         return GR_FAIL(err, GR_EINVAL, "%s: not a regular file (a scene is an INI file, see docs/scene-keys.md)", path);
     }
-    return GR_OK;
+    return GR_FAIL(err, GR_EIO, "%s: cannot open scene file: %s", path, strerror(why));
 }
 
 static void apply_defaults(loader *ld)
@@ -727,11 +729,11 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
     loader ld = {.scene = s, .err = err, .rc = GR_OK, .file = path};
     if (path) {
         snprintf(s->source, sizeof s->source, "%s", path);
-        FILE *f = in ? in : fopen(path, "r");
-        if (!f) {
-            return GR_FAIL(err, GR_EIO, "%s: cannot open scene file: %s", path, strerror(errno));
+        FILE *f = in;
+        int rc = in ? GR_OK : open_scene_file(path, &f, err);
+        if (rc) {
+            return rc;
         }
-        int rc = in ? GR_OK : check_scene_file(f, path, err);
         line_reader r = {{.f = f}, &ld};
         int bad = rc ? 0 : ini_parse_stream(read_line, &r, scene_ini_line, &ld);
         const bool content = r.lines.content;
@@ -978,7 +980,8 @@ void gr_scene_saved_warnings(gr_scene *s, const char *dir)
 {
     char path[1200], line[1200];
     snprintf(path, sizeof path, "%.1100s/scene.ini", dir);
-    FILE *f = fopen(path, "r");
+    int why;
+    FILE *f = gr_input_fopen(path, &why);
     if (!f) {
         return;
     }
