@@ -300,8 +300,28 @@ base | sweep $TMP/fifo.ini | 2 | fifo.ini: not a regular file | new
 base | reproduce $TMP/fifo.ini --out $O | 2 | fifo.ini: not a campaign file;not a regular file | new
 base | cost $TMP/fifo.ini --out $O | 2 | fifo.ini: not a regular file | new
 base | sweep $TMP/fifo-scene-sweep.ini | 2 | fifo.ini: not a regular file | new
+base | run --resume $O | 2 | temperature.csv.tmp;No such file | notmp
+base | run --resume $O | 2 | checkpoint;symbolic links | ckloop
+base | run $S --out $O --set model.k_s=1e308 | 2 | k_s = 1e+308 N/m;w0;allowed;!-nan;!dt = 0 s | new
+base | run $S --out $O --set system.radius=1e308 | 2 | [system] radius;[1e-100, 1e+100];!-nan;!reduced_length | new
+base | run $S --out $O --set system.mass=1e-300 | 2 | [system] mass;[1e-100, 1e+100] | new
+file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[run\nduration = 0.01\n | run $S --out $O | 2 | :5:;unterminated section header '[run';!unknown key | new
+base | run $S --out $O --set model.normal=hard_sphere --set model.tangential=none --set integrator.kind=event --set model.eps_n=1.5 | 2 | eps_n;hard_sphere: (0, 1] | new
+base | collide --model hard_sphere --eps-n 1.5 | 2 | --eps-n;(0, 1] | new
+base | cost $S --out $TMP/a-file | 2 | a-file exists but is not a folder;!calibrating | new
+base | run $S --out | 2 | --out needs a value;!unknown option | new
+base | compare $S --models | 2 | --models needs a value | new
+base | collide --speed | 2 | --speed needs a value | new
+base | reproduce ch3-moments --out | 2 | --out needs a value | new
 TABLE
 )
+: >"$TMP/a-file"
+# a run stopped by its wall limit (exit 4, with a checkpoint), then damaged: its temporary
+# temperature.csv lost, or its checkpoint a symlink loop (docs/checkpoints.md: exit 2)
+"$G" run "$BASE" --out "$TMP/fixture-stopped" --set run.duration=1000 --wall-limit 2 >/dev/null 2>&1
+[[ $? == 4 && -f $TMP/fixture-stopped/checkpoint ]] || { echo "FAIL: fixture stopped by its wall limit" >&2; exit 1; }
+cp -a "$TMP/fixture-stopped" "$TMP/fixture-notmp" && rm "$TMP"/fixture-notmp/temperature.csv.tmp*
+cp -a "$TMP/fixture-stopped" "$TMP/fixture-ckloop" && rm "$TMP/fixture-ckloop/checkpoint" && ln -s checkpoint "$TMP/fixture-ckloop/checkpoint"
 
 [[ ${2:-} == --list ]] && { printf '%s\n' "$cases"; exit 0; }
 passed=0 failed=0 i=0

@@ -303,14 +303,18 @@ int cmd_collide(int argc, char **argv)
                 return EXIT_REFUSED;
             }
         } else {
-            cli_error("collide: unknown or incomplete option %s", a);
+            if (!cli_missing_value("collide", a, "--case --model --eps-n --eps-t --mu --k --dt --steps-per-contact --mass --radius "
+                                   "--dim --phases --set --speeds --speed --angle --omega1 --omega2 --rtol", !v)) {
+                cli_error("collide: unknown or incomplete option %s", a);
+            }
             usage(stderr);
             return EXIT_REFUSED;
         }
     }
     /* validate like a scene would */
     if (!(s.contact.eps_n >= 0.0 && s.contact.eps_n <= 1.0) || !(s.contact.eps_t >= 0.0 && s.contact.eps_t <= 1.0)) {
-        cli_error("collide: --eps-n and --eps-t must lie in [0, 1]");
+        cli_error("collide: --eps-n %g, --eps-t %g: allowed ranges (0, 1] for --eps-n, [0, 1] for --eps-t", s.contact.eps_n,
+                  s.contact.eps_t);
         return EXIT_REFUSED;
     }
     if (!(s.contact.k_s > 0.0) || !(s.mass > 0.0) || !(s.radius > 0.0) || s.dt < 0.0 || !(s.contact.mu >= 0.0) ||

@@ -146,7 +146,9 @@ int cmd_plot(int argc, char **argv)
         } else if (argv[i][0] != '-' && !dir) {
             dir = argv[i];
         } else {
-            cli_error("plot: unexpected argument %s (usage: granule plot DIR [--format png|svg|pdf])", argv[i]);
+            if (!cli_missing_value("plot", argv[i], "--format", i + 1 >= argc)) {
+                cli_error("plot: unexpected argument %s (usage: granule plot DIR [--format png|svg|pdf])", argv[i]);
+            }
             return EXIT_REFUSED;
         }
     }

@@ -150,7 +150,9 @@ int cmd_sweep(int argc, char **argv)
         } else if (argv[i][0] != '-' && !file) {
             file = argv[i];
         } else {
-            cli_error("sweep: unexpected argument %s; see granule sweep --help", argv[i]);
+            if (!cli_missing_value("sweep", argv[i], "--jobs --point --array-base", i + 1 >= argc)) {
+                cli_error("sweep: unexpected argument %s; see granule sweep --help", argv[i]);
+            }
             return EXIT_REFUSED;
         }
     }

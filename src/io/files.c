@@ -288,3 +288,13 @@ int gr_input_check(const char *path, const char *what, gr_error *err)
     }
     return rc;
 }
+
+int gr_output_dir_precheck(const char *dir, gr_error *err)
+{
+    int rc = gr_output_path_check(dir, err);
+    struct stat st;
+    if (!rc && stat(dir, &st) == 0 && !S_ISDIR(st.st_mode)) {
+        rc = GR_FAIL(err, GR_EINVAL, "output folder %s exists but is not a folder; choose another --out", dir);
+    }
+    return rc;
+}

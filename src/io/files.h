@@ -53,6 +53,10 @@ int gr_output_dir_prepare(const char *dir, bool force, gr_error *err);
  * a regular file (a WHAT must be ...)" (GR_EINVAL) and "PATH: cannot open WHAT: REASON" (GR_EINVAL
  * when it does not exist, GR_EIO otherwise). gr_input_check: open and close (for readers that open
  * the path themselves, such as HDF5). */
+/* Before long work whose results go to dir: refuse a bad name or a path that exists and is not a
+ * folder (GR_EINVAL), without creating anything (gr_output_dir_prepare does that afterwards). */
+int gr_output_dir_precheck(const char *dir, gr_error *err);
+
 FILE *gr_input_fopen(const char *path, int *why);
 int gr_input_open(const char *path, const char *what, FILE **out, gr_error *err);
 int gr_input_check(const char *path, const char *what, gr_error *err);
