@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "io/files.h"
 #include "io/picture.h"
 #include "io/plot.h"
 
@@ -23,7 +24,7 @@ static int redraw_scripts(const char *dir, int *drawn)
         return 0;
     }
     for (size_t k = 0; k < g.gl_pathc; k++) {
-        FILE *f = fopen(g.gl_pathv[k], "r");
+        FILE *f = gr_input_fopen(g.gl_pathv[k], &(int){0});
         if (!f) {
             failures++;
             continue;
