@@ -313,6 +313,8 @@ base | run $S --out | 2 | --out needs a value;!unknown option | new
 base | compare $S --models | 2 | --models needs a value | new
 base | collide --speed | 2 | --speed needs a value | new
 base | reproduce ch3-moments --out | 2 | --out needs a value | new
+file:[sweep]\n[vary]\nsystem.N = 10\n | sweep $S --array-base 99999999999999999999 --point 0 | 2 | --array-base;up to 1000000000000 | new
+file:[sweep]\n[vary]\nsystem.N = 10\n | sweep $S --point 99999999999999999999 | 2 | --point;up to 1000000000000 | new
 TABLE
 )
 : >"$TMP/a-file"
