@@ -293,6 +293,7 @@ base | analyse $O --set analysis.observables=moments --set integrator.dt=1e-6 --
 base | analyse $O --set analysis.observables=moments --set integrator.dt=1e-6 --lammps-dump $O/fifo.dump | 2 | fifo.dump: not a regular file | dumps
 base | analyse $O --set analysis.observables=moments --set integrator.dt=1e-6 --lammps-dump $O/nosuch.dump | 2 | nosuch.dump: cannot open | dumps
 base | analyse $O --set analysis.observables=moments --out | 2 | --out needs a value;!unexpected argument | snaps
+base | analyse $O --set analysis.observables=moments --out $TMP/a-file | 2 | a-file exists but is not a folder | snaps
 base | analyse $O --set analysis.observables=moments --lammps-dump $O/ok.dump | 2 | ok.dump;integrator.dt unset;--set integrator.dt | dumps
 base | run --resume $O | 2 | checkpoint;not a regular file | ckfifo
 base | run $TMP/fifo.ini --out $O | 2 | fifo.ini: not a regular file | new

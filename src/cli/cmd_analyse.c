@@ -168,7 +168,7 @@ int cmd_analyse(int argc, char **argv)
         snprintf(outbuf, sizeof outbuf, "%.1150s/analysis", dir);
         out_dir = outbuf;
     }
-    rc = gr_output_path_check(out_dir, &err);
+    rc = gr_output_dir_precheck(out_dir, &err);
     if (rc) {
         cli_error("analyse: %s", err.message);
         return EXIT_REFUSED;
