@@ -239,6 +239,13 @@ base | bisect --out $O --levels 0 | 2 | levels | new
 base | cascade --out $O --levels 20 | 2 | levels | new
 base | fokker-planck --out $O --length -1 | 2 | length | new
 base | bench bogus | 2 | bogus | new
+base | collide --speed 1e6 | 2 | passed through each other;tunnelled;--dt | new
+base | collide --speeds 1,1e6 | 2 | 1e+06 m/s;tunnelled | new
+base | collide --dt 1e-20 | 2 | dt = 1e-20 s;more than the 1e+07;--dt | new
+base | collide --speed 10 --angle 89.999 --model spring_dashpot+tangential_spring | 2 | grazing;turned;--angle | new
+base | collide --speed 1 --angle 89.999 --model spring_dashpot+tangential_spring | 2 | never came into contact;--angle | new
+base | collide --phases 1000000000 | 2 | --phases 1000000000;from 1 to 1000 | new
+base | collide --phases 1e300 | 2 | --phases;from 1 to 1000 | new
 TABLE
 )
 # a note (or thesis, about) continued over lines to more than its 2047 characters is refused, not cut
@@ -246,6 +253,100 @@ long_line="note = $(printf 'x%.0s' {1..190})\\n"
 long_note="[campaign]\\ntitle = t\\nscene = rfm-1d.ini\\n[result a]\\n"
 for _ in {1..11}; do long_note+=$long_line; done
 cases+=$'\n'"file:$long_note | reproduce \$S --out \$O | 2 | [result a] note;at most 2047 | new"
+
+# Inputs that must be refused without blocking or crashing (issue 39 items 8, 9, 11, 14). FOLDER
+# NAME (not new/run/compare) starts the output folder as a copy of $TMP/fixture-NAME: a run with
+# snapshots whose trajectory or dumps were damaged; `analyse $O` must leave it as it was (no
+# analysis/ folder).
+SNAP="$TMP/snap.ini"
+printf '%s\n' '[system]' 'dim = 2' 'N = 20' 'packing_fraction = 0.1' '[placement]' 'kind = uniform' '[run]' 'warmup = 0' \
+    'duration = 0.01' 'sample_every = 1e-3' '[output]' 'plots = false' 'snapshot_every = 1e-3' >"$SNAP"
+"$G" run "$SNAP" --out "$TMP/fixture-snaps" >/dev/null 2>&1 || { echo "FAIL: fixture run with snapshots" >&2; exit 1; }
+L=$(sed -n 's/^L = //p' "$TMP/fixture-snaps/scene.ini")
+fix() { cp -a "$TMP/fixture-snaps" "$TMP/fixture-$1" && echo "$TMP/fixture-$1"; }
+s3=snapshots/snap_000003.xyz
+sed -i '3s/^X [^ ]*/X 1e308/' "$(fix far)/$s3"
+sed -i '4s/^X [^ ]* [^ ]*/X 0.01 -1e308/' "$(fix fary)/$s3"
+sed -i '2s/Time=[^ ]*/Time=abc/' "$(fix timeabc)/$s3"
+sed -i '2s/Time=[^ ]*/Time=nan/' "$(fix timenan)/$s3"
+sed -i '2s/Time=[^ ]* //' "$(fix notime)/$s3"
+sed -i '2s/Time=[^ ]*/Time=0.0095/' "$(fix order)/$s3"
+sed -i '2s/Lattice="[^ ]*/Lattice="0.5/' "$(fix box)/$s3"
+d=$(fix fifo) && rm "$d/$s3" && mkfifo "$d/$s3"
+d=$(fix ckfifo) && mkfifo "$d/checkpoint" && rm "$d/summary.json"
+# LAMMPS dumps of the same scene: dump STEPS... writes one frame per timestep, BOX its box length
+dump() {
+    local box=$1 step
+    shift
+    for step in "$@"; do
+        printf 'ITEM: TIMESTEP\n%s\nITEM: NUMBER OF ATOMS\n20\nITEM: BOX BOUNDS pp pp pp\n0 %s\n0 %s\n-0.003 0.003\n' "$step" "$box" "$box"
+        printf 'ITEM: ATOMS id x y vx vy\n'
+        for i in $(seq 1 20); do printf '%d 0.00%d 0.00%d 0.1 -0.1\n' "$i" "$i" "$i"; done
+    done
+}
+d=$(fix dumps)
+dump "$L" 1000 2000 3000 >"$d/ok.dump"
+dump "$L" -1000 1000 >"$d/negative.dump"
+dump "$L" 1000 3000 2000 >"$d/decreasing.dump"
+dump "$L" 1000 1000 >"$d/repeated.dump"
+dump 0.5 1000 2000 >"$d/box.dump"
+: >"$d/empty.dump"
+mkdir "$d/folder.dump" && mkfifo "$d/fifo.dump"
+mkfifo "$TMP/fifo.ini"
+printf '[sweep]\nscene = %s\nout = %s\n[vary]\nsystem.N = 10\n' "$TMP/fifo.ini" "$TMP/fifo-sweep-out" >"$TMP/fifo-scene-sweep.ini"
+cases+=$'\n'$(cat <<'TABLE'
+base | analyse $O --set analysis.observables=sk | 2 | snap_*.xyz, frame 4;x = 1e+308;outside the range | far
+base | analyse $O --set analysis.observables=clusters | 2 | frame 4;x = 1e+308 | far
+base | analyse $O --set analysis.observables=pressure,pair,pv | 2 | frame 4;x = 1e+308 | far
+base | analyse $O --set analysis.observables=sk | 2 | frame 4;y = -1e+308 | fary
+base | analyse $O --set analysis.observables=moments | 2 | snap_000003.xyz:2;Time=abc;finite | timeabc
+base | analyse $O --set analysis.observables=moments | 2 | snap_000003.xyz:2;Time=nan;finite | timenan
+base | analyse $O --set analysis.observables=moments | 2 | snap_000003.xyz:2;no Time= | notime
+base | analyse $O --set analysis.observables=moments | 2 | frame 5;not after frame 4;increasing time order | order
+base | analyse $O --set analysis.observables=moments | 2 | frame 4;box length 0.5 m;system.L | box
+base | analyse $O --set analysis.observables=moments --set run.warmup=1 | 2 | none of its 11 frames;run.warmup = 1 s;nothing to analyse | snaps
+base | analyse $O --set analysis.observables=moments | 2 | snap_000003.xyz;not a regular file | fifo
+base | analyse $O --set analysis.observables=moments --set integrator.dt=1e-6 --lammps-dump $O/negative.dump | 2 | negative.dump:2;timestep -1000 is negative | dumps
+base | analyse $O --set analysis.observables=moments --set integrator.dt=1e-6 --lammps-dump $O/decreasing.dump | 2 | decreasing.dump:;timestep 2000;increasing time order | dumps
+base | analyse $O --set analysis.observables=moments --set integrator.dt=1e-6 --lammps-dump $O/repeated.dump | 2 | repeated.dump:;timestep 1000;increasing time order | dumps
+base | analyse $O --set analysis.observables=moments --set integrator.dt=1e-6 --lammps-dump $O/box.dump | 2 | box.dump, frame 1;box length 0.5 m;system.L | dumps
+base | analyse $O --set analysis.observables=moments --set integrator.dt=1e-6 --lammps-dump $O/empty.dump | 2 | empty.dump holds no frames | dumps
+base | analyse $O --set analysis.observables=moments --set integrator.dt=1e-6 --lammps-dump $O/folder.dump | 2 | folder.dump: not a regular file | dumps
+base | analyse $O --set analysis.observables=moments --set integrator.dt=1e-6 --lammps-dump $O/fifo.dump | 2 | fifo.dump: not a regular file | dumps
+base | analyse $O --set analysis.observables=moments --set integrator.dt=1e-6 --lammps-dump $O/nosuch.dump | 2 | nosuch.dump: cannot open | dumps
+base | analyse $O --set analysis.observables=moments --out | 2 | --out needs a value;!unexpected argument | snaps
+base | analyse $O --set analysis.observables=moments --out $TMP/a-file | 2 | a-file exists but is not a folder | snaps
+base | analyse $O --set analysis.observables=moments --lammps-dump $O/ok.dump | 2 | ok.dump;integrator.dt unset;--set integrator.dt | dumps
+base | run --resume $O | 2 | checkpoint;not a regular file | ckfifo
+base | run $TMP/fifo.ini --out $O | 2 | fifo.ini: not a regular file | new
+base | sweep $TMP/fifo.ini | 2 | fifo.ini: not a regular file | new
+base | reproduce $TMP/fifo.ini --out $O | 2 | fifo.ini: not a campaign file;not a regular file | new
+base | cost $TMP/fifo.ini --out $O | 2 | fifo.ini: not a regular file | new
+base | sweep $TMP/fifo-scene-sweep.ini | 2 | fifo.ini: not a regular file | new
+base | run --resume $O | 2 | temperature.csv.tmp;No such file | notmp
+base | run --resume $O | 2 | checkpoint;symbolic links | ckloop
+base | run $S --out $O --set model.k_s=1e308 | 2 | k_s = 1e+308 N/m;w0;allowed;!-nan;!dt = 0 s | new
+base | run $S --out $O --set system.radius=1e308 | 2 | [system] radius;[1e-100, 1e+100];!-nan;!reduced_length | new
+base | run $S --out $O --set system.mass=1e-300 | 2 | [system] mass;[1e-100, 1e+100] | new
+file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[run\nduration = 0.01\n | run $S --out $O | 2 | :5:;unterminated section header '[run';!unknown key | new
+base | run $S --out $O --set model.normal=hard_sphere --set model.tangential=none --set integrator.kind=event --set model.eps_n=1.5 | 2 | eps_n;hard_sphere: (0, 1] | new
+base | collide --model hard_sphere --eps-n 1.5 | 2 | --eps-n;(0, 1] | new
+base | cost $S --out $TMP/a-file | 2 | a-file exists but is not a folder;!calibrating | new
+base | run $S --out | 2 | --out needs a value;!unknown option | new
+base | compare $S --models | 2 | --models needs a value | new
+base | collide --speed | 2 | --speed needs a value | new
+base | reproduce ch3-moments --out | 2 | --out needs a value | new
+file:[sweep]\n[vary]\nsystem.N = 10\n | sweep $S --array-base 99999999999999999999 --point 0 | 2 | --array-base;up to 1000000000000 | new
+file:[sweep]\n[vary]\nsystem.N = 10\n | sweep $S --point 99999999999999999999 | 2 | --point;up to 1000000000000 | new
+TABLE
+)
+: >"$TMP/a-file"
+# a run stopped by its wall limit (exit 4, with a checkpoint), then damaged: its temporary
+# temperature.csv lost, or its checkpoint a symlink loop (docs/checkpoints.md: exit 2)
+"$G" run "$BASE" --out "$TMP/fixture-stopped" --set run.duration=1000 --wall-limit 2 >/dev/null 2>&1
+[[ $? == 4 && -f $TMP/fixture-stopped/checkpoint ]] || { echo "FAIL: fixture stopped by its wall limit" >&2; exit 1; }
+cp -a "$TMP/fixture-stopped" "$TMP/fixture-notmp" && rm "$TMP"/fixture-notmp/temperature.csv.tmp*
+cp -a "$TMP/fixture-stopped" "$TMP/fixture-ckloop" && rm "$TMP/fixture-ckloop/checkpoint" && ln -s checkpoint "$TMP/fixture-ckloop/checkpoint"
 
 [[ ${2:-} == --list ]] && { printf '%s\n' "$cases"; exit 0; }
 passed=0 failed=0 i=0
@@ -276,12 +377,11 @@ while IFS= read -r row; do
         missing) S="$c/no-such.ini" ;;
     esac
     case $folder in
-        run) cp -a "$TMP/fixture-run" "$O" ;;
-        compare) cp -a "$TMP/fixture-compare" "$O" ;;
         foreign) cp -a "$TMP/fixture-run" "$O" && echo "the user's own notes" >"$O/notes.txt" ;;
         scene-inside) cp -a "$TMP/fixture-run" "$O" && cp "$BASE" "$O/my.ini" ;;
-        snap) cp -a "$TMP/fixture-snap" "$O" ;;
         failed) cp -a "$TMP/fixture-run" "$O" && sed -i 's/"status":[[:space:]]*"completed"/"status": "failed"/' "$O/summary.json" ;;
+        new) ;;
+        *) cp -a "$TMP/fixture-$folder" "$O" ;;
     esac
     before=$(state "$O")
     eval "set -- $args"

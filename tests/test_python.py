@@ -114,4 +114,23 @@ with tempfile.TemporaryDirectory() as tmp:
         except granule.Error as e:
             check("particles" in str(e) or "SIM" in str(e), f"{kind}: a state of another system is refused: {e}")
 
+# 7. a frame whose coordinate cannot be wrapped into the box (1e308 is finite) is refused with
+# granule's message instead of killing the interpreter in the gridding of sk or the cell list
+# of clusters (issue 39 item 8)
+sc = granule.load_scene(scene_path, set=[f"{k}={granule._ini_value(v)}" for k, v in sets.items()] +
+                        ["analysis.observables=sk,clusters"])
+obs = granule.Observer(sc)
+n = sc.N
+x, y = np.linspace(0.0, 0.07, n), np.linspace(0.0, 0.07, n)
+for name, bad in (("x", 1e308), ("y", -1e308), ("x", np.inf)):
+    xb, yb = x.copy(), y.copy()
+    (xb if name == "x" else yb)[3] = bad
+    try:
+        obs.sample_frame(0.1, xb, np.zeros(n), y=yb, vy=np.zeros(n))
+        check(False, f"sample_frame with {name} = {bad} is refused")
+    except granule.SceneError as e:
+        check(f"particle 3 has {name} =" in str(e), f"sample_frame with {name} = {bad} is refused: {e}")
+obs.sample_frame(0.1, x, np.zeros(n), y=y, vy=np.zeros(n))
+check(obs.frames == 1, "the Observer still samples good frames after refusing bad ones")
+
 finish()

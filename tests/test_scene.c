@@ -228,7 +228,7 @@ START_TEST(refuse_bad_number)
 {
     expect_refused_at("[system]\n"
                       "radius = 1.5mm\n",
-                      2, 0, "[system] radius", "1.5mm", "(0, inf)", (char *)NULL);
+                      2, 0, "[system] radius", "1.5mm", "[1e-100, 1e+100]", (char *)NULL);
     expect_refused_at("[system]\n"
                       "N = 12.5\n",
                       2, 0, "[system] N", "[1, ", (char *)NULL);

@@ -78,7 +78,16 @@ typedef struct gr_collide_result {
                               without work, int (s^2 / 2) dk_t/dt dt (k_t changes with xi) */
 } gr_collide_result;
 
-/* Time-step the collision with the engine's own kernel. */
+/* A collision may resolve its contact time in at most this many steps (a smaller dt is refused). */
+#define GR_COLLIDE_MAX_STEPS_PER_CONTACT 1e7
+/* Largest share of eps_n_measured that the turning of the line of centres during a grazing contact
+ * may explain (|g_t / g_n| sin(turn)); beyond it the impact is refused as unmeasurable. */
+#define GR_COLLIDE_MAX_TURN_ERROR 0.5
+
+/* Time-step the collision with the engine's own kernel. GR_EINVAL (naming the cause) when the
+ * experiment cannot measure a collision: the discs never touch, pass through each other
+ * (tunnelling: a step too long or a force too soft for the speed), or graze so that the normal
+ * turns too far (GR_COLLIDE_MAX_TURN_ERROR), or dt is beyond GR_COLLIDE_MAX_STEPS_PER_CONTACT. */
 int gr_collide_run(const gr_collide_setup *s, const gr_collision_case *cs, gr_collide_result *out,
                    gr_error *err);
 

@@ -80,6 +80,10 @@ const gr_observable_type *gr_observable_find(const char *name);
 /* A set of enabled observables for one scene. */
 typedef struct gr_observer gr_observer;
 int gr_observer_create(const struct gr_scene *scene, gr_observer **out, gr_error *err);
+/* Feed one frame to every enabled observable. A frame with a time, box length or velocity that is
+ * not finite, or a coordinate farther than GR_COORD_MAX_BOXES box lengths from the origin, is
+ * refused (GR_EINVAL naming the particle and value) before any observable sees it. */
+#define GR_COORD_MAX_BOXES 1e9
 int gr_observer_sample(gr_observer *o, const gr_particles *p, double t, gr_error *err);
 int gr_observer_finish(gr_observer *o, const gr_output *out, gr_error *err);
 int gr_observer_count(const gr_observer *o);

@@ -1,4 +1,5 @@
 /* The observable registry and the set of observables a scene enables. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -94,8 +95,43 @@ int gr_observer_create(const gr_scene *scene, gr_observer **out, gr_error *err)
     return GR_OK;
 }
 
+/* A frame every observable can take: a finite time, a positive finite box, finite velocities and
+ * coordinates within GR_COORD_MAX_BOXES box lengths of the origin. Farther coordinates (1e308 is
+ * finite) cannot be wrapped into the box: x / L overflows, and the cell and grid indices computed
+ * from it (sk, clusters, pressure, pair, ...) would address memory far outside their arrays. */
+static int check_frame(const gr_particles *p, double t, gr_error *err)
+{
+    if (!isfinite(t)) {
+        return GR_FAIL(err, GR_EINVAL, "frame time t = %g s is not a finite number", t);
+    }
+    if (!(p->L > 0.0) || !isfinite(p->L)) {
+        return GR_FAIL(err, GR_EINVAL, "frame at t = %.17g s: box length L = %g m is not a positive finite number", t, p->L);
+    }
+    const double lim = GR_COORD_MAX_BOXES * p->L;
+    for (int i = 0; i < p->n; i++) {
+        const double c[4] = {p->x[i], p->dim == 2 ? p->y[i] : 0.0, p->vx[i], p->dim == 2 ? p->vy[i] : 0.0};
+        static const char *const name[4] = {"x", "y", "vx", "vy"};
+        for (int k = 0; k < 4; k++) {
+            if (k < 2 && !(fabs(c[k]) <= lim)) {
+                return GR_FAIL(err, GR_EINVAL, "frame at t = %.17g s: particle %d has %s = %g m, outside the range "
+                               "|%s| <= %g L = %g m that can be wrapped into the box", t, i, name[k], c[k], name[k],
+                               GR_COORD_MAX_BOXES, lim);
+            }
+            if (k >= 2 && !isfinite(c[k])) {
+                return GR_FAIL(err, GR_EINVAL, "frame at t = %.17g s: particle %d has %s = %g m/s, not a finite number",
+                               t, i, name[k], c[k]);
+            }
+        }
+    }
+    return GR_OK;
+}
+
 int gr_observer_sample(gr_observer *o, const gr_particles *p, double t, gr_error *err)
 {
+    int bad = o->n > 0 ? check_frame(p, t, err) : GR_OK;
+    if (bad) {
+        return bad;
+    }
     for (int i = 0; i < o->n; i++) {
         int rc = o->type[i]->sample(o->state[i], p, t, err);
         if (rc) {

@@ -39,6 +39,11 @@ void cli_print_escaped(FILE *f, const char *text);
 int cli_exit_code(int status);
 /* True when progress lines may be drawn (stderr is a terminal and CI is not set). */
 bool cli_interactive(void);
+/* For the branch of an option loop that met an argument it does not take: when `a` is one of the
+ * space-separated options of `with_value` and is the last argument (`last`), print "CMD: A needs
+ * a value" and return true (the caller then refuses, exit 2); false otherwise (the caller reports
+ * the argument as unknown). */
+bool cli_missing_value(const char *cmd, const char *a, const char *with_value, bool last);
 /* Parse a number option value or print an error naming the option. */
 bool cli_number(const char *opt, const char *text, double *out);
 /* --threads N: use N OpenMP threads (1 to 1024; results do not depend on N). False (after an

@@ -2,6 +2,7 @@
  * code that samples during a run) and write the results into DIR/analysis (or --out). */
 #include <cjson/cJSON.h>
 #include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,6 +47,11 @@ static int source_open(frame_source *src, const char *dir, const char *dump, con
 {
     memset(src, 0, sizeof *src);
     src->dt = scene->dt;
+    if (dump && !(scene->dt > 0.0)) { /* frame times are timestep * dt */
+        return GR_FAIL(err, GR_EINVAL, "--lammps-dump %s: its frame times are timestep * integrator.dt, but %s leaves "
+                       "integrator.dt unset (it follows from steps_per_contact); analyse the folder `granule export lammps` "
+                       "wrote (its scene.ini holds the resolved dt) or give --set integrator.dt=DT", dump, scene->source);
+    }
     if (dump) {
         return gr_lammps_dump_open(dump, &src->dump, err);
     }
@@ -74,6 +80,32 @@ static void source_close(frame_source *src)
     }
 }
 
+/* A frame the observables may take: the scene's N, dim and box, a finite time after the previous
+ * frame's. GR_EINVAL naming the source, the frame and the cause otherwise. */
+static int frame_check(const gr_frame *fr, size_t k, double t_prev, const gr_scene *scene, const char *source,
+                       const char *scene_path, gr_error *err)
+{
+    if (fr->n != scene->N || fr->dim != scene->dim) {
+        return GR_FAIL(err, GR_EINVAL, "%s, frame %zu: %d particles in %dD, but the scene has N = %d in %dD", source, k,
+                       fr->n, fr->dim, scene->N, scene->dim);
+    }
+    if (!isfinite(fr->t)) {
+        return GR_FAIL(err, GR_EINVAL, "%s, frame %zu: time t = %g s is not a finite number", source, k, fr->t);
+    }
+    if (!(fr->t > t_prev)) {
+        return GR_FAIL(err, GR_EINVAL, "%s, frame %zu: t = %.17g s is not after frame %zu's t = %.17g s: frames must be "
+                       "in increasing time order", source, k, fr->t, k - 1, t_prev);
+    }
+    if (!(fabs(fr->L - scene->L) <= 1e-9 * scene->L)) {
+        return GR_FAIL(err, GR_EINVAL, "%s, frame %zu: box length %.17g m disagrees with system.L = %.17g m of %s: the "
+                       "trajectory belongs to another scene", source, k, fr->L, scene->L, scene_path);
+    }
+    return GR_OK;
+}
+
+/* Exit status for an error while reading the input: bad input (2) unless memory ran out. */
+static int input_exit(int rc) { return rc == GR_ENOMEM ? EXIT_FAILED : EXIT_REFUSED; }
+
 int cmd_analyse(int argc, char **argv)
 {
     const char *dir = NULL, *out_dir = NULL, *dump = NULL;
@@ -96,7 +128,9 @@ int cmd_analyse(int argc, char **argv)
         } else if (argv[i][0] != '-' && !dir) {
             dir = argv[i];
         } else {
-            cli_error("analyse: unexpected argument %s", argv[i]);
+            if (!cli_missing_value("analyse", argv[i], "--set --out --lammps-dump", i + 1 >= argc)) {
+                cli_error("analyse: unexpected argument %s", argv[i]);
+            }
             usage(stderr);
             free(sets);
             return EXIT_REFUSED;
@@ -135,46 +169,53 @@ int cmd_analyse(int argc, char **argv)
         snprintf(outbuf, sizeof outbuf, "%.1150s/analysis", dir);
         out_dir = outbuf;
     }
-    gr_observer *obs = NULL;
-    frame_source src;
-    rc = source_open(&src, dir, dump, &scene, &err);
+    rc = gr_output_dir_precheck(out_dir, &err);
     if (rc) {
         cli_error("analyse: %s", err.message);
-        return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
+        return EXIT_REFUSED;
     }
     char real_in[PATH_MAX], real_out[PATH_MAX];
     const size_t n_out = realpath(dir, real_in) && realpath(out_dir, real_out) ? strlen(real_out) : 0;
     if (n_out && !strncmp(real_in, real_out, n_out) && (real_in[n_out] == '/' || !real_in[n_out] || n_out == 1)) {
-        source_close(&src);
         cli_error("analyse: --out %s is the folder analysed (%s) or holds it; its results would replace their own input: "
                   "choose another folder (the default is %s/analysis)", out_dir, dir, dir);
         return EXIT_REFUSED;
     }
-    rc = gr_output_dir_prepare(out_dir, GR_OUTPUT_RESULT, force, &err);
-    if (!rc) {
-        rc = gr_observer_create(&scene, &obs, &err);
-    }
+    gr_observer *obs = NULL;
+    rc = gr_observer_create(&scene, &obs, &err);
     if (rc) {
-        source_close(&src);
         cli_error("analyse: %s", err.message);
-        return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
+        return cli_exit_code(rc);
     }
+    frame_source src;
+    rc = source_open(&src, dir, dump, &scene, &err);
+    if (rc) {
+        gr_observer_free(obs);
+        cli_error("analyse: %s", err.message);
+        return input_exit(rc);
+    }
+    /* every frame is read and checked before the output folder is touched: a refused input
+     * leaves it as it was (absent, or the earlier analysis) */
+    char source[1200]; /* the reader's name outlives the reader for the messages below */
+    snprintf(source, sizeof source, "%s", dump ? dump : gr_traj_reader_source(src.traj));
     size_t frames = 0, read = 0;
+    double t_prev = -INFINITY, t_last = NAN;
     gr_frame fr;
     while ((rc = source_next(&src, &fr, &err)) == 1) {
         read++;
-        rc = GR_OK;
-        if (fr.t <= scene.warmup * (1.0 + 1e-12)) {
-            gr_frame_free(&fr); /* the warm-up is not sampled, as in a run */
-            continue;
+        rc = frame_check(&fr, read, t_prev, &scene, source, path, &err);
+        if (!rc) {
+            t_prev = t_last = fr.t;
         }
-        if (fr.n != scene.N || fr.dim != scene.dim) {
-            rc = GR_FAIL(&err, GR_EINVAL, "%s, frame %zu: %d particles in %dD, but the scene has N = %d in %dD",
-                         dump ? dump : gr_traj_reader_source(src.traj), read, fr.n, fr.dim, scene.N, scene.dim);
-        } else {
+        if (!rc && fr.t > scene.warmup * (1.0 + 1e-12)) { /* the warm-up is not sampled, as in a run */
             gr_particles p = {.n = fr.n, .dim = fr.dim, .L = fr.L, .radius = scene.radius, .mass = scene.mass,
                               .x = fr.x, .y = fr.y, .vx = fr.vx, .vy = fr.vy};
             rc = gr_observer_sample(obs, &p, fr.t, &err);
+            if (rc) {
+                char why[sizeof err.message];
+                snprintf(why, sizeof why, "%s", err.message);
+                GR_FAIL(&err, rc, "%s, frame %zu: %s", source, read, why);
+            }
             frames++;
         }
         gr_frame_free(&fr);
@@ -189,10 +230,22 @@ int cmd_analyse(int argc, char **argv)
         fputc('\n', stderr);
     }
     source_close(&src);
+    if (!rc && read == 0) {
+        rc = GR_FAIL(&err, GR_EINVAL, "%s holds no frames: nothing to analyse", source);
+    } else if (!rc && frames == 0) {
+        rc = GR_FAIL(&err, GR_EINVAL, "%s: none of its %zu frames (the last at t = %.17g s) is after the warm-up "
+                     "(run.warmup = %g s): nothing to analyse", source, read, t_last, scene.warmup);
+    }
     if (rc) {
         gr_observer_free(obs);
         cli_error("analyse: %s", err.message);
-        return EXIT_FAILED;
+        return input_exit(rc);
+    }
+    rc = gr_output_dir_prepare(out_dir, GR_OUTPUT_RESULT, force, &err);
+    if (rc) {
+        gr_observer_free(obs);
+        cli_error("analyse: %s", err.message);
+        return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
     cJSON *sum = cJSON_CreateObject(), *analysis = cJSON_AddObjectToObject(sum, "analysis");
     gr_output out = {.dir = out_dir, .scene = &scene, .scene_hash = gr_scene_hash(&scene), .summary = analysis, .plots = scene.plots};

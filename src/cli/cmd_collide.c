@@ -8,6 +8,9 @@
 #include "cli/cli.h"
 #include "granule/collide.h"
 
+/* --phases: each phase is one whole collision (as `granule cost --phases`) */
+#define COLLIDE_MAX_PHASES 1000
+
 static void usage(FILE *f)
 {
     fprintf(f,
@@ -21,7 +24,7 @@ static void usage(FILE *f)
             "expected_loss (1 - eps^2 head-on, 1 - (eps_n^2 + eps_t^2)/2 at 45 degrees; in general\n"
             "(1 - eps_n^2) cos^2 a + (1 - eps_t^2) sin^2 a), contact_time, max_overlap, eps_n_measured,\n"
             "eps_t_measured, impact_angle. --phases P averages P contact phases (start offsets within a\n"
-            "time step). --reference also integrates the contact with SUNDIALS CVODE (relative tolerance --rtol,\n"
+            "time step; 1 to 1000). --reference also integrates the contact with SUNDIALS CVODE (relative tolerance --rtol,\n"
             "default 1e-12, allowed [1e-14, 1e-2]) and adds reference_energy_loss. Defaults: case 1, spring_dashpot, eps 0.6, k 5e5 N/m,\n"
             "r = 0.1 m (so the overlap v/w0 = 1 mm stays small), dt = t_c/50. --model hard_sphere applies the\n"
             "instantaneous rule of the event-driven integrator (exact loss; contact_time 0). For the RFM particles use\n"
@@ -242,6 +245,18 @@ int cmd_collide(int argc, char **argv)
                 return EXIT_REFUSED;
             }
             i++;
+            /* counts: whole numbers within their ranges before any cast to int */
+            static const struct {
+                const char *opt;
+                double lo, hi;
+            } counts[] = {{"--case", 1, 4}, {"--dim", 1, 2}, {"--phases", 1, COLLIDE_MAX_PHASES}};
+            for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
+                if (!strcmp(a, counts[k].opt) && !(x >= counts[k].lo && x <= counts[k].hi && x == floor(x))) {
+                    cli_error("collide: %s %s: expected a whole number from %g to %g (allowed range)", a, v, counts[k].lo,
+                              counts[k].hi);
+                    return EXIT_REFUSED;
+                }
+            }
             if (!strcmp(a, "--case")) {
                 number = (int)x;
             } else if (!strcmp(a, "--eps-n")) {
@@ -288,14 +303,18 @@ int cmd_collide(int argc, char **argv)
                 return EXIT_REFUSED;
             }
         } else {
-            cli_error("collide: unknown or incomplete option %s", a);
+            if (!cli_missing_value("collide", a, "--case --model --eps-n --eps-t --mu --k --dt --steps-per-contact --mass --radius "
+                                   "--dim --phases --set --speeds --speed --angle --omega1 --omega2 --rtol", !v)) {
+                cli_error("collide: unknown or incomplete option %s", a);
+            }
             usage(stderr);
             return EXIT_REFUSED;
         }
     }
     /* validate like a scene would */
     if (!(s.contact.eps_n >= 0.0 && s.contact.eps_n <= 1.0) || !(s.contact.eps_t >= 0.0 && s.contact.eps_t <= 1.0)) {
-        cli_error("collide: --eps-n and --eps-t must lie in [0, 1]");
+        cli_error("collide: --eps-n %g, --eps-t %g: allowed ranges (0, 1] for --eps-n, [0, 1] for --eps-t", s.contact.eps_n,
+                  s.contact.eps_t);
         return EXIT_REFUSED;
     }
     if (!(s.contact.k_s > 0.0) || !(s.mass > 0.0) || !(s.radius > 0.0) || s.dt < 0.0 || !(s.contact.mu >= 0.0) ||

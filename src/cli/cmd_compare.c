@@ -58,7 +58,9 @@ int cmd_compare(int argc, char **argv)
         } else if (argv[i][0] != '-' && !scene_path) {
             scene_path = argv[i];
         } else {
-            cli_error("compare: unexpected argument %s", argv[i]);
+            if (!cli_missing_value("compare", argv[i], "--models --set --out --format", i + 1 >= argc)) {
+                cli_error("compare: unexpected argument %s", argv[i]);
+            }
             rc = EXIT_REFUSED;
         }
     }

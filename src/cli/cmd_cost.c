@@ -162,7 +162,9 @@ int cmd_cost(int argc, char **argv)
         } else if (a[0] != '-' && !scene_path) {
             scene_path = a;
         } else {
-            cli_error("cost: unexpected argument %s", a);
+            if (!cli_missing_value("cost", a, "--observable --tolerance --calibrate --phases --threads --set --out", !has)) {
+                cli_error("cost: unexpected argument %s", a);
+            }
             rc = EXIT_REFUSED;
         }
     }
@@ -172,6 +174,10 @@ int cmd_cost(int argc, char **argv)
     }
     gr_scene sc;
     gr_error err = {0};
+    if (rc == EXIT_OK && gr_output_dir_precheck(out, &err)) { /* before the calibration runs */
+        cli_error("cost: %s", err.message);
+        rc = EXIT_REFUSED;
+    }
     if (rc == EXIT_OK && gr_scene_load_whole(&sc, scene_path, sets, n_sets, &err)) {
         cli_error("cost: %s", err.message);
         rc = EXIT_REFUSED;

@@ -49,7 +49,9 @@ int cmd_export(int argc, char **argv)
         } else if (argv[i][0] != '-' && !scene_path) {
             scene_path = argv[i];
         } else {
-            cli_error("export: unexpected argument %s", argv[i]);
+            if (!cli_missing_value("export", argv[i], "--set --out", i + 1 >= argc)) {
+                cli_error("export: unexpected argument %s", argv[i]);
+            }
             free(sets);
             return EXIT_REFUSED;
         }

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "io/files.h"
 #include "io/picture.h"
 #include "io/plot.h"
 
@@ -23,7 +24,7 @@ static int redraw_scripts(const char *dir, int *drawn)
         return 0;
     }
     for (size_t k = 0; k < g.gl_pathc; k++) {
-        FILE *f = fopen(g.gl_pathv[k], "r");
+        FILE *f = gr_input_fopen(g.gl_pathv[k], &(int){0});
         if (!f) {
             failures++;
             continue;
@@ -146,7 +147,9 @@ int cmd_plot(int argc, char **argv)
         } else if (argv[i][0] != '-' && !dir) {
             dir = argv[i];
         } else {
-            cli_error("plot: unexpected argument %s (usage: granule plot DIR [--format png|svg|pdf])", argv[i]);
+            if (!cli_missing_value("plot", argv[i], "--format", i + 1 >= argc)) {
+                cli_error("plot: unexpected argument %s (usage: granule plot DIR [--format png|svg|pdf])", argv[i]);
+            }
             return EXIT_REFUSED;
         }
     }

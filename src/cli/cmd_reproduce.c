@@ -212,7 +212,9 @@ int cmd_reproduce(int argc, char **argv)
         } else if (a[0] != '-' && !name) {
             name = a;
         } else {
-            cli_error("reproduce: unexpected argument %s; see granule reproduce --help", a);
+            if (!cli_missing_value("reproduce", a, "--fidelity --out --results --results-root --output --threads --jobs --point --array-base", !has)) {
+                cli_error("reproduce: unexpected argument %s; see granule reproduce --help", a);
+            }
             return EXIT_REFUSED;
         }
     }

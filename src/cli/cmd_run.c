@@ -118,7 +118,9 @@ int cmd_run(int argc, char **argv)
             snprintf(wall_set, sizeof wall_set, "run.wall_limit=%.60s", argv[++i]);
             sets[n_sets++] = wall_set;
         } else if (a[0] == '-') {
-            cli_error("run: unknown option %s", a);
+            if (!cli_missing_value("run", a, "--set --out --resume --threads --format --wall-limit", i + 1 >= argc)) {
+                cli_error("run: unknown option %s", a);
+            }
             usage(stderr);
             free(sets);
             return EXIT_REFUSED;

@@ -4,6 +4,7 @@
  * built with MPI), or one per batch-array task (--point K, or the array index a scheduler puts in
  * the environment), each into its own folder with a manifest; --collect merges them. Finished
  * points are never rerun, a failed point is recorded and the others go on (docs/cluster.md). */
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -59,12 +60,16 @@ static long array_index(const char **var, const char **text)
     return -1;
 }
 
+/* --point, --array-base: far beyond any sweep (at most 64 values of 8 linked keys each) */
+#define SWEEP_MAX_INDEX 1000000000000L
+
 static bool parse_long(const char *opt, const char *text, long *out)
 {
     char *end;
+    errno = 0;
     long v = strtol(text, &end, 10);
-    if (!text[0] || *end || v < 0) {
-        cli_error("sweep: %s %s: expected a non-negative integer", opt, text);
+    if (!text[0] || *end || v < 0 || errno == ERANGE || v > SWEEP_MAX_INDEX) {
+        cli_error("sweep: %s %s: expected a non-negative integer up to %ld (allowed range)", opt, text, SWEEP_MAX_INDEX);
         return false;
     }
     *out = v;
@@ -150,7 +155,9 @@ int cmd_sweep(int argc, char **argv)
         } else if (argv[i][0] != '-' && !file) {
             file = argv[i];
         } else {
-            cli_error("sweep: unexpected argument %s; see granule sweep --help", argv[i]);
+            if (!cli_missing_value("sweep", argv[i], "--jobs --point --array-base", i + 1 >= argc)) {
+                cli_error("sweep: unexpected argument %s; see granule sweep --help", argv[i]);
+            }
             return EXIT_REFUSED;
         }
     }

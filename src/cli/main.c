@@ -56,6 +56,18 @@ int cli_exit_code(int status)
     return status == GR_OK ? EXIT_OK : status == GR_EINVAL ? EXIT_REFUSED : status == GR_EUNSTABLE ? EXIT_UNSTABLE : EXIT_FAILED;
 }
 
+bool cli_missing_value(const char *cmd, const char *a, const char *with_value, bool last)
+{
+    const size_t n = strlen(a);
+    for (const char *p = strstr(with_value, a); last && n && p; p = strstr(p + 1, a)) {
+        if ((p == with_value || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0')) {
+            cli_error("%s: %s needs a value", cmd, a);
+            return true;
+        }
+    }
+    return false;
+}
+
 bool cli_interactive(void)
 {
     const char *ci = getenv("CI");

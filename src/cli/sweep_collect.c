@@ -21,7 +21,7 @@ static void plot_exponents(const char *out)
 {
     char path[1300];
     snprintf(path, sizeof path, "%s/exponents.csv", out);
-    FILE *in = fopen(path, "r");
+    FILE *in = gr_input_fopen(path, &(int){0});
     if (!in) {
         return;
     }

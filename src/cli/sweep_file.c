@@ -9,6 +9,7 @@
 
 #include "cli/cli.h"
 #include "cli/sweep.h"
+#include "io/files.h"
 
 /* Split a comma/blank separated list into out[0..max); -1 when a value is longer than
  * SWEEP_VALUE_LEN - 1 characters or there are more than max values (nothing is cut silently). */
@@ -217,10 +218,21 @@ int sweep_load(sweep *s, const char *file)
 {
     snprintf(s->file, sizeof s->file, "%s", file);
     snprintf(s->out, sizeof s->out, "out/sweep");
-    int bad = ini_parse(file, on_line, s);
+    int why = 0;
+    FILE *in = gr_input_fopen(file, &why);
+    if (!in) {
+        if (why < 0) {
+            cli_error("sweep: %s: not a regular file (a sweep file is an INI file; a folder, FIFO, device or socket is refused)", file);
+        } else {
+            cli_error("sweep: %s: cannot open: %s", file, strerror(why));
+        }
+        return EXIT_REFUSED;
+    }
+    int bad = ini_parse_file(in, on_line, s);
+    fclose(in);
     if (bad != 0 || s->error[0]) {
         if (bad < 0) {
-            cli_error("sweep: %s: cannot open", file);
+            cli_error("sweep: %s: cannot read", file);
         } else {
             cli_error("sweep: %s:%d: %s", file, bad, s->error[0] ? s->error : "not an INI line");
         }

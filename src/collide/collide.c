@@ -137,6 +137,38 @@ static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc,
     return GR_OK;
 }
 
+/* A collision the engine resolved, or GR_EINVAL naming why its numbers would mean nothing: the
+ * discs passed through each other (tunnelled: a step carried them past the overlap the force can
+ * stop, so after "the contact" they are on the wrong sides and still approach), or the line of
+ * centres turned so far during a grazing contact that the normal velocity after it is mostly the
+ * tangential one projected on the turned normal: its share of eps_n_measured, |g_t / g_n| sin(theta)
+ * for a turn by theta, exceeds GR_COLLIDE_MAX_TURN_ERROR. */
+static int check_contact(const gr_collide_setup *cs, const gr_sim *s, const gr_scene *sc, const double n0[2],
+                         const double n_end[2], double gn0, double gt0, const double g1[2],
+                         const gr_collide_result *out, gr_error *err)
+{
+    double dx = s->x[1] - s->x[0], dy = cs->dim == 2 ? s->y[1] - s->y[0] : 0.0;
+    dx -= sc->L * rint(dx / sc->L);
+    dy -= sc->L * rint(dy / sc->L);
+    const double speed = hypot(gn0, gt0), d = 2.0 * cs->radius;
+    if (dx * n0[0] + dy * n0[1] < 0.0 || g1[0] * n_end[0] + g1[1] * n_end[1] < 0.0) {
+        return GR_FAIL(err, GR_EINVAL, "the discs passed through each other (tunnelled) instead of colliding: at %g m/s "
+                       "they move %g m per step of dt = %g s against d = %g m, and the contact force stopped them "
+                       "only %.3g m into the overlap; no collision happened to measure: use a smaller --dt (or "
+                       "--steps-per-contact larger), a stiffer --k or a lower speed",
+                       speed, speed * s->dt, s->dt, d, out->max_overlap);
+    }
+    const double turn = fabs(n0[0] * n_end[1] - n0[1] * n_end[0]); /* sin(theta) */
+    const double share = fabs(gt0 / gn0) * turn;
+    if (share > GR_COLLIDE_MAX_TURN_ERROR) {
+        return GR_FAIL(err, GR_EINVAL, "a grazing impact (%.6g degrees): the line of centres turned by %.3g degrees "
+                       "while the discs touched, which moves eps_n_measured by up to |g_t / g_n| sin(turn) = %.3g, more "
+                       "than %g; the normal restitution of this contact cannot be measured: use a smaller --angle or "
+                       "speed", out->impact_angle, asin(fmin(1.0, turn)) * 180.0 / M_PI, share, GR_COLLIDE_MAX_TURN_ERROR);
+    }
+    return GR_OK;
+}
+
 int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_collide_result *out,
                    gr_error *err)
 {
@@ -236,6 +268,13 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     double n_end[2] = {n0[0], n0[1]};
     double jn = 0.0, jt = 0.0;
     int64_t active = 0;
+    if (!(t_c / s->dt <= GR_COLLIDE_MAX_STEPS_PER_CONTACT)) {
+        const double dt = s->dt;
+        gr_sim_free(s);
+        return GR_FAIL(err, GR_EINVAL, "dt = %g s resolves the contact time t_c = %g s in %.3g steps, more than the %g a "
+                       "collision may take; use dt >= t_c / %g = %g s (--dt)", dt, t_c, t_c / dt,
+                       GR_COLLIDE_MAX_STEPS_PER_CONTACT, GR_COLLIDE_MAX_STEPS_PER_CONTACT, t_c / GR_COLLIDE_MAX_STEPS_PER_CONTACT);
+    }
     const int64_t max_steps = (int64_t)(2000.0 * t_c / s->dt) + 1000;
     for (int64_t k = 0; k < max_steps; k++) {
         rc = gr_sim_step(s, 1, err);
@@ -273,6 +312,13 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
         } else if (touched) {
             break;
         }
+        if (k == max_steps - 1 && !touched) {
+            gr_sim_free(s);
+            return GR_FAIL(err, GR_EINVAL, "the discs never came into contact within %lld steps of dt = %g s (their "
+                           "closest approach, %.3g degrees from grazing, stays outside d = %g m once rounded): there "
+                           "is no collision to measure; use a smaller --angle", (long long)max_steps, out->dt,
+                           90.0 - out->impact_angle, d);
+        }
         if (k == max_steps - 1) {
             const gr_contact_coeffs *c = &s->cc;
             bool critical = !c->clamp && c->zeta >= 1.0;
@@ -287,6 +333,11 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     }
     double g1[2] = {s->vx[1] - s->vx[0], dim == 2 ? s->vy[1] - s->vy[0] : 0.0};
     double t_end[2] = {n_end[1], -n_end[0]};
+    rc = check_contact(cs, s, &sc, n0, n_end, gn0, gt0, g1, out, err);
+    if (rc) {
+        gr_sim_free(s);
+        return rc;
+    }
     /* rotation: the surface velocities at the contact point (models/law.h) and the spin energy
      * in units of m12 (I w^2 / 2 over m12 / 2) */
     double spin_t = 0.0, spin_e = 0.0;

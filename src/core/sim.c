@@ -124,6 +124,13 @@ static int prepare_contact(gr_sim *s, gr_error *err)
     }
     /* a sticking contact (unclamped eps_n = 0) never ends: measure steps against pi / w0 */
     double t_c = isfinite(s->cc.t_c) ? s->cc.t_c : M_PI / s->cc.w0;
+    if (!isfinite(s->cc.w0) || !(t_c > 0.0)) { /* e.g. k_s = 1e308: k_s / m12 overflows */
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [model] k_s = %g N/m (normal = %s) over the reduced mass m12 = %g kg gives the contact "
+                       "frequency w0 = sqrt(k_s / m12) = %g rad/s and contact time t_c = %g s: no time step can resolve "
+                       "it; allowed: k_s / m12 finite (w0 and t_c finite and > 0), e.g. k_s <= %g N/m at this mass",
+                       sc->source, sc->contact.k_s, sc->normal->name, m12, s->cc.w0, t_c, 1e300 * m12);
+    }
     double dt = sc->dt > 0.0 ? sc->dt : t_c / sc->steps_per_contact;
     if (sc->dt == 0.0 && 2.0 * s->cc.zeta * s->cc.w0 * dt > 1.0) {
         dt = 1.0 / (2.0 * s->cc.zeta * s->cc.w0); /* overdamped: the dashpot sets the step */

@@ -9,6 +9,7 @@
 #include <zlib.h>
 
 #include "io/checkpoint.h"
+#include "io/files.h"
 
 static const char MAGIC[8] = {'G', 'R', 'C', 'H', 'K', 'P', 'T', '\n'};
 #define BYTE_ORDER_MARK 0x01020304u
@@ -212,15 +213,20 @@ int gr_checkpoint_load_file(const char *dir, void **buf, size_t *len, gr_error *
     *len = 0;
     char path[1200];
     snprintf(path, sizeof path, "%s/%s", dir, GR_CHECKPOINT_NAME);
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        return GR_FAIL(err, errno == ENOENT ? GR_EINVAL : GR_EIO, "%s: cannot open the checkpoint: %s%s", path, strerror(errno),
-                       errno == ENOENT ? " (was the run started with checkpoints, and did it write one?)" : "");
+    int why = 0;
+    FILE *f = gr_input_fopen(path, &why);
+    if (!f && why < 0) {
+        return GR_FAIL(err, GR_EINVAL, "%s: not a regular file (a checkpoint is a file granule wrote)", path);
+    }
+    if (!f) { /* a missing file or a symlink loop is bad input; a failing disk is not */
+        const bool input = why != EIO && why != ENOMEM && why != EMFILE && why != ENFILE;
+        return GR_FAIL(err, input ? GR_EINVAL : GR_EIO, "%s: cannot open the checkpoint: %s%s", path, strerror(why),
+                       why == ENOENT ? " (was the run started with checkpoints, and did it write one?)" : "");
     }
     struct stat st;
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+    if (fstat(fileno(f), &st) != 0) {
         fclose(f);
-        return GR_FAIL(err, GR_EINVAL, "%s: not a regular file (a checkpoint is a file granule wrote)", path);
+        return GR_FAIL(err, GR_EIO, "%s: cannot read the checkpoint: %s", path, strerror(errno));
     }
     size_t n = (size_t)st.st_size;
     unsigned char *p = malloc(n ? n : 1);

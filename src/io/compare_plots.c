@@ -13,7 +13,7 @@
 /* Columns `xcol` and `ycol` of a CSV with one header line (and possibly '#' comments). */
 static int read_columns(const char *path, const char *xcol, const char *ycol, double **x, double **y)
 {
-    FILE *f = fopen(path, "r");
+    FILE *f = gr_input_fopen(path, &(int){0});
     *x = *y = NULL;
     if (!f) {
         return 0;

@@ -444,3 +444,63 @@ int gr_output_dir_prepare(const char *dir, gr_output_kind kind, bool force, gr_e
     }
     return GR_OK;
 }
+
+/* ---- input files ---------------------------------------------------------------------------- */
+
+FILE *gr_input_fopen(const char *path, int *why)
+{
+    /* O_NONBLOCK: opening a FIFO without a writer would otherwise wait forever */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+        *why = errno;
+        return NULL;
+    }
+    struct stat st;
+    int e = fstat(fd, &st) != 0 ? errno : !S_ISREG(st.st_mode) ? -1 : 0;
+    const int fl = e ? 0 : fcntl(fd, F_GETFL);
+    if (!e && (fl < 0 || fcntl(fd, F_SETFL, fl & ~O_NONBLOCK) != 0)) {
+        e = errno;
+    }
+    FILE *f = e ? NULL : fdopen(fd, "r");
+    if (!f) {
+        e = e ? e : errno;
+        close(fd);
+    }
+    *why = e;
+    return f;
+}
+
+int gr_input_open(const char *path, const char *what, FILE **out, gr_error *err)
+{
+    int why = 0;
+    *out = gr_input_fopen(path, &why);
+    if (*out) {
+        return GR_OK;
+    }
+    if (why < 0) {
+        return GR_FAIL(err, GR_EINVAL, "%s: not a regular file (a %s must be a regular file; a folder, FIFO, "
+                       "device or socket is refused)", path, what);
+    }
+    return GR_FAIL(err, why == ENOENT || why == ENOTDIR ? GR_EINVAL : GR_EIO, "%s: cannot open %s: %s", path, what,
+                   strerror(why));
+}
+
+int gr_input_check(const char *path, const char *what, gr_error *err)
+{
+    FILE *f;
+    int rc = gr_input_open(path, what, &f, err);
+    if (!rc) {
+        fclose(f);
+    }
+    return rc;
+}
+
+int gr_output_dir_precheck(const char *dir, gr_error *err)
+{
+    int rc = gr_output_path_check(dir, err);
+    struct stat st;
+    if (!rc && stat(dir, &st) == 0 && !S_ISDIR(st.st_mode)) {
+        rc = GR_FAIL(err, GR_EINVAL, "output folder %s exists but is not a folder; choose another --out", dir);
+    }
+    return rc;
+}

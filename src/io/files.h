@@ -70,4 +70,20 @@ const char *gr_output_kind_name(gr_output_kind kind);
  * GR_OUTPUT_ANY only creates and probes (sub-folders a command manages itself). */
 int gr_output_dir_prepare(const char *dir, gr_output_kind kind, bool force, gr_error *err);
 
+/* Input files (scenes, sweep and campaign files, checkpoints, snapshots, trajectories, dumps):
+ * opened for reading without blocking on a FIFO (open with O_NONBLOCK, fstat, anything but a
+ * regular file refused, then O_NONBLOCK cleared), so no input can hang a command.
+ * gr_input_fopen: the stream, or NULL with *why = errno, or *why = -1 for a folder, FIFO, device
+ * or socket (the caller words the message). gr_input_open: the same with the messages "PATH: not
+ * a regular file (a WHAT must be ...)" (GR_EINVAL) and "PATH: cannot open WHAT: REASON" (GR_EINVAL
+ * when it does not exist, GR_EIO otherwise). gr_input_check: open and close (for readers that open
+ * the path themselves, such as HDF5). */
+/* Before long work whose results go to dir: refuse a bad name or a path that exists and is not a
+ * folder (GR_EINVAL), without creating anything (gr_output_dir_prepare does that afterwards). */
+int gr_output_dir_precheck(const char *dir, gr_error *err);
+
+FILE *gr_input_fopen(const char *path, int *why);
+int gr_input_open(const char *path, const char *what, FILE **out, gr_error *err);
+int gr_input_check(const char *path, const char *what, gr_error *err);
+
 #endif

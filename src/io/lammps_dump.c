@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/files.h"
 #include "io/lammps_dump.h"
 
 struct gr_lammps_dump {
@@ -12,6 +13,8 @@ struct gr_lammps_dump {
     char path[1024];
     long line;
     char buf[4096];
+    long long last_step; /* the timestep of the last frame read (frames > 0) */
+    long frames;
 };
 
 enum { C_ID, C_X, C_Y, C_VX, C_VY, C_N };
@@ -22,10 +25,10 @@ int gr_lammps_dump_open(const char *path, gr_lammps_dump **out, gr_error *err)
     if (!d) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory");
     }
-    d->in = fopen(path, "r");
-    if (!d->in) {
+    int rc = gr_input_open(path, "LAMMPS dump", &d->in, err);
+    if (rc) {
         free(d);
-        return GR_FAIL(err, GR_EIO, "%s: cannot open LAMMPS dump", path);
+        return rc;
     }
     snprintf(d->path, sizeof d->path, "%s", path);
     *out = d;
@@ -167,6 +170,13 @@ int gr_lammps_dump_next(gr_lammps_dump *d, double dt, gr_frame *f, gr_error *err
     if (strncmp(d->buf, "ITEM: TIMESTEP", 14) != 0 || !next_line(d) || sscanf(d->buf, "%lld", &step) != 1) {
         return GR_FAIL(err, GR_EINVAL, "%s:%ld: expected \"ITEM: TIMESTEP\" and the step (a LAMMPS text dump of dump custom)", d->path, d->line);
     }
+    if (step < 0) {
+        return GR_FAIL(err, GR_EINVAL, "%s:%ld: timestep %lld is negative (LAMMPS counts steps from 0)", d->path, d->line, step);
+    }
+    if (d->frames > 0 && step <= d->last_step) {
+        return GR_FAIL(err, GR_EINVAL, "%s:%ld: timestep %lld does not follow the previous frame's %lld: frames must be in "
+                       "increasing time order", d->path, d->line, step, d->last_step);
+    }
     int rc = expect(d, "ITEM: NUMBER OF ATOMS", err);
     if (rc) {
         return rc;
@@ -203,5 +213,7 @@ int gr_lammps_dump_next(gr_lammps_dump *d, double dt, gr_frame *f, gr_error *err
     }
     f->L = len[0];
     f->t = (double)step * dt;
+    d->last_step = step;
+    d->frames++;
     return 1;
 }

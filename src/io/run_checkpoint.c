@@ -21,6 +21,7 @@
 
 #include "core/sim_state.h"
 #include "io/blob.h"
+#include "io/files.h"
 #include "io/run_checkpoint.h"
 #include "io/scene_json.h"
 
@@ -276,7 +277,8 @@ int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoi
     *buf = NULL;
     char path[1200];
     snprintf(path, sizeof path, "%s/summary.json", dir);
-    FILE *sf = fopen(path, "r");
+    int why;
+    FILE *sf = gr_input_fopen(path, &why);
     char status[64] = "?";
     if (sf) {
         char head[4096] = "";
@@ -367,8 +369,11 @@ static int reopen(const char *dir, const char *name, const char *tmp, int64_t le
         /* the run had already moved it into place (stopped unstable, or killed while finishing) */
         f->f = fopen(f->tmp, "r+");
     }
-    if (!f->f) {
-        return GR_FAIL(err, GR_EIO, "cannot continue %s: its partial file %s: %s", f->path, f->tmp, strerror(errno));
+    if (!f->f) { /* missing (or a symlink loop): the folder does not hold what the checkpoint recorded */
+        const int e = errno;
+        const bool input = e != EIO && e != ENOMEM && e != EMFILE && e != ENFILE && e != ENOSPC;
+        return GR_FAIL(err, input ? GR_EINVAL : GR_EIO, "cannot continue %s: its partial file %s: %s", f->path, f->tmp,
+                       strerror(e));
     }
     struct stat st;
     if (fstat(fileno(f->f), &st) != 0 || (int64_t)st.st_size < length) {

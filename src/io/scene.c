@@ -40,8 +40,9 @@ static const scene_key keys[] = {
     {"system", "L", "m", K_DOUBLE, "0.2", 0, INFINITY, true, true, NULL, "box side (2D) or ring length (1D); give at most one of L, packing_fraction, reduced_length", OFF(L)},
     {"system", "packing_fraction", "", K_DOUBLE, NULL, 0, 0.9069, true, false, NULL, "2D only: sets L from phi = N pi r^2 / L^2 (2.24); hexagonal maximum 0.9069", OFF(packing_fraction)},
     {"system", "reduced_length", "m", K_DOUBLE, NULL, 0, INFINITY, false, true, NULL, "1D only: sets L from L' = L - N d (sec. 3.1)", OFF(reduced_length)},
-    {"system", "radius", "m", K_DOUBLE, "1.5e-3", 0, INFINITY, true, true, NULL, "particle radius r (Table 2.2)", OFF(radius)},
-    {"system", "mass", "kg", K_DOUBLE, "3.53e-5", 0, INFINITY, true, true, NULL, "particle mass M (Table 2.2)", OFF(mass)},
+    /* bounded so that d = 2 r, N pi r^2, k_s / m and the box stay finite and non-zero */
+    {"system", "radius", "m", K_DOUBLE, "1.5e-3", 1e-100, 1e100, false, false, NULL, "particle radius r (Table 2.2)", OFF(radius)},
+    {"system", "mass", "kg", K_DOUBLE, "3.53e-5", 1e-100, 1e100, false, false, NULL, "particle mass M (Table 2.2)", OFF(mass)},
     {"placement", "kind", "", K_ENUM, "hexagonal", 0, 0, false, false, "hexagonal|square|uniform|cluster|random", "initial placement (sec. 2.1.4, Fig. 2.4): hexagonal or square bed from the bottom of the box, uniform = equal area (2D) or spacing L/N (1D) per particle, cluster = one touching cluster in the middle, random = random sequential addition (phi <= 0.5)", OFF(placement)},
     {"placement", "v0", "m/s", K_DOUBLE, "0.1", 0, INFINITY, false, true, NULL, "initial velocities v0 * U(-0.5, 0.5) per component (sec. 2.2.2), mean removed", OFF(v0)},
     {"placement", "omega0", "rad/s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "[model] rotation = true only: initial angular velocities omega0 * U(-0.5, 0.5) per disc (rotational temperature I omega0^2 / 12 M); 0 = not spinning", OFF(omega0)},
@@ -221,6 +222,27 @@ static const gr_param *find_model_param(const char *name, const gr_model **owner
         }
     }
     return NULL;
+}
+
+/* The allowed range of a [model] key that several models share, e.g. "[0, 1] (hard_sphere: (0, 1])":
+ * the first model's range, then each model whose own range differs (the scene may not have named
+ * its model yet when the key is read). */
+static void model_param_ranges(const char *name, const gr_param *first, char *buf, size_t n)
+{
+    range_text(buf, n, first->min, first->max, first->min_open, first->max_open);
+    for (int m = 0; gr_models[m]; m++) {
+        for (int i = 0; i < gr_models[m]->n_params; i++) {
+            const gr_param *q = &gr_models[m]->params[i];
+            if (strcmp(q->name, name) != 0 || (q->min == first->min && q->max == first->max &&
+                                               q->min_open == first->min_open && q->max_open == first->max_open)) {
+                continue;
+            }
+            char own[64];
+            size_t len = strlen(buf);
+            range_text(own, sizeof own, q->min, q->max, q->min_open, q->max_open);
+            snprintf(buf + len, n - len, " (%s: %s)", gr_models[m]->name, own);
+        }
+    }
 }
 
 /* Whether model m's parameter i was already listed by an earlier model (several share a key:
@@ -450,6 +472,13 @@ static int apply(loader *ld, const char *section, const char *name, const char *
         const gr_param *p = find_model_param(name, &owner);
         if (p) {
             key_type t = p->type == GR_PARAM_BOOL ? K_BOOL : K_DOUBLE;
+            double x;
+            if (t == K_DOUBLE && parse_double(value, &x) && !check_range(x, p->min, p->max, p->min_open, p->max_open)) {
+                char ranges[300];
+                model_param_ranges(name, p, ranges, sizeof ranges);
+                snprintf(detail, sizeof detail, "%s is out of range; allowed range %s", value, ranges);
+                return fail_at(err, w, section, name, "%s", detail);
+            }
             return set_number((char *)&s->contact + p->offset, t, p->min, p->max, p->min_open,
                               p->max_open, value, w, section, name, err);
         }
@@ -512,7 +541,12 @@ static char *read_line(char *str, int num, void *stream)
             size_t len = strcspn(p + 1, "]");
             snprintf(name, sizeof name, "%.*s", (int)(len < 63 ? len : 63), p + 1);
             r->ld->has_system |= p[1 + len] == ']' && strcmp(name, "system") == 0;
-            if (p[1 + len] == ']' && !section_known(name)) {
+            if (p[1 + len] != ']') { /* inih would go on in the previous section */
+                size_t shown = strcspn(p, "\r\n");
+                r->ld->rc = GR_FAIL(r->ld->err, GR_EINVAL, "%s:%d: unterminated section header '%.*s': expected [section] "
+                                    "on one line (sections: system, placement, model, noise, integrator, run, analysis, output)",
+                                    r->ld->file, r->ld->line, (int)(shown < 60 ? shown : 60), p);
+            } else if (!section_known(name)) {
                 where w = {r->ld->file, r->ld->line, NULL};
                 r->ld->rc = fail_at(r->ld->err, &w, name, "", "%s",
                                     "unknown section; sections: system, placement, model, noise, integrator, run, analysis, output");
@@ -523,16 +557,18 @@ static char *read_line(char *str, int num, void *stream)
 }
 
 /* A scene is a regular file (not a folder, device or pipe) that is not empty. */
-static int check_scene_file(FILE *f, const char *path, gr_error *err)
+/* Open the scene file without blocking on a FIFO; anything but a regular file is refused. */
+static int open_scene_file(const char *path, FILE **f, gr_error *err)
 {
-    struct stat st;
-    if (fstat(fileno(f), &st) != 0) {
-        return GR_FAIL(err, GR_EIO, "%s: cannot read scene file: %s", path, strerror(errno));
+    int why = 0;
+    *f = gr_input_fopen(path, &why);
+    if (*f) {
+        return GR_OK;
     }
-    if (!S_ISREG(st.st_mode)) {
+    if (why < 0) {
         return GR_FAIL(err, GR_EINVAL, "%s: not a regular file (a scene is an INI file, see docs/scene-keys.md)", path);
     }
-    return GR_OK;
+    return GR_FAIL(err, GR_EIO, "%s: cannot open scene file: %s", path, strerror(why));
 }
 
 static void apply_defaults(loader *ld)
@@ -727,11 +763,11 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
     loader ld = {.scene = s, .err = err, .rc = GR_OK, .file = path};
     if (path) {
         snprintf(s->source, sizeof s->source, "%s", path);
-        FILE *f = in ? in : fopen(path, "r");
-        if (!f) {
-            return GR_FAIL(err, GR_EIO, "%s: cannot open scene file: %s", path, strerror(errno));
+        FILE *f = in;
+        int rc = in ? GR_OK : open_scene_file(path, &f, err);
+        if (rc) {
+            return rc;
         }
-        int rc = in ? GR_OK : check_scene_file(f, path, err);
         line_reader r = {{.f = f}, &ld};
         int bad = rc ? 0 : ini_parse_stream(read_line, &r, scene_ini_line, &ld);
         const bool content = r.lines.content;
@@ -978,7 +1014,8 @@ void gr_scene_saved_warnings(gr_scene *s, const char *dir)
 {
     char path[1200], line[1200];
     snprintf(path, sizeof path, "%.1100s/scene.ini", dir);
-    FILE *f = fopen(path, "r");
+    int why;
+    FILE *f = gr_input_fopen(path, &why);
     if (!f) {
         return;
     }

@@ -120,11 +120,21 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
         return GR_FAIL(err, GR_EINVAL, "%s:%ld: not a granule extended-XYZ frame (need Lattice and Properties with "
                                        "pos and velo, or momenta and masses)", path, *line_no);
     }
+    char *tend = NULL;
+    const double t = tm ? strtod(tm + 5, &tend) : 0.0;
+    if (!tm || tend == tm + 5 || (*tend && !strchr(" \t\r\n", *tend)) || !isfinite(t)) {
+        char word[40] = "";
+        if (tm) {
+            snprintf(word, sizeof word, "%.*s", (int)strcspn(tm, " \t\r\n"), tm);
+        }
+        return GR_FAIL(err, GR_EINVAL, "%s:%ld: %s%s: every frame needs its time as Time=SECONDS, a finite number", path,
+                       *line_no, tm ? word : "no Time= on the comment line", tm ? " is not a finite time" : "");
+    }
     int rc = gr_frame_alloc(f, (int)n, pbc && strncmp(pbc + 5, "T F", 3) == 0 ? 1 : 2, err);
     if (rc) {
         return rc;
     }
-    f->t = tm ? strtod(tm + 5, NULL) : 0.0;
+    f->t = t;
     f->L = lx;
     for (long i = 0; i < n; i++) {
         double v[64];
@@ -161,7 +171,7 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
         if (c.radius >= 0) {
             f->radius = v[c.radius - 1];
         }
-        if (!isfinite(f->x[i]) || !isfinite(f->vx[i])) {
+        if (!isfinite(f->x[i]) || !isfinite(f->vx[i]) || (f->dim == 2 && (!isfinite(f->y[i]) || !isfinite(f->vy[i])))) {
             gr_frame_free(f);
             return GR_FAIL(err, GR_EINVAL, "%s:%ld: position or velocity not finite", path, *line_no);
         }
@@ -171,10 +181,11 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
 
 int gr_snapshot_read(const char *path, gr_frame *f, gr_error *err)
 {
-    FILE *in = fopen(path, "r");
-    if (!in) {
+    FILE *in;
+    int rc0 = gr_input_open(path, "snapshot", &in, err);
+    if (rc0) {
         memset(f, 0, sizeof *f);
-        return GR_FAIL(err, GR_EIO, "%s: cannot open snapshot", path);
+        return rc0;
     }
     long line_no = 0;
     int rc = gr_xyz_read_frame(in, path, &line_no, f, err);

@@ -26,9 +26,10 @@ int gr_json_write(const char *dir, const char *name, const cJSON *j, gr_error *e
 
 cJSON *gr_json_read(const char *path, gr_error *err)
 {
-    FILE *f = fopen(path, "rb");
+    int why = 0;
+    FILE *f = gr_input_fopen(path, &why);
     if (!f) {
-        GR_FAIL(err, GR_EIO, "%s: missing", path);
+        GR_FAIL(err, GR_EIO, "%s: %s", path, why < 0 ? "not a regular file" : "missing");
         return NULL;
     }
     fseek(f, 0, SEEK_END);

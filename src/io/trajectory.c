@@ -155,7 +155,8 @@ int gr_traj_reader_open(const char *dir, int want, gr_traj_reader **out, int64_t
     snprintf(r->source, sizeof r->source, "%.1100s/trajectory.h5", dir);
     if ((want < 0 && stat(r->source, &st) == 0) || want == GR_TRAJ_H5MD) {
         r->format = GR_TRAJ_H5MD;
-        int rc = gr_h5md_open_read(r->source, &r->h5, frames, err);
+        int rc = gr_input_check(r->source, "trajectory", err);
+        rc = rc ? rc : gr_h5md_open_read(r->source, &r->h5, frames, err);
         if (rc) {
             free(r);
             return rc;
@@ -166,10 +167,14 @@ int gr_traj_reader_open(const char *dir, int want, gr_traj_reader **out, int64_t
     snprintf(r->source, sizeof r->source, "%.1100s/snapshots/trajectory.xyz", dir);
     if ((want < 0 && stat(r->source, &st) == 0) || want == GR_TRAJ_XYZ) {
         r->format = GR_TRAJ_XYZ;
-        r->xyz = fopen(r->source, "r");
+        int e = 0;
+        r->xyz = gr_input_fopen(r->source, &e);
         if (!r->xyz) {
-            int e = errno;
             free(r);
+            if (e < 0) {
+                return GR_FAIL(err, GR_EINVAL, "%s/snapshots/trajectory.xyz: not a regular file (a trajectory is a file "
+                               "granule wrote; a folder, FIFO, device or socket is refused)", dir);
+            }
             return GR_FAIL(err, e == ENOENT ? GR_EINVAL : GR_EIO, "cannot open %s/snapshots/trajectory.xyz (output.trajectory = xyz): %s",
                            dir, strerror(e));
         }

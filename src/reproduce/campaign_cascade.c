@@ -52,7 +52,7 @@ static void write_positions(FILE *f, const char *which, const double *x, const d
 /* The "rfm" rows of an earlier ID_positions.csv, copied to `to` (nothing if there is none). */
 static void keep_rfm_rows(const char *path, FILE *to)
 {
-    FILE *from = fopen(path, "r");
+    FILE *from = gr_input_fopen(path, &(int){0});
     char line[256];
     while (from && fgets(line, sizeof line, from)) {
         if (!strncmp(line, "rfm,", 4)) {

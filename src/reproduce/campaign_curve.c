@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "granule/analysis.h"
+#include "io/files.h"
 #include "io/summary_read.h"
 #include "reproduce/campaign_points.h"
 
@@ -108,7 +109,7 @@ static int read_table(const campaign_point *p, const gr_campaign_result *r, doub
     expand_where(p, r->where, where, sizeof where);
     char path[1300];
     snprintf(path, sizeof path, "%s/%s", p->dir, r->table);
-    FILE *f = fopen(path, "r");
+    FILE *f = gr_input_fopen(path, &(int){0});
     if (!f) {
         return 0;
     }
@@ -164,7 +165,7 @@ int campaign_curve_series(const campaign_point *p, const gr_campaign_result *r, 
     snprintf(path, sizeof path, "%s/series.json", p->dir);
     campaign_curve_key(r, key, sizeof key);
     gr_error ignore = {0};
-    FILE *probe = fopen(path, "r");
+    FILE *probe = gr_input_fopen(path, &(int){0});
     if (probe) {
         fclose(probe);
         cJSON *j = gr_json_read(path, &ignore);

@@ -3,6 +3,7 @@
  * both and [set.quick] / [set.full]) and one [result ID] section per figure or table. Loading
  * checks every key; materialising writes a plain sweep file beside the embedded scene. */
 #include <ctype.h>
+#include <errno.h>
 #include <ini.h>
 #include <math.h>
 #include <stdio.h>
@@ -420,10 +421,15 @@ int gr_campaign_load(gr_campaign *c, const char *name, gr_error *err)
     memset(c, 0, sizeof *c);
     struct stat st;
     if (strchr(name, '/') || (strlen(name) > 4 && !strcmp(name + strlen(name) - 4, ".ini"))) {
-        if (stat(name, &st) != 0 || !S_ISREG(st.st_mode)) {
-            return GR_FAIL(err, GR_EINVAL, "%s: not a campaign file", name);
+        int why = 0;
+        FILE *f = gr_input_fopen(name, &why);
+        if (!f || fstat(fileno(f), &st) != 0) {
+            if (f) {
+                fclose(f);
+            }
+            return GR_FAIL(err, GR_EINVAL, "%s: not a campaign file (%s)", name,
+                           why < 0 ? "not a regular file: a folder, FIFO, device or socket" : strerror(why ? why : errno));
         }
-        FILE *f = fopen(name, "rb");
         char *text = calloc(1, (size_t)st.st_size + 1);
         size_t got = f && text ? fread(text, 1, (size_t)st.st_size, f) : 0;
         if (f) {

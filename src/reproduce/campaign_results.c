@@ -125,7 +125,7 @@ static int power_law_blocks(const char *dir, const char *id)
     char path[1200], name[80];
     snprintf(path, sizeof path, "%s/%s_data.csv", dir, id);
     snprintf(name, sizeof name, "%s_blocks.dat", id);
-    FILE *in = fopen(path, "r");
+    FILE *in = gr_input_fopen(path, &(int){0});
     gr_file f;
     gr_error err = {0};
     if (!in || gr_file_open(&f, dir, name, &err)) {

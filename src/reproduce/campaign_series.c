@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/files.h"
 #include "io/summary_read.h"
 #include "reproduce/campaign_points.h"
 
@@ -15,7 +16,7 @@ static int read_series(const campaign_point *p, bool sample_only, double **t_out
 {
     char path[1200];
     snprintf(path, sizeof path, "%s/temperature.csv", p->dir);
-    FILE *f = fopen(path, "r");
+    FILE *f = gr_input_fopen(path, &(int){0});
     *t_out = *T_out = NULL;
     if (!f) {
         return 0;

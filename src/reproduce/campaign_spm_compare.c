@@ -18,6 +18,7 @@
 
 #include "granule/spm.h"
 #include "granule/spm_study.h"
+#include "io/files.h"
 #include "reproduce/campaign_points.h"
 
 #define CMP_TABLE "spm_compare.csv"
@@ -46,7 +47,7 @@ static bool table_current(const char *dir, long walks, int seed)
 {
     char path[1300], line[128], want[128];
     snprintf(path, sizeof path, "%s/" CMP_TABLE, dir);
-    FILE *f = fopen(path, "r");
+    FILE *f = gr_input_fopen(path, &(int){0});
     if (!f) {
         return false;
     }

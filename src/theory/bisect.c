@@ -138,9 +138,10 @@ typedef struct csv_spec {
 static int csv_read(const char *path, const csv_spec *spec, csv_table *t, gr_error *err)
 {
     memset(t, 0, sizeof *t);
-    FILE *f = fopen(path, "r");
+    int why = 0;
+    FILE *f = gr_input_fopen(path, &why);
     if (!f) {
-        return GR_FAIL(err, GR_EIO, "cannot read %s: %s", path, strerror(errno));
+        return GR_FAIL(err, why < 0 ? GR_EINVAL : GR_EIO, "cannot read %s: %s", path, why < 0 ? "not a regular file" : strerror(why));
     }
     char line[4096], *fields[64];
     int lineno = 0, cx = 0, cy = 1, ce = -1, fc[2] = {-1, -1}, rc = GR_OK;
@@ -990,7 +991,7 @@ static bool run_gaps_info(const char *dir, double *N, double *Lr)
 {
     char path[1240];
     snprintf(path, sizeof path, "%s/summary.json", dir);
-    FILE *f = fopen(path, "r");
+    FILE *f = gr_input_fopen(path, &(int){0});
     if (!f) {
         return false;
     }

@@ -26,6 +26,7 @@
 
 #include "granule/noise.h"
 #include "granule/spm.h"
+#include "io/files.h"
 
 /* Streams of their own, so the SPM never shares variates with a run of the same seed. */
 enum {
@@ -786,9 +787,11 @@ static char *trim(char *s)
 int gr_spm_pl_load(gr_spm_pl *pl, const char *path, double diameter, gr_error *err)
 {
     memset(pl, 0, sizeof *pl);
-    FILE *f = fopen(path, "r");
+    int why = 0;
+    FILE *f = gr_input_fopen(path, &why);
     if (!f) {
-        return GR_FAIL(err, errno == ENOENT ? GR_EINVAL : GR_EIO, "%s: cannot read: %s", path, strerror(errno));
+        return GR_FAIL(err, why < 0 || why == ENOENT ? GR_EINVAL : GR_EIO, "%s: cannot read: %s", path,
+                       why < 0 ? "not a regular file (a folder, FIFO, device or socket)" : strerror(why));
     }
     pl->kind = GR_SPM_PL_TABLE;
     snprintf(pl->source, sizeof pl->source, "%s", path);
@@ -1339,9 +1342,11 @@ int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm
     for (int i = 0; i < n && !rc; i++) {
         char path[1500];
         snprintf(path, sizeof path, "%s/%s", sdir, names[i]);
-        FILE *f = fopen(path, "r");
+        int why = 0;
+        FILE *f = gr_input_fopen(path, &why);
         if (!f) {
-            rc = GR_FAIL(err, GR_EIO, "%s: cannot read: %s", path, strerror(errno));
+            rc = GR_FAIL(err, why < 0 ? GR_EINVAL : GR_EIO, "%s: cannot read: %s", path,
+                         why < 0 ? "not a regular file (a folder, FIFO, device or socket)" : strerror(why));
             break;
         }
         long np = 0;

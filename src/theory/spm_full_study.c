@@ -102,7 +102,7 @@ int gr_spm_full_prepare(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *
     if (!p->pl_path && isnan(p->df) && p->run_dir) {
         /* Fig. 5.10: the run's own free paths (the freepath observable) */
         snprintf(r->auto_pl, sizeof r->auto_pl, "%s/freepath.csv", p->run_dir);
-        FILE *probe = fopen(r->auto_pl, "r");
+        FILE *probe = gr_input_fopen(r->auto_pl, &(int){0});
         if (!probe) {
             return GR_FAIL(err, GR_EINVAL,
                            "spm full: %s has no freepath.csv (run it with [analysis] observables = freepath); give --pl "
