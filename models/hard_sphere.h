@@ -21,7 +21,7 @@
 extern const gr_model gr_model_hard_sphere;
 
 /* The rule itself: the instantaneous collision of two equal masses (thesis eqs. 2.1, 2.2, 2.10),
- * called by the event-driven integrator (src/event/, through src/event/rule.h) and by
+ * called by the event-driven integrator (src/integrators/event/) and by
  * `granule collide --model hard_sphere`.
  *
  * With n the unit normal from particle 1 to particle 2 and g = v1 - v2 (so g.n > 0 when the pair

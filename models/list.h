@@ -43,7 +43,7 @@
     X(A, rolling_friction)
 
 /* instantaneous rules of the event-driven integrator: gr_model_NAME (the rule is called by
- * src/event/ through its header) */
+ * src/integrators/event/ through its header) */
 #define GR_EVENT_MODELS(X, A) \
     X(A, hard_sphere)
 

@@ -1,4 +1,4 @@
-/* Tests of the event-driven integrator (src/integrators/event/, src/event/rule.h, models/hard_sphere.c): the collision rule
+/* Tests of the event-driven integrator (src/integrators/event/, models/hard_sphere.h): the collision rule
  * (2.1, 2.2, 2.10) and its energy loss (2.13, 2.14, Table 2.1), elastic gases that must conserve
  * energy and never overlap (checked after every collision), free flight under the random force
  * against the random-acceleration process (both free_flight methods), long dissipative runs
@@ -21,7 +21,7 @@
 #include "core/sim_internal.h"
 #include "integrators/event/event.h"
 #include "integrators/event/event_internal.h"
-#include "event/rule.h"
+#include "models/hard_sphere.h"
 #include "granule/collide.h"
 #include "granule/model.h"
 #include "granule/scene.h"

@@ -18,7 +18,7 @@
 #include "core/blob.h"
 #include "core/sim_internal.h"
 #include "core/sim_state.h"
-#include "event/rule.h"
+#include "models/hard_sphere.h"
 #include "granule/collide.h"
 #include "granule/model.h"
 #include "granule/scene.h"

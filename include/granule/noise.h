@@ -15,7 +15,7 @@
 
 /* Independent streams for independent uses of the same seed. */
 enum { GR_STREAM_NOISE = 0, GR_STREAM_INIT_VELOCITY = 1, GR_STREAM_PLACEMENT = 2,
-       GR_STREAM_FREE_FLIGHT = 3 /* event-driven free flight (src/event/event.c) */,
+       GR_STREAM_FREE_FLIGHT = 3 /* event-driven free flight (src/integrators/event/event.c) */,
        GR_STREAM_HYBRID = 4 /* hybrid integrator: free-flight increments and bridged kicks */ };
 
 /* Standard normal variates for particles with ids first .. first+n-1 at step `step`:

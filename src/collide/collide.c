@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "core/sim_internal.h"
-#include "event/rule.h"
+#include "models/hard_sphere.h"
 #include "granule/collide.h"
 #include "granule/scene.h"
 
@@ -78,7 +78,7 @@ static double contact_time_of(const double r[2], const double g[2], double d)
     return c / (-b + sqrt(disc)); /* cancellation-free root (physics notes sec. 3.3) */
 }
 
-/* hard_sphere: the instantaneous rule (src/event/rule.h) applied at the exact contact instant */
+/* hard_sphere: the instantaneous rule (models/hard_sphere.h, gr_event_collide) applied at the exact contact instant */
 static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc, double t_hit,
                         gr_collide_result *out, gr_error *err)
 {

@@ -24,7 +24,7 @@
 #include <string.h>
 
 #include "integrators/event/event_internal.h"
-#include "event/rule.h"
+#include "models/hard_sphere.h"
 #include "granule/free_flight.h"
 #include "granule/noise.h"
 

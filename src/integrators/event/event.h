@@ -55,7 +55,7 @@ typedef struct gr_event_counts {
     double floor_energy; /* J added by the contact floor (part of the injected energy) */
 } gr_event_counts;
 void gr_event_stats(const gr_sim *s, gr_event_counts *c);
-/* The event calendar in use: "bucket", "sparse" or "full" (src/event/calendar.c). */
+/* The event calendar in use: "bucket", "sparse" or "full" (src/integrators/event/calendar.c). */
 const char *gr_event_calendar(const gr_sim *s);
 
 /* Test hooks: check every pair for overlap after every collision (also GRANULE_EVENT_CHECK=1),

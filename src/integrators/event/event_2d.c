@@ -11,7 +11,7 @@
 #include <stdlib.h>
 
 #include "integrators/event/event_internal.h"
-#include "event/rule.h"
+#include "models/hard_sphere.h"
 
 int gr_ev2d_alloc(gr_sim *s, gr_error *err)
 {

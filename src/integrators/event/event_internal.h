@@ -1,4 +1,4 @@
-/* Private state of the event-driven core (src/event/). docs/event-driven.md describes the design.
+/* Private state of the event-driven core (src/integrators/event/). docs/event-driven.md describes the design.
  *
  * Time is cut into global kick windows [k tau, (k + 1) tau). Inside window k every particle
  * follows a known trajectory: acceleration a1 on the first half, a velocity jump J at the middle,
