@@ -79,8 +79,39 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
         return;
     }
     char axis[200] = "";
+    /* rows in order of their value when each is labelled by one number (eps_n = 0.01 ... 0.99),
+     * otherwise in the campaign's order */
+    int *order = malloc(sizeof(int) * (size_t)(rows->n > 0 ? rows->n : 1));
+    if (!order) {
+        gr_file_abandon(&f);
+        return;
+    }
+    bool numeric = true;
     for (int i = 0; i < rows->n; i++) {
-        const campaign_row *w = &rows->r[i];
+        char label[200], keys[200], *end;
+        split_group(rows->r[i].group, label, sizeof label, keys, sizeof keys);
+        strtod(label, &end);
+        numeric &= end != label && !*end;
+        order[i] = i;
+    }
+    for (int i = 1; i < rows->n && numeric; i++) { /* insertion sort: stable, m stays in order */
+        const int k = order[i];
+        const double xk = atof(strchr(rows->r[k].group, '=') ? strchr(rows->r[k].group, '=') + 1 : rows->r[k].group);
+        int j = i;
+        while (j > 0) {
+            const campaign_row *p = &rows->r[order[j - 1]];
+            const double xp = atof(strchr(p->group, '=') ? strchr(p->group, '=') + 1 : p->group);
+            if (xp <= xk) {
+                break;
+            }
+            order[j] = order[j - 1];
+            j--;
+        }
+        order[j] = k;
+    }
+    for (int o = 0; o < rows->n; o++) {
+        const int i = o;
+        const campaign_row *w = &rows->r[order[o]];
         char label[200], keys[200];
         split_group(w->group, label, sizeof label, keys, sizeof keys);
         if (!axis[0]) {
@@ -89,9 +120,13 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
         if (w->m) {
             snprintf(label + strlen(label), sizeof label - strlen(label), " m=%d", w->m);
         }
-        fprintf(f.f, "%d \"%s\" %.6g %.6g %.6g %.6g\n", i, label, w->value, w->error, w->thesis,
-                isfinite(w->thesis_error) ? w->thesis_error : 0.0);
+        /* a thesis range is drawn as its middle +- half its width */
+        const bool range = !strcmp(w->comparison, "range");
+        const double tv = range ? 0.5 * (w->thesis + w->thesis_hi) : w->thesis;
+        const double te = range ? 0.5 * (w->thesis_hi - w->thesis) : isfinite(w->thesis_error) ? w->thesis_error : 0.0;
+        fprintf(f.f, "%d \"%s\" %.6g %.6g %.6g %.6g\n", i, label, w->value, w->error, tv, te);
     }
+    free(order);
     if (gr_file_commit(&f, &err)) {
         return;
     }
@@ -111,7 +146,7 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
     char body[2048];
     snprintf(body, sizeof body,
              "set datafile separator whitespace\nset title \"%s\" noenhanced\nset ylabel '%s%s%s' noenhanced\n%s\n"
-             "set xlabel '%s' noenhanced\nset key top left\nset offsets 0.5, 0.5, 0, 0\nset grid ytics lc rgb '#dddddd'\n"
+             "set xlabel '%s' noenhanced\nset key top left\nset offsets 0.5, 0.5, graph 0.06, graph 0.06\nset grid ytics lc rgb '#dddddd'\n"
              "plot '%s' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'%s\n",
              r->title, r->quantity, r->unit[0] ? " / " : "", r->unit, tics, axis, name,
              thesis ? ", '' using ($1+0.15):5:6 with yerrorbars pt 6 ps 1.2 lc rgb '#c0392b' title 'thesis'" : "");

@@ -3,8 +3,9 @@ set datafile separator whitespace
 set title "Tail exponent of the SPM's P(v) from the run's free paths, same form and bins" noenhanced
 set ylabel 'alpha' noenhanced
 set xtics rotate by -40 noenhanced
+set xlabel 'N+L' noenhanced
 set key top left
-set offsets 0.5, 0.5, 0, 0
+set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'
 plot 'fig5.10-alpha-spm_compare.dat' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'
 
