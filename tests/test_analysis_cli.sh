@@ -134,7 +134,7 @@ check grep -q "particle-steps/s" "$tmp/cmp.out"
 check test "$(grep -vc '^#' "$tmp/cmp/compare.csv")" -eq 3
 check grep -q "sliding_friction" "$tmp/cmp/compare.md"
 # T_stderr_converged is a column, each model whose error bar is not converged is marked in its
-# T cell with the footnote under the table, and no nan anywhere
+# T cell with the footnote under the table (in words in compare.csv), and no nan anywhere
 check python3 - "$tmp/cmp" "$tmp/cmp.out" <<'PY'
 import csv, sys
 d = sys.argv[1]
@@ -145,7 +145,8 @@ assert "| T (m^2/s^2) |" in md
 flags = [r["T_stderr_converged"] for r in rows]
 assert all(f in ("0", "1") for f in flags), flags
 for r in rows:
-    assert (r["T_note"].endswith(" *")) == (r["T_stderr_converged"] == "0"), r["model"]
+    # the footnote in words (a '*' or '#' mark stays in the tables; '#' would be a comment to numpy)
+    assert (r["T_note"] == "error bar not converged (a lower bound): run longer") == (r["T_stderr_converged"] == "0"), r["model"]
 assert "0" in flags, "a 0.005 s run should not have a converged error bar"
 assert "*: the error bar of T is not converged" in md and "*: the error bar of T is not converged" in out
 for text in (md, out, open(d + "/compare.csv").read()):

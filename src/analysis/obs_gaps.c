@@ -406,7 +406,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                 "(3.16), R = |r'_{i+h} - r'_i| in m; density in 1/m with sqrt(X) errors (App. A.1), "
                 "normalised by all separations sampled; neg_ln_R = -ln(R/L') (Fig. 3.12); "
                 "x = R N / (h L') and density_x = density h L' / N (mean-scaled, for 3.25 overlays)",
-        .columns = "h,binning,R_lo,R_hi,R,count,density,density_error,neg_ln_R,x,density_x,density_x_error",
+        .columns = "h [1],binning [],R_lo [m],R_hi [m],R [m],count [1],density [m-1],density_error [m-1],neg_ln_R [1],x [1],"
+                   "density_x [1],density_x_error [1]",
         .rows = gaps_rows,
         .ctx = g,
     };
@@ -428,7 +429,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .what = "moments <R^m> of the h-th neighbour separations R_{i,i+h} (3.18 for h = 1) in m^m, averaged "
                 "over particles and uniformly in time, block-averaging errors; reduced = <(R N / (h L'))^m> "
                 "(Poisson points: Gamma(h + m) / (Gamma(h) h^m) for large N)",
-        .columns = "h,m,moment,stderr,reduced_moment,reduced_stderr,converged,samples",
+        .columns = "h [1],m [1],moment [m^m],stderr [m^m],reduced_moment [1],reduced_stderr [1],converged [1],samples [1]",
         .rows = moment_rows,
         .ctx = &mrows,
     };

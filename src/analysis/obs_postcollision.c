@@ -114,7 +114,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .name = "postcollision.csv",
         .what = "post-collision velocity distribution P(v_0) (Fig. 5.9) beside the full P(v), per component, "
                 "v in m/s, densities per m/s with sqrt(X) errors",
-        .columns = "v,post_density,post_error,post_count,all_density,all_error,all_count",
+        .columns = "v [m s-1],post_density [s m-1],post_error [s m-1],post_count [1],all_density [s m-1],all_error [s m-1],"
+                   "all_count [1]",
         .rows = rows,
         .ctx = p,
         .png = "postcollision.png",
