@@ -41,9 +41,25 @@ check python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if
 
 # offline analysis of snapshots equals the in-run result: snapshots at every sample, no warm-up
 "$granule" run "$src/docs/scenes/steady-2d.ini" --quiet --out "$tmp/same" --set system.N=300 --set system.L=0.06 \
-    --set run.warmup=0 --set run.duration=0.02 --set run.sample_every=0.002 --set output.snapshot_every=0.002 \
+    --set run.warmup=0 --set run.duration=0.04 --set run.sample_every=0.002 --set output.snapshot_every=0.002 \
     --set output.plots=false --set analysis.observables=moments,sk,pair >/dev/null
-check "$granule" analyse "$tmp/same"
+same_out=$("$granule" analyse "$tmp/same" 2>/dev/null)
+check test $? -eq 0
+# the headline as run prints it (issue 38): T with its error over the frames, then the fits
+check grep -Eq "^$tmp/same/analysis: T = [0-9.e+-]+ \+- [0-9.e+-]+ m\^2/s\^2.* over 20 frames" <<<"$same_out"
+check python3 - "$tmp/same" "$same_out" <<'PY'
+import json, sys
+d = sys.argv[1]
+run, off = json.load(open(d + "/summary.json")), json.load(open(d + "/analysis/summary.json"))
+# T from the snapshots equals the run's T of the same frames, and the printed value is it
+ok = abs(off["T_mean"] - run["T_mean"]) <= 1e-12 * run["T_mean"] and off["samples"] == run["samples"] == 20
+ok &= off["T_stderr"] is not None and abs(off["T_stderr"] - run["T_stderr"]) <= 1e-9 * run["T_stderr"]
+ok &= off["T_stderr_converged"] == run["T_stderr_converged"]
+ok &= ("T = %.6g +- %.2g m^2/s^2" % (off["T_mean"], off["T_stderr"])) in sys.argv[2]
+fit = off["analysis"]["sk"]["fit"]  # the fitted headline numbers follow T when there are any
+ok &= ("; D_f (4.4) = " in sys.argv[2]) == ("D_f" in fit)
+sys.exit(0 if ok else 1)
+PY
 check python3 - "$tmp/same" <<'PY'
 import json, sys
 d = sys.argv[1]

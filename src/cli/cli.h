@@ -47,5 +47,8 @@ bool cli_threads(const char *text);
 /* --format png|svg|pdf: draw every plot of this command in that format (gr_plot_set_format).
  * False (after an error naming the allowed values) for anything else. Defined in cmd_run.c. */
 bool cli_plot_format(const char *text);
+/* "T = <mean> +- <error> m^2/s^2" with the warning of an unconverged error bar, as run and
+ * analyse print it (defined in cmd_run.c). */
+void cli_T_text(char *buf, size_t size, double T_mean, double T_stderr, int converged);
 
 #endif
