@@ -297,7 +297,11 @@ int gr_cascade_study_write(const char *dir, const gr_cascade_study_params *p, co
     if (rc) {
         return rc;
     }
-    plots(&ri, p, st, list, size);
+    if (p->no_plots) {
+        snprintf(list, size, "not requested");
+    } else {
+        plots(&ri, p, st, list, size);
+    }
     cJSON *j = summary(p, st, list);
     rc = gr_json_write(dir, "summary.json", j, err);
     cJSON_Delete(j);
