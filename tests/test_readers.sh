@@ -236,6 +236,7 @@ pc = pd.read_csv("cmp/pv_collapse.csv")
 assert list(pc.columns) == ["model", "v_over_vrms", "P_scaled"] and pc["model"].nunique() == 2 and pc.notna().all().all()
 t = pd.read_csv("run/temperature.csv")
 assert list(t.columns) == ["t", "T", "running_mean", "phase"] and len(t) == 9
+assert list(t["phase"].unique()) == ["warmup", "sampling"], t["phase"].unique()  # the docs' words
 print("ok pandas %s and numpy %s read %d CSVs without options" % (pd.__version__, np.__version__, len(files)))
 EOF
     ;;

@@ -246,7 +246,7 @@ static void release(gr_run_ctx *c)
     gr_observer_free(c->obs);
     gr_sim_free(c->sim);
     free(c->ck_buf);
-    gr_dir_unlock(&c->lock_fd);
+    gr_dir_unlock(c->dir, RUN_LOCK, &c->lock_fd);
 }
 
 int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res, gr_error *err)
@@ -274,7 +274,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     }
     /* a stop request ends in a checkpoint; otherwise the outputs are finished */
     rc = gr_run_stop(c) ? c->rc : gr_run_finish(c);
-    gr_dir_unlock(&c->lock_fd);
+    gr_dir_unlock(c->dir, RUN_LOCK, &c->lock_fd);
     free(c);
     return rc;
 }
