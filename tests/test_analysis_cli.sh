@@ -28,6 +28,26 @@ check python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if
 check grep -q "analyse: warning: only 5 frames" <<<"$("$granule" analyse "$tmp/run1" --out "$tmp/an-few" --set analysis.observables=moments 2>&1)"
 check python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if 'only 5 frames' in d['warnings'] else 1)" "$tmp/an-few/summary.json"
 
+# histogram lines join bins of 2 counts or more; single-count bins (a tail of lone events at one
+# level) are drawn as points, never as a flat line (issue 38)
+"$granule" run "$src/docs/scenes/rfm-1d.ini" --quiet --out "$tmp/tails" --set system.N=100 --set run.warmup=0.01 \
+    --set run.duration=0.05 --set analysis.observables=gaps,postcollision >/dev/null 2>&1
+check python3 - "$tmp/tails" <<'PY'
+import re, sys
+d = sys.argv[1]
+ok = True
+for gp, count in [("gaps.gp", "$6"), ("gaps_lnR.gp", "$6"), ("postcollision.gp", "$7")]:
+    body = open(d + "/" + gp).read()
+    series = [x.replace(" ", "") for x in body.split("plot ", 1)[1].split(", ") if "using" in x]
+    lines = [sr for sr in series if re.search(r"with(lines|linespoints)", sr)]
+    good = bool(lines) and all(count + ">1" in sr for sr in lines)
+    good &= any("withpoints" in sr and count + "==1" in sr for sr in series)
+    if not good:
+        print(gp, series, file=sys.stderr)
+    ok &= good
+sys.exit(0 if ok else 1)
+PY
+
 # warnings a user must see (issue 14): a 2D box with 2 lattice shells below k' gives no D_f, and
 # says why; spm full --compare-run on 5 frames gives no "agrees" verdict but a warning
 "$granule" run "$src/docs/scenes/steady-2d.ini" --quiet --out "$tmp/few" --set system.N=300 --set system.L=0.05 \
@@ -223,6 +243,8 @@ analysis.observables = moments
 EOT
 check "$granule" sweep "$tmp/sweep.ini"
 check test "$(grep -vc '^#' "$tmp/sw/sweep.csv")" -eq 7
+# the claims and run locks end with the points: no lock file is left in a finished sweep (issue 38)
+check test "$(find "$tmp/sw" -name '.point.lock' -o -name '.run.lock' | wc -l)" -eq 0
 check python3 -c "import csv,sys; r=list(csv.DictReader(l for l in open(sys.argv[1]) if l[0] != '#')); sys.exit(0 if all(x['T_stderr_converged'] in ('0', '1') for x in r) else 1)" "$tmp/sw/sweep.csv"
 check test -f "$tmp/sw/exponents.csv"
 out=$("$granule" sweep "$tmp/sweep.ini" 2>/dev/null)

@@ -265,7 +265,8 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
     char body[8192];
     size_t len;
 
-    /* G_h(R;N) on log-log axes */
+    /* G_h(R;N) on log-log axes; lines join the bins with 2 counts or more, and the bins of a
+     * single count (a tail of lone events, all at one level) are open circles, not a flat line */
     len = (size_t)snprintf(body, sizeof body,
                            "set logscale xy\nset format y '10^{%%L}'\nset format x '10^{%%L}'\nset key bottom left\n"
                            "set xlabel \"R (m, reduced coordinates 3.16)\"\nset ylabel 'G_h(R;N) (1/m)'\n"
@@ -273,9 +274,11 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
                            g->n, g->Lr, bin);
     for (int k = 0; k < nh && len < sizeof body; k++) {
         len += (size_t)snprintf(body + len, sizeof body - len,
-                                "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $7 > 0) ? $5 : 1/0):7 "
-                                "with linespoints lt %d pt 7 ps 0.5 title 'h = %d'",
-                                k ? ", " : "", hs[k], bin, k + 1, hs[k]);
+                                "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 > 1) ? $5 : 1/0):7 "
+                                "with linespoints lt %d pt 7 ps 0.5 title 'h = %d', "
+                                "'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 == 1) ? $5 : 1/0):7 "
+                                "with points lt %d pt 6 ps 0.5 notitle",
+                                k ? ", " : "", hs[k], bin, k + 1, hs[k], hs[k], bin, k + 1);
     }
     if (len < sizeof body) {
         gr_obs_plot(out, "gaps.png", body);
@@ -289,9 +292,11 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
                            g->n, bin);
     for (int k = 0; k < nh && len < sizeof body; k++) {
         len += (size_t)snprintf(body + len, sizeof body - len,
-                                "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $7 > 0 && $9 > 0) ? $9 : 1/0):($7 * %.10g) "
-                                "with linespoints lt %d pt 7 ps 0.5 title 'h = %d'",
-                                k ? ", " : "", hs[k], bin, g->Lr, k + 1, hs[k]);
+                                "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 > 1 && $9 > 0) ? $9 : 1/0):($7 * %.10g) "
+                                "with linespoints lt %d pt 7 ps 0.5 title 'h = %d', "
+                                "'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 == 1 && $9 > 0) ? $9 : 1/0):($7 * %.10g) "
+                                "with points lt %d pt 6 ps 0.5 notitle",
+                                k ? ", " : "", hs[k], bin, g->Lr, k + 1, hs[k], hs[k], bin, g->Lr, k + 1);
     }
     if (fit_ok && len < sizeof body) {
         char legend[120];

@@ -122,7 +122,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .plot = "set logscale y\nset xlabel 'v (m/s)'\nset ylabel 'probability density'\n"
                 "set title \"Velocities just after a collision and of all particles\\n{/*0.75 Fig. 5.9}\"\n"
                 "plot 'postcollision.csv' skip 1 using 1:($4>0?$2:1/0) with points pt 7 ps 0.5 title 'P(v_0) after "
-                "collision', '' skip 1 using 1:($7>0?$5:1/0) with lines lw 2 title 'P(v)'",
+                "collision', '' skip 1 using 1:($7>1?$5:1/0) with lines lw 2 title 'P(v)', '' skip 1 using "
+                "1:($7==1?$5:1/0) with points lt 2 pt 6 ps 0.5 notitle",
     };
     cJSON_AddNumberToObject(j, "post_samples", (double)p->post_n);
     cJSON_AddNumberToObject(j, "post_v2", p->post_n ? p->post_v2 / p->post_n : 0.0);
