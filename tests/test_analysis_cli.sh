@@ -202,6 +202,10 @@ check test ! -e "$tmp/cmpi2"
 "$granule" plot "$tmp/cmpi" --format svg >"$tmp/plot.out" 2>&1
 check test $? -eq 0
 check test -s "$tmp/cmpi/temperature.svg"
+# it says what it drew: every picture's path, then the count (issue 38)
+check grep -qx "$tmp/cmpi/temperature.svg" "$tmp/plot.out"
+check grep -qx "$tmp/cmpi/spring_dashpot_hybrid/temperature.svg" "$tmp/plot.out"
+check grep -qx "plot: drew $(($(grep -c '\.svg$\|\.png$' "$tmp/plot.out"))) pictures under $tmp/cmpi (graphs as svg)" "$tmp/plot.out"
 check test -s "$tmp/cmpi/spring_dashpot_hybrid/temperature.svg"
 check grep -q '"temperature.svg"' "$tmp/cmpi/hard_sphere_event/summary.json"
 "$granule" plot "$tmp/cmpi" --format jpeg >/dev/null 2>"$tmp/plot.err"
