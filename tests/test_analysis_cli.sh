@@ -269,6 +269,29 @@ EOT
 check test $? -eq 1
 check grep -q ",completed," "$tmp/sw2/sweep.csv"
 check grep -q ",failed," "$tmp/sw2/sweep.csv"
+# sweep.csv carries R1..R12 (<R^m>, with their units) only when a point has them: a 1D sweep with
+# the gaps observable (the 2D sweeps above have none: issue 38)
+cat >"$tmp/sweep3.ini" <<EOT
+[sweep]
+scene = $src/docs/scenes/rfm-1d.ini
+out = $tmp/sw3
+[vary]
+system.N = 50, 100
+[set]
+run.warmup = 0
+run.duration = 0.005
+output.plots = false
+analysis.observables = gaps
+EOT
+check "$granule" sweep "$tmp/sweep3.ini"
+check python3 - "$tmp/sw3" "$tmp/sw" <<'PY'
+import csv, json, math, sys
+with_R, without = (list(csv.DictReader(open(d + "/sweep.csv"))) for d in sys.argv[1:3])
+units = json.load(open(sys.argv[1] + "/sweep.meta.json"))["units"]
+ok = all(math.isfinite(float(r["R2"])) for r in with_R) and units["R3"] == "m3" and units["m3"] == "m3 s-3"
+ok &= not any(k.startswith("R") for k in without[0])
+sys.exit(0 if ok else 1)
+PY
 
 # the energy-ledger guard stops a run whose time step is far too coarse (forced), keeping outputs
 "$granule" run "$src/docs/scenes/steady-2d.ini" --quiet --out "$tmp/coarse" --set integrator.dt=8e-6 \
