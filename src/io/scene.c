@@ -40,7 +40,7 @@ typedef struct scene_key {
 static const scene_key keys[] = {
     {"system", "dim", "", K_INT, "2", 1, 2, false, false, NULL, "1 (periodic line) or 2 (periodic square)", OFF(dim)},
     {"system", "N", "", K_INT, "2000", 1, 1e8, false, false, NULL, "number of particles", OFF(N)},
-    {"system", "L", "m", K_DOUBLE, "0.2", 0, INFINITY, true, true, NULL, "box side (2D) or ring length (1D); give at most one of L, packing_fraction, reduced_length", OFF(L)},
+    {"system", "L", "m", K_DOUBLE, "0.2", 0, INFINITY, true, true, NULL, "box side (2D) or ring length (1D); give at most one of L, packing_fraction, reduced_length; the default is 2D's: a 1D scene without any gets reduced_length = 1 m", OFF(L)},
     {"system", "packing_fraction", "", K_DOUBLE, NULL, 0, 0.9069, true, false, NULL, "2D only: sets L from phi = N pi r^2 / L^2 (2.24); hexagonal maximum 0.9069", OFF(packing_fraction)},
     {"system", "reduced_length", "m", K_DOUBLE, NULL, 0, INFINITY, false, true, NULL, "1D only: sets L from L' = L - N d (sec. 3.1); a 1D scene without L or reduced_length gets 1 m", OFF(reduced_length)},
     {"system", "radius", "m", K_DOUBLE, "1.5e-3", 0, INFINITY, true, true, NULL, "particle radius r (Table 2.2)", OFF(radius)},
