@@ -28,6 +28,26 @@ check python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if
 check grep -q "analyse: warning: only 5 frames" <<<"$("$granule" analyse "$tmp/run1" --out "$tmp/an-few" --set analysis.observables=moments 2>&1)"
 check python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if 'only 5 frames' in d['warnings'] else 1)" "$tmp/an-few/summary.json"
 
+# histogram lines join bins of 2 counts or more; single-count bins (a tail of lone events at one
+# level) are drawn as points, never as a flat line (issue 38)
+"$granule" run "$src/docs/scenes/rfm-1d.ini" --quiet --out "$tmp/tails" --set system.N=100 --set run.warmup=0.01 \
+    --set run.duration=0.05 --set analysis.observables=gaps,postcollision >/dev/null 2>&1
+check python3 - "$tmp/tails" <<'PY'
+import re, sys
+d = sys.argv[1]
+ok = True
+for gp, count in [("gaps.gp", "$6"), ("gaps_lnR.gp", "$6"), ("postcollision.gp", "$7")]:
+    body = open(d + "/" + gp).read()
+    series = [x.replace(" ", "") for x in body.split("plot ", 1)[1].split(", ") if "using" in x]
+    lines = [sr for sr in series if re.search(r"with(lines|linespoints)", sr)]
+    good = bool(lines) and all(count + ">1" in sr for sr in lines)
+    good &= any("withpoints" in sr and count + "==1" in sr for sr in series)
+    if not good:
+        print(gp, series, file=sys.stderr)
+    ok &= good
+sys.exit(0 if ok else 1)
+PY
+
 # warnings a user must see (issue 14): a 2D box with 2 lattice shells below k' gives no D_f, and
 # says why; spm full --compare-run on 5 frames gives no "agrees" verdict but a warning
 "$granule" run "$src/docs/scenes/steady-2d.ini" --quiet --out "$tmp/few" --set system.N=300 --set system.L=0.05 \
@@ -41,9 +61,25 @@ check python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if
 
 # offline analysis of snapshots equals the in-run result: snapshots at every sample, no warm-up
 "$granule" run "$src/docs/scenes/steady-2d.ini" --quiet --out "$tmp/same" --set system.N=300 --set system.L=0.06 \
-    --set run.warmup=0 --set run.duration=0.02 --set run.sample_every=0.002 --set output.snapshot_every=0.002 \
+    --set run.warmup=0 --set run.duration=0.04 --set run.sample_every=0.002 --set output.snapshot_every=0.002 \
     --set output.plots=false --set analysis.observables=moments,sk,pair >/dev/null
-check "$granule" analyse "$tmp/same"
+same_out=$("$granule" analyse "$tmp/same" 2>/dev/null)
+check test $? -eq 0
+# the headline as run prints it (issue 38): T with its error over the frames, then the fits
+check grep -Eq "^$tmp/same/analysis: T = [0-9.e+-]+ \+- [0-9.e+-]+ m\^2/s\^2.* over 20 frames" <<<"$same_out"
+check python3 - "$tmp/same" "$same_out" <<'PY'
+import json, sys
+d = sys.argv[1]
+run, off = json.load(open(d + "/summary.json")), json.load(open(d + "/analysis/summary.json"))
+# T from the snapshots equals the run's T of the same frames, and the printed value is it
+ok = abs(off["T_mean"] - run["T_mean"]) <= 1e-12 * run["T_mean"] and off["samples"] == run["samples"] == 20
+ok &= off["T_stderr"] is not None and abs(off["T_stderr"] - run["T_stderr"]) <= 1e-9 * run["T_stderr"]
+ok &= off["T_stderr_converged"] == run["T_stderr_converged"]
+ok &= ("T = %.6g +- %.2g m^2/s^2" % (off["T_mean"], off["T_stderr"])) in sys.argv[2]
+fit = off["analysis"]["sk"]["fit"]  # the fitted headline numbers follow T when there are any
+ok &= ("; D_f (4.4) = " in sys.argv[2]) == ("D_f" in fit)
+sys.exit(0 if ok else 1)
+PY
 check python3 - "$tmp/same" <<'PY'
 import json, sys
 d = sys.argv[1]
@@ -134,7 +170,7 @@ check grep -q "particle-steps/s" "$tmp/cmp.out"
 check test "$(grep -vc '^#' "$tmp/cmp/compare.csv")" -eq 3
 check grep -q "sliding_friction" "$tmp/cmp/compare.md"
 # T_stderr_converged is a column, each model whose error bar is not converged is marked in its
-# T cell with the footnote under the table, and no nan anywhere
+# T cell with the footnote under the table (in words in compare.csv), and no nan anywhere
 check python3 - "$tmp/cmp" "$tmp/cmp.out" <<'PY'
 import csv, sys
 d = sys.argv[1]
@@ -145,7 +181,8 @@ assert "| T (m^2/s^2) |" in md
 flags = [r["T_stderr_converged"] for r in rows]
 assert all(f in ("0", "1") for f in flags), flags
 for r in rows:
-    assert (r["T_note"].endswith(" *")) == (r["T_stderr_converged"] == "0"), r["model"]
+    # the footnote in words (a '*' or '#' mark stays in the tables; '#' would be a comment to numpy)
+    assert (r["T_note"] == "error bar not converged (a lower bound): run longer") == (r["T_stderr_converged"] == "0"), r["model"]
 assert "0" in flags, "a 0.005 s run should not have a converged error bar"
 assert "*: the error bar of T is not converged" in md and "*: the error bar of T is not converged" in out
 for text in (md, out, open(d + "/compare.csv").read()):
@@ -165,6 +202,10 @@ check test ! -e "$tmp/cmpi2"
 "$granule" plot "$tmp/cmpi" --format svg >"$tmp/plot.out" 2>&1
 check test $? -eq 0
 check test -s "$tmp/cmpi/temperature.svg"
+# it says what it drew: every picture's path, then the count (issue 38)
+check grep -qx "$tmp/cmpi/temperature.svg" "$tmp/plot.out"
+check grep -qx "$tmp/cmpi/spring_dashpot_hybrid/temperature.svg" "$tmp/plot.out"
+check grep -qx "plot: drew $(($(grep -c '\.svg$\|\.png$' "$tmp/plot.out"))) pictures under $tmp/cmpi (graphs as svg)" "$tmp/plot.out"
 check test -s "$tmp/cmpi/spring_dashpot_hybrid/temperature.svg"
 check grep -q '"temperature.svg"' "$tmp/cmpi/hard_sphere_event/summary.json"
 "$granule" plot "$tmp/cmpi" --format jpeg >/dev/null 2>"$tmp/plot.err"
@@ -206,6 +247,8 @@ analysis.observables = moments
 EOT
 check "$granule" sweep "$tmp/sweep.ini"
 check test "$(grep -vc '^#' "$tmp/sw/sweep.csv")" -eq 7
+# the claims and run locks end with the points: no lock file is left in a finished sweep (issue 38)
+check test "$(find "$tmp/sw" -name '.point.lock' -o -name '.run.lock' | wc -l)" -eq 0
 check python3 -c "import csv,sys; r=list(csv.DictReader(l for l in open(sys.argv[1]) if l[0] != '#')); sys.exit(0 if all(x['T_stderr_converged'] in ('0', '1') for x in r) else 1)" "$tmp/sw/sweep.csv"
 check test -f "$tmp/sw/exponents.csv"
 out=$("$granule" sweep "$tmp/sweep.ini" 2>/dev/null)
@@ -226,6 +269,29 @@ EOT
 check test $? -eq 1
 check grep -q ",completed," "$tmp/sw2/sweep.csv"
 check grep -q ",failed," "$tmp/sw2/sweep.csv"
+# sweep.csv carries R1..R12 (<R^m>, with their units) only when a point has them: a 1D sweep with
+# the gaps observable (the 2D sweeps above have none: issue 38)
+cat >"$tmp/sweep3.ini" <<EOT
+[sweep]
+scene = $src/docs/scenes/rfm-1d.ini
+out = $tmp/sw3
+[vary]
+system.N = 50, 100
+[set]
+run.warmup = 0
+run.duration = 0.005
+output.plots = false
+analysis.observables = gaps
+EOT
+check "$granule" sweep "$tmp/sweep3.ini"
+check python3 - "$tmp/sw3" "$tmp/sw" <<'PY'
+import csv, json, math, sys
+with_R, without = (list(csv.DictReader(open(d + "/sweep.csv"))) for d in sys.argv[1:3])
+units = json.load(open(sys.argv[1] + "/sweep.meta.json"))["units"]
+ok = all(math.isfinite(float(r["R2"])) for r in with_R) and units["R3"] == "m3" and units["m3"] == "m3 s-3"
+ok &= not any(k.startswith("R") for k in without[0])
+sys.exit(0 if ok else 1)
+PY
 
 # the energy-ledger guard stops a run whose time step is far too coarse (forced), keeping outputs
 "$granule" run "$src/docs/scenes/steady-2d.ini" --quiet --out "$tmp/coarse" --set integrator.dt=8e-6 \

@@ -310,5 +310,25 @@ else
     fail "result line and T_stderr_converged = $conv disagree" "$out"
 fi
 
+# granule cost ends with its recommendation as --set arguments (issue 38): pasted after granule
+# run SCENE they run the scene at that integrator and dt
+printf '[system]\ndim = 2\nN = 200\nL = 0.06\n[model]\neps_n = 0.1\n[run]\nwarmup = 0\nduration = 0.002\n[output]\nplots = false\n' >"$TMP/cost.ini"
+run "$G" cost "$TMP/cost.ini" --calibrate 0.3 --out "$TMP/cost-out"
+sets=$(sed -n 's/^  as --set: //p' <<<"$out")
+if [[ $rc -eq 0 && $sets == "--set integrator."* ]]; then
+    # shellcheck disable=SC2086
+    run "$G" run "$TMP/cost.ini" --out "$TMP/cost-run" --quiet $sets
+    dt=$(sed -n 's/.*--set integrator.dt=\([^ ]*\).*/\1/p' <<<"$sets")
+    kind=$(sed -n 's/.*--set integrator.kind=\([^ ]*\).*/\1/p' <<<"$sets")
+    if [[ $rc -eq 0 ]] && python3 -c "import sys; v = float(sys.argv[1]); sys.exit(0 if abs(v - $dt) <= 1e-12 * $dt else 1)" \
+        "$(sed -n 's/^dt = //p' "$TMP/cost-run/scene.ini")" && grep -q "^kind = $kind\$" "$TMP/cost-run/scene.ini"; then
+        pass "cost's --set line runs the scene at its integrator and dt ($sets)"
+    else
+        fail "cost's --set line ($sets) did not run as recommended (exit $rc)" "$err"
+    fi
+else
+    fail "granule cost printed no '  as --set:' line (exit $rc)" "$out" "$err"
+fi
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -242,6 +242,60 @@ START_TEST(test_headline_reasons)
 }
 END_TEST
 
+/* compare.csv is plain for numpy.genfromtxt (no '#', which starts a comment there, in any cell:
+ * the footnote marks are words in <key>_note), compare.meta.json gives every column's unit and
+ * its notes one per line, and the footer says what "+-" is (issue 38). */
+START_TEST(test_csv_plain_with_units)
+{
+    write_summary("f", "{\"status\":\"completed\",\"T_mean\":0.25,\"T_stderr\":0.01,\"T_stderr_converged\":false,"
+                       "\"collisions\":10,\"simulated_seconds\":1,\"wall_seconds\":2,\"particle_steps_per_second\":5e6,"
+                       "\"ledger\":{\"injected\":1e-3,\"dissipated_normal\":1e-3,\"relative_residual\":1e-4},"
+                       "\"kernel\":\"k\",\"analysis\":{\"pv\":{\"v_rms\":0.3,\"tail\":{\"accepted\":false,\"n_points\":9,"
+                       "\"free\":{\"converged\":true,\"alpha\":1.349,\"alpha_err\":0.011}}},"
+                       "\"moments\":{\"speed\":{\"m3\":0.1}}},"
+                       "\"scene\":{\"system\":{\"dim\":2,\"N\":10},\"model\":{\"tangential\":\"none\"},"
+                       "\"integrator\":{\"kind\":\"verlet\"}}}");
+    gr_compare_spec specs[1];
+    gr_error err = {0};
+    int n;
+    ck_assert_int_eq(gr_compare_specs_parse("spring_dashpot", specs, 1, &n, &err), GR_OK);
+    snprintf(specs[0].label, sizeof specs[0].label, "f");
+    gr_compare_table *t = gr_compare_table_build(g_dir, "scene.ini", 2, specs, 1);
+    ck_assert_ptr_nonnull(t);
+    ck_assert_str_eq(cell(t, "tail_alpha", 0), "1.349 +- 0.011 #");
+    ck_assert_msg(strstr(t->footnotes, "+-: T: one standard error") && strstr(t->footnotes, "half-width"), "%s", t->footnotes);
+    ck_assert_int_eq(gr_compare_table_write(t, g_dir, &err), GR_OK);
+    char path[400];
+    snprintf(path, sizeof path, "%s/compare.csv", g_dir);
+    const char *csv = slurp(path);
+    ck_assert_msg(!strchr(csv, '#'), "%s", csv);
+    ck_assert(strstr(csv, ",free fit of (5.5): no alpha has chi2/dof < 1.2 in the Table 5.1 window"));
+    ck_assert(strstr(csv, ",error bar not converged (a lower bound): run longer"));
+    char header[8192];
+    snprintf(header, sizeof header, "%.*s", (int)strcspn(csv, "\n"), csv);
+    snprintf(path, sizeof path, "%s/compare.md", g_dir);
+    ck_assert(strstr(slurp(path), "+-: T: one standard error"));
+    snprintf(path, sizeof path, "%s/compare.meta.json", g_dir);
+    cJSON *j = gr_json_read(path, &err);
+    ck_assert_ptr_nonnull(j);
+    ck_assert_int_eq(cJSON_GetArraySize(cJSON_GetObjectItem(j, "notes")), 2); /* not "noise seedheadline" */
+    const cJSON *units = cJSON_GetObjectItem(j, "units");
+    ck_assert_ptr_nonnull(units);
+    /* every column of the header line has a unit */
+    int columns = 0;
+    for (char *save = NULL, *c = strtok_r(header, ",", &save); c; c = strtok_r(NULL, ",", &save), columns++) {
+        ck_assert_msg(cJSON_IsString(cJSON_GetObjectItem(units, c)), "column %s has no unit", c);
+    }
+    ck_assert_int_eq(cJSON_GetArraySize(units), columns);
+    ck_assert_str_eq(cJSON_GetObjectItem(units, "T")->valuestring, "m2 s-2");
+    ck_assert_str_eq(cJSON_GetObjectItem(units, "tail_alpha_note")->valuestring, "");
+    ck_assert_str_eq(cJSON_GetObjectItem(units, "analysis.pv.v_rms")->valuestring, "m s-1");
+    ck_assert_str_eq(cJSON_GetObjectItem(units, "analysis.moments.speed.m3")->valuestring, "m3 s-3");
+    cJSON_Delete(j);
+    gr_compare_table_free(t);
+}
+END_TEST
+
 static void write_scene(const char *name, const char *extra)
 {
     char path[400];
@@ -405,6 +459,7 @@ static Suite *compare_suite(void)
     tcase_add_test(tc, test_spec_parse);
     tcase_add_test(tc, test_format);
     tcase_add_test(tc, test_headline_reasons);
+    tcase_add_test(tc, test_csv_plain_with_units);
     tcase_add_test(tc, test_mixed_integrators);
     tcase_add_test(tc, test_rotation_modifier);
     tcase_add_test(tc, test_palette);

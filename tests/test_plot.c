@@ -67,7 +67,14 @@ START_TEST(test_compose)
         snprintf(lt, sizeof lt, "set linetype %d lc rgb '%s'", k + 1, gr_plot_palette[k]);
         ck_assert_msg(strstr(s, lt), "no line type %d from the palette", k + 1);
     }
-    ck_assert(strstr(s, "set output 'a.png'\nset logscale xy"));
+    /* log axes: drawn once on a dummy terminal, fitted to the data's range, then drawn for real */
+    ck_assert(strstr(s, "set terminal dumb\nset output '/dev/null'\nset logscale xy"));
+    ck_assert(strstr(s, "GPVAL_DATA_X_MIN") && strstr(s, "GPVAL_DATA_Y_MIN") && strstr(s, "set xtics add (10.0**gr_n"));
+    ck_assert(strstr(s, "set terminal pop\nset output 'a.png'\nreplot\nset output\n"));
+    free(s);
+    /* a body with its own range, or no log axis, is drawn once as it is */
+    s = gr_plot_compose("set logscale x\nset xrange [1:10]\nplot x", "r.png", GR_PLOT_PNG);
+    ck_assert(!strstr(s, "replot") && strstr(s, "set output 'r.png'\nset logscale x"));
     free(s);
     /* a linear axis reads %h; a log axis whose format the body chooses keeps the body's */
     s = gr_plot_compose("set logscale y\nset format y '%g'\nplot x", "b.svg", GR_PLOT_SVG);
@@ -92,6 +99,41 @@ START_TEST(test_compose)
     ck_assert_str_eq(legend, "D_f = 1.631 \u00b1 0.041");
     gr_plot_legend_value("alpha", 1.5, NAN, legend, sizeof legend);
     ck_assert_str_eq(legend, "alpha = 1.5");
+}
+END_TEST
+
+/* A log axis ends at the data (plus a few %), not at whole decades: data at 1.7-18 gave 1-100
+ * (gaps_lnR, issue 38); under two decades its ticks are 1, 2, 5 x 10^n, so it carries labels */
+START_TEST(test_log_axis_fits_data)
+{
+    if (!have_gnuplot()) {
+        return;
+    }
+    char path[400], cmd[900];
+    snprintf(path, sizeof path, "%s/lg.csv", g_dir);
+    FILE *f = fopen(path, "w");
+    fprintf(f, "x,y\n1.7,1e-3\n3,1e-2\n10,0.1\n18,0.05\n");
+    fclose(f);
+    char *s = gr_plot_compose("set logscale xy\nplot 'lg.csv' skip 1 using 1:2 with linespoints", "lg.svg", GR_PLOT_SVG);
+    snprintf(path, sizeof path, "%s/lg.plt", g_dir);
+    f = fopen(path, "w");
+    fprintf(f, "%sset print 'lg.range'\nprint GPVAL_X_MIN, GPVAL_X_MAX, GPVAL_Y_MIN, GPVAL_Y_MAX\n", s);
+    fclose(f);
+    free(s);
+    snprintf(cmd, sizeof cmd, "cd '%s' && gnuplot lg.plt 2>/dev/null", g_dir);
+    ck_assert_int_eq(system(cmd), 0);
+    snprintf(path, sizeof path, "%s/lg.range", g_dir);
+    double x0, x1, y0, y1;
+    f = fopen(path, "r");
+    ck_assert_ptr_nonnull(f);
+    ck_assert_int_eq(fscanf(f, "%lf %lf %lf %lf", &x0, &x1, &y0, &y1), 4);
+    fclose(f);
+    ck_assert_msg(x0 > 1.5 && x0 < 1.7 && x1 > 18.0 && x1 < 21.0, "x axis %g..%g for data at 1.7..18", x0, x1);
+    ck_assert_msg(y0 > 5e-4 && y0 < 1e-3 && y1 > 0.1 && y1 < 0.2, "y axis %g..%g for data at 1e-3..0.1", y0, y1);
+    snprintf(path, sizeof path, "%s/lg.svg", g_dir);
+    char *svg = slurp(path);
+    ck_assert_msg(strstr(svg, "<svg"), "no SVG drawn");
+    free(svg);
 }
 END_TEST
 
@@ -326,6 +368,7 @@ static Suite *plot_suite(void)
     tcase_add_checked_fixture(tc, setup, teardown);
     tcase_set_timeout(tc, 120);
     tcase_add_test(tc, test_compose);
+    tcase_add_test(tc, test_log_axis_fits_data);
     tcase_add_test(tc, test_formats);
     tcase_add_test(tc, test_run_bodies);
     suite_add_tcase(s, tc);

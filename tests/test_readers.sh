@@ -7,8 +7,11 @@
 #         positions and velocities equal to the XYZ trajectory of the same run; granule analyse on
 #         the H5MD file gives the in-run observables; kill -9 after a checkpoint leaves a file h5py
 #         reads, and --resume ends with the same frames as an uninterrupted run (also trajectory.xyz)
-#   csv   every CSV of a run, a compare and a sweep folder loads with plain pandas.read_csv(path)
-#         and numpy.genfromtxt(path, names=True, delimiter=','); pv_collapse.csv is a long table
+#   csv   every CSV of a run (2D and 1D, every observable), an analyse, a compare and a sweep
+#         folder loads with plain pandas.read_csv(path) and numpy.genfromtxt(path, names=True,
+#         delimiter=',', dtype=None, encoding='utf-8') with the same rows and columns; no cell
+#         holds a '#'; NAME.meta.json gives every column a unit ("units"); pv_collapse.csv is a
+#         long table; sweep.csv has no R1-R12 columns when no point has <R^m>
 # Exit 77 (skipped) only when the part's Python package cannot be imported.
 # usage: tests/test_readers.sh path/to/granule SOURCE_DIR ase|h5md|csv
 set -euo pipefail
@@ -171,11 +174,13 @@ EOF
 csv)
     need pandas python3-pandas
     need numpy python3-numpy
-    "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out run "${small2d[@]}" \
-        --set analysis.observables=pv,moments,sk,pair,freepath,postcollision --set output.plots=true
+    "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out run "${small2d[@]}" --set output.plots=true \
+        --set analysis.observables=pv,moments,sk,pair,freepath,postcollision,msd,vacf,vcorr,clusters,pressure,collisions
     "$G" run "$SRC/docs/scenes/rfm-2d.ini" --out run1 --set system.dim=1 --set system.N=100 --set system.L=1 \
         --set placement.kind=uniform --set model.tangential=none --set run.warmup=0 --set run.duration=0.004 --set run.sample_every=0.002 \
-        --set analysis.observables=gaps,moments --set output.plots=false --quiet
+        --set analysis.observables=gaps,moments,pv,freepath,postcollision,msd,vacf,clusters,pressure,collisions \
+        --set output.plots=false --quiet
+    "$G" analyse run --set analysis.observables=pv,moments,sk,pair >/dev/null 2>&1
     "$G" compare "$SRC/docs/scenes/rfm-2d.ini" --models spring_dashpot+tangential_dashpot,spring_dashpot --out cmp \
         "${small2d[@]:0:${#small2d[@]}-1}" --set analysis.observables=pv >/dev/null
     cat >sw.ini <<EOF
@@ -197,18 +202,33 @@ EOF
 import glob, json, os, warnings
 import numpy as np, pandas as pd
 warnings.simplefilter("ignore")
-files = sorted(glob.glob("run/*.csv") + glob.glob("run1/*.csv") + glob.glob("cmp/*.csv") + glob.glob("cmp/*/*.csv")
-               + glob.glob("sweep/*.csv") + glob.glob("sweep/*/*.csv"))
-assert len(files) > 20, files
+files = sorted(glob.glob("run/*.csv") + glob.glob("run/analysis/*.csv") + glob.glob("run1/*.csv") + glob.glob("cmp/*.csv")
+               + glob.glob("cmp/*/*.csv") + glob.glob("sweep/*.csv") + glob.glob("sweep/*/*.csv"))
+assert len(files) > 60, files
+units_seen = set()
 for f in files:
     df = pd.read_csv(f)
     assert len(df.columns) > 1 and len(df) > 0, f
     assert not any(str(c).startswith("#") or str(c).startswith("Unnamed") for c in df.columns), (f, list(df.columns))
-    a = np.genfromtxt(f, names=True, delimiter=",", dtype=None, encoding="utf-8")
+    assert "#" not in open(f).read(), (f, "a '#' starts a comment for numpy.genfromtxt")
+    a = np.atleast_1d(np.genfromtxt(f, names=True, delimiter=",", dtype=None, encoding="utf-8"))
     assert a.dtype.names and len(a.dtype.names) == len(df.columns), (f, a.dtype.names, list(df.columns))
+    assert len(a) == len(df), (f, len(a), len(df))
     meta = f[:-4] + ".meta.json"
-    if os.path.exists(meta):
-        assert json.load(open(meta))["file"] == os.path.basename(f), meta
+    assert os.path.exists(meta), meta
+    m = json.load(open(meta))
+    assert m["file"] == os.path.basename(f), meta
+    units = m.get("units", {})
+    missing = [c for c in df.columns if not isinstance(units.get(c), str)]
+    assert not missing, (f, "columns without a unit", missing)
+    assert len(units) == len(df.columns), (f, sorted(set(units) - set(df.columns)))
+    for c, u in units.items():  # "@col": the unit is in that text column of each row
+        if u.startswith("@"):
+            assert u[1:] in df.columns and df[u[1:]].notna().all(), (f, c, u)
+        units_seen.add(u)
+assert {"s", "m2 s-2", "J", "m s-1", "s m-1", "(m s-1)^m", "m^m", "1", ""} <= units_seen, units_seen
+sw = pd.read_csv("sweep/sweep.csv")
+assert "m2" in sw.columns and not any(c.startswith("R") for c in sw.columns), list(sw.columns)
 for need in ["run/temperature.csv", "run/ledger.csv", "run/pv.csv", "cmp/compare.csv", "cmp/pv_collapse.csv", "sweep/sweep.csv"]:
     assert need in files, need
     assert os.path.exists(need[:-4] + ".meta.json"), need
@@ -216,6 +236,7 @@ pc = pd.read_csv("cmp/pv_collapse.csv")
 assert list(pc.columns) == ["model", "v_over_vrms", "P_scaled"] and pc["model"].nunique() == 2 and pc.notna().all().all()
 t = pd.read_csv("run/temperature.csv")
 assert list(t.columns) == ["t", "T", "running_mean", "phase"] and len(t) == 9
+assert list(t["phase"].unique()) == ["warmup", "sampling"], t["phase"].unique()  # the docs' words
 print("ok pandas %s and numpy %s read %d CSVs without options" % (pd.__version__, np.__version__, len(files)))
 EOF
     ;;

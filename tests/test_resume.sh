@@ -186,6 +186,12 @@ sigterm_case() {
     else
         fail "$name: SIGTERM + resume (exit $rc)" "$err" "${msg:-}"
     fi
+    # the lock ends with the run: a finished folder holds no .run.lock (issue 38)
+    if [[ ! -e term$tag/.run.lock && ! -e ref$tag/.run.lock ]]; then
+        pass "$name: no .run.lock left in the finished folders"
+    else
+        fail "$name: a finished folder keeps its .run.lock" "$(ls -la term$tag ref$tag | grep lock)"
+    fi
 }
 
 # wall_case NAME TAG SCENE TICK CHUNK LIMIT PER: stop with exit 4 under --wall-limit LIMIT and

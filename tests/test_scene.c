@@ -457,6 +457,34 @@ START_TEST(override_wins_over_file)
 }
 END_TEST
 
+/* Defaults that depend on dim follow it (issue 38): dim = 1 alone gets a uniform placement and a
+ * 1 m reduced length; a hexagonal placement given in 1D is still refused, naming the key; 2D keeps
+ * the hexagonal bed and the 0.2 m box. */
+START_TEST(defaults_follow_dim)
+{
+    const char *p = write_scene("[system]\ndim = 1\n");
+    gr_scene s;
+    gr_error err = {0};
+    ck_assert_msg(gr_scene_load(&s, p, NULL, 0, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_eq(s.placement, GR_PLACE_UNIFORM);
+    ck_assert_double_eq_tol(s.reduced_length, 1.0, 1e-12);
+    ck_assert_double_eq_tol(s.L, 1.0 + s.N * 2.0 * s.radius, 1e-12);
+    const char *dim1[] = {"system.dim=1"};
+    ck_assert_msg(gr_scene_load(&s, NULL, dim1, 1, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_eq(s.placement, GR_PLACE_UNIFORM);
+    const char *dim1_L[] = {"system.dim=1", "system.N=10", "system.L=0.5"};
+    ck_assert_msg(gr_scene_load(&s, NULL, dim1_L, 3, &err) == GR_OK, "%s", err.message);
+    ck_assert_double_eq_tol(s.L, 0.5, 1e-15);
+    const char *hex[] = {"system.dim=1", "placement.kind=hexagonal"};
+    ck_assert_int_eq(gr_scene_load(&s, NULL, hex, 2, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "--set placement.kind=hexagonal") && strstr(err.message, "2D packing"), "%s", err.message);
+    const char *dim2[] = {"system.dim=2"};
+    ck_assert_msg(gr_scene_load(&s, NULL, dim2, 1, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_eq(s.placement, GR_PLACE_HEXAGONAL);
+    ck_assert_double_eq_tol(s.L, 0.2, 1e-15);
+}
+END_TEST
+
 START_TEST(override_bad_value_named)
 {
     const char *p = write_scene("[model]\neps_n = 0.3\n");
@@ -1049,6 +1077,7 @@ static Suite *scene_suite(void)
     tcase_add_checked_fixture(load, setup, teardown);
     tcase_add_test(load, override_wins_over_file);
     tcase_add_test(load, override_bad_value_named);
+    tcase_add_test(load, defaults_follow_dim);
     tcase_add_test(load, override_malformed_refused);
     tcase_add_test(load, defaults_table_2_2);
     tcase_add_test(load, packing_fraction_sets_L);

@@ -19,6 +19,28 @@ quick=${GRANULE_TEST_QUICK:-0}
 
 # ---- --out defaults and "wrote DIR", in a scratch working folder
 cd "$tmp" || exit 1
+# every theory command takes --no-plots, --format png|svg|pdf, --force and --quiet alike, and
+# refuses --set (no scene) naming the command (issue 38: fokker-planck --format svg said "needs a
+# number", cascade had no --no-plots)
+for c in "fokker-planck --walkers 500" "bisect --levels 4 --repetitions 100" "cascade --levels 4 --configurations 3" \
+         "spm circle --walks 200 --radius 0.01" "spm full --walks 500" "spm predict"; do
+    name=${c%% -*}
+    name=${name// /-}
+    # shellcheck disable=SC2086
+    check "$granule" $c --out "fmt-$name" --format svg --quiet --force
+    check test "$(find "fmt-$name" -name '*.svg' | wc -l)" -ge 1 -a "$(find "fmt-$name" -name '*.png' | wc -l)" -eq 0
+    # shellcheck disable=SC2086
+    check "$granule" $c --out "np-$name" --no-plots --quiet --force
+    check test "$(find "np-$name" -name '*.png' -o -name '*.svg' | wc -l)" -eq 0
+    # shellcheck disable=SC2086
+    err=$("$granule" $c --out "set-$name" --set system.N=10 2>&1 >/dev/null)
+    check test $? -eq 2
+    check grep -q "^granule: ${name%%-[a-z]*}.*--set system.N=10: .* has no scene" <<<"$err"
+    # shellcheck disable=SC2086
+    err=$("$granule" $c --out "bad-$name" --format gif 2>&1 >/dev/null)
+    check test $? -eq 2
+    check grep -q "expected png, svg or pdf" <<<"$err"
+done
 out=$("$granule" spm predict 2>&1)
 check test -f out/spm-predict/summary.json
 check grep -qx "wrote out/spm-predict" <<<"$out"

@@ -55,6 +55,8 @@ double gr_histogram_density(const gr_histogram *h, int i);
 double gr_histogram_density_error(const gr_histogram *h, int i);
 /* CSV rows "x_lo,x_hi,x,count,density,density_error" (with a header line naming x). */
 void gr_histogram_write_csv(const gr_histogram *h, FILE *f, const char *xname);
+/* The rows alone (a caller writing the column line itself, with units). */
+void gr_histogram_write_rows(const gr_histogram *h, FILE *f);
 
 /* ------------------------------------------------------------------------------------------
  * Chi-square fits with GSL. Parameter errors are the square roots of the covariance diagonal

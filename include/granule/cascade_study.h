@@ -15,6 +15,7 @@
 typedef struct gr_cascade_study_params {
     gr_cascade_settings s;
     bool place;                     /* Fig. 6.3: place discs from the first field */
+    bool no_plots;                  /* skip the PNGs (granule cascade --no-plots) */
     gr_cascade_placement placement;
     /* called now and then: configurations done, of total, seconds spent on them */
     void (*progress)(int done, int total, double seconds, void *user);

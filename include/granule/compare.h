@@ -58,9 +58,19 @@ typedef struct gr_compare_cell {
     char text[GR_COMPARE_CELL];
 } gr_compare_cell;
 
+/* What "+-" means in the headline (the table's footer, compare.csv's notes, docs/compare.md). */
+#define GR_COMPARE_ERRORS                                                                                     \
+    "+-: T: one standard error of the time average (block averaging, Flyvbjerg-Petersen); alpha: the "      \
+    "half-width of the accepted range (chi2/dof < 1.2 in the Table 5.1 window), or the free fit's one-sigma " \
+    "error (#); D_f, n_N: the fit's one-sigma error"
+
+/* A cell's footnote mark ('*', '#') in words, as compare.csv's <key>_note carries it. */
+const char *gr_compare_mark_words(char mark);
+
 typedef struct gr_compare_row {
     char quantity[64]; /* words, with the unit: "T (m^2/s^2)" */
     char key[32];      /* its column in compare.csv */
+    char unit[16];     /* the column's unit in compare.meta.json (UDUNITS-style, "1": a pure number) */
     gr_compare_cell cell[GR_COMPARE_MAX];
 } gr_compare_row;
 

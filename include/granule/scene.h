@@ -106,6 +106,10 @@ void gr_scene_saved_warnings(gr_scene *s, const char *dir);
 /* Write the reference of every scene key (engine keys and every model's parameters) as
  * Markdown; docs/scene-keys.md is this output. */
 void gr_scene_keys_markdown(FILE *out);
+/* The unit of a scene key "section.name" (engine keys, model and observable parameters) in the
+ * UDUNITS-style notation of the CSV sidecars ("N m-1", "1" for a pure number, "" for a text or
+ * list key); NULL for an unknown key. */
+const char *gr_scene_key_unit(const char *key);
 
 /* Reduced mass of two identical particles. */
 static inline double gr_scene_m12(const gr_scene *s) { return 0.5 * s->mass; }

@@ -89,6 +89,11 @@ double gr_histogram_density_error(const gr_histogram *h, int i)
 void gr_histogram_write_csv(const gr_histogram *h, FILE *f, const char *xname)
 {
     fprintf(f, "%s_lo,%s_hi,%s,count,density,density_error\n", xname, xname, xname);
+    gr_histogram_write_rows(h, f);
+}
+
+void gr_histogram_write_rows(const gr_histogram *h, FILE *f)
+{
     for (int i = 0; i < h->nbins; i++) {
         fprintf(f, "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", gr_histogram_lower(h, i), gr_histogram_upper(h, i),
                 gr_histogram_center(h, i), h->count[i], gr_histogram_density(h, i), gr_histogram_density_error(h, i));

@@ -181,8 +181,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                 "of particles in them; contact clusters (touching, |r_ij| <= d) "
                 "and density clusters "
                 "(|r_ij| < cluster_distance d)",
-        .columns = "size,contact_clusters,contact_fraction,density_clusters,"
-                   "density_fraction",
+        .columns = "size [1],contact_clusters [1],contact_fraction [1],density_clusters [1],"
+                   "density_fraction [1]",
         .rows = rows,
         .ctx = c,
         .png = c->frames > 0 ? "clusters.png" : NULL,

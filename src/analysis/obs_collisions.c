@@ -143,9 +143,9 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .what = "times tau (s) between successive collisions of the same "
                 "particle, density per s in log "
                 "bins, sqrt(X) errors",
-        .columns = NULL,
+        .columns = "tau_lo [s],tau_hi [s],tau [s],count [1],density [s-1],density_error [s-1]",
         .rows = gr_obs_histogram_rows,
-        .ctx = &(gr_obs_histogram){&c->h, "tau"},
+        .ctx = &c->h,
         .png = c->tau_n > 0 ? "collisions.png" : NULL,
         .plot = "set logscale xy\nset format xy '10^{%L}'\nset xlabel 'time between collisions tau "
                 "(s)'\nset ylabel 'P(tau) (1/s)'\n"

@@ -117,8 +117,9 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .name = "freepath.csv",
         .what = "free-path distribution P_l(l) (4.18): l in units of d, density per unit l/d, sqrt(X) errors; "
                 "paths from the end of a particle's last contact to the start of its next",
+        .columns = "l_over_d_lo [1],l_over_d_hi [1],l_over_d [1],count [1],density [1],density_error [1]",
         .rows = gr_obs_histogram_rows,
-        .ctx = &(gr_obs_histogram){&f->h, "l_over_d"},
+        .ctx = &f->h,
     };
     int rc = gr_obs_table_write(out, &table, err); /* the summary is written either way */
     cJSON *j = cJSON_AddObjectToObject(out->summary, "freepath");

@@ -265,7 +265,8 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
     char body[8192];
     size_t len;
 
-    /* G_h(R;N) on log-log axes */
+    /* G_h(R;N) on log-log axes; lines join the bins with 2 counts or more, and the bins of a
+     * single count (a tail of lone events, all at one level) are open circles, not a flat line */
     len = (size_t)snprintf(body, sizeof body,
                            "set logscale xy\nset format y '10^{%%L}'\nset format x '10^{%%L}'\nset key bottom left\n"
                            "set xlabel \"R (m, reduced coordinates 3.16)\"\nset ylabel 'G_h(R;N) (1/m)'\n"
@@ -273,9 +274,11 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
                            g->n, g->Lr, bin);
     for (int k = 0; k < nh && len < sizeof body; k++) {
         len += (size_t)snprintf(body + len, sizeof body - len,
-                                "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $7 > 0) ? $5 : 1/0):7 "
-                                "with linespoints lt %d pt 7 ps 0.5 title 'h = %d'",
-                                k ? ", " : "", hs[k], bin, k + 1, hs[k]);
+                                "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 > 1) ? $5 : 1/0):7 "
+                                "with linespoints lt %d pt 7 ps 0.5 title 'h = %d', "
+                                "'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 == 1) ? $5 : 1/0):7 "
+                                "with points lt %d pt 6 ps 0.5 notitle",
+                                k ? ", " : "", hs[k], bin, k + 1, hs[k], hs[k], bin, k + 1);
     }
     if (len < sizeof body) {
         gr_obs_plot(out, "gaps.png", body);
@@ -289,9 +292,11 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
                            g->n, bin);
     for (int k = 0; k < nh && len < sizeof body; k++) {
         len += (size_t)snprintf(body + len, sizeof body - len,
-                                "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $7 > 0 && $9 > 0) ? $9 : 1/0):($7 * %.10g) "
-                                "with linespoints lt %d pt 7 ps 0.5 title 'h = %d'",
-                                k ? ", " : "", hs[k], bin, g->Lr, k + 1, hs[k]);
+                                "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 > 1 && $9 > 0) ? $9 : 1/0):($7 * %.10g) "
+                                "with linespoints lt %d pt 7 ps 0.5 title 'h = %d', "
+                                "'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 == 1 && $9 > 0) ? $9 : 1/0):($7 * %.10g) "
+                                "with points lt %d pt 6 ps 0.5 notitle",
+                                k ? ", " : "", hs[k], bin, g->Lr, k + 1, hs[k], hs[k], bin, g->Lr, k + 1);
     }
     if (fit_ok && len < sizeof body) {
         char legend[120];
@@ -406,7 +411,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                 "(3.16), R = |r'_{i+h} - r'_i| in m; density in 1/m with sqrt(X) errors (App. A.1), "
                 "normalised by all separations sampled; neg_ln_R = -ln(R/L') (Fig. 3.12); "
                 "x = R N / (h L') and density_x = density h L' / N (mean-scaled, for 3.25 overlays)",
-        .columns = "h,binning,R_lo,R_hi,R,count,density,density_error,neg_ln_R,x,density_x,density_x_error",
+        .columns = "h [1],binning [],R_lo [m],R_hi [m],R [m],count [1],density [m-1],density_error [m-1],neg_ln_R [1],x [1],"
+                   "density_x [1],density_x_error [1]",
         .rows = gaps_rows,
         .ctx = g,
     };
@@ -428,7 +434,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .what = "moments <R^m> of the h-th neighbour separations R_{i,i+h} (3.18 for h = 1) in m^m, averaged "
                 "over particles and uniformly in time, block-averaging errors; reduced = <(R N / (h L'))^m> "
                 "(Poisson points: Gamma(h + m) / (Gamma(h) h^m) for large N)",
-        .columns = "h,m,moment,stderr,reduced_moment,reduced_stderr,converged,samples",
+        .columns = "h [1],m [1],moment [m^m],stderr [m^m],reduced_moment [1],reduced_stderr [1],converged [1],samples [1]",
         .rows = moment_rows,
         .ctx = &mrows,
     };

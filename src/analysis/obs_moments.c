@@ -79,7 +79,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     if (rc) {
         return rc;
     }
-    fprintf(f.f, "m,speed_moment,speed_stderr,component_moment,component_stderr,samples\n");
+    gr_file_header(&f, "m [1],speed_moment [(m s-1)^m],speed_stderr [(m s-1)^m],component_moment [(m s-1)^m],"
+                       "component_stderr [(m s-1)^m],samples [1]");
     cJSON *j = cJSON_AddObjectToObject(out->summary, "moments");
     cJSON *arr = cJSON_AddObjectToObject(j, "speed");
     cJSON *err_arr = cJSON_AddObjectToObject(j, "speed_stderr");

@@ -113,7 +113,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                        "particles and time origins (every sample); errors from "
                        "block averaging over origins";
     cJSON *j = cJSON_AddObjectToObject(out->summary, "msd");
-    int rc = gr_obs_lag_csv(out, &m->lag, "msd.csv", what, "tau,msd,msd_stderr,origins", j, err);
+    int rc = gr_obs_lag_csv(out, &m->lag, "msd.csv", what, "tau [s],msd [m2],msd_stderr [m2],origins [1]", j, err);
     if (rc) {
         return rc;
     }

@@ -478,7 +478,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddBoolToObject(j, "R_max_clamped_to_half_box", s->clamped);
     cJSON_AddNumberToObject(j, "bin_width_over_d", s->width / s->d);
     pair_rows_ctx rows = {.s = s};
-    gr_obs_table t = {.name = "pair.csv", .what = pair_csv_what, .columns = "R,R_over_d,g,g_error,C,n,n_error,R_lo,R_hi,pairs",
+    gr_obs_table t = {.name = "pair.csv", .what = pair_csv_what, .columns = "R [m],R_over_d [1],g [1],g_error [1],C [1],n [1],n_error [1],R_lo [m],R_hi [m],pairs [1]",
                       .rows = pair_rows, .ctx = &rows};
     if (s->frames == 0) {
         cJSON_AddStringToObject(j, "note", "no frames sampled");

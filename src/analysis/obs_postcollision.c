@@ -114,14 +114,16 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .name = "postcollision.csv",
         .what = "post-collision velocity distribution P(v_0) (Fig. 5.9) beside the full P(v), per component, "
                 "v in m/s, densities per m/s with sqrt(X) errors",
-        .columns = "v,post_density,post_error,post_count,all_density,all_error,all_count",
+        .columns = "v [m s-1],post_density [s m-1],post_error [s m-1],post_count [1],all_density [s m-1],all_error [s m-1],"
+                   "all_count [1]",
         .rows = rows,
         .ctx = p,
         .png = "postcollision.png",
         .plot = "set logscale y\nset xlabel 'v (m/s)'\nset ylabel 'probability density'\n"
                 "set title \"Velocities just after a collision and of all particles\\n{/*0.75 Fig. 5.9}\"\n"
                 "plot 'postcollision.csv' skip 1 using 1:($4>0?$2:1/0) with points pt 7 ps 0.5 title 'P(v_0) after "
-                "collision', '' skip 1 using 1:($7>0?$5:1/0) with lines lw 2 title 'P(v)'",
+                "collision', '' skip 1 using 1:($7>1?$5:1/0) with lines lw 2 title 'P(v)', '' skip 1 using "
+                "1:($7==1?$5:1/0) with points lt 2 pt 6 ps 0.5 notitle",
     };
     cJSON_AddNumberToObject(j, "post_samples", (double)p->post_n);
     cJSON_AddNumberToObject(j, "post_v2", p->post_n ? p->post_v2 / p->post_n : 0.0);

@@ -147,7 +147,8 @@ static void rows(FILE *f, const void *ctx)
 {
     const pressure *s = ctx;
     for (int q = 0; q < N_SERIES; q++) {
-        fprintf(f, "%s,%.10g,%.6g\n", series_name[q], gr_blocking_mean(&s->b[q]), gr_obs_stderr(&s->b[q]));
+        fprintf(f, "%s,%.10g,%.6g,%s\n", series_name[q], gr_blocking_mean(&s->b[q]), gr_obs_stderr(&s->b[q]),
+                q == SPEED ? "m s-1" : s->dim == 2 ? "N m-1" : "N");
     }
 }
 
@@ -188,7 +189,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                 "kinetic and collisional parts, total P = trace / dim, n T, and "
                 "the mean speed (m/s); "
                 "block-averaging errors over frames",
-        .columns = "quantity,value,stderr",
+        .columns = "quantity [],value [@unit],stderr [@unit],unit []",
         .rows = rows,
         .ctx = s,
         .png = s->frames > 0 ? "pressure.png" : NULL,

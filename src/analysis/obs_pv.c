@@ -648,8 +648,9 @@ static int write_pv_csv(const gr_output *out, const pv_rows_ctx *c, gr_error *er
     const gr_obs_table t = {
         .name = "pv.csv",
         .what = what,
-        .columns = "v,density,density_error,counts,v_lo,v_hi,v_over_vrms,density_scaled,fit_stretched,fit_crossover,"
-                   "fit_crossover_log",
+        .columns = "v [m s-1],density [s m-1],density_error [s m-1],counts [1],v_lo [m s-1],v_hi [m s-1],"
+                   "v_over_vrms [1],density_scaled [1],fit_stretched [s m-1],fit_crossover [s m-1],"
+                   "fit_crossover_log [s m-1]",
         .rows = pv_rows,
         .ctx = c,
     };
@@ -688,7 +689,8 @@ static int write_tail_csv(const gr_output *out, const pv_rows_ctx *c, gr_error *
     const gr_obs_table t = {
         .name = "pv_tail.csv",
         .what = what,
-        .columns = "v_over_vrms,ln_v_over_vrms,density_sym,density_sym_error,counts,P_over_P0,moon",
+        .columns = "v_over_vrms [1],ln_v_over_vrms [1],density_sym [s m-1],density_sym_error [s m-1],counts [1],"
+                   "P_over_P0 [1],moon [1]",
         .rows = tail_rows,
         .ctx = c,
     };
@@ -719,7 +721,7 @@ static int write_speed_csv(const gr_output *out, const pv_rows_ctx *c, gr_error 
     const gr_obs_table t = {
         .name = "pv_speed.csv",
         .what = what,
-        .columns = "c,density,density_error,counts,c_lo,c_hi,speed",
+        .columns = "c [1],density [1],density_error [1],counts [1],c_lo [1],c_hi [1],speed [m s-1]",
         .rows = speed_rows,
         .ctx = c,
     };

@@ -850,7 +850,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
              "vectors = full plane (half are independent, S(-k) = S(k))",
              st->d, (long long)st->frames, error_method(st->frames));
     const sk_rows_ctx rows = {.st = st, .fit = &F};
-    gr_obs_table t = {.name = "sk.csv", .what = what, .columns = "n,k,kd,S,S_err,vectors,independent_vectors",
+    gr_obs_table t = {.name = "sk.csv", .what = what, .columns = "n [1],k [m-1],kd [1],S [1],S_err [1],vectors [1],independent_vectors [1]",
                       .rows = sk_rows, .ctx = &rows};
     int rc = gr_obs_table_write(out, &t, err);
     if (rc) {
@@ -861,7 +861,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
              "to |n| = %g; in_fit = 1: inside the D_f fit window k < k' = %g /m; %lld frames; S_err: %s",
              st->n_shell, st->kprime, (long long)st->frames, error_method(st->frames));
     t = (gr_obs_table){.name = "sk_shells.csv", .what = what,
-                       .columns = "n2,k,kd,S,S_err,vectors,independent_vectors,in_fit", .rows = shell_rows, .ctx = &rows};
+                       .columns = "n2 [1],k [m-1],kd [1],S [1],S_err [1],vectors [1],independent_vectors [1],in_fit [1]", .rows = shell_rows, .ctx = &rows};
     rc = gr_obs_table_write(out, &t, err);
     if (rc) {
         return rc;

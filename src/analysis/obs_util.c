@@ -53,9 +53,7 @@ int gr_obs_table_write(const gr_output *out, const gr_obs_table *t, gr_error *er
     if (rc) {
         return rc;
     }
-    if (t->columns) {
-        fprintf(f.f, "%s\n", t->columns);
-    }
+    gr_file_header(&f, t->columns);
     t->rows(f.f, t->ctx);
     rc = gr_file_commit(&f, err);
     if (!rc && out->plots && t->png) {
@@ -66,8 +64,7 @@ int gr_obs_table_write(const gr_output *out, const gr_obs_table *t, gr_error *er
 
 void gr_obs_histogram_rows(FILE *f, const void *ctx)
 {
-    const gr_obs_histogram *h = ctx;
-    gr_histogram_write_csv(h->h, f, h->xname);
+    gr_histogram_write_rows(ctx, f);
 }
 
 double gr_obs_stderr(const gr_blocking *b)

@@ -27,18 +27,14 @@ typedef void (*gr_obs_rows)(FILE *f, const void *ctx);
 typedef struct gr_obs_table {
     const char *name;    /* CSV file in out->dir */
     const char *what;    /* the header's description (gr_obs_csv_open) */
-    const char *columns; /* the column line (no newline); NULL when the rows write their own */
+    const char *columns; /* the column line with units, "name [unit],..." (gr_file_header) */
     gr_obs_rows rows;
     const void *ctx;
     const char *png;     /* NULL: no plot */
     const char *plot;    /* gnuplot body, drawn when the CSV was written and out->plots is set */
 } gr_obs_table;
 
-/* Rows of a histogram (gr_histogram_write_csv, its own column line): ctx is a gr_obs_histogram. */
-typedef struct gr_obs_histogram {
-    const gr_histogram *h;
-    const char *xname;
-} gr_obs_histogram;
+/* Rows of a histogram (gr_histogram_write_rows): ctx is the gr_histogram. */
 void gr_obs_histogram_rows(FILE *f, const void *ctx);
 
 /* gr_obs_csv_open, the column line, the rows, commit; then the plot (gr_obs_plot). */

@@ -169,7 +169,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                 "distance r (m), normalised by <|u|^2>/2 per frame, u relative "
                 "to the frame's mean; "
                 "block-averaging errors over frames",
-        .columns = "r,r_over_d,C_L,C_L_stderr,C_T,C_T_stderr,frames",
+        .columns = "r [m],r_over_d [1],C_L [1],C_L_stderr [1],C_T [1],C_T_stderr [1],frames [1]",
         .rows = rows,
         .ctx = s,
         .png = s->frames > 0 ? "vcorr.png" : NULL,

@@ -9,6 +9,7 @@
 
 #include "cli/cli.h"
 #include "granule/analysis.h"
+#include "granule/compare.h"
 #include "granule/observe.h"
 #include "granule/scene.h"
 #include "granule_commit.h"
@@ -17,6 +18,7 @@
 #include "io/scene_json.h"
 #include "io/lammps_dump.h"
 #include "io/snapshot.h"
+#include "io/summary_read.h"
 #include "io/trajectory.h"
 
 static void usage(FILE *f)
@@ -105,6 +107,60 @@ static int frame_check(const gr_frame *fr, size_t k, double t_prev, const gr_sce
 
 /* Exit status for an error while reading the input: bad input (2) unless memory ran out. */
 static int input_exit(int rc) { return rc == GR_ENOMEM ? EXIT_FAILED : EXIT_REFUSED; }
+
+/* T of eq. 2.19: (1/N) sum |v_i - <v>|^2 over all components, as gr_sim_temperature */
+static double frame_temperature(const gr_particles *p)
+{
+    double mx = 0.0, my = 0.0, sum = 0.0;
+    for (int i = 0; i < p->n; i++) {
+        mx += p->vx[i];
+        my += p->dim == 2 ? p->vy[i] : 0.0;
+    }
+    mx /= p->n;
+    my /= p->n;
+    for (int i = 0; i < p->n; i++) {
+        const double ux = p->vx[i] - mx, uy = p->dim == 2 ? p->vy[i] - my : 0.0;
+        sum += ux * ux + uy * uy;
+    }
+    return sum / p->n;
+}
+
+static void add_number(cJSON *o, const char *name, double v)
+{
+    if (v == v) {
+        cJSON_AddNumberToObject(o, name, v);
+    } else {
+        cJSON_AddNullToObject(o, name);
+    }
+}
+
+/* The fitted headline numbers of the observables that ran, as the compare table reads them:
+ * "; alpha = 1.52 +- 0.10 (5.5); D_f = ...; n_N = ..." (empty when none ran). */
+static void headline_fits(const cJSON *analysis, char *buf, size_t size)
+{
+    buf[0] = 0;
+    static const struct {
+        const char *label, *value, *error, *flag;
+    } fits[] = {
+        {"tail alpha (5.5)", "pv.tail.alpha", "pv.tail.alpha_halfwidth", "pv.tail.accepted"},
+        {"tail alpha (5.5, free fit)", "pv.tail.free.alpha", "pv.tail.free.alpha_err", "pv.tail.free.converged"},
+        {"D_f (4.4)", "sk.fit.D_f", "sk.fit.D_f_err", NULL},
+        {"n_N (3.22)", "gaps.fit_3_22.n_N", "gaps.fit_3_22.n_N_stderr", NULL},
+    };
+    bool alpha = false;
+    for (size_t k = 0; k < sizeof fits / sizeof fits[0]; k++) {
+        const bool is_alpha = fits[k].value[0] == 'p';
+        const double v = gr_summary_number(analysis, fits[k].value);
+        if ((is_alpha && alpha) || !(v == v) || (fits[k].flag && gr_summary_number(analysis, fits[k].flag) != 1.0)) {
+            continue;
+        }
+        alpha |= is_alpha;
+        char num[80];
+        gr_compare_format(v, gr_summary_number(analysis, fits[k].error), num, sizeof num);
+        size_t len = strlen(buf);
+        snprintf(buf + len, size - len, "; %s = %s", fits[k].label, num);
+    }
+}
 
 int cmd_analyse(int argc, char **argv)
 {
@@ -200,6 +256,8 @@ int cmd_analyse(int argc, char **argv)
     snprintf(source, sizeof source, "%s", dump ? dump : gr_traj_reader_source(src.traj));
     size_t frames = 0, read = 0;
     double t_prev = -INFINITY, t_last = NAN;
+    gr_blocking T_blk; /* T of eq. 2.19 per frame, block-averaged as a run's samples are */
+    gr_blocking_init(&T_blk);
     gr_frame fr;
     while ((rc = source_next(&src, &fr, &err)) == 1) {
         read++;
@@ -215,6 +273,9 @@ int cmd_analyse(int argc, char **argv)
                 char why[sizeof err.message];
                 snprintf(why, sizeof why, "%s", err.message);
                 GR_FAIL(&err, rc, "%s, frame %zu: %s", source, read, why);
+            }
+            if (!rc) {
+                gr_blocking_add(&T_blk, frame_temperature(&p));
             }
             frames++;
         }
@@ -253,6 +314,13 @@ int cmd_analyse(int argc, char **argv)
     gr_observer_free(obs);
     cJSON_AddStringToObject(sum, "source", dump ? dump : dir);
     cJSON_AddNumberToObject(sum, "frames", (double)frames);
+    /* the run's headline: T over the frames after the warm-up (summary.json as a run writes it) */
+    int T_converged = 0;
+    const double T_mean = gr_blocking_mean(&T_blk), T_stderr = gr_blocking_stderr(&T_blk, NULL, &T_converged);
+    add_number(sum, "T_mean", T_mean);
+    add_number(sum, "T_stderr", T_stderr);
+    cJSON_AddBoolToObject(sum, "T_stderr_converged", T_converged);
+    cJSON_AddNumberToObject(sum, "samples", (double)frames);
     char few[200] = "";
     if (frames < GR_MIN_FRAMES) {
         snprintf(few, sizeof few, "only %zu frames after the warm-up, fewer than the %d that statistics with error bars need",
@@ -262,6 +330,8 @@ int cmd_analyse(int argc, char **argv)
     cJSON_AddStringToObject(sum, "granule_version", GR_VERSION);
     cJSON_AddStringToObject(sum, "commit", GR_COMMIT);
     cJSON_AddItemToObject(sum, "scene", gr_scene_to_json(&scene));
+    char fits[400];
+    headline_fits(analysis, fits, sizeof fits);
     char *text = cJSON_Print(sum);
     cJSON_Delete(sum);
     gr_file f;
@@ -280,7 +350,9 @@ int cmd_analyse(int argc, char **argv)
     if (few[0]) {
         fprintf(stderr, "analyse: warning: %s\n", few);
     }
-    printf("%s: %zu frames analysed\n", out_dir, frames);
+    char T_text[200];
+    cli_T_text(T_text, sizeof T_text, T_mean, T_stderr, T_converged);
+    printf("%s: %s over %zu frames%s\n", out_dir, T_text, frames, fits);
     return EXIT_OK;
 }
 

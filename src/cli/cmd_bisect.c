@@ -18,7 +18,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: granule bisect [--out DIR] [--levels N] [--repetitions R] [--u0 uniform|power:A|FILE]\n"
             "                      [--seed S] [--g1 FILE ...] [--moments M] [--bins-per-decade B]\n"
-            "                      [--fit-from K] [--jackknife G] [--anchor R0] [--no-plots] [--force] [--quiet]\n\n"
+            "                      [--fit-from K] [--jackknife G] [--anchor R0] [--no-plots] [--format F] [--force] [--quiet]\n\n"
             "Bisects the unit interval N times (2^N partitions), every partition at a fraction a drawn from\n"
             "U_0(a) (thesis eqs. 3.26-3.28), R times, and writes into DIR:\n"
             "  pn.csv        P_n(x) at level N (log bins, sqrt(X) errors) beside (-ln x)^(N-1)/(N-1)! (3.36)\n"
@@ -41,7 +41,8 @@ static void usage(FILE *f)
             "  --jackknife G      groups of realisations for the jackknife errors (default 32)\n"
             "  --anchor R0        R_0 of A_N (3.40; default 0.7)\n"
             "  --out DIR          output folder (default out/bisect)\n"
-            "  --no-plots         no PNGs\n"
+            "  --no-plots         no plots\n"
+            "  --format F         plots as png (default), svg or pdf\n"
             "  --force            overwrite the results of an earlier run in DIR\n"
             "  --quiet            no progress line\n"
             "Exit status: 0 done, 2 bad input (options, U_0 or G_1 file, DIR holds a run), 1 other failure.\n",
@@ -96,15 +97,14 @@ int cmd_bisect(int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         double x;
+        int k;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage(stdout);
             return EXIT_OK;
-        } else if (!strcmp(a, "--force")) {
-            force = true;
-        } else if (!strcmp(a, "--quiet")) {
-            quiet = true;
-        } else if (!strcmp(a, "--no-plots")) {
-            plots = false;
+        } else if ((k = cli_theory_option("bisect", argc, argv, &i, &force, &quiet, &plots)) != 0) {
+            if (k < 0) {
+                return EXIT_REFUSED;
+            }
         } else if (!v || strncmp(a, "--", 2) != 0) {
             cli_error("bisect: unknown or incomplete option %s (granule bisect --help)", a);
             return EXIT_REFUSED;

@@ -26,7 +26,8 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: granule cascade [--levels n] [--variant NAME] [--p p1,p2,p3,p4] [--configurations C]\n"
             "                       [--seed S] [--out DIR] [--box L] [--fit-min Q] [--fit-max Q]\n"
-            "                       [--place N [--radius r] [--max-attempts A]] [--force] [--quiet]\n\n"
+            "                       [--place N [--radius r] [--max-attempts A]] [--force] [--no-plots] [--format F]\n"
+            "                       [--quiet]\n\n"
             "Multiplicative cascade process (thesis sec. 6.2): breaks a box of side L into 2^n x 2^n squares\n"
             "level by level, sharing each square's probability among its four children (6.2)-(6.4). Averages\n"
             "the structure factor S(k) (6.5) over C configurations on k = 2 pi (i, j)/L, circularly in integer\n"
@@ -47,6 +48,8 @@ static void usage(FILE *f)
             "  --radius r          disc radius in m (default 1.5e-3)\n"
             "  --max-attempts A    draws allowed for the placement (default 10^6 + 10^4 N)\n"
             "  --force             overwrite the results of an earlier run in DIR\n"
+            "  --no-plots          no plots\n"
+            "  --format F          plots as png (default), svg or pdf\n"
             "  --quiet             no progress line\n\n"
             "Writes DIR/summary.json, sk.csv, levels.csv, field.csv, sk.png, field.png and, with --place,\n"
             "snapshots/snap_000000.xyz, scene.ini (so granule analyse DIR reads them) and placement.png.\n"
@@ -130,17 +133,18 @@ int cmd_cascade(int argc, char **argv)
     gr_cascade_settings s = sp.s;
     gr_cascade_placement place = sp.placement;
     const char *out = "out/cascade", *variant = "ucp", *p_text = NULL;
-    bool force = false, quiet = false, do_place = false, radius_given = false, attempts_given = false;
+    bool force = false, quiet = false, plots_on = true, do_place = false, radius_given = false, attempts_given = false;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         double x;
+        int k;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage(stdout);
             return EXIT_OK;
-        } else if (!strcmp(a, "--force")) {
-            force = true;
-        } else if (!strcmp(a, "--quiet")) {
-            quiet = true;
+        } else if ((k = cli_theory_option("cascade", argc, argv, &i, &force, &quiet, &plots_on)) != 0) {
+            if (k < 0) {
+                return EXIT_REFUSED;
+            }
         } else if (!v || strncmp(a, "--", 2) != 0) {
             cli_error("cascade: unknown or incomplete option %s (see granule cascade --help)", a);
             return EXIT_REFUSED;
@@ -239,6 +243,7 @@ int cmd_cascade(int argc, char **argv)
     sp.s = s;
     sp.placement = place;
     sp.place = do_place;
+    sp.no_plots = !plots_on;
     gr_error werr = {0};
     if (gr_output_dir_prepare(out, GR_OUTPUT_RESULT, force, &werr)) {
         cli_error("%s", werr.message);

@@ -42,6 +42,30 @@ static bool parse_tolerance(const char *text, double *tol)
     return v > 0.0 && v < 1.0;
 }
 
+/* The hybrid window as the scene check wants it: a whole number of the dt as printed (%.4g) */
+static double hybrid_window(double dt, double window)
+{
+    char text[32];
+    snprintf(text, sizeof text, "%.4g", dt);
+    const double dt_printed = strtod(text, NULL);
+    return round(window / dt) * dt_printed;
+}
+
+/* The recommendation as the --set arguments one pastes after granule run SCENE (force_dt only
+ * when dt is above t_c/10, where the scene check needs it). */
+static void print_set_form(const char *integrator, double dt, double window, double steps_per_contact)
+{
+    printf("  as --set: ");
+    if (integrator) {
+        printf("--set integrator.kind=%s ", integrator);
+    }
+    printf("--set integrator.dt=%.4g", dt);
+    if (window > 0.0) {
+        printf(" --set integrator.kick_interval=%.10g", hybrid_window(dt, window));
+    }
+    printf("%s\n", steps_per_contact < 10.0 ? " --set integrator.force_dt=true" : "");
+}
+
 static void print_answer(const gr_cost_answer *a, const gr_cost_request *rq)
 {
     printf("contact duration t_c = %.4g s; observable %s, tolerance %.3g%%\n\n", a->t_c,
@@ -85,16 +109,18 @@ static void print_answer(const gr_cost_answer *a, const gr_cost_request *rq)
         const gr_cost_option *o = &a->option[a->best_option];
         if (o->window > 0.0) {
             printf("use the hybrid integrator, dt = %.4g s (%.3g steps per contact), window %.4g s ([integrator] kind = "
-                   "hybrid, dt = %.4g, kick_interval = %.4g, force_dt = true if above t_c/10)\n",
-                   b->dt, b->steps_per_contact, o->window, b->dt, o->window);
+                   "hybrid, dt = %.4g, kick_interval = %.10g, force_dt = true if above t_c/10)\n",
+                   b->dt, b->steps_per_contact, o->window, b->dt, hybrid_window(b->dt, o->window));
         } else {
             printf("use verlet, dt = %.4g s (%.3g steps per contact; [integrator] kind = verlet, dt = %.4g, force_dt = "
                    "true if above t_c/10)\n",
                    b->dt, b->steps_per_contact, b->dt);
         }
+        print_set_form(o->window > 0.0 ? "hybrid" : "verlet", b->dt, o->window, b->steps_per_contact);
     } else {
         printf("use dt = %.4g s (%.3g steps per contact; [integrator] dt = %.4g, force_dt = true if above t_c/10)\n",
                b->dt, b->steps_per_contact, b->dt);
+        print_set_form(NULL, b->dt, 0.0, b->steps_per_contact);
     }
     if (isfinite(a->predicted_wall)) {
         printf("predicted wall time for %.4g simulated s: %.4g +- %.2g s (%.4g +- %.2g wall s per simulated s, %d "

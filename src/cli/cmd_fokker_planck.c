@@ -19,7 +19,7 @@ static void usage(FILE *f)
             "usage: granule fokker-planck [--length L] [--D D] [--mass M] [--walkers W] [--seed S]\n"
             "                             [--steps N] [--refine K] [--start uniform|centre] [--bins N]\n"
             "                             [--exit-bins N] [--vmax X] [--epsrel E] [--inner-quadrature]\n"
-            "                             [--points N] [--min-walks N] [--no-sim] [--no-plots] [--quiet]\n"
+            "                             [--points N] [--min-walks N] [--no-sim] [--no-plots] [--format F] [--quiet]\n"
             "                             [--force] [--out DIR]\n\n"
             "Thesis App. B: particles start at rest in [0, L], are driven by white noise of strength D\n"
             "(<eta eta'> = 2 D delta) and are absorbed at x = 0 and x = L. Evaluates the stationary\n"
@@ -51,7 +51,8 @@ static void usage(FILE *f)
             "  --points N        points of the quadrature curves (default 201)\n"
             "  --min-walks N     Q bins enter the chi-square when N walks visited them (default 100)\n"
             "  --no-sim          quadrature only\n"
-            "  --no-plots        skip the PNG plots\n"
+            "  --no-plots        no plots\n"
+            "  --format F        plots as png (default), svg or pdf\n"
             "  --quiet           no progress line\n"
             "  --force           overwrite the results of an earlier run in DIR\n"
             "  --out DIR         output folder (default out/fokker-planck)\n"
@@ -92,6 +93,7 @@ static int parse(int argc, char **argv, options *o, int *done)
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         double x;
+        int k;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage(stdout);
             *done = 1;
@@ -100,12 +102,10 @@ static int parse(int argc, char **argv, options *o, int *done)
             o->p.s.inner_quadrature = true;
         } else if (!strcmp(a, "--no-sim")) {
             o->p.sim = false;
-        } else if (!strcmp(a, "--no-plots")) {
-            o->plots = false;
-        } else if (!strcmp(a, "--quiet")) {
-            o->quiet = true;
-        } else if (!strcmp(a, "--force")) {
-            o->force = true;
+        } else if ((k = cli_theory_option("fokker-planck", argc, argv, &i, &o->force, &o->quiet, &o->plots)) != 0) {
+            if (k < 0) {
+                return EXIT_REFUSED;
+            }
         } else if (!strcmp(a, "--out") && v) {
             o->out = v;
             i++;

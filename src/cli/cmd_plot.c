@@ -167,5 +167,8 @@ int cmd_plot(int argc, char **argv)
         cli_error("plot %s: nothing to draw (no run outputs found)", dir);
         return EXIT_REFUSED;
     }
+    /* each picture's path above; then what was drawn in all */
+    printf("plot: drew %d picture%s under %s (graphs as %s)%s\n", drawn, drawn == 1 ? "" : "s", dir,
+           gr_plot_extension(gr_plot_get_format()), failures ? "; some failed: see above" : "");
     return failures ? EXIT_FAILED : EXIT_OK;
 }

@@ -208,15 +208,21 @@ int cmd_run(int argc, char **argv)
         cli_error("%s", err.message);
         return EXIT_FAILED;
     }
+    char T_text[200];
+    cli_T_text(T_text, sizeof T_text, res.T_mean, res.T_stderr, res.T_stderr_converged);
+    printf("%s: %s over %lld samples; %lld collisions; %.3g particle-steps/s; kernel %s\n", scene.out_dir, T_text,
+           (long long)res.samples, (long long)res.collisions, res.particle_steps_per_second, res.kernel);
+    return EXIT_OK;
+}
+
+void cli_T_text(char *buf, size_t size, double T_mean, double T_stderr, int converged)
+{
     char err_text[32] = "n/a (< 16 samples)";
-    if (res.T_stderr == res.T_stderr) {
-        snprintf(err_text, sizeof err_text, "%.2g", res.T_stderr);
+    if (T_stderr == T_stderr) {
+        snprintf(err_text, sizeof err_text, "%.2g", T_stderr);
     }
     /* an error bar whose blocking never reached a plateau is a lower bound: say so on the same line */
-    const char *unconverged = res.T_stderr == res.T_stderr && !res.T_stderr_converged
+    const char *unconverged = T_stderr == T_stderr && !converged
                                   ? " (WARNING: error bar not converged, T_stderr_converged = false: run longer)" : "";
-    printf("%s: T = %.6g +- %s m^2/s^2%s over %lld samples; %lld collisions; %.3g particle-steps/s; kernel %s\n",
-           scene.out_dir, res.T_mean, err_text, unconverged, (long long)res.samples, (long long)res.collisions,
-           res.particle_steps_per_second, res.kernel);
-    return EXIT_OK;
+    snprintf(buf, size, "T = %.6g +- %s m^2/s^2%s", T_mean, err_text, unconverged);
 }

@@ -78,7 +78,8 @@ static void usage_predict(FILE *f)
             "                    circle measures it); B = b (M^2/2D)^(2/3)\n"
             "  --mass M, --D D   as for the other modes (Table 2.2 defaults)\n"
             "  --vmax V          range of the tabulated integral 5.13, m/s (default 20 v_A)\n"
-            "  --out DIR         output folder (default out/spm-predict); --force, --no-plots\n"
+            "  --out DIR         output folder (default out/spm-predict); --force, --no-plots,\n"
+            "                    --format png|svg|pdf, --quiet as the other modes\n"
             "Writes prediction.csv (5.13 integrated numerically against 5.26), summary.json,\n"
             "prediction.png.\n");
 }
@@ -198,16 +199,18 @@ static int cmd_predict(int argc, char **argv)
     gr_spm_predict_params p;
     gr_spm_predict_params_default(&p);
     const char *out = "out/spm-predict";
-    bool force = false, plots = true;
+    bool force = false, plots = true, quiet = false; /* predict draws no progress line */
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             usage_predict(stdout);
             return EXIT_OK;
         }
-        if (!strcmp(a, "--force") || !strcmp(a, "--no-plots") || !strcmp(a, "--quiet")) {
-            force |= !strcmp(a, "--force");
-            plots &= !!strcmp(a, "--no-plots");
+        const int common = cli_theory_option("spm", argc, argv, &i, &force, &quiet, &plots);
+        if (common < 0) {
+            return EXIT_REFUSED;
+        }
+        if (common) {
             continue;
         }
         static const char *const nums[] = {"--df", "--C", "--b", "--mass", "--D", "--tail-from", "--vmax", "--diameter"};

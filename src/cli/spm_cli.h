@@ -21,9 +21,7 @@
     "  --seed S          random seed (default 1); results are reproducible from it\n"                      \
     "  --bins N          histogram bins (default %d)\n"                                                       \
     "  --out DIR         output folder (default %s)\n"                                                        \
-    "  --force           overwrite the results of an earlier run in DIR\n"                                  \
-    "  --no-plots        skip the PNG plots\n"                                                               \
-    "  --quiet           no progress line\n"
+    CLI_THEORY_OPTIONS_HELP
 
 typedef struct spm_options {
     gr_spm_settings *s;

@@ -27,17 +27,9 @@ static const struct {
 int spm_common_option(int argc, char **argv, int *i, spm_options *o)
 {
     const char *a = argv[*i];
-    if (!strcmp(a, "--force")) {
-        o->force = true;
-        return 1;
-    }
-    if (!strcmp(a, "--quiet")) {
-        o->quiet = true;
-        return 1;
-    }
-    if (!strcmp(a, "--no-plots")) {
-        o->plots = false;
-        return 1;
+    const int common = cli_theory_option("spm", argc, argv, i, &o->force, &o->quiet, &o->plots);
+    if (common) {
+        return common;
     }
     int k = -1;
     for (int j = 0; j < (int)(sizeof with_value / sizeof with_value[0]); j++) {

@@ -88,6 +88,29 @@ static void plot_exponents(const char *out)
     gr_plot_script(out, "exponents.png", body, note, sizeof note);
 }
 
+/* A point's summary.json, NULL when its folder holds no run of these settings */
+static cJSON *point_summary(const sweep *s, long k, const char *status)
+{
+    char dir[1100];
+    sweep_point_dir(s, k, dir, sizeof dir);
+    /* a missing or stale point's folder holds nothing of these settings */
+    bool has_run = !strcmp(status, "completed") || !strcmp(status, "unstable") || !strcmp(status, "failed");
+    gr_error read_err = {0};
+    return has_run ? gr_summary_read(dir, &read_err) : NULL;
+}
+
+/* Whether some point has the 1D separations' moments <R^m> (the gaps observable). */
+static bool any_gap_moments(const sweep *s, long n_points, const char *const *status)
+{
+    bool any = false;
+    for (long k = 0; k < n_points && !any; k++) {
+        cJSON *j = point_summary(s, k, status[k]);
+        any = isfinite(gr_summary_number(j, "analysis.gaps.moments.0"));
+        cJSON_Delete(j);
+    }
+    return any;
+}
+
 static int write_tables(const sweep *s, long n_points, const char *const *status)
 {
     gr_error err = {0};
@@ -96,17 +119,25 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
         cli_error("sweep: %s", err.message);
         return EXIT_FAILED;
     }
-    gr_file_note(&f, "granule sweep of %s: one row per point; moments <|v|^m> in (m/s)^m", s->scene);
-    fprintf(f.f, "point,seed");
+    /* <R^m> columns only when some point has them (1D runs with the gaps observable) */
+    const bool with_R = any_gap_moments(s, n_points, status);
+    gr_file_note(&f, "granule sweep of %s: one row per point; moments <|v|^m> in (m/s)^m%s", s->scene,
+                 with_R ? ", <R^m> in m^m" : "");
+    gr_file_columns(&f, "point [1],seed [1]");
     for (int i = 0; i < s->n_keys; i++) {
-        fprintf(f.f, ",%s", s->key[i]);
+        gr_file_column(&f, s->key[i], gr_scene_key_unit(s->key[i]));
     }
-    fprintf(f.f, ",status,T_mean,T_stderr,T_stderr_converged,collisions,particle_steps_per_second");
-    for (int m = 1; m <= 12; m++) {
-        fprintf(f.f, ",m%d,m%d_stderr", m, m);
-    }
-    for (int m = 1; m <= 12; m++) {
-        fprintf(f.f, ",R%d,R%d_stderr", m, m);
+    gr_file_columns(&f, "status [],T_mean [m2 s-2],T_stderr [m2 s-2],T_stderr_converged [1],collisions [1],"
+                        "particle_steps_per_second [s-1]");
+    for (int q = 0; q < (with_R ? 2 : 1); q++) {
+        for (int m = 1; m <= 12; m++) {
+            char name[32], unit[32];
+            snprintf(unit, sizeof unit, q ? "m%d" : "m%d s-%d", m, m);
+            snprintf(name, sizeof name, q ? "R%d" : "m%d", m);
+            gr_file_column(&f, name, unit);
+            snprintf(name, sizeof name, q ? "R%d_stderr" : "m%d_stderr", m);
+            gr_file_column(&f, name, unit);
+        }
     }
     fputc('\n', f.f);
     int n_col = s->n_keys;
@@ -124,12 +155,7 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     for (long k = 0; k < n_points; k++) {
         int idx[SWEEP_MAX_KEYS] = {0}, seed;
         sweep_decode(s, k, idx, &seed);
-        char dir[1100];
-        sweep_point_dir(s, k, dir, sizeof dir);
-        /* a missing or stale point's folder holds nothing of these settings */
-        bool has_run = !strcmp(status[k], "completed") || !strcmp(status[k], "unstable") || !strcmp(status[k], "failed");
-        gr_error read_err = {0};
-        cJSON *j = has_run ? gr_summary_read(dir, &read_err) : NULL;
+        cJSON *j = point_summary(s, k, status[k]);
         fprintf(f.f, "%ld,%llu", k, sweep_point_seed(s, k));
         for (int i = 0; i < n_col; i++) {
             fprintf(f.f, ",%s", s->value[i][idx[i]]);
@@ -162,7 +188,9 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
             rmom_err[k][m] = gr_summary_number(j, p2);
         }
         for (int m = 1; m <= 12; m++) {
-            fprintf(f.f, ",%.8g,%.4g", rmom[k][m], rmom_err[k][m]);
+            if (with_R) {
+                fprintf(f.f, ",%.8g,%.4g", rmom[k][m], rmom_err[k][m]);
+            }
             if (strcmp(status[k], "completed") != 0) {
                 rmom[k][m] = NAN;
             }
@@ -181,10 +209,10 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
             gr_file_note(&e, "# granule sweep: <|v|^m> = A N^-xi_m (3.8, 3.13) and <R^m> = A N^-zeta_m (3.20), per combination of the other keys\n");
             for (int i = 0; i < s->n_keys; i++) {
                 if (i != n_idx) {
-                    fprintf(e.f, "%s,", s->key[i]);
+                    gr_file_column(&e, s->key[i], gr_scene_key_unit(s->key[i]));
                 }
             }
-            fprintf(e.f, "quantity,m,exponent,exponent_error,A,chi2_red,points\n");
+            gr_file_header(&e, "quantity [],m [1],exponent [1],exponent_error [1],A [@A_unit],chi2_red [1],points [1],A_unit []");
             long groups = 1;
             for (int i = 0; i < s->n_keys; i++) {
                 groups *= i == n_idx ? 1 : s->n_values[i];
@@ -229,8 +257,11 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
                                 fprintf(e.f, "%s,", s->value[i][gv[i]]);
                             }
                         }
-                        fprintf(e.f, "%s,%d,%.6g,%.3g,%.6g,%.4g,%d\n", q == 0 ? "xi" : "zeta", m, -fit.p[1], fit.err[1],
-                                fit.p[0], fit.chi2_red, np);
+                        /* A carries the moment's unit: (m/s)^m for xi, m^m for zeta */
+                        char unit[32];
+                        snprintf(unit, sizeof unit, q == 0 ? "m%d s-%d" : "m%d", m, m);
+                        fprintf(e.f, "%s,%d,%.6g,%.3g,%.6g,%.4g,%d,%s\n", q == 0 ? "xi" : "zeta", m, -fit.p[1], fit.err[1],
+                                fit.p[0], fit.chi2_red, np, unit);
                     }
                 }
             }

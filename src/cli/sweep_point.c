@@ -249,7 +249,7 @@ static int claim(const char *dir, long k, int *fd, char *who, size_t who_len, gr
     return rc;
 }
 
-static void release(sweep_child *c)
+static void release(const sweep *s, sweep_child *c)
 {
     if (c->lock_fd < 0) {
         return;
@@ -260,7 +260,9 @@ static void release(sweep_child *c)
             break;
         }
     }
-    gr_dir_unlock(&c->lock_fd); /* the claim ends with the last descriptor: this one, once the child is gone */
+    char dir[1100];
+    sweep_point_dir(s, c->k, dir, sizeof dir);
+    gr_dir_unlock(dir, POINT_LOCK, &c->lock_fd); /* the claim ends with the last descriptor: this one, once the child is gone */
 }
 
 static void close_other_claims(int own)
@@ -373,7 +375,7 @@ int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c
     }
     char why[800];
     if (!s->force && state_of(s, k, c->hash, why, sizeof why, false) == POINT_COMPLETED) {
-        release(c); /* another process finished it since we looked */
+        release(s, c); /* another process finished it since we looked */
         return SWEEP_FINISHED_ELSEWHERE;
     }
     sweep_now_iso(c->started);
@@ -385,7 +387,7 @@ int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c
     write_manifest(s, k, dir, runner, c, NULL, 0.0, "running", -1, NULL);
     int p[2];
     if (pipe(p) != 0) {
-        release(c);
+        release(s, c);
         return GR_FAIL(err, GR_EIO, "point %ld: cannot create a pipe: %s", k, strerror(errno));
     }
     fflush(NULL);
@@ -399,7 +401,7 @@ int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c
     close(p[1]);
     if (pid < 0) {
         close(p[0]);
-        release(c);
+        release(s, c);
         return GR_FAIL(err, GR_EIO, "point %ld: cannot fork: %s", k, strerror(errno));
     }
     c->pid = pid;
@@ -438,7 +440,7 @@ int sweep_point_finish(const sweep *s, const char *runner, sweep_child *c, int w
     sweep_point_dir(s, c->k, dir, sizeof dir);
     sweep_now_iso(finished);
     write_manifest(s, c->k, dir, runner, c, finished, sweep_monotonic() - c->t0, status, code, msg);
-    release(c);
+    release(s, c);
     c->pid = 0;
     return code;
 }

@@ -118,7 +118,7 @@ static void pv_collapse(const char *out, const gr_compare_spec *specs, int n, ch
         if (gr_file_open(&f, out, "pv_collapse.csv", &err) == GR_OK) {
             gr_file_note(&f, "granule compare: P'(v) = P(v) P_0(1)/P(1) (5.4), v in units of v_rms, P_0 = %s; one row per "
                              "model and bin with P > 0 (a long table: filter on model)", specs[0].text);
-            fprintf(f.f, "model,v_over_vrms,P_scaled\n");
+            gr_file_header(&f, "model [],v_over_vrms [1],P_scaled [1]");
             for (int k = 0; k < n; k++) {
                 for (int i = 0; i < len[k]; i++) {
                     if (ys[k][i] > 0.0 && isfinite(scale[k])) {

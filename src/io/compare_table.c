@@ -51,11 +51,12 @@ static const char *string_at(const cJSON *j, const char *path, const char *fallb
     return cJSON_IsString(m) ? m->valuestring : fallback;
 }
 
-static gr_compare_row *add_row(gr_compare_table *t, const char *quantity, const char *key)
+static gr_compare_row *add_row(gr_compare_table *t, const char *quantity, const char *key, const char *unit)
 {
     gr_compare_row *r = &t->row[t->n_rows++];
     snprintf(r->quantity, sizeof r->quantity, "%s", quantity);
     snprintf(r->key, sizeof r->key, "%s", key);
+    snprintf(r->unit, sizeof r->unit, "%s", unit);
     for (int k = 0; k < GR_COMPARE_MAX; k++) {
         r->cell[k].value = r->cell[k].error = NAN;
     }
@@ -78,6 +79,12 @@ static void set_reason(gr_compare_cell *c, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(c->text, sizeof c->text, fmt, ap);
     va_end(ap);
+}
+
+const char *gr_compare_mark_words(char mark)
+{
+    return mark == '*' ? "error bar not converged (a lower bound): run longer"
+                       : "free fit of (5.5): no alpha has chi2/dof < 1.2 in the Table 5.1 window";
 }
 
 static void footnote(gr_compare_table *t, const char *line)
@@ -247,21 +254,22 @@ gr_compare_table *gr_compare_table_build(const char *out, const char *scene_path
     t->dim = dim;
     t->n_models = n > GR_COMPARE_MAX ? GR_COMPARE_MAX : n;
     /* the order a physicist reads them: state, structure, collisions, energy, cost */
-    add_row(t, "T (m^2/s^2)", "T");
-    add_row(t, "rotational T at the end (m^2/s^2)", "T_rot");
-    add_row(t, "P(v) tail exponent alpha (5.5)", "tail_alpha");
-    add_row(t, "fractal dimension D_f of S(k) (4.4)", "D_f");
-    add_row(t, "G_1 tail exponent n_N (3.22)", "n_N");
-    add_row(t, "collisions", "collisions");
-    add_row(t, "collisions per particle per s (1/s)", "collision_rate");
-    add_row(t, "energy injected by noise (J)", "injected");
-    add_row(t, "dissipated, normal (J, % of injected)", "dissipated_normal");
-    add_row(t, "dissipated, tangential (J, %)", "dissipated_tangential");
-    add_row(t, "dissipated, friction (J, %)", "dissipated_friction");
-    add_row(t, "energy ledger residual (relative)", "ledger_residual");
-    add_row(t, "wall time (s)", "wall_seconds");
-    add_row(t, "throughput", "throughput");
-    add_row(t, "collisions per wall-clock s (1/s)", "collisions_per_wall_second");
+    add_row(t, "T (m^2/s^2)", "T", "m2 s-2");
+    add_row(t, "rotational T at the end (m^2/s^2)", "T_rot", "m2 s-2");
+    add_row(t, "P(v) tail exponent alpha (5.5)", "tail_alpha", "1");
+    add_row(t, "fractal dimension D_f of S(k) (4.4)", "D_f", "1");
+    add_row(t, "G_1 tail exponent n_N (3.22)", "n_N", "1");
+    add_row(t, "collisions", "collisions", "1");
+    add_row(t, "collisions per particle per s (1/s)", "collision_rate", "s-1");
+    add_row(t, "energy injected by noise (J)", "injected", "J");
+    add_row(t, "dissipated, normal (J, % of injected)", "dissipated_normal", "J");
+    add_row(t, "dissipated, tangential (J, %)", "dissipated_tangential", "J");
+    add_row(t, "dissipated, friction (J, %)", "dissipated_friction", "J");
+    add_row(t, "energy ledger residual (relative)", "ledger_residual", "1");
+    add_row(t, "wall time (s)", "wall_seconds", "s");
+    add_row(t, "throughput", "throughput", "s-1");
+    add_row(t, "collisions per wall-clock s (1/s)", "collisions_per_wall_second", "s-1");
+    footnote(t, GR_COMPARE_ERRORS);
     for (int k = 0; k < t->n_models; k++) {
         t->spec[k] = specs[k];
         char dir[1200];

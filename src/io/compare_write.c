@@ -109,9 +109,10 @@ static int write_csv(const gr_compare_table *t, const cJSON *models, const char 
     if (rc) {
         return rc;
     }
-    gr_file_note(&f, "granule compare of %s: one row per model, same initial state and noise seed", t->scene);
-    gr_file_note(&f, "headline columns: <key> (value), <key>_err (its error, empty if none), <key>_note (why there is no "
-                     "value); then every scalar of the model's summary.json (empty where a model has none)");
+    gr_file_note(&f, "granule compare of %s: one row per model, same initial state and noise seed\n", t->scene);
+    gr_file_note(&f, "headline columns: <key> (value), <key>_err (its error, empty if none; %s), <key>_note (why "
+                 "there is no value, or its footnote in words); then every scalar of the model's summary.json "
+                 "(empty where a model has none)", GR_COMPARE_ERRORS);
     const char *cols[512];
     int nc = 0;
     for (const cJSON *m = models->child; m; m = m->next) {
@@ -125,20 +126,24 @@ static int write_csv(const gr_compare_table *t, const cJSON *models, const char 
             }
         }
     }
-    fprintf(f.f, "model,integrator,kernel,status");
+    gr_file_columns(&f, "model [],integrator [],kernel [],status []");
     for (int i = 0; i < t->n_rows; i++) {
         bool has[2];
         row_columns(t, i, has);
-        fprintf(f.f, ",%s", t->row[i].key);
+        char name[64];
+        gr_file_column(&f, t->row[i].key, t->row[i].unit);
         if (has[0]) {
-            fprintf(f.f, ",%s_err", t->row[i].key);
+            snprintf(name, sizeof name, "%s_err", t->row[i].key);
+            gr_file_column(&f, name, t->row[i].unit);
         }
         if (has[1]) {
-            fprintf(f.f, ",%s_note", t->row[i].key);
+            snprintf(name, sizeof name, "%s_note", t->row[i].key);
+            gr_file_column(&f, name, "");
         }
     }
     for (int i = 0; i < nc; i++) {
-        fprintf(f.f, ",%s", cols[i]);
+        char buf[32];
+        gr_file_column(&f, cols[i], gr_summary_unit(cols[i], buf, sizeof buf));
     }
     fputc('\n', f.f);
     int k = 0;
@@ -161,12 +166,15 @@ static int write_csv(const gr_compare_table *t, const cJSON *models, const char 
             if (!has[1]) {
                 continue;
             }
-            /* the note: the reason, or the cell with its footnote mark; commas would split the cell */
+            /* the note: the reason, or the footnote in words (a '#' would start a comment for
+             * numpy.genfromtxt); commas would split the cell */
             fputc(',', f.f);
-            if (!isfinite(c->value) || marked(c->text)) {
+            if (!isfinite(c->value)) {
                 for (const char *p = c->text; *p; p++) {
-                    fputc(*p == ',' ? ';' : *p, f.f);
+                    fputc(*p == ',' ? ';' : *p == '#' ? ' ' : *p, f.f);
                 }
+            } else if (marked(c->text)) {
+                fputs(gr_compare_mark_words(c->text[strlen(c->text) - 1]), f.f);
             }
         }
         const cJSON *all = cJSON_GetObjectItem(m, "summary");

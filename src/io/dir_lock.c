@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -38,19 +39,29 @@ int gr_dir_lock(const char *dir, const char *name, int *fd, char *holder, size_t
     char path[1200];
     snprintf(path, sizeof path, "%s/%s", dir, name);
     holder[0] = 0;
-    *fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (*fd < 0) {
-        return GR_FAIL(err, GR_EIO, "cannot open the lock %s: %s", path, strerror(errno));
-    }
-    /* a few tries: a gr_dir_lock_held probe (another process reading the state) holds a shared
-     * lock for a moment, which must not pass for a live holder */
     int e = 0;
-    for (int tries = 1;; tries++) {
-        e = flock(*fd, LOCK_EX | LOCK_NB) != 0 ? errno : 0;
-        if (e != EWOULDBLOCK || tries == 5) {
+    for (int opened = 1;; opened++) {
+        *fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+        if (*fd < 0) {
+            return GR_FAIL(err, GR_EIO, "cannot open the lock %s: %s", path, strerror(errno));
+        }
+        /* a few tries: a gr_dir_lock_held probe (another process reading the state) holds a shared
+         * lock for a moment, which must not pass for a live holder */
+        for (int tries = 1;; tries++) {
+            e = flock(*fd, LOCK_EX | LOCK_NB) != 0 ? errno : 0;
+            if (e != EWOULDBLOCK || tries == 5) {
+                break;
+            }
+            nanosleep(&(struct timespec){.tv_nsec = 20000000}, NULL);
+        }
+        /* the holder deletes the file before it lets go (gr_dir_unlock): a lock on a file no
+         * longer at `path` is no lock at all; open the new one */
+        struct stat mine, now;
+        if (e || opened == 100 || fstat(*fd, &mine) != 0 ||
+            (stat(path, &now) == 0 && now.st_ino == mine.st_ino && now.st_dev == mine.st_dev)) {
             break;
         }
-        nanosleep(&(struct timespec){.tv_nsec = 20000000}, NULL);
+        close(*fd);
     }
     if (e) {
         if (e == EWOULDBLOCK) {
@@ -75,13 +86,15 @@ int gr_dir_lock(const char *dir, const char *name, int *fd, char *holder, size_t
     return GR_OK;
 }
 
-void gr_dir_unlock(int *fd)
+void gr_dir_unlock(const char *dir, const char *name, int *fd)
 {
     if (*fd >= 0) {
-        /* emptied, so a finished folder does not depend on who ran it (the empty file stays: unlinking
-         * a lock file lets a process that opened it just before take a lock nobody else sees) */
-        if (ftruncate(*fd, 0) != 0) {
-            /* only the note is left behind */
+        /* deleted while still held: whoever opened it meanwhile finds, once it gets the lock, that
+         * the path is gone (gr_dir_lock) and takes a new file */
+        char path[1200];
+        snprintf(path, sizeof path, "%s/%s", dir, name);
+        if (unlink(path) != 0 && ftruncate(*fd, 0) != 0) {
+            /* a read-only folder: only the note is left behind */
         }
         close(*fd);
         *fd = -1;

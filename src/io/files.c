@@ -22,6 +22,8 @@ int gr_file_open(gr_file *out, const char *dir, const char *name, gr_error *err)
     snprintf(out->tmp, sizeof out->tmp, "%s.tmp%ld", out->path, (long)getpid());
     out->notes = NULL;
     out->notes_len = 0;
+    out->units = NULL;
+    out->columns = 0;
     out->keep_on_error = false;
     out->f = fopen(out->tmp, "w");
     if (!out->f) {
@@ -79,8 +81,11 @@ static int notes_commit(const gr_file *t, gr_error *err)
     snprintf(name, sizeof name, "%.*s.meta.json", dot ? (int)(dot - base) : (int)strlen(base), base);
     cJSON *j = cJSON_CreateObject(), *notes = cJSON_AddArrayToObject(j, "notes");
     cJSON_AddStringToObject(j, "file", base);
+    if (t->units) {
+        cJSON_AddItemReferenceToObject(j, "units", t->units);
+    }
     char *text = t->notes;
-    for (char *line = strtok(text, "\n"); line; line = strtok(NULL, "\n")) {
+    for (char *line = text ? strtok(text, "\n") : NULL; line; line = strtok(NULL, "\n")) {
         line += line[0] == '#' ? 1 + (line[1] == ' ') : 0;
         if (line[0]) {
             cJSON_AddItemToArray(notes, cJSON_CreateString(line));
@@ -100,10 +105,12 @@ static int notes_commit(const gr_file *t, gr_error *err)
 
 int gr_file_commit(gr_file *out, gr_error *err)
 {
-    if (out->notes) {
+    if (out->notes || out->units) {
         int rc = notes_commit(out, err);
         free(out->notes);
         out->notes = NULL;
+        cJSON_Delete(out->units);
+        out->units = NULL;
         if (rc) { /* a streamed table a checkpoint records keeps its temporary, as for its own write */
             if (out->keep_on_error) {
                 gr_file_keep(out);
@@ -157,8 +164,10 @@ int gr_file_fail(const char *path, int errnum, gr_error *err)
 
 void gr_file_keep(gr_file *out)
 {
-    free(out->notes); /* a resume writes the notes again */
+    free(out->notes); /* a resume writes the notes and units again */
     out->notes = NULL;
+    cJSON_Delete(out->units);
+    out->units = NULL;
     if (out->f) {
         fclose(out->f); /* may fail on a full disk: the checkpoint's length is on disk already */
         out->f = NULL;
@@ -169,6 +178,8 @@ void gr_file_abandon(gr_file *out)
 {
     free(out->notes);
     out->notes = NULL;
+    cJSON_Delete(out->units);
+    out->units = NULL;
     if (out->f) {
         fclose(out->f);
         out->f = NULL;

@@ -14,6 +14,8 @@ typedef struct gr_file {
     char path[1100], tmp[1120];
     char *notes; /* gr_file_note text, NULL if none */
     size_t notes_len;
+    struct cJSON *units; /* gr_file_columns: {"column": "unit"}, NULL if none */
+    int columns;         /* columns of the header line written so far */
     bool keep_on_error; /* a streamed file a checkpoint records: a failed commit keeps the temporary */
 } gr_file;
 
@@ -27,6 +29,16 @@ void gr_file_abandon(gr_file *out);
  * options: printf-style text, one note per line (a leading "# " is dropped), written at commit
  * to the sidecar NAME.meta.json ({"file": "NAME.csv", "notes": [...]}) beside NAME.csv. */
 void gr_file_note(gr_file *out, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* The header line of a table with its units (src/io/csv_columns.c): spec is "name [unit],..."
+ * (UDUNITS-style unit strings as in H5MD: "m s-1", "m2 s-2", "1" for a pure number, "" for a
+ * text column); the names go to the file, separated by commas (continuing a line that earlier
+ * calls began), and the units to the sidecar as {"units": {"name": "unit", ...}}. A column
+ * without "[...]" gets no unit. gr_file_header ends the line. */
+void gr_file_columns(gr_file *out, const char *spec);
+void gr_file_column(gr_file *out, const char *name, const char *unit);
+void gr_file_header(gr_file *out, const char *spec);
+/* Only the units of spec (a streamed table continued by a resume has its header already). */
+void gr_file_units(gr_file *out, const char *spec);
 /* Close without committing and keep the temporary (a checkpoint records it; a resume adopts it). */
 void gr_file_keep(gr_file *out);
 /* GR_OK while every write to the file so far succeeded; otherwise the error (e.g. "disk full

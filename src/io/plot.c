@@ -93,6 +93,24 @@ static void scan_axes(const char *body, bool log[2], bool format[2])
     }
 }
 
+/* How many lines of body start with `start` (after spaces). */
+static int count_lines(const char *body, const char *start)
+{
+    int n = 0;
+    for (const char *line = body; line && *line; line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL) {
+        while (*line == ' ') {
+            line++;
+        }
+        n += !strncmp(line, start, strlen(start));
+    }
+    return n;
+}
+
+static bool has_line(const char *body, const char *start)
+{
+    return count_lines(body, start) > 0;
+}
+
 char *gr_plot_compose(const char *body, const char *output, gr_plot_format f)
 {
     static const char *const terminals[] = {
@@ -116,14 +134,38 @@ char *gr_plot_compose(const char *body, const char *output, gr_plot_format f)
      * error bar sits on the frame. The body may override any of this. */
     bool log[2], format[2];
     scan_axes(body, log, format);
-    /* a linear axis ends at the data plus the margin; a log axis at whole decades beyond it, so
-     * that it always carries labelled ticks */
     len += (size_t)snprintf(s + len, size - len,
                             "set format x '%s'\nset format y '%s'\n%s%sset offsets graph 0.03, graph 0.03, graph 0.06, graph 0.06\n"
-                            "set grid lc rgb '#d0d0d0' lw 1 dt 1\nset border lw 1.5\nset key noopaque samplen 2.5\n"
-                            "set output '%s'\n%s\nset output\n",
+                            "set grid lc rgb '#d0d0d0' lw 1 dt 1\nset border lw 1.5\nset key noopaque samplen 2.5\n",
                             log[0] && !format[0] ? "10^{%L}" : "%h", log[1] && !format[1] ? "10^{%L}" : "%h",
-                            log[0] ? "" : "set autoscale xfix\n", log[1] ? "" : "set autoscale yfix\n", output, body);
+                            log[0] ? "" : "set autoscale xfix\n", log[1] ? "" : "set autoscale yfix\n");
+    /* a linear axis ends at the data plus the margin (the offsets); gnuplot would end an
+     * autoscaled log axis at whole decades (1-100 for data at 1.7-18) and ignores the offsets
+     * there, so a body with one plot and log axes of its own range is drawn once on a dummy
+     * terminal to learn the data's range (GPVAL_DATA_*), and the log axes are then fitted to it
+     * with a margin of a few % of the span; under two decades they get ticks at 1, 2, 5 x 10^n
+     * so that they always carry labels */
+    bool fit[2] = {log[0] && !has_line(body, "set xrange") && !strstr(body, "plot ["),
+                   log[1] && !has_line(body, "set yrange") && !strstr(body, "plot [")};
+    if (!(fit[0] || fit[1]) || count_lines(body, "plot ") != 1 || strstr(body, "multiplot")) {
+        snprintf(s + len, size - len, "set output '%s'\n%s\nset output\n", output, body);
+        return s;
+    }
+    len += (size_t)snprintf(s + len, size - len, "set terminal push\nset terminal dumb\nset output '/dev/null'\n%s\n", body);
+    for (int a = 0; a < 2; a++) {
+        const char axis = a ? 'y' : 'x';
+        const char *const A = a ? "Y" : "X";
+        if (fit[a]) {
+            len += (size_t)snprintf(s + len, size - len,
+                                    "gr_lo = GPVAL_DATA_%s_MIN; gr_hi = GPVAL_DATA_%s_MAX\n"
+                                    "if (gr_lo > 0 && gr_hi > gr_lo) { gr_f = (gr_hi / gr_lo)**%s; set %crange [gr_lo / gr_f:gr_hi * gr_f]; "
+                                    "if (gr_hi / gr_lo < 100) { set %ctics (1e300); do for [gr_n = floor(log10(gr_lo)) : "
+                                    "ceil(log10(gr_hi))] { set %ctics add (10.0**gr_n, 2 * 10.0**gr_n, 5 * 10.0**gr_n) }; "
+                                    "set format %c '%%h' } }\n",
+                                    A, A, a ? "0.06" : "0.03", axis, axis, axis, axis);
+        }
+    }
+    snprintf(s + len, size - len, "set terminal pop\nset output '%s'\nreplot\nset output\n", output);
     return s;
 }
 

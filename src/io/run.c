@@ -4,6 +4,7 @@
  * Time series are streamed into temporary files and moved into place at the end (or when the run
  * stops unstable), so a reader never sees half a file and memory does not grow with run length.
  * The temperature average and its error bar come from streaming block averaging (2.20). */
+#include <cjson/cJSON.h>
 #include <math.h>
 #include <stdlib.h>
 #include <stdio.h>
@@ -70,6 +71,9 @@ void gr_run_stream_leave(gr_file *f)
     }
     free(f->notes);
     f->notes = NULL;
+    cJSON_Delete(f->units);
+    f->units = NULL;
+    f->columns = 0;
 }
 
 
@@ -137,6 +141,21 @@ static int open_run(gr_run_ctx *c)
 }
 
 /* Set-up, part 2 (fresh runs): temperature.csv and ledger.csv, streamed; a resume continues them. */
+/* The columns of the streamed tables with their units (gr_file_header) */
+static const char *temperature_columns(const gr_scene *s)
+{
+    return s->contact.rotation ? "t [s],T [m2 s-2],running_mean [m2 s-2],phase [],T_rot [m2 s-2]"
+                               : "t [s],T [m2 s-2],running_mean [m2 s-2],phase []";
+}
+
+static const char *ledger_columns(const gr_scene *s)
+{
+    return s->contact.rotation ? "t [s],kinetic [J],elastic [J],injected [J],dissipated_normal [J],dissipated_tangential [J],"
+                                 "dissipated_friction [J],removed_com [J],residual [J],rotational [J]"
+                               : "t [s],kinetic [J],elastic [J],injected [J],dissipated_normal [J],dissipated_tangential [J],"
+                                 "dissipated_friction [J],removed_com [J],residual [J]";
+}
+
 static int open_tables(gr_run_ctx *c)
 {
     if (c->resume) {
@@ -152,9 +171,8 @@ static int open_tables(gr_run_ctx *c)
     if (!rc) {
         /* rotation: T_rot = I <w^2> / M (gr_sim_rotational_temperature) as a last column of T(t),
          * and the rotational part of the kinetic energy (sum I w^2 / 2) as a last column of the ledger */
-        fprintf(c->ft.f, "t,T,running_mean,phase%s\n", c->scene->contact.rotation ? ",T_rot" : "");
-        fprintf(c->fl.f, "t,kinetic,elastic,injected,dissipated_normal,dissipated_tangential,dissipated_friction,removed_com,"
-                         "residual%s\n", c->scene->contact.rotation ? ",rotational" : "");
+        gr_file_header(&c->ft, temperature_columns(c->scene));
+        gr_file_header(&c->fl, ledger_columns(c->scene));
     }
     return rc;
 }
@@ -196,6 +214,10 @@ static int start_outputs(gr_run_ctx *c)
     /* the tables' notes (NAME.meta.json at commit) are kept in memory, so a resume writes them again */
     gr_run_csv_header(&c->ft, "granular temperature T(t) of eq. 2.19, m^2/s^2; running_mean over the sampling phase", c->scene, c->hash);
     gr_run_csv_header(&c->fl, "energy ledger, J (residual = kinetic + elastic - initial - injected + dissipated + removed_com)", c->scene, c->hash);
+    if (c->resume) { /* the header is in the file already; the units go to the sidecar again */
+        gr_file_units(&c->ft, temperature_columns(c->scene));
+        gr_file_units(&c->fl, ledger_columns(c->scene));
+    }
     /* the trajectory: a resume cuts the frames written after the checkpoint */
     int rc = gr_traj_writer_open(&c->traj, c->scene, c->dir, c->resume ? c->snap_index : -1, c->err);
     if (rc) {
@@ -224,7 +246,7 @@ static void release(gr_run_ctx *c)
     gr_observer_free(c->obs);
     gr_sim_free(c->sim);
     free(c->ck_buf);
-    gr_dir_unlock(&c->lock_fd);
+    gr_dir_unlock(c->dir, RUN_LOCK, &c->lock_fd);
 }
 
 int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res, gr_error *err)
@@ -252,7 +274,7 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     }
     /* a stop request ends in a checkpoint; otherwise the outputs are finished */
     rc = gr_run_stop(c) ? c->rc : gr_run_finish(c);
-    gr_dir_unlock(&c->lock_fd);
+    gr_dir_unlock(c->dir, RUN_LOCK, &c->lock_fd);
     free(c);
     return rc;
 }

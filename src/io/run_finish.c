@@ -117,7 +117,7 @@ static int write_blocks(const char *dir, const gr_scene *s, uint64_t hash, const
         return rc;
     }
     gr_run_csv_header(&f, "block averaging of T (Flyvbjerg-Petersen); T in m^2/s^2, block length in s", s, hash);
-    fprintf(f.f, "level,block_seconds,blocks,T_mean,T_stderr\n");
+    gr_file_header(&f, "level [1],block_seconds [s],blocks [1],T_mean [m2 s-2],T_stderr [m2 s-2]");
     for (int k = 0; k < GR_BLOCKING_LEVELS && b->count[k] >= 2; k++) {
         fprintf(f.f, "%d,%.9g,%lld,%.9g,%.9g\n", k, ldexp(s->sample_every, k), (long long)b->count[k],
                 b->sum[k] / (double)b->count[k], gr_blocking_stderr_at(b, k));

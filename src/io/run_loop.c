@@ -105,7 +105,7 @@ static bool record(gr_run_ctx *c, int64_t k)
             }
         }
     }
-    fprintf(c->ft.f, "%.9g,%.9g,%.9g,%s", t, T, sampling ? gr_blocking_mean(&c->blk) : (double)NAN, sampling ? "sample" : "warmup");
+    fprintf(c->ft.f, "%.9g,%.9g,%.9g,%s", t, T, sampling ? gr_blocking_mean(&c->blk) : (double)NAN, sampling ? "sampling" : "warmup");
     if (c->scene->contact.rotation) {
         fprintf(c->ft.f, ",%.9g", gr_sim_rotational_temperature(sim));
     }

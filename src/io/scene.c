@@ -33,17 +33,20 @@ typedef struct scene_key {
     size_t offset;
 } scene_key;
 
+/* [system] reduced_length of a 1D scene that gives no length key, m */
+#define GR_DEFAULT_REDUCED_LENGTH_1D 1.0
+
 #define OFF(f) offsetof(gr_scene, f)
 static const scene_key keys[] = {
     {"system", "dim", "", K_INT, "2", 1, 2, false, false, NULL, "1 (periodic line) or 2 (periodic square)", OFF(dim)},
     {"system", "N", "", K_INT, "2000", 1, 1e8, false, false, NULL, "number of particles", OFF(N)},
-    {"system", "L", "m", K_DOUBLE, "0.2", 0, INFINITY, true, true, NULL, "box side (2D) or ring length (1D); give at most one of L, packing_fraction, reduced_length", OFF(L)},
+    {"system", "L", "m", K_DOUBLE, "0.2", 0, INFINITY, true, true, NULL, "box side (2D) or ring length (1D); give at most one of L, packing_fraction, reduced_length; the default is 2D's: a 1D scene without any gets reduced_length = 1 m", OFF(L)},
     {"system", "packing_fraction", "", K_DOUBLE, NULL, 0, 0.9069, true, false, NULL, "2D only: sets L from phi = N pi r^2 / L^2 (2.24); hexagonal maximum 0.9069", OFF(packing_fraction)},
-    {"system", "reduced_length", "m", K_DOUBLE, NULL, 0, INFINITY, false, true, NULL, "1D only: sets L from L' = L - N d (sec. 3.1)", OFF(reduced_length)},
+    {"system", "reduced_length", "m", K_DOUBLE, NULL, 0, INFINITY, false, true, NULL, "1D only: sets L from L' = L - N d (sec. 3.1); a 1D scene without L or reduced_length gets 1 m", OFF(reduced_length)},
     /* bounded so that d = 2 r, N pi r^2, k_s / m and the box stay finite and non-zero */
     {"system", "radius", "m", K_DOUBLE, "1.5e-3", 1e-100, 1e100, false, false, NULL, "particle radius r (Table 2.2)", OFF(radius)},
     {"system", "mass", "kg", K_DOUBLE, "3.53e-5", 1e-100, 1e100, false, false, NULL, "particle mass M (Table 2.2)", OFF(mass)},
-    {"placement", "kind", "", K_ENUM, "hexagonal", 0, 0, false, false, "hexagonal|square|uniform|cluster|random", "initial placement (sec. 2.1.4, Fig. 2.4): hexagonal or square bed from the bottom of the box, uniform = equal area (2D) or spacing L/N (1D) per particle, cluster = one touching cluster in the middle, random = random sequential addition (phi <= 0.5)", OFF(placement)},
+    {"placement", "kind", "", K_ENUM, "hexagonal", 0, 0, false, false, "hexagonal|square|uniform|cluster|random", "initial placement (sec. 2.1.4, Fig. 2.4); default hexagonal in 2D, uniform in 1D: hexagonal or square bed from the bottom of the box, uniform = equal area (2D) or spacing L/N (1D) per particle, cluster = one touching cluster in the middle, random = random sequential addition (phi <= 0.5)", OFF(placement)},
     {"placement", "v0", "m/s", K_DOUBLE, "0.1", 0, INFINITY, false, true, NULL, "initial velocities v0 * U(-0.5, 0.5) per component (sec. 2.2.2), mean removed", OFF(v0)},
     {"placement", "omega0", "rad/s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "[model] rotation = true only: initial angular velocities omega0 * U(-0.5, 0.5) per disc (rotational temperature I omega0^2 / 12 M); 0 = not spinning", OFF(omega0)},
     {"model", "normal", "", K_NORMAL, "spring_dashpot", 0, 0, false, false, NULL, "normal collision model (granule models lists them)", OFF(normal)},
@@ -624,6 +627,16 @@ static bool model_has_param(const gr_model *m, const char *name)
 }
 
 /* Where key section.name was given (the scene file itself when it was left at its default). */
+static bool key_given(const given *g, const char *section, const char *name)
+{
+    for (int i = 0; i < n_keys; i++) {
+        if (!strcmp(keys[i].section, section) && !strcmp(keys[i].name, name)) {
+            return g->at[i].file || g->at[i].assignment;
+        }
+    }
+    return false;
+}
+
 static where where_of(const given *g, const gr_scene *s, const char *section, const char *name)
 {
     for (int i = 0; i < n_keys; i++) {
@@ -652,7 +665,14 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
         }
         s->L = sqrt(s->N * M_PI * s->radius * s->radius / s->packing_fraction);
     }
-    if (g->reduced_length) {
+    /* defaults that depend on dim follow it (docs/scene-keys.md): without a length key a 1D ring
+     * gets reduced_length = 1 m (the thesis's ch. 3 runs, docs/scenes/rfm-1d.ini), not the 2D
+     * box side, which N default particles would not fit */
+    const bool default_length = s->dim == 1 && n_len == 0;
+    if (default_length) {
+        s->reduced_length = GR_DEFAULT_REDUCED_LENGTH_1D;
+    }
+    if (g->reduced_length || default_length) {
         if (s->dim != 1) {
             return fail_at(err, &g->at_rl, "system", "reduced_length", "%s", "only for dim = 1; use packing_fraction or L in 2D");
         }
@@ -694,6 +714,9 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
             where w = where_of(g, s, "model", "tangential");
             snprintf(detail, sizeof detail, "%s needs dim = 2 (a 1D collision is head-on); allowed in 1D: none", s->tangential->name);
             return fail_at(err, &w, "model", "tangential", "%s", detail);
+        }
+        if (!key_given(g, "placement", "kind")) {
+            s->placement = GR_PLACE_UNIFORM; /* the default follows dim: hexagonal is a 2D packing */
         }
         if (s->placement == GR_PLACE_HEXAGONAL || s->placement == GR_PLACE_SQUARE) {
             where w = where_of(g, s, "placement", "kind");
@@ -961,6 +984,48 @@ void gr_scene_keys_markdown(FILE *out)
             }
         }
     }
+}
+
+/* The key table's units ("N/m", "m^2", "d") in the sidecars' notation */
+static const char *csv_unit(const char *unit, bool number)
+{
+    static const char *const map[][2] = {{"N/m", "N m-1"}, {"N/m^1.5", "N m-1.5"}, {"N^2 s", "N2 s"}, {"kg/s", "kg s-1"},
+                                         {"m/s", "m s-1"}, {"rad/s", "rad s-1"}, {"d", "d (particle diameter)"}};
+    for (size_t i = 0; i < sizeof map / sizeof map[0]; i++) {
+        if (!strcmp(unit, map[i][0])) {
+            return map[i][1];
+        }
+    }
+    return unit[0] ? unit : number ? "1" : "";
+}
+
+const char *gr_scene_key_unit(const char *key)
+{
+    const char *dot = strchr(key, '.');
+    if (!dot) {
+        return NULL;
+    }
+    const size_t sl = (size_t)(dot - key);
+    for (int i = 0; i < n_keys; i++) {
+        if (strlen(keys[i].section) == sl && !strncmp(keys[i].section, key, sl) && !strcmp(keys[i].name, dot + 1)) {
+            return csv_unit(keys[i].unit, keys[i].type == K_DOUBLE || keys[i].type == K_INT || keys[i].type == K_UINT64);
+        }
+    }
+    for (int m = 0; !strncmp(key, "model.", 6) && gr_models[m]; m++) {
+        for (int j = 0; j < gr_models[m]->n_params; j++) {
+            if (!strcmp(gr_models[m]->params[j].name, dot + 1)) {
+                return csv_unit(gr_models[m]->params[j].unit, true);
+            }
+        }
+    }
+    for (int o = 0; !strncmp(key, "analysis.", 9) && gr_observables[o]; o++) {
+        for (int j = 0; j < gr_observables[o]->n_params; j++) {
+            if (!strcmp(gr_observables[o]->params[j].name, dot + 1)) {
+                return csv_unit(gr_observables[o]->params[j].unit, true);
+            }
+        }
+    }
+    return NULL;
 }
 
 /* ---------- saving ---------- */

@@ -4,6 +4,7 @@
 #define GR_SUMMARY_READ_H
 
 #include <cjson/cJSON.h>
+#include <stddef.h>
 
 #include "granule/status.h"
 
@@ -16,5 +17,9 @@ cJSON *gr_summary_read(const char *dir, gr_error *err);
 /* A number at a dotted path ("ledger.injected", "analysis.moments.speed.1"); a true/false flag
  * ("T_stderr_converged") reads 1/0; NAN if absent. */
 double gr_summary_number(const cJSON *root, const char *path);
+/* The unit of a summary scalar at a dotted path (UDUNITS-style, "1" for a pure number; moments
+ * "analysis.moments.speed.m3" -> "m3 s-3", written into buf), NULL where granule does not know
+ * it (src/io/summary_units.c). */
+const char *gr_summary_unit(const char *path, char *buf, size_t size);
 
 #endif

@@ -44,7 +44,9 @@ static int read_series(const campaign_point *p, bool sample_only, double **t_out
             }
             continue;
         }
-        if (nfields <= col_phase || (sample_only && strcmp(fields[col_phase], "sample"))) {
+        /* "sampling"; "sample" in the folders of versions before issue 38 */
+        if (nfields <= col_phase ||
+            (sample_only && strcmp(fields[col_phase], "sampling") && strcmp(fields[col_phase], "sample"))) {
             continue;
         }
         if (n == cap) {

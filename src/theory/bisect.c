@@ -1202,7 +1202,7 @@ static int write_pn(const char *dir, const gr_bisect_settings *s, const gr_bisec
     gr_file_note(&f, "# uniform_3_36 = (-ln x)^(n-1)/(n-1)! at the bin centre (eq. 3.36, the uniform U_0); "
                  "uniform_3_36_bin = its average over the bin; %.0f of %.0f partitions fell below x = %g\n",
             h->below, h->total, h->lo);
-    fprintf(f.f, "x_lo,x_hi,x,minus_ln_x,count,density,density_error,density_error_reps,uniform_3_36,uniform_3_36_bin\n");
+    gr_file_header(&f, "x_lo [1],x_hi [1],x [1],minus_ln_x [1],count [1],density [1],density_error [1],density_error_reps [1],uniform_3_36 [1],uniform_3_36_bin [1]");
     for (int b = *first; b >= 0 && b <= *last; b++) {
         double lo = gr_histogram_lower(h, b), hi = gr_histogram_upper(h, b), xc = gr_histogram_center(h, b);
         double w = hi - lo;
@@ -1226,7 +1226,7 @@ static int write_moments(const char *dir, const gr_bisect_settings *s, const gr_
     gr_file_note(&f, "# moment = mean over realisations of the mean over the N partitions; moment_error = standard "
                  "error from its spread over realisations; predicted = mu_m^k, mu_m = <(a^m + (1-a)^m)/2> under "
                  "U_0 (= (1+m)^-k for the uniform U_0, eq. 3.37); z = (moment - predicted) / moment_error\n");
-    fprintf(f.f, "level,N,m,moment,moment_error,predicted,z\n");
+    gr_file_header(&f, "level [1],N [1],m [1],moment [1],moment_error [1],predicted [1],z [1]");
     for (int k = 1; k <= res->levels; k++) {
         for (int m = 1; m <= res->moments_max; m++) {
             size_t i = (size_t)k * (size_t)res->moments_max + (size_t)(m - 1);
@@ -1262,8 +1262,8 @@ static int write_zeta(const char *dir, const gr_bisect_settings *s, const gr_bis
             res->fit_level_min, res->levels, s->jackknife_groups < s->repetitions ? s->jackknife_groups : (int)s->repetitions);
     gr_file_note(&f, "# zeta_predicted = -log2 mu_m for this U_0; zeta_uniform_3_38 = ln(1+m)/ln 2; "
                  "zeta_rfm_table_3_1 = the 1D Random Force Model's measured value (Table 3.1, m <= 5)\n");
-    fprintf(f.f, "m,zeta,zeta_error_fit,zeta_error_jackknife,chi2_red,prefactor,prefactor_error,zeta_predicted,"
-                 "zeta_uniform_3_38,zeta_rfm_table_3_1,zeta_rfm_error\n");
+    gr_file_header(&f, "m [1],zeta [1],zeta_error_fit [1],zeta_error_jackknife [1],chi2_red [1],prefactor [1],"
+                       "prefactor_error [1],zeta_predicted [1],zeta_uniform_3_38 [1],zeta_rfm_table_3_1 [1],zeta_rfm_error [1]");
     for (int m = 1; m <= res->moments_max; m++) {
         const gr_bisect_zeta *z = &res->zeta[m - 1];
         double re, rv = gr_bisect_zeta_rfm_table31(m, &re);
@@ -1328,7 +1328,7 @@ static int write_collapse(const char *dir, const gr_bisect_settings *s, const gr
         gr_file_note(&f, "# set %d: RFM G_1 from %s, N = %g (n = %.6g), reduced_length %g, anchored at R_0 = %g, A_N = %.8g\n",
                 k + 1, g->name, g->N, log2(g->N), g->reduced_length, s->anchor, ci->g_A[k]);
     }
-    fprintf(f.f, "set,N,n,R,minus_ln_R,G,G_error,collapsed,collapsed_error\n");
+    gr_file_header(&f, "set [1],N [1],n [1],R [1],minus_ln_R [1],G [1],G_error [1],collapsed [1],collapsed_error [1]");
     for (int b = 0; b < h->nbins; b++) {
         if (h->count[b] > 0.0) {
             collapse_row(f.f, 0, N, n, ci->A_N, gr_histogram_center(h, b), gr_histogram_density(h, b),

@@ -42,7 +42,7 @@ static int write_sk(const run_info *ri, const gr_cascade_study *st, gr_error *er
     gr_file_note(&f, "# q: bin q-1/2 <= |k| L/(2 pi) < q+1/2; k: mean |k| of its lattice vectors, 1/m; vectors: how many;\n"
                      "# S, S_err: configuration average and its standard error; S_expected: exact average (second moments);\n"
                      "# in_fit: 1 for the bins of the D_f fit\n");
-    fprintf(f.f, "q,k,vectors,S,S_err,S_expected,in_fit\n");
+    gr_file_header(&f, "q [1],k [m-1],vectors [1],S [1],S_err [1],S_expected [1],in_fit [1]");
     for (int i = 0; i < st->nbins; i++) {
         const gr_cascade_sk_bin *b = &st->bins[i];
         fprintf(f.f, "%d,%.9g,%d,%.9g,%.6g,%.9g,%d\n", b->q, b->k, b->vectors, b->S, b->S_err, b->S_expected,
@@ -64,7 +64,7 @@ static int write_levels(const run_info *ri, const gr_cascade_study *st, gr_error
     const double growth = mu[0] + mu[1] + mu[2] + mu[3];
     csv_header(&f, ri, "total probability sum m_{i,j}(l) at each level l over the configurations");
     gr_file_note(&f, "# expected: (sum_c E[w_c])^l; sd: standard deviation over configurations (0 for a conserving variant)\n");
-    fprintf(f.f, "level,side,total_mean,total_sd,total_min,total_max,expected\n");
+    gr_file_header(&f, "level [1],side [1],total_mean [1],total_sd [1],total_min [1],total_max [1],expected [1]");
     for (int l = 0; l <= ri->s->levels; l++) {
         fprintf(f.f, "%d,%d,%.17g,%.6g,%.17g,%.17g,%.17g\n", l, 1 << l, st->t_mean[l],
                 C > 1 ? sqrt(st->t_m2[l] / (C - 1)) : 0.0, st->t_lo[l], st->t_hi[l], pow(growth, l));
@@ -84,7 +84,7 @@ static int write_field(const run_info *ri, const gr_cascade_study *st, gr_error 
     gr_file_note(&f, "# %d x %d squares (blocks of %d x %d finest squares summed); x, y: square centre (6.1), m;\n"
                      "# density = 4^%d m, the probability relative to a uniform field\n",
                  n, n, block, block, l);
-    fprintf(f.f, "x,y,density\n");
+    gr_file_header(&f, "x [m],y [m],density [1]");
     const double h = ri->s->L / n;
     for (int j = 0; j < n; j++) {
         for (int i = 0; i < n; i++) {
@@ -297,7 +297,11 @@ int gr_cascade_study_write(const char *dir, const gr_cascade_study_params *p, co
     if (rc) {
         return rc;
     }
-    plots(&ri, p, st, list, size);
+    if (p->no_plots) {
+        snprintf(list, size, "not requested");
+    } else {
+        plots(&ri, p, st, list, size);
+    }
     cJSON *j = summary(p, st, list);
     rc = gr_json_write(dir, "summary.json", j, err);
     cJSON_Delete(j);

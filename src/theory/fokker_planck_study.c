@@ -95,7 +95,7 @@ static int write_curves(const char *dir, const gr_fp_study_params *o, gr_fp_quad
                   "Q_per_R: int_0^L P(x, v) dx per unit injection rate R (1/(m s)), s^2; Q_thesis_per_R: the same "
                   "with (B.34) as printed (prefactor R/Gamma(2/3), 2 3^(1/3) too large); abserr: GSL's estimate for Q_per_R",
              o, V, T0);
-    fprintf(f.f, "v,v_over_V,Q_pdf,Q_per_R,Q_thesis_per_R,abserr\n");
+    gr_file_header(&f, "v [m s-1],v_over_V [1],Q_pdf [s m-1],Q_per_R [s2],Q_thesis_per_R [s2],abserr [s2]");
     for (int k = 0; k < o->points && !rc; k++) {
         double v = -vmax + 2.0 * vmax * k / (o->points - 1), pdf, Q, Qt, ae;
         rc = gr_fp_Q_pdf(q, v, &pdf, NULL, err);
@@ -119,7 +119,7 @@ static int write_curves(const char *dir, const gr_fp_study_params *o, gr_fp_quad
                   "arrival velocities per released particle divided by v, s^2/m^2; exit_pdf: v P(L, v)/(R L), the "
                   "arrival-velocity density at x = L (integrates to 1/2); P_L_thesis_over_RL: (B.32) as printed",
              o, V, T0);
-    fprintf(f.f, "v,v_over_V,P_L_over_RL,exit_pdf,P_L_thesis_over_RL\n");
+    gr_file_header(&f, "v [m s-1],v_over_V [1],P_L_over_RL [s2 m-2],exit_pdf [s m-1],P_L_thesis_over_RL [s2 m-2]");
     int n = o->points / 2 + 1;
     for (int k = 0; k < n && !rc; k++) {
         double v = vmax * k / (n - 1), P, Pt;
@@ -149,7 +149,7 @@ static int write_tables(const char *dir, const gr_fp_study_params *o, const gr_f
                   "of (B.34) normalised (uniform start); pull = (density - quadrature) / error",
              o, V, T0);
     const gr_histogram *h = &r->q;
-    fprintf(f.f, "v_lo,v_hi,v,count,walks,density,error,error_sqrtX,quadrature,pull\n");
+    gr_file_header(&f, "v_lo [m s-1],v_hi [m s-1],v [m s-1],count [1],walks [1],density [s m-1],error [s m-1],error_sqrtX [s m-1],quadrature [s m-1],pull [1]");
     for (int i = 0; i < h->nbins; i++) {
         double d = gr_histogram_density(h, i), e = r->q_err[i];
         fprintf(f.f, "%.10g,%.10g,%.10g,%.10g,%.0f,%.10g,%.6g,%.6g,%.10g,%.4g\n", gr_histogram_lower(h, i),
@@ -170,7 +170,7 @@ static int write_tables(const char *dir, const gr_fp_study_params *o, const gr_f
              o, V, T0);
     const gr_histogram *hr = &r->exit_right, *hl = &r->exit_left;
     const double W = hr->total;
-    fprintf(f.f, "v_lo,v_hi,v,count_right,count_left,density,error,P_L_over_RL,P_L_over_RL_error,quadrature,pull\n");
+    gr_file_header(&f, "v_lo [m s-1],v_hi [m s-1],v [m s-1],count_right [1],count_left [1],density [s m-1],error [s m-1],P_L_over_RL [s2 m-2],P_L_over_RL_error [s2 m-2],quadrature [s2 m-2],pull [1]");
     for (int i = 0; i < hr->nbins; i++) {
         double lo = gr_histogram_lower(hr, i), hi = gr_histogram_upper(hr, i), c = gr_histogram_center(hr, i);
         double X = hr->count[i] + hl->count[i], d = X / (W * (hi - lo)), e = sqrt(X) / (W * (hi - lo));

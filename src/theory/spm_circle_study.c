@@ -189,7 +189,7 @@ static int write_q(const char *dir, const gr_spm_circle_params *p, const gr_spm_
     gr_file_note(&f, "# w = |v| / u_l, u_l = (2 D l / M^2)^(1/3); Q_scaled = u_l Q(v,l) (density of the signed scaled\n"
                      "# component: collapses under v / l^(1/3)); Q in s/m; errors from the spread between batches\n"
                      "# (_poisson: the sqrt(X) error of App. A.1, too small because samples of one walk correlate)\n");
-    fprintf(f.f, "radius_index,radius,w_lo,w_hi,w,v,samples,Q_scaled,Q_scaled_err,Q_scaled_err_poisson,Q,Q_err\n");
+    gr_file_header(&f, "radius_index [1],radius [m],w_lo [1],w_hi [1],w [1],v [m s-1],samples [1],Q_scaled [1],Q_scaled_err [1],Q_scaled_err_poisson [1],Q [s m-1],Q_err [s m-1]");
     for (int k = 0; k < r->n_radii; k++) {
         const gr_spm_q *q = &r->q[k];
         const gr_histogram *h = &q->q.all;
@@ -215,8 +215,9 @@ static int write_q(const char *dir, const gr_spm_circle_params *p, const gr_spm_
                      "# chi2 between the scaled Q of this radius and of the first one over bins with >= %g samples in both;\n"
                      "# c, c_prime: the thesis' constants of <v_x^2> = c (D l/M^2)^(2/3), <T_fp> = c' (l^2 M^2/D)^(1/3)\n",
                  p->fit_from, MIN_COUNT);
-    fprintf(f.f, "radius,u_l,t_l,tau,walks,exit_time,exit_time_err,w2,b,b_err,A,fit_chi2_red,beta,beta_err,"
-                 "collapse_chi2,collapse_dof,collapse_p,w2_err,c,c_err,c_prime,c_prime_err\n");
+    gr_file_header(&f, "radius [m],u_l [m s-1],t_l [s],tau [1],walks [1],exit_time [1],exit_time_err [1],w2 [1],b [1],"
+                       "b_err [1],A [1],fit_chi2_red [1],beta [1],beta_err [1],collapse_chi2 [1],collapse_dof [1],"
+                       "collapse_p [1],w2_err [1],c [1],c_err [1],c_prime [1],c_prime_err [1]");
     for (int k = 0; k < r->n_radii; k++) {
         const gr_spm_walk_stats *st = &r->q[k].stats;
         const gr_spm_tail_fit *ft = &r->fit[k];

@@ -22,7 +22,7 @@ static int write_pv(const char *dir, const gr_spm_full_params *p, const gr_spm_f
     gr_file_note(&f, "# v in m/s, P in s/m (density of the signed component); errors from the spread between batches;\n"
                      "# P_531: A0 v^h exp(-S v^alpha) of 5.31 with alpha = %g and S, h, A0 fitted over %g <= v <= %g m/s\n",
                  r->have_pred ? r->pred.alpha : (double)NAN, p->fit_from, r->v_data);
-    fprintf(f.f, "v_lo,v_hi,v,samples,P,P_err,P_err_poisson,P_531\n");
+    gr_file_header(&f, "v_lo [m s-1],v_hi [m s-1],v [m s-1],samples [1],P [s m-1],P_err [s m-1],P_err_poisson [s m-1],P_531 [s m-1]");
     for (int i = 0; i < r->nb; i++) {
         double v = r->v[i];
         double p531 = r->have_531 && v >= p->fit_from && v <= r->v_data ? gr_spm_full_531(r, v) : (double)NAN;
@@ -45,7 +45,7 @@ static int write_pl(const char *dir, const gr_spm_full_params *p, const gr_spm_f
     }
     gr_spm_csv_head(&f, "the free-path distribution P_l(l) the walks drew from (sec. 4.3)", &p->s);
     gr_file_note(&f, "# %s; l in m, P in 1/m (normalised); P_fit: 4.25 fitted to the table's tail (if any)\n", pl->source);
-    fprintf(f.f, "l,P,P_fit\n");
+    gr_file_header(&f, "l [m],P [m-1],P_fit [m-1]");
     if (pl->kind == GR_SPM_PL_TABLE) {
         for (int i = 0; i < pl->n; i++) {
             double l = pl->l[i];
@@ -78,7 +78,7 @@ static int write_compare(const char *dir, const gr_spm_full_params *p, const gr_
     gr_file_note(&f, "# P_spm_scaled = k P_spm, k = %g +- %g fitted over v >= %g m/s; P_spm_fit = k2 P_spm(v/s)/s, k2 = %g,\n"
                      "# s = %g +- %g (velocity scale fitted too); agree: |z| <= %g in the contiguous tail\n",
                  c1->k, c1->k_err, p->compare_from, c2->k, c2->s, c2->s_err, p->z_max);
-    fprintf(f.f, "v,P_spm,P_spm_err,P_spm_scaled,P_rfm,P_rfm_err,z,agree,P_spm_fit,z_fit,agree_fit\n");
+    gr_file_header(&f, "v [m s-1],P_spm [s m-1],P_spm_err [s m-1],P_spm_scaled [s m-1],P_rfm [s m-1],P_rfm_err [s m-1],z [1],agree [1],P_spm_fit [s m-1],z_fit [1],agree_fit [1]");
     const double *v = r->v, *pr = r->p_rfm, *er = r->e_rfm;
     for (int i = 0; i < r->nb; i++) {
         double m1e, m1 = gr_spm_compare_model(c1, v, r->p_spm, r->e_spm, r->nb, i, &m1e);

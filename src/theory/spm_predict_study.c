@@ -92,7 +92,7 @@ static int write_table(const char *dir, const gr_spm_predict_params *in, const g
                  p->df, p->alpha, p->h, p->B, in->b, in->s.mass, in->s.D, p->C, p->S, p->v_A);
     gr_file_note(&f, "# ln_I: ln of 5.13 (A_2 = 1) integrated numerically; ln_asym: 5.26 = -S v^alpha + ln sqrt(2 pi / -f''(y_m));\n"
                      "# P_531 = v^h exp(-S v^alpha) (5.31 with A_0 = 1); v in m/s\n");
-    fprintf(f.f, "v,ln_I,ln_asym,delta,P_531\n");
+    gr_file_header(&f, "v [m s-1],ln_I [1],ln_asym [1],delta [1],P_531 [1]");
     for (int i = 1; i <= 200 && !rc; i++) {
         double v = in->vmax * i / 200.0, li;
         rc = gr_spm_integral_log(p, v, &li, err);
