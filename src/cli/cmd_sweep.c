@@ -95,6 +95,12 @@ static int hash_points(const sweep *s, uint64_t *hash, double *guess, long from,
     return EXIT_OK;
 }
 
+static void on_sweep_stop(int sig)
+{
+    (void)sig;
+    sweep_stop_requested = 1;
+}
+
 static int run_one(const sweep *s, long k, const uint64_t *hash, const char *runner)
 {
     gr_error err = {0};
@@ -259,11 +265,23 @@ int cmd_sweep(int argc, char **argv)
             s->jobs, s->out);
     sweep_queue q = {.s = s, .hash = hash, .guess = guess, .jobs = s->jobs};
     sweep_queue_start(&q);
+    /* Ctrl-C or SIGTERM: the running points write their checkpoints, no new one starts (a second
+     * signal kills the sweep; its runs still stop with a checkpoint, PR_SET_PDEATHSIG) */
+    struct sigaction sa = {.sa_handler = on_sweep_stop, .sa_flags = SA_RESETHAND};
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGINT, &sa, NULL);
     sweep_run_local(&q, s->jobs, "local", NULL, NULL);
     long bad = 0;
     rc = sweep_collect(s, hash, &bad);
     sweep_queue_report(&q);
     rc = rc ? rc : bad ? EXIT_FAILED : EXIT_OK;
+    if (sweep_stop_requested) {
+        fprintf(stderr, "sweep: stopped by a signal: %ld point%s stopped with a checkpoint; run the same command to continue "
+                        "(finished points are kept, stopped ones continue from their checkpoints)\n",
+                q.stopped, q.stopped == 1 ? "" : "s");
+        rc = EXIT_STOPPED;
+    }
 done:
     free(guess);
     free(hash);

@@ -68,6 +68,7 @@ typedef enum {
     POINT_UNSTABLE,  /* the run stopped as unstable (exit 3); outputs kept */
     POINT_STALE,     /* finished, but with other settings (the scene hash differs) */
     POINT_CLAIMED,   /* started, not finished, and a live process holds its claim: running now */
+    POINT_STOPPED,   /* stopped by a signal or wall limit with a checkpoint: the next run continues it */
 } point_state;
 
 /* How a point run ended, as point.json and the progress lines name it (EXIT_* of cli/cli.h). */
@@ -122,8 +123,14 @@ typedef struct sweep_queue {
     double cpu_done, guess_done; /* finished points: measured CPU s and their prediction */
     double guess_left;           /* prediction for the points not finished */
     long finished;               /* points completed, in this run or before */
+    long stopped;                /* points stopped by a signal or a wall limit, with a checkpoint */
     int jobs;
 } sweep_queue;
+
+/* Set by SIGINT/SIGTERM in the sweep process (cmd_sweep.c): start no new point, pass the stop to
+ * the running ones (each writes its checkpoint) and wait for them. */
+#include <signal.h>
+extern volatile sig_atomic_t sweep_stop_requested;
 
 /* The next point to run (finished points are skipped with a log line), or -1 when none is left. */
 long sweep_queue_next(sweep_queue *q);

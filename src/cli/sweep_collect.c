@@ -332,7 +332,8 @@ int sweep_collect(const sweep *s, const uint64_t *hash, long *n_bad)
     char list[600];
     if (n_missing) {
         ranges(missing, n_missing, list, sizeof list);
-        fprintf(stderr, "sweep: unfinished points (%ld; never run, still running or killed, or run with other settings): %s\n",
+        fprintf(stderr, "sweep: unfinished points (%ld; never run, stopped with a checkpoint, still running or killed, or run with "
+                        "other settings): %s\n",
                 n_missing, list);
     }
     if (n_failed) {

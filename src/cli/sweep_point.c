@@ -70,7 +70,7 @@ const char *sweep_exit_name(int code)
 
 const char *sweep_state_name(point_state st)
 {
-    static const char *const names[] = {"missing", "running", "completed", "failed", "unstable", "stale", "running"};
+    static const char *const names[] = {"missing", "running", "completed", "failed", "unstable", "stale", "running", "stopped"};
     return names[st];
 }
 
@@ -143,7 +143,7 @@ static point_state state_of(const sweep *s, long k, uint64_t hash, char *why, si
     } else {
         const char *e = json_string(m, "error");
         snprintf(why, len, "%s", e ? e : status);
-        st = !strcmp(status, "unstable") ? POINT_UNSTABLE : POINT_FAILED;
+        st = !strcmp(status, "unstable") ? POINT_UNSTABLE : !strcmp(status, "stopped") ? POINT_STOPPED : POINT_FAILED;
     }
     cJSON_Delete(m);
     return st;
@@ -301,6 +301,7 @@ static int child_run(const sweep *s, long k, const char *dir, int fd, pid_t pare
     sigemptyset(&sa.sa_mask);
     sigaction(SIGTERM, &sa, NULL);
     sigaction(SIGINT, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN); /* a killed sweep's closed pipe must not kill the run mid-checkpoint */
     prctl(PR_SET_PDEATHSIG, SIGTERM); /* a killed sweep takes its runs with it */
     if (getppid() != parent) {
         return EXIT_FAILED;

@@ -84,6 +84,8 @@ long sweep_queue_next(sweep_queue *q)
     return -1;
 }
 
+volatile sig_atomic_t sweep_stop_requested = 0;
+
 void sweep_queue_done(sweep_queue *q, long k, int code, const char *who)
 {
     if (code == SWEEP_LEFT) { /* a worker found it claimed by another process (and said so) */
@@ -91,7 +93,9 @@ void sweep_queue_done(sweep_queue *q, long k, int code, const char *who)
         return;
     }
     q->run++;
-    q->failed += code != EXIT_OK;
+    const bool stopped = code == EXIT_STOPPED || code == EXIT_WALL_LIMIT || code == EXIT_WRITE_FAILED;
+    q->stopped += stopped;
+    q->failed += code != EXIT_OK && !stopped;
     const char *what = sweep_exit_name(code);
     fprintf(stderr, "sweep: point %ld %s%s%s (%ld/%ld)\n", k, what, who ? " on " : "", who ? who : "", q->run + q->skipped,
             q->s->n_points);
@@ -106,8 +110,19 @@ void sweep_run_local(sweep_queue *q, int jobs, const char *runner, sweep_serve_f
 {
     sweep_child *slot = calloc((size_t)jobs, sizeof *slot);
     int running = 0, remote = 0;
-    bool exhausted = false;
+    bool exhausted = false, passed_on = false;
     for (;;) {
+        if (sweep_stop_requested && !passed_on) {
+            /* a signal to the sweep alone (kill PID) reaches its runs too; one from a terminal
+             * (Ctrl-C, to the process group) already did, and a second one is harmless */
+            for (int i = 0; i < jobs; i++) {
+                if (slot[i].pid) {
+                    kill(slot[i].pid, SIGTERM);
+                }
+            }
+            passed_on = true;
+        }
+        exhausted |= sweep_stop_requested != 0;
         while (!exhausted && running < jobs) {
             long k = sweep_queue_next(q);
             if (k < 0) {
@@ -180,6 +195,9 @@ void sweep_queue_report(const sweep_queue *q)
 {
     printf("%s/sweep.csv: %ld points, %ld run now, %ld already finished, %ld failed", q->s->out, q->s->n_points, q->run, q->skipped,
            q->failed);
+    if (q->stopped) {
+        printf(", %ld stopped with a checkpoint", q->stopped);
+    }
     if (q->elsewhere) {
         printf(", %ld left to other processes running them", q->elsewhere);
     }

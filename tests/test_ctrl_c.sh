@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Ctrl-C at a terminal (issue 38): SIGINT reaches the whole foreground process group. `granule
+# sweep` (1 and 2 parallel runs) must stop its running points with checkpoints, mark them
+# stopped, say how to continue and exit 5; the same command then continues them from their
+# checkpoints. `granule run` does the same for its one run. Driven through a real pseudo-terminal
+# (tests/pty_interrupt.py).
+# usage: test_ctrl_c.sh GRANULE SOURCE_DIR
+set -uo pipefail
+G=$1
+SRC=$(cd "$2" && pwd)
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0
+fail=0
+check() { if "$@"; then pass=$((pass + 1)); else fail=$((fail + 1)); echo "FAILED: $*" >&2; fi; }
+pty() { python3 "$SRC/tests/pty_interrupt.py" "$@"; }
+
+for jobs in 1 2; do
+    out="$tmp/sweep$jobs"
+    cat >"$tmp/s$jobs.ini" <<EOT
+[sweep]
+scene = $SRC/docs/scenes/rfm-1d.ini
+out = $out
+seeds = 1, 2
+[vary]
+system.N = 100
+[set]
+run.warmup = 0
+run.duration = 1000
+output.plots = false
+output.snapshot_every = 0
+EOT
+    # Ctrl-C half a second after the first point wrote its first table
+    pty "$out/p0000/scene.ini" 0.5 "$G" sweep "$tmp/s$jobs.ini" --jobs $jobs >"$tmp/log$jobs" 2>&1
+    rc=$?
+    check test $rc -eq 5
+    check grep -q "stopped by a signal: $jobs point.* stopped with a checkpoint; run the same command to continue" "$tmp/log$jobs"
+    for k in $(seq 0 $((jobs - 1))); do
+        check test -f "$out/p000$k/checkpoint"
+        check grep -q '"status":[[:space:]]*"stopped"' "$out/p000$k/point.json"
+    done
+    check test ! -e "$out/p0000/checkpoint.tmp"
+    [[ $rc -eq 5 ]] || cat "$tmp/log$jobs" >&2
+    # the same command continues the stopped points from their checkpoints
+    pty "$out/p0000/point.json" 1.0 "$G" sweep "$tmp/s$jobs.ini" --jobs $jobs >"$tmp/again$jobs" 2>&1
+    check grep -q "point 0: continuing from $out/p0000/checkpoint" "$tmp/again$jobs"
+done
+
+# granule run: the same promise for one run
+pty "$tmp/run/scene.ini" 0.5 "$G" run "$SRC/docs/scenes/rfm-1d.ini" --out "$tmp/run" --set run.duration=1000 \
+    --set output.plots=false >"$tmp/runlog" 2>&1
+check test $? -eq 5
+check test -f "$tmp/run/checkpoint"
+check grep -q -- "--resume" "$tmp/runlog"
+
+echo "$pass passed, $fail failed"
+[[ $fail -eq 0 ]]
