@@ -2,8 +2,9 @@
 # Ctrl-C at a terminal (issue 38): SIGINT reaches the whole foreground process group. `granule
 # sweep` (1 and 2 parallel runs) must stop its running points with checkpoints, mark them
 # stopped, say how to continue and exit 5; the same command then continues them from their
-# checkpoints. `granule run` does the same for its one run. Driven through a real pseudo-terminal
-# (tests/pty_interrupt.py).
+# checkpoints. `granule run` does the same for its one run, `granule compare` for its running
+# model (continued by --resume, equal to an uninterrupted comparison). Driven through a real
+# pseudo-terminal (tests/pty_interrupt.py).
 # usage: test_ctrl_c.sh GRANULE SOURCE_DIR
 set -uo pipefail
 G=$1
@@ -52,6 +53,25 @@ pty "$tmp/run/scene.ini" 0.5 "$G" run "$SRC/docs/scenes/rfm-1d.ini" --out "$tmp/
 check test $? -eq 5
 check test -f "$tmp/run/checkpoint"
 check grep -q -- "--resume" "$tmp/runlog"
+
+# granule compare: the running model stops with a checkpoint; --resume keeps the finished ones,
+# continues it, and the comparison equals an uninterrupted one
+cmp_args=("$SRC/docs/scenes/rfm-1d.ini" --models spring_dashpot,spring_dashpot@clamp --set run.duration=2 --set system.N=200
+    --set output.plots=false)
+pty "$tmp/cmp/spring_dashpot/scene.ini" 0.3 "$G" compare "${cmp_args[@]}" --out "$tmp/cmp" >"$tmp/cmplog" 2>&1
+check test $? -eq 5
+check test -f "$tmp/cmp/spring_dashpot/checkpoint"
+check grep -q "run the same command with --resume" "$tmp/cmplog"
+"$G" compare "${cmp_args[@]}" --out "$tmp/cmp" >/dev/null 2>"$tmp/cmplog2"
+check test $? -eq 2 # a stopped comparison is not overwritten by accident
+check grep -q -- "--resume to continue it" "$tmp/cmplog2"
+"$G" compare "${cmp_args[@]}" --out "$tmp/cmp" --resume >/dev/null 2>"$tmp/cmplog3"
+check test $? -eq 0
+check grep -q "continuing from its checkpoint" "$tmp/cmplog3"
+"$G" compare "${cmp_args[@]}" --out "$tmp/cmp-ref" >/dev/null 2>&1
+for m in spring_dashpot spring_dashpot_clamp; do
+    check test "$(grep '"T_mean"' "$tmp/cmp/$m/summary.json")" = "$(grep '"T_mean"' "$tmp/cmp-ref/$m/summary.json")"
+done
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

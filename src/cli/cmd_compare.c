@@ -1,21 +1,50 @@
 /* granule compare SCENE --models a,b@hybrid,hard_sphere@event,...: the same scene, initial state
  * and noise seed under each collision model and integrator; the headline table on the terminal,
  * the full table and overlaid plots in the output folder (include/granule/compare.h). */
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli/cli.h"
 #include "granule/compare.h"
 #include "granule/integrator.h"
 #include "granule/run.h"
+#include "io/checkpoint.h"
 #include "io/files.h"
 #include "io/plot.h"
+#include "io/summary_read.h"
+
+static volatile sig_atomic_t compare_stop = 0;
+
+static void on_compare_stop(int sig)
+{
+    (void)sig;
+    compare_stop = 1;
+}
+
+/* A model's run folder under --resume: 1 finished (kept), 2 stopped with a checkpoint (continued),
+ * 0 anything else (run again from the start). */
+static int run_state(const char *dir)
+{
+    gr_error err = {0};
+    cJSON *sum = gr_summary_read(dir, &err);
+    const cJSON *st = cJSON_GetObjectItem(sum, "status");
+    const bool done = cJSON_IsString(st) && !strcmp(st->valuestring, "completed");
+    cJSON_Delete(sum);
+    if (done) {
+        return 1;
+    }
+    char path[1200];
+    snprintf(path, sizeof path, "%s/%s", dir, GR_CHECKPOINT_NAME);
+    return access(path, F_OK) == 0 ? 2 : 0;
+}
 
 static void usage(FILE *f)
 {
     fprintf(f, "usage: granule compare SCENE --models SPEC[,SPEC...] [--set section.key=value ...] [--out DIR] [--force]\n"
-               "                      [--format png|svg|pdf]\n\n"
+               "                      [--format png|svg|pdf] [--resume]\n\n"
                "Runs SCENE once per model SPEC with the same initial state and the same noise (same seed):\n"
                "SPEC = NORMAL[+TANGENTIAL[+ROLLING]][@clamp][@rotation][@INTEGRATOR], INTEGRATOR = verlet | event | hybrid, e.g.\n"
                "  --models spring_dashpot,spring_dashpot@hybrid,hard_sphere@event\n"
@@ -30,7 +59,9 @@ static void usage(FILE *f)
                "folder each), DIR/compare.md (the headline), DIR/compare.csv and compare.json (the headline and\n"
                "every scalar of every run), DIR/temperature.png (T(t) overlaid) and, with the pv observable\n"
                "(--set analysis.observables=pv), the collapse of (5.4) in pv_collapse.csv/.png.\n"
-               "Default DIR: out/compare. docs/compare.md explains the table.\n",
+               "Default DIR: out/compare. docs/compare.md explains the table.\n"
+               "Ctrl-C (or SIGTERM) stops the running model with a checkpoint; the same command with --resume keeps\n"
+               "the finished models, continues the stopped one from its checkpoint and runs the rest.\n",
             GR_COMPARE_MAX);
 }
 
@@ -39,7 +70,7 @@ int cmd_compare(int argc, char **argv)
     const char *scene_path = NULL, *models = NULL, *out = "out/compare";
     const char **sets = calloc((size_t)argc + 4, sizeof(char *));
     int n_sets = 0, rc = EXIT_OK;
-    bool force = false;
+    bool force = false, resume = false;
     for (int i = 1; i < argc && rc == EXIT_OK; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
             usage(stdout);
@@ -53,6 +84,8 @@ int cmd_compare(int argc, char **argv)
             out = argv[++i];
         } else if (!strcmp(argv[i], "--force")) {
             force = true;
+        } else if (!strcmp(argv[i], "--resume")) {
+            resume = true;
         } else if (!strcmp(argv[i], "--format") && i + 1 < argc) {
             rc = cli_plot_format(argv[++i]) ? EXIT_OK : EXIT_REFUSED;
         } else if (argv[i][0] != '-' && !scene_path) {
@@ -87,28 +120,54 @@ int cmd_compare(int argc, char **argv)
     if (rc != EXIT_OK) {
         return rc;
     }
-    /* only now is the folder touched; an earlier comparison is kept unless --force */
-    char what[1400];
-    if (!force && gr_compare_earlier(out, specs, n, what, sizeof what)) {
-        cli_error("compare: %s already holds a comparison (%s); choose another folder or pass --force to overwrite it", out, what);
+    if (resume && force) {
+        cli_error("compare: --resume continues the comparison in %s, --force replaces it: give one", out);
         return EXIT_REFUSED;
     }
-    if (gr_output_dir_prepare(out, GR_OUTPUT_COMPARE, force, &err)) {
+    /* only now is the folder touched; an earlier comparison is kept unless --force (or continued with --resume) */
+    char what[1400];
+    if (resume && !gr_compare_earlier(out, specs, n, what, sizeof what)) {
+        cli_error("compare: --resume: %s holds no comparison of these models to continue; run without --resume", out);
+        return EXIT_REFUSED;
+    }
+    if (!resume && !force && gr_compare_earlier(out, specs, n, what, sizeof what)) {
+        cli_error("compare: %s already holds a comparison (%s); choose another folder, pass --resume to continue it "
+                  "(after Ctrl-C) or --force to overwrite it", out, what);
+        return EXIT_REFUSED;
+    }
+    if (!resume && gr_output_dir_prepare(out, GR_OUTPUT_COMPARE, force, &err)) {
         cli_error("compare: %s", err.message);
         return cli_exit_code(err.code);
     }
+    /* Ctrl-C or SIGTERM: the running model stops with a checkpoint (a second signal kills) */
+    struct sigaction sa = {.sa_handler = on_compare_stop, .sa_flags = SA_RESETHAND};
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGINT, &sa, NULL);
     int failures = 0;
-    for (int k = 0; k < n; k++) {
-        fprintf(stderr, "compare: %s (%d/%d, %s)\n", specs[k].text, k + 1, n,
-                scenes[k].integrator ? scenes[k].integrator->name : "verlet");
-        gr_run_options opt = {.force = force};
+    for (int k = 0; k < n && !compare_stop; k++) {
+        const int state = resume ? run_state(scenes[k].out_dir) : 0;
+        if (state == 1) {
+            fprintf(stderr, "compare: %s (%d/%d): finished earlier, kept\n", specs[k].text, k + 1, n);
+            continue;
+        }
+        fprintf(stderr, "compare: %s (%d/%d, %s)%s\n", specs[k].text, k + 1, n,
+                scenes[k].integrator ? scenes[k].integrator->name : "verlet", state == 2 ? ", continuing from its checkpoint" : "");
+        gr_run_options opt = {.force = force || resume, .resume = state == 2, .stop = &compare_stop};
         gr_run_result res;
         if (gr_run(&scenes[k], &opt, &res, &err)) {
             cli_error("compare: %s: %s", specs[k].text, err.message);
             failures++;
+        } else if (res.stopped) {
+            break;
         } else {
             gr_plot_summary_update(scenes[k].out_dir);
         }
+    }
+    if (compare_stop) {
+        fprintf(stderr, "compare: stopped by a signal; the running model's run has a checkpoint: run the same command with "
+                        "--resume to keep the finished models and continue\n");
+        return EXIT_STOPPED;
     }
     gr_compare_table *t = gr_compare_table_build(out, scene_path, scenes[0].dim, specs, n);
     if (!t || gr_compare_table_write(t, out, &err)) {
