@@ -156,7 +156,7 @@ def z(a, ea, b, eb):
 
 def granule_side(folder, warmup, N, q, r):
     with open(os.path.join(folder, "temperature.csv")) as f:
-        T = [(float(row["t"]), float(row["T"])) for row in csv.DictReader(f) if row["phase"] == "sample"]
+        T = [(float(row["t"]), float(row["T"])) for row in csv.DictReader(f) if row["phase"] in ("sample", "sampling")]
     frames = []
     for f in sorted(os.listdir(os.path.join(folder, "snapshots"))):
         t, _, v, _ = read_xyz(os.path.join(folder, "snapshots", f))
