@@ -3,7 +3,8 @@
 # sweep` (1 and 2 parallel runs) must stop its running points with checkpoints, mark them
 # stopped, say how to continue and exit 5; the same command then continues them from their
 # checkpoints. `granule run` does the same for its one run, `granule compare` for its running
-# model (continued by --resume, equal to an uninterrupted comparison). Driven through a real
+# model (continued by --resume, equal to an uninterrupted comparison); `granule cost`, which has
+# nothing to continue, stops at once and writes nothing. Driven through a real
 # pseudo-terminal (tests/pty_interrupt.py).
 # usage: test_ctrl_c.sh GRANULE SOURCE_DIR
 set -uo pipefail
@@ -72,6 +73,12 @@ check grep -q "continuing from its checkpoint" "$tmp/cmplog3"
 for m in spring_dashpot spring_dashpot_clamp; do
     check test "$(grep '"T_mean"' "$tmp/cmp/$m/summary.json")" = "$(grep '"T_mean"' "$tmp/cmp-ref/$m/summary.json")"
 done
+
+# granule cost: nothing to continue; it stops at once, says so and writes nothing
+pty - 2 "$G" cost "$SRC/docs/scenes/rfm-1d.ini" --calibrate 60 --out "$tmp/cost" >"$tmp/costlog" 2>&1
+check test $? -eq 5
+check grep -q "cost: stopped by a signal before anything was written" "$tmp/costlog"
+check test ! -e "$tmp/cost/cost.json"
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

@@ -2,9 +2,11 @@
  * observable within the tolerance and the wall time of the scene's run with it on this machine
  * (include/granule/cost.h, docs/performance.md "What accuracy costs"). */
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli/cli.h"
 #include "granule/cost.h"
@@ -134,6 +136,16 @@ static void print_answer(const gr_cost_answer *a, const gr_cost_request *rq)
     }
 }
 
+static void on_cost_stop(int sig)
+{
+    (void)sig;
+    static const char msg[] = "\ncost: stopped by a signal before anything was written; it has no checkpoint to continue "
+                              "(a shorter --calibrate SECONDS makes it quicker): run it again\n";
+    ssize_t unused = write(STDERR_FILENO, msg, sizeof msg - 1); /* async-signal-safe, unlike stdio */
+    (void)unused;
+    _exit(EXIT_STOPPED);
+}
+
 int cmd_cost(int argc, char **argv)
 {
     const char *scene_path = NULL, *out = "out/cost";
@@ -212,6 +224,12 @@ int cmd_cost(int argc, char **argv)
     if (rc != EXIT_OK) {
         return rc;
     }
+    /* Ctrl-C or SIGTERM while it computes: nothing is half written (the files are written last,
+     * with the signals held off), so stop at once and say so */
+    struct sigaction sa = {.sa_handler = on_cost_stop, .sa_flags = SA_RESETHAND};
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGINT, &sa, NULL);
     gr_cost_answer ans;
     if (gr_cost_errors(&sc, &rq, &ans, &err)) {
         cli_error("cost: %s: %s", scene_path, err.message);
@@ -228,8 +246,17 @@ int cmd_cost(int argc, char **argv)
             return cli_exit_code(err.code);
         }
     }
+    sigset_t hold, before;
+    sigemptyset(&hold);
+    sigaddset(&hold, SIGINT);
+    sigaddset(&hold, SIGTERM);
+    sigprocmask(SIG_BLOCK, &hold, &before); /* a signal now waits until the files are complete */
     print_answer(&ans, &rq);
-    if (gr_cost_write(&ans, &rq, scene_path, out, &err)) {
+    const int wrc = gr_cost_write(&ans, &rq, scene_path, out, &err);
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
+    sigprocmask(SIG_SETMASK, &before, NULL);
+    if (wrc) {
         cli_error("cost: %s", err.message);
         return cli_exit_code(err.code);
     }
