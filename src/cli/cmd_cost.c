@@ -28,7 +28,7 @@ static void usage(FILE *f)
                "contact steps, free flights exact: the same error); the cheapest is recommended, and the\n"
                "prediction's +- is the spread of its blocks. Writes DIR/cost.json (default out/cost); a DIR holding a\n"
                "result (an earlier cost.json, a run, ...) is refused before anything is computed unless --force,\n"
-               "which replaces its contents as a whole.\n");
+               "which replaces its contents as a whole. Ctrl-C stops it at once (exit 5) with nothing written.\n");
 }
 
 static bool parse_tolerance(const char *text, double *tol)
