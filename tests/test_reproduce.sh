@@ -283,7 +283,8 @@ for n in names:
 # the overview's tally: numbers with a z, |z| > 2, and of those more than 5 % off, per campaign
 for n in names:
     d = json.load(open(os.path.join(root, n, "results.json")))
-    rows = [row for r in d["results"] for row in r["rows"] if row["z"] is not None]
+    counted = [r for r in d["results"] if not r.get("restates")]  # a restatement is counted where its numbers are
+    rows = [row for r in counted for row in r["rows"] if row["z"] is not None]
     off = [row for row in rows if abs(row["z"]) > 2]
     off5 = [row for row in off if not abs(row["value"] - row["thesis"]) <= 0.05 * abs(row["thesis"])]
     # the other kinds of comparison never give a z (docs/campaigns/README.md, "Kinds of comparison")
@@ -294,7 +295,7 @@ for n in names:
                 print("a z for a comparison of kind", kind, n, r["id"], row["group"]); ok = False
             if kind == "z" and not (row["thesis_error"] or 0) > 0:
                 print("kind z without a thesis error", n, r["id"], row["group"]); ok = False
-    other = [row for r in d["results"] for row in r["rows"] if row["comparison"] in ("stated", "about", "range", "model") and row["agrees"] is not None]
+    other = [row for r in counted for row in r["rows"] if row["comparison"] in ("stated", "about", "range", "model") and row["agrees"] is not None]
     differ = [row for row in other if row["agrees"] is False]
     want = "| %d | %d | %d | %d | %d |" % (len(rows), len(off), len(off5), len(other), len(differ))
     line = [l for l in page.splitlines() if l.startswith("| [%s](#%s) |" % (n, n))]
@@ -302,8 +303,8 @@ for n in names:
         print("tally of", n, "is not", want, line); ok = False
     # the table of disagreements: every result with a row at |z| > 2, once, with its verdict
     for r in d["results"]:
-        k = sum(1 for row in r["rows"] if row["z"] is not None and abs(row["z"]) > 2)
-        k2 = sum(1 for row in r["rows"] if row["agrees"] is False)
+        k = sum(1 for row in r["rows"] if row["z"] is not None and abs(row["z"]) > 2) if not r.get("restates") else 0
+        k2 = sum(1 for row in r["rows"] if row["agrees"] is False) if not r.get("restates") else 0
         line = [l for l in page.splitlines() if l.startswith("| [%s: %s](#%s-%s) |" % (n, r["id"], n, r["id"]))]
         verdict = r["verdict"] or "**not investigated yet**"
         bad = k or k2

@@ -99,6 +99,8 @@ typedef struct gr_campaign_result {
     char verdict[24];     /* where rows disagree (|z| > 2): "explained", "partly explained" or
                              "unexplained" ("" = not judged yet); the page's table of disagreements */
     char verdict_why[1024]; /* the verdict's one-paragraph reason */
+    char restates[32];    /* the id of the result whose numbers this one restates in another form (S from C,
+                             c from b): shown, but not counted again in the page's tallies */
 } gr_campaign_result;
 
 typedef struct gr_campaign_line {

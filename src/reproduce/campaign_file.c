@@ -95,7 +95,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
                 {"by", r->by, sizeof r->by},                {"thesis_source", r->thesis_source, sizeof r->thesis_source},
                 {"table", r->table, sizeof r->table},       {"where", r->where, sizeof r->where},
                 {"select", r->select, sizeof r->select},    {"axes", r->axes, sizeof r->axes},
-                {"overlay", r->overlay, sizeof r->overlay}};
+                {"overlay", r->overlay, sizeof r->overlay}, {"restates", r->restates, sizeof r->restates}};
     for (size_t i = 0; i < sizeof text / sizeof text[0]; i++) {
         if (!strcmp(name, text[i].key)) {
             snprintf(text[i].dst, text[i].size, "%s", value);
@@ -237,7 +237,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     }
     snprintf(p->error, sizeof p->error,
              "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, x_max, by, m, per_m, local_slopes, period, "
-             "table, where, select, transform, collapse_at, axes, overlay, configurations, df, tail, walks, walks_quick, thesis, thesis_source, note, verdict",
+             "table, where, select, transform, collapse_at, axes, overlay, restates, configurations, df, tail, walks, walks_quick, thesis, thesis_source, note, verdict",
              r->id, name);
     return 0;
 }

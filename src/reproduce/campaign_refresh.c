@@ -49,6 +49,7 @@ void campaign_refresh_json(const gr_campaign *c, cJSON *set)
         set_string(res, "note", r->note);
         set_string(res, "verdict", r->verdict);
         set_string(res, "verdict_why", r->verdict_why);
+        set_string(res, "restates", r->restates);
         cJSON *row;
         cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
         {

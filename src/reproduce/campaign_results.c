@@ -457,6 +457,7 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
         cJSON_AddStringToObject(o, "note", r->note);
         cJSON_AddStringToObject(o, "verdict", r->verdict);
         cJSON_AddStringToObject(o, "verdict_why", r->verdict_why);
+        cJSON_AddStringToObject(o, "restates", r->restates);
         cJSON *ra = cJSON_AddArrayToObject(o, "rows");
         for (int k = 0; k < rows.n; k++) {
             row_json(ra, &rows.r[k]);

@@ -69,6 +69,9 @@ typedef struct tallies {
 static void count_off(const cJSON *res, tallies *t)
 {
     memset(t, 0, sizeof *t);
+    if (str(res, "restates")[0]) { /* another result's numbers in another form: counted there */
+        return;
+    }
     const cJSON *row;
     cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
     {
@@ -119,6 +122,10 @@ static void figure(FILE *f, const char *root, const char *link_root, const char 
 static void notes_and_figures(FILE *f, const cJSON *res, const char *campaign, const char *root, const char *link_root,
                               bool numbers)
 {
+    if (str(res, "restates")[0]) {
+        fprintf(f, "\nThese numbers restate those of [%s](#%s-%s) in another form; the tallies count them there only.\n",
+                str(res, "restates"), campaign, str(res, "restates"));
+    }
     if (str(res, "note")[0]) {
         fprintf(f, "\n%s\n", str(res, "note"));
     }
