@@ -8,7 +8,7 @@
 # pseudo-terminal (tests/pty_interrupt.py).
 # usage: test_ctrl_c.sh GRANULE SOURCE_DIR
 set -uo pipefail
-G=$1
+G=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 SRC=$(cd "$2" && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
