@@ -7,14 +7,7 @@
 # nothing to continue, stops at once and writes nothing. Driven through a real
 # pseudo-terminal (tests/pty_interrupt.py).
 # usage: test_ctrl_c.sh GRANULE SOURCE_DIR
-set -uo pipefail
-G=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
-SRC=$(cd "$2" && pwd)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-pass=0
-fail=0
-check() { if "$@"; then pass=$((pass + 1)); else fail=$((fail + 1)); echo "FAILED: $*" >&2; fi; }
+source "$(dirname "$0")/cli_test_lib.sh"
 pty() { python3 "$SRC/tests/pty_interrupt.py" "$@"; }
 
 for jobs in 1 2; do
@@ -80,5 +73,4 @@ check test $? -eq 5
 check grep -q "cost: stopped by a signal before anything was written" "$tmp/costlog"
 check test ! -e "$tmp/cost/cost.json"
 
-echo "$pass passed, $fail failed"
-[[ $fail -eq 0 ]]
+finish

@@ -3,14 +3,7 @@
 # warning) and writes a space-time diagram resolved finely enough to show clusters forming and
 # dissolving (at least 1000 frames, 20 ms apart, in one trajectory file).
 # usage: test_readme_demo.sh GRANULE SOURCE_DIR
-set -uo pipefail
-G=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
-SRC=$(cd "$2" && pwd)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-pass=0
-fail=0
-check() { if "$@"; then pass=$((pass + 1)); else fail=$((fail + 1)); echo "FAILED: $*" >&2; fi; }
+source "$(dirname "$0")/cli_test_lib.sh"
 # the scene of the README's first command, run as the README runs it (into a temporary folder)
 cmd=$(sed -n '/^```sh$/{n;p;q}' "$SRC/README.md")
 scene=$(grep -o 'granule run [^ ]*' <<<"$cmd" | awk '{print $3}')
@@ -30,5 +23,4 @@ print(f"T = {s['T_mean']:.4g} +- {s['T_stderr']:.2g}, converged {s['T_stderr_con
 sys.exit(0 if s["T_stderr_converged"] and s["status"] == "completed" and frames >= 1000 else 1)
 PY
 check test -s "$tmp/demo/snapshots.png"
-echo "$pass passed, $fail failed"
-[[ $fail -eq 0 ]]
+finish
