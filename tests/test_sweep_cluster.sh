@@ -298,6 +298,17 @@ EOT
     out=$("$granule" sweep "$tmp/kill.ini" --jobs 2 2>"$tmp/kill3.log")
     check grep -q "6 run now, 0 already finished" <<<"$out"
     check grep -q "point 0: run with other settings" "$tmp/kill3.log"
+    # a folder holding the points of another, larger sweep file: refused; --force deletes them
+    sweep_file foreign 0.01
+    "$granule" sweep "$tmp/foreign.ini" --jobs 2 >/dev/null 2>&1
+    sed -i 's/^system.N = .*/system.N = 20/' "$tmp/foreign.ini"
+    "$granule" sweep "$tmp/foreign.ini" --jobs 2 >/dev/null 2>"$tmp/foreign.err"
+    check test $? -eq 2
+    check grep -q "holds 4 point folders (p0002..p0005) beyond this sweep's 2 points" "$tmp/foreign.err"
+    check test -d "$tmp/foreign/p0005"
+    check "$granule" sweep "$tmp/foreign.ini" --jobs 2 --force
+    check test ! -e "$tmp/foreign/p0002"
+    check test "$(ls -d "$tmp"/foreign/p* | wc -l)" -eq 2
 elif [[ $part == mpi ]]; then
     if [[ $mpi_built != yes ]]; then
         echo "SKIP: granule was built without MPI (meson setup -Dmpi=enabled needs Debian's libopenmpi-dev openmpi-bin)"

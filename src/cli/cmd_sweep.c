@@ -261,6 +261,12 @@ int cmd_sweep(int argc, char **argv)
         rc = cli_exit_code(err.code);
         goto done;
     }
+    char why[900];
+    if (sweep_foreign_points(s, s->force, why, sizeof why) < 0) {
+        cli_error("sweep: %s", why);
+        rc = EXIT_REFUSED;
+        goto done;
+    }
     fprintf(stderr, "sweep: %ld points (%d keys x %d seeds), %d parallel runs, into %s\n", s->n_points, s->n_keys, s->n_seeds,
             s->jobs, s->out);
     sweep_queue q = {.s = s, .hash = hash, .guess = guess, .jobs = s->jobs};

@@ -56,6 +56,9 @@ int sweep_overrides(const sweep *s, long k, char store[][256], const char **ptrs
 /* Load point k's scene (the sweep's scene with the point's overrides). */
 int sweep_point_scene(const sweep *s, long k, gr_scene *sc, gr_error *err);
 void sweep_point_dir(const sweep *s, long k, char *dir, size_t len);
+/* Point folders in s->out numbered beyond this sweep's points (left by another sweep file):
+ * refused (-1, why says so) unless force, which deletes them; otherwise how many were deleted. */
+int sweep_foreign_points(const sweep *s, bool force, char *why, size_t len);
 /* --list: one line per point, index and overrides. */
 void sweep_list(const sweep *s, FILE *f);
 

@@ -1,6 +1,8 @@
 /* The sweep file ([sweep], [vary], [set]) and its points: point k is one combination of the
  * varied values and one seed, numbered from 0 with the seed fastest, then the last [vary] key. */
+#include <dirent.h>
 #include <errno.h>
+#include <ftw.h>
 #include <ini.h>
 #include <libgen.h>
 #include <stdio.h>
@@ -354,4 +356,51 @@ void sweep_list(const sweep *s, FILE *f)
         }
         fprintf(f, "\n");
     }
+}
+
+static int remove_entry(const char *path, const struct stat *st, int flag, struct FTW *ftw)
+{
+    (void)st;
+    (void)flag;
+    (void)ftw;
+    return remove(path);
+}
+
+int sweep_foreign_points(const sweep *s, bool force, char *why, size_t len)
+{
+    why[0] = 0;
+    DIR *d = opendir(s->out);
+    if (!d) {
+        return 0; /* a new folder */
+    }
+    long lo = -1, hi = -1, n = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        const char *name = e->d_name;
+        if (name[0] != 'p' || strlen(name) < 5 || strspn(name + 1, "0123456789") != strlen(name + 1)) {
+            continue;
+        }
+        const long k = atol(name + 1);
+        if (k < s->n_points) {
+            continue;
+        }
+        char path[1400];
+        snprintf(path, sizeof path, "%s/%s", s->out, name);
+        if (force && nftw(path, remove_entry, 16, FTW_DEPTH | FTW_PHYS) != 0) {
+            snprintf(why, len, "%s: cannot remove %s, a point of another sweep: %s", s->out, name, strerror(errno));
+            closedir(d);
+            return -1;
+        }
+        lo = lo < 0 || k < lo ? k : lo;
+        hi = k > hi ? k : hi;
+        n++;
+    }
+    closedir(d);
+    if (n && !force) {
+        snprintf(why, len, "%.600s holds %ld point folder%s (p%04ld..p%04ld) beyond this sweep's %ld points: they come from "
+                           "another sweep file; choose another folder, or pass --force to delete them",
+                 s->out, n, n == 1 ? "" : "s", lo, hi, s->n_points);
+        return -1;
+    }
+    return (int)n;
 }

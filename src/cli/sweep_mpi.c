@@ -92,6 +92,11 @@ int sweep_mpi_run(sweep *s, const uint64_t *hash, const double *guess, int *argc
             cli_error("sweep: %s", err.message);
             MPI_Abort(MPI_COMM_WORLD, cli_exit_code(err.code));
         }
+        char why[900];
+        if (sweep_foreign_points(s, s->force, why, sizeof why) < 0) {
+            cli_error("sweep: %s", why);
+            MPI_Abort(MPI_COMM_WORLD, EXIT_REFUSED);
+        }
         fprintf(stderr, "sweep: %ld points (%d keys x %d seeds) over %d MPI ranks, into %s\n", s->n_points, s->n_keys,
                 s->n_seeds, size, s->out);
         sweep_queue q = {.s = s, .hash = hash, .guess = guess, .jobs = size};
