@@ -133,4 +133,21 @@ for name, bad in (("x", 1e308), ("y", -1e308), ("x", np.inf)):
 obs.sample_frame(0.1, x, np.zeros(n), y=y, vy=np.zeros(n))
 check(obs.frames == 1, "the Observer still samples good frames after refusing bad ones")
 
+# 8. Observer.finish into a folder holding a run is refused unless force, as on the command line
+# (issue 39: a folder holds one consistent result or nothing)
+with tempfile.TemporaryDirectory() as tmp:
+    run_dir = os.path.join(tmp, "run")
+    subprocess.run([exe, "run", scene_path, "--out", run_dir] + sum((["--set", f"{k}={granule._ini_value(v)}"]
+                   for k, v in sets.items()), []), check=True, stdout=subprocess.DEVNULL)
+    before = sorted(os.listdir(run_dir))
+    try:
+        obs.finish(run_dir)
+        check(False, "Observer.finish into a run folder is refused")
+    except granule.Error as e:
+        check("--force" in str(e) or "force" in str(e), f"Observer.finish into a run folder is refused: {e}")
+    check(sorted(os.listdir(run_dir)) == before, "the refused run folder is left as it was")
+    summary = obs.finish(run_dir, force=True)
+    check("summary.json" not in os.listdir(run_dir) and '"sk"' in summary,
+          "force=True replaces the run folder's contents with the observables' tables")
+
 finish()

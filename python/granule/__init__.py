@@ -81,10 +81,11 @@ def scene_dict(scene):
     return json.loads(scene.to_json())
 
 
-def observe(scene, frames, out=None):
+def observe(scene, frames, out=None, force=False):
     """Feed frames (Sims, or dicts with t, x, vx[, y, vy]) to the observables the scene names and
     return {observable: {"summary": dict, "tables": {csv name: pandas.DataFrame or numpy array}}}.
-    The CSVs go to `out` (kept) or a temporary folder."""
+    The CSVs go to `out` (kept; a folder holding another result is refused unless force) or a
+    temporary folder."""
     obs = Observer(scene)
     for f in frames:
         if isinstance(f, Sim):
@@ -93,7 +94,7 @@ def observe(scene, frames, out=None):
             obs.sample_frame(**{k: f[k] for k in ("t", "x", "vx", "y", "vy", "L") if f.get(k) is not None})
     with tempfile.TemporaryDirectory() as tmp:
         folder = out or tmp
-        summary = json.loads(obs.finish(folder))
+        summary = json.loads(obs.finish(folder, force=force))
         return {name: {"summary": member, "tables": _tables(folder, name)} for name, member in summary.items()}
 
 

@@ -110,11 +110,12 @@ static PyObject *observer_sample_frame(pyg_observer *self, PyObject *args, PyObj
     return res;
 }
 
-static PyObject *observer_finish(pyg_observer *self, PyObject *args)
+static PyObject *observer_finish(pyg_observer *self, PyObject *args, PyObject *kwargs)
 {
+    static char *kwlist[] = {"dir", "plots", "force", NULL};
     const char *dir;
-    int plots = 0;
-    if (!PyArg_ParseTuple(args, "s|p", &dir, &plots)) {
+    int plots = 0, force = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "s|pp", kwlist, &dir, &plots, &force)) {
         return NULL;
     }
     if (!self->obs) {
@@ -123,7 +124,8 @@ static PyObject *observer_finish(pyg_observer *self, PyObject *args)
     }
     const gr_scene *s = &((pyg_scene *)self->scene)->scene;
     gr_error err = {0};
-    if (gr_output_dir_prepare(dir, GR_OUTPUT_ANY, true, &err)) {
+    /* a folder holding a run, a comparison, ... is refused unless force, as on the command line */
+    if (gr_output_dir_prepare(dir, GR_OUTPUT_RESULT, force, &err)) {
         return pyg_raise(&err);
     }
     cJSON *analysis = cJSON_CreateObject();
@@ -149,8 +151,9 @@ static PyMethodDef observer_methods[] = {
     {"sample", (PyCFunction)observer_sample, METH_VARARGS, "sample(sim): one frame of a Sim at its time"},
     {"sample_frame", (PyCFunction)(void (*)(void))observer_sample_frame, METH_VARARGS | METH_KEYWORDS,
      "sample_frame(t, x, vx, y=None, vy=None, L=scene L): one frame from arrays"},
-    {"finish", (PyCFunction)observer_finish, METH_VARARGS,
-     "finish(dir, plots=False) -> str: write the observables' CSVs into dir, return their summary as JSON text"},
+    {"finish", (PyCFunction)(void (*)(void))observer_finish, METH_VARARGS | METH_KEYWORDS,
+     "finish(dir, plots=False, force=False) -> str: write the observables' CSVs into dir, return their summary as JSON "
+     "text; a dir holding another result (a run, a comparison, ...) is refused unless force, which empties it first"},
     {NULL}};
 
 PyTypeObject pyg_observer_type = {
