@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "granule/campaign.h"
+#include "granule/scene.h"
 #include "granule_commit.h"
 #include "io/files.h"
 #include "io/summary_read.h"
@@ -296,7 +297,7 @@ static void row_json(cJSON *arr, const campaign_row *w)
 
 static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r, const campaign_row *w)
 {
-    fprintf(f, "%s,%s,%s,\"%s\",%d", c->name, r->id, r->quantity, w->group, w->m);
+    fprintf(f, "%s,%s,%s,\"%s\",\"%s\",%d", c->name, r->id, r->quantity, r->unit[0] ? r->unit : "1", w->group, w->m);
     csv_num(f, w->value);
     csv_num(f, w->error);
     csv_num(f, w->error_fit);
@@ -305,6 +306,8 @@ static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r, 
     csv_num(f, w->chi2_red);
     csv_num(f, w->x_lo);
     csv_num(f, w->x_hi);
+    const char *xu = isfinite(w->x_lo) && r->x[0] ? gr_scene_key_unit(r->x) : NULL;
+    fprintf(f, ",%s", xu ? (xu[0] ? xu : "1") : "");
     csv_num(f, w->thesis);
     csv_num(f, w->thesis_error);
     fprintf(f, ",%s", w->comparison);
@@ -434,8 +437,13 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
         campaign_points_free(&pts);
         return rc;
     }
-    fprintf(csv.f, "campaign,result,quantity,group,m,value,error,error_fit_or_run,error_seeds,seeds,fit_points,chi2_red,x_lo,"
-                   "x_hi,thesis,thesis_error,comparison,thesis_high,agrees,z,simulated_seconds,cpu_seconds,runs_not_converged,scene_hashes,commit\n");
+    /* units in results.meta.json: a row's value, errors and thesis values are in its result's
+     * unit (column unit, "1" for a pure number), the fit window in its abscissa's (x_unit) */
+    gr_file_header(&csv, "campaign [],result [],quantity [],unit [],group [],m [1],value [@unit],error [@unit],"
+                         "error_fit_or_run [@unit],error_seeds [@unit],seeds [1],fit_points [1],chi2_red [1],x_lo [@x_unit],"
+                         "x_hi [@x_unit],x_unit [],thesis [@unit],thesis_error [@unit],comparison [],thesis_high [@unit],"
+                         "agrees [1],z [1],simulated_seconds [s],cpu_seconds [s],runs_not_converged [1],scene_hashes [],"
+                         "commit []");
     for (int i = 0; i < c->n_results && !rc; i++) {
         const gr_campaign_result *r = &c->results[i];
         campaign_rows rows = {0};
