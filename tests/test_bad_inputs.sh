@@ -338,6 +338,15 @@ base | collide --speed | 2 | --speed needs a value | new
 base | reproduce ch3-moments --out | 2 | --out needs a value | new
 file:[sweep]\n[vary]\nsystem.N = 10\n | sweep $S --array-base 99999999999999999999 --point 0 | 2 | --array-base;up to 1000000000000 | new
 file:[sweep]\n[vary]\nsystem.N = 10\n | sweep $S --point 99999999999999999999 | 2 | --point;up to 1000000000000 | new
+base | run $S --out $O --set integrator.dt=1e-7 --set integrator.steps_per_contact=50 | 2 | --set integrator.dt=1e-7;give dt or steps_per_contact, not both | new
+base | run $S --out $O --set system.L=0.5 --set system.reduced_length=0.1 | 2 | reduced_length;give only one of L | new
+base | run $S --out $O --set system.N=0x1p5 | 2 | [system] N;0x1p5 is not an integer written in decimal digits;[1, 1e+08] | new
+base | run $S --out $O --set system.N=2e1 | 2 | [system] N;decimal digits | new
+base | run $S --out $O --set analysis.moments_max=0x4 | 2 | moments_max;decimal digits | new
+file:[system]x\ndim = 1\nN = 20\nreduced_length = 0.1\n | run $S --out $O | 2 | :1:;characters after the section header [system] | new
+file:[sweep]\n[vary]\nsystem.N = 10, 1\x002\n | sweep $S | 2 | :3:;control byte 0x00;sweep file | new
+file:[sweep]x\n[vary]\nsystem.N = 10\n | sweep $S | 2 | :1:;characters after the section header [sweep] | new
+file:[sweep]\n[vary\nsystem.N = 10\n | sweep $S | 2 | :2:;unterminated section header | new
 TABLE
 )
 : >"$TMP/a-file"
