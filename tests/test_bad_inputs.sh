@@ -347,6 +347,15 @@ file:[system]x\ndim = 1\nN = 20\nreduced_length = 0.1\n | run $S --out $O | 2 | 
 file:[sweep]\n[vary]\nsystem.N = 10, 1\x002\n | sweep $S | 2 | :3:;control byte 0x00;sweep file | new
 file:[sweep]x\n[vary]\nsystem.N = 10\n | sweep $S | 2 | :1:;characters after the section header [sweep] | new
 file:[sweep]\n[vary\nsystem.N = 10\n | sweep $S | 2 | :2:;unterminated section header | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1, 1\n | reproduce $S --out $O | 2 | :11:;[sweep.quick] seeds: 1 is listed twice | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[set]\nsystem.N = 12\n | reproduce $S --out $O | 2 | :13:;[set] system.N: also in [vary.quick] system.N | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[campaign]\ntitle = u\n | reproduce $S --out $O | 2 | :13:;[campaign] title: given twice | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[set]\nrun.warmup = 0\nrun.warmup = 1\n | reproduce $S --out $O | 2 | :14:;[set] run.warmup: given twice | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[result a]\nkind = mean\ny = T\n[result b]\nkind = mean\ny = T\n[result a]\nunit = s\n | reproduce $S --out $O | 2 | :19:;[result a]: given twice | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[result a]\nkind = mean\ny = T\nthesis = nan\n | reproduce $S --out $O | 2 | [result a] thesis;nan;finite VALUE | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[result a]\nkind = mean\ny = T\nthesis = *: inf +- 1\n | reproduce $S --out $O | 2 | [result a] thesis;finite VALUE | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[res\x00ult a]\nkind = mean\n | reproduce $S --out $O | 2 | :12:;control byte 0x00;campaign file | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[result a]x\nkind = mean\n | reproduce $S --out $O | 2 | :12:;characters after the section header [result a] | new
 TABLE
 )
 : >"$TMP/a-file"
@@ -463,5 +472,16 @@ problems=()
 grep -qF "$TMP/rp/ch3-moments/quick already holds a run (summary.json)" "$TMP/rp.err" || problems+=("message lacks 'already holds a run'")
 [[ $(state "$TMP/rp") == "$before" ]] || problems+=("output folder changed")
 report "granule reproduce ch3-moments --out DIR, DIR/ch3-moments/quick a run" "$TMP/rp.err"
+# a campaign result whose y no point's summary.json holds (a misspelt path) is refused when the
+# results are collected, naming it, instead of an empty result (issue 39 item 12)
+i=$((i + 1))
+printf '%b' '[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 10\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[set]\nrun.warmup = 0\nrun.duration = 0.01\nrun.sample_every = 1e-3\noutput.plots = false\n[result a]\nkind = mean\ny = nosuch\n' >"$TMP/ynosuch.ini"
+"$G" reproduce "$TMP/ynosuch.ini" --out "$TMP/ynosuch" >/dev/null 2>"$TMP/ynosuch.err"
+rc=$?
+problems=()
+[[ $rc != 0 ]] || problems+=("exit 0, expected a refusal")
+grep -qF "[result a] y = nosuch: no such entry in the summary.json of any of the 1 finished points" "$TMP/ynosuch.err" ||
+    problems+=("message lacks '[result a] y = nosuch: no such entry'")
+report "granule reproduce CAMPAIGN with y = nosuch" "$TMP/ynosuch.err"
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

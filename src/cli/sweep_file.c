@@ -65,18 +65,6 @@ static int find_set(const sweep *s, const char *name)
     return -1;
 }
 
-/* Does the (possibly linked, a+b) [vary] key name `key`? */
-static bool names_key(const char *linked, const char *key)
-{
-    const size_t n = strlen(key);
-    for (const char *p = linked; (p = strstr(p, key)) != NULL; p += n) {
-        if ((p == linked || p[-1] == '+') && (p[n] == '\0' || p[n] == '+')) {
-            return true;
-        }
-    }
-    return false;
-}
-
 static int on_line(void *user, const char *section, const char *name, const char *value)
 {
     sweep *s = user;
@@ -138,7 +126,7 @@ static int on_line(void *user, const char *section, const char *name, const char
             snprintf(s->error, sizeof s->error, "[vary] %s: given twice; a list longer than a line continues on the very next line", name);
             return 0;
         }
-        if (!more && strchr(name, '+') && names_key(name, "run.seed")) {
+        if (!more && strchr(name, '+') && gr_linked_key_names(name, "run.seed")) {
             snprintf(s->error, sizeof s->error, "[vary] %s: run.seed cannot be linked to other keys; vary it on a line of its own", name);
             return 0;
         }
@@ -208,7 +196,7 @@ static int on_line(void *user, const char *section, const char *name, const char
             return 0;
         }
         for (int i = 0; i < s->n_keys; i++) {
-            if (names_key(s->key[i], name)) {
+            if (gr_linked_key_names(s->key[i], name)) {
                 snprintf(s->error, sizeof s->error, "[set] %s: also varied in [vary] %s; a key is either set or varied", name, s->key[i]);
                 return 0;
             }

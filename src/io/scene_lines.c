@@ -80,6 +80,7 @@ char *gr_line_read(char *str, int num, gr_line_reader *r)
     }
     r->line++;
     char *line = r->buf;
+    r->length = strcspn(line, "\r\n");
     for (ssize_t i = 0; i < n; i++) {
         const unsigned char c = (unsigned char)line[i];
         if ((c < 0x20 && c != '\t' && c != '\r' && c != '\n') || c == 0x7f) {
@@ -153,4 +154,15 @@ int gr_line_parse(gr_line_reader *r, int (*handler)(void *user, const char *sect
         return -1;
     }
     return bad;
+}
+
+bool gr_linked_key_names(const char *linked, const char *key)
+{
+    const size_t n = strlen(key);
+    for (const char *p = linked; (p = strstr(p, key)) != NULL; p += n) {
+        if ((p == linked || p[-1] == '+') && (p[n] == '\0' || p[n] == '+')) {
+            return true;
+        }
+    }
+    return false;
 }

@@ -23,6 +23,7 @@ typedef struct gr_line_reader {
     char *buf;          /* the current physical line */
     size_t cap;
     int line;           /* its number, from 1 */
+    size_t length;      /* its length, line end excluded */
     bool content;       /* a line other than blanks and comments was read */
     char *long_value;   /* the value of the current long line, or NULL */
     const char *what;   /* the kind of file, for messages ("scene", "sweep file"; NULL: "file") */
@@ -33,6 +34,9 @@ typedef struct gr_line_reader {
 /* fgets-shaped reader for ini_parse_stream; NULL at the end or on a problem. */
 char *gr_line_read(char *str, int num, gr_line_reader *r);
 void gr_line_reader_free(gr_line_reader *r);
+
+/* Does the (possibly linked, "a+b") sweep key `linked` name `key`? */
+bool gr_linked_key_names(const char *linked, const char *key);
 
 /* ini_parse_stream through whole lines: `handler` sees each long value itself (not
  * GR_LONG_VALUE). Returns 0, the number of the first line refused (by the reader: r->problem says

@@ -16,5 +16,7 @@ cJSON *gr_summary_read(const char *dir, gr_error *err);
 /* A number at a dotted path ("ledger.injected", "analysis.moments.speed.1"); a true/false flag
  * ("T_stderr_converged") reads 1/0; NAN if absent. */
 double gr_summary_number(const cJSON *root, const char *path);
+/* The node at a dotted path, of any type; NULL if absent. */
+const cJSON *gr_summary_node(const cJSON *root, const char *path);
 
 #endif
