@@ -805,6 +805,12 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
         const char *a = overrides[i];
         const char *dot = strchr(a, '.'), *eq = strchr(a, '=');
         where w = {NULL, 0, a};
+        for (const char *c = a; *c; c++) { /* as in scene files (scene_lines.c): a line break would be another line */
+            if (((unsigned char)*c < 0x20 && *c != '\t') || *c == 0x7f) {
+                return GR_FAIL(err, GR_EINVAL, "--set %.*s...: control byte 0x%02x at column %d (an assignment is text)",
+                               (int)(c - a < 200 ? c - a : 200), a, (unsigned char)*c, (int)(c - a) + 1);
+            }
+        }
         if (!dot || !eq || dot > eq || dot == a || eq == dot + 1) {
             return GR_FAIL(err, GR_EINVAL, "--set %s: expected section.key=value, e.g. --set model.eps_n=0.5", a);
         }
