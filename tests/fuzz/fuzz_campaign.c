@@ -7,7 +7,6 @@
  * the materialised sweeps go to a folder beside it. No point is run. Every input must end in a
  * clean refusal (with a message) or an accepted campaign whose sweeps are accepted or refused with
  * a message: never a crash, hang or sanitizer report. */
-#include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,31 +14,13 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "fuzz_files.h"
 #include "cli/sweep.h"
 #include "granule/campaign.h"
 
-/* cli/main.c is not linked into the harness: messages are checked, not printed. */
-static char last_error[1024];
 
-void cli_error(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(last_error, sizeof last_error, fmt, ap);
-    va_end(ap);
-}
+static char campaign_path[128], out_dir[128];
 
-static char dir[64], campaign_path[128], out_dir[128];
-
-static void setup(void)
-{
-    snprintf(dir, sizeof dir, "/tmp/granule-fuzz-campaign-XXXXXX");
-    if (!mkdtemp(dir)) {
-        abort();
-    }
-    snprintf(campaign_path, sizeof campaign_path, "%s/campaign.ini", dir);
-    snprintf(out_dir, sizeof out_dir, "%s/out", dir);
-}
 
 static void clean_out(void)
 {
@@ -56,21 +37,17 @@ static void cleanup(void)
 {
     clean_out();
     unlink(campaign_path);
-    rmdir(dir);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    if (!dir[0]) {
-        setup();
-        atexit(cleanup);
+    if (fuzz_first("campaign", cleanup)) {
+        snprintf(campaign_path, sizeof campaign_path, "%s/campaign.ini", fuzz_dir);
+        snprintf(out_dir, sizeof out_dir, "%s/out", fuzz_dir);
     }
-    FILE *f = fopen(campaign_path, "w");
-    if (!f || fwrite(data, 1, size, f) != size || fclose(f)) {
-        abort();
-    }
+    fuzz_write_input(campaign_path, data, size);
     gr_campaign *c = calloc(1, sizeof *c);
     gr_error err = {0};
     if (gr_campaign_load(c, campaign_path, &err) != GR_OK) {
