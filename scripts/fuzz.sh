@@ -5,7 +5,7 @@
 #                  crash, hang (> 30 s per input), leak or sanitizer report
 #     --replay     run every committed corpus input once (regression check, a few seconds)
 #     --time S     fuzz each target for S seconds (a campaign; new inputs go to DIR/corpus-TARGET)
-#   TARGET: scene, sweep, checkpoint (default: every target that was built).
+#   TARGET: scene, sweep, campaign, checkpoint (default: every target that was built).
 # Exit 0 clean, 1 a finding (the crashing input is saved as DIR/crash-TARGET-*), 77 no clang
 # with libFuzzer (skipped). One core, nice 19: it never starves other work.
 set -euo pipefail
@@ -59,7 +59,7 @@ if ! nice -n 19 ninja -C "$build" ${fuzz_exes} >"$probe/ninja.log" 2>&1; then
     exit 1
 fi
 if ((${#targets[@]} == 0)); then
-    for t in scene sweep checkpoint; do
+    for t in scene sweep campaign checkpoint; do
         [[ -x "$build/tests/fuzz/fuzz_$t" ]] && targets+=("$t")
     done
 fi
@@ -73,6 +73,7 @@ for t in "${targets[@]}"; do
     extra=()
     [[ $t == scene ]] && extra=("$src/docs/scenes")
     [[ $t == sweep ]] && extra=("$src/docs/sweeps")
+    [[ $t == campaign ]] && extra=("$src/docs/campaigns")
     [[ -x "$exe" ]] || { echo "fuzz.sh: $t: not built (see tests/fuzz/meson.build)" >&2; status=1; continue; }
     opts=(-timeout=30 -rss_limit_mb=1024 -malloc_limit_mb=512 -artifact_prefix="$build/crash-$t-" -print_final_stats=1)
     [[ -f "$dict" ]] && opts+=(-dict="$dict")

@@ -338,6 +338,24 @@ base | collide --speed | 2 | --speed needs a value | new
 base | reproduce ch3-moments --out | 2 | --out needs a value | new
 file:[sweep]\n[vary]\nsystem.N = 10\n | sweep $S --array-base 99999999999999999999 --point 0 | 2 | --array-base;up to 1000000000000 | new
 file:[sweep]\n[vary]\nsystem.N = 10\n | sweep $S --point 99999999999999999999 | 2 | --point;up to 1000000000000 | new
+base | run $S --out $O --set integrator.dt=1e-7 --set integrator.steps_per_contact=50 | 2 | --set integrator.dt=1e-7;give dt or steps_per_contact, not both | new
+base | run $S --out $O --set system.L=0.5 --set system.reduced_length=0.1 | 2 | reduced_length;give only one of L | new
+base | run $S --out $O --set system.N=0x1p5 | 2 | [system] N;0x1p5 is not an integer written in decimal digits;[1, 1e+08] | new
+base | run $S --out $O --set system.N=2e1 | 2 | [system] N;decimal digits | new
+base | run $S --out $O --set analysis.moments_max=0x4 | 2 | moments_max;decimal digits | new
+file:[system]x\ndim = 1\nN = 20\nreduced_length = 0.1\n | run $S --out $O | 2 | :1:;characters after the section header [system] | new
+file:[sweep]\n[vary]\nsystem.N = 10, 1\x002\n | sweep $S | 2 | :3:;control byte 0x00;sweep file | new
+file:[sweep]x\n[vary]\nsystem.N = 10\n | sweep $S | 2 | :1:;characters after the section header [sweep] | new
+file:[sweep]\n[vary\nsystem.N = 10\n | sweep $S | 2 | :2:;unterminated section header | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1, 1\n | reproduce $S --out $O | 2 | :11:;[sweep.quick] seeds: 1 is listed twice | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[set]\nsystem.N = 12\n | reproduce $S --out $O | 2 | :13:;[set] system.N: also in [vary.quick] system.N | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[campaign]\ntitle = u\n | reproduce $S --out $O | 2 | :13:;[campaign] title: given twice | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[set]\nrun.warmup = 0\nrun.warmup = 1\n | reproduce $S --out $O | 2 | :14:;[set] run.warmup: given twice | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[result a]\nkind = mean\ny = T\n[result b]\nkind = mean\ny = T\n[result a]\nunit = s\n | reproduce $S --out $O | 2 | :19:;[result a]: given twice | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[result a]\nkind = mean\ny = T\nthesis = nan\n | reproduce $S --out $O | 2 | [result a] thesis;nan;finite VALUE | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[result a]\nkind = mean\ny = T\nthesis = *: inf +- 1\n | reproduce $S --out $O | 2 | [result a] thesis;finite VALUE | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[res\x00ult a]\nkind = mean\n | reproduce $S --out $O | 2 | :12:;control byte 0x00;campaign file | new
+file:[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[vary.quick]\nsystem.N = 10\n[sweep.quick]\nseeds = 1\n[result a]x\nkind = mean\n | reproduce $S --out $O | 2 | :12:;characters after the section header [result a] | new
 TABLE
 )
 : >"$TMP/a-file"
@@ -454,5 +472,16 @@ problems=()
 grep -qF "$TMP/rp/ch3-moments/quick already holds a run (summary.json)" "$TMP/rp.err" || problems+=("message lacks 'already holds a run'")
 [[ $(state "$TMP/rp") == "$before" ]] || problems+=("output folder changed")
 report "granule reproduce ch3-moments --out DIR, DIR/ch3-moments/quick a run" "$TMP/rp.err"
+# a campaign result whose y no point's summary.json holds (a misspelt path) is refused when the
+# results are collected, naming it, instead of an empty result (issue 39 item 12)
+i=$((i + 1))
+printf '%b' '[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 10\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 10\n[set]\nrun.warmup = 0\nrun.duration = 0.01\nrun.sample_every = 1e-3\noutput.plots = false\n[result a]\nkind = mean\ny = nosuch\n' >"$TMP/ynosuch.ini"
+"$G" reproduce "$TMP/ynosuch.ini" --out "$TMP/ynosuch" >/dev/null 2>"$TMP/ynosuch.err"
+rc=$?
+problems=()
+[[ $rc != 0 ]] || problems+=("exit 0, expected a refusal")
+grep -qF "[result a] y = nosuch: no such entry in the summary.json of any of the 1 finished points" "$TMP/ynosuch.err" ||
+    problems+=("message lacks '[result a] y = nosuch: no such entry'")
+report "granule reproduce CAMPAIGN with y = nosuch" "$TMP/ynosuch.err"
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -149,5 +149,44 @@ with tempfile.TemporaryDirectory() as tmp:
     summary = obs.finish(run_dir, force=True)
     check("summary.json" not in os.listdir(run_dir) and '"sk"' in summary,
           "force=True replaces the run folder's contents with the observables' tables")
+# 9. issue 39 item 13: a frame with one NaN velocity or a NaN time is refused (not m2 = 0); a
+# state with a flipped byte or cut short is refused by its checksum; a section that is not a dict,
+# a line break in a value and a NUL in a set= value raise SceneError (the checks of scene files)
+obs = granule.Observer(sc)
+vb = np.zeros(n)
+vb[5] = np.nan
+for what, kw in (("one NaN velocity", dict(t=0.1, x=x, vx=vb, y=y, vy=np.zeros(n))),
+                 ("t = nan", dict(t=float("nan"), x=x, vx=np.zeros(n), y=y, vy=np.zeros(n)))):
+    try:
+        granule.observe(sc, [kw])
+        check(False, f"observe() with {what} is refused")
+    except granule.SceneError as e:
+        check("not a finite number" in str(e), f"observe() with {what} is refused: {e}")
+a = granule.Sim(sc)
+a.step(20)
+state = a.state()
+for what, bad in (("a flipped byte", state[:200] + bytes([state[200] ^ 1]) + state[201:]), ("cut short", state[:-1]),
+                  ("without its checksum", state[:-8])):
+    try:
+        granule.Sim(sc).restore(bad)
+        check(False, f"restore() of a state with {what} is refused")
+    except granule.Error as e:
+        check("checksum" in str(e), f"restore() of a state {what} is refused: {e}")
+b = granule.Sim(sc)
+b.restore(state)
+check(b.steps == 20, "restore() of the unchanged state is accepted")
+for what, source, set_, words in (
+        ("a section that is not a dict", {"system": 5}, None, "[system]: expected a dict"),
+        ("a line break in a value", {"system": {"N": "20\n[run]\nduration = 5"}}, None, "control byte 0x0a"),
+        ("a ']' in a section name", {"system]x": {"N": 20}}, None, "system]x"),
+        ("a NUL in a set= value", None, {"run.warmup": "0\x001"}, "control byte 0x00"),
+        ("a line break in a set= value", None, ["run.warmup=0\n1"], "control byte 0x0a")):
+    try:
+        granule.load_scene(source, set=set_)
+        check(False, f"load_scene with {what} raises SceneError")
+    except granule.SceneError as e:
+        check(words in str(e), f"load_scene with {what} raises SceneError: {e}")
+    except Exception as e:
+        check(False, f"load_scene with {what} raises SceneError, not {type(e).__name__}: {e}")
 
 finish()

@@ -362,8 +362,9 @@ check test $? -eq 2
 check "$granule" reproduce table3.1 --help
 # an spm result with an unknown quantity, a D_f out of range, an unknown tail form: refused, naming
 # the file, the key and what is allowed
-for bad in "y = Sx|y = Sx: allowed D_f, C, alpha" "df = 2.5|df = 2.5: expected D_f in (1, 2)" "tail = gauss|tail = gauss: allowed 5.31, exponential"; do
-    printf '[campaign]\ntitle = t\nscene = rfm-2d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 100\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 100\n[result r1]\nkind = spm\ny = S\n%s\n' "${bad%%|*}" >"$tmp/bad-spm.ini"
+# (each key once: a key given twice in a section is refused before its value is looked at)
+for bad in "y = Sx|y = Sx: allowed D_f, C, alpha" "y = S\\ndf = 2.5|df = 2.5: expected D_f in (1, 2)" "y = S\\ntail = gauss|tail = gauss: allowed 5.31, exponential"; do
+    printf '[campaign]\ntitle = t\nscene = rfm-2d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 100\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 100\n[result r1]\nkind = spm\n%b\n' "${bad%%|*}" >"$tmp/bad-spm.ini"
     "$granule" reproduce "$tmp/bad-spm.ini" --out "$tmp/bad-spm-out" >/dev/null 2>"$tmp/bad-spm.err"
     check test $? -eq 2
     check grep -q "bad-spm.ini.*\[result r1\].*${bad#*|}" "$tmp/bad-spm.err"

@@ -459,5 +459,29 @@ else
     fail "resuming from the unstable run's checkpoint: exit $rc" "$err"
 fi
 
+# SIGTERM in the first milliseconds (issue 39 item 14): granule catches it before anything else,
+# so a signal either stops the run with a checkpoint (exit 5) or, while the shared libraries are
+# still loading, ends the process before it has written anything (exit 143, no folder); never a
+# folder without a checkpoint to continue from (docs/checkpoints.md, "Exit status")
+early_bad=()
+early_scene="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/docs/scenes/rfm-2d.ini"
+for ms in 0 2 4 6 8 10 12 15 20 30 50 80; do
+    d="$TMP/early-term-$ms"
+    "$G" run "$early_scene" --out "$d" --quiet >/dev/null 2>&1 &
+    pid=$!
+    sleep "$(printf '0.%03d' "$ms")"
+    kill -TERM "$pid" 2>/dev/null || true
+    rc=0
+    wait "$pid" || rc=$?
+    if ! { [[ $rc == 5 && -f $d/checkpoint ]] || [[ $rc == 143 && ! -e $d ]]; }; then
+        early_bad+=("SIGTERM after $ms ms: exit $rc, folder: $(ls "$d" 2>&1 | tr '\n' ' ' | head -c 200)")
+    fi
+done
+if ((${#early_bad[@]} == 0)); then
+    pass "SIGTERM in the first 0-80 ms: exit 5 with a checkpoint, or 143 with nothing written"
+else
+    fail "SIGTERM in the first milliseconds" "${early_bad[@]}"
+fi
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -153,12 +153,14 @@ void gr_sim_clear_events(gr_sim *sim);
 
 /* The complete state of a simulation as bytes, for exact restarts in memory or in a file of the
  * caller's (checkpoints: docs/checkpoints.md): *data (free() it) holds everything the next
- * gr_sim_step depends on, the integrator's part included. Call between gr_sim_step calls. */
+ * gr_sim_step depends on, the integrator's part included, and a trailer with their CRC-32. Call
+ * between gr_sim_step calls. */
 int gr_sim_state_save(const gr_sim *sim, void **data, size_t *len, gr_error *err);
 /* Overwrite the state of sim, freshly created from the same parameters (and with contact
  * tracking on if the saved one had it), with saved bytes; stepping on is then bit-identical to
  * stepping the saved simulation. Refuses bytes of another system (N, dim, dt, L, d, mass, kernel,
- * integrator) or truncated ones with GR_EINVAL; sim must then be freed. */
+ * integrator), truncated or changed ones (the CRC-32 trailer does not match) with GR_EINVAL; sim
+ * must then be freed. */
 int gr_sim_state_load(gr_sim *sim, const void *data, size_t len, gr_error *err);
 
 /* Total momentum, kg m/s (p[1] = 0 in 1D). */

@@ -54,6 +54,18 @@ def _overrides(set):
     return [str(s) for s in set]
 
 
+def _ini_text(section, key, text, name=False):
+    """A section, key or value of a scene dict as one line's text: a line break or other control
+    character (which would start another line or be cut at a NUL) is refused as in scene files, and
+    so are the separators '=', ':' and ']' in a section or key name."""
+    text = str(text)
+    bad = next((c for c in text if (ord(c) < 0x20 and c != "\t") or c == "\x7f"), None)
+    if bad is not None or (name and any(c in text for c in "=:[]")):
+        what = f"control byte {ord(bad):#04x}" if bad is not None else "'=', ':', '[' or ']'"
+        raise SceneError(f"[{section!s:.60}] {key!s:.60}: {what} in {text!r:.80} (a scene is text, one key = value per line)")
+    return text
+
+
 def _ini_value(v):
     if isinstance(v, bool):
         return "true" if v else "false"
@@ -70,8 +82,11 @@ def load_scene(source=None, set=None):
     if isinstance(source, dict):
         lines = []
         for section, keys in source.items():
-            lines.append(f"[{section}]")
-            lines += [f"{k} = {_ini_value(v)}" for k, v in keys.items()]
+            if not isinstance(keys, dict):
+                raise SceneError(f"[{section}]: expected a dict {{key: value}} of the section's keys, "
+                                 f"not {type(keys).__name__} {keys!r:.60}")
+            lines.append(f"[{_ini_text(section, '', section, name=True)}]")
+            lines += [f"{_ini_text(section, k, k, name=True)} = {_ini_text(section, k, _ini_value(v))}" for k, v in keys.items()]
         return Scene(None, _overrides(set), text="\n".join(lines) + "\n", name="<dict>")
     raise TypeError("load_scene: expected a path, a dict or None")
 

@@ -54,8 +54,14 @@ static int scene_init(pyg_scene *self, PyObject *args, PyObject *kw)
     const char **sets = PyMem_Calloc((size_t)n + 1, sizeof(char *));
     int rc = sets ? 0 : -1;
     for (Py_ssize_t i = 0; i < n && !rc; i++) {
-        sets[i] = PyUnicode_AsUTF8(PySequence_Fast_GET_ITEM(seq, i));
+        Py_ssize_t len = 0;
+        sets[i] = PyUnicode_AsUTF8AndSize(PySequence_Fast_GET_ITEM(seq, i), &len);
         rc = sets[i] ? 0 : -1;
+        if (sets[i] && strlen(sets[i]) != (size_t)len) { /* a NUL byte would cut the value short */
+            PyErr_Format(pyg_scene_error, "--set %s...: control byte 0x00 at column %zu (an assignment is text)", sets[i],
+                         strlen(sets[i]) + 1);
+            rc = -1;
+        }
     }
     if (rc) {
         PyMem_Free(sets);

@@ -14,6 +14,10 @@ enum { EXIT_OK = 0, EXIT_FAILED = 1, EXIT_REFUSED = 2, EXIT_UNSTABLE = 3,
        EXIT_WRITE_FAILED = 6 }; /* an output could not be written (a full disk); checkpoint kept, resume */
 
 int cmd_run(int argc, char **argv);
+/* SIGTERM/SIGINT ask `granule run` to checkpoint and stop (exit 5; a second signal kills): main
+ * installs this before anything else, so a signal during option parsing or scene loading is a
+ * stop at step 0 as well. Defined in cmd_run.c. */
+void cmd_run_catch_stop(void);
 int cmd_collide(int argc, char **argv);
 int cmd_models(int argc, char **argv);
 int cmd_keys(int argc, char **argv);

@@ -56,6 +56,14 @@ static void on_stop_signal(int sig)
     stop_requested = 1; /* the run checkpoints at the next step boundary; SA_RESETHAND: a second signal kills */
 }
 
+void cmd_run_catch_stop(void)
+{
+    struct sigaction sa = {.sa_handler = on_stop_signal, .sa_flags = SA_RESETHAND};
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGINT, &sa, NULL);
+}
+
 bool cli_threads(const char *text)
 {
     char *end;
@@ -167,10 +175,6 @@ int cmd_run(int argc, char **argv)
         fprintf(stderr, "granule: warning: %s", scene.warnings);
     }
     gr_run_options opt = {.force = force, .resume = resume != NULL, .stop = &stop_requested, .notice = notice};
-    struct sigaction sa = {.sa_handler = on_stop_signal, .sa_flags = SA_RESETHAND};
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGTERM, &sa, NULL);
-    sigaction(SIGINT, &sa, NULL);
     if (!quiet && scene.progress && cli_interactive()) {
         opt.progress = progress;
     }

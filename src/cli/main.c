@@ -117,6 +117,9 @@ static void usage(FILE *f)
 
 int main(int argc, char **argv)
 {
+    if (argc >= 2 && !strcmp(argv[1], "run")) {
+        cmd_run_catch_stop(); /* first: a stop signal from here on is a checkpoint and exit 5 */
+    }
     gsl_set_error_handler_off(); /* the library reports GSL errors through return values */
     if (argc < 2) {
         usage(stderr);

@@ -12,12 +12,16 @@
 #include "cli/cli.h"
 #include "cli/sweep.h"
 #include "io/files.h"
+#include "io/scene_lines.h"
 
 /* Split a comma/blank separated list into out[0..max); -1 when a value is longer than
  * SWEEP_VALUE_LEN - 1 characters or there are more than max values (nothing is cut silently). */
 static int split_list(const char *text, char out[][SWEEP_VALUE_LEN], int max)
 {
     char buf[4096];
+    if (strlen(text) >= sizeof buf) {
+        return -1;
+    }
     snprintf(buf, sizeof buf, "%s", text);
     int n = 0;
     char *save = NULL;
@@ -63,21 +67,16 @@ static int find_set(const sweep *s, const char *name)
     return -1;
 }
 
-/* Does the (possibly linked, a+b) [vary] key name `key`? */
-static bool names_key(const char *linked, const char *key)
-{
-    const size_t n = strlen(key);
-    for (const char *p = linked; (p = strstr(p, key)) != NULL; p += n) {
-        if ((p == linked || p[-1] == '+') && (p[n] == '\0' || p[n] == '+')) {
-            return true;
-        }
-    }
-    return false;
-}
-
 static int on_line(void *user, const char *section, const char *name, const char *value)
 {
     sweep *s = user;
+    if (s->error[0]) { /* inih goes on after an error and reports the first one's line: keep its message */
+        return 0;
+    }
+    if (strlen(name) >= sizeof s->key[0]) {
+        snprintf(s->error, sizeof s->error, "[%s] %.60s...: a key name of at most %zu characters", section, name, sizeof s->key[0] - 1);
+        return 0;
+    }
     if (!strcmp(section, "sweep")) {
         if (!strcmp(name, "scene")) {
             snprintf(s->scene, sizeof s->scene, "%s", value);
@@ -129,7 +128,7 @@ static int on_line(void *user, const char *section, const char *name, const char
             snprintf(s->error, sizeof s->error, "[vary] %s: given twice; a list longer than a line continues on the very next line", name);
             return 0;
         }
-        if (!more && strchr(name, '+') && names_key(name, "run.seed")) {
+        if (!more && strchr(name, '+') && gr_linked_key_names(name, "run.seed")) {
             snprintf(s->error, sizeof s->error, "[vary] %s: run.seed cannot be linked to other keys; vary it on a line of its own", name);
             return 0;
         }
@@ -199,7 +198,7 @@ static int on_line(void *user, const char *section, const char *name, const char
             return 0;
         }
         for (int i = 0; i < s->n_keys; i++) {
-            if (names_key(s->key[i], name)) {
+            if (gr_linked_key_names(s->key[i], name)) {
                 snprintf(s->error, sizeof s->error, "[set] %s: also varied in [vary] %s; a key is either set or varied", name, s->key[i]);
                 return 0;
             }
@@ -208,7 +207,11 @@ static int on_line(void *user, const char *section, const char *name, const char
             snprintf(s->error, sizeof s->error, "[set] run.seed: the seeds are [sweep] seeds (or [vary] run.seed), not [set]");
             return 0;
         }
-        snprintf(s->set[s->n_sets++], 256, "%s=%s", name, value);
+        if (strlen(name) + strlen(value) + 2 > sizeof s->set[0]) {
+            snprintf(s->error, sizeof s->error, "[set] %s: name and value of at most %zu characters", name, sizeof s->set[0] - 2);
+            return 0;
+        }
+        snprintf(s->set[s->n_sets++], sizeof s->set[0], "%s=%s", name, value);
     } else {
         snprintf(s->error, sizeof s->error, "[%s]: unknown section; sections: sweep, vary, set", section);
         return 0;
@@ -230,16 +233,20 @@ int sweep_load(sweep *s, const char *file)
         }
         return EXIT_REFUSED;
     }
-    int bad = ini_parse_file(in, on_line, s);
+    /* the scene reader's lines: control bytes (NUL included), long lines and headers checked alike */
+    gr_line_reader lines = {.f = in, .what = "sweep file", .sections = "sweep, vary, set"};
+    int bad = gr_line_parse(&lines, on_line, s);
     fclose(in);
     if (bad != 0 || s->error[0]) {
         if (bad < 0) {
             cli_error("sweep: %s: cannot read", file);
         } else {
-            cli_error("sweep: %s:%d: %s", file, bad, s->error[0] ? s->error : "not an INI line");
+            cli_error("sweep: %s:%d: %s", file, bad, lines.problem[0] ? lines.problem : s->error[0] ? s->error : "not an INI line");
         }
+        gr_line_reader_free(&lines);
         return EXIT_REFUSED;
     }
+    gr_line_reader_free(&lines);
     s->seed_key = find_key(s, "run.seed");
     if (s->seed_key >= 0 && s->seeds_given) {
         cli_error("sweep: %s: seeds are given twice, by [sweep] seeds and by [vary] run.seed; keep one", file);

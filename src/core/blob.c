@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <zlib.h>
 
 #include "core/blob.h"
 
@@ -157,4 +158,17 @@ int gr_blob_done(gr_blob_reader *r, gr_error *err)
         gr_blob_fail(r, "%zu unexpected bytes after its end (byte %zu of %zu)", r->len - r->pos, r->pos, r->len);
     }
     return r->bad ? GR_FAIL(err, GR_EINVAL, "checkpoint section %s: %s", r->what, r->why) : GR_OK;
+}
+
+uint32_t gr_blob_crc32(const void *data, size_t len)
+{
+    const unsigned char *p = data;
+    uLong crc = crc32(0L, Z_NULL, 0);
+    while (len > 0) { /* zlib takes uInt lengths */
+        uInt chunk = len > (1u << 30) ? (1u << 30) : (uInt)len;
+        crc = crc32(crc, p, chunk);
+        p += chunk;
+        len -= chunk;
+    }
+    return (uint32_t)crc;
 }

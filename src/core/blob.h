@@ -23,6 +23,8 @@ typedef struct gr_blob {
 } gr_blob;
 
 void gr_blob_free(gr_blob *b);
+/* CRC-32 (zlib's) of len bytes: the checksum of checkpoint files and of gr_sim_state_save's bytes. */
+uint32_t gr_blob_crc32(const void *data, size_t len);
 void gr_blob_put(gr_blob *b, const void *p, size_t n);
 void gr_blob_put_u32(gr_blob *b, uint32_t v);
 void gr_blob_put_u64(gr_blob *b, uint64_t v);

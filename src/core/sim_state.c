@@ -300,6 +300,9 @@ int gr_sim_load_state(gr_sim *s, gr_blob_reader *b, gr_error *err)
     return rc ? rc : gr_blob_done(b, err);
 }
 
+static const char STATE_MAGIC[4] = {'G', 'R', 'S', 'C'};
+#define STATE_TRAILER 8
+
 int gr_sim_state_save(const gr_sim *s, void **data, size_t *len, gr_error *err)
 {
     gr_blob b = {0};
@@ -311,6 +314,15 @@ int gr_sim_state_save(const gr_sim *s, void **data, size_t *len, gr_error *err)
         gr_blob_free(&b);
         return rc;
     }
+    /* a trailer: magic and the CRC-32 of the bytes before it, checked by gr_sim_state_load (a
+     * checkpoint file has its own, src/io/checkpoint.c) */
+    const uint32_t crc = gr_blob_crc32(b.data, b.len);
+    gr_blob_put(&b, STATE_MAGIC, 4);
+    gr_blob_put_u32(&b, crc);
+    if ((rc = gr_blob_ok(&b, err))) {
+        gr_blob_free(&b);
+        return rc;
+    }
     *data = b.data;
     *len = b.len;
     return GR_OK;
@@ -318,7 +330,19 @@ int gr_sim_state_save(const gr_sim *s, void **data, size_t *len, gr_error *err)
 
 int gr_sim_state_load(gr_sim *s, const void *data, size_t len, gr_error *err)
 {
+    const unsigned char *p = data;
+    if (len < STATE_TRAILER || memcmp(p + len - STATE_TRAILER, STATE_MAGIC, 4)) {
+        return GR_FAIL(err, GR_EINVAL, "state: %zu bytes without the checksum trailer of gr_sim_state_save (Sim.state()): "
+                       "not a saved state, cut short, or from a granule before the checksum", len);
+    }
+    uint32_t stored;
+    memcpy(&stored, p + len - 4, 4);
+    const uint32_t computed = gr_blob_crc32(p, len - STATE_TRAILER);
+    if (stored != computed) {
+        return GR_FAIL(err, GR_EINVAL, "state: checksum mismatch (CRC-32 stored %08x, computed %08x): the bytes were changed "
+                       "after they were saved", stored, computed);
+    }
     gr_blob_reader r;
-    gr_blob_reader_init(&r, data, len, "SIM");
+    gr_blob_reader_init(&r, data, len - STATE_TRAILER, "SIM");
     return gr_sim_load_state(s, &r, err);
 }

@@ -8,6 +8,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include "core/blob.h"
 #include "io/checkpoint.h"
 #include "io/files.h"
 
@@ -20,14 +21,7 @@ static const char MAGIC[8] = {'G', 'R', 'C', 'H', 'K', 'P', 'T', '\n'};
 
 static uint32_t crc_of(const unsigned char *p, size_t len)
 {
-    uLong crc = crc32(0L, Z_NULL, 0);
-    while (len > 0) { /* zlib takes uInt lengths */
-        uInt chunk = len > (1u << 30) ? (1u << 30) : (uInt)len;
-        crc = crc32(crc, p, chunk);
-        p += chunk;
-        len -= chunk;
-    }
-    return (uint32_t)crc;
+    return gr_blob_crc32(p, len);
 }
 
 int gr_checkpoint_read_buffer(const void *buf, size_t len, gr_checkpoint *out, gr_error *err)

@@ -190,20 +190,27 @@ static int set_number(void *slot, key_type type, double min, double max, bool mi
         snprintf(detail, sizeof detail, "%s is not an integer; allowed range %s", value, range);
         return fail_at(err, w, section, name, "%s", detail);
     }
+    /* integers are decimal digits: "0x1p5", "3.2e1" or "1e3" must not become another N or seed
+     * (found by tests/fuzz and issue 39); "1000.0" is 1000 */
+    const char *digits = value + strspn(value, " \t");
+    digits += type == K_INT && *digits == '-';
+    const size_t n_digits = strspn(digits, "0123456789");
+    const char *end = digits + n_digits;
+    if (*end == '.' && n_digits > 0) {
+        end += 1 + strspn(end + 1, "0");
+    }
+    end += strspn(end, " \t");
+    if ((type == K_INT || type == K_UINT64) && (n_digits == 0 || *end)) {
+        snprintf(detail, sizeof detail, "%s is not an integer written in decimal digits; allowed range %s", value,
+                 type == K_INT ? range : "[0, 18446744073709551615]");
+        return fail_at(err, w, section, name, "%s", detail);
+    }
     if (type == K_INT) {
         *(int *)slot = (int)x;
     } else if (type == K_UINT64) {
-        /* digits only: "1e3", "0x10" or 2^64 must not become another seed (found by tests/fuzz) */
-        char *end;
         errno = 0;
-        unsigned long long u = strtoull(value, &end, 10);
-        if (*end == '.' && end > value) { /* "1000.0" is 1000 */
-            end += 1 + strspn(end + 1, "0");
-        }
-        while (*end == ' ' || *end == '\t') {
-            end++;
-        }
-        if (*end || errno == ERANGE || strchr(value, '-') || strchr(value, '+')) {
+        unsigned long long u = strtoull(value, NULL, 10);
+        if (errno == ERANGE) {
             snprintf(detail, sizeof detail, "%s is not an integer written in decimal digits; allowed range [0, 18446744073709551615]", value);
             return fail_at(err, w, section, name, "%s", detail);
         }
@@ -312,6 +319,8 @@ typedef struct loader {
     char seen[128][136]; /* "section.key" seen in the file, to refuse duplicates */
     int n_seen;
 } loader;
+
+#define SECTIONS "system, placement, model, noise, integrator, run, analysis, output"
 
 static bool section_known(const char *section)
 {
@@ -442,13 +451,17 @@ static int apply(loader *ld, const char *section, const char *name, const char *
         if (!ld->defaults) {
             given *g = &ld->g;
             g->at[i] = *w;
-            /* an override replaces whichever member of its group the file gave */
+            /* an override replaces whichever member of its group the file gave; two overrides of
+             * one group conflict as two lines of a file do (resolve refuses them) */
             if (!w->file && (k->offset == offsetof(gr_scene, L) || k->offset == offsetof(gr_scene, packing_fraction) ||
                              k->offset == offsetof(gr_scene, reduced_length))) {
-                g->L = g->packing_fraction = g->reduced_length = false;
+                g->L &= !g->at_L.file;
+                g->packing_fraction &= !g->at_pf.file;
+                g->reduced_length &= !g->at_rl.file;
             }
             if (!w->file && (k->offset == offsetof(gr_scene, dt) || k->offset == offsetof(gr_scene, steps_per_contact))) {
-                g->dt = g->steps_per_contact = false;
+                g->dt &= !g->at_dt.file;
+                g->steps_per_contact &= !g->at_spc.file;
             }
             if (k->offset == offsetof(gr_scene, L)) { g->L = true; g->at_L = *w; }
             if (k->offset == offsetof(gr_scene, packing_fraction)) { g->packing_fraction = true; g->at_pf = *w; }
@@ -544,15 +557,10 @@ static char *read_line(char *str, int num, void *stream)
             size_t len = strcspn(p + 1, "]");
             snprintf(name, sizeof name, "%.*s", (int)(len < 63 ? len : 63), p + 1);
             r->ld->has_system |= p[1 + len] == ']' && strcmp(name, "system") == 0;
-            if (p[1 + len] != ']') { /* inih would go on in the previous section */
-                size_t shown = strcspn(p, "\r\n");
-                r->ld->rc = GR_FAIL(r->ld->err, GR_EINVAL, "%s:%d: unterminated section header '%.*s': expected [section] "
-                                    "on one line (sections: system, placement, model, noise, integrator, run, analysis, output)",
-                                    r->ld->file, r->ld->line, (int)(shown < 60 ? shown : 60), p);
-            } else if (!section_known(name)) {
+            if (!section_known(name)) { /* gr_line_read refused a header that is not [name] alone */
                 where w = {r->ld->file, r->ld->line, NULL};
                 r->ld->rc = fail_at(r->ld->err, &w, name, "", "%s",
-                                    "unknown section; sections: system, placement, model, noise, integrator, run, analysis, output");
+                                    "unknown section; sections: " SECTIONS);
             }
         }
     }
@@ -791,7 +799,7 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
         if (rc) {
             return rc;
         }
-        line_reader r = {{.f = f}, &ld};
+        line_reader r = {{.f = f, .what = "scene", .sections = SECTIONS}, &ld};
         int bad = rc ? 0 : ini_parse_stream(read_line, &r, scene_ini_line, &ld);
         const bool content = r.lines.content;
         gr_line_reader_free(&r.lines);
@@ -820,6 +828,12 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
         const char *a = overrides[i];
         const char *dot = strchr(a, '.'), *eq = strchr(a, '=');
         where w = {NULL, 0, a};
+        for (const char *c = a; *c; c++) { /* as in scene files (scene_lines.c): a line break would be another line */
+            if (((unsigned char)*c < 0x20 && *c != '\t') || *c == 0x7f) {
+                return GR_FAIL(err, GR_EINVAL, "--set %.*s...: control byte 0x%02x at column %d (an assignment is text)",
+                               (int)(c - a < 200 ? c - a : 200), a, (unsigned char)*c, (int)(c - a) + 1);
+            }
+        }
         if (!dot || !eq || dot > eq || dot == a || eq == dot + 1) {
             return GR_FAIL(err, GR_EINVAL, "--set %s: expected section.key=value, e.g. --set model.eps_n=0.5", a);
         }
@@ -909,7 +923,14 @@ void gr_scene_keys_markdown(FILE *out)
                  "A scene is a regular, non-empty text file with at least a `[system]` section; a\n"
                  "folder, an empty or comments-only file, control bytes (NUL included) are refused\n"
                  "with the file and line. Lines of any length are read whole (a long value is kept\n"
-                 "entire; a line that is neither a comment nor `key = value` is refused at its line).\n\n"
+                 "entire; a line that is neither a comment nor `key = value` is refused at its line).\n"
+                 "A section header stands alone on its line (`[system]x` and an unterminated `[run` are\n"
+                 "refused); a key given twice is refused; integer keys take decimal digits only (`N =\n"
+                 "0x1p5` or `2e3` is refused). `--set` overrides, sweep and campaign files and the\n"
+                 "Python module's `set=` and scene dicts go through the same checks: two overrides of\n"
+                 "one group (`integrator.dt` and `steps_per_contact`; `system.L`, `packing_fraction`\n"
+                 "and `reduced_length`) conflict as two lines of a file do; an override replaces the\n"
+                 "group member the file gave.\n\n"
                  "**Schedule** (src/io/run_schedule.h): `run.sample_every` and `output.snapshot_every`\n"
                  "are rounded to the nearest whole number of time steps dt (shorter than dt is refused;\n"
                  "a rounding that moves an interval by more than 1 %% is stated on stderr and in\n"

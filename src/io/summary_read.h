@@ -21,5 +21,7 @@ double gr_summary_number(const cJSON *root, const char *path);
  * "analysis.moments.speed.m3" -> "m3 s-3", written into buf), NULL where granule does not know
  * it (src/io/summary_units.c). */
 const char *gr_summary_unit(const char *path, char *buf, size_t size);
+/* The node at a dotted path, of any type; NULL if absent. */
+const cJSON *gr_summary_node(const cJSON *root, const char *path);
 
 #endif

@@ -27,6 +27,36 @@ static void path_for(const char *pattern, int m, char *out, size_t len)
     }
 }
 
+/* A y path that leads nowhere in any finished point's summary.json (a misspelt path) would give an
+ * empty result silently: refused, naming it. A path whose parent is there is kept: a fit that did
+ * not succeed leaves out its numbers (its status says why), and the rows say so. */
+static int y_present(const gr_campaign_result *r, const campaign_points *pts, gr_error *err)
+{
+    const int m_lo = r->m_lo ? r->m_lo : 0, m_hi = r->m_lo ? r->m_hi : 0;
+    for (int m = m_lo; m <= m_hi; m++) {
+        char yp[160];
+        path_for(r->y, m, yp, sizeof yp);
+        char *dot = strrchr(yp, '.');
+        for (int i = 0; i < pts->n; i++) {
+            if (gr_summary_node(pts->p[i].summary, yp)) {
+                return GR_OK;
+            }
+            if (dot) {
+                *dot = '\0';
+                const bool parent = gr_summary_node(pts->p[i].summary, yp) != NULL;
+                *dot = '.';
+                if (parent) {
+                    return GR_OK;
+                }
+            }
+        }
+    }
+    return pts->n == 0 ? GR_OK
+                       : GR_FAIL(err, GR_EINVAL, "[result %s] y = %s: no such entry in the summary.json of any of the %d finished "
+                                 "points (a dotted path into it, such as T or analysis.moments.speed.2)",
+                                 r->id, r->y, pts->n);
+}
+
 static bool listed(const char *list, const char *key)
 {
     char buf[256];
@@ -168,7 +198,10 @@ int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campa
                   FILE *data, gr_error *err)
 {
     (void)c;
-    (void)err;
+    int rc = y_present(r, pts, err);
+    if (rc) {
+        return rc;
+    }
     static char g[MAX_GROUPS][160];
     int ng = campaign_groups(pts, NULL, NULL, g);
     fprintf(data, "group,seed,value,run_error\n");
@@ -237,6 +270,10 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
                        FILE *data, gr_error *err)
 {
     (void)c;
+    int rc = y_present(r, pts, err);
+    if (rc) {
+        return rc;
+    }
     static char g[MAX_GROUPS][160];
     int ng = campaign_groups(pts, r->by[0] ? r->by : NULL, r->by[0] ? NULL : r->x, g);
     int m_lo = r->m_lo ? r->m_lo : 0, m_hi = r->m_lo ? r->m_hi : 0;

@@ -13,6 +13,7 @@
 
 #include "granule/campaign.h"
 #include "io/files.h"
+#include "io/scene_lines.h"
 #include "reproduce/campaign_points.h"
 #include "reproduce/embedded.h"
 
@@ -26,10 +27,54 @@ const char *gr_embedded_find(const char *name)
     return NULL;
 }
 
+#define SEEN_MAX 1024
+
 typedef struct parse_ctx {
     gr_campaign *c;
+    const gr_line_reader *lines;
+    char (*seen)[176]; /* "section\x1fkey" of every line so far, to refuse a key given twice */
+    int n_seen;
+    char last[176];    /* the line before: a [vary.F] list continues on a line that repeats its key */
     char error[512];
 } parse_ctx;
+
+/* May `name` appear on several lines of `section` (text that continues, a [vary.F] list that goes
+ * on on the very next line)? */
+static bool may_repeat(const char *section, const char *name)
+{
+    if (!strcmp(section, "campaign")) {
+        return !strcmp(name, "about");
+    }
+    if (!strncmp(section, "result ", 7)) {
+        return !strcmp(name, "thesis") || !strcmp(name, "note") || !strcmp(name, "verdict");
+    }
+    return false;
+}
+
+/* A key given twice in one section is refused as in scenes; a repeated section is one section. */
+static int check_repeat(parse_ctx *p, const char *section, const char *name)
+{
+    char id[176];
+    snprintf(id, sizeof id, "%.80s\x1f%.90s", section, name);
+    const bool continues = !strncmp(section, "vary.", 5) && !strcmp(id, p->last);
+    snprintf(p->last, sizeof p->last, "%s", id);
+    if (continues || may_repeat(section, name)) {
+        return 1;
+    }
+    for (int i = 0; i < p->n_seen; i++) {
+        if (!strcmp(p->seen[i], id)) {
+            snprintf(p->error, sizeof p->error, "[%s] %s: given twice%s", section, name,
+                     !strncmp(section, "vary.", 5) ? "; a list longer than a line continues on the very next line" : "");
+            return 0;
+        }
+    }
+    if (p->n_seen == SEEN_MAX) {
+        snprintf(p->error, sizeof p->error, "[%s] %s: more than %d lines in the campaign file", section, name, SEEN_MAX);
+        return 0;
+    }
+    snprintf(p->seen[p->n_seen++], sizeof p->seen[0], "%s", id);
+    return 1;
+}
 
 static bool parse_double(const char *v, double *out)
 {
@@ -57,6 +102,37 @@ static int append_text(parse_ctx *p, const char *section, const char *name, char
         return 0;
     }
     snprintf(dst + len, size - len, "%s%s", len ? sep : "", value);
+    return 1;
+}
+
+/* [sweep.F] seeds: decimal integers, none twice (two points would be one run) */
+static int check_seeds(parse_ctx *p, const char *section, const char *value)
+{
+    char buf[512];
+    snprintf(buf, sizeof buf, "%s", value);
+    unsigned long long seen[64];
+    int n = 0;
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ", \t", &save); tok; tok = strtok_r(NULL, ", \t", &save)) {
+        errno = 0;
+        const unsigned long long seed = strtoull(tok, NULL, 10);
+        if (strspn(tok, "0123456789") != strlen(tok) || strlen(tok) > 20 || errno) {
+            snprintf(p->error, sizeof p->error, "[%s] seeds: '%.64s' is not an integer written in decimal digits (0 .. 2^64 - 1)",
+                     section, tok);
+            return 0;
+        }
+        for (int i = 0; i < n; i++) {
+            if (seen[i] == seed) {
+                snprintf(p->error, sizeof p->error, "[%s] seeds: %llu is listed twice (two points would be one run)", section, seed);
+                return 0;
+            }
+        }
+        if (n == 64) {
+            snprintf(p->error, sizeof p->error, "[%s] seeds: at most 64 seeds", section);
+            return 0;
+        }
+        seen[n++] = seed;
+    }
     return 1;
 }
 
@@ -249,6 +325,14 @@ static int on_line(void *user, const char *section, const char *name, const char
     if (p->error[0]) { /* inih goes on after an error and reports the first one's line: keep its message */
         return 0;
     }
+    if (p->lines && p->lines->length > INI_MAX_LINE - 2) { /* the limit campaign files always had */
+        snprintf(p->error, sizeof p->error, "line longer than %d characters (split it: about, note, thesis and verdict may repeat)",
+                 INI_MAX_LINE - 2);
+        return 0;
+    }
+    if (!check_repeat(p, section, name)) {
+        return 0;
+    }
     if (!strcmp(section, "campaign")) {
         return campaign_key(p, name, value);
     }
@@ -256,6 +340,12 @@ static int on_line(void *user, const char *section, const char *name, const char
         const char *id = section + 7;
         gr_campaign_result *r = c->n_results ? &c->results[c->n_results - 1] : NULL;
         if (!r || strcmp(r->id, id)) {
+            for (int i = 0; i < c->n_results; i++) {
+                if (!strcmp(c->results[i].id, id)) {
+                    snprintf(p->error, sizeof p->error, "[%s]: given twice; each result is one section", section);
+                    return 0;
+                }
+            }
             if (c->n_results == GR_CAMPAIGN_MAX_RESULTS) {
                 snprintf(p->error, sizeof p->error, "[%s]: at most %d results per campaign", section, GR_CAMPAIGN_MAX_RESULTS);
                 return 0;
@@ -305,12 +395,50 @@ static int on_line(void *user, const char *section, const char *name, const char
             snprintf(last->value + used, sizeof last->value - used, ", %s", value);
             continue;
         }
+        for (int i = 0; i < c->n_lines[f]; i++) { /* a [set] or [set.F] key is not varied too */
+            const gr_campaign_line *o = &c->lines[f][i];
+            const bool set_vary = !strcmp(base, "set") && !strcmp(o->section, "vary") && gr_linked_key_names(o->key, name);
+            if (set_vary || (!strcmp(base, "vary") && !strcmp(o->section, "set") && gr_linked_key_names(name, o->key))) {
+                snprintf(p->error, sizeof p->error, "[%s] %s: also in [%s%s] %s; a key is either set or varied", section, name,
+                         o->section, strcmp(o->section, "set") ? (f ? ".full" : ".quick") : "", o->key);
+                return 0;
+            }
+        }
+        if (!strcmp(base, "sweep") && !strcmp(name, "seeds") && !check_seeds(p, section, value)) {
+            return 0;
+        }
         gr_campaign_line *l = &c->lines[f][c->n_lines[f]++];
         snprintf(l->section, sizeof l->section, "%s", base);
         snprintf(l->key, sizeof l->key, "%s", name);
         snprintf(l->value, sizeof l->value, "%s", value);
     }
     return 1;
+}
+
+/* Each entry of a thesis list (docs/campaigns/README.md) is "GROUP: [about|model|exact|range]
+ * VALUE ..." with a finite VALUE; anything else would be skipped silently when the rows are made.
+ * On a bad entry, `why` says which. */
+static bool thesis_ok(const char *thesis, char *why, size_t len)
+{
+    char buf[sizeof ((gr_campaign_result *)0)->thesis];
+    snprintf(buf, sizeof buf, "%s", thesis);
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ";", &save); tok; tok = strtok_r(NULL, ";", &save)) {
+        const char *colon = strchr(tok, ':'), *group = tok + strspn(tok, " \t");
+        const char *text = colon ? colon + 1 + strspn(colon + 1, " \t") : NULL;
+        static const char *const words[] = {"about ", "model ", "exact ", "range "};
+        for (int k = 0; k < 4 && text; k++) {
+            text += strncmp(text, words[k], strlen(words[k])) ? 0 : strlen(words[k]);
+        }
+        char *end = NULL;
+        const double v = text ? strtod(text, &end) : (double)NAN;
+        if (!colon || group == colon || end == text || !isfinite(v) || !strchr("-+0123456789.", text[0])) {
+            snprintf(why, len, "'%.80s' is not GROUP: [about|model|exact|range] VALUE [+- ERROR | .. HIGH] with a finite VALUE",
+                     tok + strspn(tok, " \t"));
+            return false;
+        }
+    }
+    return true;
 }
 
 /* "fig3.2" matches covers = "Fig. 3.1, Fig. 3.2": compare with spaces, dots after words and case
@@ -343,27 +471,32 @@ static bool covers(const char *list, const char *want)
     return false;
 }
 
-static int parse_text(gr_campaign *c, const char *text, const char *where, gr_error *err)
+/* Parse `len` bytes of campaign text (NUL bytes included: they are refused, not an end). */
+static int parse_text(gr_campaign *c, const char *text, size_t len, const char *where, gr_error *err)
 {
-    parse_ctx p = {.c = c};
-    int bad = ini_parse_string(text, on_line, &p);
-    if (bad > 0 && !p.error[0]) { /* inih cuts a line at INI_MAX_LINE and parses the rest as the next one */
-        const char *line = text, *prev = NULL;
-        for (int i = 1; i < bad && line; i++) {
-            prev = line;
-            line = strchr(line, '\n');
-            line = line ? line + 1 : NULL;
+    /* the scene reader's lines: control bytes (NUL included), long lines and headers checked alike */
+    static char newline[] = "\n"; /* fmemopen refuses a size of 0 */
+    FILE *in = len ? fmemopen((void *)text, len, "r") : fmemopen(newline, 1, "r");
+    parse_ctx p = {.c = c, .seen = calloc(SEEN_MAX, sizeof *p.seen)};
+    if (!in || !p.seen) {
+        if (in) {
+            fclose(in);
         }
-        const char *lng = prev && strcspn(prev, "\n") >= INI_MAX_LINE - 1 ? prev : line && strcspn(line, "\n") >= INI_MAX_LINE - 1 ? line : NULL;
-        if (lng) {
-            bad -= lng == prev;
-            snprintf(p.error, sizeof p.error, "line longer than %d characters (split it: about, note, thesis and verdict may repeat)",
-                     INI_MAX_LINE - 2);
-        }
+        free(p.seen);
+        return GR_FAIL(err, GR_ENOMEM, "%s: cannot read: out of memory", where);
     }
+    gr_line_reader lines = {.f = in, .what = "campaign file",
+                            .sections = "campaign, set, sweep.quick, vary.quick, set.quick, sweep.full, vary.full, set.full, result ID"};
+    p.lines = &lines;
+    int bad = gr_line_parse(&lines, on_line, &p);
+    fclose(in);
+    free(p.seen);
     if (bad) {
-        return GR_FAIL(err, GR_EINVAL, "%s:%d: %s", where, bad, p.error[0] ? p.error : "not an INI line");
+        int rc = GR_FAIL(err, GR_EINVAL, "%s:%d: %s", where, bad, lines.problem[0] ? lines.problem : p.error[0] ? p.error : "not an INI line");
+        gr_line_reader_free(&lines);
+        return rc;
     }
+    gr_line_reader_free(&lines);
     if (!c->title[0] || !c->scene[0]) {
         return GR_FAIL(err, GR_EINVAL, "%s: [campaign] needs title and scene", where);
     }
@@ -403,6 +536,10 @@ static int parse_text(gr_campaign *c, const char *text, const char *where, gr_er
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = spm_circle: y = %s: allowed %s", where, r->id, r->y,
                            GR_CAMPAIGN_SPM_CIRCLE_QUANTITIES);
         }
+        char why[200];
+        if (r->thesis[0] && !thesis_ok(r->thesis, why, sizeof why)) {
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] thesis: %s", where, r->id, why);
+        }
         if (r->axes[0] && strcmp(r->axes, "loglog") && strcmp(r->axes, "linlog") && strcmp(r->axes, "linear")) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] axes = %s: allowed loglog, linlog, linear", where, r->id, r->axes);
         }
@@ -435,7 +572,7 @@ int gr_campaign_load(gr_campaign *c, const char *name, gr_error *err)
         if (f) {
             fclose(f);
         }
-        int rc = got == (size_t)st.st_size ? parse_text(c, text, name, err) : GR_FAIL(err, GR_EIO, "%s: cannot read", name);
+        int rc = got == (size_t)st.st_size ? parse_text(c, text, got, name, err) : GR_FAIL(err, GR_EIO, "%s: cannot read", name);
         free(text);
         const char *base = strrchr(name, '/') ? strrchr(name, '/') + 1 : name;
         snprintf(c->name, sizeof c->name, "%.*s", (int)(strlen(base) > 4 ? strlen(base) - 4 : strlen(base)), base);
@@ -452,7 +589,7 @@ int gr_campaign_load(gr_campaign *c, const char *name, gr_error *err)
         gr_campaign probe;
         memset(&probe, 0, sizeof probe);
         gr_error perr = {0};
-        if (parse_text(&probe, gr_embedded_files[i].text, n, &perr)) {
+        if (parse_text(&probe, gr_embedded_files[i].text, strlen(gr_embedded_files[i].text), n, &perr)) {
             return GR_FAIL(err, GR_EINVAL, "%s", perr.message); /* a broken built-in campaign is a bug: say so */
         }
         if (!strcmp(own, name) || covers(probe.covers, name)) {

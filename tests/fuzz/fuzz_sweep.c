@@ -6,7 +6,6 @@
  * sweep's own `scene =` is replaced by the base scene (the scene parser has its own target). At
  * most POINT_CAP points (the first and the last ones) are resolved per input. Every input must
  * end in a clean refusal or an accepted sweep: never a crash, hang or sanitizer report. */
-#include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,34 +13,21 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "fuzz_files.h"
 #include "cli/sweep.h"
 
 #define POINT_CAP 8
 
-/* cli/main.c is not linked into the harness: messages are checked, not printed. */
-static char last_error[1024];
-
-void cli_error(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(last_error, sizeof last_error, fmt, ap);
-    va_end(ap);
-}
 
 static const char base_scene[] = "[system]\ndim = 1\nN = 10\nreduced_length = 0.1\n[placement]\nkind = uniform\n"
                                   "[run]\nduration = 0.01\nwarmup = 0\n";
-static char dir[64], sweep_path[128], scene_path[128];
+static char sweep_path[128], scene_path[128];
 static FILE *devnull;
 
 static void setup(void)
 {
-    snprintf(dir, sizeof dir, "/tmp/granule-fuzz-sweep-XXXXXX");
-    if (!mkdtemp(dir)) {
-        abort();
-    }
-    snprintf(sweep_path, sizeof sweep_path, "%s/sweep.ini", dir);
-    snprintf(scene_path, sizeof scene_path, "%s/base.ini", dir);
+    snprintf(sweep_path, sizeof sweep_path, "%s/sweep.ini", fuzz_dir);
+    snprintf(scene_path, sizeof scene_path, "%s/base.ini", fuzz_dir);
     FILE *f = fopen(scene_path, "w");
     if (!f || fwrite(base_scene, 1, sizeof base_scene - 1, f) != sizeof base_scene - 1 || fclose(f)) {
         abort();
@@ -53,21 +39,16 @@ static void cleanup(void)
 {
     unlink(sweep_path);
     unlink(scene_path);
-    rmdir(dir);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    if (!dir[0]) {
+    if (fuzz_first("sweep", cleanup)) {
         setup();
-        atexit(cleanup);
     }
-    FILE *f = fopen(sweep_path, "w");
-    if (!f || fwrite(data, 1, size, f) != size || fclose(f)) {
-        abort();
-    }
+    fuzz_write_input(sweep_path, data, size);
     sweep *s = calloc(1, sizeof *s);
     last_error[0] = 0;
     if (sweep_load(s, sweep_path) != EXIT_OK) {
