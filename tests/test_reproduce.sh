@@ -49,10 +49,10 @@ for n in names:
             ok &= os.path.exists(os.path.join(root, n, r["id"] + ".png"))
 sys.exit(0 if ok else 1)
 PY
-check head -1 "$tmp/results/ch2-placement/results.csv" | grep -q "^campaign,result,quantity,group,m,value,error,"
+check head -1 "$tmp/results/ch2-placement/results.csv" | grep -q "^campaign,result,quantity,unit,group,m,value,error,"
 # Fig. 6.3: the cascade row beside the RFM's, both configurations in the figure's data
 if [[ -d $tmp/results/ch6-cascade ]]; then
-    check grep -q '^ch6-cascade,fig6.3,D_f,"cascade placement (UCP)",0,[0-9]' "$tmp/results/ch6-cascade/results.csv"
+    check grep -q '^ch6-cascade,fig6.3,D_f,"1","cascade placement (UCP)",0,[0-9]' "$tmp/results/ch6-cascade/results.csv"
     check grep -q "^rfm," "$tmp/results/ch6-cascade/fig6.3_positions.csv"
     check test "$(grep -c "^cascade," "$tmp/results/ch6-cascade/fig6.3_positions.csv")" -eq 400
     check test -s "$tmp/results/ch6-cascade/fig6.3_data.png"
