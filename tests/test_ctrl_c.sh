@@ -50,7 +50,7 @@ check grep -q -- "--resume" "$tmp/runlog"
 
 # granule compare: the running model stops with a checkpoint; --resume keeps the finished ones,
 # continues it, and the comparison equals an uninterrupted one
-cmp_args=("$SRC/docs/scenes/rfm-1d.ini" --models spring_dashpot,spring_dashpot@clamp --set run.duration=2 --set system.N=200
+cmp_args=("$SRC/docs/scenes/rfm-1d.ini" --models spring_dashpot,spring_dashpot@clamp --set run.duration=2 --set system.N=100
     --set output.plots=false)
 pty "$tmp/cmp/spring_dashpot/scene.ini" 0.3 "$G" compare "${cmp_args[@]}" --out "$tmp/cmp" >"$tmp/cmplog" 2>&1
 check test $? -eq 5
