@@ -780,7 +780,7 @@ void gr_forces(gr_sim *s, gr_force_report *r)
     kernels[s->kernel].run(s, r); /* one call per force evaluation, not per pair */
 }
 
-void gr_kernel_choose(gr_sim *s)
+int gr_kernel_choose(gr_sim *s, gr_error *err)
 {
     const gr_contact_coeffs *c = &s->cc;
     const gr_model *normal = c->normal_model, *tangential = c->tangential_model;
@@ -801,9 +801,9 @@ void gr_kernel_choose(gr_sim *s)
     }
     if (k == N_KERNELS) {
         /* unreachable: every registered force law has every instance; gr_sim_create checks the
-         * models before choosing */
-        fprintf(stderr, "granule: internal error: no kernel for %s/%s\n", nname, tname);
-        abort();
+         * models before choosing. The library reports it to its caller instead of printing. */
+        return GR_FAIL(err, GR_EINVAL, "internal error: no force kernel for %s/%s/%s in %dD%s%s (please report it)", nname, tname,
+                       rname, s->dim, c->clamp ? ", clamped" : "", rot ? ", rotating" : "");
     }
     s->kernel = k;
     const char *noise = s->params.noise_mode == GR_NOISE_NONE ? "no-noise"
@@ -813,6 +813,7 @@ void gr_kernel_choose(gr_sim *s)
     snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s%s%s%s/%s", nb, e->normal, e->clamp ? "[clamped]" : "",
              e->tl != TL_none ? "+" : "", e->tl != TL_none ? e->tangential : "", e->rot ? "+rotation" : "",
              e->rl != RL_none ? "+" : "", e->rl != RL_none ? e->rolling : "", noise);
+    return GR_OK;
 }
 
 /* The history slot of the pair (i, j) in the list, listed either way (0 if it is not listed). */

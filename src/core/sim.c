@@ -273,7 +273,9 @@ static int finish(gr_sim *s, gr_error *err)
             s->pair_contact[i] = gap < s->d;
         }
     }
-    gr_kernel_choose(s);
+    if ((rc = gr_kernel_choose(s, err))) {
+        return rc;
+    }
     if (gr_kernel_history(s)) { /* a tangential law with per-contact history (models/list.h) */
         if (strcmp(s->integrator->name, "verlet") != 0) {
             return GR_FAIL(err, GR_EINVAL, "%s: [model] tangential = %s keeps a contact history, which only the verlet "

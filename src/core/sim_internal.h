@@ -158,6 +158,6 @@ int gr_kernel_history(const gr_sim *s);
 /* Brute-force O(N^2) reference forces (tests only). */
 void gr_forces_bruteforce(const gr_sim *s, double *fx, double *fy, double *elastic);
 /* Pick the kernel from the coefficients; sets s->kernel and s->kernel_name. */
-void gr_kernel_choose(gr_sim *s);
+int gr_kernel_choose(gr_sim *s, gr_error *err);
 
 #endif
