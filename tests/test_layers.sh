@@ -1,7 +1,8 @@
 #!/bin/bash
 # The layering of docs/architecture.md, checked on the source: the core (src/core) knows no
 # integrator and no io (it takes a gr_sim_params and hands its state to a byte buffer), and the
-# run driver reaches the integrators only through their interface (granule/integrator.h).
+# run driver reaches the integrators only through their interface (granule/integrator.h); the
+# library (everything but src/cli) never prints to stderr/stdout or aborts.
 # Usage: test_layers.sh SOURCE_ROOT
 set -u
 root=$1
@@ -23,5 +24,9 @@ for d in "$root"/src/integrators/*/; do
     name=$(basename "$d")
     grep -q "&gr_integrator_$name," "$root/src/integrators/registry.c" || bad "src/integrators/$name is not in registry.c"
 done
-[ $fail = 0 ] && echo "layers: ok (core free of io and of integrators; run driver uses the interface)"
+# the library never prints or aborts: it returns status and messages to its caller (the CLI, Python)
+lib_prints=$(grep -rn 'f\(printf\|puts\|putc\|write\)([^;]*\bstd\(err\|out\)\b\|[^a-z_]printf(\|[^a-z_]puts(\|[^a-z_]putchar(\|[^a-z_]abort()\|[^a-z_]perror(' \
+    "$root"/src "$root"/models --include='*.[ch]' | grep -v "^$root/src/cli/" | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
+[ -z "$lib_prints" ] || bad "the library prints or aborts (only src/cli may):"$'\n'"$lib_prints"
+[ $fail = 0 ] && echo "layers: ok (core free of io and of integrators; run driver uses the interface; the library does not print)"
 exit $fail

@@ -137,9 +137,10 @@ long gr_campaign_points(const gr_campaign *c, gr_fidelity fid);
 
 /* Read the finished points of DIR/runs and write RESULTS/results.csv, results.json, one data CSV
  * and one figure per result (the thesis's values overlaid), and archive every finished point in
- * RESULTS/points. *finished gets the finished points. */
+ * RESULTS/points. *finished gets the finished points; notes (one per line, "" if none) what the
+ * caller should tell the user (a figure not drawn, a point's SPM not run). */
 int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results, long *finished,
-                        gr_error *err);
+                        char *notes, size_t notes_len, gr_error *err);
 
 /* Put the points archived in RESULTS/points back into DIR/runs where DIR has no finished run of
  * its own, so that the sweep runs only what is missing; *restored gets how many. */

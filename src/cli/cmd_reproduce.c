@@ -302,7 +302,16 @@ int cmd_reproduce(int argc, char **argv)
         }
     }
     long finished = 0;
-    if (gr_campaign_analyse(c, fid, abs_dir, res_dir, &finished, &err)) {
+    static char notes[8192];
+    const int arc = gr_campaign_analyse(c, fid, abs_dir, res_dir, &finished, notes, sizeof notes, &err);
+    for (char *line = notes, *nl; *line; line = nl + 1) { /* the analysis's notes, one "reproduce: " line each */
+        nl = strchr(line, '\n');
+        fprintf(stderr, "reproduce: %.*s\n", nl ? (int)(nl - line) : (int)strlen(line), line);
+        if (!nl) {
+            break;
+        }
+    }
+    if (arc) {
         cli_error("reproduce: %s", err.message);
         free(c);
         return EXIT_FAILED;

@@ -183,7 +183,7 @@ void campaign_draw(const char *dir, const char *id, const char *suffix, const ch
     char note[256], png[160];
     snprintf(png, sizeof png, "%.100s%.40s.png", id, suffix);
     if (gr_plot_script(dir, png, body, note, sizeof note)) {
-        fprintf(stderr, "reproduce: %s/%s not drawn: %s\n", dir, png, note);
+        campaign_note("%s/%s not drawn: %s", dir, png, note);
     }
 }
 

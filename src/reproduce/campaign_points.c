@@ -1,5 +1,6 @@
 /* Reading a campaign's finished points back, and the row bookkeeping shared by the analyses. */
 #include <dirent.h>
+#include <stdarg.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -75,6 +76,31 @@ const char *campaign_point_key(const campaign_point *p, const char *key)
 {
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItem(p->manifest, "keys"), key);
     return cJSON_IsString(v) ? v->valuestring : "";
+}
+
+static char notes[8192];
+static size_t notes_used;
+
+void campaign_note(const char *fmt, ...)
+{
+    if (notes_used + 1 >= sizeof notes) {
+        return; /* the first notes are kept */
+    }
+    va_list ap;
+    va_start(ap, fmt);
+    const int n = vsnprintf(notes + notes_used, sizeof notes - notes_used - 1, fmt, ap);
+    va_end(ap);
+    notes_used = n > 0 ? notes_used + (size_t)n : notes_used;
+    notes_used = notes_used < sizeof notes - 2 ? notes_used : sizeof notes - 2;
+    notes[notes_used++] = '\n';
+    notes[notes_used] = 0;
+}
+
+void campaign_notes_take(char *out, size_t len)
+{
+    snprintf(out, len, "%s", notes);
+    notes_used = 0;
+    notes[0] = 0;
 }
 
 campaign_row *campaign_rows_add(campaign_rows *rows)

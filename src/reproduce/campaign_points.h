@@ -62,6 +62,11 @@ typedef struct campaign_rows {
     campaign_row *r;
 } campaign_rows;
 
+/* Notes of the analysis for its caller (a figure not drawn, a point's SPM not run): the library
+ * does not print; gr_campaign_analyse hands them over. */
+void campaign_note(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+void campaign_notes_take(char *out, size_t len);
+
 campaign_row *campaign_rows_add(campaign_rows *rows);
 void campaign_rows_free(campaign_rows *rows);
 

@@ -138,7 +138,7 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
     }
     if (!ours) { /* a curve without a fit window has its figure in ID_data.png only */
         if (r->kind != GR_RESULT_CURVE) {
-            fprintf(stderr, "reproduce: %s: no value in any row, no figure\n", r->id);
+            campaign_note("%s: no value in any row, no figure", r->id);
         }
         return;
     }
@@ -346,8 +346,8 @@ static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_
     return gr_file_commit(&data, err);
 }
 
-int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results, long *finished,
-                        gr_error *err)
+static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results, long *finished,
+                       gr_error *err)
 {
     campaign_points pts;
     int rc = campaign_points_read(dir, &pts, err);
@@ -491,5 +491,15 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
         rc = campaign_archive(c, &pts, results, err);
     }
     campaign_points_free(&pts);
+    return rc;
+}
+
+int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results, long *finished,
+                        char *notes, size_t notes_len, gr_error *err)
+{
+    char ignore[1];
+    campaign_notes_take(ignore, sizeof ignore); /* start with none */
+    const int rc = analyse_all(c, fid, dir, results, finished, err);
+    campaign_notes_take(notes ? notes : ignore, notes ? notes_len : sizeof ignore);
     return rc;
 }

@@ -90,7 +90,7 @@ static void make_table(const campaign_point *pt, long walks, int seed)
             remove(path);
         }
     } else {
-        fprintf(stderr, "reproduce: %s: spm full not run: %s\n", pt->dir, rc ? err.message : "cannot write " CMP_TABLE);
+        campaign_note("%s: spm full not run: %s", pt->dir, rc ? err.message : "cannot write " CMP_TABLE);
     }
     gr_spm_full_report_free(&r);
 }
