@@ -154,15 +154,43 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
     campaign_draw(dir, r->id, "", body);
 }
 
-/* The power-law data regrouped as gnuplot index blocks, one per (group, m), each with a title
- * line; returns the number of blocks. */
-static int power_law_blocks(const char *dir, const char *id)
+/* One block of ID_thesis.dat: the thesis's law y ~ x^-xi over [x_lo, x_hi] through (x_hi, y_hi)
+ * for the block (group, m), or "nan nan" where the thesis gives no single exponent. Returns
+ * whether a line was drawn. */
+static bool thesis_line(FILE *f, const gr_campaign_result *r, const char *group, int m, const char *title, bool after,
+                        double x_lo, double x_hi, double y_hi)
 {
-    char path[1200], name[80];
-    snprintf(path, sizeof path, "%s/%s_data.csv", dir, id);
-    snprintf(name, sizeof name, "%s_blocks.dat", id);
+    campaign_rows one = {0};
+    campaign_row *w = campaign_rows_add(&one);
+    snprintf(w->group, sizeof w->group, "%s", group);
+    w->m = m;
+    campaign_row_thesis(r, w);
+    const bool drawn = isfinite(w->thesis) && strcmp(w->comparison, "range") && strcmp(w->comparison, "construction") &&
+                       isfinite(x_lo) && x_hi > x_lo && y_hi > 0.0;
+    const double xi = w->thesis * (r->per_m && m ? m : 1);
+    campaign_rows_free(&one);
+    fprintf(f, "%s\"%s\"\n", after ? "\n\n" : "", title);
+    if (drawn) {
+        fprintf(f, "%.9g %.9g\n%.9g %.9g\n", x_lo, y_hi * pow(x_lo / x_hi, -xi), x_hi, y_hi);
+    } else {
+        fprintf(f, "nan nan\n");
+    }
+    return drawn;
+}
+
+/* The power-law data regrouped as gnuplot index blocks, one per (group, m), each with a title
+ * line; returns the number of blocks. For a power_law result with a thesis exponent, ID_thesis.dat
+ * gets, per block, the thesis's law y ~ x^-xi drawn over the block's fit window through its
+ * largest fitted point (two points; "nan" where the thesis gives no single exponent). */
+static int power_law_blocks(const char *dir, const gr_campaign_result *r, bool *thesis_lines)
+{
+    char path[1200], name[80], tname[80];
+    snprintf(path, sizeof path, "%s/%s_data.csv", dir, r->id);
+    snprintf(name, sizeof name, "%s_blocks.dat", r->id);
+    snprintf(tname, sizeof tname, "%s_thesis.dat", r->id);
+    *thesis_lines = false;
     FILE *in = gr_input_fopen(path, &(int){0});
-    gr_file f;
+    gr_file f, t;
     gr_error err = {0};
     if (!in || gr_file_open(&f, dir, name, &err)) {
         if (in) {
@@ -170,8 +198,15 @@ static int power_law_blocks(const char *dir, const char *id)
         }
         return 0;
     }
-    char line[512], prev[200] = "";
-    int blocks = 0;
+    const bool want_thesis = r->kind == GR_RESULT_POWER_LAW && r->thesis[0];
+    if (want_thesis && gr_file_open(&t, dir, tname, &err)) {
+        fclose(in);
+        gr_file_abandon(&f);
+        return 0;
+    }
+    char line[512], prev[200] = "", prev_group[200] = "";
+    int blocks = 0, prev_m = 0;
+    double x_lo = NAN, x_hi = NAN, y_hi = NAN;
     bool header = true;
     while (fgets(line, sizeof line, in)) {
         if (header) {
@@ -187,13 +222,32 @@ static int power_law_blocks(const char *dir, const char *id)
         char key[200];
         snprintf(key, sizeof key, "%.*s%s%.0d", (int)(q - line - 1), line + 1, m ? " m=" : "", m);
         if (strcmp(key, prev)) {
+            if (want_thesis && blocks) {
+                *thesis_lines |= thesis_line(t.f, r, prev_group, prev_m, prev, blocks > 1, x_lo, x_hi, y_hi);
+            }
             fprintf(f.f, "%s\"%s\"\n", blocks ? "\n\n" : "", key);
             snprintf(prev, sizeof prev, "%s", key);
+            snprintf(prev_group, sizeof prev_group, "%.*s", (int)(q - line - 1), line + 1);
+            prev_m = m;
+            x_lo = x_hi = y_hi = NAN;
             blocks++;
+        }
+        if (in_fit && isfinite(y)) {
+            x_lo = isfinite(x_lo) && x_lo < x ? x_lo : x;
+            if (!(x_hi >= x)) {
+                x_hi = x;
+                y_hi = y;
+            }
         }
         fprintf(f.f, "%.9g %.9g %.9g %d\n", x, y, isfinite(e) ? e : 0.0, in_fit);
     }
+    if (want_thesis && blocks) {
+        *thesis_lines |= thesis_line(t.f, r, prev_group, prev_m, prev, blocks > 1, x_lo, x_hi, y_hi);
+    }
     fclose(in);
+    if (want_thesis && gr_file_commit(&t, &err)) {
+        *thesis_lines = false;
+    }
     return gr_file_commit(&f, &err) ? 0 : blocks;
 }
 
@@ -202,20 +256,27 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
 {
     char body[2048];
     if (r->kind == GR_RESULT_POWER_LAW) {
-        int blocks = power_law_blocks(dir, r->id);
+        bool thesis_lines;
+        int blocks = power_law_blocks(dir, r, &thesis_lines);
         if (!blocks) {
             return;
         }
-        char window[64];
+        char window[64], thesis[256] = "";
         snprintf(window, sizeof window, isfinite(r->x_max) ? "%g-%g" : "from %g", r->x_min, r->x_max);
+        if (thesis_lines) { /* the thesis's exponent drawn through each fit's largest point */
+            snprintf(thesis, sizeof thesis, ", for [i=0:%d] '%s_thesis.dat' index i using 1:2 with lines dt 2 lw 2 lc i+1 "
+                                            "title (i == 0 ? 'thesis exponent (dashed)' : '')",
+                     blocks - 1, r->id);
+        }
         snprintf(body, sizeof body,
                  "set datafile separator whitespace\nset logscale xy\nset key outside right noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
                  "set title \"%s: the points of every fit (open: outside the fit window, %s)\" noenhanced\n"
                  "plot for [i=0:%d] '%s_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 lc i+1 title columnheader(1), "
-                 "for [i=0:%d] '' index i using 1:($4 > 0 ? 1/0 : $2) with points pt 6 lc i+1 notitle\n",
-                 r->x, r->y, r->id, window, blocks - 1, r->id, blocks - 1);
+                 "for [i=0:%d] '' index i using 1:($4 > 0 ? 1/0 : $2) with points pt 6 lc i+1 notitle%s\n",
+                 r->x, r->y, r->id, window, blocks - 1, r->id, blocks - 1, thesis);
     } else if (r->kind == GR_RESULT_CURVE) {
-        int blocks = power_law_blocks(dir, r->id);
+        bool unused;
+        int blocks = power_law_blocks(dir, r, &unused);
         if (!blocks) {
             return;
         }
