@@ -251,6 +251,23 @@ static int power_law_blocks(const char *dir, const gr_campaign_result *r, bool *
     return gr_file_commit(&f, &err) ? 0 : blocks;
 }
 
+/* Axis labels a physicist reads: the summary path of a power law's ordinate as the quantity it
+ * holds, the varied key of its abscissa without its section, with its unit. */
+static void axis_labels(const gr_campaign_result *r, char *x, size_t xl, char *y, size_t yl)
+{
+    const char *dot = strchr(r->x, '.');
+    const char *unit = gr_scene_key_unit(r->x);
+    snprintf(x, xl, "%s%s%s%s", dot ? dot + 1 : r->x, unit && unit[0] && strcmp(unit, "1") ? " (" : "",
+             unit && unit[0] && strcmp(unit, "1") ? unit : "", unit && unit[0] && strcmp(unit, "1") ? ")" : "");
+    if (strstr(r->y, "moments.speed.m")) {
+        snprintf(y, yl, "%s", strstr(r->y, "{m}") ? "<|v|^m> ((m/s)^m)" : "<v^2> (m^2/s^2)");
+    } else if (strstr(r->y, "gaps.moments.")) {
+        snprintf(y, yl, "<R^m> of the neighbour separation (m^m)");
+    } else {
+        snprintf(y, yl, "%s", r->y);
+    }
+}
+
 /* the data behind a fit or a running average */
 static void plot_data(const char *dir, const gr_campaign_result *r)
 {
@@ -261,7 +278,8 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
         if (!blocks) {
             return;
         }
-        char window[64], thesis[256] = "";
+        char window[64], thesis[256] = "", xlab[96], ylab[96];
+        axis_labels(r, xlab, sizeof xlab, ylab, sizeof ylab);
         snprintf(window, sizeof window, isfinite(r->x_max) ? "%g-%g" : "from %g", r->x_min, r->x_max);
         if (thesis_lines) { /* the thesis's exponent drawn through each fit's largest point */
             snprintf(thesis, sizeof thesis, ", for [i=0:%d] '%s_thesis.dat' index i using 1:2 with lines dt 2 lw 2 lc i+1 "
@@ -273,7 +291,7 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
                  "set title \"%s: the points of every fit (open: outside the fit window, %s)\" noenhanced\n"
                  "plot for [i=0:%d] '%s_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 lc i+1 title columnheader(1), "
                  "for [i=0:%d] '' index i using 1:($4 > 0 ? 1/0 : $2) with points pt 6 lc i+1 notitle%s\n",
-                 r->x, r->y, r->id, window, blocks - 1, r->id, blocks - 1, thesis);
+                 xlab, ylab, r->id, window, blocks - 1, r->id, blocks - 1, thesis);
     } else if (r->kind == GR_RESULT_CURVE) {
         bool unused;
         int blocks = power_law_blocks(dir, r, &unused);

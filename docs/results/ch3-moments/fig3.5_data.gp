@@ -2,8 +2,8 @@
 set datafile separator whitespace
 set logscale xy
 set key outside right noenhanced
-set xlabel 'system.N' noenhanced
-set ylabel 'analysis.moments.speed.m{m}' noenhanced
+set xlabel 'N' noenhanced
+set ylabel '<|v|^m> ((m/s)^m)' noenhanced
 set title "fig3.5: the points of every fit (open: outside the fit window, from 251)" noenhanced
 plot for [i=0:62] 'fig3.5_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 lc i+1 title columnheader(1), for [i=0:62] '' index i using 1:($4 > 0 ? 1/0 : $2) with points pt 6 lc i+1 notitle, for [i=0:62] 'fig3.5_thesis.dat' index i using 1:2 with lines dt 2 lw 2 lc i+1 title (i == 0 ? 'thesis exponent (dashed)' : '')
 
