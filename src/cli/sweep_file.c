@@ -2,7 +2,6 @@
  * varied values and one seed, numbered from 0 with the seed fastest, then the last [vary] key. */
 #include <dirent.h>
 #include <errno.h>
-#include <ftw.h>
 #include <ini.h>
 #include <libgen.h>
 #include <stdio.h>
@@ -365,14 +364,6 @@ void sweep_list(const sweep *s, FILE *f)
     }
 }
 
-static int remove_entry(const char *path, const struct stat *st, int flag, struct FTW *ftw)
-{
-    (void)st;
-    (void)flag;
-    (void)ftw;
-    return remove(path);
-}
-
 int sweep_foreign_points(const sweep *s, bool force, char *why, size_t len)
 {
     why[0] = 0;
@@ -393,8 +384,9 @@ int sweep_foreign_points(const sweep *s, bool force, char *why, size_t len)
         }
         char path[1400];
         snprintf(path, sizeof path, "%s/%s", s->out, name);
-        if (force && nftw(path, remove_entry, 16, FTW_DEPTH | FTW_PHYS) != 0) {
-            snprintf(why, len, "%s: cannot remove %s, a point of another sweep: %s", s->out, name, strerror(errno));
+        gr_error err = {0};
+        if (force && gr_output_dir_remove(path, &err)) {
+            snprintf(why, len, "%.700s (a point of another sweep)", err.message);
             closedir(d);
             return -1;
         }

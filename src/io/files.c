@@ -388,6 +388,15 @@ static int empty_dir(const char *dir, bool top, gr_error *err)
     return rc;
 }
 
+int gr_output_dir_remove(const char *dir, gr_error *err)
+{
+    int rc = empty_dir(dir, false, err);
+    if (!rc && rmdir(dir) != 0 && errno != ENOENT) {
+        rc = GR_FAIL(err, GR_EIO, "cannot remove %s: %s", dir, strerror(errno));
+    }
+    return rc;
+}
+
 /* The folder check of gr_output_dir_prepare: refuse, empty or leave dir as it is. */
 static int claim_dir(const char *dir, gr_output_kind kind, bool force, gr_error *err)
 {

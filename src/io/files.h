@@ -71,6 +71,9 @@ gr_output_kind gr_output_dir_kind(const char *dir, char *what, size_t len);
 /* "a run", "a comparison", ... */
 const char *gr_output_kind_name(gr_output_kind kind);
 
+/* Remove dir and everything under it (symlinks removed, never followed). */
+int gr_output_dir_remove(const char *dir, gr_error *err);
+
 /* Create dir (and parents) for a result of `kind` and prove it is writable. A folder holding a
  * result (gr_output_dir_kind) is refused (GR_EINVAL, naming the folder, what it holds and
  * --force) unless force; with force it is emptied as a whole first (its lock files kept), but
