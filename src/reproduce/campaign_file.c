@@ -517,6 +517,16 @@ static int parse_text(gr_campaign *c, const char *text, size_t len, const char *
             !r->y[0]) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] needs y (a summary.json path)", where, r->id);
         }
+        if (r->restates[0]) { /* counted once: where its numbers are, which must exist and be another result */
+            int k = 0;
+            while (k < c->n_results && (k == i || strcmp(c->results[k].id, r->restates))) {
+                k++;
+            }
+            if (k == c->n_results) {
+                return GR_FAIL(err, GR_EINVAL, "%s: [result %s] restates = %s: not another result of this campaign", where, r->id,
+                               r->restates);
+            }
+        }
         if (r->kind == GR_RESULT_POWER_LAW && !r->x[0]) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = power_law needs x (the varied key)", where, r->id);
         }
