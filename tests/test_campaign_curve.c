@@ -1,4 +1,4 @@
-/* The curve analysis of reproduction campaigns (src/reproduce/campaign_curve.c): a run's series is
+/* The curve analysis of reproduction campaigns (src/app/reproduce/campaign_curve.c): a run's series is
  * read from its table with the `where` filter, and the bisection collapse (thesis 3.39-3.40) maps
  * the uniform bisection process's distribution G_1 = A (-ln R)^(n-1) (3.36) onto the line -ln R. */
 #include <check.h>
@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 #include "granule/analysis.h"
-#include "reproduce/campaign_points.h"
+#include "app/reproduce/campaign_points.h"
 #include "check_main.h"
 
 START_TEST(test_collapse_of_uniform_bisection_is_minus_ln_R)

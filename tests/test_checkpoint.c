@@ -28,7 +28,7 @@
 #include "granule/observe.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
-#include "io/blob.h"
+#include "analysis/blob_stats.h"
 #include "io/checkpoint.h"
 #include "check_main.h"
 

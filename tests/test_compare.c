@@ -1,4 +1,4 @@
-/* Tests of granule compare's library part (include/granule/compare.h, src/io/compare*.c):
+/* Tests of granule compare's library part (include/granule/compare.h, src/app/compare*.c):
  * the model SPECs and their refusals, "value +- error" formatting, the headline table's cells and
  * the reason that replaces every missing number (from hand-written summaries with a known
  * answer), real tiny runs of one scene under the verlet, hybrid and event-driven integrators in

@@ -223,7 +223,7 @@ static void event(const gr_observable_type *ty, void *st, int i, int kind, doubl
 
 /* Collisions every 12.5 ms per particle (contacts of 1 ms), samples every 0.1
  * s; the events of each interval arrive after its closing sample, as in
- * src/io/run.c. */
+ * src/app/run.c. */
 START_TEST(test_collisions_periodic)
 {
     gr_scene sc;

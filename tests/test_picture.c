@@ -26,7 +26,7 @@
 #include "granule/run.h"
 #include "granule/scene.h"
 #include "granule/status.h"
-#include "io/picture.h"
+#include "app/run_picture.h"
 #include "io/snapshot.h"
 #include "check_main.h"
 

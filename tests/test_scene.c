@@ -1,5 +1,5 @@
-/* Tests of scene loading (src/io/scene.c), the time-step check of gr_sim_create and the run
- * driver's output-folder contract (src/io/run.c, src/io/files.c), through the public API.
+/* Tests of scene loading (src/scene/scene.c), the time-step check of gr_sim_create and the run
+ * driver's output-folder contract (src/app/run.c, src/io/files.c), through the public API.
  *
  * Every test writes its small INI files into a fresh folder made with mkdtemp and removes it at
  * the end. Refusals must return GR_EINVAL with a one-line message that names where the value came
@@ -22,7 +22,7 @@
 #include "granule/scene.h"
 #include "granule/sim.h"
 #include "granule/status.h"
-#include "io/scene_json.h"
+#include "scene/scene_json.h"
 #include "check_main.h"
 
 /* ---------- a fresh temporary folder per test ---------- */
@@ -111,7 +111,7 @@ static char *slurp(const char *path)
 
 /* A run recorded by an older granule (its scene JSON lacks keys added since, at their defaults)
  * ran the same physics; a changed value, a new key away from its default or a key granule no
- * longer has did not (sweeps and campaigns resume across versions, src/cli/sweep_point.c). */
+ * longer has did not (sweeps and campaigns resume across versions, src/app/sweep_point.c). */
 START_TEST(recorded_scene_compatibility)
 {
     const char *path = write_scene("[system]\ndim = 2\nN = 50\nL = 0.05\n[model]\ntangential = tangential_dashpot\n");

@@ -41,6 +41,9 @@ typedef struct gr_integrator_type {
     /* Kicks the angular velocities with the torques (gr_sim omega, tq) when a scene has rotation
      * ([model] rotation = true); an integrator without it refuses such a scene. */
     bool rotation;
+    /* Carries a tangential spring's per-contact history (models/list.h: a law with history) from
+     * step to step; an integrator without it refuses such a scene. */
+    bool contact_history;
 
     /* Build the integrator's state (into the simulation's integrator_state) once positions,
      * velocities, coefficients, the time step and the first forces are set. NULL: none. */

@@ -66,7 +66,7 @@ typedef struct gr_observable_type {
      * NULL for observables that only need frames. Events exist only while a run samples, not in
      * `granule analyse` (snapshots do not record contacts). */
     int (*events)(void *state, const gr_contact_event *ev, int64_t n, gr_error *err);
-    /* Checkpoints (docs/checkpoints.md): append every accumulator to `out` (src/io/blob.h), and
+    /* Checkpoints (docs/checkpoints.md): append every accumulator to `out` (src/analysis/blob_stats.h), and
      * restore them into a state just created from the same scene, so that sampling continues
      * bit for bit. NULL: the observable cannot be checkpointed (a run using it refuses to). */
     int (*save)(const void *state, struct gr_blob *out, gr_error *err);

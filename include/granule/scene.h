@@ -1,7 +1,7 @@
 /* Scenes: one run's physical system, collision model, noise, integrator, run length and
  * outputs, read from an INI file (SPEC sec. 3) plus `--set section.key=value` overrides.
  *
- * Every key is described by a gr_param descriptor (src/io/scene_keys.c for the engine's keys,
+ * Every key is described by a gr_param descriptor (src/scene/scene_keys.c for the engine's keys,
  * the models' own tables for [model]); the same tables validate input, fill defaults (Table 2.2)
  * and generate docs/scene-keys.md. Errors name the file, line, key and allowed range. */
 #ifndef GRANULE_SCENE_H
@@ -114,7 +114,7 @@ const char *gr_scene_key_unit(const char *key);
 /* Reduced mass of two identical particles. */
 static inline double gr_scene_m12(const gr_scene *s) { return 0.5 * s->mass; }
 
-/* The simulation parameters of a scene (src/io/scene_sim.c): what gr_sim_new needs. */
+/* The simulation parameters of a scene (src/scene/scene_sim.c): what gr_sim_new needs. */
 void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p);
 
 /* Build a simulation from a resolved scene (gr_sim_new with gr_scene_sim_params): place the

@@ -4,7 +4,7 @@
 #include "pygranule.h"
 
 #include "granule_config.h"
-#include "io/scene_json.h"
+#include "scene/scene_json.h"
 #include <cjson/cJSON.h>
 
 PyObject *pyg_error, *pyg_scene_error;

@@ -6,7 +6,7 @@
 #include <cjson/cJSON.h>
 
 #include "io/files.h"
-#include "io/scene_json.h"
+#include "scene/scene_json.h"
 
 typedef struct {
     PyObject_HEAD

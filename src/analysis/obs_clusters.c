@@ -15,7 +15,7 @@
 
 #include "analysis/obs_cells.h"
 #include "analysis/obs_util.h"
-#include "io/blob.h"
+#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 

@@ -13,7 +13,7 @@
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
-#include "io/blob.h"
+#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -93,7 +93,7 @@ static int events(void *state, const gr_contact_event *ev, int64_t n, gr_error *
 }
 
 /* The events of the interval (t_{k-1}, t_k] arrive after the sample at t_k
- * (src/io/run.c): at sample k + 1 `since` holds those of the interval that
+ * (src/app/run.c): at sample k + 1 `since` holds those of the interval that
  * ended at the previous sample. */
 static void close_interval(collisions *c)
 {

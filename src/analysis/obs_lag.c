@@ -6,7 +6,7 @@
 
 #include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
-#include "io/blob.h"
+#include "analysis/blob_stats.h"
 
 int gr_lag_init(gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error *err)
 {

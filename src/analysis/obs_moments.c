@@ -7,7 +7,7 @@
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
-#include "io/blob.h"
+#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 

@@ -40,7 +40,7 @@
 
 #include "analysis/obs_util.h"
 #include "io/plot.h"
-#include "io/blob.h"
+#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 

@@ -7,7 +7,7 @@
 #include "analysis/obs_util.h"
 #include "granule/scene.h"
 #include "granule_config.h"
-#include "io/blob.h"
+#include "analysis/blob_stats.h"
 #include "io/plot.h"
 
 void gr_obs_mean_velocity(const gr_particles *p, double mean[2])

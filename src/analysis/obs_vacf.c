@@ -19,7 +19,7 @@
 
 #include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
-#include "io/blob.h"
+#include "analysis/blob_stats.h"
 #include "granule/scene.h"
 
 static const gr_param params[] = {

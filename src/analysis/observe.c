@@ -6,7 +6,7 @@
 
 #include "granule/observe.h"
 #include "granule/scene.h"
-#include "io/blob.h"
+#include "analysis/blob_stats.h"
 
 extern const gr_observable_type gr_obs_moments;
 extern const gr_observable_type gr_obs_freepath;

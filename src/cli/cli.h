@@ -5,13 +5,8 @@
 #include <stdbool.h>
 #include <stdio.h>
 
+#include "app/report.h"
 #include "granule/status.h"
-
-/* Exit codes */
-enum { EXIT_OK = 0, EXIT_FAILED = 1, EXIT_REFUSED = 2, EXIT_UNSTABLE = 3,
-       EXIT_WALL_LIMIT = 4, /* stopped before run.wall_limit ran out; checkpoint written (docs/checkpoints.md) */
-       EXIT_STOPPED = 5,    /* stopped by SIGTERM/SIGINT; checkpoint written */
-       EXIT_WRITE_FAILED = 6 }; /* an output could not be written (a full disk); checkpoint kept, resume */
 
 int cmd_run(int argc, char **argv);
 /* SIGTERM/SIGINT ask `granule run` to checkpoint and stop (exit 5; a second signal kills): main
@@ -35,14 +30,12 @@ int cmd_cascade(int argc, char **argv);
 int cmd_fokker_planck(int argc, char **argv);
 int cmd_export(int argc, char **argv);
 
-/* Print "granule: <message>" on stderr, one line, control bytes and invalid UTF-8 as \xNN. */
-void cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-/* Print text with the same escaping. */
-void cli_print_escaped(FILE *f, const char *text);
-/* The exit status for a library status: 0 ok, 2 refused input (GR_EINVAL), 3 unstable, 1 other. */
-int cli_exit_code(int status);
-/* True when progress lines may be drawn (stderr is a terminal and CI is not set). */
-bool cli_interactive(void);
+/* Error lines, exit codes and the terminal test are the application layer's (src/app/report.h);
+ * the command files use them under their CLI names. */
+#define cli_error app_error
+#define cli_print_escaped app_print_escaped
+#define cli_exit_code app_exit_code
+#define cli_interactive app_interactive
 /* For the branch of an option loop that met an argument it does not take: when `a` is one of the
  * space-separated options of `with_value` and is the last argument (`last`), print "CMD: A needs
  * a value" and return true (the caller then refuses, exit 2); false otherwise (the caller reports

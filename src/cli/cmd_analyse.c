@@ -15,7 +15,7 @@
 #include "granule_commit.h"
 #include "granule_config.h"
 #include "io/files.h"
-#include "io/scene_json.h"
+#include "scene/scene_json.h"
 #include "io/lammps_dump.h"
 #include "io/snapshot.h"
 #include "io/summary_read.h"

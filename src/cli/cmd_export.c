@@ -1,5 +1,5 @@
 /* granule export lammps SCENE [--out DIR] [--set ...] [--force]: write a LAMMPS deck and data file for the
- * scene (the mapping lives in src/export/lammps.c; docs/lammps.md). */
+ * scene (the mapping lives in src/scene/lammps_deck.c; docs/lammps.md). */
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>

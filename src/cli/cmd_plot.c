@@ -11,7 +11,7 @@
 
 #include "cli/cli.h"
 #include "io/files.h"
-#include "io/picture.h"
+#include "app/run_picture.h"
 #include "io/plot.h"
 
 static int redraw_scripts(const char *dir, int *drawn)

@@ -11,7 +11,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
-#include "cli/sweep.h"
+#include "app/sweep.h"
 #include "granule/campaign.h"
 #include "io/files.h"
 #include "io/summary_read.h"

@@ -11,9 +11,9 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
-#include "cli/sweep.h"
+#include "app/sweep.h"
 #include "io/files.h"
-#include "io/scene_json.h"
+#include "scene/scene_json.h"
 
 static void usage(FILE *f)
 {

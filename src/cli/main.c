@@ -10,52 +10,6 @@
 #include "granule_commit.h"
 #include "granule_config.h"
 
-/* Bytes a terminal would act on or mangle (control bytes, invalid UTF-8 from a binary file or
- * argument) are printed as \xNN, so a message is always one readable line. */
-static size_t utf8_length(const unsigned char *p)
-{
-    size_t n = p[0] >= 0xf0 && p[0] <= 0xf4 ? 4 : p[0] >= 0xe0 ? 3 : p[0] >= 0xc2 && p[0] <= 0xdf ? 2 : 0;
-    for (size_t i = 1; i < n; i++) {
-        if ((p[i] & 0xc0) != 0x80) {
-            return 0;
-        }
-    }
-    return n;
-}
-
-void cli_print_escaped(FILE *f, const char *text)
-{
-    for (const unsigned char *p = (const unsigned char *)text; *p;) {
-        size_t n = *p >= 0x80 ? utf8_length(p) : 0;
-        if (n) {
-            fwrite(p, 1, n, f);
-            p += n;
-        } else if (*p < 0x20 || *p == 0x7f || *p >= 0x80) {
-            fprintf(f, *p == '\n' ? "\\n" : "\\x%02x", *p);
-            p++;
-        } else {
-            fputc(*p++, f);
-        }
-    }
-}
-
-void cli_error(const char *fmt, ...)
-{
-    char text[4096];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(text, sizeof text, fmt, ap);
-    va_end(ap);
-    fputs("granule: ", stderr);
-    cli_print_escaped(stderr, text);
-    fputc('\n', stderr);
-}
-
-int cli_exit_code(int status)
-{
-    return status == GR_OK ? EXIT_OK : status == GR_EINVAL ? EXIT_REFUSED : status == GR_EUNSTABLE ? EXIT_UNSTABLE : EXIT_FAILED;
-}
-
 bool cli_missing_value(const char *cmd, const char *a, const char *with_value, bool last)
 {
     const size_t n = strlen(a);
@@ -66,12 +20,6 @@ bool cli_missing_value(const char *cmd, const char *a, const char *with_value, b
         }
     }
     return false;
-}
-
-bool cli_interactive(void)
-{
-    const char *ci = getenv("CI");
-    return isatty(STDERR_FILENO) && !(ci && *ci && strcmp(ci, "0") != 0 && strcmp(ci, "false") != 0);
 }
 
 bool cli_number(const char *opt, const char *text, double *out)

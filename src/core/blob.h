@@ -1,6 +1,6 @@
 /* Binary blobs: a growable write buffer and a bounds-checked reader. The core serialises a
  * simulation into one (gr_sim_save_state) and reads it back; the io layer writes it to a
- * checkpoint file (src/io/checkpoint.c), and src/io/blob.h adds the analysis accumulators.
+ * checkpoint file (src/io/checkpoint.c), and src/analysis/blob_stats.h adds the analysis accumulators.
  *
  * Values are stored in the machine's own byte order and sizes (the checkpoint header records
  * both and refuses a file from a different machine layout), so doubles round-trip bit for bit.

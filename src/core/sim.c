@@ -173,10 +173,8 @@ static int prepare_contact(gr_sim *s, gr_error *err)
 static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *err)
 {
     if (!p->integrator || !p->integrator->step) {
-        char names[200];
-        gr_integrator_names(names, sizeof names, " | ");
-        return GR_FAIL(err, GR_EINVAL, "%s: no integrator given (gr_sim_params.integrator); registered: %s", p->source,
-                       names);
+        return GR_FAIL(err, GR_EINVAL, "%s: no integrator given (gr_sim_params.integrator: one of gr_integrators, "
+                       "e.g. gr_integrator_find(\"verlet\"); include/granule/integrator.h)", p->source);
     }
     gr_sim *s = calloc(1, sizeof *s);
     if (!s) {
@@ -277,7 +275,7 @@ static int finish(gr_sim *s, gr_error *err)
         return rc;
     }
     if (gr_kernel_history(s)) { /* a tangential law with per-contact history (models/list.h) */
-        if (strcmp(s->integrator->name, "verlet") != 0) {
+        if (!s->integrator->contact_history) {
             return GR_FAIL(err, GR_EINVAL, "%s: [model] tangential = %s keeps a contact history, which only the verlet "
                            "integrator carries; given [integrator] kind = %s (allowed: verlet)", s->params.source,
                            s->cc.tangential_model->name, s->integrator->name);

@@ -1,6 +1,6 @@
 /* The complete state of a simulation as bytes, for exact restarts (docs/checkpoints.md): the
  * core's part, then the integrator's own (its save / load hooks). Private to the tree:
- * src/io/run_checkpoint.c writes the bytes to a file, tests use it. */
+ * src/app/run_checkpoint.c writes the bytes to a file, tests use it. */
 #ifndef GR_SIM_STATE_H
 #define GR_SIM_STATE_H
 

@@ -80,16 +80,6 @@ int gr_picture_spacetime(const gr_frame *frames, int n, double radius, const cha
 int gr_picture_spacetime_layout(int n, double L, double radius, const gr_picture_options *opt, gr_spacetime_layout *l,
                                 gr_error *err);
 
-/* The picture of a run folder: DIR/snapshot.png from the last snapshot in DIR/snapshots (2D) or
- * DIR/snapshots.png, the space-time diagram of the last (up to) 800 snapshots (1D). The radius comes from
- * DIR/scene.ini when it loads, else from the snapshots' radius column. No snapshots: GR_EINVAL. */
-int gr_picture_run(const char *run_dir, gr_error *err);
-
-/* As gr_picture_run with options (NULL = defaults); the path written is copied to png_path
- * (may be NULL). */
-int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *png_path, size_t png_path_size,
-                      gr_error *err);
-
 /* The fill colour (sRGB components in [0, 1]) of a particle with |v|/v_rms = ratio. */
 void gr_picture_colour(const gr_picture_options *opt, double ratio, double rgb[3]);
 

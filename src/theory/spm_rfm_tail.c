@@ -1,7 +1,7 @@
 /* The RFM's measured P(v) against the SPM's asymptotic tail (thesis sec. 5.3.3, Figs. 5.12-5.13):
  * the fold of a P(v) table, the fit of 5.31 with alpha and h fixed, the tail plot
  * -ln(-ln(P/P')) of Fig. 5.13 for P' = P(0) and P' = A0, and C of 4.25 at a fixed D_f.
- * Declared in granule/spm.h; the campaign kind `spm` (src/reproduce/campaign_spm.c) applies them. */
+ * Declared in granule/spm.h; the campaign kind `spm` (src/app/reproduce/campaign_spm.c) applies them. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -1,6 +1,6 @@
-/* libFuzzer target: the campaign file parser of `granule reproduce FILE` (src/reproduce/
+/* libFuzzer target: the campaign file parser of `granule reproduce FILE` (src/app/reproduce/
  * campaign_file.c: gr_campaign_load, gr_campaign_points, gr_campaign_materialise) and the sweep
- * file it writes for each fidelity, read back by sweep_load (src/cli/sweep_file.c) as reproduce
+ * file it writes for each fidelity, read back by sweep_load (src/app/sweep_file.c) as reproduce
  * does before running anything.
  *
  * gr_campaign_load reads a path, so each input is written to a private temporary folder first;
@@ -15,7 +15,7 @@
 
 #include "cli/cli.h"
 #include "fuzz_files.h"
-#include "cli/sweep.h"
+#include "app/sweep.h"
 #include "granule/campaign.h"
 
 

@@ -18,9 +18,9 @@
 #include "granule/observe.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
-#include "io/blob.h"
+#include "analysis/blob_stats.h"
 #include "io/checkpoint.h"
-#include "io/run_checkpoint.h"
+#include "app/run_checkpoint.h"
 
 /* Keep in step with tests/fuzz/gen-corpus-checkpoint.sh. */
 #define FUZZ_SCENE                                                                                  \

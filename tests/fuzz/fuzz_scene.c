@@ -1,4 +1,4 @@
-/* libFuzzer target: the scene parser (src/io/scene.c) and `--set section.key=value` overrides,
+/* libFuzzer target: the scene parser (src/scene/scene.c) and `--set section.key=value` overrides,
  * then, for a scene the parser accepts, a tiny valid run (simulation, observers, scene JSON).
  *
  * Input: scene INI text, optionally followed by a line "#--set" and one override per line (at
@@ -15,7 +15,7 @@
 #include "granule/observe.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
-#include "io/scene_json.h"
+#include "scene/scene_json.h"
 
 #define MAX_OVERRIDES 16
 #define N_CAP 32

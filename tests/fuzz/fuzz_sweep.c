@@ -1,4 +1,4 @@
-/* libFuzzer target: the sweep file parser of `granule sweep FILE` (src/cli/sweep_file.c:
+/* libFuzzer target: the sweep file parser of `granule sweep FILE` (src/app/sweep_file.c:
  * sweep_load, sweep_list) and the per-point overrides it builds (sweep_overrides), each resolved
  * by the scene parser against a small base scene.
  *
@@ -14,7 +14,7 @@
 
 #include "cli/cli.h"
 #include "fuzz_files.h"
-#include "cli/sweep.h"
+#include "app/sweep.h"
 
 #define POINT_CAP 8
 

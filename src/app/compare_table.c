@@ -1,0 +1,276 @@
+/* The table of a comparison (include/granule/compare.h): the headline a physicist reads first,
+ * built from each model's summary.json, with units, "value +- error" cells and the reason where
+ * there is no number; and the full table of every scalar as compare.csv / compare.json. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "granule/compare.h"
+#include "io/files.h"
+#include "io/summary_read.h"
+
+static const cJSON *member(const cJSON *j, const char *path)
+{
+    char buf[160];
+    snprintf(buf, sizeof buf, "%s", path);
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ".", &save); tok && j; tok = strtok_r(NULL, ".", &save)) {
+        j = cJSON_GetObjectItemCaseSensitive(j, tok);
+    }
+    return j;
+}
+
+static const char *string_at(const cJSON *j, const char *path, const char *fallback)
+{
+    const cJSON *m = member(j, path);
+    return cJSON_IsString(m) ? m->valuestring : fallback;
+}
+
+static gr_compare_row *add_row(gr_compare_table *t, const char *quantity, const char *key, const char *unit)
+{
+    gr_compare_row *r = &t->row[t->n_rows++];
+    snprintf(r->quantity, sizeof r->quantity, "%s", quantity);
+    snprintf(r->key, sizeof r->key, "%s", key);
+    snprintf(r->unit, sizeof r->unit, "%s", unit);
+    for (int k = 0; k < GR_COMPARE_MAX; k++) {
+        r->cell[k].value = r->cell[k].error = NAN;
+    }
+    return r;
+}
+
+static void set_number(gr_compare_cell *c, double value, double error, const char *suffix)
+{
+    c->value = value;
+    c->error = error;
+    char num[80];
+    gr_compare_format(value, error, num, sizeof num);
+    snprintf(c->text, sizeof c->text, "%.70s%.40s", num, suffix ? suffix : "");
+}
+
+static void set_reason(gr_compare_cell *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void set_reason(gr_compare_cell *c, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(c->text, sizeof c->text, fmt, ap);
+    va_end(ap);
+}
+
+const char *gr_compare_mark_words(char mark)
+{
+    return mark == '*' ? "error bar not converged (a lower bound): run longer"
+                       : "free fit of (5.5): no alpha has chi2/dof < 1.2 in the Table 5.1 window";
+}
+
+static void footnote(gr_compare_table *t, const char *line)
+{
+    if (!strstr(t->footnotes, line)) {
+        size_t len = strlen(t->footnotes);
+        snprintf(t->footnotes + len, sizeof t->footnotes - len, "%s\n", line);
+    }
+}
+
+/* P(v) tail exponent of (5.5): the thesis's accepted range (chi2/dof < 1.2 in the Table 5.1
+ * window), else the free fit marked with a footnote, else why there is none. */
+static void tail_cell(gr_compare_table *t, gr_compare_cell *c, const cJSON *s)
+{
+    const cJSON *pv = member(s, "analysis.pv"), *tail = member(pv, "tail");
+    if (!pv) {
+        set_reason(c, "n/a: pv not enabled");
+    } else if (!tail) {
+        set_reason(c, "no samples");
+    } else if (cJSON_IsTrue(member(tail, "accepted"))) {
+        set_number(c, gr_summary_number(tail, "alpha"), gr_summary_number(tail, "alpha_halfwidth"), NULL);
+    } else if (cJSON_IsTrue(member(tail, "free.converged"))) {
+        set_number(c, gr_summary_number(tail, "free.alpha"), gr_summary_number(tail, "free.alpha_err"), " #");
+        footnote(t, "#: free fit of (5.5); no alpha has chi2/dof < 1.2 in the Table 5.1 window");
+    } else {
+        set_reason(c, "fit failed: %.0f points in the window", gr_summary_number(tail, "n_points"));
+    }
+}
+
+static void df_cell(gr_compare_cell *c, const cJSON *s, int dim)
+{
+    const cJSON *sk = member(s, "analysis.sk");
+    if (dim == 1) {
+        set_reason(c, "n/a: 1D");
+    } else if (!sk) {
+        set_reason(c, "n/a: sk not enabled");
+    } else if (isfinite(gr_summary_number(sk, "fit.D_f"))) {
+        set_number(c, gr_summary_number(sk, "fit.D_f"), gr_summary_number(sk, "fit.D_f_err"), NULL);
+    } else {
+        set_reason(c, "fit failed: %.80s", string_at(sk, "fit.status", "no fit"));
+    }
+}
+
+static void g1_cell(gr_compare_cell *c, const cJSON *s, int dim)
+{
+    const cJSON *gaps = member(s, "analysis.gaps");
+    if (dim == 2) {
+        set_reason(c, "n/a: 2D");
+    } else if (!gaps) {
+        set_reason(c, "n/a: gaps not enabled");
+    } else if (isfinite(gr_summary_number(gaps, "fit_3_22.n_N"))) {
+        set_number(c, gr_summary_number(gaps, "fit_3_22.n_N"), gr_summary_number(gaps, "fit_3_22.n_N_stderr"), NULL);
+    } else {
+        set_reason(c, "fit failed: %.80s", string_at(gaps, "fit_3_22.note", "no fit"));
+    }
+}
+
+/* Energy dissipated by one mechanism, with its share of the energy injected; the reason when the
+ * model has no such mechanism or nothing collided. */
+static void dissipated_cell(gr_compare_cell *c, const cJSON *s, const char *path, const char *absent)
+{
+    const double v = gr_summary_number(s, path), injected = gr_summary_number(s, "ledger.injected");
+    if (absent) {
+        set_reason(c, "%s", absent);
+    } else if (gr_summary_number(s, "collisions") == 0.0) {
+        set_reason(c, "no collisions");
+    } else if (injected > 0.0) {
+        char suffix[40];
+        snprintf(suffix, sizeof suffix, " (%.0f%%)", 100.0 * v / injected);
+        set_number(c, v, NAN, suffix);
+    } else {
+        set_number(c, v, NAN, NULL);
+    }
+}
+
+static void throughput_cells(gr_compare_row *tp, gr_compare_row *cps, int k, const cJSON *s)
+{
+    const double wall = gr_summary_number(s, "wall_seconds"), coll = gr_summary_number(s, "collisions");
+    const bool event = !strcmp(string_at(s, "scene.integrator.kind", ""), "event");
+    const double rate = event ? gr_summary_number(s, "events_per_second") : gr_summary_number(s, "particle_steps_per_second");
+    tp->cell[k].value = rate;
+    snprintf(tp->cell[k].text, sizeof tp->cell[k].text, "%.3g %s", rate, event ? "events/s" : "particle-steps/s");
+    if (!(wall > 0.0)) {
+        set_reason(&cps->cell[k], "n/a: no wall time");
+    } else if (coll == 0.0) {
+        set_reason(&cps->cell[k], "no collisions");
+    } else {
+        cps->cell[k].value = coll / wall;
+        snprintf(cps->cell[k].text, sizeof cps->cell[k].text, "%.3g", coll / wall);
+    }
+}
+
+/* Every row of one model k whose run left no summary says so. */
+static void failed_column(gr_compare_table *t, int k)
+{
+    snprintf(t->status[k], sizeof t->status[k], "failed");
+    snprintf(t->integrator[k], sizeof t->integrator[k], "?");
+    snprintf(t->kernel[k], sizeof t->kernel[k], "failed");
+    for (int i = 0; i < t->n_rows; i++) {
+        set_reason(&t->row[i].cell[k], "run failed: no summary.json");
+    }
+}
+
+static void fill_column(gr_compare_table *t, int k, const cJSON *s)
+{
+    snprintf(t->status[k], sizeof t->status[k], "%s", string_at(s, "status", "?"));
+    snprintf(t->integrator[k], sizeof t->integrator[k], "%s", string_at(s, "scene.integrator.kind", "?"));
+    snprintf(t->kernel[k], sizeof t->kernel[k], "%s", string_at(s, "kernel", "?"));
+    const int dim = (int)gr_summary_number(s, "scene.system.dim") == 1 ? 1 : (int)gr_summary_number(s, "scene.system.dim") == 2 ? 2 : t->dim;
+    gr_compare_row *r = t->row;
+    int i = 0;
+    if (isfinite(gr_summary_number(s, "T_mean"))) {
+        const bool converged = gr_summary_number(s, "T_stderr_converged") != 0.0;
+        set_number(&r[i].cell[k], gr_summary_number(s, "T_mean"), gr_summary_number(s, "T_stderr"), converged ? NULL : " *");
+        if (!converged) {
+            footnote(t, "*: the error bar of T is not converged (a lower bound): run longer");
+        }
+    } else {
+        set_reason(&r[i].cell[k], "no samples");
+    }
+    /* rotating discs: the spin's temperature I <w^2> / M (one degree of freedom), the last sample (T_rot_final) */
+    const double T_rot = gr_summary_number(s, "T_rot_final");
+    if (isfinite(T_rot)) {
+        set_number(&r[++i].cell[k], T_rot, NAN, NULL);
+    } else {
+        set_reason(&r[++i].cell[k], "n/a: no rotation");
+    }
+    tail_cell(t, &r[++i].cell[k], s);
+    df_cell(&r[++i].cell[k], s, dim);
+    g1_cell(&r[++i].cell[k], s, dim);
+    const double coll = gr_summary_number(s, "collisions"), n = gr_summary_number(s, "scene.system.N"),
+                 simulated = gr_summary_number(s, "simulated_seconds");
+    set_number(&r[++i].cell[k], coll, NAN, NULL);
+    snprintf(r[i].cell[k].text, sizeof r[i].cell[k].text, "%.0f", coll);
+    if (coll > 0.0 && n > 0.0 && simulated > 0.0) {
+        r[++i].cell[k].value = coll / (n * simulated);
+        snprintf(r[i].cell[k].text, sizeof r[i].cell[k].text, "%.4g", coll / (n * simulated));
+    } else {
+        set_reason(&r[++i].cell[k], coll == 0.0 ? "no collisions" : "n/a: no simulated time");
+    }
+    set_number(&r[++i].cell[k], gr_summary_number(s, "ledger.injected"), NAN, NULL);
+    const char *tangential = string_at(s, "scene.model.tangential", "none");
+    const bool event = !strcmp(t->integrator[k], "event");
+    dissipated_cell(&r[++i].cell[k], s, "ledger.dissipated_normal", NULL);
+    dissipated_cell(&r[++i].cell[k], s, "ledger.dissipated_tangential",
+                    dim == 1                                           ? "n/a: 1D"
+                    : !event && strcmp(tangential, "tangential_dashpot") ? "n/a: no tangential dashpot"
+                                                                         : NULL);
+    dissipated_cell(&r[++i].cell[k], s, "ledger.dissipated_friction",
+                    dim == 1                                  ? "n/a: 1D"
+                    : strcmp(tangential, "sliding_friction") ? "n/a: no sliding friction"
+                                                              : NULL);
+    const double residual = gr_summary_number(s, "ledger.relative_residual");
+    r[++i].cell[k].value = residual;
+    snprintf(r[i].cell[k].text, sizeof r[i].cell[k].text, "%.2g", residual);
+    set_number(&r[++i].cell[k], gr_summary_number(s, "wall_seconds"), NAN, NULL);
+    throughput_cells(&r[i + 1], &r[i + 2], k, s);
+}
+
+gr_compare_table *gr_compare_table_build(const char *out, const char *scene_path, int dim, const gr_compare_spec *specs, int n)
+{
+    gr_compare_table *t = calloc(1, sizeof *t);
+    if (!t) {
+        return NULL;
+    }
+    snprintf(t->scene, sizeof t->scene, "%s", scene_path);
+    t->dim = dim;
+    t->n_models = n > GR_COMPARE_MAX ? GR_COMPARE_MAX : n;
+    /* the order a physicist reads them: state, structure, collisions, energy, cost */
+    add_row(t, "T (m^2/s^2)", "T", "m2 s-2");
+    add_row(t, "rotational T at the end (m^2/s^2)", "T_rot", "m2 s-2");
+    add_row(t, "P(v) tail exponent alpha (5.5)", "tail_alpha", "1");
+    add_row(t, "fractal dimension D_f of S(k) (4.4)", "D_f", "1");
+    add_row(t, "G_1 tail exponent n_N (3.22)", "n_N", "1");
+    add_row(t, "collisions", "collisions", "1");
+    add_row(t, "collisions per particle per s (1/s)", "collision_rate", "s-1");
+    add_row(t, "energy injected by noise (J)", "injected", "J");
+    add_row(t, "dissipated, normal (J, % of injected)", "dissipated_normal", "J");
+    add_row(t, "dissipated, tangential (J, %)", "dissipated_tangential", "J");
+    add_row(t, "dissipated, friction (J, %)", "dissipated_friction", "J");
+    add_row(t, "energy ledger residual (relative)", "ledger_residual", "1");
+    add_row(t, "wall time (s)", "wall_seconds", "s");
+    add_row(t, "throughput", "throughput", "s-1");
+    add_row(t, "collisions per wall-clock s (1/s)", "collisions_per_wall_second", "s-1");
+    footnote(t, GR_COMPARE_ERRORS);
+    for (int k = 0; k < t->n_models; k++) {
+        t->spec[k] = specs[k];
+        char dir[1200];
+        snprintf(dir, sizeof dir, "%s/%s", out, specs[k].label);
+        gr_error err = {0};
+        cJSON *s = gr_summary_read(dir, &err);
+        t->summaries[k] = s;
+        if (s) {
+            fill_column(t, k, s);
+        } else {
+            failed_column(t, k);
+        }
+    }
+    return t;
+}
+
+void gr_compare_table_free(gr_compare_table *t)
+{
+    if (!t) {
+        return;
+    }
+    for (int k = 0; k < t->n_models; k++) {
+        cJSON_Delete(t->summaries[k]);
+    }
+    free(t);
+}

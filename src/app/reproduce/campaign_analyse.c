@@ -1,0 +1,430 @@
+/* The three analyses of a campaign result (docs/campaigns/README.md). Error bars come from
+ * independent seeds wherever a group has three or more: block averaging inside one run is
+ * optimistic for a clustering gas (its correlation times are long), so the within-run error is
+ * only used when there are fewer seeds, and then the larger of the two estimates is kept. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "granule/analysis.h"
+#include "io/summary_read.h"
+#include "io/plot.h"
+#include "app/reproduce/campaign_points.h"
+
+#define MAX_X 64
+
+/* The path of y (or y_err) for moment m: {m} -> m, {m-1} -> m - 1. */
+static void path_for(const char *pattern, int m, char *out, size_t len)
+{
+    const char *a = strstr(pattern, "{m-1}"), *b = strstr(pattern, "{m}");
+    if (a) {
+        snprintf(out, len, "%.*s%d%s", (int)(a - pattern), pattern, m - 1, a + 5);
+    } else if (b) {
+        snprintf(out, len, "%.*s%d%s", (int)(b - pattern), pattern, m, b + 3);
+    } else {
+        snprintf(out, len, "%s", pattern);
+    }
+}
+
+/* A y path that leads nowhere in any finished point's summary.json (a misspelt path) would give an
+ * empty result silently: refused, naming it. A path whose parent is there is kept: a fit that did
+ * not succeed leaves out its numbers (its status says why), and the rows say so. */
+static int y_present(const gr_campaign_result *r, const campaign_points *pts, gr_error *err)
+{
+    const int m_lo = r->m_lo ? r->m_lo : 0, m_hi = r->m_lo ? r->m_hi : 0;
+    for (int m = m_lo; m <= m_hi; m++) {
+        char yp[160];
+        path_for(r->y, m, yp, sizeof yp);
+        char *dot = strrchr(yp, '.');
+        for (int i = 0; i < pts->n; i++) {
+            if (gr_summary_node(pts->p[i].summary, yp)) {
+                return GR_OK;
+            }
+            if (dot) {
+                *dot = '\0';
+                const bool parent = gr_summary_node(pts->p[i].summary, yp) != NULL;
+                *dot = '.';
+                if (parent) {
+                    return GR_OK;
+                }
+            }
+        }
+    }
+    return pts->n == 0 ? GR_OK
+                       : GR_FAIL(err, GR_EINVAL, "[result %s] y = %s: no such entry in the summary.json of any of the %d finished "
+                                 "points (a dotted path into it, such as T or analysis.moments.speed.2)",
+                                 r->id, r->y, pts->n);
+}
+
+static bool listed(const char *list, const char *key)
+{
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s", list);
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ", ", &save); tok; tok = strtok_r(NULL, ", ", &save)) {
+        if (!strcmp(tok, key)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* A varied key without its section: "model.eps_n" -> "eps_n", "system.packing_fraction+system.N"
+ * -> "packing_fraction+N". */
+static void short_key(const char *key, char *out, size_t len)
+{
+    size_t n = 0;
+    const char *part = key;
+    while (part && n + 1 < len) {
+        const char *end = strchr(part, '+'), *dot = strchr(part, '.');
+        const char *from = dot && (!end || dot < end) ? dot + 1 : part;
+        n += (size_t)snprintf(out + n, len - n, "%s%.*s", n ? "+" : "", (int)(end ? end - from : (long)strlen(from)), from);
+        part = end ? end + 1 : NULL;
+    }
+}
+
+/* "k=v, k=v" of the point's varied keys (without their sections): those in `only` (all if NULL),
+ * minus `except`. */
+void campaign_group_of(const campaign_point *p, const char *only, const char *except, char *out, size_t len)
+{
+    out[0] = 0;
+    size_t n = 0;
+    const cJSON *k;
+    cJSON_ArrayForEach(k, cJSON_GetObjectItem(p->manifest, "keys"))
+    {
+        if ((only && !listed(only, k->string)) || (except && !strcmp(except, k->string)) || !cJSON_IsString(k)) {
+            continue;
+        }
+        char sk[96];
+        short_key(k->string, sk, sizeof sk);
+        n += (size_t)snprintf(out + n, n < len ? len - n : 0, "%s%s=%s", n ? ", " : "", sk, k->valuestring);
+    }
+    if (n == 0) {
+        snprintf(out, len, "all");
+    }
+}
+
+int campaign_seed_of(const campaign_point *p)
+{
+    return (int)gr_summary_number(p->manifest, "seed");
+}
+
+/* The distinct groups in order of first appearance. */
+int campaign_groups(const campaign_points *pts, const char *only, const char *except, char g[][160])
+{
+    int n = 0;
+    for (int i = 0; i < pts->n; i++) {
+        char label[160];
+        campaign_group_of(&pts->p[i], only, except, label, sizeof label);
+        int j = 0;
+        while (j < n && strcmp(g[j], label)) {
+            j++;
+        }
+        if (j == n && n < MAX_GROUPS) {
+            snprintf(g[n++], 160, "%s", label);
+        }
+    }
+    return n;
+}
+
+void campaign_mean_sd(const double *v, int n, double *mean, double *se)
+{
+    double s = 0.0, s2 = 0.0;
+    for (int i = 0; i < n; i++) {
+        s += v[i];
+    }
+    *mean = n ? s / n : (double)NAN;
+    for (int i = 0; i < n; i++) {
+        s2 += (v[i] - *mean) * (v[i] - *mean);
+    }
+    *se = n >= 2 ? sqrt(s2 / (n - 1) / n) : (double)NAN;
+}
+
+/* Seeds when there are three or more; otherwise the larger of what there is. */
+double campaign_headline_error(double seeds, double other, int n_seeds)
+{
+    if (n_seeds >= 3 && isfinite(seeds)) {
+        return seeds;
+    }
+    if (isfinite(seeds) && isfinite(other)) {
+        return fmax(seeds, other);
+    }
+    return isfinite(seeds) ? seeds : other;
+}
+
+void campaign_add_cost(campaign_row *row, const campaign_point *p)
+{
+    row->cpu_seconds += isfinite(p->cpu_seconds) ? p->cpu_seconds : 0.0;
+    row->sim_seconds += isfinite(p->sim_seconds) ? p->sim_seconds : 0.0;
+    row->unconverged += cJSON_IsFalse(cJSON_GetObjectItem(p->summary, "T_stderr_converged"));
+    const cJSON *h = cJSON_GetObjectItem(p->manifest, "scene_hash");
+    if (cJSON_IsString(h) && !strstr(row->hashes, h->valuestring) && strlen(row->hashes) + 18 < sizeof row->hashes) {
+        size_t len = strlen(row->hashes);
+        snprintf(row->hashes + len, sizeof row->hashes - len, "%s%s", len ? " " : "", h->valuestring);
+    }
+}
+
+int campaign_members(const campaign_points *pts, const char *group, const campaign_point **members, int max)
+{
+    int n = 0;
+    for (int i = 0; i < pts->n && n < max; i++) {
+        char label[160];
+        campaign_group_of(&pts->p[i], NULL, NULL, label, sizeof label);
+        if (!strcmp(label, group)) {
+            members[n++] = &pts->p[i];
+        }
+    }
+    return n;
+}
+
+void campaign_draw(const char *dir, const char *id, const char *suffix, const char *body)
+{
+    char note[256], png[160];
+    snprintf(png, sizeof png, "%.100s%.40s.png", id, suffix);
+    if (gr_plot_script(dir, png, body, note, sizeof note)) {
+        campaign_note("%s/%s not drawn: %s", dir, png, note);
+    }
+}
+
+campaign_row *campaign_group_row(campaign_rows *rows, const char *group)
+{
+    campaign_row *row = campaign_rows_add(rows);
+    snprintf(row->group, sizeof row->group, "%.159s", group);
+    return row;
+}
+
+int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
+                  FILE *data, gr_error *err)
+{
+    (void)c;
+    int rc = y_present(r, pts, err);
+    if (rc) {
+        return rc;
+    }
+    static char g[MAX_GROUPS][160];
+    int ng = campaign_groups(pts, NULL, NULL, g);
+    fprintf(data, "group,seed,value,run_error\n");
+    for (int gi = 0; gi < ng; gi++) {
+        double v[MAX_SEEDS], e2 = 0.0;
+        int n = 0, n_err = 0;
+        campaign_row *row = campaign_group_row(rows, g[gi]);
+        const campaign_point *m[MAX_SEEDS];
+        int nm = campaign_members(pts, g[gi], m, MAX_SEEDS);
+        for (int i = 0; i < nm; i++) {
+            double y = gr_summary_number(m[i]->summary, r->y);
+            if (!isfinite(y)) {
+                continue;
+            }
+            double ye = r->y_err[0] ? gr_summary_number(m[i]->summary, r->y_err) : (double)NAN;
+            fprintf(data, "\"%s\",%d,%.9g,%.9g\n", g[gi], campaign_seed_of(m[i]), y, ye);
+            v[n++] = y;
+            if (isfinite(ye)) {
+                e2 += ye * ye;
+                n_err++;
+            }
+            campaign_add_cost(row, m[i]);
+        }
+        campaign_mean_sd(v, n, &row->value, &row->error_seeds);
+        row->error_fit = n_err == n && n ? sqrt(e2) / n : (double)NAN; /* the runs' own errors, combined */
+        row->error = campaign_headline_error(row->error_seeds, row->error_fit, n);
+        row->n_seeds = n;
+        campaign_row_thesis(r, row);
+    }
+    return GR_OK;
+}
+
+/* The exponent between neighbouring abscissae, xi = ln(y_i / y_i+1) / ln(x_i+1 / x_i), with the
+ * error of the two (independent) seed means propagated: one row per pair, "GROUP, X=x_i-x_i+1".
+ * Where the power law only holds asymptotically, these show whether the slope still moves with x. */
+static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const char *group, int m, double scale,
+                         const double *fx, const double *fy, const double *fe, int nf)
+{
+    int order[MAX_X];
+    for (int i = 0; i < nf; i++) { /* x ascending */
+        int j = i;
+        while (j > 0 && fx[order[j - 1]] > fx[i]) {
+            order[j] = order[j - 1];
+            j--;
+        }
+        order[j] = i;
+    }
+    char short_x[64];
+    const char *dot = strrchr(r->x, '.');
+    snprintf(short_x, sizeof short_x, "%s", dot ? dot + 1 : r->x);
+    for (int k = 0; k + 1 < nf; k++) {
+        const int a = order[k], b = order[k + 1];
+        campaign_row *w = campaign_rows_add(rows);
+        snprintf(w->group, sizeof w->group, "%.100s, %.20s=%g-%g", group, short_x, fx[a], fx[b]);
+        w->m = m;
+        const double lx = log(fx[b] / fx[a]);
+        w->value = log(fy[a] / fy[b]) / lx * scale;
+        w->error = hypot(fe[a] / fy[a], fe[b] / fy[b]) / lx * scale;
+        w->n_x = 2;
+        w->x_lo = fx[a];
+        w->x_hi = fx[b];
+    }
+}
+
+int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
+                       FILE *data, gr_error *err)
+{
+    (void)c;
+    int rc = y_present(r, pts, err);
+    if (rc) {
+        return rc;
+    }
+    static char g[MAX_GROUPS][160];
+    int ng = campaign_groups(pts, r->by[0] ? r->by : NULL, r->by[0] ? NULL : r->x, g);
+    int m_lo = r->m_lo ? r->m_lo : 0, m_hi = r->m_lo ? r->m_hi : 0;
+    fprintf(data, "group,m,x,mean,error,seeds,in_fit\n");
+    for (int gi = 0; gi < ng; gi++) {
+        for (int m = m_lo; m <= m_hi; m++) {
+            char yp[160], ep[160];
+            path_for(r->y, m, yp, sizeof yp);
+            path_for(r->y_err, m, ep, sizeof ep);
+            double xs[MAX_X], ys[MAX_X], es[MAX_X], per_seed[MAX_SEEDS][MAX_X];
+            int seeds[MAX_SEEDS], n_seed = 0, nx = 0, counts[MAX_X];
+            bool all_errors = true;
+            campaign_row *row = campaign_rows_add(rows);
+            snprintf(row->group, sizeof row->group, "%.159s", g[gi]);
+            row->m = m;
+            /* the abscissae of this group, in the order met */
+            for (int i = 0; i < pts->n; i++) {
+                char label[160];
+                campaign_group_of(&pts->p[i], r->by[0] ? r->by : NULL, r->by[0] ? NULL : r->x, label, sizeof label);
+                double x = atof(campaign_point_key(&pts->p[i], r->x));
+                double y = gr_summary_number(pts->p[i].summary, yp);
+                if (strcmp(label, g[gi]) || !(x > 0.0) || !isfinite(y)) {
+                    continue;
+                }
+                int xi = 0;
+                while (xi < nx && xs[xi] != x) {
+                    xi++;
+                }
+                if (xi == nx && nx < MAX_X) {
+                    xs[nx] = x;
+                    counts[nx] = 0;
+                    ys[nx] = es[nx] = 0.0;
+                    for (int s = 0; s < MAX_SEEDS; s++) {
+                        per_seed[s][nx] = NAN;
+                    }
+                    nx++;
+                }
+                if (xi == nx) {
+                    continue;
+                }
+                int seed = campaign_seed_of(&pts->p[i]), si = 0;
+                while (si < n_seed && seeds[si] != seed) {
+                    si++;
+                }
+                if (si == n_seed && n_seed < MAX_SEEDS) {
+                    seeds[n_seed++] = seed;
+                }
+                if (si < n_seed) {
+                    per_seed[si][xi] = y;
+                }
+                ys[xi] += y;
+                es[xi] += r->y_err[0] ? gr_summary_number(pts->p[i].summary, ep) : (double)NAN; /* summed below */
+                counts[xi]++;
+                if (xs[xi] >= r->x_min && xs[xi] <= r->x_max) {
+                    campaign_add_cost(row, &pts->p[i]);
+                }
+            }
+            /* per abscissa: the seed mean and its error */
+            double fx[MAX_X], fy[MAX_X], fe[MAX_X];
+            int nf = 0, min_seeds = MAX_SEEDS;
+            for (int xi = 0; xi < nx; xi++) {
+                double v[MAX_SEEDS], mean, se;
+                int n = 0;
+                for (int s = 0; s < n_seed; s++) {
+                    if (isfinite(per_seed[s][xi])) {
+                        v[n++] = per_seed[s][xi];
+                    }
+                }
+                campaign_mean_sd(v, n, &mean, &se);
+                double run_err = n ? es[xi] / n / sqrt((double)n) : (double)NAN; /* mean of run errors / sqrt(n) */
+                double e = campaign_headline_error(se, run_err, n);
+                bool in = xs[xi] >= r->x_min && xs[xi] <= r->x_max;
+                fprintf(data, "\"%s\",%d,%.9g,%.9g,%.9g,%d,%d\n", g[gi], m, xs[xi], mean, e, n, in);
+                if (in) {
+                    fx[nf] = xs[xi];
+                    fy[nf] = mean;
+                    fe[nf] = e;
+                    all_errors &= isfinite(e) && e > 0.0;
+                    min_seeds = n < min_seeds ? n : min_seeds;
+                    nf++;
+                }
+            }
+            row->n_x = nf;
+            row->n_seeds = nf ? min_seeds : 0;
+            if (nf < 3) {
+                campaign_row_thesis(r, row); /* the thesis's value is shown even without ours */
+                continue;                    /* a line through two points has no error: no value */
+            }
+            row->x_lo = fx[0];
+            row->x_hi = fx[0];
+            for (int i = 1; i < nf; i++) {
+                row->x_lo = fmin(row->x_lo, fx[i]);
+                row->x_hi = fmax(row->x_hi, fx[i]);
+            }
+            gr_fit fit;
+            if (gr_fit_power_law(fx, fy, all_errors ? fe : NULL, nf, &fit, err)) {
+                return err->code;
+            }
+            double scale = r->per_m && m ? 1.0 / m : 1.0;
+            row->value = -fit.p[1] * scale;
+            row->error_fit = fit.err[1] * scale;
+            row->chi2_red = fit.chi2_red;
+            /* the exponent of every seed on its own, and their spread */
+            double ex[MAX_SEEDS];
+            int ne = 0;
+            for (int s = 0; s < n_seed; s++) {
+                double sx[MAX_X], sy[MAX_X];
+                int ns = 0;
+                for (int xi = 0; xi < nx; xi++) {
+                    if (xs[xi] >= r->x_min && xs[xi] <= r->x_max && isfinite(per_seed[s][xi])) {
+                        sx[ns] = xs[xi];
+                        sy[ns++] = per_seed[s][xi];
+                    }
+                }
+                gr_fit fs;
+                gr_error ignore = {0};
+                if (ns == nf && gr_fit_power_law(sx, sy, NULL, ns, &fs, &ignore) == GR_OK) {
+                    ex[ne++] = -fs.p[1] * scale;
+                }
+            }
+            double mean_e;
+            campaign_mean_sd(ex, ne, &mean_e, &row->error_seeds);
+            row->error = campaign_headline_error(row->error_seeds, row->error_fit, ne);
+            if (isfinite(row->error_seeds) && isfinite(row->error_fit)) {
+                row->error = fmax(row->error_seeds, row->error_fit); /* both are honest estimates: keep the larger */
+            }
+            campaign_row_thesis(r, row);
+            if (r->local_slopes) {
+                local_slopes(r, rows, g[gi], m, scale, fx, fy, fe, nf);
+            }
+        }
+    }
+    return GR_OK;
+}
+
+
+int campaign_name_index(const char *const *names, int n, const char *y)
+{
+    for (int i = 0; i < n; i++) {
+        if (!strcmp(y, names[i])) {
+            return i;
+        }
+    }
+    return -1;
+}
+
+void campaign_row_of_runs(const gr_campaign_result *r, campaign_row *row, const double *v, int n, double err2_sum, int n_err)
+{
+    campaign_mean_sd(v, n, &row->value, &row->error_seeds);
+    row->error_fit = n_err == n && n ? sqrt(err2_sum) / n : (double)NAN;
+    row->error = campaign_headline_error(row->error_seeds, row->error_fit, n);
+    row->n_seeds = n;
+    campaign_row_thesis(r, row);
+}

@@ -1,0 +1,584 @@
+/* A campaign's result set: results.csv (one row per number, every field), results.json (the same
+ * plus the campaign's description, cost and provenance), one data CSV per result and its figures
+ * with the thesis's values overlaid. Small files, meant to be committed under docs/results/NAME. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "granule/campaign.h"
+#include "granule/scene.h"
+#include "granule_commit.h"
+#include "io/files.h"
+#include "io/summary_read.h"
+#include "app/reproduce/campaign_points.h"
+
+static const char *kind_name(gr_result_kind k)
+{
+    return k == GR_RESULT_MEAN        ? "mean"
+           : k == GR_RESULT_POWER_LAW ? "power_law"
+           : k == GR_RESULT_RUNNING   ? "running_mean"
+           : k == GR_RESULT_CURVE     ? "curve"
+           : k == GR_RESULT_CASCADE   ? "cascade"
+           : k == GR_RESULT_SPM       ? "spm"
+           : k == GR_RESULT_SPM_COMPARE ? "spm_compare"
+           : k == GR_RESULT_SPM_CIRCLE ? "spm_circle"
+           : k == GR_RESULT_CASCADE_FIELD ? "cascade_field"
+           : k == GR_RESULT_SETTLE    ? "settle_time"
+                                      : "rise_time";
+}
+
+static void add_num(cJSON *o, const char *name, double v)
+{
+    if (isfinite(v)) {
+        cJSON_AddNumberToObject(o, name, v);
+    } else {
+        cJSON_AddNullToObject(o, name);
+    }
+}
+
+static void csv_num(FILE *f, double v)
+{
+    if (isfinite(v)) {
+        fprintf(f, ",%.6g", v);
+    } else {
+        fprintf(f, ",");
+    }
+}
+
+/* A group label "k1=v1, k2=v2" split into its values "v1, v2" (the tick label) and its keys
+ * "k1, k2" (the axis label); a token without '=' is a value with no key. */
+static void split_group(const char *group, char *values, size_t nv, char *keys, size_t nk)
+{
+    char buf[200];
+    snprintf(buf, sizeof buf, "%s", group);
+    values[0] = keys[0] = '\0';
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        while (*tok == ' ') {
+            tok++;
+        }
+        char *eq = strchr(tok, '=');
+        const char *sep_v = values[0] ? ", " : "", *sep_k = keys[0] ? ", " : "";
+        if (eq) {
+            *eq = '\0';
+            snprintf(keys + strlen(keys), nk - strlen(keys), "%s%s", sep_k, tok);
+        }
+        snprintf(values + strlen(values), nv - strlen(values), "%s%s", sep_v, eq ? eq + 1 : tok);
+    }
+}
+
+/* ours against the thesis, one point per row (labels on the x axis) */
+static void plot_compare(const char *dir, const gr_campaign_result *r, const campaign_rows *rows)
+{
+    char name[80];
+    snprintf(name, sizeof name, "%s_compare.dat", r->id);
+    gr_file f;
+    gr_error err = {0};
+    if (gr_file_open(&f, dir, name, &err)) {
+        return;
+    }
+    char axis[200] = "";
+    /* rows in order of their value when each is labelled by one number (eps_n = 0.01 ... 0.99),
+     * otherwise in the campaign's order */
+    int *order = malloc(sizeof(int) * (size_t)(rows->n > 0 ? rows->n : 1));
+    if (!order) {
+        gr_file_abandon(&f);
+        return;
+    }
+    bool numeric = true;
+    for (int i = 0; i < rows->n; i++) {
+        char label[200], keys[200], *end;
+        split_group(rows->r[i].group, label, sizeof label, keys, sizeof keys);
+        strtod(label, &end);
+        numeric &= end != label && !*end;
+        order[i] = i;
+    }
+    for (int i = 1; i < rows->n && numeric; i++) { /* insertion sort: stable, m stays in order */
+        const int k = order[i];
+        const double xk = atof(strchr(rows->r[k].group, '=') ? strchr(rows->r[k].group, '=') + 1 : rows->r[k].group);
+        int j = i;
+        while (j > 0) {
+            const campaign_row *p = &rows->r[order[j - 1]];
+            const double xp = atof(strchr(p->group, '=') ? strchr(p->group, '=') + 1 : p->group);
+            if (xp <= xk) {
+                break;
+            }
+            order[j] = order[j - 1];
+            j--;
+        }
+        order[j] = k;
+    }
+    for (int o = 0; o < rows->n; o++) {
+        const int i = o;
+        const campaign_row *w = &rows->r[order[o]];
+        char label[200], keys[200];
+        split_group(w->group, label, sizeof label, keys, sizeof keys);
+        if (!axis[0]) {
+            snprintf(axis, sizeof axis, "%s", keys);
+        }
+        if (w->m) {
+            snprintf(label + strlen(label), sizeof label - strlen(label), " m=%d", w->m);
+        }
+        /* a thesis range is drawn as its middle +- half its width */
+        const bool range = !strcmp(w->comparison, "range");
+        const double tv = range ? 0.5 * (w->thesis + w->thesis_hi) : w->thesis;
+        const double te = range ? 0.5 * (w->thesis_hi - w->thesis) : isfinite(w->thesis_error) ? w->thesis_error : 0.0;
+        fprintf(f.f, "%d \"%s\" %.6g %.6g %.6g %.6g\n", i, label, w->value, w->error, tv, te);
+    }
+    free(order);
+    if (gr_file_commit(&f, &err)) {
+        return;
+    }
+    bool thesis = false, ours = false;
+    for (int i = 0; i < rows->n; i++) {
+        thesis |= isfinite(rows->r[i].thesis);
+        ours |= isfinite(rows->r[i].value);
+    }
+    if (!ours) { /* a curve without a fit window has its figure in ID_data.png only */
+        if (r->kind != GR_RESULT_CURVE) {
+            campaign_note("%s: no value in any row, no figure", r->id);
+        }
+        return;
+    }
+    /* many rows (Table 5.1's 45): vertical, smaller tick labels */
+    const char *tics = rows->n > 12 ? "set xtics rotate by 90 right font ',11' noenhanced" : "set xtics rotate by -40 noenhanced";
+    char body[2048];
+    snprintf(body, sizeof body,
+             "set datafile separator whitespace\nset title \"%s\" noenhanced\nset ylabel '%s%s%s' noenhanced\n%s\n"
+             "set xlabel '%s' noenhanced\nset key top left\nset offsets 0.5, 0.5, graph 0.06, graph 0.06\nset grid ytics lc rgb '#dddddd'\n"
+             "plot '%s' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'%s\n",
+             r->title, r->quantity, r->unit[0] ? " / " : "", r->unit, tics, axis, name,
+             thesis ? ", '' using ($1+0.15):5:6 with yerrorbars pt 6 ps 1.2 lc rgb '#c0392b' title 'thesis'" : "");
+    campaign_draw(dir, r->id, "", body);
+}
+
+/* One block of ID_thesis.dat: the thesis's law y ~ x^-xi over [x_lo, x_hi] through (x_hi, y_hi)
+ * for the block (group, m), or "nan nan" where the thesis gives no single exponent. Returns
+ * whether a line was drawn. */
+static bool thesis_line(FILE *f, const gr_campaign_result *r, const char *group, int m, const char *title, bool after,
+                        double x_lo, double x_hi, double y_hi)
+{
+    campaign_rows one = {0};
+    campaign_row *w = campaign_rows_add(&one);
+    snprintf(w->group, sizeof w->group, "%s", group);
+    w->m = m;
+    campaign_row_thesis(r, w);
+    const bool drawn = isfinite(w->thesis) && strcmp(w->comparison, "range") && strcmp(w->comparison, "construction") &&
+                       isfinite(x_lo) && x_hi > x_lo && y_hi > 0.0;
+    const double xi = w->thesis * (r->per_m && m ? m : 1);
+    campaign_rows_free(&one);
+    fprintf(f, "%s\"%s\"\n", after ? "\n\n" : "", title);
+    if (drawn) {
+        fprintf(f, "%.9g %.9g\n%.9g %.9g\n", x_lo, y_hi * pow(x_lo / x_hi, -xi), x_hi, y_hi);
+    } else {
+        fprintf(f, "nan nan\n");
+    }
+    return drawn;
+}
+
+/* The power-law data regrouped as gnuplot index blocks, one per (group, m), each with a title
+ * line; returns the number of blocks. For a power_law result with a thesis exponent, ID_thesis.dat
+ * gets, per block, the thesis's law y ~ x^-xi drawn over the block's fit window through its
+ * largest fitted point (two points; "nan" where the thesis gives no single exponent). */
+static int power_law_blocks(const char *dir, const gr_campaign_result *r, bool *thesis_lines)
+{
+    char path[1200], name[80], tname[80];
+    snprintf(path, sizeof path, "%s/%s_data.csv", dir, r->id);
+    snprintf(name, sizeof name, "%s_blocks.dat", r->id);
+    snprintf(tname, sizeof tname, "%s_thesis.dat", r->id);
+    *thesis_lines = false;
+    FILE *in = gr_input_fopen(path, &(int){0});
+    gr_file f, t;
+    gr_error err = {0};
+    if (!in || gr_file_open(&f, dir, name, &err)) {
+        if (in) {
+            fclose(in);
+        }
+        return 0;
+    }
+    const bool want_thesis = r->kind == GR_RESULT_POWER_LAW && r->thesis[0];
+    if (want_thesis && gr_file_open(&t, dir, tname, &err)) {
+        fclose(in);
+        gr_file_abandon(&f);
+        return 0;
+    }
+    char line[512], prev[200] = "", prev_group[200] = "";
+    int blocks = 0, prev_m = 0;
+    double x_lo = NAN, x_hi = NAN, y_hi = NAN;
+    bool header = true;
+    while (fgets(line, sizeof line, in)) {
+        if (header) {
+            header = false;
+            continue;
+        }
+        char *q = strchr(line + 1, '"'); /* group is quoted: "...",m,x,mean,error,seeds,in_fit */
+        int m, n, in_fit;
+        double x, y, e;
+        if (!q || sscanf(q + 1, ",%d,%lf,%lf,%lf,%d,%d", &m, &x, &y, &e, &n, &in_fit) != 6) {
+            continue;
+        }
+        char key[200];
+        snprintf(key, sizeof key, "%.*s%s%.0d", (int)(q - line - 1), line + 1, m ? " m=" : "", m);
+        if (strcmp(key, prev)) {
+            if (want_thesis && blocks) {
+                *thesis_lines |= thesis_line(t.f, r, prev_group, prev_m, prev, blocks > 1, x_lo, x_hi, y_hi);
+            }
+            fprintf(f.f, "%s\"%s\"\n", blocks ? "\n\n" : "", key);
+            snprintf(prev, sizeof prev, "%s", key);
+            snprintf(prev_group, sizeof prev_group, "%.*s", (int)(q - line - 1), line + 1);
+            prev_m = m;
+            x_lo = x_hi = y_hi = NAN;
+            blocks++;
+        }
+        if (in_fit && isfinite(y)) {
+            x_lo = isfinite(x_lo) && x_lo < x ? x_lo : x;
+            if (!(x_hi >= x)) {
+                x_hi = x;
+                y_hi = y;
+            }
+        }
+        fprintf(f.f, "%.9g %.9g %.9g %d\n", x, y, isfinite(e) ? e : 0.0, in_fit);
+    }
+    if (want_thesis && blocks) {
+        *thesis_lines |= thesis_line(t.f, r, prev_group, prev_m, prev, blocks > 1, x_lo, x_hi, y_hi);
+    }
+    fclose(in);
+    if (want_thesis && gr_file_commit(&t, &err)) {
+        *thesis_lines = false;
+    }
+    return gr_file_commit(&f, &err) ? 0 : blocks;
+}
+
+/* Axis labels a physicist reads: the summary path of a power law's ordinate as the quantity it
+ * holds, the varied key of its abscissa without its section, with its unit. */
+static void axis_labels(const gr_campaign_result *r, char *x, size_t xl, char *y, size_t yl)
+{
+    const char *dot = strchr(r->x, '.');
+    const char *unit = gr_scene_key_unit(r->x);
+    snprintf(x, xl, "%s%s%s%s", dot ? dot + 1 : r->x, unit && unit[0] && strcmp(unit, "1") ? " (" : "",
+             unit && unit[0] && strcmp(unit, "1") ? unit : "", unit && unit[0] && strcmp(unit, "1") ? ")" : "");
+    if (strstr(r->y, "moments.speed.m")) {
+        snprintf(y, yl, "%s", strstr(r->y, "{m}") ? "<|v|^m> ((m/s)^m)" : "<v^2> (m^2/s^2)");
+    } else if (strstr(r->y, "gaps.moments.")) {
+        snprintf(y, yl, "<R^m> of the neighbour separation (m^m)");
+    } else {
+        snprintf(y, yl, "%s", r->y);
+    }
+}
+
+/* the data behind a fit or a running average */
+static void plot_data(const char *dir, const gr_campaign_result *r)
+{
+    char body[2048];
+    if (r->kind == GR_RESULT_POWER_LAW) {
+        bool thesis_lines;
+        int blocks = power_law_blocks(dir, r, &thesis_lines);
+        if (!blocks) {
+            return;
+        }
+        char window[64], thesis[256] = "", xlab[96], ylab[96];
+        axis_labels(r, xlab, sizeof xlab, ylab, sizeof ylab);
+        snprintf(window, sizeof window, isfinite(r->x_max) ? "%g-%g" : "from %g", r->x_min, r->x_max);
+        if (thesis_lines) { /* the thesis's exponent drawn through each fit's largest point */
+            snprintf(thesis, sizeof thesis, ", for [i=0:%d] '%s_thesis.dat' index i using 1:2 with lines dt 2 lw 2 lc i+1 "
+                                            "title (i == 0 ? 'thesis exponent (dashed)' : '')",
+                     blocks - 1, r->id);
+        }
+        snprintf(body, sizeof body,
+                 "set datafile separator whitespace\nset logscale xy\nset key outside right noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
+                 "set title \"%s: the points of every fit (open: outside the fit window, %s)\" noenhanced\n"
+                 "plot for [i=0:%d] '%s_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 lc i+1 title columnheader(1), "
+                 "for [i=0:%d] '' index i using 1:($4 > 0 ? 1/0 : $2) with points pt 6 lc i+1 notitle%s\n",
+                 xlab, ylab, r->id, window, blocks - 1, r->id, blocks - 1, thesis);
+    } else if (r->kind == GR_RESULT_CURVE) {
+        bool unused;
+        int blocks = power_law_blocks(dir, r, &unused);
+        if (!blocks) {
+            return;
+        }
+        const bool map = r->transform[0] != 0;
+        const char *axes = !strcmp(r->axes, "linear") ? "" : !strcmp(r->axes, "linlog") ? "set logscale y\nset format y '10^{%L}'\n"
+                                                                                         : "set logscale xy\nset format y '10^{%L}'\n";
+        snprintf(body, sizeof body,
+                 "set datafile separator whitespace\n%sset format x '%%g'\n"
+                 "set key %s noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
+                 "set title \"%s\" noenhanced\n"
+                 "plot for [i=0:%d] '%s_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i+1 title columnheader(1)%s\n",
+                 axes, map ? "inside top left" : "outside right", map ? "-ln R" : r->x, map ? "A_N G^{1/(n-1)}  (3.39)" : r->quantity, r->title, blocks - 1, r->id,
+                 map ? ", x with lines dt 2 lw 2 lc rgb 'black' title 'uniform bisection (3.36): -ln R'" : "");
+    } else if (r->kind == GR_RESULT_RUNNING) {
+        snprintf(body, sizeof body,
+                 "set datafile separator ','\nset key outside right\nset xlabel 'sampling time t (s)'\nset ylabel 'T (m^2/s^2)'\n"
+                 "set title 'Means over %g s (points) and the running average (lines), every seed' noenhanced\n"
+                 "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.6 lc rgb '#1f5fbf' title 'period means', "
+                 "'' skip 1 using 3:5 with lines lw 2 lc rgb '#c0392b' title 'running average'\n",
+                 r->period, r->id);
+    } else if (r->kind == GR_RESULT_CASCADE) {
+        snprintf(body, sizeof body,
+                 "set datafile separator ','\nset size ratio -1\nunset key\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n"
+                 "set multiplot layout 1,2 title 'The same system: a snapshot of the RFM (left) and discs placed from a "
+                 "multiplicative cascade (right)' noenhanced\n"
+                 "plot '%s_positions.csv' skip 1 using 2:(strcol(1) eq 'rfm' ? $3 : 1/0) with points pt 7 ps 0.5 lc rgb '#1f5fbf'\n"
+                 "plot '%s_positions.csv' skip 1 using 2:(strcol(1) eq 'cascade' ? $3 : 1/0) with points pt 7 ps 0.5 lc rgb '#c0392b'\n"
+                 "unset multiplot\n",
+                 r->id, r->id);
+    } else if (r->kind == GR_RESULT_RISE || r->kind == GR_RESULT_SETTLE) {
+        snprintf(body, sizeof body,
+                 "set key outside right\nset xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\n"
+                 "set title 'T(t) from the start of every run (lines: its steady value)' noenhanced\n"
+                 "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.3 lc rgb '#1f5fbf' title 'T(t)', "
+                 "'' skip 1 using 3:5 with lines lw 2 lc rgb '#c0392b' title 'steady T (second half)'\n",
+                 r->id);
+    } else {
+        return;
+    }
+    campaign_draw(dir, r->id, "_data", body);
+}
+
+static void row_json(cJSON *arr, const campaign_row *w)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "group", w->group);
+    if (w->m) {
+        cJSON_AddNumberToObject(o, "m", w->m);
+    }
+    add_num(o, "value", w->value);
+    add_num(o, "error", w->error);
+    add_num(o, "error_fit_or_run", w->error_fit);
+    add_num(o, "error_seeds", w->error_seeds);
+    cJSON_AddNumberToObject(o, "seeds", w->n_seeds);
+    if (w->n_x) {
+        cJSON_AddNumberToObject(o, "fit_points", w->n_x);
+    }
+    add_num(o, "chi2_red", w->chi2_red);
+    add_num(o, "x_lo", w->x_lo);
+    add_num(o, "x_hi", w->x_hi);
+    add_num(o, "thesis", w->thesis);
+    add_num(o, "thesis_error", w->thesis_error);
+    cJSON_AddStringToObject(o, "thesis_note", w->thesis_note);
+    cJSON_AddStringToObject(o, "comparison", w->comparison);
+    add_num(o, "thesis_high", w->thesis_hi);
+    add_num(o, "tolerance", w->tolerance);
+    if (w->agrees >= 0) {
+        cJSON_AddBoolToObject(o, "agrees", w->agrees);
+    } else {
+        cJSON_AddNullToObject(o, "agrees");
+    }
+    add_num(o, "z", w->z);
+    add_num(o, "simulated_seconds", w->sim_seconds);
+    add_num(o, "cpu_seconds", w->cpu_seconds);
+    cJSON_AddNumberToObject(o, "runs_not_converged", w->unconverged);
+    cJSON_AddStringToObject(o, "scene_hashes", w->hashes);
+    cJSON_AddItemToArray(arr, o);
+}
+
+static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r, const campaign_row *w)
+{
+    fprintf(f, "%s,%s,%s,\"%s\",\"%s\",%d", c->name, r->id, r->quantity, r->unit[0] ? r->unit : "1", w->group, w->m);
+    csv_num(f, w->value);
+    csv_num(f, w->error);
+    csv_num(f, w->error_fit);
+    csv_num(f, w->error_seeds);
+    fprintf(f, ",%d,%d", w->n_seeds, w->n_x);
+    csv_num(f, w->chi2_red);
+    csv_num(f, w->x_lo);
+    csv_num(f, w->x_hi);
+    const char *xu = isfinite(w->x_lo) && r->x[0] ? gr_scene_key_unit(r->x) : NULL;
+    fprintf(f, ",%s", xu ? (xu[0] ? xu : "1") : "");
+    csv_num(f, w->thesis);
+    csv_num(f, w->thesis_error);
+    fprintf(f, ",%s", w->comparison);
+    csv_num(f, w->thesis_hi);
+    fprintf(f, ",%s", w->agrees < 0 ? "" : w->agrees ? "1" : "0");
+    csv_num(f, w->z);
+    csv_num(f, w->sim_seconds);
+    csv_num(f, w->cpu_seconds);
+    fprintf(f, ",%d,%s,%s\n", w->unconverged, w->hashes, GR_COMMIT);
+}
+
+static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_result *r, const campaign_points *pts,
+                       const char *results, campaign_rows *rows, gr_error *err)
+{
+    char name[80];
+    snprintf(name, sizeof name, "%s_data.csv", r->id);
+    gr_file data;
+    int rc = gr_file_open(&data, results, name, err);
+    if (rc) {
+        return rc;
+    }
+    rc = r->kind == GR_RESULT_MEAN        ? campaign_mean(c, r, pts, rows, data.f, err)
+         : r->kind == GR_RESULT_POWER_LAW ? campaign_power_law(c, r, pts, rows, data.f, err)
+         : r->kind == GR_RESULT_RUNNING   ? campaign_running(c, r, pts, rows, data.f, err)
+         : r->kind == GR_RESULT_CURVE     ? campaign_curve(c, r, pts, rows, data.f, err)
+         : r->kind == GR_RESULT_CASCADE   ? campaign_cascade(c, r, pts, rows, results, data.f, err)
+         : r->kind == GR_RESULT_SPM       ? campaign_spm(c, r, pts, rows, results, data.f, err)
+         : r->kind == GR_RESULT_SPM_COMPARE ? campaign_spm_compare(r, fid, pts, rows, results, data.f, err)
+         : r->kind == GR_RESULT_SPM_CIRCLE ? campaign_spm_circle(r, fid, pts, rows, results, data.f, err)
+         : r->kind == GR_RESULT_CASCADE_FIELD ? campaign_cascade_field(r, fid, rows, results, data.f, err)
+                                          : campaign_rise(c, r, pts, rows, data.f, err);
+    if (rc) {
+        gr_file_abandon(&data);
+        return rc;
+    }
+    return gr_file_commit(&data, err);
+}
+
+static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results, long *finished,
+                       gr_error *err)
+{
+    campaign_points pts;
+    int rc = campaign_points_read(dir, &pts, err);
+    if (rc) {
+        return rc;
+    }
+    *finished = pts.n;
+    if ((rc = gr_output_dir_prepare(results, GR_OUTPUT_ANY, true, err))) {
+        campaign_points_free(&pts);
+        return rc;
+    }
+    double cpu = 0.0, sim = 0.0;
+    for (int i = 0; i < pts.n; i++) {
+        cpu += isfinite(pts.p[i].cpu_seconds) ? pts.p[i].cpu_seconds : 0.0;
+        sim += isfinite(pts.p[i].sim_seconds) ? pts.p[i].sim_seconds : 0.0;
+    }
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddStringToObject(j, "campaign", c->name);
+    cJSON_AddStringToObject(j, "title", c->title);
+    cJSON_AddStringToObject(j, "covers", c->covers);
+    cJSON_AddStringToObject(j, "about", c->about);
+    cJSON_AddStringToObject(j, "fidelity", fid == GR_FIDELITY_FULL ? "full" : "quick");
+    cJSON_AddStringToObject(j, "scene", c->scene);
+    cJSON_AddStringToObject(j, "commit", GR_COMMIT);
+    cJSON_AddNumberToObject(j, "points_finished", pts.n);
+    cJSON_AddNumberToObject(j, "points_total", (double)gr_campaign_points(c, fid));
+    cJSON_AddNumberToObject(j, "cpu_seconds", round(cpu));
+    cJSON_AddNumberToObject(j, "cpu_hours", round(cpu / 36.0) / 100.0);
+    cJSON_AddNumberToObject(j, "simulated_seconds", sim);
+    /* the warm-up: T over the first quarter of the sampling against the rest, over every run; not
+     * for a campaign about the transient itself (Fig. 2.7 samples from t = 0 on purpose) */
+    bool transient = false;
+    for (int k = 0; k < c->n_results; k++) {
+        transient |= c->results[k].kind == GR_RESULT_RISE || c->results[k].kind == GR_RESULT_SETTLE;
+    }
+    if (transient) {
+        cJSON_AddStringToObject(cJSON_AddObjectToObject(j, "warmup_check"), "not_applicable",
+                                "the campaign measures the rise of T from t = 0");
+    }
+    double drift[4096], run_var = 0.0;
+    int nd = 0, nvar = 0;
+    for (int i = 0; i < pts.n && nd < 4096 && !transient; i++) {
+        double e, d = campaign_warmup_drift(&pts.p[i], &e);
+        if (isfinite(d)) {
+            drift[nd++] = d;
+            if (isfinite(e)) {
+                run_var += e * e;
+                nvar++;
+            }
+        }
+    }
+    if (nd > 0) {
+        /* the error: the seeds' scatter with three runs or more, else the larger of it and the
+         * runs' own block errors (campaign_headline_error, as for every result) */
+        double dm, de_seeds;
+        campaign_mean_sd(drift, nd, &dm, &de_seeds);
+        const double de_runs = nvar == nd ? sqrt(run_var) / nd : (double)NAN;
+        const double de = campaign_headline_error(de_seeds, de_runs, nd);
+        cJSON *w = cJSON_AddObjectToObject(j, "warmup_check");
+        cJSON_AddStringToObject(w, "what", "mean over runs of <T>(first quarter of sampling) / <T>(rest) - 1; error: the "
+                                           "seeds' scatter (3 runs or more), else the larger of it and the runs' own "
+                                           "error from 8 blocks of each run's sampling");
+        cJSON_AddNumberToObject(w, "runs", nd);
+        add_num(w, "drift", dm);
+        add_num(w, "drift_error", de);
+        add_num(w, "drift_error_seeds", de_seeds);
+        add_num(w, "drift_error_runs", de_runs);
+        add_num(w, "z", isfinite(de) && de > 0.0 ? dm / de : (double)NAN);
+    }
+    cJSON *commits = cJSON_AddArrayToObject(j, "run_commits");
+    for (int i = 0; i < pts.n; i++) {
+        const cJSON *cm = cJSON_GetObjectItem(pts.p[i].manifest, "commit");
+        bool seen = false;
+        const cJSON *e;
+        cJSON_ArrayForEach(e, commits)
+        {
+            seen |= cJSON_IsString(cm) && !strcmp(e->valuestring, cm->valuestring);
+        }
+        if (cJSON_IsString(cm) && !seen) {
+            cJSON_AddItemToArray(commits, cJSON_CreateString(cm->valuestring));
+        }
+    }
+    cJSON *arr = cJSON_AddArrayToObject(j, "results");
+    gr_file csv;
+    if ((rc = gr_file_open(&csv, results, "results.csv", err))) {
+        cJSON_Delete(j);
+        campaign_points_free(&pts);
+        return rc;
+    }
+    /* units in results.meta.json: a row's value, errors and thesis values are in its result's
+     * unit (column unit, "1" for a pure number), the fit window in its abscissa's (x_unit) */
+    gr_file_header(&csv, "campaign [],result [],quantity [],unit [],group [],m [1],value [@unit],error [@unit],"
+                         "error_fit_or_run [@unit],error_seeds [@unit],seeds [1],fit_points [1],chi2_red [1],x_lo [@x_unit],"
+                         "x_hi [@x_unit],x_unit [],thesis [@unit],thesis_error [@unit],comparison [],thesis_high [@unit],"
+                         "agrees [1],z [1],simulated_seconds [s],cpu_seconds [s],runs_not_converged [1],scene_hashes [],"
+                         "commit []");
+    for (int i = 0; i < c->n_results && !rc; i++) {
+        const gr_campaign_result *r = &c->results[i];
+        campaign_rows rows = {0};
+        rc = analyse_one(c, fid, r, &pts, results, &rows, err);
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "id", r->id);
+        cJSON_AddStringToObject(o, "title", r->title);
+        cJSON_AddStringToObject(o, "kind", kind_name(r->kind));
+        cJSON_AddStringToObject(o, "quantity", r->quantity);
+        cJSON_AddStringToObject(o, "unit", r->unit);
+        cJSON_AddStringToObject(o, "y", r->y);
+        if (r->kind == GR_RESULT_POWER_LAW) {
+            cJSON_AddStringToObject(o, "x", r->x);
+            add_num(o, "x_min", r->x_min);
+            add_num(o, "x_max", r->x_max);
+            cJSON_AddBoolToObject(o, "per_m", r->per_m);
+        }
+        cJSON_AddStringToObject(o, "thesis_source", r->thesis_source);
+        cJSON_AddStringToObject(o, "note", r->note);
+        cJSON_AddStringToObject(o, "verdict", r->verdict);
+        cJSON_AddStringToObject(o, "verdict_why", r->verdict_why);
+        cJSON_AddStringToObject(o, "restates", r->restates);
+        cJSON *ra = cJSON_AddArrayToObject(o, "rows");
+        for (int k = 0; k < rows.n; k++) {
+            row_json(ra, &rows.r[k]);
+            row_csv(csv.f, c, r, &rows.r[k]);
+        }
+        cJSON_AddItemToArray(arr, o);
+        if (!rc && rows.n) {
+            plot_compare(results, r, &rows);
+            plot_data(results, r);
+        }
+        campaign_rows_free(&rows);
+    }
+    if (rc) {
+        gr_file_abandon(&csv);
+    } else {
+        rc = gr_file_commit(&csv, err);
+    }
+    if (!rc) {
+        rc = gr_json_write(results, "results.json", j, err);
+    }
+    cJSON_Delete(j);
+    if (!rc) {
+        rc = campaign_archive(c, &pts, results, err);
+    }
+    campaign_points_free(&pts);
+    return rc;
+}
+
+int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results, long *finished,
+                        char *notes, size_t notes_len, gr_error *err)
+{
+    char ignore[1];
+    campaign_notes_take(ignore, sizeof ignore); /* start with none */
+    const int rc = analyse_all(c, fid, dir, results, finished, err);
+    campaign_notes_take(notes ? notes : ignore, notes ? notes_len : sizeof ignore);
+    return rc;
+}

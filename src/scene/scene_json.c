@@ -1,0 +1,195 @@
+/* The resolved scene as JSON (for summary.json) and its hash (for CSV headers). */
+#include <cjson/cJSON.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "scene/scene_json.h"
+
+cJSON *gr_scene_to_json(const gr_scene *s)
+{
+    cJSON *root = cJSON_CreateObject();
+    cJSON *sys = cJSON_AddObjectToObject(root, "system");
+    cJSON_AddNumberToObject(sys, "dim", s->dim);
+    cJSON_AddNumberToObject(sys, "N", s->N);
+    cJSON_AddNumberToObject(sys, "L", s->L);
+    if (s->dim == 2) {
+        cJSON_AddNumberToObject(sys, "packing_fraction", s->packing_fraction);
+    } else {
+        cJSON_AddNumberToObject(sys, "reduced_length", s->reduced_length);
+    }
+    cJSON_AddNumberToObject(sys, "radius", s->radius);
+    cJSON_AddNumberToObject(sys, "mass", s->mass);
+    cJSON *pl = cJSON_AddObjectToObject(root, "placement");
+    cJSON_AddStringToObject(pl, "kind", gr_placement_name(s->placement));
+    cJSON_AddNumberToObject(pl, "v0", s->v0);
+    if (s->contact.rotation) {
+        cJSON_AddNumberToObject(pl, "omega0", s->omega0); /* only then (the hashes of other scenes stay) */
+    }
+    cJSON *m = cJSON_AddObjectToObject(root, "model");
+    cJSON_AddStringToObject(m, "normal", s->normal ? s->normal->name : "none");
+    cJSON_AddStringToObject(m, "tangential", s->tangential ? s->tangential->name : "none");
+    if (s->rolling) {
+        cJSON_AddStringToObject(m, "rolling", s->rolling->name); /* only then (the hashes of other scenes stay) */
+    }
+    const gr_model *used[3] = {s->normal, s->tangential, s->rolling};
+    for (int u = 0; u < 3; u++) {
+        for (int i = 0; used[u] && i < used[u]->n_params; i++) {
+            const gr_param *p = &used[u]->params[i];
+            const char *slot = (const char *)&s->contact + p->offset;
+            if (p->type == GR_PARAM_BOOL) {
+                cJSON_AddBoolToObject(m, p->name, *(const bool *)slot);
+            } else {
+                cJSON_AddNumberToObject(m, p->name, *(const double *)slot);
+            }
+        }
+    }
+    cJSON *nz = cJSON_AddObjectToObject(root, "noise");
+    cJSON_AddNumberToObject(nz, "D", s->D);
+    cJSON_AddStringToObject(nz, "mode", gr_noise_mode_name(s->noise_mode));
+    if (s->noise_mode == GR_NOISE_COM) {
+        cJSON_AddNumberToObject(nz, "com_interval", s->com_interval);
+    }
+    cJSON *in = cJSON_AddObjectToObject(root, "integrator");
+    cJSON_AddStringToObject(in, "kind", s->integrator->name);
+    if (s->integrator->free_flight) {
+        cJSON_AddStringToObject(in, "free_flight", s->free_flight == GR_FREE_FLIGHT_EXACT ? "exact" : "kicks");
+        cJSON_AddNumberToObject(in, "kick_interval", s->kick_interval);
+    }
+    if (s->dt > 0.0) {
+        cJSON_AddNumberToObject(in, "dt", s->dt);
+    } else {
+        cJSON_AddNumberToObject(in, "steps_per_contact", s->steps_per_contact);
+    }
+    cJSON_AddBoolToObject(in, "force_dt", s->force_dt);
+    cJSON_AddNumberToObject(in, "skin", s->skin);
+    cJSON *run = cJSON_AddObjectToObject(root, "run");
+    cJSON_AddNumberToObject(run, "warmup", s->warmup);
+    cJSON_AddNumberToObject(run, "duration", s->duration);
+    cJSON_AddNumberToObject(run, "sample_every", s->sample_every);
+    char seed[32];
+    snprintf(seed, sizeof seed, "%llu", (unsigned long long)s->seed);
+    cJSON_AddRawToObject(run, "seed", seed);
+    cJSON *out = cJSON_AddObjectToObject(root, "output");
+    cJSON_AddStringToObject(out, "dir", s->out_dir);
+    cJSON_AddNumberToObject(out, "snapshot_every", s->snapshot_every);
+    static const char *traj[] = {"snapshots", "xyz", "h5md"};
+    cJSON_AddStringToObject(out, "trajectory", traj[s->trajectory]);
+    cJSON_AddBoolToObject(out, "plots", s->plots);
+    return root;
+}
+
+uint64_t gr_scene_hash(const gr_scene *s)
+{
+    cJSON *j = gr_scene_to_json(s);
+    cJSON_DeleteItemFromObject(j, "output"); /* where results go does not change the physics */
+    char *text = cJSON_PrintUnformatted(j);
+    uint64_t h = 1469598103934665603ull; /* FNV-1a */
+    for (const char *c = text; c && *c; c++) {
+        h = (h ^ (unsigned char)*c) * 1099511628211ull;
+    }
+    cJSON_free(text);
+    cJSON_Delete(j);
+    return h;
+}
+
+/* The default of [model] key `name`, from the first registered model that has it (models share
+ * a key's default), as JSON; NULL when no model has the key. */
+static cJSON *model_param_default(const char *name)
+{
+    for (int m = 0; gr_models[m]; m++) {
+        for (int i = 0; i < gr_models[m]->n_params; i++) {
+            const gr_param *p = &gr_models[m]->params[i];
+            if (!strcmp(p->name, name)) {
+                return p->type == GR_PARAM_BOOL ? cJSON_CreateBool(p->def != 0.0) : cJSON_CreateNumber(p->def);
+            }
+        }
+    }
+    return NULL;
+}
+
+/* j as it reads back from a file (the seed is written raw, so it parses as a number); frees j */
+static cJSON *normalised(cJSON *j)
+{
+    char *text = cJSON_PrintUnformatted(j);
+    cJSON_Delete(j);
+    cJSON *back = text ? cJSON_Parse(text) : NULL;
+    cJSON_free(text);
+    return back;
+}
+
+bool gr_scene_json_compatible(const cJSON *recorded, const gr_scene *now, char *why, size_t len)
+{
+    if (!cJSON_IsObject(recorded)) {
+        snprintf(why, len, "no scene recorded");
+        return false;
+    }
+    gr_scene d;
+    gr_scene_default(&d);
+    cJSON *cur = normalised(gr_scene_to_json(now)), *def = normalised(gr_scene_to_json(&d));
+    if (!cur || !def) {
+        cJSON_Delete(cur);
+        cJSON_Delete(def);
+        snprintf(why, len, "out of memory comparing scenes");
+        return false;
+    }
+    bool ok = true;
+    const cJSON *sec;
+    cJSON_ArrayForEach(sec, cur)
+    {
+        if (!strcmp(sec->string, "output")) {
+            continue;
+        }
+        const cJSON *rsec = cJSON_GetObjectItem(recorded, sec->string), *dsec = cJSON_GetObjectItem(def, sec->string);
+        const cJSON *item;
+        cJSON_ArrayForEach(item, sec)
+        {
+            const cJSON *r = cJSON_GetObjectItem(rsec, item->string);
+            if (r) {
+                if (!cJSON_Compare(r, item, true)) {
+                    char *a = cJSON_PrintUnformatted(r), *b = cJSON_PrintUnformatted(item);
+                    snprintf(why, len, "[%s] %s was %s, now %s", sec->string, item->string, a ? a : "?", b ? b : "?");
+                    cJSON_free(a);
+                    cJSON_free(b);
+                    ok = false;
+                }
+            } else {
+                cJSON *dm = !strcmp(sec->string, "model") ? model_param_default(item->string) : NULL;
+                const cJSON *dv = dm ? dm : cJSON_GetObjectItem(dsec, item->string);
+                if (!dv || !cJSON_Compare(dv, item, true)) {
+                    char *b = cJSON_PrintUnformatted(item);
+                    snprintf(why, len, "[%s] %s = %s was not recorded and is not its default", sec->string, item->string,
+                             b ? b : "?");
+                    cJSON_free(b);
+                    ok = false;
+                }
+                cJSON_Delete(dm);
+            }
+            if (!ok) {
+                break;
+            }
+        }
+        if (!ok) {
+            break;
+        }
+    }
+    /* a key the recorded run had and granule no longer knows */
+    const cJSON *rsec;
+    cJSON_ArrayForEach(rsec, recorded)
+    {
+        const cJSON *item;
+        const cJSON *csec = cJSON_GetObjectItem(cur, rsec->string);
+        if (!ok || !strcmp(rsec->string, "output") || !cJSON_IsObject(rsec)) {
+            continue;
+        }
+        cJSON_ArrayForEach(item, rsec)
+        {
+            if (ok && !cJSON_GetObjectItem(csec, item->string)) {
+                snprintf(why, len, "[%s] %s was recorded and is no longer a key of this scene", rsec->string, item->string);
+                ok = false;
+            }
+        }
+    }
+    cJSON_Delete(cur);
+    cJSON_Delete(def);
+    return ok;
+}
