@@ -47,6 +47,7 @@
 #include "granule/model.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
+#include "core/sim_internal.h" /* gr_kernel_force_generic, gr_kernel_instances */
 #include "models/hard_sphere.h" /* the rough rule itself, for angular momentum */
 #include "check_main.h"
 #include "test_env.h"
@@ -729,6 +730,98 @@ START_TEST(test_registry_covered)
 }
 END_TEST
 
+/* 10. the kernel instances (src/core/kernels.c): a combination in the hot list runs its
+ * specialised instance, every other one the generic instance of its dimension, and the two give
+ * the same bits. 48 particles on a lattice of spacing 1.01 d (neighbours across the boundary too)
+ * with random velocities and spins step 400 times twice from the same state, once as chosen and once
+ * forced through the generic instance: positions, velocities, spins and the ledger must agree
+ * exactly. The thesis's laws (spring_dashpot alone, 1D and 2D, and with tangential_dashpot) must be specialised, and the number
+ * of instances must stay below the number of combinations (the instantiation is bounded). */
+static gr_sim *packed_sim(const combo *c, int generic)
+{
+    enum { NP = 48 };
+    gr_scene sc;
+    gr_scene_default(&sc);
+    sc.dim = c->dim;
+    sc.N = NP;
+    sc.radius = RADIUS;
+    sc.mass = MASS;
+    sc.normal = c->normal;
+    sc.tangential = c->dim == 2 ? c->tangential : NULL;
+    sc.rolling = c->rolling;
+    sc.contact = defaults_of(c);
+    sc.contact.clamp = c->clamp;
+    sc.D = 0.0;
+    sc.noise_mode = GR_NOISE_NONE;
+    sc.skin = 0.3;
+    const int side = c->dim == 2 ? 7 : NP; /* 2D: a 7 x 7 lattice less one */
+    sc.L = side * 1.01 * DIAM;
+    gr_contact_coeffs k;
+    gr_error err = {0};
+    ck_assert(gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * MASS, 0.0, &k, &err) == GR_OK);
+    sc.dt = duration_of(&k, 0.1, 0.0) / STEPS;
+    double x[NP], y[NP], vx[NP], vy[NP];
+    unsigned long long r = 12345; /* a fixed LCG: the same state for both runs */
+    for (int i = 0; i < NP; i++) {
+        r = r * 6364136223846793005ull + 1442695040888963407ull;
+        const double u = (double)(r >> 11) / 9007199254740992.0 - 0.5;
+        x[i] = ((i % side) + 0.5) * 1.01 * DIAM;
+        y[i] = ((i / side) + 0.5) * 1.01 * DIAM;
+        vx[i] = 2.0 * u;
+        vy[i] = 4.0 * u * u - 0.3;
+    }
+    gr_sim *s = NULL;
+    ck_assert_msg(gr_sim_create_with_state(&sc, NP, x, c->dim == 2 ? y : NULL, vx, c->dim == 2 ? vy : NULL, &s, &err) == GR_OK,
+                  "create: %s", err.message);
+    if (s->omega) {
+        for (int i = 0; i < NP; i++) {
+            s->omega[i] = 30.0 * (double)((i * 7) % 11 - 5) / DIAM * 1e-3;
+        }
+    }
+    if (generic) {
+        gr_kernel_force_generic(s);
+    }
+    ck_assert_msg(gr_sim_step(s, 400, &err) == GR_OK, "step: %s", err.message);
+    return s;
+}
+
+static bool same_bits(const double *a, const double *b, int n)
+{
+    return n == 0 || (a && b && memcmp(a, b, sizeof(double) * (size_t)n) == 0);
+}
+
+START_TEST(test_generic_kernel)
+{
+    const combo *c = &combos[_i];
+    char name[200];
+    name_of(c, name, sizeof name);
+    gr_sim *a = packed_sim(c, 0), *b = packed_sim(c, 1);
+    const bool thesis = strcmp(c->normal->name, "spring_dashpot") == 0 && !c->variant && !c->rot &&
+                        (!c->tangential || (strcmp(c->tangential->name, "tangential_dashpot") == 0 && !c->tvariant));
+    ck_assert_msg(!thesis || !gr_kernel_generic(a), "%s: the thesis's law runs the generic instance", name);
+    ck_assert_msg(gr_kernel_generic(b), "%s: the generic instance was not used", name);
+    ck_assert_str_eq(gr_sim_kernel(a), gr_sim_kernel(b));
+    const int n = a->n;
+    ck_assert_msg(same_bits(a->x, b->x, n) && same_bits(a->vx, b->vx, n), "%s: x or vx differ (generic vs %s)", name,
+                  gr_kernel_generic(a) ? "generic" : "specialised");
+    if (c->dim == 2) {
+        ck_assert_msg(same_bits(a->y, b->y, n) && same_bits(a->vy, b->vy, n), "%s: y or vy differ", name);
+    }
+    ck_assert_msg(!a->omega || same_bits(a->omega, b->omega, n), "%s: spins differ", name);
+    gr_ledger la = gr_sim_ledger(a), lb = gr_sim_ledger(b);
+    ck_assert_msg(memcmp(&la, &lb, sizeof la) == 0, "%s: ledgers differ", name);
+    ck_assert_msg(gr_sim_collisions(a) > 0, "%s: no contact in the packed state", name);
+    gr_sim_free(a);
+    gr_sim_free(b);
+}
+END_TEST
+
+START_TEST(test_kernel_instances_bounded)
+{
+    ck_assert_msg(gr_kernel_instances() < n_combos, "%d kernel instances for %d combinations", gr_kernel_instances(), n_combos);
+}
+END_TEST
+
 static Suite *suite(void)
 {
     enumerate();
@@ -740,6 +833,8 @@ static Suite *suite(void)
     tcase_add_loop_test(tc, test_elastic, 0, n_combos);
     tcase_add_loop_test(tc, test_hard_cases, 0, n_combos);
     tcase_add_loop_test(tc, test_periodic_and_ledger, 0, n_combos);
+    tcase_add_loop_test(tc, test_generic_kernel, 0, n_combos);
+    tcase_add_test(tc, test_kernel_instances_bounded);
     n_rolls = 0;
     for (int i = 0; i < n_combos; i++) {
         if (combos[i].rolling) {

@@ -1,8 +1,8 @@
-/* Contact-force kernels. One pair loop, written once as an always-inline function and
- * instantiated for every legal combination of contact laws named in models/list.h (each normal
- * law alone and with each tangential law, clamped or not, in 2D; each normal law clamped or not
- * on the 1D ring), so the compiler inlines the models' laws (models/NAME.h, interface in
- * models/law.h) and removes every branch on a law that is off. The kernel is chosen once per run
+/* Contact-force kernels. One pair loop, written once as an always-inline function, so the
+ * compiler inlines the models' laws (models/NAME.h, interface in models/law.h). It is instantiated
+ * with the laws as constants for the hot combinations (GR_HOT_KERNELS below), where every branch on
+ * a law that is off disappears, and once per dimension with the laws read at run time (the generic
+ * instances) for every other legal combination of models/list.h. The kernel is chosen once per run
  * (gr_kernel_choose); there is no per-pair indirect call. Adding a model needs no edit here.
  *
  * For a pair i < j at overlap xi = d - |r_ij| > 0, n = r_ij / |r_ij| (from i to j),
@@ -268,7 +268,7 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
         double fxi = 0.0, fyi = 0.0, gxi = 0.0, gyi = 0.0, tqi = 0.0, tgi = 0.0;
         for (int p = start[i]; p < start[i + 1]; p++) {
             const int j = list[p];
-            pair_out o;
+            pair_out o = {0}; /* the generic instance cannot prove which fields its laws set; hot ones drop the dead stores */
             if (!pair_2d(c, i, j, nl, tang, clamp, rot, roll, history_of(tang) ? hist[p] : 0.0, &o)) {
                 touching[p] = 0;
                 if (history_of(tang) && hist[p] != 0.0) {
@@ -548,7 +548,7 @@ threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const
     const pair_ctx c = ctx_of(s);
     for (int t = tid; t < T; t += nth) {
         for (int q = s->cross_start[t]; q < s->cross_start[t + 1]; q++) {
-            pair_out o;
+            pair_out o = {0}; /* the generic instance cannot prove which fields its laws set; hot ones drop the dead stores */
             double *f = s->pair_f + 4 * (size_t)q;
             /* a history law reads the slot of the cross pair's row (this thread's): the new value is
              * written by rows_2d after the barrier, from the same old value */
@@ -714,71 +714,102 @@ pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const int nl, cons
     r->worst_j = wi >= 0 ? (wi + 1) % n : -1;
 }
 
-/* One function per contact-law combination; the parallel region is written in each, so that the
- * constants reach the body OpenMP outlines. */
-#define KERNEL_2D_AS(FN, NL, TL, CLAMP, ROT, RL)                                                    \
-    static void FN(gr_sim *s, gr_force_report *r)                                                  \
-    {                                                                                              \
-        const int T = team_2d(s);                                                                  \
-        if (T == 1) {                                                                              \
-            serial_2d(s, NL_##NL, TL_##TL, CLAMP, ROT, RL);                                        \
-        } else {                                                                                   \
-            _Pragma("omp parallel num_threads(T)")                                                 \
-                threaded_2d(s, T, GR_THREAD_ID, GR_THREAD_COUNT, NL_##NL, TL_##TL, CLAMP, ROT, RL);      \
-        }                                                                                          \
-        report_2d(s, r, history_of(TL_##TL));                                                      \
-    }
-#define KERNEL_2D(NL, TL, CLAMP, ROT) KERNEL_2D_AS(kernel_2d_##NL##_##TL##_##CLAMP##ROT, NL, TL, CLAMP, ROT, RL_none)
-/* rolling laws: rotation on, with no tangential law or with each one, clamped and not. The
- * X-macro argument carries (NL, TL) as one parenthesised pair. */
-#define GR_UNPAIR(...) __VA_ARGS__
-#define KERNEL_2D_RL_(RL, NL, TL)                                                                  \
-    KERNEL_2D_AS(kernel_2d_##NL##_##TL##_01_##RL, NL, TL, 0, 1, RL_##RL)                           \
-    KERNEL_2D_AS(kernel_2d_##NL##_##TL##_11_##RL, NL, TL, 1, 1, RL_##RL)
-#define KERNEL_2D_RL(...) KERNEL_2D_RL_(__VA_ARGS__)
-#define KERNELS_RL(P, RL) KERNEL_2D_RL(RL, GR_UNPAIR P)
-#define KERNELS_ROLL(NL, TL) GR_ROLLING_MODELS(KERNELS_RL, (NL, TL))
-#define KERNEL_1D(NL, CLAMP)                                                                       \
-    static void kernel_1d_##NL##_##CLAMP(gr_sim *s, gr_force_report *r) { pair_loop_1d(s, r, NL_##NL, CLAMP); }
-/* rotation (the last digit) only with a tangential law */
-#define KERNELS_NT(NL, TL) KERNEL_2D(NL, TL, 0, 0) KERNEL_2D(NL, TL, 1, 0) KERNEL_2D(NL, TL, 0, 1) KERNEL_2D(NL, TL, 1, 1) \
-    KERNELS_ROLL(NL, TL)
-#define KERNELS_N(A, NL)                                                                           \
-    KERNEL_1D(NL, 0) KERNEL_1D(NL, 1) KERNEL_2D(NL, none, 0, 0) KERNEL_2D(NL, none, 1, 0)         \
-        KERNELS_ROLL(NL, none) GR_TANGENTIAL_MODELS(KERNELS_NT, NL)
-GR_NORMAL_MODELS(KERNELS_N, )
+/* The instances. The hot combinations, one line each (dim, normal, tangential, clamp, rotation,
+ * rolling), are compiled with their laws as constants: the Random Force Model's laws (the
+ * spring-dashpot on the ring; in the plane alone and with the tangential dashpot, Fig. 2.8),
+ * clamped and not, and the ring for each normal law (its loop is so
+ * tight that a branch per pair shows; docs/performance.md, "Kernel instances"). Every other legal
+ * combination runs through the generic instance of its dimension: the same always-inline pair
+ * loop with the law ids read from the simulation, so the laws are still inlined (no per-pair
+ * indirect call) and a pair branches on which law is on. This list alone decides what is
+ * specialised; selection (gr_kernel_choose) and the names in summary.json follow from the model
+ * lists, so a new law of any kind runs (generically) with no edit here. */
+#define GR_HOT_KERNELS(X)                                                                          \
+    X(1, spring_dashpot, none, 0, 0, none)                                                         \
+    X(1, spring_dashpot, none, 1, 0, none)                                                         \
+    X(1, hertz, none, 0, 0, none)                                                                  \
+    X(1, hertz, none, 1, 0, none)                                                                  \
+    X(2, spring_dashpot, none, 0, 0, none)                                                         \
+    X(2, spring_dashpot, none, 1, 0, none)                                                         \
+    X(2, spring_dashpot, tangential_dashpot, 0, 0, none)                                           \
+    X(2, spring_dashpot, tangential_dashpot, 1, 0, none)
 
-/* The table of every instance: gr_kernel_id is an index into it. */
-typedef struct kernel_entry {
+/* The parallel region is written in each instance, so that the constants reach the body OpenMP
+ * outlines. */
+static inline __attribute__((always_inline)) void run_2d(gr_sim *s, gr_force_report *r, const int nl, const int tl,
+                                                         const int clamp, const int rot, const int rl)
+{
+    const int T = team_2d(s);
+    if (T == 1) {
+        serial_2d(s, nl, tl, clamp, rot, rl);
+    } else {
+        _Pragma("omp parallel num_threads(T)") threaded_2d(s, T, GR_THREAD_ID, GR_THREAD_COUNT, nl, tl, clamp, rot, rl);
+    }
+    report_2d(s, r, history_of(tl));
+}
+
+static inline __attribute__((always_inline)) void run_kernel(gr_sim *s, gr_force_report *r, const int dim, const int nl,
+                                                             const int tl, const int clamp, const int rot, const int rl)
+{
+    if (dim == 1) {
+        pair_loop_1d(s, r, nl, clamp);
+    } else {
+        run_2d(s, r, nl, tl, clamp, rot, rl);
+    }
+}
+
+#define GR_HOT_FN(DIM, NL, TL, CLAMP, ROT, RL)                                                      \
+    static void kernel_##DIM##d_##NL##_##TL##_##CLAMP##ROT##_##RL(gr_sim *s, gr_force_report *r)  \
+    {                                                                                              \
+        run_kernel(s, r, DIM, NL_##NL, TL_##TL, CLAMP, ROT, RL_##RL);                              \
+    }
+GR_HOT_KERNELS(GR_HOT_FN)
+#undef GR_HOT_FN
+
+/* the generic instances: one per dimension, the laws read at run time */
+static void kernel_generic_1d(gr_sim *s, gr_force_report *r) { pair_loop_1d(s, r, s->kernel.nl, s->kernel.clamp); }
+
+static void kernel_generic_2d(gr_sim *s, gr_force_report *r)
+{
+    const gr_kernel k = s->kernel;
+    run_2d(s, r, k.nl, k.tl, k.clamp, k.rot, k.rl);
+}
+
+typedef struct hot_entry {
     void (*run)(gr_sim *s, gr_force_report *r);
     int dim, nl, tl, clamp, rot, rl;
-    const char *normal, *tangential, *rolling; /* model names ("none" for no such law) */
-} kernel_entry;
+} hot_entry;
+#define GR_HOT_ENTRY(DIM, NL, TL, CLAMP, ROT, RL)                                                   \
+    {kernel_##DIM##d_##NL##_##TL##_##CLAMP##ROT##_##RL, DIM, NL_##NL, TL_##TL, CLAMP, ROT, RL_##RL},
+static const hot_entry hot_kernels[] = {GR_HOT_KERNELS(GR_HOT_ENTRY)};
+#undef GR_HOT_ENTRY
+enum { N_HOT = sizeof hot_kernels / sizeof hot_kernels[0] };
 
-#define ENTRY_2D(NL, TL, CLAMP, ROT)                                                               \
-    {kernel_2d_##NL##_##TL##_##CLAMP##ROT, 2, NL_##NL, TL_##TL, CLAMP, ROT, RL_none, #NL, #TL, "none"},
-#define ENTRY_2D_RL_(RL, NL, TL)                                                                   \
-    {kernel_2d_##NL##_##TL##_01_##RL, 2, NL_##NL, TL_##TL, 0, 1, RL_##RL, #NL, #TL, #RL},          \
-        {kernel_2d_##NL##_##TL##_11_##RL, 2, NL_##NL, TL_##TL, 1, 1, RL_##RL, #NL, #TL, #RL},
-#define ENTRY_2D_RL(...) ENTRY_2D_RL_(__VA_ARGS__)
-#define ENTRIES_RL(P, RL) ENTRY_2D_RL(RL, GR_UNPAIR P)
-#define ENTRIES_ROLL(NL, TL) GR_ROLLING_MODELS(ENTRIES_RL, (NL, TL))
-#define ENTRIES_NT(NL, TL) ENTRY_2D(NL, TL, 0, 0) ENTRY_2D(NL, TL, 1, 0) ENTRY_2D(NL, TL, 0, 1) ENTRY_2D(NL, TL, 1, 1) \
-    ENTRIES_ROLL(NL, TL)
-#define ENTRIES_N(A, NL)                                                                           \
-    {kernel_1d_##NL##_0, 1, NL_##NL, TL_none, 0, 0, RL_none, #NL, "none", "none"},                 \
-        {kernel_1d_##NL##_1, 1, NL_##NL, TL_none, 1, 0, RL_none, #NL, "none", "none"},             \
-        ENTRY_2D(NL, none, 0, 0) ENTRY_2D(NL, none, 1, 0) ENTRIES_ROLL(NL, none)                    \
-            GR_TANGENTIAL_MODELS(ENTRIES_NT, NL)
-static const kernel_entry kernels[] = {GR_NORMAL_MODELS(ENTRIES_N, )};
-enum { N_KERNELS = sizeof kernels / sizeof kernels[0] };
+/* the law ids and names, from the model lists */
+#define GR_NAME_OF(A, NAME) #NAME,
+static const char *const normal_names[] = {GR_NORMAL_MODELS(GR_NAME_OF, )};
+static const char *const tangential_names[] = {"none", GR_TANGENTIAL_MODELS(GR_NAME_OF, )};
+static const char *const rolling_names[] = {"none", GR_ROLLING_MODELS(GR_NAME_OF, )};
+#undef GR_NAME_OF
 
-int gr_kernel_history(const gr_sim *s) { return history_of(kernels[s->kernel].tl); }
+static int id_of(const char *const *names, int n, const char *name)
+{
+    for (int k = 0; k < n; k++) {
+        if (strcmp(names[k], name) == 0) {
+            return k;
+        }
+    }
+    return -1;
+}
+
+int gr_kernel_history(const gr_sim *s) { return history_of(s->kernel.tl); }
 
 void gr_forces(gr_sim *s, gr_force_report *r)
 {
-    kernels[s->kernel].run(s, r); /* one call per force evaluation, not per pair */
+    s->kernel.run(s, r); /* one call per force evaluation, not per pair */
 }
+
+int gr_kernel_instances(void) { return N_HOT + 2; }
 
 int gr_kernel_choose(gr_sim *s, gr_error *err)
 {
@@ -793,26 +824,40 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
     const char *rname = s->omega && rolling && !(rolling->inert && rolling->inert(c)) ? rolling->name : "none";
     /* rotation with laws that do nothing (eps_t = 1, mu = 0, mu_r = 0): the spins stay as they are */
     const int rot = s->omega && (strcmp(tname, "none") != 0 || strcmp(rname, "none") != 0);
-    int k = 0;
-    while (k < N_KERNELS && !(kernels[k].dim == s->dim && kernels[k].clamp == (int)c->clamp && kernels[k].rot == rot &&
-                              strcmp(kernels[k].normal, nname) == 0 && strcmp(kernels[k].rolling, rname) == 0 &&
-                              strcmp(kernels[k].tangential, s->dim == 1 ? "none" : tname) == 0)) {
-        k++;
-    }
-    if (k == N_KERNELS) {
-        /* unreachable: every registered force law has every instance; gr_sim_create checks the
-         * models before choosing. The library reports it to its caller instead of printing. */
+    gr_kernel k = {.dim = s->dim,
+                   .nl = id_of(normal_names, NL_COUNT, nname),
+                   .tl = s->dim == 1 ? TL_none : id_of(tangential_names, TL_COUNT, tname),
+                   .clamp = (int)c->clamp,
+                   .rot = s->dim == 1 ? 0 : rot,
+                   .rl = s->dim == 1 ? RL_none : id_of(rolling_names, RL_COUNT, rname)};
+    if (k.nl < 0 || k.tl < 0 || k.rl < 0 || (k.rl != RL_none && !k.rot) || (k.dim != 1 && k.dim != 2)) {
+        /* unreachable: gr_sim_create checks the models before choosing. The library reports it to
+         * its caller instead of printing. */
         return GR_FAIL(err, GR_EINVAL, "internal error: no force kernel for %s/%s/%s in %dD%s%s (please report it)", nname, tname,
                        rname, s->dim, c->clamp ? ", clamped" : "", rot ? ", rotating" : "");
+    }
+    k.run = k.dim == 1 ? kernel_generic_1d : kernel_generic_2d;
+    for (int h = 0; h < N_HOT; h++) {
+        const hot_entry *e = &hot_kernels[h];
+        if (e->dim == k.dim && e->nl == k.nl && e->tl == k.tl && e->clamp == k.clamp && e->rot == k.rot && e->rl == k.rl) {
+            k.run = e->run;
+        }
     }
     s->kernel = k;
     const char *noise = s->params.noise_mode == GR_NOISE_NONE ? "no-noise"
                         : s->params.noise_mode == GR_NOISE_COM ? "noise-com" : "noise-symmetrised";
     const char *nb = s->dim == 1 ? "1d-ring" : (s->params.skin > 0.0 ? "2d-verlet-list" : "2d-cell-list");
-    const kernel_entry *e = &kernels[k];
-    snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s%s%s%s/%s", nb, e->normal, e->clamp ? "[clamped]" : "",
-             e->tl != TL_none ? "+" : "", e->tl != TL_none ? e->tangential : "", e->rot ? "+rotation" : "",
-             e->rl != RL_none ? "+" : "", e->rl != RL_none ? e->rolling : "", noise);
+    snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s%s%s%s/%s", nb, normal_names[k.nl], k.clamp ? "[clamped]" : "",
+             k.tl != TL_none ? "+" : "", k.tl != TL_none ? tangential_names[k.tl] : "", k.rot ? "+rotation" : "",
+             k.rl != RL_none ? "+" : "", k.rl != RL_none ? rolling_names[k.rl] : "", noise);
+    return GR_OK;
+}
+
+int gr_kernel_generic(const gr_sim *s) { return s->kernel.run == kernel_generic_1d || s->kernel.run == kernel_generic_2d; }
+
+int gr_kernel_force_generic(gr_sim *s)
+{
+    s->kernel.run = s->kernel.dim == 1 ? kernel_generic_1d : kernel_generic_2d;
     return GR_OK;
 }
 
@@ -835,7 +880,7 @@ static double list_slot(const gr_sim *s, int i, int j)
 /* Every pair by brute force with the chosen kernel's laws (runtime law ids: test code). */
 void gr_forces_bruteforce(const gr_sim *s, double *fx, double *fy, double *elastic)
 {
-    const kernel_entry *e = &kernels[s->kernel];
+    const gr_kernel *e = &s->kernel;
     const double L = s->L, d = s->d, m12_dt = s->cc.m_t / s->dt;
     *elastic = 0.0;
     for (int i = 0; i < s->n; i++) {

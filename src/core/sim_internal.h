@@ -30,7 +30,13 @@ typedef struct gr_force_report {
     int worst_i, worst_j;  /* the pair with max_overlap */
 } gr_force_report;
 
-typedef int gr_kernel_id; /* index into the kernel instances of kernels.c (from models/list.h) */
+/* The force kernel of a run (src/core/kernels.c): the instance that runs, and the laws it runs
+ * (ids from models/list.h: nl the normal law, tl the tangential law or 0, rl the rolling law or 0;
+ * clamp; rot = the spins take torques). */
+typedef struct gr_kernel {
+    void (*run)(gr_sim *s, gr_force_report *r);
+    int dim, nl, tl, clamp, rot, rl;
+} gr_kernel;
 
 struct gr_sim {
     gr_sim_params params; /* the parameters it was created with */
@@ -70,7 +76,7 @@ struct gr_sim {
     gr_contact_event *events;
     int64_t n_events, cap_events;
 
-    gr_kernel_id kernel;
+    gr_kernel kernel;
     char kernel_name[160];
 
     /* bookkeeping */
@@ -159,5 +165,11 @@ int gr_kernel_history(const gr_sim *s);
 void gr_forces_bruteforce(const gr_sim *s, double *fx, double *fy, double *elastic);
 /* Pick the kernel from the coefficients; sets s->kernel and s->kernel_name. */
 int gr_kernel_choose(gr_sim *s, gr_error *err);
+/* The number of compiled kernel instances (the hot list and one generic per dimension). */
+int gr_kernel_instances(void);
+/* 1 when s runs the generic instance of its dimension (its laws are not in the hot list). */
+int gr_kernel_generic(const gr_sim *s);
+/* Run s through the generic instance even if its laws are hot (tests: both give the same bits). */
+int gr_kernel_force_generic(gr_sim *s);
 
 #endif

@@ -34,7 +34,7 @@ int gr_hy_child_create(gr_sim *s, gr_hybrid_state *h, gr_error *err)
     if (rc) {
         return rc;
     }
-    if (h->child->dt != s->dt || h->child->kernel != s->kernel) {
+    if (h->child->dt != s->dt || h->child->kernel.run != s->kernel.run) {
         return GR_FAIL(err, GR_EINVAL, "hybrid: internal error, child time step or kernel differs from the parent's");
     }
     return GR_OK;
