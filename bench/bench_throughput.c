@@ -2,7 +2,7 @@
  *
  *   bench_throughput SCENE [--set section.key=value ...] [--warmup-steps W] [--steps S]
  *                    [--repeats R] [--label TEXT] [--threads T] [--csv]
- *                    [--save-state FILE | --state FILE]
+ *                    [--save-state FILE | --state FILE] [--generic]
  *
  * The scene is first advanced W steps (so a lattice start has melted), then R timed blocks of S
  * steps each. Prints one line per scene: label, N, kernel, median / min / max particle-steps/s,
@@ -15,13 +15,16 @@
  * A steady state takes far longer to reach than a benchmark should spend warming up (the 2D RFM
  * scene about 1 s, 1e6 steps): --save-state FILE writes the state after the warm-up
  * (gr_sim_state_save) and --state FILE starts from such a file instead of warming up, so every
- * build and repeat times the same steady state (bench/steady_state.sh). */
+ * build and repeat times the same steady state (bench/steady_state.sh). --generic runs the laws
+ * through the generic kernel instance even when they are in the hot list (src/core/kernels.c), to
+ * measure what specialising them buys (bench/kernel_instances.sh). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
 #include "granule/granule.h"
+#include "core/sim_internal.h" /* gr_kernel_force_generic */
 #include "granule_commit.h"
 #include "granule_config.h"
 #include "bench_util.h"
@@ -35,7 +38,7 @@ int main(int argc, char **argv)
     const char *sets[64];
     int n_sets = 0;
     long warm = 2000, steps = 2000, repeats = 5, threads = 0;
-    bool csv = false;
+    bool csv = false, generic = false;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--set") && i + 1 < argc && n_sets < 64) {
             sets[n_sets++] = argv[++i];
@@ -55,13 +58,15 @@ int main(int argc, char **argv)
             state = argv[++i];
         } else if (!strcmp(argv[i], "--csv")) {
             csv = true;
+        } else if (!strcmp(argv[i], "--generic")) {
+            generic = true;
         } else if (!strcmp(argv[i], "--csv-header")) {
             puts(CSV_HEADER);
             return 0;
         } else if (argv[i][0] != '-' && !scene_path) {
             scene_path = argv[i];
         } else {
-            fprintf(stderr, "usage: bench_throughput SCENE [--set k=v ...] [--warmup-steps W] [--steps S] [--repeats R] [--label TEXT] [--threads T] [--csv] [--save-state FILE | --state FILE]\n");
+            fprintf(stderr, "usage: bench_throughput SCENE [--set k=v ...] [--warmup-steps W] [--steps S] [--repeats R] [--label TEXT] [--threads T] [--csv] [--save-state FILE | --state FILE] [--generic]\n");
             return 2;
         }
     }
@@ -86,6 +91,9 @@ int main(int argc, char **argv)
     if (gr_sim_create(&sc, &sim, &err)) {
         fprintf(stderr, "bench_throughput: %s\n", err.message);
         return 2;
+    }
+    if (generic) {
+        gr_kernel_force_generic(sim);
     }
     if (state) {
         if (bench_load_state(sim, state, &err)) {
