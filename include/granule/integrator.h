@@ -41,6 +41,9 @@ typedef struct gr_integrator_type {
     /* Kicks the angular velocities with the torques (gr_sim omega, tq) when a scene has rotation
      * ([model] rotation = true); an integrator without it refuses such a scene. */
     bool rotation;
+    /* Applies a viscous drag with its bath noise ([driving] kind = langevin, granule/driving.h);
+     * an integrator without it refuses such a scene. */
+    bool drag;
 
     /* Build the integrator's state (into the simulation's integrator_state) once positions,
      * velocities, coefficients, the time step and the first forces are set. NULL: none. */

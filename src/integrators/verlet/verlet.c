@@ -4,6 +4,7 @@
 const gr_integrator_type gr_integrator_verlet = {
     .name = "verlet",
     .rotation = true,
+    .drag = true,
     .summary = "soft-sphere velocity Verlet (docs/integrator.md)",
     .step = gr_verlet_step,
 };
