@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "analysis/mean_field.h"
 #include "core/sim_internal.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
@@ -417,11 +418,38 @@ START_TEST(registry)
 }
 END_TEST
 
+/* summary.json's mean_field for a bath: its parameters, the elastic T and the Enskog estimate,
+ * which solves the balance (2/tau)(T_b - T) = 2 rate sqrt(T/dim) T and is T_b at eps_n = 1. */
+START_TEST(mean_field_bath)
+{
+    const char *eps1[] = {"model.eps_n=1"}, *eps06[] = {"model.eps_n=0.6", "driving.tau=0.2"};
+    gr_scene s;
+    load(&s, bath_2d, eps1, 1);
+    cJSON *j = gr_mean_field_haff(&s, NULL, NULL, 0);
+    ck_assert_ptr_nonnull(j);
+    const double Tb = 0.01 * (1.0 - 1.0 / 2500);
+    ck_assert_double_eq(cJSON_GetObjectItem(j, "T_bath")->valuedouble, 0.01);
+    ck_assert_double_eq(cJSON_GetObjectItem(j, "tau")->valuedouble, 0.002);
+    ck_assert_double_eq_tol(cJSON_GetObjectItem(j, "D_bath")->valuedouble, 3.53e-5 * 3.53e-5 * 0.01 / (2 * 0.002), 1e-25);
+    ck_assert_double_eq(cJSON_GetObjectItem(j, "T_elastic")->valuedouble, Tb);
+    ck_assert_double_eq(cJSON_GetObjectItem(j, "T_enskog")->valuedouble, Tb);
+    cJSON_Delete(j);
+    load(&s, bath_2d, eps06, 2);
+    j = gr_mean_field_haff(&s, NULL, NULL, 0);
+    const double T = cJSON_GetObjectItem(j, "T_enskog")->valuedouble;
+    const double rate = gr_haff_rate_2d(s.packing_fraction, 0.6, 2.0 * s.radius);
+    ck_assert_msg(T > 0.0 && T < 0.7 * Tb, "T_enskog = %g", T); /* zeta tau ~ 2: the collisions matter */
+    ck_assert_double_eq_tol((Tb - T) / 0.2, rate * T * sqrt(T / 2.0), 1e-12 * Tb / 0.2);
+    cJSON_Delete(j);
+}
+END_TEST
+
 static Suite *driving_suite(void)
 {
     Suite *s = suite_create("driving");
     TCase *unit = tcase_create("unit");
     tcase_add_test(unit, registry);
+    tcase_add_test(unit, mean_field_bath);
     tcase_add_test(unit, event_hybrid_refuse_langevin);
     tcase_add_test(unit, rfm_named_is_default);
     tcase_add_test(unit, none_is_zero_noise);
