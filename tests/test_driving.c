@@ -21,6 +21,7 @@
 #include "analysis/mean_field.h"
 #include "core/sim_internal.h"
 #include "granule/scene.h"
+#include "io/scene_json.h"
 #include "granule/sim.h"
 #include "check_main.h"
 #include "test_env.h"
@@ -332,6 +333,35 @@ START_TEST(none_is_zero_noise)
 }
 END_TEST
 
+/* The resolved scene.ini (what a run saves and a resume reads) of a none or langevin scene reads
+ * back as the same scene (equal hash) with no new warnings: the unused [noise] keys are not
+ * written; an rfm scene's has no [driving] section (it is what it was before drivings existed). */
+START_TEST(saved_scene_round_trip)
+{
+    const char *kinds[][3] = {{"driving.kind=none", "noise.D=5e-8", NULL},
+                              {"driving.kind=langevin", "driving.tau=0.02", "noise.mode=com"},
+                              {"driving.kind=rfm", "noise.D=2e-8", NULL}};
+    for (int k = 0; k < 3; k++) {
+        gr_scene a, b;
+        load(&a, gas_2d, kinds[k], kinds[k][2] ? 3 : 2);
+        ck_assert_msg(k == 2 ? a.warnings[0] == 0 : strstr(a.warnings, "[noise]") != NULL, "%s", a.warnings);
+        char *text = NULL;
+        size_t len = 0;
+        FILE *f = open_memstream(&text, &len);
+        gr_scene_write(&a, f);
+        fclose(f);
+        ck_assert_msg((strstr(text, "\n[driving]\n") != NULL) == (k != 2), "%s", text);
+        ck_assert_msg((strstr(text, "\n[noise]\n") != NULL) == (k == 2), "%s", text);
+        gr_error err = {0};
+        ck_assert_msg(gr_scene_load_buffer(&b, "scene.ini", text, len, NULL, 0, &err) == GR_OK, "%s", err.message);
+        free(text);
+        ck_assert_str_eq(b.warnings, "");
+        ck_assert_ptr_eq(a.driving, b.driving);
+        ck_assert(gr_scene_hash(&a) == gr_scene_hash(&b));
+    }
+}
+END_TEST
+
 /* Free cooling: with kind = none an inelastic gas only loses energy, for verlet, event and hybrid. */
 static void check_cools(const char *text, int64_t steps)
 {
@@ -456,6 +486,7 @@ static Suite *driving_suite(void)
     tcase_add_test(unit, event_hybrid_refuse_langevin);
     tcase_add_test(unit, rfm_named_is_default);
     tcase_add_test(unit, none_is_zero_noise);
+    tcase_add_test(unit, saved_scene_round_trip);
     tcase_add_test(unit, threads_invariant);
     tcase_add_test(unit, restart_exact);
     suite_add_tcase(s, unit);

@@ -1272,8 +1272,12 @@ void gr_scene_write(const gr_scene *s, FILE *f)
         if (k->offset == offsetof(gr_scene, steps_per_contact) && s->dt > 0.0) {
             continue;
         }
-        if (k->type == K_DRIVING && (!s->driving || s->driving == gr_driving_default())) {
+        const bool rfm = !s->driving || s->driving == gr_driving_default();
+        if (k->type == K_DRIVING && rfm) {
             continue; /* the default: scene.ini of an rfm run is what it always was */
+        }
+        if (!rfm && strcmp(k->section, "noise") == 0) {
+            continue; /* the random force's keys, unused (and warned about if given) under another driving */
         }
         if (strcmp(section, k->section) != 0) {
             section = k->section;
