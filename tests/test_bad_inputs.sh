@@ -81,6 +81,15 @@ base | run $S --out $O --set run.progress=maybe | 2 | progress | new
 base | run $S --out $O --set noise.D=-1 | 2 | D | new
 base | run $S --out $O --set noise.mode=bogus | 2 | mode;symmetrised | new
 base | run $S --out $O --set noise.com_interval=0 | 2 | com_interval | new
+base | run $S --out $O --set driving.kind=bogus | 2 | [driving] kind;bogus;choose one of rfm | new
+base | run $S --out $O --set driving.kind=langevin --set driving.tau=0 | 2 | [driving] tau;(0, inf) | new
+base | run $S --out $O --set driving.kind=langevin --set driving.tau=-1 | 2 | [driving] tau;(0, inf) | new
+base | run $S --out $O --set driving.kind=langevin --set driving.T_bath=-0.1 | 2 | [driving] T_bath;[0, inf) | new
+base | run $S --out $O --set driving.kind=langevin --set driving.T_bath=nan | 2 | [driving] T_bath;not a number | new
+base | run $S --out $O --set driving.gamma=1 | 2 | [driving] gamma;unknown key;T_bath;tau | new
+file:[system]\ndim = 2\nN = 50\n[model]\nnormal = hard_sphere\n[driving]\nkind = langevin\n[integrator]\nkind = event\n | run $S --out $O | 2 | :7:;[driving] kind;langevin;event;viscous drag;allowed with event: rfm;allowed with langevin: verlet | new
+file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[placement]\nkind = uniform\n[integrator]\nkind = hybrid\n[driving]\nkind = langevin\ntau = 0.01\n | run $S --out $O | 2 | :10:;[driving] kind;langevin;hybrid;allowed with langevin: verlet | new
+file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[driving]\nkind = langevin\ntau = 0\n | run $S --out $O | 2 | :7:;[driving] tau;(0, inf) | new
 base | run $S --out $O --set placement.kind=bogus | 2 | kind;uniform | new
 base | run $S --out $O --set placement.v0=-1 | 2 | v0 | new
 base | run $S --out $O --set integrator.kind=bogus | 2 | kind;bogus;verlet;event;hybrid | new

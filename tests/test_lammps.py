@@ -2,7 +2,8 @@
 Debian's LAMMPS, read its dump with `granule analyse --lammps-dump`, and require agreement with
 granule's own run of the same scene (same initial state, independent noise) within errors:
 T (2.19) and g(R) (4.10) from granule's observables with their block-averaging errors, P(v) (App.
-A.1) from granule's pv.csv in coarse bins with errors from block averaging over the frames.
+A.1) from granule's pv.csv in coarse bins with errors from block averaging over the frames. Then
+the Langevin bath: docs/scenes/langevin-gas.ini exported as fix langevin, both runs at T_bath.
 
     test_lammps.py GRANULE_EXE SOURCE_DIR     exit 77 (skipped) without lmp
 """
@@ -108,6 +109,33 @@ with tempfile.TemporaryDirectory() as tmp:
     for k in range(len(edges) - 1):
         compare(f"P(v) fraction {edges[k] / scale:.1f} <= |v_x|/sqrt(T/2) < {edges[k + 1] / scale:.1f}",
                 pg_c[k], err_g[k], pl_c[k], err_l[k])
+
+# The Langevin bath (docs/systems-driving.md): docs/scenes/langevin-gas.ini (elastic discs, T_bath =
+# 0.24 m^2/s^2, tau = 15 ms) at N = 300 with softer springs, exported as fix langevin; both runs must
+# settle at T_bath (1 - 1/N) (docs/validation.md, "The Langevin bath") and agree with each other.
+bath_sets = {"system.N": 300, "system.L": 0.08, "model.k_s": 5e3, "run.warmup": 0.1, "run.duration": 0.2,
+             "run.sample_every": 1e-3, "output.snapshot_every": 1e-3, "output.plots": "false",
+             "analysis.observables": "moments"}
+bath_args = sum((["--set", f"{k}={v}"] for k, v in bath_sets.items()), [])
+bath_scene = os.path.join(src, "docs", "scenes", "langevin-gas.ini")
+with tempfile.TemporaryDirectory() as tmp:
+    lmpdir, rundir = os.path.join(tmp, "lammps"), os.path.join(tmp, "granule")
+    subprocess.run([exe, "export", "lammps", bath_scene, "--out", lmpdir] + bath_args, check=True)
+    if "fix bath all langevin" not in open(os.path.join(lmpdir, "in.granule")).read():
+        failures.append("langevin: no fix langevin in the deck")
+    r = subprocess.run(ranks + [lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
+    if r.returncode != 0:
+        print(open(os.path.join(lmpdir, "log.lammps")).read()[-2000:])
+        sys.exit("LAMMPS failed on the exported Langevin deck")
+    subprocess.run([exe, "analyse", "--lammps-dump", os.path.join(lmpdir, "dump.granule.lammpstrj")], check=True)
+    subprocess.run([exe, "run", bath_scene, "--out", rundir] + bath_args, check=True)
+    g = json.load(open(os.path.join(rundir, "summary.json")))["analysis"]["moments"]
+    la = json.load(open(os.path.join(lmpdir, "analysis", "summary.json")))["analysis"]["moments"]
+    T_el = 0.24 * (1 - 1 / 300)
+    compare("Langevin T (m^2/s^2), granule vs LAMMPS", g["speed"]["m2"], g["speed_stderr"]["m2"], la["speed"]["m2"],
+            la["speed_stderr"]["m2"])
+    compare("Langevin T (m^2/s^2), granule vs T_bath (1 - 1/N)", g["speed"]["m2"], g["speed_stderr"]["m2"], T_el, 0.0)
+    compare("Langevin T (m^2/s^2), LAMMPS vs T_bath (1 - 1/N)", la["speed"]["m2"], la["speed_stderr"]["m2"], T_el, 0.0)
 
 print(f"{len(failures)} failed")
 sys.exit(1 if failures else 0)

@@ -9,6 +9,7 @@
 #include "granule/cascade_study.h"
 #include "granule/collide.h"
 #include "granule/compare.h"
+#include "granule/driving.h"
 #include "granule/fokker_planck.h"
 #include "granule/fokker_planck_study.h"
 #include "granule/integrator.h"

@@ -44,6 +44,9 @@ typedef struct gr_integrator_type {
     /* Carries a tangential spring's per-contact history (models/list.h: a law with history) from
      * step to step; an integrator without it refuses such a scene. */
     bool contact_history;
+    /* Applies a viscous drag with its bath noise ([driving] kind = langevin, granule/driving.h);
+     * an integrator without it refuses such a scene. */
+    bool drag;
 
     /* Build the integrator's state (into the simulation's integrator_state) once positions,
      * velocities, coefficients, the time step and the first forces are set. NULL: none. */

@@ -38,6 +38,9 @@ typedef struct gr_scene {
     const gr_model *tangential; /* NULL: no tangential law */
     const gr_model *rolling;    /* NULL: no rolling resistance */
     gr_contact_params contact;
+    /* [driving] (granule/driving.h): rfm = the [noise] random force below; none; langevin */
+    const gr_driving_type *driving;
+    gr_driving_params driving_params;
     /* [noise] */
     double D;         /* noise strength, N^2 s (2.15, 2.22) */
     gr_noise_mode noise_mode;

@@ -15,6 +15,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "granule/driving.h"
 #include "granule/model.h"
 #include "granule/particles.h"
 #include "granule/integrator.h"
@@ -33,9 +34,10 @@ typedef struct gr_ledger {
     double dissipated_tangential; /* tangential dashpot (2.9) */
     double dissipated_friction;   /* sliding friction (2.7) */
     double removed_com;    /* kinetic energy removed by centre-of-mass resets (com noise mode) */
+    double dissipated_drag; /* the Langevin bath's viscous drag ([driving] kind = langevin; 0 otherwise) */
 } gr_ledger;
 
-/* Everything dissipated, by any mechanism. */
+/* Everything dissipated, by any mechanism (collisions and the bath's drag). */
 double gr_ledger_dissipated(const gr_ledger *l);
 /* (kinetic + elastic) - initial - injected + dissipated + removed_com: zero for an exact
  * integrator; for ours the velocity-Verlet energy error of the springs, second order in dt
@@ -70,6 +72,10 @@ typedef struct gr_sim_params {
     double D;                   /* noise strength, N^2 s (2.15, 2.22) */
     gr_noise_mode noise_mode;
     double com_interval;        /* com mode: s between centre-of-mass velocity removals */
+    /* [driving] (granule/driving.h): NULL = rfm, the random force above. none switches it off;
+     * langevin replaces it by the bath of driving_params (needs an integrator with .drag). */
+    const gr_driving_type *driving;
+    gr_driving_params driving_params;
     const gr_integrator_type *integrator; /* gr_integrator_find("verlet"), ... */
     double dt;                  /* s; 0 = t_c / steps_per_contact */
     double steps_per_contact;

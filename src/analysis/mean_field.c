@@ -64,8 +64,50 @@ double gr_haff_rate_2d(double phi, double eps, double sigma)
     return 2.0 / sqrt(M_PI) * phi * chi * (1.0 - eps * eps) * (1.0 + 3.0 * gr_hcs_a2(eps, 2) / 16.0) / sigma;
 }
 
+double gr_bath_T_enskog(double T_bath, double tau, double rate, int dim, int N)
+{
+    /* (2/tau)(T_b - T) = 2 rate sqrt(T/dim) T, T_b = T_bath (1 - 1/N): the left side falls and the
+     * right rises with T, so the root in [0, T_b] is unique; bisection on x = sqrt(T) */
+    const double Tb = T_bath * (1.0 - 1.0 / N);
+    double lo = 0.0, hi = sqrt(Tb);
+    for (int it = 0; it < 200 && rate > 0.0; it++) {
+        const double x = 0.5 * (lo + hi), f = (Tb - x * x) / tau - rate * x * x * x / sqrt((double)dim);
+        if (f > 0.0) {
+            lo = x;
+        } else {
+            hi = x;
+        }
+    }
+    return rate > 0.0 ? 0.25 * (lo + hi) * (lo + hi) : Tb;
+}
+
+/* The Langevin bath's references (docs/systems-driving.md): its parameters, the elastic gas's
+ * T = T_bath (1 - 1/N) and, in 2D, the Enskog estimate of an inelastic gas's steady T. */
+static cJSON *mean_field_bath(const gr_scene *s)
+{
+    const gr_driving_params *p = &s->driving_params;
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddStringToObject(j, "reference", "Langevin bath: dT/dt = (2/tau) (T_bath - T) - zeta(T) T (docs/systems-driving.md)");
+    cJSON_AddNumberToObject(j, "T_bath", p->T_bath);
+    cJSON_AddNumberToObject(j, "tau", p->tau);
+    cJSON_AddNumberToObject(j, "D_bath", s->mass * s->mass * p->T_bath / (s->dim * p->tau));
+    cJSON_AddNumberToObject(j, "T_elastic", p->T_bath * (1.0 - 1.0 / s->N));
+    if (s->dim == 2 && s->packing_fraction > 0.0) {
+        const double rate = gr_haff_rate_2d(s->packing_fraction, s->contact.eps_n, 2.0 * s->radius);
+        cJSON_AddNumberToObject(j, "T_enskog", gr_bath_T_enskog(p->T_bath, p->tau, rate, s->dim, s->N));
+        cJSON_AddStringToObject(j, "note", "T of eq. 2.19. T_elastic: equipartition, exact for eps_n = 1 (the mean velocity "
+                                           "excluded). T_enskog: the bath's heating against the Enskog cooling rate of smooth "
+                                           "hard discs (eps_n, Henderson's chi, the HCS Sonine a2; docs/validation.md, \"Haff's "
+                                           "law\"), a mean-field estimate for binary collisions without tangential dissipation");
+    }
+    return j;
+}
+
 cJSON *gr_mean_field_haff(const gr_scene *s, const double *t, const double *T, int n)
 {
+    if (s->driving && s->driving->update == GR_DRIVE_BATH) { /* driven, not cooling: the bath's references */
+        return mean_field_bath(s);
+    }
     /* T^(-1/2) = T0^(-1/2) (1 + t/t0) is a straight line in t: intercept a, slope b, t0 = a/b */
     double *y = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
     int m = 0;

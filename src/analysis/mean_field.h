@@ -17,5 +17,10 @@ double gr_hcs_a2(double eps, int dim);
 /* 1/(t0 sqrt(T0)) of Haff's law for smooth hard discs at packing fraction phi, diameter sigma. */
 double gr_haff_rate_2d(double phi, double eps, double sigma);
 cJSON *gr_mean_field_haff(const gr_scene *s, const double *t, const double *T, int n);
+/* The steady T (2.19) of a gas in a Langevin bath (T_bath, tau) that cools at the Enskog rate:
+ * (2/tau) (T_bath (1 - 1/N) - T) = zeta(T) T with zeta(T) = 2 rate sqrt(T / dim), rate =
+ * gr_haff_rate_2d (the unique root; T_bath (1 - 1/N) when rate = 0, eps_n = 1). For a bath
+ * scene gr_mean_field_haff returns these references instead of a Haff fit. */
+double gr_bath_T_enskog(double T_bath, double tau, double rate, int dim, int N);
 
 #endif

@@ -844,7 +844,8 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
         }
     }
     s->kernel = k;
-    const char *noise = s->params.noise_mode == GR_NOISE_NONE ? "no-noise"
+    const char *noise = s->drive == GR_DRIVE_BATH            ? "langevin" /* the bath ([driving]) */
+                        : s->params.noise_mode == GR_NOISE_NONE ? "no-noise"
                         : s->params.noise_mode == GR_NOISE_COM ? "noise-com" : "noise-symmetrised";
     const char *nb = s->dim == 1 ? "1d-ring" : (s->params.skin > 0.0 ? "2d-verlet-list" : "2d-cell-list");
     snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s%s%s%s/%s", nb, normal_names[k.nl], k.clamp ? "[clamped]" : "",

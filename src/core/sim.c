@@ -2,6 +2,7 @@
  * random velocities, derive the contact coefficients and the time step, choose the kernel, let
  * the integrator build its state; stepping through the integrator's hooks. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #ifdef _OPENMP
@@ -173,14 +174,29 @@ static int prepare_contact(gr_sim *s, gr_error *err)
 static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *err)
 {
     if (!p->integrator || !p->integrator->step) {
-        return GR_FAIL(err, GR_EINVAL, "%s: no integrator given (gr_sim_params.integrator: one of gr_integrators, "
-                       "e.g. gr_integrator_find(\"verlet\"); include/granule/integrator.h)", p->source);
+        return GR_FAIL(err, GR_EINVAL, "%s: no integrator given (gr_sim_params.integrator: one of the registry, "
+                       "include/granule/integrator.h)", p->source);
+    }
+    /* the driving, once per run (granule/driving.h): none runs the noise-free loop, as D = 0 does;
+     * langevin replaces the random force by the bath, which the integrator must model */
+    const gr_driving_type *drive = p->driving ? p->driving : gr_driving_default();
+    if (drive->drag && !p->integrator->drag) {
+        /* the core knows no integrator by name (docs/architecture.md): the scene names the allowed ones */
+        return GR_FAIL(err, GR_EINVAL, "%s: [driving] kind = %s has a viscous drag, which [integrator] kind = %s does not "
+                       "model (gr_integrator_type.drag; docs/systems-driving.md lists the integrators that do)", p->source,
+                       drive->name, p->integrator->name);
     }
     gr_sim *s = calloc(1, sizeof *s);
     if (!s) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory");
     }
     s->params = *p;
+    s->params.driving = drive;
+    s->drive = drive->update;
+    if (drive->update != GR_DRIVE_FORCE) { /* the random force is off; the bath has its own noise */
+        s->params.D = 0.0;
+        s->params.noise_mode = GR_NOISE_NONE;
+    }
     s->integrator = p->integrator;
     s->n = n;
     s->dim = p->dim;
@@ -247,6 +263,9 @@ static int spin_up(gr_sim *s, gr_error *err)
 static int finish(gr_sim *s, gr_error *err)
 {
     int rc = prepare_contact(s, err);
+    if (!rc && s->params.driving->prepare) {
+        rc = s->params.driving->prepare(&s->params.driving_params, s->dim, s->dt, &s->drive_c, err);
+    }
     if (!rc && s->cc.rotation) {
         rc = alloc_rotation(s, err);
     }
@@ -506,7 +525,7 @@ double gr_remove_com(gr_sim *s)
 
 double gr_ledger_dissipated(const gr_ledger *l)
 {
-    return l->dissipated_normal + l->dissipated_tangential + l->dissipated_friction;
+    return l->dissipated_normal + l->dissipated_tangential + l->dissipated_friction + l->dissipated_drag;
 }
 
 double gr_ledger_residual(const gr_ledger *l)
@@ -532,7 +551,8 @@ gr_ledger gr_sim_ledger(gr_sim *s)
                        .elastic = s->elastic,
                        .initial = s->initial_energy, .injected = s->injected,
                        .dissipated_normal = s->diss_n, .dissipated_tangential = s->diss_t,
-                       .dissipated_friction = s->diss_f, .removed_com = s->removed_com};
+                       .dissipated_friction = s->diss_f, .removed_com = s->removed_com,
+                       .dissipated_drag = s->diss_drag};
 }
 
 double gr_sim_temperature(const gr_sim *s)

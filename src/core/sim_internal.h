@@ -86,6 +86,11 @@ struct gr_sim {
     double elastic;        /* from the last force evaluation */
     double initial_energy;
     double injected, diss_n, diss_t, diss_f, removed_com;
+    /* the driving, chosen once ([driving], granule/driving.h): the integrator's update and, for the
+     * bath, its per-step factors and the energy its drag removed */
+    gr_drive_update drive;
+    gr_driving_coeffs drive_c;
+    double diss_drag;
     double share[3]; /* fractions of the last step's dissipation by normal/tangential/friction */
     gr_force_report last;
 

@@ -14,7 +14,7 @@
  * positions and derives contact flags from the velocities, so storing it is the only way that
  * is exact by construction. With contact tracking, each particle's contact count and the
  * events not yet handed to the observables are stored too; with rotation, the angular
- * velocities and torques. The noise buffer is scratch (redrawn
+ * velocities and torques; with a Langevin bath, the energy its drag removed. The noise buffer is scratch (redrawn
  * every step); cell arrays are rebuilt from positions at the next list build. */
 #include <stdint.h>
 #include <stdlib.h>
@@ -129,6 +129,9 @@ int gr_sim_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
         if (s->tg) { /* a history law's: their non-conservative part, which that kick books */
             gr_blob_put_f64s(b, s->tg, n);
         }
+    }
+    if (s->drive == GR_DRIVE_BATH) { /* the bath's drag in the ledger (only then: other layouts unchanged) */
+        gr_blob_put_f64(b, s->diss_drag);
     }
     rc = gr_blob_ok(b, err);
     if (!rc && s->integrator->save) {
@@ -293,6 +296,9 @@ int gr_sim_load_state(gr_sim *s, gr_blob_reader *b, gr_error *err)
         if (s->tg) {
             gr_blob_get_f64s(b, s->tg, n);
         }
+    }
+    if (!b->bad && s->drive == GR_DRIVE_BATH) {
+        s->diss_drag = gr_blob_get_f64(b);
     }
     if (!b->bad && s->integrator->load) {
         rc = s->integrator->load(s, b, err);

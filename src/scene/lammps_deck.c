@@ -10,6 +10,9 @@
  *   noise     fix addforce with per-atom normal() variables of standard deviation sqrt(2 D / dt)
  *             per component, redrawn every step; symmetrised noise keeps the centre of mass at
  *             rest, which fix momentum 1 does; com mode removes it every com_interval.
+ *   driving   none: no noise fix. langevin: fix langevin T T tau with k_B T = M T_bath / dim (units si,
+ *             k_B = 1.380649e-23 J/K): its drag -M v / tau and random force of variance
+ *             2 k_B T M / (tau dt) are the bath's (docs/systems-driving.md), no momentum fix.
  *   rotation  fix nve integrates no angular velocity, as granule ignores rotation.
  *   schedule  run warmup / dt steps, then dump every sample_every / dt steps for duration / dt.
  * The initial particles are those gr_sim_create places for the scene and its seed, so granule's
@@ -92,6 +95,13 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export
         fprintf(o, "variable fx atom normal(0.0,%.17g,%ld)\nvariable fy atom normal(0.0,%.17g,%ld)\n",
                 e->noise_sigma, seed, e->noise_sigma, seed + 1);
         fprintf(o, "fix noise all addforce v_fx v_fy 0.0\n");
+    }
+    if (s->driving && s->driving->update == GR_DRIVE_BATH) {
+        const double kB = 1.380649e-23; /* J/K, LAMMPS's boltz in units si */
+        const double T_K = s->mass * s->driving_params.T_bath / (s->dim * kB);
+        fprintf(o, "# Langevin bath: T_bath = %.17g m^2/s^2 (T of eq. 2.19), tau = %.17g s; k_B T = M T_bath / dim\n",
+                s->driving_params.T_bath, s->driving_params.tau);
+        fprintf(o, "fix bath all langevin %.17g %.17g %.17g %ld\n", T_K, T_K, s->driving_params.tau, seed + 2);
     }
     fprintf(o, "fix integrate all nve\nfix plane all enforce2d\n");
     if (s->noise_mode == GR_NOISE_SYMMETRISED) {

@@ -18,7 +18,7 @@
 #include "io/files.h"
 #include "scene/scene_lines.h"
 
-typedef enum { K_DOUBLE, K_INT, K_BOOL, K_UINT64, K_STRING, K_ENUM, K_NORMAL, K_TANGENTIAL, K_ROLLING, K_INTEGRATOR, K_LIST } key_type;
+typedef enum { K_DOUBLE, K_INT, K_BOOL, K_UINT64, K_STRING, K_ENUM, K_NORMAL, K_TANGENTIAL, K_ROLLING, K_INTEGRATOR, K_DRIVING, K_LIST } key_type;
 
 typedef struct scene_key {
     const char *section;
@@ -52,6 +52,7 @@ static const scene_key keys[] = {
     {"model", "normal", "", K_NORMAL, "spring_dashpot", 0, 0, false, false, NULL, "normal collision model (granule models lists them)", OFF(normal)},
     {"model", "tangential", "", K_TANGENTIAL, "none", 0, 0, false, false, NULL, "none, tangential_dashpot or sliding_friction (2D only)", OFF(tangential)},
     {"model", "rolling", "", K_ROLLING, "none", 0, 0, false, false, NULL, "none or rolling_friction: rolling resistance, a torque pair against w_i - w_j (needs rotation = true; docs/models.md)", OFF(rolling)},
+    {"driving", "kind", "", K_DRIVING, "rfm", 0, 0, false, false, NULL, NULL /* the registry's summaries */, OFF(driving)},
     {"noise", "D", "N^2 s", K_DOUBLE, "1e-8", 0, INFINITY, false, true, NULL, "noise strength (2.15, 2.22); 0 switches the random force off (Table 2.2: 1e-8)", OFF(D)},
     {"noise", "mode", "", K_ENUM, "symmetrised", 0, 0, false, false, "none|symmetrised|com", "symmetrised: forces shifted to sum to zero every step (2.18); com: centre-of-mass velocity removed every com_interval (sec. 2.3.1); none: no random force", OFF(noise_mode)},
     {"noise", "com_interval", "s", K_DOUBLE, "1e-3", 0, INFINITY, true, true, NULL, "com mode: time between centre-of-mass velocity removals", OFF(com_interval)},
@@ -234,6 +235,19 @@ static const gr_param *find_model_param(const char *name, const gr_model **owner
     return NULL;
 }
 
+static const gr_param *find_driving_param(const char *name, const gr_driving_type **owner)
+{
+    for (int m = 0; gr_drivings[m]; m++) {
+        for (int i = 0; i < gr_drivings[m]->n_params; i++) {
+            if (strcmp(gr_drivings[m]->params[i].name, name) == 0) {
+                *owner = gr_drivings[m];
+                return &gr_drivings[m]->params[i];
+            }
+        }
+    }
+    return NULL;
+}
+
 /* The allowed range of a [model] key that several models share, e.g. "[0, 1] (hard_sphere: (0, 1])":
  * the first model's range, then each model whose own range differs (the scene may not have named
  * its model yet when the key is read). */
@@ -287,6 +301,11 @@ static void append_known_keys(char *buf, size_t n, const char *section)
             }
         }
     }
+    for (int m = 0; strcmp(section, "driving") == 0 && gr_drivings[m]; m++) {
+        for (int i = 0; i < gr_drivings[m]->n_params; i++) {
+            len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s", gr_drivings[m]->params[i].name);
+        }
+    }
     if (strcmp(section, "analysis") == 0) {
         for (int o = 0; gr_observables[o]; o++) {
             for (int i = 0; i < gr_observables[o]->n_params; i++) {
@@ -320,7 +339,7 @@ typedef struct loader {
     int n_seen;
 } loader;
 
-#define SECTIONS "system, placement, model, noise, integrator, run, analysis, output"
+#define SECTIONS "system, placement, model, driving, noise, integrator, run, analysis, output"
 
 static bool section_known(const char *section)
 {
@@ -441,6 +460,20 @@ static int apply(loader *ld, const char *section, const char *name, const char *
             *(const gr_integrator_type **)slot = t;
             break;
         }
+        case K_DRIVING: { /* the registry (granule/driving.h) */
+            const gr_driving_type *t = NULL;
+            for (int j = 0; gr_drivings[j]; j++) {
+                t = strcasecmp(gr_drivings[j]->name, value) == 0 ? gr_drivings[j] : t;
+            }
+            if (!t) {
+                char names[200];
+                gr_driving_names(names, sizeof names, "|");
+                snprintf(detail, sizeof detail, "'%s' is not allowed; choose one of %s", value, names);
+                return fail_at(err, w, section, name, "%s", detail);
+            }
+            *(const gr_driving_type **)slot = t;
+            break;
+        }
         default:
             rc = set_number(slot, k->type, k->min, k->max, k->min_open, k->max_open, value, w,
                             section, name, err);
@@ -483,6 +516,14 @@ static int apply(loader *ld, const char *section, const char *name, const char *
             }
         }
     }
+    if (strcmp(section, "driving") == 0) {
+        const gr_driving_type *owner = NULL;
+        const gr_param *p = find_driving_param(name, &owner);
+        if (p) {
+            return set_number((char *)&s->driving_params + p->offset, K_DOUBLE, p->min, p->max, p->min_open,
+                              p->max_open, value, w, section, name, err);
+        }
+    }
     if (strcmp(section, "model") == 0) {
         const gr_model *owner = NULL;
         const gr_param *p = find_model_param(name, &owner);
@@ -501,7 +542,7 @@ static int apply(loader *ld, const char *section, const char *name, const char *
     }
     char known[600] = "";
     if (!section_known(section)) {
-        snprintf(detail, sizeof detail, "unknown section [%s]; sections: system, placement, model, noise, integrator, run, analysis, output", section);
+        snprintf(detail, sizeof detail, "unknown section [%s]; sections: " SECTIONS, section);
         return fail_at(err, w, section, name, "%s", detail);
     }
     append_known_keys(known, sizeof known, section);
@@ -592,6 +633,7 @@ static void apply_defaults(loader *ld)
         }
     }
     gr_contact_defaults(&ld->scene->contact);
+    gr_driving_defaults(&ld->scene->driving_params);
     for (int o = 0; gr_observables[o]; o++) {
         for (int i = 0; i < gr_observables[o]->n_params; i++) {
             const gr_param *p = &gr_observables[o]->params[i];
@@ -657,8 +699,50 @@ static where where_of(const given *g, const gr_scene *s, const char *section, co
 }
 
 /* Cross-key checks and derived quantities. */
+/* [driving] (granule/driving.h): a drag needs an integrator that models it; the [noise] keys are
+ * the rfm's and the langevin keys the bath's, ignored (with a warning) under another driving. */
+static int resolve_driving(gr_scene *s, const given *g, const char *const *driving_keys, int n_driving_keys,
+                           gr_error *err)
+{
+    const gr_driving_type *dr = s->driving ? s->driving : (s->driving = gr_driving_default());
+    if (dr->drag && !s->integrator->drag) {
+        char names[160] = "", detail[500];
+        for (int j = 0, len = 0; gr_integrators[j]; j++) {
+            if (gr_integrators[j]->drag) {
+                len += snprintf(names + len, sizeof names - (size_t)len, "%s%s", len ? " | " : "", gr_integrators[j]->name);
+            }
+        }
+        where w = key_given(g, "driving", "kind") ? where_of(g, s, "driving", "kind") : where_of(g, s, "integrator", "kind");
+        snprintf(detail, sizeof detail, "kind = %s has a viscous drag, which [integrator] kind = %s does not model (its free "
+                 "flight is exact under the random force only); allowed with %s: rfm | none; allowed with %s: %s",
+                 dr->name, s->integrator->name, s->integrator->name, dr->name, names);
+        return fail_at(err, &w, "driving", "kind", "%s", detail);
+    }
+    if (dr->update != GR_DRIVE_FORCE) {
+        static const char *const noise_keys[] = {"D", "mode", "com_interval"};
+        for (int i = 0; i < 3; i++) {
+            if (key_given(g, "noise", noise_keys[i])) {
+                warn(s, "[noise] %s is ignored: it belongs to the random force (rfm), and this scene's [driving] kind = %s\n",
+                     noise_keys[i], dr->name);
+            }
+        }
+        s->D = 0.0;
+        s->noise_mode = GR_NOISE_NONE;
+    }
+    for (int i = 0; i < n_driving_keys; i++) {
+        const gr_driving_type *owner = NULL;
+        find_driving_param(driving_keys[i], &owner);
+        if (owner != dr) {
+            char why[160];
+            snprintf(why, sizeof why, "%s, which this scene does not use ([driving] kind = %s)", owner ? owner->name : "?", dr->name);
+            warn(s, "[driving] %s is ignored: it belongs to %s\n", driving_keys[i], why);
+        }
+    }
+    return GR_OK;
+}
+
 static int resolve(gr_scene *s, const given *g, const char *const *model_keys, int n_model_keys,
-                   gr_error *err)
+                   const char *const *driving_keys, int n_driving_keys, gr_error *err)
 {
     double d = 2.0 * s->radius;
     int n_len = g->L + g->packing_fraction + g->reduced_length;
@@ -774,6 +858,10 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     if (s->noise_mode == GR_NOISE_NONE) {
         s->D = 0.0;
     }
+    int rc_driving = resolve_driving(s, g, driving_keys, n_driving_keys, err);
+    if (rc_driving) {
+        return rc_driving;
+    }
     for (int i = 0; i < n_model_keys; i++) {
         if (!model_has_param(s->normal, model_keys[i]) && !model_has_param(s->tangential, model_keys[i]) &&
             !model_has_param(s->rolling, model_keys[i])) {
@@ -866,7 +954,20 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
             }
         }
     }
-    return resolve(s, &ld.g, model_keys, n_model_keys, err);
+    const char *driving_keys[16];
+    int n_driving_keys = 0;
+    for (int i = 0; i < ld.n_seen && n_driving_keys < 16; i++) {
+        if (strncmp(ld.seen[i], "driving.", 8) == 0 && strcmp(ld.seen[i] + 8, "kind") != 0) {
+            bool dup = false;
+            for (int j = 0; j < n_driving_keys; j++) {
+                dup |= strcmp(driving_keys[j], ld.seen[i] + 8) == 0;
+            }
+            if (!dup) {
+                driving_keys[n_driving_keys++] = ld.seen[i] + 8;
+            }
+        }
+    }
+    return resolve(s, &ld.g, model_keys, n_model_keys, driving_keys, n_driving_keys, err);
 }
 
 int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, int n_overrides,
@@ -904,7 +1005,8 @@ static const char *type_name(key_type t)
     case K_UINT64: return "integer";
     case K_STRING: return "path";
     case K_ENUM:
-    case K_INTEGRATOR: return "choice";
+    case K_INTEGRATOR:
+    case K_DRIVING: return "choice";
     case K_NORMAL: return "model";
     case K_TANGENTIAL: return "model";
     case K_ROLLING: return "model";
@@ -958,6 +1060,8 @@ void gr_scene_keys_markdown(FILE *out)
             }
         } else if (k->type == K_INTEGRATOR) {
             gr_integrator_names(range, sizeof range, "/");
+        } else if (k->type == K_DRIVING) {
+            gr_driving_names(range, sizeof range, "/");
         } else if (k->type == K_DOUBLE || k->type == K_INT) {
             range_text(range, sizeof range, k->min, k->max, k->min_open, k->max_open);
         }
@@ -966,8 +1070,20 @@ void gr_scene_keys_markdown(FILE *out)
             size_t len = strlen(doc);
             snprintf(doc + len, sizeof doc - len, "%s%s: %s", j ? "; " : "", gr_integrators[j]->name, gr_integrators[j]->summary);
         }
+        for (int j = 0; k->type == K_DRIVING && gr_drivings[j]; j++) {
+            size_t len = strlen(doc);
+            snprintf(doc + len, sizeof doc - len, "%s%s: %s", j ? "; " : "", gr_drivings[j]->name, gr_drivings[j]->summary);
+        }
         fprintf(out, "| `%s` | %s | %s | %s | %s | %s |\n", k->name, type_name(k->type), k->unit,
                 k->def ? k->def : "(unset)", range, k->doc ? k->doc : doc);
+        for (int m = 0; k->type == K_DRIVING && gr_drivings[m]; m++) {
+            for (int j = 0; j < gr_drivings[m]->n_params; j++) {
+                const gr_param *p = &gr_drivings[m]->params[j];
+                char r[96] = "";
+                range_text(r, sizeof r, p->min, p->max, p->min_open, p->max_open);
+                fprintf(out, "| `%s` | number | %s | %g | %s | %s |\n", p->name, p->unit, p->def, r, p->doc);
+            }
+        }
         if (strcmp(k->name, "observables") == 0) {
             for (int o = 0; gr_observables[o]; o++) {
                 for (int j = 0; j < gr_observables[o]->n_params; j++) {
@@ -1039,6 +1155,13 @@ const char *gr_scene_key_unit(const char *key)
             }
         }
     }
+    for (int m = 0; !strncmp(key, "driving.", 8) && gr_drivings[m]; m++) {
+        for (int j = 0; j < gr_drivings[m]->n_params; j++) {
+            if (!strcmp(gr_drivings[m]->params[j].name, dot + 1)) {
+                return csv_unit(gr_drivings[m]->params[j].unit, true);
+            }
+        }
+    }
     for (int o = 0; !strncmp(key, "analysis.", 9) && gr_observables[o]; o++) {
         for (int j = 0; j < gr_observables[o]->n_params; j++) {
             if (!strcmp(gr_observables[o]->params[j].name, dot + 1)) {
@@ -1079,6 +1202,7 @@ static void save_value(FILE *f, const scene_key *k, const gr_scene *s)
         break;
     }
     case K_INTEGRATOR: fprintf(f, "%s", (*(const gr_integrator_type *const *)slot)->name); break;
+    case K_DRIVING: fprintf(f, "%s", (*(const gr_driving_type *const *)slot)->name); break;
     }
 }
 
@@ -1148,6 +1272,13 @@ void gr_scene_write(const gr_scene *s, FILE *f)
         if (k->offset == offsetof(gr_scene, steps_per_contact) && s->dt > 0.0) {
             continue;
         }
+        const bool rfm = !s->driving || s->driving == gr_driving_default();
+        if (k->type == K_DRIVING && rfm) {
+            continue; /* the default: scene.ini of an rfm run is what it always was */
+        }
+        if (!rfm && strcmp(k->section, "noise") == 0) {
+            continue; /* the random force's keys, unused (and warned about if given) under another driving */
+        }
         if (strcmp(section, k->section) != 0) {
             section = k->section;
             fprintf(f, "\n[%s]\n", section);
@@ -1167,6 +1298,9 @@ void gr_scene_write(const gr_scene *s, FILE *f)
             for (int o = 0; gr_observables[o]; o++) {
                 save_params(f, gr_observables[o]->params, gr_observables[o]->n_params, &s->analysis);
             }
+        }
+        if (k->type == K_DRIVING) {
+            save_params(f, s->driving->params, s->driving->n_params, &s->driving_params);
         }
     }
 }

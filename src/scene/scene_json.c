@@ -43,6 +43,17 @@ cJSON *gr_scene_to_json(const gr_scene *s)
             }
         }
     }
+    if (s->driving && s->driving != gr_driving_default()) { /* only then: the hashes of rfm scenes stay */
+        cJSON *dr = cJSON_AddObjectToObject(root, "driving");
+        cJSON_AddStringToObject(dr, "kind", s->driving->name);
+        for (int i = 0; i < s->driving->n_params; i++) {
+            const gr_param *p = &s->driving->params[i];
+            cJSON_AddNumberToObject(dr, p->name, *(const double *)((const char *)&s->driving_params + p->offset));
+        }
+        if (s->driving->update == GR_DRIVE_BATH) { /* the bath's noise strength (fluctuation-dissipation) */
+            cJSON_AddNumberToObject(dr, "D_bath", s->mass * s->mass * s->driving_params.T_bath / (s->dim * s->driving_params.tau));
+        }
+    }
     cJSON *nz = cJSON_AddObjectToObject(root, "noise");
     cJSON_AddNumberToObject(nz, "D", s->D);
     cJSON_AddStringToObject(nz, "mode", gr_noise_mode_name(s->noise_mode));

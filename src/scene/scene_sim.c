@@ -9,6 +9,7 @@ void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p)
     *p = (gr_sim_params){.dim = s->dim, .N = s->N, .L = s->L, .radius = s->radius, .mass = s->mass,
                          .placement = s->placement, .v0 = s->v0, .omega0 = s->omega0, .normal = s->normal, .tangential = s->tangential, .rolling = s->rolling,
                          .contact = s->contact, .D = s->D, .noise_mode = s->noise_mode, .com_interval = s->com_interval,
+                         .driving = s->driving, .driving_params = s->driving_params,
                          .integrator = s->integrator, .dt = s->dt, .steps_per_contact = s->steps_per_contact,
                          .force_dt = s->force_dt, .skin = s->skin, .free_flight = s->free_flight,
                          .kick_interval = s->kick_interval, .seed = s->seed};

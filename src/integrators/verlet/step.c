@@ -17,6 +17,14 @@
  * kick (2.18); com mode removes the centre-of-mass velocity every com_interval instead
  * (sec. 2.3.1). The ledger records the exact kinetic energy each kick adds.
  *
+ * A Langevin bath ([driving] kind = langevin, src/core/driving_langevin.c) takes the random
+ * force's place in the step: the exact Ornstein-Uhlenbeck update v <- a v + b xi with
+ * a = e^{-dt/tau}, b = sqrt(T_bath/dim (1 - a^2)), the same normals (stream, counter) unsymmetrised.
+ * The ledger books the drag's part, M v^2 (1 - a^2) / 2, as dissipated_drag and the noise's,
+ * M b xi (a v + b xi / 2), as injected: their difference is the exact change of kinetic energy.
+ * The driving is chosen once per run: each (driving, closing) pair has its own loop, so the
+ * random force's loop is the one it always was.
+ *
  * Threads (2D): the noise and the kick-drift pass run over blocks of GR_BLOCK particles shared by
  * the threads, and every sum is combined block by block in block order, so a run is bit-identical
  * for every thread count (docs/performance.md, "Threads"). */
@@ -224,24 +232,28 @@ static void draw_noise(gr_sim *s, double mean[2], const int T)
 }
 
 /* Open a step in one pass: (if `closing`) the previous step's closing half kick, the opening half
- * kick with the same forces, the noise kick (if `noise`), the drift. Returns the kinetic energy the
+ * kick with the same forces, the driving (`noise`: DRIVE_KICK the random force's kick, DRIVE_OU
+ * the bath's Ornstein-Uhlenbeck update, 0 nothing), the drift. Returns the kinetic energy the
  * noise added; sets the work of the non-conservative forces in each half kick (see half_kick),
- * whether all velocities are finite, and in 2D the largest squared displacement since the last
- * neighbour-list build. */
+ * the kinetic energy the bath's drag removed, whether all velocities are finite, and in 2D the
+ * largest squared displacement since the last neighbour-list build. */
 typedef struct open_report {
-    double work_close, work_open, disp2;
+    double work_close, work_open, disp2, drag;
     bool finite;
 } open_report;
+
+enum { DRIVE_KICK = 1, DRIVE_OU = 2 }; /* `noise` of the opening pass (0: no driving) */
 
 static inline __attribute__((always_inline)) double
 open_step_1d(gr_sim *restrict s, const int noise, const double mean, const int closing, open_report *o)
 {
     const int n = s->n;
     const double h = 0.5 * s->dt / s->mass, dt = s->dt;
-    const double amp = noise ? sqrt(2.0 * s->params.D * s->dt) / s->mass : 0.0;
+    const double amp = noise == DRIVE_KICK ? sqrt(2.0 * s->params.D * s->dt) / s->mass : 0.0;
+    const double decay = s->drive_c.decay, kick = s->drive_c.kick;
     double *restrict x = s->x, *restrict v = s->vx;
     const double *restrict f = s->fx, *restrict g = s->noise, *restrict gnc = s->gx;
-    double added[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0};
+    double added[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0}, drag[LANES] = {0};
 #define OPEN_1D(i, l)                                                                              \
     do {                                                                                           \
         const double dvf = h * f[i];                                                               \
@@ -252,10 +264,15 @@ open_step_1d(gr_sim *restrict s, const int noise, const double mean, const int c
         }                                                                                          \
         wo[l] += gnc[i] * (vi + 0.5 * dvf);                                                        \
         vi += dvf;                                                                                 \
-        if (noise) {                                                                               \
+        if (noise == DRIVE_KICK) {                                                                 \
             const double dv = amp * (g[i] - mean);                                                 \
             added[l] += dv * (vi + 0.5 * dv);                                                      \
             vi += dv;                                                                              \
+        } else if (noise == DRIVE_OU) {                                                            \
+            const double vd = decay * vi, dv = kick * g[i];                                        \
+            drag[l] += vi * vi - vd * vd;                                                          \
+            added[l] += dv * (vd + 0.5 * dv);                                                      \
+            vi = vd + dv;                                                                          \
         }                                                                                          \
         v[i] = vi;                                                                                 \
         sum[l] += vi;                                                                              \
@@ -275,25 +292,29 @@ open_step_1d(gr_sim *restrict s, const int noise, const double mean, const int c
     o->work_close = 0.5 * dt * lanes_total(wc);
     o->work_open = 0.5 * dt * lanes_total(wo);
     o->finite = isfinite(lanes_total(sum)) && isfinite(o->work_open);
+    o->drag = noise == DRIVE_OU ? 0.5 * s->mass * lanes_total(drag) : 0.0;
     return s->mass * lanes_total(added);
 }
 
 /* open_step_2d on the particles [lo, hi) (lo a multiple of LANES); writes the block's sums to
- * part: added, work_close, work_open, velocity sum, largest squared displacement. */
-enum { P_ADDED, P_WC, P_WO, P_SUM, P_DISP2 };
+ * part: added, work_close, work_open, velocity sum, largest squared displacement (and with the
+ * bath, the drag's sum of v^2 - (a v)^2). */
+enum { P_ADDED, P_WC, P_WO, P_SUM, P_DISP2, P_DRAG };
 
 static inline __attribute__((always_inline)) void
 open_range_2d(gr_sim *restrict s, const int lo, const int hi, const int noise, const double mean[2], const int closing,
               double *restrict part)
 {
     const double h = 0.5 * s->dt / s->mass, dt = s->dt, L = s->L, half = 0.5 * L;
-    const double amp = noise ? sqrt(2.0 * s->params.D * s->dt) / s->mass : 0.0;
+    const double amp = noise == DRIVE_KICK ? sqrt(2.0 * s->params.D * s->dt) / s->mass : 0.0;
+    const double decay = s->drive_c.decay, kick = s->drive_c.kick;
     const double m0 = mean[0], m1 = mean[1];
     double *restrict x = s->x, *restrict y = s->y, *restrict vx = s->vx, *restrict vy = s->vy;
     const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict g = s->noise;
     const double *restrict xr = s->x_ref, *restrict yr = s->y_ref;
     const double *restrict gx = s->gx, *restrict gy = s->gy;
     double added[LANES] = {0}, worst[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0};
+    double drag[LANES] = {0};
 #define OPEN_2D(i, l)                                                                              \
     do {                                                                                           \
         const double dvx0 = h * fx[i], dvy0 = h * fy[i];                                           \
@@ -306,11 +327,18 @@ open_range_2d(gr_sim *restrict s, const int lo, const int hi, const int noise, c
         wo[l] += gx[i] * (vxi + 0.5 * dvx0) + gy[i] * (vyi + 0.5 * dvy0);                          \
         vxi += dvx0;                                                                               \
         vyi += dvy0;                                                                               \
-        if (noise) {                                                                               \
+        if (noise == DRIVE_KICK) {                                                                 \
             const double dvx = amp * (g[2 * (i)] - m0), dvy = amp * (g[2 * (i) + 1] - m1);         \
             added[l] += dvx * (vxi + 0.5 * dvx) + dvy * (vyi + 0.5 * dvy);                         \
             vxi += dvx;                                                                            \
             vyi += dvy;                                                                            \
+        } else if (noise == DRIVE_OU) {                                                            \
+            const double vdx = decay * vxi, vdy = decay * vyi;                                     \
+            const double dvx = kick * g[2 * (i)], dvy = kick * g[2 * (i) + 1];                     \
+            drag[l] += (vxi * vxi - vdx * vdx) + (vyi * vyi - vdy * vdy);                          \
+            added[l] += dvx * (vdx + 0.5 * dvx) + dvy * (vdy + 0.5 * dvy);                         \
+            vxi = vdx + dvx;                                                                       \
+            vyi = vdy + dvy;                                                                       \
         }                                                                                          \
         vx[i] = vxi;                                                                               \
         vy[i] = vyi;                                                                               \
@@ -346,6 +374,9 @@ open_range_2d(gr_sim *restrict s, const int lo, const int hi, const int noise, c
     part[P_WO] = lanes_total(wo);
     part[P_SUM] = lanes_total(sum);
     part[P_ADDED] = lanes_total(added);
+    if (noise == DRIVE_OU) {
+        part[P_DRAG] = lanes_total(drag);
+    }
 }
 
 /* The 2D opening pass over blocks of GR_BLOCK particles (shared by T threads); block sums are
@@ -371,14 +402,16 @@ open_range_2d(gr_sim *restrict s, const int lo, const int hi, const int noise, c
     }
 OPEN_BLOCKS_2D(open_blocks_2d_00, 0, 0)
 OPEN_BLOCKS_2D(open_blocks_2d_01, 0, 1)
-OPEN_BLOCKS_2D(open_blocks_2d_10, 1, 0)
-OPEN_BLOCKS_2D(open_blocks_2d_11, 1, 1)
+OPEN_BLOCKS_2D(open_blocks_2d_10, DRIVE_KICK, 0)
+OPEN_BLOCKS_2D(open_blocks_2d_11, DRIVE_KICK, 1)
+OPEN_BLOCKS_2D(open_blocks_2d_20, DRIVE_OU, 0)
+OPEN_BLOCKS_2D(open_blocks_2d_21, DRIVE_OU, 1)
 #undef OPEN_BLOCKS_2D
 
 /* With noise on T > 1 threads: draw the noise, form its means and run the opening pass in one
  * parallel region (one fork and join per step fewer); the arithmetic is that of draw_noise and
  * open_blocks_2d_1*. Returns the means in mean. */
-#define NOISE_OPEN_2D(name, CLOSING)                                                               \
+#define NOISE_OPEN_2D(name, NOISE, CLOSING)                                                        \
     static void name(gr_sim *restrict s, double mean[2], const int T)                              \
     {                                                                                              \
         const int n = s->n, nb = s->nblk, sym = symmetrised(s);                                    \
@@ -394,7 +427,7 @@ OPEN_BLOCKS_2D(open_blocks_2d_11, 1, 1)
             _Pragma("omp for schedule(static)")                                                    \
             for (int b = 0; b < nb; b++) {                                                         \
                 const int lo = b * GR_BLOCK, hi = lo + GR_BLOCK < n ? lo + GR_BLOCK : n;           \
-                open_range_2d(s, lo, hi, 1, m, CLOSING, blk + (size_t)b * GR_BLK_FIELDS);          \
+                open_range_2d(s, lo, hi, NOISE, m, CLOSING, blk + (size_t)b * GR_BLK_FIELDS);      \
             }                                                                                      \
             _Pragma("omp master")                                                                  \
             {                                                                                      \
@@ -403,8 +436,10 @@ OPEN_BLOCKS_2D(open_blocks_2d_11, 1, 1)
             }                                                                                      \
         }                                                                                          \
     }
-NOISE_OPEN_2D(noise_open_2d_0, 0)
-NOISE_OPEN_2D(noise_open_2d_1, 1)
+NOISE_OPEN_2D(noise_open_2d_0, DRIVE_KICK, 0)
+NOISE_OPEN_2D(noise_open_2d_1, DRIVE_KICK, 1)
+NOISE_OPEN_2D(noise_open_2d_20, DRIVE_OU, 0)
+NOISE_OPEN_2D(noise_open_2d_21, DRIVE_OU, 1)
 #undef NOISE_OPEN_2D
 
 /* The 2D opening pass; with noise on T > 1 threads it also draws the noise (mean is then
@@ -414,16 +449,21 @@ static double open_step_2d(gr_sim *restrict s, const int noise, double mean[2], 
 {
     const int nb = s->nblk;
     const double *blk = s->blk;
-    if (noise && T > 1) {
+    if (noise == DRIVE_KICK && T > 1) {
         (closing ? noise_open_2d_1 : noise_open_2d_0)(s, mean, T);
-    } else if (noise) {
+    } else if (noise == DRIVE_KICK) {
         (closing ? open_blocks_2d_11 : open_blocks_2d_10)(s, mean, T);
+    } else if (noise == DRIVE_OU && T > 1) {
+        (closing ? noise_open_2d_21 : noise_open_2d_20)(s, mean, T);
+    } else if (noise == DRIVE_OU) {
+        (closing ? open_blocks_2d_21 : open_blocks_2d_20)(s, mean, T);
     } else {
         (closing ? open_blocks_2d_01 : open_blocks_2d_00)(s, mean, T);
     }
-    double added = 0.0, wc = 0.0, wo = 0.0, sum = 0.0, worst = 0.0;
+    double added = 0.0, wc = 0.0, wo = 0.0, sum = 0.0, worst = 0.0, drag = 0.0;
     for (int b = 0; b < nb; b++) {
         const double *q = blk + (size_t)b * GR_BLK_FIELDS;
+        drag += noise == DRIVE_OU ? q[P_DRAG] : 0.0;
         added += q[P_ADDED];
         wc += q[P_WC];
         wo += q[P_WO];
@@ -434,6 +474,7 @@ static double open_step_2d(gr_sim *restrict s, const int noise, double mean[2], 
     o->work_close = 0.5 * s->dt * wc;
     o->work_open = 0.5 * s->dt * wo;
     o->finite = isfinite(sum) && isfinite(o->work_open);
+    o->drag = 0.5 * s->mass * drag;
     return s->mass * added;
 }
 
@@ -457,6 +498,7 @@ static int check_finite(gr_sim *s, gr_error *err)
 int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
 {
     const bool noise = s->params.noise_mode != GR_NOISE_NONE && s->params.D > 0.0;
+    const bool bath = s->drive == GR_DRIVE_BATH; /* the driving, chosen once (its own loops) */
     const bool com = s->params.noise_mode == GR_NOISE_COM;
     const double skin_half2 = 0.25 * (s->cutoff - s->d) * (s->cutoff - s->d);
     const int team = gr_team(s); /* threads (results do not depend on it) */
@@ -475,13 +517,19 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
             }
             s->removed_com += gr_remove_com(s);
         }
-        if (noise && (s->dim == 1 || team == 1)) { /* else drawn in open_step_2d */
+        if ((noise || bath) && (s->dim == 1 || team == 1)) { /* else drawn in open_step_2d */
             draw_noise(s, mean, team);
         }
         const int close_here = closing && !com_now;
-        if (s->dim == 1) {
+        if (s->dim == 1 && bath) {
+            s->injected += close_here ? open_step_1d(s, DRIVE_OU, 0.0, 1, &o) : open_step_1d(s, DRIVE_OU, 0.0, 0, &o);
+            s->diss_drag += o.drag;
+        } else if (s->dim == 1) {
             s->injected += noise ? (close_here ? open_step_1d(s, 1, mean[0], 1, &o) : open_step_1d(s, 1, mean[0], 0, &o))
                                  : (close_here ? open_step_1d(s, 0, 0.0, 1, &o) : open_step_1d(s, 0, 0.0, 0, &o));
+        } else if (bath) {
+            s->injected += open_step_2d(s, DRIVE_OU, mean, close_here, &o, team);
+            s->diss_drag += o.drag;
         } else {
             s->injected += noise ? (close_here ? open_step_2d(s, 1, mean, 1, &o, team) : open_step_2d(s, 1, mean, 0, &o, team))
                                  : (close_here ? open_step_2d(s, 0, mean, 1, &o, team) : open_step_2d(s, 0, mean, 0, &o, team));

@@ -5,6 +5,7 @@ const gr_integrator_type gr_integrator_verlet = {
     .name = "verlet",
     .rotation = true,
     .contact_history = true,
+    .drag = true,
     .summary = "soft-sphere velocity Verlet (docs/integrator.md)",
     .step = gr_verlet_step,
 };
