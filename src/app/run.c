@@ -150,10 +150,14 @@ static const char *temperature_columns(const gr_scene *s)
 
 static const char *ledger_columns(const gr_scene *s)
 {
-    return s->contact.rotation ? "t [s],kinetic [J],elastic [J],injected [J],dissipated_normal [J],dissipated_tangential [J],"
-                                 "dissipated_friction [J],removed_com [J],residual [J],rotational [J]"
-                               : "t [s],kinetic [J],elastic [J],injected [J],dissipated_normal [J],dissipated_tangential [J],"
-                                 "dissipated_friction [J],removed_com [J],residual [J]";
+#define GR_LEDGER_BASE "t [s],kinetic [J],elastic [J],injected [J],dissipated_normal [J],dissipated_tangential [J]," \
+                       "dissipated_friction [J],removed_com [J],residual [J]"
+    /* optional columns at the end, so the others keep their places: the spins' energy with
+     * rotation, the bath's drag with a Langevin driving */
+    static const char *const columns[2][2] = {{GR_LEDGER_BASE, GR_LEDGER_BASE ",dissipated_drag [J]"},
+                                              {GR_LEDGER_BASE ",rotational [J]", GR_LEDGER_BASE ",rotational [J],dissipated_drag [J]"}};
+#undef GR_LEDGER_BASE
+    return columns[s->contact.rotation ? 1 : 0][s->driving && s->driving->drag ? 1 : 0];
 }
 
 static int open_tables(gr_run_ctx *c)

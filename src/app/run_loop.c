@@ -121,6 +121,9 @@ static bool record(gr_run_ctx *c, int64_t k)
     if (c->scene->contact.rotation) {
         fprintf(c->fl.f, ",%.12g", l.rotational);
     }
+    if (c->scene->driving && c->scene->driving->drag) {
+        fprintf(c->fl.f, ",%.12g", l.dissipated_drag);
+    }
     fputc('\n', c->fl.f);
     /* a full disk stops the run now, not at the end (the message names the file) */
     c->rc = gr_file_check(&c->ft, c->err);
