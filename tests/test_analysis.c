@@ -195,8 +195,8 @@ START_TEST(test_contact_events_and_free_path)
     sc.D = 0.0;
     sc.noise_mode = GR_NOISE_NONE;
     sc.contact.eps_n = 1.0;
-    sc.analysis.freepath_bins = 400;
-    sc.analysis.freepath_min = 1.0;
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "freepath_bins", 400, NULL), GR_OK);
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "freepath_min", 1.0, NULL), GR_OK);
     const double d = 2.0 * sc.radius, v = 0.5;
     double x[2] = {0.02, 0.02 + d + 0.01}, vx[2] = {v, -v};
     gr_sim *s;
@@ -204,7 +204,7 @@ START_TEST(test_contact_events_and_free_path)
     ck_assert_msg(gr_sim_create_with_state(&sc, 2, x, NULL, vx, NULL, &s, &err) == 0, "%s", err.message);
     ck_assert_int_eq(gr_sim_track_contacts(s, &err), 0);
     void *state;
-    ck_assert_int_eq(gr_obs_freepath.create(&sc, &state, &err), 0);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_freepath, &sc, &state, &err), 0);
     /* first contact after 0.01 / (2v), then one every (L - 2d)/(2v): run through 5 contacts */
     int64_t steps = (int64_t)((0.01 / (2.0 * v) + 4.5 * (sc.L - 2.0 * d) / (2.0 * v)) / gr_sim_dt(s));
     ck_assert_int_eq(gr_sim_step(s, steps, &err), 0);
@@ -233,7 +233,7 @@ START_TEST(test_contact_events_and_free_path)
     double expect = 0.5 * (sc.L - 2.0 * d), tol = 2.0 * v * gr_sim_dt(s) + 2e-3 * d;
     ck_assert_msg(fabs(mean - expect) < tol, "mean free path %.9g, expected %.9g +- %.3g", mean, expect, tol);
     cJSON_Delete(sum);
-    gr_obs_freepath.destroy(state);
+    gr_observable_free(state);
     gr_sim_free(s);
     char cmd[256];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
@@ -310,10 +310,10 @@ START_TEST(test_moments_gaussian)
     gr_scene_default(&sc);
     sc.dim = 2;
     sc.N = 20000;
-    sc.analysis.moments_max = 6;
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "moments_max", 6, NULL), GR_OK);
     void *state;
     gr_error err = {0};
-    ck_assert_int_eq(gr_obs_moments.create(&sc, &state, &err), 0);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_moments, &sc, &state, &err), 0);
     double *vx = malloc(sizeof(double) * sc.N), *vy = malloc(sizeof(double) * sc.N), *x = calloc(sc.N, sizeof(double));
     const double sd = 0.3;
     for (int frame = 0; frame < 32; frame++) {
@@ -339,7 +339,7 @@ START_TEST(test_moments_gaussian)
         ck_assert_msg(fabs(got - want) < 5.0 * e + 1e-3 * want, "m = %d: %.6g +- %.2g, Rayleigh %.6g", m, got, e, want);
     }
     cJSON_Delete(sum);
-    gr_obs_moments.destroy(state);
+    gr_observable_free(state);
     free(vx);
     free(vy);
     free(x);

@@ -51,7 +51,6 @@
 
 #include "analysis/obs_util.h"
 #include "io/plot.h"
-#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
@@ -65,15 +64,20 @@
 #define PEAK_MAX_D 1.5        /* first peak: maximum of g over bins centred below 1.5 d */
 #define TAIL_FROM_FRAC 0.5    /* g_tail: mean g over R_max / 2 <= R < R_max (cf. Fig. 4.7) */
 
+typedef struct pair_params {
+    int gr_bins;
+    double gr_rmax;
+} pair_params;
+
 static const gr_param params[] = {
     {"gr_bins", "", GR_PARAM_INT, 400, 1, PAIR_MAX_BINS, false, false,
-     "bins of g(R), C(R), n(R) over 0 <= R < R_max (4.10, 4.15-4.17)", offsetof(gr_analysis_params, gr_bins)},
+     "bins of g(R), C(R), n(R) over 0 <= R < R_max (4.10, 4.15-4.17)", offsetof(pair_params, gr_bins)},
     {"gr_rmax", "d", GR_PARAM_DOUBLE, 20, 0, 1e4, true, false,
-     "largest pair distance R_max in diameters (clamped to L/2)", offsetof(gr_analysis_params, gr_rmax)},
+     "largest pair distance R_max in diameters (clamped to L/2)", offsetof(pair_params, gr_rmax)},
 };
 
 typedef struct pair {
-    /* fixed at create */
+    /* fixed at init */
     int nbins;
     double d, L, R_max, width, inv_width;
     int N;
@@ -99,30 +103,9 @@ typedef struct pair {
     int *cell_of, *cell_start, *cell_fill;
 } pair;
 
-static void destroy(void *state)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
-    pair *s = state;
-    if (!s) {
-        return;
-    }
-    free(s->area);
-    free(s->g_blk);
-    free(s->c_blk);
-    free(s->frame_count);
-    free(s->c_frame);
-    free(s->total);
-    free(s->batch);
-    free(s->xs);
-    free(s->ys);
-    free(s->cell_of);
-    free(s->cell_start);
-    free(s->cell_fill);
-    free(s);
-}
-
-static int create(const gr_scene *scene, void **state, gr_error *err)
-{
-    const gr_analysis_params *a = &scene->analysis;
+    const pair_params *a = params_block;
     if (scene->dim != 2) {
         return GR_FAIL(err, GR_EINVAL, "pair: g(R) is defined for dim = 2 only (scene has dim = %d)", scene->dim);
     }
@@ -140,10 +123,7 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
     if (scene->N < 2) {
         return GR_FAIL(err, GR_EINVAL, "pair: needs N >= 2 particles (N = %d)", scene->N);
     }
-    pair *s = calloc(1, sizeof *s);
-    if (!s) {
-        return GR_FAIL(err, GR_ENOMEM, "pair: out of memory");
-    }
+    pair *s = state;
     s->nbins = a->gr_bins;
     s->d = 2.0 * scene->radius;
     s->L = scene->L;
@@ -156,27 +136,27 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
     s->width = s->R_max / s->nbins;
     s->inv_width = s->nbins / s->R_max;
     size_t nb = (size_t)s->nbins;
-    s->area = malloc(sizeof(double) * nb);
-    s->g_blk = malloc(sizeof(gr_blocking) * nb);
-    s->c_blk = malloc(sizeof(gr_blocking) * nb);
-    s->frame_count = calloc(nb, sizeof(int64_t));
-    s->c_frame = calloc(nb, sizeof(double));
-    s->total = calloc(nb, sizeof(double));
-    s->batch = calloc(nb * N_BATCH, sizeof(double));
+    s->area = gr_obs_calloc(s, nb, sizeof(double));
+    s->g_blk = gr_obs_calloc(s, nb, sizeof(gr_blocking));
+    s->c_blk = gr_obs_calloc(s, nb, sizeof(gr_blocking));
+    s->frame_count = gr_obs_calloc(s, nb, sizeof(int64_t));
+    s->c_frame = gr_obs_calloc(s, nb, sizeof(double));
+    s->total = gr_obs_calloc(s, nb, sizeof(double));
+    s->batch = gr_obs_calloc(s, nb * N_BATCH, sizeof(double));
+    /* the cell list, allocated at the first frame */
+    void *cells[] = {&s->xs, &s->ys, &s->cell_of, &s->cell_start, &s->cell_fill};
+    for (size_t k = 0; k < sizeof cells / sizeof cells[0]; k++) {
+        gr_obs_own_pointer(s, cells[k]);
+    }
     if (!s->area || !s->g_blk || !s->c_blk || !s->frame_count || !s->c_frame || !s->total || !s->batch) {
-        destroy(s);
         return GR_FAIL(err, GR_ENOMEM, "pair: out of memory for %d bins", s->nbins);
     }
     for (int b = 0; b < s->nbins; b++) {
         double lo = b * s->width, hi = (b + 1) * s->width;
         s->area[b] = M_PI * (hi * hi - lo * lo);
-        gr_blocking_init(&s->g_blk[b]);
-        gr_blocking_init(&s->c_blk[b]);
     }
-    gr_blocking_init(&s->tail_blk);
     s->tail_from = (int)floor(TAIL_FROM_FRAC * s->nbins);
     s->batch_len = 1;
-    *state = s;
     return GR_OK;
 }
 
@@ -664,50 +644,28 @@ static int finish(void *state, const gr_output *out, gr_error *err)
 
 /* Checkpoints: blocking accumulators, pair totals and the batch sums (the cell lists and the
  * per-frame arrays are scratch). */
-static int save(const void *state, gr_blob *out, gr_error *err)
-{
-    (void)err;
-    const pair *s = state;
-    const size_t nb = (size_t)s->nbins;
-    gr_blob_put_u64(out, nb);
-    for (size_t b = 0; b < nb; b++) {
-        gr_blob_put_blocking(out, &s->g_blk[b]);
-        gr_blob_put_blocking(out, &s->c_blk[b]);
-    }
-    gr_blob_put_blocking(out, &s->tail_blk);
-    gr_blob_put_f64s(out, s->total, (int64_t)nb);
-    gr_blob_put_i64(out, s->frames);
-    gr_blob_put_f64s(out, s->batch, (int64_t)(nb * N_BATCH));
-    gr_blob_put_i64(out, s->batch_len);
-    gr_blob_put_i64(out, s->batch_fill);
-    gr_blob_put_i64(out, s->n_full);
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     (void)err;
     pair *s = state;
     const size_t nb = (size_t)s->nbins;
-    uint64_t m = gr_blob_get_u64(in);
-    if (!in->bad && m != nb) {
-        gr_blob_fail(in, "gr_bins = %llu in the checkpoint, %zu in the scene", (unsigned long long)m, nb);
+    gr_obs_io_check(io, "gr_bins", s->nbins);
+    for (size_t b = 0; b < nb; b++) {
+        gr_obs_io_blockings(io, &s->g_blk[b], 1);
+        gr_obs_io_blockings(io, &s->c_blk[b], 1);
     }
-    for (size_t b = 0; b < nb && !in->bad; b++) {
-        gr_blob_get_blocking(in, &s->g_blk[b]);
-        gr_blob_get_blocking(in, &s->c_blk[b]);
-    }
-    gr_blob_get_blocking(in, &s->tail_blk);
-    gr_blob_get_f64s(in, s->total, (int64_t)nb);
-    s->frames = gr_blob_get_i64(in);
-    gr_blob_get_f64s(in, s->batch, (int64_t)(nb * N_BATCH));
-    s->batch_len = gr_blob_get_i64(in);
-    s->batch_fill = gr_blob_get_i64(in);
-    int64_t n_full = gr_blob_get_i64(in);
-    if (!in->bad && (n_full < 0 || n_full > N_BATCH || s->batch_len < 1 || s->batch_fill < 0 ||
-                     s->batch_fill >= s->batch_len || (n_full == N_BATCH && s->batch_fill != 0))) {
-        gr_blob_fail(in, "batch counters (%lld full, %lld of %lld) are inconsistent", (long long)n_full,
-                     (long long)s->batch_fill, (long long)s->batch_len);
+    gr_obs_io_blockings(io, &s->tail_blk, 1);
+    gr_obs_io_f64s(io, s->total, (int64_t)nb);
+    gr_obs_io_i64(io, &s->frames);
+    gr_obs_io_f64s(io, s->batch, (int64_t)(nb * N_BATCH));
+    gr_obs_io_i64(io, &s->batch_len);
+    gr_obs_io_i64(io, &s->batch_fill);
+    int64_t n_full = s->n_full;
+    gr_obs_io_i64(io, &n_full);
+    if (gr_obs_io_loading(io) && (n_full < 0 || n_full > N_BATCH || s->batch_len < 1 || s->batch_fill < 0 ||
+                                  s->batch_fill >= s->batch_len || (n_full == N_BATCH && s->batch_fill != 0))) {
+        gr_obs_io_fail(io, "batch counters (%lld full, %lld of %lld) are inconsistent", (long long)n_full,
+                       (long long)s->batch_fill, (long long)s->batch_len);
     }
     s->n_full = (int)n_full;
     return GR_OK;
@@ -720,10 +678,10 @@ const gr_observable_type gr_obs_pair = {
     .dims = 2,
     .params = params,
     .n_params = sizeof params / sizeof params[0],
-    .create = create,
+    .params_size = sizeof(pair_params),
+    .state_size = sizeof(pair),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
+    .io = io,
 };
