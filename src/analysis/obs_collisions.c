@@ -124,9 +124,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     gr_obs_add_number(j, "mean_time_between", c->tau_n ? c->tau_sum / c->tau_n : (double)NAN);
     cJSON_AddNumberToObject(j, "intervals", (double)c->tau_n);
     if (c->total == 0) {
-        cJSON_AddStringToObject(j, "note",
-                                "no collision events: none happened, or the frames came from snapshots "
-                                "(granule analyse has no contact events)");
+        gr_obs_note_no_events(j, "collision events");
     }
     const gr_obs_table t = {
         .name = "collisions.csv",

@@ -120,6 +120,9 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddNumberToObject(j, "mean_over_d", f->paths ? f->sum / f->paths / f->d : 0.0);
     cJSON_AddNumberToObject(j, "longer_than_quarter_box", f->long_paths);
     cJSON_AddStringToObject(j, "file", "freepath.csv");
+    if (f->paths == 0) {
+        gr_obs_note_no_events(j, "free paths");
+    }
     /* the tail fit over bins with at least 10 counts beyond the most probable free path */
     int peak = 0;
     for (int i = 0; i < f->h.nbins; i++) {

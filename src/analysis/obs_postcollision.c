@@ -131,6 +131,9 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                 "1:($7==1?$5:1/0) with points lt 2 pt 6 ps 0.5 notitle",
     };
     cJSON_AddNumberToObject(j, "post_samples", (double)p->post_n);
+    if (p->post_n == 0) {
+        gr_obs_note_no_events(j, "post-collision velocities");
+    }
     cJSON_AddNumberToObject(j, "post_v2", p->post_n ? p->post_v2 / p->post_n : 0.0);
     cJSON_AddNumberToObject(j, "all_v2", p->all_n ? p->all_v2 / p->all_n : 0.0);
     cJSON_AddStringToObject(j, "file", "postcollision.csv");

@@ -90,6 +90,14 @@ int gr_obs_check_frame(const char *name, const gr_particles *p, int n, gr_error 
     return GR_OK;
 }
 
+void gr_obs_note_no_events(cJSON *j, const char *what)
+{
+    char note[200];
+    snprintf(note, sizeof note, "no %s: none happened, or the frames came from snapshots (granule analyse has no contact events)",
+             what);
+    cJSON_AddStringToObject(j, "note", note);
+}
+
 void gr_obs_add_number(cJSON *o, const char *name, double v)
 {
     if (isfinite(v)) {

@@ -46,6 +46,9 @@ double gr_obs_stderr(const gr_blocking *b);
 cJSON *gr_obs_summary(const gr_output *out, const char *key, const char *file);
 /* GR_EINVAL unless the frame has the scene's n particles (observables keeping per-particle state). */
 int gr_obs_check_frame(const char *name, const gr_particles *p, int n, gr_error *err);
+/* The note of an observable that takes contact events and saw none: "no <what>: none happened,
+ * or the frames came from snapshots (granule analyse has no contact events)". */
+void gr_obs_note_no_events(cJSON *j, const char *what);
 /* A number, or null when it is not finite (JSON has no nan). */
 void gr_obs_add_number(cJSON *o, const char *name, double v);
 /* A lag table (obs_lag.h) as CSV: tau (s), mean, block-averaging error, origins; and into `j`
