@@ -4,41 +4,20 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "analysis/obs_list.h"
 #include "analysis/obs_util.h"
 #include "granule/observe.h"
 #include "granule/scene.h"
 #include "io/blob.h"
 
-extern const gr_observable_type gr_obs_moments;
-extern const gr_observable_type gr_obs_freepath;
-extern const gr_observable_type gr_obs_postcollision;
-extern const gr_observable_type gr_obs_gaps;
-extern const gr_observable_type gr_obs_sk;
-extern const gr_observable_type gr_obs_pair;
-extern const gr_observable_type gr_obs_pv;
-extern const gr_observable_type gr_obs_msd;
-extern const gr_observable_type gr_obs_vacf;
-extern const gr_observable_type gr_obs_vcorr;
-extern const gr_observable_type gr_obs_clusters;
-extern const gr_observable_type gr_obs_pressure;
-extern const gr_observable_type gr_obs_collisions;
+#define DECLARE(name) extern const gr_observable_type gr_obs_##name;
+#define ENTRY(name) &gr_obs_##name,
+GR_OBSERVABLE_LIST(DECLARE)
 
-const gr_observable_type *const gr_observables[] = {
-    &gr_obs_moments,
-    &gr_obs_freepath,
-    &gr_obs_postcollision,
-    &gr_obs_gaps,
-    &gr_obs_sk,
-    &gr_obs_pair,
-    &gr_obs_pv,
-    &gr_obs_msd,
-    &gr_obs_vacf,
-    &gr_obs_vcorr,
-    &gr_obs_clusters,
-    &gr_obs_pressure,
-    &gr_obs_collisions,
-    NULL,
-};
+const gr_observable_type *const gr_observables[] = {GR_OBSERVABLE_LIST(ENTRY) NULL};
+
+#define COUNT(name) +1
+_Static_assert(0 GR_OBSERVABLE_LIST(COUNT) <= GR_OBS_MAX, "more observables than GR_OBS_MAX parameter blocks");
 
 const gr_observable_type *gr_observable_find(const char *name)
 {
