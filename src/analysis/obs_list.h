@@ -2,7 +2,7 @@
  * `const gr_observable_type gr_obs_NAME` defined in src/analysis/obs_NAME.c. The registry
  * (gr_observables, src/analysis/observe.c) is generated from this list; its order is the order
  * of `granule observables`, `granule keys` and the [analysis] keys in a run's scene.ini, so a new
- * observable goes at the end. */
+ * observable goes at the end (one new line above the closing comment). */
 #ifndef GR_OBS_LIST_H
 #define GR_OBS_LIST_H
 
@@ -19,6 +19,7 @@
     X(vcorr)                  \
     X(clusters)               \
     X(pressure)               \
-    X(collisions)
+    X(collisions)             \
+    /* a new observable: X(NAME) \ on the line above this one */
 
 #endif

@@ -7,7 +7,6 @@
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
-#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 

@@ -9,7 +9,6 @@
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
-#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -146,12 +145,10 @@ static int io(void *state, gr_obs_io *io, gr_error *err)
     postcollision *p = state;
     uint32_t ready = p->ready;
     gr_obs_io_u32(io, &ready);
-    if (ready && !gr_obs_io_loading(io)) {
-        gr_obs_io_histogram(io, &p->post);
-        gr_obs_io_histogram(io, &p->all);
-    } else if (ready && !gr_obs_io_bad(io)) {
-        p->ready = gr_blob_get_histogram_new(io->in, &p->post, false) && gr_blob_get_histogram_new(io->in, &p->all, false);
-        if (!gr_obs_io_bad(io) && (p->post.nbins != p->bins || p->all.nbins != p->bins)) {
+    if (ready) {
+        bool ok = gr_obs_io_histogram_new(io, &p->post) && gr_obs_io_histogram_new(io, &p->all);
+        p->ready = ok;
+        if (ok && (p->post.nbins != p->bins || p->all.nbins != p->bins)) {
             gr_obs_io_fail(io, "%d bins in the checkpoint, pv_bins = %d in the scene", p->post.nbins, p->bins);
         }
     }

@@ -40,7 +40,6 @@
 
 #include "analysis/obs_util.h"
 #include "io/plot.h"
-#include "io/blob.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -962,19 +961,17 @@ static int io(void *state, gr_obs_io *io, gr_error *err)
     if (gr_obs_io_bad(io)) {
         return GR_OK;
     }
-    if (fixed && !gr_obs_io_loading(io)) {
-        gr_obs_io_histogram(io, &s->comp);
-        gr_obs_io_histogram(io, &s->speed);
-    } else if (fixed) {
-        s->fixed = gr_blob_get_histogram_new(io->in, &s->comp, false) && gr_blob_get_histogram_new(io->in, &s->speed, false);
-        if (!gr_obs_io_bad(io) && (s->comp.nbins != s->bins || s->speed.nbins != s->bins)) {
+    if (fixed) {
+        bool ok = gr_obs_io_histogram_new(io, &s->comp) && gr_obs_io_histogram_new(io, &s->speed);
+        s->fixed = ok;
+        if (ok && (s->comp.nbins != s->bins || s->speed.nbins != s->bins)) {
             gr_obs_io_fail(io, "%d bins in the checkpoint, pv_bins = %d in the scene", s->comp.nbins, s->bins);
         }
     } else {
         int64_t nbuf = (int64_t)s->nbuf;
         gr_obs_io_i64(io, &nbuf);
         if (gr_obs_io_loading(io) && (nbuf < 0 || (uint64_t)nbuf > REF_MAX_VALUES ||
-                                      (uint64_t)nbuf > (io->in->len - io->in->pos) / sizeof(double))) {
+                                      (uint64_t)nbuf > gr_obs_io_left(io) / sizeof(double))) {
             gr_obs_io_fail(io, "%lld buffered reference values do not fit", (long long)nbuf);
         }
         if (gr_obs_io_bad(io)) {

@@ -154,6 +154,8 @@ void gr_obs_own_pointer(void *state, void *pointer_field) { gr_obs_own(state, re
 
 bool gr_obs_io_bad(const gr_obs_io *io) { return io->in && io->in->bad; }
 
+size_t gr_obs_io_left(const gr_obs_io *io) { return io->in ? io->in->len - io->in->pos : 0; }
+
 void gr_obs_io_fail(gr_obs_io *io, const char *fmt, ...)
 {
     if (!io->in || io->in->bad) {
@@ -230,6 +232,15 @@ void gr_obs_io_histogram(gr_obs_io *io, gr_histogram *h)
     } else if (!io->in->bad) {
         gr_blob_get_histogram(io->in, h);
     }
+}
+
+bool gr_obs_io_histogram_new(gr_obs_io *io, gr_histogram *h)
+{
+    if (!io->in) {
+        gr_blob_put_histogram(io->out, h);
+        return true;
+    }
+    return !io->in->bad && gr_blob_get_histogram_new(io->in, h, false);
 }
 
 void gr_obs_io_check(gr_obs_io *io, const char *what, int64_t value)

@@ -90,6 +90,8 @@ typedef struct gr_obs_io {
 static inline bool gr_obs_io_loading(const gr_obs_io *io) { return io->in != NULL; }
 /* Loading and a read already failed. */
 bool gr_obs_io_bad(const gr_obs_io *io);
+/* Loading: the bytes left to read (a bound for a stored count). */
+size_t gr_obs_io_left(const gr_obs_io *io);
 /* Mark a load failed (printf-style), e.g. inconsistent counters. */
 void gr_obs_io_fail(gr_obs_io *io, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 void gr_obs_io_i64(gr_obs_io *io, int64_t *v);
@@ -103,6 +105,10 @@ void gr_obs_io_bytes(gr_obs_io *io, void *v, size_t n);
 void gr_obs_io_blockings(gr_obs_io *io, gr_blocking *b, int n);
 /* The counts of a histogram initialised alike (its binning comes from the scene). */
 void gr_obs_io_histogram(gr_obs_io *io, gr_histogram *h);
+/* A histogram whose binning is fixed from the first frames (pv, postcollision): saved with its
+ * binning, loaded into an uninitialised histogram re-created with the stored binning (false if
+ * that failed). */
+bool gr_obs_io_histogram_new(gr_obs_io *io, gr_histogram *h);
 /* A size fixed by the scene (a number of bins, lags, particles): stored, and on load it must
  * equal `value` ("<what> = <stored> in the checkpoint, <value> in the scene"). */
 void gr_obs_io_check(gr_obs_io *io, const char *what, int64_t value);
