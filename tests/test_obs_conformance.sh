@@ -8,7 +8,9 @@
 #     position differences, such as 1D gaps, can differ in the last digits there); an observable
 #     that takes contact events (none in snapshots) must instead say so in its summary member
 #   - checkpoint round trip: a run stopped again and again under --wall-limit (exit 4, test clock)
-#     and resumed ends with the observable's CSVs and summary member identical to a straight run
+#     and resumed ends with the observable's CSVs and summary member identical to a straight run,
+#     and the checkpoint's OBS section does not change when malloc'd memory is filled with
+#     another byte (MALLOC_PERTURB_): no uninitialised bytes are saved
 #   - thread-count invariance: OMP_NUM_THREADS=1 and 2 give identical CSVs and summary member
 #   - refusal: a scene of a dimension it does not support, and an out-of-range value of each of
 #     its [analysis] keys, are refused (exit 2) with a message naming the observable or the key
@@ -136,6 +138,28 @@ check_observable() {
         while [[ $rc -eq 4 && $sessions -lt 20 ]]; do
             OMP_NUM_THREADS=1 GRANULE_TEST_CLOCK_TICK=0.002 GRANULE_CHUNK_STEPS=2000 "$G" "${what[@]}" --quiet --wall-limit 1.15 >/dev/null 2>&1
             rc=$?
+            if [[ $sessions -eq 0 ]]; then
+                # the same first session with malloc'd memory filled (MALLOC_PERTURB_): the
+                # observable's checkpoint bytes must not depend on memory it never wrote
+                OMP_NUM_THREADS=1 MALLOC_PERTURB_=165 GRANULE_TEST_CLOCK_TICK=0.002 GRANULE_CHUNK_STEPS=2000 "$G" \
+                    "${run[@]}" --out "p-$o-$d" --set output.snapshot_every=0 --quiet --wall-limit 1.15 >/dev/null 2>&1
+                if [[ $rc -eq 4 ]] && python3 - "c-$o-$d/checkpoint" "p-$o-$d/checkpoint" <<'PY'; then
+import struct, sys
+def obs(path):  # the OBS section (docs/checkpoints.md, "File format")
+    d = open(path, "rb").read()
+    pos = 44
+    for _ in range(struct.unpack_from("<I", d, 40)[0]):
+        n = struct.unpack_from("<Q", d, pos + 4)[0]
+        if d[pos:pos + 4] == b"OBS ":
+            return d[pos + 12:pos + 12 + n]
+        pos += 12 + n
+sys.exit(0 if obs(sys.argv[1]) is not None and obs(sys.argv[1]) == obs(sys.argv[2]) else 1)
+PY
+                    ok
+                else
+                    bad "$o ${d}D: the checkpoint's OBS section changes with MALLOC_PERTURB_ (uninitialised bytes saved), or no checkpoint (exit $rc)"
+                fi
+            fi
             what=(run --resume "c-$o-$d")
             sessions=$((sessions + 1))
         done

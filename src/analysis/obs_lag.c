@@ -14,7 +14,7 @@ int gr_lag_init(gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error 
     g->dim = dim;
     g->lags = lags;
     g->kind = kind;
-    g->ring = malloc(sizeof(double) * 2 * (size_t)n * (size_t)(lags + 1));
+    g->ring = calloc(2 * (size_t)n * (size_t)(lags + 1), sizeof(double)); /* zeroed: checkpoints save every slot */
     g->acc = malloc(sizeof(gr_blocking) * (size_t)(lags + 1));
     if (!g->ring || !g->acc) {
         gr_lag_free(g);
