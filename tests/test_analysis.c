@@ -319,17 +319,22 @@ START_TEST(test_registry_parameter_blocks)
         ck_assert_ptr_nonnull(gr_analysis_block(&a, t));
         for (int k = 0; k < t->n_params; k++) {
             const gr_param *p = &t->params[k];
-            size_t size = p->type == GR_PARAM_BOOL ? sizeof(bool) : p->type == GR_PARAM_INT ? sizeof(int) : sizeof(double);
+            size_t size = p->type == GR_PARAM_BOOL  ? sizeof(bool)
+                          : p->type == GR_PARAM_INT ? sizeof(int)
+                                                    : sizeof(double);
             ck_assert_msg(p->offset + size <= t->params_size, "%s: %s outside its parameter struct", t->name, p->name);
             for (int q = 0; q <= o; q++) {
                 for (int m = 0; m < (q < o ? gr_observables[q]->n_params : k); m++) {
-                    ck_assert_msg(strcmp(gr_observables[q]->params[m].name, p->name) != 0, "key %s declared twice", p->name);
+                    ck_assert_msg(strcmp(gr_observables[q]->params[m].name, p->name) != 0, "key %s declared twice",
+                                  p->name);
                 }
             }
             double v = NAN;
             ck_assert_int_eq(gr_analysis_get(&a, p->name, &v, NULL), GR_OK);
-            ck_assert_msg(v == (p->type == GR_PARAM_INT ? (double)(int)p->def : p->type == GR_PARAM_BOOL ? (double)(p->def != 0.0) : p->def),
-                          "%s: default %g read back as %g", p->name, p->def, v);
+            double def = p->type == GR_PARAM_INT    ? (double)(int)p->def
+                         : p->type == GR_PARAM_BOOL ? (double)(p->def != 0.0)
+                                                    : p->def;
+            ck_assert_msg(v == def, "%s: default %g read back as %g", p->name, p->def, v);
             ck_assert_int_eq(gr_analysis_set(&a, p->name, p->max, NULL), GR_OK);
             ck_assert_int_eq(gr_analysis_get(&a, p->name, &v, NULL), GR_OK);
             ck_assert_msg(v == (p->type == GR_PARAM_BOOL ? 1.0 : p->max), "%s: set %g, read %g", p->name, p->max, v);

@@ -682,8 +682,11 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddNumberToObject(j, "bin_width_over_d", s->width / s->d);
     pair_result r = {0};
     pair_rows_ctx rows = {.s = s, .r = &r};
-    gr_obs_table t = {.name = "pair.csv", .what = pair_csv_what, .columns = "R [m],R_over_d [1],g [1],g_error [1],C [1],n [1],n_error [1],R_lo [m],R_hi [m],pairs [1]",
-                      .rows = pair_rows, .ctx = &rows};
+    gr_obs_table t = {.name = "pair.csv",
+                      .what = pair_csv_what,
+                      .columns = "R [m],R_over_d [1],g [1],g_error [1],C [1],n [1],n_error [1],R_lo [m],R_hi [m],pairs [1]",
+                      .rows = pair_rows,
+                      .ctx = &rows};
     if (s->frames == 0) {
         cJSON_AddStringToObject(j, "note", "no frames sampled");
         return gr_obs_table_write(out, &t, err);

@@ -93,8 +93,8 @@ int gr_obs_check_frame(const char *name, const gr_particles *p, int n, gr_error 
 void gr_obs_note_no_events(cJSON *j, const char *what)
 {
     char note[200];
-    snprintf(note, sizeof note, "no %s: none happened, or the frames came from snapshots (granule analyse has no contact events)",
-             what);
+    snprintf(note, sizeof note,
+             "no %s: none happened, or the frames came from snapshots (granule analyse has no contact events)", what);
     cJSON_AddStringToObject(j, "note", note);
 }
 

@@ -477,8 +477,9 @@ static int apply(loader *ld, const char *section, const char *name, const char *
                 const gr_param *p = &gr_observables[o]->params[q];
                 if (strcmp(p->name, name) == 0) {
                     key_type t = p->type == GR_PARAM_BOOL ? K_BOOL : p->type == GR_PARAM_INT ? K_INT : K_DOUBLE;
-                    return set_number((char *)gr_analysis_block(&s->analysis, gr_observables[o]) + p->offset, t, p->min, p->max, p->min_open,
-                                      p->max_open, value, w, section, name, err);
+                    char *block = gr_analysis_block(&s->analysis, gr_observables[o]);
+                    return set_number(block + p->offset, t, p->min, p->max, p->min_open, p->max_open, value, w,
+                                      section, name, err);
                 }
             }
         }
