@@ -18,7 +18,7 @@ static inline void *h_create(const gr_observable_type *t, const gr_scene *sc)
 {
     void *st = NULL;
     gr_error err = {0};
-    int rc = t->create(sc, &st, &err);
+    int rc = gr_observable_create(t, sc, &st, &err);
     ck_assert_msg(rc == GR_OK, "%s create: %s", t->name, err.message);
     return st;
 }
@@ -59,7 +59,7 @@ static inline cJSON *h_finish(const gr_observable_type *t, void *st, const gr_sc
     gr_error err = {0};
     int rc = t->finish(st, &out, &err);
     ck_assert_msg(rc == GR_OK, "%s finish: %s", t->name, err.message);
-    t->destroy(st);
+    gr_observable_free(st);
     char path[256], line[4096];
     snprintf(path, sizeof path, "%s/%s", dir, csv_name);
     FILE *f = fopen(path, "r");

@@ -7,6 +7,7 @@
 #include <gsl/gsl_rng.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "granule/analysis.h"
 #include "granule/observe.h"
@@ -195,8 +196,8 @@ START_TEST(test_contact_events_and_free_path)
     sc.D = 0.0;
     sc.noise_mode = GR_NOISE_NONE;
     sc.contact.eps_n = 1.0;
-    sc.analysis.freepath_bins = 400;
-    sc.analysis.freepath_min = 1.0;
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "freepath_bins", 400, NULL), GR_OK);
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "freepath_min", 1.0, NULL), GR_OK);
     const double d = 2.0 * sc.radius, v = 0.5;
     double x[2] = {0.02, 0.02 + d + 0.01}, vx[2] = {v, -v};
     gr_sim *s;
@@ -204,7 +205,7 @@ START_TEST(test_contact_events_and_free_path)
     ck_assert_msg(gr_sim_create_with_state(&sc, 2, x, NULL, vx, NULL, &s, &err) == 0, "%s", err.message);
     ck_assert_int_eq(gr_sim_track_contacts(s, &err), 0);
     void *state;
-    ck_assert_int_eq(gr_obs_freepath.create(&sc, &state, &err), 0);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_freepath, &sc, &state, &err), 0);
     /* first contact after 0.01 / (2v), then one every (L - 2d)/(2v): run through 5 contacts */
     int64_t steps = (int64_t)((0.01 / (2.0 * v) + 4.5 * (sc.L - 2.0 * d) / (2.0 * v)) / gr_sim_dt(s));
     ck_assert_int_eq(gr_sim_step(s, steps, &err), 0);
@@ -233,7 +234,7 @@ START_TEST(test_contact_events_and_free_path)
     double expect = 0.5 * (sc.L - 2.0 * d), tol = 2.0 * v * gr_sim_dt(s) + 2e-3 * d;
     ck_assert_msg(fabs(mean - expect) < tol, "mean free path %.9g, expected %.9g +- %.3g", mean, expect, tol);
     cJSON_Delete(sum);
-    gr_obs_freepath.destroy(state);
+    gr_observable_free(state);
     gr_sim_free(s);
     char cmd[256];
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
@@ -301,6 +302,60 @@ END_TEST
 /* The moments observable on Gaussian velocities: 2D speeds are Rayleigh distributed, so
  * <|v|^m> = (2 s^2)^(m/2) Gamma(1 + m/2) for per-component variance s^2 (the frame mean is removed,
  * a relative correction of order 1/N). */
+/* Every registered observable: a complete type, its parameter struct inside its block of the
+ * scene's gr_analysis_params, its keys unique, defaults readable by key (gr_analysis_get) and
+ * settable (gr_analysis_set); an oversized parameter struct is refused by the skeleton. */
+START_TEST(test_registry_parameter_blocks)
+{
+    gr_analysis_params a;
+    gr_analysis_defaults(&a);
+    int n = 0;
+    for (int o = 0; gr_observables[o]; o++, n++) {
+        const gr_observable_type *t = gr_observables[o];
+        ck_assert_msg(t->init && t->sample && t->finish && t->state_size > 0, "%s: incomplete type", t->name);
+        ck_assert_msg(t->dims >= 1 && t->dims <= 3, "%s: dims = %u", t->name, t->dims);
+        ck_assert_msg(t->params_size <= GR_OBS_PARAMS_BYTES, "%s: %zu-byte parameters", t->name, t->params_size);
+        ck_assert_ptr_eq(gr_observable_find(t->name), t);
+        ck_assert_ptr_nonnull(gr_analysis_block(&a, t));
+        for (int k = 0; k < t->n_params; k++) {
+            const gr_param *p = &t->params[k];
+            size_t size = p->type == GR_PARAM_BOOL  ? sizeof(bool)
+                          : p->type == GR_PARAM_INT ? sizeof(int)
+                                                    : sizeof(double);
+            ck_assert_msg(p->offset + size <= t->params_size, "%s: %s outside its parameter struct", t->name, p->name);
+            for (int q = 0; q <= o; q++) {
+                for (int m = 0; m < (q < o ? gr_observables[q]->n_params : k); m++) {
+                    ck_assert_msg(strcmp(gr_observables[q]->params[m].name, p->name) != 0, "key %s declared twice",
+                                  p->name);
+                }
+            }
+            double v = NAN;
+            ck_assert_int_eq(gr_analysis_get(&a, p->name, &v, NULL), GR_OK);
+            double def = p->type == GR_PARAM_INT    ? (double)(int)p->def
+                         : p->type == GR_PARAM_BOOL ? (double)(p->def != 0.0)
+                                                    : p->def;
+            ck_assert_msg(v == def, "%s: default %g read back as %g", p->name, p->def, v);
+            ck_assert_int_eq(gr_analysis_set(&a, p->name, p->max, NULL), GR_OK);
+            ck_assert_int_eq(gr_analysis_get(&a, p->name, &v, NULL), GR_OK);
+            ck_assert_msg(v == (p->type == GR_PARAM_BOOL ? 1.0 : p->max), "%s: set %g, read %g", p->name, p->max, v);
+        }
+    }
+    ck_assert_int_le(n, GR_OBS_MAX);
+    gr_error err = {0};
+    double v;
+    ck_assert_int_eq(gr_analysis_get(&a, "no_such_key", &v, &err), GR_EINVAL);
+    ck_assert_ptr_nonnull(strstr(err.message, "no_such_key"));
+    gr_observable_type big = *gr_observables[0];
+    big.params_size = GR_OBS_PARAMS_BYTES + 1;
+    gr_scene sc;
+    gr_scene_default(&sc);
+    void *st = &big;
+    ck_assert_int_eq(gr_observable_create(&big, &sc, &st, &err), GR_EINVAL);
+    ck_assert_ptr_null(st);
+    ck_assert_ptr_nonnull(strstr(err.message, "GR_OBS_PARAMS_BYTES"));
+}
+END_TEST
+
 START_TEST(test_moments_gaussian)
 {
     extern const gr_observable_type gr_obs_moments;
@@ -310,10 +365,10 @@ START_TEST(test_moments_gaussian)
     gr_scene_default(&sc);
     sc.dim = 2;
     sc.N = 20000;
-    sc.analysis.moments_max = 6;
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "moments_max", 6, NULL), GR_OK);
     void *state;
     gr_error err = {0};
-    ck_assert_int_eq(gr_obs_moments.create(&sc, &state, &err), 0);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_moments, &sc, &state, &err), 0);
     double *vx = malloc(sizeof(double) * sc.N), *vy = malloc(sizeof(double) * sc.N), *x = calloc(sc.N, sizeof(double));
     const double sd = 0.3;
     for (int frame = 0; frame < 32; frame++) {
@@ -339,7 +394,7 @@ START_TEST(test_moments_gaussian)
         ck_assert_msg(fabs(got - want) < 5.0 * e + 1e-3 * want, "m = %d: %.6g +- %.2g, Rayleigh %.6g", m, got, e, want);
     }
     cJSON_Delete(sum);
-    gr_obs_moments.destroy(state);
+    gr_observable_free(state);
     free(vx);
     free(vy);
     free(x);
@@ -365,6 +420,7 @@ int main(void)
     tcase_add_test(t, test_stretched_exp_exact_data);
     tcase_add_test(t, test_fit_error_coverage);
     tcase_add_test(t, test_moments_gaussian);
+    tcase_add_test(t, test_registry_parameter_blocks);
     suite_add_tcase(s, t);
     return gr_test_run(s);
 }

@@ -32,16 +32,16 @@ static void scene_1d(gr_scene *s, int N, double Lr, double radius, int h_max, in
     s->N = N;
     s->radius = radius;
     s->L = Lr + N * 2.0 * radius;
-    s->analysis.gaps_h_max = h_max;
-    s->analysis.gaps_bins = bins;
-    s->analysis.gaps_log = log_bins;
+    ck_assert_int_eq(gr_analysis_set(&s->analysis, "gaps_h_max", h_max, NULL), GR_OK);
+    ck_assert_int_eq(gr_analysis_set(&s->analysis, "gaps_bins", bins, NULL), GR_OK);
+    ck_assert_int_eq(gr_analysis_set(&s->analysis, "gaps_log", log_bins, NULL), GR_OK);
 }
 
 static void *create_ok(const gr_scene *s)
 {
     void *st = NULL;
     gr_error err = {0};
-    int rc = gr_obs_gaps.create(s, &st, &err);
+    int rc = gr_observable_create(&gr_obs_gaps, s, &st, &err);
     ck_assert_msg(rc == GR_OK, "create: %s", err.message);
     ck_assert_ptr_nonnull(st);
     return st;
@@ -308,7 +308,7 @@ START_TEST(test_even_spacing_single_spike)
     gsl_rng_free(rng);
     result r;
     finish_ok(st, &s, false, &r);
-    gr_obs_gaps.destroy(st);
+    gr_observable_free(st);
 
     const double mean = Lr / N;
     for (int h = 1; h <= h_max; h++) {
@@ -368,7 +368,7 @@ START_TEST(test_poisson_exact_beta_chi2)
     gsl_rng_free(rng);
     result r;
     finish_ok(st, &s, false, &r);
-    gr_obs_gaps.destroy(st);
+    gr_observable_free(st);
     for (int h = 1; h <= h_max; h++) {
         const char *bins[] = {"lin", "log"};
         for (int b = 0; b < 2; b++) {
@@ -407,7 +407,7 @@ START_TEST(test_poisson_gamma_large_N)
     free(x);
     result r;
     finish_ok(st, &s, false, &r);
-    gr_obs_gaps.destroy(st);
+    gr_observable_free(st);
     for (int h = 1; h <= h_max; h++) {
         const char *bins[] = {"lin", "log"};
         for (int b = 0; b < 2; b++) {
@@ -450,7 +450,7 @@ START_TEST(test_mean_exact_each_frame)
     gsl_rng_free(rng);
     result r;
     finish_ok(st, &s, false, &r);
-    gr_obs_gaps.destroy(st);
+    gr_observable_free(st);
     for (int h = 1; h <= h_max; h++) {
         const mrow *mr = moment_row(&r, h, 1);
         double want = h * Lr / N;
@@ -489,7 +489,7 @@ START_TEST(test_overlap_convention)
     sample_ok(st, &s, x, 0.0);
     result r;
     finish_ok(st, &s, false, &r);
-    gr_obs_gaps.destroy(st);
+    gr_observable_free(st);
     ck_assert_double_eq_tol(jnum(r.gaps, "mean_signed_separation"), Lr / N, 1e-14);
     ck_assert_double_eq_tol(jnum(r.gaps, "overlap_fraction"), 1.0 / N, 1e-14);
     ck_assert_double_eq_tol(jnum(r.gaps, "R1_min"), delta, 1e-12);
@@ -534,9 +534,9 @@ START_TEST(test_wrapped_vs_unwrapped)
     finish_ok(a, &s, false, &ra);
     finish_ok(b, &s, false, &rb);
     finish_ok(c, &s, false, &rc);
-    gr_obs_gaps.destroy(a);
-    gr_obs_gaps.destroy(b);
-    gr_obs_gaps.destroy(c);
+    gr_observable_free(a);
+    gr_observable_free(b);
+    gr_observable_free(c);
     ck_assert_int_eq(ra.n_rows, 6 * 2 * 120);
     ck_assert_int_eq(rb.n_rows, ra.n_rows);
     ck_assert_int_eq(rc.n_rows, ra.n_rows);
@@ -577,7 +577,7 @@ START_TEST(test_poisson_moments_gamma)
     gsl_rng_free(rng);
     result r;
     finish_ok(st, &s, false, &r);
-    gr_obs_gaps.destroy(st);
+    gr_observable_free(st);
     for (int h = 1; h <= h_max; h++) {
         for (int m = 1; m <= 12; m++) {
             const mrow *mr = moment_row(&r, h, m);
@@ -640,9 +640,9 @@ START_TEST(test_decimation_renormalisation)
     finish_ok(a, &sa, false, &ra);
     finish_ok(even, &sb, false, &re);
     finish_ok(odd, &sb, false, &ro);
-    gr_obs_gaps.destroy(a);
-    gr_obs_gaps.destroy(even);
-    gr_obs_gaps.destroy(odd);
+    gr_observable_free(a);
+    gr_observable_free(even);
+    gr_observable_free(odd);
     const char *bins[] = {"lin", "log"};
     for (int hb = 1; hb <= 2; hb++) {
         for (int b = 0; b < 2; b++) {
@@ -696,7 +696,7 @@ START_TEST(test_bad_params_refused)
         }
         st = NULL;
         memset(&err, 0, sizeof err);
-        int rc = gr_obs_gaps.create(&s, &st, &err);
+        int rc = gr_observable_create(&gr_obs_gaps, &s, &st, &err);
         ck_assert_msg(rc == GR_EINVAL, "%s: accepted (rc %d)", bad[k].what, rc);
         ck_assert_msg(st == NULL, "%s: state returned on failure", bad[k].what);
         ck_assert_msg(strstr(err.message, "gaps") != NULL, "%s: message '%s' does not name the observable", bad[k].what,
@@ -705,7 +705,7 @@ START_TEST(test_bad_params_refused)
     /* the limits themselves are accepted */
     scene_1d(&s, 50, 1.0, 1e-3, 49, 2, false);
     st = create_ok(&s);
-    gr_obs_gaps.destroy(st);
+    gr_observable_free(st);
 
     /* bad frames are refused and leave the accumulated data alone */
     scene_1d(&s, 20, 1.0, 1e-3, 3, 40, true);
@@ -742,7 +742,7 @@ START_TEST(test_bad_params_refused)
     ck_assert_int_eq(sample_rc(st, &p), GR_OK);
     result r;
     finish_ok(st, &s, false, &r);
-    gr_obs_gaps.destroy(st);
+    gr_observable_free(st);
     ck_assert_double_eq(jnum(r.gaps, "samples"), 2.0);
     int n;
     const row *rows = hist_rows(&r, 1, "lin", &n);
@@ -779,7 +779,7 @@ START_TEST(test_outputs_and_plots)
     bool gnuplot = system("command -v gnuplot >/dev/null 2>&1") == 0;
     result r;
     finish_ok(st, &s, gnuplot, &r);
-    gr_obs_gaps.destroy(st);
+    gr_observable_free(st);
     ck_assert_str_eq(cJSON_GetObjectItem(r.gaps, "file")->valuestring, "gaps.csv");
     ck_assert_str_eq(cJSON_GetObjectItem(r.gaps, "moments_file")->valuestring, "gaps_moments.csv");
     ck_assert_double_eq(jnum(r.gaps, "N"), 64);

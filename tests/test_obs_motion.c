@@ -76,8 +76,8 @@ static void free_particles(int dim)
     h_scene(&sc, dim, N, L, 1e-5);
     sc.mass = M;
     sc.D = D;
-    sc.analysis.msd_lags = lags;
-    sc.analysis.vacf_lags = lags;
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "msd_lags", lags, NULL), GR_OK);
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "vacf_lags", lags, NULL), GR_OK);
     void *ms = h_create(&gr_obs_msd, &sc), *va = h_create(&gr_obs_vacf, &sc);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 7 + (unsigned long)dim);
@@ -151,8 +151,8 @@ START_TEST(test_langevin)
     const double D_true = T / (M * gamma), a = exp(-gamma * h), s_v = sqrt(T / M * (1.0 - a * a));
     h_scene(&sc, 2, N, L, 1e-4);
     sc.mass = M;
-    sc.analysis.msd_lags = lags;
-    sc.analysis.vacf_lags = lags;
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "msd_lags", lags, NULL), GR_OK);
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "vacf_lags", lags, NULL), GR_OK);
     void *ms = h_create(&gr_obs_msd, &sc), *va = h_create(&gr_obs_vacf, &sc);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 11);
@@ -301,7 +301,7 @@ START_TEST(test_bad_frame)
     gr_error err = {0};
     ck_assert_int_eq(gr_obs_msd.sample(st, &p, 0.0, &err), GR_EINVAL);
     ck_assert_ptr_nonnull(strstr(err.message, "3 particles"));
-    gr_obs_msd.destroy(st);
+    gr_observable_free(st);
 }
 END_TEST
 

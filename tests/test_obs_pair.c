@@ -44,12 +44,21 @@ static void make_scene(gr_scene *sc, int N, double L, double radius, int bins, d
     sc->N = N;
     sc->L = L;
     sc->radius = radius;
-    sc->analysis.gr_bins = bins;
-    sc->analysis.gr_rmax = rmax;
+    ck_assert_int_eq(gr_analysis_set(&sc->analysis, "gr_bins", bins, NULL), GR_OK);
+    ck_assert_int_eq(gr_analysis_set(&sc->analysis, "gr_rmax", rmax, NULL), GR_OK);
     snprintf(sc->source, sizeof sc->source, "test_obs_pair");
 }
 
-static double r_max(const gr_scene *sc) { return fmin(sc->analysis.gr_rmax * 2.0 * sc->radius, 0.5 * sc->L); }
+static double param(const gr_scene *sc, const char *key)
+{
+    double v = NAN;
+    ck_assert_int_eq(gr_analysis_get(&sc->analysis, key, &v, NULL), GR_OK);
+    return v;
+}
+
+static int gr_bins(const gr_scene *sc) { return (int)param(sc, "gr_bins"); }
+
+static double r_max(const gr_scene *sc) { return fmin(param(sc, "gr_rmax") * 2.0 * sc->radius, 0.5 * sc->L); }
 
 static double num(const cJSON *o, const char *path1, const char *path2);
 
@@ -57,7 +66,7 @@ static void *create_ok(const gr_scene *sc)
 {
     void *st = NULL;
     gr_error err = {0};
-    int rc = gr_obs_pair.create(sc, &st, &err);
+    int rc = gr_observable_create(&gr_obs_pair, sc, &st, &err);
     ck_assert_msg(rc == GR_OK, "create: %s", err.message);
     return st;
 }
@@ -81,7 +90,7 @@ static result finish_read(void *st, const gr_scene *sc)
     gr_error err = {0};
     int rc = gr_obs_pair.finish(st, &out, &err);
     ck_assert_msg(rc == GR_OK, "finish: %s", err.message);
-    gr_obs_pair.destroy(st);
+    gr_observable_free(st);
     r.pair = cJSON_GetObjectItem(r.summary, "pair");
     ck_assert_ptr_nonnull(r.pair);
     char path[256], line[1024];
@@ -112,7 +121,7 @@ static result finish_read(void *st, const gr_scene *sc)
     fclose(f);
     remove(path);
     rmdir(dir);
-    ck_assert_int_eq(r.nrows, num(r.pair, "frames", NULL) > 0 ? sc->analysis.gr_bins : 0);
+    ck_assert_int_eq(r.nrows, num(r.pair, "frames", NULL) > 0 ? gr_bins(sc) : 0);
     return r;
 }
 
@@ -144,7 +153,7 @@ static void uniform(gsl_rng *rng, int n, double L, double *x, double *y)
  * returns the pairs at R >= R_max */
 static long long brute(const gr_scene *sc, const double *x, const double *y, double *hist)
 {
-    double L = sc->L, rm = r_max(sc), inv = sc->analysis.gr_bins / rm;
+    double L = sc->L, rm = r_max(sc), inv = gr_bins(sc) / rm;
     long long beyond = 0;
     for (int i = 0; i < sc->N; i++) {
         for (int j = i + 1; j < sc->N; j++) {
@@ -154,7 +163,7 @@ static long long brute(const gr_scene *sc, const double *x, const double *y, dou
             double r = sqrt(dx * dx + dy * dy);
             if (r < rm) {
                 int b = (int)(r * inv);
-                hist[b < sc->analysis.gr_bins ? b : sc->analysis.gr_bins - 1] += 1.0;
+                hist[b < gr_bins(sc) ? b : gr_bins(sc) - 1] += 1.0;
             } else {
                 beyond++;
             }
@@ -446,23 +455,18 @@ START_TEST(test_bad_params)
         sc.dim = bad[k].dim;
         st = NULL;
         err = (gr_error){0};
-        ck_assert_msg(gr_obs_pair.create(&sc, &st, &err) == GR_EINVAL, "case %zu accepted", k);
+        ck_assert_msg(gr_observable_create(&gr_obs_pair, &sc, &st, &err) == GR_EINVAL, "case %zu accepted", k);
         ck_assert_ptr_null(st);
         ck_assert_msg(strstr(err.message, "pair") != NULL, "case %zu: message '%s'", k, err.message);
     }
     /* the declared defaults (as the scene loader applies them) are valid */
     make_scene(&sc, 100, 1.0, 0.01, 0, 0.0);
-    for (int i = 0; i < gr_obs_pair.n_params; i++) {
-        const gr_param *p = &gr_obs_pair.params[i];
-        char *slot = (char *)&sc.analysis + p->offset;
-        if (p->type == GR_PARAM_INT) {
-            *(int *)slot = (int)p->def;
-        } else {
-            *(double *)slot = p->def;
-        }
-    }
-    ck_assert_int_eq(sc.analysis.gr_bins, 400);
-    ck_assert_double_eq(sc.analysis.gr_rmax, 20.0);
+    gr_analysis_defaults(&sc.analysis);
+    double def_bins, def_rmax;
+    ck_assert_int_eq(gr_analysis_get(&sc.analysis, "gr_bins", &def_bins, NULL), GR_OK);
+    ck_assert_int_eq(gr_analysis_get(&sc.analysis, "gr_rmax", &def_rmax, NULL), GR_OK);
+    ck_assert_double_eq(def_bins, 400);
+    ck_assert_double_eq(def_rmax, 20.0);
     ck_assert_uint_eq(gr_obs_pair.dims, 2u);
     ck_assert_str_eq(gr_obs_pair.name, "pair");
     st = create_ok(&sc);

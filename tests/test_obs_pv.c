@@ -61,8 +61,8 @@ static void pv_scene(gr_scene *s, int dim, int bins, double range)
 {
     gr_scene_default(s);
     s->dim = dim;
-    s->analysis.pv_bins = bins;
-    s->analysis.pv_range = range;
+    ck_assert_int_eq(gr_analysis_set(&s->analysis, "pv_bins", bins, NULL), GR_OK);
+    ck_assert_int_eq(gr_analysis_set(&s->analysis, "pv_range", range, NULL), GR_OK);
 }
 
 typedef void (*draw_fn)(gsl_rng *r, void *ctx, double *vx, double *vy);
@@ -242,7 +242,7 @@ START_TEST(gaussian_1d_matches_density_and_alpha_2)
     pv_scene(&s, 1, 400, 12.0);
     void *st;
     gr_error err = {0};
-    ck_assert_msg(gr_obs_pv.create(&s, &st, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 2024);
     gauss_ctx g = {sigma, sigma};
@@ -290,7 +290,7 @@ START_TEST(gaussian_1d_matches_density_and_alpha_2)
                   num(pv, "crossover.v_c_over_v_r"));
     free(c.v);
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
     gsl_rng_free(r);
 }
 END_TEST
@@ -303,7 +303,7 @@ START_TEST(gaussian_2d_pools_components)
     pv_scene(&s, 2, 400, 12.0);
     void *st;
     gr_error err = {0};
-    ck_assert_msg(gr_obs_pv.create(&s, &st, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 77);
     gauss_ctx g = {0.2, 0.3};
@@ -348,7 +348,7 @@ START_TEST(gaussian_2d_pools_components)
     ck_assert_msg(fabs(m2 - 1.0) < 2e-3, "<c^2> = %g", m2);
     free(c.v);
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
     gsl_rng_free(r);
 }
 END_TEST
@@ -361,7 +361,7 @@ static cJSON *run_generalised(int dim, double b, double alpha, int n, int frames
     gr_scene s;
     pv_scene(&s, dim, 400, 12.0);
     gr_error err = {0};
-    ck_assert_msg(gr_obs_pv.create(&s, st, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, st, &err) == GR_OK, "%s", err.message);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, seed);
     gen_ctx g = {b, alpha};
@@ -388,7 +388,7 @@ START_TEST(exponential_tails_give_alpha_1)
     ck_assert_msg(cJSON_IsTrue(cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "crossover"), "converged")), "crossover fit");
     ck_assert_msg(fabs(num(pv, "crossover.v_A") / 0.1 - 1.0) < 0.1, "v_A %g", num(pv, "crossover.v_A"));
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
 }
 END_TEST
 
@@ -401,7 +401,7 @@ START_TEST(overdispersed_counts_detected)
     pv_scene(&s, 1, 400, 12.0);
     void *st;
     gr_error err = {0};
-    ck_assert_int_eq(gr_obs_pv.create(&s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 31);
     const int n = 5000;
@@ -430,7 +430,7 @@ START_TEST(overdispersed_counts_detected)
     ck_assert_msg(fabs(num(pv, "tail.free.alpha") - 1.0) < 0.1, "free alpha %g", num(pv, "tail.free.alpha"));
     free(vx);
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
     gsl_rng_free(r);
 }
 END_TEST
@@ -449,7 +449,7 @@ START_TEST(stretched_tails_give_alpha_1_5_in_2d)
     ck_assert_double_eq(num(pv, "tail_a1.window.counts_max"), 5000.0);
     ck_assert_msg(fabs(num(pv, "tail_a1.free.alpha") - 1.5) < 0.1, "A.1 alpha %g", num(pv, "tail_a1.free.alpha"));
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
 }
 END_TEST
 
@@ -506,7 +506,7 @@ START_TEST(crossover_fit_recovers_vr_vc)
     pv_scene(&s, 1, 400, 12.0);
     void *st;
     gr_error err = {0};
-    ck_assert_msg(gr_obs_pv.create(&s, &st, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 3);
     feed(&gr_obs_pv, st, 1, 10000, 100, r, draw_xo, &x);
@@ -536,7 +536,7 @@ START_TEST(crossover_fit_recovers_vr_vc)
     ck_assert_double_eq_tol(num(xl, "P_vc_over_P0"), exp(-0.5 * (lvc / lvr) * (lvc / lvr)), 1e-12);
     free(x.cdf);
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
     gsl_rng_free(r);
 }
 END_TEST
@@ -551,7 +551,7 @@ START_TEST(histogram_integrates_to_in_range_fraction)
     pv_scene(&s, 1, 101, 1.5);
     void *st;
     gr_error err = {0};
-    ck_assert_msg(gr_obs_pv.create(&s, &st, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 99);
     gauss_ctx g = {1.0, 1.0};
@@ -596,7 +596,7 @@ START_TEST(histogram_integrates_to_in_range_fraction)
     free(all);
     free(vx);
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
     gsl_rng_free(r);
 }
 END_TEST
@@ -656,7 +656,7 @@ START_TEST(files_and_summary)
     free(c.v);
     ck_assert(exists(g_dir, "pv_speed.csv"));
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
 }
 END_TEST
 
@@ -666,7 +666,7 @@ START_TEST(plots_drawn_or_noted)
     pv_scene(&s, 1, 200, 12.0);
     void *st;
     gr_error err = {0};
-    ck_assert_msg(gr_obs_pv.create(&s, &st, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 8);
     gen_ctx g = {0.1, 1.0};
@@ -683,7 +683,7 @@ START_TEST(plots_drawn_or_noted)
         ck_assert_int_eq(cJSON_GetArraySize(cJSON_GetObjectItem(root, "plot_notes")), 3);
     }
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
     gsl_rng_free(r);
 }
 END_TEST
@@ -698,11 +698,11 @@ START_TEST(bad_params_refused)
     ck_assert_str_eq(gr_obs_pv.params[0].name, "pv_bins");
     ck_assert_int_eq(gr_obs_pv.params[0].type, GR_PARAM_INT);
     ck_assert_double_eq(gr_obs_pv.params[0].def, 400);
-    ck_assert_uint_eq(gr_obs_pv.params[0].offset, offsetof(gr_analysis_params, pv_bins));
+    ck_assert_uint_le(gr_obs_pv.params[0].offset + sizeof(int), gr_obs_pv.params_size);
     ck_assert_str_eq(gr_obs_pv.params[1].name, "pv_range");
     ck_assert_int_eq(gr_obs_pv.params[1].type, GR_PARAM_DOUBLE);
     ck_assert_double_eq(gr_obs_pv.params[1].def, 12);
-    ck_assert_uint_eq(gr_obs_pv.params[1].offset, offsetof(gr_analysis_params, pv_range));
+    ck_assert_uint_le(gr_obs_pv.params[1].offset + sizeof(double), gr_obs_pv.params_size);
 
     struct {
         int dim, bins;
@@ -719,7 +719,7 @@ START_TEST(bad_params_refused)
         pv_scene(&s, bad[k].dim, bad[k].bins, bad[k].range);
         void *st = NULL;
         gr_error err = {0};
-        ck_assert_msg(gr_obs_pv.create(&s, &st, &err) == GR_EINVAL, "case %zu accepted", k);
+        ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, &st, &err) == GR_EINVAL, "case %zu accepted", k);
         ck_assert_msg(strstr(err.message, bad[k].needle), "case %zu: message '%s' does not name %s", k, err.message,
                       bad[k].needle);
     }
@@ -728,7 +728,7 @@ START_TEST(bad_params_refused)
     pv_scene(&s, 2, 400, 12.0);
     void *st;
     gr_error err = {0};
-    ck_assert_int_eq(gr_obs_pv.create(&s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
     double v[3] = {0.1, -0.2, 0.3};
     gr_particles p1 = {.n = 3, .dim = 1, .vx = v};
     ck_assert_int_eq(gr_obs_pv.sample(st, &p1, 0.0, &err), GR_EINVAL);
@@ -737,11 +737,11 @@ START_TEST(bad_params_refused)
     double bad_v[3] = {0.1, (double)NAN, 0.3};
     gr_particles pn = {.n = 3, .dim = 2, .vx = v, .vy = bad_v};
     ck_assert_int_eq(gr_obs_pv.sample(st, &pn, 0.0, &err), GR_EINVAL);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
 
     /* frames at rest (T = 0) cannot set the binning */
     pv_scene(&s, 1, 400, 12.0);
-    ck_assert_int_eq(gr_obs_pv.create(&s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
     double same[3] = {0.5, 0.5, 0.5};
     gr_particles ps = {.n = 3, .dim = 1, .vx = same};
     for (int f = 0; f < 3; f++) {
@@ -752,17 +752,17 @@ START_TEST(bad_params_refused)
     ck_assert_int_eq(gr_obs_pv.finish(st, &out, &err), GR_EINVAL);
     ck_assert_msg(strstr(err.message, "T_ref"), "%s", err.message);
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
 
     /* no frames at all: no files, a note */
-    ck_assert_int_eq(gr_obs_pv.create(&s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
     root = cJSON_CreateObject();
     out.summary = root;
     ck_assert_int_eq(gr_obs_pv.finish(st, &out, &err), GR_OK);
     ck_assert(!exists(g_dir, "pv.csv"));
     ck_assert_double_eq(num(cJSON_GetObjectItem(root, "pv"), "frames"), 0);
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
 }
 END_TEST
 
@@ -784,7 +784,7 @@ START_TEST(reference_from_first_frames)
     pv_scene(&s, 1, 400, 3.0);
     void *st;
     gr_error err = {0};
-    ck_assert_int_eq(gr_obs_pv.create(&s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 4);
     gauss_ctx g1 = {1.0, 1.0}, g2 = {2.0, 2.0};
@@ -800,22 +800,22 @@ START_TEST(reference_from_first_frames)
     ck_assert_msg(fabs(num(pv, "out_of_range_fraction") - expect) < 0.01, "out of range %g, expected %g",
                   num(pv, "out_of_range_fraction"), expect);
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
 
     /* fewer than 8 frames: finish fixes the binning from those */
-    ck_assert_int_eq(gr_obs_pv.create(&s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
     feed(&gr_obs_pv, st, 1, 1000, 3, r, draw_gauss, &g2);
     pv = finish_into(st, &s, false, &root);
     ck_assert_int_eq((int)num(pv, "T_ref_frames"), 3);
     ck_assert_msg(fabs(num(pv, "T_ref") - 4.0) < 0.3, "T_ref %g", num(pv, "T_ref"));
     ck_assert_double_eq(num(pv, "components"), 3000);
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
 
     /* a frame larger than the reference buffer (2^20 numbers) sets T_ref alone; with 2.4e6
      * components the peak holds more than 50 000 counts, so the windows cut the fitted bins */
     pv_scene(&s, 2, 400, 12.0);
-    ck_assert_int_eq(gr_obs_pv.create(&s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
     feed(&gr_obs_pv, st, 2, 600000, 2, r, draw_gauss, &g1);
     pv = finish_into(st, &s, false, &root);
     ck_assert_int_eq((int)num(pv, "T_ref_frames"), 1);
@@ -829,7 +829,7 @@ START_TEST(reference_from_first_frames)
     ck_assert_int_eq((int)num(pv, "tail_a1.n_points"), na1);
     free(c.v);
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
     gsl_rng_free(r);
 }
 END_TEST
@@ -845,12 +845,12 @@ START_TEST(tiny_real_run)
     gr_scene s;
     gr_error err = {0};
     ck_assert_msg(gr_scene_load(&s, NULL, set, sizeof set / sizeof set[0], &err) == GR_OK, "%s", err.message);
-    s.analysis.pv_bins = 200;
-    s.analysis.pv_range = 12.0;
+    ck_assert_int_eq(gr_analysis_set(&s.analysis, "pv_bins", 200, NULL), GR_OK);
+    ck_assert_int_eq(gr_analysis_set(&s.analysis, "pv_range", 12.0, NULL), GR_OK);
     gr_sim *sim;
     ck_assert_msg(gr_sim_create(&s, &sim, &err) == GR_OK, "%s", err.message);
     void *st;
-    ck_assert_int_eq(gr_obs_pv.create(&s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
     ck_assert_msg(gr_sim_step(sim, 100000, &err) == GR_OK, "%s", err.message); /* 0.1 s warm-up */
     double Tsum = 0.0;
     for (int k = 0; k < 200; k++) {
@@ -881,7 +881,7 @@ START_TEST(tiny_real_run)
     ck_assert_msg(a >= 0.2 && a <= 3.0, "alpha_best %g", a);
     free(c.v);
     cJSON_Delete(root);
-    gr_obs_pv.destroy(st);
+    gr_observable_free(st);
     gr_sim_free(sim);
 
     /* through gr_run, once pv is registered (before that, observables = pv is refused) */

@@ -43,7 +43,7 @@ static void scene_2d(gr_scene *s, int N, double L, double radius, double kd_max)
     s->N = N;
     s->L = L;
     s->radius = radius;
-    s->analysis.sk_kd_max = kd_max;
+    ck_assert_int_eq(gr_analysis_set(&s->analysis, "sk_kd_max", kd_max, NULL), GR_OK);
     s->tangential = NULL;
     s->contact.eps_n = 0.1;
     snprintf(s->source, sizeof s->source, "test_obs_sk");
@@ -61,7 +61,7 @@ static void *create_ok(const gr_scene *s)
 {
     void *st = NULL;
     gr_error err = {0};
-    int rc = gr_obs_sk.create(s, &st, &err);
+    int rc = gr_observable_create(&gr_obs_sk, s, &st, &err);
     ck_assert_msg(rc == GR_OK, "create: %s", err.message);
     return st;
 }
@@ -315,7 +315,7 @@ START_TEST(test_square_lattice_bragg)
         ck_assert_int_eq(w->vectors, 2 * w->independent);
     }
     result_free(&r);
-    gr_obs_sk.destroy(st);
+    gr_observable_free(st);
 }
 END_TEST
 
@@ -381,7 +381,7 @@ START_TEST(test_ideal_gas)
         ck_assert_msg(access(png, F_OK) == 0 && !cJSON_GetObjectItem(res.analysis, "plot_notes"), "sk.png not drawn");
     }
     result_free(&res);
-    gr_obs_sk.destroy(st);
+    gr_observable_free(st);
     free(x);
     free(y);
     gsl_rng_free(r);
@@ -469,7 +469,7 @@ static double cascade_fit(const double p[4], unsigned long seed, double *err, do
     *err = num(fit, "D_f_err");
     *chi2_red = num(fit, "chi2_red");
     result_free(&res);
-    gr_obs_sk.destroy(st);
+    gr_observable_free(st);
     free(x);
     free(y);
     free(mass);
@@ -516,7 +516,7 @@ START_TEST(test_dissipative_regime_thesis_numbers)
     ck_assert_double_eq_tol(num(r.sk, "k_prime"), num(r.sk, "k_D"), 1e-12);
     ck_assert_ptr_null(cJSON_GetObjectItem(cJSON_GetObjectItem(r.sk, "fit"), "D_f"));
     result_free(&r);
-    gr_obs_sk.destroy(st);
+    gr_observable_free(st);
 
     /* Table 4.2: phi = 0.530, eps_n = 0.4, eps_t = 1 (no tangential law) -> k_D d = 0.142,
      * L_Eff = 0.37 m; L = 0.2 m (N = 3000) is below L_Eff -> k' = 2 k_D */
@@ -530,7 +530,7 @@ START_TEST(test_dissipative_regime_thesis_numbers)
     ck_assert_double_eq_tol(num(r.sk, "k_prime"), 2.0 * num(r.sk, "k_D"), 1e-12);
     ck_assert_double_eq(num(r.sk, "eps_t"), 1.0);
     result_free(&r);
-    gr_obs_sk.destroy(st);
+    gr_observable_free(st);
 
     /* elastic: k_D = 0, no window, no fit (but S(k) still measured) */
     scene_2d(&s, 500, 0.1, 1.5e-3, 4.0);
@@ -550,7 +550,7 @@ START_TEST(test_dissipative_regime_thesis_numbers)
         ck_assert(isfinite(r.bins[b].S_err) && r.bins[b].S_err > 0.0);
     }
     result_free(&r);
-    gr_obs_sk.destroy(st);
+    gr_observable_free(st);
     gsl_rng_free(g);
 }
 END_TEST
@@ -573,7 +573,7 @@ START_TEST(test_direct_method_by_environment)
         sample_ok(st, n, L, x, y);
         finish_ok(st, &s, false, &r[m]);
         ck_assert_str_eq(cJSON_GetObjectItem(r[m].sk, "method")->valuestring, m ? "direct" : "gridding");
-        gr_obs_sk.destroy(st);
+        gr_observable_free(st);
     }
     unsetenv("GRANULE_SK_METHOD");
     ck_assert_int_eq(r[0].n_bins, r[1].n_bins);
@@ -596,7 +596,7 @@ START_TEST(test_bad_params_refused)
     /* 1D */
     scene_2d(&s, 100, 0.1, 1.5e-3, 4.0);
     s.dim = 1;
-    ck_assert_int_eq(gr_obs_sk.create(&s, &st, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
     ck_assert_msg(strstr(err.message, "dim = 2") != NULL, "%s", err.message);
     ck_assert(!(gr_obs_sk.dims & 1u) && (gr_obs_sk.dims & 2u));
     /* sk_kd_max: not positive, not finite, above the table's maximum, or reaching no vector */
@@ -604,23 +604,23 @@ START_TEST(test_bad_params_refused)
     for (size_t i = 0; i < sizeof bad_kd / sizeof bad_kd[0]; i++) {
         scene_2d(&s, 100, 0.1, 1.5e-3, bad_kd[i]);
         err.message[0] = 0;
-        ck_assert_msg(gr_obs_sk.create(&s, &st, &err) == GR_EINVAL, "sk_kd_max = %g accepted", bad_kd[i]);
+        ck_assert_msg(gr_observable_create(&gr_obs_sk, &s, &st, &err) == GR_EINVAL, "sk_kd_max = %g accepted", bad_kd[i]);
         ck_assert_msg(strstr(err.message, "sk_kd_max") != NULL, "%s", err.message);
     }
     /* the system */
     scene_2d(&s, 0, 0.1, 1.5e-3, 4.0);
-    ck_assert_int_eq(gr_obs_sk.create(&s, &st, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
     scene_2d(&s, 100, 0.0, 1.5e-3, 4.0);
-    ck_assert_int_eq(gr_obs_sk.create(&s, &st, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
     scene_2d(&s, 100, 0.1, 0.0, 4.0);
-    ck_assert_int_eq(gr_obs_sk.create(&s, &st, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
     /* too many vectors for the grid limit */
     scene_2d(&s, 100, 100.0, 1.5e-3, 64.0);
-    ck_assert_int_eq(gr_obs_sk.create(&s, &st, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
     /* an unknown method */
     setenv("GRANULE_SK_METHOD", "fast", 1);
     scene_2d(&s, 100, 0.1, 1.5e-3, 4.0);
-    ck_assert_int_eq(gr_obs_sk.create(&s, &st, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_observable_create(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
     ck_assert_msg(strstr(err.message, "GRANULE_SK_METHOD") != NULL, "%s", err.message);
     unsetenv("GRANULE_SK_METHOD");
     /* the engine */
@@ -652,7 +652,7 @@ START_TEST(test_bad_params_refused)
     p.y = px;
     p.n = 0;
     ck_assert_int_eq(gr_obs_sk.sample(st, &p, 0.0, &err), GR_EINVAL);
-    gr_obs_sk.destroy(st);
+    gr_observable_free(st);
     /* the parameter table the scene parser uses */
     ck_assert_int_eq(gr_obs_sk.n_params, 1);
     ck_assert_str_eq(gr_obs_sk.params[0].name, "sk_kd_max");

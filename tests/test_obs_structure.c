@@ -29,7 +29,7 @@ static cJSON *row_frame(int dim, int n, double L, double spacing, double x0, h_t
     gr_scene sc;
     const double d = 1e-3;
     h_scene(&sc, dim, n, L, 0.5 * d);
-    sc.analysis.cluster_distance = 1.5;
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "cluster_distance", 1.5, NULL), GR_OK);
     double x[64], y[64], v[64] = {0};
     for (int i = 0; i < n; i++) {
         x[i] = x0 + i * spacing * d;
@@ -85,7 +85,7 @@ START_TEST(test_clusters_lattice_2d)
     gr_scene sc;
     const double d = 1e-3, L = 0.05;
     h_scene(&sc, 2, 36, L, 0.5 * d);
-    sc.analysis.cluster_distance = 1.5;
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "cluster_distance", 1.5, NULL), GR_OK);
     double x[36], y[36], v[36] = {0};
     for (int i = 0; i < 36; i++) {
         x[i] = 0.01 + (i % 6) * d;
@@ -101,7 +101,7 @@ START_TEST(test_clusters_lattice_2d)
     free(tab.v);
 
     h_scene(&sc, 2, 12, L, 0.5 * d);
-    sc.analysis.cluster_distance = 1.5;
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "cluster_distance", 1.5, NULL), GR_OK);
     for (int i = 0; i < 12; i++) {
         x[i] = i < 7 ? 0.01 + i * d : 0.01 + (i + 3) * d;
         y[i] = 0.03;
@@ -210,8 +210,8 @@ START_TEST(test_vcorr_random)
     enum { N = 1000, F = 40 };
     const double L = 1.0;
     h_scene(&sc, 2, N, L, 5e-3);
-    sc.analysis.vcorr_bins = 10;
-    sc.analysis.vcorr_rmax = 10;
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "vcorr_bins", 10, NULL), GR_OK);
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "vcorr_rmax", 10, NULL), GR_OK);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 5);
     void *st = h_create(&gr_obs_vcorr, &sc);
@@ -246,8 +246,8 @@ START_TEST(test_vcorr_pair)
 {
     gr_scene sc;
     h_scene(&sc, 2, 2, 1.0, 5e-3);
-    sc.analysis.vcorr_bins = 10;
-    sc.analysis.vcorr_rmax = 10;
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "vcorr_bins", 10, NULL), GR_OK);
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "vcorr_rmax", 10, NULL), GR_OK);
     double x[2] = {0.9925, 0.0075}, y[2] = {0.5, 0.5}, vx[2] = {1.0, -1.0}, vy[2] = {2.0, -2.0}; /* r = 1.5 d */
     void *st = h_create(&gr_obs_vcorr, &sc);
     h_sample(&gr_obs_vcorr, st, &sc, x, y, vx, vy, 0.0);

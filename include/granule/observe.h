@@ -19,26 +19,17 @@ struct cJSON;
 struct gr_blob;
 struct gr_blob_reader;
 
-/* Parameters of every observable, set from the scene's [analysis] section. Each observable type
- * declares which of them it reads (gr_param offsets into this struct). */
+/* The [analysis] parameters: one block per registered observable (indexed as gr_observables),
+ * holding that observable's own parameter struct. Each observable declares its scene keys in its
+ * own file (gr_param offsets into its struct, params_size bytes), so adding one needs no field
+ * here; the scene parser, `granule keys` and scene.ini read the descriptors from the registry. */
+#define GR_OBS_MAX 24          /* registered observables at most */
+#define GR_OBS_PARAMS_BYTES 64 /* one observable's parameter struct at most */
 typedef struct gr_analysis_params {
-    int moments_max;      /* highest velocity moment <|v|^m> (3.11) */
-    int pv_bins;          /* P(v) bins per component (App. A.1) */
-    double pv_range;      /* P(v) covers |v| < pv_range * sqrt(T) */
-    int gaps_h_max;       /* 1D: highest neighbour order h of G_h (3.24) */
-    int gaps_bins;        /* 1D: bins of G_h and of the separations */
-    bool gaps_log;        /* 1D: logarithmic binning of G_h (Fig. 3.12) */
-    double sk_kd_max;     /* 2D: S(k) for |k| d up to this (4.2-4.3) */
-    int gr_bins;          /* 2D: bins of g(R), C(R), n(R) (4.10, 4.15-4.17) */
-    double gr_rmax;       /* 2D: largest R in diameters */
-    int freepath_bins;    /* free-path distribution P_l(l), log bins (4.18) */
-    double freepath_min;  /* smallest binned free path, in diameters */
-    int msd_lags;         /* msd: lags (in sample intervals) of the mean-square displacement */
-    int vacf_lags;        /* vacf: lags of the velocity autocorrelation */
-    int vcorr_bins;       /* 2D: bins of the spatial velocity correlations */
-    double vcorr_rmax;    /* 2D: largest distance of the velocity correlations, in diameters */
-    double cluster_distance; /* density clusters: centres closer than this many diameters */
-    int collision_bins;   /* log bins of the times between collisions */
+    union {
+        max_align_t align;
+        unsigned char bytes[GR_OBS_PARAMS_BYTES];
+    } block[GR_OBS_MAX];
 } gr_analysis_params;
 
 /* Where an observable writes its results. */
@@ -50,32 +41,59 @@ typedef struct gr_output {
     bool plots;                 /* draw PNG plots */
 } gr_output;
 
+struct gr_obs_io;
+
+/* An observable type: one file under src/analysis/ plus one line in the registry (observe.c);
+ * docs/architecture.md, "How to add an observable". The shared skeleton (gr_observable_create,
+ * gr_observable_free, gr_observable_save/load) allocates a zeroed state of state_size bytes,
+ * hands init the observable's parameter block, frees whatever init registered with gr_obs_own
+ * (src/analysis/obs_util.h), and saves and loads checkpoints through the one `io` function. */
 typedef struct gr_observable_type {
     const char *name;    /* as listed in [analysis] observables */
     const char *summary; /* one line, with the thesis equations */
-    unsigned dims;       /* bit 1: 1D, bit 2: 2D */
-    const gr_param *params;
+    unsigned dims;       /* bit 1: 1D, bit 2: 2D; other dimensions are refused with a message */
+    const gr_param *params; /* its [analysis] keys: offsets into its own parameter struct */
     int n_params;
-    int (*create)(const struct gr_scene *scene, void **state, gr_error *err);
+    size_t params_size;  /* that struct's size (at most GR_OBS_PARAMS_BYTES) */
+    size_t state_size;   /* the accumulator struct the skeleton allocates, zeroed */
+    /* Fill a zeroed state for a scene; `params` is the observable's parameter block. Refuse (GR_EINVAL,
+     * naming the key and the allowed range) what it cannot compute; the skeleton frees on failure. */
+    int (*init)(void *state, const struct gr_scene *scene, const void *params, gr_error *err);
     /* One frame, sampled uniformly in time. */
     int (*sample)(void *state, const gr_particles *p, double t, gr_error *err);
     /* Write CSV (commented header), plots, and the summary member. */
     int (*finish)(void *state, const gr_output *out, gr_error *err);
-    void (*destroy)(void *state);
     /* Optional: contact events (free paths, post-collision velocities) since the previous sample;
      * NULL for observables that only need frames. Events exist only while a run samples, not in
      * `granule analyse` (snapshots do not record contacts). */
     int (*events)(void *state, const gr_contact_event *ev, int64_t n, gr_error *err);
-    /* Checkpoints (docs/checkpoints.md): append every accumulator to `out` (src/analysis/blob_stats.h), and
-     * restore them into a state just created from the same scene, so that sampling continues
-     * bit for bit. NULL: the observable cannot be checkpointed (a run using it refuses to). */
-    int (*save)(const void *state, struct gr_blob *out, gr_error *err);
-    int (*load)(void *state, struct gr_blob_reader *in, gr_error *err);
+    /* Checkpoints (docs/checkpoints.md): list every accumulator once with the gr_obs_io_* calls
+     * (src/analysis/obs_util.h); the same list saves them and restores them into a state just
+     * created from the same scene, so that sampling continues bit for bit. NULL: the observable
+     * cannot be checkpointed (a run using it refuses to). */
+    int (*io)(void *state, struct gr_obs_io *io, gr_error *err);
 } gr_observable_type;
+
+/* The skeleton every observable shares: a state for `scene` (NULL on failure), freed with
+ * gr_observable_free; its accumulators appended to a blob or restored from one. */
+int gr_observable_create(const gr_observable_type *t, const struct gr_scene *scene, void **state, gr_error *err);
+void gr_observable_free(void *state);
+int gr_observable_save(const gr_observable_type *t, void *state, struct gr_blob *out, gr_error *err);
+int gr_observable_load(const gr_observable_type *t, void *state, struct gr_blob_reader *in, gr_error *err);
 
 /* The registry, NULL-terminated. */
 extern const gr_observable_type *const gr_observables[];
 const gr_observable_type *gr_observable_find(const char *name);
+
+/* Parameter blocks. The block of a registered type (NULL for a type not in the registry); every
+ * block set to its observable's defaults; one parameter by scene key, as a double (GR_EINVAL
+ * naming the key when no observable declares it). gr_analysis_set stores without the range
+ * check of the scene parser (tests use it to reach an observable's own checks). */
+void *gr_analysis_block(gr_analysis_params *a, const gr_observable_type *t);
+const void *gr_analysis_block_const(const gr_analysis_params *a, const gr_observable_type *t);
+void gr_analysis_defaults(gr_analysis_params *a);
+int gr_analysis_get(const gr_analysis_params *a, const char *key, double *value, gr_error *err);
+int gr_analysis_set(gr_analysis_params *a, const char *key, double value, gr_error *err);
 
 /* A set of enabled observables for one scene. */
 typedef struct gr_observer gr_observer;

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 
 #include "analysis/obs_cells.h"
+#include "analysis/obs_util.h"
 
 static double wrap(double x, double L)
 {
@@ -93,3 +94,7 @@ void gr_cells_free(gr_cells *c)
     c->head = c->next = NULL;
     c->cap_n = c->cap_cells = 0;
 }
+
+static void release(void *c) { gr_cells_free(c); }
+
+void gr_cells_own(void *state, gr_cells *c) { gr_obs_own(state, release, c); }

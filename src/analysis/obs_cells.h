@@ -22,5 +22,7 @@ typedef struct gr_cells {
 int gr_cells_pairs(gr_cells *cells, const gr_particles *p, double r_cut, gr_pair_visit visit, void *user,
                    gr_error *err);
 void gr_cells_free(gr_cells *cells);
+/* Free the cells (grown by gr_cells_pairs) with an observable's state (obs_util.h, gr_obs_own). */
+void gr_cells_own(void *state, gr_cells *cells);
 
 #endif

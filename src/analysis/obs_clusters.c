@@ -15,16 +15,19 @@
 
 #include "analysis/obs_cells.h"
 #include "analysis/obs_util.h"
-#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
 #define CONTACT_TOL 1e-9
 
+typedef struct clusters_params {
+    double cluster_distance;
+} clusters_params;
+
 static const gr_param params[] = {
     {"cluster_distance", "d", GR_PARAM_DOUBLE, 1.5, 1, 1e3, false, false,
      "(clusters) density clusters join centres closer than this many diameters",
-     offsetof(gr_analysis_params, cluster_distance)},
+     offsetof(clusters_params, cluster_distance)},
 };
 
 enum { CONTACT, DENSITY, KINDS };
@@ -41,43 +44,21 @@ typedef struct clusters {
     int64_t frames;
 } clusters;
 
-static void destroy(void *state)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
+    (void)err;
     clusters *c = state;
-    free(c->parent);
-    free(c->size);
-    for (int k = 0; k < KINDS; k++) {
-        free(c->hist[k]);
-    }
-    gr_cells_free(&c->cells);
-    free(c);
-}
-
-static int create(const gr_scene *scene, void **state, gr_error *err)
-{
-    clusters *c = calloc(1, sizeof *c);
-    if (!c) {
-        return GR_FAIL(err, GR_ENOMEM, "clusters: out of memory");
-    }
+    const clusters_params *a = params_block;
     c->n = scene->N;
     double d = 2.0 * scene->radius;
     c->cut[CONTACT] = fmin(d * (1.0 + CONTACT_TOL), 0.5 * scene->L);
-    c->cut[DENSITY] = fmin(scene->analysis.cluster_distance * d, 0.5 * scene->L);
-    c->parent = malloc(sizeof(int) * (size_t)c->n);
-    c->size = malloc(sizeof(int) * (size_t)(c->n + 1));
-    bool ok = c->parent && c->size;
+    c->cut[DENSITY] = fmin(a->cluster_distance * d, 0.5 * scene->L);
+    c->parent = gr_obs_calloc(c, (size_t)c->n, sizeof(int));
+    c->size = gr_obs_calloc(c, (size_t)c->n + 1, sizeof(int));
     for (int k = 0; k < KINDS; k++) {
-        c->hist[k] = calloc((size_t)c->n + 1, sizeof(double));
-        ok = ok && c->hist[k];
-        gr_blocking_init(&c->mean_size[k]);
-        gr_blocking_init(&c->largest[k]);
-        gr_blocking_init(&c->count[k]);
+        c->hist[k] = gr_obs_calloc(c, (size_t)c->n + 1, sizeof(double));
     }
-    if (!ok) {
-        destroy(c);
-        return GR_FAIL(err, GR_ENOMEM, "clusters: out of memory");
-    }
-    *state = c;
+    gr_cells_own(c, &c->cells);
     return GR_OK;
 }
 
@@ -197,31 +178,16 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return gr_obs_table_write(out, &t, err);
 }
 
-/* Checkpoints: the size counts and the accumulators of both kinds. */
-static int save(const void *state, gr_blob *out, gr_error *err)
-{
-    (void)err;
-    const clusters *c = state;
-    gr_blob_put_i64(out, c->frames);
-    for (int k = 0; k < KINDS; k++) {
-        gr_blob_put_f64s(out, c->hist[k], (int64_t)c->n + 1);
-        gr_blob_put_blocking(out, &c->mean_size[k]);
-        gr_blob_put_blocking(out, &c->largest[k]);
-        gr_blob_put_blocking(out, &c->count[k]);
-    }
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     (void)err;
     clusters *c = state;
-    c->frames = gr_blob_get_i64(in);
-    for (int k = 0; k < KINDS && !in->bad; k++) {
-        gr_blob_get_f64s(in, c->hist[k], (int64_t)c->n + 1);
-        gr_blob_get_blocking(in, &c->mean_size[k]);
-        gr_blob_get_blocking(in, &c->largest[k]);
-        gr_blob_get_blocking(in, &c->count[k]);
+    gr_obs_io_i64(io, &c->frames);
+    for (int k = 0; k < KINDS; k++) {
+        gr_obs_io_f64s(io, c->hist[k], (int64_t)c->n + 1);
+        gr_obs_io_blockings(io, &c->mean_size[k], 1);
+        gr_obs_io_blockings(io, &c->largest[k], 1);
+        gr_obs_io_blockings(io, &c->count[k], 1);
     }
     return GR_OK;
 }
@@ -233,10 +199,10 @@ const gr_observable_type gr_obs_clusters = {
     .dims = 3,
     .params = params,
     .n_params = sizeof params / sizeof params[0],
-    .create = create,
+    .params_size = sizeof(clusters_params),
+    .state_size = sizeof(clusters),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
+    .io = io,
 };

@@ -13,18 +13,21 @@
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
-#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
 #define TAU_LO 1e-9 /* s */
 #define TAU_HI 1e5
 
+typedef struct collisions_params {
+    int collision_bins;
+} collisions_params;
+
 static const gr_param params[] = {
     {"collision_bins", "", GR_PARAM_INT, 112, 4, 10000, false, false,
      "(collisions) log bins of the times between a particle's collisions, 1e-9 "
      "s .. 1e5 s",
-     offsetof(gr_analysis_params, collision_bins)},
+     offsetof(collisions_params, collision_bins)},
 };
 
 typedef struct collisions {
@@ -39,32 +42,19 @@ typedef struct collisions {
     gr_blocking rate;
 } collisions;
 
-static void destroy(void *state)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
     collisions *c = state;
-    gr_histogram_free(&c->h);
-    free(c->last);
-    free(c);
-}
-
-static int create(const gr_scene *scene, void **state, gr_error *err)
-{
-    collisions *c = calloc(1, sizeof *c);
-    if (!c) {
-        return GR_FAIL(err, GR_ENOMEM, "collisions: out of memory");
-    }
+    const collisions_params *a = params_block;
     c->n = scene->N;
-    c->last = malloc(sizeof(double) * (size_t)c->n);
-    int rc = gr_histogram_init(&c->h, scene->analysis.collision_bins, TAU_LO, TAU_HI, true, err);
+    c->last = gr_obs_calloc(c, (size_t)c->n, sizeof(double));
+    int rc = gr_obs_histogram(c, &c->h, a->collision_bins, TAU_LO, TAU_HI, true, err);
     if (rc || !c->last) {
-        destroy(c);
-        return rc ? rc : GR_FAIL(err, GR_ENOMEM, "collisions: out of memory");
+        return rc;
     }
     for (int i = 0; i < c->n; i++) {
         c->last[i] = NAN;
     }
-    gr_blocking_init(&c->rate);
-    *state = c;
     return GR_OK;
 }
 
@@ -134,9 +124,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     gr_obs_add_number(j, "mean_time_between", c->tau_n ? c->tau_sum / c->tau_n : (double)NAN);
     cJSON_AddNumberToObject(j, "intervals", (double)c->tau_n);
     if (c->total == 0) {
-        cJSON_AddStringToObject(j, "note",
-                                "no collision events: none happened, or the frames came from snapshots "
-                                "(granule analyse has no contact events)");
+        gr_obs_note_no_events(j, "collision events");
     }
     const gr_obs_table t = {
         .name = "collisions.csv",
@@ -156,40 +144,21 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return gr_obs_table_write(out, &t, err);
 }
 
-/* Checkpoints: each particle's last collision, the sample times, the counts and accumulators. */
-static int save(const void *state, gr_blob *out, gr_error *err)
-{
-    (void)err;
-    const collisions *c = state;
-    gr_blob_put_f64s(out, c->last, c->n);
-    gr_blob_put_f64(out, c->t_first);
-    gr_blob_put_f64(out, c->t_prev);
-    gr_blob_put_f64(out, c->t_prev2);
-    gr_blob_put_i64(out, c->frames);
-    gr_blob_put_i64(out, c->since);
-    gr_blob_put_i64(out, c->total);
-    gr_blob_put_f64(out, c->tau_sum);
-    gr_blob_put_i64(out, c->tau_n);
-    gr_blob_put_histogram(out, &c->h);
-    gr_blob_put_blocking(out, &c->rate);
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     (void)err;
     collisions *c = state;
-    gr_blob_get_f64s(in, c->last, c->n);
-    c->t_first = gr_blob_get_f64(in);
-    c->t_prev = gr_blob_get_f64(in);
-    c->t_prev2 = gr_blob_get_f64(in);
-    c->frames = gr_blob_get_i64(in);
-    c->since = gr_blob_get_i64(in);
-    c->total = gr_blob_get_i64(in);
-    c->tau_sum = gr_blob_get_f64(in);
-    c->tau_n = gr_blob_get_i64(in);
-    gr_blob_get_histogram(in, &c->h);
-    gr_blob_get_blocking(in, &c->rate);
+    gr_obs_io_f64s(io, c->last, c->n);
+    gr_obs_io_f64(io, &c->t_first);
+    gr_obs_io_f64(io, &c->t_prev);
+    gr_obs_io_f64(io, &c->t_prev2);
+    gr_obs_io_i64(io, &c->frames);
+    gr_obs_io_i64(io, &c->since);
+    gr_obs_io_i64(io, &c->total);
+    gr_obs_io_f64(io, &c->tau_sum);
+    gr_obs_io_i64(io, &c->tau_n);
+    gr_obs_io_histogram(io, &c->h);
+    gr_obs_io_blockings(io, &c->rate, 1);
     return GR_OK;
 }
 
@@ -200,11 +169,11 @@ const gr_observable_type gr_obs_collisions = {
     .dims = 3,
     .params = params,
     .n_params = sizeof params / sizeof params[0],
-    .create = create,
+    .params_size = sizeof(collisions_params),
+    .state_size = sizeof(collisions),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
     .events = events,
+    .io = io,
 };

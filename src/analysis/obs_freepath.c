@@ -12,15 +12,19 @@
 
 #include "analysis/obs_util.h"
 #include "io/plot.h"
-#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
+typedef struct freepath_params {
+    int freepath_bins;
+    double freepath_min;
+} freepath_params;
+
 static const gr_param params[] = {
     {"freepath_bins", "", GR_PARAM_INT, 60, 4, 10000, false, false,
-     "logarithmic bins of the free-path distribution P_l(l) (4.18)", offsetof(gr_analysis_params, freepath_bins)},
+     "logarithmic bins of the free-path distribution P_l(l) (4.18)", offsetof(freepath_params, freepath_bins)},
     {"freepath_min", "d", GR_PARAM_DOUBLE, 1e-3, 0, 1e3, true, false,
-     "smallest binned free path, in diameters", offsetof(gr_analysis_params, freepath_min)},
+     "smallest binned free path, in diameters", offsetof(freepath_params, freepath_min)},
 };
 
 typedef struct freepath {
@@ -33,30 +37,19 @@ typedef struct freepath {
     int64_t paths;
 } freepath;
 
-static int create(const gr_scene *scene, void **state, gr_error *err)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
-    freepath *f = calloc(1, sizeof *f);
-    if (!f) {
-        return GR_FAIL(err, GR_ENOMEM, "freepath: out of memory");
-    }
+    freepath *f = state;
+    const freepath_params *a = params_block;
     f->n = scene->N;
     f->dim = scene->dim;
     f->L = scene->L;
     f->d = 2.0 * scene->radius;
-    f->x0 = calloc((size_t)f->n, sizeof(double));
-    f->y0 = calloc((size_t)f->n, sizeof(double));
-    f->free_since = calloc((size_t)f->n, 1);
+    f->x0 = gr_obs_calloc(f, (size_t)f->n, sizeof(double));
+    f->y0 = gr_obs_calloc(f, (size_t)f->n, sizeof(double));
+    f->free_since = gr_obs_calloc(f, (size_t)f->n, 1);
     double hi = (f->dim == 2 ? 0.5 * sqrt(2.0) : 1.0) * f->L / f->d;
-    int rc = gr_histogram_init(&f->h, scene->analysis.freepath_bins, scene->analysis.freepath_min, hi, true, err);
-    if (!f->x0 || !f->y0 || !f->free_since || rc) {
-        free(f->x0);
-        free(f->y0);
-        free(f->free_since);
-        free(f);
-        return rc ? rc : GR_FAIL(err, GR_ENOMEM, "freepath: out of memory");
-    }
-    *state = f;
-    return GR_OK;
+    return gr_obs_histogram(f, &f->h, a->freepath_bins, a->freepath_min, hi, true, err);
 }
 
 static int events(void *state, const gr_contact_event *ev, int64_t n, gr_error *err)
@@ -127,6 +120,9 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddNumberToObject(j, "mean_over_d", f->paths ? f->sum / f->paths / f->d : 0.0);
     cJSON_AddNumberToObject(j, "longer_than_quarter_box", f->long_paths);
     cJSON_AddStringToObject(j, "file", "freepath.csv");
+    if (f->paths == 0) {
+        gr_obs_note_no_events(j, "free paths");
+    }
     /* the tail fit over bins with at least 10 counts beyond the most probable free path */
     int peak = 0;
     for (int i = 0; i < f->h.nbins; i++) {
@@ -181,47 +177,18 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return rc;
 }
 
-static void destroy(void *state)
-{
-    freepath *f = state;
-    gr_histogram_free(&f->h);
-    free(f->x0);
-    free(f->y0);
-    free(f->free_since);
-    free(f);
-}
-
-/* Checkpoints: where each free particle's path began, and the histogram so far. */
-static int save(const void *state, gr_blob *out, gr_error *err)
-{
-    (void)err;
-    const freepath *f = state;
-    gr_blob_put_f64s(out, f->x0, f->n);
-    gr_blob_put_f64s(out, f->y0, f->n);
-    gr_blob_put_u64(out, (uint64_t)f->n);
-    gr_blob_put(out, f->free_since, (size_t)f->n);
-    gr_blob_put_histogram(out, &f->h);
-    gr_blob_put_f64(out, f->sum);
-    gr_blob_put_f64(out, f->long_paths);
-    gr_blob_put_i64(out, f->paths);
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     (void)err;
     freepath *f = state;
-    gr_blob_get_f64s(in, f->x0, f->n);
-    gr_blob_get_f64s(in, f->y0, f->n);
-    uint64_t n = gr_blob_get_u64(in);
-    if (!in->bad && n != (uint64_t)f->n) {
-        gr_blob_fail(in, "%llu particles in the checkpoint, %d in the scene", (unsigned long long)n, f->n);
-    }
-    gr_blob_get(in, f->free_since, in->bad ? 0 : (size_t)f->n);
-    gr_blob_get_histogram(in, &f->h);
-    f->sum = gr_blob_get_f64(in);
-    f->long_paths = gr_blob_get_f64(in);
-    f->paths = gr_blob_get_i64(in);
+    gr_obs_io_f64s(io, f->x0, f->n);
+    gr_obs_io_f64s(io, f->y0, f->n);
+    gr_obs_io_check(io, "N", f->n);
+    gr_obs_io_bytes(io, f->free_since, (size_t)f->n);
+    gr_obs_io_histogram(io, &f->h);
+    gr_obs_io_f64(io, &f->sum);
+    gr_obs_io_f64(io, &f->long_paths);
+    gr_obs_io_i64(io, &f->paths);
     return GR_OK;
 }
 
@@ -231,11 +198,11 @@ const gr_observable_type gr_obs_freepath = {
     .dims = 3,
     .params = params,
     .n_params = sizeof params / sizeof params[0],
-    .create = create,
+    .params_size = sizeof(freepath_params),
+    .state_size = sizeof(freepath),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
     .events = events,
+    .io = io,
 };

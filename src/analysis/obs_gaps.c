@@ -42,7 +42,6 @@
 
 #include "analysis/obs_util.h"
 #include "io/plot.h"
-#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -53,16 +52,21 @@
 #define LOG_DECADES 8.0   /* logarithmic bins cover [1e-8 L', L') */
 #define FIT_MIN_COUNT 5.0 /* (3.22) is fitted to bins holding at least this many separations */
 
+typedef struct gaps_params {
+    int gaps_h_max, gaps_bins;
+    bool gaps_log;
+} gaps_params;
+
 static const gr_param params[] = {
     {"gaps_h_max", "", GR_PARAM_INT, 8, 1, H_LIMIT, false, false,
      "1D: highest neighbour order h of G_h(R;N) and <R^m> (3.21, 3.24); at most N - 1",
-     offsetof(gr_analysis_params, gaps_h_max)},
+     offsetof(gaps_params, gaps_h_max)},
     {"gaps_bins", "", GR_PARAM_INT, 200, BINS_MIN, BINS_MAX, false, false,
      "1D: bins of each G_h, linear on [0, L') and (gaps_log) logarithmic on [1e-8 L', L')",
-     offsetof(gr_analysis_params, gaps_bins)},
+     offsetof(gaps_params, gaps_bins)},
     {"gaps_log", "", GR_PARAM_BOOL, 1, 0, 1, false, false,
      "1D: also bin G_h logarithmically, for log-log and -ln R plots (Fig. 3.12)",
-     offsetof(gr_analysis_params, gaps_log)},
+     offsetof(gaps_params, gaps_log)},
 };
 
 typedef struct gaps {
@@ -80,31 +84,9 @@ typedef struct gaps {
     double r1_min, r1_max;           /* extremes of R_{i,i+1} */
 } gaps;
 
-static void destroy(void *state)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
-    gaps *g = state;
-    if (!g) {
-        return;
-    }
-    for (int h = 0; h < g->h_max; h++) {
-        if (g->lin) {
-            gr_histogram_free(&g->lin[h]);
-        }
-        if (g->lg) {
-            gr_histogram_free(&g->lg[h]);
-        }
-    }
-    free(g->lin);
-    free(g->lg);
-    free(g->mom);
-    free(g->s);
-    free(g->acc);
-    free(g);
-}
-
-static int create(const gr_scene *scene, void **state, gr_error *err)
-{
-    const gr_analysis_params *a = &scene->analysis;
+    const gaps_params *a = params_block;
     if (scene->dim != 1) {
         return GR_FAIL(err, GR_EINVAL, "gaps: defined for dim = 1 only (reduced coordinates 3.16), not dim = %d",
                        scene->dim);
@@ -126,10 +108,7 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
         return GR_FAIL(err, GR_EINVAL, "gaps: [analysis] gaps_bins = %d must be in [%d, %d]", a->gaps_bins, BINS_MIN,
                        BINS_MAX);
     }
-    gaps *g = calloc(1, sizeof *g);
-    if (!g) {
-        return GR_FAIL(err, GR_ENOMEM, "gaps: out of memory");
-    }
+    gaps *g = state;
     g->n = scene->N;
     g->h_max = a->gaps_h_max;
     g->bins = a->gaps_bins;
@@ -140,30 +119,23 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
     g->mean = Lr / scene->N;
     g->r1_min = INFINITY;
     g->r1_max = -INFINITY;
-    g->s = malloc(sizeof(double) * (size_t)g->n);
-    g->acc = malloc(sizeof(double) * (size_t)g->n);
-    g->lin = calloc((size_t)g->h_max, sizeof *g->lin);
-    g->lg = g->log_bins ? calloc((size_t)g->h_max, sizeof *g->lg) : NULL;
-    g->mom = malloc(sizeof *g->mom * (size_t)g->h_max);
+    g->s = gr_obs_calloc(g, (size_t)g->n, sizeof(double));
+    g->acc = gr_obs_calloc(g, (size_t)g->n, sizeof(double));
+    g->lin = gr_obs_calloc(g, (size_t)g->h_max, sizeof *g->lin);
+    g->lg = g->log_bins ? gr_obs_calloc(g, (size_t)g->h_max, sizeof *g->lg) : NULL;
+    g->mom = gr_obs_calloc(g, (size_t)g->h_max, sizeof *g->mom);
     if (!g->s || !g->acc || !g->lin || (g->log_bins && !g->lg) || !g->mom) {
-        destroy(g);
         return GR_FAIL(err, GR_ENOMEM, "gaps: out of memory for N = %d, h_max = %d", scene->N, a->gaps_h_max);
     }
     for (int h = 0; h < g->h_max; h++) {
-        int rc = gr_histogram_init(&g->lin[h], g->bins, 0.0, Lr, false, err);
+        int rc = gr_obs_histogram(g, &g->lin[h], g->bins, 0.0, Lr, false, err);
         if (!rc && g->log_bins) {
-            rc = gr_histogram_init(&g->lg[h], g->bins, Lr * pow(10.0, -LOG_DECADES), Lr, true, err);
+            rc = gr_obs_histogram(g, &g->lg[h], g->bins, Lr * pow(10.0, -LOG_DECADES), Lr, true, err);
         }
         if (rc) {
-            destroy(g);
             return rc;
         }
-        for (int m = 0; m <= M_MAX; m++) {
-            gr_blocking_init(&g->mom[h][m]);
-        }
     }
-    gr_blocking_init(&g->signed_mean);
-    *state = g;
     return GR_OK;
 }
 
@@ -505,51 +477,23 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return GR_OK;
 }
 
-/* Checkpoints: every histogram and blocking accumulator (the per-frame arrays are scratch). */
-static int save(const void *state, gr_blob *out, gr_error *err)
-{
-    (void)err;
-    const gaps *g = state;
-    gr_blob_put_u64(out, (uint64_t)g->h_max);
-    gr_blob_put_i64(out, g->frames);
-    for (int h = 0; h < g->h_max; h++) {
-        gr_blob_put_histogram(out, &g->lin[h]);
-        if (g->log_bins) {
-            gr_blob_put_histogram(out, &g->lg[h]);
-        }
-        for (int m = 0; m <= M_MAX; m++) {
-            gr_blob_put_blocking(out, &g->mom[h][m]);
-        }
-    }
-    gr_blob_put_blocking(out, &g->signed_mean);
-    gr_blob_put_f64(out, g->overlaps);
-    gr_blob_put_f64(out, g->r1_min);
-    gr_blob_put_f64(out, g->r1_max);
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     (void)err;
     gaps *g = state;
-    uint64_t h_max = gr_blob_get_u64(in);
-    if (!in->bad && h_max != (uint64_t)g->h_max) {
-        gr_blob_fail(in, "gaps_h_max = %llu in the checkpoint, %d in the scene", (unsigned long long)h_max, g->h_max);
-    }
-    g->frames = gr_blob_get_i64(in);
-    for (int h = 0; h < g->h_max && !in->bad; h++) {
-        gr_blob_get_histogram(in, &g->lin[h]);
+    gr_obs_io_check(io, "gaps_h_max", g->h_max);
+    gr_obs_io_i64(io, &g->frames);
+    for (int h = 0; h < g->h_max; h++) {
+        gr_obs_io_histogram(io, &g->lin[h]);
         if (g->log_bins) {
-            gr_blob_get_histogram(in, &g->lg[h]);
+            gr_obs_io_histogram(io, &g->lg[h]);
         }
-        for (int m = 0; m <= M_MAX; m++) {
-            gr_blob_get_blocking(in, &g->mom[h][m]);
-        }
+        gr_obs_io_blockings(io, g->mom[h], M_MAX + 1);
     }
-    gr_blob_get_blocking(in, &g->signed_mean);
-    g->overlaps = gr_blob_get_f64(in);
-    g->r1_min = gr_blob_get_f64(in);
-    g->r1_max = gr_blob_get_f64(in);
+    gr_obs_io_blockings(io, &g->signed_mean, 1);
+    gr_obs_io_f64(io, &g->overlaps);
+    gr_obs_io_f64(io, &g->r1_min);
+    gr_obs_io_f64(io, &g->r1_max);
     return GR_OK;
 }
 
@@ -560,10 +504,10 @@ const gr_observable_type gr_obs_gaps = {
     .dims = 1,
     .params = params,
     .n_params = sizeof params / sizeof params[0],
-    .create = create,
+    .params_size = sizeof(gaps_params),
+    .state_size = sizeof(gaps),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
+    .io = io,
 };

@@ -6,7 +6,6 @@
 
 #include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
-#include "analysis/blob_stats.h"
 
 int gr_lag_init(gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error *err)
 {
@@ -15,7 +14,7 @@ int gr_lag_init(gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error 
     g->dim = dim;
     g->lags = lags;
     g->kind = kind;
-    g->ring = malloc(sizeof(double) * 2 * (size_t)n * (size_t)(lags + 1));
+    g->ring = calloc(2 * (size_t)n * (size_t)(lags + 1), sizeof(double)); /* zeroed: checkpoints save every slot */
     g->acc = malloc(sizeof(gr_blocking) * (size_t)(lags + 1));
     if (!g->ring || !g->acc) {
         gr_lag_free(g);
@@ -101,25 +100,23 @@ int gr_lag_fit_line(const gr_lag *g, int lo, int hi, gr_fit *fit, gr_error *err)
     return gr_fit_line(x, y, s, m, fit, err);
 }
 
-void gr_lag_save(const gr_lag *g, gr_blob *out)
+static void release(void *g) { gr_lag_free(g); }
+
+int gr_lag_init_owned(void *state, gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error *err)
 {
-    gr_blob_put_u64(out, (uint64_t)g->lags);
-    gr_blob_put_i64(out, g->frames);
-    gr_blob_put_f64(out, g->t_first);
-    gr_blob_put_f64(out, g->t_last);
-    gr_blob_put_f64s(out, g->ring, 2 * (int64_t)g->n * (g->lags + 1));
-    gr_obs_put_blockings(out, g->acc, g->lags + 1);
+    int rc = gr_lag_init(g, n, dim, lags, kind, err);
+    if (!rc) {
+        gr_obs_own(state, release, g);
+    }
+    return rc;
 }
 
-void gr_lag_load(gr_lag *g, gr_blob_reader *in)
+void gr_lag_io(gr_obs_io *io, gr_lag *g, const char *what)
 {
-    uint64_t lags = gr_blob_get_u64(in);
-    if (!in->bad && lags != (uint64_t)g->lags) {
-        gr_blob_fail(in, "%llu lags in the checkpoint, %d in the scene", (unsigned long long)lags, g->lags);
-    }
-    g->frames = gr_blob_get_i64(in);
-    g->t_first = gr_blob_get_f64(in);
-    g->t_last = gr_blob_get_f64(in);
-    gr_blob_get_f64s(in, g->ring, 2 * (int64_t)g->n * (g->lags + 1));
-    gr_obs_get_blockings(in, g->acc, g->lags + 1);
+    gr_obs_io_check(io, what, g->lags);
+    gr_obs_io_i64(io, &g->frames);
+    gr_obs_io_f64(io, &g->t_first);
+    gr_obs_io_f64(io, &g->t_last);
+    gr_obs_io_f64s(io, g->ring, 2 * (int64_t)g->n * (g->lags + 1));
+    gr_obs_io_blockings(io, g->acc, g->lags + 1);
 }

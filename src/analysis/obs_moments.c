@@ -7,15 +7,18 @@
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
-#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
 #define MAX_M 16
 
+typedef struct moments_params {
+    int moments_max;
+} moments_params;
+
 static const gr_param params[] = {
     {"moments_max", "", GR_PARAM_INT, 12, 1, MAX_M, false, false,
-     "highest velocity moment m of <|v|^m> (3.11)", offsetof(gr_analysis_params, moments_max)},
+     "highest velocity moment m of <|v|^m> (3.11)", offsetof(moments_params, moments_max)},
 };
 
 typedef struct moments {
@@ -24,19 +27,12 @@ typedef struct moments {
     gr_blocking comp[MAX_M + 1];  /* <|v_x|^m> and <|v_y|^m> pooled (2D) */
 } moments;
 
-static int create(const gr_scene *scene, void **state, gr_error *err)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
-    moments *m = calloc(1, sizeof *m);
-    if (!m) {
-        return GR_FAIL(err, GR_ENOMEM, "moments: out of memory");
-    }
-    m->m_max = scene->analysis.moments_max;
+    (void)err;
+    moments *m = state;
+    m->m_max = ((const moments_params *)params_block)->moments_max;
     m->dim = scene->dim;
-    for (int k = 0; k <= MAX_M; k++) {
-        gr_blocking_init(&m->speed[k]);
-        gr_blocking_init(&m->comp[k]);
-    }
-    *state = m;
     return GR_OK;
 }
 
@@ -105,32 +101,15 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return rc;
 }
 
-static void destroy(void *state) { free(state); }
-
 /* Checkpoints: the blocking accumulators of every moment. */
-static int save(const void *state, gr_blob *out, gr_error *err)
-{
-    (void)err;
-    const moments *m = state;
-    gr_blob_put_u64(out, (uint64_t)m->m_max);
-    for (int k = 0; k <= MAX_M; k++) {
-        gr_blob_put_blocking(out, &m->speed[k]);
-        gr_blob_put_blocking(out, &m->comp[k]);
-    }
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     (void)err;
     moments *m = state;
-    uint64_t m_max = gr_blob_get_u64(in);
-    if (!in->bad && m_max != (uint64_t)m->m_max) {
-        gr_blob_fail(in, "moments_max = %llu in the checkpoint, %d in the scene", (unsigned long long)m_max, m->m_max);
-    }
-    for (int k = 0; k <= MAX_M && !in->bad; k++) {
-        gr_blob_get_blocking(in, &m->speed[k]);
-        gr_blob_get_blocking(in, &m->comp[k]);
+    gr_obs_io_check(io, "moments_max", m->m_max);
+    for (int k = 0; k <= MAX_M; k++) {
+        gr_obs_io_blockings(io, &m->speed[k], 1);
+        gr_obs_io_blockings(io, &m->comp[k], 1);
     }
     return GR_OK;
 }
@@ -141,10 +120,10 @@ const gr_observable_type gr_obs_moments = {
     .dims = 3,
     .params = params,
     .n_params = sizeof params / sizeof params[0],
-    .create = create,
+    .params_size = sizeof(moments_params),
+    .state_size = sizeof(moments),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
+    .io = io,
 };

@@ -23,14 +23,17 @@
 #include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
 #include "io/plot.h"
-#include "analysis/blob_stats.h"
 #include "granule/scene.h"
+
+typedef struct msd_params {
+    int msd_lags;
+} msd_params;
 
 static const gr_param params[] = {
     {"msd_lags", "", GR_PARAM_INT, 50, 2, GR_LAG_MAX, false, false,
      "lags of the mean-square displacement, in sampling intervals (memory N x "
      "msd_lags)",
-     offsetof(gr_analysis_params, msd_lags)},
+     offsetof(msd_params, msd_lags)},
 };
 
 typedef struct msd {
@@ -41,38 +44,19 @@ typedef struct msd {
     gr_lag lag;
 } msd;
 
-static void destroy(void *state)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
     msd *m = state;
-    gr_lag_free(&m->lag);
-    free(m->ux);
-    free(m->uy);
-    free(m->px);
-    free(m->py);
-    free(m);
-}
-
-static int create(const gr_scene *scene, void **state, gr_error *err)
-{
-    msd *m = calloc(1, sizeof *m);
-    if (!m) {
-        return GR_FAIL(err, GR_ENOMEM, "msd: out of memory");
-    }
     m->n = scene->N;
     m->dim = scene->dim;
     m->L = scene->L;
     size_t n = (size_t)m->n;
-    m->ux = calloc(n, sizeof(double));
-    m->uy = calloc(n, sizeof(double));
-    m->px = calloc(n, sizeof(double));
-    m->py = calloc(n, sizeof(double));
-    int rc = gr_lag_init(&m->lag, m->n, m->dim, scene->analysis.msd_lags, GR_LAG_DISPLACEMENT2, err);
-    if (rc || !m->ux || !m->uy || !m->px || !m->py) {
-        destroy(m);
-        return rc ? rc : GR_FAIL(err, GR_ENOMEM, "msd: out of memory");
-    }
-    *state = m;
-    return GR_OK;
+    m->ux = gr_obs_calloc(m, n, sizeof(double));
+    m->uy = gr_obs_calloc(m, n, sizeof(double));
+    m->px = gr_obs_calloc(m, n, sizeof(double));
+    m->py = gr_obs_calloc(m, n, sizeof(double));
+    const msd_params *a = params_block;
+    return gr_lag_init_owned(m, &m->lag, m->n, m->dim, a->msd_lags, GR_LAG_DISPLACEMENT2, err);
 }
 
 static double step(double now, double *prev, double L, int64_t *jumps)
@@ -155,30 +139,16 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return GR_OK;
 }
 
-/* Checkpoints: the unwrapped and last positions, the jump count and the lag ring. */
-static int save(const void *state, gr_blob *out, gr_error *err)
-{
-    (void)err;
-    const msd *m = state;
-    gr_blob_put_f64s(out, m->ux, m->n);
-    gr_blob_put_f64s(out, m->uy, m->n);
-    gr_blob_put_f64s(out, m->px, m->n);
-    gr_blob_put_f64s(out, m->py, m->n);
-    gr_blob_put_i64(out, m->jumps);
-    gr_lag_save(&m->lag, out);
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     (void)err;
     msd *m = state;
-    gr_blob_get_f64s(in, m->ux, m->n);
-    gr_blob_get_f64s(in, m->uy, m->n);
-    gr_blob_get_f64s(in, m->px, m->n);
-    gr_blob_get_f64s(in, m->py, m->n);
-    m->jumps = gr_blob_get_i64(in);
-    gr_lag_load(&m->lag, in);
+    gr_obs_io_f64s(io, m->ux, m->n);
+    gr_obs_io_f64s(io, m->uy, m->n);
+    gr_obs_io_f64s(io, m->px, m->n);
+    gr_obs_io_f64s(io, m->py, m->n);
+    gr_obs_io_i64(io, &m->jumps);
+    gr_lag_io(io, &m->lag, "msd_lags");
     return GR_OK;
 }
 
@@ -189,10 +159,10 @@ const gr_observable_type gr_obs_msd = {
     .dims = 3,
     .params = params,
     .n_params = sizeof params / sizeof params[0],
-    .create = create,
+    .params_size = sizeof(msd_params),
+    .state_size = sizeof(msd),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
+    .io = io,
 };

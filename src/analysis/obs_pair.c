@@ -51,7 +51,6 @@
 
 #include "analysis/obs_util.h"
 #include "io/plot.h"
-#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
@@ -65,15 +64,20 @@
 #define PEAK_MAX_D 1.5        /* first peak: maximum of g over bins centred below 1.5 d */
 #define TAIL_FROM_FRAC 0.5    /* g_tail: mean g over R_max / 2 <= R < R_max (cf. Fig. 4.7) */
 
+typedef struct pair_params {
+    int gr_bins;
+    double gr_rmax;
+} pair_params;
+
 static const gr_param params[] = {
     {"gr_bins", "", GR_PARAM_INT, 400, 1, PAIR_MAX_BINS, false, false,
-     "bins of g(R), C(R), n(R) over 0 <= R < R_max (4.10, 4.15-4.17)", offsetof(gr_analysis_params, gr_bins)},
+     "bins of g(R), C(R), n(R) over 0 <= R < R_max (4.10, 4.15-4.17)", offsetof(pair_params, gr_bins)},
     {"gr_rmax", "d", GR_PARAM_DOUBLE, 20, 0, 1e4, true, false,
-     "largest pair distance R_max in diameters (clamped to L/2)", offsetof(gr_analysis_params, gr_rmax)},
+     "largest pair distance R_max in diameters (clamped to L/2)", offsetof(pair_params, gr_rmax)},
 };
 
 typedef struct pair {
-    /* fixed at create */
+    /* fixed at init */
     int nbins;
     double d, L, R_max, width, inv_width;
     int N;
@@ -99,30 +103,9 @@ typedef struct pair {
     int *cell_of, *cell_start, *cell_fill;
 } pair;
 
-static void destroy(void *state)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
-    pair *s = state;
-    if (!s) {
-        return;
-    }
-    free(s->area);
-    free(s->g_blk);
-    free(s->c_blk);
-    free(s->frame_count);
-    free(s->c_frame);
-    free(s->total);
-    free(s->batch);
-    free(s->xs);
-    free(s->ys);
-    free(s->cell_of);
-    free(s->cell_start);
-    free(s->cell_fill);
-    free(s);
-}
-
-static int create(const gr_scene *scene, void **state, gr_error *err)
-{
-    const gr_analysis_params *a = &scene->analysis;
+    const pair_params *a = params_block;
     if (scene->dim != 2) {
         return GR_FAIL(err, GR_EINVAL, "pair: g(R) is defined for dim = 2 only (scene has dim = %d)", scene->dim);
     }
@@ -140,10 +123,7 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
     if (scene->N < 2) {
         return GR_FAIL(err, GR_EINVAL, "pair: needs N >= 2 particles (N = %d)", scene->N);
     }
-    pair *s = calloc(1, sizeof *s);
-    if (!s) {
-        return GR_FAIL(err, GR_ENOMEM, "pair: out of memory");
-    }
+    pair *s = state;
     s->nbins = a->gr_bins;
     s->d = 2.0 * scene->radius;
     s->L = scene->L;
@@ -156,27 +136,27 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
     s->width = s->R_max / s->nbins;
     s->inv_width = s->nbins / s->R_max;
     size_t nb = (size_t)s->nbins;
-    s->area = malloc(sizeof(double) * nb);
-    s->g_blk = malloc(sizeof(gr_blocking) * nb);
-    s->c_blk = malloc(sizeof(gr_blocking) * nb);
-    s->frame_count = calloc(nb, sizeof(int64_t));
-    s->c_frame = calloc(nb, sizeof(double));
-    s->total = calloc(nb, sizeof(double));
-    s->batch = calloc(nb * N_BATCH, sizeof(double));
+    s->area = gr_obs_calloc(s, nb, sizeof(double));
+    s->g_blk = gr_obs_calloc(s, nb, sizeof(gr_blocking));
+    s->c_blk = gr_obs_calloc(s, nb, sizeof(gr_blocking));
+    s->frame_count = gr_obs_calloc(s, nb, sizeof(int64_t));
+    s->c_frame = gr_obs_calloc(s, nb, sizeof(double));
+    s->total = gr_obs_calloc(s, nb, sizeof(double));
+    s->batch = gr_obs_calloc(s, nb * N_BATCH, sizeof(double));
+    /* the cell list, allocated at the first frame */
+    void *cells[] = {&s->xs, &s->ys, &s->cell_of, &s->cell_start, &s->cell_fill};
+    for (size_t k = 0; k < sizeof cells / sizeof cells[0]; k++) {
+        gr_obs_own_pointer(s, cells[k]);
+    }
     if (!s->area || !s->g_blk || !s->c_blk || !s->frame_count || !s->c_frame || !s->total || !s->batch) {
-        destroy(s);
         return GR_FAIL(err, GR_ENOMEM, "pair: out of memory for %d bins", s->nbins);
     }
     for (int b = 0; b < s->nbins; b++) {
         double lo = b * s->width, hi = (b + 1) * s->width;
         s->area[b] = M_PI * (hi * hi - lo * lo);
-        gr_blocking_init(&s->g_blk[b]);
-        gr_blocking_init(&s->c_blk[b]);
     }
-    gr_blocking_init(&s->tail_blk);
     s->tail_from = (int)floor(TAIL_FROM_FRAC * s->nbins);
     s->batch_len = 1;
-    *state = s;
     return GR_OK;
 }
 
@@ -438,10 +418,235 @@ static int fit_window(const pair *s, const double *n_of, const double *sigma, in
     return gr_fit_power_law(x, y, e, m, fit, err) == GR_OK ? m : -1;
 }
 
-/* pair.csv: one row per bin from the finished arrays (none before the first frame) */
+/* ------------------------------------------------------------------------------------------
+ * Fitting: everything finish reports, computed from the accumulators, with no output. */
+
+typedef struct pair_result {
+    double *g, *ge, *c, *n, *ne; /* per bin: g(R) and its error, C(R_hi), n(R_hi) and its error */
+    bool blocking;               /* errors from block averaging (else sqrt(counts)) */
+    int unconverged;             /* bins whose g blocking has not converged */
+    int peak;                    /* bin of the first peak */
+    double tail, tail_error;     /* g_tail over bins tail_from .. nbins - 1 */
+    int lo, hi;                  /* the D_f window: bins lo .. hi - 1 */
+    int used;                    /* points of the D_f fit (< 3: no fit; < 0: the fit failed) */
+    char fit_failure[sizeof ((gr_error *)0)->message];
+    gr_fit fit;                  /* n(R) = A R^D_f (4.17) */
+    double jackknife;            /* jackknife error of D_f over batches of frames (NAN: none) */
+} pair_result;
+
+static void result_free(pair_result *r)
+{
+    free(r->g);
+    r->g = NULL;
+}
+
+/* The error of D_f: leave one full batch of frames out and refit, B >= 8 batches (NAN otherwise). */
+static double jackknife(const pair *s, const pair_result *r, double *fx, double *fy, double *fe)
+{
+    const int nb = s->nbins, B = s->n_full;
+    const double dens = (s->N - 1) / (s->L * s->L);
+    if (B < 8) {
+        return NAN;
+    }
+    double jk = NAN;
+    double *nj = malloc(sizeof(double) * (size_t)nb), *dj = malloc(sizeof(double) * (size_t)B);
+    bool ok = nj && dj;
+    for (int k = 0; ok && k < B; k++) {
+        double frames_k = (double)(B - 1) * (double)s->batch_len;
+        for (int b = 0; b < nb; b++) {
+            double sum = 0.0;
+            for (int q = 0; q < B; q++) {
+                sum += q == k ? 0.0 : s->batch[(size_t)q * (size_t)nb + (size_t)b];
+            }
+            double hr = (b + 1) * s->width;
+            nj[b] = sum / frames_k - dens * M_PI * hr * hr;
+        }
+        gr_fit fk;
+        gr_error kerr = {0};
+        ok = fit_window(s, nj, r->ne, r->lo, r->hi, &fk, fx, fy, fe, &kerr) >= 3;
+        dj[k] = ok ? fk.p[1] : 0.0;
+    }
+    if (ok) {
+        double mean = 0.0, var = 0.0;
+        for (int k = 0; k < B; k++) {
+            mean += dj[k] / B;
+        }
+        for (int k = 0; k < B; k++) {
+            var += (dj[k] - mean) * (dj[k] - mean);
+        }
+        jk = sqrt(var * (B - 1) / B);
+    }
+    free(nj);
+    free(dj);
+    return jk;
+}
+
+/* g, C, n with errors per bin, the first peak, g_tail and the D_f fit (s->frames > 0). */
+static int compute(const pair *s, pair_result *r, gr_error *err)
+{
+    const int nb = s->nbins, N = s->N;
+    const double L = s->L, dens = (N - 1) / (L * L); /* density of the others, n of 4.15-4.17 */
+    const double norm = 0.5 * (double)N * (double)(N - 1) / (L * L);
+    memset(r, 0, sizeof *r);
+    r->g = malloc(sizeof(double) * (size_t)nb * 8);
+    if (!r->g) {
+        return GR_FAIL(err, GR_ENOMEM, "pair: out of memory");
+    }
+    r->ge = r->g + nb;
+    r->n = r->g + 2 * nb;
+    r->ne = r->g + 3 * nb;
+    r->c = r->g + 4 * nb;
+    double *fx = r->g + 5 * nb, *fy = r->g + 6 * nb, *fe = r->g + 7 * nb; /* fit workspace */
+    r->blocking = true;
+    double cum = 0.0;
+    for (int b = 0; b < nb; b++) {
+        double hi = (b + 1) * s->width;
+        cum += s->total[b];
+        r->g[b] = gr_blocking_mean(&s->g_blk[b]);
+        r->ge[b] = frame_error(s, &s->g_blk[b], s->total[b], 1.0 / (norm * s->area[b]), &r->blocking);
+        r->c[b] = gr_blocking_mean(&s->c_blk[b]);
+        r->ne[b] = frame_error(s, &s->c_blk[b], cum, 2.0 / N, &r->blocking);
+        r->n[b] = r->c[b] - dens * M_PI * hi * hi;
+        int conv = 1;
+        if (s->frames >= 16) {
+            gr_blocking_stderr(&s->g_blk[b], NULL, &conv);
+            r->unconverged += !conv && s->total[b] > 0.0;
+        }
+    }
+
+    /* first peak: the largest g among bins centred below PEAK_MAX_D d (the contact shell) */
+    int peak_end = (int)ceil(PEAK_MAX_D * s->d / s->width - 0.5); /* bins centred below 1.5 d */
+    peak_end = peak_end < 1 ? nb : (peak_end < nb ? peak_end : nb); /* none: all bins */
+    for (int b = 1; b < peak_end; b++) {
+        r->peak = r->g[b] > r->g[r->peak] ? b : r->peak;
+    }
+
+    /* g_tail: mean g over R_max/2 <= R < R_max (Fig. 4.7's constant fit) */
+    double tail_total = 0.0, tail_area = 0.0;
+    for (int b = s->tail_from; b < nb; b++) {
+        tail_total += s->total[b];
+        tail_area += s->area[b];
+    }
+    bool tail_blocking = r->blocking;
+    r->tail = gr_blocking_mean(&s->tail_blk);
+    r->tail_error = frame_error(s, &s->tail_blk, tail_total, 1.0 / (norm * tail_area), &tail_blocking);
+
+    /* D_f from n(R) ~ A'' R^D_f (4.17) over max(2 d, R_max / 4) <= R_hi <= R_max / 2; bin b's
+     * upper edge is (b + 1) w, so the window is the bins lo .. hi - 1 */
+    double fit_from = fmax(FIT_LO_D * s->d, FIT_LO_FRAC * s->R_max);
+    r->lo = (int)ceil(fit_from / s->width - 1.0 - 1e-9);
+    r->hi = (int)floor(FIT_HI_FRAC * nb + 1e-9);
+    r->lo = r->lo < 0 ? 0 : r->lo;
+    gr_error ferr = {0};
+    r->used = r->hi - r->lo >= 3 ? fit_window(s, r->n, r->ne, r->lo, r->hi, &r->fit, fx, fy, fe, &ferr) : 0;
+    snprintf(r->fit_failure, sizeof r->fit_failure, "%s", ferr.message);
+    r->jackknife = r->used >= 3 ? jackknife(s, r, fx, fy, fe) : (double)NAN;
+    return GR_OK;
+}
+
+/* ------------------------------------------------------------------------------------------
+ * Writing: the summary member, pair.csv and the plots, from a pair_result. */
+
+static double d_f_error(const pair_result *r)
+{
+    return isfinite(r->jackknife) ? fmax(r->fit.err[1], r->jackknife) : r->fit.err[1];
+}
+
+static void write_summary(const pair *s, const pair_result *r, cJSON *j)
+{
+    cJSON_AddStringToObject(j, "errors", r->blocking ? "block averaging over frames"
+                                                     : "sqrt(counts) (fewer than 16 frames for block averaging)");
+    if (r->blocking) {
+        cJSON_AddNumberToObject(j, "g_bins_blocking_unconverged", r->unconverged);
+    }
+    const int pk = r->peak;
+    cJSON *jp = cJSON_AddObjectToObject(j, "first_peak");
+    gr_obs_add_number(jp, "R", (pk + 0.5) * s->width);
+    gr_obs_add_number(jp, "R_over_d", (pk + 0.5) * s->width / s->d);
+    gr_obs_add_number(jp, "g", r->g[pk]);
+    gr_obs_add_number(jp, "g_error", r->ge[pk]);
+    cJSON_AddStringToObject(jp, "definition", "largest g(R) over bins centred below 1.5 d");
+
+    cJSON *jt = cJSON_AddObjectToObject(j, "g_tail");
+    gr_obs_add_number(jt, "value", r->tail);
+    gr_obs_add_number(jt, "error", r->tail_error);
+    gr_obs_add_number(jt, "R_from_over_d", s->tail_from * s->width / s->d);
+    gr_obs_add_number(jt, "R_to_over_d", s->R_max / s->d);
+
+    cJSON *jd = cJSON_AddObjectToObject(j, "D_f");
+    gr_obs_add_number(jd, "R_from_over_d", (r->lo + 1) * s->width / s->d);
+    gr_obs_add_number(jd, "R_to_over_d", r->hi * s->width / s->d);
+    if (r->used >= 3) {
+        const gr_fit *fit = &r->fit;
+        gr_obs_add_number(jd, "value", fit->p[1]);
+        gr_obs_add_number(jd, "error", d_f_error(r));
+        gr_obs_add_number(jd, "fit_error", fit->err[1]);
+        gr_obs_add_number(jd, "jackknife_error", r->jackknife);
+        cJSON_AddNumberToObject(jd, "jackknife_batches", isfinite(r->jackknife) ? s->n_full : 0);
+        gr_obs_add_number(jd, "A", fit->p[0]);
+        gr_obs_add_number(jd, "A_error", fit->err[0]);
+        gr_obs_add_number(jd, "A_over_d", fit->p[0] * pow(s->d, fit->p[1])); /* n = A_over_d (R/d)^D_f */
+        gr_obs_add_number(jd, "chi2_red", fit->chi2_red);
+        cJSON_AddNumberToObject(jd, "points", r->used);
+        cJSON_AddNumberToObject(jd, "points_left_out", r->hi - r->lo - r->used);
+    } else {
+        cJSON_AddNullToObject(jd, "value");
+        cJSON_AddNullToObject(jd, "error");
+        char note[900];
+        snprintf(note, sizeof note, "no fit: %d bins of the window have n(R) > 0 with an error (3 needed)%s%s",
+                 r->used < 0 ? 0 : r->used, r->used < 0 ? "; " : "", r->used < 0 ? r->fit_failure : "");
+        cJSON_AddStringToObject(jd, "note", note);
+    }
+    cJSON_AddStringToObject(jd, "definition",
+                            "n(R) = C(R) - n pi R^2 ~ A R^D_f (4.17), weighted log-log fit at bin upper edges R_hi "
+                            "in [max(2 d, R_max/4), R_max/2], bins with n <= 0 left out; error = max(fit, jackknife "
+                            "over batches of frames)");
+}
+
+static void write_plots(const pair *s, const pair_result *r, const gr_output *out)
+{
+    char body[1600];
+    snprintf(body, sizeof body,
+             "set xlabel 'R / d'\nset ylabel 'g(R)'\n"
+             "set title \"Pair correlation function, %lld frames\\n{/*0.75 eq. (4.10)}\"\n"
+             "set key top right\n"
+             "set bars 0\n"
+             "plot 'pair.csv' skip 1 using 2:3:4 with yerrorlines lt 1 pt 7 ps 0.3 title 'g(R)', "
+             "1 with lines dt 2 lt 5 title 'ideal gas'",
+             (long long)s->frames);
+    gr_obs_plot(out, "pair_g.png", body);
+    const int nb = s->nbins, every = nb > 50 ? nb / 50 : 1; /* error bars on about 50 points */
+    const double from = (r->lo + 1) * s->width / s->d, to = r->hi * s->width / s->d;
+    if (r->used >= 3) {
+        char legend[120];
+        gr_plot_legend_value("fit A R^{D_f}, D_f", r->fit.p[1], d_f_error(r), legend, sizeof legend);
+        snprintf(body, sizeof body,
+                 "set logscale xy\nset bars 0\nset xrange [1:%.10g]\nset xlabel 'R / d'\n"
+                 "set ylabel 'n(R) = C(R) - n pi R^2'\n"
+                 "set title \"Excess neighbours within R\\n{/*0.75 eq. (4.17); fit over %.3g d <= R <= %.3g d}\"\n"
+                 "set key top left\n"
+                 "plot 'pair.csv' skip 1 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lt 1 "
+                 "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars lt 1 pt 7 "
+                 "ps 0.4 notitle, [%.10g:%.10g] %.10g * x**%.10g with lines lw 3 lt 2 title '%s'",
+                 s->R_max / s->d, from, to, s->d, every, s->d, from, to, r->fit.p[0] * pow(s->d, r->fit.p[1]),
+                 r->fit.p[1], legend);
+    } else {
+        snprintf(body, sizeof body,
+                 "set logscale xy\nset bars 0\nset xrange [1:%.10g]\nset xlabel 'R / d'\n"
+                 "set ylabel 'n(R) = C(R) - n pi R^2'\n"
+                 "set title \"Excess neighbours within R\\n{/*0.75 eq. (4.17); too few bins for the power-law fit}\"\n"
+                 "plot 'pair.csv' skip 1 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lt 1 "
+                 "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars lt 1 pt 7 "
+                 "ps 0.4 notitle",
+                 s->R_max / s->d, s->d, every, s->d);
+    }
+    gr_obs_plot(out, "pair_n.png", body);
+}
+
+/* pair.csv: one row per bin from the result (none before the first frame) */
 typedef struct pair_rows_ctx {
     const pair *s;
-    const double *g, *ge, *c, *n, *ne;
+    const pair_result *r;
 } pair_rows_ctx;
 
 static const char pair_csv_what[] =
@@ -455,259 +660,72 @@ static void pair_rows(FILE *f, const void *ctx)
 {
     const pair_rows_ctx *c = ctx;
     const pair *s = c->s;
+    const pair_result *r = c->r;
     for (int b = 0; b < s->nbins && s->frames > 0; b++) {
-        double lo = b * s->width, hi = (b + 1) * s->width, r = 0.5 * (lo + hi);
-        fprintf(f, "%.10g,%.10g,%.10g,%.6g,%.10g,%.10g,%.6g,%.10g,%.10g,%.0f\n", r, r / s->d, c->g[b], c->ge[b], c->c[b],
-                c->n[b], c->ne[b], lo, hi, s->total[b]);
+        double lo = b * s->width, hi = (b + 1) * s->width, R = 0.5 * (lo + hi);
+        fprintf(f, "%.10g,%.10g,%.10g,%.6g,%.10g,%.10g,%.6g,%.10g,%.10g,%.0f\n", R, R / s->d, r->g[b], r->ge[b], r->c[b],
+                r->n[b], r->ne[b], lo, hi, s->total[b]);
     }
 }
 
 static int finish(void *state, const gr_output *out, gr_error *err)
 {
     pair *s = state;
-    const int nb = s->nbins, N = s->N;
-    const double L = s->L, dens = (N - 1) / (L * L); /* density of the others, n of 4.15-4.17 */
-    const double norm = 0.5 * (double)N * (double)(N - 1) / (L * L);
     cJSON *j = cJSON_AddObjectToObject(out->summary, "pair");
     cJSON_AddStringToObject(j, "file", "pair.csv");
     cJSON_AddNumberToObject(j, "frames", (double)s->frames);
-    cJSON_AddNumberToObject(j, "bins", nb);
+    cJSON_AddNumberToObject(j, "bins", s->nbins);
     cJSON_AddNumberToObject(j, "d", s->d);
     cJSON_AddNumberToObject(j, "R_max", s->R_max);
     cJSON_AddNumberToObject(j, "R_max_over_d", s->R_max / s->d);
     cJSON_AddBoolToObject(j, "R_max_clamped_to_half_box", s->clamped);
     cJSON_AddNumberToObject(j, "bin_width_over_d", s->width / s->d);
-    pair_rows_ctx rows = {.s = s};
-    gr_obs_table t = {.name = "pair.csv", .what = pair_csv_what, .columns = "R [m],R_over_d [1],g [1],g_error [1],C [1],n [1],n_error [1],R_lo [m],R_hi [m],pairs [1]",
-                      .rows = pair_rows, .ctx = &rows};
+    pair_result r = {0};
+    pair_rows_ctx rows = {.s = s, .r = &r};
+    gr_obs_table t = {.name = "pair.csv",
+                      .what = pair_csv_what,
+                      .columns = "R [m],R_over_d [1],g [1],g_error [1],C [1],n [1],n_error [1],R_lo [m],R_hi [m],pairs [1]",
+                      .rows = pair_rows,
+                      .ctx = &rows};
     if (s->frames == 0) {
         cJSON_AddStringToObject(j, "note", "no frames sampled");
         return gr_obs_table_write(out, &t, err);
     }
-    double *g = malloc(sizeof(double) * (size_t)nb * 7);
-    if (!g) {
-        return GR_FAIL(err, GR_ENOMEM, "pair: out of memory");
+    int rc = compute(s, &r, err);
+    if (rc) {
+        return rc;
     }
-    double *ge = g + nb, *nr = g + 2 * nb, *ne = g + 3 * nb, *fx = g + 4 * nb, *fy = g + 5 * nb, *cv = g + 6 * nb;
-    double *fe = malloc(sizeof(double) * (size_t)nb);
-    if (!fe) {
-        free(g);
-        return GR_FAIL(err, GR_ENOMEM, "pair: out of memory");
-    }
-    rows.g = g;
-    rows.ge = ge;
-    rows.c = cv;
-    rows.n = nr;
-    rows.ne = ne;
-    bool blocking = true;
-    int unconverged = 0;
-    double cum = 0.0;
-    for (int b = 0; b < nb; b++) {
-        double hi = (b + 1) * s->width;
-        cum += s->total[b];
-        g[b] = gr_blocking_mean(&s->g_blk[b]);
-        ge[b] = frame_error(s, &s->g_blk[b], s->total[b], 1.0 / (norm * s->area[b]), &blocking);
-        double c = gr_blocking_mean(&s->c_blk[b]);
-        ne[b] = frame_error(s, &s->c_blk[b], cum, 2.0 / N, &blocking);
-        nr[b] = c - dens * M_PI * hi * hi;
-        int conv = 1;
-        if (s->frames >= 16) {
-            gr_blocking_stderr(&s->g_blk[b], NULL, &conv);
-            unconverged += !conv && s->total[b] > 0.0;
-        }
-        cv[b] = c;
-    }
-    cJSON_AddStringToObject(j, "errors", blocking ? "block averaging over frames"
-                                                  : "sqrt(counts) (fewer than 16 frames for block averaging)");
-    if (blocking) {
-        cJSON_AddNumberToObject(j, "g_bins_blocking_unconverged", unconverged);
-    }
-
-    /* first peak: the largest g among bins centred below PEAK_MAX_D d (the contact shell) */
-    int pk = 0, peak_end = (int)ceil(PEAK_MAX_D * s->d / s->width - 0.5); /* bins centred below 1.5 d */
-    peak_end = peak_end < 1 ? nb : (peak_end < nb ? peak_end : nb);     /* none: all bins */
-    for (int b = 1; b < peak_end; b++) {
-        pk = g[b] > g[pk] ? b : pk;
-    }
-    cJSON *jp = cJSON_AddObjectToObject(j, "first_peak");
-    gr_obs_add_number(jp, "R", (pk + 0.5) * s->width);
-    gr_obs_add_number(jp, "R_over_d", (pk + 0.5) * s->width / s->d);
-    gr_obs_add_number(jp, "g", g[pk]);
-    gr_obs_add_number(jp, "g_error", ge[pk]);
-    cJSON_AddStringToObject(jp, "definition", "largest g(R) over bins centred below 1.5 d");
-
-    /* g_tail: mean g over R_max/2 <= R < R_max (Fig. 4.7's constant fit) */
-    cJSON *jt = cJSON_AddObjectToObject(j, "g_tail");
-    double tail_total = 0.0, tail_area = 0.0;
-    for (int b = s->tail_from; b < nb; b++) {
-        tail_total += s->total[b];
-        tail_area += s->area[b];
-    }
-    gr_obs_add_number(jt, "value", gr_blocking_mean(&s->tail_blk));
-    gr_obs_add_number(jt, "error", frame_error(s, &s->tail_blk, tail_total, 1.0 / (norm * tail_area), &blocking));
-    gr_obs_add_number(jt, "R_from_over_d", s->tail_from * s->width / s->d);
-    gr_obs_add_number(jt, "R_to_over_d", s->R_max / s->d);
-
-    /* D_f from n(R) ~ A'' R^D_f (4.17) over max(2 d, R_max / 4) <= R_hi <= R_max / 2; bin b's
-     * upper edge is (b + 1) w, so the window is the bins lo .. hi - 1 */
-    double fit_from = fmax(FIT_LO_D * s->d, FIT_LO_FRAC * s->R_max);
-    int lo = (int)ceil(fit_from / s->width - 1.0 - 1e-9), hi = (int)floor(FIT_HI_FRAC * nb + 1e-9);
-    lo = lo < 0 ? 0 : lo;
-    cJSON *jd = cJSON_AddObjectToObject(j, "D_f");
-    gr_obs_add_number(jd, "R_from_over_d", (lo + 1) * s->width / s->d);
-    gr_obs_add_number(jd, "R_to_over_d", hi * s->width / s->d);
-    gr_fit fit;
-    gr_error ferr = {0};
-    int used = hi - lo >= 3 ? fit_window(s, nr, ne, lo, hi, &fit, fx, fy, fe, &ferr) : 0;
-    double jk = NAN;
-    if (used >= 3) {
-        /* jackknife over the full batches: leave one batch out, refit */
-        int B = s->n_full;
-        if (B >= 8) {
-            double *nj = malloc(sizeof(double) * (size_t)nb), *dj = malloc(sizeof(double) * (size_t)B);
-            bool ok = nj && dj;
-            for (int k = 0; ok && k < B; k++) {
-                double frames_k = (double)(B - 1) * (double)s->batch_len;
-                for (int b = 0; b < nb; b++) {
-                    double sum = 0.0;
-                    for (int q = 0; q < B; q++) {
-                        sum += q == k ? 0.0 : s->batch[(size_t)q * (size_t)nb + (size_t)b];
-                    }
-                    double hr = (b + 1) * s->width;
-                    nj[b] = sum / frames_k - dens * M_PI * hr * hr;
-                }
-                gr_fit fk;
-                gr_error kerr = {0};
-                ok = fit_window(s, nj, ne, lo, hi, &fk, fx, fy, fe, &kerr) >= 3;
-                dj[k] = ok ? fk.p[1] : 0.0;
-            }
-            if (ok) {
-                double mean = 0.0, var = 0.0;
-                for (int k = 0; k < B; k++) {
-                    mean += dj[k] / B;
-                }
-                for (int k = 0; k < B; k++) {
-                    var += (dj[k] - mean) * (dj[k] - mean);
-                }
-                jk = sqrt(var * (B - 1) / B);
-            }
-            free(nj);
-            free(dj);
-        }
-        double e = isfinite(jk) ? fmax(fit.err[1], jk) : fit.err[1];
-        gr_obs_add_number(jd, "value", fit.p[1]);
-        gr_obs_add_number(jd, "error", e);
-        gr_obs_add_number(jd, "fit_error", fit.err[1]);
-        gr_obs_add_number(jd, "jackknife_error", jk);
-        cJSON_AddNumberToObject(jd, "jackknife_batches", isfinite(jk) ? s->n_full : 0);
-        gr_obs_add_number(jd, "A", fit.p[0]);
-        gr_obs_add_number(jd, "A_error", fit.err[0]);
-        gr_obs_add_number(jd, "A_over_d", fit.p[0] * pow(s->d, fit.p[1])); /* n = A_over_d (R/d)^D_f */
-        gr_obs_add_number(jd, "chi2_red", fit.chi2_red);
-        cJSON_AddNumberToObject(jd, "points", used);
-        cJSON_AddNumberToObject(jd, "points_left_out", hi - lo - used);
-    } else {
-        cJSON_AddNullToObject(jd, "value");
-        cJSON_AddNullToObject(jd, "error");
-        char note[900];
-        snprintf(note, sizeof note, "no fit: %d bins of the window have n(R) > 0 with an error (3 needed)%s%s",
-                 used < 0 ? 0 : used, used < 0 ? "; " : "", used < 0 ? ferr.message : "");
-        cJSON_AddStringToObject(jd, "note", note);
-    }
-    cJSON_AddStringToObject(jd, "definition",
-                            "n(R) = C(R) - n pi R^2 ~ A R^D_f (4.17), weighted log-log fit at bin upper edges R_hi "
-                            "in [max(2 d, R_max/4), R_max/2], bins with n <= 0 left out; error = max(fit, jackknife "
-                            "over batches of frames)");
-    int rc = gr_obs_table_write(out, &t, err);
+    write_summary(s, &r, j);
+    rc = gr_obs_table_write(out, &t, err);
     if (!rc && out->plots) {
-        char body[1600];
-        snprintf(body, sizeof body,
-                 "set xlabel 'R / d'\nset ylabel 'g(R)'\n"
-                 "set title \"Pair correlation function, %lld frames\\n{/*0.75 eq. (4.10)}\"\n"
-                 "set key top right\n"
-                 "set bars 0\n"
-                 "plot 'pair.csv' skip 1 using 2:3:4 with yerrorlines lt 1 pt 7 ps 0.3 title 'g(R)', "
-                 "1 with lines dt 2 lt 5 title 'ideal gas'",
-                 (long long)s->frames);
-        gr_obs_plot(out, "pair_g.png", body);
-        int every = nb > 50 ? nb / 50 : 1; /* error bars on about 50 points */
-        if (used >= 3) {
-            char legend[120];
-            gr_plot_legend_value("fit A R^{D_f}, D_f", fit.p[1], isfinite(jk) ? fmax(fit.err[1], jk) : fit.err[1], legend,
-                                 sizeof legend);
-            snprintf(body, sizeof body,
-                     "set logscale xy\nset bars 0\nset xrange [1:%.10g]\nset xlabel 'R / d'\n"
-                     "set ylabel 'n(R) = C(R) - n pi R^2'\n"
-                     "set title \"Excess neighbours within R\\n{/*0.75 eq. (4.17); fit over %.3g d <= R <= %.3g d}\"\n"
-                     "set key top left\n"
-                     "plot 'pair.csv' skip 1 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lt 1 "
-                     "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars lt 1 pt 7 "
-                     "ps 0.4 notitle, [%.10g:%.10g] %.10g * x**%.10g with lines lw 3 lt 2 title '%s'",
-                     s->R_max / s->d, (lo + 1) * s->width / s->d, hi * s->width / s->d, s->d, every, s->d,
-                     (lo + 1) * s->width / s->d, hi * s->width / s->d, fit.p[0] * pow(s->d, fit.p[1]), fit.p[1], legend);
-        } else {
-            snprintf(body, sizeof body,
-                     "set logscale xy\nset bars 0\nset xrange [1:%.10g]\nset xlabel 'R / d'\n"
-                     "set ylabel 'n(R) = C(R) - n pi R^2'\n"
-                     "set title \"Excess neighbours within R\\n{/*0.75 eq. (4.17); too few bins for the power-law fit}\"\n"
-                     "plot 'pair.csv' skip 1 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lt 1 "
-                     "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars lt 1 pt 7 "
-                     "ps 0.4 notitle",
-                     s->R_max / s->d, s->d, every, s->d);
-        }
-        gr_obs_plot(out, "pair_n.png", body);
+        write_plots(s, &r, out);
     }
-    free(g);
-    free(fe);
+    result_free(&r);
     return rc;
 }
 
-/* Checkpoints: blocking accumulators, pair totals and the batch sums (the cell lists and the
- * per-frame arrays are scratch). */
-static int save(const void *state, gr_blob *out, gr_error *err)
-{
-    (void)err;
-    const pair *s = state;
-    const size_t nb = (size_t)s->nbins;
-    gr_blob_put_u64(out, nb);
-    for (size_t b = 0; b < nb; b++) {
-        gr_blob_put_blocking(out, &s->g_blk[b]);
-        gr_blob_put_blocking(out, &s->c_blk[b]);
-    }
-    gr_blob_put_blocking(out, &s->tail_blk);
-    gr_blob_put_f64s(out, s->total, (int64_t)nb);
-    gr_blob_put_i64(out, s->frames);
-    gr_blob_put_f64s(out, s->batch, (int64_t)(nb * N_BATCH));
-    gr_blob_put_i64(out, s->batch_len);
-    gr_blob_put_i64(out, s->batch_fill);
-    gr_blob_put_i64(out, s->n_full);
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     (void)err;
     pair *s = state;
     const size_t nb = (size_t)s->nbins;
-    uint64_t m = gr_blob_get_u64(in);
-    if (!in->bad && m != nb) {
-        gr_blob_fail(in, "gr_bins = %llu in the checkpoint, %zu in the scene", (unsigned long long)m, nb);
+    gr_obs_io_check(io, "gr_bins", s->nbins);
+    for (size_t b = 0; b < nb; b++) {
+        gr_obs_io_blockings(io, &s->g_blk[b], 1);
+        gr_obs_io_blockings(io, &s->c_blk[b], 1);
     }
-    for (size_t b = 0; b < nb && !in->bad; b++) {
-        gr_blob_get_blocking(in, &s->g_blk[b]);
-        gr_blob_get_blocking(in, &s->c_blk[b]);
-    }
-    gr_blob_get_blocking(in, &s->tail_blk);
-    gr_blob_get_f64s(in, s->total, (int64_t)nb);
-    s->frames = gr_blob_get_i64(in);
-    gr_blob_get_f64s(in, s->batch, (int64_t)(nb * N_BATCH));
-    s->batch_len = gr_blob_get_i64(in);
-    s->batch_fill = gr_blob_get_i64(in);
-    int64_t n_full = gr_blob_get_i64(in);
-    if (!in->bad && (n_full < 0 || n_full > N_BATCH || s->batch_len < 1 || s->batch_fill < 0 ||
-                     s->batch_fill >= s->batch_len || (n_full == N_BATCH && s->batch_fill != 0))) {
-        gr_blob_fail(in, "batch counters (%lld full, %lld of %lld) are inconsistent", (long long)n_full,
-                     (long long)s->batch_fill, (long long)s->batch_len);
+    gr_obs_io_blockings(io, &s->tail_blk, 1);
+    gr_obs_io_f64s(io, s->total, (int64_t)nb);
+    gr_obs_io_i64(io, &s->frames);
+    gr_obs_io_f64s(io, s->batch, (int64_t)(nb * N_BATCH));
+    gr_obs_io_i64(io, &s->batch_len);
+    gr_obs_io_i64(io, &s->batch_fill);
+    int64_t n_full = s->n_full;
+    gr_obs_io_i64(io, &n_full);
+    if (gr_obs_io_loading(io) && (n_full < 0 || n_full > N_BATCH || s->batch_len < 1 || s->batch_fill < 0 ||
+                                  s->batch_fill >= s->batch_len || (n_full == N_BATCH && s->batch_fill != 0))) {
+        gr_obs_io_fail(io, "batch counters (%lld full, %lld of %lld) are inconsistent", (long long)n_full,
+                       (long long)s->batch_fill, (long long)s->batch_len);
     }
     s->n_full = (int)n_full;
     return GR_OK;
@@ -720,10 +738,10 @@ const gr_observable_type gr_obs_pair = {
     .dims = 2,
     .params = params,
     .n_params = sizeof params / sizeof params[0],
-    .create = create,
+    .params_size = sizeof(pair_params),
+    .state_size = sizeof(pair),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
+    .io = io,
 };

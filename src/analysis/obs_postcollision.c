@@ -9,7 +9,6 @@
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
-#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -22,16 +21,21 @@ typedef struct postcollision {
     int64_t post_n, all_n;
 } postcollision;
 
-static int create(const gr_scene *scene, void **state, gr_error *err)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
-    postcollision *p = calloc(1, sizeof *p);
-    if (!p) {
-        return GR_FAIL(err, GR_ENOMEM, "postcollision: out of memory");
+    (void)params_block; /* it takes the pv observable's bins */
+    postcollision *p = state;
+    double bins, range;
+    int rc = gr_analysis_get(&scene->analysis, "pv_bins", &bins, err);
+    rc = rc ? rc : gr_analysis_get(&scene->analysis, "pv_range", &range, err);
+    if (rc) {
+        return rc;
     }
-    p->bins = scene->analysis.pv_bins > 0 ? scene->analysis.pv_bins : 200;
-    p->range = scene->analysis.pv_range > 0.0 ? scene->analysis.pv_range : 10.0;
+    p->bins = bins > 0 ? (int)bins : 200;
+    p->range = range > 0.0 ? range : 10.0;
     p->dim = scene->dim;
-    *state = p;
+    gr_obs_own_histogram(p, &p->post); /* filled from the first frame that moves */
+    gr_obs_own_histogram(p, &p->all);
     return GR_OK;
 }
 
@@ -126,59 +130,32 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                 "1:($7==1?$5:1/0) with points lt 2 pt 6 ps 0.5 notitle",
     };
     cJSON_AddNumberToObject(j, "post_samples", (double)p->post_n);
+    if (p->post_n == 0) {
+        gr_obs_note_no_events(j, "post-collision velocities");
+    }
     cJSON_AddNumberToObject(j, "post_v2", p->post_n ? p->post_v2 / p->post_n : 0.0);
     cJSON_AddNumberToObject(j, "all_v2", p->all_n ? p->all_v2 / p->all_n : 0.0);
     cJSON_AddStringToObject(j, "file", "postcollision.csv");
     return gr_obs_table_write(out, &t, err);
 }
 
-static void destroy(void *state)
-{
-    postcollision *p = state;
-    if (p->ready) {
-        gr_histogram_free(&p->post);
-        gr_histogram_free(&p->all);
-    }
-    free(p);
-}
-
-/* Checkpoints: the binning (fixed at the first moving frame) and both histograms. */
-static int save(const void *state, gr_blob *out, gr_error *err)
-{
-    (void)err;
-    const postcollision *p = state;
-    gr_blob_put_u32(out, p->ready);
-    if (p->ready) {
-        gr_blob_put_histogram(out, &p->post);
-        gr_blob_put_histogram(out, &p->all);
-    }
-    gr_blob_put_f64(out, p->post_v2);
-    gr_blob_put_f64(out, p->all_v2);
-    gr_blob_put_i64(out, p->post_n);
-    gr_blob_put_i64(out, p->all_n);
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     (void)err;
     postcollision *p = state;
-    uint32_t ready = gr_blob_get_u32(in);
-    if (ready && !in->bad) {
-        if (gr_blob_get_histogram_new(in, &p->post, false)) {
-            p->ready = true; /* destroy frees both from here on */
-            if (!gr_blob_get_histogram_new(in, &p->all, false)) {
-                gr_histogram_free(&p->all);
-            }
-        }
-        if (!in->bad && (p->post.nbins != p->bins || p->all.nbins != p->bins)) {
-            gr_blob_fail(in, "%d bins in the checkpoint, pv_bins = %d in the scene", p->post.nbins, p->bins);
+    uint32_t ready = p->ready;
+    gr_obs_io_u32(io, &ready);
+    if (ready) {
+        bool ok = gr_obs_io_histogram_new(io, &p->post) && gr_obs_io_histogram_new(io, &p->all);
+        p->ready = ok;
+        if (ok && (p->post.nbins != p->bins || p->all.nbins != p->bins)) {
+            gr_obs_io_fail(io, "%d bins in the checkpoint, pv_bins = %d in the scene", p->post.nbins, p->bins);
         }
     }
-    p->post_v2 = gr_blob_get_f64(in);
-    p->all_v2 = gr_blob_get_f64(in);
-    p->post_n = gr_blob_get_i64(in);
-    p->all_n = gr_blob_get_i64(in);
+    gr_obs_io_f64(io, &p->post_v2);
+    gr_obs_io_f64(io, &p->all_v2);
+    gr_obs_io_i64(io, &p->post_n);
+    gr_obs_io_i64(io, &p->all_n);
     return GR_OK;
 }
 
@@ -188,11 +165,10 @@ const gr_observable_type gr_obs_postcollision = {
     .dims = 3,
     .params = NULL,
     .n_params = 0,
-    .create = create,
+    .state_size = sizeof(postcollision),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
     .events = events,
+    .io = io,
 };

@@ -25,7 +25,6 @@
 
 #include "analysis/obs_cells.h"
 #include "analysis/obs_util.h"
-#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -46,19 +45,11 @@ typedef struct pressure {
     gr_cells cells;
 } pressure;
 
-static void destroy(void *state)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
+    (void)params_block;
     pressure *s = state;
-    gr_cells_free(&s->cells);
-    free(s);
-}
-
-static int create(const gr_scene *scene, void **state, gr_error *err)
-{
-    pressure *s = calloc(1, sizeof *s);
-    if (!s) {
-        return GR_FAIL(err, GR_ENOMEM, "pressure: out of memory");
-    }
+    gr_cells_own(s, &s->cells);
     s->n = scene->N;
     s->dim = scene->dim;
     s->L = scene->L;
@@ -73,15 +64,10 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
         int rc = gr_contact_prepare(scene->normal, scene->tangential, &scene->contact, gr_scene_m12(scene), 0.0, &s->cc,
                                     err);
         if (rc) {
-            free(s);
             return rc;
         }
         s->forces = s->cc.normal == GR_NORMAL_SPRING_DASHPOT;
     }
-    for (int k = 0; k < N_SERIES; k++) {
-        gr_blocking_init(&s->b[k]);
-    }
-    *state = s;
     return GR_OK;
 }
 
@@ -203,24 +189,13 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return gr_obs_table_write(out, &t, err);
 }
 
-/* Checkpoints: the counts and the accumulators of every series. */
-static int save(const void *state, gr_blob *out, gr_error *err)
-{
-    (void)err;
-    const pressure *s = state;
-    gr_blob_put_i64(out, s->frames);
-    gr_blob_put_i64(out, s->contacts);
-    gr_obs_put_blockings(out, s->b, N_SERIES);
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     (void)err;
     pressure *s = state;
-    s->frames = gr_blob_get_i64(in);
-    s->contacts = gr_blob_get_i64(in);
-    gr_obs_get_blockings(in, s->b, N_SERIES);
+    gr_obs_io_i64(io, &s->frames);
+    gr_obs_io_i64(io, &s->contacts);
+    gr_obs_io_blockings(io, s->b, N_SERIES);
     return GR_OK;
 }
 
@@ -231,10 +206,9 @@ const gr_observable_type gr_obs_pressure = {
     .dims = 3,
     .params = NULL,
     .n_params = 0,
-    .create = create,
+    .state_size = sizeof(pressure),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
+    .io = io,
 };

@@ -40,7 +40,6 @@
 
 #include "analysis/obs_util.h"
 #include "io/plot.h"
-#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
@@ -57,12 +56,17 @@ enum { REF_FRAMES = 8, REF_MAX_VALUES = 1 << 20, MIN_FIT_POINTS = 5, MIN_DECADE_
 #define NOVALUE ((double)NAN)
 #define HUGE_D ((double)INFINITY)
 
+typedef struct pv_params {
+    int pv_bins;
+    double pv_range;
+} pv_params;
+
 static const gr_param params[] = {
     {"pv_bins", "", GR_PARAM_INT, 400, 10, 1000000, false, false,
-     "bins of P(v) per component and of the speed (App. A.1)", offsetof(gr_analysis_params, pv_bins)},
+     "bins of P(v) per component and of the speed (App. A.1)", offsetof(pv_params, pv_bins)},
     {"pv_range", "", GR_PARAM_DOUBLE, 12, 1, 1000, false, false,
      "P(v) spans +-pv_range sqrt(T_ref), T_ref the mean T (2.19) of the first 8 sampled frames",
-     offsetof(gr_analysis_params, pv_range)},
+     offsetof(pv_params, pv_range)},
 };
 
 typedef struct pv {
@@ -81,9 +85,8 @@ typedef struct pv {
     double sum_u2;             /* sum of |v - <v>|^2 over particles and frames */
 } pv;
 
-static int check_params(const gr_scene *scene, gr_error *err)
+static int check_params(const gr_scene *scene, const pv_params *a, gr_error *err)
 {
-    const gr_analysis_params *a = &scene->analysis;
     if (scene->dim != 1 && scene->dim != 2) {
         return GR_FAIL(err, GR_EINVAL, "pv: dim = %d, expected 1 or 2", scene->dim);
     }
@@ -98,20 +101,20 @@ static int check_params(const gr_scene *scene, gr_error *err)
     return GR_OK;
 }
 
-static int create(const gr_scene *scene, void **state, gr_error *err)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
-    int rc = check_params(scene, err);
+    const pv_params *a = params_block;
+    int rc = check_params(scene, a, err);
     if (rc) {
         return rc;
     }
-    pv *s = calloc(1, sizeof *s);
-    if (!s) {
-        return GR_FAIL(err, GR_ENOMEM, "pv: out of memory");
-    }
+    pv *s = state;
     s->dim = scene->dim;
-    s->bins = scene->analysis.pv_bins;
-    s->range = scene->analysis.pv_range;
-    *state = s;
+    s->bins = a->pv_bins;
+    s->range = a->pv_range;
+    gr_obs_own_pointer(s, &s->buf);
+    gr_obs_own_histogram(s, &s->comp); /* binned once the reference frames are in */
+    gr_obs_own_histogram(s, &s->speed);
     return GR_OK;
 }
 
@@ -942,81 +945,50 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return rc;
 }
 
-static void destroy(void *state)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     pv *s = state;
-    if (!s) {
-        return;
-    }
-    free(s->buf);
-    gr_histogram_free(&s->comp);
-    gr_histogram_free(&s->speed);
-    free(s);
-}
-
-/* Checkpoints: the reference frames (until the binning is fixed), then the histograms. */
-static int save(const void *state, gr_blob *out, gr_error *err)
-{
-    (void)err;
-    const pv *s = state;
-    gr_blob_put_u32(out, s->fixed);
-    gr_blob_put_i64(out, s->ref_frames);
-    gr_blob_put_f64(out, s->ref_T_sum);
-    gr_blob_put_f64(out, s->T_ref);
-    if (s->fixed) {
-        gr_blob_put_histogram(out, &s->comp);
-        gr_blob_put_histogram(out, &s->speed);
-    } else {
-        gr_blob_put_f64s(out, s->buf, (int64_t)s->nbuf);
-    }
-    gr_blob_put_i64(out, s->frames);
-    gr_blob_put_i64(out, s->particles);
-    gr_blob_put_f64(out, s->sum_u2);
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
-{
-    pv *s = state;
-    uint32_t fixed = gr_blob_get_u32(in);
-    int64_t ref_frames = gr_blob_get_i64(in);
-    if (!in->bad && (ref_frames < 0 || ref_frames > REF_FRAMES)) {
-        gr_blob_fail(in, "%lld reference frames (at most %d)", (long long)ref_frames, REF_FRAMES);
+    uint32_t fixed = s->fixed;
+    int64_t ref_frames = s->ref_frames;
+    gr_obs_io_u32(io, &fixed);
+    gr_obs_io_i64(io, &ref_frames);
+    if (gr_obs_io_loading(io) && (ref_frames < 0 || ref_frames > REF_FRAMES)) {
+        gr_obs_io_fail(io, "%lld reference frames (at most %d)", (long long)ref_frames, REF_FRAMES);
     }
     s->ref_frames = (int)ref_frames;
-    s->ref_T_sum = gr_blob_get_f64(in);
-    s->T_ref = gr_blob_get_f64(in);
-    if (in->bad) {
+    gr_obs_io_f64(io, &s->ref_T_sum);
+    gr_obs_io_f64(io, &s->T_ref);
+    if (gr_obs_io_bad(io)) {
         return GR_OK;
     }
     if (fixed) {
-        if (gr_blob_get_histogram_new(in, &s->comp, false)) {
-            s->fixed = true; /* destroy frees both from here on */
-            if (!gr_blob_get_histogram_new(in, &s->speed, false)) {
-                gr_histogram_free(&s->speed);
-            }
-        }
-        if (!in->bad && (s->comp.nbins != s->bins || s->speed.nbins != s->bins)) {
-            gr_blob_fail(in, "%d bins in the checkpoint, pv_bins = %d in the scene", s->comp.nbins, s->bins);
+        bool ok = gr_obs_io_histogram_new(io, &s->comp) && gr_obs_io_histogram_new(io, &s->speed);
+        s->fixed = ok;
+        if (ok && (s->comp.nbins != s->bins || s->speed.nbins != s->bins)) {
+            gr_obs_io_fail(io, "%d bins in the checkpoint, pv_bins = %d in the scene", s->comp.nbins, s->bins);
         }
     } else {
-        int64_t nbuf = gr_blob_get_i64(in);
-        if (!in->bad && (nbuf < 0 || (uint64_t)nbuf > REF_MAX_VALUES || (uint64_t)nbuf > (in->len - in->pos) / sizeof(double))) {
-            gr_blob_fail(in, "%lld buffered reference values do not fit", (long long)nbuf);
+        int64_t nbuf = (int64_t)s->nbuf;
+        gr_obs_io_i64(io, &nbuf);
+        if (gr_obs_io_loading(io) && (nbuf < 0 || (uint64_t)nbuf > REF_MAX_VALUES ||
+                                      (uint64_t)nbuf > gr_obs_io_left(io) / sizeof(double))) {
+            gr_obs_io_fail(io, "%lld buffered reference values do not fit", (long long)nbuf);
         }
-        if (in->bad) {
+        if (gr_obs_io_bad(io)) {
             return GR_OK;
         }
-        s->buf = malloc(sizeof(double) * (size_t)(nbuf > 0 ? nbuf : 1));
-        if (!s->buf) {
-            return GR_FAIL(err, GR_ENOMEM, "pv: out of memory for the reference frames");
+        if (gr_obs_io_loading(io)) {
+            s->buf = malloc(sizeof(double) * (size_t)(nbuf > 0 ? nbuf : 1));
+            if (!s->buf) {
+                return GR_FAIL(err, GR_ENOMEM, "pv: out of memory for the reference frames");
+            }
+            s->nbuf = s->capbuf = (size_t)nbuf;
         }
-        s->nbuf = s->capbuf = (size_t)nbuf;
-        gr_blob_get(in, s->buf, sizeof(double) * (size_t)nbuf);
+        gr_obs_io_bytes(io, s->buf, sizeof(double) * (size_t)nbuf);
     }
-    s->frames = gr_blob_get_i64(in);
-    s->particles = gr_blob_get_i64(in);
-    s->sum_u2 = gr_blob_get_f64(in);
+    gr_obs_io_i64(io, &s->frames);
+    gr_obs_io_i64(io, &s->particles);
+    gr_obs_io_f64(io, &s->sum_u2);
     return GR_OK;
 }
 
@@ -1027,10 +999,10 @@ const gr_observable_type gr_obs_pv = {
     .dims = 3,
     .params = params,
     .n_params = sizeof params / sizeof params[0],
-    .create = create,
+    .params_size = sizeof(pv_params),
+    .state_size = sizeof(pv),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
+    .io = io,
 };

@@ -31,7 +31,6 @@
 
 #include "analysis/obs_util.h"
 #include "io/plot.h"
-#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
@@ -467,10 +466,14 @@ int gr_sk_compute(gr_sk_plan *pl, int method, int n, const double *x, const doub
 /* ------------------------------------------------------------------------------------------
  * The observable. */
 
+typedef struct sk_params {
+    double sk_kd_max;
+} sk_params;
+
 static const gr_param params[] = {
     {"sk_kd_max", "", GR_PARAM_DOUBLE, 4.0, 0.0, 64.0, true, false,
      "S(k) on every lattice vector k = 2 pi n / L (4.3), n != 0, with k d <= sk_kd_max",
-     offsetof(gr_analysis_params, sk_kd_max)},
+     offsetof(sk_params, sk_kd_max)},
 };
 
 #define SHELL_N_MIN 16  /* exact shells |n|^2 = const are kept at least up to |n| = 16, */
@@ -505,21 +508,7 @@ typedef struct sk_state {
     double l0, kD, Lmin, Leff, kprime;
 } sk_state;
 
-static void destroy(void *state)
-{
-    sk_state *st = state;
-    if (!st) {
-        return;
-    }
-    gr_sk_plan_free(st->plan);
-    free(st->S);
-    free(st->bin_of);
-    free(st->shell_of);
-    free(st->bins);
-    free(st->shells);
-    free(st->shell_q);
-    free(st);
-}
+static void release_plan(void *plan) { gr_sk_plan_free(plan); }
 
 static int method_from_env(int *method, gr_error *err)
 {
@@ -534,13 +523,12 @@ static int method_from_env(int *method, gr_error *err)
     return GR_OK;
 }
 
-static int create(const gr_scene *scene, void **state, gr_error *err)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
-    *state = NULL;
     if (scene->dim != 2) {
         return GR_FAIL(err, GR_EINVAL, "sk: S(k) of eqs. 4.2-4.3 needs dim = 2 (got %d)", scene->dim);
     }
-    const double kd_max = scene->analysis.sk_kd_max;
+    const double kd_max = ((const sk_params *)params_block)->sk_kd_max;
     if (scene->N < 1 || !(scene->L > 0.0) || !isfinite(scene->L) || !(scene->radius > 0.0) ||
         !isfinite(scene->radius)) {
         return GR_FAIL(err, GR_EINVAL, "sk: needs N >= 1, L > 0 and radius > 0 (got N = %d, L = %g, radius = %g)",
@@ -557,18 +545,15 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
                        "[analysis] sk_kd_max = %g reaches no lattice vector: the smallest |k| d is 2 pi d / L = %g",
                        kd_max, 2.0 * M_PI * d / scene->L);
     }
-    sk_state *st = calloc(1, sizeof *st);
-    if (!st) {
-        return GR_FAIL(err, GR_ENOMEM, "sk: out of memory");
-    }
+    sk_state *st = state;
     int rc = method_from_env(&st->method, err);
     if (!rc) {
         rc = gr_sk_plan_create(scene->L, n_cut, GR_SK_MSP_DEFAULT, &st->plan, err);
     }
     if (rc) {
-        destroy(st);
         return rc;
     }
+    gr_obs_own(st, release_plan, st->plan);
     st->msp = GR_SK_MSP_DEFAULT;
     st->L = scene->L;
     st->d = d;
@@ -604,13 +589,12 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
 
     const int *nx, *ny;
     st->nv = gr_sk_plan_vectors(st->plan, &nx, &ny);
-    st->S = malloc(sizeof(double) * (size_t)st->nv);
-    st->bin_of = malloc(sizeof(int) * (size_t)st->nv);
-    st->shell_of = malloc(sizeof(int) * (size_t)st->nv);
+    st->S = gr_obs_calloc(st, (size_t)st->nv, sizeof(double));
+    st->bin_of = gr_obs_calloc(st, (size_t)st->nv, sizeof(int));
+    st->shell_of = gr_obs_calloc(st, (size_t)st->nv, sizeof(int));
     int *qmap = malloc(sizeof(int) * (size_t)(q_shell + 1));
     if (!st->S || !st->bin_of || !st->shell_of || !qmap) {
         free(qmap);
-        destroy(st);
         return GR_FAIL(err, GR_ENOMEM, "sk: out of memory");
     }
     for (long q = 0; q <= q_shell; q++) {
@@ -627,12 +611,11 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
     for (long q = 1; q <= q_shell; q++) {
         st->nshells += qmap[q] == 0;
     }
-    st->bins = calloc((size_t)st->nbins, sizeof(sk_bin));
-    st->shells = calloc((size_t)(st->nshells > 0 ? st->nshells : 1), sizeof(sk_bin));
-    st->shell_q = malloc(sizeof(long) * (size_t)(st->nshells > 0 ? st->nshells : 1));
+    st->bins = gr_obs_calloc(st, (size_t)st->nbins, sizeof(sk_bin));
+    st->shells = gr_obs_calloc(st, (size_t)(st->nshells > 0 ? st->nshells : 1), sizeof(sk_bin));
+    st->shell_q = gr_obs_calloc(st, (size_t)(st->nshells > 0 ? st->nshells : 1), sizeof(long));
     if (!st->bins || !st->shells || !st->shell_q) {
         free(qmap);
-        destroy(st);
         return GR_FAIL(err, GR_ENOMEM, "sk: out of memory");
     }
     for (long q = 1, i = 0; q <= q_shell; q++) {
@@ -654,13 +637,6 @@ static int create(const gr_scene *scene, void **state, gr_error *err)
         }
     }
     free(qmap);
-    for (int b = 0; b < st->nbins; b++) {
-        gr_blocking_init(&st->bins[b].acc);
-    }
-    for (int b = 0; b < st->nshells; b++) {
-        gr_blocking_init(&st->shells[b].acc);
-    }
-    *state = st;
     return GR_OK;
 }
 
@@ -954,46 +930,23 @@ static int finish(void *state, const gr_output *out, gr_error *err)
 
 /* Checkpoints: the pooled sums and the blocking accumulator of every bin and shell (the vector
  * tables and the NUFFT plan are re-created from the scene). */
-static void put_bins(gr_blob *out, const sk_bin *b, int n)
+static void io_bins(gr_obs_io *io, sk_bin *b, int n, const char *what)
 {
-    gr_blob_put_u64(out, (uint64_t)n);
+    gr_obs_io_check(io, what, n);
     for (int i = 0; i < n; i++) {
-        gr_blob_put_f64(out, b[i].pool);
-        gr_blob_put_f64(out, b[i].pool2);
-        gr_blob_put_blocking(out, &b[i].acc);
+        gr_obs_io_f64(io, &b[i].pool);
+        gr_obs_io_f64(io, &b[i].pool2);
+        gr_obs_io_blockings(io, &b[i].acc, 1);
     }
 }
 
-static void get_bins(gr_blob_reader *in, sk_bin *b, int n, const char *what)
-{
-    uint64_t m = gr_blob_get_u64(in);
-    if (!in->bad && m != (uint64_t)n) {
-        gr_blob_fail(in, "%llu %s in the checkpoint, %d for this scene", (unsigned long long)m, what, n);
-    }
-    for (int i = 0; i < n && !in->bad; i++) {
-        b[i].pool = gr_blob_get_f64(in);
-        b[i].pool2 = gr_blob_get_f64(in);
-        gr_blob_get_blocking(in, &b[i].acc);
-    }
-}
-
-static int save(const void *state, gr_blob *out, gr_error *err)
-{
-    (void)err;
-    const sk_state *st = state;
-    gr_blob_put_i64(out, st->frames);
-    put_bins(out, st->bins, st->nbins);
-    put_bins(out, st->shells, st->nshells);
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     (void)err;
     sk_state *st = state;
-    st->frames = gr_blob_get_i64(in);
-    get_bins(in, st->bins, st->nbins, "circular bins");
-    get_bins(in, st->shells, st->nshells, "shells");
+    gr_obs_io_i64(io, &st->frames);
+    io_bins(io, st->bins, st->nbins, "circular bins");
+    io_bins(io, st->shells, st->nshells, "shells");
     return GR_OK;
 }
 
@@ -1004,10 +957,10 @@ const gr_observable_type gr_obs_sk = {
     .dims = 2,
     .params = params,
     .n_params = sizeof params / sizeof params[0],
-    .create = create,
+    .params_size = sizeof(sk_params),
+    .state_size = sizeof(sk_state),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
+    .io = io,
 };

@@ -46,16 +46,71 @@ double gr_obs_stderr(const gr_blocking *b);
 cJSON *gr_obs_summary(const gr_output *out, const char *key, const char *file);
 /* GR_EINVAL unless the frame has the scene's n particles (observables keeping per-particle state). */
 int gr_obs_check_frame(const char *name, const gr_particles *p, int n, gr_error *err);
-struct gr_blob;
-struct gr_blob_reader;
-/* Checkpoints: n blocking accumulators in a row. */
-void gr_obs_put_blockings(struct gr_blob *out, const gr_blocking *b, int n);
-void gr_obs_get_blockings(struct gr_blob_reader *in, gr_blocking *b, int n);
+/* The note of an observable that takes contact events and saw none: "no <what>: none happened,
+ * or the frames came from snapshots (granule analyse has no contact events)". */
+void gr_obs_note_no_events(cJSON *j, const char *what);
 /* A number, or null when it is not finite (JSON has no nan). */
 void gr_obs_add_number(cJSON *o, const char *name, double v);
 /* A lag table (obs_lag.h) as CSV: tau (s), mean, block-averaging error, origins; and into `j`
  * "file", "interval" (s) and "samples". */
 int gr_obs_lag_csv(const gr_output *out, const struct gr_lag *lag, const char *name, const char *what,
                    const char *columns, cJSON *j, gr_error *err);
+
+
+/* ------------------------------------------------------------------------------------------
+ * The skeleton (src/analysis/observe.c): what an observable's init allocates through these is
+ * freed by gr_observable_free, in reverse order, so observables have no destroy of their own. */
+
+/* Zeroed memory for n elements of `size` bytes, owned by the state (NULL when out of memory;
+ * gr_obs_alloc_ok then reports it, so init may check once after all its allocations). */
+void *gr_obs_calloc(void *state, size_t n, size_t size);
+/* Hand `obj` to the state: release(obj) runs when the state is freed (at once if this fails). */
+bool gr_obs_own(void *state, void (*release)(void *obj), void *obj);
+/* GR_ENOMEM naming the observable if any allocation above failed, else GR_OK. */
+int gr_obs_alloc_ok(const void *state, gr_error *err);
+/* gr_histogram_init of a histogram inside the state, freed with it. A histogram filled later
+ * (gr_histogram_init or gr_blob_get_histogram_new from sample or io) is registered with
+ * gr_obs_own_histogram while still zeroed, at init. */
+int gr_obs_histogram(void *state, gr_histogram *h, int nbins, double lo, double hi, bool log_bins, gr_error *err);
+void gr_obs_own_histogram(void *state, gr_histogram *h);
+/* A pointer field of the state that sample may grow with realloc: freed with the state. */
+void gr_obs_own_pointer(void *state, void *pointer_field);
+
+/* ------------------------------------------------------------------------------------------
+ * Checkpoints: an observable's `io` lists its accumulators once; the same calls append them to
+ * the blob (saving) or read them back (loading). A failed read marks the reader bad (the whole
+ * load then fails with its message), and every later call does nothing. */
+struct gr_blob;
+struct gr_blob_reader;
+typedef struct gr_obs_io {
+    struct gr_blob *out;         /* saving */
+    struct gr_blob_reader *in;   /* loading */
+} gr_obs_io;
+
+static inline bool gr_obs_io_loading(const gr_obs_io *io) { return io->in != NULL; }
+/* Loading and a read already failed. */
+bool gr_obs_io_bad(const gr_obs_io *io);
+/* Loading: the bytes left to read (a bound for a stored count). */
+size_t gr_obs_io_left(const gr_obs_io *io);
+/* Mark a load failed (printf-style), e.g. inconsistent counters. */
+void gr_obs_io_fail(gr_obs_io *io, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void gr_obs_io_i64(gr_obs_io *io, int64_t *v);
+void gr_obs_io_f64(gr_obs_io *io, double *v);
+void gr_obs_io_u32(gr_obs_io *io, uint32_t *v);
+/* n doubles as a counted array (gr_blob_put_f64s); the count must agree on load. */
+void gr_obs_io_f64s(gr_obs_io *io, double *v, int64_t n);
+/* n raw bytes. */
+void gr_obs_io_bytes(gr_obs_io *io, void *v, size_t n);
+/* n blocking accumulators in a row. */
+void gr_obs_io_blockings(gr_obs_io *io, gr_blocking *b, int n);
+/* The counts of a histogram initialised alike (its binning comes from the scene). */
+void gr_obs_io_histogram(gr_obs_io *io, gr_histogram *h);
+/* A histogram whose binning is fixed from the first frames (pv, postcollision): saved with its
+ * binning, loaded into an uninitialised histogram re-created with the stored binning (false if
+ * that failed). */
+bool gr_obs_io_histogram_new(gr_obs_io *io, gr_histogram *h);
+/* A size fixed by the scene (a number of bins, lags, particles): stored, and on load it must
+ * equal `value` ("<what> = <stored> in the checkpoint, <value> in the scene"). */
+void gr_obs_io_check(gr_obs_io *io, const char *what, int64_t value);
 
 #endif

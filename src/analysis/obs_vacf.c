@@ -19,36 +19,23 @@
 
 #include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
-#include "analysis/blob_stats.h"
 #include "granule/scene.h"
+
+typedef struct vacf_params {
+    int vacf_lags;
+} vacf_params;
 
 static const gr_param params[] = {
     {"vacf_lags", "", GR_PARAM_INT, 50, 2, GR_LAG_MAX, false, false,
      "lags of the velocity autocorrelation, in sampling intervals (memory N x "
      "vacf_lags)",
-     offsetof(gr_analysis_params, vacf_lags)},
+     offsetof(vacf_params, vacf_lags)},
 };
 
-static void destroy(void *state)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
-    gr_lag *g = state;
-    gr_lag_free(g);
-    free(g);
-}
-
-static int create(const gr_scene *scene, void **state, gr_error *err)
-{
-    gr_lag *g = calloc(1, sizeof *g);
-    if (!g) {
-        return GR_FAIL(err, GR_ENOMEM, "vacf: out of memory");
-    }
-    int rc = gr_lag_init(g, scene->N, scene->dim, scene->analysis.vacf_lags, GR_LAG_DOT, err);
-    if (rc) {
-        free(g);
-        return rc;
-    }
-    *state = g;
-    return GR_OK;
+    const vacf_params *a = params_block;
+    return gr_lag_init_owned(state, state, scene->N, scene->dim, a->vacf_lags, GR_LAG_DOT, err);
 }
 
 static int sample(void *state, const gr_particles *p, double t, gr_error *err)
@@ -125,18 +112,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return GR_OK;
 }
 
-/* Checkpoints: the lag ring. */
-static int save(const void *state, gr_blob *out, gr_error *err)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     (void)err;
-    gr_lag_save(state, out);
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
-{
-    (void)err;
-    gr_lag_load(state, in);
+    gr_lag_io(io, state, "vacf_lags");
     return GR_OK;
 }
 
@@ -147,10 +126,10 @@ const gr_observable_type gr_obs_vacf = {
     .dims = 3,
     .params = params,
     .n_params = sizeof params / sizeof params[0],
-    .create = create,
+    .params_size = sizeof(vacf_params),
+    .state_size = sizeof(gr_lag),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
+    .io = io,
 };

@@ -16,19 +16,23 @@
 
 #include "analysis/obs_cells.h"
 #include "analysis/obs_util.h"
-#include "analysis/blob_stats.h"
 #include "granule/analysis.h"
 #include "granule/scene.h"
 
 #define VCORR_MAX_BINS 2000
 
+typedef struct vcorr_params {
+    int vcorr_bins;
+    double vcorr_rmax;
+} vcorr_params;
+
 static const gr_param params[] = {
     {"vcorr_bins", "", GR_PARAM_INT, 50, 2, VCORR_MAX_BINS, false, false,
-     "(2D) bins of the spatial velocity correlations C_L(r), C_T(r)", offsetof(gr_analysis_params, vcorr_bins)},
+     "(2D) bins of the spatial velocity correlations C_L(r), C_T(r)", offsetof(vcorr_params, vcorr_bins)},
     {"vcorr_rmax", "d", GR_PARAM_DOUBLE, 10, 0, 1e6, true, false,
      "(2D) largest distance of the velocity correlations, in diameters (at "
      "most L/2)",
-     offsetof(gr_analysis_params, vcorr_rmax)},
+     offsetof(vcorr_params, vcorr_rmax)},
 };
 
 typedef struct vcorr {
@@ -41,47 +45,24 @@ typedef struct vcorr {
     int64_t frames;
 } vcorr;
 
-static void destroy(void *state)
+static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
 {
+    (void)err;
+    const vcorr_params *a = params_block;
     vcorr *s = state;
-    free(s->ux_buf);
-    free(s->uy_buf);
-    free(s->sl);
-    free(s->st);
-    free(s->cnt);
-    free(s->bl);
-    free(s->bt);
-    gr_cells_free(&s->cells);
-    free(s);
-}
-
-static int create(const gr_scene *scene, void **state, gr_error *err)
-{
-    vcorr *s = calloc(1, sizeof *s);
-    if (!s) {
-        return GR_FAIL(err, GR_ENOMEM, "vcorr: out of memory");
-    }
-    s->bins = scene->analysis.vcorr_bins;
-    s->rmax = fmin(scene->analysis.vcorr_rmax * 2.0 * scene->radius, 0.5 * scene->L);
+    s->bins = a->vcorr_bins;
+    s->rmax = fmin(a->vcorr_rmax * 2.0 * scene->radius, 0.5 * scene->L);
     s->w = s->rmax / s->bins;
     s->d = 2.0 * scene->radius;
     size_t b = (size_t)s->bins, n = (size_t)scene->N;
-    s->ux_buf = malloc(n * sizeof(double));
-    s->uy_buf = malloc(n * sizeof(double));
-    s->sl = malloc(b * sizeof(double));
-    s->st = malloc(b * sizeof(double));
-    s->cnt = malloc(b * sizeof(double));
-    s->bl = malloc(b * sizeof(gr_blocking));
-    s->bt = malloc(b * sizeof(gr_blocking));
-    if (!s->ux_buf || !s->uy_buf || !s->sl || !s->st || !s->cnt || !s->bl || !s->bt) {
-        destroy(s);
-        return GR_FAIL(err, GR_ENOMEM, "vcorr: out of memory");
-    }
-    for (int k = 0; k < s->bins; k++) {
-        gr_blocking_init(&s->bl[k]);
-        gr_blocking_init(&s->bt[k]);
-    }
-    *state = s;
+    s->ux_buf = gr_obs_calloc(s, n, sizeof(double));
+    s->uy_buf = gr_obs_calloc(s, n, sizeof(double));
+    s->sl = gr_obs_calloc(s, b, sizeof(double));
+    s->st = gr_obs_calloc(s, b, sizeof(double));
+    s->cnt = gr_obs_calloc(s, b, sizeof(double));
+    s->bl = gr_obs_calloc(s, b, sizeof(gr_blocking));
+    s->bt = gr_obs_calloc(s, b, sizeof(gr_blocking));
+    gr_cells_own(s, &s->cells);
     return GR_OK;
 }
 
@@ -183,30 +164,14 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return gr_obs_table_write(out, &t, err);
 }
 
-/* Checkpoints: the frame count and the accumulators of every bin. */
-static int save(const void *state, gr_blob *out, gr_error *err)
-{
-    (void)err;
-    const vcorr *s = state;
-    gr_blob_put_u64(out, (uint64_t)s->bins);
-    gr_blob_put_i64(out, s->frames);
-    gr_obs_put_blockings(out, s->bl, s->bins);
-    gr_obs_put_blockings(out, s->bt, s->bins);
-    return GR_OK;
-}
-
-static int load(void *state, gr_blob_reader *in, gr_error *err)
+static int io(void *state, gr_obs_io *io, gr_error *err)
 {
     (void)err;
     vcorr *s = state;
-    uint64_t bins = gr_blob_get_u64(in);
-    if (!in->bad && bins != (uint64_t)s->bins) {
-        gr_blob_fail(in, "%llu bins in the checkpoint, vcorr_bins = %d in the scene", (unsigned long long)bins,
-                     s->bins);
-    }
-    s->frames = gr_blob_get_i64(in);
-    gr_obs_get_blockings(in, s->bl, s->bins);
-    gr_obs_get_blockings(in, s->bt, s->bins);
+    gr_obs_io_check(io, "vcorr_bins", s->bins);
+    gr_obs_io_i64(io, &s->frames);
+    gr_obs_io_blockings(io, s->bl, s->bins);
+    gr_obs_io_blockings(io, s->bt, s->bins);
     return GR_OK;
 }
 
@@ -217,10 +182,10 @@ const gr_observable_type gr_obs_vcorr = {
     .dims = 2,
     .params = params,
     .n_params = sizeof params / sizeof params[0],
-    .create = create,
+    .params_size = sizeof(vcorr_params),
+    .state_size = sizeof(vcorr),
+    .init = init,
     .sample = sample,
     .finish = finish,
-    .destroy = destroy,
-    .save = save,
-    .load = load,
+    .io = io,
 };

@@ -4,40 +4,20 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "analysis/obs_list.h"
+#include "analysis/obs_util.h"
 #include "granule/observe.h"
 #include "granule/scene.h"
 #include "analysis/blob_stats.h"
 
-extern const gr_observable_type gr_obs_moments;
-extern const gr_observable_type gr_obs_freepath;
-extern const gr_observable_type gr_obs_postcollision;
-extern const gr_observable_type gr_obs_gaps;
-extern const gr_observable_type gr_obs_sk;
-extern const gr_observable_type gr_obs_pair;
-extern const gr_observable_type gr_obs_pv;
-extern const gr_observable_type gr_obs_msd;
-extern const gr_observable_type gr_obs_vacf;
-extern const gr_observable_type gr_obs_vcorr;
-extern const gr_observable_type gr_obs_clusters;
-extern const gr_observable_type gr_obs_pressure;
-extern const gr_observable_type gr_obs_collisions;
+#define DECLARE(name) extern const gr_observable_type gr_obs_##name;
+#define ENTRY(name) &gr_obs_##name,
+GR_OBSERVABLE_LIST(DECLARE)
 
-const gr_observable_type *const gr_observables[] = {
-    &gr_obs_moments,
-    &gr_obs_freepath,
-    &gr_obs_postcollision,
-    &gr_obs_gaps,
-    &gr_obs_sk,
-    &gr_obs_pair,
-    &gr_obs_pv,
-    &gr_obs_msd,
-    &gr_obs_vacf,
-    &gr_obs_vcorr,
-    &gr_obs_clusters,
-    &gr_obs_pressure,
-    &gr_obs_collisions,
-    NULL,
-};
+const gr_observable_type *const gr_observables[] = {GR_OBSERVABLE_LIST(ENTRY) NULL};
+
+#define COUNT(name) +1
+_Static_assert(0 GR_OBSERVABLE_LIST(COUNT) <= GR_OBS_MAX, "more observables than GR_OBS_MAX parameter blocks");
 
 const gr_observable_type *gr_observable_find(const char *name)
 {
@@ -47,6 +27,205 @@ const gr_observable_type *gr_observable_find(const char *name)
         }
     }
     return NULL;
+}
+
+/* ------------------------------------------------------------------------------------------
+ * Parameter blocks */
+
+static int registry_index(const gr_observable_type *t)
+{
+    for (int i = 0; gr_observables[i] && i < GR_OBS_MAX; i++) {
+        if (gr_observables[i] == t) {
+            return i;
+        }
+    }
+    return -1;
+}
+
+void *gr_analysis_block(gr_analysis_params *a, const gr_observable_type *t)
+{
+    int i = registry_index(t);
+    return i < 0 ? NULL : a->block[i].bytes;
+}
+
+const void *gr_analysis_block_const(const gr_analysis_params *a, const gr_observable_type *t)
+{
+    int i = registry_index(t);
+    return i < 0 ? NULL : a->block[i].bytes;
+}
+
+void gr_analysis_defaults(gr_analysis_params *a)
+{
+    memset(a, 0, sizeof *a);
+    for (int o = 0; gr_observables[o] && o < GR_OBS_MAX; o++) {
+        for (int i = 0; i < gr_observables[o]->n_params; i++) {
+            const gr_param *p = &gr_observables[o]->params[i];
+            unsigned char *slot = a->block[o].bytes + p->offset;
+            if (p->type == GR_PARAM_BOOL) {
+                *(bool *)slot = p->def != 0.0;
+            } else if (p->type == GR_PARAM_INT) {
+                *(int *)slot = (int)p->def;
+            } else {
+                *(double *)slot = p->def;
+            }
+        }
+    }
+}
+
+/* The descriptor of [analysis] key `key` and its slot in `a`. */
+static const gr_param *find_param(const gr_analysis_params *a, const char *key, const unsigned char **slot)
+{
+    for (int o = 0; gr_observables[o] && o < GR_OBS_MAX; o++) {
+        for (int i = 0; i < gr_observables[o]->n_params; i++) {
+            const gr_param *p = &gr_observables[o]->params[i];
+            if (strcmp(p->name, key) == 0) {
+                *slot = a->block[o].bytes + p->offset;
+                return p;
+            }
+        }
+    }
+    return NULL;
+}
+
+int gr_analysis_get(const gr_analysis_params *a, const char *key, double *value, gr_error *err)
+{
+    const unsigned char *slot;
+    const gr_param *p = find_param(a, key, &slot);
+    if (!p) {
+        return GR_FAIL(err, GR_EINVAL, "[analysis] %s: no observable declares this key", key);
+    }
+    *value = p->type == GR_PARAM_BOOL ? (double)*(const bool *)slot
+             : p->type == GR_PARAM_INT ? (double)*(const int *)slot
+                                       : *(const double *)slot;
+    return GR_OK;
+}
+
+int gr_analysis_set(gr_analysis_params *a, const char *key, double value, gr_error *err)
+{
+    const unsigned char *slot;
+    const gr_param *p = find_param(a, key, &slot);
+    if (!p) {
+        return GR_FAIL(err, GR_EINVAL, "[analysis] %s: no observable declares this key", key);
+    }
+    unsigned char *w = (unsigned char *)a + (slot - (const unsigned char *)a);
+    if (p->type == GR_PARAM_BOOL) {
+        *(bool *)w = value != 0.0;
+    } else if (p->type == GR_PARAM_INT) {
+        *(int *)w = (int)value;
+    } else {
+        *(double *)w = value;
+    }
+    return GR_OK;
+}
+
+/* ------------------------------------------------------------------------------------------
+ * The skeleton: a head in front of every state records the type and what init asked to free. */
+
+typedef struct owned {
+    void (*release)(void *obj);
+    void *obj;
+} owned;
+
+typedef struct head {
+    const gr_observable_type *type;
+    owned *own;
+    int n_own, cap_own;
+    bool oom; /* an allocation through gr_obs_calloc or gr_obs_own failed */
+} head;
+
+/* The head's size rounded up so that the state after it is aligned for any type. */
+#define HEAD_BYTES ((sizeof(head) + sizeof(max_align_t) - 1) / sizeof(max_align_t) * sizeof(max_align_t))
+
+static head *head_of(const void *state) { return (head *)((char *)state - HEAD_BYTES); }
+
+bool gr_obs_own(void *state, void (*release)(void *obj), void *obj)
+{
+    head *h = head_of(state);
+    if (h->n_own == h->cap_own) {
+        int cap = h->cap_own ? 2 * h->cap_own : 8;
+        owned *grown = realloc(h->own, sizeof *grown * (size_t)cap);
+        if (!grown) {
+            release(obj);
+            h->oom = true;
+            return false;
+        }
+        h->own = grown;
+        h->cap_own = cap;
+    }
+    h->own[h->n_own++] = (owned){release, obj};
+    return true;
+}
+
+void *gr_obs_calloc(void *state, size_t n, size_t size)
+{
+    void *p = calloc(n ? n : 1, size);
+    if (!p) {
+        head_of(state)->oom = true;
+        return NULL;
+    }
+    return gr_obs_own(state, free, p) ? p : NULL;
+}
+
+int gr_obs_alloc_ok(const void *state, gr_error *err)
+{
+    const head *h = head_of(state);
+    return h->oom ? GR_FAIL(err, GR_ENOMEM, "%s: out of memory", h->type->name) : GR_OK;
+}
+
+int gr_observable_create(const gr_observable_type *t, const gr_scene *scene, void **state, gr_error *err)
+{
+    *state = NULL;
+    if (t->params_size > GR_OBS_PARAMS_BYTES) {
+        return GR_FAIL(err, GR_EINVAL, "%s: a parameter struct of %zu bytes (at most GR_OBS_PARAMS_BYTES = %d)",
+                       t->name, t->params_size, GR_OBS_PARAMS_BYTES);
+    }
+    head *h = calloc(1, HEAD_BYTES + t->state_size);
+    if (!h) {
+        return GR_FAIL(err, GR_ENOMEM, "%s: out of memory", t->name);
+    }
+    h->type = t;
+    void *s = (char *)h + HEAD_BYTES;
+    int rc = t->init(s, scene, gr_analysis_block_const(&scene->analysis, t), err);
+    rc = rc ? rc : gr_obs_alloc_ok(s, err);
+    if (rc) {
+        gr_observable_free(s);
+        return rc;
+    }
+    *state = s;
+    return GR_OK;
+}
+
+void gr_observable_free(void *state)
+{
+    if (!state) {
+        return;
+    }
+    head *h = head_of(state);
+    for (int i = h->n_own - 1; i >= 0; i--) {
+        h->own[i].release(h->own[i].obj);
+    }
+    free(h->own);
+    free(h);
+}
+
+int gr_observable_save(const gr_observable_type *t, void *state, gr_blob *out, gr_error *err)
+{
+    if (!t->io) {
+        return GR_FAIL(err, GR_EINVAL, "[analysis] observables: %s cannot be checkpointed yet", t->name);
+    }
+    gr_obs_io io = {.out = out};
+    int rc = t->io(state, &io, err);
+    return rc ? rc : gr_blob_ok(out, err);
+}
+
+int gr_observable_load(const gr_observable_type *t, void *state, gr_blob_reader *in, gr_error *err)
+{
+    if (!t->io) {
+        return GR_FAIL(err, GR_EINVAL, "[analysis] observables: %s cannot be restored from a checkpoint", t->name);
+    }
+    gr_obs_io io = {.in = in};
+    int rc = t->io(state, &io, err);
+    return rc ? rc : gr_obs_alloc_ok(state, err);
 }
 
 #define MAX_OBSERVERS 16
@@ -84,7 +263,7 @@ int gr_observer_create(const gr_scene *scene, gr_observer **out, gr_error *err)
         if (dup || o->n == MAX_OBSERVERS) {
             continue;
         }
-        int rc = t->create(scene, &o->state[o->n], err);
+        int rc = gr_observable_create(t, scene, &o->state[o->n], err);
         if (rc) {
             gr_observer_free(o);
             return rc;
@@ -180,12 +359,8 @@ int gr_observer_save(const gr_observer *o, gr_blob *out, gr_error *err)
 {
     gr_blob_put_u64(out, (uint64_t)gr_observer_count(o));
     for (int i = 0; o && i < o->n; i++) {
-        if (!o->type[i]->save) {
-            return GR_FAIL(err, GR_EINVAL, "[analysis] observables: %s cannot be checkpointed yet", o->type[i]->name);
-        }
         gr_blob one = {0};
-        int rc = o->type[i]->save(o->state[i], &one, err);
-        rc = rc ? rc : gr_blob_ok(&one, err);
+        int rc = gr_observable_save(o->type[i], o->state[i], &one, err);
         if (!rc) {
             gr_blob_put_str(out, o->type[i]->name);
             gr_blob_put_u64(out, one.len);
@@ -222,14 +397,11 @@ int gr_observer_load(gr_observer *o, const void *data, size_t len, gr_error *err
         if (r.bad) {
             break;
         }
-        if (!o->type[i]->load) {
-            return GR_FAIL(err, GR_EINVAL, "[analysis] observables: %s cannot be restored from a checkpoint", name);
-        }
         gr_blob_reader sub;
         char what[96];
         snprintf(what, sizeof what, "OBS/%s", name);
         gr_blob_reader_init(&sub, one, (size_t)one_len, what);
-        int rc = o->type[i]->load(o->state[i], &sub, err);
+        int rc = gr_observable_load(o->type[i], o->state[i], &sub, err);
         if (rc) {
             return rc;
         }
@@ -247,7 +419,7 @@ void gr_observer_free(gr_observer *o)
         return;
     }
     for (int i = 0; i < o->n; i++) {
-        o->type[i]->destroy(o->state[i]);
+        gr_observable_free(o->state[i]);
     }
     free(o);
 }

@@ -366,6 +366,9 @@ int cmd_observables(int argc, char **argv)
     for (int i = 0; gr_observables[i]; i++) {
         const gr_observable_type *t = gr_observables[i];
         printf("%s  [%s]\n  %s\n", t->name, t->dims == 3 ? "1D, 2D" : t->dims == 1 ? "1D" : "2D", t->summary);
+        if (t->events) {
+            printf("  takes contact events: computed in a run only (granule analyse has none)\n");
+        }
         for (int k = 0; k < t->n_params; k++) {
             printf("    %-14s default %-8g %s\n", t->params[k].name, t->params[k].def, t->params[k].doc);
         }

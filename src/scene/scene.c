@@ -510,8 +510,9 @@ static int apply(loader *ld, const char *section, const char *name, const char *
                 const gr_param *p = &gr_observables[o]->params[q];
                 if (strcmp(p->name, name) == 0) {
                     key_type t = p->type == GR_PARAM_BOOL ? K_BOOL : p->type == GR_PARAM_INT ? K_INT : K_DOUBLE;
-                    return set_number((char *)&s->analysis + p->offset, t, p->min, p->max, p->min_open,
-                                      p->max_open, value, w, section, name, err);
+                    char *block = gr_analysis_block(&s->analysis, gr_observables[o]);
+                    return set_number(block + p->offset, t, p->min, p->max, p->min_open, p->max_open, value, w,
+                                      section, name, err);
                 }
             }
         }
@@ -634,19 +635,7 @@ static void apply_defaults(loader *ld)
     }
     gr_contact_defaults(&ld->scene->contact);
     gr_driving_defaults(&ld->scene->driving_params);
-    for (int o = 0; gr_observables[o]; o++) {
-        for (int i = 0; i < gr_observables[o]->n_params; i++) {
-            const gr_param *p = &gr_observables[o]->params[i];
-            char *slot = (char *)&ld->scene->analysis + p->offset;
-            if (p->type == GR_PARAM_BOOL) {
-                *(bool *)slot = p->def != 0.0;
-            } else if (p->type == GR_PARAM_INT) {
-                *(int *)slot = (int)p->def;
-            } else {
-                *(double *)slot = p->def;
-            }
-        }
-    }
+    gr_analysis_defaults(&ld->scene->analysis);
     ld->defaults = false;
 }
 
@@ -1296,7 +1285,8 @@ void gr_scene_write(const gr_scene *s, FILE *f)
         }
         if (strcmp(k->name, "observables") == 0) {
             for (int o = 0; gr_observables[o]; o++) {
-                save_params(f, gr_observables[o]->params, gr_observables[o]->n_params, &s->analysis);
+                save_params(f, gr_observables[o]->params, gr_observables[o]->n_params,
+                            gr_analysis_block_const(&s->analysis, gr_observables[o]));
             }
         }
         if (k->type == K_DRIVING) {
