@@ -20,8 +20,7 @@
 #include "granule/status.h"
 
 typedef struct gr_sim gr_sim;
-struct gr_blob;        /* src/core/blob.h: the byte buffer a checkpoint is made of */
-struct gr_blob_reader;
+struct gr_blob_io; /* src/core/blob.h: saving and loading the state a checkpoint is made of */
 
 /* One number an integrator reports about a run (summary.json). */
 typedef struct gr_integrator_figure {
@@ -61,9 +60,9 @@ typedef struct gr_integrator_type {
     /* The steps the next call should take, given n = min(wanted, todo) and the steps todo before
      * the caller must stop (gr_sim_call_steps). */
     int64_t (*call_steps)(const gr_sim *s, int64_t n, int64_t todo);
-    /* Append / read back the integrator's own state after the core's (checkpoints). */
-    int (*save)(const gr_sim *s, struct gr_blob *b, gr_error *err);
-    int (*load)(gr_sim *s, struct gr_blob_reader *r, gr_error *err);
+    /* The integrator's own state after the core's (checkpoints), listed once: with io->out set
+     * it appends, with io->in set it reads back in the same order (src/core/blob.h, gr_blob_io). */
+    int (*state_io)(gr_sim *s, struct gr_blob_io *io, gr_error *err);
     /* Poll *stop during a long step and return early (step counter unchanged) when it is set. */
     void (*set_stop)(gr_sim *s, volatile sig_atomic_t *stop);
     /* Events processed since creation (event-driven integrators). */

@@ -41,7 +41,7 @@ typedef struct gr_output {
     bool plots;                 /* draw PNG plots */
 } gr_output;
 
-struct gr_obs_io;
+struct gr_blob_io;
 
 /* An observable type: one file under src/analysis/ plus one line in the registry (observe.c);
  * docs/architecture.md, "How to add an observable". The shared skeleton (gr_observable_create,
@@ -71,7 +71,7 @@ typedef struct gr_observable_type {
      * (src/analysis/obs_util.h); the same list saves them and restores them into a state just
      * created from the same scene, so that sampling continues bit for bit. NULL: the observable
      * cannot be checkpointed (a run using it refuses to). */
-    int (*io)(void *state, struct gr_obs_io *io, gr_error *err);
+    int (*io)(void *state, struct gr_blob_io *io, gr_error *err);
 } gr_observable_type;
 
 /* The skeleton every observable shares: a state for `scene` (NULL on failure), freed with

@@ -178,13 +178,13 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return gr_obs_table_write(out, &t, err);
 }
 
-static int io(void *state, gr_obs_io *io, gr_error *err)
+static int io(void *state, gr_blob_io *io, gr_error *err)
 {
     (void)err;
     clusters *c = state;
-    gr_obs_io_i64(io, &c->frames);
+    gr_blob_io_i64(io, &c->frames);
     for (int k = 0; k < KINDS; k++) {
-        gr_obs_io_f64s(io, c->hist[k], (int64_t)c->n + 1);
+        gr_blob_io_f64s(io, c->hist[k], (int64_t)c->n + 1);
         gr_obs_io_blockings(io, &c->mean_size[k], 1);
         gr_obs_io_blockings(io, &c->largest[k], 1);
         gr_obs_io_blockings(io, &c->count[k], 1);

@@ -144,19 +144,19 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return gr_obs_table_write(out, &t, err);
 }
 
-static int io(void *state, gr_obs_io *io, gr_error *err)
+static int io(void *state, gr_blob_io *io, gr_error *err)
 {
     (void)err;
     collisions *c = state;
-    gr_obs_io_f64s(io, c->last, c->n);
-    gr_obs_io_f64(io, &c->t_first);
-    gr_obs_io_f64(io, &c->t_prev);
-    gr_obs_io_f64(io, &c->t_prev2);
-    gr_obs_io_i64(io, &c->frames);
-    gr_obs_io_i64(io, &c->since);
-    gr_obs_io_i64(io, &c->total);
-    gr_obs_io_f64(io, &c->tau_sum);
-    gr_obs_io_i64(io, &c->tau_n);
+    gr_blob_io_f64s(io, c->last, c->n);
+    gr_blob_io_f64(io, &c->t_first);
+    gr_blob_io_f64(io, &c->t_prev);
+    gr_blob_io_f64(io, &c->t_prev2);
+    gr_blob_io_i64(io, &c->frames);
+    gr_blob_io_i64(io, &c->since);
+    gr_blob_io_i64(io, &c->total);
+    gr_blob_io_f64(io, &c->tau_sum);
+    gr_blob_io_i64(io, &c->tau_n);
     gr_obs_io_histogram(io, &c->h);
     gr_obs_io_blockings(io, &c->rate, 1);
     return GR_OK;

@@ -177,18 +177,18 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return rc;
 }
 
-static int io(void *state, gr_obs_io *io, gr_error *err)
+static int io(void *state, gr_blob_io *io, gr_error *err)
 {
     (void)err;
     freepath *f = state;
-    gr_obs_io_f64s(io, f->x0, f->n);
-    gr_obs_io_f64s(io, f->y0, f->n);
-    gr_obs_io_check(io, "N", f->n);
-    gr_obs_io_bytes(io, f->free_since, (size_t)f->n);
+    gr_blob_io_f64s(io, f->x0, f->n);
+    gr_blob_io_f64s(io, f->y0, f->n);
+    gr_blob_io_check(io, "N", f->n);
+    gr_blob_io_bytes(io, f->free_since, (size_t)f->n);
     gr_obs_io_histogram(io, &f->h);
-    gr_obs_io_f64(io, &f->sum);
-    gr_obs_io_f64(io, &f->long_paths);
-    gr_obs_io_i64(io, &f->paths);
+    gr_blob_io_f64(io, &f->sum);
+    gr_blob_io_f64(io, &f->long_paths);
+    gr_blob_io_i64(io, &f->paths);
     return GR_OK;
 }
 

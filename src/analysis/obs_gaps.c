@@ -477,12 +477,12 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return GR_OK;
 }
 
-static int io(void *state, gr_obs_io *io, gr_error *err)
+static int io(void *state, gr_blob_io *io, gr_error *err)
 {
     (void)err;
     gaps *g = state;
-    gr_obs_io_check(io, "gaps_h_max", g->h_max);
-    gr_obs_io_i64(io, &g->frames);
+    gr_blob_io_check(io, "gaps_h_max", g->h_max);
+    gr_blob_io_i64(io, &g->frames);
     for (int h = 0; h < g->h_max; h++) {
         gr_obs_io_histogram(io, &g->lin[h]);
         if (g->log_bins) {
@@ -491,9 +491,9 @@ static int io(void *state, gr_obs_io *io, gr_error *err)
         gr_obs_io_blockings(io, g->mom[h], M_MAX + 1);
     }
     gr_obs_io_blockings(io, &g->signed_mean, 1);
-    gr_obs_io_f64(io, &g->overlaps);
-    gr_obs_io_f64(io, &g->r1_min);
-    gr_obs_io_f64(io, &g->r1_max);
+    gr_blob_io_f64(io, &g->overlaps);
+    gr_blob_io_f64(io, &g->r1_min);
+    gr_blob_io_f64(io, &g->r1_max);
     return GR_OK;
 }
 

@@ -111,12 +111,12 @@ int gr_lag_init_owned(void *state, gr_lag *g, int n, int dim, int lags, gr_lag_k
     return rc;
 }
 
-void gr_lag_io(gr_obs_io *io, gr_lag *g, const char *what)
+void gr_lag_io(gr_blob_io *io, gr_lag *g, const char *what)
 {
-    gr_obs_io_check(io, what, g->lags);
-    gr_obs_io_i64(io, &g->frames);
-    gr_obs_io_f64(io, &g->t_first);
-    gr_obs_io_f64(io, &g->t_last);
-    gr_obs_io_f64s(io, g->ring, 2 * (int64_t)g->n * (g->lags + 1));
+    gr_blob_io_check(io, what, g->lags);
+    gr_blob_io_i64(io, &g->frames);
+    gr_blob_io_f64(io, &g->t_first);
+    gr_blob_io_f64(io, &g->t_last);
+    gr_blob_io_f64s(io, g->ring, 2 * (int64_t)g->n * (g->lags + 1));
     gr_obs_io_blockings(io, g->acc, g->lags + 1);
 }

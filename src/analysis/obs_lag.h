@@ -41,9 +41,9 @@ int gr_lag_fit_line(const gr_lag *g, int lo, int hi, gr_fit *fit, gr_error *err)
 /* gr_lag_init for a gr_lag inside an observable's state, freed with the state (gr_obs_own). */
 int gr_lag_init_owned(void *state, gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error *err);
 
-struct gr_obs_io;
-/* Checkpoints: the ring, the times and the accumulators (obs_util.h, gr_obs_io); `what` names the
+struct gr_blob_io;
+/* Checkpoints: the ring, the times and the accumulators (obs_util.h, gr_blob_io); `what` names the
  * scene key fixing the number of lags, for the message when a checkpoint disagrees. */
-void gr_lag_io(struct gr_obs_io *io, gr_lag *g, const char *what);
+void gr_lag_io(struct gr_blob_io *io, gr_lag *g, const char *what);
 
 #endif

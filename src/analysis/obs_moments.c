@@ -102,11 +102,11 @@ static int finish(void *state, const gr_output *out, gr_error *err)
 }
 
 /* Checkpoints: the blocking accumulators of every moment. */
-static int io(void *state, gr_obs_io *io, gr_error *err)
+static int io(void *state, gr_blob_io *io, gr_error *err)
 {
     (void)err;
     moments *m = state;
-    gr_obs_io_check(io, "moments_max", m->m_max);
+    gr_blob_io_check(io, "moments_max", m->m_max);
     for (int k = 0; k <= MAX_M; k++) {
         gr_obs_io_blockings(io, &m->speed[k], 1);
         gr_obs_io_blockings(io, &m->comp[k], 1);

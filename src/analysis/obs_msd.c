@@ -139,15 +139,15 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return GR_OK;
 }
 
-static int io(void *state, gr_obs_io *io, gr_error *err)
+static int io(void *state, gr_blob_io *io, gr_error *err)
 {
     (void)err;
     msd *m = state;
-    gr_obs_io_f64s(io, m->ux, m->n);
-    gr_obs_io_f64s(io, m->uy, m->n);
-    gr_obs_io_f64s(io, m->px, m->n);
-    gr_obs_io_f64s(io, m->py, m->n);
-    gr_obs_io_i64(io, &m->jumps);
+    gr_blob_io_f64s(io, m->ux, m->n);
+    gr_blob_io_f64s(io, m->uy, m->n);
+    gr_blob_io_f64s(io, m->px, m->n);
+    gr_blob_io_f64s(io, m->py, m->n);
+    gr_blob_io_i64(io, &m->jumps);
     gr_lag_io(io, &m->lag, "msd_lags");
     return GR_OK;
 }

@@ -704,27 +704,27 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return rc;
 }
 
-static int io(void *state, gr_obs_io *io, gr_error *err)
+static int io(void *state, gr_blob_io *io, gr_error *err)
 {
     (void)err;
     pair *s = state;
     const size_t nb = (size_t)s->nbins;
-    gr_obs_io_check(io, "gr_bins", s->nbins);
+    gr_blob_io_check(io, "gr_bins", s->nbins);
     for (size_t b = 0; b < nb; b++) {
         gr_obs_io_blockings(io, &s->g_blk[b], 1);
         gr_obs_io_blockings(io, &s->c_blk[b], 1);
     }
     gr_obs_io_blockings(io, &s->tail_blk, 1);
-    gr_obs_io_f64s(io, s->total, (int64_t)nb);
-    gr_obs_io_i64(io, &s->frames);
-    gr_obs_io_f64s(io, s->batch, (int64_t)(nb * N_BATCH));
-    gr_obs_io_i64(io, &s->batch_len);
-    gr_obs_io_i64(io, &s->batch_fill);
+    gr_blob_io_f64s(io, s->total, (int64_t)nb);
+    gr_blob_io_i64(io, &s->frames);
+    gr_blob_io_f64s(io, s->batch, (int64_t)(nb * N_BATCH));
+    gr_blob_io_i64(io, &s->batch_len);
+    gr_blob_io_i64(io, &s->batch_fill);
     int64_t n_full = s->n_full;
-    gr_obs_io_i64(io, &n_full);
-    if (gr_obs_io_loading(io) && (n_full < 0 || n_full > N_BATCH || s->batch_len < 1 || s->batch_fill < 0 ||
+    gr_blob_io_i64(io, &n_full);
+    if (gr_blob_io_loading(io) && (n_full < 0 || n_full > N_BATCH || s->batch_len < 1 || s->batch_fill < 0 ||
                                   s->batch_fill >= s->batch_len || (n_full == N_BATCH && s->batch_fill != 0))) {
-        gr_obs_io_fail(io, "batch counters (%lld full, %lld of %lld) are inconsistent", (long long)n_full,
+        gr_blob_io_fail(io, "batch counters (%lld full, %lld of %lld) are inconsistent", (long long)n_full,
                        (long long)s->batch_fill, (long long)s->batch_len);
     }
     s->n_full = (int)n_full;

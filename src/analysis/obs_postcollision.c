@@ -139,23 +139,23 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return gr_obs_table_write(out, &t, err);
 }
 
-static int io(void *state, gr_obs_io *io, gr_error *err)
+static int io(void *state, gr_blob_io *io, gr_error *err)
 {
     (void)err;
     postcollision *p = state;
     uint32_t ready = p->ready;
-    gr_obs_io_u32(io, &ready);
+    gr_blob_io_u32(io, &ready);
     if (ready) {
         bool ok = gr_obs_io_histogram_new(io, &p->post) && gr_obs_io_histogram_new(io, &p->all);
         p->ready = ok;
         if (ok && (p->post.nbins != p->bins || p->all.nbins != p->bins)) {
-            gr_obs_io_fail(io, "%d bins in the checkpoint, pv_bins = %d in the scene", p->post.nbins, p->bins);
+            gr_blob_io_fail(io, "%d bins in the checkpoint, pv_bins = %d in the scene", p->post.nbins, p->bins);
         }
     }
-    gr_obs_io_f64(io, &p->post_v2);
-    gr_obs_io_f64(io, &p->all_v2);
-    gr_obs_io_i64(io, &p->post_n);
-    gr_obs_io_i64(io, &p->all_n);
+    gr_blob_io_f64(io, &p->post_v2);
+    gr_blob_io_f64(io, &p->all_v2);
+    gr_blob_io_i64(io, &p->post_n);
+    gr_blob_io_i64(io, &p->all_n);
     return GR_OK;
 }
 

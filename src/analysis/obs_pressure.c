@@ -189,12 +189,12 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return gr_obs_table_write(out, &t, err);
 }
 
-static int io(void *state, gr_obs_io *io, gr_error *err)
+static int io(void *state, gr_blob_io *io, gr_error *err)
 {
     (void)err;
     pressure *s = state;
-    gr_obs_io_i64(io, &s->frames);
-    gr_obs_io_i64(io, &s->contacts);
+    gr_blob_io_i64(io, &s->frames);
+    gr_blob_io_i64(io, &s->contacts);
     gr_obs_io_blockings(io, s->b, N_SERIES);
     return GR_OK;
 }

@@ -945,50 +945,50 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return rc;
 }
 
-static int io(void *state, gr_obs_io *io, gr_error *err)
+static int io(void *state, gr_blob_io *io, gr_error *err)
 {
     pv *s = state;
     uint32_t fixed = s->fixed;
     int64_t ref_frames = s->ref_frames;
-    gr_obs_io_u32(io, &fixed);
-    gr_obs_io_i64(io, &ref_frames);
-    if (gr_obs_io_loading(io) && (ref_frames < 0 || ref_frames > REF_FRAMES)) {
-        gr_obs_io_fail(io, "%lld reference frames (at most %d)", (long long)ref_frames, REF_FRAMES);
+    gr_blob_io_u32(io, &fixed);
+    gr_blob_io_i64(io, &ref_frames);
+    if (gr_blob_io_loading(io) && (ref_frames < 0 || ref_frames > REF_FRAMES)) {
+        gr_blob_io_fail(io, "%lld reference frames (at most %d)", (long long)ref_frames, REF_FRAMES);
     }
     s->ref_frames = (int)ref_frames;
-    gr_obs_io_f64(io, &s->ref_T_sum);
-    gr_obs_io_f64(io, &s->T_ref);
-    if (gr_obs_io_bad(io)) {
+    gr_blob_io_f64(io, &s->ref_T_sum);
+    gr_blob_io_f64(io, &s->T_ref);
+    if (gr_blob_io_bad(io)) {
         return GR_OK;
     }
     if (fixed) {
         bool ok = gr_obs_io_histogram_new(io, &s->comp) && gr_obs_io_histogram_new(io, &s->speed);
         s->fixed = ok;
         if (ok && (s->comp.nbins != s->bins || s->speed.nbins != s->bins)) {
-            gr_obs_io_fail(io, "%d bins in the checkpoint, pv_bins = %d in the scene", s->comp.nbins, s->bins);
+            gr_blob_io_fail(io, "%d bins in the checkpoint, pv_bins = %d in the scene", s->comp.nbins, s->bins);
         }
     } else {
         int64_t nbuf = (int64_t)s->nbuf;
-        gr_obs_io_i64(io, &nbuf);
-        if (gr_obs_io_loading(io) && (nbuf < 0 || (uint64_t)nbuf > REF_MAX_VALUES ||
-                                      (uint64_t)nbuf > gr_obs_io_left(io) / sizeof(double))) {
-            gr_obs_io_fail(io, "%lld buffered reference values do not fit", (long long)nbuf);
+        gr_blob_io_i64(io, &nbuf);
+        if (gr_blob_io_loading(io) && (nbuf < 0 || (uint64_t)nbuf > REF_MAX_VALUES ||
+                                      (uint64_t)nbuf > gr_blob_io_left(io) / sizeof(double))) {
+            gr_blob_io_fail(io, "%lld buffered reference values do not fit", (long long)nbuf);
         }
-        if (gr_obs_io_bad(io)) {
+        if (gr_blob_io_bad(io)) {
             return GR_OK;
         }
-        if (gr_obs_io_loading(io)) {
+        if (gr_blob_io_loading(io)) {
             s->buf = malloc(sizeof(double) * (size_t)(nbuf > 0 ? nbuf : 1));
             if (!s->buf) {
                 return GR_FAIL(err, GR_ENOMEM, "pv: out of memory for the reference frames");
             }
             s->nbuf = s->capbuf = (size_t)nbuf;
         }
-        gr_obs_io_bytes(io, s->buf, sizeof(double) * (size_t)nbuf);
+        gr_blob_io_bytes(io, s->buf, sizeof(double) * (size_t)nbuf);
     }
-    gr_obs_io_i64(io, &s->frames);
-    gr_obs_io_i64(io, &s->particles);
-    gr_obs_io_f64(io, &s->sum_u2);
+    gr_blob_io_i64(io, &s->frames);
+    gr_blob_io_i64(io, &s->particles);
+    gr_blob_io_f64(io, &s->sum_u2);
     return GR_OK;
 }
 

@@ -930,21 +930,21 @@ static int finish(void *state, const gr_output *out, gr_error *err)
 
 /* Checkpoints: the pooled sums and the blocking accumulator of every bin and shell (the vector
  * tables and the NUFFT plan are re-created from the scene). */
-static void io_bins(gr_obs_io *io, sk_bin *b, int n, const char *what)
+static void io_bins(gr_blob_io *io, sk_bin *b, int n, const char *what)
 {
-    gr_obs_io_check(io, what, n);
+    gr_blob_io_check(io, what, n);
     for (int i = 0; i < n; i++) {
-        gr_obs_io_f64(io, &b[i].pool);
-        gr_obs_io_f64(io, &b[i].pool2);
+        gr_blob_io_f64(io, &b[i].pool);
+        gr_blob_io_f64(io, &b[i].pool2);
         gr_obs_io_blockings(io, &b[i].acc, 1);
     }
 }
 
-static int io(void *state, gr_obs_io *io, gr_error *err)
+static int io(void *state, gr_blob_io *io, gr_error *err)
 {
     (void)err;
     sk_state *st = state;
-    gr_obs_io_i64(io, &st->frames);
+    gr_blob_io_i64(io, &st->frames);
     io_bins(io, st->bins, st->nbins, "circular bins");
     io_bins(io, st->shells, st->nshells, "shells");
     return GR_OK;

@@ -152,71 +152,9 @@ static void release_pointer(void *field)
 
 void gr_obs_own_pointer(void *state, void *pointer_field) { gr_obs_own(state, release_pointer, pointer_field); }
 
-bool gr_obs_io_bad(const gr_obs_io *io) { return io->in && io->in->bad; }
-
-size_t gr_obs_io_left(const gr_obs_io *io) { return io->in ? io->in->len - io->in->pos : 0; }
-
-void gr_obs_io_fail(gr_obs_io *io, const char *fmt, ...)
+void gr_obs_io_blockings(gr_blob_io *io, gr_blocking *b, int n)
 {
-    if (!io->in || io->in->bad) {
-        return;
-    }
-    char msg[200];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
-    va_end(ap);
-    gr_blob_fail(io->in, "%s", msg);
-}
-
-void gr_obs_io_i64(gr_obs_io *io, int64_t *v)
-{
-    if (!io->in) {
-        gr_blob_put_i64(io->out, *v);
-    } else if (!io->in->bad) {
-        *v = gr_blob_get_i64(io->in);
-    }
-}
-
-void gr_obs_io_f64(gr_obs_io *io, double *v)
-{
-    if (!io->in) {
-        gr_blob_put_f64(io->out, *v);
-    } else if (!io->in->bad) {
-        *v = gr_blob_get_f64(io->in);
-    }
-}
-
-void gr_obs_io_u32(gr_obs_io *io, uint32_t *v)
-{
-    if (!io->in) {
-        gr_blob_put_u32(io->out, *v);
-    } else if (!io->in->bad) {
-        *v = gr_blob_get_u32(io->in);
-    }
-}
-
-void gr_obs_io_f64s(gr_obs_io *io, double *v, int64_t n)
-{
-    if (!io->in) {
-        gr_blob_put_f64s(io->out, v, n);
-    } else if (!io->in->bad) {
-        gr_blob_get_f64s(io->in, v, n);
-    }
-}
-
-void gr_obs_io_bytes(gr_obs_io *io, void *v, size_t n)
-{
-    if (!io->in) {
-        gr_blob_put(io->out, v, n);
-    } else if (!io->in->bad) {
-        gr_blob_get(io->in, v, n);
-    }
-}
-
-void gr_obs_io_blockings(gr_obs_io *io, gr_blocking *b, int n)
-{
-    for (int i = 0; i < n && !gr_obs_io_bad(io); i++) {
+    for (int i = 0; i < n && !gr_blob_io_bad(io); i++) {
         if (!io->in) {
             gr_blob_put_blocking(io->out, &b[i]);
         } else {
@@ -225,7 +163,7 @@ void gr_obs_io_blockings(gr_obs_io *io, gr_blocking *b, int n)
     }
 }
 
-void gr_obs_io_histogram(gr_obs_io *io, gr_histogram *h)
+void gr_obs_io_histogram(gr_blob_io *io, gr_histogram *h)
 {
     if (!io->in) {
         gr_blob_put_histogram(io->out, h);
@@ -234,24 +172,11 @@ void gr_obs_io_histogram(gr_obs_io *io, gr_histogram *h)
     }
 }
 
-bool gr_obs_io_histogram_new(gr_obs_io *io, gr_histogram *h)
+bool gr_obs_io_histogram_new(gr_blob_io *io, gr_histogram *h)
 {
     if (!io->in) {
         gr_blob_put_histogram(io->out, h);
         return true;
     }
     return !io->in->bad && gr_blob_get_histogram_new(io->in, h, false);
-}
-
-void gr_obs_io_check(gr_obs_io *io, const char *what, int64_t value)
-{
-    if (!io->in) {
-        gr_blob_put_u64(io->out, (uint64_t)value);
-    } else if (!io->in->bad) {
-        uint64_t stored = gr_blob_get_u64(io->in);
-        if (!io->in->bad && stored != (uint64_t)value) {
-            gr_blob_fail(io->in, "%s = %llu in the checkpoint, %lld in the scene", what, (unsigned long long)stored,
-                         (long long)value);
-        }
-    }
 }

@@ -80,37 +80,18 @@ void gr_obs_own_pointer(void *state, void *pointer_field);
  * Checkpoints: an observable's `io` lists its accumulators once; the same calls append them to
  * the blob (saving) or read them back (loading). A failed read marks the reader bad (the whole
  * load then fails with its message), and every later call does nothing. */
-struct gr_blob;
-struct gr_blob_reader;
-typedef struct gr_obs_io {
-    struct gr_blob *out;         /* saving */
-    struct gr_blob_reader *in;   /* loading */
-} gr_obs_io;
+#include "core/blob.h" /* gr_blob_io: the primitives */
 
-static inline bool gr_obs_io_loading(const gr_obs_io *io) { return io->in != NULL; }
-/* Loading and a read already failed. */
-bool gr_obs_io_bad(const gr_obs_io *io);
-/* Loading: the bytes left to read (a bound for a stored count). */
-size_t gr_obs_io_left(const gr_obs_io *io);
-/* Mark a load failed (printf-style), e.g. inconsistent counters. */
-void gr_obs_io_fail(gr_obs_io *io, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-void gr_obs_io_i64(gr_obs_io *io, int64_t *v);
-void gr_obs_io_f64(gr_obs_io *io, double *v);
-void gr_obs_io_u32(gr_obs_io *io, uint32_t *v);
-/* n doubles as a counted array (gr_blob_put_f64s); the count must agree on load. */
-void gr_obs_io_f64s(gr_obs_io *io, double *v, int64_t n);
-/* n raw bytes. */
-void gr_obs_io_bytes(gr_obs_io *io, void *v, size_t n);
 /* n blocking accumulators in a row. */
-void gr_obs_io_blockings(gr_obs_io *io, gr_blocking *b, int n);
+void gr_obs_io_blockings(gr_blob_io *io, gr_blocking *b, int n);
 /* The counts of a histogram initialised alike (its binning comes from the scene). */
-void gr_obs_io_histogram(gr_obs_io *io, gr_histogram *h);
+void gr_obs_io_histogram(gr_blob_io *io, gr_histogram *h);
 /* A histogram whose binning is fixed from the first frames (pv, postcollision): saved with its
  * binning, loaded into an uninitialised histogram re-created with the stored binning (false if
  * that failed). */
-bool gr_obs_io_histogram_new(gr_obs_io *io, gr_histogram *h);
+bool gr_obs_io_histogram_new(gr_blob_io *io, gr_histogram *h);
 /* A size fixed by the scene (a number of bins, lags, particles): stored, and on load it must
  * equal `value` ("<what> = <stored> in the checkpoint, <value> in the scene"). */
-void gr_obs_io_check(gr_obs_io *io, const char *what, int64_t value);
+void gr_blob_io_check(gr_blob_io *io, const char *what, int64_t value);
 
 #endif

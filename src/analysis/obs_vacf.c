@@ -112,7 +112,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return GR_OK;
 }
 
-static int io(void *state, gr_obs_io *io, gr_error *err)
+static int io(void *state, gr_blob_io *io, gr_error *err)
 {
     (void)err;
     gr_lag_io(io, state, "vacf_lags");

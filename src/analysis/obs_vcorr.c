@@ -164,12 +164,12 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     return gr_obs_table_write(out, &t, err);
 }
 
-static int io(void *state, gr_obs_io *io, gr_error *err)
+static int io(void *state, gr_blob_io *io, gr_error *err)
 {
     (void)err;
     vcorr *s = state;
-    gr_obs_io_check(io, "vcorr_bins", s->bins);
-    gr_obs_io_i64(io, &s->frames);
+    gr_blob_io_check(io, "vcorr_bins", s->bins);
+    gr_blob_io_i64(io, &s->frames);
     gr_obs_io_blockings(io, s->bl, s->bins);
     gr_obs_io_blockings(io, s->bt, s->bins);
     return GR_OK;

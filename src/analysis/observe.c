@@ -213,7 +213,7 @@ int gr_observable_save(const gr_observable_type *t, void *state, gr_blob *out, g
     if (!t->io) {
         return GR_FAIL(err, GR_EINVAL, "[analysis] observables: %s cannot be checkpointed yet", t->name);
     }
-    gr_obs_io io = {.out = out};
+    gr_blob_io io = {.out = out};
     int rc = t->io(state, &io, err);
     return rc ? rc : gr_blob_ok(out, err);
 }
@@ -223,7 +223,7 @@ int gr_observable_load(const gr_observable_type *t, void *state, gr_blob_reader 
     if (!t->io) {
         return GR_FAIL(err, GR_EINVAL, "[analysis] observables: %s cannot be restored from a checkpoint", t->name);
     }
-    gr_obs_io io = {.in = in};
+    gr_blob_io io = {.in = in};
     int rc = t->io(state, &io, err);
     return rc ? rc : gr_obs_alloc_ok(state, err);
 }

@@ -172,3 +172,118 @@ uint32_t gr_blob_crc32(const void *data, size_t len)
     }
     return (uint32_t)crc;
 }
+
+bool gr_blob_io_bad(const gr_blob_io *io) { return io->in && io->in->bad; }
+
+size_t gr_blob_io_left(const gr_blob_io *io) { return io->in ? io->in->len - io->in->pos : 0; }
+
+void gr_blob_io_fail(gr_blob_io *io, const char *fmt, ...)
+{
+    if (!io->in || io->in->bad) {
+        return;
+    }
+    char msg[200];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    gr_blob_fail(io->in, "%s", msg);
+}
+
+void gr_blob_io_i64(gr_blob_io *io, int64_t *v)
+{
+    if (!io->in) {
+        gr_blob_put_i64(io->out, *v);
+    } else if (!io->in->bad) {
+        *v = gr_blob_get_i64(io->in);
+    }
+}
+
+void gr_blob_io_int(gr_blob_io *io, int *v)
+{
+    int64_t w = *v;
+    gr_blob_io_i64(io, &w);
+    if (io->in && !io->in->bad) {
+        if (w < INT32_MIN || w > INT32_MAX) {
+            gr_blob_fail(io->in, "a count of %lld does not fit an int", (long long)w);
+        } else {
+            *v = (int)w;
+        }
+    }
+}
+
+void gr_blob_io_f64(gr_blob_io *io, double *v)
+{
+    if (!io->in) {
+        gr_blob_put_f64(io->out, *v);
+    } else if (!io->in->bad) {
+        *v = gr_blob_get_f64(io->in);
+    }
+}
+
+void gr_blob_io_u32(gr_blob_io *io, uint32_t *v)
+{
+    if (!io->in) {
+        gr_blob_put_u32(io->out, *v);
+    } else if (!io->in->bad) {
+        *v = gr_blob_get_u32(io->in);
+    }
+}
+
+void gr_blob_io_f64s(gr_blob_io *io, double *v, int64_t n)
+{
+    if (!io->in) {
+        gr_blob_put_f64s(io->out, v, n);
+    } else if (!io->in->bad) {
+        gr_blob_get_f64s(io->in, v, n);
+    }
+}
+
+void gr_blob_io_bytes(gr_blob_io *io, void *v, size_t n)
+{
+    if (!io->in) {
+        gr_blob_put(io->out, v, n);
+    } else if (!io->in->bad) {
+        gr_blob_get(io->in, v, n);
+    }
+}
+
+void gr_blob_io_check(gr_blob_io *io, const char *what, int64_t value)
+{
+    if (!io->in) {
+        gr_blob_put_u64(io->out, (uint64_t)value);
+    } else if (!io->in->bad) {
+        uint64_t stored = gr_blob_get_u64(io->in);
+        if (!io->in->bad && stored != (uint64_t)value) {
+            gr_blob_fail(io->in, "%s = %llu in the checkpoint, %lld in the scene", what, (unsigned long long)stored,
+                         (long long)value);
+        }
+    }
+}
+
+void gr_blob_io_expect_i64(gr_blob_io *io, const char *what, int64_t value)
+{
+    int64_t v = value;
+    gr_blob_io_i64(io, &v);
+    if (io->in && !io->in->bad && v != value) {
+        gr_blob_fail(io->in, "%s is %lld in the checkpoint but %lld for this scene", what, (long long)v, (long long)value);
+    }
+}
+
+void gr_blob_io_expect_f64(gr_blob_io *io, const char *what, double value)
+{
+    double v = value;
+    gr_blob_io_f64(io, &v);
+    if (io->in && !io->in->bad && memcmp(&v, &value, sizeof v) != 0) {
+        gr_blob_fail(io->in, "%s is %.17g in the checkpoint but %.17g for this scene", what, v, value);
+    }
+}
+
+void gr_blob_io_tag(gr_blob_io *io, const char *what, uint32_t tag)
+{
+    uint32_t t = tag;
+    gr_blob_io_u32(io, &t);
+    if (io->in && !io->in->bad && t != tag) {
+        gr_blob_fail(io->in, "%s layout %08x, this build reads %08x", what, t, tag);
+    }
+}

@@ -62,4 +62,40 @@ void gr_blob_fail(gr_blob_reader *r, const char *fmt, ...) __attribute__((format
  * "checkpoint section <what>: <why>". */
 int gr_blob_done(gr_blob_reader *r, gr_error *err);
 
+/* One list for saving and loading: a state's `io` function names every field once, in order,
+ * with these calls; with `out` set they append to the blob, with `in` set they read back in the
+ * same order. So the save and the load cannot drift apart (docs/checkpoints.md). A failed read
+ * marks the reader bad (the whole load then fails with its message) and every later call does
+ * nothing. */
+typedef struct gr_blob_io {
+    gr_blob *out;        /* saving */
+    gr_blob_reader *in;  /* loading */
+} gr_blob_io;
+
+static inline bool gr_blob_io_loading(const gr_blob_io *io) { return io->in != NULL; }
+/* Loading and a read already failed. */
+bool gr_blob_io_bad(const gr_blob_io *io);
+/* Loading: the bytes left to read (a bound for a stored count). */
+size_t gr_blob_io_left(const gr_blob_io *io);
+/* Mark a load failed (printf-style), e.g. inconsistent counters. */
+void gr_blob_io_fail(gr_blob_io *io, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void gr_blob_io_i64(gr_blob_io *io, int64_t *v);
+void gr_blob_io_f64(gr_blob_io *io, double *v);
+void gr_blob_io_u32(gr_blob_io *io, uint32_t *v);
+/* An int stored as i64 (counters, indices). */
+void gr_blob_io_int(gr_blob_io *io, int *v);
+/* n doubles as a counted array (gr_blob_put_f64s); the count must agree on load. */
+void gr_blob_io_f64s(gr_blob_io *io, double *v, int64_t n);
+/* n raw bytes. */
+void gr_blob_io_bytes(gr_blob_io *io, void *v, size_t n);
+/* A size fixed by the scene (a number of bins, lags, particles): stored as u64, and on load it
+ * must equal `value` ("<what> = <stored> in the checkpoint, <value> in the scene"). */
+void gr_blob_io_check(gr_blob_io *io, const char *what, int64_t value);
+/* A value fixed by the scene, stored as i64 / f64: on load it must be the same, bit for bit
+ * ("<what> is <stored> in the checkpoint but <value> for this scene"). */
+void gr_blob_io_expect_i64(gr_blob_io *io, const char *what, int64_t value);
+void gr_blob_io_expect_f64(gr_blob_io *io, const char *what, double value);
+/* A tag naming the layout that follows: on load anything else fails ("<what> layout ..."). */
+void gr_blob_io_tag(gr_blob_io *io, const char *what, uint32_t tag);
+
 #endif

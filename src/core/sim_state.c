@@ -28,7 +28,7 @@
 int gr_sim_checkpointable(const gr_sim *s, gr_error *err)
 {
     /* an integrator with state of its own must save it */
-    if (s->integrator_state && (!s->integrator->save || !s->integrator->load)) {
+    if (s->integrator_state && !s->integrator->state_io) {
         return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kind = %s cannot save its state (no checkpoints)",
                        s->params.source, s->integrator->name);
     }
@@ -41,28 +41,221 @@ int64_t gr_sim_call_steps(const gr_sim *s, int64_t want, int64_t todo)
     return s->integrator->call_steps ? s->integrator->call_steps(s, n, todo) : n;
 }
 
-static void put_report(gr_blob *b, const gr_force_report *r)
+static void report_io(gr_blob_io *io, gr_force_report *r)
 {
-    gr_blob_put_f64(b, r->elastic);
-    gr_blob_put_f64(b, r->power_normal);
-    gr_blob_put_f64(b, r->power_tangential);
-    gr_blob_put_f64(b, r->power_friction);
-    gr_blob_put_i64(b, r->new_contacts);
-    gr_blob_put_f64(b, r->max_overlap);
-    gr_blob_put_i64(b, r->worst_i);
-    gr_blob_put_i64(b, r->worst_j);
+    gr_blob_io_f64(io, &r->elastic);
+    gr_blob_io_f64(io, &r->power_normal);
+    gr_blob_io_f64(io, &r->power_tangential);
+    gr_blob_io_f64(io, &r->power_friction);
+    gr_blob_io_i64(io, &r->new_contacts);
+    gr_blob_io_f64(io, &r->max_overlap);
+    gr_blob_io_int(io, &r->worst_i);
+    gr_blob_io_int(io, &r->worst_j);
 }
 
-static void get_report(gr_blob_reader *b, gr_force_report *r)
+/* Loading: room for a neighbour list of `pairs` pairs (the growth a list build would do). */
+static int list_room(gr_sim *s, int64_t pairs, gr_error *err)
 {
-    r->elastic = gr_blob_get_f64(b);
-    r->power_normal = gr_blob_get_f64(b);
-    r->power_tangential = gr_blob_get_f64(b);
-    r->power_friction = gr_blob_get_f64(b);
-    r->new_contacts = gr_blob_get_i64(b);
-    r->max_overlap = gr_blob_get_f64(b);
-    r->worst_i = (int)gr_blob_get_i64(b);
-    r->worst_j = (int)gr_blob_get_i64(b);
+    if (pairs <= s->nl_cap) {
+        return GR_OK;
+    }
+    int *j = realloc(s->nl_j, sizeof(int) * (size_t)pairs);
+    if (j) {
+        s->nl_j = j;
+    }
+    uint8_t *c = j ? realloc(s->nl_contact, (size_t)pairs) : NULL;
+    if (c) {
+        s->nl_contact = c;
+    }
+    double *h = c && s->nl_hist ? realloc(s->nl_hist, sizeof(double) * (size_t)pairs) : NULL;
+    if (h) {
+        s->nl_hist = h;
+    }
+    if (!j || !c || (s->nl_hist && !h)) {
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for a neighbour list of %lld pairs", (long long)pairs);
+    }
+    s->nl_cap = pairs;
+    return GR_OK;
+}
+
+/* Loading: the kernels index with the list, so refuse anything that is not a valid half list. */
+static void check_list(const gr_sim *s, gr_blob_reader *b, int64_t pairs)
+{
+    const int n = s->n;
+    for (int i = 0; i < n && !b->bad; i++) {
+        if (s->nl_start[i] < 0 || s->nl_start[i] > s->nl_start[i + 1]) {
+            gr_blob_fail(b, "neighbour list offsets are not increasing at particle %d", i);
+        }
+    }
+    if (!b->bad && (s->nl_start[0] != 0 || s->nl_start[n] != pairs)) {
+        gr_blob_fail(b, "neighbour list offsets do not span its %lld pairs", (long long)pairs);
+    }
+    for (int64_t p = 0; p < pairs && !b->bad; p++) {
+        if (s->nl_j[p] < 0 || s->nl_j[p] >= n) {
+            gr_blob_fail(b, "neighbour list entry %lld names particle %d of %d", (long long)p, s->nl_j[p], n);
+        }
+    }
+    for (int i = 0; i < n && !b->bad; i++) {
+        if (!(s->x[i] >= 0.0 && s->x[i] < s->L && s->y[i] >= 0.0 && s->y[i] < s->L)) {
+            gr_blob_fail(b, "particle %d lies outside the box [0, L)", i);
+        }
+    }
+}
+
+/* 2D: the neighbour list, stored as it is (its order fixes the summation order). */
+static int list_io(gr_sim *s, gr_blob_io *io, gr_error *err)
+{
+    const int n = s->n;
+    int64_t pairs = io->in ? 0 : s->nl_start[n];
+    gr_blob_io_i64(io, &pairs);
+    if (io->in) {
+        if (!io->in->bad && (pairs < 0 || pairs > (int64_t)n * (int64_t)(n - 1) / 2 || pairs > (int64_t)INT32_MAX)) {
+            gr_blob_fail(io->in, "neighbour list of %lld pairs is impossible for %d particles", (long long)pairs, n);
+        }
+        if (io->in->bad) {
+            return gr_blob_done(io->in, err);
+        }
+        int rc = list_room(s, pairs, err);
+        if (rc) {
+            return rc;
+        }
+        s->par_threads = 0; /* the threaded kernel's cross-pair tables belong to the list just replaced */
+    }
+    gr_blob_io_bytes(io, s->nl_start, sizeof(int) * ((size_t)n + 1));
+    gr_blob_io_bytes(io, s->nl_j, sizeof(int) * (size_t)pairs);
+    gr_blob_io_bytes(io, s->nl_contact, (size_t)pairs);
+    if (s->nl_hist) { /* the contact history (contact_history.c), when the law keeps one */
+        gr_blob_io_f64s(io, s->nl_hist, pairs);
+    }
+    if (io->in) {
+        check_list(s, io->in, pairs);
+    }
+    return GR_OK;
+}
+
+/* The contact events not yet handed to the observables (contact tracking only). */
+static int events_io(gr_sim *s, gr_blob_io *io, gr_error *err)
+{
+    const int n = s->n;
+    uint32_t tracked = s->contacts != NULL;
+    gr_blob_io_u32(io, &tracked);
+    if (io->in && !io->in->bad && (tracked != 0) != (s->contacts != NULL)) {
+        gr_blob_fail(io->in, "contact events were %s in the checkpoint but %s for this scene's observables",
+                     tracked ? "tracked" : "not tracked", s->contacts ? "are needed" : "are not");
+    }
+    if (!tracked || gr_blob_io_bad(io)) {
+        return GR_OK;
+    }
+    gr_blob_io_bytes(io, s->contacts, sizeof(uint16_t) * (size_t)n);
+    int64_t n_events = s->n_events;
+    gr_blob_io_i64(io, &n_events);
+    const int64_t each = 2 * 8 + 5 * 8;
+    if (io->in && !io->in->bad && (n_events < 0 || (uint64_t)n_events > gr_blob_io_left(io) / each)) {
+        gr_blob_fail(io->in, "%lld contact events do not fit in the section", (long long)n_events);
+    }
+    if (io->in) {
+        s->n_events = 0;
+    }
+    for (int64_t k = 0; k < n_events && !gr_blob_io_bad(io); k++) {
+        if (io->in && s->n_events == s->cap_events) {
+            gr_contact_event *e = realloc(s->events, sizeof *e * (size_t)(2 * s->cap_events));
+            if (!e) {
+                return GR_FAIL(err, GR_ENOMEM, "out of memory for %lld contact events", (long long)n_events);
+            }
+            s->events = e;
+            s->cap_events *= 2;
+        }
+        gr_contact_event *e = &s->events[io->in ? s->n_events++ : k];
+        int64_t i = e->i, kind = e->kind;
+        double v[5] = {e->t, e->x, e->y, e->vx, e->vy};
+        gr_blob_io_i64(io, &i);
+        gr_blob_io_i64(io, &kind);
+        gr_blob_io_bytes(io, v, sizeof v);
+        if (io->in && !io->in->bad && (i < 0 || i >= n || (kind != 1 && kind != -1))) {
+            gr_blob_fail(io->in, "contact event %lld is malformed (particle %lld, kind %lld)", (long long)k, (long long)i,
+                         (long long)kind);
+        }
+        if (io->in) {
+            *e = (gr_contact_event){.i = (int)i, .kind = (int)kind, .t = v[0], .x = v[1], .y = v[2], .vx = v[3], .vy = v[4]};
+        }
+    }
+    return GR_OK;
+}
+
+/* The core's state, listed once: gr_sim_save_state appends it, gr_sim_load_state reads it back
+ * in the same order (core/blob.h, gr_blob_io). */
+static int sim_io(gr_sim *s, gr_blob_io *io, gr_error *err)
+{
+    const int n = s->n;
+    gr_blob_io_tag(io, "simulation state", SIM_STATE_TAG);
+    int64_t n_saved = n, dim = s->dim;
+    gr_blob_io_i64(io, &n_saved);
+    gr_blob_io_i64(io, &dim);
+    if (io->in && !io->in->bad && (n_saved != n || dim != s->dim)) {
+        gr_blob_fail(io->in, "%lld particles in %lld D, the scene has %d in %d D", (long long)n_saved, (long long)dim, n, s->dim);
+    }
+    gr_blob_io_expect_f64(io, "dt", s->dt);
+    gr_blob_io_expect_f64(io, "L", s->L);
+    gr_blob_io_expect_f64(io, "d", s->d);
+    gr_blob_io_expect_f64(io, "mass", s->mass);
+    if (!io->in) {
+        gr_blob_put_str(io->out, s->kernel_name);
+    } else {
+        char kernel[sizeof s->kernel_name];
+        if (gr_blob_get_str(io->in, kernel, sizeof kernel) && strcmp(kernel, s->kernel_name) != 0) {
+            gr_blob_fail(io->in, "kernel %s in the checkpoint, %s for this scene", kernel, s->kernel_name);
+        }
+    }
+    gr_blob_io_i64(io, &s->step);
+    gr_blob_io_i64(io, &s->collisions);
+    gr_blob_io_i64(io, &s->rebuilds);
+    int64_t com_every = s->com_every;
+    gr_blob_io_i64(io, &com_every);
+    if (io->in && !io->in->bad && (s->step < 0 || com_every != s->com_every)) {
+        gr_blob_fail(io->in, "step %lld / com_every %lld do not fit this scene (com_every %lld)", (long long)s->step,
+                     (long long)com_every, (long long)s->com_every);
+    }
+    double totals[] = {s->elastic, s->initial_energy, s->injected, s->diss_n, s->diss_t, s->diss_f,
+                       s->removed_com, s->share[0], s->share[1], s->share[2]};
+    gr_blob_io_f64s(io, totals, (int64_t)(sizeof totals / sizeof totals[0]));
+    if (io->in) {
+        s->elastic = totals[0];
+        s->initial_energy = totals[1];
+        s->injected = totals[2];
+        s->diss_n = totals[3];
+        s->diss_t = totals[4];
+        s->diss_f = totals[5];
+        s->removed_com = totals[6];
+        memcpy(s->share, totals + 7, sizeof s->share);
+    }
+    report_io(io, &s->last);
+    double *const per_particle[] = {s->x, s->vx, s->fx, s->gx};
+    for (size_t k = 0; k < sizeof per_particle / sizeof per_particle[0]; k++) {
+        gr_blob_io_f64s(io, per_particle[k], n);
+    }
+    int rc = GR_OK;
+    if (s->dim == 2) {
+        double *const per_particle_2d[] = {s->y, s->vy, s->fy, s->gy, s->x_ref, s->y_ref};
+        for (size_t k = 0; k < sizeof per_particle_2d / sizeof per_particle_2d[0]; k++) {
+            gr_blob_io_f64s(io, per_particle_2d[k], n);
+        }
+        rc = list_io(s, io, err);
+    } else {
+        gr_blob_io_bytes(io, s->pair_contact, (size_t)n + 1);
+    }
+    rc = rc ? rc : events_io(s, io, err);
+    if (!rc && !gr_blob_io_bad(io) && s->omega) {
+        /* rotation: the angular velocities and the torques the next opening half kick uses */
+        gr_blob_io_f64s(io, s->omega, n);
+        gr_blob_io_f64s(io, s->tq, n);
+        if (s->tg) { /* a history law's: their non-conservative part, which that kick books */
+            gr_blob_io_f64s(io, s->tg, n);
+        }
+    }
+    if (!rc && !gr_blob_io_bad(io) && s->drive == GR_DRIVE_BATH) {
+        gr_blob_io_f64(io, &s->diss_drag); /* the bath's drag in the ledger (only then: other layouts unchanged) */
+    }
+    return rc;
 }
 
 int gr_sim_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
@@ -71,82 +264,13 @@ int gr_sim_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
     if (rc) {
         return rc;
     }
-    const int n = s->n;
-    gr_blob_put_u32(b, SIM_STATE_TAG);
-    gr_blob_put_i64(b, n);
-    gr_blob_put_i64(b, s->dim);
-    gr_blob_put_f64(b, s->dt);
-    gr_blob_put_f64(b, s->L);
-    gr_blob_put_f64(b, s->d);
-    gr_blob_put_f64(b, s->mass);
-    gr_blob_put_str(b, s->kernel_name);
-    gr_blob_put_i64(b, s->step);
-    gr_blob_put_i64(b, s->collisions);
-    gr_blob_put_i64(b, s->rebuilds);
-    gr_blob_put_i64(b, s->com_every);
-    const double totals[] = {s->elastic, s->initial_energy, s->injected, s->diss_n, s->diss_t, s->diss_f,
-                             s->removed_com, s->share[0], s->share[1], s->share[2]};
-    gr_blob_put_f64s(b, totals, (int64_t)(sizeof totals / sizeof totals[0]));
-    put_report(b, &s->last);
-    gr_blob_put_f64s(b, s->x, n);
-    gr_blob_put_f64s(b, s->vx, n);
-    gr_blob_put_f64s(b, s->fx, n);
-    gr_blob_put_f64s(b, s->gx, n);
-    if (s->dim == 2) {
-        gr_blob_put_f64s(b, s->y, n);
-        gr_blob_put_f64s(b, s->vy, n);
-        gr_blob_put_f64s(b, s->fy, n);
-        gr_blob_put_f64s(b, s->gy, n);
-        gr_blob_put_f64s(b, s->x_ref, n);
-        gr_blob_put_f64s(b, s->y_ref, n);
-        const int64_t pairs = s->nl_start[n];
-        gr_blob_put_i64(b, pairs);
-        gr_blob_put(b, s->nl_start, sizeof(int) * ((size_t)n + 1));
-        gr_blob_put(b, s->nl_j, sizeof(int) * (size_t)pairs);
-        gr_blob_put(b, s->nl_contact, (size_t)pairs);
-        if (s->nl_hist) { /* the contact history (contact_history.c), when the law keeps one */
-            gr_blob_put_f64s(b, s->nl_hist, pairs);
-        }
-    } else {
-        gr_blob_put(b, s->pair_contact, (size_t)n + 1);
-    }
-    gr_blob_put_u32(b, s->contacts != NULL);
-    if (s->contacts) {
-        gr_blob_put(b, s->contacts, sizeof(uint16_t) * (size_t)n);
-        gr_blob_put_i64(b, s->n_events);
-        for (int64_t k = 0; k < s->n_events; k++) {
-            const gr_contact_event *e = &s->events[k];
-            gr_blob_put_i64(b, e->i);
-            gr_blob_put_i64(b, e->kind);
-            const double v[] = {e->t, e->x, e->y, e->vx, e->vy};
-            gr_blob_put(b, v, sizeof v);
-        }
-    }
-    if (s->omega) {
-        /* rotation: the angular velocities and the torques the next opening half kick uses */
-        gr_blob_put_f64s(b, s->omega, n);
-        gr_blob_put_f64s(b, s->tq, n);
-        if (s->tg) { /* a history law's: their non-conservative part, which that kick books */
-            gr_blob_put_f64s(b, s->tg, n);
-        }
-    }
-    if (s->drive == GR_DRIVE_BATH) { /* the bath's drag in the ledger (only then: other layouts unchanged) */
-        gr_blob_put_f64(b, s->diss_drag);
-    }
-    rc = gr_blob_ok(b, err);
-    if (!rc && s->integrator->save) {
-        rc = s->integrator->save(s, b, err);
+    gr_blob_io io = {.out = b};
+    rc = sim_io((gr_sim *)s, &io, err); /* saving reads the state only */
+    rc = rc ? rc : gr_blob_ok(b, err);
+    if (!rc && s->integrator->state_io) {
+        rc = s->integrator->state_io((gr_sim *)s, &io, err);
     }
     return rc;
-}
-
-/* Compare a stored scalar with the one the scene gives, bit for bit. */
-static void expect_f64(gr_blob_reader *b, const char *what, double have)
-{
-    double v = gr_blob_get_f64(b);
-    if (!b->bad && memcmp(&v, &have, sizeof v) != 0) {
-        gr_blob_fail(b, "%s is %.17g in the checkpoint but %.17g for this scene", what, v, have);
-    }
 }
 
 int gr_sim_load_state(gr_sim *s, gr_blob_reader *b, gr_error *err)
@@ -155,153 +279,10 @@ int gr_sim_load_state(gr_sim *s, gr_blob_reader *b, gr_error *err)
     if (rc) {
         return rc;
     }
-    const int n = s->n;
-    uint32_t tag = gr_blob_get_u32(b);
-    if (!b->bad && tag != SIM_STATE_TAG) {
-        gr_blob_fail(b, "simulation state layout %08x, this build reads %08x", tag, SIM_STATE_TAG);
-    }
-    int64_t n_saved = gr_blob_get_i64(b), dim = gr_blob_get_i64(b);
-    if (!b->bad && (n_saved != n || dim != s->dim)) {
-        gr_blob_fail(b, "%lld particles in %lld D, the scene has %d in %d D", (long long)n_saved, (long long)dim, n, s->dim);
-    }
-    expect_f64(b, "dt", s->dt);
-    expect_f64(b, "L", s->L);
-    expect_f64(b, "d", s->d);
-    expect_f64(b, "mass", s->mass);
-    char kernel[sizeof s->kernel_name];
-    if (gr_blob_get_str(b, kernel, sizeof kernel) && strcmp(kernel, s->kernel_name) != 0) {
-        gr_blob_fail(b, "kernel %s in the checkpoint, %s for this scene", kernel, s->kernel_name);
-    }
-    s->step = gr_blob_get_i64(b);
-    s->collisions = gr_blob_get_i64(b);
-    s->rebuilds = gr_blob_get_i64(b);
-    int64_t com_every = gr_blob_get_i64(b);
-    if (!b->bad && (s->step < 0 || com_every != s->com_every)) {
-        gr_blob_fail(b, "step %lld / com_every %lld do not fit this scene (com_every %lld)", (long long)s->step,
-                     (long long)com_every, (long long)s->com_every);
-    }
-    double totals[10];
-    gr_blob_get_f64s(b, totals, 10);
-    s->elastic = totals[0];
-    s->initial_energy = totals[1];
-    s->injected = totals[2];
-    s->diss_n = totals[3];
-    s->diss_t = totals[4];
-    s->diss_f = totals[5];
-    s->removed_com = totals[6];
-    memcpy(s->share, totals + 7, sizeof s->share);
-    get_report(b, &s->last);
-    gr_blob_get_f64s(b, s->x, n);
-    gr_blob_get_f64s(b, s->vx, n);
-    gr_blob_get_f64s(b, s->fx, n);
-    gr_blob_get_f64s(b, s->gx, n);
-    if (s->dim == 2) {
-        gr_blob_get_f64s(b, s->y, n);
-        gr_blob_get_f64s(b, s->vy, n);
-        gr_blob_get_f64s(b, s->fy, n);
-        gr_blob_get_f64s(b, s->gy, n);
-        gr_blob_get_f64s(b, s->x_ref, n);
-        gr_blob_get_f64s(b, s->y_ref, n);
-        int64_t pairs = gr_blob_get_i64(b);
-        if (!b->bad && (pairs < 0 || pairs > (int64_t)n * (int64_t)(n - 1) / 2 || pairs > (int64_t)INT32_MAX)) {
-            gr_blob_fail(b, "neighbour list of %lld pairs is impossible for %d particles", (long long)pairs, n);
-        }
-        if (b->bad) {
-            return gr_blob_done(b, err);
-        }
-        if (pairs > s->nl_cap) { /* same growth the list build would have done */
-            int *j = realloc(s->nl_j, sizeof(int) * (size_t)pairs);
-            if (j) {
-                s->nl_j = j;
-            }
-            uint8_t *c = j ? realloc(s->nl_contact, (size_t)pairs) : NULL;
-            if (c) {
-                s->nl_contact = c;
-            }
-            double *h = c && s->nl_hist ? realloc(s->nl_hist, sizeof(double) * (size_t)pairs) : NULL;
-            if (h) {
-                s->nl_hist = h;
-            }
-            if (!j || !c || (s->nl_hist && !h)) {
-                return GR_FAIL(err, GR_ENOMEM, "out of memory for a neighbour list of %lld pairs", (long long)pairs);
-            }
-            s->nl_cap = pairs;
-        }
-        /* the threaded kernel's cross-pair tables belong to the list just replaced: rebuild them */
-        s->par_threads = 0;
-        gr_blob_get(b, s->nl_start, sizeof(int) * ((size_t)n + 1));
-        gr_blob_get(b, s->nl_j, sizeof(int) * (size_t)pairs);
-        gr_blob_get(b, s->nl_contact, (size_t)pairs);
-        if (s->nl_hist) {
-            gr_blob_get_f64s(b, s->nl_hist, pairs);
-        }
-        /* the kernels index with these: refuse anything that is not a valid half list */
-        for (int i = 0; i < n && !b->bad; i++) {
-            if (s->nl_start[i] < 0 || s->nl_start[i] > s->nl_start[i + 1]) {
-                gr_blob_fail(b, "neighbour list offsets are not increasing at particle %d", i);
-            }
-        }
-        if (!b->bad && (s->nl_start[0] != 0 || s->nl_start[n] != pairs)) {
-            gr_blob_fail(b, "neighbour list offsets do not span its %lld pairs", (long long)pairs);
-        }
-        for (int64_t p = 0; p < pairs && !b->bad; p++) {
-            if (s->nl_j[p] < 0 || s->nl_j[p] >= n) {
-                gr_blob_fail(b, "neighbour list entry %lld names particle %d of %d", (long long)p, s->nl_j[p], n);
-            }
-        }
-        for (int i = 0; i < n && !b->bad; i++) {
-            if (!(s->x[i] >= 0.0 && s->x[i] < s->L && s->y[i] >= 0.0 && s->y[i] < s->L)) {
-                gr_blob_fail(b, "particle %d lies outside the box [0, L)", i);
-            }
-        }
-    } else {
-        gr_blob_get(b, s->pair_contact, (size_t)n + 1);
-    }
-    uint32_t tracked = gr_blob_get_u32(b);
-    if (!b->bad && (tracked != 0) != (s->contacts != NULL)) {
-        gr_blob_fail(b, "contact events were %s in the checkpoint but %s for this scene's observables",
-                     tracked ? "tracked" : "not tracked", s->contacts ? "are needed" : "are not");
-    }
-    if (!b->bad && tracked) {
-        gr_blob_get(b, s->contacts, sizeof(uint16_t) * (size_t)n);
-        int64_t n_events = gr_blob_get_i64(b);
-        const int64_t each = 2 * 8 + 5 * 8;
-        if (!b->bad && (n_events < 0 || (uint64_t)n_events > (b->len - b->pos) / each)) {
-            gr_blob_fail(b, "%lld contact events do not fit in the section", (long long)n_events);
-        }
-        s->n_events = 0;
-        for (int64_t k = 0; k < n_events && !b->bad; k++) {
-            if (s->n_events == s->cap_events) {
-                gr_contact_event *e = realloc(s->events, sizeof *e * (size_t)(2 * s->cap_events));
-                if (!e) {
-                    return GR_FAIL(err, GR_ENOMEM, "out of memory for %lld contact events", (long long)n_events);
-                }
-                s->events = e;
-                s->cap_events *= 2;
-            }
-            gr_contact_event *e = &s->events[s->n_events++];
-            int64_t i = gr_blob_get_i64(b), kind = gr_blob_get_i64(b);
-            double v[5] = {0};
-            gr_blob_get(b, v, sizeof v);
-            if (!b->bad && (i < 0 || i >= n || (kind != 1 && kind != -1))) {
-                gr_blob_fail(b, "contact event %lld is malformed (particle %lld, kind %lld)", (long long)k, (long long)i,
-                             (long long)kind);
-            }
-            *e = (gr_contact_event){.i = (int)i, .kind = (int)kind, .t = v[0], .x = v[1], .y = v[2], .vx = v[3], .vy = v[4]};
-        }
-    }
-    if (!b->bad && s->omega) {
-        gr_blob_get_f64s(b, s->omega, n);
-        gr_blob_get_f64s(b, s->tq, n);
-        if (s->tg) {
-            gr_blob_get_f64s(b, s->tg, n);
-        }
-    }
-    if (!b->bad && s->drive == GR_DRIVE_BATH) {
-        s->diss_drag = gr_blob_get_f64(b);
-    }
-    if (!b->bad && s->integrator->load) {
-        rc = s->integrator->load(s, b, err);
+    gr_blob_io io = {.in = b};
+    rc = sim_io(s, &io, err);
+    if (!rc && !b->bad && s->integrator->state_io) {
+        rc = s->integrator->state_io(s, &io, err);
     }
     return rc ? rc : gr_blob_done(b, err);
 }

@@ -44,8 +44,7 @@ int64_t gr_event_processed(const gr_sim *s);
  * soft-sphere part). Load
  * into a simulation freshly created from the same scene; the calendar is rebuilt from the
  * stored keys. */
-int gr_event_save_state(const gr_sim *s, gr_blob *b, gr_error *err);
-int gr_event_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err);
+int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err);
 
 /* Counts since creation (all zero for other integrators). kicks = particle updates at window
  * ends; invalid = calendar entries found stale when they came due; tc_elastic = collisions made

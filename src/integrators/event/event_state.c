@@ -24,73 +24,15 @@
 
 #define EVENT_STATE_TAG 0x45565431u /* "EVT1": bump when the layout below changes */
 
-static void put_i32s(gr_blob *b, const int *v, int64_t n)
+/* n ints as a counted array (i64 count, then the ints); the count must agree on load. */
+static void i32s_io(gr_blob_io *io, int *v, int64_t n, const char *what)
 {
-    gr_blob_put_i64(b, n);
-    gr_blob_put(b, v, sizeof(int) * (size_t)n);
-}
-
-static void get_i32s(gr_blob_reader *r, int *v, int64_t n, const char *what)
-{
-    int64_t k = gr_blob_get_i64(r);
-    if (!r->bad && k != n) {
-        gr_blob_fail(r, "event state: %s has %lld entries, %lld expected", what, (long long)k, (long long)n);
+    int64_t k = n;
+    gr_blob_io_i64(io, &k);
+    if (io->in && !io->in->bad && k != n) {
+        gr_blob_fail(io->in, "event state: %s has %lld entries, %lld expected", what, (long long)k, (long long)n);
     }
-    if (!r->bad) {
-        gr_blob_get(r, v, sizeof(int) * (size_t)n);
-    }
-}
-
-int gr_event_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
-{
-    const struct gr_event_state *e = gr_ev(s);
-    const int64_t n = e->n;
-    gr_blob_put_u32(b, EVENT_STATE_TAG);
-    gr_blob_put_i64(b, n);
-    gr_blob_put_i64(b, e->dim);
-    gr_blob_put_f64(b, e->tau);
-    gr_blob_put_i64(b, e->win);
-    gr_blob_put_f64(b, e->now);
-    gr_blob_put_i64(b, e->phase);
-    const int64_t counts[] = {e->collisions, e->crossings, e->kicks, e->invalid, e->tc_elastic, e->floors,
-                              e->guard_n, e->guard_mark_n, e->owed_to};
-    for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
-        gr_blob_put_i64(b, counts[k]);
-    }
-    const double totals[] = {e->injected, e->floor_energy, e->guard_mark_t, e->t_start};
-    gr_blob_put_f64s(b, totals, (int64_t)(sizeof totals / sizeof totals[0]));
-    gr_blob_put_f64s(b, e->t0, n);
-    gr_blob_put_f64s(b, e->bx, n);
-    gr_blob_put_f64s(b, e->bv, n);
-    gr_blob_put_f64s(b, e->a1x, n);
-    gr_blob_put_f64s(b, e->a2x, n);
-    gr_blob_put_f64s(b, e->jx, n);
-    gr_blob_put_f64s(b, e->last, n);
-    gr_blob_put(b, e->past, (size_t)n);
-    if (e->dim == 2) {
-        gr_blob_put_f64s(b, e->by, n);
-        gr_blob_put_f64s(b, e->bw, n);
-        gr_blob_put_f64s(b, e->a1y, n);
-        gr_blob_put_f64s(b, e->a2y, n);
-        gr_blob_put_f64s(b, e->jy, n);
-    }
-    /* calendar keys */
-    gr_blob_put_f64s(b, e->heap.t, e->heap.cap);
-    gr_blob_put(b, e->heap.ph, (size_t)e->heap.cap);
-    if (e->dim == 2) {
-        put_i32s(b, e->partner, n);
-        gr_blob_put(b, e->count, sizeof(int64_t) * (size_t)n);
-        gr_blob_put(b, e->ev_count, sizeof(int64_t) * (size_t)n);
-        gr_blob_put_i64(b, e->ncell);
-        put_i32s(b, e->cell_of, n);
-        put_i32s(b, e->head, (int64_t)e->ncell * e->ncell);
-        put_i32s(b, e->next, n);
-        put_i32s(b, e->prev, n);
-        if (e->rough) { /* rough discs: the spins (free flight keeps them; only collisions change them) */
-            gr_blob_put_f64s(b, s->omega, n);
-        }
-    }
-    return gr_blob_ok(b, err);
+    gr_blob_io_bytes(io, v, sizeof(int) * (size_t)n);
 }
 
 /* v[k] in [lo, hi) for every k, else fail naming the array */
@@ -103,109 +45,124 @@ static void check_range(gr_blob_reader *r, const int *v, int64_t n, int lo, int 
     }
 }
 
-int gr_event_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err)
+/* Loading, 2D: the cell lists must partition the particles by cell_of (the predictions walk them). */
+static void check_cells(const struct gr_event_state *e, gr_blob_reader *r)
+{
+    const int64_t n = e->n;
+    const int cells = e->ncell * e->ncell;
+    check_range(r, e->partner, n, -4, (int)n, "partner");
+    check_range(r, e->cell_of, n, 0, cells, "cell_of");
+    check_range(r, e->head, cells, -1, (int)n, "head");
+    check_range(r, e->next, n, -1, (int)n, "next");
+    check_range(r, e->prev, n, -1, (int)n, "prev");
+    int64_t seen = 0;
+    for (int c = 0; c < cells && !r->bad; c++) {
+        int before = -1;
+        for (int i = e->head[c]; i >= 0 && !r->bad; i = e->next[i]) {
+            if (e->cell_of[i] != c || e->prev[i] != before || ++seen > n) {
+                gr_blob_fail(r, "event state: the cell list of cell %d is inconsistent at particle %d", c, i);
+            }
+            before = i;
+        }
+    }
+    if (!r->bad && seen != n) {
+        gr_blob_fail(r, "event state: the cell lists hold %lld of %lld particles", (long long)seen, (long long)n);
+    }
+}
+
+/* The event-driven state, listed once for saving and loading (core/blob.h, gr_blob_io); loading
+ * checks each part as it arrives. */
+int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
 {
     struct gr_event_state *e = gr_ev(s);
+    gr_blob_reader *r = io->in; /* NULL when saving */
     const int64_t n = e->n;
-    uint32_t tag = gr_blob_get_u32(r);
-    if (!r->bad && tag != EVENT_STATE_TAG) {
-        gr_blob_fail(r, "event-driven state layout %08x, this build reads %08x", tag, EVENT_STATE_TAG);
-    }
-    int64_t n_saved = gr_blob_get_i64(r), dim = gr_blob_get_i64(r);
-    double tau = gr_blob_get_f64(r);
-    if (!r->bad && (n_saved != n || dim != e->dim || memcmp(&tau, &e->tau, sizeof tau) != 0)) {
+    gr_blob_io_tag(io, "event-driven state", EVENT_STATE_TAG);
+    int64_t n_saved = n, dim = e->dim;
+    double tau = e->tau;
+    gr_blob_io_i64(io, &n_saved);
+    gr_blob_io_i64(io, &dim);
+    gr_blob_io_f64(io, &tau);
+    if (r && !r->bad && (n_saved != n || dim != e->dim || memcmp(&tau, &e->tau, sizeof tau) != 0)) {
         gr_blob_fail(r, "event state of %lld particles in %lld D with window %.17g s, the scene has %lld in %d D with %.17g s",
                      (long long)n_saved, (long long)dim, tau, (long long)n, e->dim, e->tau);
     }
-    e->win = gr_blob_get_i64(r);
-    e->now = gr_blob_get_f64(r);
-    int64_t phase = gr_blob_get_i64(r);
-    if (!r->bad && (e->win < 0 || !(e->now >= 0.0 && e->now <= e->tau) || (phase != 0 && phase != 1))) {
+    gr_blob_io_i64(io, &e->win);
+    gr_blob_io_f64(io, &e->now);
+    int64_t phase = e->phase;
+    gr_blob_io_i64(io, &phase);
+    if (r && !r->bad && (e->win < 0 || !(e->now >= 0.0 && e->now <= e->tau) || (phase != 0 && phase != 1))) {
         gr_blob_fail(r, "event state: window %lld, local time %.17g s, phase %lld are impossible", (long long)e->win, e->now,
                      (long long)phase);
     }
     e->phase = (int)phase;
-    int64_t *counts[] = {&e->collisions, &e->crossings, &e->kicks, &e->invalid, &e->tc_elastic, &e->floors,
-                         &e->guard_n, &e->guard_mark_n, &e->owed_to};
+    int64_t *const counts[] = {&e->collisions, &e->crossings, &e->kicks, &e->invalid, &e->tc_elastic, &e->floors,
+                               &e->guard_n, &e->guard_mark_n, &e->owed_to};
     for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
-        *counts[k] = gr_blob_get_i64(r);
+        gr_blob_io_i64(io, counts[k]);
     }
-    double totals[4] = {0};
-    gr_blob_get_f64s(r, totals, 4);
-    e->injected = totals[0];
-    e->floor_energy = totals[1];
-    e->guard_mark_t = totals[2];
-    e->t_start = totals[3];
-    gr_blob_get_f64s(r, e->t0, n);
-    gr_blob_get_f64s(r, e->bx, n);
-    gr_blob_get_f64s(r, e->bv, n);
-    gr_blob_get_f64s(r, e->a1x, n);
-    gr_blob_get_f64s(r, e->a2x, n);
-    gr_blob_get_f64s(r, e->jx, n);
-    gr_blob_get_f64s(r, e->last, n);
-    gr_blob_get(r, e->past, (size_t)n);
+    double totals[] = {e->injected, e->floor_energy, e->guard_mark_t, e->t_start};
+    gr_blob_io_f64s(io, totals, (int64_t)(sizeof totals / sizeof totals[0]));
+    if (r) {
+        e->injected = totals[0];
+        e->floor_energy = totals[1];
+        e->guard_mark_t = totals[2];
+        e->t_start = totals[3];
+    }
+    double *const base[] = {e->t0, e->bx, e->bv, e->a1x, e->a2x, e->jx, e->last};
+    for (size_t k = 0; k < sizeof base / sizeof base[0]; k++) {
+        gr_blob_io_f64s(io, base[k], n);
+    }
+    gr_blob_io_bytes(io, e->past, (size_t)n);
     if (e->dim == 2) {
-        gr_blob_get_f64s(r, e->by, n);
-        gr_blob_get_f64s(r, e->bw, n);
-        gr_blob_get_f64s(r, e->a1y, n);
-        gr_blob_get_f64s(r, e->a2y, n);
-        gr_blob_get_f64s(r, e->jy, n);
+        double *const base_2d[] = {e->by, e->bw, e->a1y, e->a2y, e->jy};
+        for (size_t k = 0; k < sizeof base_2d / sizeof base_2d[0]; k++) {
+            gr_blob_io_f64s(io, base_2d[k], n);
+        }
     }
-    for (int64_t i = 0; i < n && !r->bad; i++) {
+    for (int64_t i = 0; r && i < n && !r->bad; i++) {
         if (e->past[i] > 1 || !(e->t0[i] >= 0.0 && e->t0[i] <= e->now)) {
             gr_blob_fail(r, "event state: particle %lld has base time %.17g s (past %d) after the last event at %.17g s",
                          (long long)i, e->t0[i], e->past[i], e->now);
         }
     }
+    /* calendar keys */
     gr_heap *h = &e->heap;
-    gr_blob_get_f64s(r, h->t, h->cap);
-    gr_blob_get(r, h->ph, (size_t)h->cap);
-    for (int k = 0; k < h->cap && !r->bad; k++) {
+    gr_blob_io_f64s(io, h->t, h->cap);
+    gr_blob_io_bytes(io, h->ph, (size_t)h->cap);
+    for (int k = 0; r && k < h->cap && !r->bad; k++) {
         if (h->ph[k] > 1 || !(h->t[k] >= e->now)) { /* +inf (never due) passes */
             gr_blob_fail(r, "event state: calendar entry %d at %.17g s (phase %d) lies before the last event", k, h->t[k],
                          h->ph[k]);
         }
     }
     if (e->dim == 2) {
-        get_i32s(r, e->partner, n, "partner");
-        gr_blob_get(r, e->count, sizeof(int64_t) * (size_t)n);
-        gr_blob_get(r, e->ev_count, sizeof(int64_t) * (size_t)n);
-        int64_t ncell = gr_blob_get_i64(r);
-        if (!r->bad && ncell != e->ncell) {
+        i32s_io(io, e->partner, n, "partner");
+        gr_blob_io_bytes(io, e->count, sizeof(int64_t) * (size_t)n);
+        gr_blob_io_bytes(io, e->ev_count, sizeof(int64_t) * (size_t)n);
+        int64_t ncell = e->ncell;
+        gr_blob_io_i64(io, &ncell);
+        if (r && !r->bad && ncell != e->ncell) {
             gr_blob_fail(r, "event state: %lld cells per side in the checkpoint, %d for this scene", (long long)ncell, e->ncell);
         }
-        const int cells = e->ncell * e->ncell;
-        get_i32s(r, e->cell_of, n, "cell_of");
-        get_i32s(r, e->head, cells, "head");
-        get_i32s(r, e->next, n, "next");
-        get_i32s(r, e->prev, n, "prev");
-        check_range(r, e->partner, n, -4, (int)n, "partner");
-        check_range(r, e->cell_of, n, 0, cells, "cell_of");
-        check_range(r, e->head, cells, -1, (int)n, "head");
-        check_range(r, e->next, n, -1, (int)n, "next");
-        check_range(r, e->prev, n, -1, (int)n, "prev");
-        /* the lists must partition the particles by cell_of (the predictions walk them) */
-        int64_t seen = 0;
-        for (int c = 0; c < cells && !r->bad; c++) {
-            int before = -1;
-            for (int i = e->head[c]; i >= 0 && !r->bad; i = e->next[i]) {
-                if (e->cell_of[i] != c || e->prev[i] != before || ++seen > n) {
-                    gr_blob_fail(r, "event state: the cell list of cell %d is inconsistent at particle %d", c, i);
-                }
-                before = i;
-            }
+        i32s_io(io, e->cell_of, n, "cell_of");
+        i32s_io(io, e->head, (int64_t)e->ncell * e->ncell, "head");
+        i32s_io(io, e->next, n, "next");
+        i32s_io(io, e->prev, n, "prev");
+        if (r) {
+            check_cells(e, r);
         }
-        if (!r->bad && seen != n) {
-            gr_blob_fail(r, "event state: the cell lists hold %lld of %lld particles", (long long)seen, (long long)n);
-        }
-        if (e->rough) {
-            gr_blob_get_f64s(r, s->omega, n);
-            for (int64_t i = 0; i < n && !r->bad; i++) {
+        if (e->rough) { /* rough discs: the spins (free flight keeps them; only collisions change them) */
+            gr_blob_io_f64s(io, s->omega, n);
+            for (int64_t i = 0; r && i < n && !r->bad; i++) {
                 if (!isfinite(s->omega[i])) {
                     gr_blob_fail(r, "event state: particle %lld has angular velocity %g", (long long)i, s->omega[i]);
                 }
             }
         }
+    }
+    if (!r) {
+        return gr_blob_ok(io->out, err);
     }
     if (r->bad) {
         return gr_blob_done(r, err);

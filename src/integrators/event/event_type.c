@@ -9,8 +9,6 @@ static int64_t event_call_steps(const gr_sim *s, int64_t n, int64_t todo)
     return owed > n && owed <= todo ? owed : n;
 }
 
-static int event_save(const gr_sim *s, struct gr_blob *b, gr_error *err) { return gr_event_save_state(s, b, err); }
-static int event_load(gr_sim *s, struct gr_blob_reader *r, gr_error *err) { return gr_event_load_state(s, r, err); }
 
 const gr_integrator_type gr_integrator_event = {
     .name = "event",
@@ -22,8 +20,7 @@ const gr_integrator_type gr_integrator_event = {
     .step = gr_event_step,
     .free = gr_event_free,
     .call_steps = event_call_steps,
-    .save = event_save,
-    .load = event_load,
+    .state_io = gr_event_state_io,
     .set_stop = gr_event_set_stop,
     .events = gr_event_processed,
 };

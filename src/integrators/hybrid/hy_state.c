@@ -18,59 +18,22 @@
 
 #define HYBRID_STATE_TAG 0x48594231u /* "HYB1": bump when the layout below changes */
 
-int gr_hybrid_save_state(const gr_sim *s, gr_blob *b, gr_error *err)
+/* The candidate pair list (2D), stored as it is; loading grows it as collect_pairs would. */
+static int pairs_io(gr_sim *s, gr_hybrid_state *h, gr_blob_io *io, gr_error *err)
 {
-    const gr_hybrid_state *h = gr_hy(s);
-    gr_blob_put_u32(b, HYBRID_STATE_TAG);
-    gr_blob_put_i64(b, h->m);
-    gr_blob_put_i64(b, h->kicks);
-    gr_blob_put_f64(b, h->margin_c);
-    gr_blob_put_i64(b, h->windows);
-    gr_blob_put_i64(b, h->rollbacks);
-    gr_blob_put_i64(b, h->steps);
-    gr_blob_put_i64(b, h->active_steps);
-    if (s->dim == 2) {
-        gr_blob_put_f64(b, h->rc_pairs);
-        gr_blob_put_i64(b, h->npairs);
-        gr_blob_put(b, h->pi, sizeof(int) * (size_t)h->npairs);
-        gr_blob_put(b, h->pj, sizeof(int) * (size_t)h->npairs);
-        gr_blob_put_f64s(b, h->xl, s->n);
-        gr_blob_put_f64s(b, h->yl, s->n);
-    }
-    return gr_blob_ok(b, err);
-}
-
-int gr_hybrid_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err)
-{
-    gr_hybrid_state *h = gr_hy(s);
     const int n = s->n;
-    uint32_t tag = gr_blob_get_u32(r);
-    if (!r->bad && tag != HYBRID_STATE_TAG) {
-        gr_blob_fail(r, "hybrid state layout %08x, this build reads %08x", tag, HYBRID_STATE_TAG);
-    }
-    int64_t m = gr_blob_get_i64(r), kicks = gr_blob_get_i64(r);
-    if (!r->bad && (m != h->m || kicks != h->kicks)) {
-        gr_blob_fail(r, "hybrid windows of %lld steps (%s) in the checkpoint, %d steps (%s) for this scene", (long long)m,
-                     kicks ? "kicks" : "exact", h->m, h->kicks ? "kicks" : "exact");
-    }
-    h->margin_c = gr_blob_get_f64(r);
-    h->windows = gr_blob_get_i64(r);
-    h->rollbacks = gr_blob_get_i64(r);
-    h->steps = gr_blob_get_i64(r);
-    h->active_steps = gr_blob_get_i64(r);
-    if (!r->bad && (h->windows < 0 || h->rollbacks < 0 || h->steps < 0 || h->active_steps < 0)) {
-        gr_blob_fail(r, "hybrid counters are negative");
-    }
-    if (s->dim == 2) {
-        h->rc_pairs = gr_blob_get_f64(r);
-        int64_t np = gr_blob_get_i64(r);
+    gr_blob_io_f64(io, &h->rc_pairs);
+    int64_t np = h->npairs;
+    gr_blob_io_i64(io, &np);
+    if (io->in) {
+        gr_blob_reader *r = io->in;
         if (!r->bad && (np < 0 || np > (int64_t)n * (int64_t)(n - 1) / 2 || np > (int64_t)INT32_MAX)) {
             gr_blob_fail(r, "hybrid candidate list of %lld pairs is impossible for %d particles", (long long)np, n);
         }
         if (r->bad) {
             return gr_blob_done(r, err);
         }
-        if (np > h->cap_pairs) { /* the growth collect_pairs would have done */
+        if (np > h->cap_pairs) {
             int *pi = realloc(h->pi, sizeof(int) * (size_t)np);
             if (pi) {
                 h->pi = pi;
@@ -86,24 +49,56 @@ int gr_hybrid_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err)
         }
         h->npairs = np;
         h->adj_ok = 0;
-        gr_blob_get(r, h->pi, sizeof(int) * (size_t)np);
-        gr_blob_get(r, h->pj, sizeof(int) * (size_t)np);
-        for (int64_t q = 0; q < np && !r->bad; q++) {
-            if (h->pi[q] < 0 || h->pi[q] >= h->pj[q] || h->pj[q] >= n) {
-                gr_blob_fail(r, "hybrid candidate pair %lld is (%d, %d), allowed 0 <= i < j < %d", (long long)q, h->pi[q],
-                             h->pj[q], n);
-            }
-        }
-        gr_blob_get_f64s(r, h->xl, n);
-        gr_blob_get_f64s(r, h->yl, n);
-        if (!r->bad && !(h->rc_pairs >= 0.0)) {
-            gr_blob_fail(r, "hybrid candidate cutoff %.17g is negative", h->rc_pairs);
+    }
+    gr_blob_io_bytes(io, h->pi, sizeof(int) * (size_t)np);
+    gr_blob_io_bytes(io, h->pj, sizeof(int) * (size_t)np);
+    for (int64_t q = 0; io->in && q < np && !io->in->bad; q++) {
+        if (h->pi[q] < 0 || h->pi[q] >= h->pj[q] || h->pj[q] >= n) {
+            gr_blob_fail(io->in, "hybrid candidate pair %lld is (%d, %d), allowed 0 <= i < j < %d", (long long)q, h->pi[q],
+                         h->pj[q], n);
         }
     }
-    if (r->bad) {
-        return gr_blob_done(r, err);
+    gr_blob_io_f64s(io, h->xl, n);
+    gr_blob_io_f64s(io, h->yl, n);
+    if (io->in && !io->in->bad && !(h->rc_pairs >= 0.0)) {
+        gr_blob_fail(io->in, "hybrid candidate cutoff %.17g is negative", h->rc_pairs);
     }
-    memset(h->forced, 0, (size_t)n);
+    return GR_OK;
+}
+
+/* The hybrid integrator's state, listed once for saving and loading (core/blob.h, gr_blob_io). */
+int gr_hybrid_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
+{
+    gr_hybrid_state *h = gr_hy(s);
+    gr_blob_io_tag(io, "hybrid state", HYBRID_STATE_TAG);
+    int64_t m = h->m, kicks = h->kicks;
+    gr_blob_io_i64(io, &m);
+    gr_blob_io_i64(io, &kicks);
+    if (io->in && !io->in->bad && (m != h->m || kicks != h->kicks)) {
+        gr_blob_fail(io->in, "hybrid windows of %lld steps (%s) in the checkpoint, %d steps (%s) for this scene", (long long)m,
+                     kicks ? "kicks" : "exact", h->m, h->kicks ? "kicks" : "exact");
+    }
+    gr_blob_io_f64(io, &h->margin_c);
+    int64_t *const counters[] = {&h->windows, &h->rollbacks, &h->steps, &h->active_steps};
+    for (size_t k = 0; k < sizeof counters / sizeof counters[0]; k++) {
+        gr_blob_io_i64(io, counters[k]);
+    }
+    if (io->in && !io->in->bad && (h->windows < 0 || h->rollbacks < 0 || h->steps < 0 || h->active_steps < 0)) {
+        gr_blob_fail(io->in, "hybrid counters are negative");
+    }
+    if (s->dim == 2) {
+        int rc = pairs_io(s, h, io, err);
+        if (rc) {
+            return rc;
+        }
+    }
+    if (!io->in) {
+        return gr_blob_ok(io->out, err);
+    }
+    if (io->in->bad) {
+        return gr_blob_done(io->in, err);
+    }
+    memset(h->forced, 0, (size_t)s->n);
     return GR_OK;
 }
 

@@ -55,7 +55,6 @@ int64_t gr_hybrid_window_steps(const gr_sim *s);
 /* Exact restarts (hy_state.c, docs/checkpoints.md): append / read back the hybrid's own state
  * (the save / load hooks: src/core/sim_state.c calls them after the soft-sphere part) between
  * gr_sim_step calls. */
-int gr_hybrid_save_state(const gr_sim *s, gr_blob *b, gr_error *err);
-int gr_hybrid_load_state(gr_sim *s, gr_blob_reader *r, gr_error *err);
+int gr_hybrid_state_io(gr_sim *s, gr_blob_io *io, gr_error *err);
 
 #endif

@@ -14,8 +14,6 @@ static int64_t hybrid_call_steps(const gr_sim *s, int64_t n, int64_t todo)
     return n;
 }
 
-static int hybrid_save(const gr_sim *s, struct gr_blob *b, gr_error *err) { return gr_hybrid_save_state(s, b, err); }
-static int hybrid_load(gr_sim *s, struct gr_blob_reader *r, gr_error *err) { return gr_hybrid_load_state(s, r, err); }
 
 /* summary.json "hybrid" (docs/hybrid.md) */
 static int hybrid_describe(const gr_sim *s, gr_integrator_figure *out, int cap)
@@ -40,8 +38,7 @@ const gr_integrator_type gr_integrator_hybrid = {
     .step = gr_hybrid_step,
     .free = gr_hybrid_free,
     .call_steps = hybrid_call_steps,
-    .save = hybrid_save,
-    .load = hybrid_load,
+    .state_io = gr_hybrid_state_io,
     .describe = hybrid_describe,
     .section = "hybrid",
 };
