@@ -1,0 +1,104 @@
+/* The option tables of the granule command (issue 34 item 7): one table per command, each row
+ * an option's name, type, range, default and help, and where its value goes. One parser reads
+ * argv against the table, checks types and ranges (the message names the option and the allowed
+ * range), suggests the nearest option for an unknown one, and the same table prints `--help` and
+ * the Markdown of docs/cli.md (`granule help --markdown`). */
+#ifndef GR_CLI_OPTIONS_H
+#define GR_CLI_OPTIONS_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+typedef enum cli_type {
+    CLI_FLAG,   /* bool: present or not */
+    CLI_INT,    /* int: an integer in [min, max] */
+    CLI_INT64,  /* int64_t: an integer in [min, max] */
+    CLI_DOUBLE, /* double: a finite number in min..max (ends open or closed, see range) */
+    CLI_STRING, /* const char *: any text */
+    CLI_CHOICE, /* const char *: one of the words of `value` ("png|svg|pdf") */
+    CLI_LIST,   /* cli_list: a repeatable text option (--set K=V ...) */
+} cli_type;
+
+/* range of a CLI_DOUBLE: the ends that are excluded ("(0, 1]" is CLI_MIN_OPEN) */
+enum { CLI_MIN_OPEN = 1, CLI_MAX_OPEN = 2 };
+
+/* the values of a repeatable option, in the order given (items freed by cli_list_free) */
+typedef struct cli_list {
+    const char **items;
+    int n;
+} cli_list;
+
+/* where a row stores nothing (its apply hook does the work) */
+#define CLI_NOWHERE ((size_t)-1)
+
+typedef struct cli_opt {
+    const char *name;  /* "--out" */
+    cli_type type;
+    const char *value; /* the value's name in help ("DIR"); the words of a CLI_CHOICE ("png|svg|pdf") */
+    size_t at;         /* offsetof(the command's argument struct, field), or CLI_NOWHERE */
+    double min, max;   /* range of CLI_INT, CLI_INT64 and CLI_DOUBLE; unchecked when min >= max;
+                        * +-INFINITY for an open-ended one */
+    int range;         /* CLI_MIN_OPEN | CLI_MAX_OPEN for a CLI_DOUBLE */
+    const char *def;   /* the default, as help and docs/cli.md print it (NULL: none shown) */
+    const char *help;
+    /* optional: called with the checked value as soon as it is read (e.g. --threads sets the
+     * thread count, --format the plot format) */
+    void (*apply)(const char *text, double number);
+} cli_opt;
+
+typedef struct cli_command {
+    const char *name;     /* "run", "spm circle" */
+    const char *usage;    /* the synopsis lines after "usage: " (several forms on several lines) */
+    const char *about;    /* what the command does, before the options */
+    const char *epilog;   /* after the options: outputs, exit status (may be NULL) */
+    const char *pos_name; /* the positional argument's name in messages ("scene"); NULL: none taken */
+    int max_pos;          /* how many positional arguments at most */
+    const cli_opt *opts;
+    int n_opts;
+} cli_command;
+
+#define CLI_MAX_POS 4
+
+/* the positional arguments (not options nor their values), in order */
+typedef struct cli_pos {
+    const char *v[CLI_MAX_POS];
+    int n;
+} cli_pos;
+
+/* Read argv[1..argc-1] against cmd's table into args (the struct the rows' `at` offsets point
+ * into, set to its defaults by the caller) and pos. --NAME VALUE and --NAME=VALUE both work;
+ * -h/--help prints the help on stdout. Returns -1 to go on, else the exit status to return now:
+ * 0 after --help, 2 after an error on stderr ("CMD: ..." naming the option, and the allowed range
+ * or the nearest option's name). */
+int cli_parse(const cli_command *cmd, int argc, char **argv, void *args, cli_pos *pos);
+void cli_list_free(cli_list *l);
+/* The help of cmd, generated from its table ("usage: ..." first). */
+void cli_help(const cli_command *cmd, FILE *f);
+/* cmd's section of docs/cli.md. */
+void cli_markdown(const cli_command *cmd, FILE *f);
+/* The option of cmd's table nearest to `given` (edit distance, or a unique prefix), or NULL when
+ * none is near. */
+const char *cli_nearest(const cli_command *cmd, const char *given);
+
+/* Rows that every command writing files spells alike (issue 34 item 7); T is the argument struct. */
+#define CLI_OPT_OUT(T, field, def_text) \
+    {"--out", CLI_STRING, "DIR", offsetof(T, field), 0, 0, 0, def_text, "output folder", NULL}
+#define CLI_OPT_FORCE(T, field) \
+    {"--force", CLI_FLAG, NULL, offsetof(T, field), 0, 0, 0, NULL, \
+     "overwrite the results of an earlier run in the output folder", NULL}
+#define CLI_OPT_QUIET(T, field) {"--quiet", CLI_FLAG, NULL, offsetof(T, field), 0, 0, 0, NULL, "no progress line", NULL}
+#define CLI_OPT_NO_PLOTS(T, field) {"--no-plots", CLI_FLAG, NULL, offsetof(T, field), 0, 0, 0, NULL, "draw no plots", NULL}
+#define CLI_OPT_SET(T, field) \
+    {"--set", CLI_LIST, "K=V", offsetof(T, field), 0, 0, 0, NULL, \
+     "override a scene key, e.g. --set model.eps_n=0.5 (repeatable; docs/scene-keys.md)", NULL}
+#define CLI_OPT_FORMAT \
+    {"--format", CLI_CHOICE, "png|svg|pdf", CLI_NOWHERE, 0, 0, 0, "png", "the format of every plot", cli_apply_format}
+#define CLI_OPT_THREADS \
+    {"--threads", CLI_INT, "N", CLI_NOWHERE, 1, 1024, 0, "1, or OMP_NUM_THREADS", \
+     "threads; the results are bit-identical for every N (docs/performance.md)", cli_apply_threads}
+
+void cli_apply_format(const char *text, double number);
+void cli_apply_threads(const char *text, double number);
+
+#endif
