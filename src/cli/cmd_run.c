@@ -44,8 +44,7 @@ const cli_command cli_cmd_run = {
               "6 an output could not be written, e.g. a full disk (checkpoint kept: free space, then --resume).\n",
     .pos_name = "scene",
     .max_pos = 1,
-    .opts = run_opts,
-    .n_opts = sizeof run_opts / sizeof run_opts[0],
+    CLI_OPTS(run_opts),
 };
 
 static void progress(const gr_progress *p, void *user)

@@ -68,8 +68,7 @@ const cli_command cli_cmd_sweep = {
               "errors and reduced chi-square. Recipes: docs/cluster.md.\n",
     .pos_name = "sweep file",
     .max_pos = 1,
-    .opts = sweep_opts,
-    .n_opts = sizeof sweep_opts / sizeof sweep_opts[0],
+    CLI_OPTS(sweep_opts),
 };
 
 /* The batch-array index from the environment of common schedulers; -1 if none. SGE writes

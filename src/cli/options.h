@@ -58,6 +58,13 @@ typedef struct cli_command {
     int n_opts;
 } cli_command;
 
+/* .opts and .n_opts of a cli_command from a table */
+#define CLI_OPTS(table) .opts = table, .n_opts = (int)(sizeof table / sizeof table[0])
+
+/* a numeric macro's value as text, for help strings */
+#define CLI_STR_(x) #x
+#define CLI_STR(x) CLI_STR_(x)
+
 #define CLI_MAX_POS 4
 
 /* the positional arguments (not options nor their values), in order */
