@@ -13,7 +13,7 @@
 typedef struct run_args {
     const char *out, *resume, *wall_limit;
     cli_list sets;
-    bool force, quiet;
+    bool force, quiet, no_plots;
 } run_args;
 
 static const cli_opt run_opts[] = {
@@ -24,6 +24,7 @@ static const cli_opt run_opts[] = {
     CLI_OPT_THREADS,
     {"--format", CLI_CHOICE, "png|svg|pdf", CLI_NOWHERE, 0, 0, 0, "png", "the format of every plot (the snapshot picture stays PNG)",
      cli_apply_format},
+    {"--no-plots", CLI_FLAG, NULL, offsetof(run_args, no_plots), 0, 0, 0, NULL, "draw no plots (same as --set output.plots=false)", NULL},
     {"--wall-limit", CLI_STRING, "S", offsetof(run_args, wall_limit), 0, 0, 0, NULL,
      "write a checkpoint and stop before S seconds of wall time (same as --set run.wall_limit=S)", NULL},
     {"--resume", CLI_STRING, "DIR", offsetof(run_args, resume), 0, 0, 0, NULL,
@@ -33,7 +34,7 @@ static const cli_opt run_opts[] = {
 const cli_command cli_cmd_run = {
     .name = "run",
     .usage = "granule run SCENE [--out DIR] [--set section.key=value ...] [--force] [--quiet] [--wall-limit S]\n"
-             "                 [--threads N] [--format png|svg|pdf]\n"
+             "                 [--threads N] [--format png|svg|pdf] [--no-plots]\n"
              "       granule run --resume DIR [--set run.wall_limit=S ...] [--quiet] [--threads N]",
     .about = "Runs SCENE (an INI file, see docs/scene-keys.md): warm-up, then sampling every\n"
              "run.sample_every. Writes DIR/summary.json, temperature.csv, blocks.csv, ledger.csv,\n"
@@ -114,12 +115,13 @@ int cmd_run(int argc, char **argv)
     const char *scene_path = pos.n ? pos.v[0] : NULL, *out = args.out, *resume = args.resume;
     const bool force = args.force, quiet = args.quiet;
     char wall_set[80] = "";
-    if (args.wall_limit) { /* after the --set options, as if given last */
+    if (args.wall_limit) {
         snprintf(wall_set, sizeof wall_set, "run.wall_limit=%.60s", args.wall_limit);
-        if (!args.sets.items && !(args.sets.items = calloc(1, sizeof(char *)))) {
-            return EXIT_FAILED;
-        }
-        args.sets.items[args.sets.n++] = wall_set;
+    }
+    /* after the --set options, as if given last */
+    if ((args.wall_limit && !cli_list_add(&args.sets, wall_set)) || (args.no_plots && !cli_list_add(&args.sets, "output.plots=false"))) {
+        cli_list_free(&args.sets);
+        return EXIT_FAILED;
     }
     const char **sets = args.sets.items;
     const int n_sets = args.sets.n;

@@ -30,6 +30,17 @@ void cli_list_free(cli_list *l)
     l->n = 0;
 }
 
+bool cli_list_add(cli_list *l, const char *text)
+{
+    const char **items = realloc(l->items, (size_t)(l->n + 1) * sizeof *items);
+    if (!items) {
+        return false;
+    }
+    l->items = items;
+    l->items[l->n++] = text;
+    return true;
+}
+
 /* Levenshtein distance of a and b (each at most 63 characters; longer ones are far anyway). */
 static size_t edit_distance(const char *a, const char *b)
 {
@@ -147,7 +158,7 @@ static bool is_choice(const char *words, const char *v)
 }
 
 /* Check the value v of o and store it; false after an error naming the option. */
-static bool take(const cli_command *cmd, const cli_opt *o, const char *v, void *args, int argc)
+static bool take(const cli_command *cmd, const cli_opt *o, const char *v, void *args)
 {
     char *field = o->at == CLI_NOWHERE ? NULL : (char *)args + o->at;
     double x = 0.0;
@@ -191,15 +202,12 @@ static bool take(const cli_command *cmd, const cli_opt *o, const char *v, void *
         case CLI_CHOICE:
             *(const char **)field = v;
             break;
-        case CLI_LIST: {
-            cli_list *l = (cli_list *)field;
-            if (!l->items && !(l->items = calloc((size_t)argc, sizeof *l->items))) {
+        case CLI_LIST:
+            if (!cli_list_add((cli_list *)field, v)) {
                 cli_error("%s: out of memory", cmd->name);
                 return false;
             }
-            l->items[l->n++] = v;
             break;
-        }
         }
     }
     if (o->apply) {
@@ -252,7 +260,7 @@ int cli_parse(const cli_command *cmd, int argc, char **argv, void *args, cli_pos
             cli_error("%s: %s needs a value (granule %s --help)", cmd->name, o->name, cmd->name);
             return EXIT_REFUSED;
         }
-        if (!take(cmd, o, v ? v : "", args, argc)) {
+        if (!take(cmd, o, v ? v : "", args)) {
             return EXIT_REFUSED;
         }
     }

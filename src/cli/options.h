@@ -6,6 +6,7 @@
 #ifndef GR_CLI_OPTIONS_H
 #define GR_CLI_OPTIONS_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -80,6 +81,8 @@ typedef struct cli_pos {
  * or the nearest option's name). */
 int cli_parse(const cli_command *cmd, int argc, char **argv, void *args, cli_pos *pos);
 void cli_list_free(cli_list *l);
+/* Append text to l (false when out of memory). */
+bool cli_list_add(cli_list *l, const char *text);
 /* The help of cmd, generated from its table ("usage: ..." first). */
 void cli_help(const cli_command *cmd, FILE *f);
 /* cmd's section of docs/cli.md. */
