@@ -233,7 +233,7 @@ base | plot $O | 2 | $O | new
 base | reproduce nosuch --out $O | 2 | nosuch | new
 base | reproduce fig2.10 --fidelity bogus --out $O | 2 | fidelity | new
 base | reproduce ch3-moments --point 12 --out $O | 2 | --point 12: ch3-moments has points 0..11 at quick fidelity | new
-base | reproduce ch3-moments --jobs 0 --out $O | 2 | --jobs 0: allowed 1..4096 | new
+base | reproduce ch3-moments --jobs 0 --out $O | 2 | --jobs 0: expected an integer from 1 to 4096 | new
 base | reproduce ch3-moments --fidelity full --point x --out $O | 2 | --point x;0..167 at full | new
 base | spm bogus | 2 | bogus | new
 base | spm circle --out $O --bogus | 2 | --bogus | new
