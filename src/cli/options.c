@@ -350,7 +350,7 @@ static void md_text(FILE *f, const char *text)
 
 void cli_markdown(const cli_command *cmd, FILE *f)
 {
-    fprintf(f, "## granule %s\n\n```\n%s\n```\n\n", cmd->name, cmd->usage);
+    fprintf(f, "## granule %s\n\n```\nusage: %s\n```\n\n", cmd->name, cmd->usage);
     if (cmd->about) {
         fprintf(f, "```\n%s```\n\n", cmd->about);
     }
@@ -366,7 +366,11 @@ void cli_markdown(const cli_command *cmd, FILE *f)
         } else if (o->type == CLI_LIST) {
             snprintf(allowed, sizeof allowed, "repeatable");
         }
-        fprintf(f, "| `%s` | ", head);
+        fprintf(f, "| `");
+        for (const char *p = head; *p; p++) {
+            fprintf(f, *p == '|' ? "\\|" : "%c", *p); /* a pipe in a table cell, code span or not */
+        }
+        fprintf(f, "` | ");
         md_text(f, o->def ? o->def : "");
         fprintf(f, " | ");
         md_text(f, allowed);
