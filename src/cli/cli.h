@@ -21,6 +21,9 @@ extern const cli_command cli_cmd_sweep;
 extern const cli_command cli_cmd_compare;
 extern const cli_command cli_cmd_analyse;
 extern const cli_command cli_cmd_reproduce;
+extern const cli_command cli_cmd_bisect;
+extern const cli_command cli_cmd_cascade;
+extern const cli_command cli_cmd_fokker_planck;
 /* SIGTERM/SIGINT ask `granule run` to checkpoint and stop (exit 5; a second signal kills): main
  * installs this before anything else, so a signal during option parsing or scene loading is a
  * stop at step 0 as well. Defined in cmd_run.c. */

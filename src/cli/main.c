@@ -109,9 +109,9 @@ static const command commands[] = {
     {"observables", "", "list the observables (statistics) a scene can ask for", cmd_observables, NULL},
     {"export", "lammps SCENE", "a LAMMPS deck + data file of the scene (docs/lammps.md)", cmd_export, NULL},
     {"spm", "", "Single Particle Model: Q(v,l), P(v), the predicted tail exponent", cmd_spm, NULL},
-    {"bisect", "", "multiplicative bisection process (sec. 3.4)", cmd_bisect, NULL},
-    {"cascade", "", "multiplicative cascade on a 2^n grid, its S(k) and D_f (sec. 6.2)", cmd_cascade, NULL},
-    {"fokker-planck", "", "the 1D absorbing-interval Fokker-Planck solution (App. B)", cmd_fokker_planck, NULL},
+    {"bisect", "", "multiplicative bisection process (sec. 3.4)", cmd_bisect, &cli_cmd_bisect},
+    {"cascade", "", "multiplicative cascade on a 2^n grid, its S(k) and D_f (sec. 6.2)", cmd_cascade, &cli_cmd_cascade},
+    {"fokker-planck", "", "the 1D absorbing-interval Fokker-Planck solution (App. B)", cmd_fokker_planck, &cli_cmd_fokker_planck},
 };
 enum { N_COMMANDS = sizeof commands / sizeof commands[0], FIRST_THEORY = 13 };
 

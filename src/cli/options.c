@@ -41,6 +41,18 @@ bool cli_list_add(cli_list *l, const char *text)
     return true;
 }
 
+bool cli_theory_set_refused(const cli_command *cmd, cli_theory *th)
+{
+    cli_list *sets = &th->sets;
+    const bool refused = sets->n > 0;
+    if (refused) {
+        cli_error("%s: --set %s: %s has no scene, so no scene keys to set; its settings are options (granule %s --help)",
+                  cmd->name, sets->items[0], cmd->name, cmd->name);
+    }
+    cli_list_free(sets);
+    return refused;
+}
+
 /* Levenshtein distance of a and b (each at most 63 characters; longer ones are far anyway). */
 static size_t edit_distance(const char *a, const char *b)
 {
@@ -109,18 +121,18 @@ static void range_text(const cli_opt *o, char *buf, size_t size)
     const bool integer = o->type != CLI_DOUBLE;
     const bool lo = isfinite(o->min), hi = isfinite(o->max);
     if (integer && lo && hi) {
-        snprintf(buf, size, "from %.17g to %.17g", o->min, o->max);
+        snprintf(buf, size, "from %.15g to %.15g", o->min, o->max);
     } else if (lo && hi) {
-        snprintf(buf, size, "in %c%.17g, %.17g%c", o->range & CLI_MIN_OPEN ? '(' : '[', o->min, o->max,
+        snprintf(buf, size, "in %c%.15g, %.15g%c", o->range & CLI_MIN_OPEN ? '(' : '[', o->min, o->max,
                  o->range & CLI_MAX_OPEN ? ')' : ']');
     } else if (lo) {
-        snprintf(buf, size, "%s %.17g", !integer && o->range & CLI_MIN_OPEN ? ">" : ">=", o->min);
+        snprintf(buf, size, "%s %.15g", !integer && o->range & CLI_MIN_OPEN ? ">" : ">=", o->min);
     } else {
-        snprintf(buf, size, "%s %.17g", !integer && o->range & CLI_MAX_OPEN ? "<" : "<=", o->max);
+        snprintf(buf, size, "%s %.15g", !integer && o->range & CLI_MAX_OPEN ? "<" : "<=", o->max);
     }
 }
 
-static bool has_range(const cli_opt *o) { return (o->type == CLI_INT || o->type == CLI_INT64 || o->type == CLI_DOUBLE) && o->min < o->max; }
+static bool has_range(const cli_opt *o) { return o->type != CLI_FLAG && o->type < CLI_STRING && o->min < o->max; }
 
 static bool in_range(const cli_opt *o, double x)
 {
@@ -163,19 +175,37 @@ static bool take(const cli_command *cmd, const cli_opt *o, const char *v, void *
     char *field = o->at == CLI_NOWHERE ? NULL : (char *)args + o->at;
     double x = 0.0;
     char allowed[160];
-    if (o->type == CLI_INT || o->type == CLI_INT64 || o->type == CLI_DOUBLE) {
+    long long iv = 0;
+    unsigned long long uv = 0;
+    if (o->type == CLI_INT || o->type == CLI_INT64 || o->type == CLI_UINT64 || o->type == CLI_DOUBLE) {
         char *end;
+        bool exact = false; /* an integer in decimal digits, read without rounding */
         errno = 0;
-        x = strtod(v, &end);
+        if (o->type == CLI_UINT64 && v[0] != '-') {
+            uv = strtoull(v, &end, 10);
+            exact = end != v && *end == '\0' && errno == 0;
+            x = (double)uv;
+        } else if (o->type != CLI_DOUBLE) {
+            iv = strtoll(v, &end, 10);
+            exact = end != v && *end == '\0' && errno == 0;
+            x = (double)iv;
+        }
+        if (!exact) { /* 1e6 is an integer too */
+            errno = 0;
+            x = strtod(v, &end);
+            iv = (long long)fmax(fmin(x, 9e18), -9e18);
+            uv = x > 0.0 ? (unsigned long long)fmin(x, 1.8e19) : 0;
+        }
         const bool number = end != v && *end == '\0' && isfinite(x) && !strchr(v, 'x') && !strchr(v, 'X');
-        const bool integer = number && (o->type == CLI_DOUBLE || x == floor(x));
+        const bool integer = number && (o->type == CLI_DOUBLE || x == floor(x)) && (o->type != CLI_UINT64 || x >= 0.0);
         if (!integer || !in_range(o, x)) {
             if (has_range(o)) {
                 range_text(o, allowed, sizeof allowed);
                 cli_error("%s: %s %s: expected %s %s (allowed range)", cmd->name, o->name, v,
                           o->type == CLI_DOUBLE ? "a number" : "an integer", allowed);
             } else {
-                cli_error("%s: %s %s: expected %s", cmd->name, o->name, v, o->type == CLI_DOUBLE ? "a number" : "an integer");
+                cli_error("%s: %s %s: expected %s", cmd->name, o->name, v,
+                          o->type == CLI_DOUBLE ? "a number" : o->type == CLI_UINT64 ? "a non-negative integer" : "an integer");
             }
             return false;
         }
@@ -193,7 +223,10 @@ static bool take(const cli_command *cmd, const cli_opt *o, const char *v, void *
             *(int *)field = (int)x;
             break;
         case CLI_INT64:
-            *(int64_t *)field = (int64_t)x;
+            *(int64_t *)field = (int64_t)iv;
+            break;
+        case CLI_UINT64:
+            *(uint64_t *)field = (uint64_t)uv;
             break;
         case CLI_DOUBLE:
             *(double *)field = x;

@@ -15,6 +15,7 @@ typedef enum cli_type {
     CLI_FLAG,   /* bool: present or not */
     CLI_INT,    /* int: an integer in [min, max] */
     CLI_INT64,  /* int64_t: an integer in [min, max] */
+    CLI_UINT64, /* uint64_t: an integer in [min, max] (a seed) */
     CLI_DOUBLE, /* double: a finite number in min..max (ends open or closed, see range) */
     CLI_STRING, /* const char *: any text */
     CLI_CHOICE, /* const char *: one of the words of `value` ("png|svg|pdf") */
@@ -38,7 +39,7 @@ typedef struct cli_opt {
     cli_type type;
     const char *value; /* the value's name in help ("DIR"); the words of a CLI_CHOICE ("png|svg|pdf") */
     size_t at;         /* offsetof(the command's argument struct, field), or CLI_NOWHERE */
-    double min, max;   /* range of CLI_INT, CLI_INT64 and CLI_DOUBLE; unchecked when min >= max;
+    double min, max;   /* range of the integer types and CLI_DOUBLE; unchecked when min >= max;
                         * +-INFINITY for an open-ended one */
     int range;         /* CLI_MIN_OPEN | CLI_MAX_OPEN for a CLI_DOUBLE */
     const char *def;   /* the default, as help and docs/cli.md print it (NULL: none shown) */
@@ -102,6 +103,21 @@ const char *cli_nearest(const cli_command *cmd, const char *given);
 #define CLI_OPT_SET(T, field) \
     {"--set", CLI_LIST, "K=V", offsetof(T, field), 0, 0, 0, NULL, \
      "override a scene key, e.g. --set model.eps_n=0.5 (repeatable; docs/scene-keys.md)", NULL}
+/* The options every theory command (spm, bisect, cascade, fokker-planck) takes alike; its
+ * argument struct T holds them as a member `th`. --set is refused after parsing
+ * (cli_theory_set_refused). */
+typedef struct cli_theory {
+    const char *out;
+    cli_list sets;
+    bool force, quiet, no_plots;
+} cli_theory;
+#define CLI_THEORY_OPTS(T, out_default) \
+    CLI_OPT_OUT(T, th.out, out_default), CLI_OPT_FORCE(T, th.force), CLI_OPT_NO_PLOTS(T, th.no_plots), CLI_OPT_FORMAT, \
+    CLI_OPT_QUIET(T, th.quiet), \
+    {"--set", CLI_LIST, "K=V", offsetof(T, th.sets), 0, 0, 0, NULL, "refused: a theory command reads no scene; its settings are options", NULL}
+/* After parsing a theory command: true (after the message) when --set was given; frees the list. */
+bool cli_theory_set_refused(const cli_command *cmd, cli_theory *th);
+
 #define CLI_OPT_FORMAT \
     {"--format", CLI_CHOICE, "png|svg|pdf", CLI_NOWHERE, 0, 0, 0, "png", "the format of every plot", cli_apply_format}
 #define CLI_OPT_THREADS \
