@@ -24,6 +24,7 @@ extern const cli_command cli_cmd_reproduce;
 extern const cli_command cli_cmd_bisect;
 extern const cli_command cli_cmd_cascade;
 extern const cli_command cli_cmd_fokker_planck;
+extern const cli_command cli_cmd_spm_circle, cli_cmd_spm_full, cli_cmd_spm_predict;
 /* SIGTERM/SIGINT ask `granule run` to checkpoint and stop (exit 5; a second signal kills): main
  * installs this before anything else, so a signal during option parsing or scene loading is a
  * stop at step 0 as well. Defined in cmd_run.c. */
@@ -66,15 +67,6 @@ bool cli_threads(const char *text);
 /* --format png|svg|pdf: draw every plot of this command in that format (gr_plot_set_format).
  * False (after an error naming the allowed values) for anything else. Defined in cmd_run.c. */
 bool cli_plot_format(const char *text);
-/* The options every theory command takes alike (src/cli/theory_options.c): --force, --quiet,
- * --no-plots, --format png|svg|pdf; --set is refused with a message (no scene). Returns 1 if
- * argv[*i] was one (its value consumed), 0 if not, -1 after printing an error naming cmd. */
-int cli_theory_option(const char *cmd, int argc, char **argv, int *i, bool *force, bool *quiet, bool *plots);
-#define CLI_THEORY_OPTIONS_HELP                                                                              \
-    "  --force           overwrite the results of an earlier run in DIR\n"                                   \
-    "  --no-plots        no plots\n"                                                                         \
-    "  --format F        plots as png (default), svg or pdf\n"                                              \
-    "  --quiet           no progress line\n"
 /* "T = <mean> +- <error> m^2/s^2" with the warning of an unconverged error bar, as run and
  * analyse print it (defined in cmd_run.c). */
 void cli_T_text(char *buf, size_t size, double T_mean, double T_stderr, int converged);

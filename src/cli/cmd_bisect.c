@@ -39,7 +39,7 @@ static const cli_opt bisect_opts[] = {
     {"--jackknife", CLI_INT, "G", offsetof(bisect_args, s.jackknife_groups), 2, 1024, 0, "32",
      "groups of realisations for the jackknife errors", NULL},
     {"--anchor", CLI_DOUBLE, "R0", offsetof(bisect_args, s.anchor), 0, 0, 0, "0.7", "R_0 of A_N (3.40)", NULL},
-    CLI_THEORY_OPTS(bisect_args, "out/bisect"),
+    CLI_THEORY_OPTS(bisect_args, th, "out/bisect"),
 };
 
 const cli_command cli_cmd_bisect = {

@@ -51,7 +51,7 @@ static const cli_opt cascade_opts[] = {
      "disc radius in m (with --place)", NULL},
     {"--max-attempts", CLI_INT64, "A", offsetof(cascade_args, max_attempts), 1, 1e15, 0, "10^6 + 10^4 N",
      "draws allowed for the placement (with --place)", NULL},
-    CLI_THEORY_OPTS(cascade_args, "out/cascade"),
+    CLI_THEORY_OPTS(cascade_args, th, "out/cascade"),
 };
 
 const cli_command cli_cmd_cascade = {

@@ -49,7 +49,7 @@ static const cli_opt fp_opts[] = {
     {"--min-walks", CLI_DOUBLE, "N", offsetof(options, p.min_walks), 1, INFINITY, 0, "100",
      "Q bins enter the chi-square when N walks visited them", NULL},
     {"--no-sim", CLI_FLAG, NULL, offsetof(options, no_sim), 0, 0, 0, NULL, "quadrature only", NULL},
-    CLI_THEORY_OPTS(options, "out/fokker-planck"),
+    CLI_THEORY_OPTS(options, th, "out/fokker-planck"),
 };
 
 const cli_command cli_cmd_fokker_planck = {

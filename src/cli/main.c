@@ -89,8 +89,11 @@ bool cli_number(const char *opt, const char *text, double *out)
 typedef struct command {
     const char *name, *args, *summary;
     int (*fn)(int, char **);
-    const cli_command *table; /* NULL: its options are not in a table yet (see its --help) */
+    const cli_command *table; /* NULL: its options are not in a table yet (see its --help), or in its modes' */
 } command;
+
+/* the tables of spm's modes */
+static const cli_command *const spm_modes[] = {&cli_cmd_spm_circle, &cli_cmd_spm_full, &cli_cmd_spm_predict};
 
 static const command commands[] = {
     {"run", "SCENE", "run a scene: summary.json, temperature.csv, ledger.csv, snapshots, plots", cmd_run, &cli_cmd_run},
@@ -151,7 +154,11 @@ static void markdown(FILE *f)
     for (int k = 0; k < N_COMMANDS; k++) {
         if (commands[k].table) {
             cli_markdown(commands[k].table, f);
-        } else if (!commands[k].fn || commands[k].fn != cmd_keys) {
+        } else if (commands[k].fn == cmd_spm) {
+            for (size_t m = 0; m < sizeof spm_modes / sizeof spm_modes[0]; m++) {
+                cli_markdown(spm_modes[m], f);
+            }
+        } else if (commands[k].fn != cmd_keys) {
             fprintf(f, "## granule %s\n\n%s; `granule %s --help` lists its options.\n\n", commands[k].name,
                     commands[k].summary, commands[k].name);
         }

@@ -104,14 +104,14 @@ const char *cli_nearest(const cli_command *cmd, const char *given);
     {"--set", CLI_LIST, "K=V", offsetof(T, field), 0, 0, 0, NULL, \
      "override a scene key, e.g. --set model.eps_n=0.5 (repeatable; docs/scene-keys.md)", NULL}
 /* The options every theory command (spm, bisect, cascade, fokker-planck) takes alike; its
- * argument struct T holds them as a member `th`. --set is refused after parsing
+ * argument struct T holds them as the member th (a member path: th, spm.th). --set is refused after parsing
  * (cli_theory_set_refused). */
 typedef struct cli_theory {
     const char *out;
     cli_list sets;
     bool force, quiet, no_plots;
 } cli_theory;
-#define CLI_THEORY_OPTS(T, out_default) \
+#define CLI_THEORY_OPTS(T, th, out_default) \
     CLI_OPT_OUT(T, th.out, out_default), CLI_OPT_FORCE(T, th.force), CLI_OPT_NO_PLOTS(T, th.no_plots), CLI_OPT_FORMAT, \
     CLI_OPT_QUIET(T, th.quiet), \
     {"--set", CLI_LIST, "K=V", offsetof(T, th.sets), 0, 0, 0, NULL, "refused: a theory command reads no scene; its settings are options", NULL}
