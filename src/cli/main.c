@@ -104,7 +104,7 @@ static const command commands[] = {
     {"analyse", "DIR", "feed a run's snapshots (or a LAMMPS dump) to the analysis layer's observables", cmd_analyse,
      &cli_cmd_analyse},
     {"compare", "SCENE", "the same scene under several collision models, side by side", cmd_compare, &cli_cmd_compare},
-    {"cost", "SCENE", "the time step a tolerance needs and the wall time it costs here", cmd_cost, NULL},
+    {"cost", "SCENE", "the time step a tolerance needs and the wall time it costs here", cmd_cost, &cli_cmd_cost},
     {"sweep", "FILE", "a scene over lists of keys and seeds, in parallel, resumable, with fits", cmd_sweep, &cli_cmd_sweep},
     {"reproduce", "NAME", "run a thesis-reproduction campaign (--list) and write its result set", cmd_reproduce,
      &cli_cmd_reproduce},
