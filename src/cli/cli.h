@@ -27,6 +27,8 @@ extern const cli_command cli_cmd_fokker_planck;
 extern const cli_command cli_cmd_cost;
 extern const cli_command cli_cmd_plot;
 extern const cli_command cli_cmd_export;
+extern const cli_command cli_cmd_bench;
+extern const cli_command cli_cmd_models, cli_cmd_keys, cli_cmd_observables;
 extern const cli_command cli_cmd_spm_circle, cli_cmd_spm_full, cli_cmd_spm_predict;
 /* SIGTERM/SIGINT ask `granule run` to checkpoint and stop (exit 5; a second signal kills): main
  * installs this before anything else, so a signal during option parsing or scene loading is a

@@ -364,10 +364,10 @@ int cmd_analyse(int argc, char **argv)
 
 int cmd_observables(int argc, char **argv)
 {
-    (void)argv;
-    if (argc > 1) {
-        printf("usage: granule observables\nLists the observables of the analysis layer, their dimensions and parameters.\n");
-        return EXIT_OK;
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_observables, argc, argv, NULL, &pos);
+    if (parsed >= 0) {
+        return parsed;
     }
     for (int i = 0; gr_observables[i]; i++) {
         const gr_observable_type *t = gr_observables[i];

@@ -98,8 +98,8 @@ static const cli_command *const spm_modes[] = {&cli_cmd_spm_circle, &cli_cmd_spm
 static const command commands[] = {
     {"run", "SCENE", "run a scene: summary.json, temperature.csv, ledger.csv, snapshots, plots", cmd_run, &cli_cmd_run},
     {"collide", "", "one binary collision of Table 2.1: energy loss against 1 - eps^2", cmd_collide, NULL},
-    {"models", "", "list the collision models and their parameters", cmd_models, NULL},
-    {"keys", "", "list every scene key (Markdown)", cmd_keys, NULL},
+    {"models", "", "list the collision models and their parameters", cmd_models, &cli_cmd_models},
+    {"keys", "", "list every scene key (Markdown)", cmd_keys, &cli_cmd_keys},
     {"plot", "DIR", "(re)draw the plots of a run folder", cmd_plot, &cli_cmd_plot},
     {"analyse", "DIR", "feed a run's snapshots (or a LAMMPS dump) to the analysis layer's observables", cmd_analyse,
      &cli_cmd_analyse},
@@ -108,8 +108,8 @@ static const command commands[] = {
     {"sweep", "FILE", "a scene over lists of keys and seeds, in parallel, resumable, with fits", cmd_sweep, &cli_cmd_sweep},
     {"reproduce", "NAME", "run a thesis-reproduction campaign (--list) and write its result set", cmd_reproduce,
      &cli_cmd_reproduce},
-    {"bench", "", "regenerate the throughput tables of docs/performance.md on this machine", cmd_bench, NULL},
-    {"observables", "", "list the observables (statistics) a scene can ask for", cmd_observables, NULL},
+    {"bench", "", "regenerate the throughput tables of docs/performance.md on this machine", cmd_bench, &cli_cmd_bench},
+    {"observables", "", "list the observables (statistics) a scene can ask for", cmd_observables, &cli_cmd_observables},
     {"export", "lammps SCENE", "a LAMMPS deck + data file of the scene (docs/lammps.md)", cmd_export, &cli_cmd_export},
     {"spm", "", "Single Particle Model: Q(v,l), P(v), the predicted tail exponent", cmd_spm, NULL},
     {"bisect", "", "multiplicative bisection process (sec. 3.4)", cmd_bisect, &cli_cmd_bisect},
@@ -158,7 +158,7 @@ static void markdown(FILE *f)
             for (size_t m = 0; m < sizeof spm_modes / sizeof spm_modes[0]; m++) {
                 cli_markdown(spm_modes[m], f);
             }
-        } else if (commands[k].fn != cmd_keys) {
+        } else {
             fprintf(f, "## granule %s\n\n%s; `granule %s --help` lists its options.\n\n", commands[k].name,
                     commands[k].summary, commands[k].name);
         }

@@ -368,6 +368,9 @@ void cli_help(const cli_command *cmd, FILE *f)
     if (cmd->epilog) {
         fprintf(f, "\n%s", cmd->epilog);
     }
+    if (cmd->more_help) {
+        cmd->more_help(f);
+    }
 }
 
 /* text with the characters Markdown tables and inline text would act on escaped */
@@ -387,7 +390,7 @@ void cli_markdown(const cli_command *cmd, FILE *f)
     if (cmd->about) {
         fprintf(f, "```\n%s```\n\n", cmd->about);
     }
-    fprintf(f, "| option | default | allowed | meaning |\n|---|---|---|---|\n");
+    fprintf(f, cmd->n_opts ? "| option | default | allowed | meaning |\n|---|---|---|---|\n" : "No options but `--help`.\n");
     for (int k = 0; k < cmd->n_opts; k++) {
         const cli_opt *o = &cmd->opts[k];
         char head[160], allowed[160] = "";

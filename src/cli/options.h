@@ -58,6 +58,9 @@ typedef struct cli_command {
     int max_pos;          /* how many positional arguments at most */
     const cli_opt *opts;
     int n_opts;
+    /* optional: more help after the epilog, for --help only (what depends on this build, such as
+     * its paths, stays out of docs/cli.md) */
+    void (*more_help)(FILE *f);
 } cli_command;
 
 /* .opts and .n_opts of a cli_command from a table */
