@@ -28,6 +28,7 @@ extern const cli_command cli_cmd_cost;
 extern const cli_command cli_cmd_plot;
 extern const cli_command cli_cmd_export;
 extern const cli_command cli_cmd_bench;
+extern const cli_command cli_cmd_collide;
 extern const cli_command cli_cmd_models, cli_cmd_keys, cli_cmd_observables;
 extern const cli_command cli_cmd_spm_circle, cli_cmd_spm_full, cli_cmd_spm_predict;
 /* SIGTERM/SIGINT ask `granule run` to checkpoint and stop (exit 5; a second signal kills): main
@@ -59,19 +60,6 @@ void cli_print_escaped(FILE *f, const char *text);
 int cli_exit_code(int status);
 /* True when progress lines may be drawn (stderr is a terminal and CI is not set). */
 bool cli_interactive(void);
-/* For the branch of an option loop that met an argument it does not take: when `a` is one of the
- * space-separated options of `with_value` and is the last argument (`last`), print "CMD: A needs
- * a value" and return true (the caller then refuses, exit 2); false otherwise (the caller reports
- * the argument as unknown). */
-bool cli_missing_value(const char *cmd, const char *a, const char *with_value, bool last);
-/* Parse a number option value or print an error naming the option. */
-bool cli_number(const char *opt, const char *text, double *out);
-/* --threads N: use N OpenMP threads (1 to 1024; results do not depend on N). False (after an
- * error naming the allowed range) for anything else. Defined in cmd_run.c. */
-bool cli_threads(const char *text);
-/* --format png|svg|pdf: draw every plot of this command in that format (gr_plot_set_format).
- * False (after an error naming the allowed values) for anything else. Defined in cmd_run.c. */
-bool cli_plot_format(const char *text);
 /* "T = <mean> +- <error> m^2/s^2" with the warning of an unconverged error bar, as run and
  * analyse print it (defined in cmd_run.c). */
 void cli_T_text(char *buf, size_t size, double T_mean, double T_stderr, int converged);

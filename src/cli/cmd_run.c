@@ -80,29 +80,6 @@ void cmd_run_catch_stop(void)
     sigaction(SIGINT, &sa, NULL);
 }
 
-bool cli_threads(const char *text)
-{
-    char *end;
-    long t = strtol(text, &end, 10);
-    if (end == text || *end != '\0' || t < 1 || t > 1024) {
-        cli_error("--threads %s: expected an integer from 1 to 1024", text);
-        return false;
-    }
-    gr_set_threads((int)t);
-    return true;
-}
-
-bool cli_plot_format(const char *text)
-{
-    const int f = gr_plot_format_parse(text);
-    if (f < 0) {
-        cli_error("--format %s: expected png, svg or pdf", text);
-        return false;
-    }
-    gr_plot_set_format((gr_plot_format)f);
-    return true;
-}
-
 int cmd_run(int argc, char **argv)
 {
     run_args args = {0};

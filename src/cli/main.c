@@ -56,34 +56,10 @@ int cli_exit_code(int status)
     return status == GR_OK ? EXIT_OK : status == GR_EINVAL ? EXIT_REFUSED : status == GR_EUNSTABLE ? EXIT_UNSTABLE : EXIT_FAILED;
 }
 
-bool cli_missing_value(const char *cmd, const char *a, const char *with_value, bool last)
-{
-    const size_t n = strlen(a);
-    for (const char *p = strstr(with_value, a); last && n && p; p = strstr(p + 1, a)) {
-        if ((p == with_value || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0')) {
-            cli_error("%s: %s needs a value", cmd, a);
-            return true;
-        }
-    }
-    return false;
-}
-
 bool cli_interactive(void)
 {
     const char *ci = getenv("CI");
     return isatty(STDERR_FILENO) && !(ci && *ci && strcmp(ci, "0") != 0 && strcmp(ci, "false") != 0);
-}
-
-bool cli_number(const char *opt, const char *text, double *out)
-{
-    char *end;
-    double x = text ? strtod(text, &end) : 0.0;
-    if (!text || end == text || *end) {
-        cli_error("%s needs a number, got '%s'", opt, text ? text : "");
-        return false;
-    }
-    *out = x;
-    return true;
 }
 
 typedef struct command {
@@ -97,7 +73,7 @@ static const cli_command *const spm_modes[] = {&cli_cmd_spm_circle, &cli_cmd_spm
 
 static const command commands[] = {
     {"run", "SCENE", "run a scene: summary.json, temperature.csv, ledger.csv, snapshots, plots", cmd_run, &cli_cmd_run},
-    {"collide", "", "one binary collision of Table 2.1: energy loss against 1 - eps^2", cmd_collide, NULL},
+    {"collide", "", "one binary collision of Table 2.1: energy loss against 1 - eps^2", cmd_collide, &cli_cmd_collide},
     {"models", "", "list the collision models and their parameters", cmd_models, &cli_cmd_models},
     {"keys", "", "list every scene key (Markdown)", cmd_keys, &cli_cmd_keys},
     {"plot", "DIR", "(re)draw the plots of a run folder", cmd_plot, &cli_cmd_plot},

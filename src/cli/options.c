@@ -11,16 +11,30 @@
 #include "granule/sim.h"
 #include "io/plot.h"
 
-void cli_apply_format(const char *text, double number)
+bool cli_apply_format(void *args, const char *text, double number)
 {
+    (void)args;
     (void)number;
     gr_plot_set_format((gr_plot_format)gr_plot_format_parse(text));
+    return true;
 }
 
-void cli_apply_threads(const char *text, double number)
+bool cli_apply_threads(void *args, const char *text, double number)
 {
+    (void)args;
     (void)text;
     gr_set_threads((int)number);
+    return true;
+}
+
+bool cli_given(const cli_command *cmd, const cli_pos *pos, const char *name)
+{
+    for (int k = 0; k < cmd->n_opts && k < 64; k++) {
+        if (!strcmp(cmd->opts[k].name, name)) {
+            return pos->seen >> k & 1;
+        }
+    }
+    return false;
 }
 
 void cli_list_free(cli_list *l)
@@ -243,15 +257,13 @@ static bool take(const cli_command *cmd, const cli_opt *o, const char *v, void *
             break;
         }
     }
-    if (o->apply) {
-        o->apply(v, x);
-    }
-    return true;
+    return !o->apply || o->apply(args, v, x);
 }
 
 int cli_parse(const cli_command *cmd, int argc, char **argv, void *args, cli_pos *pos)
 {
     pos->n = 0;
+    pos->seen = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -296,6 +308,7 @@ int cli_parse(const cli_command *cmd, int argc, char **argv, void *args, cli_pos
         if (!take(cmd, o, v ? v : "", args)) {
             return EXIT_REFUSED;
         }
+        pos->seen |= o - cmd->opts < 64 ? 1ULL << (o - cmd->opts) : 0;
     }
     return -1;
 }

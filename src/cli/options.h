@@ -44,9 +44,10 @@ typedef struct cli_opt {
     int range;         /* CLI_MIN_OPEN | CLI_MAX_OPEN for a CLI_DOUBLE */
     const char *def;   /* the default, as help and docs/cli.md print it (NULL: none shown) */
     const char *help;
-    /* optional: called with the checked value as soon as it is read (e.g. --threads sets the
-     * thread count, --format the plot format) */
-    void (*apply)(const char *text, double number);
+    /* optional: called with the parsed arguments, the checked value and its number as soon as it
+     * is read, in the order given (--threads sets the thread count, --format the plot format);
+     * false after an error message refuses the command line */
+    bool (*apply)(void *args, const char *text, double number);
 } cli_opt;
 
 typedef struct cli_command {
@@ -76,7 +77,11 @@ typedef struct cli_command {
 typedef struct cli_pos {
     const char *v[CLI_MAX_POS];
     int n;
+    unsigned long long seen; /* bit k: row k of the table was given */
 } cli_pos;
+
+/* Was the option `name` of cmd given (after cli_parse filled pos)? */
+bool cli_given(const cli_command *cmd, const cli_pos *pos, const char *name);
 
 /* Read argv[1..argc-1] against cmd's table into args (the struct the rows' `at` offsets point
  * into, set to its defaults by the caller) and pos. --NAME VALUE and --NAME=VALUE both work;
@@ -127,7 +132,7 @@ bool cli_theory_set_refused(const cli_command *cmd, cli_theory *th);
     {"--threads", CLI_INT, "N", CLI_NOWHERE, 1, 1024, 0, "1, or OMP_NUM_THREADS", \
      "threads; the results are bit-identical for every N (docs/performance.md)", cli_apply_threads}
 
-void cli_apply_format(const char *text, double number);
-void cli_apply_threads(const char *text, double number);
+bool cli_apply_format(void *args, const char *text, double number);
+bool cli_apply_threads(void *args, const char *text, double number);
 
 #endif
