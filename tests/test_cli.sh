@@ -90,6 +90,30 @@ if [[ $rc -eq 2 && $err == *"analyse: --format gif: expected png, svg or pdf"* ]
 run "$G" run "$TMP/none.ini" --force=yes
 if [[ $rc -eq 2 && $err == *"--force takes no value"* ]]; then pass "run --force=yes refused"; else fail "run --force=yes: exit $rc" "$err"; fi
 
+# the theory commands take the shared options alike (issue 38): --no-plots and --format in every
+# one's table, --set refused naming the command (it has no scene)
+for c in "spm circle" "spm full" "spm predict" bisect cascade fokker-planck; do
+    # shellcheck disable=SC2086
+    run "$G" $c --help
+    if [[ $out == *"--out DIR"* && $out == *"--force"* && $out == *"--no-plots"* && $out == *"--format png|svg|pdf"* && $out == *"--set K=V"* ]]; then
+        pass "$c --help lists --out, --force, --no-plots, --format, --set"
+    else
+        fail "$c --help lacks a shared option" "$out"
+    fi
+    # shellcheck disable=SC2086
+    run "$G" $c --format gif --out "$TMP/theory-never"
+    if [[ $rc -eq 2 && $err == *"--format gif: expected png, svg or pdf"* && ! -e $TMP/theory-never ]]; then pass "$c --format gif refused"; else fail "$c --format gif: exit $rc" "$err"; fi
+    # shellcheck disable=SC2086
+    run "$G" $c --set a.b=1 --out "$TMP/theory-never"
+    if [[ $rc -eq 2 && $err == *"--set a.b=1: $c has no scene"* && ! -e $TMP/theory-never ]]; then pass "$c --set refused"; else fail "$c --set: exit $rc" "$err"; fi
+done
+run "$G" fokker-planck --no-sim --points 21 --format svg --no-plots --quiet --out "$TMP/fp"
+if [[ $rc -eq 0 && -f $TMP/fp/summary.json && -z $(find "$TMP/fp" -name '*.svg' -o -name '*.png') ]]; then
+    pass "fokker-planck --format svg --no-plots: results, no plots"
+else
+    fail "fokker-planck --format svg --no-plots: exit $rc" "$err"
+fi
+
 # ---------- a refused scene ----------
 cat >"$TMP/bad.ini" <<'EOF'
 [system]
