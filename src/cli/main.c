@@ -126,7 +126,9 @@ static void markdown(FILE *f)
                "`--name=VALUE`; a value out of its allowed range is refused naming the option and the range\n"
                "(exit 2), and an unknown option is refused with the nearest known one. The commands that write\n"
                "files spell the shared options alike: `--out DIR`, `--force`, `--format png|svg|pdf`,\n"
-               "`--no-plots`, `--set section.key=value` (where a scene is read).\n\n");
+               "`--no-plots`, `--set section.key=value` (where a scene is read). An option is one row of its\n"
+               "command's table (src/cli/cmd_NAME.c: name, type, range, default, help); after adding one,\n"
+               "regenerate this page with `granule help --markdown > docs/cli.md`.\n\n");
     for (int k = 0; k < N_COMMANDS; k++) {
         if (commands[k].table) {
             cli_markdown(commands[k].table, f);
