@@ -242,7 +242,7 @@ base | plot $O | 2 | $O | new
 base | reproduce nosuch --out $O | 2 | nosuch | new
 base | reproduce fig2.10 --fidelity bogus --out $O | 2 | fidelity | new
 base | reproduce ch3-moments --point 12 --out $O | 2 | --point 12: ch3-moments has points 0..11 at quick fidelity | new
-base | reproduce ch3-moments --jobs 0 --out $O | 2 | --jobs 0: allowed 1..4096 | new
+base | reproduce ch3-moments --jobs 0 --out $O | 2 | --jobs 0: expected an integer from 1 to 4096 | new
 base | reproduce ch3-moments --fidelity full --point x --out $O | 2 | --point x;0..167 at full | new
 base | spm bogus | 2 | bogus | new
 base | spm circle --out $O --bogus | 2 | --bogus | new
@@ -347,8 +347,8 @@ base | run $S --out | 2 | --out needs a value;!unknown option | new
 base | compare $S --models | 2 | --models needs a value | new
 base | collide --speed | 2 | --speed needs a value | new
 base | reproduce ch3-moments --out | 2 | --out needs a value | new
-file:[sweep]\n[vary]\nsystem.N = 10\n | sweep $S --array-base 99999999999999999999 --point 0 | 2 | --array-base;up to 1000000000000 | new
-file:[sweep]\n[vary]\nsystem.N = 10\n | sweep $S --point 99999999999999999999 | 2 | --point;up to 1000000000000 | new
+file:[sweep]\n[vary]\nsystem.N = 10\n | sweep $S --array-base 99999999999999999999 --point 0 | 2 | --array-base;from 0 to 1000000000000 | new
+file:[sweep]\n[vary]\nsystem.N = 10\n | sweep $S --point 99999999999999999999 | 2 | --point;from 0 to 1000000000000 | new
 base | run $S --out $O --set integrator.dt=1e-7 --set integrator.steps_per_contact=50 | 2 | --set integrator.dt=1e-7;give dt or steps_per_contact, not both | new
 base | run $S --out $O --set system.L=0.5 --set system.reduced_length=0.1 | 2 | reduced_length;give only one of L | new
 base | run $S --out $O --set system.N=0x1p5 | 2 | [system] N;0x1p5 is not an integer written in decimal digits;[1, 1e+08] | new

@@ -45,6 +45,75 @@ for c in "${cmds[@]}"; do
     if [[ $rc -eq 0 && -n $out ]]; then pass "granule $c --help"; else fail "granule $c --help exits $rc (stdout ${#out} bytes)" "$err"; fi
 done
 
+# ---------- the option tables (issue 34 item 7) ----------
+# `granule help COMMAND` prints exactly what `granule COMMAND --help` does, for every command
+for c in "${cmds[@]}"; do
+    run "$G" help "$c"
+    h=$out
+    run "$G" "$c" --help
+    if [[ $rc -eq 0 && -n $h && $h == "$out" ]]; then pass "granule help $c = granule $c --help"; else fail "granule help $c differs from granule $c --help"; fi
+done
+# -V and --version print the version
+for v in -V --version; do
+    run "$G" $v
+    if [[ $rc -eq 0 && $out =~ ^granule\ [0-9]+\.[0-9]+\.[0-9]+\ \( ]]; then pass "granule $v"; else fail "granule $v: exit $rc" "$out"; fi
+done
+# --help is generated from the table: each row with its value, default and allowed range
+run "$G" run --help
+if [[ $out == *"--threads N"*"from 1 to 1024"* && $out == *"--format png|svg|pdf"*"(default png)"* && $out == *"--no-plots"* ]]; then
+    pass "run --help lists the table's rows with default and range"
+else
+    fail "run --help lacks a row's default or range" "$out"
+fi
+run "$G" compare --help
+if [[ $out == *"--out DIR"*"(default out/compare)"* ]]; then pass "compare --help shows --out's default"; else fail "compare --help" "$out"; fi
+# an unknown option is refused with the nearest one; none is offered when nothing is near
+run "$G" run "$TMP/none.ini" --forse
+if [[ $rc -eq 2 && $err == *"unknown option --forse; did you mean --force?"* ]]; then pass "run --forse suggests --force"; else fail "run --forse: exit $rc" "$err"; fi
+run "$G" sweep "$TMP/none.ini" --colect
+if [[ $rc -eq 2 && $err == *"did you mean --collect?"* ]]; then pass "sweep --colect suggests --collect"; else fail "sweep --colect: exit $rc" "$err"; fi
+run "$G" compare "$TMP/none.ini" --model x
+if [[ $rc -eq 2 && $err == *"did you mean --models?"* ]]; then pass "compare --model suggests --models"; else fail "compare --model: exit $rc" "$err"; fi
+run "$G" run "$TMP/none.ini" --zzzzzzzz
+if [[ $rc -eq 2 && $err == *"unknown option --zzzzzzzz"* && $err != *"did you mean"* ]]; then pass "nothing near: no suggestion"; else fail "run --zzzzzzzz: exit $rc" "$err"; fi
+run "$G" swep
+if [[ $rc -eq 2 && $err == *"unknown command 'swep'; did you mean 'sweep'?"* ]]; then pass "granule swep suggests sweep"; else fail "granule swep: exit $rc" "$err"; fi
+# a value out of range names the option and the allowed range; --name=value works alike
+run "$G" sweep "$TMP/none.ini" --jobs 0
+if [[ $rc -eq 2 && $err == *"sweep: --jobs 0: expected an integer from 1 to 4096 (allowed range)"* ]]; then pass "sweep --jobs 0: range"; else fail "sweep --jobs 0: exit $rc" "$err"; fi
+run "$G" run "$TMP/none.ini" --threads=2000
+if [[ $rc -eq 2 && $err == *"run: --threads 2000: expected an integer from 1 to 1024 (allowed range)"* ]]; then pass "run --threads=2000: range"; else fail "run --threads=2000: exit $rc" "$err"; fi
+run "$G" run "$TMP/none.ini" --threads 2.5
+if [[ $rc -eq 2 && $err == *"--threads 2.5: expected an integer from 1 to 1024"* ]]; then pass "run --threads 2.5: not an integer"; else fail "run --threads 2.5: exit $rc" "$err"; fi
+run "$G" analyse "$TMP" --format gif
+if [[ $rc -eq 2 && $err == *"analyse: --format gif: expected png, svg or pdf"* ]]; then pass "analyse --format gif: the choices"; else fail "analyse --format gif: exit $rc" "$err"; fi
+run "$G" run "$TMP/none.ini" --force=yes
+if [[ $rc -eq 2 && $err == *"--force takes no value"* ]]; then pass "run --force=yes refused"; else fail "run --force=yes: exit $rc" "$err"; fi
+
+# the theory commands take the shared options alike (issue 38): --no-plots and --format in every
+# one's table, --set refused naming the command (it has no scene)
+for c in "spm circle" "spm full" "spm predict" bisect cascade fokker-planck; do
+    # shellcheck disable=SC2086
+    run "$G" $c --help
+    if [[ $out == *"--out DIR"* && $out == *"--force"* && $out == *"--no-plots"* && $out == *"--format png|svg|pdf"* && $out == *"--set K=V"* ]]; then
+        pass "$c --help lists --out, --force, --no-plots, --format, --set"
+    else
+        fail "$c --help lacks a shared option" "$out"
+    fi
+    # shellcheck disable=SC2086
+    run "$G" $c --format gif --out "$TMP/theory-never"
+    if [[ $rc -eq 2 && $err == *"--format gif: expected png, svg or pdf"* && ! -e $TMP/theory-never ]]; then pass "$c --format gif refused"; else fail "$c --format gif: exit $rc" "$err"; fi
+    # shellcheck disable=SC2086
+    run "$G" $c --set a.b=1 --out "$TMP/theory-never"
+    if [[ $rc -eq 2 && $err == *"--set a.b=1: $c has no scene"* && ! -e $TMP/theory-never ]]; then pass "$c --set refused"; else fail "$c --set: exit $rc" "$err"; fi
+done
+run "$G" fokker-planck --no-sim --points 21 --format svg --no-plots --quiet --out "$TMP/fp"
+if [[ $rc -eq 0 && -f $TMP/fp/summary.json && -z $(find "$TMP/fp" -name '*.svg' -o -name '*.png') ]]; then
+    pass "fokker-planck --format svg --no-plots: results, no plots"
+else
+    fail "fokker-planck --format svg --no-plots: exit $rc" "$err"
+fi
+
 # ---------- a refused scene ----------
 cat >"$TMP/bad.ini" <<'EOF'
 [system]

@@ -21,20 +21,39 @@
 #include "io/summary_read.h"
 #include "io/trajectory.h"
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: granule analyse DIR [--set analysis.observables=a,b ...] [--set section.key=value ...]\n"
-               "                       [--out OUT] [--force] [--lammps-dump FILE]\n\n"
-               "Reads DIR/scene.ini and the trajectory of a finished run (DIR/trajectory.h5, DIR/snapshots/trajectory.xyz\n"
-               "or DIR/snapshots/snap_*.xyz, as output.trajectory wrote it) and feeds\n"
-               "every frame to the observables named in [analysis] observables (granule observables lists\n"
-               "them; --set changes them or their parameters); frames of the warm-up (t <= run.warmup) are\n"
-               "skipped, as in a run. Writes OUT (default DIR/analysis):\n"
-               "summary.json and one CSV (and PNG) per observable, exactly as a run that sampled them.\n"
-               "--lammps-dump FILE reads the frames from a LAMMPS text dump (dump custom with id x y vx vy,\n"
-               "e.g. of a deck from `granule export lammps`) instead of the snapshots; DIR (default: the\n"
-               "dump's folder) holds the scene.ini; frame times are timestep * integrator.dt (docs/lammps.md).\n");
-}
+typedef struct analyse_args {
+    const char *out, *dump;
+    cli_list sets;
+    bool force, no_plots;
+} analyse_args;
+
+static const cli_opt analyse_opts[] = {
+    CLI_OPT_SET(analyse_args, sets),
+    CLI_OPT_OUT(analyse_args, out, "DIR/analysis"),
+    CLI_OPT_FORCE(analyse_args, force),
+    CLI_OPT_FORMAT,
+    {"--no-plots", CLI_FLAG, NULL, offsetof(analyse_args, no_plots), 0, 0, 0, NULL, "draw no plots (same as --set output.plots=false)", NULL},
+    {"--lammps-dump", CLI_STRING, "FILE", offsetof(analyse_args, dump), 0, 0, 0, NULL,
+     "read the frames from a LAMMPS text dump instead of DIR's trajectory", NULL},
+};
+
+const cli_command cli_cmd_analyse = {
+    .name = "analyse",
+    .usage = "granule analyse DIR [--set analysis.observables=a,b ...] [--set section.key=value ...]\n"
+             "                       [--out OUT] [--force] [--lammps-dump FILE]",
+    .about = "Reads DIR/scene.ini and the trajectory of a finished run (DIR/trajectory.h5, DIR/snapshots/trajectory.xyz\n"
+             "or DIR/snapshots/snap_*.xyz, as output.trajectory wrote it) and feeds\n"
+             "every frame to the observables named in [analysis] observables (granule observables lists\n"
+             "them; --set changes them or their parameters); frames of the warm-up (t <= run.warmup) are\n"
+             "skipped, as in a run. Writes OUT (default DIR/analysis):\n"
+             "summary.json and one CSV (and PNG) per observable, exactly as a run that sampled them.\n"
+             "--lammps-dump FILE reads the frames from a LAMMPS text dump (dump custom with id x y vx vy,\n"
+             "e.g. of a deck from `granule export lammps`) instead of the snapshots; DIR (default: the\n"
+             "dump's folder) holds the scene.ini; frame times are timestep * integrator.dt (docs/lammps.md).\n",
+    .pos_name = "run folder",
+    .max_pos = 1,
+    CLI_OPTS(analyse_opts),
+};
 
 /* Frames of a run folder's trajectory (any output.trajectory format) or of a LAMMPS dump, one at
  * a time. */
@@ -164,34 +183,21 @@ static void headline_fits(const cJSON *analysis, char *buf, size_t size)
 
 int cmd_analyse(int argc, char **argv)
 {
-    const char *dir = NULL, *out_dir = NULL, *dump = NULL;
-    const char **sets = calloc((size_t)argc + 1, sizeof(char *));
-    int n_sets = 0;
-    bool force = false;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            usage(stdout);
-            free(sets);
-            return EXIT_OK;
-        } else if (!strcmp(argv[i], "--set") && i + 1 < argc) {
-            sets[n_sets++] = argv[++i];
-        } else if (!strcmp(argv[i], "--out") && i + 1 < argc) {
-            out_dir = argv[++i];
-        } else if (!strcmp(argv[i], "--lammps-dump") && i + 1 < argc) {
-            dump = argv[++i];
-        } else if (!strcmp(argv[i], "--force")) {
-            force = true;
-        } else if (argv[i][0] != '-' && !dir) {
-            dir = argv[i];
-        } else {
-            if (!cli_missing_value("analyse", argv[i], "--set --out --lammps-dump", i + 1 >= argc)) {
-                cli_error("analyse: unexpected argument %s", argv[i]);
-            }
-            usage(stderr);
-            free(sets);
-            return EXIT_REFUSED;
-        }
+    analyse_args args = {0};
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_analyse, argc, argv, &args, &pos);
+    if (parsed >= 0) {
+        cli_list_free(&args.sets);
+        return parsed;
     }
+    const char *dir = pos.n ? pos.v[0] : NULL, *out_dir = args.out, *dump = args.dump;
+    if (args.no_plots && !cli_list_add(&args.sets, "output.plots=false")) {
+        cli_list_free(&args.sets);
+        return EXIT_FAILED;
+    }
+    const char **sets = args.sets.items;
+    const int n_sets = args.sets.n;
+    const bool force = args.force;
     char path[1200], outbuf[1200], dumpdir[1200];
     if (!dir && dump) { /* the folder of the dump */
         snprintf(dumpdir, sizeof dumpdir, "%s", dump);
@@ -204,7 +210,7 @@ int cmd_analyse(int argc, char **argv)
         dir = dumpdir;
     }
     if (!dir) {
-        usage(stderr);
+        cli_help(&cli_cmd_analyse, stderr);
         free(sets);
         return EXIT_REFUSED;
     }
@@ -358,10 +364,10 @@ int cmd_analyse(int argc, char **argv)
 
 int cmd_observables(int argc, char **argv)
 {
-    (void)argv;
-    if (argc > 1) {
-        printf("usage: granule observables\nLists the observables of the analysis layer, their dimensions and parameters.\n");
-        return EXIT_OK;
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_observables, argc, argv, NULL, &pos);
+    if (parsed >= 0) {
+        return parsed;
     }
     for (int i = 0; gr_observables[i]; i++) {
         const gr_observable_type *t = gr_observables[i];

@@ -45,23 +45,47 @@ static const bench_part parts[] = {
 };
 enum { N_PARTS = sizeof parts / sizeof parts[0] };
 
-static void usage(FILE *f)
+/* the parts and this build's paths, after the generated help */
+static void parts_help(FILE *f)
 {
-    fprintf(f, "usage: granule bench [PART|all] [--quick] [--out DIR | --update-docs] [--install]\n\n");
+    fprintf(f, "\nparts:\n");
     for (int k = 0; k < N_PARTS; k++) {
         fprintf(f, "  %-16s %s\n", parts[k].name, parts[k].doc);
     }
     fprintf(f, "  %-16s every one of them, in this order (default)\n\n"
-               "Each prints the machine, compiler flags and commit beside the numbers.\n"
-               "  --quick          a smoke test: tiny sizes (what the test suite runs), every part once; the\n"
-               "                   numbers are not benchmarks and nothing is kept\n"
-               "  --out DIR        tables (CSV, Markdown) in DIR, plots in DIR/img (default out/bench)\n"
-               "  --update-docs    write into the source tree instead: %s/out/bench and\n"
-               "                   %s/docs/img, the files docs/performance.md shows\n"
-               "A part whose script is not in this source tree is skipped with a note.\n"
+               "--update-docs writes %s/out/bench and %s/docs/img.\n"
                "Runs the programs and scripts of %s/bench built in %s.\n",
             "all", GR_SOURCE_DIR, GR_SOURCE_DIR, GR_SOURCE_DIR, GR_BUILD_DIR);
 }
+
+typedef struct bench_args {
+    const char *out;
+    bool quick, update_docs, install;
+} bench_args;
+
+static const cli_opt bench_opts[] = {
+    {"--quick", CLI_FLAG, NULL, offsetof(bench_args, quick), 0, 0, 0, NULL,
+     "a smoke test: tiny sizes (what the test suite runs), every part once; the numbers are not benchmarks and nothing "
+     "is kept", NULL},
+    {"--out", CLI_STRING, "DIR", offsetof(bench_args, out), 0, 0, 0, "out/bench",
+     "tables (CSV, Markdown) in DIR, plots in DIR/img", NULL},
+    {"--update-docs", CLI_FLAG, NULL, offsetof(bench_args, update_docs), 0, 0, 0, NULL,
+     "write into the source tree instead: out/bench and docs/img, the files docs/performance.md shows", NULL},
+    {"--install", CLI_FLAG, NULL, offsetof(bench_args, install), 0, 0, 0, NULL,
+     "lammps part: install the Debian package lammps first (as root)", NULL},
+};
+
+const cli_command cli_cmd_bench = {
+    .name = "bench",
+    .usage = "granule bench [PART|all] [--quick] [--out DIR | --update-docs] [--install]",
+    .about = "Regenerates the throughput tables of docs/performance.md on this machine (granule bench --help\n"
+             "lists the parts). Each prints the machine, compiler flags and commit beside the numbers.\n",
+    .epilog = "A part whose script is not in this source tree is skipped with a note.\n",
+    .pos_name = "part",
+    .max_pos = 1,
+    CLI_OPTS(bench_opts),
+    .more_help = parts_help,
+};
 
 static int run(const char *cmd)
 {
@@ -120,31 +144,17 @@ static int set_outputs(const char *out, bool update_docs)
 
 int cmd_bench(int argc, char **argv)
 {
-    const char *what = "all", *out = "out/bench";
-    bool quick = false, install = false, update_docs = false, out_given = false;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            usage(stdout);
-            return EXIT_OK;
-        } else if (!strcmp(argv[i], "--quick")) {
-            quick = true;
-        } else if (!strcmp(argv[i], "--update-docs")) {
-            update_docs = true;
-        } else if (!strcmp(argv[i], "--out")) {
-            if (i + 1 >= argc || strlen(argv[i + 1]) > 900) {
-                cli_error("bench: --out needs a folder (at most 900 characters)");
-                return EXIT_REFUSED;
-            }
-            out = argv[++i];
-            out_given = true;
-        } else if (!strcmp(argv[i], "--install")) {
-            install = true;
-        } else if (argv[i][0] != '-') {
-            what = argv[i];
-        } else {
-            cli_error("bench: unknown option %s", argv[i]);
-            return EXIT_REFUSED;
-        }
+    bench_args args = {0};
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_bench, argc, argv, &args, &pos);
+    if (parsed >= 0) {
+        return parsed;
+    }
+    const char *what = pos.n ? pos.v[0] : "all", *out = args.out ? args.out : "out/bench";
+    const bool quick = args.quick, install = args.install, update_docs = args.update_docs, out_given = args.out != NULL;
+    if (strlen(out) > 900) {
+        cli_error("bench: --out needs a folder (at most 900 characters)");
+        return EXIT_REFUSED;
     }
     bool all = !strcmp(what, "all"), known = all;
     for (int k = 0; k < N_PARTS; k++) {
@@ -152,7 +162,7 @@ int cmd_bench(int argc, char **argv)
     }
     if (!known) {
         cli_error("bench: unknown part '%s'", what);
-        usage(stderr);
+        cli_help(&cli_cmd_bench, stderr);
         return EXIT_REFUSED;
     }
     if (update_docs && (out_given || quick)) {

@@ -13,41 +13,51 @@
 
 #define MAX_G1 16
 
-static void usage(FILE *f)
-{
-    fprintf(f,
-            "usage: granule bisect [--out DIR] [--levels N] [--repetitions R] [--u0 uniform|power:A|FILE]\n"
-            "                      [--seed S] [--g1 FILE ...] [--moments M] [--bins-per-decade B]\n"
-            "                      [--fit-from K] [--jackknife G] [--anchor R0] [--no-plots] [--format F] [--force] [--quiet]\n\n"
-            "Bisects the unit interval N times (2^N partitions), every partition at a fraction a drawn from\n"
-            "U_0(a) (thesis eqs. 3.26-3.28), R times, and writes into DIR:\n"
-            "  pn.csv        P_n(x) at level N (log bins, sqrt(X) errors) beside (-ln x)^(N-1)/(N-1)! (3.36)\n"
-            "  moments.csv   <x^m> at every level k against mu_m^k ((1+m)^-k for the uniform U_0, 3.37)\n"
-            "  zeta.csv      zeta_m of <x^m> = A (2^k)^-zeta_m with fit and jackknife errors, beside\n"
-            "                ln(1+m)/ln 2 (3.38) and the RFM's Table 3.1\n"
-            "  collapse.csv  A_N G^(1/(n-1)) against -ln R (3.39-3.40) for the process and each --g1 table\n"
-            "  summary.json, and pn.png, moments.png, moments_N.png, collapse.png (gnuplot)\n\n"
-            "  --levels N         levels n, 1..%d (default 9: 512 partitions, Figs. 3.15-3.16)\n"
-            "  --repetitions R    realisations, >= 2 (default 10000)\n"
-            "  --u0 SPEC          uniform (default); power:A for U_0 = (1-A)/2 (a^-A + (1-a)^-A),\n"
-            "                     %g <= A <= %g; or a CSV file of a,U points (piecewise linear, normalised)\n"
-            "  --seed S           gsl_rng_mt19937 seed (default 1)\n"
-            "  --g1 FILE          a 1D RFM nearest-neighbour distribution G_1(R;N) to collapse with the\n"
-            "                     process (repeatable, up to %d): CSV R,G[,G_err] with a '# N = <particles>'\n"
-            "                     comment (docs/theory-bisect.md)\n"
-            "  --moments M        moments m = 1..M (default 6, at most %d)\n"
-            "  --bins-per-decade B  bins of P_n(x) (default 10)\n"
-            "  --fit-from K       fit zeta_m over levels K..N (default 1)\n"
-            "  --jackknife G      groups of realisations for the jackknife errors (default 32)\n"
-            "  --anchor R0        R_0 of A_N (3.40; default 0.7)\n"
-            "  --out DIR          output folder (default out/bisect)\n"
-            "  --no-plots         no plots\n"
-            "  --format F         plots as png (default), svg or pdf\n"
-            "  --force            overwrite the results of an earlier run in DIR\n"
-            "  --quiet            no progress line\n"
-            "Exit status: 0 done, 2 bad input (options, U_0 or G_1 file, DIR holds a run), 1 other failure.\n",
-            GR_BISECT_MAX_LEVELS, GR_BISECT_POWER_A_MIN, GR_BISECT_POWER_A_MAX, MAX_G1, GR_BISECT_MAX_MOMENTS);
-}
+typedef struct bisect_args {
+    gr_bisect_settings s;
+    const char *u0;
+    cli_list g1;
+    cli_theory th;
+} bisect_args;
+
+static const cli_opt bisect_opts[] = {
+    {"--levels", CLI_INT, "N", offsetof(bisect_args, s.levels), 1, GR_BISECT_MAX_LEVELS, 0, "9",
+     "levels n: 2^n partitions (9: 512, Figs. 3.15-3.16)", NULL},
+    {"--repetitions", CLI_INT64, "R", offsetof(bisect_args, s.repetitions), 2, 1e15, 0, "10000", "realisations", NULL},
+    {"--u0", CLI_STRING, "SPEC", offsetof(bisect_args, u0), 0, 0, 0, "uniform",
+     "uniform; power:A for U_0 = (1-A)/2 (a^-A + (1-a)^-A), " CLI_STR(GR_BISECT_POWER_A_MIN) " <= A <= " CLI_STR(
+         GR_BISECT_POWER_A_MAX) "; or a CSV file of a,U points (piecewise linear, normalised)", NULL},
+    {"--seed", CLI_UINT64, "S", offsetof(bisect_args, s.seed), 0, 0, 0, "1", "gsl_rng_mt19937 seed", NULL},
+    {"--g1", CLI_LIST, "FILE", offsetof(bisect_args, g1), 0, 0, 0, NULL,
+     "a 1D RFM nearest-neighbour distribution G_1(R;N) to collapse with the process (repeatable, up to "
+     CLI_STR(MAX_G1) "): CSV R,G[,G_err] with a '# N = <particles>' comment (docs/theory-bisect.md)", NULL},
+    {"--moments", CLI_INT, "M", offsetof(bisect_args, s.moments_max), 1, GR_BISECT_MAX_MOMENTS, 0, "6", "moments m = 1..M",
+     NULL},
+    {"--bins-per-decade", CLI_INT, "B", offsetof(bisect_args, s.bins_per_decade), 1, 1000, 0, "10", "bins of P_n(x)", NULL},
+    {"--fit-from", CLI_INT, "K", offsetof(bisect_args, s.fit_level_min), 1, GR_BISECT_MAX_LEVELS, 0, "1",
+     "fit zeta_m over levels K..N", NULL},
+    {"--jackknife", CLI_INT, "G", offsetof(bisect_args, s.jackknife_groups), 2, 1024, 0, "32",
+     "groups of realisations for the jackknife errors", NULL},
+    {"--anchor", CLI_DOUBLE, "R0", offsetof(bisect_args, s.anchor), 0, 0, 0, "0.7", "R_0 of A_N (3.40)", NULL},
+    CLI_THEORY_OPTS(bisect_args, th, "out/bisect"),
+};
+
+const cli_command cli_cmd_bisect = {
+    .name = "bisect",
+    .usage = "granule bisect [--out DIR] [--levels N] [--repetitions R] [--u0 uniform|power:A|FILE]\n"
+             "                      [--seed S] [--g1 FILE ...] [--moments M] [--bins-per-decade B]\n"
+             "                      [--fit-from K] [--jackknife G] [--anchor R0] [--no-plots] [--format F] [--force] [--quiet]",
+    .about = "Bisects the unit interval N times (2^N partitions), every partition at a fraction a drawn from\n"
+             "U_0(a) (thesis eqs. 3.26-3.28), R times, and writes into DIR:\n"
+             "  pn.csv        P_n(x) at level N (log bins, sqrt(X) errors) beside (-ln x)^(N-1)/(N-1)! (3.36)\n"
+             "  moments.csv   <x^m> at every level k against mu_m^k ((1+m)^-k for the uniform U_0, 3.37)\n"
+             "  zeta.csv      zeta_m of <x^m> = A (2^k)^-zeta_m with fit and jackknife errors, beside\n"
+             "                ln(1+m)/ln 2 (3.38) and the RFM's Table 3.1\n"
+             "  collapse.csv  A_N G^(1/(n-1)) against -ln R (3.39-3.40) for the process and each --g1 table\n"
+             "  summary.json, and pn.png, moments.png, moments_N.png, collapse.png (gnuplot)\n",
+    .epilog = "Exit status: 0 done, 2 bad input (options, U_0 or G_1 file, DIR holds a run), 1 other failure.\n",
+    CLI_OPTS(bisect_opts),
+};
 
 typedef struct progress_state {
     double start, last;
@@ -74,102 +84,30 @@ static void progress(int64_t done, int64_t total, void *user)
     fflush(stderr);
 }
 
-/* An integer option within [lo, hi]. */
-static bool int_option(const char *opt, const char *text, double lo, double hi, double *out)
-{
-    if (!cli_number(opt, text, out)) {
-        return false;
-    }
-    if (*out != floor(*out) || *out < lo || *out > hi) {
-        cli_error("bisect: %s must be an integer in [%.0f, %.0f], got %s", opt, lo, hi, text);
-        return false;
-    }
-    return true;
-}
-
 int cmd_bisect(int argc, char **argv)
 {
-    gr_bisect_settings s;
-    gr_bisect_settings_default(&s);
-    const char *out = "out/bisect", *u0_spec = "uniform", *g1_paths[MAX_G1];
-    int n_g1 = 0;
-    bool force = false, quiet = false, plots = true;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        double x;
-        int k;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            return EXIT_OK;
-        } else if ((k = cli_theory_option("bisect", argc, argv, &i, &force, &quiet, &plots)) != 0) {
-            if (k < 0) {
-                return EXIT_REFUSED;
-            }
-        } else if (!v || strncmp(a, "--", 2) != 0) {
-            cli_error("bisect: unknown or incomplete option %s (granule bisect --help)", a);
-            return EXIT_REFUSED;
-        } else {
-            i++;
-            if (!strcmp(a, "--out")) {
-                out = v;
-            } else if (!strcmp(a, "--u0")) {
-                u0_spec = v;
-            } else if (!strcmp(a, "--g1")) {
-                if (n_g1 == MAX_G1) {
-                    cli_error("bisect: at most %d --g1 tables", MAX_G1);
-                    return EXIT_REFUSED;
-                }
-                g1_paths[n_g1++] = v;
-            } else if (!strcmp(a, "--seed")) {
-                char *end;
-                errno = 0;
-                unsigned long long seed = strtoull(v, &end, 10);
-                if (end == v || *end || errno || v[0] == '-') {
-                    cli_error("bisect: --seed needs a non-negative integer, got '%s'", v);
-                    return EXIT_REFUSED;
-                }
-                s.seed = seed;
-            } else if (!strcmp(a, "--levels")) {
-                if (!int_option(a, v, 1, GR_BISECT_MAX_LEVELS, &x)) {
-                    return EXIT_REFUSED;
-                }
-                s.levels = (int)x;
-            } else if (!strcmp(a, "--repetitions")) {
-                if (!int_option(a, v, 2, 1e15, &x)) {
-                    return EXIT_REFUSED;
-                }
-                s.repetitions = (int64_t)x;
-            } else if (!strcmp(a, "--moments")) {
-                if (!int_option(a, v, 1, GR_BISECT_MAX_MOMENTS, &x)) {
-                    return EXIT_REFUSED;
-                }
-                s.moments_max = (int)x;
-            } else if (!strcmp(a, "--bins-per-decade")) {
-                if (!int_option(a, v, 1, 1000, &x)) {
-                    return EXIT_REFUSED;
-                }
-                s.bins_per_decade = (int)x;
-            } else if (!strcmp(a, "--fit-from")) {
-                if (!int_option(a, v, 1, GR_BISECT_MAX_LEVELS, &x)) {
-                    return EXIT_REFUSED;
-                }
-                s.fit_level_min = (int)x;
-            } else if (!strcmp(a, "--jackknife")) {
-                if (!int_option(a, v, 2, 1024, &x)) {
-                    return EXIT_REFUSED;
-                }
-                s.jackknife_groups = (int)x;
-            } else if (!strcmp(a, "--anchor")) {
-                if (!cli_number(a, v, &x)) {
-                    return EXIT_REFUSED;
-                }
-                s.anchor = x;
-            } else {
-                cli_error("bisect: unknown option %s (granule bisect --help)", a);
-                return EXIT_REFUSED;
-            }
-        }
+    bisect_args args = {.u0 = "uniform", .th.out = "out/bisect"};
+    gr_bisect_settings_default(&args.s);
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_bisect, argc, argv, &args, &pos);
+    if (parsed >= 0 || cli_theory_set_refused(&cli_cmd_bisect, &args.th)) {
+        cli_list_free(&args.g1);
+        cli_list_free(&args.th.sets);
+        return parsed >= 0 ? parsed : EXIT_REFUSED;
     }
+    if (args.g1.n > MAX_G1) {
+        cli_error("bisect: at most %d --g1 tables", MAX_G1);
+        cli_list_free(&args.g1);
+        return EXIT_REFUSED;
+    }
+    gr_bisect_settings s = args.s;
+    const char *out = args.th.out, *u0_spec = args.u0, *g1_paths[MAX_G1];
+    const int n_g1 = args.g1.n;
+    for (int k = 0; k < n_g1; k++) {
+        g1_paths[k] = args.g1.items[k];
+    }
+    cli_list_free(&args.g1);
+    const bool force = args.th.force, quiet = args.th.quiet, plots = !args.th.no_plots;
     if (strlen(out) > 1000) {
         cli_error("bisect: --out %.40s...: path too long", out);
         return EXIT_REFUSED;

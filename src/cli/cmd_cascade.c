@@ -19,56 +19,59 @@
 #include "granule/cascade_study.h"
 #include "io/files.h"
 
-static void usage(FILE *f)
-{
+typedef struct cascade_args {
     gr_cascade_settings s;
-    gr_cascade_settings_default(&s);
-    fprintf(f,
-            "usage: granule cascade [--levels n] [--variant NAME] [--p p1,p2,p3,p4] [--configurations C]\n"
-            "                       [--seed S] [--out DIR] [--box L] [--fit-min Q] [--fit-max Q]\n"
-            "                       [--place N [--radius r] [--max-attempts A]] [--force] [--no-plots] [--format F]\n"
-            "                       [--quiet]\n\n"
-            "Multiplicative cascade process (thesis sec. 6.2): breaks a box of side L into 2^n x 2^n squares\n"
-            "level by level, sharing each square's probability among its four children (6.2)-(6.4). Averages\n"
-            "the structure factor S(k) (6.5) over C configurations on k = 2 pi (i, j)/L, circularly in integer\n"
-            "|k| L / 2 pi bins, fits S = A k^-D_f over bins Q_min..Q_max (4.4) and compares with Table 6.2 and\n"
-            "with the exact configuration average. --place puts N discs of radius r without overlap where the\n"
-            "first field is likely (Fig. 6.3) and writes them as an extended-XYZ snapshot.\n\n"
-            "  --levels n          grid 2^n x 2^n, 1..%d (default %d: the thesis's 256 x 256)\n"
-            "  --variant NAME      ucp (default), unoncp, symmetrised, meakin1..meakin4 (Table 6.1),\n"
-            "                      meakin (with --p), uniform (control: every child gets m/4)\n"
-            "  --p p1,p2,p3,p4     the four Meakin numbers (>= 0) for --variant meakin\n"
-            "  --configurations C  configurations averaged (default %d)\n"
-            "  --seed S            seed of GSL's mt19937, 0..4294967295 (default %lu)\n"
-            "  --out DIR           output folder (default out/cascade)\n"
-            "  --box L             box side in m (default %g; Fig. 6.3 uses 0.2)\n"
-            "  --fit-min Q         first |k| L / 2 pi bin of the D_f fit (default 1)\n"
-            "  --fit-max Q         last bin (default 2^(n-3), at least 4)\n"
-            "  --place N           place N discs from the first configuration's field\n"
-            "  --radius r          disc radius in m (default 1.5e-3)\n"
-            "  --max-attempts A    draws allowed for the placement (default 10^6 + 10^4 N)\n"
-            "  --force             overwrite the results of an earlier run in DIR\n"
-            "  --no-plots          no plots\n"
-            "  --format F          plots as png (default), svg or pdf\n"
-            "  --quiet             no progress line\n\n"
-            "Writes DIR/summary.json, sk.csv, levels.csv, field.csv, sk.png, field.png and, with --place,\n"
-            "snapshots/snap_000000.xyz, scene.ini (so granule analyse DIR reads them) and placement.png.\n"
-            "Docs: docs/theory-cascade.md. Exit status: 0 done, 2 refused input (one line on stderr; also\n"
-            "when the placement is impossible), 1 other failures.\n",
-            GR_CASCADE_MAX_LEVELS, s.levels, s.configurations, s.seed, s.L);
-}
+    const char *variant, *p;
+    uint64_t seed;
+    int place, fit_min, fit_max; /* 0: not given */
+    double radius;               /* 0: not given */
+    int64_t max_attempts;        /* 0: not given */
+    cli_theory th;
+} cascade_args;
 
-static bool int_option(const char *opt, const char *text, double lo, double hi, double *out)
-{
-    if (!cli_number(opt, text, out)) {
-        return false;
-    }
-    if (!(*out >= lo && *out <= hi) || *out != floor(*out)) {
-        cli_error("cascade: %s must be an integer in [%.0f, %.0f], got %s", opt, lo, hi, text);
-        return false;
-    }
-    return true;
-}
+static const cli_opt cascade_opts[] = {
+    {"--levels", CLI_INT, "n", offsetof(cascade_args, s.levels), 1, GR_CASCADE_MAX_LEVELS, 0, "8",
+     "grid 2^n x 2^n (8: the thesis's 256 x 256)", NULL},
+    {"--variant", CLI_STRING, "NAME", offsetof(cascade_args, variant), 0, 0, 0, "ucp",
+     "ucp, unoncp, symmetrised, meakin1..meakin4 (Table 6.1), meakin (with --p), uniform (control: every child gets m/4)",
+     NULL},
+    {"--p", CLI_STRING, "p1,p2,p3,p4", offsetof(cascade_args, p), 0, 0, 0, NULL,
+     "the four Meakin numbers (>= 0) for --variant meakin", NULL},
+    {"--configurations", CLI_INT, "C", offsetof(cascade_args, s.configurations), 1, 1e9, 0, "200", "configurations averaged",
+     NULL},
+    {"--seed", CLI_UINT64, "S", offsetof(cascade_args, seed), 0, 4294967295.0, 0, "1", "seed of GSL's mt19937", NULL},
+    {"--box", CLI_DOUBLE, "L", offsetof(cascade_args, s.L), 0, INFINITY, CLI_MIN_OPEN, "1", "box side in m (Fig. 6.3 uses 0.2)",
+     NULL},
+    {"--fit-min", CLI_INT, "Q", offsetof(cascade_args, fit_min), 1, 1e9, 0, "1", "first |k| L / 2 pi bin of the D_f fit", NULL},
+    {"--fit-max", CLI_INT, "Q", offsetof(cascade_args, fit_max), 1, 1e9, 0, "2^(n-3), at least 4", "last bin of the D_f fit",
+     NULL},
+    {"--place", CLI_INT, "N", offsetof(cascade_args, place), 1, 1e8, 0, NULL, "place N discs from the first configuration's field",
+     NULL},
+    {"--radius", CLI_DOUBLE, "r", offsetof(cascade_args, radius), 0, INFINITY, CLI_MIN_OPEN, "1.5e-3",
+     "disc radius in m (with --place)", NULL},
+    {"--max-attempts", CLI_INT64, "A", offsetof(cascade_args, max_attempts), 1, 1e15, 0, "10^6 + 10^4 N",
+     "draws allowed for the placement (with --place)", NULL},
+    CLI_THEORY_OPTS(cascade_args, th, "out/cascade"),
+};
+
+const cli_command cli_cmd_cascade = {
+    .name = "cascade",
+    .usage = "granule cascade [--levels n] [--variant NAME] [--p p1,p2,p3,p4] [--configurations C]\n"
+             "                       [--seed S] [--out DIR] [--box L] [--fit-min Q] [--fit-max Q]\n"
+             "                       [--place N [--radius r] [--max-attempts A]] [--force] [--no-plots] [--format F]\n"
+             "                       [--quiet]",
+    .about = "Multiplicative cascade process (thesis sec. 6.2): breaks a box of side L into 2^n x 2^n squares\n"
+             "level by level, sharing each square's probability among its four children (6.2)-(6.4). Averages\n"
+             "the structure factor S(k) (6.5) over C configurations on k = 2 pi (i, j)/L, circularly in integer\n"
+             "|k| L / 2 pi bins, fits S = A k^-D_f over bins Q_min..Q_max (4.4) and compares with Table 6.2 and\n"
+             "with the exact configuration average. --place puts N discs of radius r without overlap where the\n"
+             "first field is likely (Fig. 6.3) and writes them as an extended-XYZ snapshot.\n",
+    .epilog = "Writes DIR/summary.json, sk.csv, levels.csv, field.csv, sk.png, field.png and, with --place,\n"
+              "snapshots/snap_000000.xyz, scene.ini (so granule analyse DIR reads them) and placement.png.\n"
+              "Docs: docs/theory-cascade.md. Exit status: 0 done, 2 refused input (one line on stderr; also\n"
+              "when the placement is impossible), 1 other failures.\n",
+    CLI_OPTS(cascade_opts),
+};
 
 static bool parse_p(const char *text, double p[4])
 {
@@ -130,84 +133,24 @@ int cmd_cascade(int argc, char **argv)
     gr_cascade_study_params sp = {0};
     gr_cascade_settings_default(&sp.s);
     gr_cascade_placement_default(&sp.placement);
-    gr_cascade_settings s = sp.s;
-    gr_cascade_placement place = sp.placement;
-    const char *out = "out/cascade", *variant = "ucp", *p_text = NULL;
-    bool force = false, quiet = false, plots_on = true, do_place = false, radius_given = false, attempts_given = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        double x;
-        int k;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            return EXIT_OK;
-        } else if ((k = cli_theory_option("cascade", argc, argv, &i, &force, &quiet, &plots_on)) != 0) {
-            if (k < 0) {
-                return EXIT_REFUSED;
-            }
-        } else if (!v || strncmp(a, "--", 2) != 0) {
-            cli_error("cascade: unknown or incomplete option %s (see granule cascade --help)", a);
-            return EXIT_REFUSED;
-        } else {
-            i++;
-            if (!strcmp(a, "--out")) {
-                out = v;
-            } else if (!strcmp(a, "--variant")) {
-                variant = v;
-            } else if (!strcmp(a, "--p")) {
-                p_text = v;
-            } else if (!strcmp(a, "--levels")) {
-                if (!int_option(a, v, 1, GR_CASCADE_MAX_LEVELS, &x)) {
-                    return EXIT_REFUSED;
-                }
-                s.levels = (int)x;
-            } else if (!strcmp(a, "--configurations")) {
-                if (!int_option(a, v, 1, 1e9, &x)) {
-                    return EXIT_REFUSED;
-                }
-                s.configurations = (int)x;
-            } else if (!strcmp(a, "--seed")) {
-                if (!int_option(a, v, 0, 4294967295.0, &x)) {
-                    return EXIT_REFUSED;
-                }
-                s.seed = (unsigned long)x;
-            } else if (!strcmp(a, "--place")) {
-                if (!int_option(a, v, 1, 1e8, &x)) {
-                    return EXIT_REFUSED;
-                }
-                place.n = (int)x;
-                do_place = true;
-            } else if (!strcmp(a, "--max-attempts")) {
-                if (!int_option(a, v, 1, 1e15, &x)) {
-                    return EXIT_REFUSED;
-                }
-                place.max_attempts = (int64_t)x;
-                attempts_given = true;
-            } else if (!strcmp(a, "--fit-min") || !strcmp(a, "--fit-max")) {
-                if (!int_option(a, v, 1, 1e9, &x)) {
-                    return EXIT_REFUSED;
-                }
-                *(!strcmp(a, "--fit-min") ? &s.fit_q_min : &s.fit_q_max) = x;
-            } else if (!strcmp(a, "--box") || !strcmp(a, "--radius")) {
-                if (!cli_number(a, v, &x)) {
-                    return EXIT_REFUSED;
-                }
-                if (!(x > 0.0) || !isfinite(x)) {
-                    cli_error("cascade: %s must be a length > 0 m, got %s", a, v);
-                    return EXIT_REFUSED;
-                }
-                if (!strcmp(a, "--box")) {
-                    s.L = x;
-                } else {
-                    place.radius = x;
-                    radius_given = true;
-                }
-            } else {
-                cli_error("cascade: unknown option %s (see granule cascade --help)", a);
-                return EXIT_REFUSED;
-            }
-        }
+    cascade_args args = {.s = sp.s, .variant = "ucp", .seed = sp.s.seed, .th.out = "out/cascade"};
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_cascade, argc, argv, &args, &pos);
+    if (parsed >= 0 || cli_theory_set_refused(&cli_cmd_cascade, &args.th)) {
+        cli_list_free(&args.th.sets);
+        return parsed >= 0 ? parsed : EXIT_REFUSED;
     }
+    gr_cascade_settings s = args.s;
+    s.seed = (unsigned long)args.seed;
+    s.fit_q_min = args.fit_min ? args.fit_min : s.fit_q_min;
+    s.fit_q_max = args.fit_max ? args.fit_max : s.fit_q_max;
+    gr_cascade_placement place = sp.placement;
+    const bool do_place = args.place > 0, radius_given = args.radius > 0.0, attempts_given = args.max_attempts > 0;
+    place.n = do_place ? args.place : place.n;
+    place.radius = radius_given ? args.radius : place.radius;
+    place.max_attempts = attempts_given ? args.max_attempts : place.max_attempts;
+    const char *out = args.th.out, *variant = args.variant, *p_text = args.p;
+    const bool force = args.th.force, quiet = args.th.quiet, plots_on = !args.th.no_plots;
     gr_error err = {0};
     if (gr_cascade_variant_parse(variant, &s.variant, &err)) {
         cli_error("cascade: --variant: %s", err.message);

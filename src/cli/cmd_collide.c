@@ -11,48 +11,109 @@
 /* --phases: each phase is one whole collision (as `granule cost --phases`) */
 #define COLLIDE_MAX_PHASES 1000
 
-static void usage(FILE *f)
+typedef struct collide_args {
+    gr_collide_setup s;
+    int number, phases;
+    const char *model, *speeds;
+    double speed, angle; /* oblique impact: --speed V [--angle DEG] */
+    bool reference;
+} collide_args;
+
+/* --set KEY=VALUE: a model parameter, in the order given among the other options */
+static bool apply_set(void *args, const char *v, double number)
 {
-    fprintf(f,
-            "usage: granule collide [--case N] [--model NORMAL[+TANGENTIAL[+ROLLING]]] [--eps-n E] [--eps-t E]\n"
-            "                       [--mu MU] [--k K] [--dt DT | --steps-per-contact S] [--mass M]\n"
-            "                       [--radius R] [--clamp] [--dim 1|2] [--phases P] [--force-dt] [--reference [--rtol TOL]]\n"
-            "                       [--set KEY=VALUE ...] [--speeds V1,V2,...]\n"
-            "                       [--speed V --angle DEG] [--omega1 W1] [--omega2 W2]\n\n"
-            "Runs collision N (1-4) of Table 2.1 (particle 2 at rest; 1 kg masses unless --mass) and\n"
-            "prints one JSON object: energy_loss (fraction of the relative kinetic energy lost),\n"
-            "expected_loss (1 - eps^2 head-on, 1 - (eps_n^2 + eps_t^2)/2 at 45 degrees; in general\n"
-            "(1 - eps_n^2) cos^2 a + (1 - eps_t^2) sin^2 a), contact_time, max_overlap, eps_n_measured,\n"
-            "eps_t_measured, impact_angle. --phases P averages P contact phases (start offsets within a\n"
-            "time step; 1 to 1000). --reference also integrates the contact with SUNDIALS CVODE (relative tolerance --rtol,\n"
-            "default 1e-12, allowed [1e-14, 1e-2]) and adds reference_energy_loss. Defaults: case 1, spring_dashpot, eps 0.6, k 5e5 N/m,\n"
-            "r = 0.1 m (so the overlap v/w0 = 1 mm stays small), dt = t_c/50. --model hard_sphere applies the\n"
-            "instantaneous rule of the event-driven integrator (exact loss; contact_time 0). For the RFM particles use\n"
-            "--mass 3.53e-5 --radius 1.5e-3. --set KEY=VALUE sets any model parameter of `granule models` (e.g.\n"
-            "--model hertz --set viscoelastic=true --set visco_A=1e-6). --speeds V1,V2,... adds restitution_vs_speed:\n"
-            "head-on impacts at these relative speeds (m/s), each with the engine's eps_n and contact time (steps with\n"
-            "a force x dt), the model's own law eps_n(v) and contact time t_c(v) (and the CVODE reference's with\n"
-            "--reference); for hertz the time step then\n"
-            "follows each impact (dt = t_c(v) / steps-per-contact).\n"
-            "Ranges: --eps-n (0, 1] (eps_n = 0 is a sticking pair that never separates, so there is no\n"
-            "collision to measure; a scene may use it with spring_dashpot), --eps-t [0, 1], --mu >= 0.\n"
-            "The JSON lists only the parameters the chosen model uses (granule models; --eps-t and --mu\n"
-            "need a tangential model, --k and --dt a soft one) and gives every unit in \"units\".\n"
-            "Rotation (--set rotation=true [--set inertia_factor=Q] with tangential_dashpot, sliding_friction or\n"
-            "tangential_spring):\n"
-            "energy_loss then includes the spin energy I w^2 / 2 of both discs, eps_t_measured is the contact\n"
-            "point's tangential restitution (g.t + r (w1 + w2) after over before; the discs start without spin),\n"
-            "and omega1, omega2 give the angular velocities after the collision (rad/s, counterclockwise).\n"
-            "Oblique impact (instead of --case; 2D): --speed V (relative speed, m/s, > 0) --angle DEG (between -g and\n"
-            "the line of centres at first touch, [0, 90); default 0), particle 2 at rest; the normal at impact is the\n"
-            "x axis, so v1_after, v2_after (velocities after the collision) give the normal (x) and tangential (y)\n"
-            "components. --omega1, --omega2: initial angular velocities (rad/s, counterclockwise; need rotation);\n"
-            "expected_loss is then null (the restitution laws assume discs without spin); energy_loss counts the\n"
-            "spins' energy too, and spin_loss gives their share of it. Rolling resistance: --model\n"
-            "NORMAL+TANGENTIAL+rolling_friction --set rotation=true [--set mu_r=M]; spin_loss_rolling_law is its law\n"
-            "(J |w1 - w2| - J^2 / I, J = min(mu_r r/2 normal_impulse, I |w1 - w2| / 2), over the initial energy), which\n"
-            "spin_loss equals when the contact point does not slip (head-on, --omega2 = -omega1).\n");
+    (void)number;
+    collide_args *c = args;
+    char key[64];
+    const char *eq = strchr(v, '=');
+    gr_error e = {0};
+    snprintf(key, sizeof key, "%.*s", eq ? (int)(eq - v) : 0, v);
+    if (!eq || gr_contact_set(&c->s.contact, key, eq + 1, &e) != GR_OK) {
+        cli_error("collide: --set %s: %s", v, eq ? e.message : "expected KEY=VALUE");
+        return false;
+    }
+    return true;
 }
+
+static const cli_opt collide_opts[] = {
+    {"--case", CLI_INT, "N", offsetof(collide_args, number), 1, 4, 0, "1", "collision N of Table 2.1", NULL},
+    {"--model", CLI_STRING, "NORMAL[+TANGENTIAL[+ROLLING]]", offsetof(collide_args, model), 0, 0, 0, "spring_dashpot",
+     "the collision model (granule models lists them)", NULL},
+    {"--eps-n", CLI_DOUBLE, "E", offsetof(collide_args, s.contact.eps_n), 0, 0, 0, "0.6",
+     "normal restitution, allowed (0, 1] (eps_n = 0 is a sticking pair that never separates, so there is no collision "
+     "to measure; a scene may use it with spring_dashpot)", NULL},
+    {"--eps-t", CLI_DOUBLE, "E", offsetof(collide_args, s.contact.eps_t), 0, 0, 0, "0.6",
+     "tangential restitution, allowed [0, 1] (a tangential model)", NULL},
+    {"--mu", CLI_DOUBLE, "MU", offsetof(collide_args, s.contact.mu), 0, 0, 0, "0.5", "sliding friction, >= 0 (a sliding_friction model)", NULL},
+    {"--k", CLI_DOUBLE, "K", offsetof(collide_args, s.contact.k_s), 0, 0, 0, "5e5", "spring constant, N/m (a soft model)",
+     NULL},
+    {"--dt", CLI_DOUBLE, "DT", offsetof(collide_args, s.dt), 0, 0, 0, "t_c/50", "time step, s", NULL},
+    {"--steps-per-contact", CLI_DOUBLE, "S", offsetof(collide_args, s.steps_per_contact), 0, 0, 0, "50",
+     "time steps per contact time (instead of --dt)", NULL},
+    {"--mass", CLI_DOUBLE, "M", offsetof(collide_args, s.mass), 0, 0, 0, "1", "mass of each particle, kg", NULL},
+    {"--radius", CLI_DOUBLE, "R", offsetof(collide_args, s.radius), 0, 0, 0, "0.1",
+     "radius, m (so the overlap v/w0 = 1 mm stays small; the RFM's particles: --mass 3.53e-5 --radius 1.5e-3)", NULL},
+    {"--clamp", CLI_FLAG, NULL, offsetof(collide_args, s.contact.clamp), 0, 0, 0, NULL,
+     "the normal force never attracts (gamma_n from the clamped restitution)", NULL},
+    {"--dim", CLI_INT, "1|2", offsetof(collide_args, s.dim), 1, 2, 0, "2", "dimension", NULL},
+    {"--phases", CLI_INT, "P", offsetof(collide_args, phases), 1, COLLIDE_MAX_PHASES, 0, "1",
+     "average P contact phases (start offsets within a time step)", NULL},
+    {"--force-dt", CLI_FLAG, NULL, offsetof(collide_args, s.force_dt), 0, 0, 0, NULL,
+     "take --dt even above t_c/10", NULL},
+    {"--reference", CLI_FLAG, NULL, offsetof(collide_args, reference), 0, 0, 0, NULL,
+     "also integrate the contact with SUNDIALS CVODE and add reference_energy_loss", NULL},
+    {"--rtol", CLI_DOUBLE, "TOL", offsetof(collide_args, s.ref_rtol), 1e-14, 1e-2, 0, "1e-12",
+     "relative tolerance of the CVODE reference", NULL},
+    {"--set", CLI_LIST, "KEY=VALUE", CLI_NOWHERE, 0, 0, 0, NULL,
+     "any model parameter of `granule models`, e.g. --model hertz --set viscoelastic=true --set visco_A=1e-6 "
+     "(repeatable)", apply_set},
+    {"--speeds", CLI_STRING, "V1,V2,...", offsetof(collide_args, speeds), 0, 0, 0, NULL,
+     "add restitution_vs_speed: head-on impacts at these relative speeds (m/s)", NULL},
+    {"--speed", CLI_DOUBLE, "V", offsetof(collide_args, speed), 0, INFINITY, CLI_MIN_OPEN, NULL,
+     "an oblique impact (2D) at this relative speed, m/s, instead of --case", NULL},
+    {"--angle", CLI_DOUBLE, "DEG", offsetof(collide_args, angle), 0, 90, CLI_MAX_OPEN, "0",
+     "with --speed: the angle between -g and the line of centres at first touch", NULL},
+    {"--omega1", CLI_DOUBLE, "W1", offsetof(collide_args, s.omega1), 0, 0, 0, "0",
+     "initial angular velocity of particle 1, rad/s counterclockwise (needs rotation)", NULL},
+    {"--omega2", CLI_DOUBLE, "W2", offsetof(collide_args, s.omega2), 0, 0, 0, "0",
+     "initial angular velocity of particle 2, rad/s counterclockwise (needs rotation)", NULL},
+};
+
+const cli_command cli_cmd_collide = {
+    .name = "collide",
+    .usage = "granule collide [--case N] [--model NORMAL[+TANGENTIAL[+ROLLING]]] [--eps-n E] [--eps-t E]\n"
+             "                       [--mu MU] [--k K] [--dt DT | --steps-per-contact S] [--mass M]\n"
+             "                       [--radius R] [--clamp] [--dim 1|2] [--phases P] [--force-dt] [--reference [--rtol TOL]]\n"
+             "                       [--set KEY=VALUE ...] [--speeds V1,V2,...]\n"
+             "                       [--speed V --angle DEG] [--omega1 W1] [--omega2 W2]",
+    .about = "Runs collision N (1-4) of Table 2.1 (particle 2 at rest; 1 kg masses unless --mass) and\n"
+             "prints one JSON object: energy_loss (fraction of the relative kinetic energy lost),\n"
+             "expected_loss (1 - eps^2 head-on, 1 - (eps_n^2 + eps_t^2)/2 at 45 degrees; in general\n"
+             "(1 - eps_n^2) cos^2 a + (1 - eps_t^2) sin^2 a), contact_time, max_overlap, eps_n_measured,\n"
+             "eps_t_measured, impact_angle. --phases P averages P contact phases. --reference also integrates\n"
+             "the contact with SUNDIALS CVODE and adds reference_energy_loss. --model hard_sphere applies the\n"
+             "instantaneous rule of the event-driven integrator (exact loss; contact_time 0).\n"
+             "--speeds V1,V2,... adds restitution_vs_speed: head-on impacts at these relative speeds (m/s),\n"
+             "each with the engine's eps_n and contact time (steps with a force x dt), the model's own law\n"
+             "eps_n(v) and contact time t_c(v) (and the CVODE reference's with --reference); for hertz the\n"
+             "time step then follows each impact (dt = t_c(v) / steps-per-contact).\n"
+             "The JSON lists only the parameters the chosen model uses (granule models; --eps-t and --mu\n"
+             "need a tangential model, --k and --dt a soft one) and gives every unit in \"units\".\n",
+    .epilog = "Rotation (--set rotation=true [--set inertia_factor=Q] with tangential_dashpot, sliding_friction or\n"
+              "tangential_spring): energy_loss then includes the spin energy I w^2 / 2 of both discs,\n"
+              "eps_t_measured is the contact point's tangential restitution (g.t + r (w1 + w2) after over\n"
+              "before; the discs start without spin), and omega1, omega2 give the angular velocities after\n"
+              "the collision (rad/s, counterclockwise).\n"
+              "Oblique impact (instead of --case; 2D): --speed V --angle DEG, particle 2 at rest; the normal at\n"
+              "impact is the x axis, so v1_after, v2_after (velocities after the collision) give the normal (x)\n"
+              "and tangential (y) components. With --omega1, --omega2 expected_loss is null (the restitution\n"
+              "laws assume discs without spin); energy_loss counts the spins' energy too, and spin_loss gives\n"
+              "their share of it. Rolling resistance: --model NORMAL+TANGENTIAL+rolling_friction --set\n"
+              "rotation=true [--set mu_r=M]; spin_loss_rolling_law is its law (J |w1 - w2| - J^2 / I,\n"
+              "J = min(mu_r r/2 normal_impulse, I |w1 - w2| / 2), over the initial energy), which spin_loss\n"
+              "equals when the contact point does not slip (head-on, --omega2 = -omega1).\n",
+    CLI_OPTS(collide_opts),
+};
 
 /* the unit of every key collide prints (1: a pure number) */
 static const struct {
@@ -201,116 +262,25 @@ int cmd_collide(int argc, char **argv)
 {
     gr_collide_setup s;
     gr_collide_setup_default(&s);
-    int number = 1, phases = 1;
-    bool reference = false;
-    const char *model = "spring_dashpot";
+    collide_args args = {.s = s, .number = 1, .phases = 1, .model = "spring_dashpot", .angle = NAN};
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_collide, argc, argv, &args, &pos);
+    if (parsed >= 0) {
+        return parsed;
+    }
+    s = args.s;
+    const int number = args.number, phases = args.phases;
+    const bool reference = args.reference;
+    const char *model = args.model, *speeds = args.speeds;
     struct {
         const char *opt, *key;
         bool set;
     } given[] = {{"--eps-t", "eps_t", false}, {"--mu", "mu", false}, {"--k", "k_s", false}, {"--clamp", "clamp", false}};
-    const char *speeds = NULL;
-    double speed = 0.0, angle = 0.0; /* oblique impact: --speed V [--angle DEG] */
-    bool oblique = false, angle_given = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        double x;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            return EXIT_OK;
-        } else if (!strcmp(a, "--reference")) {
-            reference = true;
-        } else if (!strcmp(a, "--clamp")) {
-            s.contact.clamp = true;
-            given[3].set = true;
-        } else if (!strcmp(a, "--force-dt")) {
-            s.force_dt = true;
-        } else if (!strcmp(a, "--model") && v) {
-            model = v;
-            i++;
-        } else if (!strcmp(a, "--set") && v) {
-            char key[64];
-            const char *eq = strchr(v, '=');
-            gr_error e = {0};
-            snprintf(key, sizeof key, "%.*s", eq ? (int)(eq - v) : 0, v);
-            if (!eq || gr_contact_set(&s.contact, key, eq + 1, &e) != GR_OK) {
-                cli_error("collide: --set %s: %s", v, eq ? e.message : "expected KEY=VALUE");
-                return EXIT_REFUSED;
-            }
-            i++;
-        } else if (!strcmp(a, "--speeds") && v) {
-            speeds = v;
-            i++;
-        } else if (v && a[0] == '-' && a[1] == '-') {
-            if (!cli_number(a, v, &x)) {
-                return EXIT_REFUSED;
-            }
-            i++;
-            /* counts: whole numbers within their ranges before any cast to int */
-            static const struct {
-                const char *opt;
-                double lo, hi;
-            } counts[] = {{"--case", 1, 4}, {"--dim", 1, 2}, {"--phases", 1, COLLIDE_MAX_PHASES}};
-            for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
-                if (!strcmp(a, counts[k].opt) && !(x >= counts[k].lo && x <= counts[k].hi && x == floor(x))) {
-                    cli_error("collide: %s %s: expected a whole number from %g to %g (allowed range)", a, v, counts[k].lo,
-                              counts[k].hi);
-                    return EXIT_REFUSED;
-                }
-            }
-            if (!strcmp(a, "--case")) {
-                number = (int)x;
-            } else if (!strcmp(a, "--eps-n")) {
-                s.contact.eps_n = x;
-            } else if (!strcmp(a, "--eps-t")) {
-                s.contact.eps_t = x;
-                given[0].set = true;
-            } else if (!strcmp(a, "--mu")) {
-                s.contact.mu = x;
-                given[1].set = true;
-            } else if (!strcmp(a, "--k")) {
-                s.contact.k_s = x;
-                given[2].set = true;
-            } else if (!strcmp(a, "--dt")) {
-                s.dt = x;
-            } else if (!strcmp(a, "--steps-per-contact")) {
-                s.steps_per_contact = x;
-            } else if (!strcmp(a, "--mass")) {
-                s.mass = x;
-            } else if (!strcmp(a, "--radius")) {
-                s.radius = x;
-            } else if (!strcmp(a, "--dim")) {
-                s.dim = (int)x;
-            } else if (!strcmp(a, "--phases")) {
-                phases = (int)x;
-            } else if (!strcmp(a, "--speed")) {
-                speed = x;
-                oblique = true;
-            } else if (!strcmp(a, "--angle")) {
-                angle = x;
-                angle_given = true;
-            } else if (!strcmp(a, "--omega1")) {
-                s.omega1 = x;
-            } else if (!strcmp(a, "--omega2")) {
-                s.omega2 = x;
-            } else if (!strcmp(a, "--rtol")) {
-                if (!(x >= 1e-14 && x <= 1e-2)) {
-                    cli_error("collide: --rtol %g is outside the allowed range [1e-14, 1e-2]", x);
-                    return EXIT_REFUSED;
-                }
-                s.ref_rtol = x;
-            } else {
-                cli_error("collide: unknown option %s", a);
-                return EXIT_REFUSED;
-            }
-        } else {
-            if (!cli_missing_value("collide", a, "--case --model --eps-n --eps-t --mu --k --dt --steps-per-contact --mass --radius "
-                                   "--dim --phases --set --speeds --speed --angle --omega1 --omega2 --rtol", !v)) {
-                cli_error("collide: unknown or incomplete option %s", a);
-            }
-            usage(stderr);
-            return EXIT_REFUSED;
-        }
+    for (size_t k = 0; k < sizeof given / sizeof given[0]; k++) {
+        given[k].set = cli_given(&cli_cmd_collide, &pos, given[k].opt);
     }
+    const bool oblique = args.speed > 0.0, angle_given = !isnan(args.angle);
+    const double speed = args.speed, angle = angle_given ? args.angle : 0.0;
     /* validate like a scene would */
     if (!(s.contact.eps_n >= 0.0 && s.contact.eps_n <= 1.0) || !(s.contact.eps_t >= 0.0 && s.contact.eps_t <= 1.0)) {
         cli_error("collide: --eps-n %g, --eps-t %g: allowed ranges (0, 1] for --eps-n, [0, 1] for --eps-t", s.contact.eps_n,

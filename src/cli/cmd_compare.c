@@ -41,64 +41,65 @@ static int run_state(const char *dir)
     return access(path, F_OK) == 0 ? 2 : 0;
 }
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: granule compare SCENE --models SPEC[,SPEC...] [--set section.key=value ...] [--out DIR] [--force]\n"
-               "                      [--format png|svg|pdf] [--resume]\n\n"
-               "Runs SCENE once per model SPEC with the same initial state and the same noise (same seed):\n"
-               "SPEC = NORMAL[+TANGENTIAL[+ROLLING]][@clamp][@rotation][@INTEGRATOR], INTEGRATOR = verlet | event | hybrid, e.g.\n"
-               "  --models spring_dashpot,spring_dashpot@hybrid,hard_sphere@event\n"
-               "  --models spring_dashpot+tangential_dashpot,spring_dashpot+tangential_dashpot@clamp,spring_dashpot+sliding_friction\n"
-               "  --models spring_dashpot+tangential_dashpot,spring_dashpot+tangential_dashpot@rotation,hard_sphere@rotation\n"
-               "@rotation: the discs rotate (model.rotation = true; false without it, whatever the scene says).\n"
-               "Without @INTEGRATOR hard_sphere runs event-driven and a force law with the scene's integrator\n"
-               "(verlet when the scene is event-driven). At most %d models.\n\n"
-               "Prints the headline table (T, P(v) tail exponent, D_f (2D) or the G_1 exponent n_N (1D),\n"
-               "collisions, energy dissipated by mechanism, wall time, throughput in the integrator's unit;\n"
-               "value +- error in one cell, the reason where there is no number) and writes DIR/<model>/ (a run\n"
-               "folder each), DIR/compare.md (the headline), DIR/compare.csv and compare.json (the headline and\n"
-               "every scalar of every run), DIR/temperature.png (T(t) overlaid) and, with the pv observable\n"
-               "(--set analysis.observables=pv), the collapse of (5.4) in pv_collapse.csv/.png.\n"
-               "Default DIR: out/compare. docs/compare.md explains the table.\n"
-               "Ctrl-C (or SIGTERM) stops the running model with a checkpoint; the same command with --resume keeps\n"
-               "the finished models, continues the stopped one from its checkpoint and runs the rest.\n",
-            GR_COMPARE_MAX);
-}
+typedef struct compare_args {
+    const char *models, *out;
+    cli_list sets;
+    bool force, resume;
+} compare_args;
+
+static const cli_opt compare_opts[] = {
+    {"--models", CLI_STRING, "SPEC[,SPEC...]", offsetof(compare_args, models), 0, 0, 0, NULL,
+     "the models to compare (required; at most " CLI_STR(GR_COMPARE_MAX) ")", NULL},
+    CLI_OPT_SET(compare_args, sets),
+    CLI_OPT_OUT(compare_args, out, "out/compare"),
+    {"--force", CLI_FLAG, NULL, offsetof(compare_args, force), 0, 0, 0, NULL, "overwrite an earlier comparison in DIR", NULL},
+    CLI_OPT_FORMAT,
+    {"--resume", CLI_FLAG, NULL, offsetof(compare_args, resume), 0, 0, 0, NULL,
+     "after Ctrl-C: keep the finished models, continue the stopped one from its checkpoint, run the rest", NULL},
+};
+
+const cli_command cli_cmd_compare = {
+    .name = "compare",
+    .usage = "granule compare SCENE --models SPEC[,SPEC...] [--set section.key=value ...] [--out DIR] [--force]\n"
+             "                      [--format png|svg|pdf] [--resume]",
+    .about = "Runs SCENE once per model SPEC with the same initial state and the same noise (same seed):\n"
+             "SPEC = NORMAL[+TANGENTIAL[+ROLLING]][@clamp][@rotation][@INTEGRATOR], INTEGRATOR = verlet | event | hybrid, e.g.\n"
+             "  --models spring_dashpot,spring_dashpot@hybrid,hard_sphere@event\n"
+             "  --models spring_dashpot+tangential_dashpot,spring_dashpot+tangential_dashpot@clamp,spring_dashpot+sliding_friction\n"
+             "  --models spring_dashpot+tangential_dashpot,spring_dashpot+tangential_dashpot@rotation,hard_sphere@rotation\n"
+             "@rotation: the discs rotate (model.rotation = true; false without it, whatever the scene says).\n"
+             "Without @INTEGRATOR hard_sphere runs event-driven and a force law with the scene's integrator\n"
+             "(verlet when the scene is event-driven).\n",
+    .epilog = "Prints the headline table (T, P(v) tail exponent, D_f (2D) or the G_1 exponent n_N (1D),\n"
+              "collisions, energy dissipated by mechanism, wall time, throughput in the integrator's unit;\n"
+              "value +- error in one cell, the reason where there is no number) and writes DIR/<model>/ (a run\n"
+              "folder each), DIR/compare.md (the headline), DIR/compare.csv and compare.json (the headline and\n"
+              "every scalar of every run), DIR/temperature.png (T(t) overlaid) and, with the pv observable\n"
+              "(--set analysis.observables=pv), the collapse of (5.4) in pv_collapse.csv/.png.\n"
+              "docs/compare.md explains the table.\n"
+              "Ctrl-C (or SIGTERM) stops the running model with a checkpoint; the same command with --resume keeps\n"
+              "the finished models, continues the stopped one from its checkpoint and runs the rest.\n",
+    .pos_name = "scene",
+    .max_pos = 1,
+    CLI_OPTS(compare_opts),
+};
 
 int cmd_compare(int argc, char **argv)
 {
-    const char *scene_path = NULL, *models = NULL, *out = "out/compare";
-    const char **sets = calloc((size_t)argc + 4, sizeof(char *));
-    int n_sets = 0, rc = EXIT_OK;
-    bool force = false, resume = false;
-    for (int i = 1; i < argc && rc == EXIT_OK; i++) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            usage(stdout);
-            free(sets);
-            return EXIT_OK;
-        } else if (!strcmp(argv[i], "--models") && i + 1 < argc) {
-            models = argv[++i];
-        } else if (!strcmp(argv[i], "--set") && i + 1 < argc) {
-            sets[n_sets++] = argv[++i];
-        } else if (!strcmp(argv[i], "--out") && i + 1 < argc) {
-            out = argv[++i];
-        } else if (!strcmp(argv[i], "--force")) {
-            force = true;
-        } else if (!strcmp(argv[i], "--resume")) {
-            resume = true;
-        } else if (!strcmp(argv[i], "--format") && i + 1 < argc) {
-            rc = cli_plot_format(argv[++i]) ? EXIT_OK : EXIT_REFUSED;
-        } else if (argv[i][0] != '-' && !scene_path) {
-            scene_path = argv[i];
-        } else {
-            if (!cli_missing_value("compare", argv[i], "--models --set --out --format", i + 1 >= argc)) {
-                cli_error("compare: unexpected argument %s", argv[i]);
-            }
-            rc = EXIT_REFUSED;
-        }
+    compare_args args = {.out = "out/compare"};
+    cli_pos pos;
+    int rc = cli_parse(&cli_cmd_compare, argc, argv, &args, &pos);
+    if (rc >= 0) {
+        cli_list_free(&args.sets);
+        return rc;
     }
-    if (rc == EXIT_OK && (!scene_path || !models)) {
-        usage(stderr);
+    rc = EXIT_OK;
+    const char *scene_path = pos.n ? pos.v[0] : NULL, *models = args.models, *out = args.out;
+    const char **sets = args.sets.items;
+    const int n_sets = args.sets.n;
+    const bool force = args.force, resume = args.resume;
+    if (!scene_path || !models) {
+        cli_help(&cli_cmd_compare, stderr);
         rc = EXIT_REFUSED;
     }
     gr_error err = {0};

@@ -12,24 +12,51 @@
 #include "granule/cost.h"
 #include "io/files.h"
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: granule cost SCENE [--observable T|loss] [--tolerance TOL[%%]] [--calibrate SECONDS]\n"
-               "                   [--phases K] [--threads N] [--set section.key=value ...] [--out DIR] [--force]\n\n"
-               "Which time step keeps the observable within TOL (relative; '1%%' or 0.01; default 1%%), and how long\n"
-               "the scene's run (warm-up + duration) takes with it on this machine:\n"
-               "  T     the steady temperature (2.19): the contact's energy-loss error at each dt, computed against\n"
-               "        the CVODE reference, through the energy balance of the driven gas (T ~ (1-eps^2)^(-2/3))\n"
-               "  loss  the energy lost in one collision, worst contact phase (head-on and, in 2D, oblique)\n"
-               "Candidate time steps run from 64 down to 2.5 steps per contact, plus the scene's own dt; the\n"
-               "recommendation is the largest dt whose error, and that of every smaller dt, is within TOL. Its\n"
-               "wall time is measured by a calibration run of SECONDS (default 10) of the scene at that dt,\n"
-               "in blocks, shared between Verlet and the hybrid integrator at windows of 10, 30 and 100 dt (same\n"
-               "contact steps, free flights exact: the same error); the cheapest is recommended, and the\n"
-               "prediction's +- is the spread of its blocks. Writes DIR/cost.json (default out/cost); a DIR holding a\n"
-               "result (an earlier cost.json, a run, ...) is refused before anything is computed unless --force,\n"
-               "which replaces its contents as a whole. Ctrl-C stops it at once (exit 5) with nothing written.\n");
-}
+typedef struct cost_args {
+    const char *observable, *tolerance, *out;
+    double calibrate;
+    int phases;
+    cli_list sets;
+    bool force;
+} cost_args;
+
+static const cli_opt cost_opts[] = {
+    {"--observable", CLI_CHOICE, "T|loss", offsetof(cost_args, observable), 0, 0, 0, "T",
+     "T: the steady temperature (2.19); loss: the energy lost in one collision, worst contact phase", NULL},
+    {"--tolerance", CLI_STRING, "TOL[%]", offsetof(cost_args, tolerance), 0, 0, 0, "1%",
+     "relative tolerance in (0, 1), or a percentage", NULL},
+    {"--calibrate", CLI_DOUBLE, "SECONDS", offsetof(cost_args, calibrate), 0, 86400, 0, "10",
+     "wall seconds of the calibration run (0: no calibration)", NULL},
+    {"--phases", CLI_INT, "K", offsetof(cost_args, phases), 1, 1000, 0, "16", "contact phases per collision", NULL},
+    CLI_OPT_THREADS,
+    CLI_OPT_SET(cost_args, sets),
+    CLI_OPT_OUT(cost_args, out, "out/cost"),
+    {"--force", CLI_FLAG, NULL, offsetof(cost_args, force), 0, 0, 0, NULL,
+     "replace a result already in DIR (refused before anything is computed otherwise)", NULL},
+};
+
+const cli_command cli_cmd_cost = {
+    .name = "cost",
+    .usage = "granule cost SCENE [--observable T|loss] [--tolerance TOL[%]] [--calibrate SECONDS]\n"
+             "                   [--phases K] [--threads N] [--set section.key=value ...] [--out DIR] [--force]",
+    .about = "Which time step keeps the observable within TOL (relative; '1%' or 0.01; default 1%), and how long\n"
+             "the scene's run (warm-up + duration) takes with it on this machine:\n"
+             "  T     the steady temperature (2.19): the contact's energy-loss error at each dt, computed against\n"
+             "        the CVODE reference, through the energy balance of the driven gas (T ~ (1-eps^2)^(-2/3))\n"
+             "  loss  the energy lost in one collision, worst contact phase (head-on and, in 2D, oblique)\n"
+             "Candidate time steps run from 64 down to 2.5 steps per contact, plus the scene's own dt; the\n"
+             "recommendation is the largest dt whose error, and that of every smaller dt, is within TOL. Its\n"
+             "wall time is measured by a calibration run of SECONDS (default 10) of the scene at that dt,\n"
+             "in blocks, shared between Verlet and the hybrid integrator at windows of 10, 30 and 100 dt (same\n"
+             "contact steps, free flights exact: the same error); the cheapest is recommended, and the\n"
+             "prediction's +- is the spread of its blocks.\n",
+    .epilog = "Writes DIR/cost.json (default out/cost); a DIR holding a result (an earlier cost.json, a run, ...)\n"
+              "is refused before anything is computed unless --force, which replaces its contents as a whole.\n"
+              "Ctrl-C stops it at once (exit 5) with nothing written.\n",
+    .pos_name = "scene",
+    .max_pos = 1,
+    CLI_OPTS(cost_opts),
+};
 
 static bool parse_tolerance(const char *text, double *tol)
 {
@@ -148,66 +175,32 @@ static void on_cost_stop(int sig)
 
 int cmd_cost(int argc, char **argv)
 {
-    const char *scene_path = NULL, *out = "out/cost";
-    const char **sets = calloc((size_t)argc + 1, sizeof(char *));
-    int n_sets = 0, rc = EXIT_OK;
-    bool force = false;
     gr_cost_request rq;
     gr_cost_request_default(&rq);
-    for (int i = 1; i < argc && rc == EXIT_OK; i++) {
-        const char *a = argv[i];
-        const bool has = i + 1 < argc;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            free(sets);
-            return EXIT_OK;
-        } else if (!strcmp(a, "--observable") && has) {
-            int o = gr_cost_observable_parse(argv[++i]);
-            if (o < 0) {
-                cli_error("cost: --observable %s: expected T or loss", argv[i]);
-                rc = EXIT_REFUSED;
-            }
-            rq.observable = (gr_cost_observable)o;
-        } else if (!strcmp(a, "--tolerance") && has) {
-            if (!parse_tolerance(argv[++i], &rq.tolerance)) {
-                cli_error("cost: --tolerance %s: expected a relative tolerance in (0, 1) or a percentage, e.g. 0.01 or 1%%",
-                          argv[i]);
-                rc = EXIT_REFUSED;
-            }
-        } else if (!strcmp(a, "--calibrate") && has) {
-            char *end;
-            rq.calibrate_seconds = strtod(argv[++i], &end);
-            if (end == argv[i] || *end || !(rq.calibrate_seconds >= 0.0 && rq.calibrate_seconds <= 86400.0)) {
-                cli_error("cost: --calibrate %s: expected wall seconds from 0 (no calibration) to 86400", argv[i]);
-                rc = EXIT_REFUSED;
-            }
-        } else if (!strcmp(a, "--phases") && has) {
-            char *end;
-            long k = strtol(argv[++i], &end, 10);
-            if (end == argv[i] || *end || k < 1 || k > 1000) {
-                cli_error("cost: --phases %s: expected an integer from 1 to 1000", argv[i]);
-                rc = EXIT_REFUSED;
-            }
-            rq.phases = (int)k;
-        } else if (!strcmp(a, "--threads") && has) {
-            rc = cli_threads(argv[++i]) ? EXIT_OK : EXIT_REFUSED;
-        } else if (!strcmp(a, "--set") && has) {
-            sets[n_sets++] = argv[++i];
-        } else if (!strcmp(a, "--out") && has) {
-            out = argv[++i];
-        } else if (!strcmp(a, "--force")) {
-            force = true;
-        } else if (a[0] != '-' && !scene_path) {
-            scene_path = a;
-        } else {
-            if (!cli_missing_value("cost", a, "--observable --tolerance --calibrate --phases --threads --set --out", !has)) {
-                cli_error("cost: unexpected argument %s", a);
-            }
-            rc = EXIT_REFUSED;
-        }
+    cost_args args = {.out = "out/cost", .calibrate = rq.calibrate_seconds, .phases = rq.phases};
+    cli_pos pos;
+    int rc = cli_parse(&cli_cmd_cost, argc, argv, &args, &pos);
+    if (rc >= 0) {
+        cli_list_free(&args.sets);
+        return rc;
+    }
+    rc = EXIT_OK;
+    const char *scene_path = pos.n ? pos.v[0] : NULL, *out = args.out;
+    const char **sets = args.sets.items;
+    const int n_sets = args.sets.n;
+    const bool force = args.force;
+    rq.calibrate_seconds = args.calibrate;
+    rq.phases = args.phases;
+    if (args.observable) {
+        rq.observable = (gr_cost_observable)gr_cost_observable_parse(args.observable);
+    }
+    if (args.tolerance && !parse_tolerance(args.tolerance, &rq.tolerance)) {
+        cli_error("cost: --tolerance %s: expected a relative tolerance in (0, 1) or a percentage, e.g. 0.01 or 1%%",
+                  args.tolerance);
+        rc = EXIT_REFUSED;
     }
     if (rc == EXIT_OK && !scene_path) {
-        usage(stderr);
+        cli_help(&cli_cmd_cost, stderr);
         rc = EXIT_REFUSED;
     }
     gr_scene sc;

@@ -9,55 +9,57 @@
 #include "granule/export.h"
 #include "granule/scene.h"
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: granule export lammps SCENE [--out DIR] [--set section.key=value ...] [--force]\n\n"
-               "Writes DIR/in.granule (LAMMPS input deck), DIR/data.granule (the initial particles granule\n"
-               "itself would start from) and DIR/scene.ini. Run it with `mpirun -n RANKS lmp -in in.granule`\n"
-               "inside DIR, then `granule analyse DIR --lammps-dump DIR/dump.granule.lammpstrj`.\n"
-               "DIR defaults to OUTPUT/lammps, OUTPUT being the scene's output.dir. docs/lammps.md maps\n"
-               "every scene key; 1D, event-driven/hybrid integrators, hard spheres and sliding friction\n"
-               "are refused. A DIR holding a result (an earlier export, a run, a comparison) is refused unless\n"
-               "--force, which replaces its contents as a whole.\n");
-}
+typedef struct export_args {
+    const char *out;
+    cli_list sets;
+    bool force;
+} export_args;
+
+static const cli_opt export_opts[] = {
+    CLI_OPT_OUT(export_args, out, "OUTPUT/lammps, OUTPUT being the scene's output.dir"),
+    CLI_OPT_SET(export_args, sets),
+    {"--force", CLI_FLAG, NULL, offsetof(export_args, force), 0, 0, 0, NULL,
+     "replace a result already in DIR (an earlier export, a run, a comparison)", NULL},
+};
+
+const cli_command cli_cmd_export = {
+    .name = "export",
+    .usage = "granule export lammps SCENE [--out DIR] [--set section.key=value ...] [--force]",
+    .about = "Writes DIR/in.granule (LAMMPS input deck), DIR/data.granule (the initial particles granule\n"
+             "itself would start from) and DIR/scene.ini. Run it with `mpirun -n RANKS lmp -in in.granule`\n"
+             "inside DIR, then `granule analyse DIR --lammps-dump DIR/dump.granule.lammpstrj`.\n"
+             "docs/lammps.md maps every scene key; 1D, event-driven/hybrid integrators, hard spheres and\n"
+             "sliding friction are refused. A DIR holding a result is refused unless --force, which replaces\n"
+             "its contents as a whole.\n",
+    .pos_name = "scene",
+    .max_pos = 2, /* the format (lammps), then the scene */
+    CLI_OPTS(export_opts),
+};
 
 int cmd_export(int argc, char **argv)
 {
-    if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
-        usage(argc < 2 ? stderr : stdout);
-        return argc < 2 ? EXIT_REFUSED : EXIT_OK;
+    export_args args = {0};
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_export, argc, argv, &args, &pos);
+    if (parsed >= 0) {
+        cli_list_free(&args.sets);
+        return parsed;
     }
-    if (strcmp(argv[1], "lammps") != 0) {
-        cli_error("export: unknown format %s (known: lammps)", argv[1]);
+    if (pos.n == 0) {
+        cli_help(&cli_cmd_export, stderr);
         return EXIT_REFUSED;
     }
-    const char *scene_path = NULL, *out_dir = NULL;
-    const char **sets = calloc((size_t)argc + 1, sizeof(char *));
-    int n_sets = 0;
-    bool force = false;
-    for (int i = 2; i < argc; i++) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            usage(stdout);
-            free(sets);
-            return EXIT_OK;
-        } else if (!strcmp(argv[i], "--set") && i + 1 < argc) {
-            sets[n_sets++] = argv[++i];
-        } else if (!strcmp(argv[i], "--out") && i + 1 < argc) {
-            out_dir = argv[++i];
-        } else if (!strcmp(argv[i], "--force")) {
-            force = true;
-        } else if (argv[i][0] != '-' && !scene_path) {
-            scene_path = argv[i];
-        } else {
-            if (!cli_missing_value("export", argv[i], "--set --out", i + 1 >= argc)) {
-                cli_error("export: unexpected argument %s", argv[i]);
-            }
-            free(sets);
-            return EXIT_REFUSED;
-        }
+    if (strcmp(pos.v[0], "lammps") != 0) {
+        cli_error("export: unknown format %s (known: lammps)", pos.v[0]);
+        cli_list_free(&args.sets);
+        return EXIT_REFUSED;
     }
+    const char *scene_path = pos.n > 1 ? pos.v[1] : NULL, *out_dir = args.out;
+    const char **sets = args.sets.items;
+    const int n_sets = args.sets.n;
+    const bool force = args.force;
     if (!scene_path) {
-        usage(stderr);
+        cli_help(&cli_cmd_export, stderr);
         free(sets);
         return EXIT_REFUSED;
     }

@@ -13,59 +13,67 @@
 #include "granule/fokker_planck_study.h"
 #include "io/files.h"
 
-static void usage(FILE *f)
-{
-    fprintf(f,
-            "usage: granule fokker-planck [--length L] [--D D] [--mass M] [--walkers W] [--seed S]\n"
-            "                             [--steps N] [--refine K] [--start uniform|centre] [--bins N]\n"
-            "                             [--exit-bins N] [--vmax X] [--epsrel E] [--inner-quadrature]\n"
-            "                             [--points N] [--min-walks N] [--no-sim] [--no-plots] [--format F] [--quiet]\n"
-            "                             [--force] [--out DIR]\n\n"
-            "Thesis App. B: particles start at rest in [0, L], are driven by white noise of strength D\n"
-            "(<eta eta'> = 2 D delta) and are absorbed at x = 0 and x = L. Evaluates the stationary\n"
-            "Fokker-Planck solution P(x, v) (B.32) and the time-uniform velocity distribution\n"
-            "Q(v, L) = int P dx (B.33-B.34) by adaptive quadrature (GSL QAGS/QAG, 2F1(-1/3,1;5/6;.)),\n"
-            "simulates the same walkers (exact Gaussian steps, velocities sampled uniformly in time,\n"
-            "exits found by exact bridge bisection near the walls) and compares them: Fig. B.2 (Q)\n"
-            "and Fig. B.1 (the density of arrivals at x = L divided by v). The printed B.32/B.34\n"
-            "prefactor is 2 3^(1/3) too large (it violates particle conservation); granule uses the\n"
-            "corrected one and also tabulates the printed form. Scales: V = (D L / M^2)^(1/3),\n"
-            "T0 = L / V.\n"
-            "  --length L        interval length, m (default 1; L = 2 l of B.33)\n"
-            "  --D D             noise strength, N^2 s (default 1)\n"
-            "  --mass M          particle mass, kg (default 1; the thesis figures use L = D = M = 1)\n"
-            "  --walkers W       walkers to release (default 200000)\n"
-            "  --seed S          gsl_rng_mt19937 seed (default 1)\n"
-            "  --steps N         time steps per T0 (default 200; the results do not move within their\n"
-            "                    errors down to 40, see the docs)\n"
-            "  --refine K        levels of exact bridge bisection that look for exits inside a step\n"
-            "                    near the walls (default 8; 0: the Hermite test on whole steps only)\n"
-            "  --start uniform|centre  release point: uniform in (0, L), the model B.32 solves (default),\n"
-            "                    or the centre (the Single Particle Model, sec. 5.3.1; B.32 does not\n"
-            "                    describe it and only exact identities are checked then)\n"
-            "  --bins N          velocity bins of Q over [-vmax, vmax] (even, default 100)\n"
-            "  --exit-bins N     bins of the exit speed over [0, vmax] (default 50)\n"
-            "  --vmax X          histogram range in units of V (default 5)\n"
-            "  --epsrel E        relative tolerance of the quadratures (default 1e-9)\n"
-            "  --inner-quadrature  evaluate B.34's inner integral by QAG instead of its closed form\n"
-            "  --points N        points of the quadrature curves (default 201)\n"
-            "  --min-walks N     Q bins enter the chi-square when N walks visited them (default 100)\n"
-            "  --no-sim          quadrature only\n"
-            "  --no-plots        no plots\n"
-            "  --format F        plots as png (default), svg or pdf\n"
-            "  --quiet           no progress line\n"
-            "  --force           overwrite the results of an earlier run in DIR\n"
-            "  --out DIR         output folder (default out/fokker-planck)\n"
-            "Writes q_curve.csv, exit_curve.csv, q.csv, exit.csv, summary.json, q.png, q_log.png, exit.png.\n"
-            "docs/theory-fokker-planck.md derives the solution and lists measured agreement.\n"
-            "Exit status: 0 done, 2 bad input, 1 other failure.\n");
-}
-
 typedef struct options {
     gr_fp_study_params p;
-    const char *out;
-    bool force, plots, quiet;
+    const char *start;
+    bool no_sim;
+    cli_theory th;
 } options;
+
+#define FP_INT_MAX 1e6 /* far beyond every integer setting; gr_fp_settings_check has the finer ranges */
+
+static const cli_opt fp_opts[] = {
+    {"--length", CLI_DOUBLE, "L", offsetof(options, p.s.L), 0, 0, 0, "1", "interval length, m (L = 2 l of B.33)", NULL},
+    {"--D", CLI_DOUBLE, "D", offsetof(options, p.s.D), 0, 0, 0, "1", "noise strength, N^2 s", NULL},
+    {"--mass", CLI_DOUBLE, "M", offsetof(options, p.s.M), 0, 0, 0, "1", "particle mass, kg (the thesis figures use L = D = M = 1)",
+     NULL},
+    {"--walkers", CLI_INT64, "W", offsetof(options, p.s.walkers), 0, 1e15, 0, "200000", "walkers to release", NULL},
+    {"--seed", CLI_UINT64, "S", offsetof(options, p.s.seed), 0, 0, 0, "1", "gsl_rng_mt19937 seed", NULL},
+    {"--steps", CLI_DOUBLE, "N", offsetof(options, p.s.steps_per_T0), 0, 0, 0, "200",
+     "time steps per T0 (the results do not move within their errors down to 40, see the docs)", NULL},
+    {"--refine", CLI_INT, "K", offsetof(options, p.s.refine), 0, FP_INT_MAX, 0, "8",
+     "levels of exact bridge bisection that look for exits inside a step near the walls (0: the Hermite test on whole "
+     "steps only)", NULL},
+    {"--start", CLI_CHOICE, "uniform|centre|center", offsetof(options, start), 0, 0, 0, "uniform",
+     "release point: uniform in (0, L), the model B.32 solves, or the centre (the Single Particle Model, sec. 5.3.1; B.32 "
+     "does not describe it and only exact identities are checked then)", NULL},
+    {"--bins", CLI_INT, "N", offsetof(options, p.s.bins), 0, FP_INT_MAX, 0, "100", "velocity bins of Q over [-vmax, vmax] (even)",
+     NULL},
+    {"--exit-bins", CLI_INT, "N", offsetof(options, p.s.exit_bins), 0, FP_INT_MAX, 0, "50",
+     "bins of the exit speed over [0, vmax]", NULL},
+    {"--vmax", CLI_DOUBLE, "X", offsetof(options, p.s.vmax_V), 0, 0, 0, "5", "histogram range in units of V", NULL},
+    {"--epsrel", CLI_DOUBLE, "E", offsetof(options, p.s.epsrel), 0, 0, 0, "1e-9", "relative tolerance of the quadratures", NULL},
+    {"--inner-quadrature", CLI_FLAG, NULL, offsetof(options, p.s.inner_quadrature), 0, 0, 0, NULL,
+     "evaluate B.34's inner integral by QAG instead of its closed form", NULL},
+    {"--points", CLI_INT, "N", offsetof(options, p.points), 3, 100000, 0, "201", "points of the quadrature curves", NULL},
+    {"--min-walks", CLI_DOUBLE, "N", offsetof(options, p.min_walks), 1, INFINITY, 0, "100",
+     "Q bins enter the chi-square when N walks visited them", NULL},
+    {"--no-sim", CLI_FLAG, NULL, offsetof(options, no_sim), 0, 0, 0, NULL, "quadrature only", NULL},
+    CLI_THEORY_OPTS(options, th, "out/fokker-planck"),
+};
+
+const cli_command cli_cmd_fokker_planck = {
+    .name = "fokker-planck",
+    .usage = "granule fokker-planck [--length L] [--D D] [--mass M] [--walkers W] [--seed S]\n"
+             "                             [--steps N] [--refine K] [--start uniform|centre] [--bins N]\n"
+             "                             [--exit-bins N] [--vmax X] [--epsrel E] [--inner-quadrature]\n"
+             "                             [--points N] [--min-walks N] [--no-sim] [--no-plots] [--format F] [--quiet]\n"
+             "                             [--force] [--out DIR]",
+    .about = "Thesis App. B: particles start at rest in [0, L], are driven by white noise of strength D\n"
+             "(<eta eta'> = 2 D delta) and are absorbed at x = 0 and x = L. Evaluates the stationary\n"
+             "Fokker-Planck solution P(x, v) (B.32) and the time-uniform velocity distribution\n"
+             "Q(v, L) = int P dx (B.33-B.34) by adaptive quadrature (GSL QAGS/QAG, 2F1(-1/3,1;5/6;.)),\n"
+             "simulates the same walkers (exact Gaussian steps, velocities sampled uniformly in time,\n"
+             "exits found by exact bridge bisection near the walls) and compares them: Fig. B.2 (Q)\n"
+             "and Fig. B.1 (the density of arrivals at x = L divided by v). The printed B.32/B.34\n"
+             "prefactor is 2 3^(1/3) too large (it violates particle conservation); granule uses the\n"
+             "corrected one and also tabulates the printed form. Scales: V = (D L / M^2)^(1/3),\n"
+             "T0 = L / V.\n",
+    .epilog = "Writes q_curve.csv, exit_curve.csv, q.csv, exit.csv, summary.json, q.png, q_log.png, exit.png.\n"
+              "docs/theory-fokker-planck.md derives the solution and lists measured agreement.\n"
+              "Exit status: 0 done, 2 bad input, 1 other failure.\n",
+    CLI_OPTS(fp_opts),
+};
 
 static double now(void)
 {
@@ -87,99 +95,23 @@ static int progress(double fraction, void *user)
 
 static int exit_code(const gr_error *err) { return err->code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED; }
 
-static int parse(int argc, char **argv, options *o, int *done)
+/* -1 to go on, else the exit status */
+static int parse(int argc, char **argv, options *o)
 {
-    *done = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        double x;
-        int k;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            *done = 1;
-            return EXIT_OK;
-        } else if (!strcmp(a, "--inner-quadrature")) {
-            o->p.s.inner_quadrature = true;
-        } else if (!strcmp(a, "--no-sim")) {
-            o->p.sim = false;
-        } else if ((k = cli_theory_option("fokker-planck", argc, argv, &i, &o->force, &o->quiet, &o->plots)) != 0) {
-            if (k < 0) {
-                return EXIT_REFUSED;
-            }
-        } else if (!strcmp(a, "--out") && v) {
-            o->out = v;
-            i++;
-        } else if (!strcmp(a, "--start") && v) {
-            if (!strcmp(v, "uniform")) {
-                o->p.s.start = GR_FP_START_UNIFORM;
-            } else if (!strcmp(v, "centre") || !strcmp(v, "center")) {
-                o->p.s.start = GR_FP_START_CENTRE;
-            } else {
-                cli_error("fokker-planck: --start must be uniform or centre, got '%s'", v);
-                return EXIT_REFUSED;
-            }
-            i++;
-        } else if (v && a[0] == '-' && a[1] == '-') {
-            if (!cli_number(a, v, &x)) {
-                return EXIT_REFUSED;
-            }
-            i++;
-            bool integral = !strcmp(a, "--walkers") || !strcmp(a, "--seed") || !strcmp(a, "--bins") ||
-                            !strcmp(a, "--exit-bins") || !strcmp(a, "--points") || !strcmp(a, "--min-walks") ||
-                            !strcmp(a, "--refine");
-            if (integral && (!(x >= 0.0 && x <= 1e15) || x != floor(x))) {
-                cli_error("fokker-planck: %s needs a whole number >= 0, got '%s'", a, v);
-                return EXIT_REFUSED;
-            }
-            if (!strcmp(a, "--length")) {
-                o->p.s.L = x;
-            } else if (!strcmp(a, "--D")) {
-                o->p.s.D = x;
-            } else if (!strcmp(a, "--mass")) {
-                o->p.s.M = x;
-            } else if (!strcmp(a, "--walkers")) {
-                o->p.s.walkers = (int64_t)x;
-            } else if (!strcmp(a, "--seed")) {
-                o->p.s.seed = (uint64_t)x;
-            } else if (!strcmp(a, "--steps")) {
-                o->p.s.steps_per_T0 = x;
-            } else if (!strcmp(a, "--refine")) {
-                o->p.s.refine = x > 1e6 ? 1000001 : (int)x;
-            } else if (!strcmp(a, "--bins")) {
-                o->p.s.bins = x > 1e6 ? 1000001 : (int)x;
-            } else if (!strcmp(a, "--exit-bins")) {
-                o->p.s.exit_bins = x > 1e6 ? 1000001 : (int)x;
-            } else if (!strcmp(a, "--vmax")) {
-                o->p.s.vmax_V = x;
-            } else if (!strcmp(a, "--epsrel")) {
-                o->p.s.epsrel = x;
-            } else if (!strcmp(a, "--points")) {
-                o->p.points = x > 1e6 ? 1000001 : (int)x;
-            } else if (!strcmp(a, "--min-walks")) {
-                o->p.min_walks = x;
-            } else {
-                cli_error("fokker-planck: unknown option %s (granule fokker-planck --help lists them)", a);
-                return EXIT_REFUSED;
-            }
-        } else {
-            cli_error("fokker-planck: unknown or incomplete option %s (granule fokker-planck --help lists them)", a);
-            return EXIT_REFUSED;
-        }
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_fokker_planck, argc, argv, o, &pos);
+    if (parsed >= 0 || cli_theory_set_refused(&cli_cmd_fokker_planck, &o->th)) {
+        cli_list_free(&o->th.sets);
+        return parsed >= 0 ? parsed : EXIT_REFUSED;
     }
+    o->p.s.start = !strcmp(o->start, "uniform") ? GR_FP_START_UNIFORM : GR_FP_START_CENTRE;
+    o->p.sim = !o->no_sim;
     gr_error err = {0};
     if (gr_fp_settings_check(&o->p.s, &err)) {
         cli_error("fokker-planck: %s", err.message);
         return EXIT_REFUSED;
     }
-    if (o->p.points < 3 || o->p.points > 100000) {
-        cli_error("fokker-planck: --points must lie in [3, 100000], got %d", o->p.points);
-        return EXIT_REFUSED;
-    }
-    if (!(o->p.min_walks >= 1.0)) {
-        cli_error("fokker-planck: --min-walks must be >= 1, got %g", o->p.min_walks);
-        return EXIT_REFUSED;
-    }
-    return EXIT_OK;
+    return -1;
 }
 
 static void print_simulation(const options *o, const gr_fp_study *st)
@@ -202,23 +134,22 @@ int cmd_fokker_planck(int argc, char **argv)
     options o;
     memset(&o, 0, sizeof o);
     gr_fp_settings_default(&o.p.s);
-    o.out = "out/fokker-planck";
-    o.plots = true;
-    o.p.sim = true;
+    o.th.out = "out/fokker-planck";
+    o.start = "uniform";
     o.p.points = 201;
     o.p.min_walks = 100.0;
-    int done, code = parse(argc, argv, &o, &done);
-    if (code != EXIT_OK || done) {
+    const int code = parse(argc, argv, &o);
+    if (code >= 0) {
         return code;
     }
     gsl_set_error_handler_off();
     gr_error err = {0};
-    if (gr_output_dir_prepare(o.out, GR_OUTPUT_RESULT, o.force, &err)) {
+    if (gr_output_dir_prepare(o.th.out, GR_OUTPUT_RESULT, o.th.force, &err)) {
         cli_error("fokker-planck: %s", err.message);
         return exit_code(&err);
     }
     gr_fp_study st;
-    if (gr_fp_study_quadrature(o.out, &o.p, &st, &err)) {
+    if (gr_fp_study_quadrature(o.th.out, &o.p, &st, &err)) {
         gr_fp_study_free(&st);
         cli_error("fokker-planck: quadrature: %s", err.message);
         return EXIT_FAILED;
@@ -228,12 +159,12 @@ int cmd_fokker_planck(int argc, char **argv)
     printf("quadrature (uniform start): <T_exit> = %.6g s = %.6f T0, <v^2> = %.6g (m/s)^2, Q_pdf(0) = %.6g s/m (%.2f s)\n",
            st.T_quad, st.T_quad / st.T0, st.v2, st.Q0, st.quad_seconds);
     double t0 = now();
-    const bool show = o.p.sim && !o.quiet && cli_interactive();
+    const bool show = o.p.sim && !o.th.quiet && cli_interactive();
     if (show) {
         o.p.progress = progress;
         o.p.user = &t0;
     }
-    int rc = gr_fp_study_simulate(o.out, &o.p, &st, &err);
+    int rc = gr_fp_study_simulate(o.th.out, &o.p, &st, &err);
     if (show) {
         fprintf(stderr, "\r%60s\r", "");
         fflush(stderr);
@@ -243,7 +174,7 @@ int cmd_fokker_planck(int argc, char **argv)
         cli_error("fokker-planck: simulation: %s", err.message);
         return exit_code(&err);
     }
-    if (gr_fp_study_compare(o.out, &o.p, &st, &err)) {
+    if (gr_fp_study_compare(o.th.out, &o.p, &st, &err)) {
         gr_fp_study_free(&st);
         cli_error("fokker-planck: %s", err.message);
         return exit_code(&err);
@@ -251,12 +182,12 @@ int cmd_fokker_planck(int argc, char **argv)
     if (st.have_sim) {
         print_simulation(&o, &st);
     }
-    rc = gr_fp_study_summary(o.out, &o.p, &st, o.plots, &err);
+    rc = gr_fp_study_summary(o.th.out, &o.p, &st, !o.th.no_plots, &err);
     gr_fp_study_free(&st);
     if (rc) {
         cli_error("fokker-planck: %s", err.message);
         return EXIT_FAILED;
     }
-    printf("wrote %s\n", o.out);
+    printf("wrote %s\n", o.th.out);
     return EXIT_OK;
 }

@@ -8,12 +8,37 @@
 #include "granule/model.h"
 #include "granule/scene.h"
 
+static const cli_opt models_opts[] = {
+    {"--markdown", CLI_FLAG, NULL, 0, 0, 0, 0, NULL, "as Markdown tables (docs/models.md holds them)", NULL},
+};
+
+const cli_command cli_cmd_models = {
+    .name = "models",
+    .usage = "granule models [--markdown]",
+    .about = "Lists every collision model, its kind and its parameters (unit, default, allowed range).\n",
+    CLI_OPTS(models_opts),
+};
+
+/* the tables of the commands that take no option but --help */
+const cli_command cli_cmd_keys = {
+    .name = "keys",
+    .usage = "granule keys",
+    .about = "Prints every scene key (type, unit, default, range, meaning) as Markdown (docs/scene-keys.md).\n",
+};
+
+const cli_command cli_cmd_observables = {
+    .name = "observables",
+    .usage = "granule observables",
+    .about = "Lists the observables of the analysis layer, their dimensions and parameters.\n",
+};
+
 int cmd_models(int argc, char **argv)
 {
-    bool markdown = argc > 1 && !strcmp(argv[1], "--markdown");
-    if (argc > 1 && !markdown) {
-        printf("usage: granule models [--markdown]\nLists every collision model, its kind and its parameters (unit, default, allowed range).\n");
-        return strcmp(argv[1], "--help") && strcmp(argv[1], "-h") ? EXIT_REFUSED : EXIT_OK;
+    bool markdown = false;
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_models, argc, argv, &markdown, &pos);
+    if (parsed >= 0) {
+        return parsed;
     }
     int w_name = 8, w_unit = 5; /* the columns of the plain listing fit every model's longest name and unit */
     for (int m = 0; gr_models[m]; m++) {
@@ -60,9 +85,10 @@ int cmd_models(int argc, char **argv)
 
 int cmd_keys(int argc, char **argv)
 {
-    if (argc > 1) {
-        printf("usage: granule keys\nPrints every scene key (type, unit, default, range, meaning) as Markdown.\n");
-        return strcmp(argv[1], "--help") && strcmp(argv[1], "-h") ? EXIT_REFUSED : EXIT_OK;
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_keys, argc, argv, NULL, &pos);
+    if (parsed >= 0) {
+        return parsed;
     }
     gr_scene_keys_markdown(stdout);
     return EXIT_OK;

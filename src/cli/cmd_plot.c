@@ -129,30 +129,30 @@ static int redraw_folder(const char *dir, int depth, int *drawn)
     return failures;
 }
 
+static const cli_opt plot_opts[] = {
+    CLI_OPT_FORMAT,
+};
+
+const cli_command cli_cmd_plot = {
+    .name = "plot",
+    .usage = "granule plot DIR [--format png|svg|pdf]",
+    .about = "Redraws every plot in DIR (and DIR/analysis, and the run folders inside a compare or sweep\n"
+             "folder): every observable's and command's pictures from the gnuplot bodies (*.gp) kept beside\n"
+             "them and the snapshot picture coloured by speed (cairo, PNG); a run's summary.json then lists\n"
+             "every picture. Needs gnuplot.\n",
+    .pos_name = "folder",
+    .max_pos = 1,
+    CLI_OPTS(plot_opts),
+};
+
 int cmd_plot(int argc, char **argv)
 {
-    const char *dir = NULL;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            printf("usage: granule plot DIR [--format png|svg|pdf]\n"
-                   "Redraws every plot in DIR (and DIR/analysis, and the run folders inside a compare or sweep\n"
-                   "folder): every observable's and command's pictures from the gnuplot bodies (*.gp) kept beside\n"
-                   "them and the snapshot picture coloured by speed (cairo, PNG); a run's summary.json then lists\n"
-                   "every picture. --format draws the graphs as png (default), svg or pdf. Needs gnuplot.\n");
-            return EXIT_OK;
-        } else if (!strcmp(argv[i], "--format") && i + 1 < argc) {
-            if (!cli_plot_format(argv[++i])) {
-                return EXIT_REFUSED;
-            }
-        } else if (argv[i][0] != '-' && !dir) {
-            dir = argv[i];
-        } else {
-            if (!cli_missing_value("plot", argv[i], "--format", i + 1 >= argc)) {
-                cli_error("plot: unexpected argument %s (usage: granule plot DIR [--format png|svg|pdf])", argv[i]);
-            }
-            return EXIT_REFUSED;
-        }
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_plot, argc, argv, &(char){0}, &pos);
+    if (parsed >= 0) {
+        return parsed;
     }
+    const char *dir = pos.n ? pos.v[0] : NULL;
     if (!dir) {
         cli_error("plot: usage: granule plot DIR [--format png|svg|pdf]");
         return EXIT_REFUSED;

@@ -16,24 +16,55 @@
 #include "io/files.h"
 #include "io/summary_read.h"
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: granule reproduce NAME [--fidelity quick|full] [--out DIR] [--results DIR] [--jobs J] [--threads N]\n"
-               "       granule reproduce NAME ... --point K | --array-base B      one point (batch-array task)\n"
-               "       mpirun -n P granule reproduce NAME ...                     over MPI ranks\n"
-               "       granule reproduce NAME [--fidelity F] [--out DIR] --collect  analyse the finished points only\n"
-               "       granule reproduce --list                                   the built-in campaigns\n"
-               "       granule reproduce --page [--results-root DIR] [--output FILE]  regenerate docs/reproduction.md\n\n"
-               "NAME is a campaign (granule reproduce --list), a figure or table it covers (fig3.2, table4.1), or a\n"
-               "campaign file. Its runs go to DIR/NAME/FIDELITY/runs (default DIR: out/reproduce) as a granule sweep:\n"
-               "finished points are never rerun and an interrupted one continues from its checkpoint, so the\n"
-               "command can be stopped at any time and run again. Progress lines give the CPU-hours spent and left.\n"
-               "When every point is finished the result set (results.csv, results.json, a data CSV and figures per\n"
-               "figure/table, the thesis's values overlaid) is written to --results (default DIR/NAME/FIDELITY/results;\n"
-               "docs/results/NAME for the committed ones) and the numbers are printed. The campaigns and scenes are\n"
-               "built into granule, so this works from any folder. quick: minutes, checks the pipeline; full: the\n"
-               "sizes and run lengths of docs/reproduction.md, which gives each campaign's CPU-hours (hours to days).\n");
-}
+typedef struct reproduce_args {
+    const char *fidelity, *out, *results, *root, *page_out, *point, *base;
+    int jobs;
+    bool list, page, collect;
+} reproduce_args;
+
+static const cli_opt reproduce_opts[] = {
+    {"--fidelity", CLI_CHOICE, "quick|full", offsetof(reproduce_args, fidelity), 0, 0, 0, "quick",
+     "quick: minutes, checks the pipeline; full: the sizes and run lengths of docs/reproduction.md", NULL},
+    {"--out", CLI_STRING, "DIR", offsetof(reproduce_args, out), 0, 0, 0, "out/reproduce", "the runs go to DIR/NAME/FIDELITY/runs",
+     NULL},
+    {"--results", CLI_STRING, "DIR", offsetof(reproduce_args, results), 0, 0, 0, "DIR/NAME/FIDELITY/results",
+     "where the result set is written", NULL},
+    {"--jobs", CLI_INT, "J", offsetof(reproduce_args, jobs), 1, SWEEP_MAX_JOBS, 0, "the number of cores", "parallel runs", NULL},
+    CLI_OPT_THREADS,
+    {"--point", CLI_STRING, "K", offsetof(reproduce_args, point), 0, 0, 0, NULL, "run point K only (a batch-array task)", NULL},
+    {"--array-base", CLI_STRING, "B", offsetof(reproduce_args, base), 0, 0, 0, "0",
+     "in a batch-array task, run point = array index - B", NULL},
+    {"--collect", CLI_FLAG, NULL, offsetof(reproduce_args, collect), 0, 0, 0, NULL, "analyse the finished points only", NULL},
+    {"--list", CLI_FLAG, NULL, offsetof(reproduce_args, list), 0, 0, 0, NULL, "list the built-in campaigns", NULL},
+    {"--page", CLI_FLAG, NULL, offsetof(reproduce_args, page), 0, 0, 0, NULL,
+     "regenerate docs/reproduction.md from the committed result sets", NULL},
+    {"--results-root", CLI_STRING, "DIR", offsetof(reproduce_args, root), 0, 0, 0, "docs/results",
+     "with --page: the result sets to read", NULL},
+    {"--output", CLI_STRING, "FILE", offsetof(reproduce_args, page_out), 0, 0, 0, "docs/reproduction.md",
+     "with --page: the page to write", NULL},
+};
+
+const cli_command cli_cmd_reproduce = {
+    .name = "reproduce",
+    .usage = "granule reproduce NAME [--fidelity quick|full] [--out DIR] [--results DIR] [--jobs J] [--threads N]\n"
+             "       granule reproduce NAME ... --point K | --array-base B      one point (batch-array task)\n"
+             "       mpirun -n P granule reproduce NAME ...                     over MPI ranks\n"
+             "       granule reproduce NAME [--fidelity F] [--out DIR] --collect  analyse the finished points only\n"
+             "       granule reproduce --list                                   the built-in campaigns\n"
+             "       granule reproduce --page [--results-root DIR] [--output FILE]  regenerate docs/reproduction.md",
+    .about = "NAME is a campaign (granule reproduce --list), a figure or table it covers (fig3.2, table4.1), or a\n"
+             "campaign file. Its runs go to DIR/NAME/FIDELITY/runs (default DIR: out/reproduce) as a granule sweep:\n"
+             "finished points are never rerun and an interrupted one continues from its checkpoint, so the\n"
+             "command can be stopped at any time and run again. Progress lines give the CPU-hours spent and left.\n"
+             "When every point is finished the result set (results.csv, results.json, a data CSV and figures per\n"
+             "figure/table, the thesis's values overlaid) is written to --results (default DIR/NAME/FIDELITY/results;\n"
+             "docs/results/NAME for the committed ones) and the numbers are printed. The campaigns and scenes are\n"
+             "built into granule, so this works from any folder. quick: minutes, checks the pipeline; full: the\n"
+             "sizes and run lengths of docs/reproduction.md, which gives each campaign's CPU-hours (hours to days).\n",
+    .pos_name = "campaign",
+    .max_pos = 1,
+    CLI_OPTS(reproduce_opts),
+};
 
 static void print_pm(double v, double e)
 {
@@ -153,70 +184,43 @@ static bool mpi_worker(void)
 
 int cmd_reproduce(int argc, char **argv)
 {
-    const char *name = NULL, *out = "out/reproduce", *results = NULL, *root = "docs/results", *page_out = "docs/reproduction.md";
-    gr_fidelity fid = GR_FIDELITY_QUICK;
-    bool collect = false, page = false, one_point = false;
+    reproduce_args args = {.fidelity = "quick", .out = "out/reproduce", .root = "docs/results",
+                           .page_out = "docs/reproduction.md"};
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_reproduce, argc, argv, &args, &pos);
+    if (parsed >= 0) {
+        return parsed;
+    }
+    if (args.list) {
+        return list_campaigns();
+    }
+    const char *name = pos.n ? pos.v[0] : NULL, *out = args.out, *results = args.results, *root = args.root,
+               *page_out = args.page_out;
+    const gr_fidelity fid = !strcmp(args.fidelity, "full") ? GR_FIDELITY_FULL : GR_FIDELITY_QUICK;
+    const bool collect = args.collect, page = args.page, one_point = args.point || args.base;
     long point = -2; /* --point K (-1: not a number); checked against the campaign before anything is written */
-    const char *point_text = NULL;
-    char *pass[16];
+    const char *point_text = args.point;
+    if (point_text) {
+        char *end;
+        point = strtol(point_text, &end, 10);
+        point = *end || end == point_text ? -1 : point;
+    }
+    /* passed on to the sweep */
+    char jobs_text[32];
+    char *pass[8];
     int n_pass = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        bool has = i + 1 < argc;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            return EXIT_OK;
-        } else if (!strcmp(a, "--list")) {
-            return list_campaigns();
-        } else if (!strcmp(a, "--fidelity") && has) {
-            const char *v = argv[++i];
-            if (strcmp(v, "quick") && strcmp(v, "full")) {
-                cli_error("reproduce: --fidelity quick or full, got '%s'", v);
-                return EXIT_REFUSED;
-            }
-            fid = !strcmp(v, "full") ? GR_FIDELITY_FULL : GR_FIDELITY_QUICK;
-        } else if (!strcmp(a, "--out") && has) {
-            out = argv[++i];
-        } else if (!strcmp(a, "--results") && has) {
-            results = argv[++i];
-        } else if (!strcmp(a, "--results-root") && has) {
-            root = argv[++i];
-        } else if (!strcmp(a, "--output") && has) {
-            page_out = argv[++i];
-        } else if (!strcmp(a, "--page")) {
-            page = true;
-        } else if (!strcmp(a, "--collect")) {
-            collect = true;
-        } else if (!strcmp(a, "--threads") && has) {
-            if (!cli_threads(argv[++i])) {
-                return EXIT_REFUSED;
-            }
-        } else if ((!strcmp(a, "--jobs") || !strcmp(a, "--point") || !strcmp(a, "--array-base")) && has && n_pass < 14) {
-            one_point |= strcmp(a, "--jobs") != 0;
-            if (!strcmp(a, "--jobs")) { /* refused here, before the campaign's folders are made */
-                char *end;
-                long j = strtol(argv[i + 1], &end, 10);
-                if (*end || end == argv[i + 1] || j < 1 || j > SWEEP_MAX_JOBS) {
-                    cli_error("reproduce: --jobs %s: allowed 1..%d", argv[i + 1], SWEEP_MAX_JOBS);
-                    return EXIT_REFUSED;
-                }
-            }
-            if (!strcmp(a, "--point")) {
-                char *end;
-                point_text = argv[i + 1];
-                point = strtol(argv[i + 1], &end, 10);
-                point = *end || end == argv[i + 1] ? -1 : point;
-            }
-            pass[n_pass++] = argv[i];
-            pass[n_pass++] = argv[++i];
-        } else if (a[0] != '-' && !name) {
-            name = a;
-        } else {
-            if (!cli_missing_value("reproduce", a, "--fidelity --out --results --results-root --output --threads --jobs --point --array-base", !has)) {
-                cli_error("reproduce: unexpected argument %s; see granule reproduce --help", a);
-            }
-            return EXIT_REFUSED;
-        }
+    if (args.jobs) {
+        snprintf(jobs_text, sizeof jobs_text, "%d", args.jobs);
+        pass[n_pass++] = "--jobs";
+        pass[n_pass++] = jobs_text;
+    }
+    if (args.point) {
+        pass[n_pass++] = "--point";
+        pass[n_pass++] = (char *)args.point;
+    }
+    if (args.base) {
+        pass[n_pass++] = "--array-base";
+        pass[n_pass++] = (char *)args.base;
     }
     if (page) {
         gr_error err = {0};
@@ -228,7 +232,7 @@ int cmd_reproduce(int argc, char **argv)
         return EXIT_OK;
     }
     if (!name) {
-        usage(stderr);
+        cli_help(&cli_cmd_reproduce, stderr);
         return EXIT_REFUSED;
     }
     gr_campaign *c = calloc(1, sizeof *c);

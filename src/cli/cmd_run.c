@@ -6,31 +6,47 @@
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/options.h"
 #include "granule/run.h"
 #include "io/plot.h"
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: granule run SCENE [--out DIR] [--set section.key=value ...] [--force] [--quiet] [--wall-limit S]\n"
-               "                 [--threads N] [--format png|svg|pdf]\n"
-               "       granule run --resume DIR [--set run.wall_limit=S ...] [--quiet] [--threads N]\n\n"
-               "Runs SCENE (an INI file, see docs/scene-keys.md): warm-up, then sampling every\n"
-               "run.sample_every. Writes DIR/summary.json, temperature.csv, blocks.csv, ledger.csv,\n"
-               "snapshots/ (output.snapshot_every) and plots (output.plots, docs/plots.md).\n"
-               "  --out DIR    output folder (default: the scene's output.dir)\n"
-               "  --set K=V    override a scene key, e.g. --set model.eps_n=0.5 (repeatable)\n"
-               "  --force      overwrite the results of an earlier run in DIR\n"
-               "  --quiet      no progress line\n"
-               "  --threads N  threads for the 2D core (default 1, or OMP_NUM_THREADS); the results are\n"
-               "               bit-identical for every N (docs/performance.md)\n"
-               "  --format F   plots as png (default), svg or pdf (the snapshot picture stays PNG)\n"
-               "  --wall-limit S  write a checkpoint and stop before S seconds of wall time (run.wall_limit)\n"
-               "  --resume DIR continue the interrupted run in DIR from DIR/checkpoint (docs/checkpoints.md)\n"
-               "SIGTERM or SIGINT writes a checkpoint at the next step boundary and stops (a second one kills).\n"
-               "Exit status: 0 completed, 2 scene refused, 3 run became unstable, 1 other failure,\n"
-               "4 stopped for the wall-time limit, 5 stopped by a signal (both with a checkpoint to resume),\n"
-               "6 an output could not be written, e.g. a full disk (checkpoint kept: free space, then --resume).\n");
-}
+typedef struct run_args {
+    const char *out, *resume, *wall_limit;
+    cli_list sets;
+    bool force, quiet, no_plots;
+} run_args;
+
+static const cli_opt run_opts[] = {
+    CLI_OPT_OUT(run_args, out, "the scene's output.dir"),
+    CLI_OPT_SET(run_args, sets),
+    CLI_OPT_FORCE(run_args, force),
+    CLI_OPT_QUIET(run_args, quiet),
+    CLI_OPT_THREADS,
+    {"--format", CLI_CHOICE, "png|svg|pdf", CLI_NOWHERE, 0, 0, 0, "png", "the format of every plot (the snapshot picture stays PNG)",
+     cli_apply_format},
+    {"--no-plots", CLI_FLAG, NULL, offsetof(run_args, no_plots), 0, 0, 0, NULL, "draw no plots (same as --set output.plots=false)", NULL},
+    {"--wall-limit", CLI_STRING, "S", offsetof(run_args, wall_limit), 0, 0, 0, NULL,
+     "write a checkpoint and stop before S seconds of wall time (same as --set run.wall_limit=S)", NULL},
+    {"--resume", CLI_STRING, "DIR", offsetof(run_args, resume), 0, 0, 0, NULL,
+     "continue the interrupted run in DIR from DIR/checkpoint (docs/checkpoints.md); no SCENE, --out or --force", NULL},
+};
+
+const cli_command cli_cmd_run = {
+    .name = "run",
+    .usage = "granule run SCENE [--out DIR] [--set section.key=value ...] [--force] [--quiet] [--wall-limit S]\n"
+             "                 [--threads N] [--format png|svg|pdf] [--no-plots]\n"
+             "       granule run --resume DIR [--set run.wall_limit=S ...] [--quiet] [--threads N]",
+    .about = "Runs SCENE (an INI file, see docs/scene-keys.md): warm-up, then sampling every\n"
+             "run.sample_every. Writes DIR/summary.json, temperature.csv, blocks.csv, ledger.csv,\n"
+             "snapshots/ (output.snapshot_every) and plots (output.plots, docs/plots.md).\n",
+    .epilog = "SIGTERM or SIGINT writes a checkpoint at the next step boundary and stops (a second one kills).\n"
+              "Exit status: 0 completed, 2 scene refused, 3 run became unstable, 1 other failure,\n"
+              "4 stopped for the wall-time limit, 5 stopped by a signal (both with a checkpoint to resume),\n"
+              "6 an output could not be written, e.g. a full disk (checkpoint kept: free space, then --resume).\n",
+    .pos_name = "scene",
+    .max_pos = 1,
+    CLI_OPTS(run_opts),
+};
 
 static void progress(const gr_progress *p, void *user)
 {
@@ -64,82 +80,28 @@ void cmd_run_catch_stop(void)
     sigaction(SIGINT, &sa, NULL);
 }
 
-bool cli_threads(const char *text)
-{
-    char *end;
-    long t = strtol(text, &end, 10);
-    if (end == text || *end != '\0' || t < 1 || t > 1024) {
-        cli_error("--threads %s: expected an integer from 1 to 1024", text);
-        return false;
-    }
-    gr_set_threads((int)t);
-    return true;
-}
-
-bool cli_plot_format(const char *text)
-{
-    const int f = gr_plot_format_parse(text);
-    if (f < 0) {
-        cli_error("--format %s: expected png, svg or pdf", text);
-        return false;
-    }
-    gr_plot_set_format((gr_plot_format)f);
-    return true;
-}
-
 int cmd_run(int argc, char **argv)
 {
-    const char *scene_path = NULL, *out = NULL, *resume = NULL;
-    char wall_set[80] = "";
-    const char **sets = calloc((size_t)argc, sizeof(char *));
-    int n_sets = 0;
-    bool force = false, quiet = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            free(sets);
-            return EXIT_OK;
-        } else if (!strcmp(a, "--set") && i + 1 < argc) {
-            sets[n_sets++] = argv[++i];
-        } else if (!strncmp(a, "--set=", 6)) {
-            sets[n_sets++] = a + 6;
-        } else if (!strcmp(a, "--out") && i + 1 < argc) {
-            out = argv[++i];
-        } else if (!strcmp(a, "--force")) {
-            force = true;
-        } else if (!strcmp(a, "--quiet")) {
-            quiet = true;
-        } else if (!strcmp(a, "--resume") && i + 1 < argc) {
-            resume = argv[++i];
-        } else if (!strcmp(a, "--threads") && i + 1 < argc) {
-            if (!cli_threads(argv[++i])) {
-                free(sets);
-                return EXIT_REFUSED;
-            }
-        } else if (!strcmp(a, "--format") && i + 1 < argc) {
-            if (!cli_plot_format(argv[++i])) {
-                free(sets);
-                return EXIT_REFUSED;
-            }
-        } else if (!strcmp(a, "--wall-limit") && i + 1 < argc) {
-            snprintf(wall_set, sizeof wall_set, "run.wall_limit=%.60s", argv[++i]);
-            sets[n_sets++] = wall_set;
-        } else if (a[0] == '-') {
-            if (!cli_missing_value("run", a, "--set --out --resume --threads --format --wall-limit", i + 1 >= argc)) {
-                cli_error("run: unknown option %s", a);
-            }
-            usage(stderr);
-            free(sets);
-            return EXIT_REFUSED;
-        } else if (!scene_path) {
-            scene_path = a;
-        } else {
-            cli_error("run: one scene at a time (got %s and %s)", scene_path, a);
-            free(sets);
-            return EXIT_REFUSED;
-        }
+    run_args args = {0};
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_run, argc, argv, &args, &pos);
+    if (parsed >= 0) {
+        cli_list_free(&args.sets);
+        return parsed;
     }
+    const char *scene_path = pos.n ? pos.v[0] : NULL, *out = args.out, *resume = args.resume;
+    const bool force = args.force, quiet = args.quiet;
+    char wall_set[80] = "";
+    if (args.wall_limit) {
+        snprintf(wall_set, sizeof wall_set, "run.wall_limit=%.60s", args.wall_limit);
+    }
+    /* after the --set options, as if given last */
+    if ((args.wall_limit && !cli_list_add(&args.sets, wall_set)) || (args.no_plots && !cli_list_add(&args.sets, "output.plots=false"))) {
+        cli_list_free(&args.sets);
+        return EXIT_FAILED;
+    }
+    const char **sets = args.sets.items;
+    const int n_sets = args.sets.n;
     char resume_scene[1100];
     if (resume) {
         if (scene_path || out || force) {
@@ -152,7 +114,7 @@ int cmd_run(int argc, char **argv)
         out = resume;
     }
     if (!scene_path) {
-        usage(stderr);
+        cli_help(&cli_cmd_run, stderr);
         free(sets);
         return EXIT_REFUSED;
     }

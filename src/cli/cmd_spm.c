@@ -42,47 +42,70 @@ static void usage_main(FILE *f)
             "Exit status: 0 done, 2 bad input, 1 other failure.\n");
 }
 
-static void usage_circle(FILE *f)
-{
-    fprintf(f,
-            "usage: granule spm circle [--radius L1,L2,...] [options]\n\n"
-            "Q(v,l) of thesis sec. 5.3.1: for each radius, walks from rest at the centre to the first\n"
-            "arrival at the boundary, velocities (one component) sampled uniformly in time. The\n"
-            "histograms are of w = v / u_l, u_l = (2 D l / M^2)^(1/3), so that radii are compared bin by\n"
-            "bin (collapse under v / l^(1/3)); the Gaussian tail Q ~ A exp(-b w^2) (5.12; the thesis\n"
-            "finds b = 0.98) is fitted per radius and pooled.\n"
-            "  --radius LIST     radii in m, comma-separated (default 0.0036,0.01,0.02,0.04)\n"
-            "  --wmax W          histogram range of |w| (default 4.5)\n"
-            "  --fit-from W      Gaussian tail fit over w >= W (default 2.5)\n"
-            SPM_COMMON_HELP
-            "Writes q.csv, q_radii.csv, summary.json, q_collapse.png, q_raw.png.\n",
-            "20000 per radius", 90, "out/spm-circle");
-}
+typedef struct circle_args {
+    gr_spm_circle_params p;
+    spm_options spm;
+    const char *radius;
+} circle_args;
 
-static void usage_predict(FILE *f)
-{
-    fprintf(f,
-            "usage: granule spm predict [--df D_f | --pl FILE] [--C C] [--b B] [options]\n\n"
-            "The asymptotic tail of P(v) from the SPM integral identity (thesis sec. 5.3.2):\n"
-            "  alpha = 6 (D_f - 1) / (3 D_f - 1)                       (5.29)\n"
-            "  S = B (gamma/2F)^(2/(gamma+2)) + C (2F/gamma)^(gamma/(gamma+2)), v_A = S^(-1/alpha),\n"
-            "  F = B/C, gamma = 3 (D_f - 1), P(v) ~ v^h exp(-S |v|^alpha)  (5.27)\n"
-            "  h = 3 (D_f - 1) / (3 D_f - 1)                            (5.30-5.31)\n"
-            "  --df D_f          fractal dimension (default 1.63 +- 0.03, the thesis' D_f, sec. 4.2)\n"
-            "  --pl FILE         or fit 4.25 to a measured P_l table (columns l, P; or a run's\n"
-            "                    freepath.csv, columns l_over_d, density) for D_f and C\n"
-            "  --diameter D      particle diameter, m, for l_over_d (default: the run folder's)\n"
-            "  --tail-from L     fit over l >= L, m (default: the longest 10%% of the paths)\n"
-            "  --C C             C of 4.25, m^-(D_f-1) (default 121 with --df: thesis sec. 5.3.3)\n"
-            "  --b B             Q's Gaussian tail coefficient of 5.12 (default 0.98; granule spm\n"
-            "                    circle measures it); B = b (M^2/2D)^(2/3)\n"
-            "  --mass M, --D D   as for the other modes (Table 2.2 defaults)\n"
-            "  --vmax V          range of the tabulated integral 5.13, m/s (default 20 v_A)\n"
-            "  --out DIR         output folder (default out/spm-predict); --force, --no-plots,\n"
-            "                    --format png|svg|pdf, --quiet as the other modes\n"
-            "Writes prediction.csv (5.13 integrated numerically against 5.26), summary.json,\n"
-            "prediction.png.\n");
-}
+static const cli_opt circle_opts[] = {
+    {"--radius", CLI_STRING, "LIST", offsetof(circle_args, radius), 0, 0, 0, "0.0036,0.01,0.02,0.04",
+     "radii in m, comma-separated", NULL},
+    {"--wmax", CLI_DOUBLE, "W", offsetof(circle_args, p.wmax), 0, 0, 0, "4.5", "histogram range of |w|", NULL},
+    {"--fit-from", CLI_DOUBLE, "W", offsetof(circle_args, p.fit_from), 0, 0, 0, "2.5", "Gaussian tail fit over w >= W", NULL},
+    SPM_COMMON_OPTS(circle_args, "20000 per radius", "90", "out/spm-circle"),
+};
+
+const cli_command cli_cmd_spm_circle = {
+    .name = "spm circle",
+    .usage = "granule spm circle [--radius L1,L2,...] [options]",
+    .about = "Q(v,l) of thesis sec. 5.3.1: for each radius, walks from rest at the centre to the first\n"
+             "arrival at the boundary, velocities (one component) sampled uniformly in time. The\n"
+             "histograms are of w = v / u_l, u_l = (2 D l / M^2)^(1/3), so that radii are compared bin by\n"
+             "bin (collapse under v / l^(1/3)); the Gaussian tail Q ~ A exp(-b w^2) (5.12; the thesis\n"
+             "finds b = 0.98) is fitted per radius and pooled.\n",
+    .epilog = "Writes q.csv, q_radii.csv, summary.json, q_collapse.png, q_raw.png.\n",
+    CLI_OPTS(circle_opts),
+};
+
+typedef struct predict_args {
+    gr_spm_predict_params p;
+    cli_theory th;
+} predict_args;
+
+static const cli_opt predict_opts[] = {
+    {"--df", CLI_DOUBLE, "D_f", offsetof(predict_args, p.df), 0, 0, 0, "1.63 +- 0.03, the thesis' D_f, sec. 4.2",
+     "fractal dimension", NULL},
+    {"--pl", CLI_STRING, "FILE", offsetof(predict_args, p.pl_path), 0, 0, 0, NULL,
+     "or fit 4.25 to a measured P_l table (columns l, P; or a run's freepath.csv, columns l_over_d, density) for D_f and C",
+     NULL},
+    {"--diameter", CLI_DOUBLE, "D", offsetof(predict_args, p.diameter), 0, 0, 0, "the run folder's",
+     "particle diameter, m, for l_over_d", NULL},
+    {"--tail-from", CLI_DOUBLE, "L", offsetof(predict_args, p.tail_from), 0, 0, 0, "the longest 10% of the paths",
+     "fit over l >= L, m", NULL},
+    {"--C", CLI_DOUBLE, "C", offsetof(predict_args, p.C), 0, 0, 0, "121 with --df: thesis sec. 5.3.3", "C of 4.25, m^-(D_f-1)",
+     NULL},
+    {"--b", CLI_DOUBLE, "B", offsetof(predict_args, p.b), 0, 0, 0, "0.98",
+     "Q's Gaussian tail coefficient of 5.12 (granule spm circle measures it); B = b (M^2/2D)^(2/3)", NULL},
+    {"--mass", CLI_DOUBLE, "M", offsetof(predict_args, p.s.mass), 0, 0, 0, "3.53e-5, Table 2.2", "particle mass, kg", NULL},
+    {"--D", CLI_DOUBLE, "D", offsetof(predict_args, p.s.D), 0, 0, 0, "1e-8, Table 2.2", "noise strength, N^2 s", NULL},
+    {"--vmax", CLI_DOUBLE, "V", offsetof(predict_args, p.vmax), 0, 0, 0, "20 v_A", "range of the tabulated integral 5.13, m/s",
+     NULL},
+    CLI_THEORY_OPTS(predict_args, th, "out/spm-predict"),
+};
+
+const cli_command cli_cmd_spm_predict = {
+    .name = "spm predict",
+    .usage = "granule spm predict [--df D_f | --pl FILE] [--C C] [--b B] [options]",
+    .about = "The asymptotic tail of P(v) from the SPM integral identity (thesis sec. 5.3.2):\n"
+             "  alpha = 6 (D_f - 1) / (3 D_f - 1)                       (5.29)\n"
+             "  S = B (gamma/2F)^(2/(gamma+2)) + C (2F/gamma)^(gamma/(gamma+2)), v_A = S^(-1/alpha),\n"
+             "  F = B/C, gamma = 3 (D_f - 1), P(v) ~ v^h exp(-S |v|^alpha)  (5.27)\n"
+             "  h = 3 (D_f - 1) / (3 D_f - 1)                            (5.30-5.31)\n",
+    .epilog = "Writes prediction.csv (5.13 integrated numerically against 5.26), summary.json,\n"
+              "prediction.png.\n",
+    CLI_OPTS(predict_opts),
+};
 
 static int parse_list(const char *text, double *out, int max, int *n)
 {
@@ -115,45 +138,23 @@ static int cmd_circle(int argc, char **argv)
 {
     gr_spm_circle_params p;
     gr_spm_circle_params_default(&p);
-    spm_options o = {.s = &p.s, .out = "out/spm-circle", .plots = true, .bins = &p.bins};
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage_circle(stdout);
-            return EXIT_OK;
-        }
-        int c = spm_common_option(argc, argv, &i, &o);
-        if (c < 0) {
-            return EXIT_REFUSED;
-        }
-        if (c > 0) {
-            continue;
-        }
-        if (!strcmp(a, "--radius")) {
-            if (i + 1 >= argc) {
-                cli_error("spm: --radius needs a value");
-                return EXIT_REFUSED;
-            }
-            if (parse_list(argv[++i], p.radii, GR_SPM_MAX_RADII, &p.n_radii)) {
-                return EXIT_REFUSED;
-            }
-        } else if (!strcmp(a, "--wmax") || !strcmp(a, "--fit-from")) {
-            double x;
-            if (!spm_value_number(argc, argv, &i, &x)) {
-                return EXIT_REFUSED;
-            }
-            *(!strcmp(a, "--wmax") ? &p.wmax : &p.fit_from) = x;
-        } else {
-            spm_unknown("circle", a);
-            return EXIT_REFUSED;
-        }
+    circle_args args = {.p = p, .spm = {.mass = NAN, .D = NAN, .th.out = "out/spm-circle"}};
+    const int parsed = spm_parse(&cli_cmd_spm_circle, argc, argv, &args, &args.spm, &args.p.s);
+    if (parsed >= 0) {
+        return parsed;
     }
+    if (args.radius && parse_list(args.radius, args.p.radii, GR_SPM_MAX_RADII, &args.p.n_radii)) {
+        return EXIT_REFUSED;
+    }
+    p = args.p;
+    spm_options o = args.spm;
+    o.s = &p.s;
     gr_error err = {0};
     if (gr_spm_circle_prepare(&p, &err)) {
         cli_error("%s", err.message);
         return EXIT_REFUSED;
     }
-    if (gr_output_dir_prepare(o.out, GR_OUTPUT_RESULT, o.force, &err)) {
+    if (gr_output_dir_prepare(o.th.out, GR_OUTPUT_RESULT, o.th.force, &err)) {
         cli_error("%s", err.message);
         return spm_exit_code(&err);
     }
@@ -165,10 +166,10 @@ static int cmd_circle(int argc, char **argv)
         cli_error("%s", err.message);
         return spm_exit_code(&err);
     }
-    rc = gr_spm_circle_write(o.out, &p, &r, o.plots, &err);
+    rc = gr_spm_circle_write(o.th.out, &p, &r, !o.th.no_plots, &err);
     if (!rc) {
         const gr_spm_tail_fit *pf = &r.pooled_fit;
-        printf("%s: Q(v,l) for %d radii, %dD, %lld walks each, %.1f s\n", o.out, p.n_radii, p.s.dim, (long long)p.s.walks,
+        printf("%s: Q(v,l) for %d radii, %dD, %lld walks each, %.1f s\n", o.th.out, p.n_radii, p.s.dim, (long long)p.s.walks,
                r.wall_seconds);
         for (int k = 0; k < p.n_radii; k++) {
             const gr_spm_walk_stats *st = &r.q[k].stats;
@@ -184,7 +185,7 @@ static int cmd_circle(int argc, char **argv)
         printf("  pooled Gaussian tail (5.12): b = %.4f +- %.4f (thesis 0.98), i.e. B = %.4g s^2 m^-4/3; free exponent %.3f +- %.3f\n",
                pf->b, pf->b_err, gr_spm_B(&p.s, pf->b), pf->beta, pf->beta_err);
         spm_print_constants(&r.pooled_constants, "inverse-variance mean over the radii");
-        printf("wrote %s\n", o.out);
+        printf("wrote %s\n", o.th.out);
     }
     gr_spm_circle_report_free(&r);
     if (rc) {
@@ -198,44 +199,15 @@ static int cmd_predict(int argc, char **argv)
 {
     gr_spm_predict_params p;
     gr_spm_predict_params_default(&p);
-    const char *out = "out/spm-predict";
-    bool force = false, plots = true, quiet = false; /* predict draws no progress line */
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage_predict(stdout);
-            return EXIT_OK;
-        }
-        const int common = cli_theory_option("spm", argc, argv, &i, &force, &quiet, &plots);
-        if (common < 0) {
-            return EXIT_REFUSED;
-        }
-        if (common) {
-            continue;
-        }
-        static const char *const nums[] = {"--df", "--C", "--b", "--mass", "--D", "--tail-from", "--vmax", "--diameter"};
-        double *const dest[] = {&p.df, &p.C, &p.b, &p.s.mass, &p.s.D, &p.tail_from, &p.vmax, &p.diameter};
-        int k = -1;
-        for (int j = 0; j < (int)(sizeof nums / sizeof nums[0]); j++) {
-            if (!strcmp(a, nums[j])) {
-                k = j;
-            }
-        }
-        bool text = !strcmp(a, "--out") || !strcmp(a, "--pl");
-        if (k < 0 && !text) {
-            spm_unknown("predict", a);
-            return EXIT_REFUSED;
-        }
-        if (i + 1 >= argc) {
-            cli_error("spm: %s needs a value", a);
-            return EXIT_REFUSED;
-        }
-        if (text) {
-            *(!strcmp(a, "--out") ? &out : &p.pl_path) = argv[++i];
-        } else if (!spm_value_number(argc, argv, &i, dest[k])) {
-            return EXIT_REFUSED;
-        }
+    predict_args args = {.p = p, .th.out = "out/spm-predict"};
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_spm_predict, argc, argv, &args, &pos);
+    if (parsed >= 0 || cli_theory_set_refused(&cli_cmd_spm_predict, &args.th)) {
+        return parsed >= 0 ? parsed : EXIT_REFUSED;
     }
+    p = args.p;
+    const char *out = args.th.out;
+    const bool force = args.th.force, plots = !args.th.no_plots; /* predict draws no progress line */
     if (strlen(out) >= 1000) {
         cli_error("spm: --out %s: path too long", out);
         return EXIT_REFUSED;

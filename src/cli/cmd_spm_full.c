@@ -13,74 +13,56 @@
 
 int cmd_spm_full(int argc, char **argv);
 
-static void usage_full(FILE *f)
-{
-    fprintf(f,
-            "usage: granule spm full [--pl FILE | --df D_f [--C C]] [--compare-run DIR] [options]\n"
-            "       granule spm full --compare-run DIR [options]   (P_l from DIR/freepath.csv)\n\n"
-            "The SPM of thesis sec. 5.2.3: every walk draws its radius l from the free-path\n"
-            "distribution P_l(l); the velocity distribution P(v) of one component is sampled\n"
-            "uniformly in time over all walks (integral identity 5.10).\n"
-            "  --pl FILE         measured P_l: CSV with a header naming columns l (m) and P (or\n"
-            "                    density; optional P_err or density_error); '#' lines are comments;\n"
-            "                    or a run's freepath.csv (l_over_d: diameters, see --diameter)\n"
-            "  --diameter D      particle diameter, m, for l_over_d (default: the run folder's)\n"
-            "  --df D_f          use the fitted form 4.25, P_l ~ l^(D_f-2) exp(-C l^(D_f-1)); without\n"
-            "                    --pl and --compare-run D_f defaults to 1.63 (the thesis' D_f, sec. 4.2)\n"
-            "  --C C             its constant, m^-(D_f-1) (default 121: phi = 0.530, thesis sec. 5.3.3)\n"
-            "  --tail-from L     fit 4.25 to the --pl table for l >= L, m (default: the longest 10%%\n"
-            "                    of the paths)\n"
-            "  --weight time|walk  sample uniformly in time (default, the thesis' simulation) or weigh\n"
-            "                    every walk equally (5.10 with Q normalised per walk)\n"
-            "  --tilt K          importance sampling of long free paths (default 1: none; e.g. 4\n"
-            "                    reaches several more decades of the tail)\n"
-            "  --vmax V          histogram range of |v|, m/s (default: from P_l and --walks)\n"
-            "  --fit-from V      tail fits of P(v) over v >= V, m/s (default 3 v_rms of the SPM)\n"
-            "  --compare-run DIR a granule run folder: P(v) per component from DIR/snapshots/snap_*.xyz\n"
-            "                    (frames after the warm-up), compared with the SPM; M, D and dim\n"
-            "                    default to the run's\n"
-            "  --t-from T        use snapshots with Time >= T s (default: the run's warm-up)\n"
-            "  --compare-from V  fit the vertical scale over v >= V, m/s (default 2 v_rms of the run)\n"
-            "  --z-max Z         bins agree when |P_rfm - k P_spm| <= Z sigma (default 3)\n"
-            SPM_COMMON_HELP
-            "Writes p_v.csv, pl.csv, compare.csv (with --compare-run), summary.json, p_v.png, pl.png.\n",
-            "200000", 100, "out/spm-full");
-}
+typedef struct full_args {
+    gr_spm_full_params p;
+    spm_options spm;
+    const char *weight;
+} full_args;
 
+static const cli_opt full_opts[] = {
+    {"--pl", CLI_STRING, "FILE", offsetof(full_args, p.pl_path), 0, 0, 0, NULL,
+     "measured P_l: CSV with a header naming columns l (m) and P (or density; optional P_err or density_error); '#' "
+     "lines are comments; or a run's freepath.csv (l_over_d: diameters, see --diameter)", NULL},
+    {"--diameter", CLI_DOUBLE, "D", offsetof(full_args, p.diameter), 0, 0, 0, "the run folder's",
+     "particle diameter, m, for l_over_d", NULL},
+    {"--df", CLI_DOUBLE, "D_f", offsetof(full_args, p.df), 0, 0, 0, NULL,
+     "use the fitted form 4.25, P_l ~ l^(D_f-2) exp(-C l^(D_f-1)); without --pl and --compare-run D_f defaults to 1.63 "
+     "(the thesis' D_f, sec. 4.2)", NULL},
+    {"--C", CLI_DOUBLE, "C", offsetof(full_args, p.C), 0, 0, 0, "121: phi = 0.530, thesis sec. 5.3.3",
+     "its constant, m^-(D_f-1)", NULL},
+    {"--tail-from", CLI_DOUBLE, "L", offsetof(full_args, p.tail_from), 0, 0, 0, "the longest 10% of the paths",
+     "fit 4.25 to the --pl table for l >= L, m", NULL},
+    {"--weight", CLI_CHOICE, "time|walk", offsetof(full_args, weight), 0, 0, 0, "time",
+     "sample uniformly in time (the thesis' simulation) or weigh every walk equally (5.10 with Q normalised per walk)",
+     NULL},
+    {"--tilt", CLI_DOUBLE, "K", offsetof(full_args, p.s.tilt), 0, 0, 0, "1: none",
+     "importance sampling of long free paths (e.g. 4 reaches several more decades of the tail)", NULL},
+    {"--vmax", CLI_DOUBLE, "V", offsetof(full_args, p.vmax), 0, 0, 0, "from P_l and --walks", "histogram range of |v|, m/s",
+     NULL},
+    {"--fit-from", CLI_DOUBLE, "V", offsetof(full_args, p.fit_from), 0, 0, 0, "3 v_rms of the SPM",
+     "tail fits of P(v) over v >= V, m/s", NULL},
+    {"--compare-run", CLI_STRING, "DIR", offsetof(full_args, p.run_dir), 0, 0, 0, NULL,
+     "a granule run folder: P(v) per component from DIR/snapshots/snap_*.xyz (frames after the warm-up), compared with "
+     "the SPM; M, D and dim default to the run's", NULL},
+    {"--t-from", CLI_DOUBLE, "T", offsetof(full_args, p.t_from), 0, 0, 0, "the run's warm-up", "use snapshots with Time >= T s",
+     NULL},
+    {"--compare-from", CLI_DOUBLE, "V", offsetof(full_args, p.compare_from), 0, 0, 0, "2 v_rms of the run",
+     "fit the vertical scale over v >= V, m/s", NULL},
+    {"--z-max", CLI_DOUBLE, "Z", offsetof(full_args, p.z_max), 0, 0, 0, "3", "bins agree when |P_rfm - k P_spm| <= Z sigma",
+     NULL},
+    SPM_COMMON_OPTS(full_args, "200000", "100", "out/spm-full"),
+};
 
-/* the options of full only; 1 if argv[*i] was one, 0 if unknown, -1 after an error */
-static int full_option(int argc, char **argv, int *i, gr_spm_full_params *p)
-{
-    const char *a = argv[*i];
-    if (!strcmp(a, "--pl") || !strcmp(a, "--compare-run") || !strcmp(a, "--weight")) {
-        if (*i + 1 >= argc) {
-            cli_error("spm: %s needs a value", a);
-            return -1;
-        }
-        const char *v = argv[++*i];
-        if (!strcmp(a, "--pl")) {
-            p->pl_path = v;
-        } else if (!strcmp(a, "--compare-run")) {
-            p->run_dir = v;
-        } else if (!strcmp(v, "time") || !strcmp(v, "walk")) {
-            p->weight_time = !strcmp(v, "time");
-        } else {
-            cli_error("spm full: --weight must be time or walk, got %s", v);
-            return -1;
-        }
-        return 1;
-    }
-    static const char *const nums[] = {"--df", "--C", "--tail-from", "--vmax", "--fit-from", "--t-from",
-                                       "--compare-from", "--z-max", "--tilt", "--diameter"};
-    double *const dest[] = {&p->df, &p->C, &p->tail_from, &p->vmax, &p->fit_from, &p->t_from,
-                            &p->compare_from, &p->z_max, &p->s.tilt, &p->diameter};
-    for (int k = 0; k < (int)(sizeof nums / sizeof nums[0]); k++) {
-        if (!strcmp(a, nums[k])) {
-            return spm_value_number(argc, argv, i, dest[k]) ? 1 : -1;
-        }
-    }
-    return 0;
-}
+const cli_command cli_cmd_spm_full = {
+    .name = "spm full",
+    .usage = "granule spm full [--pl FILE | --df D_f [--C C]] [--compare-run DIR] [options]\n"
+             "       granule spm full --compare-run DIR [options]   (P_l from DIR/freepath.csv)",
+    .about = "The SPM of thesis sec. 5.2.3: every walk draws its radius l from the free-path\n"
+             "distribution P_l(l); the velocity distribution P(v) of one component is sampled\n"
+             "uniformly in time over all walks (integral identity 5.10).\n",
+    .epilog = "Writes p_v.csv, pl.csv, compare.csv (with --compare-run), summary.json, p_v.png, pl.png.\n",
+    CLI_OPTS(full_opts),
+};
 
 static void print_rfm(const gr_spm_full_params *p, const gr_spm_full_report *r)
 {
@@ -148,33 +130,20 @@ int cmd_spm_full(int argc, char **argv)
 {
     gr_spm_full_params p;
     gr_spm_full_params_default(&p);
-    spm_options o = {.s = &p.s, .out = "out/spm-full", .plots = true, .bins = &p.bins};
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage_full(stdout);
-            return EXIT_OK;
-        }
-        int c = spm_common_option(argc, argv, &i, &o);
-        if (c == 0) {
-            c = full_option(argc, argv, &i, &p);
-            if (c == 0) {
-                spm_unknown("full", a);
-                return EXIT_REFUSED;
-            }
-        }
-        if (c < 0) {
-            return EXIT_REFUSED;
-        }
+    full_args args = {.p = p, .spm = {.mass = NAN, .D = NAN, .th.out = "out/spm-full"}, .weight = "time"};
+    const int parsed = spm_parse(&cli_cmd_spm_full, argc, argv, &args, &args.spm, &args.p.s);
+    if (parsed >= 0) {
+        return parsed;
     }
-    p.mass_set = o.mass_set;
-    p.D_set = o.D_set;
-    p.dim_set = o.dim_set;
+    p = args.p;
+    spm_options o = args.spm;
+    o.s = &p.s;
+    p.weight_time = !strcmp(args.weight, "time");
     gr_error err = {0};
     gr_spm_full_report r;
     int rc = gr_spm_full_prepare(&p, &r, &err);
     if (!rc) {
-        rc = gr_output_dir_prepare(o.out, GR_OUTPUT_RESULT, o.force, &err);
+        rc = gr_output_dir_prepare(o.th.out, GR_OUTPUT_RESULT, o.th.force, &err);
     }
     if (!rc) {
         spm_progress_on(&o, "spm full");
@@ -182,11 +151,11 @@ int cmd_spm_full(int argc, char **argv)
         spm_progress_off(&o);
     }
     if (!rc) {
-        rc = gr_spm_full_write(o.out, &p, &r, o.plots, &err);
+        rc = gr_spm_full_write(o.th.out, &p, &r, !o.th.no_plots, &err);
     }
     if (!rc) {
-        print_report(o.out, &p, &r);
-        printf("wrote %s\n", o.out);
+        print_report(o.th.out, &p, &r);
+        printf("wrote %s\n", o.th.out);
     }
     gr_spm_full_report_free(&r);
     if (rc) {

@@ -15,31 +15,61 @@
 #include "io/files.h"
 #include "scene/scene_json.h"
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: granule sweep FILE [--jobs J] [--force]                  all points on this machine\n"
-               "       mpirun -n P granule sweep FILE                          over MPI ranks (built with -Dmpi)\n"
-               "       granule sweep FILE --point K [--force]                  point K only (0-based)\n"
-               "       granule sweep FILE [--array-base B]                     in a batch-array task: point = index - B\n"
-               "       granule sweep FILE --collect                            merge the finished points, fit\n"
-               "       granule sweep FILE --list                               the points, to size an array\n\n"
-               "FILE (INI):\n"
-               "  [sweep]\n  scene = rfm-1d.ini        ; relative to FILE's folder\n  out = out/sweep           ; relative to the working folder\n"
-               "  seeds = 1, 2, 3\n  jobs = 2                  ; parallel runs (default: number of cores)\n"
-               "  [vary]                    ; every combination is run, for every seed\n"
-               "  system.N = 100, 158, 251\n  model.eps_n = 0.1, 0.5\n"
-               "  [set]                     ; fixed overrides for every point\n  run.duration = 20\n  analysis.observables = moments\n\n"
-               "Points are numbered from 0, seed fastest, then the last [vary] key (--list). Each runs into\n"
-               "OUT/pNNNN with point.json (overrides, scene hash, version, host, times, status, error); a point\n"
-               "whose manifest says completed for the same scene hash is never rerun (--force reruns it); a failed\n"
-               "point is recorded and the others go on, and the exit status is 1 naming it. A point being run\n"
-               "by another process (its claim, OUT/pNNNN/.point.lock) is left to it, so sweeps started side by side\n"
-               "over one OUT share its points. Without --point the array index is read from\n"
-               "SLURM_ARRAY_TASK_ID, PBS_ARRAY_INDEX, PBS_ARRAYID, SGE_TASK_ID or LSB_JOBINDEX (--all ignores\n"
-               "them). Writes OUT/sweep.csv (one row per point) and, when system.N varies, OUT/exponents.csv:\n"
-               "<|v|^m> ~ N^-xi_m fitted per combination of the other keys (3.8, 3.13), averaging seeds, with\n"
-               "errors and reduced chi-square. Recipes: docs/cluster.md.\n");
-}
+/* --point, --array-base: far beyond any sweep (at most 64 values of 8 linked keys each) */
+#define SWEEP_MAX_INDEX 1e12
+
+typedef struct sweep_args {
+    int jobs;
+    int64_t point, base;
+    bool force, collect, list, all, mpi;
+} sweep_args;
+
+static const cli_opt sweep_opts[] = {
+    {"--jobs", CLI_INT, "J", offsetof(sweep_args, jobs), 1, SWEEP_MAX_JOBS, 0, "[sweep] jobs, or the number of cores",
+     "parallel runs on this machine", NULL},
+    {"--point", CLI_INT64, "K", offsetof(sweep_args, point), 0, SWEEP_MAX_INDEX, 0, NULL, "run point K only (0-based)", NULL},
+    {"--array-base", CLI_INT64, "B", offsetof(sweep_args, base), 0, SWEEP_MAX_INDEX, 0, "0",
+     "in a batch-array task, run point = array index - B", NULL},
+    {"--force", CLI_FLAG, NULL, offsetof(sweep_args, force), 0, 0, 0, NULL,
+     "rerun finished points; overwrite what another kind of output left in OUT", NULL},
+    {"--collect", CLI_FLAG, NULL, offsetof(sweep_args, collect), 0, 0, 0, NULL, "merge the finished points and fit", NULL},
+    {"--list", CLI_FLAG, NULL, offsetof(sweep_args, list), 0, 0, 0, NULL, "list the points, to size an array", NULL},
+    {"--all", CLI_FLAG, NULL, offsetof(sweep_args, all), 0, 0, 0, NULL,
+     "every point, even inside a batch-array task (ignore the scheduler's array index)", NULL},
+    {"--mpi", CLI_FLAG, NULL, offsetof(sweep_args, mpi), 0, 0, 0, NULL,
+     "call MPI_Init even when no launcher variable is seen (built with -Dmpi)", NULL},
+};
+
+const cli_command cli_cmd_sweep = {
+    .name = "sweep",
+    .usage = "granule sweep FILE [--jobs J] [--force]                  all points on this machine\n"
+             "       mpirun -n P granule sweep FILE                          over MPI ranks (built with -Dmpi)\n"
+             "       granule sweep FILE --point K [--force]                  point K only (0-based)\n"
+             "       granule sweep FILE [--array-base B]                     in a batch-array task: point = index - B\n"
+             "       granule sweep FILE --collect                            merge the finished points, fit\n"
+             "       granule sweep FILE --list                               the points, to size an array",
+    .about = "FILE (INI):\n"
+             "  [sweep]\n  scene = rfm-1d.ini        ; relative to FILE's folder\n"
+             "  out = out/sweep           ; relative to the working folder\n"
+             "  seeds = 1, 2, 3\n  jobs = 2                  ; parallel runs (default: number of cores)\n"
+             "  [vary]                    ; every combination is run, for every seed\n"
+             "  system.N = 100, 158, 251\n  model.eps_n = 0.1, 0.5\n"
+             "  [set]                     ; fixed overrides for every point\n"
+             "  run.duration = 20\n  analysis.observables = moments\n",
+    .epilog = "Points are numbered from 0, seed fastest, then the last [vary] key (--list). Each runs into\n"
+              "OUT/pNNNN with point.json (overrides, scene hash, version, host, times, status, error); a point\n"
+              "whose manifest says completed for the same scene hash is never rerun (--force reruns it); a failed\n"
+              "point is recorded and the others go on, and the exit status is 1 naming it. A point being run\n"
+              "by another process (its claim, OUT/pNNNN/.point.lock) is left to it, so sweeps started side by side\n"
+              "over one OUT share its points. Without --point the array index is read from\n"
+              "SLURM_ARRAY_TASK_ID, PBS_ARRAY_INDEX, PBS_ARRAYID, SGE_TASK_ID or LSB_JOBINDEX (--all ignores\n"
+              "them). Writes OUT/sweep.csv (one row per point) and, when system.N varies, OUT/exponents.csv:\n"
+              "<|v|^m> ~ N^-xi_m fitted per combination of the other keys (3.8, 3.13), averaging seeds, with\n"
+              "errors and reduced chi-square. Recipes: docs/cluster.md.\n",
+    .pos_name = "sweep file",
+    .max_pos = 1,
+    CLI_OPTS(sweep_opts),
+};
 
 /* The batch-array index from the environment of common schedulers; -1 if none. SGE writes
  * "undefined" and LSF 0 outside array jobs. */
@@ -58,22 +88,6 @@ static long array_index(const char **var, const char **text)
         return *end || k < 0 ? -2 : k;
     }
     return -1;
-}
-
-/* --point, --array-base: far beyond any sweep (at most 64 values of 8 linked keys each) */
-#define SWEEP_MAX_INDEX 1000000000000L
-
-static bool parse_long(const char *opt, const char *text, long *out)
-{
-    char *end;
-    errno = 0;
-    long v = strtol(text, &end, 10);
-    if (!text[0] || *end || v < 0 || errno == ERANGE || v > SWEEP_MAX_INDEX) {
-        cli_error("sweep: %s %s: expected a non-negative integer up to %ld (allowed range)", opt, text, SWEEP_MAX_INDEX);
-        return false;
-    }
-    *out = v;
-    return true;
 }
 
 /* Load (and so validate) the scene of every point in [from, to) and keep its hash and its
@@ -125,50 +139,19 @@ static int run_one(const sweep *s, long k, const uint64_t *hash, const char *run
 
 int cmd_sweep(int argc, char **argv)
 {
-    const char *file = NULL;
-    int jobs = 0;
-    bool force = false, collect = false, list = false, all = false, mpi = false;
-    long point = -1, base = 0;
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            usage(stdout);
-            return EXIT_OK;
-        } else if (!strcmp(argv[i], "--jobs") && i + 1 < argc) {
-            long j;
-            if (!parse_long("--jobs", argv[++i], &j) || j < 1 || j > SWEEP_MAX_JOBS) {
-                cli_error("sweep: --jobs: allowed 1..%d", SWEEP_MAX_JOBS);
-                return EXIT_REFUSED;
-            }
-            jobs = (int)j;
-        } else if (!strcmp(argv[i], "--point") && i + 1 < argc) {
-            if (!parse_long("--point", argv[++i], &point)) {
-                return EXIT_REFUSED;
-            }
-        } else if (!strcmp(argv[i], "--array-base") && i + 1 < argc) {
-            if (!parse_long("--array-base", argv[++i], &base)) {
-                return EXIT_REFUSED;
-            }
-        } else if (!strcmp(argv[i], "--force")) {
-            force = true;
-        } else if (!strcmp(argv[i], "--collect")) {
-            collect = true;
-        } else if (!strcmp(argv[i], "--list")) {
-            list = true;
-        } else if (!strcmp(argv[i], "--all")) {
-            all = true;
-        } else if (!strcmp(argv[i], "--mpi")) {
-            mpi = true;
-        } else if (argv[i][0] != '-' && !file) {
-            file = argv[i];
-        } else {
-            if (!cli_missing_value("sweep", argv[i], "--jobs --point --array-base", i + 1 >= argc)) {
-                cli_error("sweep: unexpected argument %s; see granule sweep --help", argv[i]);
-            }
-            return EXIT_REFUSED;
-        }
+    sweep_args args = {.point = -1};
+    cli_pos pos;
+    const int parsed = cli_parse(&cli_cmd_sweep, argc, argv, &args, &pos);
+    if (parsed >= 0) {
+        return parsed;
     }
+    const char *file = pos.n ? pos.v[0] : NULL;
+    const int jobs = args.jobs;
+    const bool force = args.force, collect = args.collect, list = args.list, all = args.all, mpi = args.mpi;
+    long point = (long)args.point;
+    const long base = (long)args.base;
     if (!file) {
-        usage(stderr);
+        cli_help(&cli_cmd_sweep, stderr);
         return EXIT_REFUSED;
     }
     sweep *s = calloc(1, sizeof *s);
