@@ -67,8 +67,8 @@ typedef struct gr_observable_type {
      * NULL for observables that only need frames. Events exist only while a run samples, not in
      * `granule analyse` (snapshots do not record contacts). */
     int (*events)(void *state, const gr_contact_event *ev, int64_t n, gr_error *err);
-    /* Checkpoints (docs/checkpoints.md): list every accumulator once with the gr_obs_io_* calls
-     * (src/analysis/obs_util.h); the same list saves them and restores them into a state just
+    /* Checkpoints (docs/checkpoints.md): list every accumulator once with the gr_blob_io_* calls
+     * (src/core/blob.h); the same list saves them and restores them into a state just
      * created from the same scene, so that sampling continues bit for bit. NULL: the observable
      * cannot be checkpointed (a run using it refuses to). */
     int (*io)(void *state, struct gr_blob_io *io, gr_error *err);
