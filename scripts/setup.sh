@@ -9,6 +9,7 @@ packages=(build-essential meson ninja-build pkg-config git
           libfftw3-dev libcairo2-dev gnuplot-nox zlib1g-dev
           libopenmpi-dev openmpi-bin # MPI: granule sweep over ranks (docs/cluster.md)
           clang libclang-rt-dev # libFuzzer + sanitizers: scripts/fuzz.sh (docs/fuzzing.md)
+          clang-format # the layout of every C file (.clang-format, scripts/format.sh)
           python3-dev python3-numpy python3-pandas python3-matplotlib # import granule (docs/python.md)
           python3-mesonpy python3-venv # pip install . of the module, tested in a venv (docs/python.md)
           lammps # the LAMMPS bridge and its test (docs/lammps.md)
