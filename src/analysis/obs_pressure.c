@@ -9,7 +9,7 @@
  * The contact force is the normal spring-dashpot law of the scene, F_n = k_s xi
  * - gamma_n g_n (2.4-2.5; xi = d - |r_ij| the overlap, g_n the normal relative
  * velocity; clamped to F_n >= 0 if the scene clamps), recomputed here from the
- * scene's coefficients (gr_contact_prepare), so frames from snapshots are
+ * coefficients the setup carries (gr_obs_setup.contact), so frames from snapshots are
  * measured alike. Tangential forces are left out (their virial is antisymmetric
  * at first order and small; the summary says so). Event-driven (hard-sphere)
  * runs have no force law: only the kinetic part is reported there.
@@ -26,7 +26,6 @@
 #include "analysis/obs_cells.h"
 #include "analysis/obs_util.h"
 #include "granule/analysis.h"
-#include "granule/scene.h"
 
 enum { KXX, KYY, KXY, CXX, CYY, CXY, P_TOTAL, NT, SPEED, N_SERIES };
 static const char *const series_name[N_SERIES] = {"kinetic_xx",     "kinetic_yy",     "kinetic_xy", "collisional_xx",
@@ -45,29 +44,23 @@ typedef struct pressure {
     gr_cells cells;
 } pressure;
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     (void)params_block;
     pressure *s = state;
     gr_cells_own(s, &s->cells);
-    s->n = scene->N;
-    s->dim = scene->dim;
-    s->L = scene->L;
-    s->V = scene->dim == 2 ? scene->L * scene->L : scene->L;
-    s->mass = scene->mass;
-    s->d = 2.0 * scene->radius;
-    s->phi = scene->N * M_PI * scene->radius * scene->radius / (scene->L * scene->L); /* (2.24) */
-    s->D = scene->D;
-    s->eps_n = scene->contact.eps_n;
-    s->eps_t = scene->tangential ? scene->contact.eps_t : 1.0;
-    if (scene->normal) {
-        int rc = gr_contact_prepare(scene->normal, scene->tangential, &scene->contact, gr_scene_m12(scene), 0.0, &s->cc,
-                                    err);
-        if (rc) {
-            return rc;
-        }
-        s->forces = s->cc.normal == GR_NORMAL_SPRING_DASHPOT;
-    }
+    s->n = setup->N;
+    s->dim = setup->dim;
+    s->L = setup->L;
+    s->V = setup->dim == 2 ? setup->L * setup->L : setup->L;
+    s->mass = setup->mass;
+    s->d = 2.0 * setup->radius;
+    s->phi = setup->N * M_PI * setup->radius * setup->radius / (setup->L * setup->L); /* (2.24) */
+    s->D = setup->D;
+    s->eps_n = setup->eps_n;
+    s->eps_t = setup->tangential ? setup->eps_t : 1.0;
+    s->forces = setup->has_spring_dashpot;
+    s->cc = setup->contact;
     return GR_OK;
 }
 
