@@ -27,7 +27,6 @@ int gr_scene_obs_setup(const gr_scene *s, gr_obs_setup *out, gr_error *err)
         if (rc) {
             return rc;
         }
-        out->has_spring_dashpot = out->contact.normal == GR_NORMAL_SPRING_DASHPOT;
     }
     return GR_OK;
 }
