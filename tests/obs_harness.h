@@ -18,7 +18,7 @@ static inline void *h_create(const gr_observable_type *t, const gr_scene *sc)
 {
     void *st = NULL;
     gr_error err = {0};
-    int rc = gr_observable_create(t, sc, &st, &err);
+    int rc = gr_scene_observable(t, sc, &st, &err);
     ck_assert_msg(rc == GR_OK, "%s create: %s", t->name, err.message);
     return st;
 }
@@ -55,7 +55,7 @@ static inline cJSON *h_finish(const gr_observable_type *t, void *st, const gr_sc
     char dir[] = "/tmp/test_obs_XXXXXX";
     ck_assert_ptr_nonnull(mkdtemp(dir));
     cJSON *summary = cJSON_CreateObject();
-    gr_output out = {.dir = dir, .scene = sc, .scene_hash = 1, .summary = summary, .plots = false};
+    gr_output out = {.dir = dir, .source = sc->source, .seed = sc->seed, .scene_hash = 1, .summary = summary, .plots = false};
     gr_error err = {0};
     int rc = t->finish(st, &out, &err);
     ck_assert_msg(rc == GR_OK, "%s finish: %s", t->name, err.message);

@@ -205,7 +205,7 @@ START_TEST(test_contact_events_and_free_path)
     ck_assert_msg(gr_sim_create_with_state(&sc, 2, x, NULL, vx, NULL, &s, &err) == 0, "%s", err.message);
     ck_assert_int_eq(gr_sim_track_contacts(s, &err), 0);
     void *state;
-    ck_assert_int_eq(gr_observable_create(&gr_obs_freepath, &sc, &state, &err), 0);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_freepath, &sc, &state, &err), 0);
     /* first contact after 0.01 / (2v), then one every (L - 2d)/(2v): run through 5 contacts */
     int64_t steps = (int64_t)((0.01 / (2.0 * v) + 4.5 * (sc.L - 2.0 * d) / (2.0 * v)) / gr_sim_dt(s));
     ck_assert_int_eq(gr_sim_step(s, steps, &err), 0);
@@ -226,7 +226,7 @@ START_TEST(test_contact_events_and_free_path)
     char *dir = mkdtemp(tmpl);
     ck_assert_ptr_nonnull(dir);
     cJSON *sum = cJSON_CreateObject();
-    gr_output out = {.dir = dir, .scene = &sc, .summary = sum, .plots = false};
+    gr_output out = {.dir = dir, .source = sc.source, .seed = sc.seed, .summary = sum, .plots = false};
     ck_assert_int_eq(gr_obs_freepath.finish(state, &out, &err), 0);
     const cJSON *j = cJSON_GetObjectItem(sum, "freepath");
     ck_assert_int_eq((int)cJSON_GetObjectItem(j, "paths")->valuedouble, 8);
@@ -350,7 +350,7 @@ START_TEST(test_registry_parameter_blocks)
     gr_scene sc;
     gr_scene_default(&sc);
     void *st = &big;
-    ck_assert_int_eq(gr_observable_create(&big, &sc, &st, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_scene_observable(&big, &sc, &st, &err), GR_EINVAL);
     ck_assert_ptr_null(st);
     ck_assert_ptr_nonnull(strstr(err.message, "GR_OBS_PARAMS_BYTES"));
 }
@@ -368,7 +368,7 @@ START_TEST(test_moments_gaussian)
     ck_assert_int_eq(gr_analysis_set(&sc.analysis, "moments_max", 6, NULL), GR_OK);
     void *state;
     gr_error err = {0};
-    ck_assert_int_eq(gr_observable_create(&gr_obs_moments, &sc, &state, &err), 0);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_moments, &sc, &state, &err), 0);
     double *vx = malloc(sizeof(double) * sc.N), *vy = malloc(sizeof(double) * sc.N), *x = calloc(sc.N, sizeof(double));
     const double sd = 0.3;
     for (int frame = 0; frame < 32; frame++) {
@@ -382,7 +382,7 @@ START_TEST(test_moments_gaussian)
     char tmpl[] = "/tmp/granule-mom-XXXXXX";
     char *dir = mkdtemp(tmpl);
     cJSON *sum = cJSON_CreateObject();
-    gr_output out = {.dir = dir, .scene = &sc, .summary = sum, .plots = false};
+    gr_output out = {.dir = dir, .source = sc.source, .seed = sc.seed, .summary = sum, .plots = false};
     ck_assert_int_eq(gr_obs_moments.finish(state, &out, &err), 0);
     const cJSON *speed = cJSON_GetObjectItem(cJSON_GetObjectItem(sum, "moments"), "speed");
     const cJSON *speed_err = cJSON_GetObjectItem(cJSON_GetObjectItem(sum, "moments"), "speed_stderr");

@@ -311,8 +311,8 @@ static void observer_case(const char *const *sets, int n_sets, int F)
     gr_sim *sim;
     gr_observer *a, *b;
     ck_assert_msg(gr_sim_create(&sc, &sim, &err) == GR_OK, "%s", err.message);
-    ck_assert_msg(gr_observer_create(&sc, &a, &err) == GR_OK, "%s", err.message);
-    ck_assert_msg(gr_observer_create(&sc, &b, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_scene_observer(&sc, &a, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_scene_observer(&sc, &b, &err) == GR_OK, "%s", err.message);
     ck_assert_int_eq(gr_sim_track_contacts(sim, &err), GR_OK);
     gr_blob mid = {0};
     for (int f = 0; f < 2 * F; f++) {
@@ -331,7 +331,7 @@ static void observer_case(const char *const *sets, int n_sets, int F)
             ck_assert_msg(gr_observer_load(b, mid.data, mid.len, &err) == GR_OK, "%s", err.message);
             /* a truncated save is refused */
             gr_observer *c;
-            ck_assert_int_eq(gr_observer_create(&sc, &c, &err), GR_OK);
+            ck_assert_int_eq(gr_scene_observer(&sc, &c, &err), GR_OK);
             ck_assert_int_eq(gr_observer_load(c, mid.data, mid.len - 1, &err), GR_EINVAL);
             gr_observer_free(c);
         }

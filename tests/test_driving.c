@@ -18,7 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "analysis/mean_field.h"
+#include "theory/mean_field.h"
 #include "core/sim_internal.h"
 #include "granule/scene.h"
 #include "scene/scene_json.h"

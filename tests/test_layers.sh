@@ -25,6 +25,14 @@ for dir in "$root"/src/*/ "$root"/models/; do
 done
 core_names=$(grep -nw 'gr_scene\|gr_event_[a-z_]*\|gr_hybrid_[a-z_]*\|gr_verlet_[a-z_]*\|gr_integrator_verlet\|gr_integrator_event\|gr_integrator_hybrid\|gr_integrator_names\|gr_integrator_find\|gr_blocking\|gr_histogram' "$root"/src/core/*.[ch] | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
 [ -z "$core_names" ] || bad "src/core names an integrator, the registry or the scene:"$'\n'"$core_names"
+# the observables take a plain gr_obs_setup (include/granule/observe.h): src/analysis names no
+# scene, neither its header nor its type (the scene fills the setup: gr_scene_obs_setup)
+analysis_names=$(grep -nw 'gr_scene\|granule/scene\.h' "$root"/src/analysis/*.[ch] | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
+[ -z "$analysis_names" ] || bad "src/analysis names the scene (observables take a gr_obs_setup):"$'\n'"$analysis_names"
+# ... and evaluates no contact law: a force of a frame comes from the force kernel's own law
+# (gr_contact_virial, src/core/kernels.c), never from a copy of its coefficients' formula
+analysis_laws=$(grep -nw 'k_s\|gamma_n\|gamma_t\|gr_contact_prepare\|gr_normal_[a-z_]*\|gr_tangential_[a-z_]*' "$root"/src/analysis/*.[ch] | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
+[ -z "$analysis_laws" ] || bad "src/analysis evaluates a contact law itself (use gr_contact_virial):"$'\n'"$analysis_laws"
 # the run driver and everything but the integrators' own folders use the integrator interface
 int_includes=$(grep -rn '#include "integrators/' "$root"/src --include='*.[ch]' | grep -v "^$root/src/integrators/")
 [ -z "$int_includes" ] || bad "an integrator header included outside src/integrators:"$'\n'"$int_includes"
@@ -38,5 +46,5 @@ done
 lib_prints=$(grep -rn 'f\(printf\|puts\|putc\|write\)([^;]*\bstd\(err\|out\)\b\|[^a-z_]printf(\|[^a-z_]puts(\|[^a-z_]putchar(\|[^a-z_]abort()\|[^a-z_]perror(' \
     "$root"/src "$root"/models --include='*.[ch]' | grep -v "^$root/src/cli/\|^$root/src/app/report.c:" | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
 [ -z "$lib_prints" ] || bad "the library prints or aborts (only src/cli may):"$'\n'"$lib_prints"
-[ $fail = 0 ] && echo "layers: ok ($layers, each including only those below; integrators behind their interface; the library does not print)"
+[ $fail = 0 ] && echo "layers: ok ($layers, each including only those below; integrators behind their interface; no scene and no contact law in src/analysis; the library does not print)"
 exit $fail

@@ -41,7 +41,7 @@ static void *create_ok(const gr_scene *s)
 {
     void *st = NULL;
     gr_error err = {0};
-    int rc = gr_observable_create(&gr_obs_gaps, s, &st, &err);
+    int rc = gr_scene_observable(&gr_obs_gaps, s, &st, &err);
     ck_assert_msg(rc == GR_OK, "create: %s", err.message);
     ck_assert_ptr_nonnull(st);
     return st;
@@ -109,7 +109,7 @@ static void finish_ok(void *st, const gr_scene *s, bool plots, result *r)
     snprintf(r->dir, sizeof r->dir, "/tmp/test_obs_gaps_XXXXXX");
     ck_assert_ptr_nonnull(mkdtemp(r->dir));
     r->analysis = cJSON_CreateObject();
-    gr_output out = {.dir = r->dir, .scene = s, .scene_hash = 0x1234, .summary = r->analysis, .plots = plots};
+    gr_output out = {.dir = r->dir, .source = s->source, .seed = s->seed, .scene_hash = 0x1234, .summary = r->analysis, .plots = plots};
     gr_error err = {0};
     int rc = gr_obs_gaps.finish(st, &out, &err);
     ck_assert_msg(rc == GR_OK, "finish: %s", err.message);
@@ -696,7 +696,7 @@ START_TEST(test_bad_params_refused)
         }
         st = NULL;
         memset(&err, 0, sizeof err);
-        int rc = gr_observable_create(&gr_obs_gaps, &s, &st, &err);
+        int rc = gr_scene_observable(&gr_obs_gaps, &s, &st, &err);
         ck_assert_msg(rc == GR_EINVAL, "%s: accepted (rc %d)", bad[k].what, rc);
         ck_assert_msg(st == NULL, "%s: state returned on failure", bad[k].what);
         ck_assert_msg(strstr(err.message, "gaps") != NULL, "%s: message '%s' does not name the observable", bad[k].what,

@@ -66,7 +66,7 @@ static void *create_ok(const gr_scene *sc)
 {
     void *st = NULL;
     gr_error err = {0};
-    int rc = gr_observable_create(&gr_obs_pair, sc, &st, &err);
+    int rc = gr_scene_observable(&gr_obs_pair, sc, &st, &err);
     ck_assert_msg(rc == GR_OK, "create: %s", err.message);
     return st;
 }
@@ -86,7 +86,7 @@ static result finish_read(void *st, const gr_scene *sc)
     ck_assert_ptr_nonnull(mkdtemp(dir));
     result r = {0};
     r.summary = cJSON_CreateObject();
-    gr_output out = {.dir = dir, .scene = sc, .scene_hash = 1, .summary = r.summary, .plots = false};
+    gr_output out = {.dir = dir, .source = sc->source, .seed = sc->seed, .scene_hash = 1, .summary = r.summary, .plots = false};
     gr_error err = {0};
     int rc = gr_obs_pair.finish(st, &out, &err);
     ck_assert_msg(rc == GR_OK, "finish: %s", err.message);
@@ -455,7 +455,7 @@ START_TEST(test_bad_params)
         sc.dim = bad[k].dim;
         st = NULL;
         err = (gr_error){0};
-        ck_assert_msg(gr_observable_create(&gr_obs_pair, &sc, &st, &err) == GR_EINVAL, "case %zu accepted", k);
+        ck_assert_msg(gr_scene_observable(&gr_obs_pair, &sc, &st, &err) == GR_EINVAL, "case %zu accepted", k);
         ck_assert_ptr_null(st);
         ck_assert_msg(strstr(err.message, "pair") != NULL, "case %zu: message '%s'", k, err.message);
     }

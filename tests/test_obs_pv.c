@@ -96,7 +96,7 @@ static void feed(const gr_observable_type *t, void *state, int dim, int n, int f
 static cJSON *finish_into(void *state, const gr_scene *s, bool plots, cJSON **root)
 {
     *root = cJSON_CreateObject();
-    gr_output out = {.dir = g_dir, .scene = s, .scene_hash = 0x1234abcdULL, .summary = *root, .plots = plots};
+    gr_output out = {.dir = g_dir, .source = s->source, .seed = s->seed, .scene_hash = 0x1234abcdULL, .summary = *root, .plots = plots};
     gr_error err = {0};
     ck_assert_msg(gr_obs_pv.finish(state, &out, &err) == GR_OK, "finish: %s", err.message);
     cJSON *pv = cJSON_GetObjectItem(*root, "pv");
@@ -242,7 +242,7 @@ START_TEST(gaussian_1d_matches_density_and_alpha_2)
     pv_scene(&s, 1, 400, 12.0);
     void *st;
     gr_error err = {0};
-    ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_scene_observable(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 2024);
     gauss_ctx g = {sigma, sigma};
@@ -303,7 +303,7 @@ START_TEST(gaussian_2d_pools_components)
     pv_scene(&s, 2, 400, 12.0);
     void *st;
     gr_error err = {0};
-    ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_scene_observable(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 77);
     gauss_ctx g = {0.2, 0.3};
@@ -361,7 +361,7 @@ static cJSON *run_generalised(int dim, double b, double alpha, int n, int frames
     gr_scene s;
     pv_scene(&s, dim, 400, 12.0);
     gr_error err = {0};
-    ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, st, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_scene_observable(&gr_obs_pv, &s, st, &err) == GR_OK, "%s", err.message);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, seed);
     gen_ctx g = {b, alpha};
@@ -401,7 +401,7 @@ START_TEST(overdispersed_counts_detected)
     pv_scene(&s, 1, 400, 12.0);
     void *st;
     gr_error err = {0};
-    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_pv, &s, &st, &err), GR_OK);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 31);
     const int n = 5000;
@@ -506,7 +506,7 @@ START_TEST(crossover_fit_recovers_vr_vc)
     pv_scene(&s, 1, 400, 12.0);
     void *st;
     gr_error err = {0};
-    ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_scene_observable(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 3);
     feed(&gr_obs_pv, st, 1, 10000, 100, r, draw_xo, &x);
@@ -551,7 +551,7 @@ START_TEST(histogram_integrates_to_in_range_fraction)
     pv_scene(&s, 1, 101, 1.5);
     void *st;
     gr_error err = {0};
-    ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_scene_observable(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 99);
     gauss_ctx g = {1.0, 1.0};
@@ -666,7 +666,7 @@ START_TEST(plots_drawn_or_noted)
     pv_scene(&s, 1, 200, 12.0);
     void *st;
     gr_error err = {0};
-    ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_scene_observable(&gr_obs_pv, &s, &st, &err) == GR_OK, "%s", err.message);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 8);
     gen_ctx g = {0.1, 1.0};
@@ -719,7 +719,7 @@ START_TEST(bad_params_refused)
         pv_scene(&s, bad[k].dim, bad[k].bins, bad[k].range);
         void *st = NULL;
         gr_error err = {0};
-        ck_assert_msg(gr_observable_create(&gr_obs_pv, &s, &st, &err) == GR_EINVAL, "case %zu accepted", k);
+        ck_assert_msg(gr_scene_observable(&gr_obs_pv, &s, &st, &err) == GR_EINVAL, "case %zu accepted", k);
         ck_assert_msg(strstr(err.message, bad[k].needle), "case %zu: message '%s' does not name %s", k, err.message,
                       bad[k].needle);
     }
@@ -728,7 +728,7 @@ START_TEST(bad_params_refused)
     pv_scene(&s, 2, 400, 12.0);
     void *st;
     gr_error err = {0};
-    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_pv, &s, &st, &err), GR_OK);
     double v[3] = {0.1, -0.2, 0.3};
     gr_particles p1 = {.n = 3, .dim = 1, .vx = v};
     ck_assert_int_eq(gr_obs_pv.sample(st, &p1, 0.0, &err), GR_EINVAL);
@@ -741,21 +741,21 @@ START_TEST(bad_params_refused)
 
     /* frames at rest (T = 0) cannot set the binning */
     pv_scene(&s, 1, 400, 12.0);
-    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_pv, &s, &st, &err), GR_OK);
     double same[3] = {0.5, 0.5, 0.5};
     gr_particles ps = {.n = 3, .dim = 1, .vx = same};
     for (int f = 0; f < 3; f++) {
         ck_assert_int_eq(gr_obs_pv.sample(st, &ps, f, &err), GR_OK);
     }
     cJSON *root = cJSON_CreateObject();
-    gr_output out = {.dir = g_dir, .scene = &s, .summary = root};
+    gr_output out = {.dir = g_dir, .source = s.source, .seed = s.seed, .summary = root};
     ck_assert_int_eq(gr_obs_pv.finish(st, &out, &err), GR_EINVAL);
     ck_assert_msg(strstr(err.message, "T_ref"), "%s", err.message);
     cJSON_Delete(root);
     gr_observable_free(st);
 
     /* no frames at all: no files, a note */
-    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_pv, &s, &st, &err), GR_OK);
     root = cJSON_CreateObject();
     out.summary = root;
     ck_assert_int_eq(gr_obs_pv.finish(st, &out, &err), GR_OK);
@@ -784,7 +784,7 @@ START_TEST(reference_from_first_frames)
     pv_scene(&s, 1, 400, 3.0);
     void *st;
     gr_error err = {0};
-    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_pv, &s, &st, &err), GR_OK);
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, 4);
     gauss_ctx g1 = {1.0, 1.0}, g2 = {2.0, 2.0};
@@ -803,7 +803,7 @@ START_TEST(reference_from_first_frames)
     gr_observable_free(st);
 
     /* fewer than 8 frames: finish fixes the binning from those */
-    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_pv, &s, &st, &err), GR_OK);
     feed(&gr_obs_pv, st, 1, 1000, 3, r, draw_gauss, &g2);
     pv = finish_into(st, &s, false, &root);
     ck_assert_int_eq((int)num(pv, "T_ref_frames"), 3);
@@ -815,7 +815,7 @@ START_TEST(reference_from_first_frames)
     /* a frame larger than the reference buffer (2^20 numbers) sets T_ref alone; with 2.4e6
      * components the peak holds more than 50 000 counts, so the windows cut the fitted bins */
     pv_scene(&s, 2, 400, 12.0);
-    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_pv, &s, &st, &err), GR_OK);
     feed(&gr_obs_pv, st, 2, 600000, 2, r, draw_gauss, &g1);
     pv = finish_into(st, &s, false, &root);
     ck_assert_int_eq((int)num(pv, "T_ref_frames"), 1);
@@ -850,7 +850,7 @@ START_TEST(tiny_real_run)
     gr_sim *sim;
     ck_assert_msg(gr_sim_create(&s, &sim, &err) == GR_OK, "%s", err.message);
     void *st;
-    ck_assert_int_eq(gr_observable_create(&gr_obs_pv, &s, &st, &err), GR_OK);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_pv, &s, &st, &err), GR_OK);
     ck_assert_msg(gr_sim_step(sim, 100000, &err) == GR_OK, "%s", err.message); /* 0.1 s warm-up */
     double Tsum = 0.0;
     for (int k = 0; k < 200; k++) {

@@ -61,7 +61,7 @@ static void *create_ok(const gr_scene *s)
 {
     void *st = NULL;
     gr_error err = {0};
-    int rc = gr_observable_create(&gr_obs_sk, s, &st, &err);
+    int rc = gr_scene_observable(&gr_obs_sk, s, &st, &err);
     ck_assert_msg(rc == GR_OK, "create: %s", err.message);
     return st;
 }
@@ -129,7 +129,7 @@ static void finish_ok(void *st, const gr_scene *s, bool plots, result *r)
     snprintf(r->dir, sizeof r->dir, "/tmp/test_obs_sk_XXXXXX");
     ck_assert_ptr_nonnull(mkdtemp(r->dir));
     r->analysis = cJSON_CreateObject();
-    gr_output out = {.dir = r->dir, .scene = s, .scene_hash = 0x5c, .summary = r->analysis, .plots = plots};
+    gr_output out = {.dir = r->dir, .source = s->source, .seed = s->seed, .scene_hash = 0x5c, .summary = r->analysis, .plots = plots};
     gr_error err = {0};
     int rc = gr_obs_sk.finish(st, &out, &err);
     ck_assert_msg(rc == GR_OK, "finish: %s", err.message);
@@ -596,7 +596,7 @@ START_TEST(test_bad_params_refused)
     /* 1D */
     scene_2d(&s, 100, 0.1, 1.5e-3, 4.0);
     s.dim = 1;
-    ck_assert_int_eq(gr_observable_create(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
     ck_assert_msg(strstr(err.message, "dim = 2") != NULL, "%s", err.message);
     ck_assert(!(gr_obs_sk.dims & 1u) && (gr_obs_sk.dims & 2u));
     /* sk_kd_max: not positive, not finite, above the table's maximum, or reaching no vector */
@@ -604,23 +604,23 @@ START_TEST(test_bad_params_refused)
     for (size_t i = 0; i < sizeof bad_kd / sizeof bad_kd[0]; i++) {
         scene_2d(&s, 100, 0.1, 1.5e-3, bad_kd[i]);
         err.message[0] = 0;
-        ck_assert_msg(gr_observable_create(&gr_obs_sk, &s, &st, &err) == GR_EINVAL, "sk_kd_max = %g accepted", bad_kd[i]);
+        ck_assert_msg(gr_scene_observable(&gr_obs_sk, &s, &st, &err) == GR_EINVAL, "sk_kd_max = %g accepted", bad_kd[i]);
         ck_assert_msg(strstr(err.message, "sk_kd_max") != NULL, "%s", err.message);
     }
     /* the system */
     scene_2d(&s, 0, 0.1, 1.5e-3, 4.0);
-    ck_assert_int_eq(gr_observable_create(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
     scene_2d(&s, 100, 0.0, 1.5e-3, 4.0);
-    ck_assert_int_eq(gr_observable_create(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
     scene_2d(&s, 100, 0.1, 0.0, 4.0);
-    ck_assert_int_eq(gr_observable_create(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
     /* too many vectors for the grid limit */
     scene_2d(&s, 100, 100.0, 1.5e-3, 64.0);
-    ck_assert_int_eq(gr_observable_create(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
     /* an unknown method */
     setenv("GRANULE_SK_METHOD", "fast", 1);
     scene_2d(&s, 100, 0.1, 1.5e-3, 4.0);
-    ck_assert_int_eq(gr_observable_create(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_sk, &s, &st, &err), GR_EINVAL);
     ck_assert_msg(strstr(err.message, "GRANULE_SK_METHOD") != NULL, "%s", err.message);
     unsetenv("GRANULE_SK_METHOD");
     /* the engine */

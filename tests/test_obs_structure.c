@@ -198,6 +198,44 @@ static void overlap_pair(int dim)
     h_done(&tab, j);
 }
 
+/* The same pair under the hertz law: the virial is the force kernel's law
+ * (gr_contact_virial), whatever the law, f_n = k_h xi^(3/2) at rest (no copy of
+ * a law in the observable; before, only the spring-dashpot had a virial and a
+ * hertz scene reported the kinetic part alone). The pair sum is that of the old
+ * spring-dashpot code in the same order, so the spring-dashpot values above
+ * (and every pressure.csv) are unchanged to the last bit. */
+static void overlap_pair_hertz(int dim)
+{
+    gr_scene sc;
+    const double d = 3e-3, xi = 1e-5, L = 0.1;
+    h_scene(&sc, dim, 2, L, 0.5 * d);
+    sc.normal = gr_model_find("hertz");
+    ck_assert_ptr_nonnull(sc.normal);
+    gr_obs_setup setup;
+    gr_error err = {0};
+    ck_assert_msg(gr_scene_obs_setup(&sc, &setup, &err) == GR_OK, "%s", err.message);
+    double x[2] = {L - 0.4 * d, 0.6 * d - xi}, y[2] = {0.05, 0.05}, v[2] = {0, 0};
+    void *st = h_create(&gr_obs_pressure, &sc);
+    h_sample(&gr_obs_pressure, st, &sc, x, y, v, v, 0.0);
+    h_table tab;
+    cJSON *j = h_finish(&gr_obs_pressure, st, &sc, "pressure.csv", &tab);
+    const cJSON *p = cJSON_GetObjectItem(j, "pressure");
+    double V = dim == 2 ? L * L : L, W = (d - xi) * setup.contact.k_s * pow(xi, 1.5) / V;
+    ck_assert(W > 0.0);
+    ck_assert_double_eq_tol(h_num(p, "collisional_xx", NULL), W, 1e-9 * W);
+    ck_assert_double_eq_tol(h_num(p, "P", NULL), W / dim, 1e-9 * W);
+    ck_assert_double_eq(h_num(p, "contacts_per_frame", NULL), 1.0);
+    ck_assert_str_eq(cJSON_GetObjectItem(p, "virial")->valuestring,
+                     "normal hertz force (models/hertz.h); tangential forces left out");
+    h_done(&tab, j);
+}
+
+START_TEST(test_pressure_hertz_2d) { overlap_pair_hertz(2); }
+END_TEST
+
+START_TEST(test_pressure_hertz_1d) { overlap_pair_hertz(1); }
+END_TEST
+
 START_TEST(test_pressure_overlap_2d) { overlap_pair(2); }
 END_TEST
 
@@ -272,6 +310,8 @@ int main(void)
     tcase_add_test(t, test_pressure_ideal_gas);
     tcase_add_test(t, test_pressure_overlap_2d);
     tcase_add_test(t, test_pressure_overlap_1d);
+    tcase_add_test(t, test_pressure_hertz_2d);
+    tcase_add_test(t, test_pressure_hertz_1d);
     tcase_add_test(t, test_vcorr_random);
     tcase_add_test(t, test_vcorr_pair);
     suite_add_tcase(s, t);

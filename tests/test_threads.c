@@ -341,7 +341,7 @@ static char *pair_csv(int t, const double *const *frames, int n, double L)
     void *st = NULL;
     gr_error err = {0};
     set_threads(t);
-    ck_assert_msg(gr_observable_create(&gr_obs_pair, &sc, &st, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_scene_observable(&gr_obs_pair, &sc, &st, &err) == GR_OK, "%s", err.message);
     for (int f = 0; f < 3; f++) {
         gr_particles p = {.n = n, .dim = 2, .L = L, .radius = sc.radius, .mass = 1.0, .x = frames[f], .y = frames[f] + n};
         ck_assert_msg(gr_obs_pair.sample(st, &p, 0.0, &err) == GR_OK, "%s", err.message);
@@ -350,7 +350,7 @@ static char *pair_csv(int t, const double *const *frames, int n, double L)
     char dir[] = "/tmp/test_threads_XXXXXX";
     ck_assert_ptr_nonnull(mkdtemp(dir));
     cJSON *summary = cJSON_CreateObject();
-    gr_output out = {.dir = dir, .scene = &sc, .scene_hash = 1, .summary = summary, .plots = false};
+    gr_output out = {.dir = dir, .source = sc.source, .seed = sc.seed, .scene_hash = 1, .summary = summary, .plots = false};
     ck_assert_msg(gr_obs_pair.finish(st, &out, &err) == GR_OK, "%s", err.message);
     gr_observable_free(st);
     cJSON_Delete(summary);

@@ -181,6 +181,22 @@ int gr_contact_set(gr_contact_params *p, const char *name, const char *value, gr
  * impact speed `speed` (m/s) at angle `angle_deg` between -g and the normal. */
 double gr_contact_expected_loss(const gr_contact_coeffs *c, double speed, double angle_deg);
 
+/* One overlapping pair of a frame: r_ij = r_j - r_i (minimum image, |r_ij| < d) and the relative
+ * velocity g = v_j - v_i (dy, gy zero in 1D). */
+typedef struct gr_contact_pair {
+    double dx, dy, gx, gy;
+} gr_contact_pair;
+
+/* The contact virial of a frame's overlapping pairs, from the force kernel's own normal law
+ * (src/core/kernels.c: the law of models/list.h that gr_kernel_choose runs for c, inlined the
+ * same way, clamped if c->clamp; an event rule's stand-in law is not a force of the frame): adds
+ * |r_ij| f_n n_a n_b, the virial r_ij,a F_ij,b of the normal force F_ij = f_n n of i on j
+ * (n = r_ij / |r_ij|), to w[0] (xx), w[1] (yy), w[2] (xy), pair by pair in the order given
+ * (pairs at r_ij = 0 are skipped); d is the diameter. Returns the law's name, or NULL (nothing
+ * added) when c has no normal force law (an event rule, or no model). Tangential forces are not
+ * included: their laws need the contact's history and spins, which a frame does not hold. */
+const char *gr_contact_virial(const gr_contact_coeffs *c, double d, const gr_contact_pair *pairs, int n, double w[3]);
+
 int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
                        const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                        gr_error *err);

@@ -14,7 +14,6 @@
 #include "granule/particles.h"
 #include "granule/status.h"
 
-struct gr_scene;
 struct cJSON;
 struct gr_blob;
 struct gr_blob_reader;
@@ -32,10 +31,28 @@ typedef struct gr_analysis_params {
     } block[GR_OBS_MAX];
 } gr_analysis_params;
 
+/* What the observables know of the system they measure: plain numbers the caller fills (from a
+ * scene: gr_scene_obs_setup, include/granule/scene.h). The analysis layer sees no scene and no
+ * collision model. */
+typedef struct gr_obs_setup {
+    const char *source;      /* the scene's file, for messages */
+    const char *observables; /* [analysis] observables: comma-separated registry names */
+    const gr_analysis_params *analysis; /* every observable's parameter block */
+    int dim, N;
+    double L, radius, mass;  /* m, m, kg */
+    double D;                /* noise strength, N^2 s (2.15, 2.22); 0 without the random force */
+    double eps_n, eps_t;     /* the contact's restitution coefficients ([contact]) */
+    const char *tangential;  /* the tangential law's name, NULL without one */
+    /* the contact law's coefficients, for the force kernel's own law (gr_contact_virial, pressure's
+     * virial); zero without a normal model. Observables never evaluate a law themselves. */
+    gr_contact_coeffs contact;
+} gr_obs_setup;
+
 /* Where an observable writes its results. */
 typedef struct gr_output {
     const char *dir;            /* existing folder */
-    const struct gr_scene *scene;
+    const char *source;         /* the scene's file and seed, for the CSV headers */
+    uint64_t seed;
     uint64_t scene_hash;
     struct cJSON *summary;      /* the run's "analysis" object: add one member per observable */
     bool plots;                 /* draw PNG plots */
@@ -56,9 +73,9 @@ typedef struct gr_observable_type {
     int n_params;
     size_t params_size;  /* that struct's size (at most GR_OBS_PARAMS_BYTES) */
     size_t state_size;   /* the accumulator struct the skeleton allocates, zeroed */
-    /* Fill a zeroed state for a scene; `params` is the observable's parameter block. Refuse (GR_EINVAL,
+    /* Fill a zeroed state for a system; `params` is the observable's parameter block. Refuse (GR_EINVAL,
      * naming the key and the allowed range) what it cannot compute; the skeleton frees on failure. */
-    int (*init)(void *state, const struct gr_scene *scene, const void *params, gr_error *err);
+    int (*init)(void *state, const gr_obs_setup *setup, const void *params, gr_error *err);
     /* One frame, sampled uniformly in time. */
     int (*sample)(void *state, const gr_particles *p, double t, gr_error *err);
     /* Write CSV (commented header), plots, and the summary member. */
@@ -69,14 +86,15 @@ typedef struct gr_observable_type {
     int (*events)(void *state, const gr_contact_event *ev, int64_t n, gr_error *err);
     /* Checkpoints (docs/checkpoints.md): list every accumulator once with the gr_blob_io_* calls
      * (src/core/blob.h); the same list saves them and restores them into a state just
-     * created from the same scene, so that sampling continues bit for bit. NULL: the observable
+     * created from the same setup, so that sampling continues bit for bit. NULL: the observable
      * cannot be checkpointed (a run using it refuses to). */
     int (*io)(void *state, struct gr_blob_io *io, gr_error *err);
 } gr_observable_type;
 
-/* The skeleton every observable shares: a state for `scene` (NULL on failure), freed with
- * gr_observable_free; its accumulators appended to a blob or restored from one. */
-int gr_observable_create(const gr_observable_type *t, const struct gr_scene *scene, void **state, gr_error *err);
+/* The skeleton every observable shares: a state for `setup` (NULL on failure; its parameter block
+ * is setup->analysis's), freed with gr_observable_free; its accumulators appended to a blob or
+ * restored from one. */
+int gr_observable_create(const gr_observable_type *t, const gr_obs_setup *setup, void **state, gr_error *err);
 void gr_observable_free(void *state);
 int gr_observable_save(const gr_observable_type *t, void *state, struct gr_blob *out, gr_error *err);
 int gr_observable_load(const gr_observable_type *t, void *state, struct gr_blob_reader *in, gr_error *err);
@@ -95,9 +113,9 @@ void gr_analysis_defaults(gr_analysis_params *a);
 int gr_analysis_get(const gr_analysis_params *a, const char *key, double *value, gr_error *err);
 int gr_analysis_set(gr_analysis_params *a, const char *key, double value, gr_error *err);
 
-/* A set of enabled observables for one scene. */
+/* The set of observables setup->observables enables. */
 typedef struct gr_observer gr_observer;
-int gr_observer_create(const struct gr_scene *scene, gr_observer **out, gr_error *err);
+int gr_observer_create(const gr_obs_setup *setup, gr_observer **out, gr_error *err);
 /* Feed one frame to every enabled observable. A frame with a time, box length or velocity that is
  * not finite, or a coordinate farther than GR_COORD_MAX_BOXES box lengths from the origin, is
  * refused (GR_EINVAL naming the particle and value) before any observable sees it. */
@@ -110,7 +128,7 @@ bool gr_observer_needs_events(const gr_observer *o);
 int gr_observer_events(gr_observer *o, const gr_contact_event *ev, int64_t n, gr_error *err);
 void gr_observer_free(gr_observer *o);
 /* All enabled observables' accumulators (name, length, payload each), for a checkpoint; and
- * back into an observer created from the same scene (names and order must agree). */
+ * back into an observer created from the same setup (names and order must agree). */
 int gr_observer_save(const gr_observer *o, struct gr_blob *out, gr_error *err);
 int gr_observer_load(gr_observer *o, const void *data, size_t len, gr_error *err);
 

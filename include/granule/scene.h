@@ -117,6 +117,15 @@ const char *gr_scene_key_unit(const char *key);
 /* Reduced mass of two identical particles. */
 static inline double gr_scene_m12(const gr_scene *s) { return 0.5 * s->mass; }
 
+/* What the observables need of a scene (src/scene/scene_sim.c): the plain gr_obs_setup that
+ * gr_observer_create takes (the analysis layer never sees gr_scene). Its pointers point into s.
+ * Fails only if the scene's contact law cannot be prepared (GR_EINVAL, naming the key). */
+int gr_scene_obs_setup(const gr_scene *s, gr_obs_setup *out, gr_error *err);
+/* gr_observer_create for a scene's [analysis] observables (gr_scene_obs_setup first). */
+int gr_scene_observer(const gr_scene *s, gr_observer **out, gr_error *err);
+/* gr_observable_create of one observable type for a scene (tests, tools). */
+int gr_scene_observable(const gr_observable_type *t, const gr_scene *s, void **state, gr_error *err);
+
 /* The simulation parameters of a scene (src/scene/scene_sim.c): what gr_sim_new needs. */
 void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p);
 

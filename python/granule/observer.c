@@ -25,7 +25,7 @@ static int observer_init(pyg_observer *self, PyObject *args, PyObject *kw)
     gr_error err = {0};
     gr_observer_free(self->obs);
     self->obs = NULL;
-    if (gr_observer_create(&((pyg_scene *)scene)->scene, &self->obs, &err)) {
+    if (gr_scene_observer(&((pyg_scene *)scene)->scene, &self->obs, &err)) {
         pyg_raise(&err);
         return -1;
     }
@@ -129,7 +129,7 @@ static PyObject *observer_finish(pyg_observer *self, PyObject *args, PyObject *k
         return pyg_raise(&err);
     }
     cJSON *analysis = cJSON_CreateObject();
-    gr_output out = {.dir = dir, .scene = s, .scene_hash = gr_scene_hash(s), .summary = analysis, .plots = plots};
+    gr_output out = {.dir = dir, .source = s->source, .seed = s->seed, .scene_hash = gr_scene_hash(s), .summary = analysis, .plots = plots};
     int rc = gr_observer_finish(self->obs, &out, &err);
     gr_observer_free(self->obs); /* finished: accumulators are spent */
     self->obs = NULL;

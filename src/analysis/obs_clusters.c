@@ -16,7 +16,6 @@
 #include "analysis/obs_cells.h"
 #include "analysis/obs_util.h"
 #include "granule/analysis.h"
-#include "granule/scene.h"
 
 #define CONTACT_TOL 1e-9
 
@@ -44,15 +43,15 @@ typedef struct clusters {
     int64_t frames;
 } clusters;
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     (void)err;
     clusters *c = state;
     const clusters_params *a = params_block;
-    c->n = scene->N;
-    double d = 2.0 * scene->radius;
-    c->cut[CONTACT] = fmin(d * (1.0 + CONTACT_TOL), 0.5 * scene->L);
-    c->cut[DENSITY] = fmin(a->cluster_distance * d, 0.5 * scene->L);
+    c->n = setup->N;
+    double d = 2.0 * setup->radius;
+    c->cut[CONTACT] = fmin(d * (1.0 + CONTACT_TOL), 0.5 * setup->L);
+    c->cut[DENSITY] = fmin(a->cluster_distance * d, 0.5 * setup->L);
     c->parent = gr_obs_calloc(c, (size_t)c->n, sizeof(int));
     c->size = gr_obs_calloc(c, (size_t)c->n + 1, sizeof(int));
     for (int k = 0; k < KINDS; k++) {

@@ -14,7 +14,6 @@
 
 #include "analysis/obs_util.h"
 #include "granule/analysis.h"
-#include "granule/scene.h"
 
 #define TAU_LO 1e-9 /* s */
 #define TAU_HI 1e5
@@ -42,11 +41,11 @@ typedef struct collisions {
     gr_blocking rate;
 } collisions;
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     collisions *c = state;
     const collisions_params *a = params_block;
-    c->n = scene->N;
+    c->n = setup->N;
     c->last = gr_obs_calloc(c, (size_t)c->n, sizeof(double));
     int rc = gr_obs_histogram(c, &c->h, a->collision_bins, TAU_LO, TAU_HI, true, err);
     if (rc || !c->last) {

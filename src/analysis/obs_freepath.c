@@ -13,7 +13,6 @@
 #include "analysis/obs_util.h"
 #include "io/plot.h"
 #include "granule/analysis.h"
-#include "granule/scene.h"
 
 typedef struct freepath_params {
     int freepath_bins;
@@ -37,14 +36,14 @@ typedef struct freepath {
     int64_t paths;
 } freepath;
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     freepath *f = state;
     const freepath_params *a = params_block;
-    f->n = scene->N;
-    f->dim = scene->dim;
-    f->L = scene->L;
-    f->d = 2.0 * scene->radius;
+    f->n = setup->N;
+    f->dim = setup->dim;
+    f->L = setup->L;
+    f->d = 2.0 * setup->radius;
     f->x0 = gr_obs_calloc(f, (size_t)f->n, sizeof(double));
     f->y0 = gr_obs_calloc(f, (size_t)f->n, sizeof(double));
     f->free_since = gr_obs_calloc(f, (size_t)f->n, 1);

@@ -43,7 +43,6 @@
 #include "analysis/obs_util.h"
 #include "io/plot.h"
 #include "granule/analysis.h"
-#include "granule/scene.h"
 
 #define M_MAX 12          /* moments <R^m>, m = 1..12 (3.18) */
 #define H_LIMIT 256       /* largest allowed gaps_h_max */
@@ -84,39 +83,39 @@ typedef struct gaps {
     double r1_min, r1_max;           /* extremes of R_{i,i+1} */
 } gaps;
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     const gaps_params *a = params_block;
-    if (scene->dim != 1) {
+    if (setup->dim != 1) {
         return GR_FAIL(err, GR_EINVAL, "gaps: defined for dim = 1 only (reduced coordinates 3.16), not dim = %d",
-                       scene->dim);
+                       setup->dim);
     }
-    if (scene->N < 2) {
-        return GR_FAIL(err, GR_EINVAL, "gaps: need N >= 2 particles on the ring, got %d", scene->N);
+    if (setup->N < 2) {
+        return GR_FAIL(err, GR_EINVAL, "gaps: need N >= 2 particles on the ring, got %d", setup->N);
     }
-    double d = 2.0 * scene->radius, Lr = scene->L - scene->N * d;
-    if (!(scene->radius > 0.0) || !isfinite(scene->L) || !(Lr > 0.0)) {
+    double d = 2.0 * setup->radius, Lr = setup->L - setup->N * d;
+    if (!(setup->radius > 0.0) || !isfinite(setup->L) || !(Lr > 0.0)) {
         return GR_FAIL(err, GR_EINVAL,
                        "gaps: need radius > 0 and a free length L' = L - N d > 0 (3.16); got L = %g m, N = %d, d = %g m",
-                       scene->L, scene->N, d);
+                       setup->L, setup->N, d);
     }
-    if (a->gaps_h_max < 1 || a->gaps_h_max > H_LIMIT || a->gaps_h_max > scene->N - 1) {
+    if (a->gaps_h_max < 1 || a->gaps_h_max > H_LIMIT || a->gaps_h_max > setup->N - 1) {
         return GR_FAIL(err, GR_EINVAL, "gaps: [analysis] gaps_h_max = %d must be in [1, %d] and at most N - 1 = %d",
-                       a->gaps_h_max, H_LIMIT, scene->N - 1);
+                       a->gaps_h_max, H_LIMIT, setup->N - 1);
     }
     if (a->gaps_bins < BINS_MIN || a->gaps_bins > BINS_MAX) {
         return GR_FAIL(err, GR_EINVAL, "gaps: [analysis] gaps_bins = %d must be in [%d, %d]", a->gaps_bins, BINS_MIN,
                        BINS_MAX);
     }
     gaps *g = state;
-    g->n = scene->N;
+    g->n = setup->N;
     g->h_max = a->gaps_h_max;
     g->bins = a->gaps_bins;
     g->log_bins = a->gaps_log;
-    g->L = scene->L;
+    g->L = setup->L;
     g->d = d;
     g->Lr = Lr;
-    g->mean = Lr / scene->N;
+    g->mean = Lr / setup->N;
     g->r1_min = INFINITY;
     g->r1_max = -INFINITY;
     g->s = gr_obs_calloc(g, (size_t)g->n, sizeof(double));
@@ -125,7 +124,7 @@ static int init(void *state, const gr_scene *scene, const void *params_block, gr
     g->lg = g->log_bins ? gr_obs_calloc(g, (size_t)g->h_max, sizeof *g->lg) : NULL;
     g->mom = gr_obs_calloc(g, (size_t)g->h_max, sizeof *g->mom);
     if (!g->s || !g->acc || !g->lin || (g->log_bins && !g->lg) || !g->mom) {
-        return GR_FAIL(err, GR_ENOMEM, "gaps: out of memory for N = %d, h_max = %d", scene->N, a->gaps_h_max);
+        return GR_FAIL(err, GR_ENOMEM, "gaps: out of memory for N = %d, h_max = %d", setup->N, a->gaps_h_max);
     }
     for (int h = 0; h < g->h_max; h++) {
         int rc = gr_obs_histogram(g, &g->lin[h], g->bins, 0.0, Lr, false, err);

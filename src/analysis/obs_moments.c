@@ -8,7 +8,6 @@
 
 #include "analysis/obs_util.h"
 #include "granule/analysis.h"
-#include "granule/scene.h"
 
 #define MAX_M 16
 
@@ -27,12 +26,12 @@ typedef struct moments {
     gr_blocking comp[MAX_M + 1];  /* <|v_x|^m> and <|v_y|^m> pooled (2D) */
 } moments;
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     (void)err;
     moments *m = state;
     m->m_max = ((const moments_params *)params_block)->moments_max;
-    m->dim = scene->dim;
+    m->dim = setup->dim;
     return GR_OK;
 }
 

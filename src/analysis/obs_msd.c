@@ -23,7 +23,6 @@
 #include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
 #include "io/plot.h"
-#include "granule/scene.h"
 
 typedef struct msd_params {
     int msd_lags;
@@ -44,12 +43,12 @@ typedef struct msd {
     gr_lag lag;
 } msd;
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     msd *m = state;
-    m->n = scene->N;
-    m->dim = scene->dim;
-    m->L = scene->L;
+    m->n = setup->N;
+    m->dim = setup->dim;
+    m->L = setup->L;
     size_t n = (size_t)m->n;
     m->ux = gr_obs_calloc(m, n, sizeof(double));
     m->uy = gr_obs_calloc(m, n, sizeof(double));

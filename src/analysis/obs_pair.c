@@ -52,7 +52,6 @@
 #include "analysis/obs_util.h"
 #include "io/plot.h"
 #include "granule/analysis.h"
-#include "granule/scene.h"
 #include "granule/sim.h"
 
 #define PAIR_MAX_BINS 8192
@@ -103,11 +102,11 @@ typedef struct pair {
     int *cell_of, *cell_start, *cell_fill;
 } pair;
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     const pair_params *a = params_block;
-    if (scene->dim != 2) {
-        return GR_FAIL(err, GR_EINVAL, "pair: g(R) is defined for dim = 2 only (scene has dim = %d)", scene->dim);
+    if (setup->dim != 2) {
+        return GR_FAIL(err, GR_EINVAL, "pair: g(R) is defined for dim = 2 only (scene has dim = %d)", setup->dim);
     }
     if (a->gr_bins < 1 || a->gr_bins > PAIR_MAX_BINS) {
         return GR_FAIL(err, GR_EINVAL, "pair: [analysis] gr_bins = %d outside [1, %d]", a->gr_bins, PAIR_MAX_BINS);
@@ -116,18 +115,18 @@ static int init(void *state, const gr_scene *scene, const void *params_block, gr
         return GR_FAIL(err, GR_EINVAL, "pair: [analysis] gr_rmax = %g must be a finite number > 0 (diameters)",
                        a->gr_rmax);
     }
-    if (!(scene->radius > 0.0) || !isfinite(scene->radius) || !(scene->L > 0.0) || !isfinite(scene->L)) {
-        return GR_FAIL(err, GR_EINVAL, "pair: needs radius > 0 and L > 0 (radius = %g, L = %g)", scene->radius,
-                       scene->L);
+    if (!(setup->radius > 0.0) || !isfinite(setup->radius) || !(setup->L > 0.0) || !isfinite(setup->L)) {
+        return GR_FAIL(err, GR_EINVAL, "pair: needs radius > 0 and L > 0 (radius = %g, L = %g)", setup->radius,
+                       setup->L);
     }
-    if (scene->N < 2) {
-        return GR_FAIL(err, GR_EINVAL, "pair: needs N >= 2 particles (N = %d)", scene->N);
+    if (setup->N < 2) {
+        return GR_FAIL(err, GR_EINVAL, "pair: needs N >= 2 particles (N = %d)", setup->N);
     }
     pair *s = state;
     s->nbins = a->gr_bins;
-    s->d = 2.0 * scene->radius;
-    s->L = scene->L;
-    s->N = scene->N;
+    s->d = 2.0 * setup->radius;
+    s->L = setup->L;
+    s->N = setup->N;
     s->R_max = a->gr_rmax * s->d;
     if (s->R_max > 0.5 * s->L) {
         s->R_max = 0.5 * s->L; /* beyond L/2 a minimum-image shell is cut by the box */

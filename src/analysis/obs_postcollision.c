@@ -10,7 +10,6 @@
 
 #include "analysis/obs_util.h"
 #include "granule/analysis.h"
-#include "granule/scene.h"
 
 typedef struct postcollision {
     int bins, dim;
@@ -21,19 +20,19 @@ typedef struct postcollision {
     int64_t post_n, all_n;
 } postcollision;
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     (void)params_block; /* it takes the pv observable's bins */
     postcollision *p = state;
     double bins, range;
-    int rc = gr_analysis_get(&scene->analysis, "pv_bins", &bins, err);
-    rc = rc ? rc : gr_analysis_get(&scene->analysis, "pv_range", &range, err);
+    int rc = gr_analysis_get(setup->analysis, "pv_bins", &bins, err);
+    rc = rc ? rc : gr_analysis_get(setup->analysis, "pv_range", &range, err);
     if (rc) {
         return rc;
     }
     p->bins = bins > 0 ? (int)bins : 200;
     p->range = range > 0.0 ? range : 10.0;
-    p->dim = scene->dim;
+    p->dim = setup->dim;
     gr_obs_own_histogram(p, &p->post); /* filled from the first frame that moves */
     gr_obs_own_histogram(p, &p->all);
     return GR_OK;

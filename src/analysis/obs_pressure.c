@@ -6,13 +6,16 @@
  * F_ij the force of i on j. P = trace / dim. In 1D and 2D the ideal-gas limit
  * is P = n T with n = N / V and T = M <u_x^2>.
  *
- * The contact force is the normal spring-dashpot law of the scene, F_n = k_s xi
- * - gamma_n g_n (2.4-2.5; xi = d - |r_ij| the overlap, g_n the normal relative
- * velocity; clamped to F_n >= 0 if the scene clamps), recomputed here from the
- * scene's coefficients (gr_contact_prepare), so frames from snapshots are
- * measured alike. Tangential forces are left out (their virial is antisymmetric
- * at first order and small; the summary says so). Event-driven (hard-sphere)
- * runs have no force law: only the kinetic part is reported there.
+ * The contact force is the normal force F_ij = f_n n of the run's contact law,
+ * computed by the force kernel's own law (gr_contact_virial, src/core/kernels.c:
+ * the inlined law of models/list.h, e.g. the spring-dashpot F_n = k_s xi -
+ * gamma_n g_n of 2.4-2.5, clamped to F_n >= 0 if the scene clamps) at the
+ * frame's positions and velocities, so frames from snapshots are measured
+ * alike; src/analysis holds no copy of any force law, only the pair search.
+ * Tangential forces are left out (their laws need the contact history and
+ * spins, which a frame does not hold; their virial is antisymmetric at first
+ * order and small; the summary says so). Event-driven (hard-sphere) runs have
+ * no force law: only the kinetic part is reported there.
  *
  * In 2D the summary compares with the mean-field equation of state (5.2),
  *     <|v|>^3 = (C_1 / phi) D d pi / (M^2 (2 - eps_n^2 - eps_t^2)),
@@ -21,12 +24,13 @@
  * values are time-averaged with block-averaging errors. */
 #include <cjson/cJSON.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "analysis/obs_cells.h"
 #include "analysis/obs_util.h"
 #include "granule/analysis.h"
-#include "granule/scene.h"
 
 enum { KXX, KYY, KXY, CXX, CYY, CXY, P_TOTAL, NT, SPEED, N_SERIES };
 static const char *const series_name[N_SERIES] = {"kinetic_xx",     "kinetic_yy",     "kinetic_xy", "collisional_xx",
@@ -36,60 +40,57 @@ static const char *const series_name[N_SERIES] = {"kinetic_xx",     "kinetic_yy"
 typedef struct pressure {
     int n, dim;
     double L, V, mass, d, phi, D, eps_n, eps_t;
-    bool forces;
+    const char *law;       /* the normal force law (NULL: none, kinetic part only) */
     gr_contact_coeffs cc;
     const gr_particles *p; /* the frame being visited */
     double mean[2], w[3];  /* mean velocity; the frame's virial xx, yy, xy */
+    int queued;            /* contacts waiting in `pairs` for gr_contact_virial */
+    gr_contact_pair pairs[256];
     int64_t contacts, frames;
     gr_blocking b[N_SERIES];
     gr_cells cells;
 } pressure;
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     (void)params_block;
     pressure *s = state;
     gr_cells_own(s, &s->cells);
-    s->n = scene->N;
-    s->dim = scene->dim;
-    s->L = scene->L;
-    s->V = scene->dim == 2 ? scene->L * scene->L : scene->L;
-    s->mass = scene->mass;
-    s->d = 2.0 * scene->radius;
-    s->phi = scene->N * M_PI * scene->radius * scene->radius / (scene->L * scene->L); /* (2.24) */
-    s->D = scene->D;
-    s->eps_n = scene->contact.eps_n;
-    s->eps_t = scene->tangential ? scene->contact.eps_t : 1.0;
-    if (scene->normal) {
-        int rc = gr_contact_prepare(scene->normal, scene->tangential, &scene->contact, gr_scene_m12(scene), 0.0, &s->cc,
-                                    err);
-        if (rc) {
-            return rc;
-        }
-        s->forces = s->cc.normal == GR_NORMAL_SPRING_DASHPOT;
-    }
+    s->n = setup->N;
+    s->dim = setup->dim;
+    s->L = setup->L;
+    s->V = setup->dim == 2 ? setup->L * setup->L : setup->L;
+    s->mass = setup->mass;
+    s->d = 2.0 * setup->radius;
+    s->phi = setup->N * M_PI * setup->radius * setup->radius / (setup->L * setup->L); /* (2.24) */
+    s->D = setup->D;
+    s->eps_n = setup->eps_n;
+    s->eps_t = setup->tangential ? setup->eps_t : 1.0;
+    s->cc = setup->contact;
+    s->law = gr_contact_virial(&s->cc, s->d, NULL, 0, s->w);
     return GR_OK;
 }
 
-/* r_ij F_ij of one contact, F_ij = f_n n the normal force of i on j (2.4-2.5)
- */
-static void virial(int i, int j, double dx, double dy, double r2, void *user)
+/* One contact of the frame: queued for the kernel's law, which adds r_ij F_ij to the virial in
+ * the order the pairs are visited. */
+static void flush(pressure *s)
+{
+    gr_contact_virial(&s->cc, s->d, s->pairs, s->queued, s->w);
+    s->queued = 0;
+}
+
+static void contact(int i, int j, double dx, double dy, double r2, void *user)
 {
     pressure *s = user;
     const gr_particles *p = s->p;
-    double dist = sqrt(r2);
-    if (dist == 0.0) {
+    if (r2 == 0.0) {
         return;
     }
-    double nx = dx / dist, ny = dy / dist;
-    double gx = p->vx[j] - p->vx[i], gy = p->dim == 2 ? p->vy[j] - p->vy[i] : 0.0;
-    double f_n = s->cc.k_s * (s->d - dist) - s->cc.gamma_n * (gx * nx + gy * ny);
-    if (s->cc.clamp && f_n < 0.0) {
-        f_n = 0.0;
+    s->pairs[s->queued++] = (gr_contact_pair){.dx = dx, .dy = dy, .gx = p->vx[j] - p->vx[i],
+                                              .gy = p->dim == 2 ? p->vy[j] - p->vy[i] : 0.0};
+    if (s->queued == (int)(sizeof s->pairs / sizeof s->pairs[0])) {
+        flush(s);
     }
-    s->w[0] += dist * f_n * nx * nx;
-    s->w[1] += dist * f_n * ny * ny;
-    s->w[2] += dist * f_n * nx * ny;
     s->contacts++;
 }
 
@@ -111,12 +112,14 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         speed += sqrt(ux * ux + uy * uy);
     }
     s->w[0] = s->w[1] = s->w[2] = 0.0;
-    if (s->forces) {
+    if (s->law) {
         s->p = p;
-        int rc = gr_cells_pairs(&s->cells, p, fmin(s->d, 0.5 * s->L), virial, s, err);
+        s->queued = 0;
+        int rc = gr_cells_pairs(&s->cells, p, fmin(s->d, 0.5 * s->L), contact, s, err);
         if (rc) {
             return rc;
         }
+        flush(s);
     }
     double v[N_SERIES] = {k[0] / s->V, k[1] / s->V, k[2] / s->V, s->w[0] / s->V, s->w[1] / s->V, s->w[2] / s->V};
     v[P_TOTAL] = (v[KXX] + v[KYY] + v[CXX] + v[CYY]) / s->dim;
@@ -153,9 +156,11 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     double P = gr_blocking_mean(&s->b[P_TOTAL]), nT = gr_blocking_mean(&s->b[NT]);
     gr_obs_add_number(j, "Z", nT > 0.0 ? P / nT : (double)NAN);
     gr_obs_add_number(j, "contacts_per_frame", s->frames ? (double)s->contacts / s->frames : (double)NAN);
-    cJSON_AddStringToObject(j, "virial",
-                            s->forces ? "normal spring-dashpot force (2.4-2.5); tangential forces left out"
-                                      : "none: the scene has no contact force law (kinetic part only)");
+    char law[160];
+    const bool sd = s->law && strcmp(s->law, "spring_dashpot") == 0;
+    snprintf(law, sizeof law, "normal %s force (%s%s%s); tangential forces left out", sd ? "spring-dashpot" : s->law,
+             sd ? "2.4-2.5" : "models/", sd ? "" : s->law, sd ? "" : ".h");
+    cJSON_AddStringToObject(j, "virial", s->law ? law : "none: the scene has no contact force law (kinetic part only)");
     if (s->dim == 2) {
         double v = gr_blocking_mean(&s->b[SPEED]);
         double rhs =

@@ -41,7 +41,6 @@
 #include "analysis/obs_util.h"
 #include "io/plot.h"
 #include "granule/analysis.h"
-#include "granule/scene.h"
 
 enum { REF_FRAMES = 8, REF_MAX_VALUES = 1 << 20, MIN_FIT_POINTS = 5, MIN_DECADE_POINTS = 6, MIN_PAIRS = 5, MAX_SCAN = 512 };
 
@@ -85,10 +84,10 @@ typedef struct pv {
     double sum_u2;             /* sum of |v - <v>|^2 over particles and frames */
 } pv;
 
-static int check_params(const gr_scene *scene, const pv_params *a, gr_error *err)
+static int check_params(const gr_obs_setup *setup, const pv_params *a, gr_error *err)
 {
-    if (scene->dim != 1 && scene->dim != 2) {
-        return GR_FAIL(err, GR_EINVAL, "pv: dim = %d, expected 1 or 2", scene->dim);
+    if (setup->dim != 1 && setup->dim != 2) {
+        return GR_FAIL(err, GR_EINVAL, "pv: dim = %d, expected 1 or 2", setup->dim);
     }
     if (a->pv_bins < (int)params[0].min || a->pv_bins > (int)params[0].max) {
         return GR_FAIL(err, GR_EINVAL, "pv: [analysis] pv_bins = %d is outside [%g, %g]", a->pv_bins,
@@ -101,15 +100,15 @@ static int check_params(const gr_scene *scene, const pv_params *a, gr_error *err
     return GR_OK;
 }
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     const pv_params *a = params_block;
-    int rc = check_params(scene, a, err);
+    int rc = check_params(setup, a, err);
     if (rc) {
         return rc;
     }
     pv *s = state;
-    s->dim = scene->dim;
+    s->dim = setup->dim;
     s->bins = a->pv_bins;
     s->range = a->pv_range;
     gr_obs_own_pointer(s, &s->buf);

@@ -32,7 +32,6 @@
 #include "analysis/obs_util.h"
 #include "io/plot.h"
 #include "granule/analysis.h"
-#include "granule/scene.h"
 #include "granule/sim.h"
 #include "analysis/sk.h"
 
@@ -523,39 +522,39 @@ static int method_from_env(int *method, gr_error *err)
     return GR_OK;
 }
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
-    if (scene->dim != 2) {
-        return GR_FAIL(err, GR_EINVAL, "sk: S(k) of eqs. 4.2-4.3 needs dim = 2 (got %d)", scene->dim);
+    if (setup->dim != 2) {
+        return GR_FAIL(err, GR_EINVAL, "sk: S(k) of eqs. 4.2-4.3 needs dim = 2 (got %d)", setup->dim);
     }
     const double kd_max = ((const sk_params *)params_block)->sk_kd_max;
-    if (scene->N < 1 || !(scene->L > 0.0) || !isfinite(scene->L) || !(scene->radius > 0.0) ||
-        !isfinite(scene->radius)) {
+    if (setup->N < 1 || !(setup->L > 0.0) || !isfinite(setup->L) || !(setup->radius > 0.0) ||
+        !isfinite(setup->radius)) {
         return GR_FAIL(err, GR_EINVAL, "sk: needs N >= 1, L > 0 and radius > 0 (got N = %d, L = %g, radius = %g)",
-                       scene->N, scene->L, scene->radius);
+                       setup->N, setup->L, setup->radius);
     }
     if (!(kd_max > params[0].min) || !(kd_max <= params[0].max)) {
         return GR_FAIL(err, GR_EINVAL, "[analysis] sk_kd_max = %g outside (%g, %g]", kd_max, params[0].min,
                        params[0].max);
     }
-    const double d = 2.0 * scene->radius;
-    const double n_cut = kd_max * scene->L / (2.0 * M_PI * d);
+    const double d = 2.0 * setup->radius;
+    const double n_cut = kd_max * setup->L / (2.0 * M_PI * d);
     if (n_cut < 1.0) {
         return GR_FAIL(err, GR_EINVAL,
                        "[analysis] sk_kd_max = %g reaches no lattice vector: the smallest |k| d is 2 pi d / L = %g",
-                       kd_max, 2.0 * M_PI * d / scene->L);
+                       kd_max, 2.0 * M_PI * d / setup->L);
     }
     sk_state *st = state;
     int rc = method_from_env(&st->method, err);
     if (!rc) {
-        rc = gr_sk_plan_create(scene->L, n_cut, GR_SK_MSP_DEFAULT, &st->plan, err);
+        rc = gr_sk_plan_create(setup->L, n_cut, GR_SK_MSP_DEFAULT, &st->plan, err);
     }
     if (rc) {
         return rc;
     }
     gr_obs_own(st, release_plan, st->plan);
     st->msp = GR_SK_MSP_DEFAULT;
-    st->L = scene->L;
+    st->L = setup->L;
     st->d = d;
     st->kd_max = kd_max;
     st->n_cut = n_cut;
@@ -563,18 +562,18 @@ static int init(void *state, const gr_scene *scene, const void *params_block, gr
     /* the dissipative regime: k_D = (2 - eps_n^2 - eps_t^2) / (8 l_0) (4.5), l_0 = L^2 / (2 d N)
      * (4.7), L_min = 2 pi / k_D (4.6, 4.8), L_Eff = 2 sqrt 2 L_min (4.9); the fit window ends at
      * k' = k_D when L > L_Eff and at 2 k_D otherwise (sec. 4.1.2) */
-    st->eps_n = scene->contact.eps_n;
-    if (!scene->tangential) {
+    st->eps_n = setup->eps_n;
+    if (!setup->tangential) {
         st->eps_t = 1.0;
         st->eps_t_from = "no tangential law: eps_t = 1";
-    } else if (strcmp(scene->tangential->name, "tangential_dashpot") == 0) {
-        st->eps_t = scene->contact.eps_t;
+    } else if (strcmp(setup->tangential, "tangential_dashpot") == 0) {
+        st->eps_t = setup->eps_t;
         st->eps_t_from = "tangential_dashpot eps_t";
     } else {
         st->eps_t = 1.0;
         st->eps_t_from = "no constant eps_t for this tangential law: eps_t = 1 assumed";
     }
-    st->l0 = scene->L * scene->L / (2.0 * d * scene->N);
+    st->l0 = setup->L * setup->L / (2.0 * d * setup->N);
     st->kD = (2.0 - st->eps_n * st->eps_n - st->eps_t * st->eps_t) / (8.0 * st->l0);
     if (st->kD > 0.0) {
         st->Lmin = 2.0 * M_PI / st->kD;

@@ -7,7 +7,6 @@
 
 #include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
-#include "granule/scene.h"
 #include "granule_config.h"
 #include "analysis/blob_stats.h"
 #include "io/plot.h"
@@ -32,7 +31,7 @@ int gr_obs_csv_open(const gr_output *out, const char *name, const char *what, gr
         return rc;
     }
     gr_file_note(f, "# granule %s: %s\n# scene %s, hash %016llx, seed %llu\n", GR_VERSION, what,
-            out->scene->source, (unsigned long long)out->scene_hash, (unsigned long long)out->scene->seed);
+            out->source, (unsigned long long)out->scene_hash, (unsigned long long)out->seed);
     return GR_OK;
 }
 

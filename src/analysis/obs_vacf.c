@@ -19,7 +19,6 @@
 
 #include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
-#include "granule/scene.h"
 
 typedef struct vacf_params {
     int vacf_lags;
@@ -32,10 +31,10 @@ static const gr_param params[] = {
      offsetof(vacf_params, vacf_lags)},
 };
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     const vacf_params *a = params_block;
-    return gr_lag_init_owned(state, state, scene->N, scene->dim, a->vacf_lags, GR_LAG_DOT, err);
+    return gr_lag_init_owned(state, state, setup->N, setup->dim, a->vacf_lags, GR_LAG_DOT, err);
 }
 
 static int sample(void *state, const gr_particles *p, double t, gr_error *err)

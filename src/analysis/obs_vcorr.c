@@ -17,7 +17,6 @@
 #include "analysis/obs_cells.h"
 #include "analysis/obs_util.h"
 #include "granule/analysis.h"
-#include "granule/scene.h"
 
 #define VCORR_MAX_BINS 2000
 
@@ -45,16 +44,16 @@ typedef struct vcorr {
     int64_t frames;
 } vcorr;
 
-static int init(void *state, const gr_scene *scene, const void *params_block, gr_error *err)
+static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     (void)err;
     const vcorr_params *a = params_block;
     vcorr *s = state;
     s->bins = a->vcorr_bins;
-    s->rmax = fmin(a->vcorr_rmax * 2.0 * scene->radius, 0.5 * scene->L);
+    s->rmax = fmin(a->vcorr_rmax * 2.0 * setup->radius, 0.5 * setup->L);
     s->w = s->rmax / s->bins;
-    s->d = 2.0 * scene->radius;
-    size_t b = (size_t)s->bins, n = (size_t)scene->N;
+    s->d = 2.0 * setup->radius;
+    size_t b = (size_t)s->bins, n = (size_t)setup->N;
     s->ux_buf = gr_obs_calloc(s, n, sizeof(double));
     s->uy_buf = gr_obs_calloc(s, n, sizeof(double));
     s->sl = gr_obs_calloc(s, b, sizeof(double));

@@ -7,7 +7,6 @@
 #include "analysis/obs_list.h"
 #include "analysis/obs_util.h"
 #include "granule/observe.h"
-#include "granule/scene.h"
 #include "analysis/blob_stats.h"
 
 #define DECLARE(name) extern const gr_observable_type gr_obs_##name;
@@ -172,7 +171,7 @@ int gr_obs_alloc_ok(const void *state, gr_error *err)
     return h->oom ? GR_FAIL(err, GR_ENOMEM, "%s: out of memory", h->type->name) : GR_OK;
 }
 
-int gr_observable_create(const gr_observable_type *t, const gr_scene *scene, void **state, gr_error *err)
+int gr_observable_create(const gr_observable_type *t, const gr_obs_setup *setup, void **state, gr_error *err)
 {
     *state = NULL;
     if (t->params_size > GR_OBS_PARAMS_BYTES) {
@@ -185,7 +184,7 @@ int gr_observable_create(const gr_observable_type *t, const gr_scene *scene, voi
     }
     h->type = t;
     void *s = (char *)h + HEAD_BYTES;
-    int rc = t->init(s, scene, gr_analysis_block_const(&scene->analysis, t), err);
+    int rc = t->init(s, setup, gr_analysis_block_const(setup->analysis, t), err);
     rc = rc ? rc : gr_obs_alloc_ok(s, err);
     if (rc) {
         gr_observable_free(s);
@@ -236,14 +235,14 @@ struct gr_observer {
     void *state[MAX_OBSERVERS];
 };
 
-int gr_observer_create(const gr_scene *scene, gr_observer **out, gr_error *err)
+int gr_observer_create(const gr_obs_setup *setup, gr_observer **out, gr_error *err)
 {
     gr_observer *o = calloc(1, sizeof *o);
     if (!o) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory");
     }
     char buf[256];
-    snprintf(buf, sizeof buf, "%s", scene->observables);
+    snprintf(buf, sizeof buf, "%s", setup->observables ? setup->observables : "");
     char *save = NULL;
     for (char *tok = strtok_r(buf, ", \t", &save); tok; tok = strtok_r(NULL, ", \t", &save)) {
         const gr_observable_type *t = gr_observable_find(tok);
@@ -251,10 +250,10 @@ int gr_observer_create(const gr_scene *scene, gr_observer **out, gr_error *err)
             gr_observer_free(o);
             return GR_FAIL(err, GR_EINVAL, "[analysis] observables: unknown observable '%s'", tok);
         }
-        if (!(t->dims & (1u << (scene->dim - 1)))) {
+        if (!(t->dims & (1u << (setup->dim - 1)))) {
             gr_observer_free(o);
             return GR_FAIL(err, GR_EINVAL, "%s: [analysis] observables: %s is not defined for dim = %d",
-                           scene->source, tok, scene->dim);
+                           setup->source, tok, setup->dim);
         }
         bool dup = false;
         for (int i = 0; i < o->n; i++) {
@@ -263,7 +262,7 @@ int gr_observer_create(const gr_scene *scene, gr_observer **out, gr_error *err)
         if (dup || o->n == MAX_OBSERVERS) {
             continue;
         }
-        int rc = gr_observable_create(t, scene, &o->state[o->n], err);
+        int rc = gr_observable_create(t, setup, &o->state[o->n], err);
         if (rc) {
             gr_observer_free(o);
             return rc;

@@ -119,7 +119,7 @@ static int open_run(gr_run_ctx *c)
     /* an event-driven step can be long (dense or hot systems): it polls the stop flag itself and
      * returns early, with the step count unchanged, when a stop is requested */
     gr_sim_set_stop(c->sim, opt ? opt->stop : NULL);
-    rc = gr_observer_create(scene, &c->obs, err);
+    rc = gr_scene_observer(scene, &c->obs, err);
     if (!rc && gr_observer_needs_events(c->obs)) {
         rc = gr_sim_track_contacts(c->sim, err);
     }

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "analysis/mean_field.h"
+#include "theory/mean_field.h"
 #include "granule_commit.h"
 #include "granule_config.h"
 #include "app/run_picture.h"
@@ -182,7 +182,7 @@ static void write_outputs(gr_run_ctx *c, bool write_stop, finish_rcs *r, cJSON *
     }
     if (gr_observer_count(c->obs) > 0) {
         *analysis = cJSON_CreateObject();
-        gr_output out = {.dir = c->dir, .scene = c->scene, .scene_hash = c->hash, .summary = *analysis, .plots = c->scene->plots};
+        gr_output out = {.dir = c->dir, .source = c->scene->source, .seed = c->scene->seed, .scene_hash = c->hash, .summary = *analysis, .plots = c->scene->plots};
         r->o = gr_observer_finish(c->obs, &out, r->t || r->l || r->b ? &later : io_err);
     }
     r->i = gr_scene_save(c->scene, c->dir, r->t || r->l || r->b || r->o ? &later : io_err);

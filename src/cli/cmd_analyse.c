@@ -244,7 +244,7 @@ int cmd_analyse(int argc, char **argv)
         return EXIT_REFUSED;
     }
     gr_observer *obs = NULL;
-    rc = gr_observer_create(&scene, &obs, &err);
+    rc = gr_scene_observer(&scene, &obs, &err);
     if (rc) {
         cli_error("analyse: %s", err.message);
         return cli_exit_code(rc);
@@ -315,7 +315,7 @@ int cmd_analyse(int argc, char **argv)
         return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
     cJSON *sum = cJSON_CreateObject(), *analysis = cJSON_AddObjectToObject(sum, "analysis");
-    gr_output out = {.dir = out_dir, .scene = &scene, .scene_hash = gr_scene_hash(&scene), .summary = analysis, .plots = scene.plots};
+    gr_output out = {.dir = out_dir, .source = scene.source, .seed = scene.seed, .scene_hash = gr_scene_hash(&scene), .summary = analysis, .plots = scene.plots};
     rc = gr_observer_finish(obs, &out, &err);
     gr_observer_free(obs);
     cJSON_AddStringToObject(sum, "source", dump ? dump : dir);

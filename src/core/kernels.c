@@ -862,6 +862,32 @@ int gr_kernel_force_generic(gr_sim *s)
     return GR_OK;
 }
 
+const char *gr_contact_virial(const gr_contact_coeffs *c, double d, const gr_contact_pair *pairs, int n, double w[3])
+{
+    const gr_model *m = c->normal_model;
+    if (!m || !(m->kind & GR_MODEL_NORMAL)) {
+        return NULL; /* an event rule exerts no force on a frame (its stand-in only keeps overlaps apart) */
+    }
+    const int nl = id_of(normal_names, NL_COUNT, m->name);
+    if (nl < 0) {
+        return NULL;
+    }
+    const int clamp = (int)c->clamp;
+    for (int k = 0; k < n; k++) {
+        const gr_contact_pair *q = &pairs[k];
+        const double dist = sqrt(q->dx * q->dx + q->dy * q->dy);
+        if (dist == 0.0) {
+            continue;
+        }
+        const double nx = q->dx / dist, ny = q->dy / dist;
+        const double f_n = normal_law(nl, c, d - dist, q->gx * nx + q->gy * ny, clamp).f;
+        w[0] += dist * f_n * nx * nx;
+        w[1] += dist * f_n * ny * ny;
+        w[2] += dist * f_n * nx * ny;
+    }
+    return m->name;
+}
+
 /* The history slot of the pair (i, j) in the list, listed either way (0 if it is not listed). */
 static double list_slot(const gr_sim *s, int i, int j)
 {

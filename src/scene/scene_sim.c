@@ -1,5 +1,6 @@
 /* From a scene to a simulation: the scene's engine keys copied into the core's plain parameter
- * struct (the core never sees gr_scene), and the scene-level gr_sim_create* conveniences. */
+ * struct (the core never sees gr_scene), and the scene-level gr_sim_create* conveniences; and to
+ * the observables' plain setup (the analysis layer never sees gr_scene either). */
 #include <stdio.h>
 
 #include "granule/scene.h"
@@ -14,6 +15,35 @@ void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p)
                          .force_dt = s->force_dt, .skin = s->skin, .free_flight = s->free_flight,
                          .kick_interval = s->kick_interval, .seed = s->seed};
     snprintf(p->source, sizeof p->source, "%s", s->source);
+}
+
+int gr_scene_obs_setup(const gr_scene *s, gr_obs_setup *out, gr_error *err)
+{
+    *out = (gr_obs_setup){.source = s->source, .observables = s->observables, .analysis = &s->analysis, .dim = s->dim,
+                          .N = s->N, .L = s->L, .radius = s->radius, .mass = s->mass, .D = s->D, .eps_n = s->contact.eps_n,
+                          .eps_t = s->contact.eps_t, .tangential = s->tangential ? s->tangential->name : NULL};
+    if (s->normal) {
+        int rc = gr_contact_prepare(s->normal, s->tangential, &s->contact, gr_scene_m12(s), 0.0, &out->contact, err);
+        if (rc) {
+            return rc;
+        }
+    }
+    return GR_OK;
+}
+
+int gr_scene_observer(const gr_scene *s, gr_observer **out, gr_error *err)
+{
+    gr_obs_setup setup;
+    int rc = gr_scene_obs_setup(s, &setup, err);
+    return rc ? rc : gr_observer_create(&setup, out, err);
+}
+
+int gr_scene_observable(const gr_observable_type *t, const gr_scene *s, void **state, gr_error *err)
+{
+    gr_obs_setup setup;
+    *state = NULL;
+    int rc = gr_scene_obs_setup(s, &setup, err);
+    return rc ? rc : gr_observable_create(t, &setup, state, err);
 }
 
 int gr_sim_create(const gr_scene *scene, gr_sim **out, gr_error *err)

@@ -83,7 +83,7 @@ static void restore(const gr_checkpoint *ck)
     sec = gr_checkpoint_find(ck, "OBS ");
     if (sec) {
         gr_observer *obs = NULL;
-        if (gr_observer_create(&scene, &obs, &err) == GR_OK) {
+        if (gr_scene_observer(&scene, &obs, &err) == GR_OK) {
             err.message[0] = 0;
             int rc = gr_observer_load(obs, sec->data, sec->len, &err);
             note("OBS", rc, &err);

@@ -52,7 +52,7 @@ static void tiny_run(const gr_scene *s)
     cJSON_Delete(gr_scene_to_json(s));
     (void)gr_scene_hash(s);
     gr_observer *obs = NULL;
-    if (gr_observer_create(s, &obs, &err) == GR_OK) {
+    if (gr_scene_observer(s, &obs, &err) == GR_OK) {
         gr_observer_free(obs);
     }
     gr_sim *sim = NULL;

@@ -96,7 +96,7 @@ static int cascade_df(const gr_campaign *c, const gr_campaign_result *r, int n, 
     }
     int rc = gr_scene_load_buffer(&sc, name, text, strlen(text), overrides, 5, err);
     gr_observer *o = NULL;
-    if (rc || (rc = gr_observer_create(&sc, &o, err))) {
+    if (rc || (rc = gr_scene_observer(&sc, &o, err))) {
         return rc;
     }
     double *v0 = calloc((size_t)n, sizeof *v0);
@@ -125,7 +125,7 @@ static int cascade_df(const gr_campaign *c, const gr_campaign_result *r, int n, 
     if (rc == GR_OK && !mkdtemp(tmp)) {
         rc = GR_FAIL(err, GR_EIO, "cascade: no temporary folder for its S(k)");
     } else if (rc == GR_OK) {
-        gr_output out = {.dir = tmp, .scene = &sc, .summary = summary, .plots = false};
+        gr_output out = {.dir = tmp, .source = sc.source, .seed = sc.seed, .summary = summary, .plots = false};
         rc = gr_observer_finish(o, &out, err);
         remove_tree(tmp);
     }
