@@ -103,7 +103,7 @@ static inline double gr_event_collide_rough(double M, double q, double R, double
 #include <math.h>
 #include <stddef.h>
 
-#include "core/restitution.h"
+#include "models/spring_dashpot_restitution.h"
 
 static const gr_param hard_sphere_params[] = {
     {"k_s", "N/m", GR_PARAM_DOUBLE, 5e5, 0.0, INFINITY, true, true,
@@ -168,14 +168,14 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
     c->normal = GR_NORMAL_HARD_SPHERE;
     c->m12 = m12;
     c->clamp = false;
-    c->zeta = gr_zeta_unclamped(p->eps_n); /* the matching spring-dashpot, eq. 2.6 */
+    c->zeta = spring_dashpot_zeta_unclamped(p->eps_n); /* the matching spring-dashpot, eq. 2.6 */
     c->w0 = sqrt(p->k_s / m12);
     if (p->tc > 0.0) {
         /* the soft contact that lasts tc: w0 from the duration pi / (w0 sqrt(1 - zeta^2)) */
-        c->w0 = gr_duration_unclamped(c->zeta) / p->tc;
+        c->w0 = spring_dashpot_duration_unclamped(c->zeta) / p->tc;
     }
     c->k_s = m12 * c->w0 * c->w0;
-    c->t_c = gr_duration_unclamped(c->zeta) / c->w0;
+    c->t_c = spring_dashpot_duration_unclamped(c->zeta) / c->w0;
     c->eps_n_exact = p->eps_n;
     c->gamma_n = 0.0; /* no force law: kernels see a hard sphere as force-free */
     c->e_scale = 0.5 * c->k_s;

@@ -19,6 +19,10 @@ int_includes=$(grep -rn '#include "io/' "$root"/src/integrators)
 # the run driver and the rest of io call the integrator interface, not an integrator
 io_includes=$(grep -rn '#include "integrators/' "$root"/src/io "$root"/src/cli "$root"/src/analysis)
 [ -z "$io_includes" ] || bad "io / cli / analysis include an integrator directly:"$'\n'"$io_includes"
+# a model is closed over its physics: models/ includes only the public API and other models
+# (its restitution formulas, calibration and reference force live in its own file, not in src/)
+model_includes=$(grep -n '#include "' "$root"/models/*.[ch] | grep -v '#include "\(models\|granule\)/')
+[ -z "$model_includes" ] || bad "models/ includes a file of src/ (model physics belongs in models/):"$'\n'"$model_includes"
 # every integrator folder is registered
 for d in "$root"/src/integrators/*/; do
     name=$(basename "$d")
@@ -28,5 +32,5 @@ done
 lib_prints=$(grep -rn 'f\(printf\|puts\|putc\|write\)([^;]*\bstd\(err\|out\)\b\|[^a-z_]printf(\|[^a-z_]puts(\|[^a-z_]putchar(\|[^a-z_]abort()\|[^a-z_]perror(' \
     "$root"/src "$root"/models --include='*.[ch]' | grep -v "^$root/src/cli/" | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
 [ -z "$lib_prints" ] || bad "the library prints or aborts (only src/cli may):"$'\n'"$lib_prints"
-[ $fail = 0 ] && echo "layers: ok (core free of io and of integrators; run driver uses the interface; the library does not print)"
+[ $fail = 0 ] && echo "layers: ok (core free of io and of integrators; models free of src/; run driver uses the interface; the library does not print)"
 exit $fail
