@@ -2,8 +2,9 @@
  *
  * Wired into the engine (models/list.h, GR_HISTORY_MODELS): the kernels keep s per contact in the
  * store of src/core/contact_history.c (one slot per touching pair, carried across neighbour-list
- * rebuilds and checkpoints). Its restitution law (models/tangential_spring_restitution.h) and the
- * CVODE reference (src/collide/reference.c) integrate the continuous-time stick-slip. Options: a
+ * rebuilds and checkpoints). Its restitution law (models/tangential_spring_restitution.h) and its
+ * force in the CVODE reference (models/tangential_spring_reference.h) integrate the
+ * continuous-time stick-slip. Options: a
  * Mindlin stiffness k_t = km sqrt(xi) (`mindlin = true`, hertz only; LAMMPS `tangential mindlin`).
  * With rotation (`rotation = true`) g_t is the contact point's, surface velocities included
  * (models/law.h), and the force's torque a F_t acts on both discs; the spring's share a (-k_t s) is
@@ -175,6 +176,7 @@ static int tangential_spring_prepare(const gr_contact_params *p, double m12, dou
 }
 
 #include "models/tangential_spring_restitution.h"
+#include "models/tangential_spring_reference.h"
 
 /* mu = 0: no tangential force at all (the Coulomb limit is 0), the kernel without it runs */
 static bool tangential_spring_inert(const gr_contact_coeffs *c) { return c->mu == 0.0; }
@@ -191,6 +193,7 @@ const gr_model gr_model_tangential_spring = {
     .prepare = tangential_spring_prepare,
     .inert = tangential_spring_inert,
     .restitution_t = tangential_spring_restitution_t,
+    .reference = &tangential_spring_reference,
     .contact_point = true,
     .elastic = "mu=0",
     .variants = tangential_spring_variants,

@@ -19,8 +19,10 @@
  * A tangential law with modes of its own (gr_model.variants: tangential_spring's mindlin) joins
  * in each mode with every normal law whose prepare accepts it (Mindlin: hertz only).
  * The history spring (tangential_spring) is held to the same checks: its restitution law is a
- * fixed-normal integration of its stick-slip (models/tangential_spring_restitution.h), its CVODE
- * reference integrates s with the stick/slip switches as roots (src/collide/reference.c); the
+ * fixed-normal integration of its stick-slip (models/tangential_spring_restitution.h), its force
+ * in the CVODE reference integrates s with the stick/slip switches as roots
+ * (models/tangential_spring_reference.h; every tangential law gives the reference its force,
+ * gr_model.reference, and a law without one is refused, never integrated with F_t = 0); the
  * reference's own limits, energy balance and convergence are checked in
  * tests/test_spring_reference.c.
  * Rolling laws (GR_ROLLING_MODELS) join every rotating combination: the checks above (with the
@@ -48,6 +50,7 @@
 #include "granule/scene.h"
 #include "granule/sim.h"
 #include "models/hard_sphere.h" /* the rough rule itself, for angular momentum */
+#include "models/reference.h"   /* gr_model.reference */
 #include "check_main.h"
 #include "test_env.h"
 
@@ -724,7 +727,32 @@ START_TEST(test_registry_covered)
             ck_assert_msg(md->spin_loss, "%s: a rolling law needs spin_loss", md->name);
         } else {
             ck_assert_msg(md->restitution_t, "%s: a tangential law needs restitution_t", md->name);
+            ck_assert_msg(md->reference && md->reference->setup && md->reference->force,
+                          "%s: a tangential law needs its force in the CVODE reference (gr_model.reference, "
+                          "models/reference.h)", md->name);
         }
+    }
+}
+END_TEST
+
+/* 7. a tangential law without a reference force is refused by the reference, never integrated
+ * with F_t = 0 (a copy of each registered tangential law with its hook removed) */
+START_TEST(test_reference_needs_law)
+{
+    for (int i = 0; i < n_combos; i++) {
+        if (!combos[i].tangential || combos[i].dim != 2) {
+            continue;
+        }
+        gr_model lawless = *combos[i].tangential;
+        lawless.reference = NULL;
+        combo c = combos[i];
+        c.tangential = &lawless;
+        gr_collide_setup s = setup_of(&c, defaults_of(&combos[i]));
+        gr_collision_case cs = impact(0.1, 30.0);
+        gr_collide_result r;
+        gr_error err = {0};
+        ck_assert_int_eq(gr_collide_reference(&s, &cs, &r, &err), GR_EINVAL);
+        ck_assert_msg(strstr(err.message, lawless.name) && strstr(err.message, "reference force"), "%s", err.message);
     }
 }
 END_TEST
@@ -735,6 +763,7 @@ static Suite *suite(void)
     Suite *s = suite_create("models_conformance");
     TCase *tc = tcase_create("conformance");
     tcase_add_test(tc, test_registry_covered);
+    tcase_add_test(tc, test_reference_needs_law);
     tcase_add_loop_test(tc, test_restitution_law, 0, n_combos);
     tcase_add_loop_test(tc, test_engine_vs_reference, 0, n_combos);
     tcase_add_loop_test(tc, test_elastic, 0, n_combos);

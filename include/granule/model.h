@@ -144,6 +144,9 @@ typedef struct gr_model {
      * restitution given that normal impact and the impact speeds v_n, v_t > 0. */
     gr_normal_impact (*impact)(const gr_contact_coeffs *c, double v_n);
     double (*restitution_t)(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t);
+    /* Tangential laws (required): the force the CVODE reference (src/collide/reference.c)
+     * integrates for this law, in continuous time (models/reference.h). */
+    const struct gr_reference_law *reference;
     /* Rolling laws: the spin energy (J) one contact takes from two discs of moment of inertia
      * `inertia` whose spins differ by dw0 (w_i - w_j, the contact point not slipping) while it
      * transmits the normal impulse p_n = int |F_n| dt; r_eff = r / 2 for equal discs. */
