@@ -108,6 +108,7 @@ const gr_model gr_model_tangential_dashpot = {
     .prepare = tangential_dashpot_prepare,
     .inert = tangential_dashpot_inert,
     .contact_point = true,
+    .constant_eps_t = true,
     .restitution_t = tangential_dashpot_restitution_t,
     .reference = &tangential_dashpot_reference,
     .elastic = "eps_t=1",

@@ -134,6 +134,10 @@ typedef struct gr_model {
     /* Tangential laws: the force acts at the contact point, so the discs may rotate (the scene
      * key rotation = true is then legal; the law then sees the contact point's velocity). */
     bool contact_point;
+    /* Tangential laws: the law's tangential restitution is the parameter eps_t itself, the same at
+     * every impact (tangential_dashpot). Code that needs a constant eps_t (the S(k) observable's
+     * dissipative window, thesis eq. 4.5) asks this flag, never the model's name. */
+    bool constant_eps_t;
     /* Event rules: the normal force law whose kernel evaluates forces when the engine asks for
      * them (the initial state, which has no overlaps), with the coefficients prepare set. */
     const char *force_law;
