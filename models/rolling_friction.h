@@ -34,11 +34,14 @@
 
 extern const gr_model gr_model_rolling_friction;
 
+/* its constant, in gr_contact_coeffs.law_r */
+enum { ROLLING_FRICTION_MU_R = 0 };
+
 /* The pair law: the torque on j (on i its opposite) and the power it dissipates, >= 0. */
 GR_LAW gr_rolling_torque gr_rolling_rolling_friction(const gr_contact_coeffs *c, const gr_rolling_in in)
 {
     const double dw = in.dw;
-    const double cap = in.i_2dt * fabs(dw), full = c->mu_r * fabs(in.f_n) * in.r_eff;
+    const double cap = in.i_2dt * fabs(dw), full = c->law_r[ROLLING_FRICTION_MU_R] * fabs(in.f_n) * in.r_eff;
     const double mag = in.acts ? (full < cap ? full : cap) : 0.0;
     const double m = dw > 0.0 ? mag : (dw < 0.0 ? -mag : 0.0);
     return (gr_rolling_torque){.m = m, .p = m * dw};
@@ -65,12 +68,12 @@ static int rolling_friction_prepare(const gr_contact_params *p, double m12, doub
                        "[model] rolling = rolling_friction needs [model] rotation = true (a torque on the spins); "
                        "allowed without rotation: rolling = none");
     }
-    c->mu_r = p->mu_r;
+    c->law_r[ROLLING_FRICTION_MU_R] = p->mu_r;
     return GR_OK;
 }
 
 /* mu_r = 0: no torque, the kernel without it runs */
-static bool rolling_friction_inert(const gr_contact_coeffs *c) { return c->mu_r == 0.0; }
+static bool rolling_friction_inert(const gr_contact_coeffs *c) { return c->law_r[ROLLING_FRICTION_MU_R] == 0.0; }
 
 /* an enormous coefficient: the torque is then always the limit that stops the rolling in a step */
 static const char *const rolling_friction_extremes[] = {"mu_r=1e9", NULL};
@@ -82,7 +85,7 @@ static const char *const rolling_friction_extremes[] = {"mu_r=1e9", NULL};
  * suite and tests/test_rolling.c check the engine against this). The translation is untouched. */
 static double rolling_friction_spin_loss(const gr_contact_coeffs *c, double p_n, double r_eff, double inertia, double dw0)
 {
-    const double J = fmin(c->mu_r * r_eff * fabs(p_n), 0.5 * inertia * fabs(dw0));
+    const double J = fmin(c->law_r[ROLLING_FRICTION_MU_R] * r_eff * fabs(p_n), 0.5 * inertia * fabs(dw0));
     return J * fabs(dw0) - J * J / inertia;
 }
 

@@ -106,9 +106,10 @@ typedef struct gr_contact_coeffs {
     double pow_a, pow_p;
     double law_n[4]; /* constants private to the normal law */
     double law_t[4]; /* constants private to the tangential law */
-    /* Rolling resistance (gr_contact_prepare_rolling; NULL / 0 without): the law and mu_r. */
+    /* Rolling resistance (gr_contact_prepare_rolling; NULL / 0 without): the law and its constants
+     * (private to it, as law_n / law_t; the model's file names the slots). */
     const struct gr_model *rolling_model;
-    double mu_r;
+    double law_r[4];
 } gr_contact_coeffs;
 
 typedef enum {

@@ -56,7 +56,7 @@ int gr_contact_prepare_rolling(const gr_model *rolling, const gr_contact_params 
                                gr_contact_coeffs *c, gr_error *err)
 {
     c->rolling_model = NULL;
-    c->mu_r = 0.0;
+    memset(c->law_r, 0, sizeof c->law_r);
     if (!rolling) {
         return GR_OK;
     }
