@@ -94,6 +94,13 @@ static inline double gr_event_collide_rough(double M, double q, double R, double
     return beta;
 }
 
+/* The rule's constants, which its prepare sets and the event integrator and `granule collide`
+ * read (never the parameters themselves): in gr_contact_coeffs.law_n, 1 with viscoelastic = true
+ * and the hertz contact's damping and stiffness that set eps_n(v); in law_t, eps_t, Walton's
+ * beta and its Coulomb limit beta_mu (rotation = true). */
+enum { GR_HARD_SPHERE_VISCO = 0, GR_HARD_SPHERE_GAMMA = 1, GR_HARD_SPHERE_KH = 2 };
+enum { GR_HARD_SPHERE_EPS_T = 0, GR_HARD_SPHERE_BETA = 1, GR_HARD_SPHERE_BETA_MU = 2 };
+
 /* viscoelastic hard discs: the smallest eps_n used (an impact that would stick, eps_n(v) = 0,
  * would leave the pair touching at zero normal speed and stall the event calendar) */
 #define GR_HARD_SPHERE_MIN_EPS 1e-3
@@ -183,7 +190,7 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
     c->pow_p = 0.0;
     if (p->viscoelastic) {
         /* eps_n(v) of the hertz viscoelastic contact with the same keys: its damping and stiffness
-         * (law_n[1], law_n[2]) feed hertz's own impact (hard_sphere_impact) */
+         * feed hertz's own impact (hard_sphere_impact) */
         gr_contact_params hp = *p;
         hp.clamp = false;
         gr_contact_coeffs hc = {0};
@@ -191,13 +198,13 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
         if (rc) {
             return rc;
         }
-        c->law_n[0] = 1.0;
-        c->law_n[1] = hc.gamma_n;
-        c->law_n[2] = hc.k_s;
+        c->law_n[GR_HARD_SPHERE_VISCO] = 1.0;
+        c->law_n[GR_HARD_SPHERE_GAMMA] = hc.gamma_n;
+        c->law_n[GR_HARD_SPHERE_KH] = hc.k_s;
     }
-    c->law_t[0] = p->eps_t; /* the rule's tangential restitution */
-    c->law_t[1] = p->beta;  /* rotation = true: Walton's beta and its Coulomb limit */
-    c->law_t[2] = p->beta_mu;
+    c->law_t[GR_HARD_SPHERE_EPS_T] = p->eps_t; /* the rule's tangential restitution */
+    c->law_t[GR_HARD_SPHERE_BETA] = p->beta;   /* rotation = true: Walton's beta and its Coulomb limit */
+    c->law_t[GR_HARD_SPHERE_BETA_MU] = p->beta_mu;
     c->gamma_t = 0.0;
     return GR_OK;
 }
@@ -207,13 +214,13 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
  * least GR_HARD_SPHERE_MIN_EPS. */
 static gr_normal_impact hard_sphere_impact(const gr_contact_coeffs *c, double v_n)
 {
-    if (c->law_n[0] == 0.0) {
+    if (c->law_n[GR_HARD_SPHERE_VISCO] == 0.0) {
         return (gr_normal_impact){c->eps_n_exact, 0.0, 1.0 + c->eps_n_exact};
     }
     gr_contact_coeffs hc = {0};
     hc.m12 = c->m12;
-    hc.gamma_n = c->law_n[1];
-    hc.k_s = c->law_n[2];
+    hc.gamma_n = c->law_n[GR_HARD_SPHERE_GAMMA];
+    hc.k_s = c->law_n[GR_HARD_SPHERE_KH];
     hc.pow_a = 1.5;
     hc.pow_p = 0.5; /* law_n[0] = 0: hertz's viscoelastic mode */
     double eps = gr_model_hertz.impact(&hc, v_n).eps_n;
@@ -225,13 +232,14 @@ static double hard_sphere_restitution_t(const gr_contact_coeffs *c, gr_normal_im
 {
     if (c->rotation) {
         /* the contact point's eps_t = -beta (g_ct' = -beta g_ct), for discs at rest before: g_ct = v_t */
-        double beta = c->law_t[1];
-        if (c->law_t[2] > 0.0 && v_t > 0.0) {
-            beta = fmin(beta, -1.0 + c->law_t[2] * (1.0 + n.eps_n) * (1.0 + 1.0 / c->q) * v_n / v_t);
+        double beta = c->law_t[GR_HARD_SPHERE_BETA];
+        const double beta_mu = c->law_t[GR_HARD_SPHERE_BETA_MU];
+        if (beta_mu > 0.0 && v_t > 0.0) {
+            beta = fmin(beta, -1.0 + beta_mu * (1.0 + n.eps_n) * (1.0 + 1.0 / c->q) * v_n / v_t);
         }
         return -beta;
     }
-    return c->law_t[0];
+    return c->law_t[GR_HARD_SPHERE_EPS_T];
 }
 
 /* the modes the conformance suite checks as combinations of their own: smooth discs with eps_t,

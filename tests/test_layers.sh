@@ -23,6 +23,12 @@ io_includes=$(grep -rn '#include "integrators/' "$root"/src/io "$root"/src/cli "
 # (its restitution formulas, calibration and reference force live in its own file, not in src/)
 model_includes=$(grep -n '#include "' "$root"/models/*.[ch] | grep -v '#include "\(models\|granule\)/')
 [ -z "$model_includes" ] || bad "models/ includes a file of src/ (model physics belongs in models/):"$'\n'"$model_includes"
+# a model's own parameters (the keys only it, or a law it builds on, declares: hard_sphere's beta,
+# hertz's k_h, ...) are read by the models' prepare only; the rest of the tree reads the
+# coefficients prepare derived from them (gr_contact_coeffs, the slots the model's file names)
+own_keys='tc|k_h|viscoelastic|visco_A|v_max|beta|beta_mu|mu_r|kt_ratio|k_t|gamma_t|mindlin'
+own_reads=$(grep -rnE "(contact|\bp)\.($own_keys)\b" "$root"/src --include='*.[ch]' | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
+[ -z "$own_reads" ] || bad "src/ reads a model's own parameter (read its coefficients instead):"$'\n'"$own_reads"
 # every integrator folder is registered
 for d in "$root"/src/integrators/*/; do
     name=$(basename "$d")
