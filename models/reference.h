@@ -22,7 +22,7 @@
 #include "granule/model.h"
 
 /* the law's own state components: GR_REF_Y_STATE is integrated with error control (the spring's
- * s), GR_REF_Y_QUAD is a quadrature left out of the error test (the Mindlin spring's int k_t s ds) */
+ * s), GR_REF_Y_QUAD is a quadrature left out of the error test (Mindlin's int k_t s ds) */
 enum { GR_REF_Y_STATE = 0, GR_REF_Y_QUAD = 1, GR_REF_NY = 2 };
 /* at most this many roots per law (values crossing 0 downwards), and scratch values */
 enum { GR_REF_NROOTS = 4, GR_REF_NAUX = 8 };
@@ -31,31 +31,32 @@ enum { GR_REF_NROOTS = 4, GR_REF_NAUX = 8 };
  * `start` the regime at the touch; only `event` changes the regime afterwards. The reference
  * fills the normal law's scaled form before `setup`. The model's file names the slots. */
 typedef struct gr_ref_tangential {
-    double c_n, pow_a, pow_p; /* the normal law: F_n = X^pow_a - c_n X^pow_p g.n (set by the reference) */
-    bool clamp;               /* the normal law is clamped (the contact ends where F_n = 0) */
-    double k[4];              /* the law's constants */
-    bool mode;                /* the law's regime flag (sliding_friction: sliding; the spring: slipping) */
-    double sign;              /* the law's regime sign (the direction of sliding or slipping) */
-    double fn_sign;           /* sign of F_n in the current regime (|F_n| = fn_sign F_n); 1 at the touch */
+    /* the normal law, set by the reference: F_n = X^pow_a - c_n X^pow_p g.n */
+    double c_n, pow_a, pow_p;
+    bool clamp;     /* the normal law is clamped (the contact ends where F_n = 0) */
+    double k[4];    /* the law's constants */
+    bool mode;      /* the law's regime flag (sliding_friction: sliding; the spring: slipping) */
+    double sign;    /* the law's regime sign (the direction of sliding or slipping) */
+    double fn_sign; /* sign of F_n in the current regime (|F_n| = fn_sign F_n); 1 at the touch */
 } gr_ref_tangential;
 
 /* One point of the contact: the reference fills the inputs, `force` the outputs. */
 typedef struct gr_ref_point {
     /* inputs */
-    double xi;          /* overlap */
-    double gn, gt;      /* relative velocity along n and t (t = n rotated by +90 degrees) */
-    double gc;          /* the contact point's tangential velocity (gt with the spins' share) */
-    double rn;          /* |r| */
-    double fn, dfn;     /* the normal force and its rate dF_n/dt */
+    double xi;           /* overlap */
+    double gn, gt;       /* relative velocity along n and t (t = n rotated by +90 degrees) */
+    double gc;           /* the contact point's tangential velocity (gt with the spins' share) */
+    double rn;           /* |r| */
+    double fn, dfn;      /* the normal force and its rate dF_n/dt */
     double y[GR_REF_NY]; /* the law's own state components */
     /* the rate of gc given the law's force: gr_ref_gc_rate (the geometry's and the spins' share) */
     bool rot;
-    double W, q, D;     /* rotation: (w1 + w2) / w0, I / (M r^2), the diameter */
+    double W, q, D; /* rotation: (w1 + w2) / w0, I / (M r^2), the diameter */
     /* outputs */
-    double ft;               /* the tangential force along t */
-    double ydot[GR_REF_NY];  /* rates of the law's state components */
-    double e;                /* the elastic energy the law stores at this point (the spring's k_t s^2 / 2) */
-    double e_work;           /* the share of the force's work stored so far (int k_t s ds; e for a constant k_t) */
+    double ft;              /* the tangential force along t */
+    double ydot[GR_REF_NY]; /* rates of the law's state components */
+    double e;      /* the elastic energy the law stores here (the spring's k_t s^2 / 2) */
+    double e_work; /* the force's work stored so far (int k_t s ds; e for a constant k_t) */
     double aux[GR_REF_NAUX]; /* the law's scratch values, for its roots and events */
 } gr_ref_point;
 
@@ -81,12 +82,13 @@ typedef struct gr_reference_law {
     /* the law's constants in the reference's units, from the prepared coefficients; m12, w0 and
      * len = V / w0 convert them (a force k x becomes k x / (m12 w0 V), so a spring constant is
      * divided by m12 w0^2, a dashpot by m12 w0) */
-    void (*setup)(const gr_contact_coeffs *c, double m12, double w0, double len, gr_ref_tangential *l);
+    void (*setup)(const gr_contact_coeffs *c, double m12, double w0, double len,
+                  gr_ref_tangential *l);
     /* optional: the regime at the touch, from g.n and g_c there (has_tangent: g_c is not 0) */
     void (*start)(gr_ref_tangential *l, double gn0, double gc0, bool has_tangent);
     /* F_t at the point, the rates of y, e and e_work (the reference zeroes the outputs first) */
     void (*force)(const gr_ref_tangential *l, gr_ref_point *p);
-    /* optional: the values of the law's roots at the point after `force` (1 for a root not in use) */
+    /* optional: the values of the law's roots at the point after `force` (1: not in use) */
     void (*roots)(const gr_ref_tangential *l, const gr_ref_point *p, double g[GR_REF_NROOTS]);
     /* optional: at a root (found[k]: root k was reached; p as `force` left it), change the regime
      * and p->y; returns GR_REF_RESTART and GR_REF_STOP bits */

@@ -1,7 +1,8 @@
 /* spring_dashpot's restitution law (and that of hard_sphere's matching soft contact), included
  * by models/spring_dashpot.h and models/hard_sphere.h inside GR_MODEL_IMPL (compiled once, in
  * models/registry.c): the exact restitution of the linear spring-dashpot contact,
- * m12 xi'' + gamma xi' + k xi = 0, with beta = gamma / (2 m12), w0 = sqrt(k / m12), zeta = beta / w0.
+ * m12 xi'' + gamma xi' + k xi = 0, with beta = gamma / (2 m12), w0 = sqrt(k / m12),
+ * zeta = beta / w0.
  *
  * Unclamped (the thesis, eq. 2.6): the contact ends when the overlap returns to zero,
  *   eps = exp(-pi beta / w), w = sqrt(w0^2 - beta^2), duration pi / w.

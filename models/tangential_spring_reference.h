@@ -23,8 +23,8 @@
 enum { SPRING_REF_KT = 0, SPRING_REF_KM, SPRING_REF_CT, SPRING_REF_MU };
 enum { SPRING_AUX_S = 0, SPRING_AUX_TRIAL, SPRING_AUX_LIM, SPRING_AUX_RATE, SPRING_AUX_PHI };
 
-static void tangential_spring_ref_setup(const gr_contact_coeffs *c, double m12, double w0, double len,
-                                        gr_ref_tangential *l)
+static void tangential_spring_ref_setup(const gr_contact_coeffs *c, double m12, double w0,
+                                        double len, gr_ref_tangential *l)
 {
     l->k[SPRING_REF_KT] = c->law_t[GR_SPRING_KT] / (m12 * w0 * w0);
     l->k[SPRING_REF_KM] = c->law_t[GR_SPRING_KM] * sqrt(len) / (m12 * w0 * w0);
@@ -36,12 +36,14 @@ static void tangential_spring_ref_setup(const gr_contact_coeffs *c, double m12, 
  * mu |F_n| just after the touch. Both sides start as powers of the time (F_n ~ t^a for an
  * undamped law, t^p with damping, k_t s ~ t or t^(3/2) with Mindlin), so their ratio at a tiny
  * time along the free flight decides. */
-static void tangential_spring_ref_start(gr_ref_tangential *l, double gn0, double gc0, bool has_tangent)
+static void tangential_spring_ref_start(gr_ref_tangential *l, double gn0, double gc0,
+                                        bool has_tangent)
 {
     (void)has_tangent;
     const double e = 1e-8, X = -gn0 * e;
     const double fn = pow(X, l->pow_a) - l->c_n * pow(X, l->pow_p) * gn0;
-    const double trial = (l->k[SPRING_REF_KT] + l->k[SPRING_REF_KM] * sqrt(X)) * gc0 * e + l->k[SPRING_REF_CT] * gc0;
+    const double trial =
+        (l->k[SPRING_REF_KT] + l->k[SPRING_REF_KM] * sqrt(X)) * gc0 * e + l->k[SPRING_REF_CT] * gc0;
     l->mode = fabs(trial) > l->k[SPRING_REF_MU] * fabs(fn);
     l->sign = trial < 0.0 ? -1.0 : 1.0;
 }
@@ -64,7 +66,8 @@ static void tangential_spring_ref_force(const gr_ref_tangential *l, gr_ref_point
     const double trial = kk * s + ct * p->gc;
     const double dgc = gr_ref_gc_rate(p, ft);
     const double rate = kk * p->gc + ct * dgc + s * dk;
-    const double sdot = l->mode ? (l->sign * dlim - ct * dgc - s * dk) / (kk > 0.0 ? kk : 1.0) : p->gc;
+    const double sdot =
+        l->mode ? (l->sign * dlim - ct * dgc - s * dk) / (kk > 0.0 ? kk : 1.0) : p->gc;
     p->ft = ft;
     p->ydot[GR_REF_Y_STATE] = l->mode ? 0.0 : p->gc;
     p->ydot[GR_REF_Y_QUAD] = km != 0.0 ? kk * s * sdot : 0.0;
@@ -77,7 +80,8 @@ static void tangential_spring_ref_force(const gr_ref_tangential *l, gr_ref_point
     p->aux[SPRING_AUX_PHI] = l->sign * rate - dlim;
 }
 
-static void tangential_spring_ref_roots(const gr_ref_tangential *l, const gr_ref_point *p, double g[GR_REF_NROOTS])
+static void tangential_spring_ref_roots(const gr_ref_tangential *l, const gr_ref_point *p,
+                                        double g[GR_REF_NROOTS])
 {
     g[0] = l->mode ? p->aux[SPRING_AUX_PHI] : 1.0;
     g[1] = !l->clamp ? l->fn_sign * p->fn : 1.0;
@@ -85,11 +89,13 @@ static void tangential_spring_ref_roots(const gr_ref_tangential *l, const gr_ref
     g[3] = !l->mode ? p->aux[SPRING_AUX_LIM] + p->aux[SPRING_AUX_TRIAL] : 1.0;
 }
 
-static int tangential_spring_ref_event(gr_ref_tangential *l, const bool found[GR_REF_NROOTS], gr_ref_point *p)
+static int tangential_spring_ref_event(gr_ref_tangential *l, const bool found[GR_REF_NROOTS],
+                                       gr_ref_point *p)
 {
     int r = 0;
     if (found[0] && l->mode) {
-        p->y[GR_REF_Y_STATE] = p->aux[SPRING_AUX_S]; /* it sticks again where the constraint left s */
+        /* it sticks again where the constraint left s */
+        p->y[GR_REF_Y_STATE] = p->aux[SPRING_AUX_S];
         l->mode = false;
         r |= GR_REF_RESTART;
     }
