@@ -30,8 +30,8 @@
  * overlap (g.n crossing 0 upwards, so max_overlap is exact to the root tolerance, not sampled),
  * and the tangential law's own roots (sliding_friction: the end of sliding, g.t crossing 0, where
  * the law switches to F_t = 0, g is projected on n and CVODE restarts; the sign change of F_n
- * inside |F_n| for an unclamped law). The right-hand side always uses the smooth continuation of the current regime, so each event is a
- * clean root rather than a kink inside a step. The impulses are integrated as two extra state
+ * inside |F_n| for an unclamped law). The right-hand side always uses the smooth continuation of
+ * the current regime, so each event is a clean root rather than a kink inside a step. The impulses are integrated as two extra state
  * components, J_n = int |F_n| dt and J_t = int |F_t| dt (projections on the instantaneous n and
  * t), so "friction impulse <= mu x normal impulse" also holds when the unclamped law pulls.
  *
@@ -108,7 +108,8 @@ typedef struct ref_state {
 } ref_state;
 
 /* The rate dF_n/dt of F_n = X^a - c_n X^p g.n (the clamp only ends the contact where F_n = 0),
- * from d xi/dt = -g.n and d(g.n)/dt = F_n + (g.t)^2 / |r| (the tangential force turns g, not g.n) */
+ * from d xi/dt = -g.n and d(g.n)/dt = F_n + (g.t)^2 / |r| (F_t along t leaves g.n alone), for a
+ * tangential law whose force depends on it (the spring's Coulomb limit, mu |F_n|) */
 static double ref_fn_rate(const ref_ctx *c, const ref_state *s)
 {
     const double X = fmax(s->xi, 0.0), dxi = -s->gn;
