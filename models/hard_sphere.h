@@ -20,6 +20,13 @@
 
 extern const gr_model gr_model_hard_sphere;
 
+/* its own parameters (gr_contact_params.own); viscoelastic = true uses hertz's (k_h, visco_A) */
+typedef struct hard_sphere_own {
+    double tc;      /* TC-model time, s; 0 = the matching spring-dashpot's contact time */
+    double beta;    /* rotation: tangential restitution at the contact point, [-1, 1] */
+    double beta_mu; /* rotation: Coulomb limit of the tangential impulse (0: none) */
+} hard_sphere_own;
+
 /* The rule itself: the instantaneous collision of two equal masses (thesis eqs. 2.1, 2.2, 2.10),
  * called by the event-driven integrator (src/integrators/event/) and by
  * `granule collide --model hard_sphere`.
@@ -105,7 +112,10 @@ enum { GR_HARD_SPHERE_EPS_T = 0, GR_HARD_SPHERE_BETA = 1, GR_HARD_SPHERE_BETA_MU
  * would leave the pair touching at zero normal speed and stall the event calendar) */
 #define GR_HARD_SPHERE_MIN_EPS 1e-3
 
-#ifdef GR_MODEL_IMPL
+#endif /* GR_MODELS_HARD_SPHERE_H */
+
+#if defined(GR_MODEL_IMPL) && !defined(GR_MODELS_HARD_SPHERE_IMPL)
+#define GR_MODELS_HARD_SPHERE_IMPL
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <math.h>
 #include <stddef.h>
@@ -124,30 +134,31 @@ static const gr_param hard_sphere_params[] = {
      offsetof(gr_contact_params, eps_t)},
     {"tc", "s", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
      "TC-model time: a collision is elastic if either particle collided less than tc ago; 0 = the contact duration of the matching spring-dashpot (k_s, eps_n)",
-     offsetof(gr_contact_params, tc)},
+     GR_OWN_KEY(hard_sphere, tc)},
     GR_ROTATION_PARAMS,
     {"beta", "", GR_PARAM_DOUBLE, -1.0, -1.0, 1.0, false, false,
      "rotation = true: tangential restitution of the contact point (Walton): -1 smooth (no spin "
      "change), +1 perfectly rough; replaces eps_t",
-     offsetof(gr_contact_params, beta)},
+     GR_OWN_KEY(hard_sphere, beta)},
     {"beta_mu", "", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
      "rotation = true: Coulomb friction, the tangential impulse at most beta_mu times the normal one (the pair "
      "slides, Walton 1993); 0 = constant beta (always sticking)",
-     offsetof(gr_contact_params, beta_mu)},
+     GR_OWN_KEY(hard_sphere, beta_mu)},
     {"viscoelastic", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,
      "true: eps_n depends on the impact speed as for the hertz viscoelastic contact (k_h, "
      "visco_A; eps_n ignored); false = constant eps_n",
-     offsetof(gr_contact_params, viscoelastic)},
+     GR_OWN_KEY(hertz, viscoelastic)},
     {"k_h", "N/m^1.5", GR_PARAM_DOUBLE, 1e9, 0.0, INFINITY, true, true,
-     "viscoelastic = true: the hertz stiffness that sets eps_n(v)", offsetof(gr_contact_params, k_h)},
+     "viscoelastic = true: the hertz stiffness that sets eps_n(v)", GR_OWN_KEY(hertz, k_h)},
     {"visco_A", "s", GR_PARAM_DOUBLE, 1e-6, 0.0, INFINITY, false, true,
      "viscoelastic = true: the hertz viscoelastic time A that sets eps_n(v); 0 = elastic",
-     offsetof(gr_contact_params, visco_A)},
+     GR_OWN_KEY(hertz, visco_A)},
 };
 
 static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                    gr_error *err)
 {
+    const hard_sphere_own *o = GR_OWN(p, hard_sphere);
     (void)dt;
     if (!(p->eps_n > 0.0)) {
         /* eps_n = 0 leaves a touching pair at zero normal velocity: the next event is at the same
@@ -157,29 +168,29 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
                        "instantaneous collision leaves the pair touching at zero normal speed); use e.g. 0.001",
                        p->eps_n);
     }
-    if (!p->rotation && (p->beta != -1.0 || p->beta_mu != 0.0)) {
+    if (!p->rotation && (o->beta != -1.0 || o->beta_mu != 0.0)) {
         return GR_FAIL(err, GR_EINVAL,
                        "[model] beta = %g, beta_mu = %g: hard_sphere's rough collisions (beta in [-1, 1], beta_mu >= 0) "
                        "need rotation = true; without rotation the tangential restitution is eps_t",
-                       p->beta, p->beta_mu);
+                       o->beta, o->beta_mu);
     }
-    if (p->rotation && p->beta_mu > 0.0 && p->beta == -1.0) {
+    if (p->rotation && o->beta_mu > 0.0 && o->beta == -1.0) {
         return GR_FAIL(err, GR_EINVAL,
                        "[model] beta_mu = %g with beta = -1: smooth discs get no tangential impulse, so a Coulomb "
                        "limit does nothing; set beta in (-1, 1] (the sticking value, e.g. 1) or beta_mu = 0",
-                       p->beta_mu);
+                       o->beta_mu);
     }
-    if (!(p->tc >= 0.0) || !isfinite(p->tc)) {
-        return GR_FAIL(err, GR_EINVAL, "[model] tc = %g: allowed range [0, inf) s", p->tc);
+    if (!(o->tc >= 0.0) || !isfinite(o->tc)) {
+        return GR_FAIL(err, GR_EINVAL, "[model] tc = %g: allowed range [0, inf) s", o->tc);
     }
     c->normal = GR_NORMAL_HARD_SPHERE;
     c->m12 = m12;
     c->clamp = false;
     c->zeta = spring_dashpot_zeta_unclamped(p->eps_n); /* the matching spring-dashpot, eq. 2.6 */
     c->w0 = sqrt(p->k_s / m12);
-    if (p->tc > 0.0) {
+    if (o->tc > 0.0) {
         /* the soft contact that lasts tc: w0 from the duration pi / (w0 sqrt(1 - zeta^2)) */
-        c->w0 = spring_dashpot_duration_unclamped(c->zeta) / p->tc;
+        c->w0 = spring_dashpot_duration_unclamped(c->zeta) / o->tc;
     }
     c->k_s = m12 * c->w0 * c->w0;
     c->t_c = spring_dashpot_duration_unclamped(c->zeta) / c->w0;
@@ -188,7 +199,7 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
     c->e_scale = 0.5 * c->k_s;
     c->pow_a = 1.0;
     c->pow_p = 0.0;
-    if (p->viscoelastic) {
+    if (GR_OWN(p, hertz)->viscoelastic) {
         /* eps_n(v) of the hertz viscoelastic contact with the same keys: its damping and stiffness
          * feed hertz's own impact (hard_sphere_impact) */
         gr_contact_params hp = *p;
@@ -203,8 +214,8 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
         c->law_n[GR_HARD_SPHERE_KH] = hc.k_s;
     }
     c->law_t[GR_HARD_SPHERE_EPS_T] = p->eps_t; /* the rule's tangential restitution */
-    c->law_t[GR_HARD_SPHERE_BETA] = p->beta;   /* rotation = true: Walton's beta and its Coulomb limit */
-    c->law_t[GR_HARD_SPHERE_BETA_MU] = p->beta_mu;
+    c->law_t[GR_HARD_SPHERE_BETA] = o->beta;   /* rotation = true: Walton's beta and its Coulomb limit */
+    c->law_t[GR_HARD_SPHERE_BETA_MU] = o->beta_mu;
     c->gamma_t = 0.0;
     return GR_OK;
 }
@@ -266,5 +277,3 @@ const gr_model gr_model_hard_sphere = {
     .variants = hard_sphere_variants,
 };
 #endif /* GR_MODEL_IMPL */
-
-#endif

@@ -1,8 +1,9 @@
 /* The registry of collision models, generated from models/list.h: every model's descriptor and
  * prepare are compiled here (GR_MODEL_IMPL), in the order of the lists (normal laws, tangential
  * laws, event rules). */
+#include "models/list.h" /* the models' declarations and the layout of their own parameters */
 #define GR_MODEL_IMPL
-#include "models/list.h"
+#include "models/list.h" /* again: now each model's descriptor, prepare, ... (GR_MODEL_IMPL) */
 
 /* every tangential law gives the CVODE reference its force (models/reference.h): a law listed in
  * GR_TANGENTIAL_MODELS without a `static const gr_reference_law NAME_reference` does not build */

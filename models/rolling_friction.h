@@ -34,6 +34,11 @@
 
 extern const gr_model gr_model_rolling_friction;
 
+/* its own parameter (gr_contact_params.own) */
+typedef struct rolling_friction_own {
+    double mu_r; /* coefficient of rolling resistance */
+} rolling_friction_own;
+
 /* its constant, in gr_contact_coeffs.law_r */
 enum { ROLLING_FRICTION_MU_R = 0 };
 
@@ -47,7 +52,10 @@ GR_LAW gr_rolling_torque gr_rolling_rolling_friction(const gr_contact_coeffs *c,
     return (gr_rolling_torque){.m = m, .p = m * dw};
 }
 
-#ifdef GR_MODEL_IMPL
+#endif /* GR_MODELS_ROLLING_FRICTION_H */
+
+#if defined(GR_MODEL_IMPL) && !defined(GR_MODELS_ROLLING_FRICTION_IMPL)
+#define GR_MODELS_ROLLING_FRICTION_IMPL
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <stddef.h>
 
@@ -55,7 +63,7 @@ static const gr_param rolling_friction_params[] = {
     {"mu_r", "", GR_PARAM_DOUBLE, 0.1, 0.0, INFINITY, false, true,
      "coefficient of rolling resistance: a torque pair of magnitude mu_r F_n R_eff (F_n the normal force, "
      "R_eff = r / 2) against w_i - w_j; 0 = none",
-     offsetof(gr_contact_params, mu_r)},
+     GR_OWN_KEY(rolling_friction, mu_r)},
 };
 
 static int rolling_friction_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
@@ -68,7 +76,7 @@ static int rolling_friction_prepare(const gr_contact_params *p, double m12, doub
                        "[model] rolling = rolling_friction needs [model] rotation = true (a torque on the spins); "
                        "allowed without rotation: rolling = none");
     }
-    c->law_r[ROLLING_FRICTION_MU_R] = p->mu_r;
+    c->law_r[ROLLING_FRICTION_MU_R] = GR_OWN(p, rolling_friction)->mu_r;
     return GR_OK;
 }
 
@@ -102,5 +110,3 @@ const gr_model gr_model_rolling_friction = {
     .extremes = rolling_friction_extremes,
 };
 #endif /* GR_MODEL_IMPL */
-
-#endif

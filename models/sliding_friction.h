@@ -28,7 +28,10 @@ GR_LAW gr_tangential_force gr_tangential_sliding_friction(const gr_contact_coeff
     return (gr_tangential_force){.f = f, .p = -(f * g_t)};
 }
 
-#ifdef GR_MODEL_IMPL
+#endif /* GR_MODELS_SLIDING_FRICTION_H */
+
+#if defined(GR_MODEL_IMPL) && !defined(GR_MODELS_SLIDING_FRICTION_IMPL)
+#define GR_MODELS_SLIDING_FRICTION_IMPL
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <stddef.h>
 
@@ -135,5 +138,3 @@ const gr_model gr_model_sliding_friction = {
     .elastic = "mu=0",
 };
 #endif /* GR_MODEL_IMPL */
-
-#endif

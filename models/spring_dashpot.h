@@ -29,7 +29,10 @@ GR_LAW gr_normal_force gr_normal_spring_dashpot(const gr_contact_coeffs *c, cons
     return (gr_normal_force){.f = f, .f_d = f - k * xi, .e = xi * xi};
 }
 
-#ifdef GR_MODEL_IMPL
+#endif /* GR_MODELS_SPRING_DASHPOT_H */
+
+#if defined(GR_MODEL_IMPL) && !defined(GR_MODELS_SPRING_DASHPOT_IMPL)
+#define GR_MODELS_SPRING_DASHPOT_IMPL
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <stddef.h>
 
@@ -112,5 +115,3 @@ const gr_model gr_model_spring_dashpot = {
     .elastic = "eps_n=1",
 };
 #endif /* GR_MODEL_IMPL */
-
-#endif

@@ -28,7 +28,10 @@ GR_LAW gr_tangential_force gr_tangential_tangential_dashpot(const gr_contact_coe
     return o;
 }
 
-#ifdef GR_MODEL_IMPL
+#endif /* GR_MODELS_TANGENTIAL_DASHPOT_H */
+
+#if defined(GR_MODEL_IMPL) && !defined(GR_MODELS_TANGENTIAL_DASHPOT_IMPL)
+#define GR_MODELS_TANGENTIAL_DASHPOT_IMPL
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <stddef.h>
 
@@ -114,5 +117,3 @@ const gr_model gr_model_tangential_dashpot = {
     .elastic = "eps_t=1",
 };
 #endif /* GR_MODEL_IMPL */
-
-#endif

@@ -735,6 +735,34 @@ START_TEST(test_registry_covered)
 }
 END_TEST
 
+/* 6b. a scene key several models declare (eps_n, mu, rotation, hertz's k_h in hard_sphere) is one
+ * parameter: the same place in gr_contact_params (the shared keys or one model's own block), type
+ * and default, so gr_contact_set, gr_contact_defaults and every model agree on it */
+START_TEST(test_shared_keys_one_place)
+{
+    for (int m = 0; gr_models[m]; m++) {
+        for (int i = 0; i < gr_models[m]->n_params; i++) {
+            const gr_param *a = &gr_models[m]->params[i];
+            ck_assert_msg(a->offset + sizeof(double) <= sizeof(gr_contact_params), "%s: %s outside the parameters",
+                          gr_models[m]->name, a->name);
+            for (int n = 0; gr_models[n]; n++) {
+                for (int j = 0; j < gr_models[n]->n_params; j++) {
+                    const gr_param *b = &gr_models[n]->params[j];
+                    if (strcmp(a->name, b->name) == 0) {
+                        ck_assert_msg(a->offset == b->offset && a->type == b->type && a->def == b->def,
+                                      "%s's %s and %s's differ in place, type or default", gr_models[m]->name,
+                                      a->name, gr_models[n]->name);
+                    } else {
+                        ck_assert_msg(a->offset != b->offset, "%s's %s and %s's %s share a place", gr_models[m]->name,
+                                      a->name, gr_models[n]->name, b->name);
+                    }
+                }
+            }
+        }
+    }
+}
+END_TEST
+
 /* 7. a tangential law without a reference force is refused by the reference, never integrated
  * with F_t = 0 (a copy of each registered tangential law with its hook removed) */
 START_TEST(test_reference_needs_law)
@@ -764,6 +792,7 @@ static Suite *suite(void)
     TCase *tc = tcase_create("conformance");
     tcase_add_test(tc, test_registry_covered);
     tcase_add_test(tc, test_reference_needs_law);
+    tcase_add_test(tc, test_shared_keys_one_place);
     tcase_add_loop_test(tc, test_restitution_law, 0, n_combos);
     tcase_add_loop_test(tc, test_engine_vs_reference, 0, n_combos);
     tcase_add_loop_test(tc, test_elastic, 0, n_combos);
