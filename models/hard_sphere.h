@@ -20,6 +20,13 @@
 
 extern const gr_model gr_model_hard_sphere;
 
+/* its own parameters (gr_contact_params.own); viscoelastic = true uses hertz's (k_h, visco_A) */
+typedef struct hard_sphere_own {
+    double tc;      /* TC-model time, s; 0 = the matching spring-dashpot's contact time */
+    double beta;    /* rotation: tangential restitution at the contact point, [-1, 1] */
+    double beta_mu; /* rotation: Coulomb limit of the tangential impulse (0: none) */
+} hard_sphere_own;
+
 /* The rule itself: the instantaneous collision of two equal masses (thesis eqs. 2.1, 2.2, 2.10),
  * called by the event-driven integrator (src/integrators/event/) and by
  * `granule collide --model hard_sphere`.
@@ -94,16 +101,26 @@ static inline double gr_event_collide_rough(double M, double q, double R, double
     return beta;
 }
 
+/* The rule's constants, which its prepare sets and the event integrator and `granule collide`
+ * read (never the parameters themselves): in gr_contact_coeffs.law_n, 1 with viscoelastic = true
+ * and the hertz contact's damping and stiffness that set eps_n(v); in law_t, eps_t, Walton's
+ * beta and its Coulomb limit beta_mu (rotation = true). */
+enum { GR_HARD_SPHERE_VISCO = 0, GR_HARD_SPHERE_GAMMA = 1, GR_HARD_SPHERE_KH = 2 };
+enum { GR_HARD_SPHERE_EPS_T = 0, GR_HARD_SPHERE_BETA = 1, GR_HARD_SPHERE_BETA_MU = 2 };
+
 /* viscoelastic hard discs: the smallest eps_n used (an impact that would stick, eps_n(v) = 0,
  * would leave the pair touching at zero normal speed and stall the event calendar) */
 #define GR_HARD_SPHERE_MIN_EPS 1e-3
 
-#ifdef GR_MODEL_IMPL
+#endif /* GR_MODELS_HARD_SPHERE_H */
+
+#if defined(GR_MODEL_IMPL) && !defined(GR_MODELS_HARD_SPHERE_IMPL)
+#define GR_MODELS_HARD_SPHERE_IMPL
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <math.h>
 #include <stddef.h>
 
-#include "core/restitution.h"
+#include "models/spring_dashpot_restitution.h"
 
 static const gr_param hard_sphere_params[] = {
     {"k_s", "N/m", GR_PARAM_DOUBLE, 5e5, 0.0, INFINITY, true, true,
@@ -117,30 +134,31 @@ static const gr_param hard_sphere_params[] = {
      offsetof(gr_contact_params, eps_t)},
     {"tc", "s", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
      "TC-model time: a collision is elastic if either particle collided less than tc ago; 0 = the contact duration of the matching spring-dashpot (k_s, eps_n)",
-     offsetof(gr_contact_params, tc)},
+     GR_OWN_KEY(hard_sphere, tc)},
     GR_ROTATION_PARAMS,
     {"beta", "", GR_PARAM_DOUBLE, -1.0, -1.0, 1.0, false, false,
      "rotation = true: tangential restitution of the contact point (Walton): -1 smooth (no spin "
      "change), +1 perfectly rough; replaces eps_t",
-     offsetof(gr_contact_params, beta)},
+     GR_OWN_KEY(hard_sphere, beta)},
     {"beta_mu", "", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
      "rotation = true: Coulomb friction, the tangential impulse at most beta_mu times the normal one (the pair "
      "slides, Walton 1993); 0 = constant beta (always sticking)",
-     offsetof(gr_contact_params, beta_mu)},
+     GR_OWN_KEY(hard_sphere, beta_mu)},
     {"viscoelastic", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,
      "true: eps_n depends on the impact speed as for the hertz viscoelastic contact (k_h, "
      "visco_A; eps_n ignored); false = constant eps_n",
-     offsetof(gr_contact_params, viscoelastic)},
+     GR_OWN_KEY(hertz, viscoelastic)},
     {"k_h", "N/m^1.5", GR_PARAM_DOUBLE, 1e9, 0.0, INFINITY, true, true,
-     "viscoelastic = true: the hertz stiffness that sets eps_n(v)", offsetof(gr_contact_params, k_h)},
+     "viscoelastic = true: the hertz stiffness that sets eps_n(v)", GR_OWN_KEY(hertz, k_h)},
     {"visco_A", "s", GR_PARAM_DOUBLE, 1e-6, 0.0, INFINITY, false, true,
      "viscoelastic = true: the hertz viscoelastic time A that sets eps_n(v); 0 = elastic",
-     offsetof(gr_contact_params, visco_A)},
+     GR_OWN_KEY(hertz, visco_A)},
 };
 
 static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                    gr_error *err)
 {
+    const hard_sphere_own *o = GR_OWN(p, hard_sphere);
     (void)dt;
     if (!(p->eps_n > 0.0)) {
         /* eps_n = 0 leaves a touching pair at zero normal velocity: the next event is at the same
@@ -150,40 +168,40 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
                        "instantaneous collision leaves the pair touching at zero normal speed); use e.g. 0.001",
                        p->eps_n);
     }
-    if (!p->rotation && (p->beta != -1.0 || p->beta_mu != 0.0)) {
+    if (!p->rotation && (o->beta != -1.0 || o->beta_mu != 0.0)) {
         return GR_FAIL(err, GR_EINVAL,
                        "[model] beta = %g, beta_mu = %g: hard_sphere's rough collisions (beta in [-1, 1], beta_mu >= 0) "
                        "need rotation = true; without rotation the tangential restitution is eps_t",
-                       p->beta, p->beta_mu);
+                       o->beta, o->beta_mu);
     }
-    if (p->rotation && p->beta_mu > 0.0 && p->beta == -1.0) {
+    if (p->rotation && o->beta_mu > 0.0 && o->beta == -1.0) {
         return GR_FAIL(err, GR_EINVAL,
                        "[model] beta_mu = %g with beta = -1: smooth discs get no tangential impulse, so a Coulomb "
                        "limit does nothing; set beta in (-1, 1] (the sticking value, e.g. 1) or beta_mu = 0",
-                       p->beta_mu);
+                       o->beta_mu);
     }
-    if (!(p->tc >= 0.0) || !isfinite(p->tc)) {
-        return GR_FAIL(err, GR_EINVAL, "[model] tc = %g: allowed range [0, inf) s", p->tc);
+    if (!(o->tc >= 0.0) || !isfinite(o->tc)) {
+        return GR_FAIL(err, GR_EINVAL, "[model] tc = %g: allowed range [0, inf) s", o->tc);
     }
     c->normal = GR_NORMAL_HARD_SPHERE;
     c->m12 = m12;
     c->clamp = false;
-    c->zeta = gr_zeta_unclamped(p->eps_n); /* the matching spring-dashpot, eq. 2.6 */
+    c->zeta = spring_dashpot_zeta_unclamped(p->eps_n); /* the matching spring-dashpot, eq. 2.6 */
     c->w0 = sqrt(p->k_s / m12);
-    if (p->tc > 0.0) {
+    if (o->tc > 0.0) {
         /* the soft contact that lasts tc: w0 from the duration pi / (w0 sqrt(1 - zeta^2)) */
-        c->w0 = gr_duration_unclamped(c->zeta) / p->tc;
+        c->w0 = spring_dashpot_duration_unclamped(c->zeta) / o->tc;
     }
     c->k_s = m12 * c->w0 * c->w0;
-    c->t_c = gr_duration_unclamped(c->zeta) / c->w0;
+    c->t_c = spring_dashpot_duration_unclamped(c->zeta) / c->w0;
     c->eps_n_exact = p->eps_n;
     c->gamma_n = 0.0; /* no force law: kernels see a hard sphere as force-free */
     c->e_scale = 0.5 * c->k_s;
     c->pow_a = 1.0;
     c->pow_p = 0.0;
-    if (p->viscoelastic) {
+    if (GR_OWN(p, hertz)->viscoelastic) {
         /* eps_n(v) of the hertz viscoelastic contact with the same keys: its damping and stiffness
-         * (law_n[1], law_n[2]) feed hertz's own impact (hard_sphere_impact) */
+         * feed hertz's own impact (hard_sphere_impact) */
         gr_contact_params hp = *p;
         hp.clamp = false;
         gr_contact_coeffs hc = {0};
@@ -191,13 +209,13 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
         if (rc) {
             return rc;
         }
-        c->law_n[0] = 1.0;
-        c->law_n[1] = hc.gamma_n;
-        c->law_n[2] = hc.k_s;
+        c->law_n[GR_HARD_SPHERE_VISCO] = 1.0;
+        c->law_n[GR_HARD_SPHERE_GAMMA] = hc.gamma_n;
+        c->law_n[GR_HARD_SPHERE_KH] = hc.k_s;
     }
-    c->law_t[0] = p->eps_t; /* the rule's tangential restitution */
-    c->law_t[1] = p->beta;  /* rotation = true: Walton's beta and its Coulomb limit */
-    c->law_t[2] = p->beta_mu;
+    c->law_t[GR_HARD_SPHERE_EPS_T] = p->eps_t; /* the rule's tangential restitution */
+    c->law_t[GR_HARD_SPHERE_BETA] = o->beta;   /* rotation = true: Walton's beta and its Coulomb limit */
+    c->law_t[GR_HARD_SPHERE_BETA_MU] = o->beta_mu;
     c->gamma_t = 0.0;
     return GR_OK;
 }
@@ -207,13 +225,13 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
  * least GR_HARD_SPHERE_MIN_EPS. */
 static gr_normal_impact hard_sphere_impact(const gr_contact_coeffs *c, double v_n)
 {
-    if (c->law_n[0] == 0.0) {
+    if (c->law_n[GR_HARD_SPHERE_VISCO] == 0.0) {
         return (gr_normal_impact){c->eps_n_exact, 0.0, 1.0 + c->eps_n_exact};
     }
     gr_contact_coeffs hc = {0};
     hc.m12 = c->m12;
-    hc.gamma_n = c->law_n[1];
-    hc.k_s = c->law_n[2];
+    hc.gamma_n = c->law_n[GR_HARD_SPHERE_GAMMA];
+    hc.k_s = c->law_n[GR_HARD_SPHERE_KH];
     hc.pow_a = 1.5;
     hc.pow_p = 0.5; /* law_n[0] = 0: hertz's viscoelastic mode */
     double eps = gr_model_hertz.impact(&hc, v_n).eps_n;
@@ -225,13 +243,14 @@ static double hard_sphere_restitution_t(const gr_contact_coeffs *c, gr_normal_im
 {
     if (c->rotation) {
         /* the contact point's eps_t = -beta (g_ct' = -beta g_ct), for discs at rest before: g_ct = v_t */
-        double beta = c->law_t[1];
-        if (c->law_t[2] > 0.0 && v_t > 0.0) {
-            beta = fmin(beta, -1.0 + c->law_t[2] * (1.0 + n.eps_n) * (1.0 + 1.0 / c->q) * v_n / v_t);
+        double beta = c->law_t[GR_HARD_SPHERE_BETA];
+        const double beta_mu = c->law_t[GR_HARD_SPHERE_BETA_MU];
+        if (beta_mu > 0.0 && v_t > 0.0) {
+            beta = fmin(beta, -1.0 + beta_mu * (1.0 + n.eps_n) * (1.0 + 1.0 / c->q) * v_n / v_t);
         }
         return -beta;
     }
-    return c->law_t[0];
+    return c->law_t[GR_HARD_SPHERE_EPS_T];
 }
 
 /* the modes the conformance suite checks as combinations of their own: smooth discs with eps_t,
@@ -258,5 +277,3 @@ const gr_model gr_model_hard_sphere = {
     .variants = hard_sphere_variants,
 };
 #endif /* GR_MODEL_IMPL */
-
-#endif

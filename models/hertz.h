@@ -29,6 +29,14 @@
 
 extern const gr_model gr_model_hertz;
 
+/* its own parameters (gr_contact_params.own; hard_sphere's viscoelastic mode reads them too) */
+typedef struct hertz_own {
+    double k_h;        /* stiffness of F = k_h xi^(3/2), N/m^(3/2) */
+    bool viscoelastic; /* damping of Brilliantov et al. (A), not calibrated to eps_n */
+    double visco_A;    /* the viscoelastic time A, s */
+    double v_max;      /* the fastest impact the time step must resolve, m/s */
+} hertz_own;
+
 /* The pair law: k_s = k_h, gamma_n the damping coefficient, law_n[0] = 1 for the xi^(1/4)
  * damping (Tsuji), 0 for sqrt(xi) (viscoelastic): f = k_h xi^(3/2) - gamma_n xi^p g_n. Elastic
  * energy (2/5) k_h xi^(5/2). */
@@ -44,7 +52,10 @@ GR_LAW gr_normal_force gr_normal_hertz(const gr_contact_coeffs *c, const double 
     return (gr_normal_force){.f = f, .f_d = f - spring, .e = xi * xi * s};
 }
 
-#ifdef GR_MODEL_IMPL
+#endif /* GR_MODELS_HERTZ_H */
+
+#if defined(GR_MODEL_IMPL) && !defined(GR_MODELS_HERTZ_IMPL)
+#define GR_MODELS_HERTZ_IMPL
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <stddef.h>
 
@@ -161,7 +172,7 @@ static double hertz_alpha_of(double eps, int clamp, gr_error *err, int *rc)
 static const gr_param hertz_params[] = {
     {"k_h", "N/m^1.5", GR_PARAM_DOUBLE, 1e9, 0.0, INFINITY, true, true,
      "hertz: stiffness of F_n = k_h xi^(3/2); 1e9 gives the RFM discs about the linear law's overlap at 0.1 m/s",
-     offsetof(gr_contact_params, k_h)},
+     GR_OWN_KEY(hertz, k_h)},
     {"eps_n", "", GR_PARAM_DOUBLE, 0.6, 0.0, 1.0, false, false,
      "normal coefficient of restitution (2.2); 1 = elastic, 0 = sticking (unclamped only)",
      offsetof(gr_contact_params, eps_n)},
@@ -172,26 +183,27 @@ static const gr_param hertz_params[] = {
     {"viscoelastic", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,
      "hertz: true = damping (3/2) A k_h sqrt(xi) xi' of Brilliantov et al. 1996, eps_n depends on the impact "
      "speed (eps_n ignored); false = damping ~ xi^(1/4) xi' calibrated to a constant eps_n (Tsuji 1992, exact inversion)",
-     offsetof(gr_contact_params, viscoelastic)},
+     GR_OWN_KEY(hertz, viscoelastic)},
     {"visco_A", "s", GR_PARAM_DOUBLE, 1e-6, 0.0, INFINITY, false, true,
-     "hertz, viscoelastic = true: the viscoelastic time A; 0 = elastic", offsetof(gr_contact_params, visco_A)},
+     "hertz, viscoelastic = true: the viscoelastic time A; 0 = elastic", GR_OWN_KEY(hertz, visco_A)},
     {"v_max", "m/s", GR_PARAM_DOUBLE, 1.0, 0.0, INFINITY, true, true,
      "hertz: the fastest impact (normal relative speed) the time step must resolve; dt = t_c(v_max) / steps_per_contact",
-     offsetof(gr_contact_params, v_max)},
+     GR_OWN_KEY(hertz, v_max)},
 };
 
 static int hertz_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c, gr_error *err)
 {
+    const hertz_own *o = GR_OWN(p, hertz);
     (void)dt;
     c->normal = GR_NORMAL_NONE;
-    c->k_s = p->k_h;
+    c->k_s = o->k_h;
     c->m12 = m12;
     c->clamp = p->clamp;
     c->pow_a = 1.5;
-    if (p->viscoelastic) {
+    if (o->viscoelastic) {
         c->law_n[0] = 0.0;
         c->pow_p = 0.5;
-        c->gamma_n = 1.5 * p->visco_A * p->k_h;
+        c->gamma_n = 1.5 * o->visco_A * o->k_h;
     } else {
         if (p->clamp && !(p->eps_n > 0.0)) {
             return GR_FAIL(err, GR_EINVAL,
@@ -205,9 +217,9 @@ static int hertz_prepare(const gr_contact_params *p, double m12, double dt, gr_c
         }
         c->law_n[0] = 1.0;
         c->pow_p = 0.25;
-        c->gamma_n = alpha * sqrt(m12 * p->k_h);
+        c->gamma_n = alpha * sqrt(m12 * o->k_h);
     }
-    const gr_normal_impact at_max = hertz_impact(c, p->v_max);
+    const gr_normal_impact at_max = hertz_impact(c, o->v_max);
     c->t_c = at_max.t_c;
     c->eps_n_exact = at_max.eps_n;
     /* The contact linearised at the scaled overlap X = 1 of the v_max impact: stiffness
@@ -215,10 +227,10 @@ static int hertz_prepare(const gr_contact_params *p, double m12, double dt, gr_c
      * ratio c / (2 sqrt(3/2)). The time step's explicit-damping checks (2 zeta w0 dt < 1, and
      * the half-step lag near critical damping) use them, so an overdamped contact gets a
      * smaller step or is refused instead of gaining energy. */
-    const double t0 = hertz_x0(c, p->v_max) / p->v_max;
+    const double t0 = hertz_x0(c, o->v_max) / o->v_max;
     c->w0 = sqrt(1.5) / t0;
-    c->zeta = hertz_scaled_damping(c, p->v_max) / (2.0 * sqrt(1.5));
-    c->e_scale = 0.4 * p->k_h; /* U = (2/5) k_h xi^(5/2) */
+    c->zeta = hertz_scaled_damping(c, o->v_max) / (2.0 * sqrt(1.5));
+    c->e_scale = 0.4 * o->k_h; /* U = (2/5) k_h xi^(5/2) */
     return GR_OK;
 }
 
@@ -240,5 +252,3 @@ const gr_model gr_model_hertz = {
     .extremes = hertz_extremes,
 };
 #endif /* GR_MODEL_IMPL */
-
-#endif

@@ -13,9 +13,19 @@
 #ifndef GR_MODELS_LAW_H
 #define GR_MODELS_LAW_H
 
+#include <stddef.h>
+
 #include "granule/model.h"
 
 #define GR_LAW static inline __attribute__((always_inline))
+
+/* A model's own parameters: models/NAME.h declares `typedef struct NAME_own {...} NAME_own;`
+ * and lists NAME in GR_OWN_MODELS (models/list.h), which lays the blocks out inside
+ * gr_contact_params.own. GR_OWN(p, NAME) is the model's block in the parameters p, and
+ * GR_OWN_KEY(NAME, FIELD) the offset a descriptor (gr_param.offset) gives for one of its fields. */
+#define GR_OWN(p, NAME) ((const NAME##_own *)(const void *)((p)->own + offsetof(gr_own_layout, NAME)))
+#define GR_OWN_KEY(NAME, FIELD) \
+    (offsetof(gr_contact_params, own) + offsetof(gr_own_layout, NAME) + offsetof(NAME##_own, FIELD))
 
 /* A normal law: gr_normal_NAME(const gr_contact_coeffs *c, double xi, double g_n, int clamp)
  * returns

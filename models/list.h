@@ -2,18 +2,18 @@
  *
  * Adding a model: write models/NAME.h (copy the closest existing model; docs/architecture.md,
  * "How to add a collision model"), then add its #include below and its one entry to the list of
- * its kind. Everything else is generated from these lists: the registry `gr_models`
- * (models/registry.c), the specialised force kernels (src/core/kernels.c: every normal law with
- * no tangential law and with each tangential law, clamped and not, in 2D; every normal law
- * clamped and not on the 1D ring) and the conformance suite (tests/test_models_conformance.c,
- * which loops over `gr_models`).
+ * its kind (and to GR_OWN_MODELS if it has parameters of its own, a struct NAME_own). Everything
+ * else is generated from these lists: the registry `gr_models` (models/registry.c), the
+ * specialised force kernels (src/core/kernels.c: every normal law with no tangential law and
+ * with each tangential law, clamped and not, in 2D; every normal law clamped and not on the 1D
+ * ring), the layout of the models' own parameters and the conformance suite
+ * (tests/test_models_conformance.c, which loops over `gr_models`).
  *
  * The lists are X-macros: GR_NORMAL_MODELS(X, A) expands X(A, NAME) for every normal force law,
  * and so on. `A` is passed through untouched so that a list can be expanded inside another
  * (the kernels pair each normal law with each tangential law). */
-#ifndef GR_MODELS_LIST_H
-#define GR_MODELS_LIST_H
-
+/* outside the guard: models/registry.c includes this file twice, the second time with
+ * GR_MODEL_IMPL, which compiles each model's descriptor, prepare, ... (their own guards) */
 #include "models/spring_dashpot.h"
 #include "models/hertz.h"
 #include "models/tangential_dashpot.h"
@@ -21,6 +21,9 @@
 #include "models/tangential_spring.h"
 #include "models/hard_sphere.h"
 #include "models/rolling_friction.h"
+
+#ifndef GR_MODELS_LIST_H
+#define GR_MODELS_LIST_H
 
 /* normal force laws: models/NAME.h defines gr_normal_NAME and gr_model_NAME */
 #define GR_NORMAL_MODELS(X, A) \
@@ -46,5 +49,20 @@
  * src/integrators/event/ through its header) */
 #define GR_EVENT_MODELS(X, A) \
     X(A, hard_sphere)
+
+/* the models with parameters of their own, a struct NAME_own in models/NAME.h: their blocks, one
+ * after the other, in gr_contact_params.own (GR_OWN, GR_OWN_KEY of models/law.h) */
+#define GR_OWN_MODELS(X, A) \
+    X(A, hertz)             \
+    X(A, tangential_spring) \
+    X(A, hard_sphere)       \
+    X(A, rolling_friction)
+
+#define GR_OWN_BLOCK(A, NAME) NAME##_own NAME;
+typedef struct gr_own_layout {
+    GR_OWN_MODELS(GR_OWN_BLOCK, )
+} gr_own_layout;
+_Static_assert(sizeof(gr_own_layout) <= GR_CONTACT_OWN_BYTES,
+               "the models' own parameters outgrow gr_contact_params.own: raise GR_CONTACT_OWN_BYTES");
 
 #endif

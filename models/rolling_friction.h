@@ -34,17 +34,28 @@
 
 extern const gr_model gr_model_rolling_friction;
 
+/* its own parameter (gr_contact_params.own) */
+typedef struct rolling_friction_own {
+    double mu_r; /* coefficient of rolling resistance */
+} rolling_friction_own;
+
+/* its constant, in gr_contact_coeffs.law_r */
+enum { ROLLING_FRICTION_MU_R = 0 };
+
 /* The pair law: the torque on j (on i its opposite) and the power it dissipates, >= 0. */
 GR_LAW gr_rolling_torque gr_rolling_rolling_friction(const gr_contact_coeffs *c, const gr_rolling_in in)
 {
     const double dw = in.dw;
-    const double cap = in.i_2dt * fabs(dw), full = c->mu_r * fabs(in.f_n) * in.r_eff;
+    const double cap = in.i_2dt * fabs(dw), full = c->law_r[ROLLING_FRICTION_MU_R] * fabs(in.f_n) * in.r_eff;
     const double mag = in.acts ? (full < cap ? full : cap) : 0.0;
     const double m = dw > 0.0 ? mag : (dw < 0.0 ? -mag : 0.0);
     return (gr_rolling_torque){.m = m, .p = m * dw};
 }
 
-#ifdef GR_MODEL_IMPL
+#endif /* GR_MODELS_ROLLING_FRICTION_H */
+
+#if defined(GR_MODEL_IMPL) && !defined(GR_MODELS_ROLLING_FRICTION_IMPL)
+#define GR_MODELS_ROLLING_FRICTION_IMPL
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <stddef.h>
 
@@ -52,7 +63,7 @@ static const gr_param rolling_friction_params[] = {
     {"mu_r", "", GR_PARAM_DOUBLE, 0.1, 0.0, INFINITY, false, true,
      "coefficient of rolling resistance: a torque pair of magnitude mu_r F_n R_eff (F_n the normal force, "
      "R_eff = r / 2) against w_i - w_j; 0 = none",
-     offsetof(gr_contact_params, mu_r)},
+     GR_OWN_KEY(rolling_friction, mu_r)},
 };
 
 static int rolling_friction_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
@@ -65,12 +76,12 @@ static int rolling_friction_prepare(const gr_contact_params *p, double m12, doub
                        "[model] rolling = rolling_friction needs [model] rotation = true (a torque on the spins); "
                        "allowed without rotation: rolling = none");
     }
-    c->mu_r = p->mu_r;
+    c->law_r[ROLLING_FRICTION_MU_R] = GR_OWN(p, rolling_friction)->mu_r;
     return GR_OK;
 }
 
 /* mu_r = 0: no torque, the kernel without it runs */
-static bool rolling_friction_inert(const gr_contact_coeffs *c) { return c->mu_r == 0.0; }
+static bool rolling_friction_inert(const gr_contact_coeffs *c) { return c->law_r[ROLLING_FRICTION_MU_R] == 0.0; }
 
 /* an enormous coefficient: the torque is then always the limit that stops the rolling in a step */
 static const char *const rolling_friction_extremes[] = {"mu_r=1e9", NULL};
@@ -82,7 +93,7 @@ static const char *const rolling_friction_extremes[] = {"mu_r=1e9", NULL};
  * suite and tests/test_rolling.c check the engine against this). The translation is untouched. */
 static double rolling_friction_spin_loss(const gr_contact_coeffs *c, double p_n, double r_eff, double inertia, double dw0)
 {
-    const double J = fmin(c->mu_r * r_eff * fabs(p_n), 0.5 * inertia * fabs(dw0));
+    const double J = fmin(c->law_r[ROLLING_FRICTION_MU_R] * r_eff * fabs(p_n), 0.5 * inertia * fabs(dw0));
     return J * fabs(dw0) - J * J / inertia;
 }
 
@@ -99,5 +110,3 @@ const gr_model gr_model_rolling_friction = {
     .extremes = rolling_friction_extremes,
 };
 #endif /* GR_MODEL_IMPL */
-
-#endif

@@ -29,11 +29,14 @@ GR_LAW gr_normal_force gr_normal_spring_dashpot(const gr_contact_coeffs *c, cons
     return (gr_normal_force){.f = f, .f_d = f - k * xi, .e = xi * xi};
 }
 
-#ifdef GR_MODEL_IMPL
+#endif /* GR_MODELS_SPRING_DASHPOT_H */
+
+#if defined(GR_MODEL_IMPL) && !defined(GR_MODELS_SPRING_DASHPOT_IMPL)
+#define GR_MODELS_SPRING_DASHPOT_IMPL
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <stddef.h>
 
-#include "core/restitution.h"
+#include "models/spring_dashpot_restitution.h"
 
 static const gr_param spring_dashpot_params[] = {
     {"k_s", "N/m", GR_PARAM_DOUBLE, 5e5, 0.0, INFINITY, true, true,
@@ -63,12 +66,12 @@ static int spring_dashpot_prepare(const gr_contact_params *p, double m12, double
                            "infinite dashpot); allowed range with clamping: (0, 1]; use clamp = "
                            "false for a sticking contact");
         }
-        c->zeta = gr_zeta_clamped(p->eps_n);
-        c->t_c = gr_duration_clamped(c->zeta) / c->w0;
-        c->eps_n_exact = gr_eps_clamped(c->zeta);
+        c->zeta = spring_dashpot_zeta_clamped(p->eps_n);
+        c->t_c = spring_dashpot_duration_clamped(c->zeta) / c->w0;
+        c->eps_n_exact = spring_dashpot_eps_clamped(c->zeta);
     } else {
-        c->zeta = gr_zeta_unclamped(p->eps_n); /* eq. 2.6 */
-        c->t_c = gr_duration_unclamped(c->zeta) / c->w0;
+        c->zeta = spring_dashpot_zeta_unclamped(p->eps_n); /* eq. 2.6 */
+        c->t_c = spring_dashpot_duration_unclamped(c->zeta) / c->w0;
         c->eps_n_exact = p->eps_n;
     }
     c->gamma_n = 2.0 * c->zeta * sqrt(p->k_s * m12);
@@ -112,5 +115,3 @@ const gr_model gr_model_spring_dashpot = {
     .elastic = "eps_n=1",
 };
 #endif /* GR_MODEL_IMPL */
-
-#endif

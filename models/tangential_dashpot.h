@@ -28,9 +28,14 @@ GR_LAW gr_tangential_force gr_tangential_tangential_dashpot(const gr_contact_coe
     return o;
 }
 
-#ifdef GR_MODEL_IMPL
+#endif /* GR_MODELS_TANGENTIAL_DASHPOT_H */
+
+#if defined(GR_MODEL_IMPL) && !defined(GR_MODELS_TANGENTIAL_DASHPOT_IMPL)
+#define GR_MODELS_TANGENTIAL_DASHPOT_IMPL
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <stddef.h>
+
+#include "models/reference.h"
 
 static const gr_param tangential_dashpot_params[] = {
     {"eps_t", "", GR_PARAM_DOUBLE, 0.6, 0.0, 1.0, false, false,
@@ -75,6 +80,25 @@ static double tangential_dashpot_restitution_t(const gr_contact_coeffs *c, gr_no
     return exp(-c->gamma_t * t_c / c->m_t);
 }
 
+/* The force the CVODE reference integrates (models/reference.h): F_t = -gamma_t g_c (2.9). */
+enum { DASHPOT_REF_CT = 0 }; /* gamma_t / (m12 w0) */
+static void tangential_dashpot_ref_setup(const gr_contact_coeffs *c, double m12, double w0, double len,
+                                         gr_ref_tangential *l)
+{
+    (void)len;
+    l->k[DASHPOT_REF_CT] = c->gamma_t / (m12 * w0);
+}
+
+static void tangential_dashpot_ref_force(const gr_ref_tangential *l, gr_ref_point *p)
+{
+    p->ft = -l->k[DASHPOT_REF_CT] * p->gc;
+}
+
+static const gr_reference_law tangential_dashpot_reference = {
+    .setup = tangential_dashpot_ref_setup,
+    .force = tangential_dashpot_ref_force,
+};
+
 /* eps_t = 1 gives gamma_t = 0: the law does nothing, the kernel without it runs */
 static bool tangential_dashpot_inert(const gr_contact_coeffs *c) { return c->gamma_t == 0.0; }
 
@@ -87,9 +111,9 @@ const gr_model gr_model_tangential_dashpot = {
     .prepare = tangential_dashpot_prepare,
     .inert = tangential_dashpot_inert,
     .contact_point = true,
+    .constant_eps_t = true,
     .restitution_t = tangential_dashpot_restitution_t,
+    .reference = &tangential_dashpot_reference,
     .elastic = "eps_t=1",
 };
 #endif /* GR_MODEL_IMPL */
-
-#endif

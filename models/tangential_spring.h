@@ -2,8 +2,9 @@
  *
  * Wired into the engine (models/list.h, GR_HISTORY_MODELS): the kernels keep s per contact in the
  * store of src/core/contact_history.c (one slot per touching pair, carried across neighbour-list
- * rebuilds and checkpoints). Its restitution law (models/tangential_spring_restitution.h) and the
- * CVODE reference (src/collide/reference.c) integrate the continuous-time stick-slip. Options: a
+ * rebuilds and checkpoints). Its restitution law (models/tangential_spring_restitution.h) and its
+ * force in the CVODE reference (models/tangential_spring_reference.h) integrate the
+ * continuous-time stick-slip. Options: a
  * Mindlin stiffness k_t = km sqrt(xi) (`mindlin = true`, hertz only; LAMMPS `tangential mindlin`).
  * With rotation (`rotation = true`) g_t is the contact point's, surface velocities included
  * (models/law.h), and the force's torque a F_t acts on both discs; the spring's share a (-k_t s) is
@@ -29,9 +30,18 @@
 
 #include <math.h>
 
+#include "models/hertz.h" /* hertz_own: Mindlin reads v_max */
 #include "models/law.h"
 
 extern const gr_model gr_model_tangential_spring;
+
+/* its own parameters (gr_contact_params.own) */
+typedef struct tangential_spring_own {
+    double kt_ratio; /* k_t / k_s (linear normal law) */
+    double k_t;      /* tangential spring constant, N/m (0: kt_ratio k_s) */
+    double gamma_t;  /* tangential dashpot in parallel with the spring, kg/s */
+    bool mindlin;    /* k_t ~ sqrt(xi) (Mindlin; normal = hertz only) */
+} tangential_spring_own;
 
 /* the constants of the law, in gr_contact_coeffs.law_t: k_t = KT + KM sqrt(xi) (linear: KM = 0;
  * Mindlin: KT = 0) */
@@ -95,7 +105,10 @@ GR_LAW gr_tangential_force gr_tangential_tangential_spring(const gr_contact_coef
     return o;
 }
 
-#ifdef GR_MODEL_IMPL
+#endif /* GR_MODELS_TANGENTIAL_SPRING_H */
+
+#if defined(GR_MODEL_IMPL) && !defined(GR_MODELS_TANGENTIAL_SPRING_IMPL)
+#define GR_MODELS_TANGENTIAL_SPRING_IMPL
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <stddef.h>
 #include <string.h>
@@ -105,21 +118,21 @@ static const gr_param tangential_spring_params[] = {
      "tangential stiffness k_t = kt_ratio m12 w0^2: kt_ratio k_s for spring_dashpot, for hertz its stiffness "
      "linearised at the v_max impact (2/7: the usual DEM choice, after solid spheres); mindlin = true: "
      "k_t = kt_ratio (3/2) k_h sqrt(xi); ignored when k_t > 0",
-     offsetof(gr_contact_params, kt_ratio)},
+     GR_OWN_KEY(tangential_spring, kt_ratio)},
     {"k_t", "N/m", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
      "tangential spring constant; 0: from kt_ratio; mindlin = true: k_t sqrt(xi / x0), x0 the overlap unit of "
      "the v_max impact, (m12 v_max^2 / k_h)^(2/5)",
-     offsetof(gr_contact_params, k_t)},
+     GR_OWN_KEY(tangential_spring, k_t)},
     {"gamma_t", "kg/s", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
      "tangential dashpot in parallel with the spring (LAMMPS linear_history's damping); 0: none",
-     offsetof(gr_contact_params, gamma_t)},
+     GR_OWN_KEY(tangential_spring, gamma_t)},
     {"mu", "", GR_PARAM_DOUBLE, 0.5, 0.0, INFINITY, false, true,
      "Coulomb limit |F_t| <= mu |F_n|: beyond it the contact slips and the spring is shortened",
      offsetof(gr_contact_params, mu)},
     {"mindlin", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,
      "true (normal = hertz only): Mindlin stiffness k_t ~ sqrt(xi), as LAMMPS tangential mindlin's "
      "8 G_eff a, a = sqrt(R_eff xi) (s kept, not rescaled); false: constant k_t",
-     offsetof(gr_contact_params, mindlin)},
+     GR_OWN_KEY(tangential_spring, mindlin)},
     GR_ROTATION_PARAMS,
 };
 
@@ -131,17 +144,18 @@ static const gr_param tangential_spring_params[] = {
 static int tangential_spring_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                                      gr_error *err)
 {
+    const tangential_spring_own *o = GR_OWN(p, tangential_spring);
     (void)m12;
     c->tangential = GR_TANGENTIAL_SPRING;
     c->mu = p->mu;
     /* k_t = kt_ratio m12 w0^2: kt_ratio k_s for the linear law; for hertz w0 is its contact
      * linearised at the v_max impact (models/hertz.h) */
-    double k_t = p->k_t;
+    double k_t = o->k_t;
     if (k_t == 0.0) {
-        k_t = p->kt_ratio * (c->pow_a == 1.0 ? c->k_s : c->m12 * c->w0 * c->w0);
+        k_t = o->kt_ratio * (c->pow_a == 1.0 ? c->k_s : c->m12 * c->w0 * c->w0);
     }
     double k_max = k_t, km = 0.0; /* the stiffest k_t of a v_max contact, for the step check */
-    if (p->mindlin) {
+    if (o->mindlin) {
         const char *nn = c->normal_model ? c->normal_model->name : "none";
         if (strcmp(nn, "hertz") != 0) {
             return GR_FAIL(err, GR_EINVAL, "[model] mindlin = true needs normal = hertz (given %s): the Mindlin "
@@ -149,7 +163,7 @@ static int tangential_spring_prepare(const gr_contact_params *p, double m12, dou
         }
         /* k_t(xi) = km sqrt(xi), equal to the linear k_t at xi = x0: with kt_ratio, km = kt_ratio
          * (3/2) k_h, i.e. kt_ratio times the Hertz law's own stiffness dF_n/dxi */
-        const double x0 = pow(c->m12 * p->v_max * p->v_max / c->k_s, 0.4);
+        const double x0 = pow(c->m12 * GR_OWN(p, hertz)->v_max * GR_OWN(p, hertz)->v_max / c->k_s, 0.4);
         km = k_t / sqrt(x0);
         k_max = km * sqrt(SPRING_HERTZ_XMAX * x0);
         k_t = 0.0;
@@ -160,21 +174,22 @@ static int tangential_spring_prepare(const gr_contact_params *p, double m12, dou
     if (dt > 0.0 && w_t * dt > 2.0 * M_PI / 10.0) {
         return GR_FAIL(err, GR_EINVAL, "[model] tangential_spring: k_t = %g N/m%s oscillates with period %.4g s, "
                        "fewer than 10 steps of dt = %g s; allowed k_t <= %.4g N/m (or a smaller dt)",
-                       k_max, p->mindlin ? " (Mindlin, at the v_max impact's largest overlap)" : "", 2.0 * M_PI / w_t,
+                       k_max, o->mindlin ? " (Mindlin, at the v_max impact's largest overlap)" : "", 2.0 * M_PI / w_t,
                        dt, c->m_t * pow(2.0 * M_PI / (10.0 * dt), 2));
     }
-    if (dt > 0.0 && p->gamma_t * dt >= c->m_t) {
+    if (dt > 0.0 && o->gamma_t * dt >= c->m_t) {
         return GR_FAIL(err, GR_EINVAL, "[model] gamma_t = %g kg/s is too large for dt = %g s (explicit "
-                       "damping); allowed gamma_t < m_t / dt = %.4g kg/s", p->gamma_t, dt, c->m_t / dt);
+                       "damping); allowed gamma_t < m_t / dt = %.4g kg/s", o->gamma_t, dt, c->m_t / dt);
     }
     c->law_t[GR_SPRING_KT] = k_t;
-    c->law_t[GR_SPRING_GAMMA] = p->gamma_t;
+    c->law_t[GR_SPRING_GAMMA] = o->gamma_t;
     c->law_t[GR_SPRING_DT] = dt > 0.0 ? dt : 1.0; /* dt = 0: the continuous law (no kernel runs) */
     c->law_t[GR_SPRING_KM] = km;
     return GR_OK;
 }
 
 #include "models/tangential_spring_restitution.h"
+#include "models/tangential_spring_reference.h"
 
 /* mu = 0: no tangential force at all (the Coulomb limit is 0), the kernel without it runs */
 static bool tangential_spring_inert(const gr_contact_coeffs *c) { return c->mu == 0.0; }
@@ -191,10 +206,9 @@ const gr_model gr_model_tangential_spring = {
     .prepare = tangential_spring_prepare,
     .inert = tangential_spring_inert,
     .restitution_t = tangential_spring_restitution_t,
+    .reference = &tangential_spring_reference,
     .contact_point = true,
     .elastic = "mu=0",
     .variants = tangential_spring_variants,
 };
 #endif /* GR_MODEL_IMPL */
-
-#endif

@@ -281,6 +281,36 @@ check_model() {
 check_model spring_dashpot k_s eps_n clamp
 check_model tangential_dashpot eps_t
 check_model sliding_friction mu
+# collide prints exactly the chosen models' parameters, from their descriptors (no list of its own),
+# each with its value and, for numbers, a unit
+models_out=$out
+for m in hertz+tangential_spring spring_dashpot+sliding_friction hard_sphere \
+         "spring_dashpot+tangential_dashpot+rolling_friction --set rotation=true"; do
+    # shellcheck disable=SC2086
+    run "$G" collide --speed 0.1 --angle 30 --model $m
+    if [[ $rc -eq 0 ]] && python3 -c '
+import json, re, sys
+models, cur = {}, None
+for line in sys.argv[2].splitlines():
+    if re.match(r"^\S", line):
+        cur = line.split()[0]
+        models[cur] = {}
+    elif line.startswith("    ") and cur:
+        f = line.split()
+        models[cur][f[0]] = "default false" not in line and "default true" not in line
+chosen = sys.argv[3].split()[0].split("+")
+d = json.loads(sys.argv[1])
+mine = {k: num for m in chosen for k, num in models[m].items()}
+others = {k for m in models for k in models[m]} - set(mine)
+ok = all(k in d for k in mine) and not any(k in d for k in others)
+ok = ok and all(d["units"].get(k) for k, num in mine.items() if num)
+sys.exit(0 if ok else 1)' "$out" "$models_out" "$m" 2>"$TMP/py"; then
+        pass "collide --model $m: prints exactly the models' parameters, with units"
+    else
+        fail "collide --model $m: parameters differ from the models' descriptors (exit $rc)" "$out" "$err $(cat "$TMP/py")"
+    fi
+done
+out=$models_out
 
 run "$G" keys
 if [[ $rc -eq 0 ]]; then pass "keys exits 0"; else fail "keys exits $rc" "$err"; fi

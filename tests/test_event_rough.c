@@ -287,8 +287,8 @@ START_TEST(test_collide_rough)
         cs.contact.eps_n = eps;
         cs.contact.rotation = true;
         cs.contact.inertia_factor = q;
-        cs.contact.beta = beta0;
-        cs.contact.beta_mu = coulomb ? 0.1 : 0.0;
+        ck_assert_int_eq(gr_contact_set_value(&cs.contact, "beta", beta0, NULL), GR_OK);
+        ck_assert_int_eq(gr_contact_set_value(&cs.contact, "beta_mu", coulomb ? 0.1 : 0.0, NULL), GR_OK);
         /* disc 1 moves along x at 1 m/s towards disc 2 (at rest) with impact parameter d / sqrt 2 */
         gr_collision_case c = {{0.0, 0.0}, {1.0, 0.0}, {1.0, 2.0 * cs.radius * M_SQRT1_2}, {0.0, 0.0}};
         gr_error err = {0};
@@ -331,9 +331,9 @@ START_TEST(test_viscoelastic_collide)
         cs.normal = gr_model_find("hard_sphere");
         cs.mass = MASS;
         cs.radius = RADIUS;
-        cs.contact.viscoelastic = true;
-        cs.contact.k_h = 1e9;
-        cs.contact.visco_A = 2e-7;
+        ck_assert_int_eq(gr_contact_set_value(&cs.contact, "viscoelastic", true, NULL), GR_OK);
+        ck_assert_int_eq(gr_contact_set_value(&cs.contact, "k_h", 1e9, NULL), GR_OK);
+        ck_assert_int_eq(gr_contact_set_value(&cs.contact, "visco_A", 2e-7, NULL), GR_OK);
         gr_collision_case c = {{0.0, 0.0}, {speeds[k], 0.0}, {2.0 * DIAM, 0.0}, {0.0, 0.0}};
         gr_collide_result r;
         gr_error err = {0};

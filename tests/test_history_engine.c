@@ -321,7 +321,7 @@ static gr_sim *pair_sim(double q, double mu, double gamma_t, double angle, doubl
     sc.normal = gr_model_find("spring_dashpot");
     sc.tangential = gr_model_find("tangential_spring");
     sc.contact.mu = mu;
-    sc.contact.gamma_t = gamma_t;
+    ck_assert_int_eq(gr_contact_set_value(&sc.contact, "gamma_t", gamma_t, NULL), GR_OK);
     sc.contact.rotation = q > 0.0;
     sc.contact.inertia_factor = q > 0.0 ? q : 0.5;
     sc.D = 0.0;

@@ -36,6 +36,16 @@ analysis_laws=$(grep -nw 'k_s\|gamma_n\|gamma_t\|gr_contact_prepare\|gr_normal_[
 # the run driver and everything but the integrators' own folders use the integrator interface
 int_includes=$(grep -rn '#include "integrators/' "$root"/src --include='*.[ch]' | grep -v "^$root/src/integrators/")
 [ -z "$int_includes" ] || bad "an integrator header included outside src/integrators:"$'\n'"$int_includes"
+# a model is closed over its physics: models/ includes only the public API and other models
+# (its restitution formulas, calibration and reference force live in its own file, not in src/)
+model_includes=$(grep -n '#include "' "$root"/models/*.[ch] | grep -v '#include "\(models\|granule\)/')
+[ -z "$model_includes" ] || bad "models/ includes a file of src/ (model physics belongs in models/):"$'\n'"$model_includes"
+# a model's own parameters (the keys only it, or a law it builds on, declares: hard_sphere's beta,
+# hertz's k_h, ...) are read by the models' prepare only; the rest of the tree reads the
+# coefficients prepare derived from them (gr_contact_coeffs, the slots the model's file names)
+own_keys='tc|k_h|viscoelastic|visco_A|v_max|beta|beta_mu|mu_r|kt_ratio|k_t|gamma_t|mindlin'
+own_reads=$(grep -rnE "(contact|\bp)\.($own_keys)\b" "$root"/src --include='*.[ch]' | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
+[ -z "$own_reads" ] || bad "src/ reads a model's own parameter (read its coefficients instead):"$'\n'"$own_reads"
 # every integrator folder is registered
 for d in "$root"/src/integrators/*/; do
     name=$(basename "$d")
@@ -46,5 +56,5 @@ done
 lib_prints=$(grep -rn 'f\(printf\|puts\|putc\|write\)([^;]*\bstd\(err\|out\)\b\|[^a-z_]printf(\|[^a-z_]puts(\|[^a-z_]putchar(\|[^a-z_]abort()\|[^a-z_]perror(' \
     "$root"/src "$root"/models --include='*.[ch]' | grep -v "^$root/src/cli/\|^$root/src/app/report.c:" | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
 [ -z "$lib_prints" ] || bad "the library prints or aborts (only src/cli may):"$'\n'"$lib_prints"
-[ $fail = 0 ] && echo "layers: ok ($layers, each including only those below; integrators behind their interface; no scene and no contact law in src/analysis; the library does not print)"
+[ $fail = 0 ] && echo "layers: ok ($layers, each including only those below; integrators behind their interface; no scene and no contact law in src/analysis; models free of src/ and closed over their parameters; the library does not print)"
 exit $fail

@@ -19,8 +19,10 @@
  * A tangential law with modes of its own (gr_model.variants: tangential_spring's mindlin) joins
  * in each mode with every normal law whose prepare accepts it (Mindlin: hertz only).
  * The history spring (tangential_spring) is held to the same checks: its restitution law is a
- * fixed-normal integration of its stick-slip (models/tangential_spring_restitution.h), its CVODE
- * reference integrates s with the stick/slip switches as roots (src/collide/reference.c); the
+ * fixed-normal integration of its stick-slip (models/tangential_spring_restitution.h), its force
+ * in the CVODE reference integrates s with the stick/slip switches as roots
+ * (models/tangential_spring_reference.h; every tangential law gives the reference its force,
+ * gr_model.reference, and a law without one is refused, never integrated with F_t = 0); the
  * reference's own limits, energy balance and convergence are checked in
  * tests/test_spring_reference.c.
  * Rolling laws (GR_ROLLING_MODELS) join every rotating combination: the checks above (with the
@@ -49,6 +51,7 @@
 #include "granule/sim.h"
 #include "core/sim_internal.h" /* gr_kernel_force_generic, gr_kernel_instances */
 #include "models/hard_sphere.h" /* the rough rule itself, for angular momentum */
+#include "models/reference.h"   /* gr_model.reference */
 #include "check_main.h"
 #include "test_env.h"
 
@@ -725,6 +728,9 @@ START_TEST(test_registry_covered)
             ck_assert_msg(md->spin_loss, "%s: a rolling law needs spin_loss", md->name);
         } else {
             ck_assert_msg(md->restitution_t, "%s: a tangential law needs restitution_t", md->name);
+            ck_assert_msg(md->reference && md->reference->setup && md->reference->force,
+                          "%s: a tangential law needs its force in the CVODE reference (gr_model.reference, "
+                          "models/reference.h)", md->name);
         }
     }
 }
@@ -822,12 +828,64 @@ START_TEST(test_kernel_instances_bounded)
 }
 END_TEST
 
+/* 6b. a scene key several models declare (eps_n, mu, rotation, hertz's k_h in hard_sphere) is one
+ * parameter: the same place in gr_contact_params (the shared keys or one model's own block), type
+ * and default, so gr_contact_set, gr_contact_defaults and every model agree on it */
+START_TEST(test_shared_keys_one_place)
+{
+    for (int m = 0; gr_models[m]; m++) {
+        for (int i = 0; i < gr_models[m]->n_params; i++) {
+            const gr_param *a = &gr_models[m]->params[i];
+            ck_assert_msg(a->offset + sizeof(double) <= sizeof(gr_contact_params), "%s: %s outside the parameters",
+                          gr_models[m]->name, a->name);
+            for (int n = 0; gr_models[n]; n++) {
+                for (int j = 0; j < gr_models[n]->n_params; j++) {
+                    const gr_param *b = &gr_models[n]->params[j];
+                    if (strcmp(a->name, b->name) == 0) {
+                        ck_assert_msg(a->offset == b->offset && a->type == b->type && a->def == b->def,
+                                      "%s's %s and %s's differ in place, type or default", gr_models[m]->name,
+                                      a->name, gr_models[n]->name);
+                    } else {
+                        ck_assert_msg(a->offset != b->offset, "%s's %s and %s's %s share a place", gr_models[m]->name,
+                                      a->name, gr_models[n]->name, b->name);
+                    }
+                }
+            }
+        }
+    }
+}
+END_TEST
+
+/* 7. a tangential law without a reference force is refused by the reference, never integrated
+ * with F_t = 0 (a copy of each registered tangential law with its hook removed) */
+START_TEST(test_reference_needs_law)
+{
+    for (int i = 0; i < n_combos; i++) {
+        if (!combos[i].tangential || combos[i].dim != 2) {
+            continue;
+        }
+        gr_model lawless = *combos[i].tangential;
+        lawless.reference = NULL;
+        combo c = combos[i];
+        c.tangential = &lawless;
+        gr_collide_setup s = setup_of(&c, defaults_of(&combos[i]));
+        gr_collision_case cs = impact(0.1, 30.0);
+        gr_collide_result r;
+        gr_error err = {0};
+        ck_assert_int_eq(gr_collide_reference(&s, &cs, &r, &err), GR_EINVAL);
+        ck_assert_msg(strstr(err.message, lawless.name) && strstr(err.message, "reference force"), "%s", err.message);
+    }
+}
+END_TEST
+
 static Suite *suite(void)
 {
     enumerate();
     Suite *s = suite_create("models_conformance");
     TCase *tc = tcase_create("conformance");
     tcase_add_test(tc, test_registry_covered);
+    tcase_add_test(tc, test_reference_needs_law);
+    tcase_add_test(tc, test_shared_keys_one_place);
     tcase_add_loop_test(tc, test_restitution_law, 0, n_combos);
     tcase_add_loop_test(tc, test_engine_vs_reference, 0, n_combos);
     tcase_add_loop_test(tc, test_elastic, 0, n_combos);

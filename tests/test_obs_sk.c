@@ -532,6 +532,30 @@ START_TEST(test_dissipative_regime_thesis_numbers)
     result_free(&r);
     gr_observable_free(st);
 
+    /* eps_t comes from a tangential law that declares it constant (gr_model.constant_eps_t), not
+     * from its name: tangential_dashpot, and a copy of it under another name, give eps_t; a copy
+     * without the flag gives eps_t = 1 */
+    gr_model copy = *gr_model_find("tangential_dashpot");
+    copy.name = "dashpot_copy";
+    const gr_model *laws[3] = {gr_model_find("tangential_dashpot"), &copy, &copy};
+    const char *from[3] = {"tangential_dashpot eps_t", "dashpot_copy eps_t", NULL};
+    for (int k = 0; k < 3; k++) {
+        copy.constant_eps_t = k < 2;
+        scene_2d(&s, 3000, 0.2, 1.5e-3, 4.0);
+        s.tangential = laws[k];
+        s.contact.eps_t = 0.3;
+        st = create_ok(&s);
+        finish_ok(st, &s, false, &r);
+        ck_assert_double_eq(num(r.sk, "eps_t"), from[k] ? 0.3 : 1.0);
+        const char *got = cJSON_GetStringValue(cJSON_GetObjectItem(r.sk, "eps_t_from"));
+        ck_assert_ptr_nonnull(got);
+        if (from[k]) {
+            ck_assert_str_eq(got, from[k]);
+        }
+        result_free(&r);
+        gr_obs_sk.destroy(st);
+    }
+
     /* elastic: k_D = 0, no window, no fit (but S(k) still measured) */
     scene_2d(&s, 500, 0.1, 1.5e-3, 4.0);
     s.contact.eps_n = 1.0;

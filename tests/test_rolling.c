@@ -50,7 +50,7 @@ static gr_collide_setup setup_of(const char *normal, const char *tangential, int
     s.contact.rotation = true;
     s.contact.inertia_factor = Q;
     s.contact.clamp = clamp;
-    s.contact.mu_r = mu_r;
+    ck_assert_int_eq(gr_contact_set_value(&s.contact, "mu_r", mu_r, NULL), GR_OK);
     s.mass = MASS;
     s.radius = RADIUS;
     s.dim = 2;
@@ -142,7 +142,7 @@ static gr_sim *pair_sim(double mu_r, int swap, double angle, double w1, double w
     sc.tangential = gr_model_find("sliding_friction");
     sc.rolling = gr_model_find("rolling_friction");
     sc.contact.rotation = true;
-    sc.contact.mu_r = mu_r;
+    ck_assert_int_eq(gr_contact_set_value(&sc.contact, "mu_r", mu_r, NULL), GR_OK);
     sc.D = 0.0;
     sc.noise_mode = GR_NOISE_NONE;
     sc.L = 40.0 * DIAM;

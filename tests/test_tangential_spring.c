@@ -167,18 +167,18 @@ START_TEST(test_mindlin_prepare)
 {
     gr_contact_params p;
     gr_contact_defaults(&p);
-    p.mindlin = true;
-    p.kt_ratio = 0.8;
+    ck_assert_int_eq(gr_contact_set_value(&p, "mindlin", true, NULL), GR_OK);
+    ck_assert_int_eq(gr_contact_set_value(&p, "kt_ratio", 0.8, NULL), GR_OK);
     gr_contact_coeffs c;
     gr_error err = {0};
     const gr_model *hz = gr_model_find("hertz"), *ts = gr_model_find("tangential_spring");
     const double m12 = 1.765e-5;
     ck_assert_msg(gr_contact_prepare(hz, ts, &p, m12, 0.0, &c, &err) == GR_OK, "%s", err.message);
-    ck_assert_double_eq_tol(c.law_t[GR_SPRING_KM], 0.8 * 1.5 * p.k_h, 1e-9 * p.k_h);
+    ck_assert_double_eq_tol(c.law_t[GR_SPRING_KM], 0.8 * 1.5 * gr_contact_get(&p, "k_h"), 1e-9 * gr_contact_get(&p, "k_h"));
     ck_assert(c.law_t[GR_SPRING_KT] == 0.0);
-    p.k_t = 500.0;
+    ck_assert_int_eq(gr_contact_set_value(&p, "k_t", 500.0, NULL), GR_OK);
     ck_assert(gr_contact_prepare(hz, ts, &p, m12, 0.0, &c, &err) == GR_OK);
-    const double x0 = pow(m12 * p.v_max * p.v_max / p.k_h, 0.4);
+    const double x0 = pow(m12 * gr_contact_get(&p, "v_max") * gr_contact_get(&p, "v_max") / gr_contact_get(&p, "k_h"), 0.4);
     ck_assert_double_eq_tol(c.law_t[GR_SPRING_KM] * sqrt(x0), 500.0, 1e-9);
     ck_assert(gr_contact_prepare(gr_model_find("spring_dashpot"), ts, &p, m12, 0.0, &c, &err) == GR_EINVAL);
     ck_assert_msg(strstr(err.message, "mindlin") && strstr(err.message, "hertz") && strstr(err.message, "spring_dashpot"),

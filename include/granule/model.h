@@ -32,28 +32,25 @@ typedef struct gr_param {
     size_t offset;
 } gr_param;
 
-/* Inputs of the contact laws, as given in a scene's [model] section. */
+/* room for the models' own parameters in gr_contact_params.own (96 bytes used; the size keeps
+ * gr_contact_params at its size before the blocks, 152 bytes: raise it when the build asks) */
+#define GR_CONTACT_OWN_BYTES 104
+
+/* Inputs of the contact laws, as given in a scene's [model] section: the keys several laws share,
+ * and each model's own keys in a block of its own. */
 typedef struct gr_contact_params {
     double k_s;   /* normal spring constant, N/m (2.4) */
     double eps_n; /* normal coefficient of restitution (2.2) */
     double eps_t; /* tangential coefficient of restitution (2.10) */
     double mu;    /* sliding-friction coefficient (2.7) */
     bool clamp;   /* true: normal force never attractive, gamma_n from the clamped restitution */
-    double tc;    /* hard_sphere: TC-model time, s; 0 = the matching spring-dashpot's contact time */
-    double k_h;   /* hertz: stiffness of F = k_h xi^(3/2), N/m^(3/2) */
-    bool viscoelastic; /* hertz: damping of Brilliantov et al. (A), not calibrated to eps_n */
-    double visco_A;    /* hertz: the viscoelastic time A, s */
-    double v_max;      /* hertz: the fastest impact the time step must resolve, m/s */
     bool rotation;         /* a tangential law at the contact point: discs rotate (omega, torque) */
     double inertia_factor; /* rotation: moment of inertia I = q M r^2, q (1/2: uniform disc) */
-    double beta;    /* hard_sphere with rotation: tangential restitution at the contact point, [-1, 1] */
-    double beta_mu; /* hard_sphere with rotation: Coulomb limit of the tangential impulse (0: none) */
-    double mu_r;    /* rolling_friction: coefficient of rolling resistance */
-    /* tangential_spring (models/tangential_spring.h) */
-    double kt_ratio; /* k_t / k_s (linear normal law) */
-    double k_t;      /* tangential spring constant, N/m (0: kt_ratio k_s) */
-    double gamma_t;  /* tangential dashpot in parallel with the spring, kg/s */
-    bool mindlin;    /* k_t ~ sqrt(xi) (Mindlin; normal = hertz only) */
+    /* The models' own parameters (hertz's k_h, hard_sphere's beta, ...): one block per model,
+     * declared in its own file as a struct NAME_own (models/NAME.h) and laid out by models/list.h;
+     * only the model (and a law built on it) reads its block. Set and read them by name
+     * (gr_contact_set, gr_contact_set_value, gr_contact_get). */
+    _Alignas(8) unsigned char own[GR_CONTACT_OWN_BYTES];
 } gr_contact_params;
 
 typedef enum {
@@ -106,9 +103,10 @@ typedef struct gr_contact_coeffs {
     double pow_a, pow_p;
     double law_n[4]; /* constants private to the normal law */
     double law_t[4]; /* constants private to the tangential law */
-    /* Rolling resistance (gr_contact_prepare_rolling; NULL / 0 without): the law and mu_r. */
+    /* Rolling resistance (gr_contact_prepare_rolling; NULL / 0 without): the law and its constants
+     * (private to it, as law_n / law_t; the model's file names the slots). */
     const struct gr_model *rolling_model;
-    double mu_r;
+    double law_r[4];
 } gr_contact_coeffs;
 
 typedef enum {
@@ -134,6 +132,10 @@ typedef struct gr_model {
     /* Tangential laws: the force acts at the contact point, so the discs may rotate (the scene
      * key rotation = true is then legal; the law then sees the contact point's velocity). */
     bool contact_point;
+    /* Tangential laws: the law's tangential restitution is the parameter eps_t itself, the same at
+     * every impact (tangential_dashpot). Code that needs a constant eps_t (the S(k) observable's
+     * dissipative window, thesis eq. 4.5) asks this flag, never the model's name. */
+    bool constant_eps_t;
     /* Event rules: the normal force law whose kernel evaluates forces when the engine asks for
      * them (the initial state, which has no overlaps), with the coefficients prepare set. */
     const char *force_law;
@@ -144,6 +146,9 @@ typedef struct gr_model {
      * restitution given that normal impact and the impact speeds v_n, v_t > 0. */
     gr_normal_impact (*impact)(const gr_contact_coeffs *c, double v_n);
     double (*restitution_t)(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t);
+    /* Tangential laws (required): the force the CVODE reference (src/collide/reference.c)
+     * integrates for this law, in continuous time (models/reference.h). */
+    const struct gr_reference_law *reference;
     /* Rolling laws: the spin energy (J) one contact takes from two discs of moment of inertia
      * `inertia` whose spins differ by dw0 (w_i - w_j, the contact point not slipping) while it
      * transmits the normal impulse p_n = int |F_n| dt; r_eff = r / 2 for equal discs. */
@@ -175,6 +180,13 @@ void gr_contact_defaults(gr_contact_params *p);
 /* Set the model parameter `name` from text, checked against its descriptor's type and range;
  * GR_EINVAL (naming the key and the allowed range) if unknown or out of range. */
 int gr_contact_set(gr_contact_params *p, const char *name, const char *value, gr_error *err);
+
+/* Set the double or bool model parameter `name` to v (a bool: v != 0), checked against its
+ * descriptor's range as gr_contact_set; GR_EINVAL (naming the key) if unknown or out of range. */
+int gr_contact_set_value(gr_contact_params *p, const char *name, double v, gr_error *err);
+
+/* The model parameter `name` as a double (a bool: 0 or 1); NAN if no model declares it. */
+double gr_contact_get(const gr_contact_params *p, const char *name);
 
 /* Expected fraction of the relative kinetic energy a binary impact loses, from the models' own
  * restitution laws (gr_model.restitution etc.): (1 - eps_n^2) cos^2 a + (1 - eps_t^2) sin^2 a for

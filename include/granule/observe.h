@@ -43,6 +43,7 @@ typedef struct gr_obs_setup {
     double D;                /* noise strength, N^2 s (2.15, 2.22); 0 without the random force */
     double eps_n, eps_t;     /* the contact's restitution coefficients ([contact]) */
     const char *tangential;  /* the tangential law's name, NULL without one */
+    bool tangential_constant_eps_t; /* its eps_t is a constant restitution (gr_model.constant_eps_t) */
     /* the contact law's coefficients, for the force kernel's own law (gr_contact_virial, pressure's
      * virial); zero without a normal model. Observables never evaluate a law themselves. */
     gr_contact_coeffs contact;

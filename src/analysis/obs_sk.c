@@ -504,6 +504,7 @@ typedef struct sk_state {
     /* dissipative regime (4.5)-(4.9) */
     double eps_n, eps_t;
     const char *eps_t_from;
+    char eps_t_name[80]; /* "NAME eps_t" for a law with a constant eps_t (gr_model.constant_eps_t) */
     double l0, kD, Lmin, Leff, kprime;
 } sk_state;
 
@@ -566,9 +567,10 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     if (!setup->tangential) {
         st->eps_t = 1.0;
         st->eps_t_from = "no tangential law: eps_t = 1";
-    } else if (strcmp(setup->tangential, "tangential_dashpot") == 0) {
+    } else if (setup->tangential_constant_eps_t) {
         st->eps_t = setup->eps_t;
-        st->eps_t_from = "tangential_dashpot eps_t";
+        snprintf(st->eps_t_name, sizeof st->eps_t_name, "%s eps_t", setup->tangential);
+        st->eps_t_from = st->eps_t_name;
     } else {
         st->eps_t = 1.0;
         st->eps_t_from = "no constant eps_t for this tangential law: eps_t = 1 assumed";

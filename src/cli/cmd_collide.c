@@ -115,21 +115,19 @@ const cli_command cli_cmd_collide = {
     CLI_OPTS(collide_opts),
 };
 
-/* the unit of every key collide prints (1: a pure number) */
+/* the unit of every key collide prints besides the models' parameters (1: a pure number); those
+ * take theirs from the models' descriptors */
 static const struct {
     const char *key, *unit;
-} units[] = {{"eps_n", "1"}, {"eps_t", "1"}, {"mu", "1"}, {"k_s", "N/m"}, {"tc", "s"}, {"mass", "kg"},
-             {"radius", "m"}, {"dt", "s"}, {"energy_loss", "1 (fraction of the relative kinetic energy)"},
+} units[] = {{"mass", "kg"}, {"radius", "m"}, {"dt", "s"}, {"energy_loss", "1 (fraction of the relative kinetic energy)"},
              {"expected_loss", "1"}, {"contact_time", "s"}, {"max_overlap", "m"}, {"eps_n_measured", "1"},
              {"eps_t_measured", "1"}, {"impact_angle", "degrees"}, {"momentum_error", "1 (|p' - p| / |p|)"},
              {"normal_impulse", "N s"}, {"tangential_impulse", "N s"}, {"relative_error", "1"},
              {"energy_loss_min", "1"}, {"energy_loss_max", "1"}, {"omega1", "rad/s (counterclockwise)"},
-             {"omega2", "rad/s (counterclockwise)"}, {"inertia_factor", "1 (I = q M r^2)"},
-             {"v1_after", "m/s"}, {"v2_after", "m/s"}, {"speed", "m/s"}, {"angle", "degrees"},
+             {"omega2", "rad/s (counterclockwise)"}, {"v1_after", "m/s"}, {"v2_after", "m/s"}, {"speed", "m/s"}, {"angle", "degrees"},
              {"omega1_before", "rad/s (counterclockwise)"}, {"omega2_before", "rad/s (counterclockwise)"},
-             {"mu_r", "1"}, {"spin_loss", "1 (fraction of the initial energy)"},
-             {"spin_loss_rolling_law", "1 (fraction of the initial energy)"}, {"kt_ratio", "1"}, {"k_t", "N/m"},
-             {"gamma_t", "kg/s"}};
+             {"spin_loss", "1 (fraction of the initial energy)"},
+             {"spin_loss_rolling_law", "1 (fraction of the initial energy)"}};
 
 /* does the normal or the tangential model take the scene key `name`? */
 static bool model_uses(const gr_collide_setup *s, const char *name)
@@ -145,10 +143,40 @@ static bool model_uses(const gr_collide_setup *s, const char *name)
     return false;
 }
 
-/* "units": the unit of every number in o */
-static void add_units(cJSON *o)
+/* the chosen models' parameters (their [model] keys, from their descriptors), each once, with its
+ * value: the keys a model declares are exactly the keys printed */
+static void add_model_params(cJSON *o, const gr_collide_setup *s)
+{
+    const gr_model *m[3] = {s->normal, s->tangential, s->rolling};
+    for (int k = 0; k < 3; k++) {
+        for (int i = 0; m[k] && i < m[k]->n_params; i++) {
+            const gr_param *d = &m[k]->params[i];
+            if (cJSON_GetObjectItem(o, d->name)) {
+                continue; /* shared by two of the models (the rotation keys) */
+            }
+            const char *slot = (const char *)&s->contact + d->offset;
+            if (d->type == GR_PARAM_BOOL) {
+                cJSON_AddBoolToObject(o, d->name, *(const bool *)slot);
+            } else {
+                cJSON_AddNumberToObject(o, d->name, *(const double *)slot);
+            }
+        }
+    }
+}
+
+/* "units": the unit of every number in o (a model parameter's from its descriptor) */
+static void add_units(cJSON *o, const gr_collide_setup *s)
 {
     cJSON *u = cJSON_CreateObject();
+    const gr_model *m[3] = {s->normal, s->tangential, s->rolling};
+    for (int k = 0; k < 3; k++) {
+        for (int i = 0; m[k] && i < m[k]->n_params; i++) {
+            const gr_param *d = &m[k]->params[i];
+            if (d->type != GR_PARAM_BOOL && cJSON_GetObjectItem(o, d->name) && !cJSON_GetObjectItem(u, d->name)) {
+                cJSON_AddStringToObject(u, d->name, d->unit[0] ? d->unit : "1");
+            }
+        }
+    }
     for (size_t i = 0; i < sizeof units / sizeof units[0]; i++) {
         char ref[64];
         snprintf(ref, sizeof ref, "reference_%s", units[i].key);
@@ -384,24 +412,9 @@ int cmd_collide(int argc, char **argv)
     cJSON_AddStringToObject(o, "model", model);
     const bool instantaneous = (s.normal->kind & GR_MODEL_EVENT) != 0;
     /* only the parameters the chosen models take (their [model] keys) */
-    const struct {
-        const char *key;
-        double v;
-    } params[] = {{"eps_n", s.contact.eps_n}, {"eps_t", s.contact.eps_t}, {"mu", s.contact.mu}, {"k_s", s.contact.k_s},
-                  {"mu_r", s.contact.mu_r}, {"kt_ratio", s.contact.kt_ratio}, {"k_t", s.contact.k_t},
-                  {"gamma_t", s.contact.gamma_t}};
-    for (size_t k = 0; k < sizeof params / sizeof params[0]; k++) {
-        if (model_uses(&s, params[k].key)) {
-            cJSON_AddNumberToObject(o, params[k].key, params[k].v);
-        }
-    }
-    if (model_uses(&s, "clamp")) {
-        cJSON_AddBoolToObject(o, "clamp", s.contact.clamp);
-    }
+    add_model_params(o, &s);
     const bool rotation = s.dim == 2 && s.tangential && s.tangential->contact_point && s.contact.rotation;
     if (rotation) {
-        cJSON_AddBoolToObject(o, "rotation", true);
-        cJSON_AddNumberToObject(o, "inertia_factor", s.contact.inertia_factor);
         cJSON_AddNumberToObject(o, "omega1_before", s.omega1);
         cJSON_AddNumberToObject(o, "omega2_before", s.omega2);
         cJSON_AddNumberToObject(o, "spin_loss", sum.spin_loss);
@@ -446,7 +459,7 @@ int cmd_collide(int argc, char **argv)
         cJSON_Delete(o);
         return EXIT_REFUSED;
     }
-    add_units(o);
+    add_units(o, &s);
     char *text = cJSON_Print(o);
     puts(text);
     cJSON_free(text);

@@ -105,7 +105,8 @@ static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc,
     double w1 = 0.0, w2 = 0.0, spin_t = 0.0, spin_e = 0.0;
     p.eps_n = coeffs.normal_model->impact(&coeffs, fabs(gn0)).eps_n; /* viscoelastic: eps_n(v) */
     if (p.rotation && dim == 2) {
-        gr_event_collide_rough(cs->mass, p.inertia_factor, cs->radius, p.eps_n, p.beta, p.beta_mu, n[0], n[1], &u1[0],
+        gr_event_collide_rough(cs->mass, p.inertia_factor, cs->radius, p.eps_n, coeffs.law_t[GR_HARD_SPHERE_BETA],
+                               coeffs.law_t[GR_HARD_SPHERE_BETA_MU], n[0], n[1], &u1[0],
                                &u1[1], &u2[0], &u2[1], &w1, &w2, &de_n, &de_t);
         out->omega1 = w1;
         out->omega2 = w2;

@@ -9,10 +9,11 @@
  *   F_n = k_s xi - gamma_n g.n,  xi = d - |r| > 0                                   (2.4-2.5)
  *   or any power law F_n = k xi^a - gamma xi^p g.n the model declares (gr_contact_coeffs pow_a,
  *   pow_p): hertz has a = 3/2, p = 1/2 (viscoelastic) or 1/4 (Tsuji)
- *   tangential dashpot   F_t = -gamma_t g.t                                        (2.9-2.12)
- *   sliding friction     F_t = -mu |F_n| sign(g.t) while g.t != 0, then 0 (no spring)   (2.7)
- *   tangential spring    F_t = -k_t s - gamma_t g.t, ds/dt = g.t, capped at mu |F_n| (stick and
- *                        slip, ref_spring below; k_t constant or Mindlin's k_m sqrt(xi))
+ *   F_t the tangential law's own, from its model file (gr_model.reference, models/reference.h:
+ *   its force, state components, regime at the touch, roots and events), e.g. the dashpot
+ *   F_t = -gamma_t g.t (2.9), sliding friction F_t = -mu |F_n| sign(g.t) until g.t stops (2.7),
+ *   the Cundall-Strack spring's stick and slip (models/tangential_spring_reference.h). There is
+ *   no switch over the laws here: a tangential law without a reference force is refused.
  * The unclamped contact ends when xi returns to 0 (the thesis); with clamping, F_n = max(0, F_n),
  * it ends when F_n falls to 0 while the pair separates, after which the pair moves apart
  * force-free (Schwager & Poeschel, Granular Matter 9, 465 (2007)). The tangential force acts in
@@ -27,10 +28,10 @@
  * The contact starts at the analytic touching time of the free flight (ray-circle), at xi = 0.
  * Events are CVODE roots: the end of the contact (xi or F_n crossing 0 downwards), the maximum
  * overlap (g.n crossing 0 upwards, so max_overlap is exact to the root tolerance, not sampled),
- * the end of sliding (g.t crossing 0: the right-hand side switches to F_t = 0, g is projected on
- * n and CVODE restarts), and for unclamped friction the sign change of F_n inside |F_n|. The
- * right-hand side always uses the smooth continuation of the current regime, so each event is a
- * clean root rather than a kink inside a step. The impulses are integrated as two extra state
+ * and the tangential law's own roots (sliding_friction: the end of sliding, g.t crossing 0, where
+ * the law switches to F_t = 0, g is projected on n and CVODE restarts; the sign change of F_n
+ * inside |F_n| for an unclamped law). The right-hand side always uses the smooth continuation of
+ * the current regime, so each event is a clean root rather than a kink inside a step. The impulses are integrated as two extra state
  * components, J_n = int |F_n| dt and J_t = int |F_t| dt (projections on the instantaneous n and
  * t), so "friction impulse <= mu x normal impulse" also holds when the unclamped law pulls.
  *
@@ -63,14 +64,17 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include "granule/collide.h"
-#include "models/tangential_spring.h" /* the slots of its constants in law_t */
+#include "models/reference.h"
 
 enum { REF_NEQ = 11, REF_NROOT = 7 };
-/* Y_S the spring's s (tangential_spring), Y_DN the energy the normal law dissipates, Y_WT the
- * work of the tangential force on the contact point's motion, Y_KS the Mindlin spring's
- * int k_t s ds (its stored energy but for what k_t(xi) adds by changing) */
+/* Y_S, Y_KS the tangential law's own state components (GR_REF_Y_STATE, GR_REF_Y_QUAD: the
+ * spring's s and the Mindlin spring's int k_t s ds), Y_DN the energy the normal law dissipates,
+ * Y_WT the work of the tangential force on the contact point's motion */
 enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT, Y_W, Y_S, Y_DN, Y_WT, Y_KS };
-enum { ROOT_END = 0, ROOT_MAX_OVERLAP, ROOT_STICK, ROOT_FN_SIGN, ROOT_DEGENERATE, ROOT_SLIP_UP, ROOT_SLIP_DOWN };
+static const int y_law[GR_REF_NY] = {[GR_REF_Y_STATE] = Y_S, [GR_REF_Y_QUAD] = Y_KS};
+/* ROOT_LAW0..3 the tangential law's roots 0..3 (models/reference.h) */
+enum { ROOT_END = 0, ROOT_MAX_OVERLAP, ROOT_LAW0, ROOT_LAW1, ROOT_DEGENERATE, ROOT_LAW2, ROOT_LAW3 };
+static const int root_law[GR_REF_NROOTS] = {ROOT_LAW0, ROOT_LAW1, ROOT_LAW2, ROOT_LAW3};
 
 #define REF_ATOL 1e-14                 /* nondimensional: state components are O(1) */
 #define REF_GUARD_CONTACTS 1000.0      /* give up after this many undamped contact times pi/w0 */
@@ -83,18 +87,11 @@ typedef struct ref_ctx {
     double n0[2];    /* unit normal at first touch, from 1 to 2 */
     double c_n;      /* gamma_n len^p / (m12 w0) (= 2 zeta for the linear law) */
     double pow_a, pow_p; /* the normal law's powers (1, 0 linear) */
-    double c_t;      /* gamma_t / (m12 w0) */
     bool rot;        /* rotation: the law sees g.t - (|r| / 2) W */
     double q;        /* rotation: I / (M r^2) */
-    double mu;
-    double kt0, km;  /* spring: k_t = kt0 + km sqrt(xi), over m12 w0^2 (Mindlin: kt0 = 0) */
-    bool slip;       /* spring: at the Coulomb limit, s follows the constraint (sig_t below) */
-    double sig_t;    /* spring, slipping: sign of k_t s + gamma_t g_c (= mu |F_n| sig_t) */
-    gr_tangential_law tangential;
+    const gr_reference_law *law; /* the tangential law's force (NULL: none) */
+    gr_ref_tangential lt;        /* its constants and regime */
     bool clamp;
-    bool sliding;    /* friction: tangential relative motion not yet stopped */
-    double s0;       /* sign of g.t while sliding */
-    double fn_sign;  /* sign of F_n in the current regime (|F_n| = fn_sign F_n) */
     bool degenerate; /* the centres met: n undefined */
     char msg[256];   /* last SUNDIALS error or warning */
 } ref_ctx;
@@ -107,97 +104,23 @@ typedef struct ref_state {
     double gc;         /* the contact point's tangential velocity, gt (- |r| W / 2 with rotation) */
     double rn;         /* |r|, units V / w0 */
     double fn, ft;     /* forces along n and t, units m12 w0 V */
-    /* the spring (tangential_spring) only */
-    double kk, dk;     /* k_t at this xi and its rate d k_t / dt */
-    double s;          /* the spring's s: Y_S sticking, the Coulomb constraint's value slipping */
-    double sdot;       /* ds/dt: g_c sticking, the constraint's rate slipping */
-    double trial;      /* k_t s + gamma_t g_c (the force is -trial while sticking) */
-    double lim, dlim;  /* mu |F_n| and its rate */
-    double rate;       /* the free rate of trial, d/dt (k_t s + gamma_t g_c) with ds/dt = g_c */
-    double phi;        /* slipping: sig_t (free minus constrained rate of trial); slip goes on while > 0 */
+    gr_ref_point law;  /* what the tangential law saw and returned */
 } ref_state;
 
-/* The Cundall-Strack spring (models/tangential_spring.h) in continuous time: F_t = -(k_t s +
- * gamma_t g_c) with ds/dt = g_c while |F_t| < mu |F_n| (sticking); at the limit (slipping)
- * F_t = -sig_t mu |F_n| and s is not a state any more but the algebraic value that keeps
- * k_t s + gamma_t g_c = sig_t mu |F_n| (what the engine's rescale converges to as dt -> 0). The
- * contact slips on while the free rate of k_t s + gamma_t g_c (ds/dt = g_c) would carry it past
- * the limit faster than the limit moves: phi = sig_t (k_t g_c + gamma_t dg_c/dt + s dk_t/dt)
- * - d(mu |F_n|)/dt > 0; it sticks again where phi falls through 0. Both switches are CVODE roots
- * (|k_t s + gamma_t g_c| reaching mu |F_n| sticking, phi reaching 0 slipping), so the right-hand
- * side is smooth inside each regime. The rates come from the geometry: d xi/dt = -g.n,
- * d(g.n)/dt = F_n + (g.t)^2 / |r|, d(g.t)/dt = F_t - (g.n)(g.t) / |r|, and with rotation
- * g_c = g.t - |r| W / 2 adds -(g.n) W / 2 + |r|^2 F_t / (q D^2). Called by ref_eval after the
- * geometry and F_n are set. */
-static void ref_spring(const ref_ctx *c, const double *y, ref_state *s)
+/* The rate dF_n/dt of F_n = X^a - c_n X^p g.n (the clamp only ends the contact where F_n = 0),
+ * from d xi/dt = -g.n and d(g.n)/dt = F_n + (g.t)^2 / |r| (F_t along t leaves g.n alone), for a
+ * tangential law whose force depends on it (the spring's Coulomb limit, mu |F_n|) */
+static double ref_fn_rate(const ref_ctx *c, const ref_state *s)
 {
-    const double X = fmax(s->xi, 0.0), sq = sqrt(X);
-    s->kk = c->kt0 + c->km * sq;
-    const double dxi = -s->gn;
-    s->dk = sq > 0.0 ? 0.5 * c->km / sq * dxi : 0.0;
-    /* d F_n / dt of F_n = X^a - c_n X^p g.n (the clamp only ends the contact where F_n = 0) */
-    double dfn;
+    const double X = fmax(s->xi, 0.0), dxi = -s->gn;
     if (c->pow_a == 1.0 && c->pow_p == 0.0) {
-        dfn = dxi - c->c_n * (s->fn + s->gt * s->gt / s->rn);
-    } else {
-        /* X^(p-1): singular at X = 0 (a damping ~ X^p grows infinitely fast from the touch); 0
-         * past the end, where CVODE may try a point and the contact no longer acts */
-        const double xp1 = X > 0.0 && c->pow_p != 0.0 ? c->pow_p * pow(X, c->pow_p - 1.0) : 0.0;
-        dfn = c->pow_a * pow(X, c->pow_a - 1.0) * dxi -
-              c->c_n * (xp1 * dxi * s->gn + pow(X, c->pow_p) * (s->fn + s->gt * s->gt / s->rn));
+        return dxi - c->c_n * (s->fn + s->gt * s->gt / s->rn);
     }
-    s->lim = c->mu * c->fn_sign * s->fn;
-    s->dlim = c->mu * c->fn_sign * dfn;
-    if (c->slip) {
-        s->ft = -c->sig_t * s->lim;
-        s->s = s->kk > 0.0 ? (c->sig_t * s->lim - c->c_t * s->gc) / s->kk : 0.0;
-    } else {
-        s->s = y[Y_S];
-        s->ft = -(s->kk * s->s + c->c_t * s->gc);
-    }
-    s->trial = s->kk * s->s + c->c_t * s->gc;
-    double dgc = s->ft - s->gn * s->gt / s->rn;
-    if (c->rot) {
-        dgc += -0.5 * s->gn * y[Y_W] + s->rn * s->rn * s->ft / (c->q * c->D * c->D);
-    }
-    s->rate = s->kk * s->gc + c->c_t * dgc + s->s * s->dk;
-    s->phi = c->sig_t * s->rate - s->dlim;
-    s->sdot = c->slip ? (c->sig_t * s->dlim - c->c_t * dgc - s->s * s->dk) / (s->kk > 0.0 ? s->kk : 1.0) : s->gc;
-}
-
-static int ref_eval(ref_ctx *c, const double *y, ref_state *s);
-
-/* The spring's regime at the touch (s = 0, xi = 0): it sticks if |k_t s + gamma_t g_c| stays
- * within mu |F_n| just after the touch. Both sides start as powers of the time (F_n ~ t^a for an
- * undamped law, t^p with damping, k_t s ~ t or t^(3/2) with Mindlin), so their ratio at a tiny
- * time along the free flight decides. */
-static void ref_spring_start(ref_ctx *c, double gn0, double gc0)
-{
-    const double e = 1e-8, X = -gn0 * e;
-    const double fn = pow(X, c->pow_a) - c->c_n * pow(X, c->pow_p) * gn0;
-    const double trial = (c->kt0 + c->km * sqrt(X)) * gc0 * e + c->c_t * gc0;
-    c->slip = fabs(trial) > c->mu * fabs(fn);
-    c->sig_t = trial < 0.0 ? -1.0 : 1.0;
-}
-
-/* F_n changed sign (unclamped law pulling at the end): the limit mu |F_n| is 0 there, so the
- * spring leaves it in whichever regime its free rate allows: slipping (in the direction of the
- * free rate of k_t s + gamma_t g_c) if that rate beats the limit's growth, sticking otherwise. */
-static void ref_spring_turn(ref_ctx *c, double *y, const ref_state *at)
-{
-    if (c->slip) {
-        y[Y_S] = at->s;
-        c->slip = false;
-    }
-    ref_state t;
-    if (ref_eval(c, y, &t) != 0) {
-        return;
-    }
-    c->sig_t = t.rate < 0.0 ? -1.0 : 1.0;
-    c->slip = true;
-    if (ref_eval(c, y, &t) != 0 || !(t.phi > 0.0)) {
-        c->slip = false;
-    }
+    /* X^(p-1): singular at X = 0 (a damping ~ X^p grows infinitely fast from the touch); 0 past
+     * the end, where CVODE may try a point and the contact no longer acts */
+    const double xp1 = X > 0.0 && c->pow_p != 0.0 ? c->pow_p * pow(X, c->pow_p - 1.0) : 0.0;
+    return c->pow_a * pow(X, c->pow_a - 1.0) * dxi -
+           c->c_n * (xp1 * dxi * s->gn + pow(X, c->pow_p) * (s->fn + s->gt * s->gt / s->rn));
 }
 
 /* Geometry and forces of the current regime at state y (smooth in y). */
@@ -229,20 +152,26 @@ static int ref_eval(ref_ctx *c, const double *y, ref_state *s)
         const double X = fmax(s->xi, 0.0); /* CVODE may try a point just past the end */
         s->fn = pow(X, c->pow_a) - c->c_n * pow(X, c->pow_p) * s->gn;
     }
-    switch (c->tangential) {
-    case GR_TANGENTIAL_DASHPOT:
-        s->ft = -c->c_t * s->gc; /* (2.9) */
-        break;
-    case GR_TANGENTIAL_FRICTION:
-        s->ft = c->sliding ? -c->mu * c->fn_sign * s->fn * c->s0 : 0.0; /* (2.7) */
-        break;
-    case GR_TANGENTIAL_SPRING:
-        ref_spring(c, y, s);
-        break;
-    default:
-        s->ft = 0.0;
-        break;
+    s->law = (gr_ref_point){0};
+    if (c->law) {
+        gr_ref_point *p = &s->law;
+        p->xi = s->xi;
+        p->gn = s->gn;
+        p->gt = s->gt;
+        p->gc = s->gc;
+        p->rn = rn;
+        p->fn = s->fn;
+        p->dfn = ref_fn_rate(c, s);
+        for (int k = 0; k < GR_REF_NY; k++) {
+            p->y[k] = y[y_law[k]];
+        }
+        p->rot = c->rot;
+        p->W = y[Y_W];
+        p->q = c->q;
+        p->D = c->D;
+        c->law->force(&c->lt, p);
     }
+    s->ft = s->law.ft;
     return 0;
 }
 
@@ -267,12 +196,12 @@ static int ref_rhs(sunrealtype t, N_Vector yv, N_Vector ydotv, void *user)
      * tangential force works F_t g_c, of which a spring stores int k_t s ds, k_t s^2 / 2 at the
      * end for a constant k_t (so only the Mindlin spring integrates it, Y_KS: its k_t(xi)
      * changes the stored k_t s^2 / 2 by s^2 dk_t/dt / 2 besides, without any work) */
-    const bool spring = c->tangential == GR_TANGENTIAL_SPRING;
-    yd[Y_S] = spring && !c->slip ? s.gc : 0.0;
+    for (int k = 0; k < GR_REF_NY; k++) {
+        yd[y_law[k]] = s.law.ydot[k];
+    }
     const bool linear = c->pow_a == 1.0 && c->pow_p == 0.0; /* its F_n is smooth across xi = 0 */
     yd[Y_DN] = -(s.fn - (linear ? s.xi : pow(fmax(s.xi, 0.0), c->pow_a))) * s.gn;
     yd[Y_WT] = -s.ft * s.gc;
-    yd[Y_KS] = spring && c->km != 0.0 ? s.kk * s.s * s.sdot : 0.0;
     return 0;
 }
 
@@ -284,19 +213,16 @@ static int ref_roots(sunrealtype t, N_Vector yv, sunrealtype *gout, void *user)
     if (ref_eval(c, N_VGetArrayPointer(yv), &s) != 0) {
         return -1;
     }
-    bool sliding = c->tangential == GR_TANGENTIAL_FRICTION && c->sliding;
     gout[ROOT_END] = c->clamp ? s.fn : s.xi;
     gout[ROOT_MAX_OVERLAP] = s.gn;
-    gout[ROOT_STICK] = sliding ? c->s0 * s.gc : 1.0;
-    gout[ROOT_FN_SIGN] = sliding && !c->clamp ? c->fn_sign * s.fn : 1.0;
     gout[ROOT_DEGENERATE] = s.axial - REF_AXIAL_FLOOR;
-    const bool spring = c->tangential == GR_TANGENTIAL_SPRING;
-    if (spring) {
-        gout[ROOT_STICK] = c->slip ? s.phi : 1.0;
-        gout[ROOT_FN_SIGN] = !c->clamp ? c->fn_sign * s.fn : 1.0;
+    double g[GR_REF_NROOTS] = {1.0, 1.0, 1.0, 1.0};
+    if (c->law && c->law->roots) {
+        c->law->roots(&c->lt, &s.law, g);
     }
-    gout[ROOT_SLIP_UP] = spring && !c->slip ? s.lim - s.trial : 1.0;
-    gout[ROOT_SLIP_DOWN] = spring && !c->slip ? s.lim + s.trial : 1.0;
+    for (int k = 0; k < GR_REF_NROOTS; k++) {
+        gout[root_law[k]] = g[k];
+    }
     return 0;
 }
 
@@ -336,6 +262,12 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     }
     if (!s->normal) {
         return GR_FAIL(err, GR_EINVAL, "reference collision: no normal collision model given");
+    }
+    if (s->tangential && !(s->tangential->reference && s->tangential->reference->setup &&
+                           s->tangential->reference->force)) {
+        return GR_FAIL(err, GR_EINVAL, "reference collision: the tangential law '%s' gives no reference force "
+                       "(gr_model.reference, models/reference.h); the CVODE reference integrates only laws that do",
+                       s->tangential->name);
     }
     /* a rolling law acts only on a difference of spins, which equal discs keep at its start
      * (the contact's torques on both are equal): the reference, which does not integrate the
@@ -430,16 +362,16 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
         .c_n = coeffs.gamma_n * (linear ? 1.0 : pow(len, coeffs.pow_p)) / (m12 * w0),
         .pow_a = coeffs.pow_a,
         .pow_p = coeffs.pow_p,
-        .c_t = (coeffs.tangential == GR_TANGENTIAL_SPRING ? coeffs.law_t[GR_SPRING_GAMMA] : coeffs.gamma_t) / (m12 * w0),
-        .kt0 = coeffs.law_t[GR_SPRING_KT] / (m12 * w0 * w0),
-        .km = coeffs.law_t[GR_SPRING_KM] * sqrt(len) / (m12 * w0 * w0),
-        .mu = coeffs.mu,
-        .tangential = coeffs.tangential,
-        .rot = coeffs.rotation && coeffs.tangential != GR_TANGENTIAL_NONE,
+        .law = s->tangential ? s->tangential->reference : NULL,
+        .rot = coeffs.rotation && s->tangential,
         .q = coeffs.q,
         .clamp = coeffs.clamp,
-        .fn_sign = 1.0,
     };
+    ctx.lt = (gr_ref_tangential){.c_n = ctx.c_n, .pow_a = ctx.pow_a, .pow_p = ctx.pow_p, .clamp = ctx.clamp,
+                                 .fn_sign = 1.0};
+    if (ctx.law) {
+        ctx.law->setup(&coeffs, m12, w0, len, &ctx.lt);
+    }
     const double t0[2] = {-ctx.n0[1], ctx.n0[0]};
     const double G0[2] = {g[0] / speed, g[1] / speed};
     const double gn0 = G0[0] * ctx.n0[0] + G0[1] * ctx.n0[1];
@@ -452,10 +384,8 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     const double W0 = ctx.rot ? (s->omega1 + s->omega2) / w0 : 0.0;
     const double gt0 = G0[0] * t0[0] + G0[1] * t0[1] - 0.5 * ctx.D * W0;
     const bool has_tangent = fabs(gt0) >= REF_TANGENT_FLOOR;
-    ctx.sliding = ctx.tangential == GR_TANGENTIAL_FRICTION && has_tangent;
-    ctx.s0 = gt0 < 0.0 ? -1.0 : 1.0;
-    if (ctx.tangential == GR_TANGENTIAL_SPRING) {
-        ref_spring_start(&ctx, gn0, gt0);
+    if (ctx.law && ctx.law->start) {
+        ctx.law->start(&ctx.lt, gn0, gt0, has_tangent);
     }
 
     SUNContext sunctx = NULL;
@@ -494,11 +424,10 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     int rootdir[REF_NROOT];
     rootdir[ROOT_END] = -1;
     rootdir[ROOT_MAX_OVERLAP] = 1;
-    rootdir[ROOT_STICK] = -1;
-    rootdir[ROOT_FN_SIGN] = -1;
     rootdir[ROOT_DEGENERATE] = -1;
-    rootdir[ROOT_SLIP_UP] = -1;
-    rootdir[ROOT_SLIP_DOWN] = -1;
+    for (int k = 0; k < GR_REF_NROOTS; k++) {
+        rootdir[root_law[k]] = -1; /* the law's roots cross 0 downwards */
+    }
 
     REF_CHECK(CVodeSetErrHandlerFn(mem, ref_err_handler, &ctx), "CVodeSetErrHandlerFn");
     REF_CHECK(CVodeInit(mem, ref_rhs, 0.0, y), "CVodeInit");
@@ -509,7 +438,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
      * the steps the motion needs (tests/test_spring_reference.c checks the balance). */
     double *av = N_VGetArrayPointer(atol);
     for (int k = 0; k < REF_NEQ; k++) {
-        av[k] = k == Y_KS ? 1e300 : REF_ATOL;
+        av[k] = k == y_law[GR_REF_Y_QUAD] ? 1e300 : REF_ATOL;
     }
     REF_CHECK(CVodeSVtolerances(mem, s->ref_rtol > 0.0 ? s->ref_rtol : 1e-12, atol), "CVodeSVtolerances");
     REF_CHECK(CVodeSetUserData(mem, &ctx), "CVodeSetUserData");
@@ -565,10 +494,18 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
         if (found[ROOT_END]) {
             break;
         }
-        bool restart = false;
-        if (found[ROOT_STICK] && ctx.sliding) {
-            /* Sliding stops; without a tangential spring it never restarts (g.t stays 0). */
-            ctx.sliding = false;
+        bool found_law[GR_REF_NROOTS];
+        bool any = false;
+        for (int k = 0; k < GR_REF_NROOTS; k++) {
+            found_law[k] = found[root_law[k]] != 0;
+            any = any || found_law[k];
+        }
+        int ev = any && ctx.law && ctx.law->event ? ctx.law->event(&ctx.lt, found_law, &st.law) : 0;
+        for (int k = 0; k < GR_REF_NY && ev; k++) {
+            yd[y_law[k]] = st.law.y[k]; /* the law's state as its event left it */
+        }
+        if (ev & GR_REF_STOP) {
+            /* the law stopped the contact point's sliding: cancel its residual g_c at the root */
             if (ctx.rot) {
                 /* the impulse J that cancels the residual gc at the root: J / m12 on g.t and
                  * rho J / (q m12) on S = -|r| W / 2, rho = (|r| / D)^2 */
@@ -581,25 +518,8 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
                 yd[Y_G0] = st.gn * st.n[0];
                 yd[Y_G1] = st.gn * st.n[1];
             }
-            restart = true;
         }
-        if (found[ROOT_STICK] && ctx.tangential == GR_TANGENTIAL_SPRING && ctx.slip) {
-            yd[Y_S] = st.s; /* the spring sticks again where the constraint left it */
-            ctx.slip = false;
-            restart = true;
-        }
-        if ((found[ROOT_SLIP_UP] || found[ROOT_SLIP_DOWN]) && !ctx.slip) {
-            ctx.slip = true; /* the spring force reached the Coulomb limit */
-            ctx.sig_t = found[ROOT_SLIP_UP] ? 1.0 : -1.0;
-            restart = true;
-        }
-        if (found[ROOT_FN_SIGN]) {
-            ctx.fn_sign = -ctx.fn_sign;
-            if (ctx.tangential == GR_TANGENTIAL_SPRING) {
-                ref_spring_turn(&ctx, yd, &st);
-            }
-            restart = true;
-        }
+        const bool restart = (ev & GR_REF_RESTART) != 0;
         if (restart) {
             REF_CHECK(CVodeReInit(mem, tau, y), "CVodeReInit");
         }
@@ -627,8 +547,8 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
      * elastic energy still in the contact at its end is lost with it (a clamped normal law
      * separates at xi > 0, the spring's k_t s^2 / 2 is forgotten) */
     const double e0 = 0.5 * (gg0 + spin_e0), X_end = fmax(st.xi, 0.0);
-    const double u_spring = ctx.tangential == GR_TANGENTIAL_SPRING ? 0.5 * st.kk * st.s * st.s : 0.0;
-    const double stored_t = ctx.km != 0.0 ? yd[Y_KS] : u_spring; /* int k_t s ds */
+    const double u_spring = st.law.e;          /* the tangential law's stored energy, forgotten */
+    const double stored_t = st.law.e_work;     /* int F ds of its stored share (int k_t s ds) */
     out->diss_normal = yd[Y_DN] / e0;
     out->diss_tangential = (yd[Y_WT] - stored_t) / e0;
     out->stored_lost = (pow(X_end, ctx.pow_a + 1.0) / (ctx.pow_a + 1.0) + u_spring) / e0;

@@ -56,7 +56,7 @@ int gr_contact_prepare_rolling(const gr_model *rolling, const gr_contact_params 
                                gr_contact_coeffs *c, gr_error *err)
 {
     c->rolling_model = NULL;
-    c->mu_r = 0.0;
+    memset(c->law_r, 0, sizeof c->law_r);
     if (!rolling) {
         return GR_OK;
     }
@@ -112,6 +112,49 @@ int gr_contact_set(gr_contact_params *p, const char *name, const char *value, gr
         }
     }
     return GR_FAIL(err, GR_EINVAL, "[model] %s: no model has this parameter (granule models lists them)", name);
+}
+
+/* the descriptor of the model parameter `name` (the first model declaring it: a key several
+ * models declare has one place, checked by the conformance suite) */
+static const gr_param *param_of(const char *name)
+{
+    for (int m = 0; gr_models[m]; m++) {
+        for (int i = 0; i < gr_models[m]->n_params; i++) {
+            if (strcmp(gr_models[m]->params[i].name, name) == 0) {
+                return &gr_models[m]->params[i];
+            }
+        }
+    }
+    return NULL;
+}
+
+int gr_contact_set_value(gr_contact_params *p, const char *name, double v, gr_error *err)
+{
+    const gr_param *d = param_of(name);
+    if (!d) {
+        return GR_FAIL(err, GR_EINVAL, "[model] %s: no model has this parameter (granule models lists them)", name);
+    }
+    char *slot = (char *)p + d->offset;
+    if (d->type == GR_PARAM_BOOL) {
+        *(bool *)slot = v != 0.0;
+        return GR_OK;
+    }
+    if (!(isfinite(v) && (d->min_open ? v > d->min : v >= d->min) && (d->max_open ? v < d->max : v <= d->max))) {
+        return GR_FAIL(err, GR_EINVAL, "[model] %s = %g: allowed range %c%g, %g%c %s", name, v,
+                       d->min_open ? '(' : '[', d->min, d->max, d->max_open ? ')' : ']', d->unit);
+    }
+    *(double *)slot = v;
+    return GR_OK;
+}
+
+double gr_contact_get(const gr_contact_params *p, const char *name)
+{
+    const gr_param *d = param_of(name);
+    if (!d) {
+        return NAN;
+    }
+    const char *slot = (const char *)p + d->offset;
+    return d->type == GR_PARAM_BOOL ? (*(const bool *)slot ? 1.0 : 0.0) : *(const double *)slot;
 }
 
 double gr_contact_expected_loss(const gr_contact_coeffs *c, double speed, double angle_deg)

@@ -505,9 +505,9 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->rough = s->omega != NULL; /* [model] rotation = true (2D only: gr_sim refuses it in 1D) */
     e->q = s->cc.q;
     e->R = 0.5 * s->d;
-    e->beta = s->params.contact.beta;
-    e->beta_mu = s->params.contact.beta_mu;
-    e->visco = s->params.contact.viscoelastic;
+    e->beta = s->cc.law_t[GR_HARD_SPHERE_BETA]; /* the rule's constants, as hard_sphere prepared them */
+    e->beta_mu = s->cc.law_t[GR_HARD_SPHERE_BETA_MU];
+    e->visco = s->cc.law_n[GR_HARD_SPHERE_VISCO] != 0.0;
     e->cc = &s->cc;
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
     e->com_every = (int64_t)llround(s->params.com_interval / e->tau);
