@@ -12,7 +12,7 @@ bad() { echo "FAIL: $*"; fail=1; }
 # The layers, bottom to top (docs/architecture.md; meson.build links each only with those below,
 # so an upward call fails the build). Here the same order is checked on the #include lines: a
 # file includes no private header of a layer above its own.
-layers="base models core integrators io analysis scene theory collide app cli"
+layers="base models core integrators io analysis collide scene theory app cli"
 rank() { local i=0; for l in $layers; do [ "$l" = "$1" ] && { echo $i; return; }; i=$((i + 1)); done; echo -1; }
 for dir in "$root"/src/*/ "$root"/models/; do
     layer=$(basename "$dir")
@@ -29,7 +29,10 @@ core_names=$(grep -nw 'gr_scene\|gr_event_[a-z_]*\|gr_hybrid_[a-z_]*\|gr_verlet_
 # scene, neither its header nor its type (the scene fills the setup: gr_scene_obs_setup)
 analysis_names=$(grep -nw 'gr_scene\|granule/scene\.h' "$root"/src/analysis/*.[ch] | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
 [ -z "$analysis_names" ] || bad "src/analysis names the scene (observables take a gr_obs_setup):"$'\n'"$analysis_names"
-# ... and evaluates no contact law: a force of a frame comes from the force kernel's own law
+# one binary collision is set up on the core's plain parameters too (src/collide names no scene)
+collide_names=$(grep -nw 'gr_scene\|granule/scene\.h' "$root"/src/collide/*.[ch] | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
+[ -z "$collide_names" ] || bad "src/collide names the scene (a collision takes a gr_collide_setup):"$'\n'"$collide_names"
+# ... and the analysis layer evaluates no contact law: a force of a frame comes from the force kernel's own law
 # (gr_contact_virial, src/core/kernels.c), never from a copy of its coefficients' formula
 analysis_laws=$(grep -nw 'k_s\|gamma_n\|gamma_t\|gr_contact_prepare\|gr_normal_[a-z_]*\|gr_tangential_[a-z_]*' "$root"/src/analysis/*.[ch] | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
 [ -z "$analysis_laws" ] || bad "src/analysis evaluates a contact law itself (use gr_contact_virial):"$'\n'"$analysis_laws"

@@ -553,7 +553,7 @@ START_TEST(test_dissipative_regime_thesis_numbers)
             ck_assert_str_eq(got, from[k]);
         }
         result_free(&r);
-        gr_obs_sk.destroy(st);
+        gr_observable_free(st);
     }
 
     /* elastic: k_D = 0, no window, no fit (but S(k) still measured) */

@@ -5,12 +5,14 @@
  * ahead of it, so the contact starts at a chosen point inside a time step; averaging over phases
  * removes the discretisation's phase noise from the measured energy loss. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "core/sim_internal.h"
 #include "models/hard_sphere.h"
 #include "granule/collide.h"
-#include "granule/scene.h"
+#include "granule/integrator.h"
+#include "granule/sim.h"
 
 int gr_collision_case_table21(int number, double radius, gr_collision_case *out, gr_error *err)
 {
@@ -144,13 +146,13 @@ static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc,
  * centres turned so far during a grazing contact that the normal velocity after it is mostly the
  * tangential one projected on the turned normal: its share of eps_n_measured, |g_t / g_n| sin(theta)
  * for a turn by theta, exceeds GR_COLLIDE_MAX_TURN_ERROR. */
-static int check_contact(const gr_collide_setup *cs, const gr_sim *s, const gr_scene *sc, const double n0[2],
+static int check_contact(const gr_collide_setup *cs, const gr_sim *s, double L, const double n0[2],
                          const double n_end[2], double gn0, double gt0, const double g1[2],
                          const gr_collide_result *out, gr_error *err)
 {
     double dx = s->x[1] - s->x[0], dy = cs->dim == 2 ? s->y[1] - s->y[0] : 0.0;
-    dx -= sc->L * rint(dx / sc->L);
-    dy -= sc->L * rint(dy / sc->L);
+    dx -= L * rint(dx / L);
+    dy -= L * rint(dy / L);
     const double speed = hypot(gn0, gt0), d = 2.0 * cs->radius;
     if (dx * n0[0] + dy * n0[1] < 0.0 || g1[0] * n_end[0] + g1[1] * n_end[1] < 0.0) {
         return GR_FAIL(err, GR_EINVAL, "the discs passed through each other (tunnelled) instead of colliding: at %g m/s "
@@ -197,23 +199,15 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
         }
         return collide_hard(cs, cc, t_hit, out, err);
     }
-    gr_scene sc;
-    gr_scene_default(&sc);
+    /* two discs in a box large enough that they meet only once, no driving, velocity Verlet: the
+     * core's plain parameters (granule/sim.h), no scene */
+    gr_sim_params sc = {.dim = dim, .N = 2, .radius = cs->radius, .mass = cs->mass, .normal = cs->normal,
+                        .tangential = dim == 2 ? cs->tangential : NULL, .rolling = dim == 2 ? cs->rolling : NULL,
+                        .contact = cs->contact, .D = 0.0, .noise_mode = GR_NOISE_NONE,
+                        .integrator = gr_integrator_find("verlet"), .dt = cs->dt,
+                        .steps_per_contact = cs->steps_per_contact > 0.0 ? cs->steps_per_contact : 50.0,
+                        .force_dt = cs->force_dt, .skin = 0.3, .seed = 1};
     snprintf(sc.source, sizeof sc.source, "options"); /* messages read "collide: options: [..] key ..." */
-    sc.dim = dim;
-    sc.N = 2;
-    sc.radius = cs->radius;
-    sc.mass = cs->mass;
-    sc.normal = cs->normal;
-    sc.tangential = dim == 2 ? cs->tangential : NULL;
-    sc.rolling = dim == 2 ? cs->rolling : NULL;
-    sc.contact = cs->contact;
-    sc.D = 0.0;
-    sc.noise_mode = GR_NOISE_NONE;
-    sc.dt = cs->dt;
-    sc.steps_per_contact = cs->steps_per_contact > 0.0 ? cs->steps_per_contact : 50.0;
-    sc.force_dt = cs->force_dt;
-    sc.skin = 0.3;
     sc.L = fmax(64.0 * d, 8.0 * (fabs(r0[0]) + fabs(r0[1]) + d));
     /* the time step first (it sets how far before contact to start) */
     gr_contact_coeffs coeffs;
@@ -238,7 +232,7 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
         vy[p] = dim == 2 ? vs[p][1] : 0.0;
     }
     gr_sim *s;
-    rc = gr_sim_create_with_state(&sc, 2, x, y, vx, vy, &s, err);
+    rc = gr_sim_new_with_state(&sc, 2, x, y, vx, vy, &s, err);
     if (rc) {
         return rc;
     }
@@ -334,7 +328,7 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     }
     double g1[2] = {s->vx[1] - s->vx[0], dim == 2 ? s->vy[1] - s->vy[0] : 0.0};
     double t_end[2] = {n_end[1], -n_end[0]};
-    rc = check_contact(cs, s, &sc, n0, n_end, gn0, gt0, g1, out, err);
+    rc = check_contact(cs, s, sc.L, n0, n_end, gn0, gt0, g1, out, err);
     if (rc) {
         gr_sim_free(s);
         return rc;
