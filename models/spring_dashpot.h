@@ -113,5 +113,6 @@ const gr_model gr_model_spring_dashpot = {
     .prepare = spring_dashpot_prepare,
     .impact = spring_dashpot_impact,
     .elastic = "eps_n=1",
+    .lammps_pair = "gran/hooke",
 };
 #endif /* GR_MODEL_IMPL */

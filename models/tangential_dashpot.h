@@ -112,6 +112,7 @@ const gr_model gr_model_tangential_dashpot = {
     .inert = tangential_dashpot_inert,
     .contact_point = true,
     .constant_eps_t = true,
+    .lammps_pair = "gran/hooke",
     .restitution_t = tangential_dashpot_restitution_t,
     .reference = &tangential_dashpot_reference,
     .elastic = "eps_t=1",

@@ -36,6 +36,11 @@ collide_names=$(grep -nw 'gr_scene\|granule/scene\.h' "$root"/src/collide/*.[ch]
 # (gr_contact_virial, src/core/kernels.c), never from a copy of its coefficients' formula
 analysis_laws=$(grep -nw 'k_s\|gamma_n\|gamma_t\|gr_contact_prepare\|gr_normal_[a-z_]*\|gr_tangential_[a-z_]*' "$root"/src/analysis/*.[ch] | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
 [ -z "$analysis_laws" ] || bad "src/analysis evaluates a contact law itself (use gr_contact_virial):"$'\n'"$analysis_laws"
+# below the application layer nothing tests a model or an integrator by its name: capability
+# flags say what a law or an integrator can do (gr_model, gr_integrator_type)
+name_tests=$(grep -rnE 'strcmp\([a-z_.>-]*(normal|tangential|rolling|integrator|model)->name, "' "$root"/src "$root"/models --include='*.[ch]' |
+    grep -v "^$root/src/app/\|^$root/src/cli/" | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
+[ -z "$name_tests" ] || bad "a model or integrator tested by name below the application layer (use a capability flag):"$'\n'"$name_tests"
 # the run driver and everything but the integrators' own folders use the integrator interface
 int_includes=$(grep -rn '#include "integrators/' "$root"/src --include='*.[ch]' | grep -v "^$root/src/integrators/")
 [ -z "$int_includes" ] || bad "an integrator header included outside src/integrators:"$'\n'"$int_includes"

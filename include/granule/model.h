@@ -136,6 +136,10 @@ typedef struct gr_model {
      * every impact (tangential_dashpot). Code that needs a constant eps_t (the S(k) observable's
      * dissipative window, thesis eq. 4.5) asks this flag, never the model's name. */
     bool constant_eps_t;
+    /* The LAMMPS pair style this law is the same force as (granule export lammps, docs/lammps.md;
+     * NULL: none). A normal and a tangential law export together when they name the same style
+     * (spring_dashpot and tangential_dashpot: gran/hooke, whose gamma_t is the dashpot's). */
+    const char *lammps_pair;
     /* Event rules: the normal force law whose kernel evaluates forces when the engine asks for
      * them (the initial state, which has no overlaps), with the coefficients prepare set. */
     const char *force_law;

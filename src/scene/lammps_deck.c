@@ -35,13 +35,15 @@ static int refuse_unmappable(const gr_scene *s, gr_error *err)
     if (s->dim != 2) {
         return GR_FAIL(err, GR_EINVAL, "export lammps: %s: LAMMPS has no 1D systems (dimension is 2 or 3); export a 2D scene", s->source);
     }
-    if (strcmp(s->integrator->name, "verlet") != 0) {
+    /* capabilities, not names: a soft time-stepped integrator, laws that say which LAMMPS pair
+     * style they are (gr_model.lammps_pair) */
+    if (s->integrator->instantaneous || s->integrator->free_flight) {
         return GR_FAIL(err, GR_EINVAL, "export lammps: %s: LAMMPS is time-stepped only; set integrator.kind = verlet (its event-driven and hybrid integrators have no LAMMPS equivalent)", s->source);
     }
-    if (strcmp(s->normal->name, "spring_dashpot") != 0) {
+    if (!s->normal->lammps_pair || strcmp(s->normal->lammps_pair, "gran/hooke") != 0) {
         return GR_FAIL(err, GR_EINVAL, "export lammps: %s: model.normal = %s has no gran/hooke equivalent; use spring_dashpot", s->source, s->normal->name);
     }
-    if (s->tangential && strcmp(s->tangential->name, "tangential_dashpot") != 0) {
+    if (s->tangential && !(s->tangential->lammps_pair && strcmp(s->tangential->lammps_pair, s->normal->lammps_pair) == 0)) {
         return GR_FAIL(err, GR_EINVAL, "export lammps: %s: model.tangential = %s: gran/hooke caps a dashpot at xmu |F_n| but has no pure Coulomb force; use tangential_dashpot or none", s->source, s->tangential->name);
     }
     return GR_OK;
@@ -139,7 +141,7 @@ int gr_export_lammps(const gr_scene *scene, const char *dir, bool force, gr_lamm
     const double m12 = gr_scene_m12(&s);
     info->kn = c->k_s;
     info->gamman = c->gamma_n / m12;
-    info->gammat = c->tangential == GR_TANGENTIAL_DASHPOT ? c->gamma_t / m12 : 0.0;
+    info->gammat = s.tangential ? c->gamma_t / m12 : 0.0; /* only a law of the same pair style exports (refuse_unmappable) */
     info->noise_sigma = s.noise_mode == GR_NOISE_NONE || !(s.D > 0.0) ? 0.0 : sqrt(2.0 * s.D / s.dt);
     info->sample_steps = llround(s.sample_every / s.dt) > 0 ? llround(s.sample_every / s.dt) : 1;
     info->warmup_steps = llround(s.warmup / s.sample_every) * info->sample_steps;
