@@ -18,7 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "theory/mean_field.h"
+#include "app/mean_field.h"
 #include "core/sim_internal.h"
 #include "granule/scene.h"
 #include "scene/scene_json.h"

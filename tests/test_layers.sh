@@ -25,13 +25,12 @@ for dir in "$root"/src/*/ "$root"/models/; do
 done
 core_names=$(grep -nw 'gr_scene\|gr_event_[a-z_]*\|gr_hybrid_[a-z_]*\|gr_verlet_[a-z_]*\|gr_integrator_verlet\|gr_integrator_event\|gr_integrator_hybrid\|gr_integrator_names\|gr_integrator_find\|gr_blocking\|gr_histogram' "$root"/src/core/*.[ch] | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
 [ -z "$core_names" ] || bad "src/core names an integrator, the registry or the scene:"$'\n'"$core_names"
-# the observables take a plain gr_obs_setup (include/granule/observe.h): src/analysis names no
-# scene, neither its header nor its type (the scene fills the setup: gr_scene_obs_setup)
-analysis_names=$(grep -nw 'gr_scene\|granule/scene\.h' "$root"/src/analysis/*.[ch] | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
-[ -z "$analysis_names" ] || bad "src/analysis names the scene (observables take a gr_obs_setup):"$'\n'"$analysis_names"
-# one binary collision is set up on the core's plain parameters too (src/collide names no scene)
-collide_names=$(grep -nw 'gr_scene\|granule/scene\.h' "$root"/src/collide/*.[ch] | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
-[ -z "$collide_names" ] || bad "src/collide names the scene (a collision takes a gr_collide_setup):"$'\n'"$collide_names"
+# the scene stops at its own layer: everything below it takes plain parameter structs
+# (gr_sim_params, gr_obs_setup, gr_collide_setup, gr_traj_setup) and names no scene, neither its
+# header nor its type (the scene fills them: src/scene/scene_sim.c)
+below_scene=$(grep -rnw 'gr_scene\|granule/scene\.h' "$root"/src/base "$root"/models "$root"/src/core "$root"/src/integrators \
+    "$root"/src/io "$root"/src/analysis "$root"/src/collide --include='*.[ch]' | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
+[ -z "$below_scene" ] || bad "a layer below the scene names it (take a plain parameter struct):"$'\n'"$below_scene"
 # ... and the analysis layer evaluates no contact law: a force of a frame comes from the force kernel's own law
 # (gr_contact_virial, src/core/kernels.c), never from a copy of its coefficients' formula
 analysis_laws=$(grep -nw 'k_s\|gamma_n\|gamma_t\|gr_contact_prepare\|gr_normal_[a-z_]*\|gr_tangential_[a-z_]*' "$root"/src/analysis/*.[ch] | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
@@ -64,5 +63,5 @@ done
 lib_prints=$(grep -rn 'f\(printf\|puts\|putc\|write\)([^;]*\bstd\(err\|out\)\b\|[^a-z_]printf(\|[^a-z_]puts(\|[^a-z_]putchar(\|[^a-z_]abort()\|[^a-z_]perror(' \
     "$root"/src "$root"/models --include='*.[ch]' | grep -v "^$root/src/cli/\|^$root/src/app/report.c:" | grep -v '^[^:]*:[0-9]*: *\(/\*\|\*\)')
 [ -z "$lib_prints" ] || bad "the library prints or aborts (only src/cli may):"$'\n'"$lib_prints"
-[ $fail = 0 ] && echo "layers: ok ($layers, each including only those below; integrators behind their interface; no scene and no contact law in src/analysis; models free of src/ and closed over their parameters; the library does not print)"
+[ $fail = 0 ] && echo "layers: ok ($layers, each including only those below; integrators behind their interface; no scene below the scene layer, no contact law in src/analysis; models free of src/ and closed over their parameters; the library does not print)"
 exit $fail

@@ -16,9 +16,8 @@
 #include "granule/observe.h"
 #include "granule/sim.h"
 #include "granule/status.h"
+#include "granule/trajectory.h"
 
-/* Where the frames of output.snapshot_every go (docs/trajectories.md). */
-typedef enum { GR_TRAJ_SNAPSHOTS, GR_TRAJ_XYZ, GR_TRAJ_H5MD } gr_trajectory_format;
 
 typedef struct gr_scene {
     /* [system] */

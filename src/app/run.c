@@ -223,7 +223,13 @@ static int start_outputs(gr_run_ctx *c)
         gr_file_units(&c->fl, ledger_columns(c->scene));
     }
     /* the trajectory: a resume cuts the frames written after the checkpoint */
-    int rc = gr_traj_writer_open(&c->traj, c->scene, c->dir, c->resume ? c->snap_index : -1, c->err);
+    const gr_scene *s = c->scene;
+    const gr_traj_setup setup = {
+        .format = s->trajectory,
+        .frames = s->snapshot_every > 0.0,
+        .particles = {.n = s->N, .dim = s->dim, .L = s->L, .radius = s->radius, .mass = s->mass,
+                      .angular_velocity = s->dim == 2 && s->contact.rotation, .deflate = 1}};
+    int rc = gr_traj_writer_open(&c->traj, &setup, c->dir, c->resume ? c->snap_index : -1, c->err);
     if (rc) {
         gr_traj_writer_close(&c->traj, &(gr_error){0});
         gr_run_stream_leave(&c->ft);

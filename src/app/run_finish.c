@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "theory/mean_field.h"
+#include "app/mean_field.h"
 #include "granule_commit.h"
 #include "granule_config.h"
 #include "app/run_picture.h"

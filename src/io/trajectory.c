@@ -49,13 +49,13 @@ static int xyz_open(gr_traj_writer *w, int64_t resume_frames, gr_error *err)
     return GR_OK;
 }
 
-int gr_traj_writer_open(gr_traj_writer *w, const gr_scene *s, const char *dir, int64_t resume_frames, gr_error *err)
+int gr_traj_writer_open(gr_traj_writer *w, const gr_traj_setup *s, const char *dir, int64_t resume_frames, gr_error *err)
 {
     memset(w, 0, sizeof *w);
-    w->format = s->trajectory;
+    w->format = s->format;
     w->frames = resume_frames > 0 ? resume_frames : 0;
     snprintf(w->dir, sizeof w->dir, "%s", dir);
-    if (s->snapshot_every <= 0.0) {
+    if (!s->frames) {
         return GR_OK;
     }
     char path[1200];
@@ -71,11 +71,9 @@ int gr_traj_writer_open(gr_traj_writer *w, const gr_scene *s, const char *dir, i
     if (w->format == GR_TRAJ_H5MD) {
         snprintf(path, sizeof path, "%s/trajectory.h5", dir);
         if (resume_frames >= 0) {
-            return gr_h5md_reopen(path, resume_frames, s->N, &w->h5, err);
+            return gr_h5md_reopen(path, resume_frames, s->particles.n, &w->h5, err);
         }
-        gr_h5md_desc d = {.n = s->N, .dim = s->dim, .L = s->L, .radius = s->radius, .mass = s->mass,
-                          .angular_velocity = s->dim == 2 && s->contact.rotation, .deflate = 1};
-        return gr_h5md_create(path, &d, &w->h5, err);
+        return gr_h5md_create(path, &s->particles, &w->h5, err);
     }
     return GR_OK;
 }

@@ -8,8 +8,8 @@
 
 #include <stdint.h>
 
-#include "granule/scene.h"
 #include "granule/sim.h"
+#include "granule/trajectory.h"
 #include "io/h5md.h"
 #include "io/snapshot.h"
 
@@ -21,9 +21,17 @@ typedef struct gr_traj_writer {
     int64_t frames;  /* written so far */
 } gr_traj_writer;
 
+/* What a run's trajectory holds: its format, whether frames are taken at all
+ * (output.snapshot_every > 0), and the particles' description (H5MD writes it into the file). */
+typedef struct gr_traj_setup {
+    gr_trajectory_format format;
+    bool frames;
+    gr_h5md_desc particles;
+} gr_traj_setup;
+
 /* Start the trajectory of a run in dir (creating snapshots/ if needed): a fresh one, or, when
  * resume_frames >= 0, the existing one cut after its first resume_frames frames. */
-int gr_traj_writer_open(gr_traj_writer *w, const gr_scene *s, const char *dir, int64_t resume_frames, gr_error *err);
+int gr_traj_writer_open(gr_traj_writer *w, const gr_traj_setup *s, const char *dir, int64_t resume_frames, gr_error *err);
 int gr_traj_writer_frame(gr_traj_writer *w, const gr_particles *p, double t, int64_t step, gr_error *err);
 /* Everything appended so far is on disk (called at checkpoints). */
 int gr_traj_writer_sync(gr_traj_writer *w, gr_error *err);

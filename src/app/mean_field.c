@@ -3,7 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "theory/mean_field.h"
+#include "app/mean_field.h"
 #include "granule/analysis.h"
 
 cJSON *gr_mean_field_steady(const gr_scene *s, double T_mean)
