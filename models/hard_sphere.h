@@ -116,7 +116,7 @@ static const gr_param hard_sphere_params[] = {
      "tangential coefficient of restitution (2.10), 2D; 1 = no tangential dissipation (default shared with tangential_dashpot)",
      offsetof(gr_contact_params, eps_t)},
     {"tc", "s", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
-     "TC-model time: a collision is elastic if either particle collided less than tc ago; 0 = the contact duration of the matching spring-dashpot (k_s, eps_n)",
+     "TC-model time: a collision is elastic if either particle collided less than tc ago; default (or 0): the contact duration of the matching spring-dashpot (k_s, eps_n); off = no TC rule (an inelastic collapse is then stopped by the event-rate guard)",
      offsetof(gr_contact_params, tc)},
     GR_ROTATION_PARAMS,
     {"beta", "", GR_PARAM_DOUBLE, -1.0, -1.0, 1.0, false, false,
@@ -162,18 +162,16 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
                        "limit does nothing; set beta in (-1, 1] (the sticking value, e.g. 1) or beta_mu = 0",
                        p->beta_mu);
     }
-    if (!(p->tc >= 0.0) || !isfinite(p->tc)) {
-        return GR_FAIL(err, GR_EINVAL, "[model] tc = %g: allowed range [0, inf) s", p->tc);
+    if (!(p->tc >= 0.0 || p->tc == GR_TC_OFF) || !isfinite(p->tc)) {
+        return GR_FAIL(err, GR_EINVAL, "[model] tc = %g: allowed range [0, inf) s, or off", p->tc);
     }
     c->normal = GR_NORMAL_HARD_SPHERE;
     c->m12 = m12;
     c->clamp = false;
     c->zeta = gr_zeta_unclamped(p->eps_n); /* the matching spring-dashpot, eq. 2.6 */
+    /* t_c, the k_s contact's duration, sets only the clock tick dt = t_c / steps_per_contact; a given
+     * tc is the TC time alone (the event integrator reads it), so a tiny tc cannot make the tick crawl */
     c->w0 = sqrt(p->k_s / m12);
-    if (p->tc > 0.0) {
-        /* the soft contact that lasts tc: w0 from the duration pi / (w0 sqrt(1 - zeta^2)) */
-        c->w0 = gr_duration_unclamped(c->zeta) / p->tc;
-    }
     c->k_s = m12 * c->w0 * c->w0;
     c->t_c = gr_duration_unclamped(c->zeta) / c->w0;
     c->eps_n_exact = p->eps_n;

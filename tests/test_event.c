@@ -608,6 +608,48 @@ START_TEST(test_guards)
 }
 END_TEST
 
+/* Issue 37: a tiny tc made the run crawl without a word (1e12 floor bounces per pair and second,
+ * and the clock tick dt = tc / steps_per_contact). Now tc sets the TC time only (dt comes from k_s),
+ * the floor-bounce guard stops the run with a diagnosis within seconds, tc = off switches the TC
+ * rule off, and tc = 0 (the soft contact time, as before) is warned about. */
+START_TEST(test_tiny_tc)
+{
+    const char *ov[] = {"system.dim=2", "system.N=400", "system.packing_fraction=0.2", "placement.kind=uniform",
+                        "model.normal=hard_sphere", "model.eps_n=0.7", "model.eps_t=1", "noise.D=1e-8",
+                        "noise.mode=symmetrised", "integrator.kind=event", "model.tc=1e-12"};
+    gr_scene sc = scene_of(ov, 11), soft = scene_of(ov, 10);
+    gr_sim *s = sim_of(&sc), *d = sim_of(&soft);
+    ck_assert_msg(s->dt == d->dt, "dt %g s with tc = 1e-12 s, %g s without", s->dt, d->dt);
+    ck_assert(gr_ev(s)->tc == 1e-12 && gr_ev(d)->tc == d->cc.t_c && d->cc.t_c > 1e-6);
+    const double dt_soft = d->dt;
+    if (quick()) {
+        gr_ev(s)->budget = 50000;
+    }
+    gr_error err = {0};
+    int rc = gr_sim_step(s, (int64_t)llround(1.0 / s->dt), &err);
+    if (verbose()) {
+        printf("tiny tc: rc %d, t = %g s, %lld collisions: %s\n", rc, gr_sim_time(s), (long long)gr_sim_collisions(s),
+               err.message);
+    }
+    ck_assert_int_eq(rc, GR_EUNSTABLE);
+    ck_assert_msg(strstr(err.message, "crawls") && strstr(err.message, "contact floor") && strstr(err.message, "tc = 1e-12 s") &&
+                      strstr(err.message, "free_flight = kicks"),
+                  "%s", err.message);
+    gr_sim_free(s);
+    gr_sim_free(d);
+    ov[10] = "model.tc=off";
+    gr_scene off = scene_of(ov, 11);
+    ck_assert(off.contact.tc == GR_TC_OFF && !strstr(off.warnings, "tc = 0"));
+    s = sim_of(&off);
+    ck_assert(gr_ev(s)->tc == 0.0 && s->dt == dt_soft);
+    gr_sim_free(s);
+    ov[10] = "model.tc=0";
+    gr_scene zero = scene_of(ov, 11);
+    ck_assert_msg(strstr(zero.warnings, "tc = 0") && strstr(zero.warnings, "tc = off"), "%s", zero.warnings);
+    ck_assert(!strstr(soft.warnings, "tc = 0"));
+}
+END_TEST
+
 /* A stop request (SIGTERM in granule run) ends a step early with the step count unchanged, and
  * the run continues from there bit-identically once the flag is cleared. */
 START_TEST(test_stop_flag)
@@ -650,6 +692,7 @@ static Suite *event_suite(void)
     tcase_set_timeout(tg, 600);
     tcase_add_loop_test(tg, test_guards, 0, 4);
     tcase_add_test(tg, test_stop_flag);
+    tcase_add_test(tg, test_tiny_tc);
     suite_add_tcase(s, tg);
     TCase *te = tcase_create("elastic");
     tcase_set_timeout(te, 600);

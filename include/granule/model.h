@@ -17,6 +17,9 @@
 
 #include "granule/status.h"
 
+/* [model] tc = off: the TC rule switched off (hard_sphere; docs/event-driven.md) */
+#define GR_TC_OFF (-1.0)
+
 typedef enum { GR_PARAM_DOUBLE, GR_PARAM_BOOL, GR_PARAM_INT } gr_param_type;
 
 /* One scene key. `offset` locates the value inside the struct the descriptor table belongs to
@@ -39,7 +42,8 @@ typedef struct gr_contact_params {
     double eps_t; /* tangential coefficient of restitution (2.10) */
     double mu;    /* sliding-friction coefficient (2.7) */
     bool clamp;   /* true: normal force never attractive, gamma_n from the clamped restitution */
-    double tc;    /* hard_sphere: TC-model time, s; 0 = the matching spring-dashpot's contact time */
+    double tc;    /* hard_sphere: TC-model time, s; 0 = the matching spring-dashpot's contact time;
+                   * GR_TC_OFF (scene: tc = off) = no TC rule */
     double k_h;   /* hertz: stiffness of F = k_h xi^(3/2), N/m^(3/2) */
     bool viscoelastic; /* hertz: damping of Brilliantov et al. (A), not calibrated to eps_n */
     double visco_A;    /* hertz: the viscoelastic time A, s */

@@ -351,6 +351,29 @@ static bool section_known(const char *section)
     return false;
 }
 
+static void warn(gr_scene *s, const char *fmt, const char *a, const char *b);
+
+/* [model] tc: `off` switches the TC rule off (GR_TC_OFF); 0 keeps its old meaning (the matching
+ * spring-dashpot's contact time, also the default) but is warned about, since a physicist writing
+ * tc = 0 means "off" (issue 37). Returns true when the value was one of these spellings. */
+static bool tc_value(loader *ld, const char *value, double *x)
+{
+    const char *v = value + strspn(value, " \t");
+    if (strncasecmp(v, "off", 3) == 0 && v[3 + strspn(v + 3, " \t")] == '\0') {
+        *x = GR_TC_OFF;
+        return true;
+    }
+    if (parse_double(value, x) && *x == 0.0) {
+        if (!ld->defaults) {
+            warn(ld->scene, "[model] tc = 0 is the contact time of the matching spring-dashpot (k_s, eps_n), the same as "
+                            "leaving tc out; it does not switch the TC rule off: write tc = off for that%s%s\n",
+                 "", "");
+        }
+        return true;
+    }
+    return false;
+}
+
 static int apply(loader *ld, const char *section, const char *name, const char *value, const where *w)
 {
     gr_scene *s = ld->scene;
@@ -531,6 +554,10 @@ static int apply(loader *ld, const char *section, const char *name, const char *
         if (p) {
             key_type t = p->type == GR_PARAM_BOOL ? K_BOOL : K_DOUBLE;
             double x;
+            if (strcmp(name, "tc") == 0 && tc_value(ld, value, &x)) {
+                s->contact.tc = x;
+                return GR_OK;
+            }
             if (t == K_DOUBLE && parse_double(value, &x) && !check_range(x, p->min, p->max, p->min_open, p->max_open)) {
                 char ranges[300];
                 model_param_ranges(name, p, ranges, sizeof ranges);
@@ -1203,6 +1230,10 @@ static void save_params(FILE *f, const gr_param *ps, int n, const void *base)
             fprintf(f, "%s = %s\n", ps[i].name, *(const bool *)slot ? "true" : "false");
         } else if (ps[i].type == GR_PARAM_INT) {
             fprintf(f, "%s = %d\n", ps[i].name, *(const int *)slot);
+        } else if (strcmp(ps[i].name, "tc") == 0 && *(const double *)slot <= 0.0) {
+            /* tc = 0 is warned about when read (tc_value): the default is left out, off written out */
+            fprintf(f, *(const double *)slot == GR_TC_OFF ? "tc = off\n"
+                                                          : "; tc: the contact time of the matching spring-dashpot (default)\n");
         } else {
             fprintf(f, "%s = %.17g\n", ps[i].name, *(const double *)slot);
         }
