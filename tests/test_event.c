@@ -640,6 +640,13 @@ START_TEST(test_tiny_tc)
     ov[11] = "model.tc=off";
     gr_scene off = scene_of(ov, 12);
     ck_assert(off.contact.tc == GR_TC_OFF && !strstr(off.warnings, "tc = 0"));
+    char *text = NULL;
+    size_t text_len = 0;
+    FILE *f = open_memstream(&text, &text_len);
+    gr_scene_write(&off, f); /* the resolved scene.ini says off, and reads back as off */
+    fclose(f);
+    ck_assert_msg(strstr(text, "\ntc = off\n"), "%s", text);
+    free(text);
     s = sim_of(&off);
     ck_assert(gr_ev(s)->tc == 0.0 && s->dt == dt_soft);
     gr_sim_free(s);

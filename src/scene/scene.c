@@ -1235,10 +1235,8 @@ static void save_params(FILE *f, const gr_param *ps, int n, const void *base)
             fprintf(f, "%s = %s\n", ps[i].name, *(const bool *)slot ? "true" : "false");
         } else if (ps[i].type == GR_PARAM_INT) {
             fprintf(f, "%s = %d\n", ps[i].name, *(const int *)slot);
-        } else if (strcmp(ps[i].name, "tc") == 0 && *(const double *)slot <= 0.0) {
-            /* tc = 0 is warned about when read (tc_value): the default is left out, off written out */
-            fprintf(f, *(const double *)slot == GR_TC_OFF ? "tc = off\n"
-                                                          : "; tc: the contact time of the matching spring-dashpot (default)\n");
+        } else if (strcmp(ps[i].name, "tc") == 0 && *(const double *)slot == GR_TC_OFF) {
+            fprintf(f, "tc = off\n"); /* the default stays "tc = 0", as checkpoints' scene texts have it */
         } else {
             fprintf(f, "%s = %.17g\n", ps[i].name, *(const double *)slot);
         }
