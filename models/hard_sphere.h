@@ -22,7 +22,7 @@ extern const gr_model gr_model_hard_sphere;
 
 /* its own parameters (gr_contact_params.own); viscoelastic = true uses hertz's (k_h, visco_A) */
 typedef struct hard_sphere_own {
-    double tc;      /* TC-model time, s; 0 = the matching spring-dashpot's contact time */
+    double tc;      /* TC-model time, s; 0 = the k_s contact's duration t_c; GR_TC_OFF = no TC rule */
     double beta;    /* rotation: tangential restitution at the contact point, [-1, 1] */
     double beta_mu; /* rotation: Coulomb limit of the tangential impulse (0: none) */
 } hard_sphere_own;
@@ -105,7 +105,7 @@ static inline double gr_event_collide_rough(double M, double q, double R, double
  * read (never the parameters themselves): in gr_contact_coeffs.law_n, 1 with viscoelastic = true
  * and the hertz contact's damping and stiffness that set eps_n(v); in law_t, eps_t, Walton's
  * beta and its Coulomb limit beta_mu (rotation = true). */
-enum { GR_HARD_SPHERE_VISCO = 0, GR_HARD_SPHERE_GAMMA = 1, GR_HARD_SPHERE_KH = 2 };
+enum { GR_HARD_SPHERE_VISCO = 0, GR_HARD_SPHERE_GAMMA = 1, GR_HARD_SPHERE_KH = 2, GR_HARD_SPHERE_TC = 3 };
 enum { GR_HARD_SPHERE_EPS_T = 0, GR_HARD_SPHERE_BETA = 1, GR_HARD_SPHERE_BETA_MU = 2 };
 
 /* viscoelastic hard discs: the smallest eps_n used (an impact that would stick, eps_n(v) = 0,
@@ -133,7 +133,7 @@ static const gr_param hard_sphere_params[] = {
      "tangential coefficient of restitution (2.10), 2D; 1 = no tangential dissipation (default shared with tangential_dashpot)",
      offsetof(gr_contact_params, eps_t)},
     {"tc", "s", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
-     "TC-model time: a collision is elastic if either particle collided less than tc ago; 0 = the contact duration of the matching spring-dashpot (k_s, eps_n)",
+     "TC-model time: a collision is elastic if either particle collided less than tc ago; default (or 0): the contact duration of the matching spring-dashpot (k_s, eps_n); off = no TC rule (an inelastic collapse is then stopped by the event-rate guard)",
      GR_OWN_KEY(hard_sphere, tc)},
     GR_ROTATION_PARAMS,
     {"beta", "", GR_PARAM_DOUBLE, -1.0, -1.0, 1.0, false, false,
@@ -180,18 +180,18 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
                        "limit does nothing; set beta in (-1, 1] (the sticking value, e.g. 1) or beta_mu = 0",
                        o->beta_mu);
     }
-    if (!(o->tc >= 0.0) || !isfinite(o->tc)) {
-        return GR_FAIL(err, GR_EINVAL, "[model] tc = %g: allowed range [0, inf) s", o->tc);
+    if (!(o->tc >= 0.0 || o->tc == GR_TC_OFF) || !isfinite(o->tc)) {
+        return GR_FAIL(err, GR_EINVAL, "[model] tc = %g: allowed range [0, inf) s, or off", o->tc);
     }
     c->normal = GR_NORMAL_HARD_SPHERE;
     c->m12 = m12;
     c->clamp = false;
     c->zeta = spring_dashpot_zeta_unclamped(p->eps_n); /* the matching spring-dashpot, eq. 2.6 */
+    /* t_c, the k_s contact's duration, sets only the clock tick dt = t_c / steps_per_contact; a given
+     * tc is the TC time alone (law_n[GR_HARD_SPHERE_TC], which the event integrator reads), so a tiny
+     * tc cannot make the tick crawl */
     c->w0 = sqrt(p->k_s / m12);
-    if (o->tc > 0.0) {
-        /* the soft contact that lasts tc: w0 from the duration pi / (w0 sqrt(1 - zeta^2)) */
-        c->w0 = spring_dashpot_duration_unclamped(c->zeta) / o->tc;
-    }
+    c->law_n[GR_HARD_SPHERE_TC] = o->tc;
     c->k_s = m12 * c->w0 * c->w0;
     c->t_c = spring_dashpot_duration_unclamped(c->zeta) / c->w0;
     c->eps_n_exact = p->eps_n;

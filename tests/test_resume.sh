@@ -283,7 +283,6 @@ snapshot_every = 0.25
 normal = hard_sphere
 k_s = 5e5
 eps_n = 0.1
-tc = 0
 [integrator]
 kind = event
 free_flight = exact

@@ -17,6 +17,9 @@
 
 #include "granule/status.h"
 
+/* [model] tc = off: the TC rule switched off (hard_sphere; docs/event-driven.md) */
+#define GR_TC_OFF (-1.0)
+
 typedef enum { GR_PARAM_DOUBLE, GR_PARAM_BOOL, GR_PARAM_INT } gr_param_type;
 
 /* One scene key. `offset` locates the value inside the struct the descriptor table belongs to

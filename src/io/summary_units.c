@@ -17,7 +17,7 @@ static const struct {
     {"particle_steps_per_second", "s-1"}, {"events_per_second", "s-1"}, {"energy_injected", "J"},
     {"energy_dissipated", "J"}, {"energy_injection_rate_expected", "W"}, {"kinetic", "J"}, {"elastic", "J"},
     {"initial", "J"}, {"injected", "J"}, {"dissipated_normal", "J"}, {"dissipated_tangential", "J"},
-    {"dissipated_friction", "J"}, {"removed_com", "J"}, {"residual", "J"}, {"rotational", "J"},
+    {"dissipated_friction", "J"}, {"floor_energy", "J"}, {"removed_com", "J"}, {"residual", "J"}, {"rotational", "J"},
     {"dt", "s"}, {"t_c", "s"}, {"gamma_n", "kg s-1"}, {"gamma_t", "kg s-1"},
     /* velocities and the P(v) fits (analysis.pv, docs/analysis-velocity.md) */
     {"v_max", "m s-1"}, {"v_min", "m s-1"}, {"bin_width", "m s-1"}, {"v_rms", "m s-1"}, {"rms", "m s-1"},
@@ -34,7 +34,8 @@ static const char *const pure[] = {
     "counts_min", "counts_max", "chi2_red_max", "n_points", "decades", "accepted", "alpha_range", "alpha",
     "alpha_halfwidth", "contiguous", "alpha_step", "alpha_best", "chi2_red", "v0_over_vrms", "dispersion",
     "pairs", "converged", "alpha_err", "dof", "v_c_over_v_r", "P_vc_over_P0", "v_r_over_vrms", "v_c_beyond_data",
-    "C_alpha_2", "C_alpha_1_5", "C_alpha_1_16", "C1_implied", "status_code",
+    "C_alpha_2", "C_alpha_1_5", "C_alpha_1_16", "C1_implied", "status_code", "collisions_floor", "collisions_impact",
+    "collisions_tc_elastic",
 };
 
 const char *gr_summary_unit(const char *path, char *buf, size_t size)

@@ -61,7 +61,7 @@ static const scene_key keys[] = {
     {"integrator", "steps_per_contact", "", K_DOUBLE, "50", 10, 1e9, false, false, NULL, "dt = t_c / steps_per_contact, t_c = duration of a binary contact; fewer than 10 is refused (sec. 2.1.2)", OFF(steps_per_contact)},
     {"integrator", "force_dt", "", K_BOOL, "false", 0, 1, false, false, NULL, "accept a dt larger than t_c / 10 (results will be wrong; for stability studies)", OFF(force_dt)},
     {"integrator", "skin", "d", K_DOUBLE, "0.3", 0, 10, false, false, NULL, "Verlet-list skin in diameters; the list is rebuilt when a particle has moved skin/2; 0 rebuilds the cell list every step", OFF(skin)},
-    {"integrator", "free_flight", "", K_ENUM, "exact", 0, 0, false, false, "exact|kicks", "event/hybrid: how the random force drives free flight: exact = jointly Gaussian velocity and position increments of the random-acceleration process over each interval, kicks = a Gaussian velocity kick of variance 2 D tau / M^2 per component every kick_interval", OFF(free_flight)},
+    {"integrator", "free_flight", "", K_ENUM, "exact", 0, 0, false, false, "exact|kicks", "event/hybrid: how the random force drives free flight: exact = jointly Gaussian velocity and position increments of the random-acceleration process over each interval (exact for free flight between interval ends; with kind = event it under-injects energy when collisions fall inside intervals), kicks = a Gaussian velocity kick of variance 2 D tau / M^2 per component every kick_interval (the random force's work exact in expectation across collisions). Default exact for hybrid, kicks for event (docs/event-driven.md)", OFF(free_flight)},
     {"integrator", "kick_interval", "s", K_DOUBLE, "1e-4", 0, INFINITY, true, true, NULL, "event/hybrid: interval tau between noise updates of free particles (event) or length of a free-flight window (hybrid); the accuracy knob of docs/event-driven.md", OFF(kick_interval)},
     {"run", "warmup", "s", K_DOUBLE, "1.0", 0, INFINITY, false, true, NULL, "simulated time before sampling starts", OFF(warmup)},
     {"run", "duration", "s", K_DOUBLE, "10.0", 0, INFINITY, false, true, NULL, "simulated time of sampling", OFF(duration)},
@@ -351,6 +351,29 @@ static bool section_known(const char *section)
     return false;
 }
 
+static void warn(gr_scene *s, const char *fmt, const char *a, const char *b);
+
+/* [model] tc: `off` switches the TC rule off (GR_TC_OFF); 0 keeps its old meaning (the matching
+ * spring-dashpot's contact time, also the default) but is warned about, since a physicist writing
+ * tc = 0 means "off" (issue 37). Returns true when the value was one of these spellings. */
+static bool tc_value(loader *ld, const char *value, double *x)
+{
+    const char *v = value + strspn(value, " \t");
+    if (strncasecmp(v, "off", 3) == 0 && v[3 + strspn(v + 3, " \t")] == '\0') {
+        *x = GR_TC_OFF;
+        return true;
+    }
+    if (parse_double(value, x) && *x == 0.0) {
+        if (!ld->defaults) {
+            warn(ld->scene, "[model] tc = 0 is the contact time of the matching spring-dashpot (k_s, eps_n), the same as "
+                            "leaving tc out; it does not switch the TC rule off: write tc = off for that%s%s\n",
+                 "", "");
+        }
+        return true;
+    }
+    return false;
+}
+
 static int apply(loader *ld, const char *section, const char *name, const char *value, const where *w)
 {
     gr_scene *s = ld->scene;
@@ -531,6 +554,10 @@ static int apply(loader *ld, const char *section, const char *name, const char *
         if (p) {
             key_type t = p->type == GR_PARAM_BOOL ? K_BOOL : K_DOUBLE;
             double x;
+            if (strcmp(name, "tc") == 0 && tc_value(ld, value, &x)) {
+                *(double *)((char *)&s->contact + p->offset) = x; /* hard_sphere's own block */
+                return GR_OK;
+            }
             if (t == K_DOUBLE && parse_double(value, &x) && !check_range(x, p->min, p->max, p->min_open, p->max_open)) {
                 char ranges[300];
                 model_param_ranges(name, p, ranges, sizeof ranges);
@@ -834,6 +861,11 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
         snprintf(detail, sizeof detail, "%s is a torque on the spins: it needs dim = 2, [model] rotation = true and a force-law integrator (verlet); given dim = %d, rotation = %s, kind = %s; allowed otherwise: none",
                  s->rolling->name, s->dim, s->contact.rotation ? "true" : "false", s->integrator->name);
         return fail_at(err, &w, "model", "rolling", "%s", detail);
+    }
+    if (s->integrator->instantaneous && !key_given(g, "integrator", "free_flight")) {
+        /* kicks: the random force's work is exact in expectation across collisions; exact free flight
+         * under-injects when a collision falls inside a window (issue 37, docs/event-driven.md) */
+        s->free_flight = GR_FREE_FLIGHT_KICKS;
     }
     if (s->integrator->instantaneous && s->tangential) {
         where w = where_of(g, s, "model", "tangential");
@@ -1203,6 +1235,8 @@ static void save_params(FILE *f, const gr_param *ps, int n, const void *base)
             fprintf(f, "%s = %s\n", ps[i].name, *(const bool *)slot ? "true" : "false");
         } else if (ps[i].type == GR_PARAM_INT) {
             fprintf(f, "%s = %d\n", ps[i].name, *(const int *)slot);
+        } else if (strcmp(ps[i].name, "tc") == 0 && *(const double *)slot == GR_TC_OFF) {
+            fprintf(f, "tc = off\n"); /* the default stays "tc = 0", as checkpoints' scene texts have it */
         } else {
             fprintf(f, "%s = %.17g\n", ps[i].name, *(const double *)slot);
         }

@@ -38,6 +38,8 @@ cJSON *gr_scene_to_json(const gr_scene *s)
             const char *slot = (const char *)&s->contact + p->offset;
             if (p->type == GR_PARAM_BOOL) {
                 cJSON_AddBoolToObject(m, p->name, *(const bool *)slot);
+            } else if (*(const double *)slot == GR_TC_OFF && strcmp(p->name, "tc") == 0) {
+                cJSON_AddStringToObject(m, p->name, "off"); /* [model] tc = off */
             } else {
                 cJSON_AddNumberToObject(m, p->name, *(const double *)slot);
             }

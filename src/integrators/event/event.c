@@ -66,8 +66,24 @@ int gr_ev_guard_check(gr_sim *s, double t_abs, int i, int j, gr_error *err)
                        (long long)events, span, span > 0.0 ? (double)events / span : GR_EV_INF, (long long)e->budget,
                        e->min_span, (long long)s->step, t_abs, i, j);
     }
+    /* Floor bouncing (exact free flight): a noise-pressed pair re-collides every ~tc, so at a tc far
+     * below the mean free time (tc = 1e-12 s: 1e12 collisions per pair and second) the run crawls
+     * at a finite rate the test above never sees (issue 37). Stop when a budget of events took less
+     * than one kick interval and most of them were floor separations; legitimate exact runs have
+     * floors in < 50 % of collisions and far fewer than `budget` events per window. */
+    const int64_t floors = e->floors - e->guard_floor_mark;
+    if (span < e->tau && 2 * floors > events) {
+        return GR_FAIL(err, GR_EUNSTABLE,
+                       "event-driven run crawls: %lld of %lld events in %.3g s of simulated time (less than one "
+                       "kick_interval = %.3g s) were noise-pressed pairs bouncing on the contact floor, which "
+                       "separates them for the TC time tc = %.3g s only, at step %lld, t = %.12g s (particles %d and "
+                       "%d). tc is far below the mean free time: leave [model] tc out (the contact time of the "
+                       "matching spring-dashpot), raise it, or use [integrator] free_flight = kicks",
+                       (long long)floors, (long long)events, span, e->tau, e->tc, (long long)s->step, t_abs, i, j);
+    }
     e->guard_mark_n = e->guard_n;
     e->guard_mark_t = t_abs;
+    e->guard_floor_mark = e->floors;
     return 0;
 }
 
@@ -501,7 +517,10 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->d2 = s->d * s->d;
     e->eps_n = s->params.contact.eps_n;
     e->eps_t = s->dim == 2 ? s->params.contact.eps_t : 1.0;
-    e->tc = s->cc.t_c;
+    /* the TC time: [model] tc, off (no TC rule) or by default the k_s contact's duration t_c, which
+     * alone sets the clock tick (a tiny tc once made the tick, not the events, crawl: issue 37) */
+    const double tc = s->cc.law_n[GR_HARD_SPHERE_TC]; /* as hard_sphere prepared it */
+    e->tc = tc == GR_TC_OFF ? 0.0 : tc > 0.0 ? tc : s->cc.t_c;
     e->rough = s->omega != NULL; /* [model] rotation = true (2D only: gr_sim refuses it in 1D) */
     e->q = s->cc.q;
     e->R = 0.5 * s->d;
@@ -579,6 +598,7 @@ int gr_event_init(gr_sim *s, gr_error *err)
     }
     e->t_start = t;
     e->guard_mark_t = t;
+    e->guard_floor_mark = e->floors;
     e->phase = e->now > e->h;
     for (int i = 0; i < n; i++) {
         e->past[i] = (uint8_t)e->phase;

@@ -79,6 +79,7 @@ struct gr_event_state {
      * stop flag is polled, every `budget` events the simulated time they took is checked */
     int64_t guard_n, guard_mark_n, budget;
     double guard_mark_t;   /* absolute time at the last check */
+    int64_t guard_floor_mark; /* floors at the last check (not in checkpoints: set to floors on load) */
     double min_span;       /* shortest time `budget` events may take: 1e-6 kick_interval */
     double work_rate;      /* mean random-force power, W (floor guard) */
     double t_start;        /* absolute time at creation */

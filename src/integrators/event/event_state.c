@@ -107,6 +107,7 @@ int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
         e->injected = totals[0];
         e->floor_energy = totals[1];
         e->guard_mark_t = totals[2];
+        e->guard_floor_mark = e->floors;
         e->t_start = totals[3];
     }
     double *const base[] = {e->t0, e->bx, e->bv, e->a1x, e->a2x, e->jx, e->last};
