@@ -639,7 +639,7 @@ START_TEST(test_tiny_tc)
     gr_sim_free(d);
     ov[11] = "model.tc=off";
     gr_scene off = scene_of(ov, 12);
-    ck_assert(off.contact.tc == GR_TC_OFF && !strstr(off.warnings, "tc = 0"));
+    ck_assert(gr_contact_get(&off.contact, "tc") == GR_TC_OFF && !strstr(off.warnings, "tc = 0"));
     char *text = NULL;
     size_t text_len = 0;
     FILE *f = open_memstream(&text, &text_len);
