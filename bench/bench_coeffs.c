@@ -42,7 +42,10 @@ int main(int argc, char **argv)
         return 2;
     }
     if (!(sc.dt > 0.0)) {
-        fprintf(stderr, "bench_coeffs: %s: give [integrator] dt explicitly (LAMMPS needs the same fixed dt)\n", scene_path);
+        fprintf(
+            stderr,
+            "bench_coeffs: %s: give [integrator] dt explicitly (LAMMPS needs the same fixed dt)\n",
+            scene_path);
         return 2;
     }
     const double m12 = gr_scene_m12(&sc);
@@ -52,16 +55,19 @@ int main(int argc, char **argv)
         return 2;
     }
     double noise_sigma = sc.noise_mode == GR_NOISE_NONE ? 0.0 : sqrt(2.0 * sc.D / sc.dt);
-    printf("dim=%d\nN=%d\nL=%.17g\nradius=%.17g\nmass=%.17g\ndt=%.17g\n", sc.dim, sc.N, sc.L, sc.radius, sc.mass, sc.dt);
-    printf("normal=%s\ntangential=%s\nclamp=%d\n", sc.normal->name, sc.tangential ? sc.tangential->name : "none",
-           c.clamp ? 1 : 0);
-    printf("k_s=%.17g\nm12=%.17g\ngamma_n=%.17g\ngamma_t=%.17g\nt_c=%.17g\neps_n=%.17g\neps_t=%.17g\n", c.k_s, m12,
-           c.gamma_n, c.tangential == GR_TANGENTIAL_DASHPOT ? c.gamma_t : 0.0, c.t_c, sc.contact.eps_n,
-           sc.contact.eps_t);
-    printf("noise_sigma=%.17g\nnoise_mode=%s\nseed=%llu\n", noise_sigma, gr_noise_mode_name(sc.noise_mode),
-           (unsigned long long)sc.seed);
+    printf("dim=%d\nN=%d\nL=%.17g\nradius=%.17g\nmass=%.17g\ndt=%.17g\n", sc.dim, sc.N, sc.L,
+           sc.radius, sc.mass, sc.dt);
+    printf("normal=%s\ntangential=%s\nclamp=%d\n", sc.normal->name,
+           sc.tangential ? sc.tangential->name : "none", c.clamp ? 1 : 0);
+    printf(
+        "k_s=%.17g\nm12=%.17g\ngamma_n=%.17g\ngamma_t=%.17g\nt_c=%.17g\neps_n=%.17g\neps_t=%.17g\n",
+        c.k_s, m12, c.gamma_n, c.tangential == GR_TANGENTIAL_DASHPOT ? c.gamma_t : 0.0, c.t_c,
+        sc.contact.eps_n, sc.contact.eps_t);
+    printf("noise_sigma=%.17g\nnoise_mode=%s\nseed=%llu\n", noise_sigma,
+           gr_noise_mode_name(sc.noise_mode), (unsigned long long)sc.seed);
     printf("lammps_kn=%.17g\nlammps_gamman=%.17g\nlammps_gammat=%.17g\n", c.k_s, c.gamma_n / m12,
            c.tangential == GR_TANGENTIAL_DASHPOT ? c.gamma_t / m12 : 0.0);
-    printf("warmup=%.17g\nduration=%.17g\nsample_every=%.17g\n", sc.warmup, sc.duration, sc.sample_every);
+    printf("warmup=%.17g\nduration=%.17g\nsample_every=%.17g\n", sc.warmup, sc.duration,
+           sc.sample_every);
     return 0;
 }

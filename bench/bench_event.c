@@ -57,12 +57,14 @@ int main(int argc, char **argv)
         } else if (argv[i][0] != '-' && !scene_path) {
             scene_path = argv[i];
         } else {
-            fprintf(stderr, "usage: bench_event SCENE [--set k=v ...] [--warmup T] [--time T] [--repeats R] [--label TEXT]\n");
+            fprintf(stderr, "usage: bench_event SCENE [--set k=v ...] [--warmup T] [--time T] "
+                            "[--repeats R] [--label TEXT]\n");
             return 2;
         }
     }
     if (!scene_path || repeats < 1 || repeats > 100 || !(span > 0.0) || !(warm >= 0.0)) {
-        fprintf(stderr, "bench_event: need a scene, --time > 0, --warmup >= 0, 1 <= --repeats <= 100\n");
+        fprintf(stderr,
+                "bench_event: need a scene, --time > 0, --warmup >= 0, 1 <= --repeats <= 100\n");
         return 2;
     }
     gr_scene sc;
@@ -73,7 +75,10 @@ int main(int argc, char **argv)
         return 1;
     }
     if (!sc.integrator->instantaneous) {
-        fprintf(stderr, "bench_event: %s is not an event-driven scene (set integrator.kind=event, model.normal=hard_sphere)\n", scene_path);
+        fprintf(stderr,
+                "bench_event: %s is not an event-driven scene (set integrator.kind=event, "
+                "model.normal=hard_sphere)\n",
+                scene_path);
         gr_sim_free(s);
         return 2;
     }
@@ -97,22 +102,29 @@ int main(int argc, char **argv)
         b[r].cpu = cpu_now() - p0;
         b[r].wall = bench_now() - w0;
         gr_event_stats(s, &c1);
-        b[r].c = (gr_event_counts){.collisions = c1.collisions - c0.collisions, .crossings = c1.crossings - c0.crossings,
-                                   .kicks = c1.kicks - c0.kicks, .tc_elastic = c1.tc_elastic - c0.tc_elastic,
-                                   .floors = c1.floors - c0.floors, .invalid = c1.invalid - c0.invalid};
+        b[r].c = (gr_event_counts){.collisions = c1.collisions - c0.collisions,
+                                   .crossings = c1.crossings - c0.crossings,
+                                   .kicks = c1.kicks - c0.kicks,
+                                   .tc_elastic = c1.tc_elastic - c0.tc_elastic,
+                                   .floors = c1.floors - c0.floors,
+                                   .invalid = c1.invalid - c0.invalid};
     }
     qsort(b, (size_t)repeats, sizeof b[0], cmp_block);
     const block *m = &b[repeats / 2];
     const double events = (double)(m->c.collisions + m->c.crossings + m->c.kicks);
     char cpu[256];
     bench_machine(cpu, sizeof cpu);
-    printf("%-28s N=%-6d %-28s calendar=%-6s collisions/s=%.3g crossings/s=%.3g kicks/s=%.3g events/s=%.3g "
-           "cpu_per_simulated_s=%.3g wall_per_simulated_s=%.3g tc_elastic=%.2f floors=%.2f invalid=%.2f T=%.4g | %s | %s\n",
+    printf("%-28s N=%-6d %-28s calendar=%-6s collisions/s=%.3g crossings/s=%.3g kicks/s=%.3g "
+           "events/s=%.3g "
+           "cpu_per_simulated_s=%.3g wall_per_simulated_s=%.3g tc_elastic=%.2f floors=%.2f "
+           "invalid=%.2f T=%.4g | %s | %s\n",
            label, sc.N, gr_sim_kernel(s), gr_event_calendar(s), (double)m->c.collisions / m->cpu,
-           (double)m->c.crossings / m->cpu, (double)m->c.kicks / m->cpu, events / m->cpu, m->cpu / span, m->wall / span,
+           (double)m->c.crossings / m->cpu, (double)m->c.kicks / m->cpu, events / m->cpu,
+           m->cpu / span, m->wall / span,
            m->c.collisions ? (double)m->c.tc_elastic / (double)m->c.collisions : 0.0,
            m->c.collisions ? (double)m->c.floors / (double)m->c.collisions : 0.0,
-           m->c.collisions ? (double)m->c.invalid / (double)m->c.collisions : 0.0, gr_sim_temperature(s), cpu, GR_COMMIT);
+           m->c.collisions ? (double)m->c.invalid / (double)m->c.collisions : 0.0,
+           gr_sim_temperature(s), cpu, GR_COMMIT);
     gr_sim_free(s);
     return 0;
 }

@@ -23,7 +23,6 @@
 #include "granule_config.h"
 #include "bench_util.h"
 
-
 static volatile double sink; /* keeps the results alive */
 
 /* What one timed call does: draw `n` particles x `per` components at step `step` into out. */

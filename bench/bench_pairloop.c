@@ -89,8 +89,10 @@ static void list_stats(gr_sim *s)
         const int l = s->nl_start[i + 1] - s->nl_start[i];
         longest = l > longest ? l : longest;
     }
-    printf("list: %.3f listed and %.3f overlapping pairs per particle (%.1f %% of the listed overlap), longest row %d\n",
-           (double)listed / n, (double)touching / n, listed ? 100.0 * (double)touching / (double)listed : 0.0, longest);
+    printf("list: %.3f listed and %.3f overlapping pairs per particle (%.1f %% of the listed "
+           "overlap), longest row %d\n",
+           (double)listed / n, (double)touching / n,
+           listed ? 100.0 * (double)touching / (double)listed : 0.0, longest);
 }
 
 /* Copies of s's state in three orders, each a sim of its own with a fresh list. */
@@ -125,7 +127,8 @@ static int orders(const gr_scene *sc, gr_sim *s, long evals, long segments, long
         goto done;
     }
     for (int i = 0; i < n; i++) {
-        const int cx = (int)(s->x[perm[i]] / s->L * side) % side, cy = (int)(s->y[perm[i]] / s->L * side) % side;
+        const int cx = (int)(s->x[perm[i]] / s->L * side) % side,
+                  cy = (int)(s->y[perm[i]] / s->L * side) % side;
         key[i] = cx + side * cy;
         count[key[i] + 1]++;
     }
@@ -154,15 +157,17 @@ static int orders(const gr_scene *sc, gr_sim *s, long evals, long segments, long
         }
         /* the same configuration in another order: the same contacts, or the copy is wrong */
         if (overlapping(t) != overlapping(s)) {
-            fprintf(stderr, "bench_pairloop: the %s copy has %lld overlapping pairs, the run %lld\n", names[k],
-                    (long long)overlapping(t), (long long)overlapping(s));
+            fprintf(stderr,
+                    "bench_pairloop: the %s copy has %lld overlapping pairs, the run %lld\n",
+                    names[k], (long long)overlapping(t), (long long)overlapping(s));
             goto done;
         }
     }
     double bf[3] = {1e300, 1e300, 1e300}, bs[3] = {1e300, 1e300, 1e300};
     for (int round = 0; round < 3; round++) { /* interleaved: a load change hits all three */
         for (int k = 0; k < 3; k++) {
-            const double f = time_forces(copy[k], evals), t = time_steps(copy[k], segments, seg_steps);
+            const double f = time_forces(copy[k], evals),
+                         t = time_steps(copy[k], segments, seg_steps);
             if (t < 0.0) {
                 goto done;
             }
@@ -171,7 +176,8 @@ static int orders(const gr_scene *sc, gr_sim *s, long evals, long segments, long
         }
     }
     for (int k = 0; k < 3; k++) {
-        printf("order %-10s forces %6.2f ns/particle  step %6.2f ns/particle-step  (%.3g particle-steps per CPU s)\n",
+        printf("order %-10s forces %6.2f ns/particle  step %6.2f ns/particle-step  (%.3g "
+               "particle-steps per CPU s)\n",
                names[k], bf[k], bs[k], 1e9 / bs[k]);
     }
     rc = 0;
@@ -216,8 +222,9 @@ int main(int argc, char **argv)
         }
     }
     if (!scene_path || warm < 0 || evals < 1 || segments < 1 || seg_steps < 1) {
-        fprintf(stderr, "usage: bench_pairloop SCENE [--set section.key=value ...] [--warmup-steps W >= 0] "
-                        "[--evals E >= 1] [--segments S >= 1] [--seg-steps K >= 1] [--orders]\n");
+        fprintf(stderr,
+                "usage: bench_pairloop SCENE [--set section.key=value ...] [--warmup-steps W >= 0] "
+                "[--evals E >= 1] [--segments S >= 1] [--seg-steps K >= 1] [--orders]\n");
         return 2;
     }
     gr_set_threads(1);
@@ -228,8 +235,10 @@ int main(int argc, char **argv)
         return 2;
     }
     if (sc.dim != 2) {
-        fprintf(stderr, "bench_pairloop: %s: system.dim = %d; this bench times the 2D pair loop (dim = 2)\n",
-                scene_path, sc.dim);
+        fprintf(
+            stderr,
+            "bench_pairloop: %s: system.dim = %d; this bench times the 2D pair loop (dim = 2)\n",
+            scene_path, sc.dim);
         return 2;
     }
     gr_sim *s;
@@ -244,8 +253,9 @@ int main(int argc, char **argv)
     }
     char cpu[256];
     bench_machine(cpu, sizeof cpu);
-    printf("# bench_pairloop %s N=%d after %ld steps, %s, one thread, CPU time, minima [%s | %s | %s]\n", scene_path,
-           s->n, warm, gr_sim_kernel(s), cpu, GR_CFLAGS, GR_COMMIT);
+    printf("# bench_pairloop %s N=%d after %ld steps, %s, one thread, CPU time, minima [%s | %s | "
+           "%s]\n",
+           scene_path, s->n, warm, gr_sim_kernel(s), cpu, GR_CFLAGS, GR_COMMIT);
     list_stats(s);
     int rc = 0;
     if (all_orders) {
@@ -254,7 +264,8 @@ int main(int argc, char **argv)
         const double f = time_forces(s, evals), t = time_steps(s, segments, seg_steps);
         rc = t < 0.0;
         if (!rc) {
-            printf("forces %.2f ns/particle  step %.2f ns/particle-step  (%.3g particle-steps per CPU s; forces %.0f %% of a step)\n",
+            printf("forces %.2f ns/particle  step %.2f ns/particle-step  (%.3g particle-steps per "
+                   "CPU s; forces %.0f %% of a step)\n",
                    f, t, 1e9 / t, 100.0 * f / t);
         }
     }

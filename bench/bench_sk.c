@@ -75,7 +75,8 @@ static double cpu_now(void)
 
 /* Median CPU time (and median wall time in *wall) of `repeats` frames. CPU time is the figure to
  * quote on a shared machine; the two agree on an idle one. */
-static double time_frames(gr_sk_plan *pl, int method, const points *p, double *S, int repeats, double *wall)
+static double time_frames(gr_sk_plan *pl, int method, const points *p, double *S, int repeats,
+                          double *wall)
 {
     double t[64], w[64];
     gr_error err = {0};
@@ -139,11 +140,13 @@ int main(int argc, char **argv)
     }
     char cpu[256];
     bench_machine(cpu, sizeof cpu);
-    printf("bench_sk: S(k) for |k| d <= %g at phi = %g, r = %g m; median of %d frames [%s | %s | %s]\n", KD_MAX,
-           PHI, RADIUS, repeats, cpu, GR_CFLAGS, GR_COMMIT);
+    printf("bench_sk: S(k) for |k| d <= %g at phi = %g, r = %g m; median of %d frames [%s | %s | "
+           "%s]\n",
+           KD_MAX, PHI, RADIUS, repeats, cpu, GR_CFLAGS, GR_COMMIT);
     const int sizes[] = {1000, 12000, 48000, 100000};
     const int n_sizes = quick ? 1 : 4;
-    printf("\nCPU seconds per frame (wall seconds in brackets); vectors = full plane, half computed\n");
+    printf("\nCPU seconds per frame (wall seconds in brackets); vectors = full plane, half "
+           "computed\n");
     printf("%7s %7s %6s %8s %5s %22s %22s %12s %12s %12s\n", "N", "L/m", "n_max", "vectors", "grid",
            "gridding/s", "direct/s", "max|dS|unif", "max|dS|jit", "min S jit");
     for (int s = 0; s < n_sizes; s++) {
@@ -171,8 +174,9 @@ int main(int argc, char **argv)
             time_frames(pl, GR_SK_DIRECT, &pj, Sd, 1, NULL);
             aj = compare(Sg, Sd, nv);
         }
-        printf("%7d %7.4f %6.1f %8d %5d %10.4g (%9.4g) %10.4g (%9.4g) %12.3g %12.3g %12.3g\n", n, pu.L, n_cut_of(pu.L),
-               2 * nv, grid, tg, wg, td, wd, au.max_abs, aj.max_abs, aj.S_min);
+        printf("%7d %7.4f %6.1f %8d %5d %10.4g (%9.4g) %10.4g (%9.4g) %12.3g %12.3g %12.3g\n", n,
+               pu.L, n_cut_of(pu.L), 2 * nv, grid, tg, wg, td, wd, au.max_abs, aj.max_abs,
+               aj.S_min);
         fflush(stdout);
         free(Sg);
         free(Sd);
@@ -200,9 +204,11 @@ int main(int argc, char **argv)
     double *Sg = malloc(sizeof(double) * (size_t)nv);
     time_frames(ref, GR_SK_DIRECT, &pu, Su, 1, NULL);
     time_frames(ref, GR_SK_DIRECT, &pj, Sj, 1, NULL);
-    printf("\nmsp scan at N = %d (direct sums as reference; max |dS|/S over the jittered set's vectors)\n", scan_n);
-    printf("%4s %6s %12s %12s %12s %12s %12s\n", "msp", "grid", "cpu/s", "max|dS|unif", "mean|dS|unif",
-           "max|dS|jit", "max|dS|/S jit");
+    printf("\nmsp scan at N = %d (direct sums as reference; max |dS|/S over the jittered set's "
+           "vectors)\n",
+           scan_n);
+    printf("%4s %6s %12s %12s %12s %12s %12s\n", "msp", "grid", "cpu/s", "max|dS|unif",
+           "mean|dS|unif", "max|dS|jit", "max|dS|/S jit");
     for (int msp = 2; msp <= 10; msp++) {
         gr_sk_plan *pl;
         if (gr_sk_plan_create(pu.L, n_cut_of(pu.L), msp, &pl, &err)) {
@@ -219,7 +225,8 @@ int main(int argc, char **argv)
         }
         time_frames(pl, GR_SK_GRIDDING, &pj, Sg, 1, NULL);
         accuracy aj = compare(Sg, Sj, nv);
-        printf("%4d %6d %12.4g %12.3g %12.3g %12.3g %12.3g\n", msp, grid, t, au.max_abs, mean, aj.max_abs, aj.max_rel);
+        printf("%4d %6d %12.4g %12.3g %12.3g %12.3g %12.3g\n", msp, grid, t, au.max_abs, mean,
+               aj.max_abs, aj.max_rel);
         fflush(stdout);
         gr_sk_plan_free(pl);
     }

@@ -29,8 +29,9 @@
 #include "granule_config.h"
 #include "bench_util.h"
 
-#define CSV_HEADER "label,dim,N,kernel,threads,median,min,max,rebuilds_per_step,contacts_per_step,wall_per_simulated_s,collisions_per_s,cpu,cflags,commit"
-
+#define CSV_HEADER                                                                                 \
+    "label,dim,N,kernel,threads,median,min,max,rebuilds_per_step,contacts_per_step,wall_per_"      \
+    "simulated_s,collisions_per_s,cpu,cflags,commit"
 
 int main(int argc, char **argv)
 {
@@ -66,12 +67,16 @@ int main(int argc, char **argv)
         } else if (argv[i][0] != '-' && !scene_path) {
             scene_path = argv[i];
         } else {
-            fprintf(stderr, "usage: bench_throughput SCENE [--set k=v ...] [--warmup-steps W] [--steps S] [--repeats R] [--label TEXT] [--threads T] [--csv] [--save-state FILE | --state FILE] [--generic]\n");
+            fprintf(stderr, "usage: bench_throughput SCENE [--set k=v ...] [--warmup-steps W] "
+                            "[--steps S] [--repeats R] [--label TEXT] [--threads T] [--csv] "
+                            "[--save-state FILE | --state FILE] [--generic]\n");
             return 2;
         }
     }
-    if (!scene_path || steps < 1 || repeats < 1 || repeats > 1000 || threads < 0 || threads > 1024 || (save_state && state)) {
-        fprintf(stderr, "bench_throughput: need a scene, --steps >= 1, 1 <= --repeats <= 1000, 0 <= --threads <= 1024 and at "
+    if (!scene_path || steps < 1 || repeats < 1 || repeats > 1000 || threads < 0 ||
+        threads > 1024 || (save_state && state)) {
+        fprintf(stderr, "bench_throughput: need a scene, --steps >= 1, 1 <= --repeats <= 1000, 0 "
+                        "<= --threads <= 1024 and at "
                         "most one of --save-state and --state\n");
         return 2;
     }
@@ -127,18 +132,22 @@ int main(int argc, char **argv)
     double simulated = (double)(steps * repeats) * gr_sim_dt(sim);
     double collisions = (double)(gr_sim_collisions(sim) - col0);
     if (csv) {
-        printf("\"%s\",%d,%d,%s,%ld,%.4e,%.4e,%.4e,%.5f,%.3f,%.4e,%.4e,\"%s\",\"%s\",%s\n", label ? label : scene_path,
-               sc.dim, sc.N, gr_sim_kernel(sim), threads, rate[repeats / 2], rate[0], rate[repeats - 1],
-               (double)(gr_sim_rebuilds(sim) - reb0) / (double)(steps * repeats), collisions / (double)(steps * repeats),
-               wall / simulated, collisions / wall, cpu, GR_CFLAGS, GR_COMMIT);
+        printf("\"%s\",%d,%d,%s,%ld,%.4e,%.4e,%.4e,%.5f,%.3f,%.4e,%.4e,\"%s\",\"%s\",%s\n",
+               label ? label : scene_path, sc.dim, sc.N, gr_sim_kernel(sim), threads,
+               rate[repeats / 2], rate[0], rate[repeats - 1],
+               (double)(gr_sim_rebuilds(sim) - reb0) / (double)(steps * repeats),
+               collisions / (double)(steps * repeats), wall / simulated, collisions / wall, cpu,
+               GR_CFLAGS, GR_COMMIT);
         free(rate);
         gr_sim_free(sim);
         return 0;
     }
-    printf("%-28s N=%-7d %-70s median %.3e  min %.3e  max %.3e particle-steps/s  rebuilds/step %.4f  contacts/step %.2f  [%s | %s | %s]\n",
+    printf("%-28s N=%-7d %-70s median %.3e  min %.3e  max %.3e particle-steps/s  rebuilds/step "
+           "%.4f  contacts/step %.2f  [%s | %s | %s]\n",
            label ? label : scene_path, sc.N, gr_sim_kernel(sim), rate[repeats / 2], rate[0],
            rate[repeats - 1], (double)(gr_sim_rebuilds(sim) - reb0) / (double)(steps * repeats),
-           (double)(gr_sim_collisions(sim) - col0) / (double)(steps * repeats), cpu, GR_CFLAGS, GR_COMMIT);
+           (double)(gr_sim_collisions(sim) - col0) / (double)(steps * repeats), cpu, GR_CFLAGS,
+           GR_COMMIT);
     free(rate);
     gr_sim_free(sim);
     return 0;

@@ -22,8 +22,8 @@ extern const gr_model gr_model_hard_sphere;
 
 /* its own parameters (gr_contact_params.own); viscoelastic = true uses hertz's (k_h, visco_A) */
 typedef struct hard_sphere_own {
-    double tc;      /* TC-model time, s; 0 = the k_s contact's duration t_c; GR_TC_OFF = no TC rule */
-    double beta;    /* rotation: tangential restitution at the contact point, [-1, 1] */
+    double tc;   /* TC-model time, s; 0 = the k_s contact's duration t_c; GR_TC_OFF = no TC rule */
+    double beta; /* rotation: tangential restitution at the contact point, [-1, 1] */
     double beta_mu; /* rotation: Coulomb limit of the tangential impulse (0: none) */
 } hard_sphere_own;
 
@@ -74,8 +74,9 @@ static inline void gr_event_collide(double M, double eps_n, double eps_t, double
  * so |P_t| = mu |P_n| when sliding. The loss of translational + rotational kinetic energy:
  *   dE_n = m12/2 (1 - eps_n^2) (g.n)^2,   dE_t = m_t/2 (1 - beta^2) g_ct^2   (beta after the limit).
  * Returns the beta used (beta0, or the Coulomb value when the pair slid). */
-static inline double gr_event_collide_rough(double M, double q, double R, double eps_n, double beta0, double mu,
-                                            double nx, double ny, double *v1x, double *v1y, double *v2x, double *v2y,
+static inline double gr_event_collide_rough(double M, double q, double R, double eps_n,
+                                            double beta0, double mu, double nx, double ny,
+                                            double *v1x, double *v1y, double *v2x, double *v2y,
                                             double *w1, double *w2, double *de_n, double *de_t)
 {
     const double gx = *v1x - *v2x, gy = *v1y - *v2y;
@@ -105,7 +106,12 @@ static inline double gr_event_collide_rough(double M, double q, double R, double
  * read (never the parameters themselves): in gr_contact_coeffs.law_n, 1 with viscoelastic = true
  * and the hertz contact's damping and stiffness that set eps_n(v); in law_t, eps_t, Walton's
  * beta and its Coulomb limit beta_mu (rotation = true). */
-enum { GR_HARD_SPHERE_VISCO = 0, GR_HARD_SPHERE_GAMMA = 1, GR_HARD_SPHERE_KH = 2, GR_HARD_SPHERE_TC = 3 };
+enum {
+    GR_HARD_SPHERE_VISCO = 0,
+    GR_HARD_SPHERE_GAMMA = 1,
+    GR_HARD_SPHERE_KH = 2,
+    GR_HARD_SPHERE_TC = 3
+};
 enum { GR_HARD_SPHERE_EPS_T = 0, GR_HARD_SPHERE_BETA = 1, GR_HARD_SPHERE_BETA_MU = 2 };
 
 /* viscoelastic hard discs: the smallest eps_n used (an impact that would stick, eps_n(v) = 0,
@@ -127,13 +133,15 @@ static const gr_param hard_sphere_params[] = {
      "spring constant of the matching soft contact; sets the TC contact time t_c (2.6)",
      offsetof(gr_contact_params, k_s)},
     {"eps_n", "", GR_PARAM_DOUBLE, 0.6, 0.0, 1.0, true, false,
-     "normal coefficient of restitution (2.2); 1 = elastic",
-     offsetof(gr_contact_params, eps_n)},
+     "normal coefficient of restitution (2.2); 1 = elastic", offsetof(gr_contact_params, eps_n)},
     {"eps_t", "", GR_PARAM_DOUBLE, 0.6, 0.0, 1.0, false, false,
-     "tangential coefficient of restitution (2.10), 2D; 1 = no tangential dissipation (default shared with tangential_dashpot)",
+     "tangential coefficient of restitution (2.10), 2D; 1 = no tangential dissipation (default "
+     "shared with tangential_dashpot)",
      offsetof(gr_contact_params, eps_t)},
     {"tc", "s", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
-     "TC-model time: a collision is elastic if either particle collided less than tc ago; default (or 0): the contact duration of the matching spring-dashpot (k_s, eps_n); off = no TC rule (an inelastic collapse is then stopped by the event-rate guard)",
+     "TC-model time: a collision is elastic if either particle collided less than tc ago; default "
+     "(or 0): the contact duration of the matching spring-dashpot (k_s, eps_n); off = no TC rule "
+     "(an inelastic collapse is then stopped by the event-rate guard)",
      GR_OWN_KEY(hard_sphere, tc)},
     GR_ROTATION_PARAMS,
     {"beta", "", GR_PARAM_DOUBLE, -1.0, -1.0, 1.0, false, false,
@@ -141,7 +149,8 @@ static const gr_param hard_sphere_params[] = {
      "change), +1 perfectly rough; replaces eps_t",
      GR_OWN_KEY(hard_sphere, beta)},
     {"beta_mu", "", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
-     "rotation = true: Coulomb friction, the tangential impulse at most beta_mu times the normal one (the pair "
+     "rotation = true: Coulomb friction, the tangential impulse at most beta_mu times the normal "
+     "one (the pair "
      "slides, Walton 1993); 0 = constant beta (always sticking)",
      GR_OWN_KEY(hard_sphere, beta_mu)},
     {"viscoelastic", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,
@@ -155,30 +164,35 @@ static const gr_param hard_sphere_params[] = {
      GR_OWN_KEY(hertz, visco_A)},
 };
 
-static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
-                   gr_error *err)
+static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt,
+                               gr_contact_coeffs *c, gr_error *err)
 {
     const hard_sphere_own *o = GR_OWN(p, hard_sphere);
     (void)dt;
     if (!(p->eps_n > 0.0)) {
         /* eps_n = 0 leaves a touching pair at zero normal velocity: the next event is at the same
          * instant and the calendar never advances */
-        return GR_FAIL(err, GR_EINVAL,
-                       "[model] eps_n = %g: hard_sphere needs eps_n in (0, 1] (a perfectly sticking "
-                       "instantaneous collision leaves the pair touching at zero normal speed); use e.g. 0.001",
-                       p->eps_n);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "[model] eps_n = %g: hard_sphere needs eps_n in (0, 1] (a perfectly sticking "
+            "instantaneous collision leaves the pair touching at zero normal speed); use e.g. "
+            "0.001",
+            p->eps_n);
     }
     if (!p->rotation && (o->beta != -1.0 || o->beta_mu != 0.0)) {
         return GR_FAIL(err, GR_EINVAL,
-                       "[model] beta = %g, beta_mu = %g: hard_sphere's rough collisions (beta in [-1, 1], beta_mu >= 0) "
+                       "[model] beta = %g, beta_mu = %g: hard_sphere's rough collisions (beta in "
+                       "[-1, 1], beta_mu >= 0) "
                        "need rotation = true; without rotation the tangential restitution is eps_t",
                        o->beta, o->beta_mu);
     }
     if (p->rotation && o->beta_mu > 0.0 && o->beta == -1.0) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "[model] beta_mu = %g with beta = -1: smooth discs get no tangential impulse, so a Coulomb "
-                       "limit does nothing; set beta in (-1, 1] (the sticking value, e.g. 1) or beta_mu = 0",
-                       o->beta_mu);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "[model] beta_mu = %g with beta = -1: smooth discs get no tangential impulse, so a "
+            "Coulomb "
+            "limit does nothing; set beta in (-1, 1] (the sticking value, e.g. 1) or beta_mu = 0",
+            o->beta_mu);
     }
     if (!(o->tc >= 0.0 || o->tc == GR_TC_OFF) || !isfinite(o->tc)) {
         return GR_FAIL(err, GR_EINVAL, "[model] tc = %g: allowed range [0, inf) s, or off", o->tc);
@@ -214,7 +228,8 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
         c->law_n[GR_HARD_SPHERE_KH] = hc.k_s;
     }
     c->law_t[GR_HARD_SPHERE_EPS_T] = p->eps_t; /* the rule's tangential restitution */
-    c->law_t[GR_HARD_SPHERE_BETA] = o->beta;   /* rotation = true: Walton's beta and its Coulomb limit */
+    c->law_t[GR_HARD_SPHERE_BETA] =
+        o->beta; /* rotation = true: Walton's beta and its Coulomb limit */
     c->law_t[GR_HARD_SPHERE_BETA_MU] = o->beta_mu;
     c->gamma_t = 0.0;
     return GR_OK;
@@ -239,7 +254,8 @@ static gr_normal_impact hard_sphere_impact(const gr_contact_coeffs *c, double v_
     return (gr_normal_impact){eps, 0.0, 1.0 + eps};
 }
 
-static double hard_sphere_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t)
+static double hard_sphere_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n,
+                                        double v_t)
 {
     if (c->rotation) {
         /* the contact point's eps_t = -beta (g_ct' = -beta g_ct), for discs at rest before: g_ct = v_t */
@@ -256,16 +272,18 @@ static double hard_sphere_restitution_t(const gr_contact_coeffs *c, gr_normal_im
 /* the modes the conformance suite checks as combinations of their own: smooth discs with eps_t,
  * eps_n(v), rough discs with a constant beta (Walton) and Coulomb-limited (beta_mu), and rough
  * viscoelastic discs */
-static const char *const hard_sphere_variants[] = {"rotation=false",
-                                                   "viscoelastic=true",
-                                                   "rotation=true beta=0.5",
-                                                   "rotation=true beta=1 beta_mu=0.2",
-                                                   "rotation=true beta=0.5 beta_mu=0.1 viscoelastic=true",
-                                                   NULL};
+static const char *const hard_sphere_variants[] = {
+    "rotation=false",
+    "viscoelastic=true",
+    "rotation=true beta=0.5",
+    "rotation=true beta=1 beta_mu=0.2",
+    "rotation=true beta=0.5 beta_mu=0.1 viscoelastic=true",
+    NULL};
 
 const gr_model gr_model_hard_sphere = {
     .name = "hard_sphere",
-    .summary = "instantaneous collisions (2.1, 2.2, 2.10) with the TC model against collapse; needs [integrator] kind = event",
+    .summary = "instantaneous collisions (2.1, 2.2, 2.10) with the TC model against collapse; "
+               "needs [integrator] kind = event",
     .kind = GR_MODEL_NORMAL | GR_MODEL_EVENT,
     .params = hard_sphere_params,
     .n_params = sizeof hard_sphere_params / sizeof hard_sphere_params[0],

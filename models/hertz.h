@@ -40,7 +40,8 @@ typedef struct hertz_own {
 /* The pair law: k_s = k_h, gamma_n the damping coefficient, law_n[0] = 1 for the xi^(1/4)
  * damping (Tsuji), 0 for sqrt(xi) (viscoelastic): f = k_h xi^(3/2) - gamma_n xi^p g_n. Elastic
  * energy (2/5) k_h xi^(5/2). */
-GR_LAW gr_normal_force gr_normal_hertz(const gr_contact_coeffs *c, const double xi, const double g_n, const int clamp)
+GR_LAW gr_normal_force gr_normal_hertz(const gr_contact_coeffs *c, const double xi,
+                                       const double g_n, const int clamp)
 {
     const double s = sqrt(xi), k = c->k_s;
     const double spring = k * xi * s;
@@ -59,7 +60,7 @@ GR_LAW gr_normal_force gr_normal_hertz(const gr_contact_coeffs *c, const double 
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <stddef.h>
 
-#define HERTZ_STEP 2e-4    /* largest RK4 step of the scaled contact (elastic duration 3.2187) */
+#define HERTZ_STEP 2e-4  /* largest RK4 step of the scaled contact (elastic duration 3.2187) */
 #define HERTZ_STICK 20.0 /* a scaled contact longer than this (6 elastic ones) counts as sticking */
 
 /* The scaled contact X'' = -F, F = X^(3/2) + c X^p X' (p = 1/4 if quarter, else 1/2), from
@@ -79,15 +80,18 @@ static gr_normal_impact hertz_scaled_impact(double c, int quarter, int clamp)
     for (;;) {
         const double h = fmin(HERTZ_STEP, fmax(1e-10, 0.05 * X / fmax(fabs(V), 1e-3)));
         const double k1x = V, k1v = -hertz_force(X, V, c, quarter);
-        const double k2x = V + 0.5 * h * k1v, k2v = -hertz_force(X + 0.5 * h * k1x, V + 0.5 * h * k1v, c, quarter);
-        const double k3x = V + 0.5 * h * k2v, k3v = -hertz_force(X + 0.5 * h * k2x, V + 0.5 * h * k2v, c, quarter);
+        const double k2x = V + 0.5 * h * k1v,
+                     k2v = -hertz_force(X + 0.5 * h * k1x, V + 0.5 * h * k1v, c, quarter);
+        const double k3x = V + 0.5 * h * k2v,
+                     k3v = -hertz_force(X + 0.5 * h * k2x, V + 0.5 * h * k2v, c, quarter);
         const double k4x = V + h * k3v, k4v = -hertz_force(X + h * k3x, V + h * k3v, c, quarter);
         const double X1 = X + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
         const double V1 = V + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
         past_max = past_max || V1 < 0.0;
         /* the end: X back to 0, or (clamped) the force down to 0 after the maximum overlap;
          * interpolate linearly inside the step (X'' vanishes there, so V is accurate) */
-        const double g0 = clamp ? hertz_force(X, V, c, quarter) : X, g1 = clamp ? hertz_force(X1, V1, c, quarter) : X1;
+        const double g0 = clamp ? hertz_force(X, V, c, quarter) : X,
+                     g1 = clamp ? hertz_force(X1, V1, c, quarter) : X1;
         if (past_max && g1 <= 0.0 && tau > 0.0) {
             const double w = g0 > g1 ? g0 / (g0 - g1) : 1.0;
             const double Ve = V + w * (V1 - V);
@@ -96,7 +100,8 @@ static gr_normal_impact hertz_scaled_impact(double c, int quarter, int clamp)
         }
         if (past_max && !clamp && fabs(V1) < 1e-9 && X1 > 0.0) {
             /* overdamped tail: the overlap creeps towards 0 and the pair sticks */
-            return (gr_normal_impact){.eps_n = 0.0, .t_c = INFINITY, .impulse_abs = jabs + fabs(V1 - V)};
+            return (gr_normal_impact){
+                .eps_n = 0.0, .t_c = INFINITY, .impulse_abs = jabs + fabs(V1 - V)};
         }
         jabs += fabs(V1 - V); /* int |F| = total variation of X' (F changes sign at most once) */
         X = X1;
@@ -109,7 +114,10 @@ static gr_normal_impact hertz_scaled_impact(double c, int quarter, int clamp)
 }
 
 /* x0 = (m12 v^2 / k_h)^(2/5), the scaled contact's length unit */
-static double hertz_x0(const gr_contact_coeffs *c, double v) { return pow(c->m12 * v * v / c->k_s, 0.4); }
+static double hertz_x0(const gr_contact_coeffs *c, double v)
+{
+    return pow(c->m12 * v * v / c->k_s, 0.4);
+}
 
 /* The damping parameter of the scaled equation at impact speed v: c = (3/2) beta (viscoelastic)
  * or alpha (Tsuji, the same at every v). */
@@ -125,7 +133,8 @@ static double hertz_scaled_damping(const gr_contact_coeffs *c, double v)
 /* Its impact at normal speed v_n: the scaled contact in units x0, t0 = x0 / v_n, speed v_n. */
 static gr_normal_impact hertz_impact(const gr_contact_coeffs *c, double v_n)
 {
-    gr_normal_impact o = hertz_scaled_impact(hertz_scaled_damping(c, v_n), c->law_n[0] != 0.0, c->clamp);
+    gr_normal_impact o =
+        hertz_scaled_impact(hertz_scaled_damping(c, v_n), c->law_n[0] != 0.0, c->clamp);
     o.t_c *= hertz_x0(c, v_n) / v_n;
     return o;
 }
@@ -148,10 +157,11 @@ static double hertz_alpha_of(double eps, int clamp, gr_error *err, int *rc)
         lo = hi;
         hi *= 2.0;
         if (hi > 1e4) {
-            *rc = GR_FAIL(err, GR_EINVAL,
-                          "[model] eps_n = %g: hertz%s cannot reach it (alpha > 1e4); allowed range: "
-                          "eps_n >= %.3g",
-                          eps, clamp ? " with clamp = true" : "", hertz_scaled_impact(1e4, 1, clamp).eps_n);
+            *rc = GR_FAIL(
+                err, GR_EINVAL,
+                "[model] eps_n = %g: hertz%s cannot reach it (alpha > 1e4); allowed range: "
+                "eps_n >= %.3g",
+                eps, clamp ? " with clamp = true" : "", hertz_scaled_impact(1e4, 1, clamp).eps_n);
             return 0.0;
         }
     }
@@ -171,27 +181,34 @@ static double hertz_alpha_of(double eps, int clamp, gr_error *err, int *rc)
 
 static const gr_param hertz_params[] = {
     {"k_h", "N/m^1.5", GR_PARAM_DOUBLE, 1e9, 0.0, INFINITY, true, true,
-     "hertz: stiffness of F_n = k_h xi^(3/2); 1e9 gives the RFM discs about the linear law's overlap at 0.1 m/s",
+     "hertz: stiffness of F_n = k_h xi^(3/2); 1e9 gives the RFM discs about the linear law's "
+     "overlap at 0.1 m/s",
      GR_OWN_KEY(hertz, k_h)},
     {"eps_n", "", GR_PARAM_DOUBLE, 0.6, 0.0, 1.0, false, false,
      "normal coefficient of restitution (2.2); 1 = elastic, 0 = sticking (unclamped only)",
      offsetof(gr_contact_params, eps_n)},
     {"clamp", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,
-     "true: normal force never attractive, the contact ends when it vanishes (damping calibrated to that "
+     "true: normal force never attractive, the contact ends when it vanishes (damping calibrated "
+     "to that "
      "contact); false: it ends when the overlap does",
      offsetof(gr_contact_params, clamp)},
     {"viscoelastic", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,
-     "hertz: true = damping (3/2) A k_h sqrt(xi) xi' of Brilliantov et al. 1996, eps_n depends on the impact "
-     "speed (eps_n ignored); false = damping ~ xi^(1/4) xi' calibrated to a constant eps_n (Tsuji 1992, exact inversion)",
+     "hertz: true = damping (3/2) A k_h sqrt(xi) xi' of Brilliantov et al. 1996, eps_n depends on "
+     "the impact "
+     "speed (eps_n ignored); false = damping ~ xi^(1/4) xi' calibrated to a constant eps_n (Tsuji "
+     "1992, exact inversion)",
      GR_OWN_KEY(hertz, viscoelastic)},
     {"visco_A", "s", GR_PARAM_DOUBLE, 1e-6, 0.0, INFINITY, false, true,
-     "hertz, viscoelastic = true: the viscoelastic time A; 0 = elastic", GR_OWN_KEY(hertz, visco_A)},
+     "hertz, viscoelastic = true: the viscoelastic time A; 0 = elastic",
+     GR_OWN_KEY(hertz, visco_A)},
     {"v_max", "m/s", GR_PARAM_DOUBLE, 1.0, 0.0, INFINITY, true, true,
-     "hertz: the fastest impact (normal relative speed) the time step must resolve; dt = t_c(v_max) / steps_per_contact",
+     "hertz: the fastest impact (normal relative speed) the time step must resolve; dt = "
+     "t_c(v_max) / steps_per_contact",
      GR_OWN_KEY(hertz, v_max)},
 };
 
-static int hertz_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c, gr_error *err)
+static int hertz_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
+                         gr_error *err)
 {
     const hertz_own *o = GR_OWN(p, hertz);
     (void)dt;
@@ -206,9 +223,10 @@ static int hertz_prepare(const gr_contact_params *p, double m12, double dt, gr_c
         c->gamma_n = 1.5 * o->visco_A * o->k_h;
     } else {
         if (p->clamp && !(p->eps_n > 0.0)) {
-            return GR_FAIL(err, GR_EINVAL,
-                           "[model] eps_n = 0 cannot be reached with clamp = true (it needs an infinite "
-                           "damping); allowed range with clamping: (0, 1]");
+            return GR_FAIL(
+                err, GR_EINVAL,
+                "[model] eps_n = 0 cannot be reached with clamp = true (it needs an infinite "
+                "damping); allowed range with clamping: (0, 1]");
         }
         int rc = GR_OK;
         const double alpha = hertz_alpha_of(p->eps_n, p->clamp, err, &rc);
@@ -236,11 +254,13 @@ static int hertz_prepare(const gr_contact_params *p, double m12, double dt, gr_c
 
 static const char *const hertz_variants[] = {"viscoelastic=false", "viscoelastic=true", NULL};
 /* beta ~ 300 (the pair sticks), and Tsuji damping for eps_n = 1e-3 */
-static const char *const hertz_extremes[] = {"viscoelastic=true visco_A=1e-3", "viscoelastic=false eps_n=0.001", NULL};
+static const char *const hertz_extremes[] = {"viscoelastic=true visco_A=1e-3",
+                                             "viscoelastic=false eps_n=0.001", NULL};
 
 const gr_model gr_model_hertz = {
     .name = "hertz",
-    .summary = "Hertzian normal force k_h xi^(3/2), viscoelastic (eps(v), Brilliantov 1996) or calibrated to a "
+    .summary = "Hertzian normal force k_h xi^(3/2), viscoelastic (eps(v), Brilliantov 1996) or "
+               "calibrated to a "
                "constant eps_n (Tsuji 1992, exact inversion)",
     .kind = GR_MODEL_NORMAL,
     .params = hertz_params,

@@ -23,8 +23,9 @@
  * and lists NAME in GR_OWN_MODELS (models/list.h), which lays the blocks out inside
  * gr_contact_params.own. GR_OWN(p, NAME) is the model's block in the parameters p, and
  * GR_OWN_KEY(NAME, FIELD) the offset a descriptor (gr_param.offset) gives for one of its fields. */
-#define GR_OWN(p, NAME) ((const NAME##_own *)(const void *)((p)->own + offsetof(gr_own_layout, NAME)))
-#define GR_OWN_KEY(NAME, FIELD) \
+#define GR_OWN(p, NAME)                                                                            \
+    ((const NAME##_own *)(const void *)((p)->own + offsetof(gr_own_layout, NAME)))
+#define GR_OWN_KEY(NAME, FIELD)                                                                    \
     (offsetof(gr_contact_params, own) + offsetof(gr_own_layout, NAME) + offsetof(NAME##_own, FIELD))
 
 /* A normal law: gr_normal_NAME(const gr_contact_coeffs *c, double xi, double g_n, int clamp)
@@ -107,13 +108,23 @@ typedef struct gr_rolling_torque {
 /* The scene keys of rotation, declared by every tangential law that acts at the contact point
  * (gr_model.contact_point): put GR_ROTATION_PARAMS into the law's parameter table. */
 #define GR_ROTATION_PARAMS                                                                         \
-    {"rotation", "", GR_PARAM_BOOL, 0.0, 0.0, 1.0, false, false,                                  \
-     "true: the discs rotate (angular velocity, torque); the law acts on the contact point's "    \
-     "tangential velocity g.t + a (w_i + w_j), a = |r_ij| / 2 (docs/models.md, Rotation); false: no "  \
-     "rotation (the thesis)",                  \
+    {"rotation",                                                                                   \
+     "",                                                                                           \
+     GR_PARAM_BOOL,                                                                                \
+     0.0,                                                                                          \
+     0.0,                                                                                          \
+     1.0,                                                                                          \
+     false,                                                                                        \
+     false,                                                                                        \
+     "true: the discs rotate (angular velocity, torque); the law acts on the contact point's "     \
+     "tangential velocity g.t + a (w_i + w_j), a = |r_ij| / 2 (docs/models.md, Rotation); false: " \
+     "no "                                                                                         \
+     "rotation (the thesis)",                                                                      \
      offsetof(gr_contact_params, rotation)},                                                       \
-    {"inertia_factor", "", GR_PARAM_DOUBLE, 0.5, 0.0, 1.0, true, false,                           \
-     "rotation: moment of inertia I = q M r^2, q in (0, 1]; 1/2 uniform disc, 1 thin ring",        \
-     offsetof(gr_contact_params, inertia_factor)}
+    {                                                                                              \
+        "inertia_factor", "", GR_PARAM_DOUBLE, 0.5, 0.0, 1.0, true, false,                         \
+            "rotation: moment of inertia I = q M r^2, q in (0, 1]; 1/2 uniform disc, 1 thin ring", \
+            offsetof(gr_contact_params, inertia_factor)                                            \
+    }
 
 #endif

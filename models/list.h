@@ -26,43 +26,41 @@
 #define GR_MODELS_LIST_H
 
 /* normal force laws: models/NAME.h defines gr_normal_NAME and gr_model_NAME */
-#define GR_NORMAL_MODELS(X, A) \
-    X(A, spring_dashpot)       \
+#define GR_NORMAL_MODELS(X, A)                                                                     \
+    X(A, spring_dashpot)                                                                           \
     X(A, hertz)
 
 /* tangential force laws: gr_tangential_NAME, GR_BOOK_NAME and gr_model_NAME */
-#define GR_TANGENTIAL_MODELS(X, A) \
-    X(A, tangential_dashpot)       \
-    X(A, sliding_friction)         \
+#define GR_TANGENTIAL_MODELS(X, A)                                                                 \
+    X(A, tangential_dashpot)                                                                       \
+    X(A, sliding_friction)                                                                         \
     X(A, tangential_spring)
 
 /* the tangential laws above that keep a per-contact history (gr_tangential_in.hist; the kernels
  * then carry one slot per pair, src/core/contact_history.c) */
-#define GR_HISTORY_MODELS(X, A) \
-    X(A, tangential_spring)
+#define GR_HISTORY_MODELS(X, A) X(A, tangential_spring)
 
 /* rolling-resistance torques (rotation only): gr_rolling_NAME and gr_model_NAME */
-#define GR_ROLLING_MODELS(X, A) \
-    X(A, rolling_friction)
+#define GR_ROLLING_MODELS(X, A) X(A, rolling_friction)
 
 /* instantaneous rules of the event-driven integrator: gr_model_NAME (the rule is called by
  * src/integrators/event/ through its header) */
-#define GR_EVENT_MODELS(X, A) \
-    X(A, hard_sphere)
+#define GR_EVENT_MODELS(X, A) X(A, hard_sphere)
 
 /* the models with parameters of their own, a struct NAME_own in models/NAME.h: their blocks, one
  * after the other, in gr_contact_params.own (GR_OWN, GR_OWN_KEY of models/law.h) */
-#define GR_OWN_MODELS(X, A) \
-    X(A, hertz)             \
-    X(A, tangential_spring) \
-    X(A, hard_sphere)       \
+#define GR_OWN_MODELS(X, A)                                                                        \
+    X(A, hertz)                                                                                    \
+    X(A, tangential_spring)                                                                        \
+    X(A, hard_sphere)                                                                              \
     X(A, rolling_friction)
 
 #define GR_OWN_BLOCK(A, NAME) NAME##_own NAME;
 typedef struct gr_own_layout {
     GR_OWN_MODELS(GR_OWN_BLOCK, )
 } gr_own_layout;
-_Static_assert(sizeof(gr_own_layout) <= GR_CONTACT_OWN_BYTES,
-               "the models' own parameters outgrow gr_contact_params.own: raise GR_CONTACT_OWN_BYTES");
+_Static_assert(
+    sizeof(gr_own_layout) <= GR_CONTACT_OWN_BYTES,
+    "the models' own parameters outgrow gr_contact_params.own: raise GR_CONTACT_OWN_BYTES");
 
 #endif

@@ -55,7 +55,7 @@ typedef struct gr_ref_point {
     /* outputs */
     double ft;              /* the tangential force along t */
     double ydot[GR_REF_NY]; /* rates of the law's state components */
-    double e;      /* the elastic energy the law stores here (the spring's k_t s^2 / 2) */
+    double e;               /* the elastic energy the law stores here (the spring's k_t s^2 / 2) */
     double e_work; /* the force's work stored so far (int k_t s ds; e for a constant k_t) */
     double aux[GR_REF_NAUX]; /* the law's scratch values, for its roots and events */
 } gr_ref_point;

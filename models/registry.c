@@ -7,8 +7,9 @@
 
 /* every tangential law gives the CVODE reference its force (models/reference.h): a law listed in
  * GR_TANGENTIAL_MODELS without a `static const gr_reference_law NAME_reference` does not build */
-#define GR_REFERENCE_CHECK(A, NAME) \
-    _Static_assert(sizeof(NAME##_reference) == sizeof(gr_reference_law), #NAME ": no reference force");
+#define GR_REFERENCE_CHECK(A, NAME)                                                                \
+    _Static_assert(sizeof(NAME##_reference) == sizeof(gr_reference_law),                           \
+                   #NAME ": no reference force");
 GR_TANGENTIAL_MODELS(GR_REFERENCE_CHECK, )
 
 #define GR_REGISTRY_ENTRY(A, NAME) &gr_model_##NAME,

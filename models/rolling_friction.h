@@ -43,10 +43,12 @@ typedef struct rolling_friction_own {
 enum { ROLLING_FRICTION_MU_R = 0 };
 
 /* The pair law: the torque on j (on i its opposite) and the power it dissipates, >= 0. */
-GR_LAW gr_rolling_torque gr_rolling_rolling_friction(const gr_contact_coeffs *c, const gr_rolling_in in)
+GR_LAW gr_rolling_torque gr_rolling_rolling_friction(const gr_contact_coeffs *c,
+                                                     const gr_rolling_in in)
 {
     const double dw = in.dw;
-    const double cap = in.i_2dt * fabs(dw), full = c->law_r[ROLLING_FRICTION_MU_R] * fabs(in.f_n) * in.r_eff;
+    const double cap = in.i_2dt * fabs(dw),
+                 full = c->law_r[ROLLING_FRICTION_MU_R] * fabs(in.f_n) * in.r_eff;
     const double mag = in.acts ? (full < cap ? full : cap) : 0.0;
     const double m = dw > 0.0 ? mag : (dw < 0.0 ? -mag : 0.0);
     return (gr_rolling_torque){.m = m, .p = m * dw};
@@ -61,19 +63,21 @@ GR_LAW gr_rolling_torque gr_rolling_rolling_friction(const gr_contact_coeffs *c,
 
 static const gr_param rolling_friction_params[] = {
     {"mu_r", "", GR_PARAM_DOUBLE, 0.1, 0.0, INFINITY, false, true,
-     "coefficient of rolling resistance: a torque pair of magnitude mu_r F_n R_eff (F_n the normal force, "
+     "coefficient of rolling resistance: a torque pair of magnitude mu_r F_n R_eff (F_n the normal "
+     "force, "
      "R_eff = r / 2) against w_i - w_j; 0 = none",
      GR_OWN_KEY(rolling_friction, mu_r)},
 };
 
-static int rolling_friction_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
-                                    gr_error *err)
+static int rolling_friction_prepare(const gr_contact_params *p, double m12, double dt,
+                                    gr_contact_coeffs *c, gr_error *err)
 {
     (void)m12;
     (void)dt;
     if (!c->rotation) {
         return GR_FAIL(err, GR_EINVAL,
-                       "[model] rolling = rolling_friction needs [model] rotation = true (a torque on the spins); "
+                       "[model] rolling = rolling_friction needs [model] rotation = true (a torque "
+                       "on the spins); "
                        "allowed without rotation: rolling = none");
     }
     c->law_r[ROLLING_FRICTION_MU_R] = GR_OWN(p, rolling_friction)->mu_r;
@@ -81,7 +85,10 @@ static int rolling_friction_prepare(const gr_contact_params *p, double m12, doub
 }
 
 /* mu_r = 0: no torque, the kernel without it runs */
-static bool rolling_friction_inert(const gr_contact_coeffs *c) { return c->law_r[ROLLING_FRICTION_MU_R] == 0.0; }
+static bool rolling_friction_inert(const gr_contact_coeffs *c)
+{
+    return c->law_r[ROLLING_FRICTION_MU_R] == 0.0;
+}
 
 /* an enormous coefficient: the torque is then always the limit that stops the rolling in a step */
 static const char *const rolling_friction_extremes[] = {"mu_r=1e9", NULL};
@@ -91,15 +98,18 @@ static const char *const rolling_friction_extremes[] = {"mu_r=1e9", NULL};
  * (each disc's spin changes by J / I towards the other's), so the spins lose
  * I (w_i^2 + w_j^2) / 2 before minus after = J |dw_0| - J^2 / I of their energy (the conformance
  * suite and tests/test_rolling.c check the engine against this). The translation is untouched. */
-static double rolling_friction_spin_loss(const gr_contact_coeffs *c, double p_n, double r_eff, double inertia, double dw0)
+static double rolling_friction_spin_loss(const gr_contact_coeffs *c, double p_n, double r_eff,
+                                         double inertia, double dw0)
 {
-    const double J = fmin(c->law_r[ROLLING_FRICTION_MU_R] * r_eff * fabs(p_n), 0.5 * inertia * fabs(dw0));
+    const double J =
+        fmin(c->law_r[ROLLING_FRICTION_MU_R] * r_eff * fabs(p_n), 0.5 * inertia * fabs(dw0));
     return J * fabs(dw0) - J * J / inertia;
 }
 
 const gr_model gr_model_rolling_friction = {
     .name = "rolling_friction",
-    .summary = "rolling resistance: torques -+ mu_r |F_n| R_eff against w_i - w_j (constant directional torque)",
+    .summary = "rolling resistance: torques -+ mu_r |F_n| R_eff against w_i - w_j (constant "
+               "directional torque)",
     .kind = GR_MODEL_ROLLING,
     .params = rolling_friction_params,
     .n_params = sizeof rolling_friction_params / sizeof rolling_friction_params[0],

@@ -19,7 +19,8 @@ extern const gr_model gr_model_sliding_friction;
 /* The pair law (2.7), chatter-free: f_t = -sign(g_t) min(mu |f_n|, m12 |g_t| / dt). It dissipates
  * -f_t g_t >= 0, booked as friction. */
 enum { GR_BOOK_sliding_friction = GR_BOOK_FRICTION };
-GR_LAW gr_tangential_force gr_tangential_sliding_friction(const gr_contact_coeffs *c, const gr_tangential_in in)
+GR_LAW gr_tangential_force gr_tangential_sliding_friction(const gr_contact_coeffs *c,
+                                                          const gr_tangential_in in)
 {
     const double g_t = in.g_t;
     const double cap = in.m12_dt * fabs(g_t), slide = c->mu * fabs(in.f_n);
@@ -43,8 +44,8 @@ static const gr_param sliding_friction_params[] = {
     GR_ROTATION_PARAMS,
 };
 
-static int sliding_friction_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
-                   gr_error *err)
+static int sliding_friction_prepare(const gr_contact_params *p, double m12, double dt,
+                                    gr_contact_coeffs *c, gr_error *err)
 {
     (void)m12;
     (void)dt;
@@ -57,7 +58,8 @@ static int sliding_friction_prepare(const gr_contact_params *p, double m12, doub
 /* Its restitution law (binary impact without rotation): the tangential impulse is mu int |F_n| dt
  * until g_t stops, so eps_t = max(0, 1 - mu (int |F_n| dt / m12) / v_t), i.e.
  * max(0, 1 - mu (1 + eps_n) v_n / v_t) for a repulsive normal force (physics notes sec. 4.2). */
-static double sliding_friction_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t)
+static double sliding_friction_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n,
+                                             double v_n, double v_t)
 {
     /* with rotation the tangential impulse J changes the contact point's velocity by J / m_t */
     return fmax(0.0, 1.0 - c->mu * n.impulse_abs * (c->m12 / c->m_t) * v_n / v_t);
@@ -69,8 +71,8 @@ static double sliding_friction_restitution_t(const gr_contact_coeffs *c, gr_norm
  * without a spring. Root 1: F_n changes sign while sliding (an unclamped law pulling at the end),
  * so |F_n| = fn_sign F_n stays smooth. */
 enum { FRICTION_REF_MU = 0 };
-static void sliding_friction_ref_setup(const gr_contact_coeffs *c, double m12, double w0, double len,
-                                       gr_ref_tangential *l)
+static void sliding_friction_ref_setup(const gr_contact_coeffs *c, double m12, double w0,
+                                       double len, gr_ref_tangential *l)
 {
     (void)m12;
     (void)w0;
@@ -78,7 +80,8 @@ static void sliding_friction_ref_setup(const gr_contact_coeffs *c, double m12, d
     l->k[FRICTION_REF_MU] = c->mu;
 }
 
-static void sliding_friction_ref_start(gr_ref_tangential *l, double gn0, double gc0, bool has_tangent)
+static void sliding_friction_ref_start(gr_ref_tangential *l, double gn0, double gc0,
+                                       bool has_tangent)
 {
     (void)gn0;
     l->mode = has_tangent;
@@ -90,7 +93,8 @@ static void sliding_friction_ref_force(const gr_ref_tangential *l, gr_ref_point 
     p->ft = l->mode ? -l->k[FRICTION_REF_MU] * l->fn_sign * p->fn * l->sign : 0.0; /* (2.7) */
 }
 
-static void sliding_friction_ref_roots(const gr_ref_tangential *l, const gr_ref_point *p, double g[GR_REF_NROOTS])
+static void sliding_friction_ref_roots(const gr_ref_tangential *l, const gr_ref_point *p,
+                                       double g[GR_REF_NROOTS])
 {
     g[0] = l->mode ? l->sign * p->gc : 1.0;
     g[1] = l->mode && !l->clamp ? l->fn_sign * p->fn : 1.0;
@@ -98,7 +102,8 @@ static void sliding_friction_ref_roots(const gr_ref_tangential *l, const gr_ref_
     g[3] = 1.0;
 }
 
-static int sliding_friction_ref_event(gr_ref_tangential *l, const bool found[GR_REF_NROOTS], gr_ref_point *p)
+static int sliding_friction_ref_event(gr_ref_tangential *l, const bool found[GR_REF_NROOTS],
+                                      gr_ref_point *p)
 {
     (void)p;
     int r = 0;

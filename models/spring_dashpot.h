@@ -18,8 +18,8 @@
 extern const gr_model gr_model_spring_dashpot;
 
 /* The pair law (2.4-2.5): f = k_s xi - gamma_n g_n, elastic energy k_s xi^2 / 2. */
-GR_LAW gr_normal_force gr_normal_spring_dashpot(const gr_contact_coeffs *c, const double xi, const double g_n,
-                                                const int clamp)
+GR_LAW gr_normal_force gr_normal_spring_dashpot(const gr_contact_coeffs *c, const double xi,
+                                                const double g_n, const int clamp)
 {
     const double k = c->k_s;
     double f = k * xi - c->gamma_n * g_n;
@@ -50,8 +50,8 @@ static const gr_param spring_dashpot_params[] = {
      offsetof(gr_contact_params, clamp)},
 };
 
-static int spring_dashpot_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
-                   gr_error *err)
+static int spring_dashpot_prepare(const gr_contact_params *p, double m12, double dt,
+                                  gr_contact_coeffs *c, gr_error *err)
 {
     (void)dt;
     c->normal = GR_NORMAL_SPRING_DASHPOT;

@@ -17,7 +17,8 @@ extern const gr_model gr_model_tangential_dashpot;
 
 /* The pair law (2.9): f_t = -gamma_t g_t while the normal force acts; dissipates gamma_t g_t^2. */
 enum { GR_BOOK_tangential_dashpot = GR_BOOK_TANGENTIAL };
-GR_LAW gr_tangential_force gr_tangential_tangential_dashpot(const gr_contact_coeffs *c, const gr_tangential_in in)
+GR_LAW gr_tangential_force gr_tangential_tangential_dashpot(const gr_contact_coeffs *c,
+                                                            const gr_tangential_in in)
 {
     gr_tangential_force o = {.f = 0.0, .p = 0.0};
     if (in.acts) {
@@ -44,8 +45,8 @@ static const gr_param tangential_dashpot_params[] = {
     GR_ROTATION_PARAMS,
 };
 
-static int tangential_dashpot_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
-                   gr_error *err)
+static int tangential_dashpot_prepare(const gr_contact_params *p, double m12, double dt,
+                                      gr_contact_coeffs *c, gr_error *err)
 {
     (void)err;
     c->tangential = GR_TANGENTIAL_DASHPOT;
@@ -69,7 +70,8 @@ static int tangential_dashpot_prepare(const gr_contact_params *p, double m12, do
 /* Its restitution law: g_t (at the contact point) decays as exp(-gamma_t t / m_t) while the
  * normal force acts, for the contact duration t_c of the normal law (a sticking contact:
  * pi / w0); m_t = m12 without rotation, m12 q / (1 + q) with it. */
-static double tangential_dashpot_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t)
+static double tangential_dashpot_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n,
+                                               double v_n, double v_t)
 {
     (void)v_n;
     (void)v_t;
@@ -82,8 +84,8 @@ static double tangential_dashpot_restitution_t(const gr_contact_coeffs *c, gr_no
 
 /* The force the CVODE reference integrates (models/reference.h): F_t = -gamma_t g_c (2.9). */
 enum { DASHPOT_REF_CT = 0 }; /* gamma_t / (m12 w0) */
-static void tangential_dashpot_ref_setup(const gr_contact_coeffs *c, double m12, double w0, double len,
-                                         gr_ref_tangential *l)
+static void tangential_dashpot_ref_setup(const gr_contact_coeffs *c, double m12, double w0,
+                                         double len, gr_ref_tangential *l)
 {
     (void)len;
     l->k[DASHPOT_REF_CT] = c->gamma_t / (m12 * w0);

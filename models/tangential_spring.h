@@ -50,11 +50,13 @@ enum { GR_SPRING_KT = 0, GR_SPRING_GAMMA = 1, GR_SPRING_DT = 2, GR_SPRING_KM = 3
 /* The step of the law: in.hist[0] holds s on entry and the updated s on return (the kernel passes
  * a copy and commits it once per pair and step). */
 enum { GR_BOOK_tangential_spring = GR_BOOK_FRICTION };
-GR_LAW gr_tangential_force gr_tangential_tangential_spring(const gr_contact_coeffs *c, const gr_tangential_in in)
+GR_LAW gr_tangential_force gr_tangential_tangential_spring(const gr_contact_coeffs *c,
+                                                           const gr_tangential_in in)
 {
     gr_tangential_force o = {.f = 0.0, .p = 0.0, .e = 0.0};
     const double s_old = in.hist[0];
-    const double gamma = c->law_t[GR_SPRING_GAMMA], dt = c->law_t[GR_SPRING_DT], km = c->law_t[GR_SPRING_KM];
+    const double gamma = c->law_t[GR_SPRING_GAMMA], dt = c->law_t[GR_SPRING_DT],
+                 km = c->law_t[GR_SPRING_KM];
     /* k_t now and at the previous step (Mindlin: k_t ~ sqrt(xi), the previous overlap is
      * xi + g_n dt: the kernel's g_n is the velocity that drifted the step) */
     double k = c->law_t[GR_SPRING_KT], k_old = k;
@@ -115,12 +117,15 @@ GR_LAW gr_tangential_force gr_tangential_tangential_spring(const gr_contact_coef
 
 static const gr_param tangential_spring_params[] = {
     {"kt_ratio", "", GR_PARAM_DOUBLE, 2.0 / 7.0, 0.0, INFINITY, true, true,
-     "tangential stiffness k_t = kt_ratio m12 w0^2: kt_ratio k_s for spring_dashpot, for hertz its stiffness "
-     "linearised at the v_max impact (2/7: the usual DEM choice, after solid spheres); mindlin = true: "
+     "tangential stiffness k_t = kt_ratio m12 w0^2: kt_ratio k_s for spring_dashpot, for hertz its "
+     "stiffness "
+     "linearised at the v_max impact (2/7: the usual DEM choice, after solid spheres); mindlin = "
+     "true: "
      "k_t = kt_ratio (3/2) k_h sqrt(xi); ignored when k_t > 0",
      GR_OWN_KEY(tangential_spring, kt_ratio)},
     {"k_t", "N/m", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
-     "tangential spring constant; 0: from kt_ratio; mindlin = true: k_t sqrt(xi / x0), x0 the overlap unit of "
+     "tangential spring constant; 0: from kt_ratio; mindlin = true: k_t sqrt(xi / x0), x0 the "
+     "overlap unit of "
      "the v_max impact, (m12 v_max^2 / k_h)^(2/5)",
      GR_OWN_KEY(tangential_spring, k_t)},
     {"gamma_t", "kg/s", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
@@ -141,8 +146,8 @@ static const gr_param tangential_spring_params[] = {
  * v_max impact reaches xi = (5/4)^(2/5) x0 at most */
 #define SPRING_HERTZ_XMAX 1.0934
 
-static int tangential_spring_prepare(const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
-                                     gr_error *err)
+static int tangential_spring_prepare(const gr_contact_params *p, double m12, double dt,
+                                     gr_contact_coeffs *c, gr_error *err)
 {
     const tangential_spring_own *o = GR_OWN(p, tangential_spring);
     (void)m12;
@@ -158,12 +163,16 @@ static int tangential_spring_prepare(const gr_contact_params *p, double m12, dou
     if (o->mindlin) {
         const char *nn = c->normal_model ? c->normal_model->name : "none";
         if (strcmp(nn, "hertz") != 0) {
-            return GR_FAIL(err, GR_EINVAL, "[model] mindlin = true needs normal = hertz (given %s): the Mindlin "
-                           "stiffness k_t ~ sqrt(xi) is the Hertz contact's; allowed: mindlin = false with %s", nn, nn);
+            return GR_FAIL(
+                err, GR_EINVAL,
+                "[model] mindlin = true needs normal = hertz (given %s): the Mindlin "
+                "stiffness k_t ~ sqrt(xi) is the Hertz contact's; allowed: mindlin = false with %s",
+                nn, nn);
         }
         /* k_t(xi) = km sqrt(xi), equal to the linear k_t at xi = x0: with kt_ratio, km = kt_ratio
          * (3/2) k_h, i.e. kt_ratio times the Hertz law's own stiffness dF_n/dxi */
-        const double x0 = pow(c->m12 * GR_OWN(p, hertz)->v_max * GR_OWN(p, hertz)->v_max / c->k_s, 0.4);
+        const double x0 =
+            pow(c->m12 * GR_OWN(p, hertz)->v_max * GR_OWN(p, hertz)->v_max / c->k_s, 0.4);
         km = k_t / sqrt(x0);
         k_max = km * sqrt(SPRING_HERTZ_XMAX * x0);
         k_t = 0.0;
@@ -172,14 +181,18 @@ static int tangential_spring_prepare(const gr_contact_params *p, double m12, dou
      * dashpot are explicit in the kernel, so the step must resolve them */
     const double w_t = sqrt(k_max / c->m_t);
     if (dt > 0.0 && w_t * dt > 2.0 * M_PI / 10.0) {
-        return GR_FAIL(err, GR_EINVAL, "[model] tangential_spring: k_t = %g N/m%s oscillates with period %.4g s, "
-                       "fewer than 10 steps of dt = %g s; allowed k_t <= %.4g N/m (or a smaller dt)",
-                       k_max, o->mindlin ? " (Mindlin, at the v_max impact's largest overlap)" : "", 2.0 * M_PI / w_t,
-                       dt, c->m_t * pow(2.0 * M_PI / (10.0 * dt), 2));
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "[model] tangential_spring: k_t = %g N/m%s oscillates with period %.4g s, "
+            "fewer than 10 steps of dt = %g s; allowed k_t <= %.4g N/m (or a smaller dt)",
+            k_max, o->mindlin ? " (Mindlin, at the v_max impact's largest overlap)" : "",
+            2.0 * M_PI / w_t, dt, c->m_t * pow(2.0 * M_PI / (10.0 * dt), 2));
     }
     if (dt > 0.0 && o->gamma_t * dt >= c->m_t) {
-        return GR_FAIL(err, GR_EINVAL, "[model] gamma_t = %g kg/s is too large for dt = %g s (explicit "
-                       "damping); allowed gamma_t < m_t / dt = %.4g kg/s", o->gamma_t, dt, c->m_t / dt);
+        return GR_FAIL(err, GR_EINVAL,
+                       "[model] gamma_t = %g kg/s is too large for dt = %g s (explicit "
+                       "damping); allowed gamma_t < m_t / dt = %.4g kg/s",
+                       o->gamma_t, dt, c->m_t / dt);
     }
     c->law_t[GR_SPRING_KT] = k_t;
     c->law_t[GR_SPRING_GAMMA] = o->gamma_t;
@@ -199,7 +212,8 @@ static const char *const tangential_spring_variants[] = {"mindlin=false", "mindl
 
 const gr_model gr_model_tangential_spring = {
     .name = "tangential_spring",
-    .summary = "Cundall-Strack tangential spring with history and Coulomb limit (LAMMPS linear_history)",
+    .summary =
+        "Cundall-Strack tangential spring with history and Coulomb limit (LAMMPS linear_history)",
     .kind = GR_MODEL_TANGENTIAL,
     .params = tangential_spring_params,
     .n_params = sizeof tangential_spring_params / sizeof tangential_spring_params[0],

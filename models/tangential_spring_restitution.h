@@ -82,13 +82,17 @@ static void spring_rt_rk4(const spring_rt *c, const double y[4], double h, doubl
 {
     double k1[4], k2[4], k3[4], k4[4], t[4];
     spring_rt_eval(c, y, k1);
-    for (int i = 0; i < 4; i++) t[i] = y[i] + 0.5 * h * k1[i];
+    for (int i = 0; i < 4; i++)
+        t[i] = y[i] + 0.5 * h * k1[i];
     spring_rt_eval(c, t, k2);
-    for (int i = 0; i < 4; i++) t[i] = y[i] + 0.5 * h * k2[i];
+    for (int i = 0; i < 4; i++)
+        t[i] = y[i] + 0.5 * h * k2[i];
     spring_rt_eval(c, t, k3);
-    for (int i = 0; i < 4; i++) t[i] = y[i] + h * k3[i];
+    for (int i = 0; i < 4; i++)
+        t[i] = y[i] + h * k3[i];
     spring_rt_eval(c, t, k4);
-    for (int i = 0; i < 4; i++) out[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+    for (int i = 0; i < 4; i++)
+        out[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
 }
 
 /* the regime where the limit is 0 (F_n changing sign): slipping along the free rate if it beats
@@ -104,7 +108,8 @@ static void spring_rt_turn(spring_rt *c, double y[4])
     c->slip = spring_rt_eval(c, y, NULL).phi > 0.0;
 }
 
-static double tangential_spring_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n, double v_n, double v_t)
+static double tangential_spring_restitution_t(const gr_contact_coeffs *c, gr_normal_impact n,
+                                              double v_n, double v_t)
 {
     if (!(v_t > 0.0) || !(v_n > 0.0) || c->mu == 0.0) {
         return 1.0;
@@ -117,9 +122,17 @@ static double tangential_spring_restitution_t(const gr_contact_coeffs *c, gr_nor
     /* the normal law's own contact, t_c / t0 in these units, with room to spare */
     const double t_end = fmin(SPRING_RT_TMAX, 1.5 * n.t_c * v_n / x0 + 1.0);
     spring_rt r = {
-        .a = a, .p = c->pow_p, .cn = c->gamma_n * pow(x0, c->pow_p) * v_n / F0, .clamp = c->clamp,
-        .kt = c->law_t[GR_SPRING_KT] * x0 / F0, .km = c->law_t[GR_SPRING_KM] * sqrt(x0) * x0 / F0,
-        .ct = c->law_t[GR_SPRING_GAMMA] * v_n / F0, .mu = c->mu, .rho = c->m12 / c->m_t, .sig = 1.0, .fsign = 1.0,
+        .a = a,
+        .p = c->pow_p,
+        .cn = c->gamma_n * pow(x0, c->pow_p) * v_n / F0,
+        .clamp = c->clamp,
+        .kt = c->law_t[GR_SPRING_KT] * x0 / F0,
+        .km = c->law_t[GR_SPRING_KM] * sqrt(x0) * x0 / F0,
+        .ct = c->law_t[GR_SPRING_GAMMA] * v_n / F0,
+        .mu = c->mu,
+        .rho = c->m12 / c->m_t,
+        .sig = 1.0,
+        .fsign = 1.0,
     };
     const double U0 = v_t / v_n;
     double y[4] = {0.0, 1.0, 0.0, U0};
@@ -176,7 +189,8 @@ static double tangential_spring_restitution_t(const gr_contact_coeffs *c, gr_nor
         if (g0[RT_STICK] > 0.0 && g1[RT_STICK] <= 0.0) {
             y[2] = spring_rt_eval(&r, y, NULL).S; /* sticks where the constraint left the spring */
             r.slip = 0;
-        } else if ((g0[RT_UP] > 0.0 && g1[RT_UP] <= 0.0) || (g0[RT_DOWN] > 0.0 && g1[RT_DOWN] <= 0.0)) {
+        } else if ((g0[RT_UP] > 0.0 && g1[RT_UP] <= 0.0) ||
+                   (g0[RT_DOWN] > 0.0 && g1[RT_DOWN] <= 0.0)) {
             r.sig = g1[RT_UP] <= 0.0 ? 1.0 : -1.0;
             r.slip = 1;
         }

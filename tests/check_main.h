@@ -32,7 +32,8 @@ static inline int gr_test_keep_tmp(void)
     return v && *v && strcmp(v, "0") != 0;
 }
 
-static inline int gr_test_rm_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
+static inline int gr_test_rm_entry(const char *path, const struct stat *sb, int flag,
+                                   struct FTW *ftw)
 {
     (void)sb;
     (void)flag;
@@ -41,7 +42,10 @@ static inline int gr_test_rm_entry(const char *path, const struct stat *sb, int 
 }
 
 /* Removes dir and everything below it (links are removed, not followed). */
-static inline void gr_test_rm_tree(const char *dir) { nftw(dir, gr_test_rm_entry, 16, FTW_DEPTH | FTW_PHYS); }
+static inline void gr_test_rm_tree(const char *dir)
+{
+    nftw(dir, gr_test_rm_entry, 16, FTW_DEPTH | FTW_PHYS);
+}
 
 /* Makes root = $TMPDIR (or /tmp)/granule-test-TAG-XXXXXX, before Check forks, so that every test's
  * folder can live below it and a failing test (whose teardown Check skips) leaves nothing behind

@@ -23,8 +23,9 @@ static inline void *h_create(const gr_observable_type *t, const gr_scene *sc)
     return st;
 }
 
-static inline void h_sample(const gr_observable_type *t, void *st, const gr_scene *sc, const double *x, const double *y,
-                            const double *vx, const double *vy, double time)
+static inline void h_sample(const gr_observable_type *t, void *st, const gr_scene *sc,
+                            const double *x, const double *y, const double *vx, const double *vy,
+                            double time)
 {
     gr_particles p = {.n = sc->N,
                       .dim = sc->dim,
@@ -49,13 +50,18 @@ typedef struct h_table {
     char columns[512];
 } h_table;
 
-static inline cJSON *h_finish(const gr_observable_type *t, void *st, const gr_scene *sc, const char *csv_name,
-                              h_table *tab)
+static inline cJSON *h_finish(const gr_observable_type *t, void *st, const gr_scene *sc,
+                              const char *csv_name, h_table *tab)
 {
     char dir[] = "/tmp/test_obs_XXXXXX";
     ck_assert_ptr_nonnull(mkdtemp(dir));
     cJSON *summary = cJSON_CreateObject();
-    gr_output out = {.dir = dir, .source = sc->source, .seed = sc->seed, .scene_hash = 1, .summary = summary, .plots = false};
+    gr_output out = {.dir = dir,
+                     .source = sc->source,
+                     .seed = sc->seed,
+                     .scene_hash = 1,
+                     .summary = summary,
+                     .plots = false};
     gr_error err = {0};
     int rc = t->finish(st, &out, &err);
     ck_assert_msg(rc == GR_OK, "%s finish: %s", t->name, err.message);

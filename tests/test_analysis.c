@@ -29,8 +29,8 @@ START_TEST(test_blocking_white_noise)
     double expect = 2.0 / sqrt((double)n);
     ck_assert_msg(fabs(gr_blocking_mean(&b) - 3.0) < 5.0 * expect, "mean %g", gr_blocking_mean(&b));
     /* level 0 error estimate has relative precision ~1/sqrt(2n) */
-    ck_assert_msg(fabs(gr_blocking_stderr_at(&b, 0) / expect - 1.0) < 0.02, "level-0 error %g vs %g",
-                  gr_blocking_stderr_at(&b, 0), expect);
+    ck_assert_msg(fabs(gr_blocking_stderr_at(&b, 0) / expect - 1.0) < 0.02,
+                  "level-0 error %g vs %g", gr_blocking_stderr_at(&b, 0), expect);
     gsl_rng_free(r);
 }
 END_TEST
@@ -74,8 +74,10 @@ START_TEST(test_histogram_density)
     double integral = 0.0;
     for (int i = 0; i < h.nbins; i++) {
         ck_assert_double_eq_tol(h.count[i], 100.0, 1e-12);
-        integral += gr_histogram_density(&h, i) * (gr_histogram_upper(&h, i) - gr_histogram_lower(&h, i));
-        ck_assert_double_eq_tol(gr_histogram_density_error(&h, i), sqrt(100.0) / (1002.0 * 0.1), 1e-12);
+        integral +=
+            gr_histogram_density(&h, i) * (gr_histogram_upper(&h, i) - gr_histogram_lower(&h, i));
+        ck_assert_double_eq_tol(gr_histogram_density_error(&h, i), sqrt(100.0) / (1002.0 * 0.1),
+                                1e-12);
     }
     /* normalised to every sample, so the in-range integral is 1000/1002 */
     ck_assert_double_eq_tol(integral, 1000.0 / 1002.0, 1e-12);
@@ -202,12 +204,14 @@ START_TEST(test_contact_events_and_free_path)
     double x[2] = {0.02, 0.02 + d + 0.01}, vx[2] = {v, -v};
     gr_sim *s;
     gr_error err = {0};
-    ck_assert_msg(gr_sim_create_with_state(&sc, 2, x, NULL, vx, NULL, &s, &err) == 0, "%s", err.message);
+    ck_assert_msg(gr_sim_create_with_state(&sc, 2, x, NULL, vx, NULL, &s, &err) == 0, "%s",
+                  err.message);
     ck_assert_int_eq(gr_sim_track_contacts(s, &err), 0);
     void *state;
     ck_assert_int_eq(gr_scene_observable(&gr_obs_freepath, &sc, &state, &err), 0);
     /* first contact after 0.01 / (2v), then one every (L - 2d)/(2v): run through 5 contacts */
-    int64_t steps = (int64_t)((0.01 / (2.0 * v) + 4.5 * (sc.L - 2.0 * d) / (2.0 * v)) / gr_sim_dt(s));
+    int64_t steps =
+        (int64_t)((0.01 / (2.0 * v) + 4.5 * (sc.L - 2.0 * d) / (2.0 * v)) / gr_sim_dt(s));
     ck_assert_int_eq(gr_sim_step(s, steps, &err), 0);
     int64_t n;
     const gr_contact_event *ev = gr_sim_events(s, &n);
@@ -226,13 +230,15 @@ START_TEST(test_contact_events_and_free_path)
     char *dir = mkdtemp(tmpl);
     ck_assert_ptr_nonnull(dir);
     cJSON *sum = cJSON_CreateObject();
-    gr_output out = {.dir = dir, .source = sc.source, .seed = sc.seed, .summary = sum, .plots = false};
+    gr_output out = {
+        .dir = dir, .source = sc.source, .seed = sc.seed, .summary = sum, .plots = false};
     ck_assert_int_eq(gr_obs_freepath.finish(state, &out, &err), 0);
     const cJSON *j = cJSON_GetObjectItem(sum, "freepath");
     ck_assert_int_eq((int)cJSON_GetObjectItem(j, "paths")->valuedouble, 8);
     double mean = cJSON_GetObjectItem(j, "mean_over_d")->valuedouble * d;
     double expect = 0.5 * (sc.L - 2.0 * d), tol = 2.0 * v * gr_sim_dt(s) + 2e-3 * d;
-    ck_assert_msg(fabs(mean - expect) < tol, "mean free path %.9g, expected %.9g +- %.3g", mean, expect, tol);
+    ck_assert_msg(fabs(mean - expect) < tol, "mean free path %.9g, expected %.9g +- %.3g", mean,
+                  expect, tol);
     cJSON_Delete(sum);
     gr_observable_free(state);
     gr_sim_free(s);
@@ -294,7 +300,8 @@ START_TEST(test_fit_error_coverage)
     double fb = (double)cover_b / TRIALS, fbeta = (double)cover_beta / TRIALS;
     /* the errors are scaled by max(1, sqrt(chi2/dof)), which can only widen them: allow up to 80 % */
     ck_assert_msg(fb > 0.61 && fb < 0.80, "power-law exponent covered in %.3f of trials", fb);
-    ck_assert_msg(fbeta > 0.61 && fbeta < 0.80, "stretched-exponential beta covered in %.3f of trials", fbeta);
+    ck_assert_msg(fbeta > 0.61 && fbeta < 0.80,
+                  "stretched-exponential beta covered in %.3f of trials", fbeta);
     gsl_rng_free(r);
 }
 END_TEST
@@ -312,9 +319,11 @@ START_TEST(test_registry_parameter_blocks)
     int n = 0;
     for (int o = 0; gr_observables[o]; o++, n++) {
         const gr_observable_type *t = gr_observables[o];
-        ck_assert_msg(t->init && t->sample && t->finish && t->state_size > 0, "%s: incomplete type", t->name);
+        ck_assert_msg(t->init && t->sample && t->finish && t->state_size > 0, "%s: incomplete type",
+                      t->name);
         ck_assert_msg(t->dims >= 1 && t->dims <= 3, "%s: dims = %u", t->name, t->dims);
-        ck_assert_msg(t->params_size <= GR_OBS_PARAMS_BYTES, "%s: %zu-byte parameters", t->name, t->params_size);
+        ck_assert_msg(t->params_size <= GR_OBS_PARAMS_BYTES, "%s: %zu-byte parameters", t->name,
+                      t->params_size);
         ck_assert_ptr_eq(gr_observable_find(t->name), t);
         ck_assert_ptr_nonnull(gr_analysis_block(&a, t));
         for (int k = 0; k < t->n_params; k++) {
@@ -322,11 +331,12 @@ START_TEST(test_registry_parameter_blocks)
             size_t size = p->type == GR_PARAM_BOOL  ? sizeof(bool)
                           : p->type == GR_PARAM_INT ? sizeof(int)
                                                     : sizeof(double);
-            ck_assert_msg(p->offset + size <= t->params_size, "%s: %s outside its parameter struct", t->name, p->name);
+            ck_assert_msg(p->offset + size <= t->params_size, "%s: %s outside its parameter struct",
+                          t->name, p->name);
             for (int q = 0; q <= o; q++) {
                 for (int m = 0; m < (q < o ? gr_observables[q]->n_params : k); m++) {
-                    ck_assert_msg(strcmp(gr_observables[q]->params[m].name, p->name) != 0, "key %s declared twice",
-                                  p->name);
+                    ck_assert_msg(strcmp(gr_observables[q]->params[m].name, p->name) != 0,
+                                  "key %s declared twice", p->name);
                 }
             }
             double v = NAN;
@@ -337,7 +347,8 @@ START_TEST(test_registry_parameter_blocks)
             ck_assert_msg(v == def, "%s: default %g read back as %g", p->name, p->def, v);
             ck_assert_int_eq(gr_analysis_set(&a, p->name, p->max, NULL), GR_OK);
             ck_assert_int_eq(gr_analysis_get(&a, p->name, &v, NULL), GR_OK);
-            ck_assert_msg(v == (p->type == GR_PARAM_BOOL ? 1.0 : p->max), "%s: set %g, read %g", p->name, p->max, v);
+            ck_assert_msg(v == (p->type == GR_PARAM_BOOL ? 1.0 : p->max), "%s: set %g, read %g",
+                          p->name, p->max, v);
         }
     }
     ck_assert_int_le(n, GR_OBS_MAX);
@@ -369,29 +380,42 @@ START_TEST(test_moments_gaussian)
     void *state;
     gr_error err = {0};
     ck_assert_int_eq(gr_scene_observable(&gr_obs_moments, &sc, &state, &err), 0);
-    double *vx = malloc(sizeof(double) * sc.N), *vy = malloc(sizeof(double) * sc.N), *x = calloc(sc.N, sizeof(double));
+    double *vx = malloc(sizeof(double) * sc.N), *vy = malloc(sizeof(double) * sc.N),
+           *x = calloc(sc.N, sizeof(double));
     const double sd = 0.3;
     for (int frame = 0; frame < 32; frame++) {
         for (int i = 0; i < sc.N; i++) {
             vx[i] = gsl_ran_gaussian(r, sd);
             vy[i] = gsl_ran_gaussian(r, sd);
         }
-        gr_particles p = {.n = sc.N, .dim = 2, .L = 1.0, .radius = 1e-3, .mass = 1.0, .x = x, .y = x, .vx = vx, .vy = vy};
+        gr_particles p = {.n = sc.N,
+                          .dim = 2,
+                          .L = 1.0,
+                          .radius = 1e-3,
+                          .mass = 1.0,
+                          .x = x,
+                          .y = x,
+                          .vx = vx,
+                          .vy = vy};
         ck_assert_int_eq(gr_obs_moments.sample(state, &p, 0.0, &err), 0);
     }
     char tmpl[] = "/tmp/granule-mom-XXXXXX";
     char *dir = mkdtemp(tmpl);
     cJSON *sum = cJSON_CreateObject();
-    gr_output out = {.dir = dir, .source = sc.source, .seed = sc.seed, .summary = sum, .plots = false};
+    gr_output out = {
+        .dir = dir, .source = sc.source, .seed = sc.seed, .summary = sum, .plots = false};
     ck_assert_int_eq(gr_obs_moments.finish(state, &out, &err), 0);
     const cJSON *speed = cJSON_GetObjectItem(cJSON_GetObjectItem(sum, "moments"), "speed");
-    const cJSON *speed_err = cJSON_GetObjectItem(cJSON_GetObjectItem(sum, "moments"), "speed_stderr");
+    const cJSON *speed_err =
+        cJSON_GetObjectItem(cJSON_GetObjectItem(sum, "moments"), "speed_stderr");
     for (int m = 1; m <= 6; m++) {
         char key[8];
         snprintf(key, sizeof key, "m%d", m);
-        double got = cJSON_GetObjectItem(speed, key)->valuedouble, e = cJSON_GetObjectItem(speed_err, key)->valuedouble;
+        double got = cJSON_GetObjectItem(speed, key)->valuedouble,
+               e = cJSON_GetObjectItem(speed_err, key)->valuedouble;
         double want = pow(2.0 * sd * sd, 0.5 * m) * tgamma(1.0 + 0.5 * m);
-        ck_assert_msg(fabs(got - want) < 5.0 * e + 1e-3 * want, "m = %d: %.6g +- %.2g, Rayleigh %.6g", m, got, e, want);
+        ck_assert_msg(fabs(got - want) < 5.0 * e + 1e-3 * want,
+                      "m = %d: %.6g +- %.2g, Rayleigh %.6g", m, got, e, want);
     }
     cJSON_Delete(sum);
     gr_observable_free(state);

@@ -86,7 +86,10 @@ static double ks_statistic(double *v, size_t n, double (*cdf)(double, void *), v
     return D;
 }
 
-static double gamma_cdf(double z, void *user) { return gsl_cdf_gamma_P(z, *(const double *)user, 1.0); }
+static double gamma_cdf(double z, void *user)
+{
+    return gsl_cdf_gamma_P(z, *(const double *)user, 1.0);
+}
 
 static void run_uniform(int levels, int64_t reps, uint64_t seed, gr_bisect_result *res)
 {
@@ -113,7 +116,8 @@ START_TEST(test_pn_chi_square)
     gr_error err = {0};
     ck_assert_int_eq(gr_bisect_pn_gof(&res, 50.0, &g, &err), GR_OK);
     ck_assert_msg(g.dof >= 40, "only %d bins", g.dof);
-    ck_assert_msg(g.p_value > 1e-3, "P_6 vs (3.36): chi2 = %g for %d bins, p = %g", g.chi2, g.dof, g.p_value);
+    ck_assert_msg(g.p_value > 1e-3, "P_6 vs (3.36): chi2 = %g for %d bins, p = %g", g.chi2, g.dof,
+                  g.p_value);
     ck_assert_msg(fabs(g.chi2 / g.dof - 1.0) < 0.5, "chi2/dof = %g", g.chi2 / g.dof);
     ck_assert_double_eq(res.pn.total, 20000.0 * 64.0);
     /* negative control: the same histogram is far from P_7 and P_5 */
@@ -132,8 +136,9 @@ START_TEST(test_pn_chi_square)
     double lo = gr_histogram_lower(&res.pn, best), hi = gr_histogram_upper(&res.pn, best);
     double expect = gr_bisect_pn_uniform_mass(6, lo, hi) / (hi - lo);
     double sigma = sqrt(20000.0 * res.pn_count_var[best]) / (res.pn.total * (hi - lo));
-    ck_assert_msg(fabs(gr_histogram_density(&res.pn, best) - expect) < 4.5 * sigma, "peak bin density %g +- %g vs %g",
-                  gr_histogram_density(&res.pn, best), sigma, expect);
+    ck_assert_msg(fabs(gr_histogram_density(&res.pn, best) - expect) < 4.5 * sigma,
+                  "peak bin density %g +- %g vs %g", gr_histogram_density(&res.pn, best), sigma,
+                  expect);
     gr_bisect_result_free(&res);
 }
 END_TEST
@@ -179,7 +184,8 @@ START_TEST(test_pn_closed_form)
     }
     for (int n = 1; n <= 12; n++) {
         ck_assert_double_eq_tol(gr_bisect_pn_uniform_mass(n, 0.0, 1.0), 1.0, 1e-14);
-        double a = gr_bisect_pn_uniform_mass(n, 1e-3, 0.2), b = gr_bisect_pn_uniform_mass(n, 0.2, 0.5);
+        double a = gr_bisect_pn_uniform_mass(n, 1e-3, 0.2),
+               b = gr_bisect_pn_uniform_mass(n, 0.2, 0.5);
         ck_assert_double_eq_tol(a + b, gr_bisect_pn_uniform_mass(n, 1e-3, 0.5), 1e-14);
         ck_assert_double_eq_tol(gr_bisect_moment_uniform(n, 2.0), pow(3.0, -n), 1e-300);
     }
@@ -204,13 +210,16 @@ START_TEST(test_moments_uniform)
     double zmax = 0.0;
     for (int k = 1; k <= n; k++) {
         double e1, m1 = gr_bisect_result_moment(&res, k, 1, &e1);
-        ck_assert_msg(fabs(m1 * ldexp(1.0, k) - 1.0) < 1e-13, "level %d: <x> 2^k = %.17g", k, m1 * ldexp(1.0, k));
+        ck_assert_msg(fabs(m1 * ldexp(1.0, k) - 1.0) < 1e-13, "level %d: <x> 2^k = %.17g", k,
+                      m1 * ldexp(1.0, k));
         for (int m = 2; m <= res.moments_max; m++) {
             double err, v = gr_bisect_result_moment(&res, k, m, &err);
             double z = (v - gr_bisect_moment_uniform(k, m)) / err;
-            ck_assert_msg(fabs(z) < 4.5, "level %d, m = %d: <x^m> = %g +- %g vs (1+m)^-k = %g (z = %.2f)", k, m, v,
+            ck_assert_msg(fabs(z) < 4.5,
+                          "level %d, m = %d: <x^m> = %g +- %g vs (1+m)^-k = %g (z = %.2f)", k, m, v,
                           err, gr_bisect_moment_uniform(k, m), z);
-            ck_assert_double_eq_tol(res.moment_pred[k * res.moments_max + m - 1], gr_bisect_moment_uniform(k, m),
+            ck_assert_double_eq_tol(res.moment_pred[k * res.moments_max + m - 1],
+                                    gr_bisect_moment_uniform(k, m),
                                     1e-14 * gr_bisect_moment_uniform(k, m));
             zmax = fmax(zmax, fabs(z));
         }
@@ -234,10 +243,11 @@ START_TEST(test_zeta_uniform)
         ck_assert_msg(isfinite(z->err_fit) && isfinite(z->err_jackknife) && z->err_jackknife < 0.05,
                       "m = %d: errors %g (fit), %g (jackknife)", m, z->err_fit, z->err_jackknife);
         double tol = m == 1 ? 1e-10 : 4.0 * z->err_jackknife;
-        ck_assert_msg(fabs(z->zeta - expect) < tol, "zeta_%d = %.5f +- %.5f vs ln(1+m)/ln 2 = %.5f", m, z->zeta,
-                      z->err_jackknife, expect);
+        ck_assert_msg(fabs(z->zeta - expect) < tol, "zeta_%d = %.5f +- %.5f vs ln(1+m)/ln 2 = %.5f",
+                      m, z->zeta, z->err_jackknife, expect);
         if (m >= 2) { /* and it is distinguishable from the RFM's Table 3.1 value */
-            ck_assert_msg(fabs(z->zeta - gr_bisect_zeta_rfm_table31(m, NULL)) > 4.0 * z->err_jackknife,
+            ck_assert_msg(fabs(z->zeta - gr_bisect_zeta_rfm_table31(m, NULL)) >
+                              4.0 * z->err_jackknife,
                           "zeta_%d cannot tell the process from the RFM", m);
         }
     }
@@ -277,13 +287,15 @@ START_TEST(test_total_length)
             memcpy(parent, x, sizeof(double) * count);
             gr_bisect_level(&u, r, x, count);
             for (size_t i = 0; i < count; i++) {
-                ck_assert_msg(x[2 * i] > 0.0 && x[2 * i + 1] > 0.0, "%s: empty partition", specs[sp]);
+                ck_assert_msg(x[2 * i] > 0.0 && x[2 * i + 1] > 0.0, "%s: empty partition",
+                              specs[sp]);
                 ck_assert_msg(fabs(x[2 * i] + x[2 * i + 1] - parent[i]) <= DBL_EPSILON * parent[i],
-                              "%s level %d: %.17g + %.17g != %.17g", specs[sp], k + 1, x[2 * i], x[2 * i + 1], parent[i]);
+                              "%s level %d: %.17g + %.17g != %.17g", specs[sp], k + 1, x[2 * i],
+                              x[2 * i + 1], parent[i]);
             }
             double total = neumaier_sum(x, 2 * count);
-            ck_assert_msg(fabs(total - 1.0) <= (k + 2) * DBL_EPSILON, "%s level %d: sum - 1 = %g", specs[sp], k + 1,
-                          total - 1.0);
+            ck_assert_msg(fabs(total - 1.0) <= (k + 2) * DBL_EPSILON, "%s level %d: sum - 1 = %g",
+                          specs[sp], k + 1, total - 1.0);
         }
         gr_bisect_u0_free(&u);
     }
@@ -328,7 +340,9 @@ static double integrate_density(const gr_bisect_u0 *u, double lo, double hi)
     double cut[3] = {lo, lo < 0.5 && hi > 0.5 ? 0.5 : mid, hi};
     for (int i = 0; i < 2; i++) {
         double v, e;
-        ck_assert_int_eq(gsl_integration_qags(&F, cut[i], cut[i + 1], 1e-13, 1e-11, 1000, w, &v, &e), GSL_SUCCESS);
+        ck_assert_int_eq(
+            gsl_integration_qags(&F, cut[i], cut[i + 1], 1e-13, 1e-11, 1000, w, &v, &e),
+            GSL_SUCCESS);
         total += v;
     }
     gsl_integration_workspace_free(w);
@@ -375,7 +389,8 @@ START_TEST(test_power_normalised)
         gr_bisect_u0 u;
         ck_assert_int_eq(gr_bisect_u0_power(&u, A, &err), GR_OK);
         ck_assert_double_eq_tol(integrate_density(&u, 0.0, 1.0), 1.0, 1e-9);
-        ck_assert_double_eq_tol(gr_bisect_u0_density(&u, 0.3), gr_bisect_u0_density(&u, 0.7), 1e-12); /* 3.30 */
+        ck_assert_double_eq_tol(gr_bisect_u0_density(&u, 0.3), gr_bisect_u0_density(&u, 0.7),
+                                1e-12); /* 3.30 */
         ck_assert_double_eq(gr_bisect_u0_density(&u, -0.1), 0.0);
         ck_assert_double_eq(gr_bisect_u0_density(&u, 1.1), 0.0);
         /* mu_m = <(a^m + (1-a)^m)/2> and <-ln a>, <ln^2 a> against quadrature of the density */
@@ -383,13 +398,16 @@ START_TEST(test_power_normalised)
         for (int m = 1; m <= 6; m++) {
             double mu, expect = integrate_weighted(&u, 0, m, &tol);
             ck_assert_int_eq(gr_bisect_u0_moment(&u, m, &mu, &err), GR_OK);
-            ck_assert_msg(fabs(mu / expect - 1.0) < tol, "A = %g, m = %d: mu = %.15g vs %.15g", A, m, mu, expect);
+            ck_assert_msg(fabs(mu / expect - 1.0) < tol, "A = %g, m = %d: mu = %.15g vs %.15g", A,
+                          m, mu, expect);
         }
         double mean, var;
-        ck_assert_msg(gr_bisect_u0_log_stats(&u, &mean, &var, &err) == GR_OK, "A = %g: %s", A, err.message);
+        ck_assert_msg(gr_bisect_u0_log_stats(&u, &mean, &var, &err) == GR_OK, "A = %g: %s", A,
+                      err.message);
         double l1 = integrate_weighted(&u, 1, 0, &tol), l2 = integrate_weighted(&u, 2, 0, &tol2);
         ck_assert_msg(fabs(mean / l1 - 1.0) < tol, "A = %g: <-ln a> = %.12g vs %.12g", A, mean, l1);
-        ck_assert_msg(fabs(var - (l2 - l1 * l1)) < 1e-6 * var + tol2 * l2, "A = %g: var = %.12g vs %.12g", A, var, l2 - l1 * l1);
+        ck_assert_msg(fabs(var - (l2 - l1 * l1)) < 1e-6 * var + tol2 * l2,
+                      "A = %g: var = %.12g vs %.12g", A, var, l2 - l1 * l1);
     }
     /* A = 0 and A = -1 are the uniform density */
     gr_bisect_u0 u0, u1;
@@ -438,12 +456,15 @@ START_TEST(test_power_sampler)
             ck_assert(a[j] > 0.0 && a[j] <= 1.0);
         }
         double D = ks_statistic(f, n, power_min_cdf, &A);
-        ck_assert_msg(ks_p_value(D, n) > 1e-3, "power:%g split: KS D = %g, p = %g", A, D, ks_p_value(D, n));
+        ck_assert_msg(ks_p_value(D, n) > 1e-3, "power:%g split: KS D = %g, p = %g", A, D,
+                      ks_p_value(D, n));
         double z = ((double)left - 0.5 * n) / sqrt(0.25 * n);
-        ck_assert_msg(fabs(z) < 4.5, "power:%g: the smaller piece went left %zu of %zu times", A, left, n);
+        ck_assert_msg(fabs(z) < 4.5, "power:%g: the smaller piece went left %zu of %zu times", A,
+                      left, n);
         if (A < 0.5) { /* a itself, where none of its mass is closer to 1 than 2^-53 */
             D = ks_statistic(a, n, power_cdf, &A);
-            ck_assert_msg(ks_p_value(D, n) > 1e-3, "power:%g sampler: KS D = %g, p = %g", A, D, ks_p_value(D, n));
+            ck_assert_msg(ks_p_value(D, n) > 1e-3, "power:%g sampler: KS D = %g, p = %g", A, D,
+                          ks_p_value(D, n));
         }
         double wrong = A + 0.5 * (1.0 - A); /* negative control */
         D = ks_statistic(f, n, power_min_cdf, &wrong);
@@ -470,12 +491,15 @@ START_TEST(test_power_moments)
     ck_assert_int_eq(gr_bisect_run(&s, &u, &res, &err), GR_OK);
     for (int m = 2; m <= 5; m++) {
         double e, v = gr_bisect_result_moment(&res, 5, m, &e), expect = pow(res.mu[m], 5);
-        ck_assert_msg(fabs(v - expect) < 4.5 * e, "m = %d: %g +- %g vs mu_m^5 = %g", m, v, e, expect);
+        ck_assert_msg(fabs(v - expect) < 4.5 * e, "m = %d: %g +- %g vs mu_m^5 = %g", m, v, e,
+                      expect);
         /* and the power law is not the uniform process */
-        ck_assert_msg(fabs(v - gr_bisect_moment_uniform(5, m)) > 10.0 * e, "m = %d: power:0.5 looks uniform", m);
-        ck_assert_msg(fabs(res.zeta[m - 1].zeta - res.zeta[m - 1].predicted) < 4.5 * res.zeta[m - 1].err_jackknife,
-                      "zeta_%d = %g +- %g vs %g", m, res.zeta[m - 1].zeta, res.zeta[m - 1].err_jackknife,
-                      res.zeta[m - 1].predicted);
+        ck_assert_msg(fabs(v - gr_bisect_moment_uniform(5, m)) > 10.0 * e,
+                      "m = %d: power:0.5 looks uniform", m);
+        ck_assert_msg(fabs(res.zeta[m - 1].zeta - res.zeta[m - 1].predicted) <
+                          4.5 * res.zeta[m - 1].err_jackknife,
+                      "zeta_%d = %g +- %g vs %g", m, res.zeta[m - 1].zeta,
+                      res.zeta[m - 1].err_jackknife, res.zeta[m - 1].predicted);
     }
     gr_bisect_result_free(&res);
 }
@@ -493,7 +517,9 @@ START_TEST(test_table_u0)
     gr_error err = {0};
     /* a flat table is the uniform process */
     gr_bisect_u0 u;
-    ck_assert_int_eq(gr_bisect_u0_parse(&u, write_file("flat.csv", "# flat\na,U\n0,3\n0.5,3\n1,3\n"), &err), GR_OK);
+    ck_assert_int_eq(
+        gr_bisect_u0_parse(&u, write_file("flat.csv", "# flat\na,U\n0,3\n0.5,3\n1,3\n"), &err),
+        GR_OK);
     ck_assert_double_eq_tol(u.table_norm, 3.0, 1e-15);
     ck_assert_double_eq_tol(u.asymmetry, 0.0, 1e-15);
     for (int m = 1; m <= 6; m++) {
@@ -503,7 +529,8 @@ START_TEST(test_table_u0)
     }
     gr_bisect_u0_free(&u);
     /* an unnormalised hump (no header, spaces): the triangle density, sampled by exact inversion */
-    ck_assert_int_eq(gr_bisect_u0_parse(&u, write_file("hump.csv", "0 0\n0.5 1\n1 0\n"), &err), GR_OK);
+    ck_assert_int_eq(gr_bisect_u0_parse(&u, write_file("hump.csv", "0 0\n0.5 1\n1 0\n"), &err),
+                     GR_OK);
     ck_assert_double_eq_tol(gr_bisect_u0_density(&u, 0.25), 1.0, 1e-14); /* peak 2 at a = 1/2 */
     ck_assert_double_eq_tol(integrate_density(&u, 0.0, 1.0), 1.0, 1e-10);
     double mu2;
@@ -525,7 +552,8 @@ START_TEST(test_table_u0)
     gsl_rng_free(r);
     gr_bisect_u0_free(&u);
     /* an asymmetric table is accepted and its asymmetry reported */
-    ck_assert_int_eq(gr_bisect_u0_parse(&u, write_file("ramp.csv", "a,U\n0,0\n1,2\n"), &err), GR_OK);
+    ck_assert_int_eq(gr_bisect_u0_parse(&u, write_file("ramp.csv", "a,U\n0,0\n1,2\n"), &err),
+                     GR_OK);
     ck_assert_double_eq_tol(u.asymmetry, 1.0, 1e-12);
     gr_bisect_u0_free(&u);
     remove_tree(tmp_dir);
@@ -540,14 +568,17 @@ START_TEST(test_collapse)
     make_tmp_dir();
     const int n = 7;
     char text[40000];
-    int len = snprintf(text, sizeof text, "# exact P_7 as a G_1 table\n# system: N = 128, eps = 0.1\nR,G\n");
+    int len = snprintf(text, sizeof text,
+                       "# exact P_7 as a G_1 table\n# system: N = 128, eps = 0.1\nR,G\n");
     for (int i = 1; i < 100; i++) {
         double R = i / 100.0;
-        len += snprintf(text + len, sizeof text - (size_t)len, "%.17g,%.17g\n", R, gr_bisect_pn_uniform(n, R));
+        len += snprintf(text + len, sizeof text - (size_t)len, "%.17g,%.17g\n", R,
+                        gr_bisect_pn_uniform(n, R));
     }
     gr_error err = {0};
     gr_bisect_g1 g;
-    ck_assert_msg(gr_bisect_g1_load(&g, write_file("g1.csv", text), &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_bisect_g1_load(&g, write_file("g1.csv", text), &err) == GR_OK, "%s",
+                  err.message);
     ck_assert_double_eq(g.N, 128.0);
     ck_assert_ptr_null(g.G_err);
     double G0;
@@ -560,13 +591,16 @@ START_TEST(test_collapse)
     }
     gr_bisect_g1_free(&g);
     /* the same table in granule's histogram format at L' = 2 (R doubled, G halved) reads identically */
-    len = snprintf(text, sizeof text, "# N = 128, reduced_length = 2\nR_lo,R_hi,R,count,density,density_error\n");
+    len = snprintf(text, sizeof text,
+                   "# N = 128, reduced_length = 2\nR_lo,R_hi,R,count,density,density_error\n");
     for (int i = 1; i < 100; i++) {
         double R = i / 100.0;
-        len += snprintf(text + len, sizeof text - (size_t)len, "0,0,%.17g,10,%.17g,%.17g\n", 2.0 * R,
-                        0.5 * gr_bisect_pn_uniform(n, R), 0.05 * gr_bisect_pn_uniform(n, R));
+        len +=
+            snprintf(text + len, sizeof text - (size_t)len, "0,0,%.17g,10,%.17g,%.17g\n", 2.0 * R,
+                     0.5 * gr_bisect_pn_uniform(n, R), 0.05 * gr_bisect_pn_uniform(n, R));
     }
-    ck_assert_msg(gr_bisect_g1_load(&g, write_file("g1h.csv", text), &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_bisect_g1_load(&g, write_file("g1h.csv", text), &err) == GR_OK, "%s",
+                  err.message);
     ck_assert_ptr_nonnull(g.G_err);
     ck_assert_double_eq(g.reduced_length, 2.0);
     ck_assert_int_eq(gr_bisect_g1_at(&g, 0.7, &G0, &err), GR_OK);
@@ -578,16 +612,20 @@ START_TEST(test_collapse)
     char run[200];
     snprintf(run, sizeof run, "%s/run", tmp_dir);
     ck_assert_int_eq(mkdir(run, 0777), 0);
-    write_file("run/summary.json", "{\"status\": \"completed\", \"gaps\": {\"N\": 128, \"reduced_length\": 0.5}}\n");
-    len = snprintf(text, sizeof text, "# granule: G_h(R;N) (3.21, 3.24); x = R N / (h L')\n# scene s.ini, seed 1\n"
-                                      "h,binning,R_lo,R_hi,R,count,density,density_error,neg_ln_R,x,density_x,density_x_error\n");
+    write_file("run/summary.json",
+               "{\"status\": \"completed\", \"gaps\": {\"N\": 128, \"reduced_length\": 0.5}}\n");
+    len = snprintf(
+        text, sizeof text,
+        "# granule: G_h(R;N) (3.21, 3.24); x = R N / (h L')\n# scene s.ini, seed 1\n"
+        "h,binning,R_lo,R_hi,R,count,density,density_error,neg_ln_R,x,density_x,density_x_error\n");
     for (int h = 1; h <= 2; h++) {
         for (int b = 0; b < 2; b++) {
             for (int i = 1; i < 60; i++) {
                 double R = b ? pow(10.0, -6.0 + i / 10.0) : i / 60.0; /* reduced */
                 double G = h == 1 && b ? gr_bisect_pn_uniform(n, R) : 1.0;
-                len += snprintf(text + len, sizeof text - (size_t)len, "%d,%s,0,0,%.17g,5,%.17g,%.17g,0,0,0,0\n", h,
-                                b ? "log" : "lin", 0.5 * R, 2.0 * G, 0.2 * G);
+                len += snprintf(text + len, sizeof text - (size_t)len,
+                                "%d,%s,0,0,%.17g,5,%.17g,%.17g,0,0,0,0\n", h, b ? "log" : "lin",
+                                0.5 * R, 2.0 * G, 0.2 * G);
             }
         }
     }
@@ -643,7 +681,8 @@ START_TEST(test_write)
     char text[4000];
     int len = snprintf(text, sizeof text, "# N = 16\nR,G,G_err\n");
     for (int i = 1; i < 50; i++) {
-        len += snprintf(text + len, sizeof text - (size_t)len, "%g,%g,0.01\n", i / 50.0, gr_bisect_pn_uniform(4, i / 50.0));
+        len += snprintf(text + len, sizeof text - (size_t)len, "%g,%g,0.01\n", i / 50.0,
+                        gr_bisect_pn_uniform(4, i / 50.0));
     }
     gr_bisect_g1 g;
     ck_assert_int_eq(gr_bisect_g1_load(&g, write_file("g1.csv", text), &err), GR_OK);
@@ -655,7 +694,8 @@ START_TEST(test_write)
     const char *files[] = {"pn.csv", "moments.csv", "zeta.csv", "collapse.csv"};
     for (size_t i = 0; i < 4; i++) {
         char *t = slurp(out, files[i]);
-        ck_assert_msg(t[0] != '#' && strchr(t, ',') && strchr(t, ',') < strchr(t, '\n'), "%s: not a plain CSV", files[i]);
+        ck_assert_msg(t[0] != '#' && strchr(t, ',') && strchr(t, ',') < strchr(t, '\n'),
+                      "%s: not a plain CSV", files[i]);
         free(t);
         char meta[64];
         snprintf(meta, sizeof meta, "%.*s.meta.json", (int)(strlen(files[i]) - 4), files[i]);
@@ -670,7 +710,8 @@ START_TEST(test_write)
     ck_assert_str_eq(cJSON_GetObjectItem(j, "status")->valuestring, "completed");
     ck_assert_int_eq(cJSON_GetObjectItem(j, "levels")->valueint, 4);
     ck_assert_int_eq(cJSON_GetArraySize(cJSON_GetObjectItem(j, "zeta")), s.moments_max);
-    cJSON *g1 = cJSON_GetArrayItem(cJSON_GetObjectItem(cJSON_GetObjectItem(j, "collapse"), "g1"), 0);
+    cJSON *g1 =
+        cJSON_GetArrayItem(cJSON_GetObjectItem(cJSON_GetObjectItem(j, "collapse"), "g1"), 0);
     ck_assert_double_eq(cJSON_GetObjectItem(g1, "N")->valuedouble, 16.0);
     cJSON_Delete(j);
     /* a second run into the same folder is refused unless forced */
@@ -698,10 +739,13 @@ START_TEST(test_bad_u0)
     make_tmp_dir();
     gr_bisect_u0 u;
     gr_error err = {0};
-    const char *bad_specs[] = {"", "power:", "power:abc", "power:1", "power:0.96", "power:-101", "power:nan", "power:0.5x"};
+    const char *bad_specs[] = {"",           "power:",     "power:abc", "power:1",
+                               "power:0.96", "power:-101", "power:nan", "power:0.5x"};
     for (size_t i = 0; i < sizeof bad_specs / sizeof bad_specs[0]; i++) {
-        ck_assert_msg(gr_bisect_u0_parse(&u, bad_specs[i], &err) == GR_EINVAL, "accepted '%s'", bad_specs[i]);
-        ck_assert_msg(err.message[0] && !strchr(err.message, '\n'), "message for '%s'", bad_specs[i]);
+        ck_assert_msg(gr_bisect_u0_parse(&u, bad_specs[i], &err) == GR_EINVAL, "accepted '%s'",
+                      bad_specs[i]);
+        ck_assert_msg(err.message[0] && !strchr(err.message, '\n'), "message for '%s'",
+                      bad_specs[i]);
     }
     snprintf(err.message, sizeof err.message, "%s", "");
     char missing[200];
@@ -799,11 +843,12 @@ START_TEST(test_bad_g1)
     for (size_t i = 0; i < sizeof tables / sizeof tables[0]; i++) {
         const char *path = write_file("g1.csv", tables[i].text);
         ck_assert_msg(gr_bisect_g1_load(&g, path, &err) == GR_EINVAL, "accepted G_1 table %zu", i);
-        ck_assert_msg(strstr(err.message, tables[i].expect) != NULL, "table %zu: '%s' lacks '%s'", i, err.message,
-                      tables[i].expect);
+        ck_assert_msg(strstr(err.message, tables[i].expect) != NULL, "table %zu: '%s' lacks '%s'",
+                      i, err.message, tables[i].expect);
         ck_assert_ptr_null(g.R);
     }
-    ck_assert_int_eq(gr_bisect_g1_load(&g, write_file("g1.csv", "# N = 64\nR,G\n0.1,1\n0.5,1\n"), &err), GR_OK);
+    ck_assert_int_eq(
+        gr_bisect_g1_load(&g, write_file("g1.csv", "# N = 64\nR,G\n0.1,1\n0.5,1\n"), &err), GR_OK);
     double G0;
     ck_assert_int_eq(gr_bisect_g1_at(&g, 0.7, &G0, &err), GR_EINVAL);
     ck_assert_msg(strstr(err.message, "[0.1, 0.5]") != NULL, "%s", err.message);

@@ -26,7 +26,8 @@ START_TEST(test_collapse_of_uniform_bisection_is_minus_ln_R)
     ck_assert(campaign_bisection_collapse(N, x0, x, y, e, n));
     for (int i = 0; i < n; i++) {
         ck_assert_double_eq_tol(y[i], x[i], 1e-9 * x[i]); /* the mapped curve is -ln R itself */
-        ck_assert_double_eq_tol(e[i], 0.01 * y[i] / (nb - 1.0), 1e-12 * y[i]); /* dY = Y dG / ((n-1) G) */
+        ck_assert_double_eq_tol(e[i], 0.01 * y[i] / (nb - 1.0),
+                                1e-12 * y[i]); /* dY = Y dG / ((n-1) G) */
     }
     gr_fit fit;
     gr_error err = {0};
@@ -102,7 +103,6 @@ START_TEST(test_series_from_table_with_filter)
 }
 END_TEST
 
-
 /* A thesis value with no quoted error that ours equals to rounding (Table 3.1's zeta_1 = 1 came
  * out 0.999996 +- 1e-6, z = -3.9) is exact: no z. A real difference, or a quoted error, keeps it. */
 START_TEST(test_exact_match_has_no_z)
@@ -175,7 +175,8 @@ START_TEST(test_kinds_of_comparison)
     w = judged("eps_n=0.1: 1.914", 1.899, NAN);
     ck_assert_str_eq(w.comparison, "stated");
     ck_assert_int_eq(w.agrees, -1);
-    ck_assert_int_eq(judged("eps_n=0.1: about 1", 0.0, 0.0).agrees, 0); /* an error of 0 is an error */
+    ck_assert_int_eq(judged("eps_n=0.1: about 1", 0.0, 0.0).agrees,
+                     0); /* an error of 0 is an error */
     /* another group's value does not apply */
     ck_assert_str_eq(judged("eps_n=0.5: 0.528", 0.5, 0.01).comparison, "");
 }

@@ -60,9 +60,9 @@ static double max_parent_mismatch(const gr_cascade_field *f, const double *paren
 /* ---------------------------------------------------------------------------------------------
  * Conservation */
 
-static const gr_cascade_variant conserving[] = {GR_CASCADE_UCP, GR_CASCADE_SYMMETRISED, GR_CASCADE_MEAKIN1,
-                                                GR_CASCADE_MEAKIN2, GR_CASCADE_MEAKIN3, GR_CASCADE_MEAKIN4,
-                                                GR_CASCADE_UNIFORM};
+static const gr_cascade_variant conserving[] = {
+    GR_CASCADE_UCP,     GR_CASCADE_SYMMETRISED, GR_CASCADE_MEAKIN1, GR_CASCADE_MEAKIN2,
+    GR_CASCADE_MEAKIN3, GR_CASCADE_MEAKIN4,     GR_CASCADE_UNIFORM};
 
 START_TEST(test_unweighted_fit)
 {
@@ -73,9 +73,14 @@ START_TEST(test_unweighted_fit)
     const double A = 3.0, D = 1.6;
     for (int pass = 0; pass < 2; pass++) {
         for (int i = 0; i < 40; i++) {
-            const double k = 2.0 * M_PI * (i + 1), wiggle = pass ? 1.0 + 0.1 * ((i % 3) - 1.0) : 1.0;
-            b[i] = (gr_cascade_sk_bin){.q = i + 1, .k = k, .vectors = 4 * (i + 1), .S = A * pow(k, -D) * wiggle,
-                                       .S_err = 1e-3 * A * pow(k, -D), .S_expected = A * pow(k, -D)};
+            const double k = 2.0 * M_PI * (i + 1),
+                         wiggle = pass ? 1.0 + 0.1 * ((i % 3) - 1.0) : 1.0;
+            b[i] = (gr_cascade_sk_bin){.q = i + 1,
+                                       .k = k,
+                                       .vectors = 4 * (i + 1),
+                                       .S = A * pow(k, -D) * wiggle,
+                                       .S_err = 1e-3 * A * pow(k, -D),
+                                       .S_expected = A * pow(k, -D)};
         }
         gr_cascade_fit w, u;
         gr_error err = {0};
@@ -83,12 +88,15 @@ START_TEST(test_unweighted_fit)
         ck_assert(gr_cascade_fit_df_unweighted(b, 40, 1, 40, &u, &err) == 0);
         ck_assert_int_eq(u.points, 40);
         if (!pass) {
-            ck_assert(fabs(u.D_f - D) < 1e-10 && fabs(w.D_f - D) < 1e-10 && fabs(u.A / A - 1.0) < 1e-9);
+            ck_assert(fabs(u.D_f - D) < 1e-10 && fabs(w.D_f - D) < 1e-10 &&
+                      fabs(u.A / A - 1.0) < 1e-9);
         } else {
             ck_assert_msg(w.chi2_red > 100.0, "weighted chi2/dof %g", w.chi2_red);
-            ck_assert_msg(fabs(u.D_f - D) < 3.0 * u.D_f_err, "unweighted D_f %g +- %g", u.D_f, u.D_f_err);
+            ck_assert_msg(fabs(u.D_f - D) < 3.0 * u.D_f_err, "unweighted D_f %g +- %g", u.D_f,
+                          u.D_f_err);
             /* the residual variance of ln S is that of ln(1 + 0.1 {-1, 0, 1}): about 0.0067 */
-            ck_assert_msg(fabs(u.chi2_red / 0.0067 - 1.0) < 0.2, "residual variance %g", u.chi2_red);
+            ck_assert_msg(fabs(u.chi2_red / 0.0067 - 1.0) < 0.2, "residual variance %g",
+                          u.chi2_red);
             ck_assert(u.D_f_err > 0.005 && u.D_f_err < 0.1);
         }
     }
@@ -118,10 +126,11 @@ START_TEST(test_conserving_variants)
         ck_assert_int_eq(gr_cascade_refine(&s, r, f, &err), 0);
         ck_assert_int_eq(f->level, l + 1);
         double mis = max_parent_mismatch(f, parents, l), total = gr_cascade_field_total(f);
-        ck_assert_msg(mis < 1e-15, "%s level %d: a parent differs from its children's sum by %g (relative)",
+        ck_assert_msg(mis < 1e-15,
+                      "%s level %d: a parent differs from its children's sum by %g (relative)",
                       gr_cascade_variant_get(v)->name, l + 1, mis);
-        ck_assert_msg(fabs(total - 1.0) < 1e-13, "%s level %d: total %.17g", gr_cascade_variant_get(v)->name, l + 1,
-                      total);
+        ck_assert_msg(fabs(total - 1.0) < 1e-13, "%s level %d: total %.17g",
+                      gr_cascade_variant_get(v)->name, l + 1, total);
     }
     /* the finished field refuses to be refined further */
     ck_assert_int_eq(gr_cascade_refine(&s, r, f, &err), GR_EINVAL);
@@ -151,14 +160,16 @@ START_TEST(test_unoncp_not_conserving)
         }
         lo = fmin(lo, totals[s.levels] / 64.0);
         hi = fmax(hi, totals[s.levels] / 64.0);
-        ck_assert_double_eq_tol(totals[s.levels], gr_cascade_field_total(f), 1e-12 * totals[s.levels]);
+        ck_assert_double_eq_tol(totals[s.levels], gr_cascade_field_total(f),
+                                1e-12 * totals[s.levels]);
     }
     for (int l = 1; l <= s.levels; l++) {
         double mean = sum[l] / C, sd = sqrt(fmax(sum2[l] / C - mean * mean, 0.0));
         double expect = ldexp(1.0, l); /* (sum_c E a_c)^l = 2^l */
-        ck_assert_msg(sd > 0.05 * mean, "level %d: total spread %g around %g is too small for UnonCP", l, sd, mean);
-        ck_assert_msg(fabs(mean - expect) < 5.0 * sd / sqrt(C), "level %d: mean total %g, expected 2^l = %g", l,
-                      mean, expect);
+        ck_assert_msg(sd > 0.05 * mean,
+                      "level %d: total spread %g around %g is too small for UnonCP", l, sd, mean);
+        ck_assert_msg(fabs(mean - expect) < 5.0 * sd / sqrt(C),
+                      "level %d: mean total %g, expected 2^l = %g", l, mean, expect);
     }
     ck_assert_msg(hi - lo > 0.2, "final totals / 2^6 span only [%g, %g]", lo, hi);
     gsl_rng_free(r);
@@ -194,7 +205,8 @@ START_TEST(test_fft_equals_direct_sum)
 {
     /* (6.5) by FFTW against the literal double sum over cell centres r_{i,j} = L/2^n (i+1/2, j+1/2) */
     const gr_cascade_variant vs[] = {GR_CASCADE_UCP, GR_CASCADE_MEAKIN1, GR_CASCADE_UNONCP};
-    const int q[][2] = {{1, 0}, {0, 1}, {1, 1}, {3, 5}, {-2, 7}, {8, 8}, {16, 0}, {-5, -3}, {13, -11}, {31, 2}};
+    const int q[][2] = {{1, 0}, {0, 1},  {1, 1},   {3, 5},    {-2, 7},
+                        {8, 8}, {16, 0}, {-5, -3}, {13, -11}, {31, 2}};
     gr_error err = {0};
     for (size_t iv = 0; iv < sizeof vs / sizeof vs[0]; iv++) {
         for (int levels = 4; levels <= 5; levels++) {
@@ -210,12 +222,15 @@ START_TEST(test_fft_equals_direct_sum)
             ck_assert_double_eq_tol(S0, total * total, 1e-12 * S0);
             ck_assert_double_eq_tol(gr_cascade_sk_last(sk, 0, 0), S0, 1e-12 * S0);
             for (size_t k = 0; k < sizeof q / sizeof q[0]; k++) {
-                double fft = gr_cascade_sk_last(sk, q[k][0], q[k][1]), direct = gr_cascade_sk_direct(f, q[k][0], q[k][1]);
+                double fft = gr_cascade_sk_last(sk, q[k][0], q[k][1]),
+                       direct = gr_cascade_sk_direct(f, q[k][0], q[k][1]);
                 ck_assert_msg(fabs(fft - direct) < 1e-12 * S0 + 1e-9 * direct,
-                              "%s n=%d q=(%d,%d): FFT %.15g, direct %.15g", gr_cascade_variant_get(vs[iv])->name,
-                              levels, q[k][0], q[k][1], fft, direct);
+                              "%s n=%d q=(%d,%d): FFT %.15g, direct %.15g",
+                              gr_cascade_variant_get(vs[iv])->name, levels, q[k][0], q[k][1], fft,
+                              direct);
                 /* S(-q) = S(q) */
-                ck_assert_double_eq_tol(gr_cascade_sk_last(sk, -q[k][0], -q[k][1]), fft, 1e-12 * S0);
+                ck_assert_double_eq_tol(gr_cascade_sk_last(sk, -q[k][0], -q[k][1]), fft,
+                                        1e-12 * S0);
             }
             gsl_rng_free(r);
             gr_cascade_sk_free(sk);
@@ -309,12 +324,12 @@ START_TEST(test_circular_bins)
         ck_assert_int_eq(b[i].vectors, count[i]);
         ck_assert_double_eq_tol(b[i].q_mean, sumq[i] / count[i], 1e-12);
         ck_assert_double_eq_tol(b[i].k, 2.0 * M_PI * b[i].q_mean / 2.0, 1e-12);
-        ck_assert_msg(fabs(b[i].S - sumS[i] / count[i]) < 1e-12 * b[i].S, "bin %d: %g vs %g", i + 1, b[i].S,
-                      sumS[i] / count[i]);
+        ck_assert_msg(fabs(b[i].S - sumS[i] / count[i]) < 1e-12 * b[i].S, "bin %d: %g vs %g", i + 1,
+                      b[i].S, sumS[i] / count[i]);
         ck_assert(b[i].S_err > 0.0);
         /* the bins' exact average (phases from a table) equals the per-vector one (phases from sin/cos) */
-        ck_assert_msg(fabs(b[i].S_expected - sumE[i] / count[i]) < 1e-12 * b[i].S_expected, "bin %d: %.15g vs %.15g",
-                      i + 1, b[i].S_expected, sumE[i] / count[i]);
+        ck_assert_msg(fabs(b[i].S_expected - sumE[i] / count[i]) < 1e-12 * b[i].S_expected,
+                      "bin %d: %.15g vs %.15g", i + 1, b[i].S_expected, sumE[i] / count[i]);
         counted += b[i].vectors;
     }
     ck_assert_int_eq(counted, total);
@@ -326,9 +341,9 @@ START_TEST(test_circular_bins)
 }
 END_TEST
 
-static const gr_cascade_variant all_random[] = {GR_CASCADE_UCP, GR_CASCADE_UNONCP, GR_CASCADE_SYMMETRISED,
-                                                GR_CASCADE_MEAKIN1, GR_CASCADE_MEAKIN2, GR_CASCADE_MEAKIN3,
-                                                GR_CASCADE_MEAKIN4};
+static const gr_cascade_variant all_random[] = {
+    GR_CASCADE_UCP,     GR_CASCADE_UNONCP,  GR_CASCADE_SYMMETRISED, GR_CASCADE_MEAKIN1,
+    GR_CASCADE_MEAKIN2, GR_CASCADE_MEAKIN3, GR_CASCADE_MEAKIN4};
 
 START_TEST(test_average_matches_exact_expectation)
 {
@@ -362,15 +377,17 @@ START_TEST(test_average_matches_exact_expectation)
         double mean = sum[k] / C, se = sqrt(fmax(sum2[k] / C - mean * mean, 0.0) / (C - 1));
         double exact = gr_cascade_sk_expected(&s, q[k][0], q[k][1]);
         ck_assert_double_eq_tol(gr_cascade_sk_mean(sk, q[k][0], q[k][1]), mean, 1e-9 * mean);
-        ck_assert_msg(fabs(mean - exact) < 5.0 * se + 1e-12, "%s q=(%d,%d): Monte Carlo %g +- %g, exact %g", name,
-                      q[k][0], q[k][1], mean, se, exact);
+        ck_assert_msg(fabs(mean - exact) < 5.0 * se + 1e-12,
+                      "%s q=(%d,%d): Monte Carlo %g +- %g, exact %g", name, q[k][0], q[k][1], mean,
+                      se, exact);
     }
     const int nb = gr_cascade_sk_nbins(sk);
     gr_cascade_sk_bin *b = malloc(sizeof *b * (size_t)nb);
     gr_cascade_sk_bins(sk, b);
     for (int i = 0; i < nb; i++) {
-        ck_assert_msg(fabs(b[i].S - b[i].S_expected) < 5.0 * b[i].S_err, "%s bin %d: %g +- %g, exact %g", name,
-                      b[i].q, b[i].S, b[i].S_err, b[i].S_expected);
+        ck_assert_msg(fabs(b[i].S - b[i].S_expected) < 5.0 * b[i].S_err,
+                      "%s bin %d: %g +- %g, exact %g", name, b[i].q, b[i].S, b[i].S_err,
+                      b[i].S_expected);
     }
     /* With a uniform mean field (all but Symmetrised) the cross terms vanish at integer q, so
      * S_n(2q) = sum_c E[w_c^2] S_(n-1)(q) exactly: the octave law behind D_2 */
@@ -385,8 +402,9 @@ START_TEST(test_average_matches_exact_expectation)
         for (size_t k = 0; k < sizeof qq / sizeof qq[0]; k++) {
             double ratio = gr_cascade_sk_expected(&s8, 2 * qq[k][0], 2 * qq[k][1]) /
                            gr_cascade_sk_expected(&s7, qq[k][0], qq[k][1]);
-            ck_assert_msg(fabs(ratio / diag - 1.0) < 1e-9, "%s q=(%d,%d): S_8(2q)/S_7(q) = %.15g, sum E w^2 = %.15g",
-                          name, qq[k][0], qq[k][1], ratio, diag);
+            ck_assert_msg(fabs(ratio / diag - 1.0) < 1e-9,
+                          "%s q=(%d,%d): S_8(2q)/S_7(q) = %.15g, sum E w^2 = %.15g", name, qq[k][0],
+                          qq[k][1], ratio, diag);
         }
     }
     free(b);
@@ -407,7 +425,8 @@ START_TEST(test_d2_values)
     s.variant = GR_CASCADE_SYMMETRISED;
     ck_assert_double_eq_tol(gr_cascade_d2(&s), log2(3.0), 1e-12);
     s.variant = GR_CASCADE_MEAKIN2;
-    ck_assert_double_eq_tol(gr_cascade_d2(&s), -log2(0.02 * 0.02 + 3 * 0.32 * 0.32 - 0.32 * 0.32 + 0.34 * 0.34), 1e-12);
+    ck_assert_double_eq_tol(
+        gr_cascade_d2(&s), -log2(0.02 * 0.02 + 3 * 0.32 * 0.32 - 0.32 * 0.32 + 0.34 * 0.34), 1e-12);
     s.variant = GR_CASCADE_MEAKIN;
     s.p[0] = 2.0, s.p[1] = 2.0, s.p[2] = 2.0, s.p[3] = 2.0;
     ck_assert_double_eq_tol(gr_cascade_d2(&s), 2.0, 1e-12);
@@ -425,8 +444,10 @@ START_TEST(test_d2_values)
         }
         const bool cons = gr_cascade_variant_get(s.variant)->conserving;
         ck_assert_int_eq(cons, v != GR_CASCADE_UNONCP);
-        ck_assert_msg(fabs(m2 - (cons ? 1.0 : 4.0 + 1.0 / 3.0)) < 1e-14 && fabs(m - (cons ? 1.0 : 2.0)) < 1e-15,
-                      "%s: sum E w = %.17g, sum E w w' = %.17g", gr_cascade_variant_get(s.variant)->name, m, m2);
+        ck_assert_msg(fabs(m2 - (cons ? 1.0 : 4.0 + 1.0 / 3.0)) < 1e-14 &&
+                          fabs(m - (cons ? 1.0 : 2.0)) < 1e-15,
+                      "%s: sum E w = %.17g, sum E w w' = %.17g",
+                      gr_cascade_variant_get(s.variant)->name, m, m2);
     }
 }
 END_TEST
@@ -464,7 +485,8 @@ START_TEST(test_ucp_fractal_dimension)
         ck_assert_int_eq(gr_cascade_fit_df(b, nb, q_min, q_max, true, &exact, &err), 0);
         ck_assert_int_eq(fit.points, 32);
         ck_assert(fit.D_f_err > 0.0 && fit.D_f_err < 0.05);
-        ck_assert_msg(fabs(fit.D_f - exact.D_f) < 3.0 * fit.D_f_err, "%s: D_f %.3f +- %.3f, exact average %.3f",
+        ck_assert_msg(fabs(fit.D_f - exact.D_f) < 3.0 * fit.D_f_err,
+                      "%s: D_f %.3f +- %.3f, exact average %.3f",
                       gr_cascade_variant_get(vs[iv])->name, fit.D_f, fit.D_f_err, exact.D_f);
         df[iv] = fit.D_f;
         err_df[iv] = fit.D_f_err;
@@ -477,7 +499,8 @@ START_TEST(test_ucp_fractal_dimension)
     ck_assert_double_eq(ucp->thesis_D_f, 1.602);
     ck_assert_msg(fabs(df[0] - ucp->thesis_D_f) < hypot(err_df[0], ucp->thesis_D_f_err),
                   "UCP D_f = %.3f +- %.3f, Table 6.2: 1.602 +- 0.066", df[0], err_df[0]);
-    ck_assert_msg(df[0] - df[1] > 5.0 * hypot(err_df[0], err_df[1]), "UCP %.3f vs Meakin 1 %.3f", df[0], df[1]);
+    ck_assert_msg(df[0] - df[1] > 5.0 * hypot(err_df[0], err_df[1]), "UCP %.3f vs Meakin 1 %.3f",
+                  df[0], df[1]);
 }
 END_TEST
 
@@ -514,7 +537,8 @@ START_TEST(test_placement_no_overlap)
             closest = fmin(closest, sqrt(dx * dx + dy * dy));
         }
     }
-    ck_assert_msg(closest >= d * (1.0 - 1e-12), "closest pair %g m apart, diameter %g m", closest, d);
+    ck_assert_msg(closest >= d * (1.0 - 1e-12), "closest pair %g m apart, diameter %g m", closest,
+                  d);
     free(x);
     free(y);
     gsl_rng_free(r);
@@ -547,8 +571,8 @@ START_TEST(test_placement_follows_field)
     }
     for (int c = 0; c < 16; c++) {
         double expect = p.n * prob[c], sd = sqrt(p.n * prob[c] * (1.0 - prob[c]));
-        ck_assert_msg(fabs(count[c] - expect) < 5.0 * sd + 1.0, "square %d: %d discs, expected %g +- %g", c, count[c],
-                      expect, sd);
+        ck_assert_msg(fabs(count[c] - expect) < 5.0 * sd + 1.0,
+                      "square %d: %d discs, expected %g +- %g", c, count[c], expect, sd);
     }
     free(x);
     free(y);
@@ -682,7 +706,8 @@ START_TEST(test_bad_inputs)
     ck_assert_int_eq(gr_cascade_field_alloc(4, 1.0, &g, &err), 0);
     gsl_rng *r = rng_new(1);
     gr_cascade_generate(&b, r, g, NULL, &err);
-    ck_assert_int_eq(gr_cascade_sk_add(sk, g, &err), GR_EINVAL); /* 4 levels into a 3-level accumulator */
+    ck_assert_int_eq(gr_cascade_sk_add(sk, g, &err),
+                     GR_EINVAL); /* 4 levels into a 3-level accumulator */
     gr_cascade_generate(&b, r, f, NULL, &err);
     ck_assert_int_eq(gr_cascade_sk_add(sk, f, &err), 0);
     gr_cascade_sk_bin bins[4];
@@ -705,7 +730,8 @@ int main(void)
     gsl_set_error_handler_off();
     Suite *s = suite_create("cascade");
     TCase *unit = tcase_create("unit");
-    tcase_add_loop_test(unit, test_conserving_variants, 0, (int)(sizeof conserving / sizeof conserving[0]));
+    tcase_add_loop_test(unit, test_conserving_variants, 0,
+                        (int)(sizeof conserving / sizeof conserving[0]));
     tcase_add_test(unit, test_unoncp_not_conserving);
     tcase_add_test(unit, test_unweighted_fit);
     tcase_add_test(unit, test_reproducible);

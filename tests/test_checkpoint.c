@@ -51,7 +51,8 @@ static void *image_of(size_t *len)
 {
     static const char a[] = "first section", c[] = "third";
     double b[4] = {1.0, -2.5, 3.25e-300, 1e300};
-    const gr_checkpoint_section sec[] = {{"AAAA", a, sizeof a}, {"BBBB", b, sizeof b}, {"CCCC", c, 0}, {"DDDD", c, sizeof c}};
+    const gr_checkpoint_section sec[] = {
+        {"AAAA", a, sizeof a}, {"BBBB", b, sizeof b}, {"CCCC", c, 0}, {"DDDD", c, sizeof c}};
     void *img;
     gr_error err = {0};
     ck_assert_int_eq(gr_checkpoint_build(0x1234abcdULL, sec, 4, &img, len, &err), GR_OK);
@@ -87,7 +88,8 @@ START_TEST(test_format_truncation_and_corruption)
     unsigned char *img = image_of(&len);
     unsigned char *copy = malloc(len);
     gr_checkpoint ck;
-    for (size_t cut = 0; cut < len; cut++) { /* every truncation, each in a buffer of exactly that size */
+    for (size_t cut = 0; cut < len;
+         cut++) { /* every truncation, each in a buffer of exactly that size */
         unsigned char *t = malloc(cut ? cut : 1);
         memcpy(t, img, cut);
         gr_error err = {0};
@@ -102,7 +104,8 @@ START_TEST(test_format_truncation_and_corruption)
             memcpy(copy, img, len);
             copy[i] ^= flip ? 0xff : 0x01;
             gr_error err = {0};
-            ck_assert_msg(gr_checkpoint_read_buffer(copy, len, &ck, &err) == GR_EINVAL && err.message[0],
+            ck_assert_msg(gr_checkpoint_read_buffer(copy, len, &ck, &err) == GR_EINVAL &&
+                              err.message[0],
                           "byte %zu ^ %d accepted", i, flip ? 0xff : 1);
         }
     }
@@ -183,8 +186,9 @@ static void assert_same_sim(gr_sim *a, gr_sim *b)
     const gr_contact_event *ea = gr_sim_events(a, &na), *eb = gr_sim_events(b, &nb);
     ck_assert_int_eq(na, nb);
     for (int64_t k = 0; k < na; k++) {
-        ck_assert(ea[k].i == eb[k].i && ea[k].kind == eb[k].kind && ea[k].t == eb[k].t && ea[k].x == eb[k].x &&
-                  ea[k].vx == eb[k].vx && ea[k].y == eb[k].y && ea[k].vy == eb[k].vy);
+        ck_assert(ea[k].i == eb[k].i && ea[k].kind == eb[k].kind && ea[k].t == eb[k].t &&
+                  ea[k].x == eb[k].x && ea[k].vx == eb[k].vx && ea[k].y == eb[k].y &&
+                  ea[k].vy == eb[k].vy);
     }
 }
 
@@ -226,10 +230,17 @@ START_TEST(test_sim_state_2d)
 {
     /* dense and hot enough for contacts, list rebuilds and events; com mode resets on a step
      * schedule that the split must respect */
-    static const char *const sets[] = {"system.dim=2", "system.N=400", "system.packing_fraction=0.45",
-                                       "model.tangential=tangential_dashpot", "model.eps_n=0.6", "model.eps_t=0.6",
-                                       "noise.D=1e-7", "noise.mode=com", "noise.com_interval=1e-4",
-                                       "integrator.dt=1e-6", "placement.v0=1"};
+    static const char *const sets[] = {"system.dim=2",
+                                       "system.N=400",
+                                       "system.packing_fraction=0.45",
+                                       "model.tangential=tangential_dashpot",
+                                       "model.eps_n=0.6",
+                                       "model.eps_t=0.6",
+                                       "noise.D=1e-7",
+                                       "noise.mode=com",
+                                       "noise.com_interval=1e-4",
+                                       "integrator.dt=1e-6",
+                                       "placement.v0=1"};
     int64_t T = quick() ? 300 : 1500;
     resume_case(sets, 11, true, T, T + 37);
     resume_case(sets, 7, false, T, T); /* symmetrised noise, steps_per_contact, no tracking */
@@ -238,9 +249,9 @@ END_TEST
 
 START_TEST(test_sim_state_1d)
 {
-    static const char *const sets[] = {"system.dim=1", "system.N=300", "system.reduced_length=0.05",
-                                       "placement.kind=uniform", "model.eps_n=0.5", "noise.D=1e-7",
-                                       "integrator.dt=1e-6", "placement.v0=1"};
+    static const char *const sets[] = {
+        "system.dim=1",    "system.N=300", "system.reduced_length=0.05", "placement.kind=uniform",
+        "model.eps_n=0.5", "noise.D=1e-7", "integrator.dt=1e-6",         "placement.v0=1"};
     int64_t T = quick() ? 300 : 2000;
     resume_case(sets, 8, true, T, T + 11);
 }
@@ -248,9 +259,15 @@ END_TEST
 
 START_TEST(test_split_steps_equal_one_call)
 {
-    static const char *const sets[] = {"system.dim=2", "system.N=300", "system.packing_fraction=0.45",
-                                       "model.tangential=tangential_dashpot", "noise.D=1e-7", "noise.mode=com",
-                                       "noise.com_interval=5e-5", "integrator.dt=1e-6", "placement.v0=1"};
+    static const char *const sets[] = {"system.dim=2",
+                                       "system.N=300",
+                                       "system.packing_fraction=0.45",
+                                       "model.tangential=tangential_dashpot",
+                                       "noise.D=1e-7",
+                                       "noise.mode=com",
+                                       "noise.com_interval=5e-5",
+                                       "integrator.dt=1e-6",
+                                       "placement.v0=1"};
     gr_scene sc;
     scene_of(&sc, sets, 9);
     gr_error err = {0};
@@ -258,7 +275,8 @@ START_TEST(test_split_steps_equal_one_call)
     ck_assert_int_eq(gr_sim_create(&sc, &a, &err), GR_OK);
     ck_assert_int_eq(gr_sim_create(&sc, &b, &err), GR_OK);
     ck_assert_int_eq(gr_sim_step(a, 1000, &err), GR_OK);
-    static const int64_t parts[] = {1, 49, 50, 7, 393, 100, 400}; /* sums to 1000; crosses com resets */
+    static const int64_t parts[] = {1,   49,  50, 7,
+                                    393, 100, 400}; /* sums to 1000; crosses com resets */
     for (size_t i = 0; i < sizeof parts / sizeof parts[0]; i++) {
         ck_assert_int_eq(gr_sim_step(b, parts[i], &err), GR_OK);
     }
@@ -284,7 +302,8 @@ START_TEST(test_sim_state_mismatch_refused)
     gr_blob_reader r;
     gr_blob_reader_init(&r, blob.data, blob.len, "SIM");
     ck_assert_int_eq(gr_sim_load_state(b, &r, &err), GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "100 particles") && strstr(err.message, "120"), "%s", err.message);
+    ck_assert_msg(strstr(err.message, "100 particles") && strstr(err.message, "120"), "%s",
+                  err.message);
     /* every truncation of the state is refused, never read past */
     for (size_t cut = 0; cut < blob.len; cut += 1 + blob.len / 200) {
         gr_sim *c;
@@ -322,8 +341,10 @@ static void observer_case(const char *const *sets, int n_sets, int F)
         const gr_contact_event *ev = gr_sim_events(sim, &n_ev);
         for (int k = 0; k < (f < F ? 1 : 2); k++) {
             gr_observer *o = k == 0 ? a : b;
-            ck_assert_msg(gr_observer_sample(o, &p, gr_sim_time(sim), &err) == GR_OK, "%s", err.message);
-            ck_assert_msg(!n_ev || gr_observer_events(o, ev, n_ev, &err) == GR_OK, "%s", err.message);
+            ck_assert_msg(gr_observer_sample(o, &p, gr_sim_time(sim), &err) == GR_OK, "%s",
+                          err.message);
+            ck_assert_msg(!n_ev || gr_observer_events(o, ev, n_ev, &err) == GR_OK, "%s",
+                          err.message);
         }
         gr_sim_clear_events(sim);
         if (f == F - 1) {
@@ -341,7 +362,8 @@ static void observer_case(const char *const *sets, int n_sets, int F)
     ck_assert_int_eq(gr_observer_save(b, &sb, &err), GR_OK);
     ck_assert_uint_eq(sa.len, sb.len);
     ck_assert_msg(memcmp(sa.data, sb.data, sa.len) == 0, "observer state differs after resume");
-    ck_assert_msg(sa.len != mid.len || memcmp(sa.data, mid.data, mid.len) != 0, "the frames after the save changed nothing");
+    ck_assert_msg(sa.len != mid.len || memcmp(sa.data, mid.data, mid.len) != 0,
+                  "the frames after the save changed nothing");
     gr_blob_free(&mid);
     gr_blob_free(&sa);
     gr_blob_free(&sb);
@@ -353,9 +375,14 @@ static void observer_case(const char *const *sets, int n_sets, int F)
 START_TEST(test_observers_2d)
 {
     /* F = 4 < pv's 8 reference frames: the save happens while pv still buffers */
-    static const char *const sets[] = {"system.dim=2", "system.N=300", "system.packing_fraction=0.45",
-                                       "noise.D=1e-7", "integrator.dt=1e-6", "placement.v0=1",
-                                       "analysis.observables=moments,freepath,postcollision,sk,pair,pv"};
+    static const char *const sets[] = {
+        "system.dim=2",
+        "system.N=300",
+        "system.packing_fraction=0.45",
+        "noise.D=1e-7",
+        "integrator.dt=1e-6",
+        "placement.v0=1",
+        "analysis.observables=moments,freepath,postcollision,sk,pair,pv"};
     observer_case(sets, 7, 4);
     observer_case(sets, 7, quick() ? 9 : 12);
 }
@@ -363,10 +390,16 @@ END_TEST
 
 START_TEST(test_observers_1d)
 {
-    static const char *const sets[] = {"system.dim=1", "system.N=200", "system.reduced_length=0.05",
-                                       "placement.kind=uniform", "noise.D=1e-7", "integrator.dt=1e-6", "placement.v0=1",
-                                       "analysis.observables=moments,freepath,postcollision,gaps,pv",
-                                       "analysis.gaps_log=true"};
+    static const char *const sets[] = {
+        "system.dim=1",
+        "system.N=200",
+        "system.reduced_length=0.05",
+        "placement.kind=uniform",
+        "noise.D=1e-7",
+        "integrator.dt=1e-6",
+        "placement.v0=1",
+        "analysis.observables=moments,freepath,postcollision,gaps,pv",
+        "analysis.gaps_log=true"};
     observer_case(sets, 9, quick() ? 9 : 12);
 }
 END_TEST
@@ -375,18 +408,29 @@ END_TEST
  * counts, per-particle collision times) continue bit for bit */
 START_TEST(test_observers_new_2d)
 {
-    static const char *const sets[] = {"system.dim=2", "system.N=300", "system.packing_fraction=0.45",
-                                       "noise.D=1e-7", "integrator.dt=1e-6", "placement.v0=1",
-                                       "analysis.observables=msd,vacf,vcorr,clusters,pressure,collisions",
-                                       "analysis.msd_lags=5", "analysis.vacf_lags=5"};
+    static const char *const sets[] = {
+        "system.dim=2",
+        "system.N=300",
+        "system.packing_fraction=0.45",
+        "noise.D=1e-7",
+        "integrator.dt=1e-6",
+        "placement.v0=1",
+        "analysis.observables=msd,vacf,vcorr,clusters,pressure,collisions",
+        "analysis.msd_lags=5",
+        "analysis.vacf_lags=5"};
     observer_case(sets, 9, quick() ? 9 : 12);
 }
 END_TEST
 
 START_TEST(test_observers_new_1d)
 {
-    static const char *const sets[] = {"system.dim=1", "system.N=200", "system.reduced_length=0.05",
-                                       "placement.kind=uniform", "noise.D=1e-7", "integrator.dt=1e-6", "placement.v0=1",
+    static const char *const sets[] = {"system.dim=1",
+                                       "system.N=200",
+                                       "system.reduced_length=0.05",
+                                       "placement.kind=uniform",
+                                       "noise.D=1e-7",
+                                       "integrator.dt=1e-6",
+                                       "placement.v0=1",
                                        "analysis.observables=msd,vacf,clusters,pressure,collisions",
                                        "analysis.msd_lags=5"};
     observer_case(sets, 9, quick() ? 9 : 12);
@@ -450,17 +494,31 @@ static void integrator_case(const char *const *sets, int n_sets, int64_t T, int6
 
 START_TEST(test_event_state)
 {
-    static const char *const s1[] = {"system.dim=1", "system.N=100", "system.reduced_length=0.2",
-                                     "placement.kind=uniform", "model.normal=hard_sphere", "model.eps_n=0.5",
-                                     "noise.D=1e-7", "integrator.kind=event", "integrator.kick_interval=1e-4",
+    static const char *const s1[] = {"system.dim=1",
+                                     "system.N=100",
+                                     "system.reduced_length=0.2",
+                                     "placement.kind=uniform",
+                                     "model.normal=hard_sphere",
+                                     "model.eps_n=0.5",
+                                     "noise.D=1e-7",
+                                     "integrator.kind=event",
+                                     "integrator.kick_interval=1e-4",
                                      "placement.v0=1"};
     integrator_case(s1, 10, quick() ? 3001 : 20001, quick() ? 3000 : 20000);
     /* 2D with cells (crossings), kicks instead of exact free flight, com resets */
-    static const char *const s2[] = {"system.dim=2", "system.N=200", "system.packing_fraction=0.3",
-                                     "model.normal=hard_sphere", "model.eps_n=0.6", "model.eps_t=0.8",
-                                     "noise.D=1e-7", "noise.mode=com", "noise.com_interval=3e-4",
-                                     "integrator.kind=event", "integrator.kick_interval=1e-4",
-                                     "integrator.free_flight=kicks", "placement.v0=1"};
+    static const char *const s2[] = {"system.dim=2",
+                                     "system.N=200",
+                                     "system.packing_fraction=0.3",
+                                     "model.normal=hard_sphere",
+                                     "model.eps_n=0.6",
+                                     "model.eps_t=0.8",
+                                     "noise.D=1e-7",
+                                     "noise.mode=com",
+                                     "noise.com_interval=3e-4",
+                                     "integrator.kind=event",
+                                     "integrator.kick_interval=1e-4",
+                                     "integrator.free_flight=kicks",
+                                     "placement.v0=1"};
     integrator_case(s2, 13, quick() ? 1001 : 5001, quick() ? 1000 : 5000);
 }
 END_TEST
@@ -469,9 +527,15 @@ END_TEST
  * resumed with gr_sim_call_steps (which widens the next call to what is owed) continues exactly. */
 START_TEST(test_event_stop_then_resume)
 {
-    static const char *const sets[] = {"system.dim=2", "system.N=200", "system.packing_fraction=0.35",
-                                       "model.normal=hard_sphere", "model.eps_n=0.6", "noise.D=1e-7",
-                                       "integrator.kind=event", "integrator.kick_interval=1e-4", "placement.v0=1"};
+    static const char *const sets[] = {"system.dim=2",
+                                       "system.N=200",
+                                       "system.packing_fraction=0.35",
+                                       "model.normal=hard_sphere",
+                                       "model.eps_n=0.6",
+                                       "noise.D=1e-7",
+                                       "integrator.kind=event",
+                                       "integrator.kick_interval=1e-4",
+                                       "placement.v0=1"};
     gr_scene sc;
     scene_of(&sc, sets, 9);
     gr_error err = {0};
@@ -507,14 +571,22 @@ END_TEST
 
 START_TEST(test_hybrid_state)
 {
-    static const char *const s1[] = {"system.dim=1", "system.N=200", "system.reduced_length=0.2",
-                                     "placement.kind=uniform", "model.eps_n=0.5", "noise.D=1e-7",
-                                     "integrator.kind=hybrid", "integrator.dt=1e-6", "integrator.kick_interval=3e-5",
-                                     "placement.v0=1"};
+    static const char *const s1[] = {
+        "system.dim=1",           "system.N=200",       "system.reduced_length=0.2",
+        "placement.kind=uniform", "model.eps_n=0.5",    "noise.D=1e-7",
+        "integrator.kind=hybrid", "integrator.dt=1e-6", "integrator.kick_interval=3e-5",
+        "placement.v0=1"};
     integrator_case(s1, 10, quick() ? 1013 : 5013, quick() ? 1000 : 5000);
-    static const char *const s2[] = {"system.dim=2", "system.N=200", "system.packing_fraction=0.35",
-                                     "model.eps_n=0.6", "noise.D=1e-7", "noise.mode=com", "noise.com_interval=1e-4",
-                                     "integrator.kind=hybrid", "integrator.dt=1e-6", "integrator.kick_interval=2e-5",
+    static const char *const s2[] = {"system.dim=2",
+                                     "system.N=200",
+                                     "system.packing_fraction=0.35",
+                                     "model.eps_n=0.6",
+                                     "noise.D=1e-7",
+                                     "noise.mode=com",
+                                     "noise.com_interval=1e-4",
+                                     "integrator.kind=hybrid",
+                                     "integrator.dt=1e-6",
+                                     "integrator.kick_interval=2e-5",
                                      "placement.v0=1"};
     integrator_case(s2, 11, quick() ? 507 : 2007, quick() ? 500 : 2000);
 }
@@ -530,12 +602,19 @@ START_TEST(test_every_registered_integrator)
     int n = 0;
     for (int i = 0; gr_integrators[i]; i++, n++) {
         const gr_integrator_type *t = gr_integrators[i];
-        ck_assert_msg(t->name && *t->name && t->summary && *t->summary && t->step, "integrator %d is incomplete", i);
+        ck_assert_msg(t->name && *t->name && t->summary && *t->summary && t->step,
+                      "integrator %d is incomplete", i);
         ck_assert_ptr_eq(gr_integrator_find(t->name), t);
         char kind[64];
         snprintf(kind, sizeof kind, "integrator.kind=%s", t->name);
-        const char *sets[] = {"system.dim=2", "system.N=200", "system.packing_fraction=0.3", "model.eps_n=0.6",
-                              "noise.D=1e-7", "placement.v0=1", "integrator.kick_interval=2e-5", kind,
+        const char *sets[] = {"system.dim=2",
+                              "system.N=200",
+                              "system.packing_fraction=0.3",
+                              "model.eps_n=0.6",
+                              "noise.D=1e-7",
+                              "placement.v0=1",
+                              "integrator.kick_interval=2e-5",
+                              kind,
                               t->instantaneous ? "model.normal=hard_sphere" : "integrator.dt=1e-6"};
         integrator_case(sets, 9, quick() ? 1001 : 3001, quick() ? 1000 : 3000);
         gr_scene sc;
@@ -547,8 +626,8 @@ START_TEST(test_every_registered_integrator)
         ck_assert_int_eq(gr_sim_checkpointable(sim, &err), GR_OK);
         ck_assert_msg(gr_sim_step(sim, 200, &err) == GR_OK, "%s", err.message);
         ck_assert_int_eq(gr_sim_steps(sim), 200);
-        ck_assert_msg((gr_sim_events_processed(sim) > 0) == (t->events != NULL), "%s: events %lld", t->name,
-                      (long long)gr_sim_events_processed(sim));
+        ck_assert_msg((gr_sim_events_processed(sim) > 0) == (t->events != NULL), "%s: events %lld",
+                      t->name, (long long)gr_sim_events_processed(sim));
         gr_sim_free(sim);
     }
     ck_assert_int_ge(n, 3); /* verlet, event, hybrid at least */
@@ -579,7 +658,4 @@ static Suite *suite(void)
     return s;
 }
 
-int main(void)
-{
-    return gr_test_run(suite());
-}
+int main(void) { return gr_test_run(suite()); }

@@ -54,12 +54,12 @@
 #include "granule/model.h"
 #include "check_main.h"
 
-#define K_S 5e5          /* N/m, Table 2.2 */
-#define DT_THESIS 1e-6   /* s */
-#define NPHASE 32        /* contact phases (p + 0.5) / NPHASE for accuracy tests */
-#define C_N 0.25         /* phase-averaged relative error of 1 - eps_n^2, per dt / t_c */
-#define K_EDGE 0.5       /* tangential dashpot: edge and second-order terms, per dt / t_c */
-#define SLOW 1e-3        /* m/s: friction impacts slow enough that the normal barely turns */
+#define K_S 5e5        /* N/m, Table 2.2 */
+#define DT_THESIS 1e-6 /* s */
+#define NPHASE 32      /* contact phases (p + 0.5) / NPHASE for accuracy tests */
+#define C_N 0.25       /* phase-averaged relative error of 1 - eps_n^2, per dt / t_c */
+#define K_EDGE 0.5     /* tangential dashpot: edge and second-order terms, per dt / t_c */
+#define SLOW 1e-3      /* m/s: friction impacts slow enough that the normal barely turns */
 
 typedef struct pset {
     const char *name;
@@ -229,8 +229,8 @@ static stats run_phases(const gr_collide_setup *s0, const gr_collision_case *c, 
         st.mean_eps_t += r.eps_t_measured / nphase; /* NaN head-on */
         st.max_momentum_error = fmax(st.max_momentum_error, r.momentum_error);
         if (s.contact.mu > 0.0 && r.normal_impulse > 0.0) {
-            st.max_friction_ratio =
-                fmax(st.max_friction_ratio, r.tangential_impulse / (s.contact.mu * r.normal_impulse));
+            st.max_friction_ratio = fmax(st.max_friction_ratio,
+                                         r.tangential_impulse / (s.contact.mu * r.normal_impulse));
         }
         st.reversed |= r.tangential_reversed;
         st.dt = r.dt;
@@ -258,7 +258,8 @@ static double loss_tolerance(const gr_contact_coeffs *k, double eps_n, double ep
     double tol = c2 * C_N * (1.0 - eps_n * eps_n) * h;
     if (k->tangential == GR_TANGENTIAL_DASHPOT && eps_t < 1.0) {
         double l = fabs(log(eps_t));
-        tol += s2 * 2.0 * eps_t * eps_t * l * (fabs(k_dur(k->zeta, k->clamp)) + 0.5 * l + K_EDGE) * h;
+        tol +=
+            s2 * 2.0 * eps_t * eps_t * l * (fabs(k_dur(k->zeta, k->clamp)) + 0.5 * l + K_EDGE) * h;
     } else if (k->tangential == GR_TANGENTIAL_FRICTION && s2 > 0.0) {
         /* 1 - eps_t^2 moves by 2 eps_t d eps_t, d eps_t <= mu cot a d eps_n */
         double de_n = C_N * (1.0 - eps_n * eps_n) / (2.0 * eps_n) * h;
@@ -276,7 +277,7 @@ static double turning_angle(double g, double angle_deg, double t_c, double radiu
 
 /* ---- 0. the coefficients the tolerances are built on ------------------------------------- */
 
-static const double EPS_SWEEP[] = {0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5,
+static const double EPS_SWEEP[] = {0.01, 0.05, 0.1, 0.2, 0.3,  0.4, 0.5,
                                    0.6,  0.7,  0.8, 0.9, 0.99, 1.0};
 #define N_EPS_SWEEP ((int)(sizeof EPS_SWEEP / sizeof EPS_SWEEP[0]))
 
@@ -291,7 +292,8 @@ START_TEST(test_coefficients)
         gr_contact_coeffs k = coeffs_of(&s);
         const double m12 = 0.5 * s.mass, w0 = sqrt(K_S / m12);
         ck_assert_msg(fabs(k.w0 - w0) <= 1e-12 * w0, "w0 %.15g, want %.15g", k.w0, w0);
-        ck_assert_msg(fabs(k.gamma_n - 2.0 * k.zeta * sqrt(K_S * m12)) <= 1e-12 * k.gamma_n + 1e-300,
+        ck_assert_msg(fabs(k.gamma_n - 2.0 * k.zeta * sqrt(K_S * m12)) <=
+                          1e-12 * k.gamma_n + 1e-300,
                       "gamma_n %.15g != 2 zeta sqrt(k m12) (zeta %.15g)", k.gamma_n, k.zeta);
         const double e_exact = eps_of_zeta(k.zeta, clamp);
         ck_assert_msg(fabs(e_exact - eps) <= 1e-10, "%s eps %g: zeta %.15g gives eps %.15g",
@@ -342,10 +344,11 @@ START_TEST(test_headon_loss)
         ck_assert_msg(st.dt <= k.t_c / 10.0, "%s: dt %g", what, st.dt);
         if (eps < 1.0) {
             const double rel = fabs(st.mean_loss - want) / want;
-            ck_assert_msg(rel <= C_N * h,
-                          "%s: <loss> %.10g vs 1 - eps^2 = %.10g: relative error %.3e > %.2f dt/t_c "
-                          "= %.3e (t_c / dt = %.2f)",
-                          what, st.mean_loss, want, rel, C_N, C_N * h, 1.0 / h);
+            ck_assert_msg(
+                rel <= C_N * h,
+                "%s: <loss> %.10g vs 1 - eps^2 = %.10g: relative error %.3e > %.2f dt/t_c "
+                "= %.3e (t_c / dt = %.2f)",
+                what, st.mean_loss, want, rel, C_N, C_N * h, 1.0 / h);
         } else {
             /* elastic: the kinked spring force costs at most (w0 dt)^2 / 4 per collision
              * (0.3: room for the O((w0 dt)^3) term); phase averaging cancels most of it */
@@ -380,9 +383,10 @@ START_TEST(test_error_coefficient)
         stats st = run_phases(&s, &c, NPHASE, want, "coefficient");
         const double coef = (st.mean_loss - want) / want / (st.dt / k.t_c);
         const double pred = c_lag(k.zeta, clamp);
-        ck_assert_msg(fabs(coef - pred) <= (clamp ? 0.005 : 0.02),
-                      "%s eps %g: relative loss error / (dt/t_c) = %.5f, half-step lag predicts %.5f",
-                      clamp ? "clamped" : "unclamped", eps, coef, pred);
+        ck_assert_msg(
+            fabs(coef - pred) <= (clamp ? 0.005 : 0.02),
+            "%s eps %g: relative loss error / (dt/t_c) = %.5f, half-step lag predicts %.5f",
+            clamp ? "clamped" : "unclamped", eps, coef, pred);
     }
 }
 END_TEST
@@ -412,10 +416,10 @@ START_TEST(test_convergence)
         }
         for (int q = 0; q < 2; q++) {
             const double ratio = err[q] / err[q + 1];
-            ck_assert_msg(ratio >= 1.5 && ratio <= 2.6,
-                          "%s eps %g: err(t_c/%d) / err(t_c/%d) = %.3e / %.3e = %.3f, not first order",
-                          clamp ? "clamped" : "unclamped", eps, 20 << q, 40 << q, err[q],
-                          err[q + 1], ratio);
+            ck_assert_msg(
+                ratio >= 1.5 && ratio <= 2.6,
+                "%s eps %g: err(t_c/%d) / err(t_c/%d) = %.3e / %.3e = %.3f, not first order",
+                clamp ? "clamped" : "unclamped", eps, 20 << q, 40 << q, err[q], err[q + 1], ratio);
         }
     }
 }
@@ -443,18 +447,19 @@ START_TEST(test_table21_oblique)
             char what[160];
             snprintf(what, sizeof what, "%s, %s, case %d (%.2f deg), eps_n = eps_t = %g",
                      SETS[set].name, clamp ? "clamped" : "unclamped", n, angle, eps);
-            gr_collide_setup s = make_setup(set, "tangential_dashpot", eps, eps, 0.0, clamp, 2,
-                                            DT_THESIS);
+            gr_collide_setup s =
+                make_setup(set, "tangential_dashpot", eps, eps, 0.0, clamp, 2, DT_THESIS);
             gr_contact_coeffs k = coeffs_of(&s);
             stats st = run_phases(&s, &c, NPHASE, want, what);
             ck_assert_msg(fabs(st.impact_angle - angle) <= 1e-6, "%s: impact angle %.9g", what,
                           st.impact_angle);
             gr_collide_result ref = reference_of(&s, &c);
             const double geo = fabs(ref.energy_loss - want);
-            ck_assert_msg(geo <= turning_angle(g, angle, k.t_c, r) + 1e-9,
-                          "%s: reference departs from 1 - eps^2 by %.3e, more than the normal turns "
-                          "(%.3e rad)",
-                          what, geo, turning_angle(g, angle, k.t_c, r));
+            ck_assert_msg(
+                geo <= turning_angle(g, angle, k.t_c, r) + 1e-9,
+                "%s: reference departs from 1 - eps^2 by %.3e, more than the normal turns "
+                "(%.3e rad)",
+                what, geo, turning_angle(g, angle, k.t_c, r));
             const double tol = loss_tolerance(&k, eps, eps, 0.0, angle, st.dt) + geo;
             ck_assert_msg(fabs(st.mean_loss - want) <= tol,
                           "%s: <loss> %.10g vs %.10g: |error| %.3e > %.3e (t_c / dt = %.2f, "
@@ -492,7 +497,8 @@ START_TEST(test_45_degrees)
         char what[160];
         snprintf(what, sizeof what, "%s, %s, 45 deg at %g m/s, eps_n %g, eps_t %g", SETS[set].name,
                  clamp ? "clamped" : "unclamped", v, en, et);
-        gr_collide_setup s = make_setup(set, "tangential_dashpot", en, et, 0.0, clamp, 2, DT_THESIS);
+        gr_collide_setup s =
+            make_setup(set, "tangential_dashpot", en, et, 0.0, clamp, 2, DT_THESIS);
         gr_contact_coeffs k = coeffs_of(&s);
         stats st = run_phases(&s, &c, NPHASE, want, what);
         ck_assert_msg(fabs(st.impact_angle - 45.0) <= 1e-6, "%s: impact angle %.12g", what,
@@ -527,9 +533,8 @@ START_TEST(test_momentum)
             gr_collide_setup s = make_setup(set, TANGENTIAL[t], 0.6, 0.4, 0.5, clamp, 2, DT_THESIS);
             gr_collision_case c = angle_case(SETS[set].radius, 1.0, ang);
             stats st = run_phases(&s, &c, 4, 0.0, "momentum");
-            ck_assert_msg(st.max_momentum_error < 1e-13,
-                          "%s, %s, %s, %d deg: momentum error %.3e", SETS[set].name,
-                          TANGENTIAL[t] ? TANGENTIAL[t] : "spring_dashpot only",
+            ck_assert_msg(st.max_momentum_error < 1e-13, "%s, %s, %s, %d deg: momentum error %.3e",
+                          SETS[set].name, TANGENTIAL[t] ? TANGENTIAL[t] : "spring_dashpot only",
                           clamp ? "clamped" : "unclamped", ang, st.max_momentum_error);
         }
     }
@@ -549,7 +554,8 @@ START_TEST(test_sliding_friction)
     for (int ang = 5; ang <= 85; ang += 10) {
         char what[160];
         snprintf(what, sizeof what, "%s, mu %g, %d deg", clamp ? "clamped" : "unclamped", mu, ang);
-        gr_collide_setup s = make_setup(set, "sliding_friction", eps_n, 1.0, mu, clamp, 2, DT_THESIS);
+        gr_collide_setup s =
+            make_setup(set, "sliding_friction", eps_n, 1.0, mu, clamp, 2, DT_THESIS);
         gr_contact_coeffs k = coeffs_of(&s);
         /* invariants at a thesis-like speed and at a slow one */
         for (int v = 0; v < 2; v++) {
@@ -557,7 +563,8 @@ START_TEST(test_sliding_friction)
             stats st = run_phases(&s, &c, 16, 0.0, what);
             ck_assert_msg(!st.reversed, "%s: tangential relative velocity reversed", what);
             ck_assert_msg(st.max_friction_ratio <= 1.0 + 1e-12,
-                          "%s: int |F_t| dt = %.15g x mu int |F_n| dt", what, st.max_friction_ratio);
+                          "%s: int |F_t| dt = %.15g x mu int |F_n| dt", what,
+                          st.max_friction_ratio);
             ck_assert_msg(st.min_loss > 0.0, "%s: energy gained (loss %.3e)", what, st.min_loss);
         }
         if (!clamp) {
@@ -662,7 +669,8 @@ START_TEST(test_plastic_limits)
                 for (int q = 0; q < 2; q++) {
                     char what[160];
                     snprintf(what, sizeof what, "%s, eps_n %g, %s, %s", SETS[set].name, epss[e],
-                             clamp ? "clamped" : "unclamped", q ? "dt = 0 (50 steps)" : "dt = 1e-6");
+                             clamp ? "clamped" : "unclamped",
+                             q ? "dt = 0 (50 steps)" : "dt = 1e-6");
                     gr_collide_setup s =
                         make_setup(set, NULL, epss[e], 1.0, 0.0, clamp, 1, q ? 0.0 : DT_THESIS);
                     s.phase = 0.3;
@@ -696,9 +704,8 @@ START_TEST(test_stiff_spring)
         stats st = run_phases(&s, &c, NPHASE, want, "k_s = 1e8");
         ck_assert_msg(fabs(st.dt - k.t_c / 50.0) <= 1e-12 * st.dt, "dt %g, t_c %g", st.dt, k.t_c);
         const double rel = fabs(st.mean_loss - want) / want;
-        ck_assert_msg(rel <= C_N * st.dt / k.t_c,
-                      "k_s 1e8 %s eps %g: relative error %.3e > %.3e", clamp ? "clamped" : "unclamped",
-                      eps, rel, C_N * st.dt / k.t_c);
+        ck_assert_msg(rel <= C_N * st.dt / k.t_c, "k_s 1e8 %s eps %g: relative error %.3e > %.3e",
+                      clamp ? "clamped" : "unclamped", eps, rel, C_N * st.dt / k.t_c);
         /* the thesis step cannot resolve this contact (t_c ~ 1.2e-6 s) */
         gr_collide_setup thesis = s;
         thesis.dt = DT_THESIS;
@@ -771,8 +778,9 @@ START_TEST(test_reference_agreement)
         const ref_case rc = REF_CASES[i];
         char what[200];
         snprintf(what, sizeof what, "%s, %s, %s, eps_n %g, eps_t %g, mu %g, %g deg", SETS[set].name,
-                 clamp ? "clamped" : "unclamped", rc.tangential ? rc.tangential : "spring_dashpot only",
-                 rc.eps_n, rc.eps_t, rc.mu, rc.angle);
+                 clamp ? "clamped" : "unclamped",
+                 rc.tangential ? rc.tangential : "spring_dashpot only", rc.eps_n, rc.eps_t, rc.mu,
+                 rc.angle);
         gr_collide_setup s =
             make_setup(set, rc.tangential, rc.eps_n, rc.eps_t, rc.mu, clamp, 2, DT_THESIS);
         gr_contact_coeffs k = coeffs_of(&s);
@@ -788,8 +796,8 @@ START_TEST(test_reference_agreement)
                       "(t_c / dt = %.2f)",
                       what, st.mean_loss, ref.energy_loss, fabs(st.mean_loss - ref.energy_loss),
                       tol, k.t_c / st.dt);
-        ck_assert_msg(fabs(st.impact_angle - ref.impact_angle) <= 1e-9, "%s: angle %g vs %g",
-                      what, st.impact_angle, ref.impact_angle);
+        ck_assert_msg(fabs(st.impact_angle - ref.impact_angle) <= 1e-9, "%s: angle %g vs %g", what,
+                      st.impact_angle, ref.impact_angle);
     }
 }
 END_TEST
@@ -814,12 +822,14 @@ START_TEST(test_hertz_limits)
         ck_assert_int_eq(gr_contact_set_value(&p, "visco_A", As[a], NULL), GR_OK);
         gr_contact_coeffs k;
         gr_error err = {0};
-        ck_assert_msg(gr_contact_prepare(hz, NULL, &p, m12, 0.0, &k, &err) == GR_OK, "%s", err.message);
+        ck_assert_msg(gr_contact_prepare(hz, NULL, &p, m12, 0.0, &k, &err) == GR_OK, "%s",
+                      err.message);
         for (double v = 0.01; v <= 10.0; v *= 10.0) {
             const double b = 1.5 * As[a] * pow(gr_contact_get(&p, "k_h") / m12, 0.4) * pow(v, 0.2);
             const double e = hz->impact(&k, v).eps_n, series = 1.0 - 1.15344 * b + 0.79826 * b * b;
-            ck_assert_msg(fabs(e - series) <= 2.0 * b * b * b + 1e-8, /* 1e-8: the law is an RK4 integration */ "A %g v %g: eps %.12f, expansion %.12f (b %.3g)", As[a],
-                          v, e, series, b);
+            ck_assert_msg(fabs(e - series) <= 2.0 * b * b * b + 1e-8,
+                          /* 1e-8: the law is an RK4 integration */
+                          "A %g v %g: eps %.12f, expansion %.12f (b %.3g)", As[a], v, e, series, b);
         }
     }
     ck_assert_int_eq(gr_contact_set_value(&p, "viscoelastic", false, NULL), GR_OK);
@@ -830,7 +840,8 @@ START_TEST(test_hertz_limits)
             p.clamp = clamp;
             gr_contact_coeffs k;
             gr_error err = {0};
-            ck_assert_msg(gr_contact_prepare(hz, NULL, &p, m12, 0.0, &k, &err) == GR_OK, "%s", err.message);
+            ck_assert_msg(gr_contact_prepare(hz, NULL, &p, m12, 0.0, &k, &err) == GR_OK, "%s",
+                          err.message);
             for (double v = 0.001; v <= 10.0; v *= 10.0) {
                 const double e = hz->impact(&k, v).eps_n;
                 ck_assert_msg(fabs(e - epss[i]) <= 1e-10, "Tsuji %s eps_n %g at %g m/s: %.12f",
@@ -851,16 +862,18 @@ START_TEST(test_oblique_refusals)
     const double bad_speeds[] = {0.0, -1.0, NAN, INFINITY};
     for (size_t i = 0; i < sizeof bad_speeds / sizeof bad_speeds[0]; i++) {
         memset(&err, 0, sizeof err);
-        ck_assert_int_eq(gr_collision_case_oblique(bad_speeds[i], 30.0, 1.5e-3, &c, &err), GR_EINVAL);
-        ck_assert_msg(strstr(err.message, "--speed") && strstr(err.message, "> 0"), "speed %g: '%s'", bad_speeds[i],
-                      err.message);
+        ck_assert_int_eq(gr_collision_case_oblique(bad_speeds[i], 30.0, 1.5e-3, &c, &err),
+                         GR_EINVAL);
+        ck_assert_msg(strstr(err.message, "--speed") && strstr(err.message, "> 0"),
+                      "speed %g: '%s'", bad_speeds[i], err.message);
     }
     const double bad_angles[] = {-1.0, 90.0, 120.0, NAN};
     for (size_t i = 0; i < sizeof bad_angles / sizeof bad_angles[0]; i++) {
         memset(&err, 0, sizeof err);
-        ck_assert_int_eq(gr_collision_case_oblique(1.0, bad_angles[i], 1.5e-3, &c, &err), GR_EINVAL);
-        ck_assert_msg(strstr(err.message, "--angle") && strstr(err.message, "[0, 90)"), "angle %g: '%s'", bad_angles[i],
-                      err.message);
+        ck_assert_int_eq(gr_collision_case_oblique(1.0, bad_angles[i], 1.5e-3, &c, &err),
+                         GR_EINVAL);
+        ck_assert_msg(strstr(err.message, "--angle") && strstr(err.message, "[0, 90)"),
+                      "angle %g: '%s'", bad_angles[i], err.message);
     }
     /* initial spins without rotation, and non-finite spins */
     ck_assert_int_eq(gr_collision_case_oblique(1.0, 30.0, SETS[1].radius, &c, &err), GR_OK);
@@ -869,7 +882,8 @@ START_TEST(test_oblique_refusals)
     gr_collide_result r;
     memset(&err, 0, sizeof err);
     ck_assert_int_eq(gr_collide_run(&s, &c, &r, &err), GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "--omega1") && strstr(err.message, "rotation"), "'%s'", err.message);
+    ck_assert_msg(strstr(err.message, "--omega1") && strstr(err.message, "rotation"), "'%s'",
+                  err.message);
     memset(&err, 0, sizeof err);
     ck_assert_int_eq(gr_collide_reference(&s, &c, &r, &err), GR_EINVAL);
     ck_assert_msg(strstr(err.message, "rotation"), "'%s'", err.message);
@@ -877,14 +891,16 @@ START_TEST(test_oblique_refusals)
     s.omega2 = NAN;
     memset(&err, 0, sizeof err);
     ck_assert_int_eq(gr_collide_run(&s, &c, &r, &err), GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "--omega") && strstr(err.message, "finite"), "'%s'", err.message);
+    ck_assert_msg(strstr(err.message, "--omega") && strstr(err.message, "finite"), "'%s'",
+                  err.message);
 }
 END_TEST
 
 static const double OBLIQUE_ANGLES[5] = {0.0, 20.0, 40.0, 60.0, 80.0};
 
 /* The oblique impact at speed v and angle in the engine (r) and in the CVODE reference (ref). */
-static void oblique_both(const gr_collide_setup *s, double v, double angle, gr_collide_result *r, gr_collide_result *ref)
+static void oblique_both(const gr_collide_setup *s, double v, double angle, gr_collide_result *r,
+                         gr_collide_result *ref)
 {
     gr_collision_case c;
     gr_error err = {0};
@@ -912,16 +928,19 @@ START_TEST(test_oblique_elastic)
     gr_collide_result r, ref;
     oblique_both(&s, v, angle, &r, &ref);
     const double w0 = sqrt(K_S / (0.5 * s.mass)), bound = 0.25 * (w0 * r.dt) * (w0 * r.dt);
-    ck_assert_msg(fabs(r.energy_loss) <= bound, "%s, %g deg: energy loss %.3e beyond the Verlet bound %.3e",
+    ck_assert_msg(fabs(r.energy_loss) <= bound,
+                  "%s, %g deg: energy loss %.3e beyond the Verlet bound %.3e",
                   tangential ? tangential : "no tangential law", angle, r.energy_loss, bound);
     ck_assert_msg(fabs(ref.energy_loss) <= 1e-9, "reference: energy loss %.3e", ref.energy_loss);
     if (tangential) {
         ck_assert(r.omega1 == s.omega1 && r.omega2 == s.omega2);
-        ck_assert_msg(fabs(ref.omega1 - s.omega1) <= 1e-12 * fabs(s.omega1) && fabs(ref.omega2 - s.omega2) <= 1e-12 * fabs(s.omega2),
+        ck_assert_msg(fabs(ref.omega1 - s.omega1) <= 1e-12 * fabs(s.omega1) &&
+                          fabs(ref.omega2 - s.omega2) <= 1e-12 * fabs(s.omega2),
                       "reference spins %.17g %.17g", ref.omega1, ref.omega2);
     }
     /* the outgoing normal velocity is reversed: eps_n = 1 up to the same wobble (amplitude: its root) */
-    ck_assert_msg(fabs(r.eps_n_measured - 1.0) <= 2.0 * sqrt(bound), "eps_n %.9f", r.eps_n_measured);
+    ck_assert_msg(fabs(r.eps_n_measured - 1.0) <= 2.0 * sqrt(bound), "eps_n %.9f",
+                  r.eps_n_measured);
 }
 END_TEST
 
@@ -938,9 +957,12 @@ START_TEST(test_oblique_tangential_unchanged)
     gr_collide_result r, ref;
     oblique_both(&s, v, angle, &r, &ref);
     const double bound = 2.0 * v * r.dt / (2.0 * s.radius);
-    ck_assert_msg(fabs(r.eps_t_measured - 1.0) <= bound, "%g deg: eps_t %.12f, bound %.2e", angle, r.eps_t_measured, bound);
-    ck_assert_msg(fabs(ref.eps_t_measured - 1.0) <= 1e-9, "reference eps_t %.15f", ref.eps_t_measured);
-    ck_assert_msg(fabs(r.impact_angle - angle) <= 1e-9, "impact angle %.12f, asked %g", r.impact_angle, angle);
+    ck_assert_msg(fabs(r.eps_t_measured - 1.0) <= bound, "%g deg: eps_t %.12f, bound %.2e", angle,
+                  r.eps_t_measured, bound);
+    ck_assert_msg(fabs(ref.eps_t_measured - 1.0) <= 1e-9, "reference eps_t %.15f",
+                  ref.eps_t_measured);
+    ck_assert_msg(fabs(r.impact_angle - angle) <= 1e-9, "impact angle %.12f, asked %g",
+                  r.impact_angle, angle);
     ck_assert_msg(r.eps_n_measured > 0.5 && r.eps_n_measured < 1.0, "eps_n %.9f", r.eps_n_measured);
 }
 END_TEST
@@ -962,18 +984,24 @@ START_TEST(test_oblique_spins)
     oblique_both(&s, v, 60.0, &r, &ref);
     const gr_contact_coeffs k = coeffs_of(&s);
     const double h = r.dt / k.t_c, scale = v / s.radius;
-    ck_assert_msg(fabs((r.omega1 - s.omega1) - (r.omega2 - s.omega2)) <= 1e-9 * scale, "spins changed unequally");
-    ck_assert_msg(fabs(r.omega1 - ref.omega1) <= h * scale && fabs(r.omega2 - ref.omega2) <= h * scale,
-                  "spins %.9g %.9g vs the reference %.9g %.9g (dt/t_c = %.3g)", r.omega1, r.omega2, ref.omega1, ref.omega2, h);
+    ck_assert_msg(fabs((r.omega1 - s.omega1) - (r.omega2 - s.omega2)) <= 1e-9 * scale,
+                  "spins changed unequally");
+    ck_assert_msg(fabs(r.omega1 - ref.omega1) <= h * scale &&
+                      fabs(r.omega2 - ref.omega2) <= h * scale,
+                  "spins %.9g %.9g vs the reference %.9g %.9g (dt/t_c = %.3g)", r.omega1, r.omega2,
+                  ref.omega1, ref.omega2, h);
     for (int d = 0; d < 2; d++) {
-        ck_assert_msg(fabs(r.v1[d] - ref.v1[d]) <= h * v && fabs(r.v2[d] - ref.v2[d]) <= h * v, "velocities, component %d", d);
+        ck_assert_msg(fabs(r.v1[d] - ref.v1[d]) <= h * v && fabs(r.v2[d] - ref.v2[d]) <= h * v,
+                      "velocities, component %d", d);
     }
     /* eps_t of the contact point: the law's 0.6 (reference: to its O(xi/d) geometry, xi/d ~ 2e-3) */
-    ck_assert_msg(fabs(ref.eps_t_measured - 0.6) <= 10.0 * ref.max_overlap / (2.0 * s.radius), "reference eps_t %.9f",
-                  ref.eps_t_measured);
-    ck_assert_msg(fabs(r.eps_t_measured - ref.eps_t_measured) <= (K_EDGE + 1.0) * fabs(log(0.6)) * h * 0.6,
+    ck_assert_msg(fabs(ref.eps_t_measured - 0.6) <= 10.0 * ref.max_overlap / (2.0 * s.radius),
+                  "reference eps_t %.9f", ref.eps_t_measured);
+    ck_assert_msg(fabs(r.eps_t_measured - ref.eps_t_measured) <=
+                      (K_EDGE + 1.0) * fabs(log(0.6)) * h * 0.6,
                   "eps_t %.9f vs the reference %.9f", r.eps_t_measured, ref.eps_t_measured);
-    ck_assert_msg(isnan(r.expected_loss) && isnan(ref.expected_loss), "no restitution law for spinning discs");
+    ck_assert_msg(isnan(r.expected_loss) && isnan(ref.expected_loss),
+                  "no restitution law for spinning discs");
     ck_assert_msg(r.energy_loss > 0.0 && r.energy_loss < 1.0, "energy loss %g", r.energy_loss);
 }
 END_TEST
@@ -1018,7 +1046,4 @@ static Suite *collide_suite(void)
     return s;
 }
 
-int main(void)
-{
-    return gr_test_run(collide_suite());
-}
+int main(void) { return gr_test_run(collide_suite()); }

@@ -23,7 +23,8 @@ static void load(gr_scene *sc, const char *name, const char *const *sets, int n)
     ck_assert_msg(gr_scene_load(sc, path, sets, n, &err) == GR_OK, "%s", err.message);
 }
 
-static const char *small1d[] = {"system.N=100", "system.reduced_length=0.1", "run.warmup=0.01", "run.duration=0.04"};
+static const char *small1d[] = {"system.N=100", "system.reduced_length=0.1", "run.warmup=0.01",
+                                "run.duration=0.04"};
 
 /* The error reported for a candidate is the engine's collision at that dt against the reference,
  * averaged over the same phases: recomputed here from gr_collide_run directly. */
@@ -89,8 +90,9 @@ START_TEST(error_grows_with_dt)
             continue;
         }
         if (prev >= 0) {
-            ck_assert_msg(fabs(a.c[i].loss_error_mean) > 1.2 * fabs(a.c[prev].loss_error_mean), "dt %g: %g, dt %g: %g",
-                          a.c[prev].dt, a.c[prev].loss_error_mean, a.c[i].dt, a.c[i].loss_error_mean);
+            ck_assert_msg(fabs(a.c[i].loss_error_mean) > 1.2 * fabs(a.c[prev].loss_error_mean),
+                          "dt %g: %g, dt %g: %g", a.c[prev].dt, a.c[prev].loss_error_mean,
+                          a.c[i].dt, a.c[i].loss_error_mean);
             stable++;
         }
         prev = i;
@@ -124,7 +126,8 @@ START_TEST(recommendation_is_the_largest_dt_within_tolerance)
             ck_assert(a.c[i].meets);
         }
         ck_assert(a.best == a.n - 1 || !a.c[a.best + 1].meets);
-        ck_assert(a.best == a.n - 1 || !a.c[a.best + 1].finite || fabs(a.c[a.best + 1].error) > tols[k]);
+        ck_assert(a.best == a.n - 1 || !a.c[a.best + 1].finite ||
+                  fabs(a.c[a.best + 1].error) > tols[k]);
         ck_assert(a.c[a.best].dt <= prev_dt);
         prev_dt = a.c[a.best].dt;
         ck_assert(!isfinite(a.predicted_wall)); /* not calibrated */
@@ -162,7 +165,8 @@ START_TEST(elastic_contact)
     gr_cost_answer a;
     gr_error err = {0};
     ck_assert_msg(gr_cost_advise(&sc, &rq, &a, &err) == GR_OK, "%s", err.message);
-    ck_assert(a.c[0].finite && isfinite(a.c[0].loss_error_mean) && fabs(a.c[0].loss_error_worst) < 1e-2);
+    ck_assert(a.c[0].finite && isfinite(a.c[0].loss_error_mean) &&
+              fabs(a.c[0].loss_error_worst) < 1e-2);
     ck_assert_int_ge(a.best, 0);
     ck_assert(!a.c[a.n - 1].finite);
 }
@@ -200,8 +204,9 @@ static double now(void)
  * within a factor of two. bench/cost_check.sh compares it on a quiet machine. */
 START_TEST(prediction_matches_a_real_run)
 {
-    const char *sets[] = {"system.N=400", "system.reduced_length=0.4", "run.warmup=0.1", "run.duration=0.6",
-                          "output.plots=false", "output.snapshot_every=0", "run.progress=false"};
+    const char *sets[] = {
+        "system.N=400",       "system.reduced_length=0.4", "run.warmup=0.1",    "run.duration=0.6",
+        "output.plots=false", "output.snapshot_every=0",   "run.progress=false"};
     gr_scene sc;
     load(&sc, "rfm-1d.ini", sets, 7);
     gr_cost_request rq;
@@ -225,7 +230,8 @@ START_TEST(prediction_matches_a_real_run)
         if (k) {
             ck_assert_str_eq(a.option[k].integrator, "hybrid");
             const double m = a.option[k].window / a.c[a.best].dt;
-            ck_assert_msg(fabs(m - round(m)) < 1e-9 && m >= 10.0, "window %g s = %g dt", a.option[k].window, m);
+            ck_assert_msg(fabs(m - round(m)) < 1e-9 && m >= 10.0, "window %g s = %g dt",
+                          a.option[k].window, m);
         }
     }
     ck_assert_double_eq(a.wall_per_simulated, a.option[a.best_option].wall_per_simulated);
@@ -244,9 +250,10 @@ START_TEST(prediction_matches_a_real_run)
     ck_assert_msg(gr_run(&sc, &opt, &res, &err) == GR_OK, "%s", err.message);
     const double wall = now() - t0;
     fprintf(stderr, "cost: %s: predicted %.3g +- %.2g s, real run %.3g s (ratio %.3g)\n",
-            a.option[a.best_option].integrator, a.predicted_wall, a.predicted_wall_err, wall, wall / a.predicted_wall);
-    ck_assert_msg(wall > 0.5 * a.predicted_wall && wall < 2.0 * a.predicted_wall, "predicted %g s, ran %g s",
-                  a.predicted_wall, wall);
+            a.option[a.best_option].integrator, a.predicted_wall, a.predicted_wall_err, wall,
+            wall / a.predicted_wall);
+    ck_assert_msg(wall > 0.5 * a.predicted_wall && wall < 2.0 * a.predicted_wall,
+                  "predicted %g s, ran %g s", a.predicted_wall, wall);
     char cmd[1100];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     ck_assert_int_eq(system(cmd), 0);
@@ -257,7 +264,8 @@ END_TEST
  * says why it was not timed, and Verlet is recommended. */
 START_TEST(hybrid_refused_is_said)
 {
-    const char *sets[] = {"system.N=200", "system.L=0.05", "model.rotation=true", "run.progress=false"};
+    const char *sets[] = {"system.N=200", "system.L=0.05", "model.rotation=true",
+                          "run.progress=false"};
     gr_scene sc;
     load(&sc, "rfm-2d.ini", sets, 4);
     gr_cost_answer a = {0};

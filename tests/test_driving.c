@@ -90,11 +90,12 @@ static void check_equipartition(int dim)
 {
     const double T_bath = 0.01, tau = 0.005;
     char text[600];
-    snprintf(text, sizeof text,
-             "[system]\ndim = %d\nN = %d\n%s\n[placement]\nkind = %s\n[model]\nk_s = 5e3\neps_n = 1\n"
-             "[driving]\nkind = langevin\nT_bath = %g\ntau = %g\n[run]\nseed = 3\n",
-             dim, dim == 2 ? 1000 : 400, dim == 2 ? "packing_fraction = 0.15" : "reduced_length = 0.4",
-             dim == 2 ? "random" : "uniform", T_bath, tau);
+    snprintf(
+        text, sizeof text,
+        "[system]\ndim = %d\nN = %d\n%s\n[placement]\nkind = %s\n[model]\nk_s = 5e3\neps_n = 1\n"
+        "[driving]\nkind = langevin\nT_bath = %g\ntau = %g\n[run]\nseed = 3\n",
+        dim, dim == 2 ? 1000 : 400, dim == 2 ? "packing_fraction = 0.15" : "reduced_length = 0.4",
+        dim == 2 ? "random" : "uniform", T_bath, tau);
     gr_scene s;
     load(&s, text, NULL, 0);
     gr_sim *sim = create(&s);
@@ -116,16 +117,19 @@ static void check_equipartition(int dim)
     for (int c = 0; c < dim; c++) {
         double se;
         const double mean = mean_se(block[c], BLOCKS, &se);
-        VERBOSE("%dD component %d: T_c = %.6g +- %.2g, expected %.6g (z = %.2f)\n", dim, c, mean, se, expect,
-                (mean - expect) / se);
-        ck_assert_msg(se < 0.01 * mean, "%dD: the block error %g is too large to test equipartition", dim, se);
-        ck_assert_msg(fabs(mean - expect) < 4.0 * se, "%dD component %d: <T_c> = %g +- %g, bath gives T_bath/dim (1 - 1/N) = %g",
+        VERBOSE("%dD component %d: T_c = %.6g +- %.2g, expected %.6g (z = %.2f)\n", dim, c, mean,
+                se, expect, (mean - expect) / se);
+        ck_assert_msg(se < 0.01 * mean,
+                      "%dD: the block error %g is too large to test equipartition", dim, se);
+        ck_assert_msg(fabs(mean - expect) < 4.0 * se,
+                      "%dD component %d: <T_c> = %g +- %g, bath gives T_bath/dim (1 - 1/N) = %g",
                       dim, c, mean, se, expect);
     }
     gr_ledger l = gr_sim_ledger(sim);
     ck_assert(l.injected > 0.0 && l.dissipated_drag > 0.0);
     ck_assert_msg(fabs(gr_ledger_residual(&l)) < 1e-3 * (l.injected + gr_ledger_dissipated(&l)),
-                  "residual %g of %g moved", gr_ledger_residual(&l), l.injected + gr_ledger_dissipated(&l));
+                  "residual %g of %g moved", gr_ledger_residual(&l),
+                  l.injected + gr_ledger_dissipated(&l));
     gr_sim_free(sim);
 }
 
@@ -145,10 +149,12 @@ START_TEST(ideal_gas_relaxation)
 {
     const double T_bath = 0.01, tau = 0.01, dt = 1e-4;
     char text[600];
-    snprintf(text, sizeof text,
-             "[system]\ndim = 2\nN = 4000\nL = 0.2\nradius = 1e-8\n[placement]\nkind = uniform\nv0 = 1\n"
-             "[model]\nk_s = 50\neps_n = 1\n[integrator]\ndt = %g\n[driving]\nkind = langevin\nT_bath = %g\ntau = %g\n",
-             dt, T_bath, tau);
+    snprintf(
+        text, sizeof text,
+        "[system]\ndim = 2\nN = 4000\nL = 0.2\nradius = 1e-8\n[placement]\nkind = uniform\nv0 = 1\n"
+        "[model]\nk_s = 50\neps_n = 1\n[integrator]\ndt = %g\n[driving]\nkind = langevin\nT_bath = "
+        "%g\ntau = %g\n",
+        dt, T_bath, tau);
     gr_scene s;
     load(&s, text, NULL, 0);
     gr_sim *sim = create(&s);
@@ -158,7 +164,7 @@ START_TEST(ideal_gas_relaxation)
     memcpy(v0, sim->vx, sizeof(double) * (size_t)n);
     memcpy(v0 + n, sim->vy, sizeof(double) * (size_t)n);
     const double T0 = gr_sim_temperature(sim);
-    ck_assert(T0 > 10.0 * T_bath); /* v0 = 1: T0 = 1/6 m^2/s^2 */
+    ck_assert(T0 > 10.0 * T_bath);        /* v0 = 1: T0 = 1/6 m^2/s^2 */
     const int at[] = {50, 100, 200, 500}; /* t = tau/2, tau, 2 tau, 5 tau */
     int done = 0;
     for (int q = 0; q < 4; q++) {
@@ -171,21 +177,25 @@ START_TEST(ideal_gas_relaxation)
             var += 4.0 * a2k * v0[i] * v0[i] * s2 + 2.0 * s2 * s2;
         }
         const double se = sqrt(var) / n, T = gr_sim_temperature(sim);
-        VERBOSE("t = %g tau: T = %.6g, expected %.6g +- %.2g (z = %.2f)\n", at[q] * dt / tau, T, expect, se,
-                (T - expect) / se);
-        ck_assert_msg(fabs(T - expect) < 5.0 * se, "t = %g s: T = %g, T_bath + (T0 - T_bath) e^(-2t/tau) gives %g +- %g",
+        VERBOSE("t = %g tau: T = %.6g, expected %.6g +- %.2g (z = %.2f)\n", at[q] * dt / tau, T,
+                expect, se, (T - expect) / se);
+        ck_assert_msg(fabs(T - expect) < 5.0 * se,
+                      "t = %g s: T = %g, T_bath + (T0 - T_bath) e^(-2t/tau) gives %g +- %g",
                       at[q] * dt, T, expect, se);
     }
     VERBOSE("ideal gas: %lld contacts\n", (long long)gr_sim_collisions(sim));
-    ck_assert_msg(gr_sim_collisions(sim) == 0, "%lld contacts: not an ideal gas", (long long)gr_sim_collisions(sim));
+    ck_assert_msg(gr_sim_collisions(sim) == 0, "%lld contacts: not an ideal gas",
+                  (long long)gr_sim_collisions(sim));
     /* the ledger without contacts: exact to rounding */
     gr_ledger l = gr_sim_ledger(sim);
     ck_assert(l.dissipated_drag > 0.0 && l.injected > 0.0);
     const double moved = l.injected + gr_ledger_dissipated(&l);
-    VERBOSE("ideal gas ledger: injected %g, drag %g, residual %g\n", l.injected, l.dissipated_drag, gr_ledger_residual(&l));
+    VERBOSE("ideal gas ledger: injected %g, drag %g, residual %g\n", l.injected, l.dissipated_drag,
+            gr_ledger_residual(&l));
     /* no contacts, so no spring error: rounding only (2e-15 measured); a term left out of the books
      * would leave a residual of order `moved` */
-    ck_assert_msg(fabs(gr_ledger_residual(&l)) < 1e-12 * moved, "residual %g of %g moved", gr_ledger_residual(&l), moved);
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) < 1e-12 * moved, "residual %g of %g moved",
+                  gr_ledger_residual(&l), moved);
     free(v0);
     gr_sim_free(sim);
 }
@@ -197,8 +207,9 @@ END_TEST
  * springs' velocity-Verlet error (docs/integrator.md). */
 START_TEST(ledger_inelastic)
 {
-    const char *text = "[system]\ndim = 2\nN = 600\npacking_fraction = 0.3\n[placement]\nkind = random\n"
-                       "[model]\nk_s = 5e3\neps_n = 0.6\n[driving]\nkind = langevin\nT_bath = 0.01\ntau = 0.01\n";
+    const char *text =
+        "[system]\ndim = 2\nN = 600\npacking_fraction = 0.3\n[placement]\nkind = random\n"
+        "[model]\nk_s = 5e3\neps_n = 0.6\n[driving]\nkind = langevin\nT_bath = 0.01\ntau = 0.01\n";
     gr_scene s;
     load(&s, text, NULL, 0);
     gr_sim *sim = create(&s);
@@ -206,20 +217,23 @@ START_TEST(ledger_inelastic)
     step(sim, 5 * per_tau);
     gr_ledger l = gr_sim_ledger(sim);
     const double moved = l.injected + gr_ledger_dissipated(&l);
-    VERBOSE("inelastic: injected %g, normal %g, drag %g, residual %g, T %g\n", l.injected, l.dissipated_normal,
-            l.dissipated_drag, gr_ledger_residual(&l), gr_sim_temperature(sim));
+    VERBOSE("inelastic: injected %g, normal %g, drag %g, residual %g, T %g\n", l.injected,
+            l.dissipated_normal, l.dissipated_drag, gr_ledger_residual(&l),
+            gr_sim_temperature(sim));
     ck_assert(l.dissipated_normal > 0.01 * moved && l.dissipated_drag > 0.01 * moved);
-    ck_assert_msg(fabs(gr_ledger_residual(&l)) < 1e-3 * moved, "residual %g of %g moved", gr_ledger_residual(&l), moved);
-    ck_assert_double_eq(gr_ledger_dissipated(&l), l.dissipated_normal + l.dissipated_tangential + l.dissipated_friction +
-                                                      l.dissipated_drag);
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) < 1e-3 * moved, "residual %g of %g moved",
+                  gr_ledger_residual(&l), moved);
+    ck_assert_double_eq(gr_ledger_dissipated(&l), l.dissipated_normal + l.dissipated_tangential +
+                                                      l.dissipated_friction + l.dissipated_drag);
     gr_sim_free(sim);
 }
 END_TEST
 
 /* ---- reproducibility ----------------------------------------------------------------------- */
 
-static const char *bath_2d = "[system]\ndim = 2\nN = 2500\npacking_fraction = 0.2\n[placement]\nkind = random\n"
-                             "[model]\nk_s = 5e3\neps_n = 0.8\n[driving]\nkind = langevin\nT_bath = 0.01\ntau = 0.002\n";
+static const char *bath_2d =
+    "[system]\ndim = 2\nN = 2500\npacking_fraction = 0.2\n[placement]\nkind = random\n"
+    "[model]\nk_s = 5e3\neps_n = 0.8\n[driving]\nkind = langevin\nT_bath = 0.01\ntau = 0.002\n";
 
 static void assert_same_state(const gr_sim *a, const gr_sim *b)
 {
@@ -282,13 +296,15 @@ END_TEST
 
 /* ---- none and rfm --------------------------------------------------------------------------- */
 
-static const char *gas_1d = "[system]\ndim = 1\nN = 200\nreduced_length = 0.5\n[placement]\nkind = uniform\n";
-static const char *gas_2d = "[system]\ndim = 2\nN = 1500\npacking_fraction = 0.2\n[placement]\nkind = random\n"
-                            "[model]\neps_n = 0.6\n";
+static const char *gas_1d =
+    "[system]\ndim = 1\nN = 200\nreduced_length = 0.5\n[placement]\nkind = uniform\n";
+static const char *gas_2d =
+    "[system]\ndim = 2\nN = 1500\npacking_fraction = 0.2\n[placement]\nkind = random\n"
+    "[model]\neps_n = 0.6\n";
 
 /* Two scenes that must be the same run: equal final states after `steps`. */
-static void assert_same_run(const char *text, const char *const *set_a, int na, const char *const *set_b, int nb,
-                            int64_t steps)
+static void assert_same_run(const char *text, const char *const *set_a, int na,
+                            const char *const *set_b, int nb, int64_t steps)
 {
     gr_scene sa, sb;
     load(&sa, text, set_a, na);
@@ -329,7 +345,8 @@ START_TEST(none_is_zero_noise)
     ck_assert_msg(strstr(s.warnings, "[noise] D is ignored") != NULL, "warnings: %s", s.warnings);
     const char *rfm_tau[] = {"driving.tau=0.5"};
     load(&s, gas_2d, rfm_tau, 1);
-    ck_assert_msg(strstr(s.warnings, "[driving] tau is ignored: it belongs to langevin") != NULL, "warnings: %s", s.warnings);
+    ck_assert_msg(strstr(s.warnings, "[driving] tau is ignored: it belongs to langevin") != NULL,
+                  "warnings: %s", s.warnings);
 }
 END_TEST
 
@@ -344,7 +361,8 @@ START_TEST(saved_scene_round_trip)
     for (int k = 0; k < 3; k++) {
         gr_scene a, b;
         load(&a, gas_2d, kinds[k], kinds[k][2] ? 3 : 2);
-        ck_assert_msg(k == 2 ? a.warnings[0] == 0 : strstr(a.warnings, "[noise]") != NULL, "%s", a.warnings);
+        ck_assert_msg(k == 2 ? a.warnings[0] == 0 : strstr(a.warnings, "[noise]") != NULL, "%s",
+                      a.warnings);
         char *text = NULL;
         size_t len = 0;
         FILE *f = open_memstream(&text, &len);
@@ -353,7 +371,8 @@ START_TEST(saved_scene_round_trip)
         ck_assert_msg((strstr(text, "\n[driving]\n") != NULL) == (k != 2), "%s", text);
         ck_assert_msg((strstr(text, "\n[noise]\n") != NULL) == (k == 2), "%s", text);
         gr_error err = {0};
-        ck_assert_msg(gr_scene_load_buffer(&b, "scene.ini", text, len, NULL, 0, &err) == GR_OK, "%s", err.message);
+        ck_assert_msg(gr_scene_load_buffer(&b, "scene.ini", text, len, NULL, 0, &err) == GR_OK,
+                      "%s", err.message);
         free(text);
         ck_assert_str_eq(b.warnings, "");
         ck_assert_ptr_eq(a.driving, b.driving);
@@ -382,15 +401,19 @@ static void check_cools(const char *text, int64_t steps)
 
 START_TEST(none_cools)
 {
-    check_cools("[system]\ndim = 2\nN = 1000\npacking_fraction = 0.3\n[placement]\nkind = random\nv0 = 1\n"
-                "[model]\nk_s = 5e3\neps_n = 0.5\n",
-                20000);
-    check_cools("[system]\ndim = 2\nN = 1000\npacking_fraction = 0.3\n[placement]\nkind = random\nv0 = 1\n"
-                "[model]\nnormal = hard_sphere\neps_n = 0.5\neps_t = 1\n[integrator]\nkind = event\n",
-                100000);
-    check_cools("[system]\ndim = 2\nN = 1000\npacking_fraction = 0.3\n[placement]\nkind = random\nv0 = 1\n"
-                "[model]\nk_s = 5e3\neps_n = 0.5\n[integrator]\nkind = hybrid\ndt = 4e-6\nkick_interval = 4e-4\n",
-                20000);
+    check_cools(
+        "[system]\ndim = 2\nN = 1000\npacking_fraction = 0.3\n[placement]\nkind = random\nv0 = 1\n"
+        "[model]\nk_s = 5e3\neps_n = 0.5\n",
+        20000);
+    check_cools(
+        "[system]\ndim = 2\nN = 1000\npacking_fraction = 0.3\n[placement]\nkind = random\nv0 = 1\n"
+        "[model]\nnormal = hard_sphere\neps_n = 0.5\neps_t = 1\n[integrator]\nkind = event\n",
+        100000);
+    check_cools(
+        "[system]\ndim = 2\nN = 1000\npacking_fraction = 0.3\n[placement]\nkind = random\nv0 = 1\n"
+        "[model]\nk_s = 5e3\neps_n = 0.5\n[integrator]\nkind = hybrid\ndt = 4e-6\nkick_interval = "
+        "4e-4\n",
+        20000);
 }
 END_TEST
 
@@ -398,19 +421,26 @@ END_TEST
 
 START_TEST(event_hybrid_refuse_langevin)
 {
-    const char *text = "[system]\ndim = 2\nN = 50\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n"
-                       "[driving]\nkind = langevin\n";
+    const char *text =
+        "[system]\ndim = 2\nN = 50\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n"
+        "[driving]\nkind = langevin\n";
     gr_scene s;
     gr_error err = {0};
     ck_assert_int_ne(gr_scene_load_buffer(&s, "ev.ini", text, strlen(text), NULL, 0, &err), GR_OK);
-    ck_assert_msg(strstr(err.message, "ev.ini:9: [driving] kind: kind = langevin has a viscous drag, which [integrator] "
-                                      "kind = event does not model") != NULL, "%s", err.message);
-    const char *hy = "[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[integrator]\nkind = hybrid\n";
+    ck_assert_msg(
+        strstr(err.message,
+               "ev.ini:9: [driving] kind: kind = langevin has a viscous drag, which [integrator] "
+               "kind = event does not model") != NULL,
+        "%s", err.message);
+    const char *hy =
+        "[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[integrator]\nkind = hybrid\n";
     const char *lg[] = {"driving.kind=langevin"};
     err = (gr_error){0};
     ck_assert_int_ne(gr_scene_load_buffer(&s, "hy.ini", hy, strlen(hy), lg, 1, &err), GR_OK);
-    ck_assert_msg(strstr(err.message, "--set driving.kind=langevin: [driving] kind") && strstr(err.message, "hybrid") &&
-                  strstr(err.message, "allowed with langevin: verlet"), "%s", err.message);
+    ck_assert_msg(strstr(err.message, "--set driving.kind=langevin: [driving] kind") &&
+                      strstr(err.message, "hybrid") &&
+                      strstr(err.message, "allowed with langevin: verlet"),
+                  "%s", err.message);
     /* the library refuses it too (gr_sim_params filled by hand) */
     load(&s, gas_1d, NULL, 0);
     gr_sim_params p;
@@ -421,7 +451,9 @@ START_TEST(event_hybrid_refuse_langevin)
     err = (gr_error){0};
     ck_assert_int_ne(gr_sim_new(&p, &sim, &err), GR_OK);
     ck_assert_ptr_null(sim);
-    ck_assert_msg(strstr(err.message, "[driving] kind = langevin") && strstr(err.message, "kind = hybrid"), "%s", err.message);
+    ck_assert_msg(strstr(err.message, "[driving] kind = langevin") &&
+                      strstr(err.message, "kind = hybrid"),
+                  "%s", err.message);
 }
 END_TEST
 
@@ -439,8 +471,10 @@ START_TEST(registry)
     ck_assert_int_eq(n, 3);
     ck_assert_str_eq(gr_driving_default()->name, "rfm");
     ck_assert_ptr_null(gr_driving_find("bogus"));
-    ck_assert(gr_driving_find("langevin")->drag && !gr_driving_find("none")->drag && !gr_driving_find("rfm")->drag);
-    ck_assert(gr_integrator_find("verlet")->drag && !gr_integrator_find("event")->drag && !gr_integrator_find("hybrid")->drag);
+    ck_assert(gr_driving_find("langevin")->drag && !gr_driving_find("none")->drag &&
+              !gr_driving_find("rfm")->drag);
+    ck_assert(gr_integrator_find("verlet")->drag && !gr_integrator_find("event")->drag &&
+              !gr_integrator_find("hybrid")->drag);
     /* prepare: the exact OU factors */
     gr_driving_params p = {.T_bath = 0.02, .tau = 0.5};
     gr_driving_coeffs c;
@@ -463,7 +497,8 @@ START_TEST(mean_field_bath)
     const double Tb = 0.01 * (1.0 - 1.0 / 2500);
     ck_assert_double_eq(cJSON_GetObjectItem(j, "T_bath")->valuedouble, 0.01);
     ck_assert_double_eq(cJSON_GetObjectItem(j, "tau")->valuedouble, 0.002);
-    ck_assert_double_eq_tol(cJSON_GetObjectItem(j, "D_bath")->valuedouble, 3.53e-5 * 3.53e-5 * 0.01 / (2 * 0.002), 1e-25);
+    ck_assert_double_eq_tol(cJSON_GetObjectItem(j, "D_bath")->valuedouble,
+                            3.53e-5 * 3.53e-5 * 0.01 / (2 * 0.002), 1e-25);
     ck_assert_double_eq(cJSON_GetObjectItem(j, "T_elastic")->valuedouble, Tb);
     ck_assert_double_eq(cJSON_GetObjectItem(j, "T_enskog")->valuedouble, Tb);
     cJSON_Delete(j);
@@ -471,7 +506,8 @@ START_TEST(mean_field_bath)
     j = gr_mean_field_haff(&s, NULL, NULL, 0);
     const double T = cJSON_GetObjectItem(j, "T_enskog")->valuedouble;
     const double rate = gr_haff_rate_2d(s.packing_fraction, 0.6, 2.0 * s.radius);
-    ck_assert_msg(T > 0.0 && T < 0.7 * Tb, "T_enskog = %g", T); /* zeta tau ~ 2: the collisions matter */
+    ck_assert_msg(T > 0.0 && T < 0.7 * Tb, "T_enskog = %g",
+                  T); /* zeta tau ~ 2: the collisions matter */
     ck_assert_double_eq_tol((Tb - T) / 0.2, rate * T * sqrt(T / 2.0), 1e-12 * Tb / 0.2);
     cJSON_Delete(j);
 }

@@ -64,10 +64,12 @@ START_TEST(test_rule_energy_momentum)
         double de_n, de_t;
         gr_event_collide(M, en, et, nx, ny, &v1x, &v1y, &v2x, &v2y, &de_n, &de_t);
         double e1 = 0.5 * M * (v1x * v1x + v1y * v1y + v2x * v2x + v2y * v2y);
-        ck_assert_msg(fabs(e0 - e1 - de_n - de_t) <= 1e-14 * e0, "energy: lost %.17g, booked %.17g", e0 - e1, de_n + de_t);
+        ck_assert_msg(fabs(e0 - e1 - de_n - de_t) <= 1e-14 * e0, "energy: lost %.17g, booked %.17g",
+                      e0 - e1, de_n + de_t);
         ck_assert(fabs(v1x + v2x - px) <= 1e-15 && fabs(v1y + v2y - py) <= 1e-15);
         /* (2.2) and (2.10) */
-        double gn1 = (v1x - v2x) * nx + (v1y - v2y) * ny, gt1 = -(v1x - v2x) * ny + (v1y - v2y) * nx;
+        double gn1 = (v1x - v2x) * nx + (v1y - v2y) * ny,
+               gt1 = -(v1x - v2x) * ny + (v1y - v2y) * nx;
         ck_assert(fabs(gn1 + en * gn) <= 1e-14);
         ck_assert(fabs(gt1 - et * gt) <= 1e-14);
     }
@@ -103,10 +105,13 @@ START_TEST(test_rule_table21)
         double cos2 = (gx * nx + gy * ny) * (gx * nx + gy * ny) / g2;
         double expect = (1.0 - en * en) * cos2 + (1.0 - et * et) * (1.0 - cos2);
         if (verbose()) {
-            printf("case %d eps (%g, %g): loss %.17g expected %.17g angle %.3f\n", number, en, et, r.energy_loss, expect, r.impact_angle);
+            printf("case %d eps (%g, %g): loss %.17g expected %.17g angle %.3f\n", number, en, et,
+                   r.energy_loss, expect, r.impact_angle);
         }
-        ck_assert_msg(fabs(r.energy_loss - expect) <= 1e-12, "case %d: loss %.17g, expected %.17g", number, r.energy_loss, expect);
-        ck_assert_msg(fabs(r.energy_loss - r.expected_loss) <= 1e-14, "case %d: library expectation %.17g", number, r.expected_loss);
+        ck_assert_msg(fabs(r.energy_loss - expect) <= 1e-12, "case %d: loss %.17g, expected %.17g",
+                      number, r.energy_loss, expect);
+        ck_assert_msg(fabs(r.energy_loss - r.expected_loss) <= 1e-14,
+                      "case %d: library expectation %.17g", number, r.expected_loss);
         ck_assert(r.momentum_error <= 1e-15);
         if (number == 1) {
             ck_assert(fabs(r.energy_loss - (1.0 - en * en)) <= 1e-15); /* (2.13) */
@@ -117,7 +122,8 @@ START_TEST(test_rule_table21)
     cs.dim = 2;
     gr_collide_result r;
     ck_assert(gr_collide_run(&cs, &c45, &r, &err) == GR_OK);
-    ck_assert_msg(fabs(r.energy_loss - (1.0 - 0.5 * (en * en + et * et))) <= 1e-12, "45 deg: %.17g", r.energy_loss);
+    ck_assert_msg(fabs(r.energy_loss - (1.0 - 0.5 * (en * en + et * et))) <= 1e-12, "45 deg: %.17g",
+                  r.energy_loss);
 }
 END_TEST
 
@@ -138,8 +144,9 @@ START_TEST(test_contact_solvers)
         const double d = 1.0, T = 1.0;
         double rx = 1.0 + 0.3 * u[0] + 0.3, ry = 0.6 * u[1], wx = 2.0 * u[2], wy = 2.0 * u[3];
         double Ax = k % 2 ? 4.0 * u[4] : 0.0, Ay = k % 2 ? 4.0 * u[5] : 0.0;
-        double c[5] = {rx * rx + ry * ry - d * d, 2.0 * (rx * wx + ry * wy), wx * wx + wy * wy + rx * Ax + ry * Ay,
-                       wx * Ax + wy * Ay, 0.25 * (Ax * Ax + Ay * Ay)};
+        double c[5] = {rx * rx + ry * ry - d * d, 2.0 * (rx * wx + ry * wy),
+                       wx * wx + wy * wy + rx * Ax + ry * Ay, wx * Ax + wy * Ay,
+                       0.25 * (Ax * Ax + Ay * Ay)};
         if (c[0] <= 0.0) {
             continue;
         }
@@ -157,7 +164,8 @@ START_TEST(test_contact_solvers)
         }
         if (isinf(ts)) {
             /* a miss is only allowed to be a graze within the scan resolution */
-            ck_assert_msg(isinf(t) || t > T - 1e-4 || fabs(c[0] + t * (c[1] + t * (c[2] + t * (c[3] + t * c[4])))) < 1e-6,
+            ck_assert_msg(isinf(t) || t > T - 1e-4 ||
+                              fabs(c[0] + t * (c[1] + t * (c[2] + t * (c[3] + t * c[4])))) < 1e-6,
                           "k %d: solver %.9g, scan none", k, t);
         } else {
             found++;
@@ -186,7 +194,8 @@ START_TEST(test_solver_bounded)
         }
         const double t = gr_ev_first_quartic(c, sc);
         ck_assert_msg(fabs(t / sc - t1) <= 1e-13, "scale 1e%d: %.17g vs %.17g", k, t / sc, t1);
-        ck_assert(c[0] + t * (c[1] + t * (c[2] + t * (c[3] + t * c[4]))) >= 0.0); /* at or just before contact */
+        ck_assert(c[0] + t * (c[1] + t * (c[2] + t * (c[3] + t * c[4]))) >=
+                  0.0); /* at or just before contact */
     }
     /* |r + w t + A t^2 / 2|^2 - d^2, r ~ 0.1 m, A ~ 1e7 m/s^2, T = 5e-5 s: at w ~ 2e6 m/s (1e3 boxes
      * of 0.2 m per 1e-4 s, the fastest allowed) the contact is found to 8 DBL_EPSILON T; at
@@ -195,8 +204,9 @@ START_TEST(test_solver_bounded)
     for (int q = 0; q < 2; q++) {
         const double v = q == 0 ? 2e6 : 1.5e95, T = 5e-5;
         const double rx = 0.1, ry = 1e-3, wx = -v, wy = 1e-3 * v, Ax = 3e7, Ay = -1e7, d = 3e-3;
-        const double c[5] = {rx * rx + ry * ry - d * d, 2.0 * (rx * wx + ry * wy), wx * wx + wy * wy + rx * Ax + ry * Ay,
-                             wx * Ax + wy * Ay, 0.25 * (Ax * Ax + Ay * Ay)};
+        const double c[5] = {rx * rx + ry * ry - d * d, 2.0 * (rx * wx + ry * wy),
+                             wx * wx + wy * wy + rx * Ax + ry * Ay, wx * Ax + wy * Ay,
+                             0.25 * (Ax * Ax + Ay * Ay)};
         const double t = gr_ev_first_quartic(c, T), t2 = t + 8.0 * DBL_EPSILON * T;
         if (q == 0) {
             ck_assert(t > 0.0 && c[0] + t * (c[1] + t * (c[2] + t * (c[3] + t * c[4]))) >= 0.0);
@@ -217,8 +227,16 @@ static void elastic_gas(int dim, int n, const char *len, int64_t min_collisions,
     char sdim[32], sn[32];
     snprintf(sdim, sizeof sdim, "system.dim=%d", dim);
     snprintf(sn, sizeof sn, "system.N=%d", n);
-    const char *ov[] = {sdim, sn, len, "placement.kind=uniform", "placement.v0=0.5", "model.normal=hard_sphere",
-                        "model.eps_n=1", "model.eps_t=1", "noise.D=0", "integrator.kind=event"};
+    const char *ov[] = {sdim,
+                        sn,
+                        len,
+                        "placement.kind=uniform",
+                        "placement.v0=0.5",
+                        "model.normal=hard_sphere",
+                        "model.eps_n=1",
+                        "model.eps_t=1",
+                        "noise.D=0",
+                        "integrator.kind=event"};
     gr_scene sc = scene_of(ov, 10);
     gr_sim *s = sim_of(&sc);
     gr_event_set_debug(s, check, false);
@@ -236,11 +254,13 @@ static void elastic_gas(int dim, int n, const char *len, int64_t min_collisions,
     double rel = (l1.kinetic - l0.kinetic) / l0.kinetic;
     double prms = MASS * 0.5 * sqrt((double)n);
     if (verbose()) {
-        printf("elastic %dD N=%d: %lld collisions, dE/E = %.3g, dp = %.3g, dissipated %.3g\n", dim, n,
-               (long long)gr_sim_collisions(s), rel, hypot(p1[0] - p0[0], p1[1] - p0[1]) / prms, gr_ledger_dissipated(&l1));
+        printf("elastic %dD N=%d: %lld collisions, dE/E = %.3g, dp = %.3g, dissipated %.3g\n", dim,
+               n, (long long)gr_sim_collisions(s), rel, hypot(p1[0] - p0[0], p1[1] - p0[1]) / prms,
+               gr_ledger_dissipated(&l1));
     }
     /* rounding only: ~1e-16 per collision, random-walking */
-    ck_assert_msg(fabs(rel) < 1e-11, "energy drift %.3g over %lld collisions", rel, (long long)gr_sim_collisions(s));
+    ck_assert_msg(fabs(rel) < 1e-11, "energy drift %.3g over %lld collisions", rel,
+                  (long long)gr_sim_collisions(s));
     ck_assert(hypot(p1[0] - p0[0], p1[1] - p0[1]) < 1e-12 * prms);
     ck_assert(gr_ledger_dissipated(&l1) == 0.0);
     gr_sim_free(s);
@@ -254,7 +274,8 @@ END_TEST
 
 START_TEST(test_elastic_gas_2d)
 {
-    elastic_gas(2, 64, "system.packing_fraction=0.4", quick() ? 3000 : 30000, true); /* O(N^2) check per event */
+    elastic_gas(2, 64, "system.packing_fraction=0.4", quick() ? 3000 : 30000,
+                true); /* O(N^2) check per event */
     elastic_gas(2, 1000, "system.packing_fraction=0.4", quick() ? 30000 : 1000000, false);
 }
 END_TEST
@@ -275,9 +296,20 @@ START_TEST(test_free_flight)
     snprintf(sdim, sizeof sdim, "system.dim=%d", dim);
     snprintf(sn, sizeof sn, "system.N=%d", n);
     snprintf(ff, sizeof ff, "integrator.free_flight=%s", exact ? "exact" : "kicks");
-    const char *ov[] = {sdim, sn, dim == 1 ? "system.L=1000" : "system.L=10", "placement.kind=uniform", "placement.v0=0",
-                        "model.normal=hard_sphere", "noise.mode=com", "noise.com_interval=1e9", "noise.D=1e-8",
-                        "integrator.kind=event", "integrator.dt=1e-6", "integrator.kick_interval=4e-5", ff, "run.seed=7"};
+    const char *ov[] = {sdim,
+                        sn,
+                        dim == 1 ? "system.L=1000" : "system.L=10",
+                        "placement.kind=uniform",
+                        "placement.v0=0",
+                        "model.normal=hard_sphere",
+                        "noise.mode=com",
+                        "noise.com_interval=1e9",
+                        "noise.D=1e-8",
+                        "integrator.kind=event",
+                        "integrator.dt=1e-6",
+                        "integrator.kick_interval=4e-5",
+                        ff,
+                        "run.seed=7"};
     gr_scene sc = scene_of(ov, 14);
     gr_sim *s = sim_of(&sc);
     gr_event_set_debug(s, false, true);
@@ -314,16 +346,20 @@ START_TEST(test_free_flight)
     }
     const double M2 = MASS * MASS;
     const double ev = 2.0 * D_NOISE * t / M2, exv = D_NOISE * t * t / M2;
-    const double ex = exact ? 2.0 * D_NOISE * t * t * t / (3.0 * M2) : 2.0 * D_NOISE / M2 * (t * t * t / 3.0 - tau * tau * t / 12.0);
+    const double ex = exact ? 2.0 * D_NOISE * t * t * t / (3.0 * M2)
+                            : 2.0 * D_NOISE / M2 * (t * t * t / 3.0 - tau * tau * t / 12.0);
     double m[3] = {sv / samples, sx / samples, sxv / samples}, e[3] = {ev, ex, exv};
-    double var[3] = {sv2 / samples - m[0] * m[0], sx2 / samples - m[1] * m[1], sxv2 / samples - m[2] * m[2]};
+    double var[3] = {sv2 / samples - m[0] * m[0], sx2 / samples - m[1] * m[1],
+                     sxv2 / samples - m[2] * m[2]};
     const char *name[3] = {"<v^2>", "<x^2>", "<x v>"};
     for (int q = 0; q < 3; q++) {
         double z = (m[q] - e[q]) / sqrt(var[q] / samples);
         if (verbose()) {
-            printf("%dD %s %s: %.6g expected %.6g (z = %.2f)\n", dim, exact ? "exact" : "kicks", name[q], m[q], e[q], z);
+            printf("%dD %s %s: %.6g expected %.6g (z = %.2f)\n", dim, exact ? "exact" : "kicks",
+                   name[q], m[q], e[q], z);
         }
-        ck_assert_msg(fabs(z) < 5.0, "%dD %s %s = %.6g, expected %.6g (z = %.2f)", dim, exact ? "exact" : "kicks", name[q], m[q], e[q], z);
+        ck_assert_msg(fabs(z) < 5.0, "%dD %s %s = %.6g, expected %.6g (z = %.2f)", dim,
+                      exact ? "exact" : "kicks", name[q], m[q], e[q], z);
     }
     /* the ledger: injected equals the kinetic energy gained */
     ck_assert(fabs(relative_residual(s)) < 1e-12);
@@ -339,9 +375,17 @@ START_TEST(test_symmetrised_momentum)
     const int dim = 1 + _i;
     char sdim[32];
     snprintf(sdim, sizeof sdim, "system.dim=%d", dim);
-    const char *ov[] = {sdim, "system.N=400", dim == 1 ? "system.reduced_length=0.4" : "system.packing_fraction=0.3",
-                        "placement.kind=uniform", "model.normal=hard_sphere", "model.eps_n=0.5", "model.eps_t=0.5",
-                        "noise.D=1e-8", "integrator.kind=event", "integrator.free_flight=exact", "run.seed=3"};
+    const char *ov[] = {sdim,
+                        "system.N=400",
+                        dim == 1 ? "system.reduced_length=0.4" : "system.packing_fraction=0.3",
+                        "placement.kind=uniform",
+                        "model.normal=hard_sphere",
+                        "model.eps_n=0.5",
+                        "model.eps_t=0.5",
+                        "noise.D=1e-8",
+                        "integrator.kind=event",
+                        "integrator.free_flight=exact",
+                        "run.seed=3"};
     gr_scene sc = scene_of(ov, 11);
     gr_sim *s = sim_of(&sc);
     gr_error err = {0};
@@ -350,7 +394,8 @@ START_TEST(test_symmetrised_momentum)
     ck_assert(gr_sim_step(s, (int64_t)llround(0.05 / s->dt), &err) == GR_OK);
     gr_sim_momentum(s, p1);
     double scale = MASS * sqrt(gr_sim_temperature(s) * 400);
-    ck_assert_msg(hypot(p1[0] - p0[0], p1[1] - p0[1]) < 1e-12 * scale, "momentum moved by %.3g", hypot(p1[0] - p0[0], p1[1] - p0[1]) / scale);
+    ck_assert_msg(hypot(p1[0] - p0[0], p1[1] - p0[1]) < 1e-12 * scale, "momentum moved by %.3g",
+                  hypot(p1[0] - p0[0], p1[1] - p0[1]) / scale);
     ck_assert(fabs(relative_residual(s)) < 1e-12);
     ck_assert(gr_sim_collisions(s) > 1000);
     gr_sim_free(s);
@@ -366,14 +411,29 @@ START_TEST(test_collapse_long)
 {
     const int dim = 1 + _i / 2;
     const bool exact = _i % 2 == 0;
-    const double T = quick() ? (dim == 1 ? 0.3 : 0.1) : 4.0; /* 4 simulated s; CPU: docs/event-driven.md */
+    const double T =
+        quick() ? (dim == 1 ? 0.3 : 0.1) : 4.0; /* 4 simulated s; CPU: docs/event-driven.md */
     char ff[64];
     snprintf(ff, sizeof ff, "integrator.free_flight=%s", exact ? "exact" : "kicks");
-    const char *ov1[] = {"system.dim=1", "system.N=1000", "system.reduced_length=1", "placement.kind=uniform",
-                         "model.normal=hard_sphere", "model.eps_n=0.001", "noise.D=1e-8", "integrator.kind=event", ff};
-    const char *ov2[] = {"system.dim=2", "system.N=500", "system.packing_fraction=0.53", "placement.kind=hexagonal",
-                         "model.normal=hard_sphere", "model.eps_n=0.1", "model.eps_t=0.1", "noise.D=1e-8",
-                         "integrator.kind=event", ff};
+    const char *ov1[] = {"system.dim=1",
+                         "system.N=1000",
+                         "system.reduced_length=1",
+                         "placement.kind=uniform",
+                         "model.normal=hard_sphere",
+                         "model.eps_n=0.001",
+                         "noise.D=1e-8",
+                         "integrator.kind=event",
+                         ff};
+    const char *ov2[] = {"system.dim=2",
+                         "system.N=500",
+                         "system.packing_fraction=0.53",
+                         "placement.kind=hexagonal",
+                         "model.normal=hard_sphere",
+                         "model.eps_n=0.1",
+                         "model.eps_t=0.1",
+                         "noise.D=1e-8",
+                         "integrator.kind=event",
+                         ff};
     gr_scene sc = dim == 1 ? scene_of(ov1, 9) : scene_of(ov2, 10);
     gr_sim *s = sim_of(&sc);
     gr_error err = {0};
@@ -390,10 +450,13 @@ START_TEST(test_collapse_long)
     gr_event_stats(s, &ec);
     double res = relative_residual(s);
     if (verbose()) {
-        printf("collapse %dD %s: t = %g s, %lld collisions (max %lld per 0.1 s), %lld TC-elastic, %lld floors, %lld crossings, "
-               "floor energy %.3g of injected %.3g, T = %.4g, ledger %.3g\n", dim, exact ? "exact" : "kicks", gr_sim_time(s),
-               (long long)ec.collisions, (long long)max_rate, (long long)ec.tc_elastic, (long long)ec.floors,
-               (long long)ec.crossings, ec.floor_energy, gr_sim_ledger(s).injected, gr_sim_temperature(s), res);
+        printf("collapse %dD %s: t = %g s, %lld collisions (max %lld per 0.1 s), %lld TC-elastic, "
+               "%lld floors, %lld crossings, "
+               "floor energy %.3g of injected %.3g, T = %.4g, ledger %.3g\n",
+               dim, exact ? "exact" : "kicks", gr_sim_time(s), (long long)ec.collisions,
+               (long long)max_rate, (long long)ec.tc_elastic, (long long)ec.floors,
+               (long long)ec.crossings, ec.floor_energy, gr_sim_ledger(s).injected,
+               gr_sim_temperature(s), res);
     }
     ck_assert(isfinite(gr_sim_temperature(s)) && gr_sim_temperature(s) > 0.0);
     ck_assert_msg(fabs(res) < 1e-9, "ledger residual %.3g", res);
@@ -408,14 +471,21 @@ END_TEST
  * tc the sequence ends after a few collisions and the particles fly apart. */
 static void three_particles(bool tc_rule, int64_t *collisions, double *spread_speed, int *rc)
 {
-    const char *ov[] = {"system.dim=1", "system.N=3", "system.L=1", "placement.kind=uniform", "model.normal=hard_sphere",
-                        "model.eps_n=0.05", "noise.D=0", "integrator.kind=event"};
+    const char *ov[] = {"system.dim=1",
+                        "system.N=3",
+                        "system.L=1",
+                        "placement.kind=uniform",
+                        "model.normal=hard_sphere",
+                        "model.eps_n=0.05",
+                        "noise.D=0",
+                        "integrator.kind=event"};
     gr_scene sc = scene_of(ov, 8);
     double x[3] = {0.4, 0.4 + DIAM + 1e-4, 0.4 + 2 * DIAM + 4e-4}, v[3] = {1.0, 0.0, -1.0};
     gr_sim *s;
     gr_error err = {0};
     ck_assert(gr_sim_create_with_state(&sc, 3, x, NULL, v, NULL, &s, &err) == GR_OK);
-    ck_assert(gr_ev(s)->tc > 1e-6 && gr_ev(s)->tc < 1e-4); /* the matching soft contact lasts ~2e-5 s */
+    ck_assert(gr_ev(s)->tc > 1e-6 &&
+              gr_ev(s)->tc < 1e-4); /* the matching soft contact lasts ~2e-5 s */
     if (!tc_rule) {
         gr_ev(s)->tc = 0.0;
     }
@@ -423,8 +493,9 @@ static void three_particles(bool tc_rule, int64_t *collisions, double *spread_sp
     *collisions = gr_sim_collisions(s);
     *spread_speed = s->vx[2] - s->vx[0];
     if (*rc == GR_OK) {
-        ck_assert_msg(fabs(relative_residual(s)) < 1e-12, "ledger residual %.3g after %lld collisions",
-                      relative_residual(s), (long long)*collisions);
+        ck_assert_msg(fabs(relative_residual(s)) < 1e-12,
+                      "ledger residual %.3g after %lld collisions", relative_residual(s),
+                      (long long)*collisions);
     }
     gr_sim_free(s);
 }
@@ -437,7 +508,8 @@ START_TEST(test_tc_three_particles)
     three_particles(true, &c_tc, &sp_tc, &rc_tc);
     three_particles(false, &c_none, &sp_none, &rc_none);
     if (verbose()) {
-        printf("three particles: TC %lld collisions, spread %.3g m/s; no TC %lld collisions, spread %.3g m/s (rc %d)\n",
+        printf("three particles: TC %lld collisions, spread %.3g m/s; no TC %lld collisions, "
+               "spread %.3g m/s (rc %d)\n",
                (long long)c_tc, sp_tc, (long long)c_none, sp_none, rc_none);
         fflush(stdout);
     }
@@ -465,8 +537,15 @@ static gr_scene event_gas(int dim, int n, double phi, double eps, double tau)
     }
     snprintf(se, sizeof se, "model.eps_n=%g", eps);
     snprintf(st, sizeof st, "integrator.kick_interval=%g", tau);
-    const char *ov[] = {sdim, sn, extent, "placement.kind=uniform", "model.normal=hard_sphere", se, "noise.D=1e-8",
-                        "integrator.kind=event", st};
+    const char *ov[] = {sdim,
+                        sn,
+                        extent,
+                        "placement.kind=uniform",
+                        "model.normal=hard_sphere",
+                        se,
+                        "noise.D=1e-8",
+                        "integrator.kind=event",
+                        st};
     return scene_of(ov, 9);
 }
 
@@ -486,8 +565,9 @@ START_TEST(test_split_calls_identical)
             ck_assert(a->y[i] == b->y[i] && a->vy[i] == b->vy[i]);
         }
     }
-    ck_assert_msg(gr_sim_collisions(a) == gr_sim_collisions(b) && gr_sim_collisions(a) > 0, "collisions %lld vs %lld",
-                  (long long)gr_sim_collisions(a), (long long)gr_sim_collisions(b));
+    ck_assert_msg(gr_sim_collisions(a) == gr_sim_collisions(b) && gr_sim_collisions(a) > 0,
+                  "collisions %lld vs %lld", (long long)gr_sim_collisions(a),
+                  (long long)gr_sim_collisions(b));
     ck_assert(gr_sim_events_processed(a) > gr_sim_collisions(a));
     ck_assert(strncmp(gr_sim_kernel(a), "event-", 6) == 0);
     gr_sim_free(a);
@@ -508,19 +588,23 @@ START_TEST(test_calendars_identical)
     for (int c = 0; c < 3; c++) {
         setenv("GRANULE_EVENT_CALENDAR", kinds[c], 1);
         s[c] = sim_of(&sc);
-        ck_assert_int_eq(gr_ev(s[c])->heap.kind, (int)(c == 0 ? GR_CAL_SPARSE : c == 1 ? GR_CAL_FULL : GR_CAL_BUCKET));
+        ck_assert_int_eq(gr_ev(s[c])->heap.kind, (int)(c == 0   ? GR_CAL_SPARSE
+                                                       : c == 1 ? GR_CAL_FULL
+                                                                : GR_CAL_BUCKET));
         ck_assert(gr_sim_step(s[c], quick() ? 20000 : 60000, &err) == GR_OK);
     }
     /* a misspelt calendar is refused by name, never silently replaced by the default */
     setenv("GRANULE_EVENT_CALENDAR", "spars", 1);
     gr_sim *bad = NULL;
     ck_assert_int_eq(gr_sim_create(&sc, &bad, &err), GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "GRANULE_EVENT_CALENDAR = 'spars'") && strstr(err.message, "bucket"), "message: %s",
-                  err.message);
+    ck_assert_msg(strstr(err.message, "GRANULE_EVENT_CALENDAR = 'spars'") &&
+                      strstr(err.message, "bucket"),
+                  "message: %s", err.message);
     unsetenv("GRANULE_EVENT_CALENDAR");
     for (int c = 1; c < 3; c++) {
         for (int i = 0; i < s[0]->n; i++) {
-            ck_assert_msg(s[0]->x[i] == s[c]->x[i] && s[0]->vx[i] == s[c]->vx[i], "%s: particle %d differs", kinds[c], i);
+            ck_assert_msg(s[0]->x[i] == s[c]->x[i] && s[0]->vx[i] == s[c]->vx[i],
+                          "%s: particle %d differs", kinds[c], i);
             if (dim == 2) {
                 ck_assert(s[0]->y[i] == s[c]->y[i] && s[0]->vy[i] == s[c]->vy[i]);
             }
@@ -529,8 +613,8 @@ START_TEST(test_calendars_identical)
         ck_assert_int_eq(gr_sim_collisions(s[0]), gr_sim_collisions(s[c]));
     }
     if (verbose()) {
-        printf("calendars %dD: %lld events, %lld collisions, identical\n", dim, (long long)gr_sim_events_processed(s[0]),
-               (long long)gr_sim_collisions(s[0]));
+        printf("calendars %dD: %lld events, %lld collisions, identical\n", dim,
+               (long long)gr_sim_events_processed(s[0]), (long long)gr_sim_collisions(s[0]));
     }
     ck_assert(gr_sim_collisions(s[0]) > 200); /* the runs did collide */
     for (int c = 0; c < 3; c++) {
@@ -545,19 +629,20 @@ START_TEST(test_validation)
     refused(a, 1, "hard_sphere");
     const char *b[] = {"model.normal=hard_sphere"};
     refused(b, 1, "kind = event");
-    const char *c[] = {"model.normal=hard_sphere", "integrator.kind=event", "model.tangential=tangential_dashpot"};
+    const char *c[] = {"model.normal=hard_sphere", "integrator.kind=event",
+                       "model.tangential=tangential_dashpot"};
     refused(c, 3, "tangential");
     const char *d[] = {"model.normal=hard_sphere", "integrator.kind=event", "model.eps_n=0"};
     refused(d, 3, "eps_n");
     const char *e[] = {"model.normal=hard_sphere", "integrator.kind=hybrid"};
     refused(e, 2, "kind = event");
     /* tests/fuzz/corpus/scene/regress-event-huge-v0.ini: 1e91 box crossings per window */
-    const char *f[] = {"model.normal=hard_sphere", "integrator.kind=event", "system.N=3", "placement.kind=uniform",
-                       "placement.v0=4.3e95"};
+    const char *f[] = {"model.normal=hard_sphere", "integrator.kind=event", "system.N=3",
+                       "placement.kind=uniform", "placement.v0=4.3e95"};
     refused(f, 5, "per kick interval");
     /* tests/fuzz/corpus/scene/regress-event-huge-noise.ini: D = 1e78, 4e41 m/s kicks per window */
-    const char *g[] = {"model.normal=hard_sphere", "integrator.kind=event", "system.N=3", "placement.kind=uniform",
-                       "noise.D=1e78"};
+    const char *g[] = {"model.normal=hard_sphere", "integrator.kind=event", "system.N=3",
+                       "placement.kind=uniform", "noise.D=1e78"};
     refused(g, 5, "[noise] D");
 }
 END_TEST
@@ -572,18 +657,47 @@ END_TEST
  * the cause; 3: the same ring with a gap of 1e-4 d per pair runs (the guard is not the physics). */
 START_TEST(test_guards)
 {
-    const char *floor_ov[] = {"system.L=4", "placement.kind=hexagonal", "placement.v0=6.3", "model.normal=hard_sphere",
-                              "model.k_s=0.1", "model.eps_t=0.1", "noise.D=5", "integrator.kind=event", "integrator.free_flight=exact"};
-    const char *ring2[] = {"system.dim=2", "system.N=21", "system.L=0.063", "placement.kind=hexagonal",
-                           "model.normal=hard_sphere", "model.eps_n=0.6", "model.eps_t=0.6", "noise.D=1e-8",
-                           "noise.mode=symmetrised", "integrator.kind=event"};
-    const char *ring1[] = {"system.dim=1", "system.N=21", "system.L=0.063", "placement.kind=cluster",
-                           "model.normal=hard_sphere", "model.eps_n=0.6", "noise.D=1e-8", "noise.mode=symmetrised",
+    const char *floor_ov[] = {"system.L=4",
+                              "placement.kind=hexagonal",
+                              "placement.v0=6.3",
+                              "model.normal=hard_sphere",
+                              "model.k_s=0.1",
+                              "model.eps_t=0.1",
+                              "noise.D=5",
+                              "integrator.kind=event",
+                              "integrator.free_flight=exact"};
+    const char *ring2[] = {"system.dim=2",
+                           "system.N=21",
+                           "system.L=0.063",
+                           "placement.kind=hexagonal",
+                           "model.normal=hard_sphere",
+                           "model.eps_n=0.6",
+                           "model.eps_t=0.6",
+                           "noise.D=1e-8",
+                           "noise.mode=symmetrised",
                            "integrator.kind=event"};
-    const char *gap[] = {"system.dim=1", "system.N=21", "system.L=0.0630063", "placement.kind=uniform",
-                         "model.normal=hard_sphere", "model.eps_n=0.6", "noise.D=1e-8", "noise.mode=symmetrised",
+    const char *ring1[] = {"system.dim=1",
+                           "system.N=21",
+                           "system.L=0.063",
+                           "placement.kind=cluster",
+                           "model.normal=hard_sphere",
+                           "model.eps_n=0.6",
+                           "noise.D=1e-8",
+                           "noise.mode=symmetrised",
+                           "integrator.kind=event"};
+    const char *gap[] = {"system.dim=1",
+                         "system.N=21",
+                         "system.L=0.0630063",
+                         "placement.kind=uniform",
+                         "model.normal=hard_sphere",
+                         "model.eps_n=0.6",
+                         "noise.D=1e-8",
+                         "noise.mode=symmetrised",
                          "integrator.kind=event"};
-    gr_scene sc = _i == 0 ? scene_of(floor_ov, 9) : _i == 1 ? scene_of(ring2, 10) : _i == 2 ? scene_of(ring1, 9) : scene_of(gap, 9);
+    gr_scene sc = _i == 0   ? scene_of(floor_ov, 9)
+                  : _i == 1 ? scene_of(ring2, 10)
+                  : _i == 2 ? scene_of(ring1, 9)
+                            : scene_of(gap, 9);
     gr_sim *s = sim_of(&sc);
     if (quick()) {
         gr_ev(s)->budget = 50000; /* the same check on 20 times fewer events (the ASan build) */
@@ -591,16 +705,16 @@ START_TEST(test_guards)
     gr_error err = {0};
     int rc = gr_sim_step(s, _i == 3 ? (int64_t)llround(0.01 / s->dt) : 1, &err);
     if (verbose()) {
-        printf("guard %d: rc %d, t = %g s, %lld collisions: %s\n", _i, rc, gr_sim_time(s), (long long)gr_sim_collisions(s),
-               err.message);
+        printf("guard %d: rc %d, t = %g s, %lld collisions: %s\n", _i, rc, gr_sim_time(s),
+               (long long)gr_sim_collisions(s), err.message);
     }
     if (_i == 3) {
         ck_assert_msg(rc == GR_OK, "%s", err.message);
         ck_assert(gr_sim_collisions(s) > 0 && fabs(relative_residual(s)) < 1e-9);
     } else {
         ck_assert_int_eq(rc, GR_EUNSTABLE);
-        ck_assert_msg(strstr(err.message, _i == 0 ? "contact floor" : "event rate diverges") && strstr(err.message, "particles") &&
-                          strstr(err.message, "step 0"),
+        ck_assert_msg(strstr(err.message, _i == 0 ? "contact floor" : "event rate diverges") &&
+                          strstr(err.message, "particles") && strstr(err.message, "step 0"),
                       "%s", err.message);
         ck_assert(gr_sim_steps(s) == 0);
     }
@@ -614,9 +728,18 @@ END_TEST
  * rule off, and tc = 0 (the soft contact time, as before) is warned about. */
 START_TEST(test_tiny_tc)
 {
-    const char *ov[] = {"system.dim=2", "system.N=400", "system.packing_fraction=0.2", "placement.kind=uniform",
-                        "model.normal=hard_sphere", "model.eps_n=0.7", "model.eps_t=1", "noise.D=1e-8",
-                        "noise.mode=symmetrised", "integrator.kind=event", "integrator.free_flight=exact", "model.tc=1e-12"};
+    const char *ov[] = {"system.dim=2",
+                        "system.N=400",
+                        "system.packing_fraction=0.2",
+                        "placement.kind=uniform",
+                        "model.normal=hard_sphere",
+                        "model.eps_n=0.7",
+                        "model.eps_t=1",
+                        "noise.D=1e-8",
+                        "noise.mode=symmetrised",
+                        "integrator.kind=event",
+                        "integrator.free_flight=exact",
+                        "model.tc=1e-12"};
     gr_scene sc = scene_of(ov, 12), soft = scene_of(ov, 11);
     gr_sim *s = sim_of(&sc), *d = sim_of(&soft);
     ck_assert_msg(s->dt == d->dt, "dt %g s with tc = 1e-12 s, %g s without", s->dt, d->dt);
@@ -628,11 +751,12 @@ START_TEST(test_tiny_tc)
     gr_error err = {0};
     int rc = gr_sim_step(s, (int64_t)llround(1.0 / s->dt), &err);
     if (verbose()) {
-        printf("tiny tc: rc %d, t = %g s, %lld collisions: %s\n", rc, gr_sim_time(s), (long long)gr_sim_collisions(s),
-               err.message);
+        printf("tiny tc: rc %d, t = %g s, %lld collisions: %s\n", rc, gr_sim_time(s),
+               (long long)gr_sim_collisions(s), err.message);
     }
     ck_assert_int_eq(rc, GR_EUNSTABLE);
-    ck_assert_msg(strstr(err.message, "crawls") && strstr(err.message, "contact floor") && strstr(err.message, "tc = 1e-12 s") &&
+    ck_assert_msg(strstr(err.message, "crawls") && strstr(err.message, "contact floor") &&
+                      strstr(err.message, "tc = 1e-12 s") &&
                       strstr(err.message, "free_flight = kicks"),
                   "%s", err.message);
     gr_sim_free(s);
@@ -652,7 +776,8 @@ START_TEST(test_tiny_tc)
     gr_sim_free(s);
     ov[11] = "model.tc=0";
     gr_scene zero = scene_of(ov, 12);
-    ck_assert_msg(strstr(zero.warnings, "tc = 0") && strstr(zero.warnings, "tc = off"), "%s", zero.warnings);
+    ck_assert_msg(strstr(zero.warnings, "tc = 0") && strstr(zero.warnings, "tc = off"), "%s",
+                  zero.warnings);
     ck_assert(!strstr(soft.warnings, "tc = 0"));
 }
 END_TEST
@@ -669,14 +794,25 @@ START_TEST(test_floor_collisions_counted)
         for (int k = 0; k < 2; k++) {
             char sd[32];
             snprintf(sd, sizeof sd, "run.seed=%d", seed);
-            const char *ov[] = {"system.dim=2", "system.N=1000", "system.packing_fraction=0.02", "placement.kind=uniform",
-                                "placement.v0=0.05", "model.normal=hard_sphere", "model.eps_n=0.3", "model.eps_t=1",
-                                "noise.D=1e-10", "noise.mode=symmetrised", "integrator.kind=event",
-                                "integrator.kick_interval=1e-3", k ? "integrator.free_flight=kicks" : "integrator.free_flight=exact", sd};
+            const char *ov[] = {"system.dim=2",
+                                "system.N=1000",
+                                "system.packing_fraction=0.02",
+                                "placement.kind=uniform",
+                                "placement.v0=0.05",
+                                "model.normal=hard_sphere",
+                                "model.eps_n=0.3",
+                                "model.eps_t=1",
+                                "noise.D=1e-10",
+                                "noise.mode=symmetrised",
+                                "integrator.kind=event",
+                                "integrator.kick_interval=1e-3",
+                                k ? "integrator.free_flight=kicks" : "integrator.free_flight=exact",
+                                sd};
             gr_scene sc = scene_of(ov, 14);
             gr_sim *s = sim_of(&sc);
             gr_error err = {0};
-            ck_assert_msg(gr_sim_step(s, (int64_t)llround(2.0 / s->dt), &err) == GR_OK, "%s", err.message);
+            ck_assert_msg(gr_sim_step(s, (int64_t)llround(2.0 / s->dt), &err) == GR_OK, "%s",
+                          err.message);
             const gr_integrator_type *it = gr_sim_integrator(s);
             gr_integrator_figure fig[16];
             ck_assert(it->describe && it->section && strcmp(it->section, "event") == 0);
@@ -694,12 +830,15 @@ START_TEST(test_floor_collisions_counted)
         }
     }
     if (verbose()) {
-        printf("floor collisions: exact %g = %g impacts + %g floors; kicks %g\n", all[0], impacts[0], floors[0], all[1]);
+        printf("floor collisions: exact %g = %g impacts + %g floors; kicks %g\n", all[0],
+               impacts[0], floors[0], all[1]);
     }
     ck_assert(floors[1] == 0.0);
-    ck_assert_msg(all[0] > 1.1 * all[1] && floors[0] > 0.1 * all[0], "exact %g (floors %g), kicks %g", all[0], floors[0], all[1]);
+    ck_assert_msg(all[0] > 1.1 * all[1] && floors[0] > 0.1 * all[0],
+                  "exact %g (floors %g), kicks %g", all[0], floors[0], all[1]);
     /* measured 0.976 (13751 / 14093); Poisson error of the ratio ~1.2 %, T differs by a few % */
-    ck_assert_msg(fabs(impacts[0] / all[1] - 1.0) < 0.06, "impacts %g against kicks %g", impacts[0], all[1]);
+    ck_assert_msg(fabs(impacts[0] / all[1] - 1.0) < 0.06, "impacts %g against kicks %g", impacts[0],
+                  all[1]);
 }
 END_TEST
 
@@ -717,15 +856,26 @@ START_TEST(test_injection_default)
         for (int seed = 1; seed <= seeds; seed++) {
             char sd[32];
             snprintf(sd, sizeof sd, "run.seed=%d", seed);
-            const char *ov[] = {"system.dim=2", "system.N=500", "system.packing_fraction=0.2", "placement.kind=uniform",
-                                "placement.v0=0.3", "model.normal=hard_sphere", "model.eps_n=0.9", "model.eps_t=1",
-                                "noise.D=1e-8", "noise.mode=symmetrised", "integrator.kind=event",
-                                "integrator.kick_interval=2e-3", sd, "integrator.free_flight=exact"};
+            const char *ov[] = {"system.dim=2",
+                                "system.N=500",
+                                "system.packing_fraction=0.2",
+                                "placement.kind=uniform",
+                                "placement.v0=0.3",
+                                "model.normal=hard_sphere",
+                                "model.eps_n=0.9",
+                                "model.eps_t=1",
+                                "noise.D=1e-8",
+                                "noise.mode=symmetrised",
+                                "integrator.kind=event",
+                                "integrator.kick_interval=2e-3",
+                                sd,
+                                "integrator.free_flight=exact"};
             gr_scene sc = scene_of(ov, k ? 14 : 13); /* k = 0: the default */
             ck_assert(sc.free_flight == (k ? GR_FREE_FLIGHT_EXACT : GR_FREE_FLIGHT_KICKS));
             gr_sim *s = sim_of(&sc);
             gr_error err = {0};
-            ck_assert_msg(gr_sim_step(s, (int64_t)llround(2.0 / s->dt), &err) == GR_OK, "%s", err.message);
+            ck_assert_msg(gr_sim_step(s, (int64_t)llround(2.0 / s->dt), &err) == GR_OK, "%s",
+                          err.message);
             const gr_ledger l = gr_sim_ledger(s);
             const double expected = 2.0 * sc.D * (s->n - 1) / s->mass * gr_sim_time(s);
             const double r = l.injected / expected;
@@ -740,10 +890,13 @@ START_TEST(test_injection_default)
         err[k] = sqrt(fmax(sum2[k] / seeds - mean[k] * mean[k], 0.0) / (seeds - 1));
     }
     if (verbose()) {
-        printf("injected / expected: default (kicks) %.4f +- %.4f, exact %.4f +- %.4f\n", mean[0], err[0], mean[1], err[1]);
+        printf("injected / expected: default (kicks) %.4f +- %.4f, exact %.4f +- %.4f\n", mean[0],
+               err[0], mean[1], err[1]);
     }
-    ck_assert_msg(fabs(mean[0] - 1.0) < 4.0 * err[0] + 1e-3, "default: %.4f +- %.4f", mean[0], err[0]);
-    ck_assert_msg(mean[1] < 1.0 - 5.0 * err[1] && mean[1] < mean[0] - 0.03, "exact: %.4f +- %.4f", mean[1], err[1]);
+    ck_assert_msg(fabs(mean[0] - 1.0) < 4.0 * err[0] + 1e-3, "default: %.4f +- %.4f", mean[0],
+                  err[0]);
+    ck_assert_msg(mean[1] < 1.0 - 5.0 * err[1] && mean[1] < mean[0] - 0.03, "exact: %.4f +- %.4f",
+                  mean[1], err[1]);
 }
 END_TEST
 
@@ -751,8 +904,14 @@ END_TEST
  * the run continues from there bit-identically once the flag is cleared. */
 START_TEST(test_stop_flag)
 {
-    const char *ov[] = {"system.dim=2", "system.N=200", "system.packing_fraction=0.4", "placement.kind=uniform",
-                        "model.normal=hard_sphere", "model.eps_n=0.3", "noise.D=1e-8", "integrator.kind=event"};
+    const char *ov[] = {"system.dim=2",
+                        "system.N=200",
+                        "system.packing_fraction=0.4",
+                        "placement.kind=uniform",
+                        "model.normal=hard_sphere",
+                        "model.eps_n=0.3",
+                        "noise.D=1e-8",
+                        "integrator.kind=event"};
     gr_scene sc = scene_of(ov, 8);
     gr_sim *a = sim_of(&sc), *b = sim_of(&sc);
     gr_error err = {0};
@@ -767,7 +926,8 @@ START_TEST(test_stop_flag)
     stop = 0;
     ck_assert(gr_sim_step(b, n - n / 2, &err) == GR_OK && gr_sim_steps(b) == n);
     for (int i = 0; i < a->n; i++) {
-        ck_assert(a->x[i] == b->x[i] && a->vx[i] == b->vx[i] && a->y[i] == b->y[i] && a->vy[i] == b->vy[i]);
+        ck_assert(a->x[i] == b->x[i] && a->vx[i] == b->vx[i] && a->y[i] == b->y[i] &&
+                  a->vy[i] == b->vy[i]);
     }
     ck_assert(gr_sim_collisions(a) == gr_sim_collisions(b) && gr_sim_collisions(a) > 0);
     gr_sim_free(a);
@@ -815,7 +975,4 @@ static Suite *event_suite(void)
     return s;
 }
 
-int main(void)
-{
-    return gr_test_run(event_suite());
-}
+int main(void) { return gr_test_run(event_suite()); }

@@ -46,14 +46,17 @@ START_TEST(test_bracket)
     ck_assert_int_eq(gr_fp_bracket(0.3, &B, &err), 0);
     ck_assert_msg(REL(B, -0.35936008414261804549) < 1e-13, "B(0.3) = %.17g", B);
     /* dyadic u near the ends, so that 1 - (1 - u) == u exactly */
-    const double us[] = {0x1p-30, 0x1p-13, 0.01, 0.1, 0.3, 0.45, 0.55, 0.7, 0.9, 0.999, 1.0 - 0x1p-30};
+    const double us[] = {0x1p-30, 0x1p-13, 0.01, 0.1,   0.3,          0.45,
+                         0.55,    0.7,     0.9,  0.999, 1.0 - 0x1p-30};
     for (size_t i = 0; i < sizeof us / sizeof us[0]; i++) {
         ck_assert_int_eq(gr_fp_bracket(us[i], &B, &err), 0);
         ck_assert_int_eq(gr_fp_bracket(1.0 - us[i], &Bm, &err), 0);
-        ck_assert_msg(fabs(B + Bm) <= 1e-12 * fabs(B), "B(%g) = %.17g, B(1-u) = %.17g", us[i], B, Bm);
+        ck_assert_msg(fabs(B + Bm) <= 1e-12 * fabs(B), "B(%g) = %.17g, B(1-u) = %.17g", us[i], B,
+                      Bm);
         /* the printed form with gsl_sf_hyperg_2F1 at 1 - u and u agrees */
         ck_assert_int_eq(gr_fp_bracket_literal(us[i], &Bl, &err), 0);
-        ck_assert_msg(fabs(Bl - B) <= 1e-11 * fmax(1.0, fabs(B)), "literal B(%g) = %.17g vs %.17g", us[i], Bl, B);
+        ck_assert_msg(fabs(Bl - B) <= 1e-11 * fmax(1.0, fabs(B)), "literal B(%g) = %.17g vs %.17g",
+                      us[i], Bl, B);
     }
     /* B ~ -2 u^(-1/6) as u -> 0 (2F1(1) = -1) */
     ck_assert_int_eq(gr_fp_bracket(1e-12, &B, &err), 0);
@@ -97,7 +100,8 @@ START_TEST(test_integral_equation)
         gsl_function f = {ie_f, &a};
         double pts[3] = {0.0, xs[i], 1.0}, r, e;
         int st = gsl_integration_qagp(&f, pts, 3, 1e-11, 1e-9, 2000, w, &r, &e);
-        ck_assert_msg((st == 0 || (st == GSL_EROUND && e < 1e-8)) && !a.failed, "qagp status %d, error %g", st, e);
+        ck_assert_msg((st == 0 || (st == GSL_EROUND && e < 1e-8)) && !a.failed,
+                      "qagp status %d, error %g", st, e);
         double expect = 3.0 / gr_fp_kappa() * (cbrt(xs[i]) - cbrt(1.0 - xs[i]));
         ck_assert_msg(fabs(r - expect) < 1e-8, "x = %g: %.12g vs %.12g", xs[i], r, expect);
     }
@@ -149,9 +153,15 @@ static double v_f(double v, void *p)
     gr_error err = {0};
     int rc = 0;
     switch (a->what) {
-    case 0: rc = gr_fp_exit_over_v(a->q, v, &r, NULL, &err); r *= v; break;
+    case 0:
+        rc = gr_fp_exit_over_v(a->q, v, &r, NULL, &err);
+        r *= v;
+        break;
     case 1: rc = gr_fp_Q_pdf(a->q, v, &r, NULL, &err); break;
-    case 2: rc = gr_fp_Q_pdf(a->q, v, &r, NULL, &err); r *= v * v; break;
+    case 2:
+        rc = gr_fp_Q_pdf(a->q, v, &r, NULL, &err);
+        r *= v * v;
+        break;
     default: rc = gr_fp_Q(a->q, v, &r, NULL, &err); break;
     }
     if (rc) {
@@ -194,7 +204,8 @@ START_TEST(test_conservation_and_normalisation)
     ck_assert_msg(fabs(norm - 1.0) < 1e-7, "int Q_pdf dv = %.12g", norm);
     /* int Q dv / (R L) is the mean exit time of a uniformly released particle */
     double T = 2.0 * integrate_v(q, 3) / s.L;
-    ck_assert_msg(REL(T, gr_fp_mean_exit_time(q)) < 1e-7, "int Q dv / L = %.12g vs %.12g", T, gr_fp_mean_exit_time(q));
+    ck_assert_msg(REL(T, gr_fp_mean_exit_time(q)) < 1e-7, "int Q dv / L = %.12g vs %.12g", T,
+                  gr_fp_mean_exit_time(q));
     /* second moment: closed form vs direct, and the identity <v^2> = Gamma L Q_pdf(0)
      * (from d(xv) = v^2 dt + x dv and d|v| = sgn(v) dv + 2 Gamma delta(v) dt; docs) */
     double v2, q0;
@@ -203,7 +214,8 @@ START_TEST(test_conservation_and_normalisation)
     ck_assert_msg(REL(v2, v2d) < 1e-7, "<v^2> %.12g vs direct %.12g", v2, v2d);
     ck_assert_int_eq(gr_fp_Q_pdf(q, 0.0, &q0, NULL, &err), 0);
     const double Gamma = s.D / (s.M * s.M);
-    ck_assert_msg(REL(v2, Gamma * s.L * q0) < 1e-9, "<v^2> = %.15g, Gamma L Q(0) = %.15g", v2, Gamma * s.L * q0);
+    ck_assert_msg(REL(v2, Gamma * s.L * q0) < 1e-9, "<v^2> = %.15g, Gamma L Q(0) = %.15g", v2,
+                  Gamma * s.L * q0);
     gr_fp_quad_free(q);
 }
 END_TEST
@@ -214,10 +226,12 @@ START_TEST(test_reference_values)
      * same formulas in units L = D = M = 1 */
     gr_fp_quad *q = unit_quad();
     gr_error err = {0};
-    ck_assert_msg(REL(gr_fp_mean_exit_time(q), 1.019097785239271332538684) < 1e-11, "T = %.17g", gr_fp_mean_exit_time(q));
+    ck_assert_msg(REL(gr_fp_mean_exit_time(q), 1.019097785239271332538684) < 1e-11, "T = %.17g",
+                  gr_fp_mean_exit_time(q));
     const double vq[] = {0.0, 0.05, 0.25, 0.5, 1.0, 2.0, 3.0, 4.0};
-    const double Qref[] = {0.6410866023948074043614776, 0.61609016302260618305, 0.51690198078677151406,
-                           0.3987937363577100829453636, 0.2045614193254358549641242, 0.02589279449067098764855687,
+    const double Qref[] = {0.6410866023948074043614776,    0.61609016302260618305,
+                           0.51690198078677151406,         0.3987937363577100829453636,
+                           0.2045614193254358549641242,    0.02589279449067098764855687,
                            0.0008643743153758331777025287, 4.3772978719616227186e-6};
     for (size_t i = 0; i < sizeof vq / sizeof vq[0]; i++) {
         double Q, Qm;
@@ -227,8 +241,8 @@ START_TEST(test_reference_values)
         ck_assert_msg(Q == Qm, "Q(v) != Q(-v) at %g", vq[i]);
     }
     const double vp[] = {0.1, 0.5, 1.0, 2.0};
-    const double P03[] = {0.6242475582648293295890811, 0.3932451400343714368755861, 0.1603672295495469445057896,
-                          0.004100716651282557537189102};
+    const double P03[] = {0.6242475582648293295890811, 0.3932451400343714368755861,
+                          0.1603672295495469445057896, 0.004100716651282557537189102};
     for (size_t i = 0; i < sizeof vp / sizeof vp[0]; i++) {
         double P;
         ck_assert_int_eq(gr_fp_density(q, 0.3, vp[i], &P, NULL, &err), 0);
@@ -241,9 +255,10 @@ START_TEST(test_reference_values)
      * terms near 3 and the kernel switches on in a 1e-8-wide layer next to a singularity (the
      * "numerical instabilities at small velocities" of Fig. B.1) */
     const double ve[] = {1e-8, 1e-6, 1e-3, 0.01, 0.1, 0.5, 1.0, 2.0, 3.0};
-    const double PL[] = {0.00012775985667746339271, 0.0012766985667746339272, 0.039404376342303686566,
-                         0.1177698595167934694, 0.30405274193762552055, 0.40597105971735911653,
-                         0.30539170209495446981, 0.073931054017379417572, 0.004641315094864259115};
+    const double PL[] = {
+        0.00012775985667746339271, 0.0012766985667746339272, 0.039404376342303686566,
+        0.1177698595167934694,     0.30405274193762552055,   0.40597105971735911653,
+        0.30539170209495446981,    0.073931054017379417572,  0.004641315094864259115};
     const double tol[] = {1e-6, 1e-7, 1e-9, 2e-9, 2e-9, 2e-9, 2e-9, 2e-9, 2e-9};
     for (size_t i = 0; i < sizeof ve / sizeof ve[0]; i++) {
         ck_assert_int_eq(gr_fp_exit_over_v(q, ve[i], &P, NULL, &err), 0);
@@ -285,7 +300,8 @@ START_TEST(test_inner_quadrature_matches_closed_form)
         ck_assert_int_eq(gr_fp_density(b, 0.6, vs[i], &Pb, NULL, &err), 0);
         ck_assert_msg(REL(Pa, Pb) < 1e-9, "P(0.6, %g): closed %.15g nested %.15g", vs[i], Pa, Pb);
     }
-    ck_assert_msg(REL(gr_fp_mean_exit_time(a), gr_fp_mean_exit_time(b)) < 1e-12, "mean exit times differ");
+    ck_assert_msg(REL(gr_fp_mean_exit_time(a), gr_fp_mean_exit_time(b)) < 1e-12,
+                  "mean exit times differ");
     gr_fp_quad_free(a);
     gr_fp_quad_free(b);
 }
@@ -298,7 +314,8 @@ START_TEST(test_thesis_prefactor)
     gr_fp_quad *q = unit_quad();
     gr_error err = {0};
     const double ratio = 2.0 * cbrt(3.0);
-    ck_assert_msg(REL(gr_fp_thesis_prefactor_ratio(), ratio) < 1e-14, "ratio %.17g", gr_fp_thesis_prefactor_ratio());
+    ck_assert_msg(REL(gr_fp_thesis_prefactor_ratio(), ratio) < 1e-14, "ratio %.17g",
+                  gr_fp_thesis_prefactor_ratio());
     const double vs[] = {0.0, 0.2, 1.0, 3.0};
     for (size_t i = 0; i < sizeof vs / sizeof vs[0]; i++) {
         double Q, Qt, P, Pt;
@@ -311,7 +328,8 @@ START_TEST(test_thesis_prefactor)
     }
     /* so the printed form lets 2 * 3^(1/3)/2 = 1.44 particles leave per particle injected */
     double flux = integrate_v(q, 0);
-    ck_assert_msg(2.0 * flux * ratio > 1.4, "printed-form exits per injected particle %g", 2.0 * flux * ratio);
+    ck_assert_msg(2.0 * flux * ratio > 1.4, "printed-form exits per injected particle %g",
+                  2.0 * flux * ratio);
     gr_fp_quad_free(q);
 }
 END_TEST
@@ -319,7 +337,11 @@ END_TEST
 START_TEST(test_scaling)
 {
     /* dimensional analysis: <T_exit> = c L^(2/3) (D/M^2)^(-1/3), Q_pdf(v) = f(v / V) / V */
-    const double cases[][3] = {{1.0, 1.0, 1.0}, {8.0, 1.0, 1.0}, {1.0, 8.0, 1.0}, {1.0, 1.0, 2.0}, {0.0072, 1e-8, 3.53e-5}};
+    const double cases[][3] = {{1.0, 1.0, 1.0},
+                               {8.0, 1.0, 1.0},
+                               {1.0, 8.0, 1.0},
+                               {1.0, 1.0, 2.0},
+                               {0.0072, 1e-8, 3.53e-5}};
     double c0 = 0.0, f0 = 0.0;
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         gr_fp_settings s;
@@ -330,7 +352,8 @@ START_TEST(test_scaling)
         gr_fp_quad *q;
         gr_error err = {0};
         ck_assert_int_eq(gr_fp_quad_alloc(&s, &q, &err), 0);
-        double c = gr_fp_mean_exit_time(q) / (pow(s.L, 2.0 / 3.0) * pow(s.D / (s.M * s.M), -1.0 / 3.0));
+        double c =
+            gr_fp_mean_exit_time(q) / (pow(s.L, 2.0 / 3.0) * pow(s.D / (s.M * s.M), -1.0 / 3.0));
         double V = gr_fp_velocity_scale(&s), f;
         ck_assert_int_eq(gr_fp_Q_pdf(q, 0.8 * V, &f, NULL, &err), 0);
         f *= V;
@@ -338,7 +361,8 @@ START_TEST(test_scaling)
             c0 = c;
             f0 = f;
         }
-        ck_assert_msg(REL(c, c0) < 1e-10, "case %zu: T / (L^(2/3) Gamma^(-1/3)) = %.15g vs %.15g", i, c, c0);
+        ck_assert_msg(REL(c, c0) < 1e-10, "case %zu: T / (L^(2/3) Gamma^(-1/3)) = %.15g vs %.15g",
+                      i, c, c0);
         ck_assert_msg(REL(f, f0) < 1e-10, "case %zu: V Q_pdf(0.8 V) = %.15g vs %.15g", i, f, f0);
         gr_fp_quad_free(q);
     }
@@ -358,7 +382,8 @@ START_TEST(test_cubic_tail)
     ck_assert_int_eq(gr_fp_Q(q, 8.0, &Q8, NULL, &err), 0);
     ck_assert_int_eq(gr_fp_Q(q, 10.0, &Q10, NULL, &err), 0);
     double s1 = (log(Q8) - log(Q6)) / (512.0 - 216.0), s2 = (log(Q10) - log(Q8)) / (1000.0 - 512.0);
-    ck_assert_msg(fabs(s1 * 9.0 + 1.0) < 0.05 && fabs(s2 * 9.0 + 1.0) < 0.03 && fabs(s2 * 9.0 + 1.0) < fabs(s1 * 9.0 + 1.0),
+    ck_assert_msg(fabs(s1 * 9.0 + 1.0) < 0.05 && fabs(s2 * 9.0 + 1.0) < 0.03 &&
+                      fabs(s2 * 9.0 + 1.0) < fabs(s1 * 9.0 + 1.0),
                   "slopes of ln Q against v^3: %.6f, %.6f (expected -> -1/9)", s1, s2);
     gr_fp_quad_free(q);
 }
@@ -376,12 +401,12 @@ START_TEST(test_bad_inputs)
     } bad_case;
     bad_case bad[14];
     int n = 0;
-#define BAD(label, change)                                                                                   \
-    do {                                                                                                     \
-        b = s;                                                                                               \
-        change;                                                                                              \
-        bad[n].what = label;                                                                                 \
-        bad[n++].s = b;                                                                                      \
+#define BAD(label, change)                                                                         \
+    do {                                                                                           \
+        b = s;                                                                                     \
+        change;                                                                                    \
+        bad[n].what = label;                                                                       \
+        bad[n++].s = b;                                                                            \
     } while (0)
     BAD("L = 0", b.L = 0.0);
     BAD("D < 0", b.D = -1.0);
@@ -400,11 +425,14 @@ START_TEST(test_bad_inputs)
 #undef BAD
     for (int i = 0; i < n; i++) {
         memset(&err, 0, sizeof err);
-        ck_assert_msg(gr_fp_settings_check(&bad[i].s, &err) == GR_EINVAL && err.message[0], "%s accepted", bad[i].what);
+        ck_assert_msg(gr_fp_settings_check(&bad[i].s, &err) == GR_EINVAL && err.message[0],
+                      "%s accepted", bad[i].what);
         gr_fp_quad *q = (gr_fp_quad *)&err; /* must be reset to NULL */
-        ck_assert_msg(gr_fp_quad_alloc(&bad[i].s, &q, &err) == GR_EINVAL && q == NULL, "%s: quad alloc", bad[i].what);
+        ck_assert_msg(gr_fp_quad_alloc(&bad[i].s, &q, &err) == GR_EINVAL && q == NULL,
+                      "%s: quad alloc", bad[i].what);
         gr_fp_sim_result r;
-        ck_assert_msg(gr_fp_simulate(&bad[i].s, NULL, NULL, &r, &err) == GR_EINVAL, "%s: simulate", bad[i].what);
+        ck_assert_msg(gr_fp_simulate(&bad[i].s, NULL, NULL, &r, &err) == GR_EINVAL, "%s: simulate",
+                      bad[i].what);
     }
     gr_fp_quad *q = unit_quad();
     double x;
@@ -502,10 +530,11 @@ START_TEST(test_sim_vs_quadrature)
     gr_fp_chi2 cq, ce;
     ck_assert_int_eq(gr_fp_compare_Q(quad_u, r, 100.0, NULL, &cq, &err), 0);
     ck_assert_msg(cq.dof >= 35 && cq.p_value > 1e-3 && cq.max_abs_z < 4.5,
-                  "Q: chi2 %.1f over %d bins (nu %.1f), p %.3g, max pull %.2f", cq.chi2, cq.dof, cq.dof_eff, cq.p_value,
-                  cq.max_abs_z);
+                  "Q: chi2 %.1f over %d bins (nu %.1f), p %.3g, max pull %.2f", cq.chi2, cq.dof,
+                  cq.dof_eff, cq.p_value, cq.max_abs_z);
     ck_assert_int_eq(gr_fp_compare_exit(quad_u, r, 20.0, NULL, &ce, &err), 0);
-    ck_assert_msg(ce.dof >= 15 && ce.p_value > 1e-3, "exits: chi2 %.1f over %d bins, p %.3g", ce.chi2, ce.dof, ce.p_value);
+    ck_assert_msg(ce.dof >= 15 && ce.p_value > 1e-3, "exits: chi2 %.1f over %d bins, p %.3g",
+                  ce.chi2, ce.dof, ce.p_value);
 }
 END_TEST
 
@@ -516,12 +545,15 @@ START_TEST(test_sim_symmetry)
     for (int k = 0; k < 2; k++) {
         const gr_fp_sim_result *r = rs[k];
         /* Q(v) = Q(-v): odd moments vanish */
-        ck_assert_msg(fabs(r->v_moment[1] / r->v_moment_err[1]) < 4.0, "run %d: <v> = %g +- %g", k, r->v_moment[1], r->v_moment_err[1]);
-        ck_assert_msg(fabs(r->v_moment[3] / r->v_moment_err[3]) < 4.0, "run %d: <v^3> = %g +- %g", k, r->v_moment[3], r->v_moment_err[3]);
+        ck_assert_msg(fabs(r->v_moment[1] / r->v_moment_err[1]) < 4.0, "run %d: <v> = %g +- %g", k,
+                      r->v_moment[1], r->v_moment_err[1]);
+        ck_assert_msg(fabs(r->v_moment[3] / r->v_moment_err[3]) < 4.0, "run %d: <v^3> = %g +- %g",
+                      k, r->v_moment[3], r->v_moment_err[3]);
         /* the two ends are equally likely */
         double n = (double)(r->left_exits + r->right_exits);
         double z = ((double)r->right_exits - 0.5 * n) / (0.5 * sqrt(n));
-        ck_assert_msg(fabs(z) < 4.0, "run %d: %lld right vs %lld left exits", k, (long long)r->right_exits, (long long)r->left_exits);
+        ck_assert_msg(fabs(z) < 4.0, "run %d: %lld right vs %lld left exits", k,
+                      (long long)r->right_exits, (long long)r->left_exits);
         /* mirror bins agree within their errors (pairs are correlated; a loose per-bin bound) */
         const gr_histogram *h = &r->q;
         for (int i = 0; i < h->nbins / 2; i++) {
@@ -529,7 +561,8 @@ START_TEST(test_sim_symmetry)
             double e = hypot(r->q_err[i], r->q_err[j]);
             if (r->q_walks[i] >= 50 && r->q_walks[j] >= 50) {
                 double d = gr_histogram_density(h, i) - gr_histogram_density(h, j);
-                ck_assert_msg(fabs(d) < 4.5 * e, "run %d: bins %d/%d differ by %g (error %g)", k, i, j, d, e);
+                ck_assert_msg(fabs(d) < 4.5 * e, "run %d: bins %d/%d differ by %g (error %g)", k, i,
+                              j, d, e);
             }
         }
     }
@@ -549,16 +582,22 @@ START_TEST(test_sim_identities)
         gr_error err = {0};
         ck_assert_msg(gr_fp_sim_Q0(r, &q0, &q0e, &err) == 0, "%s", err.message);
         double id = r->exit_speed_mean / (2.0 * Gamma * r->mean_exit_time);
-        double ide = id * hypot(r->exit_speed_err / r->exit_speed_mean, r->mean_exit_time_err / r->mean_exit_time);
-        ck_assert_msg(fabs(q0 - id) < 4.0 * hypot(q0e, ide), "run %d: Q(0) fit %.5f +- %.5f, from exits %.5f +- %.5f", k, q0,
-                      q0e, id, ide);
-        double v2 = r->v_moment[2] / (Gamma * sim_u.L), v2e = r->v_moment_err[2] / (Gamma * sim_u.L);
-        ck_assert_msg(fabs(v2 - q0) < 4.0 * hypot(v2e, q0e), "run %d: <v^2>/(Gamma L) %.5f +- %.5f vs Q(0) %.5f +- %.5f", k, v2,
-                      v2e, q0, q0e);
+        double ide = id * hypot(r->exit_speed_err / r->exit_speed_mean,
+                                r->mean_exit_time_err / r->mean_exit_time);
+        ck_assert_msg(fabs(q0 - id) < 4.0 * hypot(q0e, ide),
+                      "run %d: Q(0) fit %.5f +- %.5f, from exits %.5f +- %.5f", k, q0, q0e, id,
+                      ide);
+        double v2 = r->v_moment[2] / (Gamma * sim_u.L),
+               v2e = r->v_moment_err[2] / (Gamma * sim_u.L);
+        ck_assert_msg(fabs(v2 - q0) < 4.0 * hypot(v2e, q0e),
+                      "run %d: <v^2>/(Gamma L) %.5f +- %.5f vs Q(0) %.5f +- %.5f", k, v2, v2e, q0,
+                      q0e);
     }
     /* the centre start is a different model: it stays longer (it starts farthest from both walls) */
-    double dz = (res_c.mean_exit_time - res_u.mean_exit_time) / hypot(res_c.mean_exit_time_err, res_u.mean_exit_time_err);
-    ck_assert_msg(dz > 10.0, "centre %g vs uniform %g: z = %.1f", res_c.mean_exit_time, res_u.mean_exit_time, dz);
+    double dz = (res_c.mean_exit_time - res_u.mean_exit_time) /
+                hypot(res_c.mean_exit_time_err, res_u.mean_exit_time_err);
+    ck_assert_msg(dz > 10.0, "centre %g vs uniform %g: z = %.1f", res_c.mean_exit_time,
+                  res_u.mean_exit_time, dz);
 }
 END_TEST
 
@@ -569,7 +608,9 @@ START_TEST(test_comparison_has_power)
     gr_fp_chi2 c;
     gr_error err = {0};
     ck_assert_int_eq(gr_fp_compare_Q(quad_u, &res_c, 100.0, NULL, &c, &err), 0);
-    ck_assert_msg(c.p_value < 1e-6, "centre start vs uniform quadrature: chi2 %.1f over %d bins, p %.3g", c.chi2, c.dof, c.p_value);
+    ck_assert_msg(c.p_value < 1e-6,
+                  "centre start vs uniform quadrature: chi2 %.1f over %d bins, p %.3g", c.chi2,
+                  c.dof, c.p_value);
 }
 END_TEST
 
@@ -592,9 +633,10 @@ START_TEST(test_sim_physical_units)
     ck_assert_msg(gr_fp_simulate(&s, NULL, NULL, &r, &err) == 0, "%s", err.message);
     double T = gr_fp_mean_exit_time(q), V = gr_fp_velocity_scale(&s), v2;
     ck_assert_int_eq(gr_fp_moment(q, 2.0, &v2, &err), 0);
-    ck_assert_msg(fabs(r.mean_exit_time - T) < 4.0 * r.mean_exit_time_err, "T %g +- %g vs %g", r.mean_exit_time,
-                  r.mean_exit_time_err, T);
-    ck_assert_msg(fabs(r.v_moment[2] - v2) < 4.0 * r.v_moment_err[2], "<v^2> %g +- %g vs %g", r.v_moment[2], r.v_moment_err[2], v2);
+    ck_assert_msg(fabs(r.mean_exit_time - T) < 4.0 * r.mean_exit_time_err, "T %g +- %g vs %g",
+                  r.mean_exit_time, r.mean_exit_time_err, T);
+    ck_assert_msg(fabs(r.v_moment[2] - v2) < 4.0 * r.v_moment_err[2], "<v^2> %g +- %g vs %g",
+                  r.v_moment[2], r.v_moment_err[2], v2);
     ck_assert_msg(REL(r.tau, gr_fp_time_scale(&s) / 400.0) < 1e-12, "tau %g", r.tau);
     ck_assert_msg(REL(r.q.hi, 5.0 * V) < 1e-12, "histogram range %g vs 5 V = %g", r.q.hi, 5.0 * V);
     gr_fp_sim_result_free(&r);
@@ -621,15 +663,16 @@ START_TEST(test_sim_coarse_steps)
     ck_assert_int_eq(gr_fp_Q_pdf(q, 0.0, &q0, NULL, &err), 0);
     ck_assert_int_eq(gr_fp_exit_moment(q, 1.0, &e1, &err), 0);
     ck_assert_msg(gr_fp_sim_Q0(&r, &q0f, &q0fe, &err) == 0, "%s", err.message);
-    ck_assert_msg(fabs(r.mean_exit_time - T) < 4.0 * r.mean_exit_time_err, "T %g +- %g vs %g", r.mean_exit_time,
-                  r.mean_exit_time_err, T);
-    ck_assert_msg(fabs(r.exit_speed_mean - e1) < 4.0 * r.exit_speed_err, "<|v_exit|> %g +- %g vs %g", r.exit_speed_mean,
-                  r.exit_speed_err, e1);
+    ck_assert_msg(fabs(r.mean_exit_time - T) < 4.0 * r.mean_exit_time_err, "T %g +- %g vs %g",
+                  r.mean_exit_time, r.mean_exit_time_err, T);
+    ck_assert_msg(fabs(r.exit_speed_mean - e1) < 4.0 * r.exit_speed_err,
+                  "<|v_exit|> %g +- %g vs %g", r.exit_speed_mean, r.exit_speed_err, e1);
     ck_assert_msg(fabs(q0f - q0) < 4.0 * q0fe, "Q(0): fit %.5f +- %.5f vs %.5f", q0f, q0fe, q0);
     gr_fp_chi2 c;
     ck_assert_int_eq(gr_fp_compare_Q(q, &r, 100.0, NULL, &c, &err), 0);
-    ck_assert_msg(c.p_value > 1e-3 && c.max_abs_z < 4.5, "Q: chi2 %.1f over %d bins (nu %.1f), p %.3g, max pull %.2f", c.chi2,
-                  c.dof, c.dof_eff, c.p_value, c.max_abs_z);
+    ck_assert_msg(c.p_value > 1e-3 && c.max_abs_z < 4.5,
+                  "Q: chi2 %.1f over %d bins (nu %.1f), p %.3g, max pull %.2f", c.chi2, c.dof,
+                  c.dof_eff, c.p_value, c.max_abs_z);
     gr_fp_sim_result_free(&r);
     gr_fp_quad_free(q);
 }
@@ -648,7 +691,8 @@ START_TEST(test_sim_determinism)
     ck_assert_int_eq(gr_fp_simulate(&s, NULL, NULL, &b, &err), 0);
     s.seed = 6;
     ck_assert_int_eq(gr_fp_simulate(&s, NULL, NULL, &c, &err), 0);
-    ck_assert_msg(a.mean_exit_time == b.mean_exit_time && a.steps == b.steps && a.right_exits == b.right_exits,
+    ck_assert_msg(a.mean_exit_time == b.mean_exit_time && a.steps == b.steps &&
+                      a.right_exits == b.right_exits,
                   "same seed, different runs");
     ck_assert_int_eq(memcmp(a.q.count, b.q.count, (size_t)a.q.nbins * sizeof(double)), 0);
     ck_assert_msg(a.mean_exit_time != c.mean_exit_time, "different seeds, same run");

@@ -49,8 +49,13 @@ static double worst_residual(gr_sim *s, int64_t n, int64_t every)
 
 static void load(gr_scene *sc, const char **extra, int n_extra)
 {
-    const char *base[] = {"system.N=1500", "system.L=0.13", "placement.v0=0.5", "noise.D=1e-6",
-                          "model.tangential=tangential_spring", "model.mu=0.5", "model.gamma_t=0.05"};
+    const char *base[] = {"system.N=1500",
+                          "system.L=0.13",
+                          "placement.v0=0.5",
+                          "noise.D=1e-6",
+                          "model.tangential=tangential_spring",
+                          "model.mu=0.5",
+                          "model.gamma_t=0.05"};
     const char *sets[16];
     int n = 0;
     for (size_t k = 0; k < sizeof base / sizeof base[0]; k++) {
@@ -130,16 +135,22 @@ START_TEST(test_rebuild_keeps_springs)
     }
     const double d_ab = distance(a, b), d_ac = distance(a, c);
     if (env_flag("GRANULE_TEST_VERBOSE")) {
-        fprintf(stderr, "%lld steps: %lld rebuilds (huge skin: %lld), %lld with %lld live springs; "
-                "skin 0 vs 5: %.3g, springs forgotten at rebuilds: %.3g\n", (long long)n,
-                (long long)gr_sim_rebuilds(a), (long long)gr_sim_rebuilds(b), (long long)rebuilds_with_springs,
-                (long long)springs_at_rebuild, d_ab, d_ac);
+        fprintf(stderr,
+                "%lld steps: %lld rebuilds (huge skin: %lld), %lld with %lld live springs; "
+                "skin 0 vs 5: %.3g, springs forgotten at rebuilds: %.3g\n",
+                (long long)n, (long long)gr_sim_rebuilds(a), (long long)gr_sim_rebuilds(b),
+                (long long)rebuilds_with_springs, (long long)springs_at_rebuild, d_ab, d_ac);
     }
-    ck_assert_msg(gr_sim_rebuilds(b) <= 1, "the huge skin rebuilt the list %lld times", (long long)gr_sim_rebuilds(b));
-    ck_assert_msg(rebuilds_with_springs >= 5, "only %lld rebuilds with live springs: the test tests nothing",
+    ck_assert_msg(gr_sim_rebuilds(b) <= 1, "the huge skin rebuilt the list %lld times",
+                  (long long)gr_sim_rebuilds(b));
+    ck_assert_msg(rebuilds_with_springs >= 5,
+                  "only %lld rebuilds with live springs: the test tests nothing",
                   (long long)rebuilds_with_springs);
-    ck_assert_msg(d_ab < 1e-6, "skin 0 and 5 differ by %.3g (relative): springs lost or changed at a rebuild", d_ab);
-    ck_assert_msg(d_ac > 1e5 * fmax(d_ab, 1e-15), "forgetting the springs changes nothing (%.3g vs %.3g)", d_ac, d_ab);
+    ck_assert_msg(d_ab < 1e-6,
+                  "skin 0 and 5 differ by %.3g (relative): springs lost or changed at a rebuild",
+                  d_ab);
+    ck_assert_msg(d_ac > 1e5 * fmax(d_ab, 1e-15),
+                  "forgetting the springs changes nothing (%.3g vs %.3g)", d_ac, d_ab);
     gr_sim_free(a);
     gr_sim_free(b);
     gr_sim_free(c);
@@ -164,8 +175,13 @@ static uint64_t state_hash(gr_sim *s)
     h = fnv(h, s->vx, m);
     h = fnv(h, s->vy, m);
     gr_ledger l = gr_sim_ledger(s);
-    const double led[7] = {l.kinetic, l.elastic, l.injected, l.dissipated_normal, l.dissipated_tangential,
-                           l.dissipated_friction, l.removed_com};
+    const double led[7] = {l.kinetic,
+                           l.elastic,
+                           l.injected,
+                           l.dissipated_normal,
+                           l.dissipated_tangential,
+                           l.dissipated_friction,
+                           l.removed_com};
     h = fnv(h, led, sizeof led);
     /* the slots, by pair (the list order is the same for the runs compared) */
     h = fnv(h, s->nl_hist, sizeof(double) * (size_t)s->nl_start[s->n]);
@@ -201,8 +217,8 @@ static void threads_bit_identical(const char **extra, int n_extra)
 #ifdef _OPENMP
     ck_assert_msg(cross > 0, "two threads did not split the pair list");
 #endif
-    ck_assert_msg(h[0] == h[1], "1 and 2 threads differ: %016llx vs %016llx", (unsigned long long)h[0],
-                  (unsigned long long)h[1]);
+    ck_assert_msg(h[0] == h[1], "1 and 2 threads differ: %016llx vs %016llx",
+                  (unsigned long long)h[0], (unsigned long long)h[1]);
 }
 
 START_TEST(test_threads_bit_identical) { threads_bit_identical(NULL, 0); }
@@ -244,7 +260,8 @@ END_TEST
 static double ledger_closes(const char **extra, int n_extra)
 {
     gr_scene sc;
-    const char *more[8] = {"noise.D=1e-5", "model.gamma_t=0"}; /* driven hard: many sliding contacts */
+    const char *more[8] = {"noise.D=1e-5",
+                           "model.gamma_t=0"}; /* driven hard: many sliding contacts */
     for (int k = 0; k < n_extra; k++) {
         more[2 + k] = extra[k];
     }
@@ -277,21 +294,30 @@ static double ledger_closes(const char **extra, int n_extra)
     const double base = worst_residual(b, n, every);
     gr_sim_free(b);
     if (env_flag("GRANULE_TEST_VERBOSE")) {
-        fprintf(stderr, "ledger%s: injected %.4g J, dissipated normal %.4g tangential %.4g friction %.4g, elastic %.4g "
-                "(springs up to %.2f of it), rotational %.4g of kinetic %.4g J, worst residual %.3g J = %.2g of injected; "
-                "tangential_dashpot: %.3g J\n", n_extra ? " (rotation)" : "", l.injected, l.dissipated_normal,
-                l.dissipated_tangential, l.dissipated_friction, l.elastic, spring_max, l.rotational, l.kinetic, worst,
-                worst / scale, base);
+        fprintf(stderr,
+                "ledger%s: injected %.4g J, dissipated normal %.4g tangential %.4g friction %.4g, "
+                "elastic %.4g "
+                "(springs up to %.2f of it), rotational %.4g of kinetic %.4g J, worst residual "
+                "%.3g J = %.2g of injected; "
+                "tangential_dashpot: %.3g J\n",
+                n_extra ? " (rotation)" : "", l.injected, l.dissipated_normal,
+                l.dissipated_tangential, l.dissipated_friction, l.elastic, spring_max, l.rotational,
+                l.kinetic, worst, worst / scale, base);
     }
-    ck_assert_msg(spring_max > 0.01, "the springs hold at most %.3g of the elastic energy: not counted?", spring_max);
-    ck_assert_msg(l.dissipated_friction > 0.05 * gr_ledger_dissipated(&l), "friction dissipated only %.3g of %.3g J",
-                  l.dissipated_friction, gr_ledger_dissipated(&l));
+    ck_assert_msg(spring_max > 0.01,
+                  "the springs hold at most %.3g of the elastic energy: not counted?", spring_max);
+    ck_assert_msg(l.dissipated_friction > 0.05 * gr_ledger_dissipated(&l),
+                  "friction dissipated only %.3g of %.3g J", l.dissipated_friction,
+                  gr_ledger_dissipated(&l));
     /* within a small factor of the law without history (before the slip was booked as the kicks
      * see it, the residual was 30 times the dashpot's) */
-    ck_assert_msg(worst < 3.0 * base && worst < 5e-3 * scale, "ledger residual %.3g J (tangential_dashpot %.3g J), "
-                  "injected %.3g J", worst, base, scale);
+    ck_assert_msg(worst < 3.0 * base && worst < 5e-3 * scale,
+                  "ledger residual %.3g J (tangential_dashpot %.3g J), "
+                  "injected %.3g J",
+                  worst, base, scale);
     if (s->omega) { /* the spins really take part: a visible share of the kinetic energy */
-        ck_assert_msg(l.rotational > 0.05 * l.kinetic, "rotational energy %.3g of kinetic %.3g J", l.rotational, l.kinetic);
+        ck_assert_msg(l.rotational > 0.05 * l.kinetic, "rotational energy %.3g of kinetic %.3g J",
+                      l.rotational, l.kinetic);
     }
     gr_sim_free(s);
     return worst / scale;
@@ -312,7 +338,8 @@ END_TEST
  * disc 2 at -speed/2 along x, offset in y so that they meet at `angle` degrees, spinning at w1, w2;
  * the spring (gamma_t, mu), rotation with inertia factor q (q = 0: no rotation); dt = t_c / 200.
  * The contact starts 10.5 steps in. */
-static gr_sim *pair_sim(double q, double mu, double gamma_t, double angle, double speed, double w1, double w2)
+static gr_sim *pair_sim(double q, double mu, double gamma_t, double angle, double speed, double w1,
+                        double w2)
 {
     gr_scene sc;
     gr_scene_default(&sc);
@@ -331,15 +358,17 @@ static gr_sim *pair_sim(double q, double mu, double gamma_t, double angle, doubl
     sc.skin = 0.3;
     gr_contact_coeffs k;
     gr_error err = {0};
-    ck_assert_msg(gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * sc.mass, 0.0, &k, &err) == GR_OK, "%s",
-                  err.message);
+    ck_assert_msg(gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * sc.mass, 0.0, &k,
+                                     &err) == GR_OK,
+                  "%s", err.message);
     const double a = angle * M_PI / 180.0;
     sc.dt = k.normal_model->impact(&k, speed * cos(a)).t_c / 200.0;
     const double gap = 10.5 * sc.dt * speed, half = 0.5 * (d * cos(a) + gap), c = 0.5 * sc.L;
     const double x[2] = {c - half, c + half}, y[2] = {c - 0.5 * d * sin(a), c + 0.5 * d * sin(a)};
     const double vx[2] = {0.5 * speed, -0.5 * speed}, vy[2] = {0.0, 0.0};
     gr_sim *s;
-    ck_assert_msg(gr_sim_create_with_state(&sc, 2, x, y, vx, vy, &s, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_sim_create_with_state(&sc, 2, x, y, vx, vy, &s, &err) == GR_OK, "%s",
+                  err.message);
     ck_assert_msg((s->omega != NULL) == (q > 0.0), "rotation %s", s->omega ? "on" : "off");
     if (s->omega) {
         s->omega[0] = w1; /* before any step: the first force evaluation saw no overlap */
@@ -380,7 +409,8 @@ START_TEST(test_sticking_rotation)
     for (int c = 0; c < 3; c++) {
         gr_sim *s = pair_sim(qs[c], 1e6, 0.0, angle, speed, 0.0, 0.0);
         const double m12 = 0.5 * s->mass, r = 0.5 * s->d;
-        const double m_t = qs[c] > 0.0 ? 1.0 / (1.0 / m12 + 2.0 * r * r / (qs[c] * s->mass * r * r)) : m12;
+        const double m_t =
+            qs[c] > 0.0 ? 1.0 / (1.0 / m12 + 2.0 * r * r / (qs[c] * s->mass * r * r)) : m12;
         const double k_t = s->cc.law_t[GR_SPRING_KT];
         double n0[2] = {0.0, 0.0}, n[2], g0 = 0.0;
         int64_t contact_steps = 0;
@@ -392,23 +422,28 @@ START_TEST(test_sticking_rotation)
                 g0 = -speed * n0[1];
             }
         }
-        ck_assert_msg(contact_steps > 100 && s->last.max_overlap == 0.0, "q = %g: %lld steps in contact", qs[c],
-                      (long long)contact_steps);
+        ck_assert_msg(contact_steps > 100 && s->last.max_overlap == 0.0,
+                      "q = %g: %lld steps in contact", qs[c], (long long)contact_steps);
         normal_of(s, n);
         got[c] = contact_g_t(s, n) / g0;
-        const double t_c = s->cc.normal_model->impact(&s->cc, speed * cos(angle * M_PI / 180.0)).t_c;
+        const double t_c =
+            s->cc.normal_model->impact(&s->cc, speed * cos(angle * M_PI / 180.0)).t_c;
         want[c] = cos(sqrt(k_t / m_t) * t_c);
         const double turn = speed * sin(angle * M_PI / 180.0) * t_c / s->d;
         if (env_flag("GRANULE_TEST_VERBOSE")) {
-            fprintf(stderr, "sticking, q = %g: eps_t %.6f, cos(w_t t_c) %.6f (m_t / m12 = %.4f, turn %.1e)\n", qs[c],
-                    got[c], want[c], m_t / m12, turn);
+            fprintf(
+                stderr,
+                "sticking, q = %g: eps_t %.6f, cos(w_t t_c) %.6f (m_t / m12 = %.4f, turn %.1e)\n",
+                qs[c], got[c], want[c], m_t / m12, turn);
         }
-        ck_assert_msg(fabs(got[c] - want[c]) <= 4.0 / 200.0 + 2.0 * turn, "q = %g: eps_t %.6f, cos(w_t t_c) = %.6f",
-                      qs[c], got[c], want[c]);
-        ck_assert_msg(fabs(s->cc.m_t / m_t - 1.0) < 1e-12, "m_t %.17g, derived %.17g", s->cc.m_t, m_t);
+        ck_assert_msg(fabs(got[c] - want[c]) <= 4.0 / 200.0 + 2.0 * turn,
+                      "q = %g: eps_t %.6f, cos(w_t t_c) = %.6f", qs[c], got[c], want[c]);
+        ck_assert_msg(fabs(s->cc.m_t / m_t - 1.0) < 1e-12, "m_t %.17g, derived %.17g", s->cc.m_t,
+                      m_t);
         gr_sim_free(s);
     }
-    ck_assert_msg(fabs(want[1] - want[0]) > 0.2 && fabs(want[2] - want[1]) > 0.2, "the cases do not discriminate");
+    ck_assert_msg(fabs(want[1] - want[0]) > 0.2 && fabs(want[2] - want[1]) > 0.2,
+                  "the cases do not discriminate");
 }
 END_TEST
 
@@ -418,7 +453,8 @@ static double angular_momentum(const gr_sim *s)
     const double cx = 0.5 * (s->x[0] + s->x[1]), cy = 0.5 * (s->y[0] + s->y[1]);
     double l = 0.0;
     for (int i = 0; i < 2; i++) {
-        l += s->mass * ((s->x[i] - cx) * s->vy[i] - (s->y[i] - cy) * s->vx[i]) + s->inertia * s->omega[i];
+        l += s->mass * ((s->x[i] - cx) * s->vy[i] - (s->y[i] - cy) * s->vx[i]) +
+             s->inertia * s->omega[i];
     }
     return l;
 }
@@ -440,15 +476,19 @@ START_TEST(test_angular_momentum)
             worst = fmax(worst, fabs(angular_momentum(s) - l0));
         }
         if (env_flag("GRANULE_TEST_VERBOSE")) {
-            fprintf(stderr, "angular momentum at %g deg: L0 %.6e, worst change %.2e of the scale %.2e; w1 %g -> %g rad/s\n",
+            fprintf(stderr,
+                    "angular momentum at %g deg: L0 %.6e, worst change %.2e of the scale %.2e; w1 "
+                    "%g -> %g rad/s\n",
                     angles[a], l0, worst, scale, w0, s->omega[0]);
         }
-        ck_assert_msg(gr_sim_collisions(s) == 1 && fabs(s->omega[0] - w0) > 1.0, "collisions %lld, w1 %g -> %g",
-                      (long long)gr_sim_collisions(s), w0, s->omega[0]);
+        ck_assert_msg(gr_sim_collisions(s) == 1 && fabs(s->omega[0] - w0) > 1.0,
+                      "collisions %lld, w1 %g -> %g", (long long)gr_sim_collisions(s), w0,
+                      s->omega[0]);
         /* rounding: positions ~ L / 2 = 20 d carry 2.2e-16 L / 2 each, over 600 steps (measured
          * 1e-13; the lever arm r instead of |r_ij| / 2 in the kernel breaks it by 2e-6) */
         const double tol = 600.0 * 2.2e-16 * (0.5 * s->L / s->d);
-        ck_assert_msg(worst <= tol * scale, "angular momentum changes by %.3e (scale %.3e, tol %.1e)", worst, scale, tol);
+        ck_assert_msg(worst <= tol * scale,
+                      "angular momentum changes by %.3e (scale %.3e, tol %.1e)", worst, scale, tol);
         gr_sim_free(s);
     }
 }
@@ -468,12 +508,14 @@ START_TEST(test_refusals)
     load(&sc, spin, 1);
     err = (gr_error){0};
     ck_assert(gr_sim_create(&sc, &s, &err) != GR_OK);
-    ck_assert_msg(strstr(err.message, "omega0") && strstr(err.message, "rotation"), "%s", err.message);
+    ck_assert_msg(strstr(err.message, "omega0") && strstr(err.message, "rotation"), "%s",
+                  err.message);
     const char *hybrid[] = {"integrator.kind=hybrid"};
     load(&sc, hybrid, 1);
     err = (gr_error){0};
     ck_assert(gr_sim_create(&sc, &s, &err) != GR_OK);
-    ck_assert_msg(strstr(err.message, "verlet") && strstr(err.message, "history"), "%s", err.message);
+    ck_assert_msg(strstr(err.message, "verlet") && strstr(err.message, "history"), "%s",
+                  err.message);
 }
 END_TEST
 

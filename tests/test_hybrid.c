@@ -68,9 +68,14 @@ static void free_moments(int kicks)
     const int N = quick() ? 2000 : 20000;
     char nb[64];
     snprintf(nb, sizeof nb, "system.N=%d", N);
-    const char *over[] = {nb, "system.reduced_length=20000", "placement.v0=0", "noise.mode=com",
-                          "noise.com_interval=1000", "integrator.kind=hybrid",
-                          "integrator.kick_interval=1e-4", kicks ? "integrator.free_flight=kicks" : "integrator.free_flight=exact",
+    const char *over[] = {nb,
+                          "system.reduced_length=20000",
+                          "placement.v0=0",
+                          "noise.mode=com",
+                          "noise.com_interval=1000",
+                          "integrator.kind=hybrid",
+                          "integrator.kick_interval=1e-4",
+                          kicks ? "integrator.free_flight=kicks" : "integrator.free_flight=exact",
                           NULL};
     gr_scene sc = load("rfm-1d.ini", over);
     gr_sim *s = create(&sc);
@@ -83,7 +88,8 @@ static void free_moments(int kicks)
     ck_assert(gr_sim_hybrid_stats(s, &st));
     ck_assert_int_eq(st.windows, 10 + 14);
     ck_assert_int_eq(st.rollbacks, 0);
-    ck_assert_msg(st.active_fraction == 0.0, "active fraction %g in a dilute gas", st.active_fraction);
+    ck_assert_msg(st.active_fraction == 0.0, "active fraction %g in a dilute gas",
+                  st.active_fraction);
     const double dt = s->dt, M = s->mass, D = sc.D, t = n * dt;
     const double dn = (double)n;
     double vv = 2.0 * D * t / (M * M), xx, xv;
@@ -117,16 +123,18 @@ static void free_moments(int kicks)
     /* Gaussian: Var(v^2) = 2 vv^2, Var(x^2) = 2 xx^2, Var(xv) = xx vv + xv^2 */
     const double zv = (mv - vv) / sqrt(2.0 * vv * vv / N), zx = (mx - xx) / sqrt(2.0 * xx * xx / N);
     const double zc = (mc - xv) / sqrt((xx * vv + xv * xv) / N);
-    VERBOSE("free flight (%s): <v^2> %.5g vs %.5g (z %.2f), <x^2> %.5g vs %.5g (z %.2f), <xv> %.5g vs %.5g (z %.2f); "
+    VERBOSE("free flight (%s): <v^2> %.5g vs %.5g (z %.2f), <x^2> %.5g vs %.5g (z %.2f), <xv> %.5g "
+            "vs %.5g (z %.2f); "
             "continuum 2Dt^3/3M^2 = %.5g\n",
-            kicks ? "kicks" : "exact", mv, vv, zv, mx, xx, zx, mc, xv, zc, 2.0 * D * t * t * t / (3.0 * M * M));
+            kicks ? "kicks" : "exact", mv, vv, zv, mx, xx, zx, mc, xv, zc,
+            2.0 * D * t * t * t / (3.0 * M * M));
     ck_assert_msg(fabs(zv) < 4.5, "<v^2> %g vs %g: z = %g", mv, vv, zv);
     ck_assert_msg(fabs(zx) < 4.5, "<x^2> %g vs %g: z = %g", mx, xx, zx);
     ck_assert_msg(fabs(zc) < 4.5, "<xv> %g vs %g: z = %g", mc, xv, zc);
     /* the ledger: injected energy is exactly the kinetic energy gained (no contacts) */
     gr_ledger l = gr_sim_ledger(s);
-    ck_assert_msg(fabs(gr_ledger_residual(&l)) < 1e-9 * l.injected, "free-flight ledger residual %g of %g",
-                  gr_ledger_residual(&l), l.injected);
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) < 1e-9 * l.injected,
+                  "free-flight ledger residual %g of %g", gr_ledger_residual(&l), l.injected);
     free(x0);
     gr_sim_free(s);
 }
@@ -141,7 +149,8 @@ END_TEST
 
 START_TEST(test_ledger_momentum_1d)
 {
-    const char *over[] = {quick() ? "system.N=200" : "system.N=1000", quick() ? "system.reduced_length=0.2" : "system.reduced_length=1",
+    const char *over[] = {quick() ? "system.N=200" : "system.N=1000",
+                          quick() ? "system.reduced_length=0.2" : "system.reduced_length=1",
                           "integrator.kind=hybrid", "integrator.kick_interval=3e-5", NULL};
     gr_scene sc = load("rfm-1d.ini", over);
     gr_sim *s = create(&sc);
@@ -157,7 +166,8 @@ START_TEST(test_ledger_momentum_1d)
     gr_sim_hybrid_stats(s, &st);
     VERBOSE("1D ledger: residual %.3g of injected %.4g J; momentum %.3g (scale %.3g); "
             "active %.3f, rollbacks %lld, collisions %lld\n",
-            rel, l.injected, p[0], pscale, st.active_fraction, (long long)st.rollbacks, (long long)gr_sim_collisions(s));
+            rel, l.injected, p[0], pscale, st.active_fraction, (long long)st.rollbacks,
+            (long long)gr_sim_collisions(s));
     /* the same scene with Verlet: the residual is the springs' O(dt^2) energy error, which the
      * hybrid shares (same steps for every contact); every other energy change is booked exactly */
     const char *ov[] = {over[0], over[1], NULL};
@@ -169,18 +179,22 @@ START_TEST(test_ledger_momentum_1d)
     gr_sim_free(v);
     VERBOSE("1D ledger: Verlet residual %.3g of injected %.4g J\n", rel_v, lv.injected);
     ck_assert_int_eq(gr_sim_steps(s), steps + 7);
-    ck_assert_msg(gr_sim_collisions(s) > 1000, "only %lld collisions", (long long)gr_sim_collisions(s));
-    ck_assert_msg(fabs(rel) < 1.25 * fabs(rel_v) + 2e-4, "ledger residual %g of the injected energy (Verlet %g)", rel, rel_v);
+    ck_assert_msg(gr_sim_collisions(s) > 1000, "only %lld collisions",
+                  (long long)gr_sim_collisions(s));
+    ck_assert_msg(fabs(rel) < 1.25 * fabs(rel_v) + 2e-4,
+                  "ledger residual %g of the injected energy (Verlet %g)", rel, rel_v);
     ck_assert_msg(fabs(p[0]) < 1e-12 * pscale, "momentum %g (scale %g)", p[0], pscale);
-    ck_assert_msg(st.active_fraction > 0.0 && st.active_fraction < 1.0, "active fraction %g", st.active_fraction);
+    ck_assert_msg(st.active_fraction > 0.0 && st.active_fraction < 1.0, "active fraction %g",
+                  st.active_fraction);
     gr_sim_free(s);
 }
 END_TEST
 
 START_TEST(test_ledger_momentum_2d)
 {
-    const char *over[] = {quick() ? "system.N=300" : "system.N=1000", quick() ? "system.L=0.0775" : "system.L=0.1414",
-                          "integrator.kind=hybrid", "integrator.kick_interval=2e-5", NULL};
+    const char *over[] = {quick() ? "system.N=300" : "system.N=1000",
+                          quick() ? "system.L=0.0775" : "system.L=0.1414", "integrator.kind=hybrid",
+                          "integrator.kick_interval=2e-5", NULL};
     gr_scene sc = load("steady-2d.ini", over);
     gr_sim *s = create(&sc);
     const int64_t steps = quick() ? 3000 : 20000;
@@ -192,12 +206,16 @@ START_TEST(test_ledger_momentum_2d)
     const double pscale = s->mass * sqrt(gr_sim_temperature(s)) * s->n;
     gr_hybrid_stats st;
     gr_sim_hybrid_stats(s, &st);
-    VERBOSE("2D ledger: residual %.3g of injected %.4g J; momentum (%.3g, %.3g) (scale %.3g); active %.3f, rollbacks %lld, "
+    VERBOSE("2D ledger: residual %.3g of injected %.4g J; momentum (%.3g, %.3g) (scale %.3g); "
+            "active %.3f, rollbacks %lld, "
             "collisions %lld\n",
-            rel, l.injected, p[0], p[1], pscale, st.active_fraction, (long long)st.rollbacks, (long long)gr_sim_collisions(s));
-    ck_assert_msg(gr_sim_collisions(s) > 100, "only %lld collisions", (long long)gr_sim_collisions(s));
+            rel, l.injected, p[0], p[1], pscale, st.active_fraction, (long long)st.rollbacks,
+            (long long)gr_sim_collisions(s));
+    ck_assert_msg(gr_sim_collisions(s) > 100, "only %lld collisions",
+                  (long long)gr_sim_collisions(s));
     ck_assert_msg(fabs(rel) < 3e-3, "ledger residual %g of the injected energy", rel);
-    ck_assert_msg(fabs(p[0]) < 1e-12 * pscale && fabs(p[1]) < 1e-12 * pscale, "momentum (%g, %g)", p[0], p[1]);
+    ck_assert_msg(fabs(p[0]) < 1e-12 * pscale && fabs(p[1]) < 1e-12 * pscale, "momentum (%g, %g)",
+                  p[0], p[1]);
     gr_sim_free(s);
 }
 END_TEST
@@ -224,9 +242,15 @@ static double max_diff(const gr_sim *a, const gr_sim *b)
  * (x + v tau instead of m additions of v dt), which only changes rounding. */
 START_TEST(test_no_noise_equals_verlet)
 {
-    const char *ov[] = {"system.N=200", "system.reduced_length=0.2", "placement.v0=1", "noise.mode=none", NULL};
-    const char *oh[] = {"system.N=200", "system.reduced_length=0.2", "placement.v0=1", "noise.mode=none",
-                        "integrator.kind=hybrid", "integrator.kick_interval=2e-5", NULL};
+    const char *ov[] = {"system.N=200", "system.reduced_length=0.2", "placement.v0=1",
+                        "noise.mode=none", NULL};
+    const char *oh[] = {"system.N=200",
+                        "system.reduced_length=0.2",
+                        "placement.v0=1",
+                        "noise.mode=none",
+                        "integrator.kind=hybrid",
+                        "integrator.kick_interval=2e-5",
+                        NULL};
     gr_scene sv = load("rfm-1d.ini", ov), sh = load("rfm-1d.ini", oh);
     gr_sim *v = create(&sv), *all = create(&sh), *h = create(&sh);
     gr_hybrid_set_margin(all, 1e9);
@@ -239,11 +263,13 @@ START_TEST(test_no_noise_equals_verlet)
     gr_ledger lv = gr_sim_ledger(v), la = gr_sim_ledger(all);
     gr_hybrid_stats st;
     gr_sim_hybrid_stats(h, &st);
-    VERBOSE("no noise: |x_verlet - x_all_active| = %.3g m, |x_verlet - x_hybrid| = %.3g m; collisions %lld / %lld / %lld; "
+    VERBOSE("no noise: |x_verlet - x_all_active| = %.3g m, |x_verlet - x_hybrid| = %.3g m; "
+            "collisions %lld / %lld / %lld; "
             "hybrid active %.3f\n",
-            d_all, d_h, (long long)gr_sim_collisions(v), (long long)gr_sim_collisions(all), (long long)gr_sim_collisions(h),
-            st.active_fraction);
-    ck_assert_msg(gr_sim_collisions(v) > 50, "only %lld collisions", (long long)gr_sim_collisions(v));
+            d_all, d_h, (long long)gr_sim_collisions(v), (long long)gr_sim_collisions(all),
+            (long long)gr_sim_collisions(h), st.active_fraction);
+    ck_assert_msg(gr_sim_collisions(v) > 50, "only %lld collisions",
+                  (long long)gr_sim_collisions(v));
     ck_assert_msg(d_all == 0.0, "all-active hybrid differs from Verlet by %g m", d_all);
     ck_assert_int_eq(gr_sim_collisions(all), gr_sim_collisions(v));
     ck_assert_msg(fabs(la.dissipated_normal - lv.dissipated_normal) <= 1e-12 * lv.dissipated_normal,
@@ -261,7 +287,8 @@ END_TEST
  * leaped or stepped (bridged kicks), so the normal margin, a huge margin (everybody active) and
  * a tiny one (c = 0.2 in 1D, 0 in 2D: many misses, each redone after a rollback) give the same
  * trajectory up to rounding. */
-static void same_path(const char *scene, const char *const *over, int64_t n, double tol, double tiny_c)
+static void same_path(const char *scene, const char *const *over, int64_t n, double tol,
+                      double tiny_c)
 {
     gr_scene sc = load(scene, over);
     gr_sim *all = create(&sc), *h = create(&sc), *tiny = create(&sc);
@@ -275,13 +302,15 @@ static void same_path(const char *scene, const char *const *over, int64_t n, dou
     gr_sim_hybrid_stats(h, &sh);
     gr_sim_hybrid_stats(tiny, &st);
     const double d_h = max_diff(all, h), d_t = max_diff(all, tiny);
-    VERBOSE("%s: |all - normal| %.3g m, |all - tiny| %.3g m; active %.3f / %.3f / %.3f; rollbacks %lld / %lld; "
+    VERBOSE("%s: |all - normal| %.3g m, |all - tiny| %.3g m; active %.3f / %.3f / %.3f; rollbacks "
+            "%lld / %lld; "
             "collisions %lld / %lld / %lld\n",
-            scene, d_h, d_t, sa.active_fraction, sh.active_fraction, st.active_fraction, (long long)sh.rollbacks,
-            (long long)st.rollbacks, (long long)gr_sim_collisions(all), (long long)gr_sim_collisions(h),
-            (long long)gr_sim_collisions(tiny));
+            scene, d_h, d_t, sa.active_fraction, sh.active_fraction, st.active_fraction,
+            (long long)sh.rollbacks, (long long)st.rollbacks, (long long)gr_sim_collisions(all),
+            (long long)gr_sim_collisions(h), (long long)gr_sim_collisions(tiny));
     ck_assert_msg(sa.active_fraction == 1.0, "huge margin: active fraction %g", sa.active_fraction);
-    ck_assert_msg(gr_sim_collisions(all) > 20, "only %lld collisions", (long long)gr_sim_collisions(all));
+    ck_assert_msg(gr_sim_collisions(all) > 20, "only %lld collisions",
+                  (long long)gr_sim_collisions(all));
     ck_assert_msg(st.rollbacks > 0, "c = %g never rolled back", tiny_c);
     ck_assert_msg(d_h < tol, "normal margin differs from all-active by %g m", d_h);
     ck_assert_msg(d_t < tol, "rollbacks differ from all-active by %g m", d_t);
@@ -294,8 +323,9 @@ static void same_path(const char *scene, const char *const *over, int64_t n, dou
 
 START_TEST(test_active_set_invariance_1d)
 {
-    const char *over[] = {"system.N=200", "system.reduced_length=0.2", "placement.v0=0.5", "integrator.kind=hybrid",
-                          "integrator.kick_interval=5e-5", NULL};
+    const char *over[] = {
+        "system.N=200",           "system.reduced_length=0.2",     "placement.v0=0.5",
+        "integrator.kind=hybrid", "integrator.kick_interval=5e-5", NULL};
     /* chaos: rounding differences (1e-13 m after the first leaps) grow by collisions to ~1e-9 m
      * after 10^4 steps here (1e-5 m after 2 10^4); 5000 steps keep them at ~1e-12 m */
     same_path("rfm-1d.ini", over, quick() ? 3000 : 5000, 1e-9, 0.2);
@@ -306,12 +336,21 @@ END_TEST
  * steady-2d.ini, sliding friction (2.7) and none */
 START_TEST(test_active_set_invariance_2d)
 {
-    static const char *const tangential[][2] = {{"model.tangential=tangential_dashpot", "model.eps_t=0.6"},
-                                                {"model.tangential=sliding_friction", "model.mu=0.3"},
-                                                {"model.tangential=none", "model.eps_n=0.6"}};
+    static const char *const tangential[][2] = {
+        {"model.tangential=tangential_dashpot", "model.eps_t=0.6"},
+        {"model.tangential=sliding_friction", "model.mu=0.3"},
+        {"model.tangential=none", "model.eps_n=0.6"}};
     /* strong noise and long windows, so that c = 0 misses often */
-    const char *over[] = {"system.N=200", "system.L=0.06", "placement.kind=random", "placement.v0=0.5", "noise.D=1e-6",
-                          "integrator.kind=hybrid", "integrator.kick_interval=1e-4", tangential[_i][0], tangential[_i][1], NULL};
+    const char *over[] = {"system.N=200",
+                          "system.L=0.06",
+                          "placement.kind=random",
+                          "placement.v0=0.5",
+                          "noise.D=1e-6",
+                          "integrator.kind=hybrid",
+                          "integrator.kick_interval=1e-4",
+                          tangential[_i][0],
+                          tangential[_i][1],
+                          NULL};
     /* chaos amplifies rounding (1e-16 m after 500 steps) about tenfold per 500 steps, a bit faster
      * with friction (2e-9 m after 4000 steps, 2.5e-10 m after 3000): horizons keep it below 1e-9 m */
     same_path("steady-2d.ini", over, quick() ? 2500 : (_i == 1 ? 3000 : 4000), 1e-9, 0.0);
@@ -334,8 +373,9 @@ END_TEST
  * 0.5 <= R < 2. The runs are short (the approach to the steady state is part of the law being
  * compared); bench/hybrid_agreement.sh does the long steady-state comparison (docs/hybrid.md). */
 enum { O_T, O_FLAT, O_CORE05, O_CORE1, O_R2, O_GAP0, O_GAP1, O_GAP2, N_OBS };
-static const char *const obs_name[N_OBS] = {"T", "flatness", "P(|c|<0.5)", "P(|c|<1)", "<R^2>", "P(R<0.05)", "P(R<0.5)-P(R<0.05)",
-                                            "P(R<2)-P(R<0.5)"};
+static const char *const obs_name[N_OBS] = {
+    "T",     "flatness",  "P(|c|<0.5)",         "P(|c|<1)",
+    "<R^2>", "P(R<0.05)", "P(R<0.5)-P(R<0.05)", "P(R<2)-P(R<0.5)"};
 
 enum { AGREE_RUNS = 16 };
 
@@ -378,7 +418,8 @@ static void observe(const gr_sim *s, double o[N_OBS])
     if (s->dim == 1) {
         const double mean_gap = (s->L - s->n * s->d) / s->n;
         for (int i = 0; i < s->n; i++) {
-            const double g = (i + 1 < s->n ? s->x[i + 1] - s->x[i] : s->x[0] + s->L - s->x[i]) - s->d;
+            const double g =
+                (i + 1 < s->n ? s->x[i + 1] - s->x[i] : s->x[0] + s->L - s->x[i]) - s->d;
             const double R = g / mean_gap;
             o[O_R2] += R * R / s->n;
             o[O_GAP0] += (R < 0.05) / (double)s->n;
@@ -390,7 +431,8 @@ static void observe(const gr_sim *s, double o[N_OBS])
 
 /* One run: the time averages of the observables (sampled every 1000 steps) over [warm, warm + dur]
  * into the ensemble. */
-static void run_into(const char *scene, const char *const *over, double warm, double dur, ensemble *e)
+static void run_into(const char *scene, const char *const *over, double warm, double dur,
+                     ensemble *e)
 {
     gr_scene sc = load(scene, over);
     gr_sim *s = create(&sc);
@@ -416,8 +458,8 @@ static void run_into(const char *scene, const char *const *over, double warm, do
 }
 
 /* K runs of `scene` + base overrides with seeds first_seed + r (+ extra overrides). */
-static ensemble run_ensemble(const char *scene, const char *const *base, const char *const *extra, int first_seed, double warm,
-                             double dur)
+static ensemble run_ensemble(const char *scene, const char *const *base, const char *const *extra,
+                             int first_seed, double warm, double dur)
 {
     ensemble e = {0};
     for (int r = 0; r < AGREE_RUNS; r++) {
@@ -468,17 +510,20 @@ static double rank_z(const double *a, int n, const double *b, int m)
 /* Rank z (hybrid against Verlet) of the first n_obs observables; means +- standard errors shown. */
 static void compare(const char *label, const ensemble *v, const ensemble *h, int n_obs, double *z)
 {
-    VERBOSE("agreement %s (%d runs each; cpu verlet %.1f s, hybrid %.1f s):\n", label, v->runs, v->cpu, h->cpu);
+    VERBOSE("agreement %s (%d runs each; cpu verlet %.1f s, hybrid %.1f s):\n", label, v->runs,
+            v->cpu, h->cpu);
     for (int k = 0; k < n_obs; k++) {
         double mv, ev, mh, eh;
         mean_err(v->val[k], v->runs, &mv, &ev);
         mean_err(h->val[k], h->runs, &mh, &eh);
         z[k] = rank_z(v->val[k], v->runs, h->val[k], h->runs);
-        VERBOSE("  %-20s verlet %.5g +- %.2g, hybrid %.5g +- %.2g, rank z %+.2f\n", obs_name[k], mv, ev, mh, eh, z[k]);
+        VERBOSE("  %-20s verlet %.5g +- %.2g, hybrid %.5g +- %.2g, rank z %+.2f\n", obs_name[k], mv,
+                ev, mh, eh, z[k]);
     }
 }
 
-static const char *const hybrid_over[] = {"integrator.kind=hybrid", "integrator.kick_interval=3e-5", NULL};
+static const char *const hybrid_over[] = {"integrator.kind=hybrid", "integrator.kick_interval=3e-5",
+                                          NULL};
 
 /* 1D RFM scene (N = 1000, L' = 1 m; ASan: N = 100, L' = 0.1 m) at eps = 0.1, 0.5, 0.9. At
  * eps = 0.9 the same comparison must also fail for a hybrid whose noise is 1.5x too strong
@@ -488,8 +533,9 @@ START_TEST(test_agreement_1d)
 {
     static const char *const eps[] = {"model.eps_n=0.1", "model.eps_n=0.5", "model.eps_n=0.9"};
     const int q = quick();
-    const char *base[] = {q ? "system.N=100" : "system.N=1000", q ? "system.reduced_length=0.1" : "system.reduced_length=1",
-                          eps[_i], NULL};
+    const char *base[] = {q ? "system.N=100" : "system.N=1000",
+                          q ? "system.reduced_length=0.1" : "system.reduced_length=1", eps[_i],
+                          NULL};
     const double warm = q ? 0.03 : 0.05, dur = q ? 0.03 : 0.15;
     const ensemble v = run_ensemble("rfm-1d.ini", base, NULL, 1001, warm, dur);
     const ensemble h = run_ensemble("rfm-1d.ini", base, hybrid_over, 2001, warm, dur);
@@ -499,10 +545,12 @@ START_TEST(test_agreement_1d)
         ck_assert_msg(fabs(z[k]) < 4.0, "%s: %s differs by z = %.2f", eps[_i], obs_name[k], z[k]);
     }
     if (_i == 2) {
-        const char *strong[] = {"integrator.kind=hybrid", "integrator.kick_interval=3e-5", "noise.D=1.5e-8", NULL};
+        const char *strong[] = {"integrator.kind=hybrid", "integrator.kick_interval=3e-5",
+                                "noise.D=1.5e-8", NULL};
         const ensemble hd = run_ensemble("rfm-1d.ini", base, strong, 2001, warm, dur);
         compare("eps 0.9, hybrid with D x 1.5 (must differ)", &v, &hd, N_OBS, z);
-        ck_assert_msg(z[O_T] > 4.0, "the agreement test cannot see a 1.5x noise strength: z(T) = %.2f", z[O_T]);
+        ck_assert_msg(z[O_T] > 4.0,
+                      "the agreement test cannot see a 1.5x noise strength: z(T) = %.2f", z[O_T]);
     }
 }
 END_TEST
@@ -513,7 +561,8 @@ END_TEST
 START_TEST(test_agreement_2d)
 {
     const int q = quick();
-    const char *base[] = {q ? "system.N=200" : "system.N=500", q ? "system.L=0.0632" : "system.L=0.1", NULL};
+    const char *base[] = {q ? "system.N=200" : "system.N=500",
+                          q ? "system.L=0.0632" : "system.L=0.1", NULL};
     const double warm = q ? 0.01 : 0.02, dur = q ? 0.01 : 0.06;
     const ensemble v = run_ensemble("steady-2d.ini", base, NULL, 1001, warm, dur);
     const ensemble h = run_ensemble("steady-2d.ini", base, hybrid_over, 2001, warm, dur);
@@ -531,8 +580,9 @@ END_TEST
  * run of the same seed, mapped back to parent indices. */
 START_TEST(test_contact_events)
 {
-    const char *over[] = {"system.N=200", "system.reduced_length=0.2", "placement.v0=0.5", "integrator.kind=hybrid",
-                          "integrator.kick_interval=5e-5", NULL};
+    const char *over[] = {
+        "system.N=200",           "system.reduced_length=0.2",     "placement.v0=0.5",
+        "integrator.kind=hybrid", "integrator.kick_interval=5e-5", NULL};
     gr_scene sc = load("rfm-1d.ini", over);
     gr_sim *all = create(&sc), *h = create(&sc);
     gr_hybrid_set_margin(all, 1e9);
@@ -574,7 +624,8 @@ START_TEST(test_refuse_window)
     int rc = gr_sim_create(&sc, &s, &err);
     ck_assert_int_eq(rc, GR_EINVAL);
     ck_assert_ptr_null(s);
-    ck_assert_msg(strstr(err.message, "kick_interval") && strstr(err.message, "multiple") && strstr(err.message, "rfm-1d.ini"),
+    ck_assert_msg(strstr(err.message, "kick_interval") && strstr(err.message, "multiple") &&
+                      strstr(err.message, "rfm-1d.ini"),
                   "message: %s", err.message);
 }
 END_TEST
@@ -599,7 +650,4 @@ static Suite *hybrid_suite(void)
     return s;
 }
 
-int main(void)
-{
-    return gr_test_run(hybrid_suite());
-}
+int main(void) { return gr_test_run(hybrid_suite()); }

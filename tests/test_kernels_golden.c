@@ -37,11 +37,23 @@ static const golden_case cases[] = {
     {"rfm-2d.ini", {"model.clamp=true", NULL}, 600, UINT64_C(0xc0734f240e2c1d7c)},
     /* rotation = false (the default) is the trajectory of the thesis, bit for bit */
     {"rfm-2d.ini", {"model.rotation=false", NULL}, 600, UINT64_C(0x3a6820c86bac931d)},
-    {"rfm-2d.ini", {"model.tangential=sliding_friction", "model.mu=0.3", "model.rotation=false"}, 600, UINT64_C(0x47687f6efa0f884f)},
+    {"rfm-2d.ini",
+     {"model.tangential=sliding_friction", "model.mu=0.3", "model.rotation=false"},
+     600,
+     UINT64_C(0x47687f6efa0f884f)},
     {"rfm-2d.ini", {"model.tangential=none", NULL}, 600, UINT64_C(0xf271d1070c2be18e)},
-    {"rfm-2d.ini", {"model.tangential=none", "model.clamp=true", NULL}, 600, UINT64_C(0x751615ea7305399e)},
-    {"rfm-2d.ini", {"model.tangential=sliding_friction", "model.mu=0.3", NULL}, 600, UINT64_C(0x47687f6efa0f884f)},
-    {"rfm-2d.ini", {"model.tangential=sliding_friction", "model.mu=0.3", "model.clamp=true"}, 600, UINT64_C(0xf621db12a9b492be)},
+    {"rfm-2d.ini",
+     {"model.tangential=none", "model.clamp=true", NULL},
+     600,
+     UINT64_C(0x751615ea7305399e)},
+    {"rfm-2d.ini",
+     {"model.tangential=sliding_friction", "model.mu=0.3", NULL},
+     600,
+     UINT64_C(0x47687f6efa0f884f)},
+    {"rfm-2d.ini",
+     {"model.tangential=sliding_friction", "model.mu=0.3", "model.clamp=true"},
+     600,
+     UINT64_C(0xf621db12a9b492be)},
     {"rfm-1d.ini", {NULL}, 4000, UINT64_C(0x51891d9534706687)},
     {"rfm-1d.ini", {"model.clamp=true", NULL}, 4000, UINT64_C(0x84136eb5693cd97f)},
     {"cooling-2d.ini", {NULL}, 6000, UINT64_C(0x29bad14aa1f79508)},
@@ -88,7 +100,13 @@ static uint64_t run_case(const golden_case *c, int64_t *collisions, char *kernel
         h = fnv(h, p.vy, n);
     }
     gr_ledger l = gr_sim_ledger(sim);
-    const double led[] = {l.kinetic, l.elastic, l.injected, l.dissipated_normal, l.dissipated_tangential, l.dissipated_friction, l.removed_com};
+    const double led[] = {l.kinetic,
+                          l.elastic,
+                          l.injected,
+                          l.dissipated_normal,
+                          l.dissipated_tangential,
+                          l.dissipated_friction,
+                          l.removed_com};
     h = fnv(h, led, sizeof led);
     *collisions = gr_sim_collisions(sim);
     snprintf(kernel, kn, "%s", gr_sim_kernel(sim));
@@ -103,14 +121,17 @@ START_TEST(test_golden_trajectory)
     char kernel[200];
     uint64_t h = run_case(c, &collisions, kernel, sizeof kernel);
     if (env_flag("GRANULE_GOLDEN_PRINT")) {
-        printf("case %d %s: UINT64_C(0x%016" PRIx64 ") %s, %" PRId64 " collisions\n", _i, c->scene, h, kernel,
-               collisions);
+        printf("case %d %s: UINT64_C(0x%016" PRIx64 ") %s, %" PRId64 " collisions\n", _i, c->scene,
+               h, kernel, collisions);
         return;
     }
-    VERBOSE("case %d %s (%s): %" PRId64 " collisions, hash %016" PRIx64 "\n", _i, c->scene, kernel, collisions, h);
-    ck_assert_msg(collisions > 0, "case %d %s: no collision in %d steps, the laws were not exercised", _i, c->scene,
+    VERBOSE("case %d %s (%s): %" PRId64 " collisions, hash %016" PRIx64 "\n", _i, c->scene, kernel,
+            collisions, h);
+    ck_assert_msg(collisions > 0,
+                  "case %d %s: no collision in %d steps, the laws were not exercised", _i, c->scene,
                   c->steps);
-    ck_assert_msg(h == c->hash, "case %d %s (%s): trajectory hash %016" PRIx64 ", recorded %016" PRIx64, _i,
+    ck_assert_msg(h == c->hash,
+                  "case %d %s (%s): trajectory hash %016" PRIx64 ", recorded %016" PRIx64, _i,
                   c->scene, kernel, h, c->hash);
 }
 END_TEST
@@ -125,7 +146,4 @@ static Suite *suite(void)
     return s;
 }
 
-int main(void)
-{
-    return gr_test_run(suite());
-}
+int main(void) { return gr_test_run(suite()); }

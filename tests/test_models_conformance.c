@@ -49,7 +49,7 @@
 #include "granule/model.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
-#include "core/sim_internal.h" /* gr_kernel_force_generic, gr_kernel_instances */
+#include "core/sim_internal.h"  /* gr_kernel_force_generic, gr_kernel_instances */
 #include "models/hard_sphere.h" /* the rough rule itself, for angular momentum */
 #include "models/reference.h"   /* gr_model.reference */
 #include "check_main.h"
@@ -65,9 +65,9 @@
 typedef struct combo {
     const gr_model *normal, *tangential;
     int clamp, dim;
-    int rot; /* [model] rotation = true (a tangential law at the contact point) */
-    const char *variant; /* the normal law's mode (gr_model.variants), NULL if it has one */
-    const char *tvariant; /* the tangential law's mode, NULL if it has none */
+    int rot;                 /* [model] rotation = true (a tangential law at the contact point) */
+    const char *variant;     /* the normal law's mode (gr_model.variants), NULL if it has one */
+    const char *tvariant;    /* the tangential law's mode, NULL if it has none */
     const gr_model *rolling; /* a rolling law (rotation kernels only), NULL if none */
 } combo;
 
@@ -95,7 +95,8 @@ static void enumerate(void)
                 combos[n_combos++] = (combo){nm, NULL, clamp, 2, 0, var, NULL, NULL};
                 for (int b = 0; gr_models[b]; b++) {
                     const gr_model *tm = gr_models[b];
-                    for (int tv = 0; tm->kind == GR_MODEL_TANGENTIAL && (tv == 0 || (tm->variants && tm->variants[tv]));
+                    for (int tv = 0; tm->kind == GR_MODEL_TANGENTIAL &&
+                                     (tv == 0 || (tm->variants && tm->variants[tv]));
                          tv++) {
                         const char *tvar = tm->variants ? tm->variants[tv] : NULL;
                         if (!legal(nm, var, tm, tvar)) {
@@ -103,12 +104,15 @@ static void enumerate(void)
                         }
                         for (int rot = 0; rot <= (tm->contact_point ? 1 : 0); rot++) {
                             if (n_combos < MAX_COMBOS) {
-                                combos[n_combos++] = (combo){nm, tm, clamp, 2, rot, var, tvar, NULL};
+                                combos[n_combos++] =
+                                    (combo){nm, tm, clamp, 2, rot, var, tvar, NULL};
                             }
                             /* every rolling law with rotation */
                             for (int r = 0; rot && gr_models[r]; r++) {
-                                if (gr_models[r]->kind == GR_MODEL_ROLLING && n_combos < MAX_COMBOS) {
-                                    combos[n_combos++] = (combo){nm, tm, clamp, 2, 1, var, tvar, gr_models[r]};
+                                if (gr_models[r]->kind == GR_MODEL_ROLLING &&
+                                    n_combos < MAX_COMBOS) {
+                                    combos[n_combos++] =
+                                        (combo){nm, tm, clamp, 2, 1, var, tvar, gr_models[r]};
                                 }
                             }
                         }
@@ -120,7 +124,8 @@ static void enumerate(void)
     n_events = 0;
     for (int a = 0; gr_models[a]; a++) {
         const gr_model *em = gr_models[a];
-        for (int v = 0; (em->kind & GR_MODEL_EVENT) && (v == 0 || (em->variants && em->variants[v])); v++) {
+        for (int v = 0;
+             (em->kind & GR_MODEL_EVENT) && (v == 0 || (em->variants && em->variants[v])); v++) {
             const char *var = em->variants ? em->variants[v] : NULL;
             const int rot = var && strstr(var, "rotation=true") != NULL;
             for (int dim = rot ? 2 : 1; dim <= 2 && n_events < MAX_COMBOS; dim++) {
@@ -135,12 +140,14 @@ static void apply_settings(gr_contact_params *p, const char *settings)
 {
     char buf[256];
     snprintf(buf, sizeof buf, "%s", settings ? settings : "");
-    for (char *save = NULL, *tok = strtok_r(buf, " ", &save); tok; tok = strtok_r(NULL, " ", &save)) {
+    for (char *save = NULL, *tok = strtok_r(buf, " ", &save); tok;
+         tok = strtok_r(NULL, " ", &save)) {
         char *eq = strchr(tok, '=');
         ck_assert_msg(eq, "settings '%s': '%s' is not key=value", settings, tok);
         *eq = '\0';
         gr_error err = {0};
-        ck_assert_msg(gr_contact_set(p, tok, eq + 1, &err) == GR_OK, "settings '%s': %s", settings, err.message);
+        ck_assert_msg(gr_contact_set(p, tok, eq + 1, &err) == GR_OK, "settings '%s': %s", settings,
+                      err.message);
     }
 }
 
@@ -181,11 +188,12 @@ static bool legal(const gr_model *nm, const char *var, const gr_model *tm, const
 
 static const char *name_of(const combo *c, char *buf, size_t n)
 {
-    snprintf(buf, n, "%dd %s%s%s%s%s%s%s%s%s%s%s%s%s", c->dim, c->normal->name, c->variant ? "(" : "", c->variant ? c->variant : "",
-             c->variant ? ")" : "", c->clamp ? "[clamped]" : "", c->tangential ? "+" : "",
-             c->tangential ? c->tangential->name : "", c->tvariant ? "(" : "", c->tvariant ? c->tvariant : "",
-             c->tvariant ? ")" : "", c->rot ? "(rotation)" : "", c->rolling ? "+" : "",
-             c->rolling ? c->rolling->name : "");
+    snprintf(buf, n, "%dd %s%s%s%s%s%s%s%s%s%s%s%s%s", c->dim, c->normal->name,
+             c->variant ? "(" : "", c->variant ? c->variant : "", c->variant ? ")" : "",
+             c->clamp ? "[clamped]" : "", c->tangential ? "+" : "",
+             c->tangential ? c->tangential->name : "", c->tvariant ? "(" : "",
+             c->tvariant ? c->tvariant : "", c->tvariant ? ")" : "", c->rot ? "(rotation)" : "",
+             c->rolling ? "+" : "", c->rolling ? c->rolling->name : "");
     return buf;
 }
 
@@ -230,8 +238,9 @@ static double duration_of(const gr_contact_coeffs *k, double speed, double angle
 
 /* Engine run averaged over `nph` contact phases, dt = t_c(v) / STEPS. Returns the mean loss;
  * *mom the largest momentum error. */
-static double engine_loss(gr_collide_setup s, const gr_collision_case *cs, const gr_contact_coeffs *k, double speed,
-                          double angle, int nph, double *mom, double *overlap, const char *what)
+static double engine_loss(gr_collide_setup s, const gr_collision_case *cs,
+                          const gr_contact_coeffs *k, double speed, double angle, int nph,
+                          double *mom, double *overlap, const char *what)
 {
     s.dt = duration_of(k, speed, angle) / STEPS;
     double sum = 0.0;
@@ -270,17 +279,21 @@ START_TEST(test_restitution_law)
             gr_collision_case cs = impact(speeds[v], angles[a]);
             gr_collide_result r;
             gr_error err = {0};
-            ck_assert_msg(gr_collide_reference(&s, &cs, &r, &err) == GR_OK, "%s: reference: %s", what, err.message);
+            ck_assert_msg(gr_collide_reference(&s, &cs, &r, &err) == GR_OK, "%s: reference: %s",
+                          what, err.message);
             const double want = gr_contact_expected_loss(&k, speeds[v], angles[a]);
             /* obliquely the line of centres turns by ~ v_t t_c / d during the contact, which the
              * fixed-normal law ignores */
             const double t_c = duration_of(&k, speeds[v], angles[a]);
             const double turn = speeds[v] * sin(angles[a] * M_PI / 180.0) * t_c / DIAM;
             const double tol = 1e-7 + 2.0 * turn;
-            VERBOSE("%s: reference loss %.10f, law %.10f (tol %.2e)\n", what, r.energy_loss, want, tol);
-            ck_assert_msg(fabs(r.energy_loss - want) <= tol, "%s: reference loss %.10f, the model's law %.10f (tol %.2e)",
-                          what, r.energy_loss, want, tol);
-            ck_assert_msg(fabs(r.impact_angle - angles[a]) <= 1e-6, "%s: impact angle %g", what, r.impact_angle);
+            VERBOSE("%s: reference loss %.10f, law %.10f (tol %.2e)\n", what, r.energy_loss, want,
+                    tol);
+            ck_assert_msg(fabs(r.energy_loss - want) <= tol,
+                          "%s: reference loss %.10f, the model's law %.10f (tol %.2e)", what,
+                          r.energy_loss, want, tol);
+            ck_assert_msg(fabs(r.impact_angle - angles[a]) <= 1e-6, "%s: impact angle %g", what,
+                          r.impact_angle);
         }
     }
 }
@@ -303,25 +316,31 @@ START_TEST(test_engine_vs_reference)
             gr_collision_case cs = impact(speeds[v], angle);
             gr_collide_result ref = {0};
             gr_error err = {0};
-            ck_assert_msg(gr_collide_reference(&s, &cs, &ref, &err) == GR_OK, "%s: %s", what, err.message);
+            ck_assert_msg(gr_collide_reference(&s, &cs, &ref, &err) == GR_OK, "%s: %s", what,
+                          err.message);
             double mom = 0.0, ov = 0.0, ov2 = 0.0;
             const double loss = engine_loss(s, &cs, &k, speeds[v], angle, nph, &mom, &ov, what);
             const double tol = K_DT / STEPS;
-            VERBOSE("%s: engine %.8f, reference %.8f, |diff| %.2e (tol %.2e), momentum %.1e\n", what, loss,
-                    ref.energy_loss, fabs(loss - ref.energy_loss), tol, mom);
+            VERBOSE("%s: engine %.8f, reference %.8f, |diff| %.2e (tol %.2e), momentum %.1e\n",
+                    what, loss, ref.energy_loss, fabs(loss - ref.energy_loss), tol, mom);
             ck_assert_msg(fabs(loss - ref.energy_loss) <= tol,
-                          "%s: engine loss %.8f, reference %.8f (tol %.2e)", what, loss, ref.energy_loss, tol);
+                          "%s: engine loss %.8f, reference %.8f (tol %.2e)", what, loss,
+                          ref.energy_loss, tol);
             ck_assert_msg(loss >= -1e-6 && loss <= 1.0 + 1e-9, "%s: engine loss %.8f", what, loss);
             ck_assert_msg(mom < 1e-12, "%s: momentum error %.3e", what, mom);
             /* the same impact with the particles exchanged and the picture point-reflected (so
              * that the 1D order holds): the pair law sees i and j swapped, n and t reversed. The
              * positions differ by rounding (~ 1e-16 of the box) relative to the overlap. */
-            gr_collision_case sw = {{-cs.x2[0], -cs.x2[1]}, {-cs.v2[0], -cs.v2[1]}, {-cs.x1[0], -cs.x1[1]}, {-cs.v1[0], -cs.v1[1]}};
+            gr_collision_case sw = {{-cs.x2[0], -cs.x2[1]},
+                                    {-cs.v2[0], -cs.v2[1]},
+                                    {-cs.x1[0], -cs.x1[1]},
+                                    {-cs.v1[0], -cs.v1[1]}};
             double mom2 = 0.0;
             const double loss2 = engine_loss(s, &sw, &k, speeds[v], angle, nph, &mom2, &ov2, what);
             const double sym_tol = 1e-12 + 16.0 * 2.2e-16 * (64.0 * DIAM) / ov;
-            ck_assert_msg(fabs(loss2 - loss) <= sym_tol, "%s: loss %.17g, with the particles exchanged %.17g (tol %.2e)",
-                          what, loss, loss2, sym_tol);
+            ck_assert_msg(fabs(loss2 - loss) <= sym_tol,
+                          "%s: loss %.17g, with the particles exchanged %.17g (tol %.2e)", what,
+                          loss, loss2, sym_tol);
         }
     }
 }
@@ -343,17 +362,21 @@ START_TEST(test_elastic)
     }
     gr_collide_setup s = setup_of(c, p);
     gr_contact_coeffs k;
-    ck_assert_msg(coeffs_of(&s, &k), "%s: the elastic settings '%s' are refused", name, c->normal->elastic);
+    ck_assert_msg(coeffs_of(&s, &k), "%s: the elastic settings '%s' are refused", name,
+                  c->normal->elastic);
     for (int a = 0; a < (c->dim == 2 ? 2 : 1); a++) {
         const double angle = a ? 45.0 : 0.0, speed = 0.1;
         snprintf(what, sizeof what, "%s elastic, %g m/s at %g deg", name, speed, angle);
         gr_collision_case cs = impact(speed, angle);
         gr_collide_result ref = {0};
         gr_error err = {0};
-        ck_assert_msg(gr_collide_reference(&s, &cs, &ref, &err) == GR_OK, "%s: %s", what, err.message);
-        ck_assert_msg(fabs(ref.energy_loss) <= 1e-9, "%s: reference loses %.3e", what, ref.energy_loss);
+        ck_assert_msg(gr_collide_reference(&s, &cs, &ref, &err) == GR_OK, "%s: %s", what,
+                      err.message);
+        ck_assert_msg(fabs(ref.energy_loss) <= 1e-9, "%s: reference loses %.3e", what,
+                      ref.energy_loss);
         /* 1e-9: a law may be a numerical integration of its own (hertz) */
-        ck_assert_msg(fabs(gr_contact_expected_loss(&k, speed, angle)) <= 1e-9, "%s: the law predicts a loss %.3e", what,
+        ck_assert_msg(fabs(gr_contact_expected_loss(&k, speed, angle)) <= 1e-9,
+                      "%s: the law predicts a loss %.3e", what,
                       gr_contact_expected_loss(&k, speed, angle));
         double mom = 0.0, ov = 0.0;
         const double loss = engine_loss(s, &cs, &k, speed, angle, quick() ? 2 : 8, &mom, &ov, what);
@@ -364,7 +387,8 @@ START_TEST(test_elastic)
 END_TEST
 
 /* a hard case: a clean refusal or finite results */
-static void hard_case(const combo *c, const gr_contact_params *p, double speed, double angle, const char *what)
+static void hard_case(const combo *c, const gr_contact_params *p, double speed, double angle,
+                      const char *what)
 {
     gr_collide_setup s = setup_of(c, *p);
     gr_contact_coeffs k;
@@ -380,11 +404,12 @@ static void hard_case(const combo *c, const gr_contact_params *p, double speed, 
         ck_assert_msg(err.message[0] != '\0', "%s: refused (%d) without a message", what, rc);
         return;
     }
-    ck_assert_msg(isfinite(r.energy_loss) && isfinite(r.eps_n_measured) && isfinite(r.max_overlap) &&
-                      isfinite(r.contact_time),
-                  "%s: loss %g eps_n %g overlap %g", what, r.energy_loss, r.eps_n_measured, r.max_overlap);
-    ck_assert_msg(r.energy_loss >= -1e-6 && r.energy_loss <= 1.0 + 1e-9, "%s: loss %.17g outside [0, 1]", what,
-                  r.energy_loss);
+    ck_assert_msg(isfinite(r.energy_loss) && isfinite(r.eps_n_measured) &&
+                      isfinite(r.max_overlap) && isfinite(r.contact_time),
+                  "%s: loss %g eps_n %g overlap %g", what, r.energy_loss, r.eps_n_measured,
+                  r.max_overlap);
+    ck_assert_msg(r.energy_loss >= -1e-6 && r.energy_loss <= 1.0 + 1e-9,
+                  "%s: loss %.17g outside [0, 1]", what, r.energy_loss);
 }
 
 /* 4. hard cases: every restitution-like parameter at the minimum its descriptor allows (or just
@@ -409,12 +434,15 @@ START_TEST(test_hard_cases)
                 gr_contact_coeffs k;
                 gr_error err = {0};
                 const gr_model *t = s.dim == 2 ? s.tangential : NULL;
-                if (gr_contact_prepare(s.normal, t, &s.contact, 0.5 * MASS, 0.0, &k, &err) != GR_OK) {
-                    ck_assert_msg(err.message[0] != '\0', "%s: %s = %g refused without a message", name, d->name, v);
+                if (gr_contact_prepare(s.normal, t, &s.contact, 0.5 * MASS, 0.0, &k, &err) !=
+                    GR_OK) {
+                    ck_assert_msg(err.message[0] != '\0', "%s: %s = %g refused without a message",
+                                  name, d->name, v);
                     continue;
                 }
                 for (int a = 0; a < (c->dim == 2 ? 2 : 1); a++) {
-                    snprintf(what, sizeof what, "%s, %s = %g, angle %g", name, d->name, v, a ? 60.0 : 0.0);
+                    snprintf(what, sizeof what, "%s, %s = %g, angle %g", name, d->name, v,
+                             a ? 60.0 : 0.0);
                     hard_case(c, &p, 0.1, a ? 60.0 : 0.0, what);
                 }
             }
@@ -425,7 +453,8 @@ START_TEST(test_hard_cases)
             gr_contact_params x = defaults_of(c);
             apply_settings(&x, laws[m]->extremes[e]);
             for (int a = 0; a < (c->dim == 2 ? 2 : 1); a++) {
-                snprintf(what, sizeof what, "%s, %s, angle %g", name, laws[m]->extremes[e], a ? 60.0 : 0.0);
+                snprintf(what, sizeof what, "%s, %s, angle %g", name, laws[m]->extremes[e],
+                         a ? 60.0 : 0.0);
                 hard_case(c, &x, 0.1, a ? 60.0 : 0.0, what);
             }
         }
@@ -445,7 +474,8 @@ END_TEST
 
 /* Two discs colliding head-on (2D: at 30 degrees) with the pair centred at (cx, cy) of a box of
  * side L; returns the final velocities and the ledger residual relative to the initial energy. */
-static double pair_run(const combo *c, double cx, double cy, double out[4], double *resid, double *t_over_dt)
+static double pair_run(const combo *c, double cx, double cy, double out[4], double *resid,
+                       double *t_over_dt)
 {
     gr_scene sc;
     gr_scene_default(&sc);
@@ -465,11 +495,13 @@ static double pair_run(const combo *c, double cx, double cy, double out[4], doub
     const double speed = 0.1, a = c->dim == 2 ? 30.0 * M_PI / 180.0 : 0.0;
     gr_contact_coeffs k;
     gr_error err = {0};
-    ck_assert(gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * MASS, 0.0, &k, &err) == GR_OK);
+    ck_assert(gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * MASS, 0.0, &k,
+                                 &err) == GR_OK);
     sc.dt = duration_of(&k, speed, 0.0) / STEPS;
     /* contact begins 10.5 steps in (mid-step, so rounding cannot move it by a step); 1 moves +x, 2 moves -x, offset by d sin a in y */
     const double gap = 10.5 * sc.dt * speed, half = 0.5 * (DIAM * cos(a) + gap);
-    double x[2] = {cx - half, cx + half}, y[2] = {cy - 0.5 * DIAM * sin(a), cy + 0.5 * DIAM * sin(a)};
+    double x[2] = {cx - half, cx + half},
+           y[2] = {cy - 0.5 * DIAM * sin(a), cy + 0.5 * DIAM * sin(a)};
     for (int p = 0; p < 2; p++) {
         x[p] -= sc.L * floor(x[p] / sc.L);
         y[p] -= sc.L * floor(y[p] / sc.L);
@@ -485,7 +517,8 @@ static double pair_run(const combo *c, double cx, double cy, double out[4], doub
         vx[1] = 0.5 * speed;
     }
     gr_sim *s = NULL;
-    int rc = gr_sim_create_with_state(&sc, 2, x, c->dim == 2 ? y : NULL, vx, c->dim == 2 ? vy : NULL, &s, &err);
+    int rc = gr_sim_create_with_state(&sc, 2, x, c->dim == 2 ? y : NULL, vx,
+                                      c->dim == 2 ? vy : NULL, &s, &err);
     ck_assert_msg(rc == GR_OK, "create: %s", err.message);
     const int64_t steps = (int64_t)(3.0 * STEPS) + 40;
     rc = gr_sim_step(s, steps, &err);
@@ -516,17 +549,20 @@ START_TEST(test_periodic_and_ledger)
     pair_run(c, 0.0, c->dim == 2 ? 0.0 : 0.5 * L, edge, &r_edge, &steps);
     ck_assert_msg(coll >= 1.0, "%s: the pair did not collide", name);
     for (int q = 0; q < 4; q++) {
-        ck_assert_msg(isfinite(edge[q]), "%s: velocity %d is %g across the boundary", name, q, edge[q]);
-        ck_assert_msg(fabs(edge[q] - mid[q]) <= 1e-9 * 0.1, "%s: velocity %d %.17g across the boundary, %.17g inside",
-                      name, q, edge[q], mid[q]);
+        ck_assert_msg(isfinite(edge[q]), "%s: velocity %d is %g across the boundary", name, q,
+                      edge[q]);
+        ck_assert_msg(fabs(edge[q] - mid[q]) <= 1e-9 * 0.1,
+                      "%s: velocity %d %.17g across the boundary, %.17g inside", name, q, edge[q],
+                      mid[q]);
     }
     /* after the collision the elastic energy is 0; the ledger's residual is the velocity-Verlet
      * energy error of the contact, second order: (w dt)^2 / 4 per collision at most for the
      * linear law (docs/collision-accuracy.md), w ~ pi / t_c */
     const double tol = pow(M_PI / steps, 2.0);
     VERBOSE("%s: ledger residual %.3e of the initial energy (tol %.2e)\n", name, r_mid, tol);
-    ck_assert_msg(fabs(r_mid) <= tol && fabs(r_edge) <= tol, "%s: ledger residual %.3e / %.3e of the initial energy (tol %.2e)",
-                  name, r_mid, r_edge, tol);
+    ck_assert_msg(fabs(r_mid) <= tol && fabs(r_edge) <= tol,
+                  "%s: ledger residual %.3e / %.3e of the initial energy (tol %.2e)", name, r_mid,
+                  r_edge, tol);
 }
 END_TEST
 
@@ -554,24 +590,31 @@ START_TEST(test_rolling_law)
         const double p_n = m12 * ni.impulse_abs * speed;
         /* the relative spin the contact just stops: J_max = I dw / 2 = mu_r r_eff p_n (law-free
          * guess from the full-torque value: the law decides which regime it is) */
-        const double w_stop = c->rolling->spin_loss(&k, p_n, r_eff, inertia, 1e30) / (1e30 * inertia);
+        const double w_stop =
+            c->rolling->spin_loss(&k, p_n, r_eff, inertia, 1e30) / (1e30 * inertia);
         const double ws[2] = {20.0 * w_stop, 0.3 * w_stop};
         for (int q = 0; q < 2; q++) {
             s.omega1 = ws[q];
             s.omega2 = -ws[q];
-            snprintf(what, sizeof what, "%s, %g m/s head-on, w1 = -w2 = %.4g rad/s", name, speed, ws[q]);
+            snprintf(what, sizeof what, "%s, %g m/s head-on, w1 = -w2 = %.4g rad/s", name, speed,
+                     ws[q]);
             gr_collision_case cs = impact(speed, 0.0);
             s.dt = duration_of(&k, speed, 0.0) / STEPS;
             gr_collide_result r;
             gr_error err = {0};
             ck_assert_msg(gr_collide_run(&s, &cs, &r, &err) == GR_OK, "%s: %s", what, err.message);
             const double e0 = 0.5 * m12 * speed * speed + inertia * ws[q] * ws[q];
-            const double got = r.spin_loss * e0, want = c->rolling->spin_loss(&k, p_n, r_eff, inertia, 2.0 * ws[q]);
-            VERBOSE("%s: spin loss %.8e J, the law %.8e J (rel %.2e)\n", what, got, want, got / want - 1.0);
-            ck_assert_msg(want > 0.0 && fabs(got - want) <= 0.5 / STEPS * want, "%s: spin loss %.10e J, the law %.10e J", what,
-                          got, want);
-            ck_assert_msg(r.omega1 + r.omega2 == 0.0, "%s: the contact point slipped (w1 + w2 = %g)", what, r.omega1 + r.omega2);
-            ck_assert_msg(r.momentum_error < 1e-12, "%s: momentum error %.3e", what, r.momentum_error);
+            const double got = r.spin_loss * e0,
+                         want = c->rolling->spin_loss(&k, p_n, r_eff, inertia, 2.0 * ws[q]);
+            VERBOSE("%s: spin loss %.8e J, the law %.8e J (rel %.2e)\n", what, got, want,
+                    got / want - 1.0);
+            ck_assert_msg(want > 0.0 && fabs(got - want) <= 0.5 / STEPS * want,
+                          "%s: spin loss %.10e J, the law %.10e J", what, got, want);
+            ck_assert_msg(r.omega1 + r.omega2 == 0.0,
+                          "%s: the contact point slipped (w1 + w2 = %g)", what,
+                          r.omega1 + r.omega2);
+            ck_assert_msg(r.momentum_error < 1e-12, "%s: momentum error %.3e", what,
+                          r.momentum_error);
         }
     }
 }
@@ -580,13 +623,16 @@ END_TEST
 /* ---------- event rules (instantaneous collisions; every mode in gr_model.variants) ---------- */
 
 /* the event rule's collision as `granule collide` applies it; false if refused */
-static bool event_collide(const combo *c, gr_contact_params p, double speed, double angle, int swap, gr_collide_result *r,
-                          gr_error *err)
+static bool event_collide(const combo *c, gr_contact_params p, double speed, double angle, int swap,
+                          gr_collide_result *r, gr_error *err)
 {
     gr_collide_setup s = setup_of(c, p);
     gr_collision_case cs = impact(speed, angle);
     if (swap) {
-        gr_collision_case sw = {{-cs.x2[0], -cs.x2[1]}, {-cs.v2[0], -cs.v2[1]}, {-cs.x1[0], -cs.x1[1]}, {-cs.v1[0], -cs.v1[1]}};
+        gr_collision_case sw = {{-cs.x2[0], -cs.x2[1]},
+                                {-cs.v2[0], -cs.v2[1]},
+                                {-cs.x1[0], -cs.x1[1]},
+                                {-cs.v1[0], -cs.v1[1]}};
         cs = sw;
     }
     return gr_collide_run(&s, &cs, r, err) == GR_OK;
@@ -610,20 +656,27 @@ START_TEST(test_event_rule)
             snprintf(what, sizeof what, "%s, %g m/s at %g deg", name, speeds[v], angles[a]);
             gr_collide_result r, rs;
             gr_error err = {0};
-            ck_assert_msg(event_collide(c, p, speeds[v], angles[a], 0, &r, &err), "%s: %s", what, err.message);
+            ck_assert_msg(event_collide(c, p, speeds[v], angles[a], 0, &r, &err), "%s: %s", what,
+                          err.message);
             const double want = gr_contact_expected_loss(&k, speeds[v], angles[a]);
-            VERBOSE("%s: loss %.15f, the rule's law %.15f, spins %g %g\n", what, r.energy_loss, want, r.omega1, r.omega2);
-            ck_assert_msg(fabs(r.energy_loss - want) <= 1e-12, "%s: loss %.17g, the rule's law %.17g", what, r.energy_loss, want);
-            ck_assert_msg(r.momentum_error < 1e-12, "%s: momentum error %.3e", what, r.momentum_error);
+            VERBOSE("%s: loss %.15f, the rule's law %.15f, spins %g %g\n", what, r.energy_loss,
+                    want, r.omega1, r.omega2);
+            ck_assert_msg(fabs(r.energy_loss - want) <= 1e-12,
+                          "%s: loss %.17g, the rule's law %.17g", what, r.energy_loss, want);
+            ck_assert_msg(r.momentum_error < 1e-12, "%s: momentum error %.3e", what,
+                          r.momentum_error);
             if (c->rot && a > 0) {
-                ck_assert_msg(r.omega1 != 0.0 && r.omega1 == r.omega2, "%s: spins %g %g", what, r.omega1, r.omega2);
+                ck_assert_msg(r.omega1 != 0.0 && r.omega1 == r.omega2, "%s: spins %g %g", what,
+                              r.omega1, r.omega2);
             }
-            ck_assert_msg(event_collide(c, p, speeds[v], angles[a], 1, &rs, &err), "%s: %s", what, err.message);
-            ck_assert_msg(fabs(rs.energy_loss - r.energy_loss) <= 1e-12, "%s: loss %.17g, exchanged %.17g", what,
-                          r.energy_loss, rs.energy_loss);
+            ck_assert_msg(event_collide(c, p, speeds[v], angles[a], 1, &rs, &err), "%s: %s", what,
+                          err.message);
+            ck_assert_msg(fabs(rs.energy_loss - r.energy_loss) <= 1e-12,
+                          "%s: loss %.17g, exchanged %.17g", what, r.energy_loss, rs.energy_loss);
             ck_assert_msg(fabs(rs.omega1 - r.omega2) <= 1e-9 * fabs(r.omega2) + 1e-300 &&
                               fabs(rs.omega2 - r.omega1) <= 1e-9 * fabs(r.omega1) + 1e-300,
-                          "%s: spins %g %g, exchanged %g %g", what, r.omega1, r.omega2, rs.omega2, rs.omega1);
+                          "%s: spins %g %g, exchanged %g %g", what, r.omega1, r.omega2, rs.omega2,
+                          rs.omega1);
         }
     }
     if (c->rot) {
@@ -634,12 +687,14 @@ START_TEST(test_event_rule)
             double v1x = 0.3, v1y = 0.05, v2x = -0.1, v2y = 0.02, w1 = 40.0, w2 = -15.0, de_n, de_t;
             const double r2x = DIAM * nx, r2y = DIAM * ny;
             const double l0 = M * (r2x * v2y - r2y * v2x) + I * (w1 + w2);
-            const double eps = k.normal_model->impact(&k, fabs((v1x - v2x) * nx + (v1y - v2y) * ny)).eps_n;
-            gr_event_collide_rough(M, k.q, R, eps, k.law_t[1], k.law_t[2], nx, ny, &v1x, &v1y, &v2x, &v2y, &w1, &w2, &de_n,
-                                   &de_t);
+            const double eps =
+                k.normal_model->impact(&k, fabs((v1x - v2x) * nx + (v1y - v2y) * ny)).eps_n;
+            gr_event_collide_rough(M, k.q, R, eps, k.law_t[1], k.law_t[2], nx, ny, &v1x, &v1y, &v2x,
+                                   &v2y, &w1, &w2, &de_n, &de_t);
             const double l1 = M * (r2x * v2y - r2y * v2x) + I * (w1 + w2);
             const double scale = M * DIAM * 0.3 + I * 55.0;
-            ck_assert_msg(fabs(l1 - l0) <= 1e-13 * scale, "%s: angular momentum %.17g -> %.17g", name, l0, l1);
+            ck_assert_msg(fabs(l1 - l0) <= 1e-13 * scale, "%s: angular momentum %.17g -> %.17g",
+                          name, l0, l1);
         }
     }
 }
@@ -659,10 +714,12 @@ START_TEST(test_event_elastic)
             apply_settings(&p, "beta=1");
         }
         for (int a = 0; a < (c->dim == 2 ? 2 : 1); a++) {
-            snprintf(what, sizeof what, "%s elastic%s, at %g deg", name, rough ? " (beta = 1)" : "", a ? 45.0 : 0.0);
+            snprintf(what, sizeof what, "%s elastic%s, at %g deg", name, rough ? " (beta = 1)" : "",
+                     a ? 45.0 : 0.0);
             gr_collide_result r;
             gr_error err = {0};
-            ck_assert_msg(event_collide(c, p, 0.1, a ? 45.0 : 0.0, 0, &r, &err), "%s: %s", what, err.message);
+            ck_assert_msg(event_collide(c, p, 0.1, a ? 45.0 : 0.0, 0, &r, &err), "%s: %s", what,
+                          err.message);
             ck_assert_msg(fabs(r.energy_loss) <= 1e-12, "%s: loss %.3e", what, r.energy_loss);
         }
     }
@@ -676,8 +733,9 @@ START_TEST(test_event_hard_cases)
     const combo *c = &events[_i];
     char what[300], name[160];
     name_of(c, name, sizeof name);
-    static const char *const extremes[] = {"eps_n=1e-9", "eps_t=0", "beta=-0.999999", "beta=1 beta_mu=1e9", "beta=1 beta_mu=1e-9",
-                                           "visco_A=1", NULL};
+    static const char *const extremes[] = {
+        "eps_n=1e-9", "eps_t=0", "beta=-0.999999", "beta=1 beta_mu=1e9", "beta=1 beta_mu=1e-9",
+        "visco_A=1",  NULL};
     static const double hard[][2] = {{0.1, 89.9}, {1e-5, 0.0}, {10.0, 30.0}, {10.0, 89.99}};
     for (int e = -1; e < 0 || extremes[e]; e++) {
         gr_contact_params p = defaults_of(c);
@@ -688,16 +746,20 @@ START_TEST(test_event_hard_cases)
             if (c->dim == 1 && hard[h][1] != 0.0) {
                 continue;
             }
-            snprintf(what, sizeof what, "%s, %s, %g m/s at %g deg", name, e >= 0 ? extremes[e] : "defaults", hard[h][0], hard[h][1]);
+            snprintf(what, sizeof what, "%s, %s, %g m/s at %g deg", name,
+                     e >= 0 ? extremes[e] : "defaults", hard[h][0], hard[h][1]);
             gr_collide_result r;
             gr_error err = {0};
             if (!event_collide(c, p, hard[h][0], hard[h][1], 0, &r, &err)) {
                 ck_assert_msg(err.message[0] != '\0', "%s: refused without a message", what);
                 continue;
             }
-            ck_assert_msg(isfinite(r.energy_loss) && isfinite(r.eps_n_measured) && isfinite(r.omega1) && isfinite(r.omega2),
-                          "%s: loss %g eps_n %g spins %g %g", what, r.energy_loss, r.eps_n_measured, r.omega1, r.omega2);
-            ck_assert_msg(r.energy_loss >= -1e-12 && r.energy_loss <= 1.0 + 1e-12, "%s: loss %.17g", what, r.energy_loss);
+            ck_assert_msg(isfinite(r.energy_loss) && isfinite(r.eps_n_measured) &&
+                              isfinite(r.omega1) && isfinite(r.omega2),
+                          "%s: loss %g eps_n %g spins %g %g", what, r.energy_loss, r.eps_n_measured,
+                          r.omega1, r.omega2);
+            ck_assert_msg(r.energy_loss >= -1e-12 && r.energy_loss <= 1.0 + 1e-12, "%s: loss %.17g",
+                          what, r.energy_loss);
         }
     }
 }
@@ -710,7 +772,8 @@ START_TEST(test_registry_covered)
         const gr_model *md = gr_models[m];
         int seen = 0;
         if (md->kind & GR_MODEL_EVENT) {
-            ck_assert_msg(md->impact && md->restitution_t, "%s: an event rule needs its restitution law", md->name);
+            ck_assert_msg(md->impact && md->restitution_t,
+                          "%s: an event rule needs its restitution law", md->name);
             for (int i = 0; i < n_events; i++) {
                 seen += events[i].normal == md;
             }
@@ -723,14 +786,17 @@ START_TEST(test_registry_covered)
         ck_assert_msg(seen > 0, "model %s is in no combination", md->name);
         ck_assert_msg(md->elastic && md->elastic[0], "%s: no elastic settings", md->name);
         if (md->kind & GR_MODEL_NORMAL) {
-            ck_assert_msg(md->impact, "%s: a normal law needs its impact (restitution law)", md->name);
+            ck_assert_msg(md->impact, "%s: a normal law needs its impact (restitution law)",
+                          md->name);
         } else if (md->kind & GR_MODEL_ROLLING) {
             ck_assert_msg(md->spin_loss, "%s: a rolling law needs spin_loss", md->name);
         } else {
             ck_assert_msg(md->restitution_t, "%s: a tangential law needs restitution_t", md->name);
-            ck_assert_msg(md->reference && md->reference->setup && md->reference->force,
-                          "%s: a tangential law needs its force in the CVODE reference (gr_model.reference, "
-                          "models/reference.h)", md->name);
+            ck_assert_msg(
+                md->reference && md->reference->setup && md->reference->force,
+                "%s: a tangential law needs its force in the CVODE reference (gr_model.reference, "
+                "models/reference.h)",
+                md->name);
         }
     }
 }
@@ -764,7 +830,8 @@ static gr_sim *packed_sim(const combo *c, int generic)
     sc.L = side * 1.01 * DIAM;
     gr_contact_coeffs k;
     gr_error err = {0};
-    ck_assert(gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * MASS, 0.0, &k, &err) == GR_OK);
+    ck_assert(gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * MASS, 0.0, &k,
+                                 &err) == GR_OK);
     sc.dt = duration_of(&k, 0.1, 0.0) / STEPS;
     double x[NP], y[NP], vx[NP], vy[NP];
     unsigned long long r = 12345; /* a fixed LCG: the same state for both runs */
@@ -777,7 +844,8 @@ static gr_sim *packed_sim(const combo *c, int generic)
         vy[i] = 4.0 * u * u - 0.3;
     }
     gr_sim *s = NULL;
-    ck_assert_msg(gr_sim_create_with_state(&sc, NP, x, c->dim == 2 ? y : NULL, vx, c->dim == 2 ? vy : NULL, &s, &err) == GR_OK,
+    ck_assert_msg(gr_sim_create_with_state(&sc, NP, x, c->dim == 2 ? y : NULL, vx,
+                                           c->dim == 2 ? vy : NULL, &s, &err) == GR_OK,
                   "create: %s", err.message);
     if (s->omega) {
         for (int i = 0; i < NP; i++) {
@@ -803,15 +871,19 @@ START_TEST(test_generic_kernel)
     name_of(c, name, sizeof name);
     gr_sim *a = packed_sim(c, 0), *b = packed_sim(c, 1);
     const bool thesis = strcmp(c->normal->name, "spring_dashpot") == 0 && !c->variant && !c->rot &&
-                        (!c->tangential || (strcmp(c->tangential->name, "tangential_dashpot") == 0 && !c->tvariant));
-    ck_assert_msg(!thesis || !gr_kernel_generic(a), "%s: the thesis's law runs the generic instance", name);
+                        (!c->tangential ||
+                         (strcmp(c->tangential->name, "tangential_dashpot") == 0 && !c->tvariant));
+    ck_assert_msg(!thesis || !gr_kernel_generic(a),
+                  "%s: the thesis's law runs the generic instance", name);
     ck_assert_msg(gr_kernel_generic(b), "%s: the generic instance was not used", name);
     ck_assert_str_eq(gr_sim_kernel(a), gr_sim_kernel(b));
     const int n = a->n;
-    ck_assert_msg(same_bits(a->x, b->x, n) && same_bits(a->vx, b->vx, n), "%s: x or vx differ (generic vs %s)", name,
+    ck_assert_msg(same_bits(a->x, b->x, n) && same_bits(a->vx, b->vx, n),
+                  "%s: x or vx differ (generic vs %s)", name,
                   gr_kernel_generic(a) ? "generic" : "specialised");
     if (c->dim == 2) {
-        ck_assert_msg(same_bits(a->y, b->y, n) && same_bits(a->vy, b->vy, n), "%s: y or vy differ", name);
+        ck_assert_msg(same_bits(a->y, b->y, n) && same_bits(a->vy, b->vy, n), "%s: y or vy differ",
+                      name);
     }
     ck_assert_msg(!a->omega || same_bits(a->omega, b->omega, n), "%s: spins differ", name);
     gr_ledger la = gr_sim_ledger(a), lb = gr_sim_ledger(b);
@@ -824,7 +896,8 @@ END_TEST
 
 START_TEST(test_kernel_instances_bounded)
 {
-    ck_assert_msg(gr_kernel_instances() < n_combos, "%d kernel instances for %d combinations", gr_kernel_instances(), n_combos);
+    ck_assert_msg(gr_kernel_instances() < n_combos, "%d kernel instances for %d combinations",
+                  gr_kernel_instances(), n_combos);
 }
 END_TEST
 
@@ -836,18 +909,19 @@ START_TEST(test_shared_keys_one_place)
     for (int m = 0; gr_models[m]; m++) {
         for (int i = 0; i < gr_models[m]->n_params; i++) {
             const gr_param *a = &gr_models[m]->params[i];
-            ck_assert_msg(a->offset + sizeof(double) <= sizeof(gr_contact_params), "%s: %s outside the parameters",
-                          gr_models[m]->name, a->name);
+            ck_assert_msg(a->offset + sizeof(double) <= sizeof(gr_contact_params),
+                          "%s: %s outside the parameters", gr_models[m]->name, a->name);
             for (int n = 0; gr_models[n]; n++) {
                 for (int j = 0; j < gr_models[n]->n_params; j++) {
                     const gr_param *b = &gr_models[n]->params[j];
                     if (strcmp(a->name, b->name) == 0) {
-                        ck_assert_msg(a->offset == b->offset && a->type == b->type && a->def == b->def,
-                                      "%s's %s and %s's differ in place, type or default", gr_models[m]->name,
-                                      a->name, gr_models[n]->name);
+                        ck_assert_msg(a->offset == b->offset && a->type == b->type &&
+                                          a->def == b->def,
+                                      "%s's %s and %s's differ in place, type or default",
+                                      gr_models[m]->name, a->name, gr_models[n]->name);
                     } else {
-                        ck_assert_msg(a->offset != b->offset, "%s's %s and %s's %s share a place", gr_models[m]->name,
-                                      a->name, gr_models[n]->name, b->name);
+                        ck_assert_msg(a->offset != b->offset, "%s's %s and %s's %s share a place",
+                                      gr_models[m]->name, a->name, gr_models[n]->name, b->name);
                     }
                 }
             }
@@ -873,7 +947,8 @@ START_TEST(test_reference_needs_law)
         gr_collide_result r;
         gr_error err = {0};
         ck_assert_int_eq(gr_collide_reference(&s, &cs, &r, &err), GR_EINVAL);
-        ck_assert_msg(strstr(err.message, lawless.name) && strstr(err.message, "reference force"), "%s", err.message);
+        ck_assert_msg(strstr(err.message, lawless.name) && strstr(err.message, "reference force"),
+                      "%s", err.message);
     }
 }
 END_TEST
@@ -908,7 +983,4 @@ static Suite *suite(void)
     return s;
 }
 
-int main(void)
-{
-    return gr_test_run(suite());
-}
+int main(void) { return gr_test_run(suite()); }

@@ -122,10 +122,7 @@ static double ref_normal(uint64_t seed, uint32_t stream, uint64_t step, uint32_t
     }
 }
 
-static int close_to(double a, double b)
-{
-    return fabs(a - b) <= 1e-12 * fmax(1.0, fabs(b));
-}
+static int close_to(double a, double b) { return fabs(a - b) <= 1e-12 * fmax(1.0, fabs(b)); }
 
 START_TEST(test_reference)
 {

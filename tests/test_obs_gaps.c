@@ -25,7 +25,8 @@ extern const gr_observable_type gr_obs_gaps;
 /* ------------------------------------------------------------------------------------------ */
 /* helpers */
 
-static void scene_1d(gr_scene *s, int N, double Lr, double radius, int h_max, int bins, bool log_bins)
+static void scene_1d(gr_scene *s, int N, double Lr, double radius, int h_max, int bins,
+                     bool log_bins)
 {
     gr_scene_default(s);
     s->dim = 1;
@@ -97,7 +98,8 @@ static FILE *open_csv(const char *dir, const char *name, char *header, size_t n)
     /* the column names first; the notes (tool, what; scene, hash, seed) in NAME.meta.json */
     snprintf(path, sizeof path, "%s/%.*s.meta.json", dir, (int)(strlen(name) - 4), name);
     FILE *meta = fopen(path, "r");
-    ck_assert_msg(meta && fgets(line, sizeof line, meta) && line[0] == '{', "missing or empty %s", path);
+    ck_assert_msg(meta && fgets(line, sizeof line, meta) && line[0] == '{', "missing or empty %s",
+                  path);
     fclose(meta);
     ck_assert(fgets(header, (int)n, f) && header[0] != '#');
     return f;
@@ -109,7 +111,12 @@ static void finish_ok(void *st, const gr_scene *s, bool plots, result *r)
     snprintf(r->dir, sizeof r->dir, "/tmp/test_obs_gaps_XXXXXX");
     ck_assert_ptr_nonnull(mkdtemp(r->dir));
     r->analysis = cJSON_CreateObject();
-    gr_output out = {.dir = r->dir, .source = s->source, .seed = s->seed, .scene_hash = 0x1234, .summary = r->analysis, .plots = plots};
+    gr_output out = {.dir = r->dir,
+                     .source = s->source,
+                     .seed = s->seed,
+                     .scene_hash = 0x1234,
+                     .summary = r->analysis,
+                     .plots = plots};
     gr_error err = {0};
     int rc = gr_obs_gaps.finish(st, &out, &err);
     ck_assert_msg(rc == GR_OK, "finish: %s", err.message);
@@ -118,7 +125,9 @@ static void finish_ok(void *st, const gr_scene *s, bool plots, result *r)
 
     char header[512], line[1024];
     FILE *f = open_csv(r->dir, "gaps.csv", header, sizeof header);
-    ck_assert_str_eq(header, "h,binning,R_lo,R_hi,R,count,density,density_error,neg_ln_R,x,density_x,density_x_error\n");
+    ck_assert_str_eq(
+        header,
+        "h,binning,R_lo,R_hi,R,count,density,density_error,neg_ln_R,x,density_x,density_x_error\n");
     int cap = 1024;
     r->rows = malloc(sizeof(row) * (size_t)cap);
     while (fgets(line, sizeof line, f)) {
@@ -127,9 +136,9 @@ static void finish_ok(void *st, const gr_scene *s, bool plots, result *r)
             r->rows = realloc(r->rows, sizeof(row) * (size_t)cap);
         }
         row *w = &r->rows[r->n_rows++];
-        int got = sscanf(line, "%d,%7[a-z],%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &w->h, w->bin, &w->lo, &w->hi, &w->R,
-                         &w->count, &w->density, &w->density_error, &w->neg_ln_R, &w->x, &w->density_x,
-                         &w->density_x_error);
+        int got = sscanf(line, "%d,%7[a-z],%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &w->h, w->bin,
+                         &w->lo, &w->hi, &w->R, &w->count, &w->density, &w->density_error,
+                         &w->neg_ln_R, &w->x, &w->density_x, &w->density_x_error);
         ck_assert_msg(got == 12, "bad gaps.csv line: %s", line);
     }
     fclose(f);
@@ -140,8 +149,8 @@ static void finish_ok(void *st, const gr_scene *s, bool plots, result *r)
     while (fgets(line, sizeof line, f)) {
         ck_assert(r->n_mrows < 12 * 256);
         mrow *w = &r->mrows[r->n_mrows++];
-        int got = sscanf(line, "%d,%d,%lf,%lf,%lf,%lf", &w->h, &w->m, &w->moment, &w->stderr_, &w->reduced,
-                         &w->reduced_stderr);
+        int got = sscanf(line, "%d,%d,%lf,%lf,%lf,%lf", &w->h, &w->m, &w->moment, &w->stderr_,
+                         &w->reduced, &w->reduced_stderr);
         ck_assert_msg(got == 6, "bad gaps_moments.csv line: %s", line);
     }
     fclose(f);
@@ -149,7 +158,8 @@ static void finish_ok(void *st, const gr_scene *s, bool plots, result *r)
 
 static void result_free(result *r)
 {
-    const char *names[] = {"gaps.csv", "gaps_moments.csv", "gaps.png", "gaps_lnR.png", "gaps_moments.png"};
+    const char *names[] = {"gaps.csv", "gaps_moments.csv", "gaps.png", "gaps_lnR.png",
+                           "gaps_moments.png"};
     char path[256];
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         snprintf(path, sizeof path, "%s/%s", r->dir, names[i]);
@@ -216,7 +226,9 @@ static void poisson_frame(gsl_rng *rng, const gr_scene *s, double *x, int unwrap
     for (int i = 0; i < s->N; i++) {
         x[i] += i * d + shift;
         if (unwrap > 0) {
-            x[i] += (double)((long)gsl_rng_uniform_int(rng, 2 * (unsigned long)unwrap + 1) - unwrap) * s->L;
+            x[i] +=
+                (double)((long)gsl_rng_uniform_int(rng, 2 * (unsigned long)unwrap + 1) - unwrap) *
+                s->L;
         } else {
             x[i] = fmod(x[i], s->L);
         }
@@ -323,10 +335,12 @@ START_TEST(test_even_spacing_single_spike)
                     hit = i;
                 }
             }
-            ck_assert_msg(nonzero == 1, "h = %d %s: %d bins filled, expected one spike", h, bins[b], nonzero);
+            ck_assert_msg(nonzero == 1, "h = %d %s: %d bins filled, expected one spike", h, bins[b],
+                          nonzero);
             ck_assert_double_eq(rows[hit].count, (double)N * frames);
-            ck_assert_msg(rows[hit].lo <= h * mean && h * mean < rows[hit].hi, "h = %d %s: spike in [%g, %g), not at %g",
-                          h, bins[b], rows[hit].lo, rows[hit].hi, h * mean);
+            ck_assert_msg(rows[hit].lo <= h * mean && h * mean < rows[hit].hi,
+                          "h = %d %s: spike in [%g, %g), not at %g", h, bins[b], rows[hit].lo,
+                          rows[hit].hi, h * mean);
             /* density integrates to one within the spike bin */
             ck_assert_double_eq_tol(rows[hit].density * (rows[hit].hi - rows[hit].lo), 1.0, 1e-6);
             /* mean-scaled column: the spike sits around x = 1 */
@@ -334,10 +348,10 @@ START_TEST(test_even_spacing_single_spike)
         }
         for (int m = 1; m <= 12; m++) {
             const mrow *mr = moment_row(&r, h, m);
-            ck_assert_msg(fabs(mr->reduced - 1.0) < 1e-9, "h = %d m = %d: reduced moment %.12g, expected 1", h, m,
-                          mr->reduced);
-            ck_assert_msg(fabs(mr->moment / pow(h * mean, m) - 1.0) < 1e-9, "h = %d m = %d: moment %g", h, m,
-                          mr->moment);
+            ck_assert_msg(fabs(mr->reduced - 1.0) < 1e-9,
+                          "h = %d m = %d: reduced moment %.12g, expected 1", h, m, mr->reduced);
+            ck_assert_msg(fabs(mr->moment / pow(h * mean, m) - 1.0) < 1e-9,
+                          "h = %d m = %d: moment %g", h, m, mr->moment);
         }
     }
     ck_assert_double_eq_tol(jnum(r.gaps, "mean_signed_separation"), mean, 1e-13);
@@ -377,10 +391,14 @@ START_TEST(test_poisson_exact_beta_chi2)
             const row *rows = hist_rows(&r, h, bins[b], &n);
             double par[3] = {h, N, Lr}, wrong[3] = {h + 1, N, Lr};
             double p = chi2_pvalue(rows, n, h, (double)N * frames, cdf_beta, par, &chi2, &dof);
-            ck_assert_msg(p > 1e-3, "h = %d %s: chi2 / (2h - 1) = %.1f for %d dof against Beta(h, N - h), p = %.2g", h, bins[b],
-                          chi2, dof, p);
+            ck_assert_msg(
+                p > 1e-3,
+                "h = %d %s: chi2 / (2h - 1) = %.1f for %d dof against Beta(h, N - h), p = %.2g", h,
+                bins[b], chi2, dof, p);
             double q = chi2_pvalue(rows, n, h, (double)N * frames, cdf_beta, wrong, &chi2, &dof);
-            ck_assert_msg(q < 1e-6, "h = %d %s: the wrong law Beta(h + 1) was not rejected (p = %.2g)", h, bins[b], q);
+            ck_assert_msg(q < 1e-6,
+                          "h = %d %s: the wrong law Beta(h + 1) was not rejected (p = %.2g)", h,
+                          bins[b], q);
         }
     }
     result_free(&r);
@@ -416,14 +434,18 @@ START_TEST(test_poisson_gamma_large_N)
             const row *rows = hist_rows(&r, h, bins[b], &n);
             double par[3] = {h, N, Lr};
             double p = chi2_pvalue(rows, n, h, (double)N * frames, cdf_gamma, par, &chi2, &dof);
-            ck_assert_msg(p > 1e-3, "h = %d %s: chi2 / (2h - 1) = %.1f for %d dof against Gamma(%d, L'/N), p = %.2g", h, bins[b],
-                          chi2, dof, h, p);
+            ck_assert_msg(
+                p > 1e-3,
+                "h = %d %s: chi2 / (2h - 1) = %.1f for %d dof against Gamma(%d, L'/N), p = %.2g", h,
+                bins[b], chi2, dof, h, p);
         }
         /* G_1 near R = 0 is N/L' (exponential): the first linear bin holds its bin average */
         if (h == 1) {
             int n;
             const row *rows = hist_rows(&r, 1, "lin", &n);
-            ck_assert_msg(fabs(rows[0].density / (N / Lr * (1.0 - exp(-N / Lr * rows[0].hi)) / (N / Lr * rows[0].hi)) - 1.0) < 0.03,
+            ck_assert_msg(fabs(rows[0].density / (N / Lr * (1.0 - exp(-N / Lr * rows[0].hi)) /
+                                                  (N / Lr * rows[0].hi)) -
+                               1.0) < 0.03,
                           "G_1 near R = 0: %g", rows[0].density);
         }
     }
@@ -454,9 +476,11 @@ START_TEST(test_mean_exact_each_frame)
     for (int h = 1; h <= h_max; h++) {
         const mrow *mr = moment_row(&r, h, 1);
         double want = h * Lr / N;
-        ck_assert_msg(fabs(mr->moment / want - 1.0) < 1e-10, "h = %d: <R> = %.15g, expected %.15g", h, mr->moment, want);
+        ck_assert_msg(fabs(mr->moment / want - 1.0) < 1e-10, "h = %d: <R> = %.15g, expected %.15g",
+                      h, mr->moment, want);
         /* the block-averaging variance sum2/n - mean^2 cancels to ~sqrt(eps) of the mean */
-        ck_assert_msg(mr->stderr_ < 1e-6 * want, "h = %d: <R> varies between frames (stderr %g)", h, mr->stderr_);
+        ck_assert_msg(mr->stderr_ < 1e-6 * want, "h = %d: <R> varies between frames (stderr %g)", h,
+                      mr->stderr_);
     }
     const cJSON *m = cJSON_GetObjectItem(r.gaps, "moments");
     ck_assert_int_eq(cJSON_GetArraySize(m), 12);
@@ -541,15 +565,17 @@ START_TEST(test_wrapped_vs_unwrapped)
     ck_assert_int_eq(rb.n_rows, ra.n_rows);
     ck_assert_int_eq(rc.n_rows, ra.n_rows);
     for (int i = 0; i < ra.n_rows; i++) {
-        ck_assert_msg(ra.rows[i].count == rb.rows[i].count && ra.rows[i].count == rc.rows[i].count,
-                      "row %d (h = %d %s R = %g): counts %g (unwrapped), %g (wrapped), %g (rotated)", i, ra.rows[i].h,
-                      ra.rows[i].bin, ra.rows[i].R, ra.rows[i].count, rb.rows[i].count, rc.rows[i].count);
+        ck_assert_msg(
+            ra.rows[i].count == rb.rows[i].count && ra.rows[i].count == rc.rows[i].count,
+            "row %d (h = %d %s R = %g): counts %g (unwrapped), %g (wrapped), %g (rotated)", i,
+            ra.rows[i].h, ra.rows[i].bin, ra.rows[i].R, ra.rows[i].count, rb.rows[i].count,
+            rc.rows[i].count);
     }
     ck_assert_int_eq(ra.n_mrows, 12 * h_max);
     for (int i = 0; i < ra.n_mrows; i++) {
         double u = ra.mrows[i].moment, v = rb.mrows[i].moment, w = rc.mrows[i].moment;
-        ck_assert_msg(fabs(u / v - 1.0) < 1e-9 && fabs(w / v - 1.0) < 1e-12, "h = %d m = %d: %.12g %.12g %.12g",
-                      ra.mrows[i].h, ra.mrows[i].m, u, v, w);
+        ck_assert_msg(fabs(u / v - 1.0) < 1e-9 && fabs(w / v - 1.0) < 1e-12,
+                      "h = %d m = %d: %.12g %.12g %.12g", ra.mrows[i].h, ra.mrows[i].m, u, v, w);
     }
     result_free(&ra);
     result_free(&rb);
@@ -581,19 +607,21 @@ START_TEST(test_poisson_moments_gamma)
     for (int h = 1; h <= h_max; h++) {
         for (int m = 1; m <= 12; m++) {
             const mrow *mr = moment_row(&r, h, m);
-            double exact = exp(m * log(Lr) + gsl_sf_lngamma(h + m) + gsl_sf_lngamma(N) - gsl_sf_lngamma(h) -
-                               gsl_sf_lngamma(N + m));
+            double exact = exp(m * log(Lr) + gsl_sf_lngamma(h + m) + gsl_sf_lngamma(N) -
+                               gsl_sf_lngamma(h) - gsl_sf_lngamma(N + m));
             double gamma_limit = exp(gsl_sf_lngamma(h + m) - gsl_sf_lngamma(h)) * pow(Lr / N, m);
-            ck_assert_msg(isfinite(mr->moment) && mr->moment > 0.0 && isfinite(mr->stderr_), "h = %d m = %d", h, m);
+            ck_assert_msg(isfinite(mr->moment) && mr->moment > 0.0 && isfinite(mr->stderr_),
+                          "h = %d m = %d", h, m);
             /* the two forms agree to O(m^2 / N) */
             ck_assert(fabs(exact / gamma_limit - 1.0) < m * (m + h) / (double)N);
             if (m <= 6) {
                 ck_assert_msg(fabs(mr->moment - exact) < 4.0 * mr->stderr_ + 1e-3 * exact,
-                              "h = %d m = %d: <R^m> = %.6g +- %.2g, Gamma moment %.6g", h, m, mr->moment, mr->stderr_,
-                              exact);
-                ck_assert_msg(mr->stderr_ < 0.1 * exact, "h = %d m = %d: error %.2g too large to test", h, m,
-                              mr->stderr_);
-                ck_assert_double_eq_tol(mr->reduced, mr->moment / pow(h * Lr / N, m), 1e-9 * mr->reduced);
+                              "h = %d m = %d: <R^m> = %.6g +- %.2g, Gamma moment %.6g", h, m,
+                              mr->moment, mr->stderr_, exact);
+                ck_assert_msg(mr->stderr_ < 0.1 * exact,
+                              "h = %d m = %d: error %.2g too large to test", h, m, mr->stderr_);
+                ck_assert_double_eq_tol(mr->reduced, mr->moment / pow(h * Lr / N, m),
+                                        1e-9 * mr->reduced);
             }
         }
     }
@@ -647,16 +675,18 @@ START_TEST(test_decimation_renormalisation)
     for (int hb = 1; hb <= 2; hb++) {
         for (int b = 0; b < 2; b++) {
             int na, nb, nc;
-            const row *A = hist_rows(&ra, 2 * hb, bins[b], &na), *E = hist_rows(&re, hb, bins[b], &nb),
-                      *O = hist_rows(&ro, hb, bins[b], &nc);
+            const row *A = hist_rows(&ra, 2 * hb, bins[b], &na),
+                      *E = hist_rows(&re, hb, bins[b], &nb), *O = hist_rows(&ro, hb, bins[b], &nc);
             ck_assert_int_eq(na, nb);
             double filled = 0.0;
             for (int i = 0; i < na; i++) {
                 ck_assert_double_eq_tol(A[i].R, E[i].R, 1e-12 * A[i].R);
-                ck_assert_msg(A[i].count == E[i].count + O[i].count, "G_%d(N) vs G_%d(N/2) %s bin %d: %g != %g + %g",
-                              2 * hb, hb, bins[b], i, A[i].count, E[i].count, O[i].count);
+                ck_assert_msg(A[i].count == E[i].count + O[i].count,
+                              "G_%d(N) vs G_%d(N/2) %s bin %d: %g != %g + %g", 2 * hb, hb, bins[b],
+                              i, A[i].count, E[i].count, O[i].count);
                 /* densities: G_2h(R;N) is the mean of the two decimated G_h(R;N/2) */
-                ck_assert_double_eq_tol(A[i].density, 0.5 * (E[i].density + O[i].density), 1e-9 * (A[i].density + 1.0));
+                ck_assert_double_eq_tol(A[i].density, 0.5 * (E[i].density + O[i].density),
+                                        1e-9 * (A[i].density + 1.0));
                 filled += A[i].count > 0;
             }
             ck_assert(filled > 10);
@@ -683,24 +713,31 @@ START_TEST(test_bad_params_refused)
         int dim, N, h_max, bins;
         double Lr;
     } bad[] = {
-        {"2D", 2, 50, 4, 100, 1.0},      {"one particle", 1, 1, 1, 100, 1.0},   {"no free length", 1, 50, 4, 100, 0.0},
-        {"negative free length", 1, 50, 4, 100, -0.01}, {"h_max 0", 1, 50, 0, 100, 1.0},
-        {"h_max = N", 1, 50, 50, 100, 1.0}, {"h_max above the limit", 1, 1000, 257, 100, 1.0},
-        {"bins 1", 1, 50, 4, 1, 1.0},    {"bins 0", 1, 50, 4, 0, 1.0},         {"bins too many", 1, 50, 4, 10001, 1.0},
+        {"2D", 2, 50, 4, 100, 1.0},
+        {"one particle", 1, 1, 1, 100, 1.0},
+        {"no free length", 1, 50, 4, 100, 0.0},
+        {"negative free length", 1, 50, 4, 100, -0.01},
+        {"h_max 0", 1, 50, 0, 100, 1.0},
+        {"h_max = N", 1, 50, 50, 100, 1.0},
+        {"h_max above the limit", 1, 1000, 257, 100, 1.0},
+        {"bins 1", 1, 50, 4, 1, 1.0},
+        {"bins 0", 1, 50, 4, 0, 1.0},
+        {"bins too many", 1, 50, 4, 10001, 1.0},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         scene_1d(&s, bad[k].N, bad[k].Lr, 1e-3, bad[k].h_max, bad[k].bins, true);
         s.dim = bad[k].dim;
         if (bad[k].Lr == 0.0) {
-            s.L = s.N * (2.0 * s.radius); /* L' = L - N d = 0 exactly: the particles fill the ring */
+            s.L =
+                s.N * (2.0 * s.radius); /* L' = L - N d = 0 exactly: the particles fill the ring */
         }
         st = NULL;
         memset(&err, 0, sizeof err);
         int rc = gr_scene_observable(&gr_obs_gaps, &s, &st, &err);
         ck_assert_msg(rc == GR_EINVAL, "%s: accepted (rc %d)", bad[k].what, rc);
         ck_assert_msg(st == NULL, "%s: state returned on failure", bad[k].what);
-        ck_assert_msg(strstr(err.message, "gaps") != NULL, "%s: message '%s' does not name the observable", bad[k].what,
-                      err.message);
+        ck_assert_msg(strstr(err.message, "gaps") != NULL,
+                      "%s: message '%s' does not name the observable", bad[k].what, err.message);
     }
     /* the limits themselves are accepted */
     scene_1d(&s, 50, 1.0, 1e-3, 49, 2, false);

@@ -100,7 +100,8 @@ static void free_particles(int dim)
     }
     ck_assert_msg(max_step < 0.25 * L, "the test's steps %g must stay below L/4", max_step);
     h_table tm, tv;
-    cJSON *jm = h_finish(&gr_obs_msd, ms, &sc, "msd.csv", &tm), *jv = h_finish(&gr_obs_vacf, va, &sc, "vacf.csv", &tv);
+    cJSON *jm = h_finish(&gr_obs_msd, ms, &sc, "msd.csv", &tm),
+          *jv = h_finish(&gr_obs_vacf, va, &sc, "vacf.csv", &tv);
     ck_assert_str_eq(tm.columns, "tau,msd,msd_stderr,origins\n");
     ck_assert_int_eq(tm.rows, lags + 1);
     ck_assert_double_eq(h_num(jm, "msd", "suspect_jumps"), 0.0);
@@ -112,20 +113,24 @@ static void free_particles(int dim)
         double expect = 2.0 * B * dim * (t0 * tau * tau + tau * tau * tau / 3.0);
         double got = h_at(&tm, l, 1);
         if (verbose() && l % 10 == 0) {
-            printf("free %dD msd lag %d: %.6g expected %.6g (ratio %.4f)\n", dim, l, got, expect, got / expect);
+            printf("free %dD msd lag %d: %.6g expected %.6g (ratio %.4f)\n", dim, l, got, expect,
+                   got / expect);
         }
         /* N = 20000 particles: the relative spread of a mean of v^2 is sqrt(2 /
          * (dim N)), 1 % in 1D, 0.7 % in 2D (less after averaging over origins): 4 %
          * is 4-6 sigma; a wrong unwrap or factor is off by far more */
-        ck_assert_msg(fabs(got / expect - 1.0) < 0.04, "%dD msd lag %d: %g, expected %g", dim, l, got, expect);
+        ck_assert_msg(fabs(got / expect - 1.0) < 0.04, "%dD msd lag %d: %g, expected %g", dim, l,
+                      got, expect);
     }
     /* vacf: flat, C(tau) = 2 B <t0> per component for origins t0 */
     for (int l = 0; l <= lags; l += 10) {
         double t0 = 0.5 * (S - 1 - l) * h, expect = 2.0 * B * t0 * dim, got = h_at(&tv, l, 1);
         if (verbose()) {
-            printf("free %dD vacf lag %d: %.6g expected %.6g (ratio %.4f)\n", dim, l, got, expect, got / expect);
+            printf("free %dD vacf lag %d: %.6g expected %.6g (ratio %.4f)\n", dim, l, got, expect,
+                   got / expect);
         }
-        ck_assert_msg(fabs(got / expect - 1.0) < 0.04, "%dD vacf lag %d: %g, expected %g", dim, l, got, expect);
+        ck_assert_msg(fabs(got / expect - 1.0) < 0.04, "%dD vacf lag %d: %g, expected %g", dim, l,
+                      got, expect);
     }
     traj_free(&t);
     gsl_rng_free(r);
@@ -147,7 +152,8 @@ START_TEST(test_langevin)
 {
     gr_scene sc;
     const int N = 200, sub = 10, S = 3000, lags = 100;
-    const double M = 2.0, T = 3.0, gamma = 5.0, h = 0.02 / gamma, L = 1.0; /* sample every 0.2 / gamma */
+    const double M = 2.0, T = 3.0, gamma = 5.0, h = 0.02 / gamma,
+                 L = 1.0; /* sample every 0.2 / gamma */
     const double D_true = T / (M * gamma), a = exp(-gamma * h), s_v = sqrt(T / M * (1.0 - a * a));
     h_scene(&sc, 2, N, L, 1e-4);
     sc.mass = M;
@@ -179,7 +185,8 @@ START_TEST(test_langevin)
         h_sample(&gr_obs_vacf, va, &sc, t.x, t.y, t.vx, t.vy, s * sub * h);
     }
     h_table tm, tv;
-    cJSON *jm = h_finish(&gr_obs_msd, ms, &sc, "msd.csv", &tm), *jv = h_finish(&gr_obs_vacf, va, &sc, "vacf.csv", &tv);
+    cJSON *jm = h_finish(&gr_obs_msd, ms, &sc, "msd.csv", &tm),
+          *jv = h_finish(&gr_obs_vacf, va, &sc, "vacf.csv", &tv);
     double D = h_num(jm, "msd", "D_self"), De = 0.0;
     D = h_num(cJSON_GetObjectItem(jm, "msd"), "D_self", "value");
     De = h_num(cJSON_GetObjectItem(jm, "msd"), "D_self", "error");
@@ -196,14 +203,15 @@ START_TEST(test_langevin)
     ck_assert_msg(fabs(D - D_true) < 4.0 * De, "D_self = %g +- %g, expected %g", D, De, D_true);
     ck_assert_msg(Dge > 0.0 && Dge < 0.05 * D_true, "D_GK error %g", Dge);
     /* trapezoid over lags 0.2/gamma: (x/2) coth(x/2) = 1.0033 */
-    ck_assert_msg(fabs(Dg - D_true * 1.0033) < 4.0 * Dge, "D_GK = %g +- %g, expected %g", Dg, Dge, D_true);
+    ck_assert_msg(fabs(Dg - D_true * 1.0033) < 4.0 * Dge, "D_GK = %g +- %g, expected %g", Dg, Dge,
+                  D_true);
     /* C(tau)/C(0) = exp(-gamma tau) */
     double c0 = h_at(&tv, 0, 1);
     ck_assert_double_eq_tol(c0 / 2.0, T / M, 0.03 * T / M);
     for (int l = 1; l <= 15; l += 2) {
         double tau = h_at(&tv, l, 0), got = h_at(&tv, l, 1) / c0, e = h_at(&tv, l, 2) / c0;
-        ck_assert_msg(fabs(got - exp(-gamma * tau)) < 4.0 * e + 0.01, "C(%g)/C(0) = %g +- %g, exp = %g", tau, got, e,
-                      exp(-gamma * tau));
+        ck_assert_msg(fabs(got - exp(-gamma * tau)) < 4.0 * e + 0.01,
+                      "C(%g)/C(0) = %g +- %g, exp = %g", tau, got, e, exp(-gamma * tau));
     }
     traj_free(&t);
     gsl_rng_free(r);
@@ -247,9 +255,9 @@ START_TEST(test_collisions_periodic)
     cJSON *j = h_finish(&gr_obs_collisions, st, &sc, "collisions.csv", &tab);
     const cJSON *c = cJSON_GetObjectItem(j, "collisions");
     if (verbose()) {
-        printf("collisions: rate %.6g +- %.3g, mean tau %.6g, %g collisions\n", h_num(c, "rate_per_particle", NULL),
-               h_num(c, "rate_per_particle_error", NULL), h_num(c, "mean_time_between", NULL),
-               h_num(c, "collisions", NULL));
+        printf("collisions: rate %.6g +- %.3g, mean tau %.6g, %g collisions\n",
+               h_num(c, "rate_per_particle", NULL), h_num(c, "rate_per_particle_error", NULL),
+               h_num(c, "mean_time_between", NULL), h_num(c, "collisions", NULL));
     }
     ck_assert_double_eq(h_num(c, "collisions", NULL), (S - 1) * 8 * N);
     ck_assert_double_eq_tol(h_num(c, "rate_per_particle", NULL), 80.0, 1e-9);

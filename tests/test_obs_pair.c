@@ -58,7 +58,10 @@ static double param(const gr_scene *sc, const char *key)
 
 static int gr_bins(const gr_scene *sc) { return (int)param(sc, "gr_bins"); }
 
-static double r_max(const gr_scene *sc) { return fmin(param(sc, "gr_rmax") * 2.0 * sc->radius, 0.5 * sc->L); }
+static double r_max(const gr_scene *sc)
+{
+    return fmin(param(sc, "gr_rmax") * 2.0 * sc->radius, 0.5 * sc->L);
+}
 
 static double num(const cJSON *o, const char *path1, const char *path2);
 
@@ -73,7 +76,8 @@ static void *create_ok(const gr_scene *sc)
 
 static void sample_ok(void *st, const gr_scene *sc, const double *x, const double *y)
 {
-    gr_particles p = {.n = sc->N, .dim = 2, .L = sc->L, .radius = sc->radius, .mass = 1.0, .x = x, .y = y};
+    gr_particles p = {
+        .n = sc->N, .dim = 2, .L = sc->L, .radius = sc->radius, .mass = 1.0, .x = x, .y = y};
     gr_error err = {0};
     int rc = gr_obs_pair.sample(st, &p, 0.0, &err);
     ck_assert_msg(rc == GR_OK, "sample: %s", err.message);
@@ -86,7 +90,12 @@ static result finish_read(void *st, const gr_scene *sc)
     ck_assert_ptr_nonnull(mkdtemp(dir));
     result r = {0};
     r.summary = cJSON_CreateObject();
-    gr_output out = {.dir = dir, .source = sc->source, .seed = sc->seed, .scene_hash = 1, .summary = r.summary, .plots = false};
+    gr_output out = {.dir = dir,
+                     .source = sc->source,
+                     .seed = sc->seed,
+                     .scene_hash = 1,
+                     .summary = r.summary,
+                     .plots = false};
     gr_error err = {0};
     int rc = gr_obs_pair.finish(st, &out, &err);
     ck_assert_msg(rc == GR_OK, "finish: %s", err.message);
@@ -114,8 +123,8 @@ static result finish_read(void *st, const gr_scene *sc)
             r.rows = realloc(r.rows, sizeof(row) * (size_t)cap);
         }
         row *w = &r.rows[r.nrows++];
-        int got = sscanf(line, "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &w->R, &w->Rd, &w->g, &w->ge, &w->C, &w->n,
-                         &w->ne, &w->lo, &w->hi, &w->pairs);
+        int got = sscanf(line, "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &w->R, &w->Rd, &w->g,
+                         &w->ge, &w->C, &w->n, &w->ne, &w->lo, &w->hi, &w->pairs);
         ck_assert_int_eq(got, 10);
     }
     fclose(f);
@@ -191,7 +200,8 @@ START_TEST(test_ideal_gas)
     gsl_rng_free(rng);
     result r = finish_read(st, &sc);
     ck_assert_double_eq(num(r.pair, "frames", NULL), frames);
-    ck_assert_str_eq(cJSON_GetObjectItem(r.pair, "errors")->valuestring, "block averaging over frames");
+    ck_assert_str_eq(cJSON_GetObjectItem(r.pair, "errors")->valuestring,
+                     "block averaging over frames");
     double chi2 = 0.0, wsum = 0.0, wdev = 0.0, ratio_min = INFINITY, ratio_max = 0.0;
     double npairs = 0.5 * N * (N - 1);
     int nz = 0;
@@ -213,22 +223,27 @@ START_TEST(test_ideal_gas)
     }
     int dof = bins;
     if (getenv("PAIR_TEST_VERBOSE")) {
-        fprintf(stderr, "ideal gas: chi2 %g / %d, mean dev %g +- %g, error ratios [%g, %g], |n| > 2 sigma in %d bins\n",
+        fprintf(stderr,
+                "ideal gas: chi2 %g / %d, mean dev %g +- %g, error ratios [%g, %g], |n| > 2 sigma "
+                "in %d bins\n",
                 chi2, dof, wdev / wsum, 1.0 / sqrt(wsum), ratio_min, ratio_max, nz);
     }
-    ck_assert_msg(chi2 < dof + 4.0 * sqrt(2.0 * dof) && chi2 > 0.3 * dof, "chi2 = %g for %d bins", chi2, dof);
+    ck_assert_msg(chi2 < dof + 4.0 * sqrt(2.0 * dof) && chi2 > 0.3 * dof, "chi2 = %g for %d bins",
+                  chi2, dof);
     double mean_dev = wdev / wsum, mean_err = 1.0 / sqrt(wsum);
-    ck_assert_msg(fabs(mean_dev) < 4.0 * mean_err, "weighted mean of g - 1 = %g +- %g", mean_dev, mean_err);
+    ck_assert_msg(fabs(mean_dev) < 4.0 * mean_err, "weighted mean of g - 1 = %g +- %g", mean_dev,
+                  mean_err);
     /* blocking errors take the largest level of the plateau: slightly above the exact spread */
-    ck_assert_msg(ratio_min > 0.8 && ratio_max < 1.6, "g errors / exact binomial spread in [%g, %g]", ratio_min,
-                  ratio_max);
+    ck_assert_msg(ratio_min > 0.8 && ratio_max < 1.6,
+                  "g errors / exact binomial spread in [%g, %g]", ratio_min, ratio_max);
     ck_assert_msg(nz <= 8, "%d of %d bins have |n| > 2 sigma", nz, bins);
     /* the C error at R_max against the exact binomial spread of 2 P / N */
-    double p = M_PI * 0.2 * 0.2, cexact = 2.0 / N * sqrt(npairs * p * (1.0 - p)) / sqrt((double)frames);
-    ck_assert_msg(r.rows[bins - 1].ne > 0.8 * cexact && r.rows[bins - 1].ne < 1.6 * cexact, "C error %g, exact %g",
-                  r.rows[bins - 1].ne, cexact);
-    ck_assert_msg(fabs(r.rows[bins - 1].C - (N - 1) * p) < 4.0 * cexact, "C(R_max) = %g, expected %g",
-                  r.rows[bins - 1].C, (N - 1) * p);
+    double p = M_PI * 0.2 * 0.2,
+           cexact = 2.0 / N * sqrt(npairs * p * (1.0 - p)) / sqrt((double)frames);
+    ck_assert_msg(r.rows[bins - 1].ne > 0.8 * cexact && r.rows[bins - 1].ne < 1.6 * cexact,
+                  "C error %g, exact %g", r.rows[bins - 1].ne, cexact);
+    ck_assert_msg(fabs(r.rows[bins - 1].C - (N - 1) * p) < 4.0 * cexact,
+                  "C(R_max) = %g, expected %g", r.rows[bins - 1].C, (N - 1) * p);
     /* the tail mean of g is 1 */
     double gt = num(r.pair, "g_tail", "value"), gte = num(r.pair, "g_tail", "error");
     ck_assert_msg(fabs(gt - 1.0) < 4.0 * gte && gte < 0.01, "g_tail = %g +- %g", gt, gte);
@@ -262,7 +277,8 @@ START_TEST(test_square_lattice)
     int peak_bin[3];
     for (int q = 0; q < 3; q++) {
         peak_bin[q] = (int)(dist[q] / width);
-        ck_assert_msg(r.rows[peak_bin[q]].lo < dist[q] && r.rows[peak_bin[q]].hi > dist[q], "bin of %g", dist[q]);
+        ck_assert_msg(r.rows[peak_bin[q]].lo < dist[q] && r.rows[peak_bin[q]].hi > dist[q],
+                      "bin of %g", dist[q]);
     }
     double c_prev = 0.0;
     int q = 0;
@@ -278,7 +294,8 @@ START_TEST(test_square_lattice)
             ck_assert_double_eq_tol(w->ge, sqrt(w->pairs) / (frames * norm * area), 1e-5 * w->ge);
             q++;
         } else {
-            ck_assert_msg(w->pairs == 0.0 && w->g == 0.0, "bin %d (R = %g): %g pairs", b, w->R, w->pairs);
+            ck_assert_msg(w->pairs == 0.0 && w->g == 0.0, "bin %d (R = %g): %g pairs", b, w->R,
+                          w->pairs);
         }
         ck_assert_double_eq_tol(w->C, 4.0 * q, 1e-9);
         /* n = C - (N-1)/L^2 pi R_hi^2 */
@@ -297,7 +314,8 @@ END_TEST
 
 /* cell-list counts against brute force; clustered and uniform points; positions shifted by
  * multiples of L and just outside the box */
-static void compare_brute(int N, double L, double radius, double rmax, int bins, bool clustered, unsigned long seed)
+static void compare_brute(int N, double L, double radius, double rmax, int bins, bool clustered,
+                          unsigned long seed)
 {
     gr_scene sc;
     make_scene(&sc, N, L, radius, bins, rmax);
@@ -333,8 +351,9 @@ static void compare_brute(int N, double L, double radius, double rmax, int bins,
     result r = finish_read(st, &sc);
     double total = 0.0;
     for (int b = 0; b < bins; b++) {
-        ck_assert_msg(r.rows[b].pairs == hist[b], "N = %d, L = %g, R_max = %g: bin %d has %g pairs, brute force %g",
-                      N, L, r_max(&sc), b, r.rows[b].pairs, hist[b]);
+        ck_assert_msg(r.rows[b].pairs == hist[b],
+                      "N = %d, L = %g, R_max = %g: bin %d has %g pairs, brute force %g", N, L,
+                      r_max(&sc), b, r.rows[b].pairs, hist[b]);
         total += hist[b];
     }
     ck_assert_msg(N < 50 || total > 0.0, "no pairs in range");
@@ -346,12 +365,13 @@ static void compare_brute(int N, double L, double radius, double rmax, int bins,
 
 START_TEST(test_brute_force)
 {
-    compare_brute(600, 1.0, 0.004, 5.0, 60, false, 1);   /* R_max = 0.04: many cells, 5x5 stencil */
-    compare_brute(600, 1.0, 0.004, 5.0, 60, true, 2);    /* clustered: crowded cells */
-    compare_brute(400, 1.0, 0.01, 12.0, 50, false, 3);   /* R_max = 0.24: 4 cells per side, aliased stencil */
-    compare_brute(400, 1.0, 0.05, 20.0, 50, true, 4);    /* clamped to L/2 */
-    compare_brute(300, 2.5, 0.02, 7.3, 33, false, 5);    /* 8 cells per side */
-    compare_brute(2, 1.0, 0.1, 2.0, 10, false, 6);       /* two particles, one cell */
+    compare_brute(600, 1.0, 0.004, 5.0, 60, false, 1); /* R_max = 0.04: many cells, 5x5 stencil */
+    compare_brute(600, 1.0, 0.004, 5.0, 60, true, 2);  /* clustered: crowded cells */
+    compare_brute(400, 1.0, 0.01, 12.0, 50, false,
+                  3); /* R_max = 0.24: 4 cells per side, aliased stencil */
+    compare_brute(400, 1.0, 0.05, 20.0, 50, true, 4); /* clamped to L/2 */
+    compare_brute(300, 2.5, 0.02, 7.3, 33, false, 5); /* 8 cells per side */
+    compare_brute(2, 1.0, 0.1, 2.0, 10, false, 6);    /* two particles, one cell */
     compare_brute(3, 1.0, 0.2, 1.0, 7, false, 7);
 }
 END_TEST
@@ -381,15 +401,18 @@ START_TEST(test_full_range)
     double norm = 0.5 * N * (N - 1) / (sc.L * sc.L);
     for (int b = 0; b < bins; b++) {
         counted += r.rows[b].pairs;
-        from_g += r.rows[b].g * norm * M_PI * (r.rows[b].hi * r.rows[b].hi - r.rows[b].lo * r.rows[b].lo);
+        from_g +=
+            r.rows[b].g * norm * M_PI * (r.rows[b].hi * r.rows[b].hi - r.rows[b].lo * r.rows[b].lo);
     }
     ck_assert_double_eq(counted + (double)beyond, all);
     /* g integrates back to the counts (4.10 normalisation) and C(L/2) = 2 pairs / N */
     ck_assert_double_eq_tol(from_g * frames, counted, 1e-9 * counted);
-    ck_assert_double_eq_tol(r.rows[bins - 1].C, 2.0 * counted / frames / N, 1e-9 * r.rows[bins - 1].C);
+    ck_assert_double_eq_tol(r.rows[bins - 1].C, 2.0 * counted / frames / N,
+                            1e-9 * r.rows[bins - 1].C);
     /* corners: the disc of radius L/2 covers pi/4 of the box */
     double f = counted / all, sd = sqrt(M_PI / 4 * (1 - M_PI / 4) / all);
-    ck_assert_msg(fabs(f - M_PI / 4) < 5.0 * sd, "fraction within L/2 = %g, pi/4 = %g (sd %g)", f, M_PI / 4, sd);
+    ck_assert_msg(fabs(f - M_PI / 4) < 5.0 * sd, "fraction within L/2 = %g, pi/4 = %g (sd %g)", f,
+                  M_PI / 4, sd);
     result_free(&r);
 }
 END_TEST
@@ -421,13 +444,15 @@ START_TEST(test_line_fractal_dimension)
     double df = num(r.pair, "D_f", "value"), e = num(r.pair, "D_f", "error");
     if (getenv("PAIR_TEST_VERBOSE")) {
         fprintf(stderr, "line: D_f %g +- %g (fit %g, jackknife %g), chi2_red %g\n", df, e,
-                num(r.pair, "D_f", "fit_error"), num(r.pair, "D_f", "jackknife_error"), num(r.pair, "D_f", "chi2_red"));
+                num(r.pair, "D_f", "fit_error"), num(r.pair, "D_f", "jackknife_error"),
+                num(r.pair, "D_f", "chi2_red"));
     }
     ck_assert_msg(fabs(df - 1.0) < 0.03, "D_f = %g +- %g on a line", df, e);
     /* and it matches the local slope of the exact n(R) = 2 (N-1) R / L - (N-1) pi R^2 / L^2,
      * d ln n / d ln R = 1 - (pi R / 2L) / (1 - pi R / 2L), at the window's geometric centre */
     double rc = sqrt(0.005 * 0.01), q = M_PI * rc / 2.0, slope = 1.0 - q / (1.0 - q);
-    ck_assert_msg(fabs(df - slope) < fmax(5.0 * e, 0.003), "D_f = %g +- %g, exact local slope %g", df, e, slope);
+    ck_assert_msg(fabs(df - slope) < fmax(5.0 * e, 0.003), "D_f = %g +- %g, exact local slope %g",
+                  df, e, slope);
     ck_assert_msg(e > 0.0 && e < 0.03, "D_f error %g", e);
     ck_assert_msg(num(r.pair, "D_f", "jackknife_batches") >= 16, "jackknife batches");
     ck_assert_double_eq_tol(num(r.pair, "D_f", "R_from_over_d"), 5.0, 1e-9);
@@ -445,19 +470,23 @@ START_TEST(test_bad_params)
         int dim, N, bins;
         double L, radius, rmax;
     } bad[] = {
-        {1, 100, 100, 1.0, 0.01, 10.0},  {2, 100, 0, 1.0, 0.01, 10.0},      {2, 100, -5, 1.0, 0.01, 10.0},
-        {2, 100, 8193, 1.0, 0.01, 10.0}, {2, 100, 100, 1.0, 0.01, 0.0},     {2, 100, 100, 1.0, 0.01, -1.0},
-        {2, 100, 100, 1.0, 0.01, NAN},   {2, 100, 100, 1.0, 0.01, INFINITY}, {2, 100, 100, 1.0, 0.0, 10.0},
-        {2, 1, 100, 1.0, 0.01, 10.0},    {2, 100, 100, 0.0, 0.01, 10.0},
+        {1, 100, 100, 1.0, 0.01, 10.0}, {2, 100, 0, 1.0, 0.01, 10.0},
+        {2, 100, -5, 1.0, 0.01, 10.0},  {2, 100, 8193, 1.0, 0.01, 10.0},
+        {2, 100, 100, 1.0, 0.01, 0.0},  {2, 100, 100, 1.0, 0.01, -1.0},
+        {2, 100, 100, 1.0, 0.01, NAN},  {2, 100, 100, 1.0, 0.01, INFINITY},
+        {2, 100, 100, 1.0, 0.0, 10.0},  {2, 1, 100, 1.0, 0.01, 10.0},
+        {2, 100, 100, 0.0, 0.01, 10.0},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         make_scene(&sc, bad[k].N, bad[k].L, bad[k].radius, bad[k].bins, bad[k].rmax);
         sc.dim = bad[k].dim;
         st = NULL;
         err = (gr_error){0};
-        ck_assert_msg(gr_scene_observable(&gr_obs_pair, &sc, &st, &err) == GR_EINVAL, "case %zu accepted", k);
+        ck_assert_msg(gr_scene_observable(&gr_obs_pair, &sc, &st, &err) == GR_EINVAL,
+                      "case %zu accepted", k);
         ck_assert_ptr_null(st);
-        ck_assert_msg(strstr(err.message, "pair") != NULL, "case %zu: message '%s'", k, err.message);
+        ck_assert_msg(strstr(err.message, "pair") != NULL, "case %zu: message '%s'", k,
+                      err.message);
     }
     /* the declared defaults (as the scene loader applies them) are valid */
     make_scene(&sc, 100, 1.0, 0.01, 0, 0.0);

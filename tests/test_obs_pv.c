@@ -68,8 +68,8 @@ static void pv_scene(gr_scene *s, int dim, int bins, double range)
 typedef void (*draw_fn)(gsl_rng *r, void *ctx, double *vx, double *vy);
 
 /* Feed `frames` frames of n particles whose velocities come from `draw`. */
-static void feed(const gr_observable_type *t, void *state, int dim, int n, int frames, gsl_rng *r, draw_fn draw,
-                 void *ctx)
+static void feed(const gr_observable_type *t, void *state, int dim, int n, int frames, gsl_rng *r,
+                 draw_fn draw, void *ctx)
 {
     double *vx = malloc(sizeof(double) * (size_t)n), *vy = malloc(sizeof(double) * (size_t)n);
     double *x = calloc((size_t)n, sizeof(double)), *y = calloc((size_t)n, sizeof(double));
@@ -81,8 +81,15 @@ static void feed(const gr_observable_type *t, void *state, int dim, int n, int f
             vx[i] = a;
             vy[i] = b;
         }
-        gr_particles p = {.n = n, .dim = dim, .L = 1.0, .radius = 1.5e-3, .mass = 3.53e-5,
-                          .x = x, .y = dim == 2 ? y : NULL, .vx = vx, .vy = dim == 2 ? vy : NULL};
+        gr_particles p = {.n = n,
+                          .dim = dim,
+                          .L = 1.0,
+                          .radius = 1.5e-3,
+                          .mass = 3.53e-5,
+                          .x = x,
+                          .y = dim == 2 ? y : NULL,
+                          .vx = vx,
+                          .vy = dim == 2 ? vy : NULL};
         gr_error err = {0};
         ck_assert_msg(t->sample(state, &p, 1e-3 * f, &err) == GR_OK, "sample: %s", err.message);
     }
@@ -96,7 +103,12 @@ static void feed(const gr_observable_type *t, void *state, int dim, int n, int f
 static cJSON *finish_into(void *state, const gr_scene *s, bool plots, cJSON **root)
 {
     *root = cJSON_CreateObject();
-    gr_output out = {.dir = g_dir, .source = s->source, .seed = s->seed, .scene_hash = 0x1234abcdULL, .summary = *root, .plots = plots};
+    gr_output out = {.dir = g_dir,
+                     .source = s->source,
+                     .seed = s->seed,
+                     .scene_hash = 0x1234abcdULL,
+                     .summary = *root,
+                     .plots = plots};
     gr_error err = {0};
     ck_assert_msg(gr_obs_pv.finish(state, &out, &err) == GR_OK, "finish: %s", err.message);
     cJSON *pv = cJSON_GetObjectItem(*root, "pv");
@@ -110,7 +122,8 @@ static double num(const cJSON *o, const char *path)
     char buf[200];
     snprintf(buf, sizeof buf, "%s", path);
     const cJSON *cur = o;
-    for (char *save = NULL, *tok = strtok_r(buf, ".", &save); tok && cur; tok = strtok_r(NULL, ".", &save)) {
+    for (char *save = NULL, *tok = strtok_r(buf, ".", &save); tok && cur;
+         tok = strtok_r(NULL, ".", &save)) {
         cur = cJSON_GetObjectItem(cur, tok);
     }
     return cur && cJSON_IsNumber(cur) ? cur->valuedouble : (double)NAN;
@@ -137,7 +150,9 @@ static void read_csv(const char *name, csv *c)
     size_t got = fread(line, 1, sizeof line - 1, meta);
     line[got] = 0;
     fclose(meta);
-    ck_assert_msg(strstr(line, "\"granule ") && strstr(line, "\"scene <defaults>, hash 000000001234abcd, seed "), "%s: %s", path, line);
+    ck_assert_msg(strstr(line, "\"granule ") &&
+                      strstr(line, "\"scene <defaults>, hash 000000001234abcd, seed "),
+                  "%s: %s", path, line);
     snprintf(path, sizeof path, "%s/%s", g_dir, name);
     ck_assert(fgets(line, sizeof line, f));
     line[strcspn(line, "\n")] = 0;
@@ -253,14 +268,16 @@ START_TEST(gaussian_1d_matches_density_and_alpha_2)
     csv c;
     read_csv("pv.csv", &c);
     ck_assert_int_eq(c.rows, 400);
-    ck_assert_str_eq(c.columns, "v,density,density_error,counts,v_lo,v_hi,v_over_vrms,density_scaled,fit_stretched,fit_crossover,"
-                                  "fit_crossover_log");
+    ck_assert_str_eq(c.columns, "v,density,density_error,counts,v_lo,v_hi,v_over_vrms,density_"
+                                "scaled,fit_stretched,fit_crossover,"
+                                "fit_crossover_log");
     /* velocities relative to the frame mean: each is N(0, sigma^2 (1 - 1/n)) */
     mix m = {sigma * sqrt(1.0 - 1.0 / n), 0.0};
     int dof;
     double total = (double)n * frames;
     double chi = chi2_against(&c, total, cdf_mix, &m, &dof);
-    ck_assert_msg(dof > 80 && chi < 1.3, "P(v) against the Gaussian: chi2/dof = %g over %d bins", chi, dof);
+    ck_assert_msg(dof > 80 && chi < 1.3, "P(v) against the Gaussian: chi2/dof = %g over %d bins",
+                  chi, dof);
     /* the test can tell a 3% wider Gaussian apart */
     mix wrong = {1.03 * m.s1, 0.0};
     double chi_wrong = chi2_against(&c, total, cdf_mix, &wrong, &dof);
@@ -273,9 +290,12 @@ START_TEST(gaussian_1d_matches_density_and_alpha_2)
     ck_assert(cJSON_IsTrue(cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "tail"), "accepted")));
     cJSON *range = cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "tail"), "alpha_range");
     ck_assert_int_eq(cJSON_GetArraySize(range), 2);
-    double lo = cJSON_GetArrayItem(range, 0)->valuedouble, hi = cJSON_GetArrayItem(range, 1)->valuedouble;
-    ck_assert_msg(lo <= 2.0 + 1e-9 && hi >= 2.0 - 1e-9 && hi - lo < 0.4, "accepted alpha range [%g, %g]", lo, hi);
-    ck_assert_msg(fabs(num(pv, "tail.v0") / (sqrt(2.0) * sigma) - 1.0) < 0.03, "v0 %g", num(pv, "tail.v0"));
+    double lo = cJSON_GetArrayItem(range, 0)->valuedouble,
+           hi = cJSON_GetArrayItem(range, 1)->valuedouble;
+    ck_assert_msg(lo <= 2.0 + 1e-9 && hi >= 2.0 - 1e-9 && hi - lo < 0.4,
+                  "accepted alpha range [%g, %g]", lo, hi);
+    ck_assert_msg(fabs(num(pv, "tail.v0") / (sqrt(2.0) * sigma) - 1.0) < 0.03, "v0 %g",
+                  num(pv, "tail.v0"));
     ck_assert_msg(num(pv, "tail.chi2_red") < 1.2, "chi2_red %g", num(pv, "tail.chi2_red"));
     ck_assert_msg(fabs(num(pv, "v_rms") / sigma - 1.0) < 0.01, "v_rms %g", num(pv, "v_rms"));
     /* independent samples: X(v) - X(-v) scatters as Poisson counts */
@@ -315,7 +335,8 @@ START_TEST(gaussian_2d_pools_components)
     ck_assert_double_eq(num(pv, "frames"), frames);
     /* T of (2.19) sums both components: T_ref ~ 0.2^2 + 0.3^2 from the first 8 frames */
     double T = (0.04 + 0.09) * (1.0 - 1.0 / n);
-    ck_assert_msg(fabs(num(pv, "T_ref") / T - 1.0) < 0.05, "T_ref %g, expected about %g", num(pv, "T_ref"), T);
+    ck_assert_msg(fabs(num(pv, "T_ref") / T - 1.0) < 0.05, "T_ref %g, expected about %g",
+                  num(pv, "T_ref"), T);
     ck_assert_int_eq((int)num(pv, "T_ref_frames"), 8);
     ck_assert_double_eq_tol(num(pv, "v_max"), 12.0 * sqrt(num(pv, "T_ref")), 1e-12);
     ck_assert_msg(fabs(num(pv, "T_mean") / T - 1.0) < 0.01, "T_mean %g", num(pv, "T_mean"));
@@ -330,9 +351,11 @@ START_TEST(gaussian_2d_pools_components)
     mix m = {0.2 * sqrt(1.0 - 1.0 / n), 0.3 * sqrt(1.0 - 1.0 / n)};
     int dof;
     double chi = chi2_against(&c, total, cdf_mix, &m, &dof);
-    ck_assert_msg(dof > 80 && chi < 1.3, "pooled P(v) against the mixture: chi2/dof = %g over %d bins", chi, dof);
+    ck_assert_msg(dof > 80 && chi < 1.3,
+                  "pooled P(v) against the mixture: chi2/dof = %g over %d bins", chi, dof);
     mix only_x = {m.s1, 0.0};
-    ck_assert_msg(chi2_against(&c, total, cdf_mix, &only_x, &dof) > 10.0, "x alone fits the pooled P(v)");
+    ck_assert_msg(chi2_against(&c, total, cdf_mix, &only_x, &dof) > 10.0,
+                  "x alone fits the pooled P(v)");
     free(c.v);
 
     /* scaled speeds: c = |v| / sqrt(<|v|^2>) has <c^2> = 1 and unit integral (nothing out of range) */
@@ -355,8 +378,8 @@ END_TEST
 
 /* ---------- stretched-exponential tails ---------- */
 
-static cJSON *run_generalised(int dim, double b, double alpha, int n, int frames, unsigned long seed, cJSON **root,
-                              void **st)
+static cJSON *run_generalised(int dim, double b, double alpha, int n, int frames,
+                              unsigned long seed, cJSON **root, void **st)
 {
     gr_scene s;
     pv_scene(&s, dim, 400, 12.0);
@@ -377,16 +400,23 @@ START_TEST(exponential_tails_give_alpha_1)
     void *st;
     cJSON *pv = run_generalised(1, 0.1, 1.0, 10000, 40, 5, &root, &st);
     double alpha = num(pv, "tail.free.alpha");
-    ck_assert_msg(fabs(alpha - 1.0) < 0.05, "free alpha %g +- %g", alpha, num(pv, "tail.free.alpha_err"));
-    ck_assert_msg(fabs(num(pv, "tail.free.v0") / 0.1 - 1.0) < 0.05, "v0 %g", num(pv, "tail.free.v0"));
+    ck_assert_msg(fabs(alpha - 1.0) < 0.05, "free alpha %g +- %g", alpha,
+                  num(pv, "tail.free.alpha_err"));
+    ck_assert_msg(fabs(num(pv, "tail.free.v0") / 0.1 - 1.0) < 0.05, "v0 %g",
+                  num(pv, "tail.free.v0"));
     cJSON *range = cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "tail"), "alpha_range");
     ck_assert_int_eq(cJSON_GetArraySize(range), 2);
-    double lo = cJSON_GetArrayItem(range, 0)->valuedouble, hi = cJSON_GetArrayItem(range, 1)->valuedouble;
-    ck_assert_msg(lo <= 1.0 + 1e-9 && hi >= 1.0 - 1e-9, "accepted alpha range [%g, %g] misses 1", lo, hi);
+    double lo = cJSON_GetArrayItem(range, 0)->valuedouble,
+           hi = cJSON_GetArrayItem(range, 1)->valuedouble;
+    ck_assert_msg(lo <= 1.0 + 1e-9 && hi >= 1.0 - 1e-9, "accepted alpha range [%g, %g] misses 1",
+                  lo, hi);
     ck_assert_msg(hi < 1.3, "accepted alpha range [%g, %g] reaches towards a Gaussian", lo, hi);
     /* the Gaussian start of the crossover fit must not hide an exponential: v_A = v_r^2/v_c = b */
-    ck_assert_msg(cJSON_IsTrue(cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "crossover"), "converged")), "crossover fit");
-    ck_assert_msg(fabs(num(pv, "crossover.v_A") / 0.1 - 1.0) < 0.1, "v_A %g", num(pv, "crossover.v_A"));
+    ck_assert_msg(
+        cJSON_IsTrue(cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "crossover"), "converged")),
+        "crossover fit");
+    ck_assert_msg(fabs(num(pv, "crossover.v_A") / 0.1 - 1.0) < 0.1, "v_A %g",
+                  num(pv, "crossover.v_A"));
     cJSON_Delete(root);
     gr_observable_free(st);
 }
@@ -420,14 +450,17 @@ START_TEST(overdispersed_counts_detected)
     cJSON *pv = finish_into(st, &s, false, &root);
     double phi = num(pv, "tail.dispersion_corrected.dispersion");
     ck_assert_msg(phi > 6.0 && phi < 16.0, "dispersion %g, expected about 10", phi);
-    ck_assert_msg(num(pv, "tail.chi2_red") > 3.0, "chi2_red %g with sqrt(X) errors", num(pv, "tail.chi2_red"));
+    ck_assert_msg(num(pv, "tail.chi2_red") > 3.0, "chi2_red %g with sqrt(X) errors",
+                  num(pv, "tail.chi2_red"));
     ck_assert(!cJSON_IsTrue(cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "tail"), "accepted")) ||
               num(pv, "tail.alpha_halfwidth") < 0.02);
     cJSON *dc = cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "tail"), "dispersion_corrected");
     ck_assert(cJSON_IsTrue(cJSON_GetObjectItem(dc, "accepted")));
     double mid = num(dc, "alpha"), half = num(dc, "alpha_halfwidth");
-    ck_assert_msg(fabs(mid - 1.0) <= half + 1e-9, "dispersion-corrected alpha %g +- %g misses 1", mid, half);
-    ck_assert_msg(fabs(num(pv, "tail.free.alpha") - 1.0) < 0.1, "free alpha %g", num(pv, "tail.free.alpha"));
+    ck_assert_msg(fabs(mid - 1.0) <= half + 1e-9, "dispersion-corrected alpha %g +- %g misses 1",
+                  mid, half);
+    ck_assert_msg(fabs(num(pv, "tail.free.alpha") - 1.0) < 0.1, "free alpha %g",
+                  num(pv, "tail.free.alpha"));
     free(vx);
     cJSON_Delete(root);
     gr_observable_free(st);
@@ -441,13 +474,17 @@ START_TEST(stretched_tails_give_alpha_1_5_in_2d)
     void *st;
     cJSON *pv = run_generalised(2, 0.05, 1.5, 5000, 40, 11, &root, &st);
     double alpha = num(pv, "tail.free.alpha"), e = num(pv, "tail.free.alpha_err");
-    ck_assert_msg(fabs(alpha - 1.5) < 0.06 && fabs(alpha - 1.5) < 4.0 * e, "free alpha %g +- %g", alpha, e);
-    ck_assert_msg(fabs(num(pv, "tail.free.v0") / 0.05 - 1.0) < 0.05, "v0 %g", num(pv, "tail.free.v0"));
+    ck_assert_msg(fabs(alpha - 1.5) < 0.06 && fabs(alpha - 1.5) < 4.0 * e, "free alpha %g +- %g",
+                  alpha, e);
+    ck_assert_msg(fabs(num(pv, "tail.free.v0") / 0.05 - 1.0) < 0.05, "v0 %g",
+                  num(pv, "tail.free.v0"));
     double mid = num(pv, "tail.alpha"), half = num(pv, "tail.alpha_halfwidth");
-    ck_assert_msg(fabs(mid - 1.5) <= half + 1e-9 && half < 0.2, "accepted alpha %g +- %g", mid, half);
+    ck_assert_msg(fabs(mid - 1.5) <= half + 1e-9 && half < 0.2, "accepted alpha %g +- %g", mid,
+                  half);
     /* the Table A.1 window (two decades) is reported too and agrees */
     ck_assert_double_eq(num(pv, "tail_a1.window.counts_max"), 5000.0);
-    ck_assert_msg(fabs(num(pv, "tail_a1.free.alpha") - 1.5) < 0.1, "A.1 alpha %g", num(pv, "tail_a1.free.alpha"));
+    ck_assert_msg(fabs(num(pv, "tail_a1.free.alpha") - 1.5) < 0.1, "A.1 alpha %g",
+                  num(pv, "tail_a1.free.alpha"));
     cJSON_Delete(root);
     gr_observable_free(st);
 }
@@ -515,24 +552,31 @@ START_TEST(crossover_fit_recovers_vr_vc)
     cJSON *xo = cJSON_GetObjectItem(pv, "crossover");
     ck_assert(cJSON_IsTrue(cJSON_GetObjectItem(xo, "converged")));
     double fvr = num(xo, "v_r"), fvc = num(xo, "v_c");
-    ck_assert_msg(fabs(fvr / vr - 1.0) < 0.03, "v_r %g +- %g, true %g", fvr, num(xo, "v_r_err"), vr);
-    ck_assert_msg(fabs(fvc / vc - 1.0) < 0.08, "v_c %g +- %g, true %g", fvc, num(xo, "v_c_err"), vc);
+    ck_assert_msg(fabs(fvr / vr - 1.0) < 0.03, "v_r %g +- %g, true %g", fvr, num(xo, "v_r_err"),
+                  vr);
+    ck_assert_msg(fabs(fvc / vc - 1.0) < 0.08, "v_c %g +- %g, true %g", fvc, num(xo, "v_c_err"),
+                  vc);
     ck_assert_msg(num(xo, "chi2_red") < 1.3, "chi2_red %g", num(xo, "chi2_red"));
     double q = fvc / fvr;
     ck_assert_double_eq_tol(num(xo, "P_vc_over_P0"), exp(-0.5 * q * q), 1e-12);
     ck_assert_double_eq_tol(num(xo, "v_A"), fvr * fvr / fvc, 1e-12);
     /* Table 5.3: P(v_c)/P(0) = 0.313 for v_c/v_r = 1.524 */
-    ck_assert_msg(fabs(num(xo, "P_vc_over_P0") - 0.313) < 0.03, "P(v_c)/P(0) = %g", num(xo, "P_vc_over_P0"));
+    ck_assert_msg(fabs(num(xo, "P_vc_over_P0") - 0.313) < 0.03, "P(v_c)/P(0) = %g",
+                  num(xo, "P_vc_over_P0"));
     /* the fit on log axes (equal weights on ln X) recovers the same P_0: on data that follow (5.32)
      * the two weightings differ by their noise only; its bins of 50 counts carry 14 % noise on ln X,
      * so its v_c is looser */
     cJSON *xl = cJSON_GetObjectItem(pv, "crossover_log");
     ck_assert(cJSON_IsTrue(cJSON_GetObjectItem(xl, "converged")));
     double lvr = num(xl, "v_r"), lvc = num(xl, "v_c");
-    ck_assert_msg(fabs(lvr / vr - 1.0) < 0.03, "log fit: v_r %g +- %g, true %g", lvr, num(xl, "v_r_err"), vr);
-    ck_assert_msg(fabs(lvc / vc - 1.0) < 0.1, "log fit: v_c %g +- %g, true %g", lvc, num(xl, "v_c_err"), vc);
-    ck_assert_msg(fabs(lvr - vr) < 4.0 * num(xl, "v_r_err") && fabs(lvc - vc) < 4.0 * num(xl, "v_c_err"),
-                  "log fit errors too small: v_r %g +- %g, v_c %g +- %g", lvr, num(xl, "v_r_err"), lvc, num(xl, "v_c_err"));
+    ck_assert_msg(fabs(lvr / vr - 1.0) < 0.03, "log fit: v_r %g +- %g, true %g", lvr,
+                  num(xl, "v_r_err"), vr);
+    ck_assert_msg(fabs(lvc / vc - 1.0) < 0.1, "log fit: v_c %g +- %g, true %g", lvc,
+                  num(xl, "v_c_err"), vc);
+    ck_assert_msg(fabs(lvr - vr) < 4.0 * num(xl, "v_r_err") &&
+                      fabs(lvc - vc) < 4.0 * num(xl, "v_c_err"),
+                  "log fit errors too small: v_r %g +- %g, v_c %g +- %g", lvr, num(xl, "v_r_err"),
+                  lvc, num(xl, "v_c_err"));
     ck_assert_double_eq_tol(num(xl, "P_vc_over_P0"), exp(-0.5 * (lvc / lvr) * (lvc / lvr)), 1e-12);
     free(x.cdf);
     cJSON_Delete(root);
@@ -587,9 +631,11 @@ START_TEST(histogram_integrates_to_in_range_fraction)
     for (int i = 0; i < c.rows; i++) {
         integral += AT(&c, i, 1) * (AT(&c, i, 5) - AT(&c, i, 4));
     }
-    ck_assert_msg(fabs(integral - frac) < 1e-9, "integral %.12g, in-range fraction %.12g", integral, frac);
+    ck_assert_msg(fabs(integral - frac) < 1e-9, "integral %.12g, in-range fraction %.12g", integral,
+                  frac);
     ck_assert_double_eq_tol(num(pv, "out_of_range_fraction"), 1.0 - frac, 1e-12);
-    ck_assert_msg(fabs(frac - 0.8664) < 0.01, "in-range fraction %g, erf(1.5/sqrt(2)) = 0.866", frac);
+    ck_assert_msg(fabs(frac - 0.8664) < 0.01, "in-range fraction %g, erf(1.5/sqrt(2)) = 0.866",
+                  frac);
     /* odd bins: one bin centred on v = 0 */
     ck_assert_double_eq_tol(AT(&c, 50, 0), 0.0, 1e-12);
     free(c.v);
@@ -609,8 +655,18 @@ START_TEST(files_and_summary)
     void *st;
     cJSON *pv = run_generalised(2, 0.1, 1.2, 2000, 50, 21, &root, &st);
     ck_assert_str_eq(cJSON_GetObjectItem(pv, "file")->valuestring, "pv.csv");
-    const char *fields[] = {"frames", "components", "bins", "range", "v_max", "bin_width", "T_ref", "T_ref_frames",
-                            "T_mean", "v_rms", "out_of_range_fraction", "P0"};
+    const char *fields[] = {"frames",
+                            "components",
+                            "bins",
+                            "range",
+                            "v_max",
+                            "bin_width",
+                            "T_ref",
+                            "T_ref_frames",
+                            "T_mean",
+                            "v_rms",
+                            "out_of_range_fraction",
+                            "P0"};
     for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++) {
         ck_assert_msg(isfinite(num(pv, fields[k])), "pv.%s missing", fields[k]);
     }
@@ -620,20 +676,43 @@ START_TEST(files_and_summary)
     ck_assert_double_eq(num(pv, "tail.window.counts_min"), 50.0);
     ck_assert_double_eq(num(pv, "tail.window.counts_max"), 50000.0);
     ck_assert_double_eq(num(pv, "tail.window.chi2_red_max"), 1.2);
-    const char *tail_fields[] = {"tail.n_points", "tail.v_min", "tail.v_max", "tail.decades", "tail.alpha",
-                                 "tail.alpha_halfwidth", "tail.alpha_best", "tail.chi2_red", "tail.v0", "tail.A",
-                                 "tail.free.alpha", "tail.free.alpha_err", "tail.free.v0", "tail.free.chi2_red",
-                                 "crossover.v_r", "crossover.v_c", "crossover.v_c_over_v_r", "crossover.P_vc_over_P0",
-                                 "crossover.v_A", "crossover.chi2_red", "crossover_log.v_r", "crossover_log.v_c",
-                                 "crossover_log.v_c_over_v_r", "crossover_log.P_vc_over_P0", "moon.C_alpha_2", "moon.C_alpha_1_5",
-                                 "moon.C_alpha_1_16", "speed.rms"};
+    const char *tail_fields[] = {"tail.n_points",
+                                 "tail.v_min",
+                                 "tail.v_max",
+                                 "tail.decades",
+                                 "tail.alpha",
+                                 "tail.alpha_halfwidth",
+                                 "tail.alpha_best",
+                                 "tail.chi2_red",
+                                 "tail.v0",
+                                 "tail.A",
+                                 "tail.free.alpha",
+                                 "tail.free.alpha_err",
+                                 "tail.free.v0",
+                                 "tail.free.chi2_red",
+                                 "crossover.v_r",
+                                 "crossover.v_c",
+                                 "crossover.v_c_over_v_r",
+                                 "crossover.P_vc_over_P0",
+                                 "crossover.v_A",
+                                 "crossover.chi2_red",
+                                 "crossover_log.v_r",
+                                 "crossover_log.v_c",
+                                 "crossover_log.v_c_over_v_r",
+                                 "crossover_log.P_vc_over_P0",
+                                 "moon.C_alpha_2",
+                                 "moon.C_alpha_1_5",
+                                 "moon.C_alpha_1_16",
+                                 "speed.rms"};
     for (size_t k = 0; k < sizeof tail_fields / sizeof tail_fields[0]; k++) {
         ck_assert_msg(isfinite(num(pv, tail_fields[k])), "pv.%s missing", tail_fields[k]);
     }
-    ck_assert_int_eq(cJSON_GetArraySize(cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "tail"), "alpha_range")), 2);
+    ck_assert_int_eq(
+        cJSON_GetArraySize(cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "tail"), "alpha_range")), 2);
     cJSON *local = cJSON_GetObjectItem(cJSON_GetObjectItem(pv, "tail"), "decades_local");
     ck_assert_msg(cJSON_GetArraySize(local) >= 2, "%d local decades", cJSON_GetArraySize(local));
-    ck_assert_msg(fabs(num(pv, "tail.free.alpha") - 1.2) < 0.1, "free alpha %g", num(pv, "tail.free.alpha"));
+    ck_assert_msg(fabs(num(pv, "tail.free.alpha") - 1.2) < 0.1, "free alpha %g",
+                  num(pv, "tail.free.alpha"));
     /* the summary serialises (no NaN) and parses back */
     char *text = cJSON_PrintUnformatted(root);
     cJSON *back = cJSON_Parse(text);
@@ -644,7 +723,9 @@ START_TEST(files_and_summary)
     /* files: commented header, columns; the tail plot's variable (5.6) */
     csv c;
     read_csv("pv_tail.csv", &c);
-    ck_assert_str_eq(c.columns, "v_over_vrms,ln_v_over_vrms,density_sym,density_sym_error,counts,P_over_P0,moon");
+    ck_assert_str_eq(
+        c.columns,
+        "v_over_vrms,ln_v_over_vrms,density_sym,density_sym_error,counts,P_over_P0,moon");
     ck_assert(c.rows > 50);
     for (int i = 0; i < c.rows; i++) {
         ck_assert_double_eq_tol(AT(&c, i, 1), log(AT(&c, i, 0)), 1e-6);
@@ -675,7 +756,8 @@ START_TEST(plots_drawn_or_noted)
     finish_into(st, &s, true, &root);
     bool gnuplot = system("command -v gnuplot >/dev/null 2>&1") == 0;
     if (gnuplot) {
-        ck_assert_msg(exists(g_dir, "pv.png") && exists(g_dir, "pv_tail.png") && exists(g_dir, "pv_speed.png"),
+        ck_assert_msg(exists(g_dir, "pv.png") && exists(g_dir, "pv_tail.png") &&
+                          exists(g_dir, "pv_speed.png"),
                       "plots missing although gnuplot is installed: %s",
                       cJSON_PrintUnformatted(cJSON_GetObjectItem(root, "plot_notes")));
         ck_assert_ptr_null(cJSON_GetObjectItem(root, "plot_notes"));
@@ -709,19 +791,21 @@ START_TEST(bad_params_refused)
         double range;
         const char *needle;
     } bad[] = {
-        {1, 0, 12.0, "pv_bins"},       {1, -5, 12.0, "pv_bins"},   {2, 9, 12.0, "pv_bins"},
-        {1, 1000001, 12.0, "pv_bins"}, {1, 400, 0.0, "pv_range"},  {1, 400, -3.0, "pv_range"},
-        {2, 400, 0.5, "pv_range"},     {1, 400, (double)NAN, "pv_range"}, {1, 400, 1e9, "pv_range"},
-        {3, 400, 12.0, "dim"},
+        {1, 0, 12.0, "pv_bins"},   {1, -5, 12.0, "pv_bins"},
+        {2, 9, 12.0, "pv_bins"},   {1, 1000001, 12.0, "pv_bins"},
+        {1, 400, 0.0, "pv_range"}, {1, 400, -3.0, "pv_range"},
+        {2, 400, 0.5, "pv_range"}, {1, 400, (double)NAN, "pv_range"},
+        {1, 400, 1e9, "pv_range"}, {3, 400, 12.0, "dim"},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         gr_scene s;
         pv_scene(&s, bad[k].dim, bad[k].bins, bad[k].range);
         void *st = NULL;
         gr_error err = {0};
-        ck_assert_msg(gr_scene_observable(&gr_obs_pv, &s, &st, &err) == GR_EINVAL, "case %zu accepted", k);
-        ck_assert_msg(strstr(err.message, bad[k].needle), "case %zu: message '%s' does not name %s", k, err.message,
-                      bad[k].needle);
+        ck_assert_msg(gr_scene_observable(&gr_obs_pv, &s, &st, &err) == GR_EINVAL,
+                      "case %zu accepted", k);
+        ck_assert_msg(strstr(err.message, bad[k].needle), "case %zu: message '%s' does not name %s",
+                      k, err.message, bad[k].needle);
     }
     /* frames that do not match the scene */
     gr_scene s;
@@ -794,11 +878,12 @@ START_TEST(reference_from_first_frames)
     cJSON *pv = finish_into(st, &s, false, &root);
     ck_assert_int_eq((int)num(pv, "T_ref_frames"), 8);
     ck_assert_msg(fabs(num(pv, "T_ref") - 1.0) < 0.05, "T_ref %g", num(pv, "T_ref"));
-    ck_assert_msg(fabs(num(pv, "T_mean") - (8.0 + 92.0 * 4.0) / 100.0) < 0.1, "T_mean %g", num(pv, "T_mean"));
+    ck_assert_msg(fabs(num(pv, "T_mean") - (8.0 + 92.0 * 4.0) / 100.0) < 0.1, "T_mean %g",
+                  num(pv, "T_mean"));
     /* |v| > 3 happens for 0.27% at sigma 1 and 13.4% at sigma 2 */
     double expect = (8.0 * 0.0027 + 92.0 * 0.1336) / 100.0;
-    ck_assert_msg(fabs(num(pv, "out_of_range_fraction") - expect) < 0.01, "out of range %g, expected %g",
-                  num(pv, "out_of_range_fraction"), expect);
+    ck_assert_msg(fabs(num(pv, "out_of_range_fraction") - expect) < 0.01,
+                  "out of range %g, expected %g", num(pv, "out_of_range_fraction"), expect);
     cJSON_Delete(root);
     gr_observable_free(st);
 
@@ -824,7 +909,8 @@ START_TEST(reference_from_first_frames)
     csv c;
     read_csv("pv.csv", &c);
     int n51 = bins_with_counts(&c, 50.0, 50000.0), na1 = bins_with_counts(&c, 50.0, 5000.0);
-    ck_assert_msg(bins_with_counts(&c, 50.0, 1e12) > n51 && n51 > na1, "windows do not cut: %d, %d bins", n51, na1);
+    ck_assert_msg(bins_with_counts(&c, 50.0, 1e12) > n51 && n51 > na1,
+                  "windows do not cut: %d, %d bins", n51, na1);
     ck_assert_int_eq((int)num(pv, "tail.n_points"), n51);
     ck_assert_int_eq((int)num(pv, "tail_a1.n_points"), na1);
     free(c.v);
@@ -839,12 +925,19 @@ END_TEST
 START_TEST(tiny_real_run)
 {
     /* 1D RFM: N = 100 on a ring of reduced length 0.1 m, eps = 0.1, 0.3 s */
-    const char *set[] = {"system.dim=1", "system.N=100", "system.reduced_length=0.1", "placement.kind=uniform",
-                         "model.tangential=none", "model.eps_n=0.1", "run.seed=5", "run.progress=false",
+    const char *set[] = {"system.dim=1",
+                         "system.N=100",
+                         "system.reduced_length=0.1",
+                         "placement.kind=uniform",
+                         "model.tangential=none",
+                         "model.eps_n=0.1",
+                         "run.seed=5",
+                         "run.progress=false",
                          "output.plots=false"};
     gr_scene s;
     gr_error err = {0};
-    ck_assert_msg(gr_scene_load(&s, NULL, set, sizeof set / sizeof set[0], &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_scene_load(&s, NULL, set, sizeof set / sizeof set[0], &err) == GR_OK, "%s",
+                  err.message);
     ck_assert_int_eq(gr_analysis_set(&s.analysis, "pv_bins", 200, NULL), GR_OK);
     ck_assert_int_eq(gr_analysis_set(&s.analysis, "pv_range", 12.0, NULL), GR_OK);
     gr_sim *sim;
@@ -864,8 +957,10 @@ START_TEST(tiny_real_run)
     ck_assert_double_eq(num(pv, "frames"), 200);
     ck_assert_double_eq(num(pv, "components"), 20000);
     /* T of (2.19) as the engine measures it */
-    ck_assert_msg(fabs(num(pv, "T_mean") / (Tsum / 200) - 1.0) < 1e-9, "T_mean %g vs %g", num(pv, "T_mean"), Tsum / 200);
-    ck_assert_msg(num(pv, "out_of_range_fraction") < 1e-3, "out of range %g", num(pv, "out_of_range_fraction"));
+    ck_assert_msg(fabs(num(pv, "T_mean") / (Tsum / 200) - 1.0) < 1e-9, "T_mean %g vs %g",
+                  num(pv, "T_mean"), Tsum / 200);
+    ck_assert_msg(num(pv, "out_of_range_fraction") < 1e-3, "out of range %g",
+                  num(pv, "out_of_range_fraction"));
     csv c;
     read_csv("pv.csv", &c);
     double integral = 0.0, first = 0.0;
@@ -876,7 +971,8 @@ START_TEST(tiny_real_run)
     ck_assert_double_eq_tol(integral, 1.0 - num(pv, "out_of_range_fraction"), 1e-9);
     /* velocities are relative to the frame mean: the histogram's mean is ~0 (to the bin width) */
     ck_assert_msg(fabs(first / 20000) < num(pv, "bin_width"), "mean of P(v) %g", first / 20000);
-    ck_assert_msg(num(pv, "tail.n_points") >= 5, "%g points in the window", num(pv, "tail.n_points"));
+    ck_assert_msg(num(pv, "tail.n_points") >= 5, "%g points in the window",
+                  num(pv, "tail.n_points"));
     double a = num(pv, "tail.alpha_best");
     ck_assert_msg(a >= 0.2 && a <= 3.0, "alpha_best %g", a);
     free(c.v);

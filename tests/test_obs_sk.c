@@ -68,7 +68,8 @@ static void *create_ok(const gr_scene *s)
 
 static void sample_ok(void *st, int n, double L, const double *x, const double *y)
 {
-    gr_particles p = {.n = n, .dim = 2, .L = L, .radius = 1e-3, .mass = 1.0, .x = x, .y = y, .vx = x, .vy = y};
+    gr_particles p = {
+        .n = n, .dim = 2, .L = L, .radius = 1e-3, .mass = 1.0, .x = x, .y = y, .vx = x, .vy = y};
     gr_error err = {0};
     int rc = gr_obs_sk.sample(st, &p, 0.0, &err);
     ck_assert_msg(rc == GR_OK, "sample: %s", err.message);
@@ -96,7 +97,8 @@ static FILE *open_csv(const char *dir, const char *name, char *header, size_t n)
     /* the column names first; the notes (tool, what; scene, hash, seed) in NAME.meta.json */
     snprintf(path, sizeof path, "%s/%.*s.meta.json", dir, (int)(strlen(name) - 4), name);
     FILE *meta = fopen(path, "r");
-    ck_assert_msg(meta && fgets(line, sizeof line, meta) && line[0] == '{', "missing or empty %s", path);
+    ck_assert_msg(meta && fgets(line, sizeof line, meta) && line[0] == '{', "missing or empty %s",
+                  path);
     fclose(meta);
     ck_assert(fgets(header, (int)n, f) && header[0] != '#');
     return f;
@@ -114,8 +116,8 @@ static int read_rows(FILE *f, row **out, bool shells)
         }
         row *w = &rows[n++];
         w->in_fit = 0;
-        int got = sscanf(line, "%lf,%lf,%lf,%lf,%lf,%d,%d,%d", &w->n, &w->k, &w->kd, &w->S, &w->S_err, &w->vectors,
-                         &w->independent, &w->in_fit);
+        int got = sscanf(line, "%lf,%lf,%lf,%lf,%lf,%d,%d,%d", &w->n, &w->k, &w->kd, &w->S,
+                         &w->S_err, &w->vectors, &w->independent, &w->in_fit);
         ck_assert_msg(got == (shells ? 8 : 7), "bad line: %s", line);
     }
     fclose(f);
@@ -129,7 +131,12 @@ static void finish_ok(void *st, const gr_scene *s, bool plots, result *r)
     snprintf(r->dir, sizeof r->dir, "/tmp/test_obs_sk_XXXXXX");
     ck_assert_ptr_nonnull(mkdtemp(r->dir));
     r->analysis = cJSON_CreateObject();
-    gr_output out = {.dir = r->dir, .source = s->source, .seed = s->seed, .scene_hash = 0x5c, .summary = r->analysis, .plots = plots};
+    gr_output out = {.dir = r->dir,
+                     .source = s->source,
+                     .seed = s->seed,
+                     .scene_hash = 0x5c,
+                     .summary = r->analysis,
+                     .plots = plots};
     gr_error err = {0};
     int rc = gr_obs_sk.finish(st, &out, &err);
     ck_assert_msg(rc == GR_OK, "finish: %s", err.message);
@@ -176,7 +183,8 @@ START_TEST(test_gridding_matches_direct)
     const int sizes[] = {1000, 2500, 4000};
     for (int s = 0; s < 3; s++) {
         const int n = sizes[s];
-        const double L = sqrt(n * M_PI * 1.5e-3 * 1.5e-3 / 0.53), n_cut = 4.0 * L / (2.0 * M_PI * 3e-3);
+        const double L = sqrt(n * M_PI * 1.5e-3 * 1.5e-3 / 0.53),
+                     n_cut = 4.0 * L / (2.0 * M_PI * 3e-3);
         double *x = malloc(sizeof(double) * (size_t)n), *y = malloc(sizeof(double) * (size_t)n);
         uniform(r, n, L, x, y);
         gr_sk_plan *pl;
@@ -195,7 +203,8 @@ START_TEST(test_gridding_matches_direct)
                 at = v;
             }
         }
-        ck_assert_msg(worst < 1e-4, "N = %d: max |dS| = %g at n = (%d, %d), S = %g", n, worst, nx[at], ny[at], Sd[at]);
+        ck_assert_msg(worst < 1e-4, "N = %d: max |dS| = %g at n = (%d, %d), S = %g", n, worst,
+                      nx[at], ny[at], Sd[at]);
         /* the oracle against a plain sum of sincos on a few vectors, the largest |n| included */
         for (int v = 0; v < nv; v += nv / 7) {
             double re = 0.0, im = 0.0;
@@ -205,8 +214,8 @@ START_TEST(test_gridding_matches_direct)
                 im -= sin(ph);
             }
             double S = (re * re + im * im) / n;
-            ck_assert_msg(fabs(Sd[v] - S) < 1e-9 * (1.0 + S), "direct sum %g, sincos %g at (%d, %d)", Sd[v], S, nx[v],
-                          ny[v]);
+            ck_assert_msg(fabs(Sd[v] - S) < 1e-9 * (1.0 + S),
+                          "direct sum %g, sincos %g at (%d, %d)", Sd[v], S, nx[v], ny[v]);
         }
         /* periodic: whole boxes added to the coordinates change nothing */
         for (int j = 0; j < n; j++) {
@@ -215,7 +224,8 @@ START_TEST(test_gridding_matches_direct)
         }
         ck_assert_int_eq(gr_sk_compute(pl, GR_SK_GRIDDING, n, x, y, Sd, &err), GR_OK);
         for (int v = 0; v < nv; v++) {
-            ck_assert_msg(fabs(Sg[v] - Sd[v]) < 1e-9 * (1.0 + Sg[v]), "shifted by boxes: %g vs %g", Sd[v], Sg[v]);
+            ck_assert_msg(fabs(Sg[v] - Sd[v]) < 1e-9 * (1.0 + Sg[v]), "shifted by boxes: %g vs %g",
+                          Sd[v], Sg[v]);
         }
         free(x);
         free(y);
@@ -280,7 +290,8 @@ START_TEST(test_square_lattice_bragg)
         peaks = 0;
         for (int v = 0; v < nv; v++) {
             if (nx[v] % m == 0 && ny[v] % m == 0) {
-                ck_assert_msg(fabs(S[v] / n - 1.0) < 1e-6, "Bragg peak at (%d, %d): S = %g, want %d", nx[v], ny[v], S[v], n);
+                ck_assert_msg(fabs(S[v] / n - 1.0) < 1e-6,
+                              "Bragg peak at (%d, %d): S = %g, want %d", nx[v], ny[v], S[v], n);
                 peaks++;
             } else {
                 ck_assert_msg(S[v] < 1e-8, "S(%d, %d) = %g, want 0", nx[v], ny[v], S[v]);
@@ -311,7 +322,8 @@ START_TEST(test_square_lattice_bragg)
         int expect_peaks = b + 1 == 16 || b + 1 == 32 ? 2 : b + 1 == 23 ? 2 : b + 1 == 36 ? 4 : 0;
         /* |(16,16)| = 22.6 (bin 23), |(16,32)| = |(32,16)| = 35.8 (bin 36) */
         double want = (double)n * expect_peaks / w->independent;
-        ck_assert_msg(fabs(w->S - want) < 1e-6 * (1.0 + want), "bin %g: S = %g, want %g", w->n, w->S, want);
+        ck_assert_msg(fabs(w->S - want) < 1e-6 * (1.0 + want), "bin %g: S = %g, want %g", w->n,
+                      w->S, want);
         ck_assert_int_eq(w->vectors, 2 * w->independent);
     }
     result_free(&r);
@@ -349,8 +361,8 @@ START_TEST(test_ideal_gas)
         ck_assert(w->k > 0.0 && w->S_err > 0.0);
         /* the error of a bin mean: S ~ Exp(1) per vector and frame -> 1/sqrt(count frames) */
         double expect = 1.0 / sqrt((double)w->independent * frames);
-        ck_assert_msg(w->S_err > 0.5 * expect && w->S_err < 2.0 * expect, "bin %g: error %g, expected ~%g", w->n,
-                      w->S_err, expect);
+        ck_assert_msg(w->S_err > 0.5 * expect && w->S_err < 2.0 * expect,
+                      "bin %g: error %g, expected ~%g", w->n, w->S_err, expect);
         double z = (w->S - 1.0) / w->S_err;
         chi2 += z * z;
         outliers += fabs(z) > 4.0;
@@ -358,13 +370,16 @@ START_TEST(test_ideal_gas)
         count += w->independent;
     }
     ck_assert_msg(outliers == 0, "%d bins more than 4 sigma from S = 1", outliers);
-    ck_assert_msg(chi2 / res.n_bins > 0.5 && chi2 / res.n_bins < 1.7, "chi2/bins = %g", chi2 / res.n_bins);
+    ck_assert_msg(chi2 / res.n_bins > 0.5 && chi2 / res.n_bins < 1.7, "chi2/bins = %g",
+                  chi2 / res.n_bins);
     double mean = sum / count, err_mean = 1.0 / sqrt(count * frames);
-    ck_assert_msg(fabs(mean - 1.0) < 4.0 * err_mean, "mean S over all vectors %g +- %g", mean, err_mean);
+    ck_assert_msg(fabs(mean - 1.0) < 4.0 * err_mean, "mean S over all vectors %g +- %g", mean,
+                  err_mean);
     /* exact shells: the same */
     for (int b = 0; b < res.n_shells; b++) {
         const row *w = &res.shells[b];
-        ck_assert_msg(fabs(w->S - 1.0) < 5.0 * w->S_err, "shell n2 = %g: S = %g +- %g", w->n, w->S, w->S_err);
+        ck_assert_msg(fabs(w->S - 1.0) < 5.0 * w->S_err, "shell n2 = %g: S = %g +- %g", w->n, w->S,
+                      w->S_err);
     }
     /* summary: frames, method, and no structure to fit: D_f consistent with 0 */
     ck_assert_double_eq(num(res.sk, "frames"), frames);
@@ -372,13 +387,14 @@ START_TEST(test_ideal_gas)
     const cJSON *fit = cJSON_GetObjectItem(res.sk, "fit");
     ck_assert_ptr_nonnull(fit);
     if (cJSON_GetObjectItem(fit, "D_f")) {
-        ck_assert_msg(fabs(num(fit, "D_f")) < 4.0 * num(fit, "D_f_err") + 0.05, "ideal gas D_f = %g +- %g",
-                      num(fit, "D_f"), num(fit, "D_f_err"));
+        ck_assert_msg(fabs(num(fit, "D_f")) < 4.0 * num(fit, "D_f_err") + 0.05,
+                      "ideal gas D_f = %g +- %g", num(fit, "D_f"), num(fit, "D_f_err"));
     }
     if (system("command -v gnuplot >/dev/null 2>&1") == 0) {
         char png[128];
         snprintf(png, sizeof png, "%s/sk.png", res.dir);
-        ck_assert_msg(access(png, F_OK) == 0 && !cJSON_GetObjectItem(res.analysis, "plot_notes"), "sk.png not drawn");
+        ck_assert_msg(access(png, F_OK) == 0 && !cJSON_GetObjectItem(res.analysis, "plot_notes"),
+                      "sk.png not drawn");
     }
     result_free(&res);
     gr_observable_free(st);
@@ -391,8 +407,8 @@ END_TEST
 /* One realisation of a random multiplicative cascade on a 2^levels grid: each cell's mass goes to
  * its four quadrants in the proportions p (randomly permuted per cell); then n points drawn from
  * the measure. Its correlation dimension is D_2 = -log2(sum p_i^2). */
-static void cascade(gsl_rng *r, int levels, const double p[4], int n, double L, double *x, double *y, double *mass,
-                    double *next)
+static void cascade(gsl_rng *r, int levels, const double p[4], int n, double L, double *x,
+                    double *y, double *mass, double *next)
 {
     int side = 1;
     mass[0] = 1.0;
@@ -444,7 +460,8 @@ static double cascade_fit(const double p[4], unsigned long seed, double *err, do
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(r, seed);
     double *x = malloc(sizeof(double) * n), *y = malloc(sizeof(double) * n);
-    double *mass = malloc(sizeof(double) << (2 * levels)), *next = malloc(sizeof(double) << (2 * levels));
+    double *mass = malloc(sizeof(double) << (2 * levels)),
+           *next = malloc(sizeof(double) << (2 * levels));
     for (int f = 0; f < frames; f++) {
         cascade(r, levels, p, n, L, x, y, mass, next);
         sample_ok(st, n, L, x, y);
@@ -487,10 +504,10 @@ START_TEST(test_cascade_fractal_dimension)
     const double D1 = -log2(0.30), D2 = -log2(0.52);
     double e1, e2, c1, c2;
     double f1 = cascade_fit(p1, 2024, &e1, &c1), f2 = cascade_fit(p2, 2025, &e2, &c2);
-    ck_assert_msg(fabs(f1 - D1) < 0.25 && e1 > 0.0 && e1 < 0.15 && isfinite(c1), "cascade 1: D_f = %g +- %g, D_2 = %g",
-                  f1, e1, D1);
-    ck_assert_msg(fabs(f2 - D2) < 0.25 && e2 > 0.0 && e2 < 0.15 && isfinite(c2), "cascade 2: D_f = %g +- %g, D_2 = %g",
-                  f2, e2, D2);
+    ck_assert_msg(fabs(f1 - D1) < 0.25 && e1 > 0.0 && e1 < 0.15 && isfinite(c1),
+                  "cascade 1: D_f = %g +- %g, D_2 = %g", f1, e1, D1);
+    ck_assert_msg(fabs(f2 - D2) < 0.25 && e2 > 0.0 && e2 < 0.15 && isfinite(c2),
+                  "cascade 2: D_f = %g +- %g, D_2 = %g", f2, e2, D2);
     ck_assert_msg(f1 - f2 > 0.5, "D_f %g and %g not told apart", f1, f2);
 }
 END_TEST
@@ -511,7 +528,8 @@ START_TEST(test_dissipative_regime_thesis_numbers)
     ck_assert_double_eq_tol(num(r.sk, "k_D_d"), 0.223, 0.0005);
     ck_assert_double_eq_tol(num(r.sk, "L_min"), 0.0847, 0.0005);
     ck_assert_double_eq_tol(num(r.sk, "L_Eff"), 0.2396, 0.0005);
-    ck_assert_double_eq_tol(num(r.sk, "l0"), M_PI * 3e-3 / (8.0 * 8000 * M_PI * 1.5e-3 * 1.5e-3 / 0.16), 1e-12);
+    ck_assert_double_eq_tol(num(r.sk, "l0"),
+                            M_PI * 3e-3 / (8.0 * 8000 * M_PI * 1.5e-3 * 1.5e-3 / 0.16), 1e-12);
     ck_assert(cJSON_IsTrue(cJSON_GetObjectItem(r.sk, "L_above_L_Eff")));
     ck_assert_double_eq_tol(num(r.sk, "k_prime"), num(r.sk, "k_D"), 1e-12);
     ck_assert_ptr_null(cJSON_GetObjectItem(cJSON_GetObjectItem(r.sk, "fit"), "D_f"));
@@ -596,13 +614,15 @@ START_TEST(test_direct_method_by_environment)
         void *st = create_ok(&s);
         sample_ok(st, n, L, x, y);
         finish_ok(st, &s, false, &r[m]);
-        ck_assert_str_eq(cJSON_GetObjectItem(r[m].sk, "method")->valuestring, m ? "direct" : "gridding");
+        ck_assert_str_eq(cJSON_GetObjectItem(r[m].sk, "method")->valuestring,
+                         m ? "direct" : "gridding");
         gr_observable_free(st);
     }
     unsetenv("GRANULE_SK_METHOD");
     ck_assert_int_eq(r[0].n_bins, r[1].n_bins);
     for (int b = 0; b < r[0].n_bins; b++) {
-        ck_assert_msg(fabs(r[0].bins[b].S - r[1].bins[b].S) < 1e-5, "bin %d: %g vs %g", b, r[0].bins[b].S, r[1].bins[b].S);
+        ck_assert_msg(fabs(r[0].bins[b].S - r[1].bins[b].S) < 1e-5, "bin %d: %g vs %g", b,
+                      r[0].bins[b].S, r[1].bins[b].S);
     }
     result_free(&r[0]);
     result_free(&r[1]);
@@ -628,7 +648,8 @@ START_TEST(test_bad_params_refused)
     for (size_t i = 0; i < sizeof bad_kd / sizeof bad_kd[0]; i++) {
         scene_2d(&s, 100, 0.1, 1.5e-3, bad_kd[i]);
         err.message[0] = 0;
-        ck_assert_msg(gr_scene_observable(&gr_obs_sk, &s, &st, &err) == GR_EINVAL, "sk_kd_max = %g accepted", bad_kd[i]);
+        ck_assert_msg(gr_scene_observable(&gr_obs_sk, &s, &st, &err) == GR_EINVAL,
+                      "sk_kd_max = %g accepted", bad_kd[i]);
         ck_assert_msg(strstr(err.message, "sk_kd_max") != NULL, "%s", err.message);
     }
     /* the system */

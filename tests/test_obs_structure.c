@@ -164,11 +164,14 @@ START_TEST(test_pressure_ideal_gas)
     ck_assert_double_eq(h_num(p, "contacts_per_frame", NULL), 0.0);
     /* N M <u_x^2> / L^2 and the same for y: n T from each diagonal component
      * within errors */
-    ck_assert_double_eq_tol(h_num(p, "kinetic_xx", NULL), nT, 4.0 * h_num(p, "kinetic_xx_error", NULL));
+    ck_assert_double_eq_tol(h_num(p, "kinetic_xx", NULL), nT,
+                            4.0 * h_num(p, "kinetic_xx_error", NULL));
     /* (5.2): C_1 = <|v|>^3 phi M^2 (2 - eps_n^2 - eps_t^2) / (D d pi) */
-    double phi = N * M_PI * sc.radius * sc.radius / (L * L), eps_t = sc.tangential ? sc.contact.eps_t : 1.0;
-    double C1 = pow(speed, 3) * phi * M * M * (2.0 - sc.contact.eps_n * sc.contact.eps_n - eps_t * eps_t) /
-        (sc.D * 2.0 * sc.radius * M_PI);
+    double phi = N * M_PI * sc.radius * sc.radius / (L * L),
+           eps_t = sc.tangential ? sc.contact.eps_t : 1.0;
+    double C1 = pow(speed, 3) * phi * M * M *
+                (2.0 - sc.contact.eps_n * sc.contact.eps_n - eps_t * eps_t) /
+                (sc.D * 2.0 * sc.radius * M_PI);
     ck_assert_double_eq_tol(h_num(cJSON_GetObjectItem(p, "eos_5_2"), "C1", NULL), C1, 1e-9 * C1);
     ck_assert_int_eq(tab.rows, 9);
     gsl_rng_free(r);
@@ -184,7 +187,8 @@ static void overlap_pair(int dim)
     const double d = 3e-3, xi = 1e-5, L = 0.1;
     h_scene(&sc, dim, 2, L, 0.5 * d);
     ck_assert_ptr_nonnull(sc.normal);
-    double x[2] = {L - 0.4 * d, 0.6 * d - xi}, y[2] = {0.05, 0.05}, v[2] = {0, 0}; /* across the boundary */
+    double x[2] = {L - 0.4 * d, 0.6 * d - xi}, y[2] = {0.05, 0.05},
+           v[2] = {0, 0}; /* across the boundary */
     void *st = h_create(&gr_obs_pressure, &sc);
     h_sample(&gr_obs_pressure, st, &sc, x, y, v, v, 0.0);
     h_table tab;
@@ -269,11 +273,12 @@ START_TEST(test_vcorr_random)
     ck_assert_int_eq(tab.rows, 10);
     for (int b = 0; b < tab.rows; b++) {
         ck_assert_double_eq_tol(h_at(&tab, b, 1), (b + 0.5), 1e-9);
-        ck_assert_msg(h_at(&tab, b, 3) > 0.0 && h_at(&tab, b, 3) < 0.1, "error %g", h_at(&tab, b, 3));
-        ck_assert_msg(fabs(h_at(&tab, b, 2)) < 4.0 * h_at(&tab, b, 3), "C_L(%g) = %g +- %g", h_at(&tab, b, 0),
-                      h_at(&tab, b, 2), h_at(&tab, b, 3));
-        ck_assert_msg(fabs(h_at(&tab, b, 4)) < 4.0 * h_at(&tab, b, 5), "C_T(%g) = %g +- %g", h_at(&tab, b, 0),
-                      h_at(&tab, b, 4), h_at(&tab, b, 5));
+        ck_assert_msg(h_at(&tab, b, 3) > 0.0 && h_at(&tab, b, 3) < 0.1, "error %g",
+                      h_at(&tab, b, 3));
+        ck_assert_msg(fabs(h_at(&tab, b, 2)) < 4.0 * h_at(&tab, b, 3), "C_L(%g) = %g +- %g",
+                      h_at(&tab, b, 0), h_at(&tab, b, 2), h_at(&tab, b, 3));
+        ck_assert_msg(fabs(h_at(&tab, b, 4)) < 4.0 * h_at(&tab, b, 5), "C_T(%g) = %g +- %g",
+                      h_at(&tab, b, 0), h_at(&tab, b, 4), h_at(&tab, b, 5));
     }
     gsl_rng_free(r);
     h_done(&tab, j);
@@ -286,7 +291,8 @@ START_TEST(test_vcorr_pair)
     h_scene(&sc, 2, 2, 1.0, 5e-3);
     ck_assert_int_eq(gr_analysis_set(&sc.analysis, "vcorr_bins", 10, NULL), GR_OK);
     ck_assert_int_eq(gr_analysis_set(&sc.analysis, "vcorr_rmax", 10, NULL), GR_OK);
-    double x[2] = {0.9925, 0.0075}, y[2] = {0.5, 0.5}, vx[2] = {1.0, -1.0}, vy[2] = {2.0, -2.0}; /* r = 1.5 d */
+    double x[2] = {0.9925, 0.0075}, y[2] = {0.5, 0.5}, vx[2] = {1.0, -1.0},
+           vy[2] = {2.0, -2.0}; /* r = 1.5 d */
     void *st = h_create(&gr_obs_vcorr, &sc);
     h_sample(&gr_obs_vcorr, st, &sc, x, y, vx, vy, 0.0);
     h_table tab;

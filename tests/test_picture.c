@@ -80,7 +80,8 @@ static void assert_no_temporaries(const char *dir)
     ck_assert_ptr_nonnull(d);
     struct dirent *e;
     while ((e = readdir(d))) {
-        ck_assert_msg(strstr(e->d_name, ".tmp") == NULL, "temporary file left in %s: %s", dir, e->d_name);
+        ck_assert_msg(strstr(e->d_name, ".tmp") == NULL, "temporary file left in %s: %s", dir,
+                      e->d_name);
     }
     closedir(d);
 }
@@ -100,7 +101,8 @@ static image load_png(const char *path)
     ck_assert_msg(cairo_surface_status(im.s) == CAIRO_STATUS_SUCCESS, "%s: %s", path,
                   cairo_status_to_string(cairo_surface_status(im.s)));
     cairo_format_t fmt = cairo_image_surface_get_format(im.s);
-    ck_assert_msg(fmt == CAIRO_FORMAT_RGB24 || fmt == CAIRO_FORMAT_ARGB32, "%s: unexpected format %d", path, (int)fmt);
+    ck_assert_msg(fmt == CAIRO_FORMAT_RGB24 || fmt == CAIRO_FORMAT_ARGB32,
+                  "%s: unexpected format %d", path, (int)fmt);
     im.w = cairo_image_surface_get_width(im.s);
     im.h = cairo_image_surface_get_height(im.s);
     im.stride = cairo_image_surface_get_stride(im.s);
@@ -116,7 +118,8 @@ static void image_free(image *im)
 
 static void pixel(const image *im, int x, int y, int rgb[3])
 {
-    ck_assert_msg(x >= 0 && y >= 0 && x < im->w && y < im->h, "pixel (%d, %d) outside %d x %d", x, y, im->w, im->h);
+    ck_assert_msg(x >= 0 && y >= 0 && x < im->w && y < im->h, "pixel (%d, %d) outside %d x %d", x,
+                  y, im->w, im->h);
     uint32_t v;
     memcpy(&v, im->data + (size_t)y * (size_t)im->stride + 4 * (size_t)x, 4);
     rgb[0] = (int)((v >> 16) & 255);
@@ -124,13 +127,15 @@ static void pixel(const image *im, int x, int y, int rgb[3])
     rgb[2] = (int)(v & 255);
 }
 
-static void expect_pixel(const image *im, int x, int y, double r, double g, double b, int tol, const char *what)
+static void expect_pixel(const image *im, int x, int y, double r, double g, double b, int tol,
+                         const char *what)
 {
     int p[3];
     pixel(im, x, y, p);
     int e[3] = {(int)lround(255.0 * r), (int)lround(255.0 * g), (int)lround(255.0 * b)};
     for (int c = 0; c < 3; c++) {
-        ck_assert_msg(abs(p[c] - e[c]) <= tol, "%s: pixel (%d, %d) is #%02x%02x%02x, expected #%02x%02x%02x", what, x, y,
+        ck_assert_msg(abs(p[c] - e[c]) <= tol,
+                      "%s: pixel (%d, %d) is #%02x%02x%02x, expected #%02x%02x%02x", what, x, y,
                       p[0], p[1], p[2], e[0], e[1], e[2]);
     }
 }
@@ -175,8 +180,8 @@ START_TEST(test_2d_disc_colours)
         f.y[i] = 0.0125 + 0.025 * (i / 4);
     }
     f.vx[0] = 3.0;
-    f.vy[0] = -4.0;  /* |v| = 5 */
-    f.vx[1] = 1.5;   /* |v| = 1.5 */
+    f.vy[0] = -4.0; /* |v| = 5 */
+    f.vx[1] = 1.5;  /* |v| = 1.5 */
     double vrms = sqrt((25.0 + 2.25) / 16.0), ratio1 = 1.5 / vrms;
     ck_assert(5.0 / vrms > 3.0);
 
@@ -201,13 +206,15 @@ START_TEST(test_2d_disc_colours)
             } else {
                 gr_picture_colour(&opt, ratio1, rgb);
             }
-            expect_pixel(&im, X, Y, rgb[0], rgb[1], rgb[2], 1, map ? "viridis disc centre" : "grey disc centre");
+            expect_pixel(&im, X, Y, rgb[0], rgb[1], rgb[2], 1,
+                         map ? "viridis disc centre" : "grey disc centre");
             /* inside the disc but off-centre: the same fill (the rim is at the edge only) */
             expect_pixel(&im, X + 10, Y - 10, rgb[0], rgb[1], rgb[2], 1, "inside the disc");
             /* between grid neighbours (0.011 m from this centre, 0.014 m from the next, r = 0.004):
              * background */
             double bx = f.x[i] + (i % 4 < 3 ? 0.011 : -0.011);
-            ck_assert_msg(is_white(&im, dev_x(bx, L, size), Y), "no white background beside disc %d", i);
+            ck_assert_msg(is_white(&im, dev_x(bx, L, size), Y),
+                          "no white background beside disc %d", i);
         }
         /* the disc is drawn to scale: white just outside its radius, filled just inside */
         int X = dev_x(f.x[5], L, size), Y = dev_y(f.y[5], L, size);
@@ -217,15 +224,19 @@ START_TEST(test_2d_disc_colours)
     }
     /* a ramp quantised into 3 shades (Fig. 2.9): ratio 1.4 falls in the middle band */
     {
-        gr_picture_options opt = {.size = size, .colormap = GR_CMAP_GREY, .levels = 3, .hide_labels = true};
+        gr_picture_options opt = {
+            .size = size, .colormap = GR_CMAP_GREY, .levels = 3, .hide_labels = true};
         gr_error err = {0};
         const char *png = in_dir("three.png");
         ck_assert_msg(gr_picture_frame(&f, r, png, &opt, &err) == GR_OK, "%s", err.message);
         image im = load_png(png);
         ck_assert_int_eq(im.h, size); /* no panel */
-        expect_pixel(&im, dev_x(f.x[1], L, size), dev_y(f.y[1], L, size), 0.44, 0.44, 0.44, 1, "middle shade");
-        expect_pixel(&im, dev_x(f.x[0], L, size), dev_y(f.y[0], L, size), 0, 0, 0, 1, "darkest shade");
-        expect_pixel(&im, dev_x(f.x[2], L, size), dev_y(f.y[2], L, size), 0.88, 0.88, 0.88, 1, "lightest shade");
+        expect_pixel(&im, dev_x(f.x[1], L, size), dev_y(f.y[1], L, size), 0.44, 0.44, 0.44, 1,
+                     "middle shade");
+        expect_pixel(&im, dev_x(f.x[0], L, size), dev_y(f.y[0], L, size), 0, 0, 0, 1,
+                     "darkest shade");
+        expect_pixel(&im, dev_x(f.x[2], L, size), dev_y(f.y[2], L, size), 0.88, 0.88, 0.88, 1,
+                     "lightest shade");
         image_free(&im);
     }
     gr_frame_free(&f);
@@ -254,10 +265,14 @@ START_TEST(test_2d_periodic_edges)
     expect_pixel(&im, dev_x(L - 0.002, L, size), ymid, g, g, g, 1, "disc 0's image across x = L");
     ck_assert(is_white(&im, dev_x(L - 0.008, L, size), ymid)); /* but no wider than the disc */
     /* disc 1 at (0.099, 0.002): pieces at all four corners */
-    expect_pixel(&im, dev_x(0.098, L, size), dev_y(0.003, L, size), g, g, g, 1, "corner disc, bottom right");
-    expect_pixel(&im, dev_x(0.001, L, size), dev_y(0.003, L, size), g, g, g, 1, "corner disc, bottom left");
-    expect_pixel(&im, dev_x(0.098, L, size), dev_y(L - 0.001, L, size), g, g, g, 1, "corner disc, top right");
-    expect_pixel(&im, dev_x(0.001, L, size), dev_y(L - 0.001, L, size), g, g, g, 1, "corner disc, top left");
+    expect_pixel(&im, dev_x(0.098, L, size), dev_y(0.003, L, size), g, g, g, 1,
+                 "corner disc, bottom right");
+    expect_pixel(&im, dev_x(0.001, L, size), dev_y(0.003, L, size), g, g, g, 1,
+                 "corner disc, bottom left");
+    expect_pixel(&im, dev_x(0.098, L, size), dev_y(L - 0.001, L, size), g, g, g, 1,
+                 "corner disc, top right");
+    expect_pixel(&im, dev_x(0.001, L, size), dev_y(L - 0.001, L, size), g, g, g, 1,
+                 "corner disc, top left");
     expect_pixel(&im, dev_x(0.05, L, size), ymid, g, g, g, 1, "disc 2 wrapped from x = 0.35");
     ck_assert(is_white(&im, dev_x(0.05, L, size), dev_y(0.02, L, size)));
     image_free(&im);
@@ -304,12 +319,16 @@ START_TEST(test_1d_strip)
         }
     }
     ck_assert_msg(ymax >= 0, "no black (fast) disc drawn");
-    ck_assert_msg(first_disc_y < im.h / 3, "the first frame's row is not at the top (first slow disc at y = %d of %d)",
+    ck_assert_msg(first_disc_y < im.h / 3,
+                  "the first frame's row is not at the top (first slow disc at y = %d of %d)",
                   first_disc_y, im.h);
-    ck_assert_msg(ymin > im.h * 0.55, "fast disc (last frame) drawn at y = %d..%d of %d: not in the bottom row", ymin,
+    ck_assert_msg(ymin > im.h * 0.55,
+                  "fast disc (last frame) drawn at y = %d..%d of %d: not in the bottom row", ymin,
                   ymax, im.h);
-    ck_assert_msg(xmin < im.w / 20 && xmax > im.w - im.w / 20, "fast disc across the ring's end spans x = %d..%d, "
-                  "expected pieces at both ends of the row", xmin, xmax);
+    ck_assert_msg(xmin < im.w / 20 && xmax > im.w - im.w / 20,
+                  "fast disc across the ring's end spans x = %d..%d, "
+                  "expected pieces at both ends of the row",
+                  xmin, xmax);
     image_free(&im);
 
     /* one 1D frame through gr_picture_frame (y = NULL as gr_snapshot_read leaves it) */
@@ -356,11 +375,13 @@ static char *slurp(const char *path, long *n)
     return buf;
 }
 
-static void expect_refusal(int rc, const gr_error *err, int code, const char *needle, const char *what)
+static void expect_refusal(int rc, const gr_error *err, int code, const char *needle,
+                           const char *what)
 {
     ck_assert_msg(rc == code, "%s: expected %d, got %d (%s)", what, code, rc, err->message);
     ck_assert_int_eq(err->code, code);
-    ck_assert_msg(strstr(err->message, needle) != NULL, "%s: message '%s' lacks '%s'", what, err->message, needle);
+    ck_assert_msg(strstr(err->message, needle) != NULL, "%s: message '%s' lacks '%s'", what,
+                  err->message, needle);
     ck_assert_msg(strchr(err->message, '\n') == NULL, "%s: message is not one line", what);
 }
 
@@ -381,22 +402,27 @@ START_TEST(test_refusals)
     /* each refusal below must leave pic.png untouched and create nothing */
     f.x[2] = NAN;
     err = (gr_error){0};
-    expect_refusal(gr_picture_frame(&f, r, png, &small, &err), &err, GR_EINVAL, "non-finite position", "NaN x");
+    expect_refusal(gr_picture_frame(&f, r, png, &small, &err), &err, GR_EINVAL,
+                   "non-finite position", "NaN x");
     f.x[2] = 0.06;
     f.y[3] = INFINITY;
     err = (gr_error){0};
-    expect_refusal(gr_picture_frame(&f, r, png, &small, &err), &err, GR_EINVAL, "non-finite position", "infinite y");
+    expect_refusal(gr_picture_frame(&f, r, png, &small, &err), &err, GR_EINVAL,
+                   "non-finite position", "infinite y");
     f.y[3] = 0.05;
     f.vy[1] = NAN;
     err = (gr_error){0};
-    expect_refusal(gr_picture_frame(&f, r, png, &small, &err), &err, GR_EINVAL, "non-finite velocity", "NaN vy");
+    expect_refusal(gr_picture_frame(&f, r, png, &small, &err), &err, GR_EINVAL,
+                   "non-finite velocity", "NaN vy");
     f.vy[1] = 0.0;
     const double bad_r[] = {0.0, -1e-3, NAN, INFINITY, 0.2};
     for (size_t k = 0; k < sizeof bad_r / sizeof bad_r[0]; k++) {
         err = (gr_error){0};
-        expect_refusal(gr_picture_frame(&f, bad_r[k], png, &small, &err), &err, GR_EINVAL, "radius" , "bad radius");
+        expect_refusal(gr_picture_frame(&f, bad_r[k], png, &small, &err), &err, GR_EINVAL, "radius",
+                       "bad radius");
     }
-    gr_picture_options huge = {.size = 100000}, neg = {.size = -5}, badv = {.vmax = NAN}, badl = {.levels = 1};
+    gr_picture_options huge = {.size = 100000}, neg = {.size = -5}, badv = {.vmax = NAN},
+                       badl = {.levels = 1};
     const gr_picture_options *bad_opts[] = {&huge, &neg, &badv, &badl};
     for (size_t k = 0; k < 4; k++) {
         err = (gr_error){0};
@@ -404,11 +430,13 @@ START_TEST(test_refusals)
     }
     /* a strip of 1D frames refuses a 2D frame, and a NaN in a later frame */
     err = (gr_error){0};
-    expect_refusal(gr_picture_strip(&f, 1, r, png, NULL, &err), &err, GR_EINVAL, "1D", "2D frame in a strip");
+    expect_refusal(gr_picture_strip(&f, 1, r, png, NULL, &err), &err, GR_EINVAL, "1D",
+                   "2D frame in a strip");
     gr_frame s[2] = {frame_new(3, 1, L, 0.0), frame_new(3, 1, L, 0.1)};
     s[1].x[1] = NAN;
     err = (gr_error){0};
-    expect_refusal(gr_picture_strip(s, 2, r, png, NULL, &err), &err, GR_EINVAL, "frame 1 particle 1", "NaN in frame 1");
+    expect_refusal(gr_picture_strip(s, 2, r, png, NULL, &err), &err, GR_EINVAL,
+                   "frame 1 particle 1", "NaN in frame 1");
     err = (gr_error){0};
     ck_assert_int_eq(gr_picture_strip(s, 0, r, png, NULL, &err), GR_EINVAL);
     /* too many frames for one picture */
@@ -418,15 +446,18 @@ START_TEST(test_refusals)
         many[j] = s[0];
     }
     err = (gr_error){0};
-    expect_refusal(gr_picture_strip(many, 3000, r, png, NULL, &err), &err, GR_EINVAL, "too large", "3000 rows");
+    expect_refusal(gr_picture_strip(many, 3000, r, png, NULL, &err), &err, GR_EINVAL, "too large",
+                   "3000 rows");
     free(many);
 
     long n1;
     char *after = slurp(png, &n1);
-    ck_assert_msg(n0 == n1 && memcmp(before, after, (size_t)n0) == 0, "a refused call changed %s", png);
+    ck_assert_msg(n0 == n1 && memcmp(before, after, (size_t)n0) == 0, "a refused call changed %s",
+                  png);
     free(after);
     char name[300] = "";
-    ck_assert_msg(count_entries(g_dir, name, sizeof name) == 1, "refusals left files behind (e.g. %s)", name);
+    ck_assert_msg(count_entries(g_dir, name, sizeof name) == 1,
+                  "refusals left files behind (e.g. %s)", name);
 
     /* a write failing half-way (file size limit: the PNG of 400 px is larger than 2000 bytes):
      * GR_EIO with the system's reason, the temporary removed, the earlier picture untouched */
@@ -444,16 +475,18 @@ START_TEST(test_refusals)
         signal(SIGXFSZ, old_handler);
         expect_refusal(rc, &err, GR_EIO, "File too large", "write failure");
         after = slurp(png, &n1);
-        ck_assert_msg(n0 == n1 && memcmp(before, after, (size_t)n0) == 0, "a failed write changed %s", png);
+        ck_assert_msg(n0 == n1 && memcmp(before, after, (size_t)n0) == 0,
+                      "a failed write changed %s", png);
         free(after);
-        ck_assert_msg(count_entries(g_dir, name, sizeof name) == 1, "a failed write left files behind (e.g. %s)", name);
+        ck_assert_msg(count_entries(g_dir, name, sizeof name) == 1,
+                      "a failed write left files behind (e.g. %s)", name);
     }
     free(before);
 
     /* an unwritable destination: GR_EIO, nothing created */
     err = (gr_error){0};
-    expect_refusal(gr_picture_frame(&f, r, in_dir("no/such/folder/pic.png"), &small, &err), &err, GR_EIO, "no/such/folder",
-                   "missing folder");
+    expect_refusal(gr_picture_frame(&f, r, in_dir("no/such/folder/pic.png"), &small, &err), &err,
+                   GR_EIO, "no/such/folder", "missing folder");
     ck_assert_int_eq(count_entries(g_dir, NULL, 0), 1);
     gr_frame_free(&s[0]);
     gr_frame_free(&s[1]);
@@ -471,14 +504,30 @@ START_TEST(test_run_folder_2d)
 {
     char outset[400];
     snprintf(outset, sizeof outset, "output.dir=%s/run", g_dir);
-    const char *sets[] = {"system.dim=2", "system.N=200", "system.L=0.06", "placement.kind=hexagonal",
-                          "model.normal=spring_dashpot", "model.tangential=tangential_dashpot", "model.eps_n=0.6",
-                          "model.eps_t=0.6", "noise.D=1e-8", "noise.mode=symmetrised", "integrator.dt=1e-6",
-                          "run.warmup=0", "run.duration=0.01", "run.sample_every=1e-3", "run.seed=1",
-                          "run.progress=false", "output.snapshot_every=0.005", "output.plots=false", outset};
+    const char *sets[] = {"system.dim=2",
+                          "system.N=200",
+                          "system.L=0.06",
+                          "placement.kind=hexagonal",
+                          "model.normal=spring_dashpot",
+                          "model.tangential=tangential_dashpot",
+                          "model.eps_n=0.6",
+                          "model.eps_t=0.6",
+                          "noise.D=1e-8",
+                          "noise.mode=symmetrised",
+                          "integrator.dt=1e-6",
+                          "run.warmup=0",
+                          "run.duration=0.01",
+                          "run.sample_every=1e-3",
+                          "run.seed=1",
+                          "run.progress=false",
+                          "output.snapshot_every=0.005",
+                          "output.plots=false",
+                          outset};
     gr_scene sc;
     gr_error err = {0};
-    ck_assert_msg(gr_scene_load(&sc, NULL, sets, (int)(sizeof sets / sizeof sets[0]), &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_scene_load(&sc, NULL, sets, (int)(sizeof sets / sizeof sets[0]), &err) ==
+                      GR_OK,
+                  "%s", err.message);
     gr_run_options ro = {.force = true};
     gr_run_result res;
     ck_assert_msg(gr_run(&sc, &ro, &res, &err) == GR_OK, "%s", err.message);
@@ -489,7 +538,8 @@ START_TEST(test_run_folder_2d)
 
     err = (gr_error){0};
     char written[600] = "";
-    ck_assert_msg(gr_picture_run_ex(run, NULL, written, sizeof written, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_picture_run_ex(run, NULL, written, sizeof written, &err) == GR_OK, "%s",
+                  err.message);
     snprintf(png, sizeof png, "%s/snapshot.png", run);
     ck_assert_str_eq(written, png);
     ck_assert_msg(gr_picture_run(run, &err) == GR_OK, "%s", err.message); /* again: replaces it */
@@ -520,9 +570,11 @@ START_TEST(test_run_folder_2d)
     ck_assert(vrms > 0.0);
     int checked = 0;
     for (int i = 0; i < f.n; i++) {
-        double x = f.x[i] - f.L * floor(f.x[i] / f.L), y = f.y[i] - f.L * floor(f.y[i] / f.L), rgb[3];
+        double x = f.x[i] - f.L * floor(f.x[i] / f.L), y = f.y[i] - f.L * floor(f.y[i] / f.L),
+               rgb[3];
         gr_picture_colour(NULL, hypot(f.vx[i], f.vy[i]) / vrms, rgb);
-        expect_pixel(&im, dev_x(x, f.L, 1000), dev_y(y, f.L, 1000), rgb[0], rgb[1], rgb[2], 2, "particle centre");
+        expect_pixel(&im, dev_x(x, f.L, 1000), dev_y(y, f.L, 1000), rgb[0], rgb[1], rgb[2], 2,
+                     "particle centre");
         checked++;
     }
     ck_assert_int_eq(checked, 200);
@@ -555,16 +607,20 @@ START_TEST(test_run_folder_1d)
         snprintf(p, sizeof p, "%s/snap_%06d.xyz", snap, k);
         FILE *out = fopen(p, "w");
         ck_assert_ptr_nonnull(out);
-        fprintf(out, "30\nLattice=\"0.3 0 0 0 1 0 0 0 1\" pbc=\"T F F\" Time=%g "
-                     "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1\n", 0.001 * k);
+        fprintf(out,
+                "30\nLattice=\"0.3 0 0 0 1 0 0 0 1\" pbc=\"T F F\" Time=%g "
+                "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1\n",
+                0.001 * k);
         for (int i = 0; i < 30; i++) {
-            fprintf(out, "G %.9g 0.5 0 %.9g 0 0 0.0015\n", fmod(0.01 * i + 0.0002 * k * (i % 5), 0.3), sin(i + k));
+            fprintf(out, "G %.9g 0.5 0 %.9g 0 0 0.0015\n",
+                    fmod(0.01 * i + 0.0002 * k * (i % 5), 0.3), sin(i + k));
         }
         fclose(out);
     }
     err = (gr_error){0};
     char written[600];
-    ck_assert_msg(gr_picture_run_ex(g_dir, NULL, written, sizeof written, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_picture_run_ex(g_dir, NULL, written, sizeof written, &err) == GR_OK, "%s",
+                  err.message);
     ck_assert_msg(strstr(written, "/snapshots.png") != NULL, "%s", written);
     image im = load_png(written);
     ck_assert_int_eq(im.w, 1000);
@@ -578,7 +634,6 @@ START_TEST(test_run_folder_1d)
 }
 END_TEST
 
-
 /* The 1D space-time diagram: x across the ring, frame j in the j-th band of rows from the top,
  * every particle a mark at its position in the colour of its |v| / v_rms, on the dark ground; a
  * mark across the ring's end appears at both ends; the picture's size is the layout's. */
@@ -589,12 +644,12 @@ START_TEST(test_spacetime)
     gr_frame fr[NF];
     for (int j = 0; j < NF; j++) {
         fr[j] = frame_new(4, 1, L, 0.01 * j);
-        fr[j].x[0] = 0.25;             /* at rest */
-        fr[j].x[1] = 0.5 + 0.01 * j;   /* moving right at 1 m/s */
+        fr[j].x[0] = 0.25;           /* at rest */
+        fr[j].x[1] = 0.5 + 0.01 * j; /* moving right at 1 m/s */
         fr[j].vx[1] = 1.0;
-        fr[j].x[2] = 0.0;              /* on the ring's end, -1 m/s */
+        fr[j].x[2] = 0.0; /* on the ring's end, -1 m/s */
         fr[j].vx[2] = -1.0;
-        fr[j].x[3] = 0.75;             /* at rest */
+        fr[j].x[3] = 0.75; /* at rest */
     }
     gr_picture_options opt = {.size = 1000};
     gr_error err = {0};
@@ -602,8 +657,8 @@ START_TEST(test_spacetime)
     ck_assert_int_eq(gr_picture_spacetime_layout(NF, L, r, &opt, &l, &err), GR_OK);
     ck_assert_int_eq(l.width, 1000);
     ck_assert_int_eq(l.row_h, 12); /* 900 / 30 = 30, at most 12 */
-    ck_assert_msg(l.x0 > 0 && l.y0 > 0 && l.x0 + l.w <= l.width && l.y0 + NF * l.row_h < l.height, "layout %d %d %d %d", l.x0,
-                  l.y0, l.w, l.height);
+    ck_assert_msg(l.x0 > 0 && l.y0 > 0 && l.x0 + l.w <= l.width && l.y0 + NF * l.row_h < l.height,
+                  "layout %d %d %d %d", l.x0, l.y0, l.w, l.height);
     ck_assert_double_eq_tol(l.mark, fmax(1.0, 2.0 * r * l.w / L), 1e-12);
     const char *png = in_dir("spacetime.png");
     ck_assert_msg(gr_picture_spacetime(fr, NF, r, png, &opt, &err) == GR_OK, "%s", err.message);
@@ -617,14 +672,19 @@ START_TEST(test_spacetime)
     const double g = GR_SPACETIME_GROUND / 255.0;
     for (int j = 0; j < NF; j += 7) {
         const int y = l.y0 + j * l.row_h + l.row_h / 2;
-        expect_pixel(&im, l.x0 + (int)(0.25 * l.w), y, c_still[0], c_still[1], c_still[2], 2, "particle at rest");
-        expect_pixel(&im, l.x0 + (int)((0.5 + 0.01 * j) * l.w), y, c_moving[0], c_moving[1], c_moving[2], 2, "moving particle");
-        expect_pixel(&im, l.x0, y, c_moving[0], c_moving[1], c_moving[2], 2, "mark on the ring's end, left");
-        expect_pixel(&im, l.x0 + l.w - 1, y, c_moving[0], c_moving[1], c_moving[2], 2, "mark on the ring's end, right");
+        expect_pixel(&im, l.x0 + (int)(0.25 * l.w), y, c_still[0], c_still[1], c_still[2], 2,
+                     "particle at rest");
+        expect_pixel(&im, l.x0 + (int)((0.5 + 0.01 * j) * l.w), y, c_moving[0], c_moving[1],
+                     c_moving[2], 2, "moving particle");
+        expect_pixel(&im, l.x0, y, c_moving[0], c_moving[1], c_moving[2], 2,
+                     "mark on the ring's end, left");
+        expect_pixel(&im, l.x0 + l.w - 1, y, c_moving[0], c_moving[1], c_moving[2], 2,
+                     "mark on the ring's end, right");
         expect_pixel(&im, l.x0 + (int)(0.4 * l.w), y, g, g, g, 0, "the ground");
         /* time runs down: the moving particle is not yet at its last position in row j < NF - 1 */
         if (j < NF - 1) {
-            expect_pixel(&im, l.x0 + (int)((0.5 + 0.01 * (NF - 1)) * l.w), y, g, g, g, 0, "later position, earlier row");
+            expect_pixel(&im, l.x0 + (int)((0.5 + 0.01 * (NF - 1)) * l.w), y, g, g, g, 0,
+                         "later position, earlier row");
         }
     }
     image_free(&im);
@@ -633,7 +693,8 @@ START_TEST(test_spacetime)
     ck_assert_int_eq(gr_picture_spacetime(&two, 1, r, in_dir("bad.png"), &opt, &err), GR_EINVAL);
     ck_assert_msg(strstr(err.message, "1D") != NULL, "%s", err.message);
     ck_assert_int_eq(gr_picture_spacetime(fr, 0, r, in_dir("bad.png"), &opt, &err), GR_EINVAL);
-    ck_assert_int_eq(gr_picture_spacetime_layout(GR_SPACETIME_MAX_FRAMES + 1, L, r, &opt, &l, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_picture_spacetime_layout(GR_SPACETIME_MAX_FRAMES + 1, L, r, &opt, &l, &err),
+                     GR_EINVAL);
     ck_assert_int_eq(access(in_dir("bad.png"), F_OK), -1);
     gr_frame_free(&two);
     for (int j = 0; j < NF; j++) {

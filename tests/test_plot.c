@@ -40,10 +40,7 @@ static void teardown(void)
     gr_plot_set_format(GR_PLOT_PNG);
 }
 
-static bool have_gnuplot(void)
-{
-    return system("command -v gnuplot >/dev/null 2>&1") == 0;
-}
+static bool have_gnuplot(void) { return system("command -v gnuplot >/dev/null 2>&1") == 0; }
 
 static char *slurp(const char *path)
 {
@@ -69,7 +66,8 @@ START_TEST(test_compose)
     }
     /* log axes: drawn once on a dummy terminal, fitted to the data's range, then drawn for real */
     ck_assert(strstr(s, "set terminal dumb\nset output '/dev/null'\nset logscale xy"));
-    ck_assert(strstr(s, "GPVAL_DATA_X_MIN") && strstr(s, "GPVAL_DATA_Y_MIN") && strstr(s, "set xtics add (10.0**gr_n"));
+    ck_assert(strstr(s, "GPVAL_DATA_X_MIN") && strstr(s, "GPVAL_DATA_Y_MIN") &&
+              strstr(s, "set xtics add (10.0**gr_n"));
     ck_assert(strstr(s, "set terminal pop\nset output 'a.png'\nreplot\nset output\n"));
     free(s);
     /* a body with its own range, or no log axis, is drawn once as it is */
@@ -78,10 +76,12 @@ START_TEST(test_compose)
     free(s);
     /* a linear axis reads %h; a log axis whose format the body chooses keeps the body's */
     s = gr_plot_compose("set logscale y\nset format y '%g'\nplot x", "b.svg", GR_PLOT_SVG);
-    ck_assert(strstr(s, "set terminal svg") && strstr(s, "set format x '%h'") && strstr(s, "set format y '%h'"));
+    ck_assert(strstr(s, "set terminal svg") && strstr(s, "set format x '%h'") &&
+              strstr(s, "set format y '%h'"));
     free(s);
     s = gr_plot_compose("set log x\nplot x", "c.pdf", GR_PLOT_PDF);
-    ck_assert(strstr(s, "set terminal pdfcairo") && strstr(s, "set format x '10^{%L}'") && strstr(s, "set format y '%h'"));
+    ck_assert(strstr(s, "set terminal pdfcairo") && strstr(s, "set format x '10^{%L}'") &&
+              strstr(s, "set format y '%h'"));
     free(s);
     s = gr_plot_compose("set logscale\nplot x", "d.png", GR_PLOT_PNG);
     ck_assert(strstr(s, "set format x '10^{%L}'") && strstr(s, "set format y '10^{%L}'"));
@@ -114,10 +114,12 @@ START_TEST(test_log_axis_fits_data)
     FILE *f = fopen(path, "w");
     fprintf(f, "x,y\n1.7,1e-3\n3,1e-2\n10,0.1\n18,0.05\n");
     fclose(f);
-    char *s = gr_plot_compose("set logscale xy\nplot 'lg.csv' skip 1 using 1:2 with linespoints", "lg.svg", GR_PLOT_SVG);
+    char *s = gr_plot_compose("set logscale xy\nplot 'lg.csv' skip 1 using 1:2 with linespoints",
+                              "lg.svg", GR_PLOT_SVG);
     snprintf(path, sizeof path, "%s/lg.plt", g_dir);
     f = fopen(path, "w");
-    fprintf(f, "%sset print 'lg.range'\nprint GPVAL_X_MIN, GPVAL_X_MAX, GPVAL_Y_MIN, GPVAL_Y_MAX\n", s);
+    fprintf(f, "%sset print 'lg.range'\nprint GPVAL_X_MIN, GPVAL_X_MAX, GPVAL_Y_MIN, GPVAL_Y_MAX\n",
+            s);
     fclose(f);
     free(s);
     snprintf(cmd, sizeof cmd, "cd '%s' && gnuplot lg.plt 2>/dev/null", g_dir);
@@ -128,8 +130,10 @@ START_TEST(test_log_axis_fits_data)
     ck_assert_ptr_nonnull(f);
     ck_assert_int_eq(fscanf(f, "%lf %lf %lf %lf", &x0, &x1, &y0, &y1), 4);
     fclose(f);
-    ck_assert_msg(x0 > 1.5 && x0 < 1.7 && x1 > 18.0 && x1 < 21.0, "x axis %g..%g for data at 1.7..18", x0, x1);
-    ck_assert_msg(y0 > 5e-4 && y0 < 1e-3 && y1 > 0.1 && y1 < 0.2, "y axis %g..%g for data at 1e-3..0.1", y0, y1);
+    ck_assert_msg(x0 > 1.5 && x0 < 1.7 && x1 > 18.0 && x1 < 21.0,
+                  "x axis %g..%g for data at 1.7..18", x0, x1);
+    ck_assert_msg(y0 > 5e-4 && y0 < 1e-3 && y1 > 0.1 && y1 < 0.2,
+                  "y axis %g..%g for data at 1e-3..0.1", y0, y1);
     snprintf(path, sizeof path, "%s/lg.svg", g_dir);
     char *svg = slurp(path);
     ck_assert_msg(strstr(svg, "<svg"), "no SVG drawn");
@@ -149,7 +153,8 @@ START_TEST(test_formats)
     f = fopen(path, "w");
     fprintf(f, "x,y\n1,1\n2,4\n3,9\n");
     fclose(f);
-    const char *body = "set title 'Squares'\nplot 'd.csv' skip 1 using 1:2 with linespoints title 'y'";
+    const char *body =
+        "set title 'Squares'\nplot 'd.csv' skip 1 using 1:2 with linespoints title 'y'";
     const gr_plot_format fmts[] = {GR_PLOT_SVG, GR_PLOT_PDF, GR_PLOT_PNG};
     const char *magic[] = {"<svg", "%PDF", "\x89PNG"};
     for (int i = 0; i < 3; i++) {
@@ -157,8 +162,9 @@ START_TEST(test_formats)
         ck_assert_msg(gr_plot_script(g_dir, "d.png", body, note, sizeof note) == 0, "%s", note);
         snprintf(path, sizeof path, "%s/d.%s", g_dir, gr_plot_extension(fmts[i]));
         char *text = slurp(path);
-        ck_assert_msg(fmts[i] == GR_PLOT_SVG ? strstr(text, magic[i]) != NULL : !memcmp(text, magic[i], 4), "%s is no %s",
-                      path, gr_plot_extension(fmts[i]));
+        ck_assert_msg(fmts[i] == GR_PLOT_SVG ? strstr(text, magic[i]) != NULL
+                                             : !memcmp(text, magic[i], 4),
+                      "%s is no %s", path, gr_plot_extension(fmts[i]));
         free(text);
     }
     snprintf(path, sizeof path, "%s/d.gp", g_dir);
@@ -223,18 +229,20 @@ static void check_bodies(const char *dir, char *seen, size_t seen_size)
         for (const char *p = script; (p = strstr(p, "set format")); p++) {
             const char *q = strchr(p, '\'');
             q = q ? q : strchr(p, '"');
-            ck_assert_msg(q && !strstr(q, "f'") && !strstr(q, "f\"") && strncmp(q + 1, "%.", 2), "%s: tick format %.40s",
-                          e->d_name, p);
+            ck_assert_msg(q && !strstr(q, "f'") && !strstr(q, "f\"") && strncmp(q + 1, "%.", 2),
+                          "%s: tick format %.40s", e->d_name, p);
         }
         for (const char *p = body; (p = strstr(p, "rgb '")); p++) {
-            ck_assert_msg(palette_or_grey(p + 5), "%s: colour %.12s is neither the palette's nor a grey", e->d_name, p + 5);
+            ck_assert_msg(palette_or_grey(p + 5),
+                          "%s: colour %.12s is neither the palette's nor a grey", e->d_name, p + 5);
         }
         char title[300];
         title_first_line(body, title, sizeof title);
         for (const char *c = title; *c; c++) {
-            ck_assert_msg(!(c[0] == '(' && isdigit((unsigned char)c[1]) && c[2] == '.'), "%s: equation number in the title '%s'",
-                          e->d_name, title);
-            ck_assert_msg(strncmp(c, "Fig.", 4) && strncmp(c, "App.", 4), "%s: reference in the title '%s'", e->d_name, title);
+            ck_assert_msg(!(c[0] == '(' && isdigit((unsigned char)c[1]) && c[2] == '.'),
+                          "%s: equation number in the title '%s'", e->d_name, title);
+            ck_assert_msg(strncmp(c, "Fig.", 4) && strncmp(c, "App.", 4),
+                          "%s: reference in the title '%s'", e->d_name, title);
         }
         free(script);
         free(body);
@@ -271,20 +279,24 @@ START_TEST(test_run_bodies)
     if (!have_gnuplot()) {
         return;
     }
-    run_scene("one", "[system]\ndim = 1\nN = 100\nreduced_length = 0.5\n[placement]\nkind = uniform\n[noise]\nD = 1e-8\n[integrator]\ndt = 1e-6\n"
+    run_scene("one", "[system]\ndim = 1\nN = 100\nreduced_length = 0.5\n[placement]\nkind = "
+                     "uniform\n[noise]\nD = 1e-8\n[integrator]\ndt = 1e-6\n"
                      "[run]\nwarmup = 0.02\nduration = 0.1\nsample_every = 1e-3\n"
-                     "[analysis]\nobservables = moments, pv, freepath, gaps, msd, vacf, clusters, collisions, postcollision\n"
+                     "[analysis]\nobservables = moments, pv, freepath, gaps, msd, vacf, clusters, "
+                     "collisions, postcollision\n"
                      "[output]\nplots = true\nsnapshot_every = 0.01\n");
-    run_scene("two", "[system]\ndim = 2\nN = 300\nL = 0.1\n[model]\ntangential = tangential_dashpot\n[noise]\nD = 1e-8\n"
+    run_scene("two", "[system]\ndim = 2\nN = 300\nL = 0.1\n[model]\ntangential = "
+                     "tangential_dashpot\n[noise]\nD = 1e-8\n"
                      "[run]\nwarmup = 0.002\nduration = 0.01\nsample_every = 1e-3\n"
-                     "[analysis]\nobservables = moments, pv, sk, pair, vcorr, pressure\n[output]\nplots = true\n");
+                     "[analysis]\nobservables = moments, pv, sk, pair, vcorr, "
+                     "pressure\n[output]\nplots = true\n");
     char seen[4096] = "", dir[400];
     snprintf(dir, sizeof dir, "%s/one", g_dir);
     check_bodies(dir, seen, sizeof seen);
     snprintf(dir, sizeof dir, "%s/two", g_dir);
     check_bodies(dir, seen, sizeof seen);
-    const char *must[] = {"temperature.gp", "ledger.gp", "moments.gp", "pv.gp", "gaps.gp", "gaps_lnR.gp", "freepath.gp", "msd.gp",
-                          "sk.gp", "pair_g.gp"};
+    const char *must[] = {"temperature.gp", "ledger.gp",   "moments.gp", "pv.gp", "gaps.gp",
+                          "gaps_lnR.gp",    "freepath.gp", "msd.gp",     "sk.gp", "pair_g.gp"};
     for (size_t i = 0; i < sizeof must / sizeof must[0]; i++) {
         ck_assert_msg(strstr(seen, must[i]), "no %s among %s", must[i], seen);
     }
@@ -294,15 +306,19 @@ START_TEST(test_run_bodies)
     char *b = slurp(path);
     ck_assert_msg(strstr(b, "n_N = ") && strstr(b, "\u00b1"), "%s", b);
     double lo, hi;
-    ck_assert_msg(range_of(b, ", [", &lo, &hi) && lo > 0.0 && hi > lo, "gaps_lnR: the fit has no window: %s", b);
+    ck_assert_msg(range_of(b, ", [", &lo, &hi) && lo > 0.0 && hi > lo,
+                  "gaps_lnR: the fit has no window: %s", b);
     free(b);
     snprintf(path, sizeof path, "%s/one/msd.gp", g_dir);
     b = slurp(path);
-    ck_assert_msg(range_of(b, ", [", &lo, &hi) && hi > lo && strstr(b, "D_{self} (m^2/s) = ") && strstr(b, "\u00b1"), "%s", b);
+    ck_assert_msg(range_of(b, ", [", &lo, &hi) && hi > lo && strstr(b, "D_{self} (m^2/s) = ") &&
+                      strstr(b, "\u00b1"),
+                  "%s", b);
     free(b);
     snprintf(path, sizeof path, "%s/one/pv.gp", g_dir);
     b = slurp(path);
-    ck_assert_msg(strstr(b, "abs($1) >= ") && strstr(b, "\u03b1"), "pv: the tail fit is not limited to its window: %s", b);
+    ck_assert_msg(strstr(b, "abs($1) >= ") && strstr(b, "\u03b1"),
+                  "pv: the tail fit is not limited to its window: %s", b);
     /* pv's explicit x range covers every bin with counts */
     ck_assert(range_of(b, "set xrange [", &lo, &hi));
     free(b);
@@ -313,7 +329,8 @@ START_TEST(test_run_bodies)
     while (line && *++line) {
         double v, dens, derr, counts;
         if (sscanf(line, "%lf,%lf,%lf,%lf", &v, &dens, &derr, &counts) == 4 && counts > 0.0) {
-            ck_assert_msg(v > lo && v < hi, "pv bin at v = %g outside the plotted range [%g, %g]", v, lo, hi);
+            ck_assert_msg(v > lo && v < hi, "pv bin at v = %g outside the plotted range [%g, %g]",
+                          v, lo, hi);
             rows++;
         }
         line = strchr(line, '\n');
@@ -323,9 +340,10 @@ START_TEST(test_run_bodies)
     /* S(k): both the circular average and the shells carry error bars, legends in words */
     snprintf(path, sizeof path, "%s/two/sk.gp", g_dir);
     b = slurp(path);
-    ck_assert_msg(strstr(b, "'sk_shells.csv' skip 1 using 3:($4 > 0 ? $4 : 1/0):5 with yerrorbars") &&
-                      strstr(b, "circular average") && strstr(b, "exact shells"),
-                  "%s", b);
+    ck_assert_msg(
+        strstr(b, "'sk_shells.csv' skip 1 using 3:($4 > 0 ? $4 : 1/0):5 with yerrorbars") &&
+            strstr(b, "circular average") && strstr(b, "exact shells"),
+        "%s", b);
     free(b);
     /* moments: no explicit range, so the margins of the preamble hold (no point on the frame) */
     snprintf(path, sizeof path, "%s/one/moments.gp", g_dir);
@@ -348,7 +366,8 @@ START_TEST(test_run_bodies)
         ck_assert_int_eq(gr_plot_list(dir, want), cJSON_GetArraySize(plots));
         ck_assert_int_gt(cJSON_GetArraySize(plots), k ? 8 : 12);
         for (int i = 0; i < cJSON_GetArraySize(plots); i++) {
-            ck_assert_str_eq(cJSON_GetArrayItem(plots, i)->valuestring, cJSON_GetArrayItem(want, i)->valuestring);
+            ck_assert_str_eq(cJSON_GetArrayItem(plots, i)->valuestring,
+                             cJSON_GetArrayItem(want, i)->valuestring);
         }
         bool has_snapshots = false;
         for (int i = 0; i < cJSON_GetArraySize(plots); i++) {
@@ -375,7 +394,4 @@ static Suite *plot_suite(void)
     return s;
 }
 
-int main(void)
-{
-    return gr_test_run(plot_suite());
-}
+int main(void) { return gr_test_run(plot_suite()); }

@@ -66,8 +66,8 @@ static gr_contact_coeffs coeffs_of(const gr_collide_setup *s)
 {
     gr_contact_coeffs c;
     gr_error err = {0};
-    int rc = gr_contact_prepare(s->normal, s->tangential, &s->contact, 0.5 * s->mass, 0.0, &c,
-                                &err);
+    int rc =
+        gr_contact_prepare(s->normal, s->tangential, &s->contact, 0.5 * s->mass, 0.0, &c, &err);
     ck_assert_msg(rc == GR_OK, "gr_contact_prepare: %s", err.message);
     return c;
 }
@@ -128,7 +128,8 @@ START_TEST(test_unclamped_head_on)
     assert_rel(r.max_overlap, xi_max_exact(1.0, w0, beta), 1e-7, "max overlap");
     /* int |F_n| dt exceeds the net impulse m12 (1+eps) v by twice the attractive tail's impulse */
     ck_assert_msg(r.normal_impulse >= m12 * (1.0 + eps) * (1.0 - 1e-9),
-                  "int |F_n| dt = %.15g below the net impulse %.15g", r.normal_impulse, m12 * (1.0 + eps));
+                  "int |F_n| dt = %.15g below the net impulse %.15g", r.normal_impulse,
+                  m12 * (1.0 + eps));
     if (eps == 1.0) {
         assert_rel(r.normal_impulse, 2.0 * m12, 1e-7, "elastic normal impulse 2 m12 v");
     }
@@ -208,8 +209,7 @@ START_TEST(test_tangential_dashpot_45)
     assert_rel(r.eps_t_measured, want, clamp ? 1e-6 : 1e-9, "eps_t vs exp(-gamma_t t_c / m12)");
     assert_rel(r.eps_t_measured, eps_t, 1e-6, "eps_t vs requested");
     assert_rel(r.eps_n_measured, eps_n, 1e-5, "eps_n at 45 degrees");
-    assert_rel(r.energy_loss, 1.0 - (eps_n * eps_n + eps_t * eps_t) / 2.0, 1e-5,
-               "loss vs (2.14)");
+    assert_rel(r.energy_loss, 1.0 - (eps_n * eps_n + eps_t * eps_t) / 2.0, 1e-5, "loss vs (2.14)");
     ck_assert(!r.tangential_reversed);
     ck_assert_double_le_tol(r.momentum_error, 0.0, 1e-15);
 }
@@ -394,7 +394,4 @@ static Suite *reference_suite(void)
     return s;
 }
 
-int main(void)
-{
-    return gr_test_run(reference_suite());
-}
+int main(void) { return gr_test_run(reference_suite()); }

@@ -76,7 +76,8 @@ static gr_collide_result run(const gr_collide_setup *s, const gr_collision_case 
 /* 1. the spins lose what the law's torque dissipates: J dw_0 - J^2 / I */
 START_TEST(test_spin_loss_law)
 {
-    const char *normals[] = {"spring_dashpot", "hertz"}, *tangentials[] = {"sliding_friction", "tangential_dashpot"};
+    const char *normals[] = {"spring_dashpot", "hertz"},
+               *tangentials[] = {"sliding_friction", "tangential_dashpot"};
     const double v = 0.1, mu_r = 0.2;
     for (int a = 0; a < 2; a++) {
         for (int b = 0; b < 2; b++) {
@@ -84,12 +85,14 @@ START_TEST(test_spin_loss_law)
                 gr_collide_setup s = setup_of(normals[a], tangentials[b], clamp, mu_r);
                 gr_contact_coeffs k;
                 gr_error err = {0};
-                ck_assert(gr_contact_prepare(s.normal, s.tangential, &s.contact, 0.5 * MASS, 0.0, &k, &err) == GR_OK);
+                ck_assert(gr_contact_prepare(s.normal, s.tangential, &s.contact, 0.5 * MASS, 0.0,
+                                             &k, &err) == GR_OK);
                 const gr_normal_impact ni = k.normal_model->impact(&k, v);
                 const double p_n = 0.5 * MASS * ni.impulse_abs * v; /* int |F_n| dt of the law */
                 const double j_roll = mu_r * R_EFF * p_n;
                 /* w_roll: the relative spin the contact exactly stops; well above it the pair rolls on */
-                const double w_stop = j_roll / INERTIA; /* w1 = -w2 = w_stop: dw_0 = 2 w_stop = 2 J / I */
+                const double w_stop =
+                    j_roll / INERTIA; /* w1 = -w2 = w_stop: dw_0 = 2 w_stop = 2 J / I */
                 const double ws[2] = {20.0 * w_stop, 0.3 * w_stop};
                 for (int q = 0; q < 2; q++) {
                     const double w = ws[q], dw0 = 2.0 * w;
@@ -99,30 +102,37 @@ START_TEST(test_spin_loss_law)
                     s.omega1 = w;
                     s.omega2 = -w;
                     gr_collide_result r = run(&s, &cs);
-                    const double e0 = 0.25 * MASS * v * v + INERTIA * w * w; /* m12 v^2 / 2 + 2 I w^2 / 2 */
+                    const double e0 =
+                        0.25 * MASS * v * v + INERTIA * w * w; /* m12 v^2 / 2 + 2 I w^2 / 2 */
                     const double got = r.spin_loss * e0;
                     /* the engine's normal impulse differs from the law's by its restitution error,
                      * O(dt / t_c) = 1/200 (docs/collision-accuracy.md); measured <= 7.3e-4 */
                     const double tol = 2.5e-3 * want;
-                    VERBOSE("%s+%s%s, w = %.3g rad/s: spin loss %.6e J, law %.6e J (rel %.2e), w after %g %g\n", normals[a],
-                            tangentials[b], clamp ? "[clamped]" : "", w, got, want, got / want - 1.0, r.omega1, r.omega2);
-                    ck_assert_msg(fabs(got - want) <= tol, "%s+%s clamp %d w %g: spin loss %.8e J, the law %.8e J",
+                    VERBOSE("%s+%s%s, w = %.3g rad/s: spin loss %.6e J, law %.6e J (rel %.2e), w "
+                            "after %g %g\n",
+                            normals[a], tangentials[b], clamp ? "[clamped]" : "", w, got, want,
+                            got / want - 1.0, r.omega1, r.omega2);
+                    ck_assert_msg(fabs(got - want) <= tol,
+                                  "%s+%s clamp %d w %g: spin loss %.8e J, the law %.8e J",
                                   normals[a], tangentials[b], clamp, w, got, want);
-                    ck_assert_msg(r.omega1 + r.omega2 == 0.0, "the contact point slipped: w1 + w2 = %g", r.omega1 + r.omega2);
+                    ck_assert_msg(r.omega1 + r.omega2 == 0.0,
+                                  "the contact point slipped: w1 + w2 = %g", r.omega1 + r.omega2);
                     if (q == 1) {
                         /* stopped to rounding: the limit stops dw within a step, up to the last bits */
-                        ck_assert_msg(fabs(r.omega1) <= 1e-9 * w && fabs(r.omega2) <= 1e-9 * w, "arrested rolling: spins %g %g, expected 0", r.omega1,
+                        ck_assert_msg(fabs(r.omega1) <= 1e-9 * w && fabs(r.omega2) <= 1e-9 * w,
+                                      "arrested rolling: spins %g %g, expected 0", r.omega1,
                                       r.omega2);
                     } else {
-                        ck_assert_msg(r.omega1 > 0.0 && r.omega2 < 0.0, "the spins reversed: %g %g", r.omega1, r.omega2);
+                        ck_assert_msg(r.omega1 > 0.0 && r.omega2 < 0.0, "the spins reversed: %g %g",
+                                      r.omega1, r.omega2);
                     }
                     /* the translation does not see the torques: the same as without the law, bit for bit */
                     gr_collide_setup none = s;
                     none.rolling = NULL;
                     gr_collide_result r0 = run(&none, &cs);
                     ck_assert_msg(r0.eps_n_measured == r.eps_n_measured && r0.spin_loss == 0.0,
-                                  "translation changed by the rolling law: eps_n %.17g vs %.17g", r.eps_n_measured,
-                                  r0.eps_n_measured);
+                                  "translation changed by the rolling law: eps_n %.17g vs %.17g",
+                                  r.eps_n_measured, r0.eps_n_measured);
                 }
             }
         }
@@ -148,7 +158,8 @@ static gr_sim *pair_sim(double mu_r, int swap, double angle, double w1, double w
     sc.L = 40.0 * DIAM;
     sc.steps_per_contact = 200.0;
     /* impact parameter d sin a, 0.002 d apart along x: contact after ~ 300 steps */
-    const double a = angle * M_PI / 180.0, c = 0.5 * sc.L, v = 0.1, hx = 0.5 * DIAM * (cos(a) + 0.002);
+    const double a = angle * M_PI / 180.0, c = 0.5 * sc.L, v = 0.1,
+                 hx = 0.5 * DIAM * (cos(a) + 0.002);
     double x[2] = {c - hx, c + hx};
     double y[2] = {c - 0.5 * DIAM * sin(a), c + 0.5 * DIAM * sin(a)};
     double vx[2] = {0.5 * v, -0.5 * v}, vy[2] = {0.0, 0.0};
@@ -169,7 +180,8 @@ static gr_sim *pair_sim(double mu_r, int swap, double angle, double w1, double w
     }
     gr_sim *s = NULL;
     gr_error err = {0};
-    ck_assert_msg(gr_sim_create_with_state(&sc, 2, x, y, vx, vy, &s, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_sim_create_with_state(&sc, 2, x, y, vx, vy, &s, &err) == GR_OK, "%s",
+                  err.message);
     s->omega[0] = ws[0];
     s->omega[1] = ws[1];
     return s;
@@ -189,7 +201,8 @@ START_TEST(test_conservation_and_symmetry)
 {
     const double angles[] = {0.0, 30.0, 70.0};
     for (int a = 0; a < 3; a++) {
-        gr_sim *s = pair_sim(0.3, 0, angles[a], 300.0, -40.0), *t = pair_sim(0.3, 1, angles[a], 300.0, -40.0);
+        gr_sim *s = pair_sim(0.3, 0, angles[a], 300.0, -40.0),
+               *t = pair_sim(0.3, 1, angles[a], 300.0, -40.0);
         const double l0 = ang_mom(s), scale = fabs(s->mass * s->x[0] * 0.1) + s->inertia * 300.0;
         gr_error err = {0};
         ck_assert(gr_sim_step(s, 1200, &err) == GR_OK);
@@ -198,27 +211,40 @@ START_TEST(test_conservation_and_symmetry)
         const double l1 = ang_mom(s);
         double p[2];
         gr_sim_momentum(s, p);
-        VERBOSE("angle %g: angular momentum %.3e relative change, momentum %.2e %.2e, spins %g %g / swapped %g %g\n",
-                angles[a], (l1 - l0) / scale, p[0], p[1], s->omega[0], s->omega[1], t->omega[1], t->omega[0]);
+        VERBOSE("angle %g: angular momentum %.3e relative change, momentum %.2e %.2e, spins %g %g "
+                "/ swapped %g %g\n",
+                angles[a], (l1 - l0) / scale, p[0], p[1], s->omega[0], s->omega[1], t->omega[1],
+                t->omega[0]);
         ck_assert_msg(fabs(l1 - l0) <= 1e-12 * scale, "angular momentum %.17g -> %.17g", l0, l1);
         ck_assert_msg(fabs(p[0]) <= 1e-15 && fabs(p[1]) <= 1e-15, "momentum %g %g", p[0], p[1]);
         /* the rolling law acted: the spins' difference shrank */
-        ck_assert_msg(fabs(s->omega[0] - s->omega[1]) < 340.0 - 1.0, "spins %g %g: no rolling resistance", s->omega[0],
-                      s->omega[1]);
+        ck_assert_msg(fabs(s->omega[0] - s->omega[1]) < 340.0 - 1.0,
+                      "spins %g %g: no rolling resistance", s->omega[0], s->omega[1]);
         const double tol = 1e-9 * 300.0;
-        ck_assert_msg(fabs(s->omega[0] - t->omega[1]) <= tol && fabs(s->omega[1] - t->omega[0]) <= tol,
-                      "exchanged: spins %.17g %.17g vs %.17g %.17g", s->omega[0], s->omega[1], t->omega[1], t->omega[0]);
-        ck_assert_msg(fabs(s->vx[0] - t->vx[1]) <= 1e-12 && fabs(s->vy[0] - t->vy[1]) <= 1e-12, "exchanged: velocities differ");
+        ck_assert_msg(fabs(s->omega[0] - t->omega[1]) <= tol &&
+                          fabs(s->omega[1] - t->omega[0]) <= tol,
+                      "exchanged: spins %.17g %.17g vs %.17g %.17g", s->omega[0], s->omega[1],
+                      t->omega[1], t->omega[0]);
+        ck_assert_msg(fabs(s->vx[0] - t->vx[1]) <= 1e-12 && fabs(s->vy[0] - t->vy[1]) <= 1e-12,
+                      "exchanged: velocities differ");
         gr_sim_free(s);
         gr_sim_free(t);
     }
 }
 END_TEST
 
-static const char *driven[] = {"system.N=400",         "system.packing_fraction=0.5", "placement.v0=0.5",
-                               "noise.D=1e-6",         "model.tangential=sliding_friction", "model.rotation=true",
-                               "model.eps_n=0.6",      "model.mu=0.3",                "placement.omega0=2000",
-                               "integrator.steps_per_contact=75", "model.rolling=rolling_friction", "model.mu_r=0.2"};
+static const char *driven[] = {"system.N=400",
+                               "system.packing_fraction=0.5",
+                               "placement.v0=0.5",
+                               "noise.D=1e-6",
+                               "model.tangential=sliding_friction",
+                               "model.rotation=true",
+                               "model.eps_n=0.6",
+                               "model.mu=0.3",
+                               "placement.omega0=2000",
+                               "integrator.steps_per_contact=75",
+                               "model.rolling=rolling_friction",
+                               "model.mu_r=0.2"};
 enum { N_DRIVEN = sizeof driven / sizeof driven[0] };
 
 /* the driven scene with up to two more overrides (NULL: none) */
@@ -237,15 +263,16 @@ static gr_sim *driven_sim(const char *extra) { return driven_sim2(extra, NULL); 
 static int same_state(const gr_sim *a, const gr_sim *b)
 {
     const size_t n = sizeof(double) * (size_t)a->n;
-    return !memcmp(a->x, b->x, n) && !memcmp(a->y, b->y, n) && !memcmp(a->vx, b->vx, n) && !memcmp(a->vy, b->vy, n) &&
-           !memcmp(a->omega, b->omega, n);
+    return !memcmp(a->x, b->x, n) && !memcmp(a->y, b->y, n) && !memcmp(a->vx, b->vx, n) &&
+           !memcmp(a->vy, b->vy, n) && !memcmp(a->omega, b->omega, n);
 }
 
 /* 4. mu_r = 0 is rolling = none, bit for bit; mu_r > 0 is not */
 START_TEST(test_zero_is_none)
 {
     const int64_t steps = quick() ? 500 : 2000;
-    gr_sim *a = driven_sim("model.mu_r=0"), *b = driven_sim("model.rolling=none"), *c = driven_sim(NULL);
+    gr_sim *a = driven_sim("model.mu_r=0"), *b = driven_sim("model.rolling=none"),
+           *c = driven_sim(NULL);
     gr_error err = {0};
     ck_assert(gr_sim_step(a, steps, &err) == GR_OK && gr_sim_step(b, steps, &err) == GR_OK &&
               gr_sim_step(c, steps, &err) == GR_OK);
@@ -271,18 +298,23 @@ START_TEST(test_ledger_closes)
     gr_ledger l = gr_sim_ledger(s), lf = gr_sim_ledger(f);
     const double res = gr_ledger_residual(&l), scale = l.injected + gr_ledger_dissipated(&l);
     const double res_f = gr_ledger_residual(&lf), scale_f = lf.injected + gr_ledger_dissipated(&lf);
-    VERBOSE("driven with rolling: %lld collisions, residual %.3e of injected + dissipated (without rolling %.3e); "
+    VERBOSE("driven with rolling: %lld collisions, residual %.3e of injected + dissipated (without "
+            "rolling %.3e); "
             "friction column %.3e J (without %.3e J), KE_rot %.3e J (without %.3e J)\n",
-            (long long)gr_sim_collisions(s), res / scale, res_f / scale_f, l.dissipated_friction, lf.dissipated_friction,
-            l.rotational, lf.rotational);
-    ck_assert_msg(gr_sim_collisions(s) > 100, "only %lld collisions", (long long)gr_sim_collisions(s));
+            (long long)gr_sim_collisions(s), res / scale, res_f / scale_f, l.dissipated_friction,
+            lf.dissipated_friction, l.rotational, lf.rotational);
+    ck_assert_msg(gr_sim_collisions(s) > 100, "only %lld collisions",
+                  (long long)gr_sim_collisions(s));
     /* the rolling law's work is of the order of the friction's; forgetting it would leave a
      * residual of that size. Velocity Verlet's spring-energy error (as without rolling) remains. */
     const double extra = l.dissipated_friction - lf.dissipated_friction;
-    ck_assert_msg(extra > 0.0, "rolling booked nothing: friction %g vs %g J", l.dissipated_friction, lf.dissipated_friction);
+    ck_assert_msg(extra > 0.0, "rolling booked nothing: friction %g vs %g J", l.dissipated_friction,
+                  lf.dissipated_friction);
     const double w = s->cc.w0 * gr_sim_dt(s), bound = w * w / (1.0 - 0.36);
-    ck_assert_msg(fabs(res) <= bound * scale, "ledger residual %g J (bound %g J)", res, bound * scale);
-    ck_assert_msg(fabs(res) <= 0.1 * extra, "ledger residual %g J against the rolling dissipation %g J", res, extra);
+    ck_assert_msg(fabs(res) <= bound * scale, "ledger residual %g J (bound %g J)", res,
+                  bound * scale);
+    ck_assert_msg(fabs(res) <= 0.1 * extra,
+                  "ledger residual %g J against the rolling dissipation %g J", res, extra);
     gr_sim_free(s);
     gr_sim_free(f);
 }
@@ -328,10 +360,14 @@ START_TEST(test_hard_cases)
 {
     static const struct {
         double eps_n, mu_r, w, angle;
-    } cases[] = {{0.0, 0.2, 500.0, 0.0}, {0.6, 1e6, 500.0, 30.0}, {0.6, 0.2, 1e8, 45.0}, {0.6, 50.0, 1e-12, 89.9}};
+    } cases[] = {{0.0, 0.2, 500.0, 0.0},
+                 {0.6, 1e6, 500.0, 30.0},
+                 {0.6, 0.2, 1e8, 45.0},
+                 {0.6, 50.0, 1e-12, 89.9}};
     for (int c = 0; c < 4; c++) {
         for (int clamp = 0; clamp < 2; clamp++) {
-            gr_collide_setup s = setup_of("spring_dashpot", "sliding_friction", clamp, cases[c].mu_r);
+            gr_collide_setup s =
+                setup_of("spring_dashpot", "sliding_friction", clamp, cases[c].mu_r);
             s.contact.eps_n = cases[c].eps_n;
             s.omega1 = cases[c].w;
             s.omega2 = -0.5 * cases[c].w;
@@ -343,9 +379,11 @@ START_TEST(test_hard_cases)
                 ck_assert_msg(err.message[0], "case %d refused without a message", c);
                 continue;
             }
-            ck_assert_msg(isfinite(r.energy_loss) && isfinite(r.omega1) && isfinite(r.omega2) && isfinite(r.spin_loss),
+            ck_assert_msg(isfinite(r.energy_loss) && isfinite(r.omega1) && isfinite(r.omega2) &&
+                              isfinite(r.spin_loss),
                           "case %d: loss %g spins %g %g", c, r.energy_loss, r.omega1, r.omega2);
-            ck_assert_msg(r.energy_loss >= -1e-9 && r.energy_loss <= 1.0 + 1e-9, "case %d: loss %g", c, r.energy_loss);
+            ck_assert_msg(r.energy_loss >= -1e-9 && r.energy_loss <= 1.0 + 1e-9, "case %d: loss %g",
+                          c, r.energy_loss);
         }
     }
     /* the densest legal packing, spinning, with a huge mu_r */
@@ -353,7 +391,8 @@ START_TEST(test_hard_cases)
     gr_error err = {0};
     ck_assert_msg(gr_sim_step(s, 200, &err) == GR_OK, "%s", err.message);
     for (int i = 0; i < s->n; i++) {
-        ck_assert_msg(isfinite(s->omega[i]) && isfinite(s->vx[i]), "disc %d: w %g v %g", i, s->omega[i], s->vx[i]);
+        ck_assert_msg(isfinite(s->omega[i]) && isfinite(s->vx[i]), "disc %d: w %g v %g", i,
+                      s->omega[i], s->vx[i]);
     }
     gr_sim_free(s);
 }
@@ -364,20 +403,23 @@ START_TEST(test_refusals)
 {
     const char *no_rot[] = {"model.tangential=sliding_friction", "model.rolling=rolling_friction"};
     refused(no_rot, 2, "[model] rolling");
-    const char *one_d[] = {"system.dim=1", "system.N=20", "placement.kind=uniform", "model.rolling=rolling_friction"};
+    const char *one_d[] = {"system.dim=1", "system.N=20", "placement.kind=uniform",
+                           "model.rolling=rolling_friction"};
     refused(one_d, 4, "rolling");
     const char *unknown[] = {"model.rolling=sliding_friction"};
     refused(unknown, 1, "not a rolling model");
-    const char *neg[] = {"model.tangential=sliding_friction", "model.rotation=true", "model.rolling=rolling_friction",
-                         "model.mu_r=-1"};
+    const char *neg[] = {"model.tangential=sliding_friction", "model.rotation=true",
+                         "model.rolling=rolling_friction", "model.mu_r=-1"};
     refused(neg, 4, "mu_r");
     /* the library path (no scene parser) refuses too */
     gr_contact_params p;
     gr_contact_defaults(&p);
     gr_contact_coeffs k;
     gr_error err = {0};
-    ck_assert(gr_contact_prepare(gr_model_find("spring_dashpot"), NULL, &p, 0.5 * MASS, 0.0, &k, &err) == GR_OK);
-    ck_assert(gr_contact_prepare_rolling(gr_model_find("rolling_friction"), &p, 0.5 * MASS, 0.0, &k, &err) == GR_EINVAL);
+    ck_assert(gr_contact_prepare(gr_model_find("spring_dashpot"), NULL, &p, 0.5 * MASS, 0.0, &k,
+                                 &err) == GR_OK);
+    ck_assert(gr_contact_prepare_rolling(gr_model_find("rolling_friction"), &p, 0.5 * MASS, 0.0, &k,
+                                         &err) == GR_EINVAL);
     ck_assert_msg(strstr(err.message, "rotation = true"), "%s", err.message);
 }
 END_TEST

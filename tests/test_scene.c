@@ -89,7 +89,8 @@ static int count_names(const char *dir, const char *needle, char *first, size_t 
 static void assert_no_temporaries(const char *dir)
 {
     char name[300] = "";
-    ck_assert_msg(count_names(dir, ".tmp", name, sizeof name) == 0, "temporary file left in %s: %s", dir, name);
+    ck_assert_msg(count_names(dir, ".tmp", name, sizeof name) == 0, "temporary file left in %s: %s",
+                  dir, name);
     ck_assert_msg(count_names(dir, ".granule-write-test", name, sizeof name) == 0,
                   "write probe left in %s: %s", dir, name);
 }
@@ -114,7 +115,8 @@ static char *slurp(const char *path)
  * longer has did not (sweeps and campaigns resume across versions, src/app/sweep_point.c). */
 START_TEST(recorded_scene_compatibility)
 {
-    const char *path = write_scene("[system]\ndim = 2\nN = 50\nL = 0.05\n[model]\ntangential = tangential_dashpot\n");
+    const char *path = write_scene(
+        "[system]\ndim = 2\nN = 50\nL = 0.05\n[model]\ntangential = tangential_dashpot\n");
     gr_scene s;
     gr_error err = {0};
     ck_assert_msg(gr_scene_load(&s, path, NULL, 0, &err) == GR_OK, "%s", err.message);
@@ -128,12 +130,14 @@ START_TEST(recorded_scene_compatibility)
     cJSON *m = cJSON_GetObjectItem(rec, "model");
     cJSON_DeleteItemFromObject(m, "rotation");
     cJSON_DeleteItemFromObject(m, "inertia_factor");
-    cJSON_ReplaceItemInObject(cJSON_GetObjectItem(rec, "output"), "dir", cJSON_CreateString("elsewhere"));
+    cJSON_ReplaceItemInObject(cJSON_GetObjectItem(rec, "output"), "dir",
+                              cJSON_CreateString("elsewhere"));
     ck_assert_msg(gr_scene_json_compatible(rec, &s, why, sizeof why), "%s", why);
     /* the same older run against a scene that rotates: not the same physics */
     s.contact.rotation = true;
     ck_assert(!gr_scene_json_compatible(rec, &s, why, sizeof why));
-    ck_assert_msg(strstr(why, "not its default"), "%s", why); /* [placement] omega0 or [model] rotation */
+    ck_assert_msg(strstr(why, "not its default"), "%s",
+                  why); /* [placement] omega0 or [model] rotation */
     s.contact.rotation = false;
     /* a changed value */
     cJSON_ReplaceItemInObject(m, "eps_n", cJSON_CreateNumber(0.3));
@@ -160,7 +164,8 @@ static void expect_refused_at(const char *text, int line_a, int line_b, ...)
     gr_scene s;
     gr_error err = {0};
     int rc = gr_scene_load(&s, path, NULL, 0, &err);
-    ck_assert_msg(rc == GR_EINVAL, "expected GR_EINVAL for\n%s\ngot %d (%s)", text, rc, err.message);
+    ck_assert_msg(rc == GR_EINVAL, "expected GR_EINVAL for\n%s\ngot %d (%s)", text, rc,
+                  err.message);
     ck_assert_int_eq(err.code, GR_EINVAL);
     ck_assert_msg(strchr(err.message, '\n') == NULL, "message is not one line: '%s'", err.message);
     char loc_a[600], loc_b[600];
@@ -175,7 +180,8 @@ static void expect_refused_at(const char *text, int line_a, int line_b, ...)
     va_list ap;
     va_start(ap, line_b);
     for (const char *sub; (sub = va_arg(ap, const char *));) {
-        ck_assert_msg(strstr(err.message, sub) != NULL, "message '%s' lacks '%s'", err.message, sub);
+        ck_assert_msg(strstr(err.message, sub) != NULL, "message '%s' lacks '%s'", err.message,
+                      sub);
     }
     va_end(ap);
 }
@@ -185,7 +191,8 @@ START_TEST(refuse_unknown_key)
     expect_refused_at("[system]\n"
                       "dim = 2\n"
                       "radious = 1e-3\n",
-                      3, 0, "[system] radious", "unknown key", "radius", "packing_fraction", (char *)NULL);
+                      3, 0, "[system] radious", "unknown key", "radius", "packing_fraction",
+                      (char *)NULL);
     /* a [model] key no model knows lists the models' parameters too */
     expect_refused_at("[model]\n"
                       "eps = 0.5\n",
@@ -200,8 +207,8 @@ START_TEST(refuse_unknown_section)
                       "\n"
                       "[modle]\n"
                       "eps_n = 0.5\n",
-                      4, 0, "[modle]", "unknown section", "system", "placement", "model", "noise", "integrator",
-                      "run", "output", (char *)NULL);
+                      4, 0, "[modle]", "unknown section", "system", "placement", "model", "noise",
+                      "integrator", "run", "output", (char *)NULL);
 }
 END_TEST
 
@@ -253,12 +260,13 @@ START_TEST(refuse_bad_choice)
 {
     expect_refused_at("[placement]\n"
                       "kind = hexagon\n",
-                      2, 0, "[placement] kind", "hexagon", "hexagonal", "square", "uniform", "cluster",
-                      (char *)NULL);
+                      2, 0, "[placement] kind", "hexagon", "hexagonal", "square", "uniform",
+                      "cluster", (char *)NULL);
     expect_refused_at("[noise]\n"
                       "D = 1e-8\n"
                       "mode = symmetric\n",
-                      3, 0, "[noise] mode", "symmetric", "symmetrised", "com", "none", (char *)NULL);
+                      3, 0, "[noise] mode", "symmetric", "symmetrised", "com", "none",
+                      (char *)NULL);
     expect_refused_at("[model]\n"
                       "normal = spring\n",
                       2, 0, "[model] normal", "spring_dashpot", (char *)NULL);
@@ -477,7 +485,9 @@ START_TEST(defaults_follow_dim)
     ck_assert_double_eq_tol(s.L, 0.5, 1e-15);
     const char *hex[] = {"system.dim=1", "placement.kind=hexagonal"};
     ck_assert_int_eq(gr_scene_load(&s, NULL, hex, 2, &err), GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "--set placement.kind=hexagonal") && strstr(err.message, "2D packing"), "%s", err.message);
+    ck_assert_msg(strstr(err.message, "--set placement.kind=hexagonal") &&
+                      strstr(err.message, "2D packing"),
+                  "%s", err.message);
     const char *dim2[] = {"system.dim=2"};
     ck_assert_msg(gr_scene_load(&s, NULL, dim2, 1, &err) == GR_OK, "%s", err.message);
     ck_assert_int_eq(s.placement, GR_PLACE_HEXAGONAL);
@@ -492,7 +502,8 @@ START_TEST(override_bad_value_named)
     gr_scene s;
     gr_error err = {0};
     ck_assert_int_eq(gr_scene_load(&s, p, sets, 1, &err), GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "--set model.eps_n=2"), "message '%s' lacks the --set argument", err.message);
+    ck_assert_msg(strstr(err.message, "--set model.eps_n=2"),
+                  "message '%s' lacks the --set argument", err.message);
     ck_assert_msg(strstr(err.message, "[0, 1]"), "message '%s' lacks the range", err.message);
     ck_assert_msg(strstr(err.message, "eps_n"), "message '%s' lacks the key", err.message);
 
@@ -509,15 +520,18 @@ END_TEST
 
 START_TEST(override_malformed_refused)
 {
-    const char *bad[] = {"modeleps_n=0.5", "model.eps_n", "model.eps_n 0.5", "=0.5", ".eps_n=0.5", "model.=0.5"};
+    const char *bad[] = {"modeleps_n=0.5", "model.eps_n", "model.eps_n 0.5",
+                         "=0.5",           ".eps_n=0.5",  "model.=0.5"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         gr_scene s;
         gr_error err = {0};
         const char *one[] = {bad[i]};
         int rc = gr_scene_load(&s, NULL, one, 1, &err);
         ck_assert_msg(rc == GR_EINVAL, "--set '%s' accepted (rc %d)", bad[i], rc);
-        ck_assert_msg(strstr(err.message, bad[i]), "message '%s' does not quote '%s'", err.message, bad[i]);
-        ck_assert_msg(strstr(err.message, "section.key=value"), "message '%s' lacks the expected form", err.message);
+        ck_assert_msg(strstr(err.message, bad[i]), "message '%s' does not quote '%s'", err.message,
+                      bad[i]);
+        ck_assert_msg(strstr(err.message, "section.key=value"),
+                      "message '%s' lacks the expected form", err.message);
     }
 }
 END_TEST
@@ -603,8 +617,10 @@ START_TEST(unused_model_key_warns)
     gr_error err = {0};
     ck_assert_msg(gr_scene_load(&s, p, NULL, 0, &err) == GR_OK, "%s", err.message);
     ck_assert_msg(strstr(s.warnings, "mu"), "warnings '%s' do not name mu", s.warnings);
-    ck_assert_msg(strstr(s.warnings, "sliding_friction"), "warnings '%s' do not name the owning model", s.warnings);
-    ck_assert_msg(!strstr(s.warnings, "eps_t"), "eps_t is used by tangential_dashpot, yet warned: '%s'", s.warnings);
+    ck_assert_msg(strstr(s.warnings, "sliding_friction"),
+                  "warnings '%s' do not name the owning model", s.warnings);
+    ck_assert_msg(!strstr(s.warnings, "eps_t"),
+                  "eps_t is used by tangential_dashpot, yet warned: '%s'", s.warnings);
     ck_assert_double_eq_tol(s.contact.mu, 0.3, 1e-15); /* accepted, just unused */
     /* a used key gives no warning */
     p = write_scene("[model]\ntangential = sliding_friction\nmu = 0.3\n");
@@ -657,12 +673,14 @@ START_TEST(sim_dt_5e6_refused_unless_forced)
     int rc = gr_sim_create(&s, &sim, &err);
     ck_assert_msg(rc == GR_EINVAL, "dt = 5e-6 (~4 steps per contact) accepted (rc %d)", rc);
     ck_assert_msg(strstr(err.message, "steps"), "message '%s' lacks 'steps'", err.message);
-    ck_assert_msg(strstr(err.message, "force_dt"), "message '%s' does not say how to force it", err.message);
+    ck_assert_msg(strstr(err.message, "force_dt"), "message '%s' does not say how to force it",
+                  err.message);
 
     thesis_scene(&s, "dt = 5e-6\nforce_dt = true");
     ck_assert(s.force_dt);
     sim = NULL;
-    ck_assert_msg(gr_sim_create(&s, &sim, &err) == GR_OK, "force_dt = true still refused: %s", err.message);
+    ck_assert_msg(gr_sim_create(&s, &sim, &err) == GR_OK, "force_dt = true still refused: %s",
+                  err.message);
     ck_assert_double_eq_tol(gr_sim_dt(sim), 5e-6, 1e-20);
     gr_sim_free(sim);
 }
@@ -734,7 +752,8 @@ START_TEST(run_refused_scene_writes_nothing)
     gr_run_result res;
     int rc = gr_run(&s, NULL, &res, &err);
     ck_assert_msg(rc == GR_EINVAL, "over-full hexagonal placement: rc %d (%s)", rc, err.message);
-    ck_assert_msg(strstr(err.message, "hexagonal"), "message '%s' does not name the placement", err.message);
+    ck_assert_msg(strstr(err.message, "hexagonal"), "message '%s' does not name the placement",
+                  err.message);
     ck_assert(!exists(out, "summary.json"));
     ck_assert(!exists(out, "temperature.csv"));
     ck_assert(!exists(out, "ledger.csv"));
@@ -803,14 +822,17 @@ static int check_csv(const char *dir, const char *name, const char *first)
     char path[600];
     snprintf(path, sizeof path, "%s/%s", dir, name);
     char *text = slurp(path);
-    ck_assert_msg(text[0] != '#', "%s starts with a '#' comment (pandas.read_csv would fail)", name);
+    ck_assert_msg(text[0] != '#', "%s starts with a '#' comment (pandas.read_csv would fail)",
+                  name);
     char *line = text;
     char meta[600];
     snprintf(meta, sizeof meta, "%s/%.*s.meta.json", dir, (int)(strlen(name) - 4), name);
     char *notes = slurp(meta);
-    ck_assert_msg(strstr(notes, "\"notes\"") && strstr(notes, "hash"), "%s lacks the notes: %s", meta, notes);
+    ck_assert_msg(strstr(notes, "\"notes\"") && strstr(notes, "hash"), "%s lacks the notes: %s",
+                  meta, notes);
     free(notes);
-    ck_assert_msg(strncmp(line, first, strlen(first)) == 0, "%s: column row '%.40s' should start '%s'", name, line, first);
+    ck_assert_msg(strncmp(line, first, strlen(first)) == 0,
+                  "%s: column row '%.40s' should start '%s'", name, line, first);
     int rows = 0;
     for (char *q = strchr(line, '\n'); q && q[1]; q = strchr(q + 1, '\n')) {
         rows++;
@@ -842,33 +864,41 @@ START_TEST(run_tiny_writes_outputs)
     cJSON *se = cJSON_GetObjectItemCaseSensitive(j, "T_stderr");
     ck_assert_msg(se != NULL, "summary.json: T_stderr missing");
     if (res.samples < 16) {
-        ck_assert_msg(cJSON_IsNull(se) || cJSON_IsNumber(se), "summary.json: T_stderr neither number nor null");
+        ck_assert_msg(cJSON_IsNull(se) || cJSON_IsNumber(se),
+                      "summary.json: T_stderr neither number nor null");
     } else {
-        ck_assert_msg(cJSON_IsNumber(se), "summary.json: T_stderr is not a number with %lld samples", (long long)res.samples);
+        ck_assert_msg(cJSON_IsNumber(se),
+                      "summary.json: T_stderr is not a number with %lld samples",
+                      (long long)res.samples);
     }
-    const char *numbers[] = {"T_mean", "wall_seconds", "particle_steps_per_second",
+    const char *numbers[] = {"T_mean",     "wall_seconds",    "particle_steps_per_second",
                              "collisions", "energy_injected", "energy_dissipated"};
     for (size_t i = 0; i < sizeof numbers / sizeof numbers[0]; i++) {
         cJSON *v = cJSON_GetObjectItemCaseSensitive(j, numbers[i]);
         ck_assert_msg(cJSON_IsNumber(v), "summary.json: %s missing or not a number", numbers[i]);
-        ck_assert_msg(isfinite(v->valuedouble) && v->valuedouble >= 0.0, "summary.json: %s = %g", numbers[i], v->valuedouble);
+        ck_assert_msg(isfinite(v->valuedouble) && v->valuedouble >= 0.0, "summary.json: %s = %g",
+                      numbers[i], v->valuedouble);
     }
-    ck_assert_double_eq_tol(cJSON_GetObjectItemCaseSensitive(j, "T_mean")->valuedouble, res.T_mean, 1e-12 * res.T_mean);
+    ck_assert_double_eq_tol(cJSON_GetObjectItemCaseSensitive(j, "T_mean")->valuedouble, res.T_mean,
+                            1e-12 * res.T_mean);
     ck_assert(cJSON_GetObjectItemCaseSensitive(j, "particle_steps_per_second")->valuedouble > 0.0);
     ck_assert(cJSON_GetObjectItemCaseSensitive(j, "energy_injected")->valuedouble > 0.0);
     cJSON *kernel = cJSON_GetObjectItemCaseSensitive(j, "kernel");
-    ck_assert_msg(cJSON_IsString(kernel) && kernel->valuestring[0], "summary.json: kernel missing or empty");
+    ck_assert_msg(cJSON_IsString(kernel) && kernel->valuestring[0],
+                  "summary.json: kernel missing or empty");
     cJSON *scene = cJSON_GetObjectItemCaseSensitive(j, "scene");
     ck_assert_msg(cJSON_IsObject(scene), "summary.json: scene missing or not an object");
     ck_assert_msg(cJSON_GetArraySize(scene) > 0, "summary.json: scene is empty");
     cJSON *status = cJSON_GetObjectItemCaseSensitive(j, "status");
-    ck_assert_msg(cJSON_IsString(status) && !strcmp(status->valuestring, "completed"), "status is not 'completed'");
+    ck_assert_msg(cJSON_IsString(status) && !strcmp(status->valuestring, "completed"),
+                  "status is not 'completed'");
     cJSON_Delete(j);
     free(text);
 
     int rows_t = check_csv(out, "temperature.csv", "t,");
     int rows_l = check_csv(out, "ledger.csv", "t,");
-    ck_assert_msg(rows_t == 11, "temperature.csv: %d rows, expected 11 (t = 0 .. 0.01 every 1e-3)", rows_t);
+    ck_assert_msg(rows_t == 11, "temperature.csv: %d rows, expected 11 (t = 0 .. 0.01 every 1e-3)",
+                  rows_t);
     ck_assert_int_eq(rows_l, rows_t);
     assert_no_temporaries(out);
     ck_assert(!exists(out, "temperature.png")); /* plots = false */
@@ -887,7 +917,8 @@ START_TEST(run_stderr_with_enough_samples)
     gr_error err = {0};
     ck_assert_msg(gr_run(&s, NULL, &res, &err) == GR_OK, "%s", err.message);
     ck_assert_int_eq(res.samples, 20);
-    ck_assert_msg(isfinite(res.T_stderr) && res.T_stderr > 0.0, "T_stderr = %g with 20 samples", res.T_stderr);
+    ck_assert_msg(isfinite(res.T_stderr) && res.T_stderr > 0.0, "T_stderr = %g with 20 samples",
+                  res.T_stderr);
     char path[600];
     snprintf(path, sizeof path, "%s/summary.json", out);
     char *text = slurp(path);
@@ -914,7 +945,9 @@ START_TEST(docs_scenes_load)
     glob_t g;
     int rc = glob(pattern, 0, NULL, &g);
     if (rc == GLOB_NOMATCH || g.gl_pathc == 0) {
-        fprintf(stderr, "test_scene: note: no scene files match %s; docs_scenes_load checked nothing\n", pattern);
+        fprintf(stderr,
+                "test_scene: note: no scene files match %s; docs_scenes_load checked nothing\n",
+                pattern);
         if (rc == 0) {
             globfree(&g);
         }
@@ -936,7 +969,8 @@ END_TEST
  * same scene, and refusals name the given name and line. */
 START_TEST(load_buffer_matches_file)
 {
-    const char *text = "[system]\ndim = 1\nN = 10\nreduced_length = 0.5\n[placement]\nkind = uniform\n[model]\neps_n = 0.3\n";
+    const char *text = "[system]\ndim = 1\nN = 10\nreduced_length = 0.5\n[placement]\nkind = "
+                       "uniform\n[model]\neps_n = 0.3\n";
     const char *set[] = {"run.seed=7"};
     gr_scene a, b;
     gr_error err = {0};
@@ -946,12 +980,15 @@ START_TEST(load_buffer_matches_file)
     ck_assert(b.L == a.L && b.contact.eps_n == a.contact.eps_n && b.seed == 7 && a.seed == 7);
     ck_assert_str_eq(b.source, "mem.ini");
     /* not NUL-terminated: only len bytes are read (the cut leaves "N = 1") */
-    ck_assert_int_eq(gr_scene_load_buffer(&b, "mem.ini", "[system]\nN = 12", 14, NULL, 0, &err), GR_OK);
+    ck_assert_int_eq(gr_scene_load_buffer(&b, "mem.ini", "[system]\nN = 12", 14, NULL, 0, &err),
+                     GR_OK);
     ck_assert_int_eq(b.N, 1);
     ck_assert_int_eq(gr_scene_load_buffer(&b, "mem.ini", "", 0, NULL, 0, &err), GR_OK);
     const char *bad = "[system]\n\nN = many\n";
-    ck_assert_int_eq(gr_scene_load_buffer(&b, "mem.ini", bad, strlen(bad), NULL, 0, &err), GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "mem.ini:3:") && strstr(err.message, "[system] N"), "%s", err.message);
+    ck_assert_int_eq(gr_scene_load_buffer(&b, "mem.ini", bad, strlen(bad), NULL, 0, &err),
+                     GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "mem.ini:3:") && strstr(err.message, "[system] N"), "%s",
+                  err.message);
 }
 END_TEST
 
@@ -966,14 +1003,17 @@ START_TEST(lines_read_whole)
     snprintf(text, sizeof text, "[system]\ndim = 2\n; %0197d seed = 42\n", 0);
     gr_scene s;
     gr_error err = {0};
-    ck_assert_msg(gr_scene_load_whole(&s, write_scene(text), NULL, 0, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_scene_load_whole(&s, write_scene(text), NULL, 0, &err) == GR_OK, "%s",
+                  err.message);
     ck_assert(s.seed == 1);
     /* a long value is read whole (inline comment removed), and the next line keeps its number */
-    snprintf(text, sizeof text, "[system]\ndim = 2\n[output]\ndir = %s ; a comment\nplots = 1x\n", dir);
+    snprintf(text, sizeof text, "[system]\ndim = 2\n[output]\ndir = %s ; a comment\nplots = 1x\n",
+             dir);
     char p[700];
     snprintf(p, sizeof p, "%s", write_scene(text));
     snprintf(text, sizeof text, "[system]\ndim = 2\n[output]\ndir = %s ; a comment\n", dir);
-    ck_assert_msg(gr_scene_load_whole(&s, write_scene(text), NULL, 0, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_scene_load_whole(&s, write_scene(text), NULL, 0, &err) == GR_OK, "%s",
+                  err.message);
     ck_assert_str_eq(s.out_dir, dir);
     char at[800];
     snprintf(at, sizeof at, "%s:5:", p);
@@ -981,12 +1021,16 @@ START_TEST(lines_read_whole)
     ck_assert_msg(strstr(err.message, at) && strstr(err.message, "plots"), "%s", err.message);
     /* a NUL byte or another control byte is refused at its line */
     const char nul[] = "[system]\ndim = 2\nN = 5\0000\n";
-    ck_assert_int_eq(gr_scene_load_buffer(&s, "nul.ini", nul, sizeof nul - 1, NULL, 0, &err), GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "nul.ini:3:") && strstr(err.message, "control byte 0x00"), "%s", err.message);
+    ck_assert_int_eq(gr_scene_load_buffer(&s, "nul.ini", nul, sizeof nul - 1, NULL, 0, &err),
+                     GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "nul.ini:3:") && strstr(err.message, "control byte 0x00"),
+                  "%s", err.message);
     /* a whole scene needs content and a [system] section; a folder is not a scene */
-    ck_assert_int_eq(gr_scene_load_whole(&s, write_scene("; only a comment\n"), NULL, 0, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_scene_load_whole(&s, write_scene("; only a comment\n"), NULL, 0, &err),
+                     GR_EINVAL);
     ck_assert_msg(strstr(err.message, "empty"), "%s", err.message);
-    ck_assert_int_eq(gr_scene_load_whole(&s, write_scene("[run]\nseed = 3\n"), NULL, 0, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_scene_load_whole(&s, write_scene("[run]\nseed = 3\n"), NULL, 0, &err),
+                     GR_EINVAL);
     ck_assert_msg(strstr(err.message, "[system]"), "%s", err.message);
     ck_assert_int_eq(gr_scene_load_whole(&s, g_dir, NULL, 0, &err), GR_EINVAL);
     ck_assert_msg(strstr(err.message, "not a regular file"), "%s", err.message);
@@ -1027,7 +1071,8 @@ START_TEST(sim_random_placement_dilute_box)
     const char *text = "[system]\ndim = 2\nN = 32\nL = 200\n[placement]\nkind = random\n";
     gr_scene sc;
     gr_error err = {0};
-    ck_assert_int_eq(gr_scene_load_buffer(&sc, "dilute.ini", text, strlen(text), NULL, 0, &err), GR_OK);
+    ck_assert_int_eq(gr_scene_load_buffer(&sc, "dilute.ini", text, strlen(text), NULL, 0, &err),
+                     GR_OK);
     gr_sim *sim = NULL;
     ck_assert_msg(gr_sim_create(&sc, &sim, &err) == GR_OK, "%s", err.message);
     gr_particles p = gr_sim_particles(sim);

@@ -37,8 +37,8 @@
 #define MASS 3.53e-5  /* kg, Table 2.2 */
 #define RADIUS 1.5e-3 /* m */
 #define DIAM (2.0 * RADIUS)
-#define K_S 5e5       /* N/m */
-#define D_NOISE 1e-8  /* N^2 s */
+#define K_S 5e5                   /* N/m */
+#define D_NOISE 1e-8              /* N^2 s */
 #define PHI_CP 0.9068996821171089 /* pi / (2 sqrt 3) */
 
 /* ------------------------------------------------------------------------------------------ */
@@ -78,7 +78,7 @@ static gr_scene base_scene(int dim, int N, double L)
 
 static void set_tangential(gr_scene *s, int tang)
 {
-    s->tangential = tang == 0 ? NULL
+    s->tangential = tang == 0   ? NULL
                     : tang == 1 ? gr_model_find("tangential_dashpot")
                                 : gr_model_find("sliding_friction");
     if (tang) {
@@ -171,11 +171,12 @@ static double side_for(int n, double phi) { return sqrt(n * M_PI * RADIUS * RADI
  * carries the laws it was instantiated with. */
 static void check_kernel(const gr_sim *s, int tang, int clamp)
 {
-    static const char *laws[3][2] = {{"/spring_dashpot/", "/spring_dashpot[clamped]/"},
-                                     {"/spring_dashpot+tangential_dashpot/", "/spring_dashpot[clamped]+tangential_dashpot/"},
-                                     {"/spring_dashpot+sliding_friction/", "/spring_dashpot[clamped]+sliding_friction/"}};
-    ck_assert_msg(strstr(gr_sim_kernel(s), laws[tang][clamp]), "kernel %s, expected %s", gr_sim_kernel(s),
-                  laws[tang][clamp]);
+    static const char *laws[3][2] = {
+        {"/spring_dashpot/", "/spring_dashpot[clamped]/"},
+        {"/spring_dashpot+tangential_dashpot/", "/spring_dashpot[clamped]+tangential_dashpot/"},
+        {"/spring_dashpot+sliding_friction/", "/spring_dashpot[clamped]+sliding_friction/"}};
+    ck_assert_msg(strstr(gr_sim_kernel(s), laws[tang][clamp]), "kernel %s, expected %s",
+                  gr_sim_kernel(s), laws[tang][clamp]);
 }
 
 /* Compare gr_forces (list) with gr_forces_bruteforce on the simulation's current state.
@@ -207,12 +208,14 @@ static int compare_forces(gr_sim *s, const char *what)
         active += bfx[i] != 0.0 || bfy[i] != 0.0;
     }
     for (int i = 0; i < n; i++) {
-        ck_assert_msg(fabs(s->fx[i] - bfx[i]) <= 1e-12 * scale && fabs(s->fy[i] - bfy[i]) <= 1e-12 * scale,
-                      "%s: particle %d (x = %.17g d, y = %.17g d): list force (%.17g, %.17g) N, brute force (%.17g, %.17g) N",
+        ck_assert_msg(fabs(s->fx[i] - bfx[i]) <= 1e-12 * scale &&
+                          fabs(s->fy[i] - bfy[i]) <= 1e-12 * scale,
+                      "%s: particle %d (x = %.17g d, y = %.17g d): list force (%.17g, %.17g) N, "
+                      "brute force (%.17g, %.17g) N",
                       what, i, s->x[i] / s->d, s->y[i] / s->d, s->fx[i], s->fy[i], bfx[i], bfy[i]);
     }
-    ck_assert_msg(fabs(r.elastic - el) <= 1e-12 * fabs(el), "%s: elastic energy %.17g (list) vs %.17g J (brute force)",
-                  what, r.elastic, el);
+    ck_assert_msg(fabs(r.elastic - el) <= 1e-12 * fabs(el),
+                  "%s: elastic energy %.17g (list) vs %.17g J (brute force)", what, r.elastic, el);
     memcpy(s->fx, sfx, sizeof(double) * (size_t)n);
     memcpy(s->fy, sfy, sizeof(double) * (size_t)n);
     memcpy(s->nl_contact, touching, npairs);
@@ -250,11 +253,13 @@ static void random_state(gsl_rng *rng, gr_sim *s)
             s->x[i] = wrap(x, L);
             s->y[i] = wrap(y, L);
         } else {
-            double a = 2.0 * M_PI * gsl_rng_uniform(rng), r = d * (0.8 + 0.22 * gsl_rng_uniform(rng));
+            double a = 2.0 * M_PI * gsl_rng_uniform(rng),
+                   r = d * (0.8 + 0.22 * gsl_rng_uniform(rng));
             s->x[i] = wrap(s->x[i - 1] + r * cos(a), L);
             s->y[i] = wrap(s->y[i - 1] + r * sin(a), L);
         }
-        double a = 2.0 * M_PI * gsl_rng_uniform(rng), v = pow(10.0, -2.0 + 4.0 * gsl_rng_uniform(rng));
+        double a = 2.0 * M_PI * gsl_rng_uniform(rng),
+               v = pow(10.0, -2.0 + 4.0 * gsl_rng_uniform(rng));
         s->vx[i] = v * cos(a);
         s->vy[i] = v * sin(a);
     }
@@ -303,11 +308,12 @@ START_TEST(test_forces_list_vs_bruteforce_static)
                         gr_error err = {0};
                         ck_assert_int_eq(gr_neighbours_build(s, &err), GR_OK);
                         char what[160];
-                        snprintf(what, sizeof what, "L = %g d, n = %d, %s, skin %g, rep %d", boxes[b].L_d, n,
-                                 gr_sim_kernel(s), skin, rep);
+                        snprintf(what, sizeof what, "L = %g d, n = %d, %s, skin %g, rep %d",
+                                 boxes[b].L_d, n, gr_sim_kernel(s), skin, rep);
                         int active = compare_forces(s, what);
                         /* the configuration has contacts: the comparison is not vacuous */
-                        ck_assert_msg(active >= n / 3, "%s: only %d particles in contact", what, active);
+                        ck_assert_msg(active >= n / 3, "%s: only %d particles in contact", what,
+                                      active);
                         checked++;
                     }
                     gr_sim_free(s);
@@ -354,11 +360,13 @@ START_TEST(test_forces_list_vs_bruteforce_trajectory)
         int64_t rebuilds = gr_sim_rebuilds(s) - rebuilds0;
         VERBOSE("trajectory %s: %lld rebuilds in %d steps, %lld collisions\n", gr_sim_kernel(s),
                 (long long)rebuilds, nsteps, (long long)gr_sim_collisions(s));
-        ck_assert_msg(gr_sim_collisions(s) > n / 4, "too few collisions (%lld) for a meaningful test",
+        ck_assert_msg(gr_sim_collisions(s) > n / 4,
+                      "too few collisions (%lld) for a meaningful test",
                       (long long)gr_sim_collisions(s));
         if (sk) {
             /* the list was reused (fewer rebuilds than steps) yet rebuilt at least once */
-            ck_assert_msg(rebuilds >= 1 && rebuilds < nsteps / 4, "%lld rebuilds in %d steps", (long long)rebuilds, nsteps);
+            ck_assert_msg(rebuilds >= 1 && rebuilds < nsteps / 4, "%lld rebuilds in %d steps",
+                          (long long)rebuilds, nsteps);
         } else {
             ck_assert_int_eq(rebuilds, nsteps);
         }
@@ -446,7 +454,8 @@ START_TEST(test_contact_history_by_pair)
         for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
             const int j = s->nl_j[p];
             flipped += !was_ij[(size_t)i * (size_t)n + (size_t)j];
-            ck_assert_msg(s->nl_hist[p] == history_key(i, j), "pair (%d, %d): %.17g", i, j, s->nl_hist[p]);
+            ck_assert_msg(s->nl_hist[p] == history_key(i, j), "pair (%d, %d): %.17g", i, j,
+                          s->nl_hist[p]);
         }
     }
     ck_assert_msg(flipped > 0, "no pair changed its listing: the test proves nothing");
@@ -507,16 +516,19 @@ START_TEST(test_noise_increment_statistics)
             py[i] = dy;
         }
         if (mode == GR_NOISE_SYMMETRISED) {
-            ck_assert_msg(fabs(step_sum[0]) < 1e-12 * sqrt(amp2) && fabs(step_sum[1]) < 1e-12 * sqrt(amp2),
-                          "step %d: symmetrised kicks sum to (%g, %g) m/s", k, step_sum[0], step_sum[1]);
+            ck_assert_msg(
+                fabs(step_sum[0]) < 1e-12 * sqrt(amp2) && fabs(step_sum[1]) < 1e-12 * sqrt(amp2),
+                "step %d: symmetrised kicks sum to (%g, %g) m/s", k, step_sum[0], step_sum[1]);
         }
     }
     const double ns = 2.0 * S * n, mean = sum / ns, ms = sum2 / ns, rho = lag / lag_n / var;
-    VERBOSE("noise %s: dt = %.4g s, mean/se = %.3f, ms/var - 1 = %.4f (tol %.4f), rho = %.4f (tol %.4f)\n",
-            gr_noise_mode_name(mode), dt, mean / sqrt(var / ns), ms / var - 1.0, 5.0 * sqrt(2.0 / dof), rho,
-            5.0 / sqrt(lag_n));
+    VERBOSE("noise %s: dt = %.4g s, mean/se = %.3f, ms/var - 1 = %.4f (tol %.4f), rho = %.4f (tol "
+            "%.4f)\n",
+            gr_noise_mode_name(mode), dt, mean / sqrt(var / ns), ms / var - 1.0,
+            5.0 * sqrt(2.0 / dof), rho, 5.0 / sqrt(lag_n));
     ck_assert_int_eq(gr_sim_collisions(s), 0);
-    ck_assert_msg(fabs(mean) < 5.0 * sqrt(var / ns), "mean increment %g m/s, standard error %g", mean, sqrt(var / ns));
+    ck_assert_msg(fabs(mean) < 5.0 * sqrt(var / ns), "mean increment %g m/s, standard error %g",
+                  mean, sqrt(var / ns));
     ck_assert_msg(fabs(ms / var - 1.0) < 5.0 * sqrt(2.0 / dof),
                   "mean square increment %g (m/s)^2, expected 2 D dt / M^2 %s = %g", ms,
                   mode == GR_NOISE_SYMMETRISED ? "(1 - 1/N)" : "", var);
@@ -526,7 +538,8 @@ START_TEST(test_noise_increment_statistics)
     ck_assert_double_eq(l.removed_com, 0.0);
     ck_assert_msg(fabs(l.kinetic - ke0 - l.injected) <= 1e-10 * l.kinetic,
                   "ledger: KE gained %.17g J, injected %.17g J", l.kinetic - ke0, l.injected);
-    ck_assert_msg(fabs(gr_ledger_residual(&l)) <= 1e-10 * l.kinetic, "ledger residual %g J", gr_ledger_residual(&l));
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) <= 1e-10 * l.kinetic, "ledger residual %g J",
+                  gr_ledger_residual(&l));
     free(vx0);
     free(vy0);
     free(px);
@@ -560,12 +573,14 @@ START_TEST(test_noise_symmetrised_momentum)
             abs_p += MASS * hypot(s->vx[i], s->vy[i]);
         }
         worst = fmax(worst, hypot(p[0], p[1]) / abs_p);
-        ck_assert_msg(hypot(p[0], p[1]) <= 1e-12 * abs_p, "step %d: total momentum (%g, %g) kg m/s, sum |p_i| = %g",
-                      k + 100, p[0], p[1], abs_p);
+        ck_assert_msg(hypot(p[0], p[1]) <= 1e-12 * abs_p,
+                      "step %d: total momentum (%g, %g) kg m/s, sum |p_i| = %g", k + 100, p[0],
+                      p[1], abs_p);
     }
     VERBOSE("symmetrised momentum: max |P| / sum |p_i| = %.3g, %lld collisions\n", worst,
             (long long)gr_sim_collisions(s));
-    ck_assert_msg(gr_sim_collisions(s) > n, "only %lld collisions", (long long)gr_sim_collisions(s));
+    ck_assert_msg(gr_sim_collisions(s) > n, "only %lld collisions",
+                  (long long)gr_sim_collisions(s));
     gr_sim_free(s);
 }
 END_TEST
@@ -598,8 +613,10 @@ START_TEST(test_noise_com_mode)
             since[0] = since[1] = 0.0;
         }
         for (int i = 0; i < n; i++) {
-            since[0] += gr_noise_normal1(sc.seed, GR_STREAM_NOISE, (uint64_t)(k - 1), (uint32_t)i, 0);
-            since[1] += gr_noise_normal1(sc.seed, GR_STREAM_NOISE, (uint64_t)(k - 1), (uint32_t)i, 1);
+            since[0] +=
+                gr_noise_normal1(sc.seed, GR_STREAM_NOISE, (uint64_t)(k - 1), (uint32_t)i, 0);
+            since[1] +=
+                gr_noise_normal1(sc.seed, GR_STREAM_NOISE, (uint64_t)(k - 1), (uint32_t)i, 1);
         }
         step(s, 1);
         if (k % 50 == 0) {
@@ -613,14 +630,15 @@ START_TEST(test_noise_com_mode)
         const double ex = MASS * amp * since[0], ey = MASS * amp * since[1];
         worst = fmax(worst, hypot(p[0] - ex, p[1] - ey) / (MASS * amp * sqrt((double)n)));
         ck_assert_msg(hypot(p[0] - ex, p[1] - ey) <= 1e-12 * abs_p,
-                      "step %d: total momentum (%g, %g) kg m/s, expected the kicks since the last reset (%g, %g)", k, p[0],
-                      p[1], ex, ey);
+                      "step %d: total momentum (%g, %g) kg m/s, expected the kicks since the last "
+                      "reset (%g, %g)",
+                      k, p[0], p[1], ex, ey);
     }
     VERBOSE("com mode: max |P - P_expected| = %.3g of one step's kick momentum\n", worst);
     gr_ledger l = gr_sim_ledger(s);
     ck_assert_msg(l.removed_com > 0.0, "no energy recorded as removed by the resets");
-    ck_assert_msg(fabs(gr_ledger_residual(&l)) <= 1e-10 * l.kinetic, "ledger residual %g J (KE %g J)",
-                  gr_ledger_residual(&l), l.kinetic);
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) <= 1e-10 * l.kinetic,
+                  "ledger residual %g J (KE %g J)", gr_ledger_residual(&l), l.kinetic);
     gr_sim_free(s);
 }
 END_TEST
@@ -650,9 +668,11 @@ START_TEST(test_noise_energy_injection)
         gr_ledger l = gr_sim_ledger(s);
         ck_assert_int_eq(gr_sim_collisions(s), 0);
         ck_assert_double_eq(l.initial, 0.0);
-        ck_assert_msg(fabs(l.kinetic - l.injected) <= 1e-10 * l.kinetic, "replica %d: KE %.17g J, injected %.17g J", r,
-                      l.kinetic, l.injected);
-        const double t = gr_sim_time(s), rate = 2.0 * D_NOISE / MASS * (mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / n : 1.0);
+        ck_assert_msg(fabs(l.kinetic - l.injected) <= 1e-10 * l.kinetic,
+                      "replica %d: KE %.17g J, injected %.17g J", r, l.kinetic, l.injected);
+        const double t = gr_sim_time(s),
+                     rate = 2.0 * D_NOISE / MASS *
+                            (mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / n : 1.0);
         ck_assert_double_eq_tol(t, S * gr_sim_dt(s), 1e-15 * t);
         ke += l.kinetic;
         expected += rate * n * t;
@@ -660,10 +680,11 @@ START_TEST(test_noise_energy_injection)
         gr_sim_free(s);
     }
     const double tol = 5.0 * sqrt(2.0 / dof);
-    VERBOSE("injection %s N = %d x %d: KE / expected - 1 = %.4f (tol %.4f)\n", gr_noise_mode_name(mode), n, replicas,
-            ke / expected - 1.0, tol);
+    VERBOSE("injection %s N = %d x %d: KE / expected - 1 = %.4f (tol %.4f)\n",
+            gr_noise_mode_name(mode), n, replicas, ke / expected - 1.0, tol);
     ck_assert_msg(fabs(ke / expected - 1.0) < tol,
-                  "%s, N = %d (%d replicas): kinetic energy gained %g J, expected dim D/M (1 - 1/N) N t = %g J (tolerance %.3g)",
+                  "%s, N = %d (%d replicas): kinetic energy gained %g J, expected dim D/M (1 - "
+                  "1/N) N t = %g J (tolerance %.3g)",
                   gr_noise_mode_name(mode), n, replicas, ke, expected, tol);
 }
 END_TEST
@@ -707,13 +728,16 @@ static void check_elastic_energy(int dim, int n, double L, int64_t steps, double
     const double C = (double)gr_sim_collisions(s), bound = 2.5 * sqrt(C) * w * w / n;
     const double drift = fabs(last - first) / E0;
     gr_ledger l = gr_sim_ledger(s);
-    VERBOSE("elastic %dD gas: N = %d, %.0f collisions/particle, (w0 dt)^2 = %.3g, max dev %.3g, drift %.3g, bound %.3g\n",
+    VERBOSE("elastic %dD gas: N = %d, %.0f collisions/particle, (w0 dt)^2 = %.3g, max dev %.3g, "
+            "drift %.3g, bound %.3g\n",
             dim, n, 2.0 * C / n, w * w, maxdev, drift, bound);
     ck_assert_msg(C >= 10.0 * n, "only %.0f collisions for %d particles", C, n);
     ck_assert_double_eq(gr_ledger_dissipated(&l), 0.0);
-    ck_assert_msg(maxdev <= bound, "%dD elastic gas: energy deviates by %.3g of E0 (bound %.3g, (w0 dt)^2 = %.3g)", dim,
-                  maxdev, bound, w * w);
-    ck_assert_msg(drift <= bound, "%dD elastic gas: energy drifts by %.3g of E0 (bound %.3g)", dim, drift, bound);
+    ck_assert_msg(maxdev <= bound,
+                  "%dD elastic gas: energy deviates by %.3g of E0 (bound %.3g, (w0 dt)^2 = %.3g)",
+                  dim, maxdev, bound, w * w);
+    ck_assert_msg(drift <= bound, "%dD elastic gas: energy drifts by %.3g of E0 (bound %.3g)", dim,
+                  drift, bound);
     gr_sim_free(s);
 }
 
@@ -772,12 +796,14 @@ START_TEST(test_haff_cooling)
         }
         next = (int64_t)ceil((double)next * pow(10.0, 0.1));
     }
-    ck_assert_msg(t0 > 0.0 && t[m - 1] >= t_end_over_t0 * t0, "the gas did not cool (T / T0 = %g)", T[m - 1] / T0);
+    ck_assert_msg(t0 > 0.0 && t[m - 1] >= t_end_over_t0 * t0, "the gas did not cool (T / T0 = %g)",
+                  T[m - 1] / T0);
     double lx[MAXS], ly[MAXS];
     int w = 0;
     for (int k = 0; k < m; k++) {
         if (t[k] > t0 && k + 1 < m) {
-            ck_assert_msg(T[k + 1] < T[k], "T rose from %g to %g between t = %g and %g s", T[k], T[k + 1], t[k], t[k + 1]);
+            ck_assert_msg(T[k + 1] < T[k], "T rose from %g to %g between t = %g and %g s", T[k],
+                          T[k + 1], t[k], t[k + 1]);
         }
         if (t[k] >= 10.0 * t0) {
             lx[w] = log(t[k]);
@@ -787,10 +813,12 @@ START_TEST(test_haff_cooling)
     }
     double c0, c1, cov00, cov01, cov11, sumsq;
     gsl_fit_linear(lx, 1, ly, 1, (size_t)w, &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
-    VERBOSE("Haff: t0 = %.4g s, t_end = %.1f t0, %d points, slope %.3f, T_end / T0 = %.3g, %lld collisions\n", t0,
-            t[m - 1] / t0, w, c1, T[m - 1] / T0, (long long)gr_sim_collisions(s));
+    VERBOSE("Haff: t0 = %.4g s, t_end = %.1f t0, %d points, slope %.3f, T_end / T0 = %.3g, %lld "
+            "collisions\n",
+            t0, t[m - 1] / t0, w, c1, T[m - 1] / T0, (long long)gr_sim_collisions(s));
     ck_assert_msg(w >= 6, "only %d points in the fit window", w);
-    ck_assert_msg(c1 > -2.15 && c1 < -1.72, "late-time cooling T ~ t^%.3f, Haff's law gives t^-2 (band -2.15 .. -1.72)", c1);
+    ck_assert_msg(c1 > -2.15 && c1 < -1.72,
+                  "late-time cooling T ~ t^%.3f, Haff's law gives t^-2 (band -2.15 .. -1.72)", c1);
     gr_sim_free(s);
 }
 END_TEST
@@ -831,12 +859,16 @@ START_TEST(test_dense_hexagonal_driven)
     gr_ledger l = gr_sim_ledger(s);
     const double res = gr_ledger_residual(&l), scale = l.injected + gr_ledger_dissipated(&l);
     const double dt_tc = gr_sim_dt(s) / s->cc.t_c;
-    VERBOSE("dense phi = 0.85: max overlap %.3g d, residual %.3g of injected + dissipated (%.2f dt/t_c), %lld collisions\n",
+    VERBOSE("dense phi = 0.85: max overlap %.3g d, residual %.3g of injected + dissipated (%.2f "
+            "dt/t_c), %lld collisions\n",
             maxov, res / scale, res / scale / dt_tc, (long long)gr_sim_collisions(s));
-    ck_assert_msg(gr_sim_collisions(s) > n, "only %lld collisions", (long long)gr_sim_collisions(s));
+    ck_assert_msg(gr_sim_collisions(s) > n, "only %lld collisions",
+                  (long long)gr_sim_collisions(s));
     ck_assert_msg(maxov < 0.01, "max overlap %.3g d", maxov);
-    const double w = s->cc.w0 * gr_sim_dt(s), bound = w * w / (1.0 - sc.contact.eps_n * sc.contact.eps_n);
-    ck_assert_msg(fabs(res) <= bound * scale, "ledger residual %g J, injected %g J, dissipated %g J (bound %g J)", res,
+    const double w = s->cc.w0 * gr_sim_dt(s),
+                 bound = w * w / (1.0 - sc.contact.eps_n * sc.contact.eps_n);
+    ck_assert_msg(fabs(res) <= bound * scale,
+                  "ledger residual %g J, injected %g J, dissipated %g J (bound %g J)", res,
                   l.injected, gr_ledger_dissipated(&l), bound * scale);
     gr_sim_free(s);
 }
@@ -878,9 +910,12 @@ START_TEST(test_ledger_convergence)
         gr_ledger l = gr_sim_ledger(s);
         res[h] = gr_ledger_residual(&l);
         dt[h] = gr_sim_dt(s);
-        VERBOSE("ledger %s at t_c/%g: residual %.4g J, dissipated %.4g J, injected %.4g J, %lld collisions\n",
-                gr_sim_kernel(s), spc, res[h], gr_ledger_dissipated(&l), l.injected, (long long)gr_sim_collisions(s));
-        ck_assert_msg(gr_sim_collisions(s) > 5 * n, "only %lld collisions", (long long)gr_sim_collisions(s));
+        VERBOSE("ledger %s at t_c/%g: residual %.4g J, dissipated %.4g J, injected %.4g J, %lld "
+                "collisions\n",
+                gr_sim_kernel(s), spc, res[h], gr_ledger_dissipated(&l), l.injected,
+                (long long)gr_sim_collisions(s));
+        ck_assert_msg(gr_sim_collisions(s) > 5 * n, "only %lld collisions",
+                      (long long)gr_sim_collisions(s));
         if (tang == 1) {
             ck_assert(l.dissipated_tangential > 0.0);
         }
@@ -891,8 +926,9 @@ START_TEST(test_ledger_convergence)
     }
     ck_assert_double_eq_tol(dt[0], 4.0 * dt[1], 1e-15 * dt[0]);
     const double ratio = res[0] / res[1];
-    ck_assert_msg(ratio >= 6.0, "residual %g J at dt, %g J at dt/4: ratio %g, expected ~16 (second order), >= 6", res[0],
-                  res[1], ratio);
+    ck_assert_msg(ratio >= 6.0,
+                  "residual %g J at dt, %g J at dt/4: ratio %g, expected ~16 (second order), >= 6",
+                  res[0], res[1], ratio);
 }
 END_TEST
 
@@ -929,7 +965,8 @@ START_TEST(test_periodic_boundary_collision)
     const double g0 = hypot(vx[1] - vx[0], vy[1] - vy[0]);
     /* When does the contact start (free flight until |r0 + g t| = d)? */
     const double rx = ox[1] - ox[0], ry = oy[1] - oy[0], gx = vx[1] - vx[0], gy = vy[1] - vy[0];
-    const double qa = gx * gx + gy * gy, qb = 2.0 * (rx * gx + ry * gy), qc = rx * rx + ry * ry - d * d;
+    const double qa = gx * gx + gy * gy, qb = 2.0 * (rx * gx + ry * gy),
+                 qc = rx * rx + ry * ry - d * d;
     const double t_touch = (-qb - sqrt(qb * qb - 4.0 * qa * qc)) / (2.0 * qa);
     /* case 0: the middle of the box. Then translations (rounded to multiples of 2^-20 m, so the
      * free flight stays exact) that put a centre within +-23 um of x = 0, of y = 0, or one centre
@@ -942,9 +979,12 @@ START_TEST(test_periodic_boundary_collision)
     int nc = 1;
     for (int i = 0; i < 2; i++) {
         for (int j = -3; j <= 3; j++) {
-            const double sx = rint((-(cx + ox[i] + vx[i] * t_touch) + j * 0x1p-17) * 0x1p20) * 0x1p-20;
-            const double sy = rint((-(cy + oy[i] + vy[i] * t_touch) + j * 0x1p-17) * 0x1p20) * 0x1p-20;
-            const double sy_other = rint((-(cy + oy[1 - i] + vy[1 - i] * t_touch) - j * 0x1p-17) * 0x1p20) * 0x1p-20;
+            const double sx =
+                rint((-(cx + ox[i] + vx[i] * t_touch) + j * 0x1p-17) * 0x1p20) * 0x1p-20;
+            const double sy =
+                rint((-(cy + oy[i] + vy[i] * t_touch) + j * 0x1p-17) * 0x1p20) * 0x1p-20;
+            const double sy_other =
+                rint((-(cy + oy[1 - i] + vy[1 - i] * t_touch) - j * 0x1p-17) * 0x1p20) * 0x1p-20;
             shifts[nc][0] = sx;
             shifts[nc++][1] = 0.0;
             shifts[nc][0] = 0.0;
@@ -999,17 +1039,21 @@ START_TEST(test_periodic_boundary_collision)
         } else {
             for (int k = 0; k < 4; k++) {
                 ck_assert_msg(fabs(out[k] - ref[k]) <= 1e-12 * g0,
-                              "%s, case %d: velocity component %d is %.17g m/s after the collision across the boundary, %.17g in the middle",
+                              "%s, case %d: velocity component %d is %.17g m/s after the collision "
+                              "across the boundary, %.17g in the middle",
                               gr_sim_kernel(s), c, k, out[k], ref[k]);
             }
         }
-        VERBOSE("periodic case %d (%s): v = (%.6f %.6f) (%.6f %.6f), max diff %.3g\n", c, gr_sim_kernel(s), out[0], out[1],
-                out[2], out[3],
-                c ? fmax(fmax(fabs(out[0] - ref[0]), fabs(out[1] - ref[1])), fmax(fabs(out[2] - ref[2]), fabs(out[3] - ref[3]))) : 0.0);
+        VERBOSE("periodic case %d (%s): v = (%.6f %.6f) (%.6f %.6f), max diff %.3g\n", c,
+                gr_sim_kernel(s), out[0], out[1], out[2], out[3],
+                c ? fmax(fmax(fabs(out[0] - ref[0]), fabs(out[1] - ref[1])),
+                         fmax(fabs(out[2] - ref[2]), fabs(out[3] - ref[3])))
+                  : 0.0);
         gr_sim_free(s);
     }
     VERBOSE("periodic: %d boundary crossings during contacts\n", crossed_in_contact);
-    ck_assert_msg(crossed_in_contact >= 10, "only %d boundary crossings during a contact", crossed_in_contact);
+    ck_assert_msg(crossed_in_contact >= 10, "only %d boundary crossings during a contact",
+                  crossed_in_contact);
 }
 END_TEST
 
@@ -1043,12 +1087,14 @@ static int try_create(const gr_scene *sc, gr_error *err, double *min_dist)
     return rc;
 }
 
-static void expect_overlap_refused(const gr_scene *sc, int n, const double *x, const double *y, const char *what)
+static void expect_overlap_refused(const gr_scene *sc, int n, const double *x, const double *y,
+                                   const char *what)
 {
     gr_error err;
     int rc = try_state(sc, n, x, y, &err);
     ck_assert_msg(rc == GR_EINVAL, "%s: overlap of 1e-6 d accepted (rc %d)", what, rc);
-    ck_assert_msg(strstr(err.message, "overlap") != NULL, "%s: message does not mention the overlap: %s", what, err.message);
+    ck_assert_msg(strstr(err.message, "overlap") != NULL,
+                  "%s: message does not mention the overlap: %s", what, err.message);
 }
 
 /* Touching pairs (centre distance d, up to the rounding of the coordinates: the check allows
@@ -1063,10 +1109,10 @@ START_TEST(test_touching_accepted_overlap_refused)
     for (int o = 0; o < 2; o++) {
         const double g = o ? d * (1.0 - 1e-6) : d; /* centre distance */
         const double cases[4][4] = {
-            {4.0 * d, 5.0 * d, 4.0 * d + g, 5.0 * d},                                       /* middle, along x */
-            {4.0 * d, 5.0 * d, 4.0 * d + g * cos(a), 5.0 * d + g * sin(a)},                /* middle, oblique */
-            {0.3 * d, 5.0 * d, 0.3 * d - g, 5.0 * d},                                      /* across x = 0 */
-            {0.2 * d, 0.1 * d, 0.2 * d - g * cos(a), 0.1 * d - g * sin(a)},                /* across the corner */
+            {4.0 * d, 5.0 * d, 4.0 * d + g, 5.0 * d},                       /* middle, along x */
+            {4.0 * d, 5.0 * d, 4.0 * d + g * cos(a), 5.0 * d + g * sin(a)}, /* middle, oblique */
+            {0.3 * d, 5.0 * d, 0.3 * d - g, 5.0 * d},                       /* across x = 0 */
+            {0.2 * d, 0.1 * d, 0.2 * d - g * cos(a), 0.1 * d - g * sin(a)}, /* across the corner */
         };
         for (int c = 0; c < 4; c++) {
             double x[2] = {cases[c][0], cases[c][2]}, y[2] = {cases[c][1], cases[c][3]};
@@ -1082,12 +1128,14 @@ START_TEST(test_touching_accepted_overlap_refused)
         }
         /* 1D ring of 3 on L = 5 d: pair (0, 1) inside, pair (2, 0) across the wrap */
         gr_scene s1 = base_scene(1, 3, 5.0 * d);
-        double inner[3] = {0.5 * d, 0.5 * d + g, 3.0 * d}, wrapped[3] = {0.2 * d, 2.0 * d, 0.2 * d + 5.0 * d - g};
+        double inner[3] = {0.5 * d, 0.5 * d + g, 3.0 * d},
+               wrapped[3] = {0.2 * d, 2.0 * d, 0.2 * d + 5.0 * d - g};
         if (o == 0) {
             gr_error err;
-            ck_assert_msg(try_state(&s1, 3, inner, NULL, &err) == GR_OK, "1D touching pair refused: %s", err.message);
-            ck_assert_msg(try_state(&s1, 3, wrapped, NULL, &err) == GR_OK, "1D touching pair across the wrap refused: %s",
-                          err.message);
+            ck_assert_msg(try_state(&s1, 3, inner, NULL, &err) == GR_OK,
+                          "1D touching pair refused: %s", err.message);
+            ck_assert_msg(try_state(&s1, 3, wrapped, NULL, &err) == GR_OK,
+                          "1D touching pair across the wrap refused: %s", err.message);
         } else {
             expect_overlap_refused(&s1, 3, inner, NULL, "1D inner pair");
             expect_overlap_refused(&s1, 3, wrapped, NULL, "1D pair across the wrap");
@@ -1111,7 +1159,8 @@ START_TEST(test_hexagonal_capacity)
     char bad[1024] = "";
     for (size_t b = 0; b < nb; b++) {
         const double L = sides[b] * DIAM;
-        const int upper = (int)floor(PHI_CP * L * L / (M_PI * RADIUS * RADIUS)) + 1; /* beyond close packing */
+        const int upper =
+            (int)floor(PHI_CP * L * L / (M_PI * RADIUS * RADIUS)) + 1; /* beyond close packing */
         gr_scene sc = base_scene(2, 1, L);
         sc.placement = GR_PLACE_HEXAGONAL;
         gr_error err;
@@ -1123,14 +1172,17 @@ START_TEST(test_hexagonal_capacity)
             double dist = INFINITY;
             int rc = try_create(&sc, &err, &dist);
             if (rc != GR_OK) {
-                ck_assert_msg(rc == GR_EINVAL, "L = %g d, N = %d: status %d: %s", sides[b], n, rc, err.message);
+                ck_assert_msg(rc == GR_EINVAL, "L = %g d, N = %d: status %d: %s", sides[b], n, rc,
+                              err.message);
                 break;
             }
-            ck_assert_msg(dist >= 1.0 - 1e-9, "L = %g d, N = %d: particles %.12g d apart", sides[b], n, dist);
+            ck_assert_msg(dist >= 1.0 - 1e-9, "L = %g d, N = %d: particles %.12g d apart", sides[b],
+                          n, dist);
             cap = n;
             md = dist;
         }
-        ck_assert_msg(cap < upper, "L = %g d: %d particles beyond close packing accepted", sides[b], upper);
+        ck_assert_msg(cap < upper, "L = %g d: %d particles beyond close packing accepted", sides[b],
+                      upper);
         char want[64];
         snprintf(want, sizeof want, "holds at most %d ", cap);
         sc.N = cap + 1;
@@ -1140,18 +1192,22 @@ START_TEST(test_hexagonal_capacity)
         snprintf(msg, sizeof msg, "%s", refusal);
         for (int extra = 2; extra <= 6; extra++) {
             sc.N = cap + extra;
-            ck_assert_msg(try_create(&sc, &err, NULL) == GR_EINVAL, "L = %g d: N = %d refused but N = %d accepted", sides[b],
-                          cap + 1, cap + extra);
+            ck_assert_msg(try_create(&sc, &err, NULL) == GR_EINVAL,
+                          "L = %g d: N = %d refused but N = %d accepted", sides[b], cap + 1,
+                          cap + extra);
         }
         const double a = L / floor(L / DIAM), h = a * sqrt(3.0) / 2.0;
         const double phi = cap * M_PI * RADIUS * RADIUS / (L * L);
         const double lower = PHI_CP * (DIAM / a) * (DIAM / a) * (1.0 - 2.0 * h / L);
-        VERBOSE("hexagonal L = %g d: capacity %d (phi %.4f, lower bound %.4f), min distance %.6f d; N+1: %s\n", sides[b], cap,
-                phi, lower, md, msg);
-        ck_assert_msg(phi <= PHI_CP && phi >= lower, "L = %g d: capacity %d, phi = %.4f outside [%.4f, %.4f]", sides[b], cap,
-                      phi, lower, PHI_CP);
+        VERBOSE("hexagonal L = %g d: capacity %d (phi %.4f, lower bound %.4f), min distance %.6f "
+                "d; N+1: %s\n",
+                sides[b], cap, phi, lower, md, msg);
+        ck_assert_msg(phi <= PHI_CP && phi >= lower,
+                      "L = %g d: capacity %d, phi = %.4f outside [%.4f, %.4f]", sides[b], cap, phi,
+                      lower, PHI_CP);
         if (strstr(msg, want) == NULL && bad[0] == '\0') {
-            snprintf(bad, sizeof bad, "L = %g d: %d particles fit, but the refusal of %d says: %s", sides[b], cap, cap + 1, msg);
+            snprintf(bad, sizeof bad, "L = %g d: %d particles fit, but the refusal of %d says: %s",
+                     sides[b], cap, cap + 1, msg);
         }
     }
     /* checked last so that one wrong message does not hide the other boxes' results */
@@ -1179,7 +1235,8 @@ START_TEST(test_other_placements)
         gr_scene u = base_scene(2, un[k], 10.5 * DIAM);
         u.placement = GR_PLACE_UNIFORM;
         ck_assert_msg(try_create(&u, &err, &md) == GR_OK, "uniform N = %d: %s", un[k], err.message);
-        ck_assert_msg(md >= 1.0 - 1e-9, "uniform placement N = %d: min distance %.12g d", un[k], md);
+        ck_assert_msg(md >= 1.0 - 1e-9, "uniform placement N = %d: min distance %.12g d", un[k],
+                      md);
     }
     /* cluster: touching hexagonal cluster in the middle, for several N */
     const int cn[] = {1, 2, 7, 19, 37, 50};
@@ -1188,9 +1245,11 @@ START_TEST(test_other_placements)
         c.placement = GR_PLACE_CLUSTER;
         md = INFINITY;
         ck_assert_msg(try_create(&c, &err, &md) == GR_OK, "cluster N = %d: %s", cn[k], err.message);
-        ck_assert_msg(md >= 1.0 - 1e-9, "cluster placement N = %d: min distance %.12g d", cn[k], md);
+        ck_assert_msg(md >= 1.0 - 1e-9, "cluster placement N = %d: min distance %.12g d", cn[k],
+                      md);
         if (cn[k] > 1) {
-            ck_assert_msg(md <= 1.0 + 1e-9, "cluster N = %d is not touching: min distance %.12g d", cn[k], md);
+            ck_assert_msg(md <= 1.0 + 1e-9, "cluster N = %d is not touching: min distance %.12g d",
+                          cn[k], md);
         }
     }
     /* random sequential addition */
@@ -1205,13 +1264,16 @@ START_TEST(test_other_placements)
                 r.packing_fraction = 0.0;
             }
             int rc = try_create(&r, &err, &md);
-            VERBOSE("random phi = %.2f (packing_fraction %s): rc %d %s\n", phis[k], given ? "set" : "unset", rc,
-                    rc ? err.message : "");
+            VERBOSE("random phi = %.2f (packing_fraction %s): rc %d %s\n", phis[k],
+                    given ? "set" : "unset", rc, rc ? err.message : "");
             if (phis[k] <= 0.5) {
-                ck_assert_msg(rc == GR_OK, "random placement at phi = %.2f refused: %s", phis[k], err.message);
+                ck_assert_msg(rc == GR_OK, "random placement at phi = %.2f refused: %s", phis[k],
+                              err.message);
                 ck_assert_msg(md >= 1.0 - 1e-9, "random placement: min distance %.12g d", md);
             } else {
-                ck_assert_msg(rc == GR_EINVAL, "random placement at phi = %.2f (N = %d, L = %g m, packing_fraction %s) accepted",
+                ck_assert_msg(rc == GR_EINVAL,
+                              "random placement at phi = %.2f (N = %d, L = %g m, packing_fraction "
+                              "%s) accepted",
                               phis[k], n, r.L, given ? "set" : "left 0");
                 ck_assert_msg(strstr(err.message, "random") != NULL, "message: %s", err.message);
             }
@@ -1247,8 +1309,9 @@ START_TEST(test_ring_wrap_collision)
     /* particle k of a plays particle (k + 1) % 3 of b */
     for (int k = 0; k < 3; k++) {
         const int j = (k + 1) % 3;
-        ck_assert_msg(fabs(a->vx[k] - b->vx[j]) <= 1e-12 * 4.0, "inner pair: v[%d] = %.17g; across the wrap: v[%d] = %.17g",
-                      k, a->vx[k], j, b->vx[j]);
+        ck_assert_msg(fabs(a->vx[k] - b->vx[j]) <= 1e-12 * 4.0,
+                      "inner pair: v[%d] = %.17g; across the wrap: v[%d] = %.17g", k, a->vx[k], j,
+                      b->vx[j]);
     }
     /* it was a collision: the pair rebounded with about eps_n */
     ck_assert_msg(fabs(a->vx[1] + 2.0 * 0.6) < 0.05, "v after the collision %g m/s", a->vx[1]);
@@ -1282,8 +1345,8 @@ START_TEST(test_ring_order_and_momentum)
         if (k % 1000 == 0) {
             for (int i = 0; i < n; i++) {
                 const double gap = i + 1 < n ? s->x[i + 1] - s->x[i] : s->x[0] + s->L - s->x[i];
-                ck_assert_msg(gap > 0.5 * DIAM, "step %lld: gap %d-%d = %g d", (long long)gr_sim_steps(s), i, (i + 1) % n,
-                              gap / DIAM);
+                ck_assert_msg(gap > 0.5 * DIAM, "step %lld: gap %d-%d = %g d",
+                              (long long)gr_sim_steps(s), i, (i + 1) % n, gap / DIAM);
             }
             double P[2], abs_p = 0.0;
             gr_sim_momentum(s, P);
@@ -1295,8 +1358,10 @@ START_TEST(test_ring_order_and_momentum)
                           (long long)gr_sim_steps(s), P[0], abs_p);
         }
     }
-    VERBOSE("ring: %lld collisions, pair (N-1, 0) in contact at %d samples\n", (long long)gr_sim_collisions(s), wrap_contacts);
-    ck_assert_msg(gr_sim_collisions(s) > 5 * n, "only %lld collisions", (long long)gr_sim_collisions(s));
+    VERBOSE("ring: %lld collisions, pair (N-1, 0) in contact at %d samples\n",
+            (long long)gr_sim_collisions(s), wrap_contacts);
+    ck_assert_msg(gr_sim_collisions(s) > 5 * n, "only %lld collisions",
+                  (long long)gr_sim_collisions(s));
     ck_assert_msg(wrap_contacts > 0, "the pair across the wrap never touched");
     gr_sim_free(s);
 }
@@ -1304,10 +1369,7 @@ END_TEST
 
 /* Elastic 1D gas: same bound as the 2D elastic gas (each collision exchanges energy with an error
  * of at most (w0 dt)^2 E_rel). */
-START_TEST(test_ring_elastic_energy)
-{
-    check_elastic_energy(1, 60, 120.0 * DIAM, 200000, 5.0, 8);
-}
+START_TEST(test_ring_elastic_energy) { check_elastic_energy(1, 60, 120.0 * DIAM, 200000, 5.0, 8); }
 END_TEST
 
 /* ------------------------------------------------------------------------------------------ */
@@ -1344,7 +1406,8 @@ START_TEST(test_determinism)
     step(b, S / 3);
     step(b, S / 3);
     step(b, S - 2 * (S / 3));
-    ck_assert_msg(gr_sim_collisions(a) > 100, "only %lld collisions", (long long)gr_sim_collisions(a));
+    ck_assert_msg(gr_sim_collisions(a) > 100, "only %lld collisions",
+                  (long long)gr_sim_collisions(a));
     ck_assert_msg(same_state(a, b), "two runs with the same seed differ");
     ck_assert_int_eq(gr_sim_collisions(a), gr_sim_collisions(b));
     gr_ledger la = gr_sim_ledger(a), lb = gr_sim_ledger(b);
@@ -1356,7 +1419,8 @@ START_TEST(test_determinism)
     for (int i = 0; i < c->n; i++) {
         differ += a->x[i] != c->x[i];
     }
-    ck_assert_msg(differ > c->n / 2, "seed 78 reproduces seed 77 for %d of %d particles", c->n - differ, c->n);
+    ck_assert_msg(differ > c->n / 2, "seed 78 reproduces seed 77 for %d of %d particles",
+                  c->n - differ, c->n);
     gr_sim_free(a);
     gr_sim_free(b);
     gr_sim_free(c);
@@ -1370,13 +1434,25 @@ START_TEST(test_params_without_scene)
 {
     const int S = quick() ? 500 : 1500;
     gr_scene sc = busy_scene(77);
-    gr_sim_params p = {.dim = 2, .N = 120, .L = side_for(120, 0.5), .radius = RADIUS, .mass = MASS,
-                       .placement = GR_PLACE_UNIFORM, .v0 = 5.0, .normal = gr_model_find("spring_dashpot"),
-                       .tangential = gr_model_find("sliding_friction"),
-                       .contact = {.k_s = K_S, .eps_n = 0.6, .eps_t = 0.6, .mu = 0.5, .clamp = false},
-                       .D = D_NOISE, .noise_mode = GR_NOISE_SYMMETRISED, .com_interval = 1.0,
-                       .integrator = gr_integrator_find("verlet"), .steps_per_contact = 20.0, .skin = 0.3,
-                       .seed = 77, .source = "hand-made"};
+    gr_sim_params p = {
+        .dim = 2,
+        .N = 120,
+        .L = side_for(120, 0.5),
+        .radius = RADIUS,
+        .mass = MASS,
+        .placement = GR_PLACE_UNIFORM,
+        .v0 = 5.0,
+        .normal = gr_model_find("spring_dashpot"),
+        .tangential = gr_model_find("sliding_friction"),
+        .contact = {.k_s = K_S, .eps_n = 0.6, .eps_t = 0.6, .mu = 0.5, .clamp = false},
+        .D = D_NOISE,
+        .noise_mode = GR_NOISE_SYMMETRISED,
+        .com_interval = 1.0,
+        .integrator = gr_integrator_find("verlet"),
+        .steps_per_contact = 20.0,
+        .skin = 0.3,
+        .seed = 77,
+        .source = "hand-made"};
     gr_sim *a = create(&sc), *b = NULL;
     gr_error err = {0};
     ck_assert_msg(gr_sim_new(&p, &b, &err) == GR_OK, "%s", err.message);
@@ -1393,7 +1469,8 @@ START_TEST(test_params_without_scene)
     ck_assert_int_eq(gr_sim_new(&p, &b, &err), GR_EINVAL);
     ck_assert_ptr_null(b);
     /* the core knows no integrator by name (tests/test_layers.sh): it points to the registry */
-    ck_assert_msg(strstr(err.message, "hand-made") && strstr(err.message, "registry") && strstr(err.message, "integrator.h"),
+    ck_assert_msg(strstr(err.message, "hand-made") && strstr(err.message, "registry") &&
+                      strstr(err.message, "integrator.h"),
                   "%s", err.message);
 }
 END_TEST
@@ -1434,13 +1511,15 @@ START_TEST(test_noise_counter_based)
     }
     gr_sim *a = create_state(&sc, n, x, y, vx, vy), *b = create_state(&sc, n, px, py, pvx, pvy);
     const double amp = sqrt(2.0 * D_NOISE * gr_sim_dt(a)) / MASS;
-    double *g = malloc(sizeof(double) * 2 * n), *ka = malloc(sizeof(double) * 2 * n), *kb = malloc(sizeof(double) * 2 * n);
+    double *g = malloc(sizeof(double) * 2 * n), *ka = malloc(sizeof(double) * 2 * n),
+           *kb = malloc(sizeof(double) * 2 * n);
     int physical_same = 0;
     for (int k = 0; k < 6; k++) {
         double m[2] = {0.0, 0.0};
         for (int i = 0; i < n; i++) {
             for (int c = 0; c < 2; c++) {
-                g[2 * i + c] = gr_noise_normal1(sc.seed, GR_STREAM_NOISE, (uint64_t)k, (uint32_t)i, c);
+                g[2 * i + c] =
+                    gr_noise_normal1(sc.seed, GR_STREAM_NOISE, (uint64_t)k, (uint32_t)i, c);
                 m[c] += g[2 * i + c] / n;
             }
         }
@@ -1459,12 +1538,14 @@ START_TEST(test_noise_counter_based)
             for (int c = 0; c < 2; c++) {
                 const double want = amp * (g[2 * i + c] - m[c]);
                 ck_assert_msg(fabs(ka[2 * i + c] - want) <= 1e-12 * amp,
-                              "step %d, particle %d, component %d: kick %.17g m/s, expected sqrt(2 D dt)/M (g - <g>) = %.17g",
+                              "step %d, particle %d, component %d: kick %.17g m/s, expected sqrt(2 "
+                              "D dt)/M (g - <g>) = %.17g",
                               k, i, c, ka[2 * i + c], want);
                 /* the kick belongs to the creation index, whatever particle sits there */
-                ck_assert_msg(fabs(kb[2 * i + c] - ka[2 * i + c]) <= 1e-12 * amp,
-                              "step %d: index %d got %.17g m/s in the permuted run, %.17g in the original", k, i,
-                              kb[2 * i + c], ka[2 * i + c]);
+                ck_assert_msg(
+                    fabs(kb[2 * i + c] - ka[2 * i + c]) <= 1e-12 * amp,
+                    "step %d: index %d got %.17g m/s in the permuted run, %.17g in the original", k,
+                    i, kb[2 * i + c], ka[2 * i + c]);
             }
         }
         for (int i = 0; i < n; i++) {
@@ -1472,7 +1553,8 @@ START_TEST(test_noise_counter_based)
             physical_same += perm[i] != i ? fabs(kb[2 * i] - ka[2 * perm[i]]) <= 1e-12 * amp : 0;
         }
     }
-    VERBOSE("noise: %d of %d kicks of moved particles equal after the permutation\n", physical_same, 6 * n);
+    VERBOSE("noise: %d of %d kicks of moved particles equal after the permutation\n", physical_same,
+            6 * n);
     ck_assert_int_eq(gr_sim_collisions(a), 0);
     ck_assert_int_eq(gr_sim_collisions(b), 0);
     free(g);
@@ -1489,26 +1571,29 @@ END_TEST
 
 /* Run nsteps expecting GR_EUNSTABLE; the message must name the step the run stopped at and
  * contain every string of must_contain. early: the failure must stop the run before nsteps. */
-static void expect_unstable(gr_sim *s, int64_t nsteps, const char *const *must_contain, int nmust, int early,
-                            const char *what)
+static void expect_unstable(gr_sim *s, int64_t nsteps, const char *const *must_contain, int nmust,
+                            int early, const char *what)
 {
     gr_error err = {0};
     int rc = gr_sim_step(s, nsteps, &err);
     VERBOSE("%s: rc %d after %lld steps: %s\n", what, rc, (long long)gr_sim_steps(s), err.message);
-    ck_assert_msg(rc == GR_EUNSTABLE, "%s: gr_sim_step returned %d (%s), expected GR_EUNSTABLE", what, rc, err.message);
+    ck_assert_msg(rc == GR_EUNSTABLE, "%s: gr_sim_step returned %d (%s), expected GR_EUNSTABLE",
+                  what, rc, err.message);
     ck_assert_int_eq(err.code, GR_EUNSTABLE);
     char stepstr[64];
     snprintf(stepstr, sizeof stepstr, "step %lld", (long long)gr_sim_steps(s));
-    ck_assert_msg(strstr(err.message, stepstr) != NULL, "%s: message does not name the failing step (%s): %s", what, stepstr,
+    ck_assert_msg(strstr(err.message, stepstr) != NULL,
+                  "%s: message does not name the failing step (%s): %s", what, stepstr,
                   err.message);
     for (int k = 0; k < nmust; k++) {
-        ck_assert_msg(strstr(err.message, must_contain[k]) != NULL, "%s: message lacks \"%s\": %s", what, must_contain[k],
-                      err.message);
+        ck_assert_msg(strstr(err.message, must_contain[k]) != NULL, "%s: message lacks \"%s\": %s",
+                      what, must_contain[k], err.message);
     }
     if (early) {
         ck_assert_msg(gr_sim_steps(s) < nsteps, "%s: did not stop at the failure", what);
     }
-    ck_assert_msg(strstr(err.message, "-1") == NULL, "%s: message names a non-existent particle: %s", what, err.message);
+    ck_assert_msg(strstr(err.message, "-1") == NULL,
+                  "%s: message names a non-existent particle: %s", what, err.message);
 }
 
 /* Head-on impact at 2 x 50 m/s with dt = 2 t_c (force_dt): w0 dt = 2 pi is far beyond the
@@ -1522,7 +1607,8 @@ START_TEST(test_unstable_detected)
     sc.contact.eps_n = 0.9;
     sc.steps_per_contact = 0.5;
     sc.force_dt = true;
-    double x[2] = {9.0 * d, 10.5 * d}, y[2] = {10.0 * d, 10.0 * d}, vx[2] = {50.0, -50.0}, vy[2] = {0.0, 0.0};
+    double x[2] = {9.0 * d, 10.5 * d}, y[2] = {10.0 * d, 10.0 * d}, vx[2] = {50.0, -50.0},
+           vy[2] = {0.0, 0.0};
     gr_sim *s = create_state(&sc, 2, x, y, vx, vy);
     const char *pair[] = {"particles 0 and 1", "overlap"};
     expect_unstable(s, 1000, pair, 2, 1, "head-on at dt = 2 t_c");
@@ -1592,12 +1678,14 @@ START_TEST(test_unstable_fast_particle)
         gr_error err = {0};
         int rc = gr_sim_step(s, 1, &err);
         if (rc != GR_OK) {
-            ck_assert_msg(rc == GR_EUNSTABLE || rc == GR_EINVAL, "unexpected status %d: %s", rc, err.message);
+            ck_assert_msg(rc == GR_EUNSTABLE || rc == GR_EINVAL, "unexpected status %d: %s", rc,
+                          err.message);
             break;
         }
         for (int i = 0; i < 2; i++) {
             ck_assert_msg(s->x[i] >= 0.0 && s->x[i] < L && s->y[i] >= 0.0 && s->y[i] < L,
-                          "step %d: particle %d at (%g, %g) m, outside the box [0, %g)", k + 1, i, s->x[i], s->y[i], L);
+                          "step %d: particle %d at (%g, %g) m, outside the box [0, %g)", k + 1, i,
+                          s->x[i], s->y[i], L);
         }
     }
     gr_sim_free(s);
@@ -1654,7 +1742,4 @@ static Suite *sim_suite(void)
     return s;
 }
 
-int main(void)
-{
-    return gr_test_run(sim_suite());
-}
+int main(void) { return gr_test_run(sim_suite()); }

@@ -38,13 +38,15 @@ START_TEST(test_free_flight_moments)
     gsl_rng_set(r, 2024);
     const int n = quick() ? 40000 : 200000;
     const double t = 0.01, sigma = sqrt(2.0 * Dn) / M;
-    const double vv = 2.0 * Dn * t / (M * M), xx = 2.0 * Dn * t * t * t / (3.0 * M * M), xv = Dn * t * t / (M * M);
+    const double vv = 2.0 * Dn * t / (M * M), xx = 2.0 * Dn * t * t * t / (3.0 * M * M),
+                 xv = Dn * t * t / (M * M);
     for (int pieces = 1; pieces <= 10; pieces += 9) {
         double s_v2 = 0.0, s_x2 = 0.0, s_xv = 0.0, s_x = 0.0, s_v = 0.0;
         for (int i = 0; i < n; i++) {
             double x = 0.0, v = 0.0;
             for (int k = 0; k < pieces; k++) {
-                double g1 = gsl_ran_gaussian_ziggurat(r, 1.0), g2 = gsl_ran_gaussian_ziggurat(r, 1.0);
+                double g1 = gsl_ran_gaussian_ziggurat(r, 1.0),
+                       g2 = gsl_ran_gaussian_ziggurat(r, 1.0);
                 gr_spm_free_flight(x, v, t / pieces, sigma, g1, g2, &x, &v);
             }
             s_v2 += v * v;
@@ -58,10 +60,14 @@ START_TEST(test_free_flight_moments)
         double z_x2 = (mx2 - xx) / (sqrt(2.0 / n) * xx);
         double z_xv = (mxv - xv) / sqrt((xx * vv + xv * xv) / n);
         double z_x = (s_x / n) / sqrt(xx / n), z_v = (s_v / n) / sqrt(vv / n);
-        ck_assert_msg(fabs(z_v2) < 5.0, "%d pieces: <v^2> = %g, expected %g (z = %.2f)", pieces, mv2, vv, z_v2);
-        ck_assert_msg(fabs(z_x2) < 5.0, "%d pieces: <x^2> = %g, expected %g (z = %.2f)", pieces, mx2, xx, z_x2);
-        ck_assert_msg(fabs(z_xv) < 5.0, "%d pieces: <xv> = %g, expected %g (z = %.2f)", pieces, mxv, xv, z_xv);
-        ck_assert_msg(fabs(z_x) < 5.0 && fabs(z_v) < 5.0, "%d pieces: means z = %.2f, %.2f", pieces, z_x, z_v);
+        ck_assert_msg(fabs(z_v2) < 5.0, "%d pieces: <v^2> = %g, expected %g (z = %.2f)", pieces,
+                      mv2, vv, z_v2);
+        ck_assert_msg(fabs(z_x2) < 5.0, "%d pieces: <x^2> = %g, expected %g (z = %.2f)", pieces,
+                      mx2, xx, z_x2);
+        ck_assert_msg(fabs(z_xv) < 5.0, "%d pieces: <xv> = %g, expected %g (z = %.2f)", pieces, mxv,
+                      xv, z_xv);
+        ck_assert_msg(fabs(z_x) < 5.0 && fabs(z_v) < 5.0, "%d pieces: means z = %.2f, %.2f", pieces,
+                      z_x, z_v);
     }
     /* the deterministic part: no noise, x1 = x0 + v0 tau */
     double x1, v1;
@@ -83,8 +89,10 @@ START_TEST(test_bridge_midpoint)
     double sx2 = 0.0, sv2 = 0.0, sxe = 0.0, sve = 0.0, se2 = 0.0;
     for (int i = 0; i < n; i++) {
         double x0 = gsl_ran_gaussian(r, 1.0), v0 = gsl_ran_gaussian(r, 1.0), xm, vm, x1, v1;
-        gr_spm_free_flight(x0, v0, h, sigma, gsl_ran_gaussian(r, 1.0), gsl_ran_gaussian(r, 1.0), &xm, &vm);
-        gr_spm_free_flight(xm, vm, h, sigma, gsl_ran_gaussian(r, 1.0), gsl_ran_gaussian(r, 1.0), &x1, &v1);
+        gr_spm_free_flight(x0, v0, h, sigma, gsl_ran_gaussian(r, 1.0), gsl_ran_gaussian(r, 1.0),
+                           &xm, &vm);
+        gr_spm_free_flight(xm, vm, h, sigma, gsl_ran_gaussian(r, 1.0), gsl_ran_gaussian(r, 1.0),
+                           &x1, &v1);
         double mx, mv;
         gr_spm_bridge_midpoint(x0, v0, x1, v1, h, sigma, 0.0, 0.0, &mx, &mv);
         double rx = xm - mx, rv = vm - mv, e = v1 - v0;
@@ -95,11 +103,15 @@ START_TEST(test_bridge_midpoint)
         se2 += e * e;
     }
     double ex = sigma * sigma * h * h * h / 24.0, ev = sigma * sigma * h / 8.0;
-    ck_assert_msg(fabs(sx2 / n / ex - 1.0) < 5.0 * sqrt(2.0 / n), "Var x_m = %g, expected %g", sx2 / n, ex);
-    ck_assert_msg(fabs(sv2 / n / ev - 1.0) < 5.0 * sqrt(2.0 / n), "Var v_m = %g, expected %g", sv2 / n, ev);
+    ck_assert_msg(fabs(sx2 / n / ex - 1.0) < 5.0 * sqrt(2.0 / n), "Var x_m = %g, expected %g",
+                  sx2 / n, ex);
+    ck_assert_msg(fabs(sv2 / n / ev - 1.0) < 5.0 * sqrt(2.0 / n), "Var v_m = %g, expected %g",
+                  sv2 / n, ev);
     double ee = se2 / n;
-    ck_assert_msg(fabs(sxe / n) < 5.0 * sqrt(ex * ee / n), "residual x correlates with the ends: %g", sxe / n);
-    ck_assert_msg(fabs(sve / n) < 5.0 * sqrt(ev * ee / n), "residual v correlates with the ends: %g", sve / n);
+    ck_assert_msg(fabs(sxe / n) < 5.0 * sqrt(ex * ee / n),
+                  "residual x correlates with the ends: %g", sxe / n);
+    ck_assert_msg(fabs(sve / n) < 5.0 * sqrt(ev * ee / n),
+                  "residual v correlates with the ends: %g", sve / n);
     /* the sampled midpoint has the right spread too */
     double xm, vm;
     gr_spm_bridge_midpoint(0.0, 0.0, 0.0, 0.0, h, sigma, 1.0, 0.0, &xm, &vm);
@@ -134,15 +146,18 @@ START_TEST(test_constants_convention)
     double v2 = 0.0; /* Q is the density of the signed scaled component: 2 int_0^wmax Q w^2 dw */
     const gr_histogram *h = &q.q.all;
     for (int i = 0; i < h->nbins; i++) {
-        double w = gr_histogram_center(h, i), dw = gr_histogram_upper(h, i) - gr_histogram_lower(h, i);
+        double w = gr_histogram_center(h, i),
+               dw = gr_histogram_upper(h, i) - gr_histogram_lower(h, i);
         v2 += 2.0 * gr_spm_dist_density(&q.q, i) * w * w * dw;
     }
     v2 *= q.u * q.u;
     const double v2_c = c.c * pow(s.D * l / (s.mass * s.mass), 2.0 / 3.0);
     ck_assert_msg(fabs(v2_c / v2 - 1.0) < 0.03, "<v_x^2> = %g from c, %g from Q", v2_c, v2);
-    const double T = q.stats.exit_time_mean * q.t_scale, T_c = c.c_prime * cbrt(l * l * s.mass * s.mass / s.D);
+    const double T = q.stats.exit_time_mean * q.t_scale,
+                 T_c = c.c_prime * cbrt(l * l * s.mass * s.mass / s.D);
     ck_assert_msg(fabs(T_c / T - 1.0) < 1e-12, "<T_fp> = %g s from c', %g s measured", T_c, T);
-    ck_assert(c.c_err > 0.0 && c.c_err < 0.05 * c.c && c.c_prime_err > 0.0 && c.c_prime_err < 0.05 * c.c_prime);
+    ck_assert(c.c_err > 0.0 && c.c_err < 0.05 * c.c && c.c_prime_err > 0.0 &&
+              c.c_prime_err < 0.05 * c.c_prime);
     /* pooling: an inverse-variance mean lies between its inputs with a smaller error */
     gr_spm_constants per[2] = {{1.0, 0.1, 2.0, 0.2}, {1.2, 0.1, 2.4, 0.1}}, pooled;
     gr_spm_constants_pool(per, 2, &pooled);
@@ -175,7 +190,8 @@ START_TEST(test_w2_error_calibrated)
         var += (m[k] - mean) * (m[k] - mean) / (K - 1);
     }
     const double ratio = sqrt(var) / e_mean;
-    ck_assert_msg(ratio > 0.55 && ratio < 1.5, "scatter of <w^2> over seeds / its error bar = %g", ratio);
+    ck_assert_msg(ratio > 0.55 && ratio < 1.5, "scatter of <w^2> over seeds / its error bar = %g",
+                  ratio);
 }
 END_TEST
 
@@ -216,7 +232,8 @@ START_TEST(test_collapse)
     s.walks = quick() ? 3000 : 8000;
     s.batches = 20;
     s.seed = 5;
-    s.dt = 0.004 * gr_spm_time_scale(&s, 0.005); /* 0.004 t_l for the small radius, 0.001 for the large */
+    s.dt = 0.004 *
+           gr_spm_time_scale(&s, 0.005); /* 0.004 t_l for the small radius, 0.001 for the large */
     gr_spm_q a, b, c;
     circle(&s, 0.005, 0, &a);
     circle(&s, 0.04, 1, &b);
@@ -226,22 +243,23 @@ START_TEST(test_collapse)
     gr_error err = {0};
     ck_assert_msg(gr_spm_q_collapse(&a, &b, 20.0, 500, &col, &err) == 0, "%s", err.message);
     ck_assert_msg(col.dof >= 25, "only %d bins compared", col.dof);
-    ck_assert_msg(col.p_value > 0.002, "no collapse: chi2/dof = %.3f over %d bins, permutation p = %.4f", col.chi2_red, col.dof,
-                  col.p_value);
+    ck_assert_msg(col.p_value > 0.002,
+                  "no collapse: chi2/dof = %.3f over %d bins, permutation p = %.4f", col.chi2_red,
+                  col.dof, col.p_value);
     /* the mean first-passage time in units of t_l agrees too */
     double dT = a.stats.exit_time_mean - b.stats.exit_time_mean;
-    ck_assert_msg(fabs(dT) < 4.0 * hypot(a.stats.exit_time_err, b.stats.exit_time_err), "exit times %g, %g t_l",
-                  a.stats.exit_time_mean, b.stats.exit_time_mean);
+    ck_assert_msg(fabs(dT) < 4.0 * hypot(a.stats.exit_time_err, b.stats.exit_time_err),
+                  "exit times %g, %g t_l", a.stats.exit_time_mean, b.stats.exit_time_mean);
     /* Ito: E|v_T|^2 = dim E[T] (units of the walk), up to the detection of the exit */
-    ck_assert_msg(fabs(a.stats.exit_speed2_mean / a.stats.exit_time_mean / 2.0 - 1.0) < 0.05, "E|v_T|^2 / E T = %g",
-                  a.stats.exit_speed2_mean / a.stats.exit_time_mean);
+    ck_assert_msg(fabs(a.stats.exit_speed2_mean / a.stats.exit_time_mean / 2.0 - 1.0) < 0.05,
+                  "E|v_T|^2 / E T = %g", a.stats.exit_speed2_mean / a.stats.exit_time_mean);
     /* negative control: a different shape (1D) is told apart */
     gr_spm_settings s1 = s;
     s1.dim = 1;
     circle(&s1, 0.005, 2, &c);
     ck_assert_msg(gr_spm_q_collapse(&a, &c, 20.0, 500, &col, &err) == 0, "%s", err.message);
-    ck_assert_msg(col.p_value < 0.01 && col.chi2_red > 3.0, "1D and 2D Q not told apart: chi2/dof %.3f, p %.4f", col.chi2_red,
-                  col.p_value);
+    ck_assert_msg(col.p_value < 0.01 && col.chi2_red > 3.0,
+                  "1D and 2D Q not told apart: chi2/dof %.3f, p %.4f", col.chi2_red, col.p_value);
     gr_spm_q_free(&a);
     gr_spm_q_free(&b);
     gr_spm_q_free(&c);
@@ -252,7 +270,8 @@ END_TEST
  * flight (gr_spm_free_flight) with sigma = sqrt(2D)/M at a fixed dt, stopped at the first sample
  * outside the disc; every sample (weight 1: uniform in time) of |v_x|, |v_y| goes to h[j] after
  * division by scale[j]. */
-static void physical_walk(gsl_rng *r, double l, double dt, const double scale[3], gr_histogram *h[3])
+static void physical_walk(gsl_rng *r, double l, double dt, const double scale[3],
+                          gr_histogram *h[3])
 {
     const double sigma = sqrt(2.0 * Dn) / M;
     double x[2] = {0.0, 0.0}, v[2] = {0.0, 0.0};
@@ -272,7 +291,8 @@ static void physical_walk(gsl_rng *r, double l, double dt, const double scale[3]
 }
 
 /* Q of radius l in physical units, histogrammed in v / (k l^(1/3) f[j]), k = (2D/M^2)^(1/3) */
-static void physical_q(gsl_rng *r, double l, const double f[3], int walks, int batches, gr_spm_q q[3])
+static void physical_q(gsl_rng *r, double l, const double f[3], int walks, int batches,
+                       gr_spm_q q[3])
 {
     gr_error err = {0};
     for (int j = 0; j < 3; j++) {
@@ -282,7 +302,8 @@ static void physical_q(gsl_rng *r, double l, const double f[3], int walks, int b
     const double k = cbrt(2.0 * Dn / (M * M)), dt = 2e-5;
     const double scale[3] = {k * cbrt(l) * f[0], k * cbrt(l) * f[1], k * cbrt(l) * f[2]};
     for (int w = 0; w < walks; w++) {
-        gr_histogram *h[3] = {&q[0].q.batch[w % batches], &q[1].q.batch[w % batches], &q[2].q.batch[w % batches]};
+        gr_histogram *h[3] = {&q[0].q.batch[w % batches], &q[1].q.batch[w % batches],
+                              &q[2].q.batch[w % batches]};
         physical_walk(r, l, dt, scale, h);
     }
     for (int j = 0; j < 3; j++) {
@@ -310,23 +331,28 @@ START_TEST(test_collapse_physical_units)
     /* q[1]: the wrong exponent, v / l^(1/2), written as v / (l^(1/3) (l / l_g)^(1/6)) to keep the
      * range; q[2]: v / u_l with the library's u_l */
     const double k = cbrt(2.0 * Dn / (M * M));
-    const double fa[3] = {1.0, pow(la / lg, 1.0 / 6.0), gr_spm_velocity_scale(&s, la) / (k * cbrt(la))};
-    const double fb[3] = {1.0, pow(lb / lg, 1.0 / 6.0), gr_spm_velocity_scale(&s, lb) / (k * cbrt(lb))};
+    const double fa[3] = {1.0, pow(la / lg, 1.0 / 6.0),
+                          gr_spm_velocity_scale(&s, la) / (k * cbrt(la))};
+    const double fb[3] = {1.0, pow(lb / lg, 1.0 / 6.0),
+                          gr_spm_velocity_scale(&s, lb) / (k * cbrt(lb))};
     gr_spm_q a[3], b[3], lib;
     physical_q(r, la, fa, walks, B, a);
     physical_q(r, lb, fb, walks, B, b);
     gr_spm_collapse col;
     gr_error err = {0};
     ck_assert_msg(gr_spm_q_collapse(&a[0], &b[0], 20.0, 500, &col, &err) == 0, "%s", err.message);
-    ck_assert_msg(col.p_value > 0.002, "v / l^(1/3) does not collapse: chi2/dof %.3f (%d bins), p = %.4f", col.chi2_red,
+    ck_assert_msg(col.p_value > 0.002,
+                  "v / l^(1/3) does not collapse: chi2/dof %.3f (%d bins), p = %.4f", col.chi2_red,
                   col.dof, col.p_value);
     ck_assert_msg(gr_spm_q_collapse(&a[1], &b[1], 20.0, 500, &col, &err) == 0, "%s", err.message);
-    ck_assert_msg(col.p_value < 0.002 && col.chi2_red > 3.0, "v / l^(1/2) collapses too: chi2/dof %.3f, p = %.4f",
-                  col.chi2_red, col.p_value);
+    ck_assert_msg(col.p_value < 0.002 && col.chi2_red > 3.0,
+                  "v / l^(1/2) collapses too: chi2/dof %.3f, p = %.4f", col.chi2_red, col.p_value);
     circle(&s, la, 0, &lib);
     ck_assert_msg(gr_spm_q_collapse(&a[2], &lib, 20.0, 500, &col, &err) == 0, "%s", err.message);
-    ck_assert_msg(col.p_value > 0.002, "library Q(v, 2.5 mm) differs from the physical-unit walks: chi2/dof %.3f, p = %.4f",
-                  col.chi2_red, col.p_value);
+    ck_assert_msg(
+        col.p_value > 0.002,
+        "library Q(v, 2.5 mm) differs from the physical-unit walks: chi2/dof %.3f, p = %.4f",
+        col.chi2_red, col.p_value);
     for (int j = 0; j < 3; j++) {
         gr_spm_q_free(&a[j]);
         gr_spm_q_free(&b[j]);
@@ -353,10 +379,12 @@ START_TEST(test_gaussian_tail)
     ck_assert_msg(gr_spm_q_tail_fit(&q, 2.5, 20.0, &f, &err) == 0, "%s", err.message);
     ck_assert_msg(f.b > 0.8 && f.b < 1.15, "b = %g +- %g", f.b, f.b_err);
     ck_assert_msg(f.b_err > 0.0 && f.b_err < 0.1, "b error %g", f.b_err);
-    ck_assert_msg(fabs(f.b - 0.98) < 4.0 * f.b_err + 0.05, "b = %g +- %g against 0.98", f.b, f.b_err);
+    ck_assert_msg(fabs(f.b - 0.98) < 4.0 * f.b_err + 0.05, "b = %g +- %g against 0.98", f.b,
+                  f.b_err);
     /* <w^2> in time and the mean exit time (measured: 0.512, 1.48) */
     ck_assert_msg(fabs(q.stats.w2_time_mean - 0.512) < 0.02, "<w^2> = %g", q.stats.w2_time_mean);
-    ck_assert_msg(fabs(q.stats.exit_time_mean - 1.48) < 0.05, "<T> = %g t_l", q.stats.exit_time_mean);
+    ck_assert_msg(fabs(q.stats.exit_time_mean - 1.48) < 0.05, "<T> = %g t_l",
+                  q.stats.exit_time_mean);
     gr_spm_q_free(&q);
 }
 END_TEST
@@ -377,8 +405,9 @@ START_TEST(test_reproducible)
     circle(&s, 0.02, 0, &c);
     bool differ = false;
     for (int i = 0; i < a.q.all.nbins; i++) {
-        ck_assert_msg(fabs(a.q.all.count[i] - b.q.all.count[i]) <= 1e-9 * fmax(1.0, a.q.all.count[i]), "bin %d: %g vs %g", i,
-                      a.q.all.count[i], b.q.all.count[i]);
+        ck_assert_msg(fabs(a.q.all.count[i] - b.q.all.count[i]) <=
+                          1e-9 * fmax(1.0, a.q.all.count[i]),
+                      "bin %d: %g vs %g", i, a.q.all.count[i], b.q.all.count[i]);
         differ |= a.q.all.count[i] != c.q.all.count[i];
     }
     ck_assert(a.stats.exit_time_mean == b.stats.exit_time_mean);
@@ -405,8 +434,8 @@ START_TEST(test_refinement_knob)
     ck_assert_int_eq(a.stats.bridge_points, 0);
     ck_assert(b.stats.bridge_points > 0);
     ck_assert(b.stats.exit_time_mean <= a.stats.exit_time_mean);
-    ck_assert_msg(fabs(a.stats.exit_time_mean - b.stats.exit_time_mean) < 0.02, "%g vs %g", a.stats.exit_time_mean,
-                  b.stats.exit_time_mean);
+    ck_assert_msg(fabs(a.stats.exit_time_mean - b.stats.exit_time_mean) < 0.02, "%g vs %g",
+                  a.stats.exit_time_mean, b.stats.exit_time_mean);
     gr_spm_q_free(&a);
     gr_spm_q_free(&b);
 }
@@ -484,7 +513,8 @@ START_TEST(test_free_paths)
     for (int i = 0; i <= 600; i++) {
         /* with 1% scatter, as a measured table has (gr_fit_nonlinear does not converge on exact
          * data: its residual is zero) */
-        double l = 1e-12 * pow(1e11, i / 600.0), p = gr_spm_pl_density(&w, l), g = sin(i * 12.9898) * 43758.5453;
+        double l = 1e-12 * pow(1e11, i / 600.0), p = gr_spm_pl_density(&w, l),
+               g = sin(i * 12.9898) * 43758.5453;
         g = 2.0 * (g - floor(g)) - 1.0;
         k += sprintf(text + k, "%.12g,%.12g,%.12g\n", l, p * (1.0 + 0.01 * g), 0.01 * p);
     }
@@ -496,14 +526,16 @@ START_TEST(test_free_paths)
     ck_assert_msg(gr_spm_pl_load(&t, path, 0.0, &err) == 0, "%s", err.message);
     ck_assert_int_eq(t.n, 601);
     ck_assert(t.perr != NULL);
-    ck_assert_msg(fabs(gr_spm_pl_mean(&t) / mean - 1.0) < 0.01, "table mean %g vs %g", gr_spm_pl_mean(&t), mean);
+    ck_assert_msg(fabs(gr_spm_pl_mean(&t) / mean - 1.0) < 0.01, "table mean %g vs %g",
+                  gr_spm_pl_mean(&t), mean);
     for (double u = 0.1; u < 0.95; u += 0.2) {
         double a = gr_spm_pl_quantile(&t, u), b = gr_spm_pl_quantile(&w, u);
         ck_assert_msg(fabs(a / b - 1.0) < 0.01, "quantile %g: %g vs %g", u, a, b);
     }
     gr_spm_pl_fit fit;
     ck_assert_msg(gr_spm_pl_fit_tail(&t, 1e-4, &fit, &err) == 0, "%s", err.message);
-    ck_assert_msg(fabs(fit.df - 1.63) < 0.01 && fabs(fit.C / 121.0 - 1.0) < 0.03, "fit D_f = %g, C = %g", fit.df, fit.C);
+    ck_assert_msg(fabs(fit.df - 1.63) < 0.01 && fabs(fit.C / 121.0 - 1.0) < 0.03,
+                  "fit D_f = %g, C = %g", fit.df, fit.C);
     gr_spm_pl_free(&t);
     /* the time-weighted full SPM: <v^2> = <w^2>_Q (2D/M^2)^(2/3) E[l^(4/3)] / E[l^(2/3)], since a walk of
      * radius l lasts ~ t_l ~ l^(2/3) and has velocities ~ u_l ~ l^(1/3) */
@@ -517,13 +549,15 @@ START_TEST(test_free_paths)
     double El43 = pow(Cc, -(4.0 / 3.0) / beta) * gsl_sf_gamma(1.0 + (4.0 / 3.0) / beta);
     double El23 = pow(Cc, -(2.0 / 3.0) / beta) * gsl_sf_gamma(1.0 + (2.0 / 3.0) / beta);
     double expect = 0.512 * pow(2.0 * Dn / (M * M), 2.0 / 3.0) * El43 / El23;
-    ck_assert_msg(fabs(r.v2_mean / expect - 1.0) < 0.06, "<v^2> = %g, expected %g", r.v2_mean, expect);
+    ck_assert_msg(fabs(r.v2_mean / expect - 1.0) < 0.06, "<v^2> = %g, expected %g", r.v2_mean,
+                  expect);
     ck_assert_msg(fabs(r.l_mean / mean - 1.0) < 0.05, "<l> drawn %g vs %g", r.l_mean, mean);
     /* importance sampling of long free paths leaves <v^2> unchanged within errors */
     s.tilt = 4.0;
     gr_spm_full_result r4;
     ck_assert_msg(gr_spm_full(&s, &w, true, 60, 3.0, &r4, &err) == 0, "%s", err.message);
-    ck_assert_msg(fabs(r4.v2_mean / expect - 1.0) < 0.06, "tilted <v^2> = %g, expected %g", r4.v2_mean, expect);
+    ck_assert_msg(fabs(r4.v2_mean / expect - 1.0) < 0.06, "tilted <v^2> = %g, expected %g",
+                  r4.v2_mean, expect);
     gr_spm_full_result_free(&r);
     gr_spm_full_result_free(&r4);
 }
@@ -591,7 +625,8 @@ START_TEST(test_rfm_reader_and_compare)
     ck_assert(gr_spm_compare_tails(v, ps, es, pr, er, N, 0.5, 3.0, true, &c, &err) == 0);
     ck_assert_msg(fabs(c.s - 1.25) < 0.01 && fabs(c.k - 0.7) < 0.02, "s = %g, k = %g", c.s, c.k);
     ck_assert(gr_spm_compare_tails(v, ps, es, pr, er, N, 0.5, 3.0, false, &c, &err) == 0);
-    ck_assert_msg(c.decades < 1.0 && c.frac_within < 0.5, "an unscaled curve agreed: %g decades", c.decades);
+    ck_assert_msg(c.decades < 1.0 && c.frac_within < 0.5, "an unscaled curve agreed: %g decades",
+                  c.decades);
 }
 END_TEST
 
@@ -605,8 +640,9 @@ START_TEST(test_refusals)
         const char *what;
         void (*set)(gr_spm_settings *);
     } bad[] = {
-        {"dim 3", NULL}, {"mass 0", NULL}, {"D < 0", NULL}, {"step 0", NULL}, {"step 0.5", NULL},
-        {"dt < 0", NULL}, {"refine 31", NULL}, {"walks 1", NULL}, {"batches 1", NULL}, {"tilt 0.5", NULL},
+        {"dim 3", NULL},     {"mass 0", NULL},   {"D < 0", NULL},     {"step 0", NULL},
+        {"step 0.5", NULL},  {"dt < 0", NULL},   {"refine 31", NULL}, {"walks 1", NULL},
+        {"batches 1", NULL}, {"tilt 0.5", NULL},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         b = s;
@@ -624,7 +660,8 @@ START_TEST(test_refusals)
         }
         err.message[0] = 0;
         ck_assert_msg(gr_spm_settings_check(&b, &err) == GR_EINVAL, "%s accepted", bad[i].what);
-        ck_assert_msg(err.message[0] && !strchr(err.message, '\n'), "%s: no one-line message", bad[i].what);
+        ck_assert_msg(err.message[0] && !strchr(err.message, '\n'), "%s: no one-line message",
+                      bad[i].what);
     }
     gr_spm_q q;
     ck_assert(gr_spm_circle(&s, 0.0, 0, 45, 4.5, &q, &err) == GR_EINVAL);
@@ -657,26 +694,31 @@ START_TEST(test_refusals)
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         write_file("bad.csv", files[i].text);
         snprintf(path, sizeof path, "%s/bad.csv", tmpdir);
-        ck_assert_msg(gr_spm_pl_load(&pl, path, 0.0, &err) == GR_EINVAL, "%s accepted", files[i].why);
-        ck_assert_msg(strstr(err.message, "bad.csv") != NULL, "%s: message does not name the file: %s", files[i].why,
-                      err.message);
+        ck_assert_msg(gr_spm_pl_load(&pl, path, 0.0, &err) == GR_EINVAL, "%s accepted",
+                      files[i].why);
+        ck_assert_msg(strstr(err.message, "bad.csv") != NULL,
+                      "%s: message does not name the file: %s", files[i].why, err.message);
     }
     snprintf(path, sizeof path, "%s/missing.csv", tmpdir);
     ck_assert(gr_spm_pl_load(&pl, path, 0.0, &err) != 0);
     /* "density" and "density_error" (gr_histogram_write_csv's names) are accepted */
-    write_file("hist.csv", "# c\nl_lo,l_hi,l,count,density,density_error\n0,0.2,0.1,5,1,0.1\n0.2,0.4,0.3,3,0.5,0.1\n"
-                           "0.4,0.6,0.5,1,0.25,0.1\n");
+    write_file(
+        "hist.csv",
+        "# c\nl_lo,l_hi,l,count,density,density_error\n0,0.2,0.1,5,1,0.1\n0.2,0.4,0.3,3,0.5,0.1\n"
+        "0.4,0.6,0.5,1,0.25,0.1\n");
     snprintf(path, sizeof path, "%s/hist.csv", tmpdir);
     ck_assert_msg(gr_spm_pl_load(&pl, path, 0.0, &err) == 0, "%s", err.message);
     ck_assert(pl.n == 3 && pl.perr != NULL);
     gr_spm_pl_free(&pl);
     /* a run's freepath.csv: free paths in diameters, converted with the diameter */
-    write_file("freepath.csv", "# c\nl_over_d_lo,l_over_d_hi,l_over_d,count,density,density_error\n"
-                               "0,0.2,0.1,5,1,0.1\n0.2,0.4,0.3,3,0.5,0.1\n0.4,0.6,0.5,1,0.25,0.1\n");
+    write_file("freepath.csv",
+               "# c\nl_over_d_lo,l_over_d_hi,l_over_d,count,density,density_error\n"
+               "0,0.2,0.1,5,1,0.1\n0.2,0.4,0.3,3,0.5,0.1\n0.4,0.6,0.5,1,0.25,0.1\n");
     snprintf(path, sizeof path, "%s/freepath.csv", tmpdir);
     ck_assert(gr_spm_pl_load(&pl, path, 0.0, &err) == GR_EINVAL);
     ck_assert_msg(gr_spm_pl_load(&pl, path, 0.003, &err) == 0, "%s", err.message);
-    ck_assert(fabs(pl.l[1] - 0.0009) < 1e-15 && fabs(gr_spm_pl_mean(&pl) / 0.003 - 0.0575 / 0.225) < 1e-9);
+    ck_assert(fabs(pl.l[1] - 0.0009) < 1e-15 &&
+              fabs(gr_spm_pl_mean(&pl) / 0.003 - 0.0575 / 0.225) < 1e-9);
     gr_spm_pl_free(&pl);
 }
 END_TEST
@@ -684,7 +726,8 @@ END_TEST
 int main(void)
 {
     gsl_set_error_handler_off();
-    snprintf(tmpdir, sizeof tmpdir, "%s/granule-test-spm-XXXXXX", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+    snprintf(tmpdir, sizeof tmpdir, "%s/granule-test-spm-XXXXXX",
+             getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
     if (!mkdtemp(tmpdir)) {
         perror("mkdtemp");
         return EXIT_FAILURE;

@@ -18,8 +18,8 @@
 /* A symmetric histogram of one velocity component on [-vmax, vmax): expected counts N dv f(|v|), f
  * being 5.31 (normalisation irrelevant for the tail), drawn Poisson when rng is given. density and
  * sqrt(X) errors as the pv observable writes them (A.5). */
-static void synthetic_pv(gsl_rng *rng, double N, double vmax, double lnA0, double h, double S, double alpha, double *v,
-                         double *p, double *e)
+static void synthetic_pv(gsl_rng *rng, double N, double vmax, double lnA0, double h, double S,
+                         double alpha, double *v, double *p, double *e)
 {
     const double dv = 2.0 * vmax / NB;
     for (int i = 0; i < NB; i++) {
@@ -60,7 +60,8 @@ START_TEST(test_531_recovers_S)
     gr_spm_settings_default(&st);
     gr_spm_prediction pred;
     gr_error err = {0};
-    ck_assert(gr_spm_predict(1.63, gr_spm_B(&st, GR_SPM_THESIS_B_COEF), 121.0, &pred, &err) == GR_OK);
+    ck_assert(gr_spm_predict(1.63, gr_spm_B(&st, GR_SPM_THESIS_B_COEF), 121.0, &pred, &err) ==
+              GR_OK);
     ck_assert(fabs(pred.S - 9.48) < 0.01);
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(rng, 7);
@@ -72,22 +73,28 @@ START_TEST(test_531_recovers_S)
         synthetic_pv(rng, 3e7, 3.6, lnA0, pred.h, pred.S, pred.alpha, v, p, e);
         const int n = gr_spm_fold_pv(v, p, e, NB, vf, pf, ef, cf);
         gr_spm_tail531 t;
-        ck_assert_msg(gr_spm_tail531_fit(vf, pf, ef, cf, n, P0, v_rms, pred.alpha, pred.h, 2.0, INFINITY, 50.0, pred.S, &t, &err) ==
-                          GR_OK,
+        ck_assert_msg(gr_spm_tail531_fit(vf, pf, ef, cf, n, P0, v_rms, pred.alpha, pred.h, 2.0,
+                                         INFINITY, 50.0, pred.S, &t, &err) == GR_OK,
                       "%s", err.message);
-        ck_assert_msg(t.n_points > 20 && t.v_lo >= 2.0 * v_rms && t.decades > 3.0, "%d bins from %g m/s, %g decades", t.n_points, t.v_lo, t.decades);
+        ck_assert_msg(t.n_points > 20 && t.v_lo >= 2.0 * v_rms && t.decades > 3.0,
+                      "%d bins from %g m/s, %g decades", t.n_points, t.v_lo, t.decades);
         ck_assert_msg(t.S_err > 0.0 && t.S_err < 0.02 * pred.S, "S error %g", t.S_err);
-        ck_assert_msg(t.chi2_red > 0.4 && t.chi2_red < 2.0, "chi2/dof %g for the true model", t.chi2_red);
+        ck_assert_msg(t.chi2_red > 0.4 && t.chi2_red < 2.0, "chi2/dof %g for the true model",
+                      t.chi2_red);
         agree += fabs(t.S - pred.S) < 2.0 * t.S_err && fabs(t.lnA0 - lnA0) < 2.0 * t.lnA0_err;
-        ck_assert_msg(fabs(t.S - pred.S) < 4.0 * t.S_err, "S = %g +- %g, drawn with %g", t.S, t.S_err, pred.S);
+        ck_assert_msg(fabs(t.S - pred.S) < 4.0 * t.S_err, "S = %g +- %g, drawn with %g", t.S,
+                      t.S_err, pred.S);
         ck_assert(fabs(t.A0_over_P0 - 20.0 / P0) < 4.0 * t.lnA0_err * 20.0 / P0);
         ck_assert(fabs(t.lnA0_at_S_pred - lnA0) < 0.01);
         /* a wrong alpha does not fit the same counts */
         gr_spm_tail531 w;
-        ck_assert(gr_spm_tail531_fit(vf, pf, ef, cf, n, P0, v_rms, 0.8, pred.h, 2.0, INFINITY, 50.0, 0.0, &w, &err) == GR_OK);
-        ck_assert_msg(w.chi2_red > 3.0, "alpha = 0.8 fits the alpha = 0.97 counts: chi2/dof %g", w.chi2_red);
+        ck_assert(gr_spm_tail531_fit(vf, pf, ef, cf, n, P0, v_rms, 0.8, pred.h, 2.0, INFINITY, 50.0,
+                                     0.0, &w, &err) == GR_OK);
+        ck_assert_msg(w.chi2_red > 3.0, "alpha = 0.8 fits the alpha = 0.97 counts: chi2/dof %g",
+                      w.chi2_red);
     }
-    ck_assert_msg(agree >= trials - 2, "S and A0 within 2 sigma in only %d of %d draws", agree, trials);
+    ck_assert_msg(agree >= trials - 2, "S and A0 within 2 sigma in only %d of %d draws", agree,
+                  trials);
     gsl_rng_free(rng);
 }
 END_TEST
@@ -102,15 +109,22 @@ START_TEST(test_tail_plot_slopes)
     const int n = gr_spm_fold_pv(v, p, e, NB, vf, pf, ef, cf);
     gr_spm_tail531 t;
     gr_error err = {0};
-    ck_assert(gr_spm_tail531_fit(vf, pf, ef, cf, n, A0 / 7.5, 0.2, alpha, 0.0, 2.0, 8.0, 50.0, 0.0, &t, &err) == GR_OK);
+    ck_assert(gr_spm_tail531_fit(vf, pf, ef, cf, n, A0 / 7.5, 0.2, alpha, 0.0, 2.0, 8.0, 50.0, 0.0,
+                                 &t, &err) == GR_OK);
     ck_assert_msg(fabs(t.S - S) < 1e-9 && fabs(t.A0 - A0) < 1e-9 * A0, "S %g, A0 %g", t.S, t.A0);
     ck_assert(fabs(t.A0_over_P0 - 7.5) < 1e-9);
-    ck_assert_msg(fabs(t.slope_A0 + alpha) < 1e-9, "slope with P' = A0: %.12g, expected %g", t.slope_A0, -alpha);
-    ck_assert_msg(t.slope_P0 < -alpha - 0.05, "slope with P' = P(0): %g, expected steeper than %g", t.slope_P0, -alpha);
+    ck_assert_msg(fabs(t.slope_A0 + alpha) < 1e-9, "slope with P' = A0: %.12g, expected %g",
+                  t.slope_A0, -alpha);
+    ck_assert_msg(t.slope_P0 < -alpha - 0.05, "slope with P' = P(0): %g, expected steeper than %g",
+                  t.slope_P0, -alpha);
     ck_assert(t.v_hi <= 8.0 * 0.2 + 1e-12 && isnan(t.lnA0_at_S_pred));
     /* too few bins in the window: refused, with the window in the message */
-    ck_assert_int_eq(gr_spm_tail531_fit(vf, pf, ef, cf, n, A0 / 7.5, 0.2, alpha, 0.0, 2.0, 2.01, 50.0, 0.0, &t, &err), GR_EINVAL);
-    ck_assert_int_eq(gr_spm_tail531_fit(vf, pf, ef, cf, n, 0.0, 0.2, alpha, 0.0, 2.0, 8.0, 50.0, 0.0, &t, &err), GR_EINVAL);
+    ck_assert_int_eq(gr_spm_tail531_fit(vf, pf, ef, cf, n, A0 / 7.5, 0.2, alpha, 0.0, 2.0, 2.01,
+                                        50.0, 0.0, &t, &err),
+                     GR_EINVAL);
+    ck_assert_int_eq(
+        gr_spm_tail531_fit(vf, pf, ef, cf, n, 0.0, 0.2, alpha, 0.0, 2.0, 8.0, 50.0, 0.0, &t, &err),
+        GR_EINVAL);
 }
 END_TEST
 
@@ -129,8 +143,10 @@ START_TEST(test_pl_fit_C)
     ck_assert(gr_spm_pl_fit_C(l, p, e, 60, beta, 1e-3, 0.05, &c, &c_err, &chi2, &err) == GR_OK);
     ck_assert_msg(fabs(c - C) < 1e-6 * C && chi2 < 1e-9, "C = %g (chi2/dof %g)", c, chi2);
     ck_assert(gr_spm_pl_fit_C(l, p, e, 60, 0.5, 1e-3, 0.05, &c, &c_err, &chi2, &err) == GR_OK);
-    ck_assert_msg(chi2 > 100.0 && fabs(c - C) > 0.1 * C, "the wrong D_f fits: C = %g, chi2/dof %g", c, chi2);
-    ck_assert_int_eq(gr_spm_pl_fit_C(l, p, e, 60, 0.63, 1.0, 2.0, &c, &c_err, &chi2, &err), GR_EINVAL);
+    ck_assert_msg(chi2 > 100.0 && fabs(c - C) > 0.1 * C, "the wrong D_f fits: C = %g, chi2/dof %g",
+                  c, chi2);
+    ck_assert_int_eq(gr_spm_pl_fit_C(l, p, e, 60, 0.63, 1.0, 2.0, &c, &c_err, &chi2, &err),
+                     GR_EINVAL);
 }
 END_TEST
 
@@ -138,7 +154,8 @@ END_TEST
  * higher, gives k = 0.4, every tail bin within 3 sigma, and the same alpha for both; a Gaussian SPM
  * curve of the same v_rms does not agree and has alpha 2; v_rms is the distribution's. */
 #define NC 200
-static void stretched(gsl_rng *rng, double N, double v0, double a, double scale, double *v, double *p, double *e)
+static void stretched(gsl_rng *rng, double N, double v0, double a, double scale, double *v,
+                      double *p, double *e)
 {
     const double dv = 1.0 / NC, norm = v0 * tgamma(1.0 / a) / a; /* int_0^inf exp(-(v/v0)^a) dv */
     for (int i = 0; i < NC; i++) {
@@ -172,7 +189,8 @@ START_TEST(test_compare_series)
     /* a Gaussian of the same v_rms */
     const double dv = 1.0 / NC, sig = vrms;
     for (int i = 0; i < NC; i++) {
-        const double count = (double)gsl_ran_poisson(rng, 1e10 * dv * exp(-0.5 * v[i] * v[i] / (sig * sig)) * sqrt(2.0 / M_PI) / sig);
+        const double count = (double)gsl_ran_poisson(
+            rng, 1e10 * dv * exp(-0.5 * v[i] * v[i] / (sig * sig)) * sqrt(2.0 / M_PI) / sig);
         ps[i] = count / (1e10 * dv);
         es[i] = sqrt(count) / (1e10 * dv);
     }

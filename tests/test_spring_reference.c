@@ -41,7 +41,8 @@ static gr_collide_setup setup(const char *normal, const char *settings, int rot)
     s.contact.rotation = rot;
     char buf[256];
     snprintf(buf, sizeof buf, "%s", settings);
-    for (char *save = NULL, *tok = strtok_r(buf, " ", &save); tok; tok = strtok_r(NULL, " ", &save)) {
+    for (char *save = NULL, *tok = strtok_r(buf, " ", &save); tok;
+         tok = strtok_r(NULL, " ", &save)) {
         char *eq = strchr(tok, '=');
         ck_assert(eq);
         *eq = '\0';
@@ -65,8 +66,9 @@ static gr_contact_coeffs coeffs(const gr_collide_setup *s)
 {
     gr_contact_coeffs k;
     gr_error err = {0};
-    ck_assert_msg(gr_contact_prepare(s->normal, s->tangential, &s->contact, 0.5 * s->mass, 0.0, &k, &err) == GR_OK, "%s",
-                  err.message);
+    ck_assert_msg(gr_contact_prepare(s->normal, s->tangential, &s->contact, 0.5 * s->mass, 0.0, &k,
+                                     &err) == GR_OK,
+                  "%s", err.message);
     return k;
 }
 
@@ -85,18 +87,26 @@ START_TEST(test_sticking_limit)
         const double want = cos(w_t * t_c);
         /* the energy: the contact point's tangential energy share (m_t / m12) sin^2 a, less what
          * eps_t leaves, all of it in the spring at the end */
-        const double share = rot ? k.m_t / k.m12 : 1.0, loss = share * sn * sn * (1.0 - want * want);
-        VERBOSE("sticking%s at %g deg: eps_t %.12f, cos(w_t t_c) %.12f; loss %.12f, want %.12f, left in the spring "
-                "%.12f, spins %g %g\n", rot ? " (rotation)" : "", angle, r.eps_t_measured, want, r.energy_loss, loss,
+        const double share = rot ? k.m_t / k.m12 : 1.0,
+                     loss = share * sn * sn * (1.0 - want * want);
+        VERBOSE("sticking%s at %g deg: eps_t %.12f, cos(w_t t_c) %.12f; loss %.12f, want %.12f, "
+                "left in the spring "
+                "%.12f, spins %g %g\n",
+                rot ? " (rotation)" : "", angle, r.eps_t_measured, want, r.energy_loss, loss,
                 r.stored_lost + r.diss_tangential, r.omega1, r.omega2);
-        ck_assert_msg(fabs(r.eps_t_measured - want) <= 1e-7, "eps_t %.12f, cos(w_t t_c) = %.12f", r.eps_t_measured, want);
-        ck_assert_msg(fabs(r.energy_loss - loss) <= 1e-7, "loss %.12f, want %.12f", r.energy_loss, loss);
+        ck_assert_msg(fabs(r.eps_t_measured - want) <= 1e-7, "eps_t %.12f, cos(w_t t_c) = %.12f",
+                      r.eps_t_measured, want);
+        ck_assert_msg(fabs(r.energy_loss - loss) <= 1e-7, "loss %.12f, want %.12f", r.energy_loss,
+                      loss);
         /* (the ledger's components are quadratures outside CVODE's error test) */
-        ck_assert_msg(fabs(r.diss_normal) <= 1e-9, "normal dissipation %.3e with eps_n = 1", r.diss_normal);
-        ck_assert_msg(fabs(r.energy_loss - r.stored_lost - r.diss_tangential) <= 1e-9, "loss %.12f, spring %.12f + %.12f",
-                      r.energy_loss, r.stored_lost, r.diss_tangential);
+        ck_assert_msg(fabs(r.diss_normal) <= 1e-9, "normal dissipation %.3e with eps_n = 1",
+                      r.diss_normal);
+        ck_assert_msg(fabs(r.energy_loss - r.stored_lost - r.diss_tangential) <= 1e-9,
+                      "loss %.12f, spring %.12f + %.12f", r.energy_loss, r.stored_lost,
+                      r.diss_tangential);
         if (rot) {
-            ck_assert_msg(r.omega1 != 0.0 && r.omega1 == r.omega2, "spins %g %g", r.omega1, r.omega2);
+            ck_assert_msg(r.omega1 != 0.0 && r.omega1 == r.omega2, "spins %g %g", r.omega1,
+                          r.omega2);
         }
     }
 }
@@ -112,11 +122,13 @@ START_TEST(test_sliding_limit)
         const double angle = 45.0 + 30.0 * a, an = angle * M_PI / 180.0;
         const gr_collide_result r = reference(&s, 1e-6, angle);
         const double want = 1.0 - 0.01 * 2.0 * (k.m12 / k.m_t) / tan(an);
-        VERBOSE("sliding%s at %g deg: eps_t %.12f, Coulomb %.12f\n", rot ? " (rotation)" : "", angle, r.eps_t_measured, want);
-        ck_assert_msg(fabs(r.eps_t_measured - want) <= 1e-7, "eps_t %.12f, Coulomb %.12f", r.eps_t_measured, want);
+        VERBOSE("sliding%s at %g deg: eps_t %.12f, Coulomb %.12f\n", rot ? " (rotation)" : "",
+                angle, r.eps_t_measured, want);
+        ck_assert_msg(fabs(r.eps_t_measured - want) <= 1e-7, "eps_t %.12f, Coulomb %.12f",
+                      r.eps_t_measured, want);
         /* all the tangential loss is slip: the spring holds mu F_n / k_t -> 0 at the end */
-        ck_assert_msg(fabs(r.stored_lost) <= 1e-9 && r.diss_tangential > 0.0, "stored %.3e, slip %.3e", r.stored_lost,
-                      r.diss_tangential);
+        ck_assert_msg(fabs(r.stored_lost) <= 1e-9 && r.diss_tangential > 0.0,
+                      "stored %.3e, slip %.3e", r.stored_lost, r.diss_tangential);
     }
 }
 END_TEST
@@ -140,17 +152,22 @@ START_TEST(test_energy_balance)
                 const double angle = 15.0 + 30.0 * a;
                 const gr_collide_result r = reference(&s, 0.1, angle);
                 const double sum = r.diss_normal + r.diss_tangential + r.stored_lost - r.work_free;
-                VERBOSE("%s %s%s at %g deg: loss %.12f = normal %.6f + tangential %.6f + left %.6f - Mindlin %.6f "
-                        "(residual %.1e)\n", cases[c][0], cases[c][1], rot ? " rotation" : "", angle, r.energy_loss,
-                        r.diss_normal, r.diss_tangential, r.stored_lost, r.work_free, r.energy_loss - sum);
-                ck_assert_msg(fabs(r.energy_loss - sum) <= 1e-8, "%s %s at %g deg: loss %.12f, ledger %.12f", cases[c][0],
-                              cases[c][1], angle, r.energy_loss, sum);
-                ck_assert_msg(r.diss_normal >= -1e-12 && r.diss_tangential >= -1e-9 && r.stored_lost >= 0.0,
-                              "%s %s: dissipation %.3e %.3e, left %.3e", cases[c][0], cases[c][1], r.diss_normal,
-                              r.diss_tangential, r.stored_lost);
+                VERBOSE("%s %s%s at %g deg: loss %.12f = normal %.6f + tangential %.6f + left %.6f "
+                        "- Mindlin %.6f "
+                        "(residual %.1e)\n",
+                        cases[c][0], cases[c][1], rot ? " rotation" : "", angle, r.energy_loss,
+                        r.diss_normal, r.diss_tangential, r.stored_lost, r.work_free,
+                        r.energy_loss - sum);
+                ck_assert_msg(fabs(r.energy_loss - sum) <= 1e-8,
+                              "%s %s at %g deg: loss %.12f, ledger %.12f", cases[c][0], cases[c][1],
+                              angle, r.energy_loss, sum);
+                ck_assert_msg(r.diss_normal >= -1e-12 && r.diss_tangential >= -1e-9 &&
+                                  r.stored_lost >= 0.0,
+                              "%s %s: dissipation %.3e %.3e, left %.3e", cases[c][0], cases[c][1],
+                              r.diss_normal, r.diss_tangential, r.stored_lost);
                 if (!strstr(cases[c][1], "mindlin")) {
-                    ck_assert_msg(fabs(r.work_free) <= 1e-6, "%s %s: work without force %.3e", cases[c][0], cases[c][1],
-                                  r.work_free);
+                    ck_assert_msg(fabs(r.work_free) <= 1e-6, "%s %s: work without force %.3e",
+                                  cases[c][0], cases[c][1], r.work_free);
                 }
             }
         }
@@ -172,7 +189,8 @@ START_TEST(test_convergence)
         const double err = fabs(reference(&s, 0.1, angle).energy_loss - best);
         VERBOSE("rtol 1e-%d: loss error %.3e\n", e, err);
         ck_assert_msg(err <= 300.0 * s.ref_rtol, "rtol %g: loss error %.3e", s.ref_rtol, err);
-        ck_assert_msg(err <= last || err <= 1e-12, "rtol %g: loss error %.3e after %.3e", s.ref_rtol, err, last);
+        ck_assert_msg(err <= last || err <= 1e-12, "rtol %g: loss error %.3e after %.3e",
+                      s.ref_rtol, err, last);
         last = err;
     }
     s.ref_rtol = 1e-12;
@@ -195,10 +213,12 @@ START_TEST(test_law_limit)
             const double speed = pow(10.0, -2.0 * v);
             const gr_collide_result r = reference(&s, speed, 60.0);
             const double diff = fabs(r.energy_loss - r.expected_loss);
-            VERBOSE("%s at %g m/s: reference %.12f, law %.12f, |diff| %.2e, xi/d %.1e\n", normals[n], speed, r.energy_loss,
-                    r.expected_loss, diff, r.max_overlap / (2.0 * s.radius));
-            ck_assert_msg(diff <= fmax(0.1 * last, 1e-8), "%s at %g m/s: |reference - law| %.3e after %.3e", normals[n],
-                          speed, diff, last);
+            VERBOSE("%s at %g m/s: reference %.12f, law %.12f, |diff| %.2e, xi/d %.1e\n",
+                    normals[n], speed, r.energy_loss, r.expected_loss, diff,
+                    r.max_overlap / (2.0 * s.radius));
+            ck_assert_msg(diff <= fmax(0.1 * last, 1e-8),
+                          "%s at %g m/s: |reference - law| %.3e after %.3e", normals[n], speed,
+                          diff, last);
             last = diff;
         }
     }
@@ -219,7 +239,4 @@ static Suite *suite(void)
     return s;
 }
 
-int main(void)
-{
-    return gr_test_run(suite());
-}
+int main(void) { return gr_test_run(suite()); }

@@ -21,7 +21,8 @@ static gr_contact_coeffs coeffs(double k_t, double gamma_t, double mu, double dt
     return c;
 }
 
-static gr_tangential_force step(const gr_contact_coeffs *c, double *s, double g_t, double f_n, int acts)
+static gr_tangential_force step(const gr_contact_coeffs *c, double *s, double g_t, double f_n,
+                                int acts)
 {
     gr_tangential_in in = {.g_t = g_t, .f_n = f_n, .acts = acts, .m12_dt = 0.0, .hist = s};
     return gr_tangential_tangential_spring(c, in);
@@ -50,10 +51,11 @@ START_TEST(test_coulomb_limit)
         const double g = 0.2 * sign;
         const gr_tangential_force o = step(&c, &s, g, f_n, 1);
         ck_assert_double_eq_tol(fabs(o.f), mu * f_n, 1e-14);
-        ck_assert(o.f * sign < 0.0);                                   /* opposes the displacement */
-        ck_assert_double_eq_tol(-k * s - gamma * g, o.f, 1e-13);       /* spring rescaled (LAMMPS) */
-        ck_assert(o.fc == -k * s);                                     /* the conservative part */
-        const double s_old = sign * 1.0, s_trial = s_old + g * dt;    /* dropped beyond the trapezoid's work */
+        ck_assert(o.f * sign < 0.0);                             /* opposes the displacement */
+        ck_assert_double_eq_tol(-k * s - gamma * g, o.f, 1e-13); /* spring rescaled (LAMMPS) */
+        ck_assert(o.fc == -k * s);                               /* the conservative part */
+        const double s_old = sign * 1.0,
+                     s_trial = s_old + g * dt; /* dropped beyond the trapezoid's work */
         ck_assert_double_eq_tol(o.lost, 0.5 * k * (s_old + s) * (s_trial - s), 1e-12);
         ck_assert(o.lost > 0.0);
         ck_assert(isfinite(o.p) && o.p > 0.0);
@@ -81,7 +83,8 @@ END_TEST
  * F_n = m v_n w_n sin(w_n t) for t < t_c = pi / w_n; the contact point's tangential velocity
  * obeys m dg/dt = F_t (no rotation: m_t = m12 = m). Symplectic Euler, the law first. Returns
  * g after the contact; *ledger: |KE_t + U_t + dissipated - KE_t(0)| at the end. */
-static double contact(double k_t, double gamma_t, double mu, double v_n, double g0, int steps, double *ledger)
+static double contact(double k_t, double gamma_t, double mu, double v_n, double g0, int steps,
+                      double *ledger)
 {
     const double m = 1.0, k_n = 1e4, w_n = sqrt(k_n / m), t_c = M_PI / w_n, dt = t_c / steps;
     const gr_contact_coeffs c = coeffs(k_t, gamma_t, mu, dt);
@@ -115,7 +118,8 @@ START_TEST(test_stick_reverses)
     ck_assert_msg(fabs(-g2 / 0.01 - want) < fabs(-g1 / 0.01 - want) + 1e-6, "no convergence");
     /* the ledger closes to the step's accuracy: first order, halves with dt */
     const double ke0 = 0.5 * 0.01 * 0.01;
-    ck_assert_msg(led1 < 1e-2 * ke0 && led2 < 0.6 * led1 + 1e-15 * ke0, "ledger %g, %g of %g", led1, led2, ke0);
+    ck_assert_msg(led1 < 1e-2 * ke0 && led2 < 0.6 * led1 + 1e-15 * ke0, "ledger %g, %g of %g", led1,
+                  led2, ke0);
 }
 END_TEST
 
@@ -139,14 +143,16 @@ START_TEST(test_mindlin_step)
     gr_contact_coeffs c = coeffs(0.0, gamma, 0.5, dt);
     c.law_t[GR_SPRING_KM] = km;
     double s = 2e-4;
-    const gr_tangential_in in = {.g_t = g_t, .f_n = 100.0, .xi = xi, .g_n = g_n, .acts = 1, .hist = &s};
+    const gr_tangential_in in = {
+        .g_t = g_t, .f_n = 100.0, .xi = xi, .g_n = g_n, .acts = 1, .hist = &s};
     const gr_tangential_force o = gr_tangential_tangential_spring(&c, in);
     const double k = km * sqrt(xi), k_old = km * sqrt(xi + g_n * dt), s_new = 2e-4 + g_t * dt;
     ck_assert_double_eq_tol(s, s_new, 1e-18);
     ck_assert_double_eq_tol(o.f, -k * s_new - gamma * g_t, 1e-12);
     ck_assert_double_eq_tol(o.fc, -k * s_new, 1e-12);
     ck_assert_double_eq_tol(o.e, 0.5 * k * s_new * s_new, 1e-18);
-    const double work = 0.5 * (k_old * 2e-4 + k * s_new) * g_t * dt; /* the trapezoid, on the motion */
+    const double work =
+        0.5 * (k_old * 2e-4 + k * s_new) * g_t * dt; /* the trapezoid, on the motion */
     const double lost = work - (o.e - 0.5 * k_old * 2e-4 * 2e-4);
     ck_assert_double_eq_tol(o.lost, lost, 1e-15);
     ck_assert_msg(o.lost < 0.0, "loading stiffens the spring: energy gained, lost %g", o.lost);
@@ -174,14 +180,19 @@ START_TEST(test_mindlin_prepare)
     const gr_model *hz = gr_model_find("hertz"), *ts = gr_model_find("tangential_spring");
     const double m12 = 1.765e-5;
     ck_assert_msg(gr_contact_prepare(hz, ts, &p, m12, 0.0, &c, &err) == GR_OK, "%s", err.message);
-    ck_assert_double_eq_tol(c.law_t[GR_SPRING_KM], 0.8 * 1.5 * gr_contact_get(&p, "k_h"), 1e-9 * gr_contact_get(&p, "k_h"));
+    ck_assert_double_eq_tol(c.law_t[GR_SPRING_KM], 0.8 * 1.5 * gr_contact_get(&p, "k_h"),
+                            1e-9 * gr_contact_get(&p, "k_h"));
     ck_assert(c.law_t[GR_SPRING_KT] == 0.0);
     ck_assert_int_eq(gr_contact_set_value(&p, "k_t", 500.0, NULL), GR_OK);
     ck_assert(gr_contact_prepare(hz, ts, &p, m12, 0.0, &c, &err) == GR_OK);
-    const double x0 = pow(m12 * gr_contact_get(&p, "v_max") * gr_contact_get(&p, "v_max") / gr_contact_get(&p, "k_h"), 0.4);
+    const double x0 = pow(m12 * gr_contact_get(&p, "v_max") * gr_contact_get(&p, "v_max") /
+                              gr_contact_get(&p, "k_h"),
+                          0.4);
     ck_assert_double_eq_tol(c.law_t[GR_SPRING_KM] * sqrt(x0), 500.0, 1e-9);
-    ck_assert(gr_contact_prepare(gr_model_find("spring_dashpot"), ts, &p, m12, 0.0, &c, &err) == GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "mindlin") && strstr(err.message, "hertz") && strstr(err.message, "spring_dashpot"),
+    ck_assert(gr_contact_prepare(gr_model_find("spring_dashpot"), ts, &p, m12, 0.0, &c, &err) ==
+              GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "mindlin") && strstr(err.message, "hertz") &&
+                      strstr(err.message, "spring_dashpot"),
                   "message: %s", err.message);
 }
 END_TEST

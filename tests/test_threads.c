@@ -66,8 +66,14 @@ static uint64_t state_hash(gr_sim *s)
         h = fnv(h, s->omega, sizeof(double) * (size_t)s->n);
     }
     gr_ledger l = gr_sim_ledger(s);
-    double led[8] = {l.kinetic, l.elastic, l.initial, l.injected, l.dissipated_normal, l.dissipated_tangential,
-                     l.dissipated_friction, l.removed_com};
+    double led[8] = {l.kinetic,
+                     l.elastic,
+                     l.initial,
+                     l.injected,
+                     l.dissipated_normal,
+                     l.dissipated_tangential,
+                     l.dissipated_friction,
+                     l.removed_com};
     h = fnv(h, led, sizeof led);
     int64_t cnt[3] = {gr_sim_collisions(s), gr_sim_rebuilds(s), gr_sim_steps(s)};
     h = fnv(h, cnt, sizeof cnt);
@@ -103,7 +109,9 @@ static uint64_t run_placed(const gr_scene *sc, int threads, int64_t steps, int *
     }
     uint64_t h = state_hash(s);
     if (env_flag("GRANULE_TEST_VERBOSE")) {
-        fprintf(stderr, "threads %d: %lld steps, %lld collisions, %lld events, hash %016llx, cross pairs %d of %d\n",
+        fprintf(stderr,
+                "threads %d: %lld steps, %lld collisions, %lld events, hash %016llx, cross pairs "
+                "%d of %d\n",
                 threads, (long long)steps, (long long)gr_sim_collisions(s), (long long)s->n_events,
                 (unsigned long long)h, s->par_threads > 1 ? s->cross_start[s->par_threads] : 0,
                 s->dim == 2 ? s->nl_start[s->n] : 0);
@@ -115,8 +123,10 @@ static uint64_t run_placed(const gr_scene *sc, int threads, int64_t steps, int *
     return h;
 }
 
-static const char *rfm2d_sets[] = {"system.N=1500", "system.L=0.13", "placement.v0=0.5", "noise.D=1e-6"};
-static const char *rfm2d_sets3[] = {"system.N=2500", "system.L=0.17", "placement.v0=0.5", "noise.D=1e-6"};
+static const char *rfm2d_sets[] = {"system.N=1500", "system.L=0.13", "placement.v0=0.5",
+                                   "noise.D=1e-6"};
+static const char *rfm2d_sets3[] = {"system.N=2500", "system.L=0.17", "placement.v0=0.5",
+                                    "noise.D=1e-6"};
 
 START_TEST(test_threads_rfm2d)
 {
@@ -128,15 +138,16 @@ START_TEST(test_threads_rfm2d)
 #ifdef _OPENMP
     ck_assert_msg(cross2 > 0, "two threads did not split the pair list (no cross pairs)");
 #endif
-    ck_assert_msg(h1 == h2, "1 and 2 threads differ after %lld steps: %016llx vs %016llx", (long long)steps_full(),
-                  (unsigned long long)h1, (unsigned long long)h2);
+    ck_assert_msg(h1 == h2, "1 and 2 threads differ after %lld steps: %016llx vs %016llx",
+                  (long long)steps_full(), (unsigned long long)h1, (unsigned long long)h2);
     /* three threads and three blocks: another partition (short: 2 cores may be busy) */
     load_scene(&sc, "rfm-2d.ini", rfm2d_sets3, 4);
     uint64_t s1 = run_placed(&sc, 1, 500, NULL), s3 = run_placed(&sc, 3, 500, &cross3);
 #ifdef _OPENMP
     ck_assert_msg(cross3 > 0, "three threads did not split the pair list (no cross pairs)");
 #endif
-    ck_assert_msg(s1 == s3, "1 and 3 threads differ: %016llx vs %016llx", (unsigned long long)s1, (unsigned long long)s3);
+    ck_assert_msg(s1 == s3, "1 and 3 threads differ: %016llx vs %016llx", (unsigned long long)s1,
+                  (unsigned long long)s3);
 }
 END_TEST
 
@@ -165,18 +176,22 @@ START_TEST(test_threads_list)
         memcpy(touch[t], s->nl_contact, (size_t)pairs[t]);
     }
     set_threads(1);
-    ck_assert_msg(pairs[1] > 2 * s->n, "too few pairs (%lld) for a meaningful test", (long long)pairs[1]);
+    ck_assert_msg(pairs[1] > 2 * s->n, "too few pairs (%lld) for a meaningful test",
+                  (long long)pairs[1]);
     int touching = 0;
     for (int64_t p = 0; p < pairs[1]; p++) {
         touching += touch[1][p];
     }
     ck_assert_msg(touching > 0, "no pair in contact: the contact flags are not tested");
     for (int t = 2; t <= 3; t++) {
-        ck_assert_msg(pairs[t] == pairs[1], "%d threads: %lld pairs, 1 thread: %lld", t, (long long)pairs[t],
-                      (long long)pairs[1]);
-        ck_assert_msg(memcmp(start[t], start[1], sizeof(int) * ((size_t)s->n + 1)) == 0, "%d threads: row offsets differ", t);
-        ck_assert_msg(memcmp(js[t], js[1], sizeof(int) * (size_t)pairs[1]) == 0, "%d threads: pairs differ", t);
-        ck_assert_msg(memcmp(touch[t], touch[1], (size_t)pairs[1]) == 0, "%d threads: contact flags differ", t);
+        ck_assert_msg(pairs[t] == pairs[1], "%d threads: %lld pairs, 1 thread: %lld", t,
+                      (long long)pairs[t], (long long)pairs[1]);
+        ck_assert_msg(memcmp(start[t], start[1], sizeof(int) * ((size_t)s->n + 1)) == 0,
+                      "%d threads: row offsets differ", t);
+        ck_assert_msg(memcmp(js[t], js[1], sizeof(int) * (size_t)pairs[1]) == 0,
+                      "%d threads: pairs differ", t);
+        ck_assert_msg(memcmp(touch[t], touch[1], (size_t)pairs[1]) == 0,
+                      "%d threads: contact flags differ", t);
     }
     for (int t = 1; t <= 3; t++) {
         free(start[t]);
@@ -189,14 +204,15 @@ END_TEST
 
 START_TEST(test_threads_friction_com)
 {
-    const char *sets[] = {"system.N=1500", "system.L=0.13", "placement.v0=0.5", "noise.D=1e-6", "noise.mode=com",
-                          "model.tangential=sliding_friction", "model.mu=0.5", "model.clamp=true"};
+    const char *sets[] = {"system.N=1500", "system.L=0.13",   "placement.v0=0.5",
+                          "noise.D=1e-6",  "noise.mode=com",  "model.tangential=sliding_friction",
+                          "model.mu=0.5",  "model.clamp=true"};
     gr_scene sc;
     load_scene(&sc, "rfm-2d.ini", sets, 8);
     const int64_t n = steps_full() / 4;
     uint64_t h1 = run_placed(&sc, 1, n, NULL), h2 = run_placed(&sc, 2, n, NULL);
-    ck_assert_msg(h1 == h2, "friction/com: 1 and 2 threads differ: %016llx vs %016llx", (unsigned long long)h1,
-                  (unsigned long long)h2);
+    ck_assert_msg(h1 == h2, "friction/com: 1 and 2 threads differ: %016llx vs %016llx",
+                  (unsigned long long)h1, (unsigned long long)h2);
 }
 END_TEST
 
@@ -205,9 +221,10 @@ START_TEST(test_threads_1d)
     const char *sets[] = {"system.N=2000", "system.reduced_length=0.1", "placement.v0=1"};
     gr_scene sc;
     load_scene(&sc, "rfm-1d.ini", sets, 3);
-    uint64_t h1 = run_placed(&sc, 1, steps_full(), NULL), h2 = run_placed(&sc, 2, steps_full(), NULL);
-    ck_assert_msg(h1 == h2, "1D: 1 and 2 threads differ: %016llx vs %016llx", (unsigned long long)h1,
-                  (unsigned long long)h2);
+    uint64_t h1 = run_placed(&sc, 1, steps_full(), NULL),
+             h2 = run_placed(&sc, 2, steps_full(), NULL);
+    ck_assert_msg(h1 == h2, "1D: 1 and 2 threads differ: %016llx vs %016llx",
+                  (unsigned long long)h1, (unsigned long long)h2);
 }
 END_TEST
 
@@ -230,7 +247,8 @@ static void melted_state(const gr_scene *sc, int64_t steps, double **st, int *n)
     gr_sim_free(s);
 }
 
-static uint64_t run_state(const gr_scene *sc, const double *st, int n, const int *perm, int threads, int64_t steps)
+static uint64_t run_state(const gr_scene *sc, const double *st, int n, const int *perm, int threads,
+                          int64_t steps)
 {
     double *b = malloc(sizeof(double) * 4 * (size_t)n);
     for (int i = 0; i < n; i++) {
@@ -241,8 +259,8 @@ static uint64_t run_state(const gr_scene *sc, const double *st, int n, const int
     gr_sim *s;
     gr_error err = {0};
     set_threads(threads);
-    ck_assert_msg(gr_sim_create_canonical(sc, n, b, b + n, b + 2 * n, b + 3 * n, &s, &err) == GR_OK, "%s",
-                  err.message);
+    ck_assert_msg(gr_sim_create_canonical(sc, n, b, b + n, b + 2 * n, b + 3 * n, &s, &err) == GR_OK,
+                  "%s", err.message);
     ck_assert_msg(gr_sim_step(s, steps, &err) == GR_OK, "%s", err.message);
     uint64_t h = state_hash(s);
     gr_sim_free(s);
@@ -309,17 +327,20 @@ START_TEST(test_threads_sk)
     double *p = random_points(n, 7);
     gr_sk_plan *pl;
     gr_error err = {0};
-    ck_assert_msg(gr_sk_plan_create(1.0, 60.0, GR_SK_MSP_DEFAULT, &pl, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_sk_plan_create(1.0, 60.0, GR_SK_MSP_DEFAULT, &pl, &err) == GR_OK, "%s",
+                  err.message);
     const int nv = gr_sk_plan_vectors(pl, NULL, NULL);
     double *s1 = malloc(sizeof(double) * (size_t)nv), *s2 = malloc(sizeof(double) * (size_t)nv);
     set_threads(1);
-    ck_assert_msg(gr_sk_compute(pl, GR_SK_GRIDDING, n, p, p + n, s1, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_sk_compute(pl, GR_SK_GRIDDING, n, p, p + n, s1, &err) == GR_OK, "%s",
+                  err.message);
     set_threads(2);
-    ck_assert_msg(gr_sk_compute(pl, GR_SK_GRIDDING, n, p, p + n, s2, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_sk_compute(pl, GR_SK_GRIDDING, n, p, p + n, s2, &err) == GR_OK, "%s",
+                  err.message);
     set_threads(1);
     for (int v = 0; v < nv; v++) {
-        ck_assert_msg(memcmp(&s1[v], &s2[v], sizeof(double)) == 0, "S(k) vector %d: %.17g (1 thread) vs %.17g (2)", v,
-                      s1[v], s2[v]);
+        ck_assert_msg(memcmp(&s1[v], &s2[v], sizeof(double)) == 0,
+                      "S(k) vector %d: %.17g (1 thread) vs %.17g (2)", v, s1[v], s2[v]);
     }
     free(s1);
     free(s2);
@@ -343,14 +364,25 @@ static char *pair_csv(int t, const double *const *frames, int n, double L)
     set_threads(t);
     ck_assert_msg(gr_scene_observable(&gr_obs_pair, &sc, &st, &err) == GR_OK, "%s", err.message);
     for (int f = 0; f < 3; f++) {
-        gr_particles p = {.n = n, .dim = 2, .L = L, .radius = sc.radius, .mass = 1.0, .x = frames[f], .y = frames[f] + n};
+        gr_particles p = {.n = n,
+                          .dim = 2,
+                          .L = L,
+                          .radius = sc.radius,
+                          .mass = 1.0,
+                          .x = frames[f],
+                          .y = frames[f] + n};
         ck_assert_msg(gr_obs_pair.sample(st, &p, 0.0, &err) == GR_OK, "%s", err.message);
     }
     set_threads(1);
     char dir[] = "/tmp/test_threads_XXXXXX";
     ck_assert_ptr_nonnull(mkdtemp(dir));
     cJSON *summary = cJSON_CreateObject();
-    gr_output out = {.dir = dir, .source = sc.source, .seed = sc.seed, .scene_hash = 1, .summary = summary, .plots = false};
+    gr_output out = {.dir = dir,
+                     .source = sc.source,
+                     .seed = sc.seed,
+                     .scene_hash = 1,
+                     .summary = summary,
+                     .plots = false};
     ck_assert_msg(gr_obs_pair.finish(st, &out, &err) == GR_OK, "%s", err.message);
     gr_observable_free(st);
     cJSON_Delete(summary);
@@ -394,8 +426,9 @@ START_TEST(test_threads_rotation)
     static const char *laws[][2] = {{"model.tangential=tangential_dashpot", "model.eps_t=0.3"},
                                     {"model.tangential=sliding_friction", "model.mu=0.4"}};
     for (int k = 0; k < 2; k++) {
-        const char *sets[] = {"system.N=1500", "system.L=0.13", "placement.v0=0.5", "noise.D=1e-6", "model.rotation=true",
-                              laws[k][0], laws[k][1]};
+        const char *sets[] = {"system.N=1500", "system.L=0.13",       "placement.v0=0.5",
+                              "noise.D=1e-6",  "model.rotation=true", laws[k][0],
+                              laws[k][1]};
         gr_scene sc;
         load_scene(&sc, "rfm-2d.ini", sets, 7);
         int cross2 = 0;
@@ -405,8 +438,8 @@ START_TEST(test_threads_rotation)
 #ifdef _OPENMP
         ck_assert_msg(cross2 > 0, "two threads did not split the pair list (no cross pairs)");
 #endif
-        ck_assert_msg(h1 == h2, "%s with rotation: 1 and 2 threads differ: %016llx vs %016llx", laws[k][0],
-                      (unsigned long long)h1, (unsigned long long)h2);
+        ck_assert_msg(h1 == h2, "%s with rotation: 1 and 2 threads differ: %016llx vs %016llx",
+                      laws[k][0], (unsigned long long)h1, (unsigned long long)h2);
     }
 }
 END_TEST
@@ -429,7 +462,4 @@ static Suite *suite(void)
     return s;
 }
 
-int main(void)
-{
-    return gr_test_run(suite());
-}
+int main(void) { return gr_test_run(suite()); }

@@ -14,7 +14,7 @@
  * series, accumulated on the fly: level k sees the means of blocks of 2^k consecutive samples.
  * The standard error of the mean is read off where it stops growing with the block size. */
 typedef struct gr_blocking {
-    int64_t count[GR_BLOCKING_LEVELS];  /* completed blocks per level */
+    int64_t count[GR_BLOCKING_LEVELS]; /* completed blocks per level */
     double sum[GR_BLOCKING_LEVELS], sum2[GR_BLOCKING_LEVELS];
     double pending[GR_BLOCKING_LEVELS]; /* first half of a block waiting for its partner */
     int has_pending[GR_BLOCKING_LEVELS];
@@ -37,13 +37,14 @@ double gr_blocking_stderr(const gr_blocking *b, int *level, int *converged);
 typedef struct gr_histogram {
     int nbins;
     double lo, hi;
-    bool log_bins;   /* bin edges equally spaced in ln x (lo > 0) */
-    double *count;   /* nbins entries (weights, usually 1 per sample) */
+    bool log_bins;       /* bin edges equally spaced in ln x (lo > 0) */
+    double *count;       /* nbins entries (weights, usually 1 per sample) */
     double below, above; /* weight outside [lo, hi) */
-    double total;    /* all weight added */
+    double total;        /* all weight added */
 } gr_histogram;
 
-int gr_histogram_init(gr_histogram *h, int nbins, double lo, double hi, bool log_bins, gr_error *err);
+int gr_histogram_init(gr_histogram *h, int nbins, double lo, double hi, bool log_bins,
+                      gr_error *err);
 void gr_histogram_free(gr_histogram *h);
 void gr_histogram_add(gr_histogram *h, double x, double weight);
 /* Add another histogram with identical binning (e.g. one per thread or per repetition). */
@@ -81,17 +82,19 @@ typedef struct gr_fit {
 #define GR_FIT_MIN_POINTS 3
 
 /* Weighted straight line y = p0 + p1 x (sigma may be NULL for unit weights). */
-int gr_fit_line(const double *x, const double *y, const double *sigma, int n, gr_fit *out, gr_error *err);
+int gr_fit_line(const double *x, const double *y, const double *sigma, int n, gr_fit *out,
+                gr_error *err);
 /* Power law y = A x^b fitted as a line in ln x, ln y (points with y <= 0 are skipped; sigma is the
  * error of y and becomes sigma/y). p[0] = A, p[1] = b. */
-int gr_fit_power_law(const double *x, const double *y, const double *sigma, int n, gr_fit *out, gr_error *err);
+int gr_fit_power_law(const double *x, const double *y, const double *sigma, int n, gr_fit *out,
+                     gr_error *err);
 /* The same fit over independent runs: run i measured y[i] (its own error yerr[i], NAN if none) at
  * x[i]; runs at the same x (seeds) are averaged first, each mean's sigma being the larger of the
  * seeds' standard error and the runs' own errors combined (block averaging alone is optimistic for
  * a clustering gas). Runs with a non-finite y are left out. *n_x gets the number of distinct x
  * fitted; fewer than GR_FIT_MIN_POINTS of them is GR_EINVAL. */
-int gr_fit_power_law_seeds(const double *x, const double *y, const double *yerr, int n, gr_fit *out, int *n_x,
-                           gr_error *err);
+int gr_fit_power_law_seeds(const double *x, const double *y, const double *yerr, int n, gr_fit *out,
+                           int *n_x, gr_error *err);
 
 /* General nonlinear least squares (gsl_multifit_nlinear, trust region with geodesic
  * acceleration). `model` returns y(x; p) and, if dydp is not NULL, the n_params derivatives. */

@@ -21,17 +21,18 @@
 #include "granule/analysis.h"
 #include "granule/status.h"
 
-#define GR_BISECT_MAX_LEVELS 24    /* 2^24 partitions (128 MiB of lengths) */
-#define GR_BISECT_MAX_MOMENTS 12   /* <x^m>, m = 1..12 */
+#define GR_BISECT_MAX_LEVELS 24      /* 2^24 partitions (128 MiB of lengths) */
+#define GR_BISECT_MAX_MOMENTS 12     /* <x^m>, m = 1..12 */
 #define GR_BISECT_POWER_A_MIN -100.0 /* below, a^(1/(1-A)) rounds to 1 */
-#define GR_BISECT_POWER_A_MAX 0.95   /* above (normalisable up to 1), it underflows double precision */
+#define GR_BISECT_POWER_A_MAX                                                                      \
+    0.95 /* above (normalisable up to 1), it underflows double precision */
 
 /* ------------------------------------------------------------------------------------------
  * The partition probability U_0(a), 0 < a < 1 (3.29-3.30). */
 typedef enum gr_bisect_u0_kind {
     GR_BISECT_U0_UNIFORM, /* U_0(a) = 1 (sec. 3.4.2) */
-    GR_BISECT_U0_POWER,   /* U_0(a) = (1 - A)/2 (a^-A + (1 - a)^-A), -100 <= A <= 0.95 (end of sec. 3.4.3) */
-    GR_BISECT_U0_TABLE    /* piecewise-linear density through user points (a, U), normalised */
+    GR_BISECT_U0_POWER, /* U_0(a) = (1 - A)/2 (a^-A + (1 - a)^-A), -100 <= A <= 0.95 (end of sec. 3.4.3) */
+    GR_BISECT_U0_TABLE /* piecewise-linear density through user points (a, U), normalised */
 } gr_bisect_u0_kind;
 
 typedef struct gr_bisect_u0 {
@@ -86,10 +87,11 @@ void gr_bisect_level(const gr_bisect_u0 *u, gsl_rng *r, double *x, size_t count)
 int gr_bisect_realise(const gr_bisect_u0 *u, int levels, gsl_rng *r, double *x, gr_error *err);
 
 /* The uniform process in closed form. */
-double gr_bisect_pn_uniform(int n, double x);                /* (3.36), 0 outside (0, 1) */
-double gr_bisect_pn_uniform_mass(int n, double lo, double hi); /* integral of (3.36) over [lo, hi] */
-double gr_bisect_moment_uniform(int n, double m);            /* (1+m)^-n (3.37) */
-double gr_bisect_zeta_uniform(double m);                     /* ln(1+m)/ln 2 (3.38) */
+double gr_bisect_pn_uniform(int n, double x); /* (3.36), 0 outside (0, 1) */
+double gr_bisect_pn_uniform_mass(int n, double lo,
+                                 double hi);      /* integral of (3.36) over [lo, hi] */
+double gr_bisect_moment_uniform(int n, double m); /* (1+m)^-n (3.37) */
+double gr_bisect_zeta_uniform(double m);          /* ln(1+m)/ln 2 (3.38) */
 
 /* The Random Force Model's measured zeta_m of Table 3.1 (m = 1..5; NAN otherwise). */
 double gr_bisect_zeta_rfm_table31(int m, double *error);
@@ -97,14 +99,14 @@ double gr_bisect_zeta_rfm_table31(int m, double *error);
 /* ------------------------------------------------------------------------------------------
  * Many repetitions: P_n(x), the moments at every level and the zeta_m fits. */
 typedef struct gr_bisect_settings {
-    int levels;             /* n: 2^n partitions (default 9, as Figs. 3.15-3.16) */
-    int64_t repetitions;    /* independent realisations (default 10000) */
-    uint64_t seed;          /* gsl_rng_mt19937 seed (default 1; GSL maps 0 to 4357) */
-    int moments_max;        /* moments m = 1..moments_max (default 6, as Fig. 3.8) */
-    int bins_per_decade;    /* logarithmic bins of P_n(x) (default 10) */
-    int fit_level_min;      /* zeta_m from levels fit_level_min..levels (default 1) */
-    int jackknife_groups;   /* groups of realisations for the fit errors (default 32) */
-    double anchor;          /* R_0 of the collapse factor A_N (3.40; default 0.7) */
+    int levels;              /* n: 2^n partitions (default 9, as Figs. 3.15-3.16) */
+    int64_t repetitions;     /* independent realisations (default 10000) */
+    uint64_t seed;           /* gsl_rng_mt19937 seed (default 1; GSL maps 0 to 4357) */
+    int moments_max;         /* moments m = 1..moments_max (default 6, as Fig. 3.8) */
+    int bins_per_decade;     /* logarithmic bins of P_n(x) (default 10) */
+    int fit_level_min;       /* zeta_m from levels fit_level_min..levels (default 1) */
+    int jackknife_groups;    /* groups of realisations for the fit errors (default 32) */
+    double anchor;           /* R_0 of the collapse factor A_N (3.40; default 0.7) */
     double anchor_min_count; /* a process bin anchors the collapse if it holds this many (100) */
     /* Called every ~1/256 of the realisations and at the end (may be NULL). */
     void (*progress)(int64_t done, int64_t total, void *user);
@@ -116,33 +118,34 @@ int gr_bisect_settings_check(const gr_bisect_settings *s, gr_error *err);
 
 typedef struct gr_bisect_zeta {
     int m;
-    double zeta;          /* <x_k^m> = A N^-zeta over N = 2^k, k = fit_level_min..levels (3.20, 3.38) */
-    double err_fit;       /* chi-square fit error (treats the levels as independent, as the thesis) */
+    double zeta;    /* <x_k^m> = A N^-zeta over N = 2^k, k = fit_level_min..levels (3.20, 3.38) */
+    double err_fit; /* chi-square fit error (treats the levels as independent, as the thesis) */
     double err_jackknife; /* jackknife over groups of realisations (levels of one tree correlate) */
     double prefactor, prefactor_err, chi2_red;
     int dof;
-    double predicted;     /* -log2 mu_m: the chosen U_0's exact exponent (3.38 for U_0 = 1) */
+    double predicted; /* -log2 mu_m: the chosen U_0's exact exponent (3.38 for U_0 = 1) */
 } gr_bisect_zeta;
 
 typedef struct gr_bisect_result {
     int levels, moments_max, fit_level_min;
     int64_t repetitions;
-    double segments;        /* partitions at level n over all realisations, R 2^n */
-    gr_histogram pn;        /* x at level n, log bins over [10^-decades, 1) (App. A.1) */
-    double *pn_count_var;   /* per bin: variance of the count one realisation puts there */
+    double segments;      /* partitions at level n over all realisations, R 2^n */
+    gr_histogram pn;      /* x at level n, log bins over [10^-decades, 1) (App. A.1) */
+    double *pn_count_var; /* per bin: variance of the count one realisation puts there */
     /* <x^m> at level k (0..levels), m = 1..moments_max, at [k * moments_max + m - 1]: the mean over
      * realisations of the mean over the 2^k partitions, its standard error from the spread over
      * realisations, and the exact mu_m^k. */
     double *moment, *moment_err, *moment_pred;
     double mu[GR_BISECT_MAX_MOMENTS + 1]; /* mu_m of U_0 (mu[0] = 1) */
     gr_bisect_zeta zeta[GR_BISECT_MAX_MOMENTS];
-    double sum_error_max;   /* largest |sum of the partitions - 1| at any level of any realisation */
-    int64_t underflows;     /* level-n partitions whose length underflowed to 0 */
+    double sum_error_max; /* largest |sum of the partitions - 1| at any level of any realisation */
+    int64_t underflows;   /* level-n partitions whose length underflowed to 0 */
     double wall_seconds;
 } gr_bisect_result;
 
 /* Run settings->repetitions realisations with one gsl_rng_mt19937 seeded from settings->seed. */
-int gr_bisect_run(const gr_bisect_settings *s, const gr_bisect_u0 *u, gr_bisect_result *res, gr_error *err);
+int gr_bisect_run(const gr_bisect_settings *s, const gr_bisect_u0 *u, gr_bisect_result *res,
+                  gr_error *err);
 void gr_bisect_result_free(gr_bisect_result *res);
 double gr_bisect_result_moment(const gr_bisect_result *res, int level, int m, double *error);
 
@@ -154,7 +157,8 @@ typedef struct gr_bisect_gof {
     double chi2, chi2_poisson, p_value;
     int dof;
 } gr_bisect_gof;
-int gr_bisect_pn_gof(const gr_bisect_result *res, double min_expected, gr_bisect_gof *out, gr_error *err);
+int gr_bisect_pn_gof(const gr_bisect_result *res, double min_expected, gr_bisect_gof *out,
+                     gr_error *err);
 
 /* ------------------------------------------------------------------------------------------
  * The collapse (3.39-3.40): G(R;N) -> A_N G^(1/(n-1)), n = log2 N, A_N = -ln(R_0) G(R_0;N)^(-1/(n-1)),
@@ -192,7 +196,7 @@ typedef struct gr_bisect_output {
     const gr_bisect_g1 *g1; /* n_g1 RFM tables to lay over the collapse (may be NULL) */
     int n_g1;
     bool plots;
-    char plots_note[400];   /* out: the PNGs drawn, or why not */
+    char plots_note[400]; /* out: the PNGs drawn, or why not */
 } gr_bisect_output;
 int gr_bisect_write(const char *dir, const gr_bisect_settings *s, const gr_bisect_u0 *u,
                     const gr_bisect_result *res, gr_bisect_output *out, gr_error *err);

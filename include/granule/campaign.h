@@ -28,7 +28,8 @@ static inline bool gr_campaign_exact_match(double value, double thesis, double t
 /* The verdicts a campaign may give a result whose numbers disagree with the thesis (key verdict,
  * docs/campaigns/README.md), in the order the reproduction page counts them. */
 #define GR_CAMPAIGN_VERDICTS 3
-static const char *const gr_campaign_verdicts[GR_CAMPAIGN_VERDICTS] = {"explained", "partly explained", "unexplained"};
+static const char *const gr_campaign_verdicts[GR_CAMPAIGN_VERDICTS] = {
+    "explained", "partly explained", "unexplained"};
 
 typedef enum { GR_FIDELITY_QUICK = 0, GR_FIDELITY_FULL = 1 } gr_fidelity;
 
@@ -56,50 +57,67 @@ typedef enum { GR_FIDELITY_QUICK = 0, GR_FIDELITY_FULL = 1 } gr_fidelity;
  * CASCADE_FIELD D_f of S(k) (6.5) of the cascade fields themselves, every variant of sec. 6.2.1 on the
  *            thesis's 256 x 256 grid (Table 6.2), from independent seeds of `configurations` fields
  *            each; needs no run and no y. */
-typedef enum { GR_RESULT_MEAN, GR_RESULT_POWER_LAW, GR_RESULT_RUNNING, GR_RESULT_RISE, GR_RESULT_SETTLE, GR_RESULT_CURVE, GR_RESULT_CASCADE,
-               GR_RESULT_SPM, GR_RESULT_SPM_COMPARE, GR_RESULT_SPM_CIRCLE,
-               GR_RESULT_CASCADE_FIELD } gr_result_kind;
-#define GR_CAMPAIGN_SPM_QUANTITIES "D_f, C, alpha, S_predicted, S, S_over_predicted, A0_over_P0, slope_P0, slope_A0"
+typedef enum {
+    GR_RESULT_MEAN,
+    GR_RESULT_POWER_LAW,
+    GR_RESULT_RUNNING,
+    GR_RESULT_RISE,
+    GR_RESULT_SETTLE,
+    GR_RESULT_CURVE,
+    GR_RESULT_CASCADE,
+    GR_RESULT_SPM,
+    GR_RESULT_SPM_COMPARE,
+    GR_RESULT_SPM_CIRCLE,
+    GR_RESULT_CASCADE_FIELD
+} gr_result_kind;
+#define GR_CAMPAIGN_SPM_QUANTITIES                                                                 \
+    "D_f, C, alpha, S_predicted, S, S_over_predicted, A0_over_P0, slope_P0, slope_A0"
 #define GR_CAMPAIGN_SPM_COMPARE_QUANTITIES "frac_within, decades, k, s, alpha_spm, alpha_rfm"
 #define GR_CAMPAIGN_SPM_CIRCLE_QUANTITIES "b, coefficient"
-#define GR_CAMPAIGN_SPM_WALKS 200000      /* SPM_COMPARE's default walks per run, full fidelity */
-#define GR_CAMPAIGN_SPM_WALKS_QUICK 5000  /* ... and quick */
+#define GR_CAMPAIGN_SPM_WALKS 200000     /* SPM_COMPARE's default walks per run, full fidelity */
+#define GR_CAMPAIGN_SPM_WALKS_QUICK 5000 /* ... and quick */
 
 typedef struct gr_campaign_result {
-    char id[32];          /* e.g. "fig3.2", "table3.1" */
+    char id[32]; /* e.g. "fig3.2", "table3.1" */
     char title[256];
     gr_result_kind kind;
-    char quantity[64];    /* e.g. "xi_2", "zeta_m", "D_f" */
+    char quantity[64]; /* e.g. "xi_2", "zeta_m", "D_f" */
     char unit[32];
-    char y[128];          /* dotted summary.json path; {m} and {m-1} are replaced by m (CURVE: a column) */
-    char y_err[128];      /* the run's own error of y (used when a group has one seed) (CURVE: a column) */
-    char x[64];           /* POWER_LAW: the varied key on the abscissa (CURVE: a column) */
-    char table[64];       /* CURVE: the run's CSV, e.g. "gaps.csv" */
-    char where[128];      /* CURVE: the rows used, "column=value, ..." */
-    char select[128];     /* CURVE: only the curves whose group has every "key=value" listed */
-    char transform[32];   /* CURVE: "" or "bisection_collapse" (thesis 3.39-3.40) */
-    double collapse_at;   /* CURVE: x_0 of the collapse, where every mapped curve equals -ln x_0 */
-    char axes[16];        /* CURVE: the figure's axes, "loglog" (default), "linlog" (log y) or "linear" */
-    char overlay[32];     /* CURVE: "" or "bisection": beside every curve the uniform bisection process's
+    char y[128]; /* dotted summary.json path; {m} and {m-1} are replaced by m (CURVE: a column) */
+    char y_err
+        [128];  /* the run's own error of y (used when a group has one seed) (CURVE: a column) */
+    char x[64]; /* POWER_LAW: the varied key on the abscissa (CURVE: a column) */
+    char table[64];     /* CURVE: the run's CSV, e.g. "gaps.csv" */
+    char where[128];    /* CURVE: the rows used, "column=value, ..." */
+    char select[128];   /* CURVE: only the curves whose group has every "key=value" listed */
+    char transform[32]; /* CURVE: "" or "bisection_collapse" (thesis 3.39-3.40) */
+    double collapse_at; /* CURVE: x_0 of the collapse, where every mapped curve equals -ln x_0 */
+    char axes[16]; /* CURVE: the figure's axes, "loglog" (default), "linlog" (log y) or "linear" */
+    char
+        overlay[32]; /* CURVE: "" or "bisection": beside every curve the uniform bisection process's
                              P_n(x) = (-ln x)^(n-1)/(n-1)! (3.36), n = log2 N, no parameter fitted */
-    double x_min, x_max;  /* POWER_LAW: fit window; SPM: the P(v) tail window in v / v_rms */
-    char by[256];         /* POWER_LAW: comma-separated keys that label a fit */
-    int m_lo, m_hi;       /* moments: m = m_lo..m_hi (0 = no {m}) */
-    bool per_m;           /* report exponent / m (Fig. 3.5) */
-    bool local_slopes;    /* POWER_LAW: also the exponent between every pair of neighbouring x (one row each) */
-    double period;        /* RUNNING: seconds per period mean */
-    int configurations;   /* CASCADE: cascade placements averaged (default 20); CASCADE_FIELD: fields per seed */
-    double df;            /* SPM: D_f fixed for C, alpha and h (0: the run's free 4.25 fit) */
-    bool tail_exponential; /* SPM: fit P(v)'s tail with A0 exp(-S |v|) (alpha = 1, h = 0: the thesis's
+    double x_min, x_max; /* POWER_LAW: fit window; SPM: the P(v) tail window in v / v_rms */
+    char by[256];        /* POWER_LAW: comma-separated keys that label a fit */
+    int m_lo, m_hi;      /* moments: m = m_lo..m_hi (0 = no {m}) */
+    bool per_m;          /* report exponent / m (Fig. 3.5) */
+    bool
+        local_slopes; /* POWER_LAW: also the exponent between every pair of neighbouring x (one row each) */
+    double period; /* RUNNING: seconds per period mean */
+    int configurations; /* CASCADE: cascade placements averaged (default 20); CASCADE_FIELD: fields per seed */
+    double df; /* SPM: D_f fixed for C, alpha and h (0: the run's free 4.25 fit) */
+    bool
+        tail_exponential; /* SPM: fit P(v)'s tail with A0 exp(-S |v|) (alpha = 1, h = 0: the thesis's
                               A0 of Fig. 5.13) instead of 5.31 at the predicted alpha and h */
-    long walks, walks_quick; /* SPM_COMPARE: SPM walks per run, SPM_CIRCLE per radius, at full and quick fidelity (0: default) */
-    char thesis[4096];    /* "GROUP: value +- error; ..." (GROUP as in results.csv) */
+    long walks,
+        walks_quick; /* SPM_COMPARE: SPM walks per run, SPM_CIRCLE per radius, at full and quick fidelity (0: default) */
+    char thesis[4096]; /* "GROUP: value +- error; ..." (GROUP as in results.csv) */
     char thesis_source[256];
-    char note[2048];      /* what a reader should know (shown on the page) */
-    char verdict[24];     /* where rows disagree (|z| > 2): "explained", "partly explained" or
+    char note[2048];        /* what a reader should know (shown on the page) */
+    char verdict[24];       /* where rows disagree (|z| > 2): "explained", "partly explained" or
                              "unexplained" ("" = not judged yet); the page's table of disagreements */
     char verdict_why[1024]; /* the verdict's one-paragraph reason */
-    char restates[32];    /* the id of the result whose numbers this one restates in another form (S from C,
+    char restates
+        [32]; /* the id of the result whose numbers this one restates in another form (S from C,
                              c from b): shown, but not counted again in the page's tallies */
 } gr_campaign_result;
 
@@ -111,12 +129,12 @@ typedef struct gr_campaign_line {
 
 typedef struct gr_campaign {
     char name[64];
-    char source[1024];  /* where it was read from: "embedded docs/campaigns/NAME.ini" or a path */
+    char source[1024]; /* where it was read from: "embedded docs/campaigns/NAME.ini" or a path */
     char title[256];
-    char covers[256];   /* the figures and tables it serves, e.g. "Fig. 3.1, Fig. 3.2, Table 3.1" */
-    char scene[128];    /* a scene of docs/scenes, e.g. "rfm-1d.ini" */
-    char about[2048];   /* what is run and why (warm-up, run length, seeds), for the page */
-    int n_lines[2];     /* the sweep body of each fidelity ([sweep.F], [vary.F], [set] + [set.F]) */
+    char covers[256]; /* the figures and tables it serves, e.g. "Fig. 3.1, Fig. 3.2, Table 3.1" */
+    char scene[128];  /* a scene of docs/scenes, e.g. "rfm-1d.ini" */
+    char about[2048]; /* what is run and why (warm-up, run length, seeds), for the page */
+    int n_lines[2];   /* the sweep body of each fidelity ([sweep.F], [vary.F], [set] + [set.F]) */
     gr_campaign_line lines[2][GR_CAMPAIGN_MAX_LINES];
     int n_results;
     gr_campaign_result results[GR_CAMPAIGN_MAX_RESULTS];
@@ -130,8 +148,8 @@ int gr_campaign_names(const char **names, int max);
 
 /* Write DIR/scene.ini (the embedded scene) and DIR/sweep.ini (points into DIR/runs) for the
  * fidelity; sweep_path gets DIR/sweep.ini. Existing runs are kept: rerunning continues. */
-int gr_campaign_materialise(const gr_campaign *c, gr_fidelity fid, const char *dir, char *sweep_path, size_t len,
-                            gr_error *err);
+int gr_campaign_materialise(const gr_campaign *c, gr_fidelity fid, const char *dir,
+                            char *sweep_path, size_t len, gr_error *err);
 /* Number of points of the fidelity's sweep (seeds x every [vary] list). */
 long gr_campaign_points(const gr_campaign *c, gr_fidelity fid);
 
@@ -139,8 +157,8 @@ long gr_campaign_points(const gr_campaign *c, gr_fidelity fid);
  * and one figure per result (the thesis's values overlaid), and archive every finished point in
  * RESULTS/points. *finished gets the finished points; notes (one per line, "" if none) what the
  * caller should tell the user (a figure not drawn, a point's SPM not run). */
-int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results, long *finished,
-                        char *notes, size_t notes_len, gr_error *err);
+int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results,
+                        long *finished, char *notes, size_t notes_len, gr_error *err);
 
 /* Put the points archived in RESULTS/points back into DIR/runs where DIR has no finished run of
  * its own, so that the sweep runs only what is missing; *restored gets how many. */

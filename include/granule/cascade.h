@@ -25,24 +25,24 @@
 #define GR_CASCADE_MAX_LEVELS 12 /* 4096 x 4096 squares: about 0.35 GB with the FFT buffers */
 
 typedef enum gr_cascade_variant {
-    GR_CASCADE_UCP = 0,     /* a ~ U(0,1), A = a1 + a2 + a3 + a4 (6.2)-(6.3): conserves probability */
-    GR_CASCADE_UNONCP,      /* a ~ U(0,1), A = 1: does not conserve (the total drifts as 2^n) */
+    GR_CASCADE_UCP = 0, /* a ~ U(0,1), A = a1 + a2 + a3 + a4 (6.2)-(6.3): conserves probability */
+    GR_CASCADE_UNONCP,  /* a ~ U(0,1), A = 1: does not conserve (the total drifts as 2^n) */
     GR_CASCADE_SYMMETRISED, /* a_{i,j} = a_{i+1,j+1} = a ~ U(0,1/2), the other two 1 - a (6.4) */
     GR_CASCADE_MEAKIN1,     /* Table 6.1: (p1..p4) assigned to the four children in random order */
     GR_CASCADE_MEAKIN2,
     GR_CASCADE_MEAKIN3,
     GR_CASCADE_MEAKIN4,
-    GR_CASCADE_MEAKIN,      /* Meakin with the caller's p[4] (settings.p) */
-    GR_CASCADE_UNIFORM,     /* control: a = 1, so every child gets m/4 (a uniform field) */
+    GR_CASCADE_MEAKIN,  /* Meakin with the caller's p[4] (settings.p) */
+    GR_CASCADE_UNIFORM, /* control: a = 1, so every child gets m/4 (a uniform field) */
     GR_CASCADE_NVARIANTS
 } gr_cascade_variant;
 
 typedef struct gr_cascade_variant_info {
-    const char *name;   /* CLI name: ucp, unoncp, symmetrised, meakin1..4, meakin, uniform */
-    const char *label;  /* the thesis's name: "UCP", "Meakin 1", ... */
-    double p[4];        /* Table 6.1 numbers (Meakin 1-4 only; zeros otherwise) */
+    const char *name;  /* CLI name: ucp, unoncp, symmetrised, meakin1..4, meakin, uniform */
+    const char *label; /* the thesis's name: "UCP", "Meakin 1", ... */
+    double p[4];       /* Table 6.1 numbers (Meakin 1-4 only; zeros otherwise) */
     double thesis_D_f, thesis_D_f_err; /* Table 6.2 (NAN where the thesis gives none) */
-    bool conserving;    /* children's probabilities sum to the parent's (to rounding) */
+    bool conserving; /* children's probabilities sum to the parent's (to rounding) */
 } gr_cascade_variant_info;
 
 const gr_cascade_variant_info *gr_cascade_variant_get(gr_cascade_variant v);
@@ -50,12 +50,12 @@ const gr_cascade_variant_info *gr_cascade_variant_get(gr_cascade_variant v);
 int gr_cascade_variant_parse(const char *name, gr_cascade_variant *out, gr_error *err);
 
 typedef struct gr_cascade_settings {
-    int levels;                 /* n: grid of 2^n x 2^n squares (6.1), 1..GR_CASCADE_MAX_LEVELS */
+    int levels; /* n: grid of 2^n x 2^n squares (6.1), 1..GR_CASCADE_MAX_LEVELS */
     gr_cascade_variant variant;
-    double p[4];                /* GR_CASCADE_MEAKIN only: each >= 0, sum > 0 (normalised by A) */
-    double L;                   /* box side, m (sec. 6.2.2 uses 1 m; Fig. 6.3 uses 0.2 m) */
-    int configurations;         /* configurations averaged in S(k) (6.5) */
-    unsigned long seed;         /* of the caller's gsl_rng_mt19937 (GSL uses the low 32 bits) */
+    double p[4];                 /* GR_CASCADE_MEAKIN only: each >= 0, sum > 0 (normalised by A) */
+    double L;                    /* box side, m (sec. 6.2.2 uses 1 m; Fig. 6.3 uses 0.2 m) */
+    int configurations;          /* configurations averaged in S(k) (6.5) */
+    unsigned long seed;          /* of the caller's gsl_rng_mt19937 (GSL uses the low 32 bits) */
     double fit_q_min, fit_q_max; /* D_f fit over the integer |q| bins q_min..q_max, k = 2 pi q / L;
                                     fit_q_max = 0: automatic (gr_cascade_fit_range) */
 } gr_cascade_settings;
@@ -75,11 +75,11 @@ int gr_cascade_settings_check(const gr_cascade_settings *s, gr_error *err);
  * the side x side array: m_{i,j}(l) = m[j * side + i], i across (x), j down (y), the square
  * centred at r_{i,j}(l) = L / 2^l (i + 1/2, j + 1/2) (6.1). */
 typedef struct gr_cascade_field {
-    int levels;  /* n: the finest level */
-    int level;   /* current level, 0..levels */
-    int side;    /* 2^levels */
-    double L;    /* box side, m */
-    double *m;   /* side * side probabilities (FFTW-aligned) */
+    int levels; /* n: the finest level */
+    int level;  /* current level, 0..levels */
+    int side;   /* 2^levels */
+    double L;   /* box side, m */
+    double *m;  /* side * side probabilities (FFTW-aligned) */
 } gr_cascade_field;
 
 int gr_cascade_field_alloc(int levels, double L, gr_cascade_field **out, gr_error *err);
@@ -89,11 +89,12 @@ void gr_cascade_field_reset(gr_cascade_field *f);
 /* One level more (6.2): every square of the current level is broken into four with the
  * variant's multipliers, drawn from rng. Refuses when already at f->levels. The settings are
  * expected to have passed gr_cascade_settings_check (only the variant and p are used). */
-int gr_cascade_refine(const gr_cascade_settings *s, gsl_rng *rng, gr_cascade_field *f, gr_error *err);
+int gr_cascade_refine(const gr_cascade_settings *s, gsl_rng *rng, gr_cascade_field *f,
+                      gr_error *err);
 /* Reset and refine to f->levels. totals (NULL or levels + 1 entries) receives the total
  * probability sum_{i,j} m_{i,j}(l) at every level l. */
-int gr_cascade_generate(const gr_cascade_settings *s, gsl_rng *rng, gr_cascade_field *f, double *totals,
-                        gr_error *err);
+int gr_cascade_generate(const gr_cascade_settings *s, gsl_rng *rng, gr_cascade_field *f,
+                        double *totals, gr_error *err);
 /* sum of m over the current level */
 double gr_cascade_field_total(const gr_cascade_field *f);
 
@@ -104,13 +105,14 @@ double gr_cascade_field_total(const gr_cascade_field *f);
 typedef struct gr_cascade_sk gr_cascade_sk;
 
 typedef struct gr_cascade_sk_bin {
-    int q;             /* the bin holds the lattice vectors with q - 1/2 <= |q| < q + 1/2 */
-    int vectors;       /* how many (the whole k plane, -q and q both counted) */
-    double q_mean;     /* mean |q| of those vectors */
-    double k;          /* 2 pi q_mean / L, 1/m */
-    double S;          /* configuration average of the circular average of S */
-    double S_err;      /* its standard error over configurations (NAN for one configuration) */
-    double S_expected; /* the exact configuration average (gr_cascade_sk_expected), circularly averaged */
+    int q;         /* the bin holds the lattice vectors with q - 1/2 <= |q| < q + 1/2 */
+    int vectors;   /* how many (the whole k plane, -q and q both counted) */
+    double q_mean; /* mean |q| of those vectors */
+    double k;      /* 2 pi q_mean / L, 1/m */
+    double S;      /* configuration average of the circular average of S */
+    double S_err;  /* its standard error over configurations (NAN for one configuration) */
+    double
+        S_expected; /* the exact configuration average (gr_cascade_sk_expected), circularly averaged */
 } gr_cascade_sk_bin;
 
 /* An accumulator for fields of s->levels levels (bins q = 1 .. 2^(levels-1)). */
@@ -158,14 +160,14 @@ typedef struct gr_cascade_fit {
     double q_min, q_max, k_min, k_max; /* the bins actually used */
 } gr_cascade_fit;
 
-int gr_cascade_fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max, bool expected,
-                      gr_cascade_fit *out, gr_error *err);
+int gr_cascade_fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max,
+                      bool expected, gr_cascade_fit *out, gr_error *err);
 /* The same line with equal weights per k shell; its errors come from the scatter about the line.
  * Where the weighted fit's chi2/dof is large the scatter is the lattice's shell structure (how
  * many vectors a shell has, which directions), not noise in S: the error bars S_err do not
  * describe it, and this fit is the one to quote (gr_cascade_study headlines it then). */
-int gr_cascade_fit_df_unweighted(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max,
-                                 gr_cascade_fit *out, gr_error *err);
+int gr_cascade_fit_df_unweighted(const gr_cascade_sk_bin *bins, int nbins, double q_min,
+                                 double q_max, gr_cascade_fit *out, gr_error *err);
 /* chi2/dof of the weighted fit above which the unweighted fit is reported and headlined */
 #define GR_CASCADE_CHI2_LARGE 3.0
 
@@ -188,15 +190,15 @@ typedef struct gr_cascade_placement {
 void gr_cascade_placement_default(gr_cascade_placement *p); /* Fig. 6.3: 2500 discs, r = 1.5 mm */
 
 typedef struct gr_cascade_placement_result {
-    int64_t attempts;   /* points drawn */
-    int64_t rejected;   /* of which overlapped a disc already placed */
-    double phi;         /* n pi r^2 / L^2 (2.24) */
+    int64_t attempts; /* points drawn */
+    int64_t rejected; /* of which overlapped a disc already placed */
+    double phi;       /* n pi r^2 / L^2 (2.24) */
 } gr_cascade_placement_result;
 
 /* The checks that need no field: n >= 1, r > 0, L >= 4r, packing fraction <= the jamming limit. */
 int gr_cascade_placement_check(const gr_cascade_placement *p, double L, gr_error *err);
 /* x, y: n entries each, in [0, L). The field must be finished (level == levels). */
-int gr_cascade_place(const gr_cascade_field *f, const gr_cascade_placement *p, gsl_rng *rng, double *x,
-                     double *y, gr_cascade_placement_result *res, gr_error *err);
+int gr_cascade_place(const gr_cascade_field *f, const gr_cascade_placement *p, gsl_rng *rng,
+                     double *x, double *y, gr_cascade_placement_result *res, gr_error *err);
 
 #endif

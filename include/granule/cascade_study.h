@@ -14,8 +14,8 @@
 
 typedef struct gr_cascade_study_params {
     gr_cascade_settings s;
-    bool place;                     /* Fig. 6.3: place discs from the first field */
-    bool no_plots;                  /* skip the PNGs (granule cascade --no-plots) */
+    bool place;    /* Fig. 6.3: place discs from the first field */
+    bool no_plots; /* skip the PNGs (granule cascade --no-plots) */
     gr_cascade_placement placement;
     /* called now and then: configurations done, of total, seconds spent on them */
     void (*progress)(int done, int total, double seconds, void *user);
@@ -29,15 +29,15 @@ typedef struct gr_cascade_study {
     int field_level;
     gr_cascade_sk_bin *bins;
     int nbins;
-    double q_min, q_max;                 /* the fit's bins */
-    bool have_fit;                       /* weighted and exact-average fits */
+    double q_min, q_max; /* the fit's bins */
+    bool have_fit;       /* weighted and exact-average fits */
     gr_cascade_fit fit, fit_exp;
     bool have_unweighted;
-    gr_cascade_fit fit_unweighted;       /* equal weights per shell; see gr_cascade_fit_df_unweighted */
-    bool headline_unweighted;            /* chi2/dof of the weighted fit > GR_CASCADE_CHI2_LARGE */
+    gr_cascade_fit fit_unweighted; /* equal weights per shell; see gr_cascade_fit_df_unweighted */
+    bool headline_unweighted;      /* chi2/dof of the weighted fit > GR_CASCADE_CHI2_LARGE */
     char headline_why[300];
-    char fit_note[800];                  /* why there is no fit */
-    double *px, *py;                     /* placed discs */
+    char fit_note[800]; /* why there is no fit */
+    double *px, *py;    /* placed discs */
     gr_cascade_placement_result pres;
     unsigned long place_seed;
     double place_seconds, wall_seconds;
@@ -51,8 +51,9 @@ const gr_cascade_fit *gr_cascade_study_headline(const gr_cascade_study *st);
 int gr_cascade_study_run(const gr_cascade_study_params *p, gr_cascade_study *st, gr_error *err);
 /* sk.csv, levels.csv, field.csv, summary.json, sk.png, field.png and with a placement
  * snapshots/snap_000000.xyz, scene.ini, placement.png. `plots` receives the plots drawn or why not. */
-int gr_cascade_study_write(const char *dir, const gr_cascade_study_params *p, const gr_cascade_study *st, char *plots,
-                           size_t plots_size, gr_error *err);
+int gr_cascade_study_write(const char *dir, const gr_cascade_study_params *p,
+                           const gr_cascade_study *st, char *plots, size_t plots_size,
+                           gr_error *err);
 void gr_cascade_study_free(gr_cascade_study *st);
 
 #endif

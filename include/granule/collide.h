@@ -23,22 +23,23 @@ int gr_collision_case_table21(int number, double radius, gr_collision_case *out,
  * which is the x axis (n = (1, 0) at impact, so the outgoing normal and tangential velocities are
  * the x and y components); the pair starts r/2 apart along the normal. Refused out of range,
  * naming the flag (--speed, --angle) and the allowed range. */
-int gr_collision_case_oblique(double speed, double angle_deg, double radius, gr_collision_case *out, gr_error *err);
+int gr_collision_case_oblique(double speed, double angle_deg, double radius, gr_collision_case *out,
+                              gr_error *err);
 
 typedef struct gr_collide_setup {
     const gr_model *normal;     /* spring_dashpot (or hard_sphere once event rules exist) */
     const gr_model *tangential; /* NULL, tangential_dashpot or sliding_friction */
     const gr_model *rolling;    /* NULL or rolling_friction (needs contact.rotation) */
     gr_contact_params contact;
-    double mass;     /* of each particle, kg (Table 2.1: 1 kg) */
-    double radius;   /* m */
-    double dt;       /* s; 0: t_c / steps_per_contact */
+    double mass;   /* of each particle, kg (Table 2.1: 1 kg) */
+    double radius; /* m */
+    double dt;     /* s; 0: t_c / steps_per_contact */
     double steps_per_contact;
     bool force_dt;
-    int dim;         /* 1 or 2 */
-    double phase;    /* in [0, 1): where in a time step the contact begins (averaging over it
+    int dim;               /* 1 or 2 */
+    double phase;          /* in [0, 1): where in a time step the contact begins (averaging over it
                         removes the discretisation's phase noise) */
-    double ref_rtol; /* relative tolerance of the CVODE reference (default 1e-12) */
+    double ref_rtol;       /* relative tolerance of the CVODE reference (default 1e-12) */
     double omega1, omega2; /* initial angular velocities, rad/s counterclockwise (default 0;
                               nonzero needs rotation: [model] rotation = true) */
 } gr_collide_setup;
@@ -66,15 +67,15 @@ typedef struct gr_collide_result {
     double impact_angle;   /* degrees between -g and the normal at impact */
     double momentum_error; /* |p' - p| / |p| */
     double normal_impulse, tangential_impulse; /* int |F_n| dt and int |F_t| dt, N s */
-    bool tangential_reversed; /* the tangential relative velocity changed sign */
-    double dt;             /* the time step used (0 for the reference) */
+    bool tangential_reversed;                  /* the tangential relative velocity changed sign */
+    double dt;                                 /* the time step used (0 for the reference) */
     /* the reference only (0 from the engine): where the lost energy went, as fractions of E, so
      * that energy_loss = diss_normal + diss_tangential + stored_lost - work_free */
     double diss_normal, diss_tangential; /* work of the laws' non-conservative forces (dashpots,
                                             friction, the spring's slip) */
-    double stored_lost;    /* elastic energy still in the contact when it ends (clamped normal
+    double stored_lost; /* elastic energy still in the contact when it ends (clamped normal
                               law: xi > 0 there; tangential_spring: k_t s^2 / 2, forgotten) */
-    double work_free;      /* tangential_spring with Mindlin stiffness: energy the spring gained
+    double work_free;   /* tangential_spring with Mindlin stiffness: energy the spring gained
                               without work, int (s^2 / 2) dk_t/dt dt (k_t changes with xi) */
 } gr_collide_result;
 

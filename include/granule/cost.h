@@ -41,48 +41,49 @@ typedef struct gr_cost_candidate {
     double dt;                /* s */
     double steps_per_contact; /* t_c / dt */
     bool scene_dt;            /* the scene's own time step */
-    double loss_error_mean;   /* relative error of the loss per collision, mean over phases (signed);
+    double loss_error_mean;  /* relative error of the loss per collision, mean over phases (signed);
                                  relative to the collision's energy when the contact loses < 0.1 % */
-    double loss_error_worst;  /* the same, worst phase and case (signed) */
+    double loss_error_worst; /* the same, worst phase and case (signed) */
     double cluster_loss_error; /* mean loss error of the stiffest many-body mode (cost.c) */
-    double error;             /* the observable's relative error (signed) */
-    bool finite;              /* stable: the collision, and the stiffest cluster mode, lose energy and end */
-    bool meets;               /* |error| <= tolerance here and at every smaller candidate dt */
+    double error;              /* the observable's relative error (signed) */
+    bool finite; /* stable: the collision, and the stiffest cluster mode, lose energy and end */
+    bool meets;  /* |error| <= tolerance here and at every smaller candidate dt */
 } gr_cost_candidate;
 
 typedef struct gr_cost_request {
     gr_cost_observable observable;
-    double tolerance;          /* relative, e.g. 0.01 */
-    double calibrate_seconds;  /* wall seconds of the calibration run; 0: no calibration */
-    int phases;                /* contact phases per collision (default 16) */
+    double tolerance;         /* relative, e.g. 0.01 */
+    double calibrate_seconds; /* wall seconds of the calibration run; 0: no calibration */
+    int phases;               /* contact phases per collision (default 16) */
 } gr_cost_request;
 
 /* One integrator timed by the calibration, at the recommended dt. */
 #define GR_COST_MAX_OPTIONS 4
 typedef struct gr_cost_option {
-    char integrator[16];           /* "verlet" or "hybrid" */
-    double window;                 /* hybrid: kick_interval (s), a whole number of dt; verlet: 0 */
-    bool ok;                       /* timed; else note says why (the scene refuses this integrator) */
+    char integrator[16]; /* "verlet" or "hybrid" */
+    double window;       /* hybrid: kick_interval (s), a whole number of dt; verlet: 0 */
+    bool ok;             /* timed; else note says why (the scene refuses this integrator) */
     char note[800];
     double wall_per_simulated;     /* median over blocks, wall s per simulated s */
     double wall_per_simulated_err; /* half the 16-84 % spread of the blocks */
     int blocks;
-    double particle_steps_per_second; /* N / dt particle-steps per simulated second, per wall second */
+    double
+        particle_steps_per_second; /* N / dt particle-steps per simulated second, per wall second */
 } gr_cost_option;
 
 typedef struct gr_cost_answer {
     int n;
     gr_cost_candidate c[GR_COST_MAX_CANDIDATES]; /* ordered by increasing dt */
-    double t_c;                /* s, the scene's contact duration */
-    int best;                  /* index of the recommended dt (the largest that meets), or -1 */
-    int scene;                 /* index of the scene's own dt */
-    double simulated_seconds;  /* warm-up + duration of the scene */
+    double t_c;                                  /* s, the scene's contact duration */
+    int best;                 /* index of the recommended dt (the largest that meets), or -1 */
+    int scene;                /* index of the scene's own dt */
+    double simulated_seconds; /* warm-up + duration of the scene */
     /* calibration at c[best]: every integrator timed, and the recommended one (best_option) */
-    int n_options, best_option;     /* best_option -1 when not calibrated */
+    int n_options, best_option; /* best_option -1 when not calibrated */
     gr_cost_option option[GR_COST_MAX_OPTIONS];
     /* the recommended option's numbers (NAN when not calibrated) */
-    double wall_per_simulated;      /* median over blocks, wall s per simulated s */
-    double wall_per_simulated_err;  /* half the 16-84 % spread of the blocks */
+    double wall_per_simulated;     /* median over blocks, wall s per simulated s */
+    double wall_per_simulated_err; /* half the 16-84 % spread of the blocks */
     int blocks;
     double predicted_wall, predicted_wall_err; /* s, for simulated_seconds */
     double particle_steps_per_second;
@@ -92,20 +93,23 @@ void gr_cost_request_default(gr_cost_request *r);
 
 /* The candidate time steps and their errors (no run of the scene). Refuses scenes whose
  * contacts are instantaneous (event-driven hard spheres: nothing to step). */
-int gr_cost_errors(const gr_scene *scene, const gr_cost_request *rq, gr_cost_answer *out, gr_error *err);
+int gr_cost_errors(const gr_scene *scene, const gr_cost_request *rq, gr_cost_answer *out,
+                   gr_error *err);
 
 /* Time the scene at time step dt on this machine in blocks, from the scene's start: Verlet and
  * the hybrid at windows of 10, 30 and 100 dt (a hybrid scene: its own window first), `seconds` of
  * wall time shared among them; fills the options, the recommended (cheapest) one and the
  * calibration fields of out (simulated_seconds must be set). */
-int gr_cost_calibrate(const gr_scene *scene, double dt, double seconds, gr_cost_answer *out, gr_error *err);
+int gr_cost_calibrate(const gr_scene *scene, double dt, double seconds, gr_cost_answer *out,
+                      gr_error *err);
 
 /* Both: the errors, the recommendation and, when rq->calibrate_seconds > 0 and a candidate
  * meets the tolerance, its calibrated wall time. */
-int gr_cost_advise(const gr_scene *scene, const gr_cost_request *rq, gr_cost_answer *out, gr_error *err);
+int gr_cost_advise(const gr_scene *scene, const gr_cost_request *rq, gr_cost_answer *out,
+                   gr_error *err);
 
 /* DIR/cost.json: every candidate, the recommendation and its calibration (atomic write). */
-int gr_cost_write(const gr_cost_answer *a, const gr_cost_request *rq, const char *scene_path, const char *dir,
-                  gr_error *err);
+int gr_cost_write(const gr_cost_answer *a, const gr_cost_request *rq, const char *scene_path,
+                  const char *dir, gr_error *err);
 
 #endif

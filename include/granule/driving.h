@@ -23,19 +23,21 @@
 typedef enum {
     GR_DRIVE_OFF,   /* nothing: free flight between collisions */
     GR_DRIVE_FORCE, /* the random force of [noise] (white noise, no drag): the thesis's RFM */
-    GR_DRIVE_BATH,  /* Ornstein-Uhlenbeck: v <- v e^{-dt/tau} + sqrt(T_bath/dim (1 - e^{-2dt/tau})) xi */
+    GR_DRIVE_BATH, /* Ornstein-Uhlenbeck: v <- v e^{-dt/tau} + sqrt(T_bath/dim (1 - e^{-2dt/tau})) xi */
 } gr_drive_update;
 
 /* A driving's inputs, as given in a scene's [driving] section. */
 typedef struct gr_driving_params {
-    double T_bath; /* langevin: bath temperature, m^2/s^2, in the units of T (2.19): sum over components */
-    double tau;    /* langevin: drag time constant M / gamma, s */
+    double
+        T_bath; /* langevin: bath temperature, m^2/s^2, in the units of T (2.19): sum over components */
+    double tau; /* langevin: drag time constant M / gamma, s */
 } gr_driving_params;
 
 /* What the integrator applies per step (from prepare, once per run). */
 typedef struct gr_driving_coeffs {
     double decay; /* bath: e^{-dt/tau}, the drag's factor on each velocity component per step */
-    double kick;  /* bath: sqrt(T_bath / dim (1 - e^{-2 dt/tau})), m/s, the noise's standard deviation */
+    double
+        kick; /* bath: sqrt(T_bath / dim (1 - e^{-2 dt/tau})), m/s, the noise's standard deviation */
 } gr_driving_coeffs;
 
 typedef struct gr_driving_type {
@@ -47,7 +49,8 @@ typedef struct gr_driving_type {
     const gr_param *params; /* offsets into gr_driving_params */
     int n_params;
     /* The per-step coefficients for time step dt in dim dimensions (NULL: none needed). */
-    int (*prepare)(const gr_driving_params *p, int dim, double dt, gr_driving_coeffs *c, gr_error *err);
+    int (*prepare)(const gr_driving_params *p, int dim, double dt, gr_driving_coeffs *c,
+                   gr_error *err);
 } gr_driving_type;
 
 /* The registry: every driving type, NULL-terminated, in documentation order (rfm first). */

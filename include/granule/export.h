@@ -13,12 +13,12 @@
 
 /* What an export wrote, for the caller to report. */
 typedef struct gr_lammps_export {
-    char deck[1100];      /* DIR/in.granule */
-    char data[1100];      /* DIR/data.granule */
-    char dump[64];        /* the dump file the deck writes, relative to where LAMMPS runs */
+    char deck[1100]; /* DIR/in.granule */
+    char data[1100]; /* DIR/data.granule */
+    char dump[64];   /* the dump file the deck writes, relative to where LAMMPS runs */
     int64_t warmup_steps, run_steps, sample_steps;
     double kn, gamman, gammat; /* pair_style gran/hooke coefficients (N/m, 1/s, 1/s) */
-    double noise_sigma;   /* random force per component per step, N */
+    double noise_sigma;        /* random force per component per step, N */
 } gr_lammps_export;
 
 /* Write DIR/in.granule (the LAMMPS input deck), DIR/data.granule (the initial particles) and
@@ -27,6 +27,7 @@ typedef struct gr_lammps_export {
  * integrators, hard spheres and sliding friction. A folder holding a result (an earlier export,
  * a run, a comparison, ...) is refused unless force, which replaces its contents as a whole
  * (docs/output.md, "Output folders"); nothing is written before the scene is accepted. */
-int gr_export_lammps(const gr_scene *scene, const char *dir, bool force, gr_lammps_export *info, gr_error *err);
+int gr_export_lammps(const gr_scene *scene, const char *dir, bool force, gr_lammps_export *info,
+                     gr_error *err);
 
 #endif

@@ -45,25 +45,25 @@ typedef enum gr_fp_start {
 
 typedef struct gr_fp_settings {
     /* the model */
-    double L;    /* interval length, m (L = 2 l in B.33) */
-    double D;    /* noise strength, N^2 s */
-    double M;    /* particle mass, kg */
+    double L; /* interval length, m (L = 2 l in B.33) */
+    double D; /* noise strength, N^2 s */
+    double M; /* particle mass, kg */
     /* quadrature */
     double epsrel;         /* relative tolerance of every adaptive integral (default 1e-9) */
     size_t limit;          /* subintervals per GSL workspace (default 1000) */
     bool inner_quadrature; /* evaluate B.34's inner z-integral by QAG instead of its closed form
                               z^(1/3) E_{4/3}(v^3 / (9 Gamma z)) (slower; a cross-check) */
     /* simulation */
-    int64_t walkers;       /* number of particles released (default 200000) */
-    uint64_t seed;         /* gsl_rng_mt19937 seed */
-    double steps_per_T0;   /* time steps per T0 = L / V (default 200) */
-    double max_T0;         /* a walk still inside after max_T0 * T0 is cut off and reported */
-    int refine;            /* levels of exact bridge bisection near the walls (default 8; 0: only
+    int64_t walkers;     /* number of particles released (default 200000) */
+    uint64_t seed;       /* gsl_rng_mt19937 seed */
+    double steps_per_T0; /* time steps per T0 = L / V (default 200) */
+    double max_T0;       /* a walk still inside after max_T0 * T0 is cut off and reported */
+    int refine;          /* levels of exact bridge bisection near the walls (default 8; 0: only
                               the Hermite test on each step) */
     gr_fp_start start;
-    int bins;              /* velocity bins of Q over [-vmax, vmax] (even; default 100) */
-    int exit_bins;         /* bins of the exit velocity over [0, vmax] (default 50) */
-    double vmax_V;         /* histogram range in units of V (default 5) */
+    int bins;      /* velocity bins of Q over [-vmax, vmax] (even; default 100) */
+    int exit_bins; /* bins of the exit velocity over [0, vmax] (default 50) */
+    double vmax_V; /* histogram range in units of V (default 5) */
 } gr_fp_settings;
 
 void gr_fp_settings_default(gr_fp_settings *s);
@@ -100,7 +100,8 @@ void gr_fp_quad_free(gr_fp_quad *q);
 int gr_fp_density(gr_fp_quad *q, double x, double v, double *P, double *abserr, gr_error *err);
 /* P(x, v) as printed in (B.32): the thesis's prefactor R / Gamma(2/3) and literal 2F1 bracket
  * (reduced units Gamma = 1 as in the thesis, rescaled like gr_fp_density). */
-int gr_fp_density_thesis(gr_fp_quad *q, double x, double v, double *P, double *abserr, gr_error *err);
+int gr_fp_density_thesis(gr_fp_quad *q, double x, double v, double *P, double *abserr,
+                         gr_error *err);
 /* Q(v, L) = int_0^L P(x, v) dx (B.33-B.34) divided by R (same normalisation as gr_fp_density). */
 int gr_fp_Q(gr_fp_quad *q, double v, double *Q, double *abserr, gr_error *err);
 /* Q(v, L) as printed in (B.34) (thesis prefactor). */
@@ -134,29 +135,29 @@ int gr_fp_exit_moment(gr_fp_quad *q, double m, double *value, gr_error *err);
  * time). Samples of one walk are correlated, so bin errors are computed from the walk-to-walk
  * scatter (the walk is the independent unit); sqrt(X) errors are kept beside them. */
 typedef struct gr_fp_sim_result {
-    gr_histogram q;       /* velocity, sampled every step (density = time-uniform pdf) */
-    double *q_err;        /* q.nbins errors of the density from the walk-to-walk scatter */
-    double *q_cov;        /* q.nbins^2 covariance matrix of the bin densities (same origin) */
-    double *q_walks;      /* q.nbins: number of walks that contributed to each bin */
+    gr_histogram q;  /* velocity, sampled every step (density = time-uniform pdf) */
+    double *q_err;   /* q.nbins errors of the density from the walk-to-walk scatter */
+    double *q_cov;   /* q.nbins^2 covariance matrix of the bin densities (same origin) */
+    double *q_walks; /* q.nbins: number of walks that contributed to each bin */
     gr_histogram exit_right, exit_left; /* exit speed |v| at x = L and at x = 0, per released
                                            walker (density integrates to the exit fraction) */
     int64_t walkers, right_exits, left_exits, truncated;
-    int64_t steps;                /* steps taken by all walkers */
-    double tau;                   /* time step, s */
+    int64_t steps;                             /* steps taken by all walkers */
+    double tau;                                /* time step, s */
     double mean_exit_time, mean_exit_time_err; /* s */
     /* time-uniform moments <v^m>, m = 1..4, with errors from the walk-to-walk scatter */
     double v_moment[5], v_moment_err[5];      /* index m: <v^m> (signed), index 0 unused */
     double abs_v_mean, abs_v_mean_err;        /* <|v|> */
     double exit_speed_mean, exit_speed_err;   /* <|v_exit|> over all exits */
     double exit_speed2_mean, exit_speed2_err; /* <v_exit^2> */
-    double wall_seconds, cpu_seconds; /* elapsed and CPU time of the simulation */
+    double wall_seconds, cpu_seconds;         /* elapsed and CPU time of the simulation */
 } gr_fp_sim_result;
 
 /* Called now and then with the fraction done; return non-zero to stop (GR_EINVAL "stopped"). */
 typedef int (*gr_fp_progress)(double fraction, void *user);
 
-int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user, gr_fp_sim_result *out,
-                   gr_error *err);
+int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
+                   gr_fp_sim_result *out, gr_error *err);
 void gr_fp_sim_result_free(gr_fp_sim_result *r);
 
 /* ------------------------------------------------------------------------------------------
@@ -175,8 +176,9 @@ typedef struct gr_fp_chi2 {
     double dof_eff;   /* nu of the Satterthwaite approximation (= dof for independent bins) */
     double p_value;   /* P(chi2(nu) > chi2 nu / dof) */
     double max_abs_z; /* largest |pull| among the bins used */
-    double chi2_full; /* r^T C^-1 r with the estimated covariance; NAN if C is not positive definite */
-    double p_full;    /* its upper tail for dof degrees of freedom (NAN with chi2_full) */
+    double
+        chi2_full; /* r^T C^-1 r with the estimated covariance; NAN if C is not positive definite */
+    double p_full; /* its upper tail for dof degrees of freedom (NAN with chi2_full) */
 } gr_fp_chi2;
 
 /* model[i] receives the quadrature bin mean for every bin (may be NULL). */

@@ -42,12 +42,12 @@ typedef struct gr_param {
 /* Inputs of the contact laws, as given in a scene's [model] section: the keys several laws share,
  * and each model's own keys in a block of its own. */
 typedef struct gr_contact_params {
-    double k_s;   /* normal spring constant, N/m (2.4) */
-    double eps_n; /* normal coefficient of restitution (2.2) */
-    double eps_t; /* tangential coefficient of restitution (2.10) */
-    double mu;    /* sliding-friction coefficient (2.7) */
-    bool clamp;   /* true: normal force never attractive, gamma_n from the clamped restitution */
-    bool rotation;         /* a tangential law at the contact point: discs rotate (omega, torque) */
+    double k_s;    /* normal spring constant, N/m (2.4) */
+    double eps_n;  /* normal coefficient of restitution (2.2) */
+    double eps_t;  /* tangential coefficient of restitution (2.10) */
+    double mu;     /* sliding-friction coefficient (2.7) */
+    bool clamp;    /* true: normal force never attractive, gamma_n from the clamped restitution */
+    bool rotation; /* a tangential law at the contact point: discs rotate (omega, torque) */
     double inertia_factor; /* rotation: moment of inertia I = q M r^2, q (1/2: uniform disc) */
     /* The models' own parameters (hertz's k_h, hard_sphere's beta, ...): one block per model,
      * declared in its own file as a struct NAME_own (models/NAME.h) and laid out by models/list.h;
@@ -62,7 +62,12 @@ typedef enum {
     GR_NORMAL_HARD_SPHERE /* event-driven rule (not a force law) */
 } gr_normal_law;
 
-typedef enum { GR_TANGENTIAL_NONE = 0, GR_TANGENTIAL_DASHPOT, GR_TANGENTIAL_FRICTION, GR_TANGENTIAL_SPRING } gr_tangential_law;
+typedef enum {
+    GR_TANGENTIAL_NONE = 0,
+    GR_TANGENTIAL_DASHPOT,
+    GR_TANGENTIAL_FRICTION,
+    GR_TANGENTIAL_SPRING
+} gr_tangential_law;
 
 struct gr_model;
 
@@ -83,16 +88,16 @@ typedef struct gr_contact_coeffs {
     gr_normal_law normal;
     gr_tangential_law tangential;
     const struct gr_model *normal_model, *tangential_model;
-    double m12;     /* reduced mass of a colliding pair, kg */
-    double k_s;     /* N/m */
-    double gamma_n; /* normal dashpot, kg/s (2.5) */
-    bool clamp;     /* clamp F_n >= 0 */
-    double w0;      /* undamped contact frequency sqrt(k_s/m12), rad/s */
-    double zeta;    /* damping ratio gamma_n / (2 sqrt(k_s m12)) */
-    double t_c;     /* duration of a binary contact, s (infinite when the pair sticks) */
+    double m12;         /* reduced mass of a colliding pair, kg */
+    double k_s;         /* N/m */
+    double gamma_n;     /* normal dashpot, kg/s (2.5) */
+    bool clamp;         /* clamp F_n >= 0 */
+    double w0;          /* undamped contact frequency sqrt(k_s/m12), rad/s */
+    double zeta;        /* damping ratio gamma_n / (2 sqrt(k_s m12)) */
+    double t_c;         /* duration of a binary contact, s (infinite when the pair sticks) */
     double eps_n_exact; /* restitution the continuous-time law really gives */
-    double gamma_t; /* tangential dashpot, kg/s (2.9) */
-    double mu;      /* sliding friction (2.7) */
+    double gamma_t;     /* tangential dashpot, kg/s (2.9) */
+    double mu;          /* sliding friction (2.7) */
     /* Rotation (gr_contact_params.rotation with a tangential law that acts at the contact point):
      * q = inertia_factor; m_t is the mass that resists the contact point's tangential relative
      * motion, m12 without rotation and m12 q / (1 + q) with it (docs/models.md, "Rotation"). */
@@ -159,7 +164,8 @@ typedef struct gr_model {
     /* Rolling laws: the spin energy (J) one contact takes from two discs of moment of inertia
      * `inertia` whose spins differ by dw0 (w_i - w_j, the contact point not slipping) while it
      * transmits the normal impulse p_n = int |F_n| dt; r_eff = r / 2 for equal discs. */
-    double (*spin_loss)(const gr_contact_coeffs *c, double p_n, double r_eff, double inertia, double dw0);
+    double (*spin_loss)(const gr_contact_coeffs *c, double p_n, double r_eff, double inertia,
+                        double dw0);
     /* Parameter settings that make the model conserve energy ("eps_n=1", space-separated
      * key=value); the conformance suite applies them to test elastic impacts. */
     const char *elastic;
@@ -214,7 +220,8 @@ typedef struct gr_contact_pair {
  * (pairs at r_ij = 0 are skipped); d is the diameter. Returns the law's name, or NULL (nothing
  * added) when c has no normal force law (an event rule, or no model). Tangential forces are not
  * included: their laws need the contact's history and spins, which a frame does not hold. */
-const char *gr_contact_virial(const gr_contact_coeffs *c, double d, const gr_contact_pair *pairs, int n, double w[3]);
+const char *gr_contact_virial(const gr_contact_coeffs *c, double d, const gr_contact_pair *pairs,
+                              int n, double w[3]);
 
 int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
                        const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
@@ -222,7 +229,7 @@ int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
 
 /* Add a rolling law (NULL: none) to coefficients gr_contact_prepare has made; it needs
  * c->rotation (GR_EINVAL naming the keys otherwise). */
-int gr_contact_prepare_rolling(const gr_model *rolling, const gr_contact_params *p, double m12, double dt,
-                               gr_contact_coeffs *c, gr_error *err);
+int gr_contact_prepare_rolling(const gr_model *rolling, const gr_contact_params *p, double m12,
+                               double dt, gr_contact_coeffs *c, gr_error *err);
 
 #endif

@@ -14,9 +14,13 @@
 #include <stdint.h>
 
 /* Independent streams for independent uses of the same seed. */
-enum { GR_STREAM_NOISE = 0, GR_STREAM_INIT_VELOCITY = 1, GR_STREAM_PLACEMENT = 2,
-       GR_STREAM_FREE_FLIGHT = 3 /* event-driven free flight (src/integrators/event/event.c) */,
-       GR_STREAM_HYBRID = 4 /* hybrid integrator: free-flight increments and bridged kicks */ };
+enum {
+    GR_STREAM_NOISE = 0,
+    GR_STREAM_INIT_VELOCITY = 1,
+    GR_STREAM_PLACEMENT = 2,
+    GR_STREAM_FREE_FLIGHT = 3 /* event-driven free flight (src/integrators/event/event.c) */,
+    GR_STREAM_HYBRID = 4 /* hybrid integrator: free-flight increments and bridged kicks */
+};
 
 /* Standard normal variates for particles with ids first .. first+n-1 at step `step`:
  * out[i * per + c] is component c (0 <= c < per, per = 1 or 2) of particle first + i, so out

@@ -35,15 +35,16 @@ typedef struct gr_analysis_params {
  * scene: gr_scene_obs_setup, include/granule/scene.h). The analysis layer sees no scene and no
  * collision model. */
 typedef struct gr_obs_setup {
-    const char *source;      /* the scene's file, for messages */
-    const char *observables; /* [analysis] observables: comma-separated registry names */
+    const char *source;                 /* the scene's file, for messages */
+    const char *observables;            /* [analysis] observables: comma-separated registry names */
     const gr_analysis_params *analysis; /* every observable's parameter block */
     int dim, N;
-    double L, radius, mass;  /* m, m, kg */
-    double D;                /* noise strength, N^2 s (2.15, 2.22); 0 without the random force */
-    double eps_n, eps_t;     /* the contact's restitution coefficients ([contact]) */
-    const char *tangential;  /* the tangential law's name, NULL without one */
-    bool tangential_constant_eps_t; /* its eps_t is a constant restitution (gr_model.constant_eps_t) */
+    double L, radius, mass; /* m, m, kg */
+    double D;               /* noise strength, N^2 s (2.15, 2.22); 0 without the random force */
+    double eps_n, eps_t;    /* the contact's restitution coefficients ([contact]) */
+    const char *tangential; /* the tangential law's name, NULL without one */
+    bool
+        tangential_constant_eps_t; /* its eps_t is a constant restitution (gr_model.constant_eps_t) */
     /* the contact law's coefficients, for the force kernel's own law (gr_contact_virial, pressure's
      * virial); zero without a normal model. Observables never evaluate a law themselves. */
     gr_contact_coeffs contact;
@@ -51,12 +52,12 @@ typedef struct gr_obs_setup {
 
 /* Where an observable writes its results. */
 typedef struct gr_output {
-    const char *dir;            /* existing folder */
-    const char *source;         /* the scene's file and seed, for the CSV headers */
+    const char *dir;    /* existing folder */
+    const char *source; /* the scene's file and seed, for the CSV headers */
     uint64_t seed;
     uint64_t scene_hash;
-    struct cJSON *summary;      /* the run's "analysis" object: add one member per observable */
-    bool plots;                 /* draw PNG plots */
+    struct cJSON *summary; /* the run's "analysis" object: add one member per observable */
+    bool plots;            /* draw PNG plots */
 } gr_output;
 
 struct gr_blob_io;
@@ -67,13 +68,13 @@ struct gr_blob_io;
  * hands init the observable's parameter block, frees whatever init registered with gr_obs_own
  * (src/analysis/obs_util.h), and saves and loads checkpoints through the one `io` function. */
 typedef struct gr_observable_type {
-    const char *name;    /* as listed in [analysis] observables */
-    const char *summary; /* one line, with the thesis equations */
-    unsigned dims;       /* bit 1: 1D, bit 2: 2D; other dimensions are refused with a message */
+    const char *name;       /* as listed in [analysis] observables */
+    const char *summary;    /* one line, with the thesis equations */
+    unsigned dims;          /* bit 1: 1D, bit 2: 2D; other dimensions are refused with a message */
     const gr_param *params; /* its [analysis] keys: offsets into its own parameter struct */
     int n_params;
-    size_t params_size;  /* that struct's size (at most GR_OBS_PARAMS_BYTES) */
-    size_t state_size;   /* the accumulator struct the skeleton allocates, zeroed */
+    size_t params_size; /* that struct's size (at most GR_OBS_PARAMS_BYTES) */
+    size_t state_size;  /* the accumulator struct the skeleton allocates, zeroed */
     /* Fill a zeroed state for a system; `params` is the observable's parameter block. Refuse (GR_EINVAL,
      * naming the key and the allowed range) what it cannot compute; the skeleton frees on failure. */
     int (*init)(void *state, const gr_obs_setup *setup, const void *params, gr_error *err);
@@ -95,10 +96,13 @@ typedef struct gr_observable_type {
 /* The skeleton every observable shares: a state for `setup` (NULL on failure; its parameter block
  * is setup->analysis's), freed with gr_observable_free; its accumulators appended to a blob or
  * restored from one. */
-int gr_observable_create(const gr_observable_type *t, const gr_obs_setup *setup, void **state, gr_error *err);
+int gr_observable_create(const gr_observable_type *t, const gr_obs_setup *setup, void **state,
+                         gr_error *err);
 void gr_observable_free(void *state);
-int gr_observable_save(const gr_observable_type *t, void *state, struct gr_blob *out, gr_error *err);
-int gr_observable_load(const gr_observable_type *t, void *state, struct gr_blob_reader *in, gr_error *err);
+int gr_observable_save(const gr_observable_type *t, void *state, struct gr_blob *out,
+                       gr_error *err);
+int gr_observable_load(const gr_observable_type *t, void *state, struct gr_blob_reader *in,
+                       gr_error *err);
 
 /* The registry, NULL-terminated. */
 extern const gr_observable_type *const gr_observables[];

@@ -26,8 +26,8 @@
 #include "granule/status.h"
 
 typedef struct gr_progress {
-    double t, t_end;        /* simulated time now and at the end, s */
-    double wall, eta;       /* s */
+    double t, t_end;  /* simulated time now and at the end, s */
+    double wall, eta; /* s */
     double particle_steps_per_second;
     bool warmup;
 } gr_progress;
@@ -62,8 +62,8 @@ typedef struct gr_run_result {
      * GR_RUN_STOPPED_WRITE (with GR_EIO): an output could not be written (a full disk) and the
      * last checkpoint was kept: resume once there is space */
     int stopped;
-    int64_t checkpoints;       /* written by this call */
-    double checkpoint_seconds; /* wall time spent writing them */
+    int64_t checkpoints;        /* written by this call */
+    double checkpoint_seconds;  /* wall time spent writing them */
     char checkpoint_error[256]; /* first failed periodic checkpoint ("" if none) */
     char notes[600];            /* schedule roundings worth stating, one per line ("" if none) */
 } gr_run_result;

@@ -18,20 +18,19 @@
 #include "granule/status.h"
 #include "granule/trajectory.h"
 
-
 typedef struct gr_scene {
     /* [system] */
-    int dim;          /* 1 or 2 */
-    int N;            /* number of particles */
-    double L;         /* box side (2D) or ring length (1D), m */
+    int dim;                 /* 1 or 2 */
+    int N;                   /* number of particles */
+    double L;                /* box side (2D) or ring length (1D), m */
     double packing_fraction; /* 2D alternative to L: phi = N pi r^2 / L^2 (2.24); 0 = unset */
     double reduced_length;   /* 1D alternative to L: L' = L - N d; < 0 = unset */
-    double radius;    /* m */
-    double mass;      /* kg */
+    double radius;           /* m */
+    double mass;             /* kg */
     /* [placement] */
     gr_placement_kind placement;
-    double v0;        /* initial velocities v0 * U(-0.5, 0.5) per component, m/s */
-    double omega0;    /* rotation: initial angular velocities omega0 * U(-0.5, 0.5), rad/s */
+    double v0;     /* initial velocities v0 * U(-0.5, 0.5) per component, m/s */
+    double omega0; /* rotation: initial angular velocities omega0 * U(-0.5, 0.5), rad/s */
     /* [model] */
     const gr_model *normal;
     const gr_model *tangential; /* NULL: no tangential law */
@@ -41,31 +40,32 @@ typedef struct gr_scene {
     const gr_driving_type *driving;
     gr_driving_params driving_params;
     /* [noise] */
-    double D;         /* noise strength, N^2 s (2.15, 2.22) */
+    double D; /* noise strength, N^2 s (2.15, 2.22) */
     gr_noise_mode noise_mode;
     double com_interval; /* com mode: seconds between centre-of-mass velocity removals */
     /* [integrator] */
     const gr_integrator_type *integrator; /* from the registry (granule/integrator.h) */
-    double dt;        /* s; 0 = derive from steps_per_contact */
+    double dt;                            /* s; 0 = derive from steps_per_contact */
     double steps_per_contact;
-    bool force_dt;    /* accept dt > t_c / 10 */
-    double skin;      /* Verlet-list skin in diameters; 0 = rebuild the cell list every step */
+    bool force_dt; /* accept dt > t_c / 10 */
+    double skin;   /* Verlet-list skin in diameters; 0 = rebuild the cell list every step */
     gr_free_flight_noise free_flight; /* event/hybrid: exact sampling or velocity kicks */
     double kick_interval; /* event: s between noise updates; hybrid: s per window of free flight */
     /* [run] */
     double warmup, duration, sample_every; /* s */
     uint64_t seed;
-    bool progress;    /* progress line on a terminal */
-    double ledger_tolerance; /* stop when |ledger residual| exceeds this fraction of the energy moved; 0 = off */
+    bool progress; /* progress line on a terminal */
+    double
+        ledger_tolerance; /* stop when |ledger residual| exceeds this fraction of the energy moved; 0 = off */
     double checkpoint_every; /* simulated s between checkpoints; 0 = off (docs/checkpoints.md) */
     double checkpoint_wall;  /* wall-clock s between checkpoints; 0 = off */
-    double wall_limit;       /* wall-clock budget, s: checkpoint and stop before it runs out; 0 = none */
+    double wall_limit; /* wall-clock budget, s: checkpoint and stop before it runs out; 0 = none */
     /* [analysis] */
     char observables[256]; /* comma-separated names from the observable registry; "" = none */
     gr_analysis_params analysis;
     /* [output] */
     char out_dir[1024];
-    double snapshot_every; /* s; 0 = no snapshots */
+    double snapshot_every;           /* s; 0 = no snapshots */
     gr_trajectory_format trajectory; /* one file per frame, one multi-frame XYZ, or H5MD */
     bool plots;
     /* where the scene came from (for messages and summary.json) */
@@ -89,7 +89,8 @@ int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, i
                   gr_error *err);
 /* gr_scene_load for a scene a user hands to a command: also refuses a file that is empty or only
  * comments, or has no [system] section (gr_scene_load accepts partial scenes, e.g. in tests). */
-int gr_scene_load_whole(gr_scene *s, const char *path, const char *const *overrides, int n_overrides, gr_error *err);
+int gr_scene_load_whole(gr_scene *s, const char *path, const char *const *overrides,
+                        int n_overrides, gr_error *err);
 /* The same from scene text in memory (text[0..len), not NUL-terminated; `name` stands for the
  * file in messages). Used by the fuzz harness (tests/fuzz) and anything holding a scene in memory. */
 int gr_scene_load_buffer(gr_scene *s, const char *name, const char *text, size_t len,
@@ -123,7 +124,8 @@ int gr_scene_obs_setup(const gr_scene *s, gr_obs_setup *out, gr_error *err);
 /* gr_observer_create for a scene's [analysis] observables (gr_scene_obs_setup first). */
 int gr_scene_observer(const gr_scene *s, gr_observer **out, gr_error *err);
 /* gr_observable_create of one observable type for a scene (tests, tools). */
-int gr_scene_observable(const gr_observable_type *t, const gr_scene *s, void **state, gr_error *err);
+int gr_scene_observable(const gr_observable_type *t, const gr_scene *s, void **state,
+                        gr_error *err);
 
 /* The simulation parameters of a scene (src/scene/scene_sim.c): what gr_sim_new needs. */
 void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p);

@@ -25,16 +25,17 @@ typedef struct gr_sim gr_sim;
 
 /* Energies in J, accumulated since the simulation was created. */
 typedef struct gr_ledger {
-    double kinetic;        /* current kinetic energy sum M v^2 / 2 (+ sum I w^2 / 2 with rotation) */
-    double rotational;     /* its rotational part sum I w^2 / 2 (0 without rotation) */
-    double elastic;        /* current spring energy sum k_s xi^2 / 2 */
-    double initial;        /* kinetic + elastic at creation */
-    double injected;       /* work done by the random force */
+    double kinetic;    /* current kinetic energy sum M v^2 / 2 (+ sum I w^2 / 2 with rotation) */
+    double rotational; /* its rotational part sum I w^2 / 2 (0 without rotation) */
+    double elastic;    /* current spring energy sum k_s xi^2 / 2 */
+    double initial;    /* kinetic + elastic at creation */
+    double injected;   /* work done by the random force */
     double dissipated_normal;     /* normal dashpot (2.5) */
     double dissipated_tangential; /* tangential dashpot (2.9) */
     double dissipated_friction;   /* sliding friction (2.7) */
-    double removed_com;    /* kinetic energy removed by centre-of-mass resets (com noise mode) */
-    double dissipated_drag; /* the Langevin bath's viscous drag ([driving] kind = langevin; 0 otherwise) */
+    double removed_com; /* kinetic energy removed by centre-of-mass resets (com noise mode) */
+    double
+        dissipated_drag; /* the Langevin bath's viscous drag ([driving] kind = langevin; 0 otherwise) */
 } gr_ledger;
 
 /* Everything dissipated, by any mechanism (collisions and the bath's drag). */
@@ -44,8 +45,13 @@ double gr_ledger_dissipated(const gr_ledger *l);
  * (docs/integrator.md, tests/test_sim.c). */
 double gr_ledger_residual(const gr_ledger *l);
 
-
-typedef enum { GR_PLACE_HEXAGONAL, GR_PLACE_SQUARE, GR_PLACE_UNIFORM, GR_PLACE_CLUSTER, GR_PLACE_RANDOM } gr_placement_kind;
+typedef enum {
+    GR_PLACE_HEXAGONAL,
+    GR_PLACE_SQUARE,
+    GR_PLACE_UNIFORM,
+    GR_PLACE_CLUSTER,
+    GR_PLACE_RANDOM
+} gr_placement_kind;
 typedef enum { GR_NOISE_NONE, GR_NOISE_SYMMETRISED, GR_NOISE_COM } gr_noise_mode;
 /* How the random force drives free flight in the event-driven and hybrid integrators. */
 typedef enum { GR_FREE_FLIGHT_EXACT, GR_FREE_FLIGHT_KICKS } gr_free_flight_noise;
@@ -58,33 +64,33 @@ const char *gr_noise_mode_name(gr_noise_mode m);
  * [system], [placement], [model], [noise] and [integrator] keys and the seed (docs/scene-keys.md
  * documents each). Fill it by hand to drive the library without the scene parser. */
 typedef struct gr_sim_params {
-    int dim;                    /* 1 or 2 */
-    int N;                      /* particles (gr_sim_new) */
-    double L;                   /* box side (2D) or ring length (1D), m */
-    double radius, mass;        /* m, kg */
+    int dim;             /* 1 or 2 */
+    int N;               /* particles (gr_sim_new) */
+    double L;            /* box side (2D) or ring length (1D), m */
+    double radius, mass; /* m, kg */
     gr_placement_kind placement;
-    double v0;                  /* initial velocities v0 * U(-0.5, 0.5) per component, m/s */
-    double omega0;              /* rotation: initial angular velocities omega0 * U(-0.5, 0.5), rad/s */
+    double v0;     /* initial velocities v0 * U(-0.5, 0.5) per component, m/s */
+    double omega0; /* rotation: initial angular velocities omega0 * U(-0.5, 0.5), rad/s */
     const gr_model *normal;
     const gr_model *tangential; /* NULL: none */
     const gr_model *rolling;    /* rolling resistance (needs contact.rotation); NULL: none */
     gr_contact_params contact;
-    double D;                   /* noise strength, N^2 s (2.15, 2.22) */
+    double D; /* noise strength, N^2 s (2.15, 2.22) */
     gr_noise_mode noise_mode;
-    double com_interval;        /* com mode: s between centre-of-mass velocity removals */
+    double com_interval; /* com mode: s between centre-of-mass velocity removals */
     /* [driving] (granule/driving.h): NULL = rfm, the random force above. none switches it off;
      * langevin replaces it by the bath of driving_params (needs an integrator with .drag). */
     const gr_driving_type *driving;
     gr_driving_params driving_params;
     const gr_integrator_type *integrator; /* gr_integrator_find("verlet"), ... */
-    double dt;                  /* s; 0 = t_c / steps_per_contact */
+    double dt;                            /* s; 0 = t_c / steps_per_contact */
     double steps_per_contact;
-    bool force_dt;              /* accept dt > t_c / 10 */
-    double skin;                /* Verlet-list skin in diameters */
+    bool force_dt;                    /* accept dt > t_c / 10 */
+    double skin;                      /* Verlet-list skin in diameters */
     gr_free_flight_noise free_flight; /* event / hybrid */
-    double kick_interval;       /* event / hybrid, s */
+    double kick_interval;             /* event / hybrid, s */
     uint64_t seed;
-    char source[1024];          /* names the input in messages (a scene file, "python", ...) */
+    char source[1024]; /* names the input in messages (a scene file, "python", ...) */
 } gr_sim_params;
 
 /* Build a simulation: place the particles (sec. 2.1.4), give them small random velocities,

@@ -38,17 +38,17 @@
 #define GR_SPM_THESIS_B_COEF 0.98
 
 typedef struct gr_spm_settings {
-    int dim;          /* 1: interval [-l, l]; 2: disc of radius l (default 2) */
-    double mass;      /* M, kg (default 3.53e-5, Table 2.2) */
-    double D;         /* noise strength, N^2 s (default 1e-8, Table 2.2) */
-    double step;      /* sampling interval in units of t_l of each walk (default 3e-3) */
-    double dt;        /* > 0: a fixed sampling interval in seconds for every walk instead (the
+    int dim;       /* 1: interval [-l, l]; 2: disc of radius l (default 2) */
+    double mass;   /* M, kg (default 3.53e-5, Table 2.2) */
+    double D;      /* noise strength, N^2 s (default 1e-8, Table 2.2) */
+    double step;   /* sampling interval in units of t_l of each walk (default 3e-3) */
+    double dt;     /* > 0: a fixed sampling interval in seconds for every walk instead (the
                        * thesis' fixed time step); 0 (default) uses `step` */
-    int refine;       /* bridge-refinement levels near the boundary, 0..30 (default 10) */
-    int64_t walks;    /* walks per radius (circle) or in all (full) (default 20000) */
-    int batches;      /* independent batches of walks for the error bars, >= 2 (default 20) */
-    uint64_t seed;    /* default 1 */
-    double tilt;      /* full SPM: importance sampling of long free paths, >= 1 (default 1:
+    int refine;    /* bridge-refinement levels near the boundary, 0..30 (default 10) */
+    int64_t walks; /* walks per radius (circle) or in all (full) (default 20000) */
+    int batches;   /* independent batches of walks for the error bars, >= 2 (default 20) */
+    uint64_t seed; /* default 1 */
+    double tilt;   /* full SPM: importance sampling of long free paths, >= 1 (default 1:
                        * none). The distribution-function value u of each free path is drawn as
                        * 1 - (1 - U)^tilt, U uniform, and the walk weighed by
                        * tilt (1 - u)^(1 - 1/tilt); for 4.25 this draws l with C / tilt. It
@@ -86,8 +86,8 @@ void gr_spm_bridge_midpoint(double x0, double v0, double x1, double v1, double h
  * walks (samples within a walk are strongly correlated, so sqrt(X) would be far too small). The
  * histograms are of |v|; densities are of the signed component (half the |v| density). */
 typedef struct gr_spm_dist {
-    gr_histogram all;     /* every batch merged; the counts are (fractional) sample weights */
-    gr_histogram *batch;  /* nbatches histograms with the same bins */
+    gr_histogram all;    /* every batch merged; the counts are (fractional) sample weights */
+    gr_histogram *batch; /* nbatches histograms with the same bins */
     int nbatches;
 } gr_spm_dist;
 
@@ -104,12 +104,12 @@ double gr_spm_dist_poisson_error(const gr_spm_dist *d, int i);
  * times / t_l) and the work done. */
 typedef struct gr_spm_walk_stats {
     int64_t walks;
-    int64_t steps;          /* sampling intervals integrated */
-    int64_t bridge_points;  /* refinement midpoints drawn */
-    int64_t bridge_exits;   /* walks whose exit was found only by the refinement */
-    double exit_time_mean, exit_time_err;  /* first-passage time / t_l */
-    double w2_time_mean;    /* <w^2> per component, uniformly in time */
-    double w2_time_err;     /* its standard error (walks independent; ratio estimator) */
+    int64_t steps;                        /* sampling intervals integrated */
+    int64_t bridge_points;                /* refinement midpoints drawn */
+    int64_t bridge_exits;                 /* walks whose exit was found only by the refinement */
+    double exit_time_mean, exit_time_err; /* first-passage time / t_l */
+    double w2_time_mean;                  /* <w^2> per component, uniformly in time */
+    double w2_time_err;      /* its standard error (walks independent; ratio estimator) */
     double exit_speed2_mean; /* <|w|^2> at the exit; = dim * exit_time_mean (Ito) */
 } gr_spm_walk_stats;
 
@@ -118,11 +118,11 @@ typedef struct gr_spm_walk_stats {
  * |w| = |v| / u_l on [0, wmax) with nbins bins, so curves of different radii are compared bin by
  * bin (the collapse). `index` separates the random streams of different radii of one run. */
 typedef struct gr_spm_q {
-    double radius;            /* l, m */
-    double u;                 /* u_l, m/s */
-    double t_scale;           /* t_l, s */
-    double tau;               /* sampling interval / t_l actually used */
-    gr_spm_dist q;            /* of w: density of v is density(w) / u */
+    double radius;  /* l, m */
+    double u;       /* u_l, m/s */
+    double t_scale; /* t_l, s */
+    double tau;     /* sampling interval / t_l actually used */
+    gr_spm_dist q;  /* of w: density of v is density(w) / u */
     gr_spm_walk_stats stats;
 } gr_spm_q;
 
@@ -136,10 +136,10 @@ void gr_spm_q_free(gr_spm_q *q);
  * it writes nout numbers to out and returns 0, or non-zero when it cannot (then the jackknife
  * fails with GR_EINVAL). value = fn on all batches; jk_err[k] = sqrt((B-1)/B sum_j (t_j - t)^2)
  * over the B leave-one-out estimates t_j (the error bars stay those of all batches). */
-typedef int (*gr_spm_stat_fn)(const double *x, const double *p, const double *e, const double *count, int n,
-                              double *out, void *user);
-int gr_spm_dist_jackknife(const gr_spm_dist *d, gr_spm_stat_fn fn, void *user, int nout, double *value,
-                          double *jk_err, gr_error *err);
+typedef int (*gr_spm_stat_fn)(const double *x, const double *p, const double *e,
+                              const double *count, int n, double *out, void *user);
+int gr_spm_dist_jackknife(const gr_spm_dist *d, gr_spm_stat_fn fn, void *user, int nout,
+                          double *value, double *jk_err, gr_error *err);
 
 /* The Gaussian tail 5.12 fitted to Q: ln Q(w) = ln A - b w^2 over the bins with w >= wfrom and at
  * least min_count samples (a weighted straight line in w^2 with gr_fit_line), and a free-exponent
@@ -147,11 +147,11 @@ int gr_spm_dist_jackknife(const gr_spm_dist *d, gr_spm_stat_fn fn, void *user, i
  * tail). Errors are jackknife errors over the batches. */
 typedef struct gr_spm_tail_fit {
     double wfrom, wto;
-    double b, b_err;          /* the coefficient of 5.12 (thesis 0.98) */
-    double A, A_err;          /* amplitude of the scaled density */
-    double chi2_red;          /* of the line fit with the batch errors (bins correlated) */
+    double b, b_err; /* the coefficient of 5.12 (thesis 0.98) */
+    double A, A_err; /* amplitude of the scaled density */
+    double chi2_red; /* of the line fit with the batch errors (bins correlated) */
     int n_points;
-    double beta, beta_err;    /* free-exponent fit (NAN if it failed) */
+    double beta, beta_err; /* free-exponent fit (NAN if it failed) */
 } gr_spm_tail_fit;
 int gr_spm_q_tail_fit(const gr_spm_q *q, double wfrom, double min_count, gr_spm_tail_fit *out,
                       gr_error *err);
@@ -181,11 +181,11 @@ int gr_spm_q_collapse(const gr_spm_q *a, const gr_spm_q *b, double min_count, in
 enum { GR_SPM_PL_FITTED = 0, GR_SPM_PL_TABLE = 1 };
 typedef struct gr_spm_pl {
     int kind;
-    double df, beta, C;       /* fitted form: beta = D_f - 1, C in m^-beta */
-    int n;                    /* table: points (l ascending, P >= 0) */
-    double *l, *p, *perr;     /* perr NULL when the file has no error column */
-    double *cdf;              /* cumulative integral at each point, normalised to 1 */
-    char source[512];         /* file name or "fitted form 4.25" */
+    double df, beta, C;   /* fitted form: beta = D_f - 1, C in m^-beta */
+    int n;                /* table: points (l ascending, P >= 0) */
+    double *l, *p, *perr; /* perr NULL when the file has no error column */
+    double *cdf;          /* cumulative integral at each point, normalised to 1 */
+    char source[512];     /* file name or "fitted form 4.25" */
 } gr_spm_pl;
 
 int gr_spm_pl_fitted(gr_spm_pl *pl, double df, double C, gr_error *err);
@@ -219,10 +219,10 @@ int gr_spm_pl_fit_tail(const gr_spm_pl *pl, double lfrom, gr_spm_pl_fit *out, gr
  * walk equally (5.10 taken literally with Q normalised per walk). P(v) is histogrammed in m/s on
  * [0, vmax). */
 typedef struct gr_spm_full_result {
-    gr_spm_dist p;            /* P(v) of one component, m/s */
+    gr_spm_dist p; /* P(v) of one component, m/s */
     gr_spm_walk_stats stats;
-    double l_mean;            /* mean drawn free path, m */
-    double v2_mean;           /* <v^2> per component of P(v), m^2/s^2 */
+    double l_mean;  /* mean drawn free path, m */
+    double v2_mean; /* <v^2> per component of P(v), m^2/s^2 */
 } gr_spm_full_result;
 
 int gr_spm_full(const gr_spm_settings *s, const gr_spm_pl *pl, bool weight_time, int nbins,
@@ -259,10 +259,10 @@ double gr_spm_asymptotic_log(const gr_spm_prediction *p, double v);
  * field). Counts in h are samples, so gr_histogram's sqrt(X) errors apply (frames far apart). */
 typedef struct gr_spm_rfm_info {
     int frames, frames_skipped, dim;
-    int64_t particles;        /* per frame (the last one read) */
+    int64_t particles; /* per frame (the last one read) */
     double t_first, t_last;
-    double v2_mean;           /* <v^2> per component over the frames read */
-    double v_max;             /* largest |v| component seen */
+    double v2_mean; /* <v^2> per component over the frames read */
+    double v_max;   /* largest |v| component seen */
 } gr_spm_rfm_info;
 int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm_rfm_info *info,
                          gr_error *err);
@@ -279,8 +279,8 @@ int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm
  * (Pearson; the fits use it too), which the observed sqrt(X) underestimates for low-count
  * deficits. */
 typedef struct gr_spm_compare {
-    double v_from, k, k_err, s, s_err;  /* s = 1 unless fit_scale */
-    double chi2_red;          /* over the bins v >= v_from */
+    double v_from, k, k_err, s, s_err; /* s = 1 unless fit_scale */
+    double chi2_red;                   /* over the bins v >= v_from */
     int n_points;
     double v_agree_lo, v_agree_hi, decades;
     int agree_bins;
@@ -307,9 +307,9 @@ typedef struct gr_spm_series_compare {
     double alpha_spm, alpha_spm_err, alpha_rfm, alpha_rfm_err;
     int points_spm, points_rfm;
 } gr_spm_series_compare;
-int gr_spm_compare_series(const double *v, const double *p_spm, const double *e_spm, const double *p_rfm,
-                          const double *e_rfm, int n, double from_vrms, double z_max, gr_spm_series_compare *out,
-                          gr_error *err);
+int gr_spm_compare_series(const double *v, const double *p_spm, const double *e_spm,
+                          const double *p_rfm, const double *e_rfm, int n, double from_vrms,
+                          double z_max, gr_spm_series_compare *out, gr_error *err);
 
 /* ---------------------------------------------------------------------------------------------
  * The RFM's P(v) against the SPM's asymptotic form, as measured from a run's tables (Figs.
@@ -319,8 +319,8 @@ int gr_spm_compare_series(const double *v, const double *p_spm, const double *e_
  * P_sym(|v|) = (P(v) + P(-v)) / 2 with error sqrt(e(v)^2 + e(-v)^2) / 2, and the counts behind
  * it, (P/e)^2 summed over both sides (the errors are sqrt(X) ones, A.5). Writes the bins with
  * v > 0 ascending and returns how many; 0 when the bins are not symmetric about 0. */
-int gr_spm_fold_pv(const double *v, const double *p, const double *e, int n, double *vf, double *pf, double *ef,
-                   double *counts);
+int gr_spm_fold_pv(const double *v, const double *p, const double *e, int n, double *vf, double *pf,
+                   double *ef, double *counts);
 
 /* 5.31 with alpha and h fixed, ln P = ln A0 + h ln v - S |v|^alpha (v in m/s), fitted to the
  * folded P(v) as a weighted line in v^alpha over the window x_lo <= v / v_rms <= x_hi where the
@@ -330,25 +330,27 @@ int gr_spm_fold_pv(const double *v, const double *p, const double *e, int n, dou
  * exactly A0 exp(-S v^alpha) its slope with P' = A0 is -alpha. With S_pred > 0 also the amplitude
  * of 5.31 with S fixed at S_pred (the line of Fig. 5.12). */
 typedef struct gr_spm_tail531 {
-    double alpha, h;              /* fixed */
-    double v_lo, v_hi, decades;   /* the bins fitted (m/s) and log10 P(v_lo) / P(v_hi) */
+    double alpha, h;            /* fixed */
+    double v_lo, v_hi, decades; /* the bins fitted (m/s) and log10 P(v_lo) / P(v_hi) */
     int n_points;
     double S, S_err, lnA0, lnA0_err, chi2_red;
     double A0, P0, A0_over_P0;
-    double lnA0_at_S_pred;        /* NAN without S_pred */
+    double lnA0_at_S_pred; /* NAN without S_pred */
     double slope_P0, slope_P0_err, slope_A0, slope_A0_err;
-    double icpt_P0, icpt_A0;      /* the lines' intercepts, at ln(v / v_rms) = 0 */
+    double icpt_P0, icpt_A0; /* the lines' intercepts, at ln(v / v_rms) = 0 */
 } gr_spm_tail531;
-int gr_spm_tail531_fit(const double *v, const double *p, const double *e, const double *counts, int n, double P0,
-                       double v_rms, double alpha, double h, double x_lo, double x_hi, double counts_min, double S_pred,
-                       gr_spm_tail531 *out, gr_error *err);
+int gr_spm_tail531_fit(const double *v, const double *p, const double *e, const double *counts,
+                       int n, double P0, double v_rms, double alpha, double h, double x_lo,
+                       double x_hi, double counts_min, double S_pred, gr_spm_tail531 *out,
+                       gr_error *err);
 /* ln of 5.31 at v: ln A0 + h ln v - S v^alpha. */
 double gr_spm_tail531_log(double lnA0, double h, double S, double alpha, double v);
 
 /* C of 4.25 with beta = D_f - 1 fixed, ln P - (beta - 1) ln l = ln A0 - C l^beta, a weighted line
  * in l^beta over the points l_lo <= l <= l_hi with P > 0 and e > 0 (C in the units of l^-beta; a
  * table in diameters gives C per d^beta: C_SI = C d^-beta). Errors scaled by sqrt(chi2/dof) > 1. */
-int gr_spm_pl_fit_C(const double *l, const double *p, const double *e, int n, double beta, double l_lo, double l_hi,
-                    double *C, double *C_err, double *chi2_red, gr_error *err);
+int gr_spm_pl_fit_C(const double *l, const double *p, const double *e, int n, double beta,
+                    double l_lo, double l_hi, double *C, double *C_err, double *chi2_red,
+                    gr_error *err);
 
 #endif

@@ -56,8 +56,8 @@ typedef struct gr_spm_circle_params {
 typedef struct gr_spm_circle_report {
     int n_radii;
     gr_spm_q q[GR_SPM_MAX_RADII];
-    gr_spm_q pooled;                          /* batch b of every radius in batch b */
-    gr_spm_tail_fit fit[GR_SPM_MAX_RADII];    /* NAN and a note where the fit failed */
+    gr_spm_q pooled;                       /* batch b of every radius in batch b */
+    gr_spm_tail_fit fit[GR_SPM_MAX_RADII]; /* NAN and a note where the fit failed */
     char fit_note[GR_SPM_MAX_RADII][GR_SPM_NOTE];
     gr_spm_collapse collapse[GR_SPM_MAX_RADII]; /* [r] against radius 0; [0] unused */
     gr_spm_tail_fit pooled_fit;
@@ -70,8 +70,8 @@ typedef struct gr_spm_circle_report {
 void gr_spm_circle_params_default(gr_spm_circle_params *p);
 int gr_spm_circle_prepare(const gr_spm_circle_params *p, gr_error *err);
 int gr_spm_circle_run(const gr_spm_circle_params *p, gr_spm_circle_report *r, gr_error *err);
-int gr_spm_circle_write(const char *dir, const gr_spm_circle_params *p, const gr_spm_circle_report *r, bool plots,
-                        gr_error *err);
+int gr_spm_circle_write(const char *dir, const gr_spm_circle_params *p,
+                        const gr_spm_circle_report *r, bool plots, gr_error *err);
 void gr_spm_circle_report_free(gr_spm_circle_report *r);
 
 /* ------------------------------------------------------------------------------------------- *
@@ -80,25 +80,25 @@ typedef struct gr_spm_full_params {
     gr_spm_settings s;
     bool mass_set, D_set, dim_set; /* else M, D and dim default to the run's (with run_dir) */
     int bins;
-    const char *pl_path;  /* a P_l table, or NULL */
-    const char *run_dir;  /* an RFM run to compare with, or NULL */
-    double df, C;         /* the fitted form 4.25 (NAN: not given; df defaults to 1.63 (the
+    const char *pl_path; /* a P_l table, or NULL */
+    const char *run_dir; /* an RFM run to compare with, or NULL */
+    double df, C;        /* the fitted form 4.25 (NAN: not given; df defaults to 1.63 (the
                              thesis' D_f, sec. 4.2) when neither pl_path nor run_dir is given,
                              C to 121) */
-    double tail_from;     /* fit 4.25 to the table over l >= tail_from, m (0: the longest 10%) */
-    double vmax;          /* NAN: from P_l and the walks */
-    double fit_from;      /* NAN: 3 v_rms */
-    double t_from;        /* NAN: the run's warm-up */
-    double compare_from;  /* NAN: 2 v_rms of the run */
+    double tail_from;    /* fit 4.25 to the table over l >= tail_from, m (0: the longest 10%) */
+    double vmax;         /* NAN: from P_l and the walks */
+    double fit_from;     /* NAN: 3 v_rms */
+    double t_from;       /* NAN: the run's warm-up */
+    double compare_from; /* NAN: 2 v_rms of the run */
     double z_max;
-    double diameter;      /* NAN: the run folder's */
+    double diameter; /* NAN: the run folder's */
     bool weight_time;
 } gr_spm_full_params;
 
 typedef struct gr_spm_full_report {
     /* resolved by prepare */
     char auto_pl[1200];
-    bool df_defaulted;    /* D_f = 1.63 was taken because no P_l was given */
+    bool df_defaulted; /* D_f = 1.63 was taken because no P_l was given */
     gr_spm_pl pl;
     bool pl_loaded;
     gr_spm_pl_fit plfit;
@@ -114,13 +114,13 @@ typedef struct gr_spm_full_report {
     bool have_res;
     int nb;
     double *v, *p_spm, *e_spm, *p_rfm, *e_rfm; /* per bin */
-    double v_rms, v_data;  /* v_data: the largest v with SPM data */
-    double sfit[3], sfit_err[3], sfit_chi2; /* A exp(-(v/v_A)^alpha): (A, v_A, alpha) */
+    double v_rms, v_data;                      /* v_data: the largest v with SPM data */
+    double sfit[3], sfit_err[3], sfit_chi2;    /* A exp(-(v/v_A)^alpha): (A, v_A, alpha) */
     int sfit_points;
     bool have_sfit;
     double f531[3], f531_err[3], f531_chi2; /* 5.31 with alpha fixed: (ln A0, h, S) */
     bool have_531;
-    gr_spm_compare cmp, cmp2;  /* amplitude only; amplitude and velocity scale */
+    gr_spm_compare cmp, cmp2; /* amplitude only; amplitude and velocity scale */
     bool have_cmp, have_cmp2;
     double implied_C;
     double wall_seconds;
@@ -130,8 +130,8 @@ void gr_spm_full_params_default(gr_spm_full_params *p);
 /* Resolves the run's defaults into p (M, D, dim, t_from, the run's freepath.csv as P_l, D_f). */
 int gr_spm_full_prepare(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *err);
 int gr_spm_full_run(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *err);
-int gr_spm_full_write(const char *dir, const gr_spm_full_params *p, const gr_spm_full_report *r, bool plots,
-                      gr_error *err);
+int gr_spm_full_write(const char *dir, const gr_spm_full_params *p, const gr_spm_full_report *r,
+                      bool plots, gr_error *err);
 void gr_spm_full_report_free(gr_spm_full_report *r);
 /* The fit of 5.31 with alpha fixed (have_531), A0 v^h exp(-S v^alpha), at v. */
 double gr_spm_full_531(const gr_spm_full_report *r, double v);
@@ -145,23 +145,23 @@ double gr_spm_pl_diameter(const char *pl_path, double given);
 /* ------------------------------------------------------------------------------------------- *
  * predict: alpha, h, S, v_A from D_f (sec. 5.3.2) and the integral 5.13 against 5.26 */
 typedef struct gr_spm_predict_params {
-    gr_spm_settings s;    /* mass and D only */
-    const char *pl_path;  /* fit D_f and C to this P_l table, or NULL */
-    double df, C, b;      /* df NAN without pl_path: 1.63; C NAN: 121 (or the fit's) */
+    gr_spm_settings s;   /* mass and D only */
+    const char *pl_path; /* fit D_f and C to this P_l table, or NULL */
+    double df, C, b;     /* df NAN without pl_path: 1.63; C NAN: 121 (or the fit's) */
     double tail_from, vmax, diameter;
 } gr_spm_predict_params;
 
 typedef struct gr_spm_predict_report {
-    bool df_defaulted;    /* D_f = 1.63 was taken because neither --df nor --pl was given */
+    bool df_defaulted; /* D_f = 1.63 was taken because neither --df nor --pl was given */
     gr_spm_pl_fit plfit;
     gr_spm_prediction p;
-    double alpha_err;     /* from the error of the fitted D_f; NAN with --df */
+    double alpha_err; /* from the error of the fitted D_f; NAN with --df */
 } gr_spm_predict_report;
 
 void gr_spm_predict_params_default(gr_spm_predict_params *p);
 int gr_spm_predict_prepare(gr_spm_predict_params *p, gr_spm_predict_report *r, gr_error *err);
 /* prediction.csv (5.13 integrated numerically on 200 points up to vmax), summary.json, the plot */
-int gr_spm_predict_write(const char *dir, const gr_spm_predict_params *p, const gr_spm_predict_report *r, bool plots,
-                         gr_error *err);
+int gr_spm_predict_write(const char *dir, const gr_spm_predict_params *p,
+                         const gr_spm_predict_report *r, bool plots, gr_error *err);
 
 #endif

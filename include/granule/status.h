@@ -15,8 +15,8 @@ enum {
 };
 
 typedef struct gr_error {
-    int code;          /* one of the GR_E* codes, 0 when no error was recorded */
-    char message[768]; /* one line, no trailing newline */
+    int code;             /* one of the GR_E* codes, 0 when no error was recorded */
+    char message[768];    /* one line, no trailing newline */
     const char *src_file; /* where in granule's source the error was raised */
     int src_line;
 } gr_error;

@@ -38,14 +38,18 @@ static int scene_init(pyg_scene *self, PyObject *args, PyObject *kw)
     const char *path = NULL, *text = NULL, *name = "<text>";
     Py_ssize_t text_len = 0;
     PyObject *overrides = NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "|zOz#s", kwlist, &path, &overrides, &text, &text_len, &name)) {
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "|zOz#s", kwlist, &path, &overrides, &text,
+                                     &text_len, &name)) {
         return -1;
     }
     PyObject *empty = NULL;
     if (!overrides || overrides == Py_None) {
         overrides = empty = PyTuple_New(0);
     }
-    PyObject *seq = overrides ? PySequence_Fast(overrides, "overrides must be a sequence of 'section.key=value' strings") : NULL;
+    PyObject *seq =
+        overrides ? PySequence_Fast(overrides,
+                                    "overrides must be a sequence of 'section.key=value' strings")
+                  : NULL;
     Py_XDECREF(empty);
     if (!seq) {
         return -1;
@@ -58,8 +62,9 @@ static int scene_init(pyg_scene *self, PyObject *args, PyObject *kw)
         sets[i] = PyUnicode_AsUTF8AndSize(PySequence_Fast_GET_ITEM(seq, i), &len);
         rc = sets[i] ? 0 : -1;
         if (sets[i] && strlen(sets[i]) != (size_t)len) { /* a NUL byte would cut the value short */
-            PyErr_Format(pyg_scene_error, "--set %s...: control byte 0x00 at column %zu (an assignment is text)", sets[i],
-                         strlen(sets[i]) + 1);
+            PyErr_Format(pyg_scene_error,
+                         "--set %s...: control byte 0x00 at column %zu (an assignment is text)",
+                         sets[i], strlen(sets[i]) + 1);
             rc = -1;
         }
     }
@@ -124,15 +129,18 @@ static PyGetSetDef scene_getset[] = {
     {"dim", (getter)scene_get, NULL, "dimension, 1 or 2", (void *)0},
     {"N", (getter)scene_get, NULL, "number of particles", (void *)1},
     {"L", (getter)scene_get, NULL, "box side or ring length, m (resolved)", (void *)2},
-    {"dt", (getter)scene_get, NULL, "time step, s (0: derived from steps_per_contact by Sim)", (void *)3},
+    {"dt", (getter)scene_get, NULL, "time step, s (0: derived from steps_per_contact by Sim)",
+     (void *)3},
     {"source", (getter)scene_get, NULL, "where the scene came from", (void *)4},
     {"out_dir", (getter)scene_get, NULL, "output.dir", (void *)5},
     {"warnings", (getter)scene_get, NULL, "keys accepted without effect, one per line", (void *)6},
     {NULL}};
 
 static PyMethodDef scene_methods[] = {
-    {"to_json", (PyCFunction)scene_json, METH_NOARGS, "the resolved scene as JSON text (as summary.json holds it)"},
-    {"save", (PyCFunction)scene_save, METH_VARARGS, "save(dir): write dir/scene.ini, every key as resolved"},
+    {"to_json", (PyCFunction)scene_json, METH_NOARGS,
+     "the resolved scene as JSON text (as summary.json holds it)"},
+    {"save", (PyCFunction)scene_save, METH_VARARGS,
+     "save(dir): write dir/scene.ini, every key as resolved"},
     {NULL}};
 
 PyTypeObject pyg_scene_type = {
@@ -152,7 +160,8 @@ static PyMethodDef module_methods[] = {
     {NULL}};
 
 static struct PyModuleDef module_def = {PyModuleDef_HEAD_INIT, "granule._granule",
-                                        "Binding of libgranule (docs/python.md).", -1, module_methods};
+                                        "Binding of libgranule (docs/python.md).", -1,
+                                        module_methods};
 
 PyMODINIT_FUNC PyInit__granule(void);
 PyMODINIT_FUNC PyInit__granule(void)
@@ -168,10 +177,13 @@ PyMODINIT_FUNC PyInit__granule(void)
     if (!m) {
         return NULL;
     }
-    pyg_error = PyErr_NewExceptionWithDoc("granule.Error", "a granule library call failed (message from granule)",
+    pyg_error = PyErr_NewExceptionWithDoc("granule.Error",
+                                          "a granule library call failed (message from granule)",
                                           PyExc_RuntimeError, NULL);
     PyObject *bases = PyTuple_Pack(2, pyg_error, PyExc_ValueError);
-    pyg_scene_error = bases ? PyErr_NewExceptionWithDoc("granule.SceneError", "an invalid scene or argument", bases, NULL) : NULL;
+    pyg_scene_error = bases ? PyErr_NewExceptionWithDoc("granule.SceneError",
+                                                        "an invalid scene or argument", bases, NULL)
+                            : NULL;
     Py_XDECREF(bases);
     if (!pyg_scene_error || PyModule_AddObjectRef(m, "Error", pyg_error) < 0 ||
         PyModule_AddObjectRef(m, "SceneError", pyg_scene_error) < 0 ||

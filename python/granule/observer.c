@@ -9,8 +9,7 @@
 #include "scene/scene_json.h"
 
 typedef struct {
-    PyObject_HEAD
-    gr_observer *obs;
+    PyObject_HEAD gr_observer *obs;
     PyObject *scene;
     long frames;
 } pyg_observer;
@@ -75,7 +74,8 @@ static PyArrayObject *as_doubles(PyObject *o, npy_intp n, const char *name)
 {
     PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(o, NPY_FLOAT64, 1, 1, NPY_ARRAY_IN_ARRAY);
     if (a && PyArray_DIM(a, 0) != n) {
-        PyErr_Format(pyg_scene_error, "sample_frame: %s has %zd entries, expected %zd", name, (Py_ssize_t)PyArray_DIM(a, 0), (Py_ssize_t)n);
+        PyErr_Format(pyg_scene_error, "sample_frame: %s has %zd entries, expected %zd", name,
+                     (Py_ssize_t)PyArray_DIM(a, 0), (Py_ssize_t)n);
         Py_DECREF(a);
         return NULL;
     }
@@ -99,9 +99,15 @@ static PyObject *observer_sample_frame(pyg_observer *self, PyObject *args, PyObj
     }
     PyObject *res = NULL;
     if (a[0] && a[1] && (s->dim == 1 || (a[2] && a[3]))) {
-        gr_particles p = {.n = s->N, .dim = s->dim, .L = L > 0.0 ? L : s->L, .radius = s->radius, .mass = s->mass,
-                          .x = PyArray_DATA(a[0]), .vx = PyArray_DATA(a[1]),
-                          .y = a[2] ? PyArray_DATA(a[2]) : NULL, .vy = a[3] ? PyArray_DATA(a[3]) : NULL};
+        gr_particles p = {.n = s->N,
+                          .dim = s->dim,
+                          .L = L > 0.0 ? L : s->L,
+                          .radius = s->radius,
+                          .mass = s->mass,
+                          .x = PyArray_DATA(a[0]),
+                          .vx = PyArray_DATA(a[1]),
+                          .y = a[2] ? PyArray_DATA(a[2]) : NULL,
+                          .vy = a[3] ? PyArray_DATA(a[3]) : NULL};
         res = feed(self, &p, t);
     }
     for (int k = 0; k < 4; k++) {
@@ -129,7 +135,12 @@ static PyObject *observer_finish(pyg_observer *self, PyObject *args, PyObject *k
         return pyg_raise(&err);
     }
     cJSON *analysis = cJSON_CreateObject();
-    gr_output out = {.dir = dir, .source = s->source, .seed = s->seed, .scene_hash = gr_scene_hash(s), .summary = analysis, .plots = plots};
+    gr_output out = {.dir = dir,
+                     .source = s->source,
+                     .seed = s->seed,
+                     .scene_hash = gr_scene_hash(s),
+                     .summary = analysis,
+                     .plots = plots};
     int rc = gr_observer_finish(self->obs, &out, &err);
     gr_observer_free(self->obs); /* finished: accumulators are spent */
     self->obs = NULL;
@@ -143,17 +154,25 @@ static PyObject *observer_finish(pyg_observer *self, PyObject *args, PyObject *k
     return r;
 }
 
-static PyObject *observer_frames(pyg_observer *self, void *unused) { return PyLong_FromLong(self->frames); }
+static PyObject *observer_frames(pyg_observer *self, void *unused)
+{
+    return PyLong_FromLong(self->frames);
+}
 
-static PyGetSetDef observer_getset[] = {{"frames", (getter)observer_frames, NULL, "frames sampled", NULL}, {NULL}};
+static PyGetSetDef observer_getset[] = {
+    {"frames", (getter)observer_frames, NULL, "frames sampled", NULL}, {NULL}};
 
 static PyMethodDef observer_methods[] = {
-    {"sample", (PyCFunction)observer_sample, METH_VARARGS, "sample(sim): one frame of a Sim at its time"},
-    {"sample_frame", (PyCFunction)(void (*)(void))observer_sample_frame, METH_VARARGS | METH_KEYWORDS,
+    {"sample", (PyCFunction)observer_sample, METH_VARARGS,
+     "sample(sim): one frame of a Sim at its time"},
+    {"sample_frame", (PyCFunction)(void (*)(void))observer_sample_frame,
+     METH_VARARGS | METH_KEYWORDS,
      "sample_frame(t, x, vx, y=None, vy=None, L=scene L): one frame from arrays"},
     {"finish", (PyCFunction)(void (*)(void))observer_finish, METH_VARARGS | METH_KEYWORDS,
-     "finish(dir, plots=False, force=False) -> str: write the observables' CSVs into dir, return their summary as JSON "
-     "text; a dir holding another result (a run, a comparison, ...) is refused unless force, which empties it first"},
+     "finish(dir, plots=False, force=False) -> str: write the observables' CSVs into dir, return "
+     "their summary as JSON "
+     "text; a dir holding another result (a run, a comparison, ...) is refused unless force, which "
+     "empties it first"},
     {NULL}};
 
 PyTypeObject pyg_observer_type = {
@@ -174,7 +193,8 @@ PyObject *pyg_run(PyObject *self, PyObject *args, PyObject *kw)
     PyObject *scene;
     const char *out = NULL;
     int force = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "O!|zp", kwlist, &pyg_scene_type, &scene, &out, &force)) {
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O!|zp", kwlist, &pyg_scene_type, &scene, &out,
+                                     &force)) {
         return NULL;
     }
     gr_scene s = ((pyg_scene *)scene)->scene;
@@ -185,14 +205,11 @@ PyObject *pyg_run(PyObject *self, PyObject *args, PyObject *kw)
     gr_run_result res;
     gr_error err = {0};
     int rc;
-    Py_BEGIN_ALLOW_THREADS
-    rc = gr_run(&s, &opt, &res, &err);
-    Py_END_ALLOW_THREADS
-    if (rc) {
-        return pyg_raise(&err);
-    }
-    return Py_BuildValue("{sssdsdsLsLsLsdsdss}", "dir", s.out_dir, "T_mean", res.T_mean, "T_stderr", res.T_stderr,
-                         "samples", (long long)res.samples, "steps", (long long)res.steps, "collisions",
-                         (long long)res.collisions, "wall_seconds", res.wall_seconds, "particle_steps_per_second",
+    Py_BEGIN_ALLOW_THREADS rc = gr_run(&s, &opt, &res, &err);
+    Py_END_ALLOW_THREADS if (rc) { return pyg_raise(&err); }
+    return Py_BuildValue("{sssdsdsLsLsLsdsdss}", "dir", s.out_dir, "T_mean", res.T_mean, "T_stderr",
+                         res.T_stderr, "samples", (long long)res.samples, "steps",
+                         (long long)res.steps, "collisions", (long long)res.collisions,
+                         "wall_seconds", res.wall_seconds, "particle_steps_per_second",
                          res.particle_steps_per_second, "kernel", res.kernel);
 }

@@ -20,8 +20,7 @@ extern PyObject *pyg_error, *pyg_scene_error;
 PyObject *pyg_raise(const gr_error *err);
 
 typedef struct {
-    PyObject_HEAD
-    gr_scene scene;
+    PyObject_HEAD gr_scene scene;
 } pyg_scene;
 
 extern PyTypeObject pyg_scene_type;

@@ -4,8 +4,7 @@
 #include "pygranule.h"
 
 typedef struct {
-    PyObject_HEAD
-    gr_sim *sim;
+    PyObject_HEAD gr_sim *sim;
     PyObject *scene; /* the Scene it was created from */
 } pyg_sim;
 
@@ -57,12 +56,8 @@ static PyObject *sim_step(pyg_sim *self, PyObject *args)
     }
     gr_error err = {0};
     int rc;
-    Py_BEGIN_ALLOW_THREADS
-    rc = gr_sim_step(self->sim, (int64_t)n, &err);
-    Py_END_ALLOW_THREADS
-    if (rc) {
-        return pyg_raise(&err);
-    }
+    Py_BEGIN_ALLOW_THREADS rc = gr_sim_step(self->sim, (int64_t)n, &err);
+    Py_END_ALLOW_THREADS if (rc) { return pyg_raise(&err); }
     Py_RETURN_NONE;
 }
 
@@ -72,11 +67,12 @@ static PyObject *sim_ledger(pyg_sim *self, PyObject *unused)
         return NULL;
     }
     gr_ledger l = gr_sim_ledger(self->sim);
-    return Py_BuildValue("{sdsdsdsdsdsdsdsdsdsdsd}", "kinetic", l.kinetic, "elastic", l.elastic, "initial", l.initial,
-                         "injected", l.injected, "dissipated_normal", l.dissipated_normal, "dissipated_tangential",
-                         l.dissipated_tangential, "dissipated_friction", l.dissipated_friction, "dissipated_drag",
-                         l.dissipated_drag, "removed_com", l.removed_com, "dissipated", gr_ledger_dissipated(&l), "residual",
-                         gr_ledger_residual(&l));
+    return Py_BuildValue("{sdsdsdsdsdsdsdsdsdsdsd}", "kinetic", l.kinetic, "elastic", l.elastic,
+                         "initial", l.initial, "injected", l.injected, "dissipated_normal",
+                         l.dissipated_normal, "dissipated_tangential", l.dissipated_tangential,
+                         "dissipated_friction", l.dissipated_friction, "dissipated_drag",
+                         l.dissipated_drag, "removed_com", l.removed_com, "dissipated",
+                         gr_ledger_dissipated(&l), "residual", gr_ledger_residual(&l));
 }
 
 /* The core's state as bytes (gr_sim_state_save): pickle it, keep it, restore it into a Sim of
@@ -162,26 +158,44 @@ static PyObject *sim_get(pyg_sim *self, void *which)
     }
 }
 
-#define VIEW(name, which, doc) {name, (getter)sim_array, NULL, doc " (read-only numpy view, no copy)", (void *)(which)}
-#define GET(name, which, doc) {name, (getter)sim_get, NULL, doc, (void *)(which)}
+#define VIEW(name, which, doc)                                                                     \
+    {                                                                                              \
+        name, (getter)sim_array, NULL, doc " (read-only numpy view, no copy)", (void *)(which)     \
+    }
+#define GET(name, which, doc)                                                                      \
+    {                                                                                              \
+        name, (getter)sim_get, NULL, doc, (void *)(which)                                          \
+    }
 static PyGetSetDef sim_getset[] = {
-    VIEW("x", F_X, "x positions, m"), VIEW("y", F_Y, "y positions, m (None in 1D)"),
-    VIEW("vx", F_VX, "x velocities, m/s"), VIEW("vy", F_VY, "y velocities, m/s (None in 1D)"),
+    VIEW("x", F_X, "x positions, m"),
+    VIEW("y", F_Y, "y positions, m (None in 1D)"),
+    VIEW("vx", F_VX, "x velocities, m/s"),
+    VIEW("vy", F_VY, "y velocities, m/s (None in 1D)"),
     VIEW("fx", F_FX, "x contact forces of the last evaluation, N"),
     VIEW("fy", F_FY, "y contact forces of the last evaluation, N (None in 1D)"),
-    GET("t", G_T, "simulated time, s"), GET("steps", G_STEPS, "steps taken"), GET("dt", G_DT, "time step, s"),
-    GET("N", G_N, "number of particles"), GET("dim", G_DIM, "dimension"), GET("L", G_L, "box side, m"),
-    GET("kernel", G_KERNEL, "the contact kernel chosen"), GET("collisions", G_COLL, "contacts started"),
-    GET("temperature", G_TEMP, "granular temperature (2.19), m^2/s^2"), GET("scene", G_SCENE, "the Scene"),
-    GET("radius", G_RADIUS, "particle radius, m"), GET("mass", G_MASS, "particle mass, kg"),
+    GET("t", G_T, "simulated time, s"),
+    GET("steps", G_STEPS, "steps taken"),
+    GET("dt", G_DT, "time step, s"),
+    GET("N", G_N, "number of particles"),
+    GET("dim", G_DIM, "dimension"),
+    GET("L", G_L, "box side, m"),
+    GET("kernel", G_KERNEL, "the contact kernel chosen"),
+    GET("collisions", G_COLL, "contacts started"),
+    GET("temperature", G_TEMP, "granular temperature (2.19), m^2/s^2"),
+    GET("scene", G_SCENE, "the Scene"),
+    GET("radius", G_RADIUS, "particle radius, m"),
+    GET("mass", G_MASS, "particle mass, kg"),
     {NULL}};
 
 static PyMethodDef sim_methods[] = {
-    {"step", (PyCFunction)sim_step, METH_VARARGS, "step(n=1): advance n time steps (the GIL is released)"},
+    {"step", (PyCFunction)sim_step, METH_VARARGS,
+     "step(n=1): advance n time steps (the GIL is released)"},
     {"ledger", (PyCFunction)sim_ledger, METH_NOARGS, "the energy ledger, J, as a dict"},
-    {"state", (PyCFunction)sim_state, METH_NOARGS, "state(): the complete simulation state as bytes (exact restarts)"},
+    {"state", (PyCFunction)sim_state, METH_NOARGS,
+     "state(): the complete simulation state as bytes (exact restarts)"},
     {"restore", (PyCFunction)sim_restore, METH_VARARGS,
-     "restore(state): continue from bytes of state() taken from a Sim of the same scene; stepping on is bit-identical"},
+     "restore(state): continue from bytes of state() taken from a Sim of the same scene; stepping "
+     "on is bit-identical"},
     {NULL}};
 
 PyTypeObject pyg_sim_type = {

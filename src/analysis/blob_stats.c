@@ -46,7 +46,8 @@ bool gr_blob_get_histogram(gr_blob_reader *r, gr_histogram *h)
     uint64_t nb = gr_blob_get_u64(r);
     double lo = gr_blob_get_f64(r), hi = gr_blob_get_f64(r);
     if (!r->bad && (nb != (uint64_t)h->nbins || lo != h->lo || hi != h->hi)) {
-        gr_blob_fail(r, "histogram of %llu bins on [%g, %g) where the scene gives %d bins on [%g, %g)",
+        gr_blob_fail(r,
+                     "histogram of %llu bins on [%g, %g) where the scene gives %d bins on [%g, %g)",
                      (unsigned long long)nb, lo, hi, h->nbins, h->lo, h->hi);
     }
     if (r->bad) {
@@ -68,7 +69,8 @@ bool gr_blob_get_histogram_new(gr_blob_reader *r, gr_histogram *h, bool log_bins
         return false;
     }
     if (nb < 1 || nb > (r->len - r->pos) / sizeof(double)) {
-        gr_blob_fail(r, "histogram of %llu bins does not fit in the section", (unsigned long long)nb);
+        gr_blob_fail(r, "histogram of %llu bins does not fit in the section",
+                     (unsigned long long)nb);
         return false;
     }
     gr_error e = {0};

@@ -23,7 +23,8 @@ static void finish(gr_fit *out, int n, int np)
     }
 }
 
-int gr_fit_line(const double *x, const double *y, const double *sigma, int n, gr_fit *out, gr_error *err)
+int gr_fit_line(const double *x, const double *y, const double *sigma, int n, gr_fit *out,
+                gr_error *err)
 {
     memset(out, 0, sizeof *out);
     if (n < 2) {
@@ -56,9 +57,11 @@ int gr_fit_line(const double *x, const double *y, const double *sigma, int n, gr
     return GR_OK;
 }
 
-int gr_fit_power_law(const double *x, const double *y, const double *sigma, int n, gr_fit *out, gr_error *err)
+int gr_fit_power_law(const double *x, const double *y, const double *sigma, int n, gr_fit *out,
+                     gr_error *err)
 {
-    double *lx = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1)), *ly = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
+    double *lx = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1)),
+           *ly = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
     double *ls = sigma ? malloc(sizeof(double) * (size_t)(n > 0 ? n : 1)) : NULL;
     if (!lx || !ly || (sigma && !ls)) {
         free(lx);
@@ -90,10 +93,11 @@ int gr_fit_power_law(const double *x, const double *y, const double *sigma, int 
     return GR_OK;
 }
 
-int gr_fit_power_law_seeds(const double *x, const double *y, const double *yerr, int n, gr_fit *out, int *n_x,
-                           gr_error *err)
+int gr_fit_power_law_seeds(const double *x, const double *y, const double *yerr, int n, gr_fit *out,
+                           int *n_x, gr_error *err)
 {
-    double *mx = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1) * 3), *my = mx + (n > 0 ? n : 1), *ms = my + (n > 0 ? n : 1);
+    double *mx = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1) * 3), *my = mx + (n > 0 ? n : 1),
+           *ms = my + (n > 0 ? n : 1);
     if (!mx) {
         return GR_FAIL(err, GR_ENOMEM, "power-law fit: out of memory");
     }
@@ -124,8 +128,10 @@ int gr_fit_power_law_seeds(const double *x, const double *y, const double *yerr,
         m += ms[m] > 0.0;
     }
     *n_x = m;
-    int rc = m >= GR_FIT_MIN_POINTS ? gr_fit_power_law(mx, my, ms, m, out, err)
-                                    : GR_FAIL(err, GR_EINVAL, "power-law fit: %d distinct x with errors, %d needed", m, GR_FIT_MIN_POINTS);
+    int rc = m >= GR_FIT_MIN_POINTS
+                 ? gr_fit_power_law(mx, my, ms, m, out, err)
+                 : GR_FAIL(err, GR_EINVAL, "power-law fit: %d distinct x with errors, %d needed", m,
+                           GR_FIT_MIN_POINTS);
     free(mx);
     return rc;
 }
@@ -173,8 +179,8 @@ int gr_fit_nonlinear(gr_fit_model model, void *user, const double *x, const doub
         return GR_FAIL(err, GR_EINVAL, "nonlinear fit: %d points for %d parameters", n, n_params);
     }
     nl_data d = {model, user, x, y, sigma, n, n_params};
-    gsl_multifit_nlinear_fdf fdf = {.f = nl_f, .df = nl_df, .fvv = NULL, .n = (size_t)n,
-                                    .p = (size_t)n_params, .params = &d};
+    gsl_multifit_nlinear_fdf fdf = {
+        .f = nl_f, .df = nl_df, .fvv = NULL, .n = (size_t)n, .p = (size_t)n_params, .params = &d};
     gsl_multifit_nlinear_parameters par = gsl_multifit_nlinear_default_parameters();
     par.trs = gsl_multifit_nlinear_trs_lmaccel;
     gsl_multifit_nlinear_workspace *w =
@@ -182,9 +188,12 @@ int gr_fit_nonlinear(gr_fit_model model, void *user, const double *x, const doub
     gsl_vector *pv = gsl_vector_alloc((size_t)n_params);
     gsl_matrix *cov = gsl_matrix_alloc((size_t)n_params, (size_t)n_params);
     if (!w || !pv || !cov) {
-        if (w) gsl_multifit_nlinear_free(w);
-        if (pv) gsl_vector_free(pv);
-        if (cov) gsl_matrix_free(cov);
+        if (w)
+            gsl_multifit_nlinear_free(w);
+        if (pv)
+            gsl_vector_free(pv);
+        if (cov)
+            gsl_matrix_free(cov);
         return GR_FAIL(err, GR_ENOMEM, "nonlinear fit: out of memory");
     }
     for (int k = 0; k < n_params; k++) {

@@ -5,11 +5,14 @@
 
 #include "granule/analysis.h"
 
-int gr_histogram_init(gr_histogram *h, int nbins, double lo, double hi, bool log_bins, gr_error *err)
+int gr_histogram_init(gr_histogram *h, int nbins, double lo, double hi, bool log_bins,
+                      gr_error *err)
 {
     memset(h, 0, sizeof *h);
     if (nbins < 1 || !(hi > lo) || (log_bins && !(lo > 0.0)) || !isfinite(lo) || !isfinite(hi)) {
-        return GR_FAIL(err, GR_EINVAL, "histogram: need nbins >= 1 and lo < hi (lo > 0 for log bins); got %d bins on [%g, %g)%s",
+        return GR_FAIL(err, GR_EINVAL,
+                       "histogram: need nbins >= 1 and lo < hi (lo > 0 for log bins); got %d bins "
+                       "on [%g, %g)%s",
                        nbins, lo, hi, log_bins ? " log" : "");
     }
     h->count = calloc((size_t)nbins, sizeof(double));
@@ -48,7 +51,8 @@ void gr_histogram_add(gr_histogram *h, double x, double weight)
 
 int gr_histogram_merge(gr_histogram *into, const gr_histogram *from, gr_error *err)
 {
-    if (into->nbins != from->nbins || into->lo != from->lo || into->hi != from->hi || into->log_bins != from->log_bins) {
+    if (into->nbins != from->nbins || into->lo != from->lo || into->hi != from->hi ||
+        into->log_bins != from->log_bins) {
         return GR_FAIL(err, GR_EINVAL, "histogram merge: binnings differ");
     }
     for (int i = 0; i < into->nbins; i++) {
@@ -95,7 +99,8 @@ void gr_histogram_write_csv(const gr_histogram *h, FILE *f, const char *xname)
 void gr_histogram_write_rows(const gr_histogram *h, FILE *f)
 {
     for (int i = 0; i < h->nbins; i++) {
-        fprintf(f, "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", gr_histogram_lower(h, i), gr_histogram_upper(h, i),
-                gr_histogram_center(h, i), h->count[i], gr_histogram_density(h, i), gr_histogram_density_error(h, i));
+        fprintf(f, "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", gr_histogram_lower(h, i),
+                gr_histogram_upper(h, i), gr_histogram_center(h, i), h->count[i],
+                gr_histogram_density(h, i), gr_histogram_density_error(h, i));
     }
 }

@@ -13,7 +13,8 @@ static double wrap(double x, double L)
 
 static double min_image(double dx, double L) { return dx - L * rint(dx / L); }
 
-static void visit_pair(const gr_particles *p, int i, int j, double r_cut, gr_pair_visit visit, void *user)
+static void visit_pair(const gr_particles *p, int i, int j, double r_cut, gr_pair_visit visit,
+                       void *user)
 {
     double dx = min_image(p->x[j] - p->x[i], p->L);
     double dy = p->dim == 2 ? min_image(p->y[j] - p->y[i], p->L) : 0.0;
@@ -23,7 +24,8 @@ static void visit_pair(const gr_particles *p, int i, int j, double r_cut, gr_pai
     }
 }
 
-int gr_cells_pairs(gr_cells *c, const gr_particles *p, double r_cut, gr_pair_visit visit, void *user, gr_error *err)
+int gr_cells_pairs(gr_cells *c, const gr_particles *p, double r_cut, gr_pair_visit visit,
+                   void *user, gr_error *err)
 {
     const int n = p->n;
     /* cells of side L/s >= r_cut, at most about 2 n of them (larger cells are
@@ -59,7 +61,8 @@ int gr_cells_pairs(gr_cells *c, const gr_particles *p, double r_cut, gr_pair_vis
         return GR_FAIL(err, GR_ENOMEM, "out of memory for %d particles", n);
     }
     for (int i = 0; i < n; i++) {
-        int a = (int)(wrap(p->x[i], p->L) / p->L * s), b = p->dim == 2 ? (int)(wrap(p->y[i], p->L) / p->L * s) : 0;
+        int a = (int)(wrap(p->x[i], p->L) / p->L * s),
+            b = p->dim == 2 ? (int)(wrap(p->y[i], p->L) / p->L * s) : 0;
         a = a >= s ? s - 1 : a;
         b = b >= s ? s - 1 : b;
         cx[2 * i] = a;

@@ -19,8 +19,8 @@ typedef struct gr_cells {
 /* Visit every pair with |r_ij| < r_cut (r_cut <= L/2). `cells` is a reusable
  * workspace, zero-initialised before the first call and released with
  * gr_cells_free. */
-int gr_cells_pairs(gr_cells *cells, const gr_particles *p, double r_cut, gr_pair_visit visit, void *user,
-                   gr_error *err);
+int gr_cells_pairs(gr_cells *cells, const gr_particles *p, double r_cut, gr_pair_visit visit,
+                   void *user, gr_error *err);
 void gr_cells_free(gr_cells *cells);
 /* Free the cells (grown by gr_cells_pairs) with an observable's state (obs_util.h, gr_obs_own). */
 void gr_cells_own(void *state, gr_cells *cells);

@@ -133,8 +133,9 @@ static void rows(FILE *f, const void *ctx)
     double fr = c->frames > 0 ? (double)c->frames : 1.0;
     for (int s = 1; s <= c->n; s++) {
         if (c->hist[CONTACT][s] > 0.0 || c->hist[DENSITY][s] > 0.0) {
-            fprintf(f, "%d,%.8g,%.8g,%.8g,%.8g\n", s, c->hist[CONTACT][s] / fr, s * c->hist[CONTACT][s] / fr / c->n,
-                    c->hist[DENSITY][s] / fr, s * c->hist[DENSITY][s] / fr / c->n);
+            fprintf(f, "%d,%.8g,%.8g,%.8g,%.8g\n", s, c->hist[CONTACT][s] / fr,
+                    s * c->hist[CONTACT][s] / fr / c->n, c->hist[DENSITY][s] / fr,
+                    s * c->hist[DENSITY][s] / fr / c->n);
         }
     }
 }

@@ -31,7 +31,7 @@ static const gr_param params[] = {
 
 typedef struct collisions {
     int n;
-    double *last;                    /* time of each particle's last collision; NAN before the first */
+    double *last; /* time of each particle's last collision; NAN before the first */
     double t_first, t_prev, t_prev2; /* first sample, the last two samples */
     int64_t frames;
     int64_t since, total; /* collisions since the previous sample, and in all */
@@ -117,9 +117,9 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     bool any = c->total > 0;
     gr_obs_add_number(j, "rate_per_particle", any ? gr_blocking_mean(&c->rate) : (double)NAN);
     gr_obs_add_number(j, "rate_per_particle_error",
-                      !any              ? (double)NAN
-                          : isfinite(e) ? e
-                                        : gr_blocking_stderr_at(&c->rate, 0));
+                      !any          ? (double)NAN
+                      : isfinite(e) ? e
+                                    : gr_blocking_stderr_at(&c->rate, 0));
     gr_obs_add_number(j, "mean_time_between", c->tau_n ? c->tau_sum / c->tau_n : (double)NAN);
     cJSON_AddNumberToObject(j, "intervals", (double)c->tau_n);
     if (c->total == 0) {

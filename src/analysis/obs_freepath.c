@@ -21,7 +21,8 @@ typedef struct freepath_params {
 
 static const gr_param params[] = {
     {"freepath_bins", "", GR_PARAM_INT, 60, 4, 10000, false, false,
-     "logarithmic bins of the free-path distribution P_l(l) (4.18)", offsetof(freepath_params, freepath_bins)},
+     "logarithmic bins of the free-path distribution P_l(l) (4.18)",
+     offsetof(freepath_params, freepath_bins)},
     {"freepath_min", "d", GR_PARAM_DOUBLE, 1e-3, 0, 1e3, true, false,
      "smallest binned free path, in diameters", offsetof(freepath_params, freepath_min)},
 };
@@ -107,9 +108,11 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     freepath *f = state;
     const gr_obs_table table = {
         .name = "freepath.csv",
-        .what = "free-path distribution P_l(l) (4.18): l in units of d, density per unit l/d, sqrt(X) errors; "
+        .what = "free-path distribution P_l(l) (4.18): l in units of d, density per unit l/d, "
+                "sqrt(X) errors; "
                 "paths from the end of a particle's last contact to the start of its next",
-        .columns = "l_over_d_lo [1],l_over_d_hi [1],l_over_d [1],count [1],density [1],density_error [1]",
+        .columns =
+            "l_over_d_lo [1],l_over_d_hi [1],l_over_d [1],count [1],density [1],density_error [1]",
         .rows = gr_obs_histogram_rows,
         .ctx = &f->h,
     };
@@ -163,13 +166,16 @@ static int finish(void *state, const gr_output *out, gr_error *err)
             char legend[120];
             gr_plot_legend_value("fit (4.25), D_f", fit.p[2], fit.err[2], legend, sizeof legend);
             snprintf(fitline, sizeof fitline,
-                     ", [%.6g:%.6g] %.8g * exp(-%.8g * x**(%.8g - 1)) * x**(%.8g - 2) with lines lw 3 lt 2 title '%s'",
+                     ", [%.6g:%.6g] %.8g * exp(-%.8g * x**(%.8g - 1)) * x**(%.8g - 2) with lines "
+                     "lw 3 lt 2 title '%s'",
                      x[0], x[m - 1], exp(fit.p[0]), exp(fit.p[1]), fit.p[2], fit.p[2], legend);
         }
         snprintf(body, sizeof body,
                  "set logscale xy\nset xlabel 'free path l / d'\nset ylabel 'P_l(l)'\n"
-                 "set title \"Distribution of free paths between contacts\\n{/*0.75 eq. (4.18); fit of the tail (4.25)}\"\n"
-                 "set samples 400\nplot 'freepath.csv' skip 1 using 3:($4>0?$5:1/0):6 with yerrorbars lt 1 title 'P_l(l)'%s",
+                 "set title \"Distribution of free paths between contacts\\n{/*0.75 eq. (4.18); "
+                 "fit of the tail (4.25)}\"\n"
+                 "set samples 400\nplot 'freepath.csv' skip 1 using 3:($4>0?$5:1/0):6 with "
+                 "yerrorbars lt 1 title 'P_l(l)'%s",
                  fitline);
         gr_obs_plot(out, "freepath.png", body);
     }
@@ -193,7 +199,8 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
 
 const gr_observable_type gr_obs_freepath = {
     .name = "freepath",
-    .summary = "free-path distribution P_l(l) between contacts (4.18) with the tail fit (4.25); needs a run (contact events)",
+    .summary = "free-path distribution P_l(l) between contacts (4.18) with the tail fit (4.25); "
+               "needs a run (contact events)",
     .dims = 3,
     .params = params,
     .n_params = sizeof params / sizeof params[0],

@@ -44,8 +44,8 @@
 #include "io/plot.h"
 #include "granule/analysis.h"
 
-#define M_MAX 12          /* moments <R^m>, m = 1..12 (3.18) */
-#define H_LIMIT 256       /* largest allowed gaps_h_max */
+#define M_MAX 12    /* moments <R^m>, m = 1..12 (3.18) */
+#define H_LIMIT 256 /* largest allowed gaps_h_max */
 #define BINS_MIN 2
 #define BINS_MAX 10000
 #define LOG_DECADES 8.0   /* logarithmic bins cover [1e-8 L', L') */
@@ -71,23 +71,24 @@ static const gr_param params[] = {
 typedef struct gaps {
     int n, h_max, bins;
     bool log_bins;
-    double L, d, Lr;   /* ring length, diameter, reduced length L' = L - N d (3.16) */
-    double mean;       /* L'/N (3.19) */
+    double L, d, Lr; /* ring length, diameter, reduced length L' = L - N d (3.16) */
+    double mean;     /* L'/N (3.19) */
     int64_t frames;
-    double *s;         /* the current frame's signed reduced gaps s_i = r'_{i+1} - r'_i */
-    double *acc;       /* running sums s_i + ... + s_{i+h-1} = r'_{i+h} - r'_i */
-    gr_histogram *lin, *lg;          /* h_max each; lg only with gaps_log */
-    gr_blocking (*mom)[M_MAX + 1];   /* [h-1][m]: per-frame <R_{i,i+h}^m> */
-    gr_blocking signed_mean;         /* per-frame (1/N) sum s_i = L'/N (3.19) */
-    double overlaps;                 /* neighbour pairs with s_i < 0, summed over frames */
-    double r1_min, r1_max;           /* extremes of R_{i,i+1} */
+    double *s;              /* the current frame's signed reduced gaps s_i = r'_{i+1} - r'_i */
+    double *acc;            /* running sums s_i + ... + s_{i+h-1} = r'_{i+h} - r'_i */
+    gr_histogram *lin, *lg; /* h_max each; lg only with gaps_log */
+    gr_blocking (*mom)[M_MAX + 1]; /* [h-1][m]: per-frame <R_{i,i+h}^m> */
+    gr_blocking signed_mean;       /* per-frame (1/N) sum s_i = L'/N (3.19) */
+    double overlaps;               /* neighbour pairs with s_i < 0, summed over frames */
+    double r1_min, r1_max;         /* extremes of R_{i,i+1} */
 } gaps;
 
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     const gaps_params *a = params_block;
     if (setup->dim != 1) {
-        return GR_FAIL(err, GR_EINVAL, "gaps: defined for dim = 1 only (reduced coordinates 3.16), not dim = %d",
+        return GR_FAIL(err, GR_EINVAL,
+                       "gaps: defined for dim = 1 only (reduced coordinates 3.16), not dim = %d",
                        setup->dim);
     }
     if (setup->N < 2) {
@@ -96,16 +97,18 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     double d = 2.0 * setup->radius, Lr = setup->L - setup->N * d;
     if (!(setup->radius > 0.0) || !isfinite(setup->L) || !(Lr > 0.0)) {
         return GR_FAIL(err, GR_EINVAL,
-                       "gaps: need radius > 0 and a free length L' = L - N d > 0 (3.16); got L = %g m, N = %d, d = %g m",
+                       "gaps: need radius > 0 and a free length L' = L - N d > 0 (3.16); got L = "
+                       "%g m, N = %d, d = %g m",
                        setup->L, setup->N, d);
     }
     if (a->gaps_h_max < 1 || a->gaps_h_max > H_LIMIT || a->gaps_h_max > setup->N - 1) {
-        return GR_FAIL(err, GR_EINVAL, "gaps: [analysis] gaps_h_max = %d must be in [1, %d] and at most N - 1 = %d",
+        return GR_FAIL(err, GR_EINVAL,
+                       "gaps: [analysis] gaps_h_max = %d must be in [1, %d] and at most N - 1 = %d",
                        a->gaps_h_max, H_LIMIT, setup->N - 1);
     }
     if (a->gaps_bins < BINS_MIN || a->gaps_bins > BINS_MAX) {
-        return GR_FAIL(err, GR_EINVAL, "gaps: [analysis] gaps_bins = %d must be in [%d, %d]", a->gaps_bins, BINS_MIN,
-                       BINS_MAX);
+        return GR_FAIL(err, GR_EINVAL, "gaps: [analysis] gaps_bins = %d must be in [%d, %d]",
+                       a->gaps_bins, BINS_MIN, BINS_MAX);
     }
     gaps *g = state;
     g->n = setup->N;
@@ -124,12 +127,14 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     g->lg = g->log_bins ? gr_obs_calloc(g, (size_t)g->h_max, sizeof *g->lg) : NULL;
     g->mom = gr_obs_calloc(g, (size_t)g->h_max, sizeof *g->mom);
     if (!g->s || !g->acc || !g->lin || (g->log_bins && !g->lg) || !g->mom) {
-        return GR_FAIL(err, GR_ENOMEM, "gaps: out of memory for N = %d, h_max = %d", setup->N, a->gaps_h_max);
+        return GR_FAIL(err, GR_ENOMEM, "gaps: out of memory for N = %d, h_max = %d", setup->N,
+                       a->gaps_h_max);
     }
     for (int h = 0; h < g->h_max; h++) {
         int rc = gr_obs_histogram(g, &g->lin[h], g->bins, 0.0, Lr, false, err);
         if (!rc && g->log_bins) {
-            rc = gr_obs_histogram(g, &g->lg[h], g->bins, Lr * pow(10.0, -LOG_DECADES), Lr, true, err);
+            rc = gr_obs_histogram(g, &g->lg[h], g->bins, Lr * pow(10.0, -LOG_DECADES), Lr, true,
+                                  err);
         }
         if (rc) {
             return rc;
@@ -142,13 +147,16 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 {
     gaps *g = state;
     if (p->dim != 1 || p->n != g->n || !p->x) {
-        return GR_FAIL(err, GR_EINVAL, "gaps: frame at t = %g s has %d particles in %dD, expected N = %d in 1D", t, p->n,
-                       p->dim, g->n);
+        return GR_FAIL(err, GR_EINVAL,
+                       "gaps: frame at t = %g s has %d particles in %dD, expected N = %d in 1D", t,
+                       p->n, p->dim, g->n);
     }
     const double L = p->L, d = 2.0 * p->radius, Lr = L - p->n * d;
     if (!(fabs(Lr - g->Lr) <= 1e-9 * g->Lr + 1e-12 * L)) {
-        return GR_FAIL(err, GR_EINVAL, "gaps: frame at t = %g s has L' = L - N d = %.10g m, but the scene's L' is %.10g m", t, Lr,
-                       g->Lr);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "gaps: frame at t = %g s has L' = L - N d = %.10g m, but the scene's L' is %.10g m", t,
+            Lr, g->Lr);
     }
     const int n = p->n;
     const double *x = p->x;
@@ -164,7 +172,8 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
             c -= L;
         }
         if (!isfinite(c)) {
-            return GR_FAIL(err, GR_EINVAL, "gaps: non-finite position of particle %d or %d at t = %g s", i,
+            return GR_FAIL(err, GR_EINVAL,
+                           "gaps: non-finite position of particle %d or %d at t = %g s", i,
                            i + 1 < n ? i + 1 : 0, t);
         }
         wound += c;
@@ -175,7 +184,8 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     /* ring order: the centre distances go exactly once around the ring */
     if (!(fabs(wound - L) <= 1e-6 * L)) {
         return GR_FAIL(err, GR_EINVAL,
-                       "gaps: the particles at t = %g s are not in ring order (neighbour distances add up to %.6g L, not L)",
+                       "gaps: the particles at t = %g s are not in ring order (neighbour distances "
+                       "add up to %.6g L, not L)",
                        t, wound / L);
     }
     for (int i = 0; i < n; i++) {
@@ -229,7 +239,8 @@ static int plot_orders(int h_max, int *hs)
     return k;
 }
 
-static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, bool fit_ok, double u_lo, double u_hi)
+static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, bool fit_ok,
+                        double u_lo, double u_hi)
 {
     int hs[32], nh = plot_orders(g->h_max, hs);
     const char *bin = g->log_bins ? "log" : "lin";
@@ -238,60 +249,74 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
 
     /* G_h(R;N) on log-log axes; lines join the bins with 2 counts or more, and the bins of a
      * single count (a tail of lone events, all at one level) are open circles, not a flat line */
-    len = (size_t)snprintf(body, sizeof body,
-                           "set logscale xy\nset format y '10^{%%L}'\nset format x '10^{%%L}'\nset key bottom left\n"
-                           "set xlabel \"R (m, reduced coordinates 3.16)\"\nset ylabel 'G_h(R;N) (1/m)'\n"
-                           "set title \"Distances to the h-th neighbour, N = %d, L' = %g m\\n{/*0.75 G_h(R;N), eqs. (3.21, 3.24); %s bins}\"\nplot ",
-                           g->n, g->Lr, bin);
+    len = (size_t)snprintf(
+        body, sizeof body,
+        "set logscale xy\nset format y '10^{%%L}'\nset format x '10^{%%L}'\nset key bottom left\n"
+        "set xlabel \"R (m, reduced coordinates 3.16)\"\nset ylabel 'G_h(R;N) (1/m)'\n"
+        "set title \"Distances to the h-th neighbour, N = %d, L' = %g m\\n{/*0.75 G_h(R;N), eqs. "
+        "(3.21, 3.24); %s bins}\"\nplot ",
+        g->n, g->Lr, bin);
     for (int k = 0; k < nh && len < sizeof body; k++) {
-        len += (size_t)snprintf(body + len, sizeof body - len,
-                                "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 > 1) ? $5 : 1/0):7 "
-                                "with linespoints lt %d pt 7 ps 0.5 title 'h = %d', "
-                                "'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 == 1) ? $5 : 1/0):7 "
-                                "with points lt %d pt 6 ps 0.5 notitle",
-                                k ? ", " : "", hs[k], bin, k + 1, hs[k], hs[k], bin, k + 1);
+        len += (size_t)snprintf(
+            body + len, sizeof body - len,
+            "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 > 1) ? $5 : 1/0):7 "
+            "with linespoints lt %d pt 7 ps 0.5 title 'h = %d', "
+            "'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 == 1) ? $5 : 1/0):7 "
+            "with points lt %d pt 6 ps 0.5 notitle",
+            k ? ", " : "", hs[k], bin, k + 1, hs[k], hs[k], bin, k + 1);
     }
     if (len < sizeof body) {
         gr_obs_plot(out, "gaps.png", body);
     }
 
     /* Fig. 3.12: G_h L' against -ln(R/L') on log-log axes, with the fit (3.22) for h = 1 */
-    len = (size_t)snprintf(body, sizeof body,
-                           "set logscale xy\nset format y '10^{%%L}'\nset key top left\n"
-                           "set xlabel \"-ln(R/L')\"\nset ylabel \"G_h(R;N) L'\"\n"
-                           "set title \"Neighbour distributions against -ln(R/L'), N = %d\\n{/*0.75 Fig. 3.12; fit of (3.22) to h = 1 over its window; %s bins}\"\nplot ",
-                           g->n, bin);
+    len =
+        (size_t)snprintf(body, sizeof body,
+                         "set logscale xy\nset format y '10^{%%L}'\nset key top left\n"
+                         "set xlabel \"-ln(R/L')\"\nset ylabel \"G_h(R;N) L'\"\n"
+                         "set title \"Neighbour distributions against -ln(R/L'), N = %d\\n{/*0.75 "
+                         "Fig. 3.12; fit of (3.22) to h = 1 over its window; %s bins}\"\nplot ",
+                         g->n, bin);
     for (int k = 0; k < nh && len < sizeof body; k++) {
         len += (size_t)snprintf(body + len, sizeof body - len,
-                                "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 > 1 && $9 > 0) ? $9 : 1/0):($7 * %.10g) "
+                                "%s'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 > "
+                                "1 && $9 > 0) ? $9 : 1/0):($7 * %.10g) "
                                 "with linespoints lt %d pt 7 ps 0.5 title 'h = %d', "
-                                "'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 == 1 && $9 > 0) ? $9 : 1/0):($7 * %.10g) "
+                                "'gaps.csv' skip 1 using (($1 == %d && strcol(2) eq '%s' && $6 == "
+                                "1 && $9 > 0) ? $9 : 1/0):($7 * %.10g) "
                                 "with points lt %d pt 6 ps 0.5 notitle",
-                                k ? ", " : "", hs[k], bin, g->Lr, k + 1, hs[k], hs[k], bin, g->Lr, k + 1);
+                                k ? ", " : "", hs[k], bin, g->Lr, k + 1, hs[k], hs[k], bin, g->Lr,
+                                k + 1);
     }
     if (fit_ok && len < sizeof body) {
         char legend[120];
-        gr_plot_legend_value("fit (3.22), n_N", fit->p[1] + 1.0, fit->err[1], legend, sizeof legend);
-        len += (size_t)snprintf(body + len, sizeof body - len,
-                                ", [%.10g:%.10g] %.10g * x**%.10g with lines lw 4 dt 2 lc rgb '#707070' title '%s'", u_lo, u_hi,
-                                fit->p[0], fit->p[1], legend);
+        gr_plot_legend_value("fit (3.22), n_N", fit->p[1] + 1.0, fit->err[1], legend,
+                             sizeof legend);
+        len += (size_t)snprintf(
+            body + len, sizeof body - len,
+            ", [%.10g:%.10g] %.10g * x**%.10g with lines lw 4 dt 2 lc rgb '#707070' title '%s'",
+            u_lo, u_hi, fit->p[0], fit->p[1], legend);
     }
     if (len < sizeof body) {
         gr_obs_plot(out, "gaps_lnR.png", body);
     }
 
     /* reduced moments <(R_h / <R_h>)^m> against m, with the Poisson (Gamma(h)) values */
-    len = (size_t)snprintf(body, sizeof body,
-                           "set logscale y\nset format y '10^{%%L}'\nset key top left\nset xlabel 'm'\n"
-                           "set ylabel \"<(R_{i,i+h} N / (h L'))^m>\"\n"
-                           "set title \"Moments of the neighbour separations, N = %d\\n{/*0.75 eq. (3.18); dashed: Poisson points (Gamma(h))}\"\n"
-                           "set xrange [0.5:%d.5]\nplot ",
-                           g->n, M_MAX);
+    len = (size_t)snprintf(
+        body, sizeof body,
+        "set logscale y\nset format y '10^{%%L}'\nset key top left\nset xlabel 'm'\n"
+        "set ylabel \"<(R_{i,i+h} N / (h L'))^m>\"\n"
+        "set title \"Moments of the neighbour separations, N = %d\\n{/*0.75 eq. (3.18); dashed: "
+        "Poisson points (Gamma(h))}\"\n"
+        "set xrange [0.5:%d.5]\nplot ",
+        g->n, M_MAX);
     for (int k = 0; k < nh && len < sizeof body; k++) {
-        len += (size_t)snprintf(body + len, sizeof body - len,
-                                "%s'gaps_moments.csv' skip 1 using ($1 == %d ? $2 : 1/0):5:6 with yerrorlines pt 7 ps 0.6 lc %d title 'h = %d', "
-                                "[1:%d] exp(lgamma(%d + x) - lgamma(%d) - x * log(%d)) with lines dt 2 lc %d notitle",
-                                k ? ", " : "", hs[k], k + 1, hs[k], M_MAX, hs[k], hs[k], hs[k], k + 1);
+        len += (size_t)snprintf(
+            body + len, sizeof body - len,
+            "%s'gaps_moments.csv' skip 1 using ($1 == %d ? $2 : 1/0):5:6 with yerrorlines pt 7 ps "
+            "0.6 lc %d title 'h = %d', "
+            "[1:%d] exp(lgamma(%d + x) - lgamma(%d) - x * log(%d)) with lines dt 2 lc %d notitle",
+            k ? ", " : "", hs[k], k + 1, hs[k], M_MAX, hs[k], hs[k], hs[k], k + 1);
     }
     if (len < sizeof body) {
         gr_obs_plot(out, "gaps_moments.png", body);
@@ -308,9 +333,10 @@ static void gaps_rows(FILE *f, const void *ctx)
             for (int i = 0; i < hist->nbins; i++) {
                 double R = gr_histogram_center(hist, i), den = gr_histogram_density(hist, i),
                        de = gr_histogram_density_error(hist, i);
-                fprintf(f, "%d,%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.10g,%.10g,%.10g,%.6g\n", h, b ? "log" : "lin",
-                        gr_histogram_lower(hist, i), gr_histogram_upper(hist, i), R, hist->count[i], den, de,
-                        -log(R / g->Lr), R / scale, den * scale, de * scale);
+                fprintf(f, "%d,%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.6g,%.10g,%.10g,%.10g,%.6g\n", h,
+                        b ? "log" : "lin", gr_histogram_lower(hist, i), gr_histogram_upper(hist, i),
+                        R, hist->count[i], den, de, -log(R / g->Lr), R / scale, den * scale,
+                        de * scale);
             }
         }
     }
@@ -334,9 +360,10 @@ static void moment_rows(FILE *f, const void *ctx)
         for (int m = 1; m <= M_MAX; m++) {
             const gr_blocking *bl = &g->mom[h - 1][m];
             int conv = 0;
-            double mk = gr_blocking_mean(bl), ek = gr_blocking_stderr(bl, NULL, &conv), sc = pow(scale, m);
-            fprintf(f, "%d,%d,%.15g,%.6g,%.15g,%.6g,%d,%lld\n", h, m, mk, ek, mk / sc, ek / sc, conv,
-                    (long long)bl->count[0]);
+            double mk = gr_blocking_mean(bl), ek = gr_blocking_stderr(bl, NULL, &conv),
+                   sc = pow(scale, m);
+            fprintf(f, "%d,%d,%.15g,%.6g,%.15g,%.6g,%d,%lld\n", h, m, mk, ek, mk / sc, ek / sc,
+                    conv, (long long)bl->count[0]);
             cJSON_AddItemToArray(jo, num(mk / sc));
             if (m == 1) {
                 cJSON_AddItemToObject(o, "mean", num(mk));
@@ -349,10 +376,12 @@ static void moment_rows(FILE *f, const void *ctx)
             }
         }
         const gr_histogram *lin = &g->lin[h - 1];
-        cJSON_AddItemToObject(o, "beyond_reduced_length", num(lin->total > 0 ? lin->above / lin->total : (double)NAN));
+        cJSON_AddItemToObject(o, "beyond_reduced_length",
+                              num(lin->total > 0 ? lin->above / lin->total : (double)NAN));
         if (g->log_bins) {
             const gr_histogram *lg = &g->lg[h - 1];
-            cJSON_AddItemToObject(o, "below_log_range", num(lg->total > 0 ? lg->below / lg->total : (double)NAN));
+            cJSON_AddItemToObject(o, "below_log_range",
+                                  num(lg->total > 0 ? lg->below / lg->total : (double)NAN));
         }
         cJSON_AddItemToArray(c->jh, o);
     }
@@ -378,11 +407,13 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     /* ---- gaps.csv: every G_h in every binning ---- */
     gr_obs_table t = {
         .name = "gaps.csv",
-        .what = "h-th neighbour separation distributions G_h(R;N) (3.21, 3.24) in reduced coordinates "
-                "(3.16), R = |r'_{i+h} - r'_i| in m; density in 1/m with sqrt(X) errors (App. A.1), "
-                "normalised by all separations sampled; neg_ln_R = -ln(R/L') (Fig. 3.12); "
-                "x = R N / (h L') and density_x = density h L' / N (mean-scaled, for 3.25 overlays)",
-        .columns = "h [1],binning [],R_lo [m],R_hi [m],R [m],count [1],density [m-1],density_error [m-1],neg_ln_R [1],x [1],"
+        .what =
+            "h-th neighbour separation distributions G_h(R;N) (3.21, 3.24) in reduced coordinates "
+            "(3.16), R = |r'_{i+h} - r'_i| in m; density in 1/m with sqrt(X) errors (App. A.1), "
+            "normalised by all separations sampled; neg_ln_R = -ln(R/L') (Fig. 3.12); "
+            "x = R N / (h L') and density_x = density h L' / N (mean-scaled, for 3.25 overlays)",
+        .columns = "h [1],binning [],R_lo [m],R_hi [m],R [m],count [1],density [m-1],density_error "
+                   "[m-1],neg_ln_R [1],x [1],"
                    "density_x [1],density_x_error [1]",
         .rows = gaps_rows,
         .ctx = g,
@@ -402,10 +433,13 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     };
     t = (gr_obs_table){
         .name = "gaps_moments.csv",
-        .what = "moments <R^m> of the h-th neighbour separations R_{i,i+h} (3.18 for h = 1) in m^m, averaged "
-                "over particles and uniformly in time, block-averaging errors; reduced = <(R N / (h L'))^m> "
+        .what = "moments <R^m> of the h-th neighbour separations R_{i,i+h} (3.18 for h = 1) in "
+                "m^m, averaged "
+                "over particles and uniformly in time, block-averaging errors; reduced = <(R N / "
+                "(h L'))^m> "
                 "(Poisson points: Gamma(h + m) / (Gamma(h) h^m) for large N)",
-        .columns = "h [1],m [1],moment [m^m],stderr [m^m],reduced_moment [1],reduced_stderr [1],converged [1],samples [1]",
+        .columns = "h [1],m [1],moment [m^m],stderr [m^m],reduced_moment [1],reduced_stderr "
+                   "[1],converged [1],samples [1]",
         .rows = moment_rows,
         .ctx = &mrows,
     };
@@ -430,7 +464,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
      * separation, L'/N <= R < L' (Fig. 3.12: the form holds at large R and bends away at small R,
      * where collisions dominate) */
     const gr_histogram *h1 = g->log_bins ? &g->lg[0] : &g->lin[0];
-    double *fx = malloc(sizeof(double) * (size_t)h1->nbins), *fy = malloc(sizeof(double) * (size_t)h1->nbins),
+    double *fx = malloc(sizeof(double) * (size_t)h1->nbins),
+           *fy = malloc(sizeof(double) * (size_t)h1->nbins),
            *fs = malloc(sizeof(double) * (size_t)h1->nbins);
     int np = 0;
     double u_lo = INFINITY, u_hi = -INFINITY;
@@ -439,7 +474,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     if (fx && fy && fs) {
         for (int i = 0; i < h1->nbins; i++) {
             double R = gr_histogram_center(h1, i), G = gr_histogram_density(h1, i) * g->Lr;
-            if (h1->count[i] >= FIT_MIN_COUNT && gr_histogram_lower(h1, i) >= g->mean && R < g->Lr) {
+            if (h1->count[i] >= FIT_MIN_COUNT && gr_histogram_lower(h1, i) >= g->mean &&
+                R < g->Lr) {
                 fx[np] = -log(R / g->Lr);
                 u_lo = fmin(u_lo, fx[np]);
                 u_hi = fmax(u_hi, fx[np]);
@@ -449,13 +485,16 @@ static int finish(void *state, const gr_output *out, gr_error *err)
             }
         }
         gr_error fit_err = {0};
-        fit_ok = np >= GR_FIT_MIN_POINTS && gr_fit_power_law(fx, fy, fs, np, &fit, &fit_err) == GR_OK;
+        fit_ok =
+            np >= GR_FIT_MIN_POINTS && gr_fit_power_law(fx, fy, fs, np, &fit, &fit_err) == GR_OK;
     }
     free(fx);
     free(fy);
     free(fs);
     cJSON *jf = cJSON_AddObjectToObject(j, "fit_3_22");
-    cJSON_AddStringToObject(jf, "form", "G_1(R;N) L' = A (-ln(R/L'))^(n_N - 1), bins with L'/N <= R < L' and >= 5 counts");
+    cJSON_AddStringToObject(
+        jf, "form",
+        "G_1(R;N) L' = A (-ln(R/L'))^(n_N - 1), bins with L'/N <= R < L' and >= 5 counts");
     cJSON_AddNumberToObject(jf, "points", np);
     if (np > 0) {
         cJSON_AddNumberToObject(jf, "neg_ln_R_min", u_lo);
@@ -498,8 +537,9 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
 
 const gr_observable_type gr_obs_gaps = {
     .name = "gaps",
-    .summary = "1D neighbour separations in reduced coordinates (3.16-3.17): G_h(R;N), h = 1..gaps_h_max "
-               "(3.21, 3.24, Figs. 3.10-3.13), moments <R^m>, m = 1..12 (3.18), block-averaging errors",
+    .summary =
+        "1D neighbour separations in reduced coordinates (3.16-3.17): G_h(R;N), h = 1..gaps_h_max "
+        "(3.21, 3.24, Figs. 3.10-3.13), moments <R^m>, m = 1..12 (3.18), block-averaging errors",
     .dims = 1,
     .params = params,
     .n_params = sizeof params / sizeof params[0],

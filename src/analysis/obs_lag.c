@@ -14,7 +14,8 @@ int gr_lag_init(gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error 
     g->dim = dim;
     g->lags = lags;
     g->kind = kind;
-    g->ring = calloc(2 * (size_t)n * (size_t)(lags + 1), sizeof(double)); /* zeroed: checkpoints save every slot */
+    g->ring = calloc(2 * (size_t)n * (size_t)(lags + 1),
+                     sizeof(double)); /* zeroed: checkpoints save every slot */
     g->acc = malloc(sizeof(gr_blocking) * (size_t)(lags + 1));
     if (!g->ring || !g->acc) {
         gr_lag_free(g);
@@ -102,7 +103,8 @@ int gr_lag_fit_line(const gr_lag *g, int lo, int hi, gr_fit *fit, gr_error *err)
 
 static void release(void *g) { gr_lag_free(g); }
 
-int gr_lag_init_owned(void *state, gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error *err)
+int gr_lag_init_owned(void *state, gr_lag *g, int n, int dim, int lags, gr_lag_kind kind,
+                      gr_error *err)
 {
     int rc = gr_lag_init(g, n, dim, lags, kind, err);
     if (!rc) {

@@ -39,7 +39,8 @@ double gr_lag_mean(const gr_lag *g, int l, double *stderr_out, int64_t *samples)
 int gr_lag_fit_line(const gr_lag *g, int lo, int hi, gr_fit *fit, gr_error *err);
 
 /* gr_lag_init for a gr_lag inside an observable's state, freed with the state (gr_obs_own). */
-int gr_lag_init_owned(void *state, gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error *err);
+int gr_lag_init_owned(void *state, gr_lag *g, int n, int dim, int lags, gr_lag_kind kind,
+                      gr_error *err);
 
 struct gr_blob_io;
 /* Checkpoints: the ring, the times and the accumulators (obs_util.h, gr_blob_io); `what` names the

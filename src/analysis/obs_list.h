@@ -6,20 +6,20 @@
 #ifndef GR_OBS_LIST_H
 #define GR_OBS_LIST_H
 
-#define GR_OBSERVABLE_LIST(X) \
-    X(moments)                \
-    X(freepath)               \
-    X(postcollision)          \
-    X(gaps)                   \
-    X(sk)                     \
-    X(pair)                   \
-    X(pv)                     \
-    X(msd)                    \
-    X(vacf)                   \
-    X(vcorr)                  \
-    X(clusters)               \
-    X(pressure)               \
-    X(collisions)             \
+#define GR_OBSERVABLE_LIST(X)                                                                      \
+    X(moments)                                                                                     \
+    X(freepath)                                                                                    \
+    X(postcollision)                                                                               \
+    X(gaps)                                                                                        \
+    X(sk)                                                                                          \
+    X(pair)                                                                                        \
+    X(pv)                                                                                          \
+    X(msd)                                                                                         \
+    X(vacf)                                                                                        \
+    X(vcorr)                                                                                       \
+    X(clusters)                                                                                    \
+    X(pressure)                                                                                    \
+    X(collisions)                                                                                  \
     /* a new observable: X(NAME) \ on the line above this one */
 
 #endif

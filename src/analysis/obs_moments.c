@@ -66,23 +66,27 @@ static int finish(void *state, const gr_output *out, gr_error *err)
 {
     moments *m = state;
     gr_file f;
-    int rc = gr_obs_csv_open(out, "moments.csv",
-                             "velocity moments <|v|^m> (3.11), relative to the frame's mean velocity; "
-                             "speed = |v| (2D) or |v_x| (1D), component = mean of <|v_x|^m> and <|v_y|^m>; "
-                             "units (m/s)^m; errors from block averaging over samples",
-                             &f, err);
+    int rc = gr_obs_csv_open(
+        out, "moments.csv",
+        "velocity moments <|v|^m> (3.11), relative to the frame's mean velocity; "
+        "speed = |v| (2D) or |v_x| (1D), component = mean of <|v_x|^m> and <|v_y|^m>; "
+        "units (m/s)^m; errors from block averaging over samples",
+        &f, err);
     if (rc) {
         return rc;
     }
-    gr_file_header(&f, "m [1],speed_moment [(m s-1)^m],speed_stderr [(m s-1)^m],component_moment [(m s-1)^m],"
-                       "component_stderr [(m s-1)^m],samples [1]");
+    gr_file_header(
+        &f, "m [1],speed_moment [(m s-1)^m],speed_stderr [(m s-1)^m],component_moment [(m s-1)^m],"
+            "component_stderr [(m s-1)^m],samples [1]");
     cJSON *j = cJSON_AddObjectToObject(out->summary, "moments");
     cJSON *arr = cJSON_AddObjectToObject(j, "speed");
     cJSON *err_arr = cJSON_AddObjectToObject(j, "speed_stderr");
     for (int k = 1; k <= m->m_max; k++) {
-        double mk = gr_blocking_mean(&m->speed[k]), ek = gr_blocking_stderr(&m->speed[k], NULL, NULL);
+        double mk = gr_blocking_mean(&m->speed[k]),
+               ek = gr_blocking_stderr(&m->speed[k], NULL, NULL);
         double ck = gr_blocking_mean(&m->comp[k]), dk = gr_blocking_stderr(&m->comp[k], NULL, NULL);
-        fprintf(f.f, "%d,%.10g,%.6g,%.10g,%.6g,%lld\n", k, mk, ek, ck, dk, (long long)m->speed[k].count[0]);
+        fprintf(f.f, "%d,%.10g,%.6g,%.10g,%.6g,%lld\n", k, mk, ek, ck, dk,
+                (long long)m->speed[k].count[0]);
         char key[8];
         snprintf(key, sizeof key, "m%d", k);
         cJSON_AddNumberToObject(arr, key, isfinite(mk) ? mk : 0.0);
@@ -91,11 +95,13 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddStringToObject(j, "file", "moments.csv");
     rc = gr_file_commit(&f, err);
     if (!rc && out->plots) {
-        gr_obs_plot(out, "moments.png",
-                    "set logscale y\nset xlabel 'm'\nset ylabel '<|v|^m> (m^m/s^m)'\nset key top left\nset xtics 1\n"
-                    "set title \"Velocity moments\\n{/*0.75 eq. (3.11); error bars: block averaging}\"\n"
-                    "plot 'moments.csv' skip 1 using 1:2:3 with yerrorbars pt 6 ps 1.6 title 'speed |v|', "
-                    "'' skip 1 using 1:4:5 with yerrorbars pt 7 ps 0.8 title 'one component |v_x|'");
+        gr_obs_plot(
+            out, "moments.png",
+            "set logscale y\nset xlabel 'm'\nset ylabel '<|v|^m> (m^m/s^m)'\nset key top left\nset "
+            "xtics 1\n"
+            "set title \"Velocity moments\\n{/*0.75 eq. (3.11); error bars: block averaging}\"\n"
+            "plot 'moments.csv' skip 1 using 1:2:3 with yerrorbars pt 6 ps 1.6 title 'speed |v|', "
+            "'' skip 1 using 1:4:5 with yerrorbars pt 7 ps 0.8 title 'one component |v_x|'");
     }
     return rc;
 }

@@ -96,7 +96,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                        "particles and time origins (every sample); errors from "
                        "block averaging over origins";
     cJSON *j = cJSON_AddObjectToObject(out->summary, "msd");
-    int rc = gr_obs_lag_csv(out, &m->lag, "msd.csv", what, "tau [s],msd [m2],msd_stderr [m2],origins [1]", j, err);
+    int rc = gr_obs_lag_csv(out, &m->lag, "msd.csv", what,
+                            "tau [s],msd [m2],msd_stderr [m2],origins [1]", j, err);
     if (rc) {
         return rc;
     }
@@ -117,22 +118,26 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                                 "the lags; the lags are "
                                 "correlated, so the error is indicative");
         char legend[120];
-        gr_plot_legend_value("linear fit, D_{self} (m^2/s)", fit.p[1] / (2.0 * m->dim), fit.err[1] / (2.0 * m->dim),
-                             legend, sizeof legend);
-        snprintf(fitline, sizeof fitline, ", [%.6g:%.6g] %.8g + %.8g * x with lines lw 3 lt 2 title '%s'",
-                 lo * gr_lag_interval(&m->lag), m->lag.lags * gr_lag_interval(&m->lag), fit.p[0], fit.p[1], legend);
+        gr_plot_legend_value("linear fit, D_{self} (m^2/s)", fit.p[1] / (2.0 * m->dim),
+                             fit.err[1] / (2.0 * m->dim), legend, sizeof legend);
+        snprintf(fitline, sizeof fitline,
+                 ", [%.6g:%.6g] %.8g + %.8g * x with lines lw 3 lt 2 title '%s'",
+                 lo * gr_lag_interval(&m->lag), m->lag.lags * gr_lag_interval(&m->lag), fit.p[0],
+                 fit.p[1], legend);
     } else {
         cJSON_AddStringToObject(j, "D_self", ferr.message);
     }
     if (out->plots && m->lag.frames > 1) {
         char body[900];
-        snprintf(body, sizeof body,
-                 "set logscale xy\nset format xy '10^{%%L}'\nset xlabel 'lag tau (s)'\nset ylabel 'MSD "
-                 "(m^2)'\nset key top left\n"
-                 "set title \"Mean-square displacement\\n{/*0.75 unwrapped positions; line: the fit over its window}\"\n"
-                 "plot 'msd.csv' skip 1 using 1:($4>0&&$1>0?$2:1/0):3 with "
-                 "yerrorbars title 'MSD'%s",
-                 fitline);
+        snprintf(
+            body, sizeof body,
+            "set logscale xy\nset format xy '10^{%%L}'\nset xlabel 'lag tau (s)'\nset ylabel 'MSD "
+            "(m^2)'\nset key top left\n"
+            "set title \"Mean-square displacement\\n{/*0.75 unwrapped positions; line: the fit "
+            "over its window}\"\n"
+            "plot 'msd.csv' skip 1 using 1:($4>0&&$1>0?$2:1/0):3 with "
+            "yerrorbars title 'MSD'%s",
+            fitline);
         gr_obs_plot(out, "msd.png", body);
     }
     return GR_OK;

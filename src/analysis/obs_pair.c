@@ -55,13 +55,13 @@
 #include "granule/sim.h"
 
 #define PAIR_MAX_BINS 8192
-#define CELL_DIV 2            /* cells of side >= R_max / CELL_DIV: a (2 CELL_DIV + 1)^2 stencil */
-#define N_BATCH 32            /* batches of consecutive frames for the jackknife error of D_f */
-#define FIT_LO_D 2.0          /* D_f fit window: R_hi >= max(FIT_LO_D d, FIT_LO_FRAC R_max) ... */
+#define CELL_DIV 2   /* cells of side >= R_max / CELL_DIV: a (2 CELL_DIV + 1)^2 stencil */
+#define N_BATCH 32   /* batches of consecutive frames for the jackknife error of D_f */
+#define FIT_LO_D 2.0 /* D_f fit window: R_hi >= max(FIT_LO_D d, FIT_LO_FRAC R_max) ... */
 #define FIT_LO_FRAC 0.25
-#define FIT_HI_FRAC 0.5       /* ... and R_hi <= FIT_HI_FRAC R_max */
-#define PEAK_MAX_D 1.5        /* first peak: maximum of g over bins centred below 1.5 d */
-#define TAIL_FROM_FRAC 0.5    /* g_tail: mean g over R_max / 2 <= R < R_max (cf. Fig. 4.7) */
+#define FIT_HI_FRAC 0.5    /* ... and R_hi <= FIT_HI_FRAC R_max */
+#define PEAK_MAX_D 1.5     /* first peak: maximum of g over bins centred below 1.5 d */
+#define TAIL_FROM_FRAC 0.5 /* g_tail: mean g over R_max / 2 <= R < R_max (cf. Fig. 4.7) */
 
 typedef struct pair_params {
     int gr_bins;
@@ -70,7 +70,8 @@ typedef struct pair_params {
 
 static const gr_param params[] = {
     {"gr_bins", "", GR_PARAM_INT, 400, 1, PAIR_MAX_BINS, false, false,
-     "bins of g(R), C(R), n(R) over 0 <= R < R_max (4.10, 4.15-4.17)", offsetof(pair_params, gr_bins)},
+     "bins of g(R), C(R), n(R) over 0 <= R < R_max (4.10, 4.15-4.17)",
+     offsetof(pair_params, gr_bins)},
     {"gr_rmax", "d", GR_PARAM_DOUBLE, 20, 0, 1e4, true, false,
      "largest pair distance R_max in diameters (clamped to L/2)", offsetof(pair_params, gr_rmax)},
 };
@@ -81,24 +82,24 @@ typedef struct pair {
     double d, L, R_max, width, inv_width;
     int N;
     bool clamped;
-    double *area;           /* A_b = pi (R_hi^2 - R_lo^2) */
-    gr_blocking *g_blk;     /* per-frame g_b */
-    gr_blocking *c_blk;     /* per-frame C(R_hi of b) */
-    gr_blocking tail_blk;   /* per-frame mean g over the tail window */
-    int tail_from;          /* first bin of the tail window */
-    int64_t *frame_count;   /* pairs per bin in the current frame */
-    double *c_frame;        /* C(R_hi) of the current frame */
-    double *total;          /* pairs per bin, all frames (exact up to 2^53) */
+    double *area;         /* A_b = pi (R_hi^2 - R_lo^2) */
+    gr_blocking *g_blk;   /* per-frame g_b */
+    gr_blocking *c_blk;   /* per-frame C(R_hi of b) */
+    gr_blocking tail_blk; /* per-frame mean g over the tail window */
+    int tail_from;        /* first bin of the tail window */
+    int64_t *frame_count; /* pairs per bin in the current frame */
+    double *c_frame;      /* C(R_hi) of the current frame */
+    double *total;        /* pairs per bin, all frames (exact up to 2^53) */
     int64_t frames;
     /* batch means of C for the jackknife of D_f */
-    double *batch;          /* N_BATCH x nbins sums of per-frame C */
+    double *batch;                 /* N_BATCH x nbins sums of per-frame C */
     int64_t batch_len, batch_fill; /* frames per full batch; frames in the current batch */
-    int n_full;             /* completed batches */
+    int n_full;                    /* completed batches */
     /* cell list, allocated at the first frame */
-    int M;                  /* cells per side */
-    int nox, noy;           /* distinct cell offsets per axis */
+    int M;        /* cells per side */
+    int nox, noy; /* distinct cell offsets per axis */
     int off[2 * CELL_DIV + 1];
-    double *xs, *ys;        /* wrapped positions sorted by cell */
+    double *xs, *ys; /* wrapped positions sorted by cell */
     int *cell_of, *cell_start, *cell_fill;
 } pair;
 
@@ -106,18 +107,22 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
 {
     const pair_params *a = params_block;
     if (setup->dim != 2) {
-        return GR_FAIL(err, GR_EINVAL, "pair: g(R) is defined for dim = 2 only (scene has dim = %d)", setup->dim);
+        return GR_FAIL(err, GR_EINVAL,
+                       "pair: g(R) is defined for dim = 2 only (scene has dim = %d)", setup->dim);
     }
     if (a->gr_bins < 1 || a->gr_bins > PAIR_MAX_BINS) {
-        return GR_FAIL(err, GR_EINVAL, "pair: [analysis] gr_bins = %d outside [1, %d]", a->gr_bins, PAIR_MAX_BINS);
+        return GR_FAIL(err, GR_EINVAL, "pair: [analysis] gr_bins = %d outside [1, %d]", a->gr_bins,
+                       PAIR_MAX_BINS);
     }
     if (!(a->gr_rmax > 0.0) || !isfinite(a->gr_rmax)) {
-        return GR_FAIL(err, GR_EINVAL, "pair: [analysis] gr_rmax = %g must be a finite number > 0 (diameters)",
+        return GR_FAIL(err, GR_EINVAL,
+                       "pair: [analysis] gr_rmax = %g must be a finite number > 0 (diameters)",
                        a->gr_rmax);
     }
-    if (!(setup->radius > 0.0) || !isfinite(setup->radius) || !(setup->L > 0.0) || !isfinite(setup->L)) {
-        return GR_FAIL(err, GR_EINVAL, "pair: needs radius > 0 and L > 0 (radius = %g, L = %g)", setup->radius,
-                       setup->L);
+    if (!(setup->radius > 0.0) || !isfinite(setup->radius) || !(setup->L > 0.0) ||
+        !isfinite(setup->L)) {
+        return GR_FAIL(err, GR_EINVAL, "pair: needs radius > 0 and L > 0 (radius = %g, L = %g)",
+                       setup->radius, setup->L);
     }
     if (setup->N < 2) {
         return GR_FAIL(err, GR_EINVAL, "pair: needs N >= 2 particles (N = %d)", setup->N);
@@ -147,7 +152,8 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     for (size_t k = 0; k < sizeof cells / sizeof cells[0]; k++) {
         gr_obs_own_pointer(s, cells[k]);
     }
-    if (!s->area || !s->g_blk || !s->c_blk || !s->frame_count || !s->c_frame || !s->total || !s->batch) {
+    if (!s->area || !s->g_blk || !s->c_blk || !s->frame_count || !s->c_frame || !s->total ||
+        !s->batch) {
         return GR_FAIL(err, GR_ENOMEM, "pair: out of memory for %d bins", s->nbins);
     }
     for (int b = 0; b < s->nbins; b++) {
@@ -194,7 +200,8 @@ static int build_cells(pair *s, gr_error *err)
         free(s->cell_fill);
         s->xs = s->ys = NULL;
         s->cell_of = s->cell_start = s->cell_fill = NULL;
-        return GR_FAIL(err, GR_ENOMEM, "pair: out of memory for the cell list of %d particles", s->N);
+        return GR_FAIL(err, GR_ENOMEM, "pair: out of memory for the cell list of %d particles",
+                       s->N);
     }
     return GR_OK;
 }
@@ -225,8 +232,8 @@ static inline double min_image(double dx, double L)
 /* All pairs of cell a (particles [a0, a1)) with cell b (particles [b0, b1)), or within a when
  * same. Unaliased stencil: cell b's image next to a is b shifted by (sx, sy) (0 or +-L), which is
  * the minimum image for every pair closer than R_max; aliased: minimum image per pair. */
-static void count_cells(const pair *s, int64_t *count, int a0, int a1, int b0, int b1, bool same, double sx, double sy,
-                        bool aliased)
+static void count_cells(const pair *s, int64_t *count, int a0, int a1, int b0, int b1, bool same,
+                        double sx, double sy, bool aliased)
 {
     const double L = s->L, r2max = s->R_max * s->R_max, inv = s->inv_width;
     const int last = s->nbins - 1;
@@ -254,7 +261,8 @@ static void batch_add(pair *s, const double *c)
     if (s->n_full == N_BATCH) {
         size_t nb = (size_t)s->nbins;
         for (int k = 0; k < N_BATCH / 2; k++) {
-            double *to = s->batch + (size_t)k * nb, *a = s->batch + (size_t)(2 * k) * nb, *b = a + nb;
+            double *to = s->batch + (size_t)k * nb, *a = s->batch + (size_t)(2 * k) * nb,
+                   *b = a + nb;
             for (size_t q = 0; q < nb; q++) {
                 to[q] = a[q] + b[q];
             }
@@ -281,7 +289,8 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         return GR_FAIL(err, GR_EINVAL, "pair: frame is %dD, g(R) needs 2D positions", p->dim);
     }
     if (p->n != s->N || !(fabs(p->L - s->L) <= 1e-9 * s->L)) {
-        return GR_FAIL(err, GR_EINVAL, "pair: frame has N = %d, L = %.10g but the scene has N = %d, L = %.10g",
+        return GR_FAIL(err, GR_EINVAL,
+                       "pair: frame has N = %d, L = %.10g but the scene has N = %d, L = %.10g",
                        p->n, p->L, s->N, s->L);
     }
     if (!s->xs) {
@@ -346,7 +355,8 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
                         if (b < a) {
                             continue;
                         }
-                        count_cells(s, count, a0, a1, s->cell_start[b], s->cell_start[b + 1], b == a, sx, sy, aliased);
+                        count_cells(s, count, a0, a1, s->cell_start[b], s->cell_start[b + 1],
+                                    b == a, sx, sy, aliased);
                     }
                 }
             }
@@ -388,7 +398,8 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 }
 
 /* Error of a per-frame average: blocking plateau, or (fewer than 16 frames) sqrt(count). */
-static double frame_error(const pair *s, const gr_blocking *blk, double count, double scale, bool *ok)
+static double frame_error(const pair *s, const gr_blocking *blk, double count, double scale,
+                          bool *ok)
 {
     double e = gr_blocking_stderr(blk, NULL, NULL);
     if (isfinite(e)) {
@@ -399,8 +410,8 @@ static double frame_error(const pair *s, const gr_blocking *blk, double count, d
 }
 
 /* Power-law fit of n(R_hi) = A'' R^D_f (4.17) over the window [lo, hi); returns points used. */
-static int fit_window(const pair *s, const double *n_of, const double *sigma, int lo, int hi, gr_fit *fit,
-                      double *x, double *y, double *e, gr_error *err)
+static int fit_window(const pair *s, const double *n_of, const double *sigma, int lo, int hi,
+                      gr_fit *fit, double *x, double *y, double *e, gr_error *err)
 {
     int m = 0;
     for (int b = lo; b < hi; b++) {
@@ -428,9 +439,9 @@ typedef struct pair_result {
     double tail, tail_error;     /* g_tail over bins tail_from .. nbins - 1 */
     int lo, hi;                  /* the D_f window: bins lo .. hi - 1 */
     int used;                    /* points of the D_f fit (< 3: no fit; < 0: the fit failed) */
-    char fit_failure[sizeof ((gr_error *)0)->message];
-    gr_fit fit;                  /* n(R) = A R^D_f (4.17) */
-    double jackknife;            /* jackknife error of D_f over batches of frames (NAN: none) */
+    char fit_failure[sizeof((gr_error *)0)->message];
+    gr_fit fit;       /* n(R) = A R^D_f (4.17) */
+    double jackknife; /* jackknife error of D_f over batches of frames (NAN: none) */
 } pair_result;
 
 static void result_free(pair_result *r)
@@ -502,7 +513,8 @@ static int compute(const pair *s, pair_result *r, gr_error *err)
         double hi = (b + 1) * s->width;
         cum += s->total[b];
         r->g[b] = gr_blocking_mean(&s->g_blk[b]);
-        r->ge[b] = frame_error(s, &s->g_blk[b], s->total[b], 1.0 / (norm * s->area[b]), &r->blocking);
+        r->ge[b] =
+            frame_error(s, &s->g_blk[b], s->total[b], 1.0 / (norm * s->area[b]), &r->blocking);
         r->c[b] = gr_blocking_mean(&s->c_blk[b]);
         r->ne[b] = frame_error(s, &s->c_blk[b], cum, 2.0 / N, &r->blocking);
         r->n[b] = r->c[b] - dens * M_PI * hi * hi;
@@ -514,7 +526,7 @@ static int compute(const pair *s, pair_result *r, gr_error *err)
     }
 
     /* first peak: the largest g among bins centred below PEAK_MAX_D d (the contact shell) */
-    int peak_end = (int)ceil(PEAK_MAX_D * s->d / s->width - 0.5); /* bins centred below 1.5 d */
+    int peak_end = (int)ceil(PEAK_MAX_D * s->d / s->width - 0.5);   /* bins centred below 1.5 d */
     peak_end = peak_end < 1 ? nb : (peak_end < nb ? peak_end : nb); /* none: all bins */
     for (int b = 1; b < peak_end; b++) {
         r->peak = r->g[b] > r->g[r->peak] ? b : r->peak;
@@ -528,7 +540,8 @@ static int compute(const pair *s, pair_result *r, gr_error *err)
     }
     bool tail_blocking = r->blocking;
     r->tail = gr_blocking_mean(&s->tail_blk);
-    r->tail_error = frame_error(s, &s->tail_blk, tail_total, 1.0 / (norm * tail_area), &tail_blocking);
+    r->tail_error =
+        frame_error(s, &s->tail_blk, tail_total, 1.0 / (norm * tail_area), &tail_blocking);
 
     /* D_f from n(R) ~ A'' R^D_f (4.17) over max(2 d, R_max / 4) <= R_hi <= R_max / 2; bin b's
      * upper edge is (b + 1) w, so the window is the bins lo .. hi - 1 */
@@ -537,7 +550,9 @@ static int compute(const pair *s, pair_result *r, gr_error *err)
     r->hi = (int)floor(FIT_HI_FRAC * nb + 1e-9);
     r->lo = r->lo < 0 ? 0 : r->lo;
     gr_error ferr = {0};
-    r->used = r->hi - r->lo >= 3 ? fit_window(s, r->n, r->ne, r->lo, r->hi, &r->fit, fx, fy, fe, &ferr) : 0;
+    r->used = r->hi - r->lo >= 3
+                  ? fit_window(s, r->n, r->ne, r->lo, r->hi, &r->fit, fx, fy, fe, &ferr)
+                  : 0;
     snprintf(r->fit_failure, sizeof r->fit_failure, "%s", ferr.message);
     r->jackknife = r->used >= 3 ? jackknife(s, r, fx, fy, fe) : (double)NAN;
     return GR_OK;
@@ -553,8 +568,10 @@ static double d_f_error(const pair_result *r)
 
 static void write_summary(const pair *s, const pair_result *r, cJSON *j)
 {
-    cJSON_AddStringToObject(j, "errors", r->blocking ? "block averaging over frames"
-                                                     : "sqrt(counts) (fewer than 16 frames for block averaging)");
+    cJSON_AddStringToObject(j, "errors",
+                            r->blocking
+                                ? "block averaging over frames"
+                                : "sqrt(counts) (fewer than 16 frames for block averaging)");
     if (r->blocking) {
         cJSON_AddNumberToObject(j, "g_bins_blocking_unconverged", r->unconverged);
     }
@@ -584,7 +601,8 @@ static void write_summary(const pair *s, const pair_result *r, cJSON *j)
         cJSON_AddNumberToObject(jd, "jackknife_batches", isfinite(r->jackknife) ? s->n_full : 0);
         gr_obs_add_number(jd, "A", fit->p[0]);
         gr_obs_add_number(jd, "A_error", fit->err[0]);
-        gr_obs_add_number(jd, "A_over_d", fit->p[0] * pow(s->d, fit->p[1])); /* n = A_over_d (R/d)^D_f */
+        gr_obs_add_number(jd, "A_over_d",
+                          fit->p[0] * pow(s->d, fit->p[1])); /* n = A_over_d (R/d)^D_f */
         gr_obs_add_number(jd, "chi2_red", fit->chi2_red);
         cJSON_AddNumberToObject(jd, "points", r->used);
         cJSON_AddNumberToObject(jd, "points_left_out", r->hi - r->lo - r->used);
@@ -592,14 +610,17 @@ static void write_summary(const pair *s, const pair_result *r, cJSON *j)
         cJSON_AddNullToObject(jd, "value");
         cJSON_AddNullToObject(jd, "error");
         char note[900];
-        snprintf(note, sizeof note, "no fit: %d bins of the window have n(R) > 0 with an error (3 needed)%s%s",
-                 r->used < 0 ? 0 : r->used, r->used < 0 ? "; " : "", r->used < 0 ? r->fit_failure : "");
+        snprintf(note, sizeof note,
+                 "no fit: %d bins of the window have n(R) > 0 with an error (3 needed)%s%s",
+                 r->used < 0 ? 0 : r->used, r->used < 0 ? "; " : "",
+                 r->used < 0 ? r->fit_failure : "");
         cJSON_AddStringToObject(jd, "note", note);
     }
-    cJSON_AddStringToObject(jd, "definition",
-                            "n(R) = C(R) - n pi R^2 ~ A R^D_f (4.17), weighted log-log fit at bin upper edges R_hi "
-                            "in [max(2 d, R_max/4), R_max/2], bins with n <= 0 left out; error = max(fit, jackknife "
-                            "over batches of frames)");
+    cJSON_AddStringToObject(
+        jd, "definition",
+        "n(R) = C(R) - n pi R^2 ~ A R^D_f (4.17), weighted log-log fit at bin upper edges R_hi "
+        "in [max(2 d, R_max/4), R_max/2], bins with n <= 0 left out; error = max(fit, jackknife "
+        "over batches of frames)");
 }
 
 static void write_plots(const pair *s, const pair_result *r, const gr_output *out)
@@ -618,24 +639,29 @@ static void write_plots(const pair *s, const pair_result *r, const gr_output *ou
     const double from = (r->lo + 1) * s->width / s->d, to = r->hi * s->width / s->d;
     if (r->used >= 3) {
         char legend[120];
-        gr_plot_legend_value("fit A R^{D_f}, D_f", r->fit.p[1], d_f_error(r), legend, sizeof legend);
+        gr_plot_legend_value("fit A R^{D_f}, D_f", r->fit.p[1], d_f_error(r), legend,
+                             sizeof legend);
         snprintf(body, sizeof body,
                  "set logscale xy\nset bars 0\nset xrange [1:%.10g]\nset xlabel 'R / d'\n"
                  "set ylabel 'n(R) = C(R) - n pi R^2'\n"
-                 "set title \"Excess neighbours within R\\n{/*0.75 eq. (4.17); fit over %.3g d <= R <= %.3g d}\"\n"
+                 "set title \"Excess neighbours within R\\n{/*0.75 eq. (4.17); fit over %.3g d <= "
+                 "R <= %.3g d}\"\n"
                  "set key top left\n"
                  "plot 'pair.csv' skip 1 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lt 1 "
-                 "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars lt 1 pt 7 "
+                 "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with "
+                 "yerrorbars lt 1 pt 7 "
                  "ps 0.4 notitle, [%.10g:%.10g] %.10g * x**%.10g with lines lw 3 lt 2 title '%s'",
-                 s->R_max / s->d, from, to, s->d, every, s->d, from, to, r->fit.p[0] * pow(s->d, r->fit.p[1]),
-                 r->fit.p[1], legend);
+                 s->R_max / s->d, from, to, s->d, every, s->d, from, to,
+                 r->fit.p[0] * pow(s->d, r->fit.p[1]), r->fit.p[1], legend);
     } else {
         snprintf(body, sizeof body,
                  "set logscale xy\nset bars 0\nset xrange [1:%.10g]\nset xlabel 'R / d'\n"
                  "set ylabel 'n(R) = C(R) - n pi R^2'\n"
-                 "set title \"Excess neighbours within R\\n{/*0.75 eq. (4.17); too few bins for the power-law fit}\"\n"
+                 "set title \"Excess neighbours within R\\n{/*0.75 eq. (4.17); too few bins for "
+                 "the power-law fit}\"\n"
                  "plot 'pair.csv' skip 1 using ($9/%.10g):($6 > 0 ? $6 : 1/0) with lines lt 1 "
-                 "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with yerrorbars lt 1 pt 7 "
+                 "title 'n(R)', '' skip 1 every %d using ($9/%.10g):($6 > 0 ? $6 : 1/0):7 with "
+                 "yerrorbars lt 1 pt 7 "
                  "ps 0.4 notitle",
                  s->R_max / s->d, s->d, every, s->d);
     }
@@ -662,8 +688,8 @@ static void pair_rows(FILE *f, const void *ctx)
     const pair_result *r = c->r;
     for (int b = 0; b < s->nbins && s->frames > 0; b++) {
         double lo = b * s->width, hi = (b + 1) * s->width, R = 0.5 * (lo + hi);
-        fprintf(f, "%.10g,%.10g,%.10g,%.6g,%.10g,%.10g,%.6g,%.10g,%.10g,%.0f\n", R, R / s->d, r->g[b], r->ge[b], r->c[b],
-                r->n[b], r->ne[b], lo, hi, s->total[b]);
+        fprintf(f, "%.10g,%.10g,%.10g,%.6g,%.10g,%.10g,%.6g,%.10g,%.10g,%.0f\n", R, R / s->d,
+                r->g[b], r->ge[b], r->c[b], r->n[b], r->ne[b], lo, hi, s->total[b]);
     }
 }
 
@@ -683,7 +709,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     pair_rows_ctx rows = {.s = s, .r = &r};
     gr_obs_table t = {.name = "pair.csv",
                       .what = pair_csv_what,
-                      .columns = "R [m],R_over_d [1],g [1],g_error [1],C [1],n [1],n_error [1],R_lo [m],R_hi [m],pairs [1]",
+                      .columns = "R [m],R_over_d [1],g [1],g_error [1],C [1],n [1],n_error "
+                                 "[1],R_lo [m],R_hi [m],pairs [1]",
                       .rows = pair_rows,
                       .ctx = &rows};
     if (s->frames == 0) {
@@ -721,10 +748,11 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
     gr_blob_io_i64(io, &s->batch_fill);
     int64_t n_full = s->n_full;
     gr_blob_io_i64(io, &n_full);
-    if (gr_blob_io_loading(io) && (n_full < 0 || n_full > N_BATCH || s->batch_len < 1 || s->batch_fill < 0 ||
-                                  s->batch_fill >= s->batch_len || (n_full == N_BATCH && s->batch_fill != 0))) {
-        gr_blob_io_fail(io, "batch counters (%lld full, %lld of %lld) are inconsistent", (long long)n_full,
-                       (long long)s->batch_fill, (long long)s->batch_len);
+    if (gr_blob_io_loading(io) &&
+        (n_full < 0 || n_full > N_BATCH || s->batch_len < 1 || s->batch_fill < 0 ||
+         s->batch_fill >= s->batch_len || (n_full == N_BATCH && s->batch_fill != 0))) {
+        gr_blob_io_fail(io, "batch counters (%lld full, %lld of %lld) are inconsistent",
+                        (long long)n_full, (long long)s->batch_fill, (long long)s->batch_len);
     }
     s->n_full = (int)n_full;
     return GR_OK;
@@ -732,7 +760,8 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
 
 const gr_observable_type gr_obs_pair = {
     .name = "pair",
-    .summary = "pair correlation g(R) (4.10), neighbours within R, C(R) (4.15), excess n(R) = C - n pi R^2 and "
+    .summary = "pair correlation g(R) (4.10), neighbours within R, C(R) (4.15), excess n(R) = C - "
+               "n pi R^2 and "
                "D_f from n ~ R^D_f (4.17); 2D",
     .dims = 2,
     .params = params,

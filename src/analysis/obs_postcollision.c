@@ -50,7 +50,8 @@ static int sample(void *state, const gr_particles *f, double t, gr_error *err)
             double ux = f->vx[i] - mean[0], uy = f->dim == 2 ? f->vy[i] - mean[1] : 0.0;
             T += ux * ux + uy * uy;
         }
-        double vmax = p->range * sqrt(T / f->n); /* pv's convention: pv_range sqrt(T), T of eq. 2.19 */
+        double vmax =
+            p->range * sqrt(T / f->n); /* pv's convention: pv_range sqrt(T), T of eq. 2.19 */
         if (!(vmax > 0.0)) {
             return GR_OK; /* nothing moves yet: fix the range at a later frame */
         }
@@ -100,8 +101,9 @@ static void rows(FILE *f, const void *ctx)
     const postcollision *p = ctx;
     for (int i = 0; i < p->post.nbins; i++) {
         fprintf(f, "%.8g,%.8g,%.4g,%.0f,%.8g,%.4g,%.0f\n", gr_histogram_center(&p->post, i),
-                gr_histogram_density(&p->post, i), gr_histogram_density_error(&p->post, i), p->post.count[i],
-                gr_histogram_density(&p->all, i), gr_histogram_density_error(&p->all, i), p->all.count[i]);
+                gr_histogram_density(&p->post, i), gr_histogram_density_error(&p->post, i),
+                p->post.count[i], gr_histogram_density(&p->all, i),
+                gr_histogram_density_error(&p->all, i), p->all.count[i]);
     }
 }
 
@@ -115,17 +117,22 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     }
     const gr_obs_table t = {
         .name = "postcollision.csv",
-        .what = "post-collision velocity distribution P(v_0) (Fig. 5.9) beside the full P(v), per component, "
+        .what = "post-collision velocity distribution P(v_0) (Fig. 5.9) beside the full P(v), per "
+                "component, "
                 "v in m/s, densities per m/s with sqrt(X) errors",
-        .columns = "v [m s-1],post_density [s m-1],post_error [s m-1],post_count [1],all_density [s m-1],all_error [s m-1],"
+        .columns = "v [m s-1],post_density [s m-1],post_error [s m-1],post_count [1],all_density "
+                   "[s m-1],all_error [s m-1],"
                    "all_count [1]",
         .rows = rows,
         .ctx = p,
         .png = "postcollision.png",
         .plot = "set logscale y\nset xlabel 'v (m/s)'\nset ylabel 'probability density'\n"
-                "set title \"Velocities just after a collision and of all particles\\n{/*0.75 Fig. 5.9}\"\n"
-                "plot 'postcollision.csv' skip 1 using 1:($4>0?$2:1/0) with points pt 7 ps 0.5 title 'P(v_0) after "
-                "collision', '' skip 1 using 1:($7>1?$5:1/0) with lines lw 2 title 'P(v)', '' skip 1 using "
+                "set title \"Velocities just after a collision and of all particles\\n{/*0.75 Fig. "
+                "5.9}\"\n"
+                "plot 'postcollision.csv' skip 1 using 1:($4>0?$2:1/0) with points pt 7 ps 0.5 "
+                "title 'P(v_0) after "
+                "collision', '' skip 1 using 1:($7>1?$5:1/0) with lines lw 2 title 'P(v)', '' skip "
+                "1 using "
                 "1:($7==1?$5:1/0) with points lt 2 pt 6 ps 0.5 notitle",
     };
     cJSON_AddNumberToObject(j, "post_samples", (double)p->post_n);
@@ -148,7 +155,8 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
         bool ok = gr_obs_io_histogram_new(io, &p->post) && gr_obs_io_histogram_new(io, &p->all);
         p->ready = ok;
         if (ok && (p->post.nbins != p->bins || p->all.nbins != p->bins)) {
-            gr_blob_io_fail(io, "%d bins in the checkpoint, pv_bins = %d in the scene", p->post.nbins, p->bins);
+            gr_blob_io_fail(io, "%d bins in the checkpoint, pv_bins = %d in the scene",
+                            p->post.nbins, p->bins);
         }
     }
     gr_blob_io_f64(io, &p->post_v2);
@@ -160,7 +168,8 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
 
 const gr_observable_type gr_obs_postcollision = {
     .name = "postcollision",
-    .summary = "post-collision velocity distribution P(v_0) beside P(v) (Fig. 5.9); needs a run (contact events)",
+    .summary = "post-collision velocity distribution P(v_0) beside P(v) (Fig. 5.9); needs a run "
+               "(contact events)",
     .dims = 3,
     .params = NULL,
     .n_params = 0,

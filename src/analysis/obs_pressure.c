@@ -33,14 +33,14 @@
 #include "granule/analysis.h"
 
 enum { KXX, KYY, KXY, CXX, CYY, CXY, P_TOTAL, NT, SPEED, N_SERIES };
-static const char *const series_name[N_SERIES] = {"kinetic_xx",     "kinetic_yy",     "kinetic_xy", "collisional_xx",
-                                                  "collisional_yy", "collisional_xy", "P",          "nT",
-                                                  "mean_speed"};
+static const char *const series_name[N_SERIES] = {
+    "kinetic_xx",     "kinetic_yy", "kinetic_xy", "collisional_xx", "collisional_yy",
+    "collisional_xy", "P",          "nT",         "mean_speed"};
 
 typedef struct pressure {
     int n, dim;
     double L, V, mass, d, phi, D, eps_n, eps_t;
-    const char *law;       /* the normal force law (NULL: none, kinetic part only) */
+    const char *law; /* the normal force law (NULL: none, kinetic part only) */
     gr_contact_coeffs cc;
     const gr_particles *p; /* the frame being visited */
     double mean[2], w[3];  /* mean velocity; the frame's virial xx, yy, xy */
@@ -86,7 +86,9 @@ static void contact(int i, int j, double dx, double dy, double r2, void *user)
     if (r2 == 0.0) {
         return;
     }
-    s->pairs[s->queued++] = (gr_contact_pair){.dx = dx, .dy = dy, .gx = p->vx[j] - p->vx[i],
+    s->pairs[s->queued++] = (gr_contact_pair){.dx = dx,
+                                              .dy = dy,
+                                              .gx = p->vx[j] - p->vx[i],
                                               .gy = p->dim == 2 ? p->vy[j] - p->vy[i] : 0.0};
     if (s->queued == (int)(sizeof s->pairs / sizeof s->pairs[0])) {
         flush(s);
@@ -121,7 +123,8 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         }
         flush(s);
     }
-    double v[N_SERIES] = {k[0] / s->V, k[1] / s->V, k[2] / s->V, s->w[0] / s->V, s->w[1] / s->V, s->w[2] / s->V};
+    double v[N_SERIES] = {k[0] / s->V,    k[1] / s->V,    k[2] / s->V,
+                          s->w[0] / s->V, s->w[1] / s->V, s->w[2] / s->V};
     v[P_TOTAL] = (v[KXX] + v[KYY] + v[CXX] + v[CYY]) / s->dim;
     v[NT] = (k[0] + k[1]) / s->dim / s->V; /* n T, T = M <u^2> / dim (2.19) */
     v[SPEED] = speed / p->n;
@@ -136,8 +139,11 @@ static void rows(FILE *f, const void *ctx)
 {
     const pressure *s = ctx;
     for (int q = 0; q < N_SERIES; q++) {
-        fprintf(f, "%s,%.10g,%.6g,%s\n", series_name[q], gr_blocking_mean(&s->b[q]), gr_obs_stderr(&s->b[q]),
-                q == SPEED ? "m s-1" : s->dim == 2 ? "N m-1" : "N");
+        fprintf(f, "%s,%.10g,%.6g,%s\n", series_name[q], gr_blocking_mean(&s->b[q]),
+                gr_obs_stderr(&s->b[q]),
+                q == SPEED    ? "m s-1"
+                : s->dim == 2 ? "N m-1"
+                              : "N");
     }
 }
 
@@ -146,7 +152,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     pressure *s = state;
     cJSON *j = gr_obs_summary(out, "pressure", "pressure.csv");
     cJSON_AddNumberToObject(j, "frames", (double)s->frames);
-    cJSON_AddStringToObject(j, "unit", s->dim == 2 ? "N/m (force per unit length, 2D pressure)" : "N (1D pressure)");
+    cJSON_AddStringToObject(
+        j, "unit", s->dim == 2 ? "N/m (force per unit length, 2D pressure)" : "N (1D pressure)");
     for (int q = 0; q < N_SERIES; q++) {
         char key[64];
         gr_obs_add_number(j, series_name[q], gr_blocking_mean(&s->b[q]));
@@ -155,23 +162,30 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     }
     double P = gr_blocking_mean(&s->b[P_TOTAL]), nT = gr_blocking_mean(&s->b[NT]);
     gr_obs_add_number(j, "Z", nT > 0.0 ? P / nT : (double)NAN);
-    gr_obs_add_number(j, "contacts_per_frame", s->frames ? (double)s->contacts / s->frames : (double)NAN);
+    gr_obs_add_number(j, "contacts_per_frame",
+                      s->frames ? (double)s->contacts / s->frames : (double)NAN);
     char law[160];
     const bool sd = s->law && strcmp(s->law, "spring_dashpot") == 0;
-    snprintf(law, sizeof law, "normal %s force (%s%s%s); tangential forces left out", sd ? "spring-dashpot" : s->law,
-             sd ? "2.4-2.5" : "models/", sd ? "" : s->law, sd ? "" : ".h");
-    cJSON_AddStringToObject(j, "virial", s->law ? law : "none: the scene has no contact force law (kinetic part only)");
+    snprintf(law, sizeof law, "normal %s force (%s%s%s); tangential forces left out",
+             sd ? "spring-dashpot" : s->law, sd ? "2.4-2.5" : "models/", sd ? "" : s->law,
+             sd ? "" : ".h");
+    cJSON_AddStringToObject(
+        j, "virial", s->law ? law : "none: the scene has no contact force law (kinetic part only)");
     if (s->dim == 2) {
         double v = gr_blocking_mean(&s->b[SPEED]);
         double rhs =
-            s->D * s->d * M_PI / (s->phi * s->mass * s->mass * (2.0 - s->eps_n * s->eps_n - s->eps_t * s->eps_t));
+            s->D * s->d * M_PI /
+            (s->phi * s->mass * s->mass * (2.0 - s->eps_n * s->eps_n - s->eps_t * s->eps_t));
         cJSON *e = cJSON_AddObjectToObject(j, "eos_5_2");
         gr_obs_add_number(e, "mean_speed_cubed", v * v * v);
         gr_obs_add_number(e, "rhs_over_C1", rhs);
         gr_obs_add_number(e, "C1", rhs > 0.0 && isfinite(rhs) ? v * v * v / rhs : (double)NAN);
         gr_obs_add_number(e, "C1_error",
-                          rhs > 0.0 && isfinite(rhs) ? 3.0 * v * v * gr_obs_stderr(&s->b[SPEED]) / rhs : (double)NAN);
-        cJSON_AddStringToObject(e, "equation", "<|v|>^3 = (C_1/phi) D d pi / (M^2 (2 - eps_n^2 - eps_t^2)) (5.2)");
+                          rhs > 0.0 && isfinite(rhs)
+                              ? 3.0 * v * v * gr_obs_stderr(&s->b[SPEED]) / rhs
+                              : (double)NAN);
+        cJSON_AddStringToObject(e, "equation",
+                                "<|v|>^3 = (C_1/phi) D d pi / (M^2 (2 - eps_n^2 - eps_t^2)) (5.2)");
     }
     const gr_obs_table t = {
         .name = "pressure.csv",

@@ -42,7 +42,14 @@
 #include "io/plot.h"
 #include "granule/analysis.h"
 
-enum { REF_FRAMES = 8, REF_MAX_VALUES = 1 << 20, MIN_FIT_POINTS = 5, MIN_DECADE_POINTS = 6, MIN_PAIRS = 5, MAX_SCAN = 512 };
+enum {
+    REF_FRAMES = 8,
+    REF_MAX_VALUES = 1 << 20,
+    MIN_FIT_POINTS = 5,
+    MIN_DECADE_POINTS = 6,
+    MIN_PAIRS = 5,
+    MAX_SCAN = 512
+};
 
 #define COUNT_MIN 50.0        /* Tables 5.1 and A.1: bins with fewer counts are ignored */
 #define COUNT_MAX_5_1 50000.0 /* Table 5.1: "the lowest three decades" */
@@ -78,8 +85,8 @@ typedef struct pv {
     double *buf; /* velocity components relative to the frame mean, dim per particle */
     size_t nbuf, capbuf;
     /* the distributions */
-    gr_histogram comp;  /* P(v), one component (x and y pooled in 2D) */
-    gr_histogram speed; /* |v| */
+    gr_histogram comp;         /* P(v), one component (x and y pooled in 2D) */
+    gr_histogram speed;        /* |v| */
     int64_t frames, particles; /* frames sampled; particles summed over frames */
     double sum_u2;             /* sum of |v - <v>|^2 over particles and frames */
 } pv;
@@ -90,12 +97,12 @@ static int check_params(const gr_obs_setup *setup, const pv_params *a, gr_error 
         return GR_FAIL(err, GR_EINVAL, "pv: dim = %d, expected 1 or 2", setup->dim);
     }
     if (a->pv_bins < (int)params[0].min || a->pv_bins > (int)params[0].max) {
-        return GR_FAIL(err, GR_EINVAL, "pv: [analysis] pv_bins = %d is outside [%g, %g]", a->pv_bins,
-                       params[0].min, params[0].max);
+        return GR_FAIL(err, GR_EINVAL, "pv: [analysis] pv_bins = %d is outside [%g, %g]",
+                       a->pv_bins, params[0].min, params[0].max);
     }
     if (!(a->pv_range >= params[1].min && a->pv_range <= params[1].max)) {
-        return GR_FAIL(err, GR_EINVAL, "pv: [analysis] pv_range = %g is outside [%g, %g]", a->pv_range,
-                       params[1].min, params[1].max);
+        return GR_FAIL(err, GR_EINVAL, "pv: [analysis] pv_range = %g is outside [%g, %g]",
+                       a->pv_range, params[1].min, params[1].max);
     }
     return GR_OK;
 }
@@ -132,7 +139,8 @@ static int fix_binning(pv *s, gr_error *err)
     s->T_ref = s->ref_frames > 0 ? s->ref_T_sum / s->ref_frames : 0.0;
     if (!(s->T_ref > 0.0) || !isfinite(s->T_ref)) {
         return GR_FAIL(err, GR_EINVAL,
-                       "pv: the reference temperature T_ref = %g of the first %d sampled frames is not positive "
+                       "pv: the reference temperature T_ref = %g of the first %d sampled frames is "
+                       "not positive "
                        "(all velocities equal): P(v) needs moving particles",
                        s->T_ref, s->ref_frames);
     }
@@ -162,7 +170,8 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     (void)t;
     pv *s = state;
     if (p->n < 1 || p->dim != s->dim || !p->vx || (p->dim == 2 && !p->vy)) {
-        return GR_FAIL(err, GR_EINVAL, "pv: frame with %d particles in %d dimensions, expected dim = %d", p->n,
+        return GR_FAIL(err, GR_EINVAL,
+                       "pv: frame with %d particles in %d dimensions, expected dim = %d", p->n,
                        p->dim, s->dim);
     }
     double mean[2];
@@ -324,7 +333,8 @@ static void points_free(points *pt)
 }
 
 /* Bins of h with count in [cmin, cmax]; x = |centre| / scale (or the signed centre). */
-static void points_select(points *pt, const gr_histogram *h, double scale, double cmin, double cmax, bool absolute)
+static void points_select(points *pt, const gr_histogram *h, double scale, double cmin, double cmax,
+                          bool absolute)
 {
     pt->n = 0;
     for (int i = 0; i < h->nbins; i++) {
@@ -354,11 +364,13 @@ static bool fit_fixed_alpha(points *pt, double alpha, gr_fit *f)
     gr_error e = {0};
     gr_fit lin;
     double q0[2] = {log(ymax), log(xmax > 0.0 ? xmax : 1.0)};
-    if (gr_fit_line(pt->wx, pt->wy, pt->ws, pt->n, &lin, &e) == GR_OK && lin.p[1] < 0.0 && isfinite(lin.p[0])) {
+    if (gr_fit_line(pt->wx, pt->wy, pt->ws, pt->n, &lin, &e) == GR_OK && lin.p[1] < 0.0 &&
+        isfinite(lin.p[0])) {
         q0[0] = lin.p[0];
         q0[1] = -log(-lin.p[1]) / alpha; /* v0 = B^(-1/alpha) */
     }
-    if (gr_fit_nonlinear(model_fixed_alpha, &alpha, pt->x, pt->y, pt->sig, pt->n, 2, q0, f, &e) != GR_OK) {
+    if (gr_fit_nonlinear(model_fixed_alpha, &alpha, pt->x, pt->y, pt->sig, pt->n, 2, q0, f, &e) !=
+        GR_OK) {
         return false;
     }
     return fit_finite(f);
@@ -369,20 +381,23 @@ typedef struct tail_result {
     const char *reference;
     int n;
     double u_lo, u_hi, decades;
-    bool any;                  /* at least one alpha of the scan fitted */
-    bool accepted, contiguous; /* some alpha with chi2_red < CHI2_RED_MAX; accepted set in one piece */
+    bool any; /* at least one alpha of the scan fitted */
+    bool accepted,
+        contiguous; /* some alpha with chi2_red < CHI2_RED_MAX; accepted set in one piece */
     double alpha_lo, alpha_hi; /* accepted range */
-    double alpha_best, chi2_best, lnA_best, lnv0_best, lnv0_err_best; /* smallest chi2_red of the scan */
+    double alpha_best, chi2_best, lnA_best, lnv0_best,
+        lnv0_err_best; /* smallest chi2_red of the scan */
     int nscan;
     double chi2_scan[MAX_SCAN]; /* chi2_red per alpha of the scan (NAN where the fit failed) */
     int pairs;                  /* mirrored bin pairs v, -v both inside the window */
-    double dispersion;          /* <(X(v) - X(-v))^2 / (X(v) + X(-v))> over those pairs: 1 for Poisson counts */
+    double
+        dispersion; /* <(X(v) - X(-v))^2 / (X(v) + X(-v))> over those pairs: 1 for Poisson counts */
     bool free_ok;
     gr_fit free_fit; /* p = (A_0 counts, v0 in units of sqrt(T_ref), alpha) */
 } tail_result;
 
-static void fit_tail(points *pt, const gr_histogram *h, double scale, double cmin, double cmax, const char *ref,
-                     tail_result *r)
+static void fit_tail(points *pt, const gr_histogram *h, double scale, double cmin, double cmax,
+                     const char *ref, tail_result *r)
 {
     memset(r, 0, sizeof *r);
     r->cmin = cmin;
@@ -418,7 +433,8 @@ static void fit_tail(points *pt, const gr_histogram *h, double scale, double cmi
         }
     }
     r->dispersion = r->pairs >= MIN_PAIRS ? dsum / r->pairs : NOVALUE;
-    int nscan = (int)lround((ALPHA_SCAN_MAX - ALPHA_SCAN_MIN) / ALPHA_SCAN_STEP) + 1, last = -2, pieces = 0;
+    int nscan = (int)lround((ALPHA_SCAN_MAX - ALPHA_SCAN_MIN) / ALPHA_SCAN_STEP) + 1, last = -2,
+        pieces = 0;
     nscan = nscan > MAX_SCAN ? MAX_SCAN : nscan;
     r->nscan = nscan;
     for (int k = 0; k < nscan; k++) {
@@ -454,15 +470,16 @@ static void fit_tail(points *pt, const gr_histogram *h, double scale, double cmi
     /* free fit of (5.5), started from the best alpha of the scan */
     gr_error e = {0};
     double p0[3] = {exp(r->lnA_best), exp(r->lnv0_best), r->alpha_best};
-    r->free_ok = gr_fit_stretched_exp(pt->x, pt->y, pt->sig, pt->n, p0, &r->free_fit, &e) == GR_OK &&
-                 fit_finite(&r->free_fit) && r->free_fit.p[1] > 0.0 && r->free_fit.p[2] > 0.0 &&
-                 isfinite(r->free_fit.err[2]);
+    r->free_ok =
+        gr_fit_stretched_exp(pt->x, pt->y, pt->sig, pt->n, p0, &r->free_fit, &e) == GR_OK &&
+        fit_finite(&r->free_fit) && r->free_fit.p[1] > 0.0 && r->free_fit.p[2] > 0.0 &&
+        isfinite(r->free_fit.err[2]);
 }
 
 typedef struct crossover_result {
     bool ok;
     int n;
-    gr_fit fit; /* q = (ln D, ln v_r, ln v_c), v in units of sqrt(T_ref) */
+    gr_fit fit;        /* q = (ln D, ln v_r, ln v_c), v in units of sqrt(T_ref) */
     double u_data_max; /* largest |u| among the fitted points */
 } crossover_result;
 
@@ -472,8 +489,8 @@ typedef struct crossover_result {
  *  - `log`: ln X with equal weights, the least-squares fit of the curve drawn on log axes (Fig. 5.14),
  *    where every bin counts the same and the tail pulls v_c in. The thesis says only "best fitting";
  *    docs/analysis-velocity.md compares the two with its Tables 5.3-5.4. */
-static void fit_crossover(points *pt, const gr_histogram *h, double scale, double v_rms, bool log_axes,
-                          crossover_result *r)
+static void fit_crossover(points *pt, const gr_histogram *h, double scale, double v_rms,
+                          bool log_axes, crossover_result *r)
 {
     memset(r, 0, sizeof *r);
     points_select(pt, h, scale, COUNT_MIN, HUGE_D, false);
@@ -496,8 +513,10 @@ static void fit_crossover(points *pt, const gr_histogram *h, double scale, doubl
         double q0[3] = {log(ymax), log(vr0), log(vc_start[k] * vr0)};
         gr_fit f;
         gr_error e = {0};
-        int rc = log_axes ? gr_fit_nonlinear(model_crossover_ln, &alpha, pt->x, pt->y, NULL, pt->n, 3, q0, &f, &e)
-                          : gr_fit_nonlinear(model_crossover, &alpha, pt->x, pt->y, pt->sig, pt->n, 3, q0, &f, &e);
+        int rc = log_axes ? gr_fit_nonlinear(model_crossover_ln, &alpha, pt->x, pt->y, NULL, pt->n,
+                                             3, q0, &f, &e)
+                          : gr_fit_nonlinear(model_crossover, &alpha, pt->x, pt->y, pt->sig, pt->n,
+                                             3, q0, &f, &e);
         if (rc == GR_OK && fit_finite(&f) && (!r->ok || f.chi2 < r->fit.chi2)) {
             r->fit = f;
             r->ok = true;
@@ -515,10 +534,11 @@ static void fit_crossover(points *pt, const gr_histogram *h, double scale, doubl
 /* ------------------------------------------------------------------------------------------
  * Output. */
 
-static void add_crossover_summary(cJSON *jx, const crossover_result *xo, const char *weighting, double scale,
-                                  double v_rms, double norm)
+static void add_crossover_summary(cJSON *jx, const crossover_result *xo, const char *weighting,
+                                  double scale, double v_rms, double norm)
 {
-    cJSON_AddStringToObject(jx, "equation", "P_0(v) = D exp(-(v/v_r)^2 / (1 + |v/v_c|^(2-alpha))) (5.32), alpha = 1");
+    cJSON_AddStringToObject(
+        jx, "equation", "P_0(v) = D exp(-(v/v_r)^2 / (1 + |v/v_c|^(2-alpha))) (5.32), alpha = 1");
     cJSON_AddStringToObject(jx, "weighting", weighting);
     cJSON_AddBoolToObject(jx, "converged", xo->ok);
     cJSON_AddNumberToObject(jx, "n_points", xo->n);
@@ -541,7 +561,8 @@ static void add_crossover_summary(cJSON *jx, const crossover_result *xo, const c
     }
 }
 
-static void add_tail_summary(cJSON *j, const tail_result *r, double scale, double v_rms, double total, double w)
+static void add_tail_summary(cJSON *j, const tail_result *r, double scale, double v_rms,
+                             double total, double w)
 {
     cJSON *win = cJSON_AddObjectToObject(j, "window");
     gr_obs_add_number(win, "counts_min", r->cmin);
@@ -559,7 +580,8 @@ static void add_tail_summary(cJSON *j, const tail_result *r, double scale, doubl
         cJSON_AddItemToArray(range, cJSON_CreateNumber(r->alpha_hi));
     }
     gr_obs_add_number(j, "alpha", r->accepted ? 0.5 * (r->alpha_lo + r->alpha_hi) : NOVALUE);
-    gr_obs_add_number(j, "alpha_halfwidth", r->accepted ? 0.5 * (r->alpha_hi - r->alpha_lo) : NOVALUE);
+    gr_obs_add_number(j, "alpha_halfwidth",
+                      r->accepted ? 0.5 * (r->alpha_hi - r->alpha_lo) : NOVALUE);
     cJSON_AddBoolToObject(j, "contiguous", r->contiguous);
     gr_obs_add_number(j, "alpha_step", ALPHA_SCAN_STEP);
     gr_obs_add_number(j, "alpha_best", r->any ? r->alpha_best : NOVALUE);
@@ -572,7 +594,8 @@ static void add_tail_summary(cJSON *j, const tail_result *r, double scale, doubl
     cJSON *jd = cJSON_AddObjectToObject(j, "dispersion_corrected");
     gr_obs_add_number(jd, "dispersion", r->dispersion);
     cJSON_AddNumberToObject(jd, "pairs", r->pairs);
-    double phi = isfinite(r->dispersion) ? fmax(1.0, r->dispersion) : NOVALUE, lo = NOVALUE, hi = NOVALUE;
+    double phi = isfinite(r->dispersion) ? fmax(1.0, r->dispersion) : NOVALUE, lo = NOVALUE,
+           hi = NOVALUE;
     for (int k = 0; k < r->nscan && isfinite(phi); k++) {
         if (isfinite(r->chi2_scan[k]) && r->chi2_scan[k] / phi < CHI2_RED_MAX) {
             double alpha = ALPHA_SCAN_MIN + k * ALPHA_SCAN_STEP;
@@ -605,7 +628,8 @@ static void add_tail_summary(cJSON *j, const tail_result *r, double scale, doubl
 static double tail_density(const tail_result *r, double u, double total, double w)
 {
     if (r->free_ok) {
-        return r->free_fit.p[0] * exp(-pow(fabs(u) / r->free_fit.p[1], r->free_fit.p[2])) / (total * w);
+        return r->free_fit.p[0] * exp(-pow(fabs(u) / r->free_fit.p[1], r->free_fit.p[2])) /
+               (total * w);
     }
     if (r->any) {
         return exp(r->lnA_best - pow(fabs(u) / exp(r->lnv0_best), r->alpha_best)) / (total * w);
@@ -624,13 +648,19 @@ static void pv_rows(FILE *f, const void *ctx)
 {
     const pv_rows_ctx *c = ctx;
     const gr_histogram *h = &c->s->comp;
-    double scale = sqrt(c->s->T_ref), w = (h->hi - h->lo) / h->nbins, alpha = CROSSOVER_ALPHA, v_rms = c->v_rms;
+    double scale = sqrt(c->s->T_ref), w = (h->hi - h->lo) / h->nbins, alpha = CROSSOVER_ALPHA,
+           v_rms = c->v_rms;
     for (int i = 0; i < h->nbins; i++) {
         double v = gr_histogram_center(h, i), d = gr_histogram_density(h, i);
-        double fx = c->xo->ok ? model_crossover(v / scale, c->xo->fit.p, NULL, &alpha) / (h->total * w) : NOVALUE;
-        double fl = c->xo_log->ok ? model_crossover(v / scale, c->xo_log->fit.p, NULL, &alpha) / (h->total * w) : NOVALUE;
-        fprintf(f, "%.10g,%.10g,%.6g,%.0f,%.10g,%.10g,%.8g,%.10g,%.6g,%.6g,%.6g\n", v, d, gr_histogram_density_error(h, i),
-                h->count[i], gr_histogram_lower(h, i), gr_histogram_upper(h, i), v / v_rms, d * v_rms,
+        double fx = c->xo->ok
+                        ? model_crossover(v / scale, c->xo->fit.p, NULL, &alpha) / (h->total * w)
+                        : NOVALUE;
+        double fl = c->xo_log->ok ? model_crossover(v / scale, c->xo_log->fit.p, NULL, &alpha) /
+                                        (h->total * w)
+                                  : NOVALUE;
+        fprintf(f, "%.10g,%.10g,%.6g,%.0f,%.10g,%.10g,%.8g,%.10g,%.6g,%.6g,%.6g\n", v, d,
+                gr_histogram_density_error(h, i), h->count[i], gr_histogram_lower(h, i),
+                gr_histogram_upper(h, i), v / v_rms, d * v_rms,
                 tail_density(c->tail, v / scale, h->total, w), fx, fl);
     }
 }
@@ -640,19 +670,25 @@ static int write_pv_csv(const gr_output *out, const pv_rows_ctx *c, gr_error *er
     const gr_histogram *h = &c->s->comp;
     char what[1100];
     snprintf(what, sizeof what,
-             "velocity distribution P(v) of one component (App. A.1; %s), relative to the frame's mean velocity, "
-             "sampled uniformly in time; v in m/s on [-%g, %g) = pv_range sqrt(T_ref), T_ref = %.6g m^2/s^2; "
-             "density in s/m normalised to all %.0f sampled components, density_error = sqrt(counts)/(N_s dv) (A.5); "
-             "v_over_vrms = v/sqrt(<v_x^2>), density_scaled = density sqrt(<v_x^2>); fit_stretched = tail fit (5.5), "
-             "fit_crossover = P_0(v) (5.32), alpha = 1, fitted to the counts, fit_crossover_log = the same fitted on "
+             "velocity distribution P(v) of one component (App. A.1; %s), relative to the frame's "
+             "mean velocity, "
+             "sampled uniformly in time; v in m/s on [-%g, %g) = pv_range sqrt(T_ref), T_ref = "
+             "%.6g m^2/s^2; "
+             "density in s/m normalised to all %.0f sampled components, density_error = "
+             "sqrt(counts)/(N_s dv) (A.5); "
+             "v_over_vrms = v/sqrt(<v_x^2>), density_scaled = density sqrt(<v_x^2>); fit_stretched "
+             "= tail fit (5.5), "
+             "fit_crossover = P_0(v) (5.32), alpha = 1, fitted to the counts, fit_crossover_log = "
+             "the same fitted on "
              "log axes (summary members crossover and crossover_log)",
              c->s->dim == 2 ? "x and y pooled" : "1D", h->hi, h->hi, c->s->T_ref, h->total);
     const gr_obs_table t = {
         .name = "pv.csv",
         .what = what,
-        .columns = "v [m s-1],density [s m-1],density_error [s m-1],counts [1],v_lo [m s-1],v_hi [m s-1],"
-                   "v_over_vrms [1],density_scaled [1],fit_stretched [s m-1],fit_crossover [s m-1],"
-                   "fit_crossover_log [s m-1]",
+        .columns =
+            "v [m s-1],density [s m-1],density_error [s m-1],counts [1],v_lo [m s-1],v_hi [m s-1],"
+            "v_over_vrms [1],density_scaled [1],fit_stretched [s m-1],fit_crossover [s m-1],"
+            "fit_crossover_log [s m-1]",
         .rows = pv_rows,
         .ctx = c,
     };
@@ -677,7 +713,8 @@ static void tail_rows(FILE *f, const void *ctx)
         }
         double d = n / (2.0 * h->total * w), de = sqrt(n) / (2.0 * h->total * w), ratio = d / P0;
         double moon = ratio > 0.0 && ratio < 1.0 ? -log(-log(ratio)) : NOVALUE;
-        fprintf(f, "%.8g,%.8g,%.10g,%.6g,%.0f,%.8g,%.8g\n", v / v_rms, log(v / v_rms), d, de, n, ratio, moon);
+        fprintf(f, "%.8g,%.8g,%.10g,%.6g,%.0f,%.8g,%.8g\n", v / v_rms, log(v / v_rms), d, de, n,
+                ratio, moon);
     }
 }
 
@@ -685,13 +722,16 @@ static int write_tail_csv(const gr_output *out, const pv_rows_ctx *c, gr_error *
 {
     char what[600];
     snprintf(what, sizeof what,
-             "tail of P(v) folded about 0, P_sym(v) = (P(v) + P(-v))/2 for v > 0, in s/m; v_rms = sqrt(<v_x^2>) = %.6g m/s, "
-             "P(0) = %.6g s/m (the largest P(v)); moon = -ln(-ln(P_sym/P(0))) of the tail plot (5.6), nan where undefined",
+             "tail of P(v) folded about 0, P_sym(v) = (P(v) + P(-v))/2 for v > 0, in s/m; v_rms = "
+             "sqrt(<v_x^2>) = %.6g m/s, "
+             "P(0) = %.6g s/m (the largest P(v)); moon = -ln(-ln(P_sym/P(0))) of the tail plot "
+             "(5.6), nan where undefined",
              c->v_rms, c->P0);
     const gr_obs_table t = {
         .name = "pv_tail.csv",
         .what = what,
-        .columns = "v_over_vrms [1],ln_v_over_vrms [1],density_sym [s m-1],density_sym_error [s m-1],counts [1],"
+        .columns = "v_over_vrms [1],ln_v_over_vrms [1],density_sym [s m-1],density_sym_error [s "
+                   "m-1],counts [1],"
                    "P_over_P0 [1],moon [1]",
         .rows = tail_rows,
         .ctx = c,
@@ -706,9 +746,10 @@ static void speed_rows(FILE *f, const void *ctx)
     double speed_rms = c->speed_rms;
     for (int i = 0; i < h->nbins; i++) {
         double v = gr_histogram_center(h, i);
-        fprintf(f, "%.10g,%.10g,%.6g,%.0f,%.10g,%.10g,%.10g\n", v / speed_rms, gr_histogram_density(h, i) * speed_rms,
-                gr_histogram_density_error(h, i) * speed_rms, h->count[i], gr_histogram_lower(h, i) / speed_rms,
-                gr_histogram_upper(h, i) / speed_rms, v);
+        fprintf(f, "%.10g,%.10g,%.6g,%.0f,%.10g,%.10g,%.10g\n", v / speed_rms,
+                gr_histogram_density(h, i) * speed_rms,
+                gr_histogram_density_error(h, i) * speed_rms, h->count[i],
+                gr_histogram_lower(h, i) / speed_rms, gr_histogram_upper(h, i) / speed_rms, v);
     }
 }
 
@@ -716,8 +757,10 @@ static int write_speed_csv(const gr_output *out, const pv_rows_ctx *c, gr_error 
 {
     char what[600];
     snprintf(what, sizeof what,
-             "scaled speed distribution: c = |v|/sqrt(<|v|^2>) (|v| the %s relative to the frame's mean velocity), "
-             "sqrt(<|v|^2>) = %.6g m/s over the run; density per unit c normalised to all %.0f sampled particles, "
+             "scaled speed distribution: c = |v|/sqrt(<|v|^2>) (|v| the %s relative to the frame's "
+             "mean velocity), "
+             "sqrt(<|v|^2>) = %.6g m/s over the run; density per unit c normalised to all %.0f "
+             "sampled particles, "
              "sqrt(counts) errors (A.5); speed in m/s",
              c->s->dim == 2 ? "speed" : "absolute velocity", c->speed_rms, c->s->speed.total);
     const gr_obs_table t = {
@@ -752,8 +795,8 @@ static double moon_constant(const pv *s, double v_rms, double P0, double alpha_T
     return n ? sum / n : NOVALUE;
 }
 
-static void draw_plots(const gr_output *out, const pv *s, const tail_result *tail, double v_rms, double P0, double ymin,
-                       const double C[3])
+static void draw_plots(const gr_output *out, const pv *s, const tail_result *tail, double v_rms,
+                       double P0, double ymin, const double C[3])
 {
     /* x ranges: where there are counts, plus a margin */
     double vlim = 0.0, slim = 0.0;
@@ -770,22 +813,28 @@ static void draw_plots(const gr_output *out, const pv *s, const tail_result *tai
     slim = (slim > 0.0 ? 1.05 * slim : s->speed.hi) / sqrt(s->sum_u2 / (double)s->particles);
     char body[4096], label[160];
     /* the tail fit is drawn over its window only (|v| in [v_lo, v_hi]), its alpha with the error */
-    const double scale = sqrt(s->T_ref), v_lo = tail->n > 0 ? tail->u_lo * scale : 0.0, v_hi = tail->n > 0 ? tail->u_hi * scale : 0.0;
+    const double scale = sqrt(s->T_ref), v_lo = tail->n > 0 ? tail->u_lo * scale : 0.0,
+                 v_hi = tail->n > 0 ? tail->u_hi * scale : 0.0;
     if (tail->accepted) {
         gr_plot_legend_value("fit (5.5), accepted \u03b1", 0.5 * (tail->alpha_lo + tail->alpha_hi),
                              0.5 * (tail->alpha_hi - tail->alpha_lo), label, sizeof label);
     } else if (tail->free_ok) {
-        gr_plot_legend_value("free fit (5.5), \u03b1", tail->free_fit.p[2], tail->free_fit.err[2], label, sizeof label);
+        gr_plot_legend_value("free fit (5.5), \u03b1", tail->free_fit.p[2], tail->free_fit.err[2],
+                             label, sizeof label);
     } else {
-        snprintf(label, sizeof label, "fit (5.5), best \u03b1 of the scan = %.2f", tail->alpha_best);
+        snprintf(label, sizeof label, "fit (5.5), best \u03b1 of the scan = %.2f",
+                 tail->alpha_best);
     }
     snprintf(body, sizeof body,
              "set logscale y\nset format y '10^{%%L}'\nset yrange [%g:*]\nset xrange [%g:%g]\n"
              "set xlabel 'v (m/s), one component'\nset ylabel 'P(v) (s/m)'\nset key top right\n"
-             "set title \"Velocity distribution\\n{/*0.75 App. A.1; tail fit (5.5) over its window, crossover P_0 (5.32)}\"\n"
+             "set title \"Velocity distribution\\n{/*0.75 App. A.1; tail fit (5.5) over its "
+             "window, crossover P_0 (5.32)}\"\n"
              "s = %.10g\ngauss(x) = exp(-x*x/(2*s*s))/sqrt(2*pi*s*s)\n"
-             "plot 'pv.csv' skip 1 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars lt 1 pt 7 ps 0.5 title 'P(v)', "
-             "'' skip 1 using 1:((abs($1) >= %.10g && abs($1) <= %.10g) ? $9 : 1/0) with lines lw 3 lt 2 title '%s', "
+             "plot 'pv.csv' skip 1 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars lt 1 pt 7 ps 0.5 "
+             "title 'P(v)', "
+             "'' skip 1 using 1:((abs($1) >= %.10g && abs($1) <= %.10g) ? $9 : 1/0) with lines lw "
+             "3 lt 2 title '%s', "
              "'' skip 1 using 1:10 with lines lw 2 dt 2 lt 3 title 'crossover P_0(v) (5.32)', "
              "gauss(x) with lines dt 3 lt 5 title 'Gaussian of the same <v^2>'",
              ymin, -vlim, vlim, v_rms, v_lo, v_hi, label);
@@ -793,13 +842,16 @@ static void draw_plots(const gr_output *out, const pv *s, const tail_result *tai
 
     snprintf(body, sizeof body,
              "set xlabel 'ln(v/v_{rms})'\nset ylabel '-ln(-ln(P(v)/P(0)))'\nset key top right\n"
-             "set title \"Tail plot of Moon et al.: straight lines are stretched exponentials\\n{/*0.75 eq. (5.6), P(0) = %.4g s/m; "
+             "set title \"Tail plot of Moon et al.: straight lines are stretched "
+             "exponentials\\n{/*0.75 eq. (5.6), P(0) = %.4g s/m; "
              "lines of slope -\u03b1_T}\"\n"
-             "plot 'pv_tail.csv' skip 1 using 2:7 with points lt 1 pt 7 ps 0.5 title 'data, (P(v)+P(-v))/2', "
+             "plot 'pv_tail.csv' skip 1 using 2:7 with points lt 1 pt 7 ps 0.5 title 'data, "
+             "(P(v)+P(-v))/2', "
              "-2*x + (%.10g) with lines lw 2 lt 5 title '\u03b1_T = 2 (Gaussian)', "
              "-1.5*x + (%.10g) with lines lw 2 dt 2 lt 2 title '\u03b1_T = 1.5', "
              "-1.16*x + (%.10g) with lines lw 2 dt 4 lt 3 title '\u03b1_T = 1.16'",
-             P0, isfinite(C[0]) ? C[0] : 0.0, isfinite(C[1]) ? C[1] : 0.0, isfinite(C[2]) ? C[2] : 0.0);
+             P0, isfinite(C[0]) ? C[0] : 0.0, isfinite(C[1]) ? C[1] : 0.0,
+             isfinite(C[2]) ? C[2] : 0.0);
     gr_obs_plot(out, "pv_tail.png", body);
 
     snprintf(body, sizeof body,
@@ -807,7 +859,8 @@ static void draw_plots(const gr_output *out, const pv *s, const tail_result *tai
              "set xlabel 'c = |v| / sqrt(<|v|^2>)'\nset ylabel 'P(c)'\n"
              "set title 'Distribution of the scaled %s'\n"
              "mb(c) = %s\n"
-             "plot 'pv_speed.csv' skip 1 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars lt 1 pt 7 ps 0.5 title 'data', "
+             "plot 'pv_speed.csv' skip 1 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars lt 1 pt 7 "
+             "ps 0.5 title 'data', "
              "mb(x) with lines lw 2 dt 2 lt 5 title 'Maxwell-Boltzmann, same <|v|^2>'",
              ymin * v_rms, slim, s->dim == 2 ? "speed" : "|v|",
              s->dim == 2 ? "c > 0 ? 2*c*exp(-c*c) : 1/0" : "c > 0 ? sqrt(2/pi)*exp(-c*c/2) : 1/0");
@@ -877,7 +930,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         gr_fit f;
         gr_error e = {0};
         double p0[3] = {exp(tail.lnA_best), exp(tail.lnv0_best), tail.alpha_best};
-        bool ok = pt.n >= MIN_DECADE_POINTS && gr_fit_stretched_exp(pt.x, pt.y, pt.sig, pt.n, p0, &f, &e) == GR_OK &&
+        bool ok = pt.n >= MIN_DECADE_POINTS &&
+                  gr_fit_stretched_exp(pt.x, pt.y, pt.sig, pt.n, p0, &f, &e) == GR_OK &&
                   fit_finite(&f) && f.p[1] > 0.0 && f.p[2] > 0.0 && isfinite(f.err[2]);
         cJSON_AddBoolToObject(d, "converged", ok);
         gr_obs_add_number(d, "alpha", ok ? f.p[2] : NOVALUE);
@@ -901,17 +955,20 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddNumberToObject(j, "T_ref_frames", s->ref_frames);
     gr_obs_add_number(j, "T_mean", T_mean);
     gr_obs_add_number(j, "v_rms", v_rms);
-    gr_obs_add_number(j, "out_of_range_fraction", h->total > 0.0 ? (h->below + h->above) / h->total : NOVALUE);
+    gr_obs_add_number(j, "out_of_range_fraction",
+                      h->total > 0.0 ? (h->below + h->above) / h->total : NOVALUE);
     gr_obs_add_number(j, "P0", P0);
     cJSON *jt = cJSON_AddObjectToObject(j, "tail");
-    cJSON_AddStringToObject(jt, "equation", "P(v) = A exp(-(|v|/v0)^alpha) (5.5), fitted to counts with sqrt(X) errors");
+    cJSON_AddStringToObject(
+        jt, "equation",
+        "P(v) = A exp(-(|v|/v0)^alpha) (5.5), fitted to counts with sqrt(X) errors");
     add_tail_summary(jt, &tail, scale, v_rms, h->total, w);
     cJSON_AddItemToObject(jt, "decades_local", local);
     cJSON *ja = cJSON_AddObjectToObject(j, "tail_a1");
     add_tail_summary(ja, &tail_a1, scale, v_rms, h->total, w);
 
-    add_crossover_summary(cJSON_AddObjectToObject(j, "crossover"), &xo, "Poisson: the counts with sqrt(X) errors",
-                          scale, v_rms, h->total * w);
+    add_crossover_summary(cJSON_AddObjectToObject(j, "crossover"), &xo,
+                          "Poisson: the counts with sqrt(X) errors", scale, v_rms, h->total * w);
     add_crossover_summary(cJSON_AddObjectToObject(j, "crossover_log"), &xo_log,
                           "log axes: ln X with equal weights", scale, v_rms, h->total * w);
 
@@ -928,9 +985,16 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddStringToObject(jsp, "file", "pv_speed.csv");
     gr_obs_add_number(jsp, "rms", speed_rms);
     gr_obs_add_number(jsp, "out_of_range_fraction",
-            s->speed.total > 0.0 ? (s->speed.below + s->speed.above) / s->speed.total : NOVALUE);
+                      s->speed.total > 0.0 ? (s->speed.below + s->speed.above) / s->speed.total
+                                           : NOVALUE);
 
-    const pv_rows_ctx rows = {.s = s, .tail = &tail, .xo = &xo, .xo_log = &xo_log, .v_rms = v_rms, .P0 = P0, .speed_rms = speed_rms};
+    const pv_rows_ctx rows = {.s = s,
+                              .tail = &tail,
+                              .xo = &xo,
+                              .xo_log = &xo_log,
+                              .v_rms = v_rms,
+                              .P0 = P0,
+                              .speed_rms = speed_rms};
     int rc = write_pv_csv(out, &rows, err);
     if (!rc) {
         rc = write_tail_csv(out, &rows, err);
@@ -952,7 +1016,8 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
     gr_blob_io_u32(io, &fixed);
     gr_blob_io_i64(io, &ref_frames);
     if (gr_blob_io_loading(io) && (ref_frames < 0 || ref_frames > REF_FRAMES)) {
-        gr_blob_io_fail(io, "%lld reference frames (at most %d)", (long long)ref_frames, REF_FRAMES);
+        gr_blob_io_fail(io, "%lld reference frames (at most %d)", (long long)ref_frames,
+                        REF_FRAMES);
     }
     s->ref_frames = (int)ref_frames;
     gr_blob_io_f64(io, &s->ref_T_sum);
@@ -964,13 +1029,14 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
         bool ok = gr_obs_io_histogram_new(io, &s->comp) && gr_obs_io_histogram_new(io, &s->speed);
         s->fixed = ok;
         if (ok && (s->comp.nbins != s->bins || s->speed.nbins != s->bins)) {
-            gr_blob_io_fail(io, "%d bins in the checkpoint, pv_bins = %d in the scene", s->comp.nbins, s->bins);
+            gr_blob_io_fail(io, "%d bins in the checkpoint, pv_bins = %d in the scene",
+                            s->comp.nbins, s->bins);
         }
     } else {
         int64_t nbuf = (int64_t)s->nbuf;
         gr_blob_io_i64(io, &nbuf);
         if (gr_blob_io_loading(io) && (nbuf < 0 || (uint64_t)nbuf > REF_MAX_VALUES ||
-                                      (uint64_t)nbuf > gr_blob_io_left(io) / sizeof(double))) {
+                                       (uint64_t)nbuf > gr_blob_io_left(io) / sizeof(double))) {
             gr_blob_io_fail(io, "%lld buffered reference values do not fit", (long long)nbuf);
         }
         if (gr_blob_io_bad(io)) {
@@ -993,8 +1059,10 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
 
 const gr_observable_type gr_obs_pv = {
     .name = "pv",
-    .summary = "velocity distribution P(v) per component (App. A.1), stretched-exponential tails (5.5) with the "
-               "chi2_red < 1.2 acceptance of Table 5.1, crossover P_0(v) (5.32), tail plot (5.6), scaled |v|",
+    .summary = "velocity distribution P(v) per component (App. A.1), stretched-exponential tails "
+               "(5.5) with the "
+               "chi2_red < 1.2 acceptance of Table 5.1, crossover P_0(v) (5.32), tail plot (5.6), "
+               "scaled |v|",
     .dims = 3,
     .params = params,
     .n_params = sizeof params / sizeof params[0],

@@ -37,9 +37,9 @@
 
 struct gr_sk_plan {
     double L, n_cut;
-    int n_max;   /* largest |n_x| and |n_y| */
-    long nsq;    /* vectors with n_x^2 + n_y^2 <= nsq */
-    int nv;      /* vectors in the half plane */
+    int n_max; /* largest |n_x| and |n_y| */
+    long nsq;  /* vectors with n_x^2 + n_y^2 <= nsq */
+    int nv;    /* vectors in the half plane */
     int *nx, *ny;
     /* gridding */
     int msp, Mr, Mc; /* real grid Mr x Mr, r2c spectrum Mr x Mc (Mc = Mr/2 + 1) */
@@ -54,7 +54,7 @@ struct gr_sk_plan {
     size_t *idx;    /* spectrum index of each vector */
     double *deconv; /* (pi/tau) e^{tau |n|^2} / Mr^2 of each vector */
     /* direct sum (allocated at its first use) */
-    double *rre, *rim;           /* rho on (n_max + 1) x (2 n_max + 1) */
+    double *rre, *rim;             /* rho on (n_max + 1) x (2 n_max + 1) */
     double *pxr, *pxi, *pyr, *pyi; /* phases of one block of particles */
 };
 
@@ -127,14 +127,17 @@ int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_erro
         return GR_FAIL(err, GR_EINVAL, "sk: box side L = %g must be positive", L);
     }
     if (!(n_cut >= 1.0) || !isfinite(n_cut)) {
-        return GR_FAIL(err, GR_EINVAL, "sk: no lattice vector 2 pi n / L with 0 < |n| <= %g", n_cut);
+        return GR_FAIL(err, GR_EINVAL, "sk: no lattice vector 2 pi n / L with 0 < |n| <= %g",
+                       n_cut);
     }
     if (n_cut > GR_SK_NMAX_LIMIT) {
-        return GR_FAIL(err, GR_EINVAL, "sk: |n| up to %.0f exceeds the limit %d (grid memory); lower sk_kd_max",
+        return GR_FAIL(err, GR_EINVAL,
+                       "sk: |n| up to %.0f exceeds the limit %d (grid memory); lower sk_kd_max",
                        n_cut, GR_SK_NMAX_LIMIT);
     }
     if (msp < 1 || msp > GR_SK_MSP_MAX) {
-        return GR_FAIL(err, GR_EINVAL, "sk: gridding half-width msp = %d outside 1..%d", msp, GR_SK_MSP_MAX);
+        return GR_FAIL(err, GR_EINVAL, "sk: gridding half-width msp = %d outside 1..%d", msp,
+                       GR_SK_MSP_MAX);
     }
     gr_sk_plan *pl = calloc(1, sizeof *pl);
     if (!pl) {
@@ -175,7 +178,8 @@ int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_erro
     pl->bucket = malloc(sizeof(int) * ((size_t)pl->Mr + 1));
     if (!pl->nx || !pl->ny || !pl->idx || !pl->deconv || !pl->grid || !pl->spec || !pl->bucket) {
         gr_sk_plan_free(pl);
-        return GR_FAIL(err, GR_ENOMEM, "sk: out of memory (%d vectors, %d^2 grid)", (int)count, pl->Mr);
+        return GR_FAIL(err, GR_ENOMEM, "sk: out of memory (%d vectors, %d^2 grid)", (int)count,
+                       pl->Mr);
     }
     /* The 2D transform, pruned: real-to-complex along x for every row, then complex along y only
      * for the n_max + 1 columns n_x = 0..n_max that are kept (0.65 of a full 2D r2c transform).
@@ -183,13 +187,14 @@ int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_erro
      * (FFTW_MEASURE would be ~20% faster but picks plans by timing). The planner is not
      * thread-safe: plans are made here, once, never per frame. */
     int len = pl->Mr;
-    pl->rows = fftw_plan_many_dft_r2c(1, &len, pl->Mr, pl->grid, NULL, 1, pl->Mr, pl->spec, NULL, 1, pl->Mc,
-                                      FFTW_ESTIMATE);
-    pl->cols = fftw_plan_many_dft(1, &len, n + 1, pl->spec, NULL, pl->Mc, 1, pl->spec, NULL, pl->Mc, 1,
-                                  FFTW_FORWARD, FFTW_ESTIMATE);
+    pl->rows = fftw_plan_many_dft_r2c(1, &len, pl->Mr, pl->grid, NULL, 1, pl->Mr, pl->spec, NULL, 1,
+                                      pl->Mc, FFTW_ESTIMATE);
+    pl->cols = fftw_plan_many_dft(1, &len, n + 1, pl->spec, NULL, pl->Mc, 1, pl->spec, NULL, pl->Mc,
+                                  1, FFTW_FORWARD, FFTW_ESTIMATE);
     if (!pl->rows || !pl->cols) {
         gr_sk_plan_free(pl);
-        return GR_FAIL(err, GR_ENOMEM, "sk: FFTW could not plan a %d x %d transform", pl->Mr, pl->Mr);
+        return GR_FAIL(err, GR_ENOMEM, "sk: FFTW could not plan a %d x %d transform", pl->Mr,
+                       pl->Mr);
     }
     const double norm = (M_PI / pl->tau) / ((double)pl->Mr * pl->Mr);
     int v = 0;
@@ -258,7 +263,8 @@ static int weights(const gr_sk_plan *pl, double coord, double *w)
     return m0 - msp + 1;
 }
 
-static int compute_gridding(gr_sk_plan *pl, int n, const double *x, const double *y, double *S, gr_error *err)
+static int compute_gridding(gr_sk_plan *pl, int n, const double *x, const double *y, double *S,
+                            gr_error *err)
 {
     const int Mr = pl->Mr, w2 = 2 * pl->msp;
     if (n > pl->cap) { /* the first frame (or a larger N): the only allocation after the plan */
@@ -312,7 +318,8 @@ static int compute_gridding(gr_sk_plan *pl, int n, const double *x, const double
         double wx[2 * GR_SK_MSP_MAX], wy[2 * GR_SK_MSP_MAX];
         int cols[2 * GR_SK_MSP_MAX];
         for (int j = 0; j < n; j++) {
-            if (nth > 1) { /* does the footprint (rows m0 - msp + 1 .. m0 + msp, wrapped) meet the band? */
+            if (nth >
+                1) { /* does the footprint (rows m0 - msp + 1 .. m0 + msp, wrapped) meet the band? */
                 double u = y[j] / pl->L;
                 u -= floor(u);
                 int m0 = (int)(u * Mr);
@@ -493,18 +500,19 @@ typedef struct sk_state {
     int method, msp;
     double L, d, kd_max, n_cut;
     int nv;
-    double *S;       /* the current frame, one value per vector */
-    int *bin_of;     /* circular bin of each vector: |n| in [s - 1/2, s + 1/2), index s - 1 */
-    int *shell_of;   /* exact shell of each vector (-1: beyond the shells kept) */
+    double *S;     /* the current frame, one value per vector */
+    int *bin_of;   /* circular bin of each vector: |n| in [s - 1/2, s + 1/2), index s - 1 */
+    int *shell_of; /* exact shell of each vector (-1: beyond the shells kept) */
     int nbins, nshells;
     sk_bin *bins, *shells;
-    long *shell_q;   /* |n|^2 of each shell, increasing */
-    double n_shell;  /* shells kept for |n| <= n_shell */
+    long *shell_q;  /* |n|^2 of each shell, increasing */
+    double n_shell; /* shells kept for |n| <= n_shell */
     int64_t frames;
     /* dissipative regime (4.5)-(4.9) */
     double eps_n, eps_t;
     const char *eps_t_from;
-    char eps_t_name[80]; /* "NAME eps_t" for a law with a constant eps_t (gr_model.constant_eps_t) */
+    char
+        eps_t_name[80]; /* "NAME eps_t" for a law with a constant eps_t (gr_model.constant_eps_t) */
     double l0, kD, Lmin, Leff, kprime;
 } sk_state;
 
@@ -526,23 +534,26 @@ static int method_from_env(int *method, gr_error *err)
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     if (setup->dim != 2) {
-        return GR_FAIL(err, GR_EINVAL, "sk: S(k) of eqs. 4.2-4.3 needs dim = 2 (got %d)", setup->dim);
+        return GR_FAIL(err, GR_EINVAL, "sk: S(k) of eqs. 4.2-4.3 needs dim = 2 (got %d)",
+                       setup->dim);
     }
     const double kd_max = ((const sk_params *)params_block)->sk_kd_max;
     if (setup->N < 1 || !(setup->L > 0.0) || !isfinite(setup->L) || !(setup->radius > 0.0) ||
         !isfinite(setup->radius)) {
-        return GR_FAIL(err, GR_EINVAL, "sk: needs N >= 1, L > 0 and radius > 0 (got N = %d, L = %g, radius = %g)",
+        return GR_FAIL(err, GR_EINVAL,
+                       "sk: needs N >= 1, L > 0 and radius > 0 (got N = %d, L = %g, radius = %g)",
                        setup->N, setup->L, setup->radius);
     }
     if (!(kd_max > params[0].min) || !(kd_max <= params[0].max)) {
-        return GR_FAIL(err, GR_EINVAL, "[analysis] sk_kd_max = %g outside (%g, %g]", kd_max, params[0].min,
-                       params[0].max);
+        return GR_FAIL(err, GR_EINVAL, "[analysis] sk_kd_max = %g outside (%g, %g]", kd_max,
+                       params[0].min, params[0].max);
     }
     const double d = 2.0 * setup->radius;
     const double n_cut = kd_max * setup->L / (2.0 * M_PI * d);
     if (n_cut < 1.0) {
         return GR_FAIL(err, GR_EINVAL,
-                       "[analysis] sk_kd_max = %g reaches no lattice vector: the smallest |k| d is 2 pi d / L = %g",
+                       "[analysis] sk_kd_max = %g reaches no lattice vector: the smallest |k| d is "
+                       "2 pi d / L = %g",
                        kd_max, 2.0 * M_PI * d / setup->L);
     }
     sk_state *st = state;
@@ -649,7 +660,8 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         return GR_FAIL(err, GR_EINVAL, "sk: a 2D frame is needed (got dim = %d)", p->dim);
     }
     if (!(fabs(p->L - st->L) <= 1e-9 * st->L)) {
-        return GR_FAIL(err, GR_EINVAL, "sk: the frame's box side %g differs from the scene's L = %g", p->L, st->L);
+        return GR_FAIL(err, GR_EINVAL,
+                       "sk: the frame's box side %g differs from the scene's L = %g", p->L, st->L);
     }
     int rc = gr_sk_compute(st->plan, st->method, p->n, p->x, p->y, st->S, err);
     if (rc) {
@@ -693,8 +705,8 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 static const char *error_method(int64_t frames)
 {
     return frames >= BLOCKING_MIN_FRAMES ? "block averaging over frames"
-           : frames >= 2                 ? "error of the mean over frames (fewer than 16: uncorrelated assumed)"
-                                         : "spread over the independent vectors of each bin (one frame)";
+           : frames >= 2 ? "error of the mean over frames (fewer than 16: uncorrelated assumed)"
+                         : "spread over the independent vectors of each bin (one frame)";
 }
 
 static double bin_error(const sk_bin *b, int64_t frames)
@@ -706,7 +718,8 @@ static double bin_error(const sk_bin *b, int64_t frames)
         return gr_blocking_stderr_at(&b->acc, 0);
     }
     if (frames == 1 && b->count >= 2) {
-        double m = b->pool / b->count, var = (b->pool2 / b->count - m * m) * b->count / (b->count - 1.0);
+        double m = b->pool / b->count,
+               var = (b->pool2 / b->count - m * m) * b->count / (b->count - 1.0);
         return sqrt(fmax(var, 0.0) / b->count);
     }
     return NAN;
@@ -726,7 +739,8 @@ static void fit_window(const sk_state *st, sk_fit *F, gr_error *err)
 {
     memset(F, 0, sizeof *F);
     if (!isfinite(st->kprime)) {
-        snprintf(F->note, sizeof F->note, "no fit: k_D (4.5) is not positive (eps_n = %g, eps_t = %g)", st->eps_n,
+        snprintf(F->note, sizeof F->note,
+                 "no fit: k_D (4.5) is not positive (eps_n = %g, eps_t = %g)", st->eps_n,
                  st->eps_t);
         return;
     }
@@ -766,7 +780,8 @@ static void fit_window(const sk_state *st, sk_fit *F, gr_error *err)
     }
     gr_error ferr = {0};
     if (n < GR_FIT_MIN_POINTS) {
-        snprintf(F->note, sizeof F->note, "no fit: %d lattice shell(s) below k' = %g /m (2 pi / L = %g /m), a fit needs %d",
+        snprintf(F->note, sizeof F->note,
+                 "no fit: %d lattice shell(s) below k' = %g /m (2 pi / L = %g /m), a fit needs %d",
                  n, st->kprime, dk, GR_FIT_MIN_POINTS);
     } else if (gr_fit_power_law(k, S, F->weighted ? e : NULL, n, &F->fit, &ferr) != GR_OK) {
         snprintf(F->note, sizeof F->note, "no fit: %.150s", ferr.message);
@@ -795,8 +810,8 @@ static void sk_rows(FILE *f, const void *ctx)
             continue;
         }
         double k = B->ksum / B->count;
-        fprintf(f, "%d,%.10g,%.10g,%.10g,%.6g,%d,%d\n", b + 1, k, k * st->d, gr_blocking_mean(&B->acc),
-                bin_error(B, st->frames), 2 * B->count, B->count);
+        fprintf(f, "%d,%.10g,%.10g,%.10g,%.6g,%d,%d\n", b + 1, k, k * st->d,
+                gr_blocking_mean(&B->acc), bin_error(B, st->frames), 2 * B->count, B->count);
     }
 }
 
@@ -808,8 +823,9 @@ static void shell_rows(FILE *f, const void *ctx)
     for (int b = 0; b < st->nshells && st->frames; b++) {
         const sk_bin *B = &st->shells[b];
         double k = dk * sqrt((double)st->shell_q[b]);
-        fprintf(f, "%ld,%.10g,%.10g,%.10g,%.6g,%d,%d,%d\n", st->shell_q[b], k, k * st->d, gr_blocking_mean(&B->acc),
-                bin_error(B, st->frames), 2 * B->count, B->count, c->fit->done && b < c->fit->shells ? 1 : 0);
+        fprintf(f, "%ld,%.10g,%.10g,%.10g,%.6g,%d,%d,%d\n", st->shell_q[b], k, k * st->d,
+                gr_blocking_mean(&B->acc), bin_error(B, st->frames), 2 * B->count, B->count,
+                c->fit->done && b < c->fit->shells ? 1 : 0);
     }
 }
 
@@ -822,23 +838,36 @@ static int finish(void *state, const gr_output *out, gr_error *err)
 
     char what[400];
     snprintf(what, sizeof what,
-             "structure factor S(k) = |rho(k)|^2/N (4.2) on k = 2 pi n/L (4.3), circular average over |n| bins "
-             "of width 1 (n = bin centre), k = mean |k| of the bin in 1/m, d = %g m, %lld frames; S_err: %s; "
+             "structure factor S(k) = |rho(k)|^2/N (4.2) on k = 2 pi n/L (4.3), circular average "
+             "over |n| bins "
+             "of width 1 (n = bin centre), k = mean |k| of the bin in 1/m, d = %g m, %lld frames; "
+             "S_err: %s; "
              "vectors = full plane (half are independent, S(-k) = S(k))",
              st->d, (long long)st->frames, error_method(st->frames));
     const sk_rows_ctx rows = {.st = st, .fit = &F};
-    gr_obs_table t = {.name = "sk.csv", .what = what, .columns = "n [1],k [m-1],kd [1],S [1],S_err [1],vectors [1],independent_vectors [1]",
-                      .rows = sk_rows, .ctx = &rows};
+    gr_obs_table t = {
+        .name = "sk.csv",
+        .what = what,
+        .columns = "n [1],k [m-1],kd [1],S [1],S_err [1],vectors [1],independent_vectors [1]",
+        .rows = sk_rows,
+        .ctx = &rows};
     int rc = gr_obs_table_write(out, &t, err);
     if (rc) {
         return rc;
     }
-    snprintf(what, sizeof what,
-             "structure factor S(k) (4.2) averaged over each exact shell |n|^2 = n2 (k = 2 pi |n|/L in 1/m) up "
-             "to |n| = %g; in_fit = 1: inside the D_f fit window k < k' = %g /m; %lld frames; S_err: %s",
-             st->n_shell, st->kprime, (long long)st->frames, error_method(st->frames));
-    t = (gr_obs_table){.name = "sk_shells.csv", .what = what,
-                       .columns = "n2 [1],k [m-1],kd [1],S [1],S_err [1],vectors [1],independent_vectors [1],in_fit [1]", .rows = shell_rows, .ctx = &rows};
+    snprintf(
+        what, sizeof what,
+        "structure factor S(k) (4.2) averaged over each exact shell |n|^2 = n2 (k = 2 pi |n|/L in "
+        "1/m) up "
+        "to |n| = %g; in_fit = 1: inside the D_f fit window k < k' = %g /m; %lld frames; S_err: %s",
+        st->n_shell, st->kprime, (long long)st->frames, error_method(st->frames));
+    t = (gr_obs_table){
+        .name = "sk_shells.csv",
+        .what = what,
+        .columns =
+            "n2 [1],k [m-1],kd [1],S [1],S_err [1],vectors [1],independent_vectors [1],in_fit [1]",
+        .rows = shell_rows,
+        .ctx = &rows};
     rc = gr_obs_table_write(out, &t, err);
     if (rc) {
         return rc;
@@ -898,30 +927,36 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     if (out->plots && st->frames > 0) {
         char body[2400];
         int len = snprintf(body, sizeof body,
-                           "set logscale xy\nset samples 1000\nset xlabel 'k d (wave number x diameter)'\nset ylabel 'S(k)'\n"
+                           "set logscale xy\nset samples 1000\nset xlabel 'k d (wave number x "
+                           "diameter)'\nset ylabel 'S(k)'\n"
                            "set key top right\n"
-                           "set title \"Structure factor, %lld frames\\n{/*0.75 eqs. (4.2-4.3); error bars: block averaging over frames; "
+                           "set title \"Structure factor, %lld frames\\n{/*0.75 eqs. (4.2-4.3); "
+                           "error bars: block averaging over frames; "
                            "fit (4.4) over its window}\"\n",
                            (long long)st->frames);
         if (isfinite(st->kD)) {
-            len += snprintf(body + len, sizeof body - (size_t)len,
-                            "set arrow from %.8g, graph 0 to %.8g, graph 1 nohead dt 3 lc rgb '#888888'\n"
-                            "set label 'k_D d' at %.8g, graph 0.95 offset 0.5,0 tc rgb '#888888'\n",
-                            st->kD * st->d, st->kD * st->d, st->kD * st->d);
+            len += snprintf(
+                body + len, sizeof body - (size_t)len,
+                "set arrow from %.8g, graph 0 to %.8g, graph 1 nohead dt 3 lc rgb '#888888'\n"
+                "set label 'k_D d' at %.8g, graph 0.95 offset 0.5,0 tc rgb '#888888'\n",
+                st->kD * st->d, st->kD * st->d, st->kD * st->d);
         }
         if (!F.done) { /* say on the plot why there is no D_f */
-            len += snprintf(body + len, sizeof body - (size_t)len, "set label \"%.150s\" at graph 0.03, graph 0.06 noenhanced\n",
-                            F.note);
+            len += snprintf(body + len, sizeof body - (size_t)len,
+                            "set label \"%.150s\" at graph 0.03, graph 0.06 noenhanced\n", F.note);
         }
-        len += snprintf(body + len, sizeof body - (size_t)len,
-                        "plot 'sk.csv' skip 1 using 3:4:5 with yerrorbars lt 1 pt 7 ps 0.6 "
-                        "title 'circular average (rings of width 2\u03c0/L)', "
-                        "'sk_shells.csv' skip 1 using 3:($4 > 0 ? $4 : 1/0):5 with yerrorbars lt 2 pt 6 ps 1.0 "
-                        "title 'exact shells (same |k| on the lattice)'");
+        len += snprintf(
+            body + len, sizeof body - (size_t)len,
+            "plot 'sk.csv' skip 1 using 3:4:5 with yerrorbars lt 1 pt 7 ps 0.6 "
+            "title 'circular average (rings of width 2\u03c0/L)', "
+            "'sk_shells.csv' skip 1 using 3:($4 > 0 ? $4 : 1/0):5 with yerrorbars lt 2 pt 6 ps 1.0 "
+            "title 'exact shells (same |k| on the lattice)'");
         if (F.done) {
             char legend[120];
-            gr_plot_legend_value("fit S = A k^{-D_f}, D_f", -F.fit.p[1], F.fit.err[1], legend, sizeof legend);
-            snprintf(body + len, sizeof body - (size_t)len, ", [%.8g:%.8g] %.10g * (x / %.10g)**(-%.10g) with lines lw 3 lt 5 title '%s'",
+            gr_plot_legend_value("fit S = A k^{-D_f}, D_f", -F.fit.p[1], F.fit.err[1], legend,
+                                 sizeof legend);
+            snprintf(body + len, sizeof body - (size_t)len,
+                     ", [%.8g:%.8g] %.10g * (x / %.10g)**(-%.10g) with lines lw 3 lt 5 title '%s'",
                      F.k_lo * st->d, F.k_hi * st->d, F.fit.p[0], st->d, -F.fit.p[1], legend);
         }
         gr_obs_plot(out, "sk.png", body);
@@ -953,8 +988,9 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
 
 const gr_observable_type gr_obs_sk = {
     .name = "sk",
-    .summary = "structure factor S(k) on the k-lattice (4.2-4.3) by Gaussian-gridding NUFFT, circular "
-               "average, D_f fit S ~ k^-D_f below k' (4.4) with k_D, L_min, L_Eff (4.5-4.9)",
+    .summary =
+        "structure factor S(k) on the k-lattice (4.2-4.3) by Gaussian-gridding NUFFT, circular "
+        "average, D_f fit S ~ k^-D_f below k' (4.4) with k_D, L_min, L_Eff (4.5-4.9)",
     .dims = 2,
     .params = params,
     .n_params = sizeof params / sizeof params[0],

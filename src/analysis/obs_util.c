@@ -24,14 +24,15 @@ void gr_obs_mean_velocity(const gr_particles *p, double mean[2])
     mean[1] /= p->n;
 }
 
-int gr_obs_csv_open(const gr_output *out, const char *name, const char *what, gr_file *f, gr_error *err)
+int gr_obs_csv_open(const gr_output *out, const char *name, const char *what, gr_file *f,
+                    gr_error *err)
 {
     int rc = gr_file_open(f, out->dir, name, err);
     if (rc) {
         return rc;
     }
     gr_file_note(f, "# granule %s: %s\n# scene %s, hash %016llx, seed %llu\n", GR_VERSION, what,
-            out->source, (unsigned long long)out->scene_hash, (unsigned long long)out->seed);
+                 out->source, (unsigned long long)out->scene_hash, (unsigned long long)out->seed);
     return GR_OK;
 }
 
@@ -63,10 +64,7 @@ int gr_obs_table_write(const gr_output *out, const gr_obs_table *t, gr_error *er
     return rc;
 }
 
-void gr_obs_histogram_rows(FILE *f, const void *ctx)
-{
-    gr_histogram_write_rows(ctx, f);
-}
+void gr_obs_histogram_rows(FILE *f, const void *ctx) { gr_histogram_write_rows(ctx, f); }
 
 double gr_obs_stderr(const gr_blocking *b)
 {
@@ -84,7 +82,8 @@ cJSON *gr_obs_summary(const gr_output *out, const char *key, const char *file)
 int gr_obs_check_frame(const char *name, const gr_particles *p, int n, gr_error *err)
 {
     if (p->n != n) {
-        return GR_FAIL(err, GR_EINVAL, "%s: a frame of %d particles, the scene has %d", name, p->n, n);
+        return GR_FAIL(err, GR_EINVAL, "%s: a frame of %d particles, the scene has %d", name, p->n,
+                       n);
     }
     return GR_OK;
 }
@@ -93,7 +92,9 @@ void gr_obs_note_no_events(cJSON *j, const char *what)
 {
     char note[200];
     snprintf(note, sizeof note,
-             "no %s: none happened, or the frames came from snapshots (granule analyse has no contact events)", what);
+             "no %s: none happened, or the frames came from snapshots (granule analyse has no "
+             "contact events)",
+             what);
     cJSON_AddStringToObject(j, "note", note);
 }
 
@@ -119,21 +120,25 @@ static void lag_rows(FILE *f, const void *ctx)
     }
 }
 
-int gr_obs_lag_csv(const gr_output *out, const gr_lag *lag, const char *name, const char *what, const char *columns,
-                   cJSON *j, gr_error *err)
+int gr_obs_lag_csv(const gr_output *out, const gr_lag *lag, const char *name, const char *what,
+                   const char *columns, cJSON *j, gr_error *err)
 {
     cJSON_AddStringToObject(j, "file", name);
     gr_obs_add_number(j, "interval", gr_lag_interval(lag));
     cJSON_AddNumberToObject(j, "samples", (double)lag->frames);
-    return gr_obs_table_write(out, &(gr_obs_table){.name = name, .what = what, .columns = columns, .rows = lag_rows, .ctx = lag},
-                              err);
+    return gr_obs_table_write(
+        out,
+        &(gr_obs_table){
+            .name = name, .what = what, .columns = columns, .rows = lag_rows, .ctx = lag},
+        err);
 }
 
 static void release_histogram(void *h) { gr_histogram_free(h); }
 
 void gr_obs_own_histogram(void *state, gr_histogram *h) { gr_obs_own(state, release_histogram, h); }
 
-int gr_obs_histogram(void *state, gr_histogram *h, int nbins, double lo, double hi, bool log_bins, gr_error *err)
+int gr_obs_histogram(void *state, gr_histogram *h, int nbins, double lo, double hi, bool log_bins,
+                     gr_error *err)
 {
     int rc = gr_histogram_init(h, nbins, lo, hi, log_bins, err);
     if (!rc) {
@@ -149,7 +154,10 @@ static void release_pointer(void *field)
     *p = NULL;
 }
 
-void gr_obs_own_pointer(void *state, void *pointer_field) { gr_obs_own(state, release_pointer, pointer_field); }
+void gr_obs_own_pointer(void *state, void *pointer_field)
+{
+    gr_obs_own(state, release_pointer, pointer_field);
+}
 
 void gr_obs_io_blockings(gr_blob_io *io, gr_blocking *b, int n)
 {

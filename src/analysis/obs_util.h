@@ -15,7 +15,8 @@ struct gr_lag;
 
 void gr_obs_mean_velocity(const gr_particles *p, double mean[2]);
 /* Open out->dir/name atomically and write the header "# granule <what>\n# scene ..., hash, seed". */
-int gr_obs_csv_open(const gr_output *out, const char *name, const char *what, gr_file *f, gr_error *err);
+int gr_obs_csv_open(const gr_output *out, const char *name, const char *what, gr_file *f,
+                    gr_error *err);
 /* Draw out->dir/png with a gnuplot body run inside out->dir; failures only add a note to the
  * summary (plots are a convenience, the CSV is the result). */
 void gr_obs_plot(const gr_output *out, const char *png, const char *body);
@@ -30,8 +31,8 @@ typedef struct gr_obs_table {
     const char *columns; /* the column line with units, "name [unit],..." (gr_file_header) */
     gr_obs_rows rows;
     const void *ctx;
-    const char *png;     /* NULL: no plot */
-    const char *plot;    /* gnuplot body, drawn when the CSV was written and out->plots is set */
+    const char *png;  /* NULL: no plot */
+    const char *plot; /* gnuplot body, drawn when the CSV was written and out->plots is set */
 } gr_obs_table;
 
 /* Rows of a histogram (gr_histogram_write_rows): ctx is the gr_histogram. */
@@ -53,9 +54,8 @@ void gr_obs_note_no_events(cJSON *j, const char *what);
 void gr_obs_add_number(cJSON *o, const char *name, double v);
 /* A lag table (obs_lag.h) as CSV: tau (s), mean, block-averaging error, origins; and into `j`
  * "file", "interval" (s) and "samples". */
-int gr_obs_lag_csv(const gr_output *out, const struct gr_lag *lag, const char *name, const char *what,
-                   const char *columns, cJSON *j, gr_error *err);
-
+int gr_obs_lag_csv(const gr_output *out, const struct gr_lag *lag, const char *name,
+                   const char *what, const char *columns, cJSON *j, gr_error *err);
 
 /* ------------------------------------------------------------------------------------------
  * The skeleton (src/analysis/observe.c): what an observable's init allocates through these is
@@ -71,7 +71,8 @@ int gr_obs_alloc_ok(const void *state, gr_error *err);
 /* gr_histogram_init of a histogram inside the state, freed with it. A histogram filled later
  * (gr_histogram_init or gr_blob_get_histogram_new from sample or io) is registered with
  * gr_obs_own_histogram while still zeroed, at init. */
-int gr_obs_histogram(void *state, gr_histogram *h, int nbins, double lo, double hi, bool log_bins, gr_error *err);
+int gr_obs_histogram(void *state, gr_histogram *h, int nbins, double lo, double hi, bool log_bins,
+                     gr_error *err);
 void gr_obs_own_histogram(void *state, gr_histogram *h);
 /* A pointer field of the state that sample may grow with realloc: freed with the state. */
 void gr_obs_own_pointer(void *state, void *pointer_field);

@@ -84,7 +84,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                        "C(tau) per component), averaged over particles and time "
                        "origins; block-averaging errors";
     cJSON *j = cJSON_AddObjectToObject(out->summary, "vacf");
-    int rc = gr_obs_lag_csv(out, g, "vacf.csv", what, "tau [s],vv [m2 s-2],vv_stderr [m2 s-2],origins [1]", j, err);
+    int rc = gr_obs_lag_csv(out, g, "vacf.csv", what,
+                            "tau [s],vv [m2 s-2],vv_stderr [m2 s-2],origins [1]", j, err);
     if (rc) {
         return rc;
     }

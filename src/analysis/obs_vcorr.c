@@ -27,7 +27,8 @@ typedef struct vcorr_params {
 
 static const gr_param params[] = {
     {"vcorr_bins", "", GR_PARAM_INT, 50, 2, VCORR_MAX_BINS, false, false,
-     "(2D) bins of the spatial velocity correlations C_L(r), C_T(r)", offsetof(vcorr_params, vcorr_bins)},
+     "(2D) bins of the spatial velocity correlations C_L(r), C_T(r)",
+     offsetof(vcorr_params, vcorr_bins)},
     {"vcorr_rmax", "d", GR_PARAM_DOUBLE, 10, 0, 1e6, true, false,
      "(2D) largest distance of the velocity correlations, in diameters (at "
      "most L/2)",
@@ -118,9 +119,10 @@ static void rows(FILE *f, const void *ctx)
     const vcorr *s = ctx;
     for (int k = 0; k < s->bins; k++) {
         if (s->bl[k].count[0] > 0) {
-            fprintf(f, "%.8g,%.8g,%.10g,%.6g,%.10g,%.6g,%lld\n", (k + 0.5) * s->w, (k + 0.5) * s->w / s->d,
-                    gr_blocking_mean(&s->bl[k]), gr_obs_stderr(&s->bl[k]), gr_blocking_mean(&s->bt[k]),
-                    gr_obs_stderr(&s->bt[k]), (long long)s->bl[k].count[0]);
+            fprintf(f, "%.8g,%.8g,%.10g,%.6g,%.10g,%.6g,%lld\n", (k + 0.5) * s->w,
+                    (k + 0.5) * s->w / s->d, gr_blocking_mean(&s->bl[k]), gr_obs_stderr(&s->bl[k]),
+                    gr_blocking_mean(&s->bt[k]), gr_obs_stderr(&s->bt[k]),
+                    (long long)s->bl[k].count[0]);
         }
     }
 }

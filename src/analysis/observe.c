@@ -16,7 +16,8 @@ GR_OBSERVABLE_LIST(DECLARE)
 const gr_observable_type *const gr_observables[] = {GR_OBSERVABLE_LIST(ENTRY) NULL};
 
 #define COUNT(name) +1
-_Static_assert(0 GR_OBSERVABLE_LIST(COUNT) <= GR_OBS_MAX, "more observables than GR_OBS_MAX parameter blocks");
+_Static_assert(0 GR_OBSERVABLE_LIST(COUNT) <= GR_OBS_MAX,
+               "more observables than GR_OBS_MAX parameter blocks");
 
 const gr_observable_type *gr_observable_find(const char *name)
 {
@@ -72,7 +73,8 @@ void gr_analysis_defaults(gr_analysis_params *a)
 }
 
 /* The descriptor of [analysis] key `key` and its slot in `a`. */
-static const gr_param *find_param(const gr_analysis_params *a, const char *key, const unsigned char **slot)
+static const gr_param *find_param(const gr_analysis_params *a, const char *key,
+                                  const unsigned char **slot)
 {
     for (int o = 0; gr_observables[o] && o < GR_OBS_MAX; o++) {
         for (int i = 0; i < gr_observables[o]->n_params; i++) {
@@ -93,7 +95,7 @@ int gr_analysis_get(const gr_analysis_params *a, const char *key, double *value,
     if (!p) {
         return GR_FAIL(err, GR_EINVAL, "[analysis] %s: no observable declares this key", key);
     }
-    *value = p->type == GR_PARAM_BOOL ? (double)*(const bool *)slot
+    *value = p->type == GR_PARAM_BOOL  ? (double)*(const bool *)slot
              : p->type == GR_PARAM_INT ? (double)*(const int *)slot
                                        : *(const double *)slot;
     return GR_OK;
@@ -133,7 +135,8 @@ typedef struct head {
 } head;
 
 /* The head's size rounded up so that the state after it is aligned for any type. */
-#define HEAD_BYTES ((sizeof(head) + sizeof(max_align_t) - 1) / sizeof(max_align_t) * sizeof(max_align_t))
+#define HEAD_BYTES                                                                                 \
+    ((sizeof(head) + sizeof(max_align_t) - 1) / sizeof(max_align_t) * sizeof(max_align_t))
 
 static head *head_of(const void *state) { return (head *)((char *)state - HEAD_BYTES); }
 
@@ -171,11 +174,13 @@ int gr_obs_alloc_ok(const void *state, gr_error *err)
     return h->oom ? GR_FAIL(err, GR_ENOMEM, "%s: out of memory", h->type->name) : GR_OK;
 }
 
-int gr_observable_create(const gr_observable_type *t, const gr_obs_setup *setup, void **state, gr_error *err)
+int gr_observable_create(const gr_observable_type *t, const gr_obs_setup *setup, void **state,
+                         gr_error *err)
 {
     *state = NULL;
     if (t->params_size > GR_OBS_PARAMS_BYTES) {
-        return GR_FAIL(err, GR_EINVAL, "%s: a parameter struct of %zu bytes (at most GR_OBS_PARAMS_BYTES = %d)",
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: a parameter struct of %zu bytes (at most GR_OBS_PARAMS_BYTES = %d)",
                        t->name, t->params_size, GR_OBS_PARAMS_BYTES);
     }
     head *h = calloc(1, HEAD_BYTES + t->state_size);
@@ -210,7 +215,8 @@ void gr_observable_free(void *state)
 int gr_observable_save(const gr_observable_type *t, void *state, gr_blob *out, gr_error *err)
 {
     if (!t->io) {
-        return GR_FAIL(err, GR_EINVAL, "[analysis] observables: %s cannot be checkpointed yet", t->name);
+        return GR_FAIL(err, GR_EINVAL, "[analysis] observables: %s cannot be checkpointed yet",
+                       t->name);
     }
     gr_blob_io io = {.out = out};
     int rc = t->io(state, &io, err);
@@ -220,7 +226,8 @@ int gr_observable_save(const gr_observable_type *t, void *state, gr_blob *out, g
 int gr_observable_load(const gr_observable_type *t, void *state, gr_blob_reader *in, gr_error *err)
 {
     if (!t->io) {
-        return GR_FAIL(err, GR_EINVAL, "[analysis] observables: %s cannot be restored from a checkpoint", t->name);
+        return GR_FAIL(err, GR_EINVAL,
+                       "[analysis] observables: %s cannot be restored from a checkpoint", t->name);
     }
     gr_blob_io io = {.in = in};
     int rc = t->io(state, &io, err);
@@ -252,7 +259,8 @@ int gr_observer_create(const gr_obs_setup *setup, gr_observer **out, gr_error *e
         }
         if (!(t->dims & (1u << (setup->dim - 1)))) {
             gr_observer_free(o);
-            return GR_FAIL(err, GR_EINVAL, "%s: [analysis] observables: %s is not defined for dim = %d",
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [analysis] observables: %s is not defined for dim = %d",
                            setup->source, tok, setup->dim);
         }
         bool dup = false;
@@ -283,21 +291,27 @@ static int check_frame(const gr_particles *p, double t, gr_error *err)
         return GR_FAIL(err, GR_EINVAL, "frame time t = %g s is not a finite number", t);
     }
     if (!(p->L > 0.0) || !isfinite(p->L)) {
-        return GR_FAIL(err, GR_EINVAL, "frame at t = %.17g s: box length L = %g m is not a positive finite number", t, p->L);
+        return GR_FAIL(err, GR_EINVAL,
+                       "frame at t = %.17g s: box length L = %g m is not a positive finite number",
+                       t, p->L);
     }
     const double lim = GR_COORD_MAX_BOXES * p->L;
     for (int i = 0; i < p->n; i++) {
-        const double c[4] = {p->x[i], p->dim == 2 ? p->y[i] : 0.0, p->vx[i], p->dim == 2 ? p->vy[i] : 0.0};
+        const double c[4] = {p->x[i], p->dim == 2 ? p->y[i] : 0.0, p->vx[i],
+                             p->dim == 2 ? p->vy[i] : 0.0};
         static const char *const name[4] = {"x", "y", "vx", "vy"};
         for (int k = 0; k < 4; k++) {
             if (k < 2 && !(fabs(c[k]) <= lim)) {
-                return GR_FAIL(err, GR_EINVAL, "frame at t = %.17g s: particle %d has %s = %g m, outside the range "
-                               "|%s| <= %g L = %g m that can be wrapped into the box", t, i, name[k], c[k], name[k],
-                               GR_COORD_MAX_BOXES, lim);
+                return GR_FAIL(err, GR_EINVAL,
+                               "frame at t = %.17g s: particle %d has %s = %g m, outside the range "
+                               "|%s| <= %g L = %g m that can be wrapped into the box",
+                               t, i, name[k], c[k], name[k], GR_COORD_MAX_BOXES, lim);
             }
             if (k >= 2 && !isfinite(c[k])) {
-                return GR_FAIL(err, GR_EINVAL, "frame at t = %.17g s: particle %d has %s = %g m/s, not a finite number",
-                               t, i, name[k], c[k]);
+                return GR_FAIL(
+                    err, GR_EINVAL,
+                    "frame at t = %.17g s: particle %d has %s = %g m/s, not a finite number", t, i,
+                    name[k], c[k]);
             }
         }
     }
@@ -379,15 +393,16 @@ int gr_observer_load(gr_observer *o, const void *data, size_t len, gr_error *err
     gr_blob_reader_init(&r, data, len, "OBS (observables)");
     uint64_t n = gr_blob_get_u64(&r);
     if (!r.bad && n != (uint64_t)gr_observer_count(o)) {
-        gr_blob_fail(&r, "%llu observables in the checkpoint, %d enabled in the scene", (unsigned long long)n,
-                     gr_observer_count(o));
+        gr_blob_fail(&r, "%llu observables in the checkpoint, %d enabled in the scene",
+                     (unsigned long long)n, gr_observer_count(o));
     }
     for (int i = 0; !r.bad && i < o->n; i++) {
         char name[64];
         gr_blob_get_str(&r, name, sizeof name);
         uint64_t one_len = gr_blob_get_u64(&r);
         if (!r.bad && strcmp(name, o->type[i]->name) != 0) {
-            gr_blob_fail(&r, "observable %d is %s in the checkpoint, %s in the scene", i + 1, name, o->type[i]->name);
+            gr_blob_fail(&r, "observable %d is %s in the checkpoint, %s in the scene", i + 1, name,
+                         o->type[i]->name);
         }
         const void *one = gr_blob_view(&r, (size_t)one_len);
         if (!r.bad && one_len > len) {

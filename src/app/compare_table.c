@@ -29,7 +29,8 @@ static const char *string_at(const cJSON *j, const char *path, const char *fallb
     return cJSON_IsString(m) ? m->valuestring : fallback;
 }
 
-static gr_compare_row *add_row(gr_compare_table *t, const char *quantity, const char *key, const char *unit)
+static gr_compare_row *add_row(gr_compare_table *t, const char *quantity, const char *key,
+                               const char *unit)
 {
     gr_compare_row *r = &t->row[t->n_rows++];
     snprintf(r->quantity, sizeof r->quantity, "%s", quantity);
@@ -50,7 +51,8 @@ static void set_number(gr_compare_cell *c, double value, double error, const cha
     snprintf(c->text, sizeof c->text, "%.70s%.40s", num, suffix ? suffix : "");
 }
 
-static void set_reason(gr_compare_cell *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void set_reason(gr_compare_cell *c, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
 static void set_reason(gr_compare_cell *c, const char *fmt, ...)
 {
     va_list ap;
@@ -83,9 +85,11 @@ static void tail_cell(gr_compare_table *t, gr_compare_cell *c, const cJSON *s)
     } else if (!tail) {
         set_reason(c, "no samples");
     } else if (cJSON_IsTrue(member(tail, "accepted"))) {
-        set_number(c, gr_summary_number(tail, "alpha"), gr_summary_number(tail, "alpha_halfwidth"), NULL);
+        set_number(c, gr_summary_number(tail, "alpha"), gr_summary_number(tail, "alpha_halfwidth"),
+                   NULL);
     } else if (cJSON_IsTrue(member(tail, "free.converged"))) {
-        set_number(c, gr_summary_number(tail, "free.alpha"), gr_summary_number(tail, "free.alpha_err"), " #");
+        set_number(c, gr_summary_number(tail, "free.alpha"),
+                   gr_summary_number(tail, "free.alpha_err"), " #");
         footnote(t, "#: free fit of (5.5); no alpha has chi2/dof < 1.2 in the Table 5.1 window");
     } else {
         set_reason(c, "fit failed: %.0f points in the window", gr_summary_number(tail, "n_points"));
@@ -114,7 +118,8 @@ static void g1_cell(gr_compare_cell *c, const cJSON *s, int dim)
     } else if (!gaps) {
         set_reason(c, "n/a: gaps not enabled");
     } else if (isfinite(gr_summary_number(gaps, "fit_3_22.n_N"))) {
-        set_number(c, gr_summary_number(gaps, "fit_3_22.n_N"), gr_summary_number(gaps, "fit_3_22.n_N_stderr"), NULL);
+        set_number(c, gr_summary_number(gaps, "fit_3_22.n_N"),
+                   gr_summary_number(gaps, "fit_3_22.n_N_stderr"), NULL);
     } else {
         set_reason(c, "fit failed: %.80s", string_at(gaps, "fit_3_22.note", "no fit"));
     }
@@ -122,7 +127,8 @@ static void g1_cell(gr_compare_cell *c, const cJSON *s, int dim)
 
 /* Energy dissipated by one mechanism, with its share of the energy injected; the reason when the
  * model has no such mechanism or nothing collided. */
-static void dissipated_cell(gr_compare_cell *c, const cJSON *s, const char *path, const char *absent)
+static void dissipated_cell(gr_compare_cell *c, const cJSON *s, const char *path,
+                            const char *absent)
 {
     const double v = gr_summary_number(s, path), injected = gr_summary_number(s, "ledger.injected");
     if (absent) {
@@ -140,11 +146,14 @@ static void dissipated_cell(gr_compare_cell *c, const cJSON *s, const char *path
 
 static void throughput_cells(gr_compare_row *tp, gr_compare_row *cps, int k, const cJSON *s)
 {
-    const double wall = gr_summary_number(s, "wall_seconds"), coll = gr_summary_number(s, "collisions");
+    const double wall = gr_summary_number(s, "wall_seconds"),
+                 coll = gr_summary_number(s, "collisions");
     const bool event = !strcmp(string_at(s, "scene.integrator.kind", ""), "event");
-    const double rate = event ? gr_summary_number(s, "events_per_second") : gr_summary_number(s, "particle_steps_per_second");
+    const double rate = event ? gr_summary_number(s, "events_per_second")
+                              : gr_summary_number(s, "particle_steps_per_second");
     tp->cell[k].value = rate;
-    snprintf(tp->cell[k].text, sizeof tp->cell[k].text, "%.3g %s", rate, event ? "events/s" : "particle-steps/s");
+    snprintf(tp->cell[k].text, sizeof tp->cell[k].text, "%.3g %s", rate,
+             event ? "events/s" : "particle-steps/s");
     if (!(wall > 0.0)) {
         set_reason(&cps->cell[k], "n/a: no wall time");
     } else if (coll == 0.0) {
@@ -169,14 +178,18 @@ static void failed_column(gr_compare_table *t, int k)
 static void fill_column(gr_compare_table *t, int k, const cJSON *s)
 {
     snprintf(t->status[k], sizeof t->status[k], "%s", string_at(s, "status", "?"));
-    snprintf(t->integrator[k], sizeof t->integrator[k], "%s", string_at(s, "scene.integrator.kind", "?"));
+    snprintf(t->integrator[k], sizeof t->integrator[k], "%s",
+             string_at(s, "scene.integrator.kind", "?"));
     snprintf(t->kernel[k], sizeof t->kernel[k], "%s", string_at(s, "kernel", "?"));
-    const int dim = (int)gr_summary_number(s, "scene.system.dim") == 1 ? 1 : (int)gr_summary_number(s, "scene.system.dim") == 2 ? 2 : t->dim;
+    const int dim = (int)gr_summary_number(s, "scene.system.dim") == 1   ? 1
+                    : (int)gr_summary_number(s, "scene.system.dim") == 2 ? 2
+                                                                         : t->dim;
     gr_compare_row *r = t->row;
     int i = 0;
     if (isfinite(gr_summary_number(s, "T_mean"))) {
         const bool converged = gr_summary_number(s, "T_stderr_converged") != 0.0;
-        set_number(&r[i].cell[k], gr_summary_number(s, "T_mean"), gr_summary_number(s, "T_stderr"), converged ? NULL : " *");
+        set_number(&r[i].cell[k], gr_summary_number(s, "T_mean"), gr_summary_number(s, "T_stderr"),
+                   converged ? NULL : " *");
         if (!converged) {
             footnote(t, "*: the error bar of T is not converged (a lower bound): run longer");
         }
@@ -193,7 +206,8 @@ static void fill_column(gr_compare_table *t, int k, const cJSON *s)
     tail_cell(t, &r[++i].cell[k], s);
     df_cell(&r[++i].cell[k], s, dim);
     g1_cell(&r[++i].cell[k], s, dim);
-    const double coll = gr_summary_number(s, "collisions"), n = gr_summary_number(s, "scene.system.N"),
+    const double coll = gr_summary_number(s, "collisions"),
+                 n = gr_summary_number(s, "scene.system.N"),
                  simulated = gr_summary_number(s, "simulated_seconds");
     set_number(&r[++i].cell[k], coll, NAN, NULL);
     snprintf(r[i].cell[k].text, sizeof r[i].cell[k].text, "%.0f", coll);
@@ -208,13 +222,14 @@ static void fill_column(gr_compare_table *t, int k, const cJSON *s)
     const bool event = !strcmp(t->integrator[k], "event");
     dissipated_cell(&r[++i].cell[k], s, "ledger.dissipated_normal", NULL);
     dissipated_cell(&r[++i].cell[k], s, "ledger.dissipated_tangential",
-                    dim == 1                                           ? "n/a: 1D"
-                    : !event && strcmp(tangential, "tangential_dashpot") ? "n/a: no tangential dashpot"
-                                                                         : NULL);
+                    dim == 1 ? "n/a: 1D"
+                    : !event && strcmp(tangential, "tangential_dashpot")
+                        ? "n/a: no tangential dashpot"
+                        : NULL);
     dissipated_cell(&r[++i].cell[k], s, "ledger.dissipated_friction",
-                    dim == 1                                  ? "n/a: 1D"
+                    dim == 1                                 ? "n/a: 1D"
                     : strcmp(tangential, "sliding_friction") ? "n/a: no sliding friction"
-                                                              : NULL);
+                                                             : NULL);
     const double residual = gr_summary_number(s, "ledger.relative_residual");
     r[++i].cell[k].value = residual;
     snprintf(r[i].cell[k].text, sizeof r[i].cell[k].text, "%.2g", residual);
@@ -222,7 +237,8 @@ static void fill_column(gr_compare_table *t, int k, const cJSON *s)
     throughput_cells(&r[i + 1], &r[i + 2], k, s);
 }
 
-gr_compare_table *gr_compare_table_build(const char *out, const char *scene_path, int dim, const gr_compare_spec *specs, int n)
+gr_compare_table *gr_compare_table_build(const char *out, const char *scene_path, int dim,
+                                         const gr_compare_spec *specs, int n)
 {
     gr_compare_table *t = calloc(1, sizeof *t);
     if (!t) {

@@ -15,7 +15,8 @@ static void flatten(cJSON *row, const char *prefix, const cJSON *node)
 {
     char key[256];
     for (const cJSON *c = node ? node->child : NULL; c; c = c->next) {
-        snprintf(key, sizeof key, "%s%s%s", prefix, prefix[0] ? "." : "", c->string ? c->string : "");
+        snprintf(key, sizeof key, "%s%s%s", prefix, prefix[0] ? "." : "",
+                 c->string ? c->string : "");
         if (cJSON_IsNumber(c)) {
             cJSON_AddNumberToObject(row, key, c->valuedouble);
         } else if (cJSON_IsBool(c)) {
@@ -109,14 +110,21 @@ static int write_csv(const gr_compare_table *t, const cJSON *models, const char 
     if (rc) {
         return rc;
     }
-    gr_file_note(&f, "granule compare of %s: one row per model, same initial state and noise seed\n", t->scene);
-    gr_file_note(&f, "headline columns: <key> (value), <key>_err (its error, empty if none; %s), <key>_note (why "
-                 "there is no value, or its footnote in words); then every scalar of the model's summary.json "
-                 "(empty where a model has none)", GR_COMPARE_ERRORS);
+    gr_file_note(&f,
+                 "granule compare of %s: one row per model, same initial state and noise seed\n",
+                 t->scene);
+    gr_file_note(&f,
+                 "headline columns: <key> (value), <key>_err (its error, empty if none; %s), "
+                 "<key>_note (why "
+                 "there is no value, or its footnote in words); then every scalar of the model's "
+                 "summary.json "
+                 "(empty where a model has none)",
+                 GR_COMPARE_ERRORS);
     const char *cols[512];
     int nc = 0;
     for (const cJSON *m = models->child; m; m = m->next) {
-        for (const cJSON *c = cJSON_GetObjectItem(m, "summary")->child; c && nc < 512; c = c->next) {
+        for (const cJSON *c = cJSON_GetObjectItem(m, "summary")->child; c && nc < 512;
+             c = c->next) {
             bool have = headline_key(t, c->string);
             for (int i = 0; i < nc && !have; i++) {
                 have = !strcmp(cols[i], c->string);
@@ -197,8 +205,11 @@ static int write_md(const gr_compare_table *t, const char *out, gr_error *err)
     if (rc) {
         return rc;
     }
-    fprintf(f.f, "# granule compare: %s\n\nSame scene, initial state and noise seed for every model. The full table "
-                 "(every scalar of every run) is compare.csv / compare.json.\n\n| quantity |", t->scene);
+    fprintf(f.f,
+            "# granule compare: %s\n\nSame scene, initial state and noise seed for every model. "
+            "The full table "
+            "(every scalar of every run) is compare.csv / compare.json.\n\n| quantity |",
+            t->scene);
     for (int k = 0; k < t->n_models; k++) {
         fprintf(f.f, " %s |", t->spec[k].text);
     }
@@ -259,7 +270,8 @@ void gr_compare_table_print(const gr_compare_table *t, FILE *f)
     for (int k = 0; k < t->n_models; k++) {
         w[k] = (int)strlen(t->spec[k].text);
         for (int i = 0; i < t->n_rows; i++) {
-            w[k] = (int)strlen(t->row[i].cell[k].text) > w[k] ? (int)strlen(t->row[i].cell[k].text) : w[k];
+            w[k] = (int)strlen(t->row[i].cell[k].text) > w[k] ? (int)strlen(t->row[i].cell[k].text)
+                                                              : w[k];
         }
     }
     fprintf(f, "%-*s", w0, "");

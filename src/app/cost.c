@@ -47,8 +47,8 @@ static int cmp_dt(const void *a, const void *b)
  * energy: the loss is a fraction of it): the mean and the worst (largest in magnitude) over the
  * contact phases; false when the contact blew up in some phase (non-finite, or off by more than
  * half the collision's energy: past the stability limit). */
-static bool loss_errors(gr_collide_setup su, const gr_collision_case *cs, double ref, int phases, double *mean,
-                        double *worst)
+static bool loss_errors(gr_collide_setup su, const gr_collision_case *cs, double ref, int phases,
+                        double *mean, double *worst)
 {
     const double scale = ref > 1e-3 ? ref : 1.0;
     double sum = 0.0, w = 0.0;
@@ -57,7 +57,8 @@ static bool loss_errors(gr_collide_setup su, const gr_collision_case *cs, double
         su.phase = (k + 0.5) / phases;
         gr_collide_result r;
         gr_error e = {0};
-        if (gr_collide_run(&su, cs, &r, &e) || !isfinite(r.energy_loss) || !(fabs(r.energy_loss - ref) < 0.5)) {
+        if (gr_collide_run(&su, cs, &r, &e) || !isfinite(r.energy_loss) ||
+            !(fabs(r.energy_loss - ref) < 0.5)) {
             return false;
         }
         double d = (r.energy_loss - ref) / scale;
@@ -78,12 +79,10 @@ static bool loss_errors(gr_collide_setup su, const gr_collision_case *cs, double
  * is a binary contact with the mass divided by that factor, i.e. the same collision stepped at
  * dt sqrt(factor). A time step is usable only if that collision is still stable, and the cluster
  * modes dissipate with its error. */
-static double cluster_factor(int dim)
-{
-    return dim == 1 ? 2.0 : 3.0;
-}
+static double cluster_factor(int dim) { return dim == 1 ? 2.0 : 3.0; }
 
-int gr_cost_errors(const gr_scene *sc, const gr_cost_request *rq, gr_cost_answer *out, gr_error *err)
+int gr_cost_errors(const gr_scene *sc, const gr_cost_request *rq, gr_cost_answer *out,
+                   gr_error *err)
 {
     memset(out, 0, sizeof *out);
     out->best = out->scene = -1;
@@ -93,26 +92,34 @@ int gr_cost_errors(const gr_scene *sc, const gr_cost_request *rq, gr_cost_answer
     out->simulated_seconds = sc->warmup + sc->duration;
     if (sc->normal->kind & GR_MODEL_EVENT) {
         return GR_FAIL(err, GR_EINVAL,
-                       "[model] normal = %s: its collisions are instantaneous rules, exact at any kick interval; "
+                       "[model] normal = %s: its collisions are instantaneous rules, exact at any "
+                       "kick interval; "
                        "there is no time step to choose (granule cost answers for force laws)",
                        sc->normal->name);
     }
     if (!(rq->tolerance > 0.0 && rq->tolerance < 1.0)) {
-        return GR_FAIL(err, GR_EINVAL, "tolerance %g: give a relative tolerance in (0, 1), e.g. 1%%", rq->tolerance);
+        return GR_FAIL(err, GR_EINVAL,
+                       "tolerance %g: give a relative tolerance in (0, 1), e.g. 1%%",
+                       rq->tolerance);
     }
     gr_contact_coeffs cc;
     const double probe_dt = sc->dt > 0.0 ? sc->dt : 1e-6;
-    if (gr_contact_prepare(sc->normal, sc->tangential, &sc->contact, gr_scene_m12(sc), probe_dt, &cc, err)) {
+    if (gr_contact_prepare(sc->normal, sc->tangential, &sc->contact, gr_scene_m12(sc), probe_dt,
+                           &cc, err)) {
         return err->code;
     }
     if (!(cc.t_c > 0.0 && isfinite(cc.t_c))) {
-        return GR_FAIL(err, GR_EINVAL, "the contact of this scene has no finite duration (t_c = %g s): nothing to resolve", cc.t_c);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "the contact of this scene has no finite duration (t_c = %g s): nothing to resolve",
+            cc.t_c);
     }
     out->t_c = cc.t_c;
     const double scene_dt = sc->dt > 0.0 ? sc->dt : cc.t_c / sc->steps_per_contact;
     for (int i = 0; i < LADDER_N; i++) {
         const double dt = cc.t_c / ladder[i];
-        if (fabs(dt / scene_dt - 1.0) > 0.02) { /* the scene's own dt stands for a ladder step next to it */
+        if (fabs(dt / scene_dt - 1.0) >
+            0.02) { /* the scene's own dt stands for a ladder step next to it */
             out->c[out->n++] = (gr_cost_candidate){.dt = dt};
         }
     }
@@ -133,7 +140,8 @@ int gr_cost_errors(const gr_scene *sc, const gr_cost_request *rq, gr_cost_answer
     gr_collision_case cs[2];
     for (int k = 0; k < n_cases; k++) {
         gr_collide_result r;
-        if (gr_collision_case_table21(cases[k], sc->radius, &cs[k], err) || gr_collide_reference(&su, &cs[k], &r, err)) {
+        if (gr_collision_case_table21(cases[k], sc->radius, &cs[k], err) ||
+            gr_collide_reference(&su, &cs[k], &r, err)) {
             return err->code;
         }
         ref[k] = r.energy_loss;
@@ -162,7 +170,9 @@ int gr_cost_errors(const gr_scene *sc, const gr_cost_request *rq, gr_cost_answer
         c->cluster_loss_error = c->finite ? cluster_sum / n_cases : (double)NAN;
         /* T ~ (1 - eps^2)^(-2/3) in the homogeneous driven gas (cost.h), with the larger of the
          * binary and the cluster-mode loss errors */
-        const double dl = fabs(c->cluster_loss_error) > fabs(c->loss_error_mean) ? c->cluster_loss_error : c->loss_error_mean;
+        const double dl = fabs(c->cluster_loss_error) > fabs(c->loss_error_mean)
+                              ? c->cluster_loss_error
+                              : c->loss_error_mean;
         c->error = rq->observable == GR_COST_LOSS ? c->loss_error_worst : -2.0 / 3.0 * dl;
     }
     /* a candidate meets the tolerance only if every finer one does too: an error that changes
@@ -179,7 +189,8 @@ int gr_cost_errors(const gr_scene *sc, const gr_cost_request *rq, gr_cost_answer
     return GR_OK;
 }
 
-int gr_cost_advise(const gr_scene *sc, const gr_cost_request *rq, gr_cost_answer *out, gr_error *err)
+int gr_cost_advise(const gr_scene *sc, const gr_cost_request *rq, gr_cost_answer *out,
+                   gr_error *err)
 {
     if (gr_cost_errors(sc, rq, out, err)) {
         return err->code;

@@ -90,9 +90,11 @@ static int time_option(const gr_scene *sc, double seconds, gr_cost_option *o, gr
     return GR_OK;
 }
 
-int gr_cost_calibrate(const gr_scene *scene, double dt, double seconds, gr_cost_answer *out, gr_error *err)
+int gr_cost_calibrate(const gr_scene *scene, double dt, double seconds, gr_cost_answer *out,
+                      gr_error *err)
 {
-    const gr_integrator_type *verlet = gr_integrator_find("verlet"), *hybrid = gr_integrator_find("hybrid");
+    const gr_integrator_type *verlet = gr_integrator_find("verlet"),
+                             *hybrid = gr_integrator_find("hybrid");
     /* the options: Verlet, then the hybrid (the scene's own window first, if it is a hybrid scene) */
     double windows[GR_COST_MAX_OPTIONS];
     int nw = 0;
@@ -127,7 +129,8 @@ int gr_cost_calibrate(const gr_scene *scene, double dt, double seconds, gr_cost_
         }
         if (rc) { /* a scene the hybrid cannot run (rotation, event rules, ...): say why */
             snprintf(o->note, sizeof o->note, "%s", e.message);
-        } else if (out->best_option < 0 || o->wall_per_simulated < out->option[out->best_option].wall_per_simulated) {
+        } else if (out->best_option < 0 ||
+                   o->wall_per_simulated < out->option[out->best_option].wall_per_simulated) {
             out->best_option = out->n_options - 1;
         }
     }

@@ -17,8 +17,8 @@ static void add_num(cJSON *o, const char *k, double v)
     }
 }
 
-int gr_cost_write(const gr_cost_answer *a, const gr_cost_request *rq, const char *scene_path, const char *dir,
-                  gr_error *err)
+int gr_cost_write(const gr_cost_answer *a, const gr_cost_request *rq, const char *scene_path,
+                  const char *dir, gr_error *err)
 {
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "scene", scene_path);

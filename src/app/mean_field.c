@@ -28,7 +28,8 @@ cJSON *gr_mean_field_steady(const gr_scene *s, double T_mean)
     } else {
         /* 2D equation of state (5.2): <|v|>^3 = (C1/phi) D d pi / (M^2 (2 - eps_n^2 - eps_t^2)),
          * with <|v|> estimated from T as for a Gaussian, <|v|> = sqrt(pi T / 4) (T of eq. 2.19) */
-        double en = s->contact.eps_n, et = s->tangential && s->tangential->params ? s->contact.eps_t : 1.0;
+        double en = s->contact.eps_n,
+               et = s->tangential && s->tangential->params ? s->contact.eps_t : 1.0;
         double loss = 2.0 - en * en - et * et;
         if (loss <= 0.0) {
             cJSON_Delete(j);
@@ -36,7 +37,9 @@ cJSON *gr_mean_field_steady(const gr_scene *s, double T_mean)
         }
         double pred = cbrt(D * d * M_PI / (s->packing_fraction * M * M * loss));
         double meas = sqrt(M_PI * T_mean / 4.0);
-        cJSON_AddStringToObject(j, "reference", "2D equation of state (5.2) with C1 = 1; <|v|> = sqrt(pi T/4) (Gaussian estimate)");
+        cJSON_AddStringToObject(
+            j, "reference",
+            "2D equation of state (5.2) with C1 = 1; <|v|> = sqrt(pi T/4) (Gaussian estimate)");
         cJSON_AddNumberToObject(j, "mean_speed_predicted", pred);
         cJSON_AddNumberToObject(j, "mean_speed_measured", meas);
         cJSON_AddNumberToObject(j, "C1_implied", pow(meas / pred, 3.0));
@@ -50,7 +53,8 @@ cJSON *gr_mean_field_steady(const gr_scene *s, double T_mean)
 double gr_hcs_a2(double eps, int dim)
 {
     const double e = eps, d = dim;
-    return 16.0 * (1.0 - e) * (1.0 - 2.0 * e * e) / (9.0 + 24.0 * d - e * (41.0 - 8.0 * d) + 30.0 * (1.0 - e) * e * e);
+    return 16.0 * (1.0 - e) * (1.0 - 2.0 * e * e) /
+           (9.0 + 24.0 * d - e * (41.0 - 8.0 * d) + 30.0 * (1.0 - e) * e * e);
 }
 
 /* Haff's law for smooth hard discs: d(T^-1/2)/dt = zeta / (2 sqrt T) with the Enskog cooling rate
@@ -61,7 +65,8 @@ double gr_hcs_a2(double eps, int dim)
 double gr_haff_rate_2d(double phi, double eps, double sigma)
 {
     const double chi = (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi));
-    return 2.0 / sqrt(M_PI) * phi * chi * (1.0 - eps * eps) * (1.0 + 3.0 * gr_hcs_a2(eps, 2) / 16.0) / sigma;
+    return 2.0 / sqrt(M_PI) * phi * chi * (1.0 - eps * eps) *
+           (1.0 + 3.0 * gr_hcs_a2(eps, 2) / 16.0) / sigma;
 }
 
 double gr_bath_T_enskog(double T_bath, double tau, double rate, int dim, int N)
@@ -71,7 +76,8 @@ double gr_bath_T_enskog(double T_bath, double tau, double rate, int dim, int N)
     const double Tb = T_bath * (1.0 - 1.0 / N);
     double lo = 0.0, hi = sqrt(Tb);
     for (int it = 0; it < 200 && rate > 0.0; it++) {
-        const double x = 0.5 * (lo + hi), f = (Tb - x * x) / tau - rate * x * x * x / sqrt((double)dim);
+        const double x = 0.5 * (lo + hi),
+                     f = (Tb - x * x) / tau - rate * x * x * x / sqrt((double)dim);
         if (f > 0.0) {
             lo = x;
         } else {
@@ -87,25 +93,31 @@ static cJSON *mean_field_bath(const gr_scene *s)
 {
     const gr_driving_params *p = &s->driving_params;
     cJSON *j = cJSON_CreateObject();
-    cJSON_AddStringToObject(j, "reference", "Langevin bath: dT/dt = (2/tau) (T_bath - T) - zeta(T) T (docs/systems-driving.md)");
+    cJSON_AddStringToObject(
+        j, "reference",
+        "Langevin bath: dT/dt = (2/tau) (T_bath - T) - zeta(T) T (docs/systems-driving.md)");
     cJSON_AddNumberToObject(j, "T_bath", p->T_bath);
     cJSON_AddNumberToObject(j, "tau", p->tau);
     cJSON_AddNumberToObject(j, "D_bath", s->mass * s->mass * p->T_bath / (s->dim * p->tau));
     cJSON_AddNumberToObject(j, "T_elastic", p->T_bath * (1.0 - 1.0 / s->N));
     if (s->dim == 2 && s->packing_fraction > 0.0) {
         const double rate = gr_haff_rate_2d(s->packing_fraction, s->contact.eps_n, 2.0 * s->radius);
-        cJSON_AddNumberToObject(j, "T_enskog", gr_bath_T_enskog(p->T_bath, p->tau, rate, s->dim, s->N));
-        cJSON_AddStringToObject(j, "note", "T of eq. 2.19. T_elastic: equipartition, exact for eps_n = 1 (the mean velocity "
-                                           "excluded). T_enskog: the bath's heating against the Enskog cooling rate of smooth "
-                                           "hard discs (eps_n, Henderson's chi, the HCS Sonine a2; docs/validation.md, \"Haff's "
-                                           "law\"), a mean-field estimate for binary collisions without tangential dissipation");
+        cJSON_AddNumberToObject(j, "T_enskog",
+                                gr_bath_T_enskog(p->T_bath, p->tau, rate, s->dim, s->N));
+        cJSON_AddStringToObject(
+            j, "note",
+            "T of eq. 2.19. T_elastic: equipartition, exact for eps_n = 1 (the mean velocity "
+            "excluded). T_enskog: the bath's heating against the Enskog cooling rate of smooth "
+            "hard discs (eps_n, Henderson's chi, the HCS Sonine a2; docs/validation.md, \"Haff's "
+            "law\"), a mean-field estimate for binary collisions without tangential dissipation");
     }
     return j;
 }
 
 cJSON *gr_mean_field_haff(const gr_scene *s, const double *t, const double *T, int n)
 {
-    if (s->driving && s->driving->update == GR_DRIVE_BATH) { /* driven, not cooling: the bath's references */
+    if (s->driving &&
+        s->driving->update == GR_DRIVE_BATH) { /* driven, not cooling: the bath's references */
         return mean_field_bath(s);
     }
     /* T^(-1/2) = T0^(-1/2) (1 + t/t0) is a straight line in t: intercept a, slope b, t0 = a/b */
@@ -127,16 +139,21 @@ cJSON *gr_mean_field_haff(const gr_scene *s, const double *t, const double *T, i
         cJSON_AddStringToObject(j, "reference", "Haff's law (1.2): T = T0 / (1 + t/t0)^2");
         cJSON_AddNumberToObject(j, "T0_fit", T0);
         cJSON_AddNumberToObject(j, "t0_fit", t0);
-        cJSON_AddNumberToObject(j, "t0_fit_stderr", t0 * hypot(f.err[0] / f.p[0], f.err[1] / f.p[1]));
+        cJSON_AddNumberToObject(j, "t0_fit_stderr",
+                                t0 * hypot(f.err[0] / f.p[0], f.err[1] / f.p[1]));
         if (s->dim == 2 && phi > 0.0) {
             const double rate = gr_haff_rate_2d(phi, s->contact.eps_n, 2.0 * s->radius);
             cJSON_AddNumberToObject(j, "t0_haff", 1.0 / (rate * sqrt(T0 / s->dim)));
             cJSON_AddNumberToObject(j, "t0_haff_T_eq_2_19", 1.0 / (rate * sqrt(T0)));
             cJSON_AddNumberToObject(j, "a2_hcs", gr_hcs_a2(s->contact.eps_n, s->dim));
-            cJSON_AddStringToObject(j, "note", "Enskog cooling rate of smooth hard discs (docs/validation.md, \"Haff's law\"): "
-                                               "(1 - eps_n^2), Henderson's chi(phi), first Sonine correction (1 + 3 a2/16); "
-                                               "T0 per degree of freedom (T of eq. 2.19 / dim); t0_haff_T_eq_2_19 uses T0 of eq. 2.19. "
-                                               "The thesis's eq. 1.2 is its quasi-elastic limit, 2 (1 - eps) for 1 - eps^2, a2 = 0");
+            cJSON_AddStringToObject(
+                j, "note",
+                "Enskog cooling rate of smooth hard discs (docs/validation.md, \"Haff's law\"): "
+                "(1 - eps_n^2), Henderson's chi(phi), first Sonine correction (1 + 3 a2/16); "
+                "T0 per degree of freedom (T of eq. 2.19 / dim); t0_haff_T_eq_2_19 uses T0 of eq. "
+                "2.19. "
+                "The thesis's eq. 1.2 is its quasi-elastic limit, 2 (1 - eps) for 1 - eps^2, a2 = "
+                "0");
         }
     }
     free(y);

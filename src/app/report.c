@@ -11,7 +11,10 @@
  * argument) are printed as \xNN, so a message is always one readable line. */
 static size_t utf8_length(const unsigned char *p)
 {
-    size_t n = p[0] >= 0xf0 && p[0] <= 0xf4 ? 4 : p[0] >= 0xe0 ? 3 : p[0] >= 0xc2 && p[0] <= 0xdf ? 2 : 0;
+    size_t n = p[0] >= 0xf0 && p[0] <= 0xf4   ? 4
+               : p[0] >= 0xe0                 ? 3
+               : p[0] >= 0xc2 && p[0] <= 0xdf ? 2
+                                              : 0;
     for (size_t i = 1; i < n; i++) {
         if ((p[i] & 0xc0) != 0x80) {
             return 0;
@@ -66,11 +69,15 @@ void app_result(const char *fmt, ...)
 
 int app_exit_code(int status)
 {
-    return status == GR_OK ? EXIT_OK : status == GR_EINVAL ? EXIT_REFUSED : status == GR_EUNSTABLE ? EXIT_UNSTABLE : EXIT_FAILED;
+    return status == GR_OK          ? EXIT_OK
+           : status == GR_EINVAL    ? EXIT_REFUSED
+           : status == GR_EUNSTABLE ? EXIT_UNSTABLE
+                                    : EXIT_FAILED;
 }
 
 bool app_interactive(void)
 {
     const char *ci = getenv("CI");
-    return isatty(STDERR_FILENO) && !(ci && *ci && strcmp(ci, "0") != 0 && strcmp(ci, "false") != 0);
+    return isatty(STDERR_FILENO) &&
+           !(ci && *ci && strcmp(ci, "0") != 0 && strcmp(ci, "false") != 0);
 }

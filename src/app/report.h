@@ -10,10 +10,16 @@
 #include "granule/status.h"
 
 /* Exit codes of every command */
-enum { EXIT_OK = 0, EXIT_FAILED = 1, EXIT_REFUSED = 2, EXIT_UNSTABLE = 3,
-       EXIT_WALL_LIMIT = 4, /* stopped before run.wall_limit ran out; checkpoint written (docs/checkpoints.md) */
-       EXIT_STOPPED = 5,    /* stopped by SIGTERM/SIGINT; checkpoint written */
-       EXIT_WRITE_FAILED = 6 }; /* an output could not be written (a full disk); checkpoint kept, resume */
+enum {
+    EXIT_OK = 0,
+    EXIT_FAILED = 1,
+    EXIT_REFUSED = 2,
+    EXIT_UNSTABLE = 3,
+    EXIT_WALL_LIMIT =
+        4, /* stopped before run.wall_limit ran out; checkpoint written (docs/checkpoints.md) */
+    EXIT_STOPPED = 5, /* stopped by SIGTERM/SIGINT; checkpoint written */
+    EXIT_WRITE_FAILED = 6
+}; /* an output could not be written (a full disk); checkpoint kept, resume */
 
 /* Print "granule: <message>" on stderr, one line, control bytes and invalid UTF-8 as \xNN. */
 void app_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));

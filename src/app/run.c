@@ -59,7 +59,7 @@ void gr_run_test_pause(const gr_sim *sim, const gr_run_options *opt)
 void gr_run_csv_header(gr_file *f, const char *what, const gr_scene *s, uint64_t hash)
 {
     gr_file_note(f, "# granule %s (%s)\n# scene %s, hash %016llx, seed %llu\n", what, GR_VERSION,
-            s->source, (unsigned long long)hash, (unsigned long long)s->seed);
+                 s->source, (unsigned long long)hash, (unsigned long long)s->seed);
 }
 
 /* Close a streamed table without moving it into place (a resume continues it), dropping its notes. */
@@ -76,13 +76,12 @@ void gr_run_stream_leave(gr_file *f)
     f->columns = 0;
 }
 
-
 /* A folder with a run still going (its RUN_LOCK held) is refused: a second run would delete the
  * first one's partial files, and a resume would continue a checkpoint the first one still moves. */
 static int refuse_busy(const gr_run_ctx *c, const char *holder)
 {
-    return GR_FAIL(c->err, GR_EINVAL, "output folder %s is in use by a run still going (%s): %s", c->scene->out_dir,
-                   holder[0] ? holder : "another process",
+    return GR_FAIL(c->err, GR_EINVAL, "output folder %s is in use by a run still going (%s): %s",
+                   c->scene->out_dir, holder[0] ? holder : "another process",
                    c->resume ? "it is not interrupted, so there is nothing to resume until it stops"
                              : "wait for it to finish, or choose another folder");
 }
@@ -97,7 +96,8 @@ static int open_run(gr_run_ctx *c)
     const gr_run_options *opt = c->opt;
     gr_error *err = c->err;
     char holder[400];
-    if (gr_dir_lock_held(scene->out_dir, RUN_LOCK, holder, sizeof holder)) { /* before any word about its files */
+    if (gr_dir_lock_held(scene->out_dir, RUN_LOCK, holder,
+                         sizeof holder)) { /* before any word about its files */
         return refuse_busy(c, holder);
     }
     /* resuming (docs/checkpoints.md): the scene must be the checkpoint's; its source is restored */
@@ -124,7 +124,9 @@ static int open_run(gr_run_ctx *c)
         rc = gr_sim_track_contacts(c->sim, err);
     }
     c->dt = gr_sim_dt(c->sim);
-    rc = rc ? rc : gr_run_schedule_make(scene, c->dt, &c->plan, c->res->notes, sizeof c->res->notes, err);
+    rc =
+        rc ? rc
+           : gr_run_schedule_make(scene, c->dt, &c->plan, c->res->notes, sizeof c->res->notes, err);
     const bool resume = c->resume;
     rc = rc || resume ? rc : gr_run_checkpoint_guard(c->dir, opt && opt->force, err);
     rc = rc || resume ? rc : gr_output_dir_prepare(c->dir, GR_OUTPUT_RUN, opt && opt->force, err);
@@ -134,7 +136,9 @@ static int open_run(gr_run_ctx *c)
             return refuse_busy(c, holder); /* started since the check above */
         }
     }
-    rc = rc || resume ? rc : gr_run_clear_leftovers(c->dir, err); /* an old checkpoint (--force), NAME.tmpPID */
+    rc = rc || resume
+             ? rc
+             : gr_run_clear_leftovers(c->dir, err); /* an old checkpoint (--force), NAME.tmpPID */
     rc = rc || resume ? rc : gr_scene_save(scene, c->dir, err); /* a resume reads it back */
     c->hash = gr_scene_hash(scene);
     return rc;
@@ -150,12 +154,14 @@ static const char *temperature_columns(const gr_scene *s)
 
 static const char *ledger_columns(const gr_scene *s)
 {
-#define GR_LEDGER_BASE "t [s],kinetic [J],elastic [J],injected [J],dissipated_normal [J],dissipated_tangential [J]," \
-                       "dissipated_friction [J],removed_com [J],residual [J]"
+#define GR_LEDGER_BASE                                                                             \
+    "t [s],kinetic [J],elastic [J],injected [J],dissipated_normal [J],dissipated_tangential [J],"  \
+    "dissipated_friction [J],removed_com [J],residual [J]"
     /* optional columns at the end, so the others keep their places: the spins' energy with
      * rotation, the bath's drag with a Langevin driving */
-    static const char *const columns[2][2] = {{GR_LEDGER_BASE, GR_LEDGER_BASE ",dissipated_drag [J]"},
-                                              {GR_LEDGER_BASE ",rotational [J]", GR_LEDGER_BASE ",rotational [J],dissipated_drag [J]"}};
+    static const char *const columns[2][2] = {
+        {GR_LEDGER_BASE, GR_LEDGER_BASE ",dissipated_drag [J]"},
+        {GR_LEDGER_BASE ",rotational [J]", GR_LEDGER_BASE ",rotational [J],dissipated_drag [J]"}};
 #undef GR_LEDGER_BASE
     return columns[s->contact.rotation ? 1 : 0][s->driving && s->driving->drag ? 1 : 0];
 }
@@ -199,25 +205,41 @@ static int start_outputs(gr_run_ctx *c)
     /* checkpoints (docs/checkpoints.md): at sample boundaries every checkpoint_every (simulated)
      * or checkpoint_wall (wall clock); on a stop request (signal, wall budget) at the next step
      * boundary */
-    c->ckst = (gr_run_ckpt){.k_next = 0, .per_sample = plan->per_sample, .warm_samples = plan->warm_samples,
-                            .run_samples = plan->run_samples, .blk = &c->blk, .haff_n = &c->haff_n,
-                            .haff_cap = c->haff_cap, .haff_t = c->haff_t, .haff_T = c->haff_T,
-                            .next_snap = &c->next_snap, .snap_index = &c->snap_index, .ft = &c->ft, .fl = &c->fl,
+    c->ckst = (gr_run_ckpt){.k_next = 0,
+                            .per_sample = plan->per_sample,
+                            .warm_samples = plan->warm_samples,
+                            .run_samples = plan->run_samples,
+                            .blk = &c->blk,
+                            .haff_n = &c->haff_n,
+                            .haff_cap = c->haff_cap,
+                            .haff_t = c->haff_t,
+                            .haff_T = c->haff_T,
+                            .next_snap = &c->next_snap,
+                            .snap_index = &c->snap_index,
+                            .ft = &c->ft,
+                            .fl = &c->fl,
                             .traj = &c->traj};
     if (c->resume) {
         int rc = gr_run_resume_state(&c->ck, c->dir, c->sim, c->obs, &c->ckst, c->err);
         free(c->ck_buf);
         c->ck_buf = NULL;
         while (!rc && plan->snap_every > 0 && c->next_snap < gr_sim_steps(c->sim)) {
-            c->next_snap += plan->snap_every; /* a checkpoint of a version that snapshotted at samples */
+            c->next_snap +=
+                plan->snap_every; /* a checkpoint of a version that snapshotted at samples */
         }
         if (rc) {
             return rc;
         }
     }
     /* the tables' notes (NAME.meta.json at commit) are kept in memory, so a resume writes them again */
-    gr_run_csv_header(&c->ft, "granular temperature T(t) of eq. 2.19, m^2/s^2; running_mean over the sampling phase", c->scene, c->hash);
-    gr_run_csv_header(&c->fl, "energy ledger, J (residual = kinetic + elastic - initial - injected + dissipated + removed_com)", c->scene, c->hash);
+    gr_run_csv_header(
+        &c->ft,
+        "granular temperature T(t) of eq. 2.19, m^2/s^2; running_mean over the sampling phase",
+        c->scene, c->hash);
+    gr_run_csv_header(&c->fl,
+                      "energy ledger, J (residual = kinetic + elastic - initial - injected + "
+                      "dissipated + removed_com)",
+                      c->scene, c->hash);
     if (c->resume) { /* the header is in the file already; the units go to the sidecar again */
         gr_file_units(&c->ft, temperature_columns(c->scene));
         gr_file_units(&c->fl, ledger_columns(c->scene));
@@ -227,8 +249,13 @@ static int start_outputs(gr_run_ctx *c)
     const gr_traj_setup setup = {
         .format = s->trajectory,
         .frames = s->snapshot_every > 0.0,
-        .particles = {.n = s->N, .dim = s->dim, .L = s->L, .radius = s->radius, .mass = s->mass,
-                      .angular_velocity = s->dim == 2 && s->contact.rotation, .deflate = 1}};
+        .particles = {.n = s->N,
+                      .dim = s->dim,
+                      .L = s->L,
+                      .radius = s->radius,
+                      .mass = s->mass,
+                      .angular_velocity = s->dim == 2 && s->contact.rotation,
+                      .deflate = 1}};
     int rc = gr_traj_writer_open(&c->traj, &setup, c->dir, c->resume ? c->snap_index : -1, c->err);
     if (rc) {
         gr_traj_writer_close(&c->traj, &(gr_error){0});
@@ -266,8 +293,14 @@ int gr_run(const gr_scene *scene, const gr_run_options *opt, gr_run_result *res,
     if (!c) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory");
     }
-    *c = (gr_run_ctx){.scene = scene, .opt = opt, .res = res, .err = err, .resume = opt && opt->resume,
-                      .t_enter = gr_run_now(), .status = "completed", .lock_fd = -1};
+    *c = (gr_run_ctx){.scene = scene,
+                      .opt = opt,
+                      .res = res,
+                      .err = err,
+                      .resume = opt && opt->resume,
+                      .t_enter = gr_run_now(),
+                      .status = "completed",
+                      .lock_fd = -1};
     /* set-up */
     int rc = open_run(c);
     rc = rc ? rc : open_tables(c);

@@ -54,8 +54,9 @@ static const char *base_name(const char *path)
     return s ? s + 1 : path;
 }
 
-int gr_run_checkpoint_write(const char *dir, const gr_scene *scene, const gr_sim *sim, const gr_observer *obs,
-                            const gr_run_ckpt *st, double *seconds, size_t *bytes, gr_error *err)
+int gr_run_checkpoint_write(const char *dir, const gr_scene *scene, const gr_sim *sim,
+                            const gr_observer *obs, const gr_run_ckpt *st, double *seconds,
+                            size_t *bytes, gr_error *err)
 {
     const double t0 = wall_now();
     int64_t len_t = 0, len_l = 0;
@@ -97,13 +98,12 @@ int gr_run_checkpoint_write(const char *dir, const gr_scene *scene, const gr_sim
     size_t image_len = 0;
     if (!rc) {
         const gr_checkpoint_section sec[] = {
-            {"SCEN", text, text_len},
-            {"SRC ", scene->source, strlen(scene->source)},
-            {"SIM ", bsim.data, bsim.len},
-            {"OBS ", bobs.data, bobs.len},
+            {"SCEN", text, text_len},      {"SRC ", scene->source, strlen(scene->source)},
+            {"SIM ", bsim.data, bsim.len}, {"OBS ", bobs.data, bobs.len},
             {"RUN ", brun.data, brun.len},
         };
-        rc = gr_checkpoint_build(gr_scene_hash(scene), sec, (int)(sizeof sec / sizeof sec[0]), &image, &image_len, err);
+        rc = gr_checkpoint_build(gr_scene_hash(scene), sec, (int)(sizeof sec / sizeof sec[0]),
+                                 &image, &image_len, err);
     }
     free(text);
     gr_blob_free(&bsim);
@@ -134,13 +134,15 @@ static int remove_partials(const char *dir, gr_error *err)
     int rc = GR_OK;
     for (struct dirent *de; !rc && (de = readdir(d));) {
         const char *tmp = strstr(de->d_name, ".tmp");
-        if (!tmp || tmp == de->d_name || !tmp[4] || strspn(tmp + 4, "0123456789") != strlen(tmp + 4)) {
+        if (!tmp || tmp == de->d_name || !tmp[4] ||
+            strspn(tmp + 4, "0123456789") != strlen(tmp + 4)) {
             continue;
         }
         char path[1400];
         snprintf(path, sizeof path, "%s/%s", dir, de->d_name);
         if (unlink(path) != 0 && errno != ENOENT) {
-            rc = GR_FAIL(err, GR_EIO, "cannot remove %s, a partial file of an interrupted run: %s", path, strerror(errno));
+            rc = GR_FAIL(err, GR_EIO, "cannot remove %s, a partial file of an interrupted run: %s",
+                         path, strerror(errno));
         }
     }
     closedir(d);
@@ -170,7 +172,8 @@ int gr_run_clear_leftovers(const char *dir, gr_error *err)
     char path[1200];
     snprintf(path, sizeof path, "%.1100s/%s", dir, GR_CHECKPOINT_NAME);
     if (unlink(path) != 0 && errno != ENOENT) {
-        return GR_FAIL(err, GR_EIO, "cannot remove the old checkpoint %s: %s", path, strerror(errno));
+        return GR_FAIL(err, GR_EIO, "cannot remove the old checkpoint %s: %s", path,
+                       strerror(errno));
     }
     int rc = remove_partials(dir, err);
     snprintf(path, sizeof path, "%.1100s/snapshots", dir);
@@ -182,8 +185,8 @@ int gr_run_clear_leftovers(const char *dir, gr_error *err)
 /* Keys that may differ on resume: they never change what the run computes. */
 static bool may_differ(const char *section, const char *key)
 {
-    static const char *const ok[] = {"run.checkpoint_every", "run.checkpoint_wall", "run.wall_limit", "run.progress",
-                                     "output.dir"};
+    static const char *const ok[] = {"run.checkpoint_every", "run.checkpoint_wall",
+                                     "run.wall_limit", "run.progress", "output.dir"};
     char full[160];
     snprintf(full, sizeof full, "%s.%s", section, key);
     for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++) {
@@ -195,7 +198,8 @@ static bool may_differ(const char *section, const char *key)
 }
 
 /* The value of section.key in an INI text (a pointer to it and its length), or NULL. */
-static const char *find_value(const char *text, size_t len, const char *section, const char *key, size_t *vlen)
+static const char *find_value(const char *text, size_t len, const char *section, const char *key,
+                              size_t *vlen)
 {
     char sec[64] = "";
     const char *p = text, *end = text + len;
@@ -208,7 +212,8 @@ static const char *find_value(const char *text, size_t len, const char *section,
         } else if (n > 0 && p[0] != ';' && strcmp(sec, section) == 0) {
             const char *eq = memchr(p, '=', n);
             size_t klen = strlen(key);
-            if (eq && eq - p == (ptrdiff_t)(klen + 1) && memcmp(p, key, klen) == 0 && p[klen] == ' ') {
+            if (eq && eq - p == (ptrdiff_t)(klen + 1) && memcmp(p, key, klen) == 0 &&
+                p[klen] == ' ') {
                 const char *v = eq + 1 + (eq + 1 < e && eq[1] == ' ');
                 *vlen = (size_t)(e - v);
                 return v;
@@ -220,7 +225,8 @@ static const char *find_value(const char *text, size_t len, const char *section,
 }
 
 /* Check every key of `a` against `b`; *key_out names the first that differs. */
-static bool keys_agree(const char *a, size_t alen, const char *b, size_t blen, char *msg, size_t msg_len, bool a_is_checkpoint)
+static bool keys_agree(const char *a, size_t alen, const char *b, size_t blen, char *msg,
+                       size_t msg_len, bool a_is_checkpoint)
 {
     char sec[64] = "";
     const char *p = a, *end = a + alen;
@@ -244,7 +250,8 @@ static bool keys_agree(const char *a, size_t alen, const char *b, size_t blen, c
                 const char *w = find_value(b, blen, sec, key, &wlen);
                 if (!may_differ(sec, key) && (!w || wlen != vlen || memcmp(v, w, vlen) != 0)) {
                     const char *ck = a_is_checkpoint ? v : w, *now = a_is_checkpoint ? w : v;
-                    size_t ck_len = a_is_checkpoint ? vlen : wlen, now_len = a_is_checkpoint ? wlen : vlen;
+                    size_t ck_len = a_is_checkpoint ? vlen : wlen,
+                           now_len = a_is_checkpoint ? wlen : vlen;
                     snprintf(msg, msg_len, "[%s] %s = %.*s in the checkpoint, %.*s now", sec, key,
                              ck ? (int)(ck_len > 100 ? 100 : ck_len) : 7, ck ? ck : "(unset)",
                              now ? (int)(now_len > 100 ? 100 : now_len) : 7, now ? now : "(unset)");
@@ -263,16 +270,19 @@ int gr_scene_text_compare(const char *ck, size_t ck_len, const char *now, gr_err
     size_t now_len = strlen(now);
     if (!keys_agree(ck, ck_len, now, now_len, msg, sizeof msg, true) ||
         !keys_agree(now, now_len, ck, ck_len, msg, sizeof msg, false)) {
-        return GR_FAIL(err, GR_EINVAL, "the scene differs from the one the checkpoint was written with: %s; "
-                                       "a resumed run must use the same scene (only run.checkpoint_every, "
-                                       "run.checkpoint_wall, run.wall_limit, run.progress may change)", msg);
+        return GR_FAIL(err, GR_EINVAL,
+                       "the scene differs from the one the checkpoint was written with: %s; "
+                       "a resumed run must use the same scene (only run.checkpoint_every, "
+                       "run.checkpoint_wall, run.wall_limit, run.progress may change)",
+                       msg);
     }
     return GR_OK;
 }
 
 /* ---------- resuming ---------- */
 
-int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoint *ck, gr_error *err)
+int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoint *ck,
+                       gr_error *err)
 {
     *buf = NULL;
     char path[1200];
@@ -291,15 +301,18 @@ int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoi
         }
     }
     /* a run stopped by a failed write (a full disk) kept its checkpoint: it continues */
-    if (sf && (!strcmp(status, "failed") || !strcmp(status, "interrupted")) && !gr_run_checkpoint_present(dir)) {
+    if (sf && (!strcmp(status, "failed") || !strcmp(status, "interrupted")) &&
+        !gr_run_checkpoint_present(dir)) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: this run stopped (summary.json, status %s) before its first checkpoint, so it cannot be "
+                       "%s: this run stopped (summary.json, status %s) before its first "
+                       "checkpoint, so it cannot be "
                        "continued: start it again with granule run %s/scene.ini --out %s --force",
                        dir, status, dir, dir);
     }
     if (sf && strcmp(status, GR_RUN_STATUS_WRITE_FAILED) != 0) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: this run has finished (summary.json, status %s): there is nothing to resume and its "
+                       "%s: this run has finished (summary.json, status %s): there is nothing to "
+                       "resume and its "
                        "results are not overwritten; start a new run in another folder",
                        dir, status);
     }
@@ -312,14 +325,16 @@ int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoi
     if (gr_checkpoint_read_buffer(*buf, len, ck, &perr) != GR_OK) {
         free(*buf);
         *buf = NULL;
-        return GR_FAIL(err, GR_EINVAL, "%s/%s is refused: %s", dir, GR_CHECKPOINT_NAME, perr.message);
+        return GR_FAIL(err, GR_EINVAL, "%s/%s is refused: %s", dir, GR_CHECKPOINT_NAME,
+                       perr.message);
     }
     static const char *const need[] = {"SCEN", "SRC ", "SIM ", "OBS ", "RUN "};
     for (size_t i = 0; i < sizeof need / sizeof need[0]; i++) {
         if (!gr_checkpoint_find(ck, need[i])) {
             free(*buf);
             *buf = NULL;
-            return GR_FAIL(err, GR_EINVAL, "%s/%s is refused: it has no %.4s section (not a run checkpoint)", dir,
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s/%s is refused: it has no %.4s section (not a run checkpoint)", dir,
                            GR_CHECKPOINT_NAME, need[i]);
         }
     }
@@ -343,24 +358,29 @@ int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoi
     rc = gr_scene_text_compare(sc->data, sc->len, text, &cerr);
     free(text);
     if (!rc && gr_scene_hash(scene) != ck->scene_hash) {
-        rc = GR_FAIL(&cerr, GR_EINVAL, "the scene's hash %016llx differs from the checkpoint's %016llx",
+        rc = GR_FAIL(&cerr, GR_EINVAL,
+                     "the scene's hash %016llx differs from the checkpoint's %016llx",
                      (unsigned long long)gr_scene_hash(scene), (unsigned long long)ck->scene_hash);
     }
     if (rc) {
         free(*buf);
         *buf = NULL;
-        return GR_FAIL(err, GR_EINVAL, "%s/%s is refused: %s", dir, GR_CHECKPOINT_NAME, cerr.message);
+        return GR_FAIL(err, GR_EINVAL, "%s/%s is refused: %s", dir, GR_CHECKPOINT_NAME,
+                       cerr.message);
     }
     gr_scene_saved_warnings(scene, dir); /* the first start's warnings, for summary.json */
     return GR_OK;
 }
 
 /* Reopen a streamed CSV where the checkpoint left it. */
-static int reopen(const char *dir, const char *name, const char *tmp, int64_t length, gr_file *f, gr_error *err)
+static int reopen(const char *dir, const char *name, const char *tmp, int64_t length, gr_file *f,
+                  gr_error *err)
 {
     size_t nlen = strlen(name);
-    if (strchr(tmp, '/') || strncmp(tmp, name, nlen) != 0 || strncmp(tmp + nlen, ".tmp", 4) != 0 || length < 0) {
-        return GR_FAIL(err, GR_EINVAL, "checkpoint section RUN: '%s' is not a temporary file of %s", tmp, name);
+    if (strchr(tmp, '/') || strncmp(tmp, name, nlen) != 0 || strncmp(tmp + nlen, ".tmp", 4) != 0 ||
+        length < 0) {
+        return GR_FAIL(err, GR_EINVAL, "checkpoint section RUN: '%s' is not a temporary file of %s",
+                       tmp, name);
     }
     snprintf(f->path, sizeof f->path, "%s/%s", dir, name);
     snprintf(f->tmp, sizeof f->tmp, "%s/%s", dir, tmp);
@@ -372,16 +392,18 @@ static int reopen(const char *dir, const char *name, const char *tmp, int64_t le
     if (!f->f) { /* missing (or a symlink loop): the folder does not hold what the checkpoint recorded */
         const int e = errno;
         const bool input = e != EIO && e != ENOMEM && e != EMFILE && e != ENFILE && e != ENOSPC;
-        return GR_FAIL(err, input ? GR_EINVAL : GR_EIO, "cannot continue %s: its partial file %s: %s", f->path, f->tmp,
-                       strerror(e));
+        return GR_FAIL(err, input ? GR_EINVAL : GR_EIO,
+                       "cannot continue %s: its partial file %s: %s", f->path, f->tmp, strerror(e));
     }
     struct stat st;
     if (fstat(fileno(f->f), &st) != 0 || (int64_t)st.st_size < length) {
         long long have = (long long)st.st_size;
         fclose(f->f);
         f->f = NULL;
-        return GR_FAIL(err, GR_EINVAL, "cannot continue %s: %s holds %lld bytes, fewer than the %lld the checkpoint recorded",
-                       f->path, f->tmp, have, (long long)length);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "cannot continue %s: %s holds %lld bytes, fewer than the %lld the checkpoint recorded",
+            f->path, f->tmp, have, (long long)length);
     }
     /* rows written after the checkpoint are written again, identically */
     if (ftruncate(fileno(f->f), (off_t)length) != 0 || fseeko(f->f, 0, SEEK_END) != 0) {
@@ -393,8 +415,8 @@ static int reopen(const char *dir, const char *name, const char *tmp, int64_t le
     return GR_OK;
 }
 
-int gr_run_resume_state(const gr_checkpoint *ck, const char *dir, gr_sim *sim, gr_observer *obs, gr_run_ckpt *st,
-                        gr_error *err)
+int gr_run_resume_state(const gr_checkpoint *ck, const char *dir, gr_sim *sim, gr_observer *obs,
+                        gr_run_ckpt *st, gr_error *err)
 {
     const gr_checkpoint_section *s = gr_checkpoint_find(ck, "SIM ");
     gr_blob_reader r;
@@ -414,25 +436,28 @@ int gr_run_resume_state(const gr_checkpoint *ck, const char *dir, gr_sim *sim, g
     if (!r.bad && tag != RUN_STATE_TAG) {
         gr_blob_fail(&r, "layout %08x, this build reads %08x", tag, RUN_STATE_TAG);
     }
-    int64_t k_next = gr_blob_get_i64(&r), per = gr_blob_get_i64(&r), warm = gr_blob_get_i64(&r), run = gr_blob_get_i64(&r);
+    int64_t k_next = gr_blob_get_i64(&r), per = gr_blob_get_i64(&r), warm = gr_blob_get_i64(&r),
+            run = gr_blob_get_i64(&r);
     if (!r.bad && (per != st->per_sample || warm != st->warm_samples || run != st->run_samples)) {
-        gr_blob_fail(&r, "%lld + %lld samples of %lld steps, the scene gives %lld + %lld of %lld", (long long)warm,
-                     (long long)run, (long long)per, (long long)st->warm_samples, (long long)st->run_samples,
-                     (long long)st->per_sample);
+        gr_blob_fail(&r, "%lld + %lld samples of %lld steps, the scene gives %lld + %lld of %lld",
+                     (long long)warm, (long long)run, (long long)per, (long long)st->warm_samples,
+                     (long long)st->run_samples, (long long)st->per_sample);
     }
     if (!r.bad && (k_next < 1 || k_next > warm + run + 1)) {
-        gr_blob_fail(&r, "next sample %lld is outside 1..%lld", (long long)k_next, (long long)(warm + run + 1));
+        gr_blob_fail(&r, "next sample %lld is outside 1..%lld", (long long)k_next,
+                     (long long)(warm + run + 1));
     }
     const int64_t step = gr_sim_steps(sim);
     if (!r.bad && (step < (k_next - 1) * per || step > k_next * per)) {
-        gr_blob_fail(&r, "the simulation is at step %lld, not between samples %lld and %lld", (long long)step,
-                     (long long)(k_next - 1), (long long)k_next);
+        gr_blob_fail(&r, "the simulation is at step %lld, not between samples %lld and %lld",
+                     (long long)step, (long long)(k_next - 1), (long long)k_next);
     }
     st->k_next = k_next;
     gr_blob_get_blocking(&r, st->blk);
     int64_t haff_n = gr_blob_get_i64(&r);
     if (!r.bad && (haff_n < 0 || haff_n > st->haff_cap)) {
-        gr_blob_fail(&r, "%lld cooling-curve samples, room for %lld", (long long)haff_n, (long long)st->haff_cap);
+        gr_blob_fail(&r, "%lld cooling-curve samples, room for %lld", (long long)haff_n,
+                     (long long)st->haff_cap);
     }
     if (!r.bad) {
         r.pos -= 8; /* the count is read again by the checked array read */

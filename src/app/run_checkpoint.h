@@ -17,22 +17,23 @@
 
 /* The run driver's own state at a step boundary. */
 typedef struct gr_run_ckpt {
-    int64_t k_next;                 /* the next sample to take (samples 0..k_next-1 are written) */
+    int64_t k_next; /* the next sample to take (samples 0..k_next-1 are written) */
     int64_t per_sample, warm_samples, run_samples; /* checked on resume */
-    gr_blocking *blk;               /* T block averaging */
-    int64_t *haff_n, haff_cap;      /* cooling runs: T(t) kept for the Haff's-law fit */
+    gr_blocking *blk;                              /* T block averaging */
+    int64_t *haff_n, haff_cap; /* cooling runs: T(t) kept for the Haff's-law fit */
     double *haff_t, *haff_T;
-    int64_t *next_snap;             /* step of the next snapshot */
+    int64_t *next_snap; /* step of the next snapshot */
     int *snap_index;
-    gr_file *ft, *fl;               /* temperature.csv and ledger.csv, being streamed */
-    gr_traj_writer *traj;           /* the trajectory (its frame count is *snap_index) */
+    gr_file *ft, *fl;     /* temperature.csv and ledger.csv, being streamed */
+    gr_traj_writer *traj; /* the trajectory (its frame count is *snap_index) */
 } gr_run_ckpt;
 
 /* Write dir/checkpoint: the resolved scene text, the simulation, the observables and the
  * driver state; the streamed CSVs are flushed and fsync'ed first and their lengths recorded.
  * *seconds (wall) and *bytes report the cost. */
-int gr_run_checkpoint_write(const char *dir, const gr_scene *scene, const gr_sim *sim, const gr_observer *obs,
-                            const gr_run_ckpt *st, double *seconds, size_t *bytes, gr_error *err);
+int gr_run_checkpoint_write(const char *dir, const gr_scene *scene, const gr_sim *sim,
+                            const gr_observer *obs, const gr_run_ckpt *st, double *seconds,
+                            size_t *bytes, gr_error *err);
 
 /* Refuse to start a fresh run over an interrupted one (dir/checkpoint) unless `force`; changes
  * nothing, so it can run before the output folder is checked. */
@@ -51,16 +52,18 @@ int gr_run_clear_leftovers(const char *dir, gr_error *err);
  * missing, truncated, corrupt or foreign checkpoint, and a scene that differs from the one the
  * checkpoint was written with (naming the first differing key). On success *buf holds the file
  * (free it after gr_run_resume_state) and scene->source is restored to the original. */
-int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoint *ck, gr_error *err);
+int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoint *ck,
+                       gr_error *err);
 
 /* Restore the simulation (created from the scene, contact tracking already on if needed),
  * the observables and the driver state; reopen the streamed CSVs and cut them to the length
  * they had at the checkpoint. */
-int gr_run_resume_state(const gr_checkpoint *ck, const char *dir, gr_sim *sim, gr_observer *obs, gr_run_ckpt *st,
-                        gr_error *err);
+int gr_run_resume_state(const gr_checkpoint *ck, const char *dir, gr_sim *sim, gr_observer *obs,
+                        gr_run_ckpt *st, gr_error *err);
 
 /* Compare two resolved scene texts (gr_scene_write); GR_OK if they agree on every key that can
  * change results, else GR_EINVAL naming the first differing key and both values. */
-int gr_scene_text_compare(const char *checkpoint_text, size_t len, const char *scene_text, gr_error *err);
+int gr_scene_text_compare(const char *checkpoint_text, size_t len, const char *scene_text,
+                          gr_error *err);
 
 #endif

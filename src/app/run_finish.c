@@ -31,12 +31,14 @@ static double injection_rate_expected(const gr_scene *scene, double dt)
     if (d->update == GR_DRIVE_OFF) {
         return 0.0;
     }
-    return scene->dim * scene->D / scene->mass * scene->N * (scene->noise_mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / scene->N : 1.0);
+    return scene->dim * scene->D / scene->mass * scene->N *
+           (scene->noise_mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / scene->N : 1.0);
 }
 
-static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, const gr_run_result *r,
-                         const gr_blocking *blk, const char *status, const char *diagnosis,
-                         const char *plots, cJSON *analysis, cJSON *mean_field, gr_error *err)
+static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim,
+                         const gr_run_result *r, const gr_blocking *blk, const char *status,
+                         const char *diagnosis, const char *plots, cJSON *analysis,
+                         cJSON *mean_field, gr_error *err)
 {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "status", status);
@@ -55,7 +57,8 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, co
     cJSON_AddNumberToObject(j, "samples", (double)r->samples);
     cJSON_AddNumberToObject(j, "wall_seconds", r->wall_seconds);
     cJSON_AddNumberToObject(j, "particle_steps_per_second", r->particle_steps_per_second);
-    cJSON_AddNumberToObject(j, "checkpoints_written", (double)r->checkpoints); /* this session (docs/checkpoints.md) */
+    cJSON_AddNumberToObject(j, "checkpoints_written",
+                            (double)r->checkpoints); /* this session (docs/checkpoints.md) */
     cJSON_AddNumberToObject(j, "checkpoint_seconds", r->checkpoint_seconds);
     if (r->checkpoint_error[0]) {
         cJSON_AddStringToObject(j, "checkpoint_error", r->checkpoint_error);
@@ -85,7 +88,8 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, co
     cJSON_AddNumberToObject(led, "relative_residual", scale > 0.0 ? res / scale : 0.0);
     cJSON_AddStringToObject(j, "kernel", r->kernel);
     cJSON_AddNumberToObject(j, "threads", gr_sim_threads(sim)); /* results do not depend on it */
-    const gr_integrator_type *it = gr_sim_integrator(sim); /* its own figures, e.g. "hybrid" (docs/hybrid.md) */
+    const gr_integrator_type *it =
+        gr_sim_integrator(sim); /* its own figures, e.g. "hybrid" (docs/hybrid.md) */
     gr_integrator_figure fig[16];
     const int n_fig = it->describe ? it->describe(sim, fig, 16) : 0;
     cJSON *fj = n_fig > 0 ? cJSON_AddObjectToObject(j, it->section ? it->section : it->name) : NULL;
@@ -94,18 +98,21 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, co
     }
     const double events = (double)gr_sim_events_processed(sim); /* event-driven runs; 0 otherwise */
     cJSON_AddNumberToObject(j, "events_processed", events);
-    cJSON_AddNumberToObject(j, "events_per_second", r->wall_seconds > 0.0 ? events / r->wall_seconds : 0.0);
+    cJSON_AddNumberToObject(j, "events_per_second",
+                            r->wall_seconds > 0.0 ? events / r->wall_seconds : 0.0);
     const gr_contact_coeffs *c = gr_sim_coeffs(sim);
     cJSON *co = cJSON_AddObjectToObject(j, "contact");
     cJSON_AddNumberToObject(co, "dt", gr_sim_dt(sim));
     cJSON_AddNumberToObject(co, "t_c", isfinite(c->t_c) ? c->t_c : -1.0);
-    cJSON_AddNumberToObject(co, "steps_per_contact", isfinite(c->t_c) ? c->t_c / gr_sim_dt(sim) : -1.0);
+    cJSON_AddNumberToObject(co, "steps_per_contact",
+                            isfinite(c->t_c) ? c->t_c / gr_sim_dt(sim) : -1.0);
     cJSON_AddNumberToObject(co, "gamma_n", c->gamma_n);
     cJSON_AddNumberToObject(co, "gamma_t", c->gamma_t);
     cJSON_AddNumberToObject(co, "zeta", c->zeta);
     cJSON_AddNumberToObject(co, "eps_n_exact", c->eps_n_exact);
     cJSON_AddNumberToObject(co, "max_overlap_now", gr_sim_max_overlap(sim));
-    cJSON_AddNumberToObject(j, "energy_injection_rate_expected", injection_rate_expected(scene, gr_sim_dt(sim)));
+    cJSON_AddNumberToObject(j, "energy_injection_rate_expected",
+                            injection_rate_expected(scene, gr_sim_dt(sim)));
     cJSON *bl = cJSON_AddArrayToObject(j, "T_blocking_stderr");
     for (int k = 0; k < GR_BLOCKING_LEVELS && blk->count[k] >= 2; k++) {
         cJSON_AddItemToArray(bl, cJSON_CreateNumber(gr_blocking_stderr_at(blk, k)));
@@ -128,18 +135,21 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim, co
     return rc;
 }
 
-static int write_blocks(const char *dir, const gr_scene *s, uint64_t hash, const gr_blocking *b, gr_error *err)
+static int write_blocks(const char *dir, const gr_scene *s, uint64_t hash, const gr_blocking *b,
+                        gr_error *err)
 {
     gr_file f;
     int rc = gr_file_open(&f, dir, "blocks.csv", err);
     if (rc) {
         return rc;
     }
-    gr_run_csv_header(&f, "block averaging of T (Flyvbjerg-Petersen); T in m^2/s^2, block length in s", s, hash);
+    gr_run_csv_header(
+        &f, "block averaging of T (Flyvbjerg-Petersen); T in m^2/s^2, block length in s", s, hash);
     gr_file_header(&f, "level [1],block_seconds [s],blocks [1],T_mean [m2 s-2],T_stderr [m2 s-2]");
     for (int k = 0; k < GR_BLOCKING_LEVELS && b->count[k] >= 2; k++) {
-        fprintf(f.f, "%d,%.9g,%lld,%.9g,%.9g\n", k, ldexp(s->sample_every, k), (long long)b->count[k],
-                b->sum[k] / (double)b->count[k], gr_blocking_stderr_at(b, k));
+        fprintf(f.f, "%d,%.9g,%lld,%.9g,%.9g\n", k, ldexp(s->sample_every, k),
+                (long long)b->count[k], b->sum[k] / (double)b->count[k],
+                gr_blocking_stderr_at(b, k));
     }
     return gr_file_commit(&f, err);
 }
@@ -156,7 +166,10 @@ static void results(gr_run_ctx *c)
     c->res->steps = gr_sim_steps(c->sim);
     c->res->collisions = gr_sim_collisions(c->sim);
     c->res->wall_seconds = gr_run_now() - c->start;
-    c->res->particle_steps_per_second = c->stepping > 0.0 ? (double)c->scene->N * (double)(c->res->steps - c->steps_at_start) / c->stepping : 0.0;
+    c->res->particle_steps_per_second =
+        c->stepping > 0.0
+            ? (double)c->scene->N * (double)(c->res->steps - c->steps_at_start) / c->stepping
+            : 0.0;
     c->res->ledger = gr_sim_ledger(c->sim);
     c->res->T_mean = gr_blocking_mean(&c->blk);
     c->res->T_stderr = gr_blocking_stderr(&c->blk, NULL, &c->res->T_stderr_converged);
@@ -164,8 +177,8 @@ static void results(gr_run_ctx *c)
 
 /* The tables, plots, the observables' outputs and scene.ini (unless the run stops for a write
  * failure: then the tables are kept as temporaries for the resume). *plots names the plots. */
-static void write_outputs(gr_run_ctx *c, bool write_stop, finish_rcs *r, cJSON **analysis, const char **plots,
-                          char *plot_note, size_t note_cap, gr_error *io_err)
+static void write_outputs(gr_run_ctx *c, bool write_stop, finish_rcs *r, cJSON **analysis,
+                          const char **plots, char *plot_note, size_t note_cap, gr_error *io_err)
 {
     if (write_stop) {
         gr_file_keep(&c->ft);
@@ -178,11 +191,18 @@ static void write_outputs(gr_run_ctx *c, bool write_stop, finish_rcs *r, cJSON *
     r->l = gr_file_commit(&c->fl, r->j || r->t ? &later : io_err);
     r->b = write_blocks(c->dir, c->scene, c->hash, &c->blk, r->t || r->l ? &later : io_err);
     if (c->scene->plots) {
-        *plots = gr_plot_run(c->dir, c->scene->dim, plot_note, note_cap) == GR_OK ? "temperature.png, ledger.png" : plot_note;
+        *plots = gr_plot_run(c->dir, c->scene->dim, plot_note, note_cap) == GR_OK
+                     ? "temperature.png, ledger.png"
+                     : plot_note;
     }
     if (gr_observer_count(c->obs) > 0) {
         *analysis = cJSON_CreateObject();
-        gr_output out = {.dir = c->dir, .source = c->scene->source, .seed = c->scene->seed, .scene_hash = c->hash, .summary = *analysis, .plots = c->scene->plots};
+        gr_output out = {.dir = c->dir,
+                         .source = c->scene->source,
+                         .seed = c->scene->seed,
+                         .scene_hash = c->hash,
+                         .summary = *analysis,
+                         .plots = c->scene->plots};
         r->o = gr_observer_finish(c->obs, &out, r->t || r->l || r->b ? &later : io_err);
     }
     r->i = gr_scene_save(c->scene, c->dir, r->t || r->l || r->b || r->o ? &later : io_err);
@@ -201,12 +221,16 @@ static void picture(const gr_run_ctx *c, char *note, size_t cap)
 }
 
 /* gr_run's return status and message, from the run's status and the final writes. */
-static int exit_status(gr_run_ctx *c, bool write_stop, double t_stop, int io, const finish_rcs *r, const gr_error *io_err)
+static int exit_status(gr_run_ctx *c, bool write_stop, double t_stop, int io, const finish_rcs *r,
+                       const gr_error *io_err)
 {
     if (write_stop) {
         c->res->stopped = GR_RUN_STOPPED_WRITE;
-        return GR_FAIL(c->err, GR_EIO, "%.600s; the run stopped at t = %.6g s and keeps its checkpoint: free space, then "
-                       "continue it with granule run --resume %s", c->diagnosis, t_stop, c->dir);
+        return GR_FAIL(
+            c->err, GR_EIO,
+            "%.600s; the run stopped at t = %.6g s and keeps its checkpoint: free space, then "
+            "continue it with granule run --resume %s",
+            c->diagnosis, t_stop, c->dir);
     }
     if (strcmp(c->status, "unstable") == 0) {
         *c->err = c->step_err;
@@ -216,10 +240,12 @@ static int exit_status(gr_run_ctx *c, bool write_stop, double t_stop, int io, co
         return io;
     }
     if (strcmp(c->status, "interrupted") == 0) { /* stopped without a checkpoint */
-        return GR_FAIL(c->err, GR_EIO, "%.600s (outputs so far written; this run cannot be resumed)", c->diagnosis);
+        return GR_FAIL(c->err, GR_EIO,
+                       "%.600s (outputs so far written; this run cannot be resumed)", c->diagnosis);
     }
     if (strcmp(c->status, "failed") == 0) {
-        *c->err = c->step_err.code ? c->step_err : *io_err; /* an observer's sample, or a final write */
+        *c->err =
+            c->step_err.code ? c->step_err : *io_err; /* an observer's sample, or a final write */
         return GR_EIO;
     }
     if (r->j || r->t || r->l || r->b || r->s || r->o || r->i) {
@@ -233,7 +259,8 @@ int gr_run_finish(gr_run_ctx *c)
 {
     results(c);
     gr_error io_err = {0};
-    int io = c->rc && !strcmp(c->status, "completed") ? c->rc : GR_OK; /* a snapshot write failure */
+    int io =
+        c->rc && !strcmp(c->status, "completed") ? c->rc : GR_OK; /* a snapshot write failure */
     if (io) {
         c->status = "failed"; /* GR_RUN_STATUS_WRITE_FAILED below when a checkpoint is kept */
         snprintf(c->diagnosis, sizeof c->diagnosis, "%s", c->err->message);
@@ -252,7 +279,8 @@ int gr_run_finish(gr_run_ctx *c)
     cJSON *analysis = NULL;
     write_outputs(c, write_stop, &r, &analysis, &plots, plot_note, sizeof plot_note, &io_err);
     gr_observer_free(c->obs);
-    if (!write_stop && resumable && strcmp(c->status, "completed") == 0 && (r.j || r.t || r.l || r.b || r.o || r.i)) {
+    if (!write_stop && resumable && strcmp(c->status, "completed") == 0 &&
+        (r.j || r.t || r.l || r.b || r.o || r.i)) {
         write_stop = true;
         snprintf(c->diagnosis, sizeof c->diagnosis, "%s", io_err.message);
     }
@@ -271,14 +299,17 @@ int gr_run_finish(gr_run_ctx *c)
     char plots_text[1200];
     snprintf(plots_text, sizeof plots_text, "%s%s", plots, picture_note);
     plots = plots_text;
-    cJSON *mean_field = c->scene->D > 0.0 ? gr_mean_field_steady(c->scene, c->res->T_mean)
-                                          : gr_mean_field_haff(c->scene, c->haff_t, c->haff_T, (int)c->haff_n);
+    cJSON *mean_field = c->scene->D > 0.0
+                            ? gr_mean_field_steady(c->scene, c->res->T_mean)
+                            : gr_mean_field_haff(c->scene, c->haff_t, c->haff_T, (int)c->haff_n);
     free(c->haff_t);
     free(c->haff_T);
-    r.s = write_summary(c->dir, c->scene, c->sim, c->res, &c->blk, c->status, c->diagnosis[0] ? c->diagnosis : NULL, plots,
-                        analysis, mean_field, &io_err);
+    r.s =
+        write_summary(c->dir, c->scene, c->sim, c->res, &c->blk, c->status,
+                      c->diagnosis[0] ? c->diagnosis : NULL, plots, analysis, mean_field, &io_err);
     if (r.s == GR_OK && c->scene->plots) {
-        gr_plot_summary_update(c->dir); /* "plots": every picture in the folder, as run/compare/sweep list them */
+        gr_plot_summary_update(
+            c->dir); /* "plots": every picture in the folder, as run/compare/sweep list them */
     }
     if (r.s && resumable && strcmp(c->status, "completed") == 0) {
         write_stop = true; /* no summary.json: the checkpoint is the run */

@@ -37,8 +37,8 @@ typedef struct gr_run_ctx {
     gr_checkpoint ck; /* resume: the checkpoint read, in ck_buf */
     void *ck_buf;
     /* outputs being written */
-    gr_file ft, fl;   /* temperature.csv, ledger.csv */
-    gr_blocking blk;  /* T block averages */
+    gr_file ft, fl;           /* temperature.csv, ledger.csv */
+    gr_blocking blk;          /* T block averages */
     int64_t haff_n, haff_cap; /* an undriven (cooling) run keeps its T(t) for the Haff's-law fit */
     double *haff_t, *haff_T;
     int64_t next_snap;
@@ -46,12 +46,12 @@ typedef struct gr_run_ctx {
     gr_traj_writer traj;
     gr_run_ckpt ckst; /* the driver state a checkpoint keeps */
     /* checkpoints and stopping */
-    gr_error ck_err;  /* why this run cannot checkpoint, if it cannot */
+    gr_error ck_err; /* why this run cannot checkpoint, if it cannot */
     bool can_checkpoint;
     int64_t steps_at_start;
     double t_enter, start, stepping, last_report, last_ckpt, chunk_wall, ckpt_cost;
     int64_t chunk, chunk_cap; /* steps per gr_sim_step call, adapted to about 0.1 s */
-    int stop;         /* 1: signal, 2: wall-clock budget */
+    int stop;                 /* 1: signal, 2: wall-clock budget */
     bool stopped_early;
     /* outcome */
     int rc;

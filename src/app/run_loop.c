@@ -28,8 +28,10 @@ static int stop_requested(const gr_run_ctx *c)
 {
     return c->opt && c->opt->stop && *c->opt->stop ? 1
            : c->scene->wall_limit > 0.0 &&
-                   gr_run_now() - c->t_enter + 2.0 * c->chunk_wall + 2.0 * c->ckpt_cost + 1.0 >= c->scene->wall_limit ? 2
-                                                                                                                  : 0;
+                   gr_run_now() - c->t_enter + 2.0 * c->chunk_wall + 2.0 * c->ckpt_cost + 1.0 >=
+                       c->scene->wall_limit
+               ? 2
+               : 0;
 }
 
 /* Step to sample k (writing the trajectory frames due on the way); false when the run must not
@@ -38,16 +40,19 @@ static bool advance(gr_run_ctx *c, int64_t k)
 {
     const int64_t per_sample = c->plan.per_sample, snap_every = c->plan.snap_every;
     while (c->rc == GR_OK && gr_sim_steps(c->sim) < k * per_sample) {
-        const int64_t until = snap_every > 0 && c->next_snap < k * per_sample ? c->next_snap : k * per_sample;
+        const int64_t until =
+            snap_every > 0 && c->next_snap < k * per_sample ? c->next_snap : k * per_sample;
         const int64_t todo = until - gr_sim_steps(c->sim);
         double t0 = gr_run_now();
         c->rc = gr_sim_step(c->sim, gr_sim_call_steps(c->sim, c->chunk, todo), &c->step_err);
         c->chunk_wall = gr_run_now() - t0;
         c->stepping += c->chunk_wall;
-        c->chunk = c->chunk_wall < 0.05 && c->chunk < c->chunk_cap ? (2 * c->chunk < c->chunk_cap ? 2 * c->chunk : c->chunk_cap)
+        c->chunk = c->chunk_wall < 0.05 && c->chunk < c->chunk_cap
+                       ? (2 * c->chunk < c->chunk_cap ? 2 * c->chunk : c->chunk_cap)
                    : c->chunk_wall > 0.2 && c->chunk > 1 ? c->chunk / 2
                                                          : c->chunk;
-        if (c->rc == GR_OK && snap_every > 0 && gr_sim_steps(c->sim) == c->next_snap && c->next_snap < k * per_sample) {
+        if (c->rc == GR_OK && snap_every > 0 && gr_sim_steps(c->sim) == c->next_snap &&
+            c->next_snap < k * per_sample) {
             c->rc = write_frame(c);
             if (c->rc) {
                 break;
@@ -96,7 +101,9 @@ static bool record(gr_run_ctx *c, int64_t k)
             int64_t n_ev = 0;
             const gr_contact_event *ev = gr_sim_events(sim, &n_ev);
             c->rc = gr_observer_sample(c->obs, &p, t, &c->step_err);
-            c->rc = c->rc ? c->rc : n_ev ? gr_observer_events(c->obs, ev, n_ev, &c->step_err) : GR_OK;
+            c->rc = c->rc  ? c->rc
+                    : n_ev ? gr_observer_events(c->obs, ev, n_ev, &c->step_err)
+                           : GR_OK;
             gr_sim_clear_events(sim);
             if (c->rc) {
                 c->status = "failed";
@@ -105,7 +112,8 @@ static bool record(gr_run_ctx *c, int64_t k)
             }
         }
     }
-    fprintf(c->ft.f, "%.9g,%.9g,%.9g,%s", t, T, sampling ? gr_blocking_mean(&c->blk) : (double)NAN, sampling ? "sampling" : "warmup");
+    fprintf(c->ft.f, "%.9g,%.9g,%.9g,%s", t, T, sampling ? gr_blocking_mean(&c->blk) : (double)NAN,
+            sampling ? "sampling" : "warmup");
     if (c->scene->contact.rotation) {
         fprintf(c->ft.f, ",%.9g", gr_sim_rotational_temperature(sim));
     }
@@ -134,8 +142,10 @@ static bool record(gr_run_ctx *c, int64_t k)
     if (ledger_broken) {
         c->status = "unstable";
         snprintf(c->step_err.message, sizeof c->step_err.message,
-                 "energy ledger does not balance at t = %.6g s (step %lld): residual %.3g J is %.3g of the energy moved "
-                 "(tolerance %.3g, run.ledger_tolerance); dt = %g s is too coarse for these contacts (%.1f steps per contact)",
+                 "energy ledger does not balance at t = %.6g s (step %lld): residual %.3g J is "
+                 "%.3g of the energy moved "
+                 "(tolerance %.3g, run.ledger_tolerance); dt = %g s is too coarse for these "
+                 "contacts (%.1f steps per contact)",
                  t, (long long)gr_sim_steps(sim), residual, fabs(residual) / fmax(moved, l.initial),
                  c->scene->ledger_tolerance, c->dt, gr_sim_coeffs(sim)->t_c / c->dt);
         c->step_err.code = GR_EUNSTABLE;
@@ -157,23 +167,28 @@ static bool checkpoint_or_stop(gr_run_ctx *c, int64_t k)
 {
     c->stop = c->stop ? c->stop : stop_requested(c);
     bool due = (c->plan.ckpt_samples > 0 && (k + 1) % c->plan.ckpt_samples == 0) ||
-               (c->scene->checkpoint_wall > 0.0 && gr_run_now() - c->last_ckpt >= c->scene->checkpoint_wall);
+               (c->scene->checkpoint_wall > 0.0 &&
+                gr_run_now() - c->last_ckpt >= c->scene->checkpoint_wall);
     if (c->can_checkpoint && due && !c->stop) {
         c->ckst.k_next = k + 1;
         double used = 0.0;
         size_t bytes = 0;
         gr_error werr = {0};
-        if (gr_run_checkpoint_write(c->dir, c->scene, c->sim, c->obs, &c->ckst, &used, &bytes, &werr) == GR_OK) {
+        if (gr_run_checkpoint_write(c->dir, c->scene, c->sim, c->obs, &c->ckst, &used, &bytes,
+                                    &werr) == GR_OK) {
             c->res->checkpoints++;
             c->res->checkpoint_seconds += used;
             c->ckpt_cost = used;
         } else {
-            if (!c->res->checkpoint_error[0]) { /* reported in summary.json; the previous checkpoint is kept */
-                snprintf(c->res->checkpoint_error, sizeof c->res->checkpoint_error, "%.255s", werr.message);
+            if (!c->res->checkpoint_error
+                     [0]) { /* reported in summary.json; the previous checkpoint is kept */
+                snprintf(c->res->checkpoint_error, sizeof c->res->checkpoint_error, "%.255s",
+                         werr.message);
             }
             if (c->opt && c->opt->notice) {
                 char text[400];
-                snprintf(text, sizeof text, "checkpoint not written at t = %.6g s (the previous one is kept): %.300s",
+                snprintf(text, sizeof text,
+                         "checkpoint not written at t = %.6g s (the previous one is kept): %.300s",
                          gr_sim_time(c->sim), werr.message);
                 c->opt->notice(text, c->opt->user);
             }
@@ -196,10 +211,14 @@ static void progress(gr_run_ctx *c, int64_t k, int64_t k_last)
     c->last_report = gr_run_now();
     const double t = gr_sim_time(c->sim);
     double t_end = (double)k_last * (double)c->plan.per_sample * c->dt;
-    double rate = c->stepping > 0.0 ? (double)c->scene->N * (double)gr_sim_steps(c->sim) / c->stepping : 0.0;
-    gr_progress p = {.t = t, .t_end = t_end, .wall = gr_run_now() - c->start,
+    double rate =
+        c->stepping > 0.0 ? (double)c->scene->N * (double)gr_sim_steps(c->sim) / c->stepping : 0.0;
+    gr_progress p = {.t = t,
+                     .t_end = t_end,
+                     .wall = gr_run_now() - c->start,
                      .eta = t > 0.0 ? (gr_run_now() - c->start) * (t_end - t) / t : 0.0,
-                     .particle_steps_per_second = rate, .warmup = k <= c->plan.warm_samples};
+                     .particle_steps_per_second = rate,
+                     .warmup = k <= c->plan.warm_samples};
     c->opt->progress(&p, c->opt->user);
 }
 
@@ -227,7 +246,8 @@ bool gr_run_stop(gr_run_ctx *c)
     if (c->stop && c->can_checkpoint && strcmp(c->status, "completed") == 0 && c->rc == GR_OK) {
         double used = 0.0;
         size_t bytes = 0;
-        c->rc = gr_run_checkpoint_write(c->dir, c->scene, c->sim, c->obs, &c->ckst, &used, &bytes, c->err);
+        c->rc = gr_run_checkpoint_write(c->dir, c->scene, c->sim, c->obs, &c->ckst, &used, &bytes,
+                                        c->err);
         if (c->rc == GR_OK) {
             /* the streamed CSVs and the trajectory stay as they are for the resume to continue */
             gr_traj_writer_close(&c->traj, &(gr_error){0});
@@ -247,13 +267,15 @@ bool gr_run_stop(gr_run_ctx *c)
             return true;
         }
         c->status = "interrupted"; /* no checkpoint: finish the outputs instead */
-        snprintf(c->diagnosis, sizeof c->diagnosis, "stopped (%s) but the checkpoint could not be written: %.700s",
+        snprintf(c->diagnosis, sizeof c->diagnosis,
+                 "stopped (%s) but the checkpoint could not be written: %.700s",
                  c->stop == 1 ? "signal" : "wall-clock budget", c->err->message);
         c->rc = GR_OK;
     } else if (c->stop && strcmp(c->status, "completed") == 0) {
         c->status = "interrupted";
         snprintf(c->diagnosis, sizeof c->diagnosis, "stopped (%s) at t = %.6g s; %.700s",
-                 c->stop == 1 ? "signal" : "wall-clock budget", gr_sim_time(c->sim), c->ck_err.message);
+                 c->stop == 1 ? "signal" : "wall-clock budget", gr_sim_time(c->sim),
+                 c->ck_err.message);
     }
     return false;
 }

@@ -18,7 +18,8 @@ enum { RUN_SPACETIME_FRAMES = 800 };
 #define RUN_SPACETIME_PARTICLES 2e6
 
 /* Frames first..last (inclusive) of a run folder's trajectory (any output.trajectory format). */
-static int read_frames(const char *run_dir, int64_t first, int64_t last, gr_frame *frames, gr_error *err)
+static int read_frames(const char *run_dir, int64_t first, int64_t last, gr_frame *frames,
+                       gr_error *err)
 {
     gr_traj_reader *r;
     int64_t count;
@@ -30,8 +31,8 @@ static int read_frames(const char *run_dir, int64_t first, int64_t last, gr_fram
     return rc;
 }
 
-int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *png_path, size_t png_path_size,
-                      gr_error *err)
+int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *png_path,
+                      size_t png_path_size, gr_error *err)
 {
     if (!run_dir || !run_dir[0] || strlen(run_dir) > 900) {
         return GR_FAIL(err, GR_EINVAL, "picture: run folder name missing or too long");
@@ -47,7 +48,8 @@ int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *
     rc = gr_traj_reader_open(run_dir, -1, &r, &count, err);
     gr_traj_reader_close(r);
     if (!rc && count == 0) {
-        rc = GR_FAIL(err, GR_EINVAL, "%s: no snapshots (an empty trajectory); set output.snapshot_every", run_dir);
+        rc = GR_FAIL(err, GR_EINVAL,
+                     "%s: no snapshots (an empty trajectory); set output.snapshot_every", run_dir);
     }
     if (rc) {
         return rc;
@@ -74,8 +76,8 @@ int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *
     }
     for (int j = 0; j < nf - 1 && !rc; j++) {
         if (frames[j].dim != last.dim) {
-            rc = GR_FAIL(err, GR_EINVAL, "%s: frame %lld is %dD but the last one is %dD", run_dir, (long long)(count - nf + j),
-                         frames[j].dim, last.dim);
+            rc = GR_FAIL(err, GR_EINVAL, "%s: frame %lld is %dD but the last one is %dD", run_dir,
+                         (long long)(count - nf + j), frames[j].dim, last.dim);
         }
     }
     /* the radius: the run's scene.ini, else the snapshots' radius column */
@@ -90,11 +92,14 @@ int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *
         free(scene);
     }
     if (!rc && !(radius > 0.0)) {
-        rc = GR_FAIL(err, GR_EINVAL, "%s: no particle radius (no loadable scene.ini%s%s, no radius column in the snapshots)",
-                     run_dir, scene_err.code ? ": " : "", scene_err.code ? scene_err.message : "");
+        rc = GR_FAIL(
+            err, GR_EINVAL,
+            "%s: no particle radius (no loadable scene.ini%s%s, no radius column in the snapshots)",
+            run_dir, scene_err.code ? ": " : "", scene_err.code ? scene_err.message : "");
     }
     if (!rc) {
-        snprintf(out, sizeof out, "%s/%s", run_dir, last.dim == 2 ? "snapshot.png" : "snapshots.png");
+        snprintf(out, sizeof out, "%s/%s", run_dir,
+                 last.dim == 2 ? "snapshot.png" : "snapshots.png");
         rc = last.dim == 2 ? gr_picture_frame(&frames[0], radius, out, opt, err)
                            : gr_picture_spacetime(frames, nf, radius, out, opt, err);
         if (!rc && png_path && png_path_size) {

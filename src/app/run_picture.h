@@ -14,7 +14,7 @@ int gr_picture_run(const char *run_dir, gr_error *err);
 
 /* As gr_picture_run with options (NULL = defaults); the path written is copied to png_path
  * (may be NULL). */
-int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *png_path, size_t png_path_size,
-                      gr_error *err);
+int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *png_path,
+                      size_t png_path_size, gr_error *err);
 
 #endif

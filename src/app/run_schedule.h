@@ -33,6 +33,7 @@ typedef struct gr_run_schedule {
 
 /* GR_OK, or GR_EINVAL naming the key, its value and the allowed range. `note` receives the
  * roundings worth stating ("" when none). */
-int gr_run_schedule_make(const gr_scene *s, double dt, gr_run_schedule *out, char *note, size_t note_len, gr_error *err);
+int gr_run_schedule_make(const gr_scene *s, double dt, gr_run_schedule *out, char *note,
+                         size_t note_len, gr_error *err);
 
 #endif

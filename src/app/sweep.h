@@ -18,7 +18,7 @@
 #define SWEEP_MAX_KEYS 8
 #define SWEEP_MAX_VALUES 64
 #define SWEEP_MAX_SETS 64
-#define SWEEP_MAX_LINKED 8 /* keys varied together: [vary] a+b = 1/2, 3/4 */
+#define SWEEP_MAX_LINKED 8  /* keys varied together: [vary] a+b = 1/2, 3/4 */
 #define SWEEP_VALUE_LEN 128 /* one [vary] value, linked parts included */
 #define SWEEP_MAX_OVERRIDES (SWEEP_MAX_SETS + SWEEP_MAX_LINKED * SWEEP_MAX_KEYS + 1)
 #define SWEEP_MAX_POINTS 100000L
@@ -30,8 +30,8 @@ typedef struct sweep {
     int jobs;
     int n_seeds;
     unsigned long long seeds[SWEEP_MAX_VALUES];
-    bool seeds_given;  /* [sweep] seeds was written */
-    int seed_key;      /* the [vary] key that is run.seed (then it names every point's seed), or -1 */
+    bool seeds_given; /* [sweep] seeds was written */
+    int seed_key; /* the [vary] key that is run.seed (then it names every point's seed), or -1 */
     int n_keys;
     char key[SWEEP_MAX_KEYS][128];
     int n_values[SWEEP_MAX_KEYS];
@@ -71,7 +71,7 @@ typedef enum {
     POINT_UNSTABLE,  /* the run stopped as unstable (exit 3); outputs kept */
     POINT_STALE,     /* finished, but with other settings (the scene hash differs) */
     POINT_CLAIMED,   /* started, not finished, and a live process holds its claim: running now */
-    POINT_STOPPED,   /* stopped by a signal or wall limit with a checkpoint: the next run continues it */
+    POINT_STOPPED, /* stopped by a signal or wall limit with a checkpoint: the next run continues it */
 } point_state;
 
 /* How a point run ended, as point.json and the progress lines name it (EXIT_* of cli/cli.h). */
@@ -84,18 +84,21 @@ point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, 
 typedef struct sweep_child {
     pid_t pid;
     long k;
-    int fd;          /* read end of the pipe carrying the child's error message */
-    double t0;       /* monotonic start */
+    int fd;    /* read end of the pipe carrying the child's error message */
+    double t0; /* monotonic start */
     char started[32];
     uint64_t hash;
-    double cpu_before; /* CPU seconds of earlier sessions of this point (it continues a checkpoint) */
-    double cpu;        /* CPU seconds of this child (user + system, from wait4) */
-    int lock_fd;       /* the claim on the point's folder (its .lock), held until the final manifest */
+    double
+        cpu_before; /* CPU seconds of earlier sessions of this point (it continues a checkpoint) */
+    double cpu;     /* CPU seconds of this child (user + system, from wait4) */
+    int lock_fd;    /* the claim on the point's folder (its .lock), held until the final manifest */
 } sweep_child;
 
 /* sweep_point_start's answers when it started nothing (besides GR_OK and the GR_E* errors) */
-enum { SWEEP_CLAIMED_ELSEWHERE = 1, /* a live process runs the point (err names it) */
-       SWEEP_FINISHED_ELSEWHERE = 2 /* another process finished it since its state was read */ };
+enum {
+    SWEEP_CLAIMED_ELSEWHERE = 1, /* a live process runs the point (err names it) */
+    SWEEP_FINISHED_ELSEWHERE = 2 /* another process finished it since its state was read */
+};
 
 /* Prepare point k's folder, claim it, write its manifest (status "running") and fork the child
  * running it. runner names who runs it ("local", "mpi rank 1 of 2", "array SLURM_ARRAY_TASK_ID=3").
@@ -104,7 +107,8 @@ int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c
 /* After the child's exit (wait_status and usage from wait4): write the final manifest, with the
  * point's CPU seconds over all its sessions; returns the point's exit code (EXIT_OK, EXIT_FAILED,
  * EXIT_REFUSED, EXIT_UNSTABLE). */
-int sweep_point_finish(const sweep *s, const char *runner, sweep_child *c, int wait_status, const struct rusage *usage);
+int sweep_point_finish(const sweep *s, const char *runner, sweep_child *c, int wait_status,
+                       const struct rusage *usage);
 /* CPU seconds point k has cost so far (its manifest's cpu_seconds), NAN if not recorded. */
 double sweep_point_cpu(const sweep *s, long k);
 /* A rough prediction of a point's CPU seconds from its scene (particle-steps times a default cost
@@ -122,7 +126,7 @@ typedef struct sweep_queue {
     const double *guess;  /* predicted CPU seconds of every point (NULL: no ETA) */
     long next;
     long skipped, run, failed;
-    long elsewhere; /* points left to another process that holds their claim */
+    long elsewhere;              /* points left to another process that holds their claim */
     double cpu_done, guess_done; /* finished points: measured CPU s and their prediction */
     double guess_left;           /* prediction for the points not finished */
     long finished;               /* points completed, in this run or before */

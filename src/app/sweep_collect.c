@@ -43,7 +43,9 @@ static void plot_exponents(const char *out)
     char prev[160] = "", titles[64][160];
     int blocks = 0;
     for (int i = 0; i < n; i++) {
-        char *q = strstr(lines[i], "xi,") == lines[i] || strstr(lines[i], "zeta,") == lines[i] ? lines[i] : strstr(lines[i], ",xi,");
+        char *q = strstr(lines[i], "xi,") == lines[i] || strstr(lines[i], "zeta,") == lines[i]
+                      ? lines[i]
+                      : strstr(lines[i], ",xi,");
         if (!q) {
             q = strstr(lines[i], ",zeta,");
         }
@@ -51,7 +53,8 @@ static void plot_exponents(const char *out)
             continue;
         }
         char key[160];
-        snprintf(key, sizeof key, "%.*s%s", (int)(q - lines[i] < 140 ? q - lines[i] : 140), lines[i], strstr(q, "zeta") ? " zeta_m/m" : " xi_m/m");
+        snprintf(key, sizeof key, "%.*s%s", (int)(q - lines[i] < 140 ? q - lines[i] : 140),
+                 lines[i], strstr(q, "zeta") ? " zeta_m/m" : " xi_m/m");
         if (strcmp(key, prev) != 0) {
             if (blocks > 0) {
                 fprintf(f.f, "\n\n");
@@ -73,15 +76,17 @@ static void plot_exponents(const char *out)
         return;
     }
     char body[8192];
-    size_t len = (size_t)snprintf(body, sizeof body,
-                                  "set xlabel 'order m'\nset ylabel 'exponent / m'\nset key outside right top\nset xtics 1\n"
-                                  "set title \"Scaling exponents with N, per order m, from the sweep\\n{/*0.75 \u03be_m/m of "
-                                  "<|v|^m> ~ N^{-\u03be_m} (3.13), \u03b6_m/m of <R^m> ~ N^{-\u03b6_m} (3.20)}\"\nplot ");
+    size_t len = (size_t)snprintf(
+        body, sizeof body,
+        "set xlabel 'order m'\nset ylabel 'exponent / m'\nset key outside right top\nset xtics 1\n"
+        "set title \"Scaling exponents with N, per order m, from the sweep\\n{/*0.75 \u03be_m/m of "
+        "<|v|^m> ~ N^{-\u03be_m} (3.13), \u03b6_m/m of <R^m> ~ N^{-\u03b6_m} (3.20)}\"\nplot ");
     for (int b = 0; b < blocks && b < 64 && len < sizeof body; b++) {
         char style[80];
         gr_plot_series_style(b, style, sizeof style);
         len += (size_t)snprintf(body + len, sizeof body - len,
-                                "%s'exponents_blocks.dat' index %d using 1:2:3 with yerrorlines %s pt 7 title '%s' noenhanced",
+                                "%s'exponents_blocks.dat' index %d using 1:2:3 with yerrorlines %s "
+                                "pt 7 title '%s' noenhanced",
                                 b ? ", " : "", b, style, titles[b]);
     }
     char note[300];
@@ -94,7 +99,8 @@ static cJSON *point_summary(const sweep *s, long k, const char *status)
     char dir[1100];
     sweep_point_dir(s, k, dir, sizeof dir);
     /* a missing or stale point's folder holds nothing of these settings */
-    bool has_run = !strcmp(status, "completed") || !strcmp(status, "unstable") || !strcmp(status, "failed");
+    bool has_run =
+        !strcmp(status, "completed") || !strcmp(status, "unstable") || !strcmp(status, "failed");
     gr_error read_err = {0};
     return has_run ? gr_summary_read(dir, &read_err) : NULL;
 }
@@ -121,14 +127,15 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     }
     /* <R^m> columns only when some point has them (1D runs with the gaps observable) */
     const bool with_R = any_gap_moments(s, n_points, status);
-    gr_file_note(&f, "granule sweep of %s: one row per point; moments <|v|^m> in (m/s)^m%s", s->scene,
-                 with_R ? ", <R^m> in m^m" : "");
+    gr_file_note(&f, "granule sweep of %s: one row per point; moments <|v|^m> in (m/s)^m%s",
+                 s->scene, with_R ? ", <R^m> in m^m" : "");
     gr_file_columns(&f, "point [1],seed [1]");
     for (int i = 0; i < s->n_keys; i++) {
         gr_file_column(&f, s->key[i], gr_scene_key_unit(s->key[i]));
     }
-    gr_file_columns(&f, "status [],T_mean [m2 s-2],T_stderr [m2 s-2],T_stderr_converged [1],collisions [1],"
-                        "particle_steps_per_second [s-1]");
+    gr_file_columns(
+        &f, "status [],T_mean [m2 s-2],T_stderr [m2 s-2],T_stderr_converged [1],collisions [1],"
+            "particle_steps_per_second [s-1]");
     for (int q = 0; q < (with_R ? 2 : 1); q++) {
         for (int m = 1; m <= 12; m++) {
             char name[32], unit[32];
@@ -148,10 +155,10 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
         }
     }
     /* moments per point, kept for the fits */
-    double (*mom)[13] = calloc((size_t)n_points, sizeof *mom);
-    double (*mom_err)[13] = calloc((size_t)n_points, sizeof *mom_err);
-    double (*rmom)[13] = calloc((size_t)n_points, sizeof *rmom);
-    double (*rmom_err)[13] = calloc((size_t)n_points, sizeof *rmom_err);
+    double(*mom)[13] = calloc((size_t)n_points, sizeof *mom);
+    double(*mom_err)[13] = calloc((size_t)n_points, sizeof *mom_err);
+    double(*rmom)[13] = calloc((size_t)n_points, sizeof *rmom);
+    double(*rmom_err)[13] = calloc((size_t)n_points, sizeof *rmom_err);
     for (long k = 0; k < n_points; k++) {
         int idx[SWEEP_MAX_KEYS] = {0}, seed;
         sweep_decode(s, k, idx, &seed);
@@ -161,8 +168,10 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
             fprintf(f.f, ",%s", s->value[i][idx[i]]);
         }
         /* T_stderr_converged 0: the error bar is a lower bound (docs/analysis.md) */
-        fprintf(f.f, ",%s,%.8g,%.4g,%.0f,%.0f,%.4g", status[k], gr_summary_number(j, "T_mean"), gr_summary_number(j, "T_stderr"),
-                gr_summary_number(j, "T_stderr_converged"), gr_summary_number(j, "collisions"), gr_summary_number(j, "particle_steps_per_second"));
+        fprintf(f.f, ",%s,%.8g,%.4g,%.0f,%.0f,%.4g", status[k], gr_summary_number(j, "T_mean"),
+                gr_summary_number(j, "T_stderr"), gr_summary_number(j, "T_stderr_converged"),
+                gr_summary_number(j, "collisions"),
+                gr_summary_number(j, "particle_steps_per_second"));
         for (int m = 1; m <= 12; m++) {
             char p1[64], p2[64];
             snprintf(p1, sizeof p1, "analysis.moments.speed.m%d", m);
@@ -171,14 +180,16 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
             mom_err[k][m] = gr_summary_number(j, p2);
             if (m == 2 && isnan(mom[k][m])) {
                 /* without the moments observable <v^2> is known only in 1D, where it equals T */
-                const cJSON *sc = j ? cJSON_GetObjectItem(cJSON_GetObjectItem(j, "scene"), "system") : NULL;
+                const cJSON *sc =
+                    j ? cJSON_GetObjectItem(cJSON_GetObjectItem(j, "scene"), "system") : NULL;
                 if (sc && gr_summary_number(sc, "dim") == 1.0) {
                     mom[k][m] = gr_summary_number(j, "T_mean");
                     mom_err[k][m] = gr_summary_number(j, "T_stderr");
                 }
             }
             fprintf(f.f, ",%.8g,%.4g", mom[k][m], mom_err[k][m]);
-            if (strcmp(status[k], "completed") != 0) { /* shown, but only completed runs are fitted */
+            if (strcmp(status[k], "completed") !=
+                0) { /* shown, but only completed runs are fitted */
                 mom[k][m] = NAN;
             }
             /* 1D neighbour separations <R^m> (3.18) from the gaps observable, for zeta_m (3.20) */
@@ -206,13 +217,15 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
         gr_file e;
         rc = gr_file_open(&e, s->out, "exponents.csv", &err);
         if (!rc) {
-            gr_file_note(&e, "# granule sweep: <|v|^m> = A N^-xi_m (3.8, 3.13) and <R^m> = A N^-zeta_m (3.20), per combination of the other keys\n");
+            gr_file_note(&e, "# granule sweep: <|v|^m> = A N^-xi_m (3.8, 3.13) and <R^m> = A "
+                             "N^-zeta_m (3.20), per combination of the other keys\n");
             for (int i = 0; i < s->n_keys; i++) {
                 if (i != n_idx) {
                     gr_file_column(&e, s->key[i], gr_scene_key_unit(s->key[i]));
                 }
             }
-            gr_file_header(&e, "quantity [],m [1],exponent [1],exponent_error [1],A [@A_unit],chi2_red [1],points [1],A_unit []");
+            gr_file_header(&e, "quantity [],m [1],exponent [1],exponent_error [1],A "
+                               "[@A_unit],chi2_red [1],points [1],A_unit []");
             long groups = 1;
             for (int i = 0; i < s->n_keys; i++) {
                 groups *= i == n_idx ? 1 : s->n_values[i];
@@ -230,40 +243,45 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
                     g /= s->n_values[i];
                 }
                 for (int q = 0; q < 2; q++)
-                for (int m = 1; m <= 12; m++) {
-                    double(*val)[13] = q == 0 ? mom : rmom, (*verr)[13] = q == 0 ? mom_err : rmom_err;
-                    double *x = malloc(3 * sizeof(double) * (size_t)n_points), *y = x + n_points, *ye = y + n_points;
-                    int nr = 0, np = 0;
-                    for (long k = 0; k < n_points; k++) { /* this group's runs, in point order */
-                        int idx[SWEEP_MAX_KEYS] = {0}, seed;
-                        sweep_decode(s, k, idx, &seed);
-                        bool match = true;
-                        for (int i = 0; i < s->n_keys && match; i++) {
-                            match = i == n_idx || idx[i] == gv[i];
-                        }
-                        if (match) {
-                            x[nr] = atof(s->value[n_idx][idx[n_idx]]);
-                            y[nr] = val[k][m];
-                            ye[nr++] = verr[k][m];
-                        }
-                    }
-                    gr_fit fit;
-                    gr_error ignore = {0}; /* too few sizes: no row */
-                    const int fitted = gr_fit_power_law_seeds(x, y, ye, nr, &fit, &np, &ignore) == GR_OK;
-                    free(x);
-                    if (fitted) {
-                        for (int i = 0; i < s->n_keys; i++) {
-                            if (i != n_idx) {
-                                fprintf(e.f, "%s,", s->value[i][gv[i]]);
+                    for (int m = 1; m <= 12; m++) {
+                        double(*val)[13] = q == 0 ? mom : rmom,
+                        (*verr)[13] = q == 0 ? mom_err : rmom_err;
+                        double *x = malloc(3 * sizeof(double) * (size_t)n_points),
+                               *y = x + n_points, *ye = y + n_points;
+                        int nr = 0, np = 0;
+                        for (long k = 0; k < n_points;
+                             k++) { /* this group's runs, in point order */
+                            int idx[SWEEP_MAX_KEYS] = {0}, seed;
+                            sweep_decode(s, k, idx, &seed);
+                            bool match = true;
+                            for (int i = 0; i < s->n_keys && match; i++) {
+                                match = i == n_idx || idx[i] == gv[i];
+                            }
+                            if (match) {
+                                x[nr] = atof(s->value[n_idx][idx[n_idx]]);
+                                y[nr] = val[k][m];
+                                ye[nr++] = verr[k][m];
                             }
                         }
-                        /* A carries the moment's unit: (m/s)^m for xi, m^m for zeta */
-                        char unit[32];
-                        snprintf(unit, sizeof unit, q == 0 ? "m%d s-%d" : "m%d", m, m);
-                        fprintf(e.f, "%s,%d,%.6g,%.3g,%.6g,%.4g,%d,%s\n", q == 0 ? "xi" : "zeta", m, -fit.p[1], fit.err[1],
-                                fit.p[0], fit.chi2_red, np, unit);
+                        gr_fit fit;
+                        gr_error ignore = {0}; /* too few sizes: no row */
+                        const int fitted =
+                            gr_fit_power_law_seeds(x, y, ye, nr, &fit, &np, &ignore) == GR_OK;
+                        free(x);
+                        if (fitted) {
+                            for (int i = 0; i < s->n_keys; i++) {
+                                if (i != n_idx) {
+                                    fprintf(e.f, "%s,", s->value[i][gv[i]]);
+                                }
+                            }
+                            /* A carries the moment's unit: (m/s)^m for xi, m^m for zeta */
+                            char unit[32];
+                            snprintf(unit, sizeof unit, q == 0 ? "m%d s-%d" : "m%d", m, m);
+                            fprintf(e.f, "%s,%d,%.6g,%.3g,%.6g,%.4g,%d,%s\n",
+                                    q == 0 ? "xi" : "zeta", m, -fit.p[1], fit.err[1], fit.p[0],
+                                    fit.chi2_red, np, unit);
+                        }
                     }
-                }
             }
             rc = gr_file_commit(&e, &err);
             if (!rc) {
@@ -292,7 +310,8 @@ static void ranges(const long *k, long n, char *out, size_t len)
         while (j + 1 < n && k[j + 1] == k[j] + 1) {
             j++;
         }
-        used += (size_t)(j > i ? snprintf(out + used, len - used, "%s%ld-%ld", i ? ", " : "", k[i], k[j])
+        used += (size_t)(j > i ? snprintf(out + used, len - used, "%s%ld-%ld", i ? ", " : "", k[i],
+                                          k[j])
                                : snprintf(out + used, len - used, "%s%ld", i ? ", " : "", k[i]));
         i = j;
     }
@@ -310,7 +329,8 @@ int sweep_collect(const sweep *s, const uint64_t *hash, long *n_bad)
         return app_exit_code(err.code);
     }
     const char **status = calloc((size_t)s->n_points, sizeof *status);
-    long *missing = calloc((size_t)s->n_points, sizeof *missing), *failed = calloc((size_t)s->n_points, sizeof *failed);
+    long *missing = calloc((size_t)s->n_points, sizeof *missing),
+         *failed = calloc((size_t)s->n_points, sizeof *failed);
     long n_missing = 0, n_failed = 0;
     for (long k = 0; k < s->n_points; k++) {
         char why[800];
@@ -332,14 +352,16 @@ int sweep_collect(const sweep *s, const uint64_t *hash, long *n_bad)
     char list[600];
     if (n_missing) {
         ranges(missing, n_missing, list, sizeof list);
-        app_note("sweep: unfinished points (%ld; never run, stopped with a checkpoint, still running or killed, or run with "
-                        "other settings): %s\n",
-                n_missing, list);
+        app_note("sweep: unfinished points (%ld; never run, stopped with a checkpoint, still "
+                 "running or killed, or run with "
+                 "other settings): %s\n",
+                 n_missing, list);
     }
     if (n_failed) {
         ranges(failed, n_failed, list, sizeof list);
-        app_note("sweep: failed points (%ld): %s (errors in OUT/pNNNN/point.json; they run again on the next sweep or --point K)\n",
-                n_failed, list);
+        app_note("sweep: failed points (%ld): %s (errors in OUT/pNNNN/point.json; they run again "
+                 "on the next sweep or --point K)\n",
+                 n_failed, list);
     }
     int rc = write_tables(s, s->n_points, status);
     *n_bad = n_missing + n_failed;

@@ -69,11 +69,13 @@ static int find_set(const sweep *s, const char *name)
 static int on_line(void *user, const char *section, const char *name, const char *value)
 {
     sweep *s = user;
-    if (s->error[0]) { /* inih goes on after an error and reports the first one's line: keep its message */
+    if (s->error
+            [0]) { /* inih goes on after an error and reports the first one's line: keep its message */
         return 0;
     }
     if (strlen(name) >= sizeof s->key[0]) {
-        snprintf(s->error, sizeof s->error, "[%s] %.60s...: a key name of at most %zu characters", section, name, sizeof s->key[0] - 1);
+        snprintf(s->error, sizeof s->error, "[%s] %.60s...: a key name of at most %zu characters",
+                 section, name, sizeof s->key[0] - 1);
         return 0;
     }
     if (!strcmp(section, "sweep")) {
@@ -85,7 +87,8 @@ static int on_line(void *user, const char *section, const char *name, const char
             char *end;
             long j = strtol(value, &end, 10);
             if (*end || j < 1 || j > 4096) {
-                snprintf(s->error, sizeof s->error, "[sweep] jobs = %s: expected an integer in 1..4096", value);
+                snprintf(s->error, sizeof s->error,
+                         "[sweep] jobs = %s: expected an integer in 1..4096", value);
                 return 0;
             }
             s->jobs = (int)j;
@@ -93,46 +96,60 @@ static int on_line(void *user, const char *section, const char *name, const char
             char v[SWEEP_MAX_VALUES][SWEEP_VALUE_LEN];
             s->n_seeds = split_list(value, v, SWEEP_MAX_VALUES);
             if (s->n_seeds < 0) {
-                snprintf(s->error, sizeof s->error, "[sweep] seeds: at most %d seeds of at most %d characters", SWEEP_MAX_VALUES,
-                         SWEEP_VALUE_LEN - 1);
+                snprintf(s->error, sizeof s->error,
+                         "[sweep] seeds: at most %d seeds of at most %d characters",
+                         SWEEP_MAX_VALUES, SWEEP_VALUE_LEN - 1);
                 return 0;
             }
             if (s->seeds_given) {
-                snprintf(s->error, sizeof s->error, "[sweep] seeds: given twice; list every seed on one line");
+                snprintf(s->error, sizeof s->error,
+                         "[sweep] seeds: given twice; list every seed on one line");
                 return 0;
             }
             s->seeds_given = true;
             for (int i = 0; i < s->n_seeds; i++) {
                 if (!parse_seed(v[i], &s->seeds[i])) {
-                    snprintf(s->error, sizeof s->error, "[sweep] seeds: '%.64s' is not an integer written in decimal digits (0 .. 2^64 - 1)",
+                    snprintf(s->error, sizeof s->error,
+                             "[sweep] seeds: '%.64s' is not an integer written in decimal digits "
+                             "(0 .. 2^64 - 1)",
                              v[i]);
                     return 0;
                 }
                 for (int j = 0; j < i; j++) {
                     if (s->seeds[j] == s->seeds[i]) {
-                        snprintf(s->error, sizeof s->error, "[sweep] seeds: %llu is listed twice (two points would be one run)",
-                                 s->seeds[i]);
+                        snprintf(
+                            s->error, sizeof s->error,
+                            "[sweep] seeds: %llu is listed twice (two points would be one run)",
+                            s->seeds[i]);
                         return 0;
                     }
                 }
             }
         } else {
-            snprintf(s->error, sizeof s->error, "[sweep] %s: unknown key; keys: scene, out, seeds, jobs", name);
+            snprintf(s->error, sizeof s->error,
+                     "[sweep] %s: unknown key; keys: scene, out, seeds, jobs", name);
             return 0;
         }
     } else if (!strcmp(section, "vary")) {
         /* a list longer than a line continues on a line that repeats the key */
         const bool more = s->n_keys > 0 && !strcmp(s->key[s->n_keys - 1], name);
         if (!more && find_key(s, name) >= 0) {
-            snprintf(s->error, sizeof s->error, "[vary] %s: given twice; a list longer than a line continues on the very next line", name);
+            snprintf(
+                s->error, sizeof s->error,
+                "[vary] %s: given twice; a list longer than a line continues on the very next line",
+                name);
             return 0;
         }
         if (!more && strchr(name, '+') && gr_linked_key_names(name, "run.seed")) {
-            snprintf(s->error, sizeof s->error, "[vary] %s: run.seed cannot be linked to other keys; vary it on a line of its own", name);
+            snprintf(
+                s->error, sizeof s->error,
+                "[vary] %s: run.seed cannot be linked to other keys; vary it on a line of its own",
+                name);
             return 0;
         }
         if (find_set(s, name) >= 0) {
-            snprintf(s->error, sizeof s->error, "[vary] %s: also in [set]; a key is either set or varied", name);
+            snprintf(s->error, sizeof s->error,
+                     "[vary] %s: also in [set]; a key is either set or varied", name);
             return 0;
         }
         if (more) {
@@ -146,15 +163,18 @@ static int on_line(void *user, const char *section, const char *name, const char
         const int got = split_list(value, s->value[s->n_keys] + had, SWEEP_MAX_VALUES - had);
         if (got <= 0 || !strchr(name, '.')) {
             snprintf(s->error, sizeof s->error,
-                     "[vary] %s: expected section.key = v1, v2, ... (at most %d values in all, each at most %d characters)", name,
-                     SWEEP_MAX_VALUES, SWEEP_VALUE_LEN - 1);
+                     "[vary] %s: expected section.key = v1, v2, ... (at most %d values in all, "
+                     "each at most %d characters)",
+                     name, SWEEP_MAX_VALUES, SWEEP_VALUE_LEN - 1);
             return 0;
         }
         s->n_values[s->n_keys] = had + got;
-        for (int v = had; v < had + got; v++) { /* a varied value listed twice would be one point twice */
+        for (int v = had; v < had + got;
+             v++) { /* a varied value listed twice would be one point twice */
             for (int u = 0; u < v; u++) {
                 if (!strcmp(s->value[s->n_keys][u], s->value[s->n_keys][v])) {
-                    snprintf(s->error, sizeof s->error, "[vary] %s: value '%s' is listed twice", name, s->value[s->n_keys][v]);
+                    snprintf(s->error, sizeof s->error, "[vary] %s: value '%s' is listed twice",
+                             name, s->value[s->n_keys][v]);
                     return 0;
                 }
             }
@@ -163,7 +183,9 @@ static int on_line(void *user, const char *section, const char *name, const char
             unsigned long long seed;
             for (int v = had; v < had + got; v++) {
                 if (!parse_seed(s->value[s->n_keys][v], &seed)) {
-                    snprintf(s->error, sizeof s->error, "[vary] run.seed: '%.64s' is not an integer written in decimal digits (0 .. 2^64 - 1)",
+                    snprintf(s->error, sizeof s->error,
+                             "[vary] run.seed: '%.64s' is not an integer written in decimal digits "
+                             "(0 .. 2^64 - 1)",
                              s->value[s->n_keys][v]);
                     return 0;
                 }
@@ -181,15 +203,19 @@ static int on_line(void *user, const char *section, const char *name, const char
             }
             if (n_parts != parts || parts > SWEEP_MAX_LINKED) {
                 snprintf(s->error, sizeof s->error,
-                         "[vary] %s: value '%s' has %d part%s for %d linked key%s (at most %d, written a+b = 1/2, 3/4)", name,
-                         s->value[s->n_keys][v], n_parts, n_parts == 1 ? "" : "s", parts, parts == 1 ? "" : "s", SWEEP_MAX_LINKED);
+                         "[vary] %s: value '%s' has %d part%s for %d linked key%s (at most %d, "
+                         "written a+b = 1/2, 3/4)",
+                         name, s->value[s->n_keys][v], n_parts, n_parts == 1 ? "" : "s", parts,
+                         parts == 1 ? "" : "s", SWEEP_MAX_LINKED);
                 return 0;
             }
         }
         s->n_keys++;
     } else if (!strcmp(section, "set")) {
         if (s->n_sets == SWEEP_MAX_SETS || !strchr(name, '.')) {
-            snprintf(s->error, sizeof s->error, "[set] %s: expected section.key = value (at most %d lines)", name, SWEEP_MAX_SETS);
+            snprintf(s->error, sizeof s->error,
+                     "[set] %s: expected section.key = value (at most %d lines)", name,
+                     SWEEP_MAX_SETS);
             return 0;
         }
         if (find_set(s, name) >= 0) {
@@ -198,21 +224,27 @@ static int on_line(void *user, const char *section, const char *name, const char
         }
         for (int i = 0; i < s->n_keys; i++) {
             if (gr_linked_key_names(s->key[i], name)) {
-                snprintf(s->error, sizeof s->error, "[set] %s: also varied in [vary] %s; a key is either set or varied", name, s->key[i]);
+                snprintf(s->error, sizeof s->error,
+                         "[set] %s: also varied in [vary] %s; a key is either set or varied", name,
+                         s->key[i]);
                 return 0;
             }
         }
         if (!strcmp(name, "run.seed")) {
-            snprintf(s->error, sizeof s->error, "[set] run.seed: the seeds are [sweep] seeds (or [vary] run.seed), not [set]");
+            snprintf(s->error, sizeof s->error,
+                     "[set] run.seed: the seeds are [sweep] seeds (or [vary] run.seed), not [set]");
             return 0;
         }
         if (strlen(name) + strlen(value) + 2 > sizeof s->set[0]) {
-            snprintf(s->error, sizeof s->error, "[set] %s: name and value of at most %zu characters", name, sizeof s->set[0] - 2);
+            snprintf(s->error, sizeof s->error,
+                     "[set] %s: name and value of at most %zu characters", name,
+                     sizeof s->set[0] - 2);
             return 0;
         }
         snprintf(s->set[s->n_sets++], sizeof s->set[0], "%s=%s", name, value);
     } else {
-        snprintf(s->error, sizeof s->error, "[%s]: unknown section; sections: sweep, vary, set", section);
+        snprintf(s->error, sizeof s->error, "[%s]: unknown section; sections: sweep, vary, set",
+                 section);
         return 0;
     }
     return 1;
@@ -226,7 +258,9 @@ int sweep_load(sweep *s, const char *file)
     FILE *in = gr_input_fopen(file, &why);
     if (!in) {
         if (why < 0) {
-            app_error("sweep: %s: not a regular file (a sweep file is an INI file; a folder, FIFO, device or socket is refused)", file);
+            app_error("sweep: %s: not a regular file (a sweep file is an INI file; a folder, FIFO, "
+                      "device or socket is refused)",
+                      file);
         } else {
             app_error("sweep: %s: cannot open: %s", file, strerror(why));
         }
@@ -240,7 +274,10 @@ int sweep_load(sweep *s, const char *file)
         if (bad < 0) {
             app_error("sweep: %s: cannot read", file);
         } else {
-            app_error("sweep: %s:%d: %s", file, bad, lines.problem[0] ? lines.problem : s->error[0] ? s->error : "not an INI line");
+            app_error("sweep: %s:%d: %s", file, bad,
+                      lines.problem[0] ? lines.problem
+                      : s->error[0]    ? s->error
+                                       : "not an INI line");
         }
         gr_line_reader_free(&lines);
         return EXIT_REFUSED;
@@ -248,7 +285,9 @@ int sweep_load(sweep *s, const char *file)
     gr_line_reader_free(&lines);
     s->seed_key = find_key(s, "run.seed");
     if (s->seed_key >= 0 && s->seeds_given) {
-        app_error("sweep: %s: seeds are given twice, by [sweep] seeds and by [vary] run.seed; keep one", file);
+        app_error(
+            "sweep: %s: seeds are given twice, by [sweep] seeds and by [vary] run.seed; keep one",
+            file);
         return EXIT_REFUSED;
     }
     if (!s->scene[0]) {
@@ -273,8 +312,8 @@ int sweep_load(sweep *s, const char *file)
         }
     }
     if (s->n_points < 1 || s->n_points > SWEEP_MAX_POINTS) {
-        app_error("sweep: %s: more than %ld points (keys x seeds); between 1 and %ld allowed", file, SWEEP_MAX_POINTS,
-                  SWEEP_MAX_POINTS);
+        app_error("sweep: %s: more than %ld points (keys x seeds); between 1 and %ld allowed", file,
+                  SWEEP_MAX_POINTS, SWEEP_MAX_POINTS);
         return EXIT_REFUSED;
     }
     return EXIT_OK;
@@ -295,7 +334,8 @@ unsigned long long sweep_point_seed(const sweep *s, long k)
     int idx[SWEEP_MAX_KEYS] = {0}, seed;
     sweep_decode(s, k, idx, &seed);
     if (s->seed_key >= 0) {
-        return strtoull(s->value[s->seed_key][idx[s->seed_key]], NULL, 10); /* checked by parse_seed */
+        return strtoull(s->value[s->seed_key][idx[s->seed_key]], NULL,
+                        10); /* checked by parse_seed */
     }
     return s->seeds[seed];
 }
@@ -333,7 +373,8 @@ int sweep_point_scene(const sweep *s, long k, gr_scene *sc, gr_error *err)
     char store[SWEEP_MAX_OVERRIDES][256];
     const char *ptrs[SWEEP_MAX_OVERRIDES];
     int m = sweep_overrides(s, k, store, ptrs);
-    return gr_scene_load_whole(sc, s->scene, ptrs, m, err); /* an empty or sectionless scene is refused */
+    return gr_scene_load_whole(sc, s->scene, ptrs, m,
+                               err); /* an empty or sectionless scene is refused */
 }
 
 void sweep_point_dir(const sweep *s, long k, char *dir, size_t len)
@@ -343,8 +384,10 @@ void sweep_point_dir(const sweep *s, long k, char *dir, size_t len)
 
 void sweep_list(const sweep *s, FILE *f)
 {
-    fprintf(f, "# %s: %ld points (0 .. %ld), into %s/pNNNN; a batch array of them: --array=0-%ld (SLURM)\n", s->file,
-            s->n_points, s->n_points - 1, s->out, s->n_points - 1);
+    fprintf(f,
+            "# %s: %ld points (0 .. %ld), into %s/pNNNN; a batch array of them: --array=0-%ld "
+            "(SLURM)\n",
+            s->file, s->n_points, s->n_points - 1, s->out, s->n_points - 1);
     fprintf(f, "# point");
     for (int i = 0; i < s->n_keys; i++) {
         fprintf(f, " %s", s->key[i]);
@@ -375,7 +418,8 @@ int sweep_foreign_points(const sweep *s, bool force, char *why, size_t len)
     struct dirent *e;
     while ((e = readdir(d))) {
         const char *name = e->d_name;
-        if (name[0] != 'p' || strlen(name) < 5 || strspn(name + 1, "0123456789") != strlen(name + 1)) {
+        if (name[0] != 'p' || strlen(name) < 5 ||
+            strspn(name + 1, "0123456789") != strlen(name + 1)) {
             continue;
         }
         const long k = atol(name + 1);
@@ -396,8 +440,10 @@ int sweep_foreign_points(const sweep *s, bool force, char *why, size_t len)
     }
     closedir(d);
     if (n && !force) {
-        snprintf(why, len, "%.600s holds %ld point folder%s (p%04ld..p%04ld) beyond this sweep's %ld points: they come from "
-                           "another sweep file; choose another folder, or pass --force to delete them",
+        snprintf(why, len,
+                 "%.600s holds %ld point folder%s (p%04ld..p%04ld) beyond this sweep's %ld points: "
+                 "they come from "
+                 "another sweep file; choose another folder, or pass --force to delete them",
                  s->out, n, n == 1 ? "" : "s", lo, hi, s->n_points);
         return -1;
     }

@@ -15,7 +15,8 @@
 
 int sweep_mpi_launched(const char **var)
 {
-    static const char *const size_vars[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS"};
+    static const char *const size_vars[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE",
+                                            "MPI_LOCALNRANKS"};
     for (size_t i = 0; i < sizeof size_vars / sizeof size_vars[0]; i++) {
         const char *v = getenv(size_vars[i]);
         if (v && atoi(v) > 0) {
@@ -37,10 +38,7 @@ int sweep_mpi_launched(const char **var)
 
 enum { TAG_REQUEST = 1, TAG_POINT = 2 };
 
-bool sweep_mpi_available(void)
-{
-    return true;
-}
+bool sweep_mpi_available(void) { return true; }
 
 typedef struct dispatcher {
     int active; /* workers that have not been told to stop */
@@ -97,8 +95,8 @@ int sweep_mpi_run(sweep *s, const uint64_t *hash, const double *guess, int *argc
             app_error("sweep: %s", why);
             MPI_Abort(MPI_COMM_WORLD, EXIT_REFUSED);
         }
-        app_note("sweep: %ld points (%d keys x %d seeds) over %d MPI ranks, into %s\n", s->n_points, s->n_keys,
-                s->n_seeds, size, s->out);
+        app_note("sweep: %ld points (%d keys x %d seeds) over %d MPI ranks, into %s\n", s->n_points,
+                 s->n_keys, s->n_seeds, size, s->out);
         sweep_queue q = {.s = s, .hash = hash, .guess = guess, .jobs = size};
         sweep_queue_start(&q);
         dispatcher d = {.active = size - 1};
@@ -126,10 +124,7 @@ int sweep_mpi_run(sweep *s, const uint64_t *hash, const double *guess, int *argc
 
 #else
 
-bool sweep_mpi_available(void)
-{
-    return false;
-}
+bool sweep_mpi_available(void) { return false; }
 
 int sweep_mpi_run(sweep *s, const uint64_t *hash, const double *guess, int *argc, char ***argv)
 {
@@ -137,8 +132,10 @@ int sweep_mpi_run(sweep *s, const uint64_t *hash, const double *guess, int *argc
     (void)hash;
     (void)argc;
     (void)argv;
-    app_error("sweep: this granule was built without MPI; rebuild with meson setup -Dmpi=enabled (Debian: apt-get install "
-              "libopenmpi-dev openmpi-bin), or run the points as a batch array (--point K, docs/cluster.md)");
+    app_error("sweep: this granule was built without MPI; rebuild with meson setup -Dmpi=enabled "
+              "(Debian: apt-get install "
+              "libopenmpi-dev openmpi-bin), or run the points as a batch array (--point K, "
+              "docs/cluster.md)");
     return EXIT_REFUSED;
 }
 

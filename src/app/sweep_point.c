@@ -64,13 +64,15 @@ const char *sweep_exit_name(int code)
     return code == EXIT_OK         ? "completed"
            : code == EXIT_UNSTABLE ? "unstable"
            : code == EXIT_REFUSED  ? "refused"
-           : code == EXIT_STOPPED || code == EXIT_WALL_LIMIT || code == EXIT_WRITE_FAILED ? "stopped"
-                                   : "failed";
+           : code == EXIT_STOPPED || code == EXIT_WALL_LIMIT || code == EXIT_WRITE_FAILED
+               ? "stopped"
+               : "failed";
 }
 
 const char *sweep_state_name(point_state st)
 {
-    static const char *const names[] = {"missing", "running", "completed", "failed", "unstable", "stale", "running", "stopped"};
+    static const char *const names[] = {"missing",  "running", "completed", "failed",
+                                        "unstable", "stale",   "running",   "stopped"};
     return names[st];
 }
 
@@ -102,7 +104,8 @@ static bool same_physics(const sweep *s, long k, const char *dir, char *why, siz
 /* The state on disk; probe: look at the claim of a point whose manifest says running (a process
  * must not probe a claim it holds: where flock is emulated by POSIX locks, as on NFS, closing the
  * probe would drop its own claim). */
-static point_state state_of(const sweep *s, long k, uint64_t hash, char *why, size_t len, bool probe)
+static point_state state_of(const sweep *s, long k, uint64_t hash, char *why, size_t len,
+                            bool probe)
 {
     char dir[1100], path[1200], want[20];
     sweep_point_dir(s, k, dir, sizeof dir);
@@ -118,8 +121,8 @@ static point_state state_of(const sweep *s, long k, uint64_t hash, char *why, si
         st = POINT_MISSING;
     } else if ((!have || strcmp(have, want) != 0) &&
                (strcmp(status, "completed") != 0 || !same_physics(s, k, dir, diff, sizeof diff))) {
-        snprintf(why, len, "run with other settings (scene hash %s, now %s%s%s)", have ? have : "none", want,
-                 diff[0] ? "; " : "", diff);
+        snprintf(why, len, "run with other settings (scene hash %s, now %s%s%s)",
+                 have ? have : "none", want, diff[0] ? "; " : "", diff);
         st = POINT_STALE;
     } else if (!strcmp(status, "running")) {
         char holder[400] = "";
@@ -128,7 +131,8 @@ static point_state state_of(const sweep *s, long k, uint64_t hash, char *why, si
             snprintf(why, len, "being run by %s", holder[0] ? holder : "another process");
         } else {
             snprintf(why, len, "started %s on %s, not finished, and no process runs it (killed)",
-                     json_string(m, "started") ? json_string(m, "started") : "?", json_string(m, "host") ? json_string(m, "host") : "?");
+                     json_string(m, "started") ? json_string(m, "started") : "?",
+                     json_string(m, "host") ? json_string(m, "host") : "?");
         }
         st = held ? POINT_CLAIMED : POINT_RUNNING;
     } else if (!strcmp(status, "completed")) {
@@ -143,7 +147,9 @@ static point_state state_of(const sweep *s, long k, uint64_t hash, char *why, si
     } else {
         const char *e = json_string(m, "error");
         snprintf(why, len, "%s", e ? e : status);
-        st = !strcmp(status, "unstable") ? POINT_UNSTABLE : !strcmp(status, "stopped") ? POINT_STOPPED : POINT_FAILED;
+        st = !strcmp(status, "unstable")  ? POINT_UNSTABLE
+             : !strcmp(status, "stopped") ? POINT_STOPPED
+                                          : POINT_FAILED;
     }
     cJSON_Delete(m);
     return st;
@@ -154,8 +160,9 @@ point_state sweep_point_state(const sweep *s, long k, uint64_t hash, char *why, 
     return state_of(s, k, hash, why, len, true);
 }
 
-static void write_manifest(const sweep *s, long k, const char *dir, const char *runner, const sweep_child *c,
-                           const char *finished, double wall, const char *status, int code, const char *error)
+static void write_manifest(const sweep *s, long k, const char *dir, const char *runner,
+                           const sweep_child *c, const char *finished, double wall,
+                           const char *status, int code, const char *error)
 {
     int idx[SWEEP_MAX_KEYS] = {0}, seed;
     sweep_decode(s, k, idx, &seed);
@@ -239,8 +246,10 @@ static int claim(const char *dir, long k, int *fd, char *who, size_t who_len, gr
         static bool warned;
         if (!warned) {
             warned = true;
-            app_note("sweep: warning: cannot lock %s/%s (no flock on this file system): points are not claimed, "
-                            "so do not run two sweeps over this folder at once\n", dir, POINT_LOCK);
+            app_note("sweep: warning: cannot lock %s/%s (no flock on this file system): points are "
+                     "not claimed, "
+                     "so do not run two sweeps over this folder at once\n",
+                     dir, POINT_LOCK);
         }
     }
     if (!rc && *fd >= 0) {
@@ -262,7 +271,9 @@ static void release(const sweep *s, sweep_child *c)
     }
     char dir[1100];
     sweep_point_dir(s, c->k, dir, sizeof dir);
-    gr_dir_unlock(dir, POINT_LOCK, &c->lock_fd); /* the claim ends with the last descriptor: this one, once the child is gone */
+    gr_dir_unlock(
+        dir, POINT_LOCK,
+        &c->lock_fd); /* the claim ends with the last descriptor: this one, once the child is gone */
 }
 
 static void close_other_claims(int own)
@@ -301,7 +312,8 @@ static int child_run(const sweep *s, long k, const char *dir, int fd, pid_t pare
     sigemptyset(&sa.sa_mask);
     sigaction(SIGTERM, &sa, NULL);
     sigaction(SIGINT, &sa, NULL);
-    signal(SIGPIPE, SIG_IGN); /* a killed sweep's closed pipe must not kill the run mid-checkpoint */
+    signal(SIGPIPE,
+           SIG_IGN); /* a killed sweep's closed pipe must not kill the run mid-checkpoint */
     prctl(PR_SET_PDEATHSIG, SIGTERM); /* a killed sweep takes its runs with it */
     if (getppid() != parent) {
         return EXIT_FAILED;
@@ -314,15 +326,19 @@ static int child_run(const sweep *s, long k, const char *dir, int fd, pid_t pare
     } else {
         snprintf(sc.out_dir, sizeof sc.out_dir, "%.1000s", dir);
         sc.progress = false;
-        gr_run_options opt = {.force = true, .stop = &point_stop}; /* an unfinished point's folder is ours to redo */
+        gr_run_options opt = {
+            .force = true, .stop = &point_stop}; /* an unfinished point's folder is ours to redo */
         gr_run_result res;
         int rc;
         if (has_checkpoint(dir)) {
-            app_note("granule sweep: point %ld: continuing from %s/%s\n", k, dir, GR_CHECKPOINT_NAME);
+            app_note("granule sweep: point %ld: continuing from %s/%s\n", k, dir,
+                     GR_CHECKPOINT_NAME);
             gr_run_options resume = {.resume = true, .stop = &point_stop};
             rc = gr_run(&sc, &resume, &res, &err);
             if (rc == GR_EINVAL && !point_stop) {
-                app_note("granule sweep: point %ld: starting again, its checkpoint cannot be continued: %s\n", k, err.message);
+                app_note("granule sweep: point %ld: starting again, its checkpoint cannot be "
+                         "continued: %s\n",
+                         k, err.message);
                 err = (gr_error){0};
                 rc = gr_run(&sc, &opt, &res, &err);
             }
@@ -332,14 +348,19 @@ static int child_run(const sweep *s, long k, const char *dir, int fd, pid_t pare
         if (rc == GR_OK && !res.stopped) {
             gr_plot_summary_update(dir); /* summary.json lists every picture drawn */
         }
-        code = rc == GR_OK ? EXIT_OK : rc == GR_EUNSTABLE ? EXIT_UNSTABLE : rc == GR_EINVAL ? EXIT_REFUSED
-             : res.stopped == GR_RUN_STOPPED_WRITE ? EXIT_WRITE_FAILED /* checkpoint kept: the next run continues it */
-                                                   : EXIT_FAILED;
+        code = rc == GR_OK          ? EXIT_OK
+               : rc == GR_EUNSTABLE ? EXIT_UNSTABLE
+               : rc == GR_EINVAL    ? EXIT_REFUSED
+               : res.stopped == GR_RUN_STOPPED_WRITE
+                   ? EXIT_WRITE_FAILED /* checkpoint kept: the next run continues it */
+                   : EXIT_FAILED;
         if (rc == GR_OK && res.stopped) {
             code = res.stopped == 1 ? EXIT_STOPPED : EXIT_WALL_LIMIT;
             snprintf(err.message, sizeof err.message,
-                     "stopped %s at step %lld; checkpoint written to %.300s/%s, the next run of the sweep continues it",
-                     res.stopped == 1 ? "by a signal" : "before run.wall_limit", (long long)res.steps, dir, GR_CHECKPOINT_NAME);
+                     "stopped %s at step %lld; checkpoint written to %.300s/%s, the next run of "
+                     "the sweep continues it",
+                     res.stopped == 1 ? "by a signal" : "before run.wall_limit",
+                     (long long)res.steps, dir, GR_CHECKPOINT_NAME);
         }
     }
     if (code != EXIT_OK) {
@@ -369,7 +390,8 @@ int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c
     char who[400] = "";
     rc = rc ? rc : claim(dir, k, &c->lock_fd, who, sizeof who, err);
     if (rc == SWEEP_CLAIMED_ELSEWHERE) {
-        snprintf(err->message, sizeof err->message, "point %ld is being run by %s; left to it", k, who[0] ? who : "another process");
+        snprintf(err->message, sizeof err->message, "point %ld is being run by %s; left to it", k,
+                 who[0] ? who : "another process");
     }
     if (rc) {
         return rc;
@@ -410,14 +432,16 @@ int sweep_point_start(const sweep *s, long k, const char *runner, sweep_child *c
     return GR_OK;
 }
 
-int sweep_point_finish(const sweep *s, const char *runner, sweep_child *c, int ws, const struct rusage *ru)
+int sweep_point_finish(const sweep *s, const char *runner, sweep_child *c, int ws,
+                       const struct rusage *ru)
 {
-    c->cpu = ru ? (double)ru->ru_utime.tv_sec + 1e-6 * (double)ru->ru_utime.tv_usec + (double)ru->ru_stime.tv_sec +
-                      1e-6 * (double)ru->ru_stime.tv_usec
+    c->cpu = ru ? (double)ru->ru_utime.tv_sec + 1e-6 * (double)ru->ru_utime.tv_usec +
+                      (double)ru->ru_stime.tv_sec + 1e-6 * (double)ru->ru_stime.tv_usec
                 : 0.0;
     char msg[700] = "";
     ssize_t got = 0, n;
-    while (c->fd >= 0 && got < (ssize_t)sizeof msg - 1 && (n = read(c->fd, msg + got, sizeof msg - 1 - (size_t)got)) > 0) {
+    while (c->fd >= 0 && got < (ssize_t)sizeof msg - 1 &&
+           (n = read(c->fd, msg + got, sizeof msg - 1 - (size_t)got)) > 0) {
         got += n;
     }
     msg[got > 0 ? got : 0] = 0;

@@ -54,10 +54,12 @@ void sweep_queue_progress(const sweep_queue *q)
     double scale = q->guess_done > 0.0 && q->cpu_done > 0.0 ? q->cpu_done / q->guess_done : 1.0;
     double left = q->finished >= q->s->n_points ? 0.0 : fmax(0.0, q->guess_left) * scale / 3600.0;
     int jobs = q->jobs > 0 ? q->jobs : 1;
-    app_note("sweep: %ld/%ld points finished; %.3g CPU-h spent on them, about %.3g CPU-h left (%.3g h of wall time at %d "
-                    "parallel run%s%s)\n",
-            q->finished, q->s->n_points, q->cpu_done / 3600.0, left, left / jobs, jobs, jobs == 1 ? "" : "s",
-            q->guess_done > 0.0 ? "" : "; a first guess until a point finishes");
+    app_note("sweep: %ld/%ld points finished; %.3g CPU-h spent on them, about %.3g CPU-h left "
+             "(%.3g h of wall time at %d "
+             "parallel run%s%s)\n",
+             q->finished, q->s->n_points, q->cpu_done / 3600.0, left, left / jobs, jobs,
+             jobs == 1 ? "" : "s",
+             q->guess_done > 0.0 ? "" : "; a first guess until a point finishes");
 }
 
 long sweep_queue_next(sweep_queue *q)
@@ -93,12 +95,13 @@ void sweep_queue_done(sweep_queue *q, long k, int code, const char *who)
         return;
     }
     q->run++;
-    const bool stopped = code == EXIT_STOPPED || code == EXIT_WALL_LIMIT || code == EXIT_WRITE_FAILED;
+    const bool stopped =
+        code == EXIT_STOPPED || code == EXIT_WALL_LIMIT || code == EXIT_WRITE_FAILED;
     q->stopped += stopped;
     q->failed += code != EXIT_OK && !stopped;
     const char *what = sweep_exit_name(code);
-    app_note("sweep: point %ld %s%s%s (%ld/%ld)\n", k, what, who ? " on " : "", who ? who : "", q->run + q->skipped,
-            q->s->n_points);
+    app_note("sweep: point %ld %s%s%s (%ld/%ld)\n", k, what, who ? " on " : "", who ? who : "",
+             q->run + q->skipped, q->s->n_points);
     if (code == EXIT_OK) {
         q->finished++;
         account(q, k);
@@ -193,8 +196,8 @@ void sweep_run_local(sweep_queue *q, int jobs, const char *runner, sweep_serve_f
 
 void sweep_queue_report(const sweep_queue *q)
 {
-    app_result("%s/sweep.csv: %ld points, %ld run now, %ld already finished, %ld failed", q->s->out, q->s->n_points, q->run, q->skipped,
-           q->failed);
+    app_result("%s/sweep.csv: %ld points, %ld run now, %ld already finished, %ld failed", q->s->out,
+               q->s->n_points, q->run, q->skipped, q->failed);
     if (q->stopped) {
         app_result(", %ld stopped with a checkpoint", q->stopped);
     }

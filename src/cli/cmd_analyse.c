@@ -32,24 +32,32 @@ static const cli_opt analyse_opts[] = {
     CLI_OPT_OUT(analyse_args, out, "DIR/analysis"),
     CLI_OPT_FORCE(analyse_args, force),
     CLI_OPT_FORMAT,
-    {"--no-plots", CLI_FLAG, NULL, offsetof(analyse_args, no_plots), 0, 0, 0, NULL, "draw no plots (same as --set output.plots=false)", NULL},
+    {"--no-plots", CLI_FLAG, NULL, offsetof(analyse_args, no_plots), 0, 0, 0, NULL,
+     "draw no plots (same as --set output.plots=false)", NULL},
     {"--lammps-dump", CLI_STRING, "FILE", offsetof(analyse_args, dump), 0, 0, 0, NULL,
      "read the frames from a LAMMPS text dump instead of DIR's trajectory", NULL},
 };
 
 const cli_command cli_cmd_analyse = {
     .name = "analyse",
-    .usage = "granule analyse DIR [--set analysis.observables=a,b ...] [--set section.key=value ...]\n"
-             "                       [--out OUT] [--force] [--lammps-dump FILE]",
-    .about = "Reads DIR/scene.ini and the trajectory of a finished run (DIR/trajectory.h5, DIR/snapshots/trajectory.xyz\n"
-             "or DIR/snapshots/snap_*.xyz, as output.trajectory wrote it) and feeds\n"
-             "every frame to the observables named in [analysis] observables (granule observables lists\n"
-             "them; --set changes them or their parameters); frames of the warm-up (t <= run.warmup) are\n"
-             "skipped, as in a run. Writes OUT (default DIR/analysis):\n"
-             "summary.json and one CSV (and PNG) per observable, exactly as a run that sampled them.\n"
-             "--lammps-dump FILE reads the frames from a LAMMPS text dump (dump custom with id x y vx vy,\n"
-             "e.g. of a deck from `granule export lammps`) instead of the snapshots; DIR (default: the\n"
-             "dump's folder) holds the scene.ini; frame times are timestep * integrator.dt (docs/lammps.md).\n",
+    .usage =
+        "granule analyse DIR [--set analysis.observables=a,b ...] [--set section.key=value ...]\n"
+        "                       [--out OUT] [--force] [--lammps-dump FILE]",
+    .about =
+        "Reads DIR/scene.ini and the trajectory of a finished run (DIR/trajectory.h5, "
+        "DIR/snapshots/trajectory.xyz\n"
+        "or DIR/snapshots/snap_*.xyz, as output.trajectory wrote it) and feeds\n"
+        "every frame to the observables named in [analysis] observables (granule observables "
+        "lists\n"
+        "them; --set changes them or their parameters); frames of the warm-up (t <= run.warmup) "
+        "are\n"
+        "skipped, as in a run. Writes OUT (default DIR/analysis):\n"
+        "summary.json and one CSV (and PNG) per observable, exactly as a run that sampled them.\n"
+        "--lammps-dump FILE reads the frames from a LAMMPS text dump (dump custom with id x y vx "
+        "vy,\n"
+        "e.g. of a deck from `granule export lammps`) instead of the snapshots; DIR (default: the\n"
+        "dump's folder) holds the scene.ini; frame times are timestep * integrator.dt "
+        "(docs/lammps.md).\n",
     .pos_name = "run folder",
     .max_pos = 1,
     CLI_OPTS(analyse_opts),
@@ -64,14 +72,19 @@ typedef struct frame_source {
     double dt;
 } frame_source;
 
-static int source_open(frame_source *src, const char *dir, const char *dump, const gr_scene *scene, gr_error *err)
+static int source_open(frame_source *src, const char *dir, const char *dump, const gr_scene *scene,
+                       gr_error *err)
 {
     memset(src, 0, sizeof *src);
     src->dt = scene->dt;
     if (dump && !(scene->dt > 0.0)) { /* frame times are timestep * dt */
-        return GR_FAIL(err, GR_EINVAL, "--lammps-dump %s: its frame times are timestep * integrator.dt, but %s leaves "
-                       "integrator.dt unset (it follows from steps_per_contact); analyse the folder `granule export lammps` "
-                       "wrote (its scene.ini holds the resolved dt) or give --set integrator.dt=DT", dump, scene->source);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "--lammps-dump %s: its frame times are timestep * integrator.dt, but %s leaves "
+            "integrator.dt unset (it follows from steps_per_contact); analyse the folder `granule "
+            "export lammps` "
+            "wrote (its scene.ini holds the resolved dt) or give --set integrator.dt=DT",
+            dump, scene->source);
     }
     if (dump) {
         return gr_lammps_dump_open(dump, &src->dump, err);
@@ -103,23 +116,31 @@ static void source_close(frame_source *src)
 
 /* A frame the observables may take: the scene's N, dim and box, a finite time after the previous
  * frame's. GR_EINVAL naming the source, the frame and the cause otherwise. */
-static int frame_check(const gr_frame *fr, size_t k, double t_prev, const gr_scene *scene, const char *source,
-                       const char *scene_path, gr_error *err)
+static int frame_check(const gr_frame *fr, size_t k, double t_prev, const gr_scene *scene,
+                       const char *source, const char *scene_path, gr_error *err)
 {
     if (fr->n != scene->N || fr->dim != scene->dim) {
-        return GR_FAIL(err, GR_EINVAL, "%s, frame %zu: %d particles in %dD, but the scene has N = %d in %dD", source, k,
-                       fr->n, fr->dim, scene->N, scene->dim);
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s, frame %zu: %d particles in %dD, but the scene has N = %d in %dD",
+                       source, k, fr->n, fr->dim, scene->N, scene->dim);
     }
     if (!isfinite(fr->t)) {
-        return GR_FAIL(err, GR_EINVAL, "%s, frame %zu: time t = %g s is not a finite number", source, k, fr->t);
+        return GR_FAIL(err, GR_EINVAL, "%s, frame %zu: time t = %g s is not a finite number",
+                       source, k, fr->t);
     }
     if (!(fr->t > t_prev)) {
-        return GR_FAIL(err, GR_EINVAL, "%s, frame %zu: t = %.17g s is not after frame %zu's t = %.17g s: frames must be "
-                       "in increasing time order", source, k, fr->t, k - 1, t_prev);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s, frame %zu: t = %.17g s is not after frame %zu's t = %.17g s: frames must be "
+            "in increasing time order",
+            source, k, fr->t, k - 1, t_prev);
     }
     if (!(fabs(fr->L - scene->L) <= 1e-9 * scene->L)) {
-        return GR_FAIL(err, GR_EINVAL, "%s, frame %zu: box length %.17g m disagrees with system.L = %.17g m of %s: the "
-                       "trajectory belongs to another scene", source, k, fr->L, scene->L, scene_path);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s, frame %zu: box length %.17g m disagrees with system.L = %.17g m of %s: the "
+            "trajectory belongs to another scene",
+            source, k, fr->L, scene->L, scene_path);
     }
     return GR_OK;
 }
@@ -162,7 +183,8 @@ static void headline_fits(const cJSON *analysis, char *buf, size_t size)
         const char *label, *value, *error, *flag;
     } fits[] = {
         {"tail alpha (5.5)", "pv.tail.alpha", "pv.tail.alpha_halfwidth", "pv.tail.accepted"},
-        {"tail alpha (5.5, free fit)", "pv.tail.free.alpha", "pv.tail.free.alpha_err", "pv.tail.free.converged"},
+        {"tail alpha (5.5, free fit)", "pv.tail.free.alpha", "pv.tail.free.alpha_err",
+         "pv.tail.free.converged"},
         {"D_f (4.4)", "sk.fit.D_f", "sk.fit.D_f_err", NULL},
         {"n_N (3.22)", "gaps.fit_3_22.n_N", "gaps.fit_3_22.n_N_stderr", NULL},
     };
@@ -170,7 +192,8 @@ static void headline_fits(const cJSON *analysis, char *buf, size_t size)
     for (size_t k = 0; k < sizeof fits / sizeof fits[0]; k++) {
         const bool is_alpha = fits[k].value[0] == 'p';
         const double v = gr_summary_number(analysis, fits[k].value);
-        if ((is_alpha && alpha) || !(v == v) || (fits[k].flag && gr_summary_number(analysis, fits[k].flag) != 1.0)) {
+        if ((is_alpha && alpha) || !(v == v) ||
+            (fits[k].flag && gr_summary_number(analysis, fits[k].flag) != 1.0)) {
             continue;
         }
         alpha |= is_alpha;
@@ -224,7 +247,8 @@ int cmd_analyse(int argc, char **argv)
         return EXIT_REFUSED;
     }
     if (!scene.observables[0]) {
-        cli_error("analyse: no observables chosen; add --set analysis.observables=NAME[,NAME] (granule observables lists them)");
+        cli_error("analyse: no observables chosen; add --set analysis.observables=NAME[,NAME] "
+                  "(granule observables lists them)");
         return EXIT_REFUSED;
     }
     if (!out_dir) {
@@ -237,10 +261,14 @@ int cmd_analyse(int argc, char **argv)
         return EXIT_REFUSED;
     }
     char real_in[PATH_MAX], real_out[PATH_MAX];
-    const size_t n_out = realpath(dir, real_in) && realpath(out_dir, real_out) ? strlen(real_out) : 0;
-    if (n_out && !strncmp(real_in, real_out, n_out) && (real_in[n_out] == '/' || !real_in[n_out] || n_out == 1)) {
-        cli_error("analyse: --out %s is the folder analysed (%s) or holds it; its results would replace their own input: "
-                  "choose another folder (the default is %s/analysis)", out_dir, dir, dir);
+    const size_t n_out =
+        realpath(dir, real_in) && realpath(out_dir, real_out) ? strlen(real_out) : 0;
+    if (n_out && !strncmp(real_in, real_out, n_out) &&
+        (real_in[n_out] == '/' || !real_in[n_out] || n_out == 1)) {
+        cli_error("analyse: --out %s is the folder analysed (%s) or holds it; its results would "
+                  "replace their own input: "
+                  "choose another folder (the default is %s/analysis)",
+                  out_dir, dir, dir);
         return EXIT_REFUSED;
     }
     gr_observer *obs = NULL;
@@ -271,9 +299,17 @@ int cmd_analyse(int argc, char **argv)
         if (!rc) {
             t_prev = t_last = fr.t;
         }
-        if (!rc && fr.t > scene.warmup * (1.0 + 1e-12)) { /* the warm-up is not sampled, as in a run */
-            gr_particles p = {.n = fr.n, .dim = fr.dim, .L = fr.L, .radius = scene.radius, .mass = scene.mass,
-                              .x = fr.x, .y = fr.y, .vx = fr.vx, .vy = fr.vy};
+        if (!rc &&
+            fr.t > scene.warmup * (1.0 + 1e-12)) { /* the warm-up is not sampled, as in a run */
+            gr_particles p = {.n = fr.n,
+                              .dim = fr.dim,
+                              .L = fr.L,
+                              .radius = scene.radius,
+                              .mass = scene.mass,
+                              .x = fr.x,
+                              .y = fr.y,
+                              .vx = fr.vx,
+                              .vy = fr.vy};
             rc = gr_observer_sample(obs, &p, fr.t, &err);
             if (rc) {
                 char why[sizeof err.message];
@@ -300,8 +336,10 @@ int cmd_analyse(int argc, char **argv)
     if (!rc && read == 0) {
         rc = GR_FAIL(&err, GR_EINVAL, "%s holds no frames: nothing to analyse", source);
     } else if (!rc && frames == 0) {
-        rc = GR_FAIL(&err, GR_EINVAL, "%s: none of its %zu frames (the last at t = %.17g s) is after the warm-up "
-                     "(run.warmup = %g s): nothing to analyse", source, read, t_last, scene.warmup);
+        rc = GR_FAIL(&err, GR_EINVAL,
+                     "%s: none of its %zu frames (the last at t = %.17g s) is after the warm-up "
+                     "(run.warmup = %g s): nothing to analyse",
+                     source, read, t_last, scene.warmup);
     }
     if (rc) {
         gr_observer_free(obs);
@@ -315,21 +353,29 @@ int cmd_analyse(int argc, char **argv)
         return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
     cJSON *sum = cJSON_CreateObject(), *analysis = cJSON_AddObjectToObject(sum, "analysis");
-    gr_output out = {.dir = out_dir, .source = scene.source, .seed = scene.seed, .scene_hash = gr_scene_hash(&scene), .summary = analysis, .plots = scene.plots};
+    gr_output out = {.dir = out_dir,
+                     .source = scene.source,
+                     .seed = scene.seed,
+                     .scene_hash = gr_scene_hash(&scene),
+                     .summary = analysis,
+                     .plots = scene.plots};
     rc = gr_observer_finish(obs, &out, &err);
     gr_observer_free(obs);
     cJSON_AddStringToObject(sum, "source", dump ? dump : dir);
     cJSON_AddNumberToObject(sum, "frames", (double)frames);
     /* the run's headline: T over the frames after the warm-up (summary.json as a run writes it) */
     int T_converged = 0;
-    const double T_mean = gr_blocking_mean(&T_blk), T_stderr = gr_blocking_stderr(&T_blk, NULL, &T_converged);
+    const double T_mean = gr_blocking_mean(&T_blk),
+                 T_stderr = gr_blocking_stderr(&T_blk, NULL, &T_converged);
     add_number(sum, "T_mean", T_mean);
     add_number(sum, "T_stderr", T_stderr);
     cJSON_AddBoolToObject(sum, "T_stderr_converged", T_converged);
     cJSON_AddNumberToObject(sum, "samples", (double)frames);
     char few[200] = "";
     if (frames < GR_MIN_FRAMES) {
-        snprintf(few, sizeof few, "only %zu frames after the warm-up, fewer than the %d that statistics with error bars need",
+        snprintf(few, sizeof few,
+                 "only %zu frames after the warm-up, fewer than the %d that statistics with error "
+                 "bars need",
                  frames, GR_MIN_FRAMES);
         cJSON_AddStringToObject(sum, "warnings", few);
     }
@@ -371,12 +417,17 @@ int cmd_observables(int argc, char **argv)
     }
     for (int i = 0; gr_observables[i]; i++) {
         const gr_observable_type *t = gr_observables[i];
-        printf("%s  [%s]\n  %s\n", t->name, t->dims == 3 ? "1D, 2D" : t->dims == 1 ? "1D" : "2D", t->summary);
+        printf("%s  [%s]\n  %s\n", t->name,
+               t->dims == 3   ? "1D, 2D"
+               : t->dims == 1 ? "1D"
+                              : "2D",
+               t->summary);
         if (t->events) {
             printf("  takes contact events: computed in a run only (granule analyse has none)\n");
         }
         for (int k = 0; k < t->n_params; k++) {
-            printf("    %-14s default %-8g %s\n", t->params[k].name, t->params[k].def, t->params[k].doc);
+            printf("    %-14s default %-8g %s\n", t->params[k].name, t->params[k].def,
+                   t->params[k].doc);
         }
     }
     return EXIT_OK;

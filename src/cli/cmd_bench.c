@@ -25,20 +25,27 @@ typedef struct {
 static const bench_part parts[] = {
     {"core", "core_throughput.sh", NULL, "--quick",
      "particle-steps/s of the 2D and 1D RFM scenes, Verlet list vs cell list every step"},
-    {"scaling", "scaling.sh", NULL, "--quick", "particle-steps/s against N (2D, 1D) and the cost of each effect"},
+    {"scaling", "scaling.sh", NULL, "--quick",
+     "particle-steps/s against N (2D, 1D) and the cost of each effect"},
     {"throughput", "throughput_all.sh", NULL, "--quick",
      "every model and integrator against N (2D 1e3-1e5, 1D 1e2-1e4), threads;\n"
      "                   out/bench/throughput.md, docs/img/scaling.png"},
-    {"threads", "threads.sh", NULL, "--quick", "OpenMP speed-up of the soft-sphere core (docs/performance.md, Threads)"},
+    {"threads", "threads.sh", NULL, "--quick",
+     "OpenMP speed-up of the soft-sphere core (docs/performance.md, Threads)"},
     {"noise", NULL, "bench_noise", "--repeats 3", "ns per normal variate of the random force"},
     {"sk", NULL, "bench_sk", "--quick", "S(k) per frame: gridding vs direct sum, accuracy"},
     {"accuracy", "accuracy_cost.sh", NULL, "--quick",
      "error (collision energy loss, steady temperature) against wall seconds per\n"
-     "                   simulated second as dt grows; out/bench/accuracy-*.md, docs/img/accuracy-*.png"},
-    {"cost", "cost_check.sh", NULL, "--quick", "granule cost's recommended dt and predicted wall time against real runs"},
-    {"event", "event_throughput.sh", NULL, "--quick", "event-driven collisions/s and events/s (docs/event-driven.md)"},
-    {"hybrid", "hybrid_speedup.sh", NULL, "--quick", "hybrid against soft-sphere: speed-up at equal accuracy (docs/hybrid.md)"},
-    {"hybrid-agreement", "hybrid_agreement.sh", NULL, "--quick", "hybrid against soft-sphere over several seeds (long)"},
+     "                   simulated second as dt grows; out/bench/accuracy-*.md, "
+     "docs/img/accuracy-*.png"},
+    {"cost", "cost_check.sh", NULL, "--quick",
+     "granule cost's recommended dt and predicted wall time against real runs"},
+    {"event", "event_throughput.sh", NULL, "--quick",
+     "event-driven collisions/s and events/s (docs/event-driven.md)"},
+    {"hybrid", "hybrid_speedup.sh", NULL, "--quick",
+     "hybrid against soft-sphere: speed-up at equal accuracy (docs/hybrid.md)"},
+    {"hybrid-agreement", "hybrid_agreement.sh", NULL, "--quick",
+     "hybrid against soft-sphere over several seeds (long)"},
     {"lammps", "lammps.sh", NULL, "--quick",
      "the 2D RFM scene and single collisions side by side with LAMMPS (skipped\n"
      "                   without lmp; --install installs the Debian package lammps, as root)"},
@@ -52,9 +59,10 @@ static void parts_help(FILE *f)
     for (int k = 0; k < N_PARTS; k++) {
         fprintf(f, "  %-16s %s\n", parts[k].name, parts[k].doc);
     }
-    fprintf(f, "  %-16s every one of them, in this order (default)\n\n"
-               "--update-docs writes %s/out/bench and %s/docs/img.\n"
-               "Runs the programs and scripts of %s/bench built in %s.\n",
+    fprintf(f,
+            "  %-16s every one of them, in this order (default)\n\n"
+            "--update-docs writes %s/out/bench and %s/docs/img.\n"
+            "Runs the programs and scripts of %s/bench built in %s.\n",
             "all", GR_SOURCE_DIR, GR_SOURCE_DIR, GR_SOURCE_DIR, GR_BUILD_DIR);
 }
 
@@ -65,12 +73,16 @@ typedef struct bench_args {
 
 static const cli_opt bench_opts[] = {
     {"--quick", CLI_FLAG, NULL, offsetof(bench_args, quick), 0, 0, 0, NULL,
-     "a smoke test: tiny sizes (what the test suite runs), every part once; the numbers are not benchmarks and nothing "
-     "is kept", NULL},
+     "a smoke test: tiny sizes (what the test suite runs), every part once; the numbers are not "
+     "benchmarks and nothing "
+     "is kept",
+     NULL},
     {"--out", CLI_STRING, "DIR", offsetof(bench_args, out), 0, 0, 0, "out/bench",
      "tables (CSV, Markdown) in DIR, plots in DIR/img", NULL},
     {"--update-docs", CLI_FLAG, NULL, offsetof(bench_args, update_docs), 0, 0, 0, NULL,
-     "write into the source tree instead: out/bench and docs/img, the files docs/performance.md shows", NULL},
+     "write into the source tree instead: out/bench and docs/img, the files docs/performance.md "
+     "shows",
+     NULL},
     {"--install", CLI_FLAG, NULL, offsetof(bench_args, install), 0, 0, 0, NULL,
      "lammps part: install the Debian package lammps first (as root)", NULL},
 };
@@ -78,8 +90,10 @@ static const cli_opt bench_opts[] = {
 const cli_command cli_cmd_bench = {
     .name = "bench",
     .usage = "granule bench [PART|all] [--quick] [--out DIR | --update-docs] [--install]",
-    .about = "Regenerates the throughput tables of docs/performance.md on this machine (granule bench --help\n"
-             "lists the parts). Each prints the machine, compiler flags and commit beside the numbers.\n",
+    .about = "Regenerates the throughput tables of docs/performance.md on this machine (granule "
+             "bench --help\n"
+             "lists the parts). Each prints the machine, compiler flags and commit beside the "
+             "numbers.\n",
     .epilog = "A part whose script is not in this source tree is skipped with a note.\n",
     .pos_name = "part",
     .max_pos = 1,
@@ -104,8 +118,9 @@ static int run_part(const bench_part *p, bool quick, bool install)
             printf("bench %s: skipped: %s is not in this source tree\n", p->name, path);
             return 0;
         }
-        snprintf(cmd, sizeof cmd, "cd '%s' && bash 'bench/%s' '%s' %s%s", GR_SOURCE_DIR, p->script, GR_BUILD_DIR,
-                 quick ? p->quick : "", install && !strcmp(p->name, "lammps") ? " --install" : "");
+        snprintf(cmd, sizeof cmd, "cd '%s' && bash 'bench/%s' '%s' %s%s", GR_SOURCE_DIR, p->script,
+                 GR_BUILD_DIR, quick ? p->quick : "",
+                 install && !strcmp(p->name, "lammps") ? " --install" : "");
     } else {
         snprintf(path, sizeof path, "%s/bench/%s", GR_BUILD_DIR, p->program);
         if (access(path, X_OK) != 0) {
@@ -151,7 +166,8 @@ int cmd_bench(int argc, char **argv)
         return parsed;
     }
     const char *what = pos.n ? pos.v[0] : "all", *out = args.out ? args.out : "out/bench";
-    const bool quick = args.quick, install = args.install, update_docs = args.update_docs, out_given = args.out != NULL;
+    const bool quick = args.quick, install = args.install, update_docs = args.update_docs,
+               out_given = args.out != NULL;
     if (strlen(out) > 900) {
         cli_error("bench: --out needs a folder (at most 900 characters)");
         return EXIT_REFUSED;
@@ -166,7 +182,8 @@ int cmd_bench(int argc, char **argv)
         return EXIT_REFUSED;
     }
     if (update_docs && (out_given || quick)) {
-        cli_error("bench: --update-docs writes the source tree's files; it takes neither --out nor --quick");
+        cli_error("bench: --update-docs writes the source tree's files; it takes neither --out nor "
+                  "--quick");
         return EXIT_REFUSED;
     }
     char path[1200];
@@ -176,7 +193,8 @@ int cmd_bench(int argc, char **argv)
         return EXIT_FAILED;
     }
     if (quick) {
-        printf("granule bench --quick: SMOKE TEST: tiny sizes, every part once, nothing kept; the numbers below are not "
+        printf("granule bench --quick: SMOKE TEST: tiny sizes, every part once, nothing kept; the "
+               "numbers below are not "
                "benchmarks (run without --quick for those)\n");
     } else if (set_outputs(out, update_docs)) {
         return EXIT_FAILED;

@@ -23,39 +23,56 @@ typedef struct bisect_args {
 static const cli_opt bisect_opts[] = {
     {"--levels", CLI_INT, "N", offsetof(bisect_args, s.levels), 1, GR_BISECT_MAX_LEVELS, 0, "9",
      "levels n: 2^n partitions (9: 512, Figs. 3.15-3.16)", NULL},
-    {"--repetitions", CLI_INT64, "R", offsetof(bisect_args, s.repetitions), 2, 1e15, 0, "10000", "realisations", NULL},
+    {"--repetitions", CLI_INT64, "R", offsetof(bisect_args, s.repetitions), 2, 1e15, 0, "10000",
+     "realisations", NULL},
     {"--u0", CLI_STRING, "SPEC", offsetof(bisect_args, u0), 0, 0, 0, "uniform",
-     "uniform; power:A for U_0 = (1-A)/2 (a^-A + (1-a)^-A), " CLI_STR(GR_BISECT_POWER_A_MIN) " <= A <= " CLI_STR(
-         GR_BISECT_POWER_A_MAX) "; or a CSV file of a,U points (piecewise linear, normalised)", NULL},
-    {"--seed", CLI_UINT64, "S", offsetof(bisect_args, s.seed), 0, 0, 0, "1", "gsl_rng_mt19937 seed", NULL},
-    {"--g1", CLI_LIST, "FILE", offsetof(bisect_args, g1), 0, 0, 0, NULL,
-     "a 1D RFM nearest-neighbour distribution G_1(R;N) to collapse with the process (repeatable, up to "
-     CLI_STR(MAX_G1) "): CSV R,G[,G_err] with a '# N = <particles>' comment (docs/theory-bisect.md)", NULL},
-    {"--moments", CLI_INT, "M", offsetof(bisect_args, s.moments_max), 1, GR_BISECT_MAX_MOMENTS, 0, "6", "moments m = 1..M",
+     "uniform; power:A for U_0 = (1-A)/2 (a^-A + (1-a)^-A), " CLI_STR(
+         GR_BISECT_POWER_A_MIN) " <= A <= " CLI_STR(GR_BISECT_POWER_A_MAX) "; or a CSV file of a,U "
+                                                                           "points (piecewise "
+                                                                           "linear, normalised)",
      NULL},
-    {"--bins-per-decade", CLI_INT, "B", offsetof(bisect_args, s.bins_per_decade), 1, 1000, 0, "10", "bins of P_n(x)", NULL},
-    {"--fit-from", CLI_INT, "K", offsetof(bisect_args, s.fit_level_min), 1, GR_BISECT_MAX_LEVELS, 0, "1",
-     "fit zeta_m over levels K..N", NULL},
+    {"--seed", CLI_UINT64, "S", offsetof(bisect_args, s.seed), 0, 0, 0, "1", "gsl_rng_mt19937 seed",
+     NULL},
+    {"--g1", CLI_LIST, "FILE", offsetof(bisect_args, g1), 0, 0, 0, NULL,
+     "a 1D RFM nearest-neighbour distribution G_1(R;N) to collapse with the process (repeatable, "
+     "up to " CLI_STR(
+         MAX_G1) "): CSV R,G[,G_err] with a '# N = <particles>' comment (docs/theory-bisect.md)",
+     NULL},
+    {"--moments", CLI_INT, "M", offsetof(bisect_args, s.moments_max), 1, GR_BISECT_MAX_MOMENTS, 0,
+     "6", "moments m = 1..M", NULL},
+    {"--bins-per-decade", CLI_INT, "B", offsetof(bisect_args, s.bins_per_decade), 1, 1000, 0, "10",
+     "bins of P_n(x)", NULL},
+    {"--fit-from", CLI_INT, "K", offsetof(bisect_args, s.fit_level_min), 1, GR_BISECT_MAX_LEVELS, 0,
+     "1", "fit zeta_m over levels K..N", NULL},
     {"--jackknife", CLI_INT, "G", offsetof(bisect_args, s.jackknife_groups), 2, 1024, 0, "32",
      "groups of realisations for the jackknife errors", NULL},
-    {"--anchor", CLI_DOUBLE, "R0", offsetof(bisect_args, s.anchor), 0, 0, 0, "0.7", "R_0 of A_N (3.40)", NULL},
+    {"--anchor", CLI_DOUBLE, "R0", offsetof(bisect_args, s.anchor), 0, 0, 0, "0.7",
+     "R_0 of A_N (3.40)", NULL},
     CLI_THEORY_OPTS(bisect_args, th, "out/bisect"),
 };
 
 const cli_command cli_cmd_bisect = {
     .name = "bisect",
-    .usage = "granule bisect [--out DIR] [--levels N] [--repetitions R] [--u0 uniform|power:A|FILE]\n"
-             "                      [--seed S] [--g1 FILE ...] [--moments M] [--bins-per-decade B]\n"
-             "                      [--fit-from K] [--jackknife G] [--anchor R0] [--no-plots] [--format F] [--force] [--quiet]",
-    .about = "Bisects the unit interval N times (2^N partitions), every partition at a fraction a drawn from\n"
-             "U_0(a) (thesis eqs. 3.26-3.28), R times, and writes into DIR:\n"
-             "  pn.csv        P_n(x) at level N (log bins, sqrt(X) errors) beside (-ln x)^(N-1)/(N-1)! (3.36)\n"
-             "  moments.csv   <x^m> at every level k against mu_m^k ((1+m)^-k for the uniform U_0, 3.37)\n"
-             "  zeta.csv      zeta_m of <x^m> = A (2^k)^-zeta_m with fit and jackknife errors, beside\n"
-             "                ln(1+m)/ln 2 (3.38) and the RFM's Table 3.1\n"
-             "  collapse.csv  A_N G^(1/(n-1)) against -ln R (3.39-3.40) for the process and each --g1 table\n"
-             "  summary.json, and pn.png, moments.png, moments_N.png, collapse.png (gnuplot)\n",
-    .epilog = "Exit status: 0 done, 2 bad input (options, U_0 or G_1 file, DIR holds a run), 1 other failure.\n",
+    .usage =
+        "granule bisect [--out DIR] [--levels N] [--repetitions R] [--u0 uniform|power:A|FILE]\n"
+        "                      [--seed S] [--g1 FILE ...] [--moments M] [--bins-per-decade B]\n"
+        "                      [--fit-from K] [--jackknife G] [--anchor R0] [--no-plots] [--format "
+        "F] [--force] [--quiet]",
+    .about =
+        "Bisects the unit interval N times (2^N partitions), every partition at a fraction a drawn "
+        "from\n"
+        "U_0(a) (thesis eqs. 3.26-3.28), R times, and writes into DIR:\n"
+        "  pn.csv        P_n(x) at level N (log bins, sqrt(X) errors) beside (-ln x)^(N-1)/(N-1)! "
+        "(3.36)\n"
+        "  moments.csv   <x^m> at every level k against mu_m^k ((1+m)^-k for the uniform U_0, "
+        "3.37)\n"
+        "  zeta.csv      zeta_m of <x^m> = A (2^k)^-zeta_m with fit and jackknife errors, beside\n"
+        "                ln(1+m)/ln 2 (3.38) and the RFM's Table 3.1\n"
+        "  collapse.csv  A_N G^(1/(n-1)) against -ln R (3.39-3.40) for the process and each --g1 "
+        "table\n"
+        "  summary.json, and pn.png, moments.png, moments_N.png, collapse.png (gnuplot)\n",
+    .epilog = "Exit status: 0 done, 2 bad input (options, U_0 or G_1 file, DIR holds a run), 1 "
+              "other failure.\n",
     CLI_OPTS(bisect_opts),
 };
 
@@ -79,8 +96,9 @@ static void progress(int64_t done, int64_t total, void *user)
     }
     p->last = t;
     int eta = (int)((t - p->start) * (double)(total - done) / (double)done + 0.5);
-    fprintf(stderr, "\rbisect: %lld / %lld realisations  %3.0f%%  ETA %d:%02d:%02d   ", (long long)done,
-            (long long)total, 100.0 * (double)done / (double)total, eta / 3600, eta / 60 % 60, eta % 60);
+    fprintf(stderr, "\rbisect: %lld / %lld realisations  %3.0f%%  ETA %d:%02d:%02d   ",
+            (long long)done, (long long)total, 100.0 * (double)done / (double)total, eta / 3600,
+            eta / 60 % 60, eta % 60);
     fflush(stderr);
 }
 
@@ -137,8 +155,10 @@ int cmd_bisect(int argc, char **argv)
         }
     }
     if (!rc && u0.kind == GR_BISECT_U0_TABLE && u0.asymmetry > 1e-6) {
-        fprintf(stderr, "granule: warning: U_0 table %s is not symmetric (max |U(a) - U(1-a)| = %.3g of its peak); "
-                        "3.30 asks U_0(a) = U_0(1-a), and the statistics see only (U(a) + U(1-a))/2\n",
+        fprintf(stderr,
+                "granule: warning: U_0 table %s is not symmetric (max |U(a) - U(1-a)| = %.3g of "
+                "its peak); "
+                "3.30 asks U_0(a) = U_0(1-a), and the statistics see only (U(a) + U(1-a))/2\n",
                 u0.name, u0.asymmetry);
     }
     if (!rc && gr_output_dir_prepare(out, GR_OUTPUT_RESULT, force, &err)) {
@@ -170,11 +190,12 @@ int cmd_bisect(int argc, char **argv)
             const gr_bisect_zeta *z2 = s.moments_max >= 2 ? &res.zeta[1] : &res.zeta[0];
             char zeta[160] = "no zeta fit with one level";
             if (isfinite(z2->zeta)) {
-                snprintf(zeta, sizeof zeta, "zeta_%d = %.4f +- %.4f (predicted %.4f)", z2->m, z2->zeta,
-                         z2->err_jackknife, z2->predicted);
+                snprintf(zeta, sizeof zeta, "zeta_%d = %.4f +- %.4f (predicted %.4f)", z2->m,
+                         z2->zeta, z2->err_jackknife, z2->predicted);
             }
-            printf("%s: n = %d, %lld realisations (%.4g partitions) in %.3g s; %s; plots: %s\n", out, s.levels,
-                   (long long)s.repetitions, res.segments, res.wall_seconds, zeta, o.plots_note);
+            printf("%s: n = %d, %lld realisations (%.4g partitions) in %.3g s; %s; plots: %s\n",
+                   out, s.levels, (long long)s.repetitions, res.segments, res.wall_seconds, zeta,
+                   o.plots_note);
             printf("wrote %s\n", out);
         }
         gr_bisect_result_free(&res);

@@ -33,42 +33,55 @@ static const cli_opt cascade_opts[] = {
     {"--levels", CLI_INT, "n", offsetof(cascade_args, s.levels), 1, GR_CASCADE_MAX_LEVELS, 0, "8",
      "grid 2^n x 2^n (8: the thesis's 256 x 256)", NULL},
     {"--variant", CLI_STRING, "NAME", offsetof(cascade_args, variant), 0, 0, 0, "ucp",
-     "ucp, unoncp, symmetrised, meakin1..meakin4 (Table 6.1), meakin (with --p), uniform (control: every child gets m/4)",
+     "ucp, unoncp, symmetrised, meakin1..meakin4 (Table 6.1), meakin (with --p), uniform (control: "
+     "every child gets m/4)",
      NULL},
     {"--p", CLI_STRING, "p1,p2,p3,p4", offsetof(cascade_args, p), 0, 0, 0, NULL,
      "the four Meakin numbers (>= 0) for --variant meakin", NULL},
-    {"--configurations", CLI_INT, "C", offsetof(cascade_args, s.configurations), 1, 1e9, 0, "200", "configurations averaged",
-     NULL},
-    {"--seed", CLI_UINT64, "S", offsetof(cascade_args, seed), 0, 4294967295.0, 0, "1", "seed of GSL's mt19937", NULL},
-    {"--box", CLI_DOUBLE, "L", offsetof(cascade_args, s.L), 0, INFINITY, CLI_MIN_OPEN, "1", "box side in m (Fig. 6.3 uses 0.2)",
-     NULL},
-    {"--fit-min", CLI_INT, "Q", offsetof(cascade_args, fit_min), 1, 1e9, 0, "1", "first |k| L / 2 pi bin of the D_f fit", NULL},
-    {"--fit-max", CLI_INT, "Q", offsetof(cascade_args, fit_max), 1, 1e9, 0, "2^(n-3), at least 4", "last bin of the D_f fit",
-     NULL},
-    {"--place", CLI_INT, "N", offsetof(cascade_args, place), 1, 1e8, 0, NULL, "place N discs from the first configuration's field",
-     NULL},
-    {"--radius", CLI_DOUBLE, "r", offsetof(cascade_args, radius), 0, INFINITY, CLI_MIN_OPEN, "1.5e-3",
-     "disc radius in m (with --place)", NULL},
-    {"--max-attempts", CLI_INT64, "A", offsetof(cascade_args, max_attempts), 1, 1e15, 0, "10^6 + 10^4 N",
-     "draws allowed for the placement (with --place)", NULL},
+    {"--configurations", CLI_INT, "C", offsetof(cascade_args, s.configurations), 1, 1e9, 0, "200",
+     "configurations averaged", NULL},
+    {"--seed", CLI_UINT64, "S", offsetof(cascade_args, seed), 0, 4294967295.0, 0, "1",
+     "seed of GSL's mt19937", NULL},
+    {"--box", CLI_DOUBLE, "L", offsetof(cascade_args, s.L), 0, INFINITY, CLI_MIN_OPEN, "1",
+     "box side in m (Fig. 6.3 uses 0.2)", NULL},
+    {"--fit-min", CLI_INT, "Q", offsetof(cascade_args, fit_min), 1, 1e9, 0, "1",
+     "first |k| L / 2 pi bin of the D_f fit", NULL},
+    {"--fit-max", CLI_INT, "Q", offsetof(cascade_args, fit_max), 1, 1e9, 0, "2^(n-3), at least 4",
+     "last bin of the D_f fit", NULL},
+    {"--place", CLI_INT, "N", offsetof(cascade_args, place), 1, 1e8, 0, NULL,
+     "place N discs from the first configuration's field", NULL},
+    {"--radius", CLI_DOUBLE, "r", offsetof(cascade_args, radius), 0, INFINITY, CLI_MIN_OPEN,
+     "1.5e-3", "disc radius in m (with --place)", NULL},
+    {"--max-attempts", CLI_INT64, "A", offsetof(cascade_args, max_attempts), 1, 1e15, 0,
+     "10^6 + 10^4 N", "draws allowed for the placement (with --place)", NULL},
     CLI_THEORY_OPTS(cascade_args, th, "out/cascade"),
 };
 
 const cli_command cli_cmd_cascade = {
     .name = "cascade",
-    .usage = "granule cascade [--levels n] [--variant NAME] [--p p1,p2,p3,p4] [--configurations C]\n"
-             "                       [--seed S] [--out DIR] [--box L] [--fit-min Q] [--fit-max Q]\n"
-             "                       [--place N [--radius r] [--max-attempts A]] [--force] [--no-plots] [--format F]\n"
-             "                       [--quiet]",
-    .about = "Multiplicative cascade process (thesis sec. 6.2): breaks a box of side L into 2^n x 2^n squares\n"
-             "level by level, sharing each square's probability among its four children (6.2)-(6.4). Averages\n"
-             "the structure factor S(k) (6.5) over C configurations on k = 2 pi (i, j)/L, circularly in integer\n"
-             "|k| L / 2 pi bins, fits S = A k^-D_f over bins Q_min..Q_max (4.4) and compares with Table 6.2 and\n"
-             "with the exact configuration average. --place puts N discs of radius r without overlap where the\n"
+    .usage =
+        "granule cascade [--levels n] [--variant NAME] [--p p1,p2,p3,p4] [--configurations C]\n"
+        "                       [--seed S] [--out DIR] [--box L] [--fit-min Q] [--fit-max Q]\n"
+        "                       [--place N [--radius r] [--max-attempts A]] [--force] [--no-plots] "
+        "[--format F]\n"
+        "                       [--quiet]",
+    .about = "Multiplicative cascade process (thesis sec. 6.2): breaks a box of side L into 2^n x "
+             "2^n squares\n"
+             "level by level, sharing each square's probability among its four children "
+             "(6.2)-(6.4). Averages\n"
+             "the structure factor S(k) (6.5) over C configurations on k = 2 pi (i, j)/L, "
+             "circularly in integer\n"
+             "|k| L / 2 pi bins, fits S = A k^-D_f over bins Q_min..Q_max (4.4) and compares with "
+             "Table 6.2 and\n"
+             "with the exact configuration average. --place puts N discs of radius r without "
+             "overlap where the\n"
              "first field is likely (Fig. 6.3) and writes them as an extended-XYZ snapshot.\n",
-    .epilog = "Writes DIR/summary.json, sk.csv, levels.csv, field.csv, sk.png, field.png and, with --place,\n"
-              "snapshots/snap_000000.xyz, scene.ini (so granule analyse DIR reads them) and placement.png.\n"
-              "Docs: docs/theory-cascade.md. Exit status: 0 done, 2 refused input (one line on stderr; also\n"
+    .epilog = "Writes DIR/summary.json, sk.csv, levels.csv, field.csv, sk.png, field.png and, with "
+              "--place,\n"
+              "snapshots/snap_000000.xyz, scene.ini (so granule analyse DIR reads them) and "
+              "placement.png.\n"
+              "Docs: docs/theory-cascade.md. Exit status: 0 done, 2 refused input (one line on "
+              "stderr; also\n"
               "when the placement is impossible), 1 other failures.\n",
     CLI_OPTS(cascade_opts),
 };
@@ -80,7 +93,9 @@ static bool parse_p(const char *text, double p[4])
     for (int i = 0; i < 4; i++) {
         p[i] = strtod(c, &end);
         if (end == c || (i < 3 && *end != ',') || (i == 3 && *end != '\0')) {
-            cli_error("cascade: --p needs four comma-separated numbers, e.g. 0.02,0.32,0.32,0.34; got '%s'", text);
+            cli_error("cascade: --p needs four comma-separated numbers, e.g. 0.02,0.32,0.32,0.34; "
+                      "got '%s'",
+                      text);
             return false;
         }
         c = end + 1;
@@ -97,7 +112,8 @@ static void progress_line(int done, int total, double elapsed, void *user)
     fflush(stderr);
 }
 
-static void print_result(const char *out, const gr_cascade_study_params *p, const gr_cascade_study *st)
+static void print_result(const char *out, const gr_cascade_study_params *p,
+                         const gr_cascade_study *st)
 {
     const gr_cascade_settings *s = &p->s;
     const gr_cascade_variant_info *vi = gr_cascade_variant_get(s->variant);
@@ -107,23 +123,24 @@ static void print_result(const char *out, const gr_cascade_study_params *p, cons
         snprintf(thesis, sizeof thesis, "%.3f +- %.3f", vi->thesis_D_f, vi->thesis_D_f_err);
     }
     if (!st->have_fit) {
-        printf("%s: %s, %d levels, %d configuration%s: %s; %.2f s\n", out, vi->label, s->levels, s->configurations, plural,
-               st->fit_note, st->wall_seconds);
+        printf("%s: %s, %d levels, %d configuration%s: %s; %.2f s\n", out, vi->label, s->levels,
+               s->configurations, plural, st->fit_note, st->wall_seconds);
     } else {
         const gr_cascade_fit *h = gr_cascade_study_headline(st);
         printf("%s: %s, %d levels, %d configuration%s: D_f = %.3f +- %.3f%s over k L/2pi = %g..%g "
                "(exact average %.3f, D_2 = %.3f; Table 6.2: %s) in %.2f s\n",
                out, vi->label, s->levels, s->configurations, plural, h->D_f, h->D_f_err,
-               st->headline_unweighted ? " (unweighted fit)" : "", st->q_min, st->q_max, st->fit_exp.D_f, gr_cascade_d2(s),
-               thesis, st->wall_seconds);
+               st->headline_unweighted ? " (unweighted fit)" : "", st->q_min, st->q_max,
+               st->fit_exp.D_f, gr_cascade_d2(s), thesis, st->wall_seconds);
         if (st->headline_unweighted) {
-            printf("  weighted by S_err: D_f = %.3f +- %.3f, chi2/dof = %.3g; headlined: the unweighted fit, because %s\n",
+            printf("  weighted by S_err: D_f = %.3f +- %.3f, chi2/dof = %.3g; headlined: the "
+                   "unweighted fit, because %s\n",
                    st->fit.D_f, st->fit.D_f_err, st->fit.chi2_red, st->headline_why);
         }
     }
     if (p->place) {
-        printf("%s: %d discs placed (phi = %.3f, %lld attempts) -> %s/snapshots/snap_000000.xyz\n", out, p->placement.n,
-               st->pres.phi, (long long)st->pres.attempts, out);
+        printf("%s: %d discs placed (phi = %.3f, %lld attempts) -> %s/snapshots/snap_000000.xyz\n",
+               out, p->placement.n, st->pres.phi, (long long)st->pres.attempts, out);
     }
     printf("wrote %s\n", out);
 }
@@ -145,7 +162,8 @@ int cmd_cascade(int argc, char **argv)
     s.fit_q_min = args.fit_min ? args.fit_min : s.fit_q_min;
     s.fit_q_max = args.fit_max ? args.fit_max : s.fit_q_max;
     gr_cascade_placement place = sp.placement;
-    const bool do_place = args.place > 0, radius_given = args.radius > 0.0, attempts_given = args.max_attempts > 0;
+    const bool do_place = args.place > 0, radius_given = args.radius > 0.0,
+               attempts_given = args.max_attempts > 0;
     place.n = do_place ? args.place : place.n;
     place.radius = radius_given ? args.radius : place.radius;
     place.max_attempts = attempts_given ? args.max_attempts : place.max_attempts;

@@ -36,23 +36,31 @@ static bool apply_set(void *args, const char *v, double number)
 }
 
 static const cli_opt collide_opts[] = {
-    {"--case", CLI_INT, "N", offsetof(collide_args, number), 1, 4, 0, "1", "collision N of Table 2.1", NULL},
-    {"--model", CLI_STRING, "NORMAL[+TANGENTIAL[+ROLLING]]", offsetof(collide_args, model), 0, 0, 0, "spring_dashpot",
-     "the collision model (granule models lists them)", NULL},
+    {"--case", CLI_INT, "N", offsetof(collide_args, number), 1, 4, 0, "1",
+     "collision N of Table 2.1", NULL},
+    {"--model", CLI_STRING, "NORMAL[+TANGENTIAL[+ROLLING]]", offsetof(collide_args, model), 0, 0, 0,
+     "spring_dashpot", "the collision model (granule models lists them)", NULL},
     {"--eps-n", CLI_DOUBLE, "E", offsetof(collide_args, s.contact.eps_n), 0, 0, 0, "0.6",
-     "normal restitution, allowed (0, 1] (eps_n = 0 is a sticking pair that never separates, so there is no collision "
-     "to measure; a scene may use it with spring_dashpot)", NULL},
+     "normal restitution, allowed (0, 1] (eps_n = 0 is a sticking pair that never separates, so "
+     "there is no collision "
+     "to measure; a scene may use it with spring_dashpot)",
+     NULL},
     {"--eps-t", CLI_DOUBLE, "E", offsetof(collide_args, s.contact.eps_t), 0, 0, 0, "0.6",
      "tangential restitution, allowed [0, 1] (a tangential model)", NULL},
-    {"--mu", CLI_DOUBLE, "MU", offsetof(collide_args, s.contact.mu), 0, 0, 0, "0.5", "sliding friction, >= 0 (a sliding_friction model)", NULL},
-    {"--k", CLI_DOUBLE, "K", offsetof(collide_args, s.contact.k_s), 0, 0, 0, "5e5", "spring constant, N/m (a soft model)",
+    {"--mu", CLI_DOUBLE, "MU", offsetof(collide_args, s.contact.mu), 0, 0, 0, "0.5",
+     "sliding friction, >= 0 (a sliding_friction model)", NULL},
+    {"--k", CLI_DOUBLE, "K", offsetof(collide_args, s.contact.k_s), 0, 0, 0, "5e5",
+     "spring constant, N/m (a soft model)", NULL},
+    {"--dt", CLI_DOUBLE, "DT", offsetof(collide_args, s.dt), 0, 0, 0, "t_c/50", "time step, s",
      NULL},
-    {"--dt", CLI_DOUBLE, "DT", offsetof(collide_args, s.dt), 0, 0, 0, "t_c/50", "time step, s", NULL},
-    {"--steps-per-contact", CLI_DOUBLE, "S", offsetof(collide_args, s.steps_per_contact), 0, 0, 0, "50",
-     "time steps per contact time (instead of --dt)", NULL},
-    {"--mass", CLI_DOUBLE, "M", offsetof(collide_args, s.mass), 0, 0, 0, "1", "mass of each particle, kg", NULL},
+    {"--steps-per-contact", CLI_DOUBLE, "S", offsetof(collide_args, s.steps_per_contact), 0, 0, 0,
+     "50", "time steps per contact time (instead of --dt)", NULL},
+    {"--mass", CLI_DOUBLE, "M", offsetof(collide_args, s.mass), 0, 0, 0, "1",
+     "mass of each particle, kg", NULL},
     {"--radius", CLI_DOUBLE, "R", offsetof(collide_args, s.radius), 0, 0, 0, "0.1",
-     "radius, m (so the overlap v/w0 = 1 mm stays small; the RFM's particles: --mass 3.53e-5 --radius 1.5e-3)", NULL},
+     "radius, m (so the overlap v/w0 = 1 mm stays small; the RFM's particles: --mass 3.53e-5 "
+     "--radius 1.5e-3)",
+     NULL},
     {"--clamp", CLI_FLAG, NULL, offsetof(collide_args, s.contact.clamp), 0, 0, 0, NULL,
      "the normal force never attracts (gamma_n from the clamped restitution)", NULL},
     {"--dim", CLI_INT, "1|2", offsetof(collide_args, s.dim), 1, 2, 0, "2", "dimension", NULL},
@@ -65,8 +73,10 @@ static const cli_opt collide_opts[] = {
     {"--rtol", CLI_DOUBLE, "TOL", offsetof(collide_args, s.ref_rtol), 1e-14, 1e-2, 0, "1e-12",
      "relative tolerance of the CVODE reference", NULL},
     {"--set", CLI_LIST, "KEY=VALUE", CLI_NOWHERE, 0, 0, 0, NULL,
-     "any model parameter of `granule models`, e.g. --model hertz --set viscoelastic=true --set visco_A=1e-6 "
-     "(repeatable)", apply_set},
+     "any model parameter of `granule models`, e.g. --model hertz --set viscoelastic=true --set "
+     "visco_A=1e-6 "
+     "(repeatable)",
+     apply_set},
     {"--speeds", CLI_STRING, "V1,V2,...", offsetof(collide_args, speeds), 0, 0, 0, NULL,
      "add restitution_vs_speed: head-on impacts at these relative speeds (m/s)", NULL},
     {"--speed", CLI_DOUBLE, "V", offsetof(collide_args, speed), 0, INFINITY, CLI_MIN_OPEN, NULL,
@@ -81,37 +91,57 @@ static const cli_opt collide_opts[] = {
 
 const cli_command cli_cmd_collide = {
     .name = "collide",
-    .usage = "granule collide [--case N] [--model NORMAL[+TANGENTIAL[+ROLLING]]] [--eps-n E] [--eps-t E]\n"
-             "                       [--mu MU] [--k K] [--dt DT | --steps-per-contact S] [--mass M]\n"
-             "                       [--radius R] [--clamp] [--dim 1|2] [--phases P] [--force-dt] [--reference [--rtol TOL]]\n"
-             "                       [--set KEY=VALUE ...] [--speeds V1,V2,...]\n"
-             "                       [--speed V --angle DEG] [--omega1 W1] [--omega2 W2]",
-    .about = "Runs collision N (1-4) of Table 2.1 (particle 2 at rest; 1 kg masses unless --mass) and\n"
-             "prints one JSON object: energy_loss (fraction of the relative kinetic energy lost),\n"
-             "expected_loss (1 - eps^2 head-on, 1 - (eps_n^2 + eps_t^2)/2 at 45 degrees; in general\n"
-             "(1 - eps_n^2) cos^2 a + (1 - eps_t^2) sin^2 a), contact_time, max_overlap, eps_n_measured,\n"
-             "eps_t_measured, impact_angle. --phases P averages P contact phases. --reference also integrates\n"
-             "the contact with SUNDIALS CVODE and adds reference_energy_loss. --model hard_sphere applies the\n"
-             "instantaneous rule of the event-driven integrator (exact loss; contact_time 0).\n"
-             "--speeds V1,V2,... adds restitution_vs_speed: head-on impacts at these relative speeds (m/s),\n"
-             "each with the engine's eps_n and contact time (steps with a force x dt), the model's own law\n"
-             "eps_n(v) and contact time t_c(v) (and the CVODE reference's with --reference); for hertz the\n"
-             "time step then follows each impact (dt = t_c(v) / steps-per-contact).\n"
-             "The JSON lists only the parameters the chosen model uses (granule models; --eps-t and --mu\n"
-             "need a tangential model, --k and --dt a soft one) and gives every unit in \"units\".\n",
-    .epilog = "Rotation (--set rotation=true [--set inertia_factor=Q] with tangential_dashpot, sliding_friction or\n"
-              "tangential_spring): energy_loss then includes the spin energy I w^2 / 2 of both discs,\n"
-              "eps_t_measured is the contact point's tangential restitution (g.t + r (w1 + w2) after over\n"
-              "before; the discs start without spin), and omega1, omega2 give the angular velocities after\n"
-              "the collision (rad/s, counterclockwise).\n"
-              "Oblique impact (instead of --case; 2D): --speed V --angle DEG, particle 2 at rest; the normal at\n"
-              "impact is the x axis, so v1_after, v2_after (velocities after the collision) give the normal (x)\n"
-              "and tangential (y) components. With --omega1, --omega2 expected_loss is null (the restitution\n"
-              "laws assume discs without spin); energy_loss counts the spins' energy too, and spin_loss gives\n"
-              "their share of it. Rolling resistance: --model NORMAL+TANGENTIAL+rolling_friction --set\n"
-              "rotation=true [--set mu_r=M]; spin_loss_rolling_law is its law (J |w1 - w2| - J^2 / I,\n"
-              "J = min(mu_r r/2 normal_impulse, I |w1 - w2| / 2), over the initial energy), which spin_loss\n"
-              "equals when the contact point does not slip (head-on, --omega2 = -omega1).\n",
+    .usage =
+        "granule collide [--case N] [--model NORMAL[+TANGENTIAL[+ROLLING]]] [--eps-n E] [--eps-t "
+        "E]\n"
+        "                       [--mu MU] [--k K] [--dt DT | --steps-per-contact S] [--mass M]\n"
+        "                       [--radius R] [--clamp] [--dim 1|2] [--phases P] [--force-dt] "
+        "[--reference [--rtol TOL]]\n"
+        "                       [--set KEY=VALUE ...] [--speeds V1,V2,...]\n"
+        "                       [--speed V --angle DEG] [--omega1 W1] [--omega2 W2]",
+    .about =
+        "Runs collision N (1-4) of Table 2.1 (particle 2 at rest; 1 kg masses unless --mass) and\n"
+        "prints one JSON object: energy_loss (fraction of the relative kinetic energy lost),\n"
+        "expected_loss (1 - eps^2 head-on, 1 - (eps_n^2 + eps_t^2)/2 at 45 degrees; in general\n"
+        "(1 - eps_n^2) cos^2 a + (1 - eps_t^2) sin^2 a), contact_time, max_overlap, "
+        "eps_n_measured,\n"
+        "eps_t_measured, impact_angle. --phases P averages P contact phases. --reference also "
+        "integrates\n"
+        "the contact with SUNDIALS CVODE and adds reference_energy_loss. --model hard_sphere "
+        "applies the\n"
+        "instantaneous rule of the event-driven integrator (exact loss; contact_time 0).\n"
+        "--speeds V1,V2,... adds restitution_vs_speed: head-on impacts at these relative speeds "
+        "(m/s),\n"
+        "each with the engine's eps_n and contact time (steps with a force x dt), the model's own "
+        "law\n"
+        "eps_n(v) and contact time t_c(v) (and the CVODE reference's with --reference); for hertz "
+        "the\n"
+        "time step then follows each impact (dt = t_c(v) / steps-per-contact).\n"
+        "The JSON lists only the parameters the chosen model uses (granule models; --eps-t and "
+        "--mu\n"
+        "need a tangential model, --k and --dt a soft one) and gives every unit in \"units\".\n",
+    .epilog =
+        "Rotation (--set rotation=true [--set inertia_factor=Q] with tangential_dashpot, "
+        "sliding_friction or\n"
+        "tangential_spring): energy_loss then includes the spin energy I w^2 / 2 of both discs,\n"
+        "eps_t_measured is the contact point's tangential restitution (g.t + r (w1 + w2) after "
+        "over\n"
+        "before; the discs start without spin), and omega1, omega2 give the angular velocities "
+        "after\n"
+        "the collision (rad/s, counterclockwise).\n"
+        "Oblique impact (instead of --case; 2D): --speed V --angle DEG, particle 2 at rest; the "
+        "normal at\n"
+        "impact is the x axis, so v1_after, v2_after (velocities after the collision) give the "
+        "normal (x)\n"
+        "and tangential (y) components. With --omega1, --omega2 expected_loss is null (the "
+        "restitution\n"
+        "laws assume discs without spin); energy_loss counts the spins' energy too, and spin_loss "
+        "gives\n"
+        "their share of it. Rolling resistance: --model NORMAL+TANGENTIAL+rolling_friction --set\n"
+        "rotation=true [--set mu_r=M]; spin_loss_rolling_law is its law (J |w1 - w2| - J^2 / I,\n"
+        "J = min(mu_r r/2 normal_impulse, I |w1 - w2| / 2), over the initial energy), which "
+        "spin_loss\n"
+        "equals when the contact point does not slip (head-on, --omega2 = -omega1).\n",
     CLI_OPTS(collide_opts),
 };
 
@@ -119,13 +149,30 @@ const cli_command cli_cmd_collide = {
  * take theirs from the models' descriptors */
 static const struct {
     const char *key, *unit;
-} units[] = {{"mass", "kg"}, {"radius", "m"}, {"dt", "s"}, {"energy_loss", "1 (fraction of the relative kinetic energy)"},
-             {"expected_loss", "1"}, {"contact_time", "s"}, {"max_overlap", "m"}, {"eps_n_measured", "1"},
-             {"eps_t_measured", "1"}, {"impact_angle", "degrees"}, {"momentum_error", "1 (|p' - p| / |p|)"},
-             {"normal_impulse", "N s"}, {"tangential_impulse", "N s"}, {"relative_error", "1"},
-             {"energy_loss_min", "1"}, {"energy_loss_max", "1"}, {"omega1", "rad/s (counterclockwise)"},
-             {"omega2", "rad/s (counterclockwise)"}, {"v1_after", "m/s"}, {"v2_after", "m/s"}, {"speed", "m/s"}, {"angle", "degrees"},
-             {"omega1_before", "rad/s (counterclockwise)"}, {"omega2_before", "rad/s (counterclockwise)"},
+} units[] = {{"mass", "kg"},
+             {"radius", "m"},
+             {"dt", "s"},
+             {"energy_loss", "1 (fraction of the relative kinetic energy)"},
+             {"expected_loss", "1"},
+             {"contact_time", "s"},
+             {"max_overlap", "m"},
+             {"eps_n_measured", "1"},
+             {"eps_t_measured", "1"},
+             {"impact_angle", "degrees"},
+             {"momentum_error", "1 (|p' - p| / |p|)"},
+             {"normal_impulse", "N s"},
+             {"tangential_impulse", "N s"},
+             {"relative_error", "1"},
+             {"energy_loss_min", "1"},
+             {"energy_loss_max", "1"},
+             {"omega1", "rad/s (counterclockwise)"},
+             {"omega2", "rad/s (counterclockwise)"},
+             {"v1_after", "m/s"},
+             {"v2_after", "m/s"},
+             {"speed", "m/s"},
+             {"angle", "degrees"},
+             {"omega1_before", "rad/s (counterclockwise)"},
+             {"omega2_before", "rad/s (counterclockwise)"},
              {"spin_loss", "1 (fraction of the initial energy)"},
              {"spin_loss_rolling_law", "1 (fraction of the initial energy)"}};
 
@@ -172,7 +219,8 @@ static void add_units(cJSON *o, const gr_collide_setup *s)
     for (int k = 0; k < 3; k++) {
         for (int i = 0; m[k] && i < m[k]->n_params; i++) {
             const gr_param *d = &m[k]->params[i];
-            if (d->type != GR_PARAM_BOOL && cJSON_GetObjectItem(o, d->name) && !cJSON_GetObjectItem(u, d->name)) {
+            if (d->type != GR_PARAM_BOOL && cJSON_GetObjectItem(o, d->name) &&
+                !cJSON_GetObjectItem(u, d->name)) {
                 cJSON_AddStringToObject(u, d->name, d->unit[0] ? d->unit : "1");
             }
         }
@@ -190,23 +238,31 @@ static void add_units(cJSON *o, const gr_collide_setup *s)
     cJSON_AddItemToObject(o, "units", u);
 }
 
-static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r, bool instantaneous, bool rotation)
+static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r, bool instantaneous,
+                       bool rotation)
 {
     char key[64];
     struct {
         const char *name;
         double v;
-    } f[] = {{"energy_loss", r->energy_loss}, {"expected_loss", r->expected_loss},
-             {"contact_time", r->contact_time}, {"max_overlap", r->max_overlap},
-             {"eps_n_measured", r->eps_n_measured}, {"eps_t_measured", r->eps_t_measured},
-             {"impact_angle", r->impact_angle}, {"momentum_error", r->momentum_error},
-             {"normal_impulse", r->normal_impulse}, {"tangential_impulse", r->tangential_impulse},
-             {"omega1", r->omega1}, {"omega2", r->omega2}};
+    } f[] = {{"energy_loss", r->energy_loss},
+             {"expected_loss", r->expected_loss},
+             {"contact_time", r->contact_time},
+             {"max_overlap", r->max_overlap},
+             {"eps_n_measured", r->eps_n_measured},
+             {"eps_t_measured", r->eps_t_measured},
+             {"impact_angle", r->impact_angle},
+             {"momentum_error", r->momentum_error},
+             {"normal_impulse", r->normal_impulse},
+             {"tangential_impulse", r->tangential_impulse},
+             {"omega1", r->omega1},
+             {"omega2", r->omega2}};
     for (size_t i = 0; i < sizeof f / sizeof f[0]; i++) {
         if (!rotation && !strncmp(f[i].name, "omega", 5)) {
             continue; /* angular velocities only with [model] rotation = true */
         }
-        if (instantaneous && (!strcmp(f[i].name, "contact_time") || !strcmp(f[i].name, "max_overlap"))) {
+        if (instantaneous &&
+            (!strcmp(f[i].name, "contact_time") || !strcmp(f[i].name, "max_overlap"))) {
             continue; /* an instantaneous collision has neither */
         }
         snprintf(key, sizeof key, "%s%s", prefix, f[i].name);
@@ -224,12 +280,14 @@ static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r,
 }
 
 /* restitution_vs_speed: head-on impacts at each speed of the comma-separated list */
-static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, int phases, bool reference)
+static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, int phases,
+                      bool reference)
 {
     cJSON *arr = cJSON_AddArrayToObject(o, "restitution_vs_speed");
     char buf[512];
     snprintf(buf, sizeof buf, "%s", list);
-    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
+         tok = strtok_r(NULL, ",", &save)) {
         char *end = NULL;
         const double v = strtod(tok, &end);
         if (end == tok || *end || !(v > 0.0) || !isfinite(v)) {
@@ -239,12 +297,14 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
         gr_collide_setup s = *s0;
         gr_contact_coeffs k;
         gr_error err = {0};
-        if (gr_contact_prepare(s.normal, s.dim == 2 ? s.tangential : NULL, &s.contact, 0.5 * s.mass, 0.0, &k, &err)) {
+        if (gr_contact_prepare(s.normal, s.dim == 2 ? s.tangential : NULL, &s.contact, 0.5 * s.mass,
+                               0.0, &k, &err)) {
             cli_error("collide: %s", err.message);
             return EXIT_REFUSED;
         }
-        const gr_normal_impact law = s.normal->impact ? s.normal->impact(&k, v)
-                                                      : (gr_normal_impact){k.eps_n_exact, k.t_c, 1.0 + k.eps_n_exact};
+        const gr_normal_impact law =
+            s.normal->impact ? s.normal->impact(&k, v)
+                             : (gr_normal_impact){k.eps_n_exact, k.t_c, 1.0 + k.eps_n_exact};
         if (s.dt == 0.0 && law.t_c > 0.0 && isfinite(law.t_c)) {
             s.dt = law.t_c / s.steps_per_contact; /* resolve this impact */
         }
@@ -270,7 +330,8 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
         } else {
             cJSON_AddNullToObject(e, "contact_time_law");
         }
-        cJSON_AddNumberToObject(e, "contact_time_measured", t_contact); /* steps with a force x dt */
+        cJSON_AddNumberToObject(e, "contact_time_measured",
+                                t_contact); /* steps with a force x dt */
         cJSON_AddNumberToObject(e, "dt", s.dt);
         if (reference) {
             gr_collide_result ref;
@@ -303,28 +364,36 @@ int cmd_collide(int argc, char **argv)
     struct {
         const char *opt, *key;
         bool set;
-    } given[] = {{"--eps-t", "eps_t", false}, {"--mu", "mu", false}, {"--k", "k_s", false}, {"--clamp", "clamp", false}};
+    } given[] = {{"--eps-t", "eps_t", false},
+                 {"--mu", "mu", false},
+                 {"--k", "k_s", false},
+                 {"--clamp", "clamp", false}};
     for (size_t k = 0; k < sizeof given / sizeof given[0]; k++) {
         given[k].set = cli_given(&cli_cmd_collide, &pos, given[k].opt);
     }
     const bool oblique = args.speed > 0.0, angle_given = !isnan(args.angle);
     const double speed = args.speed, angle = angle_given ? args.angle : 0.0;
     /* validate like a scene would */
-    if (!(s.contact.eps_n >= 0.0 && s.contact.eps_n <= 1.0) || !(s.contact.eps_t >= 0.0 && s.contact.eps_t <= 1.0)) {
-        cli_error("collide: --eps-n %g, --eps-t %g: allowed ranges (0, 1] for --eps-n, [0, 1] for --eps-t", s.contact.eps_n,
-                  s.contact.eps_t);
+    if (!(s.contact.eps_n >= 0.0 && s.contact.eps_n <= 1.0) ||
+        !(s.contact.eps_t >= 0.0 && s.contact.eps_t <= 1.0)) {
+        cli_error("collide: --eps-n %g, --eps-t %g: allowed ranges (0, 1] for --eps-n, [0, 1] for "
+                  "--eps-t",
+                  s.contact.eps_n, s.contact.eps_t);
         return EXIT_REFUSED;
     }
-    if (!(s.contact.k_s > 0.0) || !(s.mass > 0.0) || !(s.radius > 0.0) || s.dt < 0.0 || !(s.contact.mu >= 0.0) ||
-        (s.dim != 1 && s.dim != 2) || phases < 1 || (s.dt == 0.0 && !(s.steps_per_contact >= 1.0))) {
-        cli_error("collide: --k, --mass and --radius must be > 0, --dt >= 0, --mu >= 0, --dim 1 or 2, --phases >= 1");
+    if (!(s.contact.k_s > 0.0) || !(s.mass > 0.0) || !(s.radius > 0.0) || s.dt < 0.0 ||
+        !(s.contact.mu >= 0.0) || (s.dim != 1 && s.dim != 2) || phases < 1 ||
+        (s.dt == 0.0 && !(s.steps_per_contact >= 1.0))) {
+        cli_error("collide: --k, --mass and --radius must be > 0, --dt >= 0, --mu >= 0, --dim 1 or "
+                  "2, --phases >= 1");
         return EXIT_REFUSED;
     }
     char normal[64], tangential[64] = "", rolling[64] = "";
     const char *plus = strchr(model, '+'), *plus2 = plus ? strchr(plus + 1, '+') : NULL;
     snprintf(normal, sizeof normal, "%.*s", plus ? (int)(plus - model) : (int)strlen(model), model);
     if (plus) {
-        snprintf(tangential, sizeof tangential, "%.*s", plus2 ? (int)(plus2 - plus - 1) : (int)strlen(plus + 1), plus + 1);
+        snprintf(tangential, sizeof tangential, "%.*s",
+                 plus2 ? (int)(plus2 - plus - 1) : (int)strlen(plus + 1), plus + 1);
     }
     if (plus2) {
         snprintf(rolling, sizeof rolling, "%s", plus2 + 1);
@@ -335,28 +404,36 @@ int cmd_collide(int argc, char **argv)
     if (!s.normal || !(s.normal->kind & (GR_MODEL_NORMAL | GR_MODEL_EVENT)) ||
         (tangential[0] && (!s.tangential || s.tangential->kind != GR_MODEL_TANGENTIAL)) ||
         (rolling[0] && (!s.rolling || s.rolling->kind != GR_MODEL_ROLLING))) {
-        cli_error("collide: --model %s: expected NORMAL[+TANGENTIAL[+ROLLING]], e.g. spring_dashpot+tangential_dashpot or "
-                  "spring_dashpot+sliding_friction+rolling_friction (granule models lists them)", model);
+        cli_error("collide: --model %s: expected NORMAL[+TANGENTIAL[+ROLLING]], e.g. "
+                  "spring_dashpot+tangential_dashpot or "
+                  "spring_dashpot+sliding_friction+rolling_friction (granule models lists them)",
+                  model);
         return EXIT_REFUSED;
     }
     if ((s.normal->kind & GR_MODEL_EVENT) && s.tangential) {
-        cli_error("collide: --model %s: hard_sphere carries its own tangential restitution (--eps-t); give it without +TANGENTIAL", model);
+        cli_error("collide: --model %s: hard_sphere carries its own tangential restitution "
+                  "(--eps-t); give it without +TANGENTIAL",
+                  model);
         return EXIT_REFUSED;
     }
     if (s.contact.eps_n == 0.0) {
         /* spring_dashpot documents [0, 1] with 0 = sticking (a scene may use it), hard_sphere and
          * the clamped law (0, 1]: either way no collision ends, so collide has nothing to measure */
-        cli_error("collide: --eps-n 0 is a sticking pair that never separates, so there is no collision to measure; "
+        cli_error("collide: --eps-n 0 is a sticking pair that never separates, so there is no "
+                  "collision to measure; "
                   "collide needs eps_n in (0, 1] (allowed range), e.g. 0.001");
         return EXIT_REFUSED;
     }
     for (size_t k = 0; k < sizeof given / sizeof given[0]; k++) {
         if (given[k].set && !model_uses(&s, given[k].key)) {
-            fprintf(stderr, "granule: collide: warning: %s does not apply to --model %s (ignored)\n", given[k].opt, model);
+            fprintf(stderr,
+                    "granule: collide: warning: %s does not apply to --model %s (ignored)\n",
+                    given[k].opt, model);
         }
     }
     if (angle_given && !oblique) {
-        cli_error("collide: --angle needs --speed V (an oblique impact; --case N gives Table 2.1's geometries)");
+        cli_error("collide: --angle needs --speed V (an oblique impact; --case N gives Table 2.1's "
+                  "geometries)");
         return EXIT_REFUSED;
     }
     if (oblique && s.dim != 2) {
@@ -413,7 +490,8 @@ int cmd_collide(int argc, char **argv)
     const bool instantaneous = (s.normal->kind & GR_MODEL_EVENT) != 0;
     /* only the parameters the chosen models take (their [model] keys) */
     add_model_params(o, &s);
-    const bool rotation = s.dim == 2 && s.tangential && s.tangential->contact_point && s.contact.rotation;
+    const bool rotation =
+        s.dim == 2 && s.tangential && s.tangential->contact_point && s.contact.rotation;
     if (rotation) {
         cJSON_AddNumberToObject(o, "omega1_before", s.omega1);
         cJSON_AddNumberToObject(o, "omega2_before", s.omega2);
@@ -423,14 +501,20 @@ int cmd_collide(int argc, char **argv)
         /* the rolling law's spin loss with the measured normal impulse, over the initial energy */
         gr_contact_coeffs k;
         gr_error e2 = {0};
-        if (gr_contact_prepare(s.normal, s.tangential, &s.contact, 0.5 * s.mass, 0.0, &k, &e2) == GR_OK &&
-            gr_contact_prepare_rolling(s.rolling, &s.contact, 0.5 * s.mass, 0.0, &k, &e2) == GR_OK) {
+        if (gr_contact_prepare(s.normal, s.tangential, &s.contact, 0.5 * s.mass, 0.0, &k, &e2) ==
+                GR_OK &&
+            gr_contact_prepare_rolling(s.rolling, &s.contact, 0.5 * s.mass, 0.0, &k, &e2) ==
+                GR_OK) {
             const double inertia = s.contact.inertia_factor * s.mass * s.radius * s.radius;
-            const double g2 = (cs.v2[0] - cs.v1[0]) * (cs.v2[0] - cs.v1[0]) + (cs.v2[1] - cs.v1[1]) * (cs.v2[1] - cs.v1[1]);
-            const double e0 = 0.25 * s.mass * g2 + 0.5 * inertia * (s.omega1 * s.omega1 + s.omega2 * s.omega2);
+            const double g2 = (cs.v2[0] - cs.v1[0]) * (cs.v2[0] - cs.v1[0]) +
+                              (cs.v2[1] - cs.v1[1]) * (cs.v2[1] - cs.v1[1]);
+            const double e0 =
+                0.25 * s.mass * g2 + 0.5 * inertia * (s.omega1 * s.omega1 + s.omega2 * s.omega2);
             cJSON_AddStringToObject(o, "rolling", s.rolling->name);
             cJSON_AddNumberToObject(o, "spin_loss_rolling_law",
-                                    s.rolling->spin_loss(&k, sum.normal_impulse, 0.5 * s.radius, inertia, s.omega1 - s.omega2) / e0);
+                                    s.rolling->spin_loss(&k, sum.normal_impulse, 0.5 * s.radius,
+                                                         inertia, s.omega1 - s.omega2) /
+                                        e0);
         }
     }
     cJSON_AddNumberToObject(o, "mass", s.mass);
@@ -440,7 +524,9 @@ int cmd_collide(int argc, char **argv)
     }
     cJSON_AddNumberToObject(o, "phases", phases);
     add_result(o, "", &sum, instantaneous, rotation);
-    cJSON_AddNumberToObject(o, "relative_error", (sum.energy_loss - sum.expected_loss) / fmax(sum.expected_loss, 1e-300));
+    cJSON_AddNumberToObject(o, "relative_error",
+                            (sum.energy_loss - sum.expected_loss) /
+                                fmax(sum.expected_loss, 1e-300));
     if (phases > 1) {
         cJSON_AddNumberToObject(o, "energy_loss_min", lo);
         cJSON_AddNumberToObject(o, "energy_loss_max", hi);

@@ -52,33 +52,51 @@ static const cli_opt compare_opts[] = {
      "the models to compare (required; at most " CLI_STR(GR_COMPARE_MAX) ")", NULL},
     CLI_OPT_SET(compare_args, sets),
     CLI_OPT_OUT(compare_args, out, "out/compare"),
-    {"--force", CLI_FLAG, NULL, offsetof(compare_args, force), 0, 0, 0, NULL, "overwrite an earlier comparison in DIR", NULL},
+    {"--force", CLI_FLAG, NULL, offsetof(compare_args, force), 0, 0, 0, NULL,
+     "overwrite an earlier comparison in DIR", NULL},
     CLI_OPT_FORMAT,
     {"--resume", CLI_FLAG, NULL, offsetof(compare_args, resume), 0, 0, 0, NULL,
-     "after Ctrl-C: keep the finished models, continue the stopped one from its checkpoint, run the rest", NULL},
+     "after Ctrl-C: keep the finished models, continue the stopped one from its checkpoint, run "
+     "the rest",
+     NULL},
 };
 
 const cli_command cli_cmd_compare = {
     .name = "compare",
-    .usage = "granule compare SCENE --models SPEC[,SPEC...] [--set section.key=value ...] [--out DIR] [--force]\n"
+    .usage = "granule compare SCENE --models SPEC[,SPEC...] [--set section.key=value ...] [--out "
+             "DIR] [--force]\n"
              "                      [--format png|svg|pdf] [--resume]",
-    .about = "Runs SCENE once per model SPEC with the same initial state and the same noise (same seed):\n"
-             "SPEC = NORMAL[+TANGENTIAL[+ROLLING]][@clamp][@rotation][@INTEGRATOR], INTEGRATOR = verlet | event | hybrid, e.g.\n"
+    .about = "Runs SCENE once per model SPEC with the same initial state and the same noise (same "
+             "seed):\n"
+             "SPEC = NORMAL[+TANGENTIAL[+ROLLING]][@clamp][@rotation][@INTEGRATOR], INTEGRATOR = "
+             "verlet | event | hybrid, e.g.\n"
              "  --models spring_dashpot,spring_dashpot@hybrid,hard_sphere@event\n"
-             "  --models spring_dashpot+tangential_dashpot,spring_dashpot+tangential_dashpot@clamp,spring_dashpot+sliding_friction\n"
-             "  --models spring_dashpot+tangential_dashpot,spring_dashpot+tangential_dashpot@rotation,hard_sphere@rotation\n"
-             "@rotation: the discs rotate (model.rotation = true; false without it, whatever the scene says).\n"
-             "Without @INTEGRATOR hard_sphere runs event-driven and a force law with the scene's integrator\n"
+             "  --models "
+             "spring_dashpot+tangential_dashpot,spring_dashpot+tangential_dashpot@clamp,spring_"
+             "dashpot+sliding_friction\n"
+             "  --models "
+             "spring_dashpot+tangential_dashpot,spring_dashpot+tangential_dashpot@rotation,hard_"
+             "sphere@rotation\n"
+             "@rotation: the discs rotate (model.rotation = true; false without it, whatever the "
+             "scene says).\n"
+             "Without @INTEGRATOR hard_sphere runs event-driven and a force law with the scene's "
+             "integrator\n"
              "(verlet when the scene is event-driven).\n",
-    .epilog = "Prints the headline table (T, P(v) tail exponent, D_f (2D) or the G_1 exponent n_N (1D),\n"
-              "collisions, energy dissipated by mechanism, wall time, throughput in the integrator's unit;\n"
-              "value +- error in one cell, the reason where there is no number) and writes DIR/<model>/ (a run\n"
-              "folder each), DIR/compare.md (the headline), DIR/compare.csv and compare.json (the headline and\n"
-              "every scalar of every run), DIR/temperature.png (T(t) overlaid) and, with the pv observable\n"
-              "(--set analysis.observables=pv), the collapse of (5.4) in pv_collapse.csv/.png.\n"
-              "docs/compare.md explains the table.\n"
-              "Ctrl-C (or SIGTERM) stops the running model with a checkpoint; the same command with --resume keeps\n"
-              "the finished models, continues the stopped one from its checkpoint and runs the rest.\n",
+    .epilog =
+        "Prints the headline table (T, P(v) tail exponent, D_f (2D) or the G_1 exponent n_N (1D),\n"
+        "collisions, energy dissipated by mechanism, wall time, throughput in the integrator's "
+        "unit;\n"
+        "value +- error in one cell, the reason where there is no number) and writes DIR/<model>/ "
+        "(a run\n"
+        "folder each), DIR/compare.md (the headline), DIR/compare.csv and compare.json (the "
+        "headline and\n"
+        "every scalar of every run), DIR/temperature.png (T(t) overlaid) and, with the pv "
+        "observable\n"
+        "(--set analysis.observables=pv), the collapse of (5.4) in pv_collapse.csv/.png.\n"
+        "docs/compare.md explains the table.\n"
+        "Ctrl-C (or SIGTERM) stops the running model with a checkpoint; the same command with "
+        "--resume keeps\n"
+        "the finished models, continues the stopped one from its checkpoint and runs the rest.\n",
     .pos_name = "scene",
     .max_pos = 1,
     CLI_OPTS(compare_opts),
@@ -122,18 +140,23 @@ int cmd_compare(int argc, char **argv)
         return rc;
     }
     if (resume && force) {
-        cli_error("compare: --resume continues the comparison in %s, --force replaces it: give one", out);
+        cli_error("compare: --resume continues the comparison in %s, --force replaces it: give one",
+                  out);
         return EXIT_REFUSED;
     }
     /* only now is the folder touched; an earlier comparison is kept unless --force (or continued with --resume) */
     char what[1400];
     if (resume && !gr_compare_earlier(out, specs, n, what, sizeof what)) {
-        cli_error("compare: --resume: %s holds no comparison of these models to continue; run without --resume", out);
+        cli_error("compare: --resume: %s holds no comparison of these models to continue; run "
+                  "without --resume",
+                  out);
         return EXIT_REFUSED;
     }
     if (!resume && !force && gr_compare_earlier(out, specs, n, what, sizeof what)) {
-        cli_error("compare: %s already holds a comparison (%s); choose another folder, pass --resume to continue it "
-                  "(after Ctrl-C) or --force to overwrite it", out, what);
+        cli_error("compare: %s already holds a comparison (%s); choose another folder, pass "
+                  "--resume to continue it "
+                  "(after Ctrl-C) or --force to overwrite it",
+                  out, what);
         return EXIT_REFUSED;
     }
     if (!resume && gr_output_dir_prepare(out, GR_OUTPUT_COMPARE, force, &err)) {
@@ -149,12 +172,15 @@ int cmd_compare(int argc, char **argv)
     for (int k = 0; k < n && !compare_stop; k++) {
         const int state = resume ? run_state(scenes[k].out_dir) : 0;
         if (state == 1) {
-            fprintf(stderr, "compare: %s (%d/%d): finished earlier, kept\n", specs[k].text, k + 1, n);
+            fprintf(stderr, "compare: %s (%d/%d): finished earlier, kept\n", specs[k].text, k + 1,
+                    n);
             continue;
         }
         fprintf(stderr, "compare: %s (%d/%d, %s)%s\n", specs[k].text, k + 1, n,
-                scenes[k].integrator ? scenes[k].integrator->name : "verlet", state == 2 ? ", continuing from its checkpoint" : "");
-        gr_run_options opt = {.force = force || resume, .resume = state == 2, .stop = &compare_stop};
+                scenes[k].integrator ? scenes[k].integrator->name : "verlet",
+                state == 2 ? ", continuing from its checkpoint" : "");
+        gr_run_options opt = {
+            .force = force || resume, .resume = state == 2, .stop = &compare_stop};
         gr_run_result res;
         if (gr_run(&scenes[k], &opt, &res, &err)) {
             cli_error("compare: %s: %s", specs[k].text, err.message);
@@ -166,7 +192,8 @@ int cmd_compare(int argc, char **argv)
         }
     }
     if (compare_stop) {
-        fprintf(stderr, "compare: stopped by a signal; the running model's run has a checkpoint: run the same command with "
+        fprintf(stderr, "compare: stopped by a signal; the running model's run has a checkpoint: "
+                        "run the same command with "
                         "--resume to keep the finished models and continue\n");
         return EXIT_STOPPED;
     }
@@ -182,7 +209,8 @@ int cmd_compare(int argc, char **argv)
         fprintf(stderr, "compare: plots: %s\n", note);
     }
     gr_compare_table_print(t, stdout);
-    printf("\n%s/compare.md (this table), %s/compare.csv and compare.json (every quantity)\n", out, out);
+    printf("\n%s/compare.md (this table), %s/compare.csv and compare.json (every quantity)\n", out,
+           out);
     gr_compare_table_free(t);
     return failures ? EXIT_FAILED : EXIT_OK;
 }

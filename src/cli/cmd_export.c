@@ -25,11 +25,15 @@ static const cli_opt export_opts[] = {
 const cli_command cli_cmd_export = {
     .name = "export",
     .usage = "granule export lammps SCENE [--out DIR] [--set section.key=value ...] [--force]",
-    .about = "Writes DIR/in.granule (LAMMPS input deck), DIR/data.granule (the initial particles granule\n"
-             "itself would start from) and DIR/scene.ini. Run it with `mpirun -n RANKS lmp -in in.granule`\n"
+    .about = "Writes DIR/in.granule (LAMMPS input deck), DIR/data.granule (the initial particles "
+             "granule\n"
+             "itself would start from) and DIR/scene.ini. Run it with `mpirun -n RANKS lmp -in "
+             "in.granule`\n"
              "inside DIR, then `granule analyse DIR --lammps-dump DIR/dump.granule.lammpstrj`.\n"
-             "docs/lammps.md maps every scene key; 1D, event-driven/hybrid integrators, hard spheres and\n"
-             "sliding friction are refused. A DIR holding a result is refused unless --force, which replaces\n"
+             "docs/lammps.md maps every scene key; 1D, event-driven/hybrid integrators, hard "
+             "spheres and\n"
+             "sliding friction are refused. A DIR holding a result is refused unless --force, "
+             "which replaces\n"
              "its contents as a whole.\n",
     .pos_name = "scene",
     .max_pos = 2, /* the format (lammps), then the scene */
@@ -82,9 +86,10 @@ int cmd_export(int argc, char **argv)
         cli_error("%s", err.message);
         return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
-    printf("%s, %s: N = %d, %lld + %lld steps, dump every %lld steps to %s\n", info.deck, info.data, scene.N,
-           (long long)info.warmup_steps, (long long)info.run_steps, (long long)info.sample_steps, info.dump);
-    printf("gran/hooke Kn = %.6g N/m, gamman = %.6g 1/s, gammat = %.6g 1/s; noise sigma = %.6g N\n", info.kn,
-           info.gamman, info.gammat, info.noise_sigma);
+    printf("%s, %s: N = %d, %lld + %lld steps, dump every %lld steps to %s\n", info.deck, info.data,
+           scene.N, (long long)info.warmup_steps, (long long)info.run_steps,
+           (long long)info.sample_steps, info.dump);
+    printf("gran/hooke Kn = %.6g N/m, gamman = %.6g 1/s, gammat = %.6g 1/s; noise sigma = %.6g N\n",
+           info.kn, info.gamman, info.gammat, info.noise_sigma);
     return EXIT_OK;
 }

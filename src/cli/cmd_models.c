@@ -9,13 +9,15 @@
 #include "granule/scene.h"
 
 static const cli_opt models_opts[] = {
-    {"--markdown", CLI_FLAG, NULL, 0, 0, 0, 0, NULL, "as Markdown tables (docs/models.md holds them)", NULL},
+    {"--markdown", CLI_FLAG, NULL, 0, 0, 0, 0, NULL,
+     "as Markdown tables (docs/models.md holds them)", NULL},
 };
 
 const cli_command cli_cmd_models = {
     .name = "models",
     .usage = "granule models [--markdown]",
-    .about = "Lists every collision model, its kind and its parameters (unit, default, allowed range).\n",
+    .about = "Lists every collision model, its kind and its parameters (unit, default, allowed "
+             "range).\n",
     CLI_OPTS(models_opts),
 };
 
@@ -23,7 +25,8 @@ const cli_command cli_cmd_models = {
 const cli_command cli_cmd_keys = {
     .name = "keys",
     .usage = "granule keys",
-    .about = "Prints every scene key (type, unit, default, range, meaning) as Markdown (docs/scene-keys.md).\n",
+    .about = "Prints every scene key (type, unit, default, range, meaning) as Markdown "
+             "(docs/scene-keys.md).\n",
 };
 
 const cli_command cli_cmd_observables = {
@@ -40,21 +43,24 @@ int cmd_models(int argc, char **argv)
     if (parsed >= 0) {
         return parsed;
     }
-    int w_name = 8, w_unit = 5; /* the columns of the plain listing fit every model's longest name and unit */
+    int w_name = 8,
+        w_unit = 5; /* the columns of the plain listing fit every model's longest name and unit */
     for (int m = 0; gr_models[m]; m++) {
         for (int i = 0; i < gr_models[m]->n_params; i++) {
-            const int wn = (int)strlen(gr_models[m]->params[i].name), wu = (int)strlen(gr_models[m]->params[i].unit);
+            const int wn = (int)strlen(gr_models[m]->params[i].name),
+                      wu = (int)strlen(gr_models[m]->params[i].unit);
             w_name = wn > w_name ? wn : w_name;
             w_unit = wu > w_unit ? wu : w_unit;
         }
     }
     for (int m = 0; gr_models[m]; m++) {
         const gr_model *md = gr_models[m];
-        const char *kind = md->kind == GR_MODEL_NORMAL ? "normal force law"
+        const char *kind = md->kind == GR_MODEL_NORMAL       ? "normal force law"
                            : md->kind == GR_MODEL_TANGENTIAL ? "tangential force law"
                            : md->kind == GR_MODEL_ROLLING    ? "rolling torque law"
                                                              : "event rule";
-        printf(markdown ? "### `%s` (%s)\n\n%s\n\n" : "%s  [%s]\n  %s\n", md->name, kind, md->summary);
+        printf(markdown ? "### `%s` (%s)\n\n%s\n\n" : "%s  [%s]\n  %s\n", md->name, kind,
+               md->summary);
         if (markdown && md->n_params) {
             printf("| parameter | unit | default | allowed | meaning |\n|---|---|---|---|---|\n");
         }
@@ -68,14 +74,16 @@ int cmd_models(int argc, char **argv)
                 snprintf(range, sizeof range, "%c%g, %s%c", p->min_open ? '(' : '[', p->min,
                          isinf(p->max) ? "inf" : "", p->max_open ? ')' : ']');
                 if (!isinf(p->max)) {
-                    snprintf(range, sizeof range, "%c%g, %g%c", p->min_open ? '(' : '[', p->min, p->max, p->max_open ? ')' : ']');
+                    snprintf(range, sizeof range, "%c%g, %g%c", p->min_open ? '(' : '[', p->min,
+                             p->max, p->max_open ? ')' : ']');
                 }
                 snprintf(def, sizeof def, "%g", p->def);
             }
             if (markdown) {
                 printf("| `%s` | %s | %s | %s | %s |\n", p->name, p->unit, def, range, p->doc);
             } else {
-                printf("    %-*s %-*s default %-8s range %-12s %s\n", w_name, p->name, w_unit, p->unit, def, range, p->doc);
+                printf("    %-*s %-*s default %-8s range %-12s %s\n", w_name, p->name, w_unit,
+                       p->unit, def, range, p->doc);
             }
         }
         printf("\n");

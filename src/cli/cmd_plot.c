@@ -72,12 +72,14 @@ static int redraw_folder(const char *dir, int depth, int *drawn)
     int failures = 0;
     char note[300], path[1200];
     /* a run folder written before the temperature and ledger bodies were kept */
-    if (exists(dir, "temperature.csv") && exists(dir, "ledger.csv") && !exists(dir, "temperature.gp")) {
+    if (exists(dir, "temperature.csv") && exists(dir, "ledger.csv") &&
+        !exists(dir, "temperature.gp")) {
         if (gr_plot_run(dir, 0, note, sizeof note)) {
             cli_error("plot %s: %s", dir, note);
             failures++;
         } else {
-            printf("%s/temperature.%s\n%s/ledger.%s\n", dir, gr_plot_extension(gr_plot_get_format()), dir,
+            printf("%s/temperature.%s\n%s/ledger.%s\n", dir,
+                   gr_plot_extension(gr_plot_get_format()), dir,
                    gr_plot_extension(gr_plot_get_format()));
             *drawn += 2;
         }
@@ -103,7 +105,8 @@ static int redraw_folder(const char *dir, int depth, int *drawn)
     }
     DIR *d = depth > 0 ? opendir(dir) : NULL;
     for (struct dirent *e; d && (e = readdir(d));) {
-        if (e->d_name[0] == '.' || !strcmp(e->d_name, "analysis") || !strcmp(e->d_name, "snapshots")) {
+        if (e->d_name[0] == '.' || !strcmp(e->d_name, "analysis") ||
+            !strcmp(e->d_name, "snapshots")) {
             continue;
         }
         snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
@@ -136,9 +139,12 @@ static const cli_opt plot_opts[] = {
 const cli_command cli_cmd_plot = {
     .name = "plot",
     .usage = "granule plot DIR [--format png|svg|pdf]",
-    .about = "Redraws every plot in DIR (and DIR/analysis, and the run folders inside a compare or sweep\n"
-             "folder): every observable's and command's pictures from the gnuplot bodies (*.gp) kept beside\n"
-             "them and the snapshot picture coloured by speed (cairo, PNG); a run's summary.json then lists\n"
+    .about = "Redraws every plot in DIR (and DIR/analysis, and the run folders inside a compare or "
+             "sweep\n"
+             "folder): every observable's and command's pictures from the gnuplot bodies (*.gp) "
+             "kept beside\n"
+             "them and the snapshot picture coloured by speed (cairo, PNG); a run's summary.json "
+             "then lists\n"
              "every picture. Needs gnuplot.\n",
     .pos_name = "folder",
     .max_pos = 1,

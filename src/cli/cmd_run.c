@@ -22,27 +22,35 @@ static const cli_opt run_opts[] = {
     CLI_OPT_FORCE(run_args, force),
     CLI_OPT_QUIET(run_args, quiet),
     CLI_OPT_THREADS,
-    {"--format", CLI_CHOICE, "png|svg|pdf", CLI_NOWHERE, 0, 0, 0, "png", "the format of every plot (the snapshot picture stays PNG)",
-     cli_apply_format},
-    {"--no-plots", CLI_FLAG, NULL, offsetof(run_args, no_plots), 0, 0, 0, NULL, "draw no plots (same as --set output.plots=false)", NULL},
+    {"--format", CLI_CHOICE, "png|svg|pdf", CLI_NOWHERE, 0, 0, 0, "png",
+     "the format of every plot (the snapshot picture stays PNG)", cli_apply_format},
+    {"--no-plots", CLI_FLAG, NULL, offsetof(run_args, no_plots), 0, 0, 0, NULL,
+     "draw no plots (same as --set output.plots=false)", NULL},
     {"--wall-limit", CLI_STRING, "S", offsetof(run_args, wall_limit), 0, 0, 0, NULL,
-     "write a checkpoint and stop before S seconds of wall time (same as --set run.wall_limit=S)", NULL},
+     "write a checkpoint and stop before S seconds of wall time (same as --set run.wall_limit=S)",
+     NULL},
     {"--resume", CLI_STRING, "DIR", offsetof(run_args, resume), 0, 0, 0, NULL,
-     "continue the interrupted run in DIR from DIR/checkpoint (docs/checkpoints.md); no SCENE, --out or --force", NULL},
+     "continue the interrupted run in DIR from DIR/checkpoint (docs/checkpoints.md); no SCENE, "
+     "--out or --force",
+     NULL},
 };
 
 const cli_command cli_cmd_run = {
     .name = "run",
-    .usage = "granule run SCENE [--out DIR] [--set section.key=value ...] [--force] [--quiet] [--wall-limit S]\n"
+    .usage = "granule run SCENE [--out DIR] [--set section.key=value ...] [--force] [--quiet] "
+             "[--wall-limit S]\n"
              "                 [--threads N] [--format png|svg|pdf] [--no-plots]\n"
              "       granule run --resume DIR [--set run.wall_limit=S ...] [--quiet] [--threads N]",
     .about = "Runs SCENE (an INI file, see docs/scene-keys.md): warm-up, then sampling every\n"
              "run.sample_every. Writes DIR/summary.json, temperature.csv, blocks.csv, ledger.csv,\n"
              "snapshots/ (output.snapshot_every) and plots (output.plots, docs/plots.md).\n",
-    .epilog = "SIGTERM or SIGINT writes a checkpoint at the next step boundary and stops (a second one kills).\n"
+    .epilog = "SIGTERM or SIGINT writes a checkpoint at the next step boundary and stops (a second "
+              "one kills).\n"
               "Exit status: 0 completed, 2 scene refused, 3 run became unstable, 1 other failure,\n"
-              "4 stopped for the wall-time limit, 5 stopped by a signal (both with a checkpoint to resume),\n"
-              "6 an output could not be written, e.g. a full disk (checkpoint kept: free space, then --resume).\n",
+              "4 stopped for the wall-time limit, 5 stopped by a signal (both with a checkpoint to "
+              "resume),\n"
+              "6 an output could not be written, e.g. a full disk (checkpoint kept: free space, "
+              "then --resume).\n",
     .pos_name = "scene",
     .max_pos = 1,
     CLI_OPTS(run_opts),
@@ -69,7 +77,8 @@ static volatile sig_atomic_t stop_requested;
 static void on_stop_signal(int sig)
 {
     (void)sig;
-    stop_requested = 1; /* the run checkpoints at the next step boundary; SA_RESETHAND: a second signal kills */
+    stop_requested =
+        1; /* the run checkpoints at the next step boundary; SA_RESETHAND: a second signal kills */
 }
 
 void cmd_run_catch_stop(void)
@@ -96,7 +105,8 @@ int cmd_run(int argc, char **argv)
         snprintf(wall_set, sizeof wall_set, "run.wall_limit=%.60s", args.wall_limit);
     }
     /* after the --set options, as if given last */
-    if ((args.wall_limit && !cli_list_add(&args.sets, wall_set)) || (args.no_plots && !cli_list_add(&args.sets, "output.plots=false"))) {
+    if ((args.wall_limit && !cli_list_add(&args.sets, wall_set)) ||
+        (args.no_plots && !cli_list_add(&args.sets, "output.plots=false"))) {
         cli_list_free(&args.sets);
         return EXIT_FAILED;
     }
@@ -105,7 +115,9 @@ int cmd_run(int argc, char **argv)
     char resume_scene[1100];
     if (resume) {
         if (scene_path || out || force) {
-            cli_error("run: --resume %s continues the run in that folder with its own scene.ini; give no SCENE, --out or --force", resume);
+            cli_error("run: --resume %s continues the run in that folder with its own scene.ini; "
+                      "give no SCENE, --out or --force",
+                      resume);
             free(sets);
             return EXIT_REFUSED;
         }
@@ -136,7 +148,8 @@ int cmd_run(int argc, char **argv)
     if (scene.warnings[0]) {
         fprintf(stderr, "granule: warning: %s", scene.warnings);
     }
-    gr_run_options opt = {.force = force, .resume = resume != NULL, .stop = &stop_requested, .notice = notice};
+    gr_run_options opt = {
+        .force = force, .resume = resume != NULL, .stop = &stop_requested, .notice = notice};
     if (!quiet && scene.progress && cli_interactive()) {
         opt.progress = progress;
     }
@@ -153,8 +166,10 @@ int cmd_run(int argc, char **argv)
     }
 
     if (rc == GR_OK && res.stopped) {
-        cli_error("%s at step %lld (%lld samples): checkpoint written to %s/checkpoint; continue with: granule run --resume %s",
-                  res.stopped == 1 ? "stopped by a signal" : "stopped before the wall-time limit (run.wall_limit)",
+        cli_error("%s at step %lld (%lld samples): checkpoint written to %s/checkpoint; continue "
+                  "with: granule run --resume %s",
+                  res.stopped == 1 ? "stopped by a signal"
+                                   : "stopped before the wall-time limit (run.wall_limit)",
                   (long long)res.steps, (long long)res.samples, scene.out_dir, scene.out_dir);
         return res.stopped == 1 ? EXIT_STOPPED : EXIT_WALL_LIMIT;
     }
@@ -176,8 +191,9 @@ int cmd_run(int argc, char **argv)
     }
     char T_text[200];
     cli_T_text(T_text, sizeof T_text, res.T_mean, res.T_stderr, res.T_stderr_converged);
-    printf("%s: %s over %lld samples; %lld collisions; %.3g particle-steps/s; kernel %s\n", scene.out_dir, T_text,
-           (long long)res.samples, (long long)res.collisions, res.particle_steps_per_second, res.kernel);
+    printf("%s: %s over %lld samples; %lld collisions; %.3g particle-steps/s; kernel %s\n",
+           scene.out_dir, T_text, (long long)res.samples, (long long)res.collisions,
+           res.particle_steps_per_second, res.kernel);
     return EXIT_OK;
 }
 
@@ -188,7 +204,9 @@ void cli_T_text(char *buf, size_t size, double T_mean, double T_stderr, int conv
         snprintf(err_text, sizeof err_text, "%.2g", T_stderr);
     }
     /* an error bar whose blocking never reached a plateau is a lower bound: say so on the same line */
-    const char *unconverged = T_stderr == T_stderr && !converged
-                                  ? " (WARNING: error bar not converged, T_stderr_converged = false: run longer)" : "";
+    const char *unconverged =
+        T_stderr == T_stderr && !converged
+            ? " (WARNING: error bar not converged, T_stderr_converged = false: run longer)"
+            : "";
     snprintf(buf, size, "T = %.6g +- %s m^2/s^2%s", T_mean, err_text, unconverged);
 }

@@ -25,15 +25,18 @@ typedef struct sweep_args {
 } sweep_args;
 
 static const cli_opt sweep_opts[] = {
-    {"--jobs", CLI_INT, "J", offsetof(sweep_args, jobs), 1, SWEEP_MAX_JOBS, 0, "[sweep] jobs, or the number of cores",
-     "parallel runs on this machine", NULL},
-    {"--point", CLI_INT64, "K", offsetof(sweep_args, point), 0, SWEEP_MAX_INDEX, 0, NULL, "run point K only (0-based)", NULL},
+    {"--jobs", CLI_INT, "J", offsetof(sweep_args, jobs), 1, SWEEP_MAX_JOBS, 0,
+     "[sweep] jobs, or the number of cores", "parallel runs on this machine", NULL},
+    {"--point", CLI_INT64, "K", offsetof(sweep_args, point), 0, SWEEP_MAX_INDEX, 0, NULL,
+     "run point K only (0-based)", NULL},
     {"--array-base", CLI_INT64, "B", offsetof(sweep_args, base), 0, SWEEP_MAX_INDEX, 0, "0",
      "in a batch-array task, run point = array index - B", NULL},
     {"--force", CLI_FLAG, NULL, offsetof(sweep_args, force), 0, 0, 0, NULL,
      "rerun finished points; overwrite what another kind of output left in OUT", NULL},
-    {"--collect", CLI_FLAG, NULL, offsetof(sweep_args, collect), 0, 0, 0, NULL, "merge the finished points and fit", NULL},
-    {"--list", CLI_FLAG, NULL, offsetof(sweep_args, list), 0, 0, 0, NULL, "list the points, to size an array", NULL},
+    {"--collect", CLI_FLAG, NULL, offsetof(sweep_args, collect), 0, 0, 0, NULL,
+     "merge the finished points and fit", NULL},
+    {"--list", CLI_FLAG, NULL, offsetof(sweep_args, list), 0, 0, 0, NULL,
+     "list the points, to size an array", NULL},
     {"--all", CLI_FLAG, NULL, offsetof(sweep_args, all), 0, 0, 0, NULL,
      "every point, even inside a batch-array task (ignore the scheduler's array index)", NULL},
     {"--mpi", CLI_FLAG, NULL, offsetof(sweep_args, mpi), 0, 0, 0, NULL,
@@ -42,29 +45,43 @@ static const cli_opt sweep_opts[] = {
 
 const cli_command cli_cmd_sweep = {
     .name = "sweep",
-    .usage = "granule sweep FILE [--jobs J] [--force]                  all points on this machine\n"
-             "       mpirun -n P granule sweep FILE                          over MPI ranks (built with -Dmpi)\n"
-             "       granule sweep FILE --point K [--force]                  point K only (0-based)\n"
-             "       granule sweep FILE [--array-base B]                     in a batch-array task: point = index - B\n"
-             "       granule sweep FILE --collect                            merge the finished points, fit\n"
-             "       granule sweep FILE --list                               the points, to size an array",
+    .usage =
+        "granule sweep FILE [--jobs J] [--force]                  all points on this machine\n"
+        "       mpirun -n P granule sweep FILE                          over MPI ranks (built with "
+        "-Dmpi)\n"
+        "       granule sweep FILE --point K [--force]                  point K only (0-based)\n"
+        "       granule sweep FILE [--array-base B]                     in a batch-array task: "
+        "point = index - B\n"
+        "       granule sweep FILE --collect                            merge the finished points, "
+        "fit\n"
+        "       granule sweep FILE --list                               the points, to size an "
+        "array",
     .about = "FILE (INI):\n"
              "  [sweep]\n  scene = rfm-1d.ini        ; relative to FILE's folder\n"
              "  out = out/sweep           ; relative to the working folder\n"
-             "  seeds = 1, 2, 3\n  jobs = 2                  ; parallel runs (default: number of cores)\n"
+             "  seeds = 1, 2, 3\n  jobs = 2                  ; parallel runs (default: number of "
+             "cores)\n"
              "  [vary]                    ; every combination is run, for every seed\n"
              "  system.N = 100, 158, 251\n  model.eps_n = 0.1, 0.5\n"
              "  [set]                     ; fixed overrides for every point\n"
              "  run.duration = 20\n  analysis.observables = moments\n",
-    .epilog = "Points are numbered from 0, seed fastest, then the last [vary] key (--list). Each runs into\n"
-              "OUT/pNNNN with point.json (overrides, scene hash, version, host, times, status, error); a point\n"
-              "whose manifest says completed for the same scene hash is never rerun (--force reruns it); a failed\n"
-              "point is recorded and the others go on, and the exit status is 1 naming it. A point being run\n"
-              "by another process (its claim, OUT/pNNNN/.point.lock) is left to it, so sweeps started side by side\n"
+    .epilog = "Points are numbered from 0, seed fastest, then the last [vary] key (--list). Each "
+              "runs into\n"
+              "OUT/pNNNN with point.json (overrides, scene hash, version, host, times, status, "
+              "error); a point\n"
+              "whose manifest says completed for the same scene hash is never rerun (--force "
+              "reruns it); a failed\n"
+              "point is recorded and the others go on, and the exit status is 1 naming it. A point "
+              "being run\n"
+              "by another process (its claim, OUT/pNNNN/.point.lock) is left to it, so sweeps "
+              "started side by side\n"
               "over one OUT share its points. Without --point the array index is read from\n"
-              "SLURM_ARRAY_TASK_ID, PBS_ARRAY_INDEX, PBS_ARRAYID, SGE_TASK_ID or LSB_JOBINDEX (--all ignores\n"
-              "them). Writes OUT/sweep.csv (one row per point) and, when system.N varies, OUT/exponents.csv:\n"
-              "<|v|^m> ~ N^-xi_m fitted per combination of the other keys (3.8, 3.13), averaging seeds, with\n"
+              "SLURM_ARRAY_TASK_ID, PBS_ARRAY_INDEX, PBS_ARRAYID, SGE_TASK_ID or LSB_JOBINDEX "
+              "(--all ignores\n"
+              "them). Writes OUT/sweep.csv (one row per point) and, when system.N varies, "
+              "OUT/exponents.csv:\n"
+              "<|v|^m> ~ N^-xi_m fitted per combination of the other keys (3.8, 3.13), averaging "
+              "seeds, with\n"
               "errors and reduced chi-square. Recipes: docs/cluster.md.\n",
     .pos_name = "sweep file",
     .max_pos = 1,
@@ -75,10 +92,12 @@ const cli_command cli_cmd_sweep = {
  * "undefined" and LSF 0 outside array jobs. */
 static long array_index(const char **var, const char **text)
 {
-    static const char *const vars[] = {"SLURM_ARRAY_TASK_ID", "PBS_ARRAY_INDEX", "PBS_ARRAYID", "SGE_TASK_ID", "LSB_JOBINDEX"};
+    static const char *const vars[] = {"SLURM_ARRAY_TASK_ID", "PBS_ARRAY_INDEX", "PBS_ARRAYID",
+                                       "SGE_TASK_ID", "LSB_JOBINDEX"};
     for (size_t i = 0; i < sizeof vars / sizeof vars[0]; i++) {
         const char *v = getenv(vars[i]);
-        if (!v || !v[0] || !strcmp(v, "undefined") || (!strcmp(vars[i], "LSB_JOBINDEX") && !strcmp(v, "0"))) {
+        if (!v || !v[0] || !strcmp(v, "undefined") ||
+            (!strcmp(vars[i], "LSB_JOBINDEX") && !strcmp(v, "0"))) {
             continue;
         }
         *var = vars[i];
@@ -147,7 +166,8 @@ int cmd_sweep(int argc, char **argv)
     }
     const char *file = pos.n ? pos.v[0] : NULL;
     const int jobs = args.jobs;
-    const bool force = args.force, collect = args.collect, list = args.list, all = args.all, mpi = args.mpi;
+    const bool force = args.force, collect = args.collect, list = args.list, all = args.all,
+               mpi = args.mpi;
     long point = (long)args.point;
     const long base = (long)args.base;
     if (!file) {
@@ -180,8 +200,9 @@ int cmd_sweep(int argc, char **argv)
     }
     if (arr >= 0) {
         point = arr - base;
-        fprintf(stderr, "sweep: point %ld from %s=%s%s (--point K to choose, --all for the whole sweep)\n", point, arr_var,
-                arr_text, base ? " minus --array-base" : "");
+        fprintf(stderr,
+                "sweep: point %ld from %s=%s%s (--point K to choose, --all for the whole sweep)\n",
+                point, arr_var, arr_text, base ? " minus --array-base" : "");
         if (point < 0) {
             cli_error("sweep: %s=%s minus --array-base %ld is negative", arr_var, arr_text, base);
             rc = EXIT_REFUSED;
@@ -189,13 +210,16 @@ int cmd_sweep(int argc, char **argv)
         }
     }
     if (point >= s->n_points) {
-        cli_error("sweep: %s: point %ld does not exist; points 0..%ld (granule sweep %s --list)", file, point, s->n_points - 1, file);
+        cli_error("sweep: %s: point %ld does not exist; points 0..%ld (granule sweep %s --list)",
+                  file, point, s->n_points - 1, file);
         rc = EXIT_REFUSED;
         goto done;
     }
     if (point >= 0 && ranks > 1) {
-        cli_error("sweep: one point (%ld) was asked for but %s says %d MPI ranks would all run it; start one process per "
-                  "point, or drop --point (and pass --all in a batch-array task) to spread the sweep over the ranks",
+        cli_error("sweep: one point (%ld) was asked for but %s says %d MPI ranks would all run it; "
+                  "start one process per "
+                  "point, or drop --point (and pass --all in a batch-array task) to spread the "
+                  "sweep over the ranks",
                   point, mpi_var, ranks);
         rc = EXIT_REFUSED;
         goto done;
@@ -218,14 +242,18 @@ int cmd_sweep(int argc, char **argv)
     if (collect) {
         long bad = 0;
         rc = sweep_collect(s, hash, &bad);
-        printf("%s/sweep.csv: %ld points, %ld finished, %ld not finished or failed\n", s->out, s->n_points, s->n_points - bad, bad);
+        printf("%s/sweep.csv: %ld points, %ld finished, %ld not finished or failed\n", s->out,
+               s->n_points, s->n_points - bad, bad);
         rc = rc ? rc : bad ? EXIT_FAILED : EXIT_OK;
         goto done;
     }
     if (ranks > 1 || mpi) {
         if (ranks > 1 && !sweep_mpi_available()) {
-            cli_error("sweep: started by an MPI launcher (%s = %d ranks) but this granule was built without MPI: every rank "
-                      "would run the whole sweep; rebuild with meson setup -Dmpi=enabled, or see docs/cluster.md", mpi_var, ranks);
+            cli_error("sweep: started by an MPI launcher (%s = %d ranks) but this granule was "
+                      "built without MPI: every rank "
+                      "would run the whole sweep; rebuild with meson setup -Dmpi=enabled, or see "
+                      "docs/cluster.md",
+                      mpi_var, ranks);
             rc = EXIT_REFUSED;
             goto done;
         }
@@ -250,8 +278,8 @@ int cmd_sweep(int argc, char **argv)
         rc = EXIT_REFUSED;
         goto done;
     }
-    fprintf(stderr, "sweep: %ld points (%d keys x %d seeds), %d parallel runs, into %s\n", s->n_points, s->n_keys, s->n_seeds,
-            s->jobs, s->out);
+    fprintf(stderr, "sweep: %ld points (%d keys x %d seeds), %d parallel runs, into %s\n",
+            s->n_points, s->n_keys, s->n_seeds, s->jobs, s->out);
     sweep_queue q = {.s = s, .hash = hash, .guess = guess, .jobs = s->jobs};
     sweep_queue_start(&q);
     /* Ctrl-C or SIGTERM: the running points write their checkpoints, no new one starts (a second
@@ -266,8 +294,10 @@ int cmd_sweep(int argc, char **argv)
     sweep_queue_report(&q);
     rc = rc ? rc : bad ? EXIT_FAILED : EXIT_OK;
     if (sweep_stop_requested) {
-        fprintf(stderr, "sweep: stopped by a signal: %ld point%s stopped with a checkpoint; run the same command to continue "
-                        "(finished points are kept, stopped ones continue from their checkpoints)\n",
+        fprintf(stderr,
+                "sweep: stopped by a signal: %ld point%s stopped with a checkpoint; run the same "
+                "command to continue "
+                "(finished points are kept, stopped ones continue from their checkpoints)\n",
                 q.stopped, q.stopped == 1 ? "" : "s");
         rc = EXIT_STOPPED;
     }

@@ -60,7 +60,8 @@ bool cli_theory_set_refused(const cli_command *cmd, cli_theory *th)
     cli_list *sets = &th->sets;
     const bool refused = sets->n > 0;
     if (refused) {
-        cli_error("%s: --set %s: %s has no scene, so no scene keys to set; its settings are options (granule %s --help)",
+        cli_error("%s: --set %s: %s has no scene, so no scene keys to set; its settings are "
+                  "options (granule %s --help)",
                   cmd->name, sets->items[0], cmd->name, cmd->name);
     }
     cli_list_free(sets);
@@ -137,8 +138,8 @@ static void range_text(const cli_opt *o, char *buf, size_t size)
     if (integer && lo && hi) {
         snprintf(buf, size, "from %.15g to %.15g", o->min, o->max);
     } else if (lo && hi) {
-        snprintf(buf, size, "in %c%.15g, %.15g%c", o->range & CLI_MIN_OPEN ? '(' : '[', o->min, o->max,
-                 o->range & CLI_MAX_OPEN ? ')' : ']');
+        snprintf(buf, size, "in %c%.15g, %.15g%c", o->range & CLI_MIN_OPEN ? '(' : '[', o->min,
+                 o->max, o->range & CLI_MAX_OPEN ? ')' : ']');
     } else if (lo) {
         snprintf(buf, size, "%s %.15g", !integer && o->range & CLI_MIN_OPEN ? ">" : ">=", o->min);
     } else {
@@ -146,7 +147,10 @@ static void range_text(const cli_opt *o, char *buf, size_t size)
     }
 }
 
-static bool has_range(const cli_opt *o) { return o->type != CLI_FLAG && o->type < CLI_STRING && o->min < o->max; }
+static bool has_range(const cli_opt *o)
+{
+    return o->type != CLI_FLAG && o->type < CLI_STRING && o->min < o->max;
+}
 
 static bool in_range(const cli_opt *o, double x)
 {
@@ -165,7 +169,11 @@ static void choice_text(const char *words, char *buf, size_t size)
     for (const char *p = words; *p;) {
         const size_t n = strcspn(p, "|");
         const size_t used = strlen(buf);
-        snprintf(buf + used, size - used, "%s%.*s", used == 0 ? "" : p[n] ? ", " : " or ", (int)n, p);
+        snprintf(buf + used, size - used, "%s%.*s",
+                 used == 0 ? ""
+                 : p[n]    ? ", "
+                           : " or ",
+                 (int)n, p);
         p += n + (p[n] == '|');
     }
 }
@@ -191,7 +199,8 @@ static bool take(const cli_command *cmd, const cli_opt *o, const char *v, void *
     char allowed[160];
     long long iv = 0;
     unsigned long long uv = 0;
-    if (o->type == CLI_INT || o->type == CLI_INT64 || o->type == CLI_UINT64 || o->type == CLI_DOUBLE) {
+    if (o->type == CLI_INT || o->type == CLI_INT64 || o->type == CLI_UINT64 ||
+        o->type == CLI_DOUBLE) {
         char *end;
         bool exact = false; /* an integer in decimal digits, read without rounding */
         errno = 0;
@@ -210,8 +219,10 @@ static bool take(const cli_command *cmd, const cli_opt *o, const char *v, void *
             iv = (long long)fmax(fmin(x, 9e18), -9e18);
             uv = x > 0.0 ? (unsigned long long)fmin(x, 1.8e19) : 0;
         }
-        const bool number = end != v && *end == '\0' && isfinite(x) && !strchr(v, 'x') && !strchr(v, 'X');
-        const bool integer = number && (o->type == CLI_DOUBLE || x == floor(x)) && (o->type != CLI_UINT64 || x >= 0.0);
+        const bool number =
+            end != v && *end == '\0' && isfinite(x) && !strchr(v, 'x') && !strchr(v, 'X');
+        const bool integer = number && (o->type == CLI_DOUBLE || x == floor(x)) &&
+                             (o->type != CLI_UINT64 || x >= 0.0);
         if (!integer || !in_range(o, x)) {
             if (has_range(o)) {
                 range_text(o, allowed, sizeof allowed);
@@ -219,7 +230,9 @@ static bool take(const cli_command *cmd, const cli_opt *o, const char *v, void *
                           o->type == CLI_DOUBLE ? "a number" : "an integer", allowed);
             } else {
                 cli_error("%s: %s %s: expected %s", cmd->name, o->name, v,
-                          o->type == CLI_DOUBLE ? "a number" : o->type == CLI_UINT64 ? "a non-negative integer" : "an integer");
+                          o->type == CLI_DOUBLE   ? "a number"
+                          : o->type == CLI_UINT64 ? "a non-negative integer"
+                                                  : "an integer");
             }
             return false;
         }
@@ -230,25 +243,13 @@ static bool take(const cli_command *cmd, const cli_opt *o, const char *v, void *
     }
     if (field) {
         switch (o->type) {
-        case CLI_FLAG:
-            *(bool *)field = true;
-            break;
-        case CLI_INT:
-            *(int *)field = (int)x;
-            break;
-        case CLI_INT64:
-            *(int64_t *)field = (int64_t)iv;
-            break;
-        case CLI_UINT64:
-            *(uint64_t *)field = (uint64_t)uv;
-            break;
-        case CLI_DOUBLE:
-            *(double *)field = x;
-            break;
+        case CLI_FLAG: *(bool *)field = true; break;
+        case CLI_INT: *(int *)field = (int)x; break;
+        case CLI_INT64: *(int64_t *)field = (int64_t)iv; break;
+        case CLI_UINT64: *(uint64_t *)field = (uint64_t)uv; break;
+        case CLI_DOUBLE: *(double *)field = x; break;
         case CLI_STRING:
-        case CLI_CHOICE:
-            *(const char **)field = v;
-            break;
+        case CLI_CHOICE: *(const char **)field = v; break;
         case CLI_LIST:
             if (!cli_list_add((cli_list *)field, v)) {
                 cli_error("%s: out of memory", cmd->name);
@@ -273,9 +274,11 @@ int cli_parse(const cli_command *cmd, int argc, char **argv, void *args, cli_pos
         if (a[0] != '-' || !a[1]) {
             if (pos->n >= cmd->max_pos || pos->n >= CLI_MAX_POS) {
                 if (cmd->max_pos == 1) {
-                    cli_error("%s: one %s at a time (got %s and %s)", cmd->name, cmd->pos_name, pos->v[0], a);
+                    cli_error("%s: one %s at a time (got %s and %s)", cmd->name, cmd->pos_name,
+                              pos->v[0], a);
                 } else {
-                    cli_error("%s: unexpected argument %s (granule %s --help)", cmd->name, a, cmd->name);
+                    cli_error("%s: unexpected argument %s (granule %s --help)", cmd->name, a,
+                              cmd->name);
                 }
                 return EXIT_REFUSED;
             }
@@ -287,8 +290,8 @@ int cli_parse(const cli_command *cmd, int argc, char **argv, void *args, cli_pos
         const cli_opt *o = find(cmd, a, len);
         if (!o) {
             const char *near = cli_nearest(cmd, a);
-            cli_error("%s: unknown option %s%s%s%s (granule %s --help lists them)", cmd->name, a, near ? "; did you mean " : "",
-                      near ? near : "", near ? "?" : "", cmd->name);
+            cli_error("%s: unknown option %s%s%s%s (granule %s --help lists them)", cmd->name, a,
+                      near ? "; did you mean " : "", near ? near : "", near ? "?" : "", cmd->name);
             return EXIT_REFUSED;
         }
         const char *v = NULL;
@@ -326,8 +329,9 @@ static void option_tail(const cli_opt *o, char *buf, size_t size)
     if (has_range(o)) {
         range_text(o, allowed, sizeof allowed);
     }
-    snprintf(buf, size, "%s%s%s%s%s%s", o->def || allowed[0] ? " (" : "", o->def ? "default " : "", o->def ? o->def : "",
-             o->def && allowed[0] ? "; " : "", allowed, o->def || allowed[0] ? ")" : "");
+    snprintf(buf, size, "%s%s%s%s%s%s", o->def || allowed[0] ? " (" : "", o->def ? "default " : "",
+             o->def ? o->def : "", o->def && allowed[0] ? "; " : "", allowed,
+             o->def || allowed[0] ? ")" : "");
 }
 
 /* text wrapped to 100 columns, every line after the first indented by `indent` */
@@ -365,7 +369,8 @@ void cli_help(const cli_command *cmd, FILE *f)
     fprintf(f, "\noptions:\n");
     const size_t col = 24;
     for (int k = 0; k <= cmd->n_opts; k++) {
-        static const cli_opt help = {"--help", CLI_FLAG, NULL, CLI_NOWHERE, 0, 0, 0, NULL, "this text (-h)", NULL};
+        static const cli_opt help = {"--help", CLI_FLAG, NULL, CLI_NOWHERE,      0,
+                                     0,        0,        NULL, "this text (-h)", NULL};
         const cli_opt *o = k < cmd->n_opts ? &cmd->opts[k] : &help;
         char head[160], tail[240], text[1400];
         option_head(o, head, sizeof head);
@@ -390,7 +395,8 @@ void cli_help(const cli_command *cmd, FILE *f)
 static void md_text(FILE *f, const char *text)
 {
     for (const char *p = text; *p; p++) {
-        if (*p == '|' || *p == '*' || *p == '_' || *p == '<' || *p == '>' || *p == '`' || *p == '[') {
+        if (*p == '|' || *p == '*' || *p == '_' || *p == '<' || *p == '>' || *p == '`' ||
+            *p == '[') {
             fputc('\\', f);
         }
         fputc(*p == '\n' ? ' ' : *p, f);
@@ -403,7 +409,8 @@ void cli_markdown(const cli_command *cmd, FILE *f)
     if (cmd->about) {
         fprintf(f, "```\n%s```\n\n", cmd->about);
     }
-    fprintf(f, cmd->n_opts ? "| option | default | allowed | meaning |\n|---|---|---|---|\n" : "No options but `--help`.\n");
+    fprintf(f, cmd->n_opts ? "| option | default | allowed | meaning |\n|---|---|---|---|\n"
+                           : "No options but `--help`.\n");
     for (int k = 0; k < cmd->n_opts; k++) {
         const cli_opt *o = &cmd->opts[k];
         char head[160], allowed[160] = "";

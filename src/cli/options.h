@@ -35,14 +35,15 @@ typedef struct cli_list {
 #define CLI_NOWHERE ((size_t)-1)
 
 typedef struct cli_opt {
-    const char *name;  /* "--out" */
+    const char *name; /* "--out" */
     cli_type type;
-    const char *value; /* the value's name in help ("DIR"); the words of a CLI_CHOICE ("png|svg|pdf") */
-    size_t at;         /* offsetof(the command's argument struct, field), or CLI_NOWHERE */
-    double min, max;   /* range of the integer types and CLI_DOUBLE; unchecked when min >= max;
+    const char
+        *value; /* the value's name in help ("DIR"); the words of a CLI_CHOICE ("png|svg|pdf") */
+    size_t at;  /* offsetof(the command's argument struct, field), or CLI_NOWHERE */
+    double min, max; /* range of the integer types and CLI_DOUBLE; unchecked when min >= max;
                         * +-INFINITY for an open-ended one */
-    int range;         /* CLI_MIN_OPEN | CLI_MAX_OPEN for a CLI_DOUBLE */
-    const char *def;   /* the default, as help and docs/cli.md print it (NULL: none shown) */
+    int range;       /* CLI_MIN_OPEN | CLI_MAX_OPEN for a CLI_DOUBLE */
+    const char *def; /* the default, as help and docs/cli.md print it (NULL: none shown) */
     const char *help;
     /* optional: called with the parsed arguments, the checked value and its number as soon as it
      * is read, in the order given (--threads sets the thread count, --format the plot format);
@@ -51,12 +52,13 @@ typedef struct cli_opt {
 } cli_opt;
 
 typedef struct cli_command {
-    const char *name;     /* "run", "spm circle" */
-    const char *usage;    /* the synopsis lines after "usage: " (several forms on several lines) */
-    const char *about;    /* what the command does, before the options */
-    const char *epilog;   /* after the options: outputs, exit status (may be NULL) */
-    const char *pos_name; /* the positional argument's name in messages ("scene"); NULL: none taken */
-    int max_pos;          /* how many positional arguments at most */
+    const char *name;   /* "run", "spm circle" */
+    const char *usage;  /* the synopsis lines after "usage: " (several forms on several lines) */
+    const char *about;  /* what the command does, before the options */
+    const char *epilog; /* after the options: outputs, exit status (may be NULL) */
+    const char
+        *pos_name; /* the positional argument's name in messages ("scene"); NULL: none taken */
+    int max_pos;   /* how many positional arguments at most */
     const cli_opt *opts;
     int n_opts;
     /* optional: more help after the epilog, for --help only (what depends on this build, such as
@@ -101,16 +103,29 @@ void cli_markdown(const cli_command *cmd, FILE *f);
 const char *cli_nearest(const cli_command *cmd, const char *given);
 
 /* Rows that every command writing files spells alike (issue 34 item 7); T is the argument struct. */
-#define CLI_OPT_OUT(T, field, def_text) \
-    {"--out", CLI_STRING, "DIR", offsetof(T, field), 0, 0, 0, def_text, "output folder", NULL}
-#define CLI_OPT_FORCE(T, field) \
-    {"--force", CLI_FLAG, NULL, offsetof(T, field), 0, 0, 0, NULL, \
-     "overwrite the results of an earlier run in the output folder", NULL}
-#define CLI_OPT_QUIET(T, field) {"--quiet", CLI_FLAG, NULL, offsetof(T, field), 0, 0, 0, NULL, "no progress line", NULL}
-#define CLI_OPT_NO_PLOTS(T, field) {"--no-plots", CLI_FLAG, NULL, offsetof(T, field), 0, 0, 0, NULL, "draw no plots", NULL}
-#define CLI_OPT_SET(T, field) \
-    {"--set", CLI_LIST, "K=V", offsetof(T, field), 0, 0, 0, NULL, \
-     "override a scene key, e.g. --set model.eps_n=0.5 (repeatable; docs/scene-keys.md)", NULL}
+#define CLI_OPT_OUT(T, field, def_text)                                                            \
+    {                                                                                              \
+        "--out", CLI_STRING, "DIR", offsetof(T, field), 0, 0, 0, def_text, "output folder", NULL   \
+    }
+#define CLI_OPT_FORCE(T, field)                                                                    \
+    {                                                                                              \
+        "--force", CLI_FLAG, NULL, offsetof(T, field), 0, 0, 0, NULL,                              \
+            "overwrite the results of an earlier run in the output folder", NULL                   \
+    }
+#define CLI_OPT_QUIET(T, field)                                                                    \
+    {                                                                                              \
+        "--quiet", CLI_FLAG, NULL, offsetof(T, field), 0, 0, 0, NULL, "no progress line", NULL     \
+    }
+#define CLI_OPT_NO_PLOTS(T, field)                                                                 \
+    {                                                                                              \
+        "--no-plots", CLI_FLAG, NULL, offsetof(T, field), 0, 0, 0, NULL, "draw no plots", NULL     \
+    }
+#define CLI_OPT_SET(T, field)                                                                      \
+    {                                                                                              \
+        "--set", CLI_LIST, "K=V", offsetof(T, field), 0, 0, 0, NULL,                               \
+            "override a scene key, e.g. --set model.eps_n=0.5 (repeatable; docs/scene-keys.md)",   \
+            NULL                                                                                   \
+    }
 /* The options every theory command (spm, bisect, cascade, fokker-planck) takes alike; its
  * argument struct T holds them as the member th (a member path: th, spm.th). --set is refused after parsing
  * (cli_theory_set_refused). */
@@ -119,18 +134,27 @@ typedef struct cli_theory {
     cli_list sets;
     bool force, quiet, no_plots;
 } cli_theory;
-#define CLI_THEORY_OPTS(T, th, out_default) \
-    CLI_OPT_OUT(T, th.out, out_default), CLI_OPT_FORCE(T, th.force), CLI_OPT_NO_PLOTS(T, th.no_plots), CLI_OPT_FORMAT, \
-    CLI_OPT_QUIET(T, th.quiet), \
-    {"--set", CLI_LIST, "K=V", offsetof(T, th.sets), 0, 0, 0, NULL, "refused: a theory command reads no scene; its settings are options", NULL}
+#define CLI_THEORY_OPTS(T, th, out_default)                                                        \
+    CLI_OPT_OUT(T, th.out, out_default), CLI_OPT_FORCE(T, th.force),                               \
+        CLI_OPT_NO_PLOTS(T, th.no_plots), CLI_OPT_FORMAT, CLI_OPT_QUIET(T, th.quiet),              \
+    {                                                                                              \
+        "--set", CLI_LIST, "K=V", offsetof(T, th.sets), 0, 0, 0, NULL,                             \
+            "refused: a theory command reads no scene; its settings are options", NULL             \
+    }
 /* After parsing a theory command: true (after the message) when --set was given; frees the list. */
 bool cli_theory_set_refused(const cli_command *cmd, cli_theory *th);
 
-#define CLI_OPT_FORMAT \
-    {"--format", CLI_CHOICE, "png|svg|pdf", CLI_NOWHERE, 0, 0, 0, "png", "the format of every plot", cli_apply_format}
-#define CLI_OPT_THREADS \
-    {"--threads", CLI_INT, "N", CLI_NOWHERE, 1, 1024, 0, "1, or OMP_NUM_THREADS", \
-     "threads; the results are bit-identical for every N (docs/performance.md)", cli_apply_threads}
+#define CLI_OPT_FORMAT                                                                             \
+    {                                                                                              \
+        "--format", CLI_CHOICE, "png|svg|pdf", CLI_NOWHERE, 0, 0, 0, "png",                        \
+            "the format of every plot", cli_apply_format                                           \
+    }
+#define CLI_OPT_THREADS                                                                            \
+    {                                                                                              \
+        "--threads", CLI_INT, "N", CLI_NOWHERE, 1, 1024, 0, "1, or OMP_NUM_THREADS",               \
+            "threads; the results are bit-identical for every N (docs/performance.md)",            \
+            cli_apply_threads                                                                      \
+    }
 
 bool cli_apply_format(void *args, const char *text, double number);
 bool cli_apply_threads(void *args, const char *text, double number);

@@ -7,7 +7,8 @@
 #include "cli/cli.h"
 #include "cli/spm_cli.h"
 
-int spm_parse(const cli_command *cmd, int argc, char **argv, void *args, spm_options *o, gr_spm_settings *s)
+int spm_parse(const cli_command *cmd, int argc, char **argv, void *args, spm_options *o,
+              gr_spm_settings *s)
 {
     cli_pos pos;
     const int parsed = cli_parse(cmd, argc, argv, args, &pos);
@@ -29,7 +30,10 @@ int spm_parse(const cli_command *cmd, int argc, char **argv, void *args, spm_opt
     return -1;
 }
 
-int spm_exit_code(const gr_error *err) { return err->code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED; }
+int spm_exit_code(const gr_error *err)
+{
+    return err->code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
+}
 
 static struct {
     const char *label;
@@ -48,8 +52,8 @@ static void progress(double done, void *user)
     (void)user;
     double wall = now() - progress_state.t0;
     int eta = done > 0.0 ? (int)(wall * (1.0 - done) / done + 0.5) : 0;
-    fprintf(stderr, "\r%s %3.0f%%  ETA %d:%02d:%02d   ", progress_state.label, 100.0 * done, eta / 3600, eta / 60 % 60,
-            eta % 60);
+    fprintf(stderr, "\r%s %3.0f%%  ETA %d:%02d:%02d   ", progress_state.label, 100.0 * done,
+            eta / 3600, eta / 60 % 60, eta % 60);
     fflush(stderr);
 }
 

@@ -28,14 +28,18 @@ int gr_collision_case_table21(int number, double radius, gr_collision_case *out,
     return GR_OK;
 }
 
-int gr_collision_case_oblique(double speed, double angle_deg, double radius, gr_collision_case *out, gr_error *err)
+int gr_collision_case_oblique(double speed, double angle_deg, double radius, gr_collision_case *out,
+                              gr_error *err)
 {
     if (!(speed > 0.0) || !isfinite(speed)) {
-        return GR_FAIL(err, GR_EINVAL, "--speed %g: the impact speed must be > 0 and finite (m/s)", speed);
+        return GR_FAIL(err, GR_EINVAL, "--speed %g: the impact speed must be > 0 and finite (m/s)",
+                       speed);
     }
     if (!(angle_deg >= 0.0 && angle_deg < 90.0)) {
-        return GR_FAIL(err, GR_EINVAL, "--angle %g: the impact angle must lie in [0, 90) degrees (90: the discs only graze)",
-                       angle_deg);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "--angle %g: the impact angle must lie in [0, 90) degrees (90: the discs only graze)",
+            angle_deg);
     }
     if (!(radius > 0.0) || !isfinite(radius)) {
         return GR_FAIL(err, GR_EINVAL, "--radius %g: must be > 0 (m)", radius);
@@ -43,7 +47,10 @@ int gr_collision_case_oblique(double speed, double angle_deg, double radius, gr_
     /* at first touch x1 = 0, x2 = (d, 0): n = (1, 0); -g = v1 makes the angle a with n. Start
      * r/2 back along v1 (the pair is then at least d apart: |x2 - x1|^2 = d^2 + d r cos a + r^2/4) */
     const double a = angle_deg * M_PI / 180.0, c = cos(a), sn = sin(a);
-    *out = (gr_collision_case){{-0.5 * radius * c, -0.5 * radius * sn}, {speed * c, speed * sn}, {2.0 * radius, 0.0}, {0.0, 0.0}};
+    *out = (gr_collision_case){{-0.5 * radius * c, -0.5 * radius * sn},
+                               {speed * c, speed * sn},
+                               {2.0 * radius, 0.0},
+                               {0.0, 0.0}};
     return GR_OK;
 }
 
@@ -94,8 +101,10 @@ static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc,
     if (rc) {
         return rc;
     }
-    double v1[2] = {cc->v1[0], dim == 2 ? cc->v1[1] : 0.0}, v2[2] = {cc->v2[0], dim == 2 ? cc->v2[1] : 0.0};
-    double r[2] = {cc->x2[0] - cc->x1[0] + (v2[0] - v1[0]) * t_hit, dim == 2 ? cc->x2[1] - cc->x1[1] + (v2[1] - v1[1]) * t_hit : 0.0};
+    double v1[2] = {cc->v1[0], dim == 2 ? cc->v1[1] : 0.0},
+           v2[2] = {cc->v2[0], dim == 2 ? cc->v2[1] : 0.0};
+    double r[2] = {cc->x2[0] - cc->x1[0] + (v2[0] - v1[0]) * t_hit,
+                   dim == 2 ? cc->x2[1] - cc->x1[1] + (v2[1] - v1[1]) * t_hit : 0.0};
     double rn = hypot(r[0], r[1]), n[2] = {r[0] / rn, r[1] / rn};
     double g0[2] = {v2[0] - v1[0], v2[1] - v1[1]};
     double gg0 = g0[0] * g0[0] + g0[1] * g0[1];
@@ -107,9 +116,10 @@ static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc,
     double w1 = 0.0, w2 = 0.0, spin_t = 0.0, spin_e = 0.0;
     p.eps_n = coeffs.normal_model->impact(&coeffs, fabs(gn0)).eps_n; /* viscoelastic: eps_n(v) */
     if (p.rotation && dim == 2) {
-        gr_event_collide_rough(cs->mass, p.inertia_factor, cs->radius, p.eps_n, coeffs.law_t[GR_HARD_SPHERE_BETA],
-                               coeffs.law_t[GR_HARD_SPHERE_BETA_MU], n[0], n[1], &u1[0],
-                               &u1[1], &u2[0], &u2[1], &w1, &w2, &de_n, &de_t);
+        gr_event_collide_rough(cs->mass, p.inertia_factor, cs->radius, p.eps_n,
+                               coeffs.law_t[GR_HARD_SPHERE_BETA],
+                               coeffs.law_t[GR_HARD_SPHERE_BETA_MU], n[0], n[1], &u1[0], &u1[1],
+                               &u2[0], &u2[1], &w1, &w2, &de_n, &de_t);
         out->omega1 = w1;
         out->omega2 = w2;
         /* the rule's g = v1 - v2 and t = n rotated by +90 degrees are both reversed here (g = v2 - v1,
@@ -118,7 +128,8 @@ static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc,
         spin_t = cs->radius * (w1 + w2);
         spin_e = 2.0 * p.inertia_factor * cs->radius * cs->radius * (w1 * w1 + w2 * w2);
     } else {
-        gr_event_collide(cs->mass, p.eps_n, p.eps_t, n[0], n[1], &u1[0], &u1[1], &u2[0], &u2[1], &de_n, &de_t);
+        gr_event_collide(cs->mass, p.eps_n, p.eps_t, n[0], n[1], &u1[0], &u1[1], &u2[0], &u2[1],
+                         &de_n, &de_t);
     }
     double g1[2] = {u2[0] - u1[0], u2[1] - u1[1]};
     out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1] + spin_e) / gg0;
@@ -127,7 +138,8 @@ static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc,
     out->contact_time = 0.0;
     out->max_overlap = 0.0;
     out->eps_n_measured = -(g1[0] * n[0] + g1[1] * n[1]) / gn0;
-    out->eps_t_measured = fabs(gt0) > 1e-12 * sqrt(gg0) ? (g1[0] * n[1] - g1[1] * n[0] + spin_t) / gt0 : (double)NAN;
+    out->eps_t_measured =
+        fabs(gt0) > 1e-12 * sqrt(gg0) ? (g1[0] * n[1] - g1[1] * n[0] + spin_t) / gt0 : (double)NAN;
     out->momentum_error = hypot(u1[0] + u2[0] - p0[0], u1[1] + u2[1] - p0[1]) / hypot(p0[0], p0[1]);
     out->normal_impulse = cs->mass * fabs((u1[0] - v1[0]) * n[0] + (u1[1] - v1[1]) * n[1]);
     out->tangential_impulse = cs->mass * fabs((u1[0] - v1[0]) * n[1] - (u1[1] - v1[1]) * n[0]);
@@ -155,19 +167,29 @@ static int check_contact(const gr_collide_setup *cs, const gr_sim *s, double L, 
     dy -= L * rint(dy / L);
     const double speed = hypot(gn0, gt0), d = 2.0 * cs->radius;
     if (dx * n0[0] + dy * n0[1] < 0.0 || g1[0] * n_end[0] + g1[1] * n_end[1] < 0.0) {
-        return GR_FAIL(err, GR_EINVAL, "the discs passed through each other (tunnelled) instead of colliding: at %g m/s "
-                       "they move %g m per step of dt = %g s against d = %g m, and the contact force stopped them "
-                       "only %.3g m into the overlap; no collision happened to measure: use a smaller --dt (or "
-                       "--steps-per-contact larger), a stiffer --k or a lower speed",
-                       speed, speed * s->dt, s->dt, d, out->max_overlap);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "the discs passed through each other (tunnelled) instead of colliding: at %g m/s "
+            "they move %g m per step of dt = %g s against d = %g m, and the contact force stopped "
+            "them "
+            "only %.3g m into the overlap; no collision happened to measure: use a smaller --dt "
+            "(or "
+            "--steps-per-contact larger), a stiffer --k or a lower speed",
+            speed, speed * s->dt, s->dt, d, out->max_overlap);
     }
     const double turn = fabs(n0[0] * n_end[1] - n0[1] * n_end[0]); /* sin(theta) */
     const double share = fabs(gt0 / gn0) * turn;
     if (share > GR_COLLIDE_MAX_TURN_ERROR) {
-        return GR_FAIL(err, GR_EINVAL, "a grazing impact (%.6g degrees): the line of centres turned by %.3g degrees "
-                       "while the discs touched, which moves eps_n_measured by up to |g_t / g_n| sin(turn) = %.3g, more "
-                       "than %g; the normal restitution of this contact cannot be measured: use a smaller --angle or "
-                       "speed", out->impact_angle, asin(fmin(1.0, turn)) * 180.0 / M_PI, share, GR_COLLIDE_MAX_TURN_ERROR);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "a grazing impact (%.6g degrees): the line of centres turned by %.3g degrees "
+            "while the discs touched, which moves eps_n_measured by up to |g_t / g_n| sin(turn) = "
+            "%.3g, more "
+            "than %g; the normal restitution of this contact cannot be measured: use a smaller "
+            "--angle or "
+            "speed",
+            out->impact_angle, asin(fmin(1.0, turn)) * 180.0 / M_PI, share,
+            GR_COLLIDE_MAX_TURN_ERROR);
     }
     return GR_OK;
 }
@@ -182,36 +204,56 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     double g0[2] = {cc->v2[0] - cc->v1[0], dim == 2 ? cc->v2[1] - cc->v1[1] : 0.0};
     double t_hit = contact_time_of(r0, g0, d);
     if (t_hit < 0.0) {
-        return GR_FAIL(err, GR_EINVAL, "the two particles never touch: their relative motion misses by more than d = %g m", d);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "the two particles never touch: their relative motion misses by more than d = %g m", d);
     }
     const bool spun = cs->omega1 != 0.0 || cs->omega2 != 0.0;
     if (!isfinite(cs->omega1) || !isfinite(cs->omega2)) {
-        return GR_FAIL(err, GR_EINVAL, "--omega1 %g, --omega2 %g: the initial angular velocities must be finite (rad/s)",
-                       cs->omega1, cs->omega2);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "--omega1 %g, --omega2 %g: the initial angular velocities must be finite (rad/s)",
+            cs->omega1, cs->omega2);
     }
     if (cs->normal && (cs->normal->kind & GR_MODEL_EVENT)) {
         if (spun) {
-            return GR_FAIL(err, GR_EINVAL, "--omega1/--omega2: hard_sphere's rule starts the discs without spin; "
+            return GR_FAIL(err, GR_EINVAL,
+                           "--omega1/--omega2: hard_sphere's rule starts the discs without spin; "
                            "initial spins need a soft normal law (allowed with hard_sphere: 0)");
         }
         if (cs->rolling) {
-            return GR_FAIL(err, GR_EINVAL, "%s: the rule has no rolling law (allowed: rolling = none)", cs->normal->name);
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: the rule has no rolling law (allowed: rolling = none)",
+                           cs->normal->name);
         }
         return collide_hard(cs, cc, t_hit, out, err);
     }
     /* two discs in a box large enough that they meet only once, no driving, velocity Verlet: the
      * core's plain parameters (granule/sim.h), no scene */
-    gr_sim_params sc = {.dim = dim, .N = 2, .radius = cs->radius, .mass = cs->mass, .normal = cs->normal,
-                        .tangential = dim == 2 ? cs->tangential : NULL, .rolling = dim == 2 ? cs->rolling : NULL,
-                        .contact = cs->contact, .D = 0.0, .noise_mode = GR_NOISE_NONE,
-                        .integrator = gr_integrator_find("verlet"), .dt = cs->dt,
-                        .steps_per_contact = cs->steps_per_contact > 0.0 ? cs->steps_per_contact : 50.0,
-                        .force_dt = cs->force_dt, .skin = 0.3, .seed = 1};
-    snprintf(sc.source, sizeof sc.source, "options"); /* messages read "collide: options: [..] key ..." */
+    gr_sim_params sc = {.dim = dim,
+                        .N = 2,
+                        .radius = cs->radius,
+                        .mass = cs->mass,
+                        .normal = cs->normal,
+                        .tangential = dim == 2 ? cs->tangential : NULL,
+                        .rolling = dim == 2 ? cs->rolling : NULL,
+                        .contact = cs->contact,
+                        .D = 0.0,
+                        .noise_mode = GR_NOISE_NONE,
+                        .integrator = gr_integrator_find("verlet"),
+                        .dt = cs->dt,
+                        .steps_per_contact =
+                            cs->steps_per_contact > 0.0 ? cs->steps_per_contact : 50.0,
+                        .force_dt = cs->force_dt,
+                        .skin = 0.3,
+                        .seed = 1};
+    snprintf(sc.source, sizeof sc.source,
+             "options"); /* messages read "collide: options: [..] key ..." */
     sc.L = fmax(64.0 * d, 8.0 * (fabs(r0[0]) + fabs(r0[1]) + d));
     /* the time step first (it sets how far before contact to start) */
     gr_contact_coeffs coeffs;
-    int rc = gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * sc.mass, 0.0, &coeffs, err);
+    int rc =
+        gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * sc.mass, 0.0, &coeffs, err);
     if (!rc) {
         rc = gr_contact_prepare_rolling(sc.rolling, &sc.contact, 0.5 * sc.mass, 0.0, &coeffs, err);
     }
@@ -239,8 +281,11 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     out->dt = s->dt;
     if (spun && !s->omega) {
         gr_sim_free(s);
-        return GR_FAIL(err, GR_EINVAL, "--omega1/--omega2: initial spins need rotation: [model] rotation = true with a "
-                       "tangential law at the contact point (tangential_dashpot, sliding_friction; allowed without: 0)");
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "--omega1/--omega2: initial spins need rotation: [model] rotation = true with a "
+            "tangential law at the contact point (tangential_dashpot, sliding_friction; allowed "
+            "without: 0)");
     }
     /* initial spins: free flight does not change them, so they hold at the start too */
     double spin_t0 = 0.0, spin_e0 = 0.0;
@@ -248,7 +293,8 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
         s->omega[0] = cs->omega1;
         s->omega[1] = cs->omega2;
         spin_t0 = cs->radius * (cs->omega1 + cs->omega2);
-        spin_e0 = s->inertia * (cs->omega1 * cs->omega1 + cs->omega2 * cs->omega2) / (0.5 * cs->mass);
+        spin_e0 =
+            s->inertia * (cs->omega1 * cs->omega1 + cs->omega2 * cs->omega2) / (0.5 * cs->mass);
     }
     /* the normal at impact, from the exact free flight */
     double rh[2] = {r0[0] + g0[0] * t_hit, r0[1] + g0[1] * t_hit};
@@ -256,7 +302,8 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     double n0[2] = {rh[0] / nh, rh[1] / nh}, t0v[2] = {n0[1], -n0[0]};
     double gg0 = g0[0] * g0[0] + g0[1] * g0[1];
     double gn0 = g0[0] * n0[0] + g0[1] * n0[1], gt0 = g0[0] * t0v[0] + g0[1] * t0v[1];
-    double p_before[2] = {cs->mass * (cc->v1[0] + cc->v2[0]), cs->mass * (dim == 2 ? cc->v1[1] + cc->v2[1] : 0.0)};
+    double p_before[2] = {cs->mass * (cc->v1[0] + cc->v2[0]),
+                          cs->mass * (dim == 2 ? cc->v1[1] + cc->v2[1] : 0.0)};
     out->impact_angle = acos(fmin(1.0, fabs(gn0) / sqrt(gg0))) * 180.0 / M_PI;
 
     bool touched = false;
@@ -266,9 +313,12 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     if (!(t_c / s->dt <= GR_COLLIDE_MAX_STEPS_PER_CONTACT)) {
         const double dt = s->dt;
         gr_sim_free(s);
-        return GR_FAIL(err, GR_EINVAL, "dt = %g s resolves the contact time t_c = %g s in %.3g steps, more than the %g a "
-                       "collision may take; use dt >= t_c / %g = %g s (--dt)", dt, t_c, t_c / dt,
-                       GR_COLLIDE_MAX_STEPS_PER_CONTACT, GR_COLLIDE_MAX_STEPS_PER_CONTACT, t_c / GR_COLLIDE_MAX_STEPS_PER_CONTACT);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "dt = %g s resolves the contact time t_c = %g s in %.3g steps, more than the %g a "
+            "collision may take; use dt >= t_c / %g = %g s (--dt)",
+            dt, t_c, t_c / dt, GR_COLLIDE_MAX_STEPS_PER_CONTACT, GR_COLLIDE_MAX_STEPS_PER_CONTACT,
+            t_c / GR_COLLIDE_MAX_STEPS_PER_CONTACT);
     }
     const int64_t max_steps = (int64_t)(2000.0 * t_c / s->dt) + 1000;
     for (int64_t k = 0; k < max_steps; k++) {
@@ -300,7 +350,8 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
             }
             jn += fabs(Fx * nx + Fy * ny) * s->dt; /* int |F_n| dt: the bound of friction */
             jt += fabs(Fx * ny - Fy * nx) * s->dt;
-            double g_t = gx * ny - gy * nx + (s->omega ? cs->radius * (s->omega[0] + s->omega[1]) : 0.0);
+            double g_t =
+                gx * ny - gy * nx + (s->omega ? cs->radius * (s->omega[0] + s->omega[1]) : 0.0);
             if ((gt0 + spin_t0) * g_t < -1e-12 * sqrt(gg0)) {
                 out->tangential_reversed = true;
             }
@@ -309,20 +360,28 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
         }
         if (k == max_steps - 1 && !touched) {
             gr_sim_free(s);
-            return GR_FAIL(err, GR_EINVAL, "the discs never came into contact within %lld steps of dt = %g s (their "
-                           "closest approach, %.3g degrees from grazing, stays outside d = %g m once rounded): there "
-                           "is no collision to measure; use a smaller --angle", (long long)max_steps, out->dt,
-                           90.0 - out->impact_angle, d);
+            return GR_FAIL(
+                err, GR_EINVAL,
+                "the discs never came into contact within %lld steps of dt = %g s (their "
+                "closest approach, %.3g degrees from grazing, stays outside d = %g m once "
+                "rounded): there "
+                "is no collision to measure; use a smaller --angle",
+                (long long)max_steps, out->dt, 90.0 - out->impact_angle, d);
         }
         if (k == max_steps - 1) {
             const gr_contact_coeffs *c = &s->cc;
             bool critical = !c->clamp && c->zeta >= 1.0;
             char why[200];
-            snprintf(why, sizeof why, critical ? "eps_n = %g unclamped is critically damped (zeta = %.3g): the overlap decays without returning to zero"
-                                               : "numerically (eps_n = %g, zeta = %.3g): the time step is too coarse for this dashpot",
+            snprintf(why, sizeof why,
+                     critical ? "eps_n = %g unclamped is critically damped (zeta = %.3g): the "
+                                "overlap decays without returning to zero"
+                              : "numerically (eps_n = %g, zeta = %.3g): the time step is too "
+                                "coarse for this dashpot",
                      sc.contact.eps_n, c->zeta);
             gr_sim_free(s);
-            return GR_FAIL(err, GR_EINVAL, "the contact did not end within %lld steps (2000 contact times): the pair sticks %s",
+            return GR_FAIL(err, GR_EINVAL,
+                           "the contact did not end within %lld steps (2000 contact times): the "
+                           "pair sticks %s",
                            (long long)max_steps, why);
         }
     }
@@ -340,23 +399,28 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
         out->omega1 = s->omega[0];
         out->omega2 = s->omega[1];
         spin_t = cs->radius * (s->omega[0] + s->omega[1]);
-        spin_e = s->inertia * (s->omega[0] * s->omega[0] + s->omega[1] * s->omega[1]) / (0.5 * cs->mass);
+        spin_e =
+            s->inertia * (s->omega[0] * s->omega[0] + s->omega[1] * s->omega[1]) / (0.5 * cs->mass);
     }
     out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1] + spin_e) / (gg0 + spin_e0);
     out->spin_loss = (spin_e0 - spin_e) / (gg0 + spin_e0);
     /* the models' restitution laws assume discs without spin before the impact */
-    out->expected_loss = spun ? (double)NAN : gr_contact_expected_loss(&s->cc, sqrt(gg0), out->impact_angle);
+    out->expected_loss =
+        spun ? (double)NAN : gr_contact_expected_loss(&s->cc, sqrt(gg0), out->impact_angle);
     out->contact_time = (double)active * s->dt;
     out->eps_n_measured = -(g1[0] * n_end[0] + g1[1] * n_end[1]) / gn0;
     const double gc0 = gt0 + spin_t0; /* the contact point's tangential velocity before */
-    out->eps_t_measured = fabs(gc0) > 1e-12 * sqrt(gg0) ? (g1[0] * t_end[0] + g1[1] * t_end[1] + spin_t) / gc0 : (double)NAN;
+    out->eps_t_measured = fabs(gc0) > 1e-12 * sqrt(gg0)
+                              ? (g1[0] * t_end[0] + g1[1] * t_end[1] + spin_t) / gc0
+                              : (double)NAN;
     out->v1[0] = s->vx[0];
     out->v1[1] = dim == 2 ? s->vy[0] : 0.0;
     out->v2[0] = s->vx[1];
     out->v2[1] = dim == 2 ? s->vy[1] : 0.0;
     double p_after[2];
     gr_sim_momentum(s, p_after);
-    out->momentum_error = hypot(p_after[0] - p_before[0], p_after[1] - p_before[1]) / hypot(p_before[0], p_before[1]);
+    out->momentum_error =
+        hypot(p_after[0] - p_before[0], p_after[1] - p_before[1]) / hypot(p_before[0], p_before[1]);
     out->normal_impulse = fabs(jn);
     out->tangential_impulse = fabs(jt);
     gr_sim_free(s);

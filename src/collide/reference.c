@@ -73,22 +73,30 @@ enum { REF_NEQ = 11, REF_NROOT = 7 };
 enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT, Y_W, Y_S, Y_DN, Y_WT, Y_KS };
 static const int y_law[GR_REF_NY] = {[GR_REF_Y_STATE] = Y_S, [GR_REF_Y_QUAD] = Y_KS};
 /* ROOT_LAW0..3 the tangential law's roots 0..3 (models/reference.h) */
-enum { ROOT_END = 0, ROOT_MAX_OVERLAP, ROOT_LAW0, ROOT_LAW1, ROOT_DEGENERATE, ROOT_LAW2, ROOT_LAW3 };
+enum {
+    ROOT_END = 0,
+    ROOT_MAX_OVERLAP,
+    ROOT_LAW0,
+    ROOT_LAW1,
+    ROOT_DEGENERATE,
+    ROOT_LAW2,
+    ROOT_LAW3
+};
 static const int root_law[GR_REF_NROOTS] = {ROOT_LAW0, ROOT_LAW1, ROOT_LAW2, ROOT_LAW3};
 
-#define REF_ATOL 1e-14                 /* nondimensional: state components are O(1) */
-#define REF_GUARD_CONTACTS 1000.0      /* give up after this many undamped contact times pi/w0 */
-#define REF_MAX_STEPS 1000000L         /* per CVode call */
-#define REF_TANGENT_FLOOR 1e-12        /* |g.t| / |g| below this counts as zero (head-on) */
-#define REF_AXIAL_FLOOR 0.05           /* give up when r.n0 falls to this fraction of d */
+#define REF_ATOL 1e-14            /* nondimensional: state components are O(1) */
+#define REF_GUARD_CONTACTS 1000.0 /* give up after this many undamped contact times pi/w0 */
+#define REF_MAX_STEPS 1000000L    /* per CVode call */
+#define REF_TANGENT_FLOOR 1e-12   /* |g.t| / |g| below this counts as zero (head-on) */
+#define REF_AXIAL_FLOOR 0.05      /* give up when r.n0 falls to this fraction of d */
 
 typedef struct ref_ctx {
-    double D;        /* diameter in units of V / w0 */
-    double n0[2];    /* unit normal at first touch, from 1 to 2 */
-    double c_n;      /* gamma_n len^p / (m12 w0) (= 2 zeta for the linear law) */
-    double pow_a, pow_p; /* the normal law's powers (1, 0 linear) */
-    bool rot;        /* rotation: the law sees g.t - (|r| / 2) W */
-    double q;        /* rotation: I / (M r^2) */
+    double D;                    /* diameter in units of V / w0 */
+    double n0[2];                /* unit normal at first touch, from 1 to 2 */
+    double c_n;                  /* gamma_n len^p / (m12 w0) (= 2 zeta for the linear law) */
+    double pow_a, pow_p;         /* the normal law's powers (1, 0 linear) */
+    bool rot;                    /* rotation: the law sees g.t - (|r| / 2) W */
+    double q;                    /* rotation: I / (M r^2) */
     const gr_reference_law *law; /* the tangential law's force (NULL: none) */
     gr_ref_tangential lt;        /* its constants and regime */
     bool clamp;
@@ -245,13 +253,13 @@ static int ref_fail_flag(gr_error *err, const ref_ctx *c, const char *what, int 
     return rc;
 }
 
-#define REF_CHECK(call, what)                                                                  \
-    do {                                                                                       \
-        int flag_ = (call);                                                                    \
-        if (flag_ < 0) {                                                                       \
-            rc = ref_fail_flag(err, &ctx, (what), flag_);                                      \
-            goto done;                                                                         \
-        }                                                                                      \
+#define REF_CHECK(call, what)                                                                      \
+    do {                                                                                           \
+        int flag_ = (call);                                                                        \
+        if (flag_ < 0) {                                                                           \
+            rc = ref_fail_flag(err, &ctx, (what), flag_);                                          \
+            goto done;                                                                             \
+        }                                                                                          \
     } while (0)
 
 int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
@@ -265,17 +273,22 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     }
     if (s->tangential && !(s->tangential->reference && s->tangential->reference->setup &&
                            s->tangential->reference->force)) {
-        return GR_FAIL(err, GR_EINVAL, "reference collision: the tangential law '%s' gives no reference force "
-                       "(gr_model.reference, models/reference.h); the CVODE reference integrates only laws that do",
+        return GR_FAIL(err, GR_EINVAL,
+                       "reference collision: the tangential law '%s' gives no reference force "
+                       "(gr_model.reference, models/reference.h); the CVODE reference integrates "
+                       "only laws that do",
                        s->tangential->name);
     }
     /* a rolling law acts only on a difference of spins, which equal discs keep at its start
      * (the contact's torques on both are equal): the reference, which does not integrate the
      * rolling law, is exact only when the spins start equal */
     if (s->rolling && s->omega1 != s->omega2) {
-        return GR_FAIL(err, GR_EINVAL, "reference collision: a rolling law with unequal initial spins (omega1 = %g, "
-                       "omega2 = %g rad/s) is not integrated (allowed: omega1 = omega2; the engine run takes them)",
-                       s->omega1, s->omega2);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "reference collision: a rolling law with unequal initial spins (omega1 = %g, "
+            "omega2 = %g rad/s) is not integrated (allowed: omega1 = omega2; the engine run takes "
+            "them)",
+            s->omega1, s->omega2);
     }
     if (!(s->mass > 0.0) || !isfinite(s->mass) || !(s->radius > 0.0) || !isfinite(s->radius)) {
         return GR_FAIL(err, GR_EINVAL,
@@ -294,10 +307,11 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
         return rc;
     }
     if (!(coeffs.pow_a >= 1.0) || !(coeffs.pow_p >= 0.0) || (s->normal->kind & GR_MODEL_EVENT)) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "reference collision: '%s' is not a power-law force (k xi^a - gamma xi^p g.n); "
-                       "the CVODE reference integrates force laws only",
-                       s->normal->name);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "reference collision: '%s' is not a power-law force (k xi^a - gamma xi^p g.n); "
+            "the CVODE reference integrates force laws only",
+            s->normal->name);
     }
     const bool linear = coeffs.pow_a == 1.0 && coeffs.pow_p == 0.0;
     if (!(coeffs.k_s > 0.0) || !isfinite(coeffs.k_s) || !(coeffs.gamma_n >= 0.0) ||
@@ -343,8 +357,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     const double cq = (sep - d) * (sep + d);
     const double disc = b * b - speed * speed * cq;
     if (!(speed > 0.0) || !(b < 0.0) || !(disc > 0.0)) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "reference collision: the particles never touch (they %s)",
+        return GR_FAIL(err, GR_EINVAL, "reference collision: the particles never touch (they %s)",
                        !(speed > 0.0) ? "have no relative velocity"
                        : !(b < 0.0)   ? "move apart"
                                       : "miss each other or only graze");
@@ -353,8 +366,9 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     double rc_vec[2] = {r[0] + g[0] * t_touch, r[1] + g[1] * t_touch};
     const double rc_len = hypot(rc_vec[0], rc_vec[1]);
 
-    const double w0 = linear ? sqrt(coeffs.k_s / m12)
-                             : pow(coeffs.k_s * pow(speed, coeffs.pow_a - 1.0) / m12, 1.0 / (coeffs.pow_a + 1.0));
+    const double w0 =
+        linear ? sqrt(coeffs.k_s / m12)
+               : pow(coeffs.k_s * pow(speed, coeffs.pow_a - 1.0) / m12, 1.0 / (coeffs.pow_a + 1.0));
     const double len = speed / w0; /* length unit V / w0 */
     ref_ctx ctx = {
         .D = d / len,
@@ -367,8 +381,8 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
         .q = coeffs.q,
         .clamp = coeffs.clamp,
     };
-    ctx.lt = (gr_ref_tangential){.c_n = ctx.c_n, .pow_a = ctx.pow_a, .pow_p = ctx.pow_p, .clamp = ctx.clamp,
-                                 .fn_sign = 1.0};
+    ctx.lt = (gr_ref_tangential){
+        .c_n = ctx.c_n, .pow_a = ctx.pow_a, .pow_p = ctx.pow_p, .clamp = ctx.clamp, .fn_sign = 1.0};
     if (ctx.law) {
         ctx.law->setup(&coeffs, m12, w0, len, &ctx.lt);
     }
@@ -378,7 +392,8 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     /* initial spins (rotation only): W0 = (w1 + w2) / w0, and the contact point's tangential
      * velocity before, gt0 = g.t + S0, S0 = -(D / 2) W0 at the touch (|r| = D) */
     if (!ctx.rot && (s->omega1 != 0.0 || s->omega2 != 0.0)) {
-        return GR_FAIL(err, GR_EINVAL, "reference collision: initial spins need rotation ([model] rotation = true "
+        return GR_FAIL(err, GR_EINVAL,
+                       "reference collision: initial spins need rotation ([model] rotation = true "
                        "with a tangential law; allowed without: 0)");
     }
     const double W0 = ctx.rot ? (s->omega1 + s->omega2) / w0 : 0.0;
@@ -440,7 +455,8 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     for (int k = 0; k < REF_NEQ; k++) {
         av[k] = k == y_law[GR_REF_Y_QUAD] ? 1e300 : REF_ATOL;
     }
-    REF_CHECK(CVodeSVtolerances(mem, s->ref_rtol > 0.0 ? s->ref_rtol : 1e-12, atol), "CVodeSVtolerances");
+    REF_CHECK(CVodeSVtolerances(mem, s->ref_rtol > 0.0 ? s->ref_rtol : 1e-12, atol),
+              "CVodeSVtolerances");
     REF_CHECK(CVodeSetUserData(mem, &ctx), "CVodeSetUserData");
     REF_CHECK(CVodeSetLinearSolver(mem, LS, A), "CVodeSetLinearSolver");
     REF_CHECK(CVodeSetMaxNumSteps(mem, REF_MAX_STEPS), "CVodeSetMaxNumSteps");
@@ -537,18 +553,20 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     memset(out, 0, sizeof *out);
     /* rotation: equal torques on both discs change each spin by half the change of W; the spin
      * energy I (w1^2 + w2^2) / 2 over m12 V^2 / 2 is 2 q (D / 2)^2 (w1^2 + w2^2) / w0^2 */
-    const double w1a = s->omega1 + 0.5 * (yd[Y_W] - W0) * w0, w2a = s->omega2 + 0.5 * (yd[Y_W] - W0) * w0;
+    const double w1a = s->omega1 + 0.5 * (yd[Y_W] - W0) * w0,
+                 w2a = s->omega2 + 0.5 * (yd[Y_W] - W0) * w0;
     const double spin_scale = 0.5 * ctx.q * ctx.D * ctx.D / (w0 * w0);
     const double spin_e = ctx.rot ? spin_scale * (w1a * w1a + w2a * w2a) : 0.0;
-    const double spin_e0 = ctx.rot ? spin_scale * (s->omega1 * s->omega1 + s->omega2 * s->omega2) : 0.0;
+    const double spin_e0 =
+        ctx.rot ? spin_scale * (s->omega1 * s->omega1 + s->omega2 * s->omega2) : 0.0;
     const bool spun = W0 != 0.0 || spin_e0 != 0.0;
     out->energy_loss = 1.0 - (gg1 + spin_e) / (gg0 + spin_e0);
     /* where the energy went (fractions of E; units m12 V^2 over E = (gg0 + spin_e0) / 2): the
      * elastic energy still in the contact at its end is lost with it (a clamped normal law
      * separates at xi > 0, the spring's k_t s^2 / 2 is forgotten) */
     const double e0 = 0.5 * (gg0 + spin_e0), X_end = fmax(st.xi, 0.0);
-    const double u_spring = st.law.e;          /* the tangential law's stored energy, forgotten */
-    const double stored_t = st.law.e_work;     /* int F ds of its stored share (int k_t s ds) */
+    const double u_spring = st.law.e;      /* the tangential law's stored energy, forgotten */
+    const double stored_t = st.law.e_work; /* int F ds of its stored share (int k_t s ds) */
     out->diss_normal = yd[Y_DN] / e0;
     out->diss_tangential = (yd[Y_WT] - stored_t) / e0;
     out->stored_lost = (pow(X_end, ctx.pow_a + 1.0) / (ctx.pow_a + 1.0) + u_spring) / e0;
@@ -556,13 +574,13 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     const double gtt0 = G0[0] * t0[0] + G0[1] * t0[1]; /* the centres' g.t, for the impact angle */
     out->impact_angle = atan2(fabs(gtt0), -gn0) * (180.0 / M_PI);
     /* the models' restitution laws assume discs without spin before the impact */
-    out->expected_loss = spun ? (double)NAN : gr_contact_expected_loss(&coeffs, speed, out->impact_angle);
+    out->expected_loss =
+        spun ? (double)NAN : gr_contact_expected_loss(&coeffs, speed, out->impact_angle);
     out->contact_time = tau / w0;
     out->max_overlap = xi_max * len;
     out->eps_n_measured = -st.gn / gn0;
     out->eps_t_measured = has_tangent ? st.gc / gt0 : (double)NAN;
-    out->tangential_reversed =
-        has_tangent && st.gc * gt0 < 0.0 && fabs(st.gc) >= REF_TANGENT_FLOOR;
+    out->tangential_reversed = has_tangent && st.gc * gt0 < 0.0 && fabs(st.gc) >= REF_TANGENT_FLOOR;
     if (ctx.rot) {
         out->omega1 = w1a;
         out->omega2 = w2a;

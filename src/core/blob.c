@@ -55,7 +55,9 @@ void gr_blob_put_str(gr_blob *b, const char *s)
 
 int gr_blob_ok(const gr_blob *b, gr_error *err)
 {
-    return b->oom ? GR_FAIL(err, GR_ENOMEM, "out of memory writing a checkpoint (%zu bytes so far)", b->len) : GR_OK;
+    return b->oom ? GR_FAIL(err, GR_ENOMEM, "out of memory writing a checkpoint (%zu bytes so far)",
+                            b->len)
+                  : GR_OK;
 }
 
 void gr_blob_reader_init(gr_blob_reader *r, const void *data, size_t len, const char *what)
@@ -81,7 +83,8 @@ const void *gr_blob_view(gr_blob_reader *r, size_t n)
         return NULL;
     }
     if (n > r->len - r->pos) {
-        gr_blob_fail(r, "ends at byte %zu of the section, %zu more bytes needed", r->len, n - (r->len - r->pos));
+        gr_blob_fail(r, "ends at byte %zu of the section, %zu more bytes needed", r->len,
+                     n - (r->len - r->pos));
         return NULL;
     }
     const void *p = r->data + r->pos;
@@ -142,7 +145,8 @@ bool gr_blob_get_str(gr_blob_reader *r, char *s, size_t cap)
 {
     uint64_t n = gr_blob_get_u64(r);
     if (!r->bad && n >= cap) {
-        gr_blob_fail(r, "a string of %llu bytes exceeds the %zu allowed", (unsigned long long)n, cap - 1);
+        gr_blob_fail(r, "a string of %llu bytes exceeds the %zu allowed", (unsigned long long)n,
+                     cap - 1);
     }
     if (r->bad || !gr_blob_get(r, s, (size_t)n)) {
         s[0] = 0;
@@ -155,7 +159,8 @@ bool gr_blob_get_str(gr_blob_reader *r, char *s, size_t cap)
 int gr_blob_done(gr_blob_reader *r, gr_error *err)
 {
     if (!r->bad && r->pos != r->len) {
-        gr_blob_fail(r, "%zu unexpected bytes after its end (byte %zu of %zu)", r->len - r->pos, r->pos, r->len);
+        gr_blob_fail(r, "%zu unexpected bytes after its end (byte %zu of %zu)", r->len - r->pos,
+                     r->pos, r->len);
     }
     return r->bad ? GR_FAIL(err, GR_EINVAL, "checkpoint section %s: %s", r->what, r->why) : GR_OK;
 }
@@ -255,8 +260,8 @@ void gr_blob_io_check(gr_blob_io *io, const char *what, int64_t value)
     } else if (!io->in->bad) {
         uint64_t stored = gr_blob_get_u64(io->in);
         if (!io->in->bad && stored != (uint64_t)value) {
-            gr_blob_fail(io->in, "%s = %llu in the checkpoint, %lld in the scene", what, (unsigned long long)stored,
-                         (long long)value);
+            gr_blob_fail(io->in, "%s = %llu in the checkpoint, %lld in the scene", what,
+                         (unsigned long long)stored, (long long)value);
         }
     }
 }
@@ -266,7 +271,8 @@ void gr_blob_io_expect_i64(gr_blob_io *io, const char *what, int64_t value)
     int64_t v = value;
     gr_blob_io_i64(io, &v);
     if (io->in && !io->in->bad && v != value) {
-        gr_blob_fail(io->in, "%s is %lld in the checkpoint but %lld for this scene", what, (long long)v, (long long)value);
+        gr_blob_fail(io->in, "%s is %lld in the checkpoint but %lld for this scene", what,
+                     (long long)v, (long long)value);
     }
 }
 
@@ -275,7 +281,8 @@ void gr_blob_io_expect_f64(gr_blob_io *io, const char *what, double value)
     double v = value;
     gr_blob_io_f64(io, &v);
     if (io->in && !io->in->bad && memcmp(&v, &value, sizeof v) != 0) {
-        gr_blob_fail(io->in, "%s is %.17g in the checkpoint but %.17g for this scene", what, v, value);
+        gr_blob_fail(io->in, "%s is %.17g in the checkpoint but %.17g for this scene", what, v,
+                     value);
     }
 }
 

@@ -41,7 +41,7 @@ typedef struct gr_blob_reader {
     size_t len, pos;
     const char *what; /* section name, for messages */
     bool bad;
-    char why[200];    /* first failure */
+    char why[200]; /* first failure */
 } gr_blob_reader;
 
 void gr_blob_reader_init(gr_blob_reader *r, const void *data, size_t len, const char *what);
@@ -68,8 +68,8 @@ int gr_blob_done(gr_blob_reader *r, gr_error *err);
  * marks the reader bad (the whole load then fails with its message) and every later call does
  * nothing. */
 typedef struct gr_blob_io {
-    gr_blob *out;        /* saving */
-    gr_blob_reader *in;  /* loading */
+    gr_blob *out;       /* saving */
+    gr_blob_reader *in; /* loading */
 } gr_blob_io;
 
 static inline bool gr_blob_io_loading(const gr_blob_io *io) { return io->in != NULL; }

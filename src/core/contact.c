@@ -31,10 +31,13 @@ int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
     c->normal_model = normal;
     c->tangential_model = tangential;
     /* an event rule (hard_sphere) carries its own contact-point rule (beta) */
-    if (p->rotation && !(tangential && tangential->contact_point) && !(normal->kind & GR_MODEL_EVENT)) {
+    if (p->rotation && !(tangential && tangential->contact_point) &&
+        !(normal->kind & GR_MODEL_EVENT)) {
         return GR_FAIL(err, GR_EINVAL,
-                       "[model] rotation = true needs a tangential law that acts at the contact point (%s)%s%s",
-                       "tangential_dashpot, sliding_friction, tangential_spring", tangential ? "; given " : ", none given",
+                       "[model] rotation = true needs a tangential law that acts at the contact "
+                       "point (%s)%s%s",
+                       "tangential_dashpot, sliding_friction, tangential_spring",
+                       tangential ? "; given " : ", none given",
                        tangential ? tangential->name : "");
     }
     int rc = normal->prepare(p, m12, dt, c, err);
@@ -52,8 +55,8 @@ int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
     return rc;
 }
 
-int gr_contact_prepare_rolling(const gr_model *rolling, const gr_contact_params *p, double m12, double dt,
-                               gr_contact_coeffs *c, gr_error *err)
+int gr_contact_prepare_rolling(const gr_model *rolling, const gr_contact_params *p, double m12,
+                               double dt, gr_contact_coeffs *c, gr_error *err)
 {
     c->rolling_model = NULL;
     memset(c->law_r, 0, sizeof c->law_r);
@@ -94,24 +97,28 @@ int gr_contact_set(gr_contact_params *p, const char *name, const char *value, gr
             char *slot = (char *)p + d->offset;
             if (d->type == GR_PARAM_BOOL) {
                 if (strcmp(value, "true") != 0 && strcmp(value, "false") != 0) {
-                    return GR_FAIL(err, GR_EINVAL, "[model] %s = %s: allowed true or false", name, value);
+                    return GR_FAIL(err, GR_EINVAL, "[model] %s = %s: allowed true or false", name,
+                                   value);
                 }
                 *(bool *)slot = strcmp(value, "true") == 0;
                 return GR_OK;
             }
             char *end = NULL;
             double x = strtod(value, &end);
-            bool ok = end != value && *end == '\0' && isfinite(x) && (d->min_open ? x > d->min : x >= d->min) &&
+            bool ok = end != value && *end == '\0' && isfinite(x) &&
+                      (d->min_open ? x > d->min : x >= d->min) &&
                       (d->max_open ? x < d->max : x <= d->max);
             if (!ok) {
-                return GR_FAIL(err, GR_EINVAL, "[model] %s = %s: allowed range %c%g, %g%c %s", name, value,
-                               d->min_open ? '(' : '[', d->min, d->max, d->max_open ? ')' : ']', d->unit);
+                return GR_FAIL(err, GR_EINVAL, "[model] %s = %s: allowed range %c%g, %g%c %s", name,
+                               value, d->min_open ? '(' : '[', d->min, d->max,
+                               d->max_open ? ')' : ']', d->unit);
             }
             *(double *)slot = x;
             return GR_OK;
         }
     }
-    return GR_FAIL(err, GR_EINVAL, "[model] %s: no model has this parameter (granule models lists them)", name);
+    return GR_FAIL(err, GR_EINVAL,
+                   "[model] %s: no model has this parameter (granule models lists them)", name);
 }
 
 /* the descriptor of the model parameter `name` (the first model declaring it: a key several
@@ -132,14 +139,16 @@ int gr_contact_set_value(gr_contact_params *p, const char *name, double v, gr_er
 {
     const gr_param *d = param_of(name);
     if (!d) {
-        return GR_FAIL(err, GR_EINVAL, "[model] %s: no model has this parameter (granule models lists them)", name);
+        return GR_FAIL(err, GR_EINVAL,
+                       "[model] %s: no model has this parameter (granule models lists them)", name);
     }
     char *slot = (char *)p + d->offset;
     if (d->type == GR_PARAM_BOOL) {
         *(bool *)slot = v != 0.0;
         return GR_OK;
     }
-    if (!(isfinite(v) && (d->min_open ? v > d->min : v >= d->min) && (d->max_open ? v < d->max : v <= d->max))) {
+    if (!(isfinite(v) && (d->min_open ? v > d->min : v >= d->min) &&
+          (d->max_open ? v < d->max : v <= d->max))) {
         return GR_FAIL(err, GR_EINVAL, "[model] %s = %g: allowed range %c%g, %g%c %s", name, v,
                        d->min_open ? '(' : '[', d->min, d->max, d->max_open ? ')' : ']', d->unit);
     }

@@ -43,7 +43,8 @@ int gr_history_save(gr_sim *s, gr_error *err)
         s->hist_start = malloc(sizeof(int64_t) * ((size_t)n + 1));
     }
     if (!s->hist_j || !s->hist_v || !s->hist_start) {
-        return GR_FAIL(err, GR_ENOMEM, "out of memory saving the history of %lld contacts", (long long)k);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory saving the history of %lld contacts",
+                       (long long)k);
     }
     k = 0;
     for (int i = 0; i < n; i++) { /* row i: the saved slots (i, j) in list order */

@@ -26,30 +26,37 @@
 
 static const gr_param langevin_params[] = {
     {"T_bath", "m^2/s^2", GR_PARAM_DOUBLE, 0.01, 0.0, INFINITY, false, true,
-     "(langevin) bath temperature in the units of T (2.19), summed over components: an elastic gas settles at "
+     "(langevin) bath temperature in the units of T (2.19), summed over components: an elastic gas "
+     "settles at "
      "T = T_bath, T_bath / dim per component; 0 = pure drag",
      offsetof(gr_driving_params, T_bath)},
     {"tau", "s", GR_PARAM_DOUBLE, 0.1, 0.0, INFINITY, true, true,
-     "(langevin) drag time constant M / gamma: the drag is -M v / tau; velocities relax to the bath as "
+     "(langevin) drag time constant M / gamma: the drag is -M v / tau; velocities relax to the "
+     "bath as "
      "e^{-t/tau}, the temperature as e^{-2t/tau}",
      offsetof(gr_driving_params, tau)},
 };
 
-static int langevin_prepare(const gr_driving_params *p, int dim, double dt, gr_driving_coeffs *c, gr_error *err)
+static int langevin_prepare(const gr_driving_params *p, int dim, double dt, gr_driving_coeffs *c,
+                            gr_error *err)
 {
     if (!(p->tau > 0.0) || !(p->T_bath >= 0.0) || !isfinite(p->T_bath) || dim < 1) {
-        return GR_FAIL(err, GR_EINVAL, "[driving] langevin needs tau in (0, inf) s and T_bath in [0, inf) m^2/s^2; "
-                       "given tau = %g, T_bath = %g", p->tau, p->T_bath);
+        return GR_FAIL(err, GR_EINVAL,
+                       "[driving] langevin needs tau in (0, inf) s and T_bath in [0, inf) m^2/s^2; "
+                       "given tau = %g, T_bath = %g",
+                       p->tau, p->T_bath);
     }
     c->decay = exp(-dt / p->tau);
-    c->kick = sqrt(p->T_bath / dim * -expm1(-2.0 * dt / p->tau)); /* 1 - e^{-2 dt/tau}, exact for small dt/tau */
+    c->kick = sqrt(p->T_bath / dim *
+                   -expm1(-2.0 * dt / p->tau)); /* 1 - e^{-2 dt/tau}, exact for small dt/tau */
     return GR_OK;
 }
 
 const gr_driving_type gr_driving_langevin = {
     .name = "langevin",
-    .summary = "Langevin thermostat: drag -M v / tau plus white noise of strength M^2 T_bath / (dim tau) "
-               "(fluctuation-dissipation), so an elastic gas settles at T = T_bath; verlet only",
+    .summary =
+        "Langevin thermostat: drag -M v / tau plus white noise of strength M^2 T_bath / (dim tau) "
+        "(fluctuation-dissipation), so an elastic gas settles at T = T_bath; verlet only",
     .update = GR_DRIVE_BATH,
     .drag = true,
     .params = langevin_params,

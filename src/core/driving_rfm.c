@@ -7,7 +7,8 @@
 
 const gr_driving_type gr_driving_rfm = {
     .name = "rfm",
-    .summary = "the thesis's random force: white noise of strength [noise] D (2.15-2.18), no drag; D = 0 or "
+    .summary = "the thesis's random force: white noise of strength [noise] D (2.15-2.18), no drag; "
+               "D = 0 or "
                "[noise] mode = none switches it off",
     .update = GR_DRIVE_FORCE,
 };

@@ -67,9 +67,14 @@ int gr_events_append(gr_sim *s, gr_contact_event ev, gr_error *err)
 /* Particle i's contact begins (+1) or ends (-1) at this step: its state now. */
 static int push(gr_sim *s, int i, int kind, gr_error *err)
 {
-    return gr_events_append(s, (gr_contact_event){.i = i, .kind = kind, .t = (double)s->step * s->dt, .x = s->x[i],
-                                                   .y = s->dim == 2 ? s->y[i] : 0.0, .vx = s->vx[i],
-                                                   .vy = s->dim == 2 ? s->vy[i] : 0.0},
+    return gr_events_append(s,
+                            (gr_contact_event){.i = i,
+                                               .kind = kind,
+                                               .t = (double)s->step * s->dt,
+                                               .x = s->x[i],
+                                               .y = s->dim == 2 ? s->y[i] : 0.0,
+                                               .vx = s->vx[i],
+                                               .vy = s->dim == 2 ? s->vy[i] : 0.0},
                             err);
 }
 

@@ -45,26 +45,24 @@ enum { RL_none = 0, GR_ROLLING_MODELS(GR_RL_ID, ) RL_COUNT };
 #undef GR_RL_ID
 
 /* The law `nl` (a constant after inlining, so the switch folds to one inlined call). */
-static inline __attribute__((always_inline)) gr_normal_force
-normal_law(const int nl, const gr_contact_coeffs *c, const double xi, const double g_n, const int clamp)
+static inline __attribute__((always_inline)) gr_normal_force normal_law(
+    const int nl, const gr_contact_coeffs *c, const double xi, const double g_n, const int clamp)
 {
     switch (nl) {
 #define GR_NL_CASE(A, NAME)                                                                        \
-    case NL_##NAME:                                                                                \
-        return gr_normal_##NAME(c, xi, g_n, clamp);
+    case NL_##NAME: return gr_normal_##NAME(c, xi, g_n, clamp);
         GR_NORMAL_MODELS(GR_NL_CASE, )
 #undef GR_NL_CASE
     }
     __builtin_unreachable();
 }
 
-static inline __attribute__((always_inline)) gr_tangential_force
-tangential_law(const int tl, const gr_contact_coeffs *c, const gr_tangential_in in)
+static inline __attribute__((always_inline)) gr_tangential_force tangential_law(
+    const int tl, const gr_contact_coeffs *c, const gr_tangential_in in)
 {
     switch (tl) {
 #define GR_TL_CASE(A, NAME)                                                                        \
-    case TL_##NAME:                                                                                \
-        return gr_tangential_##NAME(c, in);
+    case TL_##NAME: return gr_tangential_##NAME(c, in);
         GR_TANGENTIAL_MODELS(GR_TL_CASE, )
 #undef GR_TL_CASE
     }
@@ -76,21 +74,19 @@ static inline __attribute__((always_inline)) int history_of(const int tl)
 {
     switch (tl) {
 #define GR_TL_HIST(A, NAME)                                                                        \
-    case TL_##NAME:                                                                                \
-        return 1;
+    case TL_##NAME: return 1;
         GR_HISTORY_MODELS(GR_TL_HIST, )
 #undef GR_TL_HIST
     }
     return 0;
 }
 
-static inline __attribute__((always_inline)) gr_rolling_torque
-rolling_law(const int rl, const gr_contact_coeffs *c, const gr_rolling_in in)
+static inline __attribute__((always_inline)) gr_rolling_torque rolling_law(
+    const int rl, const gr_contact_coeffs *c, const gr_rolling_in in)
 {
     switch (rl) {
 #define GR_RL_CASE(A, NAME)                                                                        \
-    case RL_##NAME:                                                                                \
-        return gr_rolling_##NAME(c, in);
+    case RL_##NAME: return gr_rolling_##NAME(c, in);
         GR_ROLLING_MODELS(GR_RL_CASE, )
 #undef GR_RL_CASE
     }
@@ -102,8 +98,7 @@ static inline __attribute__((always_inline)) int book_of(const int tl)
 {
     switch (tl) {
 #define GR_TL_BOOK(A, NAME)                                                                        \
-    case TL_##NAME:                                                                                \
-        return GR_BOOK_##NAME;
+    case TL_##NAME: return GR_BOOK_##NAME;
         GR_TANGENTIAL_MODELS(GR_TL_BOOK, )
 #undef GR_TL_BOOK
     }
@@ -124,9 +119,11 @@ static inline double wrap_delta(double dx, double L)
  * ledger terms. Returns 0 (nothing set) when the pair does not overlap. */
 typedef struct pair_out {
     double Fx, Fy, Gx, Gy, el, pn, pt, ov; /* pt: the tangential law's dissipation (its column) */
-    double tq; /* rotation: the torque r f_t on i and on j */
-    double tg; /* rotation with a history law: tq's non-conservative part, a (f_t - f_c) (tq without the spring) */
-    double hs, et, lost; /* history law: the pair's new slot, its stored energy (J), energy dropped (J) */
+    double tq;                             /* rotation: the torque r f_t on i and on j */
+    double
+        tg; /* rotation with a history law: tq's non-conservative part, a (f_t - f_c) (tq without the spring) */
+    double hs, et,
+        lost;      /* history law: the pair's new slot, its stored energy (J), energy dropped (J) */
     double rq, pr; /* rolling law: its torque on j (-rq on i) and its power (booked as friction) */
 } pair_out;
 
@@ -135,21 +132,32 @@ typedef struct pair_ctx {
     const double *restrict x, *restrict y, *restrict vx, *restrict vy;
     const double *restrict w; /* omega (rotation only) */
     double L, d, d2, m12_dt;
-    double i_2dt; /* rotation: I / (2 dt), for a rolling law */
+    double i_2dt;         /* rotation: I / (2 dt), for a rolling law */
     gr_contact_coeffs cc; /* the laws' coefficients, a local copy */
 } pair_ctx;
 
 static inline __attribute__((always_inline)) pair_ctx ctx_of(const gr_sim *s)
 {
-    return (pair_ctx){.x = s->x, .y = s->y, .vx = s->vx, .vy = s->vy, .w = s->omega, .L = s->L, .d = s->d,
-                      .d2 = s->d * s->d, .m12_dt = s->cc.m_t / s->dt, .i_2dt = 0.5 * s->inertia / s->dt, .cc = s->cc};
+    return (pair_ctx){.x = s->x,
+                      .y = s->y,
+                      .vx = s->vx,
+                      .vy = s->vy,
+                      .w = s->omega,
+                      .L = s->L,
+                      .d = s->d,
+                      .d2 = s->d * s->d,
+                      .m12_dt = s->cc.m_t / s->dt,
+                      .i_2dt = 0.5 * s->inertia / s->dt,
+                      .cc = s->cc};
 }
 
 /* h: the pair's history slot (history laws; 0 otherwise), passed by value: the law updates a copy,
  * returned in o->hs, and the row loop writes it back once per pair. */
-static inline __attribute__((always_inline)) int
-pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang, const int clamp, const int rot,
-        const int roll, const double h, pair_out *restrict o)
+static inline __attribute__((always_inline)) int pair_2d(const pair_ctx c, const int i, const int j,
+                                                         const int nl, const int tang,
+                                                         const int clamp, const int rot,
+                                                         const int roll, const double h,
+                                                         pair_out *restrict o)
 {
     const double L = c.L, d = c.d;
     const double dx = wrap_delta(c.x[j] - c.x[i], L), dy = wrap_delta(c.y[j] - c.y[i], L);
@@ -183,7 +191,12 @@ pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang
             g_t += arm * (c.w[i] + c.w[j]); /* the surface velocities at the contact point */
         }
         double slot = h;
-        const gr_tangential_in in = {.g_t = g_t, .f_n = f_n, .xi = ov, .g_n = g_n, .acts = !clamp || f_n > 0.0, .m12_dt = c.m12_dt,
+        const gr_tangential_in in = {.g_t = g_t,
+                                     .f_n = f_n,
+                                     .xi = ov,
+                                     .g_n = g_n,
+                                     .acts = !clamp || f_n > 0.0,
+                                     .m12_dt = c.m12_dt,
                                      .hist = history_of(tang) ? &slot : NULL};
         const gr_tangential_force ft = tangential_law(tang, &c.cc, in);
         const double f_t = ft.f;
@@ -198,7 +211,8 @@ pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang
              * the energy the law dropped is booked directly, so the rate that sets the ledger's
              * shares is the power of G's tangential part alone (the dashpot's) */
             if (rot) {
-                o->tg = arm * (f_t - ft.fc); /* likewise for the torques (the spin kicks' booking) */
+                o->tg =
+                    arm * (f_t - ft.fc); /* likewise for the torques (the spin kicks' booking) */
             }
             o->hs = slot;
             o->et = ft.e;
@@ -213,8 +227,11 @@ pair_2d(const pair_ctx c, const int i, const int j, const int nl, const int tang
     }
     if (roll != RL_none) {
         /* rolling resistance (rotation kernels only): opposite torques, no force */
-        const gr_rolling_in rin = {.dw = c.w[i] - c.w[j], .f_n = f_n, .acts = !clamp || f_n > 0.0,
-                                   .r_eff = 0.25 * d, .i_2dt = c.i_2dt};
+        const gr_rolling_in rin = {.dw = c.w[i] - c.w[j],
+                                   .f_n = f_n,
+                                   .acts = !clamp || f_n > 0.0,
+                                   .r_eff = 0.25 * d,
+                                   .i_2dt = c.i_2dt};
         const gr_rolling_torque rt = rolling_law(roll, &c.cc, rin);
         o->tq = tang != TL_none ? o->tq : 0.0;
         o->rq = rt.m;
@@ -233,7 +250,8 @@ enum { B_EL, B_PN, B_PT, B_PF, B_WORST, B_FRESH, B_ELT = 8, B_LOST = 9 };
 
 /* A history law's contact (i, j) that ended: the law forgets the slot and returns the energy it
  * held plus the work its last force did over the step (J), which needs g_t (rare: once per contact). */
-static double forget(const pair_ctx *c, const int tang, const int i, const int j, const int rot, double *slot)
+static double forget(const pair_ctx *c, const int tang, const int i, const int j, const int rot,
+                     double *slot)
 {
     const double dx = wrap_delta(c->x[j] - c->x[i], c->L), dy = wrap_delta(c->y[j] - c->y[i], c->L);
     const double dist = sqrt(dx * dx + dy * dy);
@@ -245,15 +263,19 @@ static double forget(const pair_ctx *c, const int tang, const int i, const int j
     /* the overlap (now negative) and g_n: a Mindlin spring's k_t of the previous step, when it held
      * the energy that goes, is k_t(xi + g_n dt) */
     const double g_n = ((c->vx[j] - c->vx[i]) * dx + (c->vy[j] - c->vy[i]) * dy) / dist;
-    const gr_tangential_in in = {.g_t = g_t, .xi = c->d - dist, .g_n = g_n, .acts = 0, .hist = slot};
+    const gr_tangential_in in = {
+        .g_t = g_t, .xi = c->d - dist, .g_n = g_n, .acts = 0, .hist = slot};
     return tangential_law(tang, &c->cc, in).lost;
 }
 
 /* The rows [r0, r1) of the half list, scattering f[j] += F for j in [lo, hi) (all = 1: every j,
  * one thread) and f[i] -= sum of its row. Sums of the block in list order. */
-static inline __attribute__((always_inline)) void
-rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int hi, const int all, const int nl,
-        const int tang, const int clamp, const int rot, const int roll, double *restrict part)
+static inline __attribute__((always_inline)) void rows_2d(gr_sim *restrict s, const int r0,
+                                                          const int r1, const int lo, const int hi,
+                                                          const int all, const int nl,
+                                                          const int tang, const int clamp,
+                                                          const int rot, const int roll,
+                                                          double *restrict part)
 {
     double *restrict fx = s->fx, *restrict fy = s->fy, *restrict gx_ = s->gx, *restrict gy_ = s->gy;
     double *restrict tq = s->tq;
@@ -268,11 +290,14 @@ rows_2d(gr_sim *restrict s, const int r0, const int r1, const int lo, const int 
         double fxi = 0.0, fyi = 0.0, gxi = 0.0, gyi = 0.0, tqi = 0.0, tgi = 0.0;
         for (int p = start[i]; p < start[i + 1]; p++) {
             const int j = list[p];
-            pair_out o = {0}; /* the generic instance cannot prove which fields its laws set; hot ones drop the dead stores */
-            if (!pair_2d(c, i, j, nl, tang, clamp, rot, roll, history_of(tang) ? hist[p] : 0.0, &o)) {
+            pair_out o = {
+                0}; /* the generic instance cannot prove which fields its laws set; hot ones drop the dead stores */
+            if (!pair_2d(c, i, j, nl, tang, clamp, rot, roll, history_of(tang) ? hist[p] : 0.0,
+                         &o)) {
                 touching[p] = 0;
                 if (history_of(tang) && hist[p] != 0.0) {
-                    lost += forget(&c, tang, i, j, rot, &hist[p]); /* the contact ended: its spring goes */
+                    lost += forget(&c, tang, i, j, rot,
+                                   &hist[p]); /* the contact ended: its spring goes */
                 }
                 continue;
             }
@@ -390,7 +415,8 @@ static int build_cross(gr_sim *s, int T)
         const int64_t goal = total * t / T;
         while (b < s->nblk) {
             const int r = (b + 1) * GR_BLOCK < n ? (b + 1) * GR_BLOCK : n;
-            const int64_t w = (int64_t)start[r] + r, w0 = (int64_t)start[b * GR_BLOCK] + (int64_t)b * GR_BLOCK;
+            const int64_t w = (int64_t)start[r] + r,
+                          w0 = (int64_t)start[b * GR_BLOCK] + (int64_t)b * GR_BLOCK;
             if (w >= goal) {
                 if (goal - w0 > w - goal) {
                     b++; /* the boundary after block b is closer */
@@ -399,7 +425,8 @@ static int build_cross(gr_sim *s, int T)
             }
             b++;
         }
-        const int lo = b < row[t - 1] / GR_BLOCK + 1 ? row[t - 1] / GR_BLOCK + 1 : b; /* >= 1 block each */
+        const int lo =
+            b < row[t - 1] / GR_BLOCK + 1 ? row[t - 1] / GR_BLOCK + 1 : b; /* >= 1 block each */
         row[t] = lo * GR_BLOCK < n ? lo * GR_BLOCK : n;
         b = lo;
     }
@@ -432,8 +459,8 @@ static int build_cross(gr_sim *s, int T)
             s->pair_tg = malloc(sizeof(double) * (size_t)cap);
         }
         s->cross_cap = cap;
-        if (!s->cross_p || !s->cross_i || !s->in_k || !s->in_list || !s->pair_f || (s->tq && !s->pair_tq) ||
-            (s->tg && !s->pair_tg)) {
+        if (!s->cross_p || !s->cross_i || !s->in_k || !s->in_list || !s->pair_f ||
+            (s->tq && !s->pair_tq) || (s->tg && !s->pair_tg)) {
             s->cross_cap = 0;
             return 0;
         }
@@ -485,14 +512,16 @@ static int build_cross(gr_sim *s, int T)
 /* Add the cross pairs q in [q0, q1) of the incoming list of each particle j = in_list[l], l in
  * [l0, l1) (the thread's particles that have any; the others have nothing to add) (spring:
  * rotation with a history law, whose torques have a non-conservative part of their own, tg). */
-static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict s, int l0, int l1, int q0, int q1,
-                                                               const int rot, const int spring)
+static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict s, int l0, int l1,
+                                                               int q0, int q1, const int rot,
+                                                               const int spring)
 {
     const int *restrict in = s->in_start, *restrict ink = s->in_k, *restrict list = s->in_list;
     const double *restrict pf = s->pair_f, *restrict ptq = s->pair_tq, *restrict ptg = s->pair_tg;
     for (int l = l0; l < l1; l++) {
         const int j = list[l];
-        double ax = s->fx[j], ay = s->fy[j], bx = s->gx[j], by = s->gy[j], tj = rot ? s->tq[j] : 0.0;
+        double ax = s->fx[j], ay = s->fy[j], bx = s->gx[j], by = s->gy[j],
+               tj = rot ? s->tq[j] : 0.0;
         double uj = spring ? s->tg[j] : 0.0;
         for (int e = in[j]; e < in[j + 1]; e++) {
             const int q = ink[e];
@@ -529,26 +558,31 @@ static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict 
  * its own. Each force is thus the same sequence of additions as with one thread (a cross pair
  * that does not overlap adds +0.0, which changes no sum that starts from +0.0), so the result
  * is bit-identical for every T. Ledger sums are per block and combined in block order. */
-static inline __attribute__((always_inline)) void
-serial_2d(gr_sim *restrict s, const int nl, const int tang, const int clamp, const int rot, const int roll)
+static inline __attribute__((always_inline)) void serial_2d(gr_sim *restrict s, const int nl,
+                                                            const int tang, const int clamp,
+                                                            const int rot, const int roll)
 {
     const int n = s->n;
     zero_forces(s, 0, n);
     for (int b = 0; b < s->nblk; b++) {
         const int r1 = (b + 1) * GR_BLOCK < n ? (b + 1) * GR_BLOCK : n;
-        rows_2d(s, b * GR_BLOCK, r1, 0, n, 1, nl, tang, clamp, rot, roll, s->blk + (size_t)b * GR_BLK_FIELDS);
+        rows_2d(s, b * GR_BLOCK, r1, 0, n, 1, nl, tang, clamp, rot, roll,
+                s->blk + (size_t)b * GR_BLK_FIELDS);
     }
 }
 
 /* The part of thread tid of nth (inside a parallel region) of the T-thread evaluation. */
-static inline __attribute__((always_inline)) void
-threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const int nl, const int tang,
-            const int clamp, const int rot, const int roll)
+static inline __attribute__((always_inline)) void threaded_2d(gr_sim *restrict s, const int T,
+                                                              const int tid, const int nth,
+                                                              const int nl, const int tang,
+                                                              const int clamp, const int rot,
+                                                              const int roll)
 {
     const pair_ctx c = ctx_of(s);
     for (int t = tid; t < T; t += nth) {
         for (int q = s->cross_start[t]; q < s->cross_start[t + 1]; q++) {
-            pair_out o = {0}; /* the generic instance cannot prove which fields its laws set; hot ones drop the dead stores */
+            pair_out o = {
+                0}; /* the generic instance cannot prove which fields its laws set; hot ones drop the dead stores */
             double *f = s->pair_f + 4 * (size_t)q;
             /* a history law reads the slot of the cross pair's row (this thread's): the new value is
              * written by rows_2d after the barrier, from the same old value */
@@ -584,9 +618,11 @@ threaded_2d(gr_sim *restrict s, const int T, const int tid, const int nth, const
         add_incoming(s, l0, l1, 0, s->cross_start[t], rot, rot && history_of(tang));
         for (int r0 = lo; r0 < hi; r0 += GR_BLOCK) {
             const int r1 = r0 + GR_BLOCK < hi ? r0 + GR_BLOCK : hi;
-            rows_2d(s, r0, r1, lo, hi, 0, nl, tang, clamp, rot, roll, s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS);
+            rows_2d(s, r0, r1, lo, hi, 0, nl, tang, clamp, rot, roll,
+                    s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS);
         }
-        add_incoming(s, l0, l1, s->cross_start[t + 1], s->cross_start[T], rot, rot && history_of(tang));
+        add_incoming(s, l0, l1, s->cross_start[t + 1], s->cross_start[T], rot,
+                     rot && history_of(tang));
     }
 }
 
@@ -655,8 +691,9 @@ static void report_2d(gr_sim *s, gr_force_report *r, const int hist)
 
 /* 1D ring: particle i touches only i+1 (mod n); positions are kept unwrapped and ordered, so the
  * gap of the last pair is x_0 + L - x_{n-1}. */
-static inline __attribute__((always_inline)) void
-pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const int nl, const int clamp)
+static inline __attribute__((always_inline)) void pair_loop_1d(gr_sim *restrict s,
+                                                               gr_force_report *restrict r,
+                                                               const int nl, const int clamp)
 {
     const int n = s->n;
     const double L = s->L, d = s->d;
@@ -736,20 +773,25 @@ pair_loop_1d(gr_sim *restrict s, gr_force_report *restrict r, const int nl, cons
 
 /* The parallel region is written in each instance, so that the constants reach the body OpenMP
  * outlines. */
-static inline __attribute__((always_inline)) void run_2d(gr_sim *s, gr_force_report *r, const int nl, const int tl,
-                                                         const int clamp, const int rot, const int rl)
+static inline __attribute__((always_inline)) void run_2d(gr_sim *s, gr_force_report *r,
+                                                         const int nl, const int tl,
+                                                         const int clamp, const int rot,
+                                                         const int rl)
 {
     const int T = team_2d(s);
     if (T == 1) {
         serial_2d(s, nl, tl, clamp, rot, rl);
     } else {
-        _Pragma("omp parallel num_threads(T)") threaded_2d(s, T, GR_THREAD_ID, GR_THREAD_COUNT, nl, tl, clamp, rot, rl);
+        _Pragma("omp parallel num_threads(T)")
+            threaded_2d(s, T, GR_THREAD_ID, GR_THREAD_COUNT, nl, tl, clamp, rot, rl);
     }
     report_2d(s, r, history_of(tl));
 }
 
-static inline __attribute__((always_inline)) void run_kernel(gr_sim *s, gr_force_report *r, const int dim, const int nl,
-                                                             const int tl, const int clamp, const int rot, const int rl)
+static inline __attribute__((always_inline)) void run_kernel(gr_sim *s, gr_force_report *r,
+                                                             const int dim, const int nl,
+                                                             const int tl, const int clamp,
+                                                             const int rot, const int rl)
 {
     if (dim == 1) {
         pair_loop_1d(s, r, nl, clamp);
@@ -758,8 +800,8 @@ static inline __attribute__((always_inline)) void run_kernel(gr_sim *s, gr_force
     }
 }
 
-#define GR_HOT_FN(DIM, NL, TL, CLAMP, ROT, RL)                                                      \
-    static void kernel_##DIM##d_##NL##_##TL##_##CLAMP##ROT##_##RL(gr_sim *s, gr_force_report *r)  \
+#define GR_HOT_FN(DIM, NL, TL, CLAMP, ROT, RL)                                                     \
+    static void kernel_##DIM##d_##NL##_##TL##_##CLAMP##ROT##_##RL(gr_sim *s, gr_force_report *r)   \
     {                                                                                              \
         run_kernel(s, r, DIM, NL_##NL, TL_##TL, CLAMP, ROT, RL_##RL);                              \
     }
@@ -767,7 +809,10 @@ GR_HOT_KERNELS(GR_HOT_FN)
 #undef GR_HOT_FN
 
 /* the generic instances: one per dimension, the laws read at run time */
-static void kernel_generic_1d(gr_sim *s, gr_force_report *r) { pair_loop_1d(s, r, s->kernel.nl, s->kernel.clamp); }
+static void kernel_generic_1d(gr_sim *s, gr_force_report *r)
+{
+    pair_loop_1d(s, r, s->kernel.nl, s->kernel.clamp);
+}
 
 static void kernel_generic_2d(gr_sim *s, gr_force_report *r)
 {
@@ -779,7 +824,7 @@ typedef struct hot_entry {
     void (*run)(gr_sim *s, gr_force_report *r);
     int dim, nl, tl, clamp, rot, rl;
 } hot_entry;
-#define GR_HOT_ENTRY(DIM, NL, TL, CLAMP, ROT, RL)                                                   \
+#define GR_HOT_ENTRY(DIM, NL, TL, CLAMP, ROT, RL)                                                  \
     {kernel_##DIM##d_##NL##_##TL##_##CLAMP##ROT##_##RL, DIM, NL_##NL, TL_##TL, CLAMP, ROT, RL_##RL},
 static const hot_entry hot_kernels[] = {GR_HOT_KERNELS(GR_HOT_ENTRY)};
 #undef GR_HOT_ENTRY
@@ -816,12 +861,16 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
     const gr_contact_coeffs *c = &s->cc;
     const gr_model *normal = c->normal_model, *tangential = c->tangential_model;
     /* an event rule has no force law: it names the law that stands in (no overlaps arise) */
-    const char *nname = normal && normal->force_law ? normal->force_law : normal ? normal->name : "";
+    const char *nname = normal && normal->force_law ? normal->force_law
+                        : normal                    ? normal->name
+                                                    : "";
     /* a tangential law whose coefficients make it do nothing (eps_t = 1, mu = 0): skip its work */
-    const char *tname = tangential && !(tangential->inert && tangential->inert(c)) ? tangential->name : "none";
+    const char *tname =
+        tangential && !(tangential->inert && tangential->inert(c)) ? tangential->name : "none";
     /* a rolling law (rotation only) with mu_r = 0: none */
     const gr_model *rolling = c->rolling_model;
-    const char *rname = s->omega && rolling && !(rolling->inert && rolling->inert(c)) ? rolling->name : "none";
+    const char *rname =
+        s->omega && rolling && !(rolling->inert && rolling->inert(c)) ? rolling->name : "none";
     /* rotation with laws that do nothing (eps_t = 1, mu = 0, mu_r = 0): the spins stay as they are */
     const int rot = s->omega && (strcmp(tname, "none") != 0 || strcmp(rname, "none") != 0);
     gr_kernel k = {.dim = s->dim,
@@ -830,31 +879,41 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
                    .clamp = (int)c->clamp,
                    .rot = s->dim == 1 ? 0 : rot,
                    .rl = s->dim == 1 ? RL_none : id_of(rolling_names, RL_COUNT, rname)};
-    if (k.nl < 0 || k.tl < 0 || k.rl < 0 || (k.rl != RL_none && !k.rot) || (k.dim != 1 && k.dim != 2)) {
+    if (k.nl < 0 || k.tl < 0 || k.rl < 0 || (k.rl != RL_none && !k.rot) ||
+        (k.dim != 1 && k.dim != 2)) {
         /* unreachable: gr_sim_create checks the models before choosing. The library reports it to
          * its caller instead of printing. */
-        return GR_FAIL(err, GR_EINVAL, "internal error: no force kernel for %s/%s/%s in %dD%s%s (please report it)", nname, tname,
-                       rname, s->dim, c->clamp ? ", clamped" : "", rot ? ", rotating" : "");
+        return GR_FAIL(err, GR_EINVAL,
+                       "internal error: no force kernel for %s/%s/%s in %dD%s%s (please report it)",
+                       nname, tname, rname, s->dim, c->clamp ? ", clamped" : "",
+                       rot ? ", rotating" : "");
     }
     k.run = k.dim == 1 ? kernel_generic_1d : kernel_generic_2d;
     for (int h = 0; h < N_HOT; h++) {
         const hot_entry *e = &hot_kernels[h];
-        if (e->dim == k.dim && e->nl == k.nl && e->tl == k.tl && e->clamp == k.clamp && e->rot == k.rot && e->rl == k.rl) {
+        if (e->dim == k.dim && e->nl == k.nl && e->tl == k.tl && e->clamp == k.clamp &&
+            e->rot == k.rot && e->rl == k.rl) {
             k.run = e->run;
         }
     }
     s->kernel = k;
-    const char *noise = s->drive == GR_DRIVE_BATH            ? "langevin" /* the bath ([driving]) */
+    const char *noise = s->drive == GR_DRIVE_BATH ? "langevin" /* the bath ([driving]) */
                         : s->params.noise_mode == GR_NOISE_NONE ? "no-noise"
-                        : s->params.noise_mode == GR_NOISE_COM ? "noise-com" : "noise-symmetrised";
-    const char *nb = s->dim == 1 ? "1d-ring" : (s->params.skin > 0.0 ? "2d-verlet-list" : "2d-cell-list");
-    snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s%s%s%s/%s", nb, normal_names[k.nl], k.clamp ? "[clamped]" : "",
-             k.tl != TL_none ? "+" : "", k.tl != TL_none ? tangential_names[k.tl] : "", k.rot ? "+rotation" : "",
+                        : s->params.noise_mode == GR_NOISE_COM  ? "noise-com"
+                                                                : "noise-symmetrised";
+    const char *nb =
+        s->dim == 1 ? "1d-ring" : (s->params.skin > 0.0 ? "2d-verlet-list" : "2d-cell-list");
+    snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s%s%s%s/%s", nb, normal_names[k.nl],
+             k.clamp ? "[clamped]" : "", k.tl != TL_none ? "+" : "",
+             k.tl != TL_none ? tangential_names[k.tl] : "", k.rot ? "+rotation" : "",
              k.rl != RL_none ? "+" : "", k.rl != RL_none ? rolling_names[k.rl] : "", noise);
     return GR_OK;
 }
 
-int gr_kernel_generic(const gr_sim *s) { return s->kernel.run == kernel_generic_1d || s->kernel.run == kernel_generic_2d; }
+int gr_kernel_generic(const gr_sim *s)
+{
+    return s->kernel.run == kernel_generic_1d || s->kernel.run == kernel_generic_2d;
+}
 
 int gr_kernel_force_generic(gr_sim *s)
 {
@@ -862,7 +921,8 @@ int gr_kernel_force_generic(gr_sim *s)
     return GR_OK;
 }
 
-const char *gr_contact_virial(const gr_contact_coeffs *c, double d, const gr_contact_pair *pairs, int n, double w[3])
+const char *gr_contact_virial(const gr_contact_coeffs *c, double d, const gr_contact_pair *pairs,
+                              int n, double w[3])
 {
     const gr_model *m = c->normal_model;
     if (!m || !(m->kind & GR_MODEL_NORMAL)) {
@@ -935,8 +995,14 @@ void gr_forces_bruteforce(const gr_sim *s, double *fx, double *fy, double *elast
                 if (e->rot) {
                     g_t += 0.5 * d * (s->omega[i] + s->omega[j]);
                 }
-                double slot = history_of(e->tl) ? list_slot(s, i, j) : 0.0; /* a copy: nothing changes */
-                gr_tangential_in in = {.g_t = g_t, .f_n = fn.f, .xi = ov, .g_n = g_n, .acts = !e->clamp || fn.f > 0.0, .m12_dt = m12_dt,
+                double slot =
+                    history_of(e->tl) ? list_slot(s, i, j) : 0.0; /* a copy: nothing changes */
+                gr_tangential_in in = {.g_t = g_t,
+                                       .f_n = fn.f,
+                                       .xi = ov,
+                                       .g_n = g_n,
+                                       .acts = !e->clamp || fn.f > 0.0,
+                                       .m12_dt = m12_dt,
                                        .hist = history_of(e->tl) ? &slot : NULL};
                 double f_t = tangential_law(e->tl, &s->cc, in).f;
                 Fx += f_t * tx;

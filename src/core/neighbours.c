@@ -45,18 +45,22 @@ static int grow(gr_sim *s, int64_t need, gr_error *err)
     int64_t cap = need + need / 2;
     int *j = realloc(s->nl_j, sizeof(int) * (size_t)cap);
     if (!j) {
-        return GR_FAIL(err, GR_ENOMEM, "out of memory growing the neighbour list to %lld pairs", (long long)cap);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory growing the neighbour list to %lld pairs",
+                       (long long)cap);
     }
     s->nl_j = j;
     uint8_t *c = realloc(s->nl_contact, (size_t)cap);
     if (!c) {
-        return GR_FAIL(err, GR_ENOMEM, "out of memory growing the neighbour list to %lld pairs", (long long)cap);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory growing the neighbour list to %lld pairs",
+                       (long long)cap);
     }
     s->nl_contact = c;
     if (s->nl_hist) { /* contact history (contact_history.c): one slot per entry */
         double *h = realloc(s->nl_hist, sizeof(double) * (size_t)cap);
         if (!h) {
-            return GR_FAIL(err, GR_ENOMEM, "out of memory growing the contact history to %lld pairs", (long long)cap);
+            return GR_FAIL(err, GR_ENOMEM,
+                           "out of memory growing the contact history to %lld pairs",
+                           (long long)cap);
         }
         s->nl_hist = h;
     }
@@ -199,8 +203,10 @@ static int list_cells(gr_sim *s, const int T, int64_t *count, gr_error *err)
         rows_buf own = {.j = s->nl_j, .c = s->nl_contact, .cap = s->nl_cap, .count = 0, .own = 1};
         int ok = list_rows(s, 0, s->n, &own);
         *count = own.count;
-        return ok ? GR_OK : GR_FAIL(err, GR_ENOMEM, "out of memory growing the neighbour list beyond %lld pairs",
-                                    (long long)own.count);
+        return ok ? GR_OK
+                  : GR_FAIL(err, GR_ENOMEM,
+                            "out of memory growing the neighbour list beyond %lld pairs",
+                            (long long)own.count);
     }
     int *split = malloc(sizeof(int) * (size_t)(T + 1));
     int64_t *off = malloc(sizeof(int64_t) * (size_t)(T + 1));
@@ -209,7 +215,8 @@ static int list_cells(gr_sim *s, const int T, int64_t *count, gr_error *err)
         free(split);
         free(off);
         free(buf);
-        return GR_FAIL(err, GR_ENOMEM, "out of memory for the neighbour-list buffers of %d threads", T);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for the neighbour-list buffers of %d threads",
+                       T);
     }
     split_rows(s, T, split);
     int failed = 0;
@@ -249,7 +256,9 @@ static int list_cells(gr_sim *s, const int T, int64_t *count, gr_error *err)
     free(split);
     free(off);
     free(buf);
-    return failed ? GR_FAIL(err, GR_ENOMEM, "out of memory building the neighbour list on %d threads", T) : GR_OK;
+    return failed ? GR_FAIL(err, GR_ENOMEM,
+                            "out of memory building the neighbour list on %d threads", T)
+                  : GR_OK;
 }
 
 int gr_neighbours_build(gr_sim *s, gr_error *err)
@@ -287,19 +296,22 @@ int gr_neighbours_build(gr_sim *s, gr_error *err)
         for (int i = 0; i < n; i++) {
             if (!(xw[i] >= 0.0 && xw[i] < L && yw[i] >= 0.0 && yw[i] < L)) {
                 if (!isfinite(xw[i]) || !isfinite(yw[i])) {
-                    return GR_FAIL(err, GR_EUNSTABLE,
-                                   "unstable run: particle %d has a non-finite position (%g, %g) at step %lld",
-                                   i, xw[i], yw[i], (long long)s->step);
+                    return GR_FAIL(
+                        err, GR_EUNSTABLE,
+                        "unstable run: particle %d has a non-finite position (%g, %g) at step %lld",
+                        i, xw[i], yw[i], (long long)s->step);
                 }
                 const double x0 = xw[i], y0 = yw[i];
                 xw[i] -= L * floor(xw[i] / L);
                 yw[i] -= L * floor(yw[i] / L);
                 xw[i] = xw[i] >= L ? 0.0 : xw[i];
                 yw[i] = yw[i] >= L ? 0.0 : yw[i];
-                if (!(xw[i] >= 0.0 && yw[i] >= 0.0)) { /* |x| >> L: floor lost the box (tests/fuzz) */
-                    return GR_FAIL(err, GR_EUNSTABLE,
-                                   "unstable run: particle %d moved %g box lengths in one step, at step %lld",
-                                   i, fmax(fabs(x0), fabs(y0)) / L, (long long)s->step);
+                if (!(xw[i] >= 0.0 &&
+                      yw[i] >= 0.0)) { /* |x| >> L: floor lost the box (tests/fuzz) */
+                    return GR_FAIL(
+                        err, GR_EUNSTABLE,
+                        "unstable run: particle %d moved %g box lengths in one step, at step %lld",
+                        i, fmax(fabs(x0), fabs(y0)) / L, (long long)s->step);
                 }
             }
         }

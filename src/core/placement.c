@@ -43,7 +43,8 @@ static int place_1d(gr_sim *s, gr_error *err)
         }
         double sum = 0.0;
         for (int i = 0; i < n; i++) {
-            u[i] = -log(1.0 - gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, (uint64_t)i, 0));
+            u[i] =
+                -log(1.0 - gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, (uint64_t)i, 0));
             sum += u[i];
         }
         double pos = 0.0;
@@ -55,17 +56,20 @@ static int place_1d(gr_sim *s, gr_error *err)
         return GR_OK;
     }
     default:
-        return GR_FAIL(err, GR_EINVAL, "placement %s is not available in 1D", gr_placement_name(s->params.placement));
+        return GR_FAIL(err, GR_EINVAL, "placement %s is not available in 1D",
+                       gr_placement_name(s->params.placement));
     }
 }
 
 static int capacity_error(gr_sim *s, gr_error *err, long cap, const char *what)
 {
-    return GR_FAIL(err, GR_EINVAL,
-                   "%s: [placement] kind = %s holds at most %ld particles in L = %g m with d = %g m (%s); N = %d. "
-                   "Use a larger L or a smaller N%s",
-                   s->params.source, gr_placement_name(s->params.placement), cap, s->L, s->d, what, s->n,
-                   s->params.placement == GR_PLACE_HEXAGONAL ? "" : ", or kind = hexagonal (densest)");
+    return GR_FAIL(
+        err, GR_EINVAL,
+        "%s: [placement] kind = %s holds at most %ld particles in L = %g m with d = %g m (%s); N = "
+        "%d. "
+        "Use a larger L or a smaller N%s",
+        s->params.source, gr_placement_name(s->params.placement), cap, s->L, s->d, what, s->n,
+        s->params.placement == GR_PLACE_HEXAGONAL ? "" : ", or kind = hexagonal (densest)");
 }
 
 /* Hexagonal packing. A bed of touching rows (spacing a = L / floor(L/d) >= d, row height
@@ -126,8 +130,9 @@ static int place_hexagonal(gr_sim *s, gr_error *err)
             }
         }
         long bed_cap = (long)nx * rows_max;
-        return capacity_error(s, err, bed_cap > best_cap ? bed_cap : best_cap,
-                              "a hexagonal bed or a triangular lattice with neighbour distances >= d");
+        return capacity_error(
+            s, err, bed_cap > best_cap ? bed_cap : best_cap,
+            "a hexagonal bed or a triangular lattice with neighbour distances >= d");
     }
     a = L / best_nx;
     h = L / best_ny;
@@ -218,7 +223,8 @@ static int place_random(gr_sim *s, gr_error *err)
     double phi = s->n * M_PI * 0.25 * s->d * s->d / (s->L * s->L);
     if (phi > 0.5) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: [placement] kind = random cannot reach phi = %.3f: random sequential addition jams near 0.547; use hexagonal (any phi <= 0.9069)",
+                       "%s: [placement] kind = random cannot reach phi = %.3f: random sequential "
+                       "addition jams near 0.547; use hexagonal (any phi <= 0.9069)",
                        s->params.source, phi);
     }
     /* brute-force rejection against a coarse grid of already placed particles; cells of side
@@ -230,7 +236,8 @@ static int place_random(gr_sim *s, gr_error *err)
         side = 1; /* one cell holding everyone (the neighbour scan below assumes 3 or more) */
     }
     double cell = s->L / side;
-    int *head = malloc(sizeof(int) * (size_t)side * (size_t)side), *next = malloc(sizeof(int) * (size_t)s->n);
+    int *head = malloc(sizeof(int) * (size_t)side * (size_t)side),
+        *next = malloc(sizeof(int) * (size_t)s->n);
     if (!head || !next) {
         free(head);
         free(next);
@@ -247,7 +254,8 @@ static int place_random(gr_sim *s, gr_error *err)
                 free(head);
                 free(next);
                 return GR_FAIL(err, GR_EINVAL,
-                               "%s: [placement] kind = random: no free spot found for particle %d after %llu attempts; use hexagonal",
+                               "%s: [placement] kind = random: no free spot found for particle %d "
+                               "after %llu attempts; use hexagonal",
                                s->params.source, i, (unsigned long long)attempt);
             }
             double x = s->L * gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, attempt, 0);
@@ -327,7 +335,9 @@ int gr_check_overlaps(const gr_sim *s, gr_error *err)
                 gap = L;
             }
             if (gap < 0.0) {
-                return GR_FAIL(err, GR_EINVAL, "initial state: particles %d and %d are not in order along the line", i, j);
+                return GR_FAIL(err, GR_EINVAL,
+                               "initial state: particles %d and %d are not in order along the line",
+                               i, j);
             }
             double ov = (d - gap) / d;
             if (ov > worst) {
@@ -348,7 +358,8 @@ int gr_check_overlaps(const gr_sim *s, gr_error *err)
             }
         } else {
             double cell = L / side;
-            int *head = malloc(sizeof(int) * (size_t)side * (size_t)side), *next = malloc(sizeof(int) * (size_t)s->n);
+            int *head = malloc(sizeof(int) * (size_t)side * (size_t)side),
+                *next = malloc(sizeof(int) * (size_t)s->n);
             if (!head || !next) {
                 free(head);
                 free(next);
@@ -381,9 +392,11 @@ int gr_check_overlaps(const gr_sim *s, gr_error *err)
         }
     }
     if (worst > tol) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "%s: initial state overlaps: particles %d and %d overlap by %.3g d (tolerance %g d); refusing to start (the spring energy would explode the packing)",
-                       s->params.source, wi, wj, worst, tol);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s: initial state overlaps: particles %d and %d overlap by %.3g d (tolerance %g d); "
+            "refusing to start (the spring energy would explode the packing)",
+            s->params.source, wi, wj, worst, tol);
     }
     return GR_OK;
 }

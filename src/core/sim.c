@@ -127,10 +127,14 @@ static int prepare_contact(gr_sim *s, gr_error *err)
     double t_c = isfinite(s->cc.t_c) ? s->cc.t_c : M_PI / s->cc.w0;
     if (!isfinite(s->cc.w0) || !(t_c > 0.0)) { /* e.g. k_s = 1e308: k_s / m12 overflows */
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: [model] k_s = %g N/m (normal = %s) over the reduced mass m12 = %g kg gives the contact "
-                       "frequency w0 = sqrt(k_s / m12) = %g rad/s and contact time t_c = %g s: no time step can resolve "
-                       "it; allowed: k_s / m12 finite (w0 and t_c finite and > 0), e.g. k_s <= %g N/m at this mass",
-                       sc->source, sc->contact.k_s, sc->normal->name, m12, s->cc.w0, t_c, 1e300 * m12);
+                       "%s: [model] k_s = %g N/m (normal = %s) over the reduced mass m12 = %g kg "
+                       "gives the contact "
+                       "frequency w0 = sqrt(k_s / m12) = %g rad/s and contact time t_c = %g s: no "
+                       "time step can resolve "
+                       "it; allowed: k_s / m12 finite (w0 and t_c finite and > 0), e.g. k_s <= %g "
+                       "N/m at this mass",
+                       sc->source, sc->contact.k_s, sc->normal->name, m12, s->cc.w0, t_c,
+                       1e300 * m12);
     }
     double dt = sc->dt > 0.0 ? sc->dt : t_c / sc->steps_per_contact;
     if (sc->dt == 0.0 && 2.0 * s->cc.zeta * s->cc.w0 * dt > 1.0) {
@@ -147,21 +151,26 @@ static int prepare_contact(gr_sim *s, gr_error *err)
     }
     double steps = t_c / dt;
     if (steps < 10.0 && !sc->force_dt) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "%s: [integrator] dt = %g s resolves a contact (t_c = %.4g s) with only %.1f steps; "
-                       "at least 10 are needed (sec. 2.1.2): use dt <= %.4g s, steps_per_contact >= 10, or force_dt = true",
-                       sc->source, dt, t_c, steps, t_c / 10.0);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s: [integrator] dt = %g s resolves a contact (t_c = %.4g s) with only %.1f steps; "
+            "at least 10 are needed (sec. 2.1.2): use dt <= %.4g s, steps_per_contact >= 10, or "
+            "force_dt = true",
+            sc->source, dt, t_c, steps, t_c / 10.0);
     }
     if (2.0 * s->cc.zeta * s->cc.w0 * dt > 1.0 && !sc->force_dt) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "%s: [integrator] dt = %g s is too large for the overdamped dashpot (zeta = %.3g): "
-                       "explicit damping needs 2 zeta w0 dt < 1, i.e. dt < %.4g s",
-                       sc->source, dt, s->cc.zeta, 1.0 / (2.0 * s->cc.zeta * s->cc.w0));
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s: [integrator] dt = %g s is too large for the overdamped dashpot (zeta = %.3g): "
+            "explicit damping needs 2 zeta w0 dt < 1, i.e. dt < %.4g s",
+            sc->source, dt, s->cc.zeta, 1.0 / (2.0 * s->cc.zeta * s->cc.w0));
     }
     if (dt >= dt_lag && !sc->force_dt) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: [integrator] dt = %g s is too large for eps_n = %g unclamped (zeta = %.4f): with the half-step "
-                       "dashpot the contact becomes overdamped (zeta_eff = %.4f) and pairs stick numerically; use dt < %.4g s, "
+                       "%s: [integrator] dt = %g s is too large for eps_n = %g unclamped (zeta = "
+                       "%.4f): with the half-step "
+                       "dashpot the contact becomes overdamped (zeta_eff = %.4f) and pairs stick "
+                       "numerically; use dt < %.4g s, "
                        "leave dt unset (steps_per_contact), or force_dt = true",
                        sc->source, dt, sc->contact.eps_n, s->cc.zeta,
                        s->cc.zeta * (1.0 + 0.5 * s->cc.zeta * s->cc.w0 * dt), dt_lag);
@@ -174,17 +183,22 @@ static int prepare_contact(gr_sim *s, gr_error *err)
 static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *err)
 {
     if (!p->integrator || !p->integrator->step) {
-        return GR_FAIL(err, GR_EINVAL, "%s: no integrator given (gr_sim_params.integrator: one of the registry, "
-                       "include/granule/integrator.h)", p->source);
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: no integrator given (gr_sim_params.integrator: one of the registry, "
+                       "include/granule/integrator.h)",
+                       p->source);
     }
     /* the driving, once per run (granule/driving.h): none runs the noise-free loop, as D = 0 does;
      * langevin replaces the random force by the bath, which the integrator must model */
     const gr_driving_type *drive = p->driving ? p->driving : gr_driving_default();
     if (drive->drag && !p->integrator->drag) {
         /* the core knows no integrator by name (docs/architecture.md): the scene names the allowed ones */
-        return GR_FAIL(err, GR_EINVAL, "%s: [driving] kind = %s has a viscous drag, which [integrator] kind = %s does not "
-                       "model (gr_integrator_type.drag; docs/systems-driving.md lists the integrators that do)", p->source,
-                       drive->name, p->integrator->name);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s: [driving] kind = %s has a viscous drag, which [integrator] kind = %s does not "
+            "model (gr_integrator_type.drag; docs/systems-driving.md lists the integrators that "
+            "do)",
+            p->source, drive->name, p->integrator->name);
     }
     gr_sim *s = calloc(1, sizeof *s);
     if (!s) {
@@ -232,8 +246,11 @@ static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *er
 static int alloc_rotation(gr_sim *s, gr_error *err)
 {
     if (s->dim != 2 || !s->integrator->rotation) {
-        return GR_FAIL(err, GR_EINVAL, "%s: [model] rotation = true needs dim = 2 and an integrator that rotates the "
-                       "discs (verlet); given dim = %d, kind = %s", s->params.source, s->dim, s->integrator->name);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s: [model] rotation = true needs dim = 2 and an integrator that rotates the "
+            "discs (verlet); given dim = %d, kind = %s",
+            s->params.source, s->dim, s->integrator->name);
     }
     s->omega = calloc((size_t)s->n + 1, sizeof(double));
     s->tq = calloc((size_t)s->n + 1, sizeof(double));
@@ -250,11 +267,15 @@ static int alloc_rotation(gr_sim *s, gr_error *err)
 static int spin_up(gr_sim *s, gr_error *err)
 {
     if (s->params.omega0 > 0.0 && !s->omega) {
-        return GR_FAIL(err, GR_EINVAL, "%s: [placement] omega0 = %g needs [model] rotation = true (allowed without it: 0)",
-                       s->params.source, s->params.omega0);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s: [placement] omega0 = %g needs [model] rotation = true (allowed without it: 0)",
+            s->params.source, s->params.omega0);
     }
     for (int i = 0; s->omega && s->params.omega0 > 0.0 && i < s->n; i++) {
-        s->omega[i] = s->params.omega0 * (gr_noise_uniform(s->params.seed, GR_STREAM_INIT_VELOCITY, (uint64_t)i, 2) - 0.5);
+        s->omega[i] =
+            s->params.omega0 *
+            (gr_noise_uniform(s->params.seed, GR_STREAM_INIT_VELOCITY, (uint64_t)i, 2) - 0.5);
     }
     return GR_OK;
 }
@@ -295,9 +316,11 @@ static int finish(gr_sim *s, gr_error *err)
     }
     if (gr_kernel_history(s)) { /* a tangential law with per-contact history (models/list.h) */
         if (!s->integrator->contact_history) {
-            return GR_FAIL(err, GR_EINVAL, "%s: [model] tangential = %s keeps a contact history, which only the verlet "
-                           "integrator carries; given [integrator] kind = %s (allowed: verlet)", s->params.source,
-                           s->cc.tangential_model->name, s->integrator->name);
+            return GR_FAIL(
+                err, GR_EINVAL,
+                "%s: [model] tangential = %s keeps a contact history, which only the verlet "
+                "integrator carries; given [integrator] kind = %s (allowed: verlet)",
+                s->params.source, s->cc.tangential_model->name, s->integrator->name);
         }
         int rc_h = gr_history_enable(s, err);
         if (rc_h) {
@@ -341,7 +364,9 @@ int gr_sim_new(const gr_sim_params *p, gr_sim **out, gr_error *err)
         double *v[2] = {s->vx, s->vy};
         for (int c = 0; c < s->dim; c++) {
             for (int i = 0; i < s->n; i++) {
-                v[c][i] = p->v0 * (gr_noise_uniform(p->seed, GR_STREAM_INIT_VELOCITY, (uint64_t)i, (uint64_t)c) - 0.5);
+                v[c][i] = p->v0 * (gr_noise_uniform(p->seed, GR_STREAM_INIT_VELOCITY, (uint64_t)i,
+                                                    (uint64_t)c) -
+                                   0.5);
                 mean[c] += v[c][i];
             }
             mean[c] /= s->n;
@@ -370,9 +395,11 @@ int gr_sim_new_with_state(const gr_sim_params *p, int n, const double *x, const 
     }
     s->params.N = n;
     for (int i = 0; i < n; i++) {
-        if (!isfinite(x[i]) || !isfinite(vx[i]) || (s->dim == 2 && (!isfinite(y[i]) || !isfinite(vy[i])))) {
+        if (!isfinite(x[i]) || !isfinite(vx[i]) ||
+            (s->dim == 2 && (!isfinite(y[i]) || !isfinite(vy[i])))) {
             gr_sim_free(s);
-            return GR_FAIL(err, GR_EINVAL, "initial state: particle %d has a non-finite position or velocity", i);
+            return GR_FAIL(err, GR_EINVAL,
+                           "initial state: particle %d has a non-finite position or velocity", i);
         }
         s->x[i] = x[i];
         s->vx[i] = vx[i];
@@ -415,8 +442,8 @@ static int canon_cmp(const void *pa, const void *pb)
     return 0;
 }
 
-int gr_sim_new_canonical(const gr_sim_params *p, int n, const double *x, const double *y, const double *vx,
-                         const double *vy, gr_sim **out, gr_error *err)
+int gr_sim_new_canonical(const gr_sim_params *p, int n, const double *x, const double *y,
+                         const double *vx, const double *vy, gr_sim **out, gr_error *err)
 {
     *out = NULL;
     const int dim = p->dim;
@@ -464,8 +491,16 @@ int gr_sim_new_canonical(const gr_sim_params *p, int n, const double *x, const d
 
 gr_particles gr_sim_particles(const gr_sim *s)
 {
-    return (gr_particles){.n = s->n, .dim = s->dim, .L = s->L, .radius = 0.5 * s->d,
-                          .mass = s->mass, .x = s->x, .y = s->y, .vx = s->vx, .vy = s->vy, .omega = s->omega};
+    return (gr_particles){.n = s->n,
+                          .dim = s->dim,
+                          .L = s->L,
+                          .radius = 0.5 * s->d,
+                          .mass = s->mass,
+                          .x = s->x,
+                          .y = s->y,
+                          .vx = s->vx,
+                          .vy = s->vy,
+                          .omega = s->omega};
 }
 
 void gr_sim_forces(const gr_sim *s, const double **fx, const double **fy)
@@ -483,7 +518,10 @@ int64_t gr_sim_collisions(const gr_sim *s) { return s->collisions; }
 int64_t gr_sim_rebuilds(const gr_sim *s) { return s->rebuilds; }
 const gr_integrator_type *gr_sim_integrator(const gr_sim *s) { return s->integrator; }
 
-int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err) { return s->integrator->step(s, nsteps, err); }
+int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)
+{
+    return s->integrator->step(s, nsteps, err);
+}
 
 void gr_sim_set_stop(gr_sim *s, volatile sig_atomic_t *stop)
 {
@@ -522,15 +560,16 @@ double gr_remove_com(gr_sim *s)
     return removed;
 }
 
-
 double gr_ledger_dissipated(const gr_ledger *l)
 {
-    return l->dissipated_normal + l->dissipated_tangential + l->dissipated_friction + l->dissipated_drag;
+    return l->dissipated_normal + l->dissipated_tangential + l->dissipated_friction +
+           l->dissipated_drag;
 }
 
 double gr_ledger_residual(const gr_ledger *l)
 {
-    return (l->kinetic + l->elastic) - l->initial - l->injected + gr_ledger_dissipated(l) + l->removed_com;
+    return (l->kinetic + l->elastic) - l->initial - l->injected + gr_ledger_dissipated(l) +
+           l->removed_com;
 }
 
 gr_ledger gr_sim_ledger(gr_sim *s)
@@ -547,11 +586,15 @@ gr_ledger gr_sim_ledger(gr_sim *s)
         rot += s->omega[i] * s->omega[i];
     }
     rot *= 0.5 * s->inertia;
-    return (gr_ledger){.kinetic = s->omega ? 0.5 * s->mass * ke + rot : 0.5 * s->mass * ke, .rotational = rot,
+    return (gr_ledger){.kinetic = s->omega ? 0.5 * s->mass * ke + rot : 0.5 * s->mass * ke,
+                       .rotational = rot,
                        .elastic = s->elastic,
-                       .initial = s->initial_energy, .injected = s->injected,
-                       .dissipated_normal = s->diss_n, .dissipated_tangential = s->diss_t,
-                       .dissipated_friction = s->diss_f, .removed_com = s->removed_com,
+                       .initial = s->initial_energy,
+                       .injected = s->injected,
+                       .dissipated_normal = s->diss_n,
+                       .dissipated_tangential = s->diss_t,
+                       .dissipated_friction = s->diss_f,
+                       .removed_com = s->removed_com,
                        .dissipated_drag = s->diss_drag};
 }
 
@@ -586,13 +629,11 @@ double gr_sim_rotational_temperature(const gr_sim *s)
     for (int i = 0; i < s->n; i++) {
         sum += s->omega[i] * s->omega[i];
     }
-    return s->inertia * sum / (s->mass * s->n); /* I <w^2> / M: the one rotational degree of freedom */
+    return s->inertia * sum /
+           (s->mass * s->n); /* I <w^2> / M: the one rotational degree of freedom */
 }
 
-double gr_sim_max_overlap(gr_sim *s)
-{
-    return s->last.max_overlap;
-}
+double gr_sim_max_overlap(gr_sim *s) { return s->last.max_overlap; }
 
 void gr_sim_momentum(const gr_sim *s, double p[2])
 {

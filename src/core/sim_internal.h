@@ -20,14 +20,14 @@
 
 /* What one force evaluation reports besides the forces. */
 typedef struct gr_force_report {
-    double elastic;        /* sum k_s xi^2 / 2 over contacts, J */
-    double power_normal;   /* dissipation rates, W (>= 0) */
+    double elastic;      /* sum k_s xi^2 / 2 over contacts, J */
+    double power_normal; /* dissipation rates, W (>= 0) */
     double power_tangential;
     double power_friction;
-    double lost;           /* energy a history law dropped without work (slip, ended contacts), J */
-    int64_t new_contacts;  /* pairs that came into overlap */
-    double max_overlap;    /* largest xi / d */
-    int worst_i, worst_j;  /* the pair with max_overlap */
+    double lost;          /* energy a history law dropped without work (slip, ended contacts), J */
+    int64_t new_contacts; /* pairs that came into overlap */
+    double max_overlap;   /* largest xi / d */
+    int worst_i, worst_j; /* the pair with max_overlap */
 } gr_force_report;
 
 /* The force kernel of a run (src/core/kernels.c): the instance that runs, and the laws it runs
@@ -47,7 +47,7 @@ struct gr_sim {
     /* hot state, n entries each (y, vy, fy unused in 1D) */
     double *x, *y, *vx, *vy, *fx, *fy;
     double *gx, *gy; /* the non-conservative part of (fx, fy): everything but the springs k_s xi */
-    double *noise; /* n * dim normals of the current step */
+    double *noise;   /* n * dim normals of the current step */
     /* Rotation (2D, only when cc.rotation): angular velocity, rad/s (counterclockwise), and the
      * torque of the last force evaluation, N m; moment of inertia q M r^2. NULL otherwise. */
     double *omega, *tq;
@@ -58,20 +58,20 @@ struct gr_sim {
     double inertia;
 
     /* 2D neighbour finding: cell list feeding a half Verlet list in CSR form */
-    double cutoff;        /* d (1 + skin) */
+    double cutoff;         /* d (1 + skin) */
     double *x_ref, *y_ref; /* positions at the last rebuild */
-    int ncell;            /* cells per side; 0 = all pairs */
+    int ncell;             /* cells per side; 0 = all pairs */
     int *cell_start, *cell_of, *cell_order;
-    int *nl_start;        /* n + 1 entries */
+    int *nl_start; /* n + 1 entries */
     int *nl_j;
-    uint8_t *nl_contact;  /* pair was in contact at the last force evaluation */
+    uint8_t *nl_contact; /* pair was in contact at the last force evaluation */
     int64_t nl_cap;
 
     /* 1D: pair (i, i+1 mod n) contact flags */
     uint8_t *pair_contact;
 
     /* contact events (only when tracked) */
-    uint16_t *contacts;     /* contacts of each particle at the last force evaluation */
+    uint16_t *contacts; /* contacts of each particle at the last force evaluation */
     uint16_t *contacts_now;
     gr_contact_event *events;
     int64_t n_events, cap_events;
@@ -82,8 +82,8 @@ struct gr_sim {
     /* bookkeeping */
     int64_t step;
     int64_t collisions, rebuilds;
-    int64_t com_every;     /* steps between centre-of-mass resets (com mode) */
-    double elastic;        /* from the last force evaluation */
+    int64_t com_every; /* steps between centre-of-mass resets (com mode) */
+    double elastic;    /* from the last force evaluation */
     double initial_energy;
     double injected, diss_n, diss_t, diss_f, removed_com;
     /* the driving, chosen once ([driving], granule/driving.h): the integrator's update and, for the
@@ -97,23 +97,25 @@ struct gr_sim {
     /* Threads (docs/performance.md, "Threads"). Every sum over particles or pairs is formed per
      * block of GR_BLOCK particles (rows of the pair list) and the blocks are combined in block
      * order, whatever the thread count; a thread owns whole blocks. */
-    int nblk;            /* ceil(n / GR_BLOCK) */
-    double *blk;         /* GR_BLK_FIELDS partial results per block */
+    int nblk;    /* ceil(n / GR_BLOCK) */
+    double *blk; /* GR_BLK_FIELDS partial results per block */
     /* 2D forces with T > 1 threads (kernels.c): thread t owns the rows (and the forces) of
      * particles [par_row[t], par_row[t+1]); a listed pair whose j lies outside the row owner's
      * range is a "cross" pair, computed first into pair_f and added by the owner of j in list
      * order, so every force is summed exactly as in the one-thread scatter. */
-    int par_threads;     /* T the cross lists were built for (0: not built) */
+    int par_threads;      /* T the cross lists were built for (0: not built) */
     int64_t par_rebuilds; /* s->rebuilds when they were built */
-    int *par_row;        /* T + 1 */
-    int *cross_start;    /* T + 1: the cross pairs of thread t are k in [cross_start[t], cross_start[t+1]) */
+    int *par_row;         /* T + 1 */
+    int *
+        cross_start; /* T + 1: the cross pairs of thread t are k in [cross_start[t], cross_start[t+1]) */
     int *cross_p, *cross_i; /* list entry and row of cross pair k, ascending in p */
     int *in_start, *in_k; /* n + 1 / ncross: the cross pairs acting on particle j, ascending in k */
     int *in_list;         /* the particles with incoming cross pairs, ascending (at most ncross) */
-    int *in_list_start;   /* T + 1: those of thread t are in_list[in_list_start[t] .. in_list_start[t+1]) */
-    double *pair_f;      /* 4 per cross pair: Fx, Fy, Gx, Gy on j */
-    double *pair_tq;     /* rotation: the torque of each cross pair (NULL otherwise) */
-    double *pair_tg;     /* its non-conservative part (with s->tg only) */
+    int *
+        in_list_start; /* T + 1: those of thread t are in_list[in_list_start[t] .. in_list_start[t+1]) */
+    double *pair_f;  /* 4 per cross pair: Fx, Fy, Gx, Gy on j */
+    double *pair_tq; /* rotation: the torque of each cross pair (NULL otherwise) */
+    double *pair_tg; /* its non-conservative part (with s->tg only) */
     int64_t cross_cap;
 
     /* the integrator (params.integrator, src/integrators/) and its own state (NULL for verlet) */

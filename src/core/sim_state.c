@@ -29,7 +29,8 @@ int gr_sim_checkpointable(const gr_sim *s, gr_error *err)
 {
     /* an integrator with state of its own must save it */
     if (s->integrator_state && !s->integrator->state_io) {
-        return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kind = %s cannot save its state (no checkpoints)",
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [integrator] kind = %s cannot save its state (no checkpoints)",
                        s->params.source, s->integrator->name);
     }
     return GR_OK;
@@ -72,7 +73,8 @@ static int list_room(gr_sim *s, int64_t pairs, gr_error *err)
         s->nl_hist = h;
     }
     if (!j || !c || (s->nl_hist && !h)) {
-        return GR_FAIL(err, GR_ENOMEM, "out of memory for a neighbour list of %lld pairs", (long long)pairs);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for a neighbour list of %lld pairs",
+                       (long long)pairs);
     }
     s->nl_cap = pairs;
     return GR_OK;
@@ -92,7 +94,8 @@ static void check_list(const gr_sim *s, gr_blob_reader *b, int64_t pairs)
     }
     for (int64_t p = 0; p < pairs && !b->bad; p++) {
         if (s->nl_j[p] < 0 || s->nl_j[p] >= n) {
-            gr_blob_fail(b, "neighbour list entry %lld names particle %d of %d", (long long)p, s->nl_j[p], n);
+            gr_blob_fail(b, "neighbour list entry %lld names particle %d of %d", (long long)p,
+                         s->nl_j[p], n);
         }
     }
     for (int i = 0; i < n && !b->bad; i++) {
@@ -109,8 +112,10 @@ static int list_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     int64_t pairs = io->in ? 0 : s->nl_start[n];
     gr_blob_io_i64(io, &pairs);
     if (io->in) {
-        if (!io->in->bad && (pairs < 0 || pairs > (int64_t)n * (int64_t)(n - 1) / 2 || pairs > (int64_t)INT32_MAX)) {
-            gr_blob_fail(io->in, "neighbour list of %lld pairs is impossible for %d particles", (long long)pairs, n);
+        if (!io->in->bad && (pairs < 0 || pairs > (int64_t)n * (int64_t)(n - 1) / 2 ||
+                             pairs > (int64_t)INT32_MAX)) {
+            gr_blob_fail(io->in, "neighbour list of %lld pairs is impossible for %d particles",
+                         (long long)pairs, n);
         }
         if (io->in->bad) {
             return gr_blob_done(io->in, err);
@@ -119,7 +124,8 @@ static int list_io(gr_sim *s, gr_blob_io *io, gr_error *err)
         if (rc) {
             return rc;
         }
-        s->par_threads = 0; /* the threaded kernel's cross-pair tables belong to the list just replaced */
+        s->par_threads =
+            0; /* the threaded kernel's cross-pair tables belong to the list just replaced */
     }
     gr_blob_io_bytes(io, s->nl_start, sizeof(int) * ((size_t)n + 1));
     gr_blob_io_bytes(io, s->nl_j, sizeof(int) * (size_t)pairs);
@@ -140,7 +146,8 @@ static int events_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     uint32_t tracked = s->contacts != NULL;
     gr_blob_io_u32(io, &tracked);
     if (io->in && !io->in->bad && (tracked != 0) != (s->contacts != NULL)) {
-        gr_blob_fail(io->in, "contact events were %s in the checkpoint but %s for this scene's observables",
+        gr_blob_fail(io->in,
+                     "contact events were %s in the checkpoint but %s for this scene's observables",
                      tracked ? "tracked" : "not tracked", s->contacts ? "are needed" : "are not");
     }
     if (!tracked || gr_blob_io_bad(io)) {
@@ -150,7 +157,8 @@ static int events_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     int64_t n_events = s->n_events;
     gr_blob_io_i64(io, &n_events);
     const int64_t each = 2 * 8 + 5 * 8;
-    if (io->in && !io->in->bad && (n_events < 0 || (uint64_t)n_events > gr_blob_io_left(io) / each)) {
+    if (io->in && !io->in->bad &&
+        (n_events < 0 || (uint64_t)n_events > gr_blob_io_left(io) / each)) {
         gr_blob_fail(io->in, "%lld contact events do not fit in the section", (long long)n_events);
     }
     if (io->in) {
@@ -160,7 +168,8 @@ static int events_io(gr_sim *s, gr_blob_io *io, gr_error *err)
         if (io->in && s->n_events == s->cap_events) {
             gr_contact_event *e = realloc(s->events, sizeof *e * (size_t)(2 * s->cap_events));
             if (!e) {
-                return GR_FAIL(err, GR_ENOMEM, "out of memory for %lld contact events", (long long)n_events);
+                return GR_FAIL(err, GR_ENOMEM, "out of memory for %lld contact events",
+                               (long long)n_events);
             }
             s->events = e;
             s->cap_events *= 2;
@@ -172,11 +181,17 @@ static int events_io(gr_sim *s, gr_blob_io *io, gr_error *err)
         gr_blob_io_i64(io, &kind);
         gr_blob_io_bytes(io, v, sizeof v);
         if (io->in && !io->in->bad && (i < 0 || i >= n || (kind != 1 && kind != -1))) {
-            gr_blob_fail(io->in, "contact event %lld is malformed (particle %lld, kind %lld)", (long long)k, (long long)i,
-                         (long long)kind);
+            gr_blob_fail(io->in, "contact event %lld is malformed (particle %lld, kind %lld)",
+                         (long long)k, (long long)i, (long long)kind);
         }
         if (io->in) {
-            *e = (gr_contact_event){.i = (int)i, .kind = (int)kind, .t = v[0], .x = v[1], .y = v[2], .vx = v[3], .vy = v[4]};
+            *e = (gr_contact_event){.i = (int)i,
+                                    .kind = (int)kind,
+                                    .t = v[0],
+                                    .x = v[1],
+                                    .y = v[2],
+                                    .vx = v[3],
+                                    .vy = v[4]};
         }
     }
     return GR_OK;
@@ -192,7 +207,8 @@ static int sim_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     gr_blob_io_i64(io, &n_saved);
     gr_blob_io_i64(io, &dim);
     if (io->in && !io->in->bad && (n_saved != n || dim != s->dim)) {
-        gr_blob_fail(io->in, "%lld particles in %lld D, the scene has %d in %d D", (long long)n_saved, (long long)dim, n, s->dim);
+        gr_blob_fail(io->in, "%lld particles in %lld D, the scene has %d in %d D",
+                     (long long)n_saved, (long long)dim, n, s->dim);
     }
     gr_blob_io_expect_f64(io, "dt", s->dt);
     gr_blob_io_expect_f64(io, "L", s->L);
@@ -203,7 +219,8 @@ static int sim_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     } else {
         char kernel[sizeof s->kernel_name];
         if (gr_blob_get_str(io->in, kernel, sizeof kernel) && strcmp(kernel, s->kernel_name) != 0) {
-            gr_blob_fail(io->in, "kernel %s in the checkpoint, %s for this scene", kernel, s->kernel_name);
+            gr_blob_fail(io->in, "kernel %s in the checkpoint, %s for this scene", kernel,
+                         s->kernel_name);
         }
     }
     gr_blob_io_i64(io, &s->step);
@@ -212,11 +229,11 @@ static int sim_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     int64_t com_every = s->com_every;
     gr_blob_io_i64(io, &com_every);
     if (io->in && !io->in->bad && (s->step < 0 || com_every != s->com_every)) {
-        gr_blob_fail(io->in, "step %lld / com_every %lld do not fit this scene (com_every %lld)", (long long)s->step,
-                     (long long)com_every, (long long)s->com_every);
+        gr_blob_fail(io->in, "step %lld / com_every %lld do not fit this scene (com_every %lld)",
+                     (long long)s->step, (long long)com_every, (long long)s->com_every);
     }
-    double totals[] = {s->elastic, s->initial_energy, s->injected, s->diss_n, s->diss_t, s->diss_f,
-                       s->removed_com, s->share[0], s->share[1], s->share[2]};
+    double totals[] = {s->elastic, s->initial_energy, s->injected, s->diss_n,   s->diss_t,
+                       s->diss_f,  s->removed_com,    s->share[0], s->share[1], s->share[2]};
     gr_blob_io_f64s(io, totals, (int64_t)(sizeof totals / sizeof totals[0]));
     if (io->in) {
         s->elastic = totals[0];
@@ -253,7 +270,9 @@ static int sim_io(gr_sim *s, gr_blob_io *io, gr_error *err)
         }
     }
     if (!rc && !gr_blob_io_bad(io) && s->drive == GR_DRIVE_BATH) {
-        gr_blob_io_f64(io, &s->diss_drag); /* the bath's drag in the ledger (only then: other layouts unchanged) */
+        gr_blob_io_f64(
+            io,
+            &s->diss_drag); /* the bath's drag in the ledger (only then: other layouts unchanged) */
     }
     return rc;
 }
@@ -319,15 +338,21 @@ int gr_sim_state_load(gr_sim *s, const void *data, size_t len, gr_error *err)
 {
     const unsigned char *p = data;
     if (len < STATE_TRAILER || memcmp(p + len - STATE_TRAILER, STATE_MAGIC, 4)) {
-        return GR_FAIL(err, GR_EINVAL, "state: %zu bytes without the checksum trailer of gr_sim_state_save (Sim.state()): "
-                       "not a saved state, cut short, or from a granule before the checksum", len);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "state: %zu bytes without the checksum trailer of gr_sim_state_save (Sim.state()): "
+            "not a saved state, cut short, or from a granule before the checksum",
+            len);
     }
     uint32_t stored;
     memcpy(&stored, p + len - 4, 4);
     const uint32_t computed = gr_blob_crc32(p, len - STATE_TRAILER);
     if (stored != computed) {
-        return GR_FAIL(err, GR_EINVAL, "state: checksum mismatch (CRC-32 stored %08x, computed %08x): the bytes were changed "
-                       "after they were saved", stored, computed);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "state: checksum mismatch (CRC-32 stored %08x, computed %08x): the bytes were changed "
+            "after they were saved",
+            stored, computed);
     }
     gr_blob_reader r;
     gr_blob_reader_init(&r, data, len - STATE_TRAILER, "SIM");

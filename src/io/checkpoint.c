@@ -19,36 +19,42 @@ static const char MAGIC[8] = {'G', 'R', 'C', 'H', 'K', 'P', 'T', '\n'};
 #define SECTION_HEAD (4 + 8)
 #define TRAILER_LEN 4
 
-static uint32_t crc_of(const unsigned char *p, size_t len)
-{
-    return gr_blob_crc32(p, len);
-}
+static uint32_t crc_of(const unsigned char *p, size_t len) { return gr_blob_crc32(p, len); }
 
 int gr_checkpoint_read_buffer(const void *buf, size_t len, gr_checkpoint *out, gr_error *err)
 {
     memset(out, 0, sizeof *out);
     const unsigned char *p = buf;
     if (len < sizeof MAGIC || memcmp(p, MAGIC, sizeof MAGIC) != 0) {
-        return GR_FAIL(err, GR_EINVAL, "checkpoint: not a granule checkpoint (%zu bytes, no GRCHKPT magic at the start)", len);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "checkpoint: not a granule checkpoint (%zu bytes, no GRCHKPT magic at the start)", len);
     }
     if (len < HEADER_LEN + TRAILER_LEN) {
-        return GR_FAIL(err, GR_EINVAL, "checkpoint: truncated at byte %zu, inside the %d-byte header", len, HEADER_LEN);
+        return GR_FAIL(err, GR_EINVAL,
+                       "checkpoint: truncated at byte %zu, inside the %d-byte header", len,
+                       HEADER_LEN);
     }
     uint32_t version, bom;
     memcpy(&version, p + 8, 4);
     memcpy(&bom, p + 12, 4);
     if (bom != BYTE_ORDER_MARK) {
-        return GR_FAIL(err, GR_EINVAL, "checkpoint: written on a machine with a different byte order (mark %08x); "
-                                       "resume it on the kind of machine that wrote it", bom);
+        return GR_FAIL(err, GR_EINVAL,
+                       "checkpoint: written on a machine with a different byte order (mark %08x); "
+                       "resume it on the kind of machine that wrote it",
+                       bom);
     }
     if (version != GR_CHECKPOINT_VERSION) {
-        return GR_FAIL(err, GR_EINVAL, "checkpoint: format version %u, this granule reads version %u only", version,
+        return GR_FAIL(err, GR_EINVAL,
+                       "checkpoint: format version %u, this granule reads version %u only", version,
                        GR_CHECKPOINT_VERSION);
     }
     const unsigned char want[4] = {sizeof(int), sizeof(long), sizeof(double), sizeof(void *)};
     if (memcmp(p + 16, want, 4) != 0) {
-        return GR_FAIL(err, GR_EINVAL, "checkpoint: written with type sizes int/long/double/pointer = %u/%u/%u/%u, "
-                                       "this machine has %u/%u/%u/%u", p[16], p[17], p[18], p[19], want[0], want[1], want[2], want[3]);
+        return GR_FAIL(err, GR_EINVAL,
+                       "checkpoint: written with type sizes int/long/double/pointer = %u/%u/%u/%u, "
+                       "this machine has %u/%u/%u/%u",
+                       p[16], p[17], p[18], p[19], want[0], want[1], want[2], want[3]);
     }
     uint64_t total, hash;
     uint32_t nsec;
@@ -56,26 +62,34 @@ int gr_checkpoint_read_buffer(const void *buf, size_t len, gr_checkpoint *out, g
     memcpy(&hash, p + 32, 8);
     memcpy(&nsec, p + 40, 4);
     if (len < total) {
-        return GR_FAIL(err, GR_EINVAL, "checkpoint: truncated at byte %zu of %llu (the write was cut short or the file was cut)",
+        return GR_FAIL(err, GR_EINVAL,
+                       "checkpoint: truncated at byte %zu of %llu (the write was cut short or the "
+                       "file was cut)",
                        len, (unsigned long long)total);
     }
     if (len > total) {
-        return GR_FAIL(err, GR_EINVAL, "checkpoint: %zu bytes where the header says %llu: trailing garbage", len,
+        return GR_FAIL(err, GR_EINVAL,
+                       "checkpoint: %zu bytes where the header says %llu: trailing garbage", len,
                        (unsigned long long)total);
     }
     uint32_t stored, computed = crc_of(p, len - TRAILER_LEN);
     memcpy(&stored, p + len - TRAILER_LEN, 4);
     if (stored != computed) {
-        return GR_FAIL(err, GR_EINVAL, "checkpoint: checksum mismatch (CRC-32 stored %08x, computed %08x): the file is corrupt",
+        return GR_FAIL(err, GR_EINVAL,
+                       "checkpoint: checksum mismatch (CRC-32 stored %08x, computed %08x): the "
+                       "file is corrupt",
                        stored, computed);
     }
     if (nsec > GR_CHECKPOINT_MAX_SECTIONS) {
-        return GR_FAIL(err, GR_EINVAL, "checkpoint: %u sections, at most %d are allowed", nsec, GR_CHECKPOINT_MAX_SECTIONS);
+        return GR_FAIL(err, GR_EINVAL, "checkpoint: %u sections, at most %d are allowed", nsec,
+                       GR_CHECKPOINT_MAX_SECTIONS);
     }
     size_t pos = HEADER_LEN, end = len - TRAILER_LEN;
     for (uint32_t s = 0; s < nsec; s++) {
         if (end - pos < SECTION_HEAD) {
-            return GR_FAIL(err, GR_EINVAL, "checkpoint: section %u header runs past the end (byte %zu of %zu)", s, pos, end);
+            return GR_FAIL(err, GR_EINVAL,
+                           "checkpoint: section %u header runs past the end (byte %zu of %zu)", s,
+                           pos, end);
         }
         gr_checkpoint_section *sec = &out->sections[s];
         memcpy(sec->tag, p + pos, 4);
@@ -84,8 +98,10 @@ int gr_checkpoint_read_buffer(const void *buf, size_t len, gr_checkpoint *out, g
         memcpy(&slen, p + pos + 4, 8);
         pos += SECTION_HEAD;
         if (slen > end - pos) {
-            return GR_FAIL(err, GR_EINVAL, "checkpoint: section %s of %llu bytes runs past the end (byte %zu of %zu)", sec->tag,
-                           (unsigned long long)slen, pos, end);
+            return GR_FAIL(
+                err, GR_EINVAL,
+                "checkpoint: section %s of %llu bytes runs past the end (byte %zu of %zu)",
+                sec->tag, (unsigned long long)slen, pos, end);
         }
         sec->data = p + pos;
         sec->len = (size_t)slen;
@@ -110,13 +126,14 @@ const gr_checkpoint_section *gr_checkpoint_find(const gr_checkpoint *c, const ch
     return NULL;
 }
 
-int gr_checkpoint_build(uint64_t scene_hash, const gr_checkpoint_section *sections, int n, void **out,
-                        size_t *out_len, gr_error *err)
+int gr_checkpoint_build(uint64_t scene_hash, const gr_checkpoint_section *sections, int n,
+                        void **out, size_t *out_len, gr_error *err)
 {
     *out = NULL;
     *out_len = 0;
     if (n < 0 || n > GR_CHECKPOINT_MAX_SECTIONS) {
-        return GR_FAIL(err, GR_EINVAL, "checkpoint: %d sections, at most %d are allowed", n, GR_CHECKPOINT_MAX_SECTIONS);
+        return GR_FAIL(err, GR_EINVAL, "checkpoint: %d sections, at most %d are allowed", n,
+                       GR_CHECKPOINT_MAX_SECTIONS);
     }
     size_t total = HEADER_LEN + TRAILER_LEN;
     for (int i = 0; i < n; i++) {
@@ -177,7 +194,8 @@ int gr_checkpoint_write_file(const char *dir, const void *image, size_t len, gr_
             int e = errno;
             close(fd);
             unlink(tmp);
-            return GR_FAIL(err, GR_EIO, "cannot write %s: %s (the previous checkpoint is kept)", tmp, strerror(e));
+            return GR_FAIL(err, GR_EIO, "cannot write %s: %s (the previous checkpoint is kept)",
+                           tmp, strerror(e));
         }
         done += (size_t)w;
     }
@@ -185,13 +203,16 @@ int gr_checkpoint_write_file(const char *dir, const void *image, size_t len, gr_
         int e = errno;
         close(fd);
         unlink(tmp);
-        return GR_FAIL(err, GR_EIO, "cannot write %s: %s (the previous checkpoint is kept)", tmp, strerror(e));
+        return GR_FAIL(err, GR_EIO, "cannot write %s: %s (the previous checkpoint is kept)", tmp,
+                       strerror(e));
     }
     close(fd);
     if (rename(tmp, path) != 0) {
         int e = errno;
         unlink(tmp);
-        return GR_FAIL(err, GR_EIO, "cannot move %s into place: %s (the previous checkpoint is kept)", path, strerror(e));
+        return GR_FAIL(err, GR_EIO,
+                       "cannot move %s into place: %s (the previous checkpoint is kept)", path,
+                       strerror(e));
     }
     int dfd = open(dir, O_RDONLY | O_DIRECTORY);
     if (dfd >= 0) { /* make the rename itself durable */
@@ -210,12 +231,15 @@ int gr_checkpoint_load_file(const char *dir, void **buf, size_t *len, gr_error *
     int why = 0;
     FILE *f = gr_input_fopen(path, &why);
     if (!f && why < 0) {
-        return GR_FAIL(err, GR_EINVAL, "%s: not a regular file (a checkpoint is a file granule wrote)", path);
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: not a regular file (a checkpoint is a file granule wrote)", path);
     }
     if (!f) { /* a missing file or a symlink loop is bad input; a failing disk is not */
         const bool input = why != EIO && why != ENOMEM && why != EMFILE && why != ENFILE;
-        return GR_FAIL(err, input ? GR_EINVAL : GR_EIO, "%s: cannot open the checkpoint: %s%s", path, strerror(why),
-                       why == ENOENT ? " (was the run started with checkpoints, and did it write one?)" : "");
+        return GR_FAIL(
+            err, input ? GR_EINVAL : GR_EIO, "%s: cannot open the checkpoint: %s%s", path,
+            strerror(why),
+            why == ENOENT ? " (was the run started with checkpoints, and did it write one?)" : "");
     }
     struct stat st;
     if (fstat(fileno(f), &st) != 0) {

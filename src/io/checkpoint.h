@@ -22,8 +22,8 @@
 #define GR_CHECKPOINT_NAME "checkpoint"
 
 typedef struct gr_checkpoint_section {
-    char tag[5];       /* 4 characters + NUL */
-    const void *data;  /* borrowed from the buffer that was parsed */
+    char tag[5];      /* 4 characters + NUL */
+    const void *data; /* borrowed from the buffer that was parsed */
     size_t len;
 } gr_checkpoint_section;
 
@@ -44,8 +44,8 @@ int gr_checkpoint_read_buffer(const void *buf, size_t len, gr_checkpoint *out, g
 const gr_checkpoint_section *gr_checkpoint_find(const gr_checkpoint *c, const char *tag);
 
 /* Build a checkpoint image from sections (tags of 4 characters). *out is malloc'ed. */
-int gr_checkpoint_build(uint64_t scene_hash, const gr_checkpoint_section *sections, int n, void **out,
-                        size_t *out_len, gr_error *err);
+int gr_checkpoint_build(uint64_t scene_hash, const gr_checkpoint_section *sections, int n,
+                        void **out, size_t *out_len, gr_error *err);
 
 /* Write an image atomically as dir/checkpoint (temporary file, fsync, rename, fsync of dir). */
 int gr_checkpoint_write_file(const char *dir, const void *image, size_t len, gr_error *err);

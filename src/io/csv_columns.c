@@ -48,15 +48,9 @@ static void columns(gr_file *out, const char *spec, bool write)
     }
 }
 
-void gr_file_columns(gr_file *out, const char *spec)
-{
-    columns(out, spec, true);
-}
+void gr_file_columns(gr_file *out, const char *spec) { columns(out, spec, true); }
 
-void gr_file_units(gr_file *out, const char *spec)
-{
-    columns(out, spec, false);
-}
+void gr_file_units(gr_file *out, const char *spec) { columns(out, spec, false); }
 
 void gr_file_header(gr_file *out, const char *spec)
 {

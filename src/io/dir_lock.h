@@ -17,7 +17,8 @@
  * "pid P on HOST since T"; GR_LOCK_HELD with holder (len bytes) getting the holder's note; or
  * GR_EIO. Where the file system refuses flock (some network mounts) GR_OK with *fd = -1: nothing
  * is locked and the caller decides whether to say so. O_CLOEXEC, but inherited by fork. */
-int gr_dir_lock(const char *dir, const char *name, int *fd, char *holder, size_t len, gr_error *err);
+int gr_dir_lock(const char *dir, const char *name, int *fd, char *holder, size_t len,
+                gr_error *err);
 /* Release a lock taken by gr_dir_lock on dir/name: the file is deleted while still locked, so a
  * finished folder holds no lock file; *fd = -1. A no-op for -1. (gr_dir_lock checks, once it
  * holds the lock, that dir/name is still the file it locked, so a process that opened the file

@@ -78,7 +78,8 @@ static int notes_commit(const gr_file *t, gr_error *err)
     char dir[1100], name[300];
     snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - t->path) : 1, slash ? t->path : ".");
     const char *dot = strrchr(base, '.');
-    snprintf(name, sizeof name, "%.*s.meta.json", dot ? (int)(dot - base) : (int)strlen(base), base);
+    snprintf(name, sizeof name, "%.*s.meta.json", dot ? (int)(dot - base) : (int)strlen(base),
+             base);
     cJSON *j = cJSON_CreateObject(), *notes = cJSON_AddArrayToObject(j, "notes");
     cJSON_AddStringToObject(j, "file", base);
     if (t->units) {
@@ -94,7 +95,8 @@ static int notes_commit(const gr_file *t, gr_error *err)
     char *json = cJSON_Print(j);
     cJSON_Delete(j);
     gr_file f;
-    int rc = json ? gr_file_open(&f, dir, name, err) : GR_FAIL(err, GR_ENOMEM, "out of memory for %s", name);
+    int rc = json ? gr_file_open(&f, dir, name, err)
+                  : GR_FAIL(err, GR_ENOMEM, "out of memory for %s", name);
     if (!rc) {
         fprintf(f.f, "%s\n", json);
         rc = gr_file_commit(&f, err);
@@ -195,7 +197,8 @@ static int mkdir_p(const char *dir, gr_error *err)
         if (*p == '/') {
             *p = 0;
             if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
-                return GR_FAIL(err, GR_EIO, "cannot create output folder %s: %s", buf, strerror(errno));
+                return GR_FAIL(err, GR_EIO, "cannot create output folder %s: %s", buf,
+                               strerror(errno));
             }
             *p = '/';
         }
@@ -214,9 +217,12 @@ int gr_output_path_check(const char *dir, gr_error *err)
 {
     for (const unsigned char *c = (const unsigned char *)dir; *c; c++) {
         if (*c < 0x20 || *c == 0x7f) {
-            return GR_FAIL(err, GR_EINVAL, "output folder %s: the name holds a %s (byte 0x%02x); the run's scene.ini could "
-                           "not name it and the run could never be resumed: choose a name without control characters",
-                           dir, *c == '\n' ? "newline" : "control character", *c);
+            return GR_FAIL(
+                err, GR_EINVAL,
+                "output folder %s: the name holds a %s (byte 0x%02x); the run's scene.ini could "
+                "not name it and the run could never be resumed: choose a name without control "
+                "characters",
+                dir, *c == '\n' ? "newline" : "control character", *c);
         }
     }
     return *dir ? GR_OK : GR_FAIL(err, GR_EINVAL, "output folder: empty name");
@@ -242,8 +248,9 @@ gr_output_kind gr_output_dir_kind(const char *dir, char *what, size_t len)
     static const struct {
         const char *name;
         gr_output_kind kind;
-    } marks[] = {{"compare.json", GR_OUTPUT_COMPARE}, {"compare.md", GR_OUTPUT_COMPARE}, {"compare.csv", GR_OUTPUT_COMPARE},
-                 {"sweep.ini", GR_OUTPUT_CAMPAIGN},   {"sweep.csv", GR_OUTPUT_SWEEP},    {"in.granule", GR_OUTPUT_LAMMPS},
+    } marks[] = {{"compare.json", GR_OUTPUT_COMPARE}, {"compare.md", GR_OUTPUT_COMPARE},
+                 {"compare.csv", GR_OUTPUT_COMPARE},  {"sweep.ini", GR_OUTPUT_CAMPAIGN},
+                 {"sweep.csv", GR_OUTPUT_SWEEP},      {"in.granule", GR_OUTPUT_LAMMPS},
                  {"data.granule", GR_OUTPUT_LAMMPS},  {"cost.json", GR_OUTPUT_RESULT}};
     snprintf(what, len, "%s", "");
     for (size_t i = 0; i < sizeof marks / sizeof marks[0]; i++) {
@@ -266,10 +273,10 @@ gr_output_kind gr_output_dir_kind(const char *dir, char *what, size_t len)
         closedir(d);
     }
     const bool summary = has(dir, "summary.json"), scene = has(dir, "scene.ini");
-    const char *run = summary && scene ? "summary.json"
-                    : scene           ? "scene.ini"
-                    : has(dir, GR_CHECKPOINT_NAME) ? GR_CHECKPOINT_NAME
-                                                   : NULL;
+    const char *run = summary && scene               ? "summary.json"
+                      : scene                        ? "scene.ini"
+                      : has(dir, GR_CHECKPOINT_NAME) ? GR_CHECKPOINT_NAME
+                                                     : NULL;
     if (run || summary) {
         snprintf(what, len, "%s", run ? run : "summary.json");
         return run ? GR_OUTPUT_RUN : GR_OUTPUT_RESULT;
@@ -300,14 +307,15 @@ static bool lock_name(const char *name)
  * checkpoints, LAMMPS files, lock files and partial files NAME.tmpPID. */
 static bool own_name(const char *name)
 {
-    static const char *const ext[] = {".csv", ".json", ".png", ".svg", ".pdf", ".gp", ".dat", ".xyz", ".h5", ".granule",
-                                      ".lammpstrj", ".lammps"};
+    static const char *const ext[] = {".csv", ".json", ".png", ".svg",     ".pdf",       ".gp",
+                                      ".dat", ".xyz",  ".h5",  ".granule", ".lammpstrj", ".lammps"};
     const char *tmp = strstr(name, ".tmp");
     if (tmp && tmp > name && (!tmp[4] || strspn(tmp + 4, "0123456789") == strlen(tmp + 4))) {
         return true; /* NAME.tmpPID, checkpoint.tmp */
     }
-    if (lock_name(name) || !strcmp(name, GR_CHECKPOINT_NAME) || !strncmp(name, ".granule-write-test.", 20) ||
-        !strcmp(name, "scene.ini") || !strcmp(name, "sweep.ini") || !strcmp(name, "compare.md")) {
+    if (lock_name(name) || !strcmp(name, GR_CHECKPOINT_NAME) ||
+        !strncmp(name, ".granule-write-test.", 20) || !strcmp(name, "scene.ini") ||
+        !strcmp(name, "sweep.ini") || !strcmp(name, "compare.md")) {
         return true; /* not any *.ini or *.md: a user's scene file or notes may sit beside the results */
     }
     const char *dot = strrchr(name, '.');
@@ -345,7 +353,8 @@ static bool all_own(const char *dir, int depth, char *bad, size_t len, bool *bus
             if (!ok && !bad[0]) {
                 snprintf(bad, len, "%s", path);
             }
-        } else if (!strcmp(de->d_name, ".run.lock") && gr_dir_lock_held(dir, de->d_name, holder, sizeof holder)) {
+        } else if (!strcmp(de->d_name, ".run.lock") &&
+                   gr_dir_lock_held(dir, de->d_name, holder, sizeof holder)) {
             ok = false;
             *busy = true;
             snprintf(bad, len, "%s", dir);
@@ -369,7 +378,8 @@ static int empty_dir(const char *dir, bool top, gr_error *err)
     int rc = GR_OK;
     for (struct dirent *de; !rc && (de = readdir(d));) {
         if (!strcmp(de->d_name, ".") || !strcmp(de->d_name, "..") ||
-            (top && (lock_name(de->d_name) || (!strcmp(de->d_name, "point.json") && has(dir, ".point.lock"))))) {
+            (top && (lock_name(de->d_name) ||
+                     (!strcmp(de->d_name, "point.json") && has(dir, ".point.lock"))))) {
             continue;
         }
         char path[1400];
@@ -407,15 +417,19 @@ static int claim_dir(const char *dir, gr_output_kind kind, bool force, gr_error 
     }
     /* continued in place: a sweep or campaign rerun (finished points are kept; --force reruns
      * them), a run that left no result (emptied below: nothing can continue it) */
-    const bool again = held == kind && (kind == GR_OUTPUT_SWEEP || kind == GR_OUTPUT_CAMPAIGN ||
-                                        (kind == GR_OUTPUT_RUN && !has(dir, "summary.json") && !has(dir, GR_CHECKPOINT_NAME)));
+    const bool again =
+        held == kind &&
+        (kind == GR_OUTPUT_SWEEP || kind == GR_OUTPUT_CAMPAIGN ||
+         (kind == GR_OUTPUT_RUN && !has(dir, "summary.json") && !has(dir, GR_CHECKPOINT_NAME)));
     if (again && kind != GR_OUTPUT_RUN) {
         return GR_OK;
     }
     if (!again && !force) {
-        return GR_FAIL(err, GR_EINVAL, "output folder %s already holds %s (%s); choose another folder%s", dir,
-                       gr_output_kind_name(held), what,
-                       kind == GR_OUTPUT_CAMPAIGN ? "" : " or pass --force to replace it (it is emptied first)");
+        return GR_FAIL(
+            err, GR_EINVAL, "output folder %s already holds %s (%s); choose another folder%s", dir,
+            gr_output_kind_name(held), what,
+            kind == GR_OUTPUT_CAMPAIGN ? ""
+                                       : " or pass --force to replace it (it is emptied first)");
     }
     char bad[1500] = "";
     bool busy = false;
@@ -427,13 +441,18 @@ static int claim_dir(const char *dir, gr_output_kind kind, bool force, gr_error 
             return GR_OK; /* a killed run's folder with files of the user's: kept, as it is */
         }
         if (busy) {
-            return GR_FAIL(err, GR_EINVAL, "output folder %s holds %s with a run still going in %s (.run.lock): "
-                           "--force does not replace it; wait for it to finish, or choose another folder", dir,
-                           gr_output_kind_name(held), bad);
+            return GR_FAIL(
+                err, GR_EINVAL,
+                "output folder %s holds %s with a run still going in %s (.run.lock): "
+                "--force does not replace it; wait for it to finish, or choose another folder",
+                dir, gr_output_kind_name(held), bad);
         }
-        return GR_FAIL(err, GR_EINVAL, "output folder %s holds %s (%s) and also %s, which granule did not write: --force "
-                       "replaces only a folder of granule's own outputs; move that away or choose another folder", dir,
-                       gr_output_kind_name(held), what, bad);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "output folder %s holds %s (%s) and also %s, which granule did not write: --force "
+            "replaces only a folder of granule's own outputs; move that away or choose another "
+            "folder",
+            dir, gr_output_kind_name(held), what, bad);
     }
     return empty_dir(dir, true, err);
 }
@@ -457,7 +476,8 @@ int gr_output_dir_prepare(const char *dir, gr_output_kind kind, bool force, gr_e
     e = close(fd) != 0 && !e ? errno : e;
     unlink(probe);
     if (e == ENOSPC || e == EDQUOT) {
-        return GR_FAIL(err, GR_EIO, "disk full: output folder %s has no space left: %s", dir, strerror(e));
+        return GR_FAIL(err, GR_EIO, "disk full: output folder %s has no space left: %s", dir,
+                       strerror(e));
     }
     if (e) {
         return GR_FAIL(err, GR_EIO, "output folder %s is not writable: %s", dir, strerror(e));
@@ -498,11 +518,13 @@ int gr_input_open(const char *path, const char *what, FILE **out, gr_error *err)
         return GR_OK;
     }
     if (why < 0) {
-        return GR_FAIL(err, GR_EINVAL, "%s: not a regular file (a %s must be a regular file; a folder, FIFO, "
-                       "device or socket is refused)", path, what);
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: not a regular file (a %s must be a regular file; a folder, FIFO, "
+                       "device or socket is refused)",
+                       path, what);
     }
-    return GR_FAIL(err, why == ENOENT || why == ENOTDIR ? GR_EINVAL : GR_EIO, "%s: cannot open %s: %s", path, what,
-                   strerror(why));
+    return GR_FAIL(err, why == ENOENT || why == ENOTDIR ? GR_EINVAL : GR_EIO,
+                   "%s: cannot open %s: %s", path, what, strerror(why));
 }
 
 int gr_input_check(const char *path, const char *what, gr_error *err)
@@ -520,7 +542,8 @@ int gr_output_dir_precheck(const char *dir, gr_error *err)
     int rc = gr_output_path_check(dir, err);
     struct stat st;
     if (!rc && stat(dir, &st) == 0 && !S_ISDIR(st.st_mode)) {
-        rc = GR_FAIL(err, GR_EINVAL, "output folder %s exists but is not a folder; choose another --out", dir);
+        rc = GR_FAIL(err, GR_EINVAL,
+                     "output folder %s exists but is not a folder; choose another --out", dir);
     }
     return rc;
 }

@@ -16,7 +16,8 @@ typedef struct gr_file {
     size_t notes_len;
     struct cJSON *units; /* gr_file_columns: {"column": "unit"}, NULL if none */
     int columns;         /* columns of the header line written so far */
-    bool keep_on_error; /* a streamed file a checkpoint records: a failed commit keeps the temporary */
+    bool
+        keep_on_error; /* a streamed file a checkpoint records: a failed commit keeps the temporary */
 } gr_file;
 
 int gr_file_open(gr_file *out, const char *dir, const char *name, gr_error *err);
@@ -56,7 +57,8 @@ int gr_output_path_check(const char *dir, gr_error *err);
 /* What granule wrote into an output folder, told by the files at its top (docs/architecture.md,
  * "Output folders"). */
 typedef enum gr_output_kind {
-    GR_OUTPUT_ANY = -1, /* gr_output_dir_prepare only: a sub-folder a command manages itself (no check) */
+    GR_OUTPUT_ANY =
+        -1, /* gr_output_dir_prepare only: a sub-folder a command manages itself (no check) */
     GR_OUTPUT_NONE,     /* absent, empty, or nothing granule wrote */
     GR_OUTPUT_RUN,      /* granule run: summary.json with scene.ini, scene.ini, checkpoint */
     GR_OUTPUT_COMPARE,  /* granule compare: compare.json, compare.md, compare.csv */

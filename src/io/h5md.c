@@ -80,7 +80,8 @@ static void h5md_release(gr_h5md *h)
     free(h);
 }
 
-static int attr_write(hid_t obj, const char *name, hid_t type, int rank, const hsize_t *dims, const void *data)
+static int attr_write(hid_t obj, const char *name, hid_t type, int rank, const hsize_t *dims,
+                      const void *data)
 {
     hid_t space = rank ? H5Screate_simple(rank, dims, NULL) : H5Screate(H5S_SCALAR);
     hid_t a = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
@@ -124,8 +125,8 @@ static hid_t group_make(hid_t parent, const char *path)
 
 /* An extendible dataset [0][inner...] of `type`, chunked as [chunk0][inner...] (inner dims
  * capped at 32768 in the first one), shuffled and deflated when level > 0. */
-static hid_t dataset_make(hid_t parent, const char *path, hid_t type, int rank, const hsize_t *inner, hsize_t chunk0,
-                          int level)
+static hid_t dataset_make(hid_t parent, const char *path, hid_t type, int rank,
+                          const hsize_t *inner, hsize_t chunk0, int level)
 {
     hsize_t dims[3] = {0, 0, 0}, maxd[3] = {H5S_UNLIMITED, 0, 0}, chunk[3] = {chunk0, 1, 1};
     for (int r = 1; r < rank; r++) {
@@ -151,24 +152,30 @@ static hid_t dataset_make(hid_t parent, const char *path, hid_t type, int rank, 
 }
 
 /* step and time of one element: position's own datasets, hard links from the others */
-static int element_make(gr_h5md *h, int e, int rank, const hsize_t *inner, const char *unit, int level)
+static int element_make(gr_h5md *h, int e, int rank, const hsize_t *inner, const char *unit,
+                        int level)
 {
     char p[128];
     snprintf(p, sizeof p, "%s/value", el_path[e]);
-    h->value[e] = dataset_make(h->file, p, H5T_NATIVE_DOUBLE, rank, inner, rank == 3 ? 1 : 64, level);
+    h->value[e] =
+        dataset_make(h->file, p, H5T_NATIVE_DOUBLE, rank, inner, rank == 3 ? 1 : 64, level);
     if (h->value[e] < 0 || (unit && attr_string(h->value[e], "unit", unit))) {
         return -1;
     }
     if (e == EL_POS) {
-        h->step = dataset_make(h->file, "/particles/all/position/step", H5T_NATIVE_INT64, 1, NULL, 1024, 0);
-        h->time = dataset_make(h->file, "/particles/all/position/time", H5T_NATIVE_DOUBLE, 1, NULL, 1024, 0);
+        h->step = dataset_make(h->file, "/particles/all/position/step", H5T_NATIVE_INT64, 1, NULL,
+                               1024, 0);
+        h->time = dataset_make(h->file, "/particles/all/position/time", H5T_NATIVE_DOUBLE, 1, NULL,
+                               1024, 0);
         return h->step < 0 || h->time < 0 || attr_string(h->time, "unit", "s") ? -1 : 0;
     }
     char s[128], t[128];
     snprintf(s, sizeof s, "%s/step", el_path[e]);
     snprintf(t, sizeof t, "%s/time", el_path[e]);
-    return H5Lcreate_hard(h->file, "/particles/all/position/step", h->file, s, H5P_DEFAULT, H5P_DEFAULT) < 0 ||
-                   H5Lcreate_hard(h->file, "/particles/all/position/time", h->file, t, H5P_DEFAULT, H5P_DEFAULT) < 0
+    return H5Lcreate_hard(h->file, "/particles/all/position/step", h->file, s, H5P_DEFAULT,
+                          H5P_DEFAULT) < 0 ||
+                   H5Lcreate_hard(h->file, "/particles/all/position/time", h->file, t, H5P_DEFAULT,
+                                  H5P_DEFAULT) < 0
                ? -1
                : 0;
 }
@@ -190,11 +197,13 @@ static int metadata_write(gr_h5md *h, const gr_h5md_desc *d)
     g = group_make(h->file, "/particles/all/box");
     const int dimension = 3;
     const char *boundary[3] = {"periodic", d->dim == 2 ? "periodic" : "none", "none"};
-    st |= g < 0 || attr_write(g, "dimension", H5T_NATIVE_INT, 0, NULL, &dimension) || attr_strings(g, "boundary", 3, boundary);
+    st |= g < 0 || attr_write(g, "dimension", H5T_NATIVE_INT, 0, NULL, &dimension) ||
+          attr_strings(g, "boundary", 3, boundary);
     H5Gclose(g);
     g = group_make(h->file, "/parameters/granule");
-    st |= g < 0 || attr_write(g, "dim", H5T_NATIVE_INT, 0, NULL, &d->dim) || attr_write(g, "N", H5T_NATIVE_INT, 0, NULL, &d->n) ||
-          attr_double(g, "L", d->L) || attr_double(g, "radius", d->radius) || attr_double(g, "mass", d->mass) ||
+    st |= g < 0 || attr_write(g, "dim", H5T_NATIVE_INT, 0, NULL, &d->dim) ||
+          attr_write(g, "N", H5T_NATIVE_INT, 0, NULL, &d->n) || attr_double(g, "L", d->L) ||
+          attr_double(g, "radius", d->radius) || attr_double(g, "mass", d->mass) ||
           attr_string(g, "length_unit", "m");
     H5Gclose(g);
     /* the masses: one value per particle, constant, so they compress to almost nothing */
@@ -202,11 +211,13 @@ static int metadata_write(gr_h5md *h, const gr_h5md_desc *d)
     hid_t space = H5Screate_simple(1, &n, NULL), dcpl = H5Pcreate(H5P_DATASET_CREATE);
     H5Pset_chunk(dcpl, 1, &chunk);
     H5Pset_deflate(dcpl, 1);
-    hid_t m = H5Dcreate2(h->file, "/particles/all/mass", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    hid_t m = H5Dcreate2(h->file, "/particles/all/mass", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT,
+                         dcpl, H5P_DEFAULT);
     for (int i = 0; i < d->n; i++) {
         h->buf[i] = d->mass; /* buf holds 3 n values */
     }
-    st |= m < 0 || H5Dwrite(m, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, h->buf) < 0 || attr_string(m, "unit", "kg");
+    st |= m < 0 || H5Dwrite(m, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, h->buf) < 0 ||
+          attr_string(m, "unit", "kg");
     if (m >= 0) {
         H5Dclose(m);
     }
@@ -236,7 +247,9 @@ int gr_h5md_create(const char *path, const gr_h5md_desc *d, gr_h5md **out, gr_er
     int st = metadata_write(h, d);
     st = st ? st : element_make(h, EL_POS, 3, per_particle, NULL, level);
     st = st ? st : element_make(h, EL_VEL, 3, per_particle, "m s-1", level);
-    st = st ? st : d->angular_velocity ? element_make(h, EL_OMEGA, 3, per_particle, "rad s-1", level) : 0;
+    st = st                    ? st
+         : d->angular_velocity ? element_make(h, EL_OMEGA, 3, per_particle, "rad s-1", level)
+                               : 0;
     st = st ? st : element_make(h, EL_EDGES, 3, matrix, NULL, 0);
     if (st || H5Fflush(h->file, H5F_SCOPE_GLOBAL) < 0) {
         h5md_release(h);
@@ -263,12 +276,15 @@ static int h5md_attach(gr_h5md *h, unsigned mode, gr_error *err)
 {
     h->file = H5Fopen(h->path, mode, H5P_DEFAULT);
     if (h->file < 0) {
-        return GR_FAIL(err, GR_EIO, "%s: cannot open as HDF5 (missing, or not an HDF5 file)", h->path);
+        return GR_FAIL(err, GR_EIO, "%s: cannot open as HDF5 (missing, or not an HDF5 file)",
+                       h->path);
     }
     for (int e = 0; e < N_EL; e++) {
         char p[128];
         snprintf(p, sizeof p, "%s/value", el_path[e]);
-        h->value[e] = H5Lexists(h->file, el_path[e], H5P_DEFAULT) > 0 ? H5Dopen2(h->file, p, H5P_DEFAULT) : H5I_INVALID_HID;
+        h->value[e] = H5Lexists(h->file, el_path[e], H5P_DEFAULT) > 0
+                          ? H5Dopen2(h->file, p, H5P_DEFAULT)
+                          : H5I_INVALID_HID;
     }
     h->step = H5Dopen2(h->file, "/particles/all/position/step", H5P_DEFAULT);
     h->time = H5Dopen2(h->file, "/particles/all/position/time", H5P_DEFAULT);
@@ -284,10 +300,13 @@ static int h5md_attach(gr_h5md *h, unsigned mode, gr_error *err)
         (void)(a >= 0 && H5Aread(a, H5T_NATIVE_DOUBLE, &radius) >= 0 && H5Aclose(a) >= 0);
         H5Gclose(g);
     }
-    if (h->value[EL_POS] < 0 || h->value[EL_VEL] < 0 || h->value[EL_EDGES] < 0 || h->step < 0 || h->time < 0 ||
-        n != h->n || (dim != 1 && dim != 2)) {
-        return GR_FAIL(err, GR_EINVAL, "%s: not a granule H5MD trajectory of %d particles (needs position, velocity, "
-                                       "box/edges and /parameters/granule)", h->path, h->n);
+    if (h->value[EL_POS] < 0 || h->value[EL_VEL] < 0 || h->value[EL_EDGES] < 0 || h->step < 0 ||
+        h->time < 0 || n != h->n || (dim != 1 && dim != 2)) {
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s: not a granule H5MD trajectory of %d particles (needs position, velocity, "
+            "box/edges and /parameters/granule)",
+            h->path, h->n);
     }
     h->dim = dim;
     h->radius = radius;
@@ -300,7 +319,8 @@ static int h5md_attach(gr_h5md *h, unsigned mode, gr_error *err)
     }
     int64_t ft = frames_of(h->time), fs = frames_of(h->step);
     h->frames = ft < h->frames ? ft : fs < h->frames ? fs : h->frames;
-    return h->frames < 0 ? GR_FAIL(err, GR_EINVAL, "%s: unreadable dataset extents", h->path) : GR_OK;
+    return h->frames < 0 ? GR_FAIL(err, GR_EINVAL, "%s: unreadable dataset extents", h->path)
+                         : GR_OK;
 }
 
 static int parameter_n(const char *path, int *n)
@@ -340,16 +360,18 @@ int gr_h5md_reopen(const char *path, int64_t keep, int n, gr_h5md **out, gr_erro
     }
     int rc = h5md_attach(h, H5F_ACC_RDWR, err);
     if (!rc && h->frames < keep) {
-        rc = GR_FAIL(err, GR_EINVAL, "%s: %lld frames, but the checkpoint was taken after %lld", path, (long long)h->frames,
-                     (long long)keep);
+        rc = GR_FAIL(err, GR_EINVAL, "%s: %lld frames, but the checkpoint was taken after %lld",
+                     path, (long long)h->frames, (long long)keep);
     }
     if (!rc) { /* frames written after the checkpoint are cut */
         int st = extent_set(h->step, keep) | extent_set(h->time, keep);
         for (int e = 0; e < N_EL; e++) {
             st |= h->value[e] >= 0 ? extent_set(h->value[e], keep) : 0;
         }
-        rc = st || H5Fflush(h->file, H5F_SCOPE_GLOBAL) < 0 ? GR_FAIL(err, GR_EIO, "%s: cannot cut to %lld frames (HDF5)", path, (long long)keep)
-                                                            : GR_OK;
+        rc = st || H5Fflush(h->file, H5F_SCOPE_GLOBAL) < 0
+                 ? GR_FAIL(err, GR_EIO, "%s: cannot cut to %lld frames (HDF5)", path,
+                           (long long)keep)
+                 : GR_OK;
         h->frames = keep;
     }
     if (rc) {
@@ -380,7 +402,8 @@ static int frame_io(hid_t d, int64_t frame, hid_t type, void *data, bool write)
     dims[0] = 1;
     H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, dims, NULL);
     hid_t ms = H5Screate_simple(rank, dims, NULL);
-    herr_t st = write ? H5Dwrite(d, type, ms, fs, H5P_DEFAULT, data) : H5Dread(d, type, ms, fs, H5P_DEFAULT, data);
+    herr_t st = write ? H5Dwrite(d, type, ms, fs, H5P_DEFAULT, data)
+                      : H5Dread(d, type, ms, fs, H5P_DEFAULT, data);
     H5Sclose(ms);
     H5Sclose(fs);
     return st < 0 ? -1 : 0;
@@ -396,10 +419,12 @@ static int frame_read(hid_t d, int64_t frame, hid_t type, void *data)
     return frame_io(d, frame, type, data, false);
 }
 
-int gr_h5md_append(gr_h5md *h, const gr_particles *p, const double *omega, double t, int64_t step, gr_error *err)
+int gr_h5md_append(gr_h5md *h, const gr_particles *p, const double *omega, double t, int64_t step,
+                   gr_error *err)
 {
     if (p->n != h->n) {
-        return GR_FAIL(err, GR_EINVAL, "%s: a frame of %d particles in a file of %d", h->path, p->n, h->n);
+        return GR_FAIL(err, GR_EINVAL, "%s: a frame of %d particles in a file of %d", h->path, p->n,
+                       h->n);
     }
     const int64_t k = h->frames;
     double *b = h->buf;
@@ -428,7 +453,8 @@ int gr_h5md_append(gr_h5md *h, const gr_particles *p, const double *omega, doubl
     st |= frame_write(h->step, k, H5T_NATIVE_INT64, &step);
     st |= frame_write(h->time, k, H5T_NATIVE_DOUBLE, &t);
     if (st || H5Fflush(h->file, H5F_SCOPE_GLOBAL) < 0) {
-        return GR_FAIL(err, GR_EIO, "cannot write frame %lld of %s (HDF5; disk full?)", (long long)k, h->path);
+        return GR_FAIL(err, GR_EIO, "cannot write frame %lld of %s (HDF5; disk full?)",
+                       (long long)k, h->path);
     }
     h->frames = k + 1;
     return GR_OK;
@@ -452,7 +478,8 @@ int gr_h5md_open_read(const char *path, gr_h5md **out, int64_t *frames, gr_error
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
     int n = 0;
     if (parameter_n(path, &n)) {
-        return GR_FAIL(err, GR_EINVAL, "%s: not a granule H5MD trajectory (no /parameters/granule N)", path);
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: not a granule H5MD trajectory (no /parameters/granule N)", path);
     }
     gr_h5md *h = h5md_new(path, n);
     if (!h) {
@@ -472,14 +499,16 @@ int gr_h5md_read_frame(gr_h5md *h, int64_t k, gr_frame *f, gr_error *err)
 {
     memset(f, 0, sizeof *f);
     if (k < 0 || k >= h->frames) {
-        return GR_FAIL(err, GR_EINVAL, "%s: no frame %lld (%lld frames)", h->path, (long long)k, (long long)h->frames);
+        return GR_FAIL(err, GR_EINVAL, "%s: no frame %lld (%lld frames)", h->path, (long long)k,
+                       (long long)h->frames);
     }
     int rc = gr_frame_alloc(f, h->n, h->dim, err);
     if (rc) {
         return rc;
     }
     double edges[9];
-    int st = frame_read(h->value[EL_EDGES], k, H5T_NATIVE_DOUBLE, edges) | frame_read(h->time, k, H5T_NATIVE_DOUBLE, &f->t) |
+    int st = frame_read(h->value[EL_EDGES], k, H5T_NATIVE_DOUBLE, edges) |
+             frame_read(h->time, k, H5T_NATIVE_DOUBLE, &f->t) |
              frame_read(h->value[EL_POS], k, H5T_NATIVE_DOUBLE, h->buf);
     for (int i = 0; i < h->n && !st; i++) {
         f->x[i] = h->buf[3 * i];

@@ -31,7 +31,8 @@ int gr_h5md_reopen(const char *path, int64_t keep, int n, gr_h5md **out, gr_erro
 /* Append one frame; omega (n values, rad/s about z) only when the file has angular velocities,
  * else NULL. The file is flushed after the frame: a killed run leaves every frame appended
  * before the last flush readable. */
-int gr_h5md_append(gr_h5md *h, const gr_particles *p, const double *omega, double t, int64_t step, gr_error *err);
+int gr_h5md_append(gr_h5md *h, const gr_particles *p, const double *omega, double t, int64_t step,
+                   gr_error *err);
 /* Close; GR_OK if every write reached the file. */
 int gr_h5md_close(gr_h5md *h, gr_error *err);
 

@@ -53,7 +53,9 @@ static bool next_line(gr_lammps_dump *d)
 static int expect(gr_lammps_dump *d, const char *item, gr_error *err)
 {
     if (!next_line(d) || strncmp(d->buf, item, strlen(item)) != 0) {
-        return GR_FAIL(err, GR_EINVAL, "%s:%ld: expected \"%s\" (a LAMMPS text dump of dump custom)", d->path, d->line, item);
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s:%ld: expected \"%s\" (a LAMMPS text dump of dump custom)", d->path,
+                       d->line, item);
     }
     return GR_OK;
 }
@@ -61,15 +63,19 @@ static int expect(gr_lammps_dump *d, const char *item, gr_error *err)
 /* Column index of each field in the ATOMS header (-1 when absent); scaled[k] for xs/ys. */
 static int columns(gr_lammps_dump *d, int col[C_N], bool scaled[C_N], int *ncol, gr_error *err)
 {
-    static const char *const names[C_N][3] = {{"id", NULL, NULL}, {"x", "xu", "xs"}, {"y", "yu", "ys"},
-                                              {"vx", NULL, NULL}, {"vy", NULL, NULL}};
+    static const char *const names[C_N][3] = {{"id", NULL, NULL},
+                                              {"x", "xu", "xs"},
+                                              {"y", "yu", "ys"},
+                                              {"vx", NULL, NULL},
+                                              {"vy", NULL, NULL}};
     for (int k = 0; k < C_N; k++) {
         col[k] = -1;
         scaled[k] = false;
     }
     char *save = NULL;
     int c = 0;
-    for (char *tok = strtok_r(d->buf + strlen("ITEM: ATOMS"), " \t\r\n", &save); tok; tok = strtok_r(NULL, " \t\r\n", &save), c++) {
+    for (char *tok = strtok_r(d->buf + strlen("ITEM: ATOMS"), " \t\r\n", &save); tok;
+         tok = strtok_r(NULL, " \t\r\n", &save), c++) {
         for (int k = 0; k < C_N; k++) {
             for (int a = 0; a < 3; a++) {
                 if (names[k][a] && !strcmp(tok, names[k][a]) && col[k] < 0) {
@@ -81,7 +87,10 @@ static int columns(gr_lammps_dump *d, int col[C_N], bool scaled[C_N], int *ncol,
     }
     *ncol = c;
     if (col[C_ID] < 0 || col[C_X] < 0 || col[C_VX] < 0 || (col[C_Y] < 0) != (col[C_VY] < 0)) {
-        return GR_FAIL(err, GR_EINVAL, "%s:%ld: the ATOMS columns need id, x, vx (and y, vy in 2D); dump custom ... id x y vx vy", d->path, d->line);
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s:%ld: the ATOMS columns need id, x, vx (and y, vy in 2D); dump custom "
+                       "... id x y vx vy",
+                       d->path, d->line);
     }
     return GR_OK;
 }
@@ -101,7 +110,8 @@ static int frame_alloc(gr_frame *f, long n, int dim, const char *path, gr_error 
     return GR_OK;
 }
 
-static int read_atoms(gr_lammps_dump *d, gr_frame *f, const double lo[2], const double len[2], gr_error *err)
+static int read_atoms(gr_lammps_dump *d, gr_frame *f, const double lo[2], const double len[2],
+                      gr_error *err)
 {
     int col[C_N], ncol;
     bool scaled[C_N];
@@ -136,7 +146,8 @@ static int read_atoms(gr_lammps_dump *d, gr_frame *f, const double lo[2], const 
         }
         long id = got > col[C_ID] ? (long)v[col[C_ID]] : 0;
         if (got < ncol || id < 1 || id > n || seen[id - 1]) {
-            rc = GR_FAIL(err, GR_EINVAL, "%s:%ld: expected %d numbers with a new atom id in 1..%ld", d->path, d->line, ncol, n);
+            rc = GR_FAIL(err, GR_EINVAL, "%s:%ld: expected %d numbers with a new atom id in 1..%ld",
+                         d->path, d->line, ncol, n);
             break;
         }
         seen[id - 1] = 1;
@@ -148,7 +159,8 @@ static int read_atoms(gr_lammps_dump *d, gr_frame *f, const double lo[2], const 
             pos[k][id - 1] = x >= len[k] ? 0.0 : x;
             vel[k][id - 1] = v[col[C_VX + k]];
             if (!isfinite(x) || !isfinite(vel[k][id - 1])) {
-                rc = GR_FAIL(err, GR_EINVAL, "%s:%ld: non-finite position or velocity", d->path, d->line);
+                rc = GR_FAIL(err, GR_EINVAL, "%s:%ld: non-finite position or velocity", d->path,
+                             d->line);
             }
         }
     }
@@ -167,15 +179,24 @@ int gr_lammps_dump_next(gr_lammps_dump *d, double dt, gr_frame *f, gr_error *err
     }
     long long step;
     long n;
-    if (strncmp(d->buf, "ITEM: TIMESTEP", 14) != 0 || !next_line(d) || sscanf(d->buf, "%lld", &step) != 1) {
-        return GR_FAIL(err, GR_EINVAL, "%s:%ld: expected \"ITEM: TIMESTEP\" and the step (a LAMMPS text dump of dump custom)", d->path, d->line);
+    if (strncmp(d->buf, "ITEM: TIMESTEP", 14) != 0 || !next_line(d) ||
+        sscanf(d->buf, "%lld", &step) != 1) {
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s:%ld: expected \"ITEM: TIMESTEP\" and the step (a LAMMPS text dump of dump custom)",
+            d->path, d->line);
     }
     if (step < 0) {
-        return GR_FAIL(err, GR_EINVAL, "%s:%ld: timestep %lld is negative (LAMMPS counts steps from 0)", d->path, d->line, step);
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s:%ld: timestep %lld is negative (LAMMPS counts steps from 0)", d->path,
+                       d->line, step);
     }
     if (d->frames > 0 && step <= d->last_step) {
-        return GR_FAIL(err, GR_EINVAL, "%s:%ld: timestep %lld does not follow the previous frame's %lld: frames must be in "
-                       "increasing time order", d->path, d->line, step, d->last_step);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s:%ld: timestep %lld does not follow the previous frame's %lld: frames must be in "
+            "increasing time order",
+            d->path, d->line, step, d->last_step);
     }
     int rc = expect(d, "ITEM: NUMBER OF ATOMS", err);
     if (rc) {
@@ -189,12 +210,14 @@ int gr_lammps_dump_next(gr_lammps_dump *d, double dt, gr_frame *f, gr_error *err
         return rc;
     }
     if (strstr(d->buf, "xy")) {
-        return GR_FAIL(err, GR_EINVAL, "%s:%ld: a triclinic box; granule's boxes are square", d->path, d->line);
+        return GR_FAIL(err, GR_EINVAL, "%s:%ld: a triclinic box; granule's boxes are square",
+                       d->path, d->line);
     }
     double lo[3], hi[3];
     for (int k = 0; k < 3; k++) {
         if (!next_line(d) || sscanf(d->buf, "%lf %lf", &lo[k], &hi[k]) != 2 || !(hi[k] > lo[k])) {
-            return GR_FAIL(err, GR_EINVAL, "%s:%ld: expected the box bounds lo hi", d->path, d->line);
+            return GR_FAIL(err, GR_EINVAL, "%s:%ld: expected the box bounds lo hi", d->path,
+                           d->line);
         }
     }
     const double len[2] = {hi[0] - lo[0], hi[1] - lo[1]};

@@ -23,24 +23,31 @@ enum { DEFAULT_SIZE = 1000, MIN_SIZE = 64 };
 
 /* ---------- options and colours ---------- */
 
-
 int pic_resolve_options(const gr_picture_options *o, popts *p, gr_error *err)
 {
-    *p = (popts){.size = DEFAULT_SIZE, .levels = 0, .cmap = GR_CMAP_VIRIDIS, .vmax = DEFAULT_VMAX, .labels = true};
+    *p = (popts){.size = DEFAULT_SIZE,
+                 .levels = 0,
+                 .cmap = GR_CMAP_VIRIDIS,
+                 .vmax = DEFAULT_VMAX,
+                 .labels = true};
     if (!o) {
         return GR_OK;
     }
     if (o->size != 0 && (o->size < MIN_SIZE || o->size > GR_PICTURE_MAX_SIDE)) {
-        return GR_FAIL(err, GR_EINVAL, "picture size %d px is outside [%d, %d]", o->size, MIN_SIZE, GR_PICTURE_MAX_SIDE);
+        return GR_FAIL(err, GR_EINVAL, "picture size %d px is outside [%d, %d]", o->size, MIN_SIZE,
+                       GR_PICTURE_MAX_SIDE);
     }
     if (o->colormap != GR_CMAP_VIRIDIS && o->colormap != GR_CMAP_GREY) {
-        return GR_FAIL(err, GR_EINVAL, "unknown colormap %d (viridis = 0, grey = 1)", (int)o->colormap);
+        return GR_FAIL(err, GR_EINVAL, "unknown colormap %d (viridis = 0, grey = 1)",
+                       (int)o->colormap);
     }
     if (!(o->vmax >= 0.0 && o->vmax <= 1000.0)) { /* also refuses NaN */
-        return GR_FAIL(err, GR_EINVAL, "picture vmax %g is outside (0, 1000] (0 = default %g)", o->vmax, DEFAULT_VMAX);
+        return GR_FAIL(err, GR_EINVAL, "picture vmax %g is outside (0, 1000] (0 = default %g)",
+                       o->vmax, DEFAULT_VMAX);
     }
     if (o->levels != 0 && (o->levels < 2 || o->levels > 64)) {
-        return GR_FAIL(err, GR_EINVAL, "picture levels %d: 0 (continuous) or [2, 64] shades", o->levels);
+        return GR_FAIL(err, GR_EINVAL, "picture levels %d: 0 (continuous) or [2, 64] shades",
+                       o->levels);
     }
     p->size = o->size ? o->size : DEFAULT_SIZE;
     p->cmap = o->colormap;
@@ -151,7 +158,8 @@ static const glyph font[] = {
     {'N', {"#...#", "#...#", "##..#", "#.#.#", "#..##", "#...#", "#...#"}},
     {'T', {"#####", "..#..", "..#..", "..#..", "..#..", "..#..", "..#.."}},
 };
-static const glyph unknown_glyph = {'?', {"#####", "#...#", "#...#", "#...#", "#...#", "#...#", "#####"}};
+static const glyph unknown_glyph = {
+    '?', {"#####", "#...#", "#...#", "#...#", "#...#", "#...#", "#####"}};
 
 static const glyph *find_glyph(char c)
 {
@@ -194,16 +202,19 @@ void pic_draw_text(cairo_t *cr, double x, double y, int s, const char *text)
 
 static int cairo_fail(gr_error *err, const char *png_path, const char *what, cairo_status_t st)
 {
-    return GR_FAIL(err, GR_EIO, "%s: cairo could not %s: %s", png_path, what, cairo_status_to_string(st));
+    return GR_FAIL(err, GR_EIO, "%s: cairo could not %s: %s", png_path, what,
+                   cairo_status_to_string(st));
 }
 
-int pic_canvas_new(int w, int h, const char *png_path, cairo_surface_t **surf, cairo_t **cr, gr_error *err)
+int pic_canvas_new(int w, int h, const char *png_path, cairo_surface_t **surf, cairo_t **cr,
+                   gr_error *err)
 {
     *surf = NULL;
     *cr = NULL;
     if (w < 1 || h < 1 || w > GR_PICTURE_MAX_SIDE || h > GR_PICTURE_MAX_SIDE ||
         (long)w * (long)h > GR_PICTURE_MAX_PIXELS) {
-        return GR_FAIL(err, GR_EINVAL, "%s: a %d x %d px picture is too large (at most %d px a side, %ld pixels)",
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: a %d x %d px picture is too large (at most %d px a side, %ld pixels)",
                        png_path, w, h, GR_PICTURE_MAX_SIDE, (long)GR_PICTURE_MAX_PIXELS);
     }
     *surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
@@ -278,8 +289,9 @@ int pic_canvas_save(cairo_surface_t *surf, cairo_t *cr, const char *png_path, gr
     cairo_surface_destroy(surf);
     if (st != CAIRO_STATUS_SUCCESS) {
         gr_file_abandon(&out);
-        return GR_FAIL(err, GR_EIO, "cannot write %s: cairo: %s%s%s", png_path, cairo_status_to_string(st),
-                       k.errnum ? ": " : "", k.errnum ? strerror(k.errnum) : "");
+        return GR_FAIL(err, GR_EIO, "cannot write %s: cairo: %s%s%s", png_path,
+                       cairo_status_to_string(st), k.errnum ? ": " : "",
+                       k.errnum ? strerror(k.errnum) : "");
     }
     return gr_file_commit(&out, err);
 }
@@ -291,7 +303,8 @@ int pic_check_png_path(const char *png_path, gr_error *err)
     }
     size_t n = strlen(png_path);
     if (n >= 1000) {
-        return GR_FAIL(err, GR_EINVAL, "picture: PNG path too long (%zu characters, at most 999)", n);
+        return GR_FAIL(err, GR_EINVAL, "picture: PNG path too long (%zu characters, at most 999)",
+                       n);
     }
     if (png_path[n - 1] == '/') {
         return GR_FAIL(err, GR_EINVAL, "picture: %s names a folder, not a PNG file", png_path);
@@ -314,28 +327,38 @@ int pic_check_frame(const gr_frame *f, int index, double radius, gr_error *err)
         return GR_FAIL(err, GR_EINVAL, "picture: frame%s has dim = %d (1 or 2)", which, f->dim);
     }
     if (!(isfinite(f->L) && f->L > 0.0)) {
-        return GR_FAIL(err, GR_EINVAL, "picture: frame%s has box length L = %g (need a finite L > 0)", which, f->L);
+        return GR_FAIL(err, GR_EINVAL,
+                       "picture: frame%s has box length L = %g (need a finite L > 0)", which, f->L);
     }
     if (!(isfinite(radius) && radius > 0.0)) {
-        return GR_FAIL(err, GR_EINVAL, "picture: particle radius %g m (need a finite radius > 0)", radius);
+        return GR_FAIL(err, GR_EINVAL, "picture: particle radius %g m (need a finite radius > 0)",
+                       radius);
     }
     if (2.0 * radius > f->L) {
-        return GR_FAIL(err, GR_EINVAL, "picture: particle radius %g m: the diameter exceeds the box length L = %g m", radius, f->L);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "picture: particle radius %g m: the diameter exceeds the box length L = %g m", radius,
+            f->L);
     }
     if (f->n < 0 || f->n > 100000000) {
         return GR_FAIL(err, GR_EINVAL, "picture: frame%s has %d particles", which, f->n);
     }
     if (f->n > 0 && (!f->x || !f->vx || (f->dim == 2 && (!f->y || !f->vy)))) {
-        return GR_FAIL(err, GR_EINVAL, "picture: frame%s lacks its position or velocity arrays", which);
+        return GR_FAIL(err, GR_EINVAL, "picture: frame%s lacks its position or velocity arrays",
+                       which);
     }
     for (int i = 0; i < f->n; i++) {
         double y = f->dim == 2 ? f->y[i] : 0.0, vy = f->dim == 2 ? f->vy[i] : 0.0;
         if (!isfinite(f->x[i]) || !isfinite(y)) {
-            return GR_FAIL(err, GR_EINVAL, "picture: frame%s particle %d has a non-finite position (x = %g, y = %g); nothing drawn",
+            return GR_FAIL(err, GR_EINVAL,
+                           "picture: frame%s particle %d has a non-finite position (x = %g, y = "
+                           "%g); nothing drawn",
                            which, i, f->x[i], y);
         }
         if (!isfinite(f->vx[i]) || !isfinite(vy)) {
-            return GR_FAIL(err, GR_EINVAL, "picture: frame%s particle %d has a non-finite velocity (vx = %g, vy = %g); nothing drawn",
+            return GR_FAIL(err, GR_EINVAL,
+                           "picture: frame%s particle %d has a non-finite velocity (vx = %g, vy = "
+                           "%g); nothing drawn",
                            which, i, f->vx[i], vy);
         }
     }
@@ -402,8 +425,8 @@ int pic_panel_height(int s)
 
 /* The panel occupying [0, width) x [y0, y0 + panel_height): left/right captions, the colour bar with
  * its ticks and a caption under it. */
-void pic_draw_panel(cairo_t *cr, const popts *p, int width, double y0, const char *left, const char *right,
-                       const char *caption)
+void pic_draw_panel(cairo_t *cr, const popts *p, int width, double y0, const char *left,
+                    const char *right, const char *caption)
 {
     int s = pic_text_scale(width);
     double y = y0 + 6 * s;
@@ -441,7 +464,8 @@ void pic_draw_panel(cairo_t *cr, const popts *p, int width, double y0, const cha
         cairo_rectangle(cr, floor(tx), y + bh, 1.0, 2 * s);
         cairo_fill(cr);
         snprintf(label, sizeof label, end ? "%g+" : "%g", r);
-        double lw = pic_text_width(s, label), lx = tx - (end ? 0.5 * pic_text_width(s, label) - 3 * s : 0.5 * lw);
+        double lw = pic_text_width(s, label),
+               lx = tx - (end ? 0.5 * pic_text_width(s, label) - 3 * s : 0.5 * lw);
         lx = lx < 0 ? 0 : (lx + lw > width ? width - lw : lx);
         pic_draw_text(cr, lx, y + bh + 3 * s, s, label);
         if (end) {
@@ -455,7 +479,8 @@ void pic_draw_panel(cairo_t *cr, const popts *p, int width, double y0, const cha
 
 /* ---------- 2D ---------- */
 
-static int picture_2d(const gr_frame *f, double radius, const char *png_path, const popts *p, gr_error *err)
+static int picture_2d(const gr_frame *f, double radius, const char *png_path, const popts *p,
+                      gr_error *err)
 {
     int size = p->size, s = pic_text_scale(size);
     int height = size + (p->labels ? pic_panel_height(s) : 0);
@@ -513,7 +538,8 @@ typedef struct strip_layout {
     double seg_len, pxm, rp;
 } strip_layout;
 
-static void strip_measure(strip_layout *l, int nframes, int nseg, double L, double radius, const popts *p)
+static void strip_measure(strip_layout *l, int nframes, int nseg, double L, double radius,
+                          const popts *p)
 {
     l->nseg = nseg;
     l->seg_len = L / nseg;
@@ -522,12 +548,13 @@ static void strip_measure(strip_layout *l, int nframes, int nseg, double L, doub
     int d = (int)ceil(2.0 * l->rp) + 2;
     l->row_h = d < 3 ? 3 : (d > 200 ? 200 : d);
     l->caption_h = p->labels && nseg > 1 ? 10 * l->s : 0;
-    long h = l->top + (long)nseg * (l->caption_h + (long)nframes * l->row_h + l->gap) + (p->labels ? pic_panel_height(l->s) : 0);
+    long h = l->top + (long)nseg * (l->caption_h + (long)nframes * l->row_h + l->gap) +
+             (p->labels ? pic_panel_height(l->s) : 0);
     l->height = h > INT32_MAX ? INT32_MAX : (int)h;
 }
 
-static int picture_strip(const gr_frame *frames, int n, double radius, const char *png_path, const popts *p,
-                         gr_error *err)
+static int picture_strip(const gr_frame *frames, int n, double radius, const char *png_path,
+                         const popts *p, gr_error *err)
 {
     const double L = frames[0].L;
     strip_layout l = {.width = p->size, .s = pic_text_scale(p->size)};
@@ -541,7 +568,9 @@ static int picture_strip(const gr_frame *frames, int n, double radius, const cha
     int nseg = want < 1.0 ? 1 : (want > 256.0 ? 256 : (int)want);
     for (;;) {
         strip_measure(&l, n, nseg, L, radius, p);
-        if ((l.height <= GR_PICTURE_MAX_SIDE && (long)l.width * l.height <= GR_PICTURE_MAX_PIXELS) || nseg == 1) {
+        if ((l.height <= GR_PICTURE_MAX_SIDE &&
+             (long)l.width * l.height <= GR_PICTURE_MAX_PIXELS) ||
+            nseg == 1) {
             break;
         }
         nseg = nseg > 8 ? nseg * 3 / 4 : nseg - 1;
@@ -551,7 +580,8 @@ static int picture_strip(const gr_frame *frames, int n, double radius, const cha
     int rc = pic_canvas_new(l.width, l.height, png_path, &surf, &cr, err);
     if (rc) {
         if (rc == GR_EINVAL && err) {
-            snprintf(err->message + strlen(err->message), sizeof err->message - strlen(err->message),
+            snprintf(err->message + strlen(err->message),
+                     sizeof err->message - strlen(err->message),
                      " (%d frames: draw fewer or choose a smaller width)", n);
         }
         return rc;
@@ -608,7 +638,8 @@ static int picture_strip(const gr_frame *frames, int n, double radius, const cha
         char left[96], right[64], caption[128];
         if (n == 1) {
             snprintf(left, sizeof left, "t = %.6g s", frames[0].t);
-            snprintf(caption, sizeof caption, "speed |v| / v_rms,  v_rms = %.4g m/s", pic_rms_speed(&frames[0]));
+            snprintf(caption, sizeof caption, "speed |v| / v_rms,  v_rms = %.4g m/s",
+                     pic_rms_speed(&frames[0]));
         } else {
             snprintf(left, sizeof left, "t = %.5g .. %.5g s, down", frames[0].t, frames[n - 1].t);
             snprintf(caption, sizeof caption, "speed |v| / v_rms (v_rms of each row)");
@@ -632,7 +663,8 @@ int gr_picture_strip(const gr_frame *frames, int n, double radius, const char *p
         return rc;
     }
     if (!frames || n < 1) {
-        return GR_FAIL(err, GR_EINVAL, "%s: a strip needs at least one frame (got %d)", png_path, n);
+        return GR_FAIL(err, GR_EINVAL, "%s: a strip needs at least one frame (got %d)", png_path,
+                       n);
     }
     for (int j = 0; j < n; j++) {
         rc = pic_check_frame(&frames[j], j, radius, err);
@@ -640,18 +672,19 @@ int gr_picture_strip(const gr_frame *frames, int n, double radius, const char *p
             return rc;
         }
         if (frames[j].dim != 1) {
-            return GR_FAIL(err, GR_EINVAL, "%s: frame %d is %dD; a strip stacks 1D frames", png_path, j, frames[j].dim);
+            return GR_FAIL(err, GR_EINVAL, "%s: frame %d is %dD; a strip stacks 1D frames",
+                           png_path, j, frames[j].dim);
         }
         if (fabs(frames[j].L - frames[0].L) > 1e-9 * frames[0].L) {
-            return GR_FAIL(err, GR_EINVAL, "%s: frame %d has ring length %g m, frame 0 has %g m", png_path, j,
-                           frames[j].L, frames[0].L);
+            return GR_FAIL(err, GR_EINVAL, "%s: frame %d has ring length %g m, frame 0 has %g m",
+                           png_path, j, frames[j].L, frames[0].L);
         }
     }
     return picture_strip(frames, n, radius, png_path, &p, err);
 }
 
-int gr_picture_frame(const gr_frame *f, double radius, const char *png_path, const gr_picture_options *opt,
-                     gr_error *err)
+int gr_picture_frame(const gr_frame *f, double radius, const char *png_path,
+                     const gr_picture_options *opt, gr_error *err)
 {
     popts p;
     int rc = pic_check_png_path(png_path, err);
@@ -660,5 +693,6 @@ int gr_picture_frame(const gr_frame *f, double radius, const char *png_path, con
     if (rc) {
         return rc;
     }
-    return f->dim == 2 ? picture_2d(f, radius, png_path, &p, err) : picture_strip(f, 1, radius, png_path, &p, err);
+    return f->dim == 2 ? picture_2d(f, radius, png_path, &p, err)
+                       : picture_strip(f, 1, radius, png_path, &p, err);
 }

@@ -48,8 +48,8 @@ typedef struct gr_picture_options {
 /* One frame: 2D as the box picture, 1D as a one-frame strip. radius in m (> 0, 2 radius <= L).
  * Errors: GR_EINVAL for bad input (non-finite positions or velocities, radius, options, sizes),
  * GR_EIO for a cairo or file failure (message includes cairo's or the system's reason). */
-int gr_picture_frame(const gr_frame *f, double radius, const char *png_path, const gr_picture_options *opt,
-                     gr_error *err);
+int gr_picture_frame(const gr_frame *f, double radius, const char *png_path,
+                     const gr_picture_options *opt, gr_error *err);
 
 /* 1D frames (all with the same N and L) stacked as rows, first frame on top (Fig. 2.6). */
 int gr_picture_strip(const gr_frame *frames, int n, double radius, const char *png_path,
@@ -77,8 +77,8 @@ int gr_picture_spacetime(const gr_frame *frames, int n, double radius, const cha
                          const gr_picture_options *opt, gr_error *err);
 /* The layout gr_picture_spacetime uses for n frames of a ring of length L (GR_EINVAL for bad
  * options or n outside [1, GR_SPACETIME_MAX_FRAMES]). */
-int gr_picture_spacetime_layout(int n, double L, double radius, const gr_picture_options *opt, gr_spacetime_layout *l,
-                                gr_error *err);
+int gr_picture_spacetime_layout(int n, double L, double radius, const gr_picture_options *opt,
+                                gr_spacetime_layout *l, gr_error *err);
 
 /* The fill colour (sRGB components in [0, 1]) of a particle with |v|/v_rms = ratio. */
 void gr_picture_colour(const gr_picture_options *opt, double ratio, double rgb[3]);

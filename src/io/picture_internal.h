@@ -26,7 +26,8 @@ void pic_ramp(const popts *p, double ratio, double rgb[3]);
 double pic_text_width(int s, const char *text);
 void pic_draw_text(cairo_t *cr, double x, double y, int s, const char *text);
 /* a white w x h canvas (sizes checked against the limits), saved atomically to png_path */
-int pic_canvas_new(int w, int h, const char *png_path, cairo_surface_t **surf, cairo_t **cr, gr_error *err);
+int pic_canvas_new(int w, int h, const char *png_path, cairo_surface_t **surf, cairo_t **cr,
+                   gr_error *err);
 int pic_canvas_save(cairo_surface_t *surf, cairo_t *cr, const char *png_path, gr_error *err);
 int pic_check_png_path(const char *png_path, gr_error *err);
 /* finite positions and velocities, a radius in (0, L/2]; index -1 for a single frame */
@@ -39,7 +40,7 @@ double pic_wrap(double x, double L);
 int pic_text_scale(int width);
 int pic_panel_height(int s);
 /* the panel below a picture: captions left and right, the colour bar with its ticks, a caption */
-void pic_draw_panel(cairo_t *cr, const popts *p, int width, double y0, const char *left, const char *right,
-                    const char *caption);
+void pic_draw_panel(cairo_t *cr, const popts *p, int width, double y0, const char *left,
+                    const char *right, const char *caption);
 
 #endif

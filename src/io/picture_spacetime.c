@@ -17,8 +17,8 @@ static double nice_step(double span, double target)
     return (f < 1.5 ? 1.0 : f < 3.5 ? 2.0 : f < 7.5 ? 5.0 : 10.0) * p;
 }
 
-int gr_picture_spacetime_layout(int n, double L, double radius, const gr_picture_options *opt, gr_spacetime_layout *l,
-                                gr_error *err)
+int gr_picture_spacetime_layout(int n, double L, double radius, const gr_picture_options *opt,
+                                gr_spacetime_layout *l, gr_error *err)
 {
     popts p;
     int rc = pic_resolve_options(opt, &p, err);
@@ -26,15 +26,19 @@ int gr_picture_spacetime_layout(int n, double L, double radius, const gr_picture
         return rc;
     }
     if (n < 1 || n > GR_SPACETIME_MAX_FRAMES) {
-        return GR_FAIL(err, GR_EINVAL, "a space-time diagram takes 1 to %d frames (got %d)", GR_SPACETIME_MAX_FRAMES, n);
+        return GR_FAIL(err, GR_EINVAL, "a space-time diagram takes 1 to %d frames (got %d)",
+                       GR_SPACETIME_MAX_FRAMES, n);
     }
     if (!(L > 0.0) || !(radius > 0.0) || !isfinite(L)) {
-        return GR_FAIL(err, GR_EINVAL, "space-time diagram: ring length %g m and radius %g m must be positive", L, radius);
+        return GR_FAIL(err, GR_EINVAL,
+                       "space-time diagram: ring length %g m and radius %g m must be positive", L,
+                       radius);
     }
     const int s = pic_text_scale(p.size);
     memset(l, 0, sizeof *l);
     l->width = p.size;
-    l->row_h = MAX_PLOT_ROWS / n < 1 ? 1 : (MAX_PLOT_ROWS / n > MAX_ROW_H ? MAX_ROW_H : MAX_PLOT_ROWS / n);
+    l->row_h =
+        MAX_PLOT_ROWS / n < 1 ? 1 : (MAX_PLOT_ROWS / n > MAX_ROW_H ? MAX_ROW_H : MAX_PLOT_ROWS / n);
     /* left: the t tick labels ("0.0125"); top: the axis titles, then the x tick labels */
     l->x0 = p.labels ? (int)pic_text_width(s, "0.00000") + 6 * s : 2 * s;
     l->y0 = p.labels ? 22 * s : 2 * s;
@@ -60,7 +64,8 @@ static double row_of(const gr_frame *frames, int n, double t)
 }
 
 /* ticks and titles: x (m) along the top edge, t (s) at round times down the left edge */
-static void draw_axes(cairo_t *cr, const gr_spacetime_layout *l, const gr_frame *frames, int n, double L, int s)
+static void draw_axes(cairo_t *cr, const gr_spacetime_layout *l, const gr_frame *frames, int n,
+                      double L, int s)
 {
     char label[48];
     cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
@@ -100,16 +105,19 @@ int gr_picture_spacetime(const gr_frame *frames, int n, double radius, const cha
     int rc = pic_check_png_path(png_path, err);
     rc = rc ? rc : pic_resolve_options(opt, &p, err);
     if (!rc && (!frames || n < 1)) {
-        rc = GR_FAIL(err, GR_EINVAL, "%s: a space-time diagram needs at least one frame (got %d)", png_path, n);
+        rc = GR_FAIL(err, GR_EINVAL, "%s: a space-time diagram needs at least one frame (got %d)",
+                     png_path, n);
     }
     for (int j = 0; j < n && !rc; j++) {
         rc = pic_check_frame(&frames[j], j, radius, err);
         if (!rc && frames[j].dim != 1) {
-            rc = GR_FAIL(err, GR_EINVAL, "%s: frame %d is %dD; a space-time diagram is of 1D frames", png_path, j, frames[j].dim);
+            rc =
+                GR_FAIL(err, GR_EINVAL, "%s: frame %d is %dD; a space-time diagram is of 1D frames",
+                        png_path, j, frames[j].dim);
         }
         if (!rc && fabs(frames[j].L - frames[0].L) > 1e-9 * frames[0].L) {
-            rc = GR_FAIL(err, GR_EINVAL, "%s: frame %d has ring length %g m, frame 0 has %g m", png_path, j, frames[j].L,
-                         frames[0].L);
+            rc = GR_FAIL(err, GR_EINVAL, "%s: frame %d has ring length %g m, frame 0 has %g m",
+                         png_path, j, frames[j].L, frames[0].L);
         }
     }
     const double L = rc ? 0.0 : frames[0].L;

@@ -37,7 +37,8 @@ int gr_plot_run(const char *dir, int dim, char *note, size_t note_size);
  * paths relative to it); it is kept as dir/NAME.gp. The picture is drawn to a temporary file and
  * renamed, so it appears whole or not at all. Returns 0, or non-zero with a one-line reason in
  * `note` (gnuplot missing or failing). */
-int gr_plot_script(const char *dir, const char *png_name, const char *body, char *note, size_t note_size);
+int gr_plot_script(const char *dir, const char *png_name, const char *body, char *note,
+                   size_t note_size);
 
 /* A legend entry "name = value ± error" (the error to two significant digits, the value to the
  * same decimal place, as in the compare table); "name = value" without a finite error. */

@@ -13,23 +13,27 @@ void gr_xyz_write_frame(FILE *f, const gr_particles *p, double t, int64_t step)
 {
     const double d = 2.0 * p->radius;
     const double Ly = p->dim == 2 ? p->L : d;
-    fprintf(f, "%d\nLattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T %s F\" Time=%.17g Step=%lld "
-               "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3%s\n",
-            p->n, p->L, Ly, d, p->dim == 2 ? "T" : "F", t, (long long)step, p->omega ? ":omega:R:3" : "");
+    fprintf(f,
+            "%d\nLattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T %s F\" Time=%.17g Step=%lld "
+            "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3%s\n",
+            p->n, p->L, Ly, d, p->dim == 2 ? "T" : "F", t, (long long)step,
+            p->omega ? ":omega:R:3" : "");
     for (int i = 0; i < p->n; i++) {
         const double x = p->x[i] - p->L * floor(p->x[i] / p->L);
         const double y = p->dim == 2 ? p->y[i] : 0.5 * d;
         const double vy = p->dim == 2 ? p->vy[i] : 0.0;
-        fprintf(f, "X %.17g %.17g %.17g %.17g %.17g 0 %.17g %.17g %.17g %.17g 0", x, y, 0.5 * d, p->vx[i], vy,
-                p->radius, p->mass, p->mass * p->vx[i], p->mass * vy);
+        fprintf(f, "X %.17g %.17g %.17g %.17g %.17g 0 %.17g %.17g %.17g %.17g 0", x, y, 0.5 * d,
+                p->vx[i], vy, p->radius, p->mass, p->mass * p->vx[i], p->mass * vy);
         if (p->omega) {
-            fprintf(f, " 0 0 %.17g", p->omega[i]); /* rotation: the angular velocity about z, rad/s */
+            fprintf(f, " 0 0 %.17g",
+                    p->omega[i]); /* rotation: the angular velocity about z, rad/s */
         }
         fputc('\n', f);
     }
 }
 
-int gr_snapshot_write(const char *dir, int index, const gr_particles *p, double t, int64_t step, gr_error *err)
+int gr_snapshot_write(const char *dir, int index, const gr_particles *p, double t, int64_t step,
+                      gr_error *err)
 {
     char name[64];
     snprintf(name, sizeof name, "snap_%06d.xyz", index);
@@ -86,15 +90,21 @@ static int parse_properties(const char *line, xyz_columns *c)
         if (sscanf(p, "%63[^:]:%7[^:]:%d%n", name, type, &count, &used) != 3 || count < 1) {
             return -1;
         }
-        int *slot = !strcmp(name, "pos") ? &c->pos : !strcmp(name, "velo") ? &c->velo : !strcmp(name, "momenta") ? &c->momenta
-                    : !strcmp(name, "masses") ? &c->masses : !strcmp(name, "radius") ? &c->radius : NULL;
+        int *slot = !strcmp(name, "pos")       ? &c->pos
+                    : !strcmp(name, "velo")    ? &c->velo
+                    : !strcmp(name, "momenta") ? &c->momenta
+                    : !strcmp(name, "masses")  ? &c->masses
+                    : !strcmp(name, "radius")  ? &c->radius
+                                               : NULL;
         if (slot) {
             *slot = c->total;
         }
         c->total += count;
         p += used + (p[used] == ':');
     }
-    return c->pos >= 0 && (c->velo >= 0 || (c->momenta >= 0 && c->masses >= 0)) && c->total <= 64 ? 0 : -1;
+    return c->pos >= 0 && (c->velo >= 0 || (c->momenta >= 0 && c->masses >= 0)) && c->total <= 64
+               ? 0
+               : -1;
 }
 
 int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr_error *err)
@@ -114,11 +124,15 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
     }
     ++*line_no;
     double lx = 0, dummy;
-    const char *lat = strstr(line, "Lattice=\""), *tm = strstr(line, "Time="), *pbc = strstr(line, "pbc=\"");
+    const char *lat = strstr(line, "Lattice=\""), *tm = strstr(line, "Time="),
+               *pbc = strstr(line, "pbc=\"");
     xyz_columns c;
-    if (!lat || sscanf(lat + 9, "%lf %lf", &lx, &dummy) != 2 || !(lx > 0.0) || parse_properties(line, &c) != 0) {
-        return GR_FAIL(err, GR_EINVAL, "%s:%ld: not a granule extended-XYZ frame (need Lattice and Properties with "
-                                       "pos and velo, or momenta and masses)", path, *line_no);
+    if (!lat || sscanf(lat + 9, "%lf %lf", &lx, &dummy) != 2 || !(lx > 0.0) ||
+        parse_properties(line, &c) != 0) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s:%ld: not a granule extended-XYZ frame (need Lattice and Properties with "
+                       "pos and velo, or momenta and masses)",
+                       path, *line_no);
     }
     char *tend = NULL;
     const double t = tm ? strtod(tm + 5, &tend) : 0.0;
@@ -127,8 +141,10 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
         if (tm) {
             snprintf(word, sizeof word, "%.*s", (int)strcspn(tm, " \t\r\n"), tm);
         }
-        return GR_FAIL(err, GR_EINVAL, "%s:%ld: %s%s: every frame needs its time as Time=SECONDS, a finite number", path,
-                       *line_no, tm ? word : "no Time= on the comment line", tm ? " is not a finite time" : "");
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s:%ld: %s%s: every frame needs its time as Time=SECONDS, a finite number",
+                       path, *line_no, tm ? word : "no Time= on the comment line",
+                       tm ? " is not a finite time" : "");
     }
     int rc = gr_frame_alloc(f, (int)n, pbc && strncmp(pbc + 5, "T F", 3) == 0 ? 1 : 2, err);
     if (rc) {
@@ -171,9 +187,11 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
         if (c.radius >= 0) {
             f->radius = v[c.radius - 1];
         }
-        if (!isfinite(f->x[i]) || !isfinite(f->vx[i]) || (f->dim == 2 && (!isfinite(f->y[i]) || !isfinite(f->vy[i])))) {
+        if (!isfinite(f->x[i]) || !isfinite(f->vx[i]) ||
+            (f->dim == 2 && (!isfinite(f->y[i]) || !isfinite(f->vy[i])))) {
             gr_frame_free(f);
-            return GR_FAIL(err, GR_EINVAL, "%s:%ld: position or velocity not finite", path, *line_no);
+            return GR_FAIL(err, GR_EINVAL, "%s:%ld: position or velocity not finite", path,
+                           *line_no);
         }
     }
     return GR_OK;

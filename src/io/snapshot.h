@@ -17,7 +17,8 @@
 void gr_xyz_write_frame(FILE *f, const gr_particles *p, double t, int64_t step);
 
 /* Write dir/snap_<index>.xyz (one frame, atomically). */
-int gr_snapshot_write(const char *dir, int index, const gr_particles *p, double t, int64_t step, gr_error *err);
+int gr_snapshot_write(const char *dir, int index, const gr_particles *p, double t, int64_t step,
+                      gr_error *err);
 
 /* A frame read back from an extended-XYZ snapshot (or an H5MD trajectory). */
 typedef struct gr_frame {

@@ -62,7 +62,9 @@ cJSON *gr_summary_read(const char *dir, gr_error *err)
 double gr_summary_number(const cJSON *root, const char *path)
 {
     const cJSON *node = gr_summary_node(root, path);
-    return node && cJSON_IsNumber(node) ? node->valuedouble : cJSON_IsBool(node) ? (double)cJSON_IsTrue(node) : (double)NAN;
+    return node && cJSON_IsNumber(node) ? node->valuedouble
+           : cJSON_IsBool(node)         ? (double)cJSON_IsTrue(node)
+                                        : (double)NAN;
 }
 
 const cJSON *gr_summary_node(const cJSON *root, const char *path)

@@ -43,13 +43,15 @@ static int xyz_open(gr_traj_writer *w, int64_t resume_frames, gr_error *err)
         if (at < 0 || fseek(w->xyz, at, SEEK_SET) != 0 || ftruncate(fileno(w->xyz), at) != 0) {
             fclose(w->xyz);
             w->xyz = NULL;
-            return GR_FAIL(err, GR_EIO, "%s: cannot cut to the %lld frames of the checkpoint", path, (long long)resume_frames);
+            return GR_FAIL(err, GR_EIO, "%s: cannot cut to the %lld frames of the checkpoint", path,
+                           (long long)resume_frames);
         }
     }
     return GR_OK;
 }
 
-int gr_traj_writer_open(gr_traj_writer *w, const gr_traj_setup *s, const char *dir, int64_t resume_frames, gr_error *err)
+int gr_traj_writer_open(gr_traj_writer *w, const gr_traj_setup *s, const char *dir,
+                        int64_t resume_frames, gr_error *err)
 {
     memset(w, 0, sizeof *w);
     w->format = s->format;
@@ -78,7 +80,8 @@ int gr_traj_writer_open(gr_traj_writer *w, const gr_traj_setup *s, const char *d
     return GR_OK;
 }
 
-int gr_traj_writer_frame(gr_traj_writer *w, const gr_particles *p, double t, int64_t step, gr_error *err)
+int gr_traj_writer_frame(gr_traj_writer *w, const gr_particles *p, double t, int64_t step,
+                         gr_error *err)
 {
     int rc = GR_OK;
     if (w->format == GR_TRAJ_SNAPSHOTS) {
@@ -102,7 +105,8 @@ int gr_traj_writer_frame(gr_traj_writer *w, const gr_particles *p, double t, int
 int gr_traj_writer_sync(gr_traj_writer *w, gr_error *err)
 {
     if (w->xyz && (fflush(w->xyz) != 0 || fsync(fileno(w->xyz)) != 0)) {
-        return GR_FAIL(err, GR_EIO, "cannot sync %s/snapshots/trajectory.xyz: %s", w->dir, strerror(errno));
+        return GR_FAIL(err, GR_EIO, "cannot sync %s/snapshots/trajectory.xyz: %s", w->dir,
+                       strerror(errno));
     }
     return GR_OK; /* the H5MD file is flushed after every frame */
 }
@@ -111,8 +115,10 @@ int gr_traj_writer_close(gr_traj_writer *w, gr_error *err)
 {
     int rc = GR_OK;
     if (w->xyz) {
-        rc = fclose(w->xyz) != 0 ? GR_FAIL(err, GR_EIO, "cannot finish %s/snapshots/trajectory.xyz: %s", w->dir, strerror(errno))
-                                 : GR_OK;
+        rc = fclose(w->xyz) != 0
+                 ? GR_FAIL(err, GR_EIO, "cannot finish %s/snapshots/trajectory.xyz: %s", w->dir,
+                           strerror(errno))
+                 : GR_OK;
         w->xyz = NULL;
     }
     if (w->h5) {
@@ -125,8 +131,8 @@ int gr_traj_writer_close(gr_traj_writer *w, gr_error *err)
 struct gr_traj_reader {
     gr_trajectory_format format;
     char source[1200];
-    glob_t files;       /* snapshots */
-    FILE *xyz;          /* xyz: read in order */
+    glob_t files; /* snapshots */
+    FILE *xyz;    /* xyz: read in order */
     long line_no;
     int64_t next;
     gr_h5md *h5;
@@ -142,7 +148,8 @@ static int64_t xyz_count(FILE *f)
     return k;
 }
 
-int gr_traj_reader_open(const char *dir, int want, gr_traj_reader **out, int64_t *frames, gr_error *err)
+int gr_traj_reader_open(const char *dir, int want, gr_traj_reader **out, int64_t *frames,
+                        gr_error *err)
 {
     *out = NULL;
     gr_traj_reader *r = calloc(1, sizeof *r);
@@ -170,10 +177,14 @@ int gr_traj_reader_open(const char *dir, int want, gr_traj_reader **out, int64_t
         if (!r->xyz) {
             free(r);
             if (e < 0) {
-                return GR_FAIL(err, GR_EINVAL, "%s/snapshots/trajectory.xyz: not a regular file (a trajectory is a file "
-                               "granule wrote; a folder, FIFO, device or socket is refused)", dir);
+                return GR_FAIL(
+                    err, GR_EINVAL,
+                    "%s/snapshots/trajectory.xyz: not a regular file (a trajectory is a file "
+                    "granule wrote; a folder, FIFO, device or socket is refused)",
+                    dir);
             }
-            return GR_FAIL(err, e == ENOENT ? GR_EINVAL : GR_EIO, "cannot open %s/snapshots/trajectory.xyz (output.trajectory = xyz): %s",
+            return GR_FAIL(err, e == ENOENT ? GR_EINVAL : GR_EIO,
+                           "cannot open %s/snapshots/trajectory.xyz (output.trajectory = xyz): %s",
                            dir, strerror(e));
         }
         *frames = xyz_count(r->xyz);
@@ -185,8 +196,10 @@ int gr_traj_reader_open(const char *dir, int want, gr_traj_reader **out, int64_t
     if (glob(r->source, 0, NULL, &r->files) != 0 || r->files.gl_pathc == 0) {
         globfree(&r->files);
         free(r);
-        return GR_FAIL(err, GR_EINVAL, "no trajectory in %s (no trajectory.h5, snapshots/trajectory.xyz or "
-                                       "snapshots/snap_*.xyz; run with output.snapshot_every > 0)", dir);
+        return GR_FAIL(err, GR_EINVAL,
+                       "no trajectory in %s (no trajectory.h5, snapshots/trajectory.xyz or "
+                       "snapshots/snap_*.xyz; run with output.snapshot_every > 0)",
+                       dir);
     }
     *frames = (int64_t)r->files.gl_pathc;
     *out = r;
@@ -212,8 +225,8 @@ int gr_traj_reader_frame(gr_traj_reader *r, int64_t k, gr_frame *f, gr_error *er
         r->line_no = -1; /* no longer counted */
     }
     if (k != r->next) {
-        return GR_FAIL(err, GR_EINVAL, "%s: frames are read in order (asked %lld, next %lld)", r->source, (long long)k,
-                       (long long)r->next);
+        return GR_FAIL(err, GR_EINVAL, "%s: frames are read in order (asked %lld, next %lld)",
+                       r->source, (long long)k, (long long)r->next);
     }
     int rc = gr_xyz_read_frame(r->xyz, r->source, &r->line_no, f, err);
     if (rc == 1) {
@@ -223,10 +236,7 @@ int gr_traj_reader_frame(gr_traj_reader *r, int64_t k, gr_frame *f, gr_error *er
     return rc;
 }
 
-const char *gr_traj_reader_source(const gr_traj_reader *r)
-{
-    return r->source;
-}
+const char *gr_traj_reader_source(const gr_traj_reader *r) { return r->source; }
 
 void gr_traj_reader_close(gr_traj_reader *r)
 {

@@ -18,7 +18,20 @@
 #include "io/files.h"
 #include "scene/scene_lines.h"
 
-typedef enum { K_DOUBLE, K_INT, K_BOOL, K_UINT64, K_STRING, K_ENUM, K_NORMAL, K_TANGENTIAL, K_ROLLING, K_INTEGRATOR, K_DRIVING, K_LIST } key_type;
+typedef enum {
+    K_DOUBLE,
+    K_INT,
+    K_BOOL,
+    K_UINT64,
+    K_STRING,
+    K_ENUM,
+    K_NORMAL,
+    K_TANGENTIAL,
+    K_ROLLING,
+    K_INTEGRATOR,
+    K_DRIVING,
+    K_LIST
+} key_type;
 
 typedef struct scene_key {
     const char *section;
@@ -38,45 +51,129 @@ typedef struct scene_key {
 
 #define OFF(f) offsetof(gr_scene, f)
 static const scene_key keys[] = {
-    {"system", "dim", "", K_INT, "2", 1, 2, false, false, NULL, "1 (periodic line) or 2 (periodic square)", OFF(dim)},
+    {"system", "dim", "", K_INT, "2", 1, 2, false, false, NULL,
+     "1 (periodic line) or 2 (periodic square)", OFF(dim)},
     {"system", "N", "", K_INT, "2000", 1, 1e8, false, false, NULL, "number of particles", OFF(N)},
-    {"system", "L", "m", K_DOUBLE, "0.2", 0, INFINITY, true, true, NULL, "box side (2D) or ring length (1D); give at most one of L, packing_fraction, reduced_length; the default is 2D's: a 1D scene without any gets reduced_length = 1 m", OFF(L)},
-    {"system", "packing_fraction", "", K_DOUBLE, NULL, 0, 0.9069, true, false, NULL, "2D only: sets L from phi = N pi r^2 / L^2 (2.24); hexagonal maximum 0.9069", OFF(packing_fraction)},
-    {"system", "reduced_length", "m", K_DOUBLE, NULL, 0, INFINITY, false, true, NULL, "1D only: sets L from L' = L - N d (sec. 3.1); a 1D scene without L or reduced_length gets 1 m", OFF(reduced_length)},
+    {"system", "L", "m", K_DOUBLE, "0.2", 0, INFINITY, true, true, NULL,
+     "box side (2D) or ring length (1D); give at most one of L, packing_fraction, reduced_length; "
+     "the default is 2D's: a 1D scene without any gets reduced_length = 1 m",
+     OFF(L)},
+    {"system", "packing_fraction", "", K_DOUBLE, NULL, 0, 0.9069, true, false, NULL,
+     "2D only: sets L from phi = N pi r^2 / L^2 (2.24); hexagonal maximum 0.9069",
+     OFF(packing_fraction)},
+    {"system", "reduced_length", "m", K_DOUBLE, NULL, 0, INFINITY, false, true, NULL,
+     "1D only: sets L from L' = L - N d (sec. 3.1); a 1D scene without L or reduced_length gets 1 "
+     "m",
+     OFF(reduced_length)},
     /* bounded so that d = 2 r, N pi r^2, k_s / m and the box stay finite and non-zero */
-    {"system", "radius", "m", K_DOUBLE, "1.5e-3", 1e-100, 1e100, false, false, NULL, "particle radius r (Table 2.2)", OFF(radius)},
-    {"system", "mass", "kg", K_DOUBLE, "3.53e-5", 1e-100, 1e100, false, false, NULL, "particle mass M (Table 2.2)", OFF(mass)},
-    {"placement", "kind", "", K_ENUM, "hexagonal", 0, 0, false, false, "hexagonal|square|uniform|cluster|random", "initial placement (sec. 2.1.4, Fig. 2.4); default hexagonal in 2D, uniform in 1D: hexagonal or square bed from the bottom of the box, uniform = equal area (2D) or spacing L/N (1D) per particle, cluster = one touching cluster in the middle, random = random sequential addition (phi <= 0.5)", OFF(placement)},
-    {"placement", "v0", "m/s", K_DOUBLE, "0.1", 0, INFINITY, false, true, NULL, "initial velocities v0 * U(-0.5, 0.5) per component (sec. 2.2.2), mean removed", OFF(v0)},
-    {"placement", "omega0", "rad/s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "[model] rotation = true only: initial angular velocities omega0 * U(-0.5, 0.5) per disc (rotational temperature I omega0^2 / 12 M); 0 = not spinning", OFF(omega0)},
-    {"model", "normal", "", K_NORMAL, "spring_dashpot", 0, 0, false, false, NULL, "normal collision model (granule models lists them)", OFF(normal)},
-    {"model", "tangential", "", K_TANGENTIAL, "none", 0, 0, false, false, NULL, "none, tangential_dashpot or sliding_friction (2D only)", OFF(tangential)},
-    {"model", "rolling", "", K_ROLLING, "none", 0, 0, false, false, NULL, "none or rolling_friction: rolling resistance, a torque pair against w_i - w_j (needs rotation = true; docs/models.md)", OFF(rolling)},
-    {"driving", "kind", "", K_DRIVING, "rfm", 0, 0, false, false, NULL, NULL /* the registry's summaries */, OFF(driving)},
-    {"noise", "D", "N^2 s", K_DOUBLE, "1e-8", 0, INFINITY, false, true, NULL, "noise strength (2.15, 2.22); 0 switches the random force off (Table 2.2: 1e-8)", OFF(D)},
-    {"noise", "mode", "", K_ENUM, "symmetrised", 0, 0, false, false, "none|symmetrised|com", "symmetrised: forces shifted to sum to zero every step (2.18); com: centre-of-mass velocity removed every com_interval (sec. 2.3.1); none: no random force", OFF(noise_mode)},
-    {"noise", "com_interval", "s", K_DOUBLE, "1e-3", 0, INFINITY, true, true, NULL, "com mode: time between centre-of-mass velocity removals", OFF(com_interval)},
-    {"integrator", "kind", "", K_INTEGRATOR, "verlet", 0, 0, false, false, NULL, NULL /* the registry's summaries */, OFF(integrator)},
-    {"integrator", "dt", "s", K_DOUBLE, NULL, 0, INFINITY, true, true, NULL, "time step; give dt or steps_per_contact, not both", OFF(dt)},
-    {"integrator", "steps_per_contact", "", K_DOUBLE, "50", 10, 1e9, false, false, NULL, "dt = t_c / steps_per_contact, t_c = duration of a binary contact; fewer than 10 is refused (sec. 2.1.2)", OFF(steps_per_contact)},
-    {"integrator", "force_dt", "", K_BOOL, "false", 0, 1, false, false, NULL, "accept a dt larger than t_c / 10 (results will be wrong; for stability studies)", OFF(force_dt)},
-    {"integrator", "skin", "d", K_DOUBLE, "0.3", 0, 10, false, false, NULL, "Verlet-list skin in diameters; the list is rebuilt when a particle has moved skin/2; 0 rebuilds the cell list every step", OFF(skin)},
-    {"integrator", "free_flight", "", K_ENUM, "exact", 0, 0, false, false, "exact|kicks", "event/hybrid: how the random force drives free flight: exact = jointly Gaussian velocity and position increments of the random-acceleration process over each interval (exact for free flight between interval ends; with kind = event it under-injects energy when collisions fall inside intervals), kicks = a Gaussian velocity kick of variance 2 D tau / M^2 per component every kick_interval (the random force's work exact in expectation across collisions). Default exact for hybrid, kicks for event (docs/event-driven.md)", OFF(free_flight)},
-    {"integrator", "kick_interval", "s", K_DOUBLE, "1e-4", 0, INFINITY, true, true, NULL, "event/hybrid: interval tau between noise updates of free particles (event) or length of a free-flight window (hybrid); the accuracy knob of docs/event-driven.md", OFF(kick_interval)},
-    {"run", "warmup", "s", K_DOUBLE, "1.0", 0, INFINITY, false, true, NULL, "simulated time before sampling starts", OFF(warmup)},
-    {"run", "duration", "s", K_DOUBLE, "10.0", 0, INFINITY, false, true, NULL, "simulated time of sampling", OFF(duration)},
-    {"run", "sample_every", "s", K_DOUBLE, "1e-3", 0, INFINITY, true, true, NULL, "interval between samples (uniform in time)", OFF(sample_every)},
-    {"run", "seed", "", K_UINT64, "1", 0, 1.8446744073709552e19, false, false, NULL, "random seed: placement, initial velocities and noise are pure functions of it", OFF(seed)},
-    {"run", "ledger_tolerance", "", K_DOUBLE, "0.05", 0, 1, false, false, NULL, "stop the run as unstable when the energy ledger's residual exceeds this fraction of the energy injected + dissipated (it is ~2e-3 at the thesis dt; 0 = no check)", OFF(ledger_tolerance)},
-    {"run", "checkpoint_every", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "simulated time between checkpoints (taken at the next sample; docs/checkpoints.md); 0 = none", OFF(checkpoint_every)},
-    {"run", "checkpoint_wall", "s", K_DOUBLE, "1800", 0, INFINITY, false, true, NULL, "wall-clock time between checkpoints (taken at the next sample); 0 = none. Checkpoints never change results", OFF(checkpoint_wall)},
-    {"run", "wall_limit", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "wall-clock budget: write a checkpoint and stop (exit status 4) before it runs out; resume with granule run --resume DIR; 0 = none", OFF(wall_limit)},
-    {"run", "progress", "", K_BOOL, "true", 0, 1, false, false, NULL, "progress line with ETA on a terminal (never in CI logs or when stderr is not a terminal)", OFF(progress)},
-    {"analysis", "observables", "", K_LIST, "", 0, 0, false, false, NULL, "statistics to accumulate while sampling, comma-separated (granule observables lists them); empty = temperature only", OFF(observables)},
-    {"output", "dir", "", K_STRING, "out", 0, 0, false, false, NULL, "output folder (granule run --out overrides it)", OFF(out_dir)},
-    {"output", "snapshot_every", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL, "interval between frames of the trajectory (output.trajectory), a whole number of steps, independent of sample_every; 0 = none", OFF(snapshot_every)},
-    {"output", "trajectory", "", K_ENUM, "snapshots", 0, 0, false, false, "snapshots|xyz|h5md", "format of the frames written every snapshot_every (docs/trajectories.md): snapshots = one extended-XYZ file per frame (snapshots/snap_NNNNNN.xyz), xyz = one multi-frame extended-XYZ file (snapshots/trajectory.xyz), h5md = one H5MD file (trajectory.h5: HDF5, chunked, deflate-compressed; MDAnalysis and OVITO read it)", OFF(trajectory)},
-    {"output", "plots", "", K_BOOL, "true", 0, 1, false, false, NULL, "write PNG plots with gnuplot at the end of the run (skipped with a note if gnuplot is missing)", OFF(plots)},
+    {"system", "radius", "m", K_DOUBLE, "1.5e-3", 1e-100, 1e100, false, false, NULL,
+     "particle radius r (Table 2.2)", OFF(radius)},
+    {"system", "mass", "kg", K_DOUBLE, "3.53e-5", 1e-100, 1e100, false, false, NULL,
+     "particle mass M (Table 2.2)", OFF(mass)},
+    {"placement", "kind", "", K_ENUM, "hexagonal", 0, 0, false, false,
+     "hexagonal|square|uniform|cluster|random",
+     "initial placement (sec. 2.1.4, Fig. 2.4); default hexagonal in 2D, uniform in 1D: hexagonal "
+     "or square bed from the bottom of the box, uniform = equal area (2D) or spacing L/N (1D) per "
+     "particle, cluster = one touching cluster in the middle, random = random sequential addition "
+     "(phi <= 0.5)",
+     OFF(placement)},
+    {"placement", "v0", "m/s", K_DOUBLE, "0.1", 0, INFINITY, false, true, NULL,
+     "initial velocities v0 * U(-0.5, 0.5) per component (sec. 2.2.2), mean removed", OFF(v0)},
+    {"placement", "omega0", "rad/s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL,
+     "[model] rotation = true only: initial angular velocities omega0 * U(-0.5, 0.5) per disc "
+     "(rotational temperature I omega0^2 / 12 M); 0 = not spinning",
+     OFF(omega0)},
+    {"model", "normal", "", K_NORMAL, "spring_dashpot", 0, 0, false, false, NULL,
+     "normal collision model (granule models lists them)", OFF(normal)},
+    {"model", "tangential", "", K_TANGENTIAL, "none", 0, 0, false, false, NULL,
+     "none, tangential_dashpot or sliding_friction (2D only)", OFF(tangential)},
+    {"model", "rolling", "", K_ROLLING, "none", 0, 0, false, false, NULL,
+     "none or rolling_friction: rolling resistance, a torque pair against w_i - w_j (needs "
+     "rotation = true; docs/models.md)",
+     OFF(rolling)},
+    {"driving", "kind", "", K_DRIVING, "rfm", 0, 0, false, false, NULL,
+     NULL /* the registry's summaries */, OFF(driving)},
+    {"noise", "D", "N^2 s", K_DOUBLE, "1e-8", 0, INFINITY, false, true, NULL,
+     "noise strength (2.15, 2.22); 0 switches the random force off (Table 2.2: 1e-8)", OFF(D)},
+    {"noise", "mode", "", K_ENUM, "symmetrised", 0, 0, false, false, "none|symmetrised|com",
+     "symmetrised: forces shifted to sum to zero every step (2.18); com: centre-of-mass velocity "
+     "removed every com_interval (sec. 2.3.1); none: no random force",
+     OFF(noise_mode)},
+    {"noise", "com_interval", "s", K_DOUBLE, "1e-3", 0, INFINITY, true, true, NULL,
+     "com mode: time between centre-of-mass velocity removals", OFF(com_interval)},
+    {"integrator", "kind", "", K_INTEGRATOR, "verlet", 0, 0, false, false, NULL,
+     NULL /* the registry's summaries */, OFF(integrator)},
+    {"integrator", "dt", "s", K_DOUBLE, NULL, 0, INFINITY, true, true, NULL,
+     "time step; give dt or steps_per_contact, not both", OFF(dt)},
+    {"integrator", "steps_per_contact", "", K_DOUBLE, "50", 10, 1e9, false, false, NULL,
+     "dt = t_c / steps_per_contact, t_c = duration of a binary contact; fewer than 10 is refused "
+     "(sec. 2.1.2)",
+     OFF(steps_per_contact)},
+    {"integrator", "force_dt", "", K_BOOL, "false", 0, 1, false, false, NULL,
+     "accept a dt larger than t_c / 10 (results will be wrong; for stability studies)",
+     OFF(force_dt)},
+    {"integrator", "skin", "d", K_DOUBLE, "0.3", 0, 10, false, false, NULL,
+     "Verlet-list skin in diameters; the list is rebuilt when a particle has moved skin/2; 0 "
+     "rebuilds the cell list every step",
+     OFF(skin)},
+    {"integrator", "free_flight", "", K_ENUM, "exact", 0, 0, false, false, "exact|kicks",
+     "event/hybrid: how the random force drives free flight: exact = jointly Gaussian velocity and "
+     "position increments of the random-acceleration process over each interval (exact for free "
+     "flight between interval ends; with kind = event it under-injects energy when collisions fall "
+     "inside intervals), kicks = a Gaussian velocity kick of variance 2 D tau / M^2 per component "
+     "every kick_interval (the random force's work exact in expectation across collisions). "
+     "Default exact for hybrid, kicks for event (docs/event-driven.md)",
+     OFF(free_flight)},
+    {"integrator", "kick_interval", "s", K_DOUBLE, "1e-4", 0, INFINITY, true, true, NULL,
+     "event/hybrid: interval tau between noise updates of free particles (event) or length of a "
+     "free-flight window (hybrid); the accuracy knob of docs/event-driven.md",
+     OFF(kick_interval)},
+    {"run", "warmup", "s", K_DOUBLE, "1.0", 0, INFINITY, false, true, NULL,
+     "simulated time before sampling starts", OFF(warmup)},
+    {"run", "duration", "s", K_DOUBLE, "10.0", 0, INFINITY, false, true, NULL,
+     "simulated time of sampling", OFF(duration)},
+    {"run", "sample_every", "s", K_DOUBLE, "1e-3", 0, INFINITY, true, true, NULL,
+     "interval between samples (uniform in time)", OFF(sample_every)},
+    {"run", "seed", "", K_UINT64, "1", 0, 1.8446744073709552e19, false, false, NULL,
+     "random seed: placement, initial velocities and noise are pure functions of it", OFF(seed)},
+    {"run", "ledger_tolerance", "", K_DOUBLE, "0.05", 0, 1, false, false, NULL,
+     "stop the run as unstable when the energy ledger's residual exceeds this fraction of the "
+     "energy injected + dissipated (it is ~2e-3 at the thesis dt; 0 = no check)",
+     OFF(ledger_tolerance)},
+    {"run", "checkpoint_every", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL,
+     "simulated time between checkpoints (taken at the next sample; docs/checkpoints.md); 0 = none",
+     OFF(checkpoint_every)},
+    {"run", "checkpoint_wall", "s", K_DOUBLE, "1800", 0, INFINITY, false, true, NULL,
+     "wall-clock time between checkpoints (taken at the next sample); 0 = none. Checkpoints never "
+     "change results",
+     OFF(checkpoint_wall)},
+    {"run", "wall_limit", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL,
+     "wall-clock budget: write a checkpoint and stop (exit status 4) before it runs out; resume "
+     "with granule run --resume DIR; 0 = none",
+     OFF(wall_limit)},
+    {"run", "progress", "", K_BOOL, "true", 0, 1, false, false, NULL,
+     "progress line with ETA on a terminal (never in CI logs or when stderr is not a terminal)",
+     OFF(progress)},
+    {"analysis", "observables", "", K_LIST, "", 0, 0, false, false, NULL,
+     "statistics to accumulate while sampling, comma-separated (granule observables lists them); "
+     "empty = temperature only",
+     OFF(observables)},
+    {"output", "dir", "", K_STRING, "out", 0, 0, false, false, NULL,
+     "output folder (granule run --out overrides it)", OFF(out_dir)},
+    {"output", "snapshot_every", "s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL,
+     "interval between frames of the trajectory (output.trajectory), a whole number of steps, "
+     "independent of sample_every; 0 = none",
+     OFF(snapshot_every)},
+    {"output", "trajectory", "", K_ENUM, "snapshots", 0, 0, false, false, "snapshots|xyz|h5md",
+     "format of the frames written every snapshot_every (docs/trajectories.md): snapshots = one "
+     "extended-XYZ file per frame (snapshots/snap_NNNNNN.xyz), xyz = one multi-frame extended-XYZ "
+     "file (snapshots/trajectory.xyz), h5md = one H5MD file (trajectory.h5: HDF5, chunked, "
+     "deflate-compressed; MDAnalysis and OVITO read it)",
+     OFF(trajectory)},
+    {"output", "plots", "", K_BOOL, "true", 0, 1, false, false, NULL,
+     "write PNG plots with gnuplot at the end of the run (skipped with a note if gnuplot is "
+     "missing)",
+     OFF(plots)},
 };
 #undef OFF
 static const int n_keys = sizeof keys / sizeof keys[0];
@@ -120,7 +217,8 @@ static int fail_at(gr_error *err, const where *w, const char *section, const cha
 
 static void range_text(char *buf, size_t n, double min, double max, bool min_open, bool max_open)
 {
-    snprintf(buf, n, "%c%g, %s%c", min_open ? '(' : '[', min, isinf(max) ? "inf" : "", max_open ? ')' : ']');
+    snprintf(buf, n, "%c%g, %s%c", min_open ? '(' : '[', min, isinf(max) ? "inf" : "",
+             max_open ? ')' : ']');
     if (!isinf(max)) {
         snprintf(buf, n, "%c%g, %g%c", min_open ? '(' : '[', min, max, max_open ? ')' : ']');
     }
@@ -202,7 +300,8 @@ static int set_number(void *slot, key_type type, double min, double max, bool mi
     }
     end += strspn(end, " \t");
     if ((type == K_INT || type == K_UINT64) && (n_digits == 0 || *end)) {
-        snprintf(detail, sizeof detail, "%s is not an integer written in decimal digits; allowed range %s", value,
+        snprintf(detail, sizeof detail,
+                 "%s is not an integer written in decimal digits; allowed range %s", value,
                  type == K_INT ? range : "[0, 18446744073709551615]");
         return fail_at(err, w, section, name, "%s", detail);
     }
@@ -212,7 +311,10 @@ static int set_number(void *slot, key_type type, double min, double max, bool mi
         errno = 0;
         unsigned long long u = strtoull(value, NULL, 10);
         if (errno == ERANGE) {
-            snprintf(detail, sizeof detail, "%s is not an integer written in decimal digits; allowed range [0, 18446744073709551615]", value);
+            snprintf(detail, sizeof detail,
+                     "%s is not an integer written in decimal digits; allowed range [0, "
+                     "18446744073709551615]",
+                     value);
             return fail_at(err, w, section, name, "%s", detail);
         }
         *(uint64_t *)slot = u;
@@ -257,8 +359,9 @@ static void model_param_ranges(const char *name, const gr_param *first, char *bu
     for (int m = 0; gr_models[m]; m++) {
         for (int i = 0; i < gr_models[m]->n_params; i++) {
             const gr_param *q = &gr_models[m]->params[i];
-            if (strcmp(q->name, name) != 0 || (q->min == first->min && q->max == first->max &&
-                                               q->min_open == first->min_open && q->max_open == first->max_open)) {
+            if (strcmp(q->name, name) != 0 ||
+                (q->min == first->min && q->max == first->max && q->min_open == first->min_open &&
+                 q->max_open == first->max_open)) {
                 continue;
             }
             char own[64];
@@ -289,27 +392,31 @@ static void append_known_keys(char *buf, size_t n, const char *section)
     size_t len = strlen(buf);
     for (int i = 0; i < n_keys; i++) {
         if (strcmp(keys[i].section, section) == 0) {
-            len += (size_t)snprintf(buf + len, len < n ? n - len : 0, "%s%s", len ? ", " : "", keys[i].name);
+            len += (size_t)snprintf(buf + len, len < n ? n - len : 0, "%s%s", len ? ", " : "",
+                                    keys[i].name);
         }
     }
     if (strcmp(section, "model") == 0) {
         for (int m = 0; gr_models[m]; m++) {
             for (int i = 0; i < gr_models[m]->n_params; i++) {
                 if (!model_param_listed_before(m, i)) {
-                    len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s", gr_models[m]->params[i].name);
+                    len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s",
+                                            gr_models[m]->params[i].name);
                 }
             }
         }
     }
     for (int m = 0; strcmp(section, "driving") == 0 && gr_drivings[m]; m++) {
         for (int i = 0; i < gr_drivings[m]->n_params; i++) {
-            len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s", gr_drivings[m]->params[i].name);
+            len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s",
+                                    gr_drivings[m]->params[i].name);
         }
     }
     if (strcmp(section, "analysis") == 0) {
         for (int o = 0; gr_observables[o]; o++) {
             for (int i = 0; i < gr_observables[o]->n_params; i++) {
-                len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s", gr_observables[o]->params[i].name);
+                len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s",
+                                        gr_observables[o]->params[i].name);
             }
         }
     }
@@ -332,10 +439,10 @@ typedef struct loader {
     int rc;
     const char *file;
     int line;
-    bool defaults; /* applying defaults: do not mark keys as given */
-    bool has_system; /* a [system] section was read */
+    bool defaults;          /* applying defaults: do not mark keys as given */
+    bool has_system;        /* a [system] section was read */
     const char *long_value; /* the value of a long line (scene_lines.h) */
-    char seen[128][136]; /* "section.key" seen in the file, to refuse duplicates */
+    char seen[128][136];    /* "section.key" seen in the file, to refuse duplicates */
     int n_seen;
 } loader;
 
@@ -365,16 +472,20 @@ static bool tc_value(loader *ld, const char *value, double *x)
     }
     if (parse_double(value, x) && *x == 0.0) {
         if (!ld->defaults) {
-            warn(ld->scene, "[model] tc = 0 is the contact time of the matching spring-dashpot (k_s, eps_n), the same as "
-                            "leaving tc out; it does not switch the TC rule off: write tc = off for that%s%s\n",
-                 "", "");
+            warn(
+                ld->scene,
+                "[model] tc = 0 is the contact time of the matching spring-dashpot (k_s, eps_n), "
+                "the same as "
+                "leaving tc out; it does not switch the TC rule off: write tc = off for that%s%s\n",
+                "", "");
         }
         return true;
     }
     return false;
 }
 
-static int apply(loader *ld, const char *section, const char *name, const char *value, const where *w)
+static int apply(loader *ld, const char *section, const char *name, const char *value,
+                 const where *w)
 {
     gr_scene *s = ld->scene;
     gr_error *err = ld->err;
@@ -390,14 +501,16 @@ static int apply(loader *ld, const char *section, const char *name, const char *
         case K_STRING: {
             size_t cap = sizeof s->out_dir;
             if (strlen(value) == 0 || strlen(value) >= cap) {
-                snprintf(detail, sizeof detail, "must be a non-empty path shorter than %zu characters", cap);
+                snprintf(detail, sizeof detail,
+                         "must be a non-empty path shorter than %zu characters", cap);
                 return fail_at(err, w, section, name, "%s", detail);
             }
             /* the saved scene.ini writes "key = value", and inih reads a ';' after whitespace as the
              * start of a comment: such a path would not survive a resume */
             if (value[0] == ';' || strstr(value, " ;") || strstr(value, "\t;")) {
                 return fail_at(err, w, section, name, "%s",
-                               "a path may not begin with ';' or have one after a space: the saved scene.ini would read "
+                               "a path may not begin with ';' or have one after a space: the saved "
+                               "scene.ini would read "
                                "the rest as a comment");
             }
             snprintf((char *)slot, cap, "%s", value);
@@ -410,14 +523,17 @@ static int apply(loader *ld, const char *section, const char *name, const char *
             }
             snprintf(buf, sizeof buf, "%s", value);
             char *save = NULL, clean[256] = "";
-            for (char *tok = strtok_r(buf, ", \t", &save); tok; tok = strtok_r(NULL, ", \t", &save)) {
+            for (char *tok = strtok_r(buf, ", \t", &save); tok;
+                 tok = strtok_r(NULL, ", \t", &save)) {
                 if (!gr_observable_find(tok)) {
                     char list[400] = "";
                     size_t len = 0;
                     for (int j = 0; gr_observables[j]; j++) {
-                        len += (size_t)snprintf(list + len, sizeof list - len, "%s%s", len ? ", " : "", gr_observables[j]->name);
+                        len += (size_t)snprintf(list + len, sizeof list - len, "%s%s",
+                                                len ? ", " : "", gr_observables[j]->name);
                     }
-                    snprintf(detail, sizeof detail, "unknown observable '%s'; choose from %s", tok, list);
+                    snprintf(detail, sizeof detail, "unknown observable '%s'; choose from %s", tok,
+                             list);
                     return fail_at(err, w, section, name, "%s", detail);
                 }
                 size_t cl = strlen(clean);
@@ -438,7 +554,8 @@ static int apply(loader *ld, const char *section, const char *name, const char *
                 idx++;
             }
             if (found < 0) {
-                snprintf(detail, sizeof detail, "'%s' is not allowed; choose one of %s", value, k->choices);
+                snprintf(detail, sizeof detail, "'%s' is not allowed; choose one of %s", value,
+                         k->choices);
                 return fail_at(err, w, section, name, "%s", detail);
             }
             *(int *)slot = found;
@@ -451,7 +568,8 @@ static int apply(loader *ld, const char *section, const char *name, const char *
             gr_model_kind want = k->type == K_NORMAL       ? GR_MODEL_NORMAL
                                  : k->type == K_TANGENTIAL ? GR_MODEL_TANGENTIAL
                                                            : GR_MODEL_ROLLING;
-            if ((!m && (k->type == K_NORMAL || strcmp(value, "none") != 0)) || (m && !(m->kind & want))) {
+            if ((!m && (k->type == K_NORMAL || strcmp(value, "none") != 0)) ||
+                (m && !(m->kind & want))) {
                 char list[256] = "";
                 size_t len = 0;
                 if (k->type != K_NORMAL) {
@@ -459,11 +577,15 @@ static int apply(loader *ld, const char *section, const char *name, const char *
                 }
                 for (int j = 0; gr_models[j]; j++) {
                     if (gr_models[j]->kind & want) {
-                        len += (size_t)snprintf(list + len, sizeof list - len, "%s%s", len ? " | " : "", gr_models[j]->name);
+                        len += (size_t)snprintf(list + len, sizeof list - len, "%s%s",
+                                                len ? " | " : "", gr_models[j]->name);
                     }
                 }
                 snprintf(detail, sizeof detail, "'%s' is not a %s model; choose one of %s", value,
-                         k->type == K_NORMAL ? "normal" : k->type == K_TANGENTIAL ? "tangential" : "rolling", list);
+                         k->type == K_NORMAL       ? "normal"
+                         : k->type == K_TANGENTIAL ? "tangential"
+                                                   : "rolling",
+                         list);
                 return fail_at(err, w, section, name, "%s", detail);
             }
             *(const gr_model **)slot = m;
@@ -477,7 +599,8 @@ static int apply(loader *ld, const char *section, const char *name, const char *
             if (!t) {
                 char names[200];
                 gr_integrator_names(names, sizeof names, "|");
-                snprintf(detail, sizeof detail, "'%s' is not allowed; choose one of %s", value, names);
+                snprintf(detail, sizeof detail, "'%s' is not allowed; choose one of %s", value,
+                         names);
                 return fail_at(err, w, section, name, "%s", detail);
             }
             *(const gr_integrator_type **)slot = t;
@@ -491,7 +614,8 @@ static int apply(loader *ld, const char *section, const char *name, const char *
             if (!t) {
                 char names[200];
                 gr_driving_names(names, sizeof names, "|");
-                snprintf(detail, sizeof detail, "'%s' is not allowed; choose one of %s", value, names);
+                snprintf(detail, sizeof detail, "'%s' is not allowed; choose one of %s", value,
+                         names);
                 return fail_at(err, w, section, name, "%s", detail);
             }
             *(const gr_driving_type **)slot = t;
@@ -509,21 +633,38 @@ static int apply(loader *ld, const char *section, const char *name, const char *
             g->at[i] = *w;
             /* an override replaces whichever member of its group the file gave; two overrides of
              * one group conflict as two lines of a file do (resolve refuses them) */
-            if (!w->file && (k->offset == offsetof(gr_scene, L) || k->offset == offsetof(gr_scene, packing_fraction) ||
+            if (!w->file && (k->offset == offsetof(gr_scene, L) ||
+                             k->offset == offsetof(gr_scene, packing_fraction) ||
                              k->offset == offsetof(gr_scene, reduced_length))) {
                 g->L &= !g->at_L.file;
                 g->packing_fraction &= !g->at_pf.file;
                 g->reduced_length &= !g->at_rl.file;
             }
-            if (!w->file && (k->offset == offsetof(gr_scene, dt) || k->offset == offsetof(gr_scene, steps_per_contact))) {
+            if (!w->file && (k->offset == offsetof(gr_scene, dt) ||
+                             k->offset == offsetof(gr_scene, steps_per_contact))) {
                 g->dt &= !g->at_dt.file;
                 g->steps_per_contact &= !g->at_spc.file;
             }
-            if (k->offset == offsetof(gr_scene, L)) { g->L = true; g->at_L = *w; }
-            if (k->offset == offsetof(gr_scene, packing_fraction)) { g->packing_fraction = true; g->at_pf = *w; }
-            if (k->offset == offsetof(gr_scene, reduced_length)) { g->reduced_length = true; g->at_rl = *w; }
-            if (k->offset == offsetof(gr_scene, dt)) { g->dt = true; g->at_dt = *w; }
-            if (k->offset == offsetof(gr_scene, steps_per_contact)) { g->steps_per_contact = true; g->at_spc = *w; }
+            if (k->offset == offsetof(gr_scene, L)) {
+                g->L = true;
+                g->at_L = *w;
+            }
+            if (k->offset == offsetof(gr_scene, packing_fraction)) {
+                g->packing_fraction = true;
+                g->at_pf = *w;
+            }
+            if (k->offset == offsetof(gr_scene, reduced_length)) {
+                g->reduced_length = true;
+                g->at_rl = *w;
+            }
+            if (k->offset == offsetof(gr_scene, dt)) {
+                g->dt = true;
+                g->at_dt = *w;
+            }
+            if (k->offset == offsetof(gr_scene, steps_per_contact)) {
+                g->steps_per_contact = true;
+                g->at_spc = *w;
+            }
         }
         return GR_OK;
     }
@@ -532,10 +673,12 @@ static int apply(loader *ld, const char *section, const char *name, const char *
             for (int q = 0; q < gr_observables[o]->n_params; q++) {
                 const gr_param *p = &gr_observables[o]->params[q];
                 if (strcmp(p->name, name) == 0) {
-                    key_type t = p->type == GR_PARAM_BOOL ? K_BOOL : p->type == GR_PARAM_INT ? K_INT : K_DOUBLE;
+                    key_type t = p->type == GR_PARAM_BOOL  ? K_BOOL
+                                 : p->type == GR_PARAM_INT ? K_INT
+                                                           : K_DOUBLE;
                     char *block = gr_analysis_block(&s->analysis, gr_observables[o]);
-                    return set_number(block + p->offset, t, p->min, p->max, p->min_open, p->max_open, value, w,
-                                      section, name, err);
+                    return set_number(block + p->offset, t, p->min, p->max, p->min_open,
+                                      p->max_open, value, w, section, name, err);
                 }
             }
         }
@@ -544,8 +687,8 @@ static int apply(loader *ld, const char *section, const char *name, const char *
         const gr_driving_type *owner = NULL;
         const gr_param *p = find_driving_param(name, &owner);
         if (p) {
-            return set_number((char *)&s->driving_params + p->offset, K_DOUBLE, p->min, p->max, p->min_open,
-                              p->max_open, value, w, section, name, err);
+            return set_number((char *)&s->driving_params + p->offset, K_DOUBLE, p->min, p->max,
+                              p->min_open, p->max_open, value, w, section, name, err);
         }
     }
     if (strcmp(section, "model") == 0) {
@@ -558,10 +701,12 @@ static int apply(loader *ld, const char *section, const char *name, const char *
                 *(double *)((char *)&s->contact + p->offset) = x; /* hard_sphere's own block */
                 return GR_OK;
             }
-            if (t == K_DOUBLE && parse_double(value, &x) && !check_range(x, p->min, p->max, p->min_open, p->max_open)) {
+            if (t == K_DOUBLE && parse_double(value, &x) &&
+                !check_range(x, p->min, p->max, p->min_open, p->max_open)) {
                 char ranges[300];
                 model_param_ranges(name, p, ranges, sizeof ranges);
-                snprintf(detail, sizeof detail, "%s is out of range; allowed range %s", value, ranges);
+                snprintf(detail, sizeof detail, "%s is out of range; allowed range %s", value,
+                         ranges);
                 return fail_at(err, w, section, name, "%s", detail);
             }
             return set_number((char *)&s->contact + p->offset, t, p->min, p->max, p->min_open,
@@ -615,7 +760,8 @@ static char *read_line(char *str, int num, void *stream)
     char *s = r->ld->rc == GR_OK ? gr_line_read(str, num, &r->lines) : NULL;
     r->ld->line = r->lines.line;
     if (r->lines.problem[0] && r->ld->rc == GR_OK) {
-        r->ld->rc = GR_FAIL(r->ld->err, GR_EINVAL, "%s:%d: %s", r->ld->file, r->ld->line, r->lines.problem);
+        r->ld->rc =
+            GR_FAIL(r->ld->err, GR_EINVAL, "%s:%d: %s", r->ld->file, r->ld->line, r->lines.problem);
     }
     r->ld->long_value = r->lines.long_value;
     if (s) {
@@ -628,8 +774,8 @@ static char *read_line(char *str, int num, void *stream)
             r->ld->has_system |= p[1 + len] == ']' && strcmp(name, "system") == 0;
             if (!section_known(name)) { /* gr_line_read refused a header that is not [name] alone */
                 where w = {r->ld->file, r->ld->line, NULL};
-                r->ld->rc = fail_at(r->ld->err, &w, name, "", "%s",
-                                    "unknown section; sections: " SECTIONS);
+                r->ld->rc =
+                    fail_at(r->ld->err, &w, name, "", "%s", "unknown section; sections: " SECTIONS);
             }
         }
     }
@@ -646,7 +792,9 @@ static int open_scene_file(const char *path, FILE **f, gr_error *err)
         return GR_OK;
     }
     if (why < 0) {
-        return GR_FAIL(err, GR_EINVAL, "%s: not a regular file (a scene is an INI file, see docs/scene-keys.md)", path);
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: not a regular file (a scene is an INI file, see docs/scene-keys.md)",
+                       path);
     }
     return GR_FAIL(err, GR_EIO, "%s: cannot open scene file: %s", path, strerror(why));
 }
@@ -717,28 +865,35 @@ static where where_of(const given *g, const gr_scene *s, const char *section, co
 /* Cross-key checks and derived quantities. */
 /* [driving] (granule/driving.h): a drag needs an integrator that models it; the [noise] keys are
  * the rfm's and the langevin keys the bath's, ignored (with a warning) under another driving. */
-static int resolve_driving(gr_scene *s, const given *g, const char *const *driving_keys, int n_driving_keys,
-                           gr_error *err)
+static int resolve_driving(gr_scene *s, const given *g, const char *const *driving_keys,
+                           int n_driving_keys, gr_error *err)
 {
     const gr_driving_type *dr = s->driving ? s->driving : (s->driving = gr_driving_default());
     if (dr->drag && !s->integrator->drag) {
         char names[160] = "", detail[500];
         for (int j = 0, len = 0; gr_integrators[j]; j++) {
             if (gr_integrators[j]->drag) {
-                len += snprintf(names + len, sizeof names - (size_t)len, "%s%s", len ? " | " : "", gr_integrators[j]->name);
+                len += snprintf(names + len, sizeof names - (size_t)len, "%s%s", len ? " | " : "",
+                                gr_integrators[j]->name);
             }
         }
-        where w = key_given(g, "driving", "kind") ? where_of(g, s, "driving", "kind") : where_of(g, s, "integrator", "kind");
-        snprintf(detail, sizeof detail, "kind = %s has a viscous drag, which [integrator] kind = %s does not model (its free "
-                 "flight is exact under the random force only); allowed with %s: rfm | none; allowed with %s: %s",
-                 dr->name, s->integrator->name, s->integrator->name, dr->name, names);
+        where w = key_given(g, "driving", "kind") ? where_of(g, s, "driving", "kind")
+                                                  : where_of(g, s, "integrator", "kind");
+        snprintf(
+            detail, sizeof detail,
+            "kind = %s has a viscous drag, which [integrator] kind = %s does not model (its free "
+            "flight is exact under the random force only); allowed with %s: rfm | none; allowed "
+            "with %s: %s",
+            dr->name, s->integrator->name, s->integrator->name, dr->name, names);
         return fail_at(err, &w, "driving", "kind", "%s", detail);
     }
     if (dr->update != GR_DRIVE_FORCE) {
         static const char *const noise_keys[] = {"D", "mode", "com_interval"};
         for (int i = 0; i < 3; i++) {
             if (key_given(g, "noise", noise_keys[i])) {
-                warn(s, "[noise] %s is ignored: it belongs to the random force (rfm), and this scene's [driving] kind = %s\n",
+                warn(s,
+                     "[noise] %s is ignored: it belongs to the random force (rfm), and this "
+                     "scene's [driving] kind = %s\n",
                      noise_keys[i], dr->name);
             }
         }
@@ -750,7 +905,8 @@ static int resolve_driving(gr_scene *s, const given *g, const char *const *drivi
         find_driving_param(driving_keys[i], &owner);
         if (owner != dr) {
             char why[160];
-            snprintf(why, sizeof why, "%s, which this scene does not use ([driving] kind = %s)", owner ? owner->name : "?", dr->name);
+            snprintf(why, sizeof why, "%s, which this scene does not use ([driving] kind = %s)",
+                     owner ? owner->name : "?", dr->name);
             warn(s, "[driving] %s is ignored: it belongs to %s\n", driving_keys[i], why);
         }
     }
@@ -764,12 +920,14 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     int n_len = g->L + g->packing_fraction + g->reduced_length;
     if (n_len > 1) {
         where w = g->packing_fraction ? g->at_pf : g->at_rl;
-        return fail_at(err, &w, "system", g->packing_fraction ? "packing_fraction" : "reduced_length", "%s",
+        return fail_at(err, &w, "system",
+                       g->packing_fraction ? "packing_fraction" : "reduced_length", "%s",
                        "give only one of L, packing_fraction, reduced_length");
     }
     if (g->packing_fraction) {
         if (s->dim != 2) {
-            return fail_at(err, &g->at_pf, "system", "packing_fraction", "%s", "only for dim = 2; use reduced_length or L in 1D");
+            return fail_at(err, &g->at_pf, "system", "packing_fraction", "%s",
+                           "only for dim = 2; use reduced_length or L in 1D");
         }
         s->L = sqrt(s->N * M_PI * s->radius * s->radius / s->packing_fraction);
     }
@@ -782,7 +940,8 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     }
     if (g->reduced_length || default_length) {
         if (s->dim != 1) {
-            return fail_at(err, &g->at_rl, "system", "reduced_length", "%s", "only for dim = 1; use packing_fraction or L in 2D");
+            return fail_at(err, &g->at_rl, "system", "reduced_length", "%s",
+                           "only for dim = 1; use packing_fraction or L in 2D");
         }
         s->L = s->reduced_length + s->N * d;
     }
@@ -794,25 +953,35 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
         s->packing_fraction = 0.0;
     }
     char detail[400];
-    const char *len_key = g->reduced_length ? "reduced_length" : g->packing_fraction ? "packing_fraction" : g->L ? "L" : "N";
+    const char *len_key = g->reduced_length     ? "reduced_length"
+                          : g->packing_fraction ? "packing_fraction"
+                          : g->L                ? "L"
+                                                : "N";
     where len_at = where_of(g, s, "system", len_key);
     if (s->dim == 1 && s->reduced_length < 0.0) {
-        snprintf(detail, sizeof detail, "L = %g m is shorter than N d = %g m: the particles cannot fit on the ring (reduced_length L' = L - N d must be >= 0)",
+        snprintf(detail, sizeof detail,
+                 "L = %g m is shorter than N d = %g m: the particles cannot fit on the ring "
+                 "(reduced_length L' = L - N d must be >= 0)",
                  s->L, s->N * d);
         return fail_at(err, &len_at, "system", len_key, "%s", detail);
     }
     if (s->dim == 2 && s->packing_fraction > M_PI / (2.0 * sqrt(3.0))) {
-        snprintf(detail, sizeof detail, "packing fraction N pi r^2 / L^2 = %.4f exceeds hexagonal close packing 0.9069 (allowed range (0, 0.9069])",
+        snprintf(detail, sizeof detail,
+                 "packing fraction N pi r^2 / L^2 = %.4f exceeds hexagonal close packing 0.9069 "
+                 "(allowed range (0, 0.9069])",
                  s->packing_fraction);
         return fail_at(err, &len_at, "system", len_key, "%s", detail);
     }
     if (!(s->L / d <= 1e9)) { /* cell and lattice indices are ints (found by tests/fuzz) */
-        snprintf(detail, sizeof detail, "L = %g m is %g particle diameters across; at most 1e9 are supported (allowed L/d range (0, 1e9])",
+        snprintf(detail, sizeof detail,
+                 "L = %g m is %g particle diameters across; at most 1e9 are supported (allowed L/d "
+                 "range (0, 1e9])",
                  s->L, s->L / d);
         return fail_at(err, &len_at, "system", len_key, "%s", detail);
     }
     if (g->dt && g->steps_per_contact) {
-        return fail_at(err, &g->at_dt, "integrator", "dt", "%s", "give dt or steps_per_contact, not both");
+        return fail_at(err, &g->at_dt, "integrator", "dt", "%s",
+                       "give dt or steps_per_contact, not both");
     }
     if (!g->dt) {
         s->dt = 0.0;
@@ -820,15 +989,20 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     if (s->dim == 1) {
         if (s->tangential) {
             where w = where_of(g, s, "model", "tangential");
-            snprintf(detail, sizeof detail, "%s needs dim = 2 (a 1D collision is head-on); allowed in 1D: none", s->tangential->name);
+            snprintf(detail, sizeof detail,
+                     "%s needs dim = 2 (a 1D collision is head-on); allowed in 1D: none",
+                     s->tangential->name);
             return fail_at(err, &w, "model", "tangential", "%s", detail);
         }
         if (!key_given(g, "placement", "kind")) {
-            s->placement = GR_PLACE_UNIFORM; /* the default follows dim: hexagonal is a 2D packing */
+            s->placement =
+                GR_PLACE_UNIFORM; /* the default follows dim: hexagonal is a 2D packing */
         }
         if (s->placement == GR_PLACE_HEXAGONAL || s->placement == GR_PLACE_SQUARE) {
             where w = where_of(g, s, "placement", "kind");
-            snprintf(detail, sizeof detail, "%s is a 2D packing; allowed in 1D: uniform | cluster | random", gr_placement_name(s->placement));
+            snprintf(detail, sizeof detail,
+                     "%s is a 2D packing; allowed in 1D: uniform | cluster | random",
+                     gr_placement_name(s->placement));
             return fail_at(err, &w, "placement", "kind", "%s", detail);
         }
     }
@@ -839,27 +1013,37 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     integrator_names_where(false, " | ", soft, sizeof soft);
     if (s->integrator->instantaneous && !event_rule) {
         where w = where_of(g, s, "integrator", "kind");
-        snprintf(detail, sizeof detail, "kind = %s needs [model] normal = hard_sphere (normal = %s is a force law); allowed with %s: %s",
-                 s->integrator->name, s->normal ? s->normal->name : "?", s->normal ? s->normal->name : "it", soft);
+        snprintf(detail, sizeof detail,
+                 "kind = %s needs [model] normal = hard_sphere (normal = %s is a force law); "
+                 "allowed with %s: %s",
+                 s->integrator->name, s->normal ? s->normal->name : "?",
+                 s->normal ? s->normal->name : "it", soft);
         return fail_at(err, &w, "integrator", "kind", "%s", detail);
     }
     if (event_rule && !s->integrator->instantaneous) {
         where w = where_of(g, s, "model", "normal");
         integrator_names_where(true, " | ", hard, sizeof hard);
         integrator_names_where(false, " or ", soft, sizeof soft);
-        snprintf(detail, sizeof detail, "%s is an instantaneous collision rule and needs [integrator] kind = %s; allowed with kind = %s: spring_dashpot",
+        snprintf(detail, sizeof detail,
+                 "%s is an instantaneous collision rule and needs [integrator] kind = %s; allowed "
+                 "with kind = %s: spring_dashpot",
                  s->normal->name, hard, soft);
         return fail_at(err, &w, "model", "normal", "%s", detail);
     }
     if (event_rule && !(s->contact.eps_n > 0.0)) {
         where w = where_of(g, s, "model", "normal");
         return fail_at(err, &w, "model", "eps_n", "%s",
-                       "hard_sphere needs eps_n in (0, 1]: at eps_n = 0 a touching pair keeps zero normal speed and time stops; use e.g. 0.001");
+                       "hard_sphere needs eps_n in (0, 1]: at eps_n = 0 a touching pair keeps zero "
+                       "normal speed and time stops; use e.g. 0.001");
     }
     if (s->rolling && (s->dim != 2 || !s->contact.rotation || s->integrator->instantaneous)) {
         where w = where_of(g, s, "model", "rolling");
-        snprintf(detail, sizeof detail, "%s is a torque on the spins: it needs dim = 2, [model] rotation = true and a force-law integrator (verlet); given dim = %d, rotation = %s, kind = %s; allowed otherwise: none",
-                 s->rolling->name, s->dim, s->contact.rotation ? "true" : "false", s->integrator->name);
+        snprintf(detail, sizeof detail,
+                 "%s is a torque on the spins: it needs dim = 2, [model] rotation = true and a "
+                 "force-law integrator (verlet); given dim = %d, rotation = %s, kind = %s; allowed "
+                 "otherwise: none",
+                 s->rolling->name, s->dim, s->contact.rotation ? "true" : "false",
+                 s->integrator->name);
         return fail_at(err, &w, "model", "rolling", "%s", detail);
     }
     if (s->integrator->instantaneous && !key_given(g, "integrator", "free_flight")) {
@@ -869,7 +1053,9 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     }
     if (s->integrator->instantaneous && s->tangential) {
         where w = where_of(g, s, "model", "tangential");
-        snprintf(detail, sizeof detail, "%s is a force law; with kind = %s the tangential restitution is hard_sphere's eps_t; allowed: none",
+        snprintf(detail, sizeof detail,
+                 "%s is a force law; with kind = %s the tangential restitution is hard_sphere's "
+                 "eps_t; allowed: none",
                  s->tangential->name, s->integrator->name);
         return fail_at(err, &w, "model", "tangential", "%s", detail);
     }
@@ -884,7 +1070,8 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
         return rc_driving;
     }
     for (int i = 0; i < n_model_keys; i++) {
-        if (!model_has_param(s->normal, model_keys[i]) && !model_has_param(s->tangential, model_keys[i]) &&
+        if (!model_has_param(s->normal, model_keys[i]) &&
+            !model_has_param(s->tangential, model_keys[i]) &&
             !model_has_param(s->rolling, model_keys[i])) {
             const gr_model *owner = NULL;
             find_model_param(model_keys[i], &owner);
@@ -896,8 +1083,8 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
 }
 
 /* Read the scene from `in` (named `path` in messages), or open `path` when `in` is NULL. */
-static int load(gr_scene *s, const char *path, FILE *in, const char *const *overrides, int n_overrides,
-                bool whole_scene, gr_error *err)
+static int load(gr_scene *s, const char *path, FILE *in, const char *const *overrides,
+                int n_overrides, bool whole_scene, gr_error *err)
 {
     gr_scene_default(s);
     loader ld = {.scene = s, .err = err, .rc = GR_OK, .file = path};
@@ -919,17 +1106,23 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
             return rc ? rc : ld.rc;
         }
         if (bad > 0) {
-            return GR_FAIL(err, GR_EINVAL, "%s:%d: not an INI line (expected [section] or key = value)", path, bad);
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s:%d: not an INI line (expected [section] or key = value)", path, bad);
         }
         if (bad < 0) {
             return GR_FAIL(err, GR_EIO, "%s: could not be read", path);
         }
         if (whole_scene && !content) {
-            return GR_FAIL(err, GR_EINVAL, "%s: the scene is empty (only blanks and comments); it needs at least a [system] "
-                           "section with dim and N (docs/scene-keys.md)", path);
+            return GR_FAIL(
+                err, GR_EINVAL,
+                "%s: the scene is empty (only blanks and comments); it needs at least a [system] "
+                "section with dim and N (docs/scene-keys.md)",
+                path);
         }
         if (whole_scene && !ld.has_system) {
-            return GR_FAIL(err, GR_EINVAL, "%s: no [system] section; a scene names at least its system (dim, N; docs/scene-keys.md)",
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: no [system] section; a scene names at least its system (dim, N; "
+                           "docs/scene-keys.md)",
                            path);
         }
     }
@@ -937,14 +1130,18 @@ static int load(gr_scene *s, const char *path, FILE *in, const char *const *over
         const char *a = overrides[i];
         const char *dot = strchr(a, '.'), *eq = strchr(a, '=');
         where w = {NULL, 0, a};
-        for (const char *c = a; *c; c++) { /* as in scene files (scene_lines.c): a line break would be another line */
+        for (const char *c = a; *c;
+             c++) { /* as in scene files (scene_lines.c): a line break would be another line */
             if (((unsigned char)*c < 0x20 && *c != '\t') || *c == 0x7f) {
-                return GR_FAIL(err, GR_EINVAL, "--set %.*s...: control byte 0x%02x at column %d (an assignment is text)",
-                               (int)(c - a < 200 ? c - a : 200), a, (unsigned char)*c, (int)(c - a) + 1);
+                return GR_FAIL(
+                    err, GR_EINVAL,
+                    "--set %.*s...: control byte 0x%02x at column %d (an assignment is text)",
+                    (int)(c - a < 200 ? c - a : 200), a, (unsigned char)*c, (int)(c - a) + 1);
             }
         }
         if (!dot || !eq || dot > eq || dot == a || eq == dot + 1) {
-            return GR_FAIL(err, GR_EINVAL, "--set %s: expected section.key=value, e.g. --set model.eps_n=0.5", a);
+            return GR_FAIL(err, GR_EINVAL,
+                           "--set %s: expected section.key=value, e.g. --set model.eps_n=0.5", a);
         }
         char section[64], name[64], value[1100];
         snprintf(section, sizeof section, "%.*s", (int)(dot - a), a);
@@ -997,7 +1194,8 @@ int gr_scene_load(gr_scene *s, const char *path, const char *const *overrides, i
     return load(s, path, NULL, overrides, n_overrides, false, err);
 }
 
-int gr_scene_load_whole(gr_scene *s, const char *path, const char *const *overrides, int n_overrides, gr_error *err)
+int gr_scene_load_whole(gr_scene *s, const char *path, const char *const *overrides,
+                        int n_overrides, gr_error *err)
 {
     return load(s, path, NULL, overrides, n_overrides, true, err);
 }
@@ -1038,38 +1236,43 @@ static const char *type_name(key_type t)
 
 void gr_scene_keys_markdown(FILE *out)
 {
-    fprintf(out, "# Scene keys\n\n"
-                 "Generated by `granule keys` from the parser's own tables (src/scene/scene.c and the\n"
-                 "models' parameter tables), so it always matches what the parser accepts. Ranges\n"
-                 "use [ ] for inclusive and ( ) for exclusive bounds. Any key can be overridden on\n"
-                 "the command line with `--set section.key=value`.\n\n"
-                 "A scene is a regular, non-empty text file with at least a `[system]` section; a\n"
-                 "folder, an empty or comments-only file, control bytes (NUL included) are refused\n"
-                 "with the file and line. Lines of any length are read whole (a long value is kept\n"
-                 "entire; a line that is neither a comment nor `key = value` is refused at its line).\n"
-                 "A section header stands alone on its line (`[system]x` and an unterminated `[run` are\n"
-                 "refused); a key given twice is refused; integer keys take decimal digits only (`N =\n"
-                 "0x1p5` or `2e3` is refused). `--set` overrides, sweep and campaign files and the\n"
-                 "Python module's `set=` and scene dicts go through the same checks: two overrides of\n"
-                 "one group (`integrator.dt` and `steps_per_contact`; `system.L`, `packing_fraction`\n"
-                 "and `reduced_length`) conflict as two lines of a file do; an override replaces the\n"
-                 "group member the file gave.\n\n"
-                 "**Schedule** (src/app/run_schedule.h): `run.sample_every` and `output.snapshot_every`\n"
-                 "are rounded to the nearest whole number of time steps dt (shorter than dt is refused;\n"
-                 "a rounding that moves an interval by more than 1 %% is stated on stderr and in\n"
-                 "summary.json's `warnings`); `run.warmup` and `run.duration` must be whole numbers\n"
-                 "of `run.sample_every` and the duration must hold at least one sample, so the run\n"
-                 "simulates exactly the time written; snapshots are taken every `snapshot_every`\n"
-                 "from t = 0, independently of the samples; `run.checkpoint_every` counts whole\n"
-                 "samples (rounded up), and one longer than the run means no periodic checkpoint;\n"
-                 "at most 2^52 steps. Whatever is refused names the key and the allowed range, and\n"
-                 "is refused before the output folder is touched.\n");
+    fprintf(
+        out,
+        "# Scene keys\n\n"
+        "Generated by `granule keys` from the parser's own tables (src/scene/scene.c and the\n"
+        "models' parameter tables), so it always matches what the parser accepts. Ranges\n"
+        "use [ ] for inclusive and ( ) for exclusive bounds. Any key can be overridden on\n"
+        "the command line with `--set section.key=value`.\n\n"
+        "A scene is a regular, non-empty text file with at least a `[system]` section; a\n"
+        "folder, an empty or comments-only file, control bytes (NUL included) are refused\n"
+        "with the file and line. Lines of any length are read whole (a long value is kept\n"
+        "entire; a line that is neither a comment nor `key = value` is refused at its line).\n"
+        "A section header stands alone on its line (`[system]x` and an unterminated `[run` are\n"
+        "refused); a key given twice is refused; integer keys take decimal digits only (`N =\n"
+        "0x1p5` or `2e3` is refused). `--set` overrides, sweep and campaign files and the\n"
+        "Python module's `set=` and scene dicts go through the same checks: two overrides of\n"
+        "one group (`integrator.dt` and `steps_per_contact`; `system.L`, `packing_fraction`\n"
+        "and `reduced_length`) conflict as two lines of a file do; an override replaces the\n"
+        "group member the file gave.\n\n"
+        "**Schedule** (src/app/run_schedule.h): `run.sample_every` and `output.snapshot_every`\n"
+        "are rounded to the nearest whole number of time steps dt (shorter than dt is refused;\n"
+        "a rounding that moves an interval by more than 1 %% is stated on stderr and in\n"
+        "summary.json's `warnings`); `run.warmup` and `run.duration` must be whole numbers\n"
+        "of `run.sample_every` and the duration must hold at least one sample, so the run\n"
+        "simulates exactly the time written; snapshots are taken every `snapshot_every`\n"
+        "from t = 0, independently of the samples; `run.checkpoint_every` counts whole\n"
+        "samples (rounded up), and one longer than the run means no periodic checkpoint;\n"
+        "at most 2^52 steps. Whatever is refused names the key and the allowed range, and\n"
+        "is refused before the output folder is touched.\n");
     const char *section = "";
     for (int i = 0; i < n_keys; i++) {
         const scene_key *k = &keys[i];
         if (strcmp(section, k->section) != 0) {
             section = k->section;
-            fprintf(out, "\n## [%s]\n\n| key | type | unit | default | allowed | meaning |\n|---|---|---|---|---|---|\n", section);
+            fprintf(out,
+                    "\n## [%s]\n\n| key | type | unit | default | allowed | meaning "
+                    "|\n|---|---|---|---|---|---|\n",
+                    section);
         }
         char range[96] = "";
         if (k->type == K_ENUM) {
@@ -1089,11 +1292,13 @@ void gr_scene_keys_markdown(FILE *out)
         char doc[1024] = "";
         for (int j = 0; k->type == K_INTEGRATOR && gr_integrators[j]; j++) {
             size_t len = strlen(doc);
-            snprintf(doc + len, sizeof doc - len, "%s%s: %s", j ? "; " : "", gr_integrators[j]->name, gr_integrators[j]->summary);
+            snprintf(doc + len, sizeof doc - len, "%s%s: %s", j ? "; " : "",
+                     gr_integrators[j]->name, gr_integrators[j]->summary);
         }
         for (int j = 0; k->type == K_DRIVING && gr_drivings[j]; j++) {
             size_t len = strlen(doc);
-            snprintf(doc + len, sizeof doc - len, "%s%s: %s", j ? "; " : "", gr_drivings[j]->name, gr_drivings[j]->summary);
+            snprintf(doc + len, sizeof doc - len, "%s%s: %s", j ? "; " : "", gr_drivings[j]->name,
+                     gr_drivings[j]->summary);
         }
         fprintf(out, "| `%s` | %s | %s | %s | %s | %s |\n", k->name, type_name(k->type), k->unit,
                 k->def ? k->def : "(unset)", range, k->doc ? k->doc : doc);
@@ -1102,7 +1307,8 @@ void gr_scene_keys_markdown(FILE *out)
                 const gr_param *p = &gr_drivings[m]->params[j];
                 char r[96] = "";
                 range_text(r, sizeof r, p->min, p->max, p->min_open, p->max_open);
-                fprintf(out, "| `%s` | number | %s | %g | %s | %s |\n", p->name, p->unit, p->def, r, p->doc);
+                fprintf(out, "| `%s` | number | %s | %g | %s | %s |\n", p->name, p->unit, p->def, r,
+                        p->doc);
             }
         }
         if (strcmp(k->name, "observables") == 0) {
@@ -1117,7 +1323,9 @@ void gr_scene_keys_markdown(FILE *out)
                         snprintf(def, sizeof def, "%s", p->def != 0.0 ? "true" : "false");
                     }
                     fprintf(out, "| `%s` | %s | %s | %s | %s | (%s) %s |\n", p->name,
-                            p->type == GR_PARAM_BOOL ? "true/false" : p->type == GR_PARAM_INT ? "integer" : "number",
+                            p->type == GR_PARAM_BOOL  ? "true/false"
+                            : p->type == GR_PARAM_INT ? "integer"
+                                                      : "number",
                             p->unit, def, r, gr_observables[o]->name, p->doc);
                 }
             }
@@ -1147,8 +1355,13 @@ void gr_scene_keys_markdown(FILE *out)
 /* The key table's units ("N/m", "m^2", "d") in the sidecars' notation */
 static const char *csv_unit(const char *unit, bool number)
 {
-    static const char *const map[][2] = {{"N/m", "N m-1"}, {"N/m^1.5", "N m-1.5"}, {"N^2 s", "N2 s"}, {"kg/s", "kg s-1"},
-                                         {"m/s", "m s-1"}, {"rad/s", "rad s-1"}, {"d", "d (particle diameter)"}};
+    static const char *const map[][2] = {{"N/m", "N m-1"},
+                                         {"N/m^1.5", "N m-1.5"},
+                                         {"N^2 s", "N2 s"},
+                                         {"kg/s", "kg s-1"},
+                                         {"m/s", "m s-1"},
+                                         {"rad/s", "rad s-1"},
+                                         {"d", "d (particle diameter)"}};
     for (size_t i = 0; i < sizeof map / sizeof map[0]; i++) {
         if (!strcmp(unit, map[i][0])) {
             return map[i][1];
@@ -1165,8 +1378,10 @@ const char *gr_scene_key_unit(const char *key)
     }
     const size_t sl = (size_t)(dot - key);
     for (int i = 0; i < n_keys; i++) {
-        if (strlen(keys[i].section) == sl && !strncmp(keys[i].section, key, sl) && !strcmp(keys[i].name, dot + 1)) {
-            return csv_unit(keys[i].unit, keys[i].type == K_DOUBLE || keys[i].type == K_INT || keys[i].type == K_UINT64);
+        if (strlen(keys[i].section) == sl && !strncmp(keys[i].section, key, sl) &&
+            !strcmp(keys[i].name, dot + 1)) {
+            return csv_unit(keys[i].unit, keys[i].type == K_DOUBLE || keys[i].type == K_INT ||
+                                              keys[i].type == K_UINT64);
         }
     }
     for (int m = 0; !strncmp(key, "model.", 6) && gr_models[m]; m++) {
@@ -1236,7 +1451,9 @@ static void save_params(FILE *f, const gr_param *ps, int n, const void *base)
         } else if (ps[i].type == GR_PARAM_INT) {
             fprintf(f, "%s = %d\n", ps[i].name, *(const int *)slot);
         } else if (strcmp(ps[i].name, "tc") == 0 && *(const double *)slot == GR_TC_OFF) {
-            fprintf(f, "tc = off\n"); /* the default stays "tc = 0", as checkpoints' scene texts have it */
+            fprintf(
+                f,
+                "tc = off\n"); /* the default stays "tc = 0", as checkpoints' scene texts have it */
         } else {
             fprintf(f, "%s = %.17g\n", ps[i].name, *(const double *)slot);
         }
@@ -1286,7 +1503,8 @@ void gr_scene_write(const gr_scene *s, FILE *f)
     const char *section = "";
     for (int i = 0; i < n_keys; i++) {
         const scene_key *k = &keys[i];
-        if (k->offset == offsetof(gr_scene, packing_fraction) || k->offset == offsetof(gr_scene, reduced_length)) {
+        if (k->offset == offsetof(gr_scene, packing_fraction) ||
+            k->offset == offsetof(gr_scene, reduced_length)) {
             continue; /* derived: L is written */
         }
         if (k->offset == offsetof(gr_scene, dt) && s->dt <= 0.0) {

@@ -23,13 +23,15 @@ cJSON *gr_scene_to_json(const gr_scene *s)
     cJSON_AddStringToObject(pl, "kind", gr_placement_name(s->placement));
     cJSON_AddNumberToObject(pl, "v0", s->v0);
     if (s->contact.rotation) {
-        cJSON_AddNumberToObject(pl, "omega0", s->omega0); /* only then (the hashes of other scenes stay) */
+        cJSON_AddNumberToObject(pl, "omega0",
+                                s->omega0); /* only then (the hashes of other scenes stay) */
     }
     cJSON *m = cJSON_AddObjectToObject(root, "model");
     cJSON_AddStringToObject(m, "normal", s->normal ? s->normal->name : "none");
     cJSON_AddStringToObject(m, "tangential", s->tangential ? s->tangential->name : "none");
     if (s->rolling) {
-        cJSON_AddStringToObject(m, "rolling", s->rolling->name); /* only then (the hashes of other scenes stay) */
+        cJSON_AddStringToObject(m, "rolling",
+                                s->rolling->name); /* only then (the hashes of other scenes stay) */
     }
     const gr_model *used[3] = {s->normal, s->tangential, s->rolling};
     for (int u = 0; u < 3; u++) {
@@ -45,15 +47,20 @@ cJSON *gr_scene_to_json(const gr_scene *s)
             }
         }
     }
-    if (s->driving && s->driving != gr_driving_default()) { /* only then: the hashes of rfm scenes stay */
+    if (s->driving &&
+        s->driving != gr_driving_default()) { /* only then: the hashes of rfm scenes stay */
         cJSON *dr = cJSON_AddObjectToObject(root, "driving");
         cJSON_AddStringToObject(dr, "kind", s->driving->name);
         for (int i = 0; i < s->driving->n_params; i++) {
             const gr_param *p = &s->driving->params[i];
-            cJSON_AddNumberToObject(dr, p->name, *(const double *)((const char *)&s->driving_params + p->offset));
+            cJSON_AddNumberToObject(
+                dr, p->name, *(const double *)((const char *)&s->driving_params + p->offset));
         }
-        if (s->driving->update == GR_DRIVE_BATH) { /* the bath's noise strength (fluctuation-dissipation) */
-            cJSON_AddNumberToObject(dr, "D_bath", s->mass * s->mass * s->driving_params.T_bath / (s->dim * s->driving_params.tau));
+        if (s->driving->update ==
+            GR_DRIVE_BATH) { /* the bath's noise strength (fluctuation-dissipation) */
+            cJSON_AddNumberToObject(dr, "D_bath",
+                                    s->mass * s->mass * s->driving_params.T_bath /
+                                        (s->dim * s->driving_params.tau));
         }
     }
     cJSON *nz = cJSON_AddObjectToObject(root, "noise");
@@ -65,7 +72,8 @@ cJSON *gr_scene_to_json(const gr_scene *s)
     cJSON *in = cJSON_AddObjectToObject(root, "integrator");
     cJSON_AddStringToObject(in, "kind", s->integrator->name);
     if (s->integrator->free_flight) {
-        cJSON_AddStringToObject(in, "free_flight", s->free_flight == GR_FREE_FLIGHT_EXACT ? "exact" : "kicks");
+        cJSON_AddStringToObject(in, "free_flight",
+                                s->free_flight == GR_FREE_FLIGHT_EXACT ? "exact" : "kicks");
         cJSON_AddNumberToObject(in, "kick_interval", s->kick_interval);
     }
     if (s->dt > 0.0) {
@@ -113,7 +121,8 @@ static cJSON *model_param_default(const char *name)
         for (int i = 0; i < gr_models[m]->n_params; i++) {
             const gr_param *p = &gr_models[m]->params[i];
             if (!strcmp(p->name, name)) {
-                return p->type == GR_PARAM_BOOL ? cJSON_CreateBool(p->def != 0.0) : cJSON_CreateNumber(p->def);
+                return p->type == GR_PARAM_BOOL ? cJSON_CreateBool(p->def != 0.0)
+                                                : cJSON_CreateNumber(p->def);
             }
         }
     }
@@ -152,7 +161,8 @@ bool gr_scene_json_compatible(const cJSON *recorded, const gr_scene *now, char *
         if (!strcmp(sec->string, "output")) {
             continue;
         }
-        const cJSON *rsec = cJSON_GetObjectItem(recorded, sec->string), *dsec = cJSON_GetObjectItem(def, sec->string);
+        const cJSON *rsec = cJSON_GetObjectItem(recorded, sec->string),
+                    *dsec = cJSON_GetObjectItem(def, sec->string);
         const cJSON *item;
         cJSON_ArrayForEach(item, sec)
         {
@@ -160,18 +170,20 @@ bool gr_scene_json_compatible(const cJSON *recorded, const gr_scene *now, char *
             if (r) {
                 if (!cJSON_Compare(r, item, true)) {
                     char *a = cJSON_PrintUnformatted(r), *b = cJSON_PrintUnformatted(item);
-                    snprintf(why, len, "[%s] %s was %s, now %s", sec->string, item->string, a ? a : "?", b ? b : "?");
+                    snprintf(why, len, "[%s] %s was %s, now %s", sec->string, item->string,
+                             a ? a : "?", b ? b : "?");
                     cJSON_free(a);
                     cJSON_free(b);
                     ok = false;
                 }
             } else {
-                cJSON *dm = !strcmp(sec->string, "model") ? model_param_default(item->string) : NULL;
+                cJSON *dm =
+                    !strcmp(sec->string, "model") ? model_param_default(item->string) : NULL;
                 const cJSON *dv = dm ? dm : cJSON_GetObjectItem(dsec, item->string);
                 if (!dv || !cJSON_Compare(dv, item, true)) {
                     char *b = cJSON_PrintUnformatted(item);
-                    snprintf(why, len, "[%s] %s = %s was not recorded and is not its default", sec->string, item->string,
-                             b ? b : "?");
+                    snprintf(why, len, "[%s] %s = %s was not recorded and is not its default",
+                             sec->string, item->string, b ? b : "?");
                     cJSON_free(b);
                     ok = false;
                 }
@@ -197,7 +209,8 @@ bool gr_scene_json_compatible(const cJSON *recorded, const gr_scene *now, char *
         cJSON_ArrayForEach(item, rsec)
         {
             if (ok && !cJSON_GetObjectItem(csec, item->string)) {
-                snprintf(why, len, "[%s] %s was recorded and is no longer a key of this scene", rsec->string, item->string);
+                snprintf(why, len, "[%s] %s was recorded and is no longer a key of this scene",
+                         rsec->string, item->string);
                 ok = false;
             }
         }

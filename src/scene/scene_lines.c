@@ -22,8 +22,10 @@ static char *long_line(char *str, int num, gr_line_reader *r, char *line)
 {
     char *sep = line + strcspn(line, "=:");
     if (*line == ' ' || *line == '\t' || *line == '[' || !*sep) {
-        snprintf(r->problem, sizeof r->problem, "line of %zu characters is not a key = value line (at most %d are read "
-                 "otherwise)", strlen(line), num - 3);
+        snprintf(r->problem, sizeof r->problem,
+                 "line of %zu characters is not a key = value line (at most %d are read "
+                 "otherwise)",
+                 strlen(line), num - 3);
         return NULL;
     }
     *sep = '\0';
@@ -36,7 +38,8 @@ static char *long_line(char *str, int num, gr_line_reader *r, char *line)
     }
     const char *name = trim(line);
     if (strlen(name) + sizeof " = " GR_LONG_VALUE "\n" > (size_t)num) {
-        snprintf(r->problem, sizeof r->problem, "key name of %zu characters is too long", strlen(name));
+        snprintf(r->problem, sizeof r->problem, "key name of %zu characters is too long",
+                 strlen(name));
         return NULL;
     }
     free(r->long_value);
@@ -59,13 +62,17 @@ static bool section_header(gr_line_reader *r, const char *p)
         snprintf(hint, sizeof hint, " (sections: %.180s)", r->sections);
     }
     if (p[1 + len] != ']') {
-        snprintf(r->problem, sizeof r->problem, "unterminated section header '%.*s': expected [section] on one line%s", shown, p, hint);
+        snprintf(r->problem, sizeof r->problem,
+                 "unterminated section header '%.*s': expected [section] on one line%s", shown, p,
+                 hint);
         return false;
     }
     const char *after = p + 2 + len;
     after += strspn(after, " \t\r\n");
     if (*after && *after != ';' && *after != '#') {
-        snprintf(r->problem, sizeof r->problem, "'%.*s': characters after the section header [%.*s]; a header is [section] alone on its line%s",
+        snprintf(r->problem, sizeof r->problem,
+                 "'%.*s': characters after the section header [%.*s]; a header is [section] alone "
+                 "on its line%s",
                  shown, p, (int)(len < 60 ? len : 60), p + 1, hint);
         return false;
     }
@@ -84,7 +91,8 @@ char *gr_line_read(char *str, int num, gr_line_reader *r)
     for (ssize_t i = 0; i < n; i++) {
         const unsigned char c = (unsigned char)line[i];
         if ((c < 0x20 && c != '\t' && c != '\r' && c != '\n') || c == 0x7f) {
-            snprintf(r->problem, sizeof r->problem, "control byte 0x%02x at column %zd (a %s is text)", c, i + 1,
+            snprintf(r->problem, sizeof r->problem,
+                     "control byte 0x%02x at column %zd (a %s is text)", c, i + 1,
                      r->what ? r->what : "file");
             return NULL;
         }
@@ -139,7 +147,9 @@ static int parse_line(void *user, const char *section, const char *name, const c
     return p->handler(p->user, section, name, value);
 }
 
-int gr_line_parse(gr_line_reader *r, int (*handler)(void *user, const char *section, const char *name, const char *value),
+int gr_line_parse(gr_line_reader *r,
+                  int (*handler)(void *user, const char *section, const char *name,
+                                 const char *value),
                   void *user)
 {
     parse_ctx p = {r, handler, user};

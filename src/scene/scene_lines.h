@@ -20,15 +20,15 @@
 
 typedef struct gr_line_reader {
     FILE *f;
-    char *buf;          /* the current physical line */
+    char *buf; /* the current physical line */
     size_t cap;
-    int line;           /* its number, from 1 */
-    size_t length;      /* its length, line end excluded */
-    bool content;       /* a line other than blanks and comments was read */
-    char *long_value;   /* the value of the current long line, or NULL */
-    const char *what;   /* the kind of file, for messages ("scene", "sweep file"; NULL: "file") */
+    int line;             /* its number, from 1 */
+    size_t length;        /* its length, line end excluded */
+    bool content;         /* a line other than blanks and comments was read */
+    char *long_value;     /* the value of the current long line, or NULL */
+    const char *what;     /* the kind of file, for messages ("scene", "sweep file"; NULL: "file") */
     const char *sections; /* the sections allowed, for messages ("system, run, ..."), or NULL */
-    char problem[300];  /* why reading stopped early ("" when it did not) */
+    char problem[300];    /* why reading stopped early ("" when it did not) */
 } gr_line_reader;
 
 /* fgets-shaped reader for ini_parse_stream; NULL at the end or on a problem. */
@@ -41,7 +41,9 @@ bool gr_linked_key_names(const char *linked, const char *key);
 /* ini_parse_stream through whole lines: `handler` sees each long value itself (not
  * GR_LONG_VALUE). Returns 0, the number of the first line refused (by the reader: r->problem says
  * why; by the handler; or not an INI line), or -1 when the file could not be read. */
-int gr_line_parse(gr_line_reader *r, int (*handler)(void *user, const char *section, const char *name, const char *value),
+int gr_line_parse(gr_line_reader *r,
+                  int (*handler)(void *user, const char *section, const char *name,
+                                 const char *value),
                   void *user);
 
 #endif

@@ -7,24 +7,53 @@
 
 void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p)
 {
-    *p = (gr_sim_params){.dim = s->dim, .N = s->N, .L = s->L, .radius = s->radius, .mass = s->mass,
-                         .placement = s->placement, .v0 = s->v0, .omega0 = s->omega0, .normal = s->normal, .tangential = s->tangential, .rolling = s->rolling,
-                         .contact = s->contact, .D = s->D, .noise_mode = s->noise_mode, .com_interval = s->com_interval,
-                         .driving = s->driving, .driving_params = s->driving_params,
-                         .integrator = s->integrator, .dt = s->dt, .steps_per_contact = s->steps_per_contact,
-                         .force_dt = s->force_dt, .skin = s->skin, .free_flight = s->free_flight,
-                         .kick_interval = s->kick_interval, .seed = s->seed};
+    *p = (gr_sim_params){.dim = s->dim,
+                         .N = s->N,
+                         .L = s->L,
+                         .radius = s->radius,
+                         .mass = s->mass,
+                         .placement = s->placement,
+                         .v0 = s->v0,
+                         .omega0 = s->omega0,
+                         .normal = s->normal,
+                         .tangential = s->tangential,
+                         .rolling = s->rolling,
+                         .contact = s->contact,
+                         .D = s->D,
+                         .noise_mode = s->noise_mode,
+                         .com_interval = s->com_interval,
+                         .driving = s->driving,
+                         .driving_params = s->driving_params,
+                         .integrator = s->integrator,
+                         .dt = s->dt,
+                         .steps_per_contact = s->steps_per_contact,
+                         .force_dt = s->force_dt,
+                         .skin = s->skin,
+                         .free_flight = s->free_flight,
+                         .kick_interval = s->kick_interval,
+                         .seed = s->seed};
     snprintf(p->source, sizeof p->source, "%s", s->source);
 }
 
 int gr_scene_obs_setup(const gr_scene *s, gr_obs_setup *out, gr_error *err)
 {
-    *out = (gr_obs_setup){.source = s->source, .observables = s->observables, .analysis = &s->analysis, .dim = s->dim,
-                          .N = s->N, .L = s->L, .radius = s->radius, .mass = s->mass, .D = s->D, .eps_n = s->contact.eps_n,
-                          .eps_t = s->contact.eps_t, .tangential = s->tangential ? s->tangential->name : NULL,
-                          .tangential_constant_eps_t = s->tangential && s->tangential->constant_eps_t};
+    *out =
+        (gr_obs_setup){.source = s->source,
+                       .observables = s->observables,
+                       .analysis = &s->analysis,
+                       .dim = s->dim,
+                       .N = s->N,
+                       .L = s->L,
+                       .radius = s->radius,
+                       .mass = s->mass,
+                       .D = s->D,
+                       .eps_n = s->contact.eps_n,
+                       .eps_t = s->contact.eps_t,
+                       .tangential = s->tangential ? s->tangential->name : NULL,
+                       .tangential_constant_eps_t = s->tangential && s->tangential->constant_eps_t};
     if (s->normal) {
-        int rc = gr_contact_prepare(s->normal, s->tangential, &s->contact, gr_scene_m12(s), 0.0, &out->contact, err);
+        int rc = gr_contact_prepare(s->normal, s->tangential, &s->contact, gr_scene_m12(s), 0.0,
+                                    &out->contact, err);
         if (rc) {
             return rc;
         }
@@ -54,16 +83,16 @@ int gr_sim_create(const gr_scene *scene, gr_sim **out, gr_error *err)
     return gr_sim_new(&p, out, err);
 }
 
-int gr_sim_create_with_state(const gr_scene *scene, int n, const double *x, const double *y, const double *vx,
-                             const double *vy, gr_sim **out, gr_error *err)
+int gr_sim_create_with_state(const gr_scene *scene, int n, const double *x, const double *y,
+                             const double *vx, const double *vy, gr_sim **out, gr_error *err)
 {
     gr_sim_params p;
     gr_scene_sim_params(scene, &p);
     return gr_sim_new_with_state(&p, n, x, y, vx, vy, out, err);
 }
 
-int gr_sim_create_canonical(const gr_scene *scene, int n, const double *x, const double *y, const double *vx,
-                            const double *vy, gr_sim **out, gr_error *err)
+int gr_sim_create_canonical(const gr_scene *scene, int n, const double *x, const double *y,
+                            const double *vx, const double *vy, gr_sim **out, gr_error *err)
 {
     gr_sim_params p;
     gr_scene_sim_params(scene, &p);

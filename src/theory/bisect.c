@@ -141,7 +141,8 @@ static int csv_read(const char *path, const csv_spec *spec, csv_table *t, gr_err
     int why = 0;
     FILE *f = gr_input_fopen(path, &why);
     if (!f) {
-        return GR_FAIL(err, why < 0 ? GR_EINVAL : GR_EIO, "cannot read %s: %s", path, why < 0 ? "not a regular file" : strerror(why));
+        return GR_FAIL(err, why < 0 ? GR_EINVAL : GR_EIO, "cannot read %s: %s", path,
+                       why < 0 ? "not a regular file" : strerror(why));
     }
     char line[4096], *fields[64];
     int lineno = 0, cx = 0, cy = 1, ce = -1, fc[2] = {-1, -1}, rc = GR_OK;
@@ -150,7 +151,8 @@ static int csv_read(const char *path, const csv_spec *spec, csv_table *t, gr_err
     while (fgets(line, sizeof line, f)) {
         lineno++;
         if (!strchr(line, '\n') && !feof(f)) {
-            rc = GR_FAIL(err, GR_EINVAL, "%s:%d: line longer than %zu characters", path, lineno, sizeof line - 2);
+            rc = GR_FAIL(err, GR_EINVAL, "%s:%d: line longer than %zu characters", path, lineno,
+                         sizeof line - 2);
             break;
         }
         char *p = trim(line);
@@ -189,7 +191,8 @@ static int csv_read(const char *path, const csv_spec *spec, csv_table *t, gr_err
         }
         need = ce + 1 > need ? ce + 1 : need;
         if (nf < need) {
-            rc = GR_FAIL(err, GR_EINVAL, "%s:%d: expected %d columns, found %d", path, lineno, need, nf);
+            rc = GR_FAIL(err, GR_EINVAL, "%s:%d: expected %d columns, found %d", path, lineno, need,
+                         nf);
             break;
         }
         if ((fc[0] >= 0 && strcmp(fields[fc[0]], spec->filter_value[0])) ||
@@ -197,9 +200,10 @@ static int csv_read(const char *path, const csv_spec *spec, csv_table *t, gr_err
             continue;
         }
         double xv, yv, ev = 0.0;
-        const char *bad = !parse_number(fields[cx], &xv) ? fields[cx]
-                          : !parse_number(fields[cy], &yv) ? fields[cy]
-                          : (ce >= 0 && !parse_number(fields[ce], &ev)) ? fields[ce] : NULL;
+        const char *bad = !parse_number(fields[cx], &xv)                ? fields[cx]
+                          : !parse_number(fields[cy], &yv)              ? fields[cy]
+                          : (ce >= 0 && !parse_number(fields[ce], &ev)) ? fields[ce]
+                                                                        : NULL;
         if (bad) {
             rc = GR_FAIL(err, GR_EINVAL, "%s:%d: '%s' is not a finite number", path, lineno, bad);
             break;
@@ -291,9 +295,10 @@ int gr_bisect_u0_power(gr_bisect_u0 *u, double A, gr_error *err)
 {
     memset(u, 0, sizeof *u);
     if (!(A >= GR_BISECT_POWER_A_MIN && A <= GR_BISECT_POWER_A_MAX)) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "U_0 power:A needs %g <= A <= %g (a^-A + (1-a)^-A is normalisable for A < 1), got %g",
-                       GR_BISECT_POWER_A_MIN, GR_BISECT_POWER_A_MAX, A);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "U_0 power:A needs %g <= A <= %g (a^-A + (1-a)^-A is normalisable for A < 1), got %g",
+            GR_BISECT_POWER_A_MIN, GR_BISECT_POWER_A_MAX, A);
     }
     u->kind = GR_BISECT_U0_POWER;
     u->A = A;
@@ -328,13 +333,17 @@ int gr_bisect_u0_table(gr_bisect_u0 *u, const double *a, const double *U, int n,
     }
     for (int i = 0; i < n; i++) {
         if (!(isfinite(a[i]) && a[i] >= 0.0 && a[i] <= 1.0)) {
-            return GR_FAIL(err, GR_EINVAL, "U_0 table point %d: a = %g outside [0, 1]", i + 1, a[i]);
+            return GR_FAIL(err, GR_EINVAL, "U_0 table point %d: a = %g outside [0, 1]", i + 1,
+                           a[i]);
         }
         if (!(isfinite(U[i]) && U[i] >= 0.0)) {
-            return GR_FAIL(err, GR_EINVAL, "U_0 table point %d: U = %g is not a density (>= 0)", i + 1, U[i]);
+            return GR_FAIL(err, GR_EINVAL, "U_0 table point %d: U = %g is not a density (>= 0)",
+                           i + 1, U[i]);
         }
         if (i > 0 && !(a[i] > a[i - 1])) {
-            return GR_FAIL(err, GR_EINVAL, "U_0 table point %d: a = %g does not increase (after %g)", i + 1, a[i], a[i - 1]);
+            return GR_FAIL(err, GR_EINVAL,
+                           "U_0 table point %d: a = %g does not increase (after %g)", i + 1, a[i],
+                           a[i - 1]);
         }
     }
     double total = 0.0;
@@ -430,12 +439,9 @@ double gr_bisect_u0_density(const gr_bisect_u0 *u, double a)
         return u->kind == GR_BISECT_U0_TABLE && (a == 0.0 || a == 1.0) ? table_density(u, a) : 0.0;
     }
     switch (u->kind) {
-    case GR_BISECT_U0_UNIFORM:
-        return 1.0;
-    case GR_BISECT_U0_POWER:
-        return 0.5 * (1.0 - u->A) * (pow(a, -u->A) + pow(1.0 - a, -u->A));
-    case GR_BISECT_U0_TABLE:
-        return table_density(u, a);
+    case GR_BISECT_U0_UNIFORM: return 1.0;
+    case GR_BISECT_U0_POWER: return 0.5 * (1.0 - u->A) * (pow(a, -u->A) + pow(1.0 - a, -u->A));
+    case GR_BISECT_U0_TABLE: return table_density(u, a);
     }
     return 0.0;
 }
@@ -477,9 +483,7 @@ static inline double draw(const gr_bisect_u0 *u, gsl_rng *r, bool *small_left)
             a = u->a[lo] + s * h;
             break;
         }
-        default:
-            a = gsl_rng_uniform_pos(r);
-            break;
+        default: a = gsl_rng_uniform_pos(r); break;
         }
         if (a > 0.0 && a < 1.0) {
             *small_left = a < 0.5;
@@ -488,7 +492,10 @@ static inline double draw(const gr_bisect_u0 *u, gsl_rng *r, bool *small_left)
     }
 }
 
-double gr_bisect_u0_draw(const gr_bisect_u0 *u, gsl_rng *r, bool *small_left) { return draw(u, r, small_left); }
+double gr_bisect_u0_draw(const gr_bisect_u0 *u, gsl_rng *r, bool *small_left)
+{
+    return draw(u, r, small_left);
+}
 
 double gr_bisect_u0_sample(const gr_bisect_u0 *u, gsl_rng *r)
 {
@@ -538,8 +545,8 @@ static int u0_expect(const gr_bisect_u0 *u, int what, double m, double *out, gr_
             st = GSL_SUCCESS; /* roundoff limits QAGS, but well below what we need */
         }
         if (st != GSL_SUCCESS || !isfinite(v)) {
-            rc = GR_FAIL(err, GR_EINVAL, "U_0 %s: quadrature on [%g, %g] failed: %s", u->name, edges[i],
-                         edges[i + 1], gsl_strerror(st));
+            rc = GR_FAIL(err, GR_EINVAL, "U_0 %s: quadrature on [%g, %g] failed: %s", u->name,
+                         edges[i], edges[i + 1], gsl_strerror(st));
         }
         sum += v;
     }
@@ -570,7 +577,8 @@ int gr_bisect_u0_moment(const gr_bisect_u0 *u, double m, double *mu, gr_error *e
 int gr_bisect_u0_log_stats(const gr_bisect_u0 *u, double *mean, double *var, gr_error *err)
 {
     if (u->kind == GR_BISECT_U0_UNIFORM) {
-        *mean = 1.0; /* -ln a of a uniform a is exponential with mean 1 (3.36: Gamma(n, 1) in -ln x) */
+        *mean =
+            1.0; /* -ln a of a uniform a is exponential with mean 1 (3.36: Gamma(n, 1) in -ln x) */
         *var = 1.0;
         return GR_OK;
     }
@@ -614,7 +622,8 @@ void gr_bisect_level(const gr_bisect_u0 *u, gsl_rng *r, double *x, size_t count)
 int gr_bisect_realise(const gr_bisect_u0 *u, int levels, gsl_rng *r, double *x, gr_error *err)
 {
     if (levels < 0 || levels > GR_BISECT_MAX_LEVELS) {
-        return GR_FAIL(err, GR_EINVAL, "bisection: levels must lie in [0, %d], got %d", GR_BISECT_MAX_LEVELS, levels);
+        return GR_FAIL(err, GR_EINVAL, "bisection: levels must lie in [0, %d], got %d",
+                       GR_BISECT_MAX_LEVELS, levels);
     }
     x[0] = 1.0; /* P_0(x) = delta(x - 1) (3.32) */
     for (int k = 0; k < levels; k++) {
@@ -646,7 +655,8 @@ double gr_bisect_pn_uniform_mass(int n, double lo, double hi)
     }
     double z_small = -log(hi), z_big = lo > 0.0 ? -log(lo) : (double)INFINITY;
     if (z_small > n) {
-        return gsl_cdf_gamma_Q(z_small, n, 1.0) - (isinf(z_big) ? 0.0 : gsl_cdf_gamma_Q(z_big, n, 1.0));
+        return gsl_cdf_gamma_Q(z_small, n, 1.0) -
+               (isinf(z_big) ? 0.0 : gsl_cdf_gamma_Q(z_big, n, 1.0));
     }
     return (isinf(z_big) ? 1.0 : gsl_cdf_gamma_P(z_big, n, 1.0)) - gsl_cdf_gamma_P(z_small, n, 1.0);
 }
@@ -657,7 +667,8 @@ double gr_bisect_zeta_uniform(double m) { return log1p(m) / M_LN2; } /* 3.38 */
 
 double gr_bisect_zeta_rfm_table31(int m, double *error)
 {
-    static const double zeta[5] = {1.0, 1.729, 2.31, 2.81, 3.2}, err[5] = {0.0, 0.008, 0.03, 0.06, 0.1};
+    static const double zeta[5] = {1.0, 1.729, 2.31, 2.81, 3.2},
+                        err[5] = {0.0, 0.008, 0.03, 0.06, 0.1};
     if (m < 1 || m > 5) {
         if (error) {
             *error = NAN;
@@ -690,30 +701,40 @@ void gr_bisect_settings_default(gr_bisect_settings *s)
 int gr_bisect_settings_check(const gr_bisect_settings *s, gr_error *err)
 {
     if (s->levels < 1 || s->levels > GR_BISECT_MAX_LEVELS) {
-        return GR_FAIL(err, GR_EINVAL, "levels must lie in [1, %d], got %d", GR_BISECT_MAX_LEVELS, s->levels);
+        return GR_FAIL(err, GR_EINVAL, "levels must lie in [1, %d], got %d", GR_BISECT_MAX_LEVELS,
+                       s->levels);
     }
     if (s->repetitions < 2 || s->repetitions > (int64_t)1 << 50) {
-        return GR_FAIL(err, GR_EINVAL, "repetitions must lie in [2, 2^50] (errors come from their spread), got %lld",
-                       (long long)s->repetitions);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "repetitions must lie in [2, 2^50] (errors come from their spread), got %lld",
+            (long long)s->repetitions);
     }
     if (s->moments_max < 1 || s->moments_max > GR_BISECT_MAX_MOMENTS) {
-        return GR_FAIL(err, GR_EINVAL, "moments must lie in [1, %d], got %d", GR_BISECT_MAX_MOMENTS, s->moments_max);
+        return GR_FAIL(err, GR_EINVAL, "moments must lie in [1, %d], got %d", GR_BISECT_MAX_MOMENTS,
+                       s->moments_max);
     }
     if (s->bins_per_decade < 1 || s->bins_per_decade > 1000) {
-        return GR_FAIL(err, GR_EINVAL, "bins per decade must lie in [1, 1000], got %d", s->bins_per_decade);
+        return GR_FAIL(err, GR_EINVAL, "bins per decade must lie in [1, 1000], got %d",
+                       s->bins_per_decade);
     }
     if (s->fit_level_min < 1 || (s->levels > 1 && s->fit_level_min > s->levels - 1)) {
-        return GR_FAIL(err, GR_EINVAL, "the zeta fit needs 2 levels: first fitted level must lie in [1, %d], got %d",
-                       s->levels > 1 ? s->levels - 1 : 1, s->fit_level_min);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "the zeta fit needs 2 levels: first fitted level must lie in [1, %d], got %d",
+            s->levels > 1 ? s->levels - 1 : 1, s->fit_level_min);
     }
     if (s->jackknife_groups < 2 || s->jackknife_groups > 1024) {
-        return GR_FAIL(err, GR_EINVAL, "jackknife groups must lie in [2, 1024], got %d", s->jackknife_groups);
+        return GR_FAIL(err, GR_EINVAL, "jackknife groups must lie in [2, 1024], got %d",
+                       s->jackknife_groups);
     }
     if (!(s->anchor > 0.0 && s->anchor < 1.0)) {
-        return GR_FAIL(err, GR_EINVAL, "the collapse anchor R_0 (3.40) must lie in (0, 1), got %g", s->anchor);
+        return GR_FAIL(err, GR_EINVAL, "the collapse anchor R_0 (3.40) must lie in (0, 1), got %g",
+                       s->anchor);
     }
     if (!(s->anchor_min_count >= 1.0 && isfinite(s->anchor_min_count))) {
-        return GR_FAIL(err, GR_EINVAL, "anchor_min_count must be >= 1, got %g", s->anchor_min_count);
+        return GR_FAIL(err, GR_EINVAL, "anchor_min_count must be >= 1, got %g",
+                       s->anchor_min_count);
     }
     return GR_OK;
 }
@@ -754,8 +775,14 @@ static void fit_zeta(gr_bisect_result *res, int m, const double *ysum, const dou
 {
     const int M = res->moments_max, k0 = res->fit_level_min, np = res->levels - k0 + 1;
     gr_bisect_zeta *z = &res->zeta[m - 1];
-    *z = (gr_bisect_zeta){.m = m, .zeta = NAN, .err_fit = NAN, .err_jackknife = NAN, .prefactor = NAN,
-                          .prefactor_err = NAN, .chi2_red = NAN, .predicted = -log2(res->mu[m])};
+    *z = (gr_bisect_zeta){.m = m,
+                          .zeta = NAN,
+                          .err_fit = NAN,
+                          .err_jackknife = NAN,
+                          .prefactor = NAN,
+                          .prefactor_err = NAN,
+                          .chi2_red = NAN,
+                          .predicted = -log2(res->mu[m])};
     if (np < 2) {
         return;
     }
@@ -795,10 +822,12 @@ static void fit_zeta(gr_bisect_result *res, int m, const double *ysum, const dou
     for (int g = 0; g < G; g++) {
         s2 += (slope[g] - s1 / G) * (slope[g] - s1 / G);
     }
-    z->err_jackknife = sqrt((double)(G - 1) / G * s2); /* jackknife variance (G-1)/G sum (s_g - mean)^2 */
+    z->err_jackknife =
+        sqrt((double)(G - 1) / G * s2); /* jackknife variance (G-1)/G sum (s_g - mean)^2 */
 }
 
-int gr_bisect_run(const gr_bisect_settings *s, const gr_bisect_u0 *u, gr_bisect_result *res, gr_error *err)
+int gr_bisect_run(const gr_bisect_settings *s, const gr_bisect_u0 *u, gr_bisect_result *res,
+                  gr_error *err)
 {
     memset(res, 0, sizeof *res);
     int rc = gr_bisect_settings_check(s, err);
@@ -831,7 +860,8 @@ int gr_bisect_run(const gr_bisect_settings *s, const gr_bisect_u0 *u, gr_bisect_
     int decades = (int)ceil((n * zmean + 10.0 * sqrt(n * zvar) + 10.0) / M_LN10);
     decades = decades > 300 ? 300 : decades;
     gr_histogram rep_h;
-    rc = gr_histogram_init(&res->pn, decades * s->bins_per_decade, pow(10.0, -decades), 1.0, true, err);
+    rc = gr_histogram_init(&res->pn, decades * s->bins_per_decade, pow(10.0, -decades), 1.0, true,
+                           err);
     if (rc) {
         return rc;
     }
@@ -841,7 +871,8 @@ int gr_bisect_run(const gr_bisect_settings *s, const gr_bisect_u0 *u, gr_bisect_
         return rc;
     }
     const int nb = res->pn.nbins;
-    double *x = malloc(sizeof(double) * N), *mean = calloc(KM, sizeof(double)), *m2 = calloc(KM, sizeof(double));
+    double *x = malloc(sizeof(double) * N), *mean = calloc(KM, sizeof(double)),
+           *m2 = calloc(KM, sizeof(double));
     double *ysum = calloc(KM, sizeof(double)), *gsum = calloc(KM * (size_t)G, sizeof(double));
     int64_t *gcount = calloc((size_t)G, sizeof(int64_t));
     long double *sq = calloc((size_t)nb, sizeof(long double));
@@ -850,8 +881,8 @@ int gr_bisect_run(const gr_bisect_settings *s, const gr_bisect_u0 *u, gr_bisect_
     res->moment_err = calloc(KM, sizeof(double));
     res->moment_pred = calloc(KM, sizeof(double));
     gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-    if (!x || !mean || !m2 || !ysum || !gsum || !gcount || !sq || !res->pn_count_var || !res->moment ||
-        !res->moment_err || !res->moment_pred || !r) {
+    if (!x || !mean || !m2 || !ysum || !gsum || !gcount || !sq || !res->pn_count_var ||
+        !res->moment || !res->moment_err || !res->moment_pred || !r) {
         rc = GR_FAIL(err, GR_ENOMEM, "bisection: out of memory for 2^%d partitions", n);
         goto done;
     }
@@ -908,7 +939,8 @@ int gr_bisect_run(const gr_bisect_settings *s, const gr_bisect_u0 *u, gr_bisect_
     }
     for (int b = 0; b < nb; b++) {
         long double c = res->pn.count[b];
-        res->pn_count_var[b] = (double)fmaxl((sq[b] - c * c / (long double)R) / (long double)(R - 1), 0.0L);
+        res->pn_count_var[b] =
+            (double)fmaxl((sq[b] - c * c / (long double)R) / (long double)(R - 1), 0.0L);
     }
     for (int m = 0; m < M; m++) {
         res->moment[m] = res->moment_pred[m] = 1.0; /* level 0: one partition of length 1 */
@@ -947,23 +979,27 @@ done:
     return rc;
 }
 
-int gr_bisect_pn_gof(const gr_bisect_result *res, double min_expected, gr_bisect_gof *out, gr_error *err)
+int gr_bisect_pn_gof(const gr_bisect_result *res, double min_expected, gr_bisect_gof *out,
+                     gr_error *err)
 {
     memset(out, 0, sizeof *out);
     const gr_histogram *h = &res->pn;
     for (int b = 0; b < h->nbins; b++) {
-        double E = res->segments * gr_bisect_pn_uniform_mass(res->levels, gr_histogram_lower(h, b), gr_histogram_upper(h, b));
+        double E = res->segments * gr_bisect_pn_uniform_mass(res->levels, gr_histogram_lower(h, b),
+                                                             gr_histogram_upper(h, b));
         if (!(E >= min_expected)) {
             continue;
         }
         double C = h->count[b], d = C - E;
-        double var = (double)res->repetitions * res->pn_count_var[b]; /* variance of the bin's total */
+        double var =
+            (double)res->repetitions * res->pn_count_var[b]; /* variance of the bin's total */
         out->chi2 += d * d / (var > 0.0 ? var : E);
         out->chi2_poisson += d * d / (C > 0.0 ? C : E);
         out->dof++;
     }
     if (out->dof == 0) {
-        return GR_FAIL(err, GR_EINVAL, "P_n goodness of fit: no bin expects %g partitions", min_expected);
+        return GR_FAIL(err, GR_EINVAL, "P_n goodness of fit: no bin expects %g partitions",
+                       min_expected);
     }
     out->p_value = gsl_cdf_chisq_Q(out->chi2, out->dof);
     return GR_OK;
@@ -972,9 +1008,15 @@ int gr_bisect_pn_gof(const gr_bisect_result *res, double min_expected, gr_bisect
 /* ==========================================================================================
  * The collapse (3.39-3.40) and RFM G_1 tables */
 
-double gr_bisect_collapse_factor(double n, double R0, double G0) { return -log(R0) * pow(G0, -1.0 / (n - 1.0)); }
+double gr_bisect_collapse_factor(double n, double R0, double G0)
+{
+    return -log(R0) * pow(G0, -1.0 / (n - 1.0));
+}
 
-double gr_bisect_collapse_map(double n, double A_N, double G) { return A_N * pow(G, 1.0 / (n - 1.0)); }
+double gr_bisect_collapse_map(double n, double A_N, double G)
+{
+    return A_N * pow(G, 1.0 / (n - 1.0));
+}
 
 void gr_bisect_g1_free(gr_bisect_g1 *g)
 {
@@ -1018,11 +1060,13 @@ static bool run_gaps_info(const char *dir, double *N, double *Lr)
         text[len] = 0;
         cJSON *j = cJSON_Parse(text);
         /* a run folder writes analysis.gaps; a bare "gaps" member is accepted too */
-        const cJSON *gaps = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(j, "analysis"), "gaps");
+        const cJSON *gaps = cJSON_GetObjectItemCaseSensitive(
+            cJSON_GetObjectItemCaseSensitive(j, "analysis"), "gaps");
         if (!gaps) {
             gaps = cJSON_GetObjectItemCaseSensitive(j, "gaps");
         }
-        const cJSON *n = cJSON_GetObjectItemCaseSensitive(gaps, "N"), *l = cJSON_GetObjectItemCaseSensitive(gaps, "reduced_length");
+        const cJSON *n = cJSON_GetObjectItemCaseSensitive(gaps, "N"),
+                    *l = cJSON_GetObjectItemCaseSensitive(gaps, "reduced_length");
         if (cJSON_IsNumber(n) && cJSON_IsNumber(l)) {
             *N = n->valuedouble;
             *Lr = l->valuedouble;
@@ -1037,7 +1081,8 @@ static bool run_gaps_info(const char *dir, double *N, double *Lr)
 int gr_bisect_g1_load(gr_bisect_g1 *g, const char *path, gr_error *err)
 {
     static const char *const xn[] = {"R", NULL}, *const yn[] = {"G", "G_1", "G1", "density", NULL},
-                             *const en[] = {"G_err", "G_error", "G_1_err", "density_error", "sigma", NULL};
+                             *const en[] = {"G_err",         "G_error", "G_1_err",
+                                            "density_error", "sigma",   NULL};
     memset(g, 0, sizeof *g);
     /* a run folder stands for its gaps.csv; a gaps.csv (columns h, binning, ...) gives its h = 1
      * rows, logarithmic bins if it has them, and N, L' from the summary.json beside it */
@@ -1051,7 +1096,8 @@ int gr_bisect_g1_load(gr_bisect_g1 *g, const char *path, gr_error *err)
         snprintf(csv, sizeof csv, "%s", path);
         snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) : 1, slash ? path : ".");
     }
-    csv_spec spec = {.x = xn, .y = yn, .e = en, .filter_column = {"h", "binning"}, .filter_value = {"1", "log"}};
+    csv_spec spec = {
+        .x = xn, .y = yn, .e = en, .filter_column = {"h", "binning"}, .filter_value = {"1", "log"}};
     csv_table t;
     int rc = csv_read(csv, &spec, &t, err);
     if (!rc && t.n < 2) { /* a gaps.csv without logarithmic bins */
@@ -1074,8 +1120,10 @@ int gr_bisect_g1_load(gr_bisect_g1 *g, const char *path, gr_error *err)
     if (!(N > 2.0)) {
         csv_table_free(&t);
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: needs a comment line '# N = <particles>' with N > 2, or a run's summary.json beside it "
-                       "(n = log2 N enters the collapse 3.39)", csv);
+                       "%s: needs a comment line '# N = <particles>' with N > 2, or a run's "
+                       "summary.json beside it "
+                       "(n = log2 N enters the collapse 3.39)",
+                       csv);
     }
     if (comment_value(t.comments, "reduced_length", &Lr) && !(Lr > 0.0)) {
         csv_table_free(&t);
@@ -1089,7 +1137,9 @@ int gr_bisect_g1_load(gr_bisect_g1 *g, const char *path, gr_error *err)
         if (!(t.x[i] >= 0.0) || (i > 0 && !(t.x[i] > t.x[i - 1]))) {
             double bad = t.x[i];
             csv_table_free(&t);
-            return GR_FAIL(err, GR_EINVAL, "%s: R must be >= 0 and increase strictly (row %d: R = %g)", csv, i + 1, bad);
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: R must be >= 0 and increase strictly (row %d: R = %g)", csv, i + 1,
+                           bad);
         }
         if (!(t.y[i] >= 0.0) || (t.e && !(t.e[i] >= 0.0))) {
             csv_table_free(&t);
@@ -1117,7 +1167,8 @@ int gr_bisect_g1_at(const gr_bisect_g1 *g, double R, double *G, gr_error *err)
 {
     const int n = g->n_points;
     if (!(R >= g->R[0] && R <= g->R[n - 1])) {
-        return GR_FAIL(err, GR_EINVAL, "%s: no data at R = %g (the table spans [%g, %g])", g->name, R, g->R[0], g->R[n - 1]);
+        return GR_FAIL(err, GR_EINVAL, "%s: no data at R = %g (the table spans [%g, %g])", g->name,
+                       R, g->R[0], g->R[n - 1]);
     }
     int lo = 0, hi = n - 1;
     while (hi - lo > 1) {
@@ -1169,16 +1220,20 @@ static int process_anchor_bin(const gr_bisect_result *res, const gr_bisect_setti
 /* ==========================================================================================
  * Outputs */
 
-static void csv_header(gr_file *f, const gr_bisect_settings *s, const gr_bisect_u0 *u, const char *what)
+static void csv_header(gr_file *f, const gr_bisect_settings *s, const gr_bisect_u0 *u,
+                       const char *what)
 {
     gr_file_note(f, "# granule bisect %s (commit %s): %s\n", GR_VERSION, GR_COMMIT, what);
-    gr_file_note(f, "# multiplicative bisection process (thesis sec. 3.4): n = %d levels (N = 2^n = %lld partitions), "
-               "%lld realisations, U_0 = %s, gsl_rng_mt19937 seed %llu\n",
-            s->levels, 1LL << s->levels, (long long)s->repetitions, u->name, (unsigned long long)s->seed);
+    gr_file_note(f,
+                 "# multiplicative bisection process (thesis sec. 3.4): n = %d levels (N = 2^n = "
+                 "%lld partitions), "
+                 "%lld realisations, U_0 = %s, gsl_rng_mt19937 seed %llu\n",
+                 s->levels, 1LL << s->levels, (long long)s->repetitions, u->name,
+                 (unsigned long long)s->seed);
 }
 
-static int write_pn(const char *dir, const gr_bisect_settings *s, const gr_bisect_u0 *u, const gr_bisect_result *res,
-                    int *first, int *last, gr_error *err)
+static int write_pn(const char *dir, const gr_bisect_settings *s, const gr_bisect_u0 *u,
+                    const gr_bisect_result *res, int *first, int *last, gr_error *err)
 {
     const gr_histogram *h = &res->pn;
     *first = -1;
@@ -1195,21 +1250,29 @@ static int write_pn(const char *dir, const gr_bisect_settings *s, const gr_bisec
         return rc;
     }
     csv_header(&f, s, u, "P_n(x), the distribution of partition lengths x at level n");
-    gr_file_note(&f, "# log bins (%d per decade; empty bins at either end left out); density = count / (partitions * "
-                 "width) with sqrt(count) errors (App. A.1); density_error_reps from the spread of the counts over "
+    gr_file_note(&f,
+                 "# log bins (%d per decade; empty bins at either end left out); density = count / "
+                 "(partitions * "
+                 "width) with sqrt(count) errors (App. A.1); density_error_reps from the spread of "
+                 "the counts over "
                  "realisations (the partitions of one realisation are correlated)\n",
-            s->bins_per_decade);
-    gr_file_note(&f, "# uniform_3_36 = (-ln x)^(n-1)/(n-1)! at the bin centre (eq. 3.36, the uniform U_0); "
-                 "uniform_3_36_bin = its average over the bin; %.0f of %.0f partitions fell below x = %g\n",
-            h->below, h->total, h->lo);
-    gr_file_header(&f, "x_lo [1],x_hi [1],x [1],minus_ln_x [1],count [1],density [1],density_error [1],density_error_reps [1],uniform_3_36 [1],uniform_3_36_bin [1]");
+                 s->bins_per_decade);
+    gr_file_note(
+        &f,
+        "# uniform_3_36 = (-ln x)^(n-1)/(n-1)! at the bin centre (eq. 3.36, the uniform U_0); "
+        "uniform_3_36_bin = its average over the bin; %.0f of %.0f partitions fell below x = %g\n",
+        h->below, h->total, h->lo);
+    gr_file_header(&f, "x_lo [1],x_hi [1],x [1],minus_ln_x [1],count [1],density [1],density_error "
+                       "[1],density_error_reps [1],uniform_3_36 [1],uniform_3_36_bin [1]");
     for (int b = *first; b >= 0 && b <= *last; b++) {
-        double lo = gr_histogram_lower(h, b), hi = gr_histogram_upper(h, b), xc = gr_histogram_center(h, b);
+        double lo = gr_histogram_lower(h, b), hi = gr_histogram_upper(h, b),
+               xc = gr_histogram_center(h, b);
         double w = hi - lo;
-        fprintf(f.f, "%.10g,%.10g,%.10g,%.10g,%.0f,%.10g,%.6g,%.6g,%.10g,%.10g\n", lo, hi, xc, -log(xc), h->count[b],
-                gr_histogram_density(h, b), gr_histogram_density_error(h, b),
+        fprintf(f.f, "%.10g,%.10g,%.10g,%.10g,%.0f,%.10g,%.6g,%.6g,%.10g,%.10g\n", lo, hi, xc,
+                -log(xc), h->count[b], gr_histogram_density(h, b), gr_histogram_density_error(h, b),
                 sqrt((double)res->repetitions * res->pn_count_var[b]) / (h->total * w),
-                gr_bisect_pn_uniform(s->levels, xc), gr_bisect_pn_uniform_mass(s->levels, lo, hi) / w);
+                gr_bisect_pn_uniform(s->levels, xc),
+                gr_bisect_pn_uniform_mass(s->levels, lo, hi) / w);
     }
     return gr_file_commit(&f, err);
 }
@@ -1222,17 +1285,22 @@ static int write_moments(const char *dir, const gr_bisect_settings *s, const gr_
     if (rc) {
         return rc;
     }
-    csv_header(&f, s, u, "moments <x^m> of the partition lengths at every level k (N = 2^k partitions)");
-    gr_file_note(&f, "# moment = mean over realisations of the mean over the N partitions; moment_error = standard "
-                 "error from its spread over realisations; predicted = mu_m^k, mu_m = <(a^m + (1-a)^m)/2> under "
-                 "U_0 (= (1+m)^-k for the uniform U_0, eq. 3.37); z = (moment - predicted) / moment_error\n");
+    csv_header(&f, s, u,
+               "moments <x^m> of the partition lengths at every level k (N = 2^k partitions)");
+    gr_file_note(&f, "# moment = mean over realisations of the mean over the N partitions; "
+                     "moment_error = standard "
+                     "error from its spread over realisations; predicted = mu_m^k, mu_m = <(a^m + "
+                     "(1-a)^m)/2> under "
+                     "U_0 (= (1+m)^-k for the uniform U_0, eq. 3.37); z = (moment - predicted) / "
+                     "moment_error\n");
     gr_file_header(&f, "level [1],N [1],m [1],moment [1],moment_error [1],predicted [1],z [1]");
     for (int k = 1; k <= res->levels; k++) {
         for (int m = 1; m <= res->moments_max; m++) {
             size_t i = (size_t)k * (size_t)res->moments_max + (size_t)(m - 1);
             double sig = moment_sigma(res->moment[i], res->moment_err[i]);
-            fprintf(f.f, "%d,%lld,%d,%.12g,%.6g,%.12g,%.4f\n", k, 1LL << k, m, res->moment[i], res->moment_err[i],
-                    res->moment_pred[i], (res->moment[i] - res->moment_pred[i]) / sig);
+            fprintf(f.f, "%d,%lld,%d,%.12g,%.6g,%.12g,%.4f\n", k, 1LL << k, m, res->moment[i],
+                    res->moment_err[i], res->moment_pred[i],
+                    (res->moment[i] - res->moment_pred[i]) / sig);
         }
     }
     return gr_file_commit(&f, err);
@@ -1255,15 +1323,24 @@ static int write_zeta(const char *dir, const gr_bisect_settings *s, const gr_bis
     if (rc) {
         return rc;
     }
-    csv_header(&f, s, u, "the exponents zeta_m of <x^m> = A N^-zeta_m (eqs. 3.20, 3.38; Table 3.1)");
-    gr_file_note(&f, "# chi-square power-law fit over N = 2^k, k = %d..%d, with the moments' standard errors; "
-                 "zeta_error_fit from the fit (levels taken as independent, as the thesis), zeta_error_jackknife "
-                 "from %d groups of realisations (levels of one realisation are correlated)\n",
-            res->fit_level_min, res->levels, s->jackknife_groups < s->repetitions ? s->jackknife_groups : (int)s->repetitions);
-    gr_file_note(&f, "# zeta_predicted = -log2 mu_m for this U_0; zeta_uniform_3_38 = ln(1+m)/ln 2; "
-                 "zeta_rfm_table_3_1 = the 1D Random Force Model's measured value (Table 3.1, m <= 5)\n");
-    gr_file_header(&f, "m [1],zeta [1],zeta_error_fit [1],zeta_error_jackknife [1],chi2_red [1],prefactor [1],"
-                       "prefactor_error [1],zeta_predicted [1],zeta_uniform_3_38 [1],zeta_rfm_table_3_1 [1],zeta_rfm_error [1]");
+    csv_header(&f, s, u,
+               "the exponents zeta_m of <x^m> = A N^-zeta_m (eqs. 3.20, 3.38; Table 3.1)");
+    gr_file_note(
+        &f,
+        "# chi-square power-law fit over N = 2^k, k = %d..%d, with the moments' standard errors; "
+        "zeta_error_fit from the fit (levels taken as independent, as the thesis), "
+        "zeta_error_jackknife "
+        "from %d groups of realisations (levels of one realisation are correlated)\n",
+        res->fit_level_min, res->levels,
+        s->jackknife_groups < s->repetitions ? s->jackknife_groups : (int)s->repetitions);
+    gr_file_note(
+        &f,
+        "# zeta_predicted = -log2 mu_m for this U_0; zeta_uniform_3_38 = ln(1+m)/ln 2; "
+        "zeta_rfm_table_3_1 = the 1D Random Force Model's measured value (Table 3.1, m <= 5)\n");
+    gr_file_header(
+        &f, "m [1],zeta [1],zeta_error_fit [1],zeta_error_jackknife [1],chi2_red [1],prefactor [1],"
+            "prefactor_error [1],zeta_predicted [1],zeta_uniform_3_38 [1],zeta_rfm_table_3_1 "
+            "[1],zeta_rfm_error [1]");
     for (int m = 1; m <= res->moments_max; m++) {
         const gr_bisect_zeta *z = &res->zeta[m - 1];
         double re, rv = gr_bisect_zeta_rfm_table31(m, &re);
@@ -1284,11 +1361,12 @@ static int write_zeta(const char *dir, const gr_bisect_settings *s, const gr_bis
 
 typedef struct collapse_info {
     int anchor_bin;
-    double anchor_R, anchor_G, A_N;     /* the process */
-    double g_anchor[64], g_A[64];       /* each G_1 table */
+    double anchor_R, anchor_G, A_N; /* the process */
+    double g_anchor[64], g_A[64];   /* each G_1 table */
 } collapse_info;
 
-static void collapse_row(FILE *f, int set, double N, double n, double A, double R, double G, double Ge)
+static void collapse_row(FILE *f, int set, double N, double n, double A, double R, double G,
+                         double Ge)
 {
     if (!(R > 0.0 && R < 1.0 && G > 0.0)) {
         return; /* -ln R > 0 and G > 0 for the logarithmic axes */
@@ -1303,8 +1381,8 @@ static void collapse_row(FILE *f, int set, double N, double n, double A, double 
 }
 
 static int write_collapse(const char *dir, const gr_bisect_settings *s, const gr_bisect_u0 *u,
-                          const gr_bisect_result *res, const gr_bisect_output *out, collapse_info *ci,
-                          gr_error *err)
+                          const gr_bisect_result *res, const gr_bisect_output *out,
+                          collapse_info *ci, gr_error *err)
 {
     const gr_histogram *h = &res->pn;
     const double n = res->levels, N = ldexp(1.0, res->levels);
@@ -1314,32 +1392,41 @@ static int write_collapse(const char *dir, const gr_bisect_settings *s, const gr
         return rc;
     }
     csv_header(&f, s, u, "the collapse G(R;N) -> A_N G^(1/(n-1)), n = log2 N (eq. 3.39)");
-    gr_file_note(&f, "# A_N = -ln(R_0) G(R_0;N)^(-1/(n-1)) (eq. 3.40) so every set passes through -ln R_0 at R_0; "
-                 "the uniform process collapses onto -ln R. Sets are separated by two blank lines (gnuplot index)\n");
-    gr_file_note(&f, "# set 0: the process (G = P_n(x) at the bin centres R = x), n = %d, anchored at R_0 = %.6g "
+    gr_file_note(&f, "# A_N = -ln(R_0) G(R_0;N)^(-1/(n-1)) (eq. 3.40) so every set passes through "
+                     "-ln R_0 at R_0; "
+                     "the uniform process collapses onto -ln R. Sets are separated by two blank "
+                     "lines (gnuplot index)\n");
+    gr_file_note(&f,
+                 "# set 0: the process (G = P_n(x) at the bin centres R = x), n = %d, anchored at "
+                 "R_0 = %.6g "
                  "(the bin centre%s), A_N = %.8g\n",
-            res->levels, ci->anchor_R,
-            gr_histogram_lower(h, ci->anchor_bin) <= s->anchor && s->anchor < gr_histogram_upper(h, ci->anchor_bin)
-                ? " holding the requested anchor"
-                : "; the requested anchor has too few partitions",
-            ci->A_N);
+                 res->levels, ci->anchor_R,
+                 gr_histogram_lower(h, ci->anchor_bin) <= s->anchor &&
+                         s->anchor < gr_histogram_upper(h, ci->anchor_bin)
+                     ? " holding the requested anchor"
+                     : "; the requested anchor has too few partitions",
+                 ci->A_N);
     for (int k = 0; k < out->n_g1; k++) {
         const gr_bisect_g1 *g = &out->g1[k];
-        gr_file_note(&f, "# set %d: RFM G_1 from %s, N = %g (n = %.6g), reduced_length %g, anchored at R_0 = %g, A_N = %.8g\n",
-                k + 1, g->name, g->N, log2(g->N), g->reduced_length, s->anchor, ci->g_A[k]);
+        gr_file_note(&f,
+                     "# set %d: RFM G_1 from %s, N = %g (n = %.6g), reduced_length %g, anchored at "
+                     "R_0 = %g, A_N = %.8g\n",
+                     k + 1, g->name, g->N, log2(g->N), g->reduced_length, s->anchor, ci->g_A[k]);
     }
-    gr_file_header(&f, "set [1],N [1],n [1],R [1],minus_ln_R [1],G [1],G_error [1],collapsed [1],collapsed_error [1]");
+    gr_file_header(&f, "set [1],N [1],n [1],R [1],minus_ln_R [1],G [1],G_error [1],collapsed "
+                       "[1],collapsed_error [1]");
     for (int b = 0; b < h->nbins; b++) {
         if (h->count[b] > 0.0) {
-            collapse_row(f.f, 0, N, n, ci->A_N, gr_histogram_center(h, b), gr_histogram_density(h, b),
-                         gr_histogram_density_error(h, b));
+            collapse_row(f.f, 0, N, n, ci->A_N, gr_histogram_center(h, b),
+                         gr_histogram_density(h, b), gr_histogram_density_error(h, b));
         }
     }
     for (int k = 0; k < out->n_g1; k++) {
         const gr_bisect_g1 *g = &out->g1[k];
         fputs("\n\n", f.f);
         for (int i = 0; i < g->n_points; i++) {
-            collapse_row(f.f, k + 1, g->N, log2(g->N), ci->g_A[k], g->R[i], g->G[i], g->G_err ? g->G_err[i] : (double)NAN);
+            collapse_row(f.f, k + 1, g->N, log2(g->N), ci->g_A[k], g->R[i], g->G[i],
+                         g->G_err ? g->G_err[i] : (double)NAN);
         }
     }
     return gr_file_commit(&f, err);
@@ -1365,7 +1452,7 @@ static void draw_plots(const char *dir, const gr_bisect_settings *s, const gr_bi
                        const gr_bisect_result *res, const gr_bisect_output *out, int first,
                        char *note, size_t note_size)
 {
-    char (*bodies)[16384] = malloc(4 * sizeof *bodies);
+    char(*bodies)[16384] = malloc(4 * sizeof *bodies);
     if (!bodies) {
         snprintf(note, note_size, "skipped: out of memory");
         return;
@@ -1385,60 +1472,75 @@ static void draw_plots(const char *dir, const gr_bisect_settings *s, const gr_bi
     snprintf(bodies[0], sizeof *bodies,
              "set logscale xy\nset format x '10^{%%L}'\nset format y '10^{%%L}'\nset samples 1000\n"
              "set xrange [%g:1]\nset yrange [%g:*]\nset key bottom left\n"
-             "set title 'Multiplicative bisection: P_n(x) at n = %d (N = %lld), %lld realisations, U_0 = %s'\n"
+             "set title 'Multiplicative bisection: P_n(x) at n = %d (N = %lld), %lld realisations, "
+             "U_0 = %s'\n"
              "set xlabel 'partition length x'\nset ylabel 'P_n(x)'\n"
              "f(x) = (-log(x))**(%d-1)/gamma(%d)\n"
              "plot 'pn.csv' using ($5>=5?$3:1/0):6:7 with yerrorbars pt 7 ps 0.5 lc rgb '#1f4e9a' "
              "title 'simulated (bins with >= 5 partitions, sqrt(X) errors)', "
-             "f(x) with lines lw 2 lc rgb '#cc3333' title '(-ln x)^{n-1}/(n-1)!  (eq. 3.36, uniform U_0)'\n",
-             first >= 0 ? gr_histogram_lower(h, first) : h->lo, ymin, n, 1LL << n, (long long)res->repetitions, name, n, n);
+             "f(x) with lines lw 2 lc rgb '#cc3333' title '(-ln x)^{n-1}/(n-1)!  (eq. 3.36, "
+             "uniform U_0)'\n",
+             first >= 0 ? gr_histogram_lower(h, first) : h->lo, ymin, n, 1LL << n,
+             (long long)res->repetitions, name, n, n);
     const char *pngs[4] = {"pn.png", "moments.png", "moments_N.png", "collapse.png"};
     /* <x^m> at level n against (1+m)^-n (3.37) */
-    int len = snprintf(bodies[1], sizeof *bodies,
-                       "set logscale y\nset format y '10^{%%L}'\nset xrange [0.5:%d.5]\nset xtics 1\nset key bottom left\n"
-                       "set title 'Moments of the partition lengths at level n = %d, U_0 = %s'\n"
-                       "set xlabel 'm'\nset ylabel '<x^m>'\n"
-                       "plot 'moments.csv' using ($1==%d?$3:1/0):4:5 with yerrorbars pt 7 lc rgb '#1f4e9a' title 'simulated', "
-                       "(1+x)**(-%d) with lines lw 2 lc rgb '#cc3333' title '(1+m)^{-n}  (eq. 3.37, uniform U_0)'",
-                       res->moments_max, n, name, n, n);
+    int len = snprintf(
+        bodies[1], sizeof *bodies,
+        "set logscale y\nset format y '10^{%%L}'\nset xrange [0.5:%d.5]\nset xtics 1\nset key "
+        "bottom left\n"
+        "set title 'Moments of the partition lengths at level n = %d, U_0 = %s'\n"
+        "set xlabel 'm'\nset ylabel '<x^m>'\n"
+        "plot 'moments.csv' using ($1==%d?$3:1/0):4:5 with yerrorbars pt 7 lc rgb '#1f4e9a' title "
+        "'simulated', "
+        "(1+x)**(-%d) with lines lw 2 lc rgb '#cc3333' title '(1+m)^{-n}  (eq. 3.37, uniform U_0)'",
+        res->moments_max, n, name, n, n);
     if (u->kind != GR_BISECT_U0_UNIFORM && len > 0 && (size_t)len < sizeof *bodies) {
         snprintf(bodies[1] + len, sizeof *bodies - (size_t)len,
-                 ", 'moments.csv' using ($1==%d?$3:1/0):6 with linespoints dt 2 pt 6 lc rgb 'black' title 'mu_m^n of this U_0'", n);
+                 ", 'moments.csv' using ($1==%d?$3:1/0):6 with linespoints dt 2 pt 6 lc rgb "
+                 "'black' title 'mu_m^n of this U_0'",
+                 n);
     }
     strncat(bodies[1], "\n", sizeof *bodies - strlen(bodies[1]) - 1);
     /* <x^m> against N with the fitted power laws (3.20, 3.38) */
-    len = snprintf(bodies[2], sizeof *bodies,
-                   "set logscale xy\nset format y '10^{%%L}'\nset key outside right\n"
-                   "set title 'Moments against the number of partitions N = 2^k: <x^m> = A N^{-zeta_m}'\n"
-                   "set xlabel 'N'\nset ylabel '<x^m>'\nplot ");
+    len = snprintf(
+        bodies[2], sizeof *bodies,
+        "set logscale xy\nset format y '10^{%%L}'\nset key outside right\n"
+        "set title 'Moments against the number of partitions N = 2^k: <x^m> = A N^{-zeta_m}'\n"
+        "set xlabel 'N'\nset ylabel '<x^m>'\nplot ");
     for (int m = 1; m <= res->moments_max && len > 0 && (size_t)len < sizeof *bodies; m++) {
         const gr_bisect_zeta *z = &res->zeta[m - 1];
         len += snprintf(bodies[2] + len, sizeof *bodies - (size_t)len,
-                        "%s'moments.csv' using ($3==%d?$2:1/0):4:5 with yerrorbars pt 7 ps 0.6 lc %d title 'm = %d'",
+                        "%s'moments.csv' using ($3==%d?$2:1/0):4:5 with yerrorbars pt 7 ps 0.6 lc "
+                        "%d title 'm = %d'",
                         m > 1 ? ", " : "", m, m, m);
         if (isfinite(z->zeta) && len > 0 && (size_t)len < sizeof *bodies) {
-            len += snprintf(bodies[2] + len, sizeof *bodies - (size_t)len,
-                            ", (x >= %g ? %.10g*x**(-%.10g) : 1/0) with lines lc %d title 'zeta_%d = %.4f'", ldexp(1.0, res->fit_level_min),
-                            z->prefactor, z->zeta, m, m, z->zeta);
+            len += snprintf(
+                bodies[2] + len, sizeof *bodies - (size_t)len,
+                ", (x >= %g ? %.10g*x**(-%.10g) : 1/0) with lines lc %d title 'zeta_%d = %.4f'",
+                ldexp(1.0, res->fit_level_min), z->prefactor, z->zeta, m, m, z->zeta);
         }
     }
     strncat(bodies[2], "\n", sizeof *bodies - strlen(bodies[2]) - 1);
     /* the collapse (3.39, Fig. 3.17) */
-    len = snprintf(bodies[3], sizeof *bodies,
-                   "set logscale xy\nset key top left\nset samples 200\n"
-                   "set title 'Collapse A_N G(R;N)^{1/(n-1)}, n = log_2 N (eqs. 3.39-3.40, R_0 = %g)'\n"
-                   "set xlabel '-ln R'\nset ylabel 'A_N G^{1/(n-1)}'\n"
-                   "plot 'collapse.csv' index 0 using 5:8 with points pt 7 ps 0.6 lc rgb '#1f4e9a' title 'bisection process, n = %d'",
-                   s->anchor, n);
+    len = snprintf(
+        bodies[3], sizeof *bodies,
+        "set logscale xy\nset key top left\nset samples 200\n"
+        "set title 'Collapse A_N G(R;N)^{1/(n-1)}, n = log_2 N (eqs. 3.39-3.40, R_0 = %g)'\n"
+        "set xlabel '-ln R'\nset ylabel 'A_N G^{1/(n-1)}'\n"
+        "plot 'collapse.csv' index 0 using 5:8 with points pt 7 ps 0.6 lc rgb '#1f4e9a' title "
+        "'bisection process, n = %d'",
+        s->anchor, n);
     for (int k = 0; k < out->n_g1 && len > 0 && (size_t)len < sizeof *bodies; k++) {
         gp_quote(one, sizeof one, out->g1[k].name);
         len += snprintf(bodies[3] + len, sizeof *bodies - (size_t)len,
-                        ", 'collapse.csv' index %d using 5:8 with points pt %d ps 0.7 title 'RFM G_1, N = %g (%s)'", k + 1,
-                        (k % 10) + 1, out->g1[k].N, one);
+                        ", 'collapse.csv' index %d using 5:8 with points pt %d ps 0.7 title 'RFM "
+                        "G_1, N = %g (%s)'",
+                        k + 1, (k % 10) + 1, out->g1[k].N, one);
     }
     if (len > 0 && (size_t)len < sizeof *bodies) {
-        snprintf(bodies[3] + len, sizeof *bodies - (size_t)len,
-                 ", x with lines dt 2 lw 2 lc rgb 'black' title '-ln R (uniform process, eq. 3.36)'\n");
+        snprintf(
+            bodies[3] + len, sizeof *bodies - (size_t)len,
+            ", x with lines dt 2 lw 2 lc rgb 'black' title '-ln R (uniform process, eq. 3.36)'\n");
     }
     for (int i = 0; i < 4; i++) {
         if (i == 3 && n < 2) {
@@ -1459,11 +1561,14 @@ static void draw_plots(const char *dir, const gr_bisect_settings *s, const gr_bi
     }
 }
 
-static cJSON *number_or_null(double v) { return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull(); }
+static cJSON *number_or_null(double v)
+{
+    return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
+}
 
 static int write_summary(const char *dir, const gr_bisect_settings *s, const gr_bisect_u0 *u,
-                         const gr_bisect_result *res, const gr_bisect_output *out, const collapse_info *ci,
-                         double write_seconds, gr_error *err)
+                         const gr_bisect_result *res, const gr_bisect_output *out,
+                         const collapse_info *ci, double write_seconds, gr_error *err)
 {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "status", "completed");
@@ -1494,7 +1599,8 @@ static int write_summary(const char *dir, const gr_bisect_settings *s, const gr_
     }
     cJSON_AddNumberToObject(j, "wall_seconds", res->wall_seconds);
     cJSON_AddNumberToObject(j, "write_seconds", write_seconds);
-    cJSON_AddNumberToObject(j, "partitions_per_second", res->wall_seconds > 0.0 ? res->segments / res->wall_seconds : 0.0);
+    cJSON_AddNumberToObject(j, "partitions_per_second",
+                            res->wall_seconds > 0.0 ? res->segments / res->wall_seconds : 0.0);
     cJSON_AddNumberToObject(j, "sum_error_max", res->sum_error_max);
     cJSON_AddNumberToObject(j, "underflowed_partitions", (double)res->underflows);
     cJSON *pj = cJSON_AddObjectToObject(j, "pn");
@@ -1505,9 +1611,11 @@ static int write_summary(const char *dir, const gr_bisect_settings *s, const gr_
     gr_bisect_gof gof;
     gr_error e = {0};
     cJSON *gj = cJSON_AddObjectToObject(pj, "against_3_36");
-    cJSON_AddStringToObject(gj, "note", u->kind == GR_BISECT_U0_UNIFORM
-                                            ? "chi-square of the simulated P_n against (3.36) over bins expecting >= 20 partitions"
-                                            : "(3.36) is the uniform process; this U_0 is not expected to match it");
+    cJSON_AddStringToObject(
+        gj, "note",
+        u->kind == GR_BISECT_U0_UNIFORM
+            ? "chi-square of the simulated P_n against (3.36) over bins expecting >= 20 partitions"
+            : "(3.36) is the uniform process; this U_0 is not expected to match it");
     if (!gr_bisect_pn_gof(res, 20.0, &gof, &e)) {
         cJSON_AddNumberToObject(gj, "chi2", gof.chi2);
         cJSON_AddNumberToObject(gj, "chi2_poisson", gof.chi2_poisson);
@@ -1523,7 +1631,9 @@ static int write_summary(const char *dir, const gr_bisect_settings *s, const gr_
         cJSON_AddNumberToObject(o, "error", res->moment_err[i]);
         cJSON_AddNumberToObject(o, "predicted", res->moment_pred[i]);
         cJSON_AddNumberToObject(o, "uniform_3_37", gr_bisect_moment_uniform(res->levels, m));
-        cJSON_AddNumberToObject(o, "z", (res->moment[i] - res->moment_pred[i]) / moment_sigma(res->moment[i], res->moment_err[i]));
+        cJSON_AddNumberToObject(o, "z",
+                                (res->moment[i] - res->moment_pred[i]) /
+                                    moment_sigma(res->moment[i], res->moment_err[i]));
         cJSON_AddItemToArray(mj, o);
     }
     cJSON *fit_levels = cJSON_AddArrayToObject(j, "zeta_fit_levels");
@@ -1584,7 +1694,8 @@ int gr_bisect_write(const char *dir, const gr_bisect_settings *s, const gr_bisec
     const double t0 = now();
     collapse_info ci = {0};
     if (out->n_g1 < 0 || out->n_g1 > 64 || (out->n_g1 > 0 && !out->g1)) {
-        return GR_FAIL(err, GR_EINVAL, "bisect output: between 0 and 64 G_1 tables, got %d", out->n_g1);
+        return GR_FAIL(err, GR_EINVAL, "bisect output: between 0 and 64 G_1 tables, got %d",
+                       out->n_g1);
     }
     for (int k = 0; k < out->n_g1; k++) {
         int rc = gr_bisect_g1_at(&out->g1[k], s->anchor, &ci.g_anchor[k], err);
@@ -1592,7 +1703,9 @@ int gr_bisect_write(const char *dir, const gr_bisect_settings *s, const gr_bisec
             return rc;
         }
         if (!(ci.g_anchor[k] > 0.0)) {
-            return GR_FAIL(err, GR_EINVAL, "%s: G_1 = 0 at the anchor R_0 = %g: A_N (3.40) is undefined; choose another anchor",
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: G_1 = 0 at the anchor R_0 = %g: A_N (3.40) is undefined; choose "
+                           "another anchor",
                            out->g1[k].name, s->anchor);
         }
         ci.g_A[k] = gr_bisect_collapse_factor(log2(out->g1[k].N), s->anchor, ci.g_anchor[k]);

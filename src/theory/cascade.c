@@ -16,13 +16,16 @@
 static const gr_cascade_variant_info variants[GR_CASCADE_NVARIANTS] = {
     [GR_CASCADE_UCP] = {"ucp", "UCP", {0, 0, 0, 0}, 1.602, 0.066, true},
     [GR_CASCADE_UNONCP] = {"unoncp", "UnonCP", {0, 0, 0, 0}, 1.595, 0.064, false},
-    [GR_CASCADE_SYMMETRISED] = {"symmetrised", "Symmetrised Cascade", {0, 0, 0, 0}, (double)NAN, (double)NAN, true},
+    [GR_CASCADE_SYMMETRISED] =
+        {"symmetrised", "Symmetrised Cascade", {0, 0, 0, 0}, (double)NAN, (double)NAN, true},
     [GR_CASCADE_MEAKIN1] = {"meakin1", "Meakin 1", {0.001, 0.15, 0.32, 0.53}, 1.287, 0.084, true},
     [GR_CASCADE_MEAKIN2] = {"meakin2", "Meakin 2", {0.02, 0.32, 0.32, 0.34}, 1.596, 0.147, true},
     [GR_CASCADE_MEAKIN3] = {"meakin3", "Meakin 3", {0.18, 0.21, 0.29, 0.31}, 1.828, 0.233, true},
     [GR_CASCADE_MEAKIN4] = {"meakin4", "Meakin 4", {0.07, 0.26, 0.32, 0.36}, 1.689, 0.178, true},
-    [GR_CASCADE_MEAKIN] = {"meakin", "Meakin (custom p)", {0, 0, 0, 0}, (double)NAN, (double)NAN, true},
-    [GR_CASCADE_UNIFORM] = {"uniform", "uniform (control)", {0, 0, 0, 0}, (double)NAN, (double)NAN, true},
+    [GR_CASCADE_MEAKIN] =
+        {"meakin", "Meakin (custom p)", {0, 0, 0, 0}, (double)NAN, (double)NAN, true},
+    [GR_CASCADE_UNIFORM] =
+        {"uniform", "uniform (control)", {0, 0, 0, 0}, (double)NAN, (double)NAN, true},
 };
 
 const gr_cascade_variant_info *gr_cascade_variant_get(gr_cascade_variant v)
@@ -42,10 +45,11 @@ int gr_cascade_variant_parse(const char *name, gr_cascade_variant *out, gr_error
         *out = GR_CASCADE_SYMMETRISED;
         return GR_OK;
     }
-    return GR_FAIL(err, GR_EINVAL,
-                   "unknown cascade variant '%s': expected ucp, unoncp, symmetrised, meakin1, meakin2, "
-                   "meakin3, meakin4, meakin (with p) or uniform",
-                   name ? name : "");
+    return GR_FAIL(
+        err, GR_EINVAL,
+        "unknown cascade variant '%s': expected ucp, unoncp, symmetrised, meakin1, meakin2, "
+        "meakin3, meakin4, meakin (with p) or uniform",
+        name ? name : "");
 }
 
 void gr_cascade_settings_default(gr_cascade_settings *s)
@@ -80,20 +84,23 @@ int gr_cascade_settings_check(const gr_cascade_settings *s, gr_error *err)
         return GR_FAIL(err, GR_EINVAL, "cascade: unknown variant %d", (int)s->variant);
     }
     if (s->levels < 1 || s->levels > GR_CASCADE_MAX_LEVELS) {
-        return GR_FAIL(err, GR_EINVAL, "cascade: levels must lie in [1, %d] (a 2^n x 2^n grid), got %d",
+        return GR_FAIL(err, GR_EINVAL,
+                       "cascade: levels must lie in [1, %d] (a 2^n x 2^n grid), got %d",
                        GR_CASCADE_MAX_LEVELS, s->levels);
     }
     if (!(s->L > 0.0) || !isfinite(s->L)) {
         return GR_FAIL(err, GR_EINVAL, "cascade: box side L must be > 0 m, got %g", s->L);
     }
     if (s->configurations < 1) {
-        return GR_FAIL(err, GR_EINVAL, "cascade: configurations must be >= 1, got %d", s->configurations);
+        return GR_FAIL(err, GR_EINVAL, "cascade: configurations must be >= 1, got %d",
+                       s->configurations);
     }
     if (s->variant == GR_CASCADE_MEAKIN) {
         double sum = 0.0;
         for (int c = 0; c < 4; c++) {
             if (!(s->p[c] >= 0.0) || !isfinite(s->p[c])) {
-                return GR_FAIL(err, GR_EINVAL, "cascade: Meakin numbers p must be finite and >= 0, got p%d = %g",
+                return GR_FAIL(err, GR_EINVAL,
+                               "cascade: Meakin numbers p must be finite and >= 0, got p%d = %g",
                                c + 1, s->p[c]);
             }
             sum += s->p[c];
@@ -109,7 +116,8 @@ int gr_cascade_settings_check(const gr_cascade_settings *s, gr_error *err)
     if (!(q_min >= 1.0) || !(s->fit_q_max >= 0.0) ||
         (s->fit_q_max > 0.0 && (!(q_max <= top) || !(q_max >= q_min + 2.0)))) {
         return GR_FAIL(err, GR_EINVAL,
-                       "cascade: the fit range must hold at least 3 bins within 1..2^(levels-1) = %g, got %g..%g",
+                       "cascade: the fit range must hold at least 3 bins within 1..2^(levels-1) = "
+                       "%g, got %g..%g",
                        top, q_min, q_max);
     }
     return GR_OK;
@@ -122,7 +130,8 @@ int gr_cascade_field_alloc(int levels, double L, gr_cascade_field **out, gr_erro
 {
     *out = NULL;
     if (levels < 0 || levels > GR_CASCADE_MAX_LEVELS || !(L > 0.0)) {
-        return GR_FAIL(err, GR_EINVAL, "cascade field: levels must lie in [0, %d] and L > 0, got %d and %g",
+        return GR_FAIL(err, GR_EINVAL,
+                       "cascade field: levels must lie in [0, %d] and L > 0, got %d and %g",
                        GR_CASCADE_MAX_LEVELS, levels, L);
     }
     gr_cascade_field *f = calloc(1, sizeof *f);
@@ -135,7 +144,8 @@ int gr_cascade_field_alloc(int levels, double L, gr_cascade_field **out, gr_erro
     f->m = fftw_alloc_real((size_t)f->side * (size_t)f->side);
     if (!f->m) {
         free(f);
-        return GR_FAIL(err, GR_ENOMEM, "cascade field: out of memory for %d x %d squares", 1 << levels, 1 << levels);
+        return GR_FAIL(err, GR_ENOMEM, "cascade field: out of memory for %d x %d squares",
+                       1 << levels, 1 << levels);
     }
     gr_cascade_field_reset(f);
     *out = f;
@@ -179,10 +189,12 @@ static const unsigned char perms[24][4] = {
     {2, 0, 1, 3}, {2, 0, 3, 1}, {2, 1, 0, 3}, {2, 1, 3, 0}, {2, 3, 0, 1}, {2, 3, 1, 0},
     {3, 0, 1, 2}, {3, 0, 2, 1}, {3, 1, 0, 2}, {3, 1, 2, 0}, {3, 2, 0, 1}, {3, 2, 1, 0}};
 
-int gr_cascade_refine(const gr_cascade_settings *s, gsl_rng *rng, gr_cascade_field *f, gr_error *err)
+int gr_cascade_refine(const gr_cascade_settings *s, gsl_rng *rng, gr_cascade_field *f,
+                      gr_error *err)
 {
     if (f->level >= f->levels) {
-        return GR_FAIL(err, GR_EINVAL, "cascade: the field is already at its finest level %d", f->levels);
+        return GR_FAIL(err, GR_EINVAL, "cascade: the field is already at its finest level %d",
+                       f->levels);
     }
     if ((int)s->variant < 0 || s->variant >= GR_CASCADE_NVARIANTS) {
         return GR_FAIL(err, GR_EINVAL, "cascade: unknown variant %d", (int)s->variant);
@@ -212,9 +224,7 @@ int gr_cascade_refine(const gr_cascade_settings *s, gsl_rng *rng, gr_cascade_fie
             a[1] = a[2] = 1.0 - x;
             break;
         }
-        case GR_CASCADE_UNIFORM:
-            a[0] = a[1] = a[2] = a[3] = 1.0;
-            break;
+        case GR_CASCADE_UNIFORM: a[0] = a[1] = a[2] = a[3] = 1.0; break;
         default: { /* Meakin: p1..p4 dealt to the four children in a random order */
             const unsigned char *o = perms[gsl_rng_uniform_int(rng, 24)];
             for (int c = 0; c < 4; c++) {
@@ -235,8 +245,8 @@ int gr_cascade_refine(const gr_cascade_settings *s, gsl_rng *rng, gr_cascade_fie
     return GR_OK;
 }
 
-int gr_cascade_generate(const gr_cascade_settings *s, gsl_rng *rng, gr_cascade_field *f, double *totals,
-                        gr_error *err)
+int gr_cascade_generate(const gr_cascade_settings *s, gsl_rng *rng, gr_cascade_field *f,
+                        double *totals, gr_error *err)
 {
     gr_cascade_field_reset(f);
     if (totals) {
@@ -282,14 +292,13 @@ void gr_cascade_moments(const gr_cascade_settings *s, double mean[4], double sec
         for (int c = 0; c < 4; c++) {
             mean[c] = is_small[c] ? small : big;
             for (int d = 0; d < 4; d++) {
-                second[c][d] = is_small[c] && is_small[d] ? ss : (!is_small[c] && !is_small[d] ? bb : sb);
+                second[c][d] =
+                    is_small[c] && is_small[d] ? ss : (!is_small[c] && !is_small[d] ? bb : sb);
             }
         }
         return;
     }
-    case GR_CASCADE_UNIFORM:
-        diag = off = 1.0 / 16.0;
-        break;
+    case GR_CASCADE_UNIFORM: diag = off = 1.0 / 16.0; break;
     default: { /* Meakin: a random order of p/P, P = sum p */
         const double *p = meakin_p(s);
         double P = 0.0, P2 = 0.0;
@@ -334,7 +343,8 @@ typedef struct moments {
 
 /* The recursion of gr_cascade_sk_expected. `table` (NULL or 2^(levels+1) entries e^{i pi j / 2^levels})
  * turns every phase of an integer q into a lookup: e^{i pi q 2^l / 2^n} = table[q 2^l mod 2^(n+1)]. */
-static double expected_with(const moments *mo, int levels, const double complex *table, double qx, double qy)
+static double expected_with(const moments *mo, int levels, const double complex *table, double qx,
+                            double qy)
 {
     const double *mean = mo->mean;
     const double(*second)[4] = mo->second;
@@ -351,7 +361,8 @@ static double expected_with(const moments *mo, int levels, const double complex 
     for (int l = 1; l <= levels; l++) {
         const double complex ex = table ? table[(iqx << l) % period] : expipi(ldexp(kx0, l));
         const double complex ey = table ? table[(iqy << l) % period] : expipi(ldexp(ky0, l));
-        const double complex ph[4] = {1.0, ex, ey, ex * ey}; /* e^{2 pi i kappa . o_c}, o_c = (g, h)/2 */
+        const double complex ph[4] = {1.0, ex, ey,
+                                      ex * ey}; /* e^{2 pi i kappa . o_c}, o_c = (g, h)/2 */
         double cross = 0.0;
         double complex Mn = 0.0;
         for (int c = 0; c < 4; c++) {
@@ -383,9 +394,9 @@ struct gr_cascade_sk {
     gr_cascade_settings s;
     int side, nh, nbins, configs;
     fftw_plan plan;
-    double *in;           /* planning array, freed once planned */
-    fftw_complex *out;    /* side x (side/2 + 1) */
-    double *sum;          /* sum over configurations of S on the half plane */
+    double *in;                 /* planning array, freed once planned */
+    fftw_complex *out;          /* side x (side/2 + 1) */
+    double *sum;                /* sum over configurations of S on the half plane */
     gr_histogram h_S, h_n, h_q; /* per configuration: sum of S, vectors, sum of |q| per bin */
     double *bin_mean, *bin_m2;  /* Welford over configurations of the circular average */
     double *bin_expected;
@@ -446,7 +457,8 @@ int gr_cascade_sk_alloc(const gr_cascade_settings *s, gr_cascade_sk **out, gr_er
     sk->bin_expected = calloc((size_t)sk->nbins, sizeof(double));
     if (!sk->in || !sk->out || !sk->sum || !sk->bin_mean || !sk->bin_m2 || !sk->bin_expected) {
         gr_cascade_sk_free(sk);
-        return GR_FAIL(err, GR_ENOMEM, "cascade S(k): out of memory for a %d x %d grid", sk->side, sk->side);
+        return GR_FAIL(err, GR_ENOMEM, "cascade S(k): out of memory for a %d x %d grid", sk->side,
+                       sk->side);
     }
     /* Integer |q| bins [q - 1/2, q + 1/2), q = 1 .. side/2: histograms with weights */
     const double lo = 0.5, hi = sk->nbins + 0.5;
@@ -458,11 +470,13 @@ int gr_cascade_sk_alloc(const gr_cascade_settings *s, gr_cascade_sk **out, gr_er
     }
     /* FFTW_ESTIMATE: the same plan (and so bit-identical sums) on every run */
     sk->plan = fftw_plan_dft_r2c_2d(sk->side, sk->side, sk->in, sk->out, FFTW_ESTIMATE);
-    fftw_free(sk->in); /* fields are transformed with the new-array interface; same FFTW alignment */
+    fftw_free(
+        sk->in); /* fields are transformed with the new-array interface; same FFTW alignment */
     sk->in = NULL;
     if (!sk->plan) {
         gr_cascade_sk_free(sk);
-        return GR_FAIL(err, GR_ENOMEM, "cascade S(k): FFTW could not plan a %d x %d transform", sk->side, sk->side);
+        return GR_FAIL(err, GR_ENOMEM, "cascade S(k): FFTW could not plan a %d x %d transform",
+                       sk->side, sk->side);
     }
     /* the vectors per bin, their mean |q| and the exact expected S, once */
     moments mo;
@@ -489,17 +503,15 @@ int gr_cascade_sk_alloc(const gr_cascade_settings *s, gr_cascade_sk **out, gr_er
     }
     free(table);
     for (int b = 0; b < sk->nbins; b++) {
-        sk->bin_expected[b] = sk->h_n.count[b] > 0.0 ? sk->h_S.count[b] / sk->h_n.count[b] : (double)NAN;
+        sk->bin_expected[b] =
+            sk->h_n.count[b] > 0.0 ? sk->h_S.count[b] / sk->h_n.count[b] : (double)NAN;
     }
     *out = sk;
     return GR_OK;
 }
 
 /* fftw_complex is the C99 double complex here (<complex.h> comes first) */
-static double cabs2(fftw_complex z)
-{
-    return creal(z) * creal(z) + cimag(z) * cimag(z);
-}
+static double cabs2(fftw_complex z) { return creal(z) * creal(z) + cimag(z) * cimag(z); }
 
 /* index of q on the stored half plane (FFTW's r2c layout), using S(-q) = S(q) and the period side */
 static size_t half_index(const gr_cascade_sk *sk, int qx, int qy)
@@ -516,7 +528,8 @@ static size_t half_index(const gr_cascade_sk *sk, int qx, int qy)
 int gr_cascade_sk_add(gr_cascade_sk *sk, const gr_cascade_field *f, gr_error *err)
 {
     if (f->levels != sk->s.levels || f->level != f->levels) {
-        return GR_FAIL(err, GR_EINVAL, "cascade S(k): need a finished field of %d levels (got level %d of %d)",
+        return GR_FAIL(err, GR_EINVAL,
+                       "cascade S(k): need a finished field of %d levels (got level %d of %d)",
                        sk->s.levels, f->level, f->levels);
     }
     /* (6.5): sum_{i,j} m_{i,j} e^{-2 pi i (q_x i + q_y j)/2^n}; the centre offset (i + 1/2) of (6.1) is a
@@ -539,7 +552,8 @@ int gr_cascade_sk_add(gr_cascade_sk *sk, const gr_cascade_field *f, gr_error *er
     }
     sk->configs++;
     for (int b = 0; b < sk->nbins; b++) {
-        const double x = sk->h_S.count[b] / sk->h_n.count[b]; /* circular average of this configuration */
+        const double x =
+            sk->h_S.count[b] / sk->h_n.count[b]; /* circular average of this configuration */
         const double d = x - sk->bin_mean[b];
         sk->bin_mean[b] += d / sk->configs;
         sk->bin_m2[b] += d * (x - sk->bin_mean[b]);
@@ -547,10 +561,7 @@ int gr_cascade_sk_add(gr_cascade_sk *sk, const gr_cascade_field *f, gr_error *er
     return GR_OK;
 }
 
-int gr_cascade_sk_configurations(const gr_cascade_sk *sk)
-{
-    return sk->configs;
-}
+int gr_cascade_sk_configurations(const gr_cascade_sk *sk) { return sk->configs; }
 
 double gr_cascade_sk_last(const gr_cascade_sk *sk, int qx, int qy)
 {
@@ -562,10 +573,7 @@ double gr_cascade_sk_mean(const gr_cascade_sk *sk, int qx, int qy)
     return sk->configs > 0 ? sk->sum[half_index(sk, qx, qy)] / sk->configs : (double)NAN;
 }
 
-int gr_cascade_sk_nbins(const gr_cascade_sk *sk)
-{
-    return sk->nbins;
-}
+int gr_cascade_sk_nbins(const gr_cascade_sk *sk) { return sk->nbins; }
 
 void gr_cascade_sk_bins(const gr_cascade_sk *sk, gr_cascade_sk_bin *bins)
 {
@@ -576,7 +584,8 @@ void gr_cascade_sk_bins(const gr_cascade_sk *sk, gr_cascade_sk_bin *bins)
         o->q_mean = sk->h_q.count[b] / sk->h_n.count[b];
         o->k = 2.0 * M_PI * o->q_mean / sk->s.L; /* (4.3) */
         o->S = sk->configs > 0 ? sk->bin_mean[b] : (double)NAN;
-        o->S_err = sk->configs > 1 ? sqrt(sk->bin_m2[b] / (sk->configs - 1) / sk->configs) : (double)NAN;
+        o->S_err =
+            sk->configs > 1 ? sqrt(sk->bin_m2[b] / (sk->configs - 1) / sk->configs) : (double)NAN;
         o->S_expected = sk->bin_expected[b];
     }
 }
@@ -598,8 +607,8 @@ double gr_cascade_sk_direct(const gr_cascade_field *f, int qx, int qy)
     return re * re + im * im;
 }
 
-static int fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max, bool expected, bool unweighted,
-                  gr_cascade_fit *out, gr_error *err)
+static int fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max,
+                  bool expected, bool unweighted, gr_cascade_fit *out, gr_error *err)
 {
     memset(out, 0, sizeof *out);
     double *x = malloc(sizeof(double) * (size_t)(nbins > 0 ? nbins : 1));
@@ -634,9 +643,11 @@ static int fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, double
         n++;
     }
     gr_fit fit;
-    int rc = n >= GR_FIT_MIN_POINTS ? gr_fit_power_law(x, y, weighted ? sg : NULL, n, &fit, err)
-                    : GR_FAIL(err, GR_EINVAL, "cascade fit: need at least 3 bins with S > 0 in q = %g..%g, got %d",
-                              q_min, q_max, n);
+    int rc = n >= GR_FIT_MIN_POINTS
+                 ? gr_fit_power_law(x, y, weighted ? sg : NULL, n, &fit, err)
+                 : GR_FAIL(err, GR_EINVAL,
+                           "cascade fit: need at least 3 bins with S > 0 in q = %g..%g, got %d",
+                           q_min, q_max, n);
     free(x);
     free(y);
     free(sg);
@@ -652,14 +663,14 @@ static int fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, double
     return GR_OK;
 }
 
-int gr_cascade_fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max, bool expected,
-                      gr_cascade_fit *out, gr_error *err)
+int gr_cascade_fit_df(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max,
+                      bool expected, gr_cascade_fit *out, gr_error *err)
 {
     return fit_df(bins, nbins, q_min, q_max, expected, false, out, err);
 }
 
-int gr_cascade_fit_df_unweighted(const gr_cascade_sk_bin *bins, int nbins, double q_min, double q_max,
-                                 gr_cascade_fit *out, gr_error *err)
+int gr_cascade_fit_df_unweighted(const gr_cascade_sk_bin *bins, int nbins, double q_min,
+                                 double q_max, gr_cascade_fit *out, gr_error *err)
 {
     return fit_df(bins, nbins, q_min, q_max, false, true, out, err);
 }
@@ -699,21 +710,25 @@ int gr_cascade_placement_check(const gr_cascade_placement *p, double L, gr_error
         return GR_FAIL(err, GR_EINVAL, "cascade placement: radius must be > 0 m, got %g", r);
     }
     if (!(L >= 4.0 * r)) {
-        return GR_FAIL(err, GR_EINVAL, "cascade placement: the box (L = %g m) must be at least two diameters (%g m)",
-                       L, 4.0 * r);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "cascade placement: the box (L = %g m) must be at least two diameters (%g m)", L,
+            4.0 * r);
     }
     const double phi = p->n * M_PI * r * r / (L * L); /* (2.24) */
     if (phi > GR_CASCADE_RSA_JAMMING) {
         return GR_FAIL(err, GR_EINVAL,
-                       "cascade placement: %d discs of radius %g m in a %g m box have packing fraction %.3f, above "
-                       "the %.3f that random sequential placement can reach; place fewer or smaller discs or enlarge the box",
+                       "cascade placement: %d discs of radius %g m in a %g m box have packing "
+                       "fraction %.3f, above "
+                       "the %.3f that random sequential placement can reach; place fewer or "
+                       "smaller discs or enlarge the box",
                        p->n, r, L, phi, GR_CASCADE_RSA_JAMMING);
     }
     return GR_OK;
 }
 
-int gr_cascade_place(const gr_cascade_field *f, const gr_cascade_placement *p, gsl_rng *rng, double *x,
-                     double *y, gr_cascade_placement_result *res, gr_error *err)
+int gr_cascade_place(const gr_cascade_field *f, const gr_cascade_placement *p, gsl_rng *rng,
+                     double *x, double *y, gr_cascade_placement_result *res, gr_error *err)
 {
     memset(res, 0, sizeof *res);
     const double L = f->L, r = p->radius, d = 2.0 * r;
@@ -723,7 +738,8 @@ int gr_cascade_place(const gr_cascade_field *f, const gr_cascade_placement *p, g
     }
     res->phi = p->n * M_PI * r * r / (L * L); /* (2.24) */
     if (f->level != f->levels) {
-        return GR_FAIL(err, GR_EINVAL, "cascade placement: the field is unfinished (level %d of %d)", f->level,
+        return GR_FAIL(err, GR_EINVAL,
+                       "cascade placement: the field is unfinished (level %d of %d)", f->level,
                        f->levels);
     }
     const size_t ncell = (size_t)f->side * (size_t)f->side;
@@ -737,7 +753,8 @@ int gr_cascade_place(const gr_cascade_field *f, const gr_cascade_placement *p, g
         ng = 1;
     }
     double *cdf = malloc(sizeof(double) * ncell);
-    int *head = malloc(sizeof(int) * (size_t)ng * (size_t)ng), *next = malloc(sizeof(int) * (size_t)p->n);
+    int *head = malloc(sizeof(int) * (size_t)ng * (size_t)ng),
+        *next = malloc(sizeof(int) * (size_t)p->n);
     if (!cdf || !head || !next) {
         free(cdf);
         free(head);
@@ -750,8 +767,10 @@ int gr_cascade_place(const gr_cascade_field *f, const gr_cascade_placement *p, g
         cdf[c] = total;
     }
     if (!(total > 0.0) || !isfinite(total)) {
-        rc = GR_FAIL(err, GR_EINVAL, "cascade placement: the field's total probability is %g: nowhere to place discs",
-                     total);
+        rc = GR_FAIL(
+            err, GR_EINVAL,
+            "cascade placement: the field's total probability is %g: nowhere to place discs",
+            total);
     }
     for (int c = 0; c < ng * ng; c++) {
         head[c] = -1;
@@ -760,10 +779,12 @@ int gr_cascade_place(const gr_cascade_field *f, const gr_cascade_placement *p, g
     int placed = 0;
     while (!rc && placed < p->n) {
         if (res->attempts >= budget) {
-            rc = GR_FAIL(err, GR_EINVAL,
-                         "cascade placement: placed only %d of %d discs (radius %g m) in %lld attempts: the field's "
-                         "likely squares are full; place fewer or smaller discs, or use fewer levels",
-                         placed, p->n, r, (long long)res->attempts);
+            rc = GR_FAIL(
+                err, GR_EINVAL,
+                "cascade placement: placed only %d of %d discs (radius %g m) in %lld attempts: the "
+                "field's "
+                "likely squares are full; place fewer or smaller discs, or use fewer levels",
+                placed, p->n, r, (long long)res->attempts);
             break;
         }
         res->attempts++;

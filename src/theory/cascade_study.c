@@ -33,14 +33,16 @@ const gr_cascade_fit *gr_cascade_study_headline(const gr_cascade_study *st)
  * l = min(levels, GR_CASCADE_FIELD_CSV_MAX_LEVELS) (out: 4^l values, row-major). */
 static int coarse_field(const gr_cascade_field *fld, double *out)
 {
-    const int l = fld->levels < GR_CASCADE_FIELD_CSV_MAX_LEVELS ? fld->levels : GR_CASCADE_FIELD_CSV_MAX_LEVELS;
+    const int l = fld->levels < GR_CASCADE_FIELD_CSV_MAX_LEVELS ? fld->levels
+                                                                : GR_CASCADE_FIELD_CSV_MAX_LEVELS;
     const int n = 1 << l, block = fld->side / n;
     const double scale = ldexp(1.0, 2 * l);
     for (int j = 0; j < n; j++) {
         for (int i = 0; i < n; i++) {
             double sum = 0.0;
             for (int b = 0; b < block; b++) {
-                const double *row = fld->m + (size_t)(j * block + b) * (size_t)fld->side + (size_t)(i * block);
+                const double *row =
+                    fld->m + (size_t)(j * block + b) * (size_t)fld->side + (size_t)(i * block);
                 for (int a = 0; a < block; a++) {
                     sum += row[a];
                 }
@@ -52,7 +54,8 @@ static int coarse_field(const gr_cascade_field *fld, double *out)
 }
 
 /* Fig. 6.3, from the first field */
-static int place(const gr_cascade_study_params *p, const gr_cascade_field *field, gr_cascade_study *st, gr_error *err)
+static int place(const gr_cascade_study_params *p, const gr_cascade_field *field,
+                 gr_cascade_study *st, gr_error *err)
 {
     const double t0 = now();
     const int n = p->placement.n;
@@ -84,27 +87,31 @@ static void fits(const gr_cascade_settings *s, gr_cascade_study *st)
     }
     const double total = st->t_mean[s->levels];
     if (!(S_max > 1e-20 * total * total)) {
-        snprintf(st->fit_note, sizeof st->fit_note, "no D_f: S(k) vanishes for k != 0 (a uniform field)");
+        snprintf(st->fit_note, sizeof st->fit_note,
+                 "no D_f: S(k) vanishes for k != 0 (a uniform field)");
         return;
     }
     if (gr_cascade_fit_df(st->bins, st->nbins, st->q_min, st->q_max, false, &st->fit, &fit_err) ||
-        gr_cascade_fit_df(st->bins, st->nbins, st->q_min, st->q_max, true, &st->fit_exp, &fit_err)) {
+        gr_cascade_fit_df(st->bins, st->nbins, st->q_min, st->q_max, true, &st->fit_exp,
+                          &fit_err)) {
         snprintf(st->fit_note, sizeof st->fit_note, "no D_f: %s", fit_err.message);
         return;
     }
     st->have_fit = true;
-    st->have_unweighted =
-        gr_cascade_fit_df_unweighted(st->bins, st->nbins, st->q_min, st->q_max, &st->fit_unweighted, &fit_err) == 0;
+    st->have_unweighted = gr_cascade_fit_df_unweighted(st->bins, st->nbins, st->q_min, st->q_max,
+                                                       &st->fit_unweighted, &fit_err) == 0;
     st->headline_unweighted = st->have_unweighted && st->fit.chi2_red > GR_CASCADE_CHI2_LARGE;
     if (st->headline_unweighted) {
         snprintf(st->headline_why, sizeof st->headline_why,
-                 "the weighted fit has chi2/dof = %.3g > %g: the scatter of S(k) about the power law is the lattice's "
-                 "shell structure, not noise, so each k shell weighs the same and the error comes from the scatter",
+                 "the weighted fit has chi2/dof = %.3g > %g: the scatter of S(k) about the power "
+                 "law is the lattice's "
+                 "shell structure, not noise, so each k shell weighs the same and the error comes "
+                 "from the scatter",
                  st->fit.chi2_red, GR_CASCADE_CHI2_LARGE);
     } else {
         snprintf(st->headline_why, sizeof st->headline_why,
-                 "the weighted fit has chi2/dof = %.3g <= %g: S_err describes the scatter", st->fit.chi2_red,
-                 GR_CASCADE_CHI2_LARGE);
+                 "the weighted fit has chi2/dof = %.3g <= %g: S_err describes the scatter",
+                 st->fit.chi2_red, GR_CASCADE_CHI2_LARGE);
     }
 }
 
@@ -150,8 +157,9 @@ int gr_cascade_study_run(const gr_cascade_study_params *p, gr_cascade_study *st,
     st->levels = s->levels;
     const int nl = s->levels + 1;
     double *totals = calloc((size_t)nl, sizeof(double));
-    st->coarse = malloc(sizeof(double)
-                        << (2 * (s->levels < GR_CASCADE_FIELD_CSV_MAX_LEVELS ? s->levels : GR_CASCADE_FIELD_CSV_MAX_LEVELS)));
+    st->coarse = malloc(sizeof(double) << (2 * (s->levels < GR_CASCADE_FIELD_CSV_MAX_LEVELS
+                                                    ? s->levels
+                                                    : GR_CASCADE_FIELD_CSV_MAX_LEVELS)));
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     gr_cascade_field *field = NULL;
     gr_cascade_sk *sk = NULL;

@@ -65,38 +65,51 @@ int gr_fp_settings_check(const gr_fp_settings *s, gr_error *err)
         return GR_FAIL(err, GR_EINVAL, "length L must be a finite number > 0 (m), got %g", s->L);
     }
     if (!positive(s->D)) {
-        return GR_FAIL(err, GR_EINVAL, "noise strength D must be a finite number > 0 (N^2 s), got %g", s->D);
+        return GR_FAIL(err, GR_EINVAL,
+                       "noise strength D must be a finite number > 0 (N^2 s), got %g", s->D);
     }
     if (!positive(s->M)) {
         return GR_FAIL(err, GR_EINVAL, "mass M must be a finite number > 0 (kg), got %g", s->M);
     }
     double V = cbrt(s->D * s->L / (s->M * s->M));
     if (!positive(V) || !positive(s->L / V)) {
-        return GR_FAIL(err, GR_EINVAL, "the scales V = (D L / M^2)^(1/3) = %g m/s and T0 = L / V are not finite and positive", V);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "the scales V = (D L / M^2)^(1/3) = %g m/s and T0 = L / V are not finite and positive",
+            V);
     }
     if (!(s->epsrel >= 1e-13 && s->epsrel <= 1e-2)) {
-        return GR_FAIL(err, GR_EINVAL, "quadrature tolerance epsrel must lie in [1e-13, 1e-2], got %g", s->epsrel);
+        return GR_FAIL(err, GR_EINVAL,
+                       "quadrature tolerance epsrel must lie in [1e-13, 1e-2], got %g", s->epsrel);
     }
     if (s->limit < 50 || s->limit > 100000) {
-        return GR_FAIL(err, GR_EINVAL, "quadrature workspace limit must lie in [50, 100000], got %zu", s->limit);
+        return GR_FAIL(err, GR_EINVAL,
+                       "quadrature workspace limit must lie in [50, 100000], got %zu", s->limit);
     }
     if (s->walkers < 1 || s->walkers > (int64_t)1e12) {
-        return GR_FAIL(err, GR_EINVAL, "walkers must lie in [1, 1e12], got %lld", (long long)s->walkers);
+        return GR_FAIL(err, GR_EINVAL, "walkers must lie in [1, 1e12], got %lld",
+                       (long long)s->walkers);
     }
     if (!(s->steps_per_T0 >= 10.0 && s->steps_per_T0 <= 1e7)) {
-        return GR_FAIL(err, GR_EINVAL, "steps per T0 must lie in [10, 1e7], got %g", s->steps_per_T0);
+        return GR_FAIL(err, GR_EINVAL, "steps per T0 must lie in [10, 1e7], got %g",
+                       s->steps_per_T0);
     }
     if (!(s->max_T0 >= 1.0 && s->max_T0 <= 1e6)) {
-        return GR_FAIL(err, GR_EINVAL, "max_T0 (walk cut-off in units of T0) must lie in [1, 1e6], got %g", s->max_T0);
+        return GR_FAIL(err, GR_EINVAL,
+                       "max_T0 (walk cut-off in units of T0) must lie in [1, 1e6], got %g",
+                       s->max_T0);
     }
     if (s->refine < 0 || s->refine > 30) {
-        return GR_FAIL(err, GR_EINVAL, "refine (bridge bisection levels) must lie in [0, 30], got %d", s->refine);
+        return GR_FAIL(err, GR_EINVAL,
+                       "refine (bridge bisection levels) must lie in [0, 30], got %d", s->refine);
     }
     if (s->start != GR_FP_START_UNIFORM && s->start != GR_FP_START_CENTRE) {
         return GR_FAIL(err, GR_EINVAL, "start must be uniform or centre");
     }
     if (s->bins < 2 || s->bins > 2000 || s->bins % 2) {
-        return GR_FAIL(err, GR_EINVAL, "bins must be an even number in [2, 2000] (an edge at v = 0), got %d", s->bins);
+        return GR_FAIL(err, GR_EINVAL,
+                       "bins must be an even number in [2, 2000] (an edge at v = 0), got %d",
+                       s->bins);
     }
     if (s->exit_bins < 1 || s->exit_bins > 2000) {
         return GR_FAIL(err, GR_EINVAL, "exit bins must lie in [1, 2000], got %d", s->exit_bins);
@@ -115,15 +128,24 @@ double gr_fp_time_scale(const gr_fp_settings *s) { return s->L / gr_fp_velocity_
 
 /* kappa = pi / (sqrt3 Gamma(1/3) Gamma(5/6)^2): the solution of int_0^1 |x-y|^(-2/3) r(y) dy = 3 x^(1/3)
  * is r = kappa [x(1-x)]^(-1/6) 2F1(-1/3,1;5/6;1-x) (B.29, checked to 1e-10 in the tests). */
-double gr_fp_kappa(void) { return M_PI / (M_SQRT3 * tgamma(THIRD) * tgamma(5.0 / 6.0) * tgamma(5.0 / 6.0)); }
+double gr_fp_kappa(void)
+{
+    return M_PI / (M_SQRT3 * tgamma(THIRD) * tgamma(5.0 / 6.0) * tgamma(5.0 / 6.0));
+}
 
 /* the thesis's constant of (B.32), Gamma(1/6) / (2 sqrt3 Gamma(1/3) Gamma(5/6)); equal to kappa */
-static double thesis_C(void) { return tgamma(1.0 / 6.0) / (2.0 * M_SQRT3 * tgamma(THIRD) * tgamma(5.0 / 6.0)); }
+static double thesis_C(void)
+{
+    return tgamma(1.0 / 6.0) / (2.0 * M_SQRT3 * tgamma(THIRD) * tgamma(5.0 / 6.0));
+}
 
 /* c = -1 / Ai'(0) * (2 3^(1/6) pi)^(-1) = 3^(-1/3) / Gamma(2/3): the weight of the Neumann kernel */
 static double c_kernel(void) { return cbrt(1.0 / 3.0) / tgamma(2.0 * THIRD); }
 
-double gr_fp_thesis_prefactor_ratio(void) { return (1.0 / tgamma(2.0 * THIRD)) / (0.5 * c_kernel()); }
+double gr_fp_thesis_prefactor_ratio(void)
+{
+    return (1.0 / tgamma(2.0 * THIRD)) / (0.5 * c_kernel());
+}
 
 /* ------------------------------------------------------------------------------------------
  * The hypergeometric bracket of (B.31) */
@@ -160,7 +182,8 @@ static int hyp(double z, double *out, gr_error *err)
     if (z <= 0.5) {
         check = hyp_series(z);
     } else {
-        double y = 1.0 - z; /* exact for z in [1/2, 1]: 2F1(..; 1 - y) = -2F1(..; y) + a2 [y(1-y)]^(1/6) */
+        double y =
+            1.0 - z; /* exact for z in [1/2, 1]: 2F1(..; 1 - y) = -2F1(..; y) + a2 [y(1-y)]^(1/6) */
         check = -hyp_series(y) + a2_const() * pow(y * (1.0 - y), 1.0 / 6.0);
         if (y < 1e-12) {
             *out = check;
@@ -170,11 +193,14 @@ static int hyp(double z, double *out, gr_error *err)
     gsl_sf_result r;
     int st = gsl_sf_hyperg_2F1_e(-THIRD, 1.0, 5.0 / 6.0, z, &r);
     if (st != GSL_SUCCESS || !isfinite(r.val)) {
-        return GR_FAIL(err, GR_EUNSTABLE, "gsl_sf_hyperg_2F1(-1/3, 1; 5/6; %.17g) failed: %s", z, gsl_strerror(st));
+        return GR_FAIL(err, GR_EUNSTABLE, "gsl_sf_hyperg_2F1(-1/3, 1; 5/6; %.17g) failed: %s", z,
+                       gsl_strerror(st));
     }
     if (!(fabs(r.val - check) <= 1e-12 * fmax(1.0, fabs(check)))) {
-        return GR_FAIL(err, GR_EUNSTABLE, "gsl_sf_hyperg_2F1(-1/3, 1; 5/6; %.17g) = %.17g disagrees with the series value %.17g",
-                       z, r.val, check);
+        return GR_FAIL(
+            err, GR_EUNSTABLE,
+            "gsl_sf_hyperg_2F1(-1/3, 1; 5/6; %.17g) = %.17g disagrees with the series value %.17g",
+            z, r.val, check);
     }
     *out = r.val;
     return GR_OK;
@@ -190,7 +216,8 @@ static double a2_const(void) { return tgamma(5.0 / 6.0) * tgamma(-1.0 / 6.0) / t
 static int bracket2(double u, double omu, bool literal, double *B, gr_error *err)
 {
     if (!(u > 0.0 && omu > 0.0 && u <= 1.0 && omu <= 1.0)) {
-        return GR_FAIL(err, GR_EINVAL, "bracket B(u) of (B.31) needs 0 < u < 1, got u = %g (1 - u = %g)", u, omu);
+        return GR_FAIL(err, GR_EINVAL,
+                       "bracket B(u) of (B.31) needs 0 < u < 1, got u = %g (1 - u = %g)", u, omu);
     }
     const double w = pow(u * omu, -1.0 / 6.0);
     double F1 = 0.0, F2 = 0.0;
@@ -213,9 +240,15 @@ static int bracket2(double u, double omu, bool literal, double *B, gr_error *err
     return rc;
 }
 
-int gr_fp_bracket(double u, double *B, gr_error *err) { return bracket2(u, 1.0 - u, false, B, err); }
+int gr_fp_bracket(double u, double *B, gr_error *err)
+{
+    return bracket2(u, 1.0 - u, false, B, err);
+}
 
-int gr_fp_bracket_literal(double u, double *B, gr_error *err) { return bracket2(u, 1.0 - u, true, B, err); }
+int gr_fp_bracket_literal(double u, double *B, gr_error *err)
+{
+    return bracket2(u, 1.0 - u, true, B, err);
+}
 
 /* ------------------------------------------------------------------------------------------
  * Quadrature state */
@@ -224,10 +257,10 @@ struct gr_fp_quad {
     gr_fp_settings s;
     double V, T0, Gamma;
     double c, kappa, C_thesis, a2;
-    double N;  /* int Q dv in reduced units = mean exit time / T0 (uniform start) */
+    double N;   /* int Q dv in reduced units = mean exit time / T0 (uniform start) */
     double J23; /* J(2/3) = int_0^1 [1 - kappa B(y)] (1-y)^(2/3) dy */
     gsl_integration_workspace *wv, *wy, *ws; /* v (bin means), y (B.32/B.34), s (inner z of B.34) */
-    gr_error ferr; /* first failure inside an integrand */
+    gr_error ferr;                           /* first failure inside an integrand */
     int failed;
 };
 
@@ -254,7 +287,8 @@ static double bracket_in(gr_fp_quad *q, double y, double omy, bool literal)
 /* Run one GSL integration and translate its status. A result that missed the requested tolerance
  * but whose error estimate is still below 1e-6 relative is accepted (GSL then reports
  * GSL_EROUND near singular endpoints); anything else is an error naming the integral. */
-static int integ_status(gr_fp_quad *q, int st, double result, double abserr, const char *what, gr_error *err)
+static int integ_status(gr_fp_quad *q, int st, double result, double abserr, const char *what,
+                        gr_error *err)
 {
     if (q->failed) {
         int code = q->failed;
@@ -268,7 +302,8 @@ static int integ_status(gr_fp_quad *q, int st, double result, double abserr, con
         return GR_FAIL(err, GR_EUNSTABLE, "%s: non-finite result (%s)", what, gsl_strerror(st));
     }
     if (st != GSL_SUCCESS && !(abserr <= 1e-6 * fabs(result) + 1e-300)) {
-        return GR_FAIL(err, GR_EUNSTABLE, "%s: %s (result %g, error estimate %g)", what, gsl_strerror(st), result, abserr);
+        return GR_FAIL(err, GR_EUNSTABLE, "%s: %s (result %g, error estimate %g)", what,
+                       gsl_strerror(st), result, abserr);
     }
     return GR_OK;
 }
@@ -295,7 +330,8 @@ static double E43(gr_fp_quad *q, double b)
     }
     if (st != GSL_SUCCESS || !isfinite(r.val)) {
         if (!q->failed) {
-            q->failed = GR_FAIL(&q->ferr, GR_EUNSTABLE, "gsl_sf_gamma_inc(%g, %g) failed: %s", a, b, gsl_strerror(st));
+            q->failed = GR_FAIL(&q->ferr, GR_EUNSTABLE, "gsl_sf_gamma_inc(%g, %g) failed: %s", a, b,
+                                gsl_strerror(st));
         }
         return NAN;
     }
@@ -327,14 +363,18 @@ static double Ew(gr_fp_quad *q, double w, double v)
     gsl_function f = {inner_s, &a};
     double r, e, r2 = 0.0, e2 = 0.0;
     const double top = cbrt(w), sc = fmin(v / cbrt(9.0), top); /* the switch-on of the integrand */
-    int st = gsl_integration_qag(&f, 0.0, sc, 0.0, q->s.epsrel, q->s.limit, GSL_INTEG_GAUSS21, q->ws, &r, &e);
+    int st = gsl_integration_qag(&f, 0.0, sc, 0.0, q->s.epsrel, q->s.limit, GSL_INTEG_GAUSS21,
+                                 q->ws, &r, &e);
     if (st == GSL_SUCCESS && sc < top) {
-        st = gsl_integration_qag(&f, sc, top, 0.0, q->s.epsrel, q->s.limit, GSL_INTEG_GAUSS21, q->ws, &r2, &e2);
+        st = gsl_integration_qag(&f, sc, top, 0.0, q->s.epsrel, q->s.limit, GSL_INTEG_GAUSS21,
+                                 q->ws, &r2, &e2);
     }
     r += r2;
     e += e2;
     if (st != GSL_SUCCESS && !(e <= 1e-6 * fabs(r) + 1e-300)) {
-        q->failed = GR_FAIL(&q->ferr, GR_EUNSTABLE, "inner integral of (B.34) at w = %g, v = %g: %s", w, v, gsl_strerror(st));
+        q->failed =
+            GR_FAIL(&q->ferr, GR_EUNSTABLE, "inner integral of (B.34) at w = %g, v = %g: %s", w, v,
+                    gsl_strerror(st));
         return NAN;
     }
     return r;
@@ -357,7 +397,8 @@ static double conv_s(double s, void *p)
 }
 
 /* reduced P(x, v) for v >= 0, 0 <= x <= 1 */
-static int P_red(gr_fp_quad *q, double x, double v, bool thesis, double *P, double *abserr, gr_error *err)
+static int P_red(gr_fp_quad *q, double x, double v, bool thesis, double *P, double *abserr,
+                 gr_error *err)
 {
     if (v < 0.0) {
         x = 1.0 - x;
@@ -459,7 +500,8 @@ static int y_moment(gr_fp_quad *q, double p, bool with_one, double *out, gr_erro
     q->failed = 0;
     /* the integrand is O(1) and int_0^1 B(y) dy = 0 exactly (B is odd about 1/2): an absolute
      * tolerance as well */
-    int st = gsl_integration_qags(&f, 0.0, 1.0, 1e-2 * q->s.epsrel, q->s.epsrel, q->s.limit, q->wy, &r, &e);
+    int st = gsl_integration_qags(&f, 0.0, 1.0, 1e-2 * q->s.epsrel, q->s.epsrel, q->s.limit, q->wy,
+                                  &r, &e);
     int rc = integ_status(q, st, r, e, "moment integral over y", err);
     if (!rc) {
         *out = r;
@@ -491,7 +533,9 @@ int gr_fp_quad_alloc(const gr_fp_settings *s, gr_fp_quad **out, gr_error *err)
     q->ws = gsl_integration_workspace_alloc(s->limit);
     if (!q->wv || !q->wy || !q->ws) {
         gr_fp_quad_free(q);
-        return GR_FAIL(err, GR_ENOMEM, "fokker-planck: cannot allocate GSL integration workspaces of %zu intervals", s->limit);
+        return GR_FAIL(err, GR_ENOMEM,
+                       "fokker-planck: cannot allocate GSL integration workspaces of %zu intervals",
+                       s->limit);
     }
     /* normalisation: int Q dv = (c/2) 9^(1/3) Gamma(1/3) J(2/3) (reduced) = mean exit time / T0 */
     rc = y_moment(q, 2.0 * THIRD, true, &q->J23, err);
@@ -509,9 +553,12 @@ void gr_fp_quad_free(gr_fp_quad *q)
     if (!q) {
         return;
     }
-    if (q->wv) gsl_integration_workspace_free(q->wv);
-    if (q->wy) gsl_integration_workspace_free(q->wy);
-    if (q->ws) gsl_integration_workspace_free(q->ws);
+    if (q->wv)
+        gsl_integration_workspace_free(q->wv);
+    if (q->wy)
+        gsl_integration_workspace_free(q->wy);
+    if (q->ws)
+        gsl_integration_workspace_free(q->ws);
     free(q);
 }
 
@@ -523,10 +570,12 @@ static int check_v(double v, const char *what, gr_error *err)
     return GR_OK;
 }
 
-static int density_common(gr_fp_quad *q, double x, double v, bool thesis, double *P, double *abserr, gr_error *err)
+static int density_common(gr_fp_quad *q, double x, double v, bool thesis, double *P, double *abserr,
+                          gr_error *err)
 {
     if (!(x >= 0.0 && x <= q->s.L)) {
-        return GR_FAIL(err, GR_EINVAL, "P(x, v): x must lie in [0, L] = [0, %g], got %g", q->s.L, x);
+        return GR_FAIL(err, GR_EINVAL, "P(x, v): x must lie in [0, L] = [0, %g], got %g", q->s.L,
+                       x);
     }
     int rc = check_v(v, "P(x, v)", err);
     if (rc) {
@@ -551,7 +600,8 @@ int gr_fp_density(gr_fp_quad *q, double x, double v, double *P, double *abserr, 
     return density_common(q, x, v, false, P, abserr, err);
 }
 
-int gr_fp_density_thesis(gr_fp_quad *q, double x, double v, double *P, double *abserr, gr_error *err)
+int gr_fp_density_thesis(gr_fp_quad *q, double x, double v, double *P, double *abserr,
+                         gr_error *err)
 {
     return density_common(q, x, v, true, P, abserr, err);
 }
@@ -645,9 +695,11 @@ static int bin_mean(gr_fp_quad *q, double v1, double v2, bool exit, double *mean
     int st;
     if (!exit && a < 0.0 && z > 0.0) {
         double r1, e1;
-        st = gsl_integration_qag(&f, a, 0.0, 0.0, fmax(q->s.epsrel, 1e-8), q->s.limit, GSL_INTEG_GAUSS15, q->wv, &r1, &e1);
+        st = gsl_integration_qag(&f, a, 0.0, 0.0, fmax(q->s.epsrel, 1e-8), q->s.limit,
+                                 GSL_INTEG_GAUSS15, q->wv, &r1, &e1);
         if (st == GSL_SUCCESS && !b.rc) {
-            st = gsl_integration_qag(&f, 0.0, z, 0.0, fmax(q->s.epsrel, 1e-8), q->s.limit, GSL_INTEG_GAUSS15, q->wv, &r, &e);
+            st = gsl_integration_qag(&f, 0.0, z, 0.0, fmax(q->s.epsrel, 1e-8), q->s.limit,
+                                     GSL_INTEG_GAUSS15, q->wv, &r, &e);
             r += r1;
             e += e1;
         } else {
@@ -655,7 +707,8 @@ static int bin_mean(gr_fp_quad *q, double v1, double v2, bool exit, double *mean
             e = e1;
         }
     } else {
-        st = gsl_integration_qag(&f, a, z, 0.0, fmax(q->s.epsrel, 1e-8), q->s.limit, GSL_INTEG_GAUSS15, q->wv, &r, &e);
+        st = gsl_integration_qag(&f, a, z, 0.0, fmax(q->s.epsrel, 1e-8), q->s.limit,
+                                 GSL_INTEG_GAUSS15, q->wv, &r, &e);
     }
     if (b.rc) {
         if (err) {
@@ -711,7 +764,8 @@ int gr_fp_moment(gr_fp_quad *q, double m, double *value, gr_error *err)
         return rc;
     }
     /* <|v'|^m> = 9^(m/3) [Gamma((m+1)/3)/Gamma(1/3)] [2/(m+2)] J((m+2)/3) / J(2/3) */
-    double r = pow(9.0, m / 3.0) * tgamma((m + 1.0) / 3.0) / tgamma(THIRD) * 2.0 / (m + 2.0) * J / q->J23;
+    double r =
+        pow(9.0, m / 3.0) * tgamma((m + 1.0) / 3.0) / tgamma(THIRD) * 2.0 / (m + 2.0) * J / q->J23;
     *value = pow(q->V, m) * r;
     return GR_OK;
 }
@@ -728,7 +782,8 @@ int gr_fp_exit_moment(gr_fp_quad *q, double m, double *value, gr_error *err)
     }
     /* int_0^inf v'^(m+1) P(1, v') dv' = (c/2) 9^((m+2)/3) Gamma((m+2)/3)/3 [3/(m+3) - kappa K(m/3)];
      * per exit (both ends, each carrying half the particles) that is doubled */
-    double r = 2.0 * 0.5 * q->c * pow(9.0, (m + 2.0) / 3.0) * tgamma((m + 2.0) / 3.0) / 3.0 * (3.0 / (m + 3.0) - q->kappa * K);
+    double r = 2.0 * 0.5 * q->c * pow(9.0, (m + 2.0) / 3.0) * tgamma((m + 2.0) / 3.0) / 3.0 *
+               (3.0 / (m + 3.0) - q->kappa * K);
     *value = pow(q->V, m) * r;
     return GR_OK;
 }
@@ -738,12 +793,13 @@ int gr_fp_exit_moment(gr_fp_quad *q, double m, double *value, gr_error *err)
 
 /* Cubic Hermite interpolant on s in [0, 1] through (x0, tau v0) and (x1, tau v1). Returns true if
  * it leaves (0, 1); *s_out is the first crossing and *side is +1 (x = 1) or -1 (x = 0). */
-static bool hermite_exit(double x0, double v0, double x1, double v1, double tau, double *s_out, double *vel, int *side)
+static bool hermite_exit(double x0, double v0, double x1, double v1, double tau, double *s_out,
+                         double *vel, int *side)
 {
     const double a0 = x0, a1 = tau * v0, a2 = 3.0 * (x1 - x0) - 2.0 * tau * v0 - tau * v1,
                  a3 = 2.0 * (x0 - x1) + tau * v0 + tau * v1;
-#define HX(s) (a0 + (s) * (a1 + (s) * (a2 + (s) * a3)))
-#define HV(s) (a1 + (s) * (2.0 * a2 + (s) * 3.0 * a3))
+#define HX(s) (a0 + (s) * (a1 + (s) * (a2 + (s)*a3)))
+#define HV(s) (a1 + (s) * (2.0 * a2 + (s)*3.0 * a3))
     /* monotone pieces between the roots of h'(s) = a1 + 2 a2 s + 3 a3 s^2 inside (0, 1) */
     double cut[4] = {0.0, 1.0, 1.0, 1.0};
     int n = 1;
@@ -812,10 +868,11 @@ static bool hermite_exit(double x0, double v0, double x1, double v1, double tau,
  * deviations of the bridge) are skipped; after `depth` levels the Hermite test decides. Sampling
  * the midpoints from their exact conditional law leaves the step's end state unbiased. Returns
  * true with *t_out the exit time from the start of the step. */
-static bool bridge_exit(gsl_rng *rng, double x0, double v0, double x1, double v1, double h, int depth, double *t_out,
-                        double *vel, int *side)
+static bool bridge_exit(gsl_rng *rng, double x0, double v0, double x1, double v1, double h,
+                        int depth, double *t_out, double *vel, int *side)
 {
-    const double margin = (4.0 / 27.0) * h * (fabs(v0) + fabs(v1)) + (depth > 0 ? 6.0 * sqrt(h * h * h / 12.0) : 0.0);
+    const double margin =
+        (4.0 / 27.0) * h * (fabs(v0) + fabs(v1)) + (depth > 0 ? 6.0 * sqrt(h * h * h / 12.0) : 0.0);
     if (fmin(x0, x1) - margin > 0.0 && fmax(x0, x1) + margin < 1.0) {
         return false;
     }
@@ -828,8 +885,10 @@ static bool bridge_exit(gsl_rng *rng, double x0, double v0, double x1, double v1
         return false;
     }
     const double a = 0.5 * h;
-    const double xm = 0.5 * (x0 + x1) + 0.125 * h * (v0 - v1) + sqrt(a * a * a / 12.0) * gsl_ran_gaussian_ziggurat(rng, 1.0);
-    const double vm = 1.5 * (x1 - x0) / h - 0.25 * (v0 + v1) + sqrt(0.25 * a) * gsl_ran_gaussian_ziggurat(rng, 1.0);
+    const double xm = 0.5 * (x0 + x1) + 0.125 * h * (v0 - v1) +
+                      sqrt(a * a * a / 12.0) * gsl_ran_gaussian_ziggurat(rng, 1.0);
+    const double vm = 1.5 * (x1 - x0) / h - 0.25 * (v0 + v1) +
+                      sqrt(0.25 * a) * gsl_ran_gaussian_ziggurat(rng, 1.0);
     if (bridge_exit(rng, x0, v0, xm, vm, a, depth - 1, t_out, vel, side)) {
         return true;
     }
@@ -841,8 +900,8 @@ static bool bridge_exit(gsl_rng *rng, double x0, double v0, double x1, double v1
 }
 
 typedef struct walk_acc {
-    double sum_n, sum_n2;           /* samples per walk */
-    double F[6], F2[6], FN[6];      /* per-walk sums of v, v^2, v^3, v^4 (1..4) and |v| (5) */
+    double sum_n, sum_n2;      /* samples per walk */
+    double F[6], F2[6], FN[6]; /* per-walk sums of v, v^2, v^3, v^4 (1..4) and |v| (5) */
 } walk_acc;
 
 static void ratio_estimate(const walk_acc *a, int k, double *mean, double *err)
@@ -873,14 +932,16 @@ void gr_fp_sim_result_free(gr_fp_sim_result *r)
     r->q_walks = NULL;
 }
 
-int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user, gr_fp_sim_result *out, gr_error *err)
+int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
+                   gr_fp_sim_result *out, gr_error *err)
 {
     memset(out, 0, sizeof *out);
     int rc = gr_fp_settings_check(s, err);
     if (rc) {
         return rc;
     }
-    const double t_start = now_seconds(CLOCK_MONOTONIC), cpu_start = now_seconds(CLOCK_THREAD_CPUTIME_ID);
+    const double t_start = now_seconds(CLOCK_MONOTONIC),
+                 cpu_start = now_seconds(CLOCK_THREAD_CPUTIME_ID);
     const double V = gr_fp_velocity_scale(s), T0 = gr_fp_time_scale(s);
     const double vmax = s->vmax_V * V;
     const int nb = s->bins;
@@ -908,7 +969,8 @@ int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
         free(local);
         free(touched);
         free(S_nN);
-        if (rng) gsl_rng_free(rng);
+        if (rng)
+            gsl_rng_free(rng);
         gr_fp_sim_result_free(out);
         return GR_FAIL(err, GR_ENOMEM, "fokker-planck simulation: out of memory for %d bins", nb);
     }
@@ -917,7 +979,7 @@ int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
 
     /* reduced units: x in (0, 1), v in units of V, t in units of T0 (Gamma = 1) */
     const double tau = 1.0 / s->steps_per_T0;
-    const double sig_v = sqrt(2.0 * tau);          /* sqrt(2 D tau)/M in units of V */
+    const double sig_v = sqrt(2.0 * tau);             /* sqrt(2 D tau)/M in units of V */
     const double sig_x = sqrt(tau * tau * tau / 6.0); /* sqrt(D tau^3 / 6)/M in units of L */
     const int64_t max_steps = (int64_t)ceil(s->max_T0 * s->steps_per_T0);
     const double bin_scale = nb / (2.0 * s->vmax_V);
@@ -929,7 +991,8 @@ int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
 
     for (int64_t w = 0; w < s->walkers; w++) {
         if (progress && w % report_every == 0 && progress((double)w / (double)s->walkers, user)) {
-            rc = GR_FAIL(err, GR_EINVAL, "fokker-planck simulation stopped after %lld walkers", (long long)w);
+            rc = GR_FAIL(err, GR_EINVAL, "fokker-planck simulation stopped after %lld walkers",
+                         (long long)w);
             break;
         }
         double x = s->start == GR_FP_START_CENTRE ? 0.5 : gsl_rng_uniform_pos(rng);
@@ -1036,7 +1099,9 @@ int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
         progress(1.0, user);
     }
     if (!rc && acc.sum_n <= 0.0) {
-        rc = GR_FAIL(err, GR_EINVAL, "fokker-planck simulation: no velocity sample was recorded (all walks left within one step; raise --steps)");
+        rc = GR_FAIL(err, GR_EINVAL,
+                     "fokker-planck simulation: no velocity sample was recorded (all walks left "
+                     "within one step; raise --steps)");
     }
     if (!rc) {
         /* bin densities p_i / w with covariance sum_walks (n_i - p_i N)(n_j - p_j N) / (S_N w)^2 */
@@ -1072,9 +1137,15 @@ int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
             out->exit_speed_mean = sum_ve / ne;
             out->exit_speed2_mean = sum_ve2 / ne;
             if (n_exit > 1) {
-                out->mean_exit_time_err = sqrt(fmax(sum_T2 / ne - out->mean_exit_time * out->mean_exit_time, 0.0) / (ne - 1.0));
-                out->exit_speed_err = sqrt(fmax(sum_ve2 / ne - out->exit_speed_mean * out->exit_speed_mean, 0.0) / (ne - 1.0));
-                out->exit_speed2_err = sqrt(fmax(sum_ve4 / ne - out->exit_speed2_mean * out->exit_speed2_mean, 0.0) / (ne - 1.0));
+                out->mean_exit_time_err =
+                    sqrt(fmax(sum_T2 / ne - out->mean_exit_time * out->mean_exit_time, 0.0) /
+                         (ne - 1.0));
+                out->exit_speed_err =
+                    sqrt(fmax(sum_ve2 / ne - out->exit_speed_mean * out->exit_speed_mean, 0.0) /
+                         (ne - 1.0));
+                out->exit_speed2_err =
+                    sqrt(fmax(sum_ve4 / ne - out->exit_speed2_mean * out->exit_speed2_mean, 0.0) /
+                         (ne - 1.0));
             }
         }
         out->tau = tau * T0;
@@ -1094,8 +1165,8 @@ int gr_fp_simulate(const gr_fp_settings *s, gr_fp_progress progress, void *user,
 /* ------------------------------------------------------------------------------------------
  * Comparisons */
 
-int gr_fp_compare_Q(gr_fp_quad *q, const gr_fp_sim_result *r, double min_walks, double *model, gr_fp_chi2 *out,
-                    gr_error *err)
+int gr_fp_compare_Q(gr_fp_quad *q, const gr_fp_sim_result *r, double min_walks, double *model,
+                    gr_fp_chi2 *out, gr_error *err)
 {
     memset(out, 0, sizeof *out);
     const gr_histogram *h = &r->q;
@@ -1137,7 +1208,8 @@ int gr_fp_compare_Q(gr_fp_quad *q, const gr_fp_sim_result *r, double min_walks, 
         for (int a = 0; a < n; a++) {
             for (int b = 0; b < n; b++) {
                 int i = use[a], j = use[b];
-                double rij = r->q_cov[(size_t)i * (size_t)nb + (size_t)j] / (r->q_err[i] * r->q_err[j]);
+                double rij =
+                    r->q_cov[(size_t)i * (size_t)nb + (size_t)j] / (r->q_err[i] * r->q_err[j]);
                 sumR2 += rij * rij;
             }
         }
@@ -1156,7 +1228,8 @@ int gr_fp_compare_Q(gr_fp_quad *q, const gr_fp_sim_result *r, double min_walks, 
                 int i = use[a];
                 gsl_vector_set(res, (size_t)a, gr_histogram_density(h, i) - m[i]);
                 for (int b = 0; b < n; b++) {
-                    gsl_matrix_set(C, (size_t)a, (size_t)b, r->q_cov[(size_t)i * (size_t)nb + (size_t)use[b]]);
+                    gsl_matrix_set(C, (size_t)a, (size_t)b,
+                                   r->q_cov[(size_t)i * (size_t)nb + (size_t)use[b]]);
                 }
             }
             int st = gsl_linalg_cholesky_decomp1(C);
@@ -1168,17 +1241,20 @@ int gr_fp_compare_Q(gr_fp_quad *q, const gr_fp_sim_result *r, double min_walks, 
                 out->p_full = gsl_cdf_chisq_Q(out->chi2_full, n);
             }
         }
-        if (C) gsl_matrix_free(C);
-        if (res) gsl_vector_free(res);
-        if (sol) gsl_vector_free(sol);
+        if (C)
+            gsl_matrix_free(C);
+        if (res)
+            gsl_vector_free(res);
+        if (sol)
+            gsl_vector_free(sol);
     }
     free(m);
     free(use);
     return rc;
 }
 
-int gr_fp_compare_exit(gr_fp_quad *q, const gr_fp_sim_result *r, double min_expected, double *model, gr_fp_chi2 *out,
-                       gr_error *err)
+int gr_fp_compare_exit(gr_fp_quad *q, const gr_fp_sim_result *r, double min_expected, double *model,
+                       gr_fp_chi2 *out, gr_error *err)
 {
     memset(out, 0, sizeof *out);
     const gr_histogram *hr = &r->exit_right, *hl = &r->exit_left;
@@ -1220,7 +1296,8 @@ int gr_fp_sim_Q0(const gr_fp_sim_result *r, double *Q0, double *Q0_err, gr_error
     const gr_histogram *h = &r->q;
     const int nb = h->nbins, half = nb / 2;
     if (!r->q_cov || nb < 4) {
-        return GR_FAIL(err, GR_EINVAL, "Q(0) from the histogram: need a simulation result with at least 4 bins");
+        return GR_FAIL(err, GR_EINVAL,
+                       "Q(0) from the histogram: need a simulation result with at least 4 bins");
     }
     /* the two innermost bins on each side (centres c and 3c), folded over v -> -v, extrapolated
      * linearly to v = 0: Q(0) = 1.5 d(c) - 0.5 d(3c) */
@@ -1229,7 +1306,8 @@ int gr_fp_sim_Q0(const gr_fp_sim_result *r, double *Q0, double *Q0_err, gr_error
     double q0 = 0.0, var = 0.0;
     for (int a = 0; a < 4; a++) {
         if (r->q_walks[idx[a]] < 1.0) {
-            return GR_FAIL(err, GR_EINVAL, "Q(0) from the histogram: the bins next to v = 0 are empty");
+            return GR_FAIL(err, GR_EINVAL,
+                           "Q(0) from the histogram: the bins next to v = 0 are empty");
         }
         q0 += w[a] * gr_histogram_density(h, idx[a]);
         for (int b = 0; b < 4; b++) {

@@ -30,14 +30,14 @@
 
 /* Streams of their own, so the SPM never shares variates with a run of the same seed. */
 enum {
-    STREAM_G1 = 0x53504d01u,    /* velocity increments g1 */
-    STREAM_G2 = 0x53504d02u,    /* position remainders g2 */
+    STREAM_G1 = 0x53504d01u, /* velocity increments g1 */
+    STREAM_G2 = 0x53504d02u, /* position remainders g2 */
     STREAM_BRIDGE = 0x53504d03u,
     STREAM_L = 0x53504d04u
 };
 
-#define BLOCK 128             /* steps of variates drawn at once */
-#define MAX_TIME 1e4          /* a walk longer than this (in t_l) is reported as an error */
+#define BLOCK 128    /* steps of variates drawn at once */
+#define MAX_TIME 1e4 /* a walk longer than this (in t_l) is reported as an error */
 
 void gr_spm_settings_default(gr_spm_settings *s)
 {
@@ -66,7 +66,8 @@ int gr_spm_settings_check(const gr_spm_settings *s, gr_error *err)
         return GR_FAIL(err, GR_EINVAL, "spm: D must be > 0 (N^2 s), got %g", s->D);
     }
     if (!(s->step > 0.0 && s->step <= 0.1)) {
-        return GR_FAIL(err, GR_EINVAL, "spm: step must lie in (0, 0.1] (units of t_l), got %g", s->step);
+        return GR_FAIL(err, GR_EINVAL, "spm: step must lie in (0, 0.1] (units of t_l), got %g",
+                       s->step);
     }
     if (!(s->dt >= 0.0) || !isfinite(s->dt)) {
         return GR_FAIL(err, GR_EINVAL, "spm: dt must be >= 0 s (0: use step), got %g", s->dt);
@@ -75,11 +76,12 @@ int gr_spm_settings_check(const gr_spm_settings *s, gr_error *err)
         return GR_FAIL(err, GR_EINVAL, "spm: refine must lie in 0..30, got %d", s->refine);
     }
     if (s->walks < 2 || s->walks > ((int64_t)1 << 40)) {
-        return GR_FAIL(err, GR_EINVAL, "spm: walks must lie in 2..2^40, got %lld", (long long)s->walks);
+        return GR_FAIL(err, GR_EINVAL, "spm: walks must lie in 2..2^40, got %lld",
+                       (long long)s->walks);
     }
     if (s->batches < 2 || s->batches > s->walks) {
-        return GR_FAIL(err, GR_EINVAL, "spm: batches must lie in 2..walks (%lld), got %d", (long long)s->walks,
-                       s->batches);
+        return GR_FAIL(err, GR_EINVAL, "spm: batches must lie in 2..walks (%lld), got %d",
+                       (long long)s->walks, s->batches);
     }
     if (!(s->tilt >= 1.0 && s->tilt <= 100.0)) {
         return GR_FAIL(err, GR_EINVAL, "spm: tilt must lie in [1, 100], got %g", s->tilt);
@@ -92,7 +94,10 @@ double gr_spm_velocity_scale(const gr_spm_settings *s, double l)
     return cbrt(2.0 * s->D * l / (s->mass * s->mass));
 }
 
-double gr_spm_time_scale(const gr_spm_settings *s, double l) { return l / gr_spm_velocity_scale(s, l); }
+double gr_spm_time_scale(const gr_spm_settings *s, double l)
+{
+    return l / gr_spm_velocity_scale(s, l);
+}
 
 double gr_spm_B(const gr_spm_settings *s, double b)
 {
@@ -128,7 +133,8 @@ int gr_spm_dist_init(gr_spm_dist *d, int nbatches, int nbins, double vmax, gr_er
         return GR_FAIL(err, GR_EINVAL, "spm: need at least 2 batches, got %d", nbatches);
     }
     if (nbins < 2 || nbins > 100000 || !(vmax > 0.0) || !isfinite(vmax)) {
-        return GR_FAIL(err, GR_EINVAL, "spm: need 2..100000 bins and a velocity range > 0, got %d bins up to %g",
+        return GR_FAIL(err, GR_EINVAL,
+                       "spm: need 2..100000 bins and a velocity range > 0, got %d bins up to %g",
                        nbins, vmax);
     }
     int rc = gr_histogram_init(&d->all, nbins, 0.0, vmax, false, err);
@@ -177,7 +183,10 @@ static int dist_merge(gr_spm_dist *d, gr_error *err)
     return GR_OK;
 }
 
-double gr_spm_dist_density(const gr_spm_dist *d, int i) { return 0.5 * gr_histogram_density(&d->all, i); }
+double gr_spm_dist_density(const gr_spm_dist *d, int i)
+{
+    return 0.5 * gr_histogram_density(&d->all, i);
+}
 
 double gr_spm_dist_error(const gr_spm_dist *d, int i)
 {
@@ -215,10 +224,10 @@ typedef struct walker {
     double tau, sq_tau, sq_tau3_12; /* sampling interval and its free-flight amplitudes */
     double five_sq_tau;
     /* output of a walk */
-    double *w;      /* |w| of each component at the sample times */
-    double *wt;     /* trapezoid weight of each entry */
+    double *w;  /* |w| of each component at the sample times */
+    double *wt; /* trapezoid weight of each entry */
     int64_t n, cap;
-    double duration;        /* first-passage time */
+    double duration; /* first-passage time */
     double exit_speed2;
     int64_t steps, bridge_points;
     bool bridge_exit;
@@ -238,12 +247,14 @@ static int walker_push(walker *wk, const double *v, double weight, gr_error *err
 {
     if (wk->n + wk->dim > wk->cap) {
         int64_t cap = wk->cap ? 2 * wk->cap : 4096;
-        double *a = realloc(wk->w, sizeof(double) * (size_t)cap), *b = a ? realloc(wk->wt, sizeof(double) * (size_t)cap) : NULL;
+        double *a = realloc(wk->w, sizeof(double) * (size_t)cap),
+               *b = a ? realloc(wk->wt, sizeof(double) * (size_t)cap) : NULL;
         if (a) {
             wk->w = a;
         }
         if (!a || !b) {
-            return GR_FAIL(err, GR_ENOMEM, "spm: out of memory for a walk of %lld samples", (long long)wk->n);
+            return GR_FAIL(err, GR_ENOMEM, "spm: out of memory for a walk of %lld samples",
+                           (long long)wk->n);
         }
         wk->wt = b;
         wk->cap = cap;
@@ -256,12 +267,16 @@ static int walker_push(walker *wk, const double *v, double weight, gr_error *err
     return GR_OK;
 }
 
-static double norm2(const double *x, int dim) { return dim == 2 ? x[0] * x[0] + x[1] * x[1] : x[0] * x[0]; }
+static double norm2(const double *x, int dim)
+{
+    return dim == 2 ? x[0] * x[0] + x[1] * x[1] : x[0] * x[0];
+}
 
 /* Could the path between two inside points (interval H) have reached radius 1? Positions move at
  * most (H/2) max|v| from the nearer end, and the bridge velocity exceeds the larger end speed by
  * more than 5 sqrt(H) only with probability ~ exp(-50): otherwise no refinement is needed. */
-static bool may_cross(const double *x0, const double *v0, const double *x1, const double *v1, double H, int dim)
+static bool may_cross(const double *x0, const double *v0, const double *x1, const double *v1,
+                      double H, int dim)
 {
     double r = sqrt(fmax(norm2(x0, dim), norm2(x1, dim)));
     double s = sqrt(fmax(norm2(v0, dim), norm2(v1, dim)));
@@ -269,9 +284,11 @@ static bool may_cross(const double *x0, const double *v0, const double *x1, cons
 }
 
 /* may_cross for a whole sampling interval, with one square root (the hot path). */
-static inline bool near_boundary(const walker *wk, double r0sq, double r1sq, const double *v0, const double *v1)
+static inline bool near_boundary(const walker *wk, double r0sq, double r1sq, const double *v0,
+                                 const double *v1)
 {
-    double reach = 0.5 * wk->tau * (sqrt(fmax(norm2(v0, wk->dim), norm2(v1, wk->dim))) + wk->five_sq_tau);
+    double reach =
+        0.5 * wk->tau * (sqrt(fmax(norm2(v0, wk->dim), norm2(v1, wk->dim))) + wk->five_sq_tau);
     double r2 = fmax(r0sq, r1sq);
     return reach >= 1.0 || r2 >= (1.0 - reach) * (1.0 - reach);
 }
@@ -279,8 +296,8 @@ static inline bool near_boundary(const walker *wk, double r0sq, double r1sq, con
 /* First exit in the interval (x0, v0) -> (x1, v1) of length H (both ends inside), looked for at
  * exactly sampled bridge midpoints down to `depth` more levels. Returns the exit time offset
  * (and the velocity there) or a negative number when no exit was seen. */
-static double bridge_search(walker *wk, const double *x0, const double *v0, const double *x1, const double *v1,
-                            double H, int depth, double *v_exit)
+static double bridge_search(walker *wk, const double *x0, const double *v0, const double *x1,
+                            const double *v1, double H, int depth, double *v_exit)
 {
     if (depth <= 0 || !may_cross(x0, v0, x1, v1, H, wk->dim)) {
         return -1.0;
@@ -330,8 +347,9 @@ static int walk_run(walker *wk, uint64_t key, gr_error *err)
     double r0sq = 0.0;    /* |x|^2 at the current sample point */
     for (int64_t k = 0;; k++) {
         if (k >= max_steps || k > (int64_t)UINT32_MAX - BLOCK) {
-            return GR_FAIL(err, GR_EINVAL, "spm: a walk did not reach the boundary within %g t_l (%lld steps)", MAX_TIME,
-                           (long long)k);
+            return GR_FAIL(err, GR_EINVAL,
+                           "spm: a walk did not reach the boundary within %g t_l (%lld steps)",
+                           MAX_TIME, (long long)k);
         }
         int j = (int)(k % BLOCK);
         if (j == 0) {
@@ -404,7 +422,8 @@ static void walker_free(walker *wk)
 /* running sums for gr_spm_walk_stats */
 typedef struct stats_acc {
     double t_sum, t2_sum, w2_sum, weight_sum, e2_sum;
-    double aa, ab, bb; /* per walk a = sum wt w^2, b = sum wt: for the error of <w^2> = sum a / sum b */
+    double aa, ab,
+        bb; /* per walk a = sum wt w^2, b = sum wt: for the error of <w^2> = sum a / sum b */
 } stats_acc;
 
 static void stats_add(stats_acc *a, gr_spm_walk_stats *st, const walker *wk)
@@ -465,7 +484,8 @@ int gr_spm_circle(const gr_spm_settings *s, double radius, int index, int nbins,
     out->t_scale = gr_spm_time_scale(s, radius);
     out->tau = s->dt > 0.0 ? s->dt / out->t_scale : s->step;
     if (out->tau > 10.0) {
-        return GR_FAIL(err, GR_EINVAL, "spm: dt = %g s is %g t_l for the radius %g m; use a dt below t_l = %g s",
+        return GR_FAIL(err, GR_EINVAL,
+                       "spm: dt = %g s is %g t_l for the radius %g m; use a dt below t_l = %g s",
                        s->dt, out->tau, radius, out->t_scale);
     }
     rc = gr_spm_dist_init(&out->q, s->batches, nbins, wmax, err);
@@ -505,8 +525,8 @@ int gr_spm_circle(const gr_spm_settings *s, double radius, int index, int nbins,
 
 void gr_spm_q_free(gr_spm_q *q) { gr_spm_dist_free(&q->q); }
 
-int gr_spm_dist_jackknife(const gr_spm_dist *d, gr_spm_stat_fn fn, void *user, int nout, double *value,
-                          double *jk_err, gr_error *err)
+int gr_spm_dist_jackknife(const gr_spm_dist *d, gr_spm_stat_fn fn, void *user, int nout,
+                          double *value, double *jk_err, gr_error *err)
 {
     const int nb = d->all.nbins, B = d->nbatches;
     if (nout < 1 || nout > 16) {
@@ -542,7 +562,8 @@ int gr_spm_dist_jackknife(const gr_spm_dist *d, gr_spm_stat_fn fn, void *user, i
         }
         if (fn(x, p, e, c, nb, t, user)) {
             free(x);
-            return GR_FAIL(err, GR_EINVAL, "spm: the statistic cannot be computed without batch %d", j);
+            return GR_FAIL(err, GR_EINVAL, "spm: the statistic cannot be computed without batch %d",
+                           j);
         }
         for (int k = 0; k < nout; k++) {
             sum[k] += t[k];
@@ -567,13 +588,15 @@ typedef struct qfit_par {
 } qfit_par;
 
 /* out = (b, ln A, beta) */
-static int qfit_stat(const double *xw, const double *p, const double *e, const double *count, int n, double *out, void *user)
+static int qfit_stat(const double *xw, const double *p, const double *e, const double *count, int n,
+                     double *out, void *user)
 {
     qfit_par *q = user;
     double x[512], y[512], sg[512], ww[512], yy[512], ss[512];
     int m = 0;
     for (int i = 0; i < n && m < 512; i++) {
-        if (xw[i] >= q->wfrom && count[i] >= q->min_count && p[i] > 0.0 && e[i] > 0.0 && isfinite(e[i])) {
+        if (xw[i] >= q->wfrom && count[i] >= q->min_count && p[i] > 0.0 && e[i] > 0.0 &&
+            isfinite(e[i])) {
             ww[m] = xw[i];
             x[m] = xw[i] * xw[i];
             y[m] = log(p[i]);
@@ -612,7 +635,8 @@ static int qfit_stat(const double *xw, const double *p, const double *e, const d
     return 0;
 }
 
-int gr_spm_q_tail_fit(const gr_spm_q *q, double wfrom, double min_count, gr_spm_tail_fit *out, gr_error *err)
+int gr_spm_q_tail_fit(const gr_spm_q *q, double wfrom, double min_count, gr_spm_tail_fit *out,
+                      gr_error *err)
 {
     memset(out, 0, sizeof *out);
     out->wfrom = out->wto = wfrom;
@@ -620,7 +644,9 @@ int gr_spm_q_tail_fit(const gr_spm_q *q, double wfrom, double min_count, gr_spm_
     double v[3], e[3];
     int rc = gr_spm_dist_jackknife(&q->q, qfit_stat, &par, 3, v, e, err);
     if (rc) {
-        return GR_FAIL(err, GR_EINVAL, "spm: Q tail fit: too few bins with w >= %g and >= %g samples; use more walks or a lower --fit-from",
+        return GR_FAIL(err, GR_EINVAL,
+                       "spm: Q tail fit: too few bins with w >= %g and >= %g samples; use more "
+                       "walks or a lower --fit-from",
                        wfrom, min_count);
     }
     out->b = v[0];
@@ -667,8 +693,10 @@ int gr_spm_q_collapse(const gr_spm_q *a, const gr_spm_q *b, double min_count, in
 {
     memset(out, 0, sizeof *out);
     const gr_histogram *ha = &a->q.all, *hb = &b->q.all;
-    if (ha->nbins != hb->nbins || ha->lo != hb->lo || ha->hi != hb->hi || a->q.nbatches != b->q.nbatches) {
-        return GR_FAIL(err, GR_EINVAL, "spm: collapse needs the same scaled bins and batches for both radii");
+    if (ha->nbins != hb->nbins || ha->lo != hb->lo || ha->hi != hb->hi ||
+        a->q.nbatches != b->q.nbatches) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "spm: collapse needs the same scaled bins and batches for both radii");
     }
     if (permutations < 0) {
         return GR_FAIL(err, GR_EINVAL, "spm: permutations must be >= 0, got %d", permutations);
@@ -685,7 +713,8 @@ int gr_spm_q_collapse(const gr_spm_q *a, const gr_spm_q *b, double min_count, in
     }
     if (m < 1) {
         free(sel);
-        return GR_FAIL(err, GR_EINVAL, "spm: collapse: no bins with >= %g samples in both histograms", min_count);
+        return GR_FAIL(err, GR_EINVAL,
+                       "spm: collapse: no bins with >= %g samples in both histograms", min_count);
     }
     double *dens = malloc(sizeof(double) * (size_t)(2 * B) * (size_t)m);
     int *idx = malloc(sizeof(int) * (size_t)(2 * B));
@@ -699,7 +728,8 @@ int gr_spm_q_collapse(const gr_spm_q *a, const gr_spm_q *b, double min_count, in
         const gr_spm_dist *d = g ? &b->q : &a->q;
         for (int j = 0; j < B; j++) {
             for (int k = 0; k < m; k++) {
-                dens[(size_t)(g * B + j) * (size_t)m + (size_t)k] = 0.5 * gr_histogram_density(&d->batch[j], sel[k]);
+                dens[(size_t)(g * B + j) * (size_t)m + (size_t)k] =
+                    0.5 * gr_histogram_density(&d->batch[j], sel[k]);
             }
         }
     }
@@ -716,7 +746,8 @@ int gr_spm_q_collapse(const gr_spm_q *a, const gr_spm_q *b, double min_count, in
         for (int r = 0; r < permutations; r++) {
             /* Fisher-Yates with a fixed counter-based generator: reproducible */
             for (int j = 2 * B - 1; j > 0; j--) {
-                int k = (int)(gr_noise_uniform(0x5350u, STREAM_L, (uint64_t)r, (uint64_t)j) * (j + 1));
+                int k =
+                    (int)(gr_noise_uniform(0x5350u, STREAM_L, (uint64_t)r, (uint64_t)j) * (j + 1));
                 int t = idx[j];
                 idx[j] = idx[k];
                 idx[k] = t;
@@ -739,7 +770,8 @@ int gr_spm_pl_fitted(gr_spm_pl *pl, double df, double C, gr_error *err)
 {
     memset(pl, 0, sizeof *pl);
     if (!(df > 1.0 && df < 3.0)) {
-        return GR_FAIL(err, GR_EINVAL, "spm: D_f must lie in (1, 3) for the free-path form 4.25, got %g", df);
+        return GR_FAIL(err, GR_EINVAL,
+                       "spm: D_f must lie in (1, 3) for the free-path form 4.25, got %g", df);
     }
     if (!(C > 0.0) || !isfinite(C)) {
         return GR_FAIL(err, GR_EINVAL, "spm: C of 4.25 must be > 0 (m^-(D_f-1)), got %g", C);
@@ -790,8 +822,9 @@ int gr_spm_pl_load(gr_spm_pl *pl, const char *path, double diameter, gr_error *e
     int why = 0;
     FILE *f = gr_input_fopen(path, &why);
     if (!f) {
-        return GR_FAIL(err, why < 0 || why == ENOENT ? GR_EINVAL : GR_EIO, "%s: cannot read: %s", path,
-                       why < 0 ? "not a regular file (a folder, FIFO, device or socket)" : strerror(why));
+        return GR_FAIL(
+            err, why < 0 || why == ENOENT ? GR_EINVAL : GR_EIO, "%s: cannot read: %s", path,
+            why < 0 ? "not a regular file (a folder, FIFO, device or socket)" : strerror(why));
     }
     pl->kind = GR_SPM_PL_TABLE;
     snprintf(pl->source, sizeof pl->source, "%s", path);
@@ -809,7 +842,8 @@ int gr_spm_pl_load(gr_spm_pl *pl, const char *path, double diameter, gr_error *e
         if (ncol == 0) {
             snprintf(header, sizeof header, "%s", s);
             char *save = NULL;
-            for (char *tok = strtok_r(header, ",", &save); tok && ncol < 64; tok = strtok_r(NULL, ",", &save)) {
+            for (char *tok = strtok_r(header, ",", &save); tok && ncol < 64;
+                 tok = strtok_r(NULL, ",", &save)) {
                 names[ncol++] = trim(tok);
             }
             cl = find_column(names, ncol, "l", NULL);
@@ -817,14 +851,18 @@ int gr_spm_pl_load(gr_spm_pl *pl, const char *path, double diameter, gr_error *e
             ce = find_column(names, ncol, "P_err", "density_error");
             if (cl < 0 && (cl = find_column(names, ncol, "l_over_d", NULL)) >= 0) {
                 if (!(diameter > 0.0) || !isfinite(diameter)) {
-                    rc = GR_FAIL(err, GR_EINVAL, "%s:%d: free paths in diameters (l_over_d): the particle diameter is needed", path,
-                                 lineno);
+                    rc = GR_FAIL(err, GR_EINVAL,
+                                 "%s:%d: free paths in diameters (l_over_d): the particle diameter "
+                                 "is needed",
+                                 path, lineno);
                     break;
                 }
                 unit = diameter;
             }
             if (cl < 0 || cp < 0) {
-                rc = GR_FAIL(err, GR_EINVAL, "%s:%d: the header must name the columns l (or l_over_d) and P (or density), got '%s'",
+                rc = GR_FAIL(err, GR_EINVAL,
+                             "%s:%d: the header must name the columns l (or l_over_d) and P (or "
+                             "density), got '%s'",
                              path, lineno, s);
                 break;
             }
@@ -844,28 +882,32 @@ int gr_spm_pl_load(gr_spm_pl *pl, const char *path, double diameter, gr_error *e
             k++;
         }
         if (k != ncol || bad) {
-            rc = GR_FAIL(err, GR_EINVAL, "%s:%d: expected %d numbers separated by commas", path, lineno, ncol);
+            rc = GR_FAIL(err, GR_EINVAL, "%s:%d: expected %d numbers separated by commas", path,
+                         lineno, ncol);
             break;
         }
         double l = val[cl] * unit, p = val[cp] / unit, e = ce >= 0 ? val[ce] / unit : 0.0;
         if (!(l > 0.0) || !isfinite(l) || !(p >= 0.0) || !isfinite(p) || (ce >= 0 && !(e >= 0.0))) {
-            rc = GR_FAIL(err, GR_EINVAL, "%s:%d: need l > 0, P >= 0%s, got l = %g, P = %g", path, lineno,
-                         ce >= 0 ? " and an error >= 0" : "", l, p);
+            rc = GR_FAIL(err, GR_EINVAL, "%s:%d: need l > 0, P >= 0%s, got l = %g, P = %g", path,
+                         lineno, ce >= 0 ? " and an error >= 0" : "", l, p);
             break;
         }
         if (pl->n > 0 && !(l > pl->l[pl->n - 1])) {
-            rc = GR_FAIL(err, GR_EINVAL, "%s:%d: l must increase from row to row (%g after %g)", path, lineno, l,
-                         pl->l[pl->n - 1]);
+            rc = GR_FAIL(err, GR_EINVAL, "%s:%d: l must increase from row to row (%g after %g)",
+                         path, lineno, l, pl->l[pl->n - 1]);
             break;
         }
         if (pl->n == cap) {
             cap = cap ? 2 * cap : 256;
             double *a = realloc(pl->l, sizeof(double) * (size_t)cap);
-            if (a) pl->l = a;
+            if (a)
+                pl->l = a;
             double *b = a ? realloc(pl->p, sizeof(double) * (size_t)cap) : NULL;
-            if (b) pl->p = b;
+            if (b)
+                pl->p = b;
             double *c = b ? realloc(pl->perr, sizeof(double) * (size_t)cap) : NULL;
-            if (c) pl->perr = c;
+            if (c)
+                pl->perr = c;
             if (!c) {
                 rc = GR_FAIL(err, GR_ENOMEM, "%s: out of memory", path);
                 break;
@@ -897,11 +939,13 @@ int gr_spm_pl_load(gr_spm_pl *pl, const char *path, double diameter, gr_error *e
         /* piecewise-linear density between the points: trapezoid integral */
         pl->cdf[0] = 0.0;
         for (int i = 1; i < pl->n; i++) {
-            pl->cdf[i] = pl->cdf[i - 1] + 0.5 * (pl->p[i] + pl->p[i - 1]) * (pl->l[i] - pl->l[i - 1]);
+            pl->cdf[i] =
+                pl->cdf[i - 1] + 0.5 * (pl->p[i] + pl->p[i - 1]) * (pl->l[i] - pl->l[i - 1]);
         }
         double total = pl->cdf[pl->n - 1];
         if (!(total > 0.0) || !isfinite(total)) {
-            rc = GR_FAIL(err, GR_EINVAL, "%s: P integrates to %g over l; need a positive integral", path, total);
+            rc = GR_FAIL(err, GR_EINVAL, "%s: P integrates to %g over l; need a positive integral",
+                         path, total);
         } else {
             for (int i = 0; i < pl->n; i++) {
                 pl->cdf[i] /= total;
@@ -1029,7 +1073,8 @@ int gr_spm_pl_fit_tail(const gr_spm_pl *pl, double lfrom, gr_spm_pl_fit *out, gr
     out->n_points = m;
     if (m < 4) {
         free(x);
-        return GR_FAIL(err, GR_EINVAL, "spm: P_l tail fit: only %d usable points with l >= %g (need 4)", m, lfrom);
+        return GR_FAIL(err, GR_EINVAL,
+                       "spm: P_l tail fit: only %d usable points with l >= %g (need 4)", m, lfrom);
     }
     /* starting point: beta = 0.63 (D_f = 1.63), then C from the line ln(P l^(1 - beta)) = c - C l^beta */
     double q0[3] = {0.0, 1.0, 0.63};
@@ -1066,8 +1111,10 @@ int gr_spm_pl_fit_tail(const gr_spm_pl *pl, double lfrom, gr_spm_pl_fit *out, gr
         return rc;
     }
     if (!(f.p[2] > 0.0) || !(f.p[1] > 0.0)) {
-        return GR_FAIL(err, GR_EINVAL, "spm: P_l tail fit gave beta = %g, C = %g: not the form 4.25 (try another --tail-from)",
-                       f.p[2], f.p[1]);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "spm: P_l tail fit gave beta = %g, C = %g: not the form 4.25 (try another --tail-from)",
+            f.p[2], f.p[1]);
     }
     out->A0 = exp(f.p[0]);
     out->C = f.p[1];
@@ -1082,8 +1129,8 @@ int gr_spm_pl_fit_tail(const gr_spm_pl *pl, double lfrom, gr_spm_pl_fit *out, gr
 
 /* ------------------------------------------------------------------------------------------- */
 
-int gr_spm_full(const gr_spm_settings *s, const gr_spm_pl *pl, bool weight_time, int nbins, double vmax,
-                gr_spm_full_result *out, gr_error *err)
+int gr_spm_full(const gr_spm_settings *s, const gr_spm_pl *pl, bool weight_time, int nbins,
+                double vmax, gr_spm_full_result *out, gr_error *err)
 {
     memset(out, 0, sizeof *out);
     int rc = gr_spm_settings_check(s, err);
@@ -1112,7 +1159,8 @@ int gr_spm_full(const gr_spm_settings *s, const gr_spm_pl *pl, bool weight_time,
         }
         double l = gr_spm_pl_quantile(pl, F);
         if (!(l > 0.0) || !isfinite(l)) {
-            rc = GR_FAIL(err, GR_EINVAL, "spm: drew the free path %g from P_l; check the P_l table", l);
+            rc = GR_FAIL(err, GR_EINVAL, "spm: drew the free path %g from P_l; check the P_l table",
+                         l);
             break;
         }
         double u = gr_spm_velocity_scale(s, l), tl = gr_spm_time_scale(s, l);
@@ -1175,8 +1223,8 @@ int gr_spm_predict(double df, double B, double C, gr_spm_prediction *out, gr_err
         return GR_FAIL(err, GR_EINVAL, "spm: B and C must be >= 0, got B = %g, C = %g", B, C);
     }
     out->df = df;
-    out->beta = df - 1.0;            /* P_l ~ l^(beta - 1) exp(-C l^beta) */
-    out->gamma = 3.0 * out->beta;    /* below 5.15 */
+    out->beta = df - 1.0;                               /* P_l ~ l^(beta - 1) exp(-C l^beta) */
+    out->gamma = 3.0 * out->beta;                       /* below 5.15 */
     out->alpha = 2.0 * out->gamma / (out->gamma + 2.0); /* 5.27-5.28 */
     out->h = out->gamma / (out->gamma + 2.0);           /* 5.30: (2 + 2 gamma)/(2 + gamma) - 1 */
     out->B = B;
@@ -1241,7 +1289,8 @@ int gr_spm_integral_log(const gr_spm_prediction *p, double v, double *log_value,
     int rc2 = gsl_integration_qagiu(&F, ym, 0.0, 1e-10, 2000, w, &i2, &e2);
     gsl_integration_workspace_free(w);
     if ((rc1 && rc1 != GSL_EROUND) || (rc2 && rc2 != GSL_EROUND) || !(i1 + i2 > 0.0)) {
-        return GR_FAIL(err, GR_EINVAL, "spm: the integral 5.13 at v = %g failed: %s", v, gsl_strerror(rc1 ? rc1 : rc2));
+        return GR_FAIL(err, GR_EINVAL, "spm: the integral 5.13 at v = %g failed: %s", v,
+                       gsl_strerror(rc1 ? rc1 : rc2));
     }
     *log_value = par.fm + log(i1 + i2);
     return GR_OK;
@@ -1250,7 +1299,10 @@ int gr_spm_integral_log(const gr_spm_prediction *p, double v, double *log_value,
 /* ------------------------------------------------------------------------------------------- *
  * The RFM's P(v) from snapshots */
 
-static int name_cmp(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
+static int name_cmp(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
 
 /* Parse the comment line of an extended XYZ frame: Time, pbc, and the first column of velo. */
 static int xyz_comment(const char *c, double *t, int *dim, int *velo_col, int *ncols)
@@ -1291,14 +1343,16 @@ static int xyz_comment(const char *c, double *t, int *dim, int *velo_col, int *n
     return *velo_col >= 0 ? 0 : -1;
 }
 
-int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm_rfm_info *info, gr_error *err)
+int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm_rfm_info *info,
+                         gr_error *err)
 {
     memset(info, 0, sizeof *info);
     char sdir[1200];
     snprintf(sdir, sizeof sdir, "%s/snapshots", dir);
     DIR *d = opendir(sdir);
     if (!d) {
-        return GR_FAIL(err, GR_EINVAL, "%s: not a run folder with snapshots (%s)", dir, strerror(errno));
+        return GR_FAIL(err, GR_EINVAL, "%s: not a run folder with snapshots (%s)", dir,
+                       strerror(errno));
     }
     char **names = NULL;
     int n = 0, cap = 0, rc = GR_OK;
@@ -1326,7 +1380,8 @@ int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm
     }
     closedir(d);
     if (!rc && n == 0) {
-        rc = GR_FAIL(err, GR_EINVAL, "%s: no snapshots/snap_*.xyz (run with output.snapshot_every > 0)", dir);
+        rc = GR_FAIL(err, GR_EINVAL,
+                     "%s: no snapshots/snap_*.xyz (run with output.snapshot_every > 0)", dir);
     }
     if (!rc) {
         qsort(names, (size_t)n, sizeof(char *), name_cmp);
@@ -1346,16 +1401,19 @@ int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm
         FILE *f = gr_input_fopen(path, &why);
         if (!f) {
             rc = GR_FAIL(err, why < 0 ? GR_EINVAL : GR_EIO, "%s: cannot read: %s", path,
-                         why < 0 ? "not a regular file (a folder, FIFO, device or socket)" : strerror(why));
+                         why < 0 ? "not a regular file (a folder, FIFO, device or socket)"
+                                 : strerror(why));
             break;
         }
         long np = 0;
         double t;
         int dim, vc, ncols;
-        if (!fgets(line, (int)lcap, f) || sscanf(line, "%ld", &np) != 1 || np < 1 || !fgets(line, (int)lcap, f) ||
-            xyz_comment(line, &t, &dim, &vc, &ncols) != 0 || dim == 0) {
+        if (!fgets(line, (int)lcap, f) || sscanf(line, "%ld", &np) != 1 || np < 1 ||
+            !fgets(line, (int)lcap, f) || xyz_comment(line, &t, &dim, &vc, &ncols) != 0 ||
+            dim == 0) {
             fclose(f);
-            rc = GR_FAIL(err, GR_EINVAL, "%s: not an extended XYZ frame with Time, pbc and a velo column", path);
+            rc = GR_FAIL(err, GR_EINVAL,
+                         "%s: not an extended XYZ frame with Time, pbc and a velo column", path);
             break;
         }
         if (!(t >= t_from)) {
@@ -1365,13 +1423,15 @@ int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm
         }
         if (info->frames > 0 && dim != info->dim) {
             fclose(f);
-            rc = GR_FAIL(err, GR_EINVAL, "%s: dimension %d differs from the earlier frames' %d", path, dim, info->dim);
+            rc = GR_FAIL(err, GR_EINVAL, "%s: dimension %d differs from the earlier frames' %d",
+                         path, dim, info->dim);
             break;
         }
         info->dim = dim;
         for (long k = 0; k < np; k++) {
             if (!fgets(line, (int)lcap, f)) {
-                rc = GR_FAIL(err, GR_EINVAL, "%s: frame ends after %ld of %ld particles", path, k, np);
+                rc = GR_FAIL(err, GR_EINVAL, "%s: frame ends after %ld of %ld particles", path, k,
+                             np);
                 break;
             }
             /* columns: species (1 token), then numbers; velo starts at column vc */
@@ -1400,7 +1460,8 @@ int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm
                 col++;
             }
             if (col < vc + dim) {
-                rc = GR_FAIL(err, GR_EINVAL, "%s: particle line %ld has too few columns", path, k + 1);
+                rc = GR_FAIL(err, GR_EINVAL, "%s: particle line %ld has too few columns", path,
+                             k + 1);
                 break;
             }
             for (int c = 0; c < dim; c++) {
@@ -1426,8 +1487,8 @@ int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm
     }
     free(names);
     if (!rc && info->frames == 0) {
-        rc = GR_FAIL(err, GR_EINVAL, "%s: all %d snapshots are before t = %g s (the warm-up)", dir, info->frames_skipped,
-                     t_from);
+        rc = GR_FAIL(err, GR_EINVAL, "%s: all %d snapshots are before t = %g s (the warm-up)", dir,
+                     info->frames_skipped, t_from);
     }
     info->v2_mean = nv ? v2 / (double)nv : (double)NAN;
     return rc;
@@ -1435,7 +1496,8 @@ int gr_spm_rfm_histogram(const char *dir, double t_from, gr_histogram *h, gr_spm
 
 /* ln P_spm and its relative error at velocity u, linear between bin centres; false outside the
  * bins or where P_spm is zero */
-static bool spm_at(const double *v, const double *p, const double *e, int n, double u, double *lnp, double *rel)
+static bool spm_at(const double *v, const double *p, const double *e, int n, double u, double *lnp,
+                   double *rel)
 {
     if (!(u >= v[0]) || !(u <= v[n - 1])) {
         return false;
@@ -1477,7 +1539,8 @@ static double cmp_chi2(const cmp_ctx *c, double s, double *k_out, double *k_err,
         den = 0.0;
         for (int i = 0; i < c->n; i++) {
             double lp, rel;
-            if (c->v[i] >= c->v_from && c->pr[i] > 0.0 && c->er[i] > 0.0 && spm_at(c->v, c->ps, c->es, c->n, c->v[i] / s, &lp, &rel)) {
+            if (c->v[i] >= c->v_from && c->pr[i] > 0.0 && c->er[i] > 0.0 &&
+                spm_at(c->v, c->ps, c->es, c->n, c->v[i] / s, &lp, &rel)) {
                 double q = exp(lp) / s, eq = q * rel;
                 double w = 1.0 / (pearson_var(c->pr[i], c->er[i], k * q) + k * k * eq * eq);
                 num += w * c->pr[i] * q;
@@ -1497,7 +1560,8 @@ static double cmp_chi2(const cmp_ctx *c, double s, double *k_out, double *k_err,
     }
     for (int i = 0; i < c->n; i++) {
         double lp, rel;
-        if (c->v[i] >= c->v_from && c->pr[i] > 0.0 && c->er[i] > 0.0 && spm_at(c->v, c->ps, c->es, c->n, c->v[i] / s, &lp, &rel)) {
+        if (c->v[i] >= c->v_from && c->pr[i] > 0.0 && c->er[i] > 0.0 &&
+            spm_at(c->v, c->ps, c->es, c->n, c->v[i] / s, &lp, &rel)) {
             double q = exp(lp) / s, eq = q * rel, r = c->pr[i] - k * q;
             chi2 += r * r / (pearson_var(c->pr[i], c->er[i], k * q) + k * k * eq * eq);
             m++;
@@ -1509,8 +1573,8 @@ static double cmp_chi2(const cmp_ctx *c, double s, double *k_out, double *k_err,
     return chi2;
 }
 
-double gr_spm_compare_model(const gr_spm_compare *c, const double *v, const double *p_spm, const double *e_spm, int n,
-                            int i, double *model_err)
+double gr_spm_compare_model(const gr_spm_compare *c, const double *v, const double *p_spm,
+                            const double *e_spm, int n, int i, double *model_err)
 {
     double lp, rel;
     if (!spm_at(v, p_spm, e_spm, n, v[i] / c->s, &lp, &rel)) {
@@ -1522,9 +1586,9 @@ double gr_spm_compare_model(const gr_spm_compare *c, const double *v, const doub
     return q;
 }
 
-int gr_spm_compare_tails(const double *v, const double *p_spm, const double *e_spm, const double *p_rfm,
-                         const double *e_rfm, int n, double v_from, double z_max, bool fit_scale, gr_spm_compare *out,
-                         gr_error *err)
+int gr_spm_compare_tails(const double *v, const double *p_spm, const double *e_spm,
+                         const double *p_rfm, const double *e_rfm, int n, double v_from,
+                         double z_max, bool fit_scale, gr_spm_compare *out, gr_error *err)
 {
     memset(out, 0, sizeof *out);
     out->v_from = v_from;
@@ -1536,7 +1600,8 @@ int gr_spm_compare_tails(const double *v, const double *p_spm, const double *e_s
     int m;
     double k, ke, chi2 = cmp_chi2(&c, 1.0, &k, &ke, &m);
     if (m < 1) {
-        return GR_FAIL(err, GR_EINVAL, "spm: no bins with v >= %g where both P(v) are positive", v_from);
+        return GR_FAIL(err, GR_EINVAL, "spm: no bins with v >= %g where both P(v) are positive",
+                       v_from);
     }
     if (fit_scale) {
         /* a scan of ln s over [1/3, 3] by the reduced chi^2 (s changes which bins overlap; only
@@ -1551,11 +1616,13 @@ int gr_spm_compare_tails(const double *v, const double *p_spm, const double *e_s
                 bs = sc;
             }
         }
-        double lo = log(bs) - log(3.0) / 110.0, hi = log(bs) + log(3.0) / 110.0, g = 0.5 * (sqrt(5.0) - 1.0);
+        double lo = log(bs) - log(3.0) / 110.0, hi = log(bs) + log(3.0) / 110.0,
+               g = 0.5 * (sqrt(5.0) - 1.0);
         for (int it = 0; it < 40; it++) {
             double a = hi - g * (hi - lo), b = lo + g * (hi - lo), kk, kke;
             int ma, mb;
-            double fa = cmp_chi2(&c, exp(a), &kk, &kke, &ma), fb = cmp_chi2(&c, exp(b), &kk, &kke, &mb);
+            double fa = cmp_chi2(&c, exp(a), &kk, &kke, &ma),
+                   fb = cmp_chi2(&c, exp(b), &kk, &kke, &mb);
             fa /= ma > 2 ? ma - 2 : 1;
             fb /= mb > 2 ? mb - 2 : 1;
             if (fa < fb) {
@@ -1570,7 +1637,8 @@ int gr_spm_compare_tails(const double *v, const double *p_spm, const double *e_s
         /* error of s from chi^2 + 1 (reduced-chi^2 scaled below) by a parabola through +-1% */
         double kk, kke;
         int m1, m2;
-        double cp = cmp_chi2(&c, s * 1.01, &kk, &kke, &m1), cm = cmp_chi2(&c, s / 1.01, &kk, &kke, &m2);
+        double cp = cmp_chi2(&c, s * 1.01, &kk, &kke, &m1),
+               cm = cmp_chi2(&c, s / 1.01, &kk, &kke, &m2);
         double curv = (cp + cm - 2.0 * chi2) / (log(1.01) * log(1.01)); /* d2 chi2 / d(ln s)^2 */
         out->s_err = curv > 0.0 ? s * sqrt(2.0 / curv) : (double)NAN;
     }

@@ -67,11 +67,14 @@ int gr_spm_circle_prepare(const gr_spm_circle_params *p, gr_error *err)
         return rc;
     }
     if (p->n_radii < 1 || p->n_radii > GR_SPM_MAX_RADII) {
-        return GR_FAIL(err, GR_EINVAL, "spm circle: 1 to %d radii, got %d", GR_SPM_MAX_RADII, p->n_radii);
+        return GR_FAIL(err, GR_EINVAL, "spm circle: 1 to %d radii, got %d", GR_SPM_MAX_RADII,
+                       p->n_radii);
     }
     if (!(p->wmax > 0.0 && p->wmax <= 100.0) || !(p->fit_from >= 0.0 && p->fit_from < p->wmax)) {
-        return GR_FAIL(err, GR_EINVAL, "spm circle: need 0 < --wmax <= 100 and 0 <= --fit-from < --wmax, got %g and %g",
-                       p->wmax, p->fit_from);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "spm circle: need 0 < --wmax <= 100 and 0 <= --fit-from < --wmax, got %g and %g",
+            p->wmax, p->fit_from);
     }
     for (int r = 0; r < p->n_radii; r++) {
         if (!(p->radii[r] > 0.0) || !isfinite(p->radii[r])) {
@@ -79,7 +82,9 @@ int gr_spm_circle_prepare(const gr_spm_circle_params *p, gr_error *err)
         }
         double tl = gr_spm_time_scale(&p->s, p->radii[r]);
         if (p->s.dt > 0.0 && p->s.dt > 10.0 * tl) {
-            return GR_FAIL(err, GR_EINVAL, "spm circle: --dt %g s is %g t_l for the radius %g m (t_l = %g s); use a smaller --dt",
+            return GR_FAIL(err, GR_EINVAL,
+                           "spm circle: --dt %g s is %g t_l for the radius %g m (t_l = %g s); use "
+                           "a smaller --dt",
                            p->s.dt, p->s.dt / tl, p->radii[r], tl);
         }
     }
@@ -178,26 +183,34 @@ void gr_spm_circle_report_free(gr_spm_circle_report *r)
     r->n_radii = 0;
 }
 
-static int write_q(const char *dir, const gr_spm_circle_params *p, const gr_spm_circle_report *r, gr_error *err)
+static int write_q(const char *dir, const gr_spm_circle_params *p, const gr_spm_circle_report *r,
+                   gr_error *err)
 {
     gr_file f;
     int rc = gr_file_open(&f, dir, "q.csv", err);
     if (rc) {
         return rc;
     }
-    gr_spm_csv_head(&f, "Q(v,l) of sec. 5.3.1, one velocity component, sampled uniformly in time", &p->s);
-    gr_file_note(&f, "# w = |v| / u_l, u_l = (2 D l / M^2)^(1/3); Q_scaled = u_l Q(v,l) (density of the signed scaled\n"
-                     "# component: collapses under v / l^(1/3)); Q in s/m; errors from the spread between batches\n"
-                     "# (_poisson: the sqrt(X) error of App. A.1, too small because samples of one walk correlate)\n");
-    gr_file_header(&f, "radius_index [1],radius [m],w_lo [1],w_hi [1],w [1],v [m s-1],samples [1],Q_scaled [1],Q_scaled_err [1],Q_scaled_err_poisson [1],Q [s m-1],Q_err [s m-1]");
+    gr_spm_csv_head(&f, "Q(v,l) of sec. 5.3.1, one velocity component, sampled uniformly in time",
+                    &p->s);
+    gr_file_note(&f, "# w = |v| / u_l, u_l = (2 D l / M^2)^(1/3); Q_scaled = u_l Q(v,l) (density "
+                     "of the signed scaled\n"
+                     "# component: collapses under v / l^(1/3)); Q in s/m; errors from the spread "
+                     "between batches\n"
+                     "# (_poisson: the sqrt(X) error of App. A.1, too small because samples of one "
+                     "walk correlate)\n");
+    gr_file_header(
+        &f, "radius_index [1],radius [m],w_lo [1],w_hi [1],w [1],v [m s-1],samples [1],Q_scaled "
+            "[1],Q_scaled_err [1],Q_scaled_err_poisson [1],Q [s m-1],Q_err [s m-1]");
     for (int k = 0; k < r->n_radii; k++) {
         const gr_spm_q *q = &r->q[k];
         const gr_histogram *h = &q->q.all;
         for (int i = 0; i < h->nbins; i++) {
-            double w = gr_histogram_center(h, i), d = gr_spm_dist_density(&q->q, i), e = gr_spm_dist_error(&q->q, i);
-            fprintf(f.f, "%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.4g,%.4g,%.6g,%.4g\n", k, p->radii[k],
-                    gr_histogram_lower(h, i), gr_histogram_upper(h, i), w, w * q->u, h->count[i], d, e,
-                    gr_spm_dist_poisson_error(&q->q, i), d / q->u, e / q->u);
+            double w = gr_histogram_center(h, i), d = gr_spm_dist_density(&q->q, i),
+                   e = gr_spm_dist_error(&q->q, i);
+            fprintf(f.f, "%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.4g,%.4g,%.6g,%.4g\n", k,
+                    p->radii[k], gr_histogram_lower(h, i), gr_histogram_upper(h, i), w, w * q->u,
+                    h->count[i], d, e, gr_spm_dist_poisson_error(&q->q, i), d / q->u, e / q->u);
         }
     }
     rc = gr_file_commit(&f, err);
@@ -208,25 +221,38 @@ static int write_q(const char *dir, const gr_spm_circle_params *p, const gr_spm_
     if (rc) {
         return rc;
     }
-    gr_spm_csv_head(&f, "per radius: scales, first-passage time, Gaussian tail fit (5.12), collapse against the first radius",
+    gr_spm_csv_head(&f,
+                    "per radius: scales, first-passage time, Gaussian tail fit (5.12), collapse "
+                    "against the first radius",
                     &p->s);
-    gr_file_note(&f, "# u_l in m/s, t_l in s, tau = sampling interval / t_l; exit_time and w2 (<w^2> per component in\n"
-                     "# time) in the walk's units; b of Q ~ A exp(-b w^2) over w >= %g (thesis: 0.98); beta: free-exponent fit;\n"
-                     "# chi2 between the scaled Q of this radius and of the first one over bins with >= %g samples in both;\n"
-                     "# c, c_prime: the thesis' constants of <v_x^2> = c (D l/M^2)^(2/3), <T_fp> = c' (l^2 M^2/D)^(1/3)\n",
+    gr_file_note(&f,
+                 "# u_l in m/s, t_l in s, tau = sampling interval / t_l; exit_time and w2 (<w^2> "
+                 "per component in\n"
+                 "# time) in the walk's units; b of Q ~ A exp(-b w^2) over w >= %g (thesis: 0.98); "
+                 "beta: free-exponent fit;\n"
+                 "# chi2 between the scaled Q of this radius and of the first one over bins with "
+                 ">= %g samples in both;\n"
+                 "# c, c_prime: the thesis' constants of <v_x^2> = c (D l/M^2)^(2/3), <T_fp> = c' "
+                 "(l^2 M^2/D)^(1/3)\n",
                  p->fit_from, MIN_COUNT);
-    gr_file_header(&f, "radius [m],u_l [m s-1],t_l [s],tau [1],walks [1],exit_time [1],exit_time_err [1],w2 [1],b [1],"
-                       "b_err [1],A [1],fit_chi2_red [1],beta [1],beta_err [1],collapse_chi2 [1],collapse_dof [1],"
-                       "collapse_p [1],w2_err [1],c [1],c_err [1],c_prime [1],c_prime_err [1]");
+    gr_file_header(
+        &f,
+        "radius [m],u_l [m s-1],t_l [s],tau [1],walks [1],exit_time [1],exit_time_err [1],w2 [1],b "
+        "[1],"
+        "b_err [1],A [1],fit_chi2_red [1],beta [1],beta_err [1],collapse_chi2 [1],collapse_dof [1],"
+        "collapse_p [1],w2_err [1],c [1],c_err [1],c_prime [1],c_prime_err [1]");
     for (int k = 0; k < r->n_radii; k++) {
         const gr_spm_walk_stats *st = &r->q[k].stats;
         const gr_spm_tail_fit *ft = &r->fit[k];
         const gr_spm_collapse *c = &r->collapse[k];
         const gr_spm_constants *cc = &r->constants[k];
-        fprintf(f.f, "%.6g,%.6g,%.6g,%.6g,%lld,%.6g,%.3g,%.6g,%.5g,%.3g,%.5g,%.3g,%.4g,%.3g,%.5g,%d,%.4g,%.3g,%.6g,%.3g,%.6g,%.3g\n",
-                p->radii[k], r->q[k].u, r->q[k].t_scale, r->q[k].tau, (long long)st->walks, st->exit_time_mean,
-                st->exit_time_err, st->w2_time_mean, ft->b, ft->b_err, ft->A, ft->chi2_red, ft->beta, ft->beta_err,
-                k ? c->chi2 : 0.0, k ? c->dof : 0, k ? c->p_value : 1.0, st->w2_time_err, cc->c, cc->c_err, cc->c_prime,
+        fprintf(f.f,
+                "%.6g,%.6g,%.6g,%.6g,%lld,%.6g,%.3g,%.6g,%.5g,%.3g,%.5g,%.3g,%.4g,%.3g,%.5g,%d,%."
+                "4g,%.3g,%.6g,%.3g,%.6g,%.3g\n",
+                p->radii[k], r->q[k].u, r->q[k].t_scale, r->q[k].tau, (long long)st->walks,
+                st->exit_time_mean, st->exit_time_err, st->w2_time_mean, ft->b, ft->b_err, ft->A,
+                ft->chi2_red, ft->beta, ft->beta_err, k ? c->chi2 : 0.0, k ? c->dof : 0,
+                k ? c->p_value : 1.0, st->w2_time_err, cc->c, cc->c_err, cc->c_prime,
                 cc->c_prime_err);
     }
     return gr_file_commit(&f, err);
@@ -297,52 +323,61 @@ static cJSON *summary(const gr_spm_circle_params *p, const gr_spm_circle_report 
 }
 
 /* the collapse and the raw Q(v, l) */
-static void plots(const char *dir, bool on, cJSON *j, const gr_spm_circle_params *p, const gr_spm_circle_report *r)
+static void plots(const char *dir, bool on, cJSON *j, const gr_spm_circle_params *p,
+                  const gr_spm_circle_report *r)
 {
     const gr_spm_tail_fit *pf = &r->pooled_fit;
     char body[8192], *b = body;
     size_t left = sizeof body;
-    int k = snprintf(b, left,
-                     "set title 'Q(v,l) rescaled: collapse under v / l^{1/3} (sec. 5.3.1), %dD'\n"
-                     "set xlabel 'w = |v| / u_l,  u_l = (2Dl/M^2)^{1/3}'\nset ylabel 'u_l Q(v,l)'\n"
-                     "set logscale y\nset format y '10^{%%L}'\nset format x '%%g'\nset key top right\n"
-                     "A = %.10g\nb = %.10g\nbt = %.10g\n"
-                     "plot ",
-                     p->s.dim, isfinite(pf->A) ? pf->A : 1.0, isfinite(pf->b) ? pf->b : 1.0, GR_SPM_THESIS_B_COEF);
+    int k =
+        snprintf(b, left,
+                 "set title 'Q(v,l) rescaled: collapse under v / l^{1/3} (sec. 5.3.1), %dD'\n"
+                 "set xlabel 'w = |v| / u_l,  u_l = (2Dl/M^2)^{1/3}'\nset ylabel 'u_l Q(v,l)'\n"
+                 "set logscale y\nset format y '10^{%%L}'\nset format x '%%g'\nset key top right\n"
+                 "A = %.10g\nb = %.10g\nbt = %.10g\n"
+                 "plot ",
+                 p->s.dim, isfinite(pf->A) ? pf->A : 1.0, isfinite(pf->b) ? pf->b : 1.0,
+                 GR_SPM_THESIS_B_COEF);
     b += k;
     left -= (size_t)k;
     for (int i = 0; i < r->n_radii; i++) {
         k = snprintf(b, left,
-                     "'q.csv' using 5:(($1==%d && $8>0) ? $8 : 1/0):9 with yerrorbars pt %d ps 0.5 lc rgb '%s' title 'l = %g m', ",
+                     "'q.csv' using 5:(($1==%d && $8>0) ? $8 : 1/0):9 with yerrorbars pt %d ps 0.5 "
+                     "lc rgb '%s' title 'l = %g m', ",
                      i, 5 + 2 * (i / 6 % 4), gr_spm_colour(i % 6), p->radii[i]);
         b += k;
         left -= (size_t)k;
     }
     snprintf(b, left,
-             "[x=%g:%g] A*exp(-b*x**2) lw 2 lc rgb 'black' title sprintf('pooled fit A exp(-%%.3f w^2)', b), "
+             "[x=%g:%g] A*exp(-b*x**2) lw 2 lc rgb 'black' title sprintf('pooled fit A exp(-%%.3f "
+             "w^2)', b), "
              "[x=%g:%g] A*exp(-bt*x**2) dt 2 lc rgb 'black' title 'b = 0.98 (5.12)'\n",
              p->fit_from, p->wmax, p->fit_from, p->wmax);
     gr_spm_plot(dir, on, j, "q_collapse.png", body);
     b = body;
     left = sizeof body;
-    k = snprintf(b, left,
-                 "set title 'Q(v,l) for fixed radii (sec. 5.3.1), %dD'\nset xlabel '|v| (m/s)'\nset ylabel 'Q(v,l) (s/m)'\n"
-                 "set logscale y\nset format y '10^{%%L}'\nset format x '%%g'\nset key top right\nplot ",
-                 p->s.dim);
+    k = snprintf(
+        b, left,
+        "set title 'Q(v,l) for fixed radii (sec. 5.3.1), %dD'\nset xlabel '|v| (m/s)'\nset ylabel "
+        "'Q(v,l) (s/m)'\n"
+        "set logscale y\nset format y '10^{%%L}'\nset format x '%%g'\nset key top right\nplot ",
+        p->s.dim);
     b += k;
     left -= (size_t)k;
     for (int i = 0; i < r->n_radii; i++) {
         k = snprintf(b, left,
-                     "'q.csv' using 6:(($1==%d && $11>0) ? $11 : 1/0) with linespoints pt %d ps 0.4 lc rgb '%s' title 'l = %g m'%s",
-                     i, 5 + 2 * (i / 6 % 4), gr_spm_colour(i % 6), p->radii[i], i + 1 < r->n_radii ? ", " : "\n");
+                     "'q.csv' using 6:(($1==%d && $11>0) ? $11 : 1/0) with linespoints pt %d ps "
+                     "0.4 lc rgb '%s' title 'l = %g m'%s",
+                     i, 5 + 2 * (i / 6 % 4), gr_spm_colour(i % 6), p->radii[i],
+                     i + 1 < r->n_radii ? ", " : "\n");
         b += k;
         left -= (size_t)k;
     }
     gr_spm_plot(dir, on, j, "q_raw.png", body);
 }
 
-int gr_spm_circle_write(const char *dir, const gr_spm_circle_params *p, const gr_spm_circle_report *r, bool on,
-                        gr_error *err)
+int gr_spm_circle_write(const char *dir, const gr_spm_circle_params *p,
+                        const gr_spm_circle_report *r, bool on, gr_error *err)
 {
     int rc = write_q(dir, p, r, err);
     if (rc) {

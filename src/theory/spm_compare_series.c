@@ -11,8 +11,8 @@
 
 /* A exp(-(v/v0)^alpha) over the bins v >= v_from where P > 0 with an error: alpha, its error and
  * the number of bins (NAN with fewer than 4). */
-static void tail_alpha(const double *v, const double *p, const double *e, int n, double v_from, double *alpha,
-                       double *alpha_err, int *points)
+static void tail_alpha(const double *v, const double *p, const double *e, int n, double v_from,
+                       double *alpha, double *alpha_err, int *points)
 {
     *alpha = *alpha_err = (double)NAN;
     *points = 0;
@@ -32,8 +32,8 @@ static void tail_alpha(const double *v, const double *p, const double *e, int n,
      * can settle far from a Gaussian tail) */
     gr_fit f;
     gr_error ignore = {0};
-    double p0[3] = {y[0] * exp(1.0), x[0], 1.0}, best = INFINITY, xa[GR_SPM_SERIES_MAX_BINS], ly[GR_SPM_SERIES_MAX_BINS],
-           ls[GR_SPM_SERIES_MAX_BINS];
+    double p0[3] = {y[0] * exp(1.0), x[0], 1.0}, best = INFINITY, xa[GR_SPM_SERIES_MAX_BINS],
+           ly[GR_SPM_SERIES_MAX_BINS], ls[GR_SPM_SERIES_MAX_BINS];
     for (double a = 0.4; a <= 3.01; a += 0.1) {
         for (int i = 0; i < m; i++) {
             xa[i] = pow(x[i], a);
@@ -55,14 +55,17 @@ static void tail_alpha(const double *v, const double *p, const double *e, int n,
     }
 }
 
-int gr_spm_compare_series(const double *v, const double *p_spm, const double *e_spm, const double *p_rfm, const double *e_rfm,
-                          int n, double from_vrms, double z_max, gr_spm_series_compare *out, gr_error *err)
+int gr_spm_compare_series(const double *v, const double *p_spm, const double *e_spm,
+                          const double *p_rfm, const double *e_rfm, int n, double from_vrms,
+                          double z_max, gr_spm_series_compare *out, gr_error *err)
 {
     memset(out, 0, sizeof *out);
     out->v_rms = out->v_from = (double)NAN;
     out->alpha_spm = out->alpha_spm_err = out->alpha_rfm = out->alpha_rfm_err = (double)NAN;
     if (n < 3 || n > GR_SPM_SERIES_MAX_BINS || !(from_vrms >= 0.0) || !(z_max > 0.0)) {
-        return GR_FAIL(err, GR_EINVAL, "spm: the series comparison needs 3 to %d bins, from_vrms >= 0 and z_max > 0 (got %d, %g, %g)",
+        return GR_FAIL(err, GR_EINVAL,
+                       "spm: the series comparison needs 3 to %d bins, from_vrms >= 0 and z_max > "
+                       "0 (got %d, %g, %g)",
                        GR_SPM_SERIES_MAX_BINS, n, from_vrms, z_max);
     }
     /* the run's v_rms per component from its histogram, sum P v^2 / sum P (equal bins); the
@@ -81,13 +84,17 @@ int gr_spm_compare_series(const double *v, const double *p_spm, const double *e_
     out->v_from = from_vrms * out->v_rms;
     gr_error ignore = {0};
     /* Fig. 5.10: the SPM scaled vertically only; then also in v (the free-path scale it implies) */
-    out->have_amp = gr_spm_compare_tails(v, p_spm, e_spm, p_rfm, e_rfm, n, out->v_from, z_max, false, &out->amp, &ignore) == GR_OK;
-    out->have_scaled =
-        gr_spm_compare_tails(v, p_spm, e_spm, p_rfm, e_rfm, n, out->v_from, z_max, true, &out->scaled, &ignore) == GR_OK;
-    tail_alpha(v, p_spm, e_spm, n, out->v_from, &out->alpha_spm, &out->alpha_spm_err, &out->points_spm);
-    tail_alpha(v, p_rfm, e_rfm, n, out->v_from, &out->alpha_rfm, &out->alpha_rfm_err, &out->points_rfm);
+    out->have_amp = gr_spm_compare_tails(v, p_spm, e_spm, p_rfm, e_rfm, n, out->v_from, z_max,
+                                         false, &out->amp, &ignore) == GR_OK;
+    out->have_scaled = gr_spm_compare_tails(v, p_spm, e_spm, p_rfm, e_rfm, n, out->v_from, z_max,
+                                            true, &out->scaled, &ignore) == GR_OK;
+    tail_alpha(v, p_spm, e_spm, n, out->v_from, &out->alpha_spm, &out->alpha_spm_err,
+               &out->points_spm);
+    tail_alpha(v, p_rfm, e_rfm, n, out->v_from, &out->alpha_rfm, &out->alpha_rfm_err,
+               &out->points_rfm);
     if (!out->have_amp) {
-        return GR_FAIL(err, GR_EINVAL, "spm: no bins with v >= %g where both P(v) are positive", out->v_from);
+        return GR_FAIL(err, GR_EINVAL, "spm: no bins with v >= %g where both P(v) are positive",
+                       out->v_from);
     }
     return GR_OK;
 }

@@ -26,7 +26,8 @@ void gr_spm_full_params_default(gr_spm_full_params *p)
 
 /* Mass, D, dim, warm-up and particle diameter from a run folder's summary.json (any may stay
  * unknown: NAN or 0). */
-static void run_scene(const char *dir, double *mass, double *D, int *dim, double *warmup, double *diameter)
+static void run_scene(const char *dir, double *mass, double *D, int *dim, double *warmup,
+                      double *diameter)
 {
     *mass = *D = *warmup = *diameter = (double)NAN;
     *dim = 0;
@@ -105,7 +106,8 @@ int gr_spm_full_prepare(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *
         FILE *probe = gr_input_fopen(r->auto_pl, &(int){0});
         if (!probe) {
             return GR_FAIL(err, GR_EINVAL,
-                           "spm full: %s has no freepath.csv (run it with [analysis] observables = freepath); give --pl "
+                           "spm full: %s has no freepath.csv (run it with [analysis] observables = "
+                           "freepath); give --pl "
                            "FILE or --df D_f",
                            p->run_dir);
         }
@@ -124,17 +126,22 @@ int gr_spm_full_prepare(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *
         return GR_FAIL(err, GR_EINVAL, "spm full: --diameter must be > 0 m, got %g", p->diameter);
     }
     if (p->pl_path && !isnan(p->C)) {
-        return GR_FAIL(err, GR_EINVAL, "spm full: --C belongs to --df (the fitted form 4.25), not to --pl");
+        return GR_FAIL(err, GR_EINVAL,
+                       "spm full: --C belongs to --df (the fitted form 4.25), not to --pl");
     }
     if (!isnan(p->vmax) && !(p->vmax > 0.0 && isfinite(p->vmax))) {
         return GR_FAIL(err, GR_EINVAL, "spm full: --vmax must be > 0 m/s, got %g", p->vmax);
     }
-    if ((!isnan(p->fit_from) && !(p->fit_from >= 0.0)) || (!isnan(p->t_from) && !isfinite(p->t_from)) ||
+    if ((!isnan(p->fit_from) && !(p->fit_from >= 0.0)) ||
+        (!isnan(p->t_from) && !isfinite(p->t_from)) ||
         (!isnan(p->compare_from) && !(p->compare_from >= 0.0)) || !(p->z_max > 0.0)) {
-        return GR_FAIL(err, GR_EINVAL, "spm full: --fit-from and --compare-from must be >= 0, --t-from finite, --z-max > 0");
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "spm full: --fit-from and --compare-from must be >= 0, --t-from finite, --z-max > 0");
     }
     if ((!isnan(p->t_from) || !isnan(p->compare_from)) && !p->run_dir) {
-        return GR_FAIL(err, GR_EINVAL, "spm full: --t-from and --compare-from need --compare-run DIR");
+        return GR_FAIL(err, GR_EINVAL,
+                       "spm full: --t-from and --compare-from need --compare-run DIR");
     }
     if (p->run_dir) {
         double warmup, run_d;
@@ -157,7 +164,8 @@ int gr_spm_full_prepare(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *
         return refuse(err);
     }
     if (p->pl_path) {
-        int rc = gr_spm_pl_load_for(&r->pl, p->pl_path, isnan(p->diameter) ? 0.0 : p->diameter, err);
+        int rc =
+            gr_spm_pl_load_for(&r->pl, p->pl_path, isnan(p->diameter) ? 0.0 : p->diameter, err);
         if (rc) {
             return rc;
         }
@@ -178,7 +186,9 @@ int gr_spm_full_prepare(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *
     }
     double pred_df = p->pl_path ? (r->have_plfit ? r->plfit.df : (double)NAN) : p->df;
     double pred_C = p->pl_path ? (r->have_plfit ? r->plfit.C : (double)NAN) : p->C;
-    r->have_pred = isfinite(pred_df) && gr_spm_predict(pred_df, gr_spm_B(&p->s, GR_SPM_THESIS_B_COEF), pred_C, &r->pred, err) == 0;
+    r->have_pred =
+        isfinite(pred_df) &&
+        gr_spm_predict(pred_df, gr_spm_B(&p->s, GR_SPM_THESIS_B_COEF), pred_C, &r->pred, err) == 0;
 
     /* the RFM's snapshots: checked before any work, and their largest |v| for the range */
     if (p->run_dir) {
@@ -192,7 +202,8 @@ int gr_spm_full_prepare(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *
             return rc;
         }
         if (r->info.dim != p->s.dim) {
-            return GR_FAIL(err, GR_EINVAL, "spm full: the run is %dD but --dim %d was asked for", r->info.dim, p->s.dim);
+            return GR_FAIL(err, GR_EINVAL, "spm full: the run is %dD but --dim %d was asked for",
+                           r->info.dim, p->s.dim);
         }
     }
     if (isnan(p->vmax)) {
@@ -200,7 +211,8 @@ int gr_spm_full_prepare(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *
         double lbig = gr_spm_pl_quantile(&r->pl, 1.0 - pow((double)p->s.walks, -p->s.tilt));
         p->vmax = 3.0 * gr_spm_velocity_scale(&p->s, lbig);
         if (p->run_dir) {
-            p->vmax = fmax(p->vmax, 1.02 * r->info.v_max); /* the run's fastest component fits too */
+            p->vmax =
+                fmax(p->vmax, 1.02 * r->info.v_max); /* the run's fastest component fits too */
         }
     }
     return GR_OK;
@@ -226,8 +238,8 @@ typedef struct pv_fit_par {
     int calls;
 } pv_fit_par;
 
-static int pv_select(const pv_fit_par *q, const double *x, const double *p, const double *e, const double *count, int n,
-                     double *vx, double *vy, double *vs)
+static int pv_select(const pv_fit_par *q, const double *x, const double *p, const double *e,
+                     const double *count, int n, double *vx, double *vy, double *vs)
 {
     int m = 0;
     for (int i = 0; i < n; i++) {
@@ -242,8 +254,8 @@ static int pv_select(const pv_fit_par *q, const double *x, const double *p, cons
 }
 
 /* The tail bins of a jackknife sample for a fit: x, y, sigma in one allocation (free vx). */
-static double *pv_points(const pv_fit_par *q, const double *x, const double *p, const double *e, const double *count, int n,
-                         int *m)
+static double *pv_points(const pv_fit_par *q, const double *x, const double *p, const double *e,
+                         const double *count, int n, int *m)
 {
     double *vx = malloc(sizeof(double) * (size_t)n * 3);
     if (vx) {
@@ -266,8 +278,8 @@ static int pv_done(pv_fit_par *q, const gr_fit *f, int m, double *out)
 }
 
 /* A exp(-(v/v_A)^alpha): out = (A, v_A, alpha) */
-static int pv_stretched(const double *x, const double *p, const double *e, const double *count, int n, double *out,
-                        void *user)
+static int pv_stretched(const double *x, const double *p, const double *e, const double *count,
+                        int n, double *out, void *user)
 {
     pv_fit_par *q = user;
     int m = 0;
@@ -285,7 +297,8 @@ static int pv_stretched(const double *x, const double *p, const double *e, const
 }
 
 /* ln P = ln A0 + h ln v - S v^alpha with alpha fixed: out = (ln A0, h, S) */
-static int pv_531(const double *x, const double *p, const double *e, const double *count, int n, double *out, void *user)
+static int pv_531(const double *x, const double *p, const double *e, const double *count, int n,
+                  double *out, void *user)
 {
     pv_fit_par *q = user;
     int m = 0;
@@ -316,7 +329,8 @@ static int compare_run(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *e
         rc = gr_spm_rfm_histogram(p->run_dir, p->t_from, &rh, &r->info, err);
     }
     if (!rc && r->info.dim != p->s.dim) {
-        rc = GR_FAIL(err, GR_EINVAL, "spm full: the run is %dD but --dim %d was asked for", r->info.dim, p->s.dim);
+        rc = GR_FAIL(err, GR_EINVAL, "spm full: the run is %dD but --dim %d was asked for",
+                     r->info.dim, p->s.dim);
     }
     if (!rc) {
         for (int i = 0; i < nb; i++) {
@@ -327,10 +341,10 @@ static int compare_run(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *e
             p->compare_from = 2.0 * sqrt(r->info.v2_mean);
         }
         gr_error e2 = {0};
-        r->have_cmp = gr_spm_compare_tails(r->v, r->p_spm, r->e_spm, r->p_rfm, r->e_rfm, nb, p->compare_from, p->z_max,
-                                           false, &r->cmp, &e2) == 0;
-        r->have_cmp2 = gr_spm_compare_tails(r->v, r->p_spm, r->e_spm, r->p_rfm, r->e_rfm, nb, p->compare_from, p->z_max,
-                                            true, &r->cmp2, &e2) == 0;
+        r->have_cmp = gr_spm_compare_tails(r->v, r->p_spm, r->e_spm, r->p_rfm, r->e_rfm, nb,
+                                           p->compare_from, p->z_max, false, &r->cmp, &e2) == 0;
+        r->have_cmp2 = gr_spm_compare_tails(r->v, r->p_spm, r->e_spm, r->p_rfm, r->e_rfm, nb,
+                                            p->compare_from, p->z_max, true, &r->cmp2, &e2) == 0;
     }
     gr_histogram_free(&rh);
     return rc;
@@ -367,14 +381,21 @@ int gr_spm_full_run(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *err)
     /* tail fits of the SPM P(v), jackknife errors: a free stretched exponential, and 5.31 with
      * alpha fixed at the prediction */
     const gr_spm_prediction *pred = &r->pred;
-    pv_fit_par fp = {p->fit_from, r->have_pred ? pred->alpha : 1.0, r->have_pred ? pred->S : 10.0,
-                     r->have_pred ? pred->h : 0.5, 0.0, 0, 0};
+    pv_fit_par fp = {p->fit_from,
+                     r->have_pred ? pred->alpha : 1.0,
+                     r->have_pred ? pred->S : 10.0,
+                     r->have_pred ? pred->h : 0.5,
+                     0.0,
+                     0,
+                     0};
     gr_error e2 = {0};
-    r->have_sfit = gr_spm_dist_jackknife(&r->res.p, pv_stretched, &fp, 3, r->sfit, r->sfit_err, &e2) == 0;
+    r->have_sfit =
+        gr_spm_dist_jackknife(&r->res.p, pv_stretched, &fp, 3, r->sfit, r->sfit_err, &e2) == 0;
     r->sfit_chi2 = fp.chi2_red;
     r->sfit_points = fp.points;
     fp.calls = 0;
-    r->have_531 = r->have_pred && gr_spm_dist_jackknife(&r->res.p, pv_531, &fp, 3, r->f531, r->f531_err, &e2) == 0;
+    r->have_531 = r->have_pred &&
+                  gr_spm_dist_jackknife(&r->res.p, pv_531, &fp, 3, r->f531, r->f531_err, &e2) == 0;
     r->f531_chi2 = fp.chi2_red;
     r->v_data = 0.0;
     for (int i = 0; i < nb; i++) {
@@ -386,7 +407,9 @@ int gr_spm_full_run(gr_spm_full_params *p, gr_spm_full_report *r, gr_error *err)
         rc = compare_run(p, r, err);
     }
     /* the free-path scale the fitted velocity scale s stands for: l -> s^3 l */
-    r->implied_C = r->pl.kind == GR_SPM_PL_FITTED && r->have_cmp2 ? r->pl.C * pow(r->cmp2.s, -3.0 * r->pl.beta) : (double)NAN;
+    r->implied_C = r->pl.kind == GR_SPM_PL_FITTED && r->have_cmp2
+                       ? r->pl.C * pow(r->cmp2.s, -3.0 * r->pl.beta)
+                       : (double)NAN;
     return rc;
 }
 

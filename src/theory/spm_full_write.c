@@ -10,7 +10,8 @@
 #include "io/summary_read.h"
 #include "theory/spm_output.h"
 
-static int write_pv(const char *dir, const gr_spm_full_params *p, const gr_spm_full_report *r, gr_error *err)
+static int write_pv(const char *dir, const gr_spm_full_params *p, const gr_spm_full_report *r,
+                    gr_error *err)
 {
     gr_file f;
     int rc = gr_file_open(&f, dir, "p_v.csv", err);
@@ -18,23 +19,31 @@ static int write_pv(const char *dir, const gr_spm_full_params *p, const gr_spm_f
         return rc;
     }
     gr_spm_csv_head(&f, "P(v) of the full SPM (sec. 5.2.3), one velocity component", &p->s);
-    gr_file_note(&f, "# P_l: %s; weight %s; tilt %g\n", r->pl.source, p->weight_time ? "uniform in time" : "per walk", p->s.tilt);
-    gr_file_note(&f, "# v in m/s, P in s/m (density of the signed component); errors from the spread between batches;\n"
-                     "# P_531: A0 v^h exp(-S v^alpha) of 5.31 with alpha = %g and S, h, A0 fitted over %g <= v <= %g m/s\n",
+    gr_file_note(&f, "# P_l: %s; weight %s; tilt %g\n", r->pl.source,
+                 p->weight_time ? "uniform in time" : "per walk", p->s.tilt);
+    gr_file_note(&f,
+                 "# v in m/s, P in s/m (density of the signed component); errors from the spread "
+                 "between batches;\n"
+                 "# P_531: A0 v^h exp(-S v^alpha) of 5.31 with alpha = %g and S, h, A0 fitted over "
+                 "%g <= v <= %g m/s\n",
                  r->have_pred ? r->pred.alpha : (double)NAN, p->fit_from, r->v_data);
-    gr_file_header(&f, "v_lo [m s-1],v_hi [m s-1],v [m s-1],samples [1],P [s m-1],P_err [s m-1],P_err_poisson [s m-1],P_531 [s m-1]");
+    gr_file_header(&f, "v_lo [m s-1],v_hi [m s-1],v [m s-1],samples [1],P [s m-1],P_err [s "
+                       "m-1],P_err_poisson [s m-1],P_531 [s m-1]");
     for (int i = 0; i < r->nb; i++) {
         double v = r->v[i];
-        double p531 = r->have_531 && v >= p->fit_from && v <= r->v_data ? gr_spm_full_531(r, v) : (double)NAN;
-        fprintf(f.f, "%.6g,%.6g,%.6g,%.6g,%.6g,%.4g,%.4g,%.6g\n", gr_histogram_lower(&r->res.p.all, i),
-                gr_histogram_upper(&r->res.p.all, i), v, r->res.p.all.count[i], r->p_spm[i], r->e_spm[i],
+        double p531 =
+            r->have_531 && v >= p->fit_from && v <= r->v_data ? gr_spm_full_531(r, v) : (double)NAN;
+        fprintf(f.f, "%.6g,%.6g,%.6g,%.6g,%.6g,%.4g,%.4g,%.6g\n",
+                gr_histogram_lower(&r->res.p.all, i), gr_histogram_upper(&r->res.p.all, i), v,
+                r->res.p.all.count[i], r->p_spm[i], r->e_spm[i],
                 gr_spm_dist_poisson_error(&r->res.p, i), p531);
     }
     return gr_file_commit(&f, err);
 }
 
 /* the free-path density used */
-static int write_pl(const char *dir, const gr_spm_full_params *p, const gr_spm_full_report *r, gr_error *err)
+static int write_pl(const char *dir, const gr_spm_full_params *p, const gr_spm_full_report *r,
+                    gr_error *err)
 {
     const gr_spm_pl *pl = &r->pl;
     const gr_spm_pl_fit *fit = &r->plfit;
@@ -44,7 +53,10 @@ static int write_pl(const char *dir, const gr_spm_full_params *p, const gr_spm_f
         return rc;
     }
     gr_spm_csv_head(&f, "the free-path distribution P_l(l) the walks drew from (sec. 4.3)", &p->s);
-    gr_file_note(&f, "# %s; l in m, P in 1/m (normalised); P_fit: 4.25 fitted to the table's tail (if any)\n", pl->source);
+    gr_file_note(
+        &f,
+        "# %s; l in m, P in 1/m (normalised); P_fit: 4.25 fitted to the table's tail (if any)\n",
+        pl->source);
     gr_file_header(&f, "l [m],P [m-1],P_fit [m-1]");
     if (pl->kind == GR_SPM_PL_TABLE) {
         for (int i = 0; i < pl->n; i++) {
@@ -64,7 +76,8 @@ static int write_pl(const char *dir, const gr_spm_full_params *p, const gr_spm_f
     return gr_file_commit(&f, err);
 }
 
-static int write_compare(const char *dir, const gr_spm_full_params *p, const gr_spm_full_report *r, gr_error *err)
+static int write_compare(const char *dir, const gr_spm_full_params *p, const gr_spm_full_report *r,
+                         gr_error *err)
 {
     const gr_spm_compare *c1 = &r->cmp, *c2 = &r->cmp2;
     gr_file f;
@@ -72,23 +85,36 @@ static int write_compare(const char *dir, const gr_spm_full_params *p, const gr_
     if (rc) {
         return rc;
     }
-    gr_spm_csv_head(&f, "SPM P(v) against the Random Force Model's P(v) per component (Fig. 5.10)", &p->s);
-    gr_file_note(&f, "# run %s: %d frames with Time >= %g s (%d skipped), %lld particles, %dD; P_rfm errors sqrt(X)\n",
-                 p->run_dir, r->info.frames, p->t_from, r->info.frames_skipped, (long long)r->info.particles, r->info.dim);
-    gr_file_note(&f, "# P_spm_scaled = k P_spm, k = %g +- %g fitted over v >= %g m/s; P_spm_fit = k2 P_spm(v/s)/s, k2 = %g,\n"
-                     "# s = %g +- %g (velocity scale fitted too); agree: |z| <= %g in the contiguous tail\n",
-                 c1->k, c1->k_err, p->compare_from, c2->k, c2->s, c2->s_err, p->z_max);
-    gr_file_header(&f, "v [m s-1],P_spm [s m-1],P_spm_err [s m-1],P_spm_scaled [s m-1],P_rfm [s m-1],P_rfm_err [s m-1],z [1],agree [1],P_spm_fit [s m-1],z_fit [1],agree_fit [1]");
+    gr_spm_csv_head(&f, "SPM P(v) against the Random Force Model's P(v) per component (Fig. 5.10)",
+                    &p->s);
+    gr_file_note(&f,
+                 "# run %s: %d frames with Time >= %g s (%d skipped), %lld particles, %dD; P_rfm "
+                 "errors sqrt(X)\n",
+                 p->run_dir, r->info.frames, p->t_from, r->info.frames_skipped,
+                 (long long)r->info.particles, r->info.dim);
+    gr_file_note(
+        &f,
+        "# P_spm_scaled = k P_spm, k = %g +- %g fitted over v >= %g m/s; P_spm_fit = k2 "
+        "P_spm(v/s)/s, k2 = %g,\n"
+        "# s = %g +- %g (velocity scale fitted too); agree: |z| <= %g in the contiguous tail\n",
+        c1->k, c1->k_err, p->compare_from, c2->k, c2->s, c2->s_err, p->z_max);
+    gr_file_header(
+        &f, "v [m s-1],P_spm [s m-1],P_spm_err [s m-1],P_spm_scaled [s m-1],P_rfm [s "
+            "m-1],P_rfm_err [s m-1],z [1],agree [1],P_spm_fit [s m-1],z_fit [1],agree_fit [1]");
     const double *v = r->v, *pr = r->p_rfm, *er = r->e_rfm;
     for (int i = 0; i < r->nb; i++) {
         double m1e, m1 = gr_spm_compare_model(c1, v, r->p_spm, r->e_spm, r->nb, i, &m1e);
         double m2e, m2 = gr_spm_compare_model(c2, v, r->p_spm, r->e_spm, r->nb, i, &m2e);
-        double z1 = m1 > 0.0 && pr[i] > 0.0 ? (pr[i] - m1) / sqrt(er[i] * er[i] + m1e * m1e) : (double)NAN;
-        double z2 = m2 > 0.0 && pr[i] > 0.0 ? (pr[i] - m2) / sqrt(er[i] * er[i] + m2e * m2e) : (double)NAN;
-        int a1 = r->have_cmp && c1->agree_bins > 0 && v[i] >= c1->v_agree_lo && v[i] <= c1->v_agree_hi;
-        int a2 = r->have_cmp2 && c2->agree_bins > 0 && v[i] >= c2->v_agree_lo && v[i] <= c2->v_agree_hi;
-        fprintf(f.f, "%.6g,%.6g,%.4g,%.6g,%.6g,%.4g,%.4g,%d,%.6g,%.4g,%d\n", v[i], r->p_spm[i], r->e_spm[i], m1, pr[i], er[i],
-                z1, a1, m2, z2, a2);
+        double z1 =
+            m1 > 0.0 && pr[i] > 0.0 ? (pr[i] - m1) / sqrt(er[i] * er[i] + m1e * m1e) : (double)NAN;
+        double z2 =
+            m2 > 0.0 && pr[i] > 0.0 ? (pr[i] - m2) / sqrt(er[i] * er[i] + m2e * m2e) : (double)NAN;
+        int a1 =
+            r->have_cmp && c1->agree_bins > 0 && v[i] >= c1->v_agree_lo && v[i] <= c1->v_agree_hi;
+        int a2 =
+            r->have_cmp2 && c2->agree_bins > 0 && v[i] >= c2->v_agree_lo && v[i] <= c2->v_agree_hi;
+        fprintf(f.f, "%.6g,%.6g,%.4g,%.6g,%.6g,%.4g,%.4g,%d,%.6g,%.4g,%d\n", v[i], r->p_spm[i],
+                r->e_spm[i], m1, pr[i], er[i], z1, a1, m2, z2, a2);
     }
     return gr_file_commit(&f, err);
 }
@@ -108,7 +134,8 @@ static void json_free_paths(cJSON *j, const gr_spm_full_params *p, const gr_spm_
         }
     } else {
         cJSON_AddNumberToObject(pj, "D_f", p->df);
-        cJSON_AddStringToObject(pj, "D_f_source", r->df_defaulted ? "default: the thesis' 1.63 (sec. 4.2)" : "--df");
+        cJSON_AddStringToObject(pj, "D_f_source",
+                                r->df_defaulted ? "default: the thesis' 1.63 (sec. 4.2)" : "--df");
         cJSON_AddNumberToObject(pj, "C", p->C);
     }
 }
@@ -165,14 +192,16 @@ static void json_rfm(cJSON *j, const gr_spm_full_params *p, const gr_spm_full_re
     gr_spm_json_num(t, "compare_from", p->compare_from);
     gr_spm_json_num(t, "z_max", p->z_max);
     if (r->info.frames < GR_MIN_FRAMES) {
-        cJSON_AddStringToObject(t, "warning", "fewer frames than the 16 a comparison needs: no agreement verdict");
+        cJSON_AddStringToObject(
+            t, "warning", "fewer frames than the 16 a comparison needs: no agreement verdict");
     }
     for (int w = 0; w < 2; w++) {
         const gr_spm_compare *c = w ? &r->cmp2 : &r->cmp;
         if (!(w ? r->have_cmp2 : r->have_cmp)) {
             continue;
         }
-        cJSON *x = cJSON_AddObjectToObject(t, w ? "amplitude_and_velocity_scale" : "amplitude_only");
+        cJSON *x =
+            cJSON_AddObjectToObject(t, w ? "amplitude_and_velocity_scale" : "amplitude_only");
         gr_spm_json_num(x, "k", c->k);
         gr_spm_json_num(x, "k_err", c->k_err);
         gr_spm_json_num(x, "s", c->s);
@@ -190,16 +219,19 @@ static void json_rfm(cJSON *j, const gr_spm_full_params *p, const gr_spm_full_re
     }
 }
 
-static void plots(const char *dir, bool on, cJSON *j, const gr_spm_full_params *p, const gr_spm_full_report *r)
+static void plots(const char *dir, bool on, cJSON *j, const gr_spm_full_params *p,
+                  const gr_spm_full_report *r)
 {
     char body[4096];
-    int k = snprintf(body, sizeof body,
-                     "set title 'P(v) of the Single Particle Model (sec. 5.2.3), %dD'\n"
-                     "set xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\nset logscale y\nset format y '10^{%%L}'\n"
-                     "set format x '%%g'\nset key top right\nset xrange [0:%g]\n"
-                     "plot 'p_v.csv' using 3:($5>0 ? $5 : 1/0):($5-$6 > 0 ? $5-$6 : $5/10):($5+$6) with yerrorbars "
-                     "pt 7 ps 0.4 lc rgb '%s' title 'SPM'",
-                     p->s.dim, p->run_dir ? fmax(r->v_data, 1.02 * r->info.v_max) : r->v_data, gr_spm_colour(0));
+    int k = snprintf(
+        body, sizeof body,
+        "set title 'P(v) of the Single Particle Model (sec. 5.2.3), %dD'\n"
+        "set xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\nset logscale y\nset format y '10^{%%L}'\n"
+        "set format x '%%g'\nset key top right\nset xrange [0:%g]\n"
+        "plot 'p_v.csv' using 3:($5>0 ? $5 : 1/0):($5-$6 > 0 ? $5-$6 : $5/10):($5+$6) with "
+        "yerrorbars "
+        "pt 7 ps 0.4 lc rgb '%s' title 'SPM'",
+        p->s.dim, p->run_dir ? fmax(r->v_data, 1.02 * r->info.v_max) : r->v_data, gr_spm_colour(0));
     if (r->have_531) {
         k += snprintf(body + k, sizeof body - (size_t)k,
                       ", '' using 3:8 with lines lw 2 lc rgb 'black' "
@@ -209,28 +241,34 @@ static void plots(const char *dir, bool on, cJSON *j, const gr_spm_full_params *
     if (p->run_dir) {
         /* the SPM's amplitude k (and velocity scale s) are fitted to the run's tail: say so in the
          * legend instead of an unexplained factor */
-        k += snprintf(body + k, sizeof body - (size_t)k,
-                      ", 'compare.csv' using 1:($5>0 ? $5 : 1/0):($5-$6 > 0 ? $5-$6 : $5/10):($5+$6) with yerrorbars "
-                      "pt 6 ps 0.6 lc rgb '%s' title 'RFM run', "
-                      "'' using 1:($4>0 ? $4 : 1/0) with lines dt 2 lw 2 lc rgb '%s' "
-                      "title 'k P_{SPM}(v), amplitude k = %.3g fitted to the run for v >= %.3g m/s', "
-                      "'' using 1:($9>0 ? $9 : 1/0) with lines dt 3 lw 2 lc rgb '%s' "
-                      "title 'k P_{SPM}(v/s)/s, k = %.3g and velocity scale s = %.3g fitted'",
-                      gr_spm_colour(1), gr_spm_colour(2), r->cmp.k, p->compare_from, gr_spm_colour(3), r->cmp2.k,
-                      r->cmp2.s);
+        k += snprintf(
+            body + k, sizeof body - (size_t)k,
+            ", 'compare.csv' using 1:($5>0 ? $5 : 1/0):($5-$6 > 0 ? $5-$6 : $5/10):($5+$6) with "
+            "yerrorbars "
+            "pt 6 ps 0.6 lc rgb '%s' title 'RFM run', "
+            "'' using 1:($4>0 ? $4 : 1/0) with lines dt 2 lw 2 lc rgb '%s' "
+            "title 'k P_{SPM}(v), amplitude k = %.3g fitted to the run for v >= %.3g m/s', "
+            "'' using 1:($9>0 ? $9 : 1/0) with lines dt 3 lw 2 lc rgb '%s' "
+            "title 'k P_{SPM}(v/s)/s, k = %.3g and velocity scale s = %.3g fitted'",
+            gr_spm_colour(1), gr_spm_colour(2), r->cmp.k, p->compare_from, gr_spm_colour(3),
+            r->cmp2.k, r->cmp2.s);
     }
     snprintf(body + k, sizeof body - (size_t)k, "\n");
     gr_spm_plot(dir, on, j, "p_v.png", body);
-    snprintf(body, sizeof body,
-             "set title 'Free-path distribution P_l(l) used (sec. 4.3)'\nset xlabel 'l (m)'\nset ylabel 'P_l(l) (1/m)'\n"
-             "set logscale xy\nset format y '10^{%%L}'\nset format x '10^{%%L}'\nset key top right\n"
-             "plot 'pl.csv' using 1:($2>0 ? $2 : 1/0) with linespoints pt 7 ps 0.4 lc rgb '%s' title 'P_l', "
-             "'' using 1:($3>0 ? $3 : 1/0) with lines lw 2 dt 2 lc rgb 'black' title '4.25'\n",
-             gr_spm_colour(0));
+    snprintf(
+        body, sizeof body,
+        "set title 'Free-path distribution P_l(l) used (sec. 4.3)'\nset xlabel 'l (m)'\nset ylabel "
+        "'P_l(l) (1/m)'\n"
+        "set logscale xy\nset format y '10^{%%L}'\nset format x '10^{%%L}'\nset key top right\n"
+        "plot 'pl.csv' using 1:($2>0 ? $2 : 1/0) with linespoints pt 7 ps 0.4 lc rgb '%s' title "
+        "'P_l', "
+        "'' using 1:($3>0 ? $3 : 1/0) with lines lw 2 dt 2 lc rgb 'black' title '4.25'\n",
+        gr_spm_colour(0));
     gr_spm_plot(dir, on, j, "pl.png", body);
 }
 
-int gr_spm_full_write(const char *dir, const gr_spm_full_params *p, const gr_spm_full_report *r, bool on, gr_error *err)
+int gr_spm_full_write(const char *dir, const gr_spm_full_params *p, const gr_spm_full_report *r,
+                      bool on, gr_error *err)
 {
     int rc = write_pv(dir, p, r, err);
     if (!rc) {

@@ -13,9 +13,12 @@
 void gr_spm_csv_head(gr_file *f, const char *what, const gr_spm_settings *s)
 {
     gr_file_note(f, "# granule %s (%s) spm: %s\n", GR_VERSION, GR_COMMIT, what);
-    gr_file_note(f, "# dim %d, M = %g kg, D = %g N^2 s, %s = %g, refine %d, walks %lld, batches %d, seed %llu\n", s->dim,
-                 s->mass, s->D, s->dt > 0.0 ? "dt (s)" : "step (t_l)", s->dt > 0.0 ? s->dt : s->step, s->refine,
-                 (long long)s->walks, s->batches, (unsigned long long)s->seed);
+    gr_file_note(f,
+                 "# dim %d, M = %g kg, D = %g N^2 s, %s = %g, refine %d, walks %lld, batches %d, "
+                 "seed %llu\n",
+                 s->dim, s->mass, s->D, s->dt > 0.0 ? "dt (s)" : "step (t_l)",
+                 s->dt > 0.0 ? s->dt : s->step, s->refine, (long long)s->walks, s->batches,
+                 (unsigned long long)s->seed);
 }
 
 void gr_spm_json_settings(cJSON *j, const gr_spm_settings *s, int bins)
@@ -33,10 +36,7 @@ void gr_spm_json_settings(cJSON *j, const gr_spm_settings *s, int bins)
     cJSON_AddNumberToObject(st, "bins", bins);
 }
 
-void gr_spm_json_num(cJSON *o, const char *key, double v)
-{
-    gr_obs_add_number(o, key, v);
-}
+void gr_spm_json_num(cJSON *o, const char *key, double v) { gr_obs_add_number(o, key, v); }
 
 cJSON *gr_spm_json_head(const char *mode)
 {
@@ -66,7 +66,8 @@ void gr_spm_json_stats(cJSON *o, const gr_spm_walk_stats *st)
 void gr_spm_json_constants(cJSON *o, const gr_spm_constants *c, const char *note)
 {
     cJSON *t = cJSON_AddObjectToObject(o, "constants");
-    cJSON_AddStringToObject(t, "convention", "<v_x^2> = c (D l/M^2)^(2/3), <T_fp> = c' (l^2 M^2/D)^(1/3)");
+    cJSON_AddStringToObject(t, "convention",
+                            "<v_x^2> = c (D l/M^2)^(2/3), <T_fp> = c' (l^2 M^2/D)^(1/3)");
     gr_spm_json_num(t, "c", c->c);
     gr_spm_json_num(t, "c_err", c->c_err);
     gr_spm_json_num(t, "c_prime", c->c_prime);
@@ -114,9 +115,7 @@ void gr_spm_json_pl_fit(cJSON *t, const gr_spm_pl_fit *f)
 }
 
 /* Okabe-Ito colours without the yellow (too faint on white), then black and grey */
-static const char *const colours[] = {"#0072b2", "#d55e00", "#009e73", "#cc79a7", "#56b4e9", "#e69f00", "#000000", "#7f7f7f"};
+static const char *const colours[] = {"#0072b2", "#d55e00", "#009e73", "#cc79a7",
+                                      "#56b4e9", "#e69f00", "#000000", "#7f7f7f"};
 
-const char *gr_spm_colour(int k)
-{
-    return colours[k % (int)(sizeof colours / sizeof colours[0])];
-}
+const char *gr_spm_colour(int k) { return colours[k % (int)(sizeof colours / sizeof colours[0])]; }

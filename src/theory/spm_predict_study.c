@@ -79,18 +79,22 @@ int gr_spm_predict_prepare(gr_spm_predict_params *p, gr_spm_predict_report *r, g
 }
 
 /* the numerical integral 5.13 against the steepest-descent form 5.26 */
-static int write_table(const char *dir, const gr_spm_predict_params *in, const gr_spm_prediction *p, double *last_delta,
-                       gr_error *err)
+static int write_table(const char *dir, const gr_spm_predict_params *in, const gr_spm_prediction *p,
+                       double *last_delta, gr_error *err)
 {
     gr_file f;
     int rc = gr_file_open(&f, dir, "prediction.csv", err);
     if (rc) {
         return rc;
     }
-    gr_file_note(&f, "# granule %s (%s) spm: the SPM integral identity's tail (sec. 5.3.2)\n", GR_VERSION, GR_COMMIT);
-    gr_file_note(&f, "# D_f = %g, alpha = %g, h = %g, B = %g (b = %g, M = %g kg, D = %g N^2 s), C = %g, S = %g, v_A = %g m/s\n",
+    gr_file_note(&f, "# granule %s (%s) spm: the SPM integral identity's tail (sec. 5.3.2)\n",
+                 GR_VERSION, GR_COMMIT);
+    gr_file_note(&f,
+                 "# D_f = %g, alpha = %g, h = %g, B = %g (b = %g, M = %g kg, D = %g N^2 s), C = "
+                 "%g, S = %g, v_A = %g m/s\n",
                  p->df, p->alpha, p->h, p->B, in->b, in->s.mass, in->s.D, p->C, p->S, p->v_A);
-    gr_file_note(&f, "# ln_I: ln of 5.13 (A_2 = 1) integrated numerically; ln_asym: 5.26 = -S v^alpha + ln sqrt(2 pi / -f''(y_m));\n"
+    gr_file_note(&f, "# ln_I: ln of 5.13 (A_2 = 1) integrated numerically; ln_asym: 5.26 = -S "
+                     "v^alpha + ln sqrt(2 pi / -f''(y_m));\n"
                      "# P_531 = v^h exp(-S v^alpha) (5.31 with A_0 = 1); v in m/s\n");
     gr_file_header(&f, "v [m s-1],ln_I [1],ln_asym [1],delta [1],P_531 [1]");
     for (int i = 1; i <= 200 && !rc; i++) {
@@ -99,7 +103,8 @@ static int write_table(const char *dir, const gr_spm_predict_params *in, const g
         if (!rc) {
             double la = gr_spm_asymptotic_log(p, v);
             *last_delta = li - la;
-            fprintf(f.f, "%.6g,%.10g,%.10g,%.6g,%.6g\n", v, li, la, li - la, pow(v, p->h) * exp(-p->S * pow(v, p->alpha)));
+            fprintf(f.f, "%.6g,%.10g,%.10g,%.6g,%.6g\n", v, li, la, li - la,
+                    pow(v, p->h) * exp(-p->S * pow(v, p->alpha)));
         }
     }
     if (rc) {
@@ -109,13 +114,17 @@ static int write_table(const char *dir, const gr_spm_predict_params *in, const g
     return gr_file_commit(&f, err);
 }
 
-static cJSON *summary(const gr_spm_predict_params *in, const gr_spm_predict_report *r, double last_delta)
+static cJSON *summary(const gr_spm_predict_params *in, const gr_spm_predict_report *r,
+                      double last_delta)
 {
     const gr_spm_prediction *p = &r->p;
     cJSON *j = gr_spm_json_head("predict");
     cJSON *ij = cJSON_AddObjectToObject(j, "input");
     gr_spm_json_num(ij, "D_f", in->df);
-    cJSON_AddStringToObject(ij, "D_f_source", in->pl_path ? "fitted to the P_l table" : r->df_defaulted ? "default: the thesis' 1.63 (sec. 4.2)" : "--df");
+    cJSON_AddStringToObject(ij, "D_f_source",
+                            in->pl_path       ? "fitted to the P_l table"
+                            : r->df_defaulted ? "default: the thesis' 1.63 (sec. 4.2)"
+                                              : "--df");
     gr_spm_json_num(ij, "C", in->C);
     gr_spm_json_num(ij, "b", in->b);
     gr_spm_json_num(ij, "mass", in->s.mass);
@@ -142,8 +151,8 @@ static cJSON *summary(const gr_spm_predict_params *in, const gr_spm_predict_repo
     return j;
 }
 
-int gr_spm_predict_write(const char *dir, const gr_spm_predict_params *in, const gr_spm_predict_report *r, bool plots,
-                         gr_error *err)
+int gr_spm_predict_write(const char *dir, const gr_spm_predict_params *in,
+                         const gr_spm_predict_report *r, bool plots, gr_error *err)
 {
     double last_delta = (double)NAN;
     int rc = write_table(dir, in, &r->p, &last_delta, err);
@@ -154,9 +163,11 @@ int gr_spm_predict_write(const char *dir, const gr_spm_predict_params *in, const
     char body[2048];
     snprintf(body, sizeof body,
              "set title 'SPM integral 5.13 (numerical) and its steepest-descent form 5.26'\n"
-             "set xlabel 'v (m/s)'\nset ylabel 'ln I(v)'\nset format x '%%g'\nset format y '%%g'\nset key top right\n"
+             "set xlabel 'v (m/s)'\nset ylabel 'ln I(v)'\nset format x '%%g'\nset format y "
+             "'%%g'\nset key top right\n"
              "plot 'prediction.csv' using 1:2 with lines lw 2 lc rgb '%s' title 'ln I, numerical', "
-             "'' using 1:3 with lines dt 2 lw 2 lc rgb '%s' title 'steepest descent 5.26: -S v^{%.3f} + ln (2 pi / |f_{yy}|)^{1/2}'\n",
+             "'' using 1:3 with lines dt 2 lw 2 lc rgb '%s' title 'steepest descent 5.26: -S "
+             "v^{%.3f} + ln (2 pi / |f_{yy}|)^{1/2}'\n",
              gr_spm_colour(0), gr_spm_colour(1), r->p.alpha);
     gr_spm_plot(dir, plots, j, "prediction.png", body);
     rc = gr_json_write(dir, "summary.json", j, err);

@@ -8,8 +8,8 @@
 
 #include "granule/spm.h"
 
-int gr_spm_fold_pv(const double *v, const double *p, const double *e, int n, double *vf, double *pf, double *ef,
-                   double *counts)
+int gr_spm_fold_pv(const double *v, const double *p, const double *e, int n, double *vf, double *pf,
+                   double *ef, double *counts)
 {
     int m = 0;
     for (int i = n / 2; i < n; i++) {
@@ -25,7 +25,8 @@ int gr_spm_fold_pv(const double *v, const double *p, const double *e, int n, dou
         pf[m] = 0.5 * (p[i] + p[j]);
         ef[m] = 0.5 * sqrt(e[i] * e[i] + e[j] * e[j]);
         /* sqrt(X) errors (A.5): e = sqrt(X) / (N dv), so X = (P / e)^2 */
-        counts[m] = (e[i] > 0.0 ? (p[i] / e[i]) * (p[i] / e[i]) : 0.0) + (e[j] > 0.0 ? (p[j] / e[j]) * (p[j] / e[j]) : 0.0);
+        counts[m] = (e[i] > 0.0 ? (p[i] / e[i]) * (p[i] / e[i]) : 0.0) +
+                    (e[j] > 0.0 ? (p[j] / e[j]) * (p[j] / e[j]) : 0.0);
         m++;
     }
     return m;
@@ -46,8 +47,9 @@ static void scale_errors(gr_fit *f)
 }
 
 /* The Fig. 5.13 slope of -ln(-ln(P/P')) against ln(v/v_rms) over the chosen bins (P < P' only). */
-static void tail_plot_slope(const double *v, const double *p, const double *e, const int *use, int n, double v_rms,
-                            double Pp, double *icpt, double *slope, double *slope_err)
+static void tail_plot_slope(const double *v, const double *p, const double *e, const int *use,
+                            int n, double v_rms, double Pp, double *icpt, double *slope,
+                            double *slope_err)
 {
     double *x = malloc(3 * sizeof(double) * (size_t)(n > 0 ? n : 1)), *y = x + n, *s = y + n;
     int m = 0;
@@ -71,20 +73,25 @@ static void tail_plot_slope(const double *v, const double *p, const double *e, c
     free(x);
 }
 
-int gr_spm_tail531_fit(const double *v, const double *p, const double *e, const double *counts, int n, double P0,
-                       double v_rms, double alpha, double h, double x_lo, double x_hi, double counts_min, double S_pred,
-                       gr_spm_tail531 *out, gr_error *err)
+int gr_spm_tail531_fit(const double *v, const double *p, const double *e, const double *counts,
+                       int n, double P0, double v_rms, double alpha, double h, double x_lo,
+                       double x_hi, double counts_min, double S_pred, gr_spm_tail531 *out,
+                       gr_error *err)
 {
     memset(out, 0, sizeof *out);
     out->alpha = alpha;
     out->h = h;
     out->P0 = P0;
     if (!(alpha > 0.0) || !isfinite(h) || !(P0 > 0.0) || !(v_rms > 0.0) || !(x_hi > x_lo)) {
-        return GR_FAIL(err, GR_EINVAL, "spm tail: need alpha > 0, P(0) > 0, v_rms > 0 and a window, got alpha = %g, P(0) = %g, "
-                       "v_rms = %g, window %g-%g", alpha, P0, v_rms, x_lo, x_hi);
+        return GR_FAIL(err, GR_EINVAL,
+                       "spm tail: need alpha > 0, P(0) > 0, v_rms > 0 and a window, got alpha = "
+                       "%g, P(0) = %g, "
+                       "v_rms = %g, window %g-%g",
+                       alpha, P0, v_rms, x_lo, x_hi);
     }
     int *use = calloc((size_t)(n > 0 ? n : 1), sizeof *use);
-    double *x = malloc(3 * sizeof(double) * (size_t)(n > 0 ? n : 1)), *y = x ? x + n : NULL, *s = y ? y + n : NULL;
+    double *x = malloc(3 * sizeof(double) * (size_t)(n > 0 ? n : 1)), *y = x ? x + n : NULL,
+           *s = y ? y + n : NULL;
     if (!use || !x) {
         free(use);
         free(x);
@@ -104,9 +111,11 @@ int gr_spm_tail531_fit(const double *v, const double *p, const double *e, const 
     }
     out->n_points = m;
     gr_fit f;
-    int rc = m >= GR_FIT_MIN_POINTS ? gr_fit_line(x, y, s, m, &f, err)
-                                    : GR_FAIL(err, GR_EINVAL, "spm tail: %d bins in the window (v/v_rms %g-%g, >= %g counts), need %d",
-                                              m, x_lo, x_hi, counts_min, GR_FIT_MIN_POINTS);
+    int rc = m >= GR_FIT_MIN_POINTS
+                 ? gr_fit_line(x, y, s, m, &f, err)
+                 : GR_FAIL(err, GR_EINVAL,
+                           "spm tail: %d bins in the window (v/v_rms %g-%g, >= %g counts), need %d",
+                           m, x_lo, x_hi, counts_min, GR_FIT_MIN_POINTS);
     if (rc == GR_OK) {
         scale_errors(&f);
         out->lnA0 = f.p[0];
@@ -131,22 +140,26 @@ int gr_spm_tail531_fit(const double *v, const double *p, const double *e, const 
             swy += (y[k] + S_pred * x[k]) / (s[k] * s[k]);
         }
         out->lnA0_at_S_pred = sw > 0.0 ? swy / sw : (double)NAN;
-        tail_plot_slope(v, p, e, use, n, v_rms, P0, &out->icpt_P0, &out->slope_P0, &out->slope_P0_err);
-        tail_plot_slope(v, p, e, use, n, v_rms, out->A0, &out->icpt_A0, &out->slope_A0, &out->slope_A0_err);
+        tail_plot_slope(v, p, e, use, n, v_rms, P0, &out->icpt_P0, &out->slope_P0,
+                        &out->slope_P0_err);
+        tail_plot_slope(v, p, e, use, n, v_rms, out->A0, &out->icpt_A0, &out->slope_A0,
+                        &out->slope_A0_err);
     }
     free(use);
     free(x);
     return rc;
 }
 
-int gr_spm_pl_fit_C(const double *l, const double *p, const double *e, int n, double beta, double l_lo, double l_hi,
-                    double *C, double *C_err, double *chi2_red, gr_error *err)
+int gr_spm_pl_fit_C(const double *l, const double *p, const double *e, int n, double beta,
+                    double l_lo, double l_hi, double *C, double *C_err, double *chi2_red,
+                    gr_error *err)
 {
     *C = *C_err = *chi2_red = (double)NAN;
     if (!(beta > 0.0)) {
         return GR_FAIL(err, GR_EINVAL, "spm: 4.25 needs beta = D_f - 1 > 0, got %g", beta);
     }
-    double *x = malloc(3 * sizeof(double) * (size_t)(n > 0 ? n : 1)), *y = x ? x + n : NULL, *s = y ? y + n : NULL;
+    double *x = malloc(3 * sizeof(double) * (size_t)(n > 0 ? n : 1)), *y = x ? x + n : NULL,
+           *s = y ? y + n : NULL;
     if (!x) {
         return GR_FAIL(err, GR_ENOMEM, "spm: out of memory");
     }
@@ -159,8 +172,10 @@ int gr_spm_pl_fit_C(const double *l, const double *p, const double *e, int n, do
         }
     }
     gr_fit f;
-    int rc = m >= GR_FIT_MIN_POINTS ? gr_fit_line(x, y, s, m, &f, err)
-                                    : GR_FAIL(err, GR_EINVAL, "spm: %d free-path bins in %g-%g, need %d", m, l_lo, l_hi, GR_FIT_MIN_POINTS);
+    int rc = m >= GR_FIT_MIN_POINTS
+                 ? gr_fit_line(x, y, s, m, &f, err)
+                 : GR_FAIL(err, GR_EINVAL, "spm: %d free-path bins in %g-%g, need %d", m, l_lo,
+                           l_hi, GR_FIT_MIN_POINTS);
     if (rc == GR_OK) {
         scale_errors(&f);
         *C = -f.p[1];

@@ -18,9 +18,7 @@
 #include "app/sweep.h"
 #include "granule/campaign.h"
 
-
 static char campaign_path[128], out_dir[128];
-
 
 static void clean_out(void)
 {
@@ -63,7 +61,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         char sweep_path[256];
         gr_error merr = {0};
-        if (gr_campaign_materialise(c, (gr_fidelity)fid, out_dir, sweep_path, sizeof sweep_path, &merr) != GR_OK) {
+        if (gr_campaign_materialise(c, (gr_fidelity)fid, out_dir, sweep_path, sizeof sweep_path,
+                                    &merr) != GR_OK) {
             if (!merr.message[0]) {
                 abort();
             }

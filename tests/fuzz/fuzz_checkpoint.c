@@ -23,8 +23,8 @@
 #include "app/run_checkpoint.h"
 
 /* Keep in step with tests/fuzz/gen-corpus-checkpoint.sh. */
-#define FUZZ_SCENE                                                                                  \
-    "[system]\ndim = 2\nN = 16\npacking_fraction = 0.3\n[placement]\nkind = random\n"             \
+#define FUZZ_SCENE                                                                                 \
+    "[system]\ndim = 2\nN = 16\npacking_fraction = 0.3\n[placement]\nkind = random\n"              \
     "[model]\ntangential = tangential_dashpot\n[integrator]\nsteps_per_contact = 20\n"             \
     "[run]\nwarmup = 0\nduration = 0.002\nsample_every = 1e-4\ncheckpoint_every = 5e-4\n"          \
     "[analysis]\nobservables = moments\n[output]\nplots = false\n"

@@ -38,7 +38,8 @@ static void round_trip(const gr_scene *s)
         abort();
     }
     if (gr_scene_hash(&back) != gr_scene_hash(s)) {
-        char *a = cJSON_PrintUnformatted(gr_scene_to_json(s)), *b = cJSON_PrintUnformatted(gr_scene_to_json(&back));
+        char *a = cJSON_PrintUnformatted(gr_scene_to_json(s)),
+             *b = cJSON_PrintUnformatted(gr_scene_to_json(&back));
         fprintf(stderr, "round trip changed the scene:\n%s\n%s\n", a, b);
         abort();
     }
@@ -115,7 +116,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             /* the same scene with fewer particles (the override is resolved like any other) */
             static char cap[] = "system.N=32";
             ovr[n_ovr] = cap;
-            if (gr_scene_load_buffer(&s, "fuzz.ini", text, ini_len, ovr, n_ovr + 1, &err) != GR_OK) {
+            if (gr_scene_load_buffer(&s, "fuzz.ini", text, ini_len, ovr, n_ovr + 1, &err) !=
+                GR_OK) {
                 free(store);
                 return 0;
             }

@@ -18,9 +18,9 @@
 
 #define POINT_CAP 8
 
-
-static const char base_scene[] = "[system]\ndim = 1\nN = 10\nreduced_length = 0.1\n[placement]\nkind = uniform\n"
-                                  "[run]\nduration = 0.01\nwarmup = 0\n";
+static const char base_scene[] =
+    "[system]\ndim = 1\nN = 10\nreduced_length = 0.1\n[placement]\nkind = uniform\n"
+    "[run]\nduration = 0.01\nwarmup = 0\n";
 static char sweep_path[128], scene_path[128];
 static FILE *devnull;
 
@@ -29,7 +29,8 @@ static void setup(void)
     snprintf(sweep_path, sizeof sweep_path, "%s/sweep.ini", fuzz_dir);
     snprintf(scene_path, sizeof scene_path, "%s/base.ini", fuzz_dir);
     FILE *f = fopen(scene_path, "w");
-    if (!f || fwrite(base_scene, 1, sizeof base_scene - 1, f) != sizeof base_scene - 1 || fclose(f)) {
+    if (!f || fwrite(base_scene, 1, sizeof base_scene - 1, f) != sizeof base_scene - 1 ||
+        fclose(f)) {
         abort();
     }
     devnull = fopen("/dev/null", "w");

@@ -51,10 +51,13 @@ static int y_present(const gr_campaign_result *r, const campaign_points *pts, gr
             }
         }
     }
-    return pts->n == 0 ? GR_OK
-                       : GR_FAIL(err, GR_EINVAL, "[result %s] y = %s: no such entry in the summary.json of any of the %d finished "
-                                 "points (a dotted path into it, such as T or analysis.moments.speed.2)",
-                                 r->id, r->y, pts->n);
+    return pts->n == 0
+               ? GR_OK
+               : GR_FAIL(err, GR_EINVAL,
+                         "[result %s] y = %s: no such entry in the summary.json of any of the %d "
+                         "finished "
+                         "points (a dotted path into it, such as T or analysis.moments.speed.2)",
+                         r->id, r->y, pts->n);
 }
 
 static bool listed(const char *list, const char *key)
@@ -79,26 +82,30 @@ static void short_key(const char *key, char *out, size_t len)
     while (part && n + 1 < len) {
         const char *end = strchr(part, '+'), *dot = strchr(part, '.');
         const char *from = dot && (!end || dot < end) ? dot + 1 : part;
-        n += (size_t)snprintf(out + n, len - n, "%s%.*s", n ? "+" : "", (int)(end ? end - from : (long)strlen(from)), from);
+        n += (size_t)snprintf(out + n, len - n, "%s%.*s", n ? "+" : "",
+                              (int)(end ? end - from : (long)strlen(from)), from);
         part = end ? end + 1 : NULL;
     }
 }
 
 /* "k=v, k=v" of the point's varied keys (without their sections): those in `only` (all if NULL),
  * minus `except`. */
-void campaign_group_of(const campaign_point *p, const char *only, const char *except, char *out, size_t len)
+void campaign_group_of(const campaign_point *p, const char *only, const char *except, char *out,
+                       size_t len)
 {
     out[0] = 0;
     size_t n = 0;
     const cJSON *k;
     cJSON_ArrayForEach(k, cJSON_GetObjectItem(p->manifest, "keys"))
     {
-        if ((only && !listed(only, k->string)) || (except && !strcmp(except, k->string)) || !cJSON_IsString(k)) {
+        if ((only && !listed(only, k->string)) || (except && !strcmp(except, k->string)) ||
+            !cJSON_IsString(k)) {
             continue;
         }
         char sk[96];
         short_key(k->string, sk, sizeof sk);
-        n += (size_t)snprintf(out + n, n < len ? len - n : 0, "%s%s=%s", n ? ", " : "", sk, k->valuestring);
+        n += (size_t)snprintf(out + n, n < len ? len - n : 0, "%s%s=%s", n ? ", " : "", sk,
+                              k->valuestring);
     }
     if (n == 0) {
         snprintf(out, len, "all");
@@ -159,13 +166,16 @@ void campaign_add_cost(campaign_row *row, const campaign_point *p)
     row->sim_seconds += isfinite(p->sim_seconds) ? p->sim_seconds : 0.0;
     row->unconverged += cJSON_IsFalse(cJSON_GetObjectItem(p->summary, "T_stderr_converged"));
     const cJSON *h = cJSON_GetObjectItem(p->manifest, "scene_hash");
-    if (cJSON_IsString(h) && !strstr(row->hashes, h->valuestring) && strlen(row->hashes) + 18 < sizeof row->hashes) {
+    if (cJSON_IsString(h) && !strstr(row->hashes, h->valuestring) &&
+        strlen(row->hashes) + 18 < sizeof row->hashes) {
         size_t len = strlen(row->hashes);
-        snprintf(row->hashes + len, sizeof row->hashes - len, "%s%s", len ? " " : "", h->valuestring);
+        snprintf(row->hashes + len, sizeof row->hashes - len, "%s%s", len ? " " : "",
+                 h->valuestring);
     }
 }
 
-int campaign_members(const campaign_points *pts, const char *group, const campaign_point **members, int max)
+int campaign_members(const campaign_points *pts, const char *group, const campaign_point **members,
+                     int max)
 {
     int n = 0;
     for (int i = 0; i < pts->n && n < max; i++) {
@@ -194,8 +204,8 @@ campaign_row *campaign_group_row(campaign_rows *rows, const char *group)
     return row;
 }
 
-int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                  FILE *data, gr_error *err)
+int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
+                  campaign_rows *rows, FILE *data, gr_error *err)
 {
     (void)c;
     int rc = y_present(r, pts, err);
@@ -226,7 +236,8 @@ int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campa
             campaign_add_cost(row, m[i]);
         }
         campaign_mean_sd(v, n, &row->value, &row->error_seeds);
-        row->error_fit = n_err == n && n ? sqrt(e2) / n : (double)NAN; /* the runs' own errors, combined */
+        row->error_fit =
+            n_err == n && n ? sqrt(e2) / n : (double)NAN; /* the runs' own errors, combined */
         row->error = campaign_headline_error(row->error_seeds, row->error_fit, n);
         row->n_seeds = n;
         campaign_row_thesis(r, row);
@@ -237,8 +248,8 @@ int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campa
 /* The exponent between neighbouring abscissae, xi = ln(y_i / y_i+1) / ln(x_i+1 / x_i), with the
  * error of the two (independent) seed means propagated: one row per pair, "GROUP, X=x_i-x_i+1".
  * Where the power law only holds asymptotically, these show whether the slope still moves with x. */
-static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const char *group, int m, double scale,
-                         const double *fx, const double *fy, const double *fe, int nf)
+static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const char *group, int m,
+                         double scale, const double *fx, const double *fy, const double *fe, int nf)
 {
     int order[MAX_X];
     for (int i = 0; i < nf; i++) { /* x ascending */
@@ -266,8 +277,8 @@ static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const
     }
 }
 
-int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                       FILE *data, gr_error *err)
+int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,
+                       const campaign_points *pts, campaign_rows *rows, FILE *data, gr_error *err)
 {
     (void)c;
     int rc = y_present(r, pts, err);
@@ -292,7 +303,8 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
             /* the abscissae of this group, in the order met */
             for (int i = 0; i < pts->n; i++) {
                 char label[160];
-                campaign_group_of(&pts->p[i], r->by[0] ? r->by : NULL, r->by[0] ? NULL : r->x, label, sizeof label);
+                campaign_group_of(&pts->p[i], r->by[0] ? r->by : NULL, r->by[0] ? NULL : r->x,
+                                  label, sizeof label);
                 double x = atof(campaign_point_key(&pts->p[i], r->x));
                 double y = gr_summary_number(pts->p[i].summary, yp);
                 if (strcmp(label, g[gi]) || !(x > 0.0) || !isfinite(y)) {
@@ -325,7 +337,8 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
                     per_seed[si][xi] = y;
                 }
                 ys[xi] += y;
-                es[xi] += r->y_err[0] ? gr_summary_number(pts->p[i].summary, ep) : (double)NAN; /* summed below */
+                es[xi] += r->y_err[0] ? gr_summary_number(pts->p[i].summary, ep)
+                                      : (double)NAN; /* summed below */
                 counts[xi]++;
                 if (xs[xi] >= r->x_min && xs[xi] <= r->x_max) {
                     campaign_add_cost(row, &pts->p[i]);
@@ -343,7 +356,8 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
                     }
                 }
                 campaign_mean_sd(v, n, &mean, &se);
-                double run_err = n ? es[xi] / n / sqrt((double)n) : (double)NAN; /* mean of run errors / sqrt(n) */
+                double run_err = n ? es[xi] / n / sqrt((double)n)
+                                   : (double)NAN; /* mean of run errors / sqrt(n) */
                 double e = campaign_headline_error(se, run_err, n);
                 bool in = xs[xi] >= r->x_min && xs[xi] <= r->x_max;
                 fprintf(data, "\"%s\",%d,%.9g,%.9g,%.9g,%d,%d\n", g[gi], m, xs[xi], mean, e, n, in);
@@ -398,7 +412,8 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
             campaign_mean_sd(ex, ne, &mean_e, &row->error_seeds);
             row->error = campaign_headline_error(row->error_seeds, row->error_fit, ne);
             if (isfinite(row->error_seeds) && isfinite(row->error_fit)) {
-                row->error = fmax(row->error_seeds, row->error_fit); /* both are honest estimates: keep the larger */
+                row->error = fmax(row->error_seeds,
+                                  row->error_fit); /* both are honest estimates: keep the larger */
             }
             campaign_row_thesis(r, row);
             if (r->local_slopes) {
@@ -408,7 +423,6 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const 
     }
     return GR_OK;
 }
-
 
 int campaign_name_index(const char *const *names, int n, const char *y)
 {
@@ -420,7 +434,8 @@ int campaign_name_index(const char *const *names, int n, const char *y)
     return -1;
 }
 
-void campaign_row_of_runs(const gr_campaign_result *r, campaign_row *row, const double *v, int n, double err2_sum, int n_err)
+void campaign_row_of_runs(const gr_campaign_result *r, campaign_row *row, const double *v, int n,
+                          double err2_sum, int n_err)
 {
     campaign_mean_sd(v, n, &row->value, &row->error_seeds);
     row->error_fit = n_err == n && n ? sqrt(err2_sum) / n : (double)NAN;

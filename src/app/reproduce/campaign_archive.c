@@ -56,11 +56,15 @@ static cJSON *curve_series(const gr_campaign *c, const campaign_point *p)
             continue;
         }
         cJSON *o = cJSON_AddObjectToObject(all, key);
-        cJSON *ax = cJSON_AddArrayToObject(o, "x"), *ay = cJSON_AddArrayToObject(o, "y"), *ae = cJSON_AddArrayToObject(o, "e");
-        for (int k = 0; k < n; k++) { /* already at 6 digits, finite y only (zeros too: the seed average counts them) */
+        cJSON *ax = cJSON_AddArrayToObject(o, "x"), *ay = cJSON_AddArrayToObject(o, "y"),
+              *ae = cJSON_AddArrayToObject(o, "e");
+        for (
+            int k = 0; k < n;
+            k++) { /* already at 6 digits, finite y only (zeros too: the seed average counts them) */
             cJSON_AddItemToArray(ax, cJSON_CreateNumber(x[k]));
             cJSON_AddItemToArray(ay, cJSON_CreateNumber(y[k]));
-            cJSON_AddItemToArray(ae, isfinite(e[k]) ? cJSON_CreateNumber(e[k]) : cJSON_CreateNull());
+            cJSON_AddItemToArray(ae,
+                                 isfinite(e[k]) ? cJSON_CreateNumber(e[k]) : cJSON_CreateNull());
         }
     }
     free(x);
@@ -71,7 +75,8 @@ static cJSON *curve_series(const gr_campaign *c, const campaign_point *p)
     return all;
 }
 
-int campaign_archive(const gr_campaign *c, const campaign_points *pts, const char *results, gr_error *err)
+int campaign_archive(const gr_campaign *c, const campaign_points *pts, const char *results,
+                     gr_error *err)
 {
     char dir[1200];
     snprintf(dir, sizeof dir, "%.1100s/points", results);
@@ -124,12 +129,17 @@ int gr_campaign_restore(const char *dir, const char *results, long *restored, gr
         cJSON *j = gr_json_read(path, err);
         const cJSON *m = cJSON_GetObjectItem(j, "point"), *s = cJSON_GetObjectItem(j, "summary");
         if (!cJSON_IsObject(m) || !cJSON_IsObject(s)) {
-            rc = j ? GR_FAIL(err, GR_EINVAL, "%s: not an archived point (point and summary objects)", path) : GR_EIO;
-        } else if (!(rc = gr_output_dir_prepare(point_dir, GR_OUTPUT_ANY, true, err)) && !(rc = gr_json_write(point_dir, "summary.json", s, err)) &&
+            rc = j ? GR_FAIL(err, GR_EINVAL,
+                             "%s: not an archived point (point and summary objects)", path)
+                   : GR_EIO;
+        } else if (!(rc = gr_output_dir_prepare(point_dir, GR_OUTPUT_ANY, true, err)) &&
+                   !(rc = gr_json_write(point_dir, "summary.json", s, err)) &&
                    !(rc = cJSON_IsObject(cJSON_GetObjectItem(j, "series"))
-                              ? gr_json_write(point_dir, "series.json", cJSON_GetObjectItem(j, "series"), err)
+                              ? gr_json_write(point_dir, "series.json",
+                                              cJSON_GetObjectItem(j, "series"), err)
                               : GR_OK)) {
-            rc = gr_json_write(point_dir, "point.json", m, err); /* last: the point counts as finished only when both exist */
+            rc = gr_json_write(point_dir, "point.json", m,
+                               err); /* last: the point counts as finished only when both exist */
             *restored += !rc;
         }
         cJSON_Delete(j);

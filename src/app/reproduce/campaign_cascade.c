@@ -80,15 +80,16 @@ static bool last_snapshot(const campaign_point *p, gr_frame *f)
 }
 
 /* D_f of the sk observable over `configurations` cascade placements of n discs. */
-static int cascade_df(const gr_campaign *c, const gr_campaign_result *r, int n, double L, double radius, FILE *positions,
-                      double *df, double *df_err, gr_error *err)
+static int cascade_df(const gr_campaign *c, const gr_campaign_result *r, int n, double L,
+                      double radius, FILE *positions, double *df, double *df_err, gr_error *err)
 {
     char name[200], ov[3][64];
     snprintf(name, sizeof name, "scenes/%s", c->scene);
     snprintf(ov[0], sizeof ov[0], "system.N=%d", n);
     snprintf(ov[1], sizeof ov[1], "system.L=%.17g", L);
     snprintf(ov[2], sizeof ov[2], "system.radius=%.17g", radius);
-    const char *overrides[] = {ov[0], ov[1], ov[2], "analysis.observables=sk", "output.plots=false"};
+    const char *overrides[] = {ov[0], ov[1], ov[2], "analysis.observables=sk",
+                               "output.plots=false"};
     const char *text = gr_embedded_find(name);
     gr_scene sc;
     if (!text) {
@@ -112,7 +113,15 @@ static int cascade_df(const gr_campaign *c, const gr_campaign_result *r, int n, 
         sp.placement.radius = radius;
         gr_cascade_study st = {0};
         if ((rc = gr_cascade_study_run(&sp, &st, err)) == GR_OK) {
-            gr_particles pp = {.n = n, .dim = 2, .L = L, .radius = radius, .mass = sc.mass, .x = st.px, .y = st.py, .vx = v0, .vy = v0};
+            gr_particles pp = {.n = n,
+                               .dim = 2,
+                               .L = L,
+                               .radius = radius,
+                               .mass = sc.mass,
+                               .x = st.px,
+                               .y = st.py,
+                               .vx = v0,
+                               .vy = v0};
             rc = gr_observer_sample(o, &pp, k, err);
             if (k == 0) {
                 write_positions(positions, "cascade", st.px, st.py, n);
@@ -125,7 +134,8 @@ static int cascade_df(const gr_campaign *c, const gr_campaign_result *r, int n, 
     if (rc == GR_OK && !mkdtemp(tmp)) {
         rc = GR_FAIL(err, GR_EIO, "cascade: no temporary folder for its S(k)");
     } else if (rc == GR_OK) {
-        gr_output out = {.dir = tmp, .source = sc.source, .seed = sc.seed, .summary = summary, .plots = false};
+        gr_output out = {
+            .dir = tmp, .source = sc.source, .seed = sc.seed, .summary = summary, .plots = false};
         rc = gr_observer_finish(o, &out, err);
         remove_tree(tmp);
     }
@@ -137,8 +147,8 @@ static int cascade_df(const gr_campaign *c, const gr_campaign_result *r, int n, 
     return rc;
 }
 
-int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                     const char *results, FILE *data, gr_error *err)
+int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
+                     campaign_rows *rows, const char *results, FILE *data, gr_error *err)
 {
     int rc = campaign_mean(c, r, pts, rows, data, err);
     if (rc || pts->n == 0) {
@@ -149,7 +159,8 @@ int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const ca
     const double L = gr_summary_number(p0->summary, "scene.system.L");
     const double radius = gr_summary_number(p0->summary, "scene.system.radius");
     if (!(n > 0 && L > 0.0 && radius > 0.0)) {
-        return GR_FAIL(err, GR_EINVAL, "cascade: the runs' summaries lack scene.system.N, L or radius");
+        return GR_FAIL(err, GR_EINVAL,
+                       "cascade: the runs' summaries lack scene.system.N, L or radius");
     }
     char path[1200], name[96];
     snprintf(path, sizeof path, "%s/%s_positions.csv", results, r->id);
@@ -164,7 +175,8 @@ int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const ca
     if (last_snapshot(p0, &f)) {
         write_positions(positions, "rfm", f.x, f.y, f.n);
     } else {
-        keep_rfm_rows(path, positions); /* a restored point has no frames: keep the snapshot written before */
+        keep_rfm_rows(
+            path, positions); /* a restored point has no frames: keep the snapshot written before */
     }
     gr_frame_free(&f);
     double df = NAN, df_err = NAN;

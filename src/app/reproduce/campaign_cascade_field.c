@@ -22,12 +22,14 @@
 #define CASCADE_FIELD_SEEDS_QUICK 2
 #define CASCADE_FIELD_CONFIGURATIONS_QUICK 10
 
-static const gr_cascade_variant variants[] = {GR_CASCADE_UCP,     GR_CASCADE_UNONCP,  GR_CASCADE_SYMMETRISED, GR_CASCADE_MEAKIN1,
-                                              GR_CASCADE_MEAKIN2, GR_CASCADE_MEAKIN3, GR_CASCADE_MEAKIN4};
+static const gr_cascade_variant variants[] = {
+    GR_CASCADE_UCP,     GR_CASCADE_UNONCP,  GR_CASCADE_SYMMETRISED, GR_CASCADE_MEAKIN1,
+    GR_CASCADE_MEAKIN2, GR_CASCADE_MEAKIN3, GR_CASCADE_MEAKIN4};
 
 /* Fig. 6.2: seed 1's S(k) of every variant over its first bin, one gnuplot block each, shifted by
  * 10^-i for clarity as the thesis's figure does, with the fitted A k^-D_f over the fit's bins. */
-static void write_sk(FILE *f, const char *label, int i, const gr_cascade_study *st, const gr_cascade_fit *fit)
+static void write_sk(FILE *f, const char *label, int i, const gr_cascade_study *st,
+                     const gr_cascade_fit *fit)
 {
     double first = NAN; /* UnonCP's total drifts as 2^n: every curve starts at 1, then shifted */
     for (int b = 0; b < st->nbins && !isfinite(first); b++) {
@@ -39,7 +41,8 @@ static void write_sk(FILE *f, const char *label, int i, const gr_cascade_study *
         const gr_cascade_sk_bin *k = &st->bins[b];
         const bool in_fit = fit && k->q >= fit->q_min && k->q <= fit->q_max;
         if (k->S > 0.0) {
-            fprintf(f, "%.6g %.6g %.6g\n", k->k, k->S * shift, in_fit ? fit->A * pow(k->k, -fit->D_f) * shift : (double)NAN);
+            fprintf(f, "%.6g %.6g %.6g\n", k->k, k->S * shift,
+                    in_fit ? fit->A * pow(k->k, -fit->D_f) * shift : (double)NAN);
         }
     }
 }
@@ -48,17 +51,20 @@ static void plot_sk(const char *results, const gr_campaign_result *r, int blocks
 {
     char body[1024];
     snprintf(body, sizeof body,
-             "set datafile separator whitespace\nset logscale xy\nset format y '10^{%%L}'\nset key outside right noenhanced\n"
+             "set datafile separator whitespace\nset logscale xy\nset format y '10^{%%L}'\nset key "
+             "outside right noenhanced\n"
              "set xlabel 'k (1/m)'\nset ylabel 'S(k) / S(k_1) x 10^{-i}'\n"
-             "set title \"Cascade fields' S(k) (6.5), 256 x 256 over 1 m (Fig. 6.2), fits of %s\" noenhanced\n"
-             "plot for [i=0:%d] '%s_sk.dat' index i using 1:2 with points pt 7 ps 0.5 lc i+1 title columnheader(1), "
+             "set title \"Cascade fields' S(k) (6.5), 256 x 256 over 1 m (Fig. 6.2), fits of %s\" "
+             "noenhanced\n"
+             "plot for [i=0:%d] '%s_sk.dat' index i using 1:2 with points pt 7 ps 0.5 lc i+1 title "
+             "columnheader(1), "
              "for [i=0:%d] '' index i using 1:3 with lines lw 2 lc i+1 notitle\n",
              r->id, blocks - 1, r->id, blocks - 1);
     campaign_draw(results, r->id, "_data", body);
 }
 
-int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaign_rows *rows, const char *results, FILE *data,
-                           gr_error *err)
+int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaign_rows *rows,
+                           const char *results, FILE *data, gr_error *err)
 {
     char name[96];
     snprintf(name, sizeof name, "%s_sk.dat", r->id);
@@ -69,7 +75,10 @@ int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaig
     }
     const bool full = fid == GR_FIDELITY_FULL;
     const int seeds = full ? CASCADE_FIELD_SEEDS : CASCADE_FIELD_SEEDS_QUICK;
-    const int configurations = full ? r->configurations : (r->configurations < CASCADE_FIELD_CONFIGURATIONS_QUICK ? r->configurations : CASCADE_FIELD_CONFIGURATIONS_QUICK);
+    const int configurations = full ? r->configurations
+                                    : (r->configurations < CASCADE_FIELD_CONFIGURATIONS_QUICK
+                                           ? r->configurations
+                                           : CASCADE_FIELD_CONFIGURATIONS_QUICK);
     fprintf(data, "group,seed,configurations,D_f,D_f_err,chi2_red,fit,q_min,q_max,wall_seconds\n");
     for (size_t i = 0; i < sizeof variants / sizeof variants[0]; i++) {
         const gr_cascade_variant_info *info = gr_cascade_variant_get(variants[i]);
@@ -93,10 +102,13 @@ int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaig
             if (f && isfinite(f->D_f)) {
                 v[n++] = f->D_f;
                 err2 += f->D_f_err * f->D_f_err;
-                fprintf(data, "\"%s\",%d,%d,%.6g,%.6g,%.4g,%s,%g,%g,%.3g\n", info->label, s, configurations, f->D_f, f->D_f_err,
-                        f->chi2_red, st.headline_unweighted ? "unweighted" : "weighted", f->q_min, f->q_max, st.wall_seconds);
+                fprintf(data, "\"%s\",%d,%d,%.6g,%.6g,%.4g,%s,%g,%g,%.3g\n", info->label, s,
+                        configurations, f->D_f, f->D_f_err, f->chi2_red,
+                        st.headline_unweighted ? "unweighted" : "weighted", f->q_min, f->q_max,
+                        st.wall_seconds);
             } else {
-                fprintf(data, "\"%s\",%d,%d,,,,none,,,%.3g\n", info->label, s, configurations, st.wall_seconds);
+                fprintf(data, "\"%s\",%d,%d,,,,none,,,%.3g\n", info->label, s, configurations,
+                        st.wall_seconds);
             }
             gr_cascade_study_free(&st);
         }

@@ -61,13 +61,17 @@ bool gr_campaign_comparison_text(const void *json_row, bool bold, char *out, siz
     }
     const char *o = agrees ? "" : b;
     if (!strcmp(kind, "range")) {
-        snprintf(out, len, "%s%s %g .. %g%s", o, agrees ? "inside" : "outside", t, gr_summary_number(row, "thesis_high"), o);
+        snprintf(out, len, "%s%s %g .. %g%s", o, agrees ? "inside" : "outside", t,
+                 gr_summary_number(row, "thesis_high"), o);
     } else if (!strcmp(kind, "about")) {
-        snprintf(out, len, "%s%+.0f %%: %s about %g%s", o, rel, agrees ? "agrees with" : "differs from", t, o);
+        snprintf(out, len, "%s%+.0f %%: %s about %g%s", o, rel,
+                 agrees ? "agrees with" : "differs from", t, o);
     } else if (!strcmp(kind, "model")) {
-        snprintf(out, len, "%s%+.1f %%: %s the model's %g%s", o, rel, agrees ? "agrees with" : "differs from", t, o);
+        snprintf(out, len, "%s%+.1f %%: %s the model's %g%s", o, rel,
+                 agrees ? "agrees with" : "differs from", t, o);
     } else {
-        snprintf(out, len, "%s%+.1f %%: %s the stated %g%s", o, rel, agrees ? "agrees with" : "differs from", t, o);
+        snprintf(out, len, "%s%+.1f %%: %s the stated %g%s", o, rel,
+                 agrees ? "agrees with" : "differs from", t, o);
     }
     return !agrees;
 }

@@ -30,13 +30,15 @@ void campaign_curve_key(const gr_campaign_result *r, char *out, size_t len)
 }
 
 /* Does a CSV row satisfy every "column=value" of `where` (comma separated)? */
-static bool row_matches(const char *where, char *const *fields, const int *col_of_where, int n_where)
+static bool row_matches(const char *where, char *const *fields, const int *col_of_where,
+                        int n_where)
 {
     char buf[256];
     snprintf(buf, sizeof buf, "%s", where);
     char *save = NULL;
     int k = 0;
-    for (char *tok = strtok_r(buf, ",", &save); tok && k < n_where; tok = strtok_r(NULL, ",", &save), k++) {
+    for (char *tok = strtok_r(buf, ",", &save); tok && k < n_where;
+         tok = strtok_r(NULL, ",", &save), k++) {
         const char *v = strchr(tok, '=') + 1;
         while (isspace((unsigned char)*v)) {
             v++;
@@ -66,7 +68,8 @@ static int split(char *line, char **fields, int max)
 {
     int n = 0;
     char *save = NULL;
-    for (char *tok = strtok_r(line, ",\r\n", &save); tok && n < max; tok = strtok_r(NULL, ",\r\n", &save)) {
+    for (char *tok = strtok_r(line, ",\r\n", &save); tok && n < max;
+         tok = strtok_r(NULL, ",\r\n", &save)) {
         fields[n++] = tok;
     }
     return n;
@@ -103,7 +106,8 @@ static void expand_where(const campaign_point *p, const char *where, char *out, 
     out[n] = 0;
 }
 
-static int read_table(const campaign_point *p, const gr_campaign_result *r, double *x, double *y, double *e)
+static int read_table(const campaign_point *p, const gr_campaign_result *r, double *x, double *y,
+                      double *e)
 {
     char where[256];
     expand_where(p, r->where, where, sizeof where);
@@ -129,7 +133,8 @@ static int read_table(const campaign_point *p, const gr_campaign_result *r, doub
             char buf[256];
             snprintf(buf, sizeof buf, "%s", where);
             char *save = NULL;
-            for (char *tok = strtok_r(buf, ",", &save); tok && n_where < 16; tok = strtok_r(NULL, ",", &save)) {
+            for (char *tok = strtok_r(buf, ",", &save); tok && n_where < 16;
+                 tok = strtok_r(NULL, ",", &save)) {
                 cw[n_where++] = column_of(fields, nf, tok);
             }
             if (cx < 0 || cy < 0) {
@@ -159,7 +164,8 @@ static int read_table(const campaign_point *p, const gr_campaign_result *r, doub
     return n;
 }
 
-int campaign_curve_series(const campaign_point *p, const gr_campaign_result *r, double *x, double *y, double *e)
+int campaign_curve_series(const campaign_point *p, const gr_campaign_result *r, double *x,
+                          double *y, double *e)
 {
     char path[1200], key[512];
     snprintf(path, sizeof path, "%s/series.json", p->dir);
@@ -170,9 +176,11 @@ int campaign_curve_series(const campaign_point *p, const gr_campaign_result *r, 
         fclose(probe);
         cJSON *j = gr_json_read(path, &ignore);
         const cJSON *s = cJSON_GetObjectItem(j, key);
-        const cJSON *ax = cJSON_GetObjectItem(s, "x"), *ay = cJSON_GetObjectItem(s, "y"), *ae = cJSON_GetObjectItem(s, "e");
+        const cJSON *ax = cJSON_GetObjectItem(s, "x"), *ay = cJSON_GetObjectItem(s, "y"),
+                    *ae = cJSON_GetObjectItem(s, "e");
         int n = 0;
-        for (int i = 0; i < cJSON_GetArraySize(ax) && i < cJSON_GetArraySize(ay) && n < MAX_BINS; i++) {
+        for (int i = 0; i < cJSON_GetArraySize(ax) && i < cJSON_GetArraySize(ay) && n < MAX_BINS;
+             i++) {
             x[n] = cJSON_GetArrayItem(ax, i)->valuedouble;
             y[n] = cJSON_GetArrayItem(ay, i)->valuedouble;
             const cJSON *ei = cJSON_GetArrayItem(ae, i);
@@ -229,14 +237,15 @@ bool campaign_bisection_collapse(double N, double x0, double *x, double *y, doub
 }
 
 /* Slope b of y = a x^b over the window (NAN with too few points); *err its error. */
-static double slope(const gr_campaign_result *r, const double *x, const double *y, const double *e, int n, double *err,
-                    int *used, double *chi2_red)
+static double slope(const gr_campaign_result *r, const double *x, const double *y, const double *e,
+                    int n, double *err, int *used, double *chi2_red)
 {
     double fx[MAX_BINS], fy[MAX_BINS], fe[MAX_BINS];
     int m = 0;
     bool weights = true;
     for (int i = 0; i < n; i++) {
-        if (isfinite(x[i]) && isfinite(y[i]) && y[i] > 0.0 && x[i] >= r->x_min && x[i] <= r->x_max) {
+        if (isfinite(x[i]) && isfinite(y[i]) && y[i] > 0.0 && x[i] >= r->x_min &&
+            x[i] <= r->x_max) {
             fx[m] = x[i];
             fy[m] = y[i];
             fe[m] = e[i];
@@ -284,8 +293,8 @@ static void acc_add(curve_acc *a, const double *x, const double *y, const double
     }
 }
 
-int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                   FILE *data, gr_error *err)
+int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
+                   campaign_rows *rows, FILE *data, gr_error *err)
 {
     (void)c;
     (void)err;
@@ -307,7 +316,9 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
         campaign_row *row = campaign_group_row(rows, groups[g]);
         for (int k = 0; k < nm; k++) {
             const int n = campaign_curve_series(members[k], r, x, y, e);
-            if (n == 0 || (map && !campaign_bisection_collapse(atof(campaign_point_key(members[k], "system.N")), r->collapse_at, x, y, e, n))) {
+            if (n == 0 || (map && !campaign_bisection_collapse(
+                                      atof(campaign_point_key(members[k], "system.N")),
+                                      r->collapse_at, x, y, e, n))) {
                 continue;
             }
             campaign_add_cost(row, members[k]);
@@ -319,12 +330,14 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
                 slopes[ns++] = b;
             }
         }
-        for (int i = 0; i < acc->n; i++) { /* the mean curve: seeds' scatter, or the run's own error */
+        for (int i = 0; i < acc->n;
+             i++) { /* the mean curve: seeds' scatter, or the run's own error */
             const int m = acc->count[i];
             x[i] = acc->x[i];
             y[i] = m ? acc->sum[i] / m : (double)NAN;
             const double var = m >= 2 ? (acc->sum2[i] - m * y[i] * y[i]) / (m - 1) : (double)NAN;
-            const double se_seeds = var > 0.0 ? sqrt(var / m) : (double)NAN, se_runs = m ? sqrt(acc->err2[i]) / m : (double)NAN;
+            const double se_seeds = var > 0.0 ? sqrt(var / m) : (double)NAN,
+                         se_runs = m ? sqrt(acc->err2[i]) / m : (double)NAN;
             e[i] = campaign_headline_error(se_seeds, se_runs, m);
         }
         if (r->x_min > 0.0 || isfinite(r->x_max)) {
@@ -341,16 +354,19 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
         for (int i = 0; i < acc->n; i++) {
             if (isfinite(x[i]) && isfinite(y[i]) && y[i] > 0.0) {
                 const bool in = x[i] >= r->x_min && x[i] <= r->x_max;
-                fprintf(data, "\"%s\",0,%.9g,%.9g,%.9g,%d,%d\n", groups[g], x[i], y[i], isfinite(e[i]) ? e[i] : 0.0,
-                        acc->count[i], in);
+                fprintf(data, "\"%s\",0,%.9g,%.9g,%.9g,%d,%d\n", groups[g], x[i], y[i],
+                        isfinite(e[i]) ? e[i] : 0.0, acc->count[i], in);
             }
         }
-        if (!strcmp(r->overlay, "bisection") && nm > 0 && acc->n > 0) { /* 3.36, beside the curve: seeds = 0 */
+        if (!strcmp(r->overlay, "bisection") && nm > 0 &&
+            acc->n > 0) { /* 3.36, beside the curve: seeds = 0 */
             const double nb = log2(atof(campaign_point_key(members[0], "system.N")));
             for (int i = 0; i < acc->n; i++) {
-                if (acc->x[i] > 0.0 && acc->x[i] < 1.0 && acc->sum[i] > 0.0) { /* where the curve has data */
+                if (acc->x[i] > 0.0 && acc->x[i] < 1.0 &&
+                    acc->sum[i] > 0.0) { /* where the curve has data */
                     const double P = exp((nb - 1.0) * log(-log(acc->x[i])) - lgamma(nb));
-                    fprintf(data, "\"uniform bisection (3.36), n = %.4g\",0,%.9g,%.9g,0,0,0\n", nb, acc->x[i], P);
+                    fprintf(data, "\"uniform bisection (3.36), n = %.4g\",0,%.9g,%.9g,0,0,0\n", nb,
+                            acc->x[i], P);
                 }
             }
         }

@@ -34,7 +34,7 @@ typedef struct parse_ctx {
     const gr_line_reader *lines;
     char (*seen)[176]; /* "section\x1fkey" of every line so far, to refuse a key given twice */
     int n_seen;
-    char last[176];    /* the line before: a [vary.F] list continues on a line that repeats its key */
+    char last[176]; /* the line before: a [vary.F] list continues on a line that repeats its key */
     char error[512];
 } parse_ctx;
 
@@ -64,12 +64,15 @@ static int check_repeat(parse_ctx *p, const char *section, const char *name)
     for (int i = 0; i < p->n_seen; i++) {
         if (!strcmp(p->seen[i], id)) {
             snprintf(p->error, sizeof p->error, "[%s] %s: given twice%s", section, name,
-                     !strncmp(section, "vary.", 5) ? "; a list longer than a line continues on the very next line" : "");
+                     !strncmp(section, "vary.", 5)
+                         ? "; a list longer than a line continues on the very next line"
+                         : "");
             return 0;
         }
     }
     if (p->n_seen == SEEN_MAX) {
-        snprintf(p->error, sizeof p->error, "[%s] %s: more than %d lines in the campaign file", section, name, SEEN_MAX);
+        snprintf(p->error, sizeof p->error, "[%s] %s: more than %d lines in the campaign file",
+                 section, name, SEEN_MAX);
         return 0;
     }
     snprintf(p->seen[p->n_seen++], sizeof p->seen[0], "%s", id);
@@ -92,12 +95,13 @@ static bool parse_double(const char *v, double *out)
 
 /* Appends a key that may continue over several lines (about, thesis, note) to dst; refuses when
  * the whole would not fit instead of cutting it short on the page. */
-static int append_text(parse_ctx *p, const char *section, const char *name, char *dst, size_t size, const char *sep,
-                       const char *value)
+static int append_text(parse_ctx *p, const char *section, const char *name, char *dst, size_t size,
+                       const char *sep, const char *value)
 {
     const size_t len = strlen(dst), add = (len ? strlen(sep) : 0) + strlen(value);
     if (len + add >= size) {
-        snprintf(p->error, sizeof p->error, "[%s] %s: %zu characters in all, at most %zu (shorten it)", section, name,
+        snprintf(p->error, sizeof p->error,
+                 "[%s] %s: %zu characters in all, at most %zu (shorten it)", section, name,
                  len + add, size - 1);
         return 0;
     }
@@ -117,13 +121,17 @@ static int check_seeds(parse_ctx *p, const char *section, const char *value)
         errno = 0;
         const unsigned long long seed = strtoull(tok, NULL, 10);
         if (strspn(tok, "0123456789") != strlen(tok) || strlen(tok) > 20 || errno) {
-            snprintf(p->error, sizeof p->error, "[%s] seeds: '%.64s' is not an integer written in decimal digits (0 .. 2^64 - 1)",
-                     section, tok);
+            snprintf(
+                p->error, sizeof p->error,
+                "[%s] seeds: '%.64s' is not an integer written in decimal digits (0 .. 2^64 - 1)",
+                section, tok);
             return 0;
         }
         for (int i = 0; i < n; i++) {
             if (seen[i] == seed) {
-                snprintf(p->error, sizeof p->error, "[%s] seeds: %llu is listed twice (two points would be one run)", section, seed);
+                snprintf(p->error, sizeof p->error,
+                         "[%s] seeds: %llu is listed twice (two points would be one run)", section,
+                         seed);
                 return 0;
             }
         }
@@ -143,8 +151,10 @@ static int campaign_key(parse_ctx *p, const char *name, const char *value)
         const char *key;
         char *dst;
         size_t size;
-    } keys[] = {{"title", c->title, sizeof c->title}, {"covers", c->covers, sizeof c->covers},
-                {"scene", c->scene, sizeof c->scene}, {"about", c->about, sizeof c->about}};
+    } keys[] = {{"title", c->title, sizeof c->title},
+                {"covers", c->covers, sizeof c->covers},
+                {"scene", c->scene, sizeof c->scene},
+                {"about", c->about, sizeof c->about}};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
         if (!strcmp(name, keys[i].key)) {
             if (!strcmp(name, "about")) { /* may continue over several lines */
@@ -155,7 +165,8 @@ static int campaign_key(parse_ctx *p, const char *name, const char *value)
             return 1;
         }
     }
-    snprintf(p->error, sizeof p->error, "[campaign] %s: unknown key; keys: title, covers, scene, about", name);
+    snprintf(p->error, sizeof p->error,
+             "[campaign] %s: unknown key; keys: title, covers, scene, about", name);
     return 0;
 }
 
@@ -165,13 +176,20 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         const char *key;
         char *dst;
         size_t size;
-    } text[] = {{"title", r->title, sizeof r->title},       {"quantity", r->quantity, sizeof r->quantity},
-                {"unit", r->unit, sizeof r->unit},          {"y", r->y, sizeof r->y},
-                {"y_err", r->y_err, sizeof r->y_err},       {"x", r->x, sizeof r->x},
-                {"by", r->by, sizeof r->by},                {"thesis_source", r->thesis_source, sizeof r->thesis_source},
-                {"table", r->table, sizeof r->table},       {"where", r->where, sizeof r->where},
-                {"select", r->select, sizeof r->select},    {"axes", r->axes, sizeof r->axes},
-                {"overlay", r->overlay, sizeof r->overlay}, {"restates", r->restates, sizeof r->restates}};
+    } text[] = {{"title", r->title, sizeof r->title},
+                {"quantity", r->quantity, sizeof r->quantity},
+                {"unit", r->unit, sizeof r->unit},
+                {"y", r->y, sizeof r->y},
+                {"y_err", r->y_err, sizeof r->y_err},
+                {"x", r->x, sizeof r->x},
+                {"by", r->by, sizeof r->by},
+                {"thesis_source", r->thesis_source, sizeof r->thesis_source},
+                {"table", r->table, sizeof r->table},
+                {"where", r->where, sizeof r->where},
+                {"select", r->select, sizeof r->select},
+                {"axes", r->axes, sizeof r->axes},
+                {"overlay", r->overlay, sizeof r->overlay},
+                {"restates", r->restates, sizeof r->restates}};
     for (size_t i = 0; i < sizeof text / sizeof text[0]; i++) {
         if (!strcmp(name, text[i].key)) {
             snprintf(text[i].dst, text[i].size, "%s", value);
@@ -181,8 +199,9 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     if (!strcmp(name, "thesis") || !strcmp(name, "note")) { /* may continue over several lines */
         char section[48];
         snprintf(section, sizeof section, "result %s", r->id);
-        return name[0] == 't' ? append_text(p, section, name, r->thesis, sizeof r->thesis, "; ", value)
-                              : append_text(p, section, name, r->note, sizeof r->note, " ", value);
+        return name[0] == 't'
+                   ? append_text(p, section, name, r->thesis, sizeof r->thesis, "; ", value)
+                   : append_text(p, section, name, r->note, sizeof r->note, " ", value);
     }
     if (!strcmp(name, "verdict")) { /* "CATEGORY: why", the why may continue over several lines */
         char section[48];
@@ -201,11 +220,13 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
                     break;
                 }
                 snprintf(r->verdict, sizeof r->verdict, "%s", gr_campaign_verdicts[i]);
-                return append_text(p, section, name, r->verdict_why, sizeof r->verdict_why, " ", why);
+                return append_text(p, section, name, r->verdict_why, sizeof r->verdict_why, " ",
+                                   why);
             }
         }
         snprintf(p->error, sizeof p->error,
-                 "[result %s] verdict = %.60s: expected \"explained: WHY\", \"partly explained: WHY\" or \"unexplained: WHY\"",
+                 "[result %s] verdict = %.60s: expected \"explained: WHY\", \"partly explained: "
+                 "WHY\" or \"unexplained: WHY\"",
                  r->id, value);
         return 0;
     }
@@ -233,15 +254,19 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         } else if (!strcmp(value, "cascade_field")) {
             r->kind = GR_RESULT_CASCADE_FIELD;
         } else {
-            snprintf(p->error, sizeof p->error, "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, settle_time, curve, cascade, cascade_field, spm, spm_compare, spm_circle",
+            snprintf(p->error, sizeof p->error,
+                     "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, "
+                     "settle_time, curve, cascade, cascade_field, spm, spm_compare, spm_circle",
                      r->id, value);
             return 0;
         }
         return 1;
     }
     if (!strcmp(name, "m")) {
-        if (sscanf(value, "%d-%d", &r->m_lo, &r->m_hi) != 2 || r->m_lo < 1 || r->m_hi < r->m_lo || r->m_hi > 12) {
-            snprintf(p->error, sizeof p->error, "[result %s] m = %s: expected a range LO-HI within 1-12", r->id, value);
+        if (sscanf(value, "%d-%d", &r->m_lo, &r->m_hi) != 2 || r->m_lo < 1 || r->m_hi < r->m_lo ||
+            r->m_hi > 12) {
+            snprintf(p->error, sizeof p->error,
+                     "[result %s] m = %s: expected a range LO-HI within 1-12", r->id, value);
             return 0;
         }
         return 1;
@@ -250,7 +275,9 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         char *end;
         long k = strtol(value, &end, 10);
         if (end == value || *end || k < 1 || k > 1000) {
-            snprintf(p->error, sizeof p->error, "[result %s] configurations = %s: expected an integer from 1 to 1000", r->id, value);
+            snprintf(p->error, sizeof p->error,
+                     "[result %s] configurations = %s: expected an integer from 1 to 1000", r->id,
+                     value);
             return 0;
         }
         r->configurations = (int)k;
@@ -260,14 +287,16 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         bool *flag = name[0] == 'p' ? &r->per_m : &r->local_slopes;
         *flag = !strcmp(value, "true");
         if (!*flag && strcmp(value, "false")) {
-            snprintf(p->error, sizeof p->error, "[result %s] %s = %s: true or false", r->id, name, value);
+            snprintf(p->error, sizeof p->error, "[result %s] %s = %s: true or false", r->id, name,
+                     value);
             return 0;
         }
         return 1;
     }
     if (!strcmp(name, "transform")) {
         if (strcmp(value, "none") && strcmp(value, "bisection_collapse")) {
-            snprintf(p->error, sizeof p->error, "[result %s] transform = %s: allowed none, bisection_collapse", r->id, value);
+            snprintf(p->error, sizeof p->error,
+                     "[result %s] transform = %s: allowed none, bisection_collapse", r->id, value);
             return 0;
         }
         snprintf(r->transform, sizeof r->transform, "%s", strcmp(value, "none") ? value : "");
@@ -276,7 +305,8 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     if (!strcmp(name, "tail")) {
         r->tail_exponential = !strcmp(value, "exponential");
         if (!r->tail_exponential && strcmp(value, "5.31")) {
-            snprintf(p->error, sizeof p->error, "[result %s] tail = %s: allowed 5.31, exponential", r->id, value);
+            snprintf(p->error, sizeof p->error, "[result %s] tail = %s: allowed 5.31, exponential",
+                     r->id, value);
             return 0;
         }
         return 1;
@@ -285,8 +315,10 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         char *end;
         long k = strtol(value, &end, 10);
         if (end == value || *end || k < 100 || k > 100000000) {
-            snprintf(p->error, sizeof p->error, "[result %s] %s = %s: expected an integer from 100 to 100000000 (SPM walks per run)", r->id,
-                     name, value);
+            snprintf(p->error, sizeof p->error,
+                     "[result %s] %s = %s: expected an integer from 100 to 100000000 (SPM walks "
+                     "per run)",
+                     r->id, name, value);
             return 0;
         }
         *(name[5] ? &r->walks_quick : &r->walks) = k;
@@ -294,26 +326,31 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     }
     if (!strcmp(name, "df")) {
         if (!parse_double(value, &r->df) || !(r->df > 1.0 && r->df < 2.0)) {
-            snprintf(p->error, sizeof p->error, "[result %s] df = %s: expected D_f in (1, 2) (2D free paths, 4.25)", r->id, value);
+            snprintf(p->error, sizeof p->error,
+                     "[result %s] df = %s: expected D_f in (1, 2) (2D free paths, 4.25)", r->id,
+                     value);
             return 0;
         }
         return 1;
     }
-    double *num = !strcmp(name, "x_min")       ? &r->x_min
-                  : !strcmp(name, "x_max")     ? &r->x_max
-                  : !strcmp(name, "period")    ? &r->period
+    double *num = !strcmp(name, "x_min")         ? &r->x_min
+                  : !strcmp(name, "x_max")       ? &r->x_max
+                  : !strcmp(name, "period")      ? &r->period
                   : !strcmp(name, "collapse_at") ? &r->collapse_at
-                                               : NULL;
+                                                 : NULL;
     if (num) {
         if (!parse_double(value, num) || *num <= 0.0) {
-            snprintf(p->error, sizeof p->error, "[result %s] %s = %s: expected a positive number", r->id, name, value);
+            snprintf(p->error, sizeof p->error, "[result %s] %s = %s: expected a positive number",
+                     r->id, name, value);
             return 0;
         }
         return 1;
     }
     snprintf(p->error, sizeof p->error,
-             "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, x_max, by, m, per_m, local_slopes, period, "
-             "table, where, select, transform, collapse_at, axes, overlay, restates, configurations, df, tail, walks, walks_quick, thesis, thesis_source, note, verdict",
+             "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, "
+             "x_max, by, m, per_m, local_slopes, period, "
+             "table, where, select, transform, collapse_at, axes, overlay, restates, "
+             "configurations, df, tail, walks, walks_quick, thesis, thesis_source, note, verdict",
              r->id, name);
     return 0;
 }
@@ -322,12 +359,15 @@ static int on_line(void *user, const char *section, const char *name, const char
 {
     parse_ctx *p = user;
     gr_campaign *c = p->c;
-    if (p->error[0]) { /* inih goes on after an error and reports the first one's line: keep its message */
+    if (p->error
+            [0]) { /* inih goes on after an error and reports the first one's line: keep its message */
         return 0;
     }
     if (p->lines && p->lines->length > INI_MAX_LINE - 2) { /* the limit campaign files always had */
-        snprintf(p->error, sizeof p->error, "line longer than %d characters (split it: about, note, thesis and verdict may repeat)",
-                 INI_MAX_LINE - 2);
+        snprintf(
+            p->error, sizeof p->error,
+            "line longer than %d characters (split it: about, note, thesis and verdict may repeat)",
+            INI_MAX_LINE - 2);
         return 0;
     }
     if (!check_repeat(p, section, name)) {
@@ -342,12 +382,14 @@ static int on_line(void *user, const char *section, const char *name, const char
         if (!r || strcmp(r->id, id)) {
             for (int i = 0; i < c->n_results; i++) {
                 if (!strcmp(c->results[i].id, id)) {
-                    snprintf(p->error, sizeof p->error, "[%s]: given twice; each result is one section", section);
+                    snprintf(p->error, sizeof p->error,
+                             "[%s]: given twice; each result is one section", section);
                     return 0;
                 }
             }
             if (c->n_results == GR_CAMPAIGN_MAX_RESULTS) {
-                snprintf(p->error, sizeof p->error, "[%s]: at most %d results per campaign", section, GR_CAMPAIGN_MAX_RESULTS);
+                snprintf(p->error, sizeof p->error, "[%s]: at most %d results per campaign",
+                         section, GR_CAMPAIGN_MAX_RESULTS);
                 return 0;
             }
             r = &c->results[c->n_results++];
@@ -366,11 +408,15 @@ static int on_line(void *user, const char *section, const char *name, const char
         snprintf(base, sizeof base, "set");
     } else if (dot && (size_t)(dot - section) < sizeof base) {
         snprintf(base, sizeof base, "%.*s", (int)(dot - section), section);
-        fid = !strcmp(dot + 1, "quick") ? GR_FIDELITY_QUICK : !strcmp(dot + 1, "full") ? GR_FIDELITY_FULL : -1;
+        fid = !strcmp(dot + 1, "quick")  ? GR_FIDELITY_QUICK
+              : !strcmp(dot + 1, "full") ? GR_FIDELITY_FULL
+                                         : -1;
     }
-    if ((strcmp(base, "sweep") && strcmp(base, "vary") && strcmp(base, "set")) || (fid < 0 && strcmp(section, "set"))) {
+    if ((strcmp(base, "sweep") && strcmp(base, "vary") && strcmp(base, "set")) ||
+        (fid < 0 && strcmp(section, "set"))) {
         snprintf(p->error, sizeof p->error,
-                 "[%s]: unknown section; sections: campaign, set, sweep.quick, vary.quick, set.quick, sweep.full, vary.full, "
+                 "[%s]: unknown section; sections: campaign, set, sweep.quick, vary.quick, "
+                 "set.quick, sweep.full, vary.full, "
                  "set.full, result ID",
                  section);
         return 0;
@@ -380,15 +426,18 @@ static int on_line(void *user, const char *section, const char *name, const char
             continue;
         }
         if (c->n_lines[f] == GR_CAMPAIGN_MAX_LINES) {
-            snprintf(p->error, sizeof p->error, "[%s]: at most %d sweep lines per fidelity", section, GR_CAMPAIGN_MAX_LINES);
+            snprintf(p->error, sizeof p->error, "[%s]: at most %d sweep lines per fidelity",
+                     section, GR_CAMPAIGN_MAX_LINES);
             return 0;
         }
         gr_campaign_line *last = c->n_lines[f] ? &c->lines[f][c->n_lines[f] - 1] : NULL;
-        if (!strcmp(base, "vary") && last && !strcmp(last->section, "vary") && !strcmp(last->key, name)) {
+        if (!strcmp(base, "vary") && last && !strcmp(last->section, "vary") &&
+            !strcmp(last->key, name)) {
             /* a list longer than a line continues on a line that repeats the key */
             size_t used = strlen(last->value);
             if (used + 2 + strlen(value) >= sizeof last->value) {
-                snprintf(p->error, sizeof p->error, "[%s] %s: the list is longer than %zu characters", section, name,
+                snprintf(p->error, sizeof p->error,
+                         "[%s] %s: the list is longer than %zu characters", section, name,
                          sizeof last->value - 1);
                 return 0;
             }
@@ -397,10 +446,14 @@ static int on_line(void *user, const char *section, const char *name, const char
         }
         for (int i = 0; i < c->n_lines[f]; i++) { /* a [set] or [set.F] key is not varied too */
             const gr_campaign_line *o = &c->lines[f][i];
-            const bool set_vary = !strcmp(base, "set") && !strcmp(o->section, "vary") && gr_linked_key_names(o->key, name);
-            if (set_vary || (!strcmp(base, "vary") && !strcmp(o->section, "set") && gr_linked_key_names(name, o->key))) {
-                snprintf(p->error, sizeof p->error, "[%s] %s: also in [%s%s] %s; a key is either set or varied", section, name,
-                         o->section, strcmp(o->section, "set") ? (f ? ".full" : ".quick") : "", o->key);
+            const bool set_vary = !strcmp(base, "set") && !strcmp(o->section, "vary") &&
+                                  gr_linked_key_names(o->key, name);
+            if (set_vary || (!strcmp(base, "vary") && !strcmp(o->section, "set") &&
+                             gr_linked_key_names(name, o->key))) {
+                snprintf(p->error, sizeof p->error,
+                         "[%s] %s: also in [%s%s] %s; a key is either set or varied", section, name,
+                         o->section, strcmp(o->section, "set") ? (f ? ".full" : ".quick") : "",
+                         o->key);
                 return 0;
             }
         }
@@ -420,7 +473,7 @@ static int on_line(void *user, const char *section, const char *name, const char
  * On a bad entry, `why` says which. */
 static bool thesis_ok(const char *thesis, char *why, size_t len)
 {
-    char buf[sizeof ((gr_campaign_result *)0)->thesis];
+    char buf[sizeof((gr_campaign_result *)0)->thesis];
     snprintf(buf, sizeof buf, "%s", thesis);
     char *save = NULL;
     for (char *tok = strtok_r(buf, ";", &save); tok; tok = strtok_r(NULL, ";", &save)) {
@@ -432,8 +485,11 @@ static bool thesis_ok(const char *thesis, char *why, size_t len)
         }
         char *end = NULL;
         const double v = text ? strtod(text, &end) : (double)NAN;
-        if (!colon || group == colon || end == text || !isfinite(v) || !strchr("-+0123456789.", text[0])) {
-            snprintf(why, len, "'%.80s' is not GROUP: [about|model|exact|range] VALUE [+- ERROR | .. HIGH] with a finite VALUE",
+        if (!colon || group == colon || end == text || !isfinite(v) ||
+            !strchr("-+0123456789.", text[0])) {
+            snprintf(why, len,
+                     "'%.80s' is not GROUP: [about|model|exact|range] VALUE [+- ERROR | .. HIGH] "
+                     "with a finite VALUE",
                      tok + strspn(tok, " \t"));
             return false;
         }
@@ -472,7 +528,8 @@ static bool covers(const char *list, const char *want)
 }
 
 /* Parse `len` bytes of campaign text (NUL bytes included: they are refused, not an end). */
-static int parse_text(gr_campaign *c, const char *text, size_t len, const char *where, gr_error *err)
+static int parse_text(gr_campaign *c, const char *text, size_t len, const char *where,
+                      gr_error *err)
 {
     /* the scene reader's lines: control bytes (NUL included), long lines and headers checked alike */
     static char newline[] = "\n"; /* fmemopen refuses a size of 0 */
@@ -485,14 +542,19 @@ static int parse_text(gr_campaign *c, const char *text, size_t len, const char *
         free(p.seen);
         return GR_FAIL(err, GR_ENOMEM, "%s: cannot read: out of memory", where);
     }
-    gr_line_reader lines = {.f = in, .what = "campaign file",
-                            .sections = "campaign, set, sweep.quick, vary.quick, set.quick, sweep.full, vary.full, set.full, result ID"};
+    gr_line_reader lines = {.f = in,
+                            .what = "campaign file",
+                            .sections = "campaign, set, sweep.quick, vary.quick, set.quick, "
+                                        "sweep.full, vary.full, set.full, result ID"};
     p.lines = &lines;
     int bad = gr_line_parse(&lines, on_line, &p);
     fclose(in);
     free(p.seen);
     if (bad) {
-        int rc = GR_FAIL(err, GR_EINVAL, "%s:%d: %s", where, bad, lines.problem[0] ? lines.problem : p.error[0] ? p.error : "not an INI line");
+        int rc = GR_FAIL(err, GR_EINVAL, "%s:%d: %s", where, bad,
+                         lines.problem[0] ? lines.problem
+                         : p.error[0]     ? p.error
+                                          : "not an INI line");
         gr_line_reader_free(&lines);
         return rc;
     }
@@ -503,8 +565,10 @@ static int parse_text(gr_campaign *c, const char *text, size_t len, const char *
     char scene[200];
     snprintf(scene, sizeof scene, "scenes/%s", c->scene);
     if (!gr_embedded_find(scene)) {
-        return GR_FAIL(err, GR_EINVAL, "%s: [campaign] scene = %s: not a scene of docs/scenes (granule reproduce --list)", where,
-                       c->scene);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s: [campaign] scene = %s: not a scene of docs/scenes (granule reproduce --list)",
+            where, c->scene);
     }
     for (int f = 0; f < 2; f++) {
         if (gr_campaign_points(c, (gr_fidelity)f) <= 0) {
@@ -513,51 +577,64 @@ static int parse_text(gr_campaign *c, const char *text, size_t len, const char *
     }
     for (int i = 0; i < c->n_results; i++) {
         const gr_campaign_result *r = &c->results[i];
-        if (r->kind != GR_RESULT_RUNNING && r->kind != GR_RESULT_RISE && r->kind != GR_RESULT_SETTLE && r->kind != GR_RESULT_CASCADE_FIELD &&
-            !r->y[0]) {
-            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] needs y (a summary.json path)", where, r->id);
+        if (r->kind != GR_RESULT_RUNNING && r->kind != GR_RESULT_RISE &&
+            r->kind != GR_RESULT_SETTLE && r->kind != GR_RESULT_CASCADE_FIELD && !r->y[0]) {
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] needs y (a summary.json path)", where,
+                           r->id);
         }
-        if (r->restates[0]) { /* counted once: where its numbers are, which must exist and be another result */
+        if (r->restates
+                [0]) { /* counted once: where its numbers are, which must exist and be another result */
             int k = 0;
             while (k < c->n_results && (k == i || strcmp(c->results[k].id, r->restates))) {
                 k++;
             }
             if (k == c->n_results) {
-                return GR_FAIL(err, GR_EINVAL, "%s: [result %s] restates = %s: not another result of this campaign", where, r->id,
-                               r->restates);
+                return GR_FAIL(err, GR_EINVAL,
+                               "%s: [result %s] restates = %s: not another result of this campaign",
+                               where, r->id, r->restates);
             }
         }
         if (r->kind == GR_RESULT_POWER_LAW && !r->x[0]) {
-            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = power_law needs x (the varied key)", where, r->id);
-        }
-        if (r->kind == GR_RESULT_CURVE && (!r->table[0] || !r->x[0])) {
-            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = curve needs table (a run's CSV) and x, y (its columns)", where,
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [result %s] kind = power_law needs x (the varied key)", where,
                            r->id);
         }
+        if (r->kind == GR_RESULT_CURVE && (!r->table[0] || !r->x[0])) {
+            return GR_FAIL(
+                err, GR_EINVAL,
+                "%s: [result %s] kind = curve needs table (a run's CSV) and x, y (its columns)",
+                where, r->id);
+        }
         if (r->kind == GR_RESULT_SPM && !campaign_spm_quantity_known(r->y)) {
-            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = spm: y = %s: allowed %s", where, r->id, r->y,
-                           GR_CAMPAIGN_SPM_QUANTITIES);
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = spm: y = %s: allowed %s", where,
+                           r->id, r->y, GR_CAMPAIGN_SPM_QUANTITIES);
         }
         if (r->kind == GR_RESULT_SPM_COMPARE && !campaign_spm_compare_quantity_known(r->y)) {
-            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = spm_compare: y = %s: allowed %s", where, r->id, r->y,
-                           GR_CAMPAIGN_SPM_COMPARE_QUANTITIES);
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = spm_compare: y = %s: allowed %s",
+                           where, r->id, r->y, GR_CAMPAIGN_SPM_COMPARE_QUANTITIES);
         }
         if (r->kind == GR_RESULT_SPM_CIRCLE && !campaign_spm_circle_quantity_known(r->y)) {
-            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = spm_circle: y = %s: allowed %s", where, r->id, r->y,
-                           GR_CAMPAIGN_SPM_CIRCLE_QUANTITIES);
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] kind = spm_circle: y = %s: allowed %s",
+                           where, r->id, r->y, GR_CAMPAIGN_SPM_CIRCLE_QUANTITIES);
         }
         char why[200];
         if (r->thesis[0] && !thesis_ok(r->thesis, why, sizeof why)) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] thesis: %s", where, r->id, why);
         }
-        if (r->axes[0] && strcmp(r->axes, "loglog") && strcmp(r->axes, "linlog") && strcmp(r->axes, "linear")) {
-            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] axes = %s: allowed loglog, linlog, linear", where, r->id, r->axes);
+        if (r->axes[0] && strcmp(r->axes, "loglog") && strcmp(r->axes, "linlog") &&
+            strcmp(r->axes, "linear")) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [result %s] axes = %s: allowed loglog, linlog, linear", where,
+                           r->id, r->axes);
         }
         if (r->overlay[0] && strcmp(r->overlay, "bisection")) {
-            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] overlay = %s: allowed bisection", where, r->id, r->overlay);
+            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] overlay = %s: allowed bisection", where,
+                           r->id, r->overlay);
         }
         if (r->transform[0] && !(r->collapse_at > 0.0 && r->collapse_at < 1.0)) {
-            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] transform = %s needs collapse_at in (0, 1)", where, r->id, r->transform);
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [result %s] transform = %s needs collapse_at in (0, 1)", where,
+                           r->id, r->transform);
         }
     }
     return GR_OK;
@@ -575,17 +652,20 @@ int gr_campaign_load(gr_campaign *c, const char *name, gr_error *err)
                 fclose(f);
             }
             return GR_FAIL(err, GR_EINVAL, "%s: not a campaign file (%s)", name,
-                           why < 0 ? "not a regular file: a folder, FIFO, device or socket" : strerror(why ? why : errno));
+                           why < 0 ? "not a regular file: a folder, FIFO, device or socket"
+                                   : strerror(why ? why : errno));
         }
         char *text = calloc(1, (size_t)st.st_size + 1);
         size_t got = f && text ? fread(text, 1, (size_t)st.st_size, f) : 0;
         if (f) {
             fclose(f);
         }
-        int rc = got == (size_t)st.st_size ? parse_text(c, text, got, name, err) : GR_FAIL(err, GR_EIO, "%s: cannot read", name);
+        int rc = got == (size_t)st.st_size ? parse_text(c, text, got, name, err)
+                                           : GR_FAIL(err, GR_EIO, "%s: cannot read", name);
         free(text);
         const char *base = strrchr(name, '/') ? strrchr(name, '/') + 1 : name;
-        snprintf(c->name, sizeof c->name, "%.*s", (int)(strlen(base) > 4 ? strlen(base) - 4 : strlen(base)), base);
+        snprintf(c->name, sizeof c->name, "%.*s",
+                 (int)(strlen(base) > 4 ? strlen(base) - 4 : strlen(base)), base);
         snprintf(c->source, sizeof c->source, "%s", name);
         return rc;
     }
@@ -599,8 +679,10 @@ int gr_campaign_load(gr_campaign *c, const char *name, gr_error *err)
         gr_campaign probe;
         memset(&probe, 0, sizeof probe);
         gr_error perr = {0};
-        if (parse_text(&probe, gr_embedded_files[i].text, strlen(gr_embedded_files[i].text), n, &perr)) {
-            return GR_FAIL(err, GR_EINVAL, "%s", perr.message); /* a broken built-in campaign is a bug: say so */
+        if (parse_text(&probe, gr_embedded_files[i].text, strlen(gr_embedded_files[i].text), n,
+                       &perr)) {
+            return GR_FAIL(err, GR_EINVAL, "%s",
+                           perr.message); /* a broken built-in campaign is a bug: say so */
         }
         if (!strcmp(own, name) || covers(probe.covers, name)) {
             *c = probe;
@@ -609,14 +691,16 @@ int gr_campaign_load(gr_campaign *c, const char *name, gr_error *err)
             return GR_OK;
         }
     }
-    return GR_FAIL(err, GR_EINVAL, "no campaign or figure named '%s' (granule reproduce --list)", name);
+    return GR_FAIL(err, GR_EINVAL, "no campaign or figure named '%s' (granule reproduce --list)",
+                   name);
 }
 
 int gr_campaign_names(const char **names, int max)
 {
     int n = 0;
     for (int i = 0; i < gr_embedded_count && n < max; i++) {
-        if (!strncmp(gr_embedded_files[i].name, "campaigns/", 10) && strstr(gr_embedded_files[i].name, ".ini")) {
+        if (!strncmp(gr_embedded_files[i].name, "campaigns/", 10) &&
+            strstr(gr_embedded_files[i].name, ".ini")) {
             names[n++] = gr_embedded_files[i].name;
         }
     }
@@ -650,8 +734,8 @@ long gr_campaign_points(const gr_campaign *c, gr_fidelity fid)
     return vary ? points : 0;
 }
 
-int gr_campaign_materialise(const gr_campaign *c, gr_fidelity fid, const char *dir, char *sweep_path, size_t len,
-                            gr_error *err)
+int gr_campaign_materialise(const gr_campaign *c, gr_fidelity fid, const char *dir,
+                            char *sweep_path, size_t len, gr_error *err)
 {
     int rc = gr_output_dir_prepare(dir, GR_OUTPUT_ANY, true, err);
     if (rc) {
@@ -680,9 +764,11 @@ int gr_campaign_materialise(const gr_campaign *c, gr_fidelity fid, const char *d
             if (strcmp(l->section, order[s])) {
                 continue;
             }
-            bool overridden = false; /* a [set.F] line overrides the same key's [set] line before it */
+            bool overridden =
+                false; /* a [set.F] line overrides the same key's [set] line before it */
             for (int j = i + 1; j < c->n_lines[fid] && s == 2; j++) {
-                overridden |= !strcmp(c->lines[fid][j].section, "set") && !strcmp(c->lines[fid][j].key, l->key);
+                overridden |= !strcmp(c->lines[fid][j].section, "set") &&
+                              !strcmp(c->lines[fid][j].key, l->key);
             }
             if (overridden) {
                 continue;
@@ -698,7 +784,8 @@ int gr_campaign_materialise(const gr_campaign *c, gr_fidelity fid, const char *d
                     fprintf(f.f, "\n%s =", l->key);
                     col = (int)strlen(l->key) + 2;
                 }
-                fprintf(f.f, " %.*s%s", (int)n, v, v[n + (v[n] != 0) + strspn(v + n + (v[n] != 0), " \t")] ? "," : "");
+                fprintf(f.f, " %.*s%s", (int)n, v,
+                        v[n + (v[n] != 0) + strspn(v + n + (v[n] != 0), " \t")] ? "," : "");
                 col += (int)n + 2;
                 v += n + (v[n] != 0);
                 v += strspn(v, " \t");

@@ -26,7 +26,8 @@ int campaign_points_read(const char *dir, campaign_points *pts, gr_error *err)
     int cap = 0;
     struct dirent *e;
     while ((e = readdir(d))) {
-        if (e->d_name[0] != 'p' || strspn(e->d_name + 1, "0123456789") != strlen(e->d_name + 1) || !e->d_name[1]) {
+        if (e->d_name[0] != 'p' || strspn(e->d_name + 1, "0123456789") != strlen(e->d_name + 1) ||
+            !e->d_name[1]) {
             continue;
         }
         campaign_point pt = {0};
@@ -74,7 +75,8 @@ void campaign_points_free(campaign_points *pts)
 
 const char *campaign_point_key(const campaign_point *p, const char *key)
 {
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItem(p->manifest, "keys"), key);
+    const cJSON *v =
+        cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItem(p->manifest, "keys"), key);
     return cJSON_IsString(v) ? v->valuestring : "";
 }
 
@@ -129,7 +131,8 @@ static double half_last_digit(const char *text)
 {
     const char *dot = strchr(text, '.');
     size_t mantissa = strcspn(text, "eE");
-    int decimals = dot && (size_t)(dot - text) < mantissa ? (int)(mantissa - (size_t)(dot - text) - 1) : 0;
+    int decimals =
+        dot && (size_t)(dot - text) < mantissa ? (int)(mantissa - (size_t)(dot - text) - 1) : 0;
     int exponent = mantissa < strlen(text) ? atoi(text + mantissa + 1) : 0;
     return 0.5 * pow(10.0, exponent - decimals);
 }
@@ -141,7 +144,8 @@ static void compare(campaign_row *row)
     const double v = row->value, t = row->thesis, slack = 2.0 * row->error;
     row->z = NAN;
     row->agrees = -1;
-    if (!isfinite(v) || !(row->error >= 0.0)) { /* without an error of ours (one run) nothing is judged */
+    if (!isfinite(v) ||
+        !(row->error >= 0.0)) { /* without an error of ours (one run) nothing is judged */
         return;
     }
     if (!strcmp(row->comparison, "z")) {

@@ -28,18 +28,19 @@ void campaign_points_free(campaign_points *pts);
 const char *campaign_point_key(const campaign_point *p, const char *key);
 
 /* Keep every point's manifest, summary and curve series in RESULTS/points (campaign_archive.c). */
-int campaign_archive(const gr_campaign *c, const campaign_points *pts, const char *results, gr_error *err);
+int campaign_archive(const gr_campaign *c, const campaign_points *pts, const char *results,
+                     gr_error *err);
 /* v to the 6 significant digits the archive keeps a series at: an analysis that rounds its run's
  * series with it gives the same numbers on archived points (%.6g round trips). */
 double campaign_archive_digits(double v);
 
 /* One row of results.csv: a number of ours beside the thesis's. */
 typedef struct campaign_row {
-    char group[160];   /* the varied values it belongs to, e.g. "model.eps_n=0.1" */
-    int m;             /* moment order, 0 if none */
+    char group[160]; /* the varied values it belongs to, e.g. "model.eps_n=0.1" */
+    int m;           /* moment order, 0 if none */
     double value, error;
     double error_fit, error_seeds; /* the two estimates behind `error` (NAN if not applicable) */
-    int n_seeds, n_x;  /* seeds averaged; abscissa points in a fit */
+    int n_seeds, n_x;              /* seeds averaged; abscissa points in a fit */
     double chi2_red, x_lo, x_hi;
     double thesis, thesis_error; /* NAN if the thesis gives none */
     char thesis_note[128];
@@ -48,13 +49,13 @@ typedef struct campaign_row {
      * "about", "range" (thesis .. thesis_hi), "model" (a model's value, not a measurement),
      * "construction" (equal by construction: not a result); "" when there is no thesis value. */
     char comparison[16];
-    double thesis_hi;  /* range: the upper end */
-    double tolerance;  /* stated, about, model: how far ours may lie from the thesis's value */
-    int agrees;        /* 1 or 0 for the kinds without a z, -1 where it does not apply */
-    double z;          /* kind "z" only: (ours - thesis) / sqrt(error^2 + thesis_error^2) */
+    double thesis_hi; /* range: the upper end */
+    double tolerance; /* stated, about, model: how far ours may lie from the thesis's value */
+    int agrees;       /* 1 or 0 for the kinds without a z, -1 where it does not apply */
+    double z;         /* kind "z" only: (ours - thesis) / sqrt(error^2 + thesis_error^2) */
     double sim_seconds, cpu_seconds;
-    int unconverged;   /* runs whose own (block-averaging) error of T had not converged */
-    char hashes[160];  /* scene hashes of the points used (first few) */
+    int unconverged;  /* runs whose own (block-averaging) error of T had not converged */
+    char hashes[160]; /* scene hashes of the points used (first few) */
 } campaign_row;
 
 typedef struct campaign_rows {
@@ -72,20 +73,20 @@ void campaign_rows_free(campaign_rows *rows);
 
 /* The analyses (campaign_analyse.c): rows from points, the data behind the figure into `data`
  * (a CSV with a header line) and the gnuplot body of the figure into `plot`. */
-int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                  FILE *data, gr_error *err);
-int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                       FILE *data, gr_error *err);
-int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                     FILE *data, gr_error *err);
-int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                  FILE *data, gr_error *err);
+int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
+                  campaign_rows *rows, FILE *data, gr_error *err);
+int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,
+                       const campaign_points *pts, campaign_rows *rows, FILE *data, gr_error *err);
+int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
+                     campaign_rows *rows, FILE *data, gr_error *err);
+int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
+                  campaign_rows *rows, FILE *data, gr_error *err);
 /* CASCADE (Fig. 6.3): also writes RESULTS/ID_positions.csv (campaign_cascade.c). */
-int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                     const char *results, FILE *data, gr_error *err);
+int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
+                     campaign_rows *rows, const char *results, FILE *data, gr_error *err);
 /* SPM (Figs. 5.12-5.13, campaign_spm.c): also writes RESULTS/ID_tail.dat and draws ID_data.png. */
-int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                 const char *results, FILE *data, gr_error *err);
+int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
+                 campaign_rows *rows, const char *results, FILE *data, gr_error *err);
 /* Is y one of GR_CAMPAIGN_SPM_QUANTITIES? */
 bool campaign_spm_quantity_known(const char *y);
 /* The run tables the SPM kind reads, as CURVE results (which = 0: pv.csv's P(v); 1: freepath.csv's
@@ -94,8 +95,8 @@ void campaign_spm_series(int which, gr_campaign_result *out);
 /* SPM_COMPARE (Fig. 5.10, campaign_spm_compare.c): per run the full SPM from its free paths against
  * its snapshots' P(v) (gr_spm_full_*, walks by fidelity), kept as RUN/spm_compare.csv; writes
  * RESULTS/ID_pv.dat and draws ID_data.png. */
-int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts, campaign_rows *rows,
-                         const char *results, FILE *data, gr_error *err);
+int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts,
+                         campaign_rows *rows, const char *results, FILE *data, gr_error *err);
 bool campaign_spm_compare_quantity_known(const char *y);
 /* The two series it reads from spm_compare.csv as CURVE results (which = 0: the SPM's P(v); 1: the
  * run's), so that the archive keeps them. */
@@ -103,18 +104,19 @@ void campaign_spm_compare_series(int which, gr_campaign_result *out);
 /* SPM_CIRCLE (Fig. 5.11, campaign_spm_circle.c): Q(v,l) of walks in discs of fixed radius with the
  * runs' M and D, the Gaussian tail of 5.12 per radius and pooled; writes RESULTS/ID_q.dat and draws
  * ID_data.png. */
-int campaign_spm_circle(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts, campaign_rows *rows,
-                        const char *results, FILE *data, gr_error *err);
+int campaign_spm_circle(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts,
+                        campaign_rows *rows, const char *results, FILE *data, gr_error *err);
 bool campaign_spm_circle_quantity_known(const char *y);
 /* CASCADE_FIELD (Table 6.2, campaign_cascade_field.c): D_f of every cascade variant's own S(k). */
-int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaign_rows *rows, const char *results, FILE *data,
-                           gr_error *err);
-int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                   FILE *data, gr_error *err);
+int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaign_rows *rows,
+                           const char *results, FILE *data, gr_error *err);
+int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
+                   campaign_rows *rows, FILE *data, gr_error *err);
 /* A CURVE result's series of one run (from its table, or from the archive's series.json): x, y, e
  * (at most 4096 rows each), rows with a finite y only, at the archive's 6 digits either way (a
  * restored point gives what the live run gave); returns the number of rows. */
-int campaign_curve_series(const campaign_point *p, const gr_campaign_result *r, double *x, double *y, double *e);
+int campaign_curve_series(const campaign_point *p, const gr_campaign_result *r, double *x,
+                          double *y, double *e);
 /* The name a CURVE result's series is archived under (results sharing table and columns share it). */
 void campaign_curve_key(const gr_campaign_result *r, char *out, size_t len);
 /* The bisection collapse (thesis 3.39-3.40) of G(x) in place: x -> -ln x, G -> A_N G^(1/(n-1)) with
@@ -135,9 +137,11 @@ void campaign_draw(const char *dir, const char *id, const char *suffix, const ch
 #define MAX_GROUPS 256
 #define MAX_SEEDS 64
 /* "k=v, k=v" of a point's varied keys (sections dropped): those in `only` (all if NULL), minus `except`. */
-void campaign_group_of(const campaign_point *p, const char *only, const char *except, char *out, size_t len);
+void campaign_group_of(const campaign_point *p, const char *only, const char *except, char *out,
+                       size_t len);
 /* The distinct groups of the points in order of first appearance; returns how many. */
-int campaign_groups(const campaign_points *pts, const char *only, const char *except, char g[][160]);
+int campaign_groups(const campaign_points *pts, const char *only, const char *except,
+                    char g[][160]);
 /* Mean and standard error of the mean (NAN with fewer than 2 values). */
 void campaign_mean_sd(const double *v, int n, double *mean, double *se);
 /* The error a row reports: the seeds' when there are 3 or more, else the larger estimate. */
@@ -147,7 +151,8 @@ void campaign_add_cost(campaign_row *row, const campaign_point *p);
 int campaign_seed_of(const campaign_point *p);
 /* The points of a group of all varied keys (as campaign_groups(pts, NULL, NULL, ...) names it);
  * returns how many (at most max). */
-int campaign_members(const campaign_points *pts, const char *group, const campaign_point **members, int max);
+int campaign_members(const campaign_points *pts, const char *group, const campaign_point **members,
+                     int max);
 /* A new row for a group. */
 campaign_row *campaign_group_row(campaign_rows *rows, const char *group);
 
@@ -156,7 +161,8 @@ int campaign_name_index(const char *const *names, int n, const char *y);
 /* A row from the runs' values v[0..n) of a group: their mean, the seeds' standard error, the runs'
  * own errors combined (sqrt(err2_sum) / n when all n_err == n runs had one, else NAN), the headline
  * error, n_seeds and the thesis columns. */
-void campaign_row_of_runs(const gr_campaign_result *r, campaign_row *row, const double *v, int n, double err2_sum, int n_err);
+void campaign_row_of_runs(const gr_campaign_result *r, campaign_row *row, const double *v, int n,
+                          double err2_sum, int n_err);
 
 /* Fill thesis, thesis_error and z of a row from the result's thesis list. */
 void campaign_row_thesis(const gr_campaign_result *r, campaign_row *row);

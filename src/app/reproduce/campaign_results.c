@@ -16,17 +16,17 @@
 
 static const char *kind_name(gr_result_kind k)
 {
-    return k == GR_RESULT_MEAN        ? "mean"
-           : k == GR_RESULT_POWER_LAW ? "power_law"
-           : k == GR_RESULT_RUNNING   ? "running_mean"
-           : k == GR_RESULT_CURVE     ? "curve"
-           : k == GR_RESULT_CASCADE   ? "cascade"
-           : k == GR_RESULT_SPM       ? "spm"
-           : k == GR_RESULT_SPM_COMPARE ? "spm_compare"
-           : k == GR_RESULT_SPM_CIRCLE ? "spm_circle"
+    return k == GR_RESULT_MEAN            ? "mean"
+           : k == GR_RESULT_POWER_LAW     ? "power_law"
+           : k == GR_RESULT_RUNNING       ? "running_mean"
+           : k == GR_RESULT_CURVE         ? "curve"
+           : k == GR_RESULT_CASCADE       ? "cascade"
+           : k == GR_RESULT_SPM           ? "spm"
+           : k == GR_RESULT_SPM_COMPARE   ? "spm_compare"
+           : k == GR_RESULT_SPM_CIRCLE    ? "spm_circle"
            : k == GR_RESULT_CASCADE_FIELD ? "cascade_field"
-           : k == GR_RESULT_SETTLE    ? "settle_time"
-                                      : "rise_time";
+           : k == GR_RESULT_SETTLE        ? "settle_time"
+                                          : "rise_time";
 }
 
 static void add_num(cJSON *o, const char *name, double v)
@@ -97,7 +97,8 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
     }
     for (int i = 1; i < rows->n && numeric; i++) { /* insertion sort: stable, m stays in order */
         const int k = order[i];
-        const double xk = atof(strchr(rows->r[k].group, '=') ? strchr(rows->r[k].group, '=') + 1 : rows->r[k].group);
+        const double xk = atof(strchr(rows->r[k].group, '=') ? strchr(rows->r[k].group, '=') + 1
+                                                             : rows->r[k].group);
         int j = i;
         while (j > 0) {
             const campaign_row *p = &rows->r[order[j - 1]];
@@ -124,7 +125,9 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
         /* a thesis range is drawn as its middle +- half its width */
         const bool range = !strcmp(w->comparison, "range");
         const double tv = range ? 0.5 * (w->thesis + w->thesis_hi) : w->thesis;
-        const double te = range ? 0.5 * (w->thesis_hi - w->thesis) : isfinite(w->thesis_error) ? w->thesis_error : 0.0;
+        const double te = range                       ? 0.5 * (w->thesis_hi - w->thesis)
+                          : isfinite(w->thesis_error) ? w->thesis_error
+                                                      : 0.0;
         fprintf(f.f, "%d \"%s\" %.6g %.6g %.6g %.6g\n", i, label, w->value, w->error, tv, te);
     }
     free(order);
@@ -143,30 +146,38 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
         return;
     }
     /* many rows (Table 5.1's 45): vertical, smaller tick labels */
-    const char *tics = rows->n > 12 ? "set xtics rotate by 90 right font ',11' noenhanced" : "set xtics rotate by -40 noenhanced";
+    const char *tics = rows->n > 12 ? "set xtics rotate by 90 right font ',11' noenhanced"
+                                    : "set xtics rotate by -40 noenhanced";
     char body[2048];
-    snprintf(body, sizeof body,
-             "set datafile separator whitespace\nset title \"%s\" noenhanced\nset ylabel '%s%s%s' noenhanced\n%s\n"
-             "set xlabel '%s' noenhanced\nset key top left\nset offsets 0.5, 0.5, graph 0.06, graph 0.06\nset grid ytics lc rgb '#dddddd'\n"
-             "plot '%s' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'%s\n",
-             r->title, r->quantity, r->unit[0] ? " / " : "", r->unit, tics, axis, name,
-             thesis ? ", '' using ($1+0.15):5:6 with yerrorbars pt 6 ps 1.2 lc rgb '#c0392b' title 'thesis'" : "");
+    snprintf(
+        body, sizeof body,
+        "set datafile separator whitespace\nset title \"%s\" noenhanced\nset ylabel '%s%s%s' "
+        "noenhanced\n%s\n"
+        "set xlabel '%s' noenhanced\nset key top left\nset offsets 0.5, 0.5, graph 0.06, graph "
+        "0.06\nset grid ytics lc rgb '#dddddd'\n"
+        "plot '%s' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title "
+        "'granule'%s\n",
+        r->title, r->quantity, r->unit[0] ? " / " : "", r->unit, tics, axis, name,
+        thesis
+            ? ", '' using ($1+0.15):5:6 with yerrorbars pt 6 ps 1.2 lc rgb '#c0392b' title 'thesis'"
+            : "");
     campaign_draw(dir, r->id, "", body);
 }
 
 /* One block of ID_thesis.dat: the thesis's law y ~ x^-xi over [x_lo, x_hi] through (x_hi, y_hi)
  * for the block (group, m), or "nan nan" where the thesis gives no single exponent. Returns
  * whether a line was drawn. */
-static bool thesis_line(FILE *f, const gr_campaign_result *r, const char *group, int m, const char *title, bool after,
-                        double x_lo, double x_hi, double y_hi)
+static bool thesis_line(FILE *f, const gr_campaign_result *r, const char *group, int m,
+                        const char *title, bool after, double x_lo, double x_hi, double y_hi)
 {
     campaign_rows one = {0};
     campaign_row *w = campaign_rows_add(&one);
     snprintf(w->group, sizeof w->group, "%s", group);
     w->m = m;
     campaign_row_thesis(r, w);
-    const bool drawn = isfinite(w->thesis) && strcmp(w->comparison, "range") && strcmp(w->comparison, "construction") &&
-                       isfinite(x_lo) && x_hi > x_lo && y_hi > 0.0;
+    const bool drawn = isfinite(w->thesis) && strcmp(w->comparison, "range") &&
+                       strcmp(w->comparison, "construction") && isfinite(x_lo) && x_hi > x_lo &&
+                       y_hi > 0.0;
     const double xi = w->thesis * (r->per_m && m ? m : 1);
     campaign_rows_free(&one);
     fprintf(f, "%s\"%s\"\n", after ? "\n\n" : "", title);
@@ -223,7 +234,8 @@ static int power_law_blocks(const char *dir, const gr_campaign_result *r, bool *
         snprintf(key, sizeof key, "%.*s%s%.0d", (int)(q - line - 1), line + 1, m ? " m=" : "", m);
         if (strcmp(key, prev)) {
             if (want_thesis && blocks) {
-                *thesis_lines |= thesis_line(t.f, r, prev_group, prev_m, prev, blocks > 1, x_lo, x_hi, y_hi);
+                *thesis_lines |=
+                    thesis_line(t.f, r, prev_group, prev_m, prev, blocks > 1, x_lo, x_hi, y_hi);
             }
             fprintf(f.f, "%s\"%s\"\n", blocks ? "\n\n" : "", key);
             snprintf(prev, sizeof prev, "%s", key);
@@ -242,7 +254,8 @@ static int power_law_blocks(const char *dir, const gr_campaign_result *r, bool *
         fprintf(f.f, "%.9g %.9g %.9g %d\n", x, y, isfinite(e) ? e : 0.0, in_fit);
     }
     if (want_thesis && blocks) {
-        *thesis_lines |= thesis_line(t.f, r, prev_group, prev_m, prev, blocks > 1, x_lo, x_hi, y_hi);
+        *thesis_lines |=
+            thesis_line(t.f, r, prev_group, prev_m, prev, blocks > 1, x_lo, x_hi, y_hi);
     }
     fclose(in);
     if (want_thesis && gr_file_commit(&t, &err)) {
@@ -257,8 +270,10 @@ static void axis_labels(const gr_campaign_result *r, char *x, size_t xl, char *y
 {
     const char *dot = strchr(r->x, '.');
     const char *unit = gr_scene_key_unit(r->x);
-    snprintf(x, xl, "%s%s%s%s", dot ? dot + 1 : r->x, unit && unit[0] && strcmp(unit, "1") ? " (" : "",
-             unit && unit[0] && strcmp(unit, "1") ? unit : "", unit && unit[0] && strcmp(unit, "1") ? ")" : "");
+    snprintf(x, xl, "%s%s%s%s", dot ? dot + 1 : r->x,
+             unit && unit[0] && strcmp(unit, "1") ? " (" : "",
+             unit && unit[0] && strcmp(unit, "1") ? unit : "",
+             unit && unit[0] && strcmp(unit, "1") ? ")" : "");
     if (strstr(r->y, "moments.speed.m")) {
         snprintf(y, yl, "%s", strstr(r->y, "{m}") ? "<|v|^m> ((m/s)^m)" : "<v^2> (m^2/s^2)");
     } else if (strstr(r->y, "gaps.moments.")) {
@@ -280,17 +295,23 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
         }
         char window[64], thesis[256] = "", xlab[96], ylab[96];
         axis_labels(r, xlab, sizeof xlab, ylab, sizeof ylab);
-        snprintf(window, sizeof window, isfinite(r->x_max) ? "%g-%g" : "from %g", r->x_min, r->x_max);
+        snprintf(window, sizeof window, isfinite(r->x_max) ? "%g-%g" : "from %g", r->x_min,
+                 r->x_max);
         if (thesis_lines) { /* the thesis's exponent drawn through each fit's largest point */
-            snprintf(thesis, sizeof thesis, ", for [i=0:%d] '%s_thesis.dat' index i using 1:2 with lines dt 2 lw 2 lc i+1 "
-                                            "title (i == 0 ? 'thesis exponent (dashed)' : '')",
+            snprintf(thesis, sizeof thesis,
+                     ", for [i=0:%d] '%s_thesis.dat' index i using 1:2 with lines dt 2 lw 2 lc i+1 "
+                     "title (i == 0 ? 'thesis exponent (dashed)' : '')",
                      blocks - 1, r->id);
         }
         snprintf(body, sizeof body,
-                 "set datafile separator whitespace\nset logscale xy\nset key outside right noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
-                 "set title \"%s: the points of every fit (open: outside the fit window, %s)\" noenhanced\n"
-                 "plot for [i=0:%d] '%s_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 lc i+1 title columnheader(1), "
-                 "for [i=0:%d] '' index i using 1:($4 > 0 ? 1/0 : $2) with points pt 6 lc i+1 notitle%s\n",
+                 "set datafile separator whitespace\nset logscale xy\nset key outside right "
+                 "noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
+                 "set title \"%s: the points of every fit (open: outside the fit window, %s)\" "
+                 "noenhanced\n"
+                 "plot for [i=0:%d] '%s_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 with "
+                 "yerrorbars pt 7 lc i+1 title columnheader(1), "
+                 "for [i=0:%d] '' index i using 1:($4 > 0 ? 1/0 : $2) with points pt 6 lc i+1 "
+                 "notitle%s\n",
                  xlab, ylab, r->id, window, blocks - 1, r->id, blocks - 1, thesis);
     } else if (r->kind == GR_RESULT_CURVE) {
         bool unused;
@@ -299,38 +320,53 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
             return;
         }
         const bool map = r->transform[0] != 0;
-        const char *axes = !strcmp(r->axes, "linear") ? "" : !strcmp(r->axes, "linlog") ? "set logscale y\nset format y '10^{%L}'\n"
-                                                                                         : "set logscale xy\nset format y '10^{%L}'\n";
-        snprintf(body, sizeof body,
-                 "set datafile separator whitespace\n%sset format x '%%g'\n"
-                 "set key %s noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
-                 "set title \"%s\" noenhanced\n"
-                 "plot for [i=0:%d] '%s_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i+1 title columnheader(1)%s\n",
-                 axes, map ? "inside top left" : "outside right", map ? "-ln R" : r->x, map ? "A_N G^{1/(n-1)}  (3.39)" : r->quantity, r->title, blocks - 1, r->id,
-                 map ? ", x with lines dt 2 lw 2 lc rgb 'black' title 'uniform bisection (3.36): -ln R'" : "");
+        const char *axes = !strcmp(r->axes, "linear") ? ""
+                           : !strcmp(r->axes, "linlog")
+                               ? "set logscale y\nset format y '10^{%L}'\n"
+                               : "set logscale xy\nset format y '10^{%L}'\n";
+        snprintf(
+            body, sizeof body,
+            "set datafile separator whitespace\n%sset format x '%%g'\n"
+            "set key %s noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
+            "set title \"%s\" noenhanced\n"
+            "plot for [i=0:%d] '%s_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc "
+            "i+1 title columnheader(1)%s\n",
+            axes, map ? "inside top left" : "outside right", map ? "-ln R" : r->x,
+            map ? "A_N G^{1/(n-1)}  (3.39)" : r->quantity, r->title, blocks - 1, r->id,
+            map ? ", x with lines dt 2 lw 2 lc rgb 'black' title 'uniform bisection (3.36): -ln R'"
+                : "");
     } else if (r->kind == GR_RESULT_RUNNING) {
         snprintf(body, sizeof body,
-                 "set datafile separator ','\nset key outside right\nset xlabel 'sampling time t (s)'\nset ylabel 'T (m^2/s^2)'\n"
-                 "set title 'Means over %g s (points) and the running average (lines), every seed' noenhanced\n"
-                 "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.6 lc rgb '#1f5fbf' title 'period means', "
+                 "set datafile separator ','\nset key outside right\nset xlabel 'sampling time t "
+                 "(s)'\nset ylabel 'T (m^2/s^2)'\n"
+                 "set title 'Means over %g s (points) and the running average (lines), every seed' "
+                 "noenhanced\n"
+                 "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.6 lc rgb '#1f5fbf' "
+                 "title 'period means', "
                  "'' skip 1 using 3:5 with lines lw 2 lc rgb '#c0392b' title 'running average'\n",
                  r->period, r->id);
     } else if (r->kind == GR_RESULT_CASCADE) {
         snprintf(body, sizeof body,
-                 "set datafile separator ','\nset size ratio -1\nunset key\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n"
-                 "set multiplot layout 1,2 title 'The same system: a snapshot of the RFM (left) and discs placed from a "
+                 "set datafile separator ','\nset size ratio -1\nunset key\nset xlabel 'x "
+                 "(m)'\nset ylabel 'y (m)'\n"
+                 "set multiplot layout 1,2 title 'The same system: a snapshot of the RFM (left) "
+                 "and discs placed from a "
                  "multiplicative cascade (right)' noenhanced\n"
-                 "plot '%s_positions.csv' skip 1 using 2:(strcol(1) eq 'rfm' ? $3 : 1/0) with points pt 7 ps 0.5 lc rgb '#1f5fbf'\n"
-                 "plot '%s_positions.csv' skip 1 using 2:(strcol(1) eq 'cascade' ? $3 : 1/0) with points pt 7 ps 0.5 lc rgb '#c0392b'\n"
+                 "plot '%s_positions.csv' skip 1 using 2:(strcol(1) eq 'rfm' ? $3 : 1/0) with "
+                 "points pt 7 ps 0.5 lc rgb '#1f5fbf'\n"
+                 "plot '%s_positions.csv' skip 1 using 2:(strcol(1) eq 'cascade' ? $3 : 1/0) with "
+                 "points pt 7 ps 0.5 lc rgb '#c0392b'\n"
                  "unset multiplot\n",
                  r->id, r->id);
     } else if (r->kind == GR_RESULT_RISE || r->kind == GR_RESULT_SETTLE) {
-        snprintf(body, sizeof body,
-                 "set key outside right\nset xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\n"
-                 "set title 'T(t) from the start of every run (lines: its steady value)' noenhanced\n"
-                 "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.3 lc rgb '#1f5fbf' title 'T(t)', "
-                 "'' skip 1 using 3:5 with lines lw 2 lc rgb '#c0392b' title 'steady T (second half)'\n",
-                 r->id);
+        snprintf(
+            body, sizeof body,
+            "set key outside right\nset xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\n"
+            "set title 'T(t) from the start of every run (lines: its steady value)' noenhanced\n"
+            "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.3 lc rgb '#1f5fbf' title "
+            "'T(t)', "
+            "'' skip 1 using 3:5 with lines lw 2 lc rgb '#c0392b' title 'steady T (second half)'\n",
+            r->id);
     } else {
         return;
     }
@@ -374,9 +410,11 @@ static void row_json(cJSON *arr, const campaign_row *w)
     cJSON_AddItemToArray(arr, o);
 }
 
-static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r, const campaign_row *w)
+static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r,
+                    const campaign_row *w)
 {
-    fprintf(f, "%s,%s,%s,\"%s\",\"%s\",%d", c->name, r->id, r->quantity, r->unit[0] ? r->unit : "1", w->group, w->m);
+    fprintf(f, "%s,%s,%s,\"%s\",\"%s\",%d", c->name, r->id, r->quantity, r->unit[0] ? r->unit : "1",
+            w->group, w->m);
     csv_num(f, w->value);
     csv_num(f, w->error);
     csv_num(f, w->error_fit);
@@ -398,8 +436,9 @@ static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r, 
     fprintf(f, ",%d,%s,%s\n", w->unconverged, w->hashes, GR_COMMIT);
 }
 
-static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_result *r, const campaign_points *pts,
-                       const char *results, campaign_rows *rows, gr_error *err)
+static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_result *r,
+                       const campaign_points *pts, const char *results, campaign_rows *rows,
+                       gr_error *err)
 {
     char name[80];
     snprintf(name, sizeof name, "%s_data.csv", r->id);
@@ -414,10 +453,13 @@ static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_
          : r->kind == GR_RESULT_CURVE     ? campaign_curve(c, r, pts, rows, data.f, err)
          : r->kind == GR_RESULT_CASCADE   ? campaign_cascade(c, r, pts, rows, results, data.f, err)
          : r->kind == GR_RESULT_SPM       ? campaign_spm(c, r, pts, rows, results, data.f, err)
-         : r->kind == GR_RESULT_SPM_COMPARE ? campaign_spm_compare(r, fid, pts, rows, results, data.f, err)
-         : r->kind == GR_RESULT_SPM_CIRCLE ? campaign_spm_circle(r, fid, pts, rows, results, data.f, err)
-         : r->kind == GR_RESULT_CASCADE_FIELD ? campaign_cascade_field(r, fid, rows, results, data.f, err)
-                                          : campaign_rise(c, r, pts, rows, data.f, err);
+         : r->kind == GR_RESULT_SPM_COMPARE
+             ? campaign_spm_compare(r, fid, pts, rows, results, data.f, err)
+         : r->kind == GR_RESULT_SPM_CIRCLE
+             ? campaign_spm_circle(r, fid, pts, rows, results, data.f, err)
+         : r->kind == GR_RESULT_CASCADE_FIELD
+             ? campaign_cascade_field(r, fid, rows, results, data.f, err)
+             : campaign_rise(c, r, pts, rows, data.f, err);
     if (rc) {
         gr_file_abandon(&data);
         return rc;
@@ -425,8 +467,8 @@ static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_
     return gr_file_commit(&data, err);
 }
 
-static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results, long *finished,
-                       gr_error *err)
+static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results,
+                       long *finished, gr_error *err)
 {
     campaign_points pts;
     int rc = campaign_points_read(dir, &pts, err);
@@ -486,9 +528,11 @@ static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, c
         const double de_runs = nvar == nd ? sqrt(run_var) / nd : (double)NAN;
         const double de = campaign_headline_error(de_seeds, de_runs, nd);
         cJSON *w = cJSON_AddObjectToObject(j, "warmup_check");
-        cJSON_AddStringToObject(w, "what", "mean over runs of <T>(first quarter of sampling) / <T>(rest) - 1; error: the "
-                                           "seeds' scatter (3 runs or more), else the larger of it and the runs' own "
-                                           "error from 8 blocks of each run's sampling");
+        cJSON_AddStringToObject(
+            w, "what",
+            "mean over runs of <T>(first quarter of sampling) / <T>(rest) - 1; error: the "
+            "seeds' scatter (3 runs or more), else the larger of it and the runs' own "
+            "error from 8 blocks of each run's sampling");
         cJSON_AddNumberToObject(w, "runs", nd);
         add_num(w, "drift", dm);
         add_num(w, "drift_error", de);
@@ -518,11 +562,16 @@ static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, c
     }
     /* units in results.meta.json: a row's value, errors and thesis values are in its result's
      * unit (column unit, "1" for a pure number), the fit window in its abscissa's (x_unit) */
-    gr_file_header(&csv, "campaign [],result [],quantity [],unit [],group [],m [1],value [@unit],error [@unit],"
-                         "error_fit_or_run [@unit],error_seeds [@unit],seeds [1],fit_points [1],chi2_red [1],x_lo [@x_unit],"
-                         "x_hi [@x_unit],x_unit [],thesis [@unit],thesis_error [@unit],comparison [],thesis_high [@unit],"
-                         "agrees [1],z [1],simulated_seconds [s],cpu_seconds [s],runs_not_converged [1],scene_hashes [],"
-                         "commit []");
+    gr_file_header(
+        &csv,
+        "campaign [],result [],quantity [],unit [],group [],m [1],value [@unit],error [@unit],"
+        "error_fit_or_run [@unit],error_seeds [@unit],seeds [1],fit_points [1],chi2_red [1],x_lo "
+        "[@x_unit],"
+        "x_hi [@x_unit],x_unit [],thesis [@unit],thesis_error [@unit],comparison [],thesis_high "
+        "[@unit],"
+        "agrees [1],z [1],simulated_seconds [s],cpu_seconds [s],runs_not_converged "
+        "[1],scene_hashes [],"
+        "commit []");
     for (int i = 0; i < c->n_results && !rc; i++) {
         const gr_campaign_result *r = &c->results[i];
         campaign_rows rows = {0};
@@ -573,8 +622,8 @@ static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, c
     return rc;
 }
 
-int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results, long *finished,
-                        char *notes, size_t notes_len, gr_error *err)
+int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results,
+                        long *finished, char *notes, size_t notes_len, gr_error *err)
 {
     char ignore[1];
     campaign_notes_take(ignore, sizeof ignore); /* start with none */

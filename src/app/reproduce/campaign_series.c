@@ -30,7 +30,8 @@ static int read_series(const campaign_point *p, bool sample_only, double **t_out
         char *fields[8];
         int nfields = 0;
         char *save = NULL;
-        for (char *tok = strtok_r(line, ",\n", &save); tok && nfields < 8; tok = strtok_r(NULL, ",\n", &save)) {
+        for (char *tok = strtok_r(line, ",\n", &save); tok && nfields < 8;
+             tok = strtok_r(NULL, ",\n", &save)) {
             fields[nfields++] = tok;
         }
         if (col_t < 0) {
@@ -45,8 +46,8 @@ static int read_series(const campaign_point *p, bool sample_only, double **t_out
             continue;
         }
         /* "sampling"; "sample" in the folders of versions before issue 38 */
-        if (nfields <= col_phase ||
-            (sample_only && strcmp(fields[col_phase], "sampling") && strcmp(fields[col_phase], "sample"))) {
+        if (nfields <= col_phase || (sample_only && strcmp(fields[col_phase], "sampling") &&
+                                     strcmp(fields[col_phase], "sample"))) {
             continue;
         }
         if (n == cap) {
@@ -63,7 +64,8 @@ static int read_series(const campaign_point *p, bool sample_only, double **t_out
 
 /* Means of T over periods of the sampling phase, appended to data with the running average;
  * returns the number of periods. */
-static int run_periods(const campaign_point *p, double period, const char *group, FILE *data, double *means, int max)
+static int run_periods(const campaign_point *p, double period, const char *group, FILE *data,
+                       double *means, int max)
 {
     double *t, *T;
     int ns = read_series(p, true, &t, &T), n = 0, count = 0;
@@ -78,7 +80,8 @@ static int run_periods(const campaign_point *p, double period, const char *group
         const double elapsed = t[i] - t[0] + dt_sample;
         if (elapsed >= period * (n + 1) - 1e-6 * period && n < max) {
             means[n] = sum / count;
-            fprintf(data, "\"%s\",%d,%.6g,%.9g,%.9g\n", group, campaign_seed_of(p), elapsed, means[n], total / (i + 1));
+            fprintf(data, "\"%s\",%d,%.6g,%.9g,%.9g\n", group, campaign_seed_of(p), elapsed,
+                    means[n], total / (i + 1));
             n++;
             sum = 0.0;
             count = 0;
@@ -90,8 +93,8 @@ static int run_periods(const campaign_point *p, double period, const char *group
     return n;
 }
 
-int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                     FILE *data, gr_error *err)
+int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
+                     campaign_rows *rows, FILE *data, gr_error *err)
 {
     (void)c;
     (void)err;
@@ -106,7 +109,8 @@ int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const ca
         int nm = campaign_members(pts, g[gi], mem, MAX_SEEDS);
         for (int i = 0; i < nm; i++) {
             /* a period of at most a tenth of the sampling, so that short (quick) runs still have ten */
-            double period = fmin(r->period, 0.1 * gr_summary_number(mem[i]->summary, "scene.run.duration"));
+            double period =
+                fmin(r->period, 0.1 * gr_summary_number(mem[i]->summary, "scene.run.duration"));
             double means[1024], m, se;
             int n = run_periods(mem[i], period, g[gi], data, means, 1024);
             if (n == 0) {
@@ -121,7 +125,8 @@ int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const ca
         }
         double m_all;
         campaign_mean_sd(seed_means, n_seed, &row->value, &row->error_seeds);
-        campaign_mean_sd(all, n_all, &m_all, &row->error_fit); /* period means treated as independent */
+        campaign_mean_sd(all, n_all, &m_all,
+                         &row->error_fit); /* period means treated as independent */
         row->error = campaign_headline_error(row->error_seeds, row->error_fit, n_seed);
         row->n_seeds = n_seed;
         row->n_x = n_all;
@@ -138,7 +143,8 @@ int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const ca
  *    the end of the last window of the first half outside that band. From a touching cluster T
  *    overshoots (the cluster's stored spread turns into speed) before it settles, so the two differ.
  * Writes every 10th sample of the first half of T(t) to `data`. */
-static double rise_or_settle_time(const campaign_point *p, const char *group, bool settle, FILE *data)
+static double rise_or_settle_time(const campaign_point *p, const char *group, bool settle,
+                                  FILE *data)
 {
     double *t, *T;
     int n = read_series(p, false, &t, &T);
@@ -192,8 +198,8 @@ static double rise_or_settle_time(const campaign_point *p, const char *group, bo
     return rise;
 }
 
-int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                  FILE *data, gr_error *err)
+int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
+                  campaign_rows *rows, FILE *data, gr_error *err)
 {
     (void)c;
     (void)err;
@@ -251,7 +257,8 @@ double campaign_warmup_drift(const campaign_point *p, double *error)
     if (n >= 64) {
         double s2 = 0.0;
         for (int b = 0; b < 8; b++) {
-            const int lo = (int)(((int64_t)b * n + 7) / 8), hi = (int)(((int64_t)(b + 1) * n + 7) / 8);
+            const int lo = (int)(((int64_t)b * n + 7) / 8),
+                      hi = (int)(((int64_t)(b + 1) * n + 7) / 8);
             const double m = block[b] / (hi - lo);
             s2 += (m - mean) * (m - mean) / 7.0;
         }

@@ -29,10 +29,12 @@
 #define SPM_COUNTS_MIN 50.0
 #define SPM_X_MIN 2.0
 #define SPM_MAX_BINS 4096
-#define SPM_PL_TAIL_MAX 1.0    /* per metre: the thesis fits P_l "where P < 1" (sec. 4.3.3) */
+#define SPM_PL_TAIL_MAX 1.0 /* per metre: the thesis fits P_l "where P < 1" (sec. 4.3.3) */
 #define SPM_PL_COUNTS_MIN 10.0
 
-static const char *const quantities[] = {"D_f", "C", "alpha", "S_predicted", "S", "S_over_predicted", "A0_over_P0", "slope_P0", "slope_A0"};
+static const char *const quantities[] = {"D_f",         "C",        "alpha",
+                                         "S_predicted", "S",        "S_over_predicted",
+                                         "A0_over_P0",  "slope_P0", "slope_A0"};
 enum { Q_DF, Q_C, Q_ALPHA, Q_SPRED, Q_S, Q_SRATIO, Q_A0P0, Q_SLOPE_P0, Q_SLOPE_A0, Q_COUNT };
 
 static int quantity_index(const char *y) { return campaign_name_index(quantities, Q_COUNT, y); }
@@ -53,7 +55,7 @@ void campaign_spm_series(int which, gr_campaign_result *out)
 typedef struct spm_run {
     double q[Q_COUNT], q_err[Q_COUNT];
     double v_rms, C_fit_chi2;
-    int pl_points;            /* the free-path tail fitted, l in m */
+    int pl_points; /* the free-path tail fitted, l in m */
     double pl_lo, pl_hi;
     gr_spm_tail531 t;
     bool have_tail;
@@ -77,7 +79,8 @@ static int pl_tail_si(const campaign_point *pt, double d, double *l, double *p, 
     }
     int m = 0;
     for (int i = mode; i < n; i++) {
-        const double ps = p[i] / d, es = e[i] / d, counts = e[i] > 0.0 ? (p[i] / e[i]) * (p[i] / e[i]) : 0.0;
+        const double ps = p[i] / d, es = e[i] / d,
+                     counts = e[i] > 0.0 ? (p[i] / e[i]) * (p[i] / e[i]) : 0.0;
         if (ps > 0.0 && ps < SPM_PL_TAIL_MAX && counts >= SPM_PL_COUNTS_MIN) {
             l[m] = l[i] * d;
             p[m] = ps;
@@ -88,7 +91,8 @@ static int pl_tail_si(const campaign_point *pt, double d, double *l, double *p, 
 }
 
 /* D_f and C (SI) of 4.25 over that tail: both free, or C at the fixed D_f `df`. */
-static void free_paths(const gr_campaign_result *r, const campaign_point *pt, double d, spm_run *o, double *buf)
+static void free_paths(const gr_campaign_result *r, const campaign_point *pt, double d, spm_run *o,
+                       double *buf)
 {
     double *l = buf, *p = buf + SPM_MAX_BINS, *e = buf + 2 * SPM_MAX_BINS;
     const int m = pl_tail_si(pt, d, l, p, e);
@@ -99,7 +103,8 @@ static void free_paths(const gr_campaign_result *r, const campaign_point *pt, do
     if (r->df > 0.0) {
         o->q[Q_DF] = r->df;
         o->q_err[Q_DF] = 0.0;
-        if (gr_spm_pl_fit_C(l, p, e, m, r->df - 1.0, 0.0, INFINITY, &o->q[Q_C], &o->q_err[Q_C], &o->C_fit_chi2, &ignore) != GR_OK) {
+        if (gr_spm_pl_fit_C(l, p, e, m, r->df - 1.0, 0.0, INFINITY, &o->q[Q_C], &o->q_err[Q_C],
+                            &o->C_fit_chi2, &ignore) != GR_OK) {
             o->q[Q_C] = o->q_err[Q_C] = (double)NAN;
         }
         return;
@@ -118,7 +123,8 @@ static void free_paths(const gr_campaign_result *r, const campaign_point *pt, do
 
 static void spm_run_free(spm_run *o) { free(o->v); }
 
-static void analyse_run(const gr_campaign_result *r, const campaign_point *pt, spm_run *o, double *buf)
+static void analyse_run(const gr_campaign_result *r, const campaign_point *pt, spm_run *o,
+                        double *buf)
 {
     memset(o, 0, sizeof *o);
     for (int i = 0; i < Q_COUNT; i++) {
@@ -137,7 +143,8 @@ static void analyse_run(const gr_campaign_result *r, const campaign_point *pt, s
     gr_spm_prediction pred;
     gr_error ignore = {0};
     if (!(st.mass > 0.0 && st.D > 0.0) || !(o->q[Q_C] > 0.0) ||
-        gr_spm_predict(o->q[Q_DF], gr_spm_B(&st, GR_SPM_THESIS_B_COEF), o->q[Q_C], &pred, &ignore) != GR_OK) {
+        gr_spm_predict(o->q[Q_DF], gr_spm_B(&st, GR_SPM_THESIS_B_COEF), o->q[Q_C], &pred,
+                       &ignore) != GR_OK) {
         return;
     }
     o->q[Q_ALPHA] = pred.alpha;
@@ -158,10 +165,13 @@ static void analyse_run(const gr_campaign_result *r, const campaign_point *pt, s
     o->v_rms = gr_summary_number(s, "analysis.pv.v_rms");
     const double x_lo = r->x_min > 0.0 ? r->x_min : SPM_X_MIN;
     /* tail = exponential: A0 exp(-S |v|), the thesis's "exponential fitted asymptotically" of Fig. 5.13 */
-    const double alpha = r->tail_exponential ? 1.0 : pred.alpha, h = r->tail_exponential ? 0.0 : pred.h;
-    o->have_tail = o->n > 0 && gr_spm_tail531_fit(o->v, o->p, o->e, o->counts, o->n, gr_summary_number(s, "analysis.pv.P0"), o->v_rms,
-                                                  alpha, h, x_lo, r->x_max, SPM_COUNTS_MIN, r->tail_exponential ? 0.0 : pred.S, &o->t,
-                                                  &ignore) == GR_OK;
+    const double alpha = r->tail_exponential ? 1.0 : pred.alpha,
+                 h = r->tail_exponential ? 0.0 : pred.h;
+    o->have_tail =
+        o->n > 0 && gr_spm_tail531_fit(o->v, o->p, o->e, o->counts, o->n,
+                                       gr_summary_number(s, "analysis.pv.P0"), o->v_rms, alpha, h,
+                                       x_lo, r->x_max, SPM_COUNTS_MIN,
+                                       r->tail_exponential ? 0.0 : pred.S, &o->t, &ignore) == GR_OK;
     if (o->have_tail) {
         o->q[Q_S] = o->t.S;
         o->q_err[Q_S] = o->t.S_err;
@@ -182,7 +192,8 @@ static void write_block(FILE *f, const char *group, const spm_run *o, bool first
 {
     const gr_spm_tail531 *t = &o->t;
     fprintf(f, "%s\"%s\"\n", first ? "" : "\n\n", group);
-    fprintf(f, "# v v_over_vrms P P_err in_window P_531_fit P_531_predicted moon_P0 moon_A0 line_P0 line_A0\n");
+    fprintf(f, "# v v_over_vrms P P_err in_window P_531_fit P_531_predicted moon_P0 moon_A0 "
+               "line_P0 line_A0\n");
     for (int i = 0; i < o->n; i++) {
         if (!(o->p[i] > 0.0)) {
             continue;
@@ -190,12 +201,17 @@ static void write_block(FILE *f, const char *group, const spm_run *o, bool first
         const double v = o->v[i], lx = log(v / o->v_rms);
         const bool in = v >= t->v_lo && v <= t->v_hi && o->counts[i] >= SPM_COUNTS_MIN;
         const double r0 = o->p[i] / t->P0, ra = o->p[i] / t->A0;
-        fprintf(f, "%.6g %.6g %.6g %.6g %d %.6g %.6g %.6g %.6g %.6g %.6g\n", v, v / o->v_rms, o->p[i], o->e[i], in,
-                v >= t->v_lo ? exp(gr_spm_tail531_log(t->lnA0, t->h, t->S, t->alpha, v)) : (double)NAN,
-                v >= t->v_lo && isfinite(t->lnA0_at_S_pred) ? exp(gr_spm_tail531_log(t->lnA0_at_S_pred, t->h, o->q[Q_SPRED], t->alpha, v))
-                                                            : (double)NAN,
-                r0 > 0.0 && r0 < 1.0 ? -log(-log(r0)) : (double)NAN, ra > 0.0 && ra < 1.0 ? -log(-log(ra)) : (double)NAN,
-                in ? t->icpt_P0 + t->slope_P0 * lx : (double)NAN, in ? t->icpt_A0 + t->slope_A0 * lx : (double)NAN);
+        fprintf(f, "%.6g %.6g %.6g %.6g %d %.6g %.6g %.6g %.6g %.6g %.6g\n", v, v / o->v_rms,
+                o->p[i], o->e[i], in,
+                v >= t->v_lo ? exp(gr_spm_tail531_log(t->lnA0, t->h, t->S, t->alpha, v))
+                             : (double)NAN,
+                v >= t->v_lo && isfinite(t->lnA0_at_S_pred)
+                    ? exp(gr_spm_tail531_log(t->lnA0_at_S_pred, t->h, o->q[Q_SPRED], t->alpha, v))
+                    : (double)NAN,
+                r0 > 0.0 && r0 < 1.0 ? -log(-log(r0)) : (double)NAN,
+                ra > 0.0 && ra < 1.0 ? -log(-log(ra)) : (double)NAN,
+                in ? t->icpt_P0 + t->slope_P0 * lx : (double)NAN,
+                in ? t->icpt_A0 + t->slope_A0 * lx : (double)NAN);
     }
 }
 
@@ -204,35 +220,44 @@ static void draw(const char *results, const gr_campaign_result *r, int blocks)
     char body[3072];
     const int q = quantity_index(r->y);
     if (q == Q_A0P0 || q == Q_SLOPE_P0 || q == Q_SLOPE_A0) { /* Fig. 5.13 */
-        snprintf(body, sizeof body,
-                 "set datafile separator whitespace\nset datafile missing 'nan'\nset key outside right noenhanced\n"
-                 "set xlabel 'ln(v / v_{rms})'\nset ylabel '-ln(-ln(P / P^{/Symbol \\242}))'\n"
-                 "set title \"%s: P' = P(0) (filled) and A_0 (open), lines fitted over the window\" noenhanced\n"
-                 "plot for [i=0:%d] '%s_tail.dat' index i using (log($2)):8 with points pt 7 ps 0.5 lc i+1 title columnheader(1), "
-                 "for [i=0:%d] '' index i using (log($2)):9 with points pt 6 ps 0.5 lc i+1 notitle, "
-                 "for [i=0:%d] '' index i using (log($2)):10 with lines lw 2 lc i+1 notitle, "
-                 "for [i=0:%d] '' index i using (log($2)):11 with lines lw 2 dt 2 lc i+1 notitle\n",
-                 r->id, blocks - 1, r->id, blocks - 1, blocks - 1, blocks - 1);
+        snprintf(
+            body, sizeof body,
+            "set datafile separator whitespace\nset datafile missing 'nan'\nset key outside right "
+            "noenhanced\n"
+            "set xlabel 'ln(v / v_{rms})'\nset ylabel '-ln(-ln(P / P^{/Symbol \\242}))'\n"
+            "set title \"%s: P' = P(0) (filled) and A_0 (open), lines fitted over the window\" "
+            "noenhanced\n"
+            "plot for [i=0:%d] '%s_tail.dat' index i using (log($2)):8 with points pt 7 ps 0.5 lc "
+            "i+1 title columnheader(1), "
+            "for [i=0:%d] '' index i using (log($2)):9 with points pt 6 ps 0.5 lc i+1 notitle, "
+            "for [i=0:%d] '' index i using (log($2)):10 with lines lw 2 lc i+1 notitle, "
+            "for [i=0:%d] '' index i using (log($2)):11 with lines lw 2 dt 2 lc i+1 notitle\n",
+            r->id, blocks - 1, r->id, blocks - 1, blocks - 1, blocks - 1);
     } else { /* Fig. 5.12 */
-        snprintf(body, sizeof body,
-                 "set datafile separator whitespace\nset datafile missing 'nan'\nset logscale y\nset format y '10^{%%L}'\n"
-                 "set key outside right noenhanced\nset xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\n"
-                 "set title \"%s: the runs' P(v), 5.31 with the predicted S (solid) and fitted (dashed)\" noenhanced\n"
-                 "plot for [i=0:%d] '%s_tail.dat' index i using 1:3 with points pt 7 ps 0.4 lc i+1 title columnheader(1), "
-                 "for [i=0:%d] '' index i using 1:7 with lines lw 2 lc i+1 notitle, "
-                 "for [i=0:%d] '' index i using 1:6 with lines lw 1 dt 2 lc i+1 notitle\n",
-                 r->id, blocks - 1, r->id, blocks - 1, blocks - 1);
+        snprintf(
+            body, sizeof body,
+            "set datafile separator whitespace\nset datafile missing 'nan'\nset logscale y\nset "
+            "format y '10^{%%L}'\n"
+            "set key outside right noenhanced\nset xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\n"
+            "set title \"%s: the runs' P(v), 5.31 with the predicted S (solid) and fitted "
+            "(dashed)\" noenhanced\n"
+            "plot for [i=0:%d] '%s_tail.dat' index i using 1:3 with points pt 7 ps 0.4 lc i+1 "
+            "title columnheader(1), "
+            "for [i=0:%d] '' index i using 1:7 with lines lw 2 lc i+1 notitle, "
+            "for [i=0:%d] '' index i using 1:6 with lines lw 1 dt 2 lc i+1 notitle\n",
+            r->id, blocks - 1, r->id, blocks - 1, blocks - 1);
     }
     campaign_draw(results, r->id, "_data", body);
 }
 
-int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts, campaign_rows *rows,
-                 const char *results, FILE *data, gr_error *err)
+int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
+                 campaign_rows *rows, const char *results, FILE *data, gr_error *err)
 {
     (void)c;
     const int q = quantity_index(r->y);
     if (q < 0) {
-        return GR_FAIL(err, GR_EINVAL, "[result %s] kind = spm: y = %s: allowed %s", r->id, r->y, GR_CAMPAIGN_SPM_QUANTITIES);
+        return GR_FAIL(err, GR_EINVAL, "[result %s] kind = spm: y = %s: allowed %s", r->id, r->y,
+                       GR_CAMPAIGN_SPM_QUANTITIES);
     }
     char path[1200];
     snprintf(path, sizeof path, "%s/%s_tail.dat", results, r->id);
@@ -249,7 +274,8 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
     for (int k = 0; k < Q_COUNT; k++) {
         fprintf(data, ",%s,%s_error", quantities[k], quantities[k]);
     }
-    fprintf(data, ",v_lo,v_hi,fit_points,decades,chi2_red_531,A0,P0,alpha_fit,h_fit,pl_l_lo,pl_l_hi,pl_points,pl_chi2_red\n");
+    fprintf(data, ",v_lo,v_hi,fit_points,decades,chi2_red_531,A0,P0,alpha_fit,h_fit,pl_l_lo,pl_l_"
+                  "hi,pl_points,pl_chi2_red\n");
     static char g[MAX_GROUPS][160];
     const int ng = campaign_groups(pts, NULL, NULL, g);
     int blocks = 0;
@@ -267,8 +293,9 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
             for (int k = 0; k < Q_COUNT; k++) {
                 fprintf(data, ",%.9g,%.9g", o.q[k], o.q_err[k]);
             }
-            fprintf(data, ",%.6g,%.6g,%d,%.4g,%.4g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.4g\n", o.t.v_lo, o.t.v_hi, o.t.n_points,
-                    o.t.decades, o.t.chi2_red, o.t.A0, o.t.P0, o.t.alpha, o.t.h, o.pl_lo, o.pl_hi, o.pl_points, o.C_fit_chi2);
+            fprintf(data, ",%.6g,%.6g,%d,%.4g,%.4g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.4g\n",
+                    o.t.v_lo, o.t.v_hi, o.t.n_points, o.t.decades, o.t.chi2_red, o.t.A0, o.t.P0,
+                    o.t.alpha, o.t.h, o.pl_lo, o.pl_hi, o.pl_points, o.C_fit_chi2);
             if (o.have_tail && !drawn) {
                 write_block(tail, g[gi], &o, blocks == 0);
                 drawn = true;
@@ -280,7 +307,8 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
                     e2 += o.q_err[q] * o.q_err[q];
                     n_err++;
                 }
-                if (n == 1 && q <= Q_C) { /* the first run's window, for the page: free paths in m */
+                if (n == 1 &&
+                    q <= Q_C) { /* the first run's window, for the page: free paths in m */
                     row->n_x = o.pl_points;
                     row->x_lo = o.pl_lo;
                     row->x_hi = o.pl_hi;
@@ -295,7 +323,8 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
             spm_run_free(&o);
         }
         campaign_row_of_runs(r, row, v, n, e2, n_err);
-        row->chi2_red = n && row->n_x ? chi2 / n : (double)NAN; /* of the fits behind the quantity */
+        row->chi2_red =
+            n && row->n_x ? chi2 / n : (double)NAN; /* of the fits behind the quantity */
     }
     free(buf);
     if (fclose(tail)) {

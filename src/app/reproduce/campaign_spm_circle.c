@@ -29,15 +29,25 @@
 static const char *const quantities[] = {"b", "coefficient"};
 enum { Q_B, Q_COEFFICIENT, Q_COUNT };
 
-bool campaign_spm_circle_quantity_known(const char *y) { return campaign_name_index(quantities, Q_COUNT, y) >= 0; }
+bool campaign_spm_circle_quantity_known(const char *y)
+{
+    return campaign_name_index(quantities, Q_COUNT, y) >= 0;
+}
 
 /* (M^2 / 2 D l)^(2/3): b in the collapsed variable w times this is the coefficient of v^2 in s^2/m^2 */
-static double v2_scale(double mass, double D, double l) { return pow(mass * mass / (2.0 * D * l), 2.0 / 3.0); }
+static double v2_scale(double mass, double D, double l)
+{
+    return pow(mass * mass / (2.0 * D * l), 2.0 / 3.0);
+}
 
 /* The fit error of b, inflated by sqrt(chi2/dof) where the fit is worse than its errors say. */
-static double b_error(const gr_spm_tail_fit *f) { return f->b_err * (f->chi2_red > 1.0 ? sqrt(f->chi2_red) : 1.0); }
+static double b_error(const gr_spm_tail_fit *f)
+{
+    return f->b_err * (f->chi2_red > 1.0 ? sqrt(f->chi2_red) : 1.0);
+}
 
-static void fill_row(const gr_campaign_result *r, campaign_row *row, const gr_spm_tail_fit *f, double scale)
+static void fill_row(const gr_campaign_result *r, campaign_row *row, const gr_spm_tail_fit *f,
+                     double scale)
 {
     row->value = f->b * scale;
     row->error = row->error_fit = b_error(f) * scale;
@@ -51,7 +61,8 @@ static void fill_row(const gr_campaign_result *r, campaign_row *row, const gr_sp
 }
 
 /* u_l Q(w) of every radius, one gnuplot index block each, and the figure. */
-static int write_q(const char *results, const gr_campaign_result *r, const gr_spm_circle_report *rep, gr_error *err)
+static int write_q(const char *results, const gr_campaign_result *r,
+                   const gr_spm_circle_report *rep, gr_error *err)
 {
     char name[96];
     snprintf(name, sizeof name, "%s_q.dat", r->id);
@@ -77,24 +88,30 @@ static int write_q(const char *results, const gr_campaign_result *r, const gr_sp
     const gr_spm_tail_fit *pf = &rep->pooled_fit;
     char body[2048];
     snprintf(body, sizeof body,
-             "set datafile separator whitespace\nset logscale y\nset format y '10^{%%L}'\nset key outside right noenhanced\n"
+             "set datafile separator whitespace\nset logscale y\nset format y '10^{%%L}'\nset key "
+             "outside right noenhanced\n"
              "set xlabel 'w = v / u_l,  u_l = (2 D l / M^2)^{1/3}'\nset ylabel 'u_l Q(v, l)'\n"
-             "set title \"Q(v,l) of a particle in a disc of fixed radius (Fig. 5.11), collapsed (sec. 5.3.1)\" noenhanced\n"
-             "plot for [i=0:%d] '%s' index i using 1:2 with points pt 7 ps 0.5 lc i+1 title columnheader(1), "
-             "(x >= %g ? %.9g * exp(-%.9g * x**2) : 1/0) with lines lw 2 lc rgb 'black' title 'pooled fit, b = %.3f', "
-             "(x >= %g ? %.9g * exp(-%.9g * x**2 + %.9g * %.9g**2) : 1/0) with lines dt 2 lw 2 lc rgb '#c0392b' "
+             "set title \"Q(v,l) of a particle in a disc of fixed radius (Fig. 5.11), collapsed "
+             "(sec. 5.3.1)\" noenhanced\n"
+             "plot for [i=0:%d] '%s' index i using 1:2 with points pt 7 ps 0.5 lc i+1 title "
+             "columnheader(1), "
+             "(x >= %g ? %.9g * exp(-%.9g * x**2) : 1/0) with lines lw 2 lc rgb 'black' title "
+             "'pooled fit, b = %.3f', "
+             "(x >= %g ? %.9g * exp(-%.9g * x**2 + %.9g * %.9g**2) : 1/0) with lines dt 2 lw 2 lc "
+             "rgb '#c0392b' "
              "title 'thesis 5.12: b = 0.98'\n",
-             rep->n_radii - 1, name, pf->wfrom, pf->A, pf->b, pf->b, pf->wfrom, pf->A * exp(-pf->b * pf->wfrom * pf->wfrom), 0.98, 0.98,
-             pf->wfrom);
+             rep->n_radii - 1, name, pf->wfrom, pf->A, pf->b, pf->b, pf->wfrom,
+             pf->A * exp(-pf->b * pf->wfrom * pf->wfrom), 0.98, 0.98, pf->wfrom);
     campaign_draw(results, r->id, "_data", body);
     return GR_OK;
 }
 
-int campaign_spm_circle(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts, campaign_rows *rows,
-                        const char *results, FILE *data, gr_error *err)
+int campaign_spm_circle(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts,
+                        campaign_rows *rows, const char *results, FILE *data, gr_error *err)
 {
     const int q = campaign_name_index(quantities, Q_COUNT, r->y);
-    fprintf(data, "group,l,u_l,b,b_err,chi2_red,w_from,w_to,bins,beta,beta_err,coefficient,coefficient_err\n");
+    fprintf(data, "group,l,u_l,b,b_err,chi2_red,w_from,w_to,bins,beta,beta_err,coefficient,"
+                  "coefficient_err\n");
     if (pts->n == 0) {
         return GR_OK;
     }
@@ -103,10 +120,13 @@ int campaign_spm_circle(const gr_campaign_result *r, gr_fidelity fid, const camp
     p.s.mass = gr_summary_number(pts->p[0].summary, "scene.system.mass");
     p.s.D = gr_summary_number(pts->p[0].summary, "scene.noise.D");
     p.s.dim = 2;
-    const long walks = fid == GR_FIDELITY_FULL ? (r->walks ? r->walks : CIRCLE_WALKS) : (r->walks_quick ? r->walks_quick : CIRCLE_WALKS_QUICK);
+    const long walks = fid == GR_FIDELITY_FULL
+                           ? (r->walks ? r->walks : CIRCLE_WALKS)
+                           : (r->walks_quick ? r->walks_quick : CIRCLE_WALKS_QUICK);
     p.s.walks = walks;
     if (!(p.s.mass > 0.0 && p.s.D > 0.0)) {
-        return GR_FAIL(err, GR_EINVAL, "spm_circle: the runs' summaries lack scene.system.mass or scene.noise.D");
+        return GR_FAIL(err, GR_EINVAL,
+                       "spm_circle: the runs' summaries lack scene.system.mass or scene.noise.D");
     }
     gr_spm_circle_report rep;
     int rc = gr_spm_circle_run(&p, &rep, err);
@@ -116,11 +136,13 @@ int campaign_spm_circle(const gr_campaign_result *r, gr_fidelity fid, const camp
     for (int k = 0; k <= rep.n_radii; k++) {
         const bool pooled = k == rep.n_radii;
         const gr_spm_tail_fit *f = pooled ? &rep.pooled_fit : &rep.fit[k];
-        const double l = pooled ? (double)NAN : rep.q[k].radius, scale = pooled ? (double)NAN : v2_scale(p.s.mass, p.s.D, l);
+        const double l = pooled ? (double)NAN : rep.q[k].radius,
+                     scale = pooled ? (double)NAN : v2_scale(p.s.mass, p.s.D, l);
         char group[64];
         snprintf(group, sizeof group, pooled ? POOLED_GROUP : "l=%g", l);
-        fprintf(data, "\"%s\",%.6g,%.6g,%.6g,%.6g,%.4g,%.4g,%.4g,%d,%.6g,%.6g,%.6g,%.6g\n", group, l, pooled ? (double)NAN : rep.q[k].u, f->b,
-                b_error(f), f->chi2_red, f->wfrom, f->wto, f->n_points, f->beta, f->beta_err, f->b * scale, b_error(f) * scale);
+        fprintf(data, "\"%s\",%.6g,%.6g,%.6g,%.6g,%.4g,%.4g,%.4g,%d,%.6g,%.6g,%.6g,%.6g\n", group,
+                l, pooled ? (double)NAN : rep.q[k].u, f->b, b_error(f), f->chi2_red, f->wfrom,
+                f->wto, f->n_points, f->beta, f->beta_err, f->b * scale, b_error(f) * scale);
         if (q == Q_COEFFICIENT && pooled) {
             continue; /* the coefficient in s^2/m^2 belongs to one radius */
         }

@@ -22,10 +22,12 @@
 #include "app/reproduce/campaign_points.h"
 
 #define CMP_TABLE "spm_compare.csv"
-#define CMP_FROM_VRMS 2.0 /* `spm full`'s --compare-from default: beyond the crossover (Table 5.3) */
+#define CMP_FROM_VRMS                                                                              \
+    2.0 /* `spm full`'s --compare-from default: beyond the crossover (Table 5.3) */
 #define CMP_Z_MAX 3.0
 
-static const char *const quantities[] = {"frac_within", "decades", "k", "s", "alpha_spm", "alpha_rfm"};
+static const char *const quantities[] = {"frac_within", "decades",   "k",
+                                         "s",           "alpha_spm", "alpha_rfm"};
 enum { Q_FRAC, Q_DECADES, Q_K, Q_S, Q_ALPHA_SPM, Q_ALPHA_RFM, Q_COUNT };
 
 static int quantity_index(const char *y) { return campaign_name_index(quantities, Q_COUNT, y); }
@@ -84,13 +86,15 @@ static void make_table(const campaign_point *pt, long walks, int seed)
     if (f) {
         fprintf(f, "# walks %ld seed %d\nv,p_spm,e_spm,p_rfm,e_rfm\n", walks, seed);
         for (int i = 0; i < r.nb; i++) {
-            fprintf(f, "%.9g,%.9g,%.9g,%.9g,%.9g\n", r.v[i], r.p_spm[i], r.e_spm[i], r.p_rfm[i], r.e_rfm[i]);
+            fprintf(f, "%.9g,%.9g,%.9g,%.9g,%.9g\n", r.v[i], r.p_spm[i], r.e_spm[i], r.p_rfm[i],
+                    r.e_rfm[i]);
         }
         if (fclose(f)) {
             remove(path);
         }
     } else {
-        campaign_note("%s: spm full not run: %s", pt->dir, rc ? err.message : "cannot write " CMP_TABLE);
+        campaign_note("%s: spm full not run: %s", pt->dir,
+                      rc ? err.message : "cannot write " CMP_TABLE);
     }
     gr_spm_full_report_free(&r);
 }
@@ -129,7 +133,8 @@ static void analyse_run(const campaign_point *pt, long walks, cmp_run *o)
     }
     o->n = n; /* both series at the archive's 6 digits (campaign_curve_series): live = restored */
     gr_error ignore = {0};
-    o->ok = gr_spm_compare_series(o->v, o->ps, o->es, o->pr, o->er, n, CMP_FROM_VRMS, CMP_Z_MAX, &o->c, &ignore) == GR_OK;
+    o->ok = gr_spm_compare_series(o->v, o->ps, o->es, o->pr, o->er, n, CMP_FROM_VRMS, CMP_Z_MAX,
+                                  &o->c, &ignore) == GR_OK;
     if (!o->ok) {
         return;
     }
@@ -150,13 +155,17 @@ static void analyse_run(const campaign_point *pt, long walks, cmp_run *o)
 /* One gnuplot block per run: the run's P(v) and the SPM's scaled by k (Fig. 5.10's dashed lines). */
 static void write_block(FILE *f, const char *group, int seed, const cmp_run *o, bool first)
 {
-    fprintf(f, "%s\"%s seed %d\"\n# v P_rfm P_rfm_err k_P_spm k_P_spm_err compared\n", first ? "" : "\n\n", group, seed);
+    fprintf(f, "%s\"%s seed %d\"\n# v P_rfm P_rfm_err k_P_spm k_P_spm_err compared\n",
+            first ? "" : "\n\n", group, seed);
     for (int i = 0; i < o->n; i++) {
         double me = 0.0;
-        const double m = o->ps[i] > 0.0 ? gr_spm_compare_model(&o->c.amp, o->v, o->ps, o->es, o->n, i, &me) : (double)NAN;
+        const double m = o->ps[i] > 0.0
+                             ? gr_spm_compare_model(&o->c.amp, o->v, o->ps, o->es, o->n, i, &me)
+                             : (double)NAN;
         if (o->pr[i] > 0.0 || m > 0.0) {
-            fprintf(f, "%.6g %.6g %.6g %.6g %.6g %d\n", o->v[i], o->pr[i] > 0.0 ? o->pr[i] : (double)NAN, o->er[i],
-                    m > 0.0 ? m : (double)NAN, me, o->v[i] >= o->c.v_from);
+            fprintf(f, "%.6g %.6g %.6g %.6g %.6g %d\n", o->v[i],
+                    o->pr[i] > 0.0 ? o->pr[i] : (double)NAN, o->er[i], m > 0.0 ? m : (double)NAN,
+                    me, o->v[i] >= o->c.v_from);
         }
     }
 }
@@ -164,26 +173,30 @@ static void write_block(FILE *f, const char *group, int seed, const cmp_run *o, 
 static void draw(const char *results, const gr_campaign_result *r, int blocks)
 {
     char body[2048];
-    snprintf(body, sizeof body,
-             "set datafile separator whitespace\nset datafile missing 'nan'\nset logscale y\nset format y '10^{%%L}'\n"
-             "set key outside right noenhanced\nset xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\n"
-             "set title \"%s: runs' P(v) (points), SPM from their free paths x k (lines)\" noenhanced\n"
-             "plot for [i=0:%d] '%s_pv.dat' index i using 1:2 with points pt 7 ps 0.4 lc i+1 title columnheader(1), "
-             "for [i=0:%d] '' index i using 1:4 with lines lw 2 lc i+1 notitle\n",
-             r->id, blocks - 1, r->id, blocks - 1);
+    snprintf(
+        body, sizeof body,
+        "set datafile separator whitespace\nset datafile missing 'nan'\nset logscale y\nset format "
+        "y '10^{%%L}'\n"
+        "set key outside right noenhanced\nset xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\n"
+        "set title \"%s: runs' P(v) (points), SPM from their free paths x k (lines)\" noenhanced\n"
+        "plot for [i=0:%d] '%s_pv.dat' index i using 1:2 with points pt 7 ps 0.4 lc i+1 title "
+        "columnheader(1), "
+        "for [i=0:%d] '' index i using 1:4 with lines lw 2 lc i+1 notitle\n",
+        r->id, blocks - 1, r->id, blocks - 1);
     campaign_draw(results, r->id, "_data", body);
 }
 
-int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts, campaign_rows *rows,
-                         const char *results, FILE *data, gr_error *err)
+int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts,
+                         campaign_rows *rows, const char *results, FILE *data, gr_error *err)
 {
     const int q = quantity_index(r->y);
     if (q < 0) {
-        return GR_FAIL(err, GR_EINVAL, "[result %s] kind = spm_compare: y = %s: allowed %s", r->id, r->y,
-                       GR_CAMPAIGN_SPM_COMPARE_QUANTITIES);
+        return GR_FAIL(err, GR_EINVAL, "[result %s] kind = spm_compare: y = %s: allowed %s", r->id,
+                       r->y, GR_CAMPAIGN_SPM_COMPARE_QUANTITIES);
     }
-    const long walks = fid == GR_FIDELITY_FULL ? (r->walks > 0 ? r->walks : GR_CAMPAIGN_SPM_WALKS)
-                                               : (r->walks_quick > 0 ? r->walks_quick : GR_CAMPAIGN_SPM_WALKS_QUICK);
+    const long walks = fid == GR_FIDELITY_FULL
+                           ? (r->walks > 0 ? r->walks : GR_CAMPAIGN_SPM_WALKS)
+                           : (r->walks_quick > 0 ? r->walks_quick : GR_CAMPAIGN_SPM_WALKS_QUICK);
     char path[1200];
     snprintf(path, sizeof path, "%s/%s_pv.dat", results, r->id);
     FILE *blocks_file = fopen(path, "w");
@@ -194,7 +207,8 @@ int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const cam
     for (int k = 0; k < Q_COUNT; k++) {
         fprintf(data, ",%s,%s_error", quantities[k], quantities[k]);
     }
-    fprintf(data, ",v_rms,v_from,v_agree_lo,v_agree_hi,agree_bins,compared_bins,chi2_red_k,chi2_red_ks,k_with_s,points_alpha_spm,"
+    fprintf(data, ",v_rms,v_from,v_agree_lo,v_agree_hi,agree_bins,compared_bins,chi2_red_k,chi2_"
+                  "red_ks,k_with_s,points_alpha_spm,"
                   "points_alpha_rfm\n");
     static char g[MAX_GROUPS][160];
     const int ng = campaign_groups(pts, NULL, NULL, g);
@@ -213,9 +227,9 @@ int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const cam
             for (int k = 0; k < Q_COUNT; k++) {
                 fprintf(data, ",%.9g,%.9g", o.q[k], o.q_err[k]);
             }
-            fprintf(data, ",%.6g,%.6g,%.6g,%.6g,%d,%d,%.4g,%.4g,%.6g,%d,%d\n", c->v_rms, c->v_from, c->amp.v_agree_lo, c->amp.v_agree_hi,
-                    c->amp.agree_bins, c->amp.n_points, c->amp.chi2_red, c->scaled.chi2_red, c->scaled.k, c->points_spm,
-                    c->points_rfm);
+            fprintf(data, ",%.6g,%.6g,%.6g,%.6g,%d,%d,%.4g,%.4g,%.6g,%d,%d\n", c->v_rms, c->v_from,
+                    c->amp.v_agree_lo, c->amp.v_agree_hi, c->amp.agree_bins, c->amp.n_points,
+                    c->amp.chi2_red, c->scaled.chi2_red, c->scaled.k, c->points_spm, c->points_rfm);
             if (o.ok) {
                 write_block(blocks_file, g[gi], campaign_seed_of(m[i]), &o, blocks == 0);
                 blocks++;

@@ -83,7 +83,8 @@ static void count_off(const cJSON *res, tallies *t)
             t->compared++;
             t->off += fabs(z) > 2.0;
             t->off5 += fabs(z) > 2.0 && !(fabs(num(row, "value") - th) <= 0.05 * fabs(th));
-        } else if (cJSON_IsBool(cJSON_GetObjectItem(row, "agrees"))) { /* judged by a rule of its own */
+        } else if (cJSON_IsBool(
+                       cJSON_GetObjectItem(row, "agrees"))) { /* judged by a rule of its own */
             t->other++;
             t->differ += differs;
         }
@@ -108,7 +109,8 @@ static void tally(const cJSON *set, tallies *t)
 }
 
 /* A Markdown image line if ROOT/CAMPAIGN/NAME exists. */
-static void figure(FILE *f, const char *root, const char *link_root, const char *campaign, const char *id, const char *suffix)
+static void figure(FILE *f, const char *root, const char *link_root, const char *campaign,
+                   const char *id, const char *suffix)
 {
     char path[1400];
     snprintf(path, sizeof path, "%s/%s/%s%s.png", root, campaign, id, suffix);
@@ -119,11 +121,13 @@ static void figure(FILE *f, const char *root, const char *link_root, const char 
 
 /* A result's note, where the thesis's values come from, and its figures (the comparison only when
  * there are numbers to compare). */
-static void notes_and_figures(FILE *f, const cJSON *res, const char *campaign, const char *root, const char *link_root,
-                              bool numbers)
+static void notes_and_figures(FILE *f, const cJSON *res, const char *campaign, const char *root,
+                              const char *link_root, bool numbers)
 {
     if (str(res, "restates")[0]) {
-        fprintf(f, "\nThese numbers restate those of [%s](#%s-%s) in another form; the tallies count them there only.\n",
+        fprintf(f,
+                "\nThese numbers restate those of [%s](#%s-%s) in another form; the tallies count "
+                "them there only.\n",
                 str(res, "restates"), campaign, str(res, "restates"));
     }
     if (str(res, "note")[0]) {
@@ -165,7 +169,8 @@ static void disagreements(FILE *f, cJSON *const *sets, int ns)
             count_off(res, &t);
             if (t.off || t.differ) {
                 int k = 0;
-                while (k < GR_CAMPAIGN_VERDICTS && strcmp(str(res, "verdict"), gr_campaign_verdicts[k])) {
+                while (k < GR_CAMPAIGN_VERDICTS &&
+                       strcmp(str(res, "verdict"), gr_campaign_verdicts[k])) {
                     k++;
                 }
                 judged[k]++;
@@ -173,11 +178,16 @@ static void disagreements(FILE *f, cJSON *const *sets, int ns)
             }
         }
     }
-    fprintf(f, "## Where granule and the thesis disagree\n\n"
-               "%d results have at least one number at |z| > 2 or outside a value the thesis states without an "
-               "error: %d explained, %d partly explained, %d unexplained, %d not investigated yet. The verdict is "
-               "the campaign's (key `verdict` in docs/campaigns/NAME.ini); the evidence is in the result's note below.\n\n"
-               "| result | what | \\|z\\| > 2 | differs (no z) | verdict | why |\n|---|---|---|---|---|---|\n",
+    fprintf(f,
+            "## Where granule and the thesis disagree\n\n"
+            "%d results have at least one number at |z| > 2 or outside a value the thesis states "
+            "without an "
+            "error: %d explained, %d partly explained, %d unexplained, %d not investigated yet. "
+            "The verdict is "
+            "the campaign's (key `verdict` in docs/campaigns/NAME.ini); the evidence is in the "
+            "result's note below.\n\n"
+            "| result | what | \\|z\\| > 2 | differs (no z) | verdict | why "
+            "|\n|---|---|---|---|---|---|\n",
             total, judged[0], judged[1], judged[2], judged[GR_CAMPAIGN_VERDICTS]);
     for (int i = 0; i < ns; i++) {
         cJSON_ArrayForEach(res, cJSON_GetObjectItem(sets[i], "results"))
@@ -188,8 +198,9 @@ static void disagreements(FILE *f, cJSON *const *sets, int ns)
                 continue;
             }
             const char *v = str(res, "verdict");
-            fprintf(f, "| [%s: %s](#%s-%s) | %s | %d of %d | %d of %d | %s | ", str(sets[i], "campaign"), str(res, "id"),
-                    str(sets[i], "campaign"), str(res, "id"), str(res, "title"), t.off, t.compared, t.differ, t.other,
+            fprintf(f, "| [%s: %s](#%s-%s) | %s | %d of %d | %d of %d | %s | ",
+                    str(sets[i], "campaign"), str(res, "id"), str(sets[i], "campaign"),
+                    str(res, "id"), str(res, "title"), t.off, t.compared, t.differ, t.other,
                     v[0] ? v : "**not investigated yet**");
             cell(f, str(res, "verdict_why"));
             fprintf(f, " |\n");
@@ -208,8 +219,10 @@ static void errata(FILE *f, const char *root)
     if (!in) {
         return;
     }
-    fprintf(f, "## Thesis errata\n\nSlips in the thesis found while reproducing it, from [thesis-errata.md](thesis-errata.md): the "
-               "thesis contradicts its own parameters, columns or derivation. Our numbers are compared with the values as "
+    fprintf(f, "## Thesis errata\n\nSlips in the thesis found while reproducing it, from "
+               "[thesis-errata.md](thesis-errata.md): the "
+               "thesis contradicts its own parameters, columns or derivation. Our numbers are "
+               "compared with the values as "
                "printed; the notes below name the slip where it matters.\n\n");
     char line[8192];
     bool in_table = false;
@@ -229,8 +242,9 @@ static void errata(FILE *f, const char *root)
  * eps_n = 0.1" (linked keys split, units of the lengths, masses and times added). */
 static void pretty_group(const char *group, char *out, size_t len)
 {
-    static const char *const units[][2] = {{"L", " m"}, {"reduced_length", " m"}, {"radius", " m"}, {"mass", " kg"},
-                                           {"D", " N^2 s"}, {"dt", " s"}, {"duration", " s"}, {"warmup", " s"}};
+    static const char *const units[][2] = {
+        {"L", " m"},  {"reduced_length", " m"}, {"radius", " m"}, {"mass", " kg"}, {"D", " N^2 s"},
+        {"dt", " s"}, {"duration", " s"},       {"warmup", " s"}};
     char buf[512];
     snprintf(buf, sizeof buf, "%s", group);
     size_t n = 0;
@@ -253,14 +267,17 @@ static void pretty_group(const char *group, char *out, size_t len)
             for (size_t u = 0; u < sizeof units / sizeof units[0]; u++) {
                 unit = !strcmp(k, units[u][0]) ? units[u][1] : unit;
             }
-            n += (size_t)snprintf(out + n, n < len ? len - n : 0, "%s%s = %s%s", n ? ", " : "", k, v, unit);
+            n += (size_t)snprintf(out + n, n < len ? len - n : 0, "%s%s = %s%s", n ? ", " : "", k,
+                                  v, unit);
         }
     }
 }
 
-static void result_table(FILE *f, const cJSON *res, const char *campaign, const char *root, const char *link_root)
+static void result_table(FILE *f, const cJSON *res, const char *campaign, const char *root,
+                         const char *link_root)
 {
-    fprintf(f, "<a id=\"%s-%s\"></a>\n### %s: %s\n\n", campaign, str(res, "id"), str(res, "id"), str(res, "title"));
+    fprintf(f, "<a id=\"%s-%s\"></a>\n### %s: %s\n\n", campaign, str(res, "id"), str(res, "id"),
+            str(res, "title"));
     const cJSON *row;
     bool values = false;
     double runs = 0.0, cpu = 0.0;
@@ -272,15 +289,21 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         cpu += num(row, "cpu_seconds");
         curves++;
     }
-    if (!values && !strcmp(str(res, "kind"), "curve")) { /* a figure to compare by eye: no table of blanks */
-        fprintf(f, "A figure only (the thesis gives no number): %d curves from %.0f runs, %.2f CPU-hours.\n", curves, runs,
-                cpu / 3600.0);
+    if (!values &&
+        !strcmp(str(res, "kind"), "curve")) { /* a figure to compare by eye: no table of blanks */
+        fprintf(f,
+                "A figure only (the thesis gives no number): %d curves from %.0f runs, %.2f "
+                "CPU-hours.\n",
+                curves, runs, cpu / 3600.0);
         notes_and_figures(f, res, campaign, root, link_root, false);
         return;
     }
     const char *unit = str(res, "unit");
-    fprintf(f, "| %s | thesis%s%s%s | granule | comparison | seeds | fit / runs | CPU-h |\n|---|---|---|---|---|---|---|\n",
-            !strcmp(str(res, "kind"), "power_law") ? "fit of" : "run", unit[0] ? " (" : "", unit, unit[0] ? ")" : "");
+    fprintf(f,
+            "| %s | thesis%s%s%s | granule | comparison | seeds | fit / runs | CPU-h "
+            "|\n|---|---|---|---|---|---|---|\n",
+            !strcmp(str(res, "kind"), "power_law") ? "fit of" : "run", unit[0] ? " (" : "", unit,
+            unit[0] ? ")" : "");
     cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
     {
         char ours[64], theirs[96], group[200], fit[96] = "";
@@ -295,22 +318,26 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
                 snprintf(theirs, sizeof theirs, "%s %g", kind[0] == 'a' ? "about" : "model:", tv);
             }
             if (str(row, "thesis_note")[0]) {
-                snprintf(theirs + strlen(theirs), sizeof theirs - strlen(theirs), " %s", str(row, "thesis_note"));
+                snprintf(theirs + strlen(theirs), sizeof theirs - strlen(theirs), " %s",
+                         str(row, "thesis_note"));
             }
         } else {
             snprintf(theirs, sizeof theirs, "not quoted");
         }
         pretty_group(str(row, "group"), group, sizeof group);
         if (isfinite(num(row, "m"))) {
-            snprintf(group + strlen(group), sizeof group - strlen(group), ", m = %.0f", num(row, "m"));
+            snprintf(group + strlen(group), sizeof group - strlen(group), ", m = %.0f",
+                     num(row, "m"));
         }
         if (num(row, "fit_points") == 2 && isfinite(num(row, "value"))) {
-            snprintf(fit, sizeof fit, "local slope between %.4g and %.4g", num(row, "x_lo"), num(row, "x_hi"));
+            snprintf(fit, sizeof fit, "local slope between %.4g and %.4g", num(row, "x_lo"),
+                     num(row, "x_hi"));
         } else if (isfinite(num(row, "fit_points")) && num(row, "fit_points") < 3) {
             snprintf(fit, sizeof fit, "%.0f of the 3 points a fit needs", num(row, "fit_points"));
         } else if (isfinite(num(row, "fit_points"))) {
-            snprintf(fit, sizeof fit, "%.0f points, %.4g-%.4g, chi2/dof %.2g", num(row, "fit_points"), num(row, "x_lo"),
-                     num(row, "x_hi"), num(row, "chi2_red"));
+            snprintf(fit, sizeof fit, "%.0f points, %.4g-%.4g, chi2/dof %.2g",
+                     num(row, "fit_points"), num(row, "x_lo"), num(row, "x_hi"),
+                     num(row, "chi2_red"));
         } else {
             snprintf(fit, sizeof fit, "%.0f s simulated", num(row, "simulated_seconds"));
         }
@@ -318,7 +345,8 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         gr_campaign_comparison_text(row, true, zs, sizeof zs);
         char seeds[64]; /* T's block-error convergence is summarised once per campaign */
         snprintf(seeds, sizeof seeds, "%.0f", num(row, "seeds"));
-        fprintf(f, "| %s | %s | %s | %s | %s | %s | %.2f |\n", group, theirs, ours, zs, seeds, fit, num(row, "cpu_seconds") / 3600.0);
+        fprintf(f, "| %s | %s | %s | %s | %s | %s | %.2f |\n", group, theirs, ours, zs, seeds, fit,
+                num(row, "cpu_seconds") / 3600.0);
     }
     notes_and_figures(f, res, campaign, root, link_root, true);
 }
@@ -327,7 +355,9 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
 {
     DIR *d = opendir(root);
     if (!d) {
-        return GR_FAIL(err, GR_EIO, "%s: no result sets (granule reproduce NAME --results %s/NAME writes one)", root, root);
+        return GR_FAIL(err, GR_EIO,
+                       "%s: no result sets (granule reproduce NAME --results %s/NAME writes one)",
+                       root, root);
     }
     char *names[256];
     int n = 0;
@@ -354,7 +384,9 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
                 rc = GR_FAIL(err, GR_EINVAL, "%s: no campaign name", path);
                 goto done;
             }
-            if ((rc = gr_campaign_load(&c, name->valuestring, err))) { /* a broken campaign file never gives a stale page */
+            if ((rc =
+                     gr_campaign_load(&c, name->valuestring,
+                                      err))) { /* a broken campaign file never gives a stale page */
                 goto done;
             }
             campaign_refresh_json(&c, j); /* today's words and judgement, the set's numbers */
@@ -370,39 +402,61 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
         snprintf(dir, sizeof dir, ".");
     }
     const char *rb = strrchr(root, '/');
-    snprintf(base, sizeof base, "%s", rb ? rb + 1 : root); /* the page sits beside the results folder */
+    snprintf(base, sizeof base, "%s",
+             rb ? rb + 1 : root); /* the page sits beside the results folder */
     gr_file f;
     rc = gr_file_open(&f, dir, file, err);
     if (rc) {
         goto done;
     }
-    fprintf(f.f, "# Reproducing the thesis\n\n"
-                 "<!-- generated by `granule reproduce --page` from %s/*/results.json: do not edit; change\n"
-                 "     docs/campaigns/*.ini or the campaign notes and regenerate -->\n\n"
-                 "Every number below comes from a campaign, a file under `docs/campaigns/` that names the scene, the\n"
-                 "runs (sizes, run lengths, seeds) and the analysis; `granule reproduce NAME --fidelity full` runs it\n"
-                 "(resumable at any point, over local cores, MPI ranks or a batch array like `granule sweep`), and\n"
-                 "its small result set is committed under `docs/results/NAME/`. Error bars come from independent\n"
-                 "seeds (docs/campaigns/README.md says how). The energy loss per collision of Fig. 2.5 is checked in\n"
-                 "[collision-accuracy.md](collision-accuracy.md) and by tests/test_collide.c.\n\n"
-                 "**Kinds of comparison.** Only a thesis value quoted with an error gives a z = (granule - thesis) /\n"
-                 "sqrt(error^2 + thesis error^2), in bold where |z| > 2. Every other thesis statement is compared by\n"
-                 "its own rule and never gives a z: a value quoted without an error agrees when ours +- 2 errors\n"
-                 "reaches it within half a unit of its last digit; \"about X\" when ours +- 2 errors reaches X to one\n"
-                 "significant figure; a range when ours +- 2 errors overlaps it; a model's value (the bisection model,\n"
-                 "the SPM: not a measurement of the thesis) by the value rule; a quantity equal by construction is\n"
-                 "no result. \"with z\" counts the numbers with a z, \"|z| > 2\" how many of them disagree and\n"
-                 "\"> 5 %%\" how many of those also differ by more than 5 %%; \"other\" counts the numbers judged by\n"
-                 "the other rules and \"differ\" how many of those do not agree (a number without an error of ours,\n"
-                 "from one run, is shown with its difference but not judged).\n\n"
-                 "**Verdicts.** A result that disagrees is *explained* only when a committed run isolates the\n"
-                 "mechanism: the quantity moves toward the thesis as the named cause is varied, with the trend\n"
-                 "significant in committed data. Otherwise it is *partly explained* (part of the difference is\n"
-                 "accounted for that way) or *unexplained* (the checks in its note did not find the cause). Every\n"
-                 "number a note quotes is in a committed file under docs/results/.\n\n"
-                 "| campaign | covers | fidelity | points | simulated s | CPU-h | with z | \\|z\\| > 2 | > 5 %% | other | differ |\n"
-                 "|---|---|---|---|---|---|---|---|---|---|---|\n",
-            root);
+    fprintf(
+        f.f,
+        "# Reproducing the thesis\n\n"
+        "<!-- generated by `granule reproduce --page` from %s/*/results.json: do not edit; change\n"
+        "     docs/campaigns/*.ini or the campaign notes and regenerate -->\n\n"
+        "Every number below comes from a campaign, a file under `docs/campaigns/` that names the "
+        "scene, the\n"
+        "runs (sizes, run lengths, seeds) and the analysis; `granule reproduce NAME --fidelity "
+        "full` runs it\n"
+        "(resumable at any point, over local cores, MPI ranks or a batch array like `granule "
+        "sweep`), and\n"
+        "its small result set is committed under `docs/results/NAME/`. Error bars come from "
+        "independent\n"
+        "seeds (docs/campaigns/README.md says how). The energy loss per collision of Fig. 2.5 is "
+        "checked in\n"
+        "[collision-accuracy.md](collision-accuracy.md) and by tests/test_collide.c.\n\n"
+        "**Kinds of comparison.** Only a thesis value quoted with an error gives a z = (granule - "
+        "thesis) /\n"
+        "sqrt(error^2 + thesis error^2), in bold where |z| > 2. Every other thesis statement is "
+        "compared by\n"
+        "its own rule and never gives a z: a value quoted without an error agrees when ours +- 2 "
+        "errors\n"
+        "reaches it within half a unit of its last digit; \"about X\" when ours +- 2 errors "
+        "reaches X to one\n"
+        "significant figure; a range when ours +- 2 errors overlaps it; a model's value (the "
+        "bisection model,\n"
+        "the SPM: not a measurement of the thesis) by the value rule; a quantity equal by "
+        "construction is\n"
+        "no result. \"with z\" counts the numbers with a z, \"|z| > 2\" how many of them disagree "
+        "and\n"
+        "\"> 5 %%\" how many of those also differ by more than 5 %%; \"other\" counts the numbers "
+        "judged by\n"
+        "the other rules and \"differ\" how many of those do not agree (a number without an error "
+        "of ours,\n"
+        "from one run, is shown with its difference but not judged).\n\n"
+        "**Verdicts.** A result that disagrees is *explained* only when a committed run isolates "
+        "the\n"
+        "mechanism: the quantity moves toward the thesis as the named cause is varied, with the "
+        "trend\n"
+        "significant in committed data. Otherwise it is *partly explained* (part of the difference "
+        "is\n"
+        "accounted for that way) or *unexplained* (the checks in its note did not find the cause). "
+        "Every\n"
+        "number a note quotes is in a committed file under docs/results/.\n\n"
+        "| campaign | covers | fidelity | points | simulated s | CPU-h | with z | \\|z\\| > 2 | > "
+        "5 %% | other | differ |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|\n",
+        root);
     double total = 0.0;
     tallies all = {0};
     for (int i = 0; i < ns; i++) {
@@ -413,10 +467,12 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
         all.off5 += t.off5;
         all.other += t.other;
         all.differ += t.differ;
-        fprintf(f.f, "| [%s](#%s) | %s | %s | %.0f of %.0f | %.0f | %.2f | %d | %d | %d | %d | %d |\n", str(sets[i], "campaign"),
-                str(sets[i], "campaign"), str(sets[i], "covers"), str(sets[i], "fidelity"), num(sets[i], "points_finished"),
-                num(sets[i], "points_total"), num(sets[i], "simulated_seconds"), num(sets[i], "cpu_seconds") / 3600.0, t.compared,
-                t.off, t.off5, t.other, t.differ);
+        fprintf(f.f,
+                "| [%s](#%s) | %s | %s | %.0f of %.0f | %.0f | %.2f | %d | %d | %d | %d | %d |\n",
+                str(sets[i], "campaign"), str(sets[i], "campaign"), str(sets[i], "covers"),
+                str(sets[i], "fidelity"), num(sets[i], "points_finished"),
+                num(sets[i], "points_total"), num(sets[i], "simulated_seconds"),
+                num(sets[i], "cpu_seconds") / 3600.0, t.compared, t.off, t.off5, t.other, t.differ);
         total += num(sets[i], "cpu_seconds");
     }
     /* the built-in campaigns without a result set here */
@@ -432,20 +488,25 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
         gr_campaign c;
         gr_error ignore = {0};
         if (!have && gr_campaign_load(&c, name, &ignore) == GR_OK) {
-            fprintf(f.f, "| %s | %s | not run yet | 0 of %ld | | | | | | | |\n", name, c.covers, gr_campaign_points(&c, GR_FIDELITY_FULL));
+            fprintf(f.f, "| %s | %s | not run yet | 0 of %ld | | | | | | | |\n", name, c.covers,
+                    gr_campaign_points(&c, GR_FIDELITY_FULL));
         }
     }
-    fprintf(f.f, "| total | | | | | %.2f | %d | %d | %d | %d | %d |\n\n", total / 3600.0, all.compared, all.off, all.off5, all.other,
-            all.differ);
+    fprintf(f.f, "| total | | | | | %.2f | %d | %d | %d | %d | %d |\n\n", total / 3600.0,
+            all.compared, all.off, all.off5, all.other, all.differ);
     disagreements(f.f, sets, ns);
     errata(f.f, root);
     for (int i = 0; i < ns; i++) {
         const cJSON *s = sets[i];
-        fprintf(f.f, "<a id=\"%s\"></a>\n## %s (%s)\n\n%s\n\n", str(s, "campaign"), str(s, "title"), str(s, "covers"), str(s, "about"));
-        fprintf(f.f, "Run: `granule reproduce %s --fidelity %s` (scene `docs/scenes/%s`); %.0f of %.0f points finished, "
-                     "%.0f s simulated, %.2f CPU-hours; analysed at commit %s.\n\n",
-                str(s, "campaign"), str(s, "fidelity"), str(s, "scene"), num(s, "points_finished"), num(s, "points_total"),
-                num(s, "simulated_seconds"), num(s, "cpu_seconds") / 3600.0, str(s, "commit"));
+        fprintf(f.f, "<a id=\"%s\"></a>\n## %s (%s)\n\n%s\n\n", str(s, "campaign"), str(s, "title"),
+                str(s, "covers"), str(s, "about"));
+        fprintf(f.f,
+                "Run: `granule reproduce %s --fidelity %s` (scene `docs/scenes/%s`); %.0f of %.0f "
+                "points finished, "
+                "%.0f s simulated, %.2f CPU-hours; analysed at commit %s.\n\n",
+                str(s, "campaign"), str(s, "fidelity"), str(s, "scene"), num(s, "points_finished"),
+                num(s, "points_total"), num(s, "simulated_seconds"), num(s, "cpu_seconds") / 3600.0,
+                str(s, "commit"));
         int bad = 0, rows_seen = 0, few = 0;
         const cJSON *rs, *rw;
         cJSON_ArrayForEach(rs, cJSON_GetObjectItem(s, "results"))
@@ -458,11 +519,16 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
             }
         }
         if (bad) {
-            fprintf(f.f, "Error bars: %d of the %d numbers below rest on runs whose block-averaging error of T did not converge "
-                         "(the blocking never reached a plateau, so a run's own error bar is a lower bound). Where a number "
-                         "averages three or more independent seeds its error is the seeds' spread, which does not depend on that; "
-                         "%d number%s from fewer seeds use%s the larger of the spread and the runs' own errors and may be "
-                         "too small.\n\n",
+            fprintf(f.f,
+                    "Error bars: %d of the %d numbers below rest on runs whose block-averaging "
+                    "error of T did not converge "
+                    "(the blocking never reached a plateau, so a run's own error bar is a lower "
+                    "bound). Where a number "
+                    "averages three or more independent seeds its error is the seeds' spread, "
+                    "which does not depend on that; "
+                    "%d number%s from fewer seeds use%s the larger of the spread and the runs' own "
+                    "errors and may be "
+                    "too small.\n\n",
                     bad, rows_seen, few, few == 1 ? "" : "s", few == 1 ? "s" : "");
         }
         const cJSON *w = cJSON_GetObjectItem(s, "warmup_check");
@@ -471,10 +537,13 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
             fprintf(f.f, "Warm-up check: not applicable (%s).\n\n", na->valuestring);
         } else if (w) {
             double z = num(w, "z");
-            fprintf(f.f, "Warm-up check: over %.0f runs, <T> in the first quarter of the sampling differs from the rest by "
-                         "%+.1f %% +- %.1f %% (z = %+.1f)%s\n\n",
+            fprintf(f.f,
+                    "Warm-up check: over %.0f runs, <T> in the first quarter of the sampling "
+                    "differs from the rest by "
+                    "%+.1f %% +- %.1f %% (z = %+.1f)%s\n\n",
                     num(w, "runs"), 100.0 * num(w, "drift"), 100.0 * num(w, "drift_error"), z,
-                    fabs(z) > 2.0 ? ": **the warm-up may be too short**." : ": no sign of a transient left in the sampling.");
+                    fabs(z) > 2.0 ? ": **the warm-up may be too short**."
+                                  : ": no sign of a transient left in the sampling.");
         }
         const cJSON *res;
         cJSON_ArrayForEach(res, cJSON_GetObjectItem(s, "results"))

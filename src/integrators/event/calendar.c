@@ -227,7 +227,8 @@ int gr_heap_min(gr_heap *h)
     return h->m > 0 ? h->node[0] : -1;
 }
 
-static const char *const cal_names[] = {[GR_CAL_SPARSE] = "sparse", [GR_CAL_FULL] = "full", [GR_CAL_BUCKET] = "bucket"};
+static const char *const cal_names[] = {
+    [GR_CAL_SPARSE] = "sparse", [GR_CAL_FULL] = "full", [GR_CAL_BUCKET] = "bucket"};
 
 int gr_heap_kind_parse(const char *name, gr_cal_kind *kind)
 {

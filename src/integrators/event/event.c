@@ -33,7 +33,9 @@
 int gr_ev_record(gr_sim *s, int i, int kind, double t, double x, double y, double vx, double vy,
                  gr_error *err)
 {
-    return gr_events_append(s, (gr_contact_event){.i = i, .kind = kind, .t = t, .x = x, .y = y, .vx = vx, .vy = vy}, err);
+    return gr_events_append(
+        s, (gr_contact_event){.i = i, .kind = kind, .t = t, .x = x, .y = y, .vx = vx, .vy = vy},
+        err);
 }
 
 /* ---------- progress guards ---------- */
@@ -57,14 +59,18 @@ int gr_ev_guard_check(gr_sim *s, double t_abs, int i, int j, gr_error *err)
     }
     const double span = t_abs - e->guard_mark_t;
     if (span < e->min_span) {
-        return GR_FAIL(err, GR_EUNSTABLE,
-                       "event-driven run unstable: the event rate diverges: %lld events in %.3g s of simulated time "
-                       "(%.3g events/s, the guard allows %lld events per %.3g s) at step %lld, t = %.12g s, "
-                       "the last between particles %d and %d. Particles in exact contact (e.g. [placement] kind = "
-                       "hexagonal with L a multiple of d), an inelastic collapse without the TC rule, or absurd speeds "
-                       "cause this; use a placement with gaps (uniform, random) or check the speeds",
-                       (long long)events, span, span > 0.0 ? (double)events / span : GR_EV_INF, (long long)e->budget,
-                       e->min_span, (long long)s->step, t_abs, i, j);
+        return GR_FAIL(
+            err, GR_EUNSTABLE,
+            "event-driven run unstable: the event rate diverges: %lld events in %.3g s of "
+            "simulated time "
+            "(%.3g events/s, the guard allows %lld events per %.3g s) at step %lld, t = %.12g s, "
+            "the last between particles %d and %d. Particles in exact contact (e.g. [placement] "
+            "kind = "
+            "hexagonal with L a multiple of d), an inelastic collapse without the TC rule, or "
+            "absurd speeds "
+            "cause this; use a placement with gaps (uniform, random) or check the speeds",
+            (long long)events, span, span > 0.0 ? (double)events / span : GR_EV_INF,
+            (long long)e->budget, e->min_span, (long long)s->step, t_abs, i, j);
     }
     /* Floor bouncing (exact free flight): a noise-pressed pair re-collides every ~tc, so at a tc far
      * below the mean free time (tc = 1e-12 s: 1e12 collisions per pair and second) the run crawls
@@ -73,13 +79,18 @@ int gr_ev_guard_check(gr_sim *s, double t_abs, int i, int j, gr_error *err)
      * floors in < 50 % of collisions and far fewer than `budget` events per window. */
     const int64_t floors = e->floors - e->guard_floor_mark;
     if (span < e->tau && 2 * floors > events) {
-        return GR_FAIL(err, GR_EUNSTABLE,
-                       "event-driven run crawls: %lld of %lld events in %.3g s of simulated time (less than one "
-                       "kick_interval = %.3g s) were noise-pressed pairs bouncing on the contact floor, which "
-                       "separates them for the TC time tc = %.3g s only, at step %lld, t = %.12g s (particles %d and "
-                       "%d). tc is far below the mean free time: leave [model] tc out (the contact time of the "
-                       "matching spring-dashpot), raise it, or use [integrator] free_flight = kicks",
-                       (long long)floors, (long long)events, span, e->tau, e->tc, (long long)s->step, t_abs, i, j);
+        return GR_FAIL(
+            err, GR_EUNSTABLE,
+            "event-driven run crawls: %lld of %lld events in %.3g s of simulated time (less than "
+            "one "
+            "kick_interval = %.3g s) were noise-pressed pairs bouncing on the contact floor, which "
+            "separates them for the TC time tc = %.3g s only, at step %lld, t = %.12g s (particles "
+            "%d and "
+            "%d). tc is far below the mean free time: leave [model] tc out (the contact time of "
+            "the "
+            "matching spring-dashpot), raise it, or use [integrator] free_flight = kicks",
+            (long long)floors, (long long)events, span, e->tau, e->tc, (long long)s->step, t_abs, i,
+            j);
     }
     e->guard_mark_n = e->guard_n;
     e->guard_mark_t = t_abs;
@@ -102,13 +113,18 @@ int gr_ev_floor_check(gr_sim *s, int i, int j, double t_abs, double floor_speed,
         return GR_OK;
     }
     return GR_FAIL(err, GR_EUNSTABLE,
-                   "event-driven run unstable: the contact floor has injected %.3g J, more than %g times the random force's "
-                   "mean work %.3g J, at step %lld, t = %.12g s (particles %d and %d separated at %.3g m/s, against the "
-                   "noise increment %.3g m/s per window). The floor speed push * tc / 2 grows with tc / kick_interval = "
-                   "%.3g: lower [model] tc (or raise k_s) or [integrator] kick_interval, or use free_flight = kicks; "
-                   "floors at one instant over and over mean particles in exact contact (use a placement with gaps)",
-                   e->floor_energy, GR_EV_FLOOR_RATIO, work, (long long)s->step, t_abs, i, j, floor_speed,
-                   sqrt(2.0 * s->params.D * e->tau) / e->M, e->tc / e->tau);
+                   "event-driven run unstable: the contact floor has injected %.3g J, more than %g "
+                   "times the random force's "
+                   "mean work %.3g J, at step %lld, t = %.12g s (particles %d and %d separated at "
+                   "%.3g m/s, against the "
+                   "noise increment %.3g m/s per window). The floor speed push * tc / 2 grows with "
+                   "tc / kick_interval = "
+                   "%.3g: lower [model] tc (or raise k_s) or [integrator] kick_interval, or use "
+                   "free_flight = kicks; "
+                   "floors at one instant over and over mean particles in exact contact (use a "
+                   "placement with gaps)",
+                   e->floor_energy, GR_EV_FLOOR_RATIO, work, (long long)s->step, t_abs, i, j,
+                   floor_speed, sqrt(2.0 * s->params.D * e->tau) / e->M, e->tc / e->tau);
 }
 
 /* ---------- windows ---------- */
@@ -178,14 +194,16 @@ static void draw_noise(gr_sim *s)
     double *g1 = e->g, *g2 = e->g + (size_t)n * dim;
     gr_noise_normals(s->params.seed, GR_STREAM_FREE_FLIGHT, 2 * (uint64_t)e->win, 0, n, dim, g1);
     if (e->exact) {
-        gr_noise_normals(s->params.seed, GR_STREAM_FREE_FLIGHT, 2 * (uint64_t)e->win + 1, 0, n, dim, g2);
+        gr_noise_normals(s->params.seed, GR_STREAM_FREE_FLIGHT, 2 * (uint64_t)e->win + 1, 0, n, dim,
+                         g2);
     }
     const bool sym = s->params.noise_mode == GR_NOISE_SYMMETRISED;
     for (int c = 0; c < dim; c++) {
         double mdv = 0.0, mdx = 0.0;
         for (int i = 0; i < n; i++) {
             double dv, dx;
-            gr_free_flight_sample(D, M, tau, g1[i * dim + c], e->exact ? g2[i * dim + c] : 0.0, &dv, &dx);
+            gr_free_flight_sample(D, M, tau, g1[i * dim + c], e->exact ? g2[i * dim + c] : 0.0, &dv,
+                                  &dx);
             a1[c][i] = dv; /* increments first, accelerations below */
             a2[c][i] = dx;
             mdv += dv;
@@ -257,15 +275,17 @@ static int check_1d(gr_sim *s, gr_error *err)
         gr_ev_state_x(e, j, e->now, e->phase, &xj, &vj);
         double gap = xj + (j == 0 ? e->L : 0.0) - xi - e->d;
         if (gap < -1e-9 * e->d) {
-            return GR_FAIL(err, GR_EUNSTABLE, "event check: particles %d and %d overlap by %.3g d at t = %.9g s",
-                           k, j, -gap / e->d, (double)e->win * e->tau + e->now);
+            return GR_FAIL(err, GR_EUNSTABLE,
+                           "event check: particles %d and %d overlap by %.3g d at t = %.9g s", k, j,
+                           -gap / e->d, (double)e->win * e->tau + e->now);
         }
     }
     return GR_OK;
 }
 
 /* Rebase particle i at the current instant with state (x, v), booking the free-flight work. */
-static inline void rebase_1d(struct gr_event_state *e, int i, double x, double v_before, double v_after)
+static inline void rebase_1d(struct gr_event_state *e, int i, double x, double v_before,
+                             double v_after)
 {
     e->injected += 0.5 * e->M * (v_before * v_before - e->bv[i] * e->bv[i]);
     e->t0[i] = e->now;
@@ -315,7 +335,8 @@ static int process_1d(gr_sim *s, double t_limit, gr_error *err)
         double ui = vi, uj = vj, zero1 = 0.0, zero2 = 0.0, de_n, de_t;
         de_n = de_t = 0.0;
         if (approaching) { /* a pressed pair that is not approaching only gets the floor */
-            gr_event_collide(e->M, elastic ? 1.0 : gr_ev_eps_n(e, ui - uj), 1.0, 1.0, 0.0, &ui, &zero1, &uj, &zero2, &de_n, &de_t);
+            gr_event_collide(e->M, elastic ? 1.0 : gr_ev_eps_n(e, ui - uj), 1.0, 1.0, 0.0, &ui,
+                             &zero1, &uj, &zero2, &de_n, &de_t);
         }
         if (push > 0.0 && uj - ui < 0.5 * push * e->tc) {
             /* contact floor (docs/event-driven.md): a pair pressed together by the noise separates
@@ -398,7 +419,8 @@ static void window_1d(gr_sim *s)
                                          0.5 * (e->a1x[j] - e->a1x[k]), h);
         int ph = 0;
         if (!(t < GR_EV_INF)) {
-            t = gr_ev_first_quadratic(xh[j] + wrap - xh[k] - e->d, vh[j] - vh[k], 0.5 * (e->a2x[j] - e->a2x[k]), e->tau - h);
+            t = gr_ev_first_quadratic(xh[j] + wrap - xh[k] - e->d, vh[j] - vh[k],
+                                      0.5 * (e->a2x[j] - e->a2x[k]), e->tau - h);
             t = t < GR_EV_INF ? h + t : GR_EV_INF;
             ph = 1;
         }
@@ -456,8 +478,8 @@ static void report(gr_sim *s, double t)
  * runaway). Non-finite velocities or positions are refused the same way. */
 #define GR_EV_MAX_BOXES 1e3
 
-static int check_speeds(const gr_sim *s, const double *x, const double *vx, const double *y, const double *vy,
-                        double tau, bool at_start, gr_error *err)
+static int check_speeds(const gr_sim *s, const double *x, const double *vx, const double *y,
+                        const double *vy, double tau, bool at_start, gr_error *err)
 {
     double vmax = 0.0;
     int worst = 0;
@@ -479,25 +501,33 @@ static int check_speeds(const gr_sim *s, const double *x, const double *vx, cons
     }
     if (at_start) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: particle %d starts with speed %.3g m/s: it would cross the box (L = %g m) %.3g times per kick "
-                       "interval %g s; the event-driven integrator allows at most %g (check [placement] v0, allowed "
+                       "%s: particle %d starts with speed %.3g m/s: it would cross the box (L = %g "
+                       "m) %.3g times per kick "
+                       "interval %g s; the event-driven integrator allows at most %g (check "
+                       "[placement] v0, allowed "
                        "range [0, %.3g] m/s for this box)",
                        s->params.source, worst, vmax, s->L, vmax * tau / s->L, tau, GR_EV_MAX_BOXES,
                        2.0 * GR_EV_MAX_BOXES * s->L / tau / sqrt(s->dim));
     }
-    return GR_FAIL(err, GR_EUNSTABLE,
-                   "event-driven run unstable: particle %d reached speed %.3g m/s at step %lld, t = %.6g s: it crosses the "
-                   "box (L = %g m) %.3g times per kick interval (allowed %g); energy is running away",
-                   worst, vmax, (long long)s->step, gr_sim_time(s), s->L, vmax * tau / s->L, GR_EV_MAX_BOXES);
+    return GR_FAIL(
+        err, GR_EUNSTABLE,
+        "event-driven run unstable: particle %d reached speed %.3g m/s at step %lld, t = %.6g s: "
+        "it crosses the "
+        "box (L = %g m) %.3g times per kick interval (allowed %g); energy is running away",
+        worst, vmax, (long long)s->step, gr_sim_time(s), s->L, vmax * tau / s->L, GR_EV_MAX_BOXES);
 }
 
 int gr_event_init(gr_sim *s, gr_error *err)
 {
     if (s->cc.normal != GR_NORMAL_HARD_SPHERE) {
-        return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kind = event needs [model] normal = hard_sphere", s->params.source);
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [integrator] kind = event needs [model] normal = hard_sphere",
+                       s->params.source);
     }
     if (!(s->params.kick_interval > 0.0)) {
-        return GR_FAIL(err, GR_EINVAL, "%s: [integrator] kick_interval = %g: allowed range (0, inf) s", s->params.source, s->params.kick_interval);
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [integrator] kick_interval = %g: allowed range (0, inf) s",
+                       s->params.source, s->params.kick_interval);
     }
     struct gr_event_state *e = calloc(1, sizeof *e);
     if (!e) {
@@ -524,7 +554,8 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->rough = s->omega != NULL; /* [model] rotation = true (2D only: gr_sim refuses it in 1D) */
     e->q = s->cc.q;
     e->R = 0.5 * s->d;
-    e->beta = s->cc.law_t[GR_HARD_SPHERE_BETA]; /* the rule's constants, as hard_sphere prepared them */
+    e->beta =
+        s->cc.law_t[GR_HARD_SPHERE_BETA]; /* the rule's constants, as hard_sphere prepared them */
     e->beta_mu = s->cc.law_t[GR_HARD_SPHERE_BETA_MU];
     e->visco = s->cc.law_n[GR_HARD_SPHERE_VISCO] != 0.0;
     e->cc = &s->cc;
@@ -540,13 +571,14 @@ int gr_event_init(gr_sim *s, gr_error *err)
     gr_cal_kind kind;
     if (gr_heap_kind_parse(cal, &kind)) {
         return GR_FAIL(err, GR_EINVAL,
-                       "environment variable GRANULE_EVENT_CALENDAR = '%.40s' is not an event calendar: use bucket (the "
+                       "environment variable GRANULE_EVENT_CALENDAR = '%.40s' is not an event "
+                       "calendar: use bucket (the "
                        "default), sparse or full (docs/event-driven.md)",
                        cal);
     }
     size_t sz = sizeof(double) * (size_t)(n > 0 ? n : 1);
-    double **arrays[] = {&e->t0, &e->bx, &e->bv, &e->a1x, &e->a2x, &e->jx, &e->last,
-                         &e->by, &e->bw, &e->a1y, &e->a2y, &e->jy};
+    double **arrays[] = {&e->t0,   &e->bx, &e->bv, &e->a1x, &e->a2x, &e->jx,
+                         &e->last, &e->by, &e->bw, &e->a1y, &e->a2y, &e->jy};
     int n_arrays = s->dim == 2 ? 12 : 7;
     bool ok = true;
     for (int a = 0; a < n_arrays; a++) {
@@ -555,9 +587,11 @@ int gr_event_init(gr_sim *s, gr_error *err)
     }
     e->g = malloc(sz * 2 * (size_t)s->dim);
     e->past = calloc((size_t)(n > 0 ? n : 1), 1);
-    ok = ok && e->g && e->past && !gr_heap_alloc(&e->heap, s->dim == 1 ? (n > 1 ? n : 0) : n, e->tau, kind);
+    ok = ok && e->g && e->past &&
+         !gr_heap_alloc(&e->heap, s->dim == 1 ? (n > 1 ? n : 0) : n, e->tau, kind);
     if (!ok) {
-        return GR_FAIL(err, GR_ENOMEM, "out of memory for the event-driven state of %d particles", n);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for the event-driven state of %d particles",
+                       n);
     }
     int rc = check_speeds(s, s->x, s->vx, s->y, s->vy, s->params.kick_interval, true, err);
     if (rc) {
@@ -568,11 +602,13 @@ int gr_event_init(gr_sim *s, gr_error *err)
     const double tau = s->params.kick_interval, vlim = GR_EV_MAX_BOXES * s->L / tau;
     if (10.0 * sqrt(2.0 * s->params.D * tau) / s->mass > vlim) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: [noise] D = %g N^2 s gives velocity kicks of %.3g m/s per kick interval (%g s), which would "
-                       "cross the box (L = %g m) more than %g times per interval; allowed range for the event-driven "
+                       "%s: [noise] D = %g N^2 s gives velocity kicks of %.3g m/s per kick "
+                       "interval (%g s), which would "
+                       "cross the box (L = %g m) more than %g times per interval; allowed range "
+                       "for the event-driven "
                        "integrator here: [0, %.3g] N^2 s",
-                       s->params.source, s->params.D, sqrt(2.0 * s->params.D * tau) / s->mass, tau, s->L,
-                       GR_EV_MAX_BOXES, pow(vlim * s->mass / 10.0, 2) / (2.0 * tau));
+                       s->params.source, s->params.D, sqrt(2.0 * s->params.D * tau) / s->mass, tau,
+                       s->L, GR_EV_MAX_BOXES, pow(vlim * s->mass / 10.0, 2) / (2.0 * tau));
     }
     for (int i = 0; i < n; i++) {
         e->bx[i] = s->x[i];
@@ -610,7 +646,9 @@ int gr_event_init(gr_sim *s, gr_error *err)
     s->share[1] = s->share[2] = 0.0;
     snprintf(s->kernel_name, sizeof s->kernel_name, "event-%s-%s-tc",
              s->dim == 1 ? "1d-ring" : (e->ncell > 1 ? "2d-cells" : "2d-allpairs"),
-             !e->noise ? "nonoise" : e->exact ? "exact" : "kicks");
+             !e->noise  ? "nonoise"
+             : e->exact ? "exact"
+                        : "kicks");
     return GR_OK;
 }
 
@@ -649,8 +687,10 @@ int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err)
     for (int i = 0; i < s->n; i++) {
         double sum = s->x[i] + s->vx[i] + (s->dim == 2 ? s->y[i] + s->vy[i] : 0.0);
         if (!isfinite(sum)) {
-            return GR_FAIL(err, GR_EUNSTABLE, "event-driven run: particle %d has a non-finite position or velocity at t = %.6g s",
-                           i, gr_sim_time(s));
+            return GR_FAIL(
+                err, GR_EUNSTABLE,
+                "event-driven run: particle %d has a non-finite position or velocity at t = %.6g s",
+                i, gr_sim_time(s));
         }
     }
     return GR_OK;
@@ -662,7 +702,8 @@ void gr_event_free(gr_sim *s)
     if (!e) {
         return;
     }
-    double *arrays[] = {e->t0, e->bx, e->bv, e->by, e->bw, e->a1x, e->a2x, e->jx, e->a1y, e->a2y, e->jy, e->last, e->g};
+    double *arrays[] = {e->t0, e->bx,  e->bv,  e->by, e->bw,   e->a1x, e->a2x,
+                        e->jx, e->a1y, e->a2y, e->jy, e->last, e->g};
     for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++) {
         free(arrays[a]);
     }
@@ -684,15 +725,22 @@ int64_t gr_event_processed(const gr_sim *s)
     return gr_ev(s) ? gr_ev(s)->collisions + gr_ev(s)->crossings + gr_ev(s)->kicks : 0;
 }
 
-const char *gr_event_calendar(const gr_sim *s) { return gr_ev(s) ? gr_heap_name(&gr_ev(s)->heap) : "none"; }
+const char *gr_event_calendar(const gr_sim *s)
+{
+    return gr_ev(s) ? gr_heap_name(&gr_ev(s)->heap) : "none";
+}
 
 void gr_event_stats(const gr_sim *s, gr_event_counts *c)
 {
     const struct gr_event_state *e = gr_ev(s);
     *c = (gr_event_counts){0};
     if (e) {
-        *c = (gr_event_counts){.collisions = e->collisions, .crossings = e->crossings, .kicks = e->kicks,
-                               .invalid = e->invalid, .tc_elastic = e->tc_elastic, .floors = e->floors,
+        *c = (gr_event_counts){.collisions = e->collisions,
+                               .crossings = e->crossings,
+                               .kicks = e->kicks,
+                               .invalid = e->invalid,
+                               .tc_elastic = e->tc_elastic,
+                               .floors = e->floors,
                                .floor_energy = e->floor_energy};
     }
 }

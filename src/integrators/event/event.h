@@ -17,7 +17,8 @@ extern const gr_integrator_type gr_integrator_event;
 /* The event state of s, or NULL when s is not event-driven. */
 static inline struct gr_event_state *gr_ev(const gr_sim *s)
 {
-    return s->integrator == &gr_integrator_event ? (struct gr_event_state *)s->integrator_state : NULL;
+    return s->integrator == &gr_integrator_event ? (struct gr_event_state *)s->integrator_state
+                                                 : NULL;
 }
 
 /* Build the event state after positions, velocities and coefficients are set. */

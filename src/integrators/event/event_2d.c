@@ -34,7 +34,8 @@ int gr_ev2d_alloc(gr_sim *s, gr_error *err)
     e->next = malloc(n * sizeof(int));
     e->prev = malloc(n * sizeof(int));
     e->head = malloc(sizeof(int) * (size_t)e->ncell * (size_t)e->ncell);
-    if (!e->partner || !e->count || !e->ev_count || !e->cell_of || !e->next || !e->prev || !e->head) {
+    if (!e->partner || !e->count || !e->ev_count || !e->cell_of || !e->next || !e->prev ||
+        !e->head) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory for the event-driven cell list");
     }
     return GR_OK;
@@ -65,8 +66,8 @@ static inline void cell_remove(struct gr_event_state *e, int i)
 }
 
 /* Relative state of j seen from i at local time t (minimum image). */
-static inline void rel(const struct gr_event_state *e, int i, int j, double t, int phase, double *rx,
-                       double *ry, double *wx, double *wy)
+static inline void rel(const struct gr_event_state *e, int i, int j, double t, int phase,
+                       double *rx, double *ry, double *wx, double *wy)
 {
     double xi, vi, yi, ui, xj, vj, yj, uj;
     gr_ev_state_x(e, i, t, phase, &xi, &vi);
@@ -96,7 +97,8 @@ static inline double piece_contact(const struct gr_event_state *e, double rx, do
     }
     const double c[5] = {f0, f1, w2 + rx * Ax + ry * Ay, wx * Ax + wy * Ay, 0.25 * A2};
     /* f(t) >= c0 + min(c1, 0) T + min(c2, 0) T^2 + min(c3, 0) T^3 on [0, T] (c4 >= 0) */
-    if (f0 > 0.0 && f0 + T * (fmin(c[1], 0.0) + T * (fmin(c[2], 0.0) + T * fmin(c[3], 0.0))) > 0.0) {
+    if (f0 > 0.0 &&
+        f0 + T * (fmin(c[1], 0.0) + T * (fmin(c[2], 0.0) + T * fmin(c[3], 0.0))) > 0.0) {
         return GR_EV_INF;
     }
     return gr_ev_first_quartic(c, T);
@@ -108,21 +110,25 @@ static double pair_time(const struct gr_event_state *e, int i, int j, int *phase
     rel(e, i, j, e->now, e->phase, &rx, &ry, &wx, &wy);
     *phase = e->phase;
     if (e->phase == 0) {
-        double t = piece_contact(e, rx, ry, wx, wy, e->a1x[j] - e->a1x[i], e->a1y[j] - e->a1y[i], e->h - e->now);
+        double t = piece_contact(e, rx, ry, wx, wy, e->a1x[j] - e->a1x[i], e->a1y[j] - e->a1y[i],
+                                 e->h - e->now);
         if (t < GR_EV_INF) {
             return e->now + t;
         }
         rel(e, i, j, e->h, 1, &rx, &ry, &wx, &wy);
         *phase = 1;
-        t = piece_contact(e, rx, ry, wx, wy, e->a2x[j] - e->a2x[i], e->a2y[j] - e->a2y[i], e->tau - e->h);
+        t = piece_contact(e, rx, ry, wx, wy, e->a2x[j] - e->a2x[i], e->a2y[j] - e->a2y[i],
+                          e->tau - e->h);
         return t < GR_EV_INF ? e->h + t : GR_EV_INF;
     }
-    double t = piece_contact(e, rx, ry, wx, wy, e->a2x[j] - e->a2x[i], e->a2y[j] - e->a2y[i], e->tau - e->now);
+    double t = piece_contact(e, rx, ry, wx, wy, e->a2x[j] - e->a2x[i], e->a2y[j] - e->a2y[i],
+                             e->tau - e->now);
     return t < GR_EV_INF ? e->now + t : GR_EV_INF;
 }
 
 /* Earliest exit through the cell walls lo/hi of one coordinate within one piece. */
-static inline double piece_exit(double x, double v, double a, double lo, double hi, double T, int *face, int f_lo)
+static inline double piece_exit(double x, double v, double a, double lo, double hi, double T,
+                                int *face, int f_lo)
 {
     double t_hi = gr_ev_first_quadratic(hi - x, -v, -0.5 * a, T);
     double t_lo = gr_ev_first_quadratic(x - lo, v, 0.5 * a, T);
@@ -143,7 +149,8 @@ static double crossing_time(const struct gr_event_state *e, int i, int *face, in
         gr_ev_state_x(e, i, t0, piece, &x, &v);
         gr_ev_state_y(e, i, t0, piece, &y, &w);
         const double T = (piece == 0 ? e->h : e->tau) - t0;
-        const double ax = piece == 0 ? e->a1x[i] : e->a2x[i], ay = piece == 0 ? e->a1y[i] : e->a2y[i];
+        const double ax = piece == 0 ? e->a1x[i] : e->a2x[i],
+                     ay = piece == 0 ? e->a1y[i] : e->a2y[i];
         double tx = piece_exit(x, v, ax, xlo, xhi, T, &fx, 0);
         double ty = piece_exit(y, w, ay, ylo, yhi, T, &fy, 2);
         double t = tx < ty ? tx : ty;
@@ -281,8 +288,8 @@ void gr_ev2d_window(gr_sim *s)
     gr_heap_build(&e->heap);
 }
 
-static inline void rebase(struct gr_event_state *e, int i, double x, double y, double vx0, double vy0,
-                          double vx, double vy)
+static inline void rebase(struct gr_event_state *e, int i, double x, double y, double vx0,
+                          double vy0, double vx, double vy)
 {
     e->injected += 0.5 * e->M * (vx0 * vx0 + vy0 * vy0 - e->bv[i] * e->bv[i] - e->bw[i] * e->bw[i]);
     e->t0[i] = e->now;
@@ -302,7 +309,8 @@ static int check_2d(gr_sim *s, gr_error *err)
             rel(e, i, j, e->now, e->phase, &rx, &ry, &wx, &wy);
             double r = sqrt(rx * rx + ry * ry);
             if (r < e->d * (1.0 - 1e-9)) {
-                return GR_FAIL(err, GR_EUNSTABLE, "event check: particles %d and %d overlap by %.3g d at t = %.9g s",
+                return GR_FAIL(err, GR_EUNSTABLE,
+                               "event check: particles %d and %d overlap by %.3g d at t = %.9g s",
                                i, j, 1.0 - r / e->d, (double)e->win * e->tau + e->now);
             }
         }
@@ -345,10 +353,12 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
         const double eps_n = elastic ? 1.0 : gr_ev_eps_n(e, gn);
         if (e->rough) {
             /* TC-elastic collisions are smooth too (beta = -1): no tangential impulse */
-            gr_event_collide_rough(e->M, e->q, e->R, eps_n, elastic ? -1.0 : e->beta, elastic ? 0.0 : e->beta_mu, nx, ny,
-                                   &pi_x, &pi_y, &pj_x, &pj_y, &s->omega[i], &s->omega[j], &de_n, &de_t);
+            gr_event_collide_rough(e->M, e->q, e->R, eps_n, elastic ? -1.0 : e->beta,
+                                   elastic ? 0.0 : e->beta_mu, nx, ny, &pi_x, &pi_y, &pj_x, &pj_y,
+                                   &s->omega[i], &s->omega[j], &de_n, &de_t);
         } else {
-            gr_event_collide(e->M, eps_n, elastic ? 1.0 : e->eps_t, nx, ny, &pi_x, &pi_y, &pj_x, &pj_y, &de_n, &de_t);
+            gr_event_collide(e->M, eps_n, elastic ? 1.0 : e->eps_t, nx, ny, &pi_x, &pi_y, &pj_x,
+                             &pj_y, &de_n, &de_t);
         }
     }
     if (push > 0.0) {
@@ -363,7 +373,8 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
             pi_y -= dv * ny;
             pj_x += dv * nx;
             pj_y += dv * ny;
-            const double added = 0.5 * e->M * (pi_x * pi_x + pi_y * pi_y + pj_x * pj_x + pj_y * pj_y - k0);
+            const double added =
+                0.5 * e->M * (pi_x * pi_x + pi_y * pi_y + pj_x * pj_x + pj_y * pj_y - k0);
             e->injected += added;
             e->floor_energy += added;
             e->floors++;

@@ -33,16 +33,16 @@ typedef struct gr_heap {
     uint8_t *ph;      /* phase of entry e */
     /* bucket: nb buckets of width span / nb over the window, doubly linked lists */
     double span, inv_w;
-    int nb, cur;      /* buckets, first possibly non-empty one */
+    int nb, cur; /* buckets, first possibly non-empty one */
     int *head, *next, *prev;
 } gr_heap;
 
 struct gr_event_state {
     int n, dim;
-    double tau, h;         /* window length and its middle */
-    int64_t win;           /* current window; it starts at win * tau */
-    double now;            /* local time of the last processed event */
-    int phase;             /* phase of now */
+    double tau, h; /* window length and its middle */
+    int64_t win;   /* current window; it starts at win * tau */
+    double now;    /* local time of the last processed event */
+    int phase;     /* phase of now */
     double M, L, d, d2;
     double eps_n, eps_t, tc;
     /* rough discs ([model] rotation = true, 2D): Walton's rule on s->omega (models/hard_sphere.h) */
@@ -51,39 +51,40 @@ struct gr_event_state {
     /* viscoelastic = true: eps_n(v) of the hertz viscoelastic contact, from the model's impact */
     bool visco;
     const gr_contact_coeffs *cc; /* the sim's coefficients (gr_sim.cc) */
-    bool exact;            /* free_flight = exact */
+    bool exact;                  /* free_flight = exact */
     bool noise;
     /* trajectories */
     double *t0, *bx, *bv, *by, *bw; /* base time, x, vx, y, vy */
     uint8_t *past;
     double *a1x, *a2x, *jx, *a1y, *a2y, *jy;
-    double *last;          /* absolute time of each particle's last collision (TC rule) */
-    double *g;             /* scratch for normals, 2 n dim */
+    double *last; /* absolute time of each particle's last collision (TC rule) */
+    double *g;    /* scratch for normals, 2 n dim */
     /* calendar */
     gr_heap heap;
     /* 2D: per-particle event (partner >= 0: collision, -1 - face: cell crossing) */
     int *partner;
     int64_t *count, *ev_count;
-    int ncell;             /* cells per side (1 = all pairs, no crossing events) */
-    double cell;           /* cell side */
+    int ncell;   /* cells per side (1 = all pairs, no crossing events) */
+    double cell; /* cell side */
     int *cell_of, *head, *next, *prev;
     /* statistics */
     int64_t collisions, crossings, kicks, invalid, tc_elastic, floors;
-    double injected;       /* booked free-flight work up to each particle's base */
-    double floor_energy;   /* added by the contact floor (included in injected) */
-    int64_t com_every;     /* windows between centre-of-mass resets (com mode) */
+    double injected;     /* booked free-flight work up to each particle's base */
+    double floor_energy; /* added by the contact floor (included in injected) */
+    int64_t com_every;   /* windows between centre-of-mass resets (com mode) */
     /* test hooks */
-    bool check;            /* check for overlaps after every event */
-    bool no_collisions;    /* free flight only */
+    bool check;         /* check for overlaps after every event */
+    bool no_collisions; /* free flight only */
     /* progress guard (event.c, gr_ev_guard): every event counts; every GR_EV_POLL events the
      * stop flag is polled, every `budget` events the simulated time they took is checked */
     int64_t guard_n, guard_mark_n, budget;
-    double guard_mark_t;   /* absolute time at the last check */
-    int64_t guard_floor_mark; /* floors at the last check (not in checkpoints: set to floors on load) */
-    double min_span;       /* shortest time `budget` events may take: 1e-6 kick_interval */
-    double work_rate;      /* mean random-force power, W (floor guard) */
-    double t_start;        /* absolute time at creation */
-    int64_t owed_to;       /* target step of a call that returned early on a stop (0: none) */
+    double guard_mark_t; /* absolute time at the last check */
+    int64_t
+        guard_floor_mark; /* floors at the last check (not in checkpoints: set to floors on load) */
+    double min_span;      /* shortest time `budget` events may take: 1e-6 kick_interval */
+    double work_rate;     /* mean random-force power, W (floor guard) */
+    double t_start;       /* absolute time at creation */
+    int64_t owed_to;      /* target step of a call that returned early on a stop (0: none) */
     volatile sig_atomic_t *stop; /* gr_event_set_stop: return early when it becomes non-zero */
 };
 
@@ -103,7 +104,8 @@ int gr_ev_guard_check(gr_sim *s, double t_abs, int i, int j, gr_error *err);
 
 /* Call once per processed calendar entry (collision, crossing, stale entry) before handling it:
  * 0 go on, GR_EV_STOPPED stop requested (the entry stays in the calendar), < 0 unstable. */
-static inline int gr_ev_guard(gr_sim *s, struct gr_event_state *e, double t_abs, int i, int j, gr_error *err)
+static inline int gr_ev_guard(gr_sim *s, struct gr_event_state *e, double t_abs, int i, int j,
+                              gr_error *err)
 {
     if (++e->guard_n % GR_EV_POLL != 0) {
         return 0;
@@ -206,9 +208,9 @@ int gr_heap_kind_parse(const char *name, gr_cal_kind *kind);
 const char *gr_heap_name(const gr_heap *h);
 int gr_heap_alloc(gr_heap *h, int cap, double span, gr_cal_kind kind); /* 0 or -1 (out of memory) */
 void gr_heap_free(gr_heap *h);
-void gr_heap_build(gr_heap *h);           /* after every key was set (window start, restore) */
-void gr_heap_update(gr_heap *h, int e);   /* after entry e's key changed */
-int gr_heap_min(gr_heap *h);              /* the next entry, -1 if none */
+void gr_heap_build(gr_heap *h);         /* after every key was set (window start, restore) */
+void gr_heap_update(gr_heap *h, int e); /* after entry e's key changed */
+int gr_heap_min(gr_heap *h);            /* the next entry, -1 if none */
 
 /* common helpers (event.c) */
 int gr_ev_record(gr_sim *s, int i, int kind, double t, double x, double y, double vx, double vy,
@@ -221,7 +223,7 @@ static inline bool gr_ev_tc_elastic(const struct gr_event_state *e, int i, int j
 
 /* 2D core (event_2d.c) */
 int gr_ev2d_alloc(gr_sim *s, gr_error *err);
-void gr_ev2d_window(gr_sim *s);          /* cells and all predictions at a window start */
+void gr_ev2d_window(gr_sim *s); /* cells and all predictions at a window start */
 int gr_ev2d_process(gr_sim *s, double t_limit, gr_error *err);
 
 #endif

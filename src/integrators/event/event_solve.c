@@ -141,8 +141,8 @@ static int roots_in(const double *c, int deg, double a, double b, double tol, do
 
 double gr_ev_first_quartic(const double c[5], double T)
 {
-    if (!(isfinite(c[0]) && isfinite(c[1]) && isfinite(c[2]) && isfinite(c[3]) && isfinite(c[4]) && T > 0.0 &&
-          isfinite(T))) {
+    if (!(isfinite(c[0]) && isfinite(c[1]) && isfinite(c[2]) && isfinite(c[3]) && isfinite(c[4]) &&
+          T > 0.0 && isfinite(T))) {
         return GR_EV_INF;
     }
     const double tol = 4.0 * DBL_EPSILON * T;
@@ -163,7 +163,8 @@ double gr_ev_first_quartic(const double c[5], double T)
     for (int k = 0; k <= m; k++) {
         double p = pts[k], q = pts[k + 1];
         double fp = peval(c, deg, p), fq = peval(c, deg, q);
-        bool decreasing = fq < fp || (fq == fp && deg > 0 && peval(dc, deg - 1, 0.5 * (p + q)) < 0.0);
+        bool decreasing =
+            fq < fp || (fq == fp && deg > 0 && peval(dc, deg - 1, 0.5 * (p + q)) < 0.0);
         if (!decreasing) {
             continue;
         }

@@ -30,17 +30,20 @@ static void i32s_io(gr_blob_io *io, int *v, int64_t n, const char *what)
     int64_t k = n;
     gr_blob_io_i64(io, &k);
     if (io->in && !io->in->bad && k != n) {
-        gr_blob_fail(io->in, "event state: %s has %lld entries, %lld expected", what, (long long)k, (long long)n);
+        gr_blob_fail(io->in, "event state: %s has %lld entries, %lld expected", what, (long long)k,
+                     (long long)n);
     }
     gr_blob_io_bytes(io, v, sizeof(int) * (size_t)n);
 }
 
 /* v[k] in [lo, hi) for every k, else fail naming the array */
-static void check_range(gr_blob_reader *r, const int *v, int64_t n, int lo, int hi, const char *what)
+static void check_range(gr_blob_reader *r, const int *v, int64_t n, int lo, int hi,
+                        const char *what)
 {
     for (int64_t k = 0; k < n && !r->bad; k++) {
         if (v[k] < lo || v[k] >= hi) {
-            gr_blob_fail(r, "event state: %s[%lld] = %d, allowed range [%d, %d)", what, (long long)k, v[k], lo, hi);
+            gr_blob_fail(r, "event state: %s[%lld] = %d, allowed range [%d, %d)", what,
+                         (long long)k, v[k], lo, hi);
         }
     }
 }
@@ -60,13 +63,16 @@ static void check_cells(const struct gr_event_state *e, gr_blob_reader *r)
         int before = -1;
         for (int i = e->head[c]; i >= 0 && !r->bad; i = e->next[i]) {
             if (e->cell_of[i] != c || e->prev[i] != before || ++seen > n) {
-                gr_blob_fail(r, "event state: the cell list of cell %d is inconsistent at particle %d", c, i);
+                gr_blob_fail(r,
+                             "event state: the cell list of cell %d is inconsistent at particle %d",
+                             c, i);
             }
             before = i;
         }
     }
     if (!r->bad && seen != n) {
-        gr_blob_fail(r, "event state: the cell lists hold %lld of %lld particles", (long long)seen, (long long)n);
+        gr_blob_fail(r, "event state: the cell lists hold %lld of %lld particles", (long long)seen,
+                     (long long)n);
     }
 }
 
@@ -84,20 +90,24 @@ int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     gr_blob_io_i64(io, &dim);
     gr_blob_io_f64(io, &tau);
     if (r && !r->bad && (n_saved != n || dim != e->dim || memcmp(&tau, &e->tau, sizeof tau) != 0)) {
-        gr_blob_fail(r, "event state of %lld particles in %lld D with window %.17g s, the scene has %lld in %d D with %.17g s",
+        gr_blob_fail(r,
+                     "event state of %lld particles in %lld D with window %.17g s, the scene has "
+                     "%lld in %d D with %.17g s",
                      (long long)n_saved, (long long)dim, tau, (long long)n, e->dim, e->tau);
     }
     gr_blob_io_i64(io, &e->win);
     gr_blob_io_f64(io, &e->now);
     int64_t phase = e->phase;
     gr_blob_io_i64(io, &phase);
-    if (r && !r->bad && (e->win < 0 || !(e->now >= 0.0 && e->now <= e->tau) || (phase != 0 && phase != 1))) {
-        gr_blob_fail(r, "event state: window %lld, local time %.17g s, phase %lld are impossible", (long long)e->win, e->now,
-                     (long long)phase);
+    if (r && !r->bad &&
+        (e->win < 0 || !(e->now >= 0.0 && e->now <= e->tau) || (phase != 0 && phase != 1))) {
+        gr_blob_fail(r, "event state: window %lld, local time %.17g s, phase %lld are impossible",
+                     (long long)e->win, e->now, (long long)phase);
     }
     e->phase = (int)phase;
-    int64_t *const counts[] = {&e->collisions, &e->crossings, &e->kicks, &e->invalid, &e->tc_elastic, &e->floors,
-                               &e->guard_n, &e->guard_mark_n, &e->owed_to};
+    int64_t *const counts[] = {&e->collisions, &e->crossings,    &e->kicks,
+                               &e->invalid,    &e->tc_elastic,   &e->floors,
+                               &e->guard_n,    &e->guard_mark_n, &e->owed_to};
     for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
         gr_blob_io_i64(io, counts[k]);
     }
@@ -123,7 +133,9 @@ int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     }
     for (int64_t i = 0; r && i < n && !r->bad; i++) {
         if (e->past[i] > 1 || !(e->t0[i] >= 0.0 && e->t0[i] <= e->now)) {
-            gr_blob_fail(r, "event state: particle %lld has base time %.17g s (past %d) after the last event at %.17g s",
+            gr_blob_fail(r,
+                         "event state: particle %lld has base time %.17g s (past %d) after the "
+                         "last event at %.17g s",
                          (long long)i, e->t0[i], e->past[i], e->now);
         }
     }
@@ -133,8 +145,10 @@ int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     gr_blob_io_bytes(io, h->ph, (size_t)h->cap);
     for (int k = 0; r && k < h->cap && !r->bad; k++) {
         if (h->ph[k] > 1 || !(h->t[k] >= e->now)) { /* +inf (never due) passes */
-            gr_blob_fail(r, "event state: calendar entry %d at %.17g s (phase %d) lies before the last event", k, h->t[k],
-                         h->ph[k]);
+            gr_blob_fail(
+                r,
+                "event state: calendar entry %d at %.17g s (phase %d) lies before the last event",
+                k, h->t[k], h->ph[k]);
         }
     }
     if (e->dim == 2) {
@@ -144,7 +158,8 @@ int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
         int64_t ncell = e->ncell;
         gr_blob_io_i64(io, &ncell);
         if (r && !r->bad && ncell != e->ncell) {
-            gr_blob_fail(r, "event state: %lld cells per side in the checkpoint, %d for this scene", (long long)ncell, e->ncell);
+            gr_blob_fail(r, "event state: %lld cells per side in the checkpoint, %d for this scene",
+                         (long long)ncell, e->ncell);
         }
         i32s_io(io, e->cell_of, n, "cell_of");
         i32s_io(io, e->head, (int64_t)e->ncell * e->ncell, "head");
@@ -157,7 +172,8 @@ int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
             gr_blob_io_f64s(io, s->omega, n);
             for (int64_t i = 0; r && i < n && !r->bad; i++) {
                 if (!isfinite(s->omega[i])) {
-                    gr_blob_fail(r, "event state: particle %lld has angular velocity %g", (long long)i, s->omega[i]);
+                    gr_blob_fail(r, "event state: particle %lld has angular velocity %g",
+                                 (long long)i, s->omega[i]);
                 }
             }
         }

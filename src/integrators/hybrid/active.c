@@ -62,7 +62,8 @@ static inline double gap_1d(const gr_sim *s, const double *x, int i)
 static void select_1d(gr_sim *s, gr_hybrid_state *h, int m)
 {
     const int n = s->n;
-    const double tau = m * s->dt, c = h->margin_c, sx = gr_hy_noise_sx(s, h, m), sv = gr_hy_noise_sv(s, m);
+    const double tau = m * s->dt, c = h->margin_c, sx = gr_hy_noise_sx(s, h, m),
+                 sv = gr_hy_noise_sv(s, m);
     const double w0 = s->cc.w0, free_margin = c * M_SQRT2 * sx, one_margin = c * sx;
     const double *x = s->x, *v = s->vx;
     double *restrict g = h->c_xi; /* gaps g[i] between i and i + 1 (mod n) */
@@ -78,7 +79,7 @@ static void select_1d(gr_sim *s, gr_hybrid_state *h, int m)
             act[i] = act[j] = 1;
         }
     }
-#define W(i) ((i) >= n ? (i) - n : (i))
+#define W(i) ((i) >= n ? (i)-n : (i))
     for (int pass = 0; pass < n; pass++) {
         int f0 = -1;
         for (int i = 0; i < n; i++) {

@@ -29,7 +29,6 @@ static void unite(int *uf, int i, int j)
     }
 }
 
-
 static inline int push_pair(gr_hybrid_state *h, int i, int j, gr_error *err)
 {
     if (h->npairs == h->cap_pairs) {
@@ -40,7 +39,8 @@ static inline int push_pair(gr_hybrid_state *h, int i, int j, gr_error *err)
         }
         int *b = a ? realloc(h->pj, sizeof(int) * (size_t)cap) : NULL;
         if (!a || !b) {
-            return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for %lld candidate pairs", (long long)cap);
+            return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for %lld candidate pairs",
+                           (long long)cap);
         }
         h->pj = b;
         h->cap_pairs = cap;
@@ -88,7 +88,8 @@ int gr_hy_collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err)
         if (!h->sorted || !h->xs || !h->ys) {
             free(h->sorted);
             h->sorted = NULL;
-            return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for the cell grid of %d particles", n);
+            return GR_FAIL(err, GR_ENOMEM,
+                           "hybrid: out of memory for the cell grid of %d particles", n);
         }
     }
     /* counting sort by cell: cell q holds sorted[start[q] .. start[q + 1]), positions copied
@@ -129,7 +130,8 @@ int gr_hy_collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err)
                 const int o = oy * side + ox;
                 for (int a = start[q]; a < start[q + 1]; a++) {
                     for (int b = st == 0 ? a + 1 : start[o]; b < start[o + 1]; b++) {
-                        const double dx = gr_hy_wrap(xs[b] - xs[a], L), dy = gr_hy_wrap(ys[b] - ys[a], L);
+                        const double dx = gr_hy_wrap(xs[b] - xs[a], L),
+                                     dy = gr_hy_wrap(ys[b] - ys[a], L);
                         if (dx * dx + dy * dy < rc2 && push_pair(h, sorted[a], sorted[b], err)) {
                             return GR_ENOMEM;
                         }
@@ -155,13 +157,15 @@ static inline double closest(double rx, double ry, double ux, double uy, double 
 double gr_hy_max_disp(const gr_sim *s, const gr_hybrid_state *h)
 {
     const int n = s->n;
-    const double L = s->L, *restrict x = s->x, *restrict y = s->y, *restrict xl = h->xl, *restrict yl = h->yl;
+    const double L = s->L, *restrict x = s->x, *restrict y = s->y, *restrict xl = h->xl,
+                 *restrict yl = h->yl;
     double wl[8] = {0}; /* 8 fixed lanes, so the loop vectorises */
     for (int i0 = 0; i0 < n; i0 += 8) {
         const int lanes = n - i0 < 8 ? n - i0 : 8;
 #pragma omp simd
         for (int l = 0; l < lanes; l++) {
-            const double dx = gr_hy_wrap(x[i0 + l] - xl[i0 + l], L), dy = gr_hy_wrap(y[i0 + l] - yl[i0 + l], L);
+            const double dx = gr_hy_wrap(x[i0 + l] - xl[i0 + l], L),
+                         dy = gr_hy_wrap(y[i0 + l] - yl[i0 + l], L);
             const double r2 = dx * dx + dy * dy;
             wl[l] = r2 > wl[l] ? r2 : wl[l];
         }
@@ -176,7 +180,8 @@ double gr_hy_max_disp(const gr_sim *s, const gr_hybrid_state *h)
 /* The 2D selection's work arrays, allocated on first use (h->speed set means all are there). */
 static int alloc_work(gr_hybrid_state *h, int n, gr_error *err)
 {
-    int **ints[] = {&h->adj_start, &h->mem_head, &h->mem_tail, &h->mem_next, &h->mem_size, &h->queue};
+    int **ints[] = {&h->adj_start, &h->mem_head, &h->mem_tail,
+                    &h->mem_next,  &h->mem_size, &h->queue};
     int ok = 1;
     for (size_t k = 0; k < sizeof ints / sizeof ints[0]; k++) {
         free(*ints[k]); /* left by an earlier failed attempt */
@@ -188,7 +193,8 @@ static int alloc_work(gr_hybrid_state *h, int n, gr_error *err)
     double *speed = malloc(sizeof(double) * (size_t)n);
     if (!ok || !h->inq || !speed) {
         free(speed);
-        return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for the active-set selection of %d particles", n);
+        return GR_FAIL(err, GR_ENOMEM,
+                       "hybrid: out of memory for the active-set selection of %d particles", n);
     }
     h->speed = speed;
     return GR_OK;
@@ -205,7 +211,9 @@ static int build_adjacency(gr_hybrid_state *h, int n, gr_error *err)
     }
     if (!h->adj_start || !h->adj) {
         h->cap_adj = 0;
-        return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for the partners of %lld candidate pairs", (long long)h->npairs);
+        return GR_FAIL(err, GR_ENOMEM,
+                       "hybrid: out of memory for the partners of %lld candidate pairs",
+                       (long long)h->npairs);
     }
     int *st = h->adj_start;
     memset(st, 0, sizeof(int) * ((size_t)n + 1));
@@ -281,7 +289,8 @@ static int merge(struct closure *w, int a, int b)
 int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
 {
     const int n = s->n;
-    const double tau = m * s->dt, c = h->margin_c, sx = gr_hy_noise_sx(s, h, m), sv = gr_hy_noise_sv(s, m);
+    const double tau = m * s->dt, c = h->margin_c, sx = gr_hy_noise_sx(s, h, m),
+                 sv = gr_hy_noise_sv(s, m);
     const double d = s->d, L = s->L, w0 = s->cc.w0, f = 1.0 + GR_HYBRID_SPREAD;
     const double *x = s->x, *y = s->y, *vx = s->vx, *vy = s->vy;
     uint8_t *act = h->active;
@@ -335,7 +344,8 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
     const double free_reach = d + c * M_SQRT2 * sx;
     for (int64_t q = 0; q < h->npairs; q++) {
         const int i = h->pi[q], j = h->pj[q];
-        const double rx = gr_hy_wrap(x[j] - x[i], L), ry = gr_hy_wrap(y[j] - y[i], L), r2 = rx * rx + ry * ry;
+        const double rx = gr_hy_wrap(x[j] - x[i], L), ry = gr_hy_wrap(y[j] - y[i], L),
+                     r2 = rx * rx + ry * ry;
         if (r2 < d * d) {
             const double ov = d - sqrt(r2);
             h->c_xi[i] = ov > h->c_xi[i] ? ov : h->c_xi[i];
@@ -346,7 +356,8 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
         if (r2 > bound * bound * slack) {
             continue;
         }
-        const double ux = vx[j] - vx[i], uy = vy[j] - vy[i], reach = free_reach + tau * sqrt(ux * ux + uy * uy);
+        const double ux = vx[j] - vx[i], uy = vy[j] - vy[i],
+                     reach = free_reach + tau * sqrt(ux * ux + uy * uy);
         if (r2 >= reach * reach) {
             continue;
         }
@@ -400,7 +411,8 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
             if (a == b) {
                 continue;
             }
-            const double rx = gr_hy_wrap(x[F] - x[A], L), ry = gr_hy_wrap(y[F] - y[A], L); /* r from A to F */
+            const double rx = gr_hy_wrap(x[F] - x[A], L),
+                         ry = gr_hy_wrap(y[F] - y[A], L); /* r from A to F */
             const double r2 = rx * rx + ry * ry, ra = reach(&w, a);
             if (b >= 0) {
                 const double rb = reach(&w, b), bound = d + (ra + rb) * tau;
@@ -412,7 +424,8 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
             /* A active, F free: F's straight path (closest approach >= |r| - |v_F| tau) against
              * A's reach */
             const double bound = d + c * sx + (ra + speed[F]) * tau;
-            if (r2 <= bound * bound * slack && closest(rx, ry, vx[F], vy[F], tau) - ra * tau < d + c * sx) {
+            if (r2 <= bound * bound * slack &&
+                closest(rx, ry, vx[F], vy[F], tau) - ra * tau < d + c * sx) {
                 act[F] = 1;
                 al[na++] = F;
                 h->c_hi[F] = speed[F];

@@ -35,7 +35,9 @@ int gr_hy_child_create(gr_sim *s, gr_hybrid_state *h, gr_error *err)
         return rc;
     }
     if (h->child->dt != s->dt || h->child->kernel.run != s->kernel.run) {
-        return GR_FAIL(err, GR_EINVAL, "hybrid: internal error, child time step or kernel differs from the parent's");
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "hybrid: internal error, child time step or kernel differs from the parent's");
     }
     return GR_OK;
 }
@@ -193,7 +195,7 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
         }                                                                                          \
         wol[l] += g[q] * (vi + 0.5 * dvf);                                                         \
         vi += dvf;                                                                                 \
-        const double dv = amp * (raw[(q) * md] + lam[2 * (q)] + lam[2 * (q) + 1] * mk);            \
+        const double dv = amp * (raw[(q)*md] + lam[2 * (q)] + lam[2 * (q) + 1] * mk);              \
         adl[l] += dv * (vi + 0.5 * dv);                                                            \
         vi += dv;                                                                                  \
         v[q] = vi;                                                                                 \
@@ -216,8 +218,10 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
                 added += adl[l];
             }
         } else {
-            double *restrict x = c->x, *restrict y = c->y, *restrict vx = c->vx, *restrict vy = c->vy;
-            const double *restrict fx = c->fx, *restrict fy = c->fy, *restrict gx = c->gx, *restrict gy = c->gy;
+            double *restrict x = c->x, *restrict y = c->y, *restrict vx = c->vx,
+                             *restrict vy = c->vy;
+            const double *restrict fx = c->fx, *restrict fy = c->fy, *restrict gx = c->gx,
+                                   *restrict gy = c->gy;
             const double *restrict xr = c->x_ref, *restrict yr = c->y_ref;
             double wcl[LANES] = {0}, wol[LANES] = {0}, adl[LANES] = {0}, w2l[LANES] = {0};
             const int closing = k > 0;
@@ -233,8 +237,8 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
         wol[l] += gx[q] * (vxi + 0.5 * dvx0) + gy[q] * (vyi + 0.5 * dvy0);                         \
         vxi += dvx0;                                                                               \
         vyi += dvy0;                                                                               \
-        const double dvx = amp * (raw[(q) * md] + lam[4 * (q)] + lam[4 * (q) + 1] * mk);           \
-        const double dvy = amp * (raw[(q) * md + 1] + lam[4 * (q) + 2] + lam[4 * (q) + 3] * mk);   \
+        const double dvx = amp * (raw[(q)*md] + lam[4 * (q)] + lam[4 * (q) + 1] * mk);             \
+        const double dvy = amp * (raw[(q)*md + 1] + lam[4 * (q) + 2] + lam[4 * (q) + 3] * mk);     \
         adl[l] += dvx * (vxi + 0.5 * dvx) + dvy * (vyi + 0.5 * dvy);                               \
         vxi += dvx;                                                                                \
         vyi += dvy;                                                                                \
@@ -316,7 +320,9 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
         book(s, c->share, 0.5 * dt * (wc + wo));
         s->injected += c->mass * added;
         if (!isfinite(wo + added)) {
-            return GR_FAIL(err, GR_EUNSTABLE, "unstable run: non-finite velocity in the hybrid's active set at step %lld (t = %.6g s)",
+            return GR_FAIL(err, GR_EUNSTABLE,
+                           "unstable run: non-finite velocity in the hybrid's active set at step "
+                           "%lld (t = %.6g s)",
                            (long long)c->step, c->step * dt);
         }
         c->step++;
@@ -344,9 +350,12 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
             const int wi = r.worst_i >= 0 && r.worst_i < na ? h->list[r.worst_i] : -1;
             const int wj = r.worst_j >= 0 && r.worst_j < na ? h->list[r.worst_j] : -1;
             return GR_FAIL(err, GR_EUNSTABLE,
-                           "unstable run: particles %d and %d overlap by %.3g d at step %lld (t = %.6g s), beyond the %.2g d limit; "
-                           "the springs (k_s = %g N/m) cannot hold them apart at this speed or packing; use a stiffer k_s or a smaller dt",
-                           wi, wj, r.max_overlap, (long long)c->step, c->step * dt, RUNAWAY_OVERLAP, c->cc.k_s);
+                           "unstable run: particles %d and %d overlap by %.3g d at step %lld (t = "
+                           "%.6g s), beyond the %.2g d limit; "
+                           "the springs (k_s = %g N/m) cannot hold them apart at this speed or "
+                           "packing; use a stiffer k_s or a smaller dt",
+                           wi, wj, r.max_overlap, (long long)c->step, c->step * dt, RUNAWAY_OVERLAP,
+                           c->cc.k_s);
         }
     }
     book(s, c->share, close_kick(c));

@@ -35,14 +35,15 @@ typedef struct gr_hybrid_state {
     /* envelopes the active particles must stay in (checked every step by the child): 1D
      * env_lo t <= x(t) - x(0) <= env_hi t; 2D |r(t) - r(0)| <= env_hi t; +-INFINITY = unchecked */
     double *env_lo, *env_hi;
-    int *env_list; /* child indices of the particles whose envelope is checked */
+    int *env_list;    /* child indices of the particles whose envelope is checked */
     double *env_pack; /* their start x, y, env_lo, env_hi side by side (4 N; child.c) */
     /* 2D candidate pairs (i < j) and the cell grid */
     int *pi, *pj;
     int64_t npairs, cap_pairs;
     double rc_pairs; /* cutoff of the candidate list (0: none) */
     double *xl, *yl; /* positions when it was built */
-    int *cell_head, *cell_next, ncells_alloc; /* cell starts (counting sort) and each particle's cell */
+    int *cell_head, *cell_next,
+        ncells_alloc; /* cell starts (counting sort) and each particle's cell */
     int *sorted;      /* particles in cell order, with their positions xs, ys */
     double *xs, *ys;
     /* the candidate partners of each particle: adj[adj_start[i] .. adj_start[i + 1]) */
@@ -54,12 +55,13 @@ typedef struct gr_hybrid_state {
     int64_t cap_adj;
 
     /* window noise: 2 * dim normals per particle (free-flight draw), kicks of the active set */
-    double *ff;       /* ff[(p * dim + c) * 2 + {0,1}] */
-    double *kick;     /* raw normals of the active particles, kick[(a * m + k) * dim + c] */
+    double *ff;   /* ff[(p * dim + c) * 2 + {0,1}] */
+    double *kick; /* raw normals of the active particles, kick[(a * m + k) * dim + c] */
     int64_t cap_kick;
-    double *lam;      /* bridge coefficients (l1, l2) of active particle a, component c: lam[2 (a dim + c)] */
-    double kick_amp;  /* a = sqrt(2 D dt)/M (0 without noise): kick = a (raw + l1 + l2 (m - k)) */
-    double *tmp;      /* m * dim raw normals of one particle */
+    double *
+        lam; /* bridge coefficients (l1, l2) of active particle a, component c: lam[2 (a dim + c)] */
+    double kick_amp; /* a = sqrt(2 D dt)/M (0 without noise): kick = a (raw + l1 + l2 (m - k)) */
+    double *tmp;     /* m * dim raw normals of one particle */
 
     /* counters */
     int64_t windows, rollbacks, steps, active_steps;

@@ -27,8 +27,10 @@ static int pairs_io(gr_sim *s, gr_hybrid_state *h, gr_blob_io *io, gr_error *err
     gr_blob_io_i64(io, &np);
     if (io->in) {
         gr_blob_reader *r = io->in;
-        if (!r->bad && (np < 0 || np > (int64_t)n * (int64_t)(n - 1) / 2 || np > (int64_t)INT32_MAX)) {
-            gr_blob_fail(r, "hybrid candidate list of %lld pairs is impossible for %d particles", (long long)np, n);
+        if (!r->bad &&
+            (np < 0 || np > (int64_t)n * (int64_t)(n - 1) / 2 || np > (int64_t)INT32_MAX)) {
+            gr_blob_fail(r, "hybrid candidate list of %lld pairs is impossible for %d particles",
+                         (long long)np, n);
         }
         if (r->bad) {
             return gr_blob_done(r, err);
@@ -43,7 +45,9 @@ static int pairs_io(gr_sim *s, gr_hybrid_state *h, gr_blob_io *io, gr_error *err
                 h->pj = pj;
             }
             if (!pi || !pj) {
-                return GR_FAIL(err, GR_ENOMEM, "out of memory for a hybrid candidate list of %lld pairs", (long long)np);
+                return GR_FAIL(err, GR_ENOMEM,
+                               "out of memory for a hybrid candidate list of %lld pairs",
+                               (long long)np);
             }
             h->cap_pairs = np;
         }
@@ -54,8 +58,8 @@ static int pairs_io(gr_sim *s, gr_hybrid_state *h, gr_blob_io *io, gr_error *err
     gr_blob_io_bytes(io, h->pj, sizeof(int) * (size_t)np);
     for (int64_t q = 0; io->in && q < np && !io->in->bad; q++) {
         if (h->pi[q] < 0 || h->pi[q] >= h->pj[q] || h->pj[q] >= n) {
-            gr_blob_fail(io->in, "hybrid candidate pair %lld is (%d, %d), allowed 0 <= i < j < %d", (long long)q, h->pi[q],
-                         h->pj[q], n);
+            gr_blob_fail(io->in, "hybrid candidate pair %lld is (%d, %d), allowed 0 <= i < j < %d",
+                         (long long)q, h->pi[q], h->pj[q], n);
         }
     }
     gr_blob_io_f64s(io, h->xl, n);
@@ -75,15 +79,18 @@ int gr_hybrid_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     gr_blob_io_i64(io, &m);
     gr_blob_io_i64(io, &kicks);
     if (io->in && !io->in->bad && (m != h->m || kicks != h->kicks)) {
-        gr_blob_fail(io->in, "hybrid windows of %lld steps (%s) in the checkpoint, %d steps (%s) for this scene", (long long)m,
-                     kicks ? "kicks" : "exact", h->m, h->kicks ? "kicks" : "exact");
+        gr_blob_fail(
+            io->in,
+            "hybrid windows of %lld steps (%s) in the checkpoint, %d steps (%s) for this scene",
+            (long long)m, kicks ? "kicks" : "exact", h->m, h->kicks ? "kicks" : "exact");
     }
     gr_blob_io_f64(io, &h->margin_c);
     int64_t *const counters[] = {&h->windows, &h->rollbacks, &h->steps, &h->active_steps};
     for (size_t k = 0; k < sizeof counters / sizeof counters[0]; k++) {
         gr_blob_io_i64(io, counters[k]);
     }
-    if (io->in && !io->in->bad && (h->windows < 0 || h->rollbacks < 0 || h->steps < 0 || h->active_steps < 0)) {
+    if (io->in && !io->in->bad &&
+        (h->windows < 0 || h->rollbacks < 0 || h->steps < 0 || h->active_steps < 0)) {
         gr_blob_fail(io->in, "hybrid counters are negative");
     }
     if (s->dim == 2) {
@@ -102,7 +109,4 @@ int gr_hybrid_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     return GR_OK;
 }
 
-int64_t gr_hybrid_window_steps(const gr_sim *s)
-{
-    return gr_hy(s) ? gr_hy(s)->m : 1;
-}
+int64_t gr_hybrid_window_steps(const gr_sim *s) { return gr_hy(s) ? gr_hy(s)->m : 1; }

@@ -52,8 +52,9 @@ void gr_hybrid_free(gr_sim *s)
         return;
     }
     gr_sim_free(h->child);
-    double *d[] = {h->x0, h->y0, h->vx0, h->vy0, h->fx0, h->fy0, h->gx0, h->gy0, h->c_lo, h->c_hi,
-                   h->c_xi, h->env_lo, h->env_hi, h->env_pack, h->ff, h->kick, h->tmp, h->lam, h->xl, h->yl};
+    double *d[] = {h->x0,  h->y0,   h->vx0,  h->vy0,  h->fx0,    h->fy0,    h->gx0,
+                   h->gy0, h->c_lo, h->c_hi, h->c_xi, h->env_lo, h->env_hi, h->env_pack,
+                   h->ff,  h->kick, h->tmp,  h->lam,  h->xl,     h->yl};
     for (size_t k = 0; k < sizeof d / sizeof d[0]; k++) {
         free(d[k]);
     }
@@ -89,13 +90,16 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
     const int64_t m = llround(ratio);
     if (!(m >= 1) || fabs(ratio - (double)m) > 1e-6 * ratio) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: [integrator] kick_interval = %g s must be a whole multiple (>= 1) of dt = %g s for kind = hybrid "
+                       "%s: [integrator] kick_interval = %g s must be a whole multiple (>= 1) of "
+                       "dt = %g s for kind = hybrid "
                        "(e.g. %g or %g s)",
-                       sc->source, tau, s->dt, fmax(1.0, floor(ratio)) * s->dt, fmax(1.0, ceil(ratio)) * s->dt);
+                       sc->source, tau, s->dt, fmax(1.0, floor(ratio)) * s->dt,
+                       fmax(1.0, ceil(ratio)) * s->dt);
     }
     if ((double)m * (double)s->n > 4294967295.0 || m > 1000000) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: [integrator] kick_interval = %g s is %lld steps; kind = hybrid needs N x steps per window <= 2^32 "
+                       "%s: [integrator] kick_interval = %g s is %lld steps; kind = hybrid needs N "
+                       "x steps per window <= 2^32 "
                        "and at most 1e6 steps per window (use kick_interval <= %g s)",
                        sc->source, tau, (long long)m, fmin(1e6, 4294967295.0 / s->n) * s->dt);
     }
@@ -135,8 +139,10 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
     h->env_list = malloc(sizeof(int) * (size_t)n);
     h->uf = malloc(sizeof(int) * (size_t)n);
     h->cell_next = malloc(sizeof(int) * (size_t)n);
-    if (!h->x0 || !h->vx0 || !h->fx0 || !h->gx0 || (dim == 2 && (!h->y0 || !h->vy0 || !h->fy0 || !h->gy0 || !h->xl || !h->yl)) ||
-        !h->c_lo || !h->c_hi || !h->c_xi || !h->env_lo || !h->env_hi || !h->env_pack || !h->ff || !h->lam || !h->tmp || !h->active || !h->forced || !h->list || !h->env_list || !h->uf ||
+    if (!h->x0 || !h->vx0 || !h->fx0 || !h->gx0 ||
+        (dim == 2 && (!h->y0 || !h->vy0 || !h->fy0 || !h->gy0 || !h->xl || !h->yl)) || !h->c_lo ||
+        !h->c_hi || !h->c_xi || !h->env_lo || !h->env_hi || !h->env_pack || !h->ff || !h->lam ||
+        !h->tmp || !h->active || !h->forced || !h->list || !h->env_list || !h->uf ||
         !h->cell_next) {
         return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for %d particles", n);
     }
@@ -195,9 +201,15 @@ static void save(gr_sim *s, gr_hybrid_state *h, saved *v)
         memcpy(h->fy0, s->fy, b);
         memcpy(h->gy0, s->gy, b);
     }
-    *v = (saved){.injected = s->injected, .diss_n = s->diss_n, .diss_t = s->diss_t, .diss_f = s->diss_f,
-                 .removed_com = s->removed_com, .elastic = s->elastic, .collisions = s->collisions,
-                 .rebuilds = s->rebuilds, .last = s->last};
+    *v = (saved){.injected = s->injected,
+                 .diss_n = s->diss_n,
+                 .diss_t = s->diss_t,
+                 .diss_f = s->diss_f,
+                 .removed_com = s->removed_com,
+                 .elastic = s->elastic,
+                 .collisions = s->collisions,
+                 .rebuilds = s->rebuilds,
+                 .last = s->last};
     memcpy(v->share, s->share, sizeof v->share);
 }
 
@@ -367,7 +379,9 @@ static int window(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
     for (int i = 0; i < s->n; i++) {
         double sum = s->x[i] + s->vx[i] + (s->dim == 2 ? s->y[i] + s->vy[i] : 0.0);
         if (!isfinite(sum)) {
-            return GR_FAIL(err, GR_EUNSTABLE, "unstable run: particle %d has a non-finite position or velocity at step %lld (t = %.6g s)",
+            return GR_FAIL(err, GR_EUNSTABLE,
+                           "unstable run: particle %d has a non-finite position or velocity at "
+                           "step %lld (t = %.6g s)",
                            i, (long long)s->step, gr_sim_time(s));
         }
     }

@@ -16,7 +16,8 @@ extern const gr_integrator_type gr_integrator_hybrid;
 /* The hybrid state of s, or NULL when s is not a hybrid simulation. */
 static inline struct gr_hybrid_state *gr_hy(const gr_sim *s)
 {
-    return s->integrator == &gr_integrator_hybrid ? (struct gr_hybrid_state *)s->integrator_state : NULL;
+    return s->integrator == &gr_integrator_hybrid ? (struct gr_hybrid_state *)s->integrator_state
+                                                  : NULL;
 }
 
 /* Build the hybrid state after positions, velocities, coefficients and forces are set. */
@@ -28,13 +29,13 @@ void gr_hybrid_free(gr_sim *s);
 
 /* Counters since creation (all zero for other integrators). */
 typedef struct gr_hybrid_stats {
-    int64_t windows;          /* windows completed */
-    int64_t rollbacks;        /* windows redone because a free particle met somebody */
-    int64_t steps;            /* time steps covered */
-    int64_t active_steps;     /* particle-steps integrated by the soft-sphere child */
-    double active_fraction;   /* active_steps / (N steps) */
-    double margin_sigmas;     /* c of the active-set rule */
-    double window;            /* s */
+    int64_t windows;        /* windows completed */
+    int64_t rollbacks;      /* windows redone because a free particle met somebody */
+    int64_t steps;          /* time steps covered */
+    int64_t active_steps;   /* particle-steps integrated by the soft-sphere child */
+    double active_fraction; /* active_steps / (N steps) */
+    double margin_sigmas;   /* c of the active-set rule */
+    double window;          /* s */
 } gr_hybrid_stats;
 
 /* Returns 1 and fills *st for a hybrid simulation, 0 otherwise. */

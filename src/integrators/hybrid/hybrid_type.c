@@ -14,7 +14,6 @@ static int64_t hybrid_call_steps(const gr_sim *s, int64_t n, int64_t todo)
     return n;
 }
 
-
 /* summary.json "hybrid" (docs/hybrid.md) */
 static int hybrid_describe(const gr_sim *s, gr_integrator_figure *out, int cap)
 {

@@ -66,7 +66,8 @@ void gr_hy_draw_window(const gr_sim *s, gr_hybrid_state *h, int64_t start)
 }
 
 /* (S1, S2) of particle p, component c, in units of the kick a, from its two normals. */
-static inline void sums(const gr_hybrid_state *h, int dim, int m, int p, int c, double *s1, double *s2)
+static inline void sums(const gr_hybrid_state *h, int dim, int m, int p, int c, double *s1,
+                        double *s2)
 {
     const double g1 = h->ff[(p * dim + c) * 2], g2 = h->ff[(p * dim + c) * 2 + 1];
     const double dm = (double)m, r = sqrt(dm);
@@ -95,7 +96,8 @@ double gr_hy_leap_free(gr_sim *s, gr_hybrid_state *h, int m)
     const double a = noise ? sqrt(2.0 * s->params.D * s->dt) / M : 0.0, dm = (double)m;
     /* dv = a S1, dx = a dt S2 with (S1, S2) from sums(); kicks: dx = (m - m/2) dt dv */
     const double c1 = a * sqrt(dm);
-    const double c21 = h->kicks ? c1 * (double)(m - m / 2) * s->dt : a * s->dt * 0.5 * (dm + 1.0) * sqrt(dm);
+    const double c21 =
+        h->kicks ? c1 * (double)(m - m / 2) * s->dt : a * s->dt * 0.5 * (dm + 1.0) * sqrt(dm);
     const double c22 = h->kicks ? 0.0 : a * s->dt * sqrt(dm * (dm + 1.0) * (dm - 1.0) / 12.0);
     const uint8_t *act = h->active;
     const double *ff = h->ff;
@@ -123,9 +125,11 @@ double gr_hy_leap_free(gr_sim *s, gr_hybrid_state *h, int m)
 #pragma omp simd
             for (int l = 0; l < lanes; l++) {
                 const int p = p0 + l, leap = !act[p];
-                const double g1 = ff[4 * p], g2 = ff[4 * p + 1], h1 = ff[4 * p + 2], h2 = ff[4 * p + 3];
+                const double g1 = ff[4 * p], g2 = ff[4 * p + 1], h1 = ff[4 * p + 2],
+                             h2 = ff[4 * p + 3];
                 const double ux = vx[p], uy = vy[p], dvx = c1 * g1, dvy = c1 * h1;
-                double xn = x[p] + ux * tau + (c21 * g1 + c22 * g2), yn = y[p] + uy * tau + (c21 * h1 + c22 * h2);
+                double xn = x[p] + ux * tau + (c21 * g1 + c22 * g2),
+                       yn = y[p] + uy * tau + (c21 * h1 + c22 * h2);
                 xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
                 yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);
                 adl[l] += leap ? dvx * (ux + 0.5 * dvx) + dvy * (uy + 0.5 * dvy) : 0.0;
@@ -150,8 +154,9 @@ double gr_hy_leap_free(gr_sim *s, gr_hybrid_state *h, int m)
 /* sum g_k and sum (m - k) g_k of g_k = raw[k * stride], k < m, in four partial sums (independent
  * chains, the same result on every machine). The weights m - k are whole numbers, exact in double
  * whether computed from k or counted down. Inlined with stride a constant. */
-static inline __attribute__((always_inline)) void raw_sums(const double *restrict raw, const int stride, int m,
-                                                           double a1[4], double a2[4])
+static inline __attribute__((always_inline)) void raw_sums(const double *restrict raw,
+                                                           const int stride, int m, double a1[4],
+                                                           double a2[4])
 {
     const double dm = (double)m;
     for (int u = 0; u < 4; u++) {
@@ -196,7 +201,8 @@ int gr_hy_active_kicks(const gr_sim *s, gr_hybrid_state *h, int64_t start, int m
     }
     h->kick_amp = sqrt(2.0 * s->params.D * s->dt) / s->mass;
     const double dm = (double)m;
-    const double G11 = dm, G12 = 0.5 * dm * (dm + 1.0), G22 = dm * (dm + 1.0) * (2.0 * dm + 1.0) / 6.0;
+    const double G11 = dm, G12 = 0.5 * dm * (dm + 1.0),
+                 G22 = dm * (dm + 1.0) * (2.0 * dm + 1.0) / 6.0;
     const double det = G11 * G22 - G12 * G12;
     const double r_m = sqrt(dm), c2 = sqrt(dm * (dm + 1.0) * (dm - 1.0) / 12.0);
     const int single = h->kicks || m == 1; /* one kick carries all of the window's noise */

@@ -109,7 +109,8 @@ static double half_kick(gr_sim *s, bool *finite)
         sum = lanes_total(sl);
     } else {
         double *restrict vx = s->vx, *restrict vy = s->vy;
-        const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict gx = s->gx, *restrict gy = s->gy;
+        const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict gx = s->gx,
+                               *restrict gy = s->gy;
         double wl[LANES] = {0}, sl[LANES] = {0};
         for (int i = 0; i < n; i++) {
             const int l = i % LANES;
@@ -187,9 +188,11 @@ enum { B_NOISE0 = 6, B_NOISE1 = 7 };
 static inline void draw_block(gr_sim *s, const int b, const int bs, const int sym)
 {
     const int n = s->n, dim = s->dim, lo = b * bs, m = (b + 1) * bs < n ? bs : n - lo;
-    gr_noise_normals(s->params.seed, GR_STREAM_NOISE, (uint64_t)s->step, (uint32_t)lo, m, dim, s->noise + (size_t)lo * dim);
+    gr_noise_normals(s->params.seed, GR_STREAM_NOISE, (uint64_t)s->step, (uint32_t)lo, m, dim,
+                     s->noise + (size_t)lo * dim);
     if (sym) {
-        noise_sums(s->noise + (size_t)lo * dim, m * dim, dim, s->blk + (size_t)b * GR_BLK_FIELDS + B_NOISE0);
+        noise_sums(s->noise + (size_t)lo * dim, m * dim, dim,
+                   s->blk + (size_t)b * GR_BLK_FIELDS + B_NOISE0);
     }
 }
 
@@ -208,7 +211,10 @@ static void noise_mean(const gr_sim *s, const int nb, const int sym, double mean
     }
 }
 
-static inline int symmetrised(const gr_sim *s) { return s->params.noise_mode == GR_NOISE_SYMMETRISED && s->n > 1; }
+static inline int symmetrised(const gr_sim *s)
+{
+    return s->params.noise_mode == GR_NOISE_SYMMETRISED && s->n > 1;
+}
 
 /* Draw this step's normals and the means the symmetrised mode subtracts (2.18): per block of
  * GR_BLOCK particles (T threads share the blocks), block sums combined in block order. (2D with
@@ -244,8 +250,9 @@ typedef struct open_report {
 
 enum { DRIVE_KICK = 1, DRIVE_OU = 2 }; /* `noise` of the opening pass (0: no driving) */
 
-static inline __attribute__((always_inline)) double
-open_step_1d(gr_sim *restrict s, const int noise, const double mean, const int closing, open_report *o)
+static inline __attribute__((always_inline)) double open_step_1d(gr_sim *restrict s,
+                                                                 const int noise, const double mean,
+                                                                 const int closing, open_report *o)
 {
     const int n = s->n;
     const double h = 0.5 * s->dt / s->mass, dt = s->dt;
@@ -253,7 +260,8 @@ open_step_1d(gr_sim *restrict s, const int noise, const double mean, const int c
     const double decay = s->drive_c.decay, kick = s->drive_c.kick;
     double *restrict x = s->x, *restrict v = s->vx;
     const double *restrict f = s->fx, *restrict g = s->noise, *restrict gnc = s->gx;
-    double added[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0}, drag[LANES] = {0};
+    double added[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0},
+           drag[LANES] = {0};
 #define OPEN_1D(i, l)                                                                              \
     do {                                                                                           \
         const double dvf = h * f[i];                                                               \
@@ -301,9 +309,11 @@ open_step_1d(gr_sim *restrict s, const int noise, const double mean, const int c
  * bath, the drag's sum of v^2 - (a v)^2). */
 enum { P_ADDED, P_WC, P_WO, P_SUM, P_DISP2, P_DRAG };
 
-static inline __attribute__((always_inline)) void
-open_range_2d(gr_sim *restrict s, const int lo, const int hi, const int noise, const double mean[2], const int closing,
-              double *restrict part)
+static inline __attribute__((always_inline)) void open_range_2d(gr_sim *restrict s, const int lo,
+                                                                const int hi, const int noise,
+                                                                const double mean[2],
+                                                                const int closing,
+                                                                double *restrict part)
 {
     const double h = 0.5 * s->dt / s->mass, dt = s->dt, L = s->L, half = 0.5 * L;
     const double amp = noise == DRIVE_KICK ? sqrt(2.0 * s->params.D * s->dt) / s->mass : 0.0;
@@ -313,7 +323,8 @@ open_range_2d(gr_sim *restrict s, const int lo, const int hi, const int noise, c
     const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict g = s->noise;
     const double *restrict xr = s->x_ref, *restrict yr = s->y_ref;
     const double *restrict gx = s->gx, *restrict gy = s->gy;
-    double added[LANES] = {0}, worst[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0};
+    double added[LANES] = {0}, worst[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0},
+           sum[LANES] = {0};
     double drag[LANES] = {0};
 #define OPEN_2D(i, l)                                                                              \
     do {                                                                                           \
@@ -388,8 +399,9 @@ open_range_2d(gr_sim *restrict s, const int lo, const int hi, const int noise, c
         const int n = s->n, nb = s->nblk;                                                          \
         double *blk = s->blk;                                                                      \
         if (T > 1) {                                                                               \
-            _Pragma("omp parallel for schedule(static) num_threads(T)")                            \
-            for (int b = 0; b < nb; b++) {                                                         \
+            _Pragma("omp parallel for schedule(static) num_threads(T)") for (int b = 0; b < nb;    \
+                                                                             b++)                  \
+            {                                                                                      \
                 const int lo = b * GR_BLOCK, hi = lo + GR_BLOCK < n ? lo + GR_BLOCK : n;           \
                 open_range_2d(s, lo, hi, NOISE, mean, CLOSING, blk + (size_t)b * GR_BLK_FIELDS);   \
             }                                                                                      \
@@ -418,14 +430,14 @@ OPEN_BLOCKS_2D(open_blocks_2d_21, DRIVE_OU, 1)
         double *blk = s->blk;                                                                      \
         _Pragma("omp parallel num_threads(T)")                                                     \
         {                                                                                          \
-            _Pragma("omp for schedule(static)")                                                    \
-            for (int b = 0; b < nb; b++) {                                                         \
+            _Pragma("omp for schedule(static)") for (int b = 0; b < nb; b++)                       \
+            {                                                                                      \
                 draw_block(s, b, GR_BLOCK, sym);                                                   \
             }                                                                                      \
             double m[2];                                                                           \
             noise_mean(s, nb, sym, m); /* every thread, the same numbers */                        \
-            _Pragma("omp for schedule(static)")                                                    \
-            for (int b = 0; b < nb; b++) {                                                         \
+            _Pragma("omp for schedule(static)") for (int b = 0; b < nb; b++)                       \
+            {                                                                                      \
                 const int lo = b * GR_BLOCK, hi = lo + GR_BLOCK < n ? lo + GR_BLOCK : n;           \
                 open_range_2d(s, lo, hi, NOISE, m, CLOSING, blk + (size_t)b * GR_BLK_FIELDS);      \
             }                                                                                      \
@@ -484,7 +496,8 @@ static int check_finite(gr_sim *s, gr_error *err)
         double sum = s->x[i] + s->vx[i] + (s->dim == 2 ? s->y[i] + s->vy[i] : 0.0);
         if (!isfinite(sum)) {
             return GR_FAIL(err, GR_EUNSTABLE,
-                           "unstable run: particle %d has a non-finite position or velocity at step %lld (t = %.6g s); "
+                           "unstable run: particle %d has a non-finite position or velocity at "
+                           "step %lld (t = %.6g s); "
                            "dt = %g s may be too large for k_s = %g N/m (t_c = %.3g s)",
                            i, (long long)s->step, gr_sim_time(s), s->dt, s->cc.k_s, s->cc.t_c);
         }
@@ -522,17 +535,22 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
         }
         const int close_here = closing && !com_now;
         if (s->dim == 1 && bath) {
-            s->injected += close_here ? open_step_1d(s, DRIVE_OU, 0.0, 1, &o) : open_step_1d(s, DRIVE_OU, 0.0, 0, &o);
+            s->injected += close_here ? open_step_1d(s, DRIVE_OU, 0.0, 1, &o)
+                                      : open_step_1d(s, DRIVE_OU, 0.0, 0, &o);
             s->diss_drag += o.drag;
         } else if (s->dim == 1) {
-            s->injected += noise ? (close_here ? open_step_1d(s, 1, mean[0], 1, &o) : open_step_1d(s, 1, mean[0], 0, &o))
-                                 : (close_here ? open_step_1d(s, 0, 0.0, 1, &o) : open_step_1d(s, 0, 0.0, 0, &o));
+            s->injected += noise ? (close_here ? open_step_1d(s, 1, mean[0], 1, &o)
+                                               : open_step_1d(s, 1, mean[0], 0, &o))
+                                 : (close_here ? open_step_1d(s, 0, 0.0, 1, &o)
+                                               : open_step_1d(s, 0, 0.0, 0, &o));
         } else if (bath) {
             s->injected += open_step_2d(s, DRIVE_OU, mean, close_here, &o, team);
             s->diss_drag += o.drag;
         } else {
-            s->injected += noise ? (close_here ? open_step_2d(s, 1, mean, 1, &o, team) : open_step_2d(s, 1, mean, 0, &o, team))
-                                 : (close_here ? open_step_2d(s, 0, mean, 1, &o, team) : open_step_2d(s, 0, mean, 0, &o, team));
+            s->injected += noise ? (close_here ? open_step_2d(s, 1, mean, 1, &o, team)
+                                               : open_step_2d(s, 1, mean, 0, &o, team))
+                                 : (close_here ? open_step_2d(s, 0, mean, 1, &o, team)
+                                               : open_step_2d(s, 0, mean, 0, &o, team));
         }
         if (s->omega && !spin_kicks(s, close_here, 1, &o.work_close, &o.work_open)) {
             o.finite = false;
@@ -544,7 +562,9 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
         double disp2 = o.disp2;
         if (!o.finite) {
             int rc = check_finite(s, err); /* names the particle */
-            return rc ? rc : GR_FAIL(err, GR_EUNSTABLE, "unstable run: non-finite energy at step %lld", (long long)s->step);
+            return rc ? rc
+                      : GR_FAIL(err, GR_EUNSTABLE, "unstable run: non-finite energy at step %lld",
+                                (long long)s->step);
         }
         s->step++;
         if (s->dim == 2 && (s->params.skin <= 0.0 || disp2 > skin_half2)) {
@@ -568,8 +588,10 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
         s->last = r;
         if (r.max_overlap > RUNAWAY_OVERLAP) {
             return GR_FAIL(err, GR_EUNSTABLE,
-                           "unstable run: particles %d and %d overlap by %.3g d at step %lld (t = %.6g s), beyond the %.2g d limit; "
-                           "the springs (k_s = %g N/m) cannot hold them apart at this speed or packing; use a stiffer k_s or a smaller dt",
+                           "unstable run: particles %d and %d overlap by %.3g d at step %lld (t = "
+                           "%.6g s), beyond the %.2g d limit; "
+                           "the springs (k_s = %g N/m) cannot hold them apart at this speed or "
+                           "packing; use a stiffer k_s or a smaller dt",
                            r.worst_i, r.worst_j, r.max_overlap, (long long)s->step, gr_sim_time(s),
                            RUNAWAY_OVERLAP, s->cc.k_s);
         }
