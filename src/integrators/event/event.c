@@ -519,7 +519,8 @@ static int check_speeds(const gr_sim *s, const double *x, const double *vx, cons
 
 int gr_event_init(gr_sim *s, gr_error *err)
 {
-    if (s->cc.normal != GR_NORMAL_HARD_SPHERE) {
+    /* a capability, not a name: the normal law must be an event rule (gr_model.kind) */
+    if (!s->cc.normal_model || !(s->cc.normal_model->kind & GR_MODEL_EVENT)) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: [integrator] kind = event needs [model] normal = hard_sphere",
                        s->params.source);
