@@ -7,7 +7,8 @@
 #         positions and velocities equal to the XYZ trajectory of the same run; granule analyse on
 #         the H5MD file gives the in-run observables; kill -9 after a checkpoint leaves a file h5py
 #         reads, and --resume ends with the same frames as an uninterrupted run (also trajectory.xyz)
-#   csv   every CSV of a run (2D and 1D, every observable), an analyse, a compare and a sweep
+#   csv   every CSV of a run (2D and 1D, every observable; a Langevin run's ledger with its drag
+#         column), an analyse, a compare and a sweep
 #         folder loads with plain pandas.read_csv(path) and numpy.genfromtxt(path, names=True,
 #         delimiter=',', dtype=None, encoding='utf-8') with the same rows and columns; no cell
 #         holds a '#'; NAME.meta.json gives every column a unit ("units"); pv_collapse.csv is a
@@ -180,6 +181,9 @@ csv)
         --set placement.kind=uniform --set model.tangential=none --set run.warmup=0 --set run.duration=0.004 --set run.sample_every=0.002 \
         --set analysis.observables=gaps,moments,pv,freepath,postcollision,msd,vacf,clusters,pressure,collisions \
         --set output.plots=false --quiet
+    # a Langevin bath adds the ledger's dissipated_drag column (docs/systems-driving.md)
+    "$G" run "$SRC/docs/scenes/langevin-gas.ini" --out run2 --set system.N=200 --set system.L=0.06 \
+        --set run.warmup=0 --set run.duration=0.004 --set run.sample_every=0.002 --set output.plots=false --quiet
     "$G" analyse run --set analysis.observables=pv,moments,sk,pair >/dev/null 2>&1
     "$G" compare "$SRC/docs/scenes/rfm-2d.ini" --models spring_dashpot+tangential_dashpot,spring_dashpot --out cmp \
         "${small2d[@]:0:${#small2d[@]}-1}" --set analysis.observables=pv >/dev/null
@@ -202,7 +206,7 @@ EOF
 import glob, json, os, warnings
 import numpy as np, pandas as pd
 warnings.simplefilter("ignore")
-files = sorted(glob.glob("run/*.csv") + glob.glob("run/analysis/*.csv") + glob.glob("run1/*.csv") + glob.glob("cmp/*.csv")
+files = sorted(glob.glob("run/*.csv") + glob.glob("run/analysis/*.csv") + glob.glob("run1/*.csv") + glob.glob("run2/*.csv") + glob.glob("cmp/*.csv")
                + glob.glob("cmp/*/*.csv") + glob.glob("sweep/*.csv") + glob.glob("sweep/*/*.csv"))
 assert len(files) > 60, files
 units_seen = set()
@@ -234,6 +238,9 @@ for need in ["run/temperature.csv", "run/ledger.csv", "run/pv.csv", "cmp/compare
     assert os.path.exists(need[:-4] + ".meta.json"), need
 pc = pd.read_csv("cmp/pv_collapse.csv")
 assert list(pc.columns) == ["model", "v_over_vrms", "P_scaled"] and pc["model"].nunique() == 2 and pc.notna().all().all()
+lg = pd.read_csv("run2/ledger.csv")
+assert lg.columns[-1] == "dissipated_drag" and (lg["dissipated_drag"].iloc[1:] > 0).all(), list(lg.columns)
+assert json.load(open("run2/ledger.meta.json"))["units"]["dissipated_drag"] == "J"
 t = pd.read_csv("run/temperature.csv")
 assert list(t.columns) == ["t", "T", "running_mean", "phase"] and len(t) == 9
 assert list(t["phase"].unique()) == ["warmup", "sampling"], t["phase"].unique()  # the docs' words
