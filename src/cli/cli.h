@@ -47,12 +47,7 @@ int cmd_cascade(int argc, char **argv);
 int cmd_fokker_planck(int argc, char **argv);
 int cmd_export(int argc, char **argv);
 
-/* Error lines, exit codes and the terminal test are the application layer's (src/app/report.h);
- * the command files use them under their CLI names. */
-#define cli_error app_error
-#define cli_print_escaped app_print_escaped
-#define cli_exit_code app_exit_code
-#define cli_interactive app_interactive
+/* Error lines, exit codes and the terminal test: the application layer's (src/app/report.h). */
 /* "T = <mean> +- <error> m^2/s^2" with the warning of an unconverged error bar, as run and
  * analyse print it (defined in cmd_run.c). */
 void cli_T_text(char *buf, size_t size, double T_mean, double T_stderr, int converged);

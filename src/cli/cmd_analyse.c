@@ -243,11 +243,11 @@ int cmd_analyse(int argc, char **argv)
     int rc = gr_scene_load(&scene, path, sets, n_sets, &err);
     free(sets);
     if (rc) {
-        cli_error("analyse: %s", err.message);
+        app_error("analyse: %s", err.message);
         return EXIT_REFUSED;
     }
     if (!scene.observables[0]) {
-        cli_error("analyse: no observables chosen; add --set analysis.observables=NAME[,NAME] "
+        app_error("analyse: no observables chosen; add --set analysis.observables=NAME[,NAME] "
                   "(granule observables lists them)");
         return EXIT_REFUSED;
     }
@@ -257,7 +257,7 @@ int cmd_analyse(int argc, char **argv)
     }
     rc = gr_output_dir_precheck(out_dir, &err);
     if (rc) {
-        cli_error("analyse: %s", err.message);
+        app_error("analyse: %s", err.message);
         return EXIT_REFUSED;
     }
     char real_in[PATH_MAX], real_out[PATH_MAX];
@@ -265,7 +265,7 @@ int cmd_analyse(int argc, char **argv)
         realpath(dir, real_in) && realpath(out_dir, real_out) ? strlen(real_out) : 0;
     if (n_out && !strncmp(real_in, real_out, n_out) &&
         (real_in[n_out] == '/' || !real_in[n_out] || n_out == 1)) {
-        cli_error("analyse: --out %s is the folder analysed (%s) or holds it; its results would "
+        app_error("analyse: --out %s is the folder analysed (%s) or holds it; its results would "
                   "replace their own input: "
                   "choose another folder (the default is %s/analysis)",
                   out_dir, dir, dir);
@@ -274,14 +274,14 @@ int cmd_analyse(int argc, char **argv)
     gr_observer *obs = NULL;
     rc = gr_scene_observer(&scene, &obs, &err);
     if (rc) {
-        cli_error("analyse: %s", err.message);
-        return cli_exit_code(rc);
+        app_error("analyse: %s", err.message);
+        return app_exit_code(rc);
     }
     frame_source src;
     rc = source_open(&src, dir, dump, &scene, &err);
     if (rc) {
         gr_observer_free(obs);
-        cli_error("analyse: %s", err.message);
+        app_error("analyse: %s", err.message);
         return input_exit(rc);
     }
     /* every frame is read and checked before the output folder is touched: a refused input
@@ -325,11 +325,11 @@ int cmd_analyse(int argc, char **argv)
         if (rc) {
             break;
         }
-        if (cli_interactive()) {
+        if (app_interactive()) {
             fprintf(stderr, "\ranalyse: %zu frames", read);
         }
     }
-    if (cli_interactive()) {
+    if (app_interactive()) {
         fputc('\n', stderr);
     }
     source_close(&src);
@@ -343,13 +343,13 @@ int cmd_analyse(int argc, char **argv)
     }
     if (rc) {
         gr_observer_free(obs);
-        cli_error("analyse: %s", err.message);
+        app_error("analyse: %s", err.message);
         return input_exit(rc);
     }
     rc = gr_output_dir_prepare(out_dir, GR_OUTPUT_RESULT, force, &err);
     if (rc) {
         gr_observer_free(obs);
-        cli_error("analyse: %s", err.message);
+        app_error("analyse: %s", err.message);
         return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
     cJSON *sum = cJSON_CreateObject(), *analysis = cJSON_AddObjectToObject(sum, "analysis");
@@ -396,7 +396,7 @@ int cmd_analyse(int argc, char **argv)
     }
     cJSON_free(text);
     if (rc || rc_s) {
-        cli_error("analyse: %s", rc ? err.message : ferr.message);
+        app_error("analyse: %s", rc ? err.message : ferr.message);
         return EXIT_FAILED;
     }
     if (few[0]) {

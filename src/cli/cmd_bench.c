@@ -149,7 +149,7 @@ static int set_outputs(const char *out, bool update_docs)
         snprintf(img, sizeof img, "%s/img", dir);
     }
     if (setenv("GRANULE_BENCH_OUT", dir, 1) || setenv("GRANULE_BENCH_IMG", img, 1)) {
-        cli_error("bench: cannot set the output folder %s", dir);
+        app_error("bench: cannot set the output folder %s", dir);
         return EXIT_FAILED;
     }
     printf("granule bench: tables in %s, plots in %s%s\n", dir, img,
@@ -169,7 +169,7 @@ int cmd_bench(int argc, char **argv)
     const bool quick = args.quick, install = args.install, update_docs = args.update_docs,
                out_given = args.out != NULL;
     if (strlen(out) > 900) {
-        cli_error("bench: --out needs a folder (at most 900 characters)");
+        app_error("bench: --out needs a folder (at most 900 characters)");
         return EXIT_REFUSED;
     }
     bool all = !strcmp(what, "all"), known = all;
@@ -177,19 +177,19 @@ int cmd_bench(int argc, char **argv)
         known |= !strcmp(what, parts[k].name);
     }
     if (!known) {
-        cli_error("bench: unknown part '%s'", what);
+        app_error("bench: unknown part '%s'", what);
         cli_help(&cli_cmd_bench, stderr);
         return EXIT_REFUSED;
     }
     if (update_docs && (out_given || quick)) {
-        cli_error("bench: --update-docs writes the source tree's files; it takes neither --out nor "
+        app_error("bench: --update-docs writes the source tree's files; it takes neither --out nor "
                   "--quick");
         return EXIT_REFUSED;
     }
     char path[1200];
     snprintf(path, sizeof path, "%s/bench/bench_throughput", GR_BUILD_DIR);
     if (access(path, X_OK) != 0) {
-        cli_error("bench: %s not found: build the project (ninja -C %s) first", path, GR_BUILD_DIR);
+        app_error("bench: %s not found: build the project (ninja -C %s) first", path, GR_BUILD_DIR);
         return EXIT_FAILED;
     }
     if (quick) {

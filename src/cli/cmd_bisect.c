@@ -114,7 +114,7 @@ int cmd_bisect(int argc, char **argv)
         return parsed >= 0 ? parsed : EXIT_REFUSED;
     }
     if (args.g1.n > MAX_G1) {
-        cli_error("bisect: at most %d --g1 tables", MAX_G1);
+        app_error("bisect: at most %d --g1 tables", MAX_G1);
         cli_list_free(&args.g1);
         return EXIT_REFUSED;
     }
@@ -127,18 +127,18 @@ int cmd_bisect(int argc, char **argv)
     cli_list_free(&args.g1);
     const bool force = args.th.force, quiet = args.th.quiet, plots = !args.th.no_plots;
     if (strlen(out) > 1000) {
-        cli_error("bisect: --out %.40s...: path too long", out);
+        app_error("bisect: --out %.40s...: path too long", out);
         return EXIT_REFUSED;
     }
     gr_error err = {0};
     if (gr_bisect_settings_check(&s, &err)) {
-        cli_error("bisect: %s", err.message);
+        app_error("bisect: %s", err.message);
         return EXIT_REFUSED;
     }
     /* inputs first: a bad U_0 or G_1 table is refused before any output or work */
     gr_bisect_u0 u0;
     if (gr_bisect_u0_parse(&u0, u0_spec, &err)) {
-        cli_error("bisect: --u0: %s", err.message);
+        app_error("bisect: --u0: %s", err.message);
         return EXIT_REFUSED;
     }
     gr_bisect_g1 g1[MAX_G1];
@@ -149,7 +149,7 @@ int cmd_bisect(int argc, char **argv)
             if (g1[loaded].R) {
                 loaded++;
             }
-            cli_error("bisect: --g1: %s", err.message);
+            app_error("bisect: --g1: %s", err.message);
             rc = EXIT_REFUSED;
             break;
         }
@@ -162,13 +162,13 @@ int cmd_bisect(int argc, char **argv)
                 u0.name, u0.asymmetry);
     }
     if (!rc && gr_output_dir_prepare(out, GR_OUTPUT_RESULT, force, &err)) {
-        cli_error("bisect: %s", err.message);
+        app_error("bisect: %s", err.message);
         rc = err.code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
     gr_bisect_result res;
     progress_state ps = {wall(), 0.0};
     if (!rc) {
-        if (!quiet && cli_interactive()) {
+        if (!quiet && app_interactive()) {
             s.progress = progress;
             s.user = &ps;
         }
@@ -177,14 +177,14 @@ int cmd_bisect(int argc, char **argv)
             fputc('\n', stderr);
         }
         if (st) {
-            cli_error("bisect: %s", err.message);
+            app_error("bisect: %s", err.message);
             rc = st == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
         }
     }
     if (!rc) {
         gr_bisect_output o = {.g1 = g1, .n_g1 = n_g1, .plots = plots};
         if (gr_bisect_write(out, &s, &u0, &res, &o, &err)) {
-            cli_error("bisect: %s", err.message);
+            app_error("bisect: %s", err.message);
             rc = err.code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
         } else {
             const gr_bisect_zeta *z2 = s.moments_max >= 2 ? &res.zeta[1] : &res.zeta[0];

@@ -93,7 +93,7 @@ static bool parse_p(const char *text, double p[4])
     for (int i = 0; i < 4; i++) {
         p[i] = strtod(c, &end);
         if (end == c || (i < 3 && *end != ',') || (i == 3 && *end != '\0')) {
-            cli_error("cascade: --p needs four comma-separated numbers, e.g. 0.02,0.32,0.32,0.34; "
+            app_error("cascade: --p needs four comma-separated numbers, e.g. 0.02,0.32,0.32,0.34; "
                       "got '%s'",
                       text);
             return false;
@@ -171,34 +171,34 @@ int cmd_cascade(int argc, char **argv)
     const bool force = args.th.force, quiet = args.th.quiet, plots_on = !args.th.no_plots;
     gr_error err = {0};
     if (gr_cascade_variant_parse(variant, &s.variant, &err)) {
-        cli_error("cascade: --variant: %s", err.message);
+        app_error("cascade: --variant: %s", err.message);
         return EXIT_REFUSED;
     }
     if (p_text && s.variant != GR_CASCADE_MEAKIN) {
-        cli_error("cascade: --p applies to --variant meakin only (meakin1..4 use Table 6.1)");
+        app_error("cascade: --p applies to --variant meakin only (meakin1..4 use Table 6.1)");
         return EXIT_REFUSED;
     }
     if (s.variant == GR_CASCADE_MEAKIN && !p_text) {
-        cli_error("cascade: --variant meakin needs --p p1,p2,p3,p4");
+        app_error("cascade: --variant meakin needs --p p1,p2,p3,p4");
         return EXIT_REFUSED;
     }
     if (p_text && !parse_p(p_text, s.p)) {
         return EXIT_REFUSED;
     }
     if ((radius_given || attempts_given) && !do_place) {
-        cli_error("cascade: --radius and --max-attempts need --place N");
+        app_error("cascade: --radius and --max-attempts need --place N");
         return EXIT_REFUSED;
     }
     if (strlen(out) > 900) {
-        cli_error("cascade: --out %s: path too long", out);
+        app_error("cascade: --out %s: path too long", out);
         return EXIT_REFUSED;
     }
     if (gr_cascade_settings_check(&s, &err)) {
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return EXIT_REFUSED;
     }
     if (do_place && gr_cascade_placement_check(&place, s.L, &err)) { /* before any work */
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return EXIT_REFUSED;
     }
     sp.s = s;
@@ -207,10 +207,10 @@ int cmd_cascade(int argc, char **argv)
     sp.no_plots = !plots_on;
     gr_error werr = {0};
     if (gr_output_dir_prepare(out, GR_OUTPUT_RESULT, force, &werr)) {
-        cli_error("%s", werr.message);
+        app_error("%s", werr.message);
         return werr.code == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
-    const bool progress = !quiet && cli_interactive();
+    const bool progress = !quiet && app_interactive();
     if (progress) {
         sp.progress = progress_line;
     }
@@ -220,13 +220,13 @@ int cmd_cascade(int argc, char **argv)
         fputc('\n', stderr);
     }
     if (rc) {
-        cli_error("%s", werr.message);
+        app_error("%s", werr.message);
         return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
     char plots[600];
     rc = gr_cascade_study_write(out, &sp, &st, plots, sizeof plots, &werr);
     if (rc) {
-        cli_error("%s", werr.message);
+        app_error("%s", werr.message);
     } else {
         print_result(out, &sp, &st);
     }

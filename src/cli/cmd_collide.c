@@ -29,7 +29,7 @@ static bool apply_set(void *args, const char *v, double number)
     gr_error e = {0};
     snprintf(key, sizeof key, "%.*s", eq ? (int)(eq - v) : 0, v);
     if (!eq || gr_contact_set(&c->s.contact, key, eq + 1, &e) != GR_OK) {
-        cli_error("collide: --set %s: %s", v, eq ? e.message : "expected KEY=VALUE");
+        app_error("collide: --set %s: %s", v, eq ? e.message : "expected KEY=VALUE");
         return false;
     }
     return true;
@@ -291,7 +291,7 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
         char *end = NULL;
         const double v = strtod(tok, &end);
         if (end == tok || *end || !(v > 0.0) || !isfinite(v)) {
-            cli_error("collide: --speeds: '%s' is not a speed > 0 (m/s)", tok);
+            app_error("collide: --speeds: '%s' is not a speed > 0 (m/s)", tok);
             return EXIT_REFUSED;
         }
         gr_collide_setup s = *s0;
@@ -299,7 +299,7 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
         gr_error err = {0};
         if (gr_contact_prepare(s.normal, s.dim == 2 ? s.tangential : NULL, &s.contact, 0.5 * s.mass,
                                0.0, &k, &err)) {
-            cli_error("collide: %s", err.message);
+            app_error("collide: %s", err.message);
             return EXIT_REFUSED;
         }
         const gr_normal_impact law =
@@ -315,7 +315,7 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
             gr_collide_result r;
             s.phase = phases == 1 ? 0.0 : (p + 0.5) / phases;
             if (gr_collide_run(&s, &cs, &r, &err)) {
-                cli_error("collide: %g m/s: %s", v, err.message);
+                app_error("collide: %g m/s: %s", v, err.message);
                 return EXIT_REFUSED;
             }
             eps += r.eps_n_measured / phases;
@@ -336,7 +336,7 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
         if (reference) {
             gr_collide_result ref;
             if (gr_collide_reference(&s, &cs, &ref, &err)) {
-                cli_error("collide --reference: %g m/s: %s", v, err.message);
+                app_error("collide --reference: %g m/s: %s", v, err.message);
                 return EXIT_REFUSED;
             }
             cJSON_AddNumberToObject(e, "eps_n_reference", ref.eps_n_measured);
@@ -376,7 +376,7 @@ int cmd_collide(int argc, char **argv)
     /* validate like a scene would */
     if (!(s.contact.eps_n >= 0.0 && s.contact.eps_n <= 1.0) ||
         !(s.contact.eps_t >= 0.0 && s.contact.eps_t <= 1.0)) {
-        cli_error("collide: --eps-n %g, --eps-t %g: allowed ranges (0, 1] for --eps-n, [0, 1] for "
+        app_error("collide: --eps-n %g, --eps-t %g: allowed ranges (0, 1] for --eps-n, [0, 1] for "
                   "--eps-t",
                   s.contact.eps_n, s.contact.eps_t);
         return EXIT_REFUSED;
@@ -384,7 +384,7 @@ int cmd_collide(int argc, char **argv)
     if (!(s.contact.k_s > 0.0) || !(s.mass > 0.0) || !(s.radius > 0.0) || s.dt < 0.0 ||
         !(s.contact.mu >= 0.0) || (s.dim != 1 && s.dim != 2) || phases < 1 ||
         (s.dt == 0.0 && !(s.steps_per_contact >= 1.0))) {
-        cli_error("collide: --k, --mass and --radius must be > 0, --dt >= 0, --mu >= 0, --dim 1 or "
+        app_error("collide: --k, --mass and --radius must be > 0, --dt >= 0, --mu >= 0, --dim 1 or "
                   "2, --phases >= 1");
         return EXIT_REFUSED;
     }
@@ -404,14 +404,14 @@ int cmd_collide(int argc, char **argv)
     if (!s.normal || !(s.normal->kind & (GR_MODEL_NORMAL | GR_MODEL_EVENT)) ||
         (tangential[0] && (!s.tangential || s.tangential->kind != GR_MODEL_TANGENTIAL)) ||
         (rolling[0] && (!s.rolling || s.rolling->kind != GR_MODEL_ROLLING))) {
-        cli_error("collide: --model %s: expected NORMAL[+TANGENTIAL[+ROLLING]], e.g. "
+        app_error("collide: --model %s: expected NORMAL[+TANGENTIAL[+ROLLING]], e.g. "
                   "spring_dashpot+tangential_dashpot or "
                   "spring_dashpot+sliding_friction+rolling_friction (granule models lists them)",
                   model);
         return EXIT_REFUSED;
     }
     if ((s.normal->kind & GR_MODEL_EVENT) && s.tangential) {
-        cli_error("collide: --model %s: hard_sphere carries its own tangential restitution "
+        app_error("collide: --model %s: hard_sphere carries its own tangential restitution "
                   "(--eps-t); give it without +TANGENTIAL",
                   model);
         return EXIT_REFUSED;
@@ -419,7 +419,7 @@ int cmd_collide(int argc, char **argv)
     if (s.contact.eps_n == 0.0) {
         /* spring_dashpot documents [0, 1] with 0 = sticking (a scene may use it), hard_sphere and
          * the clamped law (0, 1]: either way no collision ends, so collide has nothing to measure */
-        cli_error("collide: --eps-n 0 is a sticking pair that never separates, so there is no "
+        app_error("collide: --eps-n 0 is a sticking pair that never separates, so there is no "
                   "collision to measure; "
                   "collide needs eps_n in (0, 1] (allowed range), e.g. 0.001");
         return EXIT_REFUSED;
@@ -432,19 +432,19 @@ int cmd_collide(int argc, char **argv)
         }
     }
     if (angle_given && !oblique) {
-        cli_error("collide: --angle needs --speed V (an oblique impact; --case N gives Table 2.1's "
+        app_error("collide: --angle needs --speed V (an oblique impact; --case N gives Table 2.1's "
                   "geometries)");
         return EXIT_REFUSED;
     }
     if (oblique && s.dim != 2) {
-        cli_error("collide: --speed/--angle: an oblique impact needs --dim 2");
+        app_error("collide: --speed/--angle: an oblique impact needs --dim 2");
         return EXIT_REFUSED;
     }
     gr_collision_case cs;
     gr_error err = {0};
     if (oblique ? gr_collision_case_oblique(speed, angle, s.radius, &cs, &err)
                 : gr_collision_case_table21(number, s.radius, &cs, &err)) {
-        cli_error("collide: %s", err.message);
+        app_error("collide: %s", err.message);
         return EXIT_REFUSED;
     }
     gr_collide_result r, sum = {0};
@@ -455,8 +455,8 @@ int cmd_collide(int argc, char **argv)
             s.phase = 0.0;
         }
         if (gr_collide_run(&s, &cs, &r, &err)) {
-            cli_error("collide: %s", err.message);
-            return cli_exit_code(err.code);
+            app_error("collide: %s", err.message);
+            return app_exit_code(err.code);
         }
         lo = fmin(lo, r.energy_loss);
         hi = fmax(hi, r.energy_loss);
@@ -536,8 +536,8 @@ int cmd_collide(int argc, char **argv)
         gr_collide_result ref;
         if (gr_collide_reference(&s, &cs, &ref, &err)) {
             cJSON_Delete(o);
-            cli_error("collide --reference: %s", err.message);
-            return cli_exit_code(err.code);
+            app_error("collide --reference: %s", err.message);
+            return app_exit_code(err.code);
         }
         add_result(o, "reference_", &ref, instantaneous, rotation);
     }

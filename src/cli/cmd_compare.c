@@ -125,13 +125,13 @@ int cmd_compare(int argc, char **argv)
     static gr_scene scenes[GR_COMPARE_MAX];
     int n = 0;
     if (rc == EXIT_OK && gr_compare_specs_parse(models, specs, GR_COMPARE_MAX, &n, &err)) {
-        cli_error("compare: %s", err.message);
+        app_error("compare: %s", err.message);
         rc = EXIT_REFUSED;
     }
     /* every spec's scene must load before anything runs */
     for (int k = 0; k < n && rc == EXIT_OK; k++) {
         if (gr_compare_scene_load(&specs[k], scene_path, sets, n_sets, out, &scenes[k], &err)) {
-            cli_error("compare: %s", err.message);
+            app_error("compare: %s", err.message);
             rc = EXIT_REFUSED;
         }
     }
@@ -140,28 +140,28 @@ int cmd_compare(int argc, char **argv)
         return rc;
     }
     if (resume && force) {
-        cli_error("compare: --resume continues the comparison in %s, --force replaces it: give one",
+        app_error("compare: --resume continues the comparison in %s, --force replaces it: give one",
                   out);
         return EXIT_REFUSED;
     }
     /* only now is the folder touched; an earlier comparison is kept unless --force (or continued with --resume) */
     char what[1400];
     if (resume && !gr_compare_earlier(out, specs, n, what, sizeof what)) {
-        cli_error("compare: --resume: %s holds no comparison of these models to continue; run "
+        app_error("compare: --resume: %s holds no comparison of these models to continue; run "
                   "without --resume",
                   out);
         return EXIT_REFUSED;
     }
     if (!resume && !force && gr_compare_earlier(out, specs, n, what, sizeof what)) {
-        cli_error("compare: %s already holds a comparison (%s); choose another folder, pass "
+        app_error("compare: %s already holds a comparison (%s); choose another folder, pass "
                   "--resume to continue it "
                   "(after Ctrl-C) or --force to overwrite it",
                   out, what);
         return EXIT_REFUSED;
     }
     if (!resume && gr_output_dir_prepare(out, GR_OUTPUT_COMPARE, force, &err)) {
-        cli_error("compare: %s", err.message);
-        return cli_exit_code(err.code);
+        app_error("compare: %s", err.message);
+        return app_exit_code(err.code);
     }
     /* Ctrl-C or SIGTERM: the running model stops with a checkpoint (a second signal kills) */
     struct sigaction sa = {.sa_handler = on_compare_stop, .sa_flags = SA_RESETHAND};
@@ -183,7 +183,7 @@ int cmd_compare(int argc, char **argv)
             .force = force || resume, .resume = state == 2, .stop = &compare_stop};
         gr_run_result res;
         if (gr_run(&scenes[k], &opt, &res, &err)) {
-            cli_error("compare: %s: %s", specs[k].text, err.message);
+            app_error("compare: %s: %s", specs[k].text, err.message);
             failures++;
         } else if (res.stopped) {
             break;
@@ -199,7 +199,7 @@ int cmd_compare(int argc, char **argv)
     }
     gr_compare_table *t = gr_compare_table_build(out, scene_path, scenes[0].dim, specs, n);
     if (!t || gr_compare_table_write(t, out, &err)) {
-        cli_error("compare: %s", t ? err.message : "out of memory");
+        app_error("compare: %s", t ? err.message : "out of memory");
         gr_compare_table_free(t);
         return EXIT_FAILED;
     }

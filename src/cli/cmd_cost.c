@@ -229,7 +229,7 @@ int cmd_cost(int argc, char **argv)
         rq.observable = (gr_cost_observable)gr_cost_observable_parse(args.observable);
     }
     if (args.tolerance && !parse_tolerance(args.tolerance, &rq.tolerance)) {
-        cli_error("cost: --tolerance %s: expected a relative tolerance in (0, 1) or a percentage, "
+        app_error("cost: --tolerance %s: expected a relative tolerance in (0, 1) or a percentage, "
                   "e.g. 0.01 or 1%%",
                   args.tolerance);
         rc = EXIT_REFUSED;
@@ -241,11 +241,11 @@ int cmd_cost(int argc, char **argv)
     gr_scene sc;
     gr_error err = {0};
     if (rc == EXIT_OK && gr_output_dir_precheck(out, &err)) { /* before the calibration runs */
-        cli_error("cost: %s", err.message);
+        app_error("cost: %s", err.message);
         rc = EXIT_REFUSED;
     }
     if (rc == EXIT_OK && gr_scene_load_whole(&sc, scene_path, sets, n_sets, &err)) {
-        cli_error("cost: %s", err.message);
+        app_error("cost: %s", err.message);
         rc = EXIT_REFUSED;
     }
     free(sets);
@@ -260,20 +260,20 @@ int cmd_cost(int argc, char **argv)
     sigaction(SIGINT, &sa, NULL);
     gr_cost_answer ans;
     if (gr_cost_errors(&sc, &rq, &ans, &err)) {
-        cli_error("cost: %s: %s", scene_path, err.message);
-        return err.code == GR_EINVAL ? EXIT_REFUSED : cli_exit_code(err.code);
+        app_error("cost: %s: %s", scene_path, err.message);
+        return err.code == GR_EINVAL ? EXIT_REFUSED : app_exit_code(err.code);
     }
     if (gr_output_dir_prepare(out, GR_OUTPUT_RESULT, force,
                               &err)) { /* before the calibration run */
-        cli_error("cost: %s", err.message);
-        return cli_exit_code(err.code);
+        app_error("cost: %s", err.message);
+        return app_exit_code(err.code);
     }
     if (ans.best >= 0 && rq.calibrate_seconds > 0.0) {
         fprintf(stderr, "cost: calibrating dt = %.4g s for %g s of wall time\n", ans.c[ans.best].dt,
                 rq.calibrate_seconds);
         if (gr_cost_calibrate(&sc, ans.c[ans.best].dt, rq.calibrate_seconds, &ans, &err)) {
-            cli_error("cost: calibration run: %s", err.message);
-            return cli_exit_code(err.code);
+            app_error("cost: calibration run: %s", err.message);
+            return app_exit_code(err.code);
         }
     }
     sigset_t hold, before;
@@ -287,8 +287,8 @@ int cmd_cost(int argc, char **argv)
     signal(SIGTERM, SIG_DFL);
     sigprocmask(SIG_SETMASK, &before, NULL);
     if (wrc) {
-        cli_error("cost: %s", err.message);
-        return cli_exit_code(err.code);
+        app_error("cost: %s", err.message);
+        return app_exit_code(err.code);
     }
     printf("wrote %s/cost.json\n", out);
     return ans.best >= 0 ? EXIT_OK : EXIT_FAILED;

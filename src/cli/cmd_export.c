@@ -54,7 +54,7 @@ int cmd_export(int argc, char **argv)
         return EXIT_REFUSED;
     }
     if (strcmp(pos.v[0], "lammps") != 0) {
-        cli_error("export: unknown format %s (known: lammps)", pos.v[0]);
+        app_error("export: unknown format %s (known: lammps)", pos.v[0]);
         cli_list_free(&args.sets);
         return EXIT_REFUSED;
     }
@@ -72,7 +72,7 @@ int cmd_export(int argc, char **argv)
     int rc = gr_scene_load(&scene, scene_path, sets, n_sets, &err);
     free(sets);
     if (rc) {
-        cli_error("export: %s", err.message);
+        app_error("export: %s", err.message);
         return EXIT_REFUSED;
     }
     char dir[1100];
@@ -83,7 +83,7 @@ int cmd_export(int argc, char **argv)
     gr_lammps_export info;
     rc = gr_export_lammps(&scene, dir, force, &info, &err);
     if (rc) {
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return rc == GR_EINVAL ? EXIT_REFUSED : EXIT_FAILED;
     }
     printf("%s, %s: N = %d, %lld + %lld steps, dump every %lld steps to %s\n", info.deck, info.data,

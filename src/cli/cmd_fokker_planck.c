@@ -129,7 +129,7 @@ static int parse(int argc, char **argv, options *o)
     o->p.sim = !o->no_sim;
     gr_error err = {0};
     if (gr_fp_settings_check(&o->p.s, &err)) {
-        cli_error("fokker-planck: %s", err.message);
+        app_error("fokker-planck: %s", err.message);
         return EXIT_REFUSED;
     }
     return -1;
@@ -170,13 +170,13 @@ int cmd_fokker_planck(int argc, char **argv)
     gsl_set_error_handler_off();
     gr_error err = {0};
     if (gr_output_dir_prepare(o.th.out, GR_OUTPUT_RESULT, o.th.force, &err)) {
-        cli_error("fokker-planck: %s", err.message);
+        app_error("fokker-planck: %s", err.message);
         return exit_code(&err);
     }
     gr_fp_study st;
     if (gr_fp_study_quadrature(o.th.out, &o.p, &st, &err)) {
         gr_fp_study_free(&st);
-        cli_error("fokker-planck: quadrature: %s", err.message);
+        app_error("fokker-planck: quadrature: %s", err.message);
         return EXIT_FAILED;
     }
     const gr_fp_settings *s = &o.p.s;
@@ -186,7 +186,7 @@ int cmd_fokker_planck(int argc, char **argv)
            "Q_pdf(0) = %.6g s/m (%.2f s)\n",
            st.T_quad, st.T_quad / st.T0, st.v2, st.Q0, st.quad_seconds);
     double t0 = now();
-    const bool show = o.p.sim && !o.th.quiet && cli_interactive();
+    const bool show = o.p.sim && !o.th.quiet && app_interactive();
     if (show) {
         o.p.progress = progress;
         o.p.user = &t0;
@@ -198,12 +198,12 @@ int cmd_fokker_planck(int argc, char **argv)
     }
     if (rc) {
         gr_fp_study_free(&st);
-        cli_error("fokker-planck: simulation: %s", err.message);
+        app_error("fokker-planck: simulation: %s", err.message);
         return exit_code(&err);
     }
     if (gr_fp_study_compare(o.th.out, &o.p, &st, &err)) {
         gr_fp_study_free(&st);
-        cli_error("fokker-planck: %s", err.message);
+        app_error("fokker-planck: %s", err.message);
         return exit_code(&err);
     }
     if (st.have_sim) {
@@ -212,7 +212,7 @@ int cmd_fokker_planck(int argc, char **argv)
     rc = gr_fp_study_summary(o.th.out, &o.p, &st, !o.th.no_plots, &err);
     gr_fp_study_free(&st);
     if (rc) {
-        cli_error("fokker-planck: %s", err.message);
+        app_error("fokker-planck: %s", err.message);
         return EXIT_FAILED;
     }
     printf("wrote %s\n", o.th.out);

@@ -47,7 +47,7 @@ static int redraw_scripts(const char *dir, int *drawn)
             printf("%s/%s\n", dir, picture);
             (*drawn)++;
         } else {
-            cli_error("plot %s/%s: %s", dir, picture, note);
+            app_error("plot %s/%s: %s", dir, picture, note);
             failures++;
         }
         free(copy);
@@ -75,7 +75,7 @@ static int redraw_folder(const char *dir, int depth, int *drawn)
     if (exists(dir, "temperature.csv") && exists(dir, "ledger.csv") &&
         !exists(dir, "temperature.gp")) {
         if (gr_plot_run(dir, 0, note, sizeof note)) {
-            cli_error("plot %s: %s", dir, note);
+            app_error("plot %s: %s", dir, note);
             failures++;
         } else {
             printf("%s/temperature.%s\n%s/ledger.%s\n", dir,
@@ -96,7 +96,7 @@ static int redraw_folder(const char *dir, int depth, int *drawn)
             printf("%s\n", png);
             (*drawn)++;
         } else {
-            cli_error("plot %s: %s", dir, err.message);
+            app_error("plot %s: %s", dir, err.message);
             failures++;
         }
     }
@@ -160,17 +160,17 @@ int cmd_plot(int argc, char **argv)
     }
     const char *dir = pos.n ? pos.v[0] : NULL;
     if (!dir) {
-        cli_error("plot: usage: granule plot DIR [--format png|svg|pdf]");
+        app_error("plot: usage: granule plot DIR [--format png|svg|pdf]");
         return EXIT_REFUSED;
     }
     if (access(dir, R_OK) != 0) {
-        cli_error("plot %s: no such folder", dir);
+        app_error("plot %s: no such folder", dir);
         return EXIT_REFUSED;
     }
     int drawn = 0;
     const int failures = redraw_folder(dir, 2, &drawn);
     if (drawn == 0 && failures == 0) {
-        cli_error("plot %s: nothing to draw (no run outputs found)", dir);
+        app_error("plot %s: nothing to draw (no run outputs found)", dir);
         return EXIT_REFUSED;
     }
     /* each picture's path above; then what was drawn in all */

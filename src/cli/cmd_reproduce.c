@@ -154,7 +154,7 @@ static int list_campaigns(void)
         gr_campaign c;
         gr_error err = {0};
         if (gr_campaign_load(&c, name, &err)) {
-            cli_error("reproduce: %s", err.message);
+            app_error("reproduce: %s", err.message);
             return EXIT_FAILED;
         }
         printf("%-*s %-6ld %-6ld %s\n", width, name, gr_campaign_points(&c, GR_FIDELITY_QUICK),
@@ -253,7 +253,7 @@ int cmd_reproduce(int argc, char **argv)
     if (page) {
         gr_error err = {0};
         if (gr_reproduction_page(root, page_out, &err)) {
-            cli_error("reproduce: %s", err.message);
+            app_error("reproduce: %s", err.message);
             return EXIT_FAILED;
         }
         printf("%s: generated from %s/*/results.json\n", page_out, root);
@@ -268,13 +268,13 @@ int cmd_reproduce(int argc, char **argv)
     int rc = EXIT_OK;
     char dir[1200], abs_dir[4096], sweep_path[4200], res_dir[4200];
     if (gr_campaign_load(c, name, &err)) {
-        cli_error("reproduce: %s", err.message);
+        app_error("reproduce: %s", err.message);
         free(c);
         return EXIT_REFUSED;
     }
     long total = gr_campaign_points(c, fid);
     if (point != -2 && (point < 0 || point >= total)) {
-        cli_error("reproduce: --point %s: %s has points 0..%ld at %s fidelity", point_text, c->name,
+        app_error("reproduce: --point %s: %s has points 0..%ld at %s fidelity", point_text, c->name,
                   total - 1, fid == GR_FIDELITY_FULL ? "full" : "quick");
         free(c);
         return EXIT_REFUSED;
@@ -286,10 +286,10 @@ int cmd_reproduce(int argc, char **argv)
     snprintf(level, sizeof level, "%.1000s/%s", out, c->name);
     existed[1] = is_dir(level);
     if (gr_output_dir_prepare(dir, GR_OUTPUT_CAMPAIGN, false, &err) || !realpath(dir, abs_dir)) {
-        cli_error("reproduce: %s: %s", dir,
+        app_error("reproduce: %s: %s", dir,
                   err.message[0] ? err.message : "cannot resolve the folder");
         free(c);
-        return err.code ? cli_exit_code(err.code) : EXIT_FAILED;
+        return err.code ? app_exit_code(err.code) : EXIT_FAILED;
     }
     snprintf(res_dir, sizeof res_dir, "%s", results ? results : "");
     if (!results) {
@@ -298,13 +298,13 @@ int cmd_reproduce(int argc, char **argv)
     fprintf(stderr, "reproduce: campaign %s (%s), %s fidelity, %ld points, into %s\n", c->name,
             c->covers, fid == GR_FIDELITY_FULL ? "full" : "quick", total, abs_dir);
     if (gr_campaign_materialise(c, fid, abs_dir, sweep_path, sizeof sweep_path, &err)) {
-        cli_error("reproduce: %s", err.message);
+        app_error("reproduce: %s", err.message);
         free(c);
         return EXIT_FAILED;
     }
     long restored = 0;
     if (gr_campaign_restore(abs_dir, res_dir, &restored, &err)) {
-        cli_error("reproduce: %s", err.message);
+        app_error("reproduce: %s", err.message);
         free(c);
         return EXIT_FAILED;
     }
@@ -326,7 +326,7 @@ int cmd_reproduce(int argc, char **argv)
         if (rc == EXIT_REFUSED) { /* the sweep said why: a key or value of the campaign */
             if (!mpi_worker()) {
                 undo_materialise(abs_dir, existed);
-                cli_error("reproduce: %s refused: the sweep above was written from its [sweep.F], "
+                app_error("reproduce: %s refused: the sweep above was written from its [sweep.F], "
                           "[vary.F] and [set] "
                           "sections; nothing was run or kept",
                           c->source);
@@ -352,7 +352,7 @@ int cmd_reproduce(int argc, char **argv)
         }
     }
     if (arc) {
-        cli_error("reproduce: %s", err.message);
+        app_error("reproduce: %s", err.message);
         free(c);
         return EXIT_FAILED;
     }

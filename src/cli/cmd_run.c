@@ -69,7 +69,7 @@ static void progress(const gr_progress *p, void *user)
 static void notice(const char *message, void *user)
 {
     (void)user;
-    cli_error("warning: %s", message);
+    app_error("warning: %s", message);
 }
 
 static volatile sig_atomic_t stop_requested;
@@ -115,7 +115,7 @@ int cmd_run(int argc, char **argv)
     char resume_scene[1100];
     if (resume) {
         if (scene_path || out || force) {
-            cli_error("run: --resume %s continues the run in that folder with its own scene.ini; "
+            app_error("run: --resume %s continues the run in that folder with its own scene.ini; "
                       "give no SCENE, --out or --force",
                       resume);
             free(sets);
@@ -135,12 +135,12 @@ int cmd_run(int argc, char **argv)
     int rc = gr_scene_load_whole(&scene, scene_path, sets, n_sets, &err);
     free(sets);
     if (rc) {
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return EXIT_REFUSED;
     }
     if (out) {
         if (strlen(out) >= sizeof scene.out_dir) {
-            cli_error("--out %s: path too long", out);
+            app_error("--out %s: path too long", out);
             return EXIT_REFUSED;
         }
         snprintf(scene.out_dir, sizeof scene.out_dir, "%s", out);
@@ -150,7 +150,7 @@ int cmd_run(int argc, char **argv)
     }
     gr_run_options opt = {
         .force = force, .resume = resume != NULL, .stop = &stop_requested, .notice = notice};
-    if (!quiet && scene.progress && cli_interactive()) {
+    if (!quiet && scene.progress && app_interactive()) {
         opt.progress = progress;
     }
     gr_run_result res;
@@ -166,7 +166,7 @@ int cmd_run(int argc, char **argv)
     }
 
     if (rc == GR_OK && res.stopped) {
-        cli_error("%s at step %lld (%lld samples): checkpoint written to %s/checkpoint; continue "
+        app_error("%s at step %lld (%lld samples): checkpoint written to %s/checkpoint; continue "
                   "with: granule run --resume %s",
                   res.stopped == 1 ? "stopped by a signal"
                                    : "stopped before the wall-time limit (run.wall_limit)",
@@ -174,19 +174,19 @@ int cmd_run(int argc, char **argv)
         return res.stopped == 1 ? EXIT_STOPPED : EXIT_WALL_LIMIT;
     }
     if (rc && res.stopped == GR_RUN_STOPPED_WRITE) {
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return EXIT_WRITE_FAILED;
     }
     if (rc == GR_EUNSTABLE) {
-        cli_error("%s (outputs so far kept in %s)", err.message, scene.out_dir);
+        app_error("%s (outputs so far kept in %s)", err.message, scene.out_dir);
         return EXIT_UNSTABLE;
     }
     if (rc == GR_EINVAL) {
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return EXIT_REFUSED;
     }
     if (rc) {
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return EXIT_FAILED;
     }
     char T_text[200];

@@ -126,20 +126,20 @@ static int parse_list(const char *text, double *out, int max, int *n)
     char *save = NULL;
     for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
         if (*n >= max) {
-            cli_error("spm: --radius takes at most %d radii", max);
+            app_error("spm: --radius takes at most %d radii", max);
             return -1;
         }
         char *end;
         double x = strtod(tok, &end);
         if (end == tok || *end || !(x > 0.0) || !isfinite(x)) {
-            cli_error("spm: --radius needs positive numbers separated by commas (m), got '%s'",
+            app_error("spm: --radius needs positive numbers separated by commas (m), got '%s'",
                       text);
             return -1;
         }
         out[(*n)++] = x;
     }
     if (*n == 0) {
-        cli_error("spm: --radius needs at least one radius");
+        app_error("spm: --radius needs at least one radius");
         return -1;
     }
     return 0;
@@ -162,11 +162,11 @@ static int cmd_circle(int argc, char **argv)
     o.s = &p.s;
     gr_error err = {0};
     if (gr_spm_circle_prepare(&p, &err)) {
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return EXIT_REFUSED;
     }
     if (gr_output_dir_prepare(o.th.out, GR_OUTPUT_RESULT, o.th.force, &err)) {
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return spm_exit_code(&err);
     }
     gr_spm_circle_report r;
@@ -174,7 +174,7 @@ static int cmd_circle(int argc, char **argv)
     int rc = gr_spm_circle_run(&p, &r, &err);
     spm_progress_off(&o);
     if (rc) {
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return spm_exit_code(&err);
     }
     rc = gr_spm_circle_write(o.th.out, &p, &r, !o.th.no_plots, &err);
@@ -202,7 +202,7 @@ static int cmd_circle(int argc, char **argv)
     }
     gr_spm_circle_report_free(&r);
     if (rc) {
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return spm_exit_code(&err);
     }
     return EXIT_OK;
@@ -223,18 +223,18 @@ static int cmd_predict(int argc, char **argv)
     const bool force = args.th.force,
                plots = !args.th.no_plots; /* predict draws no progress line */
     if (strlen(out) >= 1000) {
-        cli_error("spm: --out %s: path too long", out);
+        app_error("spm: --out %s: path too long", out);
         return EXIT_REFUSED;
     }
     gr_error err = {0};
     gr_spm_predict_report r;
     if (gr_spm_predict_prepare(&p, &r, &err)) {
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return spm_exit_code(&err);
     }
     if (gr_output_dir_prepare(out, GR_OUTPUT_RESULT, force, &err) ||
         gr_spm_predict_write(out, &p, &r, plots, &err)) {
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return spm_exit_code(&err);
     }
     const gr_spm_prediction *q = &r.p;
@@ -264,7 +264,7 @@ static int cmd_predict(int argc, char **argv)
 int cmd_spm(int argc, char **argv)
 {
     if (argc < 2) {
-        cli_error("spm: give a mode: circle, full or predict (granule spm --help)");
+        app_error("spm: give a mode: circle, full or predict (granule spm --help)");
         return EXIT_REFUSED;
     }
     const char *m = argv[1];
@@ -281,6 +281,6 @@ int cmd_spm(int argc, char **argv)
     if (!strcmp(m, "predict")) {
         return cmd_predict(argc - 1, argv + 1);
     }
-    cli_error("spm: unknown mode %s (circle, full or predict; granule spm --help)", m);
+    app_error("spm: unknown mode %s (circle, full or predict; granule spm --help)", m);
     return EXIT_REFUSED;
 }

@@ -179,7 +179,7 @@ int cmd_spm_full(int argc, char **argv)
     }
     gr_spm_full_report_free(&r);
     if (rc) {
-        cli_error("%s", err.message);
+        app_error("%s", err.message);
         return spm_exit_code(&err);
     }
     return EXIT_OK;

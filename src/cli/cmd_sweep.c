@@ -117,7 +117,7 @@ static int hash_points(const sweep *s, uint64_t *hash, double *guess, long from,
         gr_scene sc;
         gr_error err = {0};
         if (sweep_point_scene(s, k, &sc, &err)) {
-            cli_error("sweep: %s: point %ld: %s", s->file, k, err.message);
+            app_error("sweep: %s: point %ld: %s", s->file, k, err.message);
             return EXIT_REFUSED;
         }
         hash[k] = gr_scene_hash(&sc);
@@ -138,8 +138,8 @@ static int run_one(const sweep *s, long k, const uint64_t *hash, const char *run
 {
     gr_error err = {0};
     if (gr_output_dir_prepare(s->out, GR_OUTPUT_SWEEP, s->force, &err)) {
-        cli_error("sweep: %s", err.message);
-        return cli_exit_code(err.code);
+        app_error("sweep: %s", err.message);
+        return app_exit_code(err.code);
     }
     char why[800];
     if (!s->force && sweep_point_state(s, k, hash[k], why, sizeof why) == POINT_COMPLETED) {
@@ -194,7 +194,7 @@ int cmd_sweep(int argc, char **argv)
     const char *arr_var = NULL, *arr_text = NULL;
     long arr = collect || all || point >= 0 ? -1 : array_index(&arr_var, &arr_text);
     if (arr == -2) {
-        cli_error("sweep: %s=%s: expected a non-negative integer array index", arr_var, arr_text);
+        app_error("sweep: %s=%s: expected a non-negative integer array index", arr_var, arr_text);
         rc = EXIT_REFUSED;
         goto done;
     }
@@ -204,19 +204,19 @@ int cmd_sweep(int argc, char **argv)
                 "sweep: point %ld from %s=%s%s (--point K to choose, --all for the whole sweep)\n",
                 point, arr_var, arr_text, base ? " minus --array-base" : "");
         if (point < 0) {
-            cli_error("sweep: %s=%s minus --array-base %ld is negative", arr_var, arr_text, base);
+            app_error("sweep: %s=%s minus --array-base %ld is negative", arr_var, arr_text, base);
             rc = EXIT_REFUSED;
             goto done;
         }
     }
     if (point >= s->n_points) {
-        cli_error("sweep: %s: point %ld does not exist; points 0..%ld (granule sweep %s --list)",
+        app_error("sweep: %s: point %ld does not exist; points 0..%ld (granule sweep %s --list)",
                   file, point, s->n_points - 1, file);
         rc = EXIT_REFUSED;
         goto done;
     }
     if (point >= 0 && ranks > 1) {
-        cli_error("sweep: one point (%ld) was asked for but %s says %d MPI ranks would all run it; "
+        app_error("sweep: one point (%ld) was asked for but %s says %d MPI ranks would all run it; "
                   "start one process per "
                   "point, or drop --point (and pass --all in a batch-array task) to spread the "
                   "sweep over the ranks",
@@ -249,7 +249,7 @@ int cmd_sweep(int argc, char **argv)
     }
     if (ranks > 1 || mpi) {
         if (ranks > 1 && !sweep_mpi_available()) {
-            cli_error("sweep: started by an MPI launcher (%s = %d ranks) but this granule was "
+            app_error("sweep: started by an MPI launcher (%s = %d ranks) but this granule was "
                       "built without MPI: every rank "
                       "would run the whole sweep; rebuild with meson setup -Dmpi=enabled, or see "
                       "docs/cluster.md",
@@ -268,13 +268,13 @@ int cmd_sweep(int argc, char **argv)
     }
     gr_error err = {0};
     if (gr_output_dir_prepare(s->out, GR_OUTPUT_SWEEP, s->force, &err)) {
-        cli_error("sweep: %s", err.message);
-        rc = cli_exit_code(err.code);
+        app_error("sweep: %s", err.message);
+        rc = app_exit_code(err.code);
         goto done;
     }
     char why[900];
     if (sweep_foreign_points(s, s->force, why, sizeof why) < 0) {
-        cli_error("sweep: %s", why);
+        app_error("sweep: %s", why);
         rc = EXIT_REFUSED;
         goto done;
     }

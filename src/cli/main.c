@@ -134,7 +134,7 @@ static void unknown_command(const char *name)
     }
     const cli_command all = {.name = "granule", .opts = names, .n_opts = N_COMMANDS};
     const char *near = cli_nearest(&all, name);
-    cli_error("unknown command '%s'%s%s%s (granule help lists them)", name,
+    app_error("unknown command '%s'%s%s%s (granule help lists them)", name,
               near ? "; did you mean '" : "", near ? near : "", near ? "'?" : "");
 }
 

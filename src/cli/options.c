@@ -60,7 +60,7 @@ bool cli_theory_set_refused(const cli_command *cmd, cli_theory *th)
     cli_list *sets = &th->sets;
     const bool refused = sets->n > 0;
     if (refused) {
-        cli_error("%s: --set %s: %s has no scene, so no scene keys to set; its settings are "
+        app_error("%s: --set %s: %s has no scene, so no scene keys to set; its settings are "
                   "options (granule %s --help)",
                   cmd->name, sets->items[0], cmd->name, cmd->name);
     }
@@ -226,10 +226,10 @@ static bool take(const cli_command *cmd, const cli_opt *o, const char *v, void *
         if (!integer || !in_range(o, x)) {
             if (has_range(o)) {
                 range_text(o, allowed, sizeof allowed);
-                cli_error("%s: %s %s: expected %s %s (allowed range)", cmd->name, o->name, v,
+                app_error("%s: %s %s: expected %s %s (allowed range)", cmd->name, o->name, v,
                           o->type == CLI_DOUBLE ? "a number" : "an integer", allowed);
             } else {
-                cli_error("%s: %s %s: expected %s", cmd->name, o->name, v,
+                app_error("%s: %s %s: expected %s", cmd->name, o->name, v,
                           o->type == CLI_DOUBLE   ? "a number"
                           : o->type == CLI_UINT64 ? "a non-negative integer"
                                                   : "an integer");
@@ -238,7 +238,7 @@ static bool take(const cli_command *cmd, const cli_opt *o, const char *v, void *
         }
     } else if (o->type == CLI_CHOICE && !is_choice(o->value, v)) {
         choice_text(o->value, allowed, sizeof allowed);
-        cli_error("%s: %s %s: expected %s", cmd->name, o->name, v, allowed);
+        app_error("%s: %s %s: expected %s", cmd->name, o->name, v, allowed);
         return false;
     }
     if (field) {
@@ -252,7 +252,7 @@ static bool take(const cli_command *cmd, const cli_opt *o, const char *v, void *
         case CLI_CHOICE: *(const char **)field = v; break;
         case CLI_LIST:
             if (!cli_list_add((cli_list *)field, v)) {
-                cli_error("%s: out of memory", cmd->name);
+                app_error("%s: out of memory", cmd->name);
                 return false;
             }
             break;
@@ -274,10 +274,10 @@ int cli_parse(const cli_command *cmd, int argc, char **argv, void *args, cli_pos
         if (a[0] != '-' || !a[1]) {
             if (pos->n >= cmd->max_pos || pos->n >= CLI_MAX_POS) {
                 if (cmd->max_pos == 1) {
-                    cli_error("%s: one %s at a time (got %s and %s)", cmd->name, cmd->pos_name,
+                    app_error("%s: one %s at a time (got %s and %s)", cmd->name, cmd->pos_name,
                               pos->v[0], a);
                 } else {
-                    cli_error("%s: unexpected argument %s (granule %s --help)", cmd->name, a,
+                    app_error("%s: unexpected argument %s (granule %s --help)", cmd->name, a,
                               cmd->name);
                 }
                 return EXIT_REFUSED;
@@ -290,14 +290,14 @@ int cli_parse(const cli_command *cmd, int argc, char **argv, void *args, cli_pos
         const cli_opt *o = find(cmd, a, len);
         if (!o) {
             const char *near = cli_nearest(cmd, a);
-            cli_error("%s: unknown option %s%s%s%s (granule %s --help lists them)", cmd->name, a,
+            app_error("%s: unknown option %s%s%s%s (granule %s --help lists them)", cmd->name, a,
                       near ? "; did you mean " : "", near ? near : "", near ? "?" : "", cmd->name);
             return EXIT_REFUSED;
         }
         const char *v = NULL;
         if (o->type == CLI_FLAG) {
             if (eq) {
-                cli_error("%s: %s takes no value (got %s)", cmd->name, o->name, a);
+                app_error("%s: %s takes no value (got %s)", cmd->name, o->name, a);
                 return EXIT_REFUSED;
             }
         } else if (eq) {
@@ -305,7 +305,7 @@ int cli_parse(const cli_command *cmd, int argc, char **argv, void *args, cli_pos
         } else if (i + 1 < argc) {
             v = argv[++i];
         } else {
-            cli_error("%s: %s needs a value (granule %s --help)", cmd->name, o->name, cmd->name);
+            app_error("%s: %s needs a value (granule %s --help)", cmd->name, o->name, cmd->name);
             return EXIT_REFUSED;
         }
         if (!take(cmd, o, v ? v : "", args)) {

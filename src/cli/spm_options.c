@@ -17,7 +17,7 @@ int spm_parse(const cli_command *cmd, int argc, char **argv, void *args, spm_opt
         return parsed >= 0 ? parsed : EXIT_REFUSED;
     }
     if (strlen(o->th.out) >= 1000) {
-        cli_error("%s: --out %s: path too long", cmd->name, o->th.out);
+        app_error("%s: --out %s: path too long", cmd->name, o->th.out);
         return EXIT_REFUSED;
     }
     o->s = s;
@@ -59,7 +59,7 @@ static void progress(double done, void *user)
 
 void spm_progress_on(spm_options *o, const char *label)
 {
-    if (!o->th.quiet && cli_interactive()) {
+    if (!o->th.quiet && app_interactive()) {
         progress_state.label = label;
         progress_state.t0 = now();
         o->s->progress = progress;

@@ -1,4 +1,4 @@
-/* What the fuzz targets of files read by path share: the cli_error of cli/main.c (not linked into
+/* What the fuzz targets of files read by path share: the app_error of cli/main.c (not linked into
  * a harness: messages are kept to be checked, not printed) and writing each input to its path. */
 #ifndef GR_FUZZ_FILES_H
 #define GR_FUZZ_FILES_H
@@ -14,7 +14,7 @@
 
 static char last_error[1024];
 
-void cli_error(const char *fmt, ...)
+void app_error(const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
