@@ -701,6 +701,13 @@ static int apply(loader *ld, const char *section, const char *name, const char *
                 *(double *)((char *)&s->contact + p->offset) = x; /* hard_sphere's own block */
                 return GR_OK;
             }
+            if (strcmp(name, "tc") == 0 &&
+                (!parse_double(value, &x) ||
+                 !check_range(x, p->min, p->max, p->min_open, p->max_open))) {
+                return fail_at(err, w, section, name,
+                               "'%s' is neither a time in [0, inf) s nor off (off: no TC rule)",
+                               value);
+            }
             if (t == K_DOUBLE && parse_double(value, &x) &&
                 !check_range(x, p->min, p->max, p->min_open, p->max_open)) {
                 char ranges[300];
