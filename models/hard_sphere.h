@@ -106,17 +106,37 @@ static inline double gr_event_collide_rough(double M, double q, double R, double
  * read (never the parameters themselves): in gr_contact_coeffs.law_n, 1 with viscoelastic = true
  * and the hertz contact's damping and stiffness that set eps_n(v); in law_t, eps_t, Walton's
  * beta and its Coulomb limit beta_mu (rotation = true). */
-enum {
-    GR_HARD_SPHERE_VISCO = 0,
-    GR_HARD_SPHERE_GAMMA = 1,
-    GR_HARD_SPHERE_KH = 2,
-    GR_HARD_SPHERE_TC = 3
-};
+enum { GR_HARD_SPHERE_VISCO = 0, GR_HARD_SPHERE_GAMMA = 1, GR_HARD_SPHERE_KH = 2 };
 enum { GR_HARD_SPHERE_EPS_T = 0, GR_HARD_SPHERE_BETA = 1, GR_HARD_SPHERE_BETA_MU = 2 };
 
 /* viscoelastic hard discs: the smallest eps_n used (an impact that would stick, eps_n(v) = 0,
  * would leave the pair touching at zero normal speed and stall the event calendar) */
 #define GR_HARD_SPHERE_MIN_EPS 1e-3
+
+/* The rule as the event-driven integrator and `granule collide` call it (models/law.h,
+ * gr_event_pair): smooth discs get gr_event_collide with eps_n and eps_t, rough ones
+ * (p->w1 != NULL) Walton's gr_event_collide_rough with beta and its Coulomb limit. eps_n is the
+ * constant eps_n, or with viscoelastic = true the hertz contact's eps_n(v) at the normal approach
+ * speed (the model's impact: one call per collision). A TC-elastic collision has eps_n = 1 and no
+ * tangential loss (eps_t = 1; rough discs: smooth, beta = -1). */
+GR_LAW void gr_event_rule_hard_sphere(const gr_contact_coeffs *c, gr_event_pair *p)
+{
+    double eps_n = 1.0;
+    if (!p->elastic) {
+        const double gn = (p->v1x - p->v2x) * p->nx + (p->v1y - p->v2y) * p->ny;
+        eps_n = c->law_n[GR_HARD_SPHERE_VISCO] != 0.0 ? c->normal_model->impact(c, gn).eps_n
+                                                      : c->eps_n_exact;
+    }
+    if (p->w1) {
+        gr_event_collide_rough(
+            p->M, p->q, p->R, eps_n, p->elastic ? -1.0 : c->law_t[GR_HARD_SPHERE_BETA],
+            p->elastic ? 0.0 : c->law_t[GR_HARD_SPHERE_BETA_MU], p->nx, p->ny, &p->v1x, &p->v1y,
+            &p->v2x, &p->v2y, p->w1, p->w2, &p->de_n, &p->de_t);
+    } else {
+        gr_event_collide(p->M, eps_n, p->elastic ? 1.0 : c->law_t[GR_HARD_SPHERE_EPS_T], p->nx,
+                         p->ny, &p->v1x, &p->v1y, &p->v2x, &p->v2y, &p->de_n, &p->de_t);
+    }
+}
 
 #endif /* GR_MODELS_HARD_SPHERE_H */
 
@@ -202,12 +222,12 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
     c->clamp = false;
     c->zeta = spring_dashpot_zeta_unclamped(p->eps_n); /* the matching spring-dashpot, eq. 2.6 */
     /* t_c, the k_s contact's duration, sets only the clock tick dt = t_c / steps_per_contact; a given
-     * tc is the TC time alone (law_n[GR_HARD_SPHERE_TC], which the event integrator reads), so a tiny
-     * tc cannot make the tick crawl */
+     * tc is the TC time alone (c->tc, which the event integrator reads), so a tiny tc cannot make
+     * the tick crawl (issue 37) */
     c->w0 = sqrt(p->k_s / m12);
-    c->law_n[GR_HARD_SPHERE_TC] = o->tc;
     c->k_s = m12 * c->w0 * c->w0;
     c->t_c = spring_dashpot_duration_unclamped(c->zeta) / c->w0;
+    c->tc = o->tc == GR_TC_OFF ? 0.0 : o->tc > 0.0 ? o->tc : c->t_c; /* the TC time */
     c->eps_n_exact = p->eps_n;
     c->gamma_n = 0.0; /* no force law: kernels see a hard sphere as force-free */
     c->e_scale = 0.5 * c->k_s;

@@ -105,6 +105,25 @@ typedef struct gr_rolling_torque {
     double m, p;
 } gr_rolling_torque;
 
+/* An event rule's instantaneous collision (gr_model.kind & GR_MODEL_EVENT; the rule NAME is
+ * `GR_LAW void gr_event_rule_NAME(const gr_contact_coeffs *c, gr_event_pair *p)` in
+ * models/NAME.h, listed in GR_EVENT_MODELS). Two equal discs of mass M, radius R and moment of
+ * inertia q M R^2 touch along the unit normal (nx, ny) from 1 to 2; in 1D ny = 0 and the y
+ * velocities are 0. The rule changes v1, v2 (and the spins *w1, *w2 when they are not NULL:
+ * [model] rotation = true) in place and returns the kinetic energy it dissipated, split into the
+ * normal and the tangential part, in de_n and de_t (J). `elastic` is the integrator's TC verdict
+ * (docs/event-driven.md): the rule must then conserve energy. The caller of the rule is the
+ * event-driven integrator (one call per collision, through gr_event_rule_apply of
+ * models/list.h) and `granule collide`. */
+typedef struct gr_event_pair {
+    double M, R, q;
+    double nx, ny;
+    double v1x, v1y, v2x, v2y;
+    double *w1, *w2;
+    bool elastic;
+    double de_n, de_t;
+} gr_event_pair;
+
 /* The scene keys of rotation, declared by every tangential law that acts at the contact point
  * (gr_model.contact_point): put GR_ROTATION_PARAMS into the law's parameter table. */
 #define GR_ROTATION_PARAMS                                                                         \

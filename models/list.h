@@ -43,8 +43,8 @@
 /* rolling-resistance torques (rotation only): gr_rolling_NAME and gr_model_NAME */
 #define GR_ROLLING_MODELS(X, A) X(A, rolling_friction)
 
-/* instantaneous rules of the event-driven integrator: gr_model_NAME (the rule is called by
- * src/integrators/event/ through its header) */
+/* instantaneous rules of the event-driven integrator: gr_model_NAME and the rule
+ * gr_event_rule_NAME (models/law.h, gr_event_pair), called through gr_event_rule_apply below */
 #define GR_EVENT_MODELS(X, A) X(A, hard_sphere)
 
 /* the models with parameters of their own, a struct NAME_own in models/NAME.h: their blocks, one
@@ -54,6 +54,32 @@
     X(A, tangential_spring)                                                                        \
     X(A, hard_sphere)                                                                              \
     X(A, rolling_friction)
+
+/* The event rules' dispatch, generated from GR_EVENT_MODELS: a caller finds the rule of its
+ * normal model once per run (gr_event_rule_of; -1: the model is no event rule) and applies it per
+ * collision with gr_event_rule_apply, a switch over inline rules (no call through a pointer). */
+#define GR_EVENT_RULE_ID(A, NAME) GR_EVENT_RULE_##NAME,
+typedef enum { GR_EVENT_MODELS(GR_EVENT_RULE_ID, ) GR_EVENT_RULE_COUNT } gr_event_rule;
+
+static inline int gr_event_rule_of(const gr_model *m)
+{
+#define GR_EVENT_RULE_MATCH(A, NAME)                                                               \
+    if (m == &gr_model_##NAME) {                                                                   \
+        return GR_EVENT_RULE_##NAME;                                                               \
+    }
+    GR_EVENT_MODELS(GR_EVENT_RULE_MATCH, )
+    return -1;
+}
+
+static inline void gr_event_rule_apply(int rule, const gr_contact_coeffs *c, gr_event_pair *p)
+{
+    switch (rule) {
+#define GR_EVENT_RULE_CASE(A, NAME)                                                                \
+    case GR_EVENT_RULE_##NAME: gr_event_rule_##NAME(c, p); break;
+        GR_EVENT_MODELS(GR_EVENT_RULE_CASE, )
+    default: break;
+    }
+}
 
 #define GR_OWN_BLOCK(A, NAME) NAME##_own NAME;
 typedef struct gr_own_layout {

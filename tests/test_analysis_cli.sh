@@ -196,7 +196,7 @@ check grep -q "| integrator | verlet | hybrid | event |" "$tmp/cmpi/compare.md"
 check grep -q "events/s" "$tmp/cmpi/compare.md"
 "$granule" compare "$src/docs/scenes/rfm-1d.ini" --models spring_dashpot@event --out "$tmp/cmpi2" >/dev/null 2>"$tmp/cmpi2.err"
 check test $? -eq 2
-check grep -q "needs \[model\] normal = hard_sphere" "$tmp/cmpi2.err"
+check grep -q "needs an event rule, \[model\] normal = hard_sphere" "$tmp/cmpi2.err"
 check test ! -e "$tmp/cmpi2"
 # granule plot recurses into the models of a comparison; --format svg; summary.json lists the pictures
 "$granule" plot "$tmp/cmpi" --format svg >"$tmp/plot.out" 2>&1

@@ -229,6 +229,8 @@ file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n | export lammps $S --ou
 base | export lammps $S --out $O --force | 2 | LAMMPS has no 1D | run
 file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\ntc = offf\n[integrator]\nkind = event\n | run $S --out $O | 2 | :7:;[model] tc;offf;[0, inf) s;nor off | new
 base | run $S --out $O --set model.tc=-1 | 2 | [model] tc;-1;nor off | new
+file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[model]\neps_n = 0\nnormal = hard_sphere\n[integrator]\nkind = event\n | run $S --out $O | 2 | :6:;[model] eps_n;hard_sphere's range;(0, 1] | new
+file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[model]\nnormal = spring_dashpot\n[integrator]\nkind = event\n | run $S --out $O | 2 | :8:;[integrator] kind;needs an event rule;hard_sphere;verlet | new
 file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n | export lammps $S --out $O | 2 | time-stepped only;integrator.kind = verlet | new
 file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[model]\nnormal = hertz\n | export lammps $S --out $O | 2 | model.normal = hertz;no gran/hooke equivalent | new
 file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[model]\ntangential = sliding_friction\n | export lammps $S --out $O | 2 | model.tangential = sliding_friction;no pure Coulomb | new

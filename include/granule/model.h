@@ -109,6 +109,10 @@ typedef struct gr_contact_coeffs {
      * pow_p = 0 for the linear law; hertz has 3/2 and 1/2 or 1/4 (k_s, gamma_n then in the units
      * these powers need). The CVODE reference (src/collide/reference.c) integrates this form. */
     double pow_a, pow_p;
+    /* Event rules: the TC-model time, s (docs/event-driven.md): the integrator makes a collision
+     * elastic when either disc collided less than tc ago, and separates a noise-pressed pair fast
+     * enough to stay apart that long; 0 = no TC rule. Set by the rule's prepare. */
+    double tc;
     double law_n[4]; /* constants private to the normal law */
     double law_t[4]; /* constants private to the tangential law */
     /* Rolling resistance (gr_contact_prepare_rolling; NULL / 0 without): the law and its constants

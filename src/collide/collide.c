@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "core/sim_internal.h"
-#include "models/hard_sphere.h"
+#include "models/list.h"
 #include "granule/collide.h"
 #include "granule/integrator.h"
 #include "granule/sim.h"
@@ -87,7 +87,8 @@ static double contact_time_of(const double r[2], const double g[2], double d)
     return c / (-b + sqrt(disc)); /* cancellation-free root (physics notes sec. 3.3) */
 }
 
-/* hard_sphere: the instantaneous rule (models/hard_sphere.h, gr_event_collide) applied at the exact contact instant */
+/* An event rule (hard_sphere, ...): the model's instantaneous rule (gr_event_rule_apply, models/list.h)
+ * applied at the exact contact instant */
 static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc, double t_hit,
                         gr_collide_result *out, gr_error *err)
 {
@@ -110,16 +111,25 @@ static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc,
     double gg0 = g0[0] * g0[0] + g0[1] * g0[1];
     double gn0 = g0[0] * n[0] + g0[1] * n[1], gt0 = g0[0] * n[1] - g0[1] * n[0];
     double p0[2] = {v1[0] + v2[0], v1[1] + v2[1]};
-    double u1[2] = {v1[0], v1[1]}, u2[2] = {v2[0], v2[1]}, de_n, de_t;
-    /* rough discs (rotation = true, 2D): Walton's rule with both discs at rest before; the spin
-     * energy counts in the loss and the contact point's velocity in eps_t (models/hard_sphere.h) */
+    /* rough discs (rotation = true, 2D): the rule with both discs at rest before; the spin energy
+     * counts in the loss and the contact point's velocity in eps_t (models/hard_sphere.h) */
     double w1 = 0.0, w2 = 0.0, spin_t = 0.0, spin_e = 0.0;
-    p.eps_n = coeffs.normal_model->impact(&coeffs, fabs(gn0)).eps_n; /* viscoelastic: eps_n(v) */
+    gr_event_pair pair = {.M = cs->mass,
+                          .R = cs->radius,
+                          .q = p.inertia_factor,
+                          .nx = n[0],
+                          .ny = n[1],
+                          .v1x = v1[0],
+                          .v1y = v1[1],
+                          .v2x = v2[0],
+                          .v2y = v2[1]};
     if (p.rotation && dim == 2) {
-        gr_event_collide_rough(cs->mass, p.inertia_factor, cs->radius, p.eps_n,
-                               coeffs.law_t[GR_HARD_SPHERE_BETA],
-                               coeffs.law_t[GR_HARD_SPHERE_BETA_MU], n[0], n[1], &u1[0], &u1[1],
-                               &u2[0], &u2[1], &w1, &w2, &de_n, &de_t);
+        pair.w1 = &w1;
+        pair.w2 = &w2;
+    }
+    gr_event_rule_apply(gr_event_rule_of(coeffs.normal_model), &coeffs, &pair);
+    const double u1[2] = {pair.v1x, pair.v1y}, u2[2] = {pair.v2x, pair.v2y};
+    if (pair.w1) {
         out->omega1 = w1;
         out->omega2 = w2;
         /* the rule's g = v1 - v2 and t = n rotated by +90 degrees are both reversed here (g = v2 - v1,
@@ -127,9 +137,6 @@ static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc,
          * the spin energy I (w1^2 + w2^2) / 2 in units of m12 / 2 (the |g|^2 of energy_loss) */
         spin_t = cs->radius * (w1 + w2);
         spin_e = 2.0 * p.inertia_factor * cs->radius * cs->radius * (w1 * w1 + w2 * w2);
-    } else {
-        gr_event_collide(cs->mass, p.eps_n, p.eps_t, n[0], n[1], &u1[0], &u1[1], &u2[0], &u2[1],
-                         &de_n, &de_t);
     }
     double g1[2] = {u2[0] - u1[0], u2[1] - u1[1]};
     out->energy_loss = 1.0 - (g1[0] * g1[0] + g1[1] * g1[1] + spin_e) / gg0;
@@ -218,8 +225,9 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     if (cs->normal && (cs->normal->kind & GR_MODEL_EVENT)) {
         if (spun) {
             return GR_FAIL(err, GR_EINVAL,
-                           "--omega1/--omega2: hard_sphere's rule starts the discs without spin; "
-                           "initial spins need a soft normal law (allowed with hard_sphere: 0)");
+                           "--omega1/--omega2: %s's rule starts the discs without spin; initial "
+                           "spins need a soft normal law (allowed with %s: 0)",
+                           cs->normal->name, cs->normal->name);
         }
         if (cs->rolling) {
             return GR_FAIL(err, GR_EINVAL,

@@ -191,6 +191,20 @@ static void integrator_names_where(bool instantaneous, const char *sep, char *bu
     }
 }
 
+/* The registered normal models that are (or are not) event rules, joined by sep. */
+static void normal_names_where(bool event_rule, const char *sep, char *buf, size_t cap)
+{
+    size_t len = 0;
+    buf[0] = 0;
+    for (int j = 0; gr_models[j] && len < cap; j++) {
+        const gr_model *m = gr_models[j];
+        if ((m->kind & GR_MODEL_NORMAL) && ((m->kind & GR_MODEL_EVENT) != 0) == event_rule) {
+            int w = snprintf(buf + len, cap - len, "%s%s", len ? sep : "", m->name);
+            len += w > 0 ? (size_t)w : 0;
+        }
+    }
+}
+
 /* ---------- values ---------- */
 
 typedef struct where {
@@ -427,7 +441,11 @@ static void append_known_keys(char *buf, size_t n, const char *section)
 /* Which of the mutually exclusive keys were given, and where (for messages). */
 typedef struct given {
     bool L, packing_fraction, reduced_length, dt, steps_per_contact;
-    bool model_param[64]; /* by index in the flattened model-parameter list */
+    struct {
+        const char *name; /* a [model] parameter's key (its descriptor's name) */
+        where at;         /* where it was last given */
+    } model_at[64];
+    int n_model_at;
     where at_L, at_pf, at_rl, at_dt, at_spc;
     where at[64]; /* where each engine key (by row of `keys`) was last given; file NULL = default */
 } given;
@@ -694,6 +712,18 @@ static int apply(loader *ld, const char *section, const char *name, const char *
     if (strcmp(section, "model") == 0) {
         const gr_model *owner = NULL;
         const gr_param *p = find_model_param(name, &owner);
+        if (p && !ld->defaults) {
+            given *g = &ld->g;
+            int k = 0;
+            while (k < g->n_model_at && strcmp(g->model_at[k].name, p->name) != 0) {
+                k++;
+            }
+            if (k < 64) {
+                g->model_at[k].name = p->name;
+                g->model_at[k].at = *w;
+                g->n_model_at = k < g->n_model_at ? g->n_model_at : k + 1;
+            }
+        }
         if (p) {
             key_type t = p->type == GR_PARAM_BOOL ? K_BOOL : K_DOUBLE;
             double x;
@@ -1016,14 +1046,15 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     /* integrators of instantaneous collisions (event) and the instantaneous rules (hard_sphere)
      * need each other (docs/event-driven.md) */
     const bool event_rule = s->normal && (s->normal->kind & GR_MODEL_EVENT);
-    char soft[160], hard[160];
+    char soft[160], hard[160], rules[160], laws[160];
     integrator_names_where(false, " | ", soft, sizeof soft);
     if (s->integrator->instantaneous && !event_rule) {
         where w = where_of(g, s, "integrator", "kind");
+        normal_names_where(true, " | ", rules, sizeof rules);
         snprintf(detail, sizeof detail,
-                 "kind = %s needs [model] normal = hard_sphere (normal = %s is a force law); "
+                 "kind = %s needs an event rule, [model] normal = %s (normal = %s is a force law); "
                  "allowed with %s: %s",
-                 s->integrator->name, s->normal ? s->normal->name : "?",
+                 s->integrator->name, rules, s->normal ? s->normal->name : "?",
                  s->normal ? s->normal->name : "it", soft);
         return fail_at(err, &w, "integrator", "kind", "%s", detail);
     }
@@ -1031,17 +1062,12 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
         where w = where_of(g, s, "model", "normal");
         integrator_names_where(true, " | ", hard, sizeof hard);
         integrator_names_where(false, " or ", soft, sizeof soft);
+        normal_names_where(false, " | ", laws, sizeof laws);
         snprintf(detail, sizeof detail,
                  "%s is an instantaneous collision rule and needs [integrator] kind = %s; allowed "
-                 "with kind = %s: spring_dashpot",
-                 s->normal->name, hard, soft);
+                 "with kind = %s: %s",
+                 s->normal->name, hard, soft, laws);
         return fail_at(err, &w, "model", "normal", "%s", detail);
-    }
-    if (event_rule && !(s->contact.eps_n > 0.0)) {
-        where w = where_of(g, s, "model", "normal");
-        return fail_at(err, &w, "model", "eps_n", "%s",
-                       "hard_sphere needs eps_n in (0, 1]: at eps_n = 0 a touching pair keeps zero "
-                       "normal speed and time stops; use e.g. 0.001");
     }
     if (s->rolling && (s->dim != 2 || !s->contact.rotation || s->integrator->instantaneous)) {
         where w = where_of(g, s, "model", "rolling");
@@ -1061,9 +1087,9 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     if (s->integrator->instantaneous && s->tangential) {
         where w = where_of(g, s, "model", "tangential");
         snprintf(detail, sizeof detail,
-                 "%s is a force law; with kind = %s the tangential restitution is hard_sphere's "
-                 "eps_t; allowed: none",
-                 s->tangential->name, s->integrator->name);
+                 "%s is a force law; with kind = %s the tangential restitution is %s's own; "
+                 "allowed: none",
+                 s->tangential->name, s->integrator->name, s->normal->name);
         return fail_at(err, &w, "model", "tangential", "%s", detail);
     }
     if (s->D == 0.0) {
@@ -1075,6 +1101,32 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     int rc_driving = resolve_driving(s, g, driving_keys, n_driving_keys, err);
     if (rc_driving) {
         return rc_driving;
+    }
+    /* a key several models share was checked against the widest of their ranges when it was read
+     * (the models may come later in the file); now each chosen model checks its own range, e.g.
+     * hard_sphere's eps_n in (0, 1] */
+    const gr_model *chosen[3] = {s->normal, s->tangential, s->rolling};
+    for (int k = 0; k < g->n_model_at; k++) {
+        for (int m = 0; m < 3; m++) {
+            for (int i = 0; chosen[m] && i < chosen[m]->n_params; i++) {
+                const gr_param *p = &chosen[m]->params[i];
+                if (p->type != GR_PARAM_DOUBLE || strcmp(p->name, g->model_at[k].name) != 0) {
+                    continue;
+                }
+                const double x = *(const double *)((const char *)&s->contact + p->offset);
+                if (x == GR_TC_OFF && strcmp(p->name, "tc") == 0) {
+                    continue; /* tc = off */
+                }
+                if (!check_range(x, p->min, p->max, p->min_open, p->max_open)) {
+                    char r[96];
+                    range_text(r, sizeof r, p->min, p->max, p->min_open, p->max_open);
+                    snprintf(detail, sizeof detail,
+                             "%g is out of %s's range; allowed range with normal = %s: %s", x,
+                             chosen[m]->name, s->normal ? s->normal->name : "none", r);
+                    return fail_at(err, &g->model_at[k].at, "model", p->name, "%s", detail);
+                }
+            }
+        }
     }
     for (int i = 0; i < n_model_keys; i++) {
         if (!model_has_param(s->normal, model_keys[i]) &&

@@ -24,7 +24,7 @@
 #include <string.h>
 
 #include "integrators/event/event_internal.h"
-#include "models/hard_sphere.h"
+#include "models/list.h"
 #include "granule/free_flight.h"
 #include "granule/noise.h"
 
@@ -332,11 +332,14 @@ static int process_1d(gr_sim *s, double t_limit, gr_error *err)
         }
         const bool approaching = vi - vj > 0.0;
         const bool elastic = gr_ev_tc_elastic(e, i, j, t_abs);
-        double ui = vi, uj = vj, zero1 = 0.0, zero2 = 0.0, de_n, de_t;
-        de_n = de_t = 0.0;
+        double ui = vi, uj = vj, de_n = 0.0, de_t = 0.0;
         if (approaching) { /* a pressed pair that is not approaching only gets the floor */
-            gr_event_collide(e->M, elastic ? 1.0 : gr_ev_eps_n(e, ui - uj), 1.0, 1.0, 0.0, &ui,
-                             &zero1, &uj, &zero2, &de_n, &de_t);
+            gr_event_pair p = {.M = e->M, .nx = 1.0, .v1x = ui, .v2x = uj, .elastic = elastic};
+            gr_event_rule_apply(e->rule, e->cc, &p);
+            ui = p.v1x;
+            uj = p.v2x;
+            de_n = p.de_n;
+            de_t = p.de_t;
         }
         if (push > 0.0 && uj - ui < 0.5 * push * e->tc) {
             /* contact floor (docs/event-driven.md): a pair pressed together by the noise separates
@@ -365,6 +368,7 @@ static int process_1d(gr_sim *s, double t_limit, gr_error *err)
         rebase_1d(e, j, xj, vj, uj);
         if (!elastic) {
             s->diss_n += de_n;
+            s->diss_t += de_t; /* 0 on the ring (no tangent), booked for any rule */
         } else {
             e->tc_elastic++;
         }
@@ -519,11 +523,13 @@ static int check_speeds(const gr_sim *s, const double *x, const double *vx, cons
 
 int gr_event_init(gr_sim *s, gr_error *err)
 {
-    /* a capability, not a name: the normal law must be an event rule (gr_model.kind) */
-    if (!s->cc.normal_model || !(s->cc.normal_model->kind & GR_MODEL_EVENT)) {
+    /* a capability, not a name: the normal law must be an event rule (models/list.h) */
+    const int rule = s->cc.normal_model ? gr_event_rule_of(s->cc.normal_model) : -1;
+    if (rule < 0) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: [integrator] kind = event needs [model] normal = hard_sphere",
-                       s->params.source);
+                       "%s: [integrator] kind = event needs an event rule as [model] normal (%s "
+                       "is a force law; granule models lists the rules)",
+                       s->params.source, s->cc.normal_model ? s->cc.normal_model->name : "none");
     }
     if (!(s->params.kick_interval > 0.0)) {
         return GR_FAIL(err, GR_EINVAL,
@@ -546,20 +552,12 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->L = s->L;
     e->d = s->d;
     e->d2 = s->d * s->d;
-    e->eps_n = s->params.contact.eps_n;
-    e->eps_t = s->dim == 2 ? s->params.contact.eps_t : 1.0;
-    /* the TC time: [model] tc, off (no TC rule) or by default the k_s contact's duration t_c, which
-     * alone sets the clock tick (a tiny tc once made the tick, not the events, crawl: issue 37) */
-    const double tc = s->cc.law_n[GR_HARD_SPHERE_TC]; /* as hard_sphere prepared it */
-    e->tc = tc == GR_TC_OFF ? 0.0 : tc > 0.0 ? tc : s->cc.t_c;
+    e->tc = s->cc.tc; /* as the rule's prepare set it ([model] tc, off, or its contact time) */
+    e->rule = rule;
+    e->cc = &s->cc;
     e->rough = s->omega != NULL; /* [model] rotation = true (2D only: gr_sim refuses it in 1D) */
     e->q = s->cc.q;
     e->R = 0.5 * s->d;
-    e->beta =
-        s->cc.law_t[GR_HARD_SPHERE_BETA]; /* the rule's constants, as hard_sphere prepared them */
-    e->beta_mu = s->cc.law_t[GR_HARD_SPHERE_BETA_MU];
-    e->visco = s->cc.law_n[GR_HARD_SPHERE_VISCO] != 0.0;
-    e->cc = &s->cc;
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
     e->com_every = (int64_t)llround(s->params.com_interval / e->tau);
     e->com_every = e->com_every < 1 ? 1 : e->com_every;

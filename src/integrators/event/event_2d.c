@@ -11,7 +11,7 @@
 #include <stdlib.h>
 
 #include "integrators/event/event_internal.h"
-#include "models/hard_sphere.h"
+#include "models/list.h"
 
 int gr_ev2d_alloc(gr_sim *s, gr_error *err)
 {
@@ -347,19 +347,29 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
         push = fmax(push, sqrt(Ax * Ax + Ay * Ay));
     }
     const bool elastic = gr_ev_tc_elastic(e, i, j, t_abs);
-    double pi_x = vi, pi_y = ui, pj_x = vj, pj_y = uj, de_n, de_t;
-    de_n = de_t = 0.0;
+    double pi_x = vi, pi_y = ui, pj_x = vj, pj_y = uj, de_n = 0.0, de_t = 0.0;
     if (gn > 0.0) { /* a pressed pair that is not approaching only gets the floor */
-        const double eps_n = elastic ? 1.0 : gr_ev_eps_n(e, gn);
+        gr_event_pair p = {.M = e->M,
+                           .R = e->R,
+                           .q = e->q,
+                           .nx = nx,
+                           .ny = ny,
+                           .v1x = vi,
+                           .v1y = ui,
+                           .v2x = vj,
+                           .v2y = uj,
+                           .elastic = elastic};
         if (e->rough) {
-            /* TC-elastic collisions are smooth too (beta = -1): no tangential impulse */
-            gr_event_collide_rough(e->M, e->q, e->R, eps_n, elastic ? -1.0 : e->beta,
-                                   elastic ? 0.0 : e->beta_mu, nx, ny, &pi_x, &pi_y, &pj_x, &pj_y,
-                                   &s->omega[i], &s->omega[j], &de_n, &de_t);
-        } else {
-            gr_event_collide(e->M, eps_n, elastic ? 1.0 : e->eps_t, nx, ny, &pi_x, &pi_y, &pj_x,
-                             &pj_y, &de_n, &de_t);
+            p.w1 = &s->omega[i];
+            p.w2 = &s->omega[j];
         }
+        gr_event_rule_apply(e->rule, e->cc, &p);
+        pi_x = p.v1x;
+        pi_y = p.v1y;
+        pj_x = p.v2x;
+        pj_y = p.v2y;
+        de_n = p.de_n;
+        de_t = p.de_t;
     }
     if (push > 0.0) {
         /* contact floor (docs/event-driven.md): separate at least fast enough that the pressing

@@ -44,14 +44,14 @@ struct gr_event_state {
     double now;    /* local time of the last processed event */
     int phase;     /* phase of now */
     double M, L, d, d2;
-    double eps_n, eps_t, tc;
-    /* rough discs ([model] rotation = true, 2D): Walton's rule on s->omega (models/hard_sphere.h) */
-    bool rough;
-    double q, R, beta, beta_mu;
-    /* viscoelastic = true: eps_n(v) of the hertz viscoelastic contact, from the model's impact */
-    bool visco;
+    double tc; /* the rule's TC time (gr_contact_coeffs.tc; 0: no TC rule) */
+    /* the collision: the normal model's event rule (gr_event_rule_of, models/list.h) with the
+     * sim's coefficients; rough discs ([model] rotation = true, 2D) pass it their spins */
+    int rule;
     const gr_contact_coeffs *cc; /* the sim's coefficients (gr_sim.cc) */
-    bool exact;                  /* free_flight = exact */
+    bool rough;
+    double q, R;
+    bool exact; /* free_flight = exact */
     bool noise;
     /* trajectories */
     double *t0, *bx, *bv, *by, *bw; /* base time, x, vx, y, vy */
@@ -89,13 +89,6 @@ struct gr_event_state {
 };
 
 #define GR_EV_POLL 4096
-/* eps_n of a collision at normal approach speed gn > 0: constant, or (viscoelastic = true) the
- * hard_sphere model's eps_n(v) of the hertz contact (models/hard_sphere.h; one call per collision,
- * not per pair) */
-static inline double gr_ev_eps_n(const struct gr_event_state *e, double gn)
-{
-    return e->visco ? e->cc->normal_model->impact(e->cc, gn).eps_n : e->eps_n;
-}
 #define GR_EV_STOPPED 1 /* a process function's return: the stop flag was seen, nothing lost */
 
 /* Slow path of gr_ev_guard (event.c): polls the stop flag; every `budget` events fails with a

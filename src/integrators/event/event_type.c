@@ -29,8 +29,8 @@ static int event_describe(const gr_sim *s, gr_integrator_figure *out, int cap)
 
 const gr_integrator_type gr_integrator_event = {
     .name = "event",
-    .summary =
-        "event-driven hard spheres (needs [model] normal = hard_sphere, docs/event-driven.md)",
+    .summary = "event-driven hard spheres (needs an event rule as [model] normal, e.g. "
+               "hard_sphere; docs/event-driven.md)",
     .instantaneous = true,
     .free_flight = true,
     .rotation = true, /* rough discs: spins change only at collisions (no torque in free flight) */
