@@ -313,6 +313,46 @@ START_TEST(test_viscoelastic_eps)
 }
 END_TEST
 
+/* hard_sphere's eps_n(v) is a Chebyshev series of hertz's integrated contact (models/hard_sphere.h):
+ * it equals hertz's own eps_n(v) to 1e-12 from nearly elastic to nearly sticking impacts (scaled
+ * damping c from 1e-5 to past the series' end at c = 4.9, where it integrates directly), and
+ * never leaves [GR_HARD_SPHERE_MIN_EPS, 1]. */
+START_TEST(test_viscoelastic_series)
+{
+    const double m12 = 0.5 * MASS, A[] = {1e-8, 2e-7, 3e-6, 5e-5};
+    int compared = 0;
+    for (int a = 0; a < 4; a++) {
+        gr_contact_params p;
+        gr_contact_defaults(&p);
+        gr_error err = {0};
+        ck_assert(gr_contact_set(&p, "viscoelastic", "true", &err) == GR_OK);
+        ck_assert(gr_contact_set_value(&p, "visco_A", A[a], &err) == GR_OK);
+        gr_contact_coeffs hs, hz;
+        ck_assert_msg(gr_contact_prepare(gr_model_find("hard_sphere"), NULL, &p, m12, 0.0, &hs,
+                                         &err) == GR_OK,
+                      "%s", err.message);
+        ck_assert_msg(gr_contact_prepare(gr_model_find("hertz"), NULL, &p, m12, 0.0, &hz, &err) ==
+                          GR_OK,
+                      "%s", err.message);
+        for (double v = 1e-4; v <= 1e2; v *= 1.37) {
+            const double eps = hs.normal_model->impact(&hs, v).eps_n;
+            const double want = hz.normal_model->impact(&hz, v).eps_n;
+            ck_assert_msg(eps >= GR_HARD_SPHERE_MIN_EPS && eps <= 1.0, "A %g, v %g: eps %.17g",
+                          A[a], v, eps);
+            if (want >= GR_HARD_SPHERE_MIN_EPS) {
+                ck_assert_msg(fabs(eps - want) <= 1e-12, "A %g, v %g: series %.17g, hertz %.17g",
+                              A[a], v, eps, want);
+                compared++;
+            } else {
+                ck_assert_msg(eps == GR_HARD_SPHERE_MIN_EPS, "A %g, v %g: eps %.17g, hertz %.3g",
+                              A[a], v, eps, want);
+            }
+        }
+    }
+    ck_assert_int_ge(compared, 100);
+}
+END_TEST
+
 /* `granule collide --model hard_sphere` with rotation: an impact at 45 degrees (discs not spinning
  * before) gives the contact point's eps_t = -beta (constant, and the Coulomb value when it
  * slides), equal spins of the size Walton's impulse gives, and the loss (1 - eps_n^2) cos^2 +
@@ -439,6 +479,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_driven_ledger);
     tcase_add_test(tc, test_restart_bitwise);
     tcase_add_test(tc, test_viscoelastic_eps);
+    tcase_add_test(tc, test_viscoelastic_series);
     tcase_add_test(tc, test_collide_rough);
     tcase_add_test(tc, test_viscoelastic_collide);
     tcase_add_test(tc, test_validation);
