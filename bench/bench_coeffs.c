@@ -54,6 +54,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_coeffs: %s\n", err.message);
         return 2;
     }
+    /* LAMMPS gran/hooke has a tangential dashpot only */
+    const bool dashpot = c.tangential_model == gr_model_find("tangential_dashpot");
     double noise_sigma = sc.noise_mode == GR_NOISE_NONE ? 0.0 : sqrt(2.0 * sc.D / sc.dt);
     printf("dim=%d\nN=%d\nL=%.17g\nradius=%.17g\nmass=%.17g\ndt=%.17g\n", sc.dim, sc.N, sc.L,
            sc.radius, sc.mass, sc.dt);
@@ -61,12 +63,12 @@ int main(int argc, char **argv)
            sc.tangential ? sc.tangential->name : "none", c.clamp ? 1 : 0);
     printf(
         "k_s=%.17g\nm12=%.17g\ngamma_n=%.17g\ngamma_t=%.17g\nt_c=%.17g\neps_n=%.17g\neps_t=%.17g\n",
-        c.k_s, m12, c.gamma_n, c.tangential == GR_TANGENTIAL_DASHPOT ? c.gamma_t : 0.0, c.t_c,
-        sc.contact.eps_n, sc.contact.eps_t);
+        c.k_s, m12, c.gamma_n, dashpot ? c.gamma_t : 0.0, c.t_c, sc.contact.eps_n,
+        sc.contact.eps_t);
     printf("noise_sigma=%.17g\nnoise_mode=%s\nseed=%llu\n", noise_sigma,
            gr_noise_mode_name(sc.noise_mode), (unsigned long long)sc.seed);
     printf("lammps_kn=%.17g\nlammps_gamman=%.17g\nlammps_gammat=%.17g\n", c.k_s, c.gamma_n / m12,
-           c.tangential == GR_TANGENTIAL_DASHPOT ? c.gamma_t / m12 : 0.0);
+           dashpot ? c.gamma_t / m12 : 0.0);
     printf("warmup=%.17g\nduration=%.17g\nsample_every=%.17g\n", sc.warmup, sc.duration,
            sc.sample_every);
     return 0;

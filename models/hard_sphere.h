@@ -217,7 +217,6 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
     if (!(o->tc >= 0.0 || o->tc == GR_TC_OFF) || !isfinite(o->tc)) {
         return GR_FAIL(err, GR_EINVAL, "[model] tc = %g: allowed range [0, inf) s, or off", o->tc);
     }
-    c->normal = GR_NORMAL_HARD_SPHERE;
     c->m12 = m12;
     c->clamp = false;
     c->zeta = spring_dashpot_zeta_unclamped(p->eps_n); /* the matching spring-dashpot, eq. 2.6 */

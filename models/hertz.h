@@ -212,7 +212,6 @@ static int hertz_prepare(const gr_contact_params *p, double m12, double dt, gr_c
 {
     const hertz_own *o = GR_OWN(p, hertz);
     (void)dt;
-    c->normal = GR_NORMAL_NONE;
     c->k_s = o->k_h;
     c->m12 = m12;
     c->clamp = p->clamp;

@@ -50,7 +50,6 @@ static int sliding_friction_prepare(const gr_contact_params *p, double m12, doub
     (void)m12;
     (void)dt;
     (void)err;
-    c->tangential = GR_TANGENTIAL_FRICTION;
     c->mu = p->mu;
     return GR_OK;
 }
@@ -70,14 +69,14 @@ static double sliding_friction_restitution_t(const gr_contact_coeffs *c, gr_norm
  * stops where g_c reaches 0 (root 0; the reference cancels the rest of g_c) and never restarts
  * without a spring. Root 1: F_n changes sign while sliding (an unclamped law pulling at the end),
  * so |F_n| = fn_sign F_n stays smooth. */
-enum { FRICTION_REF_MU = 0 };
+enum { SLIDING_FRICTION_REF_MU = 0 };
 static void sliding_friction_ref_setup(const gr_contact_coeffs *c, double m12, double w0,
                                        double len, gr_ref_tangential *l)
 {
     (void)m12;
     (void)w0;
     (void)len;
-    l->k[FRICTION_REF_MU] = c->mu;
+    l->k[SLIDING_FRICTION_REF_MU] = c->mu;
 }
 
 static void sliding_friction_ref_start(gr_ref_tangential *l, double gn0, double gc0,
@@ -90,7 +89,8 @@ static void sliding_friction_ref_start(gr_ref_tangential *l, double gn0, double 
 
 static void sliding_friction_ref_force(const gr_ref_tangential *l, gr_ref_point *p)
 {
-    p->ft = l->mode ? -l->k[FRICTION_REF_MU] * l->fn_sign * p->fn * l->sign : 0.0; /* (2.7) */
+    p->ft =
+        l->mode ? -l->k[SLIDING_FRICTION_REF_MU] * l->fn_sign * p->fn * l->sign : 0.0; /* (2.7) */
 }
 
 static void sliding_friction_ref_roots(const gr_ref_tangential *l, const gr_ref_point *p,

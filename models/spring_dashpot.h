@@ -54,7 +54,6 @@ static int spring_dashpot_prepare(const gr_contact_params *p, double m12, double
                                   gr_contact_coeffs *c, gr_error *err)
 {
     (void)dt;
-    c->normal = GR_NORMAL_SPRING_DASHPOT;
     c->k_s = p->k_s;
     c->m12 = m12;
     c->clamp = p->clamp;

@@ -49,7 +49,6 @@ static int tangential_dashpot_prepare(const gr_contact_params *p, double m12, do
                                       gr_contact_coeffs *c, gr_error *err)
 {
     (void)err;
-    c->tangential = GR_TANGENTIAL_DASHPOT;
     double t_c = c->t_c;
     if (!isfinite(t_c)) {
         t_c = M_PI / c->w0; /* a sticking normal contact: fall back to eq. 2.12 */
@@ -83,17 +82,17 @@ static double tangential_dashpot_restitution_t(const gr_contact_coeffs *c, gr_no
 }
 
 /* The force the CVODE reference integrates (models/reference.h): F_t = -gamma_t g_c (2.9). */
-enum { DASHPOT_REF_CT = 0 }; /* gamma_t / (m12 w0) */
+enum { TANGENTIAL_DASHPOT_REF_CT = 0 }; /* gamma_t / (m12 w0) */
 static void tangential_dashpot_ref_setup(const gr_contact_coeffs *c, double m12, double w0,
                                          double len, gr_ref_tangential *l)
 {
     (void)len;
-    l->k[DASHPOT_REF_CT] = c->gamma_t / (m12 * w0);
+    l->k[TANGENTIAL_DASHPOT_REF_CT] = c->gamma_t / (m12 * w0);
 }
 
 static void tangential_dashpot_ref_force(const gr_ref_tangential *l, gr_ref_point *p)
 {
-    p->ft = -l->k[DASHPOT_REF_CT] * p->gc;
+    p->ft = -l->k[TANGENTIAL_DASHPOT_REF_CT] * p->gc;
 }
 
 static const gr_reference_law tangential_dashpot_reference = {

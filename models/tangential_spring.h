@@ -151,7 +151,6 @@ static int tangential_spring_prepare(const gr_contact_params *p, double m12, dou
 {
     const tangential_spring_own *o = GR_OWN(p, tangential_spring);
     (void)m12;
-    c->tangential = GR_TANGENTIAL_SPRING;
     c->mu = p->mu;
     /* k_t = kt_ratio m12 w0^2: kt_ratio k_s for the linear law; for hertz w0 is its contact
      * linearised at the v_max impact (models/hertz.h) */

@@ -256,11 +256,11 @@ static double loss_tolerance(const gr_contact_coeffs *k, double eps_n, double ep
     const double a = angle_deg * M_PI / 180.0, c2 = cos(a) * cos(a), s2 = 1.0 - c2;
     const double h = dt / k->t_c;
     double tol = c2 * C_N * (1.0 - eps_n * eps_n) * h;
-    if (k->tangential == GR_TANGENTIAL_DASHPOT && eps_t < 1.0) {
+    if (k->tangential_model == gr_model_find("tangential_dashpot") && eps_t < 1.0) {
         double l = fabs(log(eps_t));
         tol +=
             s2 * 2.0 * eps_t * eps_t * l * (fabs(k_dur(k->zeta, k->clamp)) + 0.5 * l + K_EDGE) * h;
-    } else if (k->tangential == GR_TANGENTIAL_FRICTION && s2 > 0.0) {
+    } else if (k->tangential_model == gr_model_find("sliding_friction") && s2 > 0.0) {
         /* 1 - eps_t^2 moves by 2 eps_t d eps_t, d eps_t <= mu cot a d eps_n */
         double de_n = C_N * (1.0 - eps_n * eps_n) / (2.0 * eps_n) * h;
         tol += s2 * 2.0 * fmin(1.0, eps_t) * mu * sqrt(c2 / s2) * de_n;

@@ -56,19 +56,6 @@ typedef struct gr_contact_params {
     _Alignas(8) unsigned char own[GR_CONTACT_OWN_BYTES];
 } gr_contact_params;
 
-typedef enum {
-    GR_NORMAL_NONE = 0,
-    GR_NORMAL_SPRING_DASHPOT,
-    GR_NORMAL_HARD_SPHERE /* event-driven rule (not a force law) */
-} gr_normal_law;
-
-typedef enum {
-    GR_TANGENTIAL_NONE = 0,
-    GR_TANGENTIAL_DASHPOT,
-    GR_TANGENTIAL_FRICTION,
-    GR_TANGENTIAL_SPRING
-} gr_tangential_law;
-
 struct gr_model;
 
 /* A normal law's binary head-on impact at normal speed v_n, in continuous time (two equal discs,
@@ -79,14 +66,10 @@ typedef struct gr_normal_impact {
     double impulse_abs; /* int |F_n| dt / (m12 v_n): 1 + eps_n unless the force turns attractive */
 } gr_normal_impact;
 
-/* Solver coefficients derived once per run by the models' prepare functions. `normal` and
- * `tangential` name the thesis's laws for code that special-cases them (GR_NORMAL_NONE for any
- * other law); `normal_model` / `tangential_model` are the models themselves (set by
- * gr_contact_prepare). A law with constants of its own keeps them in law_n / law_t (the model's
+/* Solver coefficients derived once per run by the models' prepare functions; `normal_model` /
+ * `tangential_model` are the models themselves (set by gr_contact_prepare). A law with constants of its own keeps them in law_n / law_t (the model's
  * file names the slots). */
 typedef struct gr_contact_coeffs {
-    gr_normal_law normal;
-    gr_tangential_law tangential;
     const struct gr_model *normal_model, *tangential_model;
     double m12;         /* reduced mass of a colliding pair, kg */
     double k_s;         /* N/m */
