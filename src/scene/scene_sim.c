@@ -24,6 +24,8 @@ void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p)
                          .com_interval = s->com_interval,
                          .driving = s->driving,
                          .driving_params = s->driving_params,
+                         .walls = {s->boundary[0] != 0, s->boundary[1] != 0},
+                         .gravity = {s->gravity[0], s->gravity[1]},
                          .integrator = s->integrator,
                          .dt = s->dt,
                          .steps_per_contact = s->steps_per_contact,
