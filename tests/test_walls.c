@@ -23,15 +23,13 @@
 #include "check_main.h"
 #include "sim_helpers.h"
 
-
-
-
 /* One grain at rest at the centre of the box, the floor at q = 0 of axis x (1D) or y (2D). */
 static const char *grain_2d =
     "[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\nv0 = 0\n"
     "[driving]\nkind = none\n[boundary]\ny = walls\n[gravity]\ngy = -9.81\n";
-static const char *grain_1d = "[system]\ndim = 1\nN = 1\nL = 0.04\n[placement]\nkind = uniform\nv0 = 0\n"
-                              "[driving]\nkind = none\n[boundary]\nx = walls\n[gravity]\ngx = -9.81\n";
+static const char *grain_1d =
+    "[system]\ndim = 1\nN = 1\nL = 0.04\n[placement]\nkind = uniform\nv0 = 0\n"
+    "[driving]\nkind = none\n[boundary]\nx = walls\n[gravity]\ngx = -9.81\n";
 
 /* The grain's height coordinate and velocity along gravity's axis. */
 static double height(const gr_sim *s) { return s->dim == 1 ? s->x[0] : s->y[0]; }
@@ -70,7 +68,8 @@ static double bounce_error(const char *text, const char *const *set, int n_set, 
     for (int k = 1; k <= 5; k++) {
         const double dev = fabs(h[k] / h[k - 1] / (eps * eps) - 1.0);
         if (getenv("WALLS_VERBOSE")) { /* each bounce, for docs/systems-walls-gravity.md */
-            printf("  k=%d h=%.6e ratio/eps^2-1 = %.3e\n", k, h[k], h[k] / h[k - 1] / (eps * eps) - 1.0);
+            printf("  k=%d h=%.6e ratio/eps^2-1 = %.3e\n", k, h[k],
+                   h[k] / h[k - 1] / (eps * eps) - 1.0);
         }
         worst = dev > worst ? dev : worst;
     }
@@ -248,7 +247,6 @@ START_TEST(no_contact_through_walls)
 }
 END_TEST
 
-
 /* 600 steps in one go equal 350, a save into bytes, a load into a fresh simulation and 250
  * more: walls, gravity and the random force, 2D bed and 1D column (potential and wall springs in
  * the ledger's initial and elastic energy) */
@@ -307,7 +305,8 @@ START_TEST(refusals)
     gr_sim *s = NULL;
     gr_error err = {0};
     ck_assert_int_ne(gr_sim_new(&p, &s, &err), GR_OK);
-    ck_assert_msg(strstr(err.message, "[gravity] gy") && strstr(err.message, "[boundary] y = walls"),
+    ck_assert_msg(strstr(err.message, "[gravity] gy") &&
+                      strstr(err.message, "[boundary] y = walls"),
                   "%s", err.message);
 }
 END_TEST
