@@ -264,6 +264,27 @@ START_TEST(restart_exact)
 }
 END_TEST
 
+/* A vibrated floor (A = 1 mm, f = 50 Hz: peak acceleration 10 g) and no noise: all the injected
+ * energy is the wall's work, and the ledger closes; 2D bed and 1D column, about two periods.
+ * Booking the wall's dashpot work as dissipation (or its work not at all) leaves a residual of the
+ * order of the energy moved. */
+static const char *vibrated_2d =
+    "[system]\ndim = 2\nN = 100\nL = 0.06\n[placement]\nkind = uniform\nv0 = 0.1\n"
+    "[model]\neps_n = 0.8\n[noise]\nmode = none\n[boundary]\ny = walls\nvibrate = y\n"
+    "amplitude = 1e-3\nfrequency = 50\n[gravity]\ngy = -9.81\n";
+static const char *vibrated_1d =
+    "[system]\ndim = 1\nN = 10\nL = 0.06\n[placement]\nkind = uniform\nv0 = 0.1\n"
+    "[model]\neps_n = 0.8\n[noise]\nmode = none\n[boundary]\nx = walls\nvibrate = x\n"
+    "amplitude = 1e-3\nfrequency = 50\n[gravity]\ngx = -9.81\n";
+
+START_TEST(ledger_vibrated_floor)
+{
+    ledger_closes(vibrated_2d, 100000, 1e-3);
+    ledger_closes(vibrated_1d, 100000, 1e-3);
+    restart(vibrated_2d);
+}
+END_TEST
+
 static void refused(const char *text, const char *const *set, int n_set, const char *const *needles,
                     int n_needles)
 {
@@ -296,6 +317,12 @@ START_TEST(refusals)
     const char *big[] = {"gravity.gy=-2000"};
     const char *n_big[] = {"gy", "[-1000, 1000]"};
     refused(grain_2d, big, 1, n_big, 2);
+    const char *vib[] = {"boundary.vibrate=x"};
+    const char *n_vib[] = {"[boundary] vibrate", "[boundary] x = periodic", "an axis with walls"};
+    refused(grain_2d, vib, 1, n_vib, 3);
+    const char *amp[] = {"boundary.vibrate=y", "boundary.amplitude=0.01"};
+    const char *n_amp[] = {"[boundary] amplitude", "[0, L / 4) = [0, 0.01) m"};
+    refused(grain_2d, amp, 2, n_amp, 2);
     /* the library refuses gravity along a periodic axis too (gr_sim_params by hand) */
     gr_scene sc;
     load(&sc, grain_2d, NULL, 0);
@@ -324,6 +351,7 @@ static Suite *walls_suite(void)
     tcase_add_test(phys, bounce_apex);
     tcase_add_test(phys, elastic_energy);
     tcase_add_test(phys, ledger_walls_gravity_noise);
+    tcase_add_test(phys, ledger_vibrated_floor);
     suite_add_tcase(s, phys);
     return s;
 }

@@ -43,6 +43,8 @@ typedef struct gr_scene {
      * and L on axis a (0 = x, 1 = y; 0 = periodic); gravity[a], m/s^2, needs walls on its axis */
     int boundary[2];
     double gravity[2];
+    int vibrate;                 /* 0 none, 1 x, 2 y: the wall at 0 of that axis vibrates */
+    double amplitude, frequency; /* m, Hz */
     /* [noise] */
     double D; /* noise strength, N^2 s (2.15, 2.22) */
     gr_noise_mode noise_mode;

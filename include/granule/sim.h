@@ -90,6 +90,10 @@ typedef struct gr_sim_params {
      * periodic box, run by the same loops as before. Needs an integrator with .walls (verlet). */
     bool walls[2];
     double gravity[2];
+    /* A vibrating wall: vibrate = 1 (x) or 2 (y) moves the wall at 0 of that axis (which needs
+     * walls) as amplitude sin(2 pi frequency t), m and Hz; its work is booked as injected. 0 = none */
+    int vibrate;
+    double amplitude, frequency;
     const gr_integrator_type *integrator; /* gr_integrator_find("verlet"), ... */
     double dt;                            /* s; 0 = t_c / steps_per_contact */
     double steps_per_contact;

@@ -16,6 +16,11 @@
  * by the step like a pair's. So injected - dissipated = change of kinetic + elastic + potential
  * still closes, to the velocity-Verlet error of the contacts.
  *
+ * A vibrating wall ([boundary] vibrate, amplitude, frequency) is the wall at 0 of one axis at
+ * q_w = A sin(2 pi f t): the overlap is r - (q - q_w), g_n = v - q_w'. Its force's power on the
+ * grains, f_n q_w', is the work it injects (booked as injected, per step); the dissipation is that
+ * of the relative motion, -f_d g_n.
+ *
  * This pass runs after the pair kernel, once per force evaluation, only when walls or gravity are
  * on (gr_sim.walls_on, chosen once): the pair kernels are untouched. The 2D neighbour list does
  * not wrap across a wall axis (gr_sim.period, neighbours.c), so no pair is seen through a wall. The
@@ -32,7 +37,8 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
 {
     const gr_sim_params *p = &s->params;
     s->period[0] = s->period[1] = s->L;
-    s->walls_on = p->walls[0] || p->walls[1] || p->gravity[0] != 0.0 || p->gravity[1] != 0.0;
+    s->walls_on = p->walls[0] || p->walls[1] || p->gravity[0] != 0.0 || p->gravity[1] != 0.0 ||
+                  p->vibrate != 0;
     if (!s->walls_on) {
         return GR_OK; /* the periodic box: nothing here ever runs */
     }
@@ -63,6 +69,15 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
                        "%s: [model] tangential = %s has no wall contact yet: with [boundary] walls "
                        "allowed: tangential = none",
                        p->source, p->tangential->name);
+    }
+    if (p->vibrate &&
+        !(p->vibrate <= s->dim && p->walls[p->vibrate - 1] && p->amplitude >= 0.0 &&
+          p->amplitude < 0.25 * s->L && p->frequency >= 0.0 && isfinite(p->frequency))) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [boundary] vibrate = %d needs walls along that axis (1 = x, 2 = y), "
+                       "amplitude in [0, L / 4) = [0, %g) m and frequency in [0, inf) Hz; given "
+                       "amplitude = %g m, frequency = %g Hz",
+                       p->source, p->vibrate, 0.25 * s->L, p->amplitude, p->frequency);
     }
     if (!p->normal || !(p->normal->kind & GR_MODEL_NORMAL)) {
         return GR_FAIL(err, GR_EINVAL,
@@ -101,20 +116,28 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
 }
 
 /* The contacts of every grain with the two walls of axis a (coordinates q, velocities v, forces
- * f and their non-conservative part g); adds the walls' energy / e_scale to *e and their
- * dissipation rate to *pn. */
+ * f and their non-conservative part g), the wall at 0 at qw moving with vw (0 and 0 unless it
+ * vibrates); adds the walls' energy / e_scale to *e and their dissipation rate to *pn, and for a
+ * moving wall the power it does on the grains, sum f_n vw, to *pw and the part of the step's
+ * booking (the work of g on the grains, -f_d v) that is the wall's work, not dissipation, sum
+ * f_d vw, to *pd. */
 static void axis_walls(const gr_sim *s, const double *restrict q, const double *restrict v,
-                       double *restrict f, double *restrict g, double *e, double *pn)
+                       double *restrict f, double *restrict g, const double qw, const double vw,
+                       double *e, double *pn, double *pw, double *pd)
 {
     const double r = 0.5 * s->d, L = s->L;
     for (int i = 0; i < s->n; i++) {
-        const double lo = r - q[i], hi = q[i] + r - L;
-        if (lo > 0.0) { /* the wall at 0: normal +e_a, g_n = v */
+        const double lo = r - (q[i] - qw), hi = q[i] + r - L;
+        if (lo > 0.0) { /* the wall at 0: normal +e_a, g_n = v - vw */
             double f_d, ei;
-            f[i] += gr_kernel_normal(s, &s->wall_cc, lo, v[i], &f_d, &ei);
+            const double g_n = v[i] - vw;
+            const double f_n = gr_kernel_normal(s, &s->wall_cc, lo, g_n, &f_d, &ei);
+            f[i] += f_n;
             g[i] += f_d;
             *e += ei;
-            *pn -= f_d * v[i];
+            *pn -= f_d * g_n;
+            *pw += f_n * vw;
+            *pd += f_d * vw;
         }
         if (hi > 0.0) { /* the wall at L: normal -e_a, g_n = -v */
             double f_d, ei;
@@ -149,18 +172,31 @@ static void unwrap_ring(gr_sim *s, gr_force_report *r)
 void gr_walls_forces(gr_sim *s, gr_force_report *r)
 {
     const gr_sim_params *p = &s->params;
-    double e = 0.0, pn = 0.0;
+    double e = 0.0, pn = 0.0, pw = 0.0, pd = 0.0;
+    /* a vibrating wall at 0 of axis vibrate - 1: A sin(w t), velocity A w cos(w t), at the time of
+     * this evaluation (the positions' time, step dt) */
+    double qw[2] = {0.0, 0.0}, vw[2] = {0.0, 0.0};
+    if (p->vibrate) {
+        const double w = 2.0 * M_PI * p->frequency, t = gr_sim_time(s);
+        qw[p->vibrate - 1] = p->amplitude * sin(w * t);
+        vw[p->vibrate - 1] = p->amplitude * w * cos(w * t);
+    }
     if (p->walls[0]) {
         if (s->dim == 1) {
             unwrap_ring(s, r);
         }
-        axis_walls(s, s->x, s->vx, s->fx, s->gx, &e, &pn);
+        axis_walls(s, s->x, s->vx, s->fx, s->gx, qw[0], vw[0], &e, &pn, &pw, &pd);
     }
     if (p->walls[1]) {
-        axis_walls(s, s->y, s->vy, s->fy, s->gy, &e, &pn);
+        axis_walls(s, s->y, s->vy, s->fy, s->gy, qw[1], vw[1], &e, &pn, &pw, &pd);
     }
     r->elastic += s->wall_cc.e_scale * e;
     r->power_normal += pn;
+    /* the moving wall's work: these forces kick the grains for one step (two half kicks), so its
+     * work is its power times dt (injected); the step books the work of g, -f_d v, as dissipation,
+     * of which f_d vw is the wall's, not lost: given back here, so dissipated is -f_d (v - vw) */
+    s->injected += pw * s->dt;
+    s->diss_n += pd * s->dt;
     /* gravity: conservative, so into f only (its work is the change of the potential energy) */
     for (int a = 0; a < s->dim; a++) {
         const double mg = s->mass * p->gravity[a];

@@ -101,6 +101,14 @@ static const scene_key keys[] = {
      OFF(boundary[0])},
     {"boundary", "y", "", K_ENUM, "periodic", 0, 0, false, false, "periodic|walls",
      "along y (2D only): periodic, or flat walls at y = 0 and y = L", OFF(boundary[1])},
+    {"boundary", "vibrate", "", K_ENUM, "none", 0, 0, false, false, "none|x|y",
+     "none, or the axis whose wall at 0 (the floor) moves as amplitude sin(2 pi frequency t); "
+     "that axis needs walls; the wall's work is booked as injected energy",
+     OFF(vibrate)},
+    {"boundary", "amplitude", "m", K_DOUBLE, "0", 0, INFINITY, false, true, NULL,
+     "vibrate: the wall's amplitude A; below L / 4", OFF(amplitude)},
+    {"boundary", "frequency", "Hz", K_DOUBLE, "0", 0, INFINITY, false, true, NULL,
+     "vibrate: the wall's frequency f (peak acceleration A (2 pi f)^2)", OFF(frequency)},
     {"gravity", "gx", "m/s^2", K_DOUBLE, "0", -1000, 1000, false, false, NULL,
      "gravitational acceleration along x (a constant force M gx on every grain); non-zero needs "
      "[boundary] x = walls; -9.81 pulls towards the wall at x = 0",
@@ -992,6 +1000,21 @@ static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
                      gkey[a], s->gravity[a], axis[a], axis[a], gkey[a]);
             return fail_at(err, &w, "gravity", gkey[a], "%s", detail);
         }
+    }
+    if (s->vibrate && !s->boundary[s->vibrate - 1]) {
+        where w = where_of(g, s, "boundary", "vibrate");
+        snprintf(detail, sizeof detail,
+                 "vibrate = %s moves the wall at %s = 0, but [boundary] %s = periodic; allowed: "
+                 "an axis with walls, or none",
+                 axis[s->vibrate - 1], axis[s->vibrate - 1], axis[s->vibrate - 1]);
+        return fail_at(err, &w, "boundary", "vibrate", "%s", detail);
+    }
+    if (s->vibrate && !(s->amplitude < 0.25 * s->L)) {
+        where w = where_of(g, s, "boundary", "amplitude");
+        snprintf(detail, sizeof detail,
+                 "amplitude = %g m is too large for L = %g m; allowed range [0, L / 4) = [0, %g) m",
+                 s->amplitude, s->L, 0.25 * s->L);
+        return fail_at(err, &w, "boundary", "amplitude", "%s", detail);
     }
     if (!on) {
         return GR_OK;

@@ -71,6 +71,11 @@ cJSON *gr_scene_to_json(const gr_scene *s)
         if (s->dim == 2) {
             cJSON_AddStringToObject(bd, "y", s->boundary[1] ? "walls" : "periodic");
         }
+        if (s->vibrate) {
+            cJSON_AddStringToObject(bd, "vibrate", s->vibrate == 1 ? "x" : "y");
+            cJSON_AddNumberToObject(bd, "amplitude", s->amplitude);
+            cJSON_AddNumberToObject(bd, "frequency", s->frequency);
+        }
         cJSON *gv = cJSON_AddObjectToObject(root, "gravity");
         cJSON_AddNumberToObject(gv, "gx", s->gravity[0]);
         if (s->dim == 2) {
