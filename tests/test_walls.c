@@ -8,7 +8,7 @@
  * - the ledger closes with walls, gravity and the random force (a 2D bed and a 1D column);
  * - no pair through a wall: grains pressed into opposite walls move exactly as each alone
  *   (the 2D neighbour list and the 1D ring's closing pair);
- * - exact restarts of a walls + gravity + noise run;
+ * - exact restarts of a walls + gravity + noise run, and the same run on 1 and 2 threads;
  * - refusals: event and hybrid, gravity along a periodic axis, a tangential law with walls,
  *   y in 1D (scene and library). */
 #include <check.h>
@@ -285,6 +285,27 @@ START_TEST(ledger_vibrated_floor)
 }
 END_TEST
 
+/* A bed of 2500 grains (three blocks of particles) on 1 and 2 threads: the same run bit for bit
+ * (the walls' pass is serial; the neighbour list and the pair forces keep their fixed order). */
+START_TEST(threads_invariant)
+{
+    const char *big[] = {"system.N=2500", "system.L=0.3"};
+    gr_scene s;
+    load(&s, bed_2d, big, 2);
+    gr_set_threads(1);
+    gr_sim *a = create(&s);
+    step(a, 300);
+    gr_set_threads(2);
+    gr_sim *b = create(&s);
+    step(b, 300);
+    ck_assert_int_eq(gr_sim_threads(b), 2);
+    gr_set_threads(0);
+    assert_same_state(a, b);
+    gr_sim_free(a);
+    gr_sim_free(b);
+}
+END_TEST
+
 static void refused(const char *text, const char *const *set, int n_set, const char *const *needles,
                     int n_needles)
 {
@@ -345,6 +366,7 @@ static Suite *walls_suite(void)
     tcase_add_test(unit, refusals);
     tcase_add_test(unit, no_contact_through_walls);
     tcase_add_test(unit, restart_exact);
+    tcase_add_test(unit, threads_invariant);
     suite_add_tcase(s, unit);
     TCase *phys = tcase_create("physics");
     tcase_set_timeout(phys, 600);
