@@ -73,4 +73,22 @@ static inline void assert_restart_exact(const gr_scene *s, int64_t total, int64_
     gr_sim_free(c);
 }
 
+/* The scene's simulation stepped `steps` on 1 and on 2 threads: the same run bit for bit. */
+static inline void assert_threads_invariant(const gr_scene *s, int64_t steps)
+{
+    gr_set_threads(1);
+    gr_sim *a = create(s);
+    step(a, steps);
+    gr_set_threads(2);
+    gr_sim *b = create(s);
+    step(b, steps);
+#ifdef _OPENMP
+    ck_assert_int_eq(gr_sim_threads(b), 2); /* really on two */
+#endif
+    gr_set_threads(1);
+    assert_same_state(a, b);
+    gr_sim_free(a);
+    gr_sim_free(b);
+}
+
 #endif

@@ -219,17 +219,11 @@ START_TEST(threads_invariant)
 {
     gr_scene s;
     load(&s, bath_2d, NULL, 0);
-    gr_set_threads(1);
+    assert_threads_invariant(&s, 300);
     gr_sim *a = create(&s);
     step(a, 300);
-    gr_set_threads(2);
-    gr_sim *b = create(&s);
-    step(b, 300);
-    gr_set_threads(1);
-    assert_same_state(a, b);
-    ck_assert(a->diss_drag > 0.0);
+    ck_assert(a->diss_drag > 0.0); /* the bath acted */
     gr_sim_free(a);
-    gr_sim_free(b);
 }
 END_TEST
 

@@ -292,17 +292,7 @@ START_TEST(threads_invariant)
     const char *big[] = {"system.N=2500", "system.L=0.3"};
     gr_scene s;
     load(&s, bed_2d, big, 2);
-    gr_set_threads(1);
-    gr_sim *a = create(&s);
-    step(a, 300);
-    gr_set_threads(2);
-    gr_sim *b = create(&s);
-    step(b, 300);
-    ck_assert_int_eq(gr_sim_threads(b), 2);
-    gr_set_threads(0);
-    assert_same_state(a, b);
-    gr_sim_free(a);
-    gr_sim_free(b);
+    assert_threads_invariant(&s, 300);
 }
 END_TEST
 
