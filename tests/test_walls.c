@@ -296,6 +296,29 @@ START_TEST(threads_invariant)
 }
 END_TEST
 
+/* A grain thrown at the floor faster than its soft spring can stop within half a radius is
+ * stopped as unstable, naming the grain and the wall (in 2D it would otherwise cross the floor
+ * and be wrapped to the ceiling). */
+START_TEST(runaway_into_wall)
+{
+    const char *soft[] = {"model.k_s=5e3"};
+    gr_scene sc;
+    load(&sc, grain_2d, soft, 1);
+    gr_sim_params p;
+    gr_scene_sim_params(&sc, &p);
+    const double x = 0.02, y = 0.005, vx = 0.0, vy = -60.0;
+    gr_error err = {0};
+    gr_sim *s = NULL;
+    ck_assert_int_eq(gr_sim_new_with_state(&p, 1, &x, &y, &vx, &vy, &s, &err), GR_OK);
+    const int rc = gr_sim_step(s, 20000, &err);
+    ck_assert_int_eq(rc, GR_EUNSTABLE);
+    ck_assert_msg(strstr(err.message, "particle 0 and a wall") &&
+                      strstr(err.message, "beyond the 0.25 d limit"),
+                  "%s", err.message);
+    gr_sim_free(s);
+}
+END_TEST
+
 static void refused(const char *text, const char *const *set, int n_set, const char *const *needles,
                     int n_needles)
 {
@@ -357,6 +380,7 @@ static Suite *walls_suite(void)
     tcase_add_test(unit, no_contact_through_walls);
     tcase_add_test(unit, restart_exact);
     tcase_add_test(unit, threads_invariant);
+    tcase_add_test(unit, runaway_into_wall);
     suite_add_tcase(s, unit);
     TCase *phys = tcase_create("physics");
     tcase_set_timeout(phys, 600);

@@ -123,11 +123,20 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
  * f_d vw, to *pd. */
 static void axis_walls(const gr_sim *s, const double *restrict q, const double *restrict v,
                        double *restrict f, double *restrict g, const double qw, const double vw,
-                       double *e, double *pn, double *pw, double *pd)
+                       double *e, double *pn, double *pw, double *pd, gr_force_report *r_out)
 {
     const double r = 0.5 * s->d, L = s->L;
     for (int i = 0; i < s->n; i++) {
         const double lo = r - (q[i] - qw), hi = q[i] + r - L;
+        /* the step's runaway guard (overlap > RUNAWAY_OVERLAP d, step.c) sees a wall's overlap
+         * doubled, xi / r, with worst_j = -1: a grain deeper than r has crossed the wall (and in
+         * 2D the drift has wrapped it to the other side), so it must stop at half a radius */
+        const double deepest = (lo > hi ? lo : hi) / r;
+        if (deepest > r_out->max_overlap) {
+            r_out->max_overlap = deepest;
+            r_out->worst_i = i;
+            r_out->worst_j = -1;
+        }
         if (lo > 0.0) { /* the wall at 0: normal +e_a, g_n = v - vw */
             double f_d, ei;
             const double g_n = v[i] - vw;
@@ -185,10 +194,10 @@ void gr_walls_forces(gr_sim *s, gr_force_report *r)
         if (s->dim == 1) {
             unwrap_ring(s, r);
         }
-        axis_walls(s, s->x, s->vx, s->fx, s->gx, qw[0], vw[0], &e, &pn, &pw, &pd);
+        axis_walls(s, s->x, s->vx, s->fx, s->gx, qw[0], vw[0], &e, &pn, &pw, &pd, r);
     }
     if (p->walls[1]) {
-        axis_walls(s, s->y, s->vy, s->fy, s->gy, qw[1], vw[1], &e, &pn, &pw, &pd);
+        axis_walls(s, s->y, s->vy, s->fy, s->gy, qw[1], vw[1], &e, &pn, &pw, &pd, r);
     }
     r->elastic += s->wall_cc.e_scale * e;
     r->power_normal += pn;
