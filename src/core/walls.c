@@ -128,11 +128,12 @@ static void axis_walls(const gr_sim *s, const double *restrict q, const double *
     const double r = 0.5 * s->d, L = s->L;
     for (int i = 0; i < s->n; i++) {
         const double lo = r - (q[i] - qw), hi = q[i] + r - L;
-        /* the step's runaway guard (overlap > RUNAWAY_OVERLAP d, step.c) sees a wall's overlap
-         * doubled, xi / r, with worst_j = -1: a grain deeper than r has crossed the wall (and in
-         * 2D the drift has wrapped it to the other side), so it must stop at half a radius */
+        /* the step's runaway guard (overlap > RUNAWAY_OVERLAP = 0.5 d, step.c) sees a wall's
+         * overlap doubled, xi / r, with worst_j = -1: a grain deeper than r has crossed the wall
+         * (and in 2D the drift has wrapped it to the other side), so it must stop at half a
+         * radius. Only then: max_overlap otherwise stays the pairs' (gr_sim_max_overlap). */
         const double deepest = (lo > hi ? lo : hi) / r;
-        if (deepest > r_out->max_overlap) {
+        if (deepest > 0.5 && deepest > r_out->max_overlap) {
             r_out->max_overlap = deepest;
             r_out->worst_i = i;
             r_out->worst_j = -1;

@@ -589,7 +589,7 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
         s->last = r;
         if (r.max_overlap > RUNAWAY_OVERLAP) {
             /* worst_j = -1: a grain pressed into a wall, its overlap reported as xi / r (walls.c) */
-            const int wall = r.worst_j < 0;
+            const int wall = s->walls_on && r.worst_i >= 0 && r.worst_j < 0;
             char who[80];
             if (wall) {
                 snprintf(who, sizeof who, "particle %d and a wall", r.worst_i);
