@@ -90,6 +90,18 @@ base | run $S --out $O --set driving.gamma=1 | 2 | [driving] gamma;unknown key;T
 file:[system]\ndim = 2\nN = 50\n[model]\nnormal = hard_sphere\n[driving]\nkind = langevin\n[integrator]\nkind = event\n | run $S --out $O | 2 | :7:;[driving] kind;langevin;event;viscous drag;allowed with event: rfm;allowed with langevin: verlet | new
 file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[placement]\nkind = uniform\n[integrator]\nkind = hybrid\n[driving]\nkind = langevin\ntau = 0.01\n | run $S --out $O | 2 | :10:;[driving] kind;langevin;hybrid;allowed with langevin: verlet | new
 file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[driving]\nkind = langevin\ntau = 0\n | run $S --out $O | 2 | :7:;[driving] tau;(0, inf) | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[gravity]\ngy = -9.81\n | run $S --out $O | 2 | :8:;[gravity] gy;[boundary] y = walls;allowed with y = periodic: gy = 0 | new
+file:[system]\ndim = 1\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\nx = walls\n[gravity]\ngx = -9.81\n[integrator]\nkind = hybrid\n | run $S --out $O | 2 | :12:;[integrator] kind;kind = hybrid;allowed with walls or gravity: verlet | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[model]\nnormal = hard_sphere\n[boundary]\ny = walls\n[integrator]\nkind = event\n | run $S --out $O | 2 | :12:;[integrator] kind;kind = event;allowed with walls or gravity: verlet | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\ny = walls\n[gravity]\ngy = -2000\n | run $S --out $O | 2 | :10:;[gravity] gy;[-1000, 1000] | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[boundary]\ny = wall\n | run $S --out $O | 2 | :6:;[boundary] y;periodic|walls | new
+file:[system]\ndim = 1\nN = 1\nL = 0.04\n[boundary]\ny = walls\n | run $S --out $O | 2 | :6:;[boundary] y;dim = 2 | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[model]\ntangential = tangential_dashpot\n[boundary]\ny = walls\n | run $S --out $O | 2 | :6:;[model] tangential;tangential = none | new
+file:[system]\ndim = 2\nN = 400\nL = 0.12\n[placement]\nkind = hexagonal\n[boundary]\ny = walls\n | run $S --out $O | 2 | particle 0;overlaps a wall;[r, L - r];[placement] kind | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\ny = walls\nvibrate = x\n | run $S --out $O | 2 | :9:;[boundary] vibrate;[boundary] x = periodic;an axis with walls | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\ny = walls\nvibrate = y\namplitude = 0.02\n | run $S --out $O | 2 | :10:;[boundary] amplitude;[0, L / 4) = [0, 0.01) m | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[boundary]\ny = walls\nvibrate = y\nfrequency = -5\n | run $S --out $O | 2 | :8:;[boundary] frequency;[0, inf) | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\ny = walls\n[gravity]\ngy = -9.81\n | export lammps $S --out $O | 2 | export lammps;[boundary] walls;not exported yet;gravity gx, gy = 0 | new
 base | run $S --out $O --set placement.kind=bogus | 2 | kind;uniform | new
 base | run $S --out $O --set placement.v0=-1 | 2 | v0 | new
 base | run $S --out $O --set integrator.kind=bogus | 2 | kind;bogus;verlet;event;hybrid | new

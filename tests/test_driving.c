@@ -24,30 +24,8 @@
 #include "scene/scene_json.h"
 #include "granule/sim.h"
 #include "check_main.h"
+#include "sim_helpers.h"
 #include "test_env.h"
-
-static void load(gr_scene *s, const char *text, const char *const *set, int n_set)
-{
-    gr_error err = {0};
-    int rc = gr_scene_load_buffer(s, "test.ini", text, strlen(text), set, n_set, &err);
-    ck_assert_msg(rc == GR_OK, "scene refused: %s", err.message);
-}
-
-static gr_sim *create(const gr_scene *s)
-{
-    gr_error err = {0};
-    gr_sim *sim = NULL;
-    int rc = gr_sim_create(s, &sim, &err);
-    ck_assert_msg(rc == GR_OK, "simulation refused: %s", err.message);
-    return sim;
-}
-
-static void step(gr_sim *sim, int64_t n)
-{
-    gr_error err = {0};
-    int rc = gr_sim_step(sim, n, &err);
-    ck_assert_msg(rc == GR_OK, "step failed: %s", err.message);
-}
 
 /* Per-component temperature (1/N) sum (v_c - <v_c>)^2. */
 static double component_T(const gr_sim *sim, int c)
@@ -235,37 +213,17 @@ static const char *bath_2d =
     "[system]\ndim = 2\nN = 2500\npacking_fraction = 0.2\n[placement]\nkind = random\n"
     "[model]\nk_s = 5e3\neps_n = 0.8\n[driving]\nkind = langevin\nT_bath = 0.01\ntau = 0.002\n";
 
-static void assert_same_state(const gr_sim *a, const gr_sim *b)
-{
-    ck_assert_int_eq(a->n, b->n);
-    ck_assert(memcmp(a->x, b->x, sizeof(double) * (size_t)a->n) == 0);
-    ck_assert(memcmp(a->vx, b->vx, sizeof(double) * (size_t)a->n) == 0);
-    if (a->dim == 2) {
-        ck_assert(memcmp(a->y, b->y, sizeof(double) * (size_t)a->n) == 0);
-        ck_assert(memcmp(a->vy, b->vy, sizeof(double) * (size_t)a->n) == 0);
-    }
-    ck_assert(memcmp(&a->injected, &b->injected, sizeof a->injected) == 0);
-    ck_assert(memcmp(&a->diss_drag, &b->diss_drag, sizeof a->diss_drag) == 0);
-    ck_assert(memcmp(&a->diss_n, &b->diss_n, sizeof a->diss_n) == 0);
-}
-
 /* The bath's noise is the random force's counter-based stream: the same run on 1 and 2 threads
  * (several blocks of particles) is the same bit for bit. */
 START_TEST(threads_invariant)
 {
     gr_scene s;
     load(&s, bath_2d, NULL, 0);
-    gr_set_threads(1);
+    assert_threads_invariant(&s, 300);
     gr_sim *a = create(&s);
     step(a, 300);
-    gr_set_threads(2);
-    gr_sim *b = create(&s);
-    step(b, 300);
-    gr_set_threads(1);
-    assert_same_state(a, b);
-    ck_assert(a->diss_drag > 0.0);
+    ck_assert(a->diss_drag > 0.0); /* the bath acted */
     gr_sim_free(a);
-    gr_sim_free(b);
 }
 END_TEST
 
@@ -275,22 +233,7 @@ START_TEST(restart_exact)
 {
     gr_scene s;
     load(&s, bath_2d, NULL, 0);
-    gr_sim *a = create(&s);
-    step(a, 200);
-    gr_sim *b = create(&s);
-    step(b, 120);
-    void *data = NULL;
-    size_t len = 0;
-    gr_error err = {0};
-    ck_assert_int_eq(gr_sim_state_save(b, &data, &len, &err), GR_OK);
-    gr_sim_free(b);
-    gr_sim *c = create(&s);
-    ck_assert_msg(gr_sim_state_load(c, data, len, &err) == GR_OK, "%s", err.message);
-    free(data);
-    step(c, 80);
-    assert_same_state(a, c);
-    gr_sim_free(a);
-    gr_sim_free(c);
+    assert_restart_exact(&s, 200, 120);
 }
 END_TEST
 

@@ -114,6 +114,18 @@ with tempfile.TemporaryDirectory() as tmp:
         except granule.Error as e:
             check("particles" in str(e) or "SIM" in str(e), f"{kind}: a state of another system is refused: {e}")
 
+# 6b. walls and gravity (docs/systems-walls-gravity.md): the ledger carries gravity's potential
+# energy, and its balance closes while the grain falls onto the floor and bounces
+sc = granule.load_scene(os.path.join(src, "docs", "scenes", "bouncing-grain.ini"))
+g = granule.Sim(sc)
+l0 = g.ledger()
+g.step(300000)  # past the first bounce
+l1 = g.ledger()
+check(l0["potential"] > 0 and l0["initial"] == l0["potential"] and l1["potential"] < l0["potential"]
+      and l1["dissipated_normal"] > 0 and abs(l1["residual"]) < 1e-3 * l1["dissipated_normal"],
+      f"walls + gravity: ledger with potential {l0['potential']:.4g} -> {l1['potential']:.4g} J, "
+      f"residual {l1['residual']:.3g} J")
+
 # 7. a frame whose coordinate cannot be wrapped into the box (1e308 is finite) is refused with
 # granule's message instead of killing the interpreter in the gridding of sk or the cell list
 # of clusters (issue 39 item 8)

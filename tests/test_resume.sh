@@ -8,6 +8,7 @@
 #     snapshot compared byte for byte
 #   - the event-driven and hybrid integrators (1D, N = 100): SIGTERM + --resume and repeated
 #     --wall-limit stops + --resume, compared the same way
+#   - walls and gravity (a 2D bed under gravity with the random force): the same two
 #   - refusals: flipped byte (checksum), truncated file, other format version, not a checkpoint,
 #     different scene (names the key), finished run, missing checkpoint, fresh run over an
 #     interrupted one without --force, a run or --resume into the folder of a run still going
@@ -333,6 +334,45 @@ for d in e h; do
     tick=$(awk -v s="$steps" 'BEGIN { c = s / 640; if (c < 1) c = 1; printf "%.3g", 0.05 / (3 * c + 6) }')
     wall_case "$name" "$d" "$scene" "$tick" 97 1.05 "$per"
 done
+
+# ---------- walls and gravity (docs/systems-walls-gravity.md) ----------
+# a 2D bed between walls at y = 0 and L under gravity, x periodic, driven by the random force:
+# its ledger has the potential energy and the wall springs; SIGTERM + --resume and repeated
+# --wall-limit stops + --resume end bit-identical to the straight run
+if [[ $quick == 1 ]]; then durw=0.01; else durw=0.02; fi
+cat >sw.ini <<EOF
+[system]
+dim = 2
+N = 150
+L = 0.08
+[placement]
+kind = uniform
+v0 = 0.2
+[model]
+eps_n = 0.7
+[noise]
+D = 1e-8
+[boundary]
+y = walls
+[gravity]
+gy = -9.81
+[analysis]
+observables = moments
+[output]
+plots = false
+[run]
+warmup = 0.002
+duration = $durw
+sample_every = 1e-3
+checkpoint_wall = 0
+EOF
+run "$G" run sw.ini --out refw --quiet
+[[ $rc -eq 0 ]] || fail "walls+gravity reference run exits $rc" "$err"
+steps=$(grep -o '"steps":[[:space:]]*[0-9]*' refw/summary.json | grep -o '[0-9]*$' || echo 0)
+per=$(awk -v n="$steps" -v t="$durw" 'BEGIN { printf "%d", n / int((t + 0.002) / 1e-3 + 0.5) }')
+sigterm_case "walls+gravity" w sw.ini $((steps / 2)) 0.004 0.1
+tick=$(awk -v s="$steps" 'BEGIN { c = s / 640; if (c < 1) c = 1; printf "%.3g", 0.05 / (3 * c + 6) }')
+wall_case "walls+gravity" w sw.ini "$tick" 97 1.05 "$per"
 
 # ---------- refusals ----------
 # an interrupted run to corrupt (copied fresh for each case)

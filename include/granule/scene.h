@@ -39,6 +39,12 @@ typedef struct gr_scene {
     /* [driving] (granule/driving.h): rfm = the [noise] random force below; none; langevin */
     const gr_driving_type *driving;
     gr_driving_params driving_params;
+    /* [boundary] and [gravity] (docs/systems-walls-gravity.md): boundary[a] = 1 puts flat walls at 0
+     * and L on axis a (0 = x, 1 = y; 0 = periodic); gravity[a], m/s^2, needs walls on its axis */
+    int boundary[2];
+    double gravity[2];
+    int vibrate;                 /* 0 none, 1 x, 2 y: the wall at 0 of that axis vibrates */
+    double amplitude, frequency; /* m, Hz */
     /* [noise] */
     double D; /* noise strength, N^2 s (2.15, 2.22) */
     gr_noise_mode noise_mode;

@@ -28,7 +28,7 @@ typedef struct gr_ledger {
     double kinetic;    /* current kinetic energy sum M v^2 / 2 (+ sum I w^2 / 2 with rotation) */
     double rotational; /* its rotational part sum I w^2 / 2 (0 without rotation) */
     double elastic;    /* current spring energy sum k_s xi^2 / 2 */
-    double initial;    /* kinetic + elastic at creation */
+    double initial;    /* kinetic + elastic (+ potential) at creation */
     double injected;   /* work done by the random force */
     double dissipated_normal;     /* normal dashpot (2.5) */
     double dissipated_tangential; /* tangential dashpot (2.9) */
@@ -36,11 +36,13 @@ typedef struct gr_ledger {
     double removed_com; /* kinetic energy removed by centre-of-mass resets (com noise mode) */
     double
         dissipated_drag; /* the Langevin bath's viscous drag ([driving] kind = langevin; 0 otherwise) */
+    double
+        potential; /* current potential energy in gravity, -M sum g . r_i ([gravity]; 0 without) */
 } gr_ledger;
 
 /* Everything dissipated, by any mechanism (collisions and the bath's drag). */
 double gr_ledger_dissipated(const gr_ledger *l);
-/* (kinetic + elastic) - initial - injected + dissipated + removed_com: zero for an exact
+/* (kinetic + elastic + potential) - initial - injected + dissipated + removed_com: zero for an exact
  * integrator; for ours the velocity-Verlet energy error of the springs, second order in dt
  * (docs/integrator.md, tests/test_sim.c). */
 double gr_ledger_residual(const gr_ledger *l);
@@ -82,6 +84,16 @@ typedef struct gr_sim_params {
      * langevin replaces it by the bath of driving_params (needs an integrator with .drag). */
     const gr_driving_type *driving;
     gr_driving_params driving_params;
+    /* [boundary] and [gravity] (docs/systems-walls-gravity.md): walls[a] puts flat walls at 0 and L
+     * on axis a (0 = x, 1 = y) instead of the periodic images; gravity is a constant acceleration,
+     * m/s^2, allowed only along an axis with walls. All false / 0 (the default) is the thesis's
+     * periodic box, run by the same loops as before. Needs an integrator with .walls (verlet). */
+    bool walls[2];
+    double gravity[2];
+    /* A vibrating wall: vibrate = 1 (x) or 2 (y) moves the wall at 0 of that axis (which needs
+     * walls) as amplitude sin(2 pi frequency t), m and Hz; its work is booked as injected. 0 = none */
+    int vibrate;
+    double amplitude, frequency;
     const gr_integrator_type *integrator; /* gr_integrator_find("verlet"), ... */
     double dt;                            /* s; 0 = t_c / steps_per_contact */
     double steps_per_contact;

@@ -159,11 +159,17 @@ static const char *ledger_columns(const gr_scene *s)
     "dissipated_friction [J],removed_com [J],residual [J]"
     /* optional columns at the end, so the others keep their places: the spins' energy with
      * rotation, the bath's drag with a Langevin driving */
-    static const char *const columns[2][2] = {
-        {GR_LEDGER_BASE, GR_LEDGER_BASE ",dissipated_drag [J]"},
-        {GR_LEDGER_BASE ",rotational [J]", GR_LEDGER_BASE ",rotational [J],dissipated_drag [J]"}};
+    static const char *const columns[2][2][2] = {
+        {{GR_LEDGER_BASE, GR_LEDGER_BASE ",potential [J]"},
+         {GR_LEDGER_BASE ",dissipated_drag [J]",
+          GR_LEDGER_BASE ",dissipated_drag [J],potential [J]"}},
+        {{GR_LEDGER_BASE ",rotational [J]", GR_LEDGER_BASE ",rotational [J],potential [J]"},
+         {GR_LEDGER_BASE ",rotational [J],dissipated_drag [J]",
+          GR_LEDGER_BASE ",rotational [J],dissipated_drag [J],potential [J]"}}};
 #undef GR_LEDGER_BASE
-    return columns[s->contact.rotation ? 1 : 0][s->driving && s->driving->drag ? 1 : 0];
+    /* and gravity's potential energy last, with [gravity] (docs/systems-walls-gravity.md) */
+    return columns[s->contact.rotation ? 1 : 0][s->driving && s->driving->drag ? 1 : 0]
+                  [s->gravity[0] != 0.0 || s->gravity[1] != 0.0];
 }
 
 static int open_tables(gr_run_ctx *c)

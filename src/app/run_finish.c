@@ -82,6 +82,9 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim,
     if (scene->driving && scene->driving->drag) {
         cJSON_AddNumberToObject(led, "dissipated_drag", l->dissipated_drag);
     }
+    if (scene->gravity[0] != 0.0 || scene->gravity[1] != 0.0) {
+        cJSON_AddNumberToObject(led, "potential", l->potential); /* [gravity]: -M sum g . r */
+    }
     double res = gr_ledger_residual(l);
     double scale = fmax(l->injected + gr_ledger_dissipated(l), l->initial);
     cJSON_AddNumberToObject(led, "residual", res);

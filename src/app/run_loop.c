@@ -132,6 +132,9 @@ static bool record(gr_run_ctx *c, int64_t k)
     if (c->scene->driving && c->scene->driving->drag) {
         fprintf(c->fl.f, ",%.12g", l.dissipated_drag);
     }
+    if (c->scene->gravity[0] != 0.0 || c->scene->gravity[1] != 0.0) {
+        fprintf(c->fl.f, ",%.12g", l.potential); /* [gravity]: -M sum g . r */
+    }
     fputc('\n', c->fl.f);
     /* a full disk stops the run now, not at the end (the message names the file) */
     c->rc = gr_file_check(&c->ft, c->err);

@@ -867,6 +867,18 @@ int gr_kernel_history(const gr_sim *s) { return history_of(s->kernel.tl); }
 void gr_forces(gr_sim *s, gr_force_report *r)
 {
     s->kernel.run(s, r); /* one call per force evaluation, not per pair */
+    if (s->walls_on) {   /* walls and gravity (walls.c): a pass of its own, outside the pair loop */
+        gr_walls_forces(s, r);
+    }
+}
+
+double gr_kernel_normal(const gr_sim *s, const gr_contact_coeffs *c, double xi, double g_n,
+                        double *f_d, double *e)
+{
+    const gr_normal_force fn = normal_law(s->kernel.nl, c, xi, g_n, s->kernel.clamp);
+    *f_d = fn.f_d;
+    *e = fn.e;
+    return fn.f;
 }
 
 int gr_kernel_instances(void) { return N_HOT + 2; }

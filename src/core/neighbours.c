@@ -138,7 +138,9 @@ static int list_rows(gr_sim *s, const int r0, const int r1, rows_buf *b)
 {
     static const int stencil[5][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}};
     const int nc = s->ncell;
-    const double L = s->L, rc2 = s->cutoff * s->cutoff, d2 = s->d * s->d;
+    /* the periods per axis: L, or INFINITY across walls (walls.c), where no image pair exists */
+    const double Lx = s->period[0], Ly = s->period[1], rc2 = s->cutoff * s->cutoff,
+                 d2 = s->d * s->d;
     const double *x = s->x, *y = s->y;
     const int *start = s->cell_start, *order = s->cell_order, *cell_of = s->cell_of;
     int *restrict row_start = s->nl_start, *restrict js = b->j;
@@ -154,7 +156,7 @@ static int list_rows(gr_sim *s, const int r0, const int r1, rows_buf *b)
                 if (k == 0 && j <= i) {
                     continue;
                 }
-                double dx = wrap_delta(x[j] - x[i], L), dy = wrap_delta(y[j] - y[i], L);
+                double dx = wrap_delta(x[j] - x[i], Lx), dy = wrap_delta(y[j] - y[i], Ly);
                 double r2 = dx * dx + dy * dy;
                 if (r2 < rc2) {
                     if (count + 1 > cap) {
@@ -277,7 +279,8 @@ int gr_neighbours_build(gr_sim *s, gr_error *err)
         for (int i = 0; i < n; i++) {
             s->nl_start[i] = (int)count;
             for (int j = i + 1; j < n; j++) {
-                double dx = wrap_delta(x[j] - x[i], L), dy = wrap_delta(y[j] - y[i], L);
+                double dx = wrap_delta(x[j] - x[i], s->period[0]),
+                       dy = wrap_delta(y[j] - y[i], s->period[1]);
                 double r2 = dx * dx + dy * dy;
                 if (r2 < rc2) {
                     int rc = grow(s, count + 1, err);

@@ -215,6 +215,7 @@ static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *er
     s->n = n;
     s->dim = p->dim;
     s->L = p->L;
+    s->period[0] = s->period[1] = p->L; /* periodic; walls.c makes a wall axis INFINITY */
     s->d = 2.0 * p->radius;
     s->mass = p->mass;
     s->x = alloc_array(n);
@@ -296,6 +297,9 @@ static int finish(gr_sim *s, gr_error *err)
     if (!rc) {
         rc = gr_check_overlaps(s, err);
     }
+    if (!rc) {
+        rc = gr_walls_prepare(s, err); /* walls and gravity (walls.c); off: nothing */
+    }
     if (!rc && s->dim == 2) {
         rc = gr_neighbours_alloc(s, err);
         if (!rc) {
@@ -344,7 +348,7 @@ static int finish(gr_sim *s, gr_error *err)
     s->share[1] = total > 0.0 ? r.power_tangential / total : 0.0;
     s->share[2] = total > 0.0 ? r.power_friction / total : 0.0;
     gr_ledger l = gr_sim_ledger(s);
-    s->initial_energy = l.kinetic + l.elastic;
+    s->initial_energy = l.kinetic + l.elastic + l.potential; /* potential: 0 without gravity */
     return s->integrator->create ? s->integrator->create(s, err) : GR_OK;
 }
 
@@ -568,8 +572,8 @@ double gr_ledger_dissipated(const gr_ledger *l)
 
 double gr_ledger_residual(const gr_ledger *l)
 {
-    return (l->kinetic + l->elastic) - l->initial - l->injected + gr_ledger_dissipated(l) +
-           l->removed_com;
+    return (l->kinetic + l->elastic + l->potential) - l->initial - l->injected +
+           gr_ledger_dissipated(l) + l->removed_com;
 }
 
 gr_ledger gr_sim_ledger(gr_sim *s)
@@ -595,7 +599,8 @@ gr_ledger gr_sim_ledger(gr_sim *s)
                        .dissipated_tangential = s->diss_t,
                        .dissipated_friction = s->diss_f,
                        .removed_com = s->removed_com,
-                       .dissipated_drag = s->diss_drag};
+                       .dissipated_drag = s->diss_drag,
+                       .potential = s->walls_on ? gr_walls_potential(s) : 0.0};
 }
 
 double gr_sim_temperature(const gr_sim *s)

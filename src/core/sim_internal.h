@@ -79,6 +79,14 @@ struct gr_sim {
     gr_kernel kernel;
     char kernel_name[160];
 
+    /* Walls and gravity ([boundary], [gravity]; src/core/walls.c), chosen once: with walls_on = 0
+     * (the periodic box) gr_forces runs the pair kernel alone, as ever. period[a] is the
+     * neighbour list's period along axis a: L, or INFINITY across walls (no image pairs). */
+    int walls_on;
+    gr_contact_coeffs
+        wall_cc; /* the normal law against a wall: reduced mass M (infinite partner) */
+    double period[2];
+
     /* bookkeeping */
     int64_t step;
     int64_t collisions, rebuilds;
@@ -164,8 +172,22 @@ int gr_history_enable(gr_sim *s, gr_error *err);
 int gr_history_save(gr_sim *s, gr_error *err);
 void gr_history_restore(gr_sim *s);
 
-/* src/core/kernels.c: one force evaluation with the kernel chosen at creation */
+/* src/core/kernels.c: one force evaluation with the kernel chosen at creation (then the walls'
+ * and gravity's pass when they are on) */
 void gr_forces(gr_sim *s, gr_force_report *r);
+/* The chosen kernel's normal law at one contact with coefficients c (overlap xi, normal relative
+ * velocity g_n): returns f, sets *f_d (its non-conservative part) and *e (energy / e_scale). Not
+ * on the pair loop's path: the walls' pass calls it per wall contact. */
+double gr_kernel_normal(const gr_sim *s, const gr_contact_coeffs *c, double xi, double g_n,
+                        double *f_d, double *e);
+
+/* src/core/walls.c: flat walls and gravity (docs/systems-walls-gravity.md) */
+/* Check and prepare them once, after the contact coefficients and the placement. */
+int gr_walls_prepare(gr_sim *s, gr_error *err);
+/* Add the wall contacts and gravity to the forces and the report of a pair-kernel evaluation. */
+void gr_walls_forces(gr_sim *s, gr_force_report *r);
+/* The potential energy in gravity, -M sum_i g . r_i, J (0 without gravity). */
+double gr_walls_potential(const gr_sim *s);
 /* 1 when the chosen kernel's tangential law keeps a per-contact history (models/list.h). */
 int gr_kernel_history(const gr_sim *s);
 /* Brute-force O(N^2) reference forces (tests only). */

@@ -46,6 +46,14 @@ static int refuse_unmappable(const gr_scene *s, gr_error *err)
                        "verlet (its event-driven and hybrid integrators have no LAMMPS equivalent)",
                        s->source);
     }
+    if (s->boundary[0] || s->boundary[1] || s->gravity[0] != 0.0 || s->gravity[1] != 0.0) {
+        /* the deck writes a periodic box; fix wall/gran and fix gravity are not written yet */
+        return GR_FAIL(err, GR_EINVAL,
+                       "export lammps: %s: [boundary] walls and [gravity] are not exported yet "
+                       "(fix wall/gran, fix gravity); allowed: boundary x, y = periodic, gravity "
+                       "gx, gy = 0",
+                       s->source);
+    }
     if (!s->normal->lammps_pair || strcmp(s->normal->lammps_pair, "gran/hooke") != 0) {
         return GR_FAIL(
             err, GR_EINVAL,

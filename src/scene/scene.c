@@ -93,6 +93,30 @@ static const scene_key keys[] = {
      OFF(rolling)},
     {"driving", "kind", "", K_DRIVING, "rfm", 0, 0, false, false, NULL,
      NULL /* the registry's summaries */, OFF(driving)},
+    /* walls and gravity (src/core/walls.c, docs/systems-walls-gravity.md); the defaults are the
+     * thesis's periodic box, and a scene that keeps them writes neither section (scene.ini, hash) */
+    {"boundary", "x", "", K_ENUM, "periodic", 0, 0, false, false, "periodic|walls",
+     "along x: periodic (the thesis), or flat walls at x = 0 and x = L (a wall is a grain of "
+     "infinite mass and radius under the scene's normal law; verlet only, tangential = none)",
+     OFF(boundary[0])},
+    {"boundary", "y", "", K_ENUM, "periodic", 0, 0, false, false, "periodic|walls",
+     "along y (2D only): periodic, or flat walls at y = 0 and y = L", OFF(boundary[1])},
+    {"boundary", "vibrate", "", K_ENUM, "none", 0, 0, false, false, "none|x|y",
+     "none, or the axis whose wall at 0 (the floor) moves as amplitude sin(2 pi frequency t); "
+     "that axis needs walls; the wall's work is booked as injected energy",
+     OFF(vibrate)},
+    {"boundary", "amplitude", "m", K_DOUBLE, "0", 0, INFINITY, false, true, NULL,
+     "vibrate: the wall's amplitude A; below L / 4", OFF(amplitude)},
+    {"boundary", "frequency", "Hz", K_DOUBLE, "0", 0, INFINITY, false, true, NULL,
+     "vibrate: the wall's frequency f (peak acceleration A (2 pi f)^2)", OFF(frequency)},
+    {"gravity", "gx", "m/s^2", K_DOUBLE, "0", -1000, 1000, false, false, NULL,
+     "gravitational acceleration along x (a constant force M gx on every grain); non-zero needs "
+     "[boundary] x = walls; -9.81 pulls towards the wall at x = 0",
+     OFF(gravity[0])},
+    {"gravity", "gy", "m/s^2", K_DOUBLE, "0", -1000, 1000, false, false, NULL,
+     "gravitational acceleration along y (2D only); non-zero needs [boundary] y = walls; -9.81 "
+     "pulls towards the floor at y = 0",
+     OFF(gravity[1])},
     {"noise", "D", "N^2 s", K_DOUBLE, "1e-8", 0, INFINITY, false, true, NULL,
      "noise strength (2.15, 2.22); 0 switches the random force off (Table 2.2: 1e-8)", OFF(D)},
     {"noise", "mode", "", K_ENUM, "symmetrised", 0, 0, false, false, "none|symmetrised|com",
@@ -464,7 +488,9 @@ typedef struct loader {
     int n_seen;
 } loader;
 
-#define SECTIONS "system, placement, model, driving, noise, integrator, run, analysis, output"
+#define SECTIONS                                                                                   \
+    "system, placement, model, driving, boundary, gravity, noise, integrator, run, analysis, "     \
+    "output"
 
 static bool section_known(const char *section)
 {
@@ -950,6 +976,79 @@ static int resolve_driving(gr_scene *s, const given *g, const char *const *drivi
     return GR_OK;
 }
 
+/* [boundary] and [gravity] (src/core/walls.c): refused here, with the key's file and line, where
+ * the core would refuse them too: an integrator without walls, gravity along a periodic axis, y in
+ * 1D, a tangential law against a wall. */
+static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
+{
+    static const char *const axis[2] = {"x", "y"}, *const gkey[2] = {"gx", "gy"};
+    char detail[500];
+    const bool on =
+        s->boundary[0] || s->boundary[1] || s->gravity[0] != 0.0 || s->gravity[1] != 0.0;
+    for (int a = 0; a < 2; a++) {
+        if (s->dim == 1 && a == 1 && (s->boundary[1] || s->gravity[1] != 0.0)) {
+            const char *k = s->boundary[1] ? "y" : "gy";
+            where w = where_of(g, s, s->boundary[1] ? "boundary" : "gravity", k);
+            return fail_at(err, &w, s->boundary[1] ? "boundary" : "gravity", k, "%s",
+                           "only for dim = 2; allowed in 1D: y = periodic, gy = 0 (use x and gx)");
+        }
+        if (s->gravity[a] != 0.0 && !s->boundary[a]) {
+            where w = where_of(g, s, "gravity", gkey[a]);
+            snprintf(detail, sizeof detail,
+                     "%s = %g m/s^2 along a periodic axis: a grain would fall for ever; needs "
+                     "[boundary] %s = walls (allowed with %s = periodic: %s = 0)",
+                     gkey[a], s->gravity[a], axis[a], axis[a], gkey[a]);
+            return fail_at(err, &w, "gravity", gkey[a], "%s", detail);
+        }
+    }
+    if (s->vibrate && !s->boundary[s->vibrate - 1]) {
+        where w = where_of(g, s, "boundary", "vibrate");
+        snprintf(detail, sizeof detail,
+                 "vibrate = %s moves the wall at %s = 0, but [boundary] %s = periodic; allowed: "
+                 "an axis with walls, or none",
+                 axis[s->vibrate - 1], axis[s->vibrate - 1], axis[s->vibrate - 1]);
+        return fail_at(err, &w, "boundary", "vibrate", "%s", detail);
+    }
+    if (s->vibrate && !(s->amplitude < 0.25 * s->L)) {
+        where w = where_of(g, s, "boundary", "amplitude");
+        snprintf(detail, sizeof detail,
+                 "amplitude = %g m is too large for L = %g m; allowed range [0, L / 4) = [0, %g) m",
+                 s->amplitude, s->L, 0.25 * s->L);
+        return fail_at(err, &w, "boundary", "amplitude", "%s", detail);
+    }
+    if (!on) {
+        return GR_OK;
+    }
+    const int a = s->boundary[0] ? 0 : s->boundary[1] ? 1 : -1;
+    const char *sec = a >= 0 ? "boundary" : "gravity", *key = a >= 0 ? axis[a] : gkey[0];
+    if (!s->integrator->walls) {
+        char names[160] = "";
+        for (int j = 0, len = 0; gr_integrators[j]; j++) {
+            if (gr_integrators[j]->walls) {
+                len += snprintf(names + len, sizeof names - (size_t)len, "%s%s", len ? " | " : "",
+                                gr_integrators[j]->name);
+            }
+        }
+        where w = key_given(g, "integrator", "kind") ? where_of(g, s, "integrator", "kind")
+                                                     : where_of(g, s, sec, key);
+        snprintf(
+            detail, sizeof detail,
+            "kind = %s does not model walls or gravity ([%s] %s); allowed with walls or "
+            "gravity: %s; allowed with %s: [boundary] x, y = periodic and [gravity] gx, gy = 0",
+            s->integrator->name, sec, key, names, s->integrator->name);
+        return fail_at(err, &w, "integrator", "kind", "%s", detail);
+    }
+    if (s->tangential && a >= 0) {
+        where w = where_of(g, s, "model", "tangential");
+        snprintf(detail, sizeof detail,
+                 "tangential = %s has no wall contact yet; allowed with [boundary] %s = walls: "
+                 "tangential = none",
+                 s->tangential->name, axis[a]);
+        return fail_at(err, &w, "model", "tangential", "%s", detail);
+    }
+    return GR_OK;
+}
+
 static int resolve(gr_scene *s, const given *g, const char *const *model_keys, int n_model_keys,
                    const char *const *driving_keys, int n_driving_keys, gr_error *err)
 {
@@ -1101,6 +1200,10 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     int rc_driving = resolve_driving(s, g, driving_keys, n_driving_keys, err);
     if (rc_driving) {
         return rc_driving;
+    }
+    int rc_walls = resolve_walls(s, g, err);
+    if (rc_walls) {
+        return rc_walls;
     }
     /* a key several models share was checked against the widest of their ranges when it was read
      * (the models may come later in the file); now each chosen model checks its own range, e.g.
@@ -1575,6 +1678,11 @@ void gr_scene_write(const gr_scene *s, FILE *f)
         const bool rfm = !s->driving || s->driving == gr_driving_default();
         if (k->type == K_DRIVING && rfm) {
             continue; /* the default: scene.ini of an rfm run is what it always was */
+        }
+        const bool walls =
+            s->boundary[0] || s->boundary[1] || s->gravity[0] != 0.0 || s->gravity[1] != 0.0;
+        if (!walls && (!strcmp(k->section, "boundary") || !strcmp(k->section, "gravity"))) {
+            continue; /* the periodic box: scene.ini as it always was */
         }
         if (!rfm && strcmp(k->section, "noise") == 0) {
             continue; /* the random force's keys, unused (and warned about if given) under another driving */

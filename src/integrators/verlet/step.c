@@ -29,6 +29,7 @@
  * the threads, and every sum is combined block by block in block order, so a run is bit-identical
  * for every thread count (docs/performance.md, "Threads"). */
 #include <math.h>
+#include <stdio.h>
 #include <stdbool.h>
 #include <string.h>
 
@@ -587,13 +588,22 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
         s->collisions += r.new_contacts;
         s->last = r;
         if (r.max_overlap > RUNAWAY_OVERLAP) {
+            /* worst_j = -1: a grain pressed into a wall, its overlap reported as xi / r (walls.c) */
+            const int wall = s->walls_on && r.worst_i >= 0 && r.worst_j < 0;
+            char who[80];
+            if (wall) {
+                snprintf(who, sizeof who, "particle %d and a wall", r.worst_i);
+            } else {
+                snprintf(who, sizeof who, "particles %d and %d", r.worst_i, r.worst_j);
+            }
             return GR_FAIL(err, GR_EUNSTABLE,
-                           "unstable run: particles %d and %d overlap by %.3g d at step %lld (t = "
+                           "unstable run: %s overlap by %.3g d at step %lld (t = "
                            "%.6g s), beyond the %.2g d limit; "
                            "the springs (k_s = %g N/m) cannot hold them apart at this speed or "
                            "packing; use a stiffer k_s or a smaller dt",
-                           r.worst_i, r.worst_j, r.max_overlap, (long long)s->step, gr_sim_time(s),
-                           RUNAWAY_OVERLAP, s->cc.k_s);
+                           who, wall ? 0.5 * r.max_overlap : r.max_overlap, (long long)s->step,
+                           gr_sim_time(s), wall ? 0.5 * RUNAWAY_OVERLAP : RUNAWAY_OVERLAP,
+                           s->cc.k_s);
         }
     }
     if (nsteps > 0) {

@@ -1,0 +1,94 @@
+/* Helpers of the Check tests that build simulations from scene text (test_driving.c,
+ * test_walls.c): load a scene, create and step its simulation, failing the test with the
+ * library's message, and compare two simulations' states bit for bit. */
+#ifndef GR_TEST_SIM_HELPERS_H
+#define GR_TEST_SIM_HELPERS_H
+
+#include <check.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/sim_internal.h"
+#include "granule/scene.h"
+
+static inline void load(gr_scene *s, const char *text, const char *const *set, int n_set)
+{
+    gr_error err = {0};
+    int rc = gr_scene_load_buffer(s, "test.ini", text, strlen(text), set, n_set, &err);
+    ck_assert_msg(rc == GR_OK, "scene refused: %s", err.message);
+}
+
+static inline gr_sim *create(const gr_scene *s)
+{
+    gr_error err = {0};
+    gr_sim *sim = NULL;
+    int rc = gr_sim_create(s, &sim, &err);
+    ck_assert_msg(rc == GR_OK, "simulation refused: %s", err.message);
+    return sim;
+}
+
+static inline void step(gr_sim *sim, int64_t n)
+{
+    gr_error err = {0};
+    int rc = gr_sim_step(sim, n, &err);
+    ck_assert_msg(rc == GR_OK, "step failed: %s", err.message);
+}
+
+/* Positions, velocities and the ledger's accumulated entries the same bit for bit. */
+static inline void assert_same_state(const gr_sim *a, const gr_sim *b)
+{
+    ck_assert_int_eq(a->n, b->n);
+    ck_assert(memcmp(a->x, b->x, sizeof(double) * (size_t)a->n) == 0);
+    ck_assert(memcmp(a->vx, b->vx, sizeof(double) * (size_t)a->n) == 0);
+    if (a->dim == 2) {
+        ck_assert(memcmp(a->y, b->y, sizeof(double) * (size_t)a->n) == 0);
+        ck_assert(memcmp(a->vy, b->vy, sizeof(double) * (size_t)a->n) == 0);
+    }
+    ck_assert(memcmp(&a->injected, &b->injected, sizeof a->injected) == 0);
+    ck_assert(memcmp(&a->diss_drag, &b->diss_drag, sizeof a->diss_drag) == 0);
+    ck_assert(memcmp(&a->diss_n, &b->diss_n, sizeof a->diss_n) == 0);
+    ck_assert(memcmp(&a->elastic, &b->elastic, sizeof a->elastic) == 0);
+    ck_assert(memcmp(&a->initial_energy, &b->initial_energy, sizeof a->initial_energy) == 0);
+}
+
+/* Stepping `total` steps of the scene's simulation in one go equals stepping `first`, saving the
+ * state into bytes, loading them into a fresh simulation and stepping the rest: bit for bit. */
+static inline void assert_restart_exact(const gr_scene *s, int64_t total, int64_t first)
+{
+    gr_sim *a = create(s);
+    step(a, total);
+    gr_sim *b = create(s);
+    step(b, first);
+    void *data = NULL;
+    size_t len = 0;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_sim_state_save(b, &data, &len, &err), GR_OK);
+    gr_sim_free(b);
+    gr_sim *c = create(s);
+    ck_assert_msg(gr_sim_state_load(c, data, len, &err) == GR_OK, "%s", err.message);
+    free(data);
+    step(c, total - first);
+    assert_same_state(a, c);
+    gr_sim_free(a);
+    gr_sim_free(c);
+}
+
+/* The scene's simulation stepped `steps` on 1 and on 2 threads: the same run bit for bit. */
+static inline void assert_threads_invariant(const gr_scene *s, int64_t steps)
+{
+    gr_set_threads(1);
+    gr_sim *a = create(s);
+    step(a, steps);
+    gr_set_threads(2);
+    gr_sim *b = create(s);
+    step(b, steps);
+#ifdef _OPENMP
+    ck_assert_int_eq(gr_sim_threads(b), 2); /* really on two */
+#endif
+    gr_set_threads(1);
+    assert_same_state(a, b);
+    gr_sim_free(a);
+    gr_sim_free(b);
+}
+
+#endif
