@@ -386,6 +386,13 @@ else
     fail "a different scene: exit $rc" "$err"
 fi
 fresh
+run "$G" run --resume case --quiet --set noise.precision=single
+if [[ $rc -eq 2 && $err == *"[noise] precision = (unset) in the checkpoint, single now"* ]]; then
+    pass "a change of [noise] precision is refused, naming the key: ${err:0:160}"
+else
+    fail "a change of [noise] precision: exit $rc" "$err"
+fi
+fresh
 sed -i 's/^seed = .*/seed = 7/' case/scene.ini
 refused "an edited scene.ini" "[run] seed = 1 in the checkpoint, 7 now"
 

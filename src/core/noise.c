@@ -1008,3 +1008,191 @@ double gr_noise_uniform(uint64_t seed, uint32_t stream, uint64_t a, uint64_t b)
     philox4x32_ctr_t r = philox4x32(ctr, make_key(seed, stream, KIND_UNIFORM));
     return u53(r.v[0] | (uint64_t)r.v[1] << 32);
 }
+
+/* ---- Single-precision normals ([noise] precision = single) ----------------------------------- *
+ *
+ * Same key as the double normals (make_key(seed, stream, KIND_NORMAL)); counter (step low, step
+ * high, quad, F32_FLAG | c | lane << 1 | r << 3) for component c, retry r (0 = first draw). Bit 31
+ * of word 3 is never set by the double path (its word 3 is c | lane << 1 | r << 2 with r < 2^29),
+ * so the two paths never share a block. Each block gives four 32-bit words, one normal each:
+ * ids are taken in groups of 4 F32_QUADS, and id = F32_GROUP g + F32_QUADS l + j uses word l of
+ * quad F32_QUADS g + j. A word w gives layer i = w & 0xff, sign = bit 8 and the 23-bit uniform
+ * u = w >> 9; the fast path returns +-u (2^-23 zig_x[i]) in single precision when u < f32_kt[i]
+ * (the same exact test as the double path's, on the 2^-23 grid), about 98.8 % of words. The rest
+ * go through zig_slow32 (the double path's wedge and tail in double precision, rounded once to
+ * float at the end). Every value is a float widened to double and a pure function of (seed,
+ * stream, step, id, component), as for the double path; the vector code is the compiler's
+ * (target_clones), integer arithmetic and single multiplications only, so every clone gives the
+ * same bits. */
+
+enum { F32_QUADS = 256, F32_GROUP = 4 * F32_QUADS };
+#define F32_FLAG 0x80000000u
+
+static float f32_xs[256];    /* 2^-23 zig_x[i], rounded to float */
+static uint32_t f32_kt[256]; /* ceil(2^23 zig_t[i]): u < kt exactly when u 2^-23 < zig_t[i] */
+static once_flag f32_once = ONCE_FLAG_INIT;
+
+static void f32_tables(void)
+{
+    for (int i = 0; i < 256; i++) {
+        f32_xs[i] = (float)(zig_x[i] * 0x1p-23);
+        f32_kt[i] = (uint32_t)ceil(zig_t[i] * 0x1p23);
+    }
+}
+
+static inline float f32_fast(uint32_t w, int *ok)
+{
+    unsigned i = w & 0xffu;
+    uint32_t u = w >> 9;
+    *ok = u < f32_kt[i];
+    float x = (float)(int32_t)u * f32_xs[i];
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    b ^= (w << 23) & 0x80000000u;
+    memcpy(&x, &b, sizeof x);
+    return x;
+}
+
+static inline uint32_t f32_w3(uint32_t c, uint32_t lane, uint32_t r)
+{
+    return F32_FLAG | c | lane << 1 | r << 3;
+}
+
+/* The remaining ziggurat steps for the word w (quad, lane, component c) that failed the fast test:
+ * as zig_slow, with the retry blocks' words 0-1 and 2-3 as the 64-bit a and b. */
+static float zig_slow32(const struct gen *g, uint32_t quad, uint32_t lane, uint32_t c, uint32_t w)
+{
+    uint32_t r = 1;
+    uint64_t a, b;
+    block(g, quad, f32_w3(c, lane, r), &a, &b);
+    for (;;) {
+        unsigned i = w & 0xffu;
+        double sign = (w & 0x100u) ? -1.0 : 1.0;
+        if (i == 0) {
+            for (;;) {
+                double t = -log(u53_open0(a)) / zig_r;
+                double e = -log(u53_open0(b));
+                if (e + e > t * t) {
+                    return (float)(sign * (zig_r + t));
+                }
+                block(g, quad, f32_w3(c, lane, ++r), &a, &b);
+            }
+        }
+        double x = (double)(w >> 9) * 0x1p-23 * zig_x[i];
+        if (zig_f[i] + u53(a) * (zig_f[i + 1] - zig_f[i]) < exp(-0.5 * x * x)) {
+            return (float)(sign * x);
+        }
+        w = (uint32_t)b;
+        int ok;
+        float y = f32_fast(w, &ok);
+        if (ok) {
+            return y;
+        }
+        block(g, quad, f32_w3(c, lane, ++r), &a, &b);
+    }
+}
+
+#define F32_ROUND(r)                                                                               \
+    do {                                                                                           \
+        uint64_t q0_ = (uint64_t)PHILOX_M4x32_0 * c0, q1_ = (uint64_t)PHILOX_M4x32_1 * c2;         \
+        c0 = (uint32_t)(q1_ >> 32) ^ c1 ^ ka[r];                                                   \
+        c1 = (uint32_t)q1_;                                                                        \
+        c2 = (uint32_t)(q0_ >> 32) ^ c3 ^ kb[r];                                                   \
+        c3 = (uint32_t)q0_;                                                                        \
+    } while (0)
+
+#if NOISE_X86 && !defined(__clang__)
+#define F32_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define F32_CLONES
+#endif
+
+/* One group: the F32_GROUP fast-path candidates of component c in id order (z), with bad[k] set
+ * where zig_slow32 must finish them; w keeps the words. */
+F32_CLONES static void f32_group(const uint32_t *restrict ka, const uint32_t *restrict kb,
+                                 uint32_t s0, uint32_t s1, uint32_t quad0, uint32_t w3,
+                                 uint32_t *restrict w, double *restrict z, uint8_t *restrict bad)
+{
+    for (int j = 0; j < F32_QUADS; j++) {
+        uint32_t c0 = s0, c1 = s1, c2 = quad0 + (uint32_t)j, c3 = w3;
+        F32_ROUND(0);
+        F32_ROUND(1);
+        F32_ROUND(2);
+        F32_ROUND(3);
+        F32_ROUND(4);
+        F32_ROUND(5);
+        F32_ROUND(6);
+        F32_ROUND(7);
+        F32_ROUND(8);
+        F32_ROUND(9);
+        w[j] = c0;
+        w[F32_QUADS + j] = c1;
+        w[2 * F32_QUADS + j] = c2;
+        w[3 * F32_QUADS + j] = c3;
+    }
+    for (int k = 0; k < F32_GROUP; k++) {
+        const uint32_t wk = w[k], i = wk & 0xffu, u = wk >> 9;
+        float x = (float)(int32_t)u * f32_xs[i];
+        uint32_t bits;
+        memcpy(&bits, &x, sizeof bits);
+        bits ^= (wk << 23) & 0x80000000u;
+        memcpy(&x, &bits, sizeof x);
+        z[k] = x;
+        bad[k] = u >= f32_kt[i];
+    }
+}
+
+void gr_noise_normals_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_t first, int n,
+                          int per, double *out)
+{
+    assert(per == 1 || per == 2);
+    assert(n <= 0 || (uint64_t)first + (uint64_t)n - 1 <= UINT32_MAX);
+    if (n <= 0 || (per != 1 && per != 2)) {
+        return;
+    }
+    call_once(&f32_once, f32_tables);
+    struct gen g = make_gen(seed, stream, step);
+    uint32_t ka[10], kb[10], a = g.key.v[0], b = g.key.v[1];
+    for (int r = 0; r < 10; r++) {
+        ka[r] = a;
+        kb[r] = b;
+        a += PHILOX_W32_0;
+        b += PHILOX_W32_1;
+    }
+    _Alignas(64) uint32_t w[F32_GROUP];
+    _Alignas(64) double z[F32_GROUP];
+    _Alignas(64) uint8_t bad[F32_GROUP];
+    const uint64_t end = (uint64_t)first + (uint64_t)n;
+    for (uint64_t g0 = (uint64_t)first / F32_GROUP * F32_GROUP; g0 < end; g0 += F32_GROUP) {
+        const uint64_t lo = g0 > first ? g0 : first,
+                       hi = g0 + F32_GROUP < end ? g0 + F32_GROUP : end;
+        const uint32_t quad0 = (uint32_t)(g0 / F32_GROUP * F32_QUADS);
+        for (int c = 0; c < per; c++) {
+            f32_group(ka, kb, g.s0, g.s1, quad0, F32_FLAG | (uint32_t)c, w, z, bad);
+            for (uint64_t id = lo; id < hi; id++) {
+                const int k = (int)(id - g0);
+                double x = z[k];
+                if (bad[k]) {
+                    x = zig_slow32(&g, quad0 + (uint32_t)(k % F32_QUADS), (uint32_t)(k / F32_QUADS),
+                                   (uint32_t)c, w[k]);
+                }
+                out[(id - first) * (uint64_t)per + (uint64_t)c] = x;
+            }
+        }
+    }
+}
+
+double gr_noise_normal1_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_t id,
+                            int component)
+{
+    assert(component == 0 || component == 1);
+    call_once(&f32_once, f32_tables);
+    struct gen g = make_gen(seed, stream, step);
+    const uint32_t k = id % F32_GROUP, quad = id / F32_GROUP * F32_QUADS + k % F32_QUADS,
+                   lane = k / F32_QUADS, c = (uint32_t)component & 1u;
+    philox4x32_ctr_t ctr = {{g.s0, g.s1, quad, F32_FLAG | c}};
+    philox4x32_ctr_t r = philox4x32(ctr, g.key);
+    int ok;
+    float x = f32_fast(r.v[lane], &ok);
+    return ok ? x : zig_slow32(&g, quad, lane, c, r.v[lane]);
+}
