@@ -5,7 +5,7 @@
  * no clamp), random force of strength D = 1e-8 N^2 s symmetrised every step (2.18), velocity
  * Verlet with dt = 1e-6 s, uniform start with v0 = 0.1 m/s. What it gives up for speed, and granule
  * does not: the normals are floats from a sequential generator (xorshift64*, one 64-bit word per
- * normal: the sum of four 16-bit uniforms, the Irwin-Hall approximation, tails cut at
+ * normal, LANES interleaved streams so the loop vectorises: the sum of four 16-bit uniforms, the Irwin-Hall approximation, tails cut at
  * |x| = 2 sqrt(3)), so the noise depends on the order particles are visited and is neither
  * counter-based nor exact in the tails; no energy ledger, no diagnostics, no checks.
  *
@@ -21,9 +21,9 @@
 #include <string.h>
 #include <time.h>
 
-enum { N = 1000 };
+enum { N = 1000, LANES = 8 }; /* N a multiple of LANES */
 
-static double x[N], v[N], f[N];
+static double x[N], v[N], f[N], fc[N];
 static float g[N];
 
 static inline uint64_t xs64(uint64_t *s)
@@ -76,10 +76,14 @@ int main(int argc, char **argv)
     /* kick of the random force sqrt(2 D / dt) g over dt; the Irwin-Hall sum of four 16-bit
      * uniforms has variance 4 (2^32 - 1) / 12 / 2^32 ~ 1/3 in units of 2^16 */
     const float amp = (float)(sqrt(2 * D / dt) * dt / m * sqrt(3.0) / 65536.0);
-    uint64_t s = 0x9e3779b97f4a7c15ull;
+    uint64_t s = 0x9e3779b97f4a7c15ull, st[LANES];
+    float lsum[LANES] = {0};
     for (int i = 0; i < N; i++) {
         x[i] = (i + 0.5) * (L / N);
         v[i] = 0.1 * ((double)(xs64(&s) >> 11) * 0x1p-53 - 0.5);
+    }
+    for (int l = 0; l < LANES; l++) {
+        st[l] = xs64(&s) | 1u;
     }
     double rate[100];
     for (int rep = -1; rep < repeats; rep++) {
@@ -87,30 +91,43 @@ int main(int argc, char **argv)
         const double t0 = now();
         for (long t = 0; t < n; t++) {
             for (int i = 0; i < N; i++) {
-                v[i] += half * f[i];
+                v[i] += half * f[i]; /* f: the forces of the last step */
                 x[i] += dt * v[i];
             }
-            double f0 = 0.0, prev = 0.0; /* force on particle i from the contact with i + 1 */
-            {
-                double gap = x[0] + L - x[N - 1], ov = d - gap;
-                prev = ov > 0 ? k * ov + c * (v[N - 1] - v[0]) : 0.0; /* pushes N-1 back, 0 on */
-                f0 = prev;
-            }
+            /* contact forces: fc[i] between i and i + 1 (fc[N - 1] across the seam), then
+             * f[i] = fc[i - 1] - fc[i]; both loops vectorise */
             for (int i = 0; i < N - 1; i++) {
                 double ov = d - (x[i + 1] - x[i]);
-                double fc = ov > 0 ? k * ov + c * (v[i] - v[i + 1]) : 0.0;
-                f[i] = prev - fc;
-                prev = fc;
+                fc[i] = ov > 0 ? k * ov + c * (v[i] - v[i + 1]) : 0.0;
             }
-            f[N - 1] = prev - f0;
+            {
+                double ov = d - (x[0] + L - x[N - 1]);
+                fc[N - 1] = ov > 0 ? k * ov + c * (v[N - 1] - v[0]) : 0.0;
+            }
+            f[0] = fc[N - 1] - fc[0];
+            for (int i = 1; i < N; i++) {
+                f[i] = fc[i - 1] - fc[i];
+            }
+            /* normals: LANES independent xorshift64* streams, particle i from stream i % LANES */
             float sum = 0.0f;
-            for (int i = 0; i < N; i++) {
-                uint64_t w = xs64(&s);
-                float u = (float)((w & 0xffff) + (w >> 16 & 0xffff) + (w >> 32 & 0xffff) +
-                                  (w >> 48)) -
-                          131070.0f;
-                g[i] = u;
-                sum += u;
+            for (int i0 = 0; i0 < N; i0 += LANES) {
+                for (int l = 0; l < LANES; l++) {
+                    uint64_t w = st[l];
+                    w ^= w >> 12;
+                    w ^= w << 25;
+                    w ^= w >> 27;
+                    st[l] = w;
+                    w *= 0x2545f4914f6cdd1dull;
+                    float u = (float)((w & 0xffff) + (w >> 16 & 0xffff) + (w >> 32 & 0xffff) +
+                                      (w >> 48)) -
+                              131070.0f;
+                    g[i0 + l] = u;
+                    lsum[l] += u;
+                }
+            }
+            for (int l = 0; l < LANES; l++) {
+                sum += lsum[l];
+                lsum[l] = 0.0f;
             }
             const float mean = sum / N;
             for (int i = 0; i < N; i++) {
