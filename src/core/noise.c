@@ -908,6 +908,25 @@ static void pick_kernels(void)
 
 /* ---- Public functions ------------------------------------------------------------------------ */
 
+/* The next (at most RETRIES) positions k in [*k, k_hi) whose bit in bad[] is set, into rk, in
+ * increasing order; *k moves past them. Returns how many. */
+static int collect_bad(const uint64_t *bad, int *k, int k_hi, int *rk)
+{
+    int cnt = 0;
+    while (*k < k_hi && cnt < RETRIES) {
+        uint64_t bits = bad[*k >> 6] >> (*k & 63);
+        if (bits == 0) {
+            *k = (*k | 63) + 1;
+            continue;
+        }
+        *k += __builtin_ctzll(bits);
+        if (*k < k_hi) {
+            rk[cnt++] = (*k)++;
+        }
+    }
+    return cnt;
+}
+
 /* Finish the rejected variates k of a batch (pairs from p): rk[i] their output positions. */
 static void finish(const struct prep *prep, int per, uint32_t p, int cnt, const int *rk,
                    const uint64_t *w, double *z)
@@ -962,20 +981,7 @@ void gr_noise_normals(uint64_t seed, uint32_t stream, uint64_t step, uint32_t fi
         double *zb = whole ? out + (id - first) * (uint64_t)per : z;
         memset(bad, 0, sizeof bad);
         kern.batch(prep, per, p, m, w, zb, bad);
-        int cnt = 0;
-        for (int i = k_lo >> 6; i <= (k_hi - 1) >> 6; i++) {
-            for (uint64_t bits = bad[i]; bits != 0; bits &= bits - 1) {
-                int k = 64 * i + __builtin_ctzll(bits);
-                if (k >= k_lo && k < k_hi) {
-                    rk[cnt++] = k;
-                    if (cnt == RETRIES) {
-                        finish(prep, per, p, cnt, rk, w, zb);
-                        cnt = 0;
-                    }
-                }
-            }
-        }
-        if (cnt > 0) {
+        for (int k = k_lo, cnt; (cnt = collect_bad(bad, &k, k_hi, rk)) > 0;) {
             finish(prep, per, p, cnt, rk, w, zb);
         }
         if (zb == z) {
@@ -1280,20 +1286,7 @@ void gr_noise_normals_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_
             double *zb = whole ? out + (g0 - first) : z;
             memset(bad, 0, sizeof bad);
             f32_group(ka, kb, g.s0, g.s1, quad0, F32_FLAG | (uint32_t)c, w, zb, bad, k_hi);
-            int cnt = 0;
-            for (int i = k_lo >> 6; i <= (k_hi - 1) >> 6; i++) {
-                for (uint64_t bits = bad[i]; bits != 0; bits &= bits - 1) {
-                    int k = 64 * i + __builtin_ctzll(bits);
-                    if (k >= k_lo && k < k_hi) {
-                        rk[cnt++] = k;
-                        if (cnt == RETRIES) {
-                            f32_finish(&prep, (uint32_t)c, quad0, cnt, rk, w, zb);
-                            cnt = 0;
-                        }
-                    }
-                }
-            }
-            if (cnt > 0) {
+            for (int k = k_lo, cnt; (cnt = collect_bad(bad, &k, k_hi, rk)) > 0;) {
                 f32_finish(&prep, (uint32_t)c, quad0, cnt, rk, w, zb);
             }
             if (!whole) {
