@@ -1097,12 +1097,12 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
                  s->tangential->name, s->integrator->name, s->normal->name);
         return fail_at(err, &w, "model", "tangential", "%s", detail);
     }
-    if (s->noise_precision == GR_NOISE_SINGLE && strcmp(s->integrator->name, "verlet") != 0) {
+    if (s->noise_precision == GR_NOISE_SINGLE && !s->integrator->single_noise) {
         where w = where_of(g, s, "noise", "precision");
-        return fail_at(
-            err, &w, "noise", "precision",
-            "single needs [integrator] kind = verlet (given %s); allowed otherwise: double",
-            s->integrator->name);
+        return fail_at(err, &w, "noise", "precision",
+                       "single needs an integrator that draws it (verlet; given %s); allowed "
+                       "otherwise: double",
+                       s->integrator->name);
     }
     if (s->D == 0.0) {
         s->noise_mode = GR_NOISE_NONE;

@@ -6,6 +6,7 @@ const gr_integrator_type gr_integrator_verlet = {
     .rotation = true,
     .contact_history = true,
     .drag = true,
+    .single_noise = true,
     .summary = "soft-sphere velocity Verlet (docs/integrator.md)",
     .step = gr_verlet_step,
 };
