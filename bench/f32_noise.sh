@@ -26,7 +26,7 @@ if $quick; then
 else
     steps=(--warmup-steps ${WARM1D:-200000} --steps 50000 --repeats 5)
 fi
-echo "# f32_noise $(date -u +%Y-%m-%dT%H:%MZ), $(nproc) cores, load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "# f32_noise $(date -u +%Y-%m-%dT%H:%MZ), $(nproc --all) cores, load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "# build: $build ($(git rev-parse --short HEAD 2>/dev/null || echo '?')), rounds: $rounds (order rotates)"
 tmp=$(mktemp -d /tmp/granule-f32-noise.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
