@@ -60,6 +60,7 @@
 #include "granule/noise.h"
 
 #include <assert.h>
+#include <stdbool.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -1027,9 +1028,9 @@ double gr_noise_uniform(uint64_t seed, uint32_t stream, uint64_t a, uint64_t b)
  * (the same exact test as the double path's, on the 2^-23 grid), about 98.8 % of words. The rest
  * go through zig_slow32 (the double path's wedge and tail in double precision, rounded once to
  * float at the end). Every value is a float widened to double and a pure function of (seed,
- * stream, step, id, component), as for the double path; the vector code is the compiler's
- * (target_clones), integer arithmetic and single multiplications only, so every clone gives the
- * same bits. */
+ * stream, step, id, component), as for the double path; the AVX-512 kernel (f32_group_avx512)
+ * does integer arithmetic and one single-precision multiplication per word, as the portable loop
+ * (f32_group_c) does, so both give the same bits. */
 
 enum { F32_QUADS = 256, F32_GROUP = 4 * F32_QUADS };
 #define F32_FLAG 0x80000000u
@@ -1101,8 +1102,8 @@ static float zig_slow32(const struct gen *g, uint32_t quad, uint32_t lane, uint3
     } while (0)
 
 /* One group, component word w3: the first k_hi of its F32_GROUP fast-path candidates in id order
- * into z (as doubles), bit k of bad[] (zeroed by the caller) set where zig_slow32 must finish candidate k; w
- * keeps the words. Portable version; f32_group_avx512 gives the same bits. */
+ * into z (as doubles), bit k of bad[] (zeroed by the caller) set where zig_slow32 must finish
+ * candidate k; w keeps the words. Portable version; f32_group_avx512 gives the same bits. */
 static void f32_group_c(const uint32_t *restrict ka, const uint32_t *restrict kb, uint32_t s0,
                         uint32_t s1, uint32_t quad0, uint32_t w3, uint32_t *restrict w,
                         double *restrict z, uint64_t *restrict bad, int k_hi)
@@ -1223,8 +1224,11 @@ static void f32_init(void)
     }
 #if NOISE_X86
     __builtin_cpu_init();
-    const char *cap = getenv("GRANULE_NOISE_ISA"); /* anything below avx512: the portable loop */
-    if (__builtin_cpu_supports("avx512f") && (cap == NULL || strcmp(cap, "avx512") == 0)) {
+    /* a cap below avx512 (scalar, sse2, avx2; as for the double path) selects the portable loop */
+    const char *cap = getenv("GRANULE_NOISE_ISA");
+    const bool capped = cap != NULL && (strcmp(cap, "scalar") == 0 || strcmp(cap, "sse2") == 0 ||
+                                        strcmp(cap, "avx2") == 0);
+    if (__builtin_cpu_supports("avx512f") && !capped) {
         f32_group = f32_group_avx512;
     }
 #endif
