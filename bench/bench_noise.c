@@ -33,6 +33,11 @@ static void draw_batch(uint64_t step, int n, int per, double *out)
     gr_noise_normals(12345, GR_STREAM_NOISE, step, 0, n, per, out);
 }
 
+static void draw_batch_f32(uint64_t step, int n, int per, double *out)
+{
+    gr_noise_normals_f32(12345, GR_STREAM_NOISE, step, 0, n, per, out);
+}
+
 static void draw_single(uint64_t step, int n, int per, double *out)
 {
     for (int i = 0; i < n; i++) {
@@ -122,6 +127,7 @@ int main(int argc, char **argv)
     for (int per = 1; per <= 2; per++) {
         for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
             measure("gr_noise_normals", draw_batch, sizes[s], per, repeats, normals);
+            measure("gr_noise_normals_f32", draw_batch_f32, sizes[s], per, repeats, normals);
         }
     }
     double few = normals / 8;

@@ -81,6 +81,8 @@ base | run $S --out $O --set run.progress=maybe | 2 | progress | new
 base | run $S --out $O --set noise.D=-1 | 2 | D | new
 base | run $S --out $O --set noise.mode=bogus | 2 | mode;symmetrised | new
 base | run $S --out $O --set noise.com_interval=0 | 2 | com_interval | new
+base | run $S --out $O --set noise.precision=half | 2 | [noise] precision;'half' is not allowed;choose one of double | new
+base | run $S --out $O --set noise.precision=single --set integrator.kind=hybrid | 2 | [noise] precision;single needs an integrator that draws it (verlet; given hybrid);allowed otherwise: double | new
 base | run $S --out $O --set driving.kind=bogus | 2 | [driving] kind;bogus;choose one of rfm | new
 base | run $S --out $O --set driving.kind=langevin --set driving.tau=0 | 2 | [driving] tau;(0, inf) | new
 base | run $S --out $O --set driving.kind=langevin --set driving.tau=-1 | 2 | [driving] tau;(0, inf) | new

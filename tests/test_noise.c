@@ -329,13 +329,18 @@ END_TEST
 /* ---- Statistics ------------------------------------------------------------------------------ */
 
 /* Draw `steps` steps of n particles x per components, calling f on each batch. */
+/* The generator the statistical tests draw from: the double path, or the single-precision one. */
+typedef void normals_fn(uint64_t seed, uint32_t stream, uint64_t step, uint32_t first, int n,
+                        int per, double *out);
+static normals_fn *draw_normals = gr_noise_normals;
+
 static void draw(uint64_t seed, uint32_t stream, int steps, int n, int per,
                  void (*f)(const double *v, int cnt, void *ctx), void *ctx)
 {
     double *v = malloc((size_t)n * (size_t)per * sizeof *v);
     ck_assert_ptr_nonnull(v);
     for (int s = 0; s < steps; s++) {
-        gr_noise_normals(seed, stream, (uint64_t)s, 0, n, per, v);
+        draw_normals(seed, stream, (uint64_t)s, 0, n, per, v);
         f(v, n * per, ctx);
     }
     free(v);
@@ -359,21 +364,29 @@ static void add_moments(const double *v, int cnt, void *ctx)
     m->cnt += cnt;
 }
 
+/* n draws (steps x count x per) from draw_normals: mean 0, variance 1, skewness 0, kurtosis 3,
+ * each within 5 standard errors (standard errors of the raw moments: sqrt(1/n), sqrt(2/n),
+ * sqrt(15/n), sqrt(96/n)). */
+static void check_moments(uint64_t seed, int steps, int count, int per, const char *what)
+{
+    struct moments m = {0, 0, 0, 0, 0};
+    draw(seed, GR_STREAM_NOISE, steps, count, per, add_moments, &m);
+    double n = (double)m.cnt;
+    ck_assert(m.cnt == (long)steps * count * per);
+    ck_assert_msg(within(m.s1 / n, 0, sqrt(1 / n), 5), "%s per %d mean %g", what, per, m.s1 / n);
+    ck_assert_msg(within(m.s2 / n, 1, sqrt(2 / n), 5), "%s per %d variance %g", what, per,
+                  m.s2 / n);
+    ck_assert_msg(within(m.s3 / n, 0, sqrt(15 / n), 5), "%s per %d third moment %g", what, per,
+                  m.s3 / n);
+    ck_assert_msg(within(m.s4 / n, 3, sqrt(96 / n), 5), "%s per %d fourth moment %g", what, per,
+                  m.s4 / n);
+}
+
 START_TEST(test_moments)
 {
-    /* 2e6 draws: mean 0, variance 1, skewness 0, kurtosis 3, each within 5 standard errors
-     * (standard errors of the raw moments: sqrt(1/n), sqrt(2/n), sqrt(15/n), sqrt(96/n)). */
+    /* 2e6 draws */
     for (int per = 1; per <= 2; per++) {
-        struct moments m = {0, 0, 0, 0, 0};
-        draw(SEED + (uint64_t)per, GR_STREAM_NOISE, 100, 20000 / per, per, add_moments, &m);
-        double n = (double)m.cnt;
-        ck_assert(m.cnt == 2000000);
-        ck_assert_msg(within(m.s1 / n, 0, sqrt(1 / n), 5), "per %d mean %g", per, m.s1 / n);
-        ck_assert_msg(within(m.s2 / n, 1, sqrt(2 / n), 5), "per %d variance %g", per, m.s2 / n);
-        ck_assert_msg(within(m.s3 / n, 0, sqrt(15 / n), 5), "per %d third moment %g", per,
-                      m.s3 / n);
-        ck_assert_msg(within(m.s4 / n, 3, sqrt(96 / n), 5), "per %d fourth moment %g", per,
-                      m.s4 / n);
+        check_moments(SEED + (uint64_t)per, 100, 20000 / per, per, "double");
     }
 }
 END_TEST
@@ -470,19 +483,21 @@ static void add_tails(const double *v, int cnt, void *ctx)
     t->cnt += cnt;
 }
 
-START_TEST(test_tails)
+/* 1e7 draws from draw_normals: the frequency of |x| > 3, > R (where the exact tail sampler takes
+ * over), > 4 and > 4.5 matches 2 (1 - Phi) within 5 binomial standard errors. */
+static void check_tails(const char *what)
 {
-    /* 1e7 draws: the frequency of |x| > 3, > R (where the exact tail sampler takes over), > 4
-     * and > 4.5 matches 2 (1 - Phi) within 5 binomial standard errors. */
     struct tails t = {{3.0, 3.6541528853610088, 4.0, 4.5}, {0, 0, 0, 0}, 0};
     draw(SEED, GR_STREAM_NOISE, 100, 50000, 2, add_tails, &t);
     ck_assert(t.cnt == 10000000);
     for (int k = 0; k < 4; k++) {
         double p = 2 * gsl_cdf_ugaussian_Q(t.limit[k]), n = (double)t.cnt;
         ck_assert_msg(within((double)t.beyond[k], n * p, sqrt(n * p * (1 - p)), 5),
-                      "|x| > %g: %ld times, expected %g", t.limit[k], t.beyond[k], n * p);
+                      "%s: |x| > %g: %ld times, expected %g", what, t.limit[k], t.beyond[k], n * p);
     }
 }
+
+START_TEST(test_tails) { check_tails("double"); }
 END_TEST
 
 static double correlation(const double *a, const double *b, int n, int stride_a, int stride_b)
@@ -585,6 +600,64 @@ START_TEST(test_uniform)
 }
 END_TEST
 
+/* ---- Single-precision normals ([noise] precision = single) ---------------------------------- */
+
+START_TEST(test_f32_exact)
+{
+    /* A pure function of (step, id, component): the same value whatever the window it is drawn
+     * in, with per = 1 or 2, and through gr_noise_normal1_f32 (Random123's philox4x32 and the
+     * scalar ziggurat); every value is a float; a different sequence from the double path's. */
+    enum { N = 5000 };
+    const uint32_t base = 1000001; /* straddles the groups of 1024 ids */
+    double all[2 * N], part[2 * N], dbl[2 * N];
+    int rounded = 0, equal_dbl = 0;
+    for (int per = 1; per <= 2; per++) {
+        gr_noise_normals_f32(SEED, GR_STREAM_NOISE, 42, base, N, per, all);
+        gr_noise_normals(SEED, GR_STREAM_NOISE, 42, base, N, per, dbl);
+        static const int windows[][2] = {{0, 1},     {1, 1},    {3, 7},    {5, 1023},
+                                         {0, 1024},  {7, 1025}, {1023, 2}, {1500, 2049},
+                                         {1, N - 1}, {N - 1, 1}};
+        for (size_t w = 0; w < sizeof windows / sizeof windows[0]; w++) {
+            int off = windows[w][0], n = windows[w][1];
+            memset(part, 0, sizeof part);
+            gr_noise_normals_f32(SEED, GR_STREAM_NOISE, 42, base + (uint32_t)off, n, per, part);
+            for (int i = 0; i < n * per; i++) {
+                REQUIRE(part[i] == all[off * per + i], "f32 per %d, window (%d, %d), element %d",
+                        per, off, n, i);
+            }
+            for (int i = n * per; i < 2 * N; i++) {
+                REQUIRE(part[i] == 0.0, "f32 per %d, window (%d, %d) wrote past its end", per, off,
+                        n);
+            }
+        }
+        for (int i = 0; i < N; i++) {
+            for (int c = 0; c < per; c++) {
+                double x = all[i * per + c];
+                REQUIRE(gr_noise_normal1_f32(SEED, GR_STREAM_NOISE, 42, base + (uint32_t)i, c) == x,
+                        "f32 per %d, id offset %d, component %d: gr_noise_normal1_f32", per, i, c);
+                rounded += (double)(float)x != x;
+                equal_dbl += x == dbl[i * per + c];
+            }
+        }
+    }
+    ck_assert_msg(rounded == 0, "%d f32 normals are not floats", rounded);
+    ck_assert_msg(equal_dbl == 0, "%d f32 normals equal the double path's", equal_dbl);
+}
+END_TEST
+
+START_TEST(test_f32_statistics)
+{
+    /* The single-precision normals against N(0, 1): the four raw moments of 4e6 draws within 5
+     * standard errors (per = 1 and 2), the frequencies of |x| > 3, > R, > 4, > 4.5 in 1e7 draws
+     * within 5 binomial standard errors (as test_moments and test_tails for the double path). */
+    draw_normals = gr_noise_normals_f32;
+    check_moments(SEED + 3, 200, 20000, 1, "f32");
+    check_moments(SEED + 4, 100, 20000, 2, "f32");
+    check_tails("f32");
+    draw_normals = gr_noise_normals;
+}
+END_TEST
+
 static Suite *noise_suite(void)
 {
     Suite *s = suite_create("noise");
@@ -596,6 +669,7 @@ static Suite *noise_suite(void)
     tcase_add_test(exact, test_id_range_ends);
     tcase_add_loop_test(exact, test_kernels_agree, 0, 4);
     tcase_add_test(exact, test_golden);
+    tcase_add_test(exact, test_f32_exact);
     tcase_set_timeout(exact, 120);
     suite_add_tcase(s, exact);
     TCase *stats = tcase_create("statistics");
@@ -605,6 +679,7 @@ static Suite *noise_suite(void)
     tcase_add_test(stats, test_tails);
     tcase_add_test(stats, test_correlations);
     tcase_add_test(stats, test_uniform);
+    tcase_add_test(stats, test_f32_statistics);
     tcase_set_timeout(stats, 300);
     suite_add_tcase(s, stats);
     return s;

@@ -4,7 +4,8 @@
 # picks and again with GRANULE_NOISE_ISA capped at scalar (Random123's portable philox4x32 and the
 # scalar ziggurat), avx2 and sse2, end with the same summary.json (wall-time lines excepted) and
 # the same CSVs and snapshots, byte for byte. tests/test_noise.c checks the variates themselves
-# bit for bit; this checks that nothing downstream depends on the kernel either.
+# bit for bit; this checks that nothing downstream depends on the kernel either. Both scenes again
+# with [noise] precision = single: its AVX-512 kernel against the portable loop (any cap).
 #
 # usage: tests/test_noise_isa_run.sh path/to/granule
 # GRANULE_TEST_QUICK=1 (the sanitizer build) shortens the runs.
@@ -58,7 +59,10 @@ same() {
     return 0
 }
 
-for s in s1 s2; do
+# [noise] precision = single: the AVX-512 group kernel and the portable loop (any cap below avx512)
+s1f=("${s1[@]}" --set noise.precision=single)
+s2f=("${s2[@]}" --set noise.precision=single)
+for s in s1 s2 s1f s2f; do
     declare -n scene=$s
     "$G" run "${scene[@]}" --out "$s-native" --quiet >/dev/null
     for isa in scalar sse2 avx2; do

@@ -253,6 +253,15 @@ for d in 2 1; do
     fi
 done
 
+# [noise] precision = single (the 1D scene): repeated --wall-limit stops + --resume equal the
+# uninterrupted run; the resumed sessions keep the precision (scene.ini carries it)
+sed 's/^mode = com$/mode = symmetrised\nprecision = single/' s1.ini >s1f.ini
+run "$G" run s1f.ini --out ref1f --quiet
+if [[ $rc -ne 0 ]] || ! grep -q '"precision":[[:space:]]*"single"' ref1f/summary.json; then
+    fail "1D single precision: reference run exits $rc or does not record the precision" "$err"
+fi
+wall_case "1D single precision" 1f s1f.ini 0.002 777 1.15 2000
+
 # ---------- the event-driven and hybrid integrators ----------
 # docs/scenes/rfm-1d-event.ini (kick_interval 2e-5 s, so that stepping, not sampling, takes most
 # of the time and stops fall between samples) and rfm-1d-hybrid.ini shrunk to N = 100 and short
@@ -424,6 +433,13 @@ if [[ $rc -eq 2 && $err == *"[model] eps_n = 0.59999999999999998 in the checkpoi
     pass "a different scene is refused, naming the key: ${err:0:160}"
 else
     fail "a different scene: exit $rc" "$err"
+fi
+fresh
+run "$G" run --resume case --quiet --set noise.precision=single
+if [[ $rc -eq 2 && $err == *"[noise] precision = (unset) in the checkpoint, single now"* ]]; then
+    pass "a change of [noise] precision is refused, naming the key: ${err:0:160}"
+else
+    fail "a change of [noise] precision: exit $rc" "$err"
 fi
 fresh
 sed -i 's/^seed = .*/seed = 7/' case/scene.ini

@@ -309,6 +309,28 @@ START_TEST(test_order_1d)
 }
 END_TEST
 
+/* [noise] precision = single: the float normals are the same pure function of (step, id) on 1,
+ * 2 and 3 threads (blocks of 1024 ids = one group of the f32 generator, or three partial ones),
+ * and in any particle order; and they are not the double path's. */
+START_TEST(test_threads_single)
+{
+    const char *sets[] = {"system.N=1500", "system.L=0.13", "placement.v0=0.5", "noise.D=1e-6",
+                          "noise.precision=single"};
+    gr_scene sc;
+    load_scene(&sc, "rfm-2d.ini", sets, 5);
+    const int64_t n = steps_full() / 4;
+    uint64_t h1 = run_placed(&sc, 1, n, NULL), h2 = run_placed(&sc, 2, n, NULL),
+             h3 = run_placed(&sc, 3, n, NULL);
+    ck_assert_msg(h1 == h2 && h1 == h3, "single: 1, 2, 3 threads differ: %016llx %016llx %016llx",
+                  (unsigned long long)h1, (unsigned long long)h2, (unsigned long long)h3);
+    load_scene(&sc, "rfm-2d.ini", sets, 4);
+    ck_assert_msg(run_placed(&sc, 1, n, NULL) != h1, "single gives the double path's trajectory");
+    check_order("rfm-2d.ini", sets, 5, n);
+    const char *sets1[] = {"system.N=1000", "noise.precision=single"};
+    check_order("rfm-1d.ini", sets1, 2, steps_full());
+}
+END_TEST
+
 /* S(k) by gridding (the default) and g(R): the same numbers for 1 and 2 threads, bit for bit, for
  * 20000 random points (above the 4096 the observables need before they use threads). */
 static double *random_points(int n, uint64_t seed)
@@ -454,6 +476,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_threads_friction_com);
     tcase_add_test(tc, test_threads_rotation);
     tcase_add_test(tc, test_threads_1d);
+    tcase_add_test(tc, test_threads_single);
     tcase_add_test(tc, test_order_2d);
     tcase_add_test(tc, test_order_1d);
     tcase_add_test(tc, test_threads_sk);

@@ -49,6 +49,9 @@ typedef struct gr_integrator_type {
     /* Models flat walls and gravity ([boundary], [gravity]; gr_sim_params.walls, .gravity); an
      * integrator without it refuses such a scene. */
     bool walls;
+    /* Draws the random force with [noise] precision = single (gr_noise_normals_f32) when the
+     * scene asks; an integrator without it refuses such a scene. */
+    bool single_noise;
 
     /* Build the integrator's state (into the simulation's integrator_state) once positions,
      * velocities, coefficients, the time step and the first forces are set. NULL: none. */

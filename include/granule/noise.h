@@ -39,4 +39,19 @@ double gr_noise_uniform(uint64_t seed, uint32_t stream, uint64_t a, uint64_t b);
  * gives for (step, id, component), component 0 or 1. Scalar (about 10 ns), for tests and tools. */
 double gr_noise_normal1(uint64_t seed, uint32_t stream, uint64_t step, uint32_t id, int component);
 
+/* Single-precision normals ([noise] precision = single, docs/noise.md): the same contract as
+ * gr_noise_normals (a pure function of (seed, stream, step, id, component), independent of
+ * first, n, per, thread count and batch boundaries), but each value is a float (23-bit uniform,
+ * 32-bit Philox4x32-10 words: four normals per block instead of two) widened to double into
+ * out. A different sequence from gr_noise_normals' (disjoint Philox counters), same
+ * distribution up to single-precision rounding; half the Philox work per normal, about 1.3x
+ * faster in all (docs/performance.md, "Single-precision noise"). */
+void gr_noise_normals_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_t first, int n,
+                          int per, double *out);
+
+/* One single-precision normal: the value gr_noise_normals_f32 gives for (step, id, component).
+ * Scalar, for tests and tools. */
+double gr_noise_normal1_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_t id,
+                            int component);
+
 #endif

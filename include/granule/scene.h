@@ -49,6 +49,7 @@ typedef struct gr_scene {
     double D; /* noise strength, N^2 s (2.15, 2.22) */
     gr_noise_mode noise_mode;
     double com_interval; /* com mode: seconds between centre-of-mass velocity removals */
+    gr_noise_precision noise_precision;
     /* [integrator] */
     const gr_integrator_type *integrator; /* from the registry (granule/integrator.h) */
     double dt;                            /* s; 0 = derive from steps_per_contact */

@@ -55,6 +55,8 @@ typedef enum {
     GR_PLACE_RANDOM
 } gr_placement_kind;
 typedef enum { GR_NOISE_NONE, GR_NOISE_SYMMETRISED, GR_NOISE_COM } gr_noise_mode;
+/* The random force's normals: gr_noise_normals (double) or gr_noise_normals_f32 (single). */
+typedef enum { GR_NOISE_DOUBLE, GR_NOISE_SINGLE } gr_noise_precision;
 /* How the random force drives free flight in the event-driven and hybrid integrators. */
 typedef enum { GR_FREE_FLIGHT_EXACT, GR_FREE_FLIGHT_KICKS } gr_free_flight_noise;
 
@@ -79,7 +81,8 @@ typedef struct gr_sim_params {
     gr_contact_params contact;
     double D; /* noise strength, N^2 s (2.15, 2.22) */
     gr_noise_mode noise_mode;
-    double com_interval; /* com mode: s between centre-of-mass velocity removals */
+    double com_interval;                /* com mode: s between centre-of-mass velocity removals */
+    gr_noise_precision noise_precision; /* verlet only; the default (0) is double */
     /* [driving] (granule/driving.h): NULL = rfm, the random force above. none switches it off;
      * langevin replaces it by the bath of driving_params (needs an integrator with .drag). */
     const gr_driving_type *driving;

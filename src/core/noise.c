@@ -60,6 +60,7 @@
 #include "granule/noise.h"
 
 #include <assert.h>
+#include <stdbool.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -908,6 +909,25 @@ static void pick_kernels(void)
 
 /* ---- Public functions ------------------------------------------------------------------------ */
 
+/* The next (at most RETRIES) positions k in [*k, k_hi) whose bit in bad[] is set, into rk, in
+ * increasing order; *k moves past them. Returns how many. */
+static int collect_bad(const uint64_t *bad, int *k, int k_hi, int *rk)
+{
+    int cnt = 0;
+    while (*k < k_hi && cnt < RETRIES) {
+        uint64_t bits = bad[*k >> 6] >> (*k & 63);
+        if (bits == 0) {
+            *k = (*k | 63) + 1;
+            continue;
+        }
+        *k += __builtin_ctzll(bits);
+        if (*k < k_hi) {
+            rk[cnt++] = (*k)++;
+        }
+    }
+    return cnt;
+}
+
 /* Finish the rejected variates k of a batch (pairs from p): rk[i] their output positions. */
 static void finish(const struct prep *prep, int per, uint32_t p, int cnt, const int *rk,
                    const uint64_t *w, double *z)
@@ -962,20 +982,7 @@ void gr_noise_normals(uint64_t seed, uint32_t stream, uint64_t step, uint32_t fi
         double *zb = whole ? out + (id - first) * (uint64_t)per : z;
         memset(bad, 0, sizeof bad);
         kern.batch(prep, per, p, m, w, zb, bad);
-        int cnt = 0;
-        for (int i = k_lo >> 6; i <= (k_hi - 1) >> 6; i++) {
-            for (uint64_t bits = bad[i]; bits != 0; bits &= bits - 1) {
-                int k = 64 * i + __builtin_ctzll(bits);
-                if (k >= k_lo && k < k_hi) {
-                    rk[cnt++] = k;
-                    if (cnt == RETRIES) {
-                        finish(prep, per, p, cnt, rk, w, zb);
-                        cnt = 0;
-                    }
-                }
-            }
-        }
-        if (cnt > 0) {
+        for (int k = k_lo, cnt; (cnt = collect_bad(bad, &k, k_hi, rk)) > 0;) {
             finish(prep, per, p, cnt, rk, w, zb);
         }
         if (zb == z) {
@@ -1007,4 +1014,310 @@ double gr_noise_uniform(uint64_t seed, uint32_t stream, uint64_t a, uint64_t b)
     philox4x32_ctr_t ctr = {{(uint32_t)a, (uint32_t)(a >> 32), (uint32_t)b, (uint32_t)(b >> 32)}};
     philox4x32_ctr_t r = philox4x32(ctr, make_key(seed, stream, KIND_UNIFORM));
     return u53(r.v[0] | (uint64_t)r.v[1] << 32);
+}
+
+/* ---- Single-precision normals ([noise] precision = single) ----------------------------------- *
+ *
+ * Same key as the double normals (make_key(seed, stream, KIND_NORMAL)); counter (step low, step
+ * high, quad, F32_FLAG | c | lane << 1 | r << 3) for component c, retry r (0 = first draw). Bit 31
+ * of word 3 is never set by the double path (its word 3 is c | lane << 1 | r << 2 with r < 2^29),
+ * so the two paths never share a block. Each block gives four 32-bit words, one normal each:
+ * ids are taken in groups of 4 F32_QUADS, and id = F32_GROUP g + F32_QUADS l + j uses word l of
+ * quad F32_QUADS g + j. A word w gives layer i = w & 0xff, sign = bit 8 and the 23-bit uniform
+ * u = w >> 9; the fast path returns +-u (2^-23 zig_x[i]) in single precision when u < f32_kt[i]
+ * (the same exact test as the double path's, on the 2^-23 grid), about 98.8 % of words. The rest
+ * go through zig_slow32 (the double path's wedge and tail in double precision, rounded once to
+ * float at the end). Every value is a float widened to double and a pure function of (seed,
+ * stream, step, id, component), as for the double path; the AVX-512 kernel (f32_group_avx512)
+ * does integer arithmetic and one single-precision multiplication per word, as the portable loop
+ * (f32_group_c) does, so both give the same bits. */
+
+enum { F32_QUADS = 256, F32_GROUP = 4 * F32_QUADS };
+#define F32_FLAG 0x80000000u
+
+static float f32_xs[256];     /* 2^-23 zig_x[i], rounded to float */
+static uint32_t f32_kt[256];  /* ceil(2^23 zig_t[i]): u < kt exactly when u 2^-23 < zig_t[i] */
+static uint64_t f32_tab[256]; /* both: the bits of f32_xs[i] | f32_kt[i] << 32 */
+static once_flag f32_once = ONCE_FLAG_INIT;
+
+static inline float f32_fast(uint32_t w, int *ok)
+{
+    unsigned i = w & 0xffu;
+    uint32_t u = w >> 9;
+    *ok = u < f32_kt[i];
+    float x = (float)(int32_t)u * f32_xs[i];
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    b ^= (w << 23) & 0x80000000u;
+    memcpy(&x, &b, sizeof x);
+    return x;
+}
+
+static inline uint32_t f32_w3(uint32_t c, uint32_t lane, uint32_t r)
+{
+    return F32_FLAG | c | lane << 1 | r << 3;
+}
+
+/* The remaining ziggurat steps for the word w (quad, lane, component c) that failed the fast test:
+ * as zig_slow, with the retry blocks' words 0-1 and 2-3 as the 64-bit a and b; (a, b) is retry
+ * block r = 1, further retries are drawn here. */
+static float zig_slow32(const struct gen *g, uint32_t quad, uint32_t lane, uint32_t c, uint32_t w,
+                        uint64_t a, uint64_t b)
+{
+    uint32_t r = 1;
+    for (;;) {
+        unsigned i = w & 0xffu;
+        double sign = (w & 0x100u) ? -1.0 : 1.0;
+        if (i == 0) {
+            for (;;) {
+                double t = -log(u53_open0(a)) / zig_r;
+                double e = -log(u53_open0(b));
+                if (e + e > t * t) {
+                    return (float)(sign * (zig_r + t));
+                }
+                block(g, quad, f32_w3(c, lane, ++r), &a, &b);
+            }
+        }
+        double x = (double)(w >> 9) * 0x1p-23 * zig_x[i];
+        if (zig_f[i] + u53(a) * (zig_f[i + 1] - zig_f[i]) < exp(-0.5 * x * x)) {
+            return (float)(sign * x);
+        }
+        w = (uint32_t)b;
+        int ok;
+        float y = f32_fast(w, &ok);
+        if (ok) {
+            return y;
+        }
+        block(g, quad, f32_w3(c, lane, ++r), &a, &b);
+    }
+}
+
+#define F32_ROUND(r)                                                                               \
+    do {                                                                                           \
+        uint64_t q0_ = (uint64_t)PHILOX_M4x32_0 * c0, q1_ = (uint64_t)PHILOX_M4x32_1 * c2;         \
+        c0 = (uint32_t)(q1_ >> 32) ^ c1 ^ ka[r];                                                   \
+        c1 = (uint32_t)q1_;                                                                        \
+        c2 = (uint32_t)(q0_ >> 32) ^ c3 ^ kb[r];                                                   \
+        c3 = (uint32_t)q0_;                                                                        \
+    } while (0)
+
+/* One group, component word w3: the first k_hi of its F32_GROUP fast-path candidates in id order
+ * into z (as doubles), bit k of bad[] (zeroed by the caller) set where zig_slow32 must finish
+ * candidate k; w keeps the words. Portable version; f32_group_avx512 gives the same bits. */
+static void f32_group_c(const uint32_t *restrict ka, const uint32_t *restrict kb, uint32_t s0,
+                        uint32_t s1, uint32_t quad0, uint32_t w3, uint32_t *restrict w,
+                        double *restrict z, uint64_t *restrict bad, int k_hi)
+{
+    for (int j = 0; j < F32_QUADS; j++) {
+        uint32_t c0 = s0, c1 = s1, c2 = quad0 + (uint32_t)j, c3 = w3;
+        for (int r = 0; r < 10; r++) {
+            F32_ROUND(r);
+        }
+        w[j] = c0;
+        w[F32_QUADS + j] = c1;
+        w[2 * F32_QUADS + j] = c2;
+        w[3 * F32_QUADS + j] = c3;
+    }
+    for (int k = 0; k < F32_GROUP; k++) {
+        int ok;
+        double x = f32_fast(w[k], &ok);
+        if (k < k_hi) {
+            z[k] = x;
+        }
+        bad[k >> 6] |= (uint64_t)!ok << (k & 63);
+    }
+}
+
+typedef void f32_group_fn(const uint32_t *restrict ka, const uint32_t *restrict kb, uint32_t s0,
+                          uint32_t s1, uint32_t quad0, uint32_t w3, uint32_t *restrict w,
+                          double *restrict z, uint64_t *restrict bad, int k_hi);
+static f32_group_fn *f32_group = f32_group_c;
+
+#if NOISE_X86
+/* The table entries of the words w[0..F32_GROUP), by scalar loads: on AMD Zen 4 vector gathers
+ * took 40 % of the group (as for the double path's zig_lookup). */
+__attribute__((noinline, optimize("no-tree-vectorize"))) static void f32_lookup(
+    const uint32_t *restrict w, uint64_t *restrict tab)
+{
+    for (int k = 0; k < F32_GROUP; k++) {
+        tab[k] = f32_tab[w[k] & 0xffu];
+    }
+}
+
+/* hi and lo halves of the 32x32-bit products a m, lane by lane, for 16 lanes */
+#define F32_MULHILO(a, m, hi, lo)                                                                  \
+    do {                                                                                           \
+        __m512i pe_ = _mm512_mul_epu32(a, m), po_ = _mm512_mul_epu32(_mm512_srli_epi64(a, 32), m); \
+        lo = _mm512_mask_blend_epi32(0xaaaa, pe_, _mm512_slli_epi64(po_, 32));                     \
+        hi = _mm512_mask_blend_epi32(0xaaaa, _mm512_srli_epi64(pe_, 32), po_);                     \
+    } while (0)
+
+AVX512 static void f32_group_avx512(const uint32_t *restrict ka, const uint32_t *restrict kb,
+                                    uint32_t s0, uint32_t s1, uint32_t quad0, uint32_t w3,
+                                    uint32_t *restrict w, double *restrict z,
+                                    uint64_t *restrict bad, int k_hi)
+{
+    const __m512i m0 = _mm512_set1_epi32((int)PHILOX_M4x32_0),
+                  m1 = _mm512_set1_epi32((int)PHILOX_M4x32_1),
+                  iota = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    for (int j = 0; j < F32_QUADS; j += 16) {
+        __m512i c0 = _mm512_set1_epi32((int)s0), c1 = _mm512_set1_epi32((int)s1),
+                c2 = _mm512_add_epi32(_mm512_set1_epi32((int)(quad0 + (uint32_t)j)), iota),
+                c3 = _mm512_set1_epi32((int)w3);
+        for (int r = 0; r < 10; r++) {
+            __m512i h0, l0, h1, l1;
+            F32_MULHILO(c0, m0, h0, l0);
+            F32_MULHILO(c2, m1, h1, l1);
+            c0 = _mm512_xor_si512(_mm512_xor_si512(h1, c1), _mm512_set1_epi32((int)ka[r]));
+            c1 = l1;
+            c2 = _mm512_xor_si512(_mm512_xor_si512(h0, c3), _mm512_set1_epi32((int)kb[r]));
+            c3 = l0;
+        }
+        _mm512_store_si512(w + j, c0);
+        _mm512_store_si512(w + F32_QUADS + j, c1);
+        _mm512_store_si512(w + 2 * F32_QUADS + j, c2);
+        _mm512_store_si512(w + 3 * F32_QUADS + j, c3);
+    }
+    _Alignas(64) uint64_t tab[F32_GROUP];
+    f32_lookup(w, tab);
+    const __m512i signbit = _mm512_set1_epi32(INT32_MIN),
+                  even =
+                      _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30),
+                  odd =
+                      _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
+    for (int k = 0; k < F32_GROUP; k += 16) {
+        __m512i wv = _mm512_load_si512(w + k), u = _mm512_srli_epi32(wv, 9);
+        __m512i t0 = _mm512_load_si512(tab + k), t1 = _mm512_load_si512(tab + k + 8);
+        __m512 xs = _mm512_castsi512_ps(_mm512_permutex2var_epi32(t0, even, t1));
+        __m512i kt = _mm512_permutex2var_epi32(t0, odd, t1);
+        __m512 x = _mm512_mul_ps(_mm512_cvtepi32_ps(u), xs);
+        x = _mm512_castsi512_ps(_mm512_xor_si512(
+            _mm512_castps_si512(x), _mm512_and_si512(_mm512_slli_epi32(wv, 23), signbit)));
+        const __m512d x0 = _mm512_cvtps_pd(_mm512_castps512_ps256(x)),
+                      x1 = _mm512_cvtps_pd(
+                          _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(x), 1)));
+        if (k + 16 <= k_hi) {
+            _mm512_storeu_pd(z + k, x0);
+            _mm512_storeu_pd(z + k + 8, x1);
+        } else if (k < k_hi) { /* the last, partial vector */
+            const int left = k_hi - k;
+            _mm512_mask_storeu_pd(z + k, (__mmask8)(left >= 8 ? 0xff : (1u << left) - 1), x0);
+            _mm512_mask_storeu_pd(z + k + 8,
+                                  (__mmask8)(left >= 16  ? 0xff
+                                             : left <= 8 ? 0
+                                                         : (1u << (left - 8)) - 1),
+                                  x1);
+        }
+        bad[k >> 6] |= (uint64_t)_mm512_cmpge_epu32_mask(u, kt) << (k & 63);
+    }
+}
+#endif
+
+static void f32_init(void)
+{
+    for (int i = 0; i < 256; i++) {
+        f32_xs[i] = (float)(zig_x[i] * 0x1p-23);
+        f32_kt[i] = (uint32_t)ceil(zig_t[i] * 0x1p23);
+        uint32_t xb;
+        memcpy(&xb, &f32_xs[i], sizeof xb);
+        f32_tab[i] = xb | (uint64_t)f32_kt[i] << 32;
+    }
+#if NOISE_X86
+    __builtin_cpu_init();
+    /* a cap below avx512 (scalar, sse2, avx2; as for the double path) selects the portable loop */
+    const char *cap = getenv("GRANULE_NOISE_ISA");
+    const bool capped = cap != NULL && (strcmp(cap, "scalar") == 0 || strcmp(cap, "sse2") == 0 ||
+                                        strcmp(cap, "avx2") == 0);
+    if (__builtin_cpu_supports("avx512f") && !capped) {
+        f32_group = f32_group_avx512;
+    }
+#endif
+}
+
+/* Finish the rejected candidates rk[0..cnt) of a group (component c): their first retry blocks
+ * through the vector retry kernel, the rest in zig_slow32. */
+static void f32_finish(const struct prep *prep, uint32_t c, uint32_t quad0, int cnt, const int *rk,
+                       const uint32_t *w, double *z)
+{
+    _Alignas(64) uint64_t quad[RETRIES], w3[RETRIES], a[RETRIES], b[RETRIES];
+    for (int i = 0; i < cnt; i++) {
+        quad[i] = quad0 + (uint32_t)(rk[i] % F32_QUADS);
+        w3[i] = f32_w3(c, (uint32_t)(rk[i] / F32_QUADS), 1);
+    }
+    for (int i = cnt; i < RETRIES; i++) { /* the vector kernels run over whole vectors */
+        quad[i] = w3[i] = 0;
+    }
+    kern.retry(prep, cnt, quad, w3, a, b);
+    for (int i = 0; i < cnt; i++) {
+        z[rk[i]] = zig_slow32(&prep->g, (uint32_t)quad[i], (uint32_t)(rk[i] / F32_QUADS), c,
+                              w[rk[i]], a[i], b[i]);
+    }
+}
+
+void gr_noise_normals_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_t first, int n,
+                          int per, double *out)
+{
+    assert(per == 1 || per == 2);
+    assert(n <= 0 || (uint64_t)first + (uint64_t)n - 1 <= UINT32_MAX);
+    if (n <= 0 || (per != 1 && per != 2)) {
+        return;
+    }
+    call_once(&f32_once, f32_init);
+    struct gen g = make_gen(seed, stream, step);
+    uint32_t ka[10], kb[10], a = g.key.v[0], b = g.key.v[1];
+    for (int r = 0; r < 10; r++) {
+        ka[r] = a;
+        kb[r] = b;
+        a += PHILOX_W32_0;
+        b += PHILOX_W32_1;
+    }
+    _Alignas(64) uint32_t w[F32_GROUP];
+    _Alignas(64) double z[F32_GROUP];
+    uint64_t bad[F32_GROUP / 64];
+    int rk[RETRIES];
+    struct prep prep; /* for kern.retry, which uses only its key and step */
+    call_once(&kern_once, pick_kernels);
+    prepare(&g, 0, &prep);
+    const uint64_t end = (uint64_t)first + (uint64_t)n;
+    for (uint64_t g0 = (uint64_t)first / F32_GROUP * F32_GROUP; g0 < end; g0 += F32_GROUP) {
+        const uint64_t lo = g0 > first ? g0 : first,
+                       hi = g0 + F32_GROUP < end ? g0 + F32_GROUP : end;
+        const uint32_t quad0 = (uint32_t)(g0 / F32_GROUP * F32_QUADS);
+        const int k_lo = (int)(lo - g0), k_hi = (int)(hi - g0);
+        /* one component from the start of the group goes straight into out */
+        const int whole = per == 1 && k_lo == 0;
+        for (int c = 0; c < per; c++) {
+            double *zb = whole ? out + (g0 - first) : z;
+            memset(bad, 0, sizeof bad);
+            f32_group(ka, kb, g.s0, g.s1, quad0, F32_FLAG | (uint32_t)c, w, zb, bad, k_hi);
+            for (int k = k_lo, cnt; (cnt = collect_bad(bad, &k, k_hi, rk)) > 0;) {
+                f32_finish(&prep, (uint32_t)c, quad0, cnt, rk, w, zb);
+            }
+            if (!whole) {
+                for (int k = k_lo; k < k_hi; k++) {
+                    out[(g0 + (uint64_t)k - first) * (uint64_t)per + (uint64_t)c] = z[k];
+                }
+            }
+        }
+    }
+}
+
+double gr_noise_normal1_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_t id,
+                            int component)
+{
+    assert(component == 0 || component == 1);
+    call_once(&f32_once, f32_init);
+    struct gen g = make_gen(seed, stream, step);
+    const uint32_t k = id % F32_GROUP, quad = id / F32_GROUP * F32_QUADS + k % F32_QUADS,
+                   lane = k / F32_QUADS, c = (uint32_t)component & 1u;
+    philox4x32_ctr_t ctr = {{g.s0, g.s1, quad, F32_FLAG | c}};
+    philox4x32_ctr_t r = philox4x32(ctr, g.key);
+    int ok;
+    float x = f32_fast(r.v[lane], &ok);
+    if (ok) {
+        return x;
+    }
+    uint64_t a, b;
+    block(&g, quad, f32_w3(c, lane, 1), &a, &b);
+    return zig_slow32(&g, quad, lane, c, r.v[lane], a, b);
 }

@@ -85,6 +85,8 @@ cJSON *gr_scene_to_json(const gr_scene *s)
     cJSON *nz = cJSON_AddObjectToObject(root, "noise");
     cJSON_AddNumberToObject(nz, "D", s->D);
     cJSON_AddStringToObject(nz, "mode", gr_noise_mode_name(s->noise_mode));
+    cJSON_AddStringToObject(nz, "precision",
+                            s->noise_precision == GR_NOISE_SINGLE ? "single" : "double");
     if (s->noise_mode == GR_NOISE_COM) {
         cJSON_AddNumberToObject(nz, "com_interval", s->com_interval);
     }
@@ -121,7 +123,10 @@ cJSON *gr_scene_to_json(const gr_scene *s)
 uint64_t gr_scene_hash(const gr_scene *s)
 {
     cJSON *j = gr_scene_to_json(s);
-    cJSON_DeleteItemFromObject(j, "output"); /* where results go does not change the physics */
+    cJSON_DeleteItemFromObject(j, "output");     /* where results go does not change the physics */
+    if (s->noise_precision == GR_NOISE_DOUBLE) { /* the default: hashes of double runs unchanged */
+        cJSON_DeleteItemFromObject(cJSON_GetObjectItem(j, "noise"), "precision");
+    }
     char *text = cJSON_PrintUnformatted(j);
     uint64_t h = 1469598103934665603ull; /* FNV-1a */
     for (const char *c = text; c && *c; c++) {

@@ -22,6 +22,7 @@ void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p)
                          .D = s->D,
                          .noise_mode = s->noise_mode,
                          .com_interval = s->com_interval,
+                         .noise_precision = s->noise_precision,
                          .driving = s->driving,
                          .driving_params = s->driving_params,
                          .walls = {s->boundary[0] != 0, s->boundary[1] != 0},

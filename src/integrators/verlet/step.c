@@ -189,8 +189,10 @@ enum { B_NOISE0 = 6, B_NOISE1 = 7 };
 static inline void draw_block(gr_sim *s, const int b, const int bs, const int sym)
 {
     const int n = s->n, dim = s->dim, lo = b * bs, m = (b + 1) * bs < n ? bs : n - lo;
-    gr_noise_normals(s->params.seed, GR_STREAM_NOISE, (uint64_t)s->step, (uint32_t)lo, m, dim,
-                     s->noise + (size_t)lo * dim);
+    /* [noise] precision: one branch per block of particles, not per particle */
+    (s->params.noise_precision == GR_NOISE_SINGLE ? gr_noise_normals_f32 : gr_noise_normals)(
+        s->params.seed, GR_STREAM_NOISE, (uint64_t)s->step, (uint32_t)lo, m, dim,
+        s->noise + (size_t)lo * dim);
     if (sym) {
         noise_sums(s->noise + (size_t)lo * dim, m * dim, dim,
                    s->blk + (size_t)b * GR_BLK_FIELDS + B_NOISE0);

@@ -7,6 +7,7 @@ const gr_integrator_type gr_integrator_verlet = {
     .contact_history = true,
     .drag = true,
     .walls = true,
+    .single_noise = true,
     .summary = "soft-sphere velocity Verlet (docs/integrator.md)",
     .step = gr_verlet_step,
 };
