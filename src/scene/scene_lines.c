@@ -169,6 +169,9 @@ int gr_line_parse(gr_line_reader *r,
 bool gr_linked_key_names(const char *linked, const char *key)
 {
     const size_t n = strlen(key);
+    if (n == 0) {
+        return false; /* an empty name is no key (strstr would find it everywhere, forever) */
+    }
     for (const char *p = linked; (p = strstr(p, key)) != NULL; p += n) {
         if ((p == linked || p[-1] == '+') && (p[n] == '\0' || p[n] == '+')) {
             return true;
