@@ -58,7 +58,7 @@ for ((r = 1; r <= rounds; r++)); do
         tag=${ob%%:*}
         b=${ob#*:}
         "$b/bench/bench_noise" "${noise_args[@]}" | awk -v t="$tag" -v r="$r" \
-            '/^gr_noise_normals/ && (($2 == "per=1" && $3 == "n=1000") || ($2 == "per=2" && $3 == "n=12000")) {
+            '$1 == "gr_noise_normals" && (($2 == "per=1" && $3 == "n=1000") || ($2 == "per=2" && $3 == "n=12000")) {
                  print r, ($2 == "per=1" ? "1d" : "2d"), t, $7 }' >>"$tmp/noise"
     done
 done

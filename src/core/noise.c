@@ -982,7 +982,21 @@ void gr_noise_normals(uint64_t seed, uint32_t stream, uint64_t step, uint32_t fi
         double *zb = whole ? out + (id - first) * (uint64_t)per : z;
         memset(bad, 0, sizeof bad);
         kern.batch(prep, per, p, m, w, zb, bad);
-        for (int k = k_lo, cnt; (cnt = collect_bad(bad, &k, k_hi, rk)) > 0;) {
+        /* the retries in increasing order, RETRIES at a time (the hot path: a plain bit loop) */
+        int cnt = 0;
+        for (int i = k_lo >> 6; i <= (k_hi - 1) >> 6; i++) {
+            for (uint64_t bits = bad[i]; bits != 0; bits &= bits - 1) {
+                const int k = 64 * i + __builtin_ctzll(bits);
+                if (k >= k_lo && k < k_hi) {
+                    rk[cnt++] = k;
+                    if (cnt == RETRIES) {
+                        finish(prep, per, p, cnt, rk, w, zb);
+                        cnt = 0;
+                    }
+                }
+            }
+        }
+        if (cnt > 0) {
             finish(prep, per, p, cnt, rk, w, zb);
         }
         if (zb == z) {
