@@ -243,8 +243,10 @@ static int list_cells(gr_sim *s, const int T, int64_t *count, gr_error *err)
             }
         } /* implied barrier: the list has room for every buffer */
         for (int t = GR_THREAD_ID; t < T && !failed; t += GR_THREAD_COUNT) {
-            memcpy(s->nl_j + off[t], buf[t].j, sizeof(int) * (size_t)buf[t].count);
-            memcpy(s->nl_contact + off[t], buf[t].c, (size_t)buf[t].count);
+            if (buf[t].count > 0) { /* a thread's rows may hold no pair (an empty buffer is NULL) */
+                memcpy(s->nl_j + off[t], buf[t].j, sizeof(int) * (size_t)buf[t].count);
+                memcpy(s->nl_contact + off[t], buf[t].c, (size_t)buf[t].count);
+            }
             for (int i = split[t]; i < split[t + 1]; i++) {
                 s->nl_start[i] += (int)off[t];
             }
