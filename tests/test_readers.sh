@@ -184,6 +184,9 @@ csv)
     # a Langevin bath adds the ledger's dissipated_drag column (docs/systems-driving.md)
     "$G" run "$SRC/docs/scenes/langevin-gas.ini" --out run2 --set system.N=200 --set system.L=0.06 \
         --set run.warmup=0 --set run.duration=0.004 --set run.sample_every=0.002 --set output.plots=false --quiet
+    # gravity adds the ledger's potential column (docs/systems-walls-gravity.md)
+    "$G" run "$SRC/docs/scenes/gravity-bed.ini" --out run3 --set run.warmup=0 --set run.duration=0.004 \
+        --set run.sample_every=0.002 --set output.plots=false --quiet
     "$G" analyse run --set analysis.observables=pv,moments,sk,pair >/dev/null 2>&1
     "$G" compare "$SRC/docs/scenes/rfm-2d.ini" --models spring_dashpot+tangential_dashpot,spring_dashpot --out cmp \
         "${small2d[@]:0:${#small2d[@]}-1}" --set analysis.observables=pv >/dev/null
@@ -206,7 +209,7 @@ EOF
 import glob, json, os, warnings
 import numpy as np, pandas as pd
 warnings.simplefilter("ignore")
-files = sorted(glob.glob("run/*.csv") + glob.glob("run/analysis/*.csv") + glob.glob("run1/*.csv") + glob.glob("run2/*.csv") + glob.glob("cmp/*.csv")
+files = sorted(glob.glob("run/*.csv") + glob.glob("run/analysis/*.csv") + glob.glob("run1/*.csv") + glob.glob("run2/*.csv") + glob.glob("run3/*.csv") + glob.glob("cmp/*.csv")
                + glob.glob("cmp/*/*.csv") + glob.glob("sweep/*.csv") + glob.glob("sweep/*/*.csv"))
 assert len(files) > 60, files
 units_seen = set()
@@ -241,6 +244,9 @@ assert list(pc.columns) == ["model", "v_over_vrms", "P_scaled"] and pc["model"].
 lg = pd.read_csv("run2/ledger.csv")
 assert lg.columns[-1] == "dissipated_drag" and (lg["dissipated_drag"].iloc[1:] > 0).all(), list(lg.columns)
 assert json.load(open("run2/ledger.meta.json"))["units"]["dissipated_drag"] == "J"
+lp = pd.read_csv("run3/ledger.csv")
+assert lp.columns[-1] == "potential" and (lp["potential"] > 0).all(), list(lp.columns)
+assert json.load(open("run3/ledger.meta.json"))["units"]["potential"] == "J"
 t = pd.read_csv("run/temperature.csv")
 assert list(t.columns) == ["t", "T", "running_mean", "phase"] and len(t) == 9
 assert list(t["phase"].unique()) == ["warmup", "sampling"], t["phase"].unique()  # the docs' words
