@@ -695,8 +695,85 @@ static void report_2d(gr_sim *s, gr_force_report *r, const int hist)
     r->worst_j = wj;
 }
 
+enum { RING_LANES = 8 }; /* partial sums of the 1D ring loop */
+
+/* sum of a[0..n) in RING_LANES lanes (element i in lane i % RING_LANES), lanes added in order */
+static double ring_sum(const double *restrict a, const int n)
+{
+    double acc[RING_LANES] = {0};
+    const int full = n / RING_LANES * RING_LANES;
+    for (int i0 = 0; i0 < full; i0 += RING_LANES) {
+        for (int l = 0; l < RING_LANES; l++) {
+            acc[l] += a[i0 + l];
+        }
+    }
+    for (int i = full; i < n; i++) {
+        acc[i - full] += a[i];
+    }
+    double t = 0.0;
+    for (int l = 0; l < RING_LANES; l++) {
+        t += acc[l];
+    }
+    return t;
+}
+
+/* The first index of the largest of a[0..n) if it is > 0, else -1; a >= +0.0 and never NaN, so
+ * the bit patterns as integers order as the values do, and the two integer reductions vectorise
+ * (a floating-point max would need -ffinite-math-only). */
+static int ring_deepest(const double *restrict a, const int n)
+{
+    int64_t top = 0;
+    for (int i = 0; i < n; i++) {
+        int64_t b;
+        memcpy(&b, a + i, sizeof b);
+        top = b > top ? b : top;
+    }
+    if (top == 0) {
+        return -1;
+    }
+    int first = n;
+    for (int i = 0; i < n; i++) {
+        int64_t b;
+        memcpy(&b, a + i, sizeof b);
+        const int k = b == top ? i : n;
+        first = k < first ? k : first;
+    }
+    return first;
+}
+
+/* The pairs i in [lo, hi) of the ring loop below: pair i joins (xl[i], vl[i]) to (xr[i], vr[i]) on
+ * its right. Its own function with restrict parameters: that is what lets GCC vectorise it. */
+static inline __attribute__((always_inline)) void ring_pairs(
+    const int lo, const int hi, const double d, const int nl, const gr_contact_coeffs *restrict cc,
+    const int clamp, const double *restrict xr, const double *restrict xl,
+    const double *restrict vr, const double *restrict vl, double *restrict f, double *restrict fnc,
+    double *restrict e, double *restrict p, double *restrict ovc)
+{
+    for (int i = lo; i < hi; i++) {
+        const double gap = xr[i] - xl[i], g_n = vr[i] - vl[i], ov = d - gap;
+        const gr_normal_force fn = normal_law(nl, cc, ov, g_n, clamp);
+        const double pw = fn.f_d * g_n;
+        f[i] = gap < d ? fn.f : 0.0;
+        fnc[i] = gap < d ? fn.f_d : 0.0;
+        e[i] = gap < d ? fn.e : 0.0;
+        p[i] = gap < d ? pw : 0.0;
+        ovc[i] = gap < d ? ov : 0.0;
+    }
+}
+
 /* 1D ring: particle i touches only i+1 (mod n); positions are kept unwrapped and ordered, so the
- * gap of the last pair is x_0 + L - x_{n-1}. */
+ * gap of the last pair is x_0 + L - x_{n-1}.
+ *
+ * Plain loops without a data-dependent branch, so that each vectorises: the first writes the
+ * force of pair (i, i+1) on i+1 into f[i] (its dashpot part into fnc[i]) and the pair's elastic
+ * energy, dissipation rate and overlap into scratch arrays, all zero for a pair apart; the second
+ * turns pair forces into particle forces in place, f_i = P_{i-1} - P_i, from the right so that
+ * P_{i-1} is still there; the contact flags, the ledger's sums and the deepest overlap follow. A
+ * contact's place on the ring is random, so the one-pass loop with a branch per pair that this
+ * replaced spent much of its time in mispredicted branches (docs/performance.md, "The 1D ring").
+ * Forces, flags and the deepest overlap are bit-identical to that loop; the elastic energy and the
+ * dissipation rate are summed in RING_LANES lanes (the same on every machine) instead of in ring
+ * order, so they may differ from it in the last bits. */
 static inline __attribute__((always_inline)) void pair_loop_1d(gr_sim *restrict s,
                                                                gr_force_report *restrict r,
                                                                const int nl, const int clamp)
@@ -706,55 +783,41 @@ static inline __attribute__((always_inline)) void pair_loop_1d(gr_sim *restrict 
     const gr_contact_coeffs cc = s->cc;
     const double *restrict x = s->x, *restrict v = s->vx;
     double *restrict f = s->fx, *restrict fnc = s->gx;
+    double *restrict e = s->ring_scratch, *restrict p = e + n, *restrict ovc = p + n;
     uint8_t *restrict touching = s->pair_contact;
-    double elastic = 0.0, pn = 0.0, worst = 0.0;
-    int64_t fresh = 0;
-    int wi = -1;
     if (n < 2) {
         f[0] = fnc[0] = 0.0;
         *r = (gr_force_report){.worst_i = -1, .worst_j = -1};
         return;
     }
-    /* f_i = P_{i-1} - P_i with P_i the force of pair (i, i+1) on i+1: one forward pass carrying
-     * P_{i-1}, no zeroing and no scatter */
-    double carry = 0.0, carry_d = 0.0;
-    for (int i = 0; i < n; i++) {
-        const int j = i + 1 < n ? i + 1 : 0;
-        const double gap = i + 1 < n ? x[j] - x[i] : x[0] + L - x[i];
-        double f_n = 0.0, f_d = 0.0;
-        if (gap < d) {
-            fresh += !touching[i];
-            touching[i] = 1;
-            const double ov = d - gap;
-            const double g_n = v[j] - v[i];
-            const gr_normal_force fn = normal_law(nl, &cc, ov, g_n, clamp);
-            f_n = fn.f;
-            f_d = fn.f_d;
-            elastic += fn.e;
-            pn -= f_d * g_n;
-            if (ov > worst) {
-                worst = ov;
-                wi = i;
-            }
-        } else {
-            touching[i] = 0;
-        }
-        f[i] = carry - f_n;
-        fnc[i] = carry_d - f_d;
-        carry = f_n;
-        carry_d = f_d;
+    const int m = n - 1; /* pairs (i, i+1) for i < m, then the wrap pair (m, 0) */
+    ring_pairs(0, m, d, nl, &cc, clamp, x + 1, x, v + 1, v, f, fnc, e, p, ovc);
+    const double xw = x[0] + L, vw = v[0];
+    ring_pairs(0, 1, d, nl, &cc, clamp, &xw, x + m, &vw, v + m, f + m, fnc + m, e + m, p + m,
+               ovc + m);
+    int64_t fresh = 0;
+    for (int i = 0; i < n; i++) { /* ov > 0 exactly when gap < d */
+        const uint8_t now = ovc[i] > 0.0;
+        fresh += now > touching[i];
+        touching[i] = now;
     }
-    f[0] += carry; /* the wrap pair (n-1, 0) pushes particle 0 */
-    fnc[0] += carry_d;
-    r->elastic = cc.e_scale * elastic;
-    r->power_normal = pn;
+    const double wrap = f[m], wrap_d = fnc[m];
+    for (int i = m; i > 0; i--) {
+        f[i] = f[i - 1] - f[i];
+        fnc[i] = fnc[i - 1] - fnc[i];
+    }
+    f[0] = (0.0 - f[0]) + wrap; /* the wrap pair pushes particle 0 */
+    fnc[0] = (0.0 - fnc[0]) + wrap_d;
+    const int w = ring_deepest(ovc, n);
+    r->elastic = cc.e_scale * ring_sum(e, n);
+    r->power_normal = -ring_sum(p, n);
     r->power_tangential = 0.0;
     r->power_friction = 0.0;
     r->lost = 0.0;
     r->new_contacts = fresh;
-    r->max_overlap = worst / d;
-    r->worst_i = wi;
-    r->worst_j = wi >= 0 ? (wi + 1) % n : -1;
+    r->max_overlap = w >= 0 ? ovc[w] / d : 0.0;
+    r->worst_i = w;
+    r->worst_j = w >= 0 ? (w + 1) % n : -1;
 }
 
 /* The instances. The hot combinations, one line each (dim, normal, tangential, clamp, rotation,

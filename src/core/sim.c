@@ -89,6 +89,7 @@ void gr_sim_free(gr_sim *s)
     free(s->hist_j);
     free(s->hist_v);
     free(s->pair_contact);
+    free(s->ring_scratch);
     free(s->contacts);
     free(s->contacts_now);
     free(s->events);
@@ -232,9 +233,11 @@ static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *er
         s->gy = alloc_array(n);
     } else {
         s->pair_contact = calloc((size_t)n + 1, 1);
+        s->ring_scratch = alloc_array(3 * n);
     }
     if (!s->x || !s->vx || !s->fx || !s->gx || !s->noise || !s->blk ||
-        (s->dim == 2 ? (!s->y || !s->vy || !s->fy || !s->gy) : !s->pair_contact)) {
+        (s->dim == 2 ? (!s->y || !s->vy || !s->fy || !s->gy)
+                     : !s->pair_contact || !s->ring_scratch)) {
         gr_sim_free(s);
         return GR_FAIL(err, GR_ENOMEM, "out of memory for %d particles", n);
     }

@@ -67,8 +67,9 @@ struct gr_sim {
     uint8_t *nl_contact; /* pair was in contact at the last force evaluation */
     int64_t nl_cap;
 
-    /* 1D: pair (i, i+1 mod n) contact flags */
+    /* 1D: pair (i, i+1 mod n) contact flags; the ring loop's per-pair scratch (3 n doubles) */
     uint8_t *pair_contact;
+    double *ring_scratch;
 
     /* contact events (only when tracked) */
     uint16_t *contacts; /* contacts of each particle at the last force evaluation */
