@@ -15,7 +15,7 @@
 #include "obs_harness.h"
 #include "check_main.h"
 
-extern const gr_observable_type gr_obs_clusters, gr_obs_pressure, gr_obs_vcorr;
+extern const gr_observable_type gr_obs_clusters, gr_obs_pressure, gr_obs_vcorr, gr_obs_profile;
 
 static const cJSON *kind(const cJSON *j, const char *k)
 {
@@ -306,6 +306,70 @@ START_TEST(test_vcorr_pair)
 }
 END_TEST
 
+/* profile: two frames of three particles in four slabs along y, every number by hand (the CSV
+ * holds 8 significant digits); and in 1D an unwrapped position counted in the slab of its image
+ * in [0, L). */
+START_TEST(test_profile_by_hand)
+{
+    gr_scene sc;
+    gr_error err = {0};
+    h_scene(&sc, 2, 3, 2.0, 0.01);
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "profile_bins", 4, &err), GR_OK);
+    void *st = h_create(&gr_obs_profile, &sc);
+    const double x[3] = {0.3, 1.1, 1.9};
+    const double y1[3] = {0.1, 0.2, 1.2}, vx1[3] = {1.0, 3.0, -2.0}, vy1[3] = {0.5, 0.5, 0.0};
+    const double y2[3] = {0.3, 1.1, 1.4}, vx2[3] = {2.0, 4.0, 6.0}, vy2[3] = {0.0, 1.0, -1.0};
+    h_sample(&gr_obs_profile, st, &sc, x, y1, vx1, vy1, 0.0);
+    h_sample(&gr_obs_profile, st, &sc, x, y2, vx2, vy2, 1.0);
+    h_table tab;
+    cJSON *j = h_finish(&gr_obs_profile, st, &sc, "profile.csv", &tab);
+    ck_assert_int_eq(tab.rows, 4);
+    ck_assert_int_eq(tab.cols, 11);
+    /* slab 0 (y in [0, 0.5)): counts 2 and 1, so <c> = 1.5 and n = 1.5 / (0.5 * 2) */
+    ck_assert_double_eq_tol(h_at(&tab, 0, 0), 0.25, 1e-12);
+    ck_assert_double_eq_tol(h_at(&tab, 0, 1), 1.5, 1e-12);
+    ck_assert_double_eq_tol(h_at(&tab, 0, 3), 1.5 * M_PI * 1e-4, 1e-10); /* %.8g */
+    /* u_x = (1 + 3 + 2) / 3 = 2; T_x = (1 + 9 + 4) / 3 - 4 = 2/3; u_y = 1/3, T_y = 0.5/3 - 1/9 */
+    ck_assert_double_eq_tol(h_at(&tab, 0, 5), 2.0, 1e-7);
+    ck_assert_double_eq_tol(h_at(&tab, 0, 7), 2.0 / 3.0, 1e-7);
+    ck_assert_double_eq_tol(h_at(&tab, 0, 6), 1.0 / 3.0, 1e-7);
+    ck_assert_double_eq_tol(h_at(&tab, 0, 9), 0.5 / 3.0 - 1.0 / 9.0, 1e-7);
+    /* slab 1 (y in [0.5, 1)) is empty: n = 0, no velocity */
+    ck_assert_double_eq(h_at(&tab, 1, 1), 0.0);
+    ck_assert(isnan(h_at(&tab, 1, 5)));
+    /* slab 2 (y in [1, 1.5)): 1 and 2 particles, u_x = (-2 + 4 + 6) / 3, T_x = (4 + 16 + 36) / 3 - u^2 */
+    ck_assert_double_eq_tol(h_at(&tab, 2, 1), 1.5, 1e-12);
+    ck_assert_double_eq_tol(h_at(&tab, 2, 5), 8.0 / 3.0, 1e-7);
+    ck_assert_double_eq_tol(h_at(&tab, 2, 7), 56.0 / 3.0 - 64.0 / 9.0, 1e-6);
+    ck_assert_double_eq(h_at(&tab, 3, 1), 0.0);
+    const cJSON *p = cJSON_GetObjectItem(j, "profile");
+    ck_assert_str_eq(cJSON_GetObjectItem(p, "axis")->valuestring, "y");
+    ck_assert_double_eq_tol(h_num(p, "mean_position", NULL), (1.5 / 3.0 + 2.8 / 3.0) / 2.0, 1e-12);
+    h_done(&tab, j);
+
+    /* 1D: positions unwrapped; -0.25 counts at 0.75 of a ring of length 1 */
+    h_scene(&sc, 1, 2, 1.0, 0.01);
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "profile_bins", 2, &err), GR_OK);
+    st = h_create(&gr_obs_profile, &sc);
+    const double x1[2] = {-0.25, 1.2}, v1[2] = {1.0, -1.0};
+    h_sample(&gr_obs_profile, st, &sc, x1, NULL, v1, NULL, 0.0);
+    j = h_finish(&gr_obs_profile, st, &sc, "profile.csv", &tab);
+    ck_assert_int_eq(tab.rows, 2);
+    ck_assert_double_eq_tol(h_at(&tab, 0, 1), 1.0 / 0.5, 1e-12); /* 1.2 -> 0.2 */
+    ck_assert_double_eq_tol(h_at(&tab, 1, 1), 1.0 / 0.5, 1e-12); /* -0.25 -> 0.75 */
+    ck_assert_double_eq_tol(h_at(&tab, 1, 5), 1.0, 1e-12);
+    ck_assert_double_eq_tol(h_at(&tab, 0, 3), 2.0 * 0.02, 1e-12); /* phi = n d */
+    h_done(&tab, j);
+
+    /* profile_axis = 1 (y) in 1D is refused, naming the key */
+    h_scene(&sc, 1, 2, 1.0, 0.01);
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "profile_axis", 1, &err), GR_OK);
+    void *bad = NULL;
+    ck_assert_int_ne(gr_scene_observable(&gr_obs_profile, &sc, &bad, &err), GR_OK);
+    ck_assert_ptr_nonnull(strstr(err.message, "profile_axis"));
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("obs_structure");
@@ -318,6 +382,7 @@ int main(void)
     tcase_add_test(t, test_pressure_overlap_1d);
     tcase_add_test(t, test_pressure_hertz_2d);
     tcase_add_test(t, test_pressure_hertz_1d);
+    tcase_add_test(t, test_profile_by_hand);
     tcase_add_test(t, test_vcorr_random);
     tcase_add_test(t, test_vcorr_pair);
     suite_add_tcase(s, t);

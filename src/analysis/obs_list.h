@@ -20,6 +20,7 @@
     X(clusters)                                                                                    \
     X(pressure)                                                                                    \
     X(collisions)                                                                                  \
+    X(profile)                                                                                     \
     /* a new observable: X(NAME) \ on the line above this one */
 
 #endif
