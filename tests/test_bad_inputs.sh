@@ -93,8 +93,8 @@ file:[system]\ndim = 2\nN = 50\n[model]\nnormal = hard_sphere\n[driving]\nkind =
 file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[placement]\nkind = uniform\n[integrator]\nkind = hybrid\n[driving]\nkind = langevin\ntau = 0.01\n | run $S --out $O | 2 | :10:;[driving] kind;langevin;hybrid;allowed with langevin: verlet | new
 file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[driving]\nkind = langevin\ntau = 0\n | run $S --out $O | 2 | :7:;[driving] tau;(0, inf) | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[gravity]\ngy = -9.81\n | run $S --out $O | 2 | :8:;[gravity] gy;[boundary] y = walls;allowed with y = periodic: gy = 0 | new
-file:[system]\ndim = 1\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\nx = walls\n[gravity]\ngx = -9.81\n[integrator]\nkind = hybrid\n | run $S --out $O | 2 | :12:;[integrator] kind;kind = hybrid;allowed with walls or gravity: verlet | new
-file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[model]\nnormal = hard_sphere\n[boundary]\ny = walls\n[integrator]\nkind = event\n | run $S --out $O | 2 | :12:;[integrator] kind;kind = event;allowed with walls or gravity: verlet | new
+file:[system]\ndim = 1\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\nx = walls\n[gravity]\ngx = -9.81\n[integrator]\nkind = hybrid\n | run $S --out $O | 2 | :12:;[integrator] kind;kind = hybrid;allowed with walls or gravity: verlet | event | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[model]\nnormal = hard_sphere\nrotation = true\n[boundary]\ny = walls\n[integrator]\nkind = event\n | run $S --out $O | 2 | :9:;[model] rotation;kind = event;fixed walls and smooth discs;rotation = false | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\ny = walls\n[gravity]\ngy = -2000\n | run $S --out $O | 2 | :10:;[gravity] gy;[-1000, 1000] | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[boundary]\ny = wall\n | run $S --out $O | 2 | :6:;[boundary] y;periodic|walls | new
 file:[system]\ndim = 1\nN = 1\nL = 0.04\n[boundary]\ny = walls\n | run $S --out $O | 2 | :6:;[boundary] y;dim = 2 | new

@@ -382,6 +382,13 @@ per=$(awk -v n="$steps" -v t="$durw" 'BEGIN { printf "%d", n / int((t + 0.002) /
 sigterm_case "walls+gravity" w sw.ini $((steps / 2)) 0.004 0.1
 tick=$(awk -v s="$steps" 'BEGIN { c = s / 640; if (c < 1) c = 1; printf "%.3g", 0.05 / (3 * c + 6) }')
 wall_case "walls+gravity" w sw.ini "$tick" 97 1.05 "$per"
+# the same bed of hard discs, event-driven: exact parabolas, wall hits (their count is in the
+# checkpoint only when the run has walls), exact free flight under the random force
+sed -e 's/^eps_n = 0.7/eps_n = 0.7\nnormal = hard_sphere\neps_t = 1/' -e 's/^\[run\]/[integrator]\nkind = event\n[run]/' sw.ini >swe.ini
+run "$G" run swe.ini --out refwe --quiet
+[[ $rc -eq 0 ]] || fail "event walls+gravity reference run exits $rc" "$err"
+steps=$(grep -o '"steps":[[:space:]]*[0-9]*' refwe/summary.json | grep -o '[0-9]*$' || echo 0)
+sigterm_case "event walls+gravity" we swe.ini $((steps / 2)) 0.004 0.1
 
 # ---------- refusals ----------
 # an interrupted run to corrupt (copied fresh for each case)

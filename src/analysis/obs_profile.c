@@ -34,7 +34,8 @@ static const gr_param params[] = {
      "axis of the profiles: 0 = x, 1 = y (2D only); -1 = the last axis (y in 2D, x in 1D)",
      offsetof(profile_params, profile_axis)},
     {"profile_bins", "", GR_PARAM_INT, 40, 1, 100000, false, false,
-     "slabs of equal width L / profile_bins along the axis", offsetof(profile_params, profile_bins)},
+     "slabs of equal width L / profile_bins along the axis",
+     offsetof(profile_params, profile_bins)},
 };
 
 /* per slab: count, then S1 and S2 of each component */
@@ -44,9 +45,9 @@ typedef struct profile {
     int n, dim, axis, bins;
     double L, radius, dz, slab; /* slab: dz L^(dim-1), the slab's area (2D) or length (1D) */
     int64_t frames;
-    double *c, *s1, *s2;      /* this frame's sums per slab: c[b], s1/s2[2 b + a] */
-    gr_blocking *b;           /* N_Q per slab: b[N_Q bin + q] */
-    gr_blocking height;       /* the mean position along the axis, per frame */
+    double *c, *s1, *s2; /* this frame's sums per slab: c[b], s1/s2[2 b + a] */
+    gr_blocking *b;      /* N_Q per slab: b[N_Q bin + q] */
+    gr_blocking height;  /* the mean position along the axis, per frame */
 } profile;
 
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
@@ -133,7 +134,8 @@ static slab slab_of(const profile *s, int k)
     slab o = {.n = c / s->slab, .n_err = c_err / s->slab};
     for (int a = 0; a < 2; a++) {
         if (c > 0.0) {
-            const double s2 = gr_blocking_mean(&b[Q_S2X + a]), s2_err = gr_obs_stderr(&b[Q_S2X + a]);
+            const double s2 = gr_blocking_mean(&b[Q_S2X + a]),
+                         s2_err = gr_obs_stderr(&b[Q_S2X + a]);
             o.u[a] = gr_blocking_mean(&b[Q_S1X + a]) / c;
             o.T[a] = s2 / c - o.u[a] * o.u[a];
             o.T_err[a] = hypot(s2_err / c, s2 * c_err / (c * c));
@@ -177,9 +179,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         top = fmax(top, packing(s, slab_of(s, k).n));
     }
     gr_obs_add_number(j, "max_packing_fraction", s->frames ? top : (double)NAN);
-    cJSON_AddStringToObject(j, "note",
-                            "centre-counted slabs; T_a = <sum v_a^2>/<c> - u_a^2 per slab (m^2/s^2, "
-                            "one component); errors: block averaging over frames");
+    cJSON_AddStringToObject(
+        j, "note",
+        "centre-counted slabs; T_a = <sum v_a^2>/<c> - u_a^2 per slab (m^2/s^2, "
+        "one component); errors: block averaging over frames");
     char plot[700];
     snprintf(plot, sizeof plot,
              "set multiplot layout 1,2\nset xlabel '%c (m)'\n"
@@ -187,8 +190,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
              "ps 0.5 title 'phi (centres)'\nset ylabel 'T per component (m^2/s^2)'\n"
              "plot 'profile.csv' using 1:8:9 with yerrorbars pt 7 ps 0.5 title 'T_x'%s\n"
              "unset multiplot",
-             axis,
-             s->dim == 2 ? ", '' using 1:10:11 with yerrorbars pt 5 ps 0.5 title 'T_y'" : "");
+             axis, s->dim == 2 ? ", '' using 1:10:11 with yerrorbars pt 5 ps 0.5 title 'T_y'" : "");
     const gr_obs_table t = {
         .name = "profile.csv",
         .what = "profiles along one axis: per slab (centre-counted), number density, packing "

@@ -79,7 +79,10 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
                        "amplitude = %g m, frequency = %g Hz",
                        p->source, p->vibrate, 0.25 * s->L, p->amplitude, p->frequency);
     }
-    if (!p->normal || !(p->normal->kind & GR_MODEL_NORMAL)) {
+    if (s->integrator->instantaneous) {
+        /* collisions with the walls are the integrator's own events (event_2d.c), placed as
+         * below; no force law and no neighbour list */
+    } else if (!p->normal || !(p->normal->kind & GR_MODEL_NORMAL)) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: [boundary] walls need a normal force law (spring_dashpot, hertz, ...); "
                        "given [model] normal = %s",
@@ -110,6 +113,9 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
             }
         }
         s->period[a] = INFINITY; /* the neighbour list does not wrap across the walls */
+    }
+    if (s->integrator->instantaneous) {
+        return GR_OK;
     }
     /* the same law against an infinite mass: reduced mass M instead of M / 2 */
     return gr_contact_prepare(p->normal, NULL, &p->contact, s->mass, s->dt, &s->wall_cc, err);

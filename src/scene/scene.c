@@ -1043,6 +1043,23 @@ static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
             s->integrator->name, sec, key, names, s->integrator->name);
         return fail_at(err, &w, "integrator", "kind", "%s", detail);
     }
+    if (s->integrator->instantaneous && (s->dim != 2 || s->vibrate || s->contact.rotation)) {
+        /* the event integrator's walls are fixed and flat, its grains smooth (event_2d.c) */
+        const char *bsec = s->dim != 2 ? "system" : s->vibrate ? "boundary" : "model";
+        const char *bkey = s->dim != 2 ? "dim" : s->vibrate ? "vibrate" : "rotation";
+        where w = where_of(g, s, bsec, bkey);
+        for (int k = 0; k < g->n_model_at; k++) { /* [model] keys live in the models' tables */
+            if (!strcmp(bsec, "model") && !strcmp(g->model_at[k].name, bkey)) {
+                w = g->model_at[k].at;
+            }
+        }
+        snprintf(detail, sizeof detail,
+                 "kind = %s models walls and gravity in 2D, with fixed walls and smooth discs; "
+                 "allowed with walls or gravity and kind = %s: dim = 2, [boundary] vibrate = none, "
+                 "[model] rotation = false (kind = verlet has the rest)",
+                 s->integrator->name, s->integrator->name);
+        return fail_at(err, &w, bsec, bkey, "%s", detail);
+    }
     if (s->tangential && a >= 0) {
         where w = where_of(g, s, "model", "tangential");
         snprintf(detail, sizeof detail,

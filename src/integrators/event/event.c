@@ -142,7 +142,8 @@ static void end_window(gr_sim *s)
         gr_ev_state_x(e, i, e->tau, 1, &x, &v);
         if (e->dim == 2) {
             gr_ev_state_y(e, i, e->tau, 1, &y, &w);
-            work += ke2(v, w) - ke2(e->bv[i], e->bw[i]);
+            work += ke2(v, w) - ke2(e->bv[i], e->bw[i]) -
+                    gr_ev_gravity_work(e, x - e->bx[i], y - e->by[i]);
             e->by[i] = y;
             e->bw[i] = w;
         } else {
@@ -188,7 +189,12 @@ static void draw_noise(gr_sim *s)
     const int n = e->n, dim = e->dim;
     double *a1[2] = {e->a1x, e->a1y}, *a2[2] = {e->a2x, e->a2y}, *j[2] = {e->jx, e->jy};
     if (!e->noise) {
-        return; /* stays zero */
+        for (int c = 0; c < dim; c++) { /* gravity alone (0 without it) */
+            for (int i = 0; i < n; i++) {
+                a1[c][i] = a2[c][i] = e->grav[c];
+            }
+        }
+        return;
     }
     const double D = s->params.D, M = e->M, tau = e->tau;
     double *g1 = e->g, *g2 = e->g + (size_t)n * dim;
@@ -220,6 +226,8 @@ static void draw_noise(gr_sim *s)
                 a1[c][i] = a2[c][i] = 0.0;
                 j[c][i] = dv;
             }
+            a1[c][i] += e->grav[c]; /* gravity: the same for all, so no pair sees it */
+            a2[c][i] += e->grav[c];
         }
     }
 }
@@ -467,7 +475,8 @@ static void report(gr_sim *s, double t)
             s->x[i] = x - e->L * floor(x / e->L);
             s->y[i] = y - e->L * floor(y / e->L);
             s->vy[i] = w;
-            work += ke2(v, w) - ke2(e->bv[i], e->bw[i]);
+            work += ke2(v, w) - ke2(e->bv[i], e->bw[i]) -
+                    gr_ev_gravity_work(e, x - e->bx[i], y - e->by[i]);
         } else {
             work += v * v - e->bv[i] * e->bv[i];
         }
@@ -559,6 +568,26 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->q = s->cc.q;
     e->R = 0.5 * s->d;
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
+    if (s->walls_on) { /* gr_walls_prepare checked the scene; what this integrator adds: */
+        const gr_sim_params *p = &s->params;
+        /* a wall is the mirror image of the grain (event_2d.c, wall_hit): exact for a rule whose
+         * eps_n does not depend on the impact speed (at a wall the speed and mass differ) */
+        const gr_model *nm = s->cc.normal_model;
+        const bool constant_eps =
+            nm && nm->impact && nm->impact(&s->cc, 1e-3).eps_n == nm->impact(&s->cc, 10.0).eps_n;
+        if (s->dim != 2 || p->vibrate || s->omega || !constant_eps) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [integrator] kind = event models flat, fixed walls and gravity in "
+                           "2D for smooth discs with a constant eps_n; allowed with walls or "
+                           "gravity: dim = 2, [boundary] vibrate = none, [model] rotation = false, "
+                           "viscoelastic = false (the verlet integrator has the rest)",
+                           p->source);
+        }
+        for (int a = 0; a < 2; a++) {
+            e->wall[a] = p->walls[a];
+            e->grav[a] = p->gravity[a];
+        }
+    }
     e->com_every = (int64_t)llround(s->params.com_interval / e->tau);
     e->com_every = e->com_every < 1 ? 1 : e->com_every;
     e->budget = 1000000 + 10 * (int64_t)n;
@@ -740,7 +769,9 @@ void gr_event_stats(const gr_sim *s, gr_event_counts *c)
                                .invalid = e->invalid,
                                .tc_elastic = e->tc_elastic,
                                .floors = e->floors,
-                               .floor_energy = e->floor_energy};
+                               .floor_energy = e->floor_energy,
+                               .walls = e->wall[0] || e->wall[1],
+                               .wall_hits = e->wall_hits};
     }
 }
 

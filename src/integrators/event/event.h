@@ -53,6 +53,8 @@ int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err);
 typedef struct gr_event_counts {
     int64_t collisions, crossings, kicks, invalid, tc_elastic, floors;
     double floor_energy; /* J added by the contact floor (part of the injected energy) */
+    bool walls;          /* the run has walls: wall_hits counts the grains' hits on them */
+    int64_t wall_hits;
 } gr_event_counts;
 void gr_event_stats(const gr_sim *s, gr_event_counts *c);
 /* The event calendar in use: "bucket", "sparse" or "full" (src/integrators/event/calendar.c). */

@@ -76,8 +76,8 @@ static inline void rel(const struct gr_event_state *e, int i, int j, double t, i
     gr_ev_state_y(e, j, t, phase, &yj, &uj);
     *rx = xj - xi;
     *ry = yj - yi;
-    *rx -= e->L * rint(*rx / e->L);
-    *ry -= e->L * rint(*ry / e->L);
+    *rx -= e->wall[0] ? 0.0 : e->L * rint(*rx / e->L); /* no image across walls */
+    *ry -= e->wall[1] ? 0.0 : e->L * rint(*ry / e->L);
     *wx = vj - vi;
     *wy = uj - ui;
 }
@@ -164,20 +164,75 @@ static double crossing_time(const struct gr_event_state *e, int i, int *face, in
     return GR_EV_INF;
 }
 
-/* The particle's crossing as its provisional event. */
+/* Walls: event "faces" WALL_FACE + k, k = 2 a + side (side 0: the wall at 0, 1: at L). */
+enum { WALL_FACE = 4 };
+
+/* Earliest hit of a wall: the centre reaching r from it while moving towards it, per piece of
+ * constant acceleration (a parabola under gravity: gr_ev_first_quadratic). */
+static double wall_time(const struct gr_event_state *e, int i, int *face, int *phase)
+{
+    const double r = 0.5 * e->d;
+    double t0 = e->now;
+    *phase = e->phase;
+    for (int piece = e->phase; piece < 2; piece++) {
+        const double T = (piece == 0 ? e->h : e->tau) - t0;
+        double best = GR_EV_INF;
+        for (int a = 0; a < 2; a++) {
+            if (!e->wall[a]) {
+                continue;
+            }
+            double q, v;
+            (a == 0 ? gr_ev_state_x : gr_ev_state_y)(e, i, t0, piece, &q, &v);
+            const double acc = a == 0 ? (piece == 0 ? e->a1x[i] : e->a2x[i])
+                                      : (piece == 0 ? e->a1y[i] : e->a2y[i]);
+            const double lo = gr_ev_first_quadratic(q - r, v, 0.5 * acc, T);
+            const double hi = gr_ev_first_quadratic(e->L - r - q, -v, -0.5 * acc, T);
+            if (lo < best) {
+                best = lo;
+                *face = WALL_FACE + 2 * a;
+            }
+            if (hi < best) {
+                best = hi;
+                *face = WALL_FACE + 2 * a + 1;
+            }
+        }
+        if (best < GR_EV_INF) {
+            *phase = piece;
+            return t0 + best;
+        }
+        t0 = e->h;
+    }
+    return GR_EV_INF;
+}
+
+/* The particle's own next event, a cell crossing or a wall, into best/who/phase. */
+static void own_event(const struct gr_event_state *e, int i, double *best, int *who, int *phase)
+{
+    int face = 0, ph;
+    if (e->ncell > 1) {
+        double t = crossing_time(e, i, &face, &ph);
+        if (t < *best) {
+            *best = t;
+            *who = -1 - face;
+            *phase = ph;
+        }
+    }
+    if (e->wall[0] || e->wall[1]) {
+        double t = wall_time(e, i, &face, &ph);
+        if (t < *best || (t == *best && ph < *phase)) {
+            *best = t;
+            *who = -1 - face;
+            *phase = ph;
+        }
+    }
+}
+
+/* The particle's crossing or wall hit as its provisional event. */
 static void predict_crossing(struct gr_event_state *e, int i)
 {
     double best = GR_EV_INF;
     int who = -1, best_phase = e->phase;
-    if (e->ncell > 1) {
-        int face, ph;
-        double t = crossing_time(e, i, &face, &ph);
-        if (t < best) {
-            best = t;
-            who = -1 - face;
-            best_phase = ph;
-        }
-    }
+    own_event(e, i, &best, &who, &best_phase);
     e->heap.t[i] = best;
     e->heap.ph[i] = (uint8_t)best_phase;
     e->partner[i] = who;
@@ -231,15 +286,7 @@ static void predict(struct gr_event_state *e, int i)
 {
     double best = GR_EV_INF;
     int who = -1, best_phase = e->phase;
-    if (e->ncell > 1) {
-        int face, ph;
-        double t = crossing_time(e, i, &face, &ph);
-        if (t < best) {
-            best = t;
-            who = -1 - face;
-            best_phase = ph;
-        }
-    }
+    own_event(e, i, &best, &who, &best_phase);
     if (!e->no_collisions) {
         const int nc = e->ncell, c = e->cell_of[i], cx = c % nc, cy = c / nc;
         const int span = nc > 1 ? 1 : 0;
@@ -291,7 +338,9 @@ void gr_ev2d_window(gr_sim *s)
 static inline void rebase(struct gr_event_state *e, int i, double x, double y, double vx0,
                           double vy0, double vx, double vy)
 {
-    e->injected += 0.5 * e->M * (vx0 * vx0 + vy0 * vy0 - e->bv[i] * e->bv[i] - e->bw[i] * e->bw[i]);
+    e->injected += 0.5 * e->M *
+                   (vx0 * vx0 + vy0 * vy0 - e->bv[i] * e->bv[i] - e->bw[i] * e->bw[i] -
+                    gr_ev_gravity_work(e, x - e->bx[i], y - e->by[i]));
     e->t0[i] = e->now;
     e->bx[i] = x;
     e->by[i] = y;
@@ -328,8 +377,8 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
     gr_ev_state_x(e, j, e->now, e->phase, &xj, &vj);
     gr_ev_state_y(e, j, e->now, e->phase, &yj, &uj);
     double rx = xj - xi, ry = yj - yi;
-    rx -= e->L * rint(rx / e->L);
-    ry -= e->L * rint(ry / e->L);
+    rx -= e->wall[0] ? 0.0 : e->L * rint(rx / e->L);
+    ry -= e->wall[1] ? 0.0 : e->L * rint(ry / e->L);
     const double r = sqrt(rx * rx + ry * ry), nx = rx / r, ny = ry / r;
     const double gn = (vi - vj) * nx + (ui - uj) * ny; /* > 0: approaching */
     const double Ax = (e->phase ? e->a2x[j] - e->a2x[i] : e->a1x[j] - e->a1x[i]);
@@ -421,6 +470,80 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
     return 0;
 }
 
+/* Particle i hits the wall `k` (WALL_FACE + 2 a + side) now. The wall is a grain of infinite mass:
+ * its collision is the model's event rule with the grain's point mirror image as partner
+ * (velocity -v, normal along the axis), which for equal masses and a relative velocity 2 v gives
+ * v' = v - (1 + eps_n) v_n n - (1 - eps_t) v_t exactly (a rule with a constant eps_n: gr_event_init
+ * refuses the others). The pair's losses are both grains'; the wall's share is half. The TC rule
+ * applies as for a pair (elastic within tc of the grain's last collision), and a grain that
+ * gravity holds on the wall leaves it at least at the contact floor's speed g tc / 2 (as a pressed
+ * pair does), so a resting grain bounces every ~tc instead of stalling time. */
+static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
+{
+    struct gr_event_state *e = gr_ev(s);
+    const int a = (k - WALL_FACE) / 2, side = (k - WALL_FACE) % 2;
+    double x, v, y, w;
+    gr_ev_state_x(e, i, e->now, e->phase, &x, &v);
+    gr_ev_state_y(e, i, e->now, e->phase, &y, &w);
+    const double nx = a == 0 ? (side ? 1.0 : -1.0) : 0.0, ny = a == 1 ? (side ? 1.0 : -1.0) : 0.0;
+    const double vn = v * nx + w * ny; /* > 0: towards the wall */
+    const double acc =
+        a == 0 ? (e->phase ? e->a2x[i] : e->a1x[i]) : (e->phase ? e->a2y[i] : e->a1y[i]);
+    const double push = (a == 0 ? nx : ny) * acc; /* > 0: pressed into the wall */
+    if (vn <= 0.0 && push <= 0.0) {
+        return 1; /* leaving and not pressed: predict again */
+    }
+    const bool elastic = t_abs - e->last[i] < e->tc;
+    double ux = v, uy = w, de_n = 0.0, de_t = 0.0;
+    if (vn > 0.0) {
+        gr_event_pair p = {.M = e->M,
+                           .R = e->R,
+                           .q = e->q,
+                           .nx = nx,
+                           .ny = ny,
+                           .v1x = v,
+                           .v1y = w,
+                           .v2x = -v,
+                           .v2y = -w,
+                           .elastic = elastic};
+        gr_event_rule_apply(e->rule, e->cc, &p);
+        ux = p.v1x;
+        uy = p.v1y;
+        de_n = 0.5 * p.de_n;
+        de_t = 0.5 * p.de_t;
+    }
+    const double floor_speed = push > 0.0 ? 0.5 * push * e->tc : 0.0;
+    const double out = -(ux * nx + uy * ny); /* speed away from the wall */
+    if (out < floor_speed) {
+        const double k0 = ux * ux + uy * uy;
+        ux -= (floor_speed - out) * nx;
+        uy -= (floor_speed - out) * ny;
+        const double added = 0.5 * e->M * (ux * ux + uy * uy - k0);
+        e->injected += added;
+        e->floor_energy += added;
+        e->floors++; /* ~M (g tc)^2 / 8 per resting grain and tc: booked as injected */
+    }
+    if (s->contacts) {
+        const double wx = x - e->L * floor(x / e->L), wy = y - e->L * floor(y / e->L);
+        int rc = gr_ev_record(s, i, +1, t_abs, wx, wy, v, w, err);
+        rc = rc ? rc : gr_ev_record(s, i, -1, t_abs, wx, wy, ux, uy, err);
+        if (rc) {
+            return rc;
+        }
+    }
+    rebase(e, i, x, y, v, w, ux, uy);
+    if (elastic) {
+        e->tc_elastic++;
+    } else {
+        s->diss_n += de_n;
+        s->diss_t += de_t;
+    }
+    e->last[i] = t_abs;
+    e->count[i]++;
+    e->wall_hits++;
+    return 0;
+}
+
 int gr_ev2d_process(gr_sim *s, double t_limit, gr_error *err)
 {
     struct gr_event_state *e = gr_ev(s);
@@ -466,8 +589,19 @@ int gr_ev2d_process(gr_sim *s, double t_limit, gr_error *err)
             }
             continue;
         }
-        /* cell crossing: rebase at the wall, move to the neighbouring cell, wrap at the box edge */
         const int face = -1 - p, nc = e->ncell;
+        if (face >= WALL_FACE) {
+            int rc = wall_hit(s, i, face, t_abs, err);
+            if (rc < 0) {
+                return rc;
+            }
+            e->invalid += rc;
+            predict(e, i);
+            gr_heap_update(hp, i);
+            continue;
+        }
+        /* cell crossing: rebase at the cell wall, move to the neighbouring cell, wrap at the box
+         * edge */
         double x, v, y, w;
         gr_ev_state_x(e, i, t, e->phase, &x, &v);
         gr_ev_state_y(e, i, t, e->phase, &y, &w);

@@ -53,6 +53,13 @@ struct gr_event_state {
     double q, R;
     bool exact; /* free_flight = exact */
     bool noise;
+    /* walls and gravity (2D; docs/systems-walls-gravity.md, "Event-driven"): wall[a] = flat walls
+     * at 0 and L along axis a (no periodic image there), grav[a] the constant acceleration added
+     * to every particle's a1, a2; its work is booked as the change of the potential energy, not
+     * as injected */
+    bool wall[2];
+    double grav[2];
+    int64_t wall_hits;
     /* trajectories */
     double *t0, *bx, *bv, *by, *bw; /* base time, x, vx, y, vy */
     uint8_t *past;
@@ -212,6 +219,14 @@ int gr_ev_record(gr_sim *s, int i, int kind, double t, double x, double y, doubl
 static inline bool gr_ev_tc_elastic(const struct gr_event_state *e, int i, int j, double t)
 {
     return t - e->last[i] < e->tc || t - e->last[j] < e->tc;
+}
+
+/* Gravity's work on a particle displaced by (dx, dy) since its base, in the units of the
+ * injected-energy sums (velocity^2: booked as 0.5 M * ...): 2 g . dr. The free-flight work
+ * booked as injected is the change of kinetic energy minus this. */
+static inline double gr_ev_gravity_work(const struct gr_event_state *e, double dx, double dy)
+{
+    return 2.0 * (e->grav[0] * dx + e->grav[1] * dy);
 }
 
 /* 2D core (event_2d.c) */

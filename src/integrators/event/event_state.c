@@ -111,6 +111,9 @@ int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
         gr_blob_io_i64(io, counts[k]);
     }
+    if (e->wall[0] || e->wall[1]) { /* only then: periodic runs' checkpoints are unchanged */
+        gr_blob_io_i64(io, &e->wall_hits);
+    }
     double totals[] = {e->injected, e->floor_energy, e->guard_mark_t, e->t_start};
     gr_blob_io_f64s(io, totals, (int64_t)(sizeof totals / sizeof totals[0]));
     if (r) {

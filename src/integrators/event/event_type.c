@@ -24,6 +24,10 @@ static int event_describe(const gr_sim *s, gr_integrator_figure *out, int cap)
     out[1] = (gr_integrator_figure){"collisions_impact", (double)(c.collisions - c.floors)};
     out[2] = (gr_integrator_figure){"collisions_tc_elastic", (double)c.tc_elastic};
     out[3] = (gr_integrator_figure){"floor_energy", c.floor_energy};
+    if (c.walls && cap >= 5) {
+        out[4] = (gr_integrator_figure){"wall_hits", (double)c.wall_hits};
+        return 5;
+    }
     return 4;
 }
 
@@ -34,6 +38,7 @@ const gr_integrator_type gr_integrator_event = {
     .instantaneous = true,
     .free_flight = true,
     .rotation = true, /* rough discs: spins change only at collisions (no torque in free flight) */
+    .walls = true,    /* fixed walls and gravity in 2D for smooth discs (event_2d.c, wall_hit) */
     .create = gr_event_init,
     .step = gr_event_step,
     .free = gr_event_free,
