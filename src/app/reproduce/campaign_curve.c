@@ -351,6 +351,7 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
             row->n_x = used;
             row->x_lo = r->x_min;
             row->x_hi = r->x_max;
+            snprintf(row->x_unit, sizeof row->x_unit, "%s", xu ? xu : "");
             row->error_fit = slope_err_fit;
             double mean_s;
             campaign_mean_sd(slopes, ns, &mean_s, &row->error_seeds);

@@ -43,6 +43,7 @@ typedef struct campaign_row {
     double error_fit, error_seeds; /* the two estimates behind `error` (NAN if not applicable) */
     int n_seeds, n_x;              /* seeds averaged; abscissa points in a fit */
     double chi2_red, x_lo, x_hi;
+    char x_unit[24]; /* the unit of x_lo, x_hi; "" for a power law's: its abscissa key's */
     double thesis, thesis_error; /* NAN if the thesis gives none */
     char thesis_note[128];
     /* How ours is compared with the thesis's (docs/campaigns/README.md, "Kinds of comparison"):

@@ -423,7 +423,10 @@ static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r,
     csv_num(f, w->chi2_red);
     csv_num(f, w->x_lo);
     csv_num(f, w->x_hi);
-    const char *xu = isfinite(w->x_lo) && r->x[0] ? gr_scene_key_unit(r->x) : NULL;
+    const char *xu = !isfinite(w->x_lo) ? NULL
+                     : w->x_unit[0]     ? w->x_unit
+                     : r->x[0]          ? gr_scene_key_unit(r->x)
+                                        : NULL;
     fprintf(f, ",%s", xu ? (xu[0] ? xu : "1") : "");
     csv_num(f, w->thesis);
     csv_num(f, w->thesis_error);

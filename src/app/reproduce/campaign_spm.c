@@ -329,10 +329,12 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
                     row->n_x = o.pl_points;
                     row->x_lo = o.pl_lo;
                     row->x_hi = o.pl_hi;
+                    snprintf(row->x_unit, sizeof row->x_unit, "m");
                 } else if (n == 1 && o.have_tail && q >= Q_S) { /* ... or |v| in m/s */
                     row->n_x = o.t.n_points;
                     row->x_lo = o.t.v_lo;
                     row->x_hi = o.t.v_hi;
+                    snprintf(row->x_unit, sizeof row->x_unit, "m s-1");
                 }
                 chi2 += q <= Q_C ? o.C_fit_chi2 : o.t.chi2_red;
                 campaign_add_cost(row, m[i]);

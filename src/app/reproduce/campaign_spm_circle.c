@@ -57,6 +57,7 @@ static void fill_row(const gr_campaign_result *r, campaign_row *row, const gr_sp
     row->chi2_red = f->chi2_red;
     row->x_lo = f->wfrom;
     row->x_hi = f->wto;
+    snprintf(row->x_unit, sizeof row->x_unit, "1"); /* w = v / u_l */
     campaign_row_thesis(r, row);
 }
 

@@ -247,6 +247,7 @@ int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const cam
                 if (n == 1) { /* the first run's compared window, for the page: |v| in m/s */
                     row->n_x = c->amp.n_points;
                     row->x_lo = c->v_from;
+                    snprintf(row->x_unit, sizeof row->x_unit, "m s-1");
                     row->x_hi = c->amp.v_agree_hi;
                 }
                 chi2 += q == Q_S ? c->scaled.chi2_red : c->amp.chi2_red;
