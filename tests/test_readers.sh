@@ -13,8 +13,14 @@
 #         delimiter=',', dtype=None, encoding='utf-8') with the same rows and columns; no cell
 #         holds a '#'; NAME.meta.json gives every column a unit ("units"); pv_collapse.csv is a
 #         long table; sweep.csv has no R1-R12 columns when no point has <R^m>
+#   results  the committed result sets (docs/results): every CSV has NAME.meta.json whose units
+#         name each of its columns in order (per-row forms naming columns of the table), loads with
+#         pandas and, where no quoted cell holds a comma, with numpy.genfromtxt; `granule reproduce
+#         --collect` of three committed sets (means, power laws with per-row powers, curves, spm)
+#         writes every ID_data.meta.json again, equal to the committed ones; a data table read with
+#         its units as docs/python.md does
 # Exit 77 (skipped) only when the part's Python package cannot be imported.
-# usage: tests/test_readers.sh path/to/granule SOURCE_DIR ase|h5md|csv
+# usage: tests/test_readers.sh path/to/granule SOURCE_DIR ase|h5md|csv|results
 set -euo pipefail
 G=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 SRC=$2
@@ -251,6 +257,71 @@ t = pd.read_csv("run/temperature.csv")
 assert list(t.columns) == ["t", "T", "running_mean", "phase"] and len(t) == 9
 assert list(t["phase"].unique()) == ["warmup", "sampling"], t["phase"].unique()  # the docs' words
 print("ok pandas %s and numpy %s read %d CSVs without options" % (pd.__version__, np.__version__, len(files)))
+EOF
+    ;;
+results)
+    need pandas python3-pandas
+    need numpy python3-numpy
+    # collected again from their archived points (no run), without their data tables' meta files
+    for n in ch2-placement ch3-moments ch4-structure; do
+        mkdir -p res && cp -r "$SRC/docs/results/$n" res/$n && rm res/$n/*_data.meta.json
+        "$G" reproduce $n --fidelity full --collect --out rp --results res/$n >rp-$n.log 2>&1 ||
+            { echo "FAIL reproduce $n --collect"; tail -5 rp-$n.log; exit 1; }
+    done
+    "$PY" - "$SRC" <<'EOF'
+import csv, glob, json, os, re, sys, warnings
+import numpy as np, pandas as pd
+warnings.simplefilter("ignore")
+src = sys.argv[1]
+# a set a running campaign still writes: its data tables get their units when it is next collected
+pending = {"ch3-xi2-large"}
+def units_of(f, df, rows_named=False):
+    meta = f[:-4] + ".meta.json"
+    assert os.path.exists(meta), (meta, "missing: the table's units")
+    m = json.load(open(meta))
+    assert m["file"] == os.path.basename(f), meta
+    units = m.get("units", {})
+    assert list(units) == list(df.columns), (f, "units name the columns in order", list(units), list(df.columns))
+    for c, u in units.items():
+        assert isinstance(u, str), (f, c, u)
+        if u.startswith("@"):  # the unit is in that text column of each row (that has a value)
+            assert u[1:] in df.columns, (f, c, u)
+            assert not rows_named or df.loc[df[c].notna(), u[1:]].notna().all(), (f, c, u, "a row without its unit")
+        for power in re.findall(r"\^-?([A-Za-z_][A-Za-z0-9_]*)", u):  # a power in a column of the row
+            assert power in df.columns and df[power].dtype.kind in "if", (f, c, u, power)
+    return units
+files = sorted(f for f in glob.glob(os.path.join(src, "docs/results/**/*.csv"), recursive=True)
+               if f.split(os.sep)[-2] not in pending)
+assert len(files) > 80, len(files)
+quoted_commas, seen = [], set()
+for f in files:
+    df = pd.read_csv(f)
+    assert len(df.columns) > 1 and len(df) > 0, f
+    seen |= set(units_of(f, df).values())
+    if any("," in cell for row in csv.reader(open(f)) for cell in row):
+        quoted_commas.append(os.path.relpath(f, src))  # numpy has no quoting
+        continue
+    a = np.atleast_1d(np.genfromtxt(f, names=True, delimiter=",", dtype=None, encoding="utf-8"))
+    assert len(a.dtype.names) == len(df.columns) and len(a) == len(df), (f, a.dtype.names, len(a), len(df))
+assert {"m2 s-2", "(m s-1)^m", "m^m", "m^2/s^2", "m m^-D_f", "m-1", "s m-1", "1", ""} <= seen, seen
+# the data tables collected again: the same units as the committed ones
+data = sorted(glob.glob("res/*/*_data.csv"))
+assert len(data) == 26, data
+for f in data + sorted(glob.glob("res/*/results.csv")):  # results.csv: every fit window's x_unit (curve, spm)
+    units_of(f, pd.read_csv(f), rows_named=True)
+for f in data:
+    new, old = json.load(open(f[:-4] + ".meta.json")), json.load(open(os.path.join(src, "docs/results", f[4:-4] + ".meta.json")))
+    assert new == old, (f, new, old)
+# a data table with its units, as docs/python.md reads it: <R^m> per row in m^m
+f = os.path.join(src, "docs/results/ch3-moments/table3.1_data.csv")
+df = pd.read_csv(f)
+a = np.genfromtxt(f, names=True, delimiter=",", dtype=None, encoding="utf-8")
+units = json.load(open(f[:-4] + ".meta.json"))["units"]
+assert units["x"] == "1" and units["mean"] == "m^m" and a.dtype.names == tuple(df.columns)
+row_units = [units["mean"].replace("^m", "^%d" % m) for m in a["m"]]
+assert row_units[0] == "m^1" and "m^5" in row_units and np.allclose(a["mean"], df["mean"])
+print("ok %d CSVs of docs/results have their units (%d with quoted commas, read by pandas only: %s); "
+      "--collect writes the %d data tables' units again" % (len(files), len(quoted_commas), ", ".join(quoted_commas), len(data)))
 EOF
     ;;
 *) echo "unknown part $part" >&2; exit 2 ;;

@@ -103,6 +103,9 @@ static double tail(double l, const double *p, double *g, void *user)
     return y;
 }
 
+const char gr_obs_freepath_columns[] =
+    "l_over_d_lo [1],l_over_d_hi [1],l_over_d [1],count [1],density [1],density_error [1]";
+
 static int finish(void *state, const gr_output *out, gr_error *err)
 {
     freepath *f = state;
@@ -111,8 +114,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .what = "free-path distribution P_l(l) (4.18): l in units of d, density per unit l/d, "
                 "sqrt(X) errors; "
                 "paths from the end of a particle's last contact to the start of its next",
-        .columns =
-            "l_over_d_lo [1],l_over_d_hi [1],l_over_d [1],count [1],density [1],density_error [1]",
+        .columns = gr_obs_freepath_columns,
         .rows = gr_obs_histogram_rows,
         .ctx = &f->h,
     };

@@ -323,6 +323,10 @@ static void write_plots(const gaps *g, const gr_output *out, const gr_fit *fit, 
     }
 }
 
+const char gr_obs_gaps_columns[] =
+    "h [1],binning [],R_lo [m],R_hi [m],R [m],count [1],density [m-1],density_error [m-1],neg_ln_R "
+    "[1],x [1],density_x [1],density_x_error [1]";
+
 static void gaps_rows(FILE *f, const void *ctx)
 {
     const gaps *g = ctx;
@@ -412,9 +416,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
             "(3.16), R = |r'_{i+h} - r'_i| in m; density in 1/m with sqrt(X) errors (App. A.1), "
             "normalised by all separations sampled; neg_ln_R = -ln(R/L') (Fig. 3.12); "
             "x = R N / (h L') and density_x = density h L' / N (mean-scaled, for 3.25 overlays)",
-        .columns = "h [1],binning [],R_lo [m],R_hi [m],R [m],count [1],density [m-1],density_error "
-                   "[m-1],neg_ln_R [1],x [1],"
-                   "density_x [1],density_x_error [1]",
+        .columns = gr_obs_gaps_columns,
         .rows = gaps_rows,
         .ctx = g,
     };

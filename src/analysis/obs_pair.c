@@ -681,6 +681,9 @@ static const char pair_csv_what[] =
     "upper edge R_hi; pairs = total pair count in the bin over all frames; errors from block "
     "averaging over frames (sqrt(count) with fewer than 16 frames); R in m, d = 2 radius";
 
+const char gr_obs_pair_columns[] = "R [m],R_over_d [1],g [1],g_error [1],C [1],n [1],n_error "
+                                   "[1],R_lo [m],R_hi [m],pairs [1]";
+
 static void pair_rows(FILE *f, const void *ctx)
 {
     const pair_rows_ctx *c = ctx;
@@ -709,8 +712,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     pair_rows_ctx rows = {.s = s, .r = &r};
     gr_obs_table t = {.name = "pair.csv",
                       .what = pair_csv_what,
-                      .columns = "R [m],R_over_d [1],g [1],g_error [1],C [1],n [1],n_error "
-                                 "[1],R_lo [m],R_hi [m],pairs [1]",
+                      .columns = gr_obs_pair_columns,
                       .rows = pair_rows,
                       .ctx = &rows};
     if (s->frames == 0) {

@@ -96,6 +96,10 @@ static int events(void *state, const gr_contact_event *ev, int64_t n, gr_error *
     return GR_OK;
 }
 
+const char gr_obs_postcollision_columns[] =
+    "v [m s-1],post_density [s m-1],post_error [s m-1],post_count [1],all_density [s m-1],"
+    "all_error [s m-1],all_count [1]";
+
 static void rows(FILE *f, const void *ctx)
 {
     const postcollision *p = ctx;
@@ -120,9 +124,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .what = "post-collision velocity distribution P(v_0) (Fig. 5.9) beside the full P(v), per "
                 "component, "
                 "v in m/s, densities per m/s with sqrt(X) errors",
-        .columns = "v [m s-1],post_density [s m-1],post_error [s m-1],post_count [1],all_density "
-                   "[s m-1],all_error [s m-1],"
-                   "all_count [1]",
+        .columns = gr_obs_postcollision_columns,
         .rows = rows,
         .ctx = p,
         .png = "postcollision.png",

@@ -644,6 +644,11 @@ typedef struct pv_rows_ctx {
     double v_rms, P0, speed_rms;
 } pv_rows_ctx;
 
+const char gr_obs_pv_columns[] =
+    "v [m s-1],density [s m-1],density_error [s m-1],counts [1],v_lo [m s-1],v_hi [m s-1],"
+    "v_over_vrms [1],density_scaled [1],fit_stretched [s m-1],fit_crossover [s m-1],"
+    "fit_crossover_log [s m-1]";
+
 static void pv_rows(FILE *f, const void *ctx)
 {
     const pv_rows_ctx *c = ctx;
@@ -685,10 +690,7 @@ static int write_pv_csv(const gr_output *out, const pv_rows_ctx *c, gr_error *er
     const gr_obs_table t = {
         .name = "pv.csv",
         .what = what,
-        .columns =
-            "v [m s-1],density [s m-1],density_error [s m-1],counts [1],v_lo [m s-1],v_hi [m s-1],"
-            "v_over_vrms [1],density_scaled [1],fit_stretched [s m-1],fit_crossover [s m-1],"
-            "fit_crossover_log [s m-1]",
+        .columns = gr_obs_pv_columns,
         .rows = pv_rows,
         .ctx = c,
     };

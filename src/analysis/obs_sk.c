@@ -801,6 +801,9 @@ typedef struct sk_rows_ctx {
     const sk_fit *fit;
 } sk_rows_ctx;
 
+const char gr_obs_sk_columns[] =
+    "n [1],k [m-1],kd [1],S [1],S_err [1],vectors [1],independent_vectors [1]";
+
 static void sk_rows(FILE *f, const void *ctx)
 {
     const sk_state *st = ((const sk_rows_ctx *)ctx)->st;
@@ -845,12 +848,11 @@ static int finish(void *state, const gr_output *out, gr_error *err)
              "vectors = full plane (half are independent, S(-k) = S(k))",
              st->d, (long long)st->frames, error_method(st->frames));
     const sk_rows_ctx rows = {.st = st, .fit = &F};
-    gr_obs_table t = {
-        .name = "sk.csv",
-        .what = what,
-        .columns = "n [1],k [m-1],kd [1],S [1],S_err [1],vectors [1],independent_vectors [1]",
-        .rows = sk_rows,
-        .ctx = &rows};
+    gr_obs_table t = {.name = "sk.csv",
+                      .what = what,
+                      .columns = gr_obs_sk_columns,
+                      .rows = sk_rows,
+                      .ctx = &rows};
     int rc = gr_obs_table_write(out, &t, err);
     if (rc) {
         return rc;

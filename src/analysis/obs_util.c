@@ -4,6 +4,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "analysis/obs_lag.h"
 #include "analysis/obs_util.h"
@@ -65,6 +66,32 @@ int gr_obs_table_write(const gr_output *out, const gr_obs_table *t, gr_error *er
 }
 
 void gr_obs_histogram_rows(FILE *f, const void *ctx) { gr_histogram_write_rows(ctx, f); }
+
+const char *gr_obs_column_unit(const char *table, const char *column, char *buf, size_t len)
+{
+    static const struct {
+        const char *table, *columns;
+    } tables[] = {
+        {"gaps.csv", gr_obs_gaps_columns}, {"sk.csv", gr_obs_sk_columns},
+        {"pair.csv", gr_obs_pair_columns}, {"freepath.csv", gr_obs_freepath_columns},
+        {"pv.csv", gr_obs_pv_columns},     {"postcollision.csv", gr_obs_postcollision_columns}};
+    for (size_t i = 0; i < sizeof tables / sizeof tables[0]; i++) {
+        if (strcmp(table, tables[i].table)) {
+            continue;
+        }
+        gr_file scratch = {.units =
+                               NULL}; /* the units of the column line, as a table records them */
+        gr_file_units(&scratch, tables[i].columns);
+        const cJSON *u = cJSON_GetObjectItemCaseSensitive(scratch.units, column);
+        const bool found = cJSON_IsString(u);
+        if (found) {
+            snprintf(buf, len, "%s", u->valuestring);
+        }
+        cJSON_Delete(scratch.units);
+        return found ? buf : NULL;
+    }
+    return NULL;
+}
 
 double gr_obs_stderr(const gr_blocking *b)
 {

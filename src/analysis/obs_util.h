@@ -35,6 +35,13 @@ typedef struct gr_obs_table {
     const char *plot; /* gnuplot body, drawn when the CSV was written and out->plots is set */
 } gr_obs_table;
 
+/* The column lines of the tables a campaign's curve result reads (docs/campaigns/README.md), and
+ * the unit a column has in its table: copied to buf (size len), or NULL for a table or column not
+ * listed. `granule reproduce` gives its data tables' x and y these units (ID_data.meta.json). */
+extern const char gr_obs_gaps_columns[], gr_obs_sk_columns[], gr_obs_pair_columns[],
+    gr_obs_freepath_columns[], gr_obs_pv_columns[], gr_obs_postcollision_columns[];
+const char *gr_obs_column_unit(const char *table, const char *column, char *buf, size_t len);
+
 /* Rows of a histogram (gr_histogram_write_rows): ctx is the gr_histogram. */
 void gr_obs_histogram_rows(FILE *f, const void *ctx);
 

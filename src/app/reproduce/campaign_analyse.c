@@ -3,11 +3,13 @@
  * optimistic for a clustering gas (its correlation times are long), so the within-run error is
  * only used when there are fewer seeds, and then the larger of the two estimates is kept. */
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "granule/analysis.h"
+#include "granule/scene.h"
 #include "io/summary_read.h"
 #include "io/plot.h"
 #include "app/reproduce/campaign_points.h"
@@ -204,8 +206,31 @@ campaign_row *campaign_group_row(campaign_rows *rows, const char *group)
     return row;
 }
 
+void campaign_header(gr_file *f, ...)
+{
+    va_list ap;
+    va_start(ap, f);
+    for (const char *name = va_arg(ap, const char *); name; name = va_arg(ap, const char *)) {
+        gr_file_column(f, name, va_arg(ap, const char *));
+    }
+    va_end(ap);
+    fputc('\n', f->f);
+}
+
+const char *campaign_unit(const gr_campaign_result *r) { return r->unit[0] ? r->unit : "1"; }
+
+const char *campaign_y_unit(const gr_campaign_result *r, char *buf, size_t len)
+{
+    if (strstr(r->y, "{m")) { /* one moment per row: its power is the row's m */
+        return strstr(r->y, "gaps.moments.")    ? "m^m"
+               : strstr(r->y, "moments.speed.") ? "(m s-1)^m"
+                                                : NULL;
+    }
+    return gr_summary_unit(r->y, buf, len);
+}
+
 int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
-                  campaign_rows *rows, FILE *data, gr_error *err)
+                  campaign_rows *rows, gr_file *data, gr_error *err)
 {
     (void)c;
     int rc = y_present(r, pts, err);
@@ -214,7 +239,8 @@ int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campa
     }
     static char g[MAX_GROUPS][160];
     int ng = campaign_groups(pts, NULL, NULL, g);
-    fprintf(data, "group,seed,value,run_error\n");
+    campaign_header(data, "group", "", "seed", "1", "value", campaign_unit(r), "run_error",
+                    campaign_unit(r), NULL);
     for (int gi = 0; gi < ng; gi++) {
         double v[MAX_SEEDS], e2 = 0.0;
         int n = 0, n_err = 0;
@@ -227,7 +253,7 @@ int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campa
                 continue;
             }
             double ye = r->y_err[0] ? gr_summary_number(m[i]->summary, r->y_err) : (double)NAN;
-            fprintf(data, "\"%s\",%d,%.9g,%.9g\n", g[gi], campaign_seed_of(m[i]), y, ye);
+            fprintf(data->f, "\"%s\",%d,%.9g,%.9g\n", g[gi], campaign_seed_of(m[i]), y, ye);
             v[n++] = y;
             if (isfinite(ye)) {
                 e2 += ye * ye;
@@ -278,7 +304,8 @@ static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const
 }
 
 int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,
-                       const campaign_points *pts, campaign_rows *rows, FILE *data, gr_error *err)
+                       const campaign_points *pts, campaign_rows *rows, gr_file *data,
+                       gr_error *err)
 {
     (void)c;
     int rc = y_present(r, pts, err);
@@ -288,7 +315,10 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,
     static char g[MAX_GROUPS][160];
     int ng = campaign_groups(pts, r->by[0] ? r->by : NULL, r->by[0] ? NULL : r->x, g);
     int m_lo = r->m_lo ? r->m_lo : 0, m_hi = r->m_lo ? r->m_hi : 0;
-    fprintf(data, "group,m,x,mean,error,seeds,in_fit\n");
+    char y_unit[64];
+    const char *yu = campaign_y_unit(r, y_unit, sizeof y_unit);
+    campaign_header(data, "group", "", "m", "1", "x", gr_scene_key_unit(r->x), "mean", yu, "error",
+                    yu, "seeds", "1", "in_fit", "1", NULL);
     for (int gi = 0; gi < ng; gi++) {
         for (int m = m_lo; m <= m_hi; m++) {
             char yp[160], ep[160];
@@ -360,7 +390,8 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,
                                    : (double)NAN; /* mean of run errors / sqrt(n) */
                 double e = campaign_headline_error(se, run_err, n);
                 bool in = xs[xi] >= r->x_min && xs[xi] <= r->x_max;
-                fprintf(data, "\"%s\",%d,%.9g,%.9g,%.9g,%d,%d\n", g[gi], m, xs[xi], mean, e, n, in);
+                fprintf(data->f, "\"%s\",%d,%.9g,%.9g,%.9g,%d,%d\n", g[gi], m, xs[xi], mean, e, n,
+                        in);
                 if (in) {
                     fx[nf] = xs[xi];
                     fy[nf] = mean;

@@ -148,7 +148,7 @@ static int cascade_df(const gr_campaign *c, const gr_campaign_result *r, int n, 
 }
 
 int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
-                     campaign_rows *rows, const char *results, FILE *data, gr_error *err)
+                     campaign_rows *rows, const char *results, gr_file *data, gr_error *err)
 {
     int rc = campaign_mean(c, r, pts, rows, data, err);
     if (rc || pts->n == 0) {
@@ -170,7 +170,7 @@ int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const ca
         return rc;
     }
     FILE *positions = out.f;
-    fprintf(positions, "which,x,y\n");
+    gr_file_header(&out, "which [],x [m],y [m]");
     gr_frame f = {0};
     if (last_snapshot(p0, &f)) {
         write_positions(positions, "rfm", f.x, f.y, f.n);
@@ -193,6 +193,6 @@ int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const ca
     row->error = row->error_fit = df_err; /* the fit of the configuration-averaged S(k) */
     row->n_seeds = r->configurations;
     campaign_row_thesis(r, row);
-    fprintf(data, "\"%s\",0,%.9g,%.9g\n", CASCADE_GROUP, df, df_err);
+    fprintf(data->f, "\"%s\",0,%.9g,%.9g\n", CASCADE_GROUP, df, df_err);
     return GR_OK;
 }

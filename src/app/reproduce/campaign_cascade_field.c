@@ -64,7 +64,7 @@ static void plot_sk(const char *results, const gr_campaign_result *r, int blocks
 }
 
 int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaign_rows *rows,
-                           const char *results, FILE *data, gr_error *err)
+                           const char *results, gr_file *data, gr_error *err)
 {
     char name[96];
     snprintf(name, sizeof name, "%s_sk.dat", r->id);
@@ -79,7 +79,9 @@ int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaig
                                     : (r->configurations < CASCADE_FIELD_CONFIGURATIONS_QUICK
                                            ? r->configurations
                                            : CASCADE_FIELD_CONFIGURATIONS_QUICK);
-    fprintf(data, "group,seed,configurations,D_f,D_f_err,chi2_red,fit,q_min,q_max,wall_seconds\n");
+    gr_file_header(data,
+                   "group [],seed [1],configurations [1],D_f [1],D_f_err [1],chi2_red [1],fit "
+                   "[],q_min [1],q_max [1],wall_seconds [s]");
     for (size_t i = 0; i < sizeof variants / sizeof variants[0]; i++) {
         const gr_cascade_variant_info *info = gr_cascade_variant_get(variants[i]);
         double v[CASCADE_FIELD_SEEDS], err2 = 0.0;
@@ -102,12 +104,12 @@ int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaig
             if (f && isfinite(f->D_f)) {
                 v[n++] = f->D_f;
                 err2 += f->D_f_err * f->D_f_err;
-                fprintf(data, "\"%s\",%d,%d,%.6g,%.6g,%.4g,%s,%g,%g,%.3g\n", info->label, s,
+                fprintf(data->f, "\"%s\",%d,%d,%.6g,%.6g,%.4g,%s,%g,%g,%.3g\n", info->label, s,
                         configurations, f->D_f, f->D_f_err, f->chi2_red,
                         st.headline_unweighted ? "unweighted" : "weighted", f->q_min, f->q_max,
                         st.wall_seconds);
             } else {
-                fprintf(data, "\"%s\",%d,%d,,,,none,,,%.3g\n", info->label, s, configurations,
+                fprintf(data->f, "\"%s\",%d,%d,,,,none,,,%.3g\n", info->label, s, configurations,
                         st.wall_seconds);
             }
             gr_cascade_study_free(&st);

@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "granule/analysis.h"
+#include "analysis/obs_util.h"
 #include "io/files.h"
 #include "io/summary_read.h"
 #include "app/reproduce/campaign_points.h"
@@ -294,14 +295,19 @@ static void acc_add(curve_acc *a, const double *x, const double *y, const double
 }
 
 int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
-                   campaign_rows *rows, FILE *data, gr_error *err)
+                   campaign_rows *rows, gr_file *data, gr_error *err)
 {
     (void)c;
     (void)err;
     static char groups[MAX_GROUPS][160];
     const int ng = campaign_groups(pts, NULL, NULL, groups);
     const bool map = !strcmp(r->transform, "bisection_collapse");
-    fprintf(data, "group,m,x,mean,error,seeds,in_fit\n");
+    char xb[64],
+        yb[64]; /* the table's units (the observable's column line); the collapse has none */
+    const char *xu = map ? "1" : gr_obs_column_unit(r->table, r->x, xb, sizeof xb),
+               *yu = map ? "1" : gr_obs_column_unit(r->table, r->y, yb, sizeof yb);
+    campaign_header(data, "group", "", "m", "1", "x", xu, "mean", yu, "error", yu, "seeds", "1",
+                    "in_fit", "1", NULL);
     double *x = malloc(3 * MAX_BINS * sizeof *x), *y = x + MAX_BINS, *e = y + MAX_BINS;
     curve_acc *acc = calloc(1, sizeof *acc);
     for (int g = 0; g < ng; g++) {
@@ -345,6 +351,7 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
             row->n_x = used;
             row->x_lo = r->x_min;
             row->x_hi = r->x_max;
+            snprintf(row->x_unit, sizeof row->x_unit, "%s", xu ? xu : "");
             row->error_fit = slope_err_fit;
             double mean_s;
             campaign_mean_sd(slopes, ns, &mean_s, &row->error_seeds);
@@ -354,7 +361,7 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
         for (int i = 0; i < acc->n; i++) {
             if (isfinite(x[i]) && isfinite(y[i]) && y[i] > 0.0) {
                 const bool in = x[i] >= r->x_min && x[i] <= r->x_max;
-                fprintf(data, "\"%s\",0,%.9g,%.9g,%.9g,%d,%d\n", groups[g], x[i], y[i],
+                fprintf(data->f, "\"%s\",0,%.9g,%.9g,%.9g,%d,%d\n", groups[g], x[i], y[i],
                         isfinite(e[i]) ? e[i] : 0.0, acc->count[i], in);
             }
         }
@@ -365,8 +372,8 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
                 if (acc->x[i] > 0.0 && acc->x[i] < 1.0 &&
                     acc->sum[i] > 0.0) { /* where the curve has data */
                     const double P = exp((nb - 1.0) * log(-log(acc->x[i])) - lgamma(nb));
-                    fprintf(data, "\"uniform bisection (3.36), n = %.4g\",0,%.9g,%.9g,0,0,0\n", nb,
-                            acc->x[i], P);
+                    fprintf(data->f, "\"uniform bisection (3.36), n = %.4g\",0,%.9g,%.9g,0,0,0\n",
+                            nb, acc->x[i], P);
                 }
             }
         }

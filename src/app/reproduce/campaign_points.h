@@ -8,6 +8,7 @@
 #include <stdio.h>
 
 #include "granule/campaign.h"
+#include "io/files.h"
 
 typedef struct campaign_point {
     char dir[1100];
@@ -42,6 +43,7 @@ typedef struct campaign_row {
     double error_fit, error_seeds; /* the two estimates behind `error` (NAN if not applicable) */
     int n_seeds, n_x;              /* seeds averaged; abscissa points in a fit */
     double chi2_red, x_lo, x_hi;
+    char x_unit[24]; /* the unit of x_lo, x_hi; "" for a power law's: its abscissa key's */
     double thesis, thesis_error; /* NAN if the thesis gives none */
     char thesis_note[128];
     /* How ours is compared with the thesis's (docs/campaigns/README.md, "Kinds of comparison"):
@@ -72,21 +74,23 @@ campaign_row *campaign_rows_add(campaign_rows *rows);
 void campaign_rows_free(campaign_rows *rows);
 
 /* The analyses (campaign_analyse.c): rows from points, the data behind the figure into `data`
- * (a CSV with a header line) and the gnuplot body of the figure into `plot`. */
+ * (a CSV with a header line whose units go to ID_data.meta.json, campaign_header) and the gnuplot
+ * body of the figure into `plot`. */
 int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
-                  campaign_rows *rows, FILE *data, gr_error *err);
+                  campaign_rows *rows, gr_file *data, gr_error *err);
 int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,
-                       const campaign_points *pts, campaign_rows *rows, FILE *data, gr_error *err);
+                       const campaign_points *pts, campaign_rows *rows, gr_file *data,
+                       gr_error *err);
 int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
-                     campaign_rows *rows, FILE *data, gr_error *err);
+                     campaign_rows *rows, gr_file *data, gr_error *err);
 int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
-                  campaign_rows *rows, FILE *data, gr_error *err);
+                  campaign_rows *rows, gr_file *data, gr_error *err);
 /* CASCADE (Fig. 6.3): also writes RESULTS/ID_positions.csv (campaign_cascade.c). */
 int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
-                     campaign_rows *rows, const char *results, FILE *data, gr_error *err);
+                     campaign_rows *rows, const char *results, gr_file *data, gr_error *err);
 /* SPM (Figs. 5.12-5.13, campaign_spm.c): also writes RESULTS/ID_tail.dat and draws ID_data.png. */
 int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
-                 campaign_rows *rows, const char *results, FILE *data, gr_error *err);
+                 campaign_rows *rows, const char *results, gr_file *data, gr_error *err);
 /* Is y one of GR_CAMPAIGN_SPM_QUANTITIES? */
 bool campaign_spm_quantity_known(const char *y);
 /* The run tables the SPM kind reads, as CURVE results (which = 0: pv.csv's P(v); 1: freepath.csv's
@@ -96,7 +100,7 @@ void campaign_spm_series(int which, gr_campaign_result *out);
  * its snapshots' P(v) (gr_spm_full_*, walks by fidelity), kept as RUN/spm_compare.csv; writes
  * RESULTS/ID_pv.dat and draws ID_data.png. */
 int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts,
-                         campaign_rows *rows, const char *results, FILE *data, gr_error *err);
+                         campaign_rows *rows, const char *results, gr_file *data, gr_error *err);
 bool campaign_spm_compare_quantity_known(const char *y);
 /* The two series it reads from spm_compare.csv as CURVE results (which = 0: the SPM's P(v); 1: the
  * run's), so that the archive keeps them. */
@@ -105,13 +109,13 @@ void campaign_spm_compare_series(int which, gr_campaign_result *out);
  * runs' M and D, the Gaussian tail of 5.12 per radius and pooled; writes RESULTS/ID_q.dat and draws
  * ID_data.png. */
 int campaign_spm_circle(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts,
-                        campaign_rows *rows, const char *results, FILE *data, gr_error *err);
+                        campaign_rows *rows, const char *results, gr_file *data, gr_error *err);
 bool campaign_spm_circle_quantity_known(const char *y);
 /* CASCADE_FIELD (Table 6.2, campaign_cascade_field.c): D_f of every cascade variant's own S(k). */
 int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaign_rows *rows,
-                           const char *results, FILE *data, gr_error *err);
+                           const char *results, gr_file *data, gr_error *err);
 int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
-                   campaign_rows *rows, FILE *data, gr_error *err);
+                   campaign_rows *rows, gr_file *data, gr_error *err);
 /* A CURVE result's series of one run (from its table, or from the archive's series.json): x, y, e
  * (at most 4096 rows each), rows with a finite y only, at the archive's 6 digits either way (a
  * restored point gives what the live run gave); returns the number of rows. */
@@ -130,6 +134,15 @@ bool campaign_bisection_collapse(double N, double x0, double *x, double *y, doub
 double campaign_warmup_drift(const campaign_point *p, double *error);
 
 /* Shared by the analyses (campaign_analyse.c). */
+/* The header line of a data table: pairs of column name and unit (NULL: none known), ending with
+ * NULL; the units go to the table's NAME.meta.json (docs/trajectories.md's unit forms). */
+void campaign_header(gr_file *f, ...);
+/* The unit of a result's quantity as the campaign file gives it ("1" for a pure number), as
+ * results.csv's unit column writes it. */
+const char *campaign_unit(const gr_campaign_result *r);
+/* The unit of the summary value y a power law fits: "(m s-1)^m" / "m^m" for the speed and gap
+ * moments with the power in the row's column m, else the summary's table (NULL if it has none). */
+const char *campaign_y_unit(const gr_campaign_result *r, char *buf, size_t len);
 /* Draw DIR/ID SUFFIX.png (SUFFIX "" for the result's figure, "_data" for its data figure) from a
  * gnuplot script body (io/plot.h); a figure that cannot be drawn is reported on stderr and skipped,
  * the numbers stand without it. */

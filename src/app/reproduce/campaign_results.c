@@ -413,8 +413,8 @@ static void row_json(cJSON *arr, const campaign_row *w)
 static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r,
                     const campaign_row *w)
 {
-    fprintf(f, "%s,%s,%s,\"%s\",\"%s\",%d", c->name, r->id, r->quantity, r->unit[0] ? r->unit : "1",
-            w->group, w->m);
+    fprintf(f, "%s,%s,%s,\"%s\",\"%s\",%d", c->name, r->id, r->quantity, campaign_unit(r), w->group,
+            w->m);
     csv_num(f, w->value);
     csv_num(f, w->error);
     csv_num(f, w->error_fit);
@@ -423,7 +423,10 @@ static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r,
     csv_num(f, w->chi2_red);
     csv_num(f, w->x_lo);
     csv_num(f, w->x_hi);
-    const char *xu = isfinite(w->x_lo) && r->x[0] ? gr_scene_key_unit(r->x) : NULL;
+    const char *xu = !isfinite(w->x_lo) ? NULL
+                     : w->x_unit[0]     ? w->x_unit
+                     : r->x[0]          ? gr_scene_key_unit(r->x)
+                                        : NULL;
     fprintf(f, ",%s", xu ? (xu[0] ? xu : "1") : "");
     csv_num(f, w->thesis);
     csv_num(f, w->thesis_error);
@@ -447,19 +450,19 @@ static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_
     if (rc) {
         return rc;
     }
-    rc = r->kind == GR_RESULT_MEAN        ? campaign_mean(c, r, pts, rows, data.f, err)
-         : r->kind == GR_RESULT_POWER_LAW ? campaign_power_law(c, r, pts, rows, data.f, err)
-         : r->kind == GR_RESULT_RUNNING   ? campaign_running(c, r, pts, rows, data.f, err)
-         : r->kind == GR_RESULT_CURVE     ? campaign_curve(c, r, pts, rows, data.f, err)
-         : r->kind == GR_RESULT_CASCADE   ? campaign_cascade(c, r, pts, rows, results, data.f, err)
-         : r->kind == GR_RESULT_SPM       ? campaign_spm(c, r, pts, rows, results, data.f, err)
+    rc = r->kind == GR_RESULT_MEAN        ? campaign_mean(c, r, pts, rows, &data, err)
+         : r->kind == GR_RESULT_POWER_LAW ? campaign_power_law(c, r, pts, rows, &data, err)
+         : r->kind == GR_RESULT_RUNNING   ? campaign_running(c, r, pts, rows, &data, err)
+         : r->kind == GR_RESULT_CURVE     ? campaign_curve(c, r, pts, rows, &data, err)
+         : r->kind == GR_RESULT_CASCADE   ? campaign_cascade(c, r, pts, rows, results, &data, err)
+         : r->kind == GR_RESULT_SPM       ? campaign_spm(c, r, pts, rows, results, &data, err)
          : r->kind == GR_RESULT_SPM_COMPARE
-             ? campaign_spm_compare(r, fid, pts, rows, results, data.f, err)
+             ? campaign_spm_compare(r, fid, pts, rows, results, &data, err)
          : r->kind == GR_RESULT_SPM_CIRCLE
-             ? campaign_spm_circle(r, fid, pts, rows, results, data.f, err)
+             ? campaign_spm_circle(r, fid, pts, rows, results, &data, err)
          : r->kind == GR_RESULT_CASCADE_FIELD
-             ? campaign_cascade_field(r, fid, rows, results, data.f, err)
-             : campaign_rise(c, r, pts, rows, data.f, err);
+             ? campaign_cascade_field(r, fid, rows, results, &data, err)
+             : campaign_rise(c, r, pts, rows, &data, err);
     if (rc) {
         gr_file_abandon(&data);
         return rc;

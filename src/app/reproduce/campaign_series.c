@@ -94,13 +94,14 @@ static int run_periods(const campaign_point *p, double period, const char *group
 }
 
 int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
-                     campaign_rows *rows, FILE *data, gr_error *err)
+                     campaign_rows *rows, gr_file *data, gr_error *err)
 {
     (void)c;
     (void)err;
     static char g[MAX_GROUPS][160];
     int ng = campaign_groups(pts, NULL, NULL, g);
-    fprintf(data, "group,seed,t,period_mean,running_mean\n");
+    campaign_header(data, "group", "", "seed", "1", "t", "s", "period_mean", campaign_unit(r),
+                    "running_mean", campaign_unit(r), NULL);
     for (int gi = 0; gi < ng; gi++) {
         campaign_row *row = campaign_group_row(rows, g[gi]);
         double all[4096], seed_means[MAX_SEEDS];
@@ -112,7 +113,7 @@ int campaign_running(const gr_campaign *c, const gr_campaign_result *r, const ca
             double period =
                 fmin(r->period, 0.1 * gr_summary_number(mem[i]->summary, "scene.run.duration"));
             double means[1024], m, se;
-            int n = run_periods(mem[i], period, g[gi], data, means, 1024);
+            int n = run_periods(mem[i], period, g[gi], data->f, means, 1024);
             if (n == 0) {
                 continue;
             }
@@ -199,14 +200,15 @@ static double rise_or_settle_time(const campaign_point *p, const char *group, bo
 }
 
 int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
-                  campaign_rows *rows, FILE *data, gr_error *err)
+                  campaign_rows *rows, gr_file *data, gr_error *err)
 {
     (void)c;
     (void)err;
     static char g[MAX_GROUPS][160];
     int ng = campaign_groups(pts, NULL, NULL, g);
     const bool settle = r->kind == GR_RESULT_SETTLE;
-    fprintf(data, "group,seed,t,T,steady_T\n");
+    campaign_header(data, "group", "", "seed", "1", "t", "s", "T", "m2 s-2", "steady_T", "m2 s-2",
+                    NULL);
     for (int gi = 0; gi < ng; gi++) {
         campaign_row *row = campaign_group_row(rows, g[gi]);
         double v[MAX_SEEDS];
@@ -214,7 +216,7 @@ int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campa
         const campaign_point *mem[MAX_SEEDS];
         int nm = campaign_members(pts, g[gi], mem, MAX_SEEDS);
         for (int i = 0; i < nm; i++) {
-            double rt = rise_or_settle_time(mem[i], g[gi], settle, data);
+            double rt = rise_or_settle_time(mem[i], g[gi], settle, data->f);
             if (isfinite(rt)) {
                 v[n++] = rt;
                 campaign_add_cost(row, mem[i]);

@@ -35,6 +35,19 @@
 static const char *const quantities[] = {"D_f",         "C",        "alpha",
                                          "S_predicted", "S",        "S_over_predicted",
                                          "A0_over_P0",  "slope_P0", "slope_A0"};
+/* Their units (ID_data.meta.json), with the row's exponents (docs/trajectories.md): C of 4.25 in
+ * m^-(D_f - 1); 5.31 is ln P = ln A0 + h ln v - S v^alpha with the fit's alpha_fit and h_fit, so S
+ * is in (m/s)^-alpha_fit and A0 / P(0) in (m/s)^-h_fit; S_predicted has the predicted alpha; the
+ * slopes of Fig. 5.13 are of ln-ln lines. */
+static const char *const quantity_units[] = {"1",
+                                             "m m^-D_f",
+                                             "1",
+                                             "(m s-1)^-alpha",
+                                             "(m s-1)^-alpha_fit",
+                                             "(m s-1)^-alpha_fit (m s-1)^alpha",
+                                             "(m s-1)^-h_fit",
+                                             "1",
+                                             "1"};
 enum { Q_DF, Q_C, Q_ALPHA, Q_SPRED, Q_S, Q_SRATIO, Q_A0P0, Q_SLOPE_P0, Q_SLOPE_A0, Q_COUNT };
 
 static int quantity_index(const char *y) { return campaign_name_index(quantities, Q_COUNT, y); }
@@ -251,7 +264,7 @@ static void draw(const char *results, const gr_campaign_result *r, int blocks)
 }
 
 int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
-                 campaign_rows *rows, const char *results, FILE *data, gr_error *err)
+                 campaign_rows *rows, const char *results, gr_file *data, gr_error *err)
 {
     (void)c;
     const int q = quantity_index(r->y);
@@ -270,12 +283,16 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
         free(buf);
         return GR_FAIL(err, GR_EIO, "cannot write %s", path);
     }
-    fprintf(data, "group,seed");
+    gr_file_columns(data, "group [],seed [1]");
     for (int k = 0; k < Q_COUNT; k++) {
-        fprintf(data, ",%s,%s_error", quantities[k], quantities[k]);
+        char name[64];
+        snprintf(name, sizeof name, "%s_error", quantities[k]);
+        gr_file_column(data, quantities[k], quantity_units[k]);
+        gr_file_column(data, name, quantity_units[k]);
     }
-    fprintf(data, ",v_lo,v_hi,fit_points,decades,chi2_red_531,A0,P0,alpha_fit,h_fit,pl_l_lo,pl_l_"
-                  "hi,pl_points,pl_chi2_red\n");
+    gr_file_header(data, "v_lo [m s-1],v_hi [m s-1],fit_points [1],decades [1],chi2_red_531 [1],A0 "
+                         "[s m-1 (m s-1)^-h_fit],P0 [s m-1],alpha_fit [1],h_fit [1],pl_l_lo [m],"
+                         "pl_l_hi [m],pl_points [1],pl_chi2_red [1]");
     static char g[MAX_GROUPS][160];
     const int ng = campaign_groups(pts, NULL, NULL, g);
     int blocks = 0;
@@ -289,11 +306,11 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
         for (int i = 0; i < nm; i++) {
             spm_run o;
             analyse_run(r, m[i], &o, buf);
-            fprintf(data, "\"%s\",%d", g[gi], campaign_seed_of(m[i]));
+            fprintf(data->f, "\"%s\",%d", g[gi], campaign_seed_of(m[i]));
             for (int k = 0; k < Q_COUNT; k++) {
-                fprintf(data, ",%.9g,%.9g", o.q[k], o.q_err[k]);
+                fprintf(data->f, ",%.9g,%.9g", o.q[k], o.q_err[k]);
             }
-            fprintf(data, ",%.6g,%.6g,%d,%.4g,%.4g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.4g\n",
+            fprintf(data->f, ",%.6g,%.6g,%d,%.4g,%.4g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.4g\n",
                     o.t.v_lo, o.t.v_hi, o.t.n_points, o.t.decades, o.t.chi2_red, o.t.A0, o.t.P0,
                     o.t.alpha, o.t.h, o.pl_lo, o.pl_hi, o.pl_points, o.C_fit_chi2);
             if (o.have_tail && !drawn) {
@@ -312,10 +329,12 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
                     row->n_x = o.pl_points;
                     row->x_lo = o.pl_lo;
                     row->x_hi = o.pl_hi;
+                    snprintf(row->x_unit, sizeof row->x_unit, "m");
                 } else if (n == 1 && o.have_tail && q >= Q_S) { /* ... or |v| in m/s */
                     row->n_x = o.t.n_points;
                     row->x_lo = o.t.v_lo;
                     row->x_hi = o.t.v_hi;
+                    snprintf(row->x_unit, sizeof row->x_unit, "m s-1");
                 }
                 chi2 += q <= Q_C ? o.C_fit_chi2 : o.t.chi2_red;
                 campaign_add_cost(row, m[i]);

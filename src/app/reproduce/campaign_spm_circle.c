@@ -57,6 +57,7 @@ static void fill_row(const gr_campaign_result *r, campaign_row *row, const gr_sp
     row->chi2_red = f->chi2_red;
     row->x_lo = f->wfrom;
     row->x_hi = f->wto;
+    snprintf(row->x_unit, sizeof row->x_unit, "1"); /* w = v / u_l */
     campaign_row_thesis(r, row);
 }
 
@@ -107,11 +108,12 @@ static int write_q(const char *results, const gr_campaign_result *r,
 }
 
 int campaign_spm_circle(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts,
-                        campaign_rows *rows, const char *results, FILE *data, gr_error *err)
+                        campaign_rows *rows, const char *results, gr_file *data, gr_error *err)
 {
     const int q = campaign_name_index(quantities, Q_COUNT, r->y);
-    fprintf(data, "group,l,u_l,b,b_err,chi2_red,w_from,w_to,bins,beta,beta_err,coefficient,"
-                  "coefficient_err\n");
+    gr_file_header(data, "group [],l [m],u_l [m s-1],b [1],b_err [1],chi2_red [1],w_from [1],w_to "
+                         "[1],bins [1],beta [1],beta_err [1],coefficient [s2 m-2],coefficient_err "
+                         "[s2 m-2]");
     if (pts->n == 0) {
         return GR_OK;
     }
@@ -140,9 +142,10 @@ int campaign_spm_circle(const gr_campaign_result *r, gr_fidelity fid, const camp
                      scale = pooled ? (double)NAN : v2_scale(p.s.mass, p.s.D, l);
         char group[64];
         snprintf(group, sizeof group, pooled ? POOLED_GROUP : "l=%g", l);
-        fprintf(data, "\"%s\",%.6g,%.6g,%.6g,%.6g,%.4g,%.4g,%.4g,%d,%.6g,%.6g,%.6g,%.6g\n", group,
-                l, pooled ? (double)NAN : rep.q[k].u, f->b, b_error(f), f->chi2_red, f->wfrom,
-                f->wto, f->n_points, f->beta, f->beta_err, f->b * scale, b_error(f) * scale);
+        fprintf(data->f, "\"%s\",%.6g,%.6g,%.6g,%.6g,%.4g,%.4g,%.4g,%d,%.6g,%.6g,%.6g,%.6g\n",
+                group, l, pooled ? (double)NAN : rep.q[k].u, f->b, b_error(f), f->chi2_red,
+                f->wfrom, f->wto, f->n_points, f->beta, f->beta_err, f->b * scale,
+                b_error(f) * scale);
         if (q == Q_COEFFICIENT && pooled) {
             continue; /* the coefficient in s^2/m^2 belongs to one radius */
         }

@@ -187,7 +187,7 @@ static void draw(const char *results, const gr_campaign_result *r, int blocks)
 }
 
 int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const campaign_points *pts,
-                         campaign_rows *rows, const char *results, FILE *data, gr_error *err)
+                         campaign_rows *rows, const char *results, gr_file *data, gr_error *err)
 {
     const int q = quantity_index(r->y);
     if (q < 0) {
@@ -203,13 +203,16 @@ int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const cam
     if (!blocks_file) {
         return GR_FAIL(err, GR_EIO, "cannot write %s", path);
     }
-    fprintf(data, "group,seed");
-    for (int k = 0; k < Q_COUNT; k++) {
-        fprintf(data, ",%s,%s_error", quantities[k], quantities[k]);
+    gr_file_columns(data, "group [],seed [1]");
+    for (int k = 0; k < Q_COUNT; k++) { /* fractions, decades, scale factors, exponents */
+        char name[64];
+        snprintf(name, sizeof name, "%s_error", quantities[k]);
+        gr_file_column(data, quantities[k], "1");
+        gr_file_column(data, name, "1");
     }
-    fprintf(data, ",v_rms,v_from,v_agree_lo,v_agree_hi,agree_bins,compared_bins,chi2_red_k,chi2_"
-                  "red_ks,k_with_s,points_alpha_spm,"
-                  "points_alpha_rfm\n");
+    gr_file_header(data, "v_rms [m s-1],v_from [m s-1],v_agree_lo [m s-1],v_agree_hi [m s-1],"
+                         "agree_bins [1],compared_bins [1],chi2_red_k [1],chi2_red_ks [1],k_with_s "
+                         "[1],points_alpha_spm [1],points_alpha_rfm [1]");
     static char g[MAX_GROUPS][160];
     const int ng = campaign_groups(pts, NULL, NULL, g);
     int blocks = 0;
@@ -223,13 +226,14 @@ int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const cam
             cmp_run o;
             analyse_run(m[i], walks, &o);
             const gr_spm_series_compare *c = &o.c;
-            fprintf(data, "\"%s\",%d", g[gi], campaign_seed_of(m[i]));
+            fprintf(data->f, "\"%s\",%d", g[gi], campaign_seed_of(m[i]));
             for (int k = 0; k < Q_COUNT; k++) {
-                fprintf(data, ",%.9g,%.9g", o.q[k], o.q_err[k]);
+                fprintf(data->f, ",%.9g,%.9g", o.q[k], o.q_err[k]);
             }
-            fprintf(data, ",%.6g,%.6g,%.6g,%.6g,%d,%d,%.4g,%.4g,%.6g,%d,%d\n", c->v_rms, c->v_from,
-                    c->amp.v_agree_lo, c->amp.v_agree_hi, c->amp.agree_bins, c->amp.n_points,
-                    c->amp.chi2_red, c->scaled.chi2_red, c->scaled.k, c->points_spm, c->points_rfm);
+            fprintf(data->f, ",%.6g,%.6g,%.6g,%.6g,%d,%d,%.4g,%.4g,%.6g,%d,%d\n", c->v_rms,
+                    c->v_from, c->amp.v_agree_lo, c->amp.v_agree_hi, c->amp.agree_bins,
+                    c->amp.n_points, c->amp.chi2_red, c->scaled.chi2_red, c->scaled.k,
+                    c->points_spm, c->points_rfm);
             if (o.ok) {
                 write_block(blocks_file, g[gi], campaign_seed_of(m[i]), &o, blocks == 0);
                 blocks++;
@@ -243,6 +247,7 @@ int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const cam
                 if (n == 1) { /* the first run's compared window, for the page: |v| in m/s */
                     row->n_x = c->amp.n_points;
                     row->x_lo = c->v_from;
+                    snprintf(row->x_unit, sizeof row->x_unit, "m s-1");
                     row->x_hi = c->amp.v_agree_hi;
                 }
                 chi2 += q == Q_S ? c->scaled.chi2_red : c->amp.chi2_red;
