@@ -278,6 +278,50 @@ END_TEST
 /* compare.csv is plain for numpy.genfromtxt (no '#', which starts a comment there, in any cell:
  * the footnote marks are words in <key>_note), compare.meta.json gives every column's unit and
  * its notes one per line, and the footer says what "+-" is (issue 38). */
+/* The system's own rows (issue 36): a free-cooling gas's Haff time, a Langevin gas's T / T_bath and
+ * a bed's profile, present only when the scene has them. */
+START_TEST(test_system_rows)
+{
+    write_summary(
+        "cool",
+        "{\"status\":\"completed\",\"T_mean\":0.1,\"T_stderr\":0.01,\"T_stderr_converged\":true,"
+        "\"collisions\":5,\"simulated_seconds\":1,\"wall_seconds\":1,"
+        "\"mean_field\":{\"t0_fit\":1.2,\"t0_fit_stderr\":0.03,\"t0_haff\":1.0},"
+        "\"ledger\":{\"injected\":0},\"scene\":{\"system\":{\"dim\":2,\"N\":10},"
+        "\"integrator\":{\"kind\":\"event\"}}}");
+    write_summary(
+        "bed",
+        "{\"status\":\"completed\",\"T_mean\":0.2,\"T_stderr\":0.01,\"T_stderr_converged\":true,"
+        "\"collisions\":5,\"simulated_seconds\":1,\"wall_seconds\":1,"
+        "\"mean_field\":{\"t0_fit\":9,\"t0_fit_stderr\":1,\"T_bath\":0.4},"
+        "\"analysis\":{\"profile\":{\"mean_position\":0.05,\"mean_position_error\":0.001,"
+        "\"max_packing_fraction\":0.3}},"
+        "\"ledger\":{\"injected\":0},\"scene\":{\"system\":{\"dim\":2,\"N\":10},"
+        "\"gravity\":{\"gy\":-9.81},\"integrator\":{\"kind\":\"verlet\"}}}");
+    gr_compare_spec specs[1];
+    gr_error err = {0};
+    int n;
+    ck_assert_int_eq(gr_compare_specs_parse("hard_sphere", specs, 1, &n, &err), GR_OK);
+    snprintf(specs[0].label, sizeof specs[0].label, "cool");
+    gr_compare_table *t = gr_compare_table_build(g_dir, "scene.ini", 2, specs, 1);
+    ck_assert_str_eq(cell(t, "haff_t0", 0), "1.200 +- 0.030");
+    ck_assert_str_eq(cell(t, "haff_t0_ratio", 0), "1.200 +- 0.030");
+    for (int i = 0; i < t->n_rows; i++) { /* no bath or profile rows for a free gas */
+        ck_assert(strcmp(t->row[i].key, "T_over_bath") && strcmp(t->row[i].key, "profile_height"));
+    }
+    gr_compare_table_free(t);
+    snprintf(specs[0].label, sizeof specs[0].label, "bed");
+    t = gr_compare_table_build(g_dir, "scene.ini", 2, specs, 1);
+    ck_assert_str_eq(cell(t, "T_over_bath", 0), "0.500 +- 0.025");
+    ck_assert_str_eq(cell(t, "profile_height", 0), "0.0500 +- 0.0010");
+    ck_assert_str_eq(cell(t, "profile_max_phi", 0), "0.3");
+    for (int i = 0; i < t->n_rows; i++) { /* under gravity Haff's law is not the reference */
+        ck_assert(strcmp(t->row[i].key, "haff_t0"));
+    }
+    gr_compare_table_free(t);
+}
+END_TEST
+
 START_TEST(test_csv_plain_with_units)
 {
     write_summary(
@@ -538,6 +582,7 @@ static Suite *compare_suite(void)
     tcase_add_test(tc, test_spec_parse);
     tcase_add_test(tc, test_format);
     tcase_add_test(tc, test_headline_reasons);
+    tcase_add_test(tc, test_system_rows);
     tcase_add_test(tc, test_csv_plain_with_units);
     tcase_add_test(tc, test_mixed_integrators);
     tcase_add_test(tc, test_rotation_modifier);

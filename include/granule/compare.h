@@ -21,7 +21,7 @@
 #include "granule/status.h"
 
 #define GR_COMPARE_MAX 16   /* models in one comparison */
-#define GR_COMPARE_ROWS 20  /* headline rows */
+#define GR_COMPARE_ROWS 24  /* headline rows: 15 common, up to 5 of the system */
 #define GR_COMPARE_CELL 112 /* characters of one headline cell */
 
 typedef struct gr_compare_spec {

@@ -237,6 +237,91 @@ static void fill_column(gr_compare_table *t, int k, const cJSON *s)
     throughput_cells(&r[i + 1], &r[i + 2], k, s);
 }
 
+/* The system's own numbers (issue 36), as rows after the common ones, present when the compared
+ * scene has them: a freely cooling gas's Haff time (mean_field.t0_fit beside the Enskog t0_haff;
+ * not with walls or gravity),
+ * a Langevin gas's T over the bath's, a bed's centre-of-mass height and densest slab (the profile
+ * observable). Which rows: from the first model that left a summary (all share the scene). */
+enum { SYS_HAFF = 1, SYS_BATH = 2, SYS_PROFILE = 4 };
+
+static int system_rows(gr_compare_table *t)
+{
+    const cJSON *s = NULL;
+    for (int k = 0; k < t->n_models && !s; k++) {
+        s = t->summaries[k];
+    }
+    int sys = 0;
+    /* Haff's law is the homogeneous gas's: not under gravity or between walls */
+    const bool open = !member(s, "scene.gravity") && !member(s, "scene.boundary");
+    sys |= member(s, "mean_field.t0_fit") && open ? SYS_HAFF : 0;
+    sys |= member(s, "mean_field.T_bath") ? SYS_BATH : 0;
+    sys |= member(s, "analysis.profile") ? SYS_PROFILE : 0;
+    if (sys & SYS_HAFF) {
+        add_row(t, "Haff time t0, fitted (s)", "haff_t0", "s");
+        add_row(t, "t0 fitted / Enskog t0 (docs/validation.md)", "haff_t0_ratio", "1");
+    }
+    if (sys & SYS_BATH) {
+        add_row(t, "T / T_bath (Langevin bath)", "T_over_bath", "1");
+    }
+    if (sys & SYS_PROFILE) {
+        add_row(t, "centre-of-mass position along the profile axis (m)", "profile_height", "m");
+        add_row(t, "densest slab's packing fraction", "profile_max_phi", "1");
+    }
+    return sys;
+}
+
+static gr_compare_cell *cell_of(gr_compare_table *t, const char *key, int k)
+{
+    for (int i = 0; i < t->n_rows; i++) {
+        if (!strcmp(t->row[i].key, key)) {
+            return &t->row[i].cell[k];
+        }
+    }
+    return NULL; /* not reached: system_rows added it */
+}
+
+static void fill_system(gr_compare_table *t, int k, const cJSON *s, int sys)
+{
+    if (sys & SYS_HAFF) {
+        const double t0 = gr_summary_number(s, "mean_field.t0_fit"),
+                     e = gr_summary_number(s, "mean_field.t0_fit_stderr"),
+                     ref = gr_summary_number(s, "mean_field.t0_haff");
+        if (isfinite(t0)) {
+            set_number(cell_of(t, "haff_t0", k), t0, e, NULL);
+        } else {
+            set_reason(cell_of(t, "haff_t0", k), "no fit");
+        }
+        if (isfinite(t0) && ref > 0.0) {
+            set_number(cell_of(t, "haff_t0_ratio", k), t0 / ref, e / ref, NULL);
+        } else {
+            set_reason(cell_of(t, "haff_t0_ratio", k), "n/a: no Enskog t0 (2D hard discs only)");
+        }
+    }
+    if (sys & SYS_BATH) {
+        const double bath = gr_summary_number(s, "mean_field.T_bath");
+        if (bath > 0.0 && isfinite(gr_summary_number(s, "T_mean"))) {
+            set_number(cell_of(t, "T_over_bath", k), gr_summary_number(s, "T_mean") / bath,
+                       gr_summary_number(s, "T_stderr") / bath, NULL);
+        } else {
+            set_reason(cell_of(t, "T_over_bath", k), bath > 0.0 ? "no samples" : "n/a: T_bath = 0");
+        }
+    }
+    if (sys & SYS_PROFILE) {
+        const cJSON *p = member(s, "analysis.profile");
+        if (p && isfinite(gr_summary_number(p, "mean_position"))) {
+            set_number(cell_of(t, "profile_height", k), gr_summary_number(p, "mean_position"),
+                       gr_summary_number(p, "mean_position_error"), NULL);
+            set_number(cell_of(t, "profile_max_phi", k),
+                       gr_summary_number(p, "max_packing_fraction"), NAN, NULL);
+        } else {
+            set_reason(cell_of(t, "profile_height", k),
+                       p ? "no samples" : "n/a: profile not enabled");
+            set_reason(cell_of(t, "profile_max_phi", k),
+                       p ? "no samples" : "n/a: profile not enabled");
+        }
+    }
+}
+
 gr_compare_table *gr_compare_table_build(const char *out, const char *scene_path, int dim,
                                          const gr_compare_spec *specs, int n)
 {
@@ -269,10 +354,13 @@ gr_compare_table *gr_compare_table_build(const char *out, const char *scene_path
         char dir[1200];
         snprintf(dir, sizeof dir, "%s/%s", out, specs[k].label);
         gr_error err = {0};
-        cJSON *s = gr_summary_read(dir, &err);
-        t->summaries[k] = s;
-        if (s) {
-            fill_column(t, k, s);
+        t->summaries[k] = gr_summary_read(dir, &err);
+    }
+    const int sys = system_rows(t);
+    for (int k = 0; k < t->n_models; k++) {
+        if (t->summaries[k]) {
+            fill_column(t, k, t->summaries[k]);
+            fill_system(t, k, t->summaries[k], sys);
         } else {
             failed_column(t, k);
         }
