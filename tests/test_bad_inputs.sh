@@ -103,7 +103,6 @@ file:[system]\ndim = 2\nN = 400\nL = 0.12\n[placement]\nkind = hexagonal\n[bound
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\ny = walls\nvibrate = x\n | run $S --out $O | 2 | :9:;[boundary] vibrate;[boundary] x = periodic;an axis with walls | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\ny = walls\nvibrate = y\namplitude = 0.02\n | run $S --out $O | 2 | :10:;[boundary] amplitude;[0, L / 4) = [0, 0.01) m | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[boundary]\ny = walls\nvibrate = y\nfrequency = -5\n | run $S --out $O | 2 | :8:;[boundary] frequency;[0, inf) | new
-file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\ny = walls\n[gravity]\ngy = -9.81\n | export lammps $S --out $O | 2 | export lammps;[boundary] walls;not exported yet;gravity gx, gy = 0 | new
 base | run $S --out $O --set placement.kind=bogus | 2 | kind;uniform | new
 base | run $S --out $O --set placement.v0=-1 | 2 | v0 | new
 base | run $S --out $O --set integrator.kind=bogus | 2 | kind;bogus;verlet;event;hybrid | new

@@ -149,6 +149,9 @@ double gr_sim_time(const gr_sim *sim);
 int64_t gr_sim_steps(const gr_sim *sim);
 double gr_sim_dt(const gr_sim *sim);
 const gr_contact_coeffs *gr_sim_coeffs(const gr_sim *sim);
+/* The normal law's coefficients against a wall (reduced mass M; docs/systems-walls-gravity.md);
+ * NULL without walls or for an integrator with its own wall events. */
+const gr_contact_coeffs *gr_sim_wall_coeffs(const gr_sim *sim);
 const char *gr_sim_kernel(const gr_sim *sim);
 /* Contacts started since creation (a pair coming into overlap). */
 int64_t gr_sim_collisions(const gr_sim *sim);

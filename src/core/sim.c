@@ -520,6 +520,12 @@ double gr_sim_time(const gr_sim *s) { return (double)s->step * s->dt; }
 int64_t gr_sim_steps(const gr_sim *s) { return s->step; }
 double gr_sim_dt(const gr_sim *s) { return s->dt; }
 const gr_contact_coeffs *gr_sim_coeffs(const gr_sim *s) { return &s->cc; }
+
+const gr_contact_coeffs *gr_sim_wall_coeffs(const gr_sim *s)
+{
+    const bool walls = s->params.walls[0] || s->params.walls[1];
+    return walls && !s->integrator->instantaneous ? &s->wall_cc : NULL;
+}
 const char *gr_sim_kernel(const gr_sim *s) { return s->kernel_name; }
 int64_t gr_sim_collisions(const gr_sim *s) { return s->collisions; }
 int64_t gr_sim_rebuilds(const gr_sim *s) { return s->rebuilds; }

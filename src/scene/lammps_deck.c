@@ -13,6 +13,13 @@
  *   driving   none: no noise fix. langevin: fix langevin T T tau with k_B T = M T_bath / dim (units si,
  *             k_B = 1.380649e-23 J/K): its drag -M v / tau and random force of variance
  *             2 k_B T M / (tau dt) are the bath's (docs/systems-driving.md), no momentum fix.
+ *   walls     boundary f along a wall axis, and per wall fix wall/gran hooke Kn 0 gamman_w 0 xmu 1
+ *             with gamman_w = gamma_n(wall) / M: LAMMPS's wall contact has meff = M, granule's
+ *             wall law the reduced mass M (the same eps_n). The vibrating floor is its own fix with
+ *             wiggle (A sin(2 pi f t), t from the deck's start, as granule's); the box reaches
+ *             A + d below 0 so that no grain riding the floor leaves it.
+ *   gravity   fix gravity |g| vector gx/|g| gy/|g| 0. With walls no fix momentum is written (the
+ *             walls and gravity change the total momentum): the noise is then not symmetrised.
  *   rotation  fix nve integrates no angular velocity, as granule ignores rotation.
  *   schedule  run warmup / dt steps, then dump every sample_every / dt steps for duration / dt.
  * The initial particles are those gr_sim_create places for the scene and its seed, so granule's
@@ -46,14 +53,6 @@ static int refuse_unmappable(const gr_scene *s, gr_error *err)
                        "verlet (its event-driven and hybrid integrators have no LAMMPS equivalent)",
                        s->source);
     }
-    if (s->boundary[0] || s->boundary[1] || s->gravity[0] != 0.0 || s->gravity[1] != 0.0) {
-        /* the deck writes a periodic box; fix wall/gran and fix gravity are not written yet */
-        return GR_FAIL(err, GR_EINVAL,
-                       "export lammps: %s: [boundary] walls and [gravity] are not exported yet "
-                       "(fix wall/gran, fix gravity); allowed: boundary x, y = periodic, gravity "
-                       "gx, gy = 0",
-                       s->source);
-    }
     if (!s->normal->lammps_pair || strcmp(s->normal->lammps_pair, "gran/hooke") != 0) {
         return GR_FAIL(
             err, GR_EINVAL,
@@ -80,8 +79,13 @@ static int write_data(const char *dir, const gr_scene *s, const gr_particles *p,
     const double d = 2.0 * s->radius;
     fprintf(f.f, "granule initial state of %s (seed %llu)\n\n%d atoms\n1 atom types\n\n", s->source,
             (unsigned long long)s->seed, p->n);
-    fprintf(f.f, "0 %.17g xlo xhi\n0 %.17g ylo yhi\n%.17g %.17g zlo zhi\n\nAtoms # sphere\n\n",
-            p->L, p->L, -d, d);
+    double lo[2] = {0.0, 0.0}; /* a vibrating floor goes A below 0: room for the grains on it */
+    if (s->vibrate) {
+        lo[s->vibrate - 1] = -(s->amplitude + d);
+    }
+    fprintf(f.f,
+            "%.17g %.17g xlo xhi\n%.17g %.17g ylo yhi\n%.17g %.17g zlo zhi\n\nAtoms # sphere\n\n",
+            lo[0], p->L, lo[1], p->L, -d, d);
     /* id type diameter density x y z; the mass is set in the deck */
     for (int i = 0; i < p->n; i++) {
         fprintf(f.f, "%d 1 %.17g 1 %.17g %.17g 0\n", i + 1, d, p->x[i], p->y[i]);
@@ -91,6 +95,39 @@ static int write_data(const char *dir, const gr_scene *s, const gr_particles *p,
         fprintf(f.f, "%d %.17g %.17g 0 0 0 0\n", i + 1, p->vx[i], p->vy[i]);
     }
     return gr_file_commit(&f, err);
+}
+
+/* walls and gravity: boundary letters already written; the wall fixes and gravity */
+static void write_walls(FILE *o, const gr_scene *s, const gr_lammps_export *e, bool clamp)
+{
+    static const char axis[2] = {'x', 'y'};
+    for (int a = 0; a < 2; a++) {
+        if (!s->boundary[a]) {
+            continue;
+        }
+        const bool wiggle = s->vibrate == a + 1 && s->amplitude > 0.0 && s->frequency > 0.0;
+        fprintf(o,
+                "# walls along %c: gamma_n(wall) = %.17g kg/s at the reduced mass M (meff = M)\n",
+                axis[a], e->gamman_wall * s->mass);
+        for (int side = 0; side < 2; side++) {
+            fprintf(o, "fix wall_%c%s all wall/gran hooke %.17g 0.0 %.17g 0.0 %.17g 1 %cplane ",
+                    axis[a], side ? "hi" : "lo", e->kn, e->gamman_wall, LMP_XMU, axis[a]);
+            if (side) {
+                fprintf(o, "NULL %.17g", s->L);
+            } else {
+                fprintf(o, "0.0 NULL");
+                if (wiggle) {
+                    fprintf(o, " wiggle %c %.17g %.17g", axis[a], s->amplitude, 1.0 / s->frequency);
+                }
+            }
+            fprintf(o, "%s\n", clamp ? " limit_damping" : "");
+        }
+    }
+    const double g = hypot(s->gravity[0], s->gravity[1]);
+    if (g > 0.0) {
+        fprintf(o, "fix gravity all gravity %.17g vector %.17g %.17g 0.0\n", g, s->gravity[0] / g,
+                s->gravity[1] / g);
+    }
 }
 
 static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export *e, bool clamp,
@@ -111,7 +148,8 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export
             GR_VERSION, GR_COMMIT, s->source);
     fprintf(o, "# run: mpirun -n RANKS lmp -in in.granule   (writes %s and log.lammps here)\n",
             e->dump);
-    fprintf(o, "units si\ndimension 2\nboundary p p p\natom_style sphere\ncomm_modify vel yes\n");
+    fprintf(o, "units si\ndimension 2\nboundary %c %c p\natom_style sphere\ncomm_modify vel yes\n",
+            s->boundary[0] ? 'f' : 'p', s->boundary[1] ? 'f' : 'p');
     fprintf(o, "read_data data.granule\nset type 1 mass %.17g\n", s->mass);
     fprintf(
         o,
@@ -138,8 +176,12 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export
         fprintf(o, "fix bath all langevin %.17g %.17g %.17g %ld\n", T_K, T_K, s->driving_params.tau,
                 seed + 2);
     }
+    write_walls(o, s, e, clamp);
+    const bool walls = s->boundary[0] || s->boundary[1];
     fprintf(o, "fix integrate all nve\nfix plane all enforce2d\n");
-    if (s->noise_mode == GR_NOISE_SYMMETRISED) {
+    if (walls) {
+        /* walls and gravity change the total momentum: no fix momentum (see the head comment) */
+    } else if (s->noise_mode == GR_NOISE_SYMMETRISED) {
         fprintf(o, "fix com all momentum 1 linear 1 1 0\n");
     } else if (s->noise_mode == GR_NOISE_COM) {
         long every = lround(s->com_interval / s->dt);
@@ -176,6 +218,8 @@ int gr_export_lammps(const gr_scene *scene, const char *dir, bool force, gr_lamm
     const double m12 = gr_scene_m12(&s);
     info->kn = c->k_s;
     info->gamman = c->gamma_n / m12;
+    const gr_contact_coeffs *cw = gr_sim_wall_coeffs(sim);
+    info->gamman_wall = cw ? cw->gamma_n / s.mass : 0.0; /* LAMMPS: meff = M at a wall */
     info->gammat = s.tangential
                        ? c->gamma_t / m12
                        : 0.0; /* only a law of the same pair style exports (refuse_unmappable) */
