@@ -345,9 +345,11 @@ for d in e h; do
 done
 
 # ---------- walls and gravity (docs/systems-walls-gravity.md) ----------
-# a 2D bed between walls at y = 0 and L under gravity, x periodic, driven by the random force:
-# its ledger has the potential energy and the wall springs; SIGTERM + --resume and repeated
-# --wall-limit stops + --resume end bit-identical to the straight run
+# a 2D bed between walls at y = 0 and L under gravity, x periodic, driven by the random force and
+# a sawtooth floor, rotating grains with the tangential spring (its per-wall history), the walls'
+# own eps_n and mu: its ledger has the potential energy, the wall springs and the floor's
+# wall_work, summary.json the walls' mean forces; SIGTERM + --resume and repeated --wall-limit
+# stops + --resume end bit-identical to the straight run
 if [[ $quick == 1 ]]; then durw=0.01; else durw=0.02; fi
 cat >sw.ini <<EOF
 [system]
@@ -359,10 +361,18 @@ kind = uniform
 v0 = 0.2
 [model]
 eps_n = 0.7
+tangential = tangential_spring
+rotation = true
 [noise]
 D = 1e-8
 [boundary]
 y = walls
+vibrate = y
+amplitude = 5e-4
+frequency = 50
+motion = sawtooth
+eps_n = 0.8
+mu = 0.3
 [gravity]
 gy = -9.81
 [analysis]

@@ -35,10 +35,38 @@ static double injection_rate_expected(const gr_scene *scene, double dt)
            (scene->noise_mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / scene->N : 1.0);
 }
 
+/* summary.json's "walls": for each wall (x_0, x_L, y_0, y_L: the walls at 0 and L of an axis with
+ * walls) the time-averaged normal force the grains exert on it, N (> 0: pushing it outwards), with
+ * its standard error from block averaging of the per-sample means, and in 2D the pressure, force
+ * per unit length of the wall (L), N/m. */
+static void write_walls(cJSON *j, const gr_scene *scene, const gr_blocking *wb)
+{
+    if (!scene->boundary[0] && !scene->boundary[1]) {
+        return;
+    }
+    static const char *const names[4] = {"x_0", "x_L", "y_0", "y_L"};
+    cJSON *wj = cJSON_AddObjectToObject(j, "walls");
+    for (int w = 0; w < 4; w++) {
+        if (!scene->boundary[w / 2] || wb[w].count[0] < 1) {
+            continue;
+        }
+        int converged = 0;
+        const double f = gr_blocking_mean(&wb[w]), e = gr_blocking_stderr(&wb[w], NULL, &converged);
+        cJSON *o = cJSON_AddObjectToObject(wj, names[w]);
+        cJSON_AddNumberToObject(o, "force", f);
+        cJSON_AddNumberToObject(o, "force_stderr", isfinite(e) ? e : -1.0);
+        cJSON_AddBoolToObject(o, "force_stderr_converged", converged);
+        if (scene->dim == 2) {
+            cJSON_AddNumberToObject(o, "pressure", f / scene->L);
+            cJSON_AddNumberToObject(o, "pressure_stderr", isfinite(e) ? e / scene->L : -1.0);
+        }
+    }
+}
+
 static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim,
-                         const gr_run_result *r, const gr_blocking *blk, const char *status,
-                         const char *diagnosis, const char *plots, cJSON *analysis,
-                         cJSON *mean_field, gr_error *err)
+                         const gr_run_result *r, const gr_blocking *blk,
+                         const gr_blocking *wall_blk, const char *status, const char *diagnosis,
+                         const char *plots, cJSON *analysis, cJSON *mean_field, gr_error *err)
 {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "status", status);
@@ -85,8 +113,11 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim,
     if (scene->gravity[0] != 0.0 || scene->gravity[1] != 0.0) {
         cJSON_AddNumberToObject(led, "potential", l->potential); /* [gravity]: -M sum g . r */
     }
+    if (scene->vibrate) {
+        cJSON_AddNumberToObject(led, "wall_work", l->wall_work); /* the moving wall's work */
+    }
     double res = gr_ledger_residual(l);
-    double scale = fmax(l->injected + gr_ledger_dissipated(l), l->initial);
+    double scale = fmax(l->injected + fabs(l->wall_work) + gr_ledger_dissipated(l), l->initial);
     cJSON_AddNumberToObject(led, "residual", res);
     cJSON_AddNumberToObject(led, "relative_residual", scale > 0.0 ? res / scale : 0.0);
     cJSON_AddStringToObject(j, "kernel", r->kernel);
@@ -116,6 +147,7 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim,
     cJSON_AddNumberToObject(co, "max_overlap_now", gr_sim_max_overlap(sim));
     cJSON_AddNumberToObject(j, "energy_injection_rate_expected",
                             injection_rate_expected(scene, gr_sim_dt(sim)));
+    write_walls(j, scene, wall_blk);
     cJSON *bl = cJSON_AddArrayToObject(j, "T_blocking_stderr");
     for (int k = 0; k < GR_BLOCKING_LEVELS && blk->count[k] >= 2; k++) {
         cJSON_AddItemToArray(bl, cJSON_CreateNumber(gr_blocking_stderr_at(blk, k)));
@@ -308,7 +340,7 @@ int gr_run_finish(gr_run_ctx *c)
     free(c->haff_t);
     free(c->haff_T);
     r.s =
-        write_summary(c->dir, c->scene, c->sim, c->res, &c->blk, c->status,
+        write_summary(c->dir, c->scene, c->sim, c->res, &c->blk, c->wall_blk, c->status,
                       c->diagnosis[0] ? c->diagnosis : NULL, plots, analysis, mean_field, &io_err);
     if (r.s == GR_OK && c->scene->plots) {
         gr_plot_summary_update(
