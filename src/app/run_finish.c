@@ -189,6 +189,39 @@ static int write_blocks(const char *dir, const gr_scene *s, uint64_t hash, const
     return gr_file_commit(&f, err);
 }
 
+/* walls.csv (a scene with walls only): summary.json's "walls" as a table, one row per wall (x_0,
+ * x_L, y_0, y_L of the axes with walls): the mean normal force on it over the sampling phase, its
+ * standard error (block averaging; nan with fewer than 16 samples), and in 2D the pressure. */
+static int write_walls_csv(const char *dir, const gr_scene *s, uint64_t hash, const gr_blocking *wb,
+                           gr_error *err)
+{
+    if (!s->boundary[0] && !s->boundary[1]) {
+        return GR_OK;
+    }
+    gr_file f;
+    int rc = gr_file_open(&f, dir, "walls.csv", err);
+    if (rc) {
+        return rc;
+    }
+    gr_run_csv_header(&f,
+                      "mean normal force of the grains on each wall over the sampling phase, N "
+                      "(> 0: outwards), block-averaged per sample interval; pressure = force / L "
+                      "(2D), N/m",
+                      s, hash);
+    gr_file_header(&f,
+                   "wall [],force [N],force_stderr [N],pressure [N m-1],pressure_stderr [N m-1]");
+    static const char *const names[4] = {"x_0", "x_L", "y_0", "y_L"};
+    for (int w = 0; w < 4; w++) {
+        if (!s->boundary[w / 2]) {
+            continue;
+        }
+        const double m = gr_blocking_mean(&wb[w]), e = gr_blocking_stderr(&wb[w], NULL, NULL);
+        const double len = s->dim == 2 ? s->L : 1.0; /* 1D: the force is the pressure */
+        fprintf(f.f, "%s,%.9g,%.9g,%.9g,%.9g\n", names[w], m, e, m / len, e / len);
+    }
+    return gr_file_commit(&f, err);
+}
+
 /* What the final writes returned: the trajectory, temperature.csv, ledger.csv, blocks.csv, the
  * observables, scene.ini, summary.json. */
 typedef struct finish_rcs {
@@ -225,6 +258,10 @@ static void write_outputs(gr_run_ctx *c, bool write_stop, finish_rcs *r, cJSON *
     r->t = gr_file_commit(&c->ft, r->j ? &later : io_err);
     r->l = gr_file_commit(&c->fl, r->j || r->t ? &later : io_err);
     r->b = write_blocks(c->dir, c->scene, c->hash, &c->blk, r->t || r->l ? &later : io_err);
+    if (!r->b) {
+        r->b =
+            write_walls_csv(c->dir, c->scene, c->hash, c->wall_blk, r->t || r->l ? &later : io_err);
+    }
     if (c->scene->plots) {
         *plots = gr_plot_run(c->dir, c->scene->dim, plot_note, note_cap) == GR_OK
                      ? "temperature.png, ledger.png"
