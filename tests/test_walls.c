@@ -390,6 +390,43 @@ START_TEST(sawtooth_carries_grain)
 }
 END_TEST
 
+/* The sawtooth's drop releases the spring of a grain pressed into the floor without any force
+ * doing work: a grain resting under strong gravity (g = 1000 m/s^2, soft k_s = 5e3 N/m: the
+ * spring holds (M g)^2 / (2 k_s) = 1.25e-7 J) on the slow sawtooth, just after the drop at 0.25 s
+ * (still falling): the ledger closes only with that energy booked as the wall's (negative) work;
+ * the residual stays far below it. */
+START_TEST(sawtooth_drop_releases_spring)
+{
+    const char *set[] = {"boundary.vibrate=y",   "boundary.amplitude=1e-3",
+                         "boundary.frequency=2", "boundary.motion=sawtooth",
+                         "model.eps_n=0.3",      "model.k_s=5e3",
+                         "gravity.gy=-1000"};
+    gr_scene sc;
+    load(&sc, grain_2d, set, 7);
+    gr_sim_params p;
+    gr_scene_sim_params(&sc, &p);
+    const double x = 0.02, y = sc.radius, v = 0.0;
+    gr_error err = {0};
+    gr_sim *s = NULL;
+    ck_assert_int_eq(gr_sim_new_with_state(&p, 1, &x, &y, &v, &v, &s, &err), GR_OK);
+    const double dt = gr_sim_dt(s), fg = sc.mass * 1000.0;
+    step(s, (int64_t)(0.2495 / dt));
+    const double elastic_before = s->elastic, work_before = s->wall_work;
+    step(s, (int64_t)(0.001 / dt)); /* past the drop, not yet landed (it falls 2 mm in 2 ms) */
+    const gr_ledger l = gr_sim_ledger(s);
+    const double spring = fg * fg / (2.0 * sc.contact.k_s);
+    printf("sawtooth drop: spring before %.4g J ((M g)^2 / 2 k_s = %.4g), after %.3g J; wall_work "
+           "%.6g -> %.6g J; residual %.3g J (%.2g of the released energy)\n",
+           elastic_before, spring, l.elastic, work_before, l.wall_work, gr_ledger_residual(&l),
+           gr_ledger_residual(&l) / spring);
+    ck_assert_msg(fabs(elastic_before / spring - 1.0) < 0.05 && l.elastic == 0.0, "spring %g %g",
+                  elastic_before, l.elastic);
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) < 0.01 * spring, "residual %g",
+                  gr_ledger_residual(&l));
+    gr_sim_free(s);
+}
+END_TEST
+
 /* A grain thrown at the floor obliquely, no rotation, tangential_dashpot: its velocity along the
  * floor leaves the bounce multiplied by the wall's eps_t ([boundary] eps_t = 0.7; the particles'
  * 0.2), to the law's discretisation error. */
@@ -621,6 +658,7 @@ static Suite *walls_suite(void)
     tcase_add_test(phys, bounce_apex);
     tcase_add_test(phys, bounce_wall_eps);
     tcase_add_test(phys, sawtooth_carries_grain);
+    tcase_add_test(phys, sawtooth_drop_releases_spring);
     tcase_add_test(phys, oblique_wall_eps_t);
     tcase_add_test(phys, spinning_grain_rolls);
     tcase_add_test(phys, tangential_walls_ledger);
