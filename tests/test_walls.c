@@ -505,7 +505,7 @@ START_TEST(tangential_walls_ledger)
         char t[64];
         snprintf(t, sizeof t, "model.tangential=%s", laws[k]);
         const char *set[] = {t, "model.rotation=true", "boundary.mu=0.3", "boundary.eps_t=0.5"};
-        ledger_closes_set(bed_2d, set, 4, quick() ? 4000 : 40000, 1e-3);
+        ledger_closes_set(bed_2d, set, 4, 40000, 1e-3);
         gr_scene s;
         load(&s, bed_2d, set, 4);
         assert_restart_exact(&s, 600, 350);
