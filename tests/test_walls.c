@@ -26,6 +26,7 @@
 #include <string.h>
 
 #include "core/sim_internal.h"
+#include "granule/run.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
 #include "check_main.h"
@@ -575,6 +576,50 @@ START_TEST(runaway_into_wall)
 }
 END_TEST
 
+/* The same bed through granule run (gr_run): walls.csv and summary.json's "walls" give the floor
+ * N M g within its error (a bed at rest: to 1e-6), the pressure N M g / L, the ceiling 0. */
+static char g_root[512];
+
+START_TEST(run_reports_bed_weight)
+{
+    char text[1200];
+    snprintf(text, sizeof text,
+             "[system]\ndim = 2\nN = 60\nL = 0.03\n[placement]\nkind = uniform\nv0 = 0\n"
+             "[model]\neps_n = 0.3\n[driving]\nkind = none\n[boundary]\ny = walls\n[gravity]\n"
+             "gy = -9.81\n[run]\nwarmup = 0.3\nduration = 0.05\nsample_every = 1e-3\nprogress = "
+             "false\n[output]\nplots = false\ndir = %s/bed\n",
+             g_root);
+    gr_scene sc;
+    load(&sc, text, NULL, 0);
+    gr_run_result res;
+    gr_error err = {0};
+    ck_assert_msg(gr_run(&sc, NULL, &res, &err) == GR_OK, "%s", err.message);
+    char path[700];
+    snprintf(path, sizeof path, "%s/bed/walls.csv", g_root);
+    FILE *f = fopen(path, "r");
+    ck_assert_msg(f, "no %s", path);
+    char line[300], name[2][8];
+    double v[2][4];
+    ck_assert(fgets(line, sizeof line, f) && strstr(line, "wall,force,force_stderr,pressure"));
+    for (int k = 0; k < 2; k++) {
+        ck_assert(fgets(line, sizeof line, f));
+        ck_assert_int_eq(
+            sscanf(line, "%7[^,],%lf,%lf,%lf,%lf", name[k], &v[k][0], &v[k][1], &v[k][2], &v[k][3]),
+            5);
+    }
+    ck_assert(!fgets(line, sizeof line, f)); /* y only: no x rows */
+    fclose(f);
+    const double weight = 60 * sc.mass * 9.81;
+    printf("granule run, bed at rest: walls.csv %s %.9g +- %.2g N (N M g = %.9g N), pressure %.9g "
+           "N/m; %s %g N\n",
+           name[0], v[0][0], v[0][1], weight, v[0][2], name[1], v[1][0]);
+    ck_assert(!strcmp(name[0], "y_0") && !strcmp(name[1], "y_L"));
+    ck_assert_msg(fabs(v[0][0] - weight) < 3.0 * v[0][1] + 1e-6 * weight, "floor %g", v[0][0]);
+    ck_assert_double_eq_tol(v[0][2], v[0][0] / 0.03, 1e-9 * v[0][2]);
+    ck_assert(v[1][0] == 0.0 && v[1][2] == 0.0);
+}
+END_TEST
+
 static void refused(const char *text, const char *const *set, int n_set, const char *const *needles,
                     int n_needles)
 {
@@ -663,6 +708,7 @@ static Suite *walls_suite(void)
     tcase_add_test(phys, spinning_grain_rolls);
     tcase_add_test(phys, tangential_walls_ledger);
     tcase_add_test(phys, bed_weighs_on_floor);
+    tcase_add_test(phys, run_reports_bed_weight);
     tcase_add_test(phys, elastic_energy);
     tcase_add_test(phys, ledger_walls_gravity_noise);
     tcase_add_test(phys, ledger_vibrated_floor);
@@ -670,4 +716,12 @@ static Suite *walls_suite(void)
     return s;
 }
 
-int main(void) { return gr_test_run(walls_suite()); }
+int main(void)
+{
+    if (gr_test_tmp_root(g_root, sizeof g_root, "test_walls", "walls") != 0) {
+        return EXIT_FAILURE;
+    }
+    const int status = gr_test_run(walls_suite());
+    gr_test_tmp_root_done(g_root, "test_walls");
+    return status;
+}
