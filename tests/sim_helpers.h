@@ -49,6 +49,14 @@ static inline void assert_same_state(const gr_sim *a, const gr_sim *b)
     ck_assert(memcmp(&a->diss_n, &b->diss_n, sizeof a->diss_n) == 0);
     ck_assert(memcmp(&a->elastic, &b->elastic, sizeof a->elastic) == 0);
     ck_assert(memcmp(&a->initial_energy, &b->initial_energy, sizeof a->initial_energy) == 0);
+    ck_assert(memcmp(&a->diss_t, &b->diss_t, sizeof a->diss_t) == 0);
+    ck_assert(memcmp(&a->diss_f, &b->diss_f, sizeof a->diss_f) == 0);
+    if (a->omega) {
+        ck_assert(memcmp(a->omega, b->omega, sizeof(double) * (size_t)a->n) == 0);
+    }
+    /* walls: the moving wall's work and the impulse each wall took */
+    ck_assert(memcmp(&a->wall_work, &b->wall_work, sizeof a->wall_work) == 0);
+    ck_assert(memcmp(a->wall_impulse, b->wall_impulse, sizeof a->wall_impulse) == 0);
 }
 
 /* Stepping `total` steps of the scene's simulation in one go equals stepping `first`, saving the

@@ -98,7 +98,10 @@ file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[model]\nn
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\ny = walls\n[gravity]\ngy = -2000\n | run $S --out $O | 2 | :10:;[gravity] gy;[-1000, 1000] | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[boundary]\ny = wall\n | run $S --out $O | 2 | :6:;[boundary] y;periodic|walls | new
 file:[system]\ndim = 1\nN = 1\nL = 0.04\n[boundary]\ny = walls\n | run $S --out $O | 2 | :6:;[boundary] y;dim = 2 | new
-file:[system]\ndim = 2\nN = 1\nL = 0.04\n[model]\ntangential = tangential_dashpot\n[boundary]\ny = walls\n | run $S --out $O | 2 | :6:;[model] tangential;tangential = none | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[boundary]\ny = walls\neps_n = 1.5\n | run $S --out $O | 2 | :7:;[boundary] eps_n;allowed range [0, 1] | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[boundary]\ny = walls\neps_t = -0.2\n | run $S --out $O | 2 | :7:;[boundary] eps_t;allowed range [0, 1] | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[boundary]\ny = walls\nmu = -1\n | run $S --out $O | 2 | :7:;[boundary] mu;allowed range [0, inf) | new
+file:[system]\ndim = 2\nN = 1\nL = 0.04\n[boundary]\ny = walls\nvibrate = y\nmotion = square\n | run $S --out $O | 2 | :8:;[boundary] motion;sine|sawtooth | new
 file:[system]\ndim = 2\nN = 400\nL = 0.12\n[placement]\nkind = hexagonal\n[boundary]\ny = walls\n | run $S --out $O | 2 | particle 0;overlaps a wall;[r, L - r];[placement] kind | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\ny = walls\nvibrate = x\n | run $S --out $O | 2 | :9:;[boundary] vibrate;[boundary] x = periodic;an axis with walls | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\ny = walls\nvibrate = y\namplitude = 0.02\n | run $S --out $O | 2 | :10:;[boundary] amplitude;[0, L / 4) = [0, 0.01) m | new

@@ -125,6 +125,14 @@ check(l0["potential"] > 0 and l0["initial"] == l0["potential"] and l1["potential
       and l1["dissipated_normal"] > 0 and abs(l1["residual"]) < 1e-3 * l1["dissipated_normal"],
       f"walls + gravity: ledger with potential {l0['potential']:.4g} -> {l1['potential']:.4g} J, "
       f"residual {l1['residual']:.3g} J")
+check(l1["wall_work"] == 0, "a static floor does no work (wall_work 0)")
+# a vibrated floor's work is the ledger's wall_work, and the balance closes with it
+v = granule.Sim(granule.load_scene(os.path.join(src, "docs", "scenes", "vibrated-bed.ini")))
+v.step(40000)
+lv = v.ledger()
+check(lv["wall_work"] > 0 and lv["injected"] == 0
+      and abs(lv["residual"]) < 1e-3 * (lv["wall_work"] + lv["dissipated"]),
+      f"vibrated floor: wall_work {lv['wall_work']:.4g} J, residual {lv['residual']:.3g} J")
 
 # 7. a frame whose coordinate cannot be wrapped into the box (1e308 is finite) is refused with
 # granule's message instead of killing the interpreter in the gridding of sk or the cell list

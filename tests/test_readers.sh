@@ -193,6 +193,9 @@ csv)
     # gravity adds the ledger's potential column (docs/systems-walls-gravity.md)
     "$G" run "$SRC/docs/scenes/gravity-bed.ini" --out run3 --set run.warmup=0 --set run.duration=0.004 \
         --set run.sample_every=0.002 --set output.plots=false --quiet
+    # a moving floor adds the ledger's wall_work column, walls the mean forces in summary.json
+    "$G" run "$SRC/docs/scenes/vibrated-bed.ini" --out run4 --set run.warmup=0 --set run.duration=0.02 \
+        --set run.sample_every=0.01 --set output.plots=false --quiet
     "$G" analyse run --set analysis.observables=pv,moments,sk,pair >/dev/null 2>&1
     "$G" compare "$SRC/docs/scenes/rfm-2d.ini" --models spring_dashpot+tangential_dashpot,spring_dashpot --out cmp \
         "${small2d[@]:0:${#small2d[@]}-1}" --set analysis.observables=pv >/dev/null
@@ -215,7 +218,7 @@ EOF
 import glob, json, os, warnings
 import numpy as np, pandas as pd
 warnings.simplefilter("ignore")
-files = sorted(glob.glob("run/*.csv") + glob.glob("run/analysis/*.csv") + glob.glob("run1/*.csv") + glob.glob("run2/*.csv") + glob.glob("run3/*.csv") + glob.glob("cmp/*.csv")
+files = sorted(glob.glob("run/*.csv") + glob.glob("run/analysis/*.csv") + glob.glob("run1/*.csv") + glob.glob("run2/*.csv") + glob.glob("run3/*.csv") + glob.glob("run4/*.csv") + glob.glob("cmp/*.csv")
                + glob.glob("cmp/*/*.csv") + glob.glob("sweep/*.csv") + glob.glob("sweep/*/*.csv"))
 assert len(files) > 60, files
 units_seen = set()
@@ -253,6 +256,17 @@ assert json.load(open("run2/ledger.meta.json"))["units"]["dissipated_drag"] == "
 lp = pd.read_csv("run3/ledger.csv")
 assert lp.columns[-1] == "potential" and (lp["potential"] > 0).all(), list(lp.columns)
 assert json.load(open("run3/ledger.meta.json"))["units"]["potential"] == "J"
+lw = pd.read_csv("run4/ledger.csv")
+assert list(lw.columns[-2:]) == ["potential", "wall_work"] and lw["wall_work"].iloc[-1] > 0, list(lw.columns)
+assert json.load(open("run4/ledger.meta.json"))["units"]["wall_work"] == "J"
+assert "wall_work" not in pd.read_csv("run3/ledger.csv").columns  # a static wall does no work
+sj = json.load(open("run4/summary.json"))
+assert sj["walls"]["y_0"]["force"] > 0 and sj["walls"]["y_L"]["force"] == 0 and "x_0" not in sj["walls"], sj["walls"]
+ww = pd.read_csv("run4/walls.csv")
+assert list(ww["wall"]) == ["y_0", "y_L"] and abs(ww["force"].iloc[0] / sj["walls"]["y_0"]["force"] - 1) < 1e-8, ww
+assert abs(ww["pressure"].iloc[0] * 0.1 / ww["force"].iloc[0] - 1) < 1e-8  # force per unit length, L = 0.1 m
+assert "run4/walls.csv" in files and not os.path.exists("run/walls.csv")  # periodic runs write none
+assert sj["ledger"]["wall_work"] == lw["wall_work"].iloc[-1] or abs(sj["ledger"]["wall_work"] / lw["wall_work"].iloc[-1] - 1) < 1e-9
 t = pd.read_csv("run/temperature.csv")
 assert list(t.columns) == ["t", "T", "running_mean", "phase"] and len(t) == 9
 assert list(t["phase"].unique()) == ["warmup", "sampling"], t["phase"].unique()  # the docs' words

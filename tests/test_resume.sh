@@ -345,9 +345,11 @@ for d in e h; do
 done
 
 # ---------- walls and gravity (docs/systems-walls-gravity.md) ----------
-# a 2D bed between walls at y = 0 and L under gravity, x periodic, driven by the random force:
-# its ledger has the potential energy and the wall springs; SIGTERM + --resume and repeated
-# --wall-limit stops + --resume end bit-identical to the straight run
+# a 2D bed between walls at y = 0 and L under gravity, x periodic, driven by the random force and
+# a sawtooth floor, rotating grains with the tangential spring (its per-wall history), the walls'
+# own eps_n and mu: its ledger has the potential energy, the wall springs and the floor's
+# wall_work, summary.json the walls' mean forces; SIGTERM + --resume and repeated --wall-limit
+# stops + --resume end bit-identical to the straight run
 if [[ $quick == 1 ]]; then durw=0.01; else durw=0.02; fi
 cat >sw.ini <<EOF
 [system]
@@ -359,10 +361,18 @@ kind = uniform
 v0 = 0.2
 [model]
 eps_n = 0.7
+tangential = tangential_spring
+rotation = true
 [noise]
 D = 1e-8
 [boundary]
 y = walls
+vibrate = y
+amplitude = 5e-4
+frequency = 50
+motion = sawtooth
+eps_n = 0.8
+mu = 0.3
 [gravity]
 gy = -9.81
 [analysis]
@@ -382,9 +392,39 @@ per=$(awk -v n="$steps" -v t="$durw" 'BEGIN { printf "%d", n / int((t + 0.002) /
 sigterm_case "walls+gravity" w sw.ini $((steps / 2)) 0.004 0.1
 tick=$(awk -v s="$steps" 'BEGIN { c = s / 640; if (c < 1) c = 1; printf "%.3g", 0.05 / (3 * c + 6) }')
 wall_case "walls+gravity" w sw.ini "$tick" 97 1.05 "$per"
-# the same bed of hard discs, event-driven: exact parabolas, wall hits (their count is in the
-# checkpoint only when the run has walls), exact free flight under the random force
-sed -e 's/^eps_n = 0.7/eps_n = 0.7\nnormal = hard_sphere\neps_t = 1/' -e 's/^\[run\]/[integrator]\nkind = event\n[run]/' sw.ini >swe.ini
+# a bed of hard discs, event-driven: exact parabolas, wall hits with the walls' own eps_n (their
+# count is in the checkpoint only when the run has walls), exact free flight under the noise
+cat >swe.ini <<EOF
+[system]
+dim = 2
+N = 150
+L = 0.08
+[placement]
+kind = uniform
+v0 = 0.2
+[model]
+normal = hard_sphere
+eps_n = 0.7
+eps_t = 1
+[noise]
+D = 1e-8
+[boundary]
+y = walls
+eps_n = 0.8
+[gravity]
+gy = -9.81
+[integrator]
+kind = event
+[analysis]
+observables = moments
+[output]
+plots = false
+[run]
+warmup = 0.002
+duration = $durw
+sample_every = 1e-3
+checkpoint_wall = 0
+EOF
 run "$G" run swe.ini --out refwe --quiet
 [[ $rc -eq 0 ]] || fail "event walls+gravity reference run exits $rc" "$err"
 steps=$(grep -o '"steps":[[:space:]]*[0-9]*' refwe/summary.json | grep -o '[0-9]*$' || echo 0)

@@ -45,6 +45,10 @@ typedef struct gr_scene {
     double gravity[2];
     int vibrate;                 /* 0 none, 1 x, 2 y: the wall at 0 of that axis vibrates */
     double amplitude, frequency; /* m, Hz */
+    int motion;                  /* the vibrating wall's motion: 0 sine, 1 sawtooth */
+    /* [boundary] eps_n, eps_t, mu: the walls' own contact coefficients; NAN until resolved, then
+     * the [model] values (the particles') where the scene does not give them */
+    double wall_eps_n, wall_eps_t, wall_mu;
     /* [noise] */
     double D; /* noise strength, N^2 s (2.15, 2.22) */
     gr_noise_mode noise_mode;

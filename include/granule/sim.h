@@ -38,11 +38,13 @@ typedef struct gr_ledger {
         dissipated_drag; /* the Langevin bath's viscous drag ([driving] kind = langevin; 0 otherwise) */
     double
         potential; /* current potential energy in gravity, -M sum g . r_i ([gravity]; 0 without) */
+    double wall_work; /* work of the moving walls on the grains ([boundary] vibrate; 0 without) */
 } gr_ledger;
 
 /* Everything dissipated, by any mechanism (collisions and the bath's drag). */
 double gr_ledger_dissipated(const gr_ledger *l);
-/* (kinetic + elastic + potential) - initial - injected + dissipated + removed_com: zero for an exact
+/* (kinetic + elastic + potential) - initial - injected - wall_work + dissipated + removed_com: zero
+ * for an exact
  * integrator; for ours the velocity-Verlet energy error of the springs, second order in dt
  * (docs/integrator.md, tests/test_sim.c). */
 double gr_ledger_residual(const gr_ledger *l);
@@ -54,6 +56,7 @@ typedef enum {
     GR_PLACE_CLUSTER,
     GR_PLACE_RANDOM
 } gr_placement_kind;
+typedef enum { GR_WALL_SINE = 0, GR_WALL_SAWTOOTH = 1 } gr_wall_motion;
 typedef enum { GR_NOISE_NONE, GR_NOISE_SYMMETRISED, GR_NOISE_COM } gr_noise_mode;
 /* The random force's normals: gr_noise_normals (double) or gr_noise_normals_f32 (single). */
 typedef enum { GR_NOISE_DOUBLE, GR_NOISE_SINGLE } gr_noise_precision;
@@ -97,6 +100,15 @@ typedef struct gr_sim_params {
      * walls) as amplitude sin(2 pi frequency t), m and Hz; its work is booked as injected. 0 = none */
     int vibrate;
     double amplitude, frequency;
+    /* The vibrating wall's motion: GR_WALL_SINE (the default), A sin(2 pi f t), or
+     * GR_WALL_SAWTOOTH, rising at the constant speed 2 A f from -A to A over each period 1 / f and
+     * dropping back instantly at its end (docs/systems-walls-gravity.md). */
+    int motion;
+    /* The walls' own contact coefficients ([boundary] eps_n, eps_t, mu): with wall_coeffs the wall
+     * contact is prepared from [model]'s parameters with these three replaced; false (the
+     * default): the particles' own (contact.eps_n, eps_t, mu). */
+    bool wall_coeffs;
+    double wall_eps_n, wall_eps_t, wall_mu;
     const gr_integrator_type *integrator; /* gr_integrator_find("verlet"), ... */
     double dt;                            /* s; 0 = t_c / steps_per_contact */
     double steps_per_contact;
@@ -192,6 +204,12 @@ int gr_sim_state_save(const gr_sim *sim, void **data, size_t *len, gr_error *err
  * integrator), truncated or changed ones (the CRC-32 trailer does not match) with GR_EINVAL; sim
  * must then be freed. */
 int gr_sim_state_load(gr_sim *sim, const void *data, size_t len, gr_error *err);
+
+/* The normal impulse each wall has taken from the grains since creation, N s: J[0], J[1] the walls
+ * at x = 0 and x = L, J[2], J[3] those at y = 0 and y = L (0 for a periodic axis). The force of
+ * every evaluation counts for one step dt, so (J(t2) - J(t1)) / (t2 - t1) is the wall's mean normal
+ * force over [t1, t2] (> 0: the grains push it outwards). */
+void gr_sim_wall_impulse(const gr_sim *sim, double J[4]);
 
 /* Total momentum, kg m/s (p[1] = 0 in 1D). */
 void gr_sim_momentum(const gr_sim *sim, double p[2]);

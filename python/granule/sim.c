@@ -67,14 +67,15 @@ static PyObject *sim_ledger(pyg_sim *self, PyObject *unused)
         return NULL;
     }
     gr_ledger l = gr_sim_ledger(self->sim);
-    /* potential: gravity's -M sum g . r ([gravity]; 0 without), part of the balance */
-    return Py_BuildValue("{sdsdsdsdsdsdsdsdsdsdsdsd}", "kinetic", l.kinetic, "elastic", l.elastic,
+    /* potential: gravity's -M sum g . r ([gravity]; 0 without), wall_work: the moving walls' work
+     * ([boundary] vibrate; 0 without), both part of the balance */
+    return Py_BuildValue("{sdsdsdsdsdsdsdsdsdsdsdsdsd}", "kinetic", l.kinetic, "elastic", l.elastic,
                          "initial", l.initial, "injected", l.injected, "dissipated_normal",
                          l.dissipated_normal, "dissipated_tangential", l.dissipated_tangential,
                          "dissipated_friction", l.dissipated_friction, "dissipated_drag",
                          l.dissipated_drag, "removed_com", l.removed_com, "potential", l.potential,
-                         "dissipated", gr_ledger_dissipated(&l), "residual",
-                         gr_ledger_residual(&l));
+                         "wall_work", l.wall_work, "dissipated", gr_ledger_dissipated(&l),
+                         "residual", gr_ledger_residual(&l));
 }
 
 /* The core's state as bytes (gr_sim_state_save): pickle it, keep it, restore it into a Sim of

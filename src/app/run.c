@@ -167,9 +167,16 @@ static const char *ledger_columns(const gr_scene *s)
          {GR_LEDGER_BASE ",rotational [J],dissipated_drag [J]",
           GR_LEDGER_BASE ",rotational [J],dissipated_drag [J],potential [J]"}}};
 #undef GR_LEDGER_BASE
-    /* and gravity's potential energy last, with [gravity] (docs/systems-walls-gravity.md) */
-    return columns[s->contact.rotation ? 1 : 0][s->driving && s->driving->drag ? 1 : 0]
-                  [s->gravity[0] != 0.0 || s->gravity[1] != 0.0];
+    /* and gravity's potential energy last, with [gravity] (docs/systems-walls-gravity.md); after
+     * it the moving walls' work, with [boundary] vibrate */
+    const char *cols = columns[s->contact.rotation ? 1 : 0][s->driving && s->driving->drag ? 1 : 0]
+                              [s->gravity[0] != 0.0 || s->gravity[1] != 0.0];
+    if (!s->vibrate) {
+        return cols;
+    }
+    static _Thread_local char with_walls[400];
+    snprintf(with_walls, sizeof with_walls, "%s,wall_work [J]", cols);
+    return with_walls;
 }
 
 static int open_tables(gr_run_ctx *c)
@@ -199,6 +206,10 @@ static int start_outputs(gr_run_ctx *c)
 {
     const gr_run_schedule *plan = &c->plan;
     gr_blocking_init(&c->blk);
+    for (int w = 0; w < 4; w++) {
+        gr_blocking_init(&c->wall_blk[w]);
+    }
+    gr_sim_wall_impulse(c->sim, c->wall_prev); /* a resume restores the checkpoint's */
     /* an undriven (cooling) run keeps its T(t) for the Haff's-law fit */
     c->haff_cap = c->scene->D > 0.0 ? 0 : plan->run_samples + 1;
     c->haff_t = c->haff_cap ? malloc(sizeof(double) * (size_t)c->haff_cap) : NULL;
@@ -224,7 +235,10 @@ static int start_outputs(gr_run_ctx *c)
                             .snap_index = &c->snap_index,
                             .ft = &c->ft,
                             .fl = &c->fl,
-                            .traj = &c->traj};
+                            .traj = &c->traj,
+                            .walls = c->scene->boundary[0] || c->scene->boundary[1],
+                            .wall_blk = c->wall_blk,
+                            .wall_prev = c->wall_prev};
     if (c->resume) {
         int rc = gr_run_resume_state(&c->ck, c->dir, c->sim, c->obs, &c->ckst, c->err);
         free(c->ck_buf);
@@ -243,8 +257,11 @@ static int start_outputs(gr_run_ctx *c)
         "granular temperature T(t) of eq. 2.19, m^2/s^2; running_mean over the sampling phase",
         c->scene, c->hash);
     gr_run_csv_header(&c->fl,
-                      "energy ledger, J (residual = kinetic + elastic - initial - injected + "
-                      "dissipated + removed_com)",
+                      c->scene->vibrate ? "energy ledger, J (residual = kinetic + elastic + "
+                                          "potential - initial - injected - wall_work + "
+                                          "dissipated + removed_com)"
+                                        : "energy ledger, J (residual = kinetic + elastic - "
+                                          "initial - injected + dissipated + removed_com)",
                       c->scene, c->hash);
     if (c->resume) { /* the header is in the file already; the units go to the sidecar again */
         gr_file_units(&c->ft, temperature_columns(c->scene));

@@ -26,6 +26,11 @@ typedef struct gr_run_ckpt {
     int *snap_index;
     gr_file *ft, *fl;     /* temperature.csv and ledger.csv, being streamed */
     gr_traj_writer *traj; /* the trajectory (its frame count is *snap_index) */
+    /* with walls only (the periodic runs' checkpoints keep their layout): the walls' force
+     * averages and the impulse at the last sample (4 each) */
+    bool walls;
+    gr_blocking *wall_blk;
+    double *wall_prev;
 } gr_run_ckpt;
 
 /* Write dir/checkpoint: the resolved scene text, the simulation, the observables and the

@@ -35,10 +35,38 @@ static double injection_rate_expected(const gr_scene *scene, double dt)
            (scene->noise_mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / scene->N : 1.0);
 }
 
+/* summary.json's "walls": for each wall (x_0, x_L, y_0, y_L: the walls at 0 and L of an axis with
+ * walls) the time-averaged normal force the grains exert on it, N (> 0: pushing it outwards), with
+ * its standard error from block averaging of the per-sample means, and in 2D the pressure, force
+ * per unit length of the wall (L), N/m. */
+static void write_walls(cJSON *j, const gr_scene *scene, const gr_blocking *wb)
+{
+    if (!scene->boundary[0] && !scene->boundary[1]) {
+        return;
+    }
+    static const char *const names[4] = {"x_0", "x_L", "y_0", "y_L"};
+    cJSON *wj = cJSON_AddObjectToObject(j, "walls");
+    for (int w = 0; w < 4; w++) {
+        if (!scene->boundary[w / 2] || wb[w].count[0] < 1) {
+            continue;
+        }
+        int converged = 0;
+        const double f = gr_blocking_mean(&wb[w]), e = gr_blocking_stderr(&wb[w], NULL, &converged);
+        cJSON *o = cJSON_AddObjectToObject(wj, names[w]);
+        cJSON_AddNumberToObject(o, "force", f);
+        cJSON_AddNumberToObject(o, "force_stderr", isfinite(e) ? e : -1.0);
+        cJSON_AddBoolToObject(o, "force_stderr_converged", converged);
+        if (scene->dim == 2) {
+            cJSON_AddNumberToObject(o, "pressure", f / scene->L);
+            cJSON_AddNumberToObject(o, "pressure_stderr", isfinite(e) ? e / scene->L : -1.0);
+        }
+    }
+}
+
 static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim,
-                         const gr_run_result *r, const gr_blocking *blk, const char *status,
-                         const char *diagnosis, const char *plots, cJSON *analysis,
-                         cJSON *mean_field, gr_error *err)
+                         const gr_run_result *r, const gr_blocking *blk,
+                         const gr_blocking *wall_blk, const char *status, const char *diagnosis,
+                         const char *plots, cJSON *analysis, cJSON *mean_field, gr_error *err)
 {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "status", status);
@@ -85,8 +113,11 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim,
     if (scene->gravity[0] != 0.0 || scene->gravity[1] != 0.0) {
         cJSON_AddNumberToObject(led, "potential", l->potential); /* [gravity]: -M sum g . r */
     }
+    if (scene->vibrate) {
+        cJSON_AddNumberToObject(led, "wall_work", l->wall_work); /* the moving wall's work */
+    }
     double res = gr_ledger_residual(l);
-    double scale = fmax(l->injected + gr_ledger_dissipated(l), l->initial);
+    double scale = fmax(l->injected + fabs(l->wall_work) + gr_ledger_dissipated(l), l->initial);
     cJSON_AddNumberToObject(led, "residual", res);
     cJSON_AddNumberToObject(led, "relative_residual", scale > 0.0 ? res / scale : 0.0);
     cJSON_AddStringToObject(j, "kernel", r->kernel);
@@ -116,6 +147,7 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim,
     cJSON_AddNumberToObject(co, "max_overlap_now", gr_sim_max_overlap(sim));
     cJSON_AddNumberToObject(j, "energy_injection_rate_expected",
                             injection_rate_expected(scene, gr_sim_dt(sim)));
+    write_walls(j, scene, wall_blk);
     cJSON *bl = cJSON_AddArrayToObject(j, "T_blocking_stderr");
     for (int k = 0; k < GR_BLOCKING_LEVELS && blk->count[k] >= 2; k++) {
         cJSON_AddItemToArray(bl, cJSON_CreateNumber(gr_blocking_stderr_at(blk, k)));
@@ -157,6 +189,39 @@ static int write_blocks(const char *dir, const gr_scene *s, uint64_t hash, const
     return gr_file_commit(&f, err);
 }
 
+/* walls.csv (a scene with walls only): summary.json's "walls" as a table, one row per wall (x_0,
+ * x_L, y_0, y_L of the axes with walls): the mean normal force on it over the sampling phase, its
+ * standard error (block averaging; nan with fewer than 16 samples), and in 2D the pressure. */
+static int write_walls_csv(const char *dir, const gr_scene *s, uint64_t hash, const gr_blocking *wb,
+                           gr_error *err)
+{
+    if (!s->boundary[0] && !s->boundary[1]) {
+        return GR_OK;
+    }
+    gr_file f;
+    int rc = gr_file_open(&f, dir, "walls.csv", err);
+    if (rc) {
+        return rc;
+    }
+    gr_run_csv_header(&f,
+                      "mean normal force of the grains on each wall over the sampling phase, N "
+                      "(> 0: outwards), block-averaged per sample interval; pressure = force / L "
+                      "(2D), N/m",
+                      s, hash);
+    gr_file_header(&f,
+                   "wall [],force [N],force_stderr [N],pressure [N m-1],pressure_stderr [N m-1]");
+    static const char *const names[4] = {"x_0", "x_L", "y_0", "y_L"};
+    for (int w = 0; w < 4; w++) {
+        if (!s->boundary[w / 2]) {
+            continue;
+        }
+        const double m = gr_blocking_mean(&wb[w]), e = gr_blocking_stderr(&wb[w], NULL, NULL);
+        const double len = s->dim == 2 ? s->L : 1.0; /* 1D: the force is the pressure */
+        fprintf(f.f, "%s,%.9g,%.9g,%.9g,%.9g\n", names[w], m, e, m / len, e / len);
+    }
+    return gr_file_commit(&f, err);
+}
+
 /* What the final writes returned: the trajectory, temperature.csv, ledger.csv, blocks.csv, the
  * observables, scene.ini, summary.json. */
 typedef struct finish_rcs {
@@ -193,6 +258,10 @@ static void write_outputs(gr_run_ctx *c, bool write_stop, finish_rcs *r, cJSON *
     r->t = gr_file_commit(&c->ft, r->j ? &later : io_err);
     r->l = gr_file_commit(&c->fl, r->j || r->t ? &later : io_err);
     r->b = write_blocks(c->dir, c->scene, c->hash, &c->blk, r->t || r->l ? &later : io_err);
+    if (!r->b) {
+        r->b =
+            write_walls_csv(c->dir, c->scene, c->hash, c->wall_blk, r->t || r->l ? &later : io_err);
+    }
     if (c->scene->plots) {
         *plots = gr_plot_run(c->dir, c->scene->dim, plot_note, note_cap) == GR_OK
                      ? "temperature.png, ledger.png"
@@ -308,7 +377,7 @@ int gr_run_finish(gr_run_ctx *c)
     free(c->haff_t);
     free(c->haff_T);
     r.s =
-        write_summary(c->dir, c->scene, c->sim, c->res, &c->blk, c->status,
+        write_summary(c->dir, c->scene, c->sim, c->res, &c->blk, c->wall_blk, c->status,
                       c->diagnosis[0] ? c->diagnosis : NULL, plots, analysis, mean_field, &io_err);
     if (r.s == GR_OK && c->scene->plots) {
         gr_plot_summary_update(

@@ -90,6 +90,18 @@ static bool record(gr_run_ctx *c, int64_t k)
     if (!sampling) {
         gr_sim_clear_events(sim); /* events of the warm-up are not statistics */
     }
+    if (c->scene->boundary[0] || c->scene->boundary[1]) {
+        /* each wall's mean normal force over the sample interval, from the impulse it took */
+        double J[4];
+        gr_sim_wall_impulse(sim, J);
+        for (int w = 0; w < 4; w++) {
+            if (sampling) {
+                gr_blocking_add(&c->wall_blk[w],
+                                (J[w] - c->wall_prev[w]) / ((double)c->plan.per_sample * c->dt));
+            }
+            c->wall_prev[w] = J[w];
+        }
+    }
     if (sampling) {
         gr_blocking_add(&c->blk, T);
         if (c->haff_n < c->haff_cap) {
@@ -119,7 +131,7 @@ static bool record(gr_run_ctx *c, int64_t k)
     }
     fputc('\n', c->ft.f);
     gr_ledger l = gr_sim_ledger(sim);
-    double moved = l.injected + gr_ledger_dissipated(&l) + l.removed_com;
+    double moved = l.injected + fabs(l.wall_work) + gr_ledger_dissipated(&l) + l.removed_com;
     double residual = gr_ledger_residual(&l);
     bool ledger_broken = c->scene->ledger_tolerance > 0.0 && moved > 0.0 &&
                          fabs(residual) > c->scene->ledger_tolerance * fmax(moved, l.initial);
@@ -134,6 +146,9 @@ static bool record(gr_run_ctx *c, int64_t k)
     }
     if (c->scene->gravity[0] != 0.0 || c->scene->gravity[1] != 0.0) {
         fprintf(c->fl.f, ",%.12g", l.potential); /* [gravity]: -M sum g . r */
+    }
+    if (c->scene->vibrate) {
+        fprintf(c->fl.f, ",%.12g", l.wall_work); /* the moving wall's work on the grains */
     }
     fputc('\n', c->fl.f);
     /* a full disk stops the run now, not at the end (the message names the file) */

@@ -43,7 +43,8 @@ const cli_command cli_cmd_run = {
              "       granule run --resume DIR [--set run.wall_limit=S ...] [--quiet] [--threads N]",
     .about = "Runs SCENE (an INI file, see docs/scene-keys.md): warm-up, then sampling every\n"
              "run.sample_every. Writes DIR/summary.json, temperature.csv, blocks.csv, ledger.csv,\n"
-             "snapshots/ (output.snapshot_every) and plots (output.plots, docs/plots.md).\n",
+             "walls.csv (a scene with [boundary] walls: the forces on the walls), snapshots/\n"
+             "(output.snapshot_every) and plots (output.plots, docs/plots.md).\n",
     .epilog = "SIGTERM or SIGINT writes a checkpoint at the next step boundary and stops (a second "
               "one kills).\n"
               "Exit status: 0 completed, 2 scene refused, 3 run became unstable, 1 other failure,\n"

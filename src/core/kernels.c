@@ -944,6 +944,22 @@ double gr_kernel_normal(const gr_sim *s, const gr_contact_coeffs *c, double xi, 
     return fn.f;
 }
 
+int gr_kernel_tangential_id(const gr_model *m)
+{
+    const int id = m ? id_of(tangential_names, TL_COUNT, m->name) : TL_none;
+    return id > 0 ? id : TL_none;
+}
+
+int gr_kernel_tangential_history(const int tl) { return history_of(tl); }
+
+gr_tangential_force gr_kernel_tangential(const int tl, const gr_contact_coeffs *c,
+                                         const gr_tangential_in in, int *book, int *history)
+{
+    *book = book_of(tl);
+    *history = history_of(tl);
+    return tangential_law(tl, c, in);
+}
+
 int gr_kernel_instances(void) { return N_HOT + 2; }
 
 int gr_kernel_choose(gr_sim *s, gr_error *err)

@@ -108,6 +108,7 @@ void gr_sim_free(gr_sim *s)
     free(s->omega);
     free(s->tq);
     free(s->tg);
+    free(s->wall_hist);
     free(s);
 }
 
@@ -334,7 +335,7 @@ static int finish(gr_sim *s, gr_error *err)
             return rc_h;
         }
         /* rotation: the springs' torques are conservative; the kernel keeps the rest apart */
-        if (s->omega && !(s->tg = calloc((size_t)s->n + 1, sizeof(double)))) {
+        if (s->omega && !s->tg && !(s->tg = calloc((size_t)s->n + 1, sizeof(double)))) {
             return GR_FAIL(err, GR_ENOMEM, "out of memory for %d torques", s->n);
         }
     }
@@ -581,7 +582,7 @@ double gr_ledger_dissipated(const gr_ledger *l)
 
 double gr_ledger_residual(const gr_ledger *l)
 {
-    return (l->kinetic + l->elastic + l->potential) - l->initial - l->injected +
+    return (l->kinetic + l->elastic + l->potential) - l->initial - l->injected - l->wall_work +
            gr_ledger_dissipated(l) + l->removed_com;
 }
 
@@ -609,7 +610,8 @@ gr_ledger gr_sim_ledger(gr_sim *s)
                        .dissipated_friction = s->diss_f,
                        .removed_com = s->removed_com,
                        .dissipated_drag = s->diss_drag,
-                       .potential = s->walls_on ? gr_walls_potential(s) : 0.0};
+                       .potential = s->walls_on ? gr_walls_potential(s) : 0.0,
+                       .wall_work = s->wall_work};
 }
 
 double gr_sim_temperature(const gr_sim *s)

@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "granule/sim.h"
+#include "models/law.h"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -84,9 +85,20 @@ struct gr_sim {
      * (the periodic box) gr_forces runs the pair kernel alone, as ever. period[a] is the
      * neighbour list's period along axis a: L, or INFINITY across walls (no image pairs). */
     int walls_on;
-    gr_contact_coeffs
-        wall_cc; /* the normal law against a wall: reduced mass M (infinite partner) */
+    /* the laws against a wall (normal and tangential): reduced mass M (infinite partner), the
+     * walls' own eps_n, eps_t, mu; wall_tl the tangential law's id (gr_kernel_tangential_id; 0:
+     * none, or it does nothing) */
+    gr_contact_coeffs wall_cc;
+    int wall_tl;
     double period[2];
+    /* a history law at the walls: 4 slots per grain (its contacts with the walls at 0 and L of x,
+     * then of y: slot 4 i + 2 a + side), NULL otherwise */
+    double *wall_hist;
+    /* the moving wall's work on the grains, J (gr_ledger.wall_work), and the normal impulse each
+     * wall has taken from the grains since creation, N s (walls at 0 and L of x, then of y:
+     * gr_sim_wall_impulse) */
+    double wall_work;
+    double wall_impulse[4];
 
     /* bookkeeping */
     int64_t step;
@@ -189,6 +201,13 @@ int gr_walls_prepare(gr_sim *s, gr_error *err);
 void gr_walls_forces(gr_sim *s, gr_force_report *r);
 /* The potential energy in gravity, -M sum_i g . r_i, J (0 without gravity). */
 double gr_walls_potential(const gr_sim *s);
+/* A tangential law at one contact outside the pair loops (the walls' pass): the law's id for
+ * model m (0 when m is NULL), and the law itself by id (0: no force); *book is its ledger column
+ * (GR_BOOK_TANGENTIAL, GR_BOOK_FRICTION), *history 1 for a law that keeps history. */
+int gr_kernel_tangential_id(const gr_model *m);
+int gr_kernel_tangential_history(int tl);
+gr_tangential_force gr_kernel_tangential(int tl, const gr_contact_coeffs *c, gr_tangential_in in,
+                                         int *book, int *history);
 /* 1 when the chosen kernel's tangential law keeps a per-contact history (models/list.h). */
 int gr_kernel_history(const gr_sim *s);
 /* Brute-force O(N^2) reference forces (tests only). */

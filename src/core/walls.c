@@ -4,10 +4,21 @@
  * infinite mass and radius: a grain of radius r at q overlaps the wall at 0 by xi = r - q and the
  * wall at L by xi = q + r - L, and feels the scene's normal law (spring_dashpot, hertz; the law of
  * the pair kernel, gr_kernel_normal) with the wall's coefficients: those of the same model
- * prepared for the reduced mass M of a grain against an infinite mass (a pair of grains has M/2),
- * so eps_n is the scene's eps_n for a wall contact too; the stiffness (k_s, k_h) is the scene's.
- * The wall's normal points into the box and the wall does not move, so g_n = +v_a at the wall at 0
- * and -v_a at the wall at L (< 0 approaching), and the force on the grain is f_n along the normal.
+ * prepared for the reduced mass M of a grain against an infinite mass (a pair of grains has M/2)
+ * from [model]'s parameters with the walls' own eps_n, eps_t, mu ([boundary]; the particles' by
+ * default), so a wall contact has the restitution [boundary] eps_n; the stiffness (k_s, k_h) is
+ * the scene's. The wall's normal n points into the box and the wall does not move, so g_n = +v_a
+ * at the wall at 0 and -v_a at the wall at L (< 0 approaching), and the force on the grain is f_n
+ * along the normal.
+ *
+ * Tangential laws (2D): the wall is the pair's partner i (n from the wall to the grain, t = n
+ * rotated by -90 degrees as in models/law.h), not rotating, its contact point on the grain's
+ * surface at distance r from its centre: g_t = v.t + r w (the wall's surface does not move along
+ * t), the force f_t t acts on the grain and its torque r f_t on the grain only; the law's mass is
+ * the contact point's, m_t = M q / (1 + q) with rotation (M without), prepared with m12 = M. A
+ * history law keeps one slot per grain and wall (s->wall_hist), forgotten when the contact ends
+ * as in the pair kernel, its spring energy in the elastic energy and its torque's spring part out
+ * of s->tg.
  *
  * Gravity is a constant force M g on every grain. It enters the forces but not their
  * non-conservative part (gx, gy), so the step books no dissipation for it: its work shows up as the
@@ -16,10 +27,15 @@
  * by the step like a pair's. So injected - dissipated = change of kinetic + elastic + potential
  * still closes, to the velocity-Verlet error of the contacts.
  *
- * A vibrating wall ([boundary] vibrate, amplitude, frequency) is the wall at 0 of one axis at
- * q_w = A sin(2 pi f t): the overlap is r - (q - q_w), g_n = v - q_w'. Its force's power on the
- * grains, f_n q_w', is the work it injects (booked as injected, per step); the dissipation is that
- * of the relative motion, -f_d g_n.
+ * A vibrating wall ([boundary] vibrate, amplitude, frequency, motion) is the wall at 0 of one axis
+ * at q_w = A sin(2 pi f t), or for a sawtooth q_w = A (2 frac(f t + 1/2) - 1) (rising at 2 A f,
+ * dropping by 2 A at t = (k + 1/2) / f): the overlap is r - (q - q_w), g_n = v - q_w'. Its force's
+ * power on the grains, f_n q_w', is its work (gr_ledger.wall_work, per step); the dissipation is
+ * that of the relative motion, -f_d g_n. A sawtooth's drop between two evaluations releases the
+ * springs of the grains pressed into it without any force doing work: the wall's work then is
+ * the change of their energy, evaluated at the grains' positions with the wall before and after
+ * the drop. The normal force of each evaluation on each wall, times dt, adds to its impulse
+ * (gr_sim_wall_impulse), whose differences give the mean force on the wall.
  *
  * This pass runs after the pair kernel, once per force evaluation, only when walls or gravity are
  * on (gr_sim.walls_on, chosen once): the pair kernels are untouched. The 2D neighbour list does
@@ -28,6 +44,8 @@
  * walls that pair does not exist, and the rare times both end grains press into their walls so
  * hard that the kernel finds it overlapping, this pass takes its force back out. */
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 
 #include "core/sim_internal.h"
 
@@ -64,11 +82,10 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
                            axis_name[a], axis_name[a]);
         }
     }
-    if (p->tangential) {
+    if (p->vibrate && p->motion != GR_WALL_SINE && p->motion != GR_WALL_SAWTOOTH) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: [model] tangential = %s has no wall contact yet: with [boundary] walls "
-                       "allowed: tangential = none",
-                       p->source, p->tangential->name);
+                       "%s: [boundary] motion = %d: allowed %d (sine) or %d (sawtooth)", p->source,
+                       p->motion, GR_WALL_SINE, GR_WALL_SAWTOOTH);
     }
     if (p->vibrate &&
         !(p->vibrate <= s->dim && p->walls[p->vibrate - 1] && p->amplitude >= 0.0 &&
@@ -114,24 +131,127 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
         }
         s->period[a] = INFINITY; /* the neighbour list does not wrap across the walls */
     }
-    if (s->integrator->instantaneous) {
-        return GR_OK;
+    /* the event integrator's wall hits use the same coefficients through its rule (event_2d.c) */
+    /* the same laws against an infinite mass: reduced mass M instead of M / 2, with the walls' own
+     * restitution and friction */
+    gr_contact_params wp = p->contact;
+    if (p->wall_coeffs) {
+        if (!(p->wall_eps_n >= 0.0 && p->wall_eps_n <= 1.0 && p->wall_eps_t >= 0.0 &&
+              p->wall_eps_t <= 1.0 && p->wall_mu >= 0.0 && isfinite(p->wall_mu))) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [boundary] eps_n = %g, eps_t = %g, mu = %g: allowed eps_n, eps_t "
+                           "in [0, 1] and mu in [0, inf)",
+                           p->source, p->wall_eps_n, p->wall_eps_t, p->wall_mu);
+        }
+        wp.eps_n = p->wall_eps_n;
+        wp.eps_t = p->wall_eps_t;
+        wp.mu = p->wall_mu;
     }
-    /* the same law against an infinite mass: reduced mass M instead of M / 2 */
-    return gr_contact_prepare(p->normal, NULL, &p->contact, s->mass, s->dt, &s->wall_cc, err);
+    const gr_model *tang = s->dim == 2 ? p->tangential : NULL;
+    int rc = gr_contact_prepare(p->normal, tang, &wp, s->mass, s->dt, &s->wall_cc, err);
+    if (rc) {
+        char why[sizeof err->message];
+        snprintf(why, sizeof why, "%s", err->message); /* GR_FAIL rewrites err->message */
+        return GR_FAIL(err, rc,
+                       "%s: the walls' contact ([boundary] eps_n = %g, eps_t = %g, mu = %g): %s",
+                       p->source, wp.eps_n, wp.eps_t, wp.mu, why);
+    }
+    s->wall_tl =
+        tang && !(tang->inert && tang->inert(&s->wall_cc)) ? gr_kernel_tangential_id(tang) : 0;
+    if (s->wall_tl && gr_kernel_tangential_history(s->wall_tl)) {
+        s->wall_hist = calloc(4 * (size_t)s->n + 1, sizeof(double));
+        /* rotation: the springs' torques are conservative, the rest goes into s->tg (as the pair
+         * kernel's; allocated here when the particles' law does nothing) */
+        if (!s->wall_hist ||
+            (s->omega && !s->tg && !(s->tg = calloc((size_t)s->n + 1, sizeof(double))))) {
+            return GR_FAIL(err, GR_ENOMEM, "out of memory for %d grains' wall contacts", s->n);
+        }
+    }
+    return GR_OK;
+}
+
+/* What one evaluation's wall contacts add up to: the normal springs' energy / e_scale (e) and
+ * the tangential springs' (et, J), dissipation rates (pn, pt, pf), energy a history law dropped
+ * (lost), for a moving wall its power on the grains (pw) and the share of the step's booking that
+ * is its work (pd), and the normal force on each wall (fw: 0 and L of x, then of y). */
+typedef struct wall_sums {
+    double e, et, pn, pt, pf, lost, pw, pd;
+    double fw[4];
+} wall_sums;
+
+/* The wall motion at time t: position and velocity of the vibrating wall (A sin(w t); sawtooth
+ * A (2 frac(f t + 1/2) - 1) at the speed 2 A f). */
+static void wall_motion(const gr_sim_params *p, double t, double *q, double *v)
+{
+    if (p->motion == GR_WALL_SAWTOOTH) {
+        const double ph = p->frequency * t + 0.5;
+        *q = p->amplitude * (2.0 * (ph - floor(ph)) - 1.0);
+        *v = 2.0 * p->amplitude * p->frequency;
+        return;
+    }
+    const double w = 2.0 * M_PI * p->frequency;
+    *q = p->amplitude * sin(w * t);
+    *v = p->amplitude * w * cos(w * t);
+}
+
+/* The tangential law at the contact of grain i with a wall whose t is st times the other axis's
+ * unit vector (v_o, f_o, g_o that axis's velocities, forces and their non-conservative part), its
+ * history in slot k of s->wall_hist; acts = 0 for a contact that ended (a history law forgets). */
+static void wall_tangential(gr_sim *s, int i, int k, double st, const double *v_o, double *f_o,
+                            double *g_o, double f_n, double xi, double g_n, int acts, wall_sums *w)
+{
+    const double r = 0.5 * s->d;
+    double g_t = st * v_o[i];
+    if (s->omega) {
+        g_t +=
+            r * s->omega[i]; /* the grain's surface at the contact point; the wall's is at rest */
+    }
+    double slot = s->wall_hist ? s->wall_hist[k] : 0.0;
+    const gr_tangential_in in = {.g_t = g_t,
+                                 .f_n = f_n,
+                                 .xi = xi,
+                                 .g_n = g_n,
+                                 .acts = acts,
+                                 .m12_dt = s->wall_cc.m_t / s->dt,
+                                 .hist = s->wall_hist ? &slot : NULL};
+    int book, hist;
+    const gr_tangential_force ft = gr_kernel_tangential(s->wall_tl, &s->wall_cc, in, &book, &hist);
+    const double nc = hist ? ft.f - ft.fc : ft.f; /* the non-conservative part */
+    if (acts) {
+        f_o[i] += st * ft.f;
+        g_o[i] += st * nc;
+        if (s->omega) {
+            s->tq[i] += r * ft.f;
+            if (s->tg) {
+                s->tg[i] += r * nc;
+            }
+        }
+    }
+    const double p = hist ? -nc * g_t : ft.p;
+    if (book == GR_BOOK_TANGENTIAL) {
+        w->pt += p;
+    } else {
+        w->pf += p;
+    }
+    if (hist) {
+        s->wall_hist[k] = slot;
+        w->et += ft.e;
+        w->lost += ft.lost;
+    }
 }
 
 /* The contacts of every grain with the two walls of axis a (coordinates q, velocities v, forces
- * f and their non-conservative part g), the wall at 0 at qw moving with vw (0 and 0 unless it
- * vibrates); adds the walls' energy / e_scale to *e and their dissipation rate to *pn, and for a
- * moving wall the power it does on the grains, sum f_n vw, to *pw and the part of the step's
- * booking (the work of g on the grains, -f_d v) that is the wall's work, not dissipation, sum
- * f_d vw, to *pd. */
-static void axis_walls(const gr_sim *s, const double *restrict q, const double *restrict v,
-                       double *restrict f, double *restrict g, const double qw, const double vw,
-                       double *e, double *pn, double *pw, double *pd, gr_force_report *r_out)
+ * f and their non-conservative part g; v_o, f_o, g_o those of the other axis in 2D, NULL in 1D),
+ * the wall at 0 at qw moving with vw (0 and 0 unless it vibrates); adds to *w (wall_sums). */
+static void axis_walls(gr_sim *s, const int a, const double *restrict q, const double *restrict v,
+                       double *restrict f, double *restrict g, const double *v_o, double *f_o,
+                       double *g_o, const double qw, const double vw, wall_sums *w,
+                       gr_force_report *r_out)
 {
     const double r = 0.5 * s->d, L = s->L;
+    /* t = n rotated by -90 degrees: along +x at the floor (y = 0), -y at the wall x = 0 */
+    const double st0 = a == 1 ? 1.0 : -1.0;
+    const int tang = s->wall_tl != 0 && v_o;
     for (int i = 0; i < s->n; i++) {
         const double lo = r - (q[i] - qw), hi = q[i] + r - L;
         /* the step's runaway guard (overlap > RUNAWAY_OVERLAP = 0.5 d, step.c) sees a wall's
@@ -144,25 +264,62 @@ static void axis_walls(const gr_sim *s, const double *restrict q, const double *
             r_out->worst_i = i;
             r_out->worst_j = -1;
         }
+        const int k0 = 4 * i + 2 * a;
         if (lo > 0.0) { /* the wall at 0: normal +e_a, g_n = v - vw */
             double f_d, ei;
             const double g_n = v[i] - vw;
             const double f_n = gr_kernel_normal(s, &s->wall_cc, lo, g_n, &f_d, &ei);
             f[i] += f_n;
             g[i] += f_d;
-            *e += ei;
-            *pn -= f_d * g_n;
-            *pw += f_n * vw;
-            *pd += f_d * vw;
+            w->e += ei;
+            w->pn -= f_d * g_n;
+            w->pw += f_n * vw;
+            w->pd += f_d * vw;
+            w->fw[2 * a] += f_n;
+            if (tang) {
+                wall_tangential(s, i, k0, st0, v_o, f_o, g_o, f_n, lo, g_n,
+                                !s->wall_cc.clamp || f_n > 0.0, w);
+            }
+        } else if (tang && s->wall_hist && s->wall_hist[k0] != 0.0) {
+            wall_tangential(s, i, k0, st0, v_o, f_o, g_o, 0.0, lo, v[i] - vw, 0, w); /* ended */
         }
         if (hi > 0.0) { /* the wall at L: normal -e_a, g_n = -v */
             double f_d, ei;
-            f[i] -= gr_kernel_normal(s, &s->wall_cc, hi, -v[i], &f_d, &ei);
+            const double f_n = gr_kernel_normal(s, &s->wall_cc, hi, -v[i], &f_d, &ei);
+            f[i] -= f_n;
             g[i] -= f_d;
-            *e += ei;
-            *pn += f_d * v[i];
+            w->e += ei;
+            w->pn += f_d * v[i];
+            w->fw[2 * a + 1] += f_n;
+            if (tang) {
+                wall_tangential(s, i, k0 + 1, -st0, v_o, f_o, g_o, f_n, hi, -v[i],
+                                !s->wall_cc.clamp || f_n > 0.0, w);
+            }
+        } else if (tang && s->wall_hist && s->wall_hist[k0 + 1] != 0.0) {
+            wall_tangential(s, i, k0 + 1, -st0, v_o, f_o, g_o, 0.0, hi, -v[i], 0, w);
         }
     }
+}
+
+/* A sawtooth wall that dropped (by 2 A) since the last evaluation: the energy of the springs of
+ * the grains pressed into it before the drop (the wall 2 A higher) that the drop released, at the
+ * grains' present positions, minus what they keep, J; its negative is the wall's work. */
+static double dropped_energy(const gr_sim *s, const double *q, double qw)
+{
+    const double r = 0.5 * s->d, up = qw + 2.0 * s->params.amplitude;
+    double before = 0.0, after = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        double f_d, e;
+        if (r - (q[i] - up) > 0.0) {
+            gr_kernel_normal(s, &s->wall_cc, r - (q[i] - up), 0.0, &f_d, &e);
+            before += e;
+        }
+        if (r - (q[i] - qw) > 0.0) {
+            gr_kernel_normal(s, &s->wall_cc, r - (q[i] - qw), 0.0, &f_d, &e);
+            after += e;
+        }
+    }
+    return s->wall_cc.e_scale * (before - after);
 }
 
 /* 1D with walls: take the ring's closing pair (n-1, 0) back out if the kernel found it touching. */
@@ -188,31 +345,49 @@ static void unwrap_ring(gr_sim *s, gr_force_report *r)
 void gr_walls_forces(gr_sim *s, gr_force_report *r)
 {
     const gr_sim_params *p = &s->params;
-    double e = 0.0, pn = 0.0, pw = 0.0, pd = 0.0;
-    /* a vibrating wall at 0 of axis vibrate - 1: A sin(w t), velocity A w cos(w t), at the time of
-     * this evaluation (the positions' time, step dt) */
+    wall_sums w = {0};
+    /* a vibrating wall at 0 of axis vibrate - 1, at the time of this evaluation (the positions'
+     * time, step dt) */
     double qw[2] = {0.0, 0.0}, vw[2] = {0.0, 0.0};
+    double released = 0.0;
     if (p->vibrate) {
-        const double w = 2.0 * M_PI * p->frequency, t = gr_sim_time(s);
-        qw[p->vibrate - 1] = p->amplitude * sin(w * t);
-        vw[p->vibrate - 1] = p->amplitude * w * cos(w * t);
+        const int a = p->vibrate - 1;
+        const double t = gr_sim_time(s);
+        wall_motion(p, t, &qw[a], &vw[a]);
+        if (p->motion == GR_WALL_SAWTOOTH && s->step > 0 &&
+            floor(p->frequency * t + 0.5) != floor(p->frequency * (t - s->dt) + 0.5)) {
+            released = dropped_energy(s, a == 0 ? s->x : s->y, qw[a]);
+        }
     }
     if (p->walls[0]) {
         if (s->dim == 1) {
             unwrap_ring(s, r);
         }
-        axis_walls(s, s->x, s->vx, s->fx, s->gx, qw[0], vw[0], &e, &pn, &pw, &pd, r);
+        axis_walls(s, 0, s->x, s->vx, s->fx, s->gx, s->dim == 2 ? s->vy : NULL, s->fy, s->gy, qw[0],
+                   vw[0], &w, r);
     }
     if (p->walls[1]) {
-        axis_walls(s, s->y, s->vy, s->fy, s->gy, qw[1], vw[1], &e, &pn, &pw, &pd, r);
+        axis_walls(s, 1, s->y, s->vy, s->fy, s->gy, s->vx, s->fx, s->gx, qw[1], vw[1], &w, r);
     }
-    r->elastic += s->wall_cc.e_scale * e;
-    r->power_normal += pn;
+    r->elastic += s->wall_cc.e_scale * w.e;
+    r->power_normal += w.pn;
+    if (s->wall_tl) {
+        r->elastic += w.et;
+        r->power_tangential += w.pt;
+        r->power_friction += w.pf;
+        r->lost += w.lost;
+    }
     /* the moving wall's work: these forces kick the grains for one step (two half kicks), so its
-     * work is its power times dt (injected); the step books the work of g, -f_d v, as dissipation,
-     * of which f_d vw is the wall's, not lost: given back here, so dissipated is -f_d (v - vw) */
-    s->injected += pw * s->dt;
-    s->diss_n += pd * s->dt;
+     * work is its power times dt (gr_ledger.wall_work); the step books the work of g, -f_d v, as
+     * dissipation, of which f_d vw is the wall's, not lost: given back here, so dissipated is
+     * -f_d (v - vw) */
+    if (p->vibrate) {
+        s->wall_work += w.pw * s->dt - released;
+        s->diss_n += w.pd * s->dt;
+    }
+    for (int k = 0; k < 4; k++) {
+        s->wall_impulse[k] += w.fw[k] * s->dt;
+    }
     /* gravity: conservative, so into f only (its work is the change of the potential energy) */
     for (int a = 0; a < s->dim; a++) {
         const double mg = s->mass * p->gravity[a];
@@ -220,6 +395,13 @@ void gr_walls_forces(gr_sim *s, gr_force_report *r)
         for (int i = 0; mg != 0.0 && i < s->n; i++) {
             f[i] += mg;
         }
+    }
+}
+
+void gr_sim_wall_impulse(const gr_sim *s, double J[4])
+{
+    for (int k = 0; k < 4; k++) {
+        J[k] = s->wall_impulse[k];
     }
 }
 

@@ -97,18 +97,35 @@ static const scene_key keys[] = {
      * thesis's periodic box, and a scene that keeps them writes neither section (scene.ini, hash) */
     {"boundary", "x", "", K_ENUM, "periodic", 0, 0, false, false, "periodic|walls",
      "along x: periodic (the thesis), or flat walls at x = 0 and x = L (a wall is a grain of "
-     "infinite mass and radius under the scene's normal law; verlet only, tangential = none)",
+     "infinite mass and radius under the scene's normal and tangential laws, with [boundary] "
+     "eps_n, "
+     "eps_t, mu; verlet only)",
      OFF(boundary[0])},
     {"boundary", "y", "", K_ENUM, "periodic", 0, 0, false, false, "periodic|walls",
      "along y (2D only): periodic, or flat walls at y = 0 and y = L", OFF(boundary[1])},
     {"boundary", "vibrate", "", K_ENUM, "none", 0, 0, false, false, "none|x|y",
      "none, or the axis whose wall at 0 (the floor) moves as amplitude sin(2 pi frequency t); "
-     "that axis needs walls; the wall's work is booked as injected energy",
+     "that axis needs walls; the wall's work is the ledger's wall_work",
      OFF(vibrate)},
     {"boundary", "amplitude", "m", K_DOUBLE, "0", 0, INFINITY, false, true, NULL,
      "vibrate: the wall's amplitude A; below L / 4", OFF(amplitude)},
     {"boundary", "frequency", "Hz", K_DOUBLE, "0", 0, INFINITY, false, true, NULL,
      "vibrate: the wall's frequency f (peak acceleration A (2 pi f)^2)", OFF(frequency)},
+    {"boundary", "motion", "", K_ENUM, "sine", 0, 0, false, false, "sine|sawtooth",
+     "vibrate: sine = A sin(2 pi f t); sawtooth = A (2 frac(f t + 1/2) - 1): from 0 at t = 0 it "
+     "rises at the constant speed 2 A f to A at t = 1 / (2 f), drops instantly to -A and rises "
+     "again, every period 1 / f",
+     OFF(motion)},
+    {"boundary", "eps_n", "", K_DOUBLE, NULL, 0, 1, false, false, NULL,
+     "the walls' normal coefficient of restitution (a grain against a wall of infinite mass, "
+     "calibrated by the normal law at m12 = M); unset: [model] eps_n, the particles'",
+     OFF(wall_eps_n)},
+    {"boundary", "eps_t", "", K_DOUBLE, NULL, 0, 1, false, false, NULL,
+     "the walls' tangential coefficient of restitution (tangential_dashpot); unset: [model] eps_t",
+     OFF(wall_eps_t)},
+    {"boundary", "mu", "", K_DOUBLE, NULL, 0, INFINITY, false, true, NULL,
+     "the walls' friction coefficient (sliding_friction, tangential_spring); unset: [model] mu",
+     OFF(wall_mu)},
     {"gravity", "gx", "m/s^2", K_DOUBLE, "0", -1000, 1000, false, false, NULL,
      "gravitational acceleration along x (a constant force M gx on every grain); non-zero needs "
      "[boundary] x = walls; -9.81 pulls towards the wall at x = 0",
@@ -889,6 +906,7 @@ void gr_scene_default(gr_scene *s)
     loader ld = {.scene = s, .err = &err};
     apply_defaults(&ld);
     s->reduced_length = -1.0;
+    s->wall_eps_n = s->wall_eps_t = s->wall_mu = NAN; /* resolved to [model]'s (resolve_walls) */
     snprintf(s->source, sizeof s->source, "<defaults>");
 }
 
@@ -983,7 +1001,7 @@ static int resolve_driving(gr_scene *s, const given *g, const char *const *drivi
 
 /* [boundary] and [gravity] (src/core/walls.c): refused here, with the key's file and line, where
  * the core would refuse them too: an integrator without walls, gravity along a periodic axis, y in
- * 1D, a tangential law against a wall. */
+ * 1D; and the walls' own coefficients resolved ([model]'s unless given). */
 static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
 {
     static const char *const axis[2] = {"x", "y"}, *const gkey[2] = {"gx", "gy"};
@@ -1020,6 +1038,24 @@ static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
                  "amplitude = %g m is too large for L = %g m; allowed range [0, L / 4) = [0, %g) m",
                  s->amplitude, s->L, 0.25 * s->L);
         return fail_at(err, &w, "boundary", "amplitude", "%s", detail);
+    }
+    /* the walls' own coefficients: [model]'s (the particles') unless given; one the scene's laws
+     * do not read, or given without walls, is warned about */
+    static const char *const wkey[3] = {"eps_n", "eps_t", "mu"};
+    const double model_v[3] = {s->contact.eps_n, s->contact.eps_t, s->contact.mu};
+    double *const wall_v[3] = {&s->wall_eps_n, &s->wall_eps_t, &s->wall_mu};
+    for (int k = 0; k < 3; k++) {
+        if (key_given(g, "boundary", wkey[k]) && !s->boundary[0] && !s->boundary[1]) {
+            warn(s, "[boundary] %s is ignored: %s\n", wkey[k],
+                 "the scene has no walls ([boundary] x, y = periodic)");
+        } else if (key_given(g, "boundary", wkey[k]) && !model_has_param(s->normal, wkey[k]) &&
+                   !model_has_param(s->tangential, wkey[k])) {
+            warn(s, "[boundary] %s is ignored: %s\n", wkey[k],
+                 "the scene's [model] laws have no such coefficient");
+        }
+        if (isnan(*wall_v[k])) {
+            *wall_v[k] = model_v[k];
+        }
     }
     if (!on) {
         return GR_OK;
@@ -1059,14 +1095,6 @@ static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
                  "[model] rotation = false (kind = verlet has the rest)",
                  s->integrator->name, s->integrator->name);
         return fail_at(err, &w, bsec, bkey, "%s", detail);
-    }
-    if (s->tangential && a >= 0) {
-        where w = where_of(g, s, "model", "tangential");
-        snprintf(detail, sizeof detail,
-                 "tangential = %s has no wall contact yet; allowed with [boundary] %s = walls: "
-                 "tangential = none",
-                 s->tangential->name, axis[a]);
-        return fail_at(err, &w, "model", "tangential", "%s", detail);
     }
     return GR_OK;
 }
@@ -1712,6 +1740,14 @@ void gr_scene_write(const gr_scene *s, FILE *f)
             s->boundary[0] || s->boundary[1] || s->gravity[0] != 0.0 || s->gravity[1] != 0.0;
         if (!walls && (!strcmp(k->section, "boundary") || !strcmp(k->section, "gravity"))) {
             continue; /* the periodic box: scene.ini as it always was */
+        }
+        if (k->offset == offsetof(gr_scene, motion) && s->motion == GR_WALL_SINE) {
+            continue; /* the default: the walls scenes' scene.ini as before */
+        }
+        if ((k->offset == offsetof(gr_scene, wall_eps_n) && !(s->wall_eps_n != s->contact.eps_n)) ||
+            (k->offset == offsetof(gr_scene, wall_eps_t) && !(s->wall_eps_t != s->contact.eps_t)) ||
+            (k->offset == offsetof(gr_scene, wall_mu) && !(s->wall_mu != s->contact.mu))) {
+            continue; /* the particles' (unset): read back as [model]'s */
         }
         if (k->offset == offsetof(gr_scene, noise_precision) &&
             s->noise_precision == GR_NOISE_DOUBLE) {

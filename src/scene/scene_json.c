@@ -1,4 +1,5 @@
 /* The resolved scene as JSON (for summary.json) and its hash (for CSV headers). */
+#include <math.h>
 #include <cjson/cJSON.h>
 #include <stdio.h>
 #include <string.h>
@@ -75,6 +76,19 @@ cJSON *gr_scene_to_json(const gr_scene *s)
             cJSON_AddStringToObject(bd, "vibrate", s->vibrate == 1 ? "x" : "y");
             cJSON_AddNumberToObject(bd, "amplitude", s->amplitude);
             cJSON_AddNumberToObject(bd, "frequency", s->frequency);
+            if (s->motion == GR_WALL_SAWTOOTH) {
+                cJSON_AddStringToObject(bd, "motion", "sawtooth");
+            }
+        }
+        /* the walls' own coefficients, where they are not the particles' (so the scenes without
+         * them keep their hashes) */
+        const double own[3] = {s->wall_eps_n, s->wall_eps_t, s->wall_mu},
+                     model[3] = {s->contact.eps_n, s->contact.eps_t, s->contact.mu};
+        static const char *const names[3] = {"eps_n", "eps_t", "mu"};
+        for (int k = 0; k < 3; k++) {
+            if (own[k] != model[k] && !isnan(own[k])) {
+                cJSON_AddNumberToObject(bd, names[k], own[k]);
+            }
         }
         cJSON *gv = cJSON_AddObjectToObject(root, "gravity");
         cJSON_AddNumberToObject(gv, "gx", s->gravity[0]);

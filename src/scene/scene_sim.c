@@ -1,6 +1,7 @@
 /* From a scene to a simulation: the scene's engine keys copied into the core's plain parameter
  * struct (the core never sees gr_scene), and the scene-level gr_sim_create* conveniences; and to
  * the observables' plain setup (the analysis layer never sees gr_scene either). */
+#include <math.h>
 #include <stdio.h>
 
 #include "granule/scene.h"
@@ -30,6 +31,12 @@ void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p)
                          .vibrate = s->vibrate,
                          .amplitude = s->amplitude,
                          .frequency = s->frequency,
+                         .motion = s->motion,
+                         .wall_coeffs = isfinite(s->wall_eps_n) && isfinite(s->wall_eps_t) &&
+                                        isfinite(s->wall_mu),
+                         .wall_eps_n = s->wall_eps_n,
+                         .wall_eps_t = s->wall_eps_t,
+                         .wall_mu = s->wall_mu,
                          .integrator = s->integrator,
                          .dt = s->dt,
                          .steps_per_contact = s->steps_per_contact,

@@ -59,18 +59,25 @@ int gr_ev_guard_check(gr_sim *s, double t_abs, int i, int j, gr_error *err)
     }
     const double span = t_abs - e->guard_mark_t;
     if (span < e->min_span) {
+        char who[80]; /* j < 0: the particle's own event, -1 - face (event_2d.c: 4.. are walls) */
+        if (j >= 0) {
+            snprintf(who, sizeof who, "between particles %d and %d", i, j);
+        } else {
+            snprintf(who, sizeof who, "of particle %d %s", i,
+                     -1 - j >= 4 ? "on a wall" : "crossing a cell");
+        }
         return GR_FAIL(
             err, GR_EUNSTABLE,
             "event-driven run unstable: the event rate diverges: %lld events in %.3g s of "
             "simulated time "
             "(%.3g events/s, the guard allows %lld events per %.3g s) at step %lld, t = %.12g s, "
-            "the last between particles %d and %d. Particles in exact contact (e.g. [placement] "
+            "the last %s. Particles in exact contact (e.g. [placement] "
             "kind = "
-            "hexagonal with L a multiple of d), an inelastic collapse without the TC rule, or "
-            "absurd speeds "
+            "hexagonal with L a multiple of d), an inelastic collapse without the TC rule (a "
+            "grain coming to rest on a wall: set [model] tc), or absurd speeds "
             "cause this; use a placement with gaps (uniform, random) or check the speeds",
             (long long)events, span, span > 0.0 ? (double)events / span : GR_EV_INF,
-            (long long)e->budget, e->min_span, (long long)s->step, t_abs, i, j);
+            (long long)e->budget, e->min_span, (long long)s->step, t_abs, who);
     }
     /* Floor bouncing (exact free flight): a noise-pressed pair re-collides every ~tc, so at a tc far
      * below the mean free time (tc = 1e-12 s: 1e12 collisions per pair and second) the run crawls

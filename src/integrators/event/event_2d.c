@@ -506,7 +506,7 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
                            .v2x = -v,
                            .v2y = -w,
                            .elastic = elastic};
-        gr_event_rule_apply(e->rule, e->cc, &p);
+        gr_event_rule_apply(e->rule, &s->wall_cc, &p); /* the walls' own eps_n, eps_t */
         ux = p.v1x;
         uy = p.v1y;
         de_n = 0.5 * p.de_n;
