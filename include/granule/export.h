@@ -17,9 +17,9 @@ typedef struct gr_lammps_export {
     char data[1100]; /* DIR/data.granule */
     char dump[64];   /* the dump file the deck writes, relative to where LAMMPS runs */
     int64_t warmup_steps, run_steps, sample_steps;
-    double kn, gamman, gammat; /* pair_style gran/hooke coefficients (N/m, 1/s, 1/s) */
-    double gamman_wall;        /* fix wall/gran hooke damping (1/s; 0 without walls) */
-    double noise_sigma;        /* random force per component per step, N */
+    double kn, gamman, gammat;       /* pair_style gran/hooke coefficients (N/m, 1/s, 1/s) */
+    double gamman_wall, gammat_wall; /* fix wall/gran hooke damping (1/s; 0 without walls) */
+    double noise_sigma;              /* random force per component per step, N */
 } gr_lammps_export;
 
 /* Write DIR/in.granule (the LAMMPS input deck), DIR/data.granule (the initial particles) and

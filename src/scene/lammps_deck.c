@@ -13,11 +13,12 @@
  *   driving   none: no noise fix. langevin: fix langevin T T tau with k_B T = M T_bath / dim (units si,
  *             k_B = 1.380649e-23 J/K): its drag -M v / tau and random force of variance
  *             2 k_B T M / (tau dt) are the bath's (docs/systems-driving.md), no momentum fix.
- *   walls     boundary f along a wall axis, and per wall fix wall/gran hooke Kn 0 gamman_w 0 xmu 1
- *             with gamman_w = gamma_n(wall) / M: LAMMPS's wall contact has meff = M, granule's
- *             wall law the reduced mass M (the same eps_n). The vibrating floor is its own fix with
- *             wiggle (A sin(2 pi f t), t from the deck's start, as granule's); the box reaches
- *             A + d below 0 so that no grain riding the floor leaves it.
+ *   walls     boundary f along a wall axis, and per wall fix wall/gran hooke Kn 0 gamman_w
+ *             gammat_w xmu 1 with gamman_w = gamma_n(wall) / M (and gammat_w = gamma_t(wall) / M):
+ *             LAMMPS's wall contact has meff = M, granule's wall law the reduced mass M and the
+ *             walls' own eps_n, eps_t. A sawtooth floor is refused (wiggle is sinusoidal). The vibrating floor is its own fix with
+ *             wiggle (A sin(2 pi f t), t from the deck's start, as granule's); with A >= r the box
+ *             reaches A + d below 0 so that no grain riding the floor leaves it.
  *   gravity   fix gravity |g| vector gx/|g| gy/|g| 0. With walls no fix momentum is written (the
  *             walls and gravity change the total momentum): the noise is then not symmetrised.
  *   rotation  fix nve integrates no angular velocity, as granule ignores rotation.
@@ -53,6 +54,12 @@ static int refuse_unmappable(const gr_scene *s, gr_error *err)
                        "verlet (its event-driven and hybrid integrators have no LAMMPS equivalent)",
                        s->source);
     }
+    if (s->vibrate && s->motion != 0) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "export lammps: %s: [boundary] motion = sawtooth: fix wall/gran's wiggle is "
+                       "sinusoidal; allowed: motion = sine",
+                       s->source);
+    }
     if (!s->normal->lammps_pair || strcmp(s->normal->lammps_pair, "gran/hooke") != 0) {
         return GR_FAIL(
             err, GR_EINVAL,
@@ -79,8 +86,11 @@ static int write_data(const char *dir, const gr_scene *s, const gr_particles *p,
     const double d = 2.0 * s->radius;
     fprintf(f.f, "granule initial state of %s (seed %llu)\n\n%d atoms\n1 atom types\n\n", s->source,
             (unsigned long long)s->seed, p->n);
-    double lo[2] = {0.0, 0.0}; /* a vibrating floor goes A below 0: room for the grains on it */
-    if (s->vibrate) {
+    /* a vibrating floor goes A below 0; a grain on it keeps its centre above 0 while A < r, else
+     * the box must reach below 0 (A + d), and is then not square (granule analyse
+     * --lammps-dump reads square boxes only) */
+    double lo[2] = {0.0, 0.0};
+    if (s->vibrate && s->amplitude >= s->radius) {
         lo[s->vibrate - 1] = -(s->amplitude + d);
     }
     fprintf(f.f,
@@ -110,8 +120,9 @@ static void write_walls(FILE *o, const gr_scene *s, const gr_lammps_export *e, b
                 "# walls along %c: gamma_n(wall) = %.17g kg/s at the reduced mass M (meff = M)\n",
                 axis[a], e->gamman_wall * s->mass);
         for (int side = 0; side < 2; side++) {
-            fprintf(o, "fix wall_%c%s all wall/gran hooke %.17g 0.0 %.17g 0.0 %.17g 1 %cplane ",
-                    axis[a], side ? "hi" : "lo", e->kn, e->gamman_wall, LMP_XMU, axis[a]);
+            fprintf(o, "fix wall_%c%s all wall/gran hooke %.17g 0.0 %.17g %.17g %.17g 1 %cplane ",
+                    axis[a], side ? "hi" : "lo", e->kn, e->gamman_wall, e->gammat_wall, LMP_XMU,
+                    axis[a]);
             if (side) {
                 fprintf(o, "NULL %.17g", s->L);
             } else {
@@ -220,6 +231,7 @@ int gr_export_lammps(const gr_scene *scene, const char *dir, bool force, gr_lamm
     info->gamman = c->gamma_n / m12;
     const gr_contact_coeffs *cw = gr_sim_wall_coeffs(sim);
     info->gamman_wall = cw ? cw->gamma_n / s.mass : 0.0; /* LAMMPS: meff = M at a wall */
+    info->gammat_wall = cw && s.tangential ? cw->gamma_t / s.mass : 0.0;
     info->gammat = s.tangential
                        ? c->gamma_t / m12
                        : 0.0; /* only a law of the same pair style exports (refuse_unmappable) */

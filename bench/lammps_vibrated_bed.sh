@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# The vibrated bed (docs/scenes/vibrated-bed.ini: 500 grains, a floor shaken at A = 1 mm, f = 50 Hz,
+# Gamma = 10, gravity, no noise) in granule and in LAMMPS from the same initial state (issue 36;
+# docs/systems-walls-gravity.md, "Against LAMMPS"): `granule export lammps` writes the deck (fix
+# wall/gran hooke with wiggle, fix gravity), LAMMPS runs it on one core, `granule analyse
+# --lammps-dump` measures its frames with the same profile observable as granule's own run. Prints,
+# slab by slab, the packing fraction and T_x, T_y of both with z = (granule - LAMMPS) / sqrt(err^2
+# + err^2), chi2 per slab over the populated slabs, the centre-of-mass height of both, and the
+# throughput of both (particle-steps/s; LAMMPS from its production run's loop time) with the ratio.
+#
+#   bench/lammps_vibrated_bed.sh [BUILD_DIR] [--quick] [--install] [--warmup S] [--duration S]
+#
+# Defaults: 0.3 s of warm-up (the grains start spread over the box and must settle) and 1 s sampled
+# every 2 ms (3.5e6 steps of 3.7e-7 s; LAMMPS takes about a minute
+# on one core). --quick: 0.004 + 0.004 s, the pipeline only (the test suite runs it).
+# Needs `lmp` built with GRANULAR (Debian package lammps); skips without it (--install installs it).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=build
+install=${GRANULE_BENCH_INSTALL:-0}
+quick=false
+warmup=0.3
+duration=1
+while (($#)); do
+    case $1 in
+        --quick) quick=true; warmup=0.004; duration=0.004 ;;
+        --install) install=1 ;;
+        --warmup | --duration)
+            (($# >= 2)) || { echo "bench/lammps_vibrated_bed.sh: $1 needs a value" >&2; exit 2; }
+            if [[ $1 == --warmup ]]; then warmup=$2; else duration=$2; fi
+            shift ;;
+        -*) echo "usage: bench/lammps_vibrated_bed.sh [BUILD_DIR] [--quick] [--install] [--warmup S] [--duration S]" >&2
+            exit 2 ;;
+        *) build=$1 ;;
+    esac
+    shift
+done
+# shellcheck source=bench/lib.sh
+source bench/lib.sh # lmp_or_skip
+lmp_or_skip lammps-vibrated-bed "$install"
+[[ -x $build/granule ]] || { echo "lammps-vibrated-bed: $build/granule not found: build the project first" >&2; exit 1; }
+export OMP_NUM_THREADS=1
+tmp=$(mktemp -d /tmp/granule-vbed.XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+scene=docs/scenes/vibrated-bed.ini
+sets=(--set run.warmup="$warmup" --set run.duration="$duration" --set analysis.observables=profile
+      --set analysis.profile_bins=25 --set output.plots=false)
+$quick && echo "# quick: the pipeline only (tiny windows), the numbers are not a comparison"
+echo "# granule vs $lmp on $scene, $(date -u +%Y-%m-%dT%H:%MZ), commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown), warm-up $warmup s, sampled $duration s, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+"$build/granule" run "$scene" --out "$tmp/g" "${sets[@]}" >"$tmp/g.log" 2>&1 ||
+    { cat "$tmp/g.log" >&2; echo "lammps-vibrated-bed: granule run failed" >&2; exit 1; }
+"$build/granule" export lammps "$scene" --out "$tmp/l" "${sets[@]}" >"$tmp/e.log" 2>&1 ||
+    { cat "$tmp/e.log" >&2; echo "lammps-vibrated-bed: export failed" >&2; exit 1; }
+(cd "$tmp/l" && "$lmp" -in in.granule -log log.lammps >lmp.out 2>&1) ||
+    { tail -20 "$tmp/l/lmp.out" >&2; echo "lammps-vibrated-bed: LAMMPS failed" >&2; exit 1; }
+"$build/granule" analyse "$tmp/l" --lammps-dump "$tmp/l/dump.granule.lammpstrj" --out "$tmp/la" \
+    --no-plots >"$tmp/a.log" 2>&1 || { cat "$tmp/a.log" >&2; echo "lammps-vibrated-bed: analyse failed" >&2; exit 1; }
+/usr/bin/python3 - "$tmp/g" "$tmp/la" "$tmp/l/log.lammps" "$quick" <<'PY'
+import json, re, sys
+import numpy as np
+g_dir, l_dir, log, quick = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4] == "true"
+rd = lambda d: np.genfromtxt(d + "/profile.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
+g, l = rd(g_dir), rd(l_dir)
+sg, sl = json.load(open(g_dir + "/summary.json")), json.load(open(l_dir + "/summary.json"))
+print(f"{'z (mm)':>7} {'phi granule':>20} {'phi LAMMPS':>20} {'z':>6} {'T_y granule':>20} {'T_y LAMMPS':>20} {'z':>6}")
+chi = {"phi": [], "T_x": [], "T_y": []}
+for k in range(len(g)):
+    row = f"{1e3 * g['z'][k]:7.2f}"
+    for q in ("phi", "T_x", "T_y"):
+        a, b = g[q][k], l[q][k]
+        e = np.hypot(g[q + "_err"][k], l[q + "_err"][k])
+        z = (a - b) / e if e > 0 and np.isfinite(a) and np.isfinite(b) else np.nan
+        if np.isfinite(z) and min(g["phi"][k], l["phi"][k]) > 0.005:
+            chi[q].append(z)
+        if q != "T_x":
+            row += f" {a:9.4g} +- {g[q + '_err'][k]:7.2g} {b:9.4g} +- {l[q + '_err'][k]:7.2g} {z:6.2f}"
+    print(row)
+for q, zs in chi.items():
+    zs = np.array(zs)
+    if len(zs):
+        print(f"{q}: {len(zs)} slabs with phi > 0.005: chi2 / slab = {np.mean(zs**2):.2f}, largest |z| = {np.max(np.abs(zs)):.2f}")
+hg, hl = sg["analysis"]["profile"], sl["analysis"]["profile"]
+zh = (hg["mean_position"] - hl["mean_position"]) / np.hypot(hg["mean_position_error"], hl["mean_position_error"])
+print(f"centre-of-mass height: granule {1e3 * hg['mean_position']:.3f} +- {1e3 * hg['mean_position_error']:.3f} mm, "
+      f"LAMMPS {1e3 * hl['mean_position']:.3f} +- {1e3 * hl['mean_position_error']:.3f} mm, z = {zh:.2f}")
+loops = re.findall(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", open(log).read())
+t_l, procs, steps, atoms = loops[-1]
+rate_l = int(steps) * int(atoms) / float(t_l)
+rate_g = sg["particle_steps_per_second"]
+print(f"throughput, one core: granule {rate_g:.3g} particle-steps/s (kernel {sg.get('kernel', '?')}), "
+      f"LAMMPS {rate_l:.3g} ({procs} proc, production run): ratio {rate_g / rate_l:.2f}x")
+PY
