@@ -18,8 +18,9 @@
 #         holds a ',' or a '#' (a group label's ", " is written "; "), and it loads with pandas
 #         and numpy.genfromtxt with the same rows and columns; `granule reproduce
 #         --collect` of three committed sets (means, power laws with per-row powers, curves, spm)
-#         writes every ID_data.meta.json again, equal to the committed ones; a data table read with
-#         its units as docs/python.md does
+#         writes every ID_data.meta.json again, equal to the committed ones, its CSVs without a
+#         comma in a cell, and the figures' blocks with the groups as the campaign has them; a
+#         data table read with its units as docs/python.md does
 # Exit 77 (skipped) only when the part's Python package cannot be imported.
 # usage: tests/test_readers.sh path/to/granule SOURCE_DIR ase|h5md|csv|results
 set -euo pipefail
@@ -317,6 +318,12 @@ for f in data + sorted(glob.glob("res/*/results.csv")):  # results.csv: every fi
     assert len(a.dtype.names) == len(df.columns) and len(a) == len(df), (f, a.dtype.names, len(a), len(df))
     if "group" in df.columns:
         assert all(g.strip('"') == h for g, h in zip(a["group"], df["group"])), f
+# ... and read back for the figures as the campaign writes them ("eps_n=0.1, N=100", gr_csv_label):
+# the gnuplot blocks and thesis lines equal the committed ones
+dat = sorted(glob.glob("res/*/*_blocks.dat") + glob.glob("res/*/*_thesis.dat"))
+assert any('"eps_n=0.1, N=100"' in open(f).read() for f in dat), dat
+for f in dat:
+    assert open(f).read() == open(os.path.join(src, "docs/results", f[4:])).read(), f
 labels = set(pd.read_csv("res/ch3-moments/results.csv")["group"])
 assert "eps_n=0.1; N=100" in labels and not any(", " in g for g in labels), sorted(labels)[:5]
 for f in data:
