@@ -50,6 +50,38 @@ for n in names:
 sys.exit(0 if ok else 1)
 PY
 check head -1 "$tmp/results/ch2-placement/results.csv" | grep -q "^campaign,result,quantity,unit,group,m,value,error,"
+# every CSV of every result set: no cell holds a ',' or a '#' (numpy.genfromtxt knows no quoting and
+# reads '#' as a comment; a group label's ", " is written "; "), so numpy reads the rows pandas does
+# (with Debian's numpy where there is one; the cells are checked either way)
+py=python3
+if /usr/bin/python3 -c "import numpy" 2>/dev/null; then py=/usr/bin/python3; fi
+check "$py" - "$tmp/results" <<'PY'
+import csv, glob, os, sys
+files = sorted(glob.glob(os.path.join(sys.argv[1], "*", "*.csv")))
+sets = glob.glob(os.path.join(sys.argv[1], "*", "results.csv"))  # each with a data table at least
+ok, labels = len(sets) > 0 and len(files) >= 2 * len(sets), set()
+for f in files:
+    rows = list(csv.reader(open(f)))
+    bad = [c for r in rows for c in r if "," in c or "#" in c]
+    if bad:
+        print(f, "cells numpy splits or cuts:", bad[:2]); ok = False
+    if rows and "group" in rows[0]:
+        labels |= {r[rows[0].index("group")] for r in rows[1:] if r}
+    try:
+        import numpy as np
+    except ImportError:
+        continue
+    try:
+        a = np.atleast_1d(np.genfromtxt(f, names=True, delimiter=",", dtype=None, encoding="utf-8"))
+    except ValueError as e:
+        print(f, "numpy.genfromtxt:", str(e).splitlines()[:2]); ok = False; continue
+    if len(a.dtype.names) != len(rows[0]) or len(a) != sum(1 for r in rows[1:] if r):
+        print(f, "numpy reads", len(a.dtype.names), "columns,", len(a), "rows"); ok = False
+# a label with more than one part ("eps_n=0.1; N=100", "uniform bisection (3.36); n = 9") was written
+if not any("; " in g for g in labels):
+    print("no group label with '; ' among", sorted(labels)[:8]); ok = False
+sys.exit(0 if ok else 1)
+PY
 # Fig. 6.3: the cascade row beside the RFM's, both configurations in the figure's data
 if [[ -d $tmp/results/ch6-cascade ]]; then
     check grep -q '^ch6-cascade,fig6.3,D_f,"1","cascade placement (UCP)",0,[0-9]' "$tmp/results/ch6-cascade/results.csv"

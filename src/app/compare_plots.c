@@ -129,8 +129,8 @@ static void pv_collapse(const char *out, const gr_compare_spec *specs, int n, ch
             for (int k = 0; k < n; k++) {
                 for (int i = 0; i < len[k]; i++) {
                     if (ys[k][i] > 0.0 && isfinite(scale[k])) {
-                        fprintf(f.f, "%s,%.6g,%.6g\n", specs[k].text, xs[k][i],
-                                ys[k][i] * scale[k]);
+                        gr_csv_text(f.f, specs[k].text, false);
+                        fprintf(f.f, ",%.6g,%.6g\n", xs[k][i], ys[k][i] * scale[k]);
                     }
                 }
             }

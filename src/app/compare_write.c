@@ -156,7 +156,13 @@ static int write_csv(const gr_compare_table *t, const cJSON *models, const char 
     fputc('\n', f.f);
     int k = 0;
     for (const cJSON *m = models->child; m; m = m->next, k++) {
-        fprintf(f.f, "%s,%s,%s,%s", t->spec[k].text, t->integrator[k], t->kernel[k], t->status[k]);
+        const char *text[] = {t->spec[k].text, t->integrator[k], t->kernel[k], t->status[k]};
+        for (int i = 0; i < 4; i++) { /* text cells: no comma, no '#' (gr_csv_text) */
+            if (i) {
+                fputc(',', f.f);
+            }
+            gr_csv_text(f.f, text[i], false);
+        }
         for (int i = 0; i < t->n_rows; i++) {
             const gr_compare_cell *c = &t->row[i].cell[k];
             bool has[2];
@@ -178,9 +184,7 @@ static int write_csv(const gr_compare_table *t, const cJSON *models, const char 
              * numpy.genfromtxt); commas would split the cell */
             fputc(',', f.f);
             if (!isfinite(c->value)) {
-                for (const char *p = c->text; *p; p++) {
-                    fputc(*p == ',' ? ';' : *p == '#' ? ' ' : *p, f.f);
-                }
+                gr_csv_text(f.f, c->text, false);
             } else if (marked(c->text)) {
                 fputs(gr_compare_mark_words(c->text[strlen(c->text) - 1]), f.f);
             }

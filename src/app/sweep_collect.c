@@ -165,7 +165,8 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
         cJSON *j = point_summary(s, k, status[k]);
         fprintf(f.f, "%ld,%llu", k, sweep_point_seed(s, k));
         for (int i = 0; i < n_col; i++) {
-            fprintf(f.f, ",%s", s->value[i][idx[i]]);
+            fputc(',', f.f);
+            gr_csv_text(f.f, s->value[i][idx[i]], false);
         }
         /* T_stderr_converged 0: the error bar is a lower bound (docs/analysis.md) */
         fprintf(f.f, ",%s,%.8g,%.4g,%.0f,%.0f,%.4g", status[k], gr_summary_number(j, "T_mean"),
@@ -271,7 +272,8 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
                         if (fitted) {
                             for (int i = 0; i < s->n_keys; i++) {
                                 if (i != n_idx) {
-                                    fprintf(e.f, "%s,", s->value[i][gv[i]]);
+                                    gr_csv_text(e.f, s->value[i][gv[i]], false);
+                                    fputc(',', e.f);
                                 }
                             }
                             /* A carries the moment's unit: (m/s)^m for xi, m^m for zeta */

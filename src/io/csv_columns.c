@@ -57,3 +57,27 @@ void gr_file_header(gr_file *out, const char *spec)
     gr_file_columns(out, spec);
     fputc('\n', out->f);
 }
+
+void gr_csv_text(FILE *f, const char *text, bool quote)
+{
+    if (quote) {
+        fputc('"', f);
+    }
+    for (const char *p = text; *p; p++) {
+        fputc(*p == ','                               ? ';'
+              : *p == '#' || *p == '\n' || *p == '\r' ? ' '
+              : *p == '"'                             ? '\''
+                                                      : *p,
+              f);
+    }
+    if (quote) {
+        fputc('"', f);
+    }
+}
+
+void gr_csv_label(char *text)
+{
+    for (char *p = text; (p = strstr(p, "; ")); p += 2) {
+        *p = ',';
+    }
+}

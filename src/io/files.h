@@ -38,6 +38,14 @@ void gr_file_note(gr_file *out, const char *fmt, ...) __attribute__((format(prin
 void gr_file_columns(gr_file *out, const char *spec);
 void gr_file_column(gr_file *out, const char *name, const char *unit);
 void gr_file_header(gr_file *out, const char *spec);
+/* A text cell of a table, written so that numpy.genfromtxt (which knows no quoting and takes '#'
+ * for a comment) reads it as one cell, as pandas.read_csv does: a ',' becomes ';' (so a label's
+ * "k1=v1, k2=v2" reads "k1=v1; k2=v2"), a '#' a blank, a '"' a "'", a line break a blank;
+ * between double quotes when quote. */
+void gr_csv_text(FILE *f, const char *text, bool quote);
+/* A label read back from such a cell, in place: "; " becomes ", " again (the inverse of
+ * gr_csv_text for labels whose only commas are ", " separators). */
+void gr_csv_label(char *text);
 /* Only the units of spec (a streamed table continued by a resume has its header already). */
 void gr_file_units(gr_file *out, const char *spec);
 /* Close without committing and keep the temporary (a checkpoint records it; a resume adopts it). */

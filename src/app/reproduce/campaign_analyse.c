@@ -253,7 +253,8 @@ int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campa
                 continue;
             }
             double ye = r->y_err[0] ? gr_summary_number(m[i]->summary, r->y_err) : (double)NAN;
-            fprintf(data->f, "\"%s\",%d,%.9g,%.9g\n", g[gi], campaign_seed_of(m[i]), y, ye);
+            gr_csv_text(data->f, g[gi], true);
+            fprintf(data->f, ",%d,%.9g,%.9g\n", campaign_seed_of(m[i]), y, ye);
             v[n++] = y;
             if (isfinite(ye)) {
                 e2 += ye * ye;
@@ -390,8 +391,8 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,
                                    : (double)NAN; /* mean of run errors / sqrt(n) */
                 double e = campaign_headline_error(se, run_err, n);
                 bool in = xs[xi] >= r->x_min && xs[xi] <= r->x_max;
-                fprintf(data->f, "\"%s\",%d,%.9g,%.9g,%.9g,%d,%d\n", g[gi], m, xs[xi], mean, e, n,
-                        in);
+                gr_csv_text(data->f, g[gi], true);
+                fprintf(data->f, ",%d,%.9g,%.9g,%.9g,%d,%d\n", m, xs[xi], mean, e, n, in);
                 if (in) {
                     fx[nf] = xs[xi];
                     fy[nf] = mean;

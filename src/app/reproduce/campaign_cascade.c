@@ -193,6 +193,7 @@ int campaign_cascade(const gr_campaign *c, const gr_campaign_result *r, const ca
     row->error = row->error_fit = df_err; /* the fit of the configuration-averaged S(k) */
     row->n_seeds = r->configurations;
     campaign_row_thesis(r, row);
-    fprintf(data->f, "\"%s\",0,%.9g,%.9g\n", CASCADE_GROUP, df, df_err);
+    gr_csv_text(data->f, CASCADE_GROUP, true);
+    fprintf(data->f, ",0,%.9g,%.9g\n", df, df_err);
     return GR_OK;
 }

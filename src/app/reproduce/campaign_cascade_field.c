@@ -104,13 +104,13 @@ int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaig
             if (f && isfinite(f->D_f)) {
                 v[n++] = f->D_f;
                 err2 += f->D_f_err * f->D_f_err;
-                fprintf(data->f, "\"%s\",%d,%d,%.6g,%.6g,%.4g,%s,%g,%g,%.3g\n", info->label, s,
-                        configurations, f->D_f, f->D_f_err, f->chi2_red,
-                        st.headline_unweighted ? "unweighted" : "weighted", f->q_min, f->q_max,
-                        st.wall_seconds);
+                gr_csv_text(data->f, info->label, true);
+                fprintf(data->f, ",%d,%d,%.6g,%.6g,%.4g,%s,%g,%g,%.3g\n", s, configurations, f->D_f,
+                        f->D_f_err, f->chi2_red, st.headline_unweighted ? "unweighted" : "weighted",
+                        f->q_min, f->q_max, st.wall_seconds);
             } else {
-                fprintf(data->f, "\"%s\",%d,%d,,,,none,,,%.3g\n", info->label, s, configurations,
-                        st.wall_seconds);
+                gr_csv_text(data->f, info->label, true);
+                fprintf(data->f, ",%d,%d,,,,none,,,%.3g\n", s, configurations, st.wall_seconds);
             }
             gr_cascade_study_free(&st);
         }

@@ -361,7 +361,8 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
         for (int i = 0; i < acc->n; i++) {
             if (isfinite(x[i]) && isfinite(y[i]) && y[i] > 0.0) {
                 const bool in = x[i] >= r->x_min && x[i] <= r->x_max;
-                fprintf(data->f, "\"%s\",0,%.9g,%.9g,%.9g,%d,%d\n", groups[g], x[i], y[i],
+                gr_csv_text(data->f, groups[g], true);
+                fprintf(data->f, ",0,%.9g,%.9g,%.9g,%d,%d\n", x[i], y[i],
                         isfinite(e[i]) ? e[i] : 0.0, acc->count[i], in);
             }
         }
@@ -372,7 +373,7 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
                 if (acc->x[i] > 0.0 && acc->x[i] < 1.0 &&
                     acc->sum[i] > 0.0) { /* where the curve has data */
                     const double P = exp((nb - 1.0) * log(-log(acc->x[i])) - lgamma(nb));
-                    fprintf(data->f, "\"uniform bisection (3.36), n = %.4g\",0,%.9g,%.9g,0,0,0\n",
+                    fprintf(data->f, "\"uniform bisection (3.36); n = %.4g\",0,%.9g,%.9g,0,0,0\n",
                             nb, acc->x[i], P);
                 }
             }

@@ -230,8 +230,10 @@ static int power_law_blocks(const char *dir, const gr_campaign_result *r, bool *
         if (!q || sscanf(q + 1, ",%d,%lf,%lf,%lf,%d,%d", &m, &x, &y, &e, &n, &in_fit) != 6) {
             continue;
         }
-        char key[200];
-        snprintf(key, sizeof key, "%.*s%s%.0d", (int)(q - line - 1), line + 1, m ? " m=" : "", m);
+        char group[200], key[200]; /* the label as the campaign has it: "; " in the cell is ", " */
+        snprintf(group, sizeof group, "%.*s", (int)(q - line - 1), line + 1);
+        gr_csv_label(group);
+        snprintf(key, sizeof key, "%s%s%.0d", group, m ? " m=" : "", m);
         if (strcmp(key, prev)) {
             if (want_thesis && blocks) {
                 *thesis_lines |=
@@ -239,7 +241,7 @@ static int power_law_blocks(const char *dir, const gr_campaign_result *r, bool *
             }
             fprintf(f.f, "%s\"%s\"\n", blocks ? "\n\n" : "", key);
             snprintf(prev, sizeof prev, "%s", key);
-            snprintf(prev_group, sizeof prev_group, "%.*s", (int)(q - line - 1), line + 1);
+            snprintf(prev_group, sizeof prev_group, "%s", group);
             prev_m = m;
             x_lo = x_hi = y_hi = NAN;
             blocks++;
@@ -413,8 +415,11 @@ static void row_json(cJSON *arr, const campaign_row *w)
 static void row_csv(FILE *f, const gr_campaign *c, const gr_campaign_result *r,
                     const campaign_row *w)
 {
-    fprintf(f, "%s,%s,%s,\"%s\",\"%s\",%d", c->name, r->id, r->quantity, campaign_unit(r), w->group,
-            w->m);
+    fprintf(f, "%s,%s,%s,", c->name, r->id, r->quantity);
+    gr_csv_text(f, campaign_unit(r), true);
+    fputc(',', f);
+    gr_csv_text(f, w->group, true);
+    fprintf(f, ",%d", w->m);
     csv_num(f, w->value);
     csv_num(f, w->error);
     csv_num(f, w->error_fit);

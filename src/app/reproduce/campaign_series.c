@@ -80,8 +80,9 @@ static int run_periods(const campaign_point *p, double period, const char *group
         const double elapsed = t[i] - t[0] + dt_sample;
         if (elapsed >= period * (n + 1) - 1e-6 * period && n < max) {
             means[n] = sum / count;
-            fprintf(data, "\"%s\",%d,%.6g,%.9g,%.9g\n", group, campaign_seed_of(p), elapsed,
-                    means[n], total / (i + 1));
+            gr_csv_text(data, group, true);
+            fprintf(data, ",%d,%.6g,%.9g,%.9g\n", campaign_seed_of(p), elapsed, means[n],
+                    total / (i + 1));
             n++;
             sum = 0.0;
             count = 0;
@@ -158,7 +159,8 @@ static double rise_or_settle_time(const campaign_point *p, const char *group, bo
         w++; /* samples per 50 ms */
     }
     for (int i = 0; i < n / 2; i += 10) {
-        fprintf(data, "\"%s\",%d,%.6g,%.9g,%.9g\n", group, campaign_seed_of(p), t[i], T[i], steady);
+        gr_csv_text(data, group, true);
+        fprintf(data, ",%d,%.6g,%.9g,%.9g\n", campaign_seed_of(p), t[i], T[i], steady);
     }
     fprintf(data, "\n"); /* a blank line ends this run's curve in the plot */
     if (settle) {

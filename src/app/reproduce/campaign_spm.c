@@ -306,7 +306,8 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
         for (int i = 0; i < nm; i++) {
             spm_run o;
             analyse_run(r, m[i], &o, buf);
-            fprintf(data->f, "\"%s\",%d", g[gi], campaign_seed_of(m[i]));
+            gr_csv_text(data->f, g[gi], true);
+            fprintf(data->f, ",%d", campaign_seed_of(m[i]));
             for (int k = 0; k < Q_COUNT; k++) {
                 fprintf(data->f, ",%.9g,%.9g", o.q[k], o.q_err[k]);
             }

@@ -142,10 +142,10 @@ int campaign_spm_circle(const gr_campaign_result *r, gr_fidelity fid, const camp
                      scale = pooled ? (double)NAN : v2_scale(p.s.mass, p.s.D, l);
         char group[64];
         snprintf(group, sizeof group, pooled ? POOLED_GROUP : "l=%g", l);
-        fprintf(data->f, "\"%s\",%.6g,%.6g,%.6g,%.6g,%.4g,%.4g,%.4g,%d,%.6g,%.6g,%.6g,%.6g\n",
-                group, l, pooled ? (double)NAN : rep.q[k].u, f->b, b_error(f), f->chi2_red,
-                f->wfrom, f->wto, f->n_points, f->beta, f->beta_err, f->b * scale,
-                b_error(f) * scale);
+        gr_csv_text(data->f, group, true);
+        fprintf(data->f, ",%.6g,%.6g,%.6g,%.6g,%.4g,%.4g,%.4g,%d,%.6g,%.6g,%.6g,%.6g\n", l,
+                pooled ? (double)NAN : rep.q[k].u, f->b, b_error(f), f->chi2_red, f->wfrom, f->wto,
+                f->n_points, f->beta, f->beta_err, f->b * scale, b_error(f) * scale);
         if (q == Q_COEFFICIENT && pooled) {
             continue; /* the coefficient in s^2/m^2 belongs to one radius */
         }

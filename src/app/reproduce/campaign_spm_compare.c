@@ -226,7 +226,8 @@ int campaign_spm_compare(const gr_campaign_result *r, gr_fidelity fid, const cam
             cmp_run o;
             analyse_run(m[i], walks, &o);
             const gr_spm_series_compare *c = &o.c;
-            fprintf(data->f, "\"%s\",%d", g[gi], campaign_seed_of(m[i]));
+            gr_csv_text(data->f, g[gi], true);
+            fprintf(data->f, ",%d", campaign_seed_of(m[i]));
             for (int k = 0; k < Q_COUNT; k++) {
                 fprintf(data->f, ",%.9g,%.9g", o.q[k], o.q_err[k]);
             }
