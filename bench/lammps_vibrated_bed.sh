@@ -9,6 +9,7 @@
 # throughput of both (particle-steps/s; LAMMPS from its production run's loop time) with the ratio.
 #
 #   bench/lammps_vibrated_bed.sh [BUILD_DIR] [--quick] [--install] [--warmup S] [--duration S]
+#                                [--set K=V ...]
 #
 # Defaults: 0.3 s of warm-up (the grains start spread over the box and must settle) and 1 s sampled
 # every 2 ms (3.5e6 steps of 3.7e-7 s; LAMMPS takes about a minute
@@ -19,17 +20,18 @@ cd "$(dirname "$0")/.."
 build=build
 install=${GRANULE_BENCH_INSTALL:-0}
 quick=false
+extra=()
 warmup=0.3
 duration=1
 while (($#)); do
     case $1 in
         --quick) quick=true; warmup=0.004; duration=0.004 ;;
         --install) install=1 ;;
-        --warmup | --duration)
+        --warmup | --duration | --set)
             (($# >= 2)) || { echo "bench/lammps_vibrated_bed.sh: $1 needs a value" >&2; exit 2; }
-            if [[ $1 == --warmup ]]; then warmup=$2; else duration=$2; fi
+            case $1 in --warmup) warmup=$2 ;; --duration) duration=$2 ;; *) extra+=(--set "$2") ;; esac
             shift ;;
-        -*) echo "usage: bench/lammps_vibrated_bed.sh [BUILD_DIR] [--quick] [--install] [--warmup S] [--duration S]" >&2
+        -*) echo "usage: bench/lammps_vibrated_bed.sh [BUILD_DIR] [--quick] [--install] [--warmup S] [--duration S] [--set K=V ...]" >&2
             exit 2 ;;
         *) build=$1 ;;
     esac
@@ -44,9 +46,9 @@ tmp=$(mktemp -d /tmp/granule-vbed.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 scene=docs/scenes/vibrated-bed.ini
 sets=(--set run.warmup="$warmup" --set run.duration="$duration" --set analysis.observables=profile
-      --set analysis.profile_bins=25 --set output.plots=false)
+      --set analysis.profile_bins=25 --set output.plots=false ${extra[@]+"${extra[@]}"})
 $quick && echo "# quick: the pipeline only (tiny windows), the numbers are not a comparison"
-echo "# granule vs $lmp on $scene, $(date -u +%Y-%m-%dT%H:%MZ), commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown), warm-up $warmup s, sampled $duration s, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "# granule vs $lmp on $scene ${extra[*]+${extra[*]}}, $(date -u +%Y-%m-%dT%H:%MZ), commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown), warm-up $warmup s, sampled $duration s, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 "$build/granule" run "$scene" --out "$tmp/g" "${sets[@]}" >"$tmp/g.log" 2>&1 ||
     { cat "$tmp/g.log" >&2; echo "lammps-vibrated-bed: granule run failed" >&2; exit 1; }
 "$build/granule" export lammps "$scene" --out "$tmp/l" "${sets[@]}" >"$tmp/e.log" 2>&1 ||

@@ -48,6 +48,9 @@ typedef struct gr_obs_setup {
     /* the contact law's coefficients, for the force kernel's own law (gr_contact_virial, pressure's
      * virial); zero without a normal model. Observables never evaluate a law themselves. */
     gr_contact_coeffs contact;
+    /* walls[a]: flat walls along axis a ([boundary]); positions there are not periodic (a floor
+     * that vibrates below 0 carries grains below 0) */
+    bool walls[2];
 } gr_obs_setup;
 
 /* Where an observable writes its results. */

@@ -5,8 +5,9 @@
  *
  * The axis (profile_axis: 0 = x, 1 = y; -1, the default, is the last one: y in 2D, x in 1D) is
  * cut into profile_bins slabs of width dz = L / bins. A particle counts in the slab of its centre
- * (1D positions are wrapped into [0, L) first), so near a wall, where centres stay at least r
- * away, the first slab's density is lower than the grains' (centre-counted, not area-weighted).
+ * (1D positions are wrapped into [0, L) first along a periodic axis; along a wall axis a
+ * centre below 0, on a floor vibrating below 0, counts in the first slab), so near a wall, where
+ * centres stay at least r away, the first slab's density is lower than the grains' (centre-counted, not area-weighted).
  * Per slab, over all frames F:
  *     n(z)     = <c> / (dz L^(dim-1))                       number density (m^-2 in 2D, m^-1 in 1D)
  *     phi(z)   = n(z) pi r^2 (2D), n(z) 2 r (1D)            packing fraction of the centres
@@ -43,6 +44,7 @@ enum { Q_COUNT, Q_S1X, Q_S1Y, Q_S2X, Q_S2Y, N_Q };
 
 typedef struct profile {
     int n, dim, axis, bins;
+    bool wall; /* walls along the axis: clamp into the end slabs instead of wrapping */
     double L, radius, dz, slab; /* slab: dz L^(dim-1), the slab's area (2D) or length (1D) */
     int64_t frames;
     double *c, *s1, *s2; /* this frame's sums per slab: c[b], s1/s2[2 b + a] */
@@ -65,6 +67,7 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
                        "-1 (the last axis)",
                        pp->profile_axis, setup->dim);
     }
+    s->wall = setup->walls[s->axis];
     s->bins = pp->profile_bins;
     s->dz = s->L / s->bins;
     s->slab = setup->dim == 2 ? s->dz * s->L : s->dz;
@@ -97,8 +100,11 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     const double *z = s->axis == 0 ? p->x : p->y;
     double zsum = 0.0;
     for (int i = 0; i < p->n; i++) {
-        double zi = fmod(z[i], s->L); /* 1D positions are unwrapped */
-        zi += zi < 0.0 ? s->L : 0.0;
+        double zi = z[i];
+        if (!s->wall) { /* periodic: 1D positions are unwrapped */
+            zi = fmod(zi, s->L);
+            zi += zi < 0.0 ? s->L : 0.0;
+        }
         zsum += zi;
         int k = (int)(zi / s->dz);
         k = k < 0 ? 0 : (k >= s->bins ? s->bins - 1 : k);

@@ -295,24 +295,33 @@ int gr_neighbours_build(gr_sim *s, gr_error *err)
             }
         }
     } else {
-        /* every position must lie in [0, L) for the cell index: wrap stragglers (a particle that
-         * moved more than L in one step) and refuse non-finite ones */
+        /* every position along a periodic axis must lie in [0, L) for the cell index: wrap
+         * stragglers (a particle that moved more than L in one step) and refuse non-finite ones */
         double *xw = s->x, *yw = s->y;
+        /* a wall axis is not wrapped (a vibrating floor may carry grains below 0): its cells
+         * clamp the coordinate below */
+        const bool wrap_x = s->period[0] < (double)INFINITY,
+                   wrap_y = s->period[1] < (double)INFINITY;
         for (int i = 0; i < n; i++) {
-            if (!(xw[i] >= 0.0 && xw[i] < L && yw[i] >= 0.0 && yw[i] < L)) {
-                if (!isfinite(xw[i]) || !isfinite(yw[i])) {
-                    return GR_FAIL(
-                        err, GR_EUNSTABLE,
-                        "unstable run: particle %d has a non-finite position (%g, %g) at step %lld",
-                        i, xw[i], yw[i], (long long)s->step);
-                }
+            if (!(isfinite(xw[i]) && isfinite(yw[i]))) {
+                return GR_FAIL(err, GR_EUNSTABLE,
+                               "unstable run: particle %d has a non-finite position (%g, %g) at "
+                               "step %lld",
+                               i, xw[i], yw[i], (long long)s->step);
+            }
+            if (!((!wrap_x || (xw[i] >= 0.0 && xw[i] < L)) &&
+                  (!wrap_y || (yw[i] >= 0.0 && yw[i] < L)))) {
                 const double x0 = xw[i], y0 = yw[i];
-                xw[i] -= L * floor(xw[i] / L);
-                yw[i] -= L * floor(yw[i] / L);
-                xw[i] = xw[i] >= L ? 0.0 : xw[i];
-                yw[i] = yw[i] >= L ? 0.0 : yw[i];
-                if (!(xw[i] >= 0.0 &&
-                      yw[i] >= 0.0)) { /* |x| >> L: floor lost the box (tests/fuzz) */
+                if (wrap_x) {
+                    xw[i] -= L * floor(xw[i] / L);
+                    xw[i] = xw[i] >= L ? 0.0 : xw[i];
+                }
+                if (wrap_y) {
+                    yw[i] -= L * floor(yw[i] / L);
+                    yw[i] = yw[i] >= L ? 0.0 : yw[i];
+                }
+                if (!((!wrap_x || xw[i] >= 0.0) &&
+                      (!wrap_y || yw[i] >= 0.0))) { /* |x| >> L: floor lost the box (tests/fuzz) */
                     return GR_FAIL(
                         err, GR_EUNSTABLE,
                         "unstable run: particle %d moved %g box lengths in one step, at step %lld",
@@ -326,8 +335,8 @@ int gr_neighbours_build(gr_sim *s, gr_error *err)
         memset(start, 0, sizeof(int) * ((size_t)nc * nc + 1));
         for (int i = 0; i < n; i++) {
             int cx = (int)(x[i] * inv), cy = (int)(y[i] * inv);
-            cx = cx >= nc ? nc - 1 : cx;
-            cy = cy >= nc ? nc - 1 : cy;
+            cx = cx >= nc ? nc - 1 : (cx < 0 ? 0 : cx); /* < 0, >= nc: a wall axis (above) */
+            cy = cy >= nc ? nc - 1 : (cy < 0 ? 0 : cy);
             s->cell_of[i] = cx + nc * cy;
             start[s->cell_of[i] + 1]++;
         }

@@ -215,7 +215,7 @@ static int power_law_blocks(const char *dir, const gr_campaign_result *r, bool *
         gr_file_abandon(&f);
         return 0;
     }
-    char line[512], prev[200] = "", prev_group[200] = "";
+    char line[512], prev[220] = "", prev_group[200] = "";
     int blocks = 0, prev_m = 0;
     double x_lo = NAN, x_hi = NAN, y_hi = NAN;
     bool header = true;
@@ -230,7 +230,7 @@ static int power_law_blocks(const char *dir, const gr_campaign_result *r, bool *
         if (!q || sscanf(q + 1, ",%d,%lf,%lf,%lf,%d,%d", &m, &x, &y, &e, &n, &in_fit) != 6) {
             continue;
         }
-        char group[200], key[200]; /* the label as the campaign has it: "; " in the cell is ", " */
+        char group[200], key[220]; /* the label as the campaign has it: "; " in the cell is ", " */
         snprintf(group, sizeof group, "%.*s", (int)(q - line - 1), line + 1);
         gr_csv_label(group);
         snprintf(key, sizeof key, "%s%s%.0d", group, m ? " m=" : "", m);

@@ -322,6 +322,11 @@ static inline __attribute__((always_inline)) void open_range_2d(gr_sim *restrict
     const double amp = noise == DRIVE_KICK ? sqrt(2.0 * s->params.D * s->dt) / s->mass : 0.0;
     const double decay = s->drive_c.decay, kick = s->drive_c.kick;
     const double m0 = mean[0], m1 = mean[1];
+    /* wrap into [0, L) along periodic axes only: along a wall axis a grain riding a floor that
+     * vibrates below 0 keeps its coordinate (walls.c; the neighbour list does not wrap there) */
+    const double inf = (double)INFINITY;
+    const double lo_x = s->period[0] < inf ? 0.0 : -inf, hi_x = lo_x == 0.0 ? L : inf;
+    const double lo_y = s->period[1] < inf ? 0.0 : -inf, hi_y = lo_y == 0.0 ? L : inf;
     double *restrict x = s->x, *restrict y = s->y, *restrict vx = s->vx, *restrict vy = s->vy;
     const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict g = s->noise;
     const double *restrict xr = s->x_ref, *restrict yr = s->y_ref;
@@ -358,8 +363,8 @@ static inline __attribute__((always_inline)) void open_range_2d(gr_sim *restrict
         vy[i] = vyi;                                                                               \
         sum[l] += vxi + vyi;                                                                       \
         double xn = x[i] + vxi * dt, yn = y[i] + vyi * dt;                                         \
-        xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);                                                 \
-        yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);                                                 \
+        xn += xn < lo_x ? L : (xn >= hi_x ? -L : 0.0);                                             \
+        yn += yn < lo_y ? L : (yn >= hi_y ? -L : 0.0);                                             \
         x[i] = xn;                                                                                 \
         y[i] = yn;                                                                                 \
         double ddx = xn - xr[i], ddy = yn - yr[i];                                                 \
