@@ -52,7 +52,8 @@ typedef enum {
     GR_PLACE_SQUARE,
     GR_PLACE_UNIFORM,
     GR_PLACE_CLUSTER,
-    GR_PLACE_RANDOM
+    GR_PLACE_RANDOM,
+    GR_PLACE_CUBIC /* 3D: simple cubic lattice (docs/three-dimensions.md) */
 } gr_placement_kind;
 typedef enum { GR_NOISE_NONE, GR_NOISE_SYMMETRISED, GR_NOISE_COM } gr_noise_mode;
 /* The random force's normals: gr_noise_normals (double) or gr_noise_normals_f32 (single). */
@@ -68,9 +69,9 @@ const char *gr_noise_mode_name(gr_noise_mode m);
  * [system], [placement], [model], [noise] and [integrator] keys and the seed (docs/scene-keys.md
  * documents each). Fill it by hand to drive the library without the scene parser. */
 typedef struct gr_sim_params {
-    int dim;             /* 1 or 2 */
+    int dim;             /* 1, 2 or 3 (spheres: docs/three-dimensions.md) */
     int N;               /* particles (gr_sim_new) */
-    double L;            /* box side (2D) or ring length (1D), m */
+    double L;            /* box side (2D, 3D) or ring length (1D), m */
     double radius, mass; /* m, kg */
     gr_placement_kind placement;
     double v0;     /* initial velocities v0 * U(-0.5, 0.5) per component, m/s */

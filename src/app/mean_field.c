@@ -8,7 +8,7 @@
 
 cJSON *gr_mean_field_steady(const gr_scene *s, double T_mean)
 {
-    if (s->D <= 0.0 || !(T_mean > 0.0)) {
+    if (s->D <= 0.0 || !(T_mean > 0.0) || s->dim == 3) { /* no 3D reference yet */
         return NULL;
     }
     const double M = s->mass, D = s->D, d = 2.0 * s->radius;
