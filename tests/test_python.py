@@ -201,4 +201,15 @@ for what, source, set_, words in (
     except Exception as e:
         check(False, f"load_scene with {what} raises SceneError, not {type(e).__name__}: {e}")
 
+# 3D (docs/three-dimensions.md): z and vz are views like x and y; T (2.19) sums three components
+s3 = granule.load_scene(os.path.join(src, "docs", "scenes", "rfm-3d.ini"), set={"system.N": 216})
+sim3 = granule.Sim(s3)
+sim3.step(100)
+v3 = np.stack([sim3.vx, sim3.vy, sim3.vz])
+T3 = np.mean(np.sum((v3 - v3.mean(axis=1, keepdims=True)) ** 2, axis=0))
+check(sim3.dim == 3 and sim3.z.shape == (216,) and sim3.vz.base is sim3 and np.all((sim3.z >= 0) & (sim3.z < sim3.L)),
+      "3D: z and vz are read-only views, z inside the cube")
+check(abs(T3 - sim3.temperature) <= 1e-12 * T3, f"3D: T from x, y, z views {T3} = sim.temperature {sim3.temperature}")
+check(sim.z is None and sim.vz is None, "2D: z and vz are None")
+
 finish()

@@ -41,8 +41,8 @@ int gr_neighbours_alloc_3d(gr_sim *s, gr_error *err)
     s->nl_cap = 16 * (int64_t)n + 64;
     s->nl_j = malloc(sizeof(int) * (size_t)s->nl_cap);
     s->nl_contact = calloc((size_t)s->nl_cap, 1);
-    if (!s->cell_start || !s->cell_of || !s->cell_order || !s->nl_start || !s->x_ref ||
-        !s->y_ref || !s->z_ref || !s->nl_j || !s->nl_contact) {
+    if (!s->cell_start || !s->cell_of || !s->cell_order || !s->nl_start || !s->x_ref || !s->y_ref ||
+        !s->z_ref || !s->nl_j || !s->nl_contact) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory for the neighbour list of %d spheres", n);
     }
     return GR_OK;

@@ -100,7 +100,8 @@ static void check_list(const gr_sim *s, gr_blob_reader *b, int64_t pairs)
         }
     }
     for (int i = 0; i < n && !b->bad; i++) {
-        if (!(s->x[i] >= 0.0 && s->x[i] < s->L && s->y[i] >= 0.0 && s->y[i] < s->L)) {
+        if (!(s->x[i] >= 0.0 && s->x[i] < s->L && s->y[i] >= 0.0 && s->y[i] < s->L) ||
+            (s->dim == 3 && !(s->z[i] >= 0.0 && s->z[i] < s->L))) {
             gr_blob_fail(b, "particle %d lies outside the box [0, L)", i);
         }
     }
