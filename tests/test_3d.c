@@ -3,7 +3,7 @@
  * - the three-component noise: components 0 and 1 are the 2D normals bit for bit, component 2
  *   new ones, the same whatever the batch (first, n) and equal to gr_noise_normal1 (retries
  *   included), uncorrelated with the others, standard normal;
- * - placements: cubic and random give the packing fraction asked for, without overlaps;
+ * - placements: cubic, fcc (at phi = 0.7) and random give the packing fraction asked for, without overlaps;
  * - the kernel against every pair by brute force with the same normal law;
  * - eps_n = 1 without noise conserves energy (a gas of spheres, and a pair collision, whose
  *   error falls about 4x when dt halves) and momentum;
@@ -39,7 +39,8 @@ START_TEST(test_noise_three_components)
 {
     const int n = 20001; /* odd: the last pair is half used */
     const uint64_t seed = 12345, step = 77;
-    double *a3 = malloc(sizeof(double) * 3 * (size_t)n), *a2 = malloc(sizeof(double) * 2 * (size_t)n);
+    double *a3 = malloc(sizeof(double) * 3 * (size_t)n),
+           *a2 = malloc(sizeof(double) * 2 * (size_t)n);
     double *part = malloc(sizeof(double) * 3 * (size_t)n);
     gr_noise_normals(seed, GR_STREAM_NOISE, step, 0, n, 3, a3);
     gr_noise_normals(seed, GR_STREAM_NOISE, step, 0, n, 2, a2);
@@ -98,13 +99,17 @@ static double sphere_phi(const gr_sim *s)
 
 START_TEST(test_placements)
 {
-    static const char *const kinds[] = {"placement.kind=cubic", "placement.kind=random"};
-    for (int k = 0; k < 2; k++) {
+    static const char *const kinds[] = {"placement.kind=cubic", "placement.kind=random",
+                                        "placement.kind=fcc"};
+    static const char *const phis[] = {"system.packing_fraction=0.25",
+                                       "system.packing_fraction=0.25",
+                                       "system.packing_fraction=0.7"};
+    for (int k = 0; k < 3; k++) {
         gr_scene *sc = malloc(sizeof *sc);
-        const char *set[] = {kinds[k], "system.packing_fraction=0.25"};
-        load(sc, gas, set, 2);
+        const char *set[] = {kinds[k], phis[k], "system.N=500"};
+        load(sc, gas, set, 3);
         gr_sim *s = create(sc); /* gr_sim_new refuses overlaps (gr_check_overlaps) */
-        ck_assert_double_eq_tol(sphere_phi(s), 0.25, 1e-12);
+        ck_assert_double_eq_tol(sphere_phi(s), k == 2 ? 0.7 : 0.25, 1e-12);
         for (int i = 0; i < s->n; i++) {
             ck_assert(s->z[i] >= 0.0 && s->z[i] < s->L && s->x[i] >= 0.0 && s->y[i] < s->L);
         }
@@ -309,16 +314,14 @@ START_TEST(test_pair_collisions)
                     laws[l][0], laws[l][1], impact[k][0], impact[k][1], f, 1.0 - 0.8 * 0.8);
             ck_assert_msg(fabs(f - (1.0 - 0.8 * 0.8)) < 0.01 * (1.0 - 0.8 * 0.8),
                           "%s %s impact (%g, %g): lost %g of the normal energy, want %g",
-                          laws[l][0], laws[l][1], impact[k][0], impact[k][1], f,
-                          1.0 - 0.8 * 0.8);
+                          laws[l][0], laws[l][1], impact[k][0], impact[k][1], f, 1.0 - 0.8 * 0.8);
         }
     }
     /* eps_n = 1: the energy comes back, to second order in dt */
     const double e1 = pair_loss(laws[0][0], laws[0][1], "model.eps_n=1", 25, 0.5, 0.3, 0.4),
                  e2 = pair_loss(laws[0][0], laws[0][1], "model.eps_n=1", 50, 0.5, 0.3, 0.4);
     VERBOSE("eps_n = 1: relative energy error %g at 25 steps per contact, %g at 50\n", e1, e2);
-    ck_assert_msg(fabs(e1) < 1e-2 && fabs(e2) < fabs(e1) / 3.0, "eps_n = 1: errors %g, %g", e1,
-                  e2);
+    ck_assert_msg(fabs(e1) < 1e-2 && fabs(e2) < fabs(e1) / 3.0, "eps_n = 1: errors %g, %g", e1, e2);
 }
 END_TEST
 

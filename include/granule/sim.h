@@ -53,7 +53,8 @@ typedef enum {
     GR_PLACE_UNIFORM,
     GR_PLACE_CLUSTER,
     GR_PLACE_RANDOM,
-    GR_PLACE_CUBIC /* 3D: simple cubic lattice (docs/three-dimensions.md) */
+    GR_PLACE_CUBIC, /* 3D: simple cubic lattice (docs/three-dimensions.md) */
+    GR_PLACE_FCC    /* 3D: face-centred cubic lattice */
 } gr_placement_kind;
 typedef enum { GR_NOISE_NONE, GR_NOISE_SYMMETRISED, GR_NOISE_COM } gr_noise_mode;
 /* The random force's normals: gr_noise_normals (double) or gr_noise_normals_f32 (single). */

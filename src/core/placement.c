@@ -6,7 +6,9 @@
  * centre; `random` is random sequential addition, which jams near phi = 0.547, so it is refused
  * above phi = 0.5 (use a lattice for dense scenes). 1D: uniform spacing L/N, one touching
  * cluster, or random gaps. 3D (spheres in a periodic cube, docs/three-dimensions.md): `cubic`, a
- * simple cubic lattice of m = ceil(N^(1/3)) sites per edge filled x fastest, then y, then z, and
+ * simple cubic lattice of m = ceil(N^(1/3)) sites per edge filled x fastest, then y, then z;
+ * `fcc`, the face-centred cubic lattice of m = ceil((N/4)^(1/3)) cells per edge (4 sites each,
+ * nearest neighbours a / sqrt 2 apart, a = L / m), filled cell by cell in the same order; and
  * `random`, random sequential addition, which jams near phi = 0.38 in 3D, so it is refused above
  * phi = 0.3. */
 #include <math.h>
@@ -18,7 +20,8 @@
 
 const char *gr_placement_name(gr_placement_kind k)
 {
-    static const char *names[] = {"hexagonal", "square", "uniform", "cluster", "random", "cubic"};
+    static const char *names[] = {"hexagonal", "square", "uniform", "cluster",
+                                  "random",    "cubic",  "fcc"};
     return names[k];
 }
 
@@ -414,10 +417,32 @@ static int place_3d(gr_sim *s, gr_error *err)
         }
         return GR_OK;
     }
+    case GR_PLACE_FCC: {
+        int m = cubic_side((s->n + 3) / 4);
+        const double a = s->L / m;
+        if (a / sqrt(2.0) < s->d) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [placement] kind = fcc: %d particles need %d cells per edge (4 "
+                           "sites each), nearest neighbours L/%d/sqrt(2) = %g m apart, closer than "
+                           "d = %g m (the packing fraction must stay below 2 pi/3 / sqrt(2) "
+                           "N/(4 %d^3) = %.4f; allowed: a larger L or a smaller packing_fraction)",
+                           s->params.source, s->n, m, m, a / sqrt(2.0), s->d, m,
+                           M_PI / (3.0 * sqrt(2.0)) * s->n / (4.0 * m * m * m));
+        }
+        static const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+        for (int i = 0; i < s->n; i++) {
+            const int c = i / 4, b = i % 4;
+            s->x[i] = (c % m + basis[b][0] + 0.25) * a;
+            s->y[i] = (c / m % m + basis[b][1] + 0.25) * a;
+            s->z[i] = (c / m / m + basis[b][2] + 0.25) * a;
+        }
+        return GR_OK;
+    }
     case GR_PLACE_RANDOM: return place_random_3d(s, err);
     default:
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: [placement] kind = %s is not available in 3D; allowed: cubic | random",
+                       "%s: [placement] kind = %s is not available in 3D; allowed: cubic | fcc | "
+                       "random",
                        s->params.source, gr_placement_name(s->params.placement));
     }
 }
@@ -431,7 +456,12 @@ int gr_place(gr_sim *s, gr_error *err)
         return place_3d(s, err);
     }
     switch (s->params.placement) {
-    case GR_PLACE_CUBIC: break; /* 3D only */
+    case GR_PLACE_CUBIC:
+    case GR_PLACE_FCC:
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [placement] kind = %s is a 3D lattice; allowed in 2D: "
+                       "hexagonal | square | uniform | cluster | random",
+                       s->params.source, gr_placement_name(s->params.placement));
     case GR_PLACE_HEXAGONAL: return place_hexagonal(s, err);
     case GR_PLACE_SQUARE: return place_square(s, err);
     case GR_PLACE_UNIFORM: return place_uniform(s, err);

@@ -78,11 +78,12 @@ static const scene_key keys[] = {
     {"system", "mass", "kg", K_DOUBLE, "3.53e-5", 1e-100, 1e100, false, false, NULL,
      "particle mass M (Table 2.2)", OFF(mass)},
     {"placement", "kind", "", K_ENUM, "hexagonal", 0, 0, false, false,
-     "hexagonal|square|uniform|cluster|random|cubic",
+     "hexagonal|square|uniform|cluster|random|cubic|fcc",
      "initial placement (sec. 2.1.4, Fig. 2.4); default hexagonal in 2D, uniform in 1D, cubic in "
      "3D: hexagonal or square bed from the bottom of the box, uniform = equal area (2D) or spacing "
      "L/N (1D) per particle, cluster = one touching cluster in the middle, random = random "
-     "sequential addition (phi <= 0.5; 3D: phi <= 0.3), cubic = simple cubic lattice (3D only)",
+     "sequential addition (phi <= 0.5; 3D: phi <= 0.3), cubic = simple cubic lattice (3D only, "
+     "phi <= 0.5236), fcc = face-centred cubic lattice (3D only, phi <= 0.7405)",
      OFF(placement)},
     {"placement", "v0", "m/s", K_DOUBLE, "0.1", 0, INFINITY, false, true, NULL,
      "initial velocities v0 * U(-0.5, 0.5) per component (sec. 2.2.2), mean removed", OFF(v0)},
@@ -1084,9 +1085,10 @@ static int resolve_3d(gr_scene *s, const given *g, gr_error *err)
     if (!key_given(g, "placement", "kind")) {
         s->placement = GR_PLACE_CUBIC; /* the default follows dim: hexagonal is a 2D packing */
     }
-    if (s->placement != GR_PLACE_CUBIC && s->placement != GR_PLACE_RANDOM) {
+    if (s->placement != GR_PLACE_CUBIC && s->placement != GR_PLACE_FCC &&
+        s->placement != GR_PLACE_RANDOM) {
         where w = where_of(g, s, "placement", "kind");
-        snprintf(detail, sizeof detail, "%s is a %s placement; allowed in 3D: cubic | random",
+        snprintf(detail, sizeof detail, "%s is a %s placement; allowed in 3D: cubic | fcc | random",
                  gr_placement_name(s->placement), "1D or 2D");
         return fail_at(err, &w, "placement", "kind", "%s", detail);
     }
@@ -1250,6 +1252,14 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
                      gr_placement_name(s->placement));
             return fail_at(err, &w, "placement", "kind", "%s", detail);
         }
+    }
+    if (s->dim != 3 && (s->placement == GR_PLACE_CUBIC || s->placement == GR_PLACE_FCC)) {
+        where w = where_of(g, s, "placement", "kind");
+        snprintf(detail, sizeof detail, "%s is a 3D lattice (dim = 3); allowed in %dD: %s",
+                 gr_placement_name(s->placement), s->dim,
+                 s->dim == 1 ? "uniform | cluster | random"
+                             : "hexagonal | square | uniform | cluster | random");
+        return fail_at(err, &w, "placement", "kind", "%s", detail);
     }
     if (s->dim == 3) {
         int rc3 = resolve_3d(s, g, err);
