@@ -1088,8 +1088,9 @@ static int resolve_3d(gr_scene *s, const given *g, gr_error *err)
     if (s->placement != GR_PLACE_CUBIC && s->placement != GR_PLACE_FCC &&
         s->placement != GR_PLACE_RANDOM) {
         where w = where_of(g, s, "placement", "kind");
-        snprintf(detail, sizeof detail, "%s is a %s placement; allowed in 3D: cubic | fcc | random",
-                 gr_placement_name(s->placement), "1D or 2D");
+        snprintf(detail, sizeof detail,
+                 "%s is a 1D or 2D placement; allowed in 3D: cubic | fcc | random",
+                 gr_placement_name(s->placement));
         return fail_at(err, &w, "placement", "kind", "%s", detail);
     }
     if (!s->integrator->spheres) {
@@ -1124,10 +1125,10 @@ static int resolve_3d(gr_scene *s, const given *g, gr_error *err)
     };
     for (size_t k = 0; k < sizeof refused / sizeof refused[0]; k++) {
         if (refused[k].on) {
-            const bool model =
-                strcmp(refused[k].section, "model") == 0 && strcmp(refused[k].key, "rotation") == 0;
-            where w = model ? model_where(g, s, refused[k].key)
-                            : where_of(g, s, refused[k].section, refused[k].key);
+            /* rotation is a [model] parameter (a model's descriptor), the others scene keys */
+            where w = strcmp(refused[k].key, "rotation") == 0
+                          ? model_where(g, s, refused[k].key)
+                          : where_of(g, s, refused[k].section, refused[k].key);
             snprintf(detail, sizeof detail, "not available with dim = 3 yet; allowed in 3D: %s. %s",
                      refused[k].allowed, why);
             return fail_at(err, &w, refused[k].section, refused[k].key, "%s", detail);
