@@ -453,6 +453,14 @@ then
 else
     fail "3D run (exit $rc) or its outputs" "$err"
 fi
+run "$G" compare "$scene3d" --models spring_dashpot,hertz --out "$TMP/cmp3d" --set system.N=64 --set run.warmup=0 \
+    --set run.duration=0.005 --set output.plots=false
+if [[ $rc -eq 0 ]] && grep -q "G_1 tail exponent n_N (3.22) | n/a: 3D | n/a: 3D" "$TMP/cmp3d/compare.md" &&
+    grep -q "3d-verlet-list/hertz" "$TMP/cmp3d/compare.md"; then
+    pass "granule compare of a 3D scene: both laws run in 3D, 1D/2D-only rows say n/a: 3D"
+else
+    fail "3D compare (exit $rc)" "$err"
+fi
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
