@@ -90,6 +90,37 @@ START_TEST(test_noise_three_components)
 }
 END_TEST
 
+/* Recorded values of the third component (as test_noise.c's test_golden for the first two): a
+ * change here changes the noise of every 3D run, so it must be deliberate. The last one lies in
+ * the tail (|x| > R = 3.654), drawn on the retry counters (bit 30 of word 3). */
+START_TEST(test_noise_golden_z)
+{
+    static const struct {
+        uint64_t seed;
+        uint32_t stream;
+        uint64_t step;
+        uint32_t id;
+        double x;
+    } golden[] = {
+        {UINT64_C(0x0), 0, UINT64_C(0x0), 0u, -0x1.dffc02e56e0cap-1},
+        {UINT64_C(0x0), 0, UINT64_C(0x0), 1u, -0x1.8c2332ada77a5p+0},
+        {UINT64_C(0x243f6a8885a308d3), 0, UINT64_C(0x1), 2u, 0x1.2941636a66ecbp+0},
+        {UINT64_C(0x1), 2, UINT64_C(0x100000000), 4000000000u, -0x1.5eb88b00dc125p+0},
+        {UINT64_C(0x7), 0, UINT64_C(0x3), 2695u, -0x1.19026e03a4c6ep+2},
+    };
+    for (size_t i = 0; i < sizeof golden / sizeof golden[0]; i++) {
+        const double x =
+            gr_noise_normal1(golden[i].seed, golden[i].stream, golden[i].step, golden[i].id, 2);
+        double v[3 * 3];
+        gr_noise_normals(golden[i].seed, golden[i].stream, golden[i].step,
+                         golden[i].id > 0 ? golden[i].id - 1 : 0, 3, 3, v);
+        const double y = v[3 * (golden[i].id > 0 ? 1 : 0) + 2];
+        ck_assert_msg(x == golden[i].x && y == golden[i].x, "golden %zu: %a, %a, recorded %a", i, x,
+                      y, golden[i].x);
+    }
+}
+END_TEST
+
 /* ---- placement and kernel -------------------------------------------------------------------- */
 
 static double sphere_phi(const gr_sim *s)
@@ -431,6 +462,7 @@ static Suite *three_d_suite(void)
     TCase *tc = tcase_create("spheres");
     tcase_set_timeout(tc, 600);
     tcase_add_test(tc, test_noise_three_components);
+    tcase_add_test(tc, test_noise_golden_z);
     tcase_add_test(tc, test_placements);
     tcase_add_test(tc, test_kernel_brute_force);
     tcase_add_test(tc, test_elastic_energy_conserved);
