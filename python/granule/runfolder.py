@@ -134,9 +134,8 @@ def trajectory_files(folder):
 def read_snapshot(path):
     """The one frame of a per-frame snapshot file (snapshots/snap_NNNNNN.xyz): dict with t, step, L,
     dim and numpy arrays x, y, vx, vy (y, vy None in 1D; z, vz too in 3D) and omega (None without
-    rotation), whatever
-    the column order, as long as the Properties line names pos and velo (or vel). A file holding
-    several frames is refused (read_snapshots reads them all)."""
+    rotation), whatever the column order, as long as the Properties line names pos and velo (or
+    vel). A file holding several frames is refused (read_snapshots reads them all)."""
     frames = _xyz_frames(path)
     if len(frames) != 1:
         raise ValueError(f"{path} holds {len(frames)} frames, not one: read them with read_snapshots({path!r})")
