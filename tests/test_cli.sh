@@ -432,7 +432,7 @@ fi
 # ---------- 3D (docs/three-dimensions.md): the example scene runs and writes its outputs ----------
 scene3d="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/docs/scenes/rfm-3d.ini"
 run "$G" run "$scene3d" --out "$TMP/run3d" --set system.N=343 --set run.warmup=0 --set run.duration=0.01 \
-    --set output.snapshot_every=0.005 --set output.plots=false
+    --set output.snapshot_every=0.005 --set output.plots=false --set analysis.observables=moments
 if [[ $rc -eq 0 && -s $TMP/run3d/temperature.csv && -s $TMP/run3d/ledger.csv && -s $TMP/run3d/summary.json ]] &&
     /usr/bin/python3 - "$TMP/run3d" <<'PY'
 import json, sys
@@ -446,10 +446,14 @@ lattice = [float(v) for v in lines[1].split('Lattice="')[1].split('"')[0].split(
 ok = ok and lines[0] == "343" and 'pbc="T T T"' in lines[1] and lattice == [L, 0, 0, 0, L, 0, 0, 0, L]
 z = [float(l.split()[3]) for l in lines[2:]]
 ok = ok and len(z) == 343 and all(0 <= v < L for v in z) and len(set(z)) > 7  # spread in z, not a slab
+# moments in 3D: <|v|^2> is T (2.19) over three components, the pooled component's a third of it
+m = s["analysis"]["moments"]["speed"]["m2"]
+rows = {int(r.split(",")[0]): r.split(",") for r in open(f"{d}/moments.csv").read().splitlines()[1:]}
+ok = ok and abs(m - s["T_mean"]) <= 1e-12 * m and abs(3 * float(rows[2][3]) - float(rows[2][1])) <= 1e-9 * m
 sys.exit(0 if ok else 1)
 PY
 then
-    pass "granule run docs/scenes/rfm-3d.ini: temperature.csv, ledger.csv, summary.json (dim 3), XYZ with z and pbc T T T"
+    pass "granule run docs/scenes/rfm-3d.ini: temperature.csv, ledger.csv, summary.json (dim 3), XYZ with z and pbc T T T, moments (<|v|^2> = T, a component's a third)"
 else
     fail "3D run (exit $rc) or its outputs" "$err"
 fi

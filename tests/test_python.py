@@ -211,6 +211,15 @@ check(sim3.dim == 3 and sim3.z.shape == (216,) and sim3.vz.base is sim3 and np.a
       "3D: z and vz are read-only views, z inside the cube")
 check(abs(T3 - sim3.temperature) <= 1e-12 * T3, f"3D: T from x, y, z views {T3} = sim.temperature {sim3.temperature}")
 check(sim.z is None and sim.vz is None, "2D: z and vz are None")
+obs3 = granule.Observer(granule.load_scene(os.path.join(src, "docs", "scenes", "rfm-3d.ini"),
+                                          set={"system.N": 216, "analysis.observables": "moments"}))
+obs3.sample(sim3)
+check(obs3.frames == 1, "3D: an Observer with moments samples a 3D Sim")
+try:
+    obs3.sample_frame(0.0, sim3.x, sim3.vx, sim3.y, sim3.vy)
+    check(False, "3D: sample_frame is refused")
+except granule.SceneError as e:
+    check("3D frames" in str(e), f"3D: sample_frame is refused: {e}")
 with tempfile.TemporaryDirectory() as tmp3:
     sets3 = {"system.N": 216, "run.warmup": 0.0, "run.duration": 2e-4, "run.sample_every": 1e-4,
              "output.snapshot_every": 2e-4, "output.plots": False}

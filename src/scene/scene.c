@@ -1139,11 +1139,18 @@ static int resolve_3d(gr_scene *s, const given *g, gr_error *err)
     for (char *tok = strtok_r(buf, ", \t", &save); tok; tok = strtok_r(NULL, ", \t", &save)) {
         const gr_observable_type *t = gr_observable_find(tok);
         if (t && !(t->dims & (1u << 2))) {
+            char names[200] = "";
+            for (int j = 0, len = 0; gr_observables[j]; j++) {
+                if (gr_observables[j]->dims & (1u << 2)) {
+                    len += snprintf(names + len, sizeof names - (size_t)len, "%s%s",
+                                    len ? " | " : "", gr_observables[j]->name);
+                }
+            }
             where w = where_of(g, s, "analysis", "observables");
             snprintf(detail, sizeof detail,
-                     "%s is not defined for dim = 3 yet; allowed in 3D: none (temperature.csv, "
+                     "%s is not defined for dim = 3 yet; allowed in 3D: %s (temperature.csv, "
                      "ledger.csv and summary.json are always written; docs/three-dimensions.md)",
-                     tok);
+                     tok, names);
             return fail_at(err, &w, "analysis", "observables", "%s", detail);
         }
     }
