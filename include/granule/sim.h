@@ -116,7 +116,7 @@ typedef struct gr_sim_params {
 int gr_sim_new(const gr_sim_params *p, gr_sim **out, gr_error *err);
 
 /* Same, with positions and velocities given (n particles, y/vy ignored in 1D); p->N and the
- * placement are ignored. */
+ * placement are ignored. 1D and 2D only: dim = 3 is refused (no z arrays here yet). */
 int gr_sim_new_with_state(const gr_sim_params *p, int n, const double *x, const double *y,
                           const double *vx, const double *vy, gr_sim **out, gr_error *err);
 
@@ -166,7 +166,7 @@ void gr_sim_set_stop(gr_sim *sim, volatile sig_atomic_t *stop);
 int64_t gr_sim_events_processed(const gr_sim *sim);
 /* Current ledger (kinetic and elastic energies evaluated now). */
 gr_ledger gr_sim_ledger(gr_sim *sim);
-/* Granular temperature (2.19): T = (1/N) sum |v_i - <v>|^2, all components. */
+/* Granular temperature (2.19): T = (1/N) sum |v_i - <v>|^2, all components (three in 3D). */
 double gr_sim_temperature(const gr_sim *sim);
 /* With rotation: T_rot = I <w^2> / M, m^2/s^2, the rotational degree of freedom in the units of
  * T (equipartition: T_rot = T / 2 in 2D, since T sums two translational ones); NaN without. */
@@ -192,7 +192,8 @@ int gr_sim_state_save(const gr_sim *sim, void **data, size_t *len, gr_error *err
  * must then be freed. */
 int gr_sim_state_load(gr_sim *sim, const void *data, size_t len, gr_error *err);
 
-/* Total momentum, kg m/s (p[1] = 0 in 1D). */
+/* Total momentum, kg m/s (p[1] = 0 in 1D; in 3D its x and y components: z from gr_sim_particles'
+ * vz). */
 void gr_sim_momentum(const gr_sim *sim, double p[2]);
 
 #endif
