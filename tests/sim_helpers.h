@@ -40,9 +40,13 @@ static inline void assert_same_state(const gr_sim *a, const gr_sim *b)
     ck_assert_int_eq(a->n, b->n);
     ck_assert(memcmp(a->x, b->x, sizeof(double) * (size_t)a->n) == 0);
     ck_assert(memcmp(a->vx, b->vx, sizeof(double) * (size_t)a->n) == 0);
-    if (a->dim == 2) {
+    if (a->dim >= 2) {
         ck_assert(memcmp(a->y, b->y, sizeof(double) * (size_t)a->n) == 0);
         ck_assert(memcmp(a->vy, b->vy, sizeof(double) * (size_t)a->n) == 0);
+    }
+    if (a->dim == 3) {
+        ck_assert(memcmp(a->z, b->z, sizeof(double) * (size_t)a->n) == 0);
+        ck_assert(memcmp(a->vz, b->vz, sizeof(double) * (size_t)a->n) == 0);
     }
     ck_assert(memcmp(&a->injected, &b->injected, sizeof a->injected) == 0);
     ck_assert(memcmp(&a->diss_drag, &b->diss_drag, sizeof a->diss_drag) == 0);

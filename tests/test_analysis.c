@@ -321,7 +321,8 @@ START_TEST(test_registry_parameter_blocks)
         const gr_observable_type *t = gr_observables[o];
         ck_assert_msg(t->init && t->sample && t->finish && t->state_size > 0, "%s: incomplete type",
                       t->name);
-        ck_assert_msg(t->dims >= 1 && t->dims <= 3, "%s: dims = %u", t->name, t->dims);
+        ck_assert_msg(t->dims >= 1 && t->dims <= 7, "%s: dims = %u", t->name,
+                      t->dims); /* 1D, 2D, 3D bits */
         ck_assert_msg(t->params_size <= GR_OBS_PARAMS_BYTES, "%s: %zu-byte parameters", t->name,
                       t->params_size);
         ck_assert_ptr_eq(gr_observable_find(t->name), t);

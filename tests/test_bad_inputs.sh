@@ -57,7 +57,26 @@ state() {
 cases=$(cat <<'TABLE'
 base | run $S --out $O --set model.eps_n=1.5 | 2 | eps_n;[0, 1] | new
 base | run $S --out $O --set model.eps_n=-0.1 | 2 | eps_n;[0, 1] | new
-base | run $S --out $O --set system.dim=3 | 2 | dim;[1, 2] | new
+base | run $S --out $O --set system.dim=4 | 2 | dim;[1, 3] | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\ntangential = tangential_dashpot\n | run $S --out $O | 2 | :6:;[model] tangential;dim = 3;allowed in 3D: none | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrotation = true\n | run $S --out $O | 2 | :6:;[model] rotation;dim = 3;allowed in 3D: false | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrotation = true\ntangential = tangential_dashpot\nrolling = rolling_friction\n | run $S --out $O | 2 | :7:;[model] tangential;dim = 3 | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[integrator]\nkind = hybrid\n | run $S --out $O | 2 | :6:;[integrator] kind;kind = hybrid;does not step spheres;allowed with dim = 3: verlet | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n | run $S --out $O | 2 | :8:;[integrator] kind;kind = event;allowed with dim = 3: verlet | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[boundary]\nx = walls\n | run $S --out $O | 2 | :6:;[boundary] x;dim = 3;allowed in 3D: periodic | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[gravity]\ngy = -9.81\n | run $S --out $O | 2 | :6:;[gravity] gy;dim = 3;allowed in 3D: 0 | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[driving]\nkind = langevin\n | run $S --out $O | 2 | :6:;[driving] kind;dim = 3;allowed in 3D: rfm | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[noise]\nprecision = single\n | run $S --out $O | 2 | :6:;[noise] precision;dim = 3;allowed in 3D: double | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[placement]\nkind = hexagonal\n | run $S --out $O | 2 | :6:;[placement] kind;hexagonal;allowed in 3D: cubic | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[analysis]\nobservables = pv\n | run $S --out $O | 2 | :6:;[analysis] observables;pv is not defined for dim = 3;allowed in 3D: moments | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[output]\ntrajectory = h5md\n | run $S --out $O | 2 | :6:;[output] trajectory;dim = 3;allowed in 3D: snapshots | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.75\n | run $S --out $O | 2 | :4:;packing_fraction;0.7405;(0, 0.7405] | new
+file:[system]\ndim = 3\nN = 8\nreduced_length = 0.1\n | run $S --out $O | 2 | :4:;reduced_length;only for dim = 1 | new
+file:[system]\ndim = 3\nN = 100\npacking_fraction = 0.35\n[placement]\nkind = random\n | run $S --out $O | 2 | kind = random;phi = 0.350;(0, 0.3];cubic | new
+file:[system]\ndim = 3\nN = 9\npacking_fraction = 0.2\n | run $S --out $O | 2 | kind = cubic;3 sites per edge;0.1745 | new
+file:[system]\ndim = 3\nN = 33\npacking_fraction = 0.5\n[placement]\nkind = fcc\n | run $S --out $O | 2 | kind = fcc;3 cells per edge;0.2263 | new
+file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[placement]\nkind = cubic\n | run $S --out $O | 2 | :6:;[placement] kind;cubic is a 3D lattice;allowed in 2D: hexagonal | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n | export lammps $S --out $O | 2 | 3D deck;not written yet;allowed: a 2D scene | new
 base | run $S --out $O --set system.N=0 | 2 | N | new
 base | run $S --out $O --set system.N=abc | 2 | N | new
 base | run $S --out $O --set system.N=5.5 | 2 | N | new

@@ -52,6 +52,9 @@ typedef struct gr_integrator_type {
     /* Draws the random force with [noise] precision = single (gr_noise_normals_f32) when the
      * scene asks; an integrator without it refuses such a scene. */
     bool single_noise;
+    /* Steps spheres in a periodic cube ([system] dim = 3, docs/three-dimensions.md: the force laws'
+     * normal part, the random force or no driving); an integrator without it refuses dim = 3. */
+    bool spheres;
 
     /* Build the integrator's state (into the simulation's integrator_state) once positions,
      * velocities, coefficients, the time step and the first forces are set. NULL: none. */

@@ -23,9 +23,10 @@ enum {
 };
 
 /* Standard normal variates for particles with ids first .. first+n-1 at step `step`:
- * out[i * per + c] is component c (0 <= c < per, per = 1 or 2) of particle first + i, so out
+ * out[i * per + c] is component c (0 <= c < per, per = 1, 2 or 3) of particle first + i, so out
  * must hold n * per doubles. The value for (seed, stream, step, id, c) never depends on `first`,
- * `n` or `per` (per = 1 gives component 0 of per = 2), and equals gr_noise_normal1's. n <= 0
+ * `n` or `per` (per = 1 gives component 0 of per = 2, per = 2 components 0 and 1 of per = 3), and
+ * equals gr_noise_normal1's. n <= 0
  * writes nothing; first + n - 1 must not exceed UINT32_MAX. The hot path: vectorised (AVX-512 /
  * AVX2 / SSE2, chosen at run time), about 2 ns per variate on a current x86 core. */
 void gr_noise_normals(uint64_t seed, uint32_t stream, uint64_t step, uint32_t first, int n, int per,
@@ -36,7 +37,7 @@ void gr_noise_normals(uint64_t seed, uint32_t stream, uint64_t step, uint32_t fi
 double gr_noise_uniform(uint64_t seed, uint32_t stream, uint64_t a, uint64_t b);
 
 /* One standard normal variate, a pure function of its arguments: the value gr_noise_normals
- * gives for (step, id, component), component 0 or 1. Scalar (about 10 ns), for tests and tools. */
+ * gives for (step, id, component), component 0, 1 or 2. Scalar (about 10 ns), for tests and tools. */
 double gr_noise_normal1(uint64_t seed, uint32_t stream, uint64_t step, uint32_t id, int component);
 
 /* Single-precision normals ([noise] precision = single, docs/noise.md): the same contract as

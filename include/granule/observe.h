@@ -71,9 +71,10 @@ struct gr_blob_io;
  * hands init the observable's parameter block, frees whatever init registered with gr_obs_own
  * (src/analysis/obs_util.h), and saves and loads checkpoints through the one `io` function. */
 typedef struct gr_observable_type {
-    const char *name;       /* as listed in [analysis] observables */
-    const char *summary;    /* one line, with the thesis equations */
-    unsigned dims;          /* bit 1: 1D, bit 2: 2D; other dimensions are refused with a message */
+    const char *name;    /* as listed in [analysis] observables */
+    const char *summary; /* one line, with the thesis equations */
+    unsigned
+        dims; /* bit 1: 1D, bit 2: 2D, bit 4: 3D; other dimensions are refused with a message */
     const gr_param *params; /* its [analysis] keys: offsets into its own parameter struct */
     int n_params;
     size_t params_size; /* that struct's size (at most GR_OBS_PARAMS_BYTES) */

@@ -2,7 +2,8 @@
 #ifndef GRANULE_PARTICLES_H
 #define GRANULE_PARTICLES_H
 
-/* Read-only view of the particle state. Arrays have n entries; y/vy are NULL in 1D. */
+/* Read-only view of the particle state. Arrays have n entries; y/vy are NULL in 1D, z/vz are
+ * NULL except in 3D (docs/three-dimensions.md). */
 typedef struct gr_particles {
     int n;
     int dim;
@@ -10,7 +11,8 @@ typedef struct gr_particles {
     double radius, mass;
     const double *x, *y;
     const double *vx, *vy;
-    const double *omega; /* angular velocities, rad/s counterclockwise (2D with [model] rotation =
+    const double *z, *vz; /* dim = 3 only (NULL otherwise) */
+    const double *omega;  /* angular velocities, rad/s counterclockwise (2D with [model] rotation =
                             true; NULL otherwise) */
 } gr_particles;
 

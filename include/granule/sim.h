@@ -54,7 +54,9 @@ typedef enum {
     GR_PLACE_SQUARE,
     GR_PLACE_UNIFORM,
     GR_PLACE_CLUSTER,
-    GR_PLACE_RANDOM
+    GR_PLACE_RANDOM,
+    GR_PLACE_CUBIC, /* 3D: simple cubic lattice (docs/three-dimensions.md) */
+    GR_PLACE_FCC    /* 3D: face-centred cubic lattice */
 } gr_placement_kind;
 typedef enum { GR_WALL_SINE = 0, GR_WALL_SAWTOOTH = 1 } gr_wall_motion;
 typedef enum { GR_NOISE_NONE, GR_NOISE_SYMMETRISED, GR_NOISE_COM } gr_noise_mode;
@@ -71,9 +73,9 @@ const char *gr_noise_mode_name(gr_noise_mode m);
  * [system], [placement], [model], [noise] and [integrator] keys and the seed (docs/scene-keys.md
  * documents each). Fill it by hand to drive the library without the scene parser. */
 typedef struct gr_sim_params {
-    int dim;             /* 1 or 2 */
+    int dim;             /* 1, 2 or 3 (spheres: docs/three-dimensions.md) */
     int N;               /* particles (gr_sim_new) */
-    double L;            /* box side (2D) or ring length (1D), m */
+    double L;            /* box side (2D, 3D) or ring length (1D), m */
     double radius, mass; /* m, kg */
     gr_placement_kind placement;
     double v0;     /* initial velocities v0 * U(-0.5, 0.5) per component, m/s */
@@ -126,7 +128,7 @@ typedef struct gr_sim_params {
 int gr_sim_new(const gr_sim_params *p, gr_sim **out, gr_error *err);
 
 /* Same, with positions and velocities given (n particles, y/vy ignored in 1D); p->N and the
- * placement are ignored. */
+ * placement are ignored. 1D and 2D only: dim = 3 is refused (no z arrays here yet). */
 int gr_sim_new_with_state(const gr_sim_params *p, int n, const double *x, const double *y,
                           const double *vx, const double *vy, gr_sim **out, gr_error *err);
 
@@ -179,7 +181,7 @@ void gr_sim_set_stop(gr_sim *sim, volatile sig_atomic_t *stop);
 int64_t gr_sim_events_processed(const gr_sim *sim);
 /* Current ledger (kinetic and elastic energies evaluated now). */
 gr_ledger gr_sim_ledger(gr_sim *sim);
-/* Granular temperature (2.19): T = (1/N) sum |v_i - <v>|^2, all components. */
+/* Granular temperature (2.19): T = (1/N) sum |v_i - <v>|^2, all components (three in 3D). */
 double gr_sim_temperature(const gr_sim *sim);
 /* With rotation: T_rot = I <w^2> / M, m^2/s^2, the rotational degree of freedom in the units of
  * T (equipartition: T_rot = T / 2 in 2D, since T sums two translational ones); NaN without. */
@@ -211,7 +213,8 @@ int gr_sim_state_load(gr_sim *sim, const void *data, size_t len, gr_error *err);
  * force over [t1, t2] (> 0: the grains push it outwards). */
 void gr_sim_wall_impulse(const gr_sim *sim, double J[4]);
 
-/* Total momentum, kg m/s (p[1] = 0 in 1D). */
+/* Total momentum, kg m/s (p[1] = 0 in 1D; in 3D its x and y components: z from gr_sim_particles'
+ * vz). */
 void gr_sim_momentum(const gr_sim *sim, double p[2]);
 
 #endif

@@ -91,6 +91,12 @@ static PyObject *observer_sample_frame(pyg_observer *self, PyObject *args, PyObj
         return NULL;
     }
     const gr_scene *s = &((pyg_scene *)self->scene)->scene;
+    if (s->dim == 3) {
+        PyErr_SetString(pyg_scene_error, "sample_frame: 3D frames (z, vz) are not taken yet; "
+                                         "allowed in 3D: Observer.sample(sim) "
+                                         "(docs/three-dimensions.md)");
+        return NULL;
+    }
     const npy_intp n = s->N;
     PyArrayObject *a[4] = {as_doubles(ox, n, "x"), as_doubles(ovx, n, "vx"), NULL, NULL};
     if (s->dim == 2) {

@@ -54,15 +54,17 @@ def _xyz_frame(head, rows, where):
     if "pos" not in props or vel is None:
         raise ValueError(f"{where}: Properties name no pos and velo columns: {h['Properties']}")
     pbc = h.get("pbc", "T T F").split()
-    dim = 1 if pbc[:2] == ["T", "F"] else 2
+    dim = 1 if pbc[:2] == ["T", "F"] else 3 if pbc == ["T", "T", "T"] else 2
     lattice = [float(v) for v in h["Lattice"].split()] if "Lattice" in h else None
     a = np.array([r.split() for r in rows], dtype=object).reshape(len(rows), col)
     pos, vx = props["pos"][0], vel[0]
     num = lambda c: a[:, c].astype(np.float64)  # noqa: E731  (Python's float(): correctly rounded)
     frame = {"t": float(h.get("Time", 0.0)), "step": int(h["Step"]) if "Step" in h else None,
              "L": lattice[0] if lattice else None, "dim": dim, "x": num(pos), "vx": num(vx),
-             "y": num(pos + 1) if dim == 2 else None, "vy": num(vx + 1) if dim == 2 else None,
+             "y": num(pos + 1) if dim >= 2 else None, "vy": num(vx + 1) if dim >= 2 else None,
              "omega": num(props["omega"][0] + 2) if "omega" in props else None}
+    if dim == 3:  # spheres (docs/three-dimensions.md): z and vz too
+        frame["z"], frame["vz"] = num(pos + 2), num(vx + 2)
     return frame
 
 
@@ -131,9 +133,9 @@ def trajectory_files(folder):
 
 def read_snapshot(path):
     """The one frame of a per-frame snapshot file (snapshots/snap_NNNNNN.xyz): dict with t, step, L,
-    dim and numpy arrays x, y, vx, vy (y, vy None in 1D) and omega (None without rotation), whatever
-    the column order, as long as the Properties line names pos and velo (or vel). A file holding
-    several frames is refused (read_snapshots reads them all)."""
+    dim and numpy arrays x, y, vx, vy (y, vy None in 1D; z, vz too in 3D) and omega (None without
+    rotation), whatever the column order, as long as the Properties line names pos and velo (or
+    vel). A file holding several frames is refused (read_snapshots reads them all)."""
     frames = _xyz_frames(path)
     if len(frames) != 1:
         raise ValueError(f"{path} holds {len(frames)} frames, not one: read them with read_snapshots({path!r})")

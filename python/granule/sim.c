@@ -118,7 +118,7 @@ static PyObject *sim_restore(pyg_sim *self, PyObject *args)
     Py_RETURN_NONE;
 }
 
-enum { F_X, F_Y, F_VX, F_VY, F_FX, F_FY };
+enum { F_X, F_Y, F_VX, F_VY, F_FX, F_FY, F_Z, F_VZ };
 
 static PyObject *sim_array(pyg_sim *self, void *which)
 {
@@ -128,10 +128,10 @@ static PyObject *sim_array(pyg_sim *self, void *which)
     gr_particles p = gr_sim_particles(self->sim);
     const double *fx, *fy;
     gr_sim_forces(self->sim, &fx, &fy);
-    const double *a[] = {p.x, p.y, p.vx, p.vy, fx, fy};
+    const double *a[] = {p.x, p.y, p.vx, p.vy, fx, fy, p.z, p.vz};
     const double *data = a[(int)(intptr_t)which];
     if (!data) {
-        Py_RETURN_NONE; /* y, vy, fy in 1D */
+        Py_RETURN_NONE; /* y, vy, fy in 1D; z, vz except in 3D */
     }
     return pyg_view((PyObject *)self, data, p.n);
 }
@@ -176,6 +176,8 @@ static PyGetSetDef sim_getset[] = {
     VIEW("vy", F_VY, "y velocities, m/s (None in 1D)"),
     VIEW("fx", F_FX, "x contact forces of the last evaluation, N"),
     VIEW("fy", F_FY, "y contact forces of the last evaluation, N (None in 1D)"),
+    VIEW("z", F_Z, "z positions, m (3D only, else None)"),
+    VIEW("vz", F_VZ, "z velocities, m/s (3D only, else None)"),
     GET("t", G_T, "simulated time, s"),
     GET("steps", G_STEPS, "steps taken"),
     GET("dt", G_DT, "time step, s"),

@@ -1,7 +1,8 @@
 /* moments: velocity moments <|v|^m>, m = 1 .. moments_max (eq. 3.11; 3.10 for m = 2), averaged
- * over particles and, uniformly in time, over samples, with block-averaging errors. In 2D |v| is
- * the speed and each component's moments <|v_x|^m> are reported too. Velocities are taken
- * relative to the mean velocity of the frame, as T of eq. 2.19. */
+ * over particles and, uniformly in time, over samples, with block-averaging errors. In 2D and 3D
+ * |v| is the speed and each component's moments <|v_x|^m> are reported too (pooled over the
+ * components). Velocities are taken relative to the mean velocity of the frame, as T of eq. 2.19,
+ * so <|v|^2> is T. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdlib.h>
@@ -23,7 +24,7 @@ static const gr_param params[] = {
 typedef struct moments {
     int m_max, dim;
     gr_blocking speed[MAX_M + 1]; /* <|v|^m> (1D: |v_x|^m) */
-    gr_blocking comp[MAX_M + 1];  /* <|v_x|^m> and <|v_y|^m> pooled (2D) */
+    gr_blocking comp[MAX_M + 1];  /* <|v_x|^m>, <|v_y|^m> (and <|v_z|^m>) pooled (2D, 3D) */
 } moments;
 
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
@@ -35,11 +36,49 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     return GR_OK;
 }
 
+/* 3D (spheres): the same moments with three components. */
+static void sample_3d(moments *m, const gr_particles *p)
+{
+    double mean[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < p->n; i++) {
+        mean[0] += p->vx[i];
+        mean[1] += p->vy[i];
+        mean[2] += p->vz[i];
+    }
+    for (int c = 0; c < 3; c++) {
+        mean[c] /= p->n;
+    }
+    double s[MAX_M + 1] = {0}, c[MAX_M + 1] = {0};
+    for (int i = 0; i < p->n; i++) {
+        const double u[3] = {p->vx[i] - mean[0], p->vy[i] - mean[1], p->vz[i] - mean[2]};
+        const double speed = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+        double ps = 1.0, pc[3] = {1.0, 1.0, 1.0};
+        for (int k = 1; k <= m->m_max; k++) {
+            ps *= speed;
+            s[k] += ps;
+            for (int a = 0; a < 3; a++) {
+                pc[a] *= fabs(u[a]);
+            }
+            c[k] += (pc[0] + pc[1] + pc[2]) / 3.0;
+        }
+    }
+    for (int k = 1; k <= m->m_max; k++) {
+        gr_blocking_add(&m->speed[k], s[k] / p->n);
+        gr_blocking_add(&m->comp[k], c[k] / p->n);
+    }
+}
+
 static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 {
     (void)t;
-    (void)err;
     moments *m = state;
+    if (p->dim == 3) {
+        if (!p->vy || !p->vz) {
+            return GR_FAIL(err, GR_EINVAL, "moments: a 3D frame without vy and vz");
+        }
+        sample_3d(m, p);
+        return GR_OK;
+    }
     double mean[2];
     gr_obs_mean_velocity(p, mean);
     double s[MAX_M + 1] = {0}, c[MAX_M + 1] = {0};
@@ -66,11 +105,17 @@ static int finish(void *state, const gr_output *out, gr_error *err)
 {
     moments *m = state;
     gr_file f;
+    /* the 1D and 2D text as it always was (their files stay byte for byte) */
     int rc = gr_obs_csv_open(
         out, "moments.csv",
-        "velocity moments <|v|^m> (3.11), relative to the frame's mean velocity; "
-        "speed = |v| (2D) or |v_x| (1D), component = mean of <|v_x|^m> and <|v_y|^m>; "
-        "units (m/s)^m; errors from block averaging over samples",
+        m->dim == 3 ? "velocity moments <|v|^m> (3.11), relative to the frame's mean velocity; "
+                      "speed = |v| of the three components, component = mean of <|v_x|^m>, "
+                      "<|v_y|^m> and <|v_z|^m>; units (m/s)^m; errors from block averaging over "
+                      "samples"
+                    : "velocity moments <|v|^m> (3.11), relative to the frame's mean velocity; "
+                      "speed = |v| (2D) or |v_x| (1D), component = mean of <|v_x|^m> and "
+                      "<|v_y|^m>; "
+                      "units (m/s)^m; errors from block averaging over samples",
         &f, err);
     if (rc) {
         return rc;
@@ -122,7 +167,7 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
 const gr_observable_type gr_obs_moments = {
     .name = "moments",
     .summary = "velocity moments <|v|^m>, m = 1..12 (3.10-3.11), with block-averaging errors",
-    .dims = 3,
+    .dims = 7, /* 1D, 2D and 3D */
     .params = params,
     .n_params = sizeof params / sizeof params[0],
     .params_size = sizeof(moments_params),

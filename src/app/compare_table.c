@@ -99,8 +99,8 @@ static void tail_cell(gr_compare_table *t, gr_compare_cell *c, const cJSON *s)
 static void df_cell(gr_compare_cell *c, const cJSON *s, int dim)
 {
     const cJSON *sk = member(s, "analysis.sk");
-    if (dim == 1) {
-        set_reason(c, "n/a: 1D");
+    if (dim == 1 || dim == 3) { /* S(k) is computed in 2D only so far */
+        set_reason(c, dim == 1 ? "n/a: 1D" : "n/a: 3D");
     } else if (!sk) {
         set_reason(c, "n/a: sk not enabled");
     } else if (isfinite(gr_summary_number(sk, "fit.D_f"))) {
@@ -113,8 +113,8 @@ static void df_cell(gr_compare_cell *c, const cJSON *s, int dim)
 static void g1_cell(gr_compare_cell *c, const cJSON *s, int dim)
 {
     const cJSON *gaps = member(s, "analysis.gaps");
-    if (dim == 2) {
-        set_reason(c, "n/a: 2D");
+    if (dim >= 2) { /* G_h is 1D */
+        set_reason(c, dim == 2 ? "n/a: 2D" : "n/a: 3D");
     } else if (!gaps) {
         set_reason(c, "n/a: gaps not enabled");
     } else if (isfinite(gr_summary_number(gaps, "fit_3_22.n_N"))) {
@@ -181,9 +181,8 @@ static void fill_column(gr_compare_table *t, int k, const cJSON *s)
     snprintf(t->integrator[k], sizeof t->integrator[k], "%s",
              string_at(s, "scene.integrator.kind", "?"));
     snprintf(t->kernel[k], sizeof t->kernel[k], "%s", string_at(s, "kernel", "?"));
-    const int dim = (int)gr_summary_number(s, "scene.system.dim") == 1   ? 1
-                    : (int)gr_summary_number(s, "scene.system.dim") == 2 ? 2
-                                                                         : t->dim;
+    const int sdim = (int)gr_summary_number(s, "scene.system.dim");
+    const int dim = sdim >= 1 && sdim <= 3 ? sdim : t->dim;
     gr_compare_row *r = t->row;
     int i = 0;
     if (isfinite(gr_summary_number(s, "T_mean"))) {

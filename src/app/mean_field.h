@@ -6,9 +6,15 @@
 
 #include "granule/scene.h"
 
-/* The driven steady state: Williams-MacKintosh (3.7) in 1D, the 2D equation of state (5.2).
- * T_mean is eq. 2.20. Returns a new JSON object (NULL when no reference applies). */
+/* The driven steady state: Williams-MacKintosh (3.7) in 1D, the 2D equation of state (5.2), in 3D
+ * the Enskog energy balance of smooth hard spheres (gr_steady_T_enskog_3d). T_mean is eq. 2.20.
+ * Returns a new JSON object (NULL when no reference applies). */
 cJSON *gr_mean_field_steady(const gr_scene *s, double T_mean);
+/* The steady T (2.19, three components) of smooth inelastic hard spheres (diameter sigma, mass M,
+ * packing fraction phi, restitution eps) driven by the random force of strength D, symmetrised:
+ * the injection 3 D (1 - 1/N) / M per particle balances the Enskog dissipation (docs/three-dimensions.md,
+ * "The driven steady state"). Infinite when eps = 1. */
+double gr_steady_T_enskog_3d(double D, double M, double sigma, double phi, double eps, int N);
 
 /* Haff's law (1.2) for an undriven gas: fits T(t) = T0 / (1 + t/t0)^2 to the samples and prints
  * the prediction of eq. 1.2 for t0. */

@@ -417,11 +417,13 @@ int cmd_observables(int argc, char **argv)
     }
     for (int i = 0; gr_observables[i]; i++) {
         const gr_observable_type *t = gr_observables[i];
-        printf("%s  [%s]\n  %s\n", t->name,
-               t->dims == 3   ? "1D, 2D"
-               : t->dims == 1 ? "1D"
-                              : "2D",
-               t->summary);
+        char dims[16] = ""; /* "1D, 2D, 3D": the bits of t->dims */
+        for (int d = 1, len = 0; d <= 3; d++) {
+            if (t->dims & (1u << (d - 1))) {
+                len += snprintf(dims + len, sizeof dims - (size_t)len, "%s%dD", len ? ", " : "", d);
+            }
+        }
+        printf("%s  [%s]\n  %s\n", t->name, dims, t->summary);
         if (t->events) {
             printf("  takes contact events: computed in a run only (granule analyse has none)\n");
         }

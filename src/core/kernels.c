@@ -37,33 +37,16 @@
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
-#include "models/list.h"
+#include "core/kernel_laws.h" /* models/list.h, the normal laws' ids and normal_law */
 
-/* Compile-time ids of the laws, from the list: NL_NAME for normal laws, TL_NAME for
- * tangential laws (TL_none = no tangential law). */
-#define GR_NL_ID(A, NAME) NL_##NAME,
+/* Compile-time ids of the tangential laws, from the list (TL_none = no tangential law). */
 #define GR_TL_ID(A, NAME) TL_##NAME,
-enum { GR_NORMAL_MODELS(GR_NL_ID, ) NL_COUNT };
 enum { TL_none = 0, GR_TANGENTIAL_MODELS(GR_TL_ID, ) TL_COUNT };
 /* rolling laws (RL_none = none): instantiated with rotation only */
 #define GR_RL_ID(A, NAME) RL_##NAME,
 enum { RL_none = 0, GR_ROLLING_MODELS(GR_RL_ID, ) RL_COUNT };
-#undef GR_NL_ID
 #undef GR_TL_ID
 #undef GR_RL_ID
-
-/* The law `nl` (a constant after inlining, so the switch folds to one inlined call). */
-static inline __attribute__((always_inline)) gr_normal_force normal_law(
-    const int nl, const gr_contact_coeffs *c, const double xi, const double g_n, const int clamp)
-{
-    switch (nl) {
-#define GR_NL_CASE(A, NAME)                                                                        \
-    case NL_##NAME: return gr_normal_##NAME(c, xi, g_n, clamp);
-        GR_NORMAL_MODELS(GR_NL_CASE, )
-#undef GR_NL_CASE
-    }
-    __builtin_unreachable();
-}
 
 static inline __attribute__((always_inline)) gr_tangential_force tangential_law(
     const int tl, const gr_contact_coeffs *c, const gr_tangential_in in)
@@ -111,16 +94,6 @@ static inline __attribute__((always_inline)) int book_of(const int tl)
 #undef GR_TL_BOOK
     }
     return 0;
-}
-
-static inline double wrap_delta(double dx, double L)
-{
-    if (dx > 0.5 * L) {
-        dx -= L;
-    } else if (dx < -0.5 * L) {
-        dx += L;
-    }
-    return dx;
 }
 
 /* One pair of the 2D list: the force on j (F, on i -F), its non-conservative part G, and the
@@ -960,7 +933,7 @@ gr_tangential_force gr_kernel_tangential(const int tl, const gr_contact_coeffs *
     return tangential_law(tl, c, in);
 }
 
-int gr_kernel_instances(void) { return N_HOT + 2; }
+int gr_kernel_instances(void) { return N_HOT + 3; }
 
 int gr_kernel_choose(gr_sim *s, gr_error *err)
 {
@@ -985,8 +958,10 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
                    .clamp = (int)c->clamp,
                    .rot = s->dim == 1 ? 0 : rot,
                    .rl = s->dim == 1 ? RL_none : id_of(rolling_names, RL_COUNT, rname)};
+    /* 3D runs the normal law alone (gr_sim_new refuses the rest: docs/three-dimensions.md) */
     if (k.nl < 0 || k.tl < 0 || k.rl < 0 || (k.rl != RL_none && !k.rot) ||
-        (k.dim != 1 && k.dim != 2)) {
+        (k.dim != 1 && k.dim != 2 && k.dim != 3) ||
+        (k.dim == 3 && (k.tl != TL_none || k.rot || k.rl != RL_none))) {
         /* unreachable: gr_sim_create checks the models before choosing. The library reports it to
          * its caller instead of printing. */
         return GR_FAIL(err, GR_EINVAL,
@@ -994,7 +969,7 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
                        nname, tname, rname, s->dim, c->clamp ? ", clamped" : "",
                        rot ? ", rotating" : "");
     }
-    k.run = k.dim == 1 ? kernel_generic_1d : kernel_generic_2d;
+    k.run = k.dim == 1 ? kernel_generic_1d : k.dim == 2 ? kernel_generic_2d : gr_kernel_run_3d;
     for (int h = 0; h < N_HOT; h++) {
         const hot_entry *e = &hot_kernels[h];
         if (e->dim == k.dim && e->nl == k.nl && e->tl == k.tl && e->clamp == k.clamp &&
@@ -1007,8 +982,9 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
                         : s->params.noise_mode == GR_NOISE_NONE ? "no-noise"
                         : s->params.noise_mode == GR_NOISE_COM  ? "noise-com"
                                                                 : "noise-symmetrised";
-    const char *nb =
-        s->dim == 1 ? "1d-ring" : (s->params.skin > 0.0 ? "2d-verlet-list" : "2d-cell-list");
+    const char *nb = s->dim == 1   ? "1d-ring"
+                     : s->dim == 3 ? (s->params.skin > 0.0 ? "3d-verlet-list" : "3d-cell-list")
+                                   : (s->params.skin > 0.0 ? "2d-verlet-list" : "2d-cell-list");
     snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s%s%s%s/%s", nb, normal_names[k.nl],
              k.clamp ? "[clamped]" : "", k.tl != TL_none ? "+" : "",
              k.tl != TL_none ? tangential_names[k.tl] : "", k.rot ? "+rotation" : "",
@@ -1018,12 +994,15 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
 
 int gr_kernel_generic(const gr_sim *s)
 {
-    return s->kernel.run == kernel_generic_1d || s->kernel.run == kernel_generic_2d;
+    return s->kernel.run == kernel_generic_1d || s->kernel.run == kernel_generic_2d ||
+           s->kernel.run == gr_kernel_run_3d;
 }
 
 int gr_kernel_force_generic(gr_sim *s)
 {
-    s->kernel.run = s->kernel.dim == 1 ? kernel_generic_1d : kernel_generic_2d;
+    s->kernel.run = s->kernel.dim == 1   ? kernel_generic_1d
+                    : s->kernel.dim == 2 ? kernel_generic_2d
+                                         : gr_kernel_run_3d;
     return GR_OK;
 }
 

@@ -10,10 +10,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/kernel_laws.h" /* wrap_delta */
 #include "core/sim_internal.h"
 
 int gr_neighbours_alloc(gr_sim *s, gr_error *err)
 {
+    if (s->dim == 3) {
+        return gr_neighbours_alloc_3d(s, err);
+    }
     int n = s->n;
     s->cutoff = s->d * (1.0 + s->params.skin);
     int side = (int)floor(s->L / s->cutoff);
@@ -66,16 +70,6 @@ static int grow(gr_sim *s, int64_t need, gr_error *err)
     }
     s->nl_cap = cap;
     return GR_OK;
-}
-
-static inline double wrap_delta(double dx, double L)
-{
-    if (dx > 0.5 * L) {
-        dx -= L;
-    } else if (dx < -0.5 * L) {
-        dx += L;
-    }
-    return dx;
 }
 
 /* Contact flag of a new list entry: whether the pair overlapped at the last force evaluation,
@@ -267,6 +261,9 @@ static int list_cells(gr_sim *s, const int T, int64_t *count, gr_error *err)
 
 int gr_neighbours_build(gr_sim *s, gr_error *err)
 {
+    if (s->dim == 3) {
+        return gr_neighbours_build_3d(s, err);
+    }
     const int n = s->n, nc = s->ncell;
     const double L = s->L, rc2 = s->cutoff * s->cutoff, d2 = s->d * s->d;
     const double *x = s->x, *y = s->y;

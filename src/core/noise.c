@@ -25,9 +25,18 @@
  *   (step & 0xffffffff, step >> 32, id >> 1, c)
  * namely word (id & 1) of it, the 128-bit block being read as the words v0 | v1 << 32 and
  * v2 | v3 << 32. Two consecutive ids share a block, which gives two normals per Philox call for
- * per = 1 and per = 2 alike, and the value never depends on `first`, `n` or `per`. A variate the
+ * per = 1, 2 and 3 alike, and the value never depends on `first`, `n` or `per`. A variate the
  * fast path rejects continues with fresh blocks private to it, r = 1, 2, ...:
- *   (step & 0xffffffff, step >> 32, id >> 1, c | (id & 1) << 1 | r << 2).
+ *   (step & 0xffffffff, step >> 32, id >> 1, c | (id & 1) << 1 | r << 2)   for c = 0, 1.
+ * The third component of 3D (c = 2, per = 3) was added later and must not touch a block the 1D
+ * and 2D normals use, so that they stay bit-identical: its first draw takes word 3 = 2, which no
+ * other first draw (0 or 1) or retry (r >= 1: word 3 >= 4) takes, and its retries take
+ *   (step & 0xffffffff, step >> 32, id >> 1, 1 << 30 | (id & 1) << 1 | r << 2),
+ * i.e. bit 30 set where the other components' retries have it clear (their r stays below 2^28:
+ * a retry is needed with probability < 2%, so 2^28 of them in a row never happen). Bit 31 belongs
+ * to the single-precision path below. per = 3 draws the components 0 and 1 exactly as per = 2
+ * and the component 2 as a per = 1 draw under its own counter word, so the x and y normals of a
+ * 3D run are those of a 2D run with the same seed, and the z normals are new ones.
  * gr_noise_uniform(seed, stream, a, b) is the top 53 bits of word 0 of the block with counter
  * (a & 0xffffffff, a >> 32, b & 0xffffffff, b >> 32) under the kind = 1 key.
  *
@@ -516,10 +525,12 @@ static void block(const struct gen *g, uint32_t pair, uint32_t w3, uint64_t *a, 
     *b = r.v[2] | (uint64_t)r.v[3] << 32;
 }
 
-/* Counter word 3 of retry r of the variate (lane, c) of a pair. */
+/* Counter word 3 of retry r of the variate (lane, c) of a pair: c | lane << 1 | r << 2 for the
+ * components 0 and 1 of 1D and 2D; the third component of 3D (c = 2) sets bit 30 instead of bit 0
+ * (see "Counter" at the top). */
 static inline uint32_t retry_w3(uint32_t lane, uint32_t c, uint32_t r)
 {
-    return c | lane << 1 | r << 2;
+    return (c & 1u) | lane << 1 | r << 2 | (c >> 1) << 30;
 }
 
 /* ---- Ziggurat, scalar ------------------------------------------------------------------------ */
@@ -936,7 +947,7 @@ static void finish(const struct prep *prep, int per, uint32_t p, int cnt, const 
     for (int i = 0; i < cnt; i++) {
         int v = rk[i] / per; /* 2 (pair - p) + lane */
         pair[i] = p + (uint32_t)(v >> 1);
-        w3[i] = retry_w3((uint32_t)v & 1u, (uint32_t)(rk[i] % per), 1);
+        w3[i] = retry_w3((uint32_t)v & 1u, prep[rk[i] % per].c, 1);
     }
     for (int i = cnt; i < RETRIES; i++) { /* the vector kernels run over whole vectors */
         pair[i] = w3[i] = 0;
@@ -944,25 +955,56 @@ static void finish(const struct prep *prep, int per, uint32_t p, int cnt, const 
     kern.retry(prep, cnt, pair, w3, a, b);
     for (int i = 0; i < cnt; i++) {
         int v = rk[i] / per;
-        z[rk[i]] = zig_slow(&prep->g, (uint32_t)pair[i], (uint32_t)v & 1u, (uint32_t)(rk[i] % per),
+        z[rk[i]] = zig_slow(&prep->g, (uint32_t)pair[i], (uint32_t)v & 1u, prep[rk[i] % per].c,
                             w[rk[i]], a[i], b[i]);
+    }
+}
+
+/* The normals of ids first .. first+n-1 for the per = 1 or 2 components prep[0 .. per-1]
+ * (prep[c].c: which component; gr_noise_normals). */
+static void normals(const struct prep *prep, uint32_t first, int n, int per, double *out);
+
+/* per = 3 (spheres): components 0 and 1 as per = 2, component 2 as per = 1 under prep[2] (its
+ * own counter words), interleaved in pieces. */
+static void normals3(const struct prep *prep, uint32_t first, int n, double *out)
+{
+    enum { PIECE = 512 };
+    double xy[2 * PIECE], zs[PIECE];
+    for (int k = 0; k < n; k += PIECE) {
+        const int m = n - k < PIECE ? n - k : PIECE;
+        normals(prep, first + (uint32_t)k, m, 2, xy);
+        normals(prep + 2, first + (uint32_t)k, m, 1, zs);
+        for (int i = 0; i < m; i++) {
+            out[3 * (size_t)(k + i)] = xy[2 * i];
+            out[3 * (size_t)(k + i) + 1] = xy[2 * i + 1];
+            out[3 * (size_t)(k + i) + 2] = zs[i];
+        }
     }
 }
 
 void gr_noise_normals(uint64_t seed, uint32_t stream, uint64_t step, uint32_t first, int n, int per,
                       double *out)
 {
-    assert(per == 1 || per == 2);
+    assert(per >= 1 && per <= 3);
     assert(n <= 0 || (uint64_t)first + (uint64_t)n - 1 <= UINT32_MAX);
-    if (n <= 0 || (per != 1 && per != 2)) {
+    if (n <= 0 || per < 1 || per > 3) {
         return;
     }
     call_once(&kern_once, pick_kernels);
     struct gen g = make_gen(seed, stream, step);
-    struct prep prep[2];
+    struct prep prep[3];
     for (int c = 0; c < per; c++) {
         prepare(&g, (uint32_t)c, &prep[c]);
     }
+    if (per == 3) {
+        normals3(prep, first, n, out);
+    } else {
+        normals(prep, first, n, per, out);
+    }
+}
+
+static void normals(const struct prep *prep, uint32_t first, int n, int per, double *out)
+{
     _Alignas(64) uint64_t w[4 * CHUNK];
     _Alignas(64) double z[4 * CHUNK];
     uint64_t bad[4 * CHUNK / 64];
@@ -1008,9 +1050,9 @@ void gr_noise_normals(uint64_t seed, uint32_t stream, uint64_t step, uint32_t fi
 
 double gr_noise_normal1(uint64_t seed, uint32_t stream, uint64_t step, uint32_t id, int component)
 {
-    assert(component == 0 || component == 1);
+    assert(component >= 0 && component <= 2);
     struct gen g = make_gen(seed, stream, step);
-    uint32_t pair = id >> 1, lane = id & 1u, c = (uint32_t)component & 1u;
+    uint32_t pair = id >> 1, lane = id & 1u, c = (uint32_t)component % 3u;
     uint64_t a, b;
     block(&g, pair, c, &a, &b);
     uint64_t w = lane ? b : a;

@@ -5,7 +5,12 @@
  * square of the box (Fig. 2.4 c); `cluster` is one hexagonal cluster of touching particles at the
  * centre; `random` is random sequential addition, which jams near phi = 0.547, so it is refused
  * above phi = 0.5 (use a lattice for dense scenes). 1D: uniform spacing L/N, one touching
- * cluster, or random gaps. */
+ * cluster, or random gaps. 3D (spheres in a periodic cube, docs/three-dimensions.md): `cubic`, a
+ * simple cubic lattice of m = ceil(N^(1/3)) sites per edge filled x fastest, then y, then z;
+ * `fcc`, the face-centred cubic lattice of m = ceil((N/4)^(1/3)) cells per edge (4 sites each,
+ * nearest neighbours a / sqrt 2 apart, a = L / m), filled cell by cell in the same order; and
+ * `random`, random sequential addition, which jams near phi = 0.38 in 3D, so it is refused above
+ * phi = 0.3. */
 #include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
@@ -15,7 +20,8 @@
 
 const char *gr_placement_name(gr_placement_kind k)
 {
-    static const char *names[] = {"hexagonal", "square", "uniform", "cluster", "random"};
+    static const char *names[] = {"hexagonal", "square", "uniform", "cluster",
+                                  "random",    "cubic",  "fcc"};
     return names[k];
 }
 
@@ -218,6 +224,18 @@ static int place_cluster(gr_sim *s, gr_error *err)
     return GR_OK;
 }
 
+/* Random sequential addition gave up on particle i: free the grid, say which lattice to use. */
+static int no_free_spot(const gr_sim *s, int i, uint64_t attempt, const char *lattice, int *head,
+                        int *next, gr_error *err)
+{
+    free(head);
+    free(next);
+    return GR_FAIL(err, GR_EINVAL,
+                   "%s: [placement] kind = random: no free spot found for particle %d after %llu "
+                   "attempts; use %s",
+                   s->params.source, i, (unsigned long long)attempt, lattice);
+}
+
 static int place_random(gr_sim *s, gr_error *err)
 {
     double phi = s->n * M_PI * 0.25 * s->d * s->d / (s->L * s->L);
@@ -251,12 +269,7 @@ static int place_random(gr_sim *s, gr_error *err)
     for (int i = 0; i < s->n; i++) {
         for (;;) {
             if (attempt++ > max_attempts) {
-                free(head);
-                free(next);
-                return GR_FAIL(err, GR_EINVAL,
-                               "%s: [placement] kind = random: no free spot found for particle %d "
-                               "after %llu attempts; use hexagonal",
-                               s->params.source, i, (unsigned long long)attempt);
+                return no_free_spot(s, i, attempt, "hexagonal", head, next, err);
             }
             double x = s->L * gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, attempt, 0);
             double y = s->L * gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, attempt, 1);
@@ -291,12 +304,164 @@ static int place_random(gr_sim *s, gr_error *err)
     return GR_OK;
 }
 
+/* Sites per edge of the simple cubic lattice for n particles: the least m with m^3 >= n. */
+static int cubic_side(int n)
+{
+    int m = (int)cbrt((double)n);
+    while ((int64_t)m * m * m < n) {
+        m++;
+    }
+    while (m > 1 && (int64_t)(m - 1) * (m - 1) * (m - 1) >= n) {
+        m--;
+    }
+    return m < 1 ? 1 : m;
+}
+
+/* Random sequential addition in 3D: the maximum, and the grid of cells of side >= d it uses. */
+#define RANDOM_MAX_PHI_3D 0.3
+
+static int place_random_3d(gr_sim *s, gr_error *err)
+{
+    const double L = s->L, d = s->d, phi = s->n * M_PI * d * d * d / 6.0 / (L * L * L);
+    if (phi > RANDOM_MAX_PHI_3D * (1.0 + 1e-12)) { /* phi = 0.3 given may come back rounded up */
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [placement] kind = random cannot reach phi = %.3f in 3D: random "
+                       "sequential addition jams near 0.38; allowed range (0, %.1f], or kind = "
+                       "cubic (phi <= pi/6 = 0.5236)",
+                       s->params.source, phi, RANDOM_MAX_PHI_3D);
+    }
+    int side = (int)floor(L / d);
+    const int max_side = (int)ceil(cbrt(2.0 * s->n)) + 1; /* O(N) cells however dilute */
+    side = side < max_side ? side : max_side;
+    side = side < 3 ? 1 : side; /* fewer than 3 would alias neighbours: one cell, all pairs */
+    const double cell = L / side;
+    const size_t ncells = (size_t)side * (size_t)side * (size_t)side;
+    int *head = malloc(sizeof(int) * ncells), *next = malloc(sizeof(int) * (size_t)(s->n + 1));
+    if (!head || !next) {
+        free(head);
+        free(next);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory placing %d particles", s->n);
+    }
+    for (size_t c = 0; c < ncells; c++) {
+        head[c] = -1;
+    }
+    const int reach = side < 3 ? 0 : 1;
+    uint64_t attempt = 0;
+    const uint64_t max_attempts = 1000ull * (uint64_t)s->n + 100000ull;
+    for (int i = 0; i < s->n; i++) {
+        for (;;) {
+            if (attempt++ > max_attempts) {
+                return no_free_spot(s, i, attempt, "cubic", head, next, err);
+            }
+            double r[3];
+            int cc[3];
+            for (int a = 0; a < 3; a++) { /* the placement stream, words 0, 1, 2 */
+                r[a] =
+                    L * gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, attempt, (uint64_t)a);
+                cc[a] = (int)(r[a] / cell) % side;
+            }
+            int ok = 1;
+            for (int ox = -reach; ox <= reach && ok; ox++) {
+                for (int oy = -reach; oy <= reach && ok; oy++) {
+                    for (int oz = -reach; oz <= reach && ok; oz++) {
+                        const size_t c =
+                            (size_t)((cc[0] + ox + side) % side) +
+                            (size_t)side * ((size_t)((cc[1] + oy + side) % side) +
+                                            (size_t)side * (size_t)((cc[2] + oz + side) % side));
+                        for (int j = head[c]; j >= 0 && ok; j = next[j]) {
+                            double dx = s->x[j] - r[0], dy = s->y[j] - r[1], dz = s->z[j] - r[2];
+                            dx -= L * rint(dx / L);
+                            dy -= L * rint(dy / L);
+                            dz -= L * rint(dz / L);
+                            ok = dx * dx + dy * dy + dz * dz >= d * d;
+                        }
+                    }
+                }
+            }
+            if (ok) {
+                s->x[i] = r[0];
+                s->y[i] = r[1];
+                s->z[i] = r[2];
+                const size_t c =
+                    (size_t)cc[0] + (size_t)side * ((size_t)cc[1] + (size_t)side * (size_t)cc[2]);
+                next[i] = head[c];
+                head[c] = (int)i;
+                break;
+            }
+        }
+    }
+    free(head);
+    free(next);
+    return GR_OK;
+}
+
+static int place_3d(gr_sim *s, gr_error *err)
+{
+    switch (s->params.placement) {
+    case GR_PLACE_CUBIC: {
+        const int m = cubic_side(s->n);
+        const double a = s->L / m;
+        if (a < s->d) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [placement] kind = cubic: %d particles need %d sites per edge, "
+                           "spaced L/%d = %g m, closer than d = %g m (the packing fraction must "
+                           "stay below pi/6 N/%d^3 = %.4f; allowed: a larger L or a smaller "
+                           "packing_fraction)",
+                           s->params.source, s->n, m, m, a, s->d, m,
+                           M_PI / 6.0 * s->n / ((double)m * m * m));
+        }
+        for (int i = 0; i < s->n; i++) {
+            s->x[i] = (i % m + 0.5) * a;
+            s->y[i] = (i / m % m + 0.5) * a;
+            s->z[i] = (i / m / m + 0.5) * a;
+        }
+        return GR_OK;
+    }
+    case GR_PLACE_FCC: {
+        int m = cubic_side((s->n + 3) / 4);
+        const double a = s->L / m;
+        if (a / sqrt(2.0) < s->d) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [placement] kind = fcc: %d particles need %d cells per edge (4 "
+                           "sites each), nearest neighbours L/%d/sqrt(2) = %g m apart, closer than "
+                           "d = %g m (the packing fraction must stay below 2 pi/3 / sqrt(2) "
+                           "N/(4 %d^3) = %.4f; allowed: a larger L or a smaller packing_fraction)",
+                           s->params.source, s->n, m, m, a / sqrt(2.0), s->d, m,
+                           M_PI / (3.0 * sqrt(2.0)) * s->n / (4.0 * m * m * m));
+        }
+        static const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+        for (int i = 0; i < s->n; i++) {
+            const int c = i / 4, b = i % 4;
+            s->x[i] = (c % m + basis[b][0] + 0.25) * a;
+            s->y[i] = (c / m % m + basis[b][1] + 0.25) * a;
+            s->z[i] = (c / m / m + basis[b][2] + 0.25) * a;
+        }
+        return GR_OK;
+    }
+    case GR_PLACE_RANDOM: return place_random_3d(s, err);
+    default:
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [placement] kind = %s is not available in 3D; allowed: cubic | fcc | "
+                       "random",
+                       s->params.source, gr_placement_name(s->params.placement));
+    }
+}
+
 int gr_place(gr_sim *s, gr_error *err)
 {
     if (s->dim == 1) {
         return place_1d(s, err);
     }
+    if (s->dim == 3) {
+        return place_3d(s, err);
+    }
     switch (s->params.placement) {
+    case GR_PLACE_CUBIC:
+    case GR_PLACE_FCC:
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [placement] kind = %s is a 3D lattice; allowed in 2D: "
+                       "hexagonal | square | uniform | cluster | random",
+                       s->params.source, gr_placement_name(s->params.placement));
     case GR_PLACE_HEXAGONAL: return place_hexagonal(s, err);
     case GR_PLACE_SQUARE: return place_square(s, err);
     case GR_PLACE_UNIFORM: return place_uniform(s, err);
@@ -321,13 +486,87 @@ static inline void consider_pair(const gr_sim *s, int i, int j, double *worst, i
     }
 }
 
+/* 3D: the largest relative overlap, every pair within reach of a cell grid (all pairs below 3
+ * cells per edge). */
+static int worst_overlap_3d(const gr_sim *s, double *worst, int *wi, int *wj, gr_error *err)
+{
+    const double L = s->L, d = s->d;
+    int side = (int)floor(L / d);
+    const int max_side = (int)ceil(cbrt(2.0 * s->n)) + 1;
+    side = side < max_side ? side : max_side;
+    side = side < 3 ? 1 : side;
+    const double cell = L / side;
+    const size_t ncells = (size_t)side * side * side;
+    int *head = malloc(sizeof(int) * ncells), *next = malloc(sizeof(int) * (size_t)(s->n + 1)),
+        *home = malloc(sizeof(int) * 3 * (size_t)(s->n + 1));
+    if (!head || !next || !home) {
+        free(head);
+        free(next);
+        free(home);
+        return GR_FAIL(err, GR_ENOMEM, "out of memory checking overlaps");
+    }
+    for (size_t c = 0; c < ncells; c++) {
+        head[c] = -1;
+    }
+    const double *r[3] = {s->x, s->y, s->z};
+    for (int i = 0; i < s->n; i++) {
+        for (int a = 0; a < 3; a++) {
+            const double w = r[a][i] - L * floor(r[a][i] / L);
+            int c = (int)(w / cell);
+            home[3 * i + a] = c >= side ? side - 1 : (c < 0 ? 0 : c);
+        }
+        const size_t c = (size_t)home[3 * i] +
+                         (size_t)side * ((size_t)home[3 * i + 1] + (size_t)side * home[3 * i + 2]);
+        next[i] = head[c];
+        head[c] = i;
+    }
+    const int reach = side < 3 ? 0 : 1;
+    for (int i = 0; i < s->n; i++) {
+        for (int ox = -reach; ox <= reach; ox++) {
+            for (int oy = -reach; oy <= reach; oy++) {
+                for (int oz = -reach; oz <= reach; oz++) {
+                    const size_t c =
+                        (size_t)((home[3 * i] + ox + side) % side) +
+                        (size_t)side * ((size_t)((home[3 * i + 1] + oy + side) % side) +
+                                        (size_t)side * ((home[3 * i + 2] + oz + side) % side));
+                    for (int j = head[c]; j >= 0; j = next[j]) {
+                        if (j <= i) {
+                            continue;
+                        }
+                        double dx = s->x[j] - s->x[i], dy = s->y[j] - s->y[i],
+                               dz = s->z[j] - s->z[i];
+                        dx -= L * rint(dx / L);
+                        dy -= L * rint(dy / L);
+                        dz -= L * rint(dz / L);
+                        const double ov = (d - sqrt(dx * dx + dy * dy + dz * dz)) / d;
+                        if (ov > *worst) {
+                            *worst = ov;
+                            *wi = i;
+                            *wj = j;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    free(head);
+    free(next);
+    free(home);
+    return GR_OK;
+}
+
 /* Closest pair by brute force for small N, else via a temporary cell grid. */
 int gr_check_overlaps(const gr_sim *s, gr_error *err)
 {
     const double tol = 1e-9, d = s->d, L = s->L;
     double worst = 0.0;
     int wi = -1, wj = -1;
-    if (s->dim == 1) {
+    if (s->dim == 3) {
+        int rc = worst_overlap_3d(s, &worst, &wi, &wj, err);
+        if (rc) {
+            return rc;
+        }
+    } else if (s->dim == 1) {
         for (int i = 0; i < s->n; i++) {
             int j = (i + 1) % s->n;
             double gap = s->x[j] - s->x[i] + (j == 0 ? L : 0.0);

@@ -75,6 +75,11 @@ void gr_sim_free(gr_sim *s)
     free(s->fy);
     free(s->gx);
     free(s->gy);
+    free(s->z);
+    free(s->vz);
+    free(s->fz);
+    free(s->gz);
+    free(s->z_ref);
     free(s->noise);
     free(s->x_ref);
     free(s->y_ref);
@@ -182,6 +187,40 @@ static int prepare_contact(gr_sim *s, gr_error *err)
     return rc2 ? rc2 : gr_contact_prepare_rolling(sc->rolling, &sc->contact, m12, dt, &s->cc, err);
 }
 
+/* The dimension, and what a simulation of spheres (dim = 3) runs so far (docs/three-dimensions.md):
+ * a normal force law and the random force (or no driving) in a periodic cube, with an integrator
+ * that steps spheres. The scene refuses the same with the file and line; this guards the
+ * library's other callers (Python, C programs). */
+static int check_dim(const gr_sim_params *p, gr_error *err)
+{
+    if (p->dim < 1 || p->dim > 3) {
+        return GR_FAIL(err, GR_EINVAL, "%s: [system] dim = %d; allowed: 1, 2 or 3", p->source,
+                       p->dim);
+    }
+    if (p->dim != 3) {
+        return GR_OK;
+    }
+    const gr_driving_type *drive = p->driving ? p->driving : gr_driving_default();
+    const char *what = !p->integrator->spheres                        ? "[integrator] kind"
+                       : p->tangential                                ? "[model] tangential"
+                       : p->rolling                                   ? "[model] rolling"
+                       : p->contact.rotation                          ? "[model] rotation"
+                       : p->walls[0] || p->walls[1]                   ? "[boundary]"
+                       : p->gravity[0] != 0.0 || p->gravity[1] != 0.0 ? "[gravity]"
+                       : p->vibrate                                   ? "[boundary] vibrate"
+                       : drive->update == GR_DRIVE_BATH               ? "[driving] kind"
+                       : p->noise_precision == GR_NOISE_SINGLE        ? "[noise] precision"
+                                                                      : NULL;
+    if (what) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: %s: not available with dim = 3 yet; 3D runs a normal force law with "
+                       "the random force or no driving in a periodic cube, with the verlet "
+                       "integrator (docs/three-dimensions.md)",
+                       p->source, what);
+    }
+    return GR_OK;
+}
+
 static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *err)
 {
     if (!p->integrator || !p->integrator->step) {
@@ -189,6 +228,10 @@ static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *er
                        "%s: no integrator given (gr_sim_params.integrator: one of the registry, "
                        "include/granule/integrator.h)",
                        p->source);
+    }
+    int rc_dim = check_dim(p, err);
+    if (rc_dim) {
+        return rc_dim;
     }
     /* the driving, once per run (granule/driving.h): none runs the noise-free loop, as D = 0 does;
      * langevin replaces the random force by the bath, which the integrator must model */
@@ -227,7 +270,7 @@ static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *er
     s->noise = alloc_array(n * s->dim);
     s->nblk = n > 0 ? (n + GR_BLOCK - 1) / GR_BLOCK : 1;
     s->blk = calloc((size_t)s->nblk * GR_BLK_FIELDS, sizeof(double));
-    if (s->dim == 2) {
+    if (s->dim >= 2) {
         s->y = alloc_array(n);
         s->vy = alloc_array(n);
         s->fy = alloc_array(n);
@@ -236,9 +279,16 @@ static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *er
         s->pair_contact = calloc((size_t)n + 1, 1);
         s->ring_scratch = alloc_array(3 * n);
     }
+    if (s->dim == 3) { /* spheres (docs/three-dimensions.md) */
+        s->z = alloc_array(n);
+        s->vz = alloc_array(n);
+        s->fz = alloc_array(n);
+        s->gz = alloc_array(n);
+    }
     if (!s->x || !s->vx || !s->fx || !s->gx || !s->noise || !s->blk ||
-        (s->dim == 2 ? (!s->y || !s->vy || !s->fy || !s->gy)
-                     : !s->pair_contact || !s->ring_scratch)) {
+        (s->dim >= 2 ? (!s->y || !s->vy || !s->fy || !s->gy)
+                     : !s->pair_contact || !s->ring_scratch) ||
+        (s->dim == 3 && (!s->z || !s->vz || !s->fz || !s->gz))) {
         gr_sim_free(s);
         return GR_FAIL(err, GR_ENOMEM, "out of memory for %d particles", n);
     }
@@ -304,7 +354,7 @@ static int finish(gr_sim *s, gr_error *err)
     if (!rc) {
         rc = gr_walls_prepare(s, err); /* walls and gravity (walls.c); off: nothing */
     }
-    if (!rc && s->dim == 2) {
+    if (!rc && s->dim >= 2) {
         rc = gr_neighbours_alloc(s, err);
         if (!rc) {
             rc = gr_neighbours_build(s, err);
@@ -367,13 +417,15 @@ int gr_sim_new(const gr_sim_params *p, gr_sim **out, gr_error *err)
     rc = gr_place(s, err);
     if (!rc) {
         /* v0 * U(-0.5, 0.5) per component (sec. 2.2.2); the mean is removed so the total momentum
-         * starts at zero and the symmetrised noise keeps it there */
-        double mean[2] = {0.0, 0.0};
-        double *v[2] = {s->vx, s->vy};
+         * starts at zero and the symmetrised noise keeps it there. The uniforms' second counter
+         * word is 0 for vx, 1 for vy and 3 for vz: 2 belongs to the spins (spin_up) */
+        double mean[3] = {0.0, 0.0, 0.0};
+        double *v[3] = {s->vx, s->vy, s->vz};
+        static const uint64_t word[3] = {0, 1, 3};
         for (int c = 0; c < s->dim; c++) {
             for (int i = 0; i < s->n; i++) {
                 v[c][i] = p->v0 * (gr_noise_uniform(p->seed, GR_STREAM_INIT_VELOCITY, (uint64_t)i,
-                                                    (uint64_t)c) -
+                                                    word[c]) -
                                    0.5);
                 mean[c] += v[c][i];
             }
@@ -397,6 +449,12 @@ int gr_sim_new_with_state(const gr_sim_params *p, int n, const double *x, const 
 {
     *out = NULL;
     gr_sim *s;
+    if (p->dim == 3) { /* no z arrays in this interface yet (docs/three-dimensions.md) */
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: a state given as x, y arrays is 1D or 2D; dim = 3 starts from a "
+                       "placement only (allowed here: dim = 1 or 2)",
+                       p->source);
+    }
     int rc = alloc_state(p, n, &s, err);
     if (rc) {
         return rc;
@@ -508,13 +566,15 @@ gr_particles gr_sim_particles(const gr_sim *s)
                           .y = s->y,
                           .vx = s->vx,
                           .vy = s->vy,
+                          .z = s->z,
+                          .vz = s->vz,
                           .omega = s->omega};
 }
 
 void gr_sim_forces(const gr_sim *s, const double **fx, const double **fy)
 {
     *fx = s->fx;
-    *fy = s->dim == 2 ? s->fy : NULL;
+    *fy = s->dim >= 2 ? s->fy : NULL;
 }
 
 double gr_sim_time(const gr_sim *s) { return (double)s->step * s->dt; }
@@ -559,7 +619,7 @@ const char *gr_noise_mode_name(gr_noise_mode m)
 double gr_remove_com(gr_sim *s)
 {
     double removed = 0.0;
-    double *v[2] = {s->vx, s->vy};
+    double *v[3] = {s->vx, s->vy, s->vz};
     for (int c = 0; c < s->dim; c++) {
         double mean = 0.0;
         for (int i = 0; i < s->n; i++) {
@@ -593,6 +653,8 @@ gr_ledger gr_sim_ledger(gr_sim *s)
         ke += s->vx[i] * s->vx[i];
         if (s->dim == 2) {
             ke += s->vy[i] * s->vy[i];
+        } else if (s->dim == 3) {
+            ke += s->vy[i] * s->vy[i] + s->vz[i] * s->vz[i];
         }
     }
     double rot = 0.0; /* sum I w^2 / 2, part of the kinetic energy */
@@ -616,24 +678,32 @@ gr_ledger gr_sim_ledger(gr_sim *s)
 
 double gr_sim_temperature(const gr_sim *s)
 {
-    double sum = 0.0, mx = 0.0, my = 0.0;
+    double sum = 0.0, mx = 0.0, my = 0.0, mz = 0.0;
     for (int i = 0; i < s->n; i++) {
         mx += s->vx[i];
-        if (s->dim == 2) {
+        if (s->dim >= 2) {
             my += s->vy[i];
+        }
+        if (s->dim == 3) {
+            mz += s->vz[i];
         }
     }
     mx /= s->n;
     my /= s->n;
+    mz /= s->n;
     for (int i = 0; i < s->n; i++) {
         double ux = s->vx[i] - mx;
         sum += ux * ux;
-        if (s->dim == 2) {
+        if (s->dim >= 2) {
             double uy = s->vy[i] - my;
             sum += uy * uy;
         }
+        if (s->dim == 3) {
+            double uz = s->vz[i] - mz;
+            sum += uz * uz;
+        }
     }
-    return sum / s->n; /* eq. 2.19 */
+    return sum / s->n; /* eq. 2.19: all dim components (docs/three-dimensions.md) */
 }
 
 double gr_sim_rotational_temperature(const gr_sim *s)

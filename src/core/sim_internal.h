@@ -45,10 +45,11 @@ struct gr_sim {
     int n, dim;
     double L, d, mass, dt;
 
-    /* hot state, n entries each (y, vy, fy unused in 1D) */
+    /* hot state, n entries each (y, vy, fy unused in 1D; z, vz, fz, gz only in 3D, NULL otherwise) */
     double *x, *y, *vx, *vy, *fx, *fy;
     double *gx, *gy; /* the non-conservative part of (fx, fy): everything but the springs k_s xi */
-    double *noise;   /* n * dim normals of the current step */
+    double *z, *vz, *fz, *gz;
+    double *noise; /* n * dim normals of the current step */
     /* Rotation (2D, only when cc.rotation): angular velocity, rad/s (counterclockwise), and the
      * torque of the last force evaluation, N m; moment of inertia q M r^2. NULL otherwise. */
     double *omega, *tq;
@@ -61,7 +62,8 @@ struct gr_sim {
     /* 2D neighbour finding: cell list feeding a half Verlet list in CSR form */
     double cutoff;         /* d (1 + skin) */
     double *x_ref, *y_ref; /* positions at the last rebuild */
-    int ncell;             /* cells per side; 0 = all pairs */
+    double *z_ref;         /* 3D (src/core/kernels_3d.c): z at the last rebuild */
+    int ncell;             /* cells per side (3D: per edge of the cube); 0 = all pairs */
     int *cell_start, *cell_of, *cell_order;
     int *nl_start; /* n + 1 entries */
     int *nl_j;
@@ -176,9 +178,15 @@ int gr_events_update(gr_sim *s, gr_error *err);
 /* Append one contact event to s->events (grown as needed). */
 int gr_events_append(gr_sim *s, gr_contact_event ev, gr_error *err);
 
-/* src/core/neighbours.c */
+/* src/core/neighbours.c (3D: gr_neighbours_*_3d, which these call when dim = 3) */
 int gr_neighbours_alloc(gr_sim *s, gr_error *err);
 int gr_neighbours_build(gr_sim *s, gr_error *err);
+
+/* src/core/kernels_3d.c: spheres (docs/three-dimensions.md): the neighbour list and the force
+ * kernel (the normal law of s->kernel) */
+int gr_neighbours_alloc_3d(gr_sim *s, gr_error *err);
+int gr_neighbours_build_3d(gr_sim *s, gr_error *err);
+void gr_kernel_run_3d(gr_sim *s, gr_force_report *r);
 
 /* contact history: allocate the slots (zero), save them by pair before a rebuild, restore after */
 int gr_history_enable(gr_sim *s, gr_error *err);

@@ -9,7 +9,8 @@
  * counter (the noise is a pure function of seed, step and particle, and com resets fall on
  * multiples of com_every); the ledger totals; the contact flags (pair_contact in 1D, nl_contact
  * in 2D: they decide which contacts are new); in 2D the Verlet list itself (nl_start, nl_j) and
- * the reference positions x_ref, y_ref that schedule its next rebuild. The list is stored rather
+ * the reference positions x_ref, y_ref that schedule its next rebuild (3D: z, vz, fz, gz and
+ * z_ref too, and the same list). The list is stored rather
  * than rebuilt: its order fixes the summation order of the forces, and a build also wraps
  * positions and derives contact flags from the velocities, so storing it is the only way that
  * is exact by construction. With contact tracking, each particle's contact count and the
@@ -99,7 +100,8 @@ static void check_list(const gr_sim *s, gr_blob_reader *b, int64_t pairs)
         }
     }
     for (int i = 0; i < n && !b->bad; i++) {
-        if (!(s->x[i] >= 0.0 && s->x[i] < s->L && s->y[i] >= 0.0 && s->y[i] < s->L)) {
+        if (!(s->x[i] >= 0.0 && s->x[i] < s->L && s->y[i] >= 0.0 && s->y[i] < s->L) ||
+            (s->dim == 3 && !(s->z[i] >= 0.0 && s->z[i] < s->L))) {
             gr_blob_fail(b, "particle %d lies outside the box [0, L)", i);
         }
     }
@@ -251,10 +253,16 @@ static int sim_io(gr_sim *s, gr_blob_io *io, gr_error *err)
         gr_blob_io_f64s(io, per_particle[k], n);
     }
     int rc = GR_OK;
-    if (s->dim == 2) {
+    if (s->dim >= 2) {
         double *const per_particle_2d[] = {s->y, s->vy, s->fy, s->gy, s->x_ref, s->y_ref};
         for (size_t k = 0; k < sizeof per_particle_2d / sizeof per_particle_2d[0]; k++) {
             gr_blob_io_f64s(io, per_particle_2d[k], n);
+        }
+        if (s->dim == 3) { /* spheres: the third component, then the same list (kernels_3d.c) */
+            double *const per_particle_3d[] = {s->z, s->vz, s->fz, s->gz, s->z_ref};
+            for (size_t k = 0; k < sizeof per_particle_3d / sizeof per_particle_3d[0]; k++) {
+                gr_blob_io_f64s(io, per_particle_3d[k], n);
+            }
         }
         rc = list_io(s, io, err);
     } else {

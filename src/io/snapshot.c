@@ -12,6 +12,22 @@
 void gr_xyz_write_frame(FILE *f, const gr_particles *p, double t, int64_t step)
 {
     const double d = 2.0 * p->radius;
+    if (p->dim == 3) { /* spheres in a periodic cube: the same columns, z and vz their own */
+        fprintf(f,
+                "%d\nLattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T T T\" Time=%.17g "
+                "Step=%lld "
+                "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3\n",
+                p->n, p->L, p->L, p->L, t, (long long)step);
+        for (int i = 0; i < p->n; i++) {
+            const double x = p->x[i] - p->L * floor(p->x[i] / p->L),
+                         y = p->y[i] - p->L * floor(p->y[i] / p->L),
+                         z = p->z[i] - p->L * floor(p->z[i] / p->L);
+            fprintf(f, "X %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", x,
+                    y, z, p->vx[i], p->vy[i], p->vz[i], p->radius, p->mass, p->mass * p->vx[i],
+                    p->mass * p->vy[i], p->mass * p->vz[i]);
+        }
+        return;
+    }
     const double Ly = p->dim == 2 ? p->L : d;
     fprintf(f,
             "%d\nLattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T %s F\" Time=%.17g Step=%lld "
@@ -145,6 +161,13 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
                        "%s:%ld: %s%s: every frame needs its time as Time=SECONDS, a finite number",
                        path, *line_no, tm ? word : "no Time= on the comment line",
                        tm ? " is not a finite time" : "");
+    }
+    if (pbc && strncmp(pbc + 5, "T T T", 5) == 0) { /* granule's 3D frames (spheres) */
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s:%ld: a 3D frame (pbc=\"T T T\"): reading 3D snapshots back (analyse, "
+                       "plot, pictures) is not available yet; allowed: 1D and 2D frames "
+                       "(docs/three-dimensions.md)",
+                       path, *line_no);
     }
     int rc = gr_frame_alloc(f, (int)n, pbc && strncmp(pbc + 5, "T F", 3) == 0 ? 1 : 2, err);
     if (rc) {

@@ -40,6 +40,13 @@
 
 static int refuse_unmappable(const gr_scene *s, gr_error *err)
 {
+    if (s->dim == 3) {
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "export lammps: %s: a 3D deck is not written yet (docs/three-dimensions.md); "
+            "allowed: a 2D scene",
+            s->source);
+    }
     if (s->dim != 2) {
         return GR_FAIL(
             err, GR_EINVAL,

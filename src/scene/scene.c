@@ -49,17 +49,24 @@ typedef struct scene_key {
 /* [system] reduced_length of a 1D scene that gives no length key, m */
 #define GR_DEFAULT_REDUCED_LENGTH_1D 1.0
 
+/* the volume of a sphere of radius r, and close packing of spheres (FCC), pi / (3 sqrt 2) */
+#define SPHERE_VOLUME(r) (4.0 / 3.0 * M_PI * (r) * (r) * (r))
+#define FCC_PHI 0.74048048969306104
+
 #define OFF(f) offsetof(gr_scene, f)
 static const scene_key keys[] = {
-    {"system", "dim", "", K_INT, "2", 1, 2, false, false, NULL,
-     "1 (periodic line) or 2 (periodic square)", OFF(dim)},
+    {"system", "dim", "", K_INT, "2", 1, 3, false, false, NULL,
+     "1 (periodic line), 2 (periodic square) or 3 (spheres in a periodic cube; what runs in 3D: "
+     "docs/three-dimensions.md)",
+     OFF(dim)},
     {"system", "N", "", K_INT, "2000", 1, 1e8, false, false, NULL, "number of particles", OFF(N)},
     {"system", "L", "m", K_DOUBLE, "0.2", 0, INFINITY, true, true, NULL,
-     "box side (2D) or ring length (1D); give at most one of L, packing_fraction, reduced_length; "
-     "the default is 2D's: a 1D scene without any gets reduced_length = 1 m",
+     "box side (2D, 3D) or ring length (1D); give at most one of L, packing_fraction, "
+     "reduced_length; the default is 2D's: a 1D scene without any gets reduced_length = 1 m",
      OFF(L)},
     {"system", "packing_fraction", "", K_DOUBLE, NULL, 0, 0.9069, true, false, NULL,
-     "2D only: sets L from phi = N pi r^2 / L^2 (2.24); hexagonal maximum 0.9069",
+     "2D and 3D: sets L from phi = N pi r^2 / L^2 (2.24; hexagonal maximum 0.9069) in 2D, "
+     "from phi = N (4/3) pi r^3 / L^3 (FCC maximum 0.7405) in 3D",
      OFF(packing_fraction)},
     {"system", "reduced_length", "m", K_DOUBLE, NULL, 0, INFINITY, false, true, NULL,
      "1D only: sets L from L' = L - N d (sec. 3.1); a 1D scene without L or reduced_length gets 1 "
@@ -71,11 +78,12 @@ static const scene_key keys[] = {
     {"system", "mass", "kg", K_DOUBLE, "3.53e-5", 1e-100, 1e100, false, false, NULL,
      "particle mass M (Table 2.2)", OFF(mass)},
     {"placement", "kind", "", K_ENUM, "hexagonal", 0, 0, false, false,
-     "hexagonal|square|uniform|cluster|random",
-     "initial placement (sec. 2.1.4, Fig. 2.4); default hexagonal in 2D, uniform in 1D: hexagonal "
-     "or square bed from the bottom of the box, uniform = equal area (2D) or spacing L/N (1D) per "
-     "particle, cluster = one touching cluster in the middle, random = random sequential addition "
-     "(phi <= 0.5)",
+     "hexagonal|square|uniform|cluster|random|cubic|fcc",
+     "initial placement (sec. 2.1.4, Fig. 2.4); default hexagonal in 2D, uniform in 1D, cubic in "
+     "3D: hexagonal or square bed from the bottom of the box, uniform = equal area (2D) or spacing "
+     "L/N (1D) per particle, cluster = one touching cluster in the middle, random = random "
+     "sequential addition (phi <= 0.5; 3D: phi <= 0.3), cubic = simple cubic lattice (3D only, "
+     "phi <= 0.5236), fcc = face-centred cubic lattice (3D only, phi <= 0.7405)",
      OFF(placement)},
     {"placement", "v0", "m/s", K_DOUBLE, "0.1", 0, INFINITY, false, true, NULL,
      "initial velocities v0 * U(-0.5, 0.5) per component (sec. 2.2.2), mean removed", OFF(v0)},
@@ -1099,6 +1107,101 @@ static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
     return GR_OK;
 }
 
+/* Where a [model] parameter was given (its descriptor's name), else the file. */
+static where model_where(const given *g, const gr_scene *s, const char *name)
+{
+    for (int k = g->n_model_at - 1; k >= 0; k--) {
+        if (strcmp(g->model_at[k].name, name) == 0) {
+            return g->model_at[k].at;
+        }
+    }
+    return (where){s->source, 0, NULL};
+}
+
+/* dim = 3 (spheres, docs/three-dimensions.md): the default placement follows dim (cubic), and what
+ * 3D cannot run yet is refused at its key, never run silently: a tangential or rolling law,
+ * rotation, walls, gravity, an integrator without spheres (event, hybrid), the Langevin bath,
+ * single-precision noise, observables not defined in 3D, the h5md trajectory. */
+static int resolve_3d(gr_scene *s, const given *g, gr_error *err)
+{
+    static const char *const why = "dim = 3 runs a normal force law with the random force (or no "
+                                   "driving) in a periodic cube so far (docs/three-dimensions.md)";
+    char detail[600];
+    if (!key_given(g, "placement", "kind")) {
+        s->placement = GR_PLACE_CUBIC; /* the default follows dim: hexagonal is a 2D packing */
+    }
+    if (s->placement != GR_PLACE_CUBIC && s->placement != GR_PLACE_FCC &&
+        s->placement != GR_PLACE_RANDOM) {
+        where w = where_of(g, s, "placement", "kind");
+        snprintf(detail, sizeof detail,
+                 "%s is a 1D or 2D placement; allowed in 3D: cubic | fcc | random",
+                 gr_placement_name(s->placement));
+        return fail_at(err, &w, "placement", "kind", "%s", detail);
+    }
+    if (!s->integrator->spheres) {
+        char names[160] = "";
+        for (int j = 0, len = 0; gr_integrators[j]; j++) {
+            if (gr_integrators[j]->spheres) {
+                len += snprintf(names + len, sizeof names - (size_t)len, "%s%s", len ? " | " : "",
+                                gr_integrators[j]->name);
+            }
+        }
+        where w = where_of(g, s, "integrator", "kind");
+        snprintf(detail, sizeof detail,
+                 "kind = %s does not step spheres yet; allowed with dim = 3: %s",
+                 s->integrator->name, names);
+        return fail_at(err, &w, "integrator", "kind", "%s", detail);
+    }
+    struct {
+        bool on;
+        const char *section, *key, *allowed;
+    } const refused[] = {
+        {s->tangential != NULL, "model", "tangential", "none"},
+        {s->rolling != NULL, "model", "rolling", "none"},
+        {s->contact.rotation, "model", "rotation", "false"},
+        {s->boundary[0], "boundary", "x", "periodic"},
+        {s->boundary[1], "boundary", "y", "periodic"},
+        {s->vibrate != 0, "boundary", "vibrate", "none"},
+        {s->gravity[0] != 0.0, "gravity", "gx", "0"},
+        {s->gravity[1] != 0.0, "gravity", "gy", "0"},
+        {s->driving && s->driving->update == GR_DRIVE_BATH, "driving", "kind", "rfm | none"},
+        {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
+        {s->trajectory == GR_TRAJ_H5MD, "output", "trajectory", "snapshots | xyz"},
+    };
+    for (size_t k = 0; k < sizeof refused / sizeof refused[0]; k++) {
+        if (refused[k].on) {
+            /* rotation is a [model] parameter (a model's descriptor), the others scene keys */
+            where w = strcmp(refused[k].key, "rotation") == 0
+                          ? model_where(g, s, refused[k].key)
+                          : where_of(g, s, refused[k].section, refused[k].key);
+            snprintf(detail, sizeof detail, "not available with dim = 3 yet; allowed in 3D: %s. %s",
+                     refused[k].allowed, why);
+            return fail_at(err, &w, refused[k].section, refused[k].key, "%s", detail);
+        }
+    }
+    char buf[sizeof s->observables], *save = NULL;
+    snprintf(buf, sizeof buf, "%s", s->observables);
+    for (char *tok = strtok_r(buf, ", \t", &save); tok; tok = strtok_r(NULL, ", \t", &save)) {
+        const gr_observable_type *t = gr_observable_find(tok);
+        if (t && !(t->dims & (1u << 2))) {
+            char names[200] = "";
+            for (int j = 0, len = 0; gr_observables[j]; j++) {
+                if (gr_observables[j]->dims & (1u << 2)) {
+                    len += snprintf(names + len, sizeof names - (size_t)len, "%s%s",
+                                    len ? " | " : "", gr_observables[j]->name);
+                }
+            }
+            where w = where_of(g, s, "analysis", "observables");
+            snprintf(detail, sizeof detail,
+                     "%s is not defined for dim = 3 yet; allowed in 3D: %s (temperature.csv, "
+                     "ledger.csv and summary.json are always written; docs/three-dimensions.md)",
+                     tok, names);
+            return fail_at(err, &w, "analysis", "observables", "%s", detail);
+        }
+    }
+    return GR_OK;
+}
+
 static int resolve(gr_scene *s, const given *g, const char *const *model_keys, int n_model_keys,
                    const char *const *driving_keys, int n_driving_keys, gr_error *err)
 {
@@ -1111,11 +1214,12 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
                        "give only one of L, packing_fraction, reduced_length");
     }
     if (g->packing_fraction) {
-        if (s->dim != 2) {
+        if (s->dim == 1) {
             return fail_at(err, &g->at_pf, "system", "packing_fraction", "%s",
-                           "only for dim = 2; use reduced_length or L in 1D");
+                           "only for dim = 2 or 3; use reduced_length or L in 1D");
         }
-        s->L = sqrt(s->N * M_PI * s->radius * s->radius / s->packing_fraction);
+        s->L = s->dim == 3 ? cbrt(s->N * SPHERE_VOLUME(s->radius) / s->packing_fraction)
+                           : sqrt(s->N * M_PI * s->radius * s->radius / s->packing_fraction);
     }
     /* defaults that depend on dim follow it (docs/scene-keys.md): without a length key a 1D ring
      * gets reduced_length = 1 m (the thesis's ch. 3 runs, docs/scenes/rfm-1d.ini), not the 2D
@@ -1127,12 +1231,15 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     if (g->reduced_length || default_length) {
         if (s->dim != 1) {
             return fail_at(err, &g->at_rl, "system", "reduced_length", "%s",
-                           "only for dim = 1; use packing_fraction or L in 2D");
+                           "only for dim = 1; use packing_fraction or L in 2D and 3D");
         }
         s->L = s->reduced_length + s->N * d;
     }
     if (s->dim == 2) {
         s->packing_fraction = s->N * M_PI * s->radius * s->radius / (s->L * s->L);
+        s->reduced_length = -1.0;
+    } else if (s->dim == 3) {
+        s->packing_fraction = s->N * SPHERE_VOLUME(s->radius) / (s->L * s->L * s->L);
         s->reduced_length = -1.0;
     } else {
         s->reduced_length = s->L - s->N * d;
@@ -1155,6 +1262,13 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
         snprintf(detail, sizeof detail,
                  "packing fraction N pi r^2 / L^2 = %.4f exceeds hexagonal close packing 0.9069 "
                  "(allowed range (0, 0.9069])",
+                 s->packing_fraction);
+        return fail_at(err, &len_at, "system", len_key, "%s", detail);
+    }
+    if (s->dim == 3 && s->packing_fraction > FCC_PHI) {
+        snprintf(detail, sizeof detail,
+                 "packing fraction N (4/3) pi r^3 / L^3 = %.4f exceeds close packing of spheres "
+                 "(FCC) pi / (3 sqrt 2) = 0.7405 (allowed range (0, 0.7405])",
                  s->packing_fraction);
         return fail_at(err, &len_at, "system", len_key, "%s", detail);
     }
@@ -1190,6 +1304,20 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
                      "%s is a 2D packing; allowed in 1D: uniform | cluster | random",
                      gr_placement_name(s->placement));
             return fail_at(err, &w, "placement", "kind", "%s", detail);
+        }
+    }
+    if (s->dim != 3 && (s->placement == GR_PLACE_CUBIC || s->placement == GR_PLACE_FCC)) {
+        where w = where_of(g, s, "placement", "kind");
+        snprintf(detail, sizeof detail, "%s is a 3D lattice (dim = 3); allowed in %dD: %s",
+                 gr_placement_name(s->placement), s->dim,
+                 s->dim == 1 ? "uniform | cluster | random"
+                             : "hexagonal | square | uniform | cluster | random");
+        return fail_at(err, &w, "placement", "kind", "%s", detail);
+    }
+    if (s->dim == 3) {
+        int rc3 = resolve_3d(s, g, err);
+        if (rc3) {
+            return rc3;
         }
     }
     /* integrators of instantaneous collisions (event) and the instantaneous rules (hard_sphere)

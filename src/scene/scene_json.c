@@ -13,7 +13,7 @@ cJSON *gr_scene_to_json(const gr_scene *s)
     cJSON_AddNumberToObject(sys, "dim", s->dim);
     cJSON_AddNumberToObject(sys, "N", s->N);
     cJSON_AddNumberToObject(sys, "L", s->L);
-    if (s->dim == 2) {
+    if (s->dim >= 2) { /* 2D: N pi r^2 / L^2; 3D: N (4/3) pi r^3 / L^3 */
         cJSON_AddNumberToObject(sys, "packing_fraction", s->packing_fraction);
     } else {
         cJSON_AddNumberToObject(sys, "reduced_length", s->reduced_length);

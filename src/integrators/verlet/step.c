@@ -25,6 +25,9 @@
  * The driving is chosen once per run: each (driving, closing) pair has its own loop, so the
  * random force's loop is the one it always was.
  *
+ * 3D (spheres, docs/three-dimensions.md): the same step with a third component, on one thread
+ * (open_step_3d, half_kick_3d), so a run is the same for every thread count.
+ *
  * Threads (2D): the noise and the kick-drift pass run over blocks of GR_BLOCK particles shared by
  * the threads, and every sum is combined block by block in block order, so a run is bit-identical
  * for every thread count (docs/performance.md, "Threads"). */
@@ -85,6 +88,28 @@ static bool spin_kicks(gr_sim *s, const int closing, const int opening, double *
     return isfinite(sum) && isfinite(c) && isfinite(o);
 }
 
+/* The closing half kick of 3D (half_kick below), one thread, the same arithmetic per component
+ * as open_step_3d's merged closing kick. */
+static double half_kick_3d(gr_sim *s, bool *finite)
+{
+    const double h = 0.5 * s->dt / s->mass;
+    double *restrict v[3] = {s->vx, s->vy, s->vz};
+    const double *restrict f[3] = {s->fx, s->fy, s->fz}, *restrict g[3] = {s->gx, s->gy, s->gz};
+    double wl[LANES] = {0}, sl[LANES] = {0};
+    for (int i = 0; i < s->n; i++) {
+        const int l = i % LANES;
+        for (int c = 0; c < 3; c++) {
+            const double dv = h * f[c][i];
+            wl[l] += g[c][i] * (v[c][i] + 0.5 * dv);
+            v[c][i] += dv;
+            sl[l] += v[c][i];
+        }
+    }
+    const double work = lanes_total(wl);
+    *finite = isfinite(lanes_total(sl)) && isfinite(work);
+    return work * 0.5 * s->dt;
+}
+
 /* Closing half kick. Returns the work done on the particles by the non-conservative part of the
  * contact forces (dashpots, friction, a clamp), exactly: a kick dv changes the kinetic energy of
  * particle i by F_i . (v_i + dv_i/2) dt/2, so the part due to G_i = F_i - (spring forces) is
@@ -95,6 +120,9 @@ static double half_kick(gr_sim *s, bool *finite)
     const double h = 0.5 * s->dt / s->mass;
     const int n = s->n;
     double work = 0.0, sum = 0.0;
+    if (s->dim == 3) {
+        return half_kick_3d(s, finite);
+    }
     if (s->dim == 1) {
         double *restrict v = s->vx;
         const double *restrict f = s->fx, *restrict g = s->gx;
@@ -226,7 +254,7 @@ static void draw_noise(gr_sim *s, double mean[2], const int T)
 {
     /* 1D runs on one thread: one block, as ever */
     const int n = s->n, bs = s->dim == 1 ? (n > 0 ? n : 1) : GR_BLOCK, nb = (n + bs - 1) / bs;
-    const int sym = symmetrised(s);
+    const int sym = symmetrised(s) && s->dim != 3; /* 3D: noise_mean_3d */
     if (T > 1) {
 #pragma omp parallel for schedule(static) num_threads(T)
         for (int b = 0; b < nb; b++) {
@@ -238,6 +266,24 @@ static void draw_noise(gr_sim *s, double mean[2], const int T)
         }
     }
     noise_mean(s, nb, sym, mean);
+}
+
+/* The means of the symmetrised mode in 3D (2.18 per component): plain sums in particle order
+ * (3D runs on one thread). */
+static void noise_mean_3d(const gr_sim *s, double mean[3])
+{
+    mean[0] = mean[1] = mean[2] = 0.0;
+    if (!symmetrised(s)) {
+        return;
+    }
+    for (int i = 0; i < s->n; i++) {
+        for (int c = 0; c < 3; c++) {
+            mean[c] += s->noise[3 * (size_t)i + c];
+        }
+    }
+    for (int c = 0; c < 3; c++) {
+        mean[c] /= s->n;
+    }
 }
 
 /* Open a step in one pass: (if `closing`) the previous step's closing half kick, the opening half
@@ -498,10 +544,66 @@ static double open_step_2d(gr_sim *restrict s, const int noise, double mean[2], 
     return s->mass * added;
 }
 
+/* The opening pass of 3D (spheres, docs/three-dimensions.md), one thread: the arithmetic of
+ * open_range_2d with a third component; the random force's kick (2.23 per component, symmetrised
+ * by mean) or none. Returns the kinetic energy the noise added; fills o as open_step_2d does. */
+static double open_step_3d(gr_sim *restrict s, const int noise, const double mean[3],
+                           const int closing, open_report *o)
+{
+    const int n = s->n;
+    const double h = 0.5 * s->dt / s->mass, dt = s->dt, L = s->L, half = 0.5 * s->L;
+    const double amp = noise ? sqrt(2.0 * s->params.D * s->dt) / s->mass : 0.0;
+    double *restrict r[3] = {s->x, s->y, s->z}, *restrict v[3] = {s->vx, s->vy, s->vz};
+    const double *restrict f[3] = {s->fx, s->fy, s->fz}, *restrict gn[3] = {s->gx, s->gy, s->gz};
+    const double *restrict ref[3] = {s->x_ref, s->y_ref, s->z_ref};
+    const double *restrict g = s->noise;
+    double added[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0},
+           worst[LANES] = {0};
+    for (int i = 0; i < n; i++) {
+        const int l = i % LANES;
+        double d2 = 0.0;
+        for (int c = 0; c < 3; c++) {
+            const double dvf = h * f[c][i];
+            double vi = v[c][i];
+            if (closing) {
+                wc[l] += gn[c][i] * (vi + 0.5 * dvf);
+                vi += dvf;
+            }
+            wo[l] += gn[c][i] * (vi + 0.5 * dvf);
+            vi += dvf;
+            if (noise) {
+                const double dv = amp * (g[3 * (size_t)i + c] - mean[c]);
+                added[l] += dv * (vi + 0.5 * dv);
+                vi += dv;
+            }
+            v[c][i] = vi;
+            sum[l] += vi;
+            double q = r[c][i] + vi * dt;
+            q += q < 0.0 ? L : (q >= L ? -L : 0.0);
+            r[c][i] = q;
+            double dd = q - ref[c][i];
+            dd += dd > half ? -L : (dd < -half ? L : 0.0);
+            d2 += dd * dd;
+        }
+        worst[l] = d2 > worst[l] ? d2 : worst[l];
+    }
+    double w = 0.0;
+    for (int l = 0; l < LANES; l++) {
+        w = worst[l] > w ? worst[l] : w;
+    }
+    o->disp2 = w;
+    o->work_close = 0.5 * dt * lanes_total(wc);
+    o->work_open = 0.5 * dt * lanes_total(wo);
+    o->finite = isfinite(lanes_total(sum)) && isfinite(o->work_open);
+    o->drag = 0.0;
+    return s->mass * lanes_total(added);
+}
+
 static int check_finite(gr_sim *s, gr_error *err)
 {
     for (int i = 0; i < s->n; i++) {
-        double sum = s->x[i] + s->vx[i] + (s->dim == 2 ? s->y[i] + s->vy[i] : 0.0);
+        double sum = s->x[i] + s->vx[i] + (s->dim >= 2 ? s->y[i] + s->vy[i] : 0.0) +
+                     (s->dim == 3 ? s->z[i] + s->vz[i] : 0.0);
         if (!isfinite(sum)) {
             return GR_FAIL(err, GR_EUNSTABLE,
                            "unstable run: particle %d has a non-finite position or velocity at "
@@ -527,7 +629,7 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
      * of one step and the opening half kick of the next use the same forces and are applied as one
      * kick; the last step closes with a half kick. */
     for (int64_t k = 0; k < nsteps; k++) {
-        double mean[2] = {0.0, 0.0};
+        double mean[3] = {0.0, 0.0, 0.0}; /* mean[2]: 3D only */
         const int closing = k > 0; /* velocities are half a kick behind (merged closing kick) */
         const bool com_now = com && s->step > 0 && s->step % s->com_every == 0;
         open_report o = {0};
@@ -540,9 +642,14 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
         }
         if ((noise || bath) && (s->dim == 1 || team == 1)) { /* else drawn in open_step_2d */
             draw_noise(s, mean, team);
+            if (s->dim == 3) {
+                noise_mean_3d(s, mean);
+            }
         }
         const int close_here = closing && !com_now;
-        if (s->dim == 1 && bath) {
+        if (s->dim == 3) { /* spheres: the random force or none (no bath in 3D yet) */
+            s->injected += open_step_3d(s, noise, mean, close_here, &o);
+        } else if (s->dim == 1 && bath) {
             s->injected += close_here ? open_step_1d(s, DRIVE_OU, 0.0, 1, &o)
                                       : open_step_1d(s, DRIVE_OU, 0.0, 0, &o);
             s->diss_drag += o.drag;
@@ -575,7 +682,7 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
                                 (long long)s->step);
         }
         s->step++;
-        if (s->dim == 2 && (s->params.skin <= 0.0 || disp2 > skin_half2)) {
+        if (s->dim >= 2 && (s->params.skin <= 0.0 || disp2 > skin_half2)) {
             int rc = gr_neighbours_build(s, err);
             if (rc) {
                 return rc;

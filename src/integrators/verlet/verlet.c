@@ -8,6 +8,7 @@ const gr_integrator_type gr_integrator_verlet = {
     .drag = true,
     .walls = true,
     .single_noise = true,
+    .spheres = true,
     .summary = "soft-sphere velocity Verlet (docs/integrator.md)",
     .step = gr_verlet_step,
 };
