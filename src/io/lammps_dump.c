@@ -14,6 +14,7 @@ struct gr_lammps_dump {
     long line;
     char buf[4096];
     long long last_step; /* the timestep of the last frame read (frames > 0) */
+    int wall_axis;       /* the frame's axis read unwrapped (a floor below 0), or -1 */
     long frames;
 };
 
@@ -154,9 +155,14 @@ static int read_atoms(gr_lammps_dump *d, gr_frame *f, const double lo[2], const 
         double *pos[2] = {f->x, f->y}, *vel[2] = {f->vx, f->vy};
         for (int k = 0; k < dim; k++) {
             double x = v[col[C_X + k]];
-            x = scaled[C_X + k] ? x * len[k] : x - lo[k];
-            x -= len[k] * floor(x / len[k]);
-            pos[k][id - 1] = x >= len[k] ? 0.0 : x;
+            if (k == d->wall_axis) { /* a wall axis reaching below 0: absolute, not wrapped */
+                x = scaled[C_X + k] ? lo[k] + x * len[k] : x;
+                pos[k][id - 1] = x;
+            } else {
+                x = scaled[C_X + k] ? x * len[k] : x - lo[k];
+                x -= len[k] * floor(x / len[k]);
+                pos[k][id - 1] = x >= len[k] ? 0.0 : x;
+            }
             vel[k][id - 1] = v[col[C_VX + k]];
             if (!isfinite(x) || !isfinite(vel[k][id - 1])) {
                 rc = GR_FAIL(err, GR_EINVAL, "%s:%ld: non-finite position or velocity", d->path,
@@ -221,6 +227,15 @@ int gr_lammps_dump_next(gr_lammps_dump *d, double dt, gr_frame *f, gr_error *err
         }
     }
     const double len[2] = {hi[0] - lo[0], hi[1] - lo[1]};
+    /* `granule export lammps` of a floor vibrating below 0 by more than a radius writes that
+     * wall axis as [-(A + d), L] and the other as [0, L]: read it as the square box of side L */
+    d->wall_axis = -1;
+    for (int k = 0; k < 2; k++) {
+        const double side = hi[1 - k] - lo[1 - k];
+        if (lo[k] < 0.0 && lo[1 - k] == 0.0 && fabs(hi[k] - side) <= 1e-9 * side) {
+            d->wall_axis = k;
+        }
+    }
     rc = expect(d, "ITEM: ATOMS", err);
     if (rc) {
         return rc;
@@ -230,11 +245,14 @@ int gr_lammps_dump_next(gr_lammps_dump *d, double dt, gr_frame *f, gr_error *err
     if (rc) {
         return rc;
     }
-    if (f->dim == 2 && fabs(len[0] - len[1]) > 1e-9 * len[0]) {
+    if (f->dim == 2 && d->wall_axis < 0 && fabs(len[0] - len[1]) > 1e-9 * len[0]) {
         gr_frame_free(f);
-        return GR_FAIL(err, GR_EINVAL, "%s: box %g x %g is not square", d->path, len[0], len[1]);
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: box %g x %g is not square (nor a square box whose wall axis reaches "
+                       "below 0, as granule export lammps writes for a vibrating floor)",
+                       d->path, len[0], len[1]);
     }
-    f->L = len[0];
+    f->L = d->wall_axis == 0 ? len[1] : len[0];
     f->t = (double)step * dt;
     d->last_step = step;
     d->frames++;

@@ -11,7 +11,9 @@ int gr_lammps_dump_open(const char *path, gr_lammps_dump **out, gr_error *err);
  * order of their atom ids 1..n. Columns are found by name: id, x (or xu, xs), vx, and in 2D y and
  * vy; z and vz (a LAMMPS 2D run still writes them) are ignored. Positions are shifted by the box's
  * lower bounds and wrapped into [0, L); f->t = timestep * dt. The box must be orthogonal and, in
- * 2D, square. Returns 1 with a frame, 0 at the end of the file, a negative status on an error
+ * 2D, square, or a square box one of whose axes reaches below 0 (a wall axis with a floor
+ * vibrating below 0, as `granule export lammps` writes it): that axis is read unshifted and
+ * unwrapped. Returns 1 with a frame, 0 at the end of the file, a negative status on an error
  * that names the file and line. */
 int gr_lammps_dump_next(gr_lammps_dump *d, double dt, gr_frame *f, gr_error *err);
 void gr_lammps_dump_close(gr_lammps_dump *d);

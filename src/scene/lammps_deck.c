@@ -17,7 +17,9 @@
  *             gammat_w xmu 1 with gamman_w = gamma_n(wall) / M (and gammat_w = gamma_t(wall) / M):
  *             LAMMPS's wall contact has meff = M, granule's wall law the reduced mass M and the
  *             walls' own eps_n, eps_t. A sawtooth floor is refused (wiggle is sinusoidal). The vibrating floor is its own fix with
- *             wiggle (A sin(2 pi f t), t from the deck's start, as granule's); with A >= r the box
+ *             wiggle, whose plane is at lo + A - A cos(2 pi f t): with lo = -A it oscillates about 0
+ *             with granule's amplitude, a quarter period behind granule's A sin(2 pi f t) (the
+ *             time averages of a steady bed do not see the phase); with A >= r the box
  *             reaches A + d below 0 so that no grain riding the floor leaves it.
  *   gravity   fix gravity |g| vector gx/|g| gy/|g| 0. With walls no fix momentum is written (the
  *             walls and gravity change the total momentum): the noise is then not symmetrised.
@@ -133,7 +135,9 @@ static void write_walls(FILE *o, const gr_scene *s, const gr_lammps_export *e, b
             if (side) {
                 fprintf(o, "NULL %.17g", s->L);
             } else {
-                fprintf(o, "0.0 NULL");
+                /* wiggle puts the plane at lo + A - A cos(w t): lo = -A oscillates it about 0
+                 * as granule's A sin(w t), a quarter period apart */
+                fprintf(o, "%.17g NULL", wiggle ? -s->amplitude : 0.0);
                 if (wiggle) {
                     fprintf(o, " wiggle %c %.17g %.17g", axis[a], s->amplitude, 1.0 / s->frequency);
                 }
