@@ -53,7 +53,8 @@ static void check_cells(const struct gr_event_state *e, gr_blob_reader *r)
 {
     const int64_t n = e->n;
     const int cells = e->ncell * e->ncell;
-    check_range(r, e->partner, n, -4, (int)n, "partner");
+    /* -1 - face: cell faces 0-3, with walls also the walls 4-7 (event_2d.c) */
+    check_range(r, e->partner, n, e->wall[0] || e->wall[1] ? -8 : -4, (int)n, "partner");
     check_range(r, e->cell_of, n, 0, cells, "cell_of");
     check_range(r, e->head, cells, -1, (int)n, "head");
     check_range(r, e->next, n, -1, (int)n, "next");
