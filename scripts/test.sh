@@ -4,6 +4,10 @@
 set -uo pipefail
 cd "$(dirname "$0")/.."
 
+# two tests run at once on a 2-core machine, each with OpenMP threads: spinning threads of one
+# test only steal the other's core (runs are bit-identical whatever the wait policy)
+export OMP_WAIT_POLICY=passive
+
 passed=0
 failed=0
 tally() { # meson's summary lines "Ok: N" and "Fail: N" (+ timeouts) of one run
