@@ -289,9 +289,9 @@ import csv, glob, json, os, re, sys, warnings
 import numpy as np, pandas as pd
 warnings.simplefilter("ignore")
 src = sys.argv[1]
-# the one exception, explicit: a set a running campaign still writes (its lead collects it; the
-# collect writes its data tables' units and "; " in its group cells)
-pending = {"ch3-xi2-large"}
+# sets a running campaign still writes and nobody has collected with the current code (none now:
+# ch3-xi2-large was collected after its units and cells changed)
+pending = set()
 def units_of(f, df, rows_named=False):
     meta = f[:-4] + ".meta.json"
     assert os.path.exists(meta), (meta, "missing: the table's units")
@@ -352,7 +352,7 @@ assert units["x"] == "1" and units["mean"] == "m^m" and a.dtype.names == tuple(d
 row_units = [units["mean"].replace("^m", "^%d" % m) for m in a["m"]]
 assert row_units[0] == "m^1" and "m^5" in row_units and np.allclose(a["mean"], df["mean"])
 print("ok %d CSVs of docs/results (all but %s) have their units and load with pandas and numpy; "
-      "--collect writes the %d data tables' units again" % (len(files), ", ".join(sorted(pending)), len(data)))
+      "--collect writes the %d data tables' units again" % (len(files), ", ".join(sorted(pending)) or "none", len(data)))
 EOF
     ;;
 *) echo "unknown part $part" >&2; exit 2 ;;
