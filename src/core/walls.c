@@ -243,6 +243,12 @@ static void wall_tangential(gr_sim *s, int i, int k, double st, const double *v_
 /* The contacts of every grain with the two walls of axis a (coordinates q, velocities v, forces
  * f and their non-conservative part g; v_o, f_o, g_o those of the other axis in 2D, NULL in 1D),
  * the wall at 0 at qw moving with vw (0 and 0 unless it vibrates); adds to *w (wall_sums). */
+static void axis_wall_grain(gr_sim *s, const int a, const int i, const double *restrict q,
+                            const double *restrict v, double *restrict f, double *restrict g,
+                            const double *v_o, double *f_o, double *g_o, const double qw,
+                            const double vw, wall_sums *w, gr_force_report *r_out, const double r,
+                            const double L, const double st0, const int tang);
+
 static void axis_walls(gr_sim *s, const int a, const double *restrict q, const double *restrict v,
                        double *restrict f, double *restrict g, const double *v_o, double *f_o,
                        double *g_o, const double qw, const double vw, wall_sums *w,
@@ -252,7 +258,42 @@ static void axis_walls(gr_sim *s, const int a, const double *restrict q, const d
     /* t = n rotated by -90 degrees: along +x at the floor (y = 0), -y at the wall x = 0 */
     const double st0 = a == 1 ? 1.0 : -1.0;
     const int tang = s->wall_tl != 0 && v_o;
-    for (int i = 0; i < s->n; i++) {
+    const bool hist = tang && s->wall_hist;
+    /* Grains away from both walls do nothing here, and most grains are: a branch-free scan of a
+     * block lists those that touch a wall (or still hold a wall spring), then only they are
+     * visited, in order, so the sums are those of visiting every grain. */
+    enum { BLOCK = 256 };
+    uint8_t touch[BLOCK];
+    for (int i0 = 0; i0 < s->n; i0 += BLOCK) {
+        const int m = i0 + BLOCK < s->n ? BLOCK : s->n - i0;
+        const double *restrict qb = q + i0;
+        for (int k = 0; k < m; k++) { /* vectorises */
+            touch[k] = (uint8_t)((r - (qb[k] - qw) > 0.0) | (qb[k] + r - L > 0.0));
+        }
+        if (hist) {
+            for (int k = 0; k < m; k++) {
+                const int i = i0 + k;
+                touch[k] |=
+                    s->wall_hist[4 * i + 2 * a] != 0.0 || s->wall_hist[4 * i + 2 * a + 1] != 0.0;
+            }
+        }
+        for (int k = 0; k < m; k++) {
+            if (touch[k]) {
+                axis_wall_grain(s, a, i0 + k, q, v, f, g, v_o, f_o, g_o, qw, vw, w, r_out, r, L,
+                                st0, tang);
+            }
+        }
+    }
+}
+
+/* One grain's contacts with the two walls of axis a (axis_walls). */
+static void axis_wall_grain(gr_sim *s, const int a, const int i, const double *restrict q,
+                            const double *restrict v, double *restrict f, double *restrict g,
+                            const double *v_o, double *f_o, double *g_o, const double qw,
+                            const double vw, wall_sums *w, gr_force_report *r_out, const double r,
+                            const double L, const double st0, const int tang)
+{
+    {
         const double lo = r - (q[i] - qw), hi = q[i] + r - L;
         /* the step's runaway guard (overlap > RUNAWAY_OVERLAP = 0.5 d, step.c) sees a wall's
          * overlap doubled, xi / r, with worst_j = -1: a grain deeper than r has crossed the wall
