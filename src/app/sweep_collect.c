@@ -105,13 +105,14 @@ static cJSON *point_summary(const sweep *s, long k, const char *status)
     return has_run ? gr_summary_read(dir, &read_err) : NULL;
 }
 
-/* Whether some point has the 1D separations' moments <R^m> (the gaps observable). */
-static bool any_gap_moments(const sweep *s, long n_points, const char *const *status)
+/* Whether some point's summary has the number at `path`: the 1D separations' moments <R^m> (the
+ * gaps observable), a bed's profile (the profile observable). */
+static bool any_number(const sweep *s, long n_points, const char *const *status, const char *path)
 {
     bool any = false;
     for (long k = 0; k < n_points && !any; k++) {
         cJSON *j = point_summary(s, k, status[k]);
-        any = isfinite(gr_summary_number(j, "analysis.gaps.moments.0"));
+        any = isfinite(gr_summary_number(j, path));
         cJSON_Delete(j);
     }
     return any;
@@ -126,7 +127,9 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
         return EXIT_FAILED;
     }
     /* <R^m> columns only when some point has them (1D runs with the gaps observable) */
-    const bool with_R = any_gap_moments(s, n_points, status);
+    const bool with_R = any_number(s, n_points, status, "analysis.gaps.moments.0");
+    /* a bed's numbers when some point has the profile observable (beds, walls, gravity) */
+    const bool with_profile = any_number(s, n_points, status, "analysis.profile.mean_position");
     gr_file_note(&f, "granule sweep of %s: one row per point; moments <|v|^m> in (m/s)^m%s",
                  s->scene, with_R ? ", <R^m> in m^m" : "");
     gr_file_columns(&f, "point [1],seed [1]");
@@ -145,6 +148,9 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
             snprintf(name, sizeof name, q ? "R%d_stderr" : "m%d_stderr", m);
             gr_file_column(&f, name, unit);
         }
+    }
+    if (with_profile) {
+        gr_file_columns(&f, "profile_height [m],profile_height_stderr [m],profile_max_phi [1]");
     }
     fputc('\n', f.f);
     int n_col = s->n_keys;
@@ -206,6 +212,11 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
             if (strcmp(status[k], "completed") != 0) {
                 rmom[k][m] = NAN;
             }
+        }
+        if (with_profile) {
+            fprintf(f.f, ",%.8g,%.4g,%.6g", gr_summary_number(j, "analysis.profile.mean_position"),
+                    gr_summary_number(j, "analysis.profile.mean_position_error"),
+                    gr_summary_number(j, "analysis.profile.max_packing_fraction"));
         }
         fputc('\n', f.f);
         cJSON_Delete(j);
