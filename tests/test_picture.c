@@ -280,6 +280,42 @@ START_TEST(test_2d_periodic_edges)
 }
 END_TEST
 
+/* Walls along y (a bed): bars along the bottom and top edges, and no periodic image across them:
+ * a disc at y = 0.002 m < r shows no piece at the top, which the periodic box draws; a centre
+ * below 0 (a floor vibrating below 0) is drawn where it is, not wrapped to the top. */
+START_TEST(test_2d_walls)
+{
+    const double L = 0.1, r = 0.005;
+    const int size = 400;
+    gr_frame f = frame_new(2, 2, L, 0.0);
+    f.x[0] = 0.05, f.y[0] = 0.002;
+    f.x[1] = 0.02, f.y[1] = -0.001;
+    gr_error err = {0};
+    const double g = 0.88;
+    const int top = dev_y(L - 0.002, L, size), bottom = dev_y(0.001, L, size);
+    for (int walls = 0; walls < 2; walls++) {
+        gr_picture_options opt = {.size = size,
+                                  .colormap = GR_CMAP_GREY,
+                                  .hide_labels = true,
+                                  .walls = {false, walls == 1}};
+        const char *png = in_dir(walls ? "walls.png" : "nowalls.png");
+        ck_assert_msg(gr_picture_frame(&f, r, png, &opt, &err) == GR_OK, "%s", err.message);
+        image im = load_png(png);
+        if (walls) {
+            ck_assert(is_white(&im, dev_x(0.05, L, size), top)); /* no image at the top */
+            ck_assert(is_white(&im, dev_x(0.02, L, size), top)); /* nor the one below 0 */
+            expect_pixel(&im, dev_x(0.05, L, size), bottom - 4, g, g, g, 1, "the disc itself");
+            expect_pixel(&im, dev_x(0.08, L, size), size - 1, 0.15, 0.15, 0.15, 1, "the floor");
+            expect_pixel(&im, dev_x(0.08, L, size), 0, 0.15, 0.15, 0.15, 1, "the ceiling");
+        } else {
+            expect_pixel(&im, dev_x(0.05, L, size), top, g, g, g, 1, "the periodic image");
+        }
+        image_free(&im);
+    }
+    gr_frame_free(&f);
+}
+END_TEST
+
 /* ---------- 1D ---------- */
 
 /* Three frames of a 0.2 m ring (one row each, a single segment at 1000 px): only the last frame
@@ -711,6 +747,7 @@ static Suite *picture_suite(void)
     tcase_set_timeout(tc, 60);
     tcase_add_test(tc, test_2d_disc_colours);
     tcase_add_test(tc, test_2d_periodic_edges);
+    tcase_add_test(tc, test_2d_walls);
     tcase_add_test(tc, test_1d_strip);
     tcase_add_test(tc, test_refusals);
     tcase_add_test(tc, test_run_folder_2d);

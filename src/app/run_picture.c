@@ -82,12 +82,15 @@ int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *
     }
     /* the radius: the run's scene.ini, else the snapshots' radius column */
     double radius = last.radius;
+    gr_picture_options o = opt ? *opt : (gr_picture_options){0};
     gr_error scene_err = {0};
     snprintf(path, sizeof path, "%s/scene.ini", run_dir);
     if (!rc && access(path, R_OK) == 0) {
         gr_scene *scene = malloc(sizeof *scene);
         if (scene && gr_scene_load(scene, path, NULL, 0, &scene_err) == GR_OK) {
             radius = scene->radius;
+            o.walls[0] = scene->boundary[0] != 0; /* a bed is drawn between its walls */
+            o.walls[1] = scene->boundary[1] != 0;
         }
         free(scene);
     }
@@ -100,8 +103,8 @@ int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *
     if (!rc) {
         snprintf(out, sizeof out, "%s/%s", run_dir,
                  last.dim == 2 ? "snapshot.png" : "snapshots.png");
-        rc = last.dim == 2 ? gr_picture_frame(&frames[0], radius, out, opt, err)
-                           : gr_picture_spacetime(frames, nf, radius, out, opt, err);
+        rc = last.dim == 2 ? gr_picture_frame(&frames[0], radius, out, &o, err)
+                           : gr_picture_spacetime(frames, nf, radius, out, &o, err);
         if (!rc && png_path && png_path_size) {
             snprintf(png_path, png_path_size, "%s", out);
         }

@@ -54,6 +54,8 @@ int pic_resolve_options(const gr_picture_options *o, popts *p, gr_error *err)
     p->vmax = o->vmax > 0.0 ? o->vmax : DEFAULT_VMAX;
     p->levels = o->levels;
     p->labels = !o->hide_labels;
+    p->walls[0] = o->walls[0];
+    p->walls[1] = o->walls[1];
     return GR_OK;
 }
 
@@ -500,15 +502,18 @@ static int picture_2d(const gr_frame *f, double radius, const char *png_path, co
     cairo_rectangle(cr, 0, 0, size, size);
     cairo_clip(cr);
     double rgb[3];
+    /* a wall axis has no periodic images, and its positions stay where they are */
+    const int ax = p->walls[0] ? 0 : 1, ay = p->walls[1] ? 0 : 1;
     for (int i = 0; i < f->n; i++) {
-        double x = pic_wrap(f->x[i], L), y = pic_wrap(f->y[i], L);
+        double x = p->walls[0] ? f->x[i] : pic_wrap(f->x[i], L);
+        double y = p->walls[1] ? f->y[i] : pic_wrap(f->y[i], L);
         pic_ramp(p, vrms > 0.0 ? pic_speed(f, i) / vrms : 0.0, rgb);
-        for (int a = -1; a <= 1; a++) {
+        for (int a = -ax; a <= ax; a++) {
             double X = x + a * L;
             if (X + radius < 0.0 || X - radius > L) {
                 continue;
             }
-            for (int b = -1; b <= 1; b++) {
+            for (int b = -ay; b <= ay; b++) {
                 double Y = y + b * L;
                 if (Y + radius < 0.0 || Y - radius > L) {
                     continue;
@@ -518,6 +523,18 @@ static int picture_2d(const gr_frame *f, double radius, const char *png_path, co
         }
     }
     cairo_restore(cr);
+    /* the walls: dark bars along the box's edges, drawn over the discs that touch them */
+    const double bar = fmax(3.0, 0.004 * size);
+    cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
+    if (p->walls[0]) {
+        cairo_rectangle(cr, 0.0, 0.0, bar, size);
+        cairo_rectangle(cr, size - bar, 0.0, bar, size);
+    }
+    if (p->walls[1]) {
+        cairo_rectangle(cr, 0.0, size - bar, size, bar);
+        cairo_rectangle(cr, 0.0, 0.0, size, bar);
+    }
+    cairo_fill(cr);
     if (p->labels) {
         char left[96], right[64], caption[128];
         snprintf(left, sizeof left, "t = %.6g s", f->t);

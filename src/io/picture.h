@@ -39,6 +39,9 @@ typedef struct gr_picture_options {
     double vmax;          /* |v|/v_rms at which the ramp saturates; 0 = 3; (0, 1000] */
     int levels;           /* 0 = continuous ramp, k in [2, 64]: k shades */
     bool hide_labels;     /* true: no panel (box or rows only) */
+    bool walls[2]; /* 2D: flat walls along x, y ([boundary]): drawn as bars at 0 and L, positions
+                      there neither wrapped nor imaged across the box (a grain below a floor
+                      vibrating below 0 is drawn where it is) */
 } gr_picture_options;
 
 /* Largest image side and pixel count accepted (a larger picture is refused with GR_EINVAL). */

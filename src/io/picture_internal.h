@@ -17,6 +17,7 @@ typedef struct popts {
     gr_colormap cmap;
     double vmax;
     bool labels;
+    bool walls[2];
 } popts;
 
 int pic_resolve_options(const gr_picture_options *o, popts *p, gr_error *err);
