@@ -63,9 +63,9 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     s->axis = pp->profile_axis < 0 ? setup->dim - 1 : pp->profile_axis;
     if (s->axis >= setup->dim) {
         return GR_FAIL(err, GR_EINVAL,
-                       "[analysis] profile_axis: %d (y) in a %dD system; allowed in 1D: 0 (x) or "
-                       "-1 (the last axis)",
-                       pp->profile_axis, setup->dim);
+                       "%s: [analysis] profile_axis: %d (y) in a %dD system; allowed in 1D: 0 (x) "
+                       "or -1 (the last axis)",
+                       setup->source ? setup->source : "scene", pp->profile_axis, setup->dim);
     }
     s->wall = setup->walls[s->axis];
     s->bins = pp->profile_bins;
