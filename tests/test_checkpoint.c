@@ -30,6 +30,7 @@
 #include "granule/sim.h"
 #include "analysis/blob_stats.h"
 #include "io/checkpoint.h"
+#include "app/run_checkpoint.h"
 #include "check_main.h"
 
 static int quick(void)
@@ -58,6 +59,32 @@ static void *image_of(size_t *len)
     ck_assert_int_eq(gr_checkpoint_build(0x1234abcdULL, sec, 4, &img, len, &err), GR_OK);
     return img;
 }
+
+/* A checkpoint written by an older granule lacks the keys added since: each is compared with its
+ * default (what that granule ran with), so such a checkpoint resumes when the scene leaves the
+ * new key at its default and is refused, naming the key, when it does not. */
+START_TEST(test_scene_text_older_checkpoint)
+{
+    const char *ck = "[run]\nseed = 1\n[analysis]\nobservables = moments\n";
+    const char *same = "[run]\nseed = 1\n[analysis]\nobservables = moments\nprofile_axis = -1\n";
+    const char *other = "[run]\nseed = 1\n[analysis]\nobservables = moments\nprofile_axis = 1\n";
+    gr_error err = {0};
+    bool defaulted = false;
+    ck_assert_int_eq(gr_scene_text_compare(ck, strlen(ck), same, &defaulted, &err), GR_OK);
+    ck_assert(defaulted);
+    ck_assert_int_eq(gr_scene_text_compare(ck, strlen(ck), other, &defaulted, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "[analysis] profile_axis = -1 in the checkpoint, 1 now"),
+                  "%s", err.message);
+    defaulted = true;
+    ck_assert_int_eq(gr_scene_text_compare(same, strlen(same), same, &defaulted, &err), GR_OK);
+    ck_assert(!defaulted);
+    /* a key no granule knows is still a difference */
+    const char *odd = "[run]\nseed = 1\nfoo = 2\n[analysis]\nobservables = moments\n";
+    ck_assert_int_eq(gr_scene_text_compare(odd, strlen(odd), same, NULL, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "[run] foo = 2 in the checkpoint, (unset) now"), "%s",
+                  err.message);
+}
+END_TEST
 
 START_TEST(test_format_round_trip)
 {
@@ -640,6 +667,7 @@ static Suite *suite(void)
     TCase *t = tcase_create("checkpoint");
     tcase_set_timeout(t, 600);
     tcase_add_test(t, test_format_round_trip);
+    tcase_add_test(t, test_scene_text_older_checkpoint);
     tcase_add_test(t, test_format_truncation_and_corruption);
     tcase_add_test(t, test_blob_reader_bounds);
     tcase_add_test(t, test_sim_state_2d);

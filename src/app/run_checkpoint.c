@@ -230,9 +230,12 @@ static const char *find_value(const char *text, size_t len, const char *section,
     return NULL;
 }
 
-/* Check every key of `a` against `b`; *key_out names the first that differs. */
-static bool keys_agree(const char *a, size_t alen, const char *b, size_t blen, char *msg,
-                       size_t msg_len, bool a_is_checkpoint)
+/* Check every key of `a` against `b`; *key_out names the first that differs. A key that only one
+ * side has (a checkpoint written by a granule without it, say) is compared with the default
+ * scene's value `dflt`, which is what that side ran with. */
+static bool keys_agree(const char *a, size_t alen, const char *b, size_t blen, const char *dflt,
+                       size_t dlen, char *msg, size_t msg_len, bool a_is_checkpoint,
+                       bool *defaulted)
 {
     char sec[64] = "";
     const char *p = a, *end = a + alen;
@@ -254,6 +257,10 @@ static bool keys_agree(const char *a, size_t alen, const char *b, size_t blen, c
                 const char *v = eq + 1 + (eq + 1 < e && eq[1] == ' ');
                 size_t vlen = (size_t)(e - v), wlen = 0;
                 const char *w = find_value(b, blen, sec, key, &wlen);
+                if (!w) {
+                    w = find_value(dflt, dlen, sec, key, &wlen);
+                    *defaulted |= w != NULL;
+                }
                 if (!may_differ(sec, key) && (!w || wlen != vlen || memcmp(v, w, vlen) != 0)) {
                     const char *ck = a_is_checkpoint ? v : w, *now = a_is_checkpoint ? w : v;
                     size_t ck_len = a_is_checkpoint ? vlen : wlen,
@@ -270,12 +277,29 @@ static bool keys_agree(const char *a, size_t alen, const char *b, size_t blen, c
     return true;
 }
 
-int gr_scene_text_compare(const char *ck, size_t ck_len, const char *now, gr_error *err)
+int gr_scene_text_compare(const char *ck, size_t ck_len, const char *now, bool *defaulted,
+                          gr_error *err)
 {
+    bool used_default = false;
     char msg[400];
-    size_t now_len = strlen(now);
-    if (!keys_agree(ck, ck_len, now, now_len, msg, sizeof msg, true) ||
-        !keys_agree(now, now_len, ck, ck_len, msg, sizeof msg, false)) {
+    size_t now_len = strlen(now), dlen = 0;
+    char *dflt = NULL;
+    FILE *f = open_memstream(&dflt, &dlen);
+    if (!f) {
+        return GR_FAIL(err, GR_ENOMEM, "out of memory comparing the checkpoint's scene");
+    }
+    gr_scene d;
+    gr_scene_default(&d);
+    gr_scene_write(&d, f);
+    fclose(f);
+    bool same =
+        keys_agree(ck, ck_len, now, now_len, dflt, dlen, msg, sizeof msg, true, &used_default) &&
+        keys_agree(now, now_len, ck, ck_len, dflt, dlen, msg, sizeof msg, false, &used_default);
+    free(dflt);
+    if (defaulted) {
+        *defaulted = used_default;
+    }
+    if (!same) {
         return GR_FAIL(err, GR_EINVAL,
                        "the scene differs from the one the checkpoint was written with: %s; "
                        "a resumed run must use the same scene (only run.checkpoint_every, "
@@ -361,9 +385,10 @@ int gr_run_resume_open(const char *dir, gr_scene *scene, void **buf, gr_checkpoi
     fclose(m);
     const gr_checkpoint_section *sc = gr_checkpoint_find(ck, "SCEN");
     gr_error cerr = {0};
-    rc = gr_scene_text_compare(sc->data, sc->len, text, &cerr);
+    bool older = false; /* the checkpoint's granule lacked keys: its hash covered fewer keys */
+    rc = gr_scene_text_compare(sc->data, sc->len, text, &older, &cerr);
     free(text);
-    if (!rc && gr_scene_hash(scene) != ck->scene_hash) {
+    if (!rc && !older && gr_scene_hash(scene) != ck->scene_hash) {
         rc = GR_FAIL(&cerr, GR_EINVAL,
                      "the scene's hash %016llx differs from the checkpoint's %016llx",
                      (unsigned long long)gr_scene_hash(scene), (unsigned long long)ck->scene_hash);

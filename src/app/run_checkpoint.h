@@ -67,8 +67,10 @@ int gr_run_resume_state(const gr_checkpoint *ck, const char *dir, gr_sim *sim, g
                         gr_run_ckpt *st, gr_error *err);
 
 /* Compare two resolved scene texts (gr_scene_write); GR_OK if they agree on every key that can
- * change results, else GR_EINVAL naming the first differing key and both values. */
+ * change results, else GR_EINVAL naming the first differing key and both values. A key that only
+ * one text has (a checkpoint of an older granule, which did not know it) is compared with its
+ * default; *defaulted (may be NULL) tells whether that happened. */
 int gr_scene_text_compare(const char *checkpoint_text, size_t len, const char *scene_text,
-                          gr_error *err);
+                          bool *defaulted, gr_error *err);
 
 #endif

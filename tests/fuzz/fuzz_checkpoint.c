@@ -61,7 +61,7 @@ static void restore(const gr_checkpoint *ck)
     gr_error err = {0};
     const gr_checkpoint_section *sec = gr_checkpoint_find(ck, "SCEN");
     if (sec) {
-        note("SCEN", gr_scene_text_compare(sec->data, sec->len, scene_text, &err), &err);
+        note("SCEN", gr_scene_text_compare(sec->data, sec->len, scene_text, NULL, &err), &err);
     }
     sec = gr_checkpoint_find(ck, "SIM ");
     if (sec) {
