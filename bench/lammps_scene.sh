@@ -6,8 +6,11 @@
 # that law. Same initial state and window in both engines, independent noise: T with block errors
 # and z, P(v) (KS distance, tail fractions with errors), the rotational temperature.
 #
-#   bench/lammps_scene.sh [BUILD_DIR] [--quick] [--install] [--cases a,b,...] [--json OUT]
-#                         [--warmup S] [--duration S]
+#   bench/lammps_scene.sh [BUILD_DIR] [--quick] [--install] [--dim 3] [--cases a,b,...] [--json OUT]
+#                         [--warmup S] [--duration S] [--set KEY=VALUE ...]
+#
+# --dim 3: the 3D scene docs/scenes/rfm-3d.ini (N = 2000 spheres, phi = 0.1; --set system.N=...
+# to change it) with the cases that have a 3D mapping (hooke, hertz-tsuji, hertz-visco, hooke-history).
 #
 # Defaults: 0.05 s of warm-up and 0.05 s of sampling (1e5 steps; a case takes a few minutes of
 # LAMMPS on one core). --quick: N = 300, 400 steps: the pipeline only (the test suite runs it).
@@ -21,11 +24,11 @@ while (($#)); do
     case $1 in
         --quick) pass+=(--quick) ;;
         --install) install=1 ;;
-        --cases | --json | --warmup | --duration)
+        --cases | --json | --warmup | --duration | --dim | --set)
             (($# >= 2)) || { echo "bench/lammps_scene.sh: $1 needs a value" >&2; exit 2; }
             pass+=("$1" "$2")
             shift ;;
-        -*) echo "usage: bench/lammps_scene.sh [BUILD_DIR] [--quick] [--install] [--cases a,b,...] [--json OUT] [--warmup S] [--duration S]" >&2
+        -*) echo "usage: bench/lammps_scene.sh [BUILD_DIR] [--quick] [--install] [--dim 3] [--cases a,b,...] [--json OUT] [--warmup S] [--duration S] [--set KEY=VALUE]" >&2
             exit 2 ;;
         *) build=$1 ;;
     esac

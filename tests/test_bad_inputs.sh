@@ -78,7 +78,6 @@ file:[system]\ndim = 3\nN = 100\npacking_fraction = 0.35\n[placement]\nkind = ra
 file:[system]\ndim = 3\nN = 9\npacking_fraction = 0.2\n | run $S --out $O | 2 | kind = cubic;3 sites per edge;0.1745 | new
 file:[system]\ndim = 3\nN = 33\npacking_fraction = 0.5\n[placement]\nkind = fcc\n | run $S --out $O | 2 | kind = fcc;3 cells per edge;0.2263 | new
 file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[placement]\nkind = cubic\n | run $S --out $O | 2 | :6:;[placement] kind;cubic is a 3D lattice;allowed in 2D: hexagonal | new
-file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n | export lammps $S --out $O | 2 | 3D deck;not written yet;allowed: a 2D scene | new
 base | run $S --out $O --set system.N=0 | 2 | N | new
 base | run $S --out $O --set system.N=abc | 2 | N | new
 base | run $S --out $O --set system.N=5.5 | 2 | N | new

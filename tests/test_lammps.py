@@ -3,7 +3,8 @@ Debian's LAMMPS, read its dump with `granule analyse --lammps-dump`, and require
 granule's own run of the same scene (same initial state, independent noise) within errors:
 T (2.19) and g(R) (4.10) from granule's observables with their block-averaging errors, P(v) (App.
 A.1) from granule's pv.csv in coarse bins with errors from block averaging over the frames. Then
-the Langevin bath: docs/scenes/langevin-gas.ini exported as fix langevin, both runs at T_bath.
+the Langevin bath: docs/scenes/langevin-gas.ini exported as fix langevin, both runs at T_bath. Then
+the 3D scene (docs/scenes/rfm-3d.ini, N = 300 spheres) exported as a 3D deck: T and the tail of P(v).
 
     test_lammps.py GRANULE_EXE SOURCE_DIR     exit 77 (skipped) without lmp
 """
@@ -136,6 +137,45 @@ with tempfile.TemporaryDirectory() as tmp:
             la["speed_stderr"]["m2"])
     compare("Langevin T (m^2/s^2), granule vs T_bath (1 - 1/N)", g["speed"]["m2"], g["speed_stderr"]["m2"], T_el, 0.0)
     compare("Langevin T (m^2/s^2), LAMMPS vs T_bath (1 - 1/N)", la["speed"]["m2"], la["speed_stderr"]["m2"], T_el, 0.0)
+
+# Three dimensions (docs/three-dimensions.md): docs/scenes/rfm-3d.ini at N = 300 spheres exported as a
+# 3D deck (dimension 3, noise in x, y and z) and run in LAMMPS from granule's initial state; the two
+# runs' T (2.19, three components) and the fraction of fast velocity components agree within errors.
+sets3 = {"system.N": 300, "run.warmup": 0.05, "run.duration": 0.15, "run.sample_every": 1e-3,
+         "output.snapshot_every": 1e-3, "output.plots": "false", "analysis.observables": "moments"}
+args3 = sum((["--set", f"{k}={v}"] for k, v in sets3.items()), [])
+scene3 = os.path.join(src, "docs", "scenes", "rfm-3d.ini")
+with tempfile.TemporaryDirectory() as tmp:
+    lmpdir, rundir = os.path.join(tmp, "lammps"), os.path.join(tmp, "granule")
+    subprocess.run([exe, "export", "lammps", scene3, "--out", lmpdir] + args3, check=True)
+    deck = open(os.path.join(lmpdir, "in.granule")).read()
+    if "dimension 3" not in deck or "v_fz" not in deck or "enforce2d" in deck:
+        failures.append("3D deck: dimension 3, a z noise component, no enforce2d")
+    r = subprocess.run(ranks + [lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
+    if r.returncode != 0:
+        print(open(os.path.join(lmpdir, "log.lammps")).read()[-2000:])
+        sys.exit("LAMMPS failed on the exported 3D deck")
+    subprocess.run([exe, "run", scene3, "--out", rundir] + args3, check=True)
+    t_warm = sets3["run.warmup"] * (1 + 1e-12)
+    fr_g = [f for f in granule.read_snapshots(rundir) if f["t"] > t_warm]
+    fr_l = [f for f in granule.read_lammps_dump(os.path.join(lmpdir, "dump.granule.lammpstrj"), 1e-6)
+            if f["t"] > t_warm]
+    print(f"3D: granule {len(fr_g)} frames, LAMMPS {len(fr_l)} frames")
+    if len(fr_g) != len(fr_l) or not fr_l or fr_l[0]["dim"] != 3:
+        failures.append("3D frame count or dimension")
+
+    def per_frame(frames):
+        """T = <|v - <v>|^2> over three components, and the fraction of components beyond 2 sqrt(T/3)."""
+        rows = []
+        for f in frames:
+            c = np.stack([f["vx"] - f["vx"].mean(), f["vy"] - f["vy"].mean(), f["vz"] - f["vz"].mean()])
+            T = float((c * c).sum(axis=0).mean())
+            rows.append([T, float(np.mean(np.abs(c) > 2 * np.sqrt(T / 3)))])
+        return rows
+
+    (mg, eg), (ml, el) = block_mean(per_frame(fr_g)), block_mean(per_frame(fr_l))
+    compare("3D T (m^2/s^2)", mg[0], eg[0], ml[0], el[0])
+    compare("3D P(|c| > 2 sqrt(T/3))", mg[1], eg[1], ml[1], el[1])
 
 print(f"{len(failures)} failed")
 sys.exit(1 if failures else 0)

@@ -163,8 +163,9 @@ def read_snapshots(path):
 
 
 def read_lammps_dump(path, dt=1.0):
-    """Frames of a LAMMPS text dump (dump custom ... id x y vx vy): dicts as read_snapshot gives,
-    atoms in id order, t = timestep * dt (the scene's integrator.dt)."""
+    """Frames of a LAMMPS text dump (dump custom ... id x y [z] vx vy [vz]): dicts as read_snapshot
+    gives (dim 3 with z and vz when the dump has them), atoms in id order, t = timestep * dt (the
+    scene's integrator.dt)."""
     frames = []
     with open(path) as f:
         while f.readline().startswith("ITEM: TIMESTEP"):
@@ -178,9 +179,11 @@ def read_lammps_dump(path, dt=1.0):
             a = a[np.argsort(a[:, cols.index("id")])]
             c = {name: a[:, k] for k, name in enumerate(cols)}
             L = hi[0] - lo[0]
-            frame = {"t": step * dt, "L": L, "dim": 2 if "y" in c else 1,
+            frame = {"t": step * dt, "L": L, "dim": 3 if "z" in c else 2 if "y" in c else 1,
                      "x": np.mod(c["x"] - lo[0], L), "vx": c["vx"],
                      "y": np.mod(c["y"] - lo[1], L) if "y" in c else None, "vy": c.get("vy")}
+            if "z" in c:
+                frame.update(z=np.mod(c["z"] - lo[2], L), vz=c.get("vz"))
             frames.append(frame)
     return frames
 

@@ -24,6 +24,8 @@
  *   gravity   fix gravity |g| vector gx/|g| gy/|g| 0. With walls no fix momentum is written (the
  *             walls and gravity change the total momentum): the noise is then not symmetrised.
  *   rotation  fix nve integrates no angular velocity, as granule ignores rotation.
+ *   3D        dimension 3, a periodic cube, a third noise component (fz), no enforce2d, the
+ *             momentum fix and T over three components (docs/three-dimensions.md).
  *   schedule  run warmup / dt steps, then dump every sample_every / dt steps for duration / dt.
  * The initial particles are those gr_sim_create places for the scene and its seed, so granule's
  * own run and the LAMMPS run start from the same state. */
@@ -42,14 +44,7 @@
 
 static int refuse_unmappable(const gr_scene *s, gr_error *err)
 {
-    if (s->dim == 3) {
-        return GR_FAIL(
-            err, GR_EINVAL,
-            "export lammps: %s: a 3D deck is not written yet (docs/three-dimensions.md); "
-            "allowed: a 2D scene",
-            s->source);
-    }
-    if (s->dim != 2) {
+    if (s->dim == 1) {
         return GR_FAIL(
             err, GR_EINVAL,
             "export lammps: %s: LAMMPS has no 1D systems (dimension is 2 or 3); export a 2D scene",
@@ -102,16 +97,19 @@ static int write_data(const char *dir, const gr_scene *s, const gr_particles *p,
     if (s->vibrate && s->amplitude >= s->radius) {
         lo[s->vibrate - 1] = -(s->amplitude + d);
     }
+    const bool three = p->dim == 3; /* a cube; 2D: a slab one diameter either side of z = 0 */
     fprintf(f.f,
             "%.17g %.17g xlo xhi\n%.17g %.17g ylo yhi\n%.17g %.17g zlo zhi\n\nAtoms # sphere\n\n",
-            lo[0], p->L, lo[1], p->L, -d, d);
+            lo[0], p->L, lo[1], p->L, three ? 0.0 : -d, three ? p->L : d);
     /* id type diameter density x y z; the mass is set in the deck */
     for (int i = 0; i < p->n; i++) {
-        fprintf(f.f, "%d 1 %.17g 1 %.17g %.17g 0\n", i + 1, d, p->x[i], p->y[i]);
+        fprintf(f.f, "%d 1 %.17g 1 %.17g %.17g %.17g\n", i + 1, d, p->x[i], p->y[i],
+                three ? p->z[i] : 0.0);
     }
     fprintf(f.f, "\nVelocities\n\n");
     for (int i = 0; i < p->n; i++) {
-        fprintf(f.f, "%d %.17g %.17g 0 0 0 0\n", i + 1, p->vx[i], p->vy[i]);
+        fprintf(f.f, "%d %.17g %.17g %.17g 0 0 0\n", i + 1, p->vx[i], p->vy[i],
+                three ? p->vz[i] : 0.0);
     }
     return gr_file_commit(&f, err);
 }
@@ -170,8 +168,9 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export
             GR_VERSION, GR_COMMIT, s->source);
     fprintf(o, "# run: mpirun -n RANKS lmp -in in.granule   (writes %s and log.lammps here)\n",
             e->dump);
-    fprintf(o, "units si\ndimension 2\nboundary %c %c p\natom_style sphere\ncomm_modify vel yes\n",
-            s->boundary[0] ? 'f' : 'p', s->boundary[1] ? 'f' : 'p');
+    const bool three = s->dim == 3;
+    fprintf(o, "units si\ndimension %d\nboundary %c %c p\natom_style sphere\ncomm_modify vel yes\n",
+            s->dim, s->boundary[0] ? 'f' : 'p', s->boundary[1] ? 'f' : 'p');
     fprintf(o, "read_data data.granule\nset type 1 mass %.17g\n", s->mass);
     fprintf(
         o,
@@ -186,7 +185,10 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export
         fprintf(o,
                 "variable fx atom normal(0.0,%.17g,%ld)\nvariable fy atom normal(0.0,%.17g,%ld)\n",
                 e->noise_sigma, seed, e->noise_sigma, seed + 1);
-        fprintf(o, "fix noise all addforce v_fx v_fy 0.0\n");
+        if (three) {
+            fprintf(o, "variable fz atom normal(0.0,%.17g,%ld)\n", e->noise_sigma, seed + 3);
+        }
+        fprintf(o, "fix noise all addforce v_fx v_fy %s\n", three ? "v_fz" : "0.0");
     }
     if (s->driving && s->driving->update == GR_DRIVE_BATH) {
         const double kB = 1.380649e-23; /* J/K, LAMMPS's boltz in units si */
@@ -200,22 +202,30 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export
     }
     write_walls(o, s, e, clamp);
     const bool walls = s->boundary[0] || s->boundary[1];
-    fprintf(o, "fix integrate all nve\nfix plane all enforce2d\n");
+    fprintf(o, "fix integrate all nve\n%s", three ? "" : "fix plane all enforce2d\n");
     if (walls) {
         /* walls and gravity change the total momentum: no fix momentum (see the head comment) */
     } else if (s->noise_mode == GR_NOISE_SYMMETRISED) {
-        fprintf(o, "fix com all momentum 1 linear 1 1 0\n");
+        fprintf(o, "fix com all momentum 1 linear 1 1 %d\n", three);
     } else if (s->noise_mode == GR_NOISE_COM) {
         long every = lround(s->com_interval / s->dt);
-        fprintf(o, "fix com all momentum %ld linear 1 1 0\n", every > 0 ? every : 1);
+        fprintf(o, "fix com all momentum %ld linear 1 1 %d\n", every > 0 ? every : 1, three);
     }
     /* granular temperature (2.19): (1/N) sum |v - <v>|^2 */
-    fprintf(o, "variable vsq atom vx*vx+vy*vy\ncompute vsum all reduce sum v_vsq vx vy\n");
-    fprintf(o, "variable T equal c_vsum[1]/atoms-(c_vsum[2]/atoms)^2-(c_vsum[3]/atoms)^2\n");
+    if (three) {
+        fprintf(
+            o, "variable vsq atom vx*vx+vy*vy+vz*vz\ncompute vsum all reduce sum v_vsq vx vy vz\n");
+        fprintf(o, "variable T equal "
+                   "c_vsum[1]/atoms-(c_vsum[2]/atoms)^2-(c_vsum[3]/atoms)^2-(c_vsum[4]/atoms)^2\n");
+    } else {
+        fprintf(o, "variable vsq atom vx*vx+vy*vy\ncompute vsum all reduce sum v_vsq vx vy\n");
+        fprintf(o, "variable T equal c_vsum[1]/atoms-(c_vsum[2]/atoms)^2-(c_vsum[3]/atoms)^2\n");
+    }
     fprintf(o, "timestep %.17g\nthermo %lld\nthermo_style custom step time v_T\n", s->dt,
             (long long)e->sample_steps);
     fprintf(o, "run %lld\n", (long long)e->warmup_steps);
-    fprintf(o, "dump traj all custom %lld %s id x y vx vy\n", (long long)e->sample_steps, e->dump);
+    fprintf(o, "dump traj all custom %lld %s id x y%s vx vy%s\n", (long long)e->sample_steps,
+            e->dump, three ? " z" : "", three ? " vz" : "");
     fprintf(o, "dump_modify traj sort id format float %%.17g\n");
     fprintf(o, "run %lld\n", (long long)e->run_steps);
     return gr_file_commit(&f, err);
