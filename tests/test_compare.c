@@ -279,7 +279,7 @@ END_TEST
  * the footnote marks are words in <key>_note), compare.meta.json gives every column's unit and
  * its notes one per line, and the footer says what "+-" is (issue 38). */
 /* The system's own rows (issue 36): a free-cooling gas's Haff time, a Langevin gas's T / T_bath and
- * a bed's profile, present only when the scene has them. */
+ * a bed's profile and its walls' work, present only when the scene has them. */
 START_TEST(test_system_rows)
 {
     write_summary(
@@ -296,7 +296,8 @@ START_TEST(test_system_rows)
         "\"mean_field\":{\"t0_fit\":9,\"t0_fit_stderr\":1,\"T_bath\":0.4},"
         "\"analysis\":{\"profile\":{\"mean_position\":0.05,\"mean_position_error\":0.001,"
         "\"max_packing_fraction\":0.3}},"
-        "\"ledger\":{\"injected\":0},\"scene\":{\"system\":{\"dim\":2,\"N\":10},"
+        "\"ledger\":{\"injected\":0,\"wall_work\":0.004,\"dissipated_normal\":0.003},"
+        "\"scene\":{\"system\":{\"dim\":2,\"N\":10},"
         "\"gravity\":{\"gy\":-9.81},\"integrator\":{\"kind\":\"verlet\"}}}");
     gr_compare_spec specs[1];
     gr_error err = {0};
@@ -306,8 +307,9 @@ START_TEST(test_system_rows)
     gr_compare_table *t = gr_compare_table_build(g_dir, "scene.ini", 2, specs, 1);
     ck_assert_str_eq(cell(t, "haff_t0", 0), "1.200 +- 0.030");
     ck_assert_str_eq(cell(t, "haff_t0_ratio", 0), "1.200 +- 0.030");
-    for (int i = 0; i < t->n_rows; i++) { /* no bath or profile rows for a free gas */
-        ck_assert(strcmp(t->row[i].key, "T_over_bath") && strcmp(t->row[i].key, "profile_height"));
+    for (int i = 0; i < t->n_rows; i++) { /* no bath, walls or profile rows for a free gas */
+        ck_assert(strcmp(t->row[i].key, "T_over_bath") && strcmp(t->row[i].key, "profile_height") &&
+                  strcmp(t->row[i].key, "wall_work"));
     }
     gr_compare_table_free(t);
     snprintf(specs[0].label, sizeof specs[0].label, "bed");
@@ -315,6 +317,9 @@ START_TEST(test_system_rows)
     ck_assert_str_eq(cell(t, "T_over_bath", 0), "0.500 +- 0.025");
     ck_assert_str_eq(cell(t, "profile_height", 0), "0.0500 +- 0.0010");
     ck_assert_str_eq(cell(t, "profile_max_phi", 0), "0.3");
+    /* a bed's energy comes from its walls: their work has a row and is the dissipation's base */
+    ck_assert_str_eq(cell(t, "wall_work", 0), "0.004");
+    ck_assert_str_eq(cell(t, "dissipated_normal", 0), "0.003 (75%)");
     for (int i = 0; i < t->n_rows; i++) { /* under gravity Haff's law is not the reference */
         ck_assert(strcmp(t->row[i].key, "haff_t0"));
     }

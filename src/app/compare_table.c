@@ -125,12 +125,20 @@ static void g1_cell(gr_compare_cell *c, const cJSON *s, int dim)
     }
 }
 
-/* Energy dissipated by one mechanism, with its share of the energy injected; the reason when the
+/* The energy put in: the driving's (noise, bath) and the moving walls' work (a vibrated bed's
+ * only source; ledger.wall_work is absent without walls). */
+static double energy_in(const cJSON *s)
+{
+    const double w = gr_summary_number(s, "ledger.wall_work");
+    return gr_summary_number(s, "ledger.injected") + (isfinite(w) ? w : 0.0);
+}
+
+/* Energy dissipated by one mechanism, with its share of the energy put in; the reason when the
  * model has no such mechanism or nothing collided. */
 static void dissipated_cell(gr_compare_cell *c, const cJSON *s, const char *path,
                             const char *absent)
 {
-    const double v = gr_summary_number(s, path), injected = gr_summary_number(s, "ledger.injected");
+    const double v = gr_summary_number(s, path), injected = energy_in(s);
     if (absent) {
         set_reason(c, "%s", absent);
     } else if (gr_summary_number(s, "collisions") == 0.0) {
@@ -241,7 +249,7 @@ static void fill_column(gr_compare_table *t, int k, const cJSON *s)
  * not with walls or gravity),
  * a Langevin gas's T over the bath's, a bed's centre-of-mass height and densest slab (the profile
  * observable). Which rows: from the first model that left a summary (all share the scene). */
-enum { SYS_HAFF = 1, SYS_BATH = 2, SYS_PROFILE = 4 };
+enum { SYS_HAFF = 1, SYS_BATH = 2, SYS_PROFILE = 4, SYS_WALLS = 8 };
 
 static int system_rows(gr_compare_table *t)
 {
@@ -255,12 +263,16 @@ static int system_rows(gr_compare_table *t)
     sys |= member(s, "mean_field.t0_fit") && open ? SYS_HAFF : 0;
     sys |= member(s, "mean_field.T_bath") ? SYS_BATH : 0;
     sys |= member(s, "analysis.profile") ? SYS_PROFILE : 0;
+    sys |= member(s, "ledger.wall_work") ? SYS_WALLS : 0;
     if (sys & SYS_HAFF) {
         add_row(t, "Haff time t0, fitted (s)", "haff_t0", "s");
         add_row(t, "t0 fitted / Enskog t0 (docs/validation.md)", "haff_t0_ratio", "1");
     }
     if (sys & SYS_BATH) {
         add_row(t, "T / T_bath (Langevin bath)", "T_over_bath", "1");
+    }
+    if (sys & SYS_WALLS) {
+        add_row(t, "work done by the walls (J)", "wall_work", "J");
     }
     if (sys & SYS_PROFILE) {
         add_row(t, "centre-of-mass position along the profile axis (m)", "profile_height", "m");
@@ -305,6 +317,9 @@ static void fill_system(gr_compare_table *t, int k, const cJSON *s, int sys)
             set_reason(cell_of(t, "T_over_bath", k), bath > 0.0 ? "no samples" : "n/a: T_bath = 0");
         }
     }
+    if (sys & SYS_WALLS) {
+        set_number(cell_of(t, "wall_work", k), gr_summary_number(s, "ledger.wall_work"), NAN, NULL);
+    }
     if (sys & SYS_PROFILE) {
         const cJSON *p = member(s, "analysis.profile");
         if (p && isfinite(gr_summary_number(p, "mean_position"))) {
@@ -340,7 +355,7 @@ gr_compare_table *gr_compare_table_build(const char *out, const char *scene_path
     add_row(t, "collisions", "collisions", "1");
     add_row(t, "collisions per particle per s (1/s)", "collision_rate", "s-1");
     add_row(t, "energy injected by noise (J)", "injected", "J");
-    add_row(t, "dissipated, normal (J, % of injected)", "dissipated_normal", "J");
+    add_row(t, "dissipated, normal (J, % of energy in)", "dissipated_normal", "J");
     add_row(t, "dissipated, tangential (J, %)", "dissipated_tangential", "J");
     add_row(t, "dissipated, friction (J, %)", "dissipated_friction", "J");
     add_row(t, "energy ledger residual (relative)", "ledger_residual", "1");
