@@ -130,6 +130,9 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     const bool with_R = any_number(s, n_points, status, "analysis.gaps.moments.0");
     /* a bed's numbers when some point has the profile observable (beds, walls, gravity) */
     const bool with_profile = any_number(s, n_points, status, "analysis.profile.mean_position");
+    /* a freely cooling gas's Haff time beside the Enskog one; event-driven runs' event rate */
+    const bool with_haff = any_number(s, n_points, status, "mean_field.t0_fit");
+    const bool with_events = any_number(s, n_points, status, "events_per_second");
     gr_file_note(&f, "granule sweep of %s: one row per point; moments <|v|^m> in (m/s)^m%s",
                  s->scene, with_R ? ", <R^m> in m^m" : "");
     gr_file_columns(&f, "point [1],seed [1]");
@@ -151,6 +154,12 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     }
     if (with_profile) {
         gr_file_columns(&f, "profile_height [m],profile_height_stderr [m],profile_max_phi [1]");
+    }
+    if (with_haff) {
+        gr_file_columns(&f, "haff_t0 [s],haff_t0_stderr [s],haff_t0_enskog [s]");
+    }
+    if (with_events) {
+        gr_file_columns(&f, "events_per_second [s-1]");
     }
     fputc('\n', f.f);
     int n_col = s->n_keys;
@@ -217,6 +226,14 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
             fprintf(f.f, ",%.8g,%.4g,%.6g", gr_summary_number(j, "analysis.profile.mean_position"),
                     gr_summary_number(j, "analysis.profile.mean_position_error"),
                     gr_summary_number(j, "analysis.profile.max_packing_fraction"));
+        }
+        if (with_haff) {
+            fprintf(f.f, ",%.8g,%.4g,%.8g", gr_summary_number(j, "mean_field.t0_fit"),
+                    gr_summary_number(j, "mean_field.t0_fit_stderr"),
+                    gr_summary_number(j, "mean_field.t0_haff"));
+        }
+        if (with_events) {
+            fprintf(f.f, ",%.4g", gr_summary_number(j, "events_per_second"));
         }
         fputc('\n', f.f);
         cJSON_Delete(j);
