@@ -133,6 +133,18 @@ lv = v.ledger()
 check(lv["wall_work"] > 0 and lv["injected"] == 0
       and abs(lv["residual"]) < 1e-3 * (lv["wall_work"] + lv["dissipated"]),
       f"vibrated floor: wall_work {lv['wall_work']:.4g} J, residual {lv['residual']:.3g} J")
+# the walls' impulses, only for the axis with walls: the grains' momentum changes by exactly the
+# floor's impulse minus the ceiling's minus the weight's (pair forces cancel; no noise), so over
+# 0.1 s of the bed (J(t1) - J(t0)) balances M sum vy; a periodic box has no walls
+J0, t0, P0 = v.wall_impulse(), v.t, v.mass * v.vy.sum()
+v.step(100000)
+J1, P1 = v.wall_impulse(), v.mass * v.vy.sum()
+floor, ceiling = J1["y_lo"] - J0["y_lo"], J1["y_hi"] - J0["y_hi"]
+weight = v.N * v.mass * 9.81 * (v.t - t0)
+check(sorted(J1) == ["y_hi", "y_lo"] and abs(floor - ceiling - weight - (P1 - P0)) < 1e-9 * floor
+      and floor > 0 and granule.Sim(granule.load_scene(scene_path)).wall_impulse() == {},
+      f"wall_impulse: floor {floor:.6g} N s - ceiling {ceiling:.3g} - weight {weight:.6g} = "
+      f"{floor - ceiling - weight:.6g}, the grains' momentum change {P1 - P0:.6g} N s (difference {floor - ceiling - weight - (P1 - P0):.2g})")
 
 # 7. a frame whose coordinate cannot be wrapped into the box (1e308 is finite) is refused with
 # granule's message instead of killing the interpreter in the gridding of sk or the cell list

@@ -192,7 +192,38 @@ static PyGetSetDef sim_getset[] = {
     GET("mass", G_MASS, "particle mass, kg"),
     {NULL}};
 
+/* The walls' normal impulses since creation (gr_sim_wall_impulse) as {"x_lo", "x_hi", "y_lo",
+ * "y_hi"}: N s, only the axes that have walls; {} in a periodic box. */
+static PyObject *sim_wall_impulse(pyg_sim *self, PyObject *unused)
+{
+    if (!ready(self)) {
+        return NULL;
+    }
+    double J[4];
+    gr_sim_wall_impulse(self->sim, J);
+    const gr_scene *sc = &((pyg_scene *)self->scene)->scene;
+    PyObject *d = PyDict_New();
+    static const char *const names[4] = {"x_lo", "x_hi", "y_lo", "y_hi"};
+    for (int k = 0; d && k < 4; k++) {
+        if (sc->boundary[k / 2]) {
+            PyObject *v = PyFloat_FromDouble(J[k]);
+            if (!v || PyDict_SetItemString(d, names[k], v)) {
+                Py_XDECREF(v);
+                Py_DECREF(d);
+                return NULL;
+            }
+            Py_DECREF(v);
+        }
+    }
+    return d;
+}
+
 static PyMethodDef sim_methods[] = {
+    {"wall_impulse", (PyCFunction)sim_wall_impulse, METH_NOARGS,
+     "wall_impulse(): the normal impulse each wall has taken from the grains since the start, N s, "
+     "as a dict {'y_lo': ..., 'y_hi': ...} of the axes with walls; the difference of two calls "
+     "over "
+     "the time between them is the wall's mean force (> 0: pushed outwards)"},
     {"step", (PyCFunction)sim_step, METH_VARARGS,
      "step(n=1): advance n time steps (the GIL is released)"},
     {"ledger", (PyCFunction)sim_ledger, METH_NOARGS, "the energy ledger, J, as a dict"},
