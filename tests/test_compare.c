@@ -296,7 +296,8 @@ START_TEST(test_system_rows)
         "\"mean_field\":{\"t0_fit\":9,\"t0_fit_stderr\":1,\"T_bath\":0.4},"
         "\"analysis\":{\"profile\":{\"mean_position\":0.05,\"mean_position_error\":0.001,"
         "\"max_packing_fraction\":0.3}},"
-        "\"ledger\":{\"injected\":0,\"wall_work\":0.004,\"dissipated_normal\":0.003},"
+        "\"ledger\":{\"injected\":0,\"wall_work\":0.004,\"dissipated_normal\":0.003,"
+        "\"dissipated_drag\":0.001},"
         "\"scene\":{\"system\":{\"dim\":2,\"N\":10},"
         "\"gravity\":{\"gy\":-9.81},\"integrator\":{\"kind\":\"verlet\"}}}");
     gr_compare_spec specs[1];
@@ -320,6 +321,7 @@ START_TEST(test_system_rows)
     /* a bed's energy comes from its walls: their work has a row and is the dissipation's base */
     ck_assert_str_eq(cell(t, "wall_work", 0), "0.004");
     ck_assert_str_eq(cell(t, "dissipated_normal", 0), "0.003 (75%)");
+    ck_assert_str_eq(cell(t, "dissipated_drag", 0), "0.001 (25%)"); /* a bath's drag */
     for (int i = 0; i < t->n_rows; i++) { /* under gravity Haff's law is not the reference */
         ck_assert(strcmp(t->row[i].key, "haff_t0"));
     }

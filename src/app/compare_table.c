@@ -270,6 +270,7 @@ static int system_rows(gr_compare_table *t)
     }
     if (sys & SYS_BATH) {
         add_row(t, "T / T_bath (Langevin bath)", "T_over_bath", "1");
+        add_row(t, "dissipated by the bath's drag (J, %)", "dissipated_drag", "J");
     }
     if (sys & SYS_WALLS) {
         add_row(t, "work done by the walls (J)", "wall_work", "J");
@@ -316,6 +317,7 @@ static void fill_system(gr_compare_table *t, int k, const cJSON *s, int sys)
         } else {
             set_reason(cell_of(t, "T_over_bath", k), bath > 0.0 ? "no samples" : "n/a: T_bath = 0");
         }
+        dissipated_cell(cell_of(t, "dissipated_drag", k), s, "ledger.dissipated_drag", NULL);
     }
     if (sys & SYS_WALLS) {
         set_number(cell_of(t, "wall_work", k), gr_summary_number(s, "ledger.wall_work"), NAN, NULL);
