@@ -287,6 +287,23 @@ fi
 # the page: one section per campaign, every thesis value of every row on it
 "$granule" reproduce --page --results-root "$tmp/results" --output "$tmp/reproduction.md" >/dev/null
 check test $? -eq 0
+# the coverage table beside the results (docs/thesis-coverage.md): copied onto the page with its
+# tally, and checked against every campaign's covers line; one that contradicts a campaign (an item
+# it claims marked "not", a row naming a campaign that does not claim it) refuses the page, named
+check test "$(grep -c '^## Coverage' "$tmp/reproduction.md")" -eq 0 # no coverage file: no section
+cp "$scripts/../docs/thesis-coverage.md" "$tmp/thesis-coverage.md"
+"$granule" reproduce --page --results-root "$tmp/results" --output "$tmp/covered.md" >/dev/null
+check test $? -eq 0
+check grep -q '^## Coverage of the thesis' "$tmp/covered.md"
+check grep -qE '^[0-9]+ covered, [0-9]+ partly, [0-9]+ not' "$tmp/covered.md"
+check grep -q '^| Table A.1 | not |' "$tmp/covered.md"
+sed -i 's/^| Fig. 2.7 | covered | ch2-rise |/| Fig. 2.7 | not | |/; s/^| Fig. 4.5 | not | |/| Fig. 4.5 | partly | ch4-packing |/' "$tmp/thesis-coverage.md"
+err=$("$granule" reproduce --page --results-root "$tmp/results" --output "$tmp/broken.md" 2>&1 >/dev/null)
+check test $? -ne 0
+check test ! -e "$tmp/broken.md"
+check grep -q 'ch2-rise claims Fig. 2.7, marked "not"' <<<"$err"
+check grep -q 'Fig. 4.5 names ch4-packing, whose covers line does not claim it' <<<"$err"
+rm "$tmp/thesis-coverage.md"
 check python3 - "$tmp/results" "$tmp/reproduction.md" $campaigns <<'PY'
 import json, os, sys
 root, page, names = sys.argv[1], open(sys.argv[2]).read(), sys.argv[3:]

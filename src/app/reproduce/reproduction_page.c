@@ -14,6 +14,7 @@
 #include "io/files.h"
 #include "io/summary_read.h"
 #include "app/reproduce/campaign_points.h"
+#include "app/reproduce/coverage.h"
 
 static const char *str(const cJSON *o, const char *name)
 {
@@ -404,6 +405,14 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
     const char *rb = strrchr(root, '/');
     snprintf(base, sizeof base, "%s",
              rb ? rb + 1 : root); /* the page sits beside the results folder */
+    char problems[2048];
+    const int uncovered = gr_reproduction_coverage(NULL, root, problems, sizeof problems);
+    if (uncovered) {
+        rc = GR_FAIL(err, GR_EINVAL,
+                     "%s/../thesis-coverage.md disagrees with the campaigns in %d place%s: %s",
+                     root, uncovered, uncovered > 1 ? "s" : "", problems);
+        goto done;
+    }
     gr_file f;
     rc = gr_file_open(&f, dir, file, err);
     if (rc) {
@@ -496,6 +505,7 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
             all.compared, all.off, all.off5, all.other, all.differ);
     disagreements(f.f, sets, ns);
     errata(f.f, root);
+    gr_reproduction_coverage(f.f, root, problems, sizeof problems);
     for (int i = 0; i < ns; i++) {
         const cJSON *s = sets[i];
         fprintf(f.f, "<a id=\"%s\"></a>\n## %s (%s)\n\n%s\n\n", str(s, "campaign"), str(s, "title"),
