@@ -241,10 +241,10 @@ START_TEST(test_plane_is_2d)
                               "%s: left the plane: v_z %g, w_x %g, w_y %g", l->name, out3.v[i][2],
                               out3.w[i][0], out3.w[i][1]);
             }
-            VERBOSE("%s, b = %g, spin %d: 3D vs 2D %.2e (v1 %g %g, w1 %g)\n", l->name, bys[b],
-                    spin, worst, out3.v[1][0], out3.v[1][1], out3.w[1][2]);
-            ck_assert_msg(worst < 1e-9, "%s, b = %g, spin %d: 3D differs from 2D by %.3e",
-                          l->name, bys[b], spin, worst);
+            VERBOSE("%s, b = %g, spin %d: 3D vs 2D %.2e (v1 %g %g, w1 %g)\n", l->name, bys[b], spin,
+                    worst, out3.v[1][0], out3.v[1][1], out3.w[1][2]);
+            ck_assert_msg(worst < 1e-9, "%s, b = %g, spin %d: 3D differs from 2D by %.3e", l->name,
+                          bys[b], spin, worst);
             /* the test can fail: the collision did something tangential */
             if (b > 0 || spin) {
                 ck_assert_msg(fabs(out3.w[1][2] - in3.w[1][2]) > 1e-3 * ws,

@@ -197,7 +197,13 @@ base | collide --model hard_sphere --reference | 2 | reference;hard_sphere | new
 base | collide --eps-n 2 | 2 | eps | new
 base | collide --model nosuch | 2 | nosuch;!collide: collide: | new
 base | collide --bogus | 2 | --bogus;!collide: collide: | new
-base | collide --dim 3 | 2 | dim | new
+base | collide --dim 4 | 2 | --dim;1 to 3 | new
+base | collide --dim 3 --model hard_sphere | 2 | --model hard_sphere;--dim 3;spring_dashpot, hertz | new
+base | collide --dim 3 --speed 1 --angle 30 --omega1 0,0,5 | 2 | --omega1/--omega2;rotation = true | new
+base | collide --dim 3 --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega1 150 | 2 | --omega1 150;WX,WY,WZ | new
+base | collide --dim 3 --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega2 0,0,nan | 2 | --omega2 0,0,nan;three finite numbers | new
+base | collide --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega1 1,2,3 | 2 | --omega1 1,2,3;needs --dim 3 | new
+base | collide --dim 3 --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega1 100,0,0 --reference | 2 | --omega1 100,0,0;out of the impact's plane;w1x = -w2x | new
 base | collide --steps-per-contact 5 | 2 | steps_per_contact;!collide: collide: | new
 base | collide --speed 0 | 2 | --speed;> 0;!collide: collide: | new
 base | collide --speed 1 --angle 90 | 2 | --angle;[0, 90) | new

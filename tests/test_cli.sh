@@ -247,6 +247,54 @@ sys.exit(0 if ok else 1)' "$out" 2>"$TMP/py"; then
 else
     fail "collide tangential_spring with rotation: eps_t, eps_n or spins wrong (exit $rc)" "$out" "$err $(cat "$TMP/py")"
 fi
+# collide --dim 3 (spheres; the impact in the plane z = 0): with spins along z each soft law gives
+# the 2D collision's numbers (same q), velocities and spins as 3-vectors; q defaults to 2/5
+for law in spring_dashpot+tangential_dashpot spring_dashpot+sliding_friction spring_dashpot+tangential_spring \
+    hertz+tangential_spring:mindlin; do
+    m=${law%%:*}
+    extra=()
+    [[ $law == *mindlin ]] && extra=(--set mindlin=true)
+    common=(--speed 0.5 --angle 30 --model "$m" --set rotation=true --mass 3.53e-5 --radius 1.5e-3
+        --steps-per-contact 200 --mu 0.3 "${extra[@]}")
+    run "$G" collide "${common[@]}" --set inertia_factor=0.4 --omega1 150 --omega2 -300
+    out2=$out
+    run "$G" collide "${common[@]}" --dim 3 --omega1 0,0,150 --omega2 0,0,-300 --reference
+    if [[ $rc -eq 0 ]] && python3 -c '
+import json, sys
+d3, d2 = json.loads(sys.argv[1]), json.loads(sys.argv[2])
+close = lambda a, b, s: abs(a - b) <= 1e-9 * s
+ok = d3["dim"] == 3 and d3["inertia_factor"] == 0.4 and len(d3["v1_after"]) == 3 and d3["v1_after"][2] == 0
+ok = ok and d3["omega1_before"] == [0, 0, 150] and len(d3["omega1"]) == 3 and d3["omega1"][:2] == [0, 0]
+ok = ok and all(close(d3[k], d2[k], 1) for k in ("energy_loss", "eps_n_measured", "eps_t_measured"))
+ok = ok and all(close(d3["v%d_after" % p][k], d2["v%d_after" % p][k], 0.5) for p in (1, 2) for k in (0, 1))
+ok = ok and all(close(d3["omega%d" % p][2], d2["omega%d" % p], 300) for p in (1, 2))
+# the CVODE reference for the same contact, to first order in dt / t_c
+ok = ok and abs(d3["energy_loss"] - d3["reference_energy_loss"]) <= 2e-3 and len(d3["reference_omega1"]) == 3
+sys.exit(0 if ok else 1)' "$out" "$out2" 2>"$TMP/py"; then
+        pass "collide --dim 3 $law in the plane: the 2D numbers, 3-vectors, q = 2/5, the CVODE reference"
+    else
+        fail "collide --dim 3 $law in the plane differs from 2D (exit $rc)" "$out" "$err $(cat "$TMP/py")"
+    fi
+done
+# spins about other axes: out of the plane (v_z != 0), momentum conserved, the contact's torques
+# change both spins equally (no rolling law), no restitution law for spinning spheres
+run "$G" collide --dim 3 --speed 0.5 --angle 30 --model spring_dashpot+sliding_friction --set rotation=true \
+    --mass 3.53e-5 --radius 1.5e-3 --steps-per-contact 200 --omega1 400,100,150 --omega2 -100,0,-300
+if [[ $rc -eq 0 ]] && python3 -c '
+import json, math, sys
+d = json.loads(sys.argv[1])
+v1, v2, w1, w2 = d["v1_after"], d["v2_after"], d["omega1"], d["omega2"]
+p = (0.5 * math.cos(math.radians(30)), 0.5 * math.sin(math.radians(30)), 0.0)
+ok = all(abs(v1[k] + v2[k] - p[k]) <= 1e-12 for k in range(3)) and abs(v1[2]) > 1e-4
+dw1 = [w1[k] - b for k, b in enumerate((400, 100, 150))]
+dw2 = [w2[k] - b for k, b in enumerate((-100, 0, -300))]
+ok = ok and all(abs(dw1[k] - dw2[k]) <= 1e-9 * 400 for k in range(3)) and abs(dw1[0]) + abs(dw1[1]) > 1
+ok = ok and d["expected_loss"] is None and 0 < d["energy_loss"] < 1 and d["momentum_error"] < 1e-13
+sys.exit(0 if ok else 1)' "$out" 2>"$TMP/py"; then
+    pass "collide --dim 3 --omega1 400,100,150: out of the plane, momentum conserved, equal spin changes"
+else
+    fail "collide --dim 3 with spins about x and y: JSON wrong (exit $rc)" "$out" "$err $(cat "$TMP/py")"
+fi
 run "$G" collide --case 9
 if [[ $rc -eq 2 ]]; then pass "collide --case 9 exits 2"; else fail "collide --case 9 exits $rc, expected 2" "$err"; fi
 # CVODE tolerance: the reference error follows --rtol (exact loss 1 - 0.1^2 = 0.99 head-on)

@@ -508,6 +508,44 @@ int gr_sim_new_with_state(const gr_sim_params *p, int n, const double *x, const 
     return GR_OK;
 }
 
+int gr_sim_new_with_state_3d(const gr_sim_params *p, int n, const double *const r[3],
+                             const double *const v[3], gr_sim **out, gr_error *err)
+{
+    *out = NULL;
+    if (p->dim != 3) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: a state given as x, y, z arrays is 3D (given dim = %d; allowed here: "
+                       "dim = 3)",
+                       p->source, p->dim);
+    }
+    gr_sim *s;
+    int rc = alloc_state(p, n, &s, err);
+    if (rc) {
+        return rc;
+    }
+    s->params.N = n;
+    double *sr[3] = {s->x, s->y, s->z}, *sv[3] = {s->vx, s->vy, s->vz};
+    for (int i = 0; i < n; i++) {
+        for (int a = 0; a < 3; a++) {
+            if (!isfinite(r[a][i]) || !isfinite(v[a][i])) {
+                gr_sim_free(s);
+                return GR_FAIL(err, GR_EINVAL,
+                               "initial state: particle %d has a non-finite position or velocity",
+                               i);
+            }
+            sr[a][i] = r[a][i] - s->L * floor(r[a][i] / s->L);
+            sv[a][i] = v[a][i];
+        }
+    }
+    rc = finish(s, err);
+    if (rc) {
+        gr_sim_free(s);
+        return rc;
+    }
+    *out = s;
+    return GR_OK;
+}
+
 /* Canonical order (gr_sim_new_canonical): 1D by x; 2D by cell of a grid of side >= d in
  * row-major order, then x, then y, on the wrapped positions. Distinct positions (every accepted
  * state has them) get a unique order, and neighbours in space are near in the order. */
