@@ -605,6 +605,50 @@ START_TEST(test_restart_spins)
 }
 END_TEST
 
+/* eps_n = 1 without friction (eps_t = 1: the dashpot does nothing, the normal law's instance
+ * runs): spinning spheres keep their spins exactly and the energy is conserved as in test_3d.c;
+ * and the instance with every law read at run time gives the normal-only instance's bits. */
+START_TEST(test_elastic_without_friction)
+{
+    gr_scene *sc = malloc(sizeof *sc);
+    const char *set[] = {"model.tangential=tangential_dashpot",
+                         "model.eps_t=1",
+                         "model.eps_n=1",
+                         "noise.D=0",
+                         "placement.v0=2",
+                         "system.packing_fraction=0.3",
+                         "integrator.steps_per_contact=50"};
+    load(sc, gas, set, 7);
+    sc->dt = 0.0;
+    gr_sim *s = create(sc), *g = create(sc);
+    ck_assert_msg(strstr(gr_sim_kernel(s), "+rotation") == NULL, "%s", gr_sim_kernel(s));
+    ck_assert_int_eq(gr_kernel_force_generic(g), GR_OK);
+    ck_assert(g->kernel.run != s->kernel.run);
+    const size_t bytes = sizeof(double) * (size_t)s->n;
+    double *w0 = malloc(3 * bytes);
+    memcpy(w0, s->wx, bytes);
+    memcpy(w0 + s->n, s->wy, bytes);
+    memcpy(w0 + 2 * s->n, s->omega, bytes);
+    gr_ledger l0 = gr_sim_ledger(s);
+    const double e0 = l0.kinetic + l0.elastic;
+    step(s, 3000);
+    step(g, 3000);
+    const gr_ledger l = gr_sim_ledger(s);
+    const double err = fabs(l.kinetic + l.elastic - e0) / e0;
+    VERBOSE("elastic spheres with spins: energy error %.2e, %lld collisions\n", err,
+            (long long)s->collisions);
+    ck_assert_msg(s->collisions > 100, "%lld collisions", (long long)s->collisions);
+    ck_assert_msg(err < 1e-3, "energy error %.3e", err);
+    ck_assert(memcmp(w0, s->wx, bytes) == 0 && memcmp(w0 + s->n, s->wy, bytes) == 0 &&
+              memcmp(w0 + 2 * s->n, s->omega, bytes) == 0);
+    assert_same_state(s, g);
+    free(w0);
+    gr_sim_free(s);
+    gr_sim_free(g);
+    free(sc);
+}
+END_TEST
+
 /* ---- defaults and initial spins --------------------------------------------------------------- */
 
 START_TEST(test_defaults_follow_dim)
@@ -655,6 +699,7 @@ static Suite *contacts_suite(void)
     tcase_add_loop_test(tc, test_ledger_closes, 0, 3);
     tcase_add_test(tc, test_history_rebuild_restart_threads);
     tcase_add_test(tc, test_restart_spins);
+    tcase_add_test(tc, test_elastic_without_friction);
     tcase_add_test(tc, test_defaults_follow_dim);
     suite_add_tcase(s, tc);
     return s;

@@ -89,7 +89,8 @@ static const scene_key keys[] = {
      "initial velocities v0 * U(-0.5, 0.5) per component (sec. 2.2.2), mean removed", OFF(v0)},
     {"placement", "omega0", "rad/s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL,
      "[model] rotation = true only: initial angular velocities omega0 * U(-0.5, 0.5) per disc "
-     "(rotational temperature I omega0^2 / 12 M); 0 = not spinning",
+     "(rotational temperature I omega0^2 / 12 M); 3D: per component of each sphere's angular "
+     "velocity vector (I <|w|^2> / M = 3 I omega0^2 / 12 M); 0 = not spinning",
      OFF(omega0)},
     {"model", "normal", "", K_NORMAL, "spring_dashpot", 0, 0, false, false, NULL,
      "normal collision model (granule models lists them)", OFF(normal)},
