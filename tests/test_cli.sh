@@ -505,6 +505,31 @@ then
 else
     fail "3D run (exit $rc) or its outputs" "$err"
 fi
+# 3D with friction, rotation and rolling: the scene takes the keys, the kernel names them, the
+# ledger closes with the spins' energy, temperature.csv has T_rot (3 rotational degrees of freedom)
+run "$G" run "$scene3d" --out "$TMP/run3d-rot" --set system.N=343 --set system.packing_fraction=0.3 --set run.warmup=0 \
+    --set run.duration=0.01 --set output.plots=false --set model.tangential=tangential_spring --set model.mu=0.5 \
+    --set model.rotation=true --set model.rolling=rolling_friction --set placement.omega0=300
+if [[ $rc -eq 0 ]] && /usr/bin/python3 - "$TMP/run3d-rot" <<'PY'
+import csv, json, sys
+d = sys.argv[1]
+s = json.load(open(f"{d}/summary.json"))
+ok = s["kernel"].startswith("3d-verlet-list/spring_dashpot+tangential_spring+rotation+rolling_friction/")
+ok = ok and s["scene"]["model"]["inertia_factor"] == 0.4 and abs(s["ledger"]["relative_residual"]) < 5e-3
+rows = list(csv.DictReader(open(f"{d}/temperature.csv")))
+led = list(csv.DictReader(open(f"{d}/ledger.csv")))
+# omega0 = 300 per component: T_rot(0) = I <|w|^2> / M = 0.4 r^2 3 omega0^2 / 12, within sampling
+r = s["scene"]["system"]["radius"]
+want = 0.4 * r * r * 3 * 300.0**2 / 12
+ok = ok and abs(float(rows[0]["T_rot"]) / want - 1) < 0.15 and float(led[-1]["rotational"]) > 0
+ok = ok and float(led[-1]["dissipated_friction"]) > 0
+sys.exit(0 if ok else 1)
+PY
+then
+    pass "3D run with tangential_spring, rotation and rolling: kernel, q = 2/5, T_rot, ledger closes"
+else
+    fail "3D run with friction and rotation (exit $rc) or its outputs" "$err"
+fi
 run "$G" compare "$scene3d" --models spring_dashpot,hertz --out "$TMP/cmp3d" --set system.N=64 --set run.warmup=0 \
     --set run.duration=0.005 --set output.plots=false
 if [[ $rc -eq 0 ]] && grep -q "G_1 tail exponent n_N (3.22) | n/a: 3D | n/a: 3D" "$TMP/cmp3d/compare.md" &&
