@@ -88,6 +88,26 @@ typedef struct gr_tangential_force {
 
 enum { GR_BOOK_TANGENTIAL = 1, GR_BOOK_FRICTION = 2 };
 
+/* 3D (spheres, src/core/kernels_3d.c). A law without history acts along the contact point's
+ * tangential velocity: the kernel calls it as above with g_t = |g_c| (g_c the tangential relative
+ * velocity vector at the contact point) and applies f along g_c / |g_c| (nothing when g_c = 0),
+ * so tangential_dashpot and sliding_friction run the same code as in 2D. A history law keeps a
+ * vector s and has a vector step, gr_tangential3_NAME(const gr_contact_coeffs *c,
+ * gr_tangential_in3 in), listed in GR_HISTORY_MODELS: the kernel passes s already turned into
+ * the current tangent plane (its length kept), the law updates it in place. It returns the force
+ * on j (f, a vector in the tangent plane), its conservative part fc, and p, e, lost as above. */
+typedef struct gr_tangential_in3 {
+    double g[3]; /* g_c, the contact point's tangential relative velocity (j relative to i) */
+    double f_n, xi, g_n;
+    int acts;
+    double *hist; /* s, three doubles */
+} gr_tangential_in3;
+
+typedef struct gr_tangential_force3 {
+    double f[3], fc[3];
+    double p, e, lost;
+} gr_tangential_force3;
+
 /* What a rolling law sees at one contact (rotation kernels only; models/rolling_friction.h).
  *   dw     w_i - w_j, the relative spin (the rolling velocity is r_eff dw);
  *   f_n    the normal force after the clamp;  acts  as for a tangential law;
@@ -142,7 +162,8 @@ typedef struct gr_event_pair {
      offsetof(gr_contact_params, rotation)},                                                       \
     {                                                                                              \
         "inertia_factor", "", GR_PARAM_DOUBLE, 0.5, 0.0, 1.0, true, false,                         \
-            "rotation: moment of inertia I = q M r^2, q in (0, 1]; 1/2 uniform disc, 1 thin ring", \
+            "rotation: moment of inertia I = q M r^2, q in (0, 1]; 1/2 uniform disc (the 2D "      \
+            "default), 2/5 solid sphere (the 3D default), 1 thin ring",                            \
             offsetof(gr_contact_params, inertia_factor)                                            \
     }
 

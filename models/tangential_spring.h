@@ -47,6 +47,19 @@ typedef struct tangential_spring_own {
  * Mindlin: KT = 0) */
 enum { GR_SPRING_KT = 0, GR_SPRING_GAMMA = 1, GR_SPRING_DT = 2, GR_SPRING_KM = 3 };
 
+/* k_t now (*k) and at the previous step (*k_old): constant, or Mindlin's k_t ~ sqrt(xi), where the
+ * previous overlap is xi + g_n dt (the kernel's g_n is the velocity that drifted the step). */
+GR_LAW void gr_spring_stiffness(const gr_contact_coeffs *c, const double xi, const double g_n,
+                                double *k, double *k_old)
+{
+    const double km = c->law_t[GR_SPRING_KM];
+    *k = *k_old = c->law_t[GR_SPRING_KT];
+    if (km != 0.0) {
+        *k = km * sqrt(fmax(xi, 0.0));
+        *k_old = km * sqrt(fmax(xi + g_n * c->law_t[GR_SPRING_DT], 0.0));
+    }
+}
+
 /* The step of the law: in.hist[0] holds s on entry and the updated s on return (the kernel passes
  * a copy and commits it once per pair and step). */
 enum { GR_BOOK_tangential_spring = GR_BOOK_FRICTION };
@@ -55,15 +68,9 @@ GR_LAW gr_tangential_force gr_tangential_tangential_spring(const gr_contact_coef
 {
     gr_tangential_force o = {.f = 0.0, .p = 0.0, .e = 0.0};
     const double s_old = in.hist[0];
-    const double gamma = c->law_t[GR_SPRING_GAMMA], dt = c->law_t[GR_SPRING_DT],
-                 km = c->law_t[GR_SPRING_KM];
-    /* k_t now and at the previous step (Mindlin: k_t ~ sqrt(xi), the previous overlap is
-     * xi + g_n dt: the kernel's g_n is the velocity that drifted the step) */
-    double k = c->law_t[GR_SPRING_KT], k_old = k;
-    if (km != 0.0) {
-        k = km * sqrt(fmax(in.xi, 0.0));
-        k_old = km * sqrt(fmax(in.xi + in.g_n * dt, 0.0));
-    }
+    const double gamma = c->law_t[GR_SPRING_GAMMA], dt = c->law_t[GR_SPRING_DT];
+    double k, k_old;
+    gr_spring_stiffness(c, in.xi, in.g_n, &k, &k_old);
     if (!in.acts) {
         in.hist[0] = 0.0; /* the contact broke (or the clamp holds F_n at 0): forget it */
         /* the stored energy is lost with it, and the work the last force did over the step
@@ -103,6 +110,69 @@ GR_LAW gr_tangential_force gr_tangential_tangential_spring(const gr_contact_coef
      * with Mindlin also -(k - k_old) s_old s / 2, the energy k_t's change adds without work */
     if (s != s_old + in.g_t * dt || k != k_old) {
         o.lost = 0.5 * (k_old * s_old + k * s) * in.g_t * dt - (o.e - 0.5 * k_old * s_old * s_old);
+    }
+    return o;
+}
+
+/* The same step with s a 3-vector (3D, models/law.h: gr_tangential_in3; the kernel has turned s
+ * into the current tangent plane and rescaled it to its length, as LAMMPS's pair granular does):
+ *   s <- s + g_c dt;   F_t = -k_t s - gamma_t g_c;
+ *   if |F_t| > mu |F_n|:  F_t <- mu |F_n| F_t / |F_t|,  s <- -(F_t + gamma_t g_c) / k_t,
+ * the Coulomb limit on the vector's length; the energy terms as above with products turned into
+ * dot products. A contact in a plane (s, g_c along one tangent) gives the scalar step's numbers. */
+static inline double gr_spring_dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+GR_LAW gr_tangential_force3 gr_tangential3_tangential_spring(const gr_contact_coeffs *c,
+                                                             const gr_tangential_in3 in)
+{
+    gr_tangential_force3 o = {.p = 0.0};
+    double *h = in.hist;
+    const double s_old[3] = {h[0], h[1], h[2]};
+    const double gamma = c->law_t[GR_SPRING_GAMMA], dt = c->law_t[GR_SPRING_DT];
+    double k, k_old;
+    gr_spring_stiffness(c, in.xi, in.g_n, &k, &k_old);
+    const double ss_old = gr_spring_dot3(s_old, s_old), e_old = 0.5 * k_old * ss_old;
+    if (!in.acts) {
+        h[0] = h[1] = h[2] = 0.0;
+        o.lost = 0.5 * k_old * (ss_old + gr_spring_dot3(s_old, in.g) * dt);
+        o.p = o.lost / dt;
+        return o;
+    }
+    const double dt_s = ss_old == 0.0 ? 0.5 * dt : dt; /* as the scalar step: the touch's half */
+    double s[3], f[3];
+    for (int a = 0; a < 3; a++) {
+        s[a] = s_old[a] + in.g[a] * dt_s;
+        f[a] = -k * s[a] - gamma * in.g[a];
+    }
+    const double f_max = c->mu * fabs(in.f_n), f2 = gr_spring_dot3(f, f);
+    if (f2 > f_max * f_max) {
+        const bool spring = (s[0] != 0.0 || s[1] != 0.0 || s[2] != 0.0) && k > 0.0;
+        const double scale = spring ? f_max / sqrt(f2) : 0.0;
+        for (int a = 0; a < 3; a++) {
+            f[a] *= scale; /* no spring yet: no force, as LAMMPS */
+            if (spring) {
+                s[a] = -(f[a] + gamma * in.g[a]) / k; /* slip: the spring shortened to the limit */
+            }
+        }
+    }
+    bool moved = k != k_old;
+    for (int a = 0; a < 3; a++) {
+        moved = moved || s[a] != s_old[a] + in.g[a] * dt;
+        h[a] = s[a];
+        o.f[a] = f[a];
+        o.fc[a] = -k * s[a];
+    }
+    o.e = 0.5 * k * gr_spring_dot3(s, s);
+    o.p = -gr_spring_dot3(f, in.g) - (o.e - e_old) / dt;
+    if (moved) {
+        double w = 0.0; /* (k_old s_old + k s) . g_c */
+        for (int a = 0; a < 3; a++) {
+            w += (k_old * s_old[a] + k * s[a]) * in.g[a];
+        }
+        o.lost = 0.5 * w * dt - (o.e - e_old);
     }
     return o;
 }

@@ -58,6 +58,10 @@ static inline void assert_same_state(const gr_sim *a, const gr_sim *b)
     if (a->omega) {
         ck_assert(memcmp(a->omega, b->omega, sizeof(double) * (size_t)a->n) == 0);
     }
+    if (a->wx) { /* 3D: the other components of the spins */
+        ck_assert(memcmp(a->wx, b->wx, sizeof(double) * (size_t)a->n) == 0);
+        ck_assert(memcmp(a->wy, b->wy, sizeof(double) * (size_t)a->n) == 0);
+    }
     /* walls: the moving wall's work and the impulse each wall took */
     ck_assert(memcmp(&a->wall_work, &b->wall_work, sizeof a->wall_work) == 0);
     ck_assert(memcmp(a->wall_impulse, b->wall_impulse, sizeof a->wall_impulse) == 0);

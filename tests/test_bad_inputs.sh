@@ -58,9 +58,8 @@ cases=$(cat <<'TABLE'
 base | run $S --out $O --set model.eps_n=1.5 | 2 | eps_n;[0, 1] | new
 base | run $S --out $O --set model.eps_n=-0.1 | 2 | eps_n;[0, 1] | new
 base | run $S --out $O --set system.dim=4 | 2 | dim;[1, 3] | new
-file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\ntangential = tangential_dashpot\n | run $S --out $O | 2 | :6:;[model] tangential;dim = 3;allowed in 3D: none | new
-file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrotation = true\n | run $S --out $O | 2 | :6:;[model] rotation;dim = 3;allowed in 3D: false | new
-file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrotation = true\ntangential = tangential_dashpot\nrolling = rolling_friction\n | run $S --out $O | 2 | :7:;[model] tangential;dim = 3 | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrolling = rolling_friction\ntangential = sliding_friction\n | run $S --out $O | 2 | :6:;[model] rolling;needs dim = 2 or 3, [model] rotation = true;given dim = 3, rotation = false | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrotation = true\ninertia_factor = 1.5\ntangential = tangential_dashpot\n | run $S --out $O | 2 | :7:;inertia_factor;(0, 1] | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[integrator]\nkind = hybrid\n | run $S --out $O | 2 | :6:;[integrator] kind;kind = hybrid;does not step spheres;allowed with dim = 3: verlet | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n | run $S --out $O | 2 | :8:;[integrator] kind;kind = event;allowed with dim = 3: verlet | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[boundary]\nx = walls\n | run $S --out $O | 2 | :6:;[boundary] x;dim = 3;allowed in 3D: periodic | new
@@ -197,7 +196,13 @@ base | collide --model hard_sphere --reference | 2 | reference;hard_sphere | new
 base | collide --eps-n 2 | 2 | eps | new
 base | collide --model nosuch | 2 | nosuch;!collide: collide: | new
 base | collide --bogus | 2 | --bogus;!collide: collide: | new
-base | collide --dim 3 | 2 | dim | new
+base | collide --dim 4 | 2 | --dim;1 to 3 | new
+base | collide --dim 3 --model hard_sphere | 2 | --model hard_sphere;--dim 3;spring_dashpot, hertz | new
+base | collide --dim 3 --speed 1 --angle 30 --omega1 0,0,5 | 2 | --omega1/--omega2;rotation = true | new
+base | collide --dim 3 --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega1 150 | 2 | --omega1 150;WX,WY,WZ | new
+base | collide --dim 3 --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega2 0,0,nan | 2 | --omega2 0,0,nan;three finite numbers | new
+base | collide --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega1 1,2,3 | 2 | --omega1 1,2,3;needs --dim 3 | new
+base | collide --dim 3 --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega1 100,0,0 --reference | 2 | --omega1 100,0,0;out of the impact's plane;w1x = -w2x | new
 base | collide --steps-per-contact 5 | 2 | steps_per_contact;!collide: collide: | new
 base | collide --speed 0 | 2 | --speed;> 0;!collide: collide: | new
 base | collide --speed 1 --angle 90 | 2 | --angle;[0, 90) | new

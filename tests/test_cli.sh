@@ -247,6 +247,54 @@ sys.exit(0 if ok else 1)' "$out" 2>"$TMP/py"; then
 else
     fail "collide tangential_spring with rotation: eps_t, eps_n or spins wrong (exit $rc)" "$out" "$err $(cat "$TMP/py")"
 fi
+# collide --dim 3 (spheres; the impact in the plane z = 0): with spins along z each soft law gives
+# the 2D collision's numbers (same q), velocities and spins as 3-vectors; q defaults to 2/5
+for law in spring_dashpot+tangential_dashpot spring_dashpot+sliding_friction spring_dashpot+tangential_spring \
+    hertz+tangential_spring:mindlin; do
+    m=${law%%:*}
+    extra=()
+    [[ $law == *mindlin ]] && extra=(--set mindlin=true)
+    common=(--speed 0.5 --angle 30 --model "$m" --set rotation=true --mass 3.53e-5 --radius 1.5e-3
+        --steps-per-contact 200 --mu 0.3 "${extra[@]}")
+    run "$G" collide "${common[@]}" --set inertia_factor=0.4 --omega1 150 --omega2 -300
+    out2=$out
+    run "$G" collide "${common[@]}" --dim 3 --omega1 0,0,150 --omega2 0,0,-300 --reference
+    if [[ $rc -eq 0 ]] && python3 -c '
+import json, sys
+d3, d2 = json.loads(sys.argv[1]), json.loads(sys.argv[2])
+close = lambda a, b, s: abs(a - b) <= 1e-9 * s
+ok = d3["dim"] == 3 and d3["inertia_factor"] == 0.4 and len(d3["v1_after"]) == 3 and d3["v1_after"][2] == 0
+ok = ok and d3["omega1_before"] == [0, 0, 150] and len(d3["omega1"]) == 3 and d3["omega1"][:2] == [0, 0]
+ok = ok and all(close(d3[k], d2[k], 1) for k in ("energy_loss", "eps_n_measured", "eps_t_measured"))
+ok = ok and all(close(d3["v%d_after" % p][k], d2["v%d_after" % p][k], 0.5) for p in (1, 2) for k in (0, 1))
+ok = ok and all(close(d3["omega%d" % p][2], d2["omega%d" % p], 300) for p in (1, 2))
+# the CVODE reference for the same contact, to first order in dt / t_c
+ok = ok and abs(d3["energy_loss"] - d3["reference_energy_loss"]) <= 2e-3 and len(d3["reference_omega1"]) == 3
+sys.exit(0 if ok else 1)' "$out" "$out2" 2>"$TMP/py"; then
+        pass "collide --dim 3 $law in the plane: the 2D numbers, 3-vectors, q = 2/5, the CVODE reference"
+    else
+        fail "collide --dim 3 $law in the plane differs from 2D (exit $rc)" "$out" "$err $(cat "$TMP/py")"
+    fi
+done
+# spins about other axes: out of the plane (v_z != 0), momentum conserved, the contact's torques
+# change both spins equally (no rolling law), no restitution law for spinning spheres
+run "$G" collide --dim 3 --speed 0.5 --angle 30 --model spring_dashpot+sliding_friction --set rotation=true \
+    --mass 3.53e-5 --radius 1.5e-3 --steps-per-contact 200 --omega1 400,100,150 --omega2 -100,0,-300
+if [[ $rc -eq 0 ]] && python3 -c '
+import json, math, sys
+d = json.loads(sys.argv[1])
+v1, v2, w1, w2 = d["v1_after"], d["v2_after"], d["omega1"], d["omega2"]
+p = (0.5 * math.cos(math.radians(30)), 0.5 * math.sin(math.radians(30)), 0.0)
+ok = all(abs(v1[k] + v2[k] - p[k]) <= 1e-12 for k in range(3)) and abs(v1[2]) > 1e-4
+dw1 = [w1[k] - b for k, b in enumerate((400, 100, 150))]
+dw2 = [w2[k] - b for k, b in enumerate((-100, 0, -300))]
+ok = ok and all(abs(dw1[k] - dw2[k]) <= 1e-9 * 400 for k in range(3)) and abs(dw1[0]) + abs(dw1[1]) > 1
+ok = ok and d["expected_loss"] is None and 0 < d["energy_loss"] < 1 and d["momentum_error"] < 1e-13
+sys.exit(0 if ok else 1)' "$out" 2>"$TMP/py"; then
+    pass "collide --dim 3 --omega1 400,100,150: out of the plane, momentum conserved, equal spin changes"
+else
+    fail "collide --dim 3 with spins about x and y: JSON wrong (exit $rc)" "$out" "$err $(cat "$TMP/py")"
+fi
 run "$G" collide --case 9
 if [[ $rc -eq 2 ]]; then pass "collide --case 9 exits 2"; else fail "collide --case 9 exits $rc, expected 2" "$err"; fi
 # CVODE tolerance: the reference error follows --rtol (exact loss 1 - 0.1^2 = 0.99 head-on)
@@ -456,6 +504,31 @@ then
     pass "granule run docs/scenes/rfm-3d.ini: temperature.csv, ledger.csv, summary.json (dim 3), XYZ with z and pbc T T T, moments (<|v|^2> = T, a component's a third)"
 else
     fail "3D run (exit $rc) or its outputs" "$err"
+fi
+# 3D with friction, rotation and rolling: the scene takes the keys, the kernel names them, the
+# ledger closes with the spins' energy, temperature.csv has T_rot (3 rotational degrees of freedom)
+run "$G" run "$scene3d" --out "$TMP/run3d-rot" --set system.N=343 --set system.packing_fraction=0.3 --set run.warmup=0 \
+    --set run.duration=0.01 --set output.plots=false --set model.tangential=tangential_spring --set model.mu=0.5 \
+    --set model.rotation=true --set model.rolling=rolling_friction --set placement.omega0=300
+if [[ $rc -eq 0 ]] && /usr/bin/python3 - "$TMP/run3d-rot" <<'PY'
+import csv, json, sys
+d = sys.argv[1]
+s = json.load(open(f"{d}/summary.json"))
+ok = s["kernel"].startswith("3d-verlet-list/spring_dashpot+tangential_spring+rotation+rolling_friction/")
+ok = ok and s["scene"]["model"]["inertia_factor"] == 0.4 and abs(s["ledger"]["relative_residual"]) < 5e-3
+rows = list(csv.DictReader(open(f"{d}/temperature.csv")))
+led = list(csv.DictReader(open(f"{d}/ledger.csv")))
+# omega0 = 300 per component: T_rot(0) = I <|w|^2> / M = 0.4 r^2 3 omega0^2 / 12, within sampling
+r = s["scene"]["system"]["radius"]
+want = 0.4 * r * r * 3 * 300.0**2 / 12
+ok = ok and abs(float(rows[0]["T_rot"]) / want - 1) < 0.15 and float(led[-1]["rotational"]) > 0
+ok = ok and float(led[-1]["dissipated_friction"]) > 0
+sys.exit(0 if ok else 1)
+PY
+then
+    pass "3D run with tangential_spring, rotation and rolling: kernel, q = 2/5, T_rot, ledger closes"
+else
+    fail "3D run with friction and rotation (exit $rc) or its outputs" "$err"
 fi
 run "$G" compare "$scene3d" --models spring_dashpot,hertz --out "$TMP/cmp3d" --set system.N=64 --set run.warmup=0 \
     --set run.duration=0.005 --set output.plots=false

@@ -354,8 +354,12 @@ START_TEST(test_errors)
     expect_error(&s, &overlap, GR_EINVAL, "overlap");
 
     gr_collide_setup bad = s;
+    bad.dim = 4;
+    expect_error(&bad, &c, GR_EINVAL, "dim must be 1, 2 or 3");
+    bad = s; /* 3D: spins whose sum leaves the impact's plane are refused, not integrated */
     bad.dim = 3;
-    expect_error(&bad, &c, GR_EINVAL, "dim");
+    bad.w1[0] = 10.0;
+    expect_error(&bad, &c, GR_EINVAL, "out of the impact's plane");
     bad = s;
     bad.normal = NULL;
     expect_error(&bad, &c, GR_EINVAL, "model");

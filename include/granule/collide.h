@@ -36,12 +36,15 @@ typedef struct gr_collide_setup {
     double dt;     /* s; 0: t_c / steps_per_contact */
     double steps_per_contact;
     bool force_dt;
-    int dim;               /* 1 or 2 */
+    int dim;               /* 1, 2 or 3 (spheres: the case's positions and velocities lie in
+                              the plane z = 0, the spins are vectors w1, w2) */
     double phase;          /* in [0, 1): where in a time step the contact begins (averaging over it
                         removes the discretisation's phase noise) */
     double ref_rtol;       /* relative tolerance of the CVODE reference (default 1e-12) */
     double omega1, omega2; /* initial angular velocities, rad/s counterclockwise (default 0;
                               nonzero needs rotation: [model] rotation = true) */
+    double w1[3], w2[3];   /* dim = 3: the initial angular velocity vectors, rad/s (omega1, omega2
+                            unused) */
 } gr_collide_setup;
 
 void gr_collide_setup_default(gr_collide_setup *s);
@@ -57,11 +60,14 @@ typedef struct gr_collide_result {
     double max_overlap;    /* m */
     double eps_n_measured; /* -g'.n' / g.n with n at the start (n') and end of contact */
     double eps_t_measured; /* g'.t' / g.t (NaN for a head-on collision); with rotation that of
-                              the contact point, (g'.t' + r (w1' + w2')) / (g.t + r (w1 + w2)) */
+                              the contact point, (g'.t' + r (w1' + w2')) / (g.t + r (w1 + w2));
+                              3D: the contact point's tangential velocity after (with n') along
+                              its direction before, over its magnitude before */
     double omega1, omega2; /* rotation: angular velocities after the collision, rad/s
                               (counterclockwise; 0 without rotation; they start at the setup's
                               omega1, omega2; with initial spins E includes them) */
-    double v1[2], v2[2];   /* the particles' velocities after the collision, m/s */
+    double v1[3], v2[3];   /* the particles' velocities after the collision, m/s (z: dim = 3) */
+    double w1[3], w2[3];   /* dim = 3 with rotation: the angular velocity vectors after, rad/s */
     double spin_loss;      /* rotation: I (w1^2 + w2^2) / 2 before minus after, over E (the spins'
                               share of energy_loss; rolling resistance takes it from there) */
     double impact_angle;   /* degrees between -g and the normal at impact */

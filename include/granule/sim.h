@@ -128,9 +128,14 @@ typedef struct gr_sim_params {
 int gr_sim_new(const gr_sim_params *p, gr_sim **out, gr_error *err);
 
 /* Same, with positions and velocities given (n particles, y/vy ignored in 1D); p->N and the
- * placement are ignored. 1D and 2D only: dim = 3 is refused (no z arrays here yet). */
+ * placement are ignored. 1D and 2D only: dim = 3 is refused (gr_sim_new_with_state_3d). */
 int gr_sim_new_with_state(const gr_sim_params *p, int n, const double *x, const double *y,
                           const double *vx, const double *vy, gr_sim **out, gr_error *err);
+
+/* The same for spheres (dim = 3): positions r[0..2] (x, y, z, wrapped into the cube) and
+ * velocities v[0..2] of n particles (granule collide --dim 3). */
+int gr_sim_new_with_state_3d(const gr_sim_params *p, int n, const double *const r[3],
+                             const double *const v[3], gr_sim **out, gr_error *err);
 
 /* Same as gr_sim_new_with_state, with the particles first put into a canonical order (1D: by
  * x; 2D: by cell of a grid of side >= d, row-major, then x, then y), so that the trajectory does

@@ -17,6 +17,8 @@ typedef struct collide_args {
     const char *model, *speeds;
     double speed, angle; /* oblique impact: --speed V [--angle DEG] */
     bool reference;
+    const char *omega1, *omega2; /* W (2D) or WX,WY,WZ (3D) */
+    bool inertia_given;          /* --set inertia_factor=Q (else 2/5 with --dim 3) */
 } collide_args;
 
 /* --set KEY=VALUE: a model parameter, in the order given among the other options */
@@ -32,6 +34,7 @@ static bool apply_set(void *args, const char *v, double number)
         app_error("collide: --set %s: %s", v, eq ? e.message : "expected KEY=VALUE");
         return false;
     }
+    c->inertia_given = c->inertia_given || strcmp(key, "inertia_factor") == 0;
     return true;
 }
 
@@ -63,7 +66,10 @@ static const cli_opt collide_opts[] = {
      NULL},
     {"--clamp", CLI_FLAG, NULL, offsetof(collide_args, s.contact.clamp), 0, 0, 0, NULL,
      "the normal force never attracts (gamma_n from the clamped restitution)", NULL},
-    {"--dim", CLI_INT, "1|2", offsetof(collide_args, s.dim), 1, 2, 0, "2", "dimension", NULL},
+    {"--dim", CLI_INT, "1|2|3", offsetof(collide_args, s.dim), 1, 3, 0, "2",
+     "dimension (3: spheres, the impact in the plane z = 0; rotation's inertia_factor defaults to "
+     "2/5)",
+     NULL},
     {"--phases", CLI_INT, "P", offsetof(collide_args, phases), 1, COLLIDE_MAX_PHASES, 0, "1",
      "average P contact phases (start offsets within a time step)", NULL},
     {"--force-dt", CLI_FLAG, NULL, offsetof(collide_args, s.force_dt), 0, 0, 0, NULL,
@@ -83,10 +89,12 @@ static const cli_opt collide_opts[] = {
      "an oblique impact (2D) at this relative speed, m/s, instead of --case", NULL},
     {"--angle", CLI_DOUBLE, "DEG", offsetof(collide_args, angle), 0, 90, CLI_MAX_OPEN, "0",
      "with --speed: the angle between -g and the line of centres at first touch", NULL},
-    {"--omega1", CLI_DOUBLE, "W1", offsetof(collide_args, s.omega1), 0, 0, 0, "0",
-     "initial angular velocity of particle 1, rad/s counterclockwise (needs rotation)", NULL},
-    {"--omega2", CLI_DOUBLE, "W2", offsetof(collide_args, s.omega2), 0, 0, 0, "0",
-     "initial angular velocity of particle 2, rad/s counterclockwise (needs rotation)", NULL},
+    {"--omega1", CLI_STRING, "W1|WX,WY,WZ", offsetof(collide_args, omega1), 0, 0, 0, "0",
+     "initial angular velocity of particle 1, rad/s: counterclockwise in 2D, the vector wx,wy,wz "
+     "with --dim 3 (needs rotation)",
+     NULL},
+    {"--omega2", CLI_STRING, "W2|WX,WY,WZ", offsetof(collide_args, omega2), 0, 0, 0, "0",
+     "initial angular velocity of particle 2, as --omega1", NULL},
 };
 
 const cli_command cli_cmd_collide = {
@@ -95,7 +103,7 @@ const cli_command cli_cmd_collide = {
         "granule collide [--case N] [--model NORMAL[+TANGENTIAL[+ROLLING]]] [--eps-n E] [--eps-t "
         "E]\n"
         "                       [--mu MU] [--k K] [--dt DT | --steps-per-contact S] [--mass M]\n"
-        "                       [--radius R] [--clamp] [--dim 1|2] [--phases P] [--force-dt] "
+        "                       [--radius R] [--clamp] [--dim 1|2|3] [--phases P] [--force-dt] "
         "[--reference [--rtol TOL]]\n"
         "                       [--set KEY=VALUE ...] [--speeds V1,V2,...]\n"
         "                       [--speed V --angle DEG] [--omega1 W1] [--omega2 W2]",
@@ -239,7 +247,7 @@ static void add_units(cJSON *o, const gr_collide_setup *s)
 }
 
 static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r, bool instantaneous,
-                       bool rotation)
+                       bool rotation, int dim)
 {
     char key[64];
     struct {
@@ -258,8 +266,8 @@ static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r,
              {"omega1", r->omega1},
              {"omega2", r->omega2}};
     for (size_t i = 0; i < sizeof f / sizeof f[0]; i++) {
-        if (!rotation && !strncmp(f[i].name, "omega", 5)) {
-            continue; /* angular velocities only with [model] rotation = true */
+        if ((!rotation || dim == 3) && !strncmp(f[i].name, "omega", 5)) {
+            continue; /* angular velocities only with [model] rotation = true (3D: vectors) */
         }
         if (instantaneous &&
             (!strcmp(f[i].name, "contact_time") || !strcmp(f[i].name, "max_overlap"))) {
@@ -272,11 +280,55 @@ static void add_result(cJSON *o, const char *prefix, const gr_collide_result *r,
             cJSON_AddNullToObject(o, key);
         }
     }
-    const double *v[2] = {r->v1, r->v2};
+    const double *v[2] = {r->v1, r->v2}, *w[2] = {r->w1, r->w2};
     for (int p = 0; p < 2; p++) {
         snprintf(key, sizeof key, "%sv%d_after", prefix, p + 1);
-        cJSON_AddItemToObject(o, key, cJSON_CreateDoubleArray(v[p], 2));
+        cJSON_AddItemToObject(o, key, cJSON_CreateDoubleArray(v[p], dim == 3 ? 3 : 2));
+        if (rotation && dim == 3) { /* the angular velocity vectors after the collision */
+            snprintf(key, sizeof key, "%somega%d", prefix, p + 1);
+            cJSON_AddItemToObject(o, key, cJSON_CreateDoubleArray(w[p], 3));
+        }
     }
+}
+
+/* --omega1/--omega2: one number (1D, 2D: counterclockwise) or, with --dim 3, the vector
+ * WX,WY,WZ; 0 means no spin in any dimension. Nonzero on error (printed). */
+static int parse_spin(const char *opt, const char *text, int dim, double *scalar, double vec[3])
+{
+    double v[3] = {0.0, 0.0, 0.0};
+    int n = 0;
+    const char *p = text;
+    char *end = NULL;
+    while (n < 3) {
+        v[n] = strtod(p, &end);
+        if (end == p || !isfinite(v[n])) {
+            end = NULL;
+            break;
+        }
+        n++;
+        p = end;
+        if (*p != ',') {
+            break;
+        }
+        p++;
+    }
+    const bool whole = end && *end == '\0';
+    if (whole && n == 1 && v[0] == 0.0) {
+        return 0; /* the default: no spin */
+    }
+    if (!whole || n != (dim == 3 ? 3 : 1)) {
+        app_error("collide: %s %s: %s (rad/s)", opt, text,
+                  dim == 3 ? "with --dim 3 give the angular velocity vector WX,WY,WZ, three "
+                             "finite numbers, e.g. 0,0,150"
+                           : "give one finite number, counterclockwise (WX,WY,WZ needs --dim 3)");
+        return 1;
+    }
+    if (dim == 3) {
+        memcpy(vec, v, sizeof v);
+    } else {
+        *scalar = v[0];
+    }
+    return 0;
 }
 
 /* restitution_vs_speed: head-on impacts at each speed of the comma-separated list */
@@ -297,7 +349,7 @@ static int add_speeds(cJSON *o, const gr_collide_setup *s0, const char *list, in
         gr_collide_setup s = *s0;
         gr_contact_coeffs k;
         gr_error err = {0};
-        if (gr_contact_prepare(s.normal, s.dim == 2 ? s.tangential : NULL, &s.contact, 0.5 * s.mass,
+        if (gr_contact_prepare(s.normal, s.dim >= 2 ? s.tangential : NULL, &s.contact, 0.5 * s.mass,
                                0.0, &k, &err)) {
             app_error("collide: %s", err.message);
             return EXIT_REFUSED;
@@ -351,7 +403,13 @@ int cmd_collide(int argc, char **argv)
 {
     gr_collide_setup s;
     gr_collide_setup_default(&s);
-    collide_args args = {.s = s, .number = 1, .phases = 1, .model = "spring_dashpot", .angle = NAN};
+    collide_args args = {.s = s,
+                         .number = 1,
+                         .phases = 1,
+                         .model = "spring_dashpot",
+                         .angle = NAN,
+                         .omega1 = "0",
+                         .omega2 = "0"};
     cli_pos pos;
     const int parsed = cli_parse(&cli_cmd_collide, argc, argv, &args, &pos);
     if (parsed >= 0) {
@@ -382,10 +440,10 @@ int cmd_collide(int argc, char **argv)
         return EXIT_REFUSED;
     }
     if (!(s.contact.k_s > 0.0) || !(s.mass > 0.0) || !(s.radius > 0.0) || s.dt < 0.0 ||
-        !(s.contact.mu >= 0.0) || (s.dim != 1 && s.dim != 2) || phases < 1 ||
+        !(s.contact.mu >= 0.0) || s.dim < 1 || s.dim > 3 || phases < 1 ||
         (s.dt == 0.0 && !(s.steps_per_contact >= 1.0))) {
-        app_error("collide: --k, --mass and --radius must be > 0, --dt >= 0, --mu >= 0, --dim 1 or "
-                  "2, --phases >= 1");
+        app_error("collide: --k, --mass and --radius must be > 0, --dt >= 0, --mu >= 0, --dim 1, 2 "
+                  "or 3, --phases >= 1");
         return EXIT_REFUSED;
     }
     char normal[64], tangential[64] = "", rolling[64] = "";
@@ -436,9 +494,16 @@ int cmd_collide(int argc, char **argv)
                   "geometries)");
         return EXIT_REFUSED;
     }
-    if (oblique && s.dim != 2) {
-        app_error("collide: --speed/--angle: an oblique impact needs --dim 2");
+    if (oblique && s.dim == 1) {
+        app_error("collide: --speed/--angle: an oblique impact needs --dim 2 or 3");
         return EXIT_REFUSED;
+    }
+    if (parse_spin("--omega1", args.omega1, s.dim, &s.omega1, s.w1) ||
+        parse_spin("--omega2", args.omega2, s.dim, &s.omega2, s.w2)) {
+        return EXIT_REFUSED;
+    }
+    if (s.dim == 3 && !args.inertia_given) {
+        s.contact.inertia_factor = 0.4; /* solid spheres (2D: 1/2, discs), as a 3D scene */
     }
     gr_collision_case cs;
     gr_error err = {0};
@@ -471,9 +536,11 @@ int cmd_collide(int argc, char **argv)
         sum.tangential_reversed |= r.tangential_reversed;
         sum.omega1 += r.omega1 / phases;
         sum.omega2 += r.omega2 / phases;
-        for (int k = 0; k < 2; k++) {
+        for (int k = 0; k < 3; k++) {
             sum.v1[k] += r.v1[k] / phases;
             sum.v2[k] += r.v2[k] / phases;
+            sum.w1[k] += r.w1[k] / phases;
+            sum.w2[k] += r.w2[k] / phases;
         }
         sum.spin_loss += r.spin_loss / phases;
     }
@@ -491,13 +558,18 @@ int cmd_collide(int argc, char **argv)
     /* only the parameters the chosen models take (their [model] keys) */
     add_model_params(o, &s);
     const bool rotation =
-        s.dim == 2 && s.tangential && s.tangential->contact_point && s.contact.rotation;
-    if (rotation) {
+        s.dim >= 2 && s.tangential && s.tangential->contact_point && s.contact.rotation;
+    if (rotation && s.dim == 3) {
+        cJSON_AddItemToObject(o, "omega1_before", cJSON_CreateDoubleArray(s.w1, 3));
+        cJSON_AddItemToObject(o, "omega2_before", cJSON_CreateDoubleArray(s.w2, 3));
+    } else if (rotation) {
         cJSON_AddNumberToObject(o, "omega1_before", s.omega1);
         cJSON_AddNumberToObject(o, "omega2_before", s.omega2);
+    }
+    if (rotation) {
         cJSON_AddNumberToObject(o, "spin_loss", sum.spin_loss);
     }
-    if (rotation && s.rolling) {
+    if (rotation && s.rolling && s.dim == 2) {
         /* the rolling law's spin loss with the measured normal impulse, over the initial energy */
         gr_contact_coeffs k;
         gr_error e2 = {0};
@@ -523,7 +595,10 @@ int cmd_collide(int argc, char **argv)
         cJSON_AddNumberToObject(o, "dt", r.dt);
     }
     cJSON_AddNumberToObject(o, "phases", phases);
-    add_result(o, "", &sum, instantaneous, rotation);
+    if (s.dim == 3) {
+        cJSON_AddNumberToObject(o, "dim", 3);
+    }
+    add_result(o, "", &sum, instantaneous, rotation, s.dim);
     cJSON_AddNumberToObject(o, "relative_error",
                             (sum.energy_loss - sum.expected_loss) /
                                 fmax(sum.expected_loss, 1e-300));
@@ -539,7 +614,7 @@ int cmd_collide(int argc, char **argv)
             app_error("collide --reference: %s", err.message);
             return app_exit_code(err.code);
         }
-        add_result(o, "reference_", &ref, instantaneous, rotation);
+        add_result(o, "reference_", &ref, instantaneous, rotation, s.dim);
     }
     if (speeds && add_speeds(o, &s, speeds, phases, reference) != EXIT_OK) {
         cJSON_Delete(o);

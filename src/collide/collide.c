@@ -165,15 +165,18 @@ static int collide_hard(const gr_collide_setup *cs, const gr_collision_case *cc,
  * centres turned so far during a grazing contact that the normal velocity after it is mostly the
  * tangential one projected on the turned normal: its share of eps_n_measured, |g_t / g_n| sin(theta)
  * for a turn by theta, exceeds GR_COLLIDE_MAX_TURN_ERROR. */
-static int check_contact(const gr_collide_setup *cs, const gr_sim *s, double L, const double n0[2],
-                         const double n_end[2], double gn0, double gt0, const double g1[2],
+static int check_contact(const gr_collide_setup *cs, const gr_sim *s, double L, const double n0[3],
+                         const double n_end[3], double gn0, double gt0, const double g1[3],
                          const gr_collide_result *out, gr_error *err)
 {
-    double dx = s->x[1] - s->x[0], dy = cs->dim == 2 ? s->y[1] - s->y[0] : 0.0;
+    double dx = s->x[1] - s->x[0], dy = cs->dim >= 2 ? s->y[1] - s->y[0] : 0.0,
+           dz = cs->dim == 3 ? s->z[1] - s->z[0] : 0.0;
     dx -= L * rint(dx / L);
     dy -= L * rint(dy / L);
+    dz -= L * rint(dz / L);
     const double speed = hypot(gn0, gt0), d = 2.0 * cs->radius;
-    if (dx * n0[0] + dy * n0[1] < 0.0 || g1[0] * n_end[0] + g1[1] * n_end[1] < 0.0) {
+    if (dx * n0[0] + dy * n0[1] + dz * n0[2] < 0.0 ||
+        g1[0] * n_end[0] + g1[1] * n_end[1] + g1[2] * n_end[2] < 0.0) {
         return GR_FAIL(
             err, GR_EINVAL,
             "the discs passed through each other (tunnelled) instead of colliding: at %g m/s "
@@ -184,7 +187,9 @@ static int check_contact(const gr_collide_setup *cs, const gr_sim *s, double L, 
             "--steps-per-contact larger), a stiffer --k or a lower speed",
             speed, speed * s->dt, s->dt, d, out->max_overlap);
     }
-    const double turn = fabs(n0[0] * n_end[1] - n0[1] * n_end[0]); /* sin(theta) */
+    const double cx = n0[1] * n_end[2] - n0[2] * n_end[1], cy = n0[2] * n_end[0] - n0[0] * n_end[2],
+                 cz = n0[0] * n_end[1] - n0[1] * n_end[0];
+    const double turn = cs->dim == 3 ? sqrt(cx * cx + cy * cy + cz * cz) : fabs(cz); /* sin */
     const double share = fabs(gt0 / gn0) * turn;
     if (share > GR_COLLIDE_MAX_TURN_ERROR) {
         return GR_FAIL(
@@ -201,10 +206,271 @@ static int check_contact(const gr_collide_setup *cs, const gr_sim *s, double L, 
     return GR_OK;
 }
 
+/* The two particles' run: a box large enough that they meet only once, no driving, velocity
+ * Verlet, the core's plain parameters (granule/sim.h), no scene; and the contact's coefficients
+ * (its time step first: it sets how far before contact to start). r0: x2 - x1 at the start. */
+static int pair_params(const gr_collide_setup *cs, const double r0[2], gr_sim_params *sc,
+                       gr_contact_coeffs *coeffs, gr_error *err)
+{
+    const int dim = cs->dim;
+    const double d = 2.0 * cs->radius;
+    *sc = (gr_sim_params){.dim = dim,
+                          .N = 2,
+                          .radius = cs->radius,
+                          .mass = cs->mass,
+                          .normal = cs->normal,
+                          .tangential = dim >= 2 ? cs->tangential : NULL,
+                          .rolling = dim >= 2 ? cs->rolling : NULL,
+                          .contact = cs->contact,
+                          .D = 0.0,
+                          .noise_mode = GR_NOISE_NONE,
+                          .integrator = gr_integrator_find("verlet"),
+                          .dt = cs->dt,
+                          .steps_per_contact =
+                              cs->steps_per_contact > 0.0 ? cs->steps_per_contact : 50.0,
+                          .force_dt = cs->force_dt,
+                          .skin = 0.3,
+                          .seed = 1};
+    snprintf(sc->source, sizeof sc->source,
+             "options"); /* messages read "collide: options: [..] key ..." */
+    sc->L = fmax(64.0 * d, 8.0 * (fabs(r0[0]) + fabs(r0[1]) + d));
+    int rc = gr_contact_prepare(sc->normal, sc->tangential, &sc->contact, 0.5 * sc->mass, 0.0,
+                                coeffs, err);
+    return rc ? rc
+              : gr_contact_prepare_rolling(sc->rolling, &sc->contact, 0.5 * sc->mass, 0.0, coeffs,
+                                           err);
+}
+
+/* GR_EINVAL (s freed) when dt resolves the contact in more steps than a collision may take. */
+static int too_fine(gr_sim *s, double t_c, gr_error *err)
+{
+    if (t_c / s->dt <= GR_COLLIDE_MAX_STEPS_PER_CONTACT) {
+        return GR_OK;
+    }
+    const double dt = s->dt;
+    gr_sim_free(s);
+    return GR_FAIL(err, GR_EINVAL,
+                   "dt = %g s resolves the contact time t_c = %g s in %.3g steps, more than the %g "
+                   "a collision may take; use dt >= t_c / %g = %g s (--dt)",
+                   dt, t_c, t_c / dt, GR_COLLIDE_MAX_STEPS_PER_CONTACT,
+                   GR_COLLIDE_MAX_STEPS_PER_CONTACT, t_c / GR_COLLIDE_MAX_STEPS_PER_CONTACT);
+}
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The contact point's tangential relative velocity of spheres at unit normal n (from 1 to 2):
+ * g - (g.n) n + a n x (w1 + w2), a the lever arm (src/core/kernels_3d.c). */
+static void contact_velocity(const double g[3], const double n[3], const double w1[3],
+                             const double w2[3], double a, double gc[3])
+{
+    const double gn = dot3(g, n), W[3] = {w1[0] + w2[0], w1[1] + w2[1], w1[2] + w2[2]};
+    const double nw[3] = {n[1] * W[2] - n[2] * W[1], n[2] * W[0] - n[0] * W[2],
+                          n[0] * W[1] - n[1] * W[0]};
+    for (int k = 0; k < 3; k++) {
+        gc[k] = g[k] - gn * n[k] + a * nw[k];
+    }
+}
+
+/* Spheres (dim = 3): the case's positions and velocities in the plane z = 0 (the centres at
+ * z = L/2), the spins the setup's vectors w1, w2; everything else as the 2D run below. */
+static int collide_run_3d(const gr_collide_setup *cs, const gr_collision_case *cc,
+                          gr_collide_result *out, gr_error *err)
+{
+    const double d = 2.0 * cs->radius;
+    double r0[2] = {cc->x2[0] - cc->x1[0], cc->x2[1] - cc->x1[1]};
+    double g0[3] = {cc->v2[0] - cc->v1[0], cc->v2[1] - cc->v1[1], 0.0};
+    const double t_hit = contact_time_of(r0, g0, d);
+    if (t_hit < 0.0) {
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "the two particles never touch: their relative motion misses by more than d = %g m", d);
+    }
+    bool spun = false;
+    for (int k = 0; k < 3; k++) {
+        if (!isfinite(cs->w1[k]) || !isfinite(cs->w2[k])) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "--omega1 %g,%g,%g, --omega2 %g,%g,%g: the initial angular velocities "
+                           "must be finite (rad/s)",
+                           cs->w1[0], cs->w1[1], cs->w1[2], cs->w2[0], cs->w2[1], cs->w2[2]);
+        }
+        spun = spun || cs->w1[k] != 0.0 || cs->w2[k] != 0.0;
+    }
+    if (!cs->normal || (cs->normal->kind & GR_MODEL_EVENT)) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "--model %s: --dim 3 runs the soft laws so far (the event rules' "
+                       "instantaneous collision is 2D); allowed with --dim 3: spring_dashpot, "
+                       "hertz",
+                       cs->normal ? cs->normal->name : "none");
+    }
+    gr_sim_params sc;
+    gr_contact_coeffs coeffs;
+    int rc = pair_params(cs, r0, &sc, &coeffs, err);
+    if (rc) {
+        return rc;
+    }
+    const double t_c = isfinite(coeffs.t_c) ? coeffs.t_c : M_PI / coeffs.w0;
+    const double dt_guess = sc.dt > 0.0 ? sc.dt : t_c / sc.steps_per_contact;
+    const double t0 = t_hit - fmin(t_hit, (1.0 + cs->phase) * dt_guess);
+    double x[2], y[2], z[2] = {0.5 * sc.L, 0.5 * sc.L}, vx[2], vy[2], vz[2] = {0.0, 0.0};
+    const double *xs[2] = {cc->x1, cc->x2}, *vs[2] = {cc->v1, cc->v2};
+    for (int p = 0; p < 2; p++) {
+        x[p] = 0.5 * sc.L + xs[p][0] + vs[p][0] * t0 - 0.5 * r0[0];
+        y[p] = 0.5 * sc.L + xs[p][1] + vs[p][1] * t0 - 0.5 * r0[1];
+        vx[p] = vs[p][0];
+        vy[p] = vs[p][1];
+    }
+    const double *const rr[3] = {x, y, z}, *const vv[3] = {vx, vy, vz};
+    gr_sim *s;
+    rc = gr_sim_new_with_state_3d(&sc, 2, rr, vv, &s, err);
+    if (rc) {
+        return rc;
+    }
+    out->dt = s->dt;
+    if (spun && !s->omega) {
+        gr_sim_free(s);
+        return GR_FAIL(err, GR_EINVAL,
+                       "--omega1/--omega2: initial spins need rotation: [model] rotation = true "
+                       "with a tangential law at the contact point (tangential_dashpot, "
+                       "sliding_friction, tangential_spring; allowed without: 0,0,0)");
+    }
+    double *w[2][3] = {{NULL}};
+    double spin_e0 = 0.0;
+    if (s->omega) {
+        double *wc[3] = {s->wx, s->wy, s->omega};
+        for (int k = 0; k < 3; k++) {
+            w[0][k] = &wc[k][0];
+            w[1][k] = &wc[k][1];
+            wc[k][0] = cs->w1[k];
+            wc[k][1] = cs->w2[k];
+        }
+        spin_e0 = s->inertia * (dot3(cs->w1, cs->w1) + dot3(cs->w2, cs->w2)) / (0.5 * cs->mass);
+    }
+    const double rh[3] = {r0[0] + g0[0] * t_hit, r0[1] + g0[1] * t_hit, 0.0};
+    const double nh = sqrt(dot3(rh, rh));
+    const double n0[3] = {rh[0] / nh, rh[1] / nh, 0.0};
+    const double gg0 = dot3(g0, g0), gn0 = dot3(g0, n0);
+    double gc0[3];
+    contact_velocity(g0, n0, s->omega ? cs->w1 : (const double[3]){0},
+                     s->omega ? cs->w2 : (const double[3]){0}, cs->radius, gc0);
+    const double gc0m = sqrt(dot3(gc0, gc0));
+    const double gt0 = sqrt(fmax(gg0 - gn0 * gn0, 0.0)); /* |g_t| of the centres, for the checks */
+    const double p_before[3] = {cs->mass * (cc->v1[0] + cc->v2[0]),
+                                cs->mass * (cc->v1[1] + cc->v2[1]), 0.0};
+    out->impact_angle = acos(fmin(1.0, fabs(gn0) / sqrt(gg0))) * 180.0 / M_PI;
+    if ((rc = too_fine(s, t_c, err))) {
+        return rc;
+    }
+    bool touched = false;
+    double n_end[3] = {n0[0], n0[1], n0[2]}, jn = 0.0, jt = 0.0;
+    int64_t active = 0;
+    const int64_t max_steps = (int64_t)(2000.0 * t_c / s->dt) + 1000;
+    int64_t k = 0;
+    for (; k < max_steps; k++) {
+        if ((rc = gr_sim_step(s, 1, err))) {
+            gr_sim_free(s);
+            return rc;
+        }
+        double r[3] = {s->x[1] - s->x[0], s->y[1] - s->y[0], s->z[1] - s->z[0]};
+        for (int a = 0; a < 3; a++) {
+            r[a] -= sc.L * rint(r[a] / sc.L);
+        }
+        const double dist = sqrt(dot3(r, r));
+        const double g[3] = {s->vx[1] - s->vx[0], s->vy[1] - s->vy[0], s->vz[1] - s->vz[0]};
+        const double F[3] = {s->fx[1], s->fy[1], s->fz[1]}; /* the force on particle 2 */
+        const bool force_free = F[0] == 0.0 && F[1] == 0.0 && F[2] == 0.0;
+        if (dist < d && touched && force_free && dot3(g, r) > 0.0 && s->cc.clamp) {
+            break; /* clamped: the force vanished while the pair separates (as in 2D) */
+        }
+        if (dist < d) {
+            touched = true;
+            out->max_overlap = fmax(out->max_overlap, d - dist);
+            const double n[3] = {r[0] / dist, r[1] / dist, r[2] / dist};
+            if (!force_free) {
+                active++;
+                memcpy(n_end, n, sizeof n_end);
+            }
+            const double fn = dot3(F, n);
+            const double ft[3] = {F[0] - fn * n[0], F[1] - fn * n[1], F[2] - fn * n[2]};
+            jn += fabs(fn) * s->dt;
+            jt += sqrt(dot3(ft, ft)) * s->dt;
+            double gc[3];
+            const double wa[3] = {s->omega ? *w[0][0] : 0.0, s->omega ? *w[0][1] : 0.0,
+                                  s->omega ? *w[0][2] : 0.0},
+                         wb[3] = {s->omega ? *w[1][0] : 0.0, s->omega ? *w[1][1] : 0.0,
+                                  s->omega ? *w[1][2] : 0.0};
+            contact_velocity(g, n, wa, wb, cs->radius, gc);
+            if (dot3(gc0, gc) < -1e-12 * gg0) {
+                out->tangential_reversed = true;
+            }
+        } else if (touched) {
+            break;
+        }
+    }
+    if (k == max_steps) {
+        gr_sim_free(s);
+        return GR_FAIL(err, GR_EINVAL,
+                       touched ? "the contact did not end within %lld steps (2000 contact times): "
+                                 "the pair sticks (eps_n = %g)"
+                               : "the spheres never came into contact within %lld steps (eps_n = "
+                                 "%g): there is no collision to measure; use a smaller --angle",
+                       (long long)max_steps, sc.contact.eps_n);
+    }
+    const double g1[3] = {s->vx[1] - s->vx[0], s->vy[1] - s->vy[0], s->vz[1] - s->vz[0]};
+    rc = check_contact(cs, s, sc.L, n0, n_end, gn0, gt0, g1, out, err);
+    if (rc) {
+        gr_sim_free(s);
+        return rc;
+    }
+    double spin_e = 0.0, gc1[3];
+    for (int a = 0; a < 3; a++) {
+        out->w1[a] = s->omega ? *w[0][a] : 0.0;
+        out->w2[a] = s->omega ? *w[1][a] : 0.0;
+    }
+    if (s->omega) {
+        out->omega1 = out->w1[2];
+        out->omega2 = out->w2[2];
+        spin_e = s->inertia * (dot3(out->w1, out->w1) + dot3(out->w2, out->w2)) / (0.5 * cs->mass);
+    }
+    contact_velocity(g1, n_end, out->w1, out->w2, cs->radius, gc1);
+    out->energy_loss = 1.0 - (dot3(g1, g1) + spin_e) / (gg0 + spin_e0);
+    out->spin_loss = (spin_e0 - spin_e) / (gg0 + spin_e0);
+    out->expected_loss =
+        spun ? (double)NAN : gr_contact_expected_loss(&s->cc, sqrt(gg0), out->impact_angle);
+    out->contact_time = (double)active * s->dt;
+    out->eps_n_measured = -dot3(g1, n_end) / gn0;
+    /* along the direction g_c had, carried into the tangent plane at the end (as 2D's t') */
+    double u[3] = {gc0[0], gc0[1], gc0[2]};
+    const double un = dot3(u, n_end);
+    for (int a = 0; a < 3; a++) {
+        u[a] -= un * n_end[a];
+    }
+    const double um = sqrt(dot3(u, u));
+    out->eps_t_measured =
+        gc0m > 1e-12 * sqrt(gg0) && um > 0.0 ? dot3(gc1, u) / (um * gc0m) : (double)NAN;
+    const double *v[3] = {s->vx, s->vy, s->vz};
+    double dp[3];
+    for (int a = 0; a < 3; a++) {
+        out->v1[a] = v[a][0];
+        out->v2[a] = v[a][1];
+        dp[a] = cs->mass * (v[a][0] + v[a][1]) - p_before[a];
+    }
+    out->momentum_error = sqrt(dot3(dp, dp)) / sqrt(dot3(p_before, p_before));
+    out->normal_impulse = jn;
+    out->tangential_impulse = jt;
+    gr_sim_free(s);
+    return GR_OK;
+}
+
 int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_collide_result *out,
                    gr_error *err)
 {
     memset(out, 0, sizeof *out);
+    if (cs->dim == 3) {
+        return collide_run_3d(cs, cc, out, err);
+    }
     const int dim = cs->dim;
     const double d = 2.0 * cs->radius;
     double r0[2] = {cc->x2[0] - cc->x1[0], dim == 2 ? cc->x2[1] - cc->x1[1] : 0.0};
@@ -236,35 +502,9 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
         }
         return collide_hard(cs, cc, t_hit, out, err);
     }
-    /* two discs in a box large enough that they meet only once, no driving, velocity Verlet: the
-     * core's plain parameters (granule/sim.h), no scene */
-    gr_sim_params sc = {.dim = dim,
-                        .N = 2,
-                        .radius = cs->radius,
-                        .mass = cs->mass,
-                        .normal = cs->normal,
-                        .tangential = dim == 2 ? cs->tangential : NULL,
-                        .rolling = dim == 2 ? cs->rolling : NULL,
-                        .contact = cs->contact,
-                        .D = 0.0,
-                        .noise_mode = GR_NOISE_NONE,
-                        .integrator = gr_integrator_find("verlet"),
-                        .dt = cs->dt,
-                        .steps_per_contact =
-                            cs->steps_per_contact > 0.0 ? cs->steps_per_contact : 50.0,
-                        .force_dt = cs->force_dt,
-                        .skin = 0.3,
-                        .seed = 1};
-    snprintf(sc.source, sizeof sc.source,
-             "options"); /* messages read "collide: options: [..] key ..." */
-    sc.L = fmax(64.0 * d, 8.0 * (fabs(r0[0]) + fabs(r0[1]) + d));
-    /* the time step first (it sets how far before contact to start) */
+    gr_sim_params sc;
     gr_contact_coeffs coeffs;
-    int rc =
-        gr_contact_prepare(sc.normal, sc.tangential, &sc.contact, 0.5 * sc.mass, 0.0, &coeffs, err);
-    if (!rc) {
-        rc = gr_contact_prepare_rolling(sc.rolling, &sc.contact, 0.5 * sc.mass, 0.0, &coeffs, err);
-    }
+    int rc = pair_params(cs, r0, &sc, &coeffs, err);
     if (rc) {
         return rc;
     }
@@ -307,7 +547,7 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     /* the normal at impact, from the exact free flight */
     double rh[2] = {r0[0] + g0[0] * t_hit, r0[1] + g0[1] * t_hit};
     double nh = hypot(rh[0], rh[1]);
-    double n0[2] = {rh[0] / nh, rh[1] / nh}, t0v[2] = {n0[1], -n0[0]};
+    double n0[3] = {rh[0] / nh, rh[1] / nh, 0.0}, t0v[2] = {n0[1], -n0[0]};
     double gg0 = g0[0] * g0[0] + g0[1] * g0[1];
     double gn0 = g0[0] * n0[0] + g0[1] * n0[1], gt0 = g0[0] * t0v[0] + g0[1] * t0v[1];
     double p_before[2] = {cs->mass * (cc->v1[0] + cc->v2[0]),
@@ -315,18 +555,11 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
     out->impact_angle = acos(fmin(1.0, fabs(gn0) / sqrt(gg0))) * 180.0 / M_PI;
 
     bool touched = false;
-    double n_end[2] = {n0[0], n0[1]};
+    double n_end[3] = {n0[0], n0[1], 0.0};
     double jn = 0.0, jt = 0.0;
     int64_t active = 0;
-    if (!(t_c / s->dt <= GR_COLLIDE_MAX_STEPS_PER_CONTACT)) {
-        const double dt = s->dt;
-        gr_sim_free(s);
-        return GR_FAIL(
-            err, GR_EINVAL,
-            "dt = %g s resolves the contact time t_c = %g s in %.3g steps, more than the %g a "
-            "collision may take; use dt >= t_c / %g = %g s (--dt)",
-            dt, t_c, t_c / dt, GR_COLLIDE_MAX_STEPS_PER_CONTACT, GR_COLLIDE_MAX_STEPS_PER_CONTACT,
-            t_c / GR_COLLIDE_MAX_STEPS_PER_CONTACT);
+    if ((rc = too_fine(s, t_c, err))) {
+        return rc;
     }
     const int64_t max_steps = (int64_t)(2000.0 * t_c / s->dt) + 1000;
     for (int64_t k = 0; k < max_steps; k++) {
@@ -393,7 +626,7 @@ int gr_collide_run(const gr_collide_setup *cs, const gr_collision_case *cc, gr_c
                            (long long)max_steps, why);
         }
     }
-    double g1[2] = {s->vx[1] - s->vx[0], dim == 2 ? s->vy[1] - s->vy[0] : 0.0};
+    double g1[3] = {s->vx[1] - s->vx[0], dim == 2 ? s->vy[1] - s->vy[0] : 0.0, 0.0};
     double t_end[2] = {n_end[1], -n_end[0]};
     rc = check_contact(cs, s, sc.L, n0, n_end, gn0, gt0, g1, out, err);
     if (rc) {

@@ -262,11 +262,77 @@ static int ref_fail_flag(gr_error *err, const ref_ctx *c, const char *what, int 
         }                                                                                          \
     } while (0)
 
+/* Spheres (dim = 3). The case lies in the plane z = 0; when the spins' sum w1 + w2 is along z,
+ * the contact point's velocity g - (g.n) n + a n x (w1 + w2) stays in the plane too, so the
+ * contact is exactly the 2D one with the spins' z components (their x and y components, equal
+ * and opposite, give the contact point no velocity and take no torque; a rolling law needs
+ * w1 = w2 as in 2D, so that it exerts nothing). The reference then integrates that contact and
+ * puts the spheres' x and y spins back, their energy counted in the fractions' denominator.
+ * Other spins move the contact out of the plane: refused, never integrated as something else. */
+static int reference_3d(const gr_collide_setup *s, const gr_collision_case *cs,
+                        gr_collide_result *out, gr_error *err)
+{
+    if (s->w1[0] + s->w2[0] != 0.0 || s->w1[1] + s->w2[1] != 0.0) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "reference collision in 3D: --omega1 %g,%g,%g and --omega2 %g,%g,%g move "
+                       "the contact point out of the impact's plane (w1 + w2 has x or y "
+                       "components); the CVODE reference integrates spins whose sum is along z "
+                       "(allowed: w1x = -w2x, w1y = -w2y; the engine run takes any)",
+                       s->w1[0], s->w1[1], s->w1[2], s->w2[0], s->w2[1], s->w2[2]);
+    }
+    if (s->rolling && (s->w1[0] != s->w2[0] || s->w1[1] != s->w2[1] || s->w1[2] != s->w2[2])) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "reference collision in 3D: a rolling law with unequal initial spins is "
+                       "not integrated (allowed: --omega1 = --omega2; the engine run takes them)");
+    }
+    gr_collide_setup plane = *s;
+    plane.dim = 2;
+    plane.omega1 = s->w1[2];
+    plane.omega2 = s->w2[2];
+    int rc = gr_collide_reference(&plane, cs, out, err);
+    if (rc) {
+        return rc;
+    }
+    /* the fractions of E: E = m12 |g|^2 / 2 + I |w1|^2 / 2 + I |w2|^2 / 2, the x and y spins'
+     * share unchanged by the contact */
+    const double I = s->contact.inertia_factor * s->mass * s->radius * s->radius;
+    const double g[2] = {cs->v2[0] - cs->v1[0], cs->v2[1] - cs->v1[1]};
+    const double e_plane =
+        0.25 * s->mass * (g[0] * g[0] + g[1] * g[1]) +
+        (s->contact.rotation ? 0.5 * I * (plane.omega1 * plane.omega1 + plane.omega2 * plane.omega2)
+                             : 0.0);
+    const double e_xy = s->contact.rotation ? 0.5 * I *
+                                                  (s->w1[0] * s->w1[0] + s->w1[1] * s->w1[1] +
+                                                   s->w2[0] * s->w2[0] + s->w2[1] * s->w2[1])
+                                            : 0.0;
+    const double f = e_plane / (e_plane + e_xy);
+    if (e_xy > 0.0) {
+        out->expected_loss = (double)NAN; /* the restitution laws assume no spin before */
+    }
+    out->energy_loss *= f;
+    out->spin_loss *= f;
+    out->diss_normal *= f;
+    out->diss_tangential *= f;
+    out->stored_lost *= f;
+    out->work_free *= f;
+    out->v1[2] = out->v2[2] = 0.0;
+    for (int k = 0; k < 2; k++) {
+        out->w1[k] = s->w1[k];
+        out->w2[k] = s->w2[k];
+    }
+    out->w1[2] = out->omega1;
+    out->w2[2] = out->omega2;
+    return GR_OK;
+}
+
 int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
                          gr_collide_result *out, gr_error *err)
 {
     if (!s || !cs || !out) {
         return GR_FAIL(err, GR_EINVAL, "reference collision: NULL argument");
+    }
+    if (s->dim == 3) {
+        return reference_3d(s, cs, out, err);
     }
     if (!s->normal) {
         return GR_FAIL(err, GR_EINVAL, "reference collision: no normal collision model given");
@@ -296,7 +362,8 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
                        s->mass, s->radius);
     }
     if (s->dim != 1 && s->dim != 2) {
-        return GR_FAIL(err, GR_EINVAL, "reference collision: dim must be 1 or 2, not %d", s->dim);
+        return GR_FAIL(err, GR_EINVAL, "reference collision: dim must be 1, 2 or 3, not %d",
+                       s->dim);
     }
 
     const double m12 = 0.5 * s->mass;

@@ -8,7 +8,11 @@
  * unchanged (models/tangential_spring.h), so a pair listed the other way round keeps its value.
  * Both run on one thread, in list order: the result is the same for any thread count. A pair
  * that leaves the list had no contact (the list holds every pair closer than the cutoff), so
- * nothing non-zero is lost. */
+ * nothing non-zero is lost.
+ *
+ * 3D (src/core/kernels_3d.c): the slot is the vector s, three doubles per entry
+ * (gr_history_width), defined with g = v_j - v_i, so a pair listed the other way round would take
+ * -s (the 3D list always lists a pair from its lower index, so it never happens there). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -19,7 +23,7 @@ int gr_history_enable(gr_sim *s, gr_error *err)
     if (s->nl_hist) {
         return GR_OK;
     }
-    s->nl_hist = calloc((size_t)s->nl_cap, sizeof(double));
+    s->nl_hist = calloc((size_t)s->nl_cap * (size_t)gr_history_width(s), sizeof(double));
     if (!s->nl_hist) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory for the contact history of %lld list entries",
                        (long long)s->nl_cap);
@@ -27,18 +31,28 @@ int gr_history_enable(gr_sim *s, gr_error *err)
     return GR_OK;
 }
 
+/* 1 when the slot of w doubles at h holds anything. */
+static int held(const double *h, int w)
+{
+    int any = 0;
+    for (int a = 0; a < w; a++) {
+        any |= h[a] != 0.0;
+    }
+    return any;
+}
+
 int gr_history_save(gr_sim *s, gr_error *err)
 {
-    const int n = s->n;
+    const int n = s->n, w = gr_history_width(s);
     const int64_t pairs = s->nl_start[n];
     int64_t k = 0;
     for (int64_t p = 0; p < pairs; p++) {
-        k += s->nl_hist[p] != 0.0;
+        k += held(s->nl_hist + w * p, w);
     }
     free(s->hist_j);
     free(s->hist_v);
     s->hist_j = malloc(sizeof(int) * (size_t)(k + 1));
-    s->hist_v = malloc(sizeof(double) * (size_t)(k + 1));
+    s->hist_v = malloc(sizeof(double) * (size_t)w * (size_t)(k + 1));
     if (!s->hist_start) {
         s->hist_start = malloc(sizeof(int64_t) * ((size_t)n + 1));
     }
@@ -50,9 +64,9 @@ int gr_history_save(gr_sim *s, gr_error *err)
     for (int i = 0; i < n; i++) { /* row i: the saved slots (i, j) in list order */
         s->hist_start[i] = k;
         for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
-            if (s->nl_hist[p] != 0.0) {
+            if (held(s->nl_hist + w * (int64_t)p, w)) {
                 s->hist_j[k] = s->nl_j[p];
-                s->hist_v[k++] = s->nl_hist[p];
+                memcpy(s->hist_v + w * k++, s->nl_hist + w * (int64_t)p, sizeof(double) * w);
             }
         }
     }
@@ -60,24 +74,29 @@ int gr_history_save(gr_sim *s, gr_error *err)
     return GR_OK;
 }
 
-/* The saved value of the pair (i, j) as row i listed it, 0 if none. */
-static double saved(const gr_sim *s, int i, int j)
+/* The saved slot of the pair (i, j) as row i listed it, NULL if none. */
+static const double *saved(const gr_sim *s, int i, int j)
 {
     for (int64_t k = s->hist_start[i]; k < s->hist_start[i + 1]; k++) {
         if (s->hist_j[k] == j) {
-            return s->hist_v[k];
+            return s->hist_v + gr_history_width(s) * k;
         }
     }
-    return 0.0;
+    return NULL;
 }
 
 void gr_history_restore(gr_sim *s)
 {
+    const int w = gr_history_width(s);
     for (int i = 0; i < s->n; i++) {
         for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
             const int j = s->nl_j[p];
-            double v = saved(s, i, j);
-            s->nl_hist[p] = v != 0.0 ? v : saved(s, j, i);
+            double *h = s->nl_hist + w * (int64_t)p;
+            const double *v = saved(s, i, j), *u = v ? NULL : saved(s, j, i);
+            for (int a = 0; a < w; a++) {
+                /* 2D: s along t is the same either way; 3D: the vector s changes sign */
+                h[a] = v ? v[a] : !u ? 0.0 : w == 3 ? -u[a] : u[a];
+            }
         }
     }
 }

@@ -1,7 +1,8 @@
 /* The normal laws as the force kernels call them: their compile-time ids from models/list.h
  * (NL_NAME) and normal_law, always inlined, so a kernel with the law as a constant compiles to
  * one inlined call and one with the law read at run time branches per pair, never an indirect
- * call. Shared by the 1D and 2D kernels (kernels.c) and the 3D one (kernels_3d.c). */
+ * call. Shared by the 1D and 2D kernels (kernels.c) and the 3D one (kernels_3d.c), with the
+ * tangential and rolling laws' ids (TL_NAME, RL_NAME) and their always-inline dispatch. */
 #ifndef GR_KERNEL_LAWS_H
 #define GR_KERNEL_LAWS_H
 
@@ -23,6 +24,76 @@ static inline __attribute__((always_inline)) gr_normal_force normal_law(
 #undef GR_NL_CASE
     }
     __builtin_unreachable();
+}
+
+/* Compile-time ids of the tangential laws, from the list (TL_none = no tangential law). */
+#define GR_TL_ID(A, NAME) TL_##NAME,
+enum { TL_none = 0, GR_TANGENTIAL_MODELS(GR_TL_ID, ) TL_COUNT };
+/* rolling laws (RL_none = none): instantiated with rotation only */
+#define GR_RL_ID(A, NAME) RL_##NAME,
+enum { RL_none = 0, GR_ROLLING_MODELS(GR_RL_ID, ) RL_COUNT };
+#undef GR_TL_ID
+#undef GR_RL_ID
+
+static inline __attribute__((always_inline)) gr_tangential_force tangential_law(
+    const int tl, const gr_contact_coeffs *c, const gr_tangential_in in)
+{
+    switch (tl) {
+#define GR_TL_CASE(A, NAME)                                                                        \
+    case TL_##NAME: return gr_tangential_##NAME(c, in);
+        GR_TANGENTIAL_MODELS(GR_TL_CASE, )
+#undef GR_TL_CASE
+    }
+    return (gr_tangential_force){.f = 0.0, .p = 0.0};
+}
+
+/* 1 when tangential law tl keeps a per-contact history (GR_HISTORY_MODELS of models/list.h). */
+static inline __attribute__((always_inline)) int history_of(const int tl)
+{
+    switch (tl) {
+#define GR_TL_HIST(A, NAME)                                                                        \
+    case TL_##NAME: return 1;
+        GR_HISTORY_MODELS(GR_TL_HIST, )
+#undef GR_TL_HIST
+    }
+    return 0;
+}
+
+static inline __attribute__((always_inline)) gr_rolling_torque rolling_law(
+    const int rl, const gr_contact_coeffs *c, const gr_rolling_in in)
+{
+    switch (rl) {
+#define GR_RL_CASE(A, NAME)                                                                        \
+    case RL_##NAME: return gr_rolling_##NAME(c, in);
+        GR_ROLLING_MODELS(GR_RL_CASE, )
+#undef GR_RL_CASE
+    }
+    return (gr_rolling_torque){.m = 0.0, .p = 0.0};
+}
+
+/* The ledger column of tangential law tl: GR_BOOK_TANGENTIAL or GR_BOOK_FRICTION (0: none). */
+static inline __attribute__((always_inline)) int book_of(const int tl)
+{
+    switch (tl) {
+#define GR_TL_BOOK(A, NAME)                                                                        \
+    case TL_##NAME: return GR_BOOK_##NAME;
+        GR_TANGENTIAL_MODELS(GR_TL_BOOK, )
+#undef GR_TL_BOOK
+    }
+    return 0;
+}
+
+/* 3D: the vector step of history law tl (GR_HISTORY_MODELS; models/law.h, gr_tangential_in3). */
+static inline __attribute__((always_inline)) gr_tangential_force3 tangential3_law(
+    const int tl, const gr_contact_coeffs *c, const gr_tangential_in3 in)
+{
+    switch (tl) {
+#define GR_TL3_CASE(A, NAME)                                                                       \
+    case TL_##NAME: return gr_tangential3_##NAME(c, in);
+        GR_HISTORY_MODELS(GR_TL3_CASE, )
+#undef GR_TL3_CASE
+    }
+    return (gr_tangential_force3){.p = 0.0};
 }
 
 /* The minimum image of a coordinate difference in a periodic box of side L. */

@@ -39,63 +39,6 @@
 #endif
 #include "core/kernel_laws.h" /* models/list.h, the normal laws' ids and normal_law */
 
-/* Compile-time ids of the tangential laws, from the list (TL_none = no tangential law). */
-#define GR_TL_ID(A, NAME) TL_##NAME,
-enum { TL_none = 0, GR_TANGENTIAL_MODELS(GR_TL_ID, ) TL_COUNT };
-/* rolling laws (RL_none = none): instantiated with rotation only */
-#define GR_RL_ID(A, NAME) RL_##NAME,
-enum { RL_none = 0, GR_ROLLING_MODELS(GR_RL_ID, ) RL_COUNT };
-#undef GR_TL_ID
-#undef GR_RL_ID
-
-static inline __attribute__((always_inline)) gr_tangential_force tangential_law(
-    const int tl, const gr_contact_coeffs *c, const gr_tangential_in in)
-{
-    switch (tl) {
-#define GR_TL_CASE(A, NAME)                                                                        \
-    case TL_##NAME: return gr_tangential_##NAME(c, in);
-        GR_TANGENTIAL_MODELS(GR_TL_CASE, )
-#undef GR_TL_CASE
-    }
-    return (gr_tangential_force){.f = 0.0, .p = 0.0};
-}
-
-/* 1 when tangential law tl keeps a per-contact history (GR_HISTORY_MODELS of models/list.h). */
-static inline __attribute__((always_inline)) int history_of(const int tl)
-{
-    switch (tl) {
-#define GR_TL_HIST(A, NAME)                                                                        \
-    case TL_##NAME: return 1;
-        GR_HISTORY_MODELS(GR_TL_HIST, )
-#undef GR_TL_HIST
-    }
-    return 0;
-}
-
-static inline __attribute__((always_inline)) gr_rolling_torque rolling_law(
-    const int rl, const gr_contact_coeffs *c, const gr_rolling_in in)
-{
-    switch (rl) {
-#define GR_RL_CASE(A, NAME)                                                                        \
-    case RL_##NAME: return gr_rolling_##NAME(c, in);
-        GR_ROLLING_MODELS(GR_RL_CASE, )
-#undef GR_RL_CASE
-    }
-    return (gr_rolling_torque){.m = 0.0, .p = 0.0};
-}
-
-/* The ledger column of tangential law tl: GR_BOOK_TANGENTIAL or GR_BOOK_FRICTION (0: none). */
-static inline __attribute__((always_inline)) int book_of(const int tl)
-{
-    switch (tl) {
-#define GR_TL_BOOK(A, NAME)                                                                        \
-    case TL_##NAME: return GR_BOOK_##NAME;
-        GR_TANGENTIAL_MODELS(GR_TL_BOOK, )
-#undef GR_TL_BOOK
-    }
-    return 0;
-}
-
 /* One pair of the 2D list: the force on j (F, on i -F), its non-conservative part G, and the
  * ledger terms. Returns 0 (nothing set) when the pair does not overlap. */
 typedef struct pair_out {
@@ -933,7 +876,7 @@ gr_tangential_force gr_kernel_tangential(const int tl, const gr_contact_coeffs *
     return tangential_law(tl, c, in);
 }
 
-int gr_kernel_instances(void) { return N_HOT + 3; }
+int gr_kernel_instances(void) { return N_HOT + 4; }
 
 int gr_kernel_choose(gr_sim *s, gr_error *err)
 {
@@ -958,10 +901,8 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
                    .clamp = (int)c->clamp,
                    .rot = s->dim == 1 ? 0 : rot,
                    .rl = s->dim == 1 ? RL_none : id_of(rolling_names, RL_COUNT, rname)};
-    /* 3D runs the normal law alone (gr_sim_new refuses the rest: docs/three-dimensions.md) */
     if (k.nl < 0 || k.tl < 0 || k.rl < 0 || (k.rl != RL_none && !k.rot) ||
-        (k.dim != 1 && k.dim != 2 && k.dim != 3) ||
-        (k.dim == 3 && (k.tl != TL_none || k.rot || k.rl != RL_none))) {
+        (k.dim != 1 && k.dim != 2 && k.dim != 3)) {
         /* unreachable: gr_sim_create checks the models before choosing. The library reports it to
          * its caller instead of printing. */
         return GR_FAIL(err, GR_EINVAL,
@@ -969,7 +910,12 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
                        nname, tname, rname, s->dim, c->clamp ? ", clamped" : "",
                        rot ? ", rotating" : "");
     }
-    k.run = k.dim == 1 ? kernel_generic_1d : k.dim == 2 ? kernel_generic_2d : gr_kernel_run_3d;
+    /* 3D (kernels_3d.c): the normal law alone, or the instance with every law read at run time */
+    const int bare = k.tl == TL_none && !k.rot && k.rl == RL_none;
+    k.run = k.dim == 1   ? kernel_generic_1d
+            : k.dim == 2 ? kernel_generic_2d
+            : bare       ? gr_kernel_run_3d
+                         : gr_kernel_run_3d_full;
     for (int h = 0; h < N_HOT; h++) {
         const hot_entry *e = &hot_kernels[h];
         if (e->dim == k.dim && e->nl == k.nl && e->tl == k.tl && e->clamp == k.clamp &&
@@ -995,14 +941,14 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
 int gr_kernel_generic(const gr_sim *s)
 {
     return s->kernel.run == kernel_generic_1d || s->kernel.run == kernel_generic_2d ||
-           s->kernel.run == gr_kernel_run_3d;
+           s->kernel.run == gr_kernel_run_3d || s->kernel.run == gr_kernel_run_3d_full;
 }
 
 int gr_kernel_force_generic(gr_sim *s)
 {
     s->kernel.run = s->kernel.dim == 1   ? kernel_generic_1d
                     : s->kernel.dim == 2 ? kernel_generic_2d
-                                         : gr_kernel_run_3d;
+                                         : gr_kernel_run_3d_full;
     return GR_OK;
 }
 

@@ -12,14 +12,28 @@
  * Kernel. For a listed pair i < j at overlap xi = d - |r_ij| > 0, n = r_ij / |r_ij| (from i to
  * j), g = v_j - v_i, g_n = g.n: the normal law (the same always-inline normal_law as in 1D and
  * 2D, core/kernel_laws.h) gives f_n and its non-conservative part f_d; the force on j is f_n n, on
- * i its opposite, and G = f_d n is kept apart for the ledger (it dissipates -f_d g_n). No
- * tangential law, rotation or rolling yet: the scene and gr_sim_new refuse them in 3D. One
- * instance, the laws read from the simulation (a branch per pair on the law, no indirect call);
- * one thread, forces summed in list order, so a run is the same for every thread count. */
+ * i its opposite, and G = f_d n is kept apart for the ledger (it dissipates -f_d g_n).
+ *
+ * Tangential laws, rotation, rolling (docs/three-dimensions.md). With a = |r_ij| / 2 (the contact
+ * point lies midway for equal spheres) and w the angular velocity vectors, the contact point's
+ * tangential relative velocity is g_c = g - g_n n + a n x (w_i + w_j) (the surface of i there
+ * moves with v_i + w_i x (a n), that of j with v_j - w_j x (a n)). A law without history acts
+ * along g_c with its 2D scalar code at |g_c|; the history law's vector step keeps s in the
+ * current tangent plane (turned and rescaled to its length, as LAMMPS pair granular). The force
+ * F_t on j (-F_t on i) at the contact point exerts the torque -a n x F_t on both spheres; the
+ * pair's orbital torque 2 a n x F_t cancels them, so angular momentum is conserved. The rolling
+ * law takes the relative spin in the tangent plane. Two instances: the normal law alone, and
+ * every law read from the simulation (a branch per pair on the law, no indirect call); one
+ * thread, forces summed in list order, so a run is the same for every thread count. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+/* As in kernels.c: with the law ids read at run time GCC cannot see that pair_3d sets every field
+ * the same ids later read, and warns of uninitialised use; the warning is false. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include "core/kernel_laws.h"
 
 int gr_neighbours_alloc_3d(gr_sim *s, gr_error *err)
@@ -60,11 +74,17 @@ static int reserve(gr_sim *s, int64_t need, gr_error *err)
     if (j) {
         s->nl_j = j;
     }
-    if (!c) {
+    if (c) {
+        s->nl_contact = c;
+    }
+    double *h = c && s->nl_hist ? realloc(s->nl_hist, sizeof(double) * 3 * (size_t)cap) : NULL;
+    if (h) {
+        s->nl_hist = h; /* a history law's vectors (contact_history.c), three doubles per entry */
+    }
+    if (!c || (s->nl_hist && !h)) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory growing the neighbour list to %lld pairs",
                        (long long)cap);
     }
-    s->nl_contact = c;
     s->nl_cap = cap;
     return GR_OK;
 }
@@ -133,6 +153,9 @@ int gr_neighbours_build_3d(gr_sim *s, gr_error *err)
     const int n = s->n, nc = s->ncell;
     int64_t count = 0;
     int rc = wrap_positions(s, err);
+    if (!rc && s->nl_hist) { /* keep each contact's history by pair across the rebuild */
+        rc = gr_history_save(s, err);
+    }
     if (rc) {
         return rc;
     }
@@ -187,6 +210,9 @@ int gr_neighbours_build_3d(gr_sim *s, gr_error *err)
         return rc;
     }
     s->nl_start[n] = (int)count;
+    if (s->nl_hist) {
+        gr_history_restore(s);
+    }
     memcpy(s->x_ref, s->x, sizeof(double) * (size_t)n);
     memcpy(s->y_ref, s->y, sizeof(double) * (size_t)n);
     memcpy(s->z_ref, s->z, sizeof(double) * (size_t)n);
@@ -194,77 +220,345 @@ int gr_neighbours_build_3d(gr_sim *s, gr_error *err)
     return GR_OK;
 }
 
-void gr_kernel_run_3d(gr_sim *s, gr_force_report *r)
+/* What every pair needs, loaded once per evaluation. */
+typedef struct ctx3 {
+    const double *restrict x, *restrict y, *restrict z, *restrict vx, *restrict vy, *restrict vz;
+    const double *restrict wx, *restrict wy, *restrict wz; /* rotation only */
+    double L, d, d2, m12_dt, i_2dt;
+    gr_contact_coeffs cc;
+} ctx3;
+
+/* One pair's results: the force on j (F; -F on i) and its non-conservative part G; the torque of
+ * the tangential force on i and on j alike (T) and its non-conservative part (TG, history laws);
+ * the rolling torque on j (R; -R on i); the ledger terms; a history law's new vector (hs). */
+typedef struct pair3 {
+    double F[3], G[3], T[3], TG[3], R[3], hs[3];
+    double el, pn, pt, pr, ov, et, lost;
+} pair3;
+
+static inline double dot3(const double a[3], const double b[3])
 {
-    const int n = s->n, nl = s->kernel.nl, clamp = s->kernel.clamp;
-    const double L = s->L, d = s->d, d2 = d * d;
-    const gr_contact_coeffs cc = s->cc;
-    const double *restrict x = s->x, *restrict y = s->y, *restrict z = s->z;
-    const double *restrict vx = s->vx, *restrict vy = s->vy, *restrict vz = s->vz;
-    double *restrict fx = s->fx, *restrict fy = s->fy, *restrict fz = s->fz;
-    double *restrict gx = s->gx, *restrict gy = s->gy, *restrict gz = s->gz;
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* c = a x b */
+static inline void cross3(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* The pair's unit normal n (i to j), distance, and the contact point's tangential relative
+ * velocity g_c = g - (g.n) n + a n x (w_i + w_j) (rotation; a = |r_ij| / 2), with g = v_j - v_i.
+ * Returns r^2 (the caller compares it with d^2 first: n, g_c are set only when r2 < d2). */
+static inline __attribute__((always_inline)) double geometry(const ctx3 *c, const int i,
+                                                             const int j, const int rot,
+                                                             double n[3], double *dist, double *g_n,
+                                                             double gc[3])
+{
+    const double dx = wrap_delta(c->x[j] - c->x[i], c->L), dy = wrap_delta(c->y[j] - c->y[i], c->L),
+                 dz = wrap_delta(c->z[j] - c->z[i], c->L);
+    const double r2 = dx * dx + dy * dy + dz * dz;
+    if (r2 >= c->d2) {
+        return r2;
+    }
+    *dist = sqrt(r2);
+    const double inv = 1.0 / *dist;
+    n[0] = dx * inv;
+    n[1] = dy * inv;
+    n[2] = dz * inv;
+    const double g[3] = {c->vx[j] - c->vx[i], c->vy[j] - c->vy[i], c->vz[j] - c->vz[i]};
+    *g_n = dot3(g, n);
+    for (int a = 0; a < 3; a++) {
+        gc[a] = g[a] - *g_n * n[a];
+    }
+    if (rot) {
+        const double W[3] = {c->wx[i] + c->wx[j], c->wy[i] + c->wy[j], c->wz[i] + c->wz[j]};
+        double nw[3];
+        cross3(n, W, nw);
+        const double arm = 0.5 * *dist;
+        for (int a = 0; a < 3; a++) {
+            gc[a] += arm * nw[a];
+        }
+    }
+    return r2;
+}
+
+/* A history vector turned into the tangent plane of n, its length kept (LAMMPS pair granular:
+ * s <- (s - (s.n) n) |s| / |s - (s.n) n|; 0 when s lies along n). */
+static inline void to_plane(double h[3], const double n[3])
+{
+    const double hn = dot3(h, n);
+    if (hn == 0.0) {
+        return;
+    }
+    const double len2 = dot3(h, h);
+    for (int a = 0; a < 3; a++) {
+        h[a] -= hn * n[a];
+    }
+    const double p2 = dot3(h, h);
+    const double scale = p2 > 0.0 ? sqrt(len2 / p2) : 0.0;
+    for (int a = 0; a < 3; a++) {
+        h[a] *= scale;
+    }
+}
+
+/* One listed pair i < j: 0 when it does not overlap (nothing set), else 1 with o filled. h: the
+ * pair's history vector (history laws), copied in and returned in o->hs. */
+static inline __attribute__((always_inline)) int pair_3d(const ctx3 *c, const int i, const int j,
+                                                         const int nl, const int tl,
+                                                         const int clamp, const int rot,
+                                                         const int rl, const double *h, pair3 *o)
+{
+    double n[3], dist = 0.0, g_n = 0.0, gc[3];
+    if (geometry(c, i, j, rot && tl != TL_none, n, &dist, &g_n, gc) >= c->d2) {
+        return 0;
+    }
+    const double ov = c->d - dist;
+    const gr_normal_force fn = normal_law(nl, &c->cc, ov, g_n, clamp);
+    o->el = fn.e;
+    o->pn = fn.f_d * g_n;
+    o->ov = ov;
+    o->pt = 0.0;
+    for (int a = 0; a < 3; a++) {
+        o->F[a] = fn.f * n[a];
+        o->G[a] = fn.f_d * n[a];
+    }
+    const int acts = !clamp || fn.f > 0.0;
+    if (tl != TL_none) {
+        double Ft[3], Fn[3]; /* the tangential force on j and its non-conservative part */
+        if (history_of(tl)) {
+            double s[3] = {h[0], h[1], h[2]};
+            to_plane(s, n);
+            const gr_tangential_in3 in = {.g = {gc[0], gc[1], gc[2]},
+                                          .f_n = fn.f,
+                                          .xi = ov,
+                                          .g_n = g_n,
+                                          .acts = acts,
+                                          .hist = s};
+            const gr_tangential_force3 ft = tangential3_law(tl, &c->cc, in);
+            for (int a = 0; a < 3; a++) {
+                Ft[a] = ft.f[a];
+                Fn[a] = ft.f[a] - ft.fc[a];
+                o->hs[a] = s[a];
+            }
+            o->et = ft.e;
+            o->lost = ft.lost;
+            o->pt = -dot3(Fn, gc);
+        } else {
+            /* a law without history acts along g_c: its scalar law at |g_c| (models/law.h) */
+            const double gm = sqrt(dot3(gc, gc));
+            const gr_tangential_in in = {.g_t = gm,
+                                         .f_n = fn.f,
+                                         .xi = ov,
+                                         .g_n = g_n,
+                                         .acts = acts,
+                                         .m12_dt = c->m12_dt,
+                                         .hist = NULL};
+            const gr_tangential_force ft = tangential_law(tl, &c->cc, in);
+            const double along = gm > 0.0 ? ft.f / gm : 0.0;
+            for (int a = 0; a < 3; a++) {
+                Ft[a] = Fn[a] = along * gc[a];
+            }
+            o->pt = ft.p;
+        }
+        for (int a = 0; a < 3; a++) {
+            o->F[a] += Ft[a];
+            o->G[a] += Fn[a];
+        }
+        if (rot) {
+            /* the force acts at the contact point, a = |r_ij| / 2 from both centres: the torque
+             * on i, (a n) x (-F_t), equals that on j, (-a n) x F_t, = -a n x F_t; the pair's
+             * orbital torque r_ij x F_t = 2 a n x F_t cancels them */
+            const double arm = 0.5 * dist;
+            cross3(n, Ft, o->T);
+            cross3(n, Fn, o->TG);
+            for (int a = 0; a < 3; a++) {
+                o->T[a] *= -arm;
+                o->TG[a] *= -arm;
+            }
+        }
+    }
+    if (rl != RL_none) {
+        /* rolling resistance: against the relative spin about axes in the tangent plane,
+         * dw_perp = (w_i - w_j) - ((w_i - w_j).n) n (the rolling velocity is R_eff dw_perp x n;
+         * the spin about n, twisting, is left alone): the scalar law at |dw_perp|, the torque
+         * +m along dw_perp on j, -m on i */
+        const double dw[3] = {c->wx[i] - c->wx[j], c->wy[i] - c->wy[j], c->wz[i] - c->wz[j]};
+        const double dn = dot3(dw, n);
+        const double dp[3] = {dw[0] - dn * n[0], dw[1] - dn * n[1], dw[2] - dn * n[2]};
+        const double m = sqrt(dot3(dp, dp));
+        const gr_rolling_in rin = {
+            .dw = m, .f_n = fn.f, .acts = acts, .r_eff = 0.25 * c->d, .i_2dt = c->i_2dt};
+        const gr_rolling_torque rt = rolling_law(rl, &c->cc, rin);
+        const double along = m > 0.0 ? rt.m / m : 0.0;
+        for (int a = 0; a < 3; a++) {
+            o->R[a] = along * dp[a];
+        }
+        o->pr = rt.p;
+    }
+    return 1;
+}
+
+/* A history law's contact (i, j) that ended: the law forgets the vector and returns the energy it
+ * held plus the work its last force did over the step (J); rare, once per contact. */
+static double forget_3d(const ctx3 *c, const int tl, const int i, const int j, const int rot,
+                        double *h)
+{
+    const double dx = wrap_delta(c->x[j] - c->x[i], c->L), dy = wrap_delta(c->y[j] - c->y[i], c->L),
+                 dz = wrap_delta(c->z[j] - c->z[i], c->L);
+    const double dist = sqrt(dx * dx + dy * dy + dz * dz);
+    const double n[3] = {dx / dist, dy / dist, dz / dist};
+    const double g[3] = {c->vx[j] - c->vx[i], c->vy[j] - c->vy[i], c->vz[j] - c->vz[i]};
+    const double g_n = dot3(g, n);
+    double gc[3] = {g[0] - g_n * n[0], g[1] - g_n * n[1], g[2] - g_n * n[2]};
+    if (rot) {
+        const double W[3] = {c->wx[i] + c->wx[j], c->wy[i] + c->wy[j], c->wz[i] + c->wz[j]};
+        double nw[3];
+        cross3(n, W, nw);
+        for (int a = 0; a < 3; a++) {
+            gc[a] += 0.5 * dist * nw[a];
+        }
+    }
+    to_plane(h, n);
+    const gr_tangential_in3 in = {
+        .g = {gc[0], gc[1], gc[2]}, .xi = c->d - dist, .g_n = g_n, .acts = 0, .hist = h};
+    return tangential3_law(tl, &c->cc, in).lost;
+}
+
+/* The pair loop, one thread, forces summed in list order (the same for every thread count). The
+ * laws are arguments that the instances below fix or read from the simulation. */
+static inline __attribute__((always_inline)) void run_3d(gr_sim *s, gr_force_report *r,
+                                                         const int nl, const int tl,
+                                                         const int clamp, const int rot,
+                                                         const int rl)
+{
+    const int n = s->n, hist = history_of(tl);
+    const double d = s->d;
+    const ctx3 c = {.x = s->x,
+                    .y = s->y,
+                    .z = s->z,
+                    .vx = s->vx,
+                    .vy = s->vy,
+                    .vz = s->vz,
+                    .wx = s->wx,
+                    .wy = s->wy,
+                    .wz = s->omega,
+                    .L = s->L,
+                    .d = d,
+                    .d2 = d * d,
+                    .m12_dt = s->cc.m_t / s->dt,
+                    .i_2dt = 0.5 * s->inertia / s->dt,
+                    .cc = s->cc};
+    double *restrict f[3] = {s->fx, s->fy, s->fz}, *restrict g[3] = {s->gx, s->gy, s->gz};
+    double *restrict tq[3] = {s->tqx, s->tqy, s->tq}, *restrict tg[3] = {s->tgx, s->tgy, s->tg};
     const int *restrict start = s->nl_start, *restrict list = s->nl_j;
     uint8_t *restrict touching = s->nl_contact;
+    double *restrict hs = s->nl_hist;
     const size_t bytes = sizeof(double) * (size_t)n;
-    memset(fx, 0, bytes);
-    memset(fy, 0, bytes);
-    memset(fz, 0, bytes);
-    memset(gx, 0, bytes);
-    memset(gy, 0, bytes);
-    memset(gz, 0, bytes);
-    double elastic = 0.0, pn = 0.0, worst = 0.0;
+    for (int a = 0; a < 3; a++) {
+        memset(f[a], 0, bytes);
+        memset(g[a], 0, bytes);
+        if (rot) {
+            memset(tq[a], 0, bytes);
+        }
+        if (rot && hist) {
+            memset(tg[a], 0, bytes);
+        }
+    }
+    double elastic = 0.0, pn = 0.0, pt = 0.0, pf = 0.0, el_t = 0.0, lost = 0.0, worst = 0.0;
     int64_t fresh = 0;
     int wi = -1, wj = -1;
+    static const double none[3] = {0.0, 0.0, 0.0};
     for (int i = 0; i < n; i++) {
-        double fxi = 0.0, fyi = 0.0, fzi = 0.0, gxi = 0.0, gyi = 0.0, gzi = 0.0;
+        double fi[3] = {0.0, 0.0, 0.0}, gi[3] = {0.0, 0.0, 0.0}, ti[3] = {0.0, 0.0, 0.0},
+               ui[3] = {0.0, 0.0, 0.0};
         for (int p = start[i]; p < start[i + 1]; p++) {
             const int j = list[p];
-            const double dx = wrap_delta(x[j] - x[i], L), dy = wrap_delta(y[j] - y[i], L),
-                         dz = wrap_delta(z[j] - z[i], L);
-            const double r2 = dx * dx + dy * dy + dz * dz;
-            if (r2 >= d2) {
+            double *hp = hist ? hs + 3 * (int64_t)p : NULL;
+            pair3 o;
+            if (!pair_3d(&c, i, j, nl, tl, clamp, rot, rl, hist ? hp : none, &o)) {
                 touching[p] = 0;
+                if (hist && (hp[0] != 0.0 || hp[1] != 0.0 || hp[2] != 0.0)) {
+                    lost += forget_3d(&c, tl, i, j, rot, hp); /* the contact ended */
+                }
                 continue;
             }
-            const double dist = sqrt(r2), inv = 1.0 / dist;
-            const double nx = dx * inv, ny = dy * inv, nz = dz * inv, ov = d - dist;
-            const double g_n = (vx[j] - vx[i]) * nx + (vy[j] - vy[i]) * ny + (vz[j] - vz[i]) * nz;
-            const gr_normal_force fn = normal_law(nl, &cc, ov, g_n, clamp);
+            if (hist) {
+                hp[0] = o.hs[0];
+                hp[1] = o.hs[1];
+                hp[2] = o.hs[2];
+                el_t += o.et;
+                lost += o.lost;
+            }
             fresh += !touching[p];
             touching[p] = 1;
-            elastic += fn.e;
-            pn -= fn.f_d * g_n;
-            if (ov > worst) {
-                worst = ov;
+            elastic += o.el;
+            pn -= o.pn;
+            if (o.ov > worst) {
+                worst = o.ov;
                 wi = i;
                 wj = j;
             }
-            const double Fx = fn.f * nx, Fy = fn.f * ny, Fz = fn.f * nz;
-            const double Gx = fn.f_d * nx, Gy = fn.f_d * ny, Gz = fn.f_d * nz;
-            fxi -= Fx;
-            fyi -= Fy;
-            fzi -= Fz;
-            gxi -= Gx;
-            gyi -= Gy;
-            gzi -= Gz;
-            fx[j] += Fx;
-            fy[j] += Fy;
-            fz[j] += Fz;
-            gx[j] += Gx;
-            gy[j] += Gy;
-            gz[j] += Gz;
+            if (tl != TL_none && book_of(tl) == GR_BOOK_TANGENTIAL) {
+                pt += o.pt;
+            } else if (tl != TL_none && book_of(tl) == GR_BOOK_FRICTION) {
+                pf += o.pt;
+            }
+            if (rl != RL_none) {
+                pf += o.pr;
+            }
+            for (int a = 0; a < 3; a++) {
+                fi[a] -= o.F[a];
+                gi[a] -= o.G[a];
+                f[a][j] += o.F[a];
+                g[a][j] += o.G[a];
+            }
+            if (rot) {
+                for (int a = 0; a < 3; a++) {
+                    const double t = tl != TL_none ? o.T[a] : 0.0, R = rl != RL_none ? o.R[a] : 0.0;
+                    ti[a] += t - R;
+                    tq[a][j] += t + R;
+                    if (hist) {
+                        ui[a] += o.TG[a] - R;
+                        tg[a][j] += o.TG[a] + R;
+                    }
+                }
+            }
         }
-        fx[i] += fxi;
-        fy[i] += fyi;
-        fz[i] += fzi;
-        gx[i] += gxi;
-        gy[i] += gyi;
-        gz[i] += gzi;
+        for (int a = 0; a < 3; a++) {
+            f[a][i] += fi[a];
+            g[a][i] += gi[a];
+            if (rot) {
+                tq[a][i] += ti[a];
+            }
+            if (rot && hist) {
+                tg[a][i] += ui[a];
+            }
+        }
     }
-    *r = (gr_force_report){.elastic = cc.e_scale * elastic,
+    *r = (gr_force_report){.elastic = s->cc.e_scale * elastic + el_t,
                            .power_normal = pn,
+                           .power_tangential = pt,
+                           .power_friction = pf,
+                           .lost = lost,
                            .new_contacts = fresh,
                            .max_overlap = worst / d,
                            .worst_i = wi,
                            .worst_j = wj};
+}
+
+/* The instances: the normal law alone (the law read from the simulation, tangential, rotation
+ * and rolling off as constants, so the loop is the normal-only one it was), and every law read
+ * from the simulation. */
+void gr_kernel_run_3d(gr_sim *s, gr_force_report *r)
+{
+    run_3d(s, r, s->kernel.nl, TL_none, s->kernel.clamp, 0, RL_none);
+}
+
+void gr_kernel_run_3d_full(gr_sim *s, gr_force_report *r)
+{
+    const gr_kernel k = s->kernel;
+    run_3d(s, r, k.nl, k.tl, k.clamp, k.rot, k.rl);
 }

@@ -113,6 +113,12 @@ void gr_sim_free(gr_sim *s)
     free(s->omega);
     free(s->tq);
     free(s->tg);
+    free(s->wx);
+    free(s->wy);
+    free(s->tqx);
+    free(s->tqy);
+    free(s->tgx);
+    free(s->tgy);
     free(s->wall_hist);
     free(s);
 }
@@ -188,8 +194,8 @@ static int prepare_contact(gr_sim *s, gr_error *err)
 }
 
 /* The dimension, and what a simulation of spheres (dim = 3) runs so far (docs/three-dimensions.md):
- * a normal force law and the random force (or no driving) in a periodic cube, with an integrator
- * that steps spheres. The scene refuses the same with the file and line; this guards the
+ * the soft contact laws (normal, tangential, rolling; rotation) and the random force (or no
+ * driving) in a periodic cube, with an integrator that steps spheres. The scene refuses the same with the file and line; this guards the
  * library's other callers (Python, C programs). */
 static int check_dim(const gr_sim_params *p, gr_error *err)
 {
@@ -202,9 +208,6 @@ static int check_dim(const gr_sim_params *p, gr_error *err)
     }
     const gr_driving_type *drive = p->driving ? p->driving : gr_driving_default();
     const char *what = !p->integrator->spheres                        ? "[integrator] kind"
-                       : p->tangential                                ? "[model] tangential"
-                       : p->rolling                                   ? "[model] rolling"
-                       : p->contact.rotation                          ? "[model] rotation"
                        : p->walls[0] || p->walls[1]                   ? "[boundary]"
                        : p->gravity[0] != 0.0 || p->gravity[1] != 0.0 ? "[gravity]"
                        : p->vibrate                                   ? "[boundary] vibrate"
@@ -213,8 +216,8 @@ static int check_dim(const gr_sim_params *p, gr_error *err)
                                                                       : NULL;
     if (what) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: %s: not available with dim = 3 yet; 3D runs a normal force law with "
-                       "the random force or no driving in a periodic cube, with the verlet "
+                       "%s: %s: not available with dim = 3 yet; 3D runs the soft contact laws "
+                       "with the random force or no driving in a periodic cube, with the verlet "
                        "integrator (docs/three-dimensions.md)",
                        p->source, what);
     }
@@ -296,20 +299,27 @@ static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *er
     return GR_OK;
 }
 
-/* Rotation ([model] rotation = true): angular velocities (zero) and torques, 2D and an
- * integrator that kicks them only. I = q M r^2. */
+/* Rotation ([model] rotation = true): angular velocities (zero) and torques, 2D or 3D (vectors:
+ * omega, tq are the z components, wx, wy, tqx, tqy the others) and an integrator that kicks
+ * them only. I = q M r^2. */
 static int alloc_rotation(gr_sim *s, gr_error *err)
 {
-    if (s->dim != 2 || !s->integrator->rotation) {
+    if (s->dim == 1 || !s->integrator->rotation) {
         return GR_FAIL(
             err, GR_EINVAL,
-            "%s: [model] rotation = true needs dim = 2 and an integrator that rotates the "
-            "discs (verlet); given dim = %d, kind = %s",
+            "%s: [model] rotation = true needs dim = 2 or 3 and an integrator that rotates the "
+            "particles (verlet); given dim = %d, kind = %s",
             s->params.source, s->dim, s->integrator->name);
     }
     s->omega = calloc((size_t)s->n + 1, sizeof(double));
     s->tq = calloc((size_t)s->n + 1, sizeof(double));
-    if (!s->omega || !s->tq) {
+    if (s->dim == 3) {
+        s->wx = calloc((size_t)s->n + 1, sizeof(double));
+        s->wy = calloc((size_t)s->n + 1, sizeof(double));
+        s->tqx = calloc((size_t)s->n + 1, sizeof(double));
+        s->tqy = calloc((size_t)s->n + 1, sizeof(double));
+    }
+    if (!s->omega || !s->tq || (s->dim == 3 && (!s->wx || !s->wy || !s->tqx || !s->tqy))) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory for %d angular velocities", s->n);
     }
     s->inertia = s->cc.q * s->mass * 0.25 * s->d * s->d;
@@ -318,7 +328,9 @@ static int alloc_rotation(gr_sim *s, gr_error *err)
 
 /* [placement] omega0: initial angular velocities omega0 * U(-0.5, 0.5) from the seed (the
  * velocities' stream, component 2, which 1D and 2D velocities never draw), before the first
- * forces and the ledger's initial energy. */
+ * forces and the ledger's initial energy. 3D: each component of the vector so, w_z from
+ * component 2 as in 2D (a sphere in the plane z = 0 spins as the disc), w_x and w_y from
+ * components 4 and 5 (the velocities take 0, 1 and 3). */
 static int spin_up(gr_sim *s, gr_error *err)
 {
     if (s->params.omega0 > 0.0 && !s->omega) {
@@ -331,6 +343,14 @@ static int spin_up(gr_sim *s, gr_error *err)
         s->omega[i] =
             s->params.omega0 *
             (gr_noise_uniform(s->params.seed, GR_STREAM_INIT_VELOCITY, (uint64_t)i, 2) - 0.5);
+        if (s->dim == 3) {
+            s->wx[i] =
+                s->params.omega0 *
+                (gr_noise_uniform(s->params.seed, GR_STREAM_INIT_VELOCITY, (uint64_t)i, 4) - 0.5);
+            s->wy[i] =
+                s->params.omega0 *
+                (gr_noise_uniform(s->params.seed, GR_STREAM_INIT_VELOCITY, (uint64_t)i, 5) - 0.5);
+        }
     }
     return GR_OK;
 }
@@ -386,6 +406,10 @@ static int finish(gr_sim *s, gr_error *err)
         }
         /* rotation: the springs' torques are conservative; the kernel keeps the rest apart */
         if (s->omega && !s->tg && !(s->tg = calloc((size_t)s->n + 1, sizeof(double)))) {
+            return GR_FAIL(err, GR_ENOMEM, "out of memory for %d torques", s->n);
+        }
+        if (s->wx && ((!s->tgx && !(s->tgx = calloc((size_t)s->n + 1, sizeof(double)))) ||
+                      (!s->tgy && !(s->tgy = calloc((size_t)s->n + 1, sizeof(double)))))) {
             return GR_FAIL(err, GR_ENOMEM, "out of memory for %d torques", s->n);
         }
     }
@@ -484,6 +508,44 @@ int gr_sim_new_with_state(const gr_sim_params *p, int n, const double *x, const 
     return GR_OK;
 }
 
+int gr_sim_new_with_state_3d(const gr_sim_params *p, int n, const double *const r[3],
+                             const double *const v[3], gr_sim **out, gr_error *err)
+{
+    *out = NULL;
+    if (p->dim != 3) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: a state given as x, y, z arrays is 3D (given dim = %d; allowed here: "
+                       "dim = 3)",
+                       p->source, p->dim);
+    }
+    gr_sim *s;
+    int rc = alloc_state(p, n, &s, err);
+    if (rc) {
+        return rc;
+    }
+    s->params.N = n;
+    double *sr[3] = {s->x, s->y, s->z}, *sv[3] = {s->vx, s->vy, s->vz};
+    for (int i = 0; i < n; i++) {
+        for (int a = 0; a < 3; a++) {
+            if (!isfinite(r[a][i]) || !isfinite(v[a][i])) {
+                gr_sim_free(s);
+                return GR_FAIL(err, GR_EINVAL,
+                               "initial state: particle %d has a non-finite position or velocity",
+                               i);
+            }
+            sr[a][i] = r[a][i] - s->L * floor(r[a][i] / s->L);
+            sv[a][i] = v[a][i];
+        }
+    }
+    rc = finish(s, err);
+    if (rc) {
+        gr_sim_free(s);
+        return rc;
+    }
+    *out = s;
+    return GR_OK;
+}
+
 /* Canonical order (gr_sim_new_canonical): 1D by x; 2D by cell of a grid of side >= d in
  * row-major order, then x, then y, on the wrapped positions. Distinct positions (every accepted
  * state has them) get a unique order, and neighbours in space are near in the order. */
@@ -568,7 +630,8 @@ gr_particles gr_sim_particles(const gr_sim *s)
                           .vy = s->vy,
                           .z = s->z,
                           .vz = s->vz,
-                          .omega = s->omega};
+                          /* 3D: the spins are vectors (wx, wy, omega), not one column */
+                          .omega = s->dim == 3 ? NULL : s->omega};
 }
 
 void gr_sim_forces(const gr_sim *s, const double **fx, const double **fy)
@@ -660,6 +723,9 @@ gr_ledger gr_sim_ledger(gr_sim *s)
     double rot = 0.0; /* sum I w^2 / 2, part of the kinetic energy */
     for (int i = 0; s->omega && i < s->n; i++) {
         rot += s->omega[i] * s->omega[i];
+        if (s->wx) { /* 3D: |w|^2 */
+            rot += s->wx[i] * s->wx[i] + s->wy[i] * s->wy[i];
+        }
     }
     rot *= 0.5 * s->inertia;
     return (gr_ledger){.kinetic = s->omega ? 0.5 * s->mass * ke + rot : 0.5 * s->mass * ke,
@@ -714,9 +780,12 @@ double gr_sim_rotational_temperature(const gr_sim *s)
     double sum = 0.0;
     for (int i = 0; i < s->n; i++) {
         sum += s->omega[i] * s->omega[i];
+        if (s->wx) { /* 3D: |w|^2 over the three rotational degrees of freedom, as T sums v */
+            sum += s->wx[i] * s->wx[i] + s->wy[i] * s->wy[i];
+        }
     }
     return s->inertia * sum /
-           (s->mass * s->n); /* I <w^2> / M: the one rotational degree of freedom */
+           (s->mass * s->n); /* I <w^2> / M: the one rotational degree of freedom (2D) */
 }
 
 double gr_sim_max_overlap(gr_sim *s) { return s->last.max_overlap; }

@@ -53,6 +53,10 @@ struct gr_sim {
     /* Rotation (2D, only when cc.rotation): angular velocity, rad/s (counterclockwise), and the
      * torque of the last force evaluation, N m; moment of inertia q M r^2. NULL otherwise. */
     double *omega, *tq;
+    /* 3D (spheres, only when cc.rotation): omega, tq and tg above are the z components of the
+     * angular velocity, torque and its non-conservative part (a 2D disc spins about z), these the
+     * x and y components (src/core/kernels_3d.c). NULL otherwise. */
+    double *wx, *wy, *tqx, *tqy, *tgx, *tgy;
     /* rotation with a history law (models/list.h): the non-conservative part of tq, everything
      * but the springs' torques a k_t s, whose work the spin kicks must not book as dissipation
      * (their energy is the springs' k_t s^2 / 2); NULL otherwise (tq is then all non-conservative) */
@@ -187,9 +191,14 @@ int gr_neighbours_build(gr_sim *s, gr_error *err);
 int gr_neighbours_alloc_3d(gr_sim *s, gr_error *err);
 int gr_neighbours_build_3d(gr_sim *s, gr_error *err);
 void gr_kernel_run_3d(gr_sim *s, gr_force_report *r);
+/* the same loop with the tangential law (a 3D history vector per contact), rotation (angular
+ * velocity vectors, torques) and the rolling law read from s->kernel */
+void gr_kernel_run_3d_full(gr_sim *s, gr_force_report *r);
 
 /* contact history: allocate the slots (zero), save them by pair before a rebuild, restore after */
 int gr_history_enable(gr_sim *s, gr_error *err);
+/* doubles per history slot: 1 (2D: s along t), 3 in 3D (the vector s) */
+static inline int gr_history_width(const gr_sim *s) { return s->dim == 3 ? 3 : 1; }
 int gr_history_save(gr_sim *s, gr_error *err);
 void gr_history_restore(gr_sim *s);
 

@@ -69,7 +69,10 @@ static int list_room(gr_sim *s, int64_t pairs, gr_error *err)
     if (c) {
         s->nl_contact = c;
     }
-    double *h = c && s->nl_hist ? realloc(s->nl_hist, sizeof(double) * (size_t)pairs) : NULL;
+    double *h =
+        c && s->nl_hist
+            ? realloc(s->nl_hist, sizeof(double) * (size_t)gr_history_width(s) * (size_t)pairs)
+            : NULL;
     if (h) {
         s->nl_hist = h;
     }
@@ -133,7 +136,7 @@ static int list_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     gr_blob_io_bytes(io, s->nl_j, sizeof(int) * (size_t)pairs);
     gr_blob_io_bytes(io, s->nl_contact, (size_t)pairs);
     if (s->nl_hist) { /* the contact history (contact_history.c), when the law keeps one */
-        gr_blob_io_f64s(io, s->nl_hist, pairs);
+        gr_blob_io_f64s(io, s->nl_hist, pairs * gr_history_width(s)); /* 3D: vectors */
     }
     if (io->in) {
         check_list(s, io->in, pairs);
@@ -275,6 +278,14 @@ static int sim_io(gr_sim *s, gr_blob_io *io, gr_error *err)
         gr_blob_io_f64s(io, s->tq, n);
         if (s->tg) { /* a history law's: their non-conservative part, which that kick books */
             gr_blob_io_f64s(io, s->tg, n);
+        }
+        if (s->wx) { /* 3D: the x and y components of the spins and torques (the above are z) */
+            double *const spin_3d[] = {s->wx, s->wy, s->tqx, s->tqy, s->tgx, s->tgy};
+            for (size_t k = 0; k < sizeof spin_3d / sizeof spin_3d[0]; k++) {
+                if (spin_3d[k]) {
+                    gr_blob_io_f64s(io, spin_3d[k], n);
+                }
+            }
         }
     }
     if (!rc && !gr_blob_io_bad(io) && s->walls_on) {

@@ -89,7 +89,8 @@ static const scene_key keys[] = {
      "initial velocities v0 * U(-0.5, 0.5) per component (sec. 2.2.2), mean removed", OFF(v0)},
     {"placement", "omega0", "rad/s", K_DOUBLE, "0", 0, INFINITY, false, true, NULL,
      "[model] rotation = true only: initial angular velocities omega0 * U(-0.5, 0.5) per disc "
-     "(rotational temperature I omega0^2 / 12 M); 0 = not spinning",
+     "(rotational temperature I omega0^2 / 12 M); 3D: per component of each sphere's angular "
+     "velocity vector (I <|w|^2> / M = 3 I omega0^2 / 12 M); 0 = not spinning",
      OFF(omega0)},
     {"model", "normal", "", K_NORMAL, "spring_dashpot", 0, 0, false, false, NULL,
      "normal collision model (granule models lists them)", OFF(normal)},
@@ -1118,17 +1119,25 @@ static where model_where(const given *g, const gr_scene *s, const char *name)
     return (where){s->source, 0, NULL};
 }
 
-/* dim = 3 (spheres, docs/three-dimensions.md): the default placement follows dim (cubic), and what
- * 3D cannot run yet is refused at its key, never run silently: a tangential or rolling law,
- * rotation, walls, gravity, an integrator without spheres (event, hybrid), the Langevin bath,
+/* dim = 3 (spheres, docs/three-dimensions.md): the default placement follows dim (cubic), as does
+ * the moment of inertia's factor (2/5, a solid sphere, unless inertia_factor is given), and what
+ * 3D cannot run yet is refused at its key, never run silently: walls, gravity, an integrator without spheres (event, hybrid), the Langevin bath,
  * single-precision noise, observables not defined in 3D, the h5md trajectory. */
 static int resolve_3d(gr_scene *s, const given *g, gr_error *err)
 {
-    static const char *const why = "dim = 3 runs a normal force law with the random force (or no "
-                                   "driving) in a periodic cube so far (docs/three-dimensions.md)";
+    static const char *const why = "dim = 3 runs the soft contact laws with the random force (or "
+                                   "no driving) in a periodic cube so far "
+                                   "(docs/three-dimensions.md)";
     char detail[600];
     if (!key_given(g, "placement", "kind")) {
         s->placement = GR_PLACE_CUBIC; /* the default follows dim: hexagonal is a 2D packing */
+    }
+    bool q_given = false;
+    for (int k = 0; k < g->n_model_at; k++) {
+        q_given = q_given || strcmp(g->model_at[k].name, "inertia_factor") == 0;
+    }
+    if (!q_given) {
+        s->contact.inertia_factor = 0.4; /* I = (2/5) M r^2, a solid sphere (2D: 1/2, a disc) */
     }
     if (s->placement != GR_PLACE_CUBIC && s->placement != GR_PLACE_FCC &&
         s->placement != GR_PLACE_RANDOM) {
@@ -1156,9 +1165,6 @@ static int resolve_3d(gr_scene *s, const given *g, gr_error *err)
         bool on;
         const char *section, *key, *allowed;
     } const refused[] = {
-        {s->tangential != NULL, "model", "tangential", "none"},
-        {s->rolling != NULL, "model", "rolling", "none"},
-        {s->contact.rotation, "model", "rotation", "false"},
         {s->boundary[0], "boundary", "x", "periodic"},
         {s->boundary[1], "boundary", "y", "periodic"},
         {s->vibrate != 0, "boundary", "vibrate", "none"},
@@ -1346,14 +1352,14 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
                  s->normal->name, hard, soft, laws);
         return fail_at(err, &w, "model", "normal", "%s", detail);
     }
-    if (s->rolling && (s->dim != 2 || !s->contact.rotation || s->integrator->instantaneous)) {
+    if (s->rolling && (s->dim == 1 || !s->contact.rotation || s->integrator->instantaneous)) {
         where w = where_of(g, s, "model", "rolling");
-        snprintf(detail, sizeof detail,
-                 "%s is a torque on the spins: it needs dim = 2, [model] rotation = true and a "
-                 "force-law integrator (verlet); given dim = %d, rotation = %s, kind = %s; allowed "
-                 "otherwise: none",
-                 s->rolling->name, s->dim, s->contact.rotation ? "true" : "false",
-                 s->integrator->name);
+        snprintf(
+            detail, sizeof detail,
+            "%s is a torque on the spins: it needs dim = 2 or 3, [model] rotation = true and a "
+            "force-law integrator (verlet); given dim = %d, rotation = %s, kind = %s; allowed "
+            "otherwise: none",
+            s->rolling->name, s->dim, s->contact.rotation ? "true" : "false", s->integrator->name);
         return fail_at(err, &w, "model", "rolling", "%s", detail);
     }
     if (s->integrator->instantaneous && !key_given(g, "integrator", "free_flight")) {

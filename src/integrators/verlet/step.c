@@ -62,8 +62,13 @@ static inline double lanes_total(const double *acc)
  * energy k_t s^2 / 2 (the spring integrates the contact point's g_t, surface velocities included),
  * so the kernel keeps tau_nc apart in s->tg. `closing` merges the previous step's closing kick as
  * open_step_* does; its work goes to *wc, the opening kick's to *wo. */
+static bool spin_kicks_3d(gr_sim *s, const int closing, const int opening, double *wc, double *wo);
+
 static bool spin_kicks(gr_sim *s, const int closing, const int opening, double *wc, double *wo)
 {
+    if (s->dim == 3) {
+        return spin_kicks_3d(s, closing, opening, wc, wo);
+    }
     const double h = 0.5 * s->dt / s->inertia;
     double *restrict w = s->omega;
     const double *restrict tq = s->tq;
@@ -82,6 +87,37 @@ static bool spin_kicks(gr_sim *s, const int closing, const int opening, double *
         }
         w[i] = wi;
         sum += wi;
+    }
+    *wc += 0.5 * s->dt * c;
+    *wo += 0.5 * s->dt * o;
+    return isfinite(sum) && isfinite(c) && isfinite(o);
+}
+
+/* The same for spheres: angular velocity vectors (wx, wy, omega = w_z) and torques (tqx, tqy,
+ * tq; the non-conservative parts tgx, tgy, tg with a history law), each component as above. */
+static bool spin_kicks_3d(gr_sim *s, const int closing, const int opening, double *wc, double *wo)
+{
+    const double h = 0.5 * s->dt / s->inertia;
+    double *restrict w[3] = {s->wx, s->wy, s->omega};
+    const double *restrict tq[3] = {s->tqx, s->tqy, s->tq};
+    const double *restrict nc[3] = {s->tg ? s->tgx : s->tqx, s->tg ? s->tgy : s->tqy,
+                                    s->tg ? s->tg : s->tq};
+    double c = 0.0, o = 0.0, sum = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        for (int a = 0; a < 3; a++) {
+            const double dw = h * tq[a][i];
+            double wi = w[a][i];
+            if (closing) {
+                c += nc[a][i] * (wi + 0.5 * dw);
+                wi += dw;
+            }
+            if (opening) {
+                o += nc[a][i] * (wi + 0.5 * dw);
+                wi += dw;
+            }
+            w[a][i] = wi;
+            sum += wi;
+        }
     }
     *wc += 0.5 * s->dt * c;
     *wo += 0.5 * s->dt * o;
@@ -107,7 +143,12 @@ static double half_kick_3d(gr_sim *s, bool *finite)
     }
     const double work = lanes_total(wl);
     *finite = isfinite(lanes_total(sl)) && isfinite(work);
-    return work * 0.5 * s->dt;
+    if (!s->omega) {
+        return work * 0.5 * s->dt;
+    }
+    double spin = 0.0, unused = 0.0;
+    *finite = spin_kicks_3d(s, 1, 0, &spin, &unused) && *finite;
+    return work * 0.5 * s->dt + spin;
 }
 
 /* Closing half kick. Returns the work done on the particles by the non-conservative part of the
