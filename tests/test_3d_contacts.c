@@ -461,6 +461,80 @@ START_TEST(test_hard_cases)
 }
 END_TEST
 
+/* ---- granule collide --dim 3 and its CVODE reference ------------------------------------------ */
+
+static gr_collide_setup collide_setup(const char *normal, const char *tangential)
+{
+    gr_collide_setup s;
+    gr_collide_setup_default(&s);
+    s.dim = 3;
+    s.normal = gr_model_find(normal);
+    s.tangential = gr_model_find(tangential);
+    s.contact.rotation = true;
+    s.contact.inertia_factor = 0.4;
+    s.contact.eps_t = 0.4;
+    s.mass = 3.53e-5;
+    s.radius = 1.5e-3;
+    s.steps_per_contact = 200;
+    return s;
+}
+
+/* Out of the impact's plane the reference integrates the contact in 3D (tangential_dashpot); a
+ * spin about x of 1e-7 rad/s must give the plane's reference (the 2D integration) to its
+ * tolerance, and the engine must follow the 3D reference to first order in dt / t_c with spins
+ * about every axis. */
+START_TEST(test_collide_reference_3d)
+{
+    const char *const normals[] = {"spring_dashpot", "hertz"};
+    gr_collision_case cs;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_collision_case_oblique(0.5, 30.0, 1.5e-3, &cs, &err), GR_OK);
+    for (int k = 0; k < 2; k++) {
+        gr_collide_setup s = collide_setup(normals[k], "tangential_dashpot");
+        s.w1[2] = 150.0;
+        s.w2[2] = -300.0;
+        gr_collide_result plane, tilted, engine, ref;
+        ck_assert_msg(gr_collide_reference(&s, &cs, &plane, &err) == GR_OK, "%s", err.message);
+        s.w1[0] = 1e-7;
+        ck_assert_msg(gr_collide_reference(&s, &cs, &tilted, &err) == GR_OK, "%s", err.message);
+        double worst = fabs(plane.energy_loss - tilted.energy_loss);
+        for (int a = 0; a < 3; a++) {
+            worst = fmax(worst, fabs(plane.v1[a] - tilted.v1[a]) / 0.5);
+            worst = fmax(worst, fabs(plane.w2[a] - tilted.w2[a]) / 300.0);
+        }
+        VERBOSE("%s: 3D reference vs the plane's: %.2e (loss %.10f)\n", normals[k], worst,
+                plane.energy_loss);
+        ck_assert_msg(worst < 1e-8, "%s: the 3D reference differs from the plane's by %.3e",
+                      normals[k], worst);
+        const double w1[3] = {400.0, 100.0, 150.0}, w2[3] = {-100.0, 0.0, -300.0};
+        memcpy(s.w1, w1, sizeof w1);
+        memcpy(s.w2, w2, sizeof w2);
+        ck_assert_msg(gr_collide_reference(&s, &cs, &ref, &err) == GR_OK, "%s", err.message);
+        ck_assert_msg(gr_collide_run(&s, &cs, &engine, &err) == GR_OK, "%s", err.message);
+        const double dl = fabs(engine.energy_loss - ref.energy_loss);
+        double dw = 0.0, dv = 0.0;
+        for (int a = 0; a < 3; a++) {
+            dw = fmax(dw, fabs(engine.w1[a] - ref.w1[a]) / 400.0);
+            dv = fmax(dv, fabs(engine.v2[a] - ref.v2[a]) / 0.5);
+        }
+        VERBOSE("%s: engine vs 3D reference: loss %.8f / %.8f, spins %.2e, velocities %.2e, v_z "
+                "%g\n",
+                normals[k], engine.energy_loss, ref.energy_loss, dw, dv, ref.v2[2]);
+        ck_assert_msg(fabs(ref.v2[2]) > 1e-3 && fabs(ref.w1[1] - 100.0) > 1.0,
+                      "%s: the contact stayed in the plane: the test tests nothing", normals[k]);
+        ck_assert_msg(dl <= 0.25 / 200.0 && dw <= 2e-3 && dv <= 2e-3,
+                      "%s: engine and 3D reference differ: loss %.3e, spins %.3e, velocities %.3e",
+                      normals[k], dl, dw, dv);
+        ck_assert_double_le(engine.momentum_error, 1e-13);
+        /* a law that sticks, slips or stops is refused out of the plane, not integrated */
+        gr_collide_setup sp = collide_setup(normals[k], "sliding_friction");
+        memcpy(sp.w1, w1, sizeof w1);
+        ck_assert_int_eq(gr_collide_reference(&sp, &cs, &ref, &err), GR_EINVAL);
+        ck_assert_msg(strstr(err.message, "out of the impact's plane"), "%s", err.message);
+    }
+}
+END_TEST
+
 /* ---- a gas: ledger, list rebuilds, restarts, threads ------------------------------------------ */
 
 static const char *gas =
@@ -700,6 +774,7 @@ static Suite *contacts_suite(void)
     tcase_add_test(tc, test_history_rebuild_restart_threads);
     tcase_add_test(tc, test_restart_spins);
     tcase_add_test(tc, test_elastic_without_friction);
+    tcase_add_test(tc, test_collide_reference_3d);
     tcase_add_test(tc, test_defaults_follow_dim);
     suite_add_tcase(s, tc);
     return s;

@@ -1000,6 +1000,51 @@ START_TEST(test_reference_needs_law)
 }
 END_TEST
 
+/* 3D: every 2D combination collided as spheres in the plane z = 0 (spins along z, the same q)
+ * gives the discs' numbers (src/core/kernels_3d.c runs the same laws with vectors), velocities
+ * and spins staying in the plane exactly (docs/three-dimensions.md) */
+START_TEST(test_spheres_in_plane)
+{
+    const combo *c = &combos[_i];
+    if (c->dim != 2) {
+        return; /* a 1D combination has no sphere counterpart */
+    }
+    char name[160], what[260];
+    name_of(c, name, sizeof name);
+    gr_contact_params p = defaults_of(c);
+    p.inertia_factor = 0.4;
+    gr_collide_setup s2 = setup_of(c, p), s3 = s2;
+    s3.dim = 3;
+    gr_contact_coeffs k;
+    ck_assert(coeffs_of(&s2, &k));
+    s2.omega1 = s3.w1[2] = c->rot ? 40.0 : 0.0;
+    s2.omega2 = s3.w2[2] = c->rot ? -90.0 : 0.0;
+    const double speed = 0.1, angles3[] = {0.0, 40.0};
+    for (int a = 0; a < 2; a++) {
+        snprintf(what, sizeof what, "%s at %g deg as spheres", name, angles3[a]);
+        const gr_collision_case cs = impact(speed, angles3[a]);
+        s2.dt = s3.dt = duration_of(&k, speed, angles3[a]) / STEPS;
+        gr_collide_result r2, r3;
+        gr_error err = {0};
+        ck_assert_msg(gr_collide_run(&s2, &cs, &r2, &err) == GR_OK, "%s: %s", what, err.message);
+        ck_assert_msg(gr_collide_run(&s3, &cs, &r3, &err) == GR_OK, "%s: %s", what, err.message);
+        double worst = fmax(fabs(r2.energy_loss - r3.energy_loss),
+                            fabs(r2.eps_n_measured - r3.eps_n_measured));
+        for (int q = 0; q < 2; q++) {
+            worst = fmax(worst, fabs(r2.v1[q] - r3.v1[q]) / speed);
+            worst = fmax(worst, fabs(r2.v2[q] - r3.v2[q]) / speed);
+        }
+        worst = fmax(worst, fabs(r2.omega1 - r3.w1[2]) / 90.0);
+        worst = fmax(worst, fabs(r2.omega2 - r3.w2[2]) / 90.0);
+        VERBOSE("%s: 3D vs 2D %.2e\n", what, worst);
+        ck_assert_msg(worst <= 1e-9, "%s: the spheres differ from the discs by %.3e", what, worst);
+        ck_assert_msg(r3.v1[2] == 0.0 && r3.v2[2] == 0.0 && r3.w1[0] == 0.0 && r3.w1[1] == 0.0 &&
+                          r3.w2[0] == 0.0 && r3.w2[1] == 0.0,
+                      "%s: left the plane", what);
+    }
+}
+END_TEST
+
 static Suite *suite(void)
 {
     enumerate();
@@ -1014,6 +1059,7 @@ static Suite *suite(void)
     tcase_add_loop_test(tc, test_hard_cases, 0, n_combos);
     tcase_add_loop_test(tc, test_periodic_and_ledger, 0, n_combos);
     tcase_add_loop_test(tc, test_generic_kernel, 0, n_combos);
+    tcase_add_loop_test(tc, test_spheres_in_plane, 0, n_combos);
     tcase_add_test(tc, test_kernel_instances_bounded);
     n_rolls = 0;
     for (int i = 0; i < n_combos; i++) {

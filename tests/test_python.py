@@ -231,6 +231,18 @@ check(sim3.dim == 3 and sim3.z.shape == (216,) and sim3.vz.base is sim3 and np.a
       "3D: z and vz are read-only views, z inside the cube")
 check(abs(T3 - sim3.temperature) <= 1e-12 * T3, f"3D: T from x, y, z views {T3} = sim.temperature {sim3.temperature}")
 check(sim.z is None and sim.vz is None, "2D: z and vz are None")
+# 3D rotation: the angular velocity vectors are views wx, wy, wz; I <|w|^2> / M is T_rot
+s3r = granule.load_scene(os.path.join(src, "docs", "scenes", "rfm-3d.ini"),
+                         set={"system.N": 216, "model.tangential": "tangential_spring", "model.rotation": "true",
+                              "placement.omega0": "300"})
+sim3r = granule.Sim(s3r)
+sim3r.step(50)
+w2 = np.mean(sim3r.wx ** 2 + sim3r.wy ** 2 + sim3r.wz ** 2)
+rot = sim3r.ledger()["rotational"]
+I = 0.4 * sim3r.mass * sim3r.radius ** 2
+check(sim3r.wx.base is sim3r and sim3r.wz.shape == (216,) and abs(0.5 * I * sim3r.N * w2 - rot) <= 1e-12 * rot,
+      f"3D rotation: wx, wy, wz are views, I |w|^2 / 2 summed {0.5 * I * sim3r.N * w2} = the ledger's {rot}")
+check(sim3.wx is None and sim3.wz is None and sim.wx is None, "no rotation: wx, wy, wz are None")
 obs3 = granule.Observer(granule.load_scene(os.path.join(src, "docs", "scenes", "rfm-3d.ini"),
                                           set={"system.N": 216, "analysis.observables": "moments"}))
 obs3.sample(sim3)

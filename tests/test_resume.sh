@@ -9,6 +9,7 @@
 #   - the event-driven and hybrid integrators (1D, N = 100): SIGTERM + --resume and repeated
 #     --wall-limit stops + --resume, compared the same way
 #   - walls and gravity (a 2D bed under gravity with the random force): the same two
+#   - 3D spheres with the tangential spring, rotation and rolling: repeated --wall-limit stops
 #   - refusals: flipped byte (checksum), truncated file, other format version, not a checkpoint,
 #     different scene (names the key), finished run, missing checkpoint, fresh run over an
 #     interrupted one without --force, a run or --resume into the folder of a run still going
@@ -252,6 +253,42 @@ for d in 2 1; do
         fail "${d}D: kill -9 + resume (exit $rc)" "$err" "${msg:-}"
     fi
 done
+
+# 3D spheres with the tangential spring, rotation and rolling (docs/three-dimensions.md): the spin
+# vectors, torques and history vectors travel through the checkpoint; repeated --wall-limit stops
+# + --resume equal the uninterrupted run
+cat >s3.ini <<EOF
+[system]
+dim = 3
+N = 343
+packing_fraction = 0.25
+[placement]
+v0 = 0.3
+omega0 = 200
+[model]
+normal = spring_dashpot
+eps_n = 0.9
+tangential = tangential_spring
+mu = 0.5
+rotation = true
+rolling = rolling_friction
+mu_r = 0.05
+[noise]
+D = 1e-8
+[integrator]
+dt = 1e-6
+[run]
+warmup = 0.002
+duration = 0.01
+sample_every = 1e-3
+checkpoint_wall = 0
+[output]
+plots = false
+snapshot_every = 0.005
+EOF
+run "$G" run s3.ini --out ref3 --quiet
+[[ $rc -eq 0 ]] || fail "3D reference run exits $rc" "$err"
+wall_case "3D friction + rotation + rolling" 3 s3.ini 0.01 777 1.5 1000
 
 # [noise] precision = single (the 1D scene): repeated --wall-limit stops + --resume equal the
 # uninterrupted run; the resumed sessions keep the precision (scene.ini carries it)

@@ -155,6 +155,11 @@ gr_particles gr_sim_particles(const gr_sim *sim);
  * arrays, like those of gr_sim_particles, live as long as the simulation and are updated in place
  * by every step (the Python module hands them out as numpy views). */
 void gr_sim_forces(const gr_sim *sim, const double **fx, const double **fy);
+
+/* The angular velocities, rad/s ([model] rotation = true; all NULL without rotation): *wz the
+ * spin about z (2D: the discs' counterclockwise w, gr_particles.omega), *wx and *wy its x and y
+ * components in 3D (NULL in 2D). n entries each, valid until the next step. */
+void gr_sim_spins(const gr_sim *sim, const double **wx, const double **wy, const double **wz);
 /* Threads for the simulation core (all simulations of the process): n >= 1, or 0 for the
  * default, which is 1 unless the environment sets OMP_NUM_THREADS (then that). `--threads N`
  * calls it. Results do not depend on the thread count (docs/performance.md, "Threads"). */

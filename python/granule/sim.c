@@ -69,13 +69,14 @@ static PyObject *sim_ledger(pyg_sim *self, PyObject *unused)
     gr_ledger l = gr_sim_ledger(self->sim);
     /* potential: gravity's -M sum g . r ([gravity]; 0 without), wall_work: the moving walls' work
      * ([boundary] vibrate; 0 without), both part of the balance */
-    return Py_BuildValue("{sdsdsdsdsdsdsdsdsdsdsdsdsd}", "kinetic", l.kinetic, "elastic", l.elastic,
-                         "initial", l.initial, "injected", l.injected, "dissipated_normal",
-                         l.dissipated_normal, "dissipated_tangential", l.dissipated_tangential,
-                         "dissipated_friction", l.dissipated_friction, "dissipated_drag",
-                         l.dissipated_drag, "removed_com", l.removed_com, "potential", l.potential,
-                         "wall_work", l.wall_work, "dissipated", gr_ledger_dissipated(&l),
-                         "residual", gr_ledger_residual(&l));
+    /* rotational: the spins' sum I |w|^2 / 2, part of kinetic (0 without rotation) */
+    return Py_BuildValue(
+        "{sdsdsdsdsdsdsdsdsdsdsdsdsdsd}", "kinetic", l.kinetic, "rotational", l.rotational,
+        "elastic", l.elastic, "initial", l.initial, "injected", l.injected, "dissipated_normal",
+        l.dissipated_normal, "dissipated_tangential", l.dissipated_tangential,
+        "dissipated_friction", l.dissipated_friction, "dissipated_drag", l.dissipated_drag,
+        "removed_com", l.removed_com, "potential", l.potential, "wall_work", l.wall_work,
+        "dissipated", gr_ledger_dissipated(&l), "residual", gr_ledger_residual(&l));
 }
 
 /* The core's state as bytes (gr_sim_state_save): pickle it, keep it, restore it into a Sim of
@@ -118,7 +119,7 @@ static PyObject *sim_restore(pyg_sim *self, PyObject *args)
     Py_RETURN_NONE;
 }
 
-enum { F_X, F_Y, F_VX, F_VY, F_FX, F_FY, F_Z, F_VZ };
+enum { F_X, F_Y, F_VX, F_VY, F_FX, F_FY, F_Z, F_VZ, F_WX, F_WY, F_WZ };
 
 static PyObject *sim_array(pyg_sim *self, void *which)
 {
@@ -126,12 +127,13 @@ static PyObject *sim_array(pyg_sim *self, void *which)
         return NULL;
     }
     gr_particles p = gr_sim_particles(self->sim);
-    const double *fx, *fy;
+    const double *fx, *fy, *wx, *wy, *wz;
     gr_sim_forces(self->sim, &fx, &fy);
-    const double *a[] = {p.x, p.y, p.vx, p.vy, fx, fy, p.z, p.vz};
+    gr_sim_spins(self->sim, &wx, &wy, &wz);
+    const double *a[] = {p.x, p.y, p.vx, p.vy, fx, fy, p.z, p.vz, wx, wy, wz};
     const double *data = a[(int)(intptr_t)which];
     if (!data) {
-        Py_RETURN_NONE; /* y, vy, fy in 1D; z, vz except in 3D */
+        Py_RETURN_NONE; /* y, vy, fy in 1D; z, vz, wx, wy except in 3D; w without rotation */
     }
     return pyg_view((PyObject *)self, data, p.n);
 }
@@ -178,6 +180,11 @@ static PyGetSetDef sim_getset[] = {
     VIEW("fy", F_FY, "y contact forces of the last evaluation, N (None in 1D)"),
     VIEW("z", F_Z, "z positions, m (3D only, else None)"),
     VIEW("vz", F_VZ, "z velocities, m/s (3D only, else None)"),
+    VIEW("wx", F_WX, "x angular velocities, rad/s (3D with rotation only, else None)"),
+    VIEW("wy", F_WY, "y angular velocities, rad/s (3D with rotation only, else None)"),
+    VIEW("wz", F_WZ,
+         "z angular velocities, rad/s (2D: the discs' counterclockwise spin; None without "
+         "rotation)"),
     GET("t", G_T, "simulated time, s"),
     GET("steps", G_STEPS, "steps taken"),
     GET("dt", G_DT, "time step, s"),

@@ -262,34 +262,360 @@ static int ref_fail_flag(gr_error *err, const ref_ctx *c, const char *what, int 
         }                                                                                          \
     } while (0)
 
+/* The solver's objects (Adams with a dense Newton solver of neq equations), freed by ref_free
+ * whatever was allocated. */
+typedef struct ref_solver {
+    SUNContext sunctx;
+    N_Vector y;
+    SUNMatrix A;
+    SUNLinearSolver LS;
+    void *mem;
+} ref_solver;
+
+static int ref_alloc(ref_solver *v, int neq, gr_error *err)
+{
+    *v = (ref_solver){0};
+    if (SUNContext_Create(NULL, &v->sunctx) != 0 || !v->sunctx) {
+        v->sunctx = NULL;
+        return GR_FAIL(err, GR_ENOMEM, "reference collision: SUNContext_Create failed");
+    }
+    v->y = N_VNew_Serial(neq, v->sunctx);
+    v->A = v->y ? SUNDenseMatrix(neq, neq, v->sunctx) : NULL;
+    v->LS = v->A ? SUNLinSol_Dense(v->y, v->A, v->sunctx) : NULL;
+    v->mem = v->LS ? CVodeCreate(CV_ADAMS, v->sunctx) : NULL;
+    return v->mem ? GR_OK
+                  : GR_FAIL(err, GR_ENOMEM,
+                            "reference collision: could not allocate the CVODE "
+                            "solver");
+}
+
+static void ref_free(ref_solver *v)
+{
+    if (v->mem) {
+        CVodeFree(&v->mem);
+    }
+    if (v->LS) {
+        SUNLinSolFree(v->LS);
+    }
+    if (v->A) {
+        SUNMatDestroy(v->A);
+    }
+    if (v->y) {
+        N_VDestroy(v->y);
+    }
+    if (v->sunctx) {
+        SUNContext_Free(&v->sunctx);
+    }
+}
+
+/* ---- spheres with spins about any axis (dim = 3, the contact out of the impact's plane) ---- *
+ *
+ * The same relative motion with vectors: r = r_c + u (3 components), g, W = (w1 + w2) / w0 (the
+ * difference w1 - w2 takes no torque without a rolling law), in the units above. The contact
+ * point's tangential velocity is g_c = g - (g.n) n + (|r| / 2) n x W (src/core/kernels_3d.c),
+ * the tangential law's force acts along -g_c with the magnitude its own reference force gives at
+ * |g_c| (as the engine applies a law without history), and each sphere takes the torque
+ * -(|r| / 2) n x F_t, so dW/dtau = -2 |r| (n x f_t) / (q D^2). Only a law whose reference force
+ * has no regime (no start, roots, events or state: tangential_dashpot) is integrated this way: a
+ * law that stops, sticks or slips switches where |g_c| or the spring's vector meets a limit, which
+ * a scalar root on |g_c| cannot locate; those are refused out of the plane. */
+enum { Z_U = 0, Z_G = 3, Z_W = 6, Z_JN = 9, Z_JT = 10, Z_DN = 11, Z_WT = 12, Z_NEQ = 13 };
+enum { Z_ROOT_END = 0, Z_ROOT_MAX_OVERLAP = 1, Z_NROOT = 2 };
+
+typedef struct ref3_ctx {
+    ref_ctx base; /* D, c_n, the powers, q, rot, clamp, the law; messages (ref_err_handler) */
+    double rc[3]; /* the separation at the touch, |rc| = D */
+} ref3_ctx;
+
+typedef struct ref3_state {
+    double n[3], rn, xi, gn, fn, gc[3], ft[3];
+} ref3_state;
+
+static double ref3_dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void ref3_cross(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static int ref3_eval(ref3_ctx *c, const double *y, ref3_state *s)
+{
+    const ref_ctx *b = &c->base;
+    double r[3];
+    for (int k = 0; k < 3; k++) {
+        r[k] = c->rc[k] + y[Z_U + k];
+    }
+    s->rn = sqrt(ref3_dot(r, r));
+    if (!(ref3_dot(r, c->rc) / (b->D * b->D) > REF_AXIAL_FLOOR)) {
+        c->base.degenerate = true; /* the centres (nearly) met: no sensible normal */
+        return -1;
+    }
+    for (int k = 0; k < 3; k++) {
+        s->n[k] = r[k] / s->rn;
+    }
+    const double *u = y + Z_U, *g = y + Z_G;
+    s->xi = -(2.0 * ref3_dot(u, c->rc) + ref3_dot(u, u)) / (b->D + s->rn);
+    s->gn = ref3_dot(g, s->n);
+    if (b->pow_a == 1.0 && b->pow_p == 0.0) {
+        s->fn = s->xi - b->c_n * s->gn;
+    } else {
+        const double X = fmax(s->xi, 0.0);
+        s->fn = pow(X, b->pow_a) - b->c_n * pow(X, b->pow_p) * s->gn;
+    }
+    double nw[3] = {0.0, 0.0, 0.0};
+    if (b->rot) {
+        ref3_cross(s->n, y + Z_W, nw);
+    }
+    for (int k = 0; k < 3; k++) {
+        s->gc[k] = g[k] - s->gn * s->n[k] + 0.5 * s->rn * nw[k];
+        s->ft[k] = 0.0;
+    }
+    const double gcm = sqrt(ref3_dot(s->gc, s->gc));
+    if (b->law && gcm > 0.0) {
+        gr_ref_point p = {.xi = s->xi,
+                          .gn = s->gn,
+                          .gt = gcm,
+                          .gc = gcm,
+                          .rn = s->rn,
+                          .fn = s->fn,
+                          .rot = b->rot,
+                          .q = b->q,
+                          .D = b->D};
+        b->law->force(&b->lt, &p);
+        for (int k = 0; k < 3; k++) {
+            s->ft[k] = p.ft / gcm * s->gc[k];
+        }
+    }
+    return 0;
+}
+
+static int ref3_rhs(sunrealtype t, N_Vector yv, N_Vector ydotv, void *user)
+{
+    (void)t;
+    ref3_ctx *c = user;
+    const double *y = N_VGetArrayPointer(yv);
+    double *yd = N_VGetArrayPointer(ydotv);
+    ref3_state s;
+    if (ref3_eval(c, y, &s) != 0) {
+        return 1;
+    }
+    double nf[3];
+    ref3_cross(s.n, s.ft, nf);
+    for (int k = 0; k < 3; k++) {
+        yd[Z_U + k] = y[Z_G + k];
+        yd[Z_G + k] = s.fn * s.n[k] + s.ft[k];
+        yd[Z_W + k] = c->base.rot ? -2.0 * s.rn * nf[k] / (c->base.q * c->base.D * c->base.D) : 0.0;
+    }
+    yd[Z_JN] = fabs(s.fn);
+    yd[Z_JT] = sqrt(ref3_dot(s.ft, s.ft));
+    const bool linear = c->base.pow_a == 1.0 && c->base.pow_p == 0.0;
+    yd[Z_DN] = -(s.fn - (linear ? s.xi : pow(fmax(s.xi, 0.0), c->base.pow_a))) * s.gn;
+    yd[Z_WT] = -ref3_dot(s.ft, s.gc);
+    return 0;
+}
+
+static int ref3_roots(sunrealtype t, N_Vector yv, sunrealtype *gout, void *user)
+{
+    (void)t;
+    ref3_ctx *c = user;
+    ref3_state s;
+    if (ref3_eval(c, N_VGetArrayPointer(yv), &s) != 0) {
+        return -1;
+    }
+    gout[Z_ROOT_END] = c->base.clamp ? s.fn : s.xi;
+    gout[Z_ROOT_MAX_OVERLAP] = s.gn;
+    return 0;
+}
+
+/* Integrate the 3D contact from the touch: ctx set up as for the plane (its n0 the normal at the
+ * touch in the plane z = 0), G0 = g / V; fills out as gr_collide_reference does. */
+static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_collision_case *cs,
+                          const gr_contact_coeffs *coeffs, double w0, double len, double speed,
+                          const double G0[2], gr_collide_result *out, gr_error *err)
+{
+    const double m12 = 0.5 * s->mass;
+    ref3_ctx ctx = {.base = *base, .rc = {base->D * base->n0[0], base->D * base->n0[1], 0.0}};
+    const double n0[3] = {base->n0[0], base->n0[1], 0.0}, g0[3] = {G0[0], G0[1], 0.0};
+    double W0[3];
+    for (int k = 0; k < 3; k++) {
+        W0[k] = (s->w1[k] + s->w2[k]) / w0;
+    }
+    ref_solver v;
+    int rc = ref_alloc(&v, Z_NEQ, err);
+    if (rc) {
+        ref_free(&v);
+        return rc;
+    }
+    void *mem = v.mem;
+    N_Vector y = v.y;
+    double *yd = N_VGetArrayPointer(y);
+    memset(yd, 0, sizeof(double) * Z_NEQ);
+    for (int k = 0; k < 3; k++) {
+        yd[Z_G + k] = g0[k];
+        yd[Z_W + k] = base->rot ? W0[k] : 0.0;
+    }
+    int rootdir[Z_NROOT] = {[Z_ROOT_END] = -1, [Z_ROOT_MAX_OVERLAP] = 1};
+    int flag;
+#define REF3_CHECK(call, what)                                                                     \
+    if ((flag = (call)) < 0) {                                                                     \
+        rc = ref_fail_flag(err, &ctx.base, (what), flag);                                          \
+        goto done3;                                                                                \
+    }
+    REF3_CHECK(CVodeSetErrHandlerFn(mem, ref_err_handler, &ctx.base), "CVodeSetErrHandlerFn");
+    REF3_CHECK(CVodeInit(mem, ref3_rhs, 0.0, y), "CVodeInit");
+    REF3_CHECK(CVodeSStolerances(mem, s->ref_rtol > 0.0 ? s->ref_rtol : 1e-12, REF_ATOL),
+               "CVodeSStolerances");
+    REF3_CHECK(CVodeSetUserData(mem, &ctx), "CVodeSetUserData");
+    REF3_CHECK(CVodeSetLinearSolver(mem, v.LS, v.A), "CVodeSetLinearSolver");
+    REF3_CHECK(CVodeSetMaxNumSteps(mem, REF_MAX_STEPS), "CVodeSetMaxNumSteps");
+    REF3_CHECK(CVodeRootInit(mem, Z_NROOT, ref3_roots), "CVodeRootInit");
+    REF3_CHECK(CVodeSetRootDirection(mem, rootdir), "CVodeSetRootDirection");
+    REF3_CHECK(CVodeSetNoInactiveRootWarn(mem), "CVodeSetNoInactiveRootWarn");
+#undef REF3_CHECK
+    double tau = 0.0, xi_max = 0.0;
+    ref3_state st;
+    for (;;) {
+        flag = CVode(mem, REF_GUARD_CONTACTS * M_PI, y, &tau, CV_NORMAL);
+        if (flag < 0) {
+            rc = ctx.base.degenerate
+                     ? GR_FAIL(err, GR_EUNSTABLE,
+                               "reference collision: the particle centres met; k_s = %g N/m is "
+                               "too soft for this impact speed",
+                               coeffs->k_s)
+                     : ref_fail_flag(err, &ctx.base, "CVode", flag);
+            goto done3;
+        }
+        ctx.base.degenerate = false;
+        if (flag != CV_ROOT_RETURN) {
+            rc = GR_FAIL(err, GR_EINVAL,
+                         "reference collision: contact did not end within %g undamped contact "
+                         "times",
+                         REF_GUARD_CONTACTS);
+            goto done3;
+        }
+        int found[Z_NROOT];
+        CVodeGetRootInfo(mem, found);
+        if (ref3_eval(&ctx, yd, &st) == 0 && found[Z_ROOT_MAX_OVERLAP]) {
+            xi_max = fmax(xi_max, st.xi);
+        }
+        if (found[Z_ROOT_END]) {
+            break;
+        }
+    }
+    if (ref3_eval(&ctx, yd, &st) != 0) {
+        rc = GR_FAIL(err, GR_EUNSTABLE, "reference collision: degenerate geometry at the end");
+        goto done3;
+    }
+    memset(out, 0, sizeof *out);
+    const double *G1 = yd + Z_G;
+    double w1a[3], w2a[3];
+    for (int k = 0; k < 3; k++) {
+        const double dw = base->rot ? 0.5 * (yd[Z_W + k] - W0[k]) * w0 : 0.0;
+        w1a[k] = s->w1[k] + dw;
+        w2a[k] = s->w2[k] + dw;
+    }
+    const double spin_scale = base->rot ? 0.5 * base->q * base->D * base->D / (w0 * w0) : 0.0;
+    const double spin_e0 = spin_scale * (ref3_dot(s->w1, s->w1) + ref3_dot(s->w2, s->w2));
+    const double spin_e = spin_scale * (ref3_dot(w1a, w1a) + ref3_dot(w2a, w2a));
+    const double gg0 = ref3_dot(g0, g0), gg1 = ref3_dot(G1, G1), e0 = 0.5 * (gg0 + spin_e0);
+    out->energy_loss = 1.0 - (gg1 + spin_e) / (gg0 + spin_e0);
+    out->spin_loss = (spin_e0 - spin_e) / (gg0 + spin_e0);
+    out->diss_normal = yd[Z_DN] / e0;
+    out->diss_tangential = yd[Z_WT] / e0;
+    out->stored_lost = pow(fmax(st.xi, 0.0), base->pow_a + 1.0) / (base->pow_a + 1.0) / e0;
+    const double gn0 = ref3_dot(g0, n0);
+    out->impact_angle = atan2(sqrt(fmax(gg0 - gn0 * gn0, 0.0)), -gn0) * (180.0 / M_PI);
+    out->expected_loss = (double)NAN; /* the restitution laws assume no spin before */
+    out->contact_time = tau / w0;
+    out->max_overlap = xi_max * len;
+    out->eps_n_measured = -st.gn / gn0;
+    /* the contact point's tangential restitution, as the engine measures it (collide.c) */
+    double gc0[3], nw0[3] = {0.0, 0.0, 0.0};
+    if (base->rot) {
+        ref3_cross(n0, W0, nw0);
+    }
+    for (int k = 0; k < 3; k++) {
+        gc0[k] = g0[k] - gn0 * n0[k] + 0.5 * base->D * nw0[k];
+    }
+    double u[3] = {gc0[0], gc0[1], gc0[2]};
+    const double un = ref3_dot(u, st.n);
+    for (int k = 0; k < 3; k++) {
+        u[k] -= un * st.n[k];
+    }
+    const double gc0m = sqrt(ref3_dot(gc0, gc0)), um = sqrt(ref3_dot(u, u));
+    out->eps_t_measured =
+        gc0m >= REF_TANGENT_FLOOR && um > 0.0 ? ref3_dot(st.gc, u) / (um * gc0m) : (double)NAN;
+    out->tangential_reversed = ref3_dot(st.gc, gc0) < 0.0;
+    out->normal_impulse = fabs(yd[Z_JN]) * m12 * speed;
+    out->tangential_impulse = fabs(yd[Z_JT]) * m12 * speed;
+    for (int k = 0; k < 3; k++) {
+        const double P = m12 * speed * (G1[k] - g0[k]), v1 = k < 2 ? cs->v1[k] : 0.0,
+                     v2 = k < 2 ? cs->v2[k] : 0.0;
+        out->v1[k] = v1 - P / s->mass;
+        out->v2[k] = v2 + P / s->mass;
+        out->w1[k] = w1a[k];
+        out->w2[k] = w2a[k];
+    }
+    out->omega1 = w1a[2];
+    out->omega2 = w2a[2];
+    if (!isfinite(out->energy_loss) || !isfinite(out->eps_n_measured)) {
+        rc = GR_FAIL(err, GR_EUNSTABLE, "reference collision: non-finite result");
+    }
+done3:
+    ref_free(&v);
+    return rc;
+}
+
+static int reference_run(const gr_collide_setup *s, const gr_collision_case *cs,
+                         gr_collide_result *out, gr_error *err, bool sphere3d);
+
 /* Spheres (dim = 3). The case lies in the plane z = 0; when the spins' sum w1 + w2 is along z,
  * the contact point's velocity g - (g.n) n + a n x (w1 + w2) stays in the plane too, so the
  * contact is exactly the 2D one with the spins' z components (their x and y components, equal
  * and opposite, give the contact point no velocity and take no torque; a rolling law needs
  * w1 = w2 as in 2D, so that it exerts nothing). The reference then integrates that contact and
  * puts the spheres' x and y spins back, their energy counted in the fractions' denominator.
- * Other spins move the contact out of the plane: refused, never integrated as something else. */
+ * Other spins move the contact out of the plane: integrated in 3D (ref3_integrate above) for a
+ * law without regime, refused for the others, never integrated as something else. */
 static int reference_3d(const gr_collide_setup *s, const gr_collision_case *cs,
                         gr_collide_result *out, gr_error *err)
 {
-    if (s->w1[0] + s->w2[0] != 0.0 || s->w1[1] + s->w2[1] != 0.0) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "reference collision in 3D: --omega1 %g,%g,%g and --omega2 %g,%g,%g move "
-                       "the contact point out of the impact's plane (w1 + w2 has x or y "
-                       "components); the CVODE reference integrates spins whose sum is along z "
-                       "(allowed: w1x = -w2x, w1y = -w2y; the engine run takes any)",
-                       s->w1[0], s->w1[1], s->w1[2], s->w2[0], s->w2[1], s->w2[2]);
-    }
     if (s->rolling && (s->w1[0] != s->w2[0] || s->w1[1] != s->w2[1] || s->w1[2] != s->w2[2])) {
         return GR_FAIL(err, GR_EINVAL,
                        "reference collision in 3D: a rolling law with unequal initial spins is "
                        "not integrated (allowed: --omega1 = --omega2; the engine run takes them)");
     }
+    const bool spun = s->w1[0] != 0.0 || s->w1[1] != 0.0 || s->w1[2] != 0.0 || s->w2[0] != 0.0 ||
+                      s->w2[1] != 0.0 || s->w2[2] != 0.0;
+    if (spun && !(s->contact.rotation && s->tangential)) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "reference collision: initial spins need rotation ([model] rotation = true "
+                       "with a tangential law; allowed without: 0,0,0)");
+    }
+    if (s->w1[0] + s->w2[0] != 0.0 || s->w1[1] + s->w2[1] != 0.0) {
+        const gr_reference_law *law = s->tangential ? s->tangential->reference : NULL;
+        if (law && (law->start || law->roots || law->event)) {
+            return GR_FAIL(
+                err, GR_EINVAL,
+                "reference collision in 3D: --omega1 %g,%g,%g and --omega2 %g,%g,%g move the "
+                "contact point out of the impact's plane (w1 + w2 has x or y components), where "
+                "the CVODE reference integrates laws without stick, slip or stop only "
+                "(tangential_dashpot); for %s allowed: w1x = -w2x, w1y = -w2y (the engine run "
+                "takes any)",
+                s->w1[0], s->w1[1], s->w1[2], s->w2[0], s->w2[1], s->w2[2], s->tangential->name);
+        }
+        return reference_run(s, cs, out, err, true);
+    }
     gr_collide_setup plane = *s;
     plane.dim = 2;
     plane.omega1 = s->w1[2];
     plane.omega2 = s->w2[2];
-    int rc = gr_collide_reference(&plane, cs, out, err);
+    int rc = reference_run(&plane, cs, out, err, false);
     if (rc) {
         return rc;
     }
@@ -331,9 +657,14 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     if (!s || !cs || !out) {
         return GR_FAIL(err, GR_EINVAL, "reference collision: NULL argument");
     }
-    if (s->dim == 3) {
-        return reference_3d(s, cs, out, err);
-    }
+    return s->dim == 3 ? reference_3d(s, cs, out, err) : reference_run(s, cs, out, err, false);
+}
+
+/* sphere3d: the 3D contact out of the plane (ref3_integrate; s->dim = 3), else the 1D or 2D
+ * contact */
+static int reference_run(const gr_collide_setup *s, const gr_collision_case *cs,
+                         gr_collide_result *out, gr_error *err, bool sphere3d)
+{
     if (!s->normal) {
         return GR_FAIL(err, GR_EINVAL, "reference collision: no normal collision model given");
     }
@@ -361,7 +692,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
                        "reference collision: mass (%g kg) and radius (%g m) must be positive",
                        s->mass, s->radius);
     }
-    if (s->dim != 1 && s->dim != 2) {
+    if (s->dim != 1 && s->dim != 2 && !sphere3d) {
         return GR_FAIL(err, GR_EINVAL, "reference collision: dim must be 1, 2 or 3, not %d",
                        s->dim);
     }
@@ -470,24 +801,18 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
         ctx.law->start(&ctx.lt, gn0, gt0, has_tangent);
     }
 
-    SUNContext sunctx = NULL;
-    N_Vector y = NULL, atol = NULL;
-    SUNMatrix A = NULL;
-    SUNLinearSolver LS = NULL;
-    void *mem = NULL;
-
-    if (SUNContext_Create(NULL, &sunctx) != 0 || !sunctx) {
-        sunctx = NULL;
-        rc = GR_FAIL(err, GR_ENOMEM, "reference collision: SUNContext_Create failed");
-        goto done;
+    if (sphere3d) {
+        return ref3_integrate(&ctx, s, cs, &coeffs, w0, len, speed, G0, out, err);
     }
-    y = N_VNew_Serial(REF_NEQ, sunctx);
-    atol = y ? N_VNew_Serial(REF_NEQ, sunctx) : NULL;
-    A = atol ? SUNDenseMatrix(REF_NEQ, REF_NEQ, sunctx) : NULL;
-    LS = A ? SUNLinSol_Dense(y, A, sunctx) : NULL;
-    mem = LS ? CVodeCreate(CV_ADAMS, sunctx) : NULL;
-    if (!mem) {
+    ref_solver v;
+    N_Vector atol = NULL;
+    rc = ref_alloc(&v, REF_NEQ, err);
+    void *mem = v.mem;
+    N_Vector y = v.y;
+    if (!rc && !(atol = N_VNew_Serial(REF_NEQ, v.sunctx))) {
         rc = GR_FAIL(err, GR_ENOMEM, "reference collision: could not allocate the CVODE solver");
+    }
+    if (rc) {
         goto done;
     }
     double *yd = N_VGetArrayPointer(y);
@@ -525,7 +850,7 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     REF_CHECK(CVodeSVtolerances(mem, s->ref_rtol > 0.0 ? s->ref_rtol : 1e-12, atol),
               "CVodeSVtolerances");
     REF_CHECK(CVodeSetUserData(mem, &ctx), "CVodeSetUserData");
-    REF_CHECK(CVodeSetLinearSolver(mem, LS, A), "CVodeSetLinearSolver");
+    REF_CHECK(CVodeSetLinearSolver(mem, v.LS, v.A), "CVodeSetLinearSolver");
     REF_CHECK(CVodeSetMaxNumSteps(mem, REF_MAX_STEPS), "CVodeSetMaxNumSteps");
     REF_CHECK(CVodeRootInit(mem, REF_NROOT, ref_roots), "CVodeRootInit");
     REF_CHECK(CVodeSetRootDirection(mem, rootdir), "CVodeSetRootDirection");
@@ -684,23 +1009,9 @@ int gr_collide_reference(const gr_collide_setup *s, const gr_collision_case *cs,
     rc = GR_OK;
 
 done:
-    if (mem) {
-        CVodeFree(&mem);
-    }
-    if (LS) {
-        SUNLinSolFree(LS);
-    }
-    if (A) {
-        SUNMatDestroy(A);
-    }
-    if (y) {
-        N_VDestroy(y);
-    }
     if (atol) {
         N_VDestroy(atol);
     }
-    if (sunctx) {
-        SUNContext_Free(&sunctx);
-    }
+    ref_free(&v);
     return rc;
 }

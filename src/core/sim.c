@@ -640,6 +640,13 @@ void gr_sim_forces(const gr_sim *s, const double **fx, const double **fy)
     *fy = s->dim >= 2 ? s->fy : NULL;
 }
 
+void gr_sim_spins(const gr_sim *s, const double **wx, const double **wy, const double **wz)
+{
+    *wx = s->wx;
+    *wy = s->wy;
+    *wz = s->omega;
+}
+
 double gr_sim_time(const gr_sim *s) { return (double)s->step * s->dt; }
 int64_t gr_sim_steps(const gr_sim *s) { return s->step; }
 double gr_sim_dt(const gr_sim *s) { return s->dt; }
