@@ -42,7 +42,7 @@ static int sample(void *state, const gr_particles *f, double t, gr_error *err)
 {
     (void)t;
     postcollision *p = state;
-    double mean[2];
+    double mean[3];
     gr_obs_mean_velocity(f, mean);
     if (!p->ready) {
         double T = 0.0;
