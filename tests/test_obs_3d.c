@@ -76,8 +76,8 @@ static void frame_random(frame3 *f, double L, double sigma_v, gsl_rng *r)
     }
 }
 
-static void sample_frame(const gr_observable_type *t, void *st, const gr_scene *sc,
-                         const frame3 *f, double time)
+static void sample_frame(const gr_observable_type *t, void *st, const gr_scene *sc, const frame3 *f,
+                         double time)
 {
     sample3(t, st, sc, f->x, f->y, f->z, f->vx, f->vy, f->vz, time);
 }
@@ -105,8 +105,8 @@ START_TEST(test_pair_ideal_gas)
     const cJSON *p = cJSON_GetObjectItem(j, "pair");
     ck_assert_int_eq(tab.rows, 50);
     double tail = h_num(p, "g_tail", "value"), tail_err = h_num(p, "g_tail", "error");
-    ck_assert_msg(fabs(tail - 1.0) < 4.0 * tail_err && tail_err < 0.01, "g_tail = %g +- %g",
-                  tail, tail_err);
+    ck_assert_msg(fabs(tail - 1.0) < 4.0 * tail_err && tail_err < 0.01, "g_tail = %g +- %g", tail,
+                  tail_err);
     /* every bin from R = 0.2 L on: g = 1 within 5 errors */
     for (int b = 20; b < tab.rows; b++) {
         ck_assert_msg(fabs(h_at(&tab, b, 2) - 1.0) < 5.0 * h_at(&tab, b, 3), "g(%g) = %g +- %g",
@@ -314,8 +314,8 @@ START_TEST(test_msd_vacf_ballistic)
     h_done(&tab, j);
     j = h_finish(&gr_obs_vacf, vacf, &sc, "vacf.csv", &tab);
     for (int row = 0; row < tab.rows; row++) {
-        ck_assert_msg(fabs(h_at(&tab, row, 1) - v2) <= 1e-9 * v2, "VACF row %d = %.12g, <v^2> %.12g",
-                      row, h_at(&tab, row, 1), v2);
+        ck_assert_msg(fabs(h_at(&tab, row, 1) - v2) <= 1e-9 * v2,
+                      "VACF row %d = %.12g, <v^2> %.12g", row, h_at(&tab, row, 1), v2);
     }
     ck_assert_double_eq_tol(h_num(cJSON_GetObjectItem(j, "vacf"), "C0_per_component", NULL),
                             v2 / 3.0, 1e-12 * v2);
@@ -426,8 +426,8 @@ END_TEST
  * a frame whose z is beyond the wrappable range is refused before any observable sees it. */
 START_TEST(test_registry)
 {
-    static const char *const ok3[] = {"moments", "pv",    "pair",     "msd",     "vacf",
-                                       "vcorr",   "clusters", "pressure", "profile"};
+    static const char *const ok3[] = {"moments", "pv",       "pair",     "msd",    "vacf",
+                                      "vcorr",   "clusters", "pressure", "profile"};
     for (size_t k = 0; k < sizeof ok3 / sizeof ok3[0]; k++) {
         const gr_observable_type *t = gr_observable_find(ok3[k]);
         ck_assert_ptr_nonnull(t);
@@ -444,8 +444,17 @@ START_TEST(test_registry)
     ck_assert_int_eq(gr_scene_observer(&sc, &o, &err), GR_OK);
     frame3 f = frame_new(8);
     f.z[5] = 1e300;
-    gr_particles p = {.n = 8, .dim = 3, .L = 0.1, .radius = 1e-3, .mass = 1.0,
-                      .x = f.x, .y = f.y, .z = f.z, .vx = f.vx, .vy = f.vy, .vz = f.vz};
+    gr_particles p = {.n = 8,
+                      .dim = 3,
+                      .L = 0.1,
+                      .radius = 1e-3,
+                      .mass = 1.0,
+                      .x = f.x,
+                      .y = f.y,
+                      .z = f.z,
+                      .vx = f.vx,
+                      .vy = f.vy,
+                      .vz = f.vz};
     ck_assert_int_eq(gr_observer_sample(o, &p, 0.0, &err), GR_EINVAL);
     ck_assert_msg(strstr(err.message, "particle 5 has z = "), "%s", err.message);
     gr_observer_free(o);
