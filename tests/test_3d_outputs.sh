@@ -2,7 +2,7 @@
 # 3D runs' outputs read back (issue 35; docs/three-dimensions.md):
 #   - a 3D run with every frame observable that covers 3D and collisions writes each CSV, and
 #     `granule analyse` of its extended-XYZ trajectory and of its snapshots gives the same
-#     moments, pv, pair, msd, vacf, vcorr, clusters, pressure and profile byte for byte
+#     moments, pv, pair, msd, vacf, vcorr, clusters, pressure, profile and sk byte for byte
 #     (frames are read back in 3D, z and vz included); the same through trajectory.h5;
 #   - the collision rate per particle agrees with the Enskog frequency of hard spheres,
 #     nu_E = 24 phi chi(phi) sqrt(T/3) / (sqrt(pi) d) with Carnahan-Starling chi, within 4 errors
@@ -18,7 +18,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail=0
 bad() { echo "FAIL: $*"; fail=1; }
-obs=moments,pv,pair,msd,vacf,vcorr,clusters,pressure,profile
+obs=moments,pv,pair,msd,vacf,vcorr,clusters,pressure,profile,sk
 common=(--set system.N=400 --set run.warmup=0.01 --set run.duration=0.06 --set run.sample_every=0.002
         --set output.snapshot_every=0.002 --quiet)
 for fmt in xyz snapshots h5md; do

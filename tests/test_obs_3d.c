@@ -11,15 +11,19 @@
  *   clusters - a touching chain along a body diagonal is one contact cluster, spread out N;
  *              (the chain spans 0.6-0.7 L per axis, crossing all three periodic boundaries)
  *   profile  - along z: the density of a slab-filled frame and T_z of each slab;
+ *   sk       - the 3D gridding engine equals the direct sum; a simple cubic lattice has S = N on
+ *              its reciprocal lattice and 0 elsewhere; random points have S(k) = 1 in every
+ *              spherical bin and D_f = 0 within errors;
  * and the registry: every frame observable takes dim = 3, gaps (1D) is refused. */
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
+#include "analysis/sk.h"
 #include "obs_harness.h"
 #include "check_main.h"
 
 extern const gr_observable_type gr_obs_pair, gr_obs_pressure, gr_obs_pv, gr_obs_msd, gr_obs_vacf,
-    gr_obs_vcorr, gr_obs_clusters, gr_obs_profile, gr_obs_gaps;
+    gr_obs_vcorr, gr_obs_clusters, gr_obs_profile, gr_obs_gaps, gr_obs_sk;
 
 static void sample3(const gr_observable_type *t, void *st, const gr_scene *sc, const double *x,
                     const double *y, const double *z, const double *vx, const double *vy,
@@ -422,12 +426,124 @@ START_TEST(test_profile_z)
 }
 END_TEST
 
+/* The 3D engine: gridding against the direct sum on random points (every vector, absolute 1e-5 at
+ * a mean S of 1); the half space holds each +-n pair once and never n = 0; a simple cubic lattice
+ * of 4^3 sites has S = N on its reciprocal lattice (n = 4 m) and 0 elsewhere. */
+START_TEST(test_sk_engine)
+{
+    enum { N = 400 };
+    const double L = 0.3;
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 21);
+    frame3 f = frame_new(N);
+    frame_random(&f, L, 1.0, r);
+    f.x[0] = -0.7 * L; /* any real coordinate: periodic */
+    f.z[1] = 2.3 * L;
+    gr_sk3_plan *pl = NULL;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_sk3_plan_create(L, 6.5, GR_SK3_MSP_DEFAULT, &pl, &err), GR_OK);
+    const int *nx, *ny, *nz;
+    const int nv = gr_sk3_plan_vectors(pl, &nx, &ny, &nz);
+    int count = 0; /* lattice points with 0 < |n|^2 <= 42 (6.5^2 = 42.25), halved */
+    for (int a = -6; a <= 6; a++) {
+        for (int b = -6; b <= 6; b++) {
+            for (int c = -6; c <= 6; c++) {
+                const int q = a * a + b * b + c * c;
+                count += q > 0 && q <= 42;
+            }
+        }
+    }
+    ck_assert_int_eq(2 * nv, count);
+    for (int v = 0; v < nv; v++) {
+        ck_assert(nz[v] > 0 || (nz[v] == 0 && (ny[v] > 0 || (ny[v] == 0 && nx[v] > 0))));
+    }
+    double *Sg = malloc(sizeof(double) * (size_t)nv), *Sd = malloc(sizeof(double) * (size_t)nv);
+    ck_assert_int_eq(gr_sk3_compute(pl, GR_SK_GRIDDING, N, f.x, f.y, f.z, Sg, &err), GR_OK);
+    ck_assert_int_eq(gr_sk3_compute(pl, GR_SK_DIRECT, N, f.x, f.y, f.z, Sd, &err), GR_OK);
+    double worst = 0.0;
+    for (int v = 0; v < nv; v++) {
+        worst = fmax(worst, fabs(Sg[v] - Sd[v]));
+    }
+    ck_assert_msg(worst < 1e-5, "gridding - direct: %g", worst); /* measured 3.9e-6, msp = 6 */
+    ck_assert_int_eq(gr_sk3_compute(pl, 7, N, f.x, f.y, f.z, Sg, &err), GR_EINVAL);
+    gr_sk3_plan_free(pl);
+    ck_assert_int_eq(gr_sk3_plan_create(L, 65.0, 6, &pl, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "sk_kd_max"), "%s", err.message);
+    enum { M = 4, NL = M * M * M };
+    double x[NL], y[NL], z[NL];
+    for (int i = 0; i < NL; i++) {
+        x[i] = (i % M + 0.25) * L / M;
+        y[i] = (i / M % M + 0.5) * L / M;
+        z[i] = (i / (M * M) + 0.75) * L / M;
+    }
+    ck_assert_int_eq(gr_sk3_plan_create(L, 8.0, GR_SK3_MSP_DEFAULT, &pl, &err), GR_OK);
+    const int nv2 = gr_sk3_plan_vectors(pl, &nx, &ny, &nz);
+    double *S = malloc(sizeof(double) * (size_t)nv2);
+    ck_assert_int_eq(gr_sk3_compute(pl, GR_SK_GRIDDING, NL, x, y, z, S, &err), GR_OK);
+    int peaks = 0;
+    for (int v = 0; v < nv2; v++) {
+        const bool bragg = nx[v] % M == 0 && ny[v] % M == 0 && nz[v] % M == 0;
+        peaks += bragg;
+        ck_assert_msg(fabs(S[v] - (bragg ? NL : 0.0)) < 1e-5 * NL, "S(%d, %d, %d) = %g", nx[v],
+                      ny[v], nz[v], S[v]);
+    }
+    /* in the half space with |n| <= 8: (4,0,0) and (8,0,0) 3 each, (4,4,0) 6, (4,4,4) 4 */
+    ck_assert_int_eq(peaks, 16);
+    gr_sk3_plan_free(pl);
+    free(S);
+    free(Sg);
+    free(Sd);
+    frame_free(&f);
+    gsl_rng_free(r);
+}
+END_TEST
+
+/* Random points through the observable: S = 1 in every spherical bin within 4 errors, and the fit
+ * (4.4) S ~ k^-D_f flat, D_f = 0 within 4 errors; l_0 = L^3 / (pi d^2 N). Large spheres (d = L/5)
+ * and eps_n = 0.5 put k' = 2 k_D = 2 (1 - eps_n^2) / (8 l_0) at 11 2 pi / L: shells to fit. */
+START_TEST(test_sk_ideal_gas)
+{
+    gr_scene sc;
+    enum { N = 3000, F = 20 };
+    const double L = 0.1, r0 = 0.01;
+    h_scene(&sc, 3, N, L, r0);
+    sc.contact.eps_n = 0.5;
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "sk_kd_max", 20.0, NULL), GR_OK);
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 17);
+    frame3 f = frame_new(N);
+    void *st = h_create(&gr_obs_sk, &sc);
+    for (int k = 0; k < F; k++) {
+        frame_random(&f, L, 1.0, r);
+        sample_frame(&gr_obs_sk, st, &sc, &f, k);
+    }
+    h_table tab;
+    cJSON *j = h_finish(&gr_obs_sk, st, &sc, "sk.csv", &tab);
+    const cJSON *sk = cJSON_GetObjectItem(j, "sk");
+    ck_assert_int_eq(tab.rows, 16); /* |n| up to 20 L / (2 pi d) = 15.9: bins centred 1 .. 16 */
+    int outliers = 0;
+    for (int b = 0; b < tab.rows; b++) {
+        const double S = h_at(&tab, b, 3), e = h_at(&tab, b, 4);
+        outliers += !(fabs(S - 1.0) < 4.0 * e);
+    }
+    ck_assert_msg(outliers == 0, "%d bins more than 4 errors from S = 1", outliers);
+    const cJSON *fit = cJSON_GetObjectItem(sk, "fit");
+    const double Df = h_num(fit, "D_f", NULL), Df_err = h_num(fit, "D_f_err", NULL);
+    ck_assert_msg(fabs(Df) < 4.0 * Df_err && Df_err < 0.2, "D_f = %g +- %g", Df, Df_err);
+    ck_assert_double_eq_tol(h_num(sk, "l0", NULL), L * L * L / (M_PI * 4 * r0 * r0 * N), 1e-15);
+    frame_free(&f);
+    gsl_rng_free(r);
+    h_done(&tab, j);
+}
+END_TEST
+
 /* The registry: the frame observables take dim = 3 (gaps is 1D and refused, with the scene file);
  * a frame whose z is beyond the wrappable range is refused before any observable sees it. */
 START_TEST(test_registry)
 {
-    static const char *const ok3[] = {"moments", "pv",       "pair",     "msd",    "vacf",
-                                      "vcorr",   "clusters", "pressure", "profile"};
+    static const char *const ok3[] = {"moments", "pv",    "pair",      "msd",
+                                      "vacf",    "vcorr", "clusters",  "pressure",
+                                      "profile", "sk",    "collisions"};
     for (size_t k = 0; k < sizeof ok3 / sizeof ok3[0]; k++) {
         const gr_observable_type *t = gr_observable_find(ok3[k]);
         ck_assert_ptr_nonnull(t);
@@ -475,6 +591,8 @@ int main(void)
     tcase_add_test(t, test_vcorr_pair);
     tcase_add_test(t, test_clusters_chain);
     tcase_add_test(t, test_profile_z);
+    tcase_add_test(t, test_sk_engine);
+    tcase_add_test(t, test_sk_ideal_gas);
     tcase_add_test(t, test_registry);
     suite_add_tcase(s, t);
     return gr_test_run(s);

@@ -57,8 +57,7 @@ static void draw_ball(cairo_t *cr, double cx, double cy, double rp, const double
         cairo_fill(cr);
         return;
     }
-    cairo_pattern_t *g =
-        cairo_pattern_create_radial(cx - 0.35 * r, cy - 0.35 * r, 0.0, cx, cy, r);
+    cairo_pattern_t *g = cairo_pattern_create_radial(cx - 0.35 * r, cy - 0.35 * r, 0.0, cx, cy, r);
     cairo_pattern_add_color_stop_rgb(g, 0.0, hi[0], hi[1], hi[2]);
     cairo_pattern_add_color_stop_rgb(g, 0.55, c[0], c[1], c[2]);
     cairo_pattern_add_color_stop_rgb(g, 1.0, rim[0], rim[1], rim[2]);
