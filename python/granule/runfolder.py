@@ -110,10 +110,13 @@ def _h5md_frames(path):
         omega = part["angular_velocity/value"][()] if "angular_velocity" in part else None
     frames = []
     for k in range(pos.shape[0]):
-        frames.append({"t": float(t[k]), "step": int(step[k]), "L": float(edges[k][0][0]) if edges is not None else L,
-                       "dim": dim, "x": pos[k, :, 0], "vx": vel[k, :, 0],
-                       "y": pos[k, :, 1] if dim == 2 else None, "vy": vel[k, :, 1] if dim == 2 else None,
-                       "omega": omega[k, :, 2] if omega is not None else None})
+        frame = {"t": float(t[k]), "step": int(step[k]), "L": float(edges[k][0][0]) if edges is not None else L,
+                 "dim": dim, "x": pos[k, :, 0], "vx": vel[k, :, 0],
+                 "y": pos[k, :, 1] if dim >= 2 else None, "vy": vel[k, :, 1] if dim >= 2 else None,
+                 "omega": omega[k, :, 2] if omega is not None else None}
+        if dim == 3:  # spheres (docs/three-dimensions.md): z and vz too
+            frame["z"], frame["vz"] = pos[k, :, 2], vel[k, :, 2]
+        frames.append(frame)
     return frames
 
 

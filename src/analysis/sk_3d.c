@@ -41,7 +41,10 @@ void gr_sk3_plan_free(gr_sk3_plan *pl)
 }
 
 /* n in the half space: n_z > 0, or n_z = 0 and n_y > 0, or n_z = n_y = 0 and n_x > 0 */
-static int half_space(int a, int b, int c) { return c > 0 || (c == 0 && (b > 0 || (b == 0 && a > 0))); }
+static int half_space(int a, int b, int c)
+{
+    return c > 0 || (c == 0 && (b > 0 || (b == 0 && a > 0)));
+}
 
 int gr_sk3_plan_create(double L, double n_cut, int msp, gr_sk3_plan **out, gr_error *err)
 {
@@ -122,10 +125,10 @@ int gr_sk3_plan_create(double L, double n_cut, int msp, gr_sk3_plan **out, gr_er
                 pl->nx[v] = a;
                 pl->ny[v] = b;
                 pl->nz[v] = c;
-                pl->idx[v] = ((size_t)(a >= 0 ? a : pl->Mr + a) * Mr +
-                              (size_t)(b >= 0 ? b : pl->Mr + b)) *
-                                 (size_t)pl->Mc +
-                             (size_t)c;
+                pl->idx[v] =
+                    ((size_t)(a >= 0 ? a : pl->Mr + a) * Mr + (size_t)(b >= 0 ? b : pl->Mr + b)) *
+                        (size_t)pl->Mc +
+                    (size_t)c;
                 pl->deconv[v] = norm * exp(pl->tau * (double)q);
                 v++;
             }
