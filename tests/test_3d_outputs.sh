@@ -7,7 +7,13 @@
 #   - the collision rate per particle agrees with the Enskog frequency of hard spheres,
 #     nu_E = 24 phi chi(phi) sqrt(T/3) / (sqrt(pi) d) with Carnahan-Starling chi, within 4 errors
 #     plus 5 % (the soft contacts and the Sonine correction: below 2 %; a 2D-normalised density or
-#     the 2D chi are off by more);
+#     the 2D chi are off by more); the mean free path (freepath, 3D displacements between
+#     contacts) is Enskog's l_E = d / (6 sqrt(2) phi chi) within 10 % (measured 0.95 l_E: the paths
+#     start at the end of a contact, not at the centres' closest approach); postcollision's
+#     <v^2> of the frames pools three components (T/3);
+#   - a 3D run with every 3D observable stopped again and again by its wall-time budget (between
+#     samples) and resumed ends with the uninterrupted run's CSVs, byte for byte (the observables'
+#     3D accumulators and the pending contact events with z, vz are checkpointed);
 #   - the run's snapshot.png is the 3D picture, and `granule plot` draws it again;
 #   - the observables that cannot compute 3D are refused with the scene file and key.
 # usage: test_3d_outputs.sh GRANULE SOURCE_DIR
@@ -25,7 +31,7 @@ for fmt in xyz snapshots h5md; do
     plots=false
     [[ $fmt == xyz ]] && plots=true
     "$granule" run "$src/docs/scenes/rfm-3d.ini" --out "$tmp/$fmt" "${common[@]}" --set output.trajectory=$fmt \
-        --set analysis.observables=$obs,collisions --set output.plots=$plots >"$tmp/$fmt.log" 2>&1 ||
+        --set analysis.observables=$obs,collisions,freepath,postcollision --set output.plots=$plots >"$tmp/$fmt.log" 2>&1 ||
         bad "3D run ($fmt) failed: $(tail -2 "$tmp/$fmt.log")"
     "$granule" analyse "$tmp/$fmt" --set analysis.observables=$obs >"$tmp/$fmt.analyse.log" 2>&1 ||
         bad "analyse of the 3D $fmt run failed: $(tail -2 "$tmp/$fmt.analyse.log")"
@@ -48,8 +54,36 @@ c = j["analysis"]["collisions"]
 nu, err = c["rate_per_particle"], c["rate_per_particle_error"]
 ok = abs(nu - nu_E) < 4 * err + 0.05 * nu_E and err < 0.05 * nu_E
 print("%s collision rate %.1f +- %.1f /s, Enskog %.1f /s (ratio %.3f)" % ("ok" if ok else "FAIL", nu, err, nu_E, nu / nu_E))
-sys.exit(0 if ok else 1)
+fp = j["analysis"]["freepath"]
+l_E = d / (6 * math.sqrt(2) * phi * chi)
+ok_fp = fp["paths"] > 2000 and abs(fp["mean_over_d"] * d / l_E - 1) < 0.1
+print("%s mean free path %.4f d over %d paths, Enskog %.4f d" % ("ok" if ok_fp else "FAIL", fp["mean_over_d"], fp["paths"], l_E / d))
+pc = j["analysis"]["postcollision"]
+ok_pc = pc["post_samples"] > 3000 and abs(pc["all_v2"] / (j["T_mean"] / 3) - 1) < 1e-9
+print("%s postcollision: %d post-collision components, <v^2> of the frames %.6g = T/3 %.6g" % (
+    "ok" if ok_pc else "FAIL", pc["post_samples"], pc["all_v2"], j["T_mean"] / 3))
+sys.exit(0 if ok and ok_fp and ok_pc else 1)
 PY
+# --wall-limit stops + --resume: the uninterrupted run's CSVs (every 3D observable)
+all=$obs,collisions,freepath,postcollision
+ck=(--set run.checkpoint_every=0.0203 --set analysis.observables=$all --set output.plots=false)
+"$granule" run "$src/docs/scenes/rfm-3d.ini" --out "$tmp/whole" "${common[@]}" "${ck[@]}" >/dev/null 2>&1 ||
+    bad "3D run with checkpoints failed"
+# stop under a wall-time budget (test clock: chunks of 777 steps, so stops fall between samples,
+# with contact events pending) and resume until done
+what=(run "$src/docs/scenes/rfm-3d.ini" --out "$tmp/killed" "${common[@]}" "${ck[@]}")
+sessions=0
+rc=4
+while [[ $rc -eq 4 && $sessions -lt 60 ]]; do
+    GRANULE_TEST_CLOCK_TICK=0.01 GRANULE_CHUNK_STEPS=777 "$granule" "${what[@]}" --wall-limit 1.5 >"$tmp/resume.log" 2>&1
+    rc=$?
+    what=(run --resume "$tmp/killed" --quiet)
+    sessions=$((sessions + 1))
+done
+[[ $rc -eq 0 && $sessions -ge 3 ]] || bad "3D --wall-limit + --resume: $sessions sessions, last exit $rc: $(tail -2 "$tmp/resume.log")"
+for f in ${all//,/ } temperature ledger; do
+    cmp -s "$tmp/whole/$f.csv" "$tmp/killed/$f.csv" || bad "3D --wall-limit + --resume: $f.csv differs from the uninterrupted run's"
+done
 # the 3D picture: written by the run, drawn again by granule plot
 png=$tmp/xyz/snapshot.png
 if [[ -s $png ]]; then
