@@ -70,6 +70,7 @@ file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[noise]\nprecision = sing
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[placement]\nkind = hexagonal\n | run $S --out $O | 2 | :6:;[placement] kind;hexagonal;allowed in 3D: cubic | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[analysis]\nobservables = gaps\n | run $S --out $O | 2 | :6:;[analysis] observables;gaps is not defined for dim = 3;allowed in 3D: moments | new
 file:[system]\ndim = 1\nN = 20\n[analysis]\nobservables = profile\nprofile_axis = 1\n | run $S --out $O | 2 | [analysis] profile_axis;(y) in a 1D system;allowed in 1D: 0 (x) or -1 | new
+file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[analysis]\nobservables = profile\nprofile_axis = 2\n | run $S --out $O | 2 | [analysis] profile_axis;2 (z) in a 2D system;allowed in 2D: 0 (x), 1 (y) or -1 | new
 file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[analysis]\nobservables = profile\nprofile_bins = 0\n | run $S --out $O | 2 | :7:;[analysis] profile_bins;allowed range [1, 100000] | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.75\n | run $S --out $O | 2 | :4:;packing_fraction;0.7405;(0, 0.7405] | new
 file:[system]\ndim = 3\nN = 8\nreduced_length = 0.1\n | run $S --out $O | 2 | :4:;reduced_length;only for dim = 1 | new
