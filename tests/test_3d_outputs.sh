@@ -14,6 +14,9 @@
 #   - a 3D run with every 3D observable stopped again and again by its wall-time budget (between
 #     samples) and resumed ends with the uninterrupted run's CSVs, byte for byte (the observables'
 #     3D accumulators and the pending contact events with z, vz are checkpointed);
+#   - `granule analyse --lammps-dump` of the same frames written as a 3D LAMMPS dump (id x y z vx
+#     vy vz, one frame in scaled xs ys zs, the columns reordered) gives the run's frame observables
+#     byte for byte; a dump without z, or with a box that is not a cube, is refused;
 #   - the run's snapshot.png is the 3D picture, and `granule plot` draws it again;
 #   - the observables that cannot compute 3D are refused with the scene file and key.
 # usage: test_3d_outputs.sh GRANULE SOURCE_DIR
@@ -64,6 +67,46 @@ print("%s postcollision: %d post-collision components, <v^2> of the frames %.6g 
     "ok" if ok_pc else "FAIL", pc["post_samples"], pc["all_v2"], j["T_mean"] / 3))
 sys.exit(0 if ok and ok_fp and ok_pc else 1)
 PY
+# the xyz run's frames as a LAMMPS dump: analyse --lammps-dump equals the run
+python3 - "$tmp/xyz" <<'PY' || fail=1
+import sys
+d = sys.argv[1]
+lines = open(d + "/snapshots/trajectory.xyz").read().split("\n")
+out, bad_z, bad_box, k, frame = [], [], [], 0, 0
+while k < len(lines) and lines[k].strip():
+    n = int(lines[k]); head = lines[k + 1]
+    L = head.split('Lattice="')[1].split()[0]
+    step = int(head.split("Step=")[1].split()[0])
+    rows = [r.split() for r in lines[k + 2:k + 2 + n]]
+    box = ["ITEM: TIMESTEP", str(step), "ITEM: NUMBER OF ATOMS", str(n), "ITEM: BOX BOUNDS pp pp pp"]
+    if frame == 1:  # scaled coordinates, columns reordered
+        out += box + ["0 " + L] * 3 + ["ITEM: ATOMS vz id xs vx ys vy zs"]
+        out += ["%s %d %r %s %r %s %r" % (r[6], i + 1, float(r[1]) / float(L), r[4], float(r[2]) / float(L), r[5],
+                                          float(r[3]) / float(L)) for i, r in enumerate(rows)]
+    else:
+        out += box + ["0 " + L] * 3 + ["ITEM: ATOMS id x y z vx vy vz"]
+        out += ["%d %s" % (i + 1, " ".join(r[1:7])) for i, r in enumerate(rows)]
+    if frame == 0:
+        bad_z = box + ["0 " + L] * 3 + ["ITEM: ATOMS id x y vx vy"] + ["%d %s %s %s %s" % (i + 1, r[1], r[2], r[4], r[5]) for i, r in enumerate(rows)]
+        bad_box = box + ["0 " + L, "0 " + L, "0 1"] + ["ITEM: ATOMS id x y z vx vy vz"] + ["%d %s" % (i + 1, " ".join(r[1:7])) for i, r in enumerate(rows)]
+    k += 2 + n; frame += 1
+open(d + "/dump.lammpstrj", "w").write("\n".join(out) + "\n")
+open(d + "/bad_z.lammpstrj", "w").write("\n".join(bad_z) + "\n")
+open(d + "/bad_box.lammpstrj", "w").write("\n".join(bad_box) + "\n")
+PY
+"$granule" analyse "$tmp/xyz" --lammps-dump "$tmp/xyz/dump.lammpstrj" --out "$tmp/lmp" \
+    --set analysis.observables=moments,pv,pair,vcorr,clusters,pressure,profile,sk >"$tmp/lmp.log" 2>&1 ||
+    bad "analyse --lammps-dump of a 3D dump failed: $(tail -2 "$tmp/lmp.log")"
+for f in moments pv pair vcorr clusters pressure profile sk; do
+    cmp -s "$tmp/xyz/$f.csv" "$tmp/lmp/$f.csv" || bad "analyse --lammps-dump (3D): $f.csv differs from the run's"
+done
+for b in bad_z bad_box; do
+    out=$("$granule" analyse "$tmp/xyz" --lammps-dump "$tmp/xyz/$b.lammpstrj" --out "$tmp/lmp-$b" 2>&1)
+    rc=$?
+    want="need id, x, y, z, vx, vy, vz"
+    [[ $b == bad_box ]] && want="is not a cube"
+    [[ $rc -eq 2 && $out == *"$want"* ]] || bad "analyse --lammps-dump $b: exit $rc, '$out'"
+done
 # --wall-limit stops + --resume: the uninterrupted run's CSVs (every 3D observable)
 all=$obs,collisions,freepath,postcollision
 ck=(--set run.checkpoint_every=0.0203 --set analysis.observables=$all --set output.plots=false)

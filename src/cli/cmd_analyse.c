@@ -87,7 +87,7 @@ static int source_open(frame_source *src, const char *dir, const char *dump, con
             dump, scene->source);
     }
     if (dump) {
-        return gr_lammps_dump_open(dump, &src->dump, err);
+        return gr_lammps_dump_open(dump, scene->dim, &src->dump, err);
     }
     return gr_traj_reader_open(dir, (int)scene->trajectory, &src->traj, &src->total, err);
 }
