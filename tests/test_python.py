@@ -263,6 +263,18 @@ with tempfile.TemporaryDirectory() as tmp3:
     check(len(h5) == len(granule.read_snapshots(tmp3)) and h5[-1]["dim"] == 3 and
           all(np.array_equal(h5[-1][k], last3[k]) for k in ("x", "y", "z", "vx", "vy", "vz")),
           "3D: read_snapshots of trajectory.h5 gives the XYZ's frames with z and vz")
+    # a 3D LAMMPS dump of the same frames (id x y z vx vy vz) read back with dim=3
+    with open(tmp3 + "-dump.lammpstrj", "w") as f:
+        for k, fr in enumerate(granule.read_snapshots(tmp3)):
+            f.write("ITEM: TIMESTEP\n%d\nITEM: NUMBER OF ATOMS\n216\nITEM: BOX BOUNDS pp pp pp\n" % (200 * k))
+            f.write(("0 %r\n" % fr["L"]) * 3 + "ITEM: ATOMS id x y z vx vy vz\n")
+            for i in range(216):
+                f.write("%d %s\n" % (i + 1, " ".join(repr(float(fr[c][i])) for c in ("x", "y", "z", "vx", "vy", "vz"))))
+    dumped = granule.read_lammps_dump(tmp3 + "-dump.lammpstrj", 1e-6, dim=3)
+    check(len(dumped) == len(h5) and dumped[-1]["dim"] == 3 and
+          all(np.array_equal(dumped[-1][k], last3[k]) for k in ("x", "y", "z", "vx", "vy", "vz")),
+          "3D: read_lammps_dump(path, dt, dim=3) gives the frames with z and vz")
+    os.remove(tmp3 + "-dump.lammpstrj")
     run3 = granule.read_run(tmp3 + "-h5")
     check(run3["trajectory"][0] == "h5md" and "pair" in run3["tables"] and "pair" in run3["summary"]["analysis"],
           "3D: read_run of an h5md run lists its trajectory and the pair table")

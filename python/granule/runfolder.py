@@ -165,9 +165,11 @@ def read_snapshots(path):
     return [frame for p in files for frame in _xyz_frames(p)]
 
 
-def read_lammps_dump(path, dt=1.0):
+def read_lammps_dump(path, dt=1.0, dim=None):
     """Frames of a LAMMPS text dump (dump custom ... id x y vx vy): dicts as read_snapshot gives,
-    atoms in id order, t = timestep * dt (the scene's integrator.dt)."""
+    atoms in id order, t = timestep * dt (the scene's integrator.dt). dim=3 (a 3D scene) reads z
+    and vz too (dump custom ... id x y z vx vy vz); otherwise the columns say 1D or 2D (a LAMMPS 2D
+    run writes z and vz as well, so they alone do not make a frame 3D)."""
     frames = []
     with open(path) as f:
         while f.readline().startswith("ITEM: TIMESTEP"):
@@ -181,9 +183,11 @@ def read_lammps_dump(path, dt=1.0):
             a = a[np.argsort(a[:, cols.index("id")])]
             c = {name: a[:, k] for k, name in enumerate(cols)}
             L = hi[0] - lo[0]
-            frame = {"t": step * dt, "L": L, "dim": 2 if "y" in c else 1,
+            frame = {"t": step * dt, "L": L, "dim": 3 if dim == 3 else 2 if "y" in c else 1,
                      "x": np.mod(c["x"] - lo[0], L), "vx": c["vx"],
                      "y": np.mod(c["y"] - lo[1], L) if "y" in c else None, "vy": c.get("vy")}
+            if dim == 3:
+                frame["z"], frame["vz"] = np.mod(c["z"] - lo[2], L), c["vz"]
             frames.append(frame)
     return frames
 
