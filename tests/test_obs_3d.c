@@ -538,7 +538,8 @@ START_TEST(test_sk_ideal_gas)
 END_TEST
 
 /* The registry: the frame observables take dim = 3 (gaps is 1D and refused, with the scene file);
- * a frame whose z is beyond the wrappable range is refused before any observable sees it. */
+ * a frame whose z is beyond the wrappable range is refused before any observable sees it; a
+ * profile axis beyond z is refused naming the allowed axes. */
 START_TEST(test_registry)
 {
     static const char *const ok3[] = {"moments", "pv",    "pair",      "msd",
@@ -575,6 +576,14 @@ START_TEST(test_registry)
     ck_assert_msg(strstr(err.message, "particle 5 has z = "), "%s", err.message);
     gr_observer_free(o);
     frame_free(&f);
+    /* profile_axis beyond z (the scene parser's range is -1..2; gr_analysis_set skips it) */
+    void *st = NULL;
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "profile_axis", 3, NULL), GR_OK);
+    ck_assert_int_eq(gr_scene_observable(&gr_obs_profile, &sc, &st, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "profile_axis: 3 (no axis) in a 3D system; allowed in 3D: 0 "
+                                      "(x), 1 (y), 2 (z)"),
+                  "%s", err.message);
+    ck_assert_ptr_null(st);
 }
 END_TEST
 

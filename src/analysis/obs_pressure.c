@@ -290,12 +290,19 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .rows = rows,
         .ctx = s,
         .png = s->frames > 0 ? "pressure.png" : NULL,
-        .plot = "set style data histograms\nset style histogram errorbars gap "
-                "1\nset style fill solid 0.5\n"
-                "set ylabel 'pressure (Pa in 3D, N/m in 2D, N in 1D)'\nset title 'Pressure: "
-                "kinetic and collisional parts'\n"
-                "set xtics rotate by -30 noenhanced\nplot 'pressure.csv' skip 1 every "
-                "::0::7 using 2:3:xtic(1) title 'P_{ab}'",
+        .plot = s->dim == 3 /* the 12 tensor components, P and nT */
+                    ? "set style data histograms\nset style histogram errorbars gap "
+                      "1\nset style fill solid 0.5\n"
+                      "set ylabel 'pressure (Pa)'\nset title 'Pressure: kinetic and "
+                      "collisional parts (3D)'\n"
+                      "set xtics rotate by -30 noenhanced\nplot 'pressure.csv' skip 1 every "
+                      "::0::13 using 2:3:xtic(1) title 'P_{ab}'"
+                    : "set style data histograms\nset style histogram errorbars gap "
+                      "1\nset style fill solid 0.5\n"
+                      "set ylabel 'pressure (N/m in 2D, N in 1D)'\nset title 'Pressure: kinetic "
+                      "and collisional parts'\n"
+                      "set xtics rotate by -30 noenhanced\nplot 'pressure.csv' skip 1 every "
+                      "::0::7 using 2:3:xtic(1) title 'P_{ab}'",
     };
     return gr_obs_table_write(out, &t, err);
 }

@@ -68,12 +68,15 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     s->radius = setup->radius;
     s->axis = pp->profile_axis < 0 ? setup->dim - 1 : pp->profile_axis;
     if (s->axis >= setup->dim) {
+        static const char *const name[3] = {"x", "y", "z"};
+        static const char *const allowed[3] = {"0 (x)", "0 (x), 1 (y)", "0 (x), 1 (y), 2 (z)"};
+        const int d = setup->dim >= 1 && setup->dim <= 3 ? setup->dim : 3;
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: [analysis] profile_axis: %d (%c) in a %dD system; allowed in %dD: %s "
+                       "%s: [analysis] profile_axis: %d (%s) in a %dD system; allowed in %dD: %s "
                        "or -1 (the last axis)",
                        setup->source ? setup->source : "scene", pp->profile_axis,
-                       "xyz"[pp->profile_axis], setup -> dim, setup -> dim,
-                       setup -> dim == 1 ? "0 (x)" : "0 (x), 1 (y)");
+                       s->axis <= 2 ? name[s->axis] : "no axis", setup->dim, setup->dim,
+                       allowed[d - 1]);
     }
     s->wall = s->axis < 2 && setup->walls[s->axis]; /* 3D has no walls */
     s->bins = pp->profile_bins;
