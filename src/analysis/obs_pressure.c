@@ -281,11 +281,16 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     }
     const gr_obs_table t = {
         .name = "pressure.csv",
-        .what = "pressure tensor P_ab = (sum_i M u_a u_b + sum_pairs r_a F_b) / "
-                "V (V = L^3 in 3D, L^2 in 2D, L in 1D), "
-                "kinetic and collisional parts, total P = trace / dim, n T, and "
-                "the mean speed (m/s); "
-                "block-averaging errors over frames",
+        .what = s->dim == 3 ? "pressure tensor P_ab = (sum_i M u_a u_b + sum_pairs r_a F_b) / "
+                              "V (3D: V = L^3, the symmetric 3x3 tensor), "
+                              "kinetic and collisional parts, total P = trace / 3, n T, and "
+                              "the mean speed (m/s); "
+                              "block-averaging errors over frames"
+                            : "pressure tensor P_ab = (sum_i M u_a u_b + sum_pairs r_a F_b) / "
+                              "V (V = L^2 in 2D, L in 1D), "
+                              "kinetic and collisional parts, total P = trace / dim, n T, and "
+                              "the mean speed (m/s); "
+                              "block-averaging errors over frames",
         .columns = "quantity [],value [@unit],stderr [@unit],unit []",
         .rows = rows,
         .ctx = s,

@@ -169,11 +169,16 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     }
     const gr_obs_table t = {
         .name = "vcorr.csv",
-        .what = "spatial velocity correlations (2D, 3D): longitudinal C_L and "
-                "transverse C_T (per transverse component) against the pair "
-                "distance r (m), normalised by <|u|^2>/dim per frame, u relative "
-                "to the frame's mean; "
-                "block-averaging errors over frames",
+        .what = s->dim == 3 ? "spatial velocity correlations (3D): longitudinal C_L and "
+                              "transverse C_T (per transverse component) against the pair "
+                              "distance r (m), normalised by <|u|^2>/3 per frame, u relative "
+                              "to the frame's mean; "
+                              "block-averaging errors over frames"
+                            : "spatial velocity correlations (2D): longitudinal C_L and "
+                              "transverse C_T against the pair "
+                              "distance r (m), normalised by <|u|^2>/2 per frame, u relative "
+                              "to the frame's mean; "
+                              "block-averaging errors over frames",
         .columns = "r [m],r_over_d [1],C_L [1],C_L_stderr [1],C_T [1],C_T_stderr [1],frames [1]",
         .rows = rows,
         .ctx = s,
