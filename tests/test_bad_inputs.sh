@@ -67,10 +67,10 @@ file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[gravity]\ngy = -9.81\n |
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[driving]\nkind = langevin\n | run $S --out $O | 2 | :6:;[driving] kind;dim = 3;allowed in 3D: rfm | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[noise]\nprecision = single\n | run $S --out $O | 2 | :6:;[noise] precision;dim = 3;allowed in 3D: double | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[placement]\nkind = hexagonal\n | run $S --out $O | 2 | :6:;[placement] kind;hexagonal;allowed in 3D: cubic | new
-file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[analysis]\nobservables = pv\n | run $S --out $O | 2 | :6:;[analysis] observables;pv is not defined for dim = 3;allowed in 3D: moments | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[analysis]\nobservables = gaps\n | run $S --out $O | 2 | :6:;[analysis] observables;gaps is not defined for dim = 3;allowed in 3D: moments | new
 file:[system]\ndim = 1\nN = 20\n[analysis]\nobservables = profile\nprofile_axis = 1\n | run $S --out $O | 2 | [analysis] profile_axis;(y) in a 1D system;allowed in 1D: 0 (x) or -1 | new
+file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[analysis]\nobservables = profile\nprofile_axis = 2\n | run $S --out $O | 2 | [analysis] profile_axis;2 (z) in a 2D system;allowed in 2D: 0 (x), 1 (y) or -1 | new
 file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[analysis]\nobservables = profile\nprofile_bins = 0\n | run $S --out $O | 2 | :7:;[analysis] profile_bins;allowed range [1, 100000] | new
-file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[output]\ntrajectory = h5md\n | run $S --out $O | 2 | :6:;[output] trajectory;dim = 3;allowed in 3D: snapshots | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.75\n | run $S --out $O | 2 | :4:;packing_fraction;0.7405;(0, 0.7405] | new
 file:[system]\ndim = 3\nN = 8\nreduced_length = 0.1\n | run $S --out $O | 2 | :4:;reduced_length;only for dim = 1 | new
 file:[system]\ndim = 3\nN = 100\npacking_fraction = 0.35\n[placement]\nkind = random\n | run $S --out $O | 2 | kind = random;phi = 0.350;(0, 0.3];cubic | new

@@ -158,7 +158,7 @@ with tempfile.TemporaryDirectory() as tmp:
     subprocess.run([exe, "run", scene3, "--out", rundir] + args3, check=True)
     t_warm = sets3["run.warmup"] * (1 + 1e-12)
     fr_g = [f for f in granule.read_snapshots(rundir) if f["t"] > t_warm]
-    fr_l = [f for f in granule.read_lammps_dump(os.path.join(lmpdir, "dump.granule.lammpstrj"), 1e-6)
+    fr_l = [f for f in granule.read_lammps_dump(os.path.join(lmpdir, "dump.granule.lammpstrj"), 1e-6, dim=3)
             if f["t"] > t_warm]
     print(f"3D: granule {len(fr_g)} frames, LAMMPS {len(fr_l)} frames")
     if len(fr_g) != len(fr_l) or not fr_l or fr_l[0]["dim"] != 3:

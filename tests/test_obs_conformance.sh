@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Conformance of every registered observable (issue 34 item 6), looped over `granule observables`,
 # so a new observable is checked without editing this file. For each observable and each
-# dimension it supports, on a small scene (N = 60 in 1D, 120 in 2D, 20 samples):
+# dimension it supports, on a small scene (N = 60 in 1D, 120 in 2D, 125 spheres in 3D, 20 samples):
 #   - streamed equals offline: the CSVs of `granule analyse` on the run's snapshots (one per
 #     sample, no warm-up) equal the run's own, byte for byte (the run feeds the integrator's
 #     positions, the snapshots hold them wrapped into the box: on a longer run an observable of
@@ -25,14 +25,14 @@ cd "$TMP" || exit 1
 ok() { echo ok >>"$TMP/results.$o"; }
 bad() { echo "FAILED: $*" >>"$TMP/results.$o"; }
 
-for d in 1 2; do
+for d in 1 2 3; do
     cat >"s$d.ini" <<EOF
 [system]
 dim = $d
-N = $([[ $d == 1 ]] && echo 60 || echo 120)
-$([[ $d == 1 ]] && echo "reduced_length = 0.3" || echo "L = 0.045")
+N = $([[ $d == 1 ]] && echo 60 || { [[ $d == 2 ]] && echo 120 || echo 125; })
+$([[ $d == 1 ]] && echo "reduced_length = 0.3" || { [[ $d == 2 ]] && echo "L = 0.045" || echo "packing_fraction = 0.1"; })
 [placement]
-kind = uniform
+kind = $([[ $d == 3 ]] && echo cubic || echo uniform)
 v0 = 0.5
 [model]
 normal = spring_dashpot
@@ -105,7 +105,7 @@ equal_csvs() {
 check_observable() {
     local o=$1 d k err rc msg sessions
     local -a run what
-    for d in 1 2; do
+    for d in 1 2 3; do
         if [[ ${dims[$o]} != *"${d}D"* ]]; then
             # refusal: this dimension is not supported
             err=$("$G" run "s$d.ini" --quiet --out "no-$o-$d" --set analysis.observables="$o" 2>&1 >/dev/null)

@@ -496,7 +496,7 @@ START_TEST(test_bad_params)
     ck_assert_int_eq(gr_analysis_get(&sc.analysis, "gr_rmax", &def_rmax, NULL), GR_OK);
     ck_assert_double_eq(def_bins, 400);
     ck_assert_double_eq(def_rmax, 20.0);
-    ck_assert_uint_eq(gr_obs_pair.dims, 2u);
+    ck_assert_uint_eq(gr_obs_pair.dims, 6u); /* 2D and 3D */
     ck_assert_str_eq(gr_obs_pair.name, "pair");
     st = create_ok(&sc);
     /* frames that do not match the scene, or hold non-finite positions, are refused */

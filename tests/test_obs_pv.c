@@ -775,7 +775,7 @@ END_TEST
 START_TEST(bad_params_refused)
 {
     ck_assert_str_eq(gr_obs_pv.name, "pv");
-    ck_assert_uint_eq(gr_obs_pv.dims, 3u);
+    ck_assert_uint_eq(gr_obs_pv.dims, 7u); /* 1D, 2D and 3D */
     ck_assert_int_eq(gr_obs_pv.n_params, 2);
     ck_assert_str_eq(gr_obs_pv.params[0].name, "pv_bins");
     ck_assert_int_eq(gr_obs_pv.params[0].type, GR_PARAM_INT);
@@ -795,7 +795,7 @@ START_TEST(bad_params_refused)
         {2, 9, 12.0, "pv_bins"},   {1, 1000001, 12.0, "pv_bins"},
         {1, 400, 0.0, "pv_range"}, {1, 400, -3.0, "pv_range"},
         {2, 400, 0.5, "pv_range"}, {1, 400, (double)NAN, "pv_range"},
-        {1, 400, 1e9, "pv_range"}, {3, 400, 12.0, "dim"},
+        {1, 400, 1e9, "pv_range"}, {4, 400, 12.0, "dim"},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         gr_scene s;

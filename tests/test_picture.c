@@ -154,9 +154,13 @@ static gr_frame frame_new(int n, int dim, double L, double t)
     gr_frame f = {.n = n, .dim = dim, .L = L, .t = t};
     f.x = calloc((size_t)n, sizeof(double));
     f.vx = calloc((size_t)n, sizeof(double));
-    if (dim == 2) {
+    if (dim >= 2) {
         f.y = calloc((size_t)n, sizeof(double));
         f.vy = calloc((size_t)n, sizeof(double));
+    }
+    if (dim == 3) {
+        f.z = calloc((size_t)n, sizeof(double));
+        f.vz = calloc((size_t)n, sizeof(double));
     }
     ck_assert_ptr_nonnull(f.x);
     return f;
@@ -739,6 +743,105 @@ START_TEST(test_spacetime)
 }
 END_TEST
 
+/* ---------- 3D ---------- */
+
+/* Non-white pixels of the picture area (the square above the panel). */
+static long inked(const image *im)
+{
+    long k = 0;
+    for (int y = 0; y < im->w; y++) {
+        for (int x = 0; x < im->w; x++) {
+            k += !is_white(im, x, y);
+        }
+    }
+    return k;
+}
+
+/* The view of src/io/picture_3d.c (yaw -30 degrees, pitch 25): the unit vector towards the viewer,
+ * along which points project onto the same pixel. */
+static void towards_viewer(double e[3])
+{
+    const double yaw = -30.0 * M_PI / 180.0, pitch = 25.0 * M_PI / 180.0;
+    e[0] = -cos(pitch) * sin(yaw);
+    e[1] = -cos(pitch) * cos(yaw);
+    e[2] = sin(pitch);
+}
+
+/* A dense cube inks far more of the picture than a dilute one; a sphere at the centre is drawn at
+ * the image's centre, lit from the upper left (its highlight brighter than its lower-right rim);
+ * of two spheres on the same line of sight the nearer is drawn over the farther (painter's order),
+ * whichever comes first in the frame; a non-finite z is refused. */
+START_TEST(test_3d_spheres)
+{
+    gr_error err = {0};
+    gr_picture_options opt = {.size = 400, .colormap = GR_CMAP_GREY};
+    const double L = 0.05, r = 1e-3;
+    uint64_t seed = 88172645463325252ull;
+    long ink[2];
+    const int counts[2] = {20, 3000};
+    for (int k = 0; k < 2; k++) {
+        gr_frame f = frame_new(counts[k], 3, L, 0.0);
+        for (int i = 0; i < f.n; i++) {
+            double *c[6] = {&f.x[i], &f.y[i], &f.z[i], &f.vx[i], &f.vy[i], &f.vz[i]};
+            for (int q = 0; q < 6; q++) {
+                seed ^= seed << 13, seed ^= seed >> 7, seed ^= seed << 17; /* xorshift64 */
+                *c[q] = (q < 3 ? L : 1.0) * (double)(seed >> 11) / 9007199254740992.0;
+            }
+        }
+        const char *png = in_dir(k ? "dense.png" : "dilute.png");
+        ck_assert_msg(gr_picture_frame(&f, r, png, &opt, &err) == GR_OK, "%s", err.message);
+        image im = load_png(png);
+        ink[k] = inked(&im);
+        image_free(&im);
+        gr_frame_free(&f);
+    }
+    ck_assert_msg(ink[1] > 10 * ink[0], "dense cube inks %ld px, dilute %ld", ink[1], ink[0]);
+    /* one sphere at the centre, at rest (light grey 0.88): highlight above-left, rim below-right */
+    const double pxm = 0.97 * 400 / (L * sqrt(3.0) + 2.0 * r), rp = r * pxm;
+    gr_frame f = frame_new(1, 3, L, 0.0);
+    f.x[0] = f.y[0] = f.z[0] = 0.5 * L;
+    const char *one = in_dir("one.png");
+    ck_assert_msg(gr_picture_frame(&f, r, one, &opt, &err) == GR_OK, "%s", err.message);
+    image im = load_png(one);
+    int hi[3], rim[3];
+    pixel(&im, (int)(200 - 0.35 * rp), (int)(200 - 0.35 * rp), hi);
+    pixel(&im, (int)(200 + 0.6 * rp), (int)(200 + 0.6 * rp), rim);
+    ck_assert_msg(!is_white(&im, 200, 200), "no sphere at the centre");
+    ck_assert_msg(hi[0] > rim[0] + 40, "highlight %d, rim %d", hi[0], rim[0]);
+    image_free(&im);
+    gr_frame_free(&f);
+    /* two spheres on one line of sight: a fast (black) and a slow (light) one, either order */
+    double e[3];
+    towards_viewer(e);
+    for (int order = 0; order < 2; order++) {
+        gr_frame g = frame_new(2, 3, L, 0.0);
+        for (int i = 0; i < 2; i++) {
+            const double t = (i == order ? 0.2 : -0.2) * L; /* particle `order` is the nearer */
+            g.x[i] = 0.5 * L + t * e[0];
+            g.y[i] = 0.5 * L + t * e[1];
+            g.z[i] = 0.5 * L + t * e[2];
+        }
+        g.vx[0] = 10.0; /* particle 0 fast: |v| / v_rms = sqrt(2), grey 0.88 (1 - sqrt(2) / 3) */
+        const char *png = in_dir(order ? "near1.png" : "near0.png");
+        ck_assert_msg(gr_picture_frame(&g, r, png, &opt, &err) == GR_OK, "%s", err.message);
+        image two = load_png(png);
+        int c[3];
+        pixel(&two, 200, 200, c);
+        /* the nearer sphere's body colour at its centre (between highlight and rim) */
+        if (order == 0) {
+            ck_assert_msg(c[0] < 170, "fast sphere in front, centre pixel %d", c[0]);
+        } else {
+            ck_assert_msg(c[0] > 190, "slow sphere in front, centre pixel %d", c[0]);
+        }
+        image_free(&two);
+        g.z[1] = NAN;
+        expect_refusal(gr_picture_frame(&g, r, in_dir("nan.png"), &opt, &err), &err, GR_EINVAL,
+                       "non-finite z", "3D frame with z = nan");
+        gr_frame_free(&g);
+    }
+}
+END_TEST
+
 static Suite *picture_suite(void)
 {
     Suite *s = suite_create("picture");
@@ -753,6 +856,7 @@ static Suite *picture_suite(void)
     tcase_add_test(tc, test_run_folder_2d);
     tcase_add_test(tc, test_run_folder_1d);
     tcase_add_test(tc, test_spacetime);
+    tcase_add_test(tc, test_3d_spheres);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -4,7 +4,9 @@ observables and run folders come back as numpy/pandas.
 
     test_python.py GRANULE_EXE SOURCE_DIR    (PYTHONPATH=build/python, Debian's /usr/bin/python3)
 """
+import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -249,9 +251,23 @@ obs3.sample(sim3)
 check(obs3.frames == 1, "3D: an Observer with moments samples a 3D Sim")
 try:
     obs3.sample_frame(0.0, sim3.x, sim3.vx, sim3.y, sim3.vy)
-    check(False, "3D: sample_frame is refused")
+    check(False, "3D: sample_frame without z, vz is refused")
 except granule.SceneError as e:
-    check("3D frames" in str(e), f"3D: sample_frame is refused: {e}")
+    check("needs y, vy, z and vz" in str(e), f"3D: sample_frame without z, vz is refused: {e}")
+# the frame observables in 3D: sample_frame of a Sim's arrays gives what sample(sim) gives
+scene3o = granule.load_scene(os.path.join(src, "docs", "scenes", "rfm-3d.ini"),
+                             set={"system.N": 216, "analysis.observables": "moments,pv,pair,pressure,sk"})
+by_sim, by_arrays = granule.Observer(scene3o), granule.Observer(scene3o)
+for _ in range(3):
+    sim3.step(50)
+    by_sim.sample(sim3)
+    by_arrays.sample_frame(sim3.t, sim3.x, sim3.vx, sim3.y, sim3.vy, z=sim3.z, vz=sim3.vz)
+with tempfile.TemporaryDirectory() as ta, tempfile.TemporaryDirectory() as tb:
+    ja, jb = json.loads(by_sim.finish(ta, force=True)), json.loads(by_arrays.finish(tb, force=True))
+    same = all(open(os.path.join(ta, f)).read() == open(os.path.join(tb, f)).read()
+               for f in ("moments.csv", "pv.csv", "pair.csv", "pressure.csv", "sk.csv"))
+    check(same and set(ja) == {"moments", "pv", "pair", "pressure", "sk"} and ja["pressure"]["unit"] == "Pa (N/m^2)",
+          "3D: sample_frame(t, x, vx, y, vy, z=, vz=) equals sample(sim) for moments, pv, pair, pressure, sk")
 with tempfile.TemporaryDirectory() as tmp3:
     sets3 = {"system.N": 216, "run.warmup": 0.0, "run.duration": 2e-4, "run.sample_every": 1e-4,
              "output.snapshot_every": 2e-4, "output.plots": False}
@@ -263,5 +279,29 @@ with tempfile.TemporaryDirectory() as tmp3:
     sim3b.step(200)
     check(last3["dim"] == 3 and all(np.array_equal(last3[k], getattr(sim3b, k)) for k in ("x", "y", "z", "vx", "vy", "vz")),
           "3D: read_snapshots gives dim 3 and x, y, z, vx, vy, vz bit-identical to a Sim stepped from Python")
+    # the same frames through trajectory.h5 (h5py), and read_run sees the 3D run's observables
+    cmd3h = [c if c != tmp3 else tmp3 + "-h5" for c in cmd3] + ["--set", "output.trajectory=h5md",
+                                                                  "--set", "analysis.observables=moments,pair"]
+    subprocess.run(cmd3h, check=True, stdout=subprocess.DEVNULL)
+    h5 = granule.read_snapshots(tmp3 + "-h5")
+    check(len(h5) == len(granule.read_snapshots(tmp3)) and h5[-1]["dim"] == 3 and
+          all(np.array_equal(h5[-1][k], last3[k]) for k in ("x", "y", "z", "vx", "vy", "vz")),
+          "3D: read_snapshots of trajectory.h5 gives the XYZ's frames with z and vz")
+    # a 3D LAMMPS dump of the same frames (id x y z vx vy vz) read back with dim=3
+    with open(tmp3 + "-dump.lammpstrj", "w") as f:
+        for k, fr in enumerate(granule.read_snapshots(tmp3)):
+            f.write("ITEM: TIMESTEP\n%d\nITEM: NUMBER OF ATOMS\n216\nITEM: BOX BOUNDS pp pp pp\n" % (200 * k))
+            f.write(("0 %r\n" % fr["L"]) * 3 + "ITEM: ATOMS id x y z vx vy vz\n")
+            for i in range(216):
+                f.write("%d %s\n" % (i + 1, " ".join(repr(float(fr[c][i])) for c in ("x", "y", "z", "vx", "vy", "vz"))))
+    dumped = granule.read_lammps_dump(tmp3 + "-dump.lammpstrj", 1e-6, dim=3)
+    check(len(dumped) == len(h5) and dumped[-1]["dim"] == 3 and
+          all(np.array_equal(dumped[-1][k], last3[k]) for k in ("x", "y", "z", "vx", "vy", "vz")),
+          "3D: read_lammps_dump(path, dt, dim=3) gives the frames with z and vz")
+    os.remove(tmp3 + "-dump.lammpstrj")
+    run3 = granule.read_run(tmp3 + "-h5")
+    check(run3["trajectory"][0] == "h5md" and "pair" in run3["tables"] and "pair" in run3["summary"]["analysis"],
+          "3D: read_run of an h5md run lists its trajectory and the pair table")
+    shutil.rmtree(tmp3 + "-h5")
 
 finish()

@@ -6,7 +6,8 @@ docs/trajectories.md), with Debian's /usr/bin/python3, ASE, MDAnalysis and h5py:
   - read_run reads a run (with granule analyse's output), a compare, a sweep, a reproduce result set,
     a reproduce campaign folder, cost and a theory command's folder, each table and JSON complete;
   - read_ase gives every frame of a run in any format as ase.Atoms (cell, pbc, velocities, masses);
-  - mdanalysis_universe opens trajectory.h5 in one call with the box of every frame.
+  - mdanalysis_universe opens trajectory.h5 in one call with the box of every frame;
+  - 3D: both on a cube (pbc T T T, box L L L, z and vz).
 
     test_python_readers.py GRANULE_EXE SOURCE_DIR    (PYTHONPATH=build/python)
 """
@@ -231,6 +232,25 @@ with tempfile.TemporaryDirectory() as tmp:
                        and np.allclose(ts.velocities, ref[k].get_velocities(), rtol=1e-6, atol=1e-9))
         check(ok, f"{dim}D: every frame's box {box}, time, step, positions and velocities (SI) equal the XYZ's")
         check(np.allclose(u.atoms.masses, 3.53e-5) and np.allclose(u.atoms.radii, 1.5e-3), f"{dim}D: masses and radii")
+    # 5. 3D (spheres, docs/three-dimensions.md): read_ase and mdanalysis_universe on a cube
+    scene3 = os.path.join(src, "docs", "scenes", "rfm-3d.ini")
+    small3d = {"system.N": 200, "run.warmup": 0.002, "run.duration": 0.006, "run.sample_every": 0.002,
+               "output.snapshot_every": 0.002, "output.plots": "false"}
+    for fmt in ("xyz", "h5md"):
+        granule_cmd("run", scene3, "--out", f"{fmt}3d", "--quiet", *sets({**small3d, "output.trajectory": fmt}))
+    L3 = json.load(open("xyz3d/summary.json"))["scene"]["system"]["L"]
+    a3, h3 = granule.read_ase("xyz3d"), granule.read_ase("h5md3d")
+    check(len(a3) == len(h3) == 5 and all(list(a.pbc) == [True] * 3 and np.allclose(a.cell.lengths(), [L3] * 3)
+                                          and np.array_equal(a.positions, b.positions)
+                                          and np.array_equal(a.get_velocities(), b.get_velocities())
+                                          and np.all(np.abs(a.get_velocities()).max(axis=0) > 0)
+                                          for a, b in zip(a3, h3)),
+          "3D: read_ase of trajectory.xyz and trajectory.h5 give the same Atoms: the cube, pbc T T T, z and vz")
+    u3 = granule.mdanalysis_universe("h5md3d")
+    check(len(u3.trajectory) == 5 and all(np.allclose(ts.dimensions, [L3, L3, L3, 90, 90, 90])
+                                          and np.array_equal(ts.positions, np.float32(a3[k].positions))
+                                          for k, ts in enumerate(u3.trajectory)),
+          "3D: mdanalysis_universe has the cube's box and the XYZ's positions in every frame")
     try:
         granule.mdanalysis_universe(runs[(2, "xyz")])
         check(False, "mdanalysis_universe of a run without trajectory.h5 says what to do")

@@ -22,7 +22,9 @@
 #         comma in a cell, and the figures' blocks with the groups as the campaign has them; a
 #         data table read with its units as docs/python.md does
 # Exit 77 (skipped) only when the part's Python package cannot be imported.
-# usage: tests/test_readers.sh path/to/granule SOURCE_DIR ase|h5md|csv|results
+#   3d    ASE reads a 3D run's extended XYZ, MDAnalysis and h5py its trajectory.h5 (box, frames,
+#         positions and velocities equal to the XYZ's)
+# usage: tests/test_readers.sh path/to/granule SOURCE_DIR ase|h5md|csv|results|3d
 set -euo pipefail
 G=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 SRC=$2
@@ -178,6 +180,55 @@ with h5py.File("h/trajectory.h5", "r") as a, h5py.File("kh5md/trajectory.h5", "r
 ref, got = ase.io.read("x/snapshots/trajectory.xyz", index=":"), ase.io.read("kxyz/snapshots/trajectory.xyz", index=":")
 assert len(ref) == len(got) and all(np.array_equal(p.positions, q.positions) for p, q in zip(ref, got))
 print("ok kill -9 + --resume: trajectory.h5 and trajectory.xyz equal the uninterrupted run's")
+EOF
+    ;;
+3d)
+    # spheres (docs/three-dimensions.md): ASE reads the 3D extended XYZ (pbc T T T, the cube, z and
+    # vz), MDAnalysis and h5py the 3D trajectory.h5 (box L L L, three periodic directions, the
+    # XYZ's positions and velocities in every frame)
+    need ase python3-ase
+    need MDAnalysis python3-mdanalysis
+    need h5py python3-h5py
+    small3d=(--set system.N=300 --set run.warmup=0.004 --set run.duration=0.012 --set run.sample_every=0.002
+             --set output.snapshot_every=0.002 --set output.plots=false --quiet)
+    "$G" run "$SRC/docs/scenes/rfm-3d.ini" --out x3 "${small3d[@]}" --set output.trajectory=xyz
+    "$G" run "$SRC/docs/scenes/rfm-3d.ini" --out h3 "${small3d[@]}" --set output.trajectory=h5md
+    "$PY" - <<'EOF'
+import json, warnings
+import numpy as np
+warnings.simplefilter("ignore")
+import ase.io, MDAnalysis as mda, h5py
+L = json.load(open("x3/summary.json"))["scene"]["system"]["L"]
+M, r = 3.53e-5, 1.5e-3
+xyz = ase.io.read("x3/snapshots/trajectory.xyz", index=":")
+assert len(xyz) == 9, len(xyz)
+for k, a in enumerate(xyz):
+    assert list(a.pbc) == [True, True, True], a.pbc
+    assert np.allclose(a.cell.lengths(), [L, L, L], rtol=1e-15), a.cell.lengths()
+    assert abs(a.info["Time"] - 0.002 * k) < 1e-12, a.info
+    assert np.all(a.positions >= 0) and np.all(a.positions < L)
+    v = a.get_velocities()
+    assert np.allclose(v, a.arrays["velo"], rtol=1e-12, atol=1e-15)
+    assert np.all(np.abs(v).max(axis=0) > 0), "a velocity component is zero"
+    assert np.allclose(a.get_masses(), M, rtol=1e-15) and np.allclose(a.arrays["radius"], r)
+print("ok ASE %s: %d 3D frames, pbc T T T, the cube, z and vz" % (ase.__version__, len(xyz)))
+u = mda.Universe.empty(300, trajectory=False)
+u.load_new("h3/trajectory.h5", format="H5MD", convert_units=False)
+assert len(u.trajectory) == len(xyz), (len(u.trajectory), len(xyz))
+for k, ts in enumerate(u.trajectory):
+    assert abs(ts.time - 0.002 * k) < 1e-12, ts.time
+    assert np.allclose(ts.dimensions, [L, L, L, 90, 90, 90]), ts.dimensions
+    assert np.array_equal(ts.positions.astype(float), np.float32(xyz[k].positions)), k
+    assert np.allclose(ts.velocities, xyz[k].get_velocities(), rtol=1e-6, atol=1e-9), k
+with h5py.File("h3/trajectory.h5", "r") as f:
+    p = f["particles/all/position/value"]
+    assert p.shape == (9, 300, 3), p.shape
+    assert np.array_equal(p[8], xyz[8].positions), "double positions differ from the XYZ"
+    assert np.array_equal(f["particles/all/velocity/value"][8], xyz[8].arrays["velo"])
+    assert list(f["particles/all/box"].attrs["boundary"]) == ["periodic"] * 3
+    assert np.array_equal(f["particles/all/box/edges/value"][0], np.diag([L, L, L]))
+    assert f["parameters/granule"].attrs["dim"] == 3
+print("ok MDAnalysis %s and h5py: %d 3D frames, box, positions and velocities equal the XYZ's" % (mda.__version__, len(u.trajectory)))
 EOF
     ;;
 csv)

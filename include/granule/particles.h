@@ -18,13 +18,14 @@ typedef struct gr_particles {
 
 /* A particle's contact state changed: it touched another particle for the first time since it was
  * last free (kind = +1, "collision"), or it lost its last contact (kind = -1). Positions are as
- * the simulation stores them (1D unwrapped, 2D wrapped into [0, L)); velocities are those of the
- * step in which the change was seen (accurate to O(dt)). */
+ * the simulation stores them (1D unwrapped, 2D and 3D wrapped into [0, L)); velocities are those
+ * of the step in which the change was seen (accurate to O(dt)). z, vz: 3D only (0 otherwise). */
 typedef struct gr_contact_event {
     int i;
     int kind;
     double t;
     double x, y, vx, vy;
+    double z, vz;
 } gr_contact_event;
 
 #endif

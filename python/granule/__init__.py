@@ -97,7 +97,7 @@ def scene_dict(scene):
 
 
 def observe(scene, frames, out=None, force=False):
-    """Feed frames (Sims, or dicts with t, x, vx[, y, vy]) to the observables the scene names and
+    """Feed frames (Sims, or dicts with t, x, vx[, y, vy][, z, vz]) to the observables the scene names and
     return {observable: {"summary": dict, "tables": {csv name: pandas.DataFrame or numpy array}}}.
     The CSVs go to `out` (kept; a folder holding another result is refused unless force) or a
     temporary folder."""
@@ -106,7 +106,8 @@ def observe(scene, frames, out=None, force=False):
         if isinstance(f, Sim):
             obs.sample(f)
         else:
-            obs.sample_frame(**{k: f[k] for k in ("t", "x", "vx", "y", "vy", "L") if f.get(k) is not None})
+            obs.sample_frame(**{k: f[k] for k in ("t", "x", "vx", "y", "vy", "L", "z", "vz")
+                                if f.get(k) is not None})
     with tempfile.TemporaryDirectory() as tmp:
         folder = out or tmp
         summary = json.loads(obs.finish(folder, force=force))

@@ -84,27 +84,32 @@ static PyArrayObject *as_doubles(PyObject *o, npy_intp n, const char *name)
 
 static PyObject *observer_sample_frame(pyg_observer *self, PyObject *args, PyObject *kw)
 {
-    static char *kwlist[] = {"t", "x", "vx", "y", "vy", "L", NULL};
+    static char *kwlist[] = {"t", "x", "vx", "y", "vy", "L", "z", "vz", NULL};
     double t, L = 0.0;
-    PyObject *ox, *ovx, *oy = Py_None, *ovy = Py_None;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "dOO|OOd", kwlist, &t, &ox, &ovx, &oy, &ovy, &L)) {
+    PyObject *ox, *ovx, *oy = Py_None, *ovy = Py_None, *oz = Py_None, *ovz = Py_None;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "dOO|OOdOO", kwlist, &t, &ox, &ovx, &oy, &ovy, &L,
+                                     &oz, &ovz)) {
         return NULL;
     }
     const gr_scene *s = &((pyg_scene *)self->scene)->scene;
-    if (s->dim == 3) {
-        PyErr_SetString(pyg_scene_error, "sample_frame: 3D frames (z, vz) are not taken yet; "
-                                         "allowed in 3D: Observer.sample(sim) "
+    if (s->dim == 3 && (oz == Py_None || ovz == Py_None || oy == Py_None || ovy == Py_None)) {
+        PyErr_SetString(pyg_scene_error, "sample_frame: a 3D scene needs y, vy, z and vz "
                                          "(docs/three-dimensions.md)");
         return NULL;
     }
     const npy_intp n = s->N;
-    PyArrayObject *a[4] = {as_doubles(ox, n, "x"), as_doubles(ovx, n, "vx"), NULL, NULL};
-    if (s->dim == 2) {
+    PyArrayObject *a[6] = {
+        as_doubles(ox, n, "x"), as_doubles(ovx, n, "vx"), NULL, NULL, NULL, NULL};
+    if (s->dim >= 2) {
         a[2] = as_doubles(oy, n, "y");
         a[3] = as_doubles(ovy, n, "vy");
     }
+    if (s->dim == 3) {
+        a[4] = as_doubles(oz, n, "z");
+        a[5] = as_doubles(ovz, n, "vz");
+    }
     PyObject *res = NULL;
-    if (a[0] && a[1] && (s->dim == 1 || (a[2] && a[3]))) {
+    if (a[0] && a[1] && (s->dim == 1 || (a[2] && a[3])) && (s->dim != 3 || (a[4] && a[5]))) {
         gr_particles p = {.n = s->N,
                           .dim = s->dim,
                           .L = L > 0.0 ? L : s->L,
@@ -113,10 +118,12 @@ static PyObject *observer_sample_frame(pyg_observer *self, PyObject *args, PyObj
                           .x = PyArray_DATA(a[0]),
                           .vx = PyArray_DATA(a[1]),
                           .y = a[2] ? PyArray_DATA(a[2]) : NULL,
-                          .vy = a[3] ? PyArray_DATA(a[3]) : NULL};
+                          .vy = a[3] ? PyArray_DATA(a[3]) : NULL,
+                          .z = a[4] ? PyArray_DATA(a[4]) : NULL,
+                          .vz = a[5] ? PyArray_DATA(a[5]) : NULL};
         res = feed(self, &p, t);
     }
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < 6; k++) {
         Py_XDECREF(a[k]);
     }
     return res;
@@ -173,7 +180,8 @@ static PyMethodDef observer_methods[] = {
      "sample(sim): one frame of a Sim at its time"},
     {"sample_frame", (PyCFunction)(void (*)(void))observer_sample_frame,
      METH_VARARGS | METH_KEYWORDS,
-     "sample_frame(t, x, vx, y=None, vy=None, L=scene L): one frame from arrays"},
+     "sample_frame(t, x, vx, y=None, vy=None, L=scene L, z=None, vz=None): one frame from arrays "
+     "(y, vy in 2D and 3D; z, vz in 3D)"},
     {"finish", (PyCFunction)(void (*)(void))observer_finish, METH_VARARGS | METH_KEYWORDS,
      "finish(dir, plots=False, force=False) -> str: write the observables' CSVs into dir, return "
      "their summary as JSON "

@@ -110,10 +110,13 @@ def _h5md_frames(path):
         omega = part["angular_velocity/value"][()] if "angular_velocity" in part else None
     frames = []
     for k in range(pos.shape[0]):
-        frames.append({"t": float(t[k]), "step": int(step[k]), "L": float(edges[k][0][0]) if edges is not None else L,
-                       "dim": dim, "x": pos[k, :, 0], "vx": vel[k, :, 0],
-                       "y": pos[k, :, 1] if dim == 2 else None, "vy": vel[k, :, 1] if dim == 2 else None,
-                       "omega": omega[k, :, 2] if omega is not None else None})
+        frame = {"t": float(t[k]), "step": int(step[k]), "L": float(edges[k][0][0]) if edges is not None else L,
+                 "dim": dim, "x": pos[k, :, 0], "vx": vel[k, :, 0],
+                 "y": pos[k, :, 1] if dim >= 2 else None, "vy": vel[k, :, 1] if dim >= 2 else None,
+                 "omega": omega[k, :, 2] if omega is not None else None}
+        if dim == 3:  # spheres (docs/three-dimensions.md): z and vz too
+            frame["z"], frame["vz"] = pos[k, :, 2], vel[k, :, 2]
+        frames.append(frame)
     return frames
 
 
@@ -162,10 +165,11 @@ def read_snapshots(path):
     return [frame for p in files for frame in _xyz_frames(p)]
 
 
-def read_lammps_dump(path, dt=1.0):
-    """Frames of a LAMMPS text dump (dump custom ... id x y [z] vx vy [vz]): dicts as read_snapshot
-    gives (dim 3 with z and vz when the dump has them), atoms in id order, t = timestep * dt (the
-    scene's integrator.dt)."""
+def read_lammps_dump(path, dt=1.0, dim=None):
+    """Frames of a LAMMPS text dump (dump custom ... id x y vx vy): dicts as read_snapshot gives,
+    atoms in id order, t = timestep * dt (the scene's integrator.dt). dim=3 (a 3D scene) reads z
+    and vz too (dump custom ... id x y z vx vy vz); otherwise the columns say 1D or 2D (a LAMMPS 2D
+    run writes z and vz as well, so they alone do not make a frame 3D)."""
     frames = []
     with open(path) as f:
         while f.readline().startswith("ITEM: TIMESTEP"):
@@ -179,11 +183,11 @@ def read_lammps_dump(path, dt=1.0):
             a = a[np.argsort(a[:, cols.index("id")])]
             c = {name: a[:, k] for k, name in enumerate(cols)}
             L = hi[0] - lo[0]
-            frame = {"t": step * dt, "L": L, "dim": 3 if "z" in c else 2 if "y" in c else 1,
+            frame = {"t": step * dt, "L": L, "dim": 3 if dim == 3 else 2 if "y" in c else 1,
                      "x": np.mod(c["x"] - lo[0], L), "vx": c["vx"],
                      "y": np.mod(c["y"] - lo[1], L) if "y" in c else None, "vy": c.get("vy")}
-            if "z" in c:
-                frame.update(z=np.mod(c["z"] - lo[2], L), vz=c.get("vz"))
+            if dim == 3:
+                frame["z"], frame["vz"] = np.mod(c["z"] - lo[2], L), c["vz"]
             frames.append(frame)
     return frames
 

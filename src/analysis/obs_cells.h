@@ -1,6 +1,6 @@
 /* Pairs of particles closer than a cut-off in one frame, for the observables
- * that need them (vcorr, clusters, pressure): a cell list over the periodic box
- * (2D) or ring (1D) with cells of side >= r_cut, minimum image; a brute-force
+ * that need them (vcorr, clusters, pressure): a cell list over the periodic cube
+ * (3D), box (2D) or ring (1D) with cells of side >= r_cut, minimum image; a brute-force
  * double loop when fewer than 3 cells fit per side. Each unordered pair is
  * visited once with the separation r_j - r_i (minimum image). */
 #ifndef GR_OBS_CELLS_H
@@ -9,7 +9,8 @@
 #include "granule/particles.h"
 #include "granule/status.h"
 
-typedef void (*gr_pair_visit)(int i, int j, double dx, double dy, double r2, void *user);
+/* dr: the separation r_j - r_i (minimum image), dr[1] = 0 in 1D, dr[2] = 0 except in 3D. */
+typedef void (*gr_pair_visit)(int i, int j, const double dr[3], double r2, void *user);
 
 typedef struct gr_cells {
     int cap_n, cap_cells;

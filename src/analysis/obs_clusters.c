@@ -1,4 +1,4 @@
-/* clusters: cluster-size distributions, 1D and 2D, from union-find over the
+/* clusters: cluster-size distributions, 1D, 2D and 3D, from union-find over the
  * pairs of a frame. contact clusters: particles touching, |r_ij| <= d (1 +
  * 1e-9) (d = 2 r; overlapping soft particles and particles exactly at contact
  * both count); density clusters: centres closer than cluster_distance * d (a
@@ -70,10 +70,9 @@ static int root(int *parent, int i)
     return i;
 }
 
-static void join(int i, int j, double dx, double dy, double r2, void *user)
+static void join(int i, int j, const double dr[3], double r2, void *user)
 {
-    (void)dx;
-    (void)dy;
+    (void)dr;
     (void)r2;
     int *parent = user;
     int a = root(parent, i), b = root(parent, j);
@@ -196,7 +195,7 @@ const gr_observable_type gr_obs_clusters = {
     .name = "clusters",
     .summary = "contact-cluster and density-cluster size distributions "
                "(union-find over the pairs of each frame)",
-    .dims = 3,
+    .dims = 7, /* 1D, 2D and 3D */
     .params = params,
     .n_params = sizeof params / sizeof params[0],
     .params_size = sizeof(clusters_params),

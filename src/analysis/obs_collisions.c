@@ -165,7 +165,7 @@ const gr_observable_type gr_obs_collisions = {
     .name = "collisions",
     .summary = "collision rate per particle and the distribution of times "
                "between a particle's collisions; needs a run",
-    .dims = 3,
+    .dims = 7, /* 1D, 2D and 3D */
     .params = params,
     .n_params = sizeof params / sizeof params[0],
     .params_size = sizeof(collisions_params),

@@ -3,8 +3,9 @@
  * start of the next (it touches a particle again), from the engine's contact events, so soft and
  * event-driven runs are measured alike. Histogram in logarithmic bins of l / d with sqrt(X)
  * errors, and a fit of the tail form (4.25) P_l(l) = A0 exp(-C l^(D_f - 1)) l^(D_f - 2).
- * In 2D the displacement is taken under the minimum image: a free path longer than L/2 is
- * folded (only possible in very dilute systems; the count of paths longer than L/4 is reported). */
+ * In 2D and 3D the displacement is taken under the minimum image: a free path longer than L/2 is
+ * folded (only possible in very dilute systems; the count of paths longer than L/4 is reported).
+ * In 3D the path is |r| of the three components, binned up to sqrt(3) L / 2. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdbool.h>
@@ -30,8 +31,8 @@ static const gr_param params[] = {
 typedef struct freepath {
     int n, dim;
     double L, d;
-    double *x0, *y0;
-    unsigned char *free_since; /* 1: the particle's last contact ended at (x0, y0) */
+    double *x0, *y0, *z0;      /* z0: 3D only */
+    unsigned char *free_since; /* 1: the particle's last contact ended at (x0, y0, z0) */
     gr_histogram h;            /* in units of d */
     double sum, long_paths;
     int64_t paths;
@@ -47,8 +48,9 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     f->d = 2.0 * setup->radius;
     f->x0 = gr_obs_calloc(f, (size_t)f->n, sizeof(double));
     f->y0 = gr_obs_calloc(f, (size_t)f->n, sizeof(double));
+    f->z0 = f->dim == 3 ? gr_obs_calloc(f, (size_t)f->n, sizeof(double)) : NULL;
     f->free_since = gr_obs_calloc(f, (size_t)f->n, 1);
-    double hi = (f->dim == 2 ? 0.5 * sqrt(2.0) : 1.0) * f->L / f->d;
+    double hi = (f->dim == 3 ? 0.5 * sqrt(3.0) : f->dim == 2 ? 0.5 * sqrt(2.0) : 1.0) * f->L / f->d;
     return gr_obs_histogram(f, &f->h, a->freepath_bins, a->freepath_min, hi, true, err);
 }
 
@@ -61,14 +63,22 @@ static int events(void *state, const gr_contact_event *ev, int64_t n, gr_error *
         if (ev[k].kind < 0) {
             f->x0[i] = ev[k].x;
             f->y0[i] = ev[k].y;
+            if (f->dim == 3) {
+                f->z0[i] = ev[k].z;
+            }
             f->free_since[i] = 1;
         } else if (f->free_since[i]) {
             double dx = ev[k].x - f->x0[i], dy = ev[k].y - f->y0[i];
-            if (f->dim == 2) {
+            if (f->dim >= 2) {
                 dx -= f->L * rint(dx / f->L);
                 dy -= f->L * rint(dy / f->L);
             }
             double l = sqrt(dx * dx + dy * dy); /* eq. 4.18 */
+            if (f->dim == 3) {
+                double dz = ev[k].z - f->z0[i];
+                dz -= f->L * rint(dz / f->L);
+                l = sqrt(dx * dx + dy * dy + dz * dz);
+            }
             gr_histogram_add(&f->h, l / f->d, 1.0);
             f->sum += l;
             f->long_paths += l > 0.25 * f->L;
@@ -190,6 +200,9 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
     freepath *f = state;
     gr_blob_io_f64s(io, f->x0, f->n);
     gr_blob_io_f64s(io, f->y0, f->n);
+    if (f->dim == 3) {
+        gr_blob_io_f64s(io, f->z0, f->n);
+    }
     gr_blob_io_check(io, "N", f->n);
     gr_blob_io_bytes(io, f->free_since, (size_t)f->n);
     gr_obs_io_histogram(io, &f->h);
@@ -203,7 +216,7 @@ const gr_observable_type gr_obs_freepath = {
     .name = "freepath",
     .summary = "free-path distribution P_l(l) between contacts (4.18) with the tail fit (4.25); "
                "needs a run (contact events)",
-    .dims = 3,
+    .dims = 7, /* 1D, 2D and 3D */
     .params = params,
     .n_params = sizeof params / sizeof params[0],
     .params_size = sizeof(freepath_params),

@@ -14,7 +14,7 @@ int gr_lag_init(gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error 
     g->dim = dim;
     g->lags = lags;
     g->kind = kind;
-    g->ring = calloc(2 * (size_t)n * (size_t)(lags + 1),
+    g->ring = calloc(gr_lag_stride(g) * (size_t)n * (size_t)(lags + 1),
                      sizeof(double)); /* zeroed: checkpoints save every slot */
     g->acc = malloc(sizeof(gr_blocking) * (size_t)(lags + 1));
     if (!g->ring || !g->acc) {
@@ -35,20 +35,24 @@ void gr_lag_free(gr_lag *g)
     g->acc = NULL;
 }
 
-int gr_lag_add(gr_lag *g, const double *a, const double *b, double t, gr_error *err)
+int gr_lag_add(gr_lag *g, const double *a, const double *b, const double *c, double t,
+               gr_error *err)
 {
     (void)err;
-    const int slots = g->lags + 1, n = g->n;
-    double *now = g->ring + 2 * (size_t)n * (size_t)(g->frames % slots);
+    const int slots = g->lags + 1, n = g->n, w = gr_lag_stride(g);
+    double *now = g->ring + (size_t)w * (size_t)n * (size_t)(g->frames % slots);
     for (int i = 0; i < n; i++) {
-        now[2 * i] = a[i];
-        now[2 * i + 1] = b ? b[i] : 0.0;
+        now[w * i] = a[i];
+        now[w * i + 1] = b ? b[i] : 0.0;
+        if (w == 3) {
+            now[w * i + 2] = c[i];
+        }
     }
     int64_t lmax = g->frames < g->lags ? g->frames : g->lags;
     for (int64_t l = 0; l <= lmax; l++) {
-        const double *then = g->ring + 2 * (size_t)n * (size_t)((g->frames - l) % slots);
+        const double *then = g->ring + (size_t)w * (size_t)n * (size_t)((g->frames - l) % slots);
         double s = 0.0;
-        for (int k = 0; k < 2 * n; k++) {
+        for (int k = 0; k < w * n; k++) {
             s += g->kind == GR_LAG_DOT ? now[k] * then[k] : (now[k] - then[k]) * (now[k] - then[k]);
         }
         gr_blocking_add(&g->acc[l], s / n);
@@ -119,6 +123,6 @@ void gr_lag_io(gr_blob_io *io, gr_lag *g, const char *what)
     gr_blob_io_i64(io, &g->frames);
     gr_blob_io_f64(io, &g->t_first);
     gr_blob_io_f64(io, &g->t_last);
-    gr_blob_io_f64s(io, g->ring, 2 * (int64_t)g->n * (g->lags + 1));
+    gr_blob_io_f64s(io, g->ring, gr_lag_stride(g) * (int64_t)g->n * (g->lags + 1));
     gr_obs_io_blockings(io, g->acc, g->lags + 1);
 }

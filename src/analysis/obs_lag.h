@@ -1,5 +1,5 @@
 /* Time correlations over a window of recent frames, shared by msd and vacf: a
- * ring of the last `lags` frames (2 components per particle), so memory is N *
+ * ring of the last `lags` frames (2 components per particle, 3 in 3D), so memory is N *
  * lags and does not grow with the run. Each new frame s is paired with the
  * frames s - l, l = 0 .. min(lags, s), and the particle average of f(frame s,
  * frame s - l) is added to a block-averaging accumulator of lag l: every sample
@@ -20,7 +20,7 @@ typedef enum { GR_LAG_DISPLACEMENT2, GR_LAG_DOT } gr_lag_kind;
 typedef struct gr_lag {
     int n, dim, lags;
     gr_lag_kind kind; /* |a(s) - a(s-l)|^2 (msd) or a(s) . a(s-l) (vacf) */
-    double *ring;     /* (lags + 1) frames of 2 n values, slot s % (lags + 1) */
+    double *ring;     /* (lags + 1) frames of stride n values, slot s % (lags + 1) */
     int64_t frames;
     double t_first, t_last;
     gr_blocking *acc; /* lags + 1 accumulators */
@@ -28,8 +28,11 @@ typedef struct gr_lag {
 
 int gr_lag_init(gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error *err);
 void gr_lag_free(gr_lag *g);
-/* One frame of n values per component (b is NULL in 1D) at time t. */
-int gr_lag_add(gr_lag *g, const double *a, const double *b, double t, gr_error *err);
+/* Values per particle in the ring: 3 in 3D, else 2 (1D keeps a zero second component). */
+static inline int gr_lag_stride(const gr_lag *g) { return g->dim == 3 ? 3 : 2; }
+/* One frame of n values per component (b is NULL in 1D, c is read in 3D only) at time t. */
+int gr_lag_add(gr_lag *g, const double *a, const double *b, const double *c, double t,
+               gr_error *err);
 /* Mean interval between frames (0 before the second frame). */
 double gr_lag_interval(const gr_lag *g);
 /* Mean and block-averaging error at lag l; samples = origins seen. */

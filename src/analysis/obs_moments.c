@@ -39,15 +39,8 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
 /* 3D (spheres): the same moments with three components. */
 static void sample_3d(moments *m, const gr_particles *p)
 {
-    double mean[3] = {0.0, 0.0, 0.0};
-    for (int i = 0; i < p->n; i++) {
-        mean[0] += p->vx[i];
-        mean[1] += p->vy[i];
-        mean[2] += p->vz[i];
-    }
-    for (int c = 0; c < 3; c++) {
-        mean[c] /= p->n;
-    }
+    double mean[3];
+    gr_obs_mean_velocity(p, mean);
     double s[MAX_M + 1] = {0}, c[MAX_M + 1] = {0};
     for (int i = 0; i < p->n; i++) {
         const double u[3] = {p->vx[i] - mean[0], p->vy[i] - mean[1], p->vz[i] - mean[2]};
@@ -79,7 +72,7 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         sample_3d(m, p);
         return GR_OK;
     }
-    double mean[2];
+    double mean[3];
     gr_obs_mean_velocity(p, mean);
     double s[MAX_M + 1] = {0}, c[MAX_M + 1] = {0};
     for (int i = 0; i < p->n; i++) {

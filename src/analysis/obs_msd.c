@@ -6,7 +6,7 @@
  *
  * Positions are unwrapped here: between consecutive samples a particle's
  * displacement is taken under the minimum image (ring of length L in 1D, box in
- * 2D) and accumulated, so crossings of the periodic boundary are followed as
+ * 2D, cube in 3D) and accumulated, so crossings of the periodic boundary are followed as
  * long as no particle moves more than L/2 between samples; displacements beyond
  * L/4 are counted and reported ("suspect_jumps": sample more often).
  *
@@ -39,6 +39,7 @@ typedef struct msd {
     int n, dim;
     double L;
     double *ux, *uy, *px, *py; /* unwrapped positions, last raw positions */
+    double *uz, *pz;           /* 3D only (NULL otherwise) */
     int64_t jumps;
     gr_lag lag;
 } msd;
@@ -54,6 +55,10 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     m->uy = gr_obs_calloc(m, n, sizeof(double));
     m->px = gr_obs_calloc(m, n, sizeof(double));
     m->py = gr_obs_calloc(m, n, sizeof(double));
+    if (m->dim == 3) {
+        m->uz = gr_obs_calloc(m, n, sizeof(double));
+        m->pz = gr_obs_calloc(m, n, sizeof(double));
+    }
     const msd_params *a = params_block;
     return gr_lag_init_owned(m, &m->lag, m->n, m->dim, a->msd_lags, GR_LAG_DISPLACEMENT2, err);
 }
@@ -77,15 +82,21 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     for (int i = 0; i < m->n; i++) {
         if (m->lag.frames == 0) {
             m->ux[i] = m->px[i] = p->x[i];
-            m->uy[i] = m->py[i] = p->dim == 2 ? p->y[i] : 0.0;
+            m->uy[i] = m->py[i] = p->dim >= 2 ? p->y[i] : 0.0;
+            if (p->dim == 3) {
+                m->uz[i] = m->pz[i] = p->z[i];
+            }
             continue;
         }
         m->ux[i] += step(p->x[i], &m->px[i], m->L, &m->jumps);
-        if (p->dim == 2) {
+        if (p->dim >= 2) {
             m->uy[i] += step(p->y[i], &m->py[i], m->L, &m->jumps);
         }
+        if (p->dim == 3) {
+            m->uz[i] += step(p->z[i], &m->pz[i], m->L, &m->jumps);
+        }
     }
-    return gr_lag_add(&m->lag, m->ux, p->dim == 2 ? m->uy : NULL, t, err);
+    return gr_lag_add(&m->lag, m->ux, p->dim >= 2 ? m->uy : NULL, m->uz, t, err);
 }
 
 static int finish(void *state, const gr_output *out, gr_error *err)
@@ -151,6 +162,10 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
     gr_blob_io_f64s(io, m->uy, m->n);
     gr_blob_io_f64s(io, m->px, m->n);
     gr_blob_io_f64s(io, m->py, m->n);
+    if (m->dim == 3) {
+        gr_blob_io_f64s(io, m->uz, m->n);
+        gr_blob_io_f64s(io, m->pz, m->n);
+    }
     gr_blob_io_i64(io, &m->jumps);
     gr_lag_io(io, &m->lag, "msd_lags");
     return GR_OK;
@@ -160,7 +175,7 @@ const gr_observable_type gr_obs_msd = {
     .name = "msd",
     .summary = "mean-square displacement of unwrapped positions and the "
                "self-diffusion coefficient (long-time slope)",
-    .dims = 3,
+    .dims = 7, /* 1D, 2D and 3D */
     .params = params,
     .n_params = sizeof params / sizeof params[0],
     .params_size = sizeof(msd_params),

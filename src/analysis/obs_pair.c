@@ -1,4 +1,4 @@
-/* pair: real-space structure of the 2D system (thesis sec. 4.2).
+/* pair: real-space structure of the 2D and 3D systems (thesis sec. 4.2).
  *
  *   g(R)  the angularly averaged pair correlation function (4.10),
  *   C(R)  the mean number of other particles within a distance R of a particle (4.15),
@@ -41,6 +41,10 @@
  * error over 16-32 equal batches of consecutive frames (streaming batch means, the batch length
  * doubling as the run grows; frames of an unfinished batch count in the value, not the jackknife).
  *
+ * In 3D the same definitions hold with volumes: shells of volume A_b = (4/3) pi (R_hi^3 - R_lo^3)
+ * (4 pi R^2 dR integrated over the bin), the box volume L^3 in place of L^2, and n(R) = C(R) -
+ * n (4/3) pi R^3; the pairs come from the shared cell list (obs_cells.h).
+ *
  * Positions may lie anywhere (snapshots hold [0, L), a running simulation may be slightly
  * outside): they are wrapped into [0, L) here. N and L must stay those of the first frame. */
 #include <cjson/cJSON.h>
@@ -49,6 +53,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "analysis/obs_cells.h"
 #include "analysis/obs_util.h"
 #include "io/plot.h"
 #include "granule/analysis.h"
@@ -78,6 +83,7 @@ static const gr_param params[] = {
 
 typedef struct pair {
     /* fixed at init */
+    int dim; /* 2 or 3 */
     int nbins;
     double d, L, R_max, width, inv_width;
     int N;
@@ -101,14 +107,25 @@ typedef struct pair {
     int off[2 * CELL_DIV + 1];
     double *xs, *ys; /* wrapped positions sorted by cell */
     int *cell_of, *cell_start, *cell_fill;
+    gr_cells cells3; /* 3D: the shared cell list */
 } pair;
+
+/* L^2 in 2D, L^3 in 3D */
+static double box_volume(const pair *s) { return s->dim == 3 ? s->L * s->L * s->L : s->L * s->L; }
+
+/* dens times the volume within R: the ideal-gas count of others within R (4.17) */
+static double ideal_within(const pair *s, double dens, double R)
+{
+    return s->dim == 3 ? dens * (4.0 / 3.0) * M_PI * R * R * R : dens * M_PI * R * R;
+}
 
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     const pair_params *a = params_block;
-    if (setup->dim != 2) {
+    if (setup->dim != 2 && setup->dim != 3) {
         return GR_FAIL(err, GR_EINVAL,
-                       "pair: g(R) is defined for dim = 2 only (scene has dim = %d)", setup->dim);
+                       "pair: g(R) is defined for dim = 2 and 3 only (scene has dim = %d)",
+                       setup->dim);
     }
     if (a->gr_bins < 1 || a->gr_bins > PAIR_MAX_BINS) {
         return GR_FAIL(err, GR_EINVAL, "pair: [analysis] gr_bins = %d outside [1, %d]", a->gr_bins,
@@ -128,6 +145,8 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
         return GR_FAIL(err, GR_EINVAL, "pair: needs N >= 2 particles (N = %d)", setup->N);
     }
     pair *s = state;
+    s->dim = setup->dim;
+    gr_cells_own(s, &s->cells3);
     s->nbins = a->gr_bins;
     s->d = 2.0 * setup->radius;
     s->L = setup->L;
@@ -158,7 +177,8 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     }
     for (int b = 0; b < s->nbins; b++) {
         double lo = b * s->width, hi = (b + 1) * s->width;
-        s->area[b] = M_PI * (hi * hi - lo * lo);
+        s->area[b] = s->dim == 3 ? (4.0 / 3.0) * M_PI * (hi * hi * hi - lo * lo * lo)
+                                 : M_PI * (hi * hi - lo * lo);
     }
     s->tail_from = (int)floor(TAIL_FROM_FRAC * s->nbins);
     s->batch_len = 1;
@@ -281,17 +301,48 @@ static void batch_add(pair *s, const double *c)
     }
 }
 
+static void count_3d(int i, int j, const double dr[3], double r2, void *user)
+{
+    (void)i;
+    (void)j;
+    (void)dr;
+    pair *s = user;
+    int b = (int)(sqrt(r2) * s->inv_width);
+    s->frame_count[b < s->nbins - 1 ? b : s->nbins - 1]++;
+}
+
+static void frame_done(pair *s);
+
+static int sample_3d(pair *s, const gr_particles *p, gr_error *err)
+{
+    for (int i = 0; i < p->n; i++) {
+        if (!isfinite(p->x[i]) || !isfinite(p->y[i]) || !isfinite(p->z[i])) {
+            return GR_FAIL(err, GR_EINVAL, "pair: particle %d has a non-finite position", i);
+        }
+    }
+    memset(s->frame_count, 0, sizeof(int64_t) * (size_t)s->nbins);
+    int rc = gr_cells_pairs(&s->cells3, p, s->R_max, count_3d, s, err);
+    if (rc) {
+        return rc;
+    }
+    frame_done(s);
+    return GR_OK;
+}
+
 static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 {
     (void)t;
     pair *s = state;
-    if (p->dim != 2 || !p->y) {
-        return GR_FAIL(err, GR_EINVAL, "pair: frame is %dD, g(R) needs 2D positions", p->dim);
+    if (p->dim != s->dim || !p->y || (p->dim == 3 && !p->z)) {
+        return GR_FAIL(err, GR_EINVAL, "pair: frame is %dD, the scene %dD", p->dim, s->dim);
     }
     if (p->n != s->N || !(fabs(p->L - s->L) <= 1e-9 * s->L)) {
         return GR_FAIL(err, GR_EINVAL,
                        "pair: frame has N = %d, L = %.10g but the scene has N = %d, L = %.10g",
                        p->n, p->L, s->N, s->L);
+    }
+    if (s->dim == 3) {
+        return sample_3d(s, p, err);
     }
     if (!s->xs) {
         int rc = build_cells(s, err);
@@ -376,8 +427,17 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     if (oom) {
         return GR_FAIL(err, GR_ENOMEM, "pair: out of memory for the g(R) histogram");
     }
-    /* per-frame g_b (4.10), C(R_hi) (4.15) and the tail mean of g */
-    const double norm = 0.5 * (double)n * (double)(n - 1) / (L * L); /* ideal-gas pairs per area */
+    frame_done(s);
+    return GR_OK;
+}
+
+/* The frame's counts s->frame_count into per-frame g_b (4.10), C(R_hi) (4.15) and the tail mean of
+ * g. */
+static void frame_done(pair *s)
+{
+    const int n = s->N;
+    /* ideal-gas pairs per area (volume in 3D) */
+    const double norm = 0.5 * (double)n * (double)(n - 1) / box_volume(s);
     double cum = 0.0, tail_pairs = 0.0, tail_area = 0.0;
     for (int b = 0; b < s->nbins; b++) {
         double cnt = (double)s->frame_count[b];
@@ -394,7 +454,6 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     gr_blocking_add(&s->tail_blk, tail_pairs / (norm * tail_area));
     batch_add(s, s->c_frame);
     s->frames++;
-    return GR_OK;
 }
 
 /* Error of a per-frame average: blocking plateau, or (fewer than 16 frames) sqrt(count). */
@@ -454,7 +513,7 @@ static void result_free(pair_result *r)
 static double jackknife(const pair *s, const pair_result *r, double *fx, double *fy, double *fe)
 {
     const int nb = s->nbins, B = s->n_full;
-    const double dens = (s->N - 1) / (s->L * s->L);
+    const double dens = (s->N - 1) / box_volume(s);
     if (B < 8) {
         return NAN;
     }
@@ -469,7 +528,7 @@ static double jackknife(const pair *s, const pair_result *r, double *fx, double 
                 sum += q == k ? 0.0 : s->batch[(size_t)q * (size_t)nb + (size_t)b];
             }
             double hr = (b + 1) * s->width;
-            nj[b] = sum / frames_k - dens * M_PI * hr * hr;
+            nj[b] = sum / frames_k - ideal_within(s, dens, hr);
         }
         gr_fit fk;
         gr_error kerr = {0};
@@ -495,8 +554,8 @@ static double jackknife(const pair *s, const pair_result *r, double *fx, double 
 static int compute(const pair *s, pair_result *r, gr_error *err)
 {
     const int nb = s->nbins, N = s->N;
-    const double L = s->L, dens = (N - 1) / (L * L); /* density of the others, n of 4.15-4.17 */
-    const double norm = 0.5 * (double)N * (double)(N - 1) / (L * L);
+    const double dens = (N - 1) / box_volume(s); /* density of the others, n of 4.15-4.17 */
+    const double norm = 0.5 * (double)N * (double)(N - 1) / box_volume(s);
     memset(r, 0, sizeof *r);
     r->g = malloc(sizeof(double) * (size_t)nb * 8);
     if (!r->g) {
@@ -517,7 +576,7 @@ static int compute(const pair *s, pair_result *r, gr_error *err)
             frame_error(s, &s->g_blk[b], s->total[b], 1.0 / (norm * s->area[b]), &r->blocking);
         r->c[b] = gr_blocking_mean(&s->c_blk[b]);
         r->ne[b] = frame_error(s, &s->c_blk[b], cum, 2.0 / N, &r->blocking);
-        r->n[b] = r->c[b] - dens * M_PI * hi * hi;
+        r->n[b] = r->c[b] - ideal_within(s, dens, hi);
         int conv = 1;
         if (s->frames >= 16) {
             gr_blocking_stderr(&s->g_blk[b], NULL, &conv);
@@ -680,6 +739,13 @@ static const char pair_csv_what[] =
     "within R_hi (4.15) and n = C - (N-1)/L^2 pi R_hi^2 (4.17), cumulative up to the bin's "
     "upper edge R_hi; pairs = total pair count in the bin over all frames; errors from block "
     "averaging over frames (sqrt(count) with fewer than 16 frames); R in m, d = 2 radius";
+static const char pair_csv_what_3d[] =
+    "pair correlation g(R) (3D: normalised by the ideal-gas pair count N(N-1)/2 per volume "
+    "4 pi R^2 dR/L^3, shell volume (4/3) pi (R_hi^3 - R_lo^3) exact per bin) at the bin centre R; "
+    "C = mean number of others within R_hi (4.15) and n = C - (N-1)/L^3 (4/3) pi R_hi^3 (4.17), "
+    "cumulative up to the bin's upper edge R_hi; pairs = total pair count in the bin over all "
+    "frames; errors from block averaging over frames (sqrt(count) with fewer than 16 frames); R in "
+    "m, d = 2 radius";
 
 const char gr_obs_pair_columns[] = "R [m],R_over_d [1],g [1],g_error [1],C [1],n [1],n_error "
                                    "[1],R_lo [m],R_hi [m],pairs [1]";
@@ -711,7 +777,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     pair_result r = {0};
     pair_rows_ctx rows = {.s = s, .r = &r};
     gr_obs_table t = {.name = "pair.csv",
-                      .what = pair_csv_what,
+                      .what = s->dim == 3 ? pair_csv_what_3d : pair_csv_what,
                       .columns = gr_obs_pair_columns,
                       .rows = pair_rows,
                       .ctx = &rows};
@@ -764,8 +830,8 @@ const gr_observable_type gr_obs_pair = {
     .name = "pair",
     .summary = "pair correlation g(R) (4.10), neighbours within R, C(R) (4.15), excess n(R) = C - "
                "n pi R^2 and "
-               "D_f from n ~ R^D_f (4.17); 2D",
-    .dims = 2,
+               "D_f from n ~ R^D_f (4.17); 2D and 3D",
+    .dims = 6, /* 2D and 3D */
     .params = params,
     .n_params = sizeof params / sizeof params[0],
     .params_size = sizeof(pair_params),

@@ -42,13 +42,14 @@ static int sample(void *state, const gr_particles *f, double t, gr_error *err)
 {
     (void)t;
     postcollision *p = state;
-    double mean[2];
+    double mean[3];
     gr_obs_mean_velocity(f, mean);
     if (!p->ready) {
         double T = 0.0;
         for (int i = 0; i < f->n; i++) {
-            double ux = f->vx[i] - mean[0], uy = f->dim == 2 ? f->vy[i] - mean[1] : 0.0;
-            T += ux * ux + uy * uy;
+            double ux = f->vx[i] - mean[0], uy = f->dim >= 2 ? f->vy[i] - mean[1] : 0.0;
+            double uz = f->dim == 3 ? f->vz[i] - mean[2] : 0.0;
+            T += f->dim == 3 ? ux * ux + uy * uy + uz * uz : ux * ux + uy * uy;
         }
         double vmax =
             p->range * sqrt(T / f->n); /* pv's convention: pv_range sqrt(T), T of eq. 2.19 */
@@ -65,9 +66,13 @@ static int sample(void *state, const gr_particles *f, double t, gr_error *err)
     for (int i = 0; i < f->n; i++) {
         gr_histogram_add(&p->all, f->vx[i] - mean[0], 1.0);
         p->all_v2 += (f->vx[i] - mean[0]) * (f->vx[i] - mean[0]);
-        if (f->dim == 2) {
+        if (f->dim >= 2) {
             gr_histogram_add(&p->all, f->vy[i] - mean[1], 1.0);
             p->all_v2 += (f->vy[i] - mean[1]) * (f->vy[i] - mean[1]);
+        }
+        if (f->dim == 3) {
+            gr_histogram_add(&p->all, f->vz[i] - mean[2], 1.0);
+            p->all_v2 += (f->vz[i] - mean[2]) * (f->vz[i] - mean[2]);
         }
     }
     p->all_n += (int64_t)f->n * f->dim;
@@ -86,9 +91,14 @@ static int events(void *state, const gr_contact_event *ev, int64_t n, gr_error *
             gr_histogram_add(&p->post, ev[k].vx, 1.0);
             p->post_v2 += ev[k].vx * ev[k].vx;
             p->post_n++;
-            if (p->dim == 2) {
+            if (p->dim >= 2) {
                 gr_histogram_add(&p->post, ev[k].vy, 1.0);
                 p->post_v2 += ev[k].vy * ev[k].vy;
+                p->post_n++;
+            }
+            if (p->dim == 3) {
+                gr_histogram_add(&p->post, ev[k].vz, 1.0);
+                p->post_v2 += ev[k].vz * ev[k].vz;
                 p->post_n++;
             }
         }
@@ -172,7 +182,7 @@ const gr_observable_type gr_obs_postcollision = {
     .name = "postcollision",
     .summary = "post-collision velocity distribution P(v_0) beside P(v) (Fig. 5.9); needs a run "
                "(contact events)",
-    .dims = 3,
+    .dims = 7, /* 1D, 2D and 3D */
     .params = NULL,
     .n_params = 0,
     .state_size = sizeof(postcollision),

@@ -1,10 +1,12 @@
 /* pressure: the pressure tensor (stress with the sign of a pressure) of the
  * periodic system, P_ab = (1/V) [ sum_i M u_ia u_ib  +  sum_{pairs i<j} r_ij,a
  * F_ij,b ], kinetic part plus the collisional virial (Irving-Kirkwood /
- * Clausius), with V = L^2 (2D) or the ring length L (1D, where P is a force), u
+ * Clausius), with V = L^3 (3D: the full symmetric 3x3 tensor, xx yy zz xy xz yz),
+ * L^2 (2D) or the ring length L (1D, where P is a force), u
  * = v - <v>_frame (T of 2.19), r_ij = r_j - r_i under the minimum image and
  * F_ij the force of i on j. P = trace / dim. In 1D and 2D the ideal-gas limit
- * is P = n T with n = N / V and T = M <u_x^2>.
+ * is P = n T with n = N / V and T = M <u_x^2> (per component: n M <|u|^2> / dim, in 3D
+ * too; nT reports it).
  *
  * The contact force is the normal force F_ij = f_n n of the run's contact law,
  * computed by the force kernel's own law (gr_contact_virial, src/core/kernels.c:
@@ -32,10 +34,45 @@
 #include "analysis/obs_util.h"
 #include "granule/analysis.h"
 
-enum { KXX, KYY, KXY, CXX, CYY, CXY, P_TOTAL, NT, SPEED, N_SERIES };
-static const char *const series_name[N_SERIES] = {
-    "kinetic_xx",     "kinetic_yy", "kinetic_xy", "collisional_xx", "collisional_yy",
-    "collisional_xy", "P",          "nT",         "mean_speed"};
+/* 1D and 2D keep the first N_SERIES_2D series (their CSV, summary and checkpoint bytes as before
+ * the 3D ones); 3D has all of them, written in the order `order_3d`. */
+enum {
+    KXX,
+    KYY,
+    KXY,
+    CXX,
+    CYY,
+    CXY,
+    P_TOTAL,
+    NT,
+    SPEED,
+    N_SERIES_2D,
+    KZZ = N_SERIES_2D,
+    KXZ,
+    KYZ,
+    CZZ,
+    CXZ,
+    CYZ,
+    N_SERIES
+};
+static const char *const series_name[N_SERIES] = {"kinetic_xx",
+                                                  "kinetic_yy",
+                                                  "kinetic_xy",
+                                                  "collisional_xx",
+                                                  "collisional_yy",
+                                                  "collisional_xy",
+                                                  "P",
+                                                  "nT",
+                                                  "mean_speed",
+                                                  "kinetic_zz",
+                                                  "kinetic_xz",
+                                                  "kinetic_yz",
+                                                  "collisional_zz",
+                                                  "collisional_xz",
+                                                  "collisional_yz"};
+static const int order_2d[N_SERIES_2D] = {KXX, KYY, KXY, CXX, CYY, CXY, P_TOTAL, NT, SPEED};
+static const int order_3d[N_SERIES] = {KXX, KYY, KZZ, KXY, KXZ,     KYZ, CXX,  CYY,
+                                       CZZ, CXY, CXZ, CYZ, P_TOTAL, NT,  SPEED};
 
 typedef struct pressure {
     int n, dim;
@@ -43,13 +80,22 @@ typedef struct pressure {
     const char *law; /* the normal force law (NULL: none, kinetic part only) */
     gr_contact_coeffs cc;
     const gr_particles *p; /* the frame being visited */
-    double mean[2], w[3];  /* mean velocity; the frame's virial xx, yy, xy */
+    double mean[3], w[6];  /* mean velocity; the frame's virial xx, yy, xy (3D: zz, xz, yz too) */
     int queued;            /* contacts waiting in `pairs` for gr_contact_virial */
     gr_contact_pair pairs[256];
     int64_t contacts, frames;
     gr_blocking b[N_SERIES];
     gr_cells cells;
 } pressure;
+
+static int series_count(const pressure *s) { return s->dim == 3 ? N_SERIES : N_SERIES_2D; }
+
+static const int *series_order(const pressure *s) { return s->dim == 3 ? order_3d : order_2d; }
+
+static const char *pressure_unit(const pressure *s)
+{
+    return s->dim == 3 ? "N m-2" : s->dim == 2 ? "N m-1" : "N";
+}
 
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
@@ -59,7 +105,9 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     s->n = setup->N;
     s->dim = setup->dim;
     s->L = setup->L;
-    s->V = setup->dim == 2 ? setup->L * setup->L : setup->L;
+    s->V = setup->dim == 3   ? setup->L * setup->L * setup->L
+           : setup->dim == 2 ? setup->L * setup->L
+                             : setup->L;
     s->mass = setup->mass;
     s->d = 2.0 * setup->radius;
     s->phi = setup->N * M_PI * setup->radius * setup->radius / (setup->L * setup->L); /* (2.24) */
@@ -79,15 +127,38 @@ static void flush(pressure *s)
     s->queued = 0;
 }
 
-static void contact(int i, int j, double dx, double dy, double r2, void *user)
+/* A 3D contact: the kernel's law on the pair seen along its normal (r_ij = (|r_ij|, 0), g = (g .
+ * n, 0)) gives |r_ij| f_n in its xx slot; the tensor is |r_ij| f_n n_a n_b. */
+static void contact_3d(pressure *s, int i, int j, const double dr[3], double r2)
+{
+    const gr_particles *p = s->p;
+    const double dist = sqrt(r2), n[3] = {dr[0] / dist, dr[1] / dist, dr[2] / dist};
+    const double g[3] = {p->vx[j] - p->vx[i], p->vy[j] - p->vy[i], p->vz[j] - p->vz[i]};
+    const gr_contact_pair along = {.dx = dist, .gx = g[0] * n[0] + g[1] * n[1] + g[2] * n[2]};
+    double rf[3] = {0.0, 0.0, 0.0};
+    gr_contact_virial(&s->cc, s->d, &along, 1, rf);
+    s->w[0] += rf[0] * n[0] * n[0];
+    s->w[1] += rf[0] * n[1] * n[1];
+    s->w[2] += rf[0] * n[0] * n[1];
+    s->w[3] += rf[0] * n[2] * n[2];
+    s->w[4] += rf[0] * n[0] * n[2];
+    s->w[5] += rf[0] * n[1] * n[2];
+}
+
+static void contact(int i, int j, const double dr[3], double r2, void *user)
 {
     pressure *s = user;
     const gr_particles *p = s->p;
     if (r2 == 0.0) {
         return;
     }
-    s->pairs[s->queued++] = (gr_contact_pair){.dx = dx,
-                                              .dy = dy,
+    if (p->dim == 3) {
+        contact_3d(s, i, j, dr, r2);
+        s->contacts++;
+        return;
+    }
+    s->pairs[s->queued++] = (gr_contact_pair){.dx = dr[0],
+                                              .dy = dr[1],
                                               .gx = p->vx[j] - p->vx[i],
                                               .gy = p->dim == 2 ? p->vy[j] - p->vy[i] : 0.0};
     if (s->queued == (int)(sizeof s->pairs / sizeof s->pairs[0])) {
@@ -104,16 +175,26 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     if (bad) {
         return bad;
     }
-    double k[3] = {0.0, 0.0, 0.0}, speed = 0.0;
+    double k[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, speed = 0.0;
     gr_obs_mean_velocity(p, s->mean);
     for (int i = 0; i < p->n; i++) {
-        double ux = p->vx[i] - s->mean[0], uy = p->dim == 2 ? p->vy[i] - s->mean[1] : 0.0;
+        double ux = p->vx[i] - s->mean[0], uy = p->dim >= 2 ? p->vy[i] - s->mean[1] : 0.0;
         k[0] += s->mass * ux * ux;
         k[1] += s->mass * uy * uy;
         k[2] += s->mass * ux * uy;
+        if (p->dim == 3) {
+            double uz = p->vz[i] - s->mean[2];
+            k[3] += s->mass * uz * uz;
+            k[4] += s->mass * ux * uz;
+            k[5] += s->mass * uy * uz;
+            speed += sqrt(ux * ux + uy * uy + uz * uz);
+            continue;
+        }
         speed += sqrt(ux * ux + uy * uy);
     }
-    s->w[0] = s->w[1] = s->w[2] = 0.0;
+    for (int q = 0; q < 6; q++) {
+        s->w[q] = 0.0;
+    }
     if (s->law) {
         s->p = p;
         s->queued = 0;
@@ -128,7 +209,17 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     v[P_TOTAL] = (v[KXX] + v[KYY] + v[CXX] + v[CYY]) / s->dim;
     v[NT] = (k[0] + k[1]) / s->dim / s->V; /* n T, T = M <u^2> / dim (2.19) */
     v[SPEED] = speed / p->n;
-    for (int q = 0; q < N_SERIES; q++) {
+    if (p->dim == 3) {
+        v[KZZ] = k[3] / s->V;
+        v[KXZ] = k[4] / s->V;
+        v[KYZ] = k[5] / s->V;
+        v[CZZ] = s->w[3] / s->V;
+        v[CXZ] = s->w[4] / s->V;
+        v[CYZ] = s->w[5] / s->V;
+        v[P_TOTAL] = (v[KXX] + v[KYY] + v[KZZ] + v[CXX] + v[CYY] + v[CZZ]) / 3.0;
+        v[NT] = (k[0] + k[1] + k[3]) / 3.0 / s->V;
+    }
+    for (int q = 0; q < series_count(s); q++) {
         gr_blocking_add(&s->b[q], v[q]);
     }
     s->frames++;
@@ -138,12 +229,10 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 static void rows(FILE *f, const void *ctx)
 {
     const pressure *s = ctx;
-    for (int q = 0; q < N_SERIES; q++) {
+    for (int o = 0; o < series_count(s); o++) {
+        const int q = series_order(s)[o];
         fprintf(f, "%s,%.10g,%.6g,%s\n", series_name[q], gr_blocking_mean(&s->b[q]),
-                gr_obs_stderr(&s->b[q]),
-                q == SPEED    ? "m s-1"
-                : s->dim == 2 ? "N m-1"
-                              : "N");
+                gr_obs_stderr(&s->b[q]), q == SPEED ? "m s-1" : pressure_unit(s));
     }
 }
 
@@ -152,9 +241,12 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     pressure *s = state;
     cJSON *j = gr_obs_summary(out, "pressure", "pressure.csv");
     cJSON_AddNumberToObject(j, "frames", (double)s->frames);
-    cJSON_AddStringToObject(
-        j, "unit", s->dim == 2 ? "N/m (force per unit length, 2D pressure)" : "N (1D pressure)");
-    for (int q = 0; q < N_SERIES; q++) {
+    cJSON_AddStringToObject(j, "unit",
+                            s->dim == 3   ? "Pa (N/m^2)"
+                            : s->dim == 2 ? "N/m (force per unit length, 2D pressure)"
+                                          : "N (1D pressure)");
+    for (int o = 0; o < series_count(s); o++) {
+        const int q = series_order(s)[o];
         char key[64];
         gr_obs_add_number(j, series_name[q], gr_blocking_mean(&s->b[q]));
         snprintf(key, sizeof key, "%s_error", series_name[q]);
@@ -189,21 +281,33 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     }
     const gr_obs_table t = {
         .name = "pressure.csv",
-        .what = "pressure tensor P_ab = (sum_i M u_a u_b + sum_pairs r_a F_b) / "
-                "V (V = L^2 in 2D, L in 1D), "
-                "kinetic and collisional parts, total P = trace / dim, n T, and "
-                "the mean speed (m/s); "
-                "block-averaging errors over frames",
+        .what = s->dim == 3 ? "pressure tensor P_ab = (sum_i M u_a u_b + sum_pairs r_a F_b) / "
+                              "V (3D: V = L^3, the symmetric 3x3 tensor), "
+                              "kinetic and collisional parts, total P = trace / 3, n T, and "
+                              "the mean speed (m/s); "
+                              "block-averaging errors over frames"
+                            : "pressure tensor P_ab = (sum_i M u_a u_b + sum_pairs r_a F_b) / "
+                              "V (V = L^2 in 2D, L in 1D), "
+                              "kinetic and collisional parts, total P = trace / dim, n T, and "
+                              "the mean speed (m/s); "
+                              "block-averaging errors over frames",
         .columns = "quantity [],value [@unit],stderr [@unit],unit []",
         .rows = rows,
         .ctx = s,
         .png = s->frames > 0 ? "pressure.png" : NULL,
-        .plot = "set style data histograms\nset style histogram errorbars gap "
-                "1\nset style fill solid 0.5\n"
-                "set ylabel 'pressure (N/m in 2D, N in 1D)'\nset title 'Pressure: kinetic and "
-                "collisional parts'\n"
-                "set xtics rotate by -30 noenhanced\nplot 'pressure.csv' skip 1 every "
-                "::0::7 using 2:3:xtic(1) title 'P_{ab}'",
+        .plot = s->dim == 3 /* the 12 tensor components, P and nT */
+                    ? "set style data histograms\nset style histogram errorbars gap "
+                      "1\nset style fill solid 0.5\n"
+                      "set ylabel 'pressure (Pa)'\nset title 'Pressure: kinetic and "
+                      "collisional parts (3D)'\n"
+                      "set xtics rotate by -30 noenhanced\nplot 'pressure.csv' skip 1 every "
+                      "::0::13 using 2:3:xtic(1) title 'P_{ab}'"
+                    : "set style data histograms\nset style histogram errorbars gap "
+                      "1\nset style fill solid 0.5\n"
+                      "set ylabel 'pressure (N/m in 2D, N in 1D)'\nset title 'Pressure: kinetic "
+                      "and collisional parts'\n"
+                      "set xtics rotate by -30 noenhanced\nplot 'pressure.csv' skip 1 every "
+                      "::0::7 using 2:3:xtic(1) title 'P_{ab}'",
     };
     return gr_obs_table_write(out, &t, err);
 }
@@ -214,15 +318,15 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
     pressure *s = state;
     gr_blob_io_i64(io, &s->frames);
     gr_blob_io_i64(io, &s->contacts);
-    gr_obs_io_blockings(io, s->b, N_SERIES);
+    gr_obs_io_blockings(io, s->b, series_count(s));
     return GR_OK;
 }
 
 const gr_observable_type gr_obs_pressure = {
     .name = "pressure",
-    .summary = "pressure and stress tensor, kinetic + collisional virial; 2D: "
+    .summary = "pressure and stress tensor (3x3 in 3D), kinetic + collisional virial; 2D: "
                "C_1 of the equation of state (5.2)",
-    .dims = 3,
+    .dims = 7, /* 1D, 2D and 3D */
     .params = NULL,
     .n_params = 0,
     .state_size = sizeof(pressure),

@@ -3,14 +3,17 @@
  * the packing fraction, the mean velocity and the granular temperature of each velocity
  * component, time-averaged over the sampled frames.
  *
- * The axis (profile_axis: 0 = x, 1 = y; -1, the default, is the last one: y in 2D, x in 1D) is
+ * The axis (profile_axis: 0 = x, 1 = y, 2 = z (3D); -1, the default, is the last one: z in 3D, y
+ * in 2D, x in 1D) is
  * cut into profile_bins slabs of width dz = L / bins. A particle counts in the slab of its centre
  * (1D positions are wrapped into [0, L) first along a periodic axis; along a wall axis a
  * centre below 0, on a floor vibrating below 0, counts in the first slab), so near a wall, where
  * centres stay at least r away, the first slab's density is lower than the grains' (centre-counted, not area-weighted).
  * Per slab, over all frames F:
- *     n(z)     = <c> / (dz L^(dim-1))                       number density (m^-2 in 2D, m^-1 in 1D)
- *     phi(z)   = n(z) pi r^2 (2D), n(z) 2 r (1D)            packing fraction of the centres
+ *     n(z)     = <c> / (dz L^(dim-1))                       number density (m^-3 in 3D, m^-2 in 2D,
+ *                                                           m^-1 in 1D)
+ *     phi(z)   = n(z) (4/3) pi r^3 (3D), n(z) pi r^2 (2D), n(z) 2 r (1D)
+ *                                                           packing fraction of the centres
  *     u_a(z)   = <S1_a> / <c>                                mean velocity, component a
  *     T_a(z)   = <S2_a> / <c> - u_a(z)^2                     temperature of component a (m^2/s^2)
  * with c, S1_a = sum v_a and S2_a = sum v_a^2 the frame's sums over the slab's particles and <.>
@@ -31,24 +34,27 @@ typedef struct profile_params {
 } profile_params;
 
 static const gr_param params[] = {
-    {"profile_axis", "", GR_PARAM_INT, -1, -1, 1, false, false,
-     "axis of the profiles: 0 = x, 1 = y (2D only); -1 = the last axis (y in 2D, x in 1D)",
+    {"profile_axis", "", GR_PARAM_INT, -1, -1, 2, false, false,
+     "axis of the profiles: 0 = x, 1 = y (2D, 3D), 2 = z (3D); -1 = the last axis (z in 3D, y in "
+     "2D, x in 1D)",
      offsetof(profile_params, profile_axis)},
     {"profile_bins", "", GR_PARAM_INT, 40, 1, 100000, false, false,
      "slabs of equal width L / profile_bins along the axis",
      offsetof(profile_params, profile_bins)},
 };
 
-/* per slab: count, then S1 and S2 of each component */
-enum { Q_COUNT, Q_S1X, Q_S1Y, Q_S2X, Q_S2Y, N_Q };
+/* per slab: count, then S1 and S2 of each component (z's last, in 3D only: 1D and 2D keep N_Q_2D
+ * accumulators per slab) */
+enum { Q_COUNT, Q_S1X, Q_S1Y, Q_S2X, Q_S2Y, N_Q_2D, Q_S1Z = N_Q_2D, Q_S2Z, N_Q };
 
 typedef struct profile {
     int n, dim, axis, bins;
-    bool wall; /* walls along the axis: clamp into the end slabs instead of wrapping */
+    int nq, nc; /* accumulators per slab (N_Q_2D or N_Q), velocity components kept (2 or 3) */
+    bool wall;  /* walls along the axis: clamp into the end slabs instead of wrapping */
     double L, radius, dz, slab; /* slab: dz L^(dim-1), the slab's area (2D) or length (1D) */
     int64_t frames;
-    double *c, *s1, *s2; /* this frame's sums per slab: c[b], s1/s2[2 b + a] */
-    gr_blocking *b;      /* N_Q per slab: b[N_Q bin + q] */
+    double *c, *s1, *s2; /* this frame's sums per slab: c[b], s1/s2[nc b + a] */
+    gr_blocking *b;      /* nq per slab: b[nq bin + q] */
     gr_blocking height;  /* the mean position along the axis, per frame */
 } profile;
 
@@ -62,24 +68,31 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     s->radius = setup->radius;
     s->axis = pp->profile_axis < 0 ? setup->dim - 1 : pp->profile_axis;
     if (s->axis >= setup->dim) {
+        static const char *const name[3] = {"x", "y", "z"};
+        static const char *const allowed[3] = {"0 (x)", "0 (x), 1 (y)", "0 (x), 1 (y), 2 (z)"};
+        const int d = setup->dim >= 1 && setup->dim <= 3 ? setup->dim : 3;
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: [analysis] profile_axis: %d (y) in a %dD system; allowed in 1D: 0 (x) "
+                       "%s: [analysis] profile_axis: %d (%s) in a %dD system; allowed in %dD: %s "
                        "or -1 (the last axis)",
-                       setup->source ? setup->source : "scene", pp->profile_axis, setup->dim);
+                       setup->source ? setup->source : "scene", pp->profile_axis,
+                       s->axis <= 2 ? name[s->axis] : "no axis", setup->dim, setup->dim,
+                       allowed[d - 1]);
     }
-    s->wall = setup->walls[s->axis];
+    s->wall = s->axis < 2 && setup->walls[s->axis]; /* 3D has no walls */
     s->bins = pp->profile_bins;
+    s->nq = setup->dim == 3 ? N_Q : N_Q_2D;
+    s->nc = setup->dim == 3 ? 3 : 2;
     s->dz = s->L / s->bins;
-    s->slab = setup->dim == 2 ? s->dz * s->L : s->dz;
+    s->slab = setup->dim == 3 ? s->dz * s->L * s->L : setup->dim == 2 ? s->dz * s->L : s->dz;
     s->c = gr_obs_calloc(s, (size_t)s->bins, sizeof *s->c);
-    s->s1 = gr_obs_calloc(s, 2 * (size_t)s->bins, sizeof *s->s1);
-    s->s2 = gr_obs_calloc(s, 2 * (size_t)s->bins, sizeof *s->s2);
-    s->b = gr_obs_calloc(s, (size_t)N_Q * (size_t)s->bins, sizeof *s->b);
+    s->s1 = gr_obs_calloc(s, (size_t)s->nc * (size_t)s->bins, sizeof *s->s1);
+    s->s2 = gr_obs_calloc(s, (size_t)s->nc * (size_t)s->bins, sizeof *s->s2);
+    s->b = gr_obs_calloc(s, (size_t)s->nq * (size_t)s->bins, sizeof *s->b);
     int rc = gr_obs_alloc_ok(s, err);
     if (rc) {
         return rc;
     }
-    for (int k = 0; k < N_Q * s->bins; k++) {
+    for (int k = 0; k < s->nq * s->bins; k++) {
         gr_blocking_init(&s->b[k]);
     }
     gr_blocking_init(&s->height);
@@ -94,10 +107,14 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     if (bad) {
         return bad;
     }
+    const int nc = s->nc;
     for (int k = 0; k < s->bins; k++) {
-        s->c[k] = s->s1[2 * k] = s->s1[2 * k + 1] = s->s2[2 * k] = s->s2[2 * k + 1] = 0.0;
+        s->c[k] = 0.0;
+        for (int a = 0; a < nc; a++) {
+            s->s1[nc * k + a] = s->s2[nc * k + a] = 0.0;
+        }
     }
-    const double *z = s->axis == 0 ? p->x : p->y;
+    const double *z = s->axis == 0 ? p->x : s->axis == 1 ? p->y : p->z;
     double zsum = 0.0;
     for (int i = 0; i < p->n; i++) {
         double zi = z[i];
@@ -108,20 +125,24 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         zsum += zi;
         int k = (int)(zi / s->dz);
         k = k < 0 ? 0 : (k >= s->bins ? s->bins - 1 : k);
-        const double vx = p->vx[i], vy = p->dim == 2 ? p->vy[i] : 0.0;
+        const double v[3] = {p->vx[i], p->dim >= 2 ? p->vy[i] : 0.0, p->dim == 3 ? p->vz[i] : 0.0};
         s->c[k] += 1.0;
-        s->s1[2 * k] += vx;
-        s->s1[2 * k + 1] += vy;
-        s->s2[2 * k] += vx * vx;
-        s->s2[2 * k + 1] += vy * vy;
+        for (int a = 0; a < nc; a++) {
+            s->s1[nc * k + a] += v[a];
+            s->s2[nc * k + a] += v[a] * v[a];
+        }
     }
     for (int k = 0; k < s->bins; k++) {
-        gr_blocking *b = s->b + (size_t)N_Q * k;
+        gr_blocking *b = s->b + (size_t)s->nq * k;
         gr_blocking_add(&b[Q_COUNT], s->c[k]);
-        gr_blocking_add(&b[Q_S1X], s->s1[2 * k]);
-        gr_blocking_add(&b[Q_S1Y], s->s1[2 * k + 1]);
-        gr_blocking_add(&b[Q_S2X], s->s2[2 * k]);
-        gr_blocking_add(&b[Q_S2Y], s->s2[2 * k + 1]);
+        gr_blocking_add(&b[Q_S1X], s->s1[nc * k]);
+        gr_blocking_add(&b[Q_S1Y], s->s1[nc * k + 1]);
+        gr_blocking_add(&b[Q_S2X], s->s2[nc * k]);
+        gr_blocking_add(&b[Q_S2Y], s->s2[nc * k + 1]);
+        if (nc == 3) {
+            gr_blocking_add(&b[Q_S1Z], s->s1[nc * k + 2]);
+            gr_blocking_add(&b[Q_S2Z], s->s2[nc * k + 2]);
+        }
     }
     gr_blocking_add(&s->height, zsum / p->n);
     s->frames++;
@@ -130,19 +151,19 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 
 /* The slab's numbers: density, its error, mean velocity and temperature (with error) of a. */
 typedef struct slab {
-    double n, n_err, u[2], T[2], T_err[2];
+    double n, n_err, u[3], T[3], T_err[3];
 } slab;
 
 static slab slab_of(const profile *s, int k)
 {
-    const gr_blocking *b = s->b + (size_t)N_Q * k;
+    const gr_blocking *b = s->b + (size_t)s->nq * k;
     const double c = gr_blocking_mean(&b[Q_COUNT]), c_err = gr_obs_stderr(&b[Q_COUNT]);
     slab o = {.n = c / s->slab, .n_err = c_err / s->slab};
-    for (int a = 0; a < 2; a++) {
+    static const int q1[3] = {Q_S1X, Q_S1Y, Q_S1Z}, q2[3] = {Q_S2X, Q_S2Y, Q_S2Z};
+    for (int a = 0; a < s->nc; a++) {
         if (c > 0.0) {
-            const double s2 = gr_blocking_mean(&b[Q_S2X + a]),
-                         s2_err = gr_obs_stderr(&b[Q_S2X + a]);
-            o.u[a] = gr_blocking_mean(&b[Q_S1X + a]) / c;
+            const double s2 = gr_blocking_mean(&b[q2[a]]), s2_err = gr_obs_stderr(&b[q2[a]]);
+            o.u[a] = gr_blocking_mean(&b[q1[a]]) / c;
             o.T[a] = s2 / c - o.u[a] * o.u[a];
             o.T_err[a] = hypot(s2_err / c, s2 * c_err / (c * c));
         } else {
@@ -154,7 +175,9 @@ static slab slab_of(const profile *s, int k)
 
 static double packing(const profile *s, double n)
 {
-    return s->dim == 2 ? n * M_PI * s->radius * s->radius : n * 2.0 * s->radius;
+    return s->dim == 3   ? n * (4.0 / 3.0) * M_PI * s->radius * s->radius * s->radius
+           : s->dim == 2 ? n * M_PI * s->radius * s->radius
+                         : n * 2.0 * s->radius;
 }
 
 static void rows(FILE *f, const void *ctx)
@@ -162,16 +185,20 @@ static void rows(FILE *f, const void *ctx)
     const profile *s = ctx;
     for (int k = 0; k < s->bins; k++) {
         const slab o = slab_of(s, k);
-        fprintf(f, "%.10g,%.8g,%.4g,%.8g,%.4g,%.8g,%.8g,%.8g,%.4g,%.8g,%.4g\n", (k + 0.5) * s->dz,
+        fprintf(f, "%.10g,%.8g,%.4g,%.8g,%.4g,%.8g,%.8g,%.8g,%.4g,%.8g,%.4g", (k + 0.5) * s->dz,
                 o.n, o.n_err, packing(s, o.n), packing(s, o.n_err), o.u[0], o.u[1], o.T[0],
                 o.T_err[0], o.T[1], o.T_err[1]);
+        if (s->dim == 3) {
+            fprintf(f, ",%.8g,%.8g,%.4g", o.u[2], o.T[2], o.T_err[2]);
+        }
+        fputc('\n', f);
     }
 }
 
 static int finish(void *state, const gr_output *out, gr_error *err)
 {
     profile *s = state;
-    const char axis = s->axis == 0 ? 'x' : 'y';
+    const char axis = "xyz"[s->axis];
     cJSON *j = gr_obs_summary(out, "profile", "profile.csv");
     char ax[2] = {axis, 0};
     cJSON_AddStringToObject(j, "axis", ax);
@@ -196,18 +223,25 @@ static int finish(void *state, const gr_output *out, gr_error *err)
              "ps 0.5 title 'phi (centres)'\nset ylabel 'T per component (m^2/s^2)'\n"
              "plot 'profile.csv' using 1:8:9 with yerrorbars pt 7 ps 0.5 title 'T_x'%s\n"
              "unset multiplot",
-             axis, s->dim == 2 ? ", '' using 1:10:11 with yerrorbars pt 5 ps 0.5 title 'T_y'" : "");
+             axis,
+             s->dim == 3   ? ", '' using 1:10:11 with yerrorbars pt 5 ps 0.5 title 'T_y', '' using "
+                             "1:13:14 with yerrorbars pt 9 ps 0.5 title 'T_z'"
+             : s->dim == 2 ? ", '' using 1:10:11 with yerrorbars pt 5 ps 0.5 title 'T_y'"
+                           : "");
     const gr_obs_table t = {
         .name = "profile.csv",
         .what = "profiles along one axis: per slab (centre-counted), number density, packing "
                 "fraction, mean velocity and temperature per component, time-averaged over "
                 "frames, block-averaging errors",
-        .columns = s->dim == 2 ? "z [m],n [m-2],n_err [m-2],phi [],phi_err [],u_x [m s-1],"
-                                 "u_y [m s-1],T_x [m2 s-2],T_x_err [m2 s-2],T_y [m2 s-2],"
-                                 "T_y_err [m2 s-2]"
-                               : "z [m],n [m-1],n_err [m-1],phi [],phi_err [],u_x [m s-1],"
-                                 "u_y [m s-1],T_x [m2 s-2],T_x_err [m2 s-2],T_y [m2 s-2],"
-                                 "T_y_err [m2 s-2]",
+        .columns = s->dim == 3   ? "z [m],n [m-3],n_err [m-3],phi [],phi_err [],u_x [m s-1],"
+                                   "u_y [m s-1],T_x [m2 s-2],T_x_err [m2 s-2],T_y [m2 s-2],"
+                                   "T_y_err [m2 s-2],u_z [m s-1],T_z [m2 s-2],T_z_err [m2 s-2]"
+                   : s->dim == 2 ? "z [m],n [m-2],n_err [m-2],phi [],phi_err [],u_x [m s-1],"
+                                   "u_y [m s-1],T_x [m2 s-2],T_x_err [m2 s-2],T_y [m2 s-2],"
+                                   "T_y_err [m2 s-2]"
+                                 : "z [m],n [m-1],n_err [m-1],phi [],phi_err [],u_x [m s-1],"
+                                   "u_y [m s-1],T_x [m2 s-2],T_x_err [m2 s-2],T_y [m2 s-2],"
+                                   "T_y_err [m2 s-2]",
         .rows = rows,
         .ctx = s,
         .png = s->frames > 0 ? "profile.png" : NULL,
@@ -221,7 +255,7 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
     (void)err;
     profile *s = state;
     gr_blob_io_i64(io, &s->frames);
-    gr_obs_io_blockings(io, s->b, N_Q * s->bins);
+    gr_obs_io_blockings(io, s->b, s->nq * s->bins);
     gr_obs_io_blockings(io, &s->height, 1);
     return GR_OK;
 }
@@ -230,7 +264,7 @@ const gr_observable_type gr_obs_profile = {
     .name = "profile",
     .summary = "profiles along an axis: density, packing fraction, mean velocity and T per "
                "component per slab (beds, walls, gravity)",
-    .dims = 3,
+    .dims = 7, /* 1D, 2D and 3D */
     .params = params,
     .n_params = (int)(sizeof params / sizeof params[0]),
     .params_size = sizeof(profile_params),

@@ -3,13 +3,15 @@
  *
  * Sampling (App. A.1): every sampled frame (uniform in time) adds each particle's velocity
  * components, taken relative to the frame's mean velocity (as T of eq. 2.19), to one histogram
- * (x and y pooled in 2D: "v denotes a component of velocity", sec. 5.1), and each particle's
- * |v| (the speed in 2D, |v_x| in 1D) to a second histogram. Densities are X_i / (N_s dv) with
+ * (x and y pooled in 2D, x, y and z in 3D: "v denotes a component of velocity", sec. 5.1), and
+ * each particle's |v| (the speed in 2D and 3D, |v_x| in 1D) to a second histogram. The speed's
+ * Maxwell-Boltzmann reference in c = |v| / sqrt(<|v|^2>) is sqrt(2/pi) exp(-c^2/2) in 1D,
+ * 2 c exp(-c^2) in 2D and 3 sqrt(6/pi) c^2 exp(-3 c^2 / 2) in 3D (4 pi v^2 of the shell). Densities are X_i / (N_s dv) with
  * errors sqrt(X_i) / (N_s dv) (A.4-A.5), N_s counting every sampled component, so the in-range
  * integral is the in-range fraction.
  *
  * The binning is fixed once, from T_ref: the mean granular temperature T (2.19, all components,
- * so T = 2 <v_x^2> in 2D) of the first REF_FRAMES sampled frames, whose velocities are buffered
+ * so T = dim <v_x^2>) of the first REF_FRAMES sampled frames, whose velocities are buffered
  * (at most REF_MAX_VALUES numbers) and then histogrammed. P(v) covers
  * [-pv_range sqrt(T_ref), pv_range sqrt(T_ref)) in pv_bins bins; |v| covers [0, pv_range sqrt(T_ref)).
  * Memory is the two histograms (plus that bounded buffer at the start): independent of the run
@@ -85,7 +87,7 @@ typedef struct pv {
     double *buf; /* velocity components relative to the frame mean, dim per particle */
     size_t nbuf, capbuf;
     /* the distributions */
-    gr_histogram comp;         /* P(v), one component (x and y pooled in 2D) */
+    gr_histogram comp;         /* P(v), one component (x and y pooled in 2D, x y z in 3D) */
     gr_histogram speed;        /* |v| */
     int64_t frames, particles; /* frames sampled; particles summed over frames */
     double sum_u2;             /* sum of |v - <v>|^2 over particles and frames */
@@ -93,8 +95,8 @@ typedef struct pv {
 
 static int check_params(const gr_obs_setup *setup, const pv_params *a, gr_error *err)
 {
-    if (setup->dim != 1 && setup->dim != 2) {
-        return GR_FAIL(err, GR_EINVAL, "pv: dim = %d, expected 1 or 2", setup->dim);
+    if (setup->dim < 1 || setup->dim > 3) {
+        return GR_FAIL(err, GR_EINVAL, "pv: dim = %d, expected 1, 2 or 3", setup->dim);
     }
     if (a->pv_bins < (int)params[0].min || a->pv_bins > (int)params[0].max) {
         return GR_FAIL(err, GR_EINVAL, "pv: [analysis] pv_bins = %d is outside [%g, %g]",
@@ -124,11 +126,16 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     return GR_OK;
 }
 
-static void add_particle(pv *s, double ux, double uy)
+static void add_particle(pv *s, double ux, double uy, double uz)
 {
     gr_histogram_add(&s->comp, ux, 1.0);
-    if (s->dim == 2) {
+    if (s->dim >= 2) {
         gr_histogram_add(&s->comp, uy, 1.0);
+    }
+    if (s->dim == 3) {
+        gr_histogram_add(&s->comp, uz, 1.0);
+        gr_histogram_add(&s->speed, sqrt(ux * ux + uy * uy + uz * uz), 1.0);
+        return;
     }
     gr_histogram_add(&s->speed, s->dim == 2 ? sqrt(ux * ux + uy * uy) : fabs(ux), 1.0);
 }
@@ -157,7 +164,8 @@ static int fix_binning(pv *s, gr_error *err)
     }
     s->fixed = true;
     for (size_t k = 0; k < s->nbuf; k += (size_t)s->dim) {
-        add_particle(s, s->buf[k], s->dim == 2 ? s->buf[k + 1] : 0.0);
+        add_particle(s, s->buf[k], s->dim >= 2 ? s->buf[k + 1] : 0.0,
+                     s->dim == 3 ? s->buf[k + 2] : 0.0);
     }
     free(s->buf);
     s->buf = NULL;
@@ -169,16 +177,22 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 {
     (void)t;
     pv *s = state;
-    if (p->n < 1 || p->dim != s->dim || !p->vx || (p->dim == 2 && !p->vy)) {
+    if (p->n < 1 || p->dim != s->dim || !p->vx || (p->dim >= 2 && !p->vy) ||
+        (p->dim == 3 && !p->vz)) {
         return GR_FAIL(err, GR_EINVAL,
                        "pv: frame with %d particles in %d dimensions, expected dim = %d", p->n,
                        p->dim, s->dim);
     }
-    double mean[2];
+    double mean[3];
     gr_obs_mean_velocity(p, mean);
     double u2 = 0.0;
     for (int i = 0; i < p->n; i++) {
-        double ux = p->vx[i] - mean[0], uy = s->dim == 2 ? p->vy[i] - mean[1] : 0.0;
+        double ux = p->vx[i] - mean[0], uy = s->dim >= 2 ? p->vy[i] - mean[1] : 0.0;
+        if (s->dim == 3) {
+            double uz = p->vz[i] - mean[2];
+            u2 += ux * ux + uy * uy + uz * uz;
+            continue;
+        }
         u2 += ux * ux + uy * uy;
     }
     if (!isfinite(u2)) {
@@ -203,8 +217,11 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
             }
             for (int i = 0; i < p->n; i++) {
                 s->buf[s->nbuf++] = p->vx[i] - mean[0];
-                if (s->dim == 2) {
+                if (s->dim >= 2) {
                     s->buf[s->nbuf++] = p->vy[i] - mean[1];
+                }
+                if (s->dim == 3) {
+                    s->buf[s->nbuf++] = p->vz[i] - mean[2];
                 }
             }
             s->ref_T_sum += u2 / p->n; /* T of this frame (2.19) */
@@ -221,7 +238,8 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         }
     }
     for (int i = 0; i < p->n; i++) {
-        add_particle(s, p->vx[i] - mean[0], s->dim == 2 ? p->vy[i] - mean[1] : 0.0);
+        add_particle(s, p->vx[i] - mean[0], s->dim >= 2 ? p->vy[i] - mean[1] : 0.0,
+                     s->dim == 3 ? p->vz[i] - mean[2] : 0.0);
     }
     return GR_OK;
 }
@@ -686,7 +704,10 @@ static int write_pv_csv(const gr_output *out, const pv_rows_ctx *c, gr_error *er
              "fit_crossover = P_0(v) (5.32), alpha = 1, fitted to the counts, fit_crossover_log = "
              "the same fitted on "
              "log axes (summary members crossover and crossover_log)",
-             c->s->dim == 2 ? "x and y pooled" : "1D", h->hi, h->hi, c->s->T_ref, h->total);
+             c->s->dim == 3   ? "x, y and z pooled"
+             : c->s->dim == 2 ? "x and y pooled"
+                              : "1D",
+             h->hi, h->hi, c->s->T_ref, h->total);
     const gr_obs_table t = {
         .name = "pv.csv",
         .what = what,
@@ -764,7 +785,7 @@ static int write_speed_csv(const gr_output *out, const pv_rows_ctx *c, gr_error 
              "sqrt(<|v|^2>) = %.6g m/s over the run; density per unit c normalised to all %.0f "
              "sampled particles, "
              "sqrt(counts) errors (A.5); speed in m/s",
-             c->s->dim == 2 ? "speed" : "absolute velocity", c->speed_rms, c->s->speed.total);
+             c->s->dim >= 2 ? "speed" : "absolute velocity", c->speed_rms, c->s->speed.total);
     const gr_obs_table t = {
         .name = "pv_speed.csv",
         .what = what,
@@ -864,8 +885,10 @@ static void draw_plots(const gr_output *out, const pv *s, const tail_result *tai
              "plot 'pv_speed.csv' skip 1 using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars lt 1 pt 7 "
              "ps 0.5 title 'data', "
              "mb(x) with lines lw 2 dt 2 lt 5 title 'Maxwell-Boltzmann, same <|v|^2>'",
-             ymin * v_rms, slim, s->dim == 2 ? "speed" : "|v|",
-             s->dim == 2 ? "c > 0 ? 2*c*exp(-c*c) : 1/0" : "c > 0 ? sqrt(2/pi)*exp(-c*c/2) : 1/0");
+             ymin * v_rms, slim, s->dim >= 2 ? "speed" : "|v|",
+             s->dim == 3   ? "c > 0 ? 3*sqrt(6/pi)*c*c*exp(-1.5*c*c) : 1/0"
+             : s->dim == 2 ? "c > 0 ? 2*c*exp(-c*c) : 1/0"
+                           : "c > 0 ? sqrt(2/pi)*exp(-c*c/2) : 1/0");
     gr_obs_plot(out, "pv_speed.png", body);
 }
 
@@ -1065,7 +1088,7 @@ const gr_observable_type gr_obs_pv = {
                "(5.5) with the "
                "chi2_red < 1.2 acceptance of Table 5.1, crossover P_0(v) (5.32), tail plot (5.6), "
                "scaled |v|",
-    .dims = 3,
+    .dims = 7, /* 1D, 2D and 3D */
     .params = params,
     .n_params = sizeof params / sizeof params[0],
     .params_size = sizeof(pv_params),

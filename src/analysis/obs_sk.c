@@ -1,4 +1,5 @@
-/* sk: the static structure factor of a 2D system (thesis sec. 4.1), docs/analysis-structure-factor.md.
+/* sk: the static structure factor of a 2D or 3D system (thesis sec. 4.1),
+ * docs/analysis-structure-factor.md.
  *
  *   S(k) = |rho(k)|^2 / N,   rho(k) = sum_j exp(-i k.r_j)                       (4.2)
  *   k = 2 pi (n_x, n_y) / L, n integer, n != 0                                    (4.3)
@@ -16,7 +17,14 @@
  * with a separable Gaussian over 2 msp points per dimension, one real-to-complex FFTW transform,
  * deconvolve by (pi/tau) e^{tau |n|^2}. Cost O(N msp^2 + M_r^2 log M_r) per frame instead of the
  * O(N n_max^2) of the direct sum, which is kept (separable phase recurrences) as the oracle of the
- * tests and the bench, and can be selected with GRANULE_SK_METHOD=direct. */
+ * tests and the bench, and can be selected with GRANULE_SK_METHOD=direct.
+ *
+ * 3D (spheres in a cube): k = 2 pi (n_x, n_y, n_z) / L on the half space, the same |n| bins
+ * (spherical shells of width 1) and exact shells |n|^2 = const, the engine of src/analysis/sk_3d.c
+ * (gridding on an M_r^3 grid). The dissipative scale (4.5) is carried over with the 3D mean free
+ * length l_0 = 1 / (n pi d^2) = L^3 / (pi d^2 N) in place of 2D's l_0 = L^2 / (2 d N) (4.7, 1 / (n
+ * 2 d)): both are 1 / (n sigma), sigma the collision cross-section (length 2 d in 2D, area pi d^2
+ * in 3D); the thesis derives k_D in 2D only, so in 3D the fit window k < k' is a convention. */
 #include <cjson/cJSON.h>
 #include <fftw3.h>
 #include <math.h>
@@ -62,7 +70,7 @@ struct gr_sk_plan {
 #define RESEED 32      /* recompute the phase with sincos every RESEED recurrence steps */
 
 /* Smallest even m >= target whose only prime factors are 2, 3, 5, 7 (fast FFTW sizes). */
-static int fft_size(int target)
+int gr_sk_fft_size(int target)
 {
     for (int m = target + (target & 1);; m += 2) {
         int r = m;
@@ -164,7 +172,7 @@ int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_erro
      * tau = pi msp / (M^2 R (R - 1/2)) (their sec. 3, M_sp = msp; physics notes sec. 6.1) */
     const int M = 2 * n + 1;
     pl->msp = msp;
-    pl->Mr = fft_size(2 * M > 2 * msp ? 2 * M : 2 * msp);
+    pl->Mr = gr_sk_fft_size(2 * M > 2 * msp ? 2 * M : 2 * msp);
     pl->Mc = pl->Mr / 2 + 1;
     const double R = (double)pl->Mr / M;
     pl->tau = M_PI * msp / ((double)M * M * R * (R - 0.5));
@@ -238,29 +246,34 @@ void gr_sk_plan_grid(const gr_sk_plan *pl, int *grid, double *tau)
  * sits at (m0 + xi/h) h. Fast Gaussian gridding (Greengard & Lee sec. 3): exp(-xi^2/4tau) *
  * exp(xi h/2tau)^l * exp(-(l h)^2/4tau): two exponentials per coordinate, the last factor
  * tabulated in the plan. */
-static int weights(const gr_sk_plan *pl, double coord, double *w)
+int gr_sk_gauss_weights(double L, int Mr, double h, double tau, int msp, const double *e3,
+                        double coord, double *w)
 {
-    double u = coord / pl->L;
+    double u = coord / L;
     u -= floor(u);
-    double g = u * pl->Mr;
+    double g = u * Mr;
     int m0 = (int)g;
-    if (m0 >= pl->Mr) { /* u rounded up to 1 */
-        m0 = pl->Mr - 1;
+    if (m0 >= Mr) { /* u rounded up to 1 */
+        m0 = Mr - 1;
     }
-    const double xi = (g - m0) * pl->h, t4 = 4.0 * pl->tau;
-    const double e1 = exp(-xi * xi / t4), e2 = exp(xi * pl->h / (2.0 * pl->tau)), e2i = 1.0 / e2;
-    const int msp = pl->msp;
+    const double xi = (g - m0) * h, t4 = 4.0 * tau;
+    const double e1 = exp(-xi * xi / t4), e2 = exp(xi * h / (2.0 * tau)), e2i = 1.0 / e2;
     double p = e1; /* l = 0 .. msp */
     for (int l = 0; l <= msp; l++) {
-        w[l + msp - 1] = p * pl->e3[l];
+        w[l + msp - 1] = p * e3[l];
         p *= e2;
     }
     p = e1 * e2i; /* l = -1 .. -msp + 1 */
     for (int l = 1; l < msp; l++) {
-        w[msp - 1 - l] = p * pl->e3[l];
+        w[msp - 1 - l] = p * e3[l];
         p *= e2i;
     }
     return m0 - msp + 1;
+}
+
+static int weights(const gr_sk_plan *pl, double coord, double *w)
+{
+    return gr_sk_gauss_weights(pl->L, pl->Mr, pl->h, pl->tau, pl->msp, pl->e3, coord, w);
 }
 
 static int compute_gridding(gr_sk_plan *pl, int n, const double *x, const double *y, double *S,
@@ -496,7 +509,9 @@ typedef struct sk_bin {
 } sk_bin;
 
 typedef struct sk_state {
-    gr_sk_plan *plan;
+    int dim;            /* 2 or 3 */
+    gr_sk_plan *plan;   /* 2D */
+    gr_sk3_plan *plan3; /* 3D */
     int method, msp;
     double L, d, kd_max, n_cut;
     int nv;
@@ -517,6 +532,7 @@ typedef struct sk_state {
 } sk_state;
 
 static void release_plan(void *plan) { gr_sk_plan_free(plan); }
+static void release_plan3(void *plan) { gr_sk3_plan_free(plan); }
 
 static int method_from_env(int *method, gr_error *err)
 {
@@ -533,8 +549,8 @@ static int method_from_env(int *method, gr_error *err)
 
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
-    if (setup->dim != 2) {
-        return GR_FAIL(err, GR_EINVAL, "sk: S(k) of eqs. 4.2-4.3 needs dim = 2 (got %d)",
+    if (setup->dim != 2 && setup->dim != 3) {
+        return GR_FAIL(err, GR_EINVAL, "sk: S(k) of eqs. 4.2-4.3 needs dim = 2 or 3 (got %d)",
                        setup->dim);
     }
     const double kd_max = ((const sk_params *)params_block)->sk_kd_max;
@@ -557,15 +573,23 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
                        kd_max, 2.0 * M_PI * d / setup->L);
     }
     sk_state *st = state;
+    st->dim = setup->dim;
     int rc = method_from_env(&st->method, err);
-    if (!rc) {
+    if (!rc && st->dim == 3) {
+        rc = gr_sk3_plan_create(setup->L, n_cut, GR_SK3_MSP_DEFAULT, &st->plan3, err);
+        if (!rc) {
+            gr_obs_own(st, release_plan3, st->plan3);
+        }
+    } else if (!rc) {
         rc = gr_sk_plan_create(setup->L, n_cut, GR_SK_MSP_DEFAULT, &st->plan, err);
+        if (!rc) {
+            gr_obs_own(st, release_plan, st->plan);
+        }
     }
     if (rc) {
         return rc;
     }
-    gr_obs_own(st, release_plan, st->plan);
-    st->msp = GR_SK_MSP_DEFAULT;
+    st->msp = st->dim == 3 ? GR_SK3_MSP_DEFAULT : GR_SK_MSP_DEFAULT;
     st->L = setup->L;
     st->d = d;
     st->kd_max = kd_max;
@@ -586,7 +610,8 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
         st->eps_t = 1.0;
         st->eps_t_from = "no constant eps_t for this tangential law: eps_t = 1 assumed";
     }
-    st->l0 = setup->L * setup->L / (2.0 * d * setup->N);
+    st->l0 = st->dim == 3 ? setup->L * setup->L * setup->L / (M_PI * d * d * setup->N)
+                          : setup->L * setup->L / (2.0 * d * setup->N);
     st->kD = (2.0 - st->eps_n * st->eps_n - st->eps_t * st->eps_t) / (8.0 * st->l0);
     if (st->kD > 0.0) {
         st->Lmin = 2.0 * M_PI / st->kD;
@@ -599,8 +624,9 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     st->n_shell = fmin(n_cut, fmin((double)SHELL_N_CAP, fmax((double)SHELL_N_MIN, 2.0 * n_prime)));
     const long q_shell = (long)floor(st->n_shell * st->n_shell * (1.0 + 1e-12));
 
-    const int *nx, *ny;
-    st->nv = gr_sk_plan_vectors(st->plan, &nx, &ny);
+    const int *nx, *ny, *nz = NULL;
+    st->nv = st->dim == 3 ? gr_sk3_plan_vectors(st->plan3, &nx, &ny, &nz)
+                          : gr_sk_plan_vectors(st->plan, &nx, &ny);
     st->S = gr_obs_calloc(st, (size_t)st->nv, sizeof(double));
     st->bin_of = gr_obs_calloc(st, (size_t)st->nv, sizeof(int));
     st->shell_of = gr_obs_calloc(st, (size_t)st->nv, sizeof(int));
@@ -613,7 +639,7 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
         qmap[q] = -1;
     }
     for (int v = 0; v < st->nv; v++) {
-        long q = (long)nx[v] * nx[v] + (long)ny[v] * ny[v];
+        long q = (long)nx[v] * nx[v] + (long)ny[v] * ny[v] + (nz ? (long)nz[v] * nz[v] : 0);
         st->bin_of[v] = (int)floor(sqrt((double)q) + 0.5) - 1;
         st->nbins = st->bin_of[v] + 1 > st->nbins ? st->bin_of[v] + 1 : st->nbins;
         if (q <= q_shell) {
@@ -638,7 +664,7 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     }
     const double dk = 2.0 * M_PI / st->L;
     for (int v = 0; v < st->nv; v++) {
-        long q = (long)nx[v] * nx[v] + (long)ny[v] * ny[v];
+        long q = (long)nx[v] * nx[v] + (long)ny[v] * ny[v] + (nz ? (long)nz[v] * nz[v] : 0);
         double k = dk * sqrt((double)q);
         st->bins[st->bin_of[v]].count++;
         st->bins[st->bin_of[v]].ksum += k;
@@ -656,14 +682,16 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 {
     (void)t;
     sk_state *st = state;
-    if (p->dim != 2 || !p->y) {
-        return GR_FAIL(err, GR_EINVAL, "sk: a 2D frame is needed (got dim = %d)", p->dim);
+    if (p->dim != st->dim || !p->y || (p->dim == 3 && !p->z)) {
+        return GR_FAIL(err, GR_EINVAL, "sk: a %dD frame is needed (got dim = %d)", st->dim, p->dim);
     }
     if (!(fabs(p->L - st->L) <= 1e-9 * st->L)) {
         return GR_FAIL(err, GR_EINVAL,
                        "sk: the frame's box side %g differs from the scene's L = %g", p->L, st->L);
     }
-    int rc = gr_sk_compute(st->plan, st->method, p->n, p->x, p->y, st->S, err);
+    int rc = st->dim == 3
+                 ? gr_sk3_compute(st->plan3, st->method, p->n, p->x, p->y, p->z, st->S, err)
+                 : gr_sk_compute(st->plan, st->method, p->n, p->x, p->y, st->S, err);
     if (rc) {
         return rc;
     }
@@ -845,8 +873,9 @@ static int finish(void *state, const gr_output *out, gr_error *err)
              "over |n| bins "
              "of width 1 (n = bin centre), k = mean |k| of the bin in 1/m, d = %g m, %lld frames; "
              "S_err: %s; "
-             "vectors = full plane (half are independent, S(-k) = S(k))",
-             st->d, (long long)st->frames, error_method(st->frames));
+             "vectors = full %s (half are independent, S(-k) = S(k))",
+             st->d, (long long)st->frames, error_method(st->frames),
+             st->dim == 3 ? "space" : "plane");
     const sk_rows_ctx rows = {.st = st, .fit = &F};
     gr_obs_table t = {.name = "sk.csv",
                       .what = what,
@@ -881,7 +910,11 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddNumberToObject(j, "frames", (double)st->frames);
     int grid;
     double tau;
-    gr_sk_plan_grid(st->plan, &grid, &tau);
+    if (st->dim == 3) {
+        gr_sk3_plan_grid(st->plan3, &grid, &tau);
+    } else {
+        gr_sk_plan_grid(st->plan, &grid, &tau);
+    }
     cJSON_AddStringToObject(j, "method", st->method == GR_SK_DIRECT ? "direct" : "gridding");
     cJSON_AddNumberToObject(j, "msp", st->msp);
     cJSON_AddNumberToObject(j, "grid", grid);
@@ -993,7 +1026,7 @@ const gr_observable_type gr_obs_sk = {
     .summary =
         "structure factor S(k) on the k-lattice (4.2-4.3) by Gaussian-gridding NUFFT, circular "
         "average, D_f fit S ~ k^-D_f below k' (4.4) with k_D, L_min, L_Eff (4.5-4.9)",
-    .dims = 2,
+    .dims = 6, /* 2D and 3D */
     .params = params,
     .n_params = sizeof params / sizeof params[0],
     .params_size = sizeof(sk_params),

@@ -12,17 +12,21 @@
 #include "analysis/blob_stats.h"
 #include "io/plot.h"
 
-void gr_obs_mean_velocity(const gr_particles *p, double mean[2])
+void gr_obs_mean_velocity(const gr_particles *p, double mean[3])
 {
-    mean[0] = mean[1] = 0.0;
+    mean[0] = mean[1] = mean[2] = 0.0;
     for (int i = 0; i < p->n; i++) {
         mean[0] += p->vx[i];
-        if (p->dim == 2) {
+        if (p->dim >= 2) {
             mean[1] += p->vy[i];
+        }
+        if (p->dim == 3) {
+            mean[2] += p->vz[i];
         }
     }
     mean[0] /= p->n;
     mean[1] /= p->n;
+    mean[2] /= p->n;
 }
 
 int gr_obs_csv_open(const gr_output *out, const char *name, const char *what, gr_file *f,

@@ -13,7 +13,8 @@
 
 struct gr_lag;
 
-void gr_obs_mean_velocity(const gr_particles *p, double mean[2]);
+/* The frame's mean velocity per component (mean[1] = 0 in 1D, mean[2] = 0 except in 3D). */
+void gr_obs_mean_velocity(const gr_particles *p, double mean[3]);
 /* Open out->dir/name atomically and write the header "# granule <what>\n# scene ..., hash, seed". */
 int gr_obs_csv_open(const gr_output *out, const char *name, const char *what, gr_file *f,
                     gr_error *err);

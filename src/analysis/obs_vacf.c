@@ -44,7 +44,7 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     if (bad) {
         return bad;
     }
-    return gr_lag_add(g, p->vx, p->dim == 2 ? p->vy : NULL, t, err);
+    return gr_lag_add(g, p->vx, p->dim >= 2 ? p->vy : NULL, p->vz, t, err);
 }
 
 /* The largest lag with at least 2 time origins (the run may be shorter than
@@ -123,7 +123,7 @@ const gr_observable_type gr_obs_vacf = {
     .name = "vacf",
     .summary = "velocity autocorrelation C(tau) and its Green-Kubo integral "
                "(self-diffusion, compare with msd)",
-    .dims = 3,
+    .dims = 7, /* 1D, 2D and 3D */
     .params = params,
     .n_params = sizeof params / sizeof params[0],
     .params_size = sizeof(vacf_params),

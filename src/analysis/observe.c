@@ -297,17 +297,17 @@ static int check_frame(const gr_particles *p, double t, gr_error *err)
     }
     const double lim = GR_COORD_MAX_BOXES * p->L;
     for (int i = 0; i < p->n; i++) {
-        const double c[4] = {p->x[i], p->dim == 2 ? p->y[i] : 0.0, p->vx[i],
-                             p->dim == 2 ? p->vy[i] : 0.0};
-        static const char *const name[4] = {"x", "y", "vx", "vy"};
-        for (int k = 0; k < 4; k++) {
-            if (k < 2 && !(fabs(c[k]) <= lim)) {
+        const double c[6] = {p->x[i],  p->dim >= 2 ? p->y[i] : 0.0,  p->dim == 3 ? p->z[i] : 0.0,
+                             p->vx[i], p->dim >= 2 ? p->vy[i] : 0.0, p->dim == 3 ? p->vz[i] : 0.0};
+        static const char *const name[6] = {"x", "y", "z", "vx", "vy", "vz"};
+        for (int k = 0; k < 6; k++) {
+            if (k < 3 && !(fabs(c[k]) <= lim)) {
                 return GR_FAIL(err, GR_EINVAL,
                                "frame at t = %.17g s: particle %d has %s = %g m, outside the range "
                                "|%s| <= %g L = %g m that can be wrapped into the box",
                                t, i, name[k], c[k], name[k], GR_COORD_MAX_BOXES, lim);
             }
-            if (k >= 2 && !isfinite(c[k])) {
+            if (k >= 3 && !isfinite(c[k])) {
                 return GR_FAIL(
                     err, GR_EINVAL,
                     "frame at t = %.17g s: particle %d has %s = %g m/s, not a finite number", t, i,

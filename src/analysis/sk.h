@@ -25,4 +25,27 @@ void gr_sk_plan_grid(const gr_sk_plan *pl, int *grid, double *tau);
 int gr_sk_compute(gr_sk_plan *pl, int method, int n, const double *x, const double *y, double *S,
                   gr_error *err);
 
+/* Shared by the 2D and 3D engines: the smallest even FFT size >= target with prime factors 2, 3,
+ * 5, 7; and the Gaussian gridding weights of one coordinate (2 msp of them into w, for a grid of
+ * Mr points of spacing h = 2 pi / Mr on a period L, width tau, e3[l] = exp(-(l h)^2 / (4 tau)));
+ * returns the (unwrapped) grid index of the first weight. */
+int gr_sk_fft_size(int target);
+int gr_sk_gauss_weights(double L, int Mr, double h, double tau, int msp, const double *e3,
+                        double coord, double *w);
+
+/* ------------------------------------------------------------------------------------------
+ * The 3D engine (src/analysis/sk_3d.c): S(k) on the integer lattice k = 2 pi (n_x, n_y, n_z) / L
+ * of a periodic cube, every vector with |n| <= n_cut in the half space (n_z > 0, or n_z = 0 and
+ * n_y > 0, or n_z = n_y = 0 and n_x > 0; S(-k) = S(k)), by the same Gaussian gridding on an
+ * M_r^3 grid and one real-to-complex FFTW transform, or by the direct sum (the tests' oracle). */
+typedef struct gr_sk3_plan gr_sk3_plan;
+#define GR_SK3_MSP_DEFAULT 6 /* (2 msp)^3 grid points per sphere */
+#define GR_SK3_NMAX_LIMIT 64 /* largest |n|: a ~260^3 grid, 140 MB */
+int gr_sk3_plan_create(double L, double n_cut, int msp, gr_sk3_plan **out, gr_error *err);
+void gr_sk3_plan_free(gr_sk3_plan *pl);
+int gr_sk3_plan_vectors(const gr_sk3_plan *pl, const int **nx, const int **ny, const int **nz);
+void gr_sk3_plan_grid(const gr_sk3_plan *pl, int *grid, double *tau);
+int gr_sk3_compute(gr_sk3_plan *pl, int method, int n, const double *x, const double *y,
+                   const double *z, double *S, gr_error *err);
+
 #endif

@@ -99,8 +99,8 @@ static void tail_cell(gr_compare_table *t, gr_compare_cell *c, const cJSON *s)
 static void df_cell(gr_compare_cell *c, const cJSON *s, int dim)
 {
     const cJSON *sk = member(s, "analysis.sk");
-    if (dim == 1 || dim == 3) { /* S(k) is computed in 2D only so far */
-        set_reason(c, dim == 1 ? "n/a: 1D" : "n/a: 3D");
+    if (dim == 1) { /* S(k) is computed in 2D and 3D */
+        set_reason(c, "n/a: 1D");
     } else if (!sk) {
         set_reason(c, "n/a: sk not enabled");
     } else if (isfinite(gr_summary_number(sk, "fit.D_f"))) {

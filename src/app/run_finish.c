@@ -365,10 +365,7 @@ int gr_run_finish(gr_run_ctx *c)
         snprintf(c->diagnosis, sizeof c->diagnosis, "%s", io_err.message);
     }
     char picture_note[900] = "";
-    if (c->scene->plots && c->snap_index > 0 && !write_stop && c->scene->dim == 3) {
-        snprintf(picture_note, sizeof picture_note,
-                 "; no snapshot picture in 3D yet (docs/three-dimensions.md)");
-    } else if (c->scene->plots && c->snap_index > 0 && !write_stop) {
+    if (c->scene->plots && c->snap_index > 0 && !write_stop) {
         picture(c, picture_note, sizeof picture_note);
     }
     char plots_text[1200];

@@ -102,8 +102,8 @@ int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *
     }
     if (!rc) {
         snprintf(out, sizeof out, "%s/%s", run_dir,
-                 last.dim == 2 ? "snapshot.png" : "snapshots.png");
-        rc = last.dim == 2 ? gr_picture_frame(&frames[0], radius, out, &o, err)
+                 last.dim >= 2 ? "snapshot.png" : "snapshots.png");
+        rc = last.dim >= 2 ? gr_picture_frame(&frames[0], radius, out, &o, err)
                            : gr_picture_spacetime(frames, nf, radius, out, &o, err);
         if (!rc && png_path && png_path_size) {
             snprintf(png_path, png_path_size, "%s", out);

@@ -87,7 +87,7 @@ static int source_open(frame_source *src, const char *dir, const char *dump, con
             dump, scene->source);
     }
     if (dump) {
-        return gr_lammps_dump_open(dump, &src->dump, err);
+        return gr_lammps_dump_open(dump, scene->dim, &src->dump, err);
     }
     return gr_traj_reader_open(dir, (int)scene->trajectory, &src->traj, &src->total, err);
 }
@@ -151,15 +151,22 @@ static int input_exit(int rc) { return rc == GR_ENOMEM ? EXIT_FAILED : EXIT_REFU
 /* T of eq. 2.19: (1/N) sum |v_i - <v>|^2 over all components, as gr_sim_temperature */
 static double frame_temperature(const gr_particles *p)
 {
-    double mx = 0.0, my = 0.0, sum = 0.0;
+    double mx = 0.0, my = 0.0, mz = 0.0, sum = 0.0;
     for (int i = 0; i < p->n; i++) {
         mx += p->vx[i];
-        my += p->dim == 2 ? p->vy[i] : 0.0;
+        my += p->dim >= 2 ? p->vy[i] : 0.0;
+        mz += p->dim == 3 ? p->vz[i] : 0.0;
     }
     mx /= p->n;
     my /= p->n;
+    mz /= p->n;
     for (int i = 0; i < p->n; i++) {
-        const double ux = p->vx[i] - mx, uy = p->dim == 2 ? p->vy[i] - my : 0.0;
+        const double ux = p->vx[i] - mx, uy = p->dim >= 2 ? p->vy[i] - my : 0.0;
+        if (p->dim == 3) {
+            const double uz = p->vz[i] - mz;
+            sum += ux * ux + uy * uy + uz * uz;
+            continue;
+        }
         sum += ux * ux + uy * uy;
     }
     return sum / p->n;
@@ -309,7 +316,9 @@ int cmd_analyse(int argc, char **argv)
                               .x = fr.x,
                               .y = fr.y,
                               .vx = fr.vx,
-                              .vy = fr.vy};
+                              .vy = fr.vy,
+                              .z = fr.z,
+                              .vz = fr.vz};
             rc = gr_observer_sample(obs, &p, fr.t, &err);
             if (rc) {
                 char why[sizeof err.message];

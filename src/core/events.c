@@ -72,9 +72,11 @@ static int push(gr_sim *s, int i, int kind, gr_error *err)
                                                .kind = kind,
                                                .t = (double)s->step * s->dt,
                                                .x = s->x[i],
-                                               .y = s->dim == 2 ? s->y[i] : 0.0,
+                                               .y = s->dim >= 2 ? s->y[i] : 0.0,
                                                .vx = s->vx[i],
-                                               .vy = s->dim == 2 ? s->vy[i] : 0.0},
+                                               .vy = s->dim >= 2 ? s->vy[i] : 0.0,
+                                               .z = s->dim == 3 ? s->z[i] : 0.0,
+                                               .vz = s->dim == 3 ? s->vz[i] : 0.0},
                             err);
 }
 

@@ -161,7 +161,8 @@ static int events_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     gr_blob_io_bytes(io, s->contacts, sizeof(uint16_t) * (size_t)n);
     int64_t n_events = s->n_events;
     gr_blob_io_i64(io, &n_events);
-    const int64_t each = 2 * 8 + 5 * 8;
+    const int nv = s->dim == 3 ? 7 : 5; /* t, x, y, vx, vy (3D: z, vz too) */
+    const int64_t each = 2 * 8 + nv * 8;
     if (io->in && !io->in->bad &&
         (n_events < 0 || (uint64_t)n_events > gr_blob_io_left(io) / each)) {
         gr_blob_fail(io->in, "%lld contact events do not fit in the section", (long long)n_events);
@@ -181,10 +182,10 @@ static int events_io(gr_sim *s, gr_blob_io *io, gr_error *err)
         }
         gr_contact_event *e = &s->events[io->in ? s->n_events++ : k];
         int64_t i = e->i, kind = e->kind;
-        double v[5] = {e->t, e->x, e->y, e->vx, e->vy};
+        double v[7] = {e->t, e->x, e->y, e->vx, e->vy, e->z, e->vz};
         gr_blob_io_i64(io, &i);
         gr_blob_io_i64(io, &kind);
-        gr_blob_io_bytes(io, v, sizeof v);
+        gr_blob_io_bytes(io, v, sizeof v[0] * (size_t)nv);
         if (io->in && !io->in->bad && (i < 0 || i >= n || (kind != 1 && kind != -1))) {
             gr_blob_fail(io->in, "contact event %lld is malformed (particle %lld, kind %lld)",
                          (long long)k, (long long)i, (long long)kind);
@@ -196,7 +197,9 @@ static int events_io(gr_sim *s, gr_blob_io *io, gr_error *err)
                                     .x = v[1],
                                     .y = v[2],
                                     .vx = v[3],
-                                    .vy = v[4]};
+                                    .vy = v[4],
+                                    .z = nv == 7 ? v[5] : 0.0,
+                                    .vz = nv == 7 ? v[6] : 0.0};
         }
     }
     return GR_OK;

@@ -9,7 +9,8 @@
  *   /particles/all/angular_velocity  value[F][N][3] (rad s-1), when the file has them
  *   /particles/all/mass        [N] kg
  *   /parameters/granule        dim, N, L, radius, mass, length_unit = "m"
- * A 2D system has z = d/2 and a z edge of one diameter d, a 1D system y = z = d/2 and y, z edges
+ * A 3D system has its three coordinates and a cube of edges L, periodic in x, y and z; a 2D
+ * system has z = d/2 and a z edge of one diameter d, a 1D system y = z = d/2 and y, z edges
  * of d, as in the extended-XYZ snapshots. Position values carry no unit attribute: MDAnalysis
  * 2.4 refuses the unit "m" (it knows only Angstrom, nm, pm, fm); lengths are metres.
  * Per-particle datasets are chunked one frame by up to 32768 particles, shuffled and deflated;
@@ -196,7 +197,8 @@ static int metadata_write(gr_h5md *h, const gr_h5md_desc *d)
     H5Gclose(g);
     g = group_make(h->file, "/particles/all/box");
     const int dimension = 3;
-    const char *boundary[3] = {"periodic", d->dim == 2 ? "periodic" : "none", "none"};
+    const char *boundary[3] = {"periodic", d->dim >= 2 ? "periodic" : "none",
+                               d->dim == 3 ? "periodic" : "none"};
     st |= g < 0 || attr_write(g, "dimension", H5T_NATIVE_INT, 0, NULL, &dimension) ||
           attr_strings(g, "boundary", 3, boundary);
     H5Gclose(g);
@@ -301,7 +303,7 @@ static int h5md_attach(gr_h5md *h, unsigned mode, gr_error *err)
         H5Gclose(g);
     }
     if (h->value[EL_POS] < 0 || h->value[EL_VEL] < 0 || h->value[EL_EDGES] < 0 || h->step < 0 ||
-        h->time < 0 || n != h->n || (dim != 1 && dim != 2)) {
+        h->time < 0 || n != h->n || dim < 1 || dim > 3) {
         return GR_FAIL(
             err, GR_EINVAL,
             "%s: not a granule H5MD trajectory of %d particles (needs position, velocity, "
@@ -431,14 +433,16 @@ int gr_h5md_append(gr_h5md *h, const gr_particles *p, const double *omega, doubl
     const double half = 0.5 * h->d;
     for (int i = 0; i < p->n; i++) {
         b[3 * i] = p->x[i] - p->L * floor(p->x[i] / p->L);
-        b[3 * i + 1] = p->dim == 2 ? p->y[i] : half;
-        b[3 * i + 2] = half;
+        b[3 * i + 1] = p->dim == 3   ? p->y[i] - p->L * floor(p->y[i] / p->L)
+                       : p->dim == 2 ? p->y[i]
+                                     : half;
+        b[3 * i + 2] = p->dim == 3 ? p->z[i] - p->L * floor(p->z[i] / p->L) : half;
     }
     int st = frame_write(h->value[EL_POS], k, H5T_NATIVE_DOUBLE, b);
     for (int i = 0; i < p->n; i++) {
         b[3 * i] = p->vx[i];
-        b[3 * i + 1] = p->dim == 2 ? p->vy[i] : 0.0;
-        b[3 * i + 2] = 0.0;
+        b[3 * i + 1] = p->dim >= 2 ? p->vy[i] : 0.0;
+        b[3 * i + 2] = p->dim == 3 ? p->vz[i] : 0.0;
     }
     st |= frame_write(h->value[EL_VEL], k, H5T_NATIVE_DOUBLE, b);
     if (h->value[EL_OMEGA] >= 0) {
@@ -448,7 +452,8 @@ int gr_h5md_append(gr_h5md *h, const gr_particles *p, const double *omega, doubl
         }
         st |= frame_write(h->value[EL_OMEGA], k, H5T_NATIVE_DOUBLE, b);
     }
-    const double edges[9] = {p->L, 0, 0, 0, p->dim == 2 ? p->L : h->d, 0, 0, 0, h->d};
+    const double edges[9] = {
+        p->L, 0, 0, 0, p->dim >= 2 ? p->L : h->d, 0, 0, 0, p->dim == 3 ? p->L : h->d};
     st |= frame_write(h->value[EL_EDGES], k, H5T_NATIVE_DOUBLE, edges);
     st |= frame_write(h->step, k, H5T_NATIVE_INT64, &step);
     st |= frame_write(h->time, k, H5T_NATIVE_DOUBLE, &t);
@@ -512,15 +517,21 @@ int gr_h5md_read_frame(gr_h5md *h, int64_t k, gr_frame *f, gr_error *err)
              frame_read(h->value[EL_POS], k, H5T_NATIVE_DOUBLE, h->buf);
     for (int i = 0; i < h->n && !st; i++) {
         f->x[i] = h->buf[3 * i];
-        if (h->dim == 2) {
+        if (h->dim >= 2) {
             f->y[i] = h->buf[3 * i + 1];
+        }
+        if (h->dim == 3) {
+            f->z[i] = h->buf[3 * i + 2];
         }
     }
     st |= frame_read(h->value[EL_VEL], k, H5T_NATIVE_DOUBLE, h->buf);
     for (int i = 0; i < h->n && !st; i++) {
         f->vx[i] = h->buf[3 * i];
-        if (h->dim == 2) {
+        if (h->dim >= 2) {
             f->vy[i] = h->buf[3 * i + 1];
+        }
+        if (h->dim == 3) {
+            f->vz[i] = h->buf[3 * i + 2];
         }
     }
     if (st) {

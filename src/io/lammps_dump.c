@@ -16,11 +16,12 @@ struct gr_lammps_dump {
     long long last_step; /* the timestep of the last frame read (frames > 0) */
     int wall_axis;       /* the frame's axis read unwrapped (a floor below 0), or -1 */
     long frames;
+    int dim3; /* the scene is 3D: z and vz are read too */
 };
 
-enum { C_ID, C_X, C_Y, C_VX, C_VY, C_N };
+enum { C_ID, C_X, C_Y, C_Z, C_VX, C_VY, C_VZ, C_N };
 
-int gr_lammps_dump_open(const char *path, gr_lammps_dump **out, gr_error *err)
+int gr_lammps_dump_open(const char *path, int dim, gr_lammps_dump **out, gr_error *err)
 {
     gr_lammps_dump *d = calloc(1, sizeof *d);
     if (!d) {
@@ -32,6 +33,7 @@ int gr_lammps_dump_open(const char *path, gr_lammps_dump **out, gr_error *err)
         return rc;
     }
     snprintf(d->path, sizeof d->path, "%s", path);
+    d->dim3 = dim == 3;
     *out = d;
     return GR_OK;
 }
@@ -64,11 +66,9 @@ static int expect(gr_lammps_dump *d, const char *item, gr_error *err)
 /* Column index of each field in the ATOMS header (-1 when absent); scaled[k] for xs/ys. */
 static int columns(gr_lammps_dump *d, int col[C_N], bool scaled[C_N], int *ncol, gr_error *err)
 {
-    static const char *const names[C_N][3] = {{"id", NULL, NULL},
-                                              {"x", "xu", "xs"},
-                                              {"y", "yu", "ys"},
-                                              {"vx", NULL, NULL},
-                                              {"vy", NULL, NULL}};
+    static const char *const names[C_N][3] = {
+        {"id", NULL, NULL}, {"x", "xu", "xs"},  {"y", "yu", "ys"}, {"z", "zu", "zs"},
+        {"vx", NULL, NULL}, {"vy", NULL, NULL}, {"vz", NULL, NULL}};
     for (int k = 0; k < C_N; k++) {
         col[k] = -1;
         scaled[k] = false;
@@ -87,6 +87,13 @@ static int columns(gr_lammps_dump *d, int col[C_N], bool scaled[C_N], int *ncol,
         }
     }
     *ncol = c;
+    if (d->dim3 && (col[C_ID] < 0 || col[C_X] < 0 || col[C_Y] < 0 || col[C_Z] < 0 ||
+                    col[C_VX] < 0 || col[C_VY] < 0 || col[C_VZ] < 0)) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s:%ld: the ATOMS columns of a 3D scene need id, x, y, z, vx, vy, vz; dump "
+                       "custom ... id x y z vx vy vz",
+                       d->path, d->line);
+    }
     if (col[C_ID] < 0 || col[C_X] < 0 || col[C_VX] < 0 || (col[C_Y] < 0) != (col[C_VY] < 0)) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s:%ld: the ATOMS columns need id, x, vx (and y, vy in 2D); dump custom "
@@ -102,16 +109,18 @@ static int frame_alloc(gr_frame *f, long n, int dim, const char *path, gr_error 
     f->dim = dim;
     f->x = calloc((size_t)n, sizeof(double));
     f->vx = calloc((size_t)n, sizeof(double));
-    f->y = dim == 2 ? calloc((size_t)n, sizeof(double)) : NULL;
-    f->vy = dim == 2 ? calloc((size_t)n, sizeof(double)) : NULL;
-    if (!f->x || !f->vx || (dim == 2 && (!f->y || !f->vy))) {
+    f->y = dim >= 2 ? calloc((size_t)n, sizeof(double)) : NULL;
+    f->vy = dim >= 2 ? calloc((size_t)n, sizeof(double)) : NULL;
+    f->z = dim == 3 ? calloc((size_t)n, sizeof(double)) : NULL;
+    f->vz = dim == 3 ? calloc((size_t)n, sizeof(double)) : NULL;
+    if (!f->x || !f->vx || (dim >= 2 && (!f->y || !f->vy)) || (dim == 3 && (!f->z || !f->vz))) {
         gr_frame_free(f);
         return GR_FAIL(err, GR_ENOMEM, "%s: out of memory for %ld particles", path, n);
     }
     return GR_OK;
 }
 
-static int read_atoms(gr_lammps_dump *d, gr_frame *f, const double lo[2], const double len[2],
+static int read_atoms(gr_lammps_dump *d, gr_frame *f, const double lo[3], const double len[3],
                       gr_error *err)
 {
     int col[C_N], ncol;
@@ -120,7 +129,7 @@ static int read_atoms(gr_lammps_dump *d, gr_frame *f, const double lo[2], const 
     if (rc) {
         return rc;
     }
-    const int dim = col[C_Y] >= 0 ? 2 : 1;
+    const int dim = d->dim3 ? 3 : col[C_Y] >= 0 ? 2 : 1;
     long n = f->n;
     rc = frame_alloc(f, n, dim, d->path, err);
     if (rc) {
@@ -152,7 +161,7 @@ static int read_atoms(gr_lammps_dump *d, gr_frame *f, const double lo[2], const 
             break;
         }
         seen[id - 1] = 1;
-        double *pos[2] = {f->x, f->y}, *vel[2] = {f->vx, f->vy};
+        double *pos[3] = {f->x, f->y, f->z}, *vel[3] = {f->vx, f->vy, f->vz};
         for (int k = 0; k < dim; k++) {
             double x = v[col[C_X + k]];
             if (k == d->wall_axis) { /* a wall axis reaching below 0: absolute, not wrapped */
@@ -226,11 +235,11 @@ int gr_lammps_dump_next(gr_lammps_dump *d, double dt, gr_frame *f, gr_error *err
                            d->line);
         }
     }
-    const double len[2] = {hi[0] - lo[0], hi[1] - lo[1]};
+    const double len[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
     /* `granule export lammps` of a floor vibrating below 0 by more than a radius writes that
      * wall axis as [-(A + d), L] and the other as [0, L]: read it as the square box of side L */
     d->wall_axis = -1;
-    for (int k = 0; k < 2; k++) {
+    for (int k = 0; k < 2 && !d->dim3; k++) {
         const double side = hi[1 - k] - lo[1 - k];
         if (lo[k] < 0.0 && lo[1 - k] == 0.0 && fabs(hi[k] - side) <= 1e-9 * side) {
             d->wall_axis = k;
@@ -244,6 +253,12 @@ int gr_lammps_dump_next(gr_lammps_dump *d, double dt, gr_frame *f, gr_error *err
     rc = read_atoms(d, f, lo, len, err);
     if (rc) {
         return rc;
+    }
+    if (f->dim == 3 &&
+        (fabs(len[0] - len[1]) > 1e-9 * len[0] || fabs(len[0] - len[2]) > 1e-9 * len[0])) {
+        gr_frame_free(f);
+        return GR_FAIL(err, GR_EINVAL, "%s: box %g x %g x %g is not a cube (a 3D scene's box)",
+                       d->path, len[0], len[1], len[2]);
     }
     if (f->dim == 2 && d->wall_axis < 0 && fabs(len[0] - len[1]) > 1e-9 * len[0]) {
         gr_frame_free(f);

@@ -325,8 +325,8 @@ int pic_check_frame(const gr_frame *f, int index, double radius, gr_error *err)
     if (!f) {
         return GR_FAIL(err, GR_EINVAL, "picture: frame%s is NULL", which);
     }
-    if (f->dim != 1 && f->dim != 2) {
-        return GR_FAIL(err, GR_EINVAL, "picture: frame%s has dim = %d (1 or 2)", which, f->dim);
+    if (f->dim < 1 || f->dim > 3) {
+        return GR_FAIL(err, GR_EINVAL, "picture: frame%s has dim = %d (1, 2 or 3)", which, f->dim);
     }
     if (!(isfinite(f->L) && f->L > 0.0)) {
         return GR_FAIL(err, GR_EINVAL,
@@ -345,12 +345,19 @@ int pic_check_frame(const gr_frame *f, int index, double radius, gr_error *err)
     if (f->n < 0 || f->n > 100000000) {
         return GR_FAIL(err, GR_EINVAL, "picture: frame%s has %d particles", which, f->n);
     }
-    if (f->n > 0 && (!f->x || !f->vx || (f->dim == 2 && (!f->y || !f->vy)))) {
+    if (f->n > 0 && (!f->x || !f->vx || (f->dim >= 2 && (!f->y || !f->vy)) ||
+                     (f->dim == 3 && (!f->z || !f->vz)))) {
         return GR_FAIL(err, GR_EINVAL, "picture: frame%s lacks its position or velocity arrays",
                        which);
     }
     for (int i = 0; i < f->n; i++) {
-        double y = f->dim == 2 ? f->y[i] : 0.0, vy = f->dim == 2 ? f->vy[i] : 0.0;
+        double y = f->dim >= 2 ? f->y[i] : 0.0, vy = f->dim >= 2 ? f->vy[i] : 0.0;
+        if (f->dim == 3 && (!isfinite(f->z[i]) || !isfinite(f->vz[i]))) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "picture: frame%s particle %d has a non-finite z = %g or vz = %g; "
+                           "nothing drawn",
+                           which, i, f->z[i], f->vz[i]);
+        }
         if (!isfinite(f->x[i]) || !isfinite(y)) {
             return GR_FAIL(err, GR_EINVAL,
                            "picture: frame%s particle %d has a non-finite position (x = %g, y = "
@@ -369,7 +376,9 @@ int pic_check_frame(const gr_frame *f, int index, double radius, gr_error *err)
 
 double pic_speed(const gr_frame *f, int i)
 {
-    return f->dim == 2 ? hypot(f->vx[i], f->vy[i]) : fabs(f->vx[i]);
+    return f->dim == 3   ? hypot(hypot(f->vx[i], f->vy[i]), f->vz[i])
+           : f->dim == 2 ? hypot(f->vx[i], f->vy[i])
+                         : fabs(f->vx[i]);
 }
 
 /* sqrt(<|v|^2>) without overflow */
@@ -710,6 +719,7 @@ int gr_picture_frame(const gr_frame *f, double radius, const char *png_path,
     if (rc) {
         return rc;
     }
-    return f->dim == 2 ? picture_2d(f, radius, png_path, &p, err)
-                       : picture_strip(f, 1, radius, png_path, &p, err);
+    return f->dim == 3   ? pic_picture_3d(f, radius, png_path, &p, err)
+           : f->dim == 2 ? picture_2d(f, radius, png_path, &p, err)
+                         : picture_strip(f, 1, radius, png_path, &p, err);
 }

@@ -43,5 +43,9 @@ int pic_panel_height(int s);
 /* the panel below a picture: captions left and right, the colour bar with its ticks, a caption */
 void pic_draw_panel(cairo_t *cr, const popts *p, int width, double y0, const char *left,
                     const char *right, const char *caption);
+/* A 3D frame (a checked one, dim = 3): the cube in orthographic view, spheres shaded by depth and
+ * coloured by speed (src/io/picture_3d.c). */
+int pic_picture_3d(const gr_frame *f, double radius, const char *png_path, const popts *p,
+                   gr_error *err);
 
 #endif

@@ -68,7 +68,9 @@ void gr_frame_free(gr_frame *f)
     free(f->y);
     free(f->vx);
     free(f->vy);
-    f->x = f->y = f->vx = f->vy = NULL;
+    free(f->z);
+    free(f->vz);
+    f->x = f->y = f->vx = f->vy = f->z = f->vz = NULL;
 }
 
 int gr_frame_alloc(gr_frame *f, int n, int dim, gr_error *err)
@@ -77,9 +79,11 @@ int gr_frame_alloc(gr_frame *f, int n, int dim, gr_error *err)
     f->dim = dim;
     f->x = malloc(sizeof(double) * (size_t)n);
     f->vx = malloc(sizeof(double) * (size_t)n);
-    f->y = dim == 2 ? malloc(sizeof(double) * (size_t)n) : NULL;
-    f->vy = dim == 2 ? malloc(sizeof(double) * (size_t)n) : NULL;
-    if (!f->x || !f->vx || (dim == 2 && (!f->y || !f->vy))) {
+    f->y = dim >= 2 ? malloc(sizeof(double) * (size_t)n) : NULL;
+    f->vy = dim >= 2 ? malloc(sizeof(double) * (size_t)n) : NULL;
+    f->z = dim == 3 ? malloc(sizeof(double) * (size_t)n) : NULL;
+    f->vz = dim == 3 ? malloc(sizeof(double) * (size_t)n) : NULL;
+    if (!f->x || !f->vx || (dim >= 2 && (!f->y || !f->vy)) || (dim == 3 && (!f->z || !f->vz))) {
         gr_frame_free(f);
         return GR_FAIL(err, GR_ENOMEM, "out of memory for a frame of %d particles", n);
     }
@@ -162,14 +166,10 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
                        path, *line_no, tm ? word : "no Time= on the comment line",
                        tm ? " is not a finite time" : "");
     }
-    if (pbc && strncmp(pbc + 5, "T T T", 5) == 0) { /* granule's 3D frames (spheres) */
-        return GR_FAIL(err, GR_EINVAL,
-                       "%s:%ld: a 3D frame (pbc=\"T T T\"): reading 3D snapshots back (analyse, "
-                       "plot, pictures) is not available yet; allowed: 1D and 2D frames "
-                       "(docs/three-dimensions.md)",
-                       path, *line_no);
-    }
-    int rc = gr_frame_alloc(f, (int)n, pbc && strncmp(pbc + 5, "T F", 3) == 0 ? 1 : 2, err);
+    const int dim = pbc && strncmp(pbc + 5, "T T T", 5) == 0 ? 3 /* granule's 3D frames (spheres) */
+                    : pbc && strncmp(pbc + 5, "T F", 3) == 0 ? 1
+                                                             : 2;
+    int rc = gr_frame_alloc(f, (int)n, dim, err);
     if (rc) {
         return rc;
     }
@@ -193,7 +193,7 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
             }
             s = end;
         }
-        const int need = (c.velo >= 0 ? c.velo : c.momenta) + (f->dim == 2 ? 1 : 0);
+        const int need = (c.velo >= 0 ? c.velo : c.momenta) + f->dim - 1;
         if (got < c.total - 1 || got <= need) {
             gr_frame_free(f);
             return GR_FAIL(err, GR_EINVAL, "%s:%ld: expected %d columns", path, *line_no, c.total);
@@ -203,15 +203,20 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
         const double *vel = c.velo >= 0 ? &v[c.velo - 1] : &v[c.momenta - 1];
         f->x[i] = v[c.pos - 1];
         f->vx[i] = vel[0] / m;
-        if (f->dim == 2) {
+        if (f->dim >= 2) {
             f->y[i] = v[c.pos];
             f->vy[i] = vel[1] / m;
+        }
+        if (f->dim == 3) {
+            f->z[i] = v[c.pos + 1];
+            f->vz[i] = vel[2] / m;
         }
         if (c.radius >= 0) {
             f->radius = v[c.radius - 1];
         }
         if (!isfinite(f->x[i]) || !isfinite(f->vx[i]) ||
-            (f->dim == 2 && (!isfinite(f->y[i]) || !isfinite(f->vy[i])))) {
+            (f->dim >= 2 && (!isfinite(f->y[i]) || !isfinite(f->vy[i]))) ||
+            (f->dim == 3 && (!isfinite(f->z[i]) || !isfinite(f->vz[i])))) {
             gr_frame_free(f);
             return GR_FAIL(err, GR_EINVAL, "%s:%ld: position or velocity not finite", path,
                            *line_no);

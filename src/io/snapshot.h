@@ -25,9 +25,11 @@ typedef struct gr_frame {
     int n, dim;
     double L, t, radius;
     double *x, *y, *vx, *vy;
+    double *z, *vz; /* dim = 3 only (NULL otherwise) */
 } gr_frame;
 
-/* Read the next frame of `in` into f (arrays allocated here; dim 1 when pbc = "T F F"). Accepts
+/* Read the next frame of `in` into f (arrays allocated here; dim 1 when pbc = "T F F", 3 when
+ * pbc = "T T T"). Accepts
  * any Properties with pos and velo (or momenta and masses); radius optional. *line_no counts the
  * lines read so far (for messages naming path:line). Returns GR_OK, GR_EINVAL/GR_ENOMEM with a
  * message, or 1 at a clean end of file. */

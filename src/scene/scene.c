@@ -1121,8 +1121,9 @@ static where model_where(const given *g, const gr_scene *s, const char *name)
 
 /* dim = 3 (spheres, docs/three-dimensions.md): the default placement follows dim (cubic), as does
  * the moment of inertia's factor (2/5, a solid sphere, unless inertia_factor is given), and what
- * 3D cannot run yet is refused at its key, never run silently: walls, gravity, an integrator without spheres (event, hybrid), the Langevin bath,
- * single-precision noise, observables not defined in 3D, the h5md trajectory. */
+ * 3D cannot run yet is refused at its key, never run silently: walls, gravity, an integrator
+ * without spheres (event, hybrid), the Langevin bath, single-precision noise, observables not
+ * defined in 3D. */
 static int resolve_3d(gr_scene *s, const given *g, gr_error *err)
 {
     static const char *const why = "dim = 3 runs the soft contact laws with the random force (or "
@@ -1172,7 +1173,6 @@ static int resolve_3d(gr_scene *s, const given *g, gr_error *err)
         {s->gravity[1] != 0.0, "gravity", "gy", "0"},
         {s->driving && s->driving->update == GR_DRIVE_BATH, "driving", "kind", "rfm | none"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
-        {s->trajectory == GR_TRAJ_H5MD, "output", "trajectory", "snapshots | xyz"},
     };
     for (size_t k = 0; k < sizeof refused / sizeof refused[0]; k++) {
         if (refused[k].on) {

@@ -1,0 +1,234 @@
+/* S(k) of a 3D frame (src/analysis/sk.h): every lattice vector k = 2 pi n / L of the half space
+ * with |n| <= n_cut, S(k) = |rho(k)|^2 / N, by Gaussian gridding (Greengard & Lee, SIAM Review 46,
+ * 443 (2004), as the 2D engine in obs_sk.c: spread each particle onto an R-times oversampled M_r^3
+ * periodic grid with a separable Gaussian over 2 msp points per axis, one r2c FFTW transform,
+ * deconvolve by (pi / tau)^(3/2) e^{tau |n|^2}) or by the direct sum. */
+#include <fftw3.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis/sk.h"
+
+struct gr_sk3_plan {
+    double L, tau, h;
+    int n_max, msp, Mr, Mc, nv;
+    int *nx, *ny, *nz;
+    size_t *idx;    /* spectrum index of each vector */
+    double *deconv; /* (pi / tau)^(3/2) e^{tau |n|^2} / Mr^3 */
+    double e3[GR_SK_MSP_MAX + 1];
+    double *grid;
+    fftw_complex *spec;
+    fftw_plan plan;
+};
+
+void gr_sk3_plan_free(gr_sk3_plan *pl)
+{
+    if (!pl) {
+        return;
+    }
+    if (pl->plan) {
+        fftw_destroy_plan(pl->plan);
+    }
+    fftw_free(pl->grid);
+    fftw_free(pl->spec);
+    free(pl->nx);
+    free(pl->ny);
+    free(pl->nz);
+    free(pl->idx);
+    free(pl->deconv);
+    free(pl);
+}
+
+/* n in the half space: n_z > 0, or n_z = 0 and n_y > 0, or n_z = n_y = 0 and n_x > 0 */
+static int half_space(int a, int b, int c)
+{
+    return c > 0 || (c == 0 && (b > 0 || (b == 0 && a > 0)));
+}
+
+int gr_sk3_plan_create(double L, double n_cut, int msp, gr_sk3_plan **out, gr_error *err)
+{
+    *out = NULL;
+    if (!(L > 0.0) || !isfinite(L)) {
+        return GR_FAIL(err, GR_EINVAL, "sk: box side L = %g must be positive", L);
+    }
+    if (!(n_cut >= 1.0) || !isfinite(n_cut)) {
+        return GR_FAIL(err, GR_EINVAL, "sk: no lattice vector 2 pi n / L with 0 < |n| <= %g",
+                       n_cut);
+    }
+    if (n_cut > GR_SK3_NMAX_LIMIT) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "sk: in 3D |n| up to %.0f exceeds the limit %d (grid memory, M_r^3); lower "
+                       "[analysis] sk_kd_max",
+                       n_cut, GR_SK3_NMAX_LIMIT);
+    }
+    if (msp < 1 || msp > GR_SK_MSP_MAX) {
+        return GR_FAIL(err, GR_EINVAL, "sk: gridding half-width msp = %d outside 1..%d", msp,
+                       GR_SK_MSP_MAX);
+    }
+    gr_sk3_plan *pl = calloc(1, sizeof *pl);
+    if (!pl) {
+        return GR_FAIL(err, GR_ENOMEM, "sk: out of memory");
+    }
+    const long nsq = (long)floor(n_cut * n_cut * (1.0 + 1e-12));
+    const int n = (int)floor(sqrt((double)nsq) + 1e-9);
+    pl->L = L;
+    pl->n_max = n;
+    pl->msp = msp;
+    long count = 0;
+    for (int c = -n; c <= n; c++) {
+        for (int b = -n; b <= n; b++) {
+            for (int a = -n; a <= n; a++) {
+                count += half_space(a, b, c) && (long)a * a + (long)b * b + (long)c * c <= nsq;
+            }
+        }
+    }
+    const int M = 2 * n + 1;
+    pl->Mr = gr_sk_fft_size(2 * M > 2 * msp ? 2 * M : 2 * msp);
+    pl->Mc = pl->Mr / 2 + 1;
+    const double R = (double)pl->Mr / M;
+    pl->tau = M_PI * msp / ((double)M * M * R * (R - 0.5));
+    pl->h = 2.0 * M_PI / pl->Mr;
+    for (int l = 0; l <= msp; l++) {
+        pl->e3[l] = exp(-(l * pl->h) * (l * pl->h) / (4.0 * pl->tau));
+    }
+    const size_t Mr = (size_t)pl->Mr;
+    pl->nv = (int)count;
+    pl->nx = malloc(sizeof(int) * (size_t)count);
+    pl->ny = malloc(sizeof(int) * (size_t)count);
+    pl->nz = malloc(sizeof(int) * (size_t)count);
+    pl->idx = malloc(sizeof(size_t) * (size_t)count);
+    pl->deconv = malloc(sizeof(double) * (size_t)count);
+    pl->grid = fftw_malloc(sizeof(double) * Mr * Mr * Mr);
+    pl->spec = fftw_malloc(sizeof(fftw_complex) * Mr * Mr * (size_t)pl->Mc);
+    if (!pl->nx || !pl->ny || !pl->nz || !pl->idx || !pl->deconv || !pl->grid || !pl->spec) {
+        gr_sk3_plan_free(pl);
+        return GR_FAIL(err, GR_ENOMEM, "sk: out of memory (%ld vectors, %d^3 grid)", count,
+                       (int)Mr);
+    }
+    /* grid[(ix Mr + iy) Mr + iz]: z is the halved axis of the r2c output, spec[(kx Mr + ky) Mc +
+     * kz], kz = 0..Mr/2; FFTW_ESTIMATE (the same arithmetic on every run), planned once here */
+    pl->plan = fftw_plan_dft_r2c_3d(pl->Mr, pl->Mr, pl->Mr, pl->grid, pl->spec, FFTW_ESTIMATE);
+    if (!pl->plan) {
+        gr_sk3_plan_free(pl);
+        return GR_FAIL(err, GR_ENOMEM, "sk: FFTW could not plan a %d^3 transform", (int)Mr);
+    }
+    const double norm = pow(M_PI / pl->tau, 1.5) / ((double)Mr * Mr * Mr);
+    int v = 0;
+    for (int c = -n; c <= n; c++) {
+        for (int b = -n; b <= n; b++) {
+            for (int a = -n; a <= n; a++) {
+                const long q = (long)a * a + (long)b * b + (long)c * c;
+                if (!half_space(a, b, c) || q > nsq) {
+                    continue;
+                }
+                pl->nx[v] = a;
+                pl->ny[v] = b;
+                pl->nz[v] = c;
+                pl->idx[v] =
+                    ((size_t)(a >= 0 ? a : pl->Mr + a) * Mr + (size_t)(b >= 0 ? b : pl->Mr + b)) *
+                        (size_t)pl->Mc +
+                    (size_t)c;
+                pl->deconv[v] = norm * exp(pl->tau * (double)q);
+                v++;
+            }
+        }
+    }
+    *out = pl;
+    return GR_OK;
+}
+
+int gr_sk3_plan_vectors(const gr_sk3_plan *pl, const int **nx, const int **ny, const int **nz)
+{
+    if (nx) {
+        *nx = pl->nx;
+    }
+    if (ny) {
+        *ny = pl->ny;
+    }
+    if (nz) {
+        *nz = pl->nz;
+    }
+    return pl->nv;
+}
+
+void gr_sk3_plan_grid(const gr_sk3_plan *pl, int *grid, double *tau)
+{
+    if (grid) {
+        *grid = pl->Mr;
+    }
+    if (tau) {
+        *tau = pl->tau;
+    }
+}
+
+static int wrap_index(int i, int Mr) { return i < 0 ? i + Mr : i >= Mr ? i - Mr : i; }
+
+static void compute_gridding(gr_sk3_plan *pl, int n, const double *x, const double *y,
+                             const double *z, double *S)
+{
+    const int Mr = pl->Mr, w2 = 2 * pl->msp;
+    const size_t M = (size_t)Mr;
+    memset(pl->grid, 0, sizeof(double) * M * M * M);
+    double wx[2 * GR_SK_MSP_MAX], wy[2 * GR_SK_MSP_MAX], wz[2 * GR_SK_MSP_MAX];
+    int iy[2 * GR_SK_MSP_MAX], iz[2 * GR_SK_MSP_MAX];
+    for (int j = 0; j < n; j++) {
+        const int x0 = gr_sk_gauss_weights(pl->L, Mr, pl->h, pl->tau, pl->msp, pl->e3, x[j], wx);
+        const int y0 = gr_sk_gauss_weights(pl->L, Mr, pl->h, pl->tau, pl->msp, pl->e3, y[j], wy);
+        const int z0 = gr_sk_gauss_weights(pl->L, Mr, pl->h, pl->tau, pl->msp, pl->e3, z[j], wz);
+        for (int k = 0; k < w2; k++) {
+            iy[k] = wrap_index(y0 + k, Mr);
+            iz[k] = wrap_index(z0 + k, Mr);
+        }
+        for (int a = 0; a < w2; a++) {
+            double *plane = pl->grid + (size_t)wrap_index(x0 + a, Mr) * M * M;
+            for (int b = 0; b < w2; b++) {
+                double *row = plane + (size_t)iy[b] * M;
+                const double wab = wx[a] * wy[b];
+                for (int c = 0; c < w2; c++) {
+                    row[iz[c]] += wab * wz[c];
+                }
+            }
+        }
+    }
+    fftw_execute(pl->plan);
+    const double inv_n = 1.0 / n;
+    for (int v = 0; v < pl->nv; v++) {
+        const double *c = pl->spec[pl->idx[v]];
+        const double f = pl->deconv[v];
+        S[v] = (c[0] * c[0] + c[1] * c[1]) * f * f * inv_n;
+    }
+}
+
+/* The direct sum, vector by vector: O(N n_vectors), the oracle of the tests. */
+static void compute_direct(const gr_sk3_plan *pl, int n, const double *x, const double *y,
+                           const double *z, double *S)
+{
+    const double k0 = 2.0 * M_PI / pl->L;
+    for (int v = 0; v < pl->nv; v++) {
+        double re = 0.0, im = 0.0;
+        for (int j = 0; j < n; j++) {
+            const double ph = k0 * (pl->nx[v] * x[j] + pl->ny[v] * y[j] + pl->nz[v] * z[j]);
+            re += cos(ph);
+            im -= sin(ph);
+        }
+        S[v] = (re * re + im * im) / n;
+    }
+}
+
+int gr_sk3_compute(gr_sk3_plan *pl, int method, int n, const double *x, const double *y,
+                   const double *z, double *S, gr_error *err)
+{
+    if (n < 1 || !x || !y || !z) {
+        return GR_FAIL(err, GR_EINVAL, "sk: a 3D frame needs at least one particle with x, y, z");
+    }
+    if (method == GR_SK_DIRECT) {
+        compute_direct(pl, n, x, y, z, S);
+        return GR_OK;
+    }
+    if (method != GR_SK_GRIDDING) {
+        return GR_FAIL(err, GR_EINVAL, "sk: unknown method %d", method);
+    }
+    compute_gridding(pl, n, x, y, z, S);
+    return GR_OK;
+}
