@@ -16,7 +16,8 @@
  * - kinetic theory (docs/validation.md, "Hard spheres in 3D"): the elastic collision frequency
  *   (Enskog, Carnahan-Starling chi), Haff's law with the Enskog cooling rate, the HCS's fourth
  *   cumulant a2 (negative at eps = 0.8, positive at 0.5, first Sonine), the driven steady state's T
- *   (Enskog balance) and a2 (van Noije & Ernst's stochastic thermostat). */
+ *   (Enskog balance) and a2 (van Noije & Ernst's stochastic thermostat); the collision frequency
+ *   and the HCS a2 of discs too (2D, Henderson's chi). */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -296,13 +297,14 @@ END_TEST
 
 /* ---------- kinetic theory (docs/validation.md, "Hard spheres in 3D") ---------- */
 
-/* The temperature per degree of freedom T_1 = T / 3 (velocity^2) and the fourth cumulant
- * a2 = (3/5) <c^4> / <c^2>^2 - 1 of the peculiar velocities c. */
+/* The temperature per degree of freedom T_1 = T / d (velocity^2) and the fourth cumulant
+ * a2 = d / (d + 2) <c^4> / <c^2>^2 - 1 of the peculiar velocities c (d = 3; also 2D discs). */
 static void moments(const gr_sim *s, double *T1, double *a2)
 {
     double m[3] = {0.0, 0.0, 0.0}, c2 = 0.0, c4 = 0.0;
     const double *v[3] = {s->vx, s->vy, s->vz};
-    for (int a = 0; a < 3; a++) {
+    const int d = s->dim;
+    for (int a = 0; a < d; a++) {
         for (int i = 0; i < s->n; i++) {
             m[a] += v[a][i];
         }
@@ -310,7 +312,7 @@ static void moments(const gr_sim *s, double *T1, double *a2)
     }
     for (int i = 0; i < s->n; i++) {
         double q = 0.0;
-        for (int a = 0; a < 3; a++) {
+        for (int a = 0; a < d; a++) {
             q += (v[a][i] - m[a]) * (v[a][i] - m[a]);
         }
         c2 += q;
@@ -318,8 +320,25 @@ static void moments(const gr_sim *s, double *T1, double *a2)
     }
     c2 /= s->n;
     c4 /= s->n;
-    *T1 = c2 / 3.0;
-    *a2 = 0.6 * c4 / (c2 * c2) - 1.0;
+    *T1 = c2 / d;
+    *a2 = (double)d / (d + 2) * c4 / (c2 * c2) - 1.0;
+}
+
+/* Enskog's collision frequency per particle of elastic-theory spheres (d = 3, Carnahan-Starling's
+ * chi) or discs (d = 2, Henderson's chi) at temperature T_1 per degree of freedom:
+ * nu = 4 sqrt(pi) n sigma^2 chi sqrt(T_1) = (24 / sqrt(pi)) phi chi sqrt(T_1) / sigma in 3D,
+ * nu = 2 sqrt(pi) n sigma chi sqrt(T_1) = (8 / sqrt(pi)) phi chi sqrt(T_1) / sigma in 2D. */
+static double enskog_nu(int dim, double phi, double T1, double sigma)
+{
+    return dim == 3 ? 24.0 / sqrt(M_PI) * phi * gr_chi_cs(phi) * sqrt(T1) / sigma
+                    : 8.0 / sqrt(M_PI) * phi * gr_chi_henderson(phi) * sqrt(T1) / sigma;
+}
+
+/* Haff's 1 / (t0 sqrt(T_1 at 0)) with the Enskog rate and the HCS a2 (src/app/mean_field.c). */
+static double haff_rate(int dim, double phi, double eps, double sigma)
+{
+    return dim == 3 ? gr_haff_rate_3d(phi, eps, sigma, gr_hcs_a2(eps, 3))
+                    : gr_haff_rate_2d(phi, eps, sigma);
 }
 
 /* The mean of x[0..n-1] and its standard error from `nb` batch means (correlated samples). */
@@ -341,17 +360,18 @@ static double batch_mean(const double *x, int n, int nb, double *se)
     return m;
 }
 
-/* The gas of `gas` with N, phi, eps_n and the seed set, driven by the random force (D = 1e-8
- * N^2 s, symmetrised) when `noise`; sc is the caller's to free. */
-static gr_sim *gas_sim(gr_scene *sc, int n, double phi, double eps, int seed, bool noise)
+/* The gas of `gas` in dim dimensions with N, phi, eps_n and the seed set, driven by the random
+ * force (D = 1e-8 N^2 s, symmetrised) when `noise`; sc is the caller's to free. */
+static gr_sim *gas_sim(gr_scene *sc, int dim, int n, double phi, double eps, int seed, bool noise)
 {
-    char sn[40], sp[40], se[40], ss[40];
+    char sd[40], sn[40], sp[40], se[40], ss[40];
+    snprintf(sd, sizeof sd, "system.dim=%d", dim);
     snprintf(sn, sizeof sn, "system.N=%d", n);
     snprintf(sp, sizeof sp, "system.packing_fraction=%g", phi);
     snprintf(se, sizeof se, "model.eps_n=%g", eps);
     snprintf(ss, sizeof ss, "run.seed=%d", seed);
-    const char *set[] = {sn, sp, se, ss, "noise.mode=symmetrised", "noise.D=1e-8"};
-    load(sc, gas, set, noise ? 6 : 4);
+    const char *set[] = {sd, sn, sp, se, ss, "noise.mode=symmetrised", "noise.D=1e-8"};
+    load(sc, gas, set, noise ? 7 : 5);
     return create(sc);
 }
 
@@ -366,10 +386,10 @@ typedef struct hcs_result {
  * half collision per particle (from the Enskog collision frequency
  * nu = (24 / sqrt(pi)) phi chi sqrt(T_1) / sigma); from c0 collisions per particle on, fits
  * T_1^(-1/2) against t by least squares and averages a2, until c1 collisions per particle. */
-static hcs_result hcs(int n, double phi, double eps, int seed, double c0, double c1)
+static hcs_result hcs(int dim, int n, double phi, double eps, int seed, double c0, double c1)
 {
     gr_scene *sc = malloc(sizeof *sc);
-    gr_sim *s = gas_sim(sc, n, phi, eps, seed, false);
+    gr_sim *s = gas_sim(sc, dim, n, phi, eps, seed, false);
     hcs_result r = {.phi = phi, .eps = eps, .sigma = s->d};
     const int cap = 4 * (int)c1 + 16;
     double *t = malloc(sizeof(double) * (size_t)cap), *y = malloc(sizeof(double) * (size_t)cap),
@@ -388,8 +408,7 @@ static hcs_result hcs(int n, double phi, double eps, int seed, double c0, double
             a[m] = a2;
             m++;
         }
-        const double nu = 24.0 / sqrt(M_PI) * phi * gr_chi_cs(phi) * sqrt(T1) / s->d;
-        const int64_t k = steps_of(s, 0.5 / nu);
+        const int64_t k = steps_of(s, 0.5 / enskog_nu(dim, phi, T1, s->d));
         step(s, k > 0 ? k : 1);
     }
     ck_assert_msg(m >= 20, "%d samples", m);
@@ -414,13 +433,13 @@ static hcs_result hcs(int n, double phi, double eps, int seed, double c0, double
  * `warm` of equilibration, against Enskog's nu = (24 / sqrt(pi)) phi chi sqrt(T_1) / sigma with
  * Carnahan-Starling's chi (exact for the equilibrium hard-sphere gas given the contact value).
  * Returns the ratio. */
-static double collision_ratio(int n, double phi, int seed, double warm, double t)
+static double collision_ratio(int dim, int n, double phi, int seed, double warm, double t)
 {
     gr_scene *sc = malloc(sizeof *sc);
-    gr_sim *s = gas_sim(sc, n, phi, 1.0, seed, false);
+    gr_sim *s = gas_sim(sc, dim, n, phi, 1.0, seed, false);
     double T1, a2;
     moments(s, &T1, &a2);
-    const double nu = 24.0 / sqrt(M_PI) * phi * gr_chi_cs(phi) * sqrt(T1) / s->d;
+    const double nu = enskog_nu(dim, phi, T1, s->d);
     step(s, steps_of(s, warm / nu));
     const int64_t c0 = s->collisions;
     const double t0 = gr_sim_time(s);
@@ -442,9 +461,9 @@ typedef struct driven_result {
 static driven_result driven(int n, double phi, double eps, int seed, double warm, double span)
 {
     gr_scene *sc = malloc(sizeof *sc);
-    gr_sim *s = gas_sim(sc, n, phi, eps, seed, true);
+    gr_sim *s = gas_sim(sc, 3, n, phi, eps, seed, true);
     const double pred = gr_steady_T_enskog_3d(sc->D, s->mass, s->d, phi, eps, n);
-    const double nu = 24.0 / sqrt(M_PI) * phi * gr_chi_cs(phi) * sqrt(pred / 3.0) / s->d;
+    const double nu = enskog_nu(3, phi, pred / 3.0, s->d);
     step(s, steps_of(s, warm / nu));
     const int m = (int)(2.0 * span);
     double *T = malloc(sizeof(double) * (size_t)m), *a = malloc(sizeof(double) * (size_t)m);
@@ -466,15 +485,18 @@ static driven_result driven(int n, double phi, double eps, int seed, double warm
 /* Elastic spheres: Enskog's collision frequency with Carnahan-Starling's chi within 2 % (measured
  * 1.003 at phi = 0.1, 1.005-1.010 at 0.25). At phi = 0.25 chi = 1 would be 52 % low, Henderson's
  * 2D chi 24 % low, the temperature of eq. 2.19 in place of T_1 = T / 3 73 % high. */
+static void collision_frequency(int dim, double phi)
+{
+    const double r = collision_ratio(dim, 2000, phi, 1, 5.0, 20.0);
+    VERBOSE("%dD elastic, phi = %g: collision frequency / Enskog = %.4f\n", dim, phi, r);
+    ck_assert_msg(fabs(r - 1.0) < 0.02, "%dD, phi = %g: collision frequency / Enskog = %.4f", dim,
+                  phi, r);
+}
+
 START_TEST(test_collision_frequency)
 {
-    const double phis[2] = {0.1, 0.25};
-    for (int k = 0; k < 2; k++) {
-        const double r = collision_ratio(2000, phis[k], 1, 5.0, 20.0);
-        VERBOSE("elastic, phi = %g: collision frequency / Enskog = %.4f\n", phis[k], r);
-        ck_assert_msg(fabs(r - 1.0) < 0.02, "phi = %g: collision frequency / Enskog = %.4f",
-                      phis[k], r);
-    }
+    collision_frequency(3, 0.1);
+    collision_frequency(3, 0.25);
 }
 END_TEST
 
@@ -486,7 +508,7 @@ START_TEST(test_haff_dense)
 {
     double sum = 0.0;
     for (int seed = 1; seed <= 3; seed++) {
-        const hcs_result r = hcs(2000, 0.1, 0.9, seed, 5.0, 40.0);
+        const hcs_result r = hcs(3, 2000, 0.1, 0.9, seed, 5.0, 40.0);
         const double ratio = r.rate / gr_haff_rate_3d(0.1, 0.9, r.sigma, gr_hcs_a2(0.9, 3));
         VERBOSE("Haff, eps 0.9, phi 0.1, seed %d: rate / Enskog %.4f, a2 %.4f +- %.4f\n", seed,
                 ratio, r.a2, r.a2_se);
@@ -499,13 +521,13 @@ END_TEST
 /* The HCS over 10-60 collisions per particle (N = 2000): a2 more than 3 standard errors away from
  * 0 on the side of the first Sonine value and within 4 standard errors of it; the Haff rate within
  * 4 % of Enskog's. */
-static void hcs_a2(double phi, double eps)
+static void hcs_a2(int dim, int n, double phi, double eps, double c0, double c1)
 {
-    const hcs_result r = hcs(2000, phi, eps, 1, 10.0, 60.0);
-    const double a2 = gr_hcs_a2(eps, 3);
-    const double ratio = r.rate / gr_haff_rate_3d(phi, eps, r.sigma, a2);
-    VERBOSE("HCS eps %g, phi %g: a2 %.4f +- %.4f (Sonine %.4f), rate / Enskog %.4f\n", eps, phi,
-            r.a2, r.a2_se, a2, ratio);
+    const hcs_result r = hcs(dim, n, phi, eps, 1, c0, c1);
+    const double a2 = gr_hcs_a2(eps, dim);
+    const double ratio = r.rate / haff_rate(dim, phi, eps, r.sigma);
+    VERBOSE("HCS %dD eps %g, phi %g: a2 %.4f +- %.4f (Sonine %.4f), rate / Enskog %.4f\n", dim, eps,
+            phi, r.a2, r.a2_se, a2, ratio);
     ck_assert_msg(r.a2 * copysign(1.0, a2) > 3.0 * r.a2_se && fabs(r.a2 - a2) < 4.0 * r.a2_se,
                   "eps %g: a2 = %.4f +- %.4f, first Sonine %.4f", eps, r.a2, r.a2_se, a2);
     ck_assert_msg(fabs(ratio - 1.0) < 0.04, "eps %g: Haff rate / Enskog = %.4f", eps, ratio);
@@ -513,12 +535,12 @@ static void hcs_a2(double phi, double eps)
 
 /* eps = 0.8, phi = 0.05 (L = 0.5 L_perp): a2 negative, first Sonine -0.0126 (measured -0.0140 +-
  * 0.0027); Haff rate / Enskog 0.978. */
-START_TEST(test_hcs_a2_negative) { hcs_a2(0.05, 0.8); }
+START_TEST(test_hcs_a2_negative) { hcs_a2(3, 2000, 0.05, 0.8, 10.0, 60.0); }
 END_TEST
 
 /* eps = 0.5, phi = 0.02: a2 positive, first Sonine 0.0525 (measured 0.0530 +- 0.0033); Haff rate /
  * Enskog 0.979 (the quasi-elastic 2 (1 - eps) of eq. 1.2 for 1 - eps^2 would be 33 % high). */
-START_TEST(test_hcs_a2_positive) { hcs_a2(0.02, 0.5); }
+START_TEST(test_hcs_a2_positive) { hcs_a2(3, 2000, 0.02, 0.5, 10.0, 60.0); }
 END_TEST
 
 /* The random-force-driven steady state. eps = 0.8, phi = 0.1 (N = 1000): T within 4 % of the
@@ -541,6 +563,27 @@ START_TEST(test_driven)
 }
 END_TEST
 
+/* The same checks for discs (2D, Henderson's chi), where the HCS stays homogeneous: the elastic
+ * collision frequency within 2 % at phi = 0.1 and 0.3 (measured 1.001, 0.998; Carnahan-Starling's
+ * sphere chi would be 40 % high at 0.3). */
+START_TEST(test_2d_collision_frequency)
+{
+    collision_frequency(2, 0.1);
+    collision_frequency(2, 0.3);
+}
+END_TEST
+
+/* 2D HCS at phi = 0.01: eps = 0.8 (N = 2000, 10-60 collisions per particle) a2 negative, first
+ * Sonine -0.0219 (measured -0.0250 +- 0.0026), Haff rate / Enskog 0.993; eps = 0.5 (N = 1000,
+ * 8-40: the smaller box stays homogeneous longer) a2 positive, first Sonine 0.0829 (measured
+ * 0.0914 +- 0.0088), rate 0.969. */
+START_TEST(test_2d_hcs_a2)
+{
+    hcs_a2(2, 2000, 0.01, 0.8, 10.0, 60.0);
+    hcs_a2(2, 1000, 0.01, 0.5, 8.0, 40.0);
+}
+END_TEST
+
 static Suite *event_3d_suite(void)
 {
     Suite *s = suite_create("event-3d");
@@ -560,6 +603,8 @@ static Suite *event_3d_suite(void)
     tcase_add_test(kt, test_hcs_a2_negative);
     tcase_add_test(kt, test_hcs_a2_positive);
     tcase_add_test(kt, test_driven);
+    tcase_add_test(kt, test_2d_collision_frequency);
+    tcase_add_test(kt, test_2d_hcs_a2);
     suite_add_tcase(s, kt);
     return s;
 }

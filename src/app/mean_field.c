@@ -81,9 +81,14 @@ double gr_hcs_a2(double eps, int dim)
  * freedom, velocity^2; chi = (1 - 7 phi/16) / (1 - phi)^2, Henderson). Returns zeta / (2 sqrt T),
  * i.e. 1 / (t0 sqrt(T0)) of T = T0 / (1 + t/t0)^2. The thesis's eq. 1.2 is the quasi-elastic limit
  * (1 - eps^2 -> 2 (1 - eps), a2 -> 0), 33 % off at eps = 0.5. */
+double gr_chi_henderson(double phi)
+{
+    return (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi));
+}
+
 double gr_haff_rate_2d(double phi, double eps, double sigma)
 {
-    const double chi = (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi));
+    const double chi = gr_chi_henderson(phi);
     return 2.0 / sqrt(M_PI) * phi * chi * (1.0 - eps * eps) *
            (1.0 + 3.0 * gr_hcs_a2(eps, 2) / 16.0) / sigma;
 }

@@ -27,6 +27,8 @@ double gr_haff_rate_2d(double phi, double eps, double sigma);
  * velocity distribution (the HCS's: gr_hcs_a2(eps, 3); Carnahan-Starling's chi, gr_chi_cs). */
 double gr_haff_rate_3d(double phi, double eps, double sigma, double a2);
 double gr_chi_cs(double phi);
+/* Henderson's contact value of the pair correlation of hard discs (2D). */
+double gr_chi_henderson(double phi);
 /* a2 of the steady state driven by a white-noise force (van Noije & Ernst's stochastic
  * thermostat), first Sonine, d dimensions. */
 double gr_driven_a2(double eps, int dim);
