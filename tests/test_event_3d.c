@@ -500,7 +500,7 @@ START_TEST(test_collision_frequency)
 }
 END_TEST
 
-/* Haff's law with the Enskog rate at eps = 0.9, phi = 0.1 (N = 2000, L = 0.74 L_perp): the fitted
+/* Haff's law with the Enskog rate at eps = 0.9, phi = 0.1 (N = 2000, L = 0.68 L_perp): the fitted
  * d(T_1^(-1/2))/dt over 5-40 collisions per particle, mean of three seeds within 4 % of
  * gr_haff_rate_3d (measured 0.998, 0.984, 0.978). Henderson's chi would put the prediction 9 %
  * low, chi = 1 23 % low; the 2D prefactor or T of eq. 2.19 miss by 2x and sqrt(3). */
@@ -533,7 +533,7 @@ static void hcs_a2(int dim, int n, double phi, double eps, double c0, double c1)
     ck_assert_msg(fabs(ratio - 1.0) < 0.04, "eps %g: Haff rate / Enskog = %.4f", eps, ratio);
 }
 
-/* eps = 0.8, phi = 0.05 (L = 0.5 L_perp): a2 negative, first Sonine -0.0126 (measured -0.0140 +-
+/* eps = 0.8, phi = 0.05 (L = 0.51 L_perp): a2 negative, first Sonine -0.0126 (measured -0.0140 +-
  * 0.0027); Haff rate / Enskog 0.978. */
 START_TEST(test_hcs_a2_negative) { hcs_a2(3, 2000, 0.05, 0.8, 10.0, 60.0); }
 END_TEST
