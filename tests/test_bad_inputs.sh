@@ -63,7 +63,7 @@ file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrotation = true\
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrotation = true\ntangential = tangential_dashpot\nrolling = rolling_friction\n | run $S --out $O | 2 | :7:;[model] tangential;dim = 3 | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[integrator]\nkind = hybrid\n | run $S --out $O | 2 | :6:;[integrator] kind;kind = hybrid;does not step spheres;allowed with dim = 3: verlet | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\nrotation = true\nbeta = 0.5\n[integrator]\nkind = event\n | run $S --out $O | 2 | :7:;[model] rotation;dim = 3;allowed in 3D: false | new
-file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.3\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n | run $S --out $O | 2 | 2.41 sphere diameters;event-driven integrator in 3D needs at least 4;[system] N or L | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.3\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n | run $S --out $O | 2 | 2.41 particle diameters;event-driven integrator needs at least 4;[system] N or L | new
 file:[system]\ndim = 3\nN = 64\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n[boundary]\ny = walls\n | run $S --out $O | 2 | :10:;[boundary] y;dim = 3;allowed in 3D: periodic | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[boundary]\nx = walls\n | run $S --out $O | 2 | :6:;[boundary] x;dim = 3;allowed in 3D: periodic | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[gravity]\ngy = -9.81\n | run $S --out $O | 2 | :6:;[gravity] gy;dim = 3;allowed in 3D: 0 | new

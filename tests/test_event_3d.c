@@ -102,7 +102,8 @@ START_TEST(test_elastic_gas)
     gr_sim *s = NULL;
     gr_error err = {0};
     ck_assert_int_eq(gr_sim_create(sc, &s, &err), GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "2.41 sphere diameters") && strstr(err.message, "at least 4"),
+    ck_assert_msg(strstr(err.message, "2.41 particle diameters") &&
+                      strstr(err.message, "at least 4"),
                   "%s", err.message);
     free(sc);
 }

@@ -8,8 +8,8 @@
  * Cells have side >= d, so a particle can only touch particles of its own and the 8 (3D: 26)
  * adjacent cells; a particle's membership is kept exact by crossing events, and after every change
  * of its trajectory (collision) or cell (crossing) it is predicted again against those 9 (27)
- * cells. Fewer than 3 cells per side: all pairs, no crossings (2D; 3D needs at least 4, see
- * alloc). Positions stay in [0, L): a
+ * cells. At least 4 cells per side (see alloc); all pairs, no crossings, only in a box walled
+ * all round. Positions stay in [0, L): a
  * crossing out of the box wraps the particle's base. Pair geometry uses the minimum image.
  *
  * The 3D instance adds the z terms (EV_Z) after the 2D expressions, so the 2D instance is the 2D
@@ -39,34 +39,35 @@ int EV_FN(alloc)(gr_sim *s, gr_error *err)
     struct gr_event_state *e = gr_ev(s);
     const size_t n = (size_t)(e->n > 0 ? e->n : 1);
     e->ncell = (int)floor(e->L / e->d);
-#if GR_EV_DIM == 3
     /* A pair is predicted with the nearest periodic image of its relative position. With at
      * least 4 cells per side, particles in adjacent cells are less than L/2 apart on every axis,
      * so that image is the one they can touch until one of them changes cell or trajectory (and
-     * is predicted again); with fewer, a pair could meet through another image unseen. */
-    if (e->ncell < 4) {
+     * is predicted again); with fewer (3 cells, or all pairs) a pair could meet through another
+     * image unseen, and did (overlaps). Only walls on every axis (no images) allow all pairs. */
+    const bool pairs = e->n >= 2 && !(e->wall[0] && e->wall[1] && GR_EV_DIM == 2);
+    if (e->ncell < 4 && pairs) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: the periodic cube is %.3g sphere diameters wide (L = %g m, d = %g m): "
-                       "the event-driven integrator in 3D needs at least 4 (a cell grid of 4 "
-                       "cells per side keeps each pair's nearest periodic image exact); raise "
-                       "[system] N or L, or lower packing_fraction",
+                       "%s: the periodic box is %.3g particle diameters wide (L = %g m, d = %g m): "
+                       "the event-driven integrator needs at least 4 (a cell grid of 4 cells per "
+                       "side keeps each pair's nearest periodic image exact); raise [system] N or "
+                       "L, or lower packing_fraction",
                        s->params.source, e->L / e->d, e->L, e->d);
     }
-    /* no more cells than about 2 per particle (at least 4 per side) */
-    const int most = (int)ceil(cbrt(2.0 * e->n)) + 1;
-    if (e->ncell > most) {
-        e->ncell = most >= 4 ? most : 4;
-    }
-#else
-    if (e->ncell < 3) {
+    /* without pairs that could meet through an image (walls all round, or fewer than 2
+     * particles), 3 cells per side or all pairs as before */
+    const int least = pairs ? 4 : 3;
+    if (e->ncell < least) {
         e->ncell = 1;
     }
     /* no more cells than about 2 per particle: bigger cells only cost a few more pair checks */
+#if GR_EV_DIM == 3
+    const int most = (int)ceil(cbrt(2.0 * e->n)) + 1;
+#else
     const int most = (int)ceil(sqrt(2.0 * e->n)) + 1;
-    if (e->ncell > most) {
-        e->ncell = most >= 3 ? most : 1;
-    }
 #endif
+    if (e->ncell > most) {
+        e->ncell = most >= least ? most : pairs ? 4 : 1;
+    }
     e->cell = e->L / e->ncell;
     e->partner = malloc(n * sizeof(int));
     e->count = calloc(n, sizeof(int64_t));
