@@ -585,6 +585,46 @@ START_TEST(test_2d_hcs_a2)
 }
 END_TEST
 
+/* summary.json's mean_field of 3D runs: an undriven one gets the Haff fit with Enskog's t0_haff
+ * (T0 per degree of freedom) and a2_hcs, a driven one the Enskog balance with a2_driven. The fit
+ * of exact Haff samples made with gr_haff_rate_3d gives back t0_haff. */
+START_TEST(test_mean_field_3d)
+{
+    gr_scene *sc = malloc(sizeof *sc);
+    const char *set[] = {"model.eps_n=0.8"};
+    load(sc, gas, set, 1);
+    const double T0 = 0.3, rate = gr_haff_rate_3d(sc->packing_fraction, 0.8, 2.0 * sc->radius,
+                                                  gr_hcs_a2(0.8, 3));
+    const double t0 = 1.0 / (rate * sqrt(T0 / 3.0));
+    double t[50], T[50];
+    for (int k = 0; k < 50; k++) {
+        t[k] = 0.01 * k;
+        T[k] = T0 / ((1.0 + t[k] / t0) * (1.0 + t[k] / t0));
+    }
+    cJSON *j = gr_mean_field_haff(sc, t, T, 50);
+    ck_assert_ptr_nonnull(j);
+    const cJSON *fit = cJSON_GetObjectItemCaseSensitive(j, "t0_fit"),
+                *haff = cJSON_GetObjectItemCaseSensitive(j, "t0_haff");
+    const cJSON *a2 = cJSON_GetObjectItem(j, "a2_hcs");
+    ck_assert(fit && haff && a2);
+    ck_assert_double_eq_tol(haff->valuedouble, t0, 1e-12 * t0);
+    VERBOSE("t0 %.12g fit %.12g haff %.12g\n", t0, fit->valuedouble, haff->valuedouble);
+    ck_assert_double_eq_tol(fit->valuedouble, t0, 1e-9 * t0);
+    ck_assert_double_eq(a2->valuedouble, gr_hcs_a2(0.8, 3));
+    cJSON_Delete(j);
+    const char *driven_set[] = {"model.eps_n=0.8", "noise.mode=symmetrised", "noise.D=1e-8"};
+    load(sc, gas, driven_set, 3);
+    j = gr_mean_field_steady(sc, 1.0);
+    ck_assert_ptr_nonnull(j);
+    ck_assert_double_eq(cJSON_GetObjectItem(j, "a2_driven")->valuedouble, gr_driven_a2(0.8, 3));
+    ck_assert_double_eq(
+        cJSON_GetObjectItem(j, "T_predicted")->valuedouble,
+        gr_steady_T_enskog_3d(sc->D, sc->mass, 2.0 * sc->radius, sc->packing_fraction, 0.8, sc->N));
+    cJSON_Delete(j);
+    free(sc);
+}
+END_TEST
+
 static Suite *event_3d_suite(void)
 {
     Suite *s = suite_create("event-3d");
@@ -596,6 +636,7 @@ static Suite *event_3d_suite(void)
     tcase_add_test(tc, test_ledger);
     tcase_add_test(tc, test_restart);
     tcase_add_test(tc, test_refusals);
+    tcase_add_test(tc, test_mean_field_3d);
     suite_add_tcase(s, tc);
     TCase *kt = tcase_create("kinetic theory");
     tcase_set_timeout(kt, 600);
