@@ -489,7 +489,7 @@ START_TEST(test_library_refusals)
     ck_assert_msg(strstr(err.message, "[gravity]") && strstr(err.message, "dim = 3"), "%s",
                   err.message);
     p = ok;
-    p.integrator = gr_integrator_find("event");
+    p.integrator = gr_integrator_find("hybrid");
     ck_assert_int_eq(gr_sim_new(&p, &s, &err), GR_EINVAL);
     ck_assert_msg(strstr(err.message, "[integrator] kind"), "%s", err.message);
     p = ok;

@@ -61,7 +61,9 @@ base | run $S --out $O --set system.dim=4 | 2 | dim;[1, 3] | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrolling = rolling_friction\ntangential = sliding_friction\n | run $S --out $O | 2 | :6:;[model] rolling;needs dim = 2 or 3, [model] rotation = true;given dim = 3, rotation = false | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrotation = true\ninertia_factor = 1.5\ntangential = tangential_dashpot\n | run $S --out $O | 2 | :7:;inertia_factor;(0, 1] | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[integrator]\nkind = hybrid\n | run $S --out $O | 2 | :6:;[integrator] kind;kind = hybrid;does not step spheres;allowed with dim = 3: verlet | new
-file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n | run $S --out $O | 2 | :8:;[integrator] kind;kind = event;allowed with dim = 3: verlet | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\nrotation = true\nbeta = 0.5\n[integrator]\nkind = event\n | run $S --out $O | 2 | :7:;[model] rotation;dim = 3;allowed in 3D: false | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.3\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n | run $S --out $O | 2 | 2.41 particle diameters;event-driven integrator needs at least 4;[system] N or L | new
+file:[system]\ndim = 3\nN = 64\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n[boundary]\ny = walls\n | run $S --out $O | 2 | :10:;[boundary] y;dim = 3;allowed in 3D: periodic | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[boundary]\nx = walls\n | run $S --out $O | 2 | :6:;[boundary] x;dim = 3;allowed in 3D: periodic | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[gravity]\ngy = -9.81\n | run $S --out $O | 2 | :6:;[gravity] gy;dim = 3;allowed in 3D: 0 | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[driving]\nkind = langevin\n | run $S --out $O | 2 | :6:;[driving] kind;dim = 3;allowed in 3D: rfm | new

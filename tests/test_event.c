@@ -935,6 +935,39 @@ START_TEST(test_stop_flag)
 }
 END_TEST
 
+/* Small periodic boxes (2D): a pair is predicted with the nearest image of its separation, which
+ * stays the image it can touch only with at least 4 cells per side. Two discs in a box of 8.9 d
+ * got 3 cells (the cap of about 2 cells per particle) and overlapped at t = 0.05 s through the
+ * other image; now they get 4 and never overlap (checked after every event). A box of 3.5 d
+ * holding 4 discs is refused (all pairs had the same fault). */
+START_TEST(test_small_boxes)
+{
+    const char *ov[] = {"system.dim=2",          "system.N=2",     "system.packing_fraction=0.02",
+                        "placement.kind=random", "placement.v0=1", "model.normal=hard_sphere",
+                        "model.eps_n=1",         "model.eps_t=1",  "noise.mode=none",
+                        "integrator.kind=event"};
+    gr_scene sc = scene_of(ov, 10);
+    gr_sim *s = sim_of(&sc);
+    ck_assert_int_eq(gr_ev(s)->ncell, 4);
+    gr_event_set_debug(s, true, false);
+    gr_error err = {0};
+    int rc = gr_sim_step(s, (int64_t)llround(2.0 / s->dt), &err);
+    ck_assert_msg(rc == GR_OK, "%s", err.message);
+    ck_assert_int_ge(gr_sim_collisions(s), 5);
+    gr_sim_free(s);
+    const char *small[] = {
+        "system.dim=2",          "system.N=4",     "system.packing_fraction=0.256",
+        "placement.kind=random", "placement.v0=1", "model.normal=hard_sphere",
+        "model.eps_n=1",         "model.eps_t=1",  "noise.mode=none",
+        "integrator.kind=event"};
+    sc = scene_of(small, 10);
+    ck_assert_int_eq(gr_sim_create(&sc, &s, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "3.5 particle diameters") &&
+                      strstr(err.message, "at least 4"),
+                  "%s", err.message);
+}
+END_TEST
+
 static Suite *event_suite(void)
 {
     Suite *s = suite_create("event");
@@ -944,6 +977,7 @@ static Suite *event_suite(void)
     tcase_add_loop_test(tr, test_rule_table21, 0, (int)(sizeof EPS_PAIRS / sizeof EPS_PAIRS[0]));
     tcase_add_test(tr, test_validation);
     tcase_add_test(tr, test_solver_bounded);
+    tcase_add_test(tr, test_small_boxes);
     suite_add_tcase(s, tr);
     TCase *tg = tcase_create("guards");
     tcase_set_timeout(tg, 600);

@@ -466,6 +466,43 @@ run "$G" run swe.ini --out refwe --quiet
 [[ $rc -eq 0 ]] || fail "event walls+gravity reference run exits $rc" "$err"
 steps=$(grep -o '"steps":[[:space:]]*[0-9]*' refwe/summary.json | grep -o '[0-9]*$' || echo 0)
 sigterm_case "event walls+gravity" we swe.ini $((steps / 2)) 0.004 0.1
+# smooth hard spheres in 3D, event-driven (issue 35): exact free flight with three noise
+# components, cell crossings on the 3D grid, eps_t on the tangential relative velocity, snapshots
+cat >s3e.ini <<EOF
+[system]
+dim = 3
+N = 300
+packing_fraction = 0.1
+[placement]
+kind = random
+v0 = 0.2
+[model]
+normal = hard_sphere
+eps_n = 0.8
+eps_t = 0.6
+[noise]
+D = 1e-8
+[integrator]
+kind = event
+free_flight = exact
+[analysis]
+observables = moments
+[output]
+plots = false
+snapshot_every = 0.005
+[run]
+warmup = 0.002
+duration = $durw
+sample_every = 1e-3
+checkpoint_wall = 0
+EOF
+run "$G" run s3e.ini --out ref3e --quiet
+[[ $rc -eq 0 ]] || fail "3D event reference run exits $rc" "$err"
+steps=$(grep -o '"steps":[[:space:]]*[0-9]*' ref3e/summary.json | grep -o '[0-9]*$' || echo 0)
+per=$(awk -v n="$steps" -v t="$durw" 'BEGIN { printf "%d", n / int((t + 0.002) / 1e-3 + 0.5) }')
+sigterm_case "3D event" 3e s3e.ini $((steps / 2)) 0.004 0.1
+tick=$(awk -v s="$steps" 'BEGIN { c = s / 640; if (c < 1) c = 1; printf "%.3g", 0.05 / (3 * c + 6) }')
+wall_case "3D event" 3e s3e.ini "$tick" 97 1.05 "$per"
 
 # ---------- refusals ----------
 # an interrupted run to corrupt (copied fresh for each case)

@@ -22,7 +22,10 @@ cJSON *gr_mean_field_steady(const gr_scene *s, double T_mean)
         cJSON_AddStringToObject(
             j, "reference",
             "Enskog energy balance of smooth hard spheres: 3 D (1 - 1/N) / M = (M/2) zeta T, "
-            "Carnahan-Starling chi(phi), Maxwellian (a2 = 0); docs/three-dimensions.md");
+            "Carnahan-Starling chi(phi), first Sonine correction with the stochastic "
+            "thermostat's a2 (van Noije & Ernst 1998); docs/validation.md, \"Hard spheres in "
+            "3D\"");
+        cJSON_AddNumberToObject(j, "a2_driven", gr_driven_a2(s->contact.eps_n, 3));
         cJSON_AddNumberToObject(j, "T_predicted", pred);
         cJSON_AddNumberToObject(j, "T_measured", T_mean);
         cJSON_AddNumberToObject(j, "ratio", T_mean / pred);
@@ -78,23 +81,51 @@ double gr_hcs_a2(double eps, int dim)
  * freedom, velocity^2; chi = (1 - 7 phi/16) / (1 - phi)^2, Henderson). Returns zeta / (2 sqrt T),
  * i.e. 1 / (t0 sqrt(T0)) of T = T0 / (1 + t/t0)^2. The thesis's eq. 1.2 is the quasi-elastic limit
  * (1 - eps^2 -> 2 (1 - eps), a2 -> 0), 33 % off at eps = 0.5. */
+double gr_chi_henderson(double phi)
+{
+    return (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi));
+}
+
 double gr_haff_rate_2d(double phi, double eps, double sigma)
 {
-    const double chi = (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi));
+    const double chi = gr_chi_henderson(phi);
     return 2.0 / sqrt(M_PI) * phi * chi * (1.0 - eps * eps) *
            (1.0 + 3.0 * gr_hcs_a2(eps, 2) / 16.0) / sigma;
 }
 
+/* The fourth cumulant of the steady state of smooth inelastic hard spheres driven by a white-noise
+ * force (the stochastic thermostat), first Sonine approximation: van Noije & Ernst, Granular
+ * Matter 1, 57 (1998) (docs/validation.md, "Hard spheres in 3D"). */
+double gr_driven_a2(double eps, int dim)
+{
+    const double e = eps, d = dim;
+    return 16.0 * (1.0 - e) * (1.0 - 2.0 * e * e) /
+           (73.0 + 56.0 * d - 3.0 * e * (35.0 + 8.0 * d) + 30.0 * (1.0 - e) * e * e);
+}
+
+/* Carnahan-Starling's contact value of the pair correlation of hard spheres. */
+double gr_chi_cs(double phi)
+{
+    return (1.0 - 0.5 * phi) / ((1.0 - phi) * (1.0 - phi) * (1.0 - phi));
+}
+
 /* Smooth hard spheres (d = 3): the Enskog cooling rate of the temperature per degree of freedom
- * T_1 = T / 3 is zeta = (8 / sqrt(pi)) phi chi (1 - eps^2) sqrt(T_1) / sigma (Garzo & Dufty 1999,
- * Maxwellian), chi = (1 - phi/2) / (1 - phi)^3 (Carnahan-Starling). The random force raises T_1 by
- * 2 D (1 - 1/N) / M^2 per second (symmetrised: N - 1 degrees of freedom per component); the
- * balance 2 D (1 - 1/N) / M^2 = zeta T_1 gives T_1^(3/2) = 2 D (1 - 1/N) sigma sqrt(pi) /
- * (8 M^2 phi chi (1 - eps^2)). */
+ * T_1 = T / 3 is zeta = (8 / sqrt(pi)) phi chi (1 - eps^2) (1 + 3 a2 / 16) sqrt(T_1) / sigma
+ * (docs/validation.md, "Hard spheres in 3D"); returns zeta / (2 sqrt(T_1)), i.e. 1 / (t0 sqrt(T_1
+ * at 0)) of Haff's law, for the given a2 (the HCS's: gr_hcs_a2(eps, 3)). */
+double gr_haff_rate_3d(double phi, double eps, double sigma, double a2)
+{
+    return 4.0 / sqrt(M_PI) * phi * gr_chi_cs(phi) * (1.0 - eps * eps) * (1.0 + 3.0 * a2 / 16.0) /
+           sigma;
+}
+
+/* The random force raises T_1 = T / 3 by 2 D (1 - 1/N) / M^2 per second (symmetrised: N - 1
+ * degrees of freedom per component); the balance 2 D (1 - 1/N) / M^2 = zeta T_1 with the Enskog
+ * rate above and the stochastic thermostat's a2 (gr_driven_a2) gives T_1^(3/2) =
+ * 2 D (1 - 1/N) / (M^2 2 gr_haff_rate_3d). */
 double gr_steady_T_enskog_3d(double D, double M, double sigma, double phi, double eps, int N)
 {
-    const double chi = (1.0 - 0.5 * phi) / ((1.0 - phi) * (1.0 - phi) * (1.0 - phi));
-    const double k = 8.0 / sqrt(M_PI) * phi * chi * (1.0 - eps * eps) / sigma;
+    const double k = 2.0 * gr_haff_rate_3d(phi, eps, sigma, gr_driven_a2(eps, 3));
     const double input = 2.0 * D * (1.0 - 1.0 / N) / (M * M);
     return k > 0.0 ? 3.0 * pow(input / k, 2.0 / 3.0) : (double)INFINITY;
 }
@@ -164,7 +195,7 @@ cJSON *gr_mean_field_haff(const gr_scene *s, const double *t, const double *T, i
     cJSON *j = NULL;
     if (m >= 3 && m == n && gr_fit_line(t, y, NULL, m, &f, &err) == GR_OK && f.p[1] > 0.0) {
         double T0 = 1.0 / (f.p[0] * f.p[0]), t0 = f.p[0] / f.p[1];
-        double phi = s->dim == 2 ? s->packing_fraction : 0.0;
+        double phi = s->dim >= 2 ? s->packing_fraction : 0.0;
         j = cJSON_CreateObject();
         cJSON_AddStringToObject(j, "reference", "Haff's law (1.2): T = T0 / (1 + t/t0)^2");
         cJSON_AddNumberToObject(j, "T0_fit", T0);
@@ -184,6 +215,16 @@ cJSON *gr_mean_field_haff(const gr_scene *s, const double *t, const double *T, i
                 "2.19. "
                 "The thesis's eq. 1.2 is its quasi-elastic limit, 2 (1 - eps) for 1 - eps^2, a2 = "
                 "0");
+        } else if (s->dim == 3 && phi > 0.0 && !s->tangential) {
+            const double a2 = gr_hcs_a2(s->contact.eps_n, 3);
+            const double rate = gr_haff_rate_3d(phi, s->contact.eps_n, 2.0 * s->radius, a2);
+            cJSON_AddNumberToObject(j, "t0_haff", 1.0 / (rate * sqrt(T0 / 3.0)));
+            cJSON_AddNumberToObject(j, "a2_hcs", a2);
+            cJSON_AddStringToObject(
+                j, "note",
+                "Enskog cooling rate of smooth hard spheres (docs/validation.md, \"Hard spheres "
+                "in 3D\"): (1 - eps_n^2), Carnahan-Starling chi(phi), first Sonine correction "
+                "(1 + 3 a2/16); T0 per degree of freedom (T of eq. 2.19 / 3)");
         }
     }
     free(y);

@@ -12,8 +12,9 @@
 cJSON *gr_mean_field_steady(const gr_scene *s, double T_mean);
 /* The steady T (2.19, three components) of smooth inelastic hard spheres (diameter sigma, mass M,
  * packing fraction phi, restitution eps) driven by the random force of strength D, symmetrised:
- * the injection 3 D (1 - 1/N) / M per particle balances the Enskog dissipation (docs/three-dimensions.md,
- * "The driven steady state"). Infinite when eps = 1. */
+ * the injection 3 D (1 - 1/N) / M per particle balances the Enskog dissipation with the first
+ * Sonine correction of the stochastic thermostat (docs/validation.md, "Hard spheres in 3D").
+ * Infinite when eps = 1. */
 double gr_steady_T_enskog_3d(double D, double M, double sigma, double phi, double eps, int N);
 
 /* Haff's law (1.2) for an undriven gas: fits T(t) = T0 / (1 + t/t0)^2 to the samples and prints
@@ -22,6 +23,15 @@ double gr_steady_T_enskog_3d(double D, double M, double sigma, double phi, doubl
 double gr_hcs_a2(double eps, int dim);
 /* 1/(t0 sqrt(T0)) of Haff's law for smooth hard discs at packing fraction phi, diameter sigma. */
 double gr_haff_rate_2d(double phi, double eps, double sigma);
+/* The same for smooth hard spheres (T0 per degree of freedom), with the fourth cumulant a2 of the
+ * velocity distribution (the HCS's: gr_hcs_a2(eps, 3); Carnahan-Starling's chi, gr_chi_cs). */
+double gr_haff_rate_3d(double phi, double eps, double sigma, double a2);
+double gr_chi_cs(double phi);
+/* Henderson's contact value of the pair correlation of hard discs (2D). */
+double gr_chi_henderson(double phi);
+/* a2 of the steady state driven by a white-noise force (van Noije & Ernst's stochastic
+ * thermostat), first Sonine, d dimensions. */
+double gr_driven_a2(double eps, int dim);
 cJSON *gr_mean_field_haff(const gr_scene *s, const double *t, const double *T, int n);
 /* The steady T (2.19) of a gas in a Langevin bath (T_bath, tau) that cools at the Enskog rate:
  * (2/tau) (T_bath (1 - 1/N) - T) = zeta(T) T with zeta(T) = 2 rate sqrt(T / dim), rate =

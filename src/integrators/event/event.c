@@ -1,6 +1,6 @@
 /* The event-driven integrator: kick windows, free-flight noise, the 1D ring core,
- * the energy ledger and the hooks called by src/core (sim.c, step.c). The 2D core is
- * event_2d.c; the collision rule is rule.h. Design and measurements: docs/event-driven.md.
+ * the energy ledger and the hooks called by src/core (sim.c, step.c). The 2D and 3D cores are
+ * event_cells.h (event_2d.c, event_3d.c); the collision rule is the model's (models/list.h). Design and measurements: docs/event-driven.md.
  *
  * Noise (stream GR_STREAM_FREE_FLIGHT): window k draws, per particle and component, g1 from
  * counter step 2k and (exact mode) g2 from step 2k + 1.
@@ -59,12 +59,13 @@ int gr_ev_guard_check(gr_sim *s, double t_abs, int i, int j, gr_error *err)
     }
     const double span = t_abs - e->guard_mark_t;
     if (span < e->min_span) {
-        char who[80]; /* j < 0: the particle's own event, -1 - face (event_2d.c: 4.. are walls) */
+        char who[80]; /* j < 0: the particle's own event, -1 - face (event_cells.h: from 2 dim on
+                       * the walls) */
         if (j >= 0) {
             snprintf(who, sizeof who, "between particles %d and %d", i, j);
         } else {
             snprintf(who, sizeof who, "of particle %d %s", i,
-                     -1 - j >= 4 ? "on a wall" : "crossing a cell");
+                     -1 - j >= 2 * e->dim ? "on a wall" : "crossing a cell");
         }
         return GR_FAIL(
             err, GR_EUNSTABLE,
@@ -147,7 +148,16 @@ static void end_window(gr_sim *s)
     for (int i = 0; i < e->n; i++) {
         double x, v, y = 0.0, w = 0.0;
         gr_ev_state_x(e, i, e->tau, 1, &x, &v);
-        if (e->dim == 2) {
+        if (e->dim == 3) {
+            double z, u;
+            gr_ev_state_y(e, i, e->tau, 1, &y, &w);
+            gr_ev_state_z(e, i, e->tau, 1, &z, &u);
+            work += ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i];
+            e->by[i] = y;
+            e->bw[i] = w;
+            e->bz[i] = z;
+            e->bu[i] = u;
+        } else if (e->dim == 2) {
             gr_ev_state_y(e, i, e->tau, 1, &y, &w);
             work += ke2(v, w) - ke2(e->bv[i], e->bw[i]) -
                     gr_ev_gravity_work(e, x - e->bx[i], y - e->by[i]);
@@ -173,7 +183,7 @@ static void remove_com(gr_sim *s)
 {
     struct gr_event_state *e = gr_ev(s);
     double before = 0.0, after = 0.0;
-    double *v[2] = {e->bv, e->bw};
+    double *v[3] = {e->bv, e->bw, e->bu};
     for (int c = 0; c < e->dim; c++) {
         double m = 0.0;
         for (int i = 0; i < e->n; i++) {
@@ -194,11 +204,13 @@ static void draw_noise(gr_sim *s)
 {
     struct gr_event_state *e = gr_ev(s);
     const int n = e->n, dim = e->dim;
-    double *a1[2] = {e->a1x, e->a1y}, *a2[2] = {e->a2x, e->a2y}, *j[2] = {e->jx, e->jy};
+    double *a1[3] = {e->a1x, e->a1y, e->a1z}, *a2[3] = {e->a2x, e->a2y, e->a2z},
+           *j[3] = {e->jx, e->jy, e->jz};
+    const double grav[3] = {e->grav[0], e->grav[1], 0.0}; /* 3D: no gravity (refused) */
     if (!e->noise) {
         for (int c = 0; c < dim; c++) { /* gravity alone (0 without it) */
             for (int i = 0; i < n; i++) {
-                a1[c][i] = a2[c][i] = e->grav[c];
+                a1[c][i] = a2[c][i] = grav[c];
             }
         }
         return;
@@ -233,8 +245,8 @@ static void draw_noise(gr_sim *s)
                 a1[c][i] = a2[c][i] = 0.0;
                 j[c][i] = dv;
             }
-            a1[c][i] += e->grav[c]; /* gravity: the same for all, so no pair sees it */
-            a2[c][i] += e->grav[c];
+            a1[c][i] += grav[c]; /* gravity: the same for all, so no pair sees it */
+            a2[c][i] += grav[c];
         }
     }
 }
@@ -451,6 +463,18 @@ static void window_1d(gr_sim *s)
 
 /* ---------- the hooks ---------- */
 
+/* The calendar at a window start (or after set_debug): the dimension's core. */
+static void window_any(gr_sim *s)
+{
+    if (s->dim == 1) {
+        window_1d(s);
+    } else if (s->dim == 2) {
+        gr_ev2d_window(s);
+    } else {
+        gr_ev3d_window(s);
+    }
+}
+
 static void start_window(gr_sim *s)
 {
     struct gr_event_state *e = gr_ev(s);
@@ -458,11 +482,7 @@ static void start_window(gr_sim *s)
         remove_com(s);
     }
     draw_noise(s);
-    if (e->dim == 1) {
-        window_1d(s);
-    } else {
-        gr_ev2d_window(s);
-    }
+    window_any(s);
 }
 
 /* Write the state at local time t into s->x, vx (y, vy) and bring s->injected up to date. */
@@ -476,7 +496,17 @@ static void report(gr_sim *s, double t)
         gr_ev_state_x(e, i, t, phase, &x, &v);
         s->x[i] = x;
         s->vx[i] = v;
-        if (e->dim == 2) {
+        if (e->dim == 3) {
+            double y, w, z, u;
+            gr_ev_state_y(e, i, t, phase, &y, &w);
+            gr_ev_state_z(e, i, t, phase, &z, &u);
+            s->x[i] = x - e->L * floor(x / e->L);
+            s->y[i] = y - e->L * floor(y / e->L);
+            s->z[i] = z - e->L * floor(z / e->L);
+            s->vy[i] = w;
+            s->vz[i] = u;
+            work += ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i];
+        } else if (e->dim == 2) {
             double y, w;
             gr_ev_state_y(e, i, t, phase, &y, &w);
             s->x[i] = x - e->L * floor(x / e->L);
@@ -499,14 +529,17 @@ static void report(gr_sim *s, double t)
 #define GR_EV_MAX_BOXES 1e3
 
 static int check_speeds(const gr_sim *s, const double *x, const double *vx, const double *y,
-                        const double *vy, double tau, bool at_start, gr_error *err)
+                        const double *vy, const double *z, const double *vz, double tau,
+                        bool at_start, gr_error *err)
 {
     double vmax = 0.0;
     int worst = 0;
     for (int i = 0; i < s->n; i++) {
-        const double wy = s->dim == 2 ? vy[i] : 0.0, yy = s->dim == 2 ? y[i] : 0.0;
-        const double v = sqrt(vx[i] * vx[i] + wy * wy);
-        if (!isfinite(v) || !isfinite(x[i]) || !isfinite(yy)) {
+        const double wy = s->dim >= 2 ? vy[i] : 0.0, yy = s->dim >= 2 ? y[i] : 0.0;
+        const double wz = s->dim == 3 ? vz[i] : 0.0, zz = s->dim == 3 ? z[i] : 0.0;
+        const double v =
+            s->dim == 3 ? sqrt(vx[i] * vx[i] + wy * wy + wz * wz) : sqrt(vx[i] * vx[i] + wy * wy);
+        if (!isfinite(v) || !isfinite(x[i]) || !isfinite(yy) || !isfinite(zz)) {
             vmax = GR_EV_INF;
             worst = i;
             break;
@@ -546,6 +579,15 @@ int gr_event_init(gr_sim *s, gr_error *err)
                        "%s: [integrator] kind = event needs an event rule as [model] normal (%s "
                        "is a force law; granule models lists the rules)",
                        s->params.source, s->cc.normal_model ? s->cc.normal_model->name : "none");
+    }
+    if (s->dim == 3 && s->omega) {
+        /* Walton's rough collision needs spin vectors and the contact point's tangential
+         * velocity in 3D: not written (docs/three-dimensions.md) */
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [model] rotation = true: the event-driven integrator has no rough "
+                       "spheres yet; allowed with dim = 3: rotation = false (smooth spheres: "
+                       "eps_n, eps_t, viscoelastic, tc)",
+                       s->params.source);
     }
     if (!(s->params.kick_interval > 0.0)) {
         return GR_FAIL(err, GR_EINVAL,
@@ -612,9 +654,10 @@ int gr_event_init(gr_sim *s, gr_error *err)
                        cal);
     }
     size_t sz = sizeof(double) * (size_t)(n > 0 ? n : 1);
-    double **arrays[] = {&e->t0,   &e->bx, &e->bv, &e->a1x, &e->a2x, &e->jx,
-                         &e->last, &e->by, &e->bw, &e->a1y, &e->a2y, &e->jy};
-    int n_arrays = s->dim == 2 ? 12 : 7;
+    double **arrays[] = {&e->t0,   &e->bx, &e->bv,  &e->a1x, &e->a2x, &e->jx,
+                         &e->last, &e->by, &e->bw,  &e->a1y, &e->a2y, &e->jy,
+                         &e->bz,   &e->bu, &e->a1z, &e->a2z, &e->jz};
+    int n_arrays = s->dim == 3 ? 17 : s->dim == 2 ? 12 : 7;
     bool ok = true;
     for (int a = 0; a < n_arrays; a++) {
         *arrays[a] = calloc(1, sz);
@@ -628,7 +671,8 @@ int gr_event_init(gr_sim *s, gr_error *err)
         return GR_FAIL(err, GR_ENOMEM, "out of memory for the event-driven state of %d particles",
                        n);
     }
-    int rc = check_speeds(s, s->x, s->vx, s->y, s->vy, s->params.kick_interval, true, err);
+    int rc =
+        check_speeds(s, s->x, s->vx, s->y, s->vy, s->z, s->vz, s->params.kick_interval, true, err);
     if (rc) {
         return rc;
     }
@@ -648,14 +692,18 @@ int gr_event_init(gr_sim *s, gr_error *err)
     for (int i = 0; i < n; i++) {
         e->bx[i] = s->x[i];
         e->bv[i] = s->vx[i];
-        if (s->dim == 2) {
+        if (s->dim >= 2) {
             e->by[i] = s->y[i];
             e->bw[i] = s->vy[i];
         }
+        if (s->dim == 3) {
+            e->bz[i] = s->z[i];
+            e->bu[i] = s->vz[i];
+        }
         e->last[i] = -GR_EV_INF;
     }
-    if (s->dim == 2) {
-        rc = gr_ev2d_alloc(s, err);
+    if (s->dim >= 2) {
+        rc = s->dim == 2 ? gr_ev2d_alloc(s, err) : gr_ev3d_alloc(s, err);
         if (rc) {
             return rc;
         }
@@ -679,8 +727,11 @@ int gr_event_init(gr_sim *s, gr_error *err)
     s->last = (gr_force_report){0};
     s->share[0] = 1.0;
     s->share[1] = s->share[2] = 0.0;
-    snprintf(s->kernel_name, sizeof s->kernel_name, "event-%s-%s-tc",
-             s->dim == 1 ? "1d-ring" : (e->ncell > 1 ? "2d-cells" : "2d-allpairs"),
+    snprintf(s->kernel_name, sizeof s->kernel_name, "event-%s%s-%s-tc",
+             s->dim == 1   ? "1d-ring"
+             : s->dim == 2 ? "2d-"
+                           : "3d-",
+             s->dim == 1 ? "" : (e->ncell > 1 ? "cells" : "allpairs"),
              !e->noise  ? "nonoise"
              : e->exact ? "exact"
                         : "kicks");
@@ -694,7 +745,9 @@ int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err)
     for (;;) {
         const double local = T - (double)e->win * e->tau;
         const double limit = local < e->tau ? local : e->tau;
-        int rc = e->dim == 1 ? process_1d(s, limit, err) : gr_ev2d_process(s, limit, err);
+        int rc = e->dim == 1   ? process_1d(s, limit, err)
+                 : e->dim == 2 ? gr_ev2d_process(s, limit, err)
+                               : gr_ev3d_process(s, limit, err);
         if (rc == GR_EV_STOPPED) {
             e->owed_to = s->step + nsteps; /* the next call must reach at least this step */
             return GR_OK; /* stop requested: s->step and the reported state stay where they were */
@@ -707,7 +760,8 @@ int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err)
             break;
         }
         end_window(s);
-        rc = check_speeds(s, e->bx, e->bv, e->by, e->bw, s->params.kick_interval, false, err);
+        rc = check_speeds(s, e->bx, e->bv, e->by, e->bw, e->bz, e->bu, s->params.kick_interval,
+                          false, err);
         if (rc) {
             return rc;
         }
@@ -720,7 +774,8 @@ int gr_event_step(gr_sim *s, int64_t nsteps, gr_error *err)
     s->step += nsteps;
     e->owed_to = 0;
     for (int i = 0; i < s->n; i++) {
-        double sum = s->x[i] + s->vx[i] + (s->dim == 2 ? s->y[i] + s->vy[i] : 0.0);
+        double sum = s->x[i] + s->vx[i] + (s->dim >= 2 ? s->y[i] + s->vy[i] : 0.0) +
+                     (s->dim == 3 ? s->z[i] + s->vz[i] : 0.0);
         if (!isfinite(sum)) {
             return GR_FAIL(
                 err, GR_EUNSTABLE,
@@ -737,8 +792,8 @@ void gr_event_free(gr_sim *s)
     if (!e) {
         return;
     }
-    double *arrays[] = {e->t0, e->bx,  e->bv,  e->by, e->bw,   e->a1x, e->a2x,
-                        e->jx, e->a1y, e->a2y, e->jy, e->last, e->g};
+    double *arrays[] = {e->t0,  e->bx, e->bv,   e->by, e->bw, e->a1x, e->a2x, e->jx,  e->a1y,
+                        e->a2y, e->jy, e->last, e->g,  e->bz, e->bu,  e->a1z, e->a2z, e->jz};
     for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++) {
         free(arrays[a]);
     }
@@ -794,10 +849,6 @@ void gr_event_set_debug(gr_sim *s, bool check_overlaps, bool no_collisions)
     if (gr_ev(s)) {
         gr_ev(s)->check = check_overlaps;
         gr_ev(s)->no_collisions = no_collisions;
-        if (s->dim == 1) {
-            window_1d(s);
-        } else {
-            gr_ev2d_window(s);
-        }
+        window_any(s);
     }
 }

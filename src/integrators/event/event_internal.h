@@ -62,16 +62,19 @@ struct gr_event_state {
     int64_t wall_hits;
     /* trajectories */
     double *t0, *bx, *bv, *by, *bw; /* base time, x, vx, y, vy */
+    double *bz, *bu;                /* 3D: z, vz (NULL otherwise) */
     uint8_t *past;
     double *a1x, *a2x, *jx, *a1y, *a2y, *jy;
-    double *last; /* absolute time of each particle's last collision (TC rule) */
-    double *g;    /* scratch for normals, 2 n dim */
+    double *a1z, *a2z, *jz; /* 3D */
+    double *last;           /* absolute time of each particle's last collision (TC rule) */
+    double *g;              /* scratch for normals, 2 n dim */
     /* calendar */
     gr_heap heap;
-    /* 2D: per-particle event (partner >= 0: collision, -1 - face: cell crossing) */
+    /* 2D, 3D: per-particle event (partner >= 0: collision, -1 - face: cell crossing; faces
+     * 0 .. 2 dim - 1, then the walls) */
     int *partner;
     int64_t *count, *ev_count;
-    int ncell;   /* cells per side (1 = all pairs, no crossing events) */
+    int ncell;   /* cells per side (1 = all pairs, no crossing events); ncell^dim cells */
     double cell; /* cell side */
     int *cell_of, *head, *next, *prev;
     /* statistics */
@@ -148,6 +151,13 @@ static inline void gr_ev_state_y(const struct gr_event_state *e, int i, double t
 {
     gr_ev_traj(e, e->t0[i], e->by[i], e->bw[i], e->past[i], e->a1y[i], e->a2y[i], e->jy[i], t,
                phase, y, v);
+}
+
+static inline void gr_ev_state_z(const struct gr_event_state *e, int i, double t, int phase,
+                                 double *z, double *v)
+{
+    gr_ev_traj(e, e->t0[i], e->bz[i], e->bu[i], e->past[i], e->a1z[i], e->a2z[i], e->jz[i], t,
+               phase, z, v);
 }
 
 /* First time in [0, T] at which f(t) = f0 + f1 t + c t^2 is <= 0 while decreasing (a contact or
@@ -229,9 +239,12 @@ static inline double gr_ev_gravity_work(const struct gr_event_state *e, double d
     return 2.0 * (e->grav[0] * dx + e->grav[1] * dy);
 }
 
-/* 2D core (event_2d.c) */
+/* 2D and 3D cores: event_cells.h instantiated for discs (event_2d.c) and spheres (event_3d.c) */
 int gr_ev2d_alloc(gr_sim *s, gr_error *err);
 void gr_ev2d_window(gr_sim *s); /* cells and all predictions at a window start */
 int gr_ev2d_process(gr_sim *s, double t_limit, gr_error *err);
+int gr_ev3d_alloc(gr_sim *s, gr_error *err);
+void gr_ev3d_window(gr_sim *s);
+int gr_ev3d_process(gr_sim *s, double t_limit, gr_error *err);
 
 #endif

@@ -5,9 +5,10 @@
  * Between two gr_sim_step calls the reported positions are synchronised, but the event state is
  * not: every particle keeps its own base time t0 inside the current kick window, and the window's
  * noise was drawn at its start. The next call depends on: the window index, the local time and
- * phase of the last processed event; per particle the base (t0, x, v; y, vy in 2D), the `past`
+ * phase of the last processed event; per particle the base (t0, x, v; y, vy in 2D; also z, vz in
+ * 3D), the `past`
  * flag, the window's accelerations a1, a2 and jumps J, and the time of the last collision (TC
- * rule); the calendar's keys (time, phase) per entry; in 2D each entry's partner and the
+ * rule); the calendar's keys (time, phase) per entry; in 2D and 3D each entry's partner and the
  * partner's collision count at prediction, the collision counts, and the cell list itself (cell
  * of each particle and the linked lists, whose order fixes the order of predictions); the
  * counters, the booked free-flight work and the floor energy, the progress guard's counters;
@@ -48,13 +49,14 @@ static void check_range(gr_blob_reader *r, const int *v, int64_t n, int lo, int 
     }
 }
 
-/* Loading, 2D: the cell lists must partition the particles by cell_of (the predictions walk them). */
+/* Loading, 2D and 3D: the cell lists must partition the particles by cell_of (the predictions
+ * walk them). */
 static void check_cells(const struct gr_event_state *e, gr_blob_reader *r)
 {
     const int64_t n = e->n;
-    const int cells = e->ncell * e->ncell;
-    /* -1 - face: cell faces 0-3, with walls also the walls 4-7 (event_2d.c) */
-    check_range(r, e->partner, n, e->wall[0] || e->wall[1] ? -8 : -4, (int)n, "partner");
+    const int cells = e->ncell * e->ncell * (e->dim == 3 ? e->ncell : 1);
+    /* -1 - face: cell faces 0 .. 2 dim - 1, with walls (2D) also the walls 4-7 (event_cells.h) */
+    check_range(r, e->partner, n, e->wall[0] || e->wall[1] ? -8 : -2 * e->dim, (int)n, "partner");
     check_range(r, e->cell_of, n, 0, cells, "cell_of");
     check_range(r, e->head, cells, -1, (int)n, "head");
     check_range(r, e->next, n, -1, (int)n, "next");
@@ -129,10 +131,16 @@ int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
         gr_blob_io_f64s(io, base[k], n);
     }
     gr_blob_io_bytes(io, e->past, (size_t)n);
-    if (e->dim == 2) {
+    if (e->dim >= 2) {
         double *const base_2d[] = {e->by, e->bw, e->a1y, e->a2y, e->jy};
         for (size_t k = 0; k < sizeof base_2d / sizeof base_2d[0]; k++) {
             gr_blob_io_f64s(io, base_2d[k], n);
+        }
+    }
+    if (e->dim == 3) {
+        double *const base_3d[] = {e->bz, e->bu, e->a1z, e->a2z, e->jz};
+        for (size_t k = 0; k < sizeof base_3d / sizeof base_3d[0]; k++) {
+            gr_blob_io_f64s(io, base_3d[k], n);
         }
     }
     for (int64_t i = 0; r && i < n && !r->bad; i++) {
@@ -155,7 +163,7 @@ int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
                 k, h->t[k], h->ph[k]);
         }
     }
-    if (e->dim == 2) {
+    if (e->dim >= 2) {
         i32s_io(io, e->partner, n, "partner");
         gr_blob_io_bytes(io, e->count, sizeof(int64_t) * (size_t)n);
         gr_blob_io_bytes(io, e->ev_count, sizeof(int64_t) * (size_t)n);
@@ -166,7 +174,7 @@ int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
                          (long long)ncell, e->ncell);
         }
         i32s_io(io, e->cell_of, n, "cell_of");
-        i32s_io(io, e->head, (int64_t)e->ncell * e->ncell, "head");
+        i32s_io(io, e->head, (int64_t)e->ncell * e->ncell * (e->dim == 3 ? e->ncell : 1), "head");
         i32s_io(io, e->next, n, "next");
         i32s_io(io, e->prev, n, "prev");
         if (r) {

@@ -1,0 +1,897 @@
+/* The event-driven core of discs and spheres, a template instantiated once per dimension:
+ * event_2d.c (GR_EV_DIM 2: periodic square box, walls and gravity) and event_3d.c (GR_EV_DIM 3:
+ * periodic cube). Cell list with cell-crossing events, one calendar entry per particle (its
+ * earliest predicted event: a collision with a partner, checked lazily against the partner's
+ * collision counter, or the crossing into a neighbouring cell; "Single" scheduling,
+ * ../shared/notes/physics-algorithms.md sec. 3.1-3.2).
+ *
+ * Cells have side >= d, so a particle can only touch particles of its own and the 8 (3D: 26)
+ * adjacent cells; a particle's membership is kept exact by crossing events, and after every change
+ * of its trajectory (collision) or cell (crossing) it is predicted again against those 9 (27)
+ * cells. At least 4 cells per side (see alloc); all pairs, no crossings, only in a box walled
+ * all round. Positions stay in [0, L): a
+ * crossing out of the box wraps the particle's base. Pair geometry uses the minimum image.
+ *
+ * The 3D instance adds the z terms (EV_Z) after the 2D expressions, so the 2D instance is the 2D
+ * code as it was, bit for bit. A 3D collision applies the model's rule (written for a plane,
+ * models/law.h) in the plane of the normal n and the relative tangential velocity g_t: the
+ * impulse lies in that plane, so the rule's eps_n, eps_t and eps_n(v) act on the 3-vectors
+ * exactly (smooth spheres; rough ones need spin vectors: gr_event_init refuses them). */
+#include <stdlib.h>
+
+#include "integrators/event/event_internal.h"
+#include "models/list.h"
+
+#if GR_EV_DIM == 3
+#define EV_Z(...) __VA_ARGS__
+#define EV_FN(name) gr_ev3d_##name
+#define EV_CELLS(nc) ((nc) * (nc) * (nc))
+#elif GR_EV_DIM == 2
+#define EV_Z(...)
+#define EV_FN(name) gr_ev2d_##name
+#define EV_CELLS(nc) ((nc) * (nc))
+#else
+#error "GR_EV_DIM must be 2 or 3"
+#endif
+
+int EV_FN(alloc)(gr_sim *s, gr_error *err)
+{
+    struct gr_event_state *e = gr_ev(s);
+    const size_t n = (size_t)(e->n > 0 ? e->n : 1);
+    e->ncell = (int)floor(e->L / e->d);
+    /* A pair is predicted with the nearest periodic image of its relative position. With at
+     * least 4 cells per side, particles in adjacent cells are less than L/2 apart on every axis,
+     * so that image is the one they can touch until one of them changes cell or trajectory (and
+     * is predicted again); with fewer (3 cells, or all pairs) a pair could meet through another
+     * image unseen, and did (overlaps). Only walls on every axis (no images) allow all pairs. */
+    const bool pairs = e->n >= 2 && !(e->wall[0] && e->wall[1] && GR_EV_DIM == 2);
+    if (e->ncell < 4 && pairs) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: the periodic box is %.3g particle diameters wide (L = %g m, d = %g m): "
+                       "the event-driven integrator needs at least 4 (a cell grid of 4 cells per "
+                       "side keeps each pair's nearest periodic image exact); raise [system] N or "
+                       "L, or lower packing_fraction",
+                       s->params.source, e->L / e->d, e->L, e->d);
+    }
+    /* without pairs that could meet through an image (walls all round, or fewer than 2
+     * particles), 3 cells per side or all pairs as before */
+    const int least = pairs ? 4 : 3;
+    if (e->ncell < least) {
+        e->ncell = 1;
+    }
+    /* no more cells than about 2 per particle: bigger cells only cost a few more pair checks */
+#if GR_EV_DIM == 3
+    const int most = (int)ceil(cbrt(2.0 * e->n)) + 1;
+#else
+    const int most = (int)ceil(sqrt(2.0 * e->n)) + 1;
+#endif
+    if (e->ncell > most) {
+        e->ncell = most >= least ? most : pairs ? 4 : 1;
+    }
+    e->cell = e->L / e->ncell;
+    e->partner = malloc(n * sizeof(int));
+    e->count = calloc(n, sizeof(int64_t));
+    e->ev_count = calloc(n, sizeof(int64_t));
+    e->cell_of = malloc(n * sizeof(int));
+    e->next = malloc(n * sizeof(int));
+    e->prev = malloc(n * sizeof(int));
+    e->head = malloc(sizeof(int) * (size_t)EV_CELLS(e->ncell));
+    if (!e->partner || !e->count || !e->ev_count || !e->cell_of || !e->next || !e->prev ||
+        !e->head) {
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for the event-driven cell list");
+    }
+    return GR_OK;
+}
+
+static inline void cell_insert(struct gr_event_state *e, int i, int c)
+{
+    e->cell_of[i] = c;
+    e->prev[i] = -1;
+    e->next[i] = e->head[c];
+    if (e->head[c] >= 0) {
+        e->prev[e->head[c]] = i;
+    }
+    e->head[c] = i;
+}
+
+static inline void cell_remove(struct gr_event_state *e, int i)
+{
+    const int c = e->cell_of[i];
+    if (e->prev[i] >= 0) {
+        e->next[e->prev[i]] = e->next[i];
+    } else {
+        e->head[c] = e->next[i];
+    }
+    if (e->next[i] >= 0) {
+        e->prev[e->next[i]] = e->prev[i];
+    }
+}
+
+/* Relative state of j seen from i at local time t (minimum image). */
+static inline void rel(const struct gr_event_state *e, int i, int j, double t, int phase,
+                       double *rx, double *ry, EV_Z(double *rz, ) double *wx,
+                       double *wy EV_Z(, double *wz))
+{
+    double xi, vi, yi, ui, xj, vj, yj, uj;
+    gr_ev_state_x(e, i, t, phase, &xi, &vi);
+    gr_ev_state_y(e, i, t, phase, &yi, &ui);
+    gr_ev_state_x(e, j, t, phase, &xj, &vj);
+    gr_ev_state_y(e, j, t, phase, &yj, &uj);
+    *rx = xj - xi;
+    *ry = yj - yi;
+    *rx -= e->wall[0] ? 0.0 : e->L * rint(*rx / e->L); /* no image across walls */
+    *ry -= e->wall[1] ? 0.0 : e->L * rint(*ry / e->L);
+    *wx = vj - vi;
+    *wy = uj - ui;
+#if GR_EV_DIM == 3
+    double zi, si, zj, sj;
+    gr_ev_state_z(e, i, t, phase, &zi, &si);
+    gr_ev_state_z(e, j, t, phase, &zj, &sj);
+    *rz = zj - zi;
+    *rz -= e->L * rint(*rz / e->L);
+    *wz = sj - si;
+#endif
+}
+
+/* First contact of the pair within one piece of constant relative acceleration A. */
+static inline double piece_contact(const struct gr_event_state *e, double rx, double ry,
+                                   EV_Z(double rz, ) double wx, double wy,
+                                   EV_Z(double wz, ) double Ax, double Ay,
+                                   EV_Z(double Az, ) double T)
+{
+    const double r2 = rx * rx + ry * ry EV_Z(+rz * rz), w2 = wx * wx + wy * wy EV_Z(+wz * wz),
+                 A2 = Ax * Ax + Ay * Ay EV_Z(+Az * Az);
+    const double reach = sqrt(w2) * T + 0.5 * sqrt(A2) * T * T;
+    if (r2 > (e->d + reach) * (e->d + reach)) {
+        return GR_EV_INF; /* cannot get within d during this piece */
+    }
+    const double f0 = r2 - e->d2, f1 = 2.0 * (rx * wx + ry * wy EV_Z(+rz * wz));
+    if (A2 == 0.0) {
+        return gr_ev_first_quadratic(f0, f1, w2, T);
+    }
+    const double c[5] = {f0, f1, w2 + rx * Ax + ry * Ay EV_Z(+rz * Az),
+                         wx * Ax + wy * Ay EV_Z(+wz * Az), 0.25 * A2};
+    /* f(t) >= c0 + min(c1, 0) T + min(c2, 0) T^2 + min(c3, 0) T^3 on [0, T] (c4 >= 0) */
+    if (f0 > 0.0 &&
+        f0 + T * (fmin(c[1], 0.0) + T * (fmin(c[2], 0.0) + T * fmin(c[3], 0.0))) > 0.0) {
+        return GR_EV_INF;
+    }
+    return gr_ev_first_quartic(c, T);
+}
+
+static double pair_time(const struct gr_event_state *e, int i, int j, int *phase)
+{
+    double rx, ry, wx, wy EV_Z(, rz, wz);
+    rel(e, i, j, e->now, e->phase, &rx, &ry, EV_Z(&rz, ) & wx, &wy EV_Z(, &wz));
+    *phase = e->phase;
+    if (e->phase == 0) {
+        double t =
+            piece_contact(e, rx, ry, EV_Z(rz, ) wx, wy, EV_Z(wz, ) e->a1x[j] - e->a1x[i],
+                          e->a1y[j] - e->a1y[i], EV_Z(e->a1z[j] - e->a1z[i], ) e->h - e->now);
+        if (t < GR_EV_INF) {
+            return e->now + t;
+        }
+        rel(e, i, j, e->h, 1, &rx, &ry, EV_Z(&rz, ) & wx, &wy EV_Z(, &wz));
+        *phase = 1;
+        t = piece_contact(e, rx, ry, EV_Z(rz, ) wx, wy, EV_Z(wz, ) e->a2x[j] - e->a2x[i],
+                          e->a2y[j] - e->a2y[i], EV_Z(e->a2z[j] - e->a2z[i], ) e->tau - e->h);
+        return t < GR_EV_INF ? e->h + t : GR_EV_INF;
+    }
+    double t = piece_contact(e, rx, ry, EV_Z(rz, ) wx, wy, EV_Z(wz, ) e->a2x[j] - e->a2x[i],
+                             e->a2y[j] - e->a2y[i], EV_Z(e->a2z[j] - e->a2z[i], ) e->tau - e->now);
+    return t < GR_EV_INF ? e->now + t : GR_EV_INF;
+}
+
+/* Earliest exit through the cell walls lo/hi of one coordinate within one piece. */
+static inline double piece_exit(double x, double v, double a, double lo, double hi, double T,
+                                int *face, int f_lo)
+{
+    double t_hi = gr_ev_first_quadratic(hi - x, -v, -0.5 * a, T);
+    double t_lo = gr_ev_first_quadratic(x - lo, v, 0.5 * a, T);
+    *face = t_lo < t_hi ? f_lo : f_lo + 1;
+    return t_lo < t_hi ? t_lo : t_hi;
+}
+
+/* Cell c's coordinates (x fastest, then y, then z). */
+static inline void cell_xyz(int nc, int c, int *cx, int *cy, int *cz)
+{
+#if GR_EV_DIM == 3
+    *cx = c % nc;
+    *cy = (c / nc) % nc;
+    *cz = c / (nc * nc);
+#else
+    *cx = c % nc;
+    *cy = c / nc;
+    *cz = 0;
+#endif
+}
+
+static inline int cell_index(int nc, int cx, int cy, int cz)
+{
+#if GR_EV_DIM == 3
+    return (cz * nc + cy) * nc + cx;
+#else
+    (void)cz;
+    return cy * nc + cx;
+#endif
+}
+
+static double crossing_time(const struct gr_event_state *e, int i, int *face, int *phase)
+{
+    int cx, cy, cz;
+    cell_xyz(e->ncell, e->cell_of[i], &cx, &cy, &cz);
+    const double xlo = cx * e->cell, xhi = cx + 1 == e->ncell ? e->L : (cx + 1) * e->cell;
+    const double ylo = cy * e->cell, yhi = cy + 1 == e->ncell ? e->L : (cy + 1) * e->cell;
+#if GR_EV_DIM == 3
+    const double zlo = cz * e->cell, zhi = cz + 1 == e->ncell ? e->L : (cz + 1) * e->cell;
+#endif
+    double x, v, y, w;
+    int fx, fy;
+    *phase = e->phase;
+    double t0 = e->now;
+    for (int piece = e->phase; piece < 2; piece++) {
+        gr_ev_state_x(e, i, t0, piece, &x, &v);
+        gr_ev_state_y(e, i, t0, piece, &y, &w);
+        const double T = (piece == 0 ? e->h : e->tau) - t0;
+        const double ax = piece == 0 ? e->a1x[i] : e->a2x[i],
+                     ay = piece == 0 ? e->a1y[i] : e->a2y[i];
+        double tx = piece_exit(x, v, ax, xlo, xhi, T, &fx, 0);
+        double ty = piece_exit(y, w, ay, ylo, yhi, T, &fy, 2);
+        double t = tx < ty ? tx : ty;
+        int f = tx < ty ? fx : fy;
+#if GR_EV_DIM == 3
+        double z, u;
+        int fz;
+        gr_ev_state_z(e, i, t0, piece, &z, &u);
+        const double tz = piece_exit(z, u, piece == 0 ? e->a1z[i] : e->a2z[i], zlo, zhi, T, &fz, 4);
+        if (tz < t) {
+            t = tz;
+            f = fz;
+        }
+#endif
+        if (t < GR_EV_INF) {
+            *face = f;
+            *phase = piece;
+            return t0 + t;
+        }
+        t0 = e->h;
+    }
+    return GR_EV_INF;
+}
+
+/* Walls (2D): event "faces" WALL_FACE + k, k = 2 a + side (side 0: the wall at 0, 1: at L). */
+enum { WALL_FACE = 2 * GR_EV_DIM };
+
+#if GR_EV_DIM == 2
+/* Earliest hit of a wall: the centre reaching r from it while moving towards it, per piece of
+ * constant acceleration (a parabola under gravity: gr_ev_first_quadratic). */
+static double wall_time(const struct gr_event_state *e, int i, int *face, int *phase)
+{
+    const double r = 0.5 * e->d;
+    double t0 = e->now;
+    *phase = e->phase;
+    for (int piece = e->phase; piece < 2; piece++) {
+        const double T = (piece == 0 ? e->h : e->tau) - t0;
+        double best = GR_EV_INF;
+        for (int a = 0; a < 2; a++) {
+            if (!e->wall[a]) {
+                continue;
+            }
+            double q, v;
+            (a == 0 ? gr_ev_state_x : gr_ev_state_y)(e, i, t0, piece, &q, &v);
+            const double acc = a == 0 ? (piece == 0 ? e->a1x[i] : e->a2x[i])
+                                      : (piece == 0 ? e->a1y[i] : e->a2y[i]);
+            const double lo = gr_ev_first_quadratic(q - r, v, 0.5 * acc, T);
+            const double hi = gr_ev_first_quadratic(e->L - r - q, -v, -0.5 * acc, T);
+            if (lo < best) {
+                best = lo;
+                *face = WALL_FACE + 2 * a;
+            }
+            if (hi < best) {
+                best = hi;
+                *face = WALL_FACE + 2 * a + 1;
+            }
+        }
+        if (best < GR_EV_INF) {
+            *phase = piece;
+            return t0 + best;
+        }
+        t0 = e->h;
+    }
+    return GR_EV_INF;
+}
+
+#endif
+
+/* The particle's own next event, a cell crossing or a wall, into best/who/phase. */
+static void own_event(const struct gr_event_state *e, int i, double *best, int *who, int *phase)
+{
+    int face = 0, ph;
+    if (e->ncell > 1) {
+        double t = crossing_time(e, i, &face, &ph);
+        if (t < *best) {
+            *best = t;
+            *who = -1 - face;
+            *phase = ph;
+        }
+    }
+#if GR_EV_DIM == 2
+    if (e->wall[0] || e->wall[1]) {
+        double t = wall_time(e, i, &face, &ph);
+        if (t < *best || (t == *best && ph < *phase)) {
+            *best = t;
+            *who = -1 - face;
+            *phase = ph;
+        }
+    }
+#endif
+}
+
+/* The particle's crossing or wall hit as its provisional event. */
+static void predict_crossing(struct gr_event_state *e, int i)
+{
+    double best = GR_EV_INF;
+    int who = -1, best_phase = e->phase;
+    own_event(e, i, &best, &who, &best_phase);
+    e->heap.t[i] = best;
+    e->heap.ph[i] = (uint8_t)best_phase;
+    e->partner[i] = who;
+    e->ev_count[i] = 0;
+}
+
+static inline void offer(struct gr_event_state *e, int i, int j, double t, int ph)
+{
+    if (t < e->heap.t[i] || (t == e->heap.t[i] && ph < e->heap.ph[i])) {
+        e->heap.t[i] = t;
+        e->heap.ph[i] = (uint8_t)ph;
+        e->partner[i] = j;
+        e->ev_count[i] = e->count[j];
+    }
+}
+
+/* All particles at a window start: every pair is solved once and offered to both. */
+static void predict_all(struct gr_event_state *e)
+{
+    for (int i = 0; i < e->n; i++) {
+        predict_crossing(e, i);
+    }
+    if (e->no_collisions) {
+        return;
+    }
+    const int nc = e->ncell, span = nc > 1 ? 1 : 0;
+    for (int i = 0; i < e->n; i++) {
+        int cx, cy, cz;
+        cell_xyz(nc, e->cell_of[i], &cx, &cy, &cz);
+        for (int dz = EV_Z(-span) + 0; dz <= EV_Z(span) + 0; dz++) {
+            const int zz = (cz + dz + nc) % nc;
+            for (int dy = -span; dy <= span; dy++) {
+                const int yy = (cy + dy + nc) % nc;
+                for (int dx = -span; dx <= span; dx++) {
+                    const int xx = (cx + dx + nc) % nc;
+                    for (int j = e->head[cell_index(nc, xx, yy, zz)]; j >= 0; j = e->next[j]) {
+                        if (j <= i) {
+                            continue;
+                        }
+                        int ph;
+                        double t = pair_time(e, i, j, &ph);
+                        if (t < GR_EV_INF) {
+                            offer(e, i, j, t, ph);
+                            offer(e, j, i, t, ph);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/* The particle's earliest event in the rest of the window. */
+static void predict(struct gr_event_state *e, int i)
+{
+    double best = GR_EV_INF;
+    int who = -1, best_phase = e->phase;
+    own_event(e, i, &best, &who, &best_phase);
+    if (!e->no_collisions) {
+        const int nc = e->ncell, span = nc > 1 ? 1 : 0;
+        int cx, cy, cz;
+        cell_xyz(nc, e->cell_of[i], &cx, &cy, &cz);
+        for (int dz = EV_Z(-span) + 0; dz <= EV_Z(span) + 0; dz++) {
+            const int zz = (cz + dz + nc) % nc;
+            for (int dy = -span; dy <= span; dy++) {
+                const int yy = (cy + dy + nc) % nc;
+                for (int dx = -span; dx <= span; dx++) {
+                    const int xx = (cx + dx + nc) % nc;
+                    for (int j = e->head[cell_index(nc, xx, yy, zz)]; j >= 0; j = e->next[j]) {
+                        if (j == i) {
+                            continue;
+                        }
+                        int ph;
+                        double t = pair_time(e, i, j, &ph);
+                        if (t < best || (t == best && ph < best_phase)) {
+                            best = t;
+                            who = j;
+                            best_phase = ph;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    e->heap.t[i] = best;
+    e->heap.ph[i] = (uint8_t)best_phase;
+    e->partner[i] = who;
+    e->ev_count[i] = who >= 0 ? e->count[who] : 0;
+}
+
+void EV_FN(window)(gr_sim *s)
+{
+    struct gr_event_state *e = gr_ev(s);
+    const int nc = e->ncell;
+    for (int c = 0; c < EV_CELLS(nc); c++) {
+        e->head[c] = -1;
+    }
+    for (int i = 0; i < e->n; i++) {
+        /* bases are at the window start here: wrap them into the box */
+        e->bx[i] -= e->L * floor(e->bx[i] / e->L);
+        e->by[i] -= e->L * floor(e->by[i] / e->L);
+        int cx = (int)(e->bx[i] / e->cell), cy = (int)(e->by[i] / e->cell), cz = 0;
+        cx = cx < 0 ? 0 : cx >= nc ? nc - 1 : cx;
+        cy = cy < 0 ? 0 : cy >= nc ? nc - 1 : cy;
+#if GR_EV_DIM == 3
+        e->bz[i] -= e->L * floor(e->bz[i] / e->L);
+        cz = (int)(e->bz[i] / e->cell);
+        cz = cz < 0 ? 0 : cz >= nc ? nc - 1 : cz;
+#endif
+        cell_insert(e, i, cell_index(nc, cx, cy, cz));
+    }
+    predict_all(e);
+    gr_heap_build(&e->heap);
+}
+
+/* Rebase particle i now at (x, y, z) with velocity (vx, vy, vz), booking the free-flight work
+ * since its old base (its velocity just before: (vx0, vy0, vz0)). */
+static inline void rebase(struct gr_event_state *e, int i, double x, double y,
+                          EV_Z(double z, ) double vx0, double vy0, EV_Z(double vz0, ) double vx,
+                          double vy EV_Z(, double vz))
+{
+#if GR_EV_DIM == 3
+    e->injected += 0.5 * e->M *
+                   (vx0 * vx0 + vy0 * vy0 + vz0 * vz0 - e->bv[i] * e->bv[i] - e->bw[i] * e->bw[i] -
+                    e->bu[i] * e->bu[i]);
+    e->bz[i] = z;
+    e->bu[i] = vz;
+#else
+    e->injected += 0.5 * e->M *
+                   (vx0 * vx0 + vy0 * vy0 - e->bv[i] * e->bv[i] - e->bw[i] * e->bw[i] -
+                    gr_ev_gravity_work(e, x - e->bx[i], y - e->by[i]));
+#endif
+    e->t0[i] = e->now;
+    e->bx[i] = x;
+    e->by[i] = y;
+    e->bv[i] = vx;
+    e->bw[i] = vy;
+    e->past[i] = (uint8_t)e->phase;
+}
+
+static int check_overlaps(gr_sim *s, gr_error *err)
+{
+    struct gr_event_state *e = gr_ev(s);
+    for (int i = 0; i < e->n; i++) {
+        for (int j = i + 1; j < e->n; j++) {
+            double rx, ry, wx, wy EV_Z(, rz, wz);
+            rel(e, i, j, e->now, e->phase, &rx, &ry, EV_Z(&rz, ) & wx, &wy EV_Z(, &wz));
+            double r = sqrt(rx * rx + ry * ry EV_Z(+rz * rz));
+            if (r < e->d * (1.0 - 1e-9)) {
+                return GR_FAIL(err, GR_EUNSTABLE,
+                               "event check: particles %d and %d overlap by %.3g d at t = %.9g s",
+                               i, j, 1.0 - r / e->d, (double)e->win * e->tau + e->now);
+            }
+        }
+    }
+    return GR_OK;
+}
+
+/* After a pair collision (rebased): its losses (unless TC-elastic), the TC clocks, the counts. */
+static inline void booked(gr_sim *s, int i, int j, double t_abs, bool elastic, double de_n,
+                          double de_t)
+{
+    struct gr_event_state *e = gr_ev(s);
+    if (elastic) {
+        e->tc_elastic++;
+    } else {
+        s->diss_n += de_n;
+        s->diss_t += de_t;
+    }
+    e->last[i] = e->last[j] = t_abs;
+    e->count[i]++;
+    e->count[j]++;
+    e->collisions++;
+    s->collisions++;
+}
+
+#if GR_EV_DIM == 3
+/* The model's rule on spheres 1 = i and 2 = j touching along the unit normal n (from i to j),
+ * applied in the plane of n and the unit tangent t along the relative tangential velocity
+ * g_t = g - (g.n) n, g = v1 - v2 (any t when g_t = 0: no tangential impulse then). The impulse
+ * lies in that plane and v1 - v2 has no component off it, so the plane's rule is the 3D rule. */
+static void rule_3d(const struct gr_event_state *e, double n[3], double v1[3], double v2[3],
+                    bool elastic, double *de_n, double *de_t)
+{
+    const double g[3] = {v1[0] - v2[0], v1[1] - v2[1], v1[2] - v2[2]};
+    const double gn = g[0] * n[0] + g[1] * n[1] + g[2] * n[2];
+    double t[3] = {g[0] - gn * n[0], g[1] - gn * n[1], g[2] - gn * n[2]};
+    const double gt = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    for (int a = 0; a < 3; a++) {
+        t[a] = gt > 0.0 ? t[a] / gt : 0.0;
+    }
+    const double n1 = v1[0] * n[0] + v1[1] * n[1] + v1[2] * n[2];
+    const double t1 = v1[0] * t[0] + v1[1] * t[1] + v1[2] * t[2];
+    const double n2 = v2[0] * n[0] + v2[1] * n[1] + v2[2] * n[2];
+    const double t2 = v2[0] * t[0] + v2[1] * t[1] + v2[2] * t[2];
+    gr_event_pair p = {.M = e->M,
+                       .R = e->R,
+                       .q = e->q,
+                       .nx = 1.0,
+                       .ny = 0.0,
+                       .v1x = n1,
+                       .v1y = t1,
+                       .v2x = n2,
+                       .v2y = t2,
+                       .elastic = elastic};
+    gr_event_rule_apply(e->rule, e->cc, &p);
+    for (int a = 0; a < 3; a++) {
+        v1[a] += (p.v1x - n1) * n[a] + (p.v1y - t1) * t[a];
+        v2[a] += (p.v2x - n2) * n[a] + (p.v2y - t2) * t[a];
+    }
+    *de_n = p.de_n;
+    *de_t = p.de_t;
+}
+
+/* Returns 0 after the collision, 1 when it is none after all (predict again), < 0 an error code
+ * (the 3D twin of the 2D collide below: the same steps on 3-vectors). */
+static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
+{
+    struct gr_event_state *e = gr_ev(s);
+    double ri[3], vi[3], rj[3], vj[3];
+    gr_ev_state_x(e, i, e->now, e->phase, &ri[0], &vi[0]);
+    gr_ev_state_y(e, i, e->now, e->phase, &ri[1], &vi[1]);
+    gr_ev_state_z(e, i, e->now, e->phase, &ri[2], &vi[2]);
+    gr_ev_state_x(e, j, e->now, e->phase, &rj[0], &vj[0]);
+    gr_ev_state_y(e, j, e->now, e->phase, &rj[1], &vj[1]);
+    gr_ev_state_z(e, j, e->now, e->phase, &rj[2], &vj[2]);
+    const double *const a_of[2][3] = {{e->a1x, e->a1y, e->a1z}, {e->a2x, e->a2y, e->a2z}};
+    double n[3], A[3], r2 = 0.0, gn = 0.0, push = 0.0, A2 = 0.0;
+    for (int a = 0; a < 3; a++) {
+        n[a] = rj[a] - ri[a];
+        n[a] -= e->L * rint(n[a] / e->L);
+        r2 += n[a] * n[a];
+    }
+    const double r = sqrt(r2);
+    for (int a = 0; a < 3; a++) {
+        n[a] /= r;
+        A[a] = a_of[e->phase][a][j] - a_of[e->phase][a][i];
+        gn += (vi[a] - vj[a]) * n[a]; /* > 0: approaching */
+        push -= A[a] * n[a];          /* > 0: the noise presses the pair together */
+        A2 += A[a] * A[a];
+    }
+    if (gn <= 0.0) {
+        if (r > e->d * (1.0 + 1e-9) || A2 == 0.0) {
+            return 1; /* not a collision after all, or touching without approaching: predict again */
+        }
+        push = fmax(push, sqrt(A2)); /* about to approach: a pressed contact (2D collide) */
+    }
+    const bool elastic = gr_ev_tc_elastic(e, i, j, t_abs);
+    double ui[3] = {vi[0], vi[1], vi[2]}, uj[3] = {vj[0], vj[1], vj[2]}, de_n = 0.0, de_t = 0.0;
+    if (gn > 0.0) {
+        rule_3d(e, n, ui, uj, elastic, &de_n, &de_t);
+    }
+    const double floor_speed = 0.5 * push * e->tc; /* the contact floor, as in 2D */
+    const double sep = (uj[0] - ui[0]) * n[0] + (uj[1] - ui[1]) * n[1] + (uj[2] - ui[2]) * n[2];
+    if (push > 0.0 && sep < floor_speed) {
+        double k0 = 0.0, k1 = 0.0;
+        for (int a = 0; a < 3; a++) {
+            k0 += ui[a] * ui[a] + uj[a] * uj[a];
+            ui[a] -= 0.5 * (floor_speed - sep) * n[a];
+            uj[a] += 0.5 * (floor_speed - sep) * n[a];
+            k1 += ui[a] * ui[a] + uj[a] * uj[a];
+        }
+        e->injected += 0.5 * e->M * (k1 - k0);
+        e->floor_energy += 0.5 * e->M * (k1 - k0);
+        e->floors++;
+        if (gr_ev_floor_check(s, i, j, t_abs, floor_speed, err)) {
+            return GR_EUNSTABLE;
+        }
+    }
+    /* s->contacts: no observable that reads contact events is defined in 3D (the scene refuses
+     * them), and gr_contact_event has no z: nothing is recorded */
+    rebase(e, i, ri[0], ri[1], ri[2], vi[0], vi[1], vi[2], ui[0], ui[1], ui[2]);
+    rebase(e, j, rj[0], rj[1], rj[2], vj[0], vj[1], vj[2], uj[0], uj[1], uj[2]);
+    booked(s, i, j, t_abs, elastic, de_n, de_t);
+    return 0;
+}
+#else
+/* Returns 0 after the collision, 1 when it is none after all (predict again), < 0 an error code. */
+static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
+{
+    struct gr_event_state *e = gr_ev(s);
+    double xi, vi, yi, ui, xj, vj, yj, uj;
+    gr_ev_state_x(e, i, e->now, e->phase, &xi, &vi);
+    gr_ev_state_y(e, i, e->now, e->phase, &yi, &ui);
+    gr_ev_state_x(e, j, e->now, e->phase, &xj, &vj);
+    gr_ev_state_y(e, j, e->now, e->phase, &yj, &uj);
+    double rx = xj - xi, ry = yj - yi;
+    rx -= e->wall[0] ? 0.0 : e->L * rint(rx / e->L);
+    ry -= e->wall[1] ? 0.0 : e->L * rint(ry / e->L);
+    const double r = sqrt(rx * rx + ry * ry), nx = rx / r, ny = ry / r;
+    const double gn = (vi - vj) * nx + (ui - uj) * ny; /* > 0: approaching */
+    const double Ax = (e->phase ? e->a2x[j] - e->a2x[i] : e->a1x[j] - e->a1x[i]);
+    const double Ay = (e->phase ? e->a2y[j] - e->a2y[i] : e->a1y[j] - e->a1y[i]);
+    double push = -(Ax * nx + Ay * ny); /* > 0: the noise presses the pair together */
+    if (gn <= 0.0) {
+        if (r > e->d * (1.0 + 1e-9)) {
+            return 1; /* not a collision after all: predict again */
+        }
+        /* touching without approaching: the quartic saw the pair about to approach (a critical
+         * point at rounding distance); separate it as a pressed contact so time moves on */
+        if (Ax == 0.0 && Ay == 0.0) {
+            return 1; /* no acceleration: a touching pair that does not approach stays apart */
+        }
+        push = fmax(push, sqrt(Ax * Ax + Ay * Ay));
+    }
+    const bool elastic = gr_ev_tc_elastic(e, i, j, t_abs);
+    double pi_x = vi, pi_y = ui, pj_x = vj, pj_y = uj, de_n = 0.0, de_t = 0.0;
+    if (gn > 0.0) { /* a pressed pair that is not approaching only gets the floor */
+        gr_event_pair p = {.M = e->M,
+                           .R = e->R,
+                           .q = e->q,
+                           .nx = nx,
+                           .ny = ny,
+                           .v1x = vi,
+                           .v1y = ui,
+                           .v2x = vj,
+                           .v2y = uj,
+                           .elastic = elastic};
+        if (e->rough) {
+            p.w1 = &s->omega[i];
+            p.w2 = &s->omega[j];
+        }
+        gr_event_rule_apply(e->rule, e->cc, &p);
+        pi_x = p.v1x;
+        pi_y = p.v1y;
+        pj_x = p.v2x;
+        pj_y = p.v2y;
+        de_n = p.de_n;
+        de_t = p.de_t;
+    }
+    if (push > 0.0) {
+        /* contact floor (docs/event-driven.md): separate at least fast enough that the pressing
+         * noise brings the pair back no sooner than tc, so a pressed pair cannot stall time */
+        const double floor_speed = 0.5 * push * e->tc;
+        const double sep = (pj_x - pi_x) * nx + (pj_y - pi_y) * ny;
+        if (sep < floor_speed) {
+            const double k0 = pi_x * pi_x + pi_y * pi_y + pj_x * pj_x + pj_y * pj_y;
+            const double dv = 0.5 * (floor_speed - sep);
+            pi_x -= dv * nx;
+            pi_y -= dv * ny;
+            pj_x += dv * nx;
+            pj_y += dv * ny;
+            const double added =
+                0.5 * e->M * (pi_x * pi_x + pi_y * pi_y + pj_x * pj_x + pj_y * pj_y - k0);
+            e->injected += added;
+            e->floor_energy += added;
+            e->floors++;
+            if (gr_ev_floor_check(s, i, j, t_abs, floor_speed, err)) {
+                return GR_EUNSTABLE; /* before the rebase: the state stays that of the last event */
+            }
+        }
+    }
+    if (s->contacts) {
+        const double L = e->L;
+        double wxi = xi - L * floor(xi / L), wyi = yi - L * floor(yi / L);
+        double wxj = xj - L * floor(xj / L), wyj = yj - L * floor(yj / L);
+        int rc = gr_ev_record(s, i, +1, t_abs, wxi, wyi, vi, ui, err);
+        rc = rc ? rc : gr_ev_record(s, j, +1, t_abs, wxj, wyj, vj, uj, err);
+        rc = rc ? rc : gr_ev_record(s, i, -1, t_abs, wxi, wyi, pi_x, pi_y, err);
+        rc = rc ? rc : gr_ev_record(s, j, -1, t_abs, wxj, wyj, pj_x, pj_y, err);
+        if (rc) {
+            return rc; /* negative: an error code */
+        }
+    }
+    rebase(e, i, xi, yi, vi, ui, pi_x, pi_y);
+    rebase(e, j, xj, yj, vj, uj, pj_x, pj_y);
+    booked(s, i, j, t_abs, elastic, de_n, de_t);
+    return 0;
+}
+
+#endif
+
+#if GR_EV_DIM == 2
+/* Particle i hits the wall `k` (WALL_FACE + 2 a + side) now. The wall is a grain of infinite mass:
+ * its collision is the model's event rule with the grain's point mirror image as partner
+ * (velocity -v, normal along the axis), which for equal masses and a relative velocity 2 v gives
+ * v' = v - (1 + eps_n) v_n n - (1 - eps_t) v_t exactly (a rule with a constant eps_n: gr_event_init
+ * refuses the others). The pair's losses are both grains'; the wall's share is half. The TC rule
+ * applies as for a pair (elastic within tc of the grain's last collision), and a grain that
+ * gravity holds on the wall leaves it at least at the contact floor's speed g tc / 2 (as a pressed
+ * pair does), so a resting grain bounces every ~tc instead of stalling time. */
+static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
+{
+    struct gr_event_state *e = gr_ev(s);
+    const int a = (k - WALL_FACE) / 2, side = (k - WALL_FACE) % 2;
+    double x, v, y, w;
+    gr_ev_state_x(e, i, e->now, e->phase, &x, &v);
+    gr_ev_state_y(e, i, e->now, e->phase, &y, &w);
+    const double nx = a == 0 ? (side ? 1.0 : -1.0) : 0.0, ny = a == 1 ? (side ? 1.0 : -1.0) : 0.0;
+    const double vn = v * nx + w * ny; /* > 0: towards the wall */
+    const double acc =
+        a == 0 ? (e->phase ? e->a2x[i] : e->a1x[i]) : (e->phase ? e->a2y[i] : e->a1y[i]);
+    const double push = (a == 0 ? nx : ny) * acc; /* > 0: pressed into the wall */
+    if (vn <= 0.0 && push <= 0.0) {
+        return 1; /* leaving and not pressed: predict again */
+    }
+    const bool elastic = t_abs - e->last[i] < e->tc;
+    double ux = v, uy = w, de_n = 0.0, de_t = 0.0;
+    if (vn > 0.0) {
+        gr_event_pair p = {.M = e->M,
+                           .R = e->R,
+                           .q = e->q,
+                           .nx = nx,
+                           .ny = ny,
+                           .v1x = v,
+                           .v1y = w,
+                           .v2x = -v,
+                           .v2y = -w,
+                           .elastic = elastic};
+        gr_event_rule_apply(e->rule, &s->wall_cc, &p); /* the walls' own eps_n, eps_t */
+        ux = p.v1x;
+        uy = p.v1y;
+        de_n = 0.5 * p.de_n;
+        de_t = 0.5 * p.de_t;
+    }
+    const double floor_speed = push > 0.0 ? 0.5 * push * e->tc : 0.0;
+    const double out = -(ux * nx + uy * ny); /* speed away from the wall */
+    if (out < floor_speed) {
+        const double k0 = ux * ux + uy * uy;
+        ux -= (floor_speed - out) * nx;
+        uy -= (floor_speed - out) * ny;
+        const double added = 0.5 * e->M * (ux * ux + uy * uy - k0);
+        e->injected += added;
+        e->floor_energy += added;
+        e->floors++; /* ~M (g tc)^2 / 8 per resting grain and tc: booked as injected */
+    }
+    if (s->contacts) {
+        const double wx = x - e->L * floor(x / e->L), wy = y - e->L * floor(y / e->L);
+        int rc = gr_ev_record(s, i, +1, t_abs, wx, wy, v, w, err);
+        rc = rc ? rc : gr_ev_record(s, i, -1, t_abs, wx, wy, ux, uy, err);
+        if (rc) {
+            return rc;
+        }
+    }
+    rebase(e, i, x, y, v, w, ux, uy);
+    if (elastic) {
+        e->tc_elastic++;
+    } else {
+        s->diss_n += de_n;
+        s->diss_t += de_t;
+    }
+    e->last[i] = t_abs;
+    e->count[i]++;
+    e->wall_hits++;
+    return 0;
+}
+
+#endif
+
+int EV_FN(process)(gr_sim *s, double t_limit, gr_error *err)
+{
+    struct gr_event_state *e = gr_ev(s);
+    gr_heap *hp = &e->heap;
+    const double t_win = (double)e->win * e->tau;
+    for (int i; (i = gr_heap_min(hp)) >= 0;) {
+        const double t = hp->t[i];
+        if (!(t <= t_limit)) {
+            break;
+        }
+        const int p = e->partner[i];
+        const double t_abs = t_win + t;
+        int grc = gr_ev_guard(s, e, t_abs, i, p, err);
+        if (grc) {
+            return grc;
+        }
+        e->now = t;
+        e->phase = hp->ph[i];
+        if (p >= 0) {
+            if (e->count[p] != e->ev_count[i]) {
+                e->invalid++;
+                predict(e, i);
+                gr_heap_update(hp, i);
+                continue;
+            }
+            int rc = collide(s, i, p, t_abs, err);
+            if (rc < 0) {
+                return rc;
+            }
+            if (rc > 0) {
+                e->invalid++;
+            } else if (e->check) {
+                rc = check_overlaps(s, err);
+                if (rc) {
+                    return rc;
+                }
+            }
+            predict(e, i);
+            gr_heap_update(hp, i);
+            if (rc == 0) {
+                predict(e, p);
+                gr_heap_update(hp, p);
+            }
+            continue;
+        }
+        const int face = -1 - p, nc = e->ncell;
+#if GR_EV_DIM == 2
+        if (face >= WALL_FACE) {
+            int rc = wall_hit(s, i, face, t_abs, err);
+            if (rc < 0) {
+                return rc;
+            }
+            e->invalid += rc;
+            predict(e, i);
+            gr_heap_update(hp, i);
+            continue;
+        }
+#endif
+        /* cell crossing: rebase at the cell wall, move to the neighbouring cell, wrap at the box
+         * edge */
+        double x, v, y, w;
+        gr_ev_state_x(e, i, t, e->phase, &x, &v);
+        gr_ev_state_y(e, i, t, e->phase, &y, &w);
+#if GR_EV_DIM == 3
+        double z, u;
+        gr_ev_state_z(e, i, t, e->phase, &z, &u);
+#endif
+        rebase(e, i, x, y, EV_Z(z, ) v, w, EV_Z(u, ) v, w EV_Z(, u));
+        int cx, cy, cz;
+        cell_xyz(nc, e->cell_of[i], &cx, &cy, &cz);
+        switch (face) {
+        case 0: cx--; break;
+        case 1: cx++; break;
+        case 2: cy--; break;
+        case 3: cy++; break;
+        case 4: cz--; break;
+        default: cz++; break;
+        }
+        if (cx < 0) {
+            cx = nc - 1;
+            e->bx[i] += e->L;
+        } else if (cx >= nc) {
+            cx = 0;
+            e->bx[i] -= e->L;
+        }
+        if (cy < 0) {
+            cy = nc - 1;
+            e->by[i] += e->L;
+        } else if (cy >= nc) {
+            cy = 0;
+            e->by[i] -= e->L;
+        }
+#if GR_EV_DIM == 3
+        if (cz < 0) {
+            cz = nc - 1;
+            e->bz[i] += e->L;
+        } else if (cz >= nc) {
+            cz = 0;
+            e->bz[i] -= e->L;
+        }
+#endif
+        cell_remove(e, i);
+        cell_insert(e, i, cell_index(nc, cx, cy, cz));
+        e->crossings++;
+        predict(e, i);
+        gr_heap_update(hp, i);
+    }
+    return GR_OK;
+}
+
+#undef EV_Z
+#undef EV_FN
+#undef EV_CELLS
