@@ -31,8 +31,15 @@ static double injection_rate_expected(const gr_scene *scene, double dt)
     if (d->update == GR_DRIVE_OFF) {
         return 0.0;
     }
-    return scene->dim * scene->D / scene->mass * scene->N *
-           (scene->noise_mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / scene->N : 1.0);
+    const double sym = scene->noise_mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / scene->N : 1.0;
+    if (scene->n_species >= 2) { /* species: d D / m_i per grain (docs/mixtures.md) */
+        double per_mass = 0.0;
+        for (int a = 0; a < scene->n_species; a++) {
+            per_mass += scene->species_count[a] / scene->species_masses[a];
+        }
+        return scene->dim * scene->D * per_mass * sym;
+    }
+    return scene->dim * scene->D / scene->mass * scene->N * sym;
 }
 
 /* summary.json's "walls": for each wall (x_0, x_L, y_0, y_L: the walls at 0 and L of an axis with

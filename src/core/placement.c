@@ -478,7 +478,8 @@ static inline void consider_pair(const gr_sim *s, int i, int j, double *worst, i
     double dx = s->x[j] - s->x[i], dy = s->y[j] - s->y[i];
     dx -= L * rint(dx / L);
     dy -= L * rint(dy / L);
-    double ov = (s->d - sqrt(dx * dx + dy * dy)) / s->d;
+    const double d = gr_pair_d(s, i, j); /* r_i + r_j with species */
+    double ov = (d - sqrt(dx * dx + dy * dy)) / d;
     if (ov > *worst) {
         *worst = ov;
         *wi = i;
@@ -578,7 +579,7 @@ int gr_check_overlaps(const gr_sim *s, gr_error *err)
                                "initial state: particles %d and %d are not in order along the line",
                                i, j);
             }
-            double ov = (d - gap) / d;
+            double ov = (gr_pair_d(s, i, j) - gap) / gr_pair_d(s, i, j);
             if (ov > worst) {
                 worst = ov;
                 wi = i;
