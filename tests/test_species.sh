@@ -53,6 +53,26 @@ PY
 grep -q '^\[species\]' "$tmp/inelastic/scene.ini" || fail "scene.ini lost [species]"
 grep -q '^species,N,radius' "$tmp/inelastic/species.csv" || fail "species.csv"
 
+# snapshots carry each grain's radius, mass and species (extended XYZ; ASE reads them)
+run snap --set run.warmup=0 --set run.duration=0.02 --set output.snapshot_every=0.01
+/usr/bin/python3 - "$tmp/snap" <<'PY' || fail "species in the snapshots (ASE)"
+import glob, sys
+try:
+    import ase.io
+except ImportError:
+    print("species: ASE not installed, the snapshot check reads the text only")
+    ase = None
+f = sorted(glob.glob(sys.argv[1] + "/snapshots/*.xyz"))[-1]
+if ase:
+    a = ase.io.read(f)
+    sp, m = a.arrays["species_index"], a.get_masses()
+    assert sorted(set(sp)) == [1, 2] and (sp == 1).sum() == 500, sp
+    assert all(abs(m[k] - (3.53e-5 if sp[k] == 1 else 1.412e-4)) < 1e-12 for k in range(len(a)))
+    assert abs((a.get_momenta()[:, 0] / m - a.arrays["velo"][:, 0])).max() < 1e-12
+else:
+    assert "species_index:I:1" in open(f).readlines()[1]
+PY
+
 # 1D: a ring of two species runs, its ledger closes
 cat >"$tmp/ring.ini" <<'INI'
 [system]

@@ -52,7 +52,8 @@ static void poly_1d(gr_sim *s, gr_force_report *r)
         const int j = i + 1 < n ? i + 1 : 0;
         const double gap = i + 1 < n ? s->x[j] - s->x[i] : s->x[0] + s->L - s->x[i];
         double fp, fd, el, p;
-        const uint8_t now = (uint8_t)poly_contact(s, i, j, gap, s->vx[j] - s->vx[i], &fp, &fd, &el, &p);
+        const uint8_t now =
+            (uint8_t)poly_contact(s, i, j, gap, s->vx[j] - s->vx[i], &fp, &fd, &el, &p);
         fresh += now > s->pair_contact[i];
         s->pair_contact[i] = now;
         if (!now) {

@@ -37,18 +37,18 @@ int gr_species_counts(int N, int ns, const double *fraction, int *count)
 static const char *not_covered(const gr_sim *s)
 {
     const gr_sim_params *p = &s->params;
-    return p->dim == 3                                             ? "[system] dim = 3"
-           : !p->integrator->species            ? "[integrator] kind"
-           : p->tangential                                         ? "[model] tangential"
-           : p->rolling                                            ? "[model] rolling"
-           : p->contact.rotation                                   ? "[model] rotation"
-           : p->walls[0] || p->walls[1]                            ? "[boundary]"
-           : p->gravity[0] != 0.0 || p->gravity[1] != 0.0          ? "[gravity]"
-           : s->drive == GR_DRIVE_BATH                             ? "[driving] kind = langevin"
-           : p->noise_mode == GR_NOISE_COM                         ? "[noise] mode = com"
-           : p->noise_precision == GR_NOISE_SINGLE                 ? "[noise] precision = single"
-           : !(p->normal && (p->normal->kind & GR_MODEL_NORMAL))   ? "[model] normal"
-                                                                   : NULL;
+    return p->dim == 3                                           ? "[system] dim = 3"
+           : !p->integrator->species                             ? "[integrator] kind"
+           : p->tangential                                       ? "[model] tangential"
+           : p->rolling                                          ? "[model] rolling"
+           : p->contact.rotation                                 ? "[model] rotation"
+           : p->walls[0] || p->walls[1]                          ? "[boundary]"
+           : p->gravity[0] != 0.0 || p->gravity[1] != 0.0        ? "[gravity]"
+           : s->drive == GR_DRIVE_BATH                           ? "[driving] kind = langevin"
+           : p->noise_mode == GR_NOISE_COM                       ? "[noise] mode = com"
+           : p->noise_precision == GR_NOISE_SINGLE               ? "[noise] precision = single"
+           : !(p->normal && (p->normal->kind & GR_MODEL_NORMAL)) ? "[model] normal"
+                                                                 : NULL;
 }
 
 int gr_species_setup(gr_sim *s, gr_error *err)
@@ -105,7 +105,8 @@ int gr_species_setup(gr_sim *s, gr_error *err)
         }
     }
     for (int i = n - 1; i > 0; i--) { /* Fisher-Yates, a pure function of the seed */
-        const int j = (int)(gr_noise_uniform(p->seed, GR_STREAM_PLACEMENT, (uint64_t)i, 2) * (i + 1));
+        const int j =
+            (int)(gr_noise_uniform(p->seed, GR_STREAM_PLACEMENT, (uint64_t)i, 2) * (i + 1));
         const int t = s->species[i];
         s->species[i] = s->species[j < i ? j : i];
         s->species[j < i ? j : i] = t;

@@ -31,15 +31,20 @@ void gr_xyz_write_frame(FILE *f, const gr_particles *p, double t, int64_t step)
     const double Ly = p->dim == 2 ? p->L : d;
     fprintf(f,
             "%d\nLattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T %s F\" Time=%.17g Step=%lld "
-            "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3%s\n",
+            "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3%s%s\n",
             p->n, p->L, Ly, d, p->dim == 2 ? "T" : "F", t, (long long)step,
-            p->omega ? ":omega:R:3" : "");
+            p->omega ? ":omega:R:3" : "", p->species ? ":species_index:I:1" : "");
     for (int i = 0; i < p->n; i++) {
         const double x = p->x[i] - p->L * floor(p->x[i] / p->L);
         const double y = p->dim == 2 ? p->y[i] : 0.5 * d;
         const double vy = p->dim == 2 ? p->vy[i] : 0.0;
+        /* species (docs/mixtures.md): each grain's own radius and mass, and its species 1, 2, ... */
+        const double r = p->radii ? p->radii[i] : p->radius, m = p->masses ? p->masses[i] : p->mass;
         fprintf(f, "X %.17g %.17g %.17g %.17g %.17g 0 %.17g %.17g %.17g %.17g 0", x, y, 0.5 * d,
-                p->vx[i], vy, p->radius, p->mass, p->mass * p->vx[i], p->mass * vy);
+                p->vx[i], vy, r, m, m * p->vx[i], m * vy);
+        if (p->species) {
+            fprintf(f, " %d", p->species[i] + 1);
+        }
         if (p->omega) {
             fprintf(f, " 0 0 %.17g",
                     p->omega[i]); /* rotation: the angular velocity about z, rad/s */

@@ -11,7 +11,9 @@
  * diameter d for each unused direction (2D: z; 1D: y and z) with pbc F there; unused
  * coordinates sit in the middle of that slab (d/2);
  * Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3 (velo for OVITO and
- * granule, masses and momenta = masses * velo so ASE's get_velocities() is right). */
+ * granule, masses and momenta = masses * velo so ASE's get_velocities() is right). A frame with
+ * species (docs/mixtures.md) has each grain's own radius and masses and a last column
+ * species_index:I:1 (1, 2, ...: ASE's atoms.arrays["species_index"]). */
 
 /* Write one frame (time t, step count `step`) to f; 2D positions wrapped into [0, L). */
 void gr_xyz_write_frame(FILE *f, const gr_particles *p, double t, int64_t step);

@@ -61,8 +61,8 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
 int gr_scene_species_resolve(gr_scene *s, const char **section, const char **key, char *detail,
                              size_t cap)
 {
-    const gr_number_list *r = &s->species_radius, *m = &s->species_mass,
-                         *rho = &s->species_density, *f = &s->species_fraction;
+    const gr_number_list *r = &s->species_radius, *m = &s->species_mass, *rho = &s->species_density,
+                         *f = &s->species_fraction;
     s->n_species = 0;
     *section = "species";
     if (r->n == 0 && m->n == 0 && rho->n == 0 && f->n == 0) {
