@@ -118,7 +118,33 @@ static PyObject *sim_restore(pyg_sim *self, PyObject *args)
     Py_RETURN_NONE;
 }
 
-enum { F_X, F_Y, F_VX, F_VY, F_FX, F_FY, F_Z, F_VZ };
+enum { F_X, F_Y, F_VX, F_VY, F_FX, F_FY, F_Z, F_VZ, F_RADII, F_MASSES };
+
+/* species (docs/mixtures.md): each grain's species 0, 1, ... as a read-only int view; None
+ * for one species */
+static PyObject *sim_species(pyg_sim *self, void *unused)
+{
+    (void)unused;
+    if (!ready(self)) {
+        return NULL;
+    }
+    gr_particles p = gr_sim_particles(self->sim);
+    if (!p.species) {
+        Py_RETURN_NONE;
+    }
+    npy_intp dims[1] = {p.n};
+    PyObject *a = PyArray_SimpleNewFromData(1, dims, NPY_INT, (void *)p.species);
+    if (!a) {
+        return NULL;
+    }
+    PyArray_CLEARFLAGS((PyArrayObject *)a, NPY_ARRAY_WRITEABLE);
+    Py_INCREF(self);
+    if (PyArray_SetBaseObject((PyArrayObject *)a, (PyObject *)self) < 0) {
+        Py_DECREF(a);
+        return NULL;
+    }
+    return a;
+}
 
 static PyObject *sim_array(pyg_sim *self, void *which)
 {
@@ -128,10 +154,10 @@ static PyObject *sim_array(pyg_sim *self, void *which)
     gr_particles p = gr_sim_particles(self->sim);
     const double *fx, *fy;
     gr_sim_forces(self->sim, &fx, &fy);
-    const double *a[] = {p.x, p.y, p.vx, p.vy, fx, fy, p.z, p.vz};
+    const double *a[] = {p.x, p.y, p.vx, p.vy, fx, fy, p.z, p.vz, p.radii, p.masses};
     const double *data = a[(int)(intptr_t)which];
     if (!data) {
-        Py_RETURN_NONE; /* y, vy, fy in 1D; z, vz except in 3D */
+        Py_RETURN_NONE; /* y, vy, fy in 1D; z, vz except in 3D; radii, masses of one species */
     }
     return pyg_view((PyObject *)self, data, p.n);
 }
@@ -178,6 +204,12 @@ static PyGetSetDef sim_getset[] = {
     VIEW("fy", F_FY, "y contact forces of the last evaluation, N (None in 1D)"),
     VIEW("z", F_Z, "z positions, m (3D only, else None)"),
     VIEW("vz", F_VZ, "z velocities, m/s (3D only, else None)"),
+    VIEW("radii", F_RADII, "each grain's radius, m ([species]; None for one species)"),
+    VIEW("masses", F_MASSES, "each grain's mass, kg ([species]; None for one species)"),
+    {"species", (getter)sim_species, NULL,
+     "each grain's species 0, 1, ... ([species]; None for one species; read-only numpy view, no "
+     "copy)",
+     NULL},
     GET("t", G_T, "simulated time, s"),
     GET("steps", G_STEPS, "steps taken"),
     GET("dt", G_DT, "time step, s"),
@@ -188,8 +220,8 @@ static PyGetSetDef sim_getset[] = {
     GET("collisions", G_COLL, "contacts started"),
     GET("temperature", G_TEMP, "granular temperature (2.19), m^2/s^2"),
     GET("scene", G_SCENE, "the Scene"),
-    GET("radius", G_RADIUS, "particle radius, m"),
-    GET("mass", G_MASS, "particle mass, kg"),
+    GET("radius", G_RADIUS, "particle radius, m (with species: the largest)"),
+    GET("mass", G_MASS, "particle mass, kg (with species: the mean)"),
     {NULL}};
 
 static PyMethodDef sim_methods[] = {
