@@ -258,6 +258,13 @@ with tempfile.TemporaryDirectory() as tmpm:
           and np.array_equal(lastm["vx"], simm.vx),
           "species: read_snapshots gives species (1-based), masses and velocities of a Sim stepped from Python")
     check(abs((simm.masses * simm.vx).sum()) < 1e-15, "species: the symmetrised noise keeps the momentum sum m_i v_i at 0")
+    stm = simm.state()
+    simm.step(50)
+    simm2 = granule.Sim(granule.load_scene(mix, set=setsm))
+    simm2.restore(stm)
+    simm2.step(50)
+    check(np.array_equal(simm.vx, simm2.vx) and np.array_equal(simm.x, simm2.x),
+          "species: state() / restore() continues a mixture bit for bit")
 check(granule.Sim(granule.load_scene(os.path.join(src, "docs", "scenes", "rfm-1d.ini"))).species is None,
       "species: None for one species")
 

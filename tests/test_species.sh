@@ -120,4 +120,9 @@ refuse "species.mass=1e-5: \[species\] mass.*one per radius" --set species.mass=
 refuse "\[species\] fraction.*sum to" --set species.fraction="0.5, 0.6"
 refuse "\[species\] radius.*2 to 8 species" --set species.radius=1e-3 --set species.mass=1e-5 \
     --set species.fraction=1
+# a LAMMPS deck of a mixture is refused, not written as one species
+if "$granule" export lammps "$scene" --out "$tmp/lmp" >"$tmp/l.log" 2>&1; then
+    fail "export lammps accepted a mixture"
+fi
+grep -q "\[species\].*not written yet" "$tmp/l.log" || { cat "$tmp/l.log" >&2; fail "export lammps message"; }
 echo "species: ok"
