@@ -481,6 +481,12 @@ int gr_sim_new_with_state(const gr_sim_params *p, int n, const double *x, const 
                        "placement only (allowed here: dim = 1 or 2)",
                        p->source);
     }
+    if (p->n_species >= 2) { /* the species are dealt by the seed, not given with the state */
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: a state given as arrays carries no species yet; a mixture ([species], "
+                       "docs/mixtures.md) starts from a placement (allowed here: n_species = 0)",
+                       p->source);
+    }
     int rc = alloc_state(p, n, &s, err);
     if (rc) {
         return rc;
