@@ -47,6 +47,12 @@ for name, want, away in (("inelastic", theory, 1.0), ("elastic", 1.0, None)):
     rate = 2 * D * (500 / 3.53e-5 + 500 / 1.412e-4) * (1 - 1 / 1000)
     ok &= abs(s["energy_injection_rate_expected"] / rate - 1) < 1e-12
     ok &= s["kernel"].startswith("2d-verlet-list-species/")
+    if away is not None:  # the run's own reference (src/app/mean_field.c) is the script's ratio
+        mf = s["mean_field"]
+        ok &= abs(mf["T1_over_T2_predicted"] / theory - 1) < 1e-5
+        Tm, Tp = sp["T"], mf["T_predicted"]
+        line += f"; T_s {Tm[0]:.3g}, {Tm[1]:.3g} J against Enskog {Tp[0]:.3g}, {Tp[1]:.3g} J"
+        ok &= all(abs(a / b - 1) < 0.05 for a, b in zip(Tm, Tp))
     print(line)
 sys.exit(0 if ok else 1)
 PY

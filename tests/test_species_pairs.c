@@ -22,9 +22,10 @@
 #include "sim_helpers.h"
 
 /* Two rods on a long ring, no driving. */
-static const char *pair_1d = "[system]\ndim = 1\nN = 2\nL = 1\n[placement]\nkind = uniform\nv0 = 0\n"
-                             "[driving]\nkind = none\n[species]\nradius = 1e-3, 2e-3\n"
-                             "mass = 1e-5, 4e-5\n";
+static const char *pair_1d =
+    "[system]\ndim = 1\nN = 2\nL = 1\n[placement]\nkind = uniform\nv0 = 0\n"
+    "[driving]\nkind = none\n[species]\nradius = 1e-3, 2e-3\n"
+    "mass = 1e-5, 4e-5\n";
 
 /* The restitution of a head-on collision of grains 0 and 1 approaching at 0.2 m/s. */
 static double collide(gr_sim *s, double *p_before, double *p_after)
