@@ -79,6 +79,16 @@ else:
     assert "species_index:I:1" in open(f).readlines()[1]
 PY
 
+# granule analyse reads the species back from the snapshots: the species observable of the frames
+"$granule" analyse "$tmp/snap" --out "$tmp/snap-an" >"$tmp/an.log" 2>&1 ||
+    { cat "$tmp/an.log" >&2; fail "analyse of a mixture's snapshots"; }
+python3 - "$tmp/snap-an/species.csv" <<'PY' || fail "analyse's species.csv"
+import sys
+rows = [l.split(",") for l in open(sys.argv[1]) if l[0].isdigit()]
+assert [(int(r[1]), float(r[3])) for r in rows] == [(500, 3.53e-5), (500, 1.412e-4)], rows
+assert all(float(r[4]) > 0 for r in rows), rows
+PY
+
 # 1D: a ring of two species runs, its ledger closes
 cat >"$tmp/ring.ini" <<'INI'
 [system]

@@ -309,7 +309,11 @@ int cmd_analyse(int argc, char **argv)
                               .x = fr.x,
                               .y = fr.y,
                               .vx = fr.vx,
-                              .vy = fr.vy};
+                              .vy = fr.vy,
+                              .species = fr.species, /* a mixture's frames (docs/mixtures.md) */
+                              .radii = fr.radii,
+                              .masses = fr.masses,
+                              .n_species = fr.n_species};
             rc = gr_observer_sample(obs, &p, fr.t, &err);
             if (rc) {
                 char why[sizeof err.message];

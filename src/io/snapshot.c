@@ -73,11 +73,19 @@ void gr_frame_free(gr_frame *f)
     free(f->y);
     free(f->vx);
     free(f->vy);
+    free(f->species);
+    free(f->radii);
+    free(f->masses);
     f->x = f->y = f->vx = f->vy = NULL;
+    f->species = NULL;
+    f->radii = f->masses = NULL;
 }
 
 int gr_frame_alloc(gr_frame *f, int n, int dim, gr_error *err)
 {
+    f->species = NULL;
+    f->radii = f->masses = NULL;
+    f->n_species = 0;
     f->n = n;
     f->dim = dim;
     f->x = malloc(sizeof(double) * (size_t)n);
@@ -94,12 +102,12 @@ int gr_frame_alloc(gr_frame *f, int n, int dim, gr_error *err)
 /* Columns of the Properties we need: first column of pos, velo, momenta, masses, radius (-1 if
  * absent) and the total number of columns. */
 typedef struct xyz_columns {
-    int pos, velo, momenta, masses, radius, total;
+    int pos, velo, momenta, masses, radius, species, total;
 } xyz_columns;
 
 static int parse_properties(const char *line, xyz_columns *c)
 {
-    *c = (xyz_columns){-1, -1, -1, -1, -1, 0};
+    *c = (xyz_columns){-1, -1, -1, -1, -1, -1, 0};
     const char *p = strstr(line, "Properties=");
     if (!p) {
         return -1;
@@ -111,12 +119,13 @@ static int parse_properties(const char *line, xyz_columns *c)
         if (sscanf(p, "%63[^:]:%7[^:]:%d%n", name, type, &count, &used) != 3 || count < 1) {
             return -1;
         }
-        int *slot = !strcmp(name, "pos")       ? &c->pos
-                    : !strcmp(name, "velo")    ? &c->velo
-                    : !strcmp(name, "momenta") ? &c->momenta
-                    : !strcmp(name, "masses")  ? &c->masses
-                    : !strcmp(name, "radius")  ? &c->radius
-                                               : NULL;
+        int *slot = !strcmp(name, "pos")             ? &c->pos
+                    : !strcmp(name, "velo")          ? &c->velo
+                    : !strcmp(name, "momenta")       ? &c->momenta
+                    : !strcmp(name, "masses")        ? &c->masses
+                    : !strcmp(name, "radius")        ? &c->radius
+                    : !strcmp(name, "species_index") ? &c->species
+                                                     : NULL;
         if (slot) {
             *slot = c->total;
         }
@@ -180,6 +189,16 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
     }
     f->t = t;
     f->L = lx;
+    /* a mixture: species, radii and masses of every particle (all three columns needed) */
+    if (c.species >= 0 && c.radius >= 0 && c.masses >= 0) {
+        f->species = malloc(sizeof(int) * (size_t)n);
+        f->radii = malloc(sizeof(double) * (size_t)n);
+        f->masses = malloc(sizeof(double) * (size_t)n);
+        if (!f->species || !f->radii || !f->masses) {
+            gr_frame_free(f);
+            return GR_FAIL(err, GR_ENOMEM, "out of memory for the species of %ld particles", n);
+        }
+    }
     for (long i = 0; i < n; i++) {
         double v[64];
         ++*line_no;
@@ -214,6 +233,19 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
         }
         if (c.radius >= 0) {
             f->radius = v[c.radius - 1];
+        }
+        if (f->species) {
+            const double k = v[c.species - 1];
+            if (!(k >= 1.0 && k <= GR_MAX_SPECIES && k == floor(k))) {
+                gr_frame_free(f);
+                return GR_FAIL(err, GR_EINVAL, "%s:%ld: species_index %g; allowed: 1 to %d", path,
+                               *line_no, k, GR_MAX_SPECIES);
+            }
+            f->species[i] = (int)k - 1;
+            f->n_species = f->n_species > (int)k ? f->n_species : (int)k;
+            f->radii[i] = v[c.radius - 1];
+            f->masses[i] = v[c.masses - 1];
+            f->radius = fmax(f->radius, f->radii[i]);
         }
         if (!isfinite(f->x[i]) || !isfinite(f->vx[i]) ||
             (f->dim == 2 && (!isfinite(f->y[i]) || !isfinite(f->vy[i])))) {

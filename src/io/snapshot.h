@@ -27,6 +27,11 @@ typedef struct gr_frame {
     int n, dim;
     double L, t, radius;
     double *x, *y, *vx, *vy;
+    /* a mixture's frame (a species_index column, docs/mixtures.md): each particle's species 0, 1,
+     * ..., radius and mass, and the number of species (the largest index); NULL and 0 without */
+    int *species;
+    double *radii, *masses;
+    int n_species;
 } gr_frame;
 
 /* Read the next frame of `in` into f (arrays allocated here; dim 1 when pbc = "T F F"). Accepts
