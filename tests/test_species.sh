@@ -8,7 +8,7 @@
 # usage: test_species.sh GRANULE SOURCE_DIR
 set -uo pipefail
 granule=$1
-src=$2
+src=$(cd "$2" && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail() {
@@ -87,6 +87,24 @@ import sys
 rows = [l.split(",") for l in open(sys.argv[1]) if l[0].isdigit()]
 assert [(int(r[1]), float(r[3])) for r in rows] == [(500, 3.53e-5), (500, 1.412e-4)], rows
 assert all(float(r[4]) > 0 for r in rows), rows
+PY
+
+# a sweep over eps (docs/sweeps/mixture-eps.ini, shortened): sweep.csv has the measured ratio and the theory
+sed -e "s|^scene = ../scenes/bidisperse-mixture.ini|scene = $scene|" -e "s|^out = .*|out = $tmp/sweep|" \
+    -e 's/^run.duration = 3.0/run.duration = 0.05/' -e 's/^run.warmup = 1.0/run.warmup = 0.01/' \
+    -e 's/^seeds = 1, 2/seeds = 1/' "$src/docs/sweeps/mixture-eps.ini" >"$tmp/sweep.ini"
+OMP_NUM_THREADS=1 "$granule" sweep "$tmp/sweep.ini" --jobs 1 >"$tmp/sweep.log" 2>&1 ||
+    { cat "$tmp/sweep.log" >&2; fail "the sweep over eps"; }
+python3 - "$tmp/sweep/sweep.csv" "$src/scripts" <<'PY' || fail "sweep.csv's temperature ratios"
+import csv, sys
+sys.path.insert(0, sys.argv[2])
+import mixture_theory as mt
+rows = list(csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#")))
+assert [float(r["model.eps_n"]) for r in rows] == [0.9, 0.7, 0.5], rows
+for r in rows:
+    want = mt.ratio((3.53e-5, 1.412e-4), (1.5e-3, 1.5e-3), (0.5, 0.5), float(r["model.eps_n"]))
+    assert abs(float(r["T1_over_T2_predicted"]) / want - 1) < 1e-5, (r, want)
+    assert float(r["T1_over_T2"]) > 0, r
 PY
 
 # 1D: a ring of two species runs, its ledger closes

@@ -130,6 +130,8 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     const bool with_R = any_number(s, n_points, status, "analysis.gaps.moments.0");
     /* a bed's numbers when some point has the profile observable (beds, walls, gravity) */
     const bool with_profile = any_number(s, n_points, status, "analysis.profile.mean_position");
+    /* a binary mixture's temperature ratio and its theory (the species observable, docs/mixtures.md) */
+    const bool with_species = any_number(s, n_points, status, "analysis.species.T1_over_T2");
     gr_file_note(&f, "granule sweep of %s: one row per point; moments <|v|^m> in (m/s)^m%s",
                  s->scene, with_R ? ", <R^m> in m^m" : "");
     gr_file_columns(&f, "point [1],seed [1]");
@@ -151,6 +153,9 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     }
     if (with_profile) {
         gr_file_columns(&f, "profile_height [m],profile_height_stderr [m],profile_max_phi [1]");
+    }
+    if (with_species) {
+        gr_file_columns(&f, "T1_over_T2 [1],T1_over_T2_stderr [1],T1_over_T2_predicted [1]");
     }
     fputc('\n', f.f);
     int n_col = s->n_keys;
@@ -217,6 +222,11 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
             fprintf(f.f, ",%.8g,%.4g,%.6g", gr_summary_number(j, "analysis.profile.mean_position"),
                     gr_summary_number(j, "analysis.profile.mean_position_error"),
                     gr_summary_number(j, "analysis.profile.max_packing_fraction"));
+        }
+        if (with_species) {
+            fprintf(f.f, ",%.8g,%.4g,%.8g", gr_summary_number(j, "analysis.species.T1_over_T2"),
+                    gr_summary_number(j, "analysis.species.T1_over_T2_stderr"),
+                    gr_summary_number(j, "mean_field.T1_over_T2_predicted"));
         }
         fputc('\n', f.f);
         cJSON_Delete(j);
