@@ -107,6 +107,16 @@ for r in rows:
     assert float(r["T1_over_T2"]) > 0, r
 PY
 
+# the same bits on 1 and 2 threads (3000 grains: three blocks, so the neighbour list is built by two)
+for t in 1 2; do
+    "$granule" run "$scene" --out "$tmp/threads$t" --threads $t --set system.N=3000 \
+        --set run.warmup=0.01 --set run.duration=0.03 --set output.snapshot_every=0 \
+        --set output.plots=false >"$tmp/threads$t.log" 2>&1 || { cat "$tmp/threads$t.log" >&2; fail "threads $t"; }
+done
+for f in temperature.csv ledger.csv species.csv; do
+    cmp -s "$tmp/threads1/$f" "$tmp/threads2/$f" || fail "$f differs between 1 and 2 threads"
+done
+
 # 1D: a ring of two species runs, its ledger closes
 cat >"$tmp/ring.ini" <<'INI'
 [system]
