@@ -117,6 +117,24 @@ for f in temperature.csv ledger.csv species.csv; do
     cmp -s "$tmp/threads1/$f" "$tmp/threads2/$f" || fail "$f differs between 1 and 2 threads"
 done
 
+# the snapshot picture draws every disc to its own scale: grains of radii 1.5 and 3 mm at packing
+# fraction 0.3 cover 30 % of the box (drawn all at one radius they would cover 12 %)
+"$granule" run "$scene" --out "$tmp/pic" --set system.N=300 --set 'species.radius=1.5e-3, 3e-3' \
+    --set system.packing_fraction=0.3 --set run.warmup=0 --set run.duration=0.001 \
+    --set run.sample_every=0.001 --set output.snapshot_every=0.001 --set output.plots=false >"$tmp/pic.log" 2>&1 &&
+    "$granule" plot "$tmp/pic" >>"$tmp/pic.log" 2>&1 || { cat "$tmp/pic.log" >&2; fail "a mixture's picture"; }
+/usr/bin/python3 - "$tmp/pic/snapshot.png" <<'PY' || fail "the picture's discs are not to scale"
+import sys
+from PIL import Image
+im = Image.open(sys.argv[1]).convert("L")
+w = im.size[0]
+box = im.crop((2, 2, w - 2, w - 2))  # the square box above the panel, without its outline
+px = list(box.getdata())
+cover = sum(v < 250 for v in px) / len(px)
+print(f"picture: discs cover {cover:.3f} of the box (packing fraction 0.3)")
+sys.exit(0 if 0.26 < cover < 0.36 else 1)
+PY
+
 # 1D: a ring of two species runs, its ledger closes
 cat >"$tmp/ring.ini" <<'INI'
 [system]
