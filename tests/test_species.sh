@@ -16,6 +16,17 @@ fail() {
     exit 1
 }
 scene=$src/docs/scenes/bidisperse-mixture.ini
+# a refused run: exit status != 0, the message, and no output folder
+refuse_with() {
+    local sc=$1 want=$2
+    shift 2
+    if "$granule" run "$sc" --out "$tmp/refused" "$@" >"$tmp/r.log" 2>&1; then
+        fail "accepted: $*"
+    fi
+    grep -q -- "$want" "$tmp/r.log" || { cat "$tmp/r.log" >&2; fail "message for $*: want $want"; }
+    [ ! -e "$tmp/refused" ] || fail "an output folder for a refused scene: $*"
+}
+refuse() { refuse_with "$scene" "$@"; }
 run() {
     local name=$1
     shift
@@ -135,6 +146,48 @@ print(f"picture: discs cover {cover:.3f} of the box (packing fraction 0.3)")
 sys.exit(0 if 0.26 < cover < 0.36 else 1)
 PY
 
+# a continuous radius distribution: its scene.ini runs the same run again; refusals at their keys
+cat >"$tmp/dist.ini" <<'INI'
+[system]
+dim = 2
+N = 300
+packing_fraction = 0.2
+[species]
+distribution = lognormal
+radius_min = 1e-3
+radius_max = 4e-3
+radius_median = 2e-3
+radius_sigma = 0.4
+density = 5
+[placement]
+kind = random
+[model]
+k_s = 5e3
+eps_n = 0.8
+[run]
+warmup = 0.01
+duration = 0.03
+INI
+for k in 1 2; do
+    from=$tmp/dist.ini
+    [ $k = 2 ] && from=$tmp/dist1/scene.ini
+    OMP_NUM_THREADS=1 "$granule" run "$from" --out "$tmp/dist$k" --set output.plots=false \
+        >"$tmp/dist$k.log" 2>&1 || { cat "$tmp/dist$k.log" >&2; fail "radius distribution run $k"; }
+done
+cmp -s "$tmp/dist1/temperature.csv" "$tmp/dist2/temperature.csv" || fail "scene.ini of a distribution"
+python3 - "$tmp/dist1/summary.json" <<'PY' || fail "a distribution's summary"
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert abs(s["ledger"]["relative_residual"]) < 0.01, s["ledger"]
+assert abs(s["scene"]["system"]["packing_fraction"] - 0.2) < 1e-12, s["scene"]["system"]
+PY
+refuse_with "$tmp/dist.ini" "\[analysis\] observables.*none with a radius distribution" --set analysis.observables=species
+refuse_with "$tmp/dist.ini" "\[model\] viscoelastic.*radius distribution" --set model.normal=hertz --set model.viscoelastic=true
+refuse_with "$tmp/dist.ini" "\[species\] density.*one density" --set 'species.density=5, 6'
+refuse_with "$tmp/dist.ini" "\[species\] radius_max.*radius_min < radius_max" --set species.radius_max=1e-3
+{ cat "$tmp/dist.ini"; printf '[integrator]\nkind = hybrid\n'; } >"$tmp/bad.ini"
+refuse_with "$tmp/bad.ini" "bad.ini:2[0-9]: \[integrator\] kind.*not available with \[species\]"
+
 # 1D: a ring of two species runs, its ledger closes
 cat >"$tmp/ring.ini" <<'INI'
 [system]
@@ -164,16 +217,7 @@ assert abs(s["ledger"]["relative_residual"]) < 0.01, s["ledger"]
 assert s["kernel"].startswith("1d-ring-species/"), s["kernel"]
 PY
 
-# refusals: the key, with the file and line
-refuse() {
-    local want=$1
-    shift
-    if "$granule" run "$scene" --out "$tmp/refused" "$@" >"$tmp/r.log" 2>&1; then
-        fail "accepted: $*"
-    fi
-    grep -q -- "$want" "$tmp/r.log" || { cat "$tmp/r.log" >&2; fail "message for $*: want $want"; }
-    [ ! -e "$tmp/refused" ] || fail "an output folder for a refused scene: $*"
-}
+# refusals: the key, with where it was given
 refuse "\[model\] tangential.*not available with \[species\]" --set model.tangential=tangential_dashpot
 refuse "\[integrator\] kind.*not available with \[species\]" --set integrator.kind=event \
     --set model.normal=hard_sphere

@@ -8,7 +8,9 @@
  * - the random force heats each grain by d D / m_i: an ideal gas of two species gains kinetic
  *   energy in the ratio of the inverse masses (4 for masses 1:4), not equally;
  * - the species are dealt by the seed (counts exact, the same for the same seed);
- * - a mixture's ledger closes, and a state given as arrays with species is refused. */
+ * - a mixture's ledger closes, and a state given as arrays with species is refused;
+ * - a continuous radius distribution (uniform, lognormal): radii, masses, packing fraction, every
+ *   pair's eps_n and the ledger. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -164,6 +166,70 @@ START_TEST(species_dealt_by_seed)
 }
 END_TEST
 
+/* A radius distribution: radii within the bounds with the distribution's mean or median, masses
+ * from the density, the packing fraction from the actual radii, and every pair of two grains of
+ * different sizes keeps eps_n (the damping scaled to the pair's reduced mass, hertz's stiffness to
+ * its effective radius); a 2D run's ledger closes. */
+START_TEST(size_distribution)
+{
+    static const char *gas = "[system]\ndim = 2\nN = 4000\npacking_fraction = 0.3\n"
+                             "[placement]\nkind = random\n[species]\nradius_min = 1e-3\n"
+                             "radius_max = 3e-3\ndensity = 10\n";
+    for (int kind = 0; kind < 2; kind++) {
+        const char *set[] = {kind ? "species.distribution=lognormal"
+                                  : "species.distribution=uniform",
+                             "species.radius_median=2e-3", "species.radius_sigma=0.3"};
+        gr_scene sc;
+        load(&sc, gas, set, 3);
+        gr_sim *s = create(&sc);
+        double area = 0.0, mean = 0.0;
+        int below = 0;
+        for (int i = 0; i < s->n; i++) {
+            ck_assert(s->rad[i] >= 1e-3 && s->rad[i] <= 3e-3);
+            ck_assert(fabs(s->mass_i[i] / (10 * M_PI * s->rad[i] * s->rad[i]) - 1) < 1e-15);
+            area += M_PI * s->rad[i] * s->rad[i];
+            mean += s->rad[i] / s->n;
+            below += s->rad[i] < 2e-3;
+        }
+        ck_assert_msg(fabs(area / (s->L * s->L) - 0.3) < 1e-12, "phi %g", area / (s->L * s->L));
+        if (kind == 0) { /* uniform: mean 2 mm, standard error 9 um */
+            ck_assert_msg(fabs(mean - 2e-3) < 5e-5, "mean radius %g", mean);
+        } else { /* lognormal about 2 mm, truncated symmetrically in ln r: half below the median */
+            ck_assert_msg(abs(below - 2000) < 200, "%d of 4000 below the median", below);
+        }
+        if (kind == 0) {
+            step(s, 2000);
+            gr_ledger l = gr_sim_ledger(s);
+            ck_assert_msg(fabs(gr_ledger_residual(&l)) <
+                              0.01 * (l.injected + gr_ledger_dissipated(&l)),
+                          "ledger residual %g of %g", gr_ledger_residual(&l), l.injected);
+        }
+        gr_sim_free(s);
+    }
+    static const char *pair = "[system]\ndim = 1\nN = 2\nL = 1\n[placement]\nkind = uniform\n"
+                              "v0 = 0\n[driving]\nkind = none\n[species]\ndistribution = uniform\n"
+                              "radius_min = 1e-3\nradius_max = 3e-3\ndensity = 10\n";
+    static const char *const laws[] = {"model.normal=spring_dashpot", "model.normal=hertz"};
+    for (int l = 0; l < 2; l++) {
+        for (int seed = 1; seed <= 3; seed++) {
+            char sd[32];
+            snprintf(sd, sizeof sd, "run.seed=%d", seed);
+            const char *set[] = {laws[l], "model.eps_n=0.7", sd};
+            gr_scene sc;
+            load(&sc, pair, set, 3);
+            gr_sim *s = create(&sc);
+            double p0, p1;
+            const double eps = collide(s, &p0, &p1);
+            ck_assert_msg(fabs(eps - 0.7) < 0.01, "%s, radii %g and %g m: eps = %.5f, want 0.7",
+                          laws[l], s->rad[0], s->rad[1], eps);
+            ck_assert_msg(fabs(p1 - p0) < 1e-13 * fabs(s->mass_i[0] * 0.1), "momentum %g -> %g", p0,
+                          p1);
+            gr_sim_free(s);
+        }
+    }
+}
+END_TEST
+
 static Suite *species_suite(void)
 {
     Suite *s = suite_create("species");
@@ -173,6 +239,7 @@ static Suite *species_suite(void)
     tcase_add_test(t, hertz_radius_and_dt);
     tcase_add_test(t, heating_per_mass);
     tcase_add_test(t, species_dealt_by_seed);
+    tcase_add_test(t, size_distribution);
     suite_add_tcase(s, t);
     return s;
 }

@@ -61,6 +61,10 @@ typedef struct gr_scene {
     int n_species;
     int species_count[GR_MAX_SPECIES];
     double species_masses[GR_MAX_SPECIES]; /* kg: mass, or from density */
+    /* or a continuous radius distribution (GR_SIZE_*; density one value): bounds, lognormal
+     * median (m) and sigma of ln r */
+    int size_distribution;
+    double radius_min, radius_max, radius_median, radius_sigma;
     /* [noise] */
     double D; /* noise strength, N^2 s (2.15, 2.22) */
     gr_noise_mode noise_mode;

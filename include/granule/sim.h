@@ -132,7 +132,21 @@ typedef struct gr_sim_params {
     int n_species;
     double species_radius[GR_MAX_SPECIES], species_mass[GR_MAX_SPECIES]; /* m, kg */
     int species_count[GR_MAX_SPECIES];
+    /* A continuous radius distribution instead ([species] distribution, docs/mixtures.md):
+     * size_distribution GR_SIZE_UNIFORM or GR_SIZE_LOGNORMAL gives grain i the radius
+     * gr_size_radius(p, i) in [size_min, size_max] (lognormal: median size_median, sigma
+     * size_sigma of ln r, truncated to the bounds) and the mass size_density pi r^2 (2D) or
+     * size_density 2 r (1D); n_species must then be 0. GR_SIZE_NONE (0, the default): none. */
+    int size_distribution;
+    double size_min, size_max, size_median, size_sigma, size_density;
 } gr_sim_params;
+
+enum { GR_SIZE_NONE = 0, GR_SIZE_UNIFORM = 1, GR_SIZE_LOGNORMAL = 2 };
+
+/* The radius of grain i under a continuous distribution: a pure function of the seed and i
+ * (kind, bounds, median and sigma as in gr_sim_params), m. */
+double gr_size_radius(int kind, double rmin, double rmax, double median, double sigma,
+                      uint64_t seed, int i);
 
 /* Grains per species from number fractions (fraction[0..ns), summing to 1): round(f_s N), the
  * rounding error given to the last species, so the counts sum to N. Returns 0, or GR_EINVAL when

@@ -77,7 +77,8 @@ cJSON *gr_mean_field_steady(const gr_scene *s, double T_mean)
     if (s->D <= 0.0 || !(T_mean > 0.0)) {
         return NULL;
     }
-    if (s->n_species >= 2) { /* one radius and mass: the references below do not apply */
+    if (s->n_species >= 2 ||
+        s->size_distribution) { /* the references below have one radius and mass */
         return mean_field_mixture(s);
     }
     const double M = s->mass, D = s->D, d = 2.0 * s->radius;
@@ -215,7 +216,7 @@ static cJSON *mean_field_bath(const gr_scene *s)
 
 cJSON *gr_mean_field_haff(const gr_scene *s, const double *t, const double *T, int n)
 {
-    if (s->n_species >= 2) { /* Haff's rate of one radius and mass does not apply to a mixture */
+    if (s->n_species >= 2 || s->size_distribution) { /* Haff's rate of one radius and mass */
         return NULL;
     }
     if (s->driving &&

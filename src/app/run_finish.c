@@ -39,6 +39,17 @@ static double injection_rate_expected(const gr_scene *scene, double dt)
         }
         return scene->dim * scene->D * per_mass * sym;
     }
+    if (scene->size_distribution) { /* a radius distribution: sum over the grains of 1 / m_i */
+        double per_mass = 0.0;
+        for (int i = 0; i < scene->N; i++) {
+            const double r =
+                gr_size_radius(scene->size_distribution, scene->radius_min, scene->radius_max,
+                               scene->radius_median, scene->radius_sigma, scene->seed, i);
+            const double rho = scene->species_density.v[0];
+            per_mass += 1.0 / (scene->dim == 1 ? rho * 2.0 * r : rho * M_PI * r * r);
+        }
+        return scene->dim * scene->D * per_mass * sym;
+    }
     return scene->dim * scene->D / scene->mass * scene->N * sym;
 }
 

@@ -11,9 +11,40 @@
 
 /* One contact: fills the force along n, its non-conservative part, the elastic energy (J) and the
  * dissipation rate (-f_d g_n, W); returns 0 when the pair is apart (gap >= d_ij). */
+/* A radius distribution (cc_pair NULL): the pair's coefficients from the reference pair's (s->cc,
+ * reduced mass cont_m12, effective radius cont_r), scaled to its reduced mass M and effective
+ * radius R: the stiffness as R^(a - 1) for a force k xi^a (hertz: k_h ~ sqrt(R); the linear spring
+ * alike for all), the damping as sqrt(M k) (a law calibrated to eps_n: the damping ratio depends on
+ * eps_n alone), the elastic energy with the stiffness. */
+static inline int size_contact(const gr_sim *s, int i, int j, double gap, double g_n, double *f,
+                               double *f_d, double *el, double *pn)
+{
+    const double d = s->rad[i] + s->rad[j];
+    if (gap >= d) {
+        return 0;
+    }
+    const double mi = s->mass_i[i], mj = s->mass_i[j], M = mi * mj / (mi + mj);
+    const double sk =
+        s->cc.pow_a == 1.0 ? 1.0 : pow(s->rad[i] * s->rad[j] / d / s->cont_r, s->cc.pow_a - 1.0);
+    gr_contact_coeffs c = s->cc;
+    c.k_s *= sk;
+    c.gamma_n *= sqrt(M / s->cont_m12 * sk);
+    c.e_scale *= sk;
+    c.m12 = M;
+    const gr_normal_force fn = normal_law(s->kernel.nl, &c, d - gap, g_n, s->kernel.clamp);
+    *f = fn.f;
+    *f_d = fn.f_d;
+    *el = c.e_scale * fn.e;
+    *pn = -fn.f_d * g_n;
+    return 1;
+}
+
 static inline int poly_contact(const gr_sim *s, int i, int j, double gap, double g_n, double *f,
                                double *f_d, double *el, double *pn)
 {
+    if (!s->cc_pair) {
+        return size_contact(s, i, j, gap, g_n, f, f_d, el, pn);
+    }
     const int a = s->species[i], b = s->species[j];
     const double d = s->d_pair[a * s->nsp + b];
     if (gap >= d) {

@@ -239,6 +239,12 @@ static int no_free_spot(const gr_sim *s, int i, uint64_t attempt, const char *la
 static int place_random(gr_sim *s, gr_error *err)
 {
     double phi = s->n * M_PI * 0.25 * s->d * s->d / (s->L * s->L);
+    if (s->rad) { /* species or a radius distribution: the actual radii */
+        phi = 0.0;
+        for (int i = 0; i < s->n; i++) {
+            phi += M_PI * s->rad[i] * s->rad[i] / (s->L * s->L);
+        }
+    }
     if (phi > 0.5) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: [placement] kind = random cannot reach phi = %.3f: random sequential "
@@ -282,7 +288,10 @@ static int place_random(gr_sim *s, gr_error *err)
                         double dx = s->x[j] - x, dy = s->y[j] - y;
                         dx -= s->L * rint(dx / s->L);
                         dy -= s->L * rint(dy / s->L);
-                        ok = dx * dx + dy * dy >= s->d * s->d;
+                        /* each pair its own contact distance (r_i + r_j <= d, the cells' side) */
+                        const double dd = s->rad ? (s->rad[i] + s->rad[j]) * (s->rad[i] + s->rad[j])
+                                                 : s->d * s->d;
+                        ok = dx * dx + dy * dy >= dd;
                     }
                     if (side < 3) {
                         break;

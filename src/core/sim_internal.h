@@ -114,6 +114,10 @@ struct gr_sim {
     double *rad, *mass_i, *inv_m;
     gr_contact_coeffs *cc_pair;
     double d_pair[GR_MAX_SPECIES * GR_MAX_SPECIES];
+    /* a continuous radius distribution (params.size_distribution; nsp = 1, cc_pair NULL): each
+     * pair's coefficients are cc's scaled to its reduced mass M and effective radius R from those
+     * of the reference pair, cont_m12 and cont_r (kernels_poly.c) */
+    double cont_m12, cont_r;
 
     /* bookkeeping */
     int64_t step;
@@ -211,7 +215,7 @@ void gr_history_restore(gr_sim *s);
  * distance); the pair whose contact is shortest (its contact parameters and reduced mass, for
  * the time step); then every pair's coefficients at the step dt. */
 int gr_species_setup(gr_sim *s, gr_error *err);
-void gr_species_reference(const gr_sim *s, gr_contact_params *p, double *m12);
+void gr_species_reference(gr_sim *s, gr_contact_params *p, double *m12);
 int gr_species_coeffs(gr_sim *s, double dt, gr_error *err);
 /* The contact distance of grains i and j: r_i + r_j with species, d without. */
 static inline double gr_pair_d(const gr_sim *s, int i, int j)

@@ -49,7 +49,7 @@ static int refuse_unmappable(const gr_scene *s, gr_error *err)
             "allowed: a 2D scene",
             s->source);
     }
-    if (s->n_species >= 2) {
+    if (s->n_species >= 2 || s->size_distribution) {
         return GR_FAIL(err, GR_EINVAL,
                        "export lammps: %s: [species]: a mixture's deck (atom types) is not "
                        "written yet (docs/mixtures.md); allowed: a scene without [species]",

@@ -160,6 +160,22 @@ static const scene_key keys[] = {
      "number fractions of the species, summing to 1 (grains: round(fraction N), the rest to the "
      "last species); unset = equal fractions",
      OFF(species_fraction)},
+    {"species", "distribution", "", K_ENUM, "none", 0, 0, false, false, "none|uniform|lognormal",
+     "instead of radius lists: a continuous radius distribution, every grain its own radius drawn "
+     "from the seed in [radius_min, radius_max] (uniform, or lognormal of median radius_median and "
+     "sigma radius_sigma of ln r, truncated to the bounds) and mass from density (one value); "
+     "none = species lists or one species",
+     OFF(size_distribution)},
+    {"species", "radius_min", "m", K_DOUBLE, "0", 0, 1e100, false, false, NULL,
+     "distribution: the smallest radius (> 0); hertz's k_h is that of two such grains",
+     OFF(radius_min)},
+    {"species", "radius_max", "m", K_DOUBLE, "0", 0, 1e100, false, false, NULL,
+     "distribution: the largest radius (> radius_min)", OFF(radius_max)},
+    {"species", "radius_median", "m", K_DOUBLE, "0", 0, 1e100, false, false, NULL,
+     "distribution = lognormal: the median radius of the untruncated lognormal (> 0)",
+     OFF(radius_median)},
+    {"species", "radius_sigma", "", K_DOUBLE, "0", 0, 10, false, false, NULL,
+     "distribution = lognormal: the standard deviation of ln r (> 0)", OFF(radius_sigma)},
     {"noise", "D", "N^2 s", K_DOUBLE, "1e-8", 0, INFINITY, false, true, NULL,
      "noise strength (2.15, 2.22); 0 switches the random force off (Table 2.2: 1e-8)", OFF(D)},
     {"noise", "mode", "", K_ENUM, "symmetrised", 0, 0, false, false, "none|symmetrised|com",
@@ -1925,6 +1941,9 @@ void gr_scene_write(const gr_scene *s, FILE *f)
         if (k->type == K_NUMBERS &&
             ((const gr_number_list *)((const char *)s + k->offset))->n == 0) {
             continue; /* [species] unset: one species, scene.ini as it always was */
+        }
+        if (!strcmp(k->section, "species") && k->type != K_NUMBERS && !s->size_distribution) {
+            continue; /* no radius distribution: scene.ini as it always was */
         }
         if (k->offset == offsetof(gr_scene, motion) && s->motion == GR_WALL_SINE) {
             continue; /* the default: the walls scenes' scene.ini as before */

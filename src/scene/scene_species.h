@@ -11,8 +11,8 @@
  * the reason (with the allowed values) in detail. */
 int gr_scene_species_resolve(gr_scene *s, const char **section, const char **key, char *detail,
                              size_t cap);
-/* The grains' total area N pi r^2 (2D; with species the sum over them), and total length N 2 r
- * (1D). */
+/* The grains' total area N pi r^2 (2D; with species or a radius distribution the sum over the
+ * grains), and total length N 2 r (1D). */
 double gr_scene_grain_area(const gr_scene *s);
 double gr_scene_grain_length(const gr_scene *s);
 
