@@ -1697,7 +1697,7 @@ void gr_scene_keys_markdown(FILE *out)
             gr_integrator_names(range, sizeof range, "/");
         } else if (k->type == K_DRIVING) {
             gr_driving_names(range, sizeof range, "/");
-        } else if (k->type == K_DOUBLE || k->type == K_INT) {
+        } else if (k->type == K_DOUBLE || k->type == K_INT || k->type == K_NUMBERS) {
             range_text(range, sizeof range, k->min, k->max, k->min_open, k->max_open);
         }
         char doc[1024] = "";
