@@ -146,6 +146,14 @@ print(f"picture: discs cover {cover:.3f} of the box (packing fraction 0.3)")
 sys.exit(0 if 0.26 < cover < 0.36 else 1)
 PY
 
+# granule compare across laws: the headline table has the mixture's T_1/T_2 and the theory's
+"$granule" compare "$scene" --models spring_dashpot,hertz --set run.warmup=0.01 --set run.duration=0.02 \
+    --set output.snapshot_every=0 --set output.plots=false --out "$tmp/cmp" >"$tmp/cmp.log" 2>&1 ||
+    { cat "$tmp/cmp.log" >&2; fail "compare of a mixture"; }
+grep -Eq '^\| T_1 / T_2 of the two species \| [0-9.]+( \+- [0-9.]+)? \| [0-9.]+' "$tmp/cmp/compare.md" &&
+    grep -q '^| T_1 / T_2, Enskog-Maxwellian (docs/validation.md) | 1.097 | 1.097 |' "$tmp/cmp/compare.md" ||
+    { cat "$tmp/cmp/compare.md" >&2; fail "compare.md's temperature ratio rows"; }
+
 # a continuous radius distribution: its scene.ini runs the same run again; refusals at their keys
 cat >"$tmp/dist.ini" <<'INI'
 [system]
