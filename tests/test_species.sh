@@ -225,6 +225,14 @@ assert abs(s["ledger"]["relative_residual"]) < 0.01, s["ledger"]
 assert s["kernel"].startswith("1d-ring-species/"), s["kernel"]
 PY
 
+# a dense ring (L' = 1 cm for 200 rods of 2 and 4 mm): every 1D placement gives each rod its own
+# length, so none overlaps (spacing L/N = 3.05 mm would put two 4 mm rods into each other)
+for kind in uniform cluster random; do
+    OMP_NUM_THREADS=1 "$granule" run "$tmp/ring.ini" --out "$tmp/ring-$kind" --set output.plots=false \
+        --set system.reduced_length=0.01 --set placement.kind=$kind >"$tmp/ring-$kind.log" 2>&1 ||
+        { cat "$tmp/ring-$kind.log" >&2; fail "dense 1D mixture, placement $kind"; }
+done
+
 # refusals: the key, with where it was given
 refuse "\[model\] tangential.*not available with \[species\]" --set model.tangential=tangential_dashpot
 refuse "\[integrator\] kind.*not available with \[species\]" --set integrator.kind=event \
