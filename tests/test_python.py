@@ -304,4 +304,32 @@ with tempfile.TemporaryDirectory() as tmp3:
           "3D: read_run of an h5md run lists its trajectory and the pair table")
     shutil.rmtree(tmp3 + "-h5")
 
+# species (docs/mixtures.md): radii, masses and species as views; read_snapshots gives them back
+mix = os.path.join(src, "docs", "scenes", "bidisperse-mixture.ini")
+with tempfile.TemporaryDirectory() as tmpm:
+    setsm = {"system.N": 100, "run.warmup": 0.0, "run.duration": 2e-3, "run.sample_every": 1e-3,
+             "output.snapshot_every": 2e-3, "output.plots": False}
+    cmdm = [exe, "run", mix, "--out", tmpm, "--force"]
+    cmdm += sum((["--set", f"{k}={granule._ini_value(v)}"] for k, v in setsm.items()), [])
+    subprocess.run(cmdm, check=True, stdout=subprocess.DEVNULL)
+    lastm = granule.read_snapshots(tmpm)[-1]
+    simm = granule.Sim(granule.load_scene(mix, set=setsm))
+    check(simm.species is not None and sorted(set(simm.species)) == [0, 1] and (simm.species == 0).sum() == 50
+          and np.array_equal(simm.masses, np.where(simm.species == 0, 3.53e-5, 1.412e-4))
+          and np.all(simm.radii == 1.5e-3), "species: Sim.species, masses, radii are the scene's")
+    simm.step(lastm["step"])
+    check(np.array_equal(lastm["species"], simm.species + 1) and np.array_equal(lastm["masses"], simm.masses)
+          and np.array_equal(lastm["vx"], simm.vx),
+          "species: read_snapshots gives species (1-based), masses and velocities of a Sim stepped from Python")
+    check(abs((simm.masses * simm.vx).sum()) < 1e-15, "species: the symmetrised noise keeps the momentum sum m_i v_i at 0")
+    stm = simm.state()
+    simm.step(50)
+    simm2 = granule.Sim(granule.load_scene(mix, set=setsm))
+    simm2.restore(stm)
+    simm2.step(50)
+    check(np.array_equal(simm.vx, simm2.vx) and np.array_equal(simm.x, simm2.x),
+          "species: state() / restore() continues a mixture bit for bit")
+check(granule.Sim(granule.load_scene(os.path.join(src, "docs", "scenes", "rfm-1d.ini"))).species is None,
+      "species: None for one species")
+
 finish()

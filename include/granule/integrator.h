@@ -55,6 +55,9 @@ typedef struct gr_integrator_type {
     /* Steps spheres in a periodic cube ([system] dim = 3, docs/three-dimensions.md: the force laws'
      * normal part, the random force or no driving); an integrator without it refuses dim = 3. */
     bool spheres;
+    /* Steps grains of several species, each with its own radius and mass ([species],
+     * docs/mixtures.md); an integrator without it refuses a scene with species. */
+    bool species;
 
     /* Build the integrator's state (into the simulation's integrator_state) once positions,
      * velocities, coefficients, the time step and the first forces are set. NULL: none. */

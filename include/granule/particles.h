@@ -14,6 +14,12 @@ typedef struct gr_particles {
     const double *z, *vz; /* dim = 3 only (NULL otherwise) */
     const double *omega;  /* angular velocities, rad/s counterclockwise (2D with [model] rotation =
                             true; NULL otherwise) */
+    /* species (docs/mixtures.md): each grain's species index, radius (m) and mass (kg), and the
+     * number of species; NULL and 0 for one species (radius and mass above then hold for all; with
+     * species, radius is the largest and mass the mean) */
+    const int *species;
+    const double *radii, *masses;
+    int n_species;
 } gr_particles;
 
 /* A particle's contact state changed: it touched another particle for the first time since it was

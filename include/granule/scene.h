@@ -18,6 +18,12 @@
 #include "granule/status.h"
 #include "granule/trajectory.h"
 
+/* A list of numbers of a scene key ([species] radius = 1.5e-3, 3e-3): n of them, n = 0 unset. */
+typedef struct gr_number_list {
+    int n;
+    double v[GR_MAX_SPECIES];
+} gr_number_list;
+
 typedef struct gr_scene {
     /* [system] */
     int dim;                 /* 1 or 2 */
@@ -49,6 +55,16 @@ typedef struct gr_scene {
     /* [boundary] eps_n, eps_t, mu: the walls' own contact coefficients; NAN until resolved, then
      * the [model] values (the particles') where the scene does not give them */
     double wall_eps_n, wall_eps_t, wall_mu;
+    /* [species] (docs/mixtures.md): one value per species, n = 0 when not given; resolved into
+     * n_species (0: one species, the [system] radius and mass) and the grains of each */
+    gr_number_list species_radius, species_mass, species_density, species_fraction;
+    int n_species;
+    int species_count[GR_MAX_SPECIES];
+    double species_masses[GR_MAX_SPECIES]; /* kg: mass, or from density */
+    /* or a continuous radius distribution (GR_SIZE_*; density one value): bounds, lognormal
+     * median (m) and sigma of ln r */
+    int size_distribution;
+    double radius_min, radius_max, radius_median, radius_sigma;
     /* [noise] */
     double D; /* noise strength, N^2 s (2.15, 2.22) */
     gr_noise_mode noise_mode;

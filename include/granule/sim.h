@@ -23,6 +23,9 @@
 
 typedef struct gr_sim gr_sim;
 
+/* Species of a polydisperse simulation at most (gr_sim_params.n_species) */
+#define GR_MAX_SPECIES 8
+
 /* Energies in J, accumulated since the simulation was created. */
 typedef struct gr_ledger {
     double kinetic;    /* current kinetic energy sum M v^2 / 2 (+ sum I w^2 / 2 with rotation) */
@@ -120,7 +123,35 @@ typedef struct gr_sim_params {
     double kick_interval;             /* event / hybrid, s */
     uint64_t seed;
     char source[1024]; /* names the input in messages (a scene file, "python", ...) */
+    /* Species ([species], docs/mixtures.md): n_species >= 2 gives each grain the radius and mass
+     * of its species, species_count[s] grains of species s (gr_species_counts), assigned to the
+     * grains in an order shuffled by the seed; radius and mass above are then unused. 0 (the
+     * default) or 1: every grain has radius and mass (the monodisperse path, unchanged). 1D and
+     * 2D, verlet, a normal law alone, periodic, the random force or none (gr_sim_new refuses the
+     * rest). */
+    int n_species;
+    double species_radius[GR_MAX_SPECIES], species_mass[GR_MAX_SPECIES]; /* m, kg */
+    int species_count[GR_MAX_SPECIES];
+    /* A continuous radius distribution instead ([species] distribution, docs/mixtures.md):
+     * size_distribution GR_SIZE_UNIFORM or GR_SIZE_LOGNORMAL gives grain i the radius
+     * gr_size_radius(p, i) in [size_min, size_max] (lognormal: median size_median, sigma
+     * size_sigma of ln r, truncated to the bounds) and the mass size_density pi r^2 (2D) or
+     * size_density 2 r (1D); n_species must then be 0. GR_SIZE_NONE (0, the default): none. */
+    int size_distribution;
+    double size_min, size_max, size_median, size_sigma, size_density;
 } gr_sim_params;
+
+enum { GR_SIZE_NONE = 0, GR_SIZE_UNIFORM = 1, GR_SIZE_LOGNORMAL = 2 };
+
+/* The radius of grain i under a continuous distribution: a pure function of the seed and i
+ * (kind, bounds, median and sigma as in gr_sim_params), m. */
+double gr_size_radius(int kind, double rmin, double rmax, double median, double sigma,
+                      uint64_t seed, int i);
+
+/* Grains per species from number fractions (fraction[0..ns), summing to 1): round(f_s N), the
+ * rounding error given to the last species, so the counts sum to N. Returns 0, or GR_EINVAL when
+ * a count would be negative. */
+int gr_species_counts(int N, int ns, const double *fraction, int *count);
 
 /* Build a simulation: place the particles (sec. 2.1.4), give them small random velocities,
  * prepare the models, choose the kernel and create the integrator's state. Refuses overlapping

@@ -65,6 +65,11 @@ def _xyz_frame(head, rows, where):
              "omega": num(props["omega"][0] + 2) if "omega" in props else None}
     if dim == 3:  # spheres (docs/three-dimensions.md): z and vz too
         frame["z"], frame["vz"] = num(pos + 2), num(vx + 2)
+    # a mixture (docs/mixtures.md): each grain's species 1, 2, ..., radius and mass; None without
+    sp = props.get("species_index")
+    frame["species"] = a[:, sp[0]].astype(np.int64) if sp else None
+    frame["radii"] = num(props["radius"][0]) if sp and "radius" in props else None
+    frame["masses"] = num(props["masses"][0]) if sp and "masses" in props else None
     return frame
 
 
@@ -136,8 +141,8 @@ def trajectory_files(folder):
 
 def read_snapshot(path):
     """The one frame of a per-frame snapshot file (snapshots/snap_NNNNNN.xyz): dict with t, step, L,
-    dim and numpy arrays x, y, vx, vy (y, vy None in 1D; z, vz too in 3D) and omega (None without
-    rotation), whatever the column order, as long as the Properties line names pos and velo (or
+    dim and numpy arrays x, y, vx, vy (y, vy None in 1D; z, vz too in 3D), omega (None without
+    rotation) and, for a mixture, species (1, 2, ...), radii and masses (None without), whatever the column order, as long as the Properties line names pos and velo (or
     vel). A file holding several frames is refused (read_snapshots reads them all)."""
     frames = _xyz_frames(path)
     if len(frames) != 1:

@@ -119,7 +119,33 @@ static PyObject *sim_restore(pyg_sim *self, PyObject *args)
     Py_RETURN_NONE;
 }
 
-enum { F_X, F_Y, F_VX, F_VY, F_FX, F_FY, F_Z, F_VZ, F_WX, F_WY, F_WZ };
+enum { F_X, F_Y, F_VX, F_VY, F_FX, F_FY, F_Z, F_VZ, F_WX, F_WY, F_WZ, F_RADII, F_MASSES };
+
+/* species (docs/mixtures.md): each grain's species 0, 1, ... as a read-only int view; None
+ * for one species */
+static PyObject *sim_species(pyg_sim *self, void *unused)
+{
+    (void)unused;
+    if (!ready(self)) {
+        return NULL;
+    }
+    gr_particles p = gr_sim_particles(self->sim);
+    if (!p.species) {
+        Py_RETURN_NONE;
+    }
+    npy_intp dims[1] = {p.n};
+    PyObject *a = PyArray_SimpleNewFromData(1, dims, NPY_INT, (void *)p.species);
+    if (!a) {
+        return NULL;
+    }
+    PyArray_CLEARFLAGS((PyArrayObject *)a, NPY_ARRAY_WRITEABLE);
+    Py_INCREF(self);
+    if (PyArray_SetBaseObject((PyArrayObject *)a, (PyObject *)self) < 0) {
+        Py_DECREF(a);
+        return NULL;
+    }
+    return a;
+}
 
 static PyObject *sim_array(pyg_sim *self, void *which)
 {
@@ -130,10 +156,11 @@ static PyObject *sim_array(pyg_sim *self, void *which)
     const double *fx, *fy, *wx, *wy, *wz;
     gr_sim_forces(self->sim, &fx, &fy);
     gr_sim_spins(self->sim, &wx, &wy, &wz);
-    const double *a[] = {p.x, p.y, p.vx, p.vy, fx, fy, p.z, p.vz, wx, wy, wz};
+    const double *a[] = {p.x, p.y, p.vx, p.vy, fx, fy, p.z, p.vz, wx, wy, wz, p.radii, p.masses};
     const double *data = a[(int)(intptr_t)which];
     if (!data) {
-        Py_RETURN_NONE; /* y, vy, fy in 1D; z, vz, wx, wy except in 3D; w without rotation */
+        Py_RETURN_NONE; /* y, vy, fy in 1D; z, vz, wx, wy except in 3D; w without rotation; radii,
+                           masses of one species */
     }
     return pyg_view((PyObject *)self, data, p.n);
 }
@@ -185,6 +212,12 @@ static PyGetSetDef sim_getset[] = {
     VIEW("wz", F_WZ,
          "z angular velocities, rad/s (2D: the discs' counterclockwise spin; None without "
          "rotation)"),
+    VIEW("radii", F_RADII, "each grain's radius, m ([species]; None for one species)"),
+    VIEW("masses", F_MASSES, "each grain's mass, kg ([species]; None for one species)"),
+    {"species", (getter)sim_species, NULL,
+     "each grain's species 0, 1, ... ([species]; None for one species; read-only numpy view, no "
+     "copy)",
+     NULL},
     GET("t", G_T, "simulated time, s"),
     GET("steps", G_STEPS, "steps taken"),
     GET("dt", G_DT, "time step, s"),
@@ -195,8 +228,8 @@ static PyGetSetDef sim_getset[] = {
     GET("collisions", G_COLL, "contacts started"),
     GET("temperature", G_TEMP, "granular temperature (2.19), m^2/s^2"),
     GET("scene", G_SCENE, "the Scene"),
-    GET("radius", G_RADIUS, "particle radius, m"),
-    GET("mass", G_MASS, "particle mass, kg"),
+    GET("radius", G_RADIUS, "particle radius, m (with species: the largest)"),
+    GET("mass", G_MASS, "particle mass, kg (with species: the mean)"),
     {NULL}};
 
 /* The walls' normal impulses since creation (gr_sim_wall_impulse) as {"x_lo", "x_hi", "y_lo",

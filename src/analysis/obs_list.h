@@ -21,6 +21,7 @@
     X(pressure)                                                                                    \
     X(collisions)                                                                                  \
     X(profile)                                                                                     \
+    X(species)                                                                                     \
     /* a new observable: X(NAME) \ on the line above this one */
 
 #endif

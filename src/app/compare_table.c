@@ -249,7 +249,7 @@ static void fill_column(gr_compare_table *t, int k, const cJSON *s)
  * not with walls or gravity),
  * a Langevin gas's T over the bath's, a bed's centre-of-mass height and densest slab (the profile
  * observable). Which rows: from the first model that left a summary (all share the scene). */
-enum { SYS_HAFF = 1, SYS_BATH = 2, SYS_PROFILE = 4, SYS_WALLS = 8 };
+enum { SYS_HAFF = 1, SYS_BATH = 2, SYS_PROFILE = 4, SYS_WALLS = 8, SYS_SPECIES = 16 };
 
 static int system_rows(gr_compare_table *t)
 {
@@ -264,6 +264,7 @@ static int system_rows(gr_compare_table *t)
     sys |= member(s, "mean_field.T_bath") ? SYS_BATH : 0;
     sys |= member(s, "analysis.profile") ? SYS_PROFILE : 0;
     sys |= member(s, "ledger.wall_work") ? SYS_WALLS : 0;
+    sys |= member(s, "analysis.species.T1_over_T2") ? SYS_SPECIES : 0;
     if (sys & SYS_HAFF) {
         add_row(t, "Haff time t0, fitted (s)", "haff_t0", "s");
         add_row(t, "t0 fitted / Enskog t0 (docs/validation.md)", "haff_t0_ratio", "1");
@@ -278,6 +279,11 @@ static int system_rows(gr_compare_table *t)
     if (sys & SYS_PROFILE) {
         add_row(t, "centre-of-mass position along the profile axis (m)", "profile_height", "m");
         add_row(t, "densest slab's packing fraction", "profile_max_phi", "1");
+    }
+    if (sys & SYS_SPECIES) { /* a binary mixture (docs/mixtures.md) */
+        add_row(t, "T_1 / T_2 of the two species", "species_ratio", "1");
+        add_row(t, "T_1 / T_2, Enskog-Maxwellian (docs/validation.md)", "species_ratio_theory",
+                "1");
     }
     return sys;
 }
@@ -334,6 +340,21 @@ static void fill_system(gr_compare_table *t, int k, const cJSON *s, int sys)
                        p ? "no samples" : "n/a: profile not enabled");
             set_reason(cell_of(t, "profile_max_phi", k),
                        p ? "no samples" : "n/a: profile not enabled");
+        }
+    }
+    if (sys & SYS_SPECIES) {
+        const double r = gr_summary_number(s, "analysis.species.T1_over_T2"),
+                     th = gr_summary_number(s, "mean_field.T1_over_T2_predicted");
+        if (isfinite(r)) {
+            set_number(cell_of(t, "species_ratio", k), r,
+                       gr_summary_number(s, "analysis.species.T1_over_T2_stderr"), NULL);
+        } else {
+            set_reason(cell_of(t, "species_ratio", k), "n/a: species not enabled");
+        }
+        if (isfinite(th)) {
+            set_number(cell_of(t, "species_ratio_theory", k), th, NAN, NULL);
+        } else {
+            set_reason(cell_of(t, "species_ratio_theory", k), "n/a: 2D, driven, eps_n < 1 only");
         }
     }
 }

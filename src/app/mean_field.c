@@ -6,10 +6,80 @@
 #include "app/mean_field.h"
 #include "granule/analysis.h"
 
+/* The energy each grain of species i loses per second in collisions over the number density,
+ * at temperatures T (J) of a binary mixture of smooth inelastic discs, Enskog-Maxwellian
+ * (docs/validation.md, "Driven binary mixtures"; scripts/mixture_theory.py is the same). */
+static double mixture_loss_2d(int i, const double T[2], const double m[2], const double r[2],
+                              const double x[2], double eps, double chi)
+{
+    double tot = 0.0;
+    for (int j = 0; j < 2; j++) {
+        const double M = m[i] + m[j], mu_ji = m[j] / M, mij = m[i] * m[j] / M;
+        const double s2 = T[i] / m[i] + T[j] / m[j];
+        tot += x[j] * chi * (r[i] + r[j]) * 4.0 * sqrt(M_PI / 2.0) * pow(s2, 1.5) * mij *
+               (1.0 + eps) * (mu_ji * (1.0 - eps) / 2.0 + (T[i] - T[j]) / (M * s2));
+    }
+    return tot;
+}
+
+double gr_mixture_ratio_2d(const double m[2], const double r[2], const double x[2], double eps)
+{
+    if (eps >= 1.0) {
+        return 1.0;
+    }
+    double lo = -20.0, hi = 20.0; /* log T_1 at T_2 = 1: m_1 loss_1 - m_2 loss_2 rises with it */
+    for (int k = 0; k < 200; k++) {
+        const double mid = 0.5 * (lo + hi), T[2] = {exp(mid), 1.0};
+        const double g = m[0] * mixture_loss_2d(0, T, m, r, x, eps, 1.0) -
+                         m[1] * mixture_loss_2d(1, T, m, r, x, eps, 1.0);
+        if (g > 0.0) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    return exp(0.5 * (lo + hi));
+}
+
+/* A driven binary mixture of discs ([species], docs/mixtures.md): T_1 / T_2 and each species' T
+ * from the two energy balances, chi of one-size discs at the actual packing fraction for every
+ * pair (exact for equal radii, where it drops out of the ratio). */
+static cJSON *mean_field_mixture(const gr_scene *s)
+{
+    if (s->dim != 2 || s->n_species != 2 || s->D <= 0.0 || s->contact.eps_n >= 1.0) {
+        return NULL;
+    }
+    const double m[2] = {s->species_masses[0], s->species_masses[1]},
+                 r[2] = {s->species_radius.v[0], s->species_radius.v[1]},
+                 x[2] = {(double)s->species_count[0] / s->N, (double)s->species_count[1] / s->N};
+    const double eps = s->contact.eps_n, phi = s->packing_fraction;
+    const double chi = (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi)); /* Henderson */
+    const double R = gr_mixture_ratio_2d(m, r, x, eps), T[2] = {R, 1.0};
+    const double n = s->N / (s->L * s->L);
+    const double sym = s->noise_mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / s->N : 1.0;
+    /* the losses scale as T^(3/2): 2 D / m_1 (1 - 1/N) = n loss_1(T_1, T_2) fixes the scale */
+    const double lam =
+        pow(2.0 * s->D * sym / (m[0] * n * mixture_loss_2d(0, T, m, r, x, eps, chi)), 2.0 / 3.0);
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddStringToObject(j, "reference",
+                            "driven binary mixture of smooth inelastic discs: each species' energy "
+                            "balance, Enskog-Maxwellian, chi(phi) of one-size discs for every pair "
+                            "(docs/validation.md, Driven binary mixtures)");
+    cJSON_AddNumberToObject(j, "T1_over_T2_predicted", R);
+    cJSON *t = cJSON_AddArrayToObject(j, "T_predicted");
+    cJSON_AddItemToArray(t, cJSON_CreateNumber(R * lam));
+    cJSON_AddItemToArray(t, cJSON_CreateNumber(lam));
+    return j;
+}
+
 cJSON *gr_mean_field_steady(const gr_scene *s, double T_mean)
 {
     if (s->D <= 0.0 || !(T_mean > 0.0)) {
         return NULL;
+    }
+    if (s->n_species >= 2 ||
+        s->size_distribution) { /* the references below have one radius and mass */
+        return mean_field_mixture(s);
     }
     const double M = s->mass, D = s->D, d = 2.0 * s->radius;
     if (s->dim == 3) {
@@ -177,6 +247,9 @@ static cJSON *mean_field_bath(const gr_scene *s)
 
 cJSON *gr_mean_field_haff(const gr_scene *s, const double *t, const double *T, int n)
 {
+    if (s->n_species >= 2 || s->size_distribution) { /* Haff's rate of one radius and mass */
+        return NULL;
+    }
     if (s->driving &&
         s->driving->update == GR_DRIVE_BATH) { /* driven, not cooling: the bath's references */
         return mean_field_bath(s);

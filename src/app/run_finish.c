@@ -31,8 +31,26 @@ static double injection_rate_expected(const gr_scene *scene, double dt)
     if (d->update == GR_DRIVE_OFF) {
         return 0.0;
     }
-    return scene->dim * scene->D / scene->mass * scene->N *
-           (scene->noise_mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / scene->N : 1.0);
+    const double sym = scene->noise_mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / scene->N : 1.0;
+    if (scene->n_species >= 2) { /* species: d D / m_i per grain (docs/mixtures.md) */
+        double per_mass = 0.0;
+        for (int a = 0; a < scene->n_species; a++) {
+            per_mass += scene->species_count[a] / scene->species_masses[a];
+        }
+        return scene->dim * scene->D * per_mass * sym;
+    }
+    if (scene->size_distribution) { /* a radius distribution: sum over the grains of 1 / m_i */
+        double per_mass = 0.0;
+        for (int i = 0; i < scene->N; i++) {
+            const double r =
+                gr_size_radius(scene->size_distribution, scene->radius_min, scene->radius_max,
+                               scene->radius_median, scene->radius_sigma, scene->seed, i);
+            const double rho = scene->species_density.v[0];
+            per_mass += 1.0 / (scene->dim == 1 ? rho * 2.0 * r : rho * M_PI * r * r);
+        }
+        return scene->dim * scene->D * per_mass * sym;
+    }
+    return scene->dim * scene->D / scene->mass * scene->N * sym;
 }
 
 /* summary.json's "walls": for each wall (x_0, x_L, y_0, y_L: the walls at 0 and L of an axis with

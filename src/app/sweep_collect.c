@@ -133,6 +133,8 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     /* a freely cooling gas's Haff time beside the Enskog one; event-driven runs' event rate */
     const bool with_haff = any_number(s, n_points, status, "mean_field.t0_fit");
     const bool with_events = any_number(s, n_points, status, "events_per_second");
+    /* a binary mixture's temperature ratio and its theory (the species observable, docs/mixtures.md) */
+    const bool with_species = any_number(s, n_points, status, "analysis.species.T1_over_T2");
     gr_file_note(&f, "granule sweep of %s: one row per point; moments <|v|^m> in (m/s)^m%s",
                  s->scene, with_R ? ", <R^m> in m^m" : "");
     gr_file_columns(&f, "point [1],seed [1]");
@@ -160,6 +162,9 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     }
     if (with_events) {
         gr_file_columns(&f, "events_per_second [s-1]");
+    }
+    if (with_species) {
+        gr_file_columns(&f, "T1_over_T2 [1],T1_over_T2_stderr [1],T1_over_T2_predicted [1]");
     }
     fputc('\n', f.f);
     int n_col = s->n_keys;
@@ -234,6 +239,11 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
         }
         if (with_events) {
             fprintf(f.f, ",%.4g", gr_summary_number(j, "events_per_second"));
+        }
+        if (with_species) {
+            fprintf(f.f, ",%.8g,%.4g,%.8g", gr_summary_number(j, "analysis.species.T1_over_T2"),
+                    gr_summary_number(j, "analysis.species.T1_over_T2_stderr"),
+                    gr_summary_number(j, "mean_field.T1_over_T2_predicted"));
         }
         fputc('\n', f.f);
         cJSON_Delete(j);

@@ -318,7 +318,11 @@ int cmd_analyse(int argc, char **argv)
                               .vx = fr.vx,
                               .vy = fr.vy,
                               .z = fr.z,
-                              .vz = fr.vz};
+                              .vz = fr.vz,
+                              .species = fr.species, /* a mixture's frames (docs/mixtures.md) */
+                              .radii = fr.radii,
+                              .masses = fr.masses,
+                              .n_species = fr.n_species};
             rc = gr_observer_sample(obs, &p, fr.t, &err);
             if (rc) {
                 char why[sizeof err.message];

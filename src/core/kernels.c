@@ -923,12 +923,16 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
             k.run = e->run;
         }
     }
+    if (s->nsp) { /* species: the kernel of kernels_poly.c, the pair's own coefficients */
+        k.run = gr_kernel_run_poly;
+    }
     s->kernel = k;
     const char *noise = s->drive == GR_DRIVE_BATH ? "langevin" /* the bath ([driving]) */
                         : s->params.noise_mode == GR_NOISE_NONE ? "no-noise"
                         : s->params.noise_mode == GR_NOISE_COM  ? "noise-com"
                                                                 : "noise-symmetrised";
-    const char *nb = s->dim == 1   ? "1d-ring"
+    const char *nb = s->nsp        ? (s->dim == 1 ? "1d-ring-species" : "2d-verlet-list-species")
+                     : s->dim == 1 ? "1d-ring"
                      : s->dim == 3 ? (s->params.skin > 0.0 ? "3d-verlet-list" : "3d-cell-list")
                                    : (s->params.skin > 0.0 ? "2d-verlet-list" : "2d-cell-list");
     snprintf(s->kernel_name, sizeof s->kernel_name, "%s/%s%s%s%s%s%s%s/%s", nb, normal_names[k.nl],

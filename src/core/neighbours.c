@@ -77,6 +77,9 @@ static int grow(gr_sim *s, int64_t need, gr_error *err)
 static inline uint8_t was_touching(const gr_sim *s, int i, int j, double dx, double dy, double r2,
                                    double d2)
 {
+    if (s->rad) { /* species: the pair's own contact distance */
+        d2 = (s->rad[i] + s->rad[j]) * (s->rad[i] + s->rad[j]);
+    }
     if (s->step == 0) {
         return r2 < d2;
     }

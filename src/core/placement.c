@@ -25,10 +25,50 @@ const char *gr_placement_name(gr_placement_kind k)
     return names[k];
 }
 
+/* 1D with species or a radius distribution: the grains in index order, each its own diameter,
+ * separated by gaps: equal (uniform), none (cluster, centred), or L' cut at sorted uniform points
+ * (random); L' = L - sum of the diameters. */
+static int place_1d_sizes(gr_sim *s, gr_error *err)
+{
+    const int n = s->n;
+    double free_len = s->L;
+    for (int i = 0; i < n; i++) {
+        free_len -= 2.0 * s->rad[i];
+    }
+    double *gap = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
+    if (!gap) {
+        return GR_FAIL(err, GR_ENOMEM, "out of memory placing %d particles", n);
+    }
+    double sum = 0.0;
+    for (int i = 0; i < n; i++) {
+        gap[i] =
+            s->params.placement == GR_PLACE_UNIFORM ? 1.0
+            : s->params.placement == GR_PLACE_CLUSTER
+                ? 0.0
+                : -log(1.0 - gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, (uint64_t)i, 0));
+        sum += gap[i];
+    }
+    /* uniform: the first grain half a gap from 0; cluster: the touching row centred */
+    double pos = s->params.placement == GR_PLACE_UNIFORM   ? 0.5 * free_len / n
+                 : s->params.placement == GR_PLACE_CLUSTER ? 0.5 * free_len
+                                                           : 0.0;
+    for (int i = 0; i < n; i++) {
+        s->x[i] = pos + s->rad[i];
+        pos += 2.0 * s->rad[i] + (sum > 0.0 ? free_len * gap[i] / sum : 0.0);
+    }
+    free(gap);
+    return GR_OK;
+}
+
 static int place_1d(gr_sim *s, gr_error *err)
 {
     int n = s->n;
     double L = s->L, d = s->d;
+    if (s->rad &&
+        (s->params.placement == GR_PLACE_UNIFORM || s->params.placement == GR_PLACE_CLUSTER ||
+         s->params.placement == GR_PLACE_RANDOM)) {
+        return place_1d_sizes(s, err);
+    }
     switch (s->params.placement) {
     case GR_PLACE_UNIFORM:
         for (int i = 0; i < n; i++) {
@@ -239,6 +279,12 @@ static int no_free_spot(const gr_sim *s, int i, uint64_t attempt, const char *la
 static int place_random(gr_sim *s, gr_error *err)
 {
     double phi = s->n * M_PI * 0.25 * s->d * s->d / (s->L * s->L);
+    if (s->rad) { /* species or a radius distribution: the actual radii */
+        phi = 0.0;
+        for (int i = 0; i < s->n; i++) {
+            phi += M_PI * s->rad[i] * s->rad[i] / (s->L * s->L);
+        }
+    }
     if (phi > 0.5) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: [placement] kind = random cannot reach phi = %.3f: random sequential "
@@ -282,7 +328,10 @@ static int place_random(gr_sim *s, gr_error *err)
                         double dx = s->x[j] - x, dy = s->y[j] - y;
                         dx -= s->L * rint(dx / s->L);
                         dy -= s->L * rint(dy / s->L);
-                        ok = dx * dx + dy * dy >= s->d * s->d;
+                        /* each pair its own contact distance (r_i + r_j <= d, the cells' side) */
+                        const double dd = s->rad ? (s->rad[i] + s->rad[j]) * (s->rad[i] + s->rad[j])
+                                                 : s->d * s->d;
+                        ok = dx * dx + dy * dy >= dd;
                     }
                     if (side < 3) {
                         break;
@@ -478,7 +527,8 @@ static inline void consider_pair(const gr_sim *s, int i, int j, double *worst, i
     double dx = s->x[j] - s->x[i], dy = s->y[j] - s->y[i];
     dx -= L * rint(dx / L);
     dy -= L * rint(dy / L);
-    double ov = (s->d - sqrt(dx * dx + dy * dy)) / s->d;
+    const double d = gr_pair_d(s, i, j); /* r_i + r_j with species */
+    double ov = (d - sqrt(dx * dx + dy * dy)) / d;
     if (ov > *worst) {
         *worst = ov;
         *wi = i;
@@ -578,7 +628,7 @@ int gr_check_overlaps(const gr_sim *s, gr_error *err)
                                "initial state: particles %d and %d are not in order along the line",
                                i, j);
             }
-            double ov = (d - gap) / d;
+            double ov = (gr_pair_d(s, i, j) - gap) / gr_pair_d(s, i, j);
             if (ov > worst) {
                 worst = ov;
                 wi = i;

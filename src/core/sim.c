@@ -120,6 +120,11 @@ void gr_sim_free(gr_sim *s)
     free(s->tgx);
     free(s->tgy);
     free(s->wall_hist);
+    free(s->species);
+    free(s->rad);
+    free(s->mass_i);
+    free(s->inv_m);
+    free(s->cc_pair);
     free(s);
 }
 
@@ -129,7 +134,14 @@ static int prepare_contact(gr_sim *s, gr_error *err)
 {
     const gr_sim_params *sc = &s->params;
     double m12 = 0.5 * sc->mass; /* reduced mass of two identical particles */
-    int rc = gr_contact_prepare(sc->normal, sc->tangential, &sc->contact, m12, 0.0, &s->cc, err);
+    /* species: the coefficients of the pair with the shortest contact set the time step */
+    gr_contact_params species_ref;
+    const gr_contact_params *cp = &sc->contact;
+    if (s->nsp) {
+        gr_species_reference(s, &species_ref, &m12);
+        cp = &species_ref;
+    }
+    int rc = gr_contact_prepare(sc->normal, sc->tangential, cp, m12, 0.0, &s->cc, err);
     if (!rc) {
         rc = gr_contact_prepare_rolling(sc->rolling, &sc->contact, m12, 0.0, &s->cc, err);
     }
@@ -189,7 +201,10 @@ static int prepare_contact(gr_sim *s, gr_error *err)
                        s->cc.zeta * (1.0 + 0.5 * s->cc.zeta * s->cc.w0 * dt), dt_lag);
     }
     s->dt = dt;
-    int rc2 = gr_contact_prepare(sc->normal, sc->tangential, &sc->contact, m12, dt, &s->cc, err);
+    int rc2 = gr_contact_prepare(sc->normal, sc->tangential, cp, m12, dt, &s->cc, err);
+    if (!rc2 && s->nsp) {
+        rc2 = gr_species_coeffs(s, dt, err);
+    }
     return rc2 ? rc2 : gr_contact_prepare_rolling(sc->rolling, &sc->contact, m12, dt, &s->cc, err);
 }
 
@@ -295,6 +310,11 @@ static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *er
         gr_sim_free(s);
         return GR_FAIL(err, GR_ENOMEM, "out of memory for %d particles", n);
     }
+    int rc_sp = gr_species_setup(s, err); /* species (species.c): nothing without */
+    if (rc_sp) {
+        gr_sim_free(s);
+        return rc_sp;
+    }
     *out = s;
     return GR_OK;
 }
@@ -386,7 +406,7 @@ static int finish(gr_sim *s, gr_error *err)
     if (s->dim == 1) {
         for (int i = 0; i < s->n && s->n > 1; i++) {
             double gap = i + 1 < s->n ? s->x[i + 1] - s->x[i] : s->x[0] + s->L - s->x[i];
-            s->pair_contact[i] = gap < s->d;
+            s->pair_contact[i] = gap < gr_pair_d(s, i, (i + 1) % s->n);
         }
     }
     if ((rc = gr_kernel_choose(s, err))) {
@@ -447,13 +467,19 @@ int gr_sim_new(const gr_sim_params *p, gr_sim **out, gr_error *err)
         double *v[3] = {s->vx, s->vy, s->vz};
         static const uint64_t word[3] = {0, 1, 3};
         for (int c = 0; c < s->dim; c++) {
+            double mtot = 0.0;
             for (int i = 0; i < s->n; i++) {
                 v[c][i] = p->v0 * (gr_noise_uniform(p->seed, GR_STREAM_INIT_VELOCITY, (uint64_t)i,
                                                     word[c]) -
                                    0.5);
-                mean[c] += v[c][i];
+                if (s->mass_i) { /* species: the centre-of-mass velocity is removed */
+                    mean[c] += s->mass_i[i] * v[c][i];
+                    mtot += s->mass_i[i];
+                } else {
+                    mean[c] += v[c][i];
+                }
             }
-            mean[c] /= s->n;
+            mean[c] /= s->mass_i ? mtot : s->n;
             for (int i = 0; i < s->n && s->n > 1; i++) {
                 v[c][i] -= mean[c];
             }
@@ -477,6 +503,12 @@ int gr_sim_new_with_state(const gr_sim_params *p, int n, const double *x, const 
         return GR_FAIL(err, GR_EINVAL,
                        "%s: a state given as x, y arrays is 1D or 2D; dim = 3 starts from a "
                        "placement only (allowed here: dim = 1 or 2)",
+                       p->source);
+    }
+    if (p->n_species >= 2) { /* the species are dealt by the seed, not given with the state */
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: a state given as arrays carries no species yet; a mixture ([species], "
+                       "docs/mixtures.md) starts from a placement (allowed here: n_species = 0)",
                        p->source);
     }
     int rc = alloc_state(p, n, &s, err);
@@ -631,7 +663,11 @@ gr_particles gr_sim_particles(const gr_sim *s)
                           .z = s->z,
                           .vz = s->vz,
                           /* 3D: the spins are vectors (wx, wy, omega), not one column */
-                          .omega = s->dim == 3 ? NULL : s->omega};
+                          .omega = s->dim == 3 ? NULL : s->omega,
+                          .species = s->species,
+                          .radii = s->rad,
+                          .masses = s->mass_i,
+                          .n_species = s->nsp};
 }
 
 void gr_sim_forces(const gr_sim *s, const double **fx, const double **fy)
@@ -719,13 +755,17 @@ double gr_ledger_residual(const gr_ledger *l)
 gr_ledger gr_sim_ledger(gr_sim *s)
 {
     double ke = 0.0;
-    for (int i = 0; i < s->n; i++) {
+    for (int i = 0; i < s->n && !s->mass_i; i++) {
         ke += s->vx[i] * s->vx[i];
         if (s->dim == 2) {
             ke += s->vy[i] * s->vy[i];
         } else if (s->dim == 3) {
             ke += s->vy[i] * s->vy[i] + s->vz[i] * s->vz[i];
         }
+    }
+    for (int i = 0; i < s->n && s->mass_i; i++) { /* species: each grain its own mass */
+        const double v2 = s->vx[i] * s->vx[i] + (s->dim == 2 ? s->vy[i] * s->vy[i] : 0.0);
+        ke += s->mass_i[i] / s->mass * v2;
     }
     double rot = 0.0; /* sum I w^2 / 2, part of the kinetic energy */
     for (int i = 0; s->omega && i < s->n; i++) {
@@ -801,9 +841,10 @@ void gr_sim_momentum(const gr_sim *s, double p[2])
 {
     p[0] = p[1] = 0.0;
     for (int i = 0; i < s->n; i++) {
-        p[0] += s->vx[i];
+        const double w = s->mass_i ? s->mass_i[i] / s->mass : 1.0; /* species: its own mass */
+        p[0] += w * s->vx[i];
         if (s->dim == 2) {
-            p[1] += s->vy[i];
+            p[1] += w * s->vy[i];
         }
     }
     p[0] *= s->mass;

@@ -106,6 +106,23 @@ struct gr_sim {
     double wall_work;
     double wall_impulse[4];
 
+    /* Species (src/core/species.c, docs/mixtures.md), only when params.n_species >= 2 (nsp = 0
+     * otherwise: every array NULL, the monodisperse path as ever). d is then the largest contact
+     * distance (cells, skin, placement), mass the mean mass. Per grain: its species, radius, mass
+     * and 1 / mass; per species pair (a, b), a * nsp + b: the laws' coefficients prepared with
+     * the pair's reduced mass (and radius), and the contact distance r_a + r_b. The kernel of a
+     * run with species is the one of src/core/kernels_poly.c, the step that of
+     * src/integrators/verlet/step_poly.c. */
+    int nsp;
+    int *species;
+    double *rad, *mass_i, *inv_m;
+    gr_contact_coeffs *cc_pair;
+    double d_pair[GR_MAX_SPECIES * GR_MAX_SPECIES];
+    /* a continuous radius distribution (params.size_distribution; nsp = 1, cc_pair NULL): each
+     * pair's coefficients are cc's scaled to its reduced mass M and effective radius R from those
+     * of the reference pair, cont_m12 and cont_r (kernels_poly.c) */
+    double cont_m12, cont_r;
+
     /* bookkeeping */
     int64_t step;
     int64_t collisions, rebuilds;
@@ -201,6 +218,21 @@ int gr_history_enable(gr_sim *s, gr_error *err);
 static inline int gr_history_width(const gr_sim *s) { return s->dim == 3 ? 3 : 1; }
 int gr_history_save(gr_sim *s, gr_error *err);
 void gr_history_restore(gr_sim *s);
+
+/* src/core/species.c: species (docs/mixtures.md). Check what a run with species can do, assign
+ * them and fill the per-grain arrays (before the placement; sets d to the largest contact
+ * distance); the pair whose contact is shortest (its contact parameters and reduced mass, for
+ * the time step); then every pair's coefficients at the step dt. */
+int gr_species_setup(gr_sim *s, gr_error *err);
+void gr_species_reference(gr_sim *s, gr_contact_params *p, double *m12);
+int gr_species_coeffs(gr_sim *s, double dt, gr_error *err);
+/* The contact distance of grains i and j: r_i + r_j with species, d without. */
+static inline double gr_pair_d(const gr_sim *s, int i, int j)
+{
+    return s->rad ? s->rad[i] + s->rad[j] : s->d;
+}
+/* src/core/kernels_poly.c: the force kernel of a run with species (1D ring or 2D list). */
+void gr_kernel_run_poly(gr_sim *s, gr_force_report *r);
 
 /* src/core/kernels.c: one force evaluation with the kernel chosen at creation (then the walls'
  * and gravity's pass when they are on) */

@@ -517,17 +517,19 @@ static int picture_2d(const gr_frame *f, double radius, const char *png_path, co
         double x = p->walls[0] ? f->x[i] : pic_wrap(f->x[i], L);
         double y = p->walls[1] ? f->y[i] : pic_wrap(f->y[i], L);
         pic_ramp(p, vrms > 0.0 ? pic_speed(f, i) / vrms : 0.0, rgb);
+        /* a mixture's frame (docs/mixtures.md): every disc to its own scale */
+        const double ri = f->radii ? f->radii[i] : radius, rpi = f->radii ? ri * pxm : rp;
         for (int a = -ax; a <= ax; a++) {
             double X = x + a * L;
-            if (X + radius < 0.0 || X - radius > L) {
+            if (X + ri < 0.0 || X - ri > L) {
                 continue;
             }
             for (int b = -ay; b <= ay; b++) {
                 double Y = y + b * L;
-                if (Y + radius < 0.0 || Y - radius > L) {
+                if (Y + ri < 0.0 || Y - ri > L) {
                     continue;
                 }
-                draw_disc(cr, X * pxm, (L - Y) * pxm, rp, rgb); /* y points up */
+                draw_disc(cr, X * pxm, (L - Y) * pxm, rpi, rgb); /* y points up */
             }
         }
     }

@@ -31,15 +31,20 @@ void gr_xyz_write_frame(FILE *f, const gr_particles *p, double t, int64_t step)
     const double Ly = p->dim == 2 ? p->L : d;
     fprintf(f,
             "%d\nLattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T %s F\" Time=%.17g Step=%lld "
-            "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3%s\n",
+            "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3%s%s\n",
             p->n, p->L, Ly, d, p->dim == 2 ? "T" : "F", t, (long long)step,
-            p->omega ? ":omega:R:3" : "");
+            p->omega ? ":omega:R:3" : "", p->species ? ":species_index:I:1" : "");
     for (int i = 0; i < p->n; i++) {
         const double x = p->x[i] - p->L * floor(p->x[i] / p->L);
         const double y = p->dim == 2 ? p->y[i] : 0.5 * d;
         const double vy = p->dim == 2 ? p->vy[i] : 0.0;
+        /* species (docs/mixtures.md): each grain's own radius and mass, and its species 1, 2, ... */
+        const double r = p->radii ? p->radii[i] : p->radius, m = p->masses ? p->masses[i] : p->mass;
         fprintf(f, "X %.17g %.17g %.17g %.17g %.17g 0 %.17g %.17g %.17g %.17g 0", x, y, 0.5 * d,
-                p->vx[i], vy, p->radius, p->mass, p->mass * p->vx[i], p->mass * vy);
+                p->vx[i], vy, r, m, m * p->vx[i], m * vy);
+        if (p->species) {
+            fprintf(f, " %d", p->species[i] + 1);
+        }
         if (p->omega) {
             fprintf(f, " 0 0 %.17g",
                     p->omega[i]); /* rotation: the angular velocity about z, rad/s */
@@ -70,11 +75,19 @@ void gr_frame_free(gr_frame *f)
     free(f->vy);
     free(f->z);
     free(f->vz);
+    free(f->species);
+    free(f->radii);
+    free(f->masses);
     f->x = f->y = f->vx = f->vy = f->z = f->vz = NULL;
+    f->species = NULL;
+    f->radii = f->masses = NULL;
 }
 
 int gr_frame_alloc(gr_frame *f, int n, int dim, gr_error *err)
 {
+    f->species = NULL;
+    f->radii = f->masses = NULL;
+    f->n_species = 0;
     f->n = n;
     f->dim = dim;
     f->x = malloc(sizeof(double) * (size_t)n);
@@ -93,12 +106,12 @@ int gr_frame_alloc(gr_frame *f, int n, int dim, gr_error *err)
 /* Columns of the Properties we need: first column of pos, velo, momenta, masses, radius (-1 if
  * absent) and the total number of columns. */
 typedef struct xyz_columns {
-    int pos, velo, momenta, masses, radius, total;
+    int pos, velo, momenta, masses, radius, species, total;
 } xyz_columns;
 
 static int parse_properties(const char *line, xyz_columns *c)
 {
-    *c = (xyz_columns){-1, -1, -1, -1, -1, 0};
+    *c = (xyz_columns){-1, -1, -1, -1, -1, -1, 0};
     const char *p = strstr(line, "Properties=");
     if (!p) {
         return -1;
@@ -110,12 +123,13 @@ static int parse_properties(const char *line, xyz_columns *c)
         if (sscanf(p, "%63[^:]:%7[^:]:%d%n", name, type, &count, &used) != 3 || count < 1) {
             return -1;
         }
-        int *slot = !strcmp(name, "pos")       ? &c->pos
-                    : !strcmp(name, "velo")    ? &c->velo
-                    : !strcmp(name, "momenta") ? &c->momenta
-                    : !strcmp(name, "masses")  ? &c->masses
-                    : !strcmp(name, "radius")  ? &c->radius
-                                               : NULL;
+        int *slot = !strcmp(name, "pos")             ? &c->pos
+                    : !strcmp(name, "velo")          ? &c->velo
+                    : !strcmp(name, "momenta")       ? &c->momenta
+                    : !strcmp(name, "masses")        ? &c->masses
+                    : !strcmp(name, "radius")        ? &c->radius
+                    : !strcmp(name, "species_index") ? &c->species
+                                                     : NULL;
         if (slot) {
             *slot = c->total;
         }
@@ -175,6 +189,16 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
     }
     f->t = t;
     f->L = lx;
+    /* a mixture: species, radii and masses of every particle (all three columns needed) */
+    if (c.species >= 0 && c.radius >= 0 && c.masses >= 0) {
+        f->species = malloc(sizeof(int) * (size_t)n);
+        f->radii = malloc(sizeof(double) * (size_t)n);
+        f->masses = malloc(sizeof(double) * (size_t)n);
+        if (!f->species || !f->radii || !f->masses) {
+            gr_frame_free(f);
+            return GR_FAIL(err, GR_ENOMEM, "out of memory for the species of %ld particles", n);
+        }
+    }
     for (long i = 0; i < n; i++) {
         double v[64];
         ++*line_no;
@@ -213,6 +237,19 @@ int gr_xyz_read_frame(FILE *in, const char *path, long *line_no, gr_frame *f, gr
         }
         if (c.radius >= 0) {
             f->radius = v[c.radius - 1];
+        }
+        if (f->species) {
+            const double k = v[c.species - 1];
+            if (!(k >= 1.0 && k <= GR_MAX_SPECIES && k == floor(k))) {
+                gr_frame_free(f);
+                return GR_FAIL(err, GR_EINVAL, "%s:%ld: species_index %g; allowed: 1 to %d", path,
+                               *line_no, k, GR_MAX_SPECIES);
+            }
+            f->species[i] = (int)k - 1;
+            f->n_species = f->n_species > (int)k ? f->n_species : (int)k;
+            f->radii[i] = v[c.radius - 1];
+            f->masses[i] = v[c.masses - 1];
+            f->radius = fmax(f->radius, f->radii[i]);
         }
         if (!isfinite(f->x[i]) || !isfinite(f->vx[i]) ||
             (f->dim >= 2 && (!isfinite(f->y[i]) || !isfinite(f->vy[i]))) ||

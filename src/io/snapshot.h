@@ -11,7 +11,9 @@
  * diameter d for each unused direction (2D: z; 1D: y and z) with pbc F there; unused
  * coordinates sit in the middle of that slab (d/2);
  * Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3 (velo for OVITO and
- * granule, masses and momenta = masses * velo so ASE's get_velocities() is right). */
+ * granule, masses and momenta = masses * velo so ASE's get_velocities() is right). A frame with
+ * species (docs/mixtures.md) has each grain's own radius and masses and a last column
+ * species_index:I:1 (1, 2, ...: ASE's atoms.arrays["species_index"]). */
 
 /* Write one frame (time t, step count `step`) to f; 2D positions wrapped into [0, L). */
 void gr_xyz_write_frame(FILE *f, const gr_particles *p, double t, int64_t step);
@@ -26,6 +28,11 @@ typedef struct gr_frame {
     double L, t, radius;
     double *x, *y, *vx, *vy;
     double *z, *vz; /* dim = 3 only (NULL otherwise) */
+    /* a mixture's frame (a species_index column, docs/mixtures.md): each particle's species 0, 1,
+     * ..., radius and mass, and the number of species (the largest index); NULL and 0 without */
+    int *species;
+    double *radii, *masses;
+    int n_species;
 } gr_frame;
 
 /* Read the next frame of `in` into f (arrays allocated here; dim 1 when pbc = "T F F", 3 when

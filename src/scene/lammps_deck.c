@@ -44,6 +44,12 @@
 
 static int refuse_unmappable(const gr_scene *s, gr_error *err)
 {
+    if (s->n_species >= 2 || s->size_distribution) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "export lammps: %s: [species]: a mixture's deck (atom types) is not "
+                       "written yet (docs/mixtures.md); allowed: a scene without [species]",
+                       s->source);
+    }
     if (s->dim == 1) {
         return GR_FAIL(
             err, GR_EINVAL,

@@ -17,6 +17,7 @@
 #include "granule/scene.h"
 #include "io/files.h"
 #include "scene/scene_lines.h"
+#include "scene/scene_species.h"
 
 typedef enum {
     K_DOUBLE,
@@ -30,7 +31,8 @@ typedef enum {
     K_ROLLING,
     K_INTEGRATOR,
     K_DRIVING,
-    K_LIST
+    K_LIST,
+    K_NUMBERS /* gr_number_list: numbers in [min, max], comma-separated */
 } key_type;
 
 typedef struct scene_key {
@@ -143,6 +145,38 @@ static const scene_key keys[] = {
      "gravitational acceleration along y (2D only); non-zero needs [boundary] y = walls; -9.81 "
      "pulls towards the floor at y = 0",
      OFF(gravity[1])},
+    /* species (src/core/species.c, docs/mixtures.md): unset, the [system] radius and mass */
+    {"species", "radius", "m", K_NUMBERS, "", 1e-100, 1e100, false, false, NULL,
+     "radii of the species, comma-separated (2 to 8 species; e.g. 1.5e-3, 3e-3): each grain has "
+     "its species' radius and mass instead of [system] radius and mass; packing_fraction counts "
+     "the actual radii; unset = one species",
+     OFF(species_radius)},
+    {"species", "mass", "kg", K_NUMBERS, "", 1e-100, 1e100, false, false, NULL,
+     "masses of the species, one per radius; give mass or density", OFF(species_mass)},
+    {"species", "density", "kg/m^2", K_NUMBERS, "", 1e-100, 1e100, false, false, NULL,
+     "instead of mass: the discs' areal density, mass = density pi r^2 (2D); in 1D kg/m, mass = "
+     "density 2 r",
+     OFF(species_density)},
+    {"species", "fraction", "", K_NUMBERS, "", 0, 1, false, false, NULL,
+     "number fractions of the species, summing to 1 (grains: round(fraction N), the rest to the "
+     "last species); unset = equal fractions",
+     OFF(species_fraction)},
+    {"species", "distribution", "", K_ENUM, "none", 0, 0, false, false, "none|uniform|lognormal",
+     "instead of radius lists: a continuous radius distribution, every grain its own radius drawn "
+     "from the seed in [radius_min, radius_max] (uniform, or lognormal of median radius_median and "
+     "sigma radius_sigma of ln r, truncated to the bounds) and mass from density (one value); "
+     "none = species lists or one species",
+     OFF(size_distribution)},
+    {"species", "radius_min", "m", K_DOUBLE, "0", 0, 1e100, false, false, NULL,
+     "distribution: the smallest radius (> 0); hertz's k_h is that of two such grains",
+     OFF(radius_min)},
+    {"species", "radius_max", "m", K_DOUBLE, "0", 0, 1e100, false, false, NULL,
+     "distribution: the largest radius (> radius_min)", OFF(radius_max)},
+    {"species", "radius_median", "m", K_DOUBLE, "0", 0, 1e100, false, false, NULL,
+     "distribution = lognormal: the median radius of the untruncated lognormal (> 0)",
+     OFF(radius_median)},
+    {"species", "radius_sigma", "", K_DOUBLE, "0", 0, 10, false, false, NULL,
+     "distribution = lognormal: the standard deviation of ln r (> 0)", OFF(radius_sigma)},
     {"noise", "D", "N^2 s", K_DOUBLE, "1e-8", 0, INFINITY, false, true, NULL,
      "noise strength (2.15, 2.22); 0 switches the random force off (Table 2.2: 1e-8)", OFF(D)},
     {"noise", "mode", "", K_ENUM, "symmetrised", 0, 0, false, false, "none|symmetrised|com",
@@ -502,7 +536,7 @@ typedef struct given {
     } model_at[64];
     int n_model_at;
     where at_L, at_pf, at_rl, at_dt, at_spc;
-    where at[64]; /* where each engine key (by row of `keys`) was last given; file NULL = default */
+    where at[80]; /* where each engine key (by row of `keys`) was last given; file NULL = default */
 } given;
 
 typedef struct loader {
@@ -520,8 +554,8 @@ typedef struct loader {
 } loader;
 
 #define SECTIONS                                                                                   \
-    "system, placement, model, driving, boundary, gravity, noise, integrator, run, analysis, "     \
-    "output"
+    "system, placement, model, driving, boundary, gravity, species, noise, integrator, run, "      \
+    "analysis, output"
 
 static bool section_known(const char *section)
 {
@@ -615,6 +649,26 @@ static int apply(loader *ld, const char *section, const char *name, const char *
                 snprintf(clean + cl, sizeof clean - cl, "%s%s", cl ? "," : "", tok);
             }
             snprintf((char *)slot, 256, "%s", clean);
+            break;
+        }
+        case K_NUMBERS: {
+            gr_number_list *l = slot;
+            const char *c = value;
+            l->n = 0;
+            while (*c) {
+                char *end;
+                errno = 0;
+                const double v = strtod(c, &end);
+                if (end == c || errno || l->n == GR_MAX_SPECIES || !(v >= k->min && v <= k->max) ||
+                    (k->min_open && v == k->min)) {
+                    snprintf(detail, sizeof detail,
+                             "'%s' is not a list of at most %d numbers in %s%g, %g]", value,
+                             GR_MAX_SPECIES, k->min_open ? "(" : "[", k->min, k->max);
+                    return fail_at(err, w, section, name, "%s", detail);
+                }
+                l->v[l->n++] = v;
+                c = end + strspn(end, ", \t");
+            }
             break;
         }
         case K_ENUM: {
@@ -1215,6 +1269,15 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
                    const char *const *driving_keys, int n_driving_keys, gr_error *err)
 {
     double d = 2.0 * s->radius;
+    {
+        const char *ssec = "species", *skey = "radius";
+        char why[400];
+        if (gr_scene_species_resolve(s, &ssec, &skey, why, sizeof why)) { /* scene_species.c */
+            where w = strcmp(skey, "rotation") == 0 ? model_where(g, s, skey)
+                                                    : where_of(g, s, ssec, skey);
+            return fail_at(err, &w, ssec, skey, "%s", why);
+        }
+    }
     int n_len = g->L + g->packing_fraction + g->reduced_length;
     if (n_len > 1) {
         where w = g->packing_fraction ? g->at_pf : g->at_rl;
@@ -1228,7 +1291,7 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
                            "only for dim = 2 or 3; use reduced_length or L in 1D");
         }
         s->L = s->dim == 3 ? cbrt(s->N * SPHERE_VOLUME(s->radius) / s->packing_fraction)
-                           : sqrt(s->N * M_PI * s->radius * s->radius / s->packing_fraction);
+                           : sqrt(gr_scene_grain_area(s) / s->packing_fraction);
     }
     /* defaults that depend on dim follow it (docs/scene-keys.md): without a length key a 1D ring
      * gets reduced_length = 1 m (the thesis's ch. 3 runs, docs/scenes/rfm-1d.ini), not the 2D
@@ -1242,16 +1305,16 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
             return fail_at(err, &g->at_rl, "system", "reduced_length", "%s",
                            "only for dim = 1; use packing_fraction or L in 2D and 3D");
         }
-        s->L = s->reduced_length + s->N * d;
+        s->L = s->reduced_length + gr_scene_grain_length(s);
     }
     if (s->dim == 2) {
-        s->packing_fraction = s->N * M_PI * s->radius * s->radius / (s->L * s->L);
+        s->packing_fraction = gr_scene_grain_area(s) / (s->L * s->L);
         s->reduced_length = -1.0;
     } else if (s->dim == 3) {
         s->packing_fraction = s->N * SPHERE_VOLUME(s->radius) / (s->L * s->L * s->L);
         s->reduced_length = -1.0;
     } else {
-        s->reduced_length = s->L - s->N * d;
+        s->reduced_length = s->L - gr_scene_grain_length(s);
         s->packing_fraction = 0.0;
     }
     char detail[400];
@@ -1586,6 +1649,7 @@ static const char *type_name(key_type t)
     case K_TANGENTIAL: return "model";
     case K_ROLLING: return "model";
     case K_LIST: return "list";
+    case K_NUMBERS: return "numbers";
     }
     return "";
 }
@@ -1642,7 +1706,7 @@ void gr_scene_keys_markdown(FILE *out)
             gr_integrator_names(range, sizeof range, "/");
         } else if (k->type == K_DRIVING) {
             gr_driving_names(range, sizeof range, "/");
-        } else if (k->type == K_DOUBLE || k->type == K_INT) {
+        } else if (k->type == K_DOUBLE || k->type == K_INT || k->type == K_NUMBERS) {
             range_text(range, sizeof range, k->min, k->max, k->min_open, k->max_open);
         }
         char doc[1024] = "";
@@ -1776,6 +1840,11 @@ static void save_value(FILE *f, const scene_key *k, const gr_scene *s)
     case K_UINT64: fprintf(f, "%llu", (unsigned long long)*(const uint64_t *)slot); break;
     case K_STRING:
     case K_LIST: fprintf(f, "%s", (const char *)slot); break;
+    case K_NUMBERS:
+        for (int i = 0; i < ((const gr_number_list *)slot)->n; i++) {
+            fprintf(f, "%s%.17g", i ? ", " : "", ((const gr_number_list *)slot)->v[i]);
+        }
+        break;
     case K_ENUM: {
         int idx = *(const int *)slot, i = 0;
         const char *c = k->choices;
@@ -1877,6 +1946,13 @@ void gr_scene_write(const gr_scene *s, FILE *f)
             s->boundary[0] || s->boundary[1] || s->gravity[0] != 0.0 || s->gravity[1] != 0.0;
         if (!walls && (!strcmp(k->section, "boundary") || !strcmp(k->section, "gravity"))) {
             continue; /* the periodic box: scene.ini as it always was */
+        }
+        if (k->type == K_NUMBERS &&
+            ((const gr_number_list *)((const char *)s + k->offset))->n == 0) {
+            continue; /* [species] unset: one species, scene.ini as it always was */
+        }
+        if (!strcmp(k->section, "species") && k->type != K_NUMBERS && !s->size_distribution) {
+            continue; /* no radius distribution: scene.ini as it always was */
         }
         if (k->offset == offsetof(gr_scene, motion) && s->motion == GR_WALL_SINE) {
             continue; /* the default: the walls scenes' scene.ini as before */

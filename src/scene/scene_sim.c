@@ -46,6 +46,18 @@ void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p)
                          .kick_interval = s->kick_interval,
                          .seed = s->seed};
     snprintf(p->source, sizeof p->source, "%s", s->source);
+    p->n_species = s->n_species; /* [species] (docs/mixtures.md); 0: one species */
+    p->size_distribution = s->size_distribution;
+    p->size_min = s->radius_min;
+    p->size_max = s->radius_max;
+    p->size_median = s->radius_median;
+    p->size_sigma = s->radius_sigma;
+    p->size_density = s->size_distribution ? s->species_density.v[0] : 0.0;
+    for (int a = 0; a < s->n_species; a++) {
+        p->species_radius[a] = s->species_radius.v[a];
+        p->species_mass[a] = s->species_masses[a];
+        p->species_count[a] = s->species_count[a];
+    }
 }
 
 int gr_scene_obs_setup(const gr_scene *s, gr_obs_setup *out, gr_error *err)

@@ -202,28 +202,6 @@ static double half_kick(gr_sim *s, bool *finite)
     return work * 0.5 * s->dt + spin;
 }
 
-/* Book energy dissipated (= minus the work of the non-conservative forces), split between the
- * mechanisms in proportion to their dissipation rates at the force evaluation. */
-static void book_dissipation(gr_sim *s, double work)
-{
-    s->diss_n -= work * s->share[0];
-    s->diss_t -= work * s->share[1];
-    s->diss_f -= work * s->share[2];
-}
-
-static void set_shares(gr_sim *s, const gr_force_report *r)
-{
-    double total = r->power_normal + r->power_tangential + r->power_friction;
-    if (total > 0.0) {
-        s->share[0] = r->power_normal / total;
-        s->share[1] = r->power_tangential / total;
-        s->share[2] = r->power_friction / total;
-    } else {
-        s->share[0] = 1.0;
-        s->share[1] = s->share[2] = 0.0;
-    }
-}
-
 /* Lane sums of g[0..m) (m a multiple of LANES except in the last block), even and odd lanes
  * apart: with dim = 2 the components alternate, so even lanes hold x and odd lanes y. */
 static void noise_sums(const double *restrict g, const int m, const int dim, double out[2])
@@ -640,7 +618,7 @@ static double open_step_3d(gr_sim *restrict s, const int noise, const double mea
     return s->mass * lanes_total(added);
 }
 
-static int check_finite(gr_sim *s, gr_error *err)
+int gr_verlet_check_finite(gr_sim *s, gr_error *err)
 {
     for (int i = 0; i < s->n; i++) {
         double sum = s->x[i] + s->vx[i] + (s->dim >= 2 ? s->y[i] + s->vy[i] : 0.0) +
@@ -656,11 +634,11 @@ static int check_finite(gr_sim *s, gr_error *err)
     return GR_OK;
 }
 
-/* Overlap beyond this fraction of d means the springs cannot hold the particles apart. */
-#define RUNAWAY_OVERLAP 0.5
-
 int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
 {
+    if (s->nsp) { /* species: the step of step_poly.c, chosen once per call */
+        return gr_verlet_step_poly(s, nsteps, err);
+    }
     const bool noise = s->params.noise_mode != GR_NOISE_NONE && s->params.D > 0.0;
     const bool bath = s->drive == GR_DRIVE_BATH; /* the driving, chosen once (its own loops) */
     const bool com = s->params.noise_mode == GR_NOISE_COM;
@@ -677,7 +655,7 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
         if (com_now) {
             if (closing) { /* the reset happens between steps, on synchronised velocities */
                 bool finite;
-                book_dissipation(s, half_kick(s, &finite));
+                gr_verlet_book(s, half_kick(s, &finite));
             }
             s->removed_com += gr_remove_com(s);
         }
@@ -712,12 +690,12 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
             o.finite = false;
         }
         if (close_here) {
-            book_dissipation(s, o.work_close);
+            gr_verlet_book(s, o.work_close);
         }
-        book_dissipation(s, o.work_open); /* the last forces, with their shares */
+        gr_verlet_book(s, o.work_open); /* the last forces, with their shares */
         double disp2 = o.disp2;
         if (!o.finite) {
-            int rc = check_finite(s, err); /* names the particle */
+            int rc = gr_verlet_check_finite(s, err); /* names the particle */
             return rc ? rc
                       : GR_FAIL(err, GR_EUNSTABLE, "unstable run: non-finite energy at step %lld",
                                 (long long)s->step);
@@ -729,41 +707,14 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
                 return rc;
             }
         }
-        gr_force_report r;
-        gr_forces(s, &r);
-        set_shares(s, &r);
-        s->diss_f += r.lost; /* a history law's slip and ended contacts: no work, booked directly */
-        if (s->contacts) {
-            int rc = gr_events_update(s, err);
-            if (rc) {
-                return rc;
-            }
-        }
-        s->elastic = r.elastic;
-        s->collisions += r.new_contacts;
-        s->last = r;
-        if (r.max_overlap > RUNAWAY_OVERLAP) {
-            /* worst_j = -1: a grain pressed into a wall, its overlap reported as xi / r (walls.c) */
-            const int wall = s->walls_on && r.worst_i >= 0 && r.worst_j < 0;
-            char who[80];
-            if (wall) {
-                snprintf(who, sizeof who, "particle %d and a wall", r.worst_i);
-            } else {
-                snprintf(who, sizeof who, "particles %d and %d", r.worst_i, r.worst_j);
-            }
-            return GR_FAIL(err, GR_EUNSTABLE,
-                           "unstable run: %s overlap by %.3g d at step %lld (t = "
-                           "%.6g s), beyond the %.2g d limit; "
-                           "the springs (k_s = %g N/m) cannot hold them apart at this speed or "
-                           "packing; use a stiffer k_s or a smaller dt",
-                           who, wall ? 0.5 * r.max_overlap : r.max_overlap, (long long)s->step,
-                           gr_sim_time(s), wall ? 0.5 * RUNAWAY_OVERLAP : RUNAWAY_OVERLAP,
-                           s->cc.k_s);
+        int rc = gr_verlet_forces(s, err);
+        if (rc) {
+            return rc;
         }
     }
     if (nsteps > 0) {
         bool finite;
-        book_dissipation(s, half_kick(s, &finite));
+        gr_verlet_book(s, half_kick(s, &finite));
     }
-    return check_finite(s, err);
+    return gr_verlet_check_finite(s, err);
 }

@@ -9,6 +9,7 @@ const gr_integrator_type gr_integrator_verlet = {
     .walls = true,
     .single_noise = true,
     .spheres = true,
+    .species = true,
     .summary = "soft-sphere velocity Verlet (docs/integrator.md)",
     .step = gr_verlet_step,
 };

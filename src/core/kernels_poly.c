@@ -1,0 +1,162 @@
+/* The force kernel of a run with species (docs/mixtures.md): the same pair geometry and normal
+ * laws as kernels.c (models/NAME.h through kernel_laws.h's normal_law), with the pair's own
+ * contact distance r_i + r_j and coefficients (s->cc_pair of the two species: reduced mass,
+ * damping, stiffness). A separate instance, chosen once per run (gr_kernel_choose) when the scene
+ * has species, so the monodisperse instances load nothing per pair that they did not before.
+ * One thread: a run with species is the same for every thread count. */
+#include <math.h>
+#include <string.h>
+
+#include "core/kernel_laws.h"
+
+/* One contact: fills the force along n, its non-conservative part, the elastic energy (J) and the
+ * dissipation rate (-f_d g_n, W); returns 0 when the pair is apart (gap >= d_ij). */
+/* A radius distribution (cc_pair NULL): the pair's coefficients from the reference pair's (s->cc,
+ * reduced mass cont_m12, effective radius cont_r), scaled to its reduced mass M and effective
+ * radius R: the stiffness as R^(a - 1) for a force k xi^a (hertz: k_h ~ sqrt(R); the linear spring
+ * alike for all), the damping as sqrt(M k) (a law calibrated to eps_n: the damping ratio depends on
+ * eps_n alone), the elastic energy with the stiffness. */
+static inline int size_contact(const gr_sim *s, int i, int j, double gap, double g_n, double *f,
+                               double *f_d, double *el, double *pn)
+{
+    const double d = s->rad[i] + s->rad[j];
+    if (gap >= d) {
+        return 0;
+    }
+    const double mi = s->mass_i[i], mj = s->mass_i[j], M = mi * mj / (mi + mj);
+    const double sk =
+        s->cc.pow_a == 1.0 ? 1.0 : pow(s->rad[i] * s->rad[j] / d / s->cont_r, s->cc.pow_a - 1.0);
+    gr_contact_coeffs c = s->cc;
+    c.k_s *= sk;
+    c.gamma_n *= sqrt(M / s->cont_m12 * sk);
+    c.e_scale *= sk;
+    c.m12 = M;
+    const gr_normal_force fn = normal_law(s->kernel.nl, &c, d - gap, g_n, s->kernel.clamp);
+    *f = fn.f;
+    *f_d = fn.f_d;
+    *el = c.e_scale * fn.e;
+    *pn = -fn.f_d * g_n;
+    return 1;
+}
+
+static inline int poly_contact(const gr_sim *s, int i, int j, double gap, double g_n, double *f,
+                               double *f_d, double *el, double *pn)
+{
+    if (!s->cc_pair) {
+        return size_contact(s, i, j, gap, g_n, f, f_d, el, pn);
+    }
+    const int a = s->species[i], b = s->species[j];
+    const double d = s->d_pair[a * s->nsp + b];
+    if (gap >= d) {
+        return 0;
+    }
+    const gr_contact_coeffs *c = &s->cc_pair[a * s->nsp + b];
+    const gr_normal_force fn = normal_law(s->kernel.nl, c, d - gap, g_n, s->kernel.clamp);
+    *f = fn.f;
+    *f_d = fn.f_d;
+    *el = c->e_scale * fn.e;
+    *pn = -fn.f_d * g_n;
+    return 1;
+}
+
+static gr_force_report report(double elastic, double pn, int64_t fresh, double worst, int wi,
+                              int wj)
+{
+    return (gr_force_report){.elastic = elastic,
+                             .power_normal = pn,
+                             .new_contacts = fresh,
+                             .max_overlap = worst,
+                             .worst_i = wi,
+                             .worst_j = wj};
+}
+
+static void poly_1d(gr_sim *s, gr_force_report *r)
+{
+    const int n = s->n;
+    double *f = s->fx, *g = s->gx;
+    memset(f, 0, sizeof(double) * (size_t)n);
+    memset(g, 0, sizeof(double) * (size_t)n);
+    double elastic = 0.0, pn = 0.0, worst = 0.0;
+    int wi = -1;
+    int64_t fresh = 0;
+    for (int i = 0; i < n && n > 1; i++) {
+        const int j = i + 1 < n ? i + 1 : 0;
+        const double gap = i + 1 < n ? s->x[j] - s->x[i] : s->x[0] + s->L - s->x[i];
+        double fp, fd, el, p;
+        const uint8_t now =
+            (uint8_t)poly_contact(s, i, j, gap, s->vx[j] - s->vx[i], &fp, &fd, &el, &p);
+        fresh += now > s->pair_contact[i];
+        s->pair_contact[i] = now;
+        if (!now) {
+            continue;
+        }
+        f[j] += fp;
+        f[i] -= fp;
+        g[j] += fd;
+        g[i] -= fd;
+        elastic += el;
+        pn += p;
+        const double ov = (gr_pair_d(s, i, j) - gap) / gr_pair_d(s, i, j);
+        if (ov > worst) {
+            worst = ov;
+            wi = i;
+        }
+    }
+    *r = report(elastic, pn, fresh, worst, wi, wi >= 0 ? (wi + 1) % n : -1);
+}
+
+static void poly_2d(gr_sim *s, gr_force_report *r)
+{
+    const int n = s->n;
+    const double L = s->L;
+    memset(s->fx, 0, sizeof(double) * (size_t)n);
+    memset(s->fy, 0, sizeof(double) * (size_t)n);
+    memset(s->gx, 0, sizeof(double) * (size_t)n);
+    memset(s->gy, 0, sizeof(double) * (size_t)n);
+    double elastic = 0.0, pn = 0.0, worst = 0.0;
+    int wi = -1, wj = -1;
+    int64_t fresh = 0;
+    for (int i = 0; i < n; i++) {
+        for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
+            const int j = s->nl_j[p];
+            const double dx = wrap_delta(s->x[j] - s->x[i], L),
+                         dy = wrap_delta(s->y[j] - s->y[i], L);
+            const double dist = sqrt(dx * dx + dy * dy);
+            const double nx = dx / dist, ny = dy / dist;
+            const double g_n = (s->vx[j] - s->vx[i]) * nx + (s->vy[j] - s->vy[i]) * ny;
+            double f, fd, el, pw;
+            if (!poly_contact(s, i, j, dist, g_n, &f, &fd, &el, &pw)) {
+                s->nl_contact[p] = 0;
+                continue;
+            }
+            fresh += !s->nl_contact[p];
+            s->nl_contact[p] = 1;
+            s->fx[j] += f * nx;
+            s->fy[j] += f * ny;
+            s->fx[i] -= f * nx;
+            s->fy[i] -= f * ny;
+            s->gx[j] += fd * nx;
+            s->gy[j] += fd * ny;
+            s->gx[i] -= fd * nx;
+            s->gy[i] -= fd * ny;
+            elastic += el;
+            pn += pw;
+            const double ov = (gr_pair_d(s, i, j) - dist) / gr_pair_d(s, i, j);
+            if (ov > worst) {
+                worst = ov;
+                wi = i;
+                wj = j;
+            }
+        }
+    }
+    *r = report(elastic, pn, fresh, worst, wi, wj);
+}
+
+void gr_kernel_run_poly(gr_sim *s, gr_force_report *r)
+{
+    if (s->dim == 1) {
+        poly_1d(s, r);
+    } else {
+        poly_2d(s, r);
+    }
+}

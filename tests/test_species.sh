@@ -1,0 +1,250 @@
+#!/usr/bin/env bash
+# Species (issue 36, docs/mixtures.md): the driven binary mixture of docs/scenes/bidisperse-mixture.ini
+# (masses 1:4, equal radii, dilute) breaks equipartition as the Enskog-Maxwellian theory of
+# docs/validation.md ("Driven binary mixture", scripts/mixture_theory.py) says: with eps_n = 0.7 the
+# measured T_1/T_2 agrees with the theory (1.097) within 3 standard errors and is more than 5 of
+# them away from 1; with eps_n = 1 it is 1 within 3. The ledger closes, the injection rate is
+# d D sum 1/m_i, and what a mixture cannot run yet is refused at its key with the file and line.
+# usage: test_species.sh GRANULE SOURCE_DIR
+set -uo pipefail
+granule=$1
+src=$(cd "$2" && pwd)
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() {
+    echo "FAIL: $*" >&2
+    exit 1
+}
+scene=$src/docs/scenes/bidisperse-mixture.ini
+# a refused run: exit status != 0, the message, and no output folder
+refuse_with() {
+    local sc=$1 want=$2
+    shift 2
+    if "$granule" run "$sc" --out "$tmp/refused" "$@" >"$tmp/r.log" 2>&1; then
+        fail "accepted: $*"
+    fi
+    grep -q -- "$want" "$tmp/r.log" || { cat "$tmp/r.log" >&2; fail "message for $*: want $want"; }
+    [ ! -e "$tmp/refused" ] || fail "an output folder for a refused scene: $*"
+}
+refuse() { refuse_with "$scene" "$@"; }
+run() {
+    local name=$1
+    shift
+    OMP_NUM_THREADS=1 "$granule" run "$scene" --out "$tmp/$name" --set output.plots=false \
+        --set output.snapshot_every=0 "$@" >"$tmp/$name.log" 2>&1 ||
+        { cat "$tmp/$name.log" >&2; fail "run $name"; }
+}
+run inelastic --set run.duration=3
+run elastic --set model.eps_n=1 --set noise.D=2e-9 --set run.warmup=0.5 --set run.duration=1.5
+theory=$(python3 "$src/scripts/mixture_theory.py" 3.53e-5 1.412e-4 1.5e-3 1.5e-3 0.5 0.7) ||
+    fail "scripts/mixture_theory.py"
+python3 - "$tmp" "$theory" <<'PY' || fail "temperature ratios"
+import json, sys
+tmp, theory = sys.argv[1], float(sys.argv[2])
+ok = True
+for name, want, away in (("inelastic", theory, 1.0), ("elastic", 1.0, None)):
+    s = json.load(open(f"{tmp}/{name}/summary.json"))
+    sp = s["analysis"]["species"]
+    r, e = sp["T1_over_T2"], sp["T1_over_T2_stderr"]
+    z = (r - want) / e
+    line = f"{name}: T_1/T_2 = {r:.4f} +- {e:.4f}, expected {want:.4f} (z = {z:+.2f})"
+    if away is not None:
+        line += f", equipartition 1 at z = {(r - away) / e:+.1f}"
+        ok &= abs(r - away) > 5 * e
+    ok &= abs(z) < 3 and 0 < e < 0.03
+    # the ledger closes; injection d D sum_i 1/m_i (symmetrised: times 1 - 1/N)
+    ok &= abs(s["ledger"]["relative_residual"]) < 0.01
+    D = 1e-8 if name == "inelastic" else 2e-9
+    rate = 2 * D * (500 / 3.53e-5 + 500 / 1.412e-4) * (1 - 1 / 1000)
+    ok &= abs(s["energy_injection_rate_expected"] / rate - 1) < 1e-12
+    ok &= s["kernel"].startswith("2d-verlet-list-species/")
+    if away is not None:  # the run's own reference (src/app/mean_field.c) is the script's ratio
+        mf = s["mean_field"]
+        ok &= abs(mf["T1_over_T2_predicted"] / theory - 1) < 1e-5
+        Tm, Tp = sp["T"], mf["T_predicted"]
+        line += f"; T_s {Tm[0]:.3g}, {Tm[1]:.3g} J against Enskog {Tp[0]:.3g}, {Tp[1]:.3g} J"
+        ok &= all(abs(a / b - 1) < 0.05 for a, b in zip(Tm, Tp))
+    print(line)
+sys.exit(0 if ok else 1)
+PY
+grep -q '^\[species\]' "$tmp/inelastic/scene.ini" || fail "scene.ini lost [species]"
+grep -q '^species,N,radius' "$tmp/inelastic/species.csv" || fail "species.csv"
+
+# snapshots carry each grain's radius, mass and species (extended XYZ; ASE reads them)
+run snap --set run.warmup=0 --set run.duration=0.02 --set output.snapshot_every=0.01
+/usr/bin/python3 - "$tmp/snap" <<'PY' || fail "species in the snapshots (ASE)"
+import glob, sys
+try:
+    import ase.io
+except ImportError:
+    print("species: ASE not installed, the snapshot check reads the text only")
+    ase = None
+f = sorted(glob.glob(sys.argv[1] + "/snapshots/*.xyz"))[-1]
+if ase:
+    a = ase.io.read(f)
+    sp, m = a.arrays["species_index"], a.get_masses()
+    assert sorted(set(sp)) == [1, 2] and (sp == 1).sum() == 500, sp
+    assert all(abs(m[k] - (3.53e-5 if sp[k] == 1 else 1.412e-4)) < 1e-12 for k in range(len(a)))
+    assert abs((a.get_momenta()[:, 0] / m - a.arrays["velo"][:, 0])).max() < 1e-12
+else:
+    assert "species_index:I:1" in open(f).readlines()[1]
+PY
+
+# granule analyse reads the species back from the snapshots: the species observable of the frames
+"$granule" analyse "$tmp/snap" --out "$tmp/snap-an" >"$tmp/an.log" 2>&1 ||
+    { cat "$tmp/an.log" >&2; fail "analyse of a mixture's snapshots"; }
+python3 - "$tmp/snap-an/species.csv" <<'PY' || fail "analyse's species.csv"
+import sys
+rows = [l.split(",") for l in open(sys.argv[1]) if l[0].isdigit()]
+assert [(int(r[1]), float(r[3])) for r in rows] == [(500, 3.53e-5), (500, 1.412e-4)], rows
+assert all(float(r[4]) > 0 for r in rows), rows
+PY
+
+# a sweep over eps (docs/sweeps/mixture-eps.ini, shortened): sweep.csv has the measured ratio and the theory
+sed -e "s|^scene = ../scenes/bidisperse-mixture.ini|scene = $scene|" -e "s|^out = .*|out = $tmp/sweep|" \
+    -e 's/^run.duration = 3.0/run.duration = 0.05/' -e 's/^run.warmup = 1.0/run.warmup = 0.01/' \
+    -e 's/^seeds = 1, 2/seeds = 1/' "$src/docs/sweeps/mixture-eps.ini" >"$tmp/sweep.ini"
+OMP_NUM_THREADS=1 "$granule" sweep "$tmp/sweep.ini" --jobs 1 >"$tmp/sweep.log" 2>&1 ||
+    { cat "$tmp/sweep.log" >&2; fail "the sweep over eps"; }
+python3 - "$tmp/sweep/sweep.csv" "$src/scripts" <<'PY' || fail "sweep.csv's temperature ratios"
+import csv, sys
+sys.path.insert(0, sys.argv[2])
+import mixture_theory as mt
+rows = list(csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#")))
+assert [float(r["model.eps_n"]) for r in rows] == [0.9, 0.7, 0.5], rows
+for r in rows:
+    want = mt.ratio((3.53e-5, 1.412e-4), (1.5e-3, 1.5e-3), (0.5, 0.5), float(r["model.eps_n"]))
+    assert abs(float(r["T1_over_T2_predicted"]) / want - 1) < 1e-5, (r, want)
+    assert float(r["T1_over_T2"]) > 0, r
+PY
+
+# the same bits on 1 and 2 threads (3000 grains: three blocks, so the neighbour list is built by two)
+for t in 1 2; do
+    "$granule" run "$scene" --out "$tmp/threads$t" --threads $t --set system.N=3000 \
+        --set run.warmup=0.01 --set run.duration=0.03 --set output.snapshot_every=0 \
+        --set output.plots=false >"$tmp/threads$t.log" 2>&1 || { cat "$tmp/threads$t.log" >&2; fail "threads $t"; }
+done
+for f in temperature.csv ledger.csv species.csv; do
+    cmp -s "$tmp/threads1/$f" "$tmp/threads2/$f" || fail "$f differs between 1 and 2 threads"
+done
+
+# the snapshot picture draws every disc to its own scale: grains of radii 1.5 and 3 mm at packing
+# fraction 0.3 cover 30 % of the box (drawn all at one radius they would cover 12 %)
+"$granule" run "$scene" --out "$tmp/pic" --set system.N=300 --set 'species.radius=1.5e-3, 3e-3' \
+    --set system.packing_fraction=0.3 --set run.warmup=0 --set run.duration=0.001 \
+    --set run.sample_every=0.001 --set output.snapshot_every=0.001 --set output.plots=false >"$tmp/pic.log" 2>&1 &&
+    "$granule" plot "$tmp/pic" >>"$tmp/pic.log" 2>&1 || { cat "$tmp/pic.log" >&2; fail "a mixture's picture"; }
+/usr/bin/python3 - "$tmp/pic/snapshot.png" <<'PY' || fail "the picture's discs are not to scale"
+import sys
+from PIL import Image
+im = Image.open(sys.argv[1]).convert("L")
+w = im.size[0]
+box = im.crop((2, 2, w - 2, w - 2))  # the square box above the panel, without its outline
+px = list(box.getdata())
+cover = sum(v < 250 for v in px) / len(px)
+print(f"picture: discs cover {cover:.3f} of the box (packing fraction 0.3)")
+sys.exit(0 if 0.26 < cover < 0.36 else 1)
+PY
+
+# granule compare across laws: the headline table has the mixture's T_1/T_2 and the theory's
+"$granule" compare "$scene" --models spring_dashpot,hertz --set run.warmup=0.01 --set run.duration=0.02 \
+    --set output.snapshot_every=0 --set output.plots=false --out "$tmp/cmp" >"$tmp/cmp.log" 2>&1 ||
+    { cat "$tmp/cmp.log" >&2; fail "compare of a mixture"; }
+grep -Eq '^\| T_1 / T_2 of the two species \| [0-9.]+( \+- [0-9.]+)? \| [0-9.]+' "$tmp/cmp/compare.md" &&
+    grep -q '^| T_1 / T_2, Enskog-Maxwellian (docs/validation.md) | 1.097 | 1.097 |' "$tmp/cmp/compare.md" ||
+    { cat "$tmp/cmp/compare.md" >&2; fail "compare.md's temperature ratio rows"; }
+
+# a continuous radius distribution: its scene.ini runs the same run again; refusals at their keys
+cat >"$tmp/dist.ini" <<'INI'
+[system]
+dim = 2
+N = 300
+packing_fraction = 0.2
+[species]
+distribution = lognormal
+radius_min = 1e-3
+radius_max = 4e-3
+radius_median = 2e-3
+radius_sigma = 0.4
+density = 5
+[placement]
+kind = random
+[model]
+k_s = 5e3
+eps_n = 0.8
+[run]
+warmup = 0.01
+duration = 0.03
+INI
+for k in 1 2; do
+    from=$tmp/dist.ini
+    [ $k = 2 ] && from=$tmp/dist1/scene.ini
+    OMP_NUM_THREADS=1 "$granule" run "$from" --out "$tmp/dist$k" --set output.plots=false \
+        >"$tmp/dist$k.log" 2>&1 || { cat "$tmp/dist$k.log" >&2; fail "radius distribution run $k"; }
+done
+cmp -s "$tmp/dist1/temperature.csv" "$tmp/dist2/temperature.csv" || fail "scene.ini of a distribution"
+python3 - "$tmp/dist1/summary.json" <<'PY' || fail "a distribution's summary"
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert abs(s["ledger"]["relative_residual"]) < 0.01, s["ledger"]
+assert abs(s["scene"]["system"]["packing_fraction"] - 0.2) < 1e-12, s["scene"]["system"]
+PY
+refuse_with "$tmp/dist.ini" "\[analysis\] observables.*none with a radius distribution" --set analysis.observables=species
+refuse_with "$tmp/dist.ini" "\[model\] viscoelastic.*radius distribution" --set model.normal=hertz --set model.viscoelastic=true
+refuse_with "$tmp/dist.ini" "\[species\] density.*one density" --set 'species.density=5, 6'
+refuse_with "$tmp/dist.ini" "\[species\] radius_max.*radius_min < radius_max" --set species.radius_max=1e-3
+{ cat "$tmp/dist.ini"; printf '[integrator]\nkind = hybrid\n'; } >"$tmp/bad.ini"
+refuse_with "$tmp/bad.ini" "bad.ini:2[0-9]: \[integrator\] kind.*not available with \[species\]"
+
+# 1D: a ring of two species runs, its ledger closes
+cat >"$tmp/ring.ini" <<'INI'
+[system]
+dim = 1
+N = 200
+reduced_length = 0.5
+[species]
+radius = 1e-3, 2e-3
+density = 10, 10
+fraction = 0.25, 0.75
+[model]
+eps_n = 0.5
+[run]
+warmup = 0.01
+duration = 0.05
+[analysis]
+observables = species
+INI
+OMP_NUM_THREADS=1 "$granule" run "$tmp/ring.ini" --out "$tmp/ring" --set output.plots=false \
+    >"$tmp/ring.log" 2>&1 || { cat "$tmp/ring.log" >&2; fail "1D mixture"; }
+python3 - "$tmp/ring" <<'PY' || fail "1D mixture's ledger or counts"
+import json, sys
+s = json.load(open(sys.argv[1] + "/summary.json"))
+rows = [l.split(",") for l in open(sys.argv[1] + "/species.csv") if l[0].isdigit()]
+assert [int(r[1]) for r in rows] == [50, 150], rows
+assert abs(s["ledger"]["relative_residual"]) < 0.01, s["ledger"]
+assert s["kernel"].startswith("1d-ring-species/"), s["kernel"]
+PY
+
+# a dense ring (L' = 1 cm for 200 rods of 2 and 4 mm): every 1D placement gives each rod its own
+# length, so none overlaps (spacing L/N = 3.05 mm would put two 4 mm rods into each other)
+for kind in uniform cluster random; do
+    OMP_NUM_THREADS=1 "$granule" run "$tmp/ring.ini" --out "$tmp/ring-$kind" --set output.plots=false \
+        --set system.reduced_length=0.01 --set placement.kind=$kind >"$tmp/ring-$kind.log" 2>&1 ||
+        { cat "$tmp/ring-$kind.log" >&2; fail "dense 1D mixture, placement $kind"; }
+done
+
+# refusals: the key, with where it was given
+refuse "\[model\] tangential.*not available with \[species\]" --set model.tangential=tangential_dashpot
+refuse "\[integrator\] kind.*not available with \[species\]" --set integrator.kind=event \
+    --set model.normal=hard_sphere
+refuse "\[analysis\] observables.*pair is not species-aware" --set analysis.observables=pair
+refuse "species.mass=1e-5: \[species\] mass.*one per radius" --set species.mass=1e-5
+refuse "\[species\] fraction.*sum to" --set species.fraction="0.5, 0.6"
+refuse "\[species\] radius.*2 to 8 species" --set species.radius=1e-3 --set species.mass=1e-5 \
+    --set species.fraction=1
+# a LAMMPS deck of a mixture is refused, not written as one species
+if "$granule" export lammps "$scene" --out "$tmp/lmp" >"$tmp/l.log" 2>&1; then
+    fail "export lammps accepted a mixture"
+fi
+grep -q "\[species\].*not written yet" "$tmp/l.log" || { cat "$tmp/l.log" >&2; fail "export lammps message"; }
+echo "species: ok"
