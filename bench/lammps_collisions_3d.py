@@ -25,7 +25,7 @@ cases run at v = 1e-6 m/s (xi_max / d ~ 1e-9), and --spc sets the steps per cont
 
     /usr/bin/python3 bench/lammps_collisions_3d.py --build BUILD --lmp LMP [--speeds V,...]
         [--spc S,...] [--cases SUBSTRING] [--json OUT]
-Exit 1 when a case differs by more than its bound (BOUND below).
+Exit 1 when a case differs by more than its bound (bound_of below).
 """
 import argparse
 import json
