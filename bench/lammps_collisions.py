@@ -144,11 +144,11 @@ def write_pair_data(work, L, p1, p2, v1, w1, w2):
                 f"Velocities\n\n1 {v1[0]!r} {v1[1]!r} 0.0 0.0 0.0 {w1!r}\n2 0.0 0.0 0.0 0.0 0.0 {w2!r}\n")
 
 
-def deck_head(pair_lines):
-    """The input deck up to the integrator: 2D SI, the pair of pair.data with the RFM mass."""
+def deck_head(pair_lines, dim=2):
+    """The input deck up to the integrator: 2D (or dim) SI, the pair of pair.data with the RFM mass."""
     pair = "\n".join(pair_lines)
     return f"""units si
-dimension 2
+dimension {dim}
 boundary p p p
 atom_style sphere
 atom_modify map array
@@ -354,22 +354,47 @@ def oblique_pair_style(kind, model, sets, c, dt):
             f"tangential linear_nohistory {gamma_t / OVERLAY_ETA!r} {OVERLAY_MU!r}"]
 
 
-def granule_oblique(build, model, sets, v, angle, w1, w2, spc):
+def granule_oblique(build, model, sets, v, angle, w1, w2, spc, dim=2):
     """granule collide --speed --angle: dt = t_c(v_n) / spc (the normal law's contact time at the
-    normal impact speed), returns (result JSON, dt)."""
+    normal impact speed), returns (result JSON, dt). dim = 3: spheres, w1 and w2 vectors
+    (bench/lammps_collisions_3d.py)."""
     # --force-dt: hertz's own t_c (at its v_max) is shorter than a slow impact's, which the step
     # check would otherwise hold against the dt resolving t_c(v_n)
-    base = [os.path.join(build, "granule"), "collide", "--model", model, "--mass", repr(MASS),
+    base = [os.path.join(build, "granule"), "collide", "--dim", str(dim), "--model", model, "--mass", repr(MASS),
             "--radius", repr(RADIUS), "--force-dt"]
+    if dim == 3:
+        w1, w2 = (",".join(repr(x) for x in w) for w in (w1, w2))
+    else:
+        w1, w2 = repr(w1), repr(w2)
     for s in sets:
         base += ["--set", s]
     vn = v * math.cos(math.radians(angle))
     law = json.loads(subprocess.run(base + ["--speeds", repr(vn)], check=True, capture_output=True,
                                     text=True).stdout)["restitution_vs_speed"][0]
     dt = law["contact_time_law"] / spc
-    out = subprocess.run(base + ["--speed", repr(v), "--angle", repr(angle), "--omega1", repr(w1),
-                                 "--omega2", repr(w2), "--dt", repr(dt)], check=True, capture_output=True, text=True)
+    out = subprocess.run(base + ["--speed", repr(v), "--angle", repr(angle), "--omega1", w1,
+                                 "--omega2", w2, "--dt", repr(dt)], check=True, capture_output=True, text=True)
     return json.loads(out.stdout), dt, law["contact_time_law"]
+
+
+def run_final_dump(lmp, work, pair_lines, steps):
+    """Runs pair.in in work and returns the last frame of its dump final.txt (written at step
+    `steps`) as {atom id: [the dumped columns after id]}."""
+    out = os.path.join(work, "final.txt")
+    if os.path.exists(out):
+        os.remove(out)
+    p = subprocess.run([lmp, "-in", "pair.in", "-log", "none"], cwd=work, capture_output=True, text=True)
+    text = open(out).read() if os.path.exists(out) else ""
+    frames = text.split("ITEM: TIMESTEP")
+    done = len(frames) > 1 and int(frames[-1].split()[0]) == steps
+    # LAMMPS 2021 with two granular sub-styles (the hybrid/overlay mapping) ends the run with
+    # "ERROR: Could not find fix ID to delete" (both sub-styles delete the one neighbour-history
+    # fix); the dump of the last step is written before, so that one error is accepted
+    known = "Could not find fix ID to delete" in p.stdout and pair_lines[0].startswith("pair_style hybrid")
+    if not done or (p.returncode != 0 and not known):
+        raise RuntimeError(f"lmp failed ({pair_lines}):\n" + "\n".join((p.stdout + p.stderr).splitlines()[-8:]))
+    lines = frames[-1].split("ITEM: ATOMS")[-1].strip().split("\n")[1:]
+    return {int(ln.split()[0]): [float(x) for x in ln.split()[1:]] for ln in lines}
 
 
 def lammps_oblique(lmp, work, pair_lines, v, angle, w1, w2, dt, t_c, fix="nve/sphere disc", force_max=False):
@@ -405,21 +430,7 @@ dump final all custom {steps} final.txt id vx vy omegaz
 dump_modify final sort id format float %.17g
 run {steps}
 """)
-    for f in ("final.txt",):
-        if os.path.exists(os.path.join(work, f)):
-            os.remove(os.path.join(work, f))
-    p = subprocess.run([lmp, "-in", "pair.in", "-log", "none"], cwd=work, capture_output=True, text=True)
-    text = open(os.path.join(work, "final.txt")).read() if os.path.exists(os.path.join(work, "final.txt")) else ""
-    frames = text.split("ITEM: TIMESTEP")
-    done = len(frames) > 1 and int(frames[-1].split()[0]) == steps
-    # LAMMPS 2021 with two granular sub-styles (the hybrid/overlay mapping) ends the run with
-    # "ERROR: Could not find fix ID to delete" (both sub-styles delete the one neighbour-history
-    # fix); the dump of the last step is written before, so that one error is accepted
-    known = "Could not find fix ID to delete" in p.stdout and pair_lines[0].startswith("pair_style hybrid")
-    if not done or (p.returncode != 0 and not known):
-        raise RuntimeError(f"lmp failed ({pair_lines}):\n" + "\n".join((p.stdout + p.stderr).splitlines()[-8:]))
-    lines = frames[-1].split("ITEM: ATOMS")[-1].strip().split("\n")[1:]
-    vals = {int(ln.split()[0]): [float(x) for x in ln.split()[1:]] for ln in lines}
+    vals = run_final_dump(lmp, work, pair_lines, steps)
     out = dict(v1=vals[1][0:2], v2=vals[2][0:2], omega1=vals[1][2], omega2=vals[2][2])
     if force_max:
         out["fmax"] = max(float(ln) for ln in open(os.path.join(work, "fmag.txt")) if not ln.startswith("#"))
@@ -840,6 +851,16 @@ def markdown_rolling(rows):
 
 
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def find_lmp():
+    """The first lmp on PATH built with the GRANULAR package, or None (the tests then skip)."""
+    import shutil
+    for b in ("lmp", "lmp_serial", "lmp_mpi"):
+        path = shutil.which(b)
+        if path and "GRANULAR" in subprocess.run([path, "-h"], capture_output=True, text=True).stdout:
+            return path
+    return None
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])

@@ -19,6 +19,9 @@
 # at --oblique-speeds: w1 - w2 after agrees to rounding while the rolling keeps its direction;
 # where it stops within the contact granule ends with w1 = w2 and LAMMPS with a spring's residue.
 #
+# Spheres (3D, every model pair, spins about any axis): /usr/bin/python3 bench/lammps_collisions_3d.py
+# --build BUILD --lmp LMP (docs/lammps.md, "Single collisions in 3D").
+#
 # Defaults: speeds 0.001,0.01,0.1,1,3 m/s, 1e4 steps per contact; --convergence V adds 1e3..1e6
 # steps per contact at speed V (about a minute). --quick: two speeds at 1e3 steps per contact.
 # Exits 1 when the engines differ by more than 1e-9 relative or by a contact step; skips (exit 0)

@@ -48,20 +48,13 @@ Mindlin cases at 60 degrees only, the rolling cases at 1e-6 m/s only (each in on
 alternating, in both modes).
 """
 import os
-import shutil
-import subprocess
 import sys
 
 build, src = sys.argv[1], sys.argv[2]
 sys.path.insert(0, os.path.join(src, "bench"))
 import lammps_collisions as lc  # noqa: E402
 
-lmp = None
-for b in ("lmp", "lmp_serial", "lmp_mpi"):
-    path = shutil.which(b)
-    if path and "GRANULAR" in subprocess.run([path, "-h"], capture_output=True, text=True).stdout:
-        lmp = path
-        break
+lmp = lc.find_lmp()
 if not lmp:
     print("skipped: no lmp with the GRANULAR package (Debian package lammps; scripts/setup.sh installs it)")
     sys.exit(77)
