@@ -36,7 +36,7 @@ int gr_get_threads(void)
 int gr_team(const gr_sim *s)
 {
 #ifdef _OPENMP
-    if (s->dim != 2 || s->nblk < 2) {
+    if (s->dim == 1 || s->nblk < 2) {
         return 1;
     }
     int t = gr_get_threads();
