@@ -14,6 +14,8 @@ typedef struct gr_particles {
     const double *z, *vz; /* dim = 3 only (NULL otherwise) */
     const double *omega;  /* angular velocities, rad/s counterclockwise (2D with [model] rotation =
                             true; NULL otherwise) */
+    const double *wx, *wy, *wz; /* the spin vectors' components, rad/s (3D with [model] rotation =
+                                   true; NULL otherwise: omega stays NULL in 3D) */
 } gr_particles;
 
 /* A particle's contact state changed: it touched another particle for the first time since it was

@@ -631,7 +631,10 @@ gr_particles gr_sim_particles(const gr_sim *s)
                           .z = s->z,
                           .vz = s->vz,
                           /* 3D: the spins are vectors (wx, wy, omega), not one column */
-                          .omega = s->dim == 3 ? NULL : s->omega};
+                          .omega = s->dim == 3 ? NULL : s->omega,
+                          .wx = s->dim == 3 ? s->wx : NULL,
+                          .wy = s->dim == 3 ? s->wy : NULL,
+                          .wz = s->dim == 3 && s->wx ? s->omega : NULL};
 }
 
 void gr_sim_forces(const gr_sim *s, const double **fx, const double **fy)
