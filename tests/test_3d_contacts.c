@@ -667,6 +667,20 @@ START_TEST(test_threads_every_law)
 }
 END_TEST
 
+/* The laws without history (sliding friction, the tangential dashpot; rotation, no rolling) on 1,
+ * 2 and 3 threads, as above. */
+START_TEST(test_threads_laws)
+{
+    gr_scene *sc = malloc(sizeof *sc);
+    const char *set[] = {gas_laws[_i][0],  gas_laws[_i][1],
+                         gas_laws[_i][2],  "system.packing_fraction=0.45",
+                         "placement.v0=4", "system.N=2197"};
+    load(sc, gas, set, 6);
+    assert_threads_exact(sc, 800, 333);
+    free(sc);
+}
+END_TEST
+
 /* A restart where contacts hold springs carries the spin vectors and the history vectors. */
 START_TEST(test_restart_spins)
 {
@@ -781,6 +795,7 @@ static Suite *contacts_suite(void)
     tcase_add_loop_test(tc, test_ledger_closes, 0, 3);
     tcase_add_test(tc, test_history_rebuild_restart_threads);
     tcase_add_test(tc, test_threads_every_law);
+    tcase_add_loop_test(tc, test_threads_laws, 1, 3);
     tcase_add_test(tc, test_restart_spins);
     tcase_add_test(tc, test_elastic_without_friction);
     tcase_add_test(tc, test_collide_reference_3d);
