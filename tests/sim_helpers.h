@@ -67,12 +67,11 @@ static inline void assert_same_state(const gr_sim *a, const gr_sim *b)
     ck_assert(memcmp(a->wall_impulse, b->wall_impulse, sizeof a->wall_impulse) == 0);
 }
 
-/* Stepping `total` steps of the scene's simulation in one go equals stepping `first`, saving the
- * state into bytes, loading them into a fresh simulation and stepping the rest: bit for bit. */
-static inline void assert_restart_exact(const gr_scene *s, int64_t total, int64_t first)
+/* The scene's simulation stepped `first` steps on `t0` threads, saved, restored into a new one
+ * and continued to `total` on `t1` threads (then back to 1 thread). */
+static inline gr_sim *restarted(const gr_scene *s, int64_t total, int64_t first, int t0, int t1)
 {
-    gr_sim *a = create(s);
-    step(a, total);
+    gr_set_threads(t0);
     gr_sim *b = create(s);
     step(b, first);
     void *data = NULL;
@@ -80,10 +79,22 @@ static inline void assert_restart_exact(const gr_scene *s, int64_t total, int64_
     gr_error err = {0};
     ck_assert_int_eq(gr_sim_state_save(b, &data, &len, &err), GR_OK);
     gr_sim_free(b);
+    gr_set_threads(t1);
     gr_sim *c = create(s);
     ck_assert_msg(gr_sim_state_load(c, data, len, &err) == GR_OK, "%s", err.message);
     free(data);
     step(c, total - first);
+    gr_set_threads(1);
+    return c;
+}
+
+/* Stepping `total` steps of the scene's simulation in one go equals stepping `first`, saving the
+ * state into bytes, loading them into a fresh simulation and stepping the rest: bit for bit. */
+static inline void assert_restart_exact(const gr_scene *s, int64_t total, int64_t first)
+{
+    gr_sim *a = create(s);
+    step(a, total);
+    gr_sim *c = restarted(s, total, first, 1, 1);
     assert_same_state(a, c);
     gr_sim_free(a);
     gr_sim_free(c);
@@ -105,6 +116,63 @@ static inline void assert_threads_invariant(const gr_scene *s, int64_t steps)
     assert_same_state(a, b);
     gr_sim_free(a);
     gr_sim_free(b);
+}
+
+/* The forces, torques and contact state of the last force evaluation the same bit for bit (the
+ * list of a must be b's: same run). */
+static inline void assert_same_forces(const gr_sim *a, const gr_sim *b)
+{
+    const size_t bytes = sizeof(double) * (size_t)a->n;
+    const double *fa[] = {a->fx, a->fy,  a->fz,  a->gx, a->gy,  a->gz,
+                          a->tq, a->tqx, a->tqy, a->tg, a->tgx, a->tgy};
+    const double *fb[] = {b->fx, b->fy,  b->fz,  b->gx, b->gy,  b->gz,
+                          b->tq, b->tqx, b->tqy, b->tg, b->tgx, b->tgy};
+    for (size_t k = 0; k < sizeof fa / sizeof fa[0]; k++) {
+        ck_assert(!fa[k] == !fb[k]);
+        ck_assert_msg(!fa[k] || memcmp(fa[k], fb[k], bytes) == 0, "force/torque array %zu differs",
+                      k);
+    }
+    ck_assert_int_eq(a->nl_start[a->n], b->nl_start[b->n]);
+    const size_t entries = (size_t)a->nl_start[a->n];
+    ck_assert(memcmp(a->nl_contact, b->nl_contact, entries) == 0);
+    ck_assert(!a->nl_hist == !b->nl_hist);
+    ck_assert(!a->nl_hist || memcmp(a->nl_hist, b->nl_hist,
+                                    sizeof(double) * (size_t)(a->dim == 3 ? 3 : 1) * entries) == 0);
+    ck_assert(memcmp(&a->last, &b->last, sizeof a->last) == 0);
+}
+
+/* The scene stepped `total` steps on 1 thread, on 2 and on 3 (each really on that many, with
+ * cross pairs between the threads' particles, across list rebuilds), and restarted at `first`
+ * from the bytes saved on 3 threads and continued on 2: the same run bit for bit, forces,
+ * torques, history and ledger included. */
+static inline void assert_threads_exact(const gr_scene *s, int64_t total, int64_t first)
+{
+    gr_set_threads(1);
+    gr_sim *a = create(s);
+    step(a, total);
+    ck_assert_msg(a->rebuilds >= 2, "%lld list builds: the test crosses no rebuild",
+                  (long long)a->rebuilds);
+    ck_assert_msg(a->collisions > 100, "%lld contacts: the test tests nothing",
+                  (long long)a->collisions);
+    for (int T = 2; T <= 3; T++) {
+        gr_set_threads(T);
+        gr_sim *b = create(s);
+        step(b, total);
+#ifdef _OPENMP
+        ck_assert_int_eq(gr_sim_threads(b), T); /* really on T */
+        ck_assert_int_eq(b->par_threads, T);    /* the threaded kernel ran */
+        ck_assert_msg(b->cross_start[T] > 0, "no cross pair between the threads on %d", T);
+#endif
+        gr_set_threads(1);
+        assert_same_state(a, b);
+        assert_same_forces(a, b);
+        gr_sim_free(b);
+    }
+    gr_sim *c = restarted(s, total, first, 3, 2);
+    assert_same_state(a, c);
+    assert_same_forces(a, c);
+    gr_sim_free(a);
+    gr_sim_free(c);
 }
 
 #endif

@@ -251,6 +251,22 @@ with tempfile.TemporaryDirectory() as tmp:
                                           and np.array_equal(ts.positions, np.float32(a3[k].positions))
                                           for k, ts in enumerate(u3.trajectory)),
           "3D: mdanalysis_universe has the cube's box and the XYZ's positions in every frame")
+    # 3D with rotation: read_snapshots gives the spin vectors' components wx, wy, wz from either
+    # format (ASE's omega array, columns 0, 1, 2), omega None; without rotation all None
+    spin = {"model.rotation": "true", "placement.omega0": 200, "model.tangential": "tangential_spring",
+            "model.mu": 0.5}
+    for fmt in ("xyz", "h5md"):
+        granule_cmd("run", scene3, "--out", f"{fmt}3dr", "--quiet",
+                    *sets({**small3d, **spin, "output.trajectory": fmt}))
+    ar, fx, fh = granule.read_ase("xyz3dr"), granule.read_snapshots("xyz3dr"), granule.read_snapshots("h5md3dr")
+    check(len(ar) == len(fx) == len(fh) == 5
+          and all(all(np.array_equal(f[c], a.arrays["omega"][:, k]) for k, c in enumerate(("wx", "wy", "wz")))
+                  and f["omega"] is None for a, f in zip(ar + ar, fx + fh))
+          and all(np.abs(f[c]).max() > 0 for f in fx for c in ("wx", "wy", "wz")),
+          "3D with rotation: read_snapshots of trajectory.xyz and trajectory.h5 give wx, wy, wz (ASE's omega)")
+    plain = granule.read_snapshots("xyz3d") + granule.read_snapshots("h5md3d")
+    check(all(f["wx"] is None and f["wy"] is None and f["wz"] is None and f["omega"] is None for f in plain),
+          "3D without rotation: read_snapshots gives wx, wy, wz and omega None")
     try:
         granule.mdanalysis_universe(runs[(2, "xyz")])
         check(False, "mdanalysis_universe of a run without trajectory.h5 says what to do")

@@ -22,7 +22,8 @@
 #         comma in a cell, and the figures' blocks with the groups as the campaign has them; a
 #         data table read with its units as docs/python.md does
 # Exit 77 (skipped) only when the part's Python package cannot be imported.
-#   3d    ASE reads a 3D run's extended XYZ, MDAnalysis and h5py its trajectory.h5 (box, frames,
+#   3d    ASE reads a 3D run's extended XYZ (with rotation its spin vectors, omega:R:3), MDAnalysis
+#         and h5py its trajectory.h5 (box, frames, angular_velocity with rotation,
 #         positions and velocities equal to the XYZ's)
 # usage: tests/test_readers.sh path/to/granule SOURCE_DIR ase|h5md|csv|results|3d
 set -euo pipefail
@@ -229,6 +230,30 @@ with h5py.File("h3/trajectory.h5", "r") as f:
     assert np.array_equal(f["particles/all/box/edges/value"][0], np.diag([L, L, L]))
     assert f["parameters/granule"].attrs["dim"] == 3
 print("ok MDAnalysis %s and h5py: %d 3D frames, box, positions and velocities equal the XYZ's" % (mda.__version__, len(u.trajectory)))
+EOF
+    # rotation: the spin vectors are the extended-XYZ column omega:R:3 and H5MD's angular_velocity
+    # (only then), read by ASE as an array and by h5py, the same values
+    spin3d=(--set model.rotation=true --set placement.omega0=200 --set model.tangential=tangential_spring
+            --set model.mu=0.5)
+    "$G" run "$SRC/docs/scenes/rfm-3d.ini" --out x3r "${small3d[@]}" "${spin3d[@]}" --set output.trajectory=xyz
+    "$G" run "$SRC/docs/scenes/rfm-3d.ini" --out h3r "${small3d[@]}" "${spin3d[@]}" --set output.trajectory=h5md
+    "$PY" - <<'EOF'
+import ase.io, h5py, numpy as np
+xyz = ase.io.read("x3r/snapshots/trajectory.xyz", index=":")
+assert "omega" not in ase.io.read("x3/snapshots/trajectory.xyz").arrays
+assert len(xyz) == 9, len(xyz)
+for a in xyz:
+    w = a.arrays["omega"]
+    assert w.shape == (300, 3) and np.all(np.abs(w).max(axis=0) > 0), (w.shape, np.abs(w).max(axis=0))
+    assert list(a.pbc) == [True] * 3 and np.all(np.abs(a.get_velocities()).max(axis=0) > 0)
+assert not np.array_equal(xyz[0].arrays["omega"], xyz[-1].arrays["omega"]), "the spins never changed"
+with h5py.File("h3r/trajectory.h5", "r") as f, h5py.File("h3/trajectory.h5", "r") as g:
+    assert "angular_velocity" not in g["particles/all"]
+    w = f["particles/all/angular_velocity/value"]
+    assert w.shape == (len(xyz), 300, 3) and w.attrs["unit"] == "rad s-1", (w.shape, dict(w.attrs))
+    for k, a in enumerate(xyz):
+        assert np.array_equal(w[k], a.arrays["omega"]), k
+print("ok ASE and h5py read the 3D spin vectors (omega:R:3, angular_velocity), %d frames, equal" % len(xyz))
 EOF
     ;;
 csv)

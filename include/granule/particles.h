@@ -14,6 +14,8 @@ typedef struct gr_particles {
     const double *z, *vz; /* dim = 3 only (NULL otherwise) */
     const double *omega;  /* angular velocities, rad/s counterclockwise (2D with [model] rotation =
                             true; NULL otherwise) */
+    const double *wx, *wy, *wz; /* the spin vectors' components, rad/s (3D with [model] rotation =
+                                   true; NULL otherwise: omega stays NULL in 3D) */
     /* species (docs/mixtures.md): each grain's species index, radius (m) and mass (kg), and the
      * number of species; NULL and 0 for one species (radius and mass above then hold for all; with
      * species, radius is the largest and mass the mean) */

@@ -62,9 +62,11 @@ def _xyz_frame(head, rows, where):
     frame = {"t": float(h.get("Time", 0.0)), "step": int(h["Step"]) if "Step" in h else None,
              "L": lattice[0] if lattice else None, "dim": dim, "x": num(pos), "vx": num(vx),
              "y": num(pos + 1) if dim >= 2 else None, "vy": num(vx + 1) if dim >= 2 else None,
-             "omega": num(props["omega"][0] + 2) if "omega" in props else None}
-    if dim == 3:  # spheres (docs/three-dimensions.md): z and vz too
+             "omega": num(props["omega"][0] + 2) if "omega" in props and dim < 3 else None}
+    if dim == 3:  # spheres (docs/three-dimensions.md): z and vz too, and the spin vectors
         frame["z"], frame["vz"] = num(pos + 2), num(vx + 2)
+        w = props["omega"][0] if "omega" in props else None
+        frame["wx"], frame["wy"], frame["wz"] = (num(w), num(w + 1), num(w + 2)) if w is not None else (None,) * 3
     # a mixture (docs/mixtures.md): each grain's species 1, 2, ..., radius and mass; None without
     sp = props.get("species_index")
     frame["species"] = a[:, sp[0]].astype(np.int64) if sp else None
@@ -118,9 +120,11 @@ def _h5md_frames(path):
         frame = {"t": float(t[k]), "step": int(step[k]), "L": float(edges[k][0][0]) if edges is not None else L,
                  "dim": dim, "x": pos[k, :, 0], "vx": vel[k, :, 0],
                  "y": pos[k, :, 1] if dim >= 2 else None, "vy": vel[k, :, 1] if dim >= 2 else None,
-                 "omega": omega[k, :, 2] if omega is not None else None}
-        if dim == 3:  # spheres (docs/three-dimensions.md): z and vz too
+                 "omega": omega[k, :, 2] if omega is not None and dim < 3 else None}
+        if dim == 3:  # spheres (docs/three-dimensions.md): z and vz too, and the spin vectors
             frame["z"], frame["vz"] = pos[k, :, 2], vel[k, :, 2]
+            w = omega[k] if omega is not None else None
+            frame["wx"], frame["wy"], frame["wz"] = (w[:, 0], w[:, 1], w[:, 2]) if w is not None else (None,) * 3
         frames.append(frame)
     return frames
 
@@ -141,8 +145,10 @@ def trajectory_files(folder):
 
 def read_snapshot(path):
     """The one frame of a per-frame snapshot file (snapshots/snap_NNNNNN.xyz): dict with t, step, L,
-    dim and numpy arrays x, y, vx, vy (y, vy None in 1D; z, vz too in 3D), omega (None without
-    rotation) and, for a mixture, species (1, 2, ...), radii and masses (None without), whatever the column order, as long as the Properties line names pos and velo (or
+    dim and numpy arrays x, y, vx, vy (y, vy None in 1D; z, vz too in 3D) and omega (None without
+    rotation, and in 3D, whose frames have the spin vectors' components wx, wy, wz instead, None
+    without rotation) and, for a mixture, species (1, 2, ...), radii and masses (None without),
+    whatever the column order, as long as the Properties line names pos and velo (or
     vel). A file holding several frames is refused (read_snapshots reads them all)."""
     frames = _xyz_frames(path)
     if len(frames) != 1:

@@ -277,7 +277,7 @@ static int start_outputs(gr_run_ctx *c)
                       .L = s->L,
                       .radius = s->radius,
                       .mass = s->mass,
-                      .angular_velocity = s->dim == 2 && s->contact.rotation,
+                      .angular_velocity = s->dim >= 2 && s->contact.rotation,
                       .deflate = 1}};
     int rc = gr_traj_writer_open(&c->traj, &setup, c->dir, c->resume ? c->snap_index : -1, c->err);
     if (rc) {

@@ -307,10 +307,13 @@ static void zero_forces(gr_sim *s, int lo, int hi)
  * contiguous range of whole blocks, chosen so that the threads get about equal work (pairs of
  * the list plus particles): clustered states put most pairs in a few blocks. Any block-aligned
  * split gives the same sums (the order of additions per particle and per block is fixed), so
- * the split only changes the speed. Returns 0 when out of memory (then one thread runs). */
+ * the split only changes the speed. The same lists serve the 3D kernel (kernels_3d.c), whose
+ * cross pairs carry 3-vectors (pair_f: 6 doubles, pair_tq and pair_tg: 3 each, against 4, 1
+ * and 1 in 2D). Returns 0 when out of memory (then one thread runs). */
 static int build_cross(gr_sim *s, int T)
 {
     const int n = s->n;
+    const size_t fw = s->dim == 3 ? 6 : 4, tw = s->dim == 3 ? 3 : 1; /* doubles per cross pair */
     const int *restrict start = s->nl_start, *restrict nl = s->nl_j;
     int *row = realloc(s->par_row, sizeof(int) * (size_t)(T + 1));
     int *cs = row ? realloc(s->cross_start, sizeof(int) * (size_t)(T + 1)) : NULL;
@@ -374,12 +377,12 @@ static int build_cross(gr_sim *s, int T)
         s->cross_i = malloc(sizeof(int) * (size_t)cap);
         s->in_k = malloc(sizeof(int) * (size_t)cap);
         s->in_list = malloc(sizeof(int) * (size_t)cap);
-        s->pair_f = malloc(4 * sizeof(double) * (size_t)cap);
+        s->pair_f = malloc(fw * sizeof(double) * (size_t)cap);
         if (s->tq) {
-            s->pair_tq = malloc(sizeof(double) * (size_t)cap);
+            s->pair_tq = malloc(tw * sizeof(double) * (size_t)cap);
         }
         if (s->tg) {
-            s->pair_tg = malloc(sizeof(double) * (size_t)cap);
+            s->pair_tg = malloc(tw * sizeof(double) * (size_t)cap);
         }
         s->cross_cap = cap;
         if (!s->cross_p || !s->cross_i || !s->in_k || !s->in_list || !s->pair_f ||
@@ -548,8 +551,8 @@ static inline __attribute__((always_inline)) void threaded_2d(gr_sim *restrict s
     }
 }
 
-/* Threads for this evaluation; builds the cross lists when the list or T changed. */
-static int team_2d(gr_sim *s)
+/* Threads for this evaluation (2D and 3D); builds the cross lists when the list or T changed. */
+int gr_kernel_team(gr_sim *s)
 {
     int T = gr_team(s);
     if (T > 1 && (s->par_threads != T || s->par_rebuilds != s->rebuilds) && !build_cross(s, T)) {
@@ -772,7 +775,7 @@ static inline __attribute__((always_inline)) void run_2d(gr_sim *s, gr_force_rep
                                                          const int clamp, const int rot,
                                                          const int rl)
 {
-    const int T = team_2d(s);
+    const int T = gr_kernel_team(s);
     if (T == 1) {
         serial_2d(s, nl, tl, clamp, rot, rl);
     } else {

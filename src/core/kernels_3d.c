@@ -23,8 +23,13 @@
  * F_t on j (-F_t on i) at the contact point exerts the torque -a n x F_t on both spheres; the
  * pair's orbital torque 2 a n x F_t cancels them, so angular momentum is conserved. The rolling
  * law takes the relative spin in the tangent plane. Two instances: the normal law alone, and
- * every law read from the simulation (a branch per pair on the law, no indirect call); one
- * thread, forces summed in list order, so a run is the same for every thread count. */
+ * every law read from the simulation (a branch per pair on the law, no indirect call).
+ *
+ * Threads: as in 2D (kernels.c, serial_2d), with the same cross lists (build_cross): the cross
+ * pairs first, then each thread owns a range of particles and adds, in list order, exactly the
+ * additions one thread makes; the ledger sums are formed per block of rows and combined in block
+ * order. Forces, torques, history vectors and the ledger are bit-identical for every thread
+ * count. The neighbour list is built on one thread. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -427,51 +432,69 @@ static double forget_3d(const ctx3 *c, const int tl, const int i, const int j, c
     return tangential3_law(tl, &c->cc, in).lost;
 }
 
-/* The pair loop, one thread, forces summed in list order (the same for every thread count). The
- * laws are arguments that the instances below fix or read from the simulation. */
-static inline __attribute__((always_inline)) void run_3d(gr_sim *s, gr_force_report *r,
-                                                         const int nl, const int tl,
-                                                         const int clamp, const int rot,
-                                                         const int rl)
+/* Partial results of one block of rows, in s->blk (GR_BLK_FIELDS per block): the ledger sums,
+ * the deepest overlap and its pair (fields 6 and 7: the 2D step's noise sums, which 3D does not
+ * use), a history law's energy and losses. */
+enum { B_EL, B_PN, B_PT, B_PF, B_WORST, B_FRESH, B_WI, B_WJ, B_ELT, B_LOST };
+
+static inline __attribute__((always_inline)) ctx3 ctx3_of(const gr_sim *s)
 {
-    const int n = s->n, hist = history_of(tl);
-    const double d = s->d;
-    const ctx3 c = {.x = s->x,
-                    .y = s->y,
-                    .z = s->z,
-                    .vx = s->vx,
-                    .vy = s->vy,
-                    .vz = s->vz,
-                    .wx = s->wx,
-                    .wy = s->wy,
-                    .wz = s->omega,
-                    .L = s->L,
-                    .d = d,
-                    .d2 = d * d,
-                    .m12_dt = s->cc.m_t / s->dt,
-                    .i_2dt = 0.5 * s->inertia / s->dt,
-                    .cc = s->cc};
+    return (ctx3){.x = s->x,
+                  .y = s->y,
+                  .z = s->z,
+                  .vx = s->vx,
+                  .vy = s->vy,
+                  .vz = s->vz,
+                  .wx = s->wx,
+                  .wy = s->wy,
+                  .wz = s->omega,
+                  .L = s->L,
+                  .d = s->d,
+                  .d2 = s->d * s->d,
+                  .m12_dt = s->cc.m_t / s->dt,
+                  .i_2dt = 0.5 * s->inertia / s->dt,
+                  .cc = s->cc};
+}
+
+/* What a pair adds to j: the torque t + R and its non-conservative part TG + R (rotation; on i
+ * t - R and TG - R). The same expressions in the row loop and for the cross pairs. */
+static inline __attribute__((always_inline)) void torques_on_j(const pair3 *o, const int tl,
+                                                               const int rl, double tj[3],
+                                                               double uj[3])
+{
+    for (int a = 0; a < 3; a++) {
+        const double t = tl != TL_none ? o->T[a] : 0.0, R = rl != RL_none ? o->R[a] : 0.0;
+        tj[a] = t + R;
+        uj[a] = history_of(tl) ? o->TG[a] + R : 0.0;
+    }
+}
+
+/* GCC (12) reports o.hs of rows_3d as used uninitialised in the instance without a history law,
+ * where the write-back that reads it is dead code (hist = 0); the warning is false. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#endif
+/* The rows [r0, r1) of the half list, scattering to j in [lo, hi) (all = 1: every j, one thread)
+ * and to each row's i the sum of its row. Sums of the block in list order, into part. */
+static inline __attribute__((always_inline)) void rows_3d(gr_sim *restrict s, const int r0,
+                                                          const int r1, const int lo, const int hi,
+                                                          const int all, const int nl, const int tl,
+                                                          const int clamp, const int rot,
+                                                          const int rl, double *restrict part)
+{
+    const int hist = history_of(tl);
+    const ctx3 c = ctx3_of(s);
     double *restrict f[3] = {s->fx, s->fy, s->fz}, *restrict g[3] = {s->gx, s->gy, s->gz};
     double *restrict tq[3] = {s->tqx, s->tqy, s->tq}, *restrict tg[3] = {s->tgx, s->tgy, s->tg};
     const int *restrict start = s->nl_start, *restrict list = s->nl_j;
     uint8_t *restrict touching = s->nl_contact;
     double *restrict hs = s->nl_hist;
-    const size_t bytes = sizeof(double) * (size_t)n;
-    for (int a = 0; a < 3; a++) {
-        memset(f[a], 0, bytes);
-        memset(g[a], 0, bytes);
-        if (rot) {
-            memset(tq[a], 0, bytes);
-        }
-        if (rot && hist) {
-            memset(tg[a], 0, bytes);
-        }
-    }
     double elastic = 0.0, pn = 0.0, pt = 0.0, pf = 0.0, el_t = 0.0, lost = 0.0, worst = 0.0;
     int64_t fresh = 0;
     int wi = -1, wj = -1;
     static const double none[3] = {0.0, 0.0, 0.0};
-    for (int i = 0; i < n; i++) {
+    for (int i = r0; i < r1; i++) {
         double fi[3] = {0.0, 0.0, 0.0}, gi[3] = {0.0, 0.0, 0.0}, ti[3] = {0.0, 0.0, 0.0},
                ui[3] = {0.0, 0.0, 0.0};
         for (int p = start[i]; p < start[i + 1]; p++) {
@@ -485,7 +508,7 @@ static inline __attribute__((always_inline)) void run_3d(gr_sim *s, gr_force_rep
                 }
                 continue;
             }
-            if (hist) {
+            if (hist) { /* this thread's row: written once, after every read of it */
                 hp[0] = o.hs[0];
                 hp[1] = o.hs[1];
                 hp[2] = o.hs[2];
@@ -509,20 +532,29 @@ static inline __attribute__((always_inline)) void run_3d(gr_sim *s, gr_force_rep
             if (rl != RL_none) {
                 pf += o.pr;
             }
+            const int mine = all || (j >= lo && j < hi);
             for (int a = 0; a < 3; a++) {
                 fi[a] -= o.F[a];
                 gi[a] -= o.G[a];
-                f[a][j] += o.F[a];
-                g[a][j] += o.G[a];
+                if (mine) {
+                    f[a][j] += o.F[a];
+                    g[a][j] += o.G[a];
+                }
             }
             if (rot) {
+                double tj[3], uj[3];
+                torques_on_j(&o, tl, rl, tj, uj);
                 for (int a = 0; a < 3; a++) {
                     const double t = tl != TL_none ? o.T[a] : 0.0, R = rl != RL_none ? o.R[a] : 0.0;
                     ti[a] += t - R;
-                    tq[a][j] += t + R;
+                    if (mine) {
+                        tq[a][j] += tj[a];
+                    }
                     if (hist) {
                         ui[a] += o.TG[a] - R;
-                        tg[a][j] += o.TG[a] + R;
+                        if (mine) {
+                            tg[a][j] += uj[a];
+                        }
                     }
                 }
             }
@@ -538,15 +570,207 @@ static inline __attribute__((always_inline)) void run_3d(gr_sim *s, gr_force_rep
             }
         }
     }
+    part[B_EL] = elastic;
+    part[B_PN] = pn;
+    part[B_PT] = pt;
+    part[B_PF] = pf;
+    part[B_WORST] = worst;
+    part[B_FRESH] = (double)fresh;
+    part[B_WI] = wi;
+    part[B_WJ] = wj;
+    part[B_ELT] = el_t;
+    part[B_LOST] = lost;
+}
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+
+/* Zero the forces (and torques, as the laws need them) of particles [lo, hi). */
+static void zero_3d(gr_sim *s, const int lo, const int hi, const int rot, const int hist)
+{
+    double *f[] = {s->fx, s->fy, s->fz, s->gx, s->gy, s->gz};
+    double *t[] = {s->tqx, s->tqy, s->tq, s->tgx, s->tgy, s->tg};
+    const size_t bytes = sizeof(double) * (size_t)(hi - lo);
+    for (int a = 0; a < 6; a++) {
+        memset(f[a] + lo, 0, bytes);
+        if (rot && (a < 3 || hist)) {
+            memset(t[a] + lo, 0, bytes);
+        }
+    }
+}
+
+/* One thread: the blocks of rows in order, scattering to every particle. */
+static inline __attribute__((always_inline)) void serial_3d(gr_sim *restrict s, const int nl,
+                                                            const int tl, const int clamp,
+                                                            const int rot, const int rl)
+{
+    const int n = s->n;
+    zero_3d(s, 0, n, rot, history_of(tl));
+    for (int b = 0; b < s->nblk; b++) {
+        const int r1 = (b + 1) * GR_BLOCK < n ? (b + 1) * GR_BLOCK : n;
+        rows_3d(s, b * GR_BLOCK, r1, 0, n, 1, nl, tl, clamp, rot, rl,
+                s->blk + (size_t)b * GR_BLK_FIELDS);
+    }
+}
+
+/* Add the cross pairs q in [q0, q1) acting on each particle j = in_list[l], l in [l0, l1), in
+ * ascending q (list order): forces and, with rotation, torques (and their non-conservative
+ * parts with a history law). */
+static inline __attribute__((always_inline)) void add_incoming_3d(gr_sim *restrict s, const int l0,
+                                                                  const int l1, const int q0,
+                                                                  const int q1, const int rot,
+                                                                  const int hist)
+{
+    const int *restrict in = s->in_start, *restrict ink = s->in_k, *restrict list = s->in_list;
+    const double *restrict pf = s->pair_f, *restrict ptq = s->pair_tq, *restrict ptg = s->pair_tg;
+    double *restrict f[6] = {s->fx, s->fy, s->fz, s->gx, s->gy, s->gz};
+    double *restrict tq[3] = {s->tqx, s->tqy, s->tq}, *restrict tg[3] = {s->tgx, s->tgy, s->tg};
+    for (int l = l0; l < l1; l++) {
+        const int j = list[l];
+        double a[6], t[3] = {0.0, 0.0, 0.0}, u[3] = {0.0, 0.0, 0.0};
+        for (int k = 0; k < 6; k++) {
+            a[k] = f[k][j];
+        }
+        for (int k = 0; k < 3; k++) {
+            t[k] = rot ? tq[k][j] : 0.0;
+            u[k] = rot && hist ? tg[k][j] : 0.0;
+        }
+        for (int e = in[j]; e < in[j + 1]; e++) {
+            const int q = ink[e];
+            if (q >= q0 && q < q1) {
+                for (int k = 0; k < 6; k++) {
+                    a[k] += pf[6 * (size_t)q + k];
+                }
+                for (int k = 0; k < 3 && rot; k++) {
+                    t[k] += ptq[3 * (size_t)q + k];
+                    if (hist) {
+                        u[k] += ptg[3 * (size_t)q + k];
+                    }
+                }
+            }
+        }
+        for (int k = 0; k < 6; k++) {
+            f[k][j] = a[k];
+        }
+        for (int k = 0; k < 3 && rot; k++) {
+            tq[k][j] = t[k];
+            if (hist) {
+                tg[k][j] = u[k];
+            }
+        }
+    }
+}
+
+/* The part of thread tid of nth (inside a parallel region) of the T-thread evaluation, as in 2D
+ * (kernels.c, serial_2d): (1) the cross pairs of the thread's rows into pair_f (0 for a pair
+ * apart: adding +0.0 changes no sum that starts from +0.0); (2) each thread sets its particles'
+ * forces to the cross pairs from earlier rows, runs its rows adding only to its own particles,
+ * then adds the cross pairs from later rows: every force, torque and history vector is the same
+ * sequence of operations as with one thread. */
+static inline __attribute__((always_inline)) void threaded_3d(gr_sim *restrict s, const int T,
+                                                              const int tid, const int nth,
+                                                              const int nl, const int tl,
+                                                              const int clamp, const int rot,
+                                                              const int rl)
+{
+    const int hist = history_of(tl);
+    const ctx3 c = ctx3_of(s);
+    static const double none[3] = {0.0, 0.0, 0.0};
+    for (int t = tid; t < T; t += nth) {
+        for (int q = s->cross_start[t]; q < s->cross_start[t + 1]; q++) {
+            /* a history law reads the vector of the cross pair's row (this thread's): the new
+             * value is written by rows_3d after the barrier, from the same old value */
+            const int p = s->cross_p[q];
+            double *fq = s->pair_f + 6 * (size_t)q;
+            double tj[3] = {0.0, 0.0, 0.0}, uj[3] = {0.0, 0.0, 0.0};
+            pair3 o;
+            if (pair_3d(&c, s->cross_i[q], s->nl_j[p], nl, tl, clamp, rot, rl,
+                        hist ? s->nl_hist + 3 * (int64_t)p : none, &o)) {
+                for (int a = 0; a < 3; a++) {
+                    fq[a] = o.F[a];
+                    fq[3 + a] = o.G[a];
+                }
+                if (rot) {
+                    torques_on_j(&o, tl, rl, tj, uj);
+                }
+            } else {
+                for (int a = 0; a < 6; a++) {
+                    fq[a] = 0.0;
+                }
+            }
+            for (int a = 0; a < 3 && rot; a++) {
+                s->pair_tq[3 * (size_t)q + a] = tj[a];
+                if (hist) {
+                    s->pair_tg[3 * (size_t)q + a] = uj[a];
+                }
+            }
+        }
+    }
+#pragma omp barrier
+    for (int t = tid; t < T; t += nth) {
+        const int lo = s->par_row[t], hi = s->par_row[t + 1];
+        zero_3d(s, lo, hi, rot, hist);
+        const int l0 = s->in_list_start[t], l1 = s->in_list_start[t + 1];
+        add_incoming_3d(s, l0, l1, 0, s->cross_start[t], rot, hist);
+        for (int r0 = lo; r0 < hi; r0 += GR_BLOCK) {
+            const int r1 = r0 + GR_BLOCK < hi ? r0 + GR_BLOCK : hi;
+            rows_3d(s, r0, r1, lo, hi, 0, nl, tl, clamp, rot, rl,
+                    s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS);
+        }
+        add_incoming_3d(s, l0, l1, s->cross_start[t + 1], s->cross_start[T], rot, hist);
+    }
+}
+
+/* The block sums combined in block order; the deepest pair is the first of the largest overlap
+ * in list order, as one pass finds it. */
+static void report_3d(const gr_sim *s, gr_force_report *r)
+{
+    double elastic = 0.0, pn = 0.0, pt = 0.0, pf = 0.0, el_t = 0.0, lost = 0.0, worst = 0.0;
+    int64_t fresh = 0;
+    int wi = -1, wj = -1;
+    for (int b = 0; b < s->nblk; b++) {
+        const double *q = s->blk + (size_t)b * GR_BLK_FIELDS;
+        elastic += q[B_EL];
+        pn += q[B_PN];
+        pt += q[B_PT];
+        pf += q[B_PF];
+        el_t += q[B_ELT];
+        lost += q[B_LOST];
+        fresh += (int64_t)q[B_FRESH];
+        if (q[B_WORST] > worst) {
+            worst = q[B_WORST];
+            wi = (int)q[B_WI];
+            wj = (int)q[B_WJ];
+        }
+    }
     *r = (gr_force_report){.elastic = s->cc.e_scale * elastic + el_t,
                            .power_normal = pn,
                            .power_tangential = pt,
                            .power_friction = pf,
                            .lost = lost,
                            .new_contacts = fresh,
-                           .max_overlap = worst / d,
+                           .max_overlap = worst / s->d,
                            .worst_i = wi,
                            .worst_j = wj};
+}
+
+/* The pair loop on the scene's threads (gr_kernel_team), bit-identical for every thread count.
+ * The laws are arguments that the instances below fix or read from the simulation; the
+ * parallel region is written here, inside each instance, so that the constants reach the body
+ * OpenMP outlines. */
+static inline __attribute__((always_inline)) void run_3d(gr_sim *s, gr_force_report *r,
+                                                         const int nl, const int tl,
+                                                         const int clamp, const int rot,
+                                                         const int rl)
+{
+    const int T = gr_kernel_team(s);
+    if (T == 1) {
+        serial_3d(s, nl, tl, clamp, rot, rl);
+    } else {
+        _Pragma("omp parallel num_threads(T)")
+            threaded_3d(s, T, GR_THREAD_ID, GR_THREAD_COUNT, nl, tl, clamp, rot, rl);
+    }
+    report_3d(s, r);
 }
 
 /* The instances: the normal law alone (the law read from the simulation, tangential, rotation

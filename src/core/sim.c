@@ -36,7 +36,7 @@ int gr_get_threads(void)
 int gr_team(const gr_sim *s)
 {
 #ifdef _OPENMP
-    if (s->dim != 2 || s->nblk < 2) {
+    if (s->dim == 1 || s->nblk < 2) {
         return 1;
     }
     int t = gr_get_threads();
@@ -664,6 +664,9 @@ gr_particles gr_sim_particles(const gr_sim *s)
                           .vz = s->vz,
                           /* 3D: the spins are vectors (wx, wy, omega), not one column */
                           .omega = s->dim == 3 ? NULL : s->omega,
+                          .wx = s->dim == 3 ? s->wx : NULL,
+                          .wy = s->dim == 3 ? s->wy : NULL,
+                          .wz = s->dim == 3 && s->wx ? s->omega : NULL,
                           .species = s->species,
                           .radii = s->rad,
                           .masses = s->mass_i,

@@ -143,7 +143,7 @@ struct gr_sim {
      * order, whatever the thread count; a thread owns whole blocks. */
     int nblk;    /* ceil(n / GR_BLOCK) */
     double *blk; /* GR_BLK_FIELDS partial results per block */
-    /* 2D forces with T > 1 threads (kernels.c): thread t owns the rows (and the forces) of
+    /* 2D and 3D forces with T > 1 threads (kernels.c, kernels_3d.c): thread t owns the rows (and the forces) of
      * particles [par_row[t], par_row[t+1]); a listed pair whose j lies outside the row owner's
      * range is a "cross" pair, computed first into pair_f and added by the owner of j in list
      * order, so every force is summed exactly as in the one-thread scatter. */
@@ -157,8 +157,8 @@ struct gr_sim {
     int *in_list;         /* the particles with incoming cross pairs, ascending (at most ncross) */
     int *
         in_list_start; /* T + 1: those of thread t are in_list[in_list_start[t] .. in_list_start[t+1]) */
-    double *pair_f;  /* 4 per cross pair: Fx, Fy, Gx, Gy on j */
-    double *pair_tq; /* rotation: the torque of each cross pair (NULL otherwise) */
+    double *pair_f;  /* 4 per cross pair: Fx, Fy, Gx, Gy on j (3D: 6, F then G) */
+    double *pair_tq; /* rotation: the torque of each cross pair (3D: 3), NULL otherwise */
     double *pair_tg; /* its non-conservative part (with s->tg only) */
     int64_t cross_cap;
 
@@ -180,9 +180,9 @@ struct gr_sim {
 #define GR_BLOCK 1024
 #define GR_BLK_FIELDS 10
 
-/* Threads to use for a 2D step of s: 1 in 1D, when there are fewer than two blocks, or inside
- * an enclosing parallel region; otherwise the gr_set_threads setting, at most one per block.
- * The results do not depend on it. */
+/* Threads to use for a 2D step or a 3D force evaluation of s: 1 in 1D, when there are fewer than
+ * two blocks, or inside an enclosing parallel region; otherwise the gr_set_threads setting, at
+ * most one per block. The results do not depend on it. */
 int gr_team(const gr_sim *s);
 
 /* src/core/placement.c: fill x, y for the scene's placement kind. */
@@ -211,6 +211,10 @@ void gr_kernel_run_3d(gr_sim *s, gr_force_report *r);
 /* the same loop with the tangential law (a 3D history vector per contact), rotation (angular
  * velocity vectors, torques) and the rolling law read from s->kernel */
 void gr_kernel_run_3d_full(gr_sim *s, gr_force_report *r);
+/* src/core/kernels.c: the threads of a 2D or 3D force evaluation (gr_team), building the cross
+ * lists (par_row, cross_*, in_*, pair_*) when the list or the thread count changed; 1 when they
+ * cannot be built (out of memory) */
+int gr_kernel_team(gr_sim *s);
 
 /* contact history: allocate the slots (zero), save them by pair before a rebuild, restore after */
 int gr_history_enable(gr_sim *s, gr_error *err);

@@ -446,9 +446,10 @@ int gr_h5md_append(gr_h5md *h, const gr_particles *p, const double *omega, doubl
     }
     st |= frame_write(h->value[EL_VEL], k, H5T_NATIVE_DOUBLE, b);
     if (h->value[EL_OMEGA] >= 0) {
-        for (int i = 0; i < p->n; i++) {
-            b[3 * i] = b[3 * i + 1] = 0.0;
-            b[3 * i + 2] = omega ? omega[i] : 0.0;
+        for (int i = 0; i < p->n; i++) { /* 2D: about z; 3D: the spin vector */
+            b[3 * i] = p->wz ? p->wx[i] : 0.0;
+            b[3 * i + 1] = p->wz ? p->wy[i] : 0.0;
+            b[3 * i + 2] = p->wz ? p->wz[i] : omega ? omega[i] : 0.0;
         }
         st |= frame_write(h->value[EL_OMEGA], k, H5T_NATIVE_DOUBLE, b);
     }

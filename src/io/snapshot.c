@@ -16,15 +16,19 @@ void gr_xyz_write_frame(FILE *f, const gr_particles *p, double t, int64_t step)
         fprintf(f,
                 "%d\nLattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T T T\" Time=%.17g "
                 "Step=%lld "
-                "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3\n",
-                p->n, p->L, p->L, p->L, t, (long long)step);
+                "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3%s\n",
+                p->n, p->L, p->L, p->L, t, (long long)step, p->wz ? ":omega:R:3" : "");
         for (int i = 0; i < p->n; i++) {
             const double x = p->x[i] - p->L * floor(p->x[i] / p->L),
                          y = p->y[i] - p->L * floor(p->y[i] / p->L),
                          z = p->z[i] - p->L * floor(p->z[i] / p->L);
-            fprintf(f, "X %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", x,
-                    y, z, p->vx[i], p->vy[i], p->vz[i], p->radius, p->mass, p->mass * p->vx[i],
+            fprintf(f, "X %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g", x, y,
+                    z, p->vx[i], p->vy[i], p->vz[i], p->radius, p->mass, p->mass * p->vx[i],
                     p->mass * p->vy[i], p->mass * p->vz[i]);
+            if (p->wz) { /* rotation: the spin vector, rad/s */
+                fprintf(f, " %.17g %.17g %.17g", p->wx[i], p->wy[i], p->wz[i]);
+            }
+            fputc('\n', f);
         }
         return;
     }

@@ -25,8 +25,10 @@
  * The driving is chosen once per run: each (driving, closing) pair has its own loop, so the
  * random force's loop is the one it always was.
  *
- * 3D (spheres, docs/three-dimensions.md): the same step with a third component, on one thread
- * (open_step_3d, half_kick_3d), so a run is the same for every thread count.
+ * 3D (spheres, docs/three-dimensions.md): the same step with a third component, its kicks and
+ * drifts on one thread (open_step_3d, half_kick_3d); the normals are drawn per block (shared by
+ * the threads) and the forces run on the threads (kernels_3d.c), so a run is the same for every
+ * thread count.
  *
  * Threads (2D): the noise and the kick-drift pass run over blocks of GR_BLOCK particles shared by
  * the threads, and every sum is combined block by block in block order, so a run is bit-identical
@@ -659,7 +661,7 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
             }
             s->removed_com += gr_remove_com(s);
         }
-        if ((noise || bath) && (s->dim == 1 || team == 1)) { /* else drawn in open_step_2d */
+        if ((noise || bath) && (s->dim != 2 || team == 1)) { /* else drawn in open_step_2d */
             draw_noise(s, mean, team);
             if (s->dim == 3) {
                 noise_mean_3d(s, mean);
