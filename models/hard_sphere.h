@@ -155,8 +155,8 @@ static const gr_param hard_sphere_params[] = {
     {"eps_n", "", GR_PARAM_DOUBLE, 0.6, 0.0, 1.0, true, false,
      "normal coefficient of restitution (2.2); 1 = elastic", offsetof(gr_contact_params, eps_n)},
     {"eps_t", "", GR_PARAM_DOUBLE, 0.6, 0.0, 1.0, false, false,
-     "tangential coefficient of restitution (2.10), 2D; 1 = no tangential dissipation (default "
-     "shared with tangential_dashpot)",
+     "tangential coefficient of restitution (2.10) of smooth discs and spheres (rotation = "
+     "false); 1 = no tangential dissipation (default shared with tangential_dashpot)",
      offsetof(gr_contact_params, eps_t)},
     {"tc", "s", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
      "TC-model time: a collision is elastic if either particle collided less than tc ago; default "
