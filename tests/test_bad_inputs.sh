@@ -195,6 +195,7 @@ base | nosuchcommand | 2 | unknown command | new
 base | collide --case 9 | 2 | case | new
 base | collide --reference --rtol 1 | 2 | allowed range | new
 base | collide --model hard_sphere --reference | 2 | reference;hard_sphere | new
+base | collide --dim 3 --model hard_sphere | 2 | --model hard_sphere;--dim 3;event integrator only;allowed with --dim 3: spring_dashpot, hertz | new
 base | collide --eps-n 2 | 2 | eps | new
 base | collide --model nosuch | 2 | nosuch;!collide: collide: | new
 base | collide --bogus | 2 | --bogus;!collide: collide: | new

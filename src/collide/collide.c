@@ -300,9 +300,9 @@ static int collide_run_3d(const gr_collide_setup *cs, const gr_collision_case *c
     }
     if (!cs->normal || (cs->normal->kind & GR_MODEL_EVENT)) {
         return GR_FAIL(err, GR_EINVAL,
-                       "--model %s: --dim 3 runs the soft laws so far (the event rules' "
-                       "instantaneous collision is 2D); allowed with --dim 3: spring_dashpot, "
-                       "hertz",
+                       "--model %s: --dim 3 runs the soft laws so far (the event rules' 3D "
+                       "collision runs in the event integrator only, docs/three-dimensions.md); "
+                       "allowed with --dim 3: spring_dashpot, hertz",
                        cs->normal ? cs->normal->name : "none");
     }
     gr_sim_params sc;
