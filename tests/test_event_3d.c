@@ -356,10 +356,17 @@ static void rough_oblique(double beta, double mu, double eps_n, double by, doubl
     char sb[40], sm[40], se[40];
     snprintf(sb, sizeof sb, "model.beta=%.17g", beta);
     snprintf(sm, sizeof sm, "model.beta_mu=%.17g", mu);
-    snprintf(se, sizeof se, "model.eps_n=%.17g", eps_n);
-    const char *set[] = {"system.N=2",   "system.L=0.05",     sb, sm, se,
-                         "model.tc=off", "placement.omega0=0"};
-    load(sc, rough_gas, set, 7);
+    snprintf(se, sizeof se, "model.eps_n=%.17g", eps_n > 0.0 ? eps_n : 0.5);
+    /* eps_n < 0: viscoelastic, eps_n(v) of the hertz contact at the normal approach speed */
+    const char *set[] = {"system.N=2",
+                         "system.L=0.05",
+                         sb,
+                         sm,
+                         se,
+                         "model.tc=off",
+                         "placement.omega0=0",
+                         eps_n > 0.0 ? "model.viscoelastic=false" : "model.viscoelastic=true"};
+    load(sc, rough_gas, set, 8);
     gr_sim *s = create(sc);
     const double R = 0.5 * s->d, speed = 0.7, M = s->mass, q = s->cc.q;
     const double I = q * M * R * R, v1[3] = {-speed, 0.0, 0.0};
@@ -384,6 +391,10 @@ static void rough_oblique(double beta, double mu, double eps_n, double by, doubl
         gc[a] = gt + R * Wn[a];
         gc2 += gc[a] * gc[a];
         gt2 += gt * gt;
+    }
+    if (eps_n < 0.0) {
+        eps_n = s->cc.normal_model->impact(&s->cc, gn).eps_n;
+        ck_assert(eps_n > 0.1 && eps_n < 0.99);
     }
     const double m12 = 0.5 * M, mt = m12 * q / (1.0 + q);
     double bt = beta;
@@ -461,6 +472,8 @@ START_TEST(test_rough_oblique)
     ck_assert_msg(bt < 1.0 && bt > -1.0, "beta used %g: the pair should slide", bt);
     rough_oblique(0.4, 5.0, 0.7, 0.1, 0.1, still, wb, &bt);
     ck_assert_msg(bt == 0.4, "beta used %g: the pair should stick", bt);
+    /* viscoelastic: eps_n(v) at the normal approach speed, Coulomb-limited */
+    rough_oblique(0.7, 0.3, -1.0, 0.2, -0.3, wa, wb, &bt);
     /* perfectly rough and elastic: no loss at all */
     rough_oblique(1.0, 0.0, 1.0, -0.2, 0.7, wa, wb, &bt);
 }
