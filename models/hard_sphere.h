@@ -76,7 +76,7 @@ static inline void gr_event_collide(double M, double eps_n, double eps_t, double
  * Returns the beta used (beta0, or the Coulomb value when the pair slid). Rough spheres (3D): the
  * event core applies this rule in the plane of n and the contact point's relative tangential
  * velocity g_c = g_t + R (w1 + w2) x n, with the spin vectors' components along n x t as w1, w2
- * (src/integrators/event/event_cells.h, rule_3d). */
+ * (gr_event_rule_3d, models/list.h). */
 static inline double gr_event_collide_rough(double M, double q, double R, double eps_n,
                                             double beta0, double mu, double nx, double ny,
                                             double *v1x, double *v1y, double *v2x, double *v2y,

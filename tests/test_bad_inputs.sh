@@ -195,12 +195,11 @@ base | nosuchcommand | 2 | unknown command | new
 base | collide --case 9 | 2 | case | new
 base | collide --reference --rtol 1 | 2 | allowed range | new
 base | collide --model hard_sphere --reference | 2 | reference;hard_sphere | new
-base | collide --dim 3 --model hard_sphere | 2 | --model hard_sphere;--dim 3;event integrator only;allowed with --dim 3: spring_dashpot, hertz | new
+base | collide --dim 3 --model hard_sphere --omega1 1,0,0 | 2 | --omega1/--omega2;initial spins need rotation = true;allowed without: 0,0,0 | new
 base | collide --eps-n 2 | 2 | eps | new
 base | collide --model nosuch | 2 | nosuch;!collide: collide: | new
 base | collide --bogus | 2 | --bogus;!collide: collide: | new
 base | collide --dim 4 | 2 | --dim;1 to 3 | new
-base | collide --dim 3 --model hard_sphere | 2 | --model hard_sphere;--dim 3;spring_dashpot, hertz | new
 base | collide --dim 3 --speed 1 --angle 30 --omega1 0,0,5 | 2 | --omega1/--omega2;rotation = true | new
 base | collide --dim 3 --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega1 150 | 2 | --omega1 150;WX,WY,WZ | new
 base | collide --dim 3 --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega2 0,0,nan | 2 | --omega2 0,0,nan;three finite numbers | new
