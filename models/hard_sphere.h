@@ -73,7 +73,10 @@ static inline void gr_event_collide(double M, double eps_n, double eps_t, double
  *   beta(g) = min(beta0, -1 + mu (1 + eps_n) (1 + 1/q) |g.n| / |g_ct|),
  * so |P_t| = mu |P_n| when sliding. The loss of translational + rotational kinetic energy:
  *   dE_n = m12/2 (1 - eps_n^2) (g.n)^2,   dE_t = m_t/2 (1 - beta^2) g_ct^2   (beta after the limit).
- * Returns the beta used (beta0, or the Coulomb value when the pair slid). */
+ * Returns the beta used (beta0, or the Coulomb value when the pair slid). Rough spheres (3D): the
+ * event core applies this rule in the plane of n and the contact point's relative tangential
+ * velocity g_c = g_t + R (w1 + w2) x n, with the spin vectors' components along n x t as w1, w2
+ * (gr_event_rule_3d, models/list.h). */
 static inline double gr_event_collide_rough(double M, double q, double R, double eps_n,
                                             double beta0, double mu, double nx, double ny,
                                             double *v1x, double *v1y, double *v2x, double *v2y,
@@ -155,8 +158,8 @@ static const gr_param hard_sphere_params[] = {
     {"eps_n", "", GR_PARAM_DOUBLE, 0.6, 0.0, 1.0, true, false,
      "normal coefficient of restitution (2.2); 1 = elastic", offsetof(gr_contact_params, eps_n)},
     {"eps_t", "", GR_PARAM_DOUBLE, 0.6, 0.0, 1.0, false, false,
-     "tangential coefficient of restitution (2.10), 2D; 1 = no tangential dissipation (default "
-     "shared with tangential_dashpot)",
+     "tangential coefficient of restitution (2.10) of smooth discs and spheres (rotation = "
+     "false); 1 = no tangential dissipation (default shared with tangential_dashpot)",
      offsetof(gr_contact_params, eps_t)},
     {"tc", "s", GR_PARAM_DOUBLE, 0.0, 0.0, INFINITY, false, true,
      "TC-model time: a collision is elastic if either particle collided less than tc ago; default "
@@ -209,9 +212,9 @@ static int hard_sphere_prepare(const gr_contact_params *p, double m12, double dt
     if (p->rotation && o->beta_mu > 0.0 && o->beta == -1.0) {
         return GR_FAIL(
             err, GR_EINVAL,
-            "[model] beta_mu = %g with beta = -1: smooth discs get no tangential impulse, so a "
-            "Coulomb "
-            "limit does nothing; set beta in (-1, 1] (the sticking value, e.g. 1) or beta_mu = 0",
+            "[model] beta_mu = %g with beta = -1: smooth discs and spheres get no tangential "
+            "impulse, so a Coulomb limit does nothing; set beta in (-1, 1] (the sticking value, "
+            "e.g. 1) or beta_mu = 0",
             o->beta_mu);
     }
     if (!(o->tc >= 0.0 || o->tc == GR_TC_OFF) || !isfinite(o->tc)) {

@@ -81,6 +81,73 @@ static inline void gr_event_rule_apply(int rule, const gr_contact_coeffs *c, gr_
     }
 }
 
+/* The rule on spheres (3D; the event core, src/integrators/event/event_cells.h, and `granule
+ * collide --dim 3`): gr_event_rule_apply of `rule` with the coefficients cc on
+ * spheres 1 and 2 of mass M, radius R, moment of inertia q M R^2 touching along the unit normal n
+ * (from 1 to 2),
+ * applied in the plane of n and the unit tangent t along the contact point's relative tangential
+ * velocity (any t when it is 0: no tangential impulse then). Smooth spheres (w1 = NULL):
+ * g_t = g - (g.n) n, g = v1 - v2. Rough spheres (w1, w2 the spin vectors, changed in place):
+ * g_c = g_t + R (w1 + w2) x n, the velocity of 1's surface point minus 2's (the 2D rule's
+ * g.t + R (w1 + w2) with the discs' spins along z). The impulse P lies in the plane of n and t and
+ * turns both spins by R n x P / I, along e = n x t; so the plane's rule on (v.n, v.t) and the
+ * spins' e components, w.e (the 2D spin in the frame n, t, e), is the 3D rule: v.e and the spins'
+ * n and t components keep their values, and g_c keeps no component along e. */
+static inline void gr_event_rule_3d(int rule, const gr_contact_coeffs *cc, double M, double R,
+                                    double q, const double n[3], double v1[3], double v2[3],
+                                    double *w1, double *w2, bool elastic, double *de_n,
+                                    double *de_t)
+{
+    const double g[3] = {v1[0] - v2[0], v1[1] - v2[1], v1[2] - v2[2]};
+    const double gn = g[0] * n[0] + g[1] * n[1] + g[2] * n[2];
+    double t[3] = {g[0] - gn * n[0], g[1] - gn * n[1], g[2] - gn * n[2]};
+    if (w1) { /* + R W x n, W = w1 + w2 */
+        const double W[3] = {w1[0] + w2[0], w1[1] + w2[1], w1[2] + w2[2]};
+        t[0] += R * (W[1] * n[2] - W[2] * n[1]);
+        t[1] += R * (W[2] * n[0] - W[0] * n[2]);
+        t[2] += R * (W[0] * n[1] - W[1] * n[0]);
+    }
+    const double gt = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    for (int a = 0; a < 3; a++) {
+        t[a] = gt > 0.0 ? t[a] / gt : 0.0;
+    }
+    const double n1 = v1[0] * n[0] + v1[1] * n[1] + v1[2] * n[2];
+    const double t1 = v1[0] * t[0] + v1[1] * t[1] + v1[2] * t[2];
+    const double n2 = v2[0] * n[0] + v2[1] * n[1] + v2[2] * n[2];
+    const double t2 = v2[0] * t[0] + v2[1] * t[1] + v2[2] * t[2];
+    gr_event_pair p = {.M = M,
+                       .R = R,
+                       .q = q,
+                       .nx = 1.0,
+                       .ny = 0.0,
+                       .v1x = n1,
+                       .v1y = t1,
+                       .v2x = n2,
+                       .v2y = t2,
+                       .elastic = elastic};
+    const double ax[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2],
+                          n[0] * t[1] - n[1] * t[0]}; /* e = n x t */
+    double s1 = 0.0, s2 = 0.0;                        /* the spins' e components */
+    if (w1) {
+        s1 = w1[0] * ax[0] + w1[1] * ax[1] + w1[2] * ax[2];
+        s2 = w2[0] * ax[0] + w2[1] * ax[1] + w2[2] * ax[2];
+        p.w1 = &s1;
+        p.w2 = &s2;
+    }
+    const double s10 = s1, s20 = s2;
+    gr_event_rule_apply(rule, cc, &p);
+    for (int a = 0; a < 3; a++) {
+        v1[a] += (p.v1x - n1) * n[a] + (p.v1y - t1) * t[a];
+        v2[a] += (p.v2x - n2) * n[a] + (p.v2y - t2) * t[a];
+        if (w1) {
+            w1[a] += (s1 - s10) * ax[a];
+            w2[a] += (s2 - s20) * ax[a];
+        }
+    }
+    *de_n = p.de_n;
+    *de_t = p.de_t;
+}
+
 #define GR_OWN_BLOCK(A, NAME) NAME##_own NAME;
 typedef struct gr_own_layout {
     GR_OWN_MODELS(GR_OWN_BLOCK, )

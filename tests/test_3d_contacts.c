@@ -535,6 +535,124 @@ START_TEST(test_collide_reference_3d)
 }
 END_TEST
 
+/* `granule collide --dim 3 --model hard_sphere` (rough: rotation = true, beta, beta_mu): in the
+ * plane without spins the 2D rule's numbers to rounding (v_z and the spins' x, y exactly 0); with spins
+ * about every axis Walton's rule on 3-vectors: eps_n and -beta (the Coulomb value when sliding) as
+ * the measured restitutions, the loss (1 - eps_n^2) g_n^2 + q / (1 + q) (1 - beta^2) |g_c|^2 of
+ * the energy, momentum, and both spins turned by the same R n x P / I (angular momentum). */
+static void hard_3d(double beta, double mu, const double w1[3], const double w2[3])
+{
+    gr_collision_case cs;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_collision_case_oblique(0.5, 35.0, 1.5e-3, &cs, &err), GR_OK);
+    gr_collide_setup s = collide_setup("hard_sphere", "tangential_dashpot");
+    s.tangential = NULL;
+    s.tangential = NULL;
+    s.contact.eps_n = 0.7;
+    ck_assert_int_eq(gr_contact_set_value(&s.contact, "beta", beta, &err), GR_OK);
+    ck_assert_int_eq(gr_contact_set_value(&s.contact, "beta_mu", mu, &err), GR_OK);
+    memcpy(s.w1, w1, sizeof s.w1);
+    memcpy(s.w2, w2, sizeof s.w2);
+    gr_collide_result r;
+    ck_assert_msg(gr_collide_run(&s, &cs, &r, &err) == GR_OK, "%s", err.message);
+    const double M = s.mass, R = s.radius, q = 0.4, I = q * M * R * R;
+    const double spun = w1[0] != 0.0 || w1[1] != 0.0 || w1[2] != 0.0 || w2[0] != 0.0 ||
+                        w2[1] != 0.0 || w2[2] != 0.0;
+    if (!spun) { /* the plane: the 2D rule (discs with the same q) */
+        gr_collide_setup s2 = s;
+        s2.dim = 2;
+        gr_collide_result r2;
+        ck_assert_msg(gr_collide_run(&s2, &cs, &r2, &err) == GR_OK, "%s", err.message);
+        double dv = 0.0;
+        for (int a = 0; a < 2; a++) {
+            dv = fmax(dv, fmax(fabs(r.v1[a] - r2.v1[a]), fabs(r.v2[a] - r2.v2[a])) / 0.5);
+        }
+        const double dw =
+            fmax(fabs(r.w1[2] - r2.omega1), fabs(r.w2[2] - r2.omega2)) / fabs(r2.omega1);
+        VERBOSE("collide --dim 3 hard_sphere in the plane vs 2D: velocities %.2e, spins %.2e, "
+                "loss %.2e\n",
+                dv, dw, fabs(r.energy_loss - r2.energy_loss));
+        ck_assert_msg(dv < 1e-15 && dw < 1e-15 && r2.omega1 != 0.0, "velocities %g, spins %g", dv,
+                      dw);
+        ck_assert(r.v1[2] == 0.0 && r.v2[2] == 0.0 && r.w1[0] == 0.0 && r.w1[1] == 0.0 &&
+                  r.w2[0] == 0.0 && r.w2[1] == 0.0);
+        ck_assert(fabs(r.energy_loss - r2.energy_loss) < 1e-15 &&
+                  fabs(r.expected_loss - r2.expected_loss) < 1e-15);
+    }
+    /* the geometry at contact, from the case (collide: n from 1 to 2, g = v2 - v1) */
+    const double x1[3] = {cs.x1[0], cs.x1[1], 0.0}, x2[3] = {cs.x2[0], cs.x2[1], 0.0};
+    const double v1[3] = {cs.v1[0], cs.v1[1], 0.0}, v2[3] = {cs.v2[0], cs.v2[1], 0.0};
+    double g[3], dx[3], n[3], gc[3];
+    for (int a = 0; a < 3; a++) {
+        g[a] = v2[a] - v1[a];
+        dx[a] = x2[a] - x1[a];
+    }
+    const double gg = g[0] * g[0] + g[1] * g[1], gd = g[0] * dx[0] + g[1] * dx[1];
+    const double dd = dx[0] * dx[0] + dx[1] * dx[1];
+    const double th = (-gd - sqrt(gd * gd - gg * (dd - 4.0 * R * R))) / gg;
+    for (int a = 0; a < 3; a++) {
+        n[a] = (dx[a] + g[a] * th) / (2.0 * R);
+    }
+    const double gn = g[0] * n[0] + g[1] * n[1];
+    const double W[3] = {w1[0] + w2[0], w1[1] + w2[1], w1[2] + w2[2]};
+    const double nW[3] = {n[1] * W[2] - n[2] * W[1], n[2] * W[0] - n[0] * W[2],
+                          n[0] * W[1] - n[1] * W[0]};
+    double gc2 = 0.0;
+    for (int a = 0; a < 3; a++) {
+        gc[a] = g[a] - gn * n[a] + R * nW[a];
+        gc2 += gc[a] * gc[a];
+    }
+    double bt = beta;
+    if (mu > 0.0 && (1.0 + beta) * q / (1.0 + q) * sqrt(gc2) > mu * 1.7 * fabs(gn)) {
+        bt = -1.0 + mu * 1.7 * (1.0 + 1.0 / q) * fabs(gn) / sqrt(gc2);
+    }
+    const double e0 = gg + I *
+                               (w1[0] * w1[0] + w1[1] * w1[1] + w1[2] * w1[2] + w2[0] * w2[0] +
+                                w2[1] * w2[1] + w2[2] * w2[2]) /
+                               (0.5 * M);
+    const double loss = ((1.0 - 0.49) * gn * gn + q / (1.0 + q) * (1.0 - bt * bt) * gc2) / e0;
+    VERBOSE("collide --dim 3 hard_sphere beta %g mu %g: loss %.15f (Walton %.15f), eps_n %.15f, "
+            "eps_t %.15f (-beta %g)\n",
+            beta, mu, r.energy_loss, loss, r.eps_n_measured, r.eps_t_measured, -bt);
+    ck_assert_msg(fabs(r.energy_loss - loss) < 1e-12, "loss %.15f, Walton %.15f", r.energy_loss,
+                  loss);
+    ck_assert(fabs(r.eps_n_measured - 0.7) < 1e-12 && fabs(r.eps_t_measured + bt) < 1e-12);
+    ck_assert_double_le(r.momentum_error, 1e-15);
+    for (int a = 0; a < 3; a++) { /* I dw = R n x P, P = M (v1' - v1), the same for both */
+        const double P[3] = {M * (r.v1[0] - v1[0]), M * (r.v1[1] - v1[1]), M * (r.v1[2] - v1[2])};
+        const double nP[3] = {n[1] * P[2] - n[2] * P[1], n[2] * P[0] - n[0] * P[2],
+                              n[0] * P[1] - n[1] * P[0]};
+        const double wscale = 1.0 + fabs(r.w1[0]) + fabs(r.w1[1]) + fabs(r.w1[2]);
+        ck_assert_msg(fabs(I * (r.w1[a] - w1[a]) - R * nP[a]) < 1e-12 * I * wscale &&
+                          fabs(I * (r.w2[a] - w2[a]) - R * nP[a]) < 1e-12 * I * wscale,
+                      "spin %d: %.15g -> %.15g, R n x P / I = %.15g", a, w1[a], r.w1[a],
+                      R * nP[a] / I);
+    }
+}
+
+START_TEST(test_collide_hard_3d)
+{
+    const double zero[3] = {0.0, 0.0, 0.0}, wa[3] = {400.0, -200.0, 150.0},
+                 wb[3] = {-100.0, 300.0, -300.0};
+    hard_3d(0.5, 0.0, zero, zero);
+    hard_3d(0.5, 0.0, wa, wb);
+    hard_3d(1.0, 0.1, wa, zero); /* Coulomb-limited: slides */
+    hard_3d(-0.2, 0.0, zero, wb);
+    /* initial spins without rotation are refused, naming the keys */
+    gr_collision_case cs;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_collision_case_oblique(0.5, 35.0, 1.5e-3, &cs, &err), GR_OK);
+    gr_collide_setup s = collide_setup("hard_sphere", "tangential_dashpot");
+    s.tangential = NULL;
+    s.contact.rotation = false;
+    s.w1[0] = 10.0;
+    gr_collide_result r;
+    ck_assert_int_eq(gr_collide_run(&s, &cs, &r, &err), GR_EINVAL);
+    ck_assert_msg(strstr(err.message, "rotation = true") && strstr(err.message, "0,0,0"), "%s",
+                  err.message);
+}
+END_TEST
+
 /* ---- a gas: ledger, list rebuilds, restarts, threads ------------------------------------------ */
 
 static const char *gas =
@@ -799,6 +917,7 @@ static Suite *contacts_suite(void)
     tcase_add_test(tc, test_restart_spins);
     tcase_add_test(tc, test_elastic_without_friction);
     tcase_add_test(tc, test_collide_reference_3d);
+    tcase_add_test(tc, test_collide_hard_3d);
     tcase_add_test(tc, test_defaults_follow_dim);
     suite_add_tcase(s, tc);
     return s;

@@ -61,7 +61,7 @@ base | run $S --out $O --set system.dim=4 | 2 | dim;[1, 3] | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrolling = rolling_friction\ntangential = sliding_friction\n | run $S --out $O | 2 | :6:;[model] rolling;needs dim = 2 or 3, [model] rotation = true;given dim = 3, rotation = false | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrotation = true\ninertia_factor = 1.5\ntangential = tangential_dashpot\n | run $S --out $O | 2 | :7:;inertia_factor;(0, 1] | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[integrator]\nkind = hybrid\n | run $S --out $O | 2 | :6:;[integrator] kind;kind = hybrid;does not step spheres;allowed with dim = 3: verlet | new
-file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\nrotation = true\nbeta = 0.5\n[integrator]\nkind = event\n | run $S --out $O | 2 | :7:;[model] rotation;dim = 3;allowed in 3D: false | new
+file:[system]\ndim = 3\nN = 64\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\nrotation = true\nbeta_mu = 0.2\n[integrator]\nkind = event\n | run $S --out $O | 2 | [model] beta_mu = 0.2 with beta = -1;smooth discs and spheres;set beta in (-1, 1] | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.3\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n | run $S --out $O | 2 | 2.41 particle diameters;event-driven integrator needs at least 4;[system] N or L | new
 file:[system]\ndim = 3\nN = 64\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n[boundary]\ny = walls\n | run $S --out $O | 2 | :10:;[boundary] y;dim = 3;allowed in 3D: periodic | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[boundary]\nx = walls\n | run $S --out $O | 2 | :6:;[boundary] x;dim = 3;allowed in 3D: periodic | new
@@ -195,11 +195,11 @@ base | nosuchcommand | 2 | unknown command | new
 base | collide --case 9 | 2 | case | new
 base | collide --reference --rtol 1 | 2 | allowed range | new
 base | collide --model hard_sphere --reference | 2 | reference;hard_sphere | new
+base | collide --dim 3 --model hard_sphere --omega1 1,0,0 | 2 | --omega1/--omega2;initial spins need rotation = true;allowed without: 0,0,0 | new
 base | collide --eps-n 2 | 2 | eps | new
 base | collide --model nosuch | 2 | nosuch;!collide: collide: | new
 base | collide --bogus | 2 | --bogus;!collide: collide: | new
 base | collide --dim 4 | 2 | --dim;1 to 3 | new
-base | collide --dim 3 --model hard_sphere | 2 | --model hard_sphere;--dim 3;spring_dashpot, hertz | new
 base | collide --dim 3 --speed 1 --angle 30 --omega1 0,0,5 | 2 | --omega1/--omega2;rotation = true | new
 base | collide --dim 3 --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega1 150 | 2 | --omega1 150;WX,WY,WZ | new
 base | collide --dim 3 --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega2 0,0,nan | 2 | --omega2 0,0,nan;three finite numbers | new

@@ -10,6 +10,8 @@
 #     --wall-limit stops + --resume, compared the same way
 #   - walls and gravity (a 2D bed under gravity with the random force): the same two
 #   - 3D spheres with the tangential spring, rotation and rolling: repeated --wall-limit stops
+#   - 3D hard spheres, event-driven, smooth (SIGTERM and --wall-limit) and rough (SIGTERM: the
+#     spin vectors)
 #   - refusals: flipped byte (checksum), truncated file, other format version, not a checkpoint,
 #     different scene (names the key), finished run, missing checkpoint, fresh run over an
 #     interrupted one without --force, a run or --resume into the folder of a run still going
@@ -503,6 +505,15 @@ per=$(awk -v n="$steps" -v t="$durw" 'BEGIN { printf "%d", n / int((t + 0.002) /
 sigterm_case "3D event" 3e s3e.ini $((steps / 2)) 0.004 0.1
 tick=$(awk -v s="$steps" 'BEGIN { c = s / 640; if (c < 1) c = 1; printf "%.3g", 0.05 / (3 * c + 6) }')
 wall_case "3D event" 3e s3e.ini "$tick" 97 1.05 "$per"
+# rough hard spheres in 3D (Walton's beta with a Coulomb limit): the spin vectors go through the
+# checkpoint; temperature.csv has T_rot
+sed -e 's/^eps_t = 0.6$/rotation = true\nbeta = 0.5\nbeta_mu = 0.3/' -e 's/^v0 = 0.2$/v0 = 0.2\nomega0 = 200/' s3e.ini >s3r.ini
+grep -q '^beta_mu = 0.3$' s3r.ini && grep -q '^omega0 = 200$' s3r.ini || fail "3D rough event scene not written" "$(cat s3r.ini)"
+run "$G" run s3r.ini --out ref3r --quiet
+[[ $rc -eq 0 ]] || fail "3D rough event reference run exits $rc" "$err"
+head -1 ref3r/temperature.csv | grep -q T_rot || fail "3D rough event: no T_rot in temperature.csv" "$(head -1 ref3r/temperature.csv)"
+steps=$(grep -o '"steps":[[:space:]]*[0-9]*' ref3r/summary.json | grep -o '[0-9]*$' || echo 0)
+sigterm_case "3D rough event" 3r s3r.ini $((steps / 2)) 0.004 0.1
 
 # ---------- refusals ----------
 # an interrupted run to corrupt (copied fresh for each case)

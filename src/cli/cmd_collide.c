@@ -117,7 +117,11 @@ const cli_command cli_cmd_collide = {
         "integrates\n"
         "the contact with SUNDIALS CVODE and adds reference_energy_loss. --model hard_sphere "
         "applies the\n"
-        "instantaneous rule of the event-driven integrator (exact loss; contact_time 0).\n"
+        "instantaneous rule of the event-driven integrator (exact loss; contact_time 0); with "
+        "--dim 3 and\n"
+        "--set rotation=true --set beta=B (rough spheres) it takes --omega1/--omega2 vectors and "
+        "reports\n"
+        "omega1, omega2 after.\n"
         "--speeds V1,V2,... adds restitution_vs_speed: head-on impacts at these relative speeds "
         "(m/s),\n"
         "each with the engine's eps_n and contact time (steps with a force x dt), the model's own "
@@ -557,8 +561,10 @@ int cmd_collide(int argc, char **argv)
     const bool instantaneous = (s.normal->kind & GR_MODEL_EVENT) != 0;
     /* only the parameters the chosen models take (their [model] keys) */
     add_model_params(o, &s);
+    /* 3D: rough hard spheres report their spin vectors too (2D's rule output is unchanged) */
     const bool rotation =
-        s.dim >= 2 && s.tangential && s.tangential->contact_point && s.contact.rotation;
+        s.dim >= 2 && s.contact.rotation &&
+        ((s.tangential && s.tangential->contact_point) || (s.dim == 3 && instantaneous));
     if (rotation && s.dim == 3) {
         cJSON_AddItemToObject(o, "omega1_before", cJSON_CreateDoubleArray(s.w1, 3));
         cJSON_AddItemToObject(o, "omega2_before", cJSON_CreateDoubleArray(s.w2, 3));

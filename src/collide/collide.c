@@ -274,6 +274,77 @@ static void contact_velocity(const double g[3], const double n[3], const double 
     }
 }
 
+/* An event rule on spheres (dim = 3): the rule on 3-vectors (gr_event_rule_3d of models/list.h, the event core's)
+ * at the exact contact instant, the centres in the plane z = 0; with rotation = true (rough
+ * spheres) the spins are the setup's vectors w1, w2, which enter the contact point's velocity. */
+static int collide_hard_3d(const gr_collide_setup *cs, const gr_collision_case *cc, double t_hit,
+                           bool spun, gr_collide_result *out, gr_error *err)
+{
+    gr_contact_params p = cs->contact;
+    if (spun && !p.rotation) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "--omega1/--omega2: initial spins need rotation = true (rough spheres: "
+                       "--set rotation=true --set beta=B; allowed without: 0,0,0)");
+    }
+    if (cs->rolling) {
+        return GR_FAIL(err, GR_EINVAL, "%s: the rule has no rolling law (allowed: rolling = none)",
+                       cs->normal->name);
+    }
+    gr_contact_coeffs coeffs;
+    int rc = gr_contact_prepare(cs->normal, NULL, &p, 0.5 * cs->mass, 0.0, &coeffs, err);
+    if (rc) {
+        return rc;
+    }
+    const double M = cs->mass, R = cs->radius, I = p.inertia_factor * M * R * R;
+    const double v1[3] = {cc->v1[0], cc->v1[1], 0.0}, v2[3] = {cc->v2[0], cc->v2[1], 0.0};
+    const double r[3] = {cc->x2[0] - cc->x1[0] + (v2[0] - v1[0]) * t_hit,
+                         cc->x2[1] - cc->x1[1] + (v2[1] - v1[1]) * t_hit, 0.0};
+    const double rn = sqrt(dot3(r, r)), n[3] = {r[0] / rn, r[1] / rn, 0.0};
+    const double g0[3] = {v2[0] - v1[0], v2[1] - v1[1], 0.0}, zero[3] = {0.0, 0.0, 0.0};
+    const double gg0 = dot3(g0, g0), gn0 = dot3(g0, n);
+    double u1[3], u2[3], w1[3], w2[3], gc0[3], gc1[3], de_n, de_t;
+    for (int a = 0; a < 3; a++) {
+        u1[a] = v1[a];
+        u2[a] = v2[a];
+        w1[a] = p.rotation ? cs->w1[a] : 0.0;
+        w2[a] = p.rotation ? cs->w2[a] : 0.0;
+    }
+    contact_velocity(g0, n, w1, w2, R, gc0);
+    const double spin_e0 = I * (dot3(w1, w1) + dot3(w2, w2)) / (0.5 * M);
+    gr_event_rule_3d(gr_event_rule_of(coeffs.normal_model), &coeffs, M, R, p.inertia_factor, n, u1,
+                     u2, p.rotation ? w1 : NULL, p.rotation ? w2 : NULL, false, &de_n, &de_t);
+    const double g1[3] = {u2[0] - u1[0], u2[1] - u1[1], u2[2] - u1[2]};
+    contact_velocity(g1, n, p.rotation ? w1 : zero, p.rotation ? w2 : zero, R, gc1);
+    const double spin_e = I * (dot3(w1, w1) + dot3(w2, w2)) / (0.5 * M);
+    out->energy_loss = 1.0 - (dot3(g1, g1) + spin_e) / (gg0 + spin_e0);
+    out->spin_loss = (spin_e0 - spin_e) / (gg0 + spin_e0);
+    out->impact_angle = acos(fmin(1.0, fabs(gn0) / sqrt(gg0))) * 180.0 / M_PI;
+    out->expected_loss =
+        spun ? (double)NAN : gr_contact_expected_loss(&coeffs, sqrt(gg0), out->impact_angle);
+    out->eps_n_measured = -dot3(g1, n) / gn0;
+    const double gc0m2 = dot3(gc0, gc0);
+    out->eps_t_measured = gc0m2 > 1e-24 * gg0 ? dot3(gc1, gc0) / gc0m2 : (double)NAN;
+    double dv[3], dp[3];
+    const double p0[3] = {M * (v1[0] + v2[0]), M * (v1[1] + v2[1]), 0.0};
+    for (int a = 0; a < 3; a++) {
+        dv[a] = u1[a] - v1[a];
+        dp[a] = M * (u1[a] + u2[a]) - p0[a];
+        out->v1[a] = u1[a];
+        out->v2[a] = u2[a];
+        out->w1[a] = w1[a];
+        out->w2[a] = w2[a];
+    }
+    const double jn = dot3(dv, n),
+                 jt[3] = {dv[0] - jn * n[0], dv[1] - jn * n[1], dv[2] - jn * n[2]};
+    out->momentum_error = sqrt(dot3(dp, dp)) / sqrt(dot3(p0, p0));
+    out->normal_impulse = M * fabs(jn);
+    out->tangential_impulse = M * sqrt(dot3(jt, jt));
+    out->tangential_reversed = dot3(gc0, gc1) < 0.0;
+    out->omega1 = w1[2];
+    out->omega2 = w2[2];
+    return GR_OK;
+}
+
 /* Spheres (dim = 3): the case's positions and velocities in the plane z = 0 (the centres at
  * z = L/2), the spins the setup's vectors w1, w2; everything else as the 2D run below. */
 static int collide_run_3d(const gr_collide_setup *cs, const gr_collision_case *cc,
@@ -298,12 +369,8 @@ static int collide_run_3d(const gr_collide_setup *cs, const gr_collision_case *c
         }
         spun = spun || cs->w1[k] != 0.0 || cs->w2[k] != 0.0;
     }
-    if (!cs->normal || (cs->normal->kind & GR_MODEL_EVENT)) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "--model %s: --dim 3 runs the soft laws so far (the event rules' "
-                       "instantaneous collision is 2D); allowed with --dim 3: spring_dashpot, "
-                       "hertz",
-                       cs->normal ? cs->normal->name : "none");
+    if (cs->normal && (cs->normal->kind & GR_MODEL_EVENT)) {
+        return collide_hard_3d(cs, cc, t_hit, spun, out, err);
     }
     gr_sim_params sc;
     gr_contact_coeffs coeffs;

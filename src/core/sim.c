@@ -232,8 +232,9 @@ static int check_dim(const gr_sim_params *p, gr_error *err)
     if (what) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: %s: not available with dim = 3 yet; 3D runs the soft contact laws "
-                       "with the random force or no driving in a periodic cube, with the verlet "
-                       "integrator (docs/three-dimensions.md)",
+                       "(verlet integrator) and smooth or rough hard spheres (event integrator) "
+                       "with the random force or no driving in a periodic cube "
+                       "(docs/three-dimensions.md)",
                        p->source, what);
     }
     return GR_OK;
@@ -328,7 +329,7 @@ static int alloc_rotation(gr_sim *s, gr_error *err)
         return GR_FAIL(
             err, GR_EINVAL,
             "%s: [model] rotation = true needs dim = 2 or 3 and an integrator that rotates the "
-            "particles (verlet); given dim = %d, kind = %s",
+            "particles (verlet, event); given dim = %d, kind = %s",
             s->params.source, s->dim, s->integrator->name);
     }
     s->omega = calloc((size_t)s->n + 1, sizeof(double));

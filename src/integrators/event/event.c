@@ -580,15 +580,6 @@ int gr_event_init(gr_sim *s, gr_error *err)
                        "is a force law; granule models lists the rules)",
                        s->params.source, s->cc.normal_model ? s->cc.normal_model->name : "none");
     }
-    if (s->dim == 3 && s->omega) {
-        /* Walton's rough collision needs spin vectors and the contact point's tangential
-         * velocity in 3D: not written (docs/three-dimensions.md) */
-        return GR_FAIL(err, GR_EINVAL,
-                       "%s: [model] rotation = true: the event-driven integrator has no rough "
-                       "spheres yet; allowed with dim = 3: rotation = false (smooth spheres: "
-                       "eps_n, eps_t, viscoelastic, tc)",
-                       s->params.source);
-    }
     if (!(s->params.kick_interval > 0.0)) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: [integrator] kick_interval = %g: allowed range (0, inf) s",
@@ -613,7 +604,7 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->tc = s->cc.tc; /* as the rule's prepare set it ([model] tc, off, or its contact time) */
     e->rule = rule;
     e->cc = &s->cc;
-    e->rough = s->omega != NULL; /* [model] rotation = true (2D only: gr_sim refuses it in 1D) */
+    e->rough = s->omega != NULL; /* [model] rotation = true (2D, 3D: gr_sim refuses it in 1D) */
     e->q = s->cc.q;
     e->R = 0.5 * s->d;
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;

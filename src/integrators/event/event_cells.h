@@ -14,9 +14,9 @@
  *
  * The 3D instance adds the z terms (EV_Z) after the 2D expressions, so the 2D instance is the 2D
  * code as it was, bit for bit. A 3D collision applies the model's rule (written for a plane,
- * models/law.h) in the plane of the normal n and the relative tangential velocity g_t: the
- * impulse lies in that plane, so the rule's eps_n, eps_t and eps_n(v) act on the 3-vectors
- * exactly (smooth spheres; rough ones need spin vectors: gr_event_init refuses them). */
+ * models/law.h) in the plane of the normal n and the relative tangential velocity of the contact
+ * point (g_t for smooth spheres, g_c of rule_3d for rough ones): the impulse lies in that plane,
+ * so the rule's eps_n, eps_t, eps_n(v) and Walton's beta act on the 3-vectors exactly. */
 #include <stdlib.h>
 
 #include "integrators/event/event_internal.h"
@@ -510,41 +510,12 @@ static inline void booked(gr_sim *s, int i, int j, double t_abs, bool elastic, d
 }
 
 #if GR_EV_DIM == 3
-/* The model's rule on spheres 1 = i and 2 = j touching along the unit normal n (from i to j),
- * applied in the plane of n and the unit tangent t along the relative tangential velocity
- * g_t = g - (g.n) n, g = v1 - v2 (any t when g_t = 0: no tangential impulse then). The impulse
- * lies in that plane and v1 - v2 has no component off it, so the plane's rule is the 3D rule. */
-static void rule_3d(const struct gr_event_state *e, double n[3], double v1[3], double v2[3],
-                    bool elastic, double *de_n, double *de_t)
+/* The model's rule on spheres i and j (gr_event_rule_3d, models/list.h): smooth (w1 = NULL) or
+ * rough (the spin vectors, changed in place). */
+static inline void rule_3d(const struct gr_event_state *e, double n[3], double v1[3], double v2[3],
+                           double *w1, double *w2, bool elastic, double *de_n, double *de_t)
 {
-    const double g[3] = {v1[0] - v2[0], v1[1] - v2[1], v1[2] - v2[2]};
-    const double gn = g[0] * n[0] + g[1] * n[1] + g[2] * n[2];
-    double t[3] = {g[0] - gn * n[0], g[1] - gn * n[1], g[2] - gn * n[2]};
-    const double gt = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-    for (int a = 0; a < 3; a++) {
-        t[a] = gt > 0.0 ? t[a] / gt : 0.0;
-    }
-    const double n1 = v1[0] * n[0] + v1[1] * n[1] + v1[2] * n[2];
-    const double t1 = v1[0] * t[0] + v1[1] * t[1] + v1[2] * t[2];
-    const double n2 = v2[0] * n[0] + v2[1] * n[1] + v2[2] * n[2];
-    const double t2 = v2[0] * t[0] + v2[1] * t[1] + v2[2] * t[2];
-    gr_event_pair p = {.M = e->M,
-                       .R = e->R,
-                       .q = e->q,
-                       .nx = 1.0,
-                       .ny = 0.0,
-                       .v1x = n1,
-                       .v1y = t1,
-                       .v2x = n2,
-                       .v2y = t2,
-                       .elastic = elastic};
-    gr_event_rule_apply(e->rule, e->cc, &p);
-    for (int a = 0; a < 3; a++) {
-        v1[a] += (p.v1x - n1) * n[a] + (p.v1y - t1) * t[a];
-        v2[a] += (p.v2x - n2) * n[a] + (p.v2y - t2) * t[a];
-    }
-    *de_n = p.de_n;
-    *de_t = p.de_t;
+    gr_event_rule_3d(e->rule, e->cc, e->M, e->R, e->q, n, v1, v2, w1, w2, elastic, de_n, de_t);
 }
 
 /* Returns 0 after the collision, 1 when it is none after all (predict again), < 0 an error code
@@ -582,8 +553,13 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
     }
     const bool elastic = gr_ev_tc_elastic(e, i, j, t_abs);
     double ui[3] = {vi[0], vi[1], vi[2]}, uj[3] = {vj[0], vj[1], vj[2]}, de_n = 0.0, de_t = 0.0;
-    if (gn > 0.0) {
-        rule_3d(e, n, ui, uj, elastic, &de_n, &de_t);
+    if (gn > 0.0 && e->rough) { /* [model] rotation = true: the spin vectors (wx, wy, omega) */
+        double wi[3] = {s->wx[i], s->wy[i], s->omega[i]}, wj[3] = {s->wx[j], s->wy[j], s->omega[j]};
+        rule_3d(e, n, ui, uj, wi, wj, elastic, &de_n, &de_t);
+        s->wx[i] = wi[0], s->wy[i] = wi[1], s->omega[i] = wi[2];
+        s->wx[j] = wj[0], s->wy[j] = wj[1], s->omega[j] = wj[2];
+    } else if (gn > 0.0) {
+        rule_3d(e, n, ui, uj, NULL, NULL, elastic, &de_n, &de_t);
     }
     const double floor_speed = 0.5 * push * e->tc; /* the contact floor, as in 2D */
     const double sep = (uj[0] - ui[0]) * n[0] + (uj[1] - ui[1]) * n[1] + (uj[2] - ui[2]) * n[2];

@@ -46,7 +46,8 @@ struct gr_event_state {
     double M, L, d, d2;
     double tc; /* the rule's TC time (gr_contact_coeffs.tc; 0: no TC rule) */
     /* the collision: the normal model's event rule (gr_event_rule_of, models/list.h) with the
-     * sim's coefficients; rough discs ([model] rotation = true, 2D) pass it their spins */
+     * sim's coefficients; rough discs and spheres ([model] rotation = true, 2D and 3D) pass it
+     * their spins */
     int rule;
     const gr_contact_coeffs *cc; /* the sim's coefficients (gr_sim.cc) */
     bool rough;

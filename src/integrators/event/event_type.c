@@ -37,9 +37,9 @@ const gr_integrator_type gr_integrator_event = {
                "hard_sphere; docs/event-driven.md)",
     .instantaneous = true,
     .free_flight = true,
-    .rotation = true, /* rough discs: spins change only at collisions (no torque in free flight) */
+    .rotation = true, /* rough discs and spheres: spins change only at collisions */
     .walls = true,    /* fixed walls and gravity in 2D for smooth discs (event_cells.h, wall_hit) */
-    .spheres = true,  /* smooth hard spheres in a periodic cube (event_3d.c) */
+    .spheres = true,  /* smooth and rough hard spheres in a periodic cube (event_3d.c) */
     .create = gr_event_init,
     .step = gr_event_step,
     .free = gr_event_free,
