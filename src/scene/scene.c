@@ -1228,9 +1228,6 @@ static int resolve_3d(gr_scene *s, const given *g, gr_error *err)
         {s->gravity[1] != 0.0, "gravity", "gy", "0"},
         {s->driving && s->driving->update == GR_DRIVE_BATH, "driving", "kind", "rfm | none"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
-        /* rough hard spheres: the event rule has no 3D spins yet (soft laws rotate in 3D) */
-        {s->contact.rotation && s->integrator->instantaneous, "model", "rotation",
-         "false with hard_sphere (smooth spheres: eps_n, eps_t, viscoelastic, tc)"},
     };
     for (size_t k = 0; k < sizeof refused / sizeof refused[0]; k++) {
         if (refused[k].on) {
