@@ -98,8 +98,7 @@ static void elastic_gas(const char *n, const char *phi, const char *kernel, doub
 
 START_TEST(test_elastic_gas)
 {
-    elastic_gas("system.N=343", "system.packing_fraction=0.1", "event-3d-cells-nonoise-tc",
-                quick() ? 0.01 : 0.03);
+    elastic_gas("system.N=343", "system.packing_fraction=0.1", "event-3d-cells-nonoise-tc", 0.03);
     elastic_gas("system.N=27", "system.packing_fraction=0.2", "event-3d-cells-nonoise-tc", 0.1);
     /* 8 spheres at phi = 0.3: a box of 2.4 d, refused */
     gr_scene *sc = malloc(sizeof *sc);
@@ -259,7 +258,7 @@ static void ledger_closes(const char *scene, const char *t1, const char *t2, boo
             "noise.mode=symmetrised", "noise.D=1e-8", "model.eps_n=0.8", t1, t2, modes[m]};
         load(sc, scene, set, 6);
         gr_sim *s = create(sc);
-        const int64_t total = steps_of(s, quick() ? 0.02 : 0.05);
+        const int64_t total = steps_of(s, 0.05);
         step(s, total);
         gr_ledger l = gr_sim_ledger(s);
         const double scale = fmax(l.injected + gr_ledger_dissipated(&l), l.initial);
