@@ -1006,8 +1006,9 @@ END_TEST
 START_TEST(test_spheres_in_plane)
 {
     const combo *c = &combos[_i];
-    if (c->dim != 2) {
-        return; /* a 1D combination has no sphere counterpart */
+    if (c->dim != 2 || (quick() && _i % 4 != 0)) {
+        return; /* a 1D combination has no sphere counterpart; the sanitizer pass takes every
+                   fourth 2D one (the release pass all) */
     }
     char name[160], what[260];
     name_of(c, name, sizeof name);

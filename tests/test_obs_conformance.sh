@@ -52,12 +52,18 @@ snapshot_every = 1e-3
 plots = false
 EOF
 done
+# a mixture's scenes (docs/mixtures.md) for the observables that need one: s1/s2 with two species
+# of masses 1:2 (a mixture runs the normal law alone)
+for d in 1 2; do
+    grep -v '^tangential' "s$d.ini" >"sp$d.ini"
+    printf '[species]\nradius = 1.5e-3, 1.5e-3\nmass = 3.53e-5, 7.06e-5\nfraction = 0.5, 0.5\n' >>"sp$d.ini"
+done
 
 # the registry as `granule observables` lists it: "name  [1D, 2D]", then the summary line, the
 # parameters ("    key  default ..."), and a line for observables that take contact events
 listing=$("$G" observables)
 names=()
-declare -A dims events keys
+declare -A dims events keys mixture
 cur=
 while IFS= read -r line; do
     if [[ $line =~ ^([a-z0-9_]+)\ \ \[(.*)\]$ ]]; then
@@ -65,9 +71,12 @@ while IFS= read -r line; do
         names+=("$cur")
         dims[$cur]=${BASH_REMATCH[2]}
         events[$cur]=0
+        mixture[$cur]=0
         keys[$cur]=
     elif [[ -n $cur && $line == *"takes contact events"* ]]; then
         events[$cur]=1
+    elif [[ -n $cur && $line == *"([species]"* ]]; then
+        mixture[$cur]=1 # its summary says it needs a scene with [species]
     elif [[ -n $cur && $line =~ ^\ \ \ \ ([a-z0-9_]+)\ +default ]]; then
         keys[$cur]+="${BASH_REMATCH[1]} "
     fi
@@ -103,8 +112,9 @@ equal_csvs() {
 }
 
 check_observable() {
-    local o=$1 d k err rc msg sessions
+    local o=$1 d k err rc msg sessions sc=s
     local -a run what
+    [[ ${mixture[$o]} == 1 ]] && sc=sp
     for d in 1 2 3; do
         if [[ ${dims[$o]} != *"${d}D"* ]]; then
             # refusal: this dimension is not supported
@@ -113,7 +123,7 @@ check_observable() {
             if [[ $rc -eq 2 && $err == *"$o"* && $err == *"dim"* ]]; then ok; else bad "$o on a ${d}D scene: exit $rc, '$err'"; fi
             continue
         fi
-        run=(run "s$d.ini" --quiet --set analysis.observables="$o")
+        run=(run "$sc$d.ini" --quiet --set analysis.observables="$o")
         OMP_NUM_THREADS=1 "$G" "${run[@]}" --out "a-$o-$d" >/dev/null 2>"err-$o" || { bad "$o ${d}D run: $(cat "err-$o")"; continue; }
         # streamed equals offline
         "$G" analyse "a-$o-$d" >/dev/null 2>"err-$o" || bad "$o ${d}D analyse: $(cat "err-$o")"
@@ -173,7 +183,7 @@ PY
     for k in ${keys[$o]}; do
         d=1
         [[ ${dims[$o]} == *1D* ]] || d=2
-        err=$("$G" run "s$d.ini" --quiet --out "k-$o-$k" --set analysis.observables="$o" --set "analysis.$k=1e300" 2>&1 >/dev/null)
+        err=$("$G" run "$sc$d.ini" --quiet --out "k-$o-$k" --set analysis.observables="$o" --set "analysis.$k=1e300" 2>&1 >/dev/null)
         rc=$?
         if [[ $rc -eq 2 && $err == *"$k"* ]]; then ok; else bad "$o: $k = 1e300 accepted or unnamed: exit $rc, '$err'"; fi
     done

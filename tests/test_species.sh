@@ -34,13 +34,21 @@ run() {
         --set output.snapshot_every=0 "$@" >"$tmp/$name.log" 2>&1 ||
         { cat "$tmp/$name.log" >&2; fail "run $name"; }
 }
-run inelastic --set run.duration=3
-run elastic --set model.eps_n=1 --set noise.D=2e-9 --set run.warmup=0.5 --set run.duration=1.5
+# the sanitizer pass (GRANULE_TEST_QUICK=1) runs the mixture's code on short runs and checks the
+# ledger and the bookkeeping; the statistics (the ratio against theory) are the release pass's
+quick=${GRANULE_TEST_QUICK:-0}
+if [[ $quick == 1 ]]; then
+    run inelastic --set run.warmup=0.05 --set run.duration=0.2
+    run elastic --set model.eps_n=1 --set noise.D=2e-9 --set run.warmup=0.05 --set run.duration=0.2
+else
+    run inelastic --set run.duration=3
+    run elastic --set model.eps_n=1 --set noise.D=2e-9 --set run.warmup=0.5 --set run.duration=1.5
+fi
 theory=$(python3 "$src/scripts/mixture_theory.py" 3.53e-5 1.412e-4 1.5e-3 1.5e-3 0.5 0.7) ||
     fail "scripts/mixture_theory.py"
-python3 - "$tmp" "$theory" <<'PY' || fail "temperature ratios"
+python3 - "$tmp" "$theory" "$quick" <<'PY' || fail "temperature ratios"
 import json, sys
-tmp, theory = sys.argv[1], float(sys.argv[2])
+tmp, theory, quick = sys.argv[1], float(sys.argv[2]), sys.argv[3] == "1"
 ok = True
 for name, want, away in (("inelastic", theory, 1.0), ("elastic", 1.0, None)):
     s = json.load(open(f"{tmp}/{name}/summary.json"))
@@ -50,8 +58,8 @@ for name, want, away in (("inelastic", theory, 1.0), ("elastic", 1.0, None)):
     line = f"{name}: T_1/T_2 = {r:.4f} +- {e:.4f}, expected {want:.4f} (z = {z:+.2f})"
     if away is not None:
         line += f", equipartition 1 at z = {(r - away) / e:+.1f}"
-        ok &= abs(r - away) > 5 * e
-    ok &= abs(z) < 3 and 0 < e < 0.03
+        ok &= quick or abs(r - away) > 5 * e
+    ok &= quick or (abs(z) < 3 and 0 < e < 0.03)
     # the ledger closes; injection d D sum_i 1/m_i (symmetrised: times 1 - 1/N)
     ok &= abs(s["ledger"]["relative_residual"]) < 0.01
     D = 1e-8 if name == "inelastic" else 2e-9
@@ -63,7 +71,7 @@ for name, want, away in (("inelastic", theory, 1.0), ("elastic", 1.0, None)):
         ok &= abs(mf["T1_over_T2_predicted"] / theory - 1) < 1e-5
         Tm, Tp = sp["T"], mf["T_predicted"]
         line += f"; T_s {Tm[0]:.3g}, {Tm[1]:.3g} J against Enskog {Tp[0]:.3g}, {Tp[1]:.3g} J"
-        ok &= all(abs(a / b - 1) < 0.05 for a, b in zip(Tm, Tp))
+        ok &= quick or all(abs(a / b - 1) < 0.05 for a, b in zip(Tm, Tp))
     print(line)
 sys.exit(0 if ok else 1)
 PY
