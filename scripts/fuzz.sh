@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Build granule's libFuzzer targets (clang, ASan + UBSan) and fuzz them (docs/fuzzing.md).
 #   scripts/fuzz.sh [--quick | --replay | --time SECONDS] [--build DIR] [TARGET ...]
-#     --quick      each target ~6 s from the committed corpus (CI; total < 30 s); fails on any
+#     --quick      each target ~4 s from the committed corpus (CI; total < 20 s); fails on any
 #                  crash, hang (> 30 s per input), leak or sanitizer report
 #     --replay     run every committed corpus input once (regression check, a few seconds)
 #     --time S     fuzz each target for S seconds (a campaign; new inputs go to DIR/corpus-TARGET)
@@ -10,10 +10,10 @@
 # with libFuzzer (skipped). One core, nice 19: it never starves other work.
 set -euo pipefail
 src="$(cd "$(dirname "$0")/.." && pwd)"
-mode=quick seconds=6 build="${GRANULE_FUZZ_BUILD:-$src/build-fuzz}" targets=()
+mode=quick seconds=4 build="${GRANULE_FUZZ_BUILD:-$src/build-fuzz}" targets=()
 while (($#)); do
     case "$1" in
-        --quick) mode=quick seconds=6 ;;
+        --quick) mode=quick seconds=4 ;;
         --replay) mode=replay ;;
         --time) mode=time seconds="$2"; shift ;;
         --build) build="$2"; shift ;;

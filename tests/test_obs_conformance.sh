@@ -138,9 +138,11 @@ check_observable() {
         else
             bad "$o ${d}D: streamed != offline: $msg"
         fi
-        # thread-count invariance
-        OMP_NUM_THREADS=2 "$G" "${run[@]}" --out "b-$o-$d" --set output.snapshot_every=0 >/dev/null 2>&1
-        if msg=$(equal_csvs "a-$o-$d" "b-$o-$d") && equal_member "a-$o-$d" "b-$o-$d" "$o"; then ok; else bad "$o ${d}D: 1 vs 2 threads: ${msg:-summary member differs}"; fi
+        # thread-count invariance (the release pass's: the sanitizers see no ordering)
+        if [[ ${GRANULE_TEST_QUICK:-0} != 1 ]]; then
+            OMP_NUM_THREADS=2 "$G" "${run[@]}" --out "b-$o-$d" --set output.snapshot_every=0 >/dev/null 2>&1
+            if msg=$(equal_csvs "a-$o-$d" "b-$o-$d") && equal_member "a-$o-$d" "b-$o-$d" "$o"; then ok; else bad "$o ${d}D: 1 vs 2 threads: ${msg:-summary member differs}"; fi
+        fi
         # checkpoint round trip: stop under --wall-limit (test clock) and resume until done
         sessions=0
         rc=4
