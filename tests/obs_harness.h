@@ -4,6 +4,8 @@
 #define OBS_HARNESS_H
 
 #include <check.h>
+
+#include "check_main.h" /* its ck_assert_msg: a passed assertion writes nothing */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>

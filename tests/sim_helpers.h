@@ -5,6 +5,8 @@
 #define GR_TEST_SIM_HELPERS_H
 
 #include <check.h>
+
+#include "check_main.h" /* its ck_assert_msg: a passed assertion writes nothing */
 #include <stdlib.h>
 #include <string.h>
 

@@ -4,6 +4,8 @@
 #define GR_TEST_SCENES_H
 
 #include <check.h>
+
+#include "check_main.h" /* its ck_assert_msg: a passed assertion writes nothing */
 #include <string.h>
 
 #include "granule/scene.h"

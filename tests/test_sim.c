@@ -1221,7 +1221,7 @@ END_TEST
 START_TEST(test_other_placements)
 {
     gr_error err;
-    double md;
+    double md = 0.0;
     /* square: 10 x 10 in L = 10.5 d fills it; 101 do not fit */
     gr_scene sq = base_scene(2, 100, 10.5 * DIAM);
     sq.placement = GR_PLACE_SQUARE;
