@@ -539,5 +539,23 @@ else
     fail "3D compare (exit $rc)" "$err"
 fi
 
+# an event-driven run reports its rate in events per second, a time-stepped one in particle-steps
+# per second (the final line; the progress line says the same)
+src=$(cd "$(dirname "$0")/.." && pwd)
+run "$G" run "$src/docs/scenes/rfm-1d-event.ini" --quiet --out "$TMP/event-rate" \
+    --set system.N=100 --set system.reduced_length=0.1 --set run.warmup=0 --set run.duration=0.05
+if [[ $rc -eq 0 && $out == *" events/s; kernel event"* && $out != *particle-steps* ]]; then
+    pass "event run reports events/s"
+else
+    fail "event run's rate (exit $rc)" "$out" "$err"
+fi
+run "$G" run "$src/docs/scenes/rfm-1d.ini" --quiet --out "$TMP/step-rate" \
+    --set system.N=100 --set system.reduced_length=0.1 --set run.warmup=0 --set run.duration=0.01
+if [[ $rc -eq 0 && $out == *" particle-steps/s; kernel 1d"* ]]; then
+    pass "time-stepped run reports particle-steps/s"
+else
+    fail "time-stepped run's rate (exit $rc)" "$out" "$err"
+fi
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -29,6 +29,9 @@ typedef struct gr_progress {
     double t, t_end;  /* simulated time now and at the end, s */
     double wall, eta; /* s */
     double particle_steps_per_second;
+    /* an event-driven run (events_per_second is its rate; particle-steps mean little there) */
+    bool event_driven;
+    double events_per_second; /* events processed per wall second of stepping */
     bool warmup;
 } gr_progress;
 
@@ -55,6 +58,10 @@ typedef struct gr_run_result {
     int T_stderr_converged;
     int64_t samples, steps, collisions;
     double wall_seconds, particle_steps_per_second;
+    /* an event-driven run's events processed and their rate per wall second (0 otherwise) */
+    bool event_driven;
+    int64_t events;
+    double events_per_second;
     gr_ledger ledger;
     char kernel[160];
     /* 0 ran to the end (or became unstable); 1 stopped on request, 2 stopped before the

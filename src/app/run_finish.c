@@ -148,10 +148,8 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim,
     for (int f = 0; f < n_fig; f++) {
         cJSON_AddNumberToObject(fj, fig[f].name, fig[f].value);
     }
-    const double events = (double)gr_sim_events_processed(sim); /* event-driven runs; 0 otherwise */
-    cJSON_AddNumberToObject(j, "events_processed", events);
-    cJSON_AddNumberToObject(j, "events_per_second",
-                            r->wall_seconds > 0.0 ? events / r->wall_seconds : 0.0);
+    cJSON_AddNumberToObject(j, "events_processed", (double)r->events);
+    cJSON_AddNumberToObject(j, "events_per_second", r->events_per_second);
     const gr_contact_coeffs *c = gr_sim_coeffs(sim);
     cJSON *co = cJSON_AddObjectToObject(j, "contact");
     cJSON_AddNumberToObject(co, "dt", gr_sim_dt(sim));
@@ -256,6 +254,10 @@ static void results(gr_run_ctx *c)
         c->stepping > 0.0
             ? (double)c->scene->N * (double)(c->res->steps - c->steps_at_start) / c->stepping
             : 0.0;
+    c->res->event_driven = gr_sim_integrator(c->sim)->events != NULL;
+    c->res->events = gr_sim_events_processed(c->sim); /* event-driven runs; 0 otherwise */
+    c->res->events_per_second =
+        c->res->wall_seconds > 0.0 ? (double)c->res->events / c->res->wall_seconds : 0.0;
     c->res->ledger = gr_sim_ledger(c->sim);
     c->res->T_mean = gr_blocking_mean(&c->blk);
     c->res->T_stderr = gr_blocking_stderr(&c->blk, NULL, &c->res->T_stderr_converged);

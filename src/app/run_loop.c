@@ -236,6 +236,10 @@ static void progress(gr_run_ctx *c, int64_t k, int64_t k_last)
                      .wall = gr_run_now() - c->start,
                      .eta = t > 0.0 ? (gr_run_now() - c->start) * (t_end - t) / t : 0.0,
                      .particle_steps_per_second = rate,
+                     .event_driven = gr_sim_integrator(c->sim)->events != NULL,
+                     .events_per_second =
+                         c->stepping > 0.0 ? (double)gr_sim_events_processed(c->sim) / c->stepping
+                                           : 0.0,
                      .warmup = k <= c->plan.warm_samples};
     c->opt->progress(&p, c->opt->user);
 }

@@ -61,9 +61,10 @@ static void progress(const gr_progress *p, void *user)
 {
     (void)user;
     int eta = (int)(p->eta + 0.5);
-    fprintf(stderr, "\r%s t = %.4g / %.4g s  %3.0f%%  %.3g particle-steps/s  ETA %d:%02d:%02d   ",
+    fprintf(stderr, "\r%s t = %.4g / %.4g s  %3.0f%%  %.3g %s  ETA %d:%02d:%02d   ",
             p->warmup ? "warm-up " : "sampling", p->t, p->t_end, 100.0 * p->t / p->t_end,
-            p->particle_steps_per_second, eta / 3600, eta / 60 % 60, eta % 60);
+            p->event_driven ? p->events_per_second : p->particle_steps_per_second,
+            p->event_driven ? "events/s" : "particle-steps/s", eta / 3600, eta / 60 % 60, eta % 60);
     fflush(stderr);
 }
 
@@ -192,9 +193,10 @@ int cmd_run(int argc, char **argv)
     }
     char T_text[200];
     cli_T_text(T_text, sizeof T_text, res.T_mean, res.T_stderr, res.T_stderr_converged);
-    printf("%s: %s over %lld samples; %lld collisions; %.3g particle-steps/s; kernel %s\n",
-           scene.out_dir, T_text, (long long)res.samples, (long long)res.collisions,
-           res.particle_steps_per_second, res.kernel);
+    printf("%s: %s over %lld samples; %lld collisions; %.3g %s; kernel %s\n", scene.out_dir, T_text,
+           (long long)res.samples, (long long)res.collisions,
+           res.event_driven ? res.events_per_second : res.particle_steps_per_second,
+           res.event_driven ? "events/s" : "particle-steps/s", res.kernel);
     return EXIT_OK;
 }
 
