@@ -1057,8 +1057,11 @@ double gr_noise_uniform(uint64_t seed, uint32_t stream, uint64_t a, uint64_t b)
  *
  * Same key as the double normals (make_key(seed, stream, KIND_NORMAL)); counter (step low, step
  * high, quad, F32_FLAG | c) for component c. Bit 31 of word 3 is never set by the double path (its
- * word 3 is c | lane << 1 | r << 2 with r < 2^29), so the two paths never share a block. Each
- * block gives four 32-bit words, one normal each: ids are taken in groups of 4 F32_QUADS, and
+ * word 3 is c | lane << 1 | r << 2 with r < 2^29), so the two paths never share a block. The
+ * generator is Philox4x32-7 (F32_ROUNDS = 7; Random123's philox4x32_R(7, ...)), which passes
+ * TestU01's BigCrush as Philox4x32-10 does (Salmon et al. 2011, table 2; ten is their default,
+ * for a safety margin): three rounds fewer cut the path's cost by a sixth. Each block gives four
+ * 32-bit words, one normal each: ids are taken in groups of 4 F32_QUADS, and
  * id = F32_GROUP g + F32_QUADS l + j uses word l of quad F32_QUADS g + j.
  *
  * Transform: one word, one normal, no rejection, no table look-up in memory. Bit 31 is the sign;
@@ -1068,12 +1071,13 @@ double gr_noise_uniform(uint64_t seed, uint32_t stream, uint64_t a, uint64_t b)
  * [1, 2), e = -32 .. -1 (32 octaves: the coefficients f32_icdf_c[j][e & 31], fitted by
  * bench/f32_icdf_fit.py, Chebyshev least squares against scipy's ndtri, rounded to float); the
  * AVX-512 kernel picks them with two-register permutes (vpermt2ps), so it has no gathers and no
- * branch. |z - exact| < 3e-7 everywhere (tests/test_noise.c checks it against the quantile from
- * erfc). Truncation: the largest |z| is g(2^-32) = 6.3613 (k = 0); P(|z| > 6.3613) = 2.0e-10 for
- * N(0, 1), so in a run that draws 1e12 normals some 200 would exceed it. The portable loop
- * (f32_group_c) computes the same thing with frexpf and fmaf, so both give the same bits. */
+ * branch. |z - exact| < 5e-7 for every word, and |z| never decreases with q falling (checked over
+ * all 2^31 words; tests/test_noise.c checks samples against GSL's quantile). Truncation: the
+ * largest |z| is g(2^-32) = 6.3380 (k = 0), and N(0, 1) exceeds it with probability 2^-32 =
+ * 2.3e-10, so a run of 1e12 normals misses some 230 of them. The portable loop (f32_group_c)
+ * computes the same thing with frexpf and fmaf, so both give the same bits. */
 
-enum { F32_QUADS = 256, F32_GROUP = 4 * F32_QUADS, F32_DEG = 7 };
+enum { F32_QUADS = 256, F32_GROUP = 4 * F32_QUADS, F32_DEG = 7, F32_ROUNDS = 7 };
 #define F32_FLAG 0x80000000u
 
 static _Alignas(64) const float f32_icdf_c[F32_DEG + 1][32] = {
@@ -1196,7 +1200,7 @@ static void f32_group_c(const uint32_t *restrict ka, const uint32_t *restrict kb
 {
     for (int j = 0; j < F32_QUADS; j++) {
         uint32_t c0 = s0, c1 = s1, c2 = quad0 + (uint32_t)j, c3 = w3;
-        for (int r = 0; r < 10; r++) {
+        for (int r = 0; r < F32_ROUNDS; r++) {
             F32_ROUND(r);
         }
         const uint32_t v[4] = {c0, c1, c2, c3};
@@ -1272,7 +1276,7 @@ AVX512 static void f32_group_avx512(const uint32_t *restrict ka, const uint32_t 
         __m512i c0 = _mm512_set1_epi32((int)s0), c1 = _mm512_set1_epi32((int)s1),
                 c2 = _mm512_add_epi32(_mm512_set1_epi32((int)(quad0 + (uint32_t)j)), iota),
                 c3 = _mm512_set1_epi32((int)w3);
-        for (int r = 0; r < 10; r++) {
+        for (int r = 0; r < F32_ROUNDS; r++) {
             __m512i h0, l0, h1, l1;
             F32_MULHILO(c0, m0, h0, l0);
             F32_MULHILO(c2, m1, h1, l1);
@@ -1306,7 +1310,7 @@ static void f32_init(void)
 static void f32_keys(const struct gen *g, uint32_t *ka, uint32_t *kb)
 {
     uint32_t a = g->key.v[0], b = g->key.v[1];
-    for (int r = 0; r < 10; r++) {
+    for (int r = 0; r < F32_ROUNDS; r++) {
         ka[r] = a;
         kb[r] = b;
         a += PHILOX_W32_0;
@@ -1324,7 +1328,7 @@ void gr_noise_normals_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_
     }
     call_once(&f32_once, f32_init);
     const struct gen g = make_gen(seed, stream, step);
-    uint32_t ka[10], kb[10];
+    uint32_t ka[F32_ROUNDS], kb[F32_ROUNDS];
     f32_keys(&g, ka, kb);
     _Alignas(64) double z[F32_GROUP];
     const uint64_t end = (uint64_t)first + (uint64_t)n;
@@ -1347,6 +1351,8 @@ void gr_noise_normals_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_
     }
 }
 
+float gr_noise_f32_transform(uint32_t w) { return f32_icdf(w); }
+
 double gr_noise_normal1_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_t id,
                             int component)
 {
@@ -1355,6 +1361,6 @@ double gr_noise_normal1_f32(uint64_t seed, uint32_t stream, uint64_t step, uint3
     const uint32_t k = id % F32_GROUP, quad = id / F32_GROUP * F32_QUADS + k % F32_QUADS,
                    lane = k / F32_QUADS, c = (uint32_t)component & 1u;
     philox4x32_ctr_t ctr = {{g.s0, g.s1, quad, F32_FLAG | c}};
-    philox4x32_ctr_t r = philox4x32(ctr, g.key);
+    philox4x32_ctr_t r = philox4x32_R(F32_ROUNDS, ctr, g.key);
     return f32_icdf(r.v[lane]);
 }
