@@ -1060,9 +1060,9 @@ double gr_noise_uniform(uint64_t seed, uint32_t stream, uint64_t a, uint64_t b)
  * word 3 is c | lane << 1 | r << 2 with r < 2^29), so the two paths never share a block. The
  * generator is Philox4x32-7 (F32_ROUNDS = 7; Random123's philox4x32_R(7, ...)), which passes
  * TestU01's BigCrush as Philox4x32-10 does (Salmon et al. 2011, table 2; ten is their default,
- * for a safety margin): three rounds fewer cut the path's cost by a sixth. Each block gives four
- * 32-bit words, one normal each: ids are taken in groups of 4 F32_QUADS, and
- * id = F32_GROUP g + F32_QUADS l + j uses word l of quad F32_QUADS g + j.
+ * for a safety margin): three rounds fewer cut the path's cost per normal by about a fifth.
+ * Each block gives four 32-bit words, one normal each: ids are taken in groups of 4 F32_QUADS,
+ * and id = F32_GROUP g + F32_QUADS l + j uses word l of quad F32_QUADS g + j.
  *
  * Transform: one word, one normal, no rejection, no table look-up in memory. Bit 31 is the sign;
  * k = bits 0-30 give q = (k + 1/2) 2^-31 in (0, 1) (rounded to float, at most 1 - 2^-24), and
@@ -1071,10 +1071,10 @@ double gr_noise_uniform(uint64_t seed, uint32_t stream, uint64_t a, uint64_t b)
  * [1, 2), e = -32 .. -1 (32 octaves: the coefficients f32_icdf_c[j][e & 31], fitted by
  * bench/f32_icdf_fit.py, Chebyshev least squares against scipy's ndtri, rounded to float); the
  * AVX-512 kernel picks them with two-register permutes (vpermt2ps), so it has no gathers and no
- * branch. |z - exact| < 5e-7 for every word, and |z| never decreases with q falling (checked over
- * all 2^31 words; tests/test_noise.c checks samples against GSL's quantile). Truncation: the
- * largest |z| is g(2^-32) = 6.3380 (k = 0), and N(0, 1) exceeds it with probability 2^-32 =
- * 2.3e-10, so a run of 1e12 normals misses some 230 of them. The portable loop (f32_group_c)
+ * branch. |z - exact| < 5e-7 for every word, and |z| never rises with k (checked over all 2^31
+ * words; tests/test_noise.c checks samples against GSL's quantile). Truncation: the largest |z|
+ * is g(2^-32) = 6.3380 (k = 0), and N(0, 1) exceeds it with probability 2^-32 = 2.3e-10, so a
+ * run of 1e12 normals misses some 230 of them. The portable loop (f32_group_c)
  * computes the same thing with frexpf and fmaf, so both give the same bits. */
 
 enum { F32_QUADS = 256, F32_GROUP = 4 * F32_QUADS, F32_DEG = 7, F32_ROUNDS = 7 };
