@@ -1330,22 +1330,25 @@ void gr_noise_normals_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_
     const struct gen g = make_gen(seed, stream, step);
     uint32_t ka[F32_ROUNDS], kb[F32_ROUNDS];
     f32_keys(&g, ka, kb);
-    _Alignas(64) double z[F32_GROUP];
+    _Alignas(64) double z[2][F32_GROUP];
     const uint64_t end = (uint64_t)first + (uint64_t)n;
     for (uint64_t g0 = (uint64_t)first / F32_GROUP * F32_GROUP; g0 < end; g0 += F32_GROUP) {
         const uint64_t lo = g0 > first ? g0 : first,
                        hi = g0 + F32_GROUP < end ? g0 + F32_GROUP : end;
         const uint32_t quad0 = (uint32_t)(g0 / F32_GROUP * F32_QUADS);
         const int k_lo = (int)(lo - g0), k_hi = (int)(hi - g0);
-        /* one component from the start of the group goes straight into out */
-        const int whole = per == 1 && k_lo == 0;
-        for (int c = 0; c < per; c++) {
-            f32_group(ka, kb, g.s0, g.s1, quad0, F32_FLAG | (uint32_t)c,
-                      whole ? out + (g0 - first) : z, k_hi);
-            if (!whole) {
-                for (int k = k_lo; k < k_hi; k++) {
-                    out[(g0 + (uint64_t)k - first) * (uint64_t)per + (uint64_t)c] = z[k];
-                }
+        double *o = out + (lo - first) * (uint64_t)per;
+        if (per == 1 && k_lo == 0) { /* from the start of the group: straight into out */
+            f32_group(ka, kb, g.s0, g.s1, quad0, F32_FLAG, o, k_hi);
+        } else if (per == 1) {
+            f32_group(ka, kb, g.s0, g.s1, quad0, F32_FLAG, z[0], k_hi);
+            memcpy(o, z[0] + k_lo, (size_t)(k_hi - k_lo) * sizeof *o);
+        } else { /* the two components' groups, interleaved */
+            f32_group(ka, kb, g.s0, g.s1, quad0, F32_FLAG, z[0], k_hi);
+            f32_group(ka, kb, g.s0, g.s1, quad0, F32_FLAG | 1u, z[1], k_hi);
+            for (int k = k_lo; k < k_hi; k++) {
+                o[2 * (k - k_lo)] = z[0][k];
+                o[2 * (k - k_lo) + 1] = z[1][k];
             }
         }
     }
