@@ -1059,7 +1059,7 @@ double gr_noise_uniform(uint64_t seed, uint32_t stream, uint64_t a, uint64_t b)
  * high, quad, F32_FLAG | c) for component c. Bit 31 of word 3 is never set by the double path (its
  * word 3 is c | lane << 1 | r << 2 with r < 2^29), so the two paths never share a block. The
  * generator is Philox4x32-7 (F32_ROUNDS = 7; Random123's philox4x32_R(7, ...)), which passes
- * TestU01's BigCrush as Philox4x32-10 does (Salmon et al. 2011, table 2; ten is their default,
+ * TestU01's BigCrush as Philox4x32-10 does (Salmon et al., SC'11; ten is their default,
  * for a safety margin): three rounds fewer cut the path's cost per normal by about a fifth.
  * Each block gives four 32-bit words, one normal each: ids are taken in groups of 4 F32_QUADS,
  * and id = F32_GROUP g + F32_QUADS l + j uses word l of quad F32_QUADS g + j.
