@@ -733,6 +733,67 @@ START_TEST(test_f32_transform)
 }
 END_TEST
 
+/* |r| of x and y, and of their squares minus 1, below lim (5 standard errors) */
+static void f32_uncorrelated(const double *x, const double *y, int n, int stride, double lim,
+                             const char *what)
+{
+    double *x2 = malloc((size_t)n * sizeof *x2), *y2 = malloc((size_t)n * sizeof *y2);
+    ck_assert(x2 && y2);
+    for (int i = 0; i < n; i++) {
+        x2[i] = x[(size_t)i * (size_t)stride] * x[(size_t)i * (size_t)stride] - 1;
+        y2[i] = y[(size_t)i * (size_t)stride] * y[(size_t)i * (size_t)stride] - 1;
+    }
+    const double r = correlation(x, y, n, stride, stride), r2 = correlation(x2, y2, n, 1, 1);
+    free(x2);
+    free(y2);
+    ck_assert_msg(fabs(r) < lim && fabs(r2) < lim, "f32 %s: r = %g, squares %g (limit %g)", what, r,
+                  r2, lim);
+}
+
+START_TEST(test_f32_correlations)
+{
+    /* The single path on Philox4x32-7: the four words of one block (ids 256 apart in a group of
+     * 1024), the two components of one id, neighbouring counters, the next step, another stream
+     * and seed give uncorrelated values and squares (5 standard errors). */
+    enum { N = 262144 }; /* 256 groups */
+    double *a = malloc(2 * N * sizeof *a), *b = malloc(2 * N * sizeof *b);
+    ck_assert(a && b);
+    gr_noise_normals_f32(SEED, GR_STREAM_NOISE, 0, 0, N, 2, a);
+    /* word l and word l2 of the blocks of group g: ids 1024 g + 256 l + j, component 0 */
+    static const int words[][2] = {{0, 1}, {1, 2}, {2, 3}, {0, 3}};
+    double *x = malloc(N / 4 * sizeof *x), *y = malloc(N / 4 * sizeof *y);
+    ck_assert(x && y);
+    for (size_t w = 0; w < sizeof words / sizeof words[0]; w++) {
+        for (int i = 0; i < N / 4; i++) {
+            const int g = i / 256, j = i % 256;
+            x[i] = a[2 * (1024 * g + 256 * words[w][0] + j)];
+            y[i] = a[2 * (1024 * g + 256 * words[w][1] + j)];
+        }
+        char what[64];
+        snprintf(what, sizeof what, "words %d and %d of a block", words[w][0], words[w][1]);
+        f32_uncorrelated(x, y, N / 4, 1, 5 / sqrt(N / 4.0), what);
+    }
+    free(x);
+    free(y);
+    f32_uncorrelated(a, a + 1, N, 2, 5 / sqrt((double)N), "components 0 and 1");
+    f32_uncorrelated(a, a + 2, N - 1, 2, 5 / sqrt(N - 1.0), "ids k, k + 1");
+    struct {
+        uint64_t seed;
+        uint32_t stream;
+        uint64_t step;
+        const char *what;
+    } other[] = {{SEED, GR_STREAM_NOISE, 1, "next step"},
+                 {SEED, GR_STREAM_INIT_VELOCITY, 0, "stream 1"},
+                 {SEED + 1, GR_STREAM_NOISE, 0, "seed + 1"}};
+    for (size_t o = 0; o < sizeof other / sizeof other[0]; o++) {
+        gr_noise_normals_f32(other[o].seed, other[o].stream, other[o].step, 0, N, 2, b);
+        f32_uncorrelated(a, b, 2 * N, 1, 5 / sqrt(2.0 * N), other[o].what);
+    }
+    free(a);
+    free(b);
+}
+END_TEST
+
 START_TEST(test_f32_statistics)
 {
     /* The single-precision normals against N(0, 1): the four raw moments of 4e6 draws within 5
@@ -770,6 +831,7 @@ static Suite *noise_suite(void)
     tcase_add_test(stats, test_correlations);
     tcase_add_test(stats, test_uniform);
     tcase_add_test(stats, test_f32_statistics);
+    tcase_add_test(stats, test_f32_correlations);
     tcase_set_timeout(stats, 300);
     suite_add_tcase(s, stats);
     return s;
