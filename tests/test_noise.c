@@ -523,6 +523,18 @@ static double correlation(const double *a, const double *b, int n, int stride_a,
     return sab / sqrt(saa * sbb);
 }
 
+/* (seed, stream, step) next to (SEED, GR_STREAM_NOISE, 0), for the correlation tests */
+static const struct {
+    uint64_t seed;
+    uint32_t stream;
+    uint64_t step;
+    const char *what;
+} other[] = {{SEED, GR_STREAM_NOISE, 1, "next step"},
+             {SEED, GR_STREAM_INIT_VELOCITY, 0, "stream 1"},
+             {SEED + 1, GR_STREAM_NOISE, 0, "seed + 1"},
+             {SEED ^ (UINT64_C(1) << 32), GR_STREAM_NOISE, 0, "seed, high word"},
+             {SEED, GR_STREAM_NOISE, UINT64_C(1) << 32, "step, high word"}};
+
 START_TEST(test_correlations)
 {
     /* Values that share a Philox block or a counter neighbourhood are uncorrelated, also in
@@ -532,16 +544,6 @@ START_TEST(test_correlations)
     double *a2 = malloc(2 * N * sizeof *a2), *b2 = malloc(2 * N * sizeof *b2);
     ck_assert(a && b && a2 && b2);
     const double lim = 5 / sqrt(N / 2.0), lim_all = 5 / sqrt(2.0 * N); /* 5 sigma */
-    struct {
-        uint64_t seed;
-        uint32_t stream;
-        uint64_t step;
-        const char *what;
-    } other[] = {{SEED, GR_STREAM_NOISE, 1, "next step"},
-                 {SEED, GR_STREAM_INIT_VELOCITY, 0, "stream 1"},
-                 {SEED + 1, GR_STREAM_NOISE, 0, "seed + 1"},
-                 {SEED ^ (UINT64_C(1) << 32), GR_STREAM_NOISE, 0, "seed, high word"},
-                 {SEED, GR_STREAM_NOISE, UINT64_C(1) << 32, "step, high word"}};
     gr_noise_normals(SEED, GR_STREAM_NOISE, 0, 0, N, 2, a);
     for (int i = 0; i < 2 * N; i++) {
         a2[i] = a[i] * a[i] - 1;
@@ -753,8 +755,8 @@ static void f32_uncorrelated(const double *x, const double *y, int n, int stride
 START_TEST(test_f32_correlations)
 {
     /* The single path on Philox4x32-7: the four words of one block (ids 256 apart in a group of
-     * 1024), the two components of one id, neighbouring counters, the next step, another stream
-     * and seed give uncorrelated values and squares (5 standard errors). */
+     * 1024), the two components of one id, neighbouring counters, and the keys and steps of
+     * other[] give uncorrelated values and squares (5 standard errors). */
     enum { N = 262144 }; /* 256 groups */
     double *a = malloc(2 * N * sizeof *a), *b = malloc(2 * N * sizeof *b);
     ck_assert(a && b);
@@ -777,14 +779,6 @@ START_TEST(test_f32_correlations)
     free(y);
     f32_uncorrelated(a, a + 1, N, 2, 5 / sqrt((double)N), "components 0 and 1");
     f32_uncorrelated(a, a + 2, N - 1, 2, 5 / sqrt(N - 1.0), "ids k, k + 1");
-    struct {
-        uint64_t seed;
-        uint32_t stream;
-        uint64_t step;
-        const char *what;
-    } other[] = {{SEED, GR_STREAM_NOISE, 1, "next step"},
-                 {SEED, GR_STREAM_INIT_VELOCITY, 0, "stream 1"},
-                 {SEED + 1, GR_STREAM_NOISE, 0, "seed + 1"}};
     for (size_t o = 0; o < sizeof other / sizeof other[0]; o++) {
         gr_noise_normals_f32(other[o].seed, other[o].stream, other[o].step, 0, N, 2, b);
         f32_uncorrelated(a, b, 2 * N, 1, 5 / sqrt(2.0 * N), other[o].what);
