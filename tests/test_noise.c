@@ -256,27 +256,38 @@ START_TEST(test_id_range_ends)
 }
 END_TEST
 
-/* Run this test binary again as `--isa-check NAME` with GRANULE_NOISE_ISA = NAME: a fresh process,
- * because the kernel is chosen once per process. */
-static int isa_check(void)
+/* How many of a batch's normals differ from the one-by-one function's */
+static int isa_diff(void (*all)(uint64_t, uint32_t, uint64_t, uint32_t, int, int, double *),
+                    double (*one)(uint64_t, uint32_t, uint64_t, uint32_t, int))
 {
     enum { N = 4099 };
     static double v[2 * N];
     int bad = 0;
     for (int per = 1; per <= 2; per++) {
-        gr_noise_normals(SEED, GR_STREAM_NOISE, 77, 11, N, per, v);
+        all(SEED, GR_STREAM_NOISE, 77, 11, N, per, v);
         for (int i = 0; i < N; i++) {
             for (int c = 0; c < per; c++) {
-                bad += v[i * per + c] !=
-                       gr_noise_normal1(SEED, GR_STREAM_NOISE, 77, 11 + (uint32_t)i, c);
+                bad += v[i * per + c] != one(SEED, GR_STREAM_NOISE, 77, 11 + (uint32_t)i, c);
             }
         }
     }
-    if (bad) {
-        fprintf(stderr, "GRANULE_NOISE_ISA=%s: %d values differ from gr_noise_normal1\n",
-                getenv("GRANULE_NOISE_ISA"), bad);
+    return bad;
+}
+
+/* Run this test binary again as `--isa-check NAME` with GRANULE_NOISE_ISA = NAME: a fresh process,
+ * because the kernel is chosen once per process. */
+static int isa_check(void)
+{
+    /* the double path, and the single-precision one (its AVX-512 kernel or the portable loop) */
+    const int bad = isa_diff(gr_noise_normals, gr_noise_normal1),
+              bad32 = isa_diff(gr_noise_normals_f32, gr_noise_normal1_f32);
+    if (bad || bad32) {
+        fprintf(stderr,
+                "GRANULE_NOISE_ISA=%s: %d values differ from gr_noise_normal1, %d from "
+                "gr_noise_normal1_f32\n",
+                getenv("GRANULE_NOISE_ISA"), bad, bad32);
     }
-    return bad != 0;
+    return bad != 0 || bad32 != 0;
 }
 
 START_TEST(test_kernels_agree)
@@ -512,6 +523,18 @@ static double correlation(const double *a, const double *b, int n, int stride_a,
     return sab / sqrt(saa * sbb);
 }
 
+/* (seed, stream, step) next to (SEED, GR_STREAM_NOISE, 0), for the correlation tests */
+static const struct {
+    uint64_t seed;
+    uint32_t stream;
+    uint64_t step;
+    const char *what;
+} other[] = {{SEED, GR_STREAM_NOISE, 1, "next step"},
+             {SEED, GR_STREAM_INIT_VELOCITY, 0, "stream 1"},
+             {SEED + 1, GR_STREAM_NOISE, 0, "seed + 1"},
+             {SEED ^ (UINT64_C(1) << 32), GR_STREAM_NOISE, 0, "seed, high word"},
+             {SEED, GR_STREAM_NOISE, UINT64_C(1) << 32, "step, high word"}};
+
 START_TEST(test_correlations)
 {
     /* Values that share a Philox block or a counter neighbourhood are uncorrelated, also in
@@ -521,16 +544,6 @@ START_TEST(test_correlations)
     double *a2 = malloc(2 * N * sizeof *a2), *b2 = malloc(2 * N * sizeof *b2);
     ck_assert(a && b && a2 && b2);
     const double lim = 5 / sqrt(N / 2.0), lim_all = 5 / sqrt(2.0 * N); /* 5 sigma */
-    struct {
-        uint64_t seed;
-        uint32_t stream;
-        uint64_t step;
-        const char *what;
-    } other[] = {{SEED, GR_STREAM_NOISE, 1, "next step"},
-                 {SEED, GR_STREAM_INIT_VELOCITY, 0, "stream 1"},
-                 {SEED + 1, GR_STREAM_NOISE, 0, "seed + 1"},
-                 {SEED ^ (UINT64_C(1) << 32), GR_STREAM_NOISE, 0, "seed, high word"},
-                 {SEED, GR_STREAM_NOISE, UINT64_C(1) << 32, "step, high word"}};
     gr_noise_normals(SEED, GR_STREAM_NOISE, 0, 0, N, 2, a);
     for (int i = 0; i < 2 * N; i++) {
         a2[i] = a[i] * a[i] - 1;
@@ -605,8 +618,9 @@ END_TEST
 START_TEST(test_f32_exact)
 {
     /* A pure function of (step, id, component): the same value whatever the window it is drawn
-     * in, with per = 1 or 2, and through gr_noise_normal1_f32 (Random123's philox4x32 and the
-     * scalar ziggurat); every value is a float; a different sequence from the double path's. */
+     * in, with per = 1 or 2, and through gr_noise_normal1_f32 (Random123's philox4x32_R(7) and
+     * the scalar transform); every value is a float; a different sequence from the double
+     * path's. */
     enum { N = 5000 };
     const uint32_t base = 1000001; /* straddles the groups of 1024 ids */
     double all[2 * N], part[2 * N], dbl[2 * N];
@@ -645,6 +659,135 @@ START_TEST(test_f32_exact)
 }
 END_TEST
 
+START_TEST(test_f32_reference)
+{
+    /* The documented counter layout, written here from noise.c's description: id = 1024 g +
+     * 256 l + j takes word l of the Philox4x32-7 block with counter (step low, step high,
+     * 256 g + j, 2^31 | c), turned into a normal by gr_noise_f32_transform. */
+    enum { N = 3000 };
+    const uint32_t base = 2047; /* straddles three groups of 1024 ids */
+    const uint64_t step = UINT64_C(0x100000005);
+    static double v[2 * N];
+    const uint32_t hi = (uint32_t)(SEED >> 32) ^ ref_mix(2u * GR_STREAM_NOISE);
+    const philox4x32_key_t key = {{(uint32_t)SEED, hi}};
+    for (int per = 1; per <= 2; per++) {
+        gr_noise_normals_f32(SEED, GR_STREAM_NOISE, step, base, N, per, v);
+        for (int i = 0; i < N; i++) {
+            const uint32_t id = base + (uint32_t)i, k = id % 1024;
+            for (int c = 0; c < per; c++) {
+                philox4x32_ctr_t ctr = {{(uint32_t)step, (uint32_t)(step >> 32),
+                                         id / 1024 * 256 + k % 256, 0x80000000u | (uint32_t)c}};
+                philox4x32_ctr_t r = philox4x32_R(7, ctr, key);
+                const double x = gr_noise_f32_transform(r.v[k / 256]);
+                REQUIRE(v[i * per + c] == x, "f32 per %d, id %u, component %d: %a, reference %a",
+                        per, id, c, v[i * per + c], x);
+            }
+        }
+    }
+}
+END_TEST
+
+/* |gr_noise_f32_transform(k) - the exact quantile| for k (bits 0-30), the quantile from GSL */
+static double f32_error(uint32_t k)
+{
+    const float q = fminf((float)((double)k * 0x1p-31 + 0x1p-32), 0x1.fffffep-1f);
+    return fabs((double)gr_noise_f32_transform(k) - gsl_cdf_ugaussian_Qinv((double)q / 2));
+}
+
+/* f32 transform on the words lo .. hi - 1: |z| never rises with k, bit 31 flips the sign only;
+ * returns the largest error */
+static double f32_run(uint32_t lo, uint32_t hi)
+{
+    double worst = 0;
+    float prev = gr_noise_f32_transform(lo);
+    for (uint32_t k = lo; k < hi; k++) {
+        const float z = gr_noise_f32_transform(k);
+        REQUIRE(z <= prev, "f32 transform rises from k = %u to %u: %a > %a", k - 1, k, (double)z,
+                (double)prev);
+        REQUIRE(gr_noise_f32_transform(k | 0x80000000u) == -z, "f32 transform k = %u: sign", k);
+        prev = z;
+        worst = fmax(worst, f32_error(k));
+    }
+    return worst;
+}
+
+START_TEST(test_f32_transform)
+{
+    /* The transform of one word (noise.c, "Single-precision normals"): |z| = Phi^-1(1 - q/2),
+     * q = (k + 1/2) 2^-31, within 5e-7 (the polynomials' fit plus float rounding; 4.9e-7 is the
+     * largest over all 2^31 words); bit 31 flips the sign only; |z| falls as k grows, also
+     * across the octaves' ends (where the polynomial changes); the largest |z| is the documented
+     * truncation point, 6.3380 = Phi^-1(1 - 2^-33), at k = 0. Checked on the 2^16 words at
+     * each end, 2^12 around every other octave's end, and every 4099th word in between. */
+    double worst = fmax(f32_run(0, 1u << 16), f32_run((1u << 31) - (1u << 16), 1u << 31));
+    for (int b = 16; b < 31; b++) { /* around 2^b: q = 2^(b - 31), the end of an octave */
+        worst = fmax(worst, f32_run((1u << b) - 2048, (1u << b) + 2048));
+    }
+    for (uint32_t k = 1u << 16; k < (1u << 31) - (1u << 16); k += 4099) {
+        worst = fmax(worst, f32_error(k));
+    }
+    ck_assert_msg(worst < 5e-7, "f32 transform: largest error %g", worst);
+    const double top = gr_noise_f32_transform(0);
+    ck_assert_msg(fabs(top - 6.3379577545537895) < 5e-7,
+                  "f32 transform: largest |z| %a, expected "
+                  "6.3379578",
+                  top);
+}
+END_TEST
+
+/* |r| of x and y, and of their squares minus 1, below lim (5 standard errors) */
+static void f32_uncorrelated(const double *x, const double *y, int n, int stride, double lim,
+                             const char *what)
+{
+    double *x2 = malloc((size_t)n * sizeof *x2), *y2 = malloc((size_t)n * sizeof *y2);
+    ck_assert(x2 && y2);
+    for (int i = 0; i < n; i++) {
+        x2[i] = x[(size_t)i * (size_t)stride] * x[(size_t)i * (size_t)stride] - 1;
+        y2[i] = y[(size_t)i * (size_t)stride] * y[(size_t)i * (size_t)stride] - 1;
+    }
+    const double r = correlation(x, y, n, stride, stride), r2 = correlation(x2, y2, n, 1, 1);
+    free(x2);
+    free(y2);
+    ck_assert_msg(fabs(r) < lim && fabs(r2) < lim, "f32 %s: r = %g, squares %g (limit %g)", what, r,
+                  r2, lim);
+}
+
+START_TEST(test_f32_correlations)
+{
+    /* The single path on Philox4x32-7: the four words of one block (ids 256 apart in a group of
+     * 1024), the two components of one id, neighbouring counters, and the keys and steps of
+     * other[] give uncorrelated values and squares (5 standard errors). */
+    enum { N = 262144 }; /* 256 groups */
+    double *a = malloc(2 * N * sizeof *a), *b = malloc(2 * N * sizeof *b);
+    ck_assert(a && b);
+    gr_noise_normals_f32(SEED, GR_STREAM_NOISE, 0, 0, N, 2, a);
+    /* word l and word l2 of the blocks of group g: ids 1024 g + 256 l + j, component 0 */
+    static const int words[][2] = {{0, 1}, {1, 2}, {2, 3}, {0, 3}};
+    double *x = malloc(N / 4 * sizeof *x), *y = malloc(N / 4 * sizeof *y);
+    ck_assert(x && y);
+    for (size_t w = 0; w < sizeof words / sizeof words[0]; w++) {
+        for (int i = 0; i < N / 4; i++) {
+            const int g = i / 256, j = i % 256;
+            x[i] = a[2 * (1024 * g + 256 * words[w][0] + j)];
+            y[i] = a[2 * (1024 * g + 256 * words[w][1] + j)];
+        }
+        char what[64];
+        snprintf(what, sizeof what, "words %d and %d of a block", words[w][0], words[w][1]);
+        f32_uncorrelated(x, y, N / 4, 1, 5 / sqrt(N / 4.0), what);
+    }
+    free(x);
+    free(y);
+    f32_uncorrelated(a, a + 1, N, 2, 5 / sqrt((double)N), "components 0 and 1");
+    f32_uncorrelated(a, a + 2, N - 1, 2, 5 / sqrt(N - 1.0), "ids k, k + 1");
+    for (size_t o = 0; o < sizeof other / sizeof other[0]; o++) {
+        gr_noise_normals_f32(other[o].seed, other[o].stream, other[o].step, 0, N, 2, b);
+        f32_uncorrelated(a, b, 2 * N, 1, 5 / sqrt(2.0 * N), other[o].what);
+    }
+    free(a);
+    free(b);
+}
+END_TEST
+
 START_TEST(test_f32_statistics)
 {
     /* The single-precision normals against N(0, 1): the four raw moments of 4e6 draws within 5
@@ -670,6 +813,8 @@ static Suite *noise_suite(void)
     tcase_add_loop_test(exact, test_kernels_agree, 0, 4);
     tcase_add_test(exact, test_golden);
     tcase_add_test(exact, test_f32_exact);
+    tcase_add_test(exact, test_f32_reference);
+    tcase_add_test(exact, test_f32_transform);
     tcase_set_timeout(exact, 120);
     suite_add_tcase(s, exact);
     TCase *stats = tcase_create("statistics");
@@ -680,6 +825,7 @@ static Suite *noise_suite(void)
     tcase_add_test(stats, test_correlations);
     tcase_add_test(stats, test_uniform);
     tcase_add_test(stats, test_f32_statistics);
+    tcase_add_test(stats, test_f32_correlations);
     tcase_set_timeout(stats, 300);
     suite_add_tcase(s, stats);
     return s;

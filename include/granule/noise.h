@@ -40,13 +40,14 @@ double gr_noise_uniform(uint64_t seed, uint32_t stream, uint64_t a, uint64_t b);
  * gives for (step, id, component), component 0, 1 or 2. Scalar (about 10 ns), for tests and tools. */
 double gr_noise_normal1(uint64_t seed, uint32_t stream, uint64_t step, uint32_t id, int component);
 
-/* Single-precision normals ([noise] precision = single, docs/noise.md): the same contract as
- * gr_noise_normals (a pure function of (seed, stream, step, id, component), independent of
- * first, n, per, thread count and batch boundaries), but each value is a float (23-bit uniform,
- * 32-bit Philox4x32-10 words: four normals per block instead of two) widened to double into
- * out. A different sequence from gr_noise_normals' (disjoint Philox counters), same
- * distribution up to single-precision rounding; half the Philox work per normal, about 1.3x
- * faster in all (docs/performance.md, "Single-precision noise"). */
+/* Single-precision normals ([noise] precision = single, docs/performance.md "Single-precision
+ * noise"): the same contract as gr_noise_normals (a pure function of (seed, stream, step, id,
+ * component), independent of first, n, per, thread count and batch boundaries), but each value
+ * is a float widened to double into out: one 32-bit word of Philox4x32-7 per normal (four normals
+ * per block, disjoint counters from gr_noise_normals'), turned into a normal by
+ * gr_noise_f32_transform, no rejection. A different sequence from gr_noise_normals', the same
+ * distribution up to |error| < 5e-7 in each value, with the tails cut at |z| = 6.3380 (a
+ * probability of 2^-32 = 2.3e-10). About 2.5 times faster than gr_noise_normals. */
 void gr_noise_normals_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_t first, int n,
                           int per, double *out);
 
@@ -54,5 +55,10 @@ void gr_noise_normals_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_
  * Scalar, for tests and tools. */
 double gr_noise_normal1_f32(uint64_t seed, uint32_t stream, uint64_t step, uint32_t id,
                             int component);
+
+/* The single-precision path's transform of one 32-bit word w: the sign is bit 31, and with
+ * q = (k + 1/2) 2^-31 (k = bits 0-30, q rounded to float) |z| approximates Phi^-1(1 - q/2), the
+ * quantile of |z| for N(0, 1), within 5e-7. For tests and tools. */
+float gr_noise_f32_transform(uint32_t w);
 
 #endif
