@@ -57,8 +57,14 @@ static gr_sim *grain_at(const gr_scene *sc, const double v[3], const double w[3]
 }
 
 /* The coordinate and velocity along gravity's axis a. */
-static double coord(const gr_sim *s, int a) { return a == 0 ? s->x[0] : a == 1 ? s->y[0] : s->z[0]; }
-static double veloc(const gr_sim *s, int a) { return a == 0 ? s->vx[0] : a == 1 ? s->vy[0] : s->vz[0]; }
+static double coord(const gr_sim *s, int a)
+{
+    return a == 0 ? s->x[0] : a == 1 ? s->y[0] : s->z[0];
+}
+static double veloc(const gr_sim *s, int a)
+{
+    return a == 0 ? s->vx[0] : a == 1 ? s->vy[0] : s->vz[0];
+}
 
 /* The first `want` apex heights above the touching point (h[0] the drop height), read off the
  * step where the velocity along the axis turns negative (y + v^2 / 2g is exact in free flight). */
@@ -290,8 +296,9 @@ END_TEST
 START_TEST(no_contact_through_walls_3d)
 {
     gr_scene sc;
-    load(&sc, "[system]\ndim = 3\nN = 2\nL = 0.05\n[boundary]\nz = walls\n[model]\neps_n = 0.8\n"
-              "[noise]\nmode = none\n",
+    load(&sc,
+         "[system]\ndim = 3\nN = 2\nL = 0.05\n[boundary]\nz = walls\n[model]\neps_n = 0.8\n"
+         "[noise]\nmode = none\n",
          NULL, 0);
     gr_sim_params p;
     gr_scene_sim_params(&sc, &p);
@@ -383,8 +390,8 @@ START_TEST(spinning_sphere_rolls)
     const double res = gr_ledger_residual(&l) / gr_ledger_dissipated(&l);
     printf("3D spinning sphere: v = (%.6g, %.6g) m/s (theory %.6g, %.6g), w = (%.6g, %.6g, %.6g) "
            "rad/s (theory %.6g, %.6g, 50); slip %.3g m/s; residual %.3g of the dissipation\n",
-           s->vx[0], s->vy[0], vx_th, vy_th, s->wx[0], s->wy[0], s->omega[0], w0[0] * f,
-           w0[1] * f, hypot(s->vx[0] - r * s->wy[0], s->vy[0] + r * s->wx[0]), res);
+           s->vx[0], s->vy[0], vx_th, vy_th, s->wx[0], s->wy[0], s->omega[0], w0[0] * f, w0[1] * f,
+           hypot(s->vx[0] - r * s->wy[0], s->vy[0] + r * s->wx[0]), res);
     ck_assert_msg(fabs(s->vx[0] / vx_th - 1.0) < 1e-3 && fabs(s->vy[0] / vy_th - 1.0) < 1e-3,
                   "v %g %g", s->vx[0], s->vy[0]);
     ck_assert_msg(fabs(s->wx[0] / (w0[0] * f) - 1.0) < 1e-3 &&
