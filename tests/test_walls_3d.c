@@ -13,7 +13,11 @@
  *   with the wall's eps_t; a sphere spinning about a tilted axis ends rolling (v = r n x w ... with
  *   the pair's fixed-partner values) and keeps its spin about the normal (no twisting law);
  * - a bed at rest weighs N M g on its floor (the impulse of the wall at z = 0);
- * - refusals: z and gz outside 3D, gravity along a periodic axis, the event integrator. */
+ * - event-driven smooth hard spheres: a sphere bouncing on a floor loses exactly eps_n^2 of its
+ *   energy per bounce, the ledger closing to rounding; elastic spheres in a box walled all round
+ *   under gravity conserve kinetic + potential energy, stay within the walls and restart exactly;
+ * - refusals: z and gz outside 3D, gravity along a periodic axis, the event integrator with
+ *   rotation or a vibrating wall. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -21,6 +25,7 @@
 #include <string.h>
 
 #include "core/sim_internal.h"
+#include "integrators/event/event.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
 #include "check_main.h"
@@ -447,6 +452,96 @@ START_TEST(runaway_into_wall_3d)
 }
 END_TEST
 
+/* Event-driven hard spheres (smooth, constant eps_n = 0.9, no TC) under gravity: a sphere dropped
+ * from the centre of a box of side 0.2 m onto the floor at z = 0. The free flight is an exact
+ * parabola and each bounce keeps exactly eps_n^2 of the impact energy, so the losses of successive
+ * bounces (the jumps of dissipated_normal) fall by eps_n^2 to rounding, and kinetic + potential +
+ * dissipated stays the initial energy; the sphere's centre never goes below r. */
+START_TEST(event_bounce_3d)
+{
+    const char *text = "[system]\ndim = 3\nN = 1\nL = 0.2\n[placement]\nkind = cubic\nv0 = 0\n"
+                       "[model]\nnormal = hard_sphere\neps_n = 0.9\neps_t = 1\ntc = off\n[noise]\n"
+                       "mode = none\n[boundary]\nz = walls\n[gravity]\ngz = -9.81\n[integrator]\n"
+                       "kind = event\n";
+    gr_scene sc;
+    load(&sc, text, NULL, 0);
+    const double zero[3] = {0.0, 0.0, 0.0};
+    gr_sim *s = grain_at(&sc, zero, NULL);
+    const gr_ledger l0 = gr_sim_ledger(s);
+    double loss[8], last = 0.0, worst_led = 0.0, lowest = INFINITY;
+    int k = 0;
+    const int64_t chunk = llround(1e-4 / s->dt);   /* bounces are 0.1 s apart */
+    for (int64_t m = 0; m < 12000 && k < 8; m++) { /* 1.2 s: about 6 bounces */
+        step(s, chunk);
+        const gr_ledger l = gr_sim_ledger(s);
+        if (l.dissipated_normal > last) {
+            loss[k++] = l.dissipated_normal - last;
+            last = l.dissipated_normal;
+        }
+        worst_led =
+            fmax(worst_led,
+                 fabs(l.kinetic + l.potential + l.dissipated_normal - l0.potential) / l0.potential);
+        lowest = fmin(lowest, s->z[0]);
+    }
+    double worst = 0.0;
+    for (int b = 1; b < k; b++) {
+        worst = fmax(worst, fabs(loss[b] / loss[b - 1] / (0.9 * 0.9) - 1.0));
+    }
+    printf("3D event bounce: %d bounces, max |loss_k / loss_(k-1) / eps^2 - 1| = %.2e; ledger %.2e "
+           "of the initial energy; lowest centre %.9g r\n",
+           k, worst, worst_led, lowest / sc.radius);
+    ck_assert_int_ge(k, 5);
+    ck_assert_msg(worst < 1e-9, "bounce losses %g", worst);
+    ck_assert_msg(worst_led < 1e-12, "ledger %g", worst_led);
+    ck_assert(lowest >= sc.radius * (1.0 - 1e-12));
+    ck_assert(s->x[0] == 0.5 * sc.L && s->y[0] == 0.5 * sc.L);
+    gr_sim_free(s);
+}
+END_TEST
+
+/* Event-driven elastic hard spheres (eps_n = 1) in a box walled on all sides under gravity along
+ * y, with the random force off: kinetic + potential is conserved to rounding, every centre stays in
+ * [r, L - r] on each axis, and the run restarts exactly. */
+START_TEST(event_box_3d)
+{
+    const char *text =
+        "[system]\ndim = 3\nN = 64\nL = 0.03\n[placement]\nkind = cubic\nv0 = 1\n"
+        "[model]\nnormal = hard_sphere\neps_n = 1\neps_t = 1\ntc = off\n[noise]\nmode = none\n"
+        "[boundary]\nx = walls\ny = walls\nz = walls\n[gravity]\ngy = -9.81\n[integrator]\n"
+        "kind = event\n";
+    gr_scene sc;
+    load(&sc, text, NULL, 0);
+    gr_sim *s = create(&sc);
+    const gr_ledger l0 = gr_sim_ledger(s);
+    const double e0 = l0.kinetic + l0.potential, r = sc.radius, L = sc.L;
+    double worst = 0.0, out = 0.0;
+    const int64_t n = quick() ? 20 : 200, chunk = llround(1e-3 / s->dt); /* 1 ms */
+    for (int64_t m = 0; m < n; m++) {
+        step(s, chunk);
+        const gr_ledger l = gr_sim_ledger(s);
+        worst = fmax(worst, fabs(l.kinetic + l.potential - e0) / e0);
+        const double *q[3] = {s->x, s->y, s->z};
+        for (int i = 0; i < s->n; i++) {
+            for (int a = 0; a < 3; a++) {
+                out = fmax(out, fmax(r - q[a][i], q[a][i] - (L - r)));
+            }
+        }
+    }
+    gr_event_counts c;
+    gr_event_stats(s, &c);
+    printf("3D event box: %lld collisions, %lld wall hits over %.3g s; max |dE|/E = %.2e; "
+           "deepest beyond r of a wall %.2e r\n",
+           (long long)c.collisions, (long long)c.wall_hits, n * chunk * s->dt, worst, out / r);
+    const int64_t least = quick() ? 10 : 100; /* 20 ms in the sanitizer pass */
+    ck_assert(c.collisions > least && c.wall_hits > least);
+    ck_assert_msg(worst < 1e-12, "energy drift %g", worst);
+    ck_assert_msg(out < 1e-12 * r, "a centre %g r beyond a wall's reach", out / r);
+    gr_sim_free(s);
+    assert_restart_exact(&sc, quick() ? 20 * chunk : 100 * chunk,
+                         quick() ? 11 * chunk : 57 * chunk);
+}
+END_TEST
+
 static void refused(const char *text, const char *const *set, int n_set, const char *const *needles,
                     int n_needles)
 {
@@ -474,10 +569,14 @@ START_TEST(refusals_3d)
     const char *vib[] = {"boundary.vibrate=y"};
     const char *n_vib[] = {"[boundary] vibrate", "[boundary] y = periodic"};
     refused(grain_3d, vib, 1, n_vib, 2);
-    /* the event integrator's walls are 2D only */
-    const char *ev[] = {"integrator.kind=event", "model.normal=hard_sphere"};
-    const char *n_ev[] = {"kind = event", "dim = 2"};
-    refused(grain_3d, ev, 2, n_ev, 2);
+    /* the event integrator's walls: fixed walls, smooth spheres */
+    const char *ev[] = {"integrator.kind=event", "model.normal=hard_sphere", "model.rotation=true"};
+    const char *n_ev[] = {"kind = event", "rotation = false"};
+    refused(grain_3d, ev, 3, n_ev, 2);
+    const char *evv[] = {"integrator.kind=event", "model.normal=hard_sphere", "boundary.vibrate=z",
+                         "boundary.amplitude=1e-3", "boundary.frequency=50"};
+    const char *n_evv[] = {"kind = event", "vibrate = none"};
+    refused(grain_3d, evv, 5, n_evv, 2);
     /* the library too: gz along a periodic z */
     gr_scene sc;
     gr_sim *s = NULL;
@@ -509,6 +608,8 @@ static Suite *walls_3d_suite(void)
     tcase_add_test(phys, oblique_wall_eps_t_3d);
     tcase_add_test(phys, spinning_sphere_rolls);
     tcase_add_test(phys, bed_weighs_on_floor_3d);
+    tcase_add_test(phys, event_bounce_3d);
+    tcase_add_test(phys, event_box_3d);
     suite_add_tcase(s, phys);
     return s;
 }
