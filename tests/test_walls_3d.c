@@ -8,7 +8,8 @@
  * - the ledger closes with walls, gravity and the random force, with a sinusoidal and a sawtooth
  *   floor (the wall's work), and with every tangential law and rotation at the walls; restarts
  *   are exact (the walls' history vectors are part of the state), and 1 and 2 threads agree;
- * - no pair through a wall: spheres pressed into the floor and the ceiling move as each alone;
+ * - no pair through a wall: spheres pressed into the floor and the ceiling move as each alone; a
+ *   floor vibrating below 0 carries spheres below 0 without wrapping them to the ceiling;
  * - tangential laws at a wall: an oblique bounce keeps its direction along the floor and leaves
  *   with the wall's eps_t; a sphere spinning about a tilted axis ends rolling (v = r n x w ... with
  *   the pair's fixed-partner values) and keeps its spin about the normal (no twisting law);
@@ -265,6 +266,36 @@ START_TEST(ledger_walls_3d)
     assert_restart_exact(&sc, 600, 350);
     load(&sc, vibrated_3d, NULL, 0);
     assert_restart_exact(&sc, 600, 350);
+}
+END_TEST
+
+/* A floor vibrating 3 mm (2 r) below 0 at 20 Hz carries spheres below z = 0: they are not wrapped
+ * to the ceiling (positions along a wall axis are never wrapped, the cells clamp them), nothing
+ * overlaps through the image, and the ledger closes. */
+START_TEST(floor_below_zero_3d)
+{
+    const char *set[] = {"boundary.amplitude=3e-3", "boundary.frequency=20", "model.k_s=5e3"};
+    gr_scene sc;
+    load(&sc, vibrated_3d, set, 3);
+    gr_sim *s = create(&sc);
+    const int64_t chunk = llround(1e-3 / s->dt);
+    double lowest = INFINITY, highest = -INFINITY;
+    for (int k = 0; k < (quick() ? 60 : 150); k++) { /* 60 ms reach the floor's lowest point */
+        step(s, chunk);
+        for (int i = 0; i < s->n; i++) {
+            lowest = fmin(lowest, s->z[i]);
+            highest = fmax(highest, s->z[i]);
+        }
+    }
+    const gr_ledger l = gr_sim_ledger(s);
+    const double moved = fabs(l.wall_work) + gr_ledger_dissipated(&l);
+    printf("3D floor below 0: lowest centre %.4g r, highest %.6g m (L - r = %.6g m); residual %.3g "
+           "of the energy moved\n",
+           lowest / sc.radius, highest, sc.L - sc.radius, gr_ledger_residual(&l) / moved);
+    ck_assert_msg(lowest < 0.0, "no sphere went below 0: %g", lowest);
+    ck_assert_msg(highest < sc.L, "a sphere at %g m: wrapped to the ceiling", highest);
+    ck_assert(fabs(gr_ledger_residual(&l)) < 1e-3 * moved);
+    gr_sim_free(s);
 }
 END_TEST
 
@@ -605,6 +636,7 @@ static Suite *walls_3d_suite(void)
     tcase_add_test(phys, elastic_energy_3d);
     tcase_add_test(phys, ledger_walls_3d);
     tcase_add_test(phys, tangential_walls_3d);
+    tcase_add_test(phys, floor_below_zero_3d);
     tcase_add_test(phys, oblique_wall_eps_t_3d);
     tcase_add_test(phys, spinning_sphere_rolls);
     tcase_add_test(phys, bed_weighs_on_floor_3d);
