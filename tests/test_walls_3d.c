@@ -163,6 +163,13 @@ START_TEST(bounce_apex_3d)
     if (!quick()) {
         bounce_case(grain_3d, 2, "hertz", 0.8, false);
         same_on_x();
+        /* the walls' own restitution: [boundary] eps_n = 0.9 against spheres of 0.5 (whose own
+         * would give ratios 0.25) */
+        const char *own[] = {"model.eps_n=0.5", "boundary.eps_n=0.9", "model.k_s=5e4",
+                             "integrator.steps_per_contact=50"};
+        const double d = bounce_error(grain_3d, 2, own, 4, 0.9);
+        printf("3D bounce, the walls' eps_n 0.9 (spheres' 0.5): max deviation %.2e\n", d);
+        ck_assert_msg(d < 0.06 * (1.0 - 0.9), "walls' eps_n: %g", d);
     }
 }
 END_TEST
