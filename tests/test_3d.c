@@ -479,10 +479,11 @@ START_TEST(test_library_refusals)
     const gr_sim_params ok = p;
     gr_sim *s = NULL;
     gr_error err = {0};
-    p.gravity[1] = -9.81;
+    p.gravity[1] = -9.81; /* along a periodic axis (walls and gravity: test_walls_3d.c) */
     ck_assert_int_eq(gr_sim_new(&p, &s, &err), GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "[gravity]") && strstr(err.message, "dim = 3"), "%s",
-                  err.message);
+    ck_assert_msg(strstr(err.message, "[gravity] gy") &&
+                      strstr(err.message, "[boundary] y = walls"),
+                  "%s", err.message);
     p = ok;
     p.integrator = gr_integrator_find("hybrid");
     ck_assert_int_eq(gr_sim_new(&p, &s, &err), GR_EINVAL);

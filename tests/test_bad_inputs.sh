@@ -63,11 +63,11 @@ file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrotation = true\
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[integrator]\nkind = hybrid\n | run $S --out $O | 2 | :6:;[integrator] kind;kind = hybrid;does not step spheres;allowed with dim = 3: verlet | new
 file:[system]\ndim = 3\nN = 64\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\nrotation = true\nbeta_mu = 0.2\n[integrator]\nkind = event\n | run $S --out $O | 2 | [model] beta_mu = 0.2 with beta = -1;smooth discs and spheres;set beta in (-1, 1] | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.3\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n | run $S --out $O | 2 | 2.41 particle diameters;event-driven integrator needs at least 4;[system] N or L | new
-file:[system]\ndim = 3\nN = 64\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n[boundary]\ny = walls\n | run $S --out $O | 2 | :10:;[boundary] y;dim = 3;allowed in 3D: periodic | new
-file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[boundary]\nx = walls\n | run $S --out $O | 2 | :6:;[boundary] x;dim = 3;allowed in 3D: periodic | new
-file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[gravity]\ngy = -9.81\n | run $S --out $O | 2 | :6:;[gravity] gy;dim = 3;allowed in 3D: 0 | new
-file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[driving]\nkind = langevin\n | run $S --out $O | 2 | :6:;[driving] kind;dim = 3;allowed in 3D: rfm | new
-file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[noise]\nprecision = single\n | run $S --out $O | 2 | :6:;[noise] precision;dim = 3;allowed in 3D: double | new
+file:[system]\ndim = 3\nN = 64\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\nrotation = true\n[integrator]\nkind = event\n[boundary]\ny = walls\n | run $S --out $O | 2 | :7:;kind = event;smooth discs or spheres;rotation = false | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[gravity]\ngz = -9.81\n | run $S --out $O | 2 | :6:;[gravity] gz;periodic axis;[boundary] z = walls | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[gravity]\ngy = -9.81\n | run $S --out $O | 2 | :6:;[gravity] gy;periodic axis;[boundary] y = walls | new
+file:[system]\ndim = 2\nN = 8\npacking_fraction = 0.1\n[boundary]\nz = walls\n | run $S --out $O | 2 | :6:;[boundary] z;only for dim = 3;z = periodic | new
+file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[boundary]\nvibrate = z\namplitude = 1e-3\nfrequency = 50\n | run $S --out $O | 2 | :6:;[boundary] vibrate;[boundary] z = periodic;an axis with walls | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[placement]\nkind = hexagonal\n | run $S --out $O | 2 | :6:;[placement] kind;hexagonal;allowed in 3D: cubic | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[analysis]\nobservables = gaps\n | run $S --out $O | 2 | :6:;[analysis] observables;gaps is not defined for dim = 3;allowed in 3D: moments | new
 file:[system]\ndim = 1\nN = 20\n[analysis]\nobservables = profile\nprofile_axis = 1\n | run $S --out $O | 2 | [analysis] profile_axis;(y) in a 1D system;allowed in 1D: 0 (x) or -1 | new

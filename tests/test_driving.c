@@ -1,12 +1,13 @@
 /* Tests of the driving types ([driving] kind, granule/driving.h, docs/systems-driving.md):
  *
  * - langevin: an elastic gas settles at the bath temperature, T_bath / dim per component
- *   (equipartition; 2D and 1D, with collisions), within its block error;
+ *   (equipartition; 3D, 2D and 1D, with collisions), within its block error;
  * - langevin: an ideal gas (no contacts) relaxes as E[T(t)] = T0 a^(2k) + T_bath (1 - 1/N)(1 - a^(2k)),
  *   a^(2k) = e^(-2t/tau), against the exact standard error of the finite sample;
  * - the ledger: injected (bath) - dissipated (contacts + drag) = change of kinetic + elastic energy,
  *   to rounding for the ideal gas and to the velocity-Verlet spring error with inelastic contacts;
- * - thread-count invariance and exact restarts of a Langevin run;
+ * - thread-count invariance and exact restarts of a Langevin run (2D, and 3D with walls and
+ *   gravity);
  * - none: an inelastic gas cools (verlet, event, hybrid), the same run bit for bit as rfm with D = 0;
  * - rfm: a scene that names [driving] kind = rfm is bit-identical to one that does not;
  * - the event and hybrid integrators refuse langevin by name (scene and library).
@@ -31,7 +32,7 @@
 static double component_T(const gr_sim *sim, int c)
 {
     gr_particles p = gr_sim_particles(sim);
-    const double *v = c == 0 ? p.vx : p.vy;
+    const double *v = c == 0 ? p.vx : c == 1 ? p.vy : p.vz;
     double mean = 0.0, sq = 0.0;
     for (int i = 0; i < p.n; i++) {
         mean += v[i];
@@ -72,8 +73,8 @@ static void check_equipartition(int dim)
         text, sizeof text,
         "[system]\ndim = %d\nN = %d\n%s\n[placement]\nkind = %s\n[model]\nk_s = 5e3\neps_n = 1\n"
         "[driving]\nkind = langevin\nT_bath = %g\ntau = %g\n[run]\nseed = 3\n",
-        dim, dim == 2 ? 1000 : 400, dim == 2 ? "packing_fraction = 0.15" : "reduced_length = 0.4",
-        dim == 2 ? "random" : "uniform", T_bath, tau);
+        dim, dim == 1 ? 400 : 1000, dim >= 2 ? "packing_fraction = 0.15" : "reduced_length = 0.4",
+        dim >= 2 ? "random" : "uniform", T_bath, tau);
     gr_scene s;
     load(&s, text, NULL, 0);
     gr_sim *sim = create(&s);
@@ -81,9 +82,9 @@ static void check_equipartition(int dim)
     const int64_t per_tau = (int64_t)llround(tau / gr_sim_dt(sim));
     step(sim, 10 * per_tau); /* T0 = dim v0^2 / 12 = 1.7e-3 dim: well below the bath */
     enum { BLOCKS = 20, PER_BLOCK = 4 };
-    double block[2][BLOCKS];
+    double block[3][BLOCKS];
     for (int b = 0; b < BLOCKS; b++) {
-        block[0][b] = block[1][b] = 0.0;
+        block[0][b] = block[1][b] = block[2][b] = 0.0;
         for (int k = 0; k < PER_BLOCK; k++) {
             step(sim, per_tau);
             for (int c = 0; c < dim; c++) {
@@ -112,6 +113,15 @@ static void check_equipartition(int dim)
 }
 
 START_TEST(equipartition_2d) { check_equipartition(2); }
+END_TEST
+
+/* the sanitizer pass runs the 3D bath's code in bath_3d_threads_restart; the statistics here */
+START_TEST(equipartition_3d)
+{
+    if (!quick()) {
+        check_equipartition(3);
+    }
+}
 END_TEST
 
 START_TEST(equipartition_1d) { check_equipartition(1); }
@@ -234,6 +244,25 @@ START_TEST(restart_exact)
     gr_scene s;
     load(&s, bath_2d, NULL, 0);
     assert_restart_exact(&s, 200, 120);
+}
+END_TEST
+
+/* Spheres in the bath between walls under gravity (three blocks of particles): 1 and 2 threads
+ * give the same run bit for bit, and a restart is exact. */
+START_TEST(bath_3d_threads_restart)
+{
+    const char *text =
+        "[system]\ndim = 3\nN = 2500\npacking_fraction = 0.1\n[placement]\nkind = random\n"
+        "[model]\nk_s = 5e3\neps_n = 0.8\n[driving]\nkind = langevin\nT_bath = 0.01\ntau = "
+        "0.002\n[boundary]\nz = walls\n[gravity]\ngz = -9.81\n";
+    gr_scene s;
+    load(&s, text, NULL, 0);
+    assert_threads_invariant(&s, quick() ? 30 : 200);
+    assert_restart_exact(&s, quick() ? 40 : 200, quick() ? 25 : 120);
+    gr_sim *a = create(&s);
+    step(a, 50);
+    ck_assert(a->diss_drag > 0.0); /* the bath acted */
+    gr_sim_free(a);
 }
 END_TEST
 
@@ -468,10 +497,12 @@ static Suite *driving_suite(void)
     tcase_add_test(unit, saved_scene_round_trip);
     tcase_add_test(unit, threads_invariant);
     tcase_add_test(unit, restart_exact);
+    tcase_add_test(unit, bath_3d_threads_restart);
     suite_add_tcase(s, unit);
     TCase *phys = tcase_create("physics");
     tcase_set_timeout(phys, 600);
     tcase_add_test(phys, equipartition_2d);
+    tcase_add_test(phys, equipartition_3d);
     tcase_add_test(phys, equipartition_1d);
     tcase_add_test(phys, ideal_gas_relaxation);
     tcase_add_test(phys, ledger_inelastic);

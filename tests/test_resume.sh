@@ -8,7 +8,8 @@
 #     snapshot compared byte for byte
 #   - the event-driven and hybrid integrators (1D, N = 100): SIGTERM + --resume and repeated
 #     --wall-limit stops + --resume, compared the same way
-#   - walls and gravity (a 2D bed under gravity with the random force): the same two
+#   - walls and gravity (a 2D bed under gravity with the random force; spheres between z walls,
+#     SIGTERM only): the same two
 #   - 3D spheres with the tangential spring, rotation and rolling: repeated --wall-limit stops
 #   - 3D hard spheres, event-driven, smooth (SIGTERM and --wall-limit) and rough (SIGTERM: the
 #     spin vectors)
@@ -468,6 +469,46 @@ run "$G" run swe.ini --out refwe --quiet
 [[ $rc -eq 0 ]] || fail "event walls+gravity reference run exits $rc" "$err"
 steps=$(grep -o '"steps":[[:space:]]*[0-9]*' refwe/summary.json | grep -o '[0-9]*$' || echo 0)
 sigterm_case "event walls+gravity" we swe.ini $((steps / 2)) 0.004 0.1
+# spheres between walls at z = 0 and L under gz (issue 35): the 3D walls' history vectors of the
+# tangential spring, rotation, a sawtooth floor and the random force; walls.csv has z_0 and z_L
+cat >sw3.ini <<EOF
+[system]
+dim = 3
+N = 150
+L = 0.025
+[placement]
+kind = random
+v0 = 0.2
+[model]
+eps_n = 0.7
+k_s = 5e4
+tangential = tangential_spring
+rotation = true
+[noise]
+D = 1e-8
+[boundary]
+z = walls
+vibrate = z
+amplitude = 5e-4
+frequency = 50
+motion = sawtooth
+mu = 0.3
+[gravity]
+gz = -9.81
+[analysis]
+observables = moments
+[output]
+plots = false
+[run]
+warmup = 0.002
+duration = $durw
+sample_every = 1e-3
+checkpoint_wall = 0
+EOF
+run "$G" run sw3.ini --out refw3 --quiet
+[[ $rc -eq 0 ]] || fail "3D walls+gravity reference run exits $rc" "$err"
+steps=$(grep -o '"steps":[[:space:]]*[0-9]*' refw3/summary.json | grep -o '[0-9]*$' || echo 0)
+sigterm_case "3D walls+gravity" w3 sw3.ini $((steps / 2)) 0.004 0.1
 # smooth hard spheres in 3D, event-driven (issue 35): exact free flight with three noise
 # components, cell crossings on the 3D grid, eps_t on the tangential relative velocity, snapshots
 cat >s3e.ini <<EOF

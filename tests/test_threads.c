@@ -58,9 +58,13 @@ static uint64_t state_hash(gr_sim *s)
     uint64_t h = 1469598103934665603ull;
     h = fnv(h, p.x, sizeof(double) * (size_t)p.n);
     h = fnv(h, p.vx, sizeof(double) * (size_t)p.n);
-    if (p.dim == 2) {
+    if (p.dim >= 2) {
         h = fnv(h, p.y, sizeof(double) * (size_t)p.n);
         h = fnv(h, p.vy, sizeof(double) * (size_t)p.n);
+    }
+    if (p.dim == 3) {
+        h = fnv(h, p.z, sizeof(double) * (size_t)p.n);
+        h = fnv(h, p.vz, sizeof(double) * (size_t)p.n);
     }
     if (s->omega) {
         h = fnv(h, s->omega, sizeof(double) * (size_t)s->n);
@@ -331,6 +335,59 @@ START_TEST(test_threads_single)
 }
 END_TEST
 
+/* The same in 3D (spheres): the third component is drawn from ids of its own (step.c,
+ * normals_f32_3d), so the run is the same on 1, 2 and 3 threads (two blocks of 1024 ids), and not
+ * the double path's. And the three components are independent unit normals: free spheres (no
+ * contacts) kicked for 200 steps have velocity components of equal variance and no correlation
+ * between them (a z drawn from x's counters would give corr(v_x, v_z) = 1). */
+START_TEST(test_threads_single_3d)
+{
+    const char *sets[] = {"system.N=1500", "system.packing_fraction=0.3", "placement.v0=2",
+                          "noise.D=1e-6", "noise.precision=single"};
+    gr_scene sc;
+    load_scene(&sc, "rfm-3d.ini", sets, 5);
+    const int64_t n = steps_full() / 10;
+    uint64_t h1 = run_placed(&sc, 1, n, NULL), h2 = run_placed(&sc, 2, n, NULL),
+             h3 = run_placed(&sc, 3, n, NULL);
+    ck_assert_msg(h1 == h2 && h1 == h3,
+                  "single 3D: 1, 2, 3 threads differ: %016llx %016llx %016llx",
+                  (unsigned long long)h1, (unsigned long long)h2, (unsigned long long)h3);
+    load_scene(&sc, "rfm-3d.ini", sets, 4);
+    ck_assert_msg(run_placed(&sc, 1, n, NULL) != h1, "single gives the double path's trajectory");
+    const char *free_sets[] = {"system.N=4000",  "system.radius=1e-8", "system.L=1",
+                               "placement.v0=0", "noise.D=1e-8",       "noise.precision=single"};
+    load_scene(&sc, "rfm-3d.ini", free_sets, 6);
+    gr_sim *s;
+    gr_error err = {0};
+    ck_assert_msg(gr_sim_create(&sc, &s, &err) == GR_OK, "%s", err.message);
+    ck_assert_msg(gr_sim_step(s, 200, &err) == GR_OK, "%s", err.message);
+    ck_assert_int_eq(gr_sim_collisions(s), 0);
+    gr_particles p = gr_sim_particles(s);
+    const double *v[3] = {p.vx, p.vy, p.vz};
+    double m2[3][3] = {{0}};
+    for (int i = 0; i < p.n; i++) {
+        for (int a = 0; a < 3; a++) {
+            for (int b = 0; b < 3; b++) {
+                m2[a][b] += v[a][i] * v[b][i] / p.n;
+            }
+        }
+    }
+    /* each v_c is a sum of 200 kicks (symmetrised: their mean over the spheres subtracted):
+     * variance 200 (sqrt(2 D dt) / M)^2 (1 - 1/N) (1 +- sqrt(2 / N)) */
+    const double amp = sqrt(2.0 * 1e-8 * gr_sim_dt(s)) / s->mass,
+                 var = 200.0 * amp * amp * (1.0 - 1.0 / p.n);
+    for (int a = 0; a < 3; a++) {
+        ck_assert_msg(fabs(m2[a][a] / var - 1.0) < 5.0 * sqrt(2.0 / p.n), "var %d: %g of %g", a,
+                      m2[a][a], var);
+        for (int b = a + 1; b < 3; b++) {
+            const double r = m2[a][b] / sqrt(m2[a][a] * m2[b][b]);
+            ck_assert_msg(fabs(r) < 5.0 / sqrt((double)p.n), "corr(%d, %d) = %g", a, b, r);
+        }
+    }
+    gr_sim_free(s);
+}
+END_TEST
+
 /* S(k) by gridding (the default) and g(R): the same numbers for 1 and 2 threads, bit for bit, for
  * 20000 random points (above the 4096 the observables need before they use threads). */
 static double *random_points(int n, uint64_t seed)
@@ -477,6 +534,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_threads_rotation);
     tcase_add_test(tc, test_threads_1d);
     tcase_add_test(tc, test_threads_single);
+    tcase_add_test(tc, test_threads_single_3d);
     tcase_add_test(tc, test_order_2d);
     tcase_add_test(tc, test_order_1d);
     tcase_add_test(tc, test_threads_sk);

@@ -534,7 +534,7 @@ START_TEST(bed_weighs_on_floor)
     gr_sim *s = create(&sc);
     const double dt = gr_sim_dt(s), weight = 60 * sc.mass * 9.81;
     step(s, (int64_t)(0.3 / dt)); /* fallen and settled */
-    double j0[4], j1[4];
+    double j0[6], j1[6];
     gr_sim_wall_impulse(s, j0);
     const int64_t n = (int64_t)(0.05 / dt);
     step(s, n);

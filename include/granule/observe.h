@@ -50,7 +50,7 @@ typedef struct gr_obs_setup {
     gr_contact_coeffs contact;
     /* walls[a]: flat walls along axis a ([boundary]); positions there are not periodic (a floor
      * that vibrates below 0 carries grains below 0) */
-    bool walls[2];
+    bool walls[3];
 } gr_obs_setup;
 
 /* Where an observable writes its results. */

@@ -46,10 +46,11 @@ typedef struct gr_scene {
     const gr_driving_type *driving;
     gr_driving_params driving_params;
     /* [boundary] and [gravity] (docs/systems-walls-gravity.md): boundary[a] = 1 puts flat walls at 0
-     * and L on axis a (0 = x, 1 = y; 0 = periodic); gravity[a], m/s^2, needs walls on its axis */
-    int boundary[2];
-    double gravity[2];
-    int vibrate;                 /* 0 none, 1 x, 2 y: the wall at 0 of that axis vibrates */
+     * and L on axis a (0 = x, 1 = y, 2 = z; 0 = periodic); gravity[a], m/s^2, needs walls on its
+     * axis */
+    int boundary[3];
+    double gravity[3];
+    int vibrate;                 /* 0 none, 1 x, 2 y, 3 z: the wall at 0 of that axis vibrates */
     double amplitude, frequency; /* m, Hz */
     int motion;                  /* the vibrating wall's motion: 0 sine, 1 sawtooth */
     /* [boundary] eps_n, eps_t, mu: the walls' own contact coefficients; NAN until resolved, then

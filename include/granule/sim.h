@@ -96,12 +96,12 @@ typedef struct gr_sim_params {
     const gr_driving_type *driving;
     gr_driving_params driving_params;
     /* [boundary] and [gravity] (docs/systems-walls-gravity.md): walls[a] puts flat walls at 0 and L
-     * on axis a (0 = x, 1 = y) instead of the periodic images; gravity is a constant acceleration,
+     * on axis a (0 = x, 1 = y, 2 = z) instead of the periodic images; gravity is a constant acceleration,
      * m/s^2, allowed only along an axis with walls. All false / 0 (the default) is the thesis's
      * periodic box, run by the same loops as before. Needs an integrator with .walls (verlet). */
-    bool walls[2];
-    double gravity[2];
-    /* A vibrating wall: vibrate = 1 (x) or 2 (y) moves the wall at 0 of that axis (which needs
+    bool walls[3];
+    double gravity[3];
+    /* A vibrating wall: vibrate = 1 (x), 2 (y) or 3 (z) moves the wall at 0 of that axis (which needs
      * walls) as amplitude sin(2 pi frequency t), m and Hz; its work is booked as injected. 0 = none */
     int vibrate;
     double amplitude, frequency;
@@ -249,10 +249,11 @@ int gr_sim_state_save(const gr_sim *sim, void **data, size_t *len, gr_error *err
 int gr_sim_state_load(gr_sim *sim, const void *data, size_t len, gr_error *err);
 
 /* The normal impulse each wall has taken from the grains since creation, N s: J[0], J[1] the walls
- * at x = 0 and x = L, J[2], J[3] those at y = 0 and y = L (0 for a periodic axis). The force of
+ * at x = 0 and x = L, J[2], J[3] those at y = 0 and y = L, J[4], J[5] those at z = 0 and z = L
+ * (0 for a periodic axis or one the dimension lacks). The force of
  * every evaluation counts for one step dt, so (J(t2) - J(t1)) / (t2 - t1) is the wall's mean normal
  * force over [t1, t2] (> 0: the grains push it outwards). */
-void gr_sim_wall_impulse(const gr_sim *sim, double J[4]);
+void gr_sim_wall_impulse(const gr_sim *sim, double J[6]);
 
 /* Total momentum, kg m/s (p[1] = 0 in 1D; in 3D its x and y components: z from gr_sim_particles'
  * vz). */

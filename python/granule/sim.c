@@ -233,18 +233,18 @@ static PyGetSetDef sim_getset[] = {
     {NULL}};
 
 /* The walls' normal impulses since creation (gr_sim_wall_impulse) as {"x_lo", "x_hi", "y_lo",
- * "y_hi"}: N s, only the axes that have walls; {} in a periodic box. */
+ * "y_hi", "z_lo", "z_hi"}: N s, only the axes that have walls; {} in a periodic box. */
 static PyObject *sim_wall_impulse(pyg_sim *self, PyObject *unused)
 {
     if (!ready(self)) {
         return NULL;
     }
-    double J[4];
+    double J[6];
     gr_sim_wall_impulse(self->sim, J);
     const gr_scene *sc = &((pyg_scene *)self->scene)->scene;
     PyObject *d = PyDict_New();
-    static const char *const names[4] = {"x_lo", "x_hi", "y_lo", "y_hi"};
-    for (int k = 0; d && k < 4; k++) {
+    static const char *const names[6] = {"x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi"};
+    for (int k = 0; d && k < 6; k++) {
         if (sc->boundary[k / 2]) {
             PyObject *v = PyFloat_FromDouble(J[k]);
             if (!v || PyDict_SetItemString(d, names[k], v)) {

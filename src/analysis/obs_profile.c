@@ -78,7 +78,7 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
                        s->axis <= 2 ? name[s->axis] : "no axis", setup->dim, setup->dim,
                        allowed[d - 1]);
     }
-    s->wall = s->axis < 2 && setup->walls[s->axis]; /* 3D has no walls */
+    s->wall = setup->walls[s->axis];
     s->bins = pp->profile_bins;
     s->nq = setup->dim == 3 ? N_Q : N_Q_2D;
     s->nc = setup->dim == 3 ? 3 : 2;

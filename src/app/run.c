@@ -169,8 +169,9 @@ static const char *ledger_columns(const gr_scene *s)
 #undef GR_LEDGER_BASE
     /* and gravity's potential energy last, with [gravity] (docs/systems-walls-gravity.md); after
      * it the moving walls' work, with [boundary] vibrate */
-    const char *cols = columns[s->contact.rotation ? 1 : 0][s->driving && s->driving->drag ? 1 : 0]
-                              [s->gravity[0] != 0.0 || s->gravity[1] != 0.0];
+    const char *cols =
+        columns[s->contact.rotation ? 1 : 0][s->driving && s->driving->drag ? 1 : 0]
+               [s->gravity[0] != 0.0 || s->gravity[1] != 0.0 || s->gravity[2] != 0.0];
     if (!s->vibrate) {
         return cols;
     }
@@ -206,7 +207,7 @@ static int start_outputs(gr_run_ctx *c)
 {
     const gr_run_schedule *plan = &c->plan;
     gr_blocking_init(&c->blk);
-    for (int w = 0; w < 4; w++) {
+    for (int w = 0; w < 6; w++) {
         gr_blocking_init(&c->wall_blk[w]);
     }
     gr_sim_wall_impulse(c->sim, c->wall_prev); /* a resume restores the checkpoint's */
@@ -236,7 +237,10 @@ static int start_outputs(gr_run_ctx *c)
                             .ft = &c->ft,
                             .fl = &c->fl,
                             .traj = &c->traj,
-                            .walls = c->scene->boundary[0] || c->scene->boundary[1],
+                            .walls = c->scene->boundary[0] || c->scene->boundary[1] ||
+                                             c->scene->boundary[2]
+                                         ? (c->scene->dim == 3 ? 6 : 4)
+                                         : 0,
                             .wall_blk = c->wall_blk,
                             .wall_prev = c->wall_prev};
     if (c->resume) {

@@ -92,11 +92,11 @@ int gr_run_checkpoint_write(const char *dir, const gr_scene *scene, const gr_sim
         gr_blob_put_i64(&brun, len_t);
         gr_blob_put_str(&brun, base_name(st->fl->tmp));
         gr_blob_put_i64(&brun, len_l);
-        for (int w = 0; st->walls && w < 4; w++) {
+        for (int w = 0; w < st->walls; w++) {
             gr_blob_put_blocking(&brun, &st->wall_blk[w]);
         }
         if (st->walls) {
-            gr_blob_put_f64s(&brun, st->wall_prev, 4);
+            gr_blob_put_f64s(&brun, st->wall_prev, st->walls);
         }
         rc = gr_blob_ok(&brun, err);
     }
@@ -507,11 +507,11 @@ int gr_run_resume_state(const gr_checkpoint *ck, const char *dir, gr_sim *sim, g
     int64_t len_t = gr_blob_get_i64(&r);
     gr_blob_get_str(&r, tmp_l, sizeof tmp_l);
     int64_t len_l = gr_blob_get_i64(&r);
-    for (int w = 0; st->walls && w < 4; w++) {
+    for (int w = 0; w < st->walls; w++) {
         gr_blob_get_blocking(&r, &st->wall_blk[w]);
     }
     if (st->walls) {
-        gr_blob_get_f64s(&r, st->wall_prev, 4);
+        gr_blob_get_f64s(&r, st->wall_prev, st->walls);
     }
     rc = gr_blob_done(&r, err);
     if (rc) {

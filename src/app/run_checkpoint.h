@@ -28,7 +28,7 @@ typedef struct gr_run_ckpt {
     gr_traj_writer *traj; /* the trajectory (its frame count is *snap_index) */
     /* with walls only (the periodic runs' checkpoints keep their layout): the walls' force
      * averages and the impulse at the last sample (4 each) */
-    bool walls;
+    int walls; /* the walls' blocks: 4 (6 in 3D), 0 without walls */
     gr_blocking *wall_blk;
     double *wall_prev;
 } gr_run_ckpt;

@@ -59,12 +59,12 @@ static double injection_rate_expected(const gr_scene *scene, double dt)
  * per unit length of the wall (L), N/m. */
 static void write_walls(cJSON *j, const gr_scene *scene, const gr_blocking *wb)
 {
-    if (!scene->boundary[0] && !scene->boundary[1]) {
+    if (!scene->boundary[0] && !scene->boundary[1] && !scene->boundary[2]) {
         return;
     }
-    static const char *const names[4] = {"x_0", "x_L", "y_0", "y_L"};
+    static const char *const names[6] = {"x_0", "x_L", "y_0", "y_L", "z_0", "z_L"};
     cJSON *wj = cJSON_AddObjectToObject(j, "walls");
-    for (int w = 0; w < 4; w++) {
+    for (int w = 0; w < 6; w++) {
         if (!scene->boundary[w / 2] || wb[w].count[0] < 1) {
             continue;
         }
@@ -74,9 +74,10 @@ static void write_walls(cJSON *j, const gr_scene *scene, const gr_blocking *wb)
         cJSON_AddNumberToObject(o, "force", f);
         cJSON_AddNumberToObject(o, "force_stderr", isfinite(e) ? e : -1.0);
         cJSON_AddBoolToObject(o, "force_stderr_converged", converged);
-        if (scene->dim == 2) {
-            cJSON_AddNumberToObject(o, "pressure", f / scene->L);
-            cJSON_AddNumberToObject(o, "pressure_stderr", isfinite(e) ? e / scene->L : -1.0);
+        if (scene->dim >= 2) { /* force per unit length (2D) or area (3D) of the wall */
+            const double len = scene->dim == 3 ? scene->L * scene->L : scene->L;
+            cJSON_AddNumberToObject(o, "pressure", f / len);
+            cJSON_AddNumberToObject(o, "pressure_stderr", isfinite(e) ? e / len : -1.0);
         }
     }
 }
@@ -128,7 +129,7 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim,
     if (scene->driving && scene->driving->drag) {
         cJSON_AddNumberToObject(led, "dissipated_drag", l->dissipated_drag);
     }
-    if (scene->gravity[0] != 0.0 || scene->gravity[1] != 0.0) {
+    if (scene->gravity[0] != 0.0 || scene->gravity[1] != 0.0 || scene->gravity[2] != 0.0) {
         cJSON_AddNumberToObject(led, "potential", l->potential); /* [gravity]: -M sum g . r */
     }
     if (scene->vibrate) {
@@ -211,7 +212,7 @@ static int write_blocks(const char *dir, const gr_scene *s, uint64_t hash, const
 static int write_walls_csv(const char *dir, const gr_scene *s, uint64_t hash, const gr_blocking *wb,
                            gr_error *err)
 {
-    if (!s->boundary[0] && !s->boundary[1]) {
+    if (!s->boundary[0] && !s->boundary[1] && !s->boundary[2]) {
         return GR_OK;
     }
     gr_file f;
@@ -219,20 +220,28 @@ static int write_walls_csv(const char *dir, const gr_scene *s, uint64_t hash, co
     if (rc) {
         return rc;
     }
+    const bool spheres = s->dim == 3;
     gr_run_csv_header(&f,
-                      "mean normal force of the grains on each wall over the sampling phase, N "
-                      "(> 0: outwards), block-averaged per sample interval; pressure = force / L "
-                      "(2D), N/m",
+                      spheres ? "mean normal force of the grains on each wall over the sampling "
+                                "phase, N (> 0: outwards), block-averaged per sample interval; "
+                                "pressure = force / L^2 (3D), N/m^2"
+                              : "mean normal force of the grains on each wall over the sampling "
+                                "phase, N "
+                                "(> 0: outwards), block-averaged per sample interval; pressure = "
+                                "force / L (2D), N/m",
                       s, hash);
-    gr_file_header(&f,
-                   "wall [],force [N],force_stderr [N],pressure [N m-1],pressure_stderr [N m-1]");
-    static const char *const names[4] = {"x_0", "x_L", "y_0", "y_L"};
-    for (int w = 0; w < 4; w++) {
+    gr_file_header(&f, spheres ? "wall [],force [N],force_stderr [N],pressure [N m-2],"
+                                 "pressure_stderr [N m-2]"
+                               : "wall [],force [N],force_stderr [N],pressure [N m-1],"
+                                 "pressure_stderr [N m-1]");
+    static const char *const names[6] = {"x_0", "x_L", "y_0", "y_L", "z_0", "z_L"};
+    for (int w = 0; w < 6; w++) {
         if (!s->boundary[w / 2]) {
             continue;
         }
         const double m = gr_blocking_mean(&wb[w]), e = gr_blocking_stderr(&wb[w], NULL, NULL);
-        const double len = s->dim == 2 ? s->L : 1.0; /* 1D: the force is the pressure */
+        /* 1D: the force is the pressure; 2D per unit length, 3D per unit area */
+        const double len = s->dim == 3 ? s->L * s->L : s->dim == 2 ? s->L : 1.0;
         fprintf(f.f, "%s,%.9g,%.9g,%.9g,%.9g\n", names[w], m, e, m / len, e / len);
     }
     return gr_file_commit(&f, err);

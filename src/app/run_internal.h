@@ -45,10 +45,10 @@ typedef struct gr_run_ctx {
     int snap_index;
     gr_traj_writer traj;
     /* walls (docs/systems-walls-gravity.md): the mean normal force on each wall over each sample
-     * interval, from the impulse it took (gr_sim_wall_impulse: x at 0, L, then y), block-averaged
+     * interval, from the impulse it took (gr_sim_wall_impulse: x at 0, L, then y, then z), block-averaged
      * while sampling; wall_prev the impulse at the last sample */
-    gr_blocking wall_blk[4];
-    double wall_prev[4];
+    gr_blocking wall_blk[6];
+    double wall_prev[6];
     gr_run_ckpt ckst; /* the driver state a checkpoint keeps */
     /* checkpoints and stopping */
     gr_error ck_err; /* why this run cannot checkpoint, if it cannot */

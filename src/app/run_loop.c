@@ -90,11 +90,11 @@ static bool record(gr_run_ctx *c, int64_t k)
     if (!sampling) {
         gr_sim_clear_events(sim); /* events of the warm-up are not statistics */
     }
-    if (c->scene->boundary[0] || c->scene->boundary[1]) {
+    if (c->scene->boundary[0] || c->scene->boundary[1] || c->scene->boundary[2]) {
         /* each wall's mean normal force over the sample interval, from the impulse it took */
-        double J[4];
+        double J[6];
         gr_sim_wall_impulse(sim, J);
-        for (int w = 0; w < 4; w++) {
+        for (int w = 0; w < (c->scene->dim == 3 ? 6 : 4); w++) {
             if (sampling) {
                 gr_blocking_add(&c->wall_blk[w],
                                 (J[w] - c->wall_prev[w]) / ((double)c->plan.per_sample * c->dt));
@@ -144,7 +144,7 @@ static bool record(gr_run_ctx *c, int64_t k)
     if (c->scene->driving && c->scene->driving->drag) {
         fprintf(c->fl.f, ",%.12g", l.dissipated_drag);
     }
-    if (c->scene->gravity[0] != 0.0 || c->scene->gravity[1] != 0.0) {
+    if (c->scene->gravity[0] != 0.0 || c->scene->gravity[1] != 0.0 || c->scene->gravity[2] != 0.0) {
         fprintf(c->fl.f, ",%.12g", l.potential); /* [gravity]: -M sum g . r */
     }
     if (c->scene->vibrate) {

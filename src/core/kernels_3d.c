@@ -99,9 +99,10 @@ static int reserve(gr_sim *s, int64_t need, gr_error *err)
  * rebuild is still counted as new. */
 static inline int consider(gr_sim *s, const int i, const int j, int64_t *count, gr_error *err)
 {
-    const double L = s->L, rc2 = s->cutoff * s->cutoff, d2 = s->d * s->d;
-    const double dx = wrap_delta(s->x[j] - s->x[i], L), dy = wrap_delta(s->y[j] - s->y[i], L),
-                 dz = wrap_delta(s->z[j] - s->z[i], L);
+    const double rc2 = s->cutoff * s->cutoff, d2 = s->d * s->d;
+    const double dx = wrap_delta(s->x[j] - s->x[i], s->period[0]),
+                 dy = wrap_delta(s->y[j] - s->y[i], s->period[1]),
+                 dz = wrap_delta(s->z[j] - s->z[i], s->period[2]);
     const double r2 = dx * dx + dy * dy + dz * dz;
     if (r2 >= rc2) {
         return GR_OK;
@@ -122,7 +123,8 @@ static inline int consider(gr_sim *s, const int i, const int j, int64_t *count, 
 }
 
 /* Put every coordinate into [0, L) (a particle that moved out of the box in one step) and refuse
- * non-finite ones. */
+ * non-finite ones; along a wall axis (walls.c) a coordinate stays as it is (a grain on a floor
+ * vibrating below 0). */
 static int wrap_positions(gr_sim *s, gr_error *err)
 {
     const double L = s->L;
@@ -130,7 +132,7 @@ static int wrap_positions(gr_sim *s, gr_error *err)
     for (int i = 0; i < s->n; i++) {
         for (int a = 0; a < 3; a++) {
             double *q = &r[a][i];
-            if (*q >= 0.0 && *q < L) {
+            if ((*q >= 0.0 && *q < L) || (s->period[a] > L && isfinite(*q))) {
                 continue;
             }
             if (!isfinite(*q)) {
@@ -180,7 +182,7 @@ int gr_neighbours_build_3d(gr_sim *s, gr_error *err)
         for (int i = 0; i < n; i++) {
             int c[3] = {(int)(s->x[i] * inv), (int)(s->y[i] * inv), (int)(s->z[i] * inv)};
             for (int a = 0; a < 3; a++) {
-                c[a] = c[a] >= nc ? nc - 1 : c[a];
+                c[a] = c[a] >= nc ? nc - 1 : c[a] < 0 ? 0 : c[a]; /* < 0: below a vibrating floor */
             }
             s->cell_of[i] = c[0] + nc * (c[1] + nc * c[2]);
             start[s->cell_of[i] + 1]++;
@@ -229,7 +231,8 @@ int gr_neighbours_build_3d(gr_sim *s, gr_error *err)
 typedef struct ctx3 {
     const double *restrict x, *restrict y, *restrict z, *restrict vx, *restrict vy, *restrict vz;
     const double *restrict wx, *restrict wy, *restrict wz; /* rotation only */
-    double L, d, d2, m12_dt, i_2dt;
+    double P[3]; /* the periods: L, or INFINITY along a wall axis (walls.c) */
+    double d, d2, m12_dt, i_2dt;
     gr_contact_coeffs cc;
 } ctx3;
 
@@ -262,8 +265,9 @@ static inline __attribute__((always_inline)) double geometry(const ctx3 *c, cons
                                                              double n[3], double *dist, double *g_n,
                                                              double gc[3])
 {
-    const double dx = wrap_delta(c->x[j] - c->x[i], c->L), dy = wrap_delta(c->y[j] - c->y[i], c->L),
-                 dz = wrap_delta(c->z[j] - c->z[i], c->L);
+    const double dx = wrap_delta(c->x[j] - c->x[i], c->P[0]),
+                 dy = wrap_delta(c->y[j] - c->y[i], c->P[1]),
+                 dz = wrap_delta(c->z[j] - c->z[i], c->P[2]);
     const double r2 = dx * dx + dy * dy + dz * dz;
     if (r2 >= c->d2) {
         return r2;
@@ -411,8 +415,9 @@ static inline __attribute__((always_inline)) int pair_3d(const ctx3 *c, const in
 static double forget_3d(const ctx3 *c, const int tl, const int i, const int j, const int rot,
                         double *h)
 {
-    const double dx = wrap_delta(c->x[j] - c->x[i], c->L), dy = wrap_delta(c->y[j] - c->y[i], c->L),
-                 dz = wrap_delta(c->z[j] - c->z[i], c->L);
+    const double dx = wrap_delta(c->x[j] - c->x[i], c->P[0]),
+                 dy = wrap_delta(c->y[j] - c->y[i], c->P[1]),
+                 dz = wrap_delta(c->z[j] - c->z[i], c->P[2]);
     const double dist = sqrt(dx * dx + dy * dy + dz * dz);
     const double n[3] = {dx / dist, dy / dist, dz / dist};
     const double g[3] = {c->vx[j] - c->vx[i], c->vy[j] - c->vy[i], c->vz[j] - c->vz[i]};
@@ -448,7 +453,7 @@ static inline __attribute__((always_inline)) ctx3 ctx3_of(const gr_sim *s)
                   .wx = s->wx,
                   .wy = s->wy,
                   .wz = s->omega,
-                  .L = s->L,
+                  .P = {s->period[0], s->period[1], s->period[2]},
                   .d = s->d,
                   .d2 = s->d * s->d,
                   .m12_dt = s->cc.m_t / s->dt,
@@ -771,6 +776,13 @@ static inline __attribute__((always_inline)) void run_3d(gr_sim *s, gr_force_rep
             threaded_3d(s, T, GR_THREAD_ID, GR_THREAD_COUNT, nl, tl, clamp, rot, rl);
     }
     report_3d(s, r);
+}
+
+gr_tangential_force3 gr_kernel_tangential3(const int tl, const gr_contact_coeffs *c,
+                                           const gr_tangential_in3 in, int *book)
+{
+    *book = book_of(tl);
+    return tangential3_law(tl, c, in);
 }
 
 /* The instances: the normal law alone (the law read from the simulation, tangential, rotation

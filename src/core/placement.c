@@ -405,8 +405,10 @@ static int place_random_3d(gr_sim *s, gr_error *err)
             double r[3];
             int cc[3];
             for (int a = 0; a < 3; a++) { /* the placement stream, words 0, 1, 2 */
-                r[a] =
-                    L * gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, attempt, (uint64_t)a);
+                const double u =
+                    gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, attempt, (uint64_t)a);
+                /* along a wall axis ([boundary], walls.c) every centre lies in [r, L - r] */
+                r[a] = s->params.walls[a] ? 0.5 * d + (L - d) * u : L * u;
                 cc[a] = (int)(r[a] / cell) % side;
             }
             int ok = 1;
@@ -419,9 +421,10 @@ static int place_random_3d(gr_sim *s, gr_error *err)
                                             (size_t)side * (size_t)((cc[2] + oz + side) % side));
                         for (int j = head[c]; j >= 0 && ok; j = next[j]) {
                             double dx = s->x[j] - r[0], dy = s->y[j] - r[1], dz = s->z[j] - r[2];
-                            dx -= L * rint(dx / L);
-                            dy -= L * rint(dy / L);
-                            dz -= L * rint(dz / L);
+                            /* no image across walls */
+                            dx -= s->params.walls[0] ? 0.0 : L * rint(dx / L);
+                            dy -= s->params.walls[1] ? 0.0 : L * rint(dy / L);
+                            dz -= s->params.walls[2] ? 0.0 : L * rint(dz / L);
                             ok = dx * dx + dy * dy + dz * dz >= d * d;
                         }
                     }

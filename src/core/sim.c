@@ -221,21 +221,12 @@ static int check_dim(const gr_sim_params *p, gr_error *err)
     if (p->dim != 3) {
         return GR_OK;
     }
-    const gr_driving_type *drive = p->driving ? p->driving : gr_driving_default();
-    const char *what = !p->integrator->spheres                        ? "[integrator] kind"
-                       : p->walls[0] || p->walls[1]                   ? "[boundary]"
-                       : p->gravity[0] != 0.0 || p->gravity[1] != 0.0 ? "[gravity]"
-                       : p->vibrate                                   ? "[boundary] vibrate"
-                       : drive->update == GR_DRIVE_BATH               ? "[driving] kind"
-                       : p->noise_precision == GR_NOISE_SINGLE        ? "[noise] precision"
-                                                                      : NULL;
-    if (what) {
+    if (!p->integrator->spheres) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: %s: not available with dim = 3 yet; 3D runs the soft contact laws "
-                       "(verlet integrator) and smooth or rough hard spheres (event integrator) "
-                       "with the random force or no driving in a periodic cube "
-                       "(docs/three-dimensions.md)",
-                       p->source, what);
+                       "%s: [integrator] kind = %s: not available with dim = 3 yet; 3D runs the "
+                       "soft contact laws (verlet integrator) and smooth or rough hard spheres "
+                       "(event integrator) (docs/three-dimensions.md)",
+                       p->source, p->integrator->name);
     }
     return GR_OK;
 }
@@ -279,7 +270,8 @@ static int alloc_state(const gr_sim_params *p, int n, gr_sim **out, gr_error *er
     s->n = n;
     s->dim = p->dim;
     s->L = p->L;
-    s->period[0] = s->period[1] = p->L; /* periodic; walls.c makes a wall axis INFINITY */
+    s->period[0] = s->period[1] = s->period[2] =
+        p->L; /* periodic; walls.c makes a wall axis INFINITY */
     s->d = 2.0 * p->radius;
     s->mass = p->mass;
     s->x = alloc_array(n);
@@ -694,7 +686,7 @@ const gr_contact_coeffs *gr_sim_coeffs(const gr_sim *s) { return &s->cc; }
 
 const gr_contact_coeffs *gr_sim_wall_coeffs(const gr_sim *s)
 {
-    const bool walls = s->params.walls[0] || s->params.walls[1];
+    const bool walls = s->params.walls[0] || s->params.walls[1] || s->params.walls[2];
     return walls && !s->integrator->instantaneous ? &s->wall_cc : NULL;
 }
 const char *gr_sim_kernel(const gr_sim *s) { return s->kernel_name; }

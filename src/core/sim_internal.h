@@ -96,7 +96,7 @@ struct gr_sim {
      * none, or it does nothing) */
     gr_contact_coeffs wall_cc;
     int wall_tl;
-    double period[2];
+    double period[3];
     /* a history law at the walls: 4 slots per grain (its contacts with the walls at 0 and L of x,
      * then of y: slot 4 i + 2 a + side), NULL otherwise */
     double *wall_hist;
@@ -104,7 +104,7 @@ struct gr_sim {
      * wall has taken from the grains since creation, N s (walls at 0 and L of x, then of y:
      * gr_sim_wall_impulse) */
     double wall_work;
-    double wall_impulse[4];
+    double wall_impulse[6];
 
     /* Species (src/core/species.c, docs/mixtures.md), only when params.n_species >= 2 (nsp = 0
      * otherwise: every array NULL, the monodisperse path as ever). d is then the largest contact
@@ -261,6 +261,10 @@ int gr_kernel_tangential_id(const gr_model *m);
 int gr_kernel_tangential_history(int tl);
 gr_tangential_force gr_kernel_tangential(int tl, const gr_contact_coeffs *c, gr_tangential_in in,
                                          int *book, int *history);
+/* 3D (kernels_3d.c): a history law's vector step at one contact outside the pair loops (the
+ * walls' pass), its ledger column in *book. */
+gr_tangential_force3 gr_kernel_tangential3(int tl, const gr_contact_coeffs *c, gr_tangential_in3 in,
+                                           int *book);
 /* 1 when the chosen kernel's tangential law keeps a per-contact history (models/list.h). */
 int gr_kernel_history(const gr_sim *s);
 /* Brute-force O(N^2) reference forces (tests only). */

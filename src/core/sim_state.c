@@ -293,12 +293,12 @@ static int sim_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     }
     if (!rc && !gr_blob_io_bad(io) && s->walls_on) {
         /* walls (walls.c): the impulse each took, the moving wall's work, a history law's slots */
-        gr_blob_io_f64s(io, s->wall_impulse, 4);
+        gr_blob_io_f64s(io, s->wall_impulse, s->dim == 3 ? 6 : 4);
         if (s->params.vibrate) {
             gr_blob_io_f64(io, &s->wall_work);
         }
         if (s->wall_hist) {
-            gr_blob_io_f64s(io, s->wall_hist, 4 * (int64_t)n);
+            gr_blob_io_f64s(io, s->wall_hist, (s->dim == 3 ? 18 : 4) * (int64_t)n);
         }
     }
     if (!rc && !gr_blob_io_bad(io) && s->drive == GR_DRIVE_BATH) {

@@ -46,17 +46,18 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/sim_internal.h"
 
-static const char axis_name[2] = {'x', 'y'};
+static const char axis_name[3] = {'x', 'y', 'z'};
 
 int gr_walls_prepare(gr_sim *s, gr_error *err)
 {
     const gr_sim_params *p = &s->params;
-    s->period[0] = s->period[1] = s->L;
-    s->walls_on = p->walls[0] || p->walls[1] || p->gravity[0] != 0.0 || p->gravity[1] != 0.0 ||
-                  p->vibrate != 0;
+    s->period[0] = s->period[1] = s->period[2] = s->L;
+    s->walls_on = p->walls[0] || p->walls[1] || p->walls[2] || p->gravity[0] != 0.0 ||
+                  p->gravity[1] != 0.0 || p->gravity[2] != 0.0 || p->vibrate != 0;
     if (!s->walls_on) {
         return GR_OK; /* the periodic box: nothing here ever runs */
     }
@@ -71,6 +72,12 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
                        "%s: [boundary] y and [gravity] gy need dim = 2; in 1D only x and gx "
                        "(allowed in 1D: y = periodic, gy = 0)",
                        p->source);
+    }
+    if (s->dim < 3 && (p->walls[2] || p->gravity[2] != 0.0)) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [boundary] z and [gravity] gz need dim = 3 (allowed in %dD: z = "
+                       "periodic, gz = 0)",
+                       p->source, s->dim);
     }
     for (int a = 0; a < s->dim; a++) {
         if (p->gravity[a] != 0.0 && !p->walls[a]) {
@@ -90,11 +97,12 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
     if (p->vibrate &&
         !(p->vibrate <= s->dim && p->walls[p->vibrate - 1] && p->amplitude >= 0.0 &&
           p->amplitude < 0.25 * s->L && p->frequency >= 0.0 && isfinite(p->frequency))) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "%s: [boundary] vibrate = %d needs walls along that axis (1 = x, 2 = y), "
-                       "amplitude in [0, L / 4) = [0, %g) m and frequency in [0, inf) Hz; given "
-                       "amplitude = %g m, frequency = %g Hz",
-                       p->source, p->vibrate, 0.25 * s->L, p->amplitude, p->frequency);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s: [boundary] vibrate = %d needs walls along that axis (1 = x, 2 = y, 3 = z), "
+            "amplitude in [0, L / 4) = [0, %g) m and frequency in [0, inf) Hz; given "
+            "amplitude = %g m, frequency = %g Hz",
+            p->source, p->vibrate, 0.25 * s->L, p->amplitude, p->frequency);
     }
     if (s->integrator->instantaneous) {
         /* collisions with the walls are the integrator's own events (event_2d.c), placed as
@@ -119,7 +127,7 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
                            "m (2 d (1 + 2 skin))",
                            p->source, s->L, axis_name[a], reach);
         }
-        const double *q = a == 0 ? s->x : s->y;
+        const double *q = a == 0 ? s->x : a == 1 ? s->y : s->z;
         for (int i = 0; i < s->n; i++) {
             if (!(q[i] >= r && q[i] <= s->L - r)) {
                 return GR_FAIL(err, GR_EINVAL,
@@ -147,7 +155,7 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
         wp.eps_t = p->wall_eps_t;
         wp.mu = p->wall_mu;
     }
-    const gr_model *tang = s->dim == 2 ? p->tangential : NULL;
+    const gr_model *tang = s->dim >= 2 ? p->tangential : NULL;
     int rc = gr_contact_prepare(p->normal, tang, &wp, s->mass, s->dt, &s->wall_cc, err);
     if (rc) {
         char why[sizeof err->message];
@@ -159,11 +167,23 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
     s->wall_tl =
         tang && !(tang->inert && tang->inert(&s->wall_cc)) ? gr_kernel_tangential_id(tang) : 0;
     if (s->wall_tl && gr_kernel_tangential_history(s->wall_tl)) {
-        s->wall_hist = calloc(4 * (size_t)s->n + 1, sizeof(double));
+        if (s->dim == 3 && tang->inert && tang->inert(&s->cc)) {
+            /* the non-conservative torques (tgx, tgy, tg) are zeroed by the pair kernel, which
+             * runs the history law only when the particles' coefficients switch it on */
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [boundary] eps_t = %g, mu = %g switch the walls' %s on while the "
+                           "particles' [model] eps_t = %g, mu = %g leave it off; allowed in 3D: "
+                           "the particles' law on too, or the walls' off",
+                           p->source, wp.eps_t, wp.mu, tang->name, p->contact.eps_t, p->contact.mu);
+        }
+        /* 2D: one slot per grain and wall (4); 3D: a vector per grain and wall (3 x 6) */
+        s->wall_hist = calloc((s->dim == 3 ? 18 : 4) * (size_t)s->n + 1, sizeof(double));
         /* rotation: the springs' torques are conservative, the rest goes into s->tg (as the pair
          * kernel's; allocated here when the particles' law does nothing) */
         if (!s->wall_hist ||
-            (s->omega && !s->tg && !(s->tg = calloc((size_t)s->n + 1, sizeof(double))))) {
+            (s->omega && !s->tg && !(s->tg = calloc((size_t)s->n + 1, sizeof(double)))) ||
+            (s->wx && !s->tgx && !(s->tgx = calloc((size_t)s->n + 1, sizeof(double)))) ||
+            (s->wx && !s->tgy && !(s->tgy = calloc((size_t)s->n + 1, sizeof(double))))) {
             return GR_FAIL(err, GR_ENOMEM, "out of memory for %d grains' wall contacts", s->n);
         }
     }
@@ -173,10 +193,10 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
 /* What one evaluation's wall contacts add up to: the normal springs' energy / e_scale (e) and
  * the tangential springs' (et, J), dissipation rates (pn, pt, pf), energy a history law dropped
  * (lost), for a moving wall its power on the grains (pw) and the share of the step's booking that
- * is its work (pd), and the normal force on each wall (fw: 0 and L of x, then of y). */
+ * is its work (pd), and the normal force on each wall (fw: 0 and L of x, then of y, then of z). */
 typedef struct wall_sums {
     double e, et, pn, pt, pf, lost, pw, pd;
-    double fw[4];
+    double fw[6];
 } wall_sums;
 
 /* The wall motion at time t: position and velocity of the vibrating wall (A sin(w t); sawtooth
@@ -383,13 +403,159 @@ static void unwrap_ring(gr_sim *s, gr_force_report *r)
     s->pair_contact[n - 1] = 0;
 }
 
+/* 3D (spheres): the tangential law at the contact of grain i with the wall (a, side) of normal
+ * n = +-e_a (into the box), as the pair kernel's (kernels_3d.c) with the wall as the partner i,
+ * resting and not rotating, at the arm r: g_c = v - (v.n) n + r n x w; a law without history acts
+ * along g_c with its scalar code at |g_c|, a history law keeps its vector in the wall's plane (slot
+ * 3 (2 a + side) of the grain's 18 in s->wall_hist); the force F_t acts on the grain, its torque
+ * -r n x F_t on the grain only. acts = 0 for a contact that ended. */
+static void wall_tangential_3d(gr_sim *s, const int i, const int a, const int side,
+                               const double f_n, const double xi, const double g_n, const int acts,
+                               wall_sums *w)
+{
+    const double r = 0.5 * s->d;
+    double *const v[3] = {s->vx, s->vy, s->vz}, *const f[3] = {s->fx, s->fy, s->fz},
+                  *const g[3] = {s->gx, s->gy, s->gz};
+    double n[3] = {0.0, 0.0, 0.0};
+    n[a] = side ? -1.0 : 1.0;
+    double gc[3];
+    for (int c = 0; c < 3; c++) {
+        gc[c] = c == a ? 0.0 : v[c][i];
+    }
+    if (s->omega) {
+        const double W[3] = {s->wx[i], s->wy[i], s->omega[i]};
+        const double nw[3] = {n[1] * W[2] - n[2] * W[1], n[2] * W[0] - n[0] * W[2],
+                              n[0] * W[1] - n[1] * W[0]};
+        for (int c = 0; c < 3; c++) {
+            gc[c] += r * nw[c];
+        }
+    }
+    double Ft[3], Fn[3], p;
+    int book;
+    if (s->wall_hist) {
+        double *slot = s->wall_hist + 18 * (size_t)i + 3 * (size_t)(2 * a + side);
+        const gr_tangential_in3 in = {.g = {gc[0], gc[1], gc[2]},
+                                      .f_n = f_n,
+                                      .xi = xi,
+                                      .g_n = g_n,
+                                      .acts = acts,
+                                      .hist = slot};
+        const gr_tangential_force3 ft = gr_kernel_tangential3(s->wall_tl, &s->wall_cc, in, &book);
+        for (int c = 0; c < 3; c++) {
+            Ft[c] = ft.f[c];
+            Fn[c] = ft.f[c] - ft.fc[c];
+        }
+        p = -(Fn[0] * gc[0] + Fn[1] * gc[1] + Fn[2] * gc[2]);
+        w->et += ft.e;
+        w->lost += ft.lost;
+    } else {
+        const double gm = sqrt(gc[0] * gc[0] + gc[1] * gc[1] + gc[2] * gc[2]);
+        const gr_tangential_in in = {.g_t = gm,
+                                     .f_n = f_n,
+                                     .xi = xi,
+                                     .g_n = g_n,
+                                     .acts = acts,
+                                     .m12_dt = s->wall_cc.m_t / s->dt,
+                                     .hist = NULL};
+        int hist;
+        const gr_tangential_force ft =
+            gr_kernel_tangential(s->wall_tl, &s->wall_cc, in, &book, &hist);
+        const double along = gm > 0.0 ? ft.f / gm : 0.0;
+        for (int c = 0; c < 3; c++) {
+            Ft[c] = Fn[c] = along * gc[c];
+        }
+        p = ft.p;
+    }
+    if (book == GR_BOOK_TANGENTIAL) {
+        w->pt += p;
+    } else {
+        w->pf += p;
+    }
+    if (!acts) {
+        return;
+    }
+    for (int c = 0; c < 3; c++) {
+        f[c][i] += Ft[c];
+        g[c][i] += Fn[c];
+    }
+    if (s->omega) {
+        double *const tq[3] = {s->tqx, s->tqy, s->tq}, *const tg[3] = {s->tgx, s->tgy, s->tg};
+        for (int c = 0, c1 = 1, c2 = 2; c < 3; c++, c1 = (c1 + 1) % 3, c2 = (c2 + 1) % 3) {
+            /* -r (n x F)_c */
+            tq[c][i] -= r * (n[c1] * Ft[c2] - n[c2] * Ft[c1]);
+            if (s->tg) {
+                tg[c][i] -= r * (n[c1] * Fn[c2] - n[c2] * Fn[c1]);
+            }
+        }
+    }
+}
+
+/* 3D: grain i against the two walls of axis a, the wall at 0 at qw moving with vw; the same
+ * arithmetic as axis_wall_grain's normal part, the tangential law by wall_tangential_3d. */
+static void wall_grain_3d(gr_sim *s, const int a, const int i, const double qw, const double vw,
+                          const int tang, wall_sums *w, gr_force_report *r_out)
+{
+    const double r = 0.5 * s->d, L = s->L;
+    double *const q[3] = {s->x, s->y, s->z}, *const v[3] = {s->vx, s->vy, s->vz},
+                  *const f[3] = {s->fx, s->fy, s->fz}, *const g[3] = {s->gx, s->gy, s->gz};
+    const double lo = r - (q[a][i] - qw), hi = q[a][i] + r - L;
+    const double deepest = (lo > hi ? lo : hi) / r; /* the runaway guard, as axis_wall_grain */
+    if (deepest > 0.5 && deepest > r_out->max_overlap) {
+        r_out->max_overlap = deepest;
+        r_out->worst_i = i;
+        r_out->worst_j = -1;
+    }
+    for (int side = 0; side < 2; side++) {
+        const double xi = side ? hi : lo, sign = side ? -1.0 : 1.0;
+        const double g_n = side ? -v[a][i] : v[a][i] - vw; /* along n = sign e_a */
+        const double *slot = s->wall_hist ? s->wall_hist + 18 * (size_t)i + 6 * a + 3 * side : 0;
+        if (xi > 0.0) {
+            double f_d, ei;
+            const double f_n = gr_kernel_normal(s, &s->wall_cc, xi, g_n, &f_d, &ei);
+            f[a][i] += sign * f_n;
+            g[a][i] += sign * f_d;
+            w->e += ei;
+            w->pn -= f_d * g_n;
+            if (!side) {
+                w->pw += f_n * vw;
+                w->pd += f_d * vw;
+            }
+            w->fw[2 * a + side] += f_n;
+            if (tang) {
+                wall_tangential_3d(s, i, a, side, f_n, xi, g_n, !s->wall_cc.clamp || f_n > 0.0, w);
+            }
+        } else if (tang && slot && (slot[0] != 0.0 || slot[1] != 0.0 || slot[2] != 0.0)) {
+            wall_tangential_3d(s, i, a, side, 0.0, xi, g_n, 0, w); /* ended: the law forgets */
+        }
+    }
+}
+
+/* 3D: every grain against the walls of axis a (those touching or holding a wall spring). */
+static void axis_walls_3d(gr_sim *s, const int a, const double qw, const double vw, wall_sums *w,
+                          gr_force_report *r_out)
+{
+    const double r = 0.5 * s->d, L = s->L;
+    const double *q = a == 0 ? s->x : a == 1 ? s->y : s->z;
+    const int tang = s->wall_tl != 0;
+    for (int i = 0; i < s->n; i++) {
+        int touch = r - (q[i] - qw) > 0.0 || q[i] + r - L > 0.0;
+        for (int k = 0; !touch && s->wall_hist && k < 6; k++) {
+            touch = s->wall_hist[18 * (size_t)i + 6 * a + k] != 0.0;
+        }
+        if (touch) {
+            wall_grain_3d(s, a, i, qw, vw, tang, w, r_out);
+        }
+    }
+}
+
 void gr_walls_forces(gr_sim *s, gr_force_report *r)
 {
     const gr_sim_params *p = &s->params;
     wall_sums w = {0};
     /* a vibrating wall at 0 of axis vibrate - 1, at the time of this evaluation (the positions'
      * time, step dt) */
-    double qw[2] = {0.0, 0.0}, vw[2] = {0.0, 0.0};
+    double qw[3] = {0.0, 0.0, 0.0}, vw[3] = {0.0, 0.0, 0.0};
+    double *const pos[3] = {s->x, s->y, s->z};
     double released = 0.0;
     if (p->vibrate) {
         const int a = p->vibrate - 1;
@@ -397,17 +563,31 @@ void gr_walls_forces(gr_sim *s, gr_force_report *r)
         wall_motion(p, t, &qw[a], &vw[a]);
         if (p->motion == GR_WALL_SAWTOOTH && s->step > 0 &&
             floor(p->frequency * t + 0.5) != floor(p->frequency * (t - s->dt) + 0.5)) {
-            released = dropped_energy(s, a == 0 ? s->x : s->y, qw[a]);
+            released = dropped_energy(s, pos[a], qw[a]);
         }
     }
-    if (p->walls[0]) {
+    if (s->dim == 3) {
+        if (s->omega && s->wall_tl && !s->kernel.rot) {
+            /* the pair kernel without rotation (the particles' laws do nothing) leaves the
+             * torques alone: the walls' are the only ones */
+            const size_t bytes = sizeof(double) * (size_t)s->n;
+            memset(s->tqx, 0, bytes);
+            memset(s->tqy, 0, bytes);
+            memset(s->tq, 0, bytes);
+        }
+        for (int a = 0; a < 3; a++) {
+            if (p->walls[a]) {
+                axis_walls_3d(s, a, qw[a], vw[a], &w, r);
+            }
+        }
+    } else if (p->walls[0]) {
         if (s->dim == 1) {
             unwrap_ring(s, r);
         }
         axis_walls(s, 0, s->x, s->vx, s->fx, s->gx, s->dim == 2 ? s->vy : NULL, s->fy, s->gy, qw[0],
                    vw[0], &w, r);
     }
-    if (p->walls[1]) {
+    if (s->dim == 2 && p->walls[1]) {
         axis_walls(s, 1, s->y, s->vy, s->fy, s->gy, s->vx, s->fx, s->gx, qw[1], vw[1], &w, r);
     }
     r->elastic += s->wall_cc.e_scale * w.e;
@@ -426,22 +606,22 @@ void gr_walls_forces(gr_sim *s, gr_force_report *r)
         s->wall_work += w.pw * s->dt - released;
         s->diss_n += w.pd * s->dt;
     }
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < 2 * s->dim; k++) {
         s->wall_impulse[k] += w.fw[k] * s->dt;
     }
     /* gravity: conservative, so into f only (its work is the change of the potential energy) */
     for (int a = 0; a < s->dim; a++) {
         const double mg = s->mass * p->gravity[a];
-        double *restrict f = a == 0 ? s->fx : s->fy;
+        double *restrict f = a == 0 ? s->fx : a == 1 ? s->fy : s->fz;
         for (int i = 0; mg != 0.0 && i < s->n; i++) {
             f[i] += mg;
         }
     }
 }
 
-void gr_sim_wall_impulse(const gr_sim *s, double J[4])
+void gr_sim_wall_impulse(const gr_sim *s, double J[6])
 {
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < 6; k++) {
         J[k] = s->wall_impulse[k];
     }
 }
@@ -451,7 +631,7 @@ double gr_walls_potential(const gr_sim *s)
     double u = 0.0;
     for (int a = 0; a < s->dim; a++) {
         const double ga = s->params.gravity[a];
-        const double *q = a == 0 ? s->x : s->y;
+        const double *q = a == 0 ? s->x : a == 1 ? s->y : s->z;
         double sum = 0.0;
         for (int i = 0; ga != 0.0 && i < s->n; i++) {
             sum += q[i];

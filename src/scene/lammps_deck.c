@@ -99,14 +99,14 @@ static int write_data(const char *dir, const gr_scene *s, const gr_particles *p,
     /* a vibrating floor goes A below 0; a grain on it keeps its centre above 0 while A < r, else
      * the box must reach below 0 (A + d), and is then not square (granule analyse
      * --lammps-dump reads square boxes only) */
-    double lo[2] = {0.0, 0.0};
+    double lo[3] = {0.0, 0.0, 0.0};
     if (s->vibrate && s->amplitude >= s->radius) {
         lo[s->vibrate - 1] = -(s->amplitude + d);
     }
     const bool three = p->dim == 3; /* a cube; 2D: a slab one diameter either side of z = 0 */
     fprintf(f.f,
             "%.17g %.17g xlo xhi\n%.17g %.17g ylo yhi\n%.17g %.17g zlo zhi\n\nAtoms # sphere\n\n",
-            lo[0], p->L, lo[1], p->L, three ? 0.0 : -d, three ? p->L : d);
+            lo[0], p->L, lo[1], p->L, three ? lo[2] : -d, three ? p->L : d);
     /* id type diameter density x y z; the mass is set in the deck */
     for (int i = 0; i < p->n; i++) {
         fprintf(f.f, "%d 1 %.17g 1 %.17g %.17g %.17g\n", i + 1, d, p->x[i], p->y[i],
@@ -123,8 +123,8 @@ static int write_data(const char *dir, const gr_scene *s, const gr_particles *p,
 /* walls and gravity: boundary letters already written; the wall fixes and gravity */
 static void write_walls(FILE *o, const gr_scene *s, const gr_lammps_export *e, bool clamp)
 {
-    static const char axis[2] = {'x', 'y'};
-    for (int a = 0; a < 2; a++) {
+    static const char axis[3] = {'x', 'y', 'z'};
+    for (int a = 0; a < 3; a++) {
         if (!s->boundary[a]) {
             continue;
         }
@@ -149,10 +149,17 @@ static void write_walls(FILE *o, const gr_scene *s, const gr_lammps_export *e, b
             fprintf(o, "%s\n", clamp ? " limit_damping" : "");
         }
     }
-    const double g = hypot(s->gravity[0], s->gravity[1]);
+    const double g = s->gravity[2] != 0.0
+                         ? hypot(hypot(s->gravity[0], s->gravity[1]), s->gravity[2])
+                         : hypot(s->gravity[0], s->gravity[1]);
     if (g > 0.0) {
-        fprintf(o, "fix gravity all gravity %.17g vector %.17g %.17g 0.0\n", g, s->gravity[0] / g,
+        fprintf(o, "fix gravity all gravity %.17g vector %.17g %.17g ", g, s->gravity[0] / g,
                 s->gravity[1] / g);
+        if (s->gravity[2] != 0.0) {
+            fprintf(o, "%.17g\n", s->gravity[2] / g);
+        } else {
+            fputs("0.0\n", o);
+        }
     }
 }
 
@@ -175,8 +182,9 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export
     fprintf(o, "# run: mpirun -n RANKS lmp -in in.granule   (writes %s and log.lammps here)\n",
             e->dump);
     const bool three = s->dim == 3;
-    fprintf(o, "units si\ndimension %d\nboundary %c %c p\natom_style sphere\ncomm_modify vel yes\n",
-            s->dim, s->boundary[0] ? 'f' : 'p', s->boundary[1] ? 'f' : 'p');
+    fprintf(
+        o, "units si\ndimension %d\nboundary %c %c %c\natom_style sphere\ncomm_modify vel yes\n",
+        s->dim, s->boundary[0] ? 'f' : 'p', s->boundary[1] ? 'f' : 'p', s->boundary[2] ? 'f' : 'p');
     fprintf(o, "read_data data.granule\nset type 1 mass %.17g\n", s->mass);
     fprintf(
         o,
@@ -207,7 +215,7 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export
                 seed + 2);
     }
     write_walls(o, s, e, clamp);
-    const bool walls = s->boundary[0] || s->boundary[1];
+    const bool walls = s->boundary[0] || s->boundary[1] || s->boundary[2];
     fprintf(o, "fix integrate all nve\n%s", three ? "" : "fix plane all enforce2d\n");
     if (walls) {
         /* walls and gravity change the total momentum: no fix momentum (see the head comment) */

@@ -113,8 +113,10 @@ static const scene_key keys[] = {
      "eps_t, mu; verlet only)",
      OFF(boundary[0])},
     {"boundary", "y", "", K_ENUM, "periodic", 0, 0, false, false, "periodic|walls",
-     "along y (2D only): periodic, or flat walls at y = 0 and y = L", OFF(boundary[1])},
-    {"boundary", "vibrate", "", K_ENUM, "none", 0, 0, false, false, "none|x|y",
+     "along y (2D and 3D): periodic, or flat walls at y = 0 and y = L", OFF(boundary[1])},
+    {"boundary", "z", "", K_ENUM, "periodic", 0, 0, false, false, "periodic|walls",
+     "along z (3D only): periodic, or flat walls at z = 0 and z = L", OFF(boundary[2])},
+    {"boundary", "vibrate", "", K_ENUM, "none", 0, 0, false, false, "none|x|y|z",
      "none, or the axis whose wall at 0 (the floor) moves as amplitude sin(2 pi frequency t); "
      "that axis needs walls; the wall's work is the ledger's wall_work",
      OFF(vibrate)},
@@ -142,9 +144,13 @@ static const scene_key keys[] = {
      "[boundary] x = walls; -9.81 pulls towards the wall at x = 0",
      OFF(gravity[0])},
     {"gravity", "gy", "m/s^2", K_DOUBLE, "0", -1000, 1000, false, false, NULL,
-     "gravitational acceleration along y (2D only); non-zero needs [boundary] y = walls; -9.81 "
+     "gravitational acceleration along y (2D and 3D); non-zero needs [boundary] y = walls; -9.81 "
      "pulls towards the floor at y = 0",
      OFF(gravity[1])},
+    {"gravity", "gz", "m/s^2", K_DOUBLE, "0", -1000, 1000, false, false, NULL,
+     "gravitational acceleration along z (3D only); non-zero needs [boundary] z = walls; -9.81 "
+     "pulls towards the floor at z = 0",
+     OFF(gravity[2])},
     /* species (src/core/species.c, docs/mixtures.md): unset, the [system] radius and mass */
     {"species", "radius", "m", K_NUMBERS, "", 1e-100, 1e100, false, false, NULL,
      "radii of the species, comma-separated (2 to 8 species; e.g. 1.5e-3, 3e-3): each grain has "
@@ -1068,16 +1074,25 @@ static int resolve_driving(gr_scene *s, const given *g, const char *const *drivi
  * 1D; and the walls' own coefficients resolved ([model]'s unless given). */
 static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
 {
-    static const char *const axis[2] = {"x", "y"}, *const gkey[2] = {"gx", "gy"};
+    static const char *const axis[3] = {"x", "y", "z"}, *const gkey[3] = {"gx", "gy", "gz"};
     char detail[500];
-    const bool on =
-        s->boundary[0] || s->boundary[1] || s->gravity[0] != 0.0 || s->gravity[1] != 0.0;
-    for (int a = 0; a < 2; a++) {
+    const bool on = s->boundary[0] || s->boundary[1] || s->boundary[2] || s->gravity[0] != 0.0 ||
+                    s->gravity[1] != 0.0 || s->gravity[2] != 0.0;
+    for (int a = 0; a < 3; a++) {
         if (s->dim == 1 && a == 1 && (s->boundary[1] || s->gravity[1] != 0.0)) {
             const char *k = s->boundary[1] ? "y" : "gy";
             where w = where_of(g, s, s->boundary[1] ? "boundary" : "gravity", k);
             return fail_at(err, &w, s->boundary[1] ? "boundary" : "gravity", k, "%s",
                            "only for dim = 2; allowed in 1D: y = periodic, gy = 0 (use x and gx)");
+        }
+        if (s->dim < 3 && a == 2 && (s->boundary[2] || s->gravity[2] != 0.0)) {
+            const char *k = s->boundary[2] ? "z" : "gz";
+            where w = where_of(g, s, s->boundary[2] ? "boundary" : "gravity", k);
+            snprintf(detail, sizeof detail,
+                     "only for dim = 3; allowed in %dD: z = periodic, gz = 0, vibrate = none "
+                     "| x%s",
+                     s->dim, s->dim == 2 ? " | y" : "");
+            return fail_at(err, &w, s->boundary[2] ? "boundary" : "gravity", k, "%s", detail);
         }
         if (s->gravity[a] != 0.0 && !s->boundary[a]) {
             where w = where_of(g, s, "gravity", gkey[a]);
@@ -1109,7 +1124,8 @@ static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
     const double model_v[3] = {s->contact.eps_n, s->contact.eps_t, s->contact.mu};
     double *const wall_v[3] = {&s->wall_eps_n, &s->wall_eps_t, &s->wall_mu};
     for (int k = 0; k < 3; k++) {
-        if (key_given(g, "boundary", wkey[k]) && !s->boundary[0] && !s->boundary[1]) {
+        if (key_given(g, "boundary", wkey[k]) && !s->boundary[0] && !s->boundary[1] &&
+            !s->boundary[2]) {
             warn(s, "[boundary] %s is ignored: %s\n", wkey[k],
                  "the scene has no walls ([boundary] x, y = periodic)");
         } else if (key_given(g, "boundary", wkey[k]) && !model_has_param(s->normal, wkey[k]) &&
@@ -1124,7 +1140,7 @@ static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
     if (!on) {
         return GR_OK;
     }
-    const int a = s->boundary[0] ? 0 : s->boundary[1] ? 1 : -1;
+    const int a = s->boundary[0] ? 0 : s->boundary[1] ? 1 : s->boundary[2] ? 2 : -1;
     const char *sec = a >= 0 ? "boundary" : "gravity", *key = a >= 0 ? axis[a] : gkey[0];
     if (!s->integrator->walls) {
         char names[160] = "";
@@ -1143,10 +1159,10 @@ static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
             s->integrator->name, sec, key, names, s->integrator->name);
         return fail_at(err, &w, "integrator", "kind", "%s", detail);
     }
-    if (s->integrator->instantaneous && (s->dim != 2 || s->vibrate || s->contact.rotation)) {
-        /* the event integrator's walls are fixed and flat, its grains smooth (event_2d.c) */
-        const char *bsec = s->dim != 2 ? "system" : s->vibrate ? "boundary" : "model";
-        const char *bkey = s->dim != 2 ? "dim" : s->vibrate ? "vibrate" : "rotation";
+    if (s->integrator->instantaneous && (s->dim == 1 || s->vibrate || s->contact.rotation)) {
+        /* the event integrator's walls are fixed and flat, its grains smooth (event_cells.h) */
+        const char *bsec = s->dim == 1 ? "system" : s->vibrate ? "boundary" : "model";
+        const char *bkey = s->dim == 1 ? "dim" : s->vibrate ? "vibrate" : "rotation";
         where w = where_of(g, s, bsec, bkey);
         for (int k = 0; k < g->n_model_at; k++) { /* [model] keys live in the models' tables */
             if (!strcmp(bsec, "model") && !strcmp(g->model_at[k].name, bkey)) {
@@ -1154,9 +1170,9 @@ static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
             }
         }
         snprintf(detail, sizeof detail,
-                 "kind = %s models walls and gravity in 2D, with fixed walls and smooth discs; "
-                 "allowed with walls or gravity and kind = %s: dim = 2, [boundary] vibrate = none, "
-                 "[model] rotation = false (kind = verlet has the rest)",
+                 "kind = %s models walls and gravity in 2D and 3D, with fixed walls and smooth "
+                 "discs or spheres; allowed with walls or gravity and kind = %s: dim = 2 or 3, "
+                 "[boundary] vibrate = none, [model] rotation = false (kind = verlet has the rest)",
                  s->integrator->name, s->integrator->name);
         return fail_at(err, &w, bsec, bkey, "%s", detail);
     }
@@ -1222,13 +1238,7 @@ static int resolve_3d(gr_scene *s, const given *g, gr_error *err)
         bool on;
         const char *section, *key, *allowed;
     } const refused[] = {
-        {s->boundary[0], "boundary", "x", "periodic"},
-        {s->boundary[1], "boundary", "y", "periodic"},
-        {s->vibrate != 0, "boundary", "vibrate", "none"},
-        {s->gravity[0] != 0.0, "gravity", "gx", "0"},
-        {s->gravity[1] != 0.0, "gravity", "gy", "0"},
-        {s->driving && s->driving->update == GR_DRIVE_BATH, "driving", "kind", "rfm | none"},
-        {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
+        {false, "", "", ""}, /* walls, gravity, vibrate, bath, single noise: all in 3D now */
     };
     for (size_t k = 0; k < sizeof refused / sizeof refused[0]; k++) {
         if (refused[k].on) {
@@ -1941,8 +1951,8 @@ void gr_scene_write(const gr_scene *s, FILE *f)
         if (k->type == K_DRIVING && rfm) {
             continue; /* the default: scene.ini of an rfm run is what it always was */
         }
-        const bool walls =
-            s->boundary[0] || s->boundary[1] || s->gravity[0] != 0.0 || s->gravity[1] != 0.0;
+        const bool walls = s->boundary[0] || s->boundary[1] || s->gravity[0] != 0.0 ||
+                           s->gravity[1] != 0.0 || s->gravity[2] != 0.0;
         if (!walls && (!strcmp(k->section, "boundary") || !strcmp(k->section, "gravity"))) {
             continue; /* the periodic box: scene.ini as it always was */
         }

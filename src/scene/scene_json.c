@@ -64,16 +64,23 @@ cJSON *gr_scene_to_json(const gr_scene *s)
                                         (s->dim * s->driving_params.tau));
         }
     }
-    if (s->boundary[0] || s->boundary[1] || s->gravity[0] != 0.0 || s->gravity[1] != 0.0) {
+    if (s->boundary[0] || s->boundary[1] || s->boundary[2] || s->gravity[0] != 0.0 ||
+        s->gravity[1] != 0.0 || s->gravity[2] != 0.0) {
         /* walls and gravity (docs/systems-walls-gravity.md): only then, so the periodic scenes'
          * hashes stay */
         cJSON *bd = cJSON_AddObjectToObject(root, "boundary");
         cJSON_AddStringToObject(bd, "x", s->boundary[0] ? "walls" : "periodic");
-        if (s->dim == 2) {
+        if (s->dim >= 2) {
             cJSON_AddStringToObject(bd, "y", s->boundary[1] ? "walls" : "periodic");
         }
+        if (s->dim == 3) {
+            cJSON_AddStringToObject(bd, "z", s->boundary[2] ? "walls" : "periodic");
+        }
         if (s->vibrate) {
-            cJSON_AddStringToObject(bd, "vibrate", s->vibrate == 1 ? "x" : "y");
+            cJSON_AddStringToObject(bd, "vibrate",
+                                    s->vibrate == 1   ? "x"
+                                    : s->vibrate == 2 ? "y"
+                                                      : "z");
             cJSON_AddNumberToObject(bd, "amplitude", s->amplitude);
             cJSON_AddNumberToObject(bd, "frequency", s->frequency);
             if (s->motion == GR_WALL_SAWTOOTH) {
@@ -92,8 +99,11 @@ cJSON *gr_scene_to_json(const gr_scene *s)
         }
         cJSON *gv = cJSON_AddObjectToObject(root, "gravity");
         cJSON_AddNumberToObject(gv, "gx", s->gravity[0]);
-        if (s->dim == 2) {
+        if (s->dim >= 2) {
             cJSON_AddNumberToObject(gv, "gy", s->gravity[1]);
+        }
+        if (s->dim == 3) {
+            cJSON_AddNumberToObject(gv, "gz", s->gravity[2]);
         }
     }
     cJSON *nz = cJSON_AddObjectToObject(root, "noise");

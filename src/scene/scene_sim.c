@@ -26,8 +26,8 @@ void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p)
                          .noise_precision = s->noise_precision,
                          .driving = s->driving,
                          .driving_params = s->driving_params,
-                         .walls = {s->boundary[0] != 0, s->boundary[1] != 0},
-                         .gravity = {s->gravity[0], s->gravity[1]},
+                         .walls = {s->boundary[0] != 0, s->boundary[1] != 0, s->boundary[2] != 0},
+                         .gravity = {s->gravity[0], s->gravity[1], s->gravity[2]},
                          .vibrate = s->vibrate,
                          .amplitude = s->amplitude,
                          .frequency = s->frequency,
@@ -76,7 +76,7 @@ int gr_scene_obs_setup(const gr_scene *s, gr_obs_setup *out, gr_error *err)
                        .eps_t = s->contact.eps_t,
                        .tangential = s->tangential ? s->tangential->name : NULL,
                        .tangential_constant_eps_t = s->tangential && s->tangential->constant_eps_t,
-                       .walls = {s->boundary[0] != 0, s->boundary[1] != 0}};
+                       .walls = {s->boundary[0] != 0, s->boundary[1] != 0, s->boundary[2] != 0}};
     if (s->normal) {
         int rc = gr_contact_prepare(s->normal, s->tangential, &s->contact, gr_scene_m12(s), 0.0,
                                     &out->contact, err);

@@ -25,6 +25,8 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         {s->boundary[1] != 0, "boundary", "y", "periodic"},
         {s->gravity[0] != 0.0, "gravity", "gx", "0"},
         {s->gravity[1] != 0.0, "gravity", "gy", "0"},
+        {s->boundary[2] != 0, "boundary", "z", "periodic"},
+        {s->gravity[2] != 0.0, "gravity", "gz", "0"},
         {s->driving && s->driving->update == GR_DRIVE_BATH, "driving", "kind", "rfm | none"},
         {s->noise_mode == GR_NOISE_COM, "noise", "mode", "symmetrised | none"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},

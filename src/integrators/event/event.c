@@ -152,7 +152,8 @@ static void end_window(gr_sim *s)
             double z, u;
             gr_ev_state_y(e, i, e->tau, 1, &y, &w);
             gr_ev_state_z(e, i, e->tau, 1, &z, &u);
-            work += ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i];
+            work += ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i] -
+                    gr_ev_gravity_work_3d(e, x - e->bx[i], y - e->by[i], z - e->bz[i]);
             e->by[i] = y;
             e->bw[i] = w;
             e->bz[i] = z;
@@ -206,7 +207,7 @@ static void draw_noise(gr_sim *s)
     const int n = e->n, dim = e->dim;
     double *a1[3] = {e->a1x, e->a1y, e->a1z}, *a2[3] = {e->a2x, e->a2y, e->a2z},
            *j[3] = {e->jx, e->jy, e->jz};
-    const double grav[3] = {e->grav[0], e->grav[1], 0.0}; /* 3D: no gravity (refused) */
+    const double grav[3] = {e->grav[0], e->grav[1], e->grav[2]};
     if (!e->noise) {
         for (int c = 0; c < dim; c++) { /* gravity alone (0 without it) */
             for (int i = 0; i < n; i++) {
@@ -505,7 +506,8 @@ static void report(gr_sim *s, double t)
             s->z[i] = z - e->L * floor(z / e->L);
             s->vy[i] = w;
             s->vz[i] = u;
-            work += ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i];
+            work += ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i] -
+                    gr_ev_gravity_work_3d(e, x - e->bx[i], y - e->by[i], z - e->bz[i]);
         } else if (e->dim == 2) {
             double y, w;
             gr_ev_state_y(e, i, t, phase, &y, &w);
@@ -615,15 +617,16 @@ int gr_event_init(gr_sim *s, gr_error *err)
         const gr_model *nm = s->cc.normal_model;
         const bool constant_eps =
             nm && nm->impact && nm->impact(&s->cc, 1e-3).eps_n == nm->impact(&s->cc, 10.0).eps_n;
-        if (s->dim != 2 || p->vibrate || s->omega || !constant_eps) {
+        if (s->dim == 1 || p->vibrate || s->omega || !constant_eps) {
             return GR_FAIL(err, GR_EINVAL,
                            "%s: [integrator] kind = event models flat, fixed walls and gravity in "
-                           "2D for smooth discs with a constant eps_n; allowed with walls or "
-                           "gravity: dim = 2, [boundary] vibrate = none, [model] rotation = false, "
-                           "viscoelastic = false (the verlet integrator has the rest)",
+                           "2D and 3D for smooth discs and spheres with a constant eps_n; allowed "
+                           "with walls or gravity: dim = 2 or 3, [boundary] vibrate = none, "
+                           "[model] rotation = false, viscoelastic = false (the verlet integrator "
+                           "has the rest)",
                            p->source);
         }
-        for (int a = 0; a < 2; a++) {
+        for (int a = 0; a < s->dim; a++) {
             e->wall[a] = p->walls[a];
             e->grav[a] = p->gravity[a];
         }
@@ -823,7 +826,7 @@ void gr_event_stats(const gr_sim *s, gr_event_counts *c)
                                .tc_elastic = e->tc_elastic,
                                .floors = e->floors,
                                .floor_energy = e->floor_energy,
-                               .walls = e->wall[0] || e->wall[1],
+                               .walls = e->wall[0] || e->wall[1] || e->wall[2],
                                .wall_hits = e->wall_hits};
     }
 }

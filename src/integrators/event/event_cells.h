@@ -1,6 +1,6 @@
 /* The event-driven core of discs and spheres, a template instantiated once per dimension:
  * event_2d.c (GR_EV_DIM 2: periodic square box, walls and gravity) and event_3d.c (GR_EV_DIM 3:
- * periodic cube). Cell list with cell-crossing events, one calendar entry per particle (its
+ * periodic cube, walls and gravity). Cell list with cell-crossing events, one calendar entry per particle (its
  * earliest predicted event: a collision with a partner, checked lazily against the partner's
  * collision counter, or the crossing into a neighbouring cell; "Single" scheduling,
  * ../shared/notes/physics-algorithms.md sec. 3.1-3.2).
@@ -128,7 +128,7 @@ static inline void rel(const struct gr_event_state *e, int i, int j, double t, i
     gr_ev_state_z(e, i, t, phase, &zi, &si);
     gr_ev_state_z(e, j, t, phase, &zj, &sj);
     *rz = zj - zi;
-    *rz -= e->L * rint(*rz / e->L);
+    *rz -= e->wall[2] ? 0.0 : e->L * rint(*rz / e->L);
     *wz = sj - si;
 #endif
 }
@@ -259,10 +259,24 @@ static double crossing_time(const struct gr_event_state *e, int i, int *face, in
     return GR_EV_INF;
 }
 
-/* Walls (2D): event "faces" WALL_FACE + k, k = 2 a + side (side 0: the wall at 0, 1: at L). */
+/* Walls: event "faces" WALL_FACE + k, k = 2 a + side (side 0: the wall at 0, 1: at L). */
 enum { WALL_FACE = 2 * GR_EV_DIM };
 
-#if GR_EV_DIM == 2
+/* The coordinate and velocity of particle i along axis a (gr_ev_state_x, _y, _z), and its
+ * acceleration there in piece `piece`. */
+static inline double axis_state(const struct gr_event_state *e, int a, int i, double t, int piece,
+                                double *q, double *v)
+{
+#if GR_EV_DIM == 3
+    if (a == 2) {
+        gr_ev_state_z(e, i, t, piece, q, v);
+        return piece == 0 ? e->a1z[i] : e->a2z[i];
+    }
+#endif
+    (a == 0 ? gr_ev_state_x : gr_ev_state_y)(e, i, t, piece, q, v);
+    return a == 0 ? (piece == 0 ? e->a1x[i] : e->a2x[i]) : (piece == 0 ? e->a1y[i] : e->a2y[i]);
+}
+
 /* Earliest hit of a wall: the centre reaching r from it while moving towards it, per piece of
  * constant acceleration (a parabola under gravity: gr_ev_first_quadratic). */
 static double wall_time(const struct gr_event_state *e, int i, int *face, int *phase)
@@ -273,14 +287,12 @@ static double wall_time(const struct gr_event_state *e, int i, int *face, int *p
     for (int piece = e->phase; piece < 2; piece++) {
         const double T = (piece == 0 ? e->h : e->tau) - t0;
         double best = GR_EV_INF;
-        for (int a = 0; a < 2; a++) {
+        for (int a = 0; a < GR_EV_DIM; a++) {
             if (!e->wall[a]) {
                 continue;
             }
             double q, v;
-            (a == 0 ? gr_ev_state_x : gr_ev_state_y)(e, i, t0, piece, &q, &v);
-            const double acc = a == 0 ? (piece == 0 ? e->a1x[i] : e->a2x[i])
-                                      : (piece == 0 ? e->a1y[i] : e->a2y[i]);
+            const double acc = axis_state(e, a, i, t0, piece, &q, &v);
             const double lo = gr_ev_first_quadratic(q - r, v, 0.5 * acc, T);
             const double hi = gr_ev_first_quadratic(e->L - r - q, -v, -0.5 * acc, T);
             if (lo < best) {
@@ -301,8 +313,6 @@ static double wall_time(const struct gr_event_state *e, int i, int *face, int *p
     return GR_EV_INF;
 }
 
-#endif
-
 /* The particle's own next event, a cell crossing or a wall, into best/who/phase. */
 static void own_event(const struct gr_event_state *e, int i, double *best, int *who, int *phase)
 {
@@ -315,8 +325,7 @@ static void own_event(const struct gr_event_state *e, int i, double *best, int *
             *phase = ph;
         }
     }
-#if GR_EV_DIM == 2
-    if (e->wall[0] || e->wall[1]) {
+    if (e->wall[0] || e->wall[1] EV_Z(|| e->wall[2])) {
         double t = wall_time(e, i, &face, &ph);
         if (t < *best || (t == *best && ph < *phase)) {
             *best = t;
@@ -324,7 +333,6 @@ static void own_event(const struct gr_event_state *e, int i, double *best, int *
             *phase = ph;
         }
     }
-#endif
 }
 
 /* The particle's crossing or wall hit as its provisional event. */
@@ -455,9 +463,10 @@ static inline void rebase(struct gr_event_state *e, int i, double x, double y,
                           double vy EV_Z(, double vz))
 {
 #if GR_EV_DIM == 3
-    e->injected += 0.5 * e->M *
-                   (vx0 * vx0 + vy0 * vy0 + vz0 * vz0 - e->bv[i] * e->bv[i] - e->bw[i] * e->bw[i] -
-                    e->bu[i] * e->bu[i]);
+    e->injected +=
+        0.5 * e->M *
+        (vx0 * vx0 + vy0 * vy0 + vz0 * vz0 - e->bv[i] * e->bv[i] - e->bw[i] * e->bw[i] -
+         e->bu[i] * e->bu[i] - gr_ev_gravity_work_3d(e, x - e->bx[i], y - e->by[i], z - e->bz[i]));
     e->bz[i] = z;
     e->bu[i] = vz;
 #else
@@ -534,7 +543,7 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
     double n[3], A[3], r2 = 0.0, gn = 0.0, push = 0.0, A2 = 0.0;
     for (int a = 0; a < 3; a++) {
         n[a] = rj[a] - ri[a];
-        n[a] -= e->L * rint(n[a] / e->L);
+        n[a] -= e->wall[a] ? 0.0 : e->L * rint(n[a] / e->L); /* no image across walls */
         r2 += n[a] * n[a];
     }
     const double r = sqrt(r2);
@@ -681,6 +690,22 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
 
 #endif
 
+/* After a wall hit (rebased): its losses (unless TC-elastic), the TC clock, the counts. */
+static inline void wall_booked(gr_sim *s, int i, double t_abs, bool elastic, double de_n,
+                               double de_t)
+{
+    struct gr_event_state *e = gr_ev(s);
+    if (elastic) {
+        e->tc_elastic++;
+    } else {
+        s->diss_n += de_n;
+        s->diss_t += de_t;
+    }
+    e->last[i] = t_abs;
+    e->count[i]++;
+    e->wall_hits++;
+}
+
 #if GR_EV_DIM == 2
 /* Particle i hits the wall `k` (WALL_FACE + 2 a + side) now. The wall is a grain of infinite mass:
  * its collision is the model's event rule with the grain's point mirror image as partner
@@ -744,18 +769,54 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
         }
     }
     rebase(e, i, x, y, v, w, ux, uy);
-    if (elastic) {
-        e->tc_elastic++;
-    } else {
-        s->diss_n += de_n;
-        s->diss_t += de_t;
-    }
-    e->last[i] = t_abs;
-    e->count[i]++;
-    e->wall_hits++;
+    wall_booked(s, i, t_abs, elastic, de_n, de_t);
     return 0;
 }
 
+#else
+/* Sphere i hits the wall `k` (WALL_FACE + 2 a + side) now: the 2D wall_hit on 3-vectors, the
+ * model's rule (gr_event_rule_3d) with the sphere's mirror image, velocity -v, as partner along the
+ * normal n = +-e_a towards the wall (smooth spheres: gr_event_init refuses rotation with walls). */
+static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
+{
+    (void)err; /* no contact events in 3D (collide) */
+    struct gr_event_state *e = gr_ev(s);
+    const int a = (k - WALL_FACE) / 2, side = (k - WALL_FACE) % 2;
+    double r[3], v[3];
+    gr_ev_state_x(e, i, e->now, e->phase, &r[0], &v[0]);
+    gr_ev_state_y(e, i, e->now, e->phase, &r[1], &v[1]);
+    gr_ev_state_z(e, i, e->now, e->phase, &r[2], &v[2]);
+    double n[3] = {0.0, 0.0, 0.0};
+    n[a] = side ? 1.0 : -1.0;
+    const double vn = v[a] * n[a]; /* > 0: towards the wall */
+    double q, vq;
+    const double push = n[a] * axis_state(e, a, i, e->now, e->phase, &q, &vq); /* > 0: pressed */
+    if (vn <= 0.0 && push <= 0.0) {
+        return 1; /* leaving and not pressed: predict again */
+    }
+    const bool elastic = t_abs - e->last[i] < e->tc;
+    double u[3] = {v[0], v[1], v[2]}, de_n = 0.0, de_t = 0.0;
+    if (vn > 0.0) {
+        double image[3] = {-v[0], -v[1], -v[2]};
+        gr_event_rule_3d(e->rule, &s->wall_cc, e->M, e->R, e->q, n, u, image, NULL, NULL, elastic,
+                         &de_n, &de_t); /* the walls' own eps_n */
+        de_n *= 0.5;
+        de_t *= 0.5;
+    }
+    const double floor_speed = push > 0.0 ? 0.5 * push * e->tc : 0.0;
+    const double out = -u[a] * n[a]; /* speed away from the wall */
+    if (out < floor_speed) {
+        const double k0 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+        u[a] -= (floor_speed - out) * n[a];
+        const double added = 0.5 * e->M * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2] - k0);
+        e->injected += added;
+        e->floor_energy += added;
+        e->floors++;
+    }
+    rebase(e, i, r[0], r[1], r[2], v[0], v[1], v[2], u[0], u[1], u[2]);
+    wall_booked(s, i, t_abs, elastic, de_n, de_t);
+    return 0;
+}
 #endif
 
 int EV_FN(process)(gr_sim *s, double t_limit, gr_error *err)
@@ -804,7 +865,6 @@ int EV_FN(process)(gr_sim *s, double t_limit, gr_error *err)
             continue;
         }
         const int face = -1 - p, nc = e->ncell;
-#if GR_EV_DIM == 2
         if (face >= WALL_FACE) {
             int rc = wall_hit(s, i, face, t_abs, err);
             if (rc < 0) {
@@ -815,7 +875,6 @@ int EV_FN(process)(gr_sim *s, double t_limit, gr_error *err)
             gr_heap_update(hp, i);
             continue;
         }
-#endif
         /* cell crossing: rebase at the cell wall, move to the neighbouring cell, wrap at the box
          * edge */
         double x, v, y, w;

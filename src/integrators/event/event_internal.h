@@ -54,12 +54,12 @@ struct gr_event_state {
     double q, R;
     bool exact; /* free_flight = exact */
     bool noise;
-    /* walls and gravity (2D; docs/systems-walls-gravity.md, "Event-driven"): wall[a] = flat walls
-     * at 0 and L along axis a (no periodic image there), grav[a] the constant acceleration added
-     * to every particle's a1, a2; its work is booked as the change of the potential energy, not
-     * as injected */
-    bool wall[2];
-    double grav[2];
+    /* walls and gravity (2D and 3D; docs/systems-walls-gravity.md, "Event-driven"): wall[a] = flat
+     * walls at 0 and L along axis a (no periodic image there), grav[a] the constant acceleration
+     * added to every particle's a1, a2; its work is booked as the change of the potential energy,
+     * not as injected */
+    bool wall[3];
+    double grav[3];
     int64_t wall_hits;
     /* trajectories */
     double *t0, *bx, *bv, *by, *bw; /* base time, x, vx, y, vy */
@@ -238,6 +238,14 @@ static inline bool gr_ev_tc_elastic(const struct gr_event_state *e, int i, int j
 static inline double gr_ev_gravity_work(const struct gr_event_state *e, double dx, double dy)
 {
     return 2.0 * (e->grav[0] * dx + e->grav[1] * dy);
+}
+
+/* The same for spheres: 0 without gravity (so a periodic 3D run's sums are what they were). */
+static inline double gr_ev_gravity_work_3d(const struct gr_event_state *e, double dx, double dy,
+                                           double dz)
+{
+    const bool on = e->grav[0] != 0.0 || e->grav[1] != 0.0 || e->grav[2] != 0.0;
+    return on ? 2.0 * (e->grav[0] * dx + e->grav[1] * dy + e->grav[2] * dz) : 0.0;
 }
 
 /* 2D and 3D cores: event_cells.h instantiated for discs (event_2d.c) and spheres (event_3d.c) */

@@ -55,8 +55,11 @@ static void check_cells(const struct gr_event_state *e, gr_blob_reader *r)
 {
     const int64_t n = e->n;
     const int cells = e->ncell * e->ncell * (e->dim == 3 ? e->ncell : 1);
-    /* -1 - face: cell faces 0 .. 2 dim - 1, with walls (2D) also the walls 4-7 (event_cells.h) */
-    check_range(r, e->partner, n, e->wall[0] || e->wall[1] ? -8 : -2 * e->dim, (int)n, "partner");
+    /* -1 - face: cell faces 0 .. 2 dim - 1, with walls also the walls 2 dim .. 4 dim - 1
+     * (event_cells.h) */
+    check_range(r, e->partner, n,
+                e->wall[0] || e->wall[1] || e->wall[2] ? -4 * e->dim : -2 * e->dim, (int)n,
+                "partner");
     check_range(r, e->cell_of, n, 0, cells, "cell_of");
     check_range(r, e->head, cells, -1, (int)n, "head");
     check_range(r, e->next, n, -1, (int)n, "next");
@@ -114,7 +117,8 @@ int gr_event_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
     for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++) {
         gr_blob_io_i64(io, counts[k]);
     }
-    if (e->wall[0] || e->wall[1]) { /* only then: periodic runs' checkpoints are unchanged */
+    if (e->wall[0] || e->wall[1] || e->wall[2]) { /* only then: periodic runs' checkpoints are
+                                                       unchanged */
         gr_blob_io_i64(io, &e->wall_hits);
     }
     double totals[] = {e->injected, e->floor_energy, e->guard_mark_t, e->t_start};

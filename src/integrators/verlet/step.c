@@ -234,14 +234,40 @@ static void noise_sums(const double *restrict g, const int m, const int dim, dou
  * while other threads still read them). */
 enum { B_NOISE0 = 6, B_NOISE1 = 7 };
 
+/* The id offset of the third component's single-precision normals: gr_noise_normals_f32 draws
+ * one or two components per particle, so component z of particle i is component 0 (per = 1) of
+ * id i + 2^31, counters no particle's x and y use (N < 2^31). */
+#define F32_Z_ID 0x80000000u
+
+/* [noise] precision = single in 3D: m particles from id lo (m <= GR_BLOCK), x and y as 2D draws
+ * them, z from the ids F32_Z_ID + lo..., interleaved into out (3 per particle). A pure function of
+ * (seed, step, id, component) like the 2D draw, whatever the blocks and threads. */
+static void normals_f32_3d(const uint64_t seed, const uint64_t step, const uint32_t lo, const int m,
+                           double *out)
+{
+    double xy[2 * GR_BLOCK], zc[GR_BLOCK];
+    gr_noise_normals_f32(seed, GR_STREAM_NOISE, step, lo, m, 2, xy);
+    gr_noise_normals_f32(seed, GR_STREAM_NOISE, step, F32_Z_ID + lo, m, 1, zc);
+    for (int i = 0; i < m; i++) {
+        out[3 * i] = xy[2 * i];
+        out[3 * i + 1] = xy[2 * i + 1];
+        out[3 * i + 2] = zc[i];
+    }
+}
+
 /* Draw the normals of block b (bs particles per block) and, if sym, its lane sums. */
 static inline void draw_block(gr_sim *s, const int b, const int bs, const int sym)
 {
     const int n = s->n, dim = s->dim, lo = b * bs, m = (b + 1) * bs < n ? bs : n - lo;
     /* [noise] precision: one branch per block of particles, not per particle */
-    (s->params.noise_precision == GR_NOISE_SINGLE ? gr_noise_normals_f32 : gr_noise_normals)(
-        s->params.seed, GR_STREAM_NOISE, (uint64_t)s->step, (uint32_t)lo, m, dim,
-        s->noise + (size_t)lo * dim);
+    if (dim == 3 && s->params.noise_precision == GR_NOISE_SINGLE) {
+        normals_f32_3d(s->params.seed, (uint64_t)s->step, (uint32_t)lo, m,
+                       s->noise + (size_t)lo * dim);
+    } else {
+        (s->params.noise_precision == GR_NOISE_SINGLE ? gr_noise_normals_f32 : gr_noise_normals)(
+            s->params.seed, GR_STREAM_NOISE, (uint64_t)s->step, (uint32_t)lo, m, dim,
+            s->noise + (size_t)lo * dim);
+    }
     if (sym) {
         noise_sums(s->noise + (size_t)lo * dim, m * dim, dim,
                    s->blk + (size_t)b * GR_BLK_FIELDS + B_NOISE0);
@@ -567,19 +593,25 @@ static double open_step_2d(gr_sim *restrict s, const int noise, double mean[2], 
 
 /* The opening pass of 3D (spheres, docs/three-dimensions.md), one thread: the arithmetic of
  * open_range_2d with a third component; the random force's kick (2.23 per component, symmetrised
- * by mean) or none. Returns the kinetic energy the noise added; fills o as open_step_2d does. */
+ * by mean), the bath's Ornstein-Uhlenbeck update or none. Returns the kinetic energy the noise
+ * added; fills o as open_step_2d does. Along a wall axis (walls.c) positions are not wrapped. */
 static double open_step_3d(gr_sim *restrict s, const int noise, const double mean[3],
                            const int closing, open_report *o)
 {
     const int n = s->n;
     const double h = 0.5 * s->dt / s->mass, dt = s->dt, L = s->L, half = 0.5 * s->L;
-    const double amp = noise ? sqrt(2.0 * s->params.D * s->dt) / s->mass : 0.0;
+    const double amp = noise == DRIVE_KICK ? sqrt(2.0 * s->params.D * s->dt) / s->mass : 0.0;
+    const double decay = s->drive_c.decay, kick = s->drive_c.kick;
+    const double inf = (double)INFINITY;
+    const double lo[3] = {s->period[0] < inf ? 0.0 : -inf, s->period[1] < inf ? 0.0 : -inf,
+                          s->period[2] < inf ? 0.0 : -inf};
+    const double hi[3] = {lo[0] == 0.0 ? L : inf, lo[1] == 0.0 ? L : inf, lo[2] == 0.0 ? L : inf};
     double *restrict r[3] = {s->x, s->y, s->z}, *restrict v[3] = {s->vx, s->vy, s->vz};
     const double *restrict f[3] = {s->fx, s->fy, s->fz}, *restrict gn[3] = {s->gx, s->gy, s->gz};
     const double *restrict ref[3] = {s->x_ref, s->y_ref, s->z_ref};
     const double *restrict g = s->noise;
     double added[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0},
-           worst[LANES] = {0};
+           worst[LANES] = {0}, drag[LANES] = {0};
     for (int i = 0; i < n; i++) {
         const int l = i % LANES;
         double d2 = 0.0;
@@ -592,15 +624,20 @@ static double open_step_3d(gr_sim *restrict s, const int noise, const double mea
             }
             wo[l] += gn[c][i] * (vi + 0.5 * dvf);
             vi += dvf;
-            if (noise) {
+            if (noise == DRIVE_KICK) {
                 const double dv = amp * (g[3 * (size_t)i + c] - mean[c]);
                 added[l] += dv * (vi + 0.5 * dv);
                 vi += dv;
+            } else if (noise == DRIVE_OU) {
+                const double vd = decay * vi, dv = kick * g[3 * (size_t)i + c];
+                drag[l] += vi * vi - vd * vd;
+                added[l] += dv * (vd + 0.5 * dv);
+                vi = vd + dv;
             }
             v[c][i] = vi;
             sum[l] += vi;
             double q = r[c][i] + vi * dt;
-            q += q < 0.0 ? L : (q >= L ? -L : 0.0);
+            q += q < lo[c] ? L : (q >= hi[c] ? -L : 0.0);
             r[c][i] = q;
             double dd = q - ref[c][i];
             dd += dd > half ? -L : (dd < -half ? L : 0.0);
@@ -616,7 +653,7 @@ static double open_step_3d(gr_sim *restrict s, const int noise, const double mea
     o->work_close = 0.5 * dt * lanes_total(wc);
     o->work_open = 0.5 * dt * lanes_total(wo);
     o->finite = isfinite(lanes_total(sum)) && isfinite(o->work_open);
-    o->drag = 0.0;
+    o->drag = noise == DRIVE_OU ? 0.5 * s->mass * lanes_total(drag) : 0.0;
     return s->mass * lanes_total(added);
 }
 
@@ -668,8 +705,13 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
             }
         }
         const int close_here = closing && !com_now;
-        if (s->dim == 3) { /* spheres: the random force or none (no bath in 3D yet) */
-            s->injected += open_step_3d(s, noise, mean, close_here, &o);
+        if (s->dim == 3) { /* spheres: the random force, the bath or none */
+            s->injected += open_step_3d(s,
+                                        bath    ? DRIVE_OU
+                                        : noise ? DRIVE_KICK
+                                                : 0,
+                                        mean, close_here, &o);
+            s->diss_drag += o.drag;
         } else if (s->dim == 1 && bath) {
             s->injected += close_here ? open_step_1d(s, DRIVE_OU, 0.0, 1, &o)
                                       : open_step_1d(s, DRIVE_OU, 0.0, 0, &o);
