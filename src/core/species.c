@@ -8,8 +8,9 @@
  * damping from eps_n) gives every pair that eps_n; hertz with the effective radius R_ij = r_i r_j /
  * (r_i + r_j): k_h,ij = k_h sqrt(R_ij / R_00), the scene's k_h being that of two grains of the first
  * species. The contact distance is r_i + r_j. The time step resolves the shortest contact of all
- * pairs. What runs with species so far: 1D and 2D, the verlet integrator, a normal force law
- * alone (no tangential or rolling law, no rotation), a periodic box, the random force (the same D
+ * pairs. What runs with species so far: 1D and 2D, the verlet and the event integrator
+ * (smooth hard discs and rods of species lists: src/integrators/event), a normal force law or
+ * event rule alone (no tangential or rolling law, no rotation), a periodic box, the random force (the same D
  * on every grain, so the kicks are sqrt(2 D dt) / m_i) or no driving; the rest is refused here
  * (and, with the file and line, by the scene). */
 #include <math.h>
@@ -219,7 +220,8 @@ static void radii_params(const gr_sim_params *p, double ra, double rb, double ma
 {
     *cp = p->contact;
     *m12 = ma * mb / (ma + mb);
-    if (p->normal == &gr_model_hertz) {
+    /* hard_sphere's eps_n(v) (viscoelastic = true) is hertz's, with hertz's k_h */
+    if (p->normal == &gr_model_hertz || p->normal == &gr_model_hard_sphere) {
         hertz_own *o = (hertz_own *)(void *)(cp->own + offsetof(gr_own_layout, hertz));
         o->k_h *= sqrt(ra * rb / (ra + rb) / (0.5 * r0));
     }

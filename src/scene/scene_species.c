@@ -15,9 +15,11 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         const char *section, *key, *allowed;
     } const no[] = {
         {s->dim == 3, "system", "dim", "1 | 2"},
-        {!s->integrator->species, "integrator", "kind", "verlet"},
+        {!s->integrator->species, "integrator", "kind", "verlet | event"},
+        {s->size_distribution && s->integrator->instantaneous, "integrator", "kind",
+         "verlet (a radius distribution; event runs [species] lists)"},
         {s->normal && !(s->normal->kind & GR_MODEL_NORMAL), "model", "normal",
-         "a normal force law (spring_dashpot, hertz, ...)"},
+         "a normal force law (spring_dashpot, hertz, ...) or event rule (hard_sphere)"},
         {s->tangential != NULL, "model", "tangential", "none"},
         {s->rolling != NULL, "model", "rolling", "none"},
         {s->contact.rotation, "model", "rotation", "false"},
@@ -36,8 +38,8 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             *key = no[k].key;
             snprintf(detail, cap,
                      "not available with [species] yet; allowed with a mixture: %s "
-                     "(docs/mixtures.md: 1D and 2D, verlet, a normal force law alone, a periodic "
-                     "box, the random force or none)",
+                     "(docs/mixtures.md: 1D and 2D, verlet or event, a normal force law or "
+                     "smooth event rule alone, a periodic box, the random force or none)",
                      no[k].allowed);
             return GR_EINVAL;
         }
