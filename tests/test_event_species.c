@@ -110,7 +110,8 @@ static void collide_pair(int dim, double b)
         ck_assert(fabs(s->y[1] - (y[1] + ub[1] * (t - tcol))) < 1e-13);
     }
     /* momentum, restitution of the normal relative velocity, the tangential one kept */
-    const double p0x = ma * vx[0] + mb * vx[1], p1x = ma * vxa + mb * vxb, p1y = ma * vya + mb * vyb;
+    const double p0x = ma * vx[0] + mb * vx[1], p1x = ma * vxa + mb * vxb,
+                 p1y = ma * vya + mb * vyb;
     ck_assert_msg(fabs(p1x - p0x) < 1e-16 * ma && fabs(p1y) < 1e-16 * ma, "momentum %g, %g from %g",
                   p1x, p1y, p0x);
     const double gn1 = (vxa - vxb) * nx + (vya - vyb) * ny, gt0 = -0.15 * ny,
@@ -199,8 +200,8 @@ START_TEST(test_kicks_per_species)
     }
     /* symmetrised: the kicks carry no momentum (sum m_i v_i = 0 to rounding) */
     const double scale = sqrt(2.0 * D * t) * s->n;
-    ck_assert_msg(fabs(p[0]) < 1e-12 * scale && fabs(p[1]) < 1e-12 * scale, "momentum %g, %g",
-                  p[0], p[1]);
+    ck_assert_msg(fabs(p[0]) < 1e-12 * scale && fabs(p[1]) < 1e-12 * scale, "momentum %g, %g", p[0],
+                  p[1]);
     gr_sim_free(s);
 }
 END_TEST
@@ -239,10 +240,11 @@ START_TEST(test_driven_gas)
         p[1] += s->mass_i[i] * vy;
         scale += s->mass_i[i] * sqrt(s->vx[i] * s->vx[i] + vy * vy);
     }
-    ck_assert_msg(fabs(p[0]) < 1e-12 * scale && fabs(p[1]) < 1e-12 * scale,
-                  "momentum %g, %g of %g", p[0], p[1], scale);
+    ck_assert_msg(fabs(p[0]) < 1e-12 * scale && fabs(p[1]) < 1e-12 * scale, "momentum %g, %g of %g",
+                  p[0], p[1], scale);
     gr_ledger l = gr_sim_ledger(s);
-    const double rel = gr_ledger_residual(&l) / fmax(l.injected + gr_ledger_dissipated(&l), l.initial);
+    const double rel =
+        gr_ledger_residual(&l) / fmax(l.injected + gr_ledger_dissipated(&l), l.initial);
     if (verbose()) {
         printf("%dD: %lld collisions, ledger residual %.3g\n", dim, (long long)c.collisions, rel);
     }

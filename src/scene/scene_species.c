@@ -30,7 +30,6 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         {s->driving && s->driving->update == GR_DRIVE_BATH, "driving", "kind", "rfm | none"},
         {s->noise_mode == GR_NOISE_COM, "noise", "mode", "symmetrised | none"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
-        {s->trajectory == GR_TRAJ_H5MD, "output", "trajectory", "snapshots | xyz"},
     };
     for (size_t k = 0; k < sizeof no / sizeof no[0]; k++) {
         if (no[k].on) {
