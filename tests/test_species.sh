@@ -283,9 +283,13 @@ refuse "species.mass=1e-5: \[species\] mass.*one per radius" --set species.mass=
 refuse "\[species\] fraction.*sum to" --set species.fraction="0.5, 0.6"
 refuse "\[species\] radius.*2 to 8 species" --set species.radius=1e-3 --set species.mass=1e-5 \
     --set species.fraction=1
-# a LAMMPS deck of a mixture is refused, not written as one species
-if "$granule" export lammps "$scene" --out "$tmp/lmp" >"$tmp/l.log" 2>&1; then
-    fail "export lammps accepted a mixture"
+# a LAMMPS deck of a mixture has one atom type per species (test_lammps.py runs it in LAMMPS); a
+# radius distribution's is refused, not written as one species
+"$granule" export lammps "$scene" --out "$tmp/lmp" >"$tmp/l.log" 2>&1 || { cat "$tmp/l.log" >&2; fail "export lammps of a mixture"; }
+grep -q "^2 atom types" "$tmp/lmp/data.granule" && grep -q "^pair_coeff 1 2 hooke" "$tmp/lmp/in.granule" ||
+    fail "the mixture's deck: 2 atom types, a pair_coeff per species pair"
+if "$granule" export lammps "$tmp/dist.ini" --out "$tmp/lmp2" >"$tmp/l.log" 2>&1; then
+    fail "export lammps accepted a radius distribution"
 fi
-grep -q "\[species\].*not written yet" "$tmp/l.log" || { cat "$tmp/l.log" >&2; fail "export lammps message"; }
+grep -q "\[species\] distribution.*not written yet" "$tmp/l.log" || { cat "$tmp/l.log" >&2; fail "export lammps message"; }
 echo "species: ok"

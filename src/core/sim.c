@@ -692,6 +692,12 @@ int64_t gr_sim_steps(const gr_sim *s) { return s->step; }
 double gr_sim_dt(const gr_sim *s) { return s->dt; }
 const gr_contact_coeffs *gr_sim_coeffs(const gr_sim *s) { return &s->cc; }
 
+const gr_contact_coeffs *gr_sim_species_coeffs(const gr_sim *s, int a, int b)
+{
+    const bool in = s->cc_pair && a >= 0 && b >= 0 && a < s->nsp && b < s->nsp;
+    return in ? &s->cc_pair[a * s->nsp + b] : NULL;
+}
+
 const gr_contact_coeffs *gr_sim_wall_coeffs(const gr_sim *s)
 {
     const bool walls = s->params.walls[0] || s->params.walls[1];
