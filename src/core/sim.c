@@ -120,6 +120,7 @@ void gr_sim_free(gr_sim *s)
     free(s->tgx);
     free(s->tgy);
     free(s->wall_hist);
+    free(s->wall_cc_sp);
     free(s->species);
     free(s->rad);
     free(s->mass_i);

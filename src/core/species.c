@@ -43,8 +43,6 @@ static const char *not_covered(const gr_sim *s)
            : p->tangential                                       ? "[model] tangential"
            : p->rolling                                          ? "[model] rolling"
            : p->contact.rotation                                 ? "[model] rotation"
-           : p->walls[0] || p->walls[1]                          ? "[boundary]"
-           : p->gravity[0] != 0.0 || p->gravity[1] != 0.0        ? "[gravity]"
            : s->drive == GR_DRIVE_BATH                           ? "[driving] kind = langevin"
            : p->noise_mode == GR_NOISE_COM                       ? "[noise] mode = com"
            : p->noise_precision == GR_NOISE_SINGLE               ? "[noise] precision = single"
@@ -85,6 +83,9 @@ static int size_setup(gr_sim *s, gr_error *err)
     const gr_sim_params *p = &s->params;
     const int n = s->n;
     const char *what = not_covered(s);
+    if (!what && (p->walls[0] || p->walls[1] || p->gravity[0] != 0.0 || p->gravity[1] != 0.0)) {
+        what = "[boundary] walls or [gravity]"; /* species lists have them (walls.c) */
+    }
     if (!what && p->normal == &gr_model_hertz &&
         ((const hertz_own *)(const void *)(p->contact.own + offsetof(gr_own_layout, hertz)))
             ->viscoelastic) {
@@ -292,6 +293,31 @@ void gr_species_reference(gr_sim *s, gr_contact_params *p, double *m12)
     if (!isfinite(best)) { /* every pair failed: the reference's own prepare reports why */
         pair_params(&s->params, 0, 0, p, m12);
     }
+}
+
+int gr_species_wall_coeffs(gr_sim *s, const gr_contact_params *wp, double dt, gr_error *err)
+{
+    const gr_sim_params *p = &s->params;
+    s->wall_cc_sp = calloc((size_t)s->nsp, sizeof(gr_contact_coeffs));
+    if (!s->wall_cc_sp) {
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for the walls' contacts of %d species",
+                       s->nsp);
+    }
+    for (int a = 0; a < s->nsp; a++) {
+        /* the grain against an infinite mass: reduced mass m_a; hertz's k_h as for its own pair */
+        gr_contact_params cp;
+        double m12;
+        radii_params(p, p->species_radius[a], p->species_radius[a], p->species_mass[a],
+                     p->species_mass[a], p->species_radius[0], &cp, &m12);
+        gr_contact_params w = *wp;
+        memcpy(w.own, cp.own, sizeof w.own);
+        int rc =
+            gr_contact_prepare(p->normal, NULL, &w, p->species_mass[a], dt, &s->wall_cc_sp[a], err);
+        if (rc) {
+            return rc;
+        }
+    }
+    return GR_OK;
 }
 
 int gr_species_coeffs(gr_sim *s, double dt, gr_error *err)

@@ -10,6 +10,9 @@
 static int refused(const gr_scene *s, const char **section, const char **key, char *detail,
                    size_t cap)
 {
+    /* walls and gravity: species lists with the verlet integrator (walls.c) */
+    const bool no_walls = s->integrator->instantaneous || s->size_distribution;
+    const char *walls_allowed = "periodic (walls: [species] lists with the verlet integrator)";
     struct {
         bool on;
         const char *section, *key, *allowed;
@@ -23,10 +26,10 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         {s->tangential != NULL, "model", "tangential", "none"},
         {s->rolling != NULL, "model", "rolling", "none"},
         {s->contact.rotation, "model", "rotation", "false"},
-        {s->boundary[0] != 0, "boundary", "x", "periodic"},
-        {s->boundary[1] != 0, "boundary", "y", "periodic"},
-        {s->gravity[0] != 0.0, "gravity", "gx", "0"},
-        {s->gravity[1] != 0.0, "gravity", "gy", "0"},
+        {s->boundary[0] != 0 && no_walls, "boundary", "x", walls_allowed},
+        {s->boundary[1] != 0 && no_walls, "boundary", "y", walls_allowed},
+        {s->gravity[0] != 0.0 && no_walls, "gravity", "gx", "0 (gravity: [species] lists, verlet)"},
+        {s->gravity[1] != 0.0 && no_walls, "gravity", "gy", "0 (gravity: [species] lists, verlet)"},
         {s->driving && s->driving->update == GR_DRIVE_BATH, "driving", "kind", "rfm | none"},
         {s->noise_mode == GR_NOISE_COM, "noise", "mode", "symmetrised | none"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
@@ -38,7 +41,8 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             snprintf(detail, cap,
                      "not available with [species] yet; allowed with a mixture: %s "
                      "(docs/mixtures.md: 1D and 2D, verlet or event, a normal force law or "
-                     "smooth event rule alone, a periodic box, the random force or none)",
+                     "smooth event rule alone, walls and gravity with verlet, the random force or "
+                     "none)",
                      no[k].allowed);
             return GR_EINVAL;
         }
