@@ -272,7 +272,7 @@ for kind in uniform cluster random; do
 done
 
 # refusals: the key, with where it was given
-refuse "\[model\] tangential.*not available with \[species\]" --set model.tangential=tangential_dashpot
+refuse "\[model\] tangential.*not available with \[species\]" --set model.tangential=tangential_spring
 refuse "\[integrator\] kind.*not available with \[species\]" --set integrator.kind=hybrid
 refuse "\[model\] rotation.*not available with \[species\]" --set integrator.kind=event \
     --set model.normal=hard_sphere --set model.rotation=true
@@ -288,6 +288,10 @@ refuse "\[species\] radius.*2 to 8 species" --set species.radius=1e-3 --set spec
 "$granule" export lammps "$scene" --out "$tmp/lmp" >"$tmp/l.log" 2>&1 || { cat "$tmp/l.log" >&2; fail "export lammps of a mixture"; }
 grep -q "^2 atom types" "$tmp/lmp/data.granule" && grep -q "^pair_coeff 1 2 hooke" "$tmp/lmp/in.granule" ||
     fail "the mixture's deck: 2 atom types, a pair_coeff per species pair"
+if "$granule" export lammps "$scene" --out "$tmp/lmp3" --set model.tangential=tangential_dashpot >"$tmp/l.log" 2>&1; then
+    fail "export lammps accepted a mixture with a tangential law"
+fi
+grep -q "model.tangential = tangential_dashpot with \[species\]" "$tmp/l.log" || { cat "$tmp/l.log" >&2; fail "export lammps message (tangential)"; }
 if "$granule" export lammps "$tmp/dist.ini" --out "$tmp/lmp2" >"$tmp/l.log" 2>&1; then
     fail "export lammps accepted a radius distribution"
 fi

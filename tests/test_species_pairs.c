@@ -74,6 +74,78 @@ START_TEST(pair_restitution)
 }
 END_TEST
 
+/* Tangential laws without history with species (2D, no rotation, kernels_poly.c): an oblique
+ * collision of a light and a heavy disc keeps sum m_i v_i to rounding, and its tangential
+ * relative velocity comes out scaled by the law's restitution for the pair's own coefficients
+ * (gr_model.restitution_t of cc_pair, prepared with the pair's reduced mass: eps_t; the
+ * lightest pair's damping on this pair gives 0.58). Then a driven gas's ledger closes with
+ * the law's dissipation in its own column. */
+static const char *pair_2d =
+    "[system]\ndim = 2\nN = 2\nL = 0.2\n[placement]\nkind = uniform\nv0 = 0\n"
+    "[driving]\nkind = none\n[species]\nradius = 1e-3, 2e-3\nmass = 1e-5, 4e-5\n"
+    "[model]\nk_s = 5e4\neps_n = 0.7\ntangential = tangential_dashpot\neps_t = 0.5\n"
+    "[integrator]\nsteps_per_contact = 100\n";
+
+START_TEST(pair_tangential)
+{
+    gr_scene sc;
+    load(&sc, pair_2d, NULL, 0);
+    gr_sim *s = create(&sc);
+    const double d = s->rad[0] + s->rad[1], b = 0.5 * d; /* impact parameter */
+    s->x[0] = 0.05;
+    s->y[0] = 0.1;
+    s->x[1] = 0.05 + sqrt(d * d - b * b) + 1e-4;
+    s->y[1] = 0.1 + b;
+    s->vx[0] = 0.1;
+    s->vx[1] = -0.1;
+    s->vy[0] = s->vy[1] = 0.0;
+    const double m0 = s->mass_i[0], m1 = s->mass_i[1];
+    const double px0 = m0 * s->vx[0] + m1 * s->vx[1];
+    /* the normal and tangent at contact (straight flight until then) */
+    const double nx = sqrt(d * d - b * b) / d, ny = b / d, tx = ny, ty = -nx;
+    const double gn0 = -0.2 * nx, gt0 = -0.2 * tx; /* g = v_1 - v_0 = (-0.2, 0) */
+    int touched = 0;
+    for (int k = 0; k < 400000; k++) {
+        step(s, 1);
+        const double dx = s->x[1] - s->x[0], dy = s->y[1] - s->y[0];
+        const double r = sqrt(dx * dx + dy * dy);
+        touched |= r < d;
+        if (touched && r > d) {
+            break;
+        }
+    }
+    ck_assert_msg(touched, "the discs never met");
+    const double gx = s->vx[1] - s->vx[0], gy = s->vy[1] - s->vy[0];
+    const double gt1 = gx * tx + gy * ty, gn1 = gx * nx + gy * ny;
+    const int a = s->species[0], c1 = s->species[1];
+    const gr_contact_coeffs *cp = &s->cc_pair[a * 2 + c1];
+    const gr_model *tm = cp->tangential_model;
+    const double want = tm->restitution_t(cp, cp->normal_model->impact(cp, -gn0), -gn0, fabs(gt0));
+    printf("oblique pair (masses %g, %g kg): g_t ratio %.5f, the pair's law %.5f; g_n ratio "
+           "%.5f\n",
+           m0, m1, gt1 / gt0, want, -gn1 / gn0);
+    ck_assert_msg(fabs(gt1 / gt0 - want) < 0.01, "g_t ratio %.5f, want %.5f", gt1 / gt0, want);
+    const double px1 = m0 * s->vx[0] + m1 * s->vx[1], py1 = m0 * s->vy[0] + m1 * s->vy[1];
+    ck_assert_msg(fabs(px1 - px0) < 1e-18 && fabs(py1) < 1e-18, "momentum (%g, %g) from %g", px1,
+                  py1, px0);
+    gr_sim_free(s);
+    /* a driven gas: the ledger closes, the tangential law's dissipation in its column */
+    const char *gas[] = {"system.N=200", "system.L=0.1", "placement.v0=0.2", "driving.kind=rfm",
+                         "noise.D=1e-9"};
+    load(&sc, pair_2d, gas, 5);
+    s = create(&sc);
+    step(s, 20000);
+    const gr_ledger l = gr_sim_ledger(s);
+    const double moved = l.injected + gr_ledger_dissipated(&l), res = gr_ledger_residual(&l);
+    printf("driven gas with tangential_dashpot: dissipated normal %.4g J, tangential %.4g J, "
+           "residual %.3g of the energy moved\n",
+           l.dissipated_normal, l.dissipated_tangential, res / moved);
+    ck_assert(l.dissipated_tangential > 0.05 * l.dissipated_normal);
+    ck_assert_msg(fabs(res) < 2e-3 * moved, "residual %g of %g", res, moved);
+    gr_sim_free(s);
+}
+END_TEST
+
 START_TEST(hertz_radius_and_dt)
 {
     const char *set[] = {"model.normal=hertz", "model.k_h=1e6"};
@@ -235,6 +307,7 @@ static Suite *species_suite(void)
     Suite *s = suite_create("species");
     TCase *t = tcase_create("pairs");
     tcase_set_timeout(t, 600);
+    tcase_add_test(t, pair_tangential);
     tcase_add_test(t, pair_restitution);
     tcase_add_test(t, hertz_radius_and_dt);
     tcase_add_test(t, heating_per_mass);

@@ -38,9 +38,11 @@ int gr_species_counts(int N, int ns, const double *fraction, int *count)
 static const char *not_covered(const gr_sim *s)
 {
     const gr_sim_params *p = &s->params;
-    return p->dim == 3                                           ? "[system] dim = 3"
-           : !p->integrator->species                             ? "[integrator] kind"
-           : p->tangential                                       ? "[model] tangential"
+    return p->dim == 3               ? "[system] dim = 3"
+           : !p->integrator->species ? "[integrator] kind"
+           : p->tangential && (gr_model_keeps_history(p->tangential) || p->size_distribution ||
+                               p->integrator->instantaneous)
+               ? "[model] tangential"
            : p->rolling                                          ? "[model] rolling"
            : p->contact.rotation                                 ? "[model] rotation"
            : s->drive == GR_DRIVE_BATH                           ? "[driving] kind = langevin"
@@ -331,8 +333,9 @@ int gr_species_coeffs(gr_sim *s, double dt, gr_error *err)
             gr_contact_params cp;
             double m;
             pair_params(&s->params, a, b, &cp, &m);
-            int rc = gr_contact_prepare(s->params.normal, NULL, &cp, m, dt, &s->cc_pair[a * ns + b],
-                                        err);
+            /* the tangential law too (no history: tangential_dashpot, sliding_friction) */
+            int rc = gr_contact_prepare(s->params.normal, s->params.tangential, &cp, m, dt,
+                                        &s->cc_pair[a * ns + b], err);
             if (rc) {
                 return rc;
             }

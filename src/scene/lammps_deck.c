@@ -57,6 +57,13 @@ static int refuse_unmappable(const gr_scene *s, gr_error *err)
                        "[species] lists (one atom type per species) or no [species]",
                        s->source);
     }
+    if (s->n_species >= 2 && s->tangential) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "export lammps: %s: model.tangential = %s with [species]: a mixture's deck "
+                       "writes the normal law alone yet (docs/mixtures.md); allowed with "
+                       "[species]: model.tangential = none",
+                       s->source, s->tangential->name);
+    }
     if (s->dim == 1) {
         return GR_FAIL(
             err, GR_EINVAL,

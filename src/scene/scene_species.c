@@ -10,7 +10,8 @@
 static int refused(const gr_scene *s, const char **section, const char **key, char *detail,
                    size_t cap)
 {
-    /* walls and gravity: species lists with the verlet integrator (walls.c) */
+    /* walls and gravity, tangential laws without history: species lists with the verlet
+     * integrator (walls.c, kernels_poly.c) */
     const bool no_walls = s->integrator->instantaneous || s->size_distribution;
     const char *walls_allowed = "periodic (walls: [species] lists with the verlet integrator)";
     struct {
@@ -23,7 +24,10 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
          "verlet (a radius distribution; event runs [species] lists)"},
         {s->normal && !(s->normal->kind & GR_MODEL_NORMAL), "model", "normal",
          "a normal force law (spring_dashpot, hertz, ...) or event rule (hard_sphere)"},
-        {s->tangential != NULL, "model", "tangential", "none"},
+        {s->tangential && (no_walls || gr_model_keeps_history(s->tangential)), "model",
+         "tangential",
+         "none, or with [species] lists and verlet tangential_dashpot | sliding_friction (no "
+         "history law yet)"},
         {s->rolling != NULL, "model", "rolling", "none"},
         {s->contact.rotation, "model", "rotation", "false"},
         {s->boundary[0] != 0 && no_walls, "boundary", "x", walls_allowed},
@@ -41,8 +45,8 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             snprintf(detail, cap,
                      "not available with [species] yet; allowed with a mixture: %s "
                      "(docs/mixtures.md: 1D and 2D, verlet or event, a normal force law or "
-                     "smooth event rule alone, walls and gravity with verlet, the random force or "
-                     "none)",
+                     "smooth event rule, tangential laws without history, walls and gravity with "
+                     "verlet, the random force or none)",
                      no[k].allowed);
             return GR_EINVAL;
         }
