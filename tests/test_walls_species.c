@@ -9,6 +9,8 @@
  * - a bed of two species at rest weighs sum_i m_i g on its floor;
  * - the ledger closes with walls, gravity, the random force and species (a 2D bed, a 1D column
  *   whose ring pair the walls take out with the pair's own distance);
+ * - rotation: spinning grains of two species dropped on a floor with sliding friction end
+ *   rolling with their own radius and moment of inertia;
  * - refusals: walls with the event integrator or a radius distribution. */
 #include <check.h>
 #include <math.h>
@@ -126,6 +128,41 @@ START_TEST(ledger_species_walls)
 }
 END_TEST
 
+/* Rotation at a wall (sliding friction): two spinning grains of radii 1 and 2 mm dropped side
+ * by side on a floor end rolling, v_x = -w r_i with each grain's own radius, at the velocities of
+ * a disc whose moment of inertia is q m_i r_i^2 (v_x = -r_i w0 q / (1 + q), w = w0 q / (1 + q));
+ * the ledger closes with the spins' energy. */
+START_TEST(spinning_grains_roll)
+{
+    const char *set[] = {"model.tangential=sliding_friction", "model.rotation=true", "model.mu=0",
+                         "boundary.mu=0.5", "model.eps_n=0.9"};
+    gr_scene sc;
+    load(&sc, pair_2d, set, 5);
+    gr_sim *s = create(&sc);
+    const double w0 = 200.0, q = sc.contact.inertia_factor;
+    for (int i = 0; i < 2; i++) {
+        s->omega[i] = w0;
+        s->initial_energy += 0.5 * s->inertia_i[i] * w0 * w0;
+    }
+    step(s, (int64_t)(0.2 / gr_sim_dt(s)));
+    const gr_ledger l = gr_sim_ledger(s);
+    const double res = gr_ledger_residual(&l) / gr_ledger_dissipated(&l);
+    for (int i = 0; i < 2; i++) {
+        const double r = s->rad[i], vx_th = -r * w0 * q / (1.0 + q), w_th = w0 * q / (1.0 + q);
+        printf("spinning grain r = %g m: v_x = %.6g m/s (theory %.6g), w = %.6g rad/s (theory "
+               "%.6g), v_x + w r = %.3g m/s\n",
+               r, s->vx[i], vx_th, s->omega[i], w_th, s->vx[i] + s->omega[i] * r);
+        ck_assert_msg(fabs(s->vx[i] / vx_th - 1.0) < 1e-3 && fabs(s->omega[i] / w_th - 1.0) < 1e-3,
+                      "grain %d: vx %g w %g", i, s->vx[i], s->omega[i]);
+        ck_assert_msg(fabs(s->vx[i] + s->omega[i] * r) < 1e-6 * r * w0, "still slipping");
+    }
+    printf("ledger: dissipated friction %.4g J, residual %.3g of the dissipation\n",
+           l.dissipated_friction, res);
+    ck_assert(l.dissipated_friction > 0.0 && fabs(res) < 1e-3);
+    gr_sim_free(s);
+}
+END_TEST
+
 START_TEST(refusals)
 {
     const char *event[] = {"system.dim=2",
@@ -159,6 +196,7 @@ static Suite *walls_species_suite(void)
     tcase_add_test(t, bounce_each_species);
     tcase_add_test(t, bed_weighs_each_mass);
     tcase_add_test(t, ledger_species_walls);
+    tcase_add_test(t, spinning_grains_roll);
     tcase_add_test(t, refusals);
     suite_add_tcase(s, t);
     return s;

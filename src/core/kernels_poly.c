@@ -3,7 +3,9 @@
  * contact distance r_i + r_j and coefficients (s->cc_pair of the two species: reduced mass,
  * damping, stiffness). In 2D a tangential law without history (tangential_dashpot,
  * sliding_friction; species lists) acts on g_t = g.t with the pair's coefficients, as in
- * kernels.c without rotation, and books its dissipation into its own ledger column. A separate instance, chosen once per run (gr_kernel_choose) when the scene
+ * kernels.c, and books its dissipation into its own ledger column; with rotation g_t is the
+ * contact point's, g.t + a_i w_i + a_j w_j, and f_t turns grain i with the torque a_i f_t
+ * (a_i = |r_ij| r_i / (r_i + r_j), the arm to the contact point). A separate instance, chosen once per run (gr_kernel_choose) when the scene
  * has species, so the monodisperse instances load nothing per pair that they did not before.
  * One thread: a run with species is the same for every thread count. */
 #include <math.h>
@@ -117,6 +119,9 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
     memset(s->fy, 0, sizeof(double) * (size_t)n);
     memset(s->gx, 0, sizeof(double) * (size_t)n);
     memset(s->gy, 0, sizeof(double) * (size_t)n);
+    if (s->omega) {
+        memset(s->tq, 0, sizeof(double) * (size_t)n);
+    }
     double elastic = 0.0, pn = 0.0, worst = 0.0, pt[2] = {0.0, 0.0}; /* tangential, friction */
     int wi = -1, wj = -1;
     int64_t fresh = 0;
@@ -142,7 +147,14 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
             if (tl != TL_none) { /* t = (n_y, -n_x), g_t = g.t, no rotation (kernels.c) */
                 const gr_contact_coeffs *c = &s->cc_pair[s->species[i] * s->nsp + s->species[j]];
                 const double tx = ny, ty = -nx;
-                const double g_t = (s->vx[j] - s->vx[i]) * tx + (s->vy[j] - s->vy[i]) * ty;
+                double g_t = (s->vx[j] - s->vx[i]) * tx + (s->vy[j] - s->vy[i]) * ty;
+                /* rotation: the contact point divides |r_ij| as r_i : r_j (midway for equal
+                 * radii, as kernels.c), so the arms a_i + a_j = |r_ij| make the spin torques
+                 * a_i f_t, a_j f_t cancel the pair's orbital torque (angular momentum kept) */
+                const double ai = dist * s->rad[i] / (s->rad[i] + s->rad[j]), aj = dist - ai;
+                if (s->omega) {
+                    g_t += ai * s->omega[i] + aj * s->omega[j];
+                }
                 const gr_tangential_in in = {.g_t = g_t,
                                              .f_n = f,
                                              .xi = gr_pair_d(s, i, j) - dist,
@@ -155,6 +167,10 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
                 Gx += ft.f * tx;
                 Gy += ft.f * ty;
                 pt[col] += ft.p;
+                if (s->omega) {
+                    s->tq[i] += ai * ft.f;
+                    s->tq[j] += aj * ft.f;
+                }
             }
             s->fx[j] += Fx;
             s->fy[j] += Fy;

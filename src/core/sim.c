@@ -121,6 +121,7 @@ void gr_sim_free(gr_sim *s)
     free(s->tgy);
     free(s->wall_hist);
     free(s->wall_cc_sp);
+    free(s->inertia_i);
     free(s->species);
     free(s->rad);
     free(s->mass_i);
@@ -345,6 +346,15 @@ static int alloc_rotation(gr_sim *s, gr_error *err)
         return GR_FAIL(err, GR_ENOMEM, "out of memory for %d angular velocities", s->n);
     }
     s->inertia = s->cc.q * s->mass * 0.25 * s->d * s->d;
+    if (s->rad) { /* species: each grain's own moment of inertia */
+        s->inertia_i = calloc((size_t)s->n + 1, sizeof(double));
+        if (!s->inertia_i) {
+            return GR_FAIL(err, GR_ENOMEM, "out of memory for %d moments of inertia", s->n);
+        }
+        for (int i = 0; i < s->n; i++) {
+            s->inertia_i[i] = s->cc.q * s->mass_i[i] * s->rad[i] * s->rad[i];
+        }
+    }
     return GR_OK;
 }
 
@@ -780,7 +790,8 @@ gr_ledger gr_sim_ledger(gr_sim *s)
     }
     double rot = 0.0; /* sum I w^2 / 2, part of the kinetic energy */
     for (int i = 0; s->omega && i < s->n; i++) {
-        rot += s->omega[i] * s->omega[i];
+        /* species: each grain's own I_i (1.0 without: exact) */
+        rot += (s->inertia_i ? s->inertia_i[i] / s->inertia : 1.0) * s->omega[i] * s->omega[i];
         if (s->wx) { /* 3D: |w|^2 */
             rot += s->wx[i] * s->wx[i] + s->wy[i] * s->wy[i];
         }
@@ -837,7 +848,8 @@ double gr_sim_rotational_temperature(const gr_sim *s)
     }
     double sum = 0.0;
     for (int i = 0; i < s->n; i++) {
-        sum += s->omega[i] * s->omega[i];
+        /* species: each grain's own I_i (1.0 without: exact) */
+        sum += (s->inertia_i ? s->inertia_i[i] / s->inertia : 1.0) * s->omega[i] * s->omega[i];
         if (s->wx) { /* 3D: |w|^2 over the three rotational degrees of freedom, as T sums v */
             sum += s->wx[i] * s->wx[i] + s->wy[i] * s->wy[i];
         }

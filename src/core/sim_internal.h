@@ -119,6 +119,7 @@ struct gr_sim {
     int nsp;
     int *species;
     double *rad, *mass_i, *inv_m;
+    double *inertia_i; /* rotation with species: each grain's q m_i r_i^2 (NULL otherwise) */
     gr_contact_coeffs *cc_pair;
     double d_pair[GR_MAX_SPECIES * GR_MAX_SPECIES];
     /* a continuous radius distribution (params.size_distribution; nsp = 1, cc_pair NULL): each

@@ -43,8 +43,9 @@ static const char *not_covered(const gr_sim *s)
            : p->tangential && (gr_model_keeps_history(p->tangential) || p->size_distribution ||
                                p->integrator->instantaneous)
                ? "[model] tangential"
-           : p->rolling                                          ? "[model] rolling"
-           : p->contact.rotation                                 ? "[model] rotation"
+           : p->rolling ? "[model] rolling"
+           : p->contact.rotation && (p->size_distribution || p->integrator->instantaneous)
+               ? "[model] rotation"
            : s->drive == GR_DRIVE_BATH                           ? "[driving] kind = langevin"
            : p->noise_mode == GR_NOISE_COM                       ? "[noise] mode = com"
            : p->noise_precision == GR_NOISE_SINGLE               ? "[noise] precision = single"
@@ -313,8 +314,8 @@ int gr_species_wall_coeffs(gr_sim *s, const gr_contact_params *wp, double dt, gr
                      p->species_mass[a], p->species_radius[0], &cp, &m12);
         gr_contact_params w = *wp;
         memcpy(w.own, cp.own, sizeof w.own);
-        int rc =
-            gr_contact_prepare(p->normal, NULL, &w, p->species_mass[a], dt, &s->wall_cc_sp[a], err);
+        int rc = gr_contact_prepare(p->normal, s->dim == 2 ? p->tangential : NULL, &w,
+                                    p->species_mass[a], dt, &s->wall_cc_sp[a], err);
         if (rc) {
             return rc;
         }

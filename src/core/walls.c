@@ -213,7 +213,8 @@ static void wall_motion(const gr_sim_params *p, double t, double *q, double *v)
 static void wall_tangential(gr_sim *s, int i, int k, double st, const double *v_o, double *f_o,
                             double *g_o, double f_n, double xi, double g_n, int acts, wall_sums *w)
 {
-    const double r = 0.5 * s->d;
+    const double r = gr_grain_r(s, i); /* species: its own radius and contact */
+    const gr_contact_coeffs *wc = s->wall_cc_sp ? &s->wall_cc_sp[s->species[i]] : &s->wall_cc;
     double g_t = st * v_o[i];
     if (s->omega) {
         g_t +=
@@ -225,10 +226,10 @@ static void wall_tangential(gr_sim *s, int i, int k, double st, const double *v_
                                  .xi = xi,
                                  .g_n = g_n,
                                  .acts = acts,
-                                 .m12_dt = s->wall_cc.m_t / s->dt,
+                                 .m12_dt = wc->m_t / s->dt,
                                  .hist = s->wall_hist ? &slot : NULL};
     int book, hist;
-    const gr_tangential_force ft = gr_kernel_tangential(s->wall_tl, &s->wall_cc, in, &book, &hist);
+    const gr_tangential_force ft = gr_kernel_tangential(s->wall_tl, wc, in, &book, &hist);
     const double nc = hist ? ft.f - ft.fc : ft.f; /* the non-conservative part */
     if (acts) {
         f_o[i] += st * ft.f;

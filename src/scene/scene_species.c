@@ -29,7 +29,8 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
          "none, or with [species] lists and verlet tangential_dashpot | sliding_friction (no "
          "history law yet)"},
         {s->rolling != NULL, "model", "rolling", "none"},
-        {s->contact.rotation, "model", "rotation", "false"},
+        {s->contact.rotation && no_walls, "model", "rotation",
+         "false (rotation: [species] lists with the verlet integrator)"},
         {s->boundary[0] != 0 && no_walls, "boundary", "x", walls_allowed},
         {s->boundary[1] != 0 && no_walls, "boundary", "y", walls_allowed},
         {s->gravity[0] != 0.0 && no_walls, "gravity", "gx", "0 (gravity: [species] lists, verlet)"},
