@@ -9,6 +9,7 @@
  *    <m_i^2 v^2> = 2 D t per component for every species (kicks sqrt(2 D tau) / m_i);
  *  - a driven gas of two species: symmetrised kicks and collisions keep sum m_i v_i = 0, the
  *    ledger closes to rounding, no two grains overlap (checked after every collision);
+ *  - a checkpoint continues bit for bit (1D, 2D);
  *  - refusals: rough discs, a radius distribution.
  * Deterministic tolerances come from rounding; the statistical one is 5 sigma (fixed seed). */
 #include <check.h>
@@ -25,6 +26,7 @@
 #include "granule/sim.h"
 #include "check_main.h"
 #include "test_env.h"
+#include "sim_helpers.h"
 #include "test_scenes.h"
 
 #define EPS_N 0.6
@@ -206,13 +208,12 @@ START_TEST(test_kicks_per_species)
 }
 END_TEST
 
-/* A driven inelastic gas of two species (1D ring, 2D box): momentum stays 0, the ledger closes to
- * rounding, no overlaps (checked after every collision), collisions of all three pair kinds. */
-START_TEST(test_driven_gas)
+/* A gas of two species (radii 1 and 2 mm, equal density) of n grains (key=value) driven by the
+ * random force, hard discs (2D, packing fraction 0.1) or rods (1D, L' = 5 cm), eps_n = 0.5. */
+static gr_scene species_gas(int dim, const char *n, const char *seed)
 {
-    const int dim = 1 + _i;
     const char *ov[] = {dim == 1 ? "system.dim=1" : "system.dim=2",
-                        quick() ? "system.N=60" : "system.N=200",
+                        n,
                         dim == 1 ? "system.reduced_length=0.05" : "system.packing_fraction=0.1",
                         "species.radius=1e-3, 2e-3",
                         "species.density=10, 10",
@@ -223,8 +224,16 @@ START_TEST(test_driven_gas)
                         "model.eps_n=0.5",
                         "noise.D=1e-9",
                         "integrator.kind=event",
-                        "run.seed=5"};
-    gr_scene sc = scene_of(ov, 13);
+                        seed};
+    return scene_of(ov, 13);
+}
+
+/* A driven inelastic gas of two species (1D ring, 2D box): momentum stays 0, the ledger closes to
+ * rounding, no overlaps (checked after every collision), collisions of all three pair kinds. */
+START_TEST(test_driven_gas)
+{
+    const int dim = 1 + _i;
+    gr_scene sc = species_gas(dim, quick() ? "system.N=60" : "system.N=200", "run.seed=5");
     gr_sim *s = sim_of(&sc);
     gr_event_set_debug(s, true, false);
     gr_error err = {0};
@@ -251,6 +260,18 @@ START_TEST(test_driven_gas)
     ck_assert_msg(fabs(rel) < 1e-10, "ledger residual %g", rel);
     ck_assert(strncmp(gr_sim_kernel(s), "event-", 6) == 0);
     gr_sim_free(s);
+}
+END_TEST
+
+/* A checkpoint of an event-driven mixture (mid-window state, each grain's mass and radius from the
+ * scene again) continues bit for bit, in 1D and 2D. */
+START_TEST(test_restart_exact)
+{
+    gr_scene sc = species_gas(1 + _i, "system.N=60", "run.seed=9");
+    gr_sim *probe = sim_of(&sc);
+    const int64_t total = (int64_t)(0.02 / probe->dt);
+    gr_sim_free(probe);
+    assert_restart_exact(&sc, total, total / 3);
 }
 END_TEST
 
@@ -295,6 +316,7 @@ static Suite *event_species_suite(void)
     tcase_set_timeout(g, 600);
     tcase_add_loop_test(g, test_kicks_per_species, 0, 2);
     tcase_add_loop_test(g, test_driven_gas, 0, 2);
+    tcase_add_loop_test(g, test_restart_exact, 0, 2);
     suite_add_tcase(s, g);
     return s;
 }

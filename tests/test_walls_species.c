@@ -11,6 +11,7 @@
  *   whose ring pair the walls take out with the pair's own distance);
  * - rotation: spinning grains of two species dropped on a floor with sliding friction end
  *   rolling with their own radius and moment of inertia;
+ * - a checkpoint of a rotating bed continues bit for bit;
  * - refusals: walls with the event integrator or a radius distribution. */
 #include <check.h>
 #include <math.h>
@@ -163,6 +164,21 @@ START_TEST(spinning_grains_roll)
 }
 END_TEST
 
+/* A checkpoint of a rotating two-species bed under gravity with sliding friction at the walls
+ * continues bit for bit. */
+START_TEST(restart_exact)
+{
+    const char *set[] = {"system.N=40",          "system.L=0.05",
+                         "placement.v0=0.2",     "model.tangential=sliding_friction",
+                         "model.mu=0.3",         "model.rotation=true",
+                         "placement.omega0=100", "driving.kind=rfm",
+                         "noise.D=1e-9"};
+    gr_scene sc;
+    load(&sc, pair_2d, set, 9);
+    assert_restart_exact(&sc, 6000, 2000);
+}
+END_TEST
+
 START_TEST(refusals)
 {
     const char *event[] = {"system.dim=2",
@@ -197,6 +213,7 @@ static Suite *walls_species_suite(void)
     tcase_add_test(t, bed_weighs_each_mass);
     tcase_add_test(t, ledger_species_walls);
     tcase_add_test(t, spinning_grains_roll);
+    tcase_add_test(t, restart_exact);
     tcase_add_test(t, refusals);
     suite_add_tcase(s, t);
     return s;
