@@ -55,6 +55,18 @@
     X(A, hard_sphere)                                                                              \
     X(A, rolling_friction)
 
+/* Whether tangential law m keeps a per-contact history (listed in GR_HISTORY_MODELS). */
+static inline bool gr_model_keeps_history(const gr_model *m)
+{
+#define GR_HISTORY_MATCH(A, NAME)                                                                  \
+    if (m == &gr_model_##NAME) {                                                                   \
+        return true;                                                                               \
+    }
+    GR_HISTORY_MODELS(GR_HISTORY_MATCH, )
+#undef GR_HISTORY_MATCH
+    return false;
+}
+
 /* The event rules' dispatch, generated from GR_EVENT_MODELS: a caller finds the rule of its
  * normal model once per run (gr_event_rule_of; -1: the model is no event rule) and applies it per
  * collision with gr_event_rule_apply, a switch over inline rules (no call through a pointer). */

@@ -177,4 +177,19 @@ static inline void assert_threads_exact(const gr_scene *s, int64_t total, int64_
     gr_sim_free(c);
 }
 
+/* A bed left to settle for `settle` s, then the mean normal force on each wall over `window` s
+ * (N: walls at 0 and L of x, then of y, then of z; gr_sim_wall_impulse's differences over the window). */
+static inline void settled_wall_forces(gr_sim *s, double settle, double window, double f[6])
+{
+    const double dt = gr_sim_dt(s);
+    step(s, (int64_t)(settle / dt));
+    double j0[6], j1[6];
+    gr_sim_wall_impulse(s, j0);
+    const int64_t n = (int64_t)(window / dt);
+    step(s, n);
+    gr_sim_wall_impulse(s, j1);
+    for (int k = 0; k < 6; k++) {
+        f[k] = (j1[k] - j0[k]) / (n * dt);
+    }
+}
 #endif

@@ -10,7 +10,10 @@
  * - the species are dealt by the seed (counts exact, the same for the same seed);
  * - a mixture's ledger closes, and a state given as arrays with species is refused;
  * - a continuous radius distribution (uniform, lognormal): radii, masses, packing fraction, every
- *   pair's eps_n and the ledger. */
+ *   pair's eps_n and the ledger;
+ * - tangential laws and rotation (2D): an oblique collision of unequal discs with the pair's eps_t,
+ *   momentum and angular momentum conserved, spins in the ratio of each grain's own moment of
+ *   inertia; driven gases' ledgers. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -71,6 +74,152 @@ START_TEST(pair_restitution)
             gr_sim_free(s);
         }
     }
+}
+END_TEST
+
+/* Tangential laws without history with species (2D, no rotation, kernels_poly.c): an oblique
+ * collision of a light and a heavy disc keeps sum m_i v_i to rounding, and its tangential
+ * relative velocity comes out scaled by the law's restitution for the pair's own coefficients
+ * (gr_model.restitution_t of cc_pair, prepared with the pair's reduced mass: eps_t; the
+ * lightest pair's damping on this pair gives 0.58). Then a driven gas's ledger closes with
+ * the law's dissipation in its own column. */
+static const char *pair_2d =
+    "[system]\ndim = 2\nN = 2\nL = 0.2\n[placement]\nkind = uniform\nv0 = 0\n"
+    "[driving]\nkind = none\n[species]\nradius = 1e-3, 2e-3\nmass = 1e-5, 4e-5\n"
+    "[model]\nk_s = 5e4\neps_n = 0.7\ntangential = tangential_dashpot\neps_t = 0.5\n"
+    "[integrator]\nsteps_per_contact = 100\n";
+
+/* Grains 0 and 1 of s at impact parameter d/2, approaching at (0.1, 0) and (-0.1, 0) m/s, stepped
+ * until they part; the unit normal at contact (from 0 to 1; straight flight until then) in n. */
+static void oblique(gr_sim *s, double n[2])
+{
+    const double d = s->rad[0] + s->rad[1], b = 0.5 * d;
+    s->x[0] = 0.05;
+    s->y[0] = 0.1;
+    s->x[1] = 0.05 + sqrt(d * d - b * b) + 1e-4;
+    s->y[1] = 0.1 + b;
+    s->vx[0] = 0.1;
+    s->vx[1] = -0.1;
+    s->vy[0] = s->vy[1] = 0.0;
+    n[0] = sqrt(d * d - b * b) / d;
+    n[1] = b / d;
+    int touched = 0;
+    for (int k = 0; k < 400000; k++) {
+        step(s, 1);
+        const double dx = s->x[1] - s->x[0], dy = s->y[1] - s->y[0];
+        const double r = sqrt(dx * dx + dy * dy);
+        touched |= r < d;
+        if (touched && r > d) {
+            break;
+        }
+    }
+    ck_assert_msg(touched, "the discs never met");
+}
+
+/* 200 grains of pair_2d's species driven by the random force (rotating: spun up by omega0), 20000
+ * steps: the ledger closes to 2e-3 of the energy moved; returns it. */
+static gr_ledger driven_gas(bool rotating)
+{
+    const char *gas[] = {"system.N=200",       "system.L=0.1", "placement.v0=0.2",
+                         "driving.kind=rfm",   "noise.D=1e-9", "model.rotation=true",
+                         "placement.omega0=50"};
+    gr_scene sc;
+    load(&sc, pair_2d, gas, rotating ? 7 : 5);
+    gr_sim *s = create(&sc);
+    step(s, 20000);
+    const gr_ledger l = gr_sim_ledger(s);
+    const double moved = l.injected + gr_ledger_dissipated(&l), res = gr_ledger_residual(&l);
+    printf("driven gas%s: dissipated normal %.4g J, tangential %.4g J, rotational energy %.4g J, "
+           "residual %.3g of the energy moved\n",
+           rotating ? " (rotating)" : "", l.dissipated_normal, l.dissipated_tangential,
+           l.rotational, res / moved);
+    ck_assert_msg(fabs(res) < 2e-3 * moved, "residual %g of %g", res, moved);
+    gr_sim_free(s);
+    return l;
+}
+
+START_TEST(pair_tangential)
+{
+    gr_scene sc;
+    load(&sc, pair_2d, NULL, 0);
+    gr_sim *s = create(&sc);
+    const double m0 = s->mass_i[0], m1 = s->mass_i[1];
+    const double px0 = m0 * 0.1 - m1 * 0.1;
+    double n[2];
+    oblique(s, n);
+    /* the normal and tangent at contact */
+    const double nx = n[0], ny = n[1], tx = ny, ty = -nx;
+    const double gn0 = -0.2 * nx, gt0 = -0.2 * tx; /* g = v_1 - v_0 = (-0.2, 0) */
+    const double gx = s->vx[1] - s->vx[0], gy = s->vy[1] - s->vy[0];
+    const double gt1 = gx * tx + gy * ty, gn1 = gx * nx + gy * ny;
+    const int a = s->species[0], c1 = s->species[1];
+    const gr_contact_coeffs *cp = &s->cc_pair[a * 2 + c1];
+    const gr_model *tm = cp->tangential_model;
+    const double want = tm->restitution_t(cp, cp->normal_model->impact(cp, -gn0), -gn0, fabs(gt0));
+    printf("oblique pair (masses %g, %g kg): g_t ratio %.5f, the pair's law %.5f; g_n ratio "
+           "%.5f\n",
+           m0, m1, gt1 / gt0, want, -gn1 / gn0);
+    ck_assert_msg(fabs(gt1 / gt0 - want) < 0.01, "g_t ratio %.5f, want %.5f", gt1 / gt0, want);
+    const double px1 = m0 * s->vx[0] + m1 * s->vx[1], py1 = m0 * s->vy[0] + m1 * s->vy[1];
+    ck_assert_msg(fabs(px1 - px0) < 1e-18 && fabs(py1) < 1e-18, "momentum (%g, %g) from %g", px1,
+                  py1, px0);
+    gr_sim_free(s);
+    /* a driven gas: the ledger closes, the tangential law's dissipation in its column */
+    const gr_ledger l = driven_gas(false);
+    ck_assert(l.dissipated_tangential > 0.05 * l.dissipated_normal);
+}
+END_TEST
+
+/* Rotation with species (2D, kernels_poly.c, step_poly.c): the same oblique collision with
+ * rotating discs. The contact point splits |r_ij| as r_0 : r_1, so the spin torques a_i f_t are
+ * in the ratio of the radii at every step and the spins end in the ratio
+ * w_0 / w_1 = (r_0 / I_0) / (r_1 / I_1) = m_1 r_1 / (m_0 r_0) of each grain's own moment of
+ * inertia q m_i r_i^2 (to rounding; one moment for both would give r_0 / r_1 instead); the
+ * angular momentum sum m_i r_i x v_i + I_i w_i is conserved to rounding; the contact point's
+ * tangential velocity comes out scaled by the law's restitution with rotation; the ledger of a
+ * driven rotating gas closes with the spins' energy sum I_i w_i^2 / 2. */
+START_TEST(pair_rotation)
+{
+    const char *rot[] = {"model.rotation=true"};
+    gr_scene sc;
+    load(&sc, pair_2d, rot, 1);
+    gr_sim *s = create(&sc);
+    const double d = s->rad[0] + s->rad[1];
+    const double m[2] = {s->mass_i[0], s->mass_i[1]}, q = sc.contact.inertia_factor;
+    const double I[2] = {q * m[0] * s->rad[0] * s->rad[0], q * m[1] * s->rad[1] * s->rad[1]};
+    ck_assert(fabs(s->inertia_i[0] / I[0] - 1.0) < 1e-15 &&
+              fabs(s->inertia_i[1] / I[1] - 1.0) < 1e-15);
+    /* the angular momentum of the start (oblique's positions and velocities, no spin) */
+    const double b = 0.5 * d; /* L = m (x v_y - y v_x): y = 0.1 and 0.1 + b, v_x = +-0.1 */
+    const double L0 = m[0] * (-0.1 * 0.1) + m[1] * (-(0.1 + b) * -0.1);
+    double n[2];
+    oblique(s, n);
+    const double nx = n[0], ny = n[1], tx = ny, ty = -nx;
+    const double gn0 = -0.2 * nx, gt0 = -0.2 * tx;
+    double L1 = 0.0;
+    for (int i = 0; i < 2; i++) {
+        L1 += m[i] * (s->x[i] * s->vy[i] - s->y[i] * s->vx[i]) + I[i] * s->omega[i];
+    }
+    const double dx = s->x[1] - s->x[0], dy = s->y[1] - s->y[0], r = sqrt(dx * dx + dy * dy);
+    const double a0 = r * s->rad[0] / d, a1 = r - a0;
+    const double gx = s->vx[1] - s->vx[0], gy = s->vy[1] - s->vy[0];
+    const double gct = gx * tx + gy * ty + a0 * s->omega[0] + a1 * s->omega[1];
+    const gr_contact_coeffs *cp = &s->cc_pair[s->species[0] * 2 + s->species[1]];
+    const double want = cp->tangential_model->restitution_t(cp, cp->normal_model->impact(cp, -gn0),
+                                                            -gn0, fabs(gt0));
+    const double ratio = s->omega[0] / s->omega[1],
+                 ratio_want = m[1] * s->rad[1] / (m[0] * s->rad[0]);
+    printf("rotating pair: w_0 / w_1 = %.15g (m_1 r_1 / (m_0 r_0) = %.15g), angular momentum "
+           "%.3g -> %.3g, contact point g_t ratio %.5f (the law: %.5f)\n",
+           ratio, ratio_want, L0, L1, gct / gt0, want);
+    ck_assert(s->omega[0] != 0.0);
+    ck_assert_msg(fabs(ratio / ratio_want - 1.0) < 1e-9, "spin ratio %.15g, want %.15g", ratio,
+                  ratio_want);
+    ck_assert_msg(fabs(L1 - L0) < 1e-12 * fabs(L0), "angular momentum %.17g -> %.17g", L0, L1);
+    ck_assert_msg(fabs(gct / gt0 - want) < 0.02, "g_ct ratio %.5f, want %.5f", gct / gt0, want);
+    gr_sim_free(s);
+    const gr_ledger l = driven_gas(true);
+    ck_assert(l.rotational > 0.0 && l.dissipated_tangential > 0.0);
 }
 END_TEST
 
@@ -235,6 +384,8 @@ static Suite *species_suite(void)
     Suite *s = suite_create("species");
     TCase *t = tcase_create("pairs");
     tcase_set_timeout(t, 600);
+    tcase_add_test(t, pair_tangential);
+    tcase_add_test(t, pair_rotation);
     tcase_add_test(t, pair_restitution);
     tcase_add_test(t, hertz_radius_and_dt);
     tcase_add_test(t, heating_per_mass);

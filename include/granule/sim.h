@@ -204,6 +204,9 @@ double gr_sim_time(const gr_sim *sim);
 int64_t gr_sim_steps(const gr_sim *sim);
 double gr_sim_dt(const gr_sim *sim);
 const gr_contact_coeffs *gr_sim_coeffs(const gr_sim *sim);
+/* A mixture's ([species] lists, docs/mixtures.md) coefficients of species pair (a, b), prepared
+ * with the pair's reduced mass (and radius); NULL without species lists or out of range. */
+const gr_contact_coeffs *gr_sim_species_coeffs(const gr_sim *sim, int a, int b);
 /* The normal law's coefficients against a wall (reduced mass M; docs/systems-walls-gravity.md);
  * NULL without walls or for an integrator with its own wall events. */
 const gr_contact_coeffs *gr_sim_wall_coeffs(const gr_sim *sim);

@@ -39,13 +39,18 @@ def _h5md_atoms(path):
         omega = part["angular_velocity/value"][()] if "angular_velocity" in part else None
         boundary = [b.decode() if isinstance(b, bytes) else str(b) for b in part["box"].attrs["boundary"]]
         radius = float(par["radius"])
+        # a mixture (docs/mixtures.md): each grain's radius and H5MD's species (1, 2, ...)
+        radii = part["radius"][()] if "radius" in part else np.full(pos.shape[1], radius)
+        species = part["species"][()] if "species" in part else None
     pbc = [b == "periodic" for b in boundary]
     frames = []
     for k in range(pos.shape[0]):
         a = ase.Atoms(["X"] * pos.shape[1], positions=pos[k], cell=edges[k], pbc=pbc, masses=mass)
         a.set_velocities(vel[k])
         a.arrays["velo"] = vel[k].copy()
-        a.arrays["radius"] = np.full(pos.shape[1], radius)
+        a.arrays["radius"] = radii.copy()
+        if species is not None:
+            a.arrays["species_index"] = species.copy()
         if omega is not None:
             a.arrays["omega"] = omega[k].copy()
         a.info.update({"Time": float(t[k]), "Step": int(step[k])})
@@ -71,7 +76,8 @@ def mdanalysis_universe(path, **kwargs):
     """An MDAnalysis Universe on a run's trajectory.h5 (the run folder or the file), in one call.
     MDAnalysis 2.4 cannot make a Universe from an H5MD file alone and knows no metre unit, so this
     builds the topology from the file
-    (one atom per particle, name and type X, masses in kg, radii in m) and loads the frames with
+    (one atom per particle, name X and type X, or a mixture's species 1, 2, ..., masses in kg,
+    radii in m) and loads the frames with
     the H5MD reader and convert_units=False: positions in m, velocities in m/s, ts.time in s,
     ts.data["step"], ts.dimensions the box of every frame ([L, L, d, 90, 90, 90] in 2D,
     [L, d, d, ...] in 1D). kwargs go to Universe.load_new. MDAnalysis keeps coordinates in float32."""
@@ -84,11 +90,14 @@ def mdanalysis_universe(path, **kwargs):
         n = f["particles/all/position/value"].shape[1]
         mass = f["particles/all/mass"][()]
         radius = float(f["parameters/granule"].attrs["radius"])
+        # a mixture: each grain's radius, and its species (1, 2, ...) as the atom type
+        radii = f["particles/all/radius"][()] if "radius" in f["particles/all"] else np.full(n, radius)
+        types = [str(v) for v in f["particles/all/species"][()]] if "species" in f["particles/all"] else ["X"] * n
     u = mda.Universe.empty(n, n_residues=n, atom_resindex=np.arange(n), residue_segindex=np.zeros(n, dtype=int),
                            trajectory=False)
     u.add_TopologyAttr("names", ["X"] * n)
-    u.add_TopologyAttr("types", ["X"] * n)
+    u.add_TopologyAttr("types", types)
     u.add_TopologyAttr("masses", mass)
-    u.add_TopologyAttr("radii", np.full(n, radius))
+    u.add_TopologyAttr("radii", radii)
     u.load_new(files[0], format="H5MD", convert_units=False, **kwargs)
     return u

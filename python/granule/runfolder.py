@@ -115,9 +115,14 @@ def _h5md_frames(path):
         t, step = part["position/time"][()], part["position/step"][()]
         edges = part["box/edges/value"][()] if "edges" in part["box"] else None
         omega = part["angular_velocity/value"][()] if "angular_velocity" in part else None
+        # a mixture (docs/mixtures.md): H5MD's species (1, 2, ...), each grain's radius and mass
+        mix = "species" in part
+        species = part["species"][()].astype(np.int64) if mix else None
+        radii, masses = (part["radius"][()], part["mass"][()]) if mix else (None, None)
     frames = []
     for k in range(pos.shape[0]):
         frame = {"t": float(t[k]), "step": int(step[k]), "L": float(edges[k][0][0]) if edges is not None else L,
+                 "species": species, "radii": radii, "masses": masses,
                  "dim": dim, "x": pos[k, :, 0], "vx": vel[k, :, 0],
                  "y": pos[k, :, 1] if dim >= 2 else None, "vy": vel[k, :, 1] if dim >= 2 else None,
                  "omega": omega[k, :, 2] if omega is not None and dim < 3 else None}

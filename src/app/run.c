@@ -273,16 +273,21 @@ static int start_outputs(gr_run_ctx *c)
     }
     /* the trajectory: a resume cuts the frames written after the checkpoint */
     const gr_scene *s = c->scene;
+    const gr_particles parts = gr_sim_particles(c->sim); /* a mixture's species, radii, masses */
     const gr_traj_setup setup = {
         .format = s->trajectory,
         .frames = s->snapshot_every > 0.0,
         .particles = {.n = s->N,
                       .dim = s->dim,
                       .L = s->L,
-                      .radius = s->radius,
-                      .mass = s->mass,
+                      .radius = parts.species ? parts.radius : s->radius, /* mixture: largest */
+                      .mass = parts.species ? parts.mass : s->mass,       /* and the mean mass */
                       .angular_velocity = s->dim >= 2 && s->contact.rotation,
-                      .deflate = 1}};
+                      .deflate = 1,
+                      .species = parts.species,
+                      .radii = parts.radii,
+                      .masses = parts.masses,
+                      .n_species = parts.n_species}};
     int rc = gr_traj_writer_open(&c->traj, &setup, c->dir, c->resume ? c->snap_index : -1, c->err);
     if (rc) {
         gr_traj_writer_close(&c->traj, &(gr_error){0});

@@ -89,7 +89,14 @@ int cmd_export(int argc, char **argv)
     printf("%s, %s: N = %d, %lld + %lld steps, dump every %lld steps to %s\n", info.deck, info.data,
            scene.N, (long long)info.warmup_steps, (long long)info.run_steps,
            (long long)info.sample_steps, info.dump);
-    printf("gran/hooke Kn = %.6g N/m, gamman = %.6g 1/s, gammat = %.6g 1/s; noise sigma = %.6g N\n",
-           info.kn, info.gamman, info.gammat, info.noise_sigma);
+    if (scene.n_species >= 2) { /* pair_style granular, a pair_coeff per species pair */
+        printf("%d atom types (species), pair_style granular hooke Kn = %.6g N/m with each "
+               "pair's damping; noise sigma = %.6g N\n",
+               scene.n_species, info.kn, info.noise_sigma);
+    } else {
+        printf("gran/hooke Kn = %.6g N/m, gamman = %.6g 1/s, gammat = %.6g 1/s; noise sigma = %.6g "
+               "N\n",
+               info.kn, info.gamman, info.gammat, info.noise_sigma);
+    }
     return EXIT_OK;
 }

@@ -1,7 +1,11 @@
 /* The force kernel of a run with species (docs/mixtures.md): the same pair geometry and normal
  * laws as kernels.c (models/NAME.h through kernel_laws.h's normal_law), with the pair's own
  * contact distance r_i + r_j and coefficients (s->cc_pair of the two species: reduced mass,
- * damping, stiffness). A separate instance, chosen once per run (gr_kernel_choose) when the scene
+ * damping, stiffness). In 2D a tangential law without history (tangential_dashpot,
+ * sliding_friction; species lists) acts on g_t = g.t with the pair's coefficients, as in
+ * kernels.c, and books its dissipation into its own ledger column; with rotation g_t is the
+ * contact point's, g.t + a_i w_i + a_j w_j, and f_t turns grain i with the torque a_i f_t
+ * (a_i = |r_ij| r_i / (r_i + r_j), the arm to the contact point). A separate instance, chosen once per run (gr_kernel_choose) when the scene
  * has species, so the monodisperse instances load nothing per pair that they did not before.
  * One thread: a run with species is the same for every thread count. */
 #include <math.h>
@@ -64,6 +68,8 @@ static gr_force_report report(double elastic, double pn, int64_t fresh, double w
 {
     return (gr_force_report){.elastic = elastic,
                              .power_normal = pn,
+                             .power_tangential = 0.0,
+                             .power_friction = 0.0,
                              .new_contacts = fresh,
                              .max_overlap = worst,
                              .worst_i = wi,
@@ -113,9 +119,15 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
     memset(s->fy, 0, sizeof(double) * (size_t)n);
     memset(s->gx, 0, sizeof(double) * (size_t)n);
     memset(s->gy, 0, sizeof(double) * (size_t)n);
-    double elastic = 0.0, pn = 0.0, worst = 0.0;
+    if (s->omega) {
+        memset(s->tq, 0, sizeof(double) * (size_t)n);
+    }
+    double elastic = 0.0, pn = 0.0, worst = 0.0, pt[2] = {0.0, 0.0}; /* tangential, friction */
     int wi = -1, wj = -1;
     int64_t fresh = 0;
+    const int tl = s->kernel.tl, clamp = s->kernel.clamp;
+    const int col = book_of(tl) == GR_BOOK_FRICTION; /* the law's ledger column */
+    const double inv_dt = 1.0 / s->dt;
     for (int i = 0; i < n; i++) {
         for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
             const int j = s->nl_j[p];
@@ -131,14 +143,43 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
             }
             fresh += !s->nl_contact[p];
             s->nl_contact[p] = 1;
-            s->fx[j] += f * nx;
-            s->fy[j] += f * ny;
-            s->fx[i] -= f * nx;
-            s->fy[i] -= f * ny;
-            s->gx[j] += fd * nx;
-            s->gy[j] += fd * ny;
-            s->gx[i] -= fd * nx;
-            s->gy[i] -= fd * ny;
+            double Fx = f * nx, Fy = f * ny, Gx = fd * nx, Gy = fd * ny;
+            if (tl != TL_none) { /* t = (n_y, -n_x), g_t = g.t, no rotation (kernels.c) */
+                const gr_contact_coeffs *c = &s->cc_pair[s->species[i] * s->nsp + s->species[j]];
+                const double tx = ny, ty = -nx;
+                double g_t = (s->vx[j] - s->vx[i]) * tx + (s->vy[j] - s->vy[i]) * ty;
+                /* rotation: the contact point divides |r_ij| as r_i : r_j (midway for equal
+                 * radii, as kernels.c), so the arms a_i + a_j = |r_ij| make the spin torques
+                 * a_i f_t, a_j f_t cancel the pair's orbital torque (angular momentum kept) */
+                const double ai = dist * s->rad[i] / (s->rad[i] + s->rad[j]), aj = dist - ai;
+                if (s->omega) {
+                    g_t += ai * s->omega[i] + aj * s->omega[j];
+                }
+                const gr_tangential_in in = {.g_t = g_t,
+                                             .f_n = f,
+                                             .xi = gr_pair_d(s, i, j) - dist,
+                                             .g_n = g_n,
+                                             .acts = !clamp || f > 0.0,
+                                             .m12_dt = c->m_t * inv_dt};
+                const gr_tangential_force ft = tangential_law(tl, c, in);
+                Fx += ft.f * tx;
+                Fy += ft.f * ty;
+                Gx += ft.f * tx;
+                Gy += ft.f * ty;
+                pt[col] += ft.p;
+                if (s->omega) {
+                    s->tq[i] += ai * ft.f;
+                    s->tq[j] += aj * ft.f;
+                }
+            }
+            s->fx[j] += Fx;
+            s->fy[j] += Fy;
+            s->fx[i] -= Fx;
+            s->fy[i] -= Fy;
+            s->gx[j] += Gx;
+            s->gy[j] += Gy;
+            s->gx[i] -= Gx;
+            s->gy[i] -= Gy;
             elastic += el;
             pn += pw;
             const double ov = (gr_pair_d(s, i, j) - dist) / gr_pair_d(s, i, j);
@@ -150,6 +191,8 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
         }
     }
     *r = report(elastic, pn, fresh, worst, wi, wj);
+    r->power_tangential = pt[0];
+    r->power_friction = pt[1];
 }
 
 void gr_kernel_run_poly(gr_sim *s, gr_force_report *r)

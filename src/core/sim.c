@@ -120,6 +120,8 @@ void gr_sim_free(gr_sim *s)
     free(s->tgx);
     free(s->tgy);
     free(s->wall_hist);
+    free(s->wall_cc_sp);
+    free(s->inertia_i);
     free(s->species);
     free(s->rad);
     free(s->mass_i);
@@ -336,6 +338,15 @@ static int alloc_rotation(gr_sim *s, gr_error *err)
         return GR_FAIL(err, GR_ENOMEM, "out of memory for %d angular velocities", s->n);
     }
     s->inertia = s->cc.q * s->mass * 0.25 * s->d * s->d;
+    if (s->rad) { /* species: each grain's own moment of inertia */
+        s->inertia_i = calloc((size_t)s->n + 1, sizeof(double));
+        if (!s->inertia_i) {
+            return GR_FAIL(err, GR_ENOMEM, "out of memory for %d moments of inertia", s->n);
+        }
+        for (int i = 0; i < s->n; i++) {
+            s->inertia_i[i] = s->cc.q * s->mass_i[i] * s->rad[i] * s->rad[i];
+        }
+    }
     return GR_OK;
 }
 
@@ -684,6 +695,12 @@ int64_t gr_sim_steps(const gr_sim *s) { return s->step; }
 double gr_sim_dt(const gr_sim *s) { return s->dt; }
 const gr_contact_coeffs *gr_sim_coeffs(const gr_sim *s) { return &s->cc; }
 
+const gr_contact_coeffs *gr_sim_species_coeffs(const gr_sim *s, int a, int b)
+{
+    const bool in = s->cc_pair && a >= 0 && b >= 0 && a < s->nsp && b < s->nsp;
+    return in ? &s->cc_pair[a * s->nsp + b] : NULL;
+}
+
 const gr_contact_coeffs *gr_sim_wall_coeffs(const gr_sim *s)
 {
     const bool walls = s->params.walls[0] || s->params.walls[1] || s->params.walls[2];
@@ -765,7 +782,8 @@ gr_ledger gr_sim_ledger(gr_sim *s)
     }
     double rot = 0.0; /* sum I w^2 / 2, part of the kinetic energy */
     for (int i = 0; s->omega && i < s->n; i++) {
-        rot += s->omega[i] * s->omega[i];
+        /* species: each grain's own I_i (1.0 without: exact) */
+        rot += (s->inertia_i ? s->inertia_i[i] / s->inertia : 1.0) * s->omega[i] * s->omega[i];
         if (s->wx) { /* 3D: |w|^2 */
             rot += s->wx[i] * s->wx[i] + s->wy[i] * s->wy[i];
         }
@@ -822,7 +840,8 @@ double gr_sim_rotational_temperature(const gr_sim *s)
     }
     double sum = 0.0;
     for (int i = 0; i < s->n; i++) {
-        sum += s->omega[i] * s->omega[i];
+        /* species: each grain's own I_i (1.0 without: exact) */
+        sum += (s->inertia_i ? s->inertia_i[i] / s->inertia : 1.0) * s->omega[i] * s->omega[i];
         if (s->wx) { /* 3D: |w|^2 over the three rotational degrees of freedom, as T sums v */
             sum += s->wx[i] * s->wx[i] + s->wy[i] * s->wy[i];
         }

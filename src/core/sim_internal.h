@@ -96,6 +96,9 @@ struct gr_sim {
      * none, or it does nothing) */
     gr_contact_coeffs wall_cc;
     int wall_tl;
+    /* species lists with walls: each species' wall contact (nsp entries: the law prepared with
+     * the grain's own mass, hertz's k_h scaled as for its own pair); NULL otherwise */
+    gr_contact_coeffs *wall_cc_sp;
     double period[3];
     /* a history law at the walls: 4 slots per grain (its contacts with the walls at 0 and L of x,
      * then of y: slot 4 i + 2 a + side), NULL otherwise */
@@ -116,6 +119,7 @@ struct gr_sim {
     int nsp;
     int *species;
     double *rad, *mass_i, *inv_m;
+    double *inertia_i; /* rotation with species: each grain's q m_i r_i^2 (NULL otherwise) */
     gr_contact_coeffs *cc_pair;
     double d_pair[GR_MAX_SPECIES * GR_MAX_SPECIES];
     /* a continuous radius distribution (params.size_distribution; nsp = 1, cc_pair NULL): each
@@ -230,6 +234,10 @@ void gr_history_restore(gr_sim *s);
 int gr_species_setup(gr_sim *s, gr_error *err);
 void gr_species_reference(gr_sim *s, gr_contact_params *p, double *m12);
 int gr_species_coeffs(gr_sim *s, double dt, gr_error *err);
+/* The walls' contact of each species (s->wall_cc_sp) from the walls' parameters wp at step dt. */
+int gr_species_wall_coeffs(gr_sim *s, const gr_contact_params *wp, double dt, gr_error *err);
+/* Grain i's radius: its own with species, d / 2 without. */
+static inline double gr_grain_r(const gr_sim *s, int i) { return s->rad ? s->rad[i] : 0.5 * s->d; }
 /* The contact distance of grains i and j: r_i + r_j with species, d without. */
 static inline double gr_pair_d(const gr_sim *s, int i, int j)
 {

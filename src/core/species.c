@@ -8,8 +8,9 @@
  * damping from eps_n) gives every pair that eps_n; hertz with the effective radius R_ij = r_i r_j /
  * (r_i + r_j): k_h,ij = k_h sqrt(R_ij / R_00), the scene's k_h being that of two grains of the first
  * species. The contact distance is r_i + r_j. The time step resolves the shortest contact of all
- * pairs. What runs with species so far: 1D and 2D, the verlet integrator, a normal force law
- * alone (no tangential or rolling law, no rotation), a periodic box, the random force (the same D
+ * pairs. What runs with species so far: 1D and 2D, the verlet and the event integrator
+ * (smooth hard discs and rods of species lists: src/integrators/event), a normal force law or
+ * event rule alone (no tangential or rolling law, no rotation), a periodic box, the random force (the same D
  * on every grain, so the kicks are sqrt(2 D dt) / m_i) or no driving; the rest is refused here
  * (and, with the file and line, by the scene). */
 #include <math.h>
@@ -37,13 +38,14 @@ int gr_species_counts(int N, int ns, const double *fraction, int *count)
 static const char *not_covered(const gr_sim *s)
 {
     const gr_sim_params *p = &s->params;
-    return p->dim == 3                                           ? "[system] dim = 3"
-           : !p->integrator->species                             ? "[integrator] kind"
-           : p->tangential                                       ? "[model] tangential"
-           : p->rolling                                          ? "[model] rolling"
-           : p->contact.rotation                                 ? "[model] rotation"
-           : p->walls[0] || p->walls[1]                          ? "[boundary]"
-           : p->gravity[0] != 0.0 || p->gravity[1] != 0.0        ? "[gravity]"
+    return p->dim == 3               ? "[system] dim = 3"
+           : !p->integrator->species ? "[integrator] kind"
+           : p->tangential && (gr_model_keeps_history(p->tangential) || p->size_distribution ||
+                               p->integrator->instantaneous)
+               ? "[model] tangential"
+           : p->rolling ? "[model] rolling"
+           : p->contact.rotation && (p->size_distribution || p->integrator->instantaneous)
+               ? "[model] rotation"
            : s->drive == GR_DRIVE_BATH                           ? "[driving] kind = langevin"
            : p->noise_mode == GR_NOISE_COM                       ? "[noise] mode = com"
            : p->noise_precision == GR_NOISE_SINGLE               ? "[noise] precision = single"
@@ -84,6 +86,9 @@ static int size_setup(gr_sim *s, gr_error *err)
     const gr_sim_params *p = &s->params;
     const int n = s->n;
     const char *what = not_covered(s);
+    if (!what && (p->walls[0] || p->walls[1] || p->gravity[0] != 0.0 || p->gravity[1] != 0.0)) {
+        what = "[boundary] walls or [gravity]"; /* species lists have them (walls.c) */
+    }
     if (!what && p->normal == &gr_model_hertz &&
         ((const hertz_own *)(const void *)(p->contact.own + offsetof(gr_own_layout, hertz)))
             ->viscoelastic) {
@@ -219,7 +224,8 @@ static void radii_params(const gr_sim_params *p, double ra, double rb, double ma
 {
     *cp = p->contact;
     *m12 = ma * mb / (ma + mb);
-    if (p->normal == &gr_model_hertz) {
+    /* hard_sphere's eps_n(v) (viscoelastic = true) is hertz's, with hertz's k_h */
+    if (p->normal == &gr_model_hertz || p->normal == &gr_model_hard_sphere) {
         hertz_own *o = (hertz_own *)(void *)(cp->own + offsetof(gr_own_layout, hertz));
         o->k_h *= sqrt(ra * rb / (ra + rb) / (0.5 * r0));
     }
@@ -292,6 +298,31 @@ void gr_species_reference(gr_sim *s, gr_contact_params *p, double *m12)
     }
 }
 
+int gr_species_wall_coeffs(gr_sim *s, const gr_contact_params *wp, double dt, gr_error *err)
+{
+    const gr_sim_params *p = &s->params;
+    s->wall_cc_sp = calloc((size_t)s->nsp, sizeof(gr_contact_coeffs));
+    if (!s->wall_cc_sp) {
+        return GR_FAIL(err, GR_ENOMEM, "out of memory for the walls' contacts of %d species",
+                       s->nsp);
+    }
+    for (int a = 0; a < s->nsp; a++) {
+        /* the grain against an infinite mass: reduced mass m_a; hertz's k_h as for its own pair */
+        gr_contact_params cp;
+        double m12;
+        radii_params(p, p->species_radius[a], p->species_radius[a], p->species_mass[a],
+                     p->species_mass[a], p->species_radius[0], &cp, &m12);
+        gr_contact_params w = *wp;
+        memcpy(w.own, cp.own, sizeof w.own);
+        int rc = gr_contact_prepare(p->normal, s->dim == 2 ? p->tangential : NULL, &w,
+                                    p->species_mass[a], dt, &s->wall_cc_sp[a], err);
+        if (rc) {
+            return rc;
+        }
+    }
+    return GR_OK;
+}
+
 int gr_species_coeffs(gr_sim *s, double dt, gr_error *err)
 {
     if (!s->cc_pair) { /* a radius distribution: the kernel scales the reference (cc) per pair */
@@ -303,8 +334,9 @@ int gr_species_coeffs(gr_sim *s, double dt, gr_error *err)
             gr_contact_params cp;
             double m;
             pair_params(&s->params, a, b, &cp, &m);
-            int rc = gr_contact_prepare(s->params.normal, NULL, &cp, m, dt, &s->cc_pair[a * ns + b],
-                                        err);
+            /* the tangential law too (no history: tangential_dashpot, sliding_friction) */
+            int rc = gr_contact_prepare(s->params.normal, s->params.tangential, &cp, m, dt,
+                                        &s->cc_pair[a * ns + b], err);
             if (rc) {
                 return rc;
             }

@@ -42,7 +42,12 @@
  * not wrap across a wall axis (gr_sim.period, neighbours.c), so no pair is seen through a wall. The
  * 1D ring's kernel always closes the ring with the pair (n-1, 0) at gap x_0 + L - x_{n-1}; with
  * walls that pair does not exist, and the rare times both end grains press into their walls so
- * hard that the kernel finds it overlapping, this pass takes its force back out. */
+ * hard that the kernel finds it overlapping, this pass takes its force back out.
+ *
+ * Species lists (docs/mixtures.md): a grain touches a wall at its own radius r_i and feels the
+ * wall's law prepared for its own mass (reduced mass m_i against the infinite wall; hertz's k_h
+ * scaled as for its own pair: s->wall_cc_sp, gr_species_wall_coeffs), gravity is m_i g. Without
+ * species every grain has r = d / 2 and the coefficients s->wall_cc, as before. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -129,12 +134,13 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
         }
         const double *q = a == 0 ? s->x : a == 1 ? s->y : s->z;
         for (int i = 0; i < s->n; i++) {
-            if (!(q[i] >= r && q[i] <= s->L - r)) {
+            const double ri = s->rad ? s->rad[i] : r; /* species: its own radius */
+            if (!(q[i] >= ri && q[i] <= s->L - ri)) {
                 return GR_FAIL(err, GR_EINVAL,
                                "%s: particle %d at %c = %g m overlaps a wall: with [boundary] %c "
                                "= walls every centre must lie in [r, L - r] = [%g, %g] m; choose "
                                "another [placement] kind or a larger L",
-                               p->source, i, axis_name[a], q[i], axis_name[a], r, s->L - r);
+                               p->source, i, axis_name[a], q[i], axis_name[a], ri, s->L - ri);
             }
         }
         s->period[a] = INFINITY; /* the neighbour list does not wrap across the walls */
@@ -163,6 +169,12 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
         return GR_FAIL(err, rc,
                        "%s: the walls' contact ([boundary] eps_n = %g, eps_t = %g, mu = %g): %s",
                        p->source, wp.eps_n, wp.eps_t, wp.mu, why);
+    }
+    if (s->cc_pair && !s->integrator->instantaneous) { /* species lists: each its own contact */
+        rc = gr_species_wall_coeffs(s, &wp, s->dt, err);
+        if (rc) {
+            return rc;
+        }
     }
     s->wall_tl =
         tang && !(tang->inert && tang->inert(&s->wall_cc)) ? gr_kernel_tangential_id(tang) : 0;
@@ -197,6 +209,7 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
 typedef struct wall_sums {
     double e, et, pn, pt, pf, lost, pw, pd;
     double fw[6];
+    double ej; /* species: the normal springs' energy, J (each species' own e_scale) */
 } wall_sums;
 
 /* The wall motion at time t: position and velocity of the vibrating wall (A sin(w t); sawtooth
@@ -220,7 +233,8 @@ static void wall_motion(const gr_sim_params *p, double t, double *q, double *v)
 static void wall_tangential(gr_sim *s, int i, int k, double st, const double *v_o, double *f_o,
                             double *g_o, double f_n, double xi, double g_n, int acts, wall_sums *w)
 {
-    const double r = 0.5 * s->d;
+    const double r = gr_grain_r(s, i); /* species: its own radius and contact */
+    const gr_contact_coeffs *wc = s->wall_cc_sp ? &s->wall_cc_sp[s->species[i]] : &s->wall_cc;
     double g_t = st * v_o[i];
     if (s->omega) {
         g_t +=
@@ -232,10 +246,10 @@ static void wall_tangential(gr_sim *s, int i, int k, double st, const double *v_
                                  .xi = xi,
                                  .g_n = g_n,
                                  .acts = acts,
-                                 .m12_dt = s->wall_cc.m_t / s->dt,
+                                 .m12_dt = wc->m_t / s->dt,
                                  .hist = s->wall_hist ? &slot : NULL};
     int book, hist;
-    const gr_tangential_force ft = gr_kernel_tangential(s->wall_tl, &s->wall_cc, in, &book, &hist);
+    const gr_tangential_force ft = gr_kernel_tangential(s->wall_tl, wc, in, &book, &hist);
     const double nc = hist ? ft.f - ft.fc : ft.f; /* the non-conservative part */
     if (acts) {
         f_o[i] += st * ft.f;
@@ -287,8 +301,15 @@ static void axis_walls(gr_sim *s, const int a, const double *restrict q, const d
     for (int i0 = 0; i0 < s->n; i0 += BLOCK) {
         const int m = i0 + BLOCK < s->n ? BLOCK : s->n - i0;
         const double *restrict qb = q + i0;
-        for (int k = 0; k < m; k++) { /* vectorises */
-            touch[k] = (uint8_t)((r - (qb[k] - qw) > 0.0) | (qb[k] + r - L > 0.0));
+        if (s->rad) { /* species: each grain's own radius */
+            const double *restrict rb = s->rad + i0;
+            for (int k = 0; k < m; k++) {
+                touch[k] = (uint8_t)((rb[k] - (qb[k] - qw) > 0.0) | (qb[k] + rb[k] - L > 0.0));
+            }
+        } else {
+            for (int k = 0; k < m; k++) { /* vectorises */
+                touch[k] = (uint8_t)((r - (qb[k] - qw) > 0.0) | (qb[k] + r - L > 0.0));
+            }
         }
         if (hist) {
             for (int k = 0; k < m; k++) {
@@ -299,8 +320,9 @@ static void axis_walls(gr_sim *s, const int a, const double *restrict q, const d
         }
         for (int k = 0; k < m; k++) {
             if (touch[k]) {
-                axis_wall_grain(s, a, i0 + k, q, v, f, g, v_o, f_o, g_o, qw, vw, w, r_out, r, L,
-                                st0, tang);
+                const int i = i0 + k;
+                axis_wall_grain(s, a, i, q, v, f, g, v_o, f_o, g_o, qw, vw, w, r_out,
+                                s->rad ? s->rad[i] : r, L, st0, tang);
             }
         }
     }
@@ -314,6 +336,8 @@ static void axis_wall_grain(gr_sim *s, const int a, const int i, const double *r
                             const double L, const double st0, const int tang)
 {
     {
+        /* species: the grain's own contact with the walls (its mass, radius r) */
+        const gr_contact_coeffs *wc = s->wall_cc_sp ? &s->wall_cc_sp[s->species[i]] : &s->wall_cc;
         const double lo = r - (q[i] - qw), hi = q[i] + r - L;
         /* the step's runaway guard (overlap > RUNAWAY_OVERLAP = 0.5 d, step.c) sees a wall's
          * overlap doubled, xi / r, with worst_j = -1: a grain deeper than r has crossed the wall
@@ -329,10 +353,14 @@ static void axis_wall_grain(gr_sim *s, const int a, const int i, const double *r
         if (lo > 0.0) { /* the wall at 0: normal +e_a, g_n = v - vw */
             double f_d, ei;
             const double g_n = v[i] - vw;
-            const double f_n = gr_kernel_normal(s, &s->wall_cc, lo, g_n, &f_d, &ei);
+            const double f_n = gr_kernel_normal(s, wc, lo, g_n, &f_d, &ei);
             f[i] += f_n;
             g[i] += f_d;
-            w->e += ei;
+            if (s->wall_cc_sp) {
+                w->ej += wc->e_scale * ei;
+            } else {
+                w->e += ei;
+            }
             w->pn -= f_d * g_n;
             w->pw += f_n * vw;
             w->pd += f_d * vw;
@@ -346,10 +374,14 @@ static void axis_wall_grain(gr_sim *s, const int a, const int i, const double *r
         }
         if (hi > 0.0) { /* the wall at L: normal -e_a, g_n = -v */
             double f_d, ei;
-            const double f_n = gr_kernel_normal(s, &s->wall_cc, hi, -v[i], &f_d, &ei);
+            const double f_n = gr_kernel_normal(s, wc, hi, -v[i], &f_d, &ei);
             f[i] -= f_n;
             g[i] -= f_d;
-            w->e += ei;
+            if (s->wall_cc_sp) {
+                w->ej += wc->e_scale * ei;
+            } else {
+                w->e += ei;
+            }
             w->pn += f_d * v[i];
             w->fw[2 * a + 1] += f_n;
             if (tang) {
@@ -367,17 +399,20 @@ static void axis_wall_grain(gr_sim *s, const int a, const int i, const double *r
  * grains' present positions, minus what they keep, J; its negative is the wall's work. */
 static double dropped_energy(const gr_sim *s, const double *q, double qw)
 {
-    const double r = 0.5 * s->d, up = qw + 2.0 * s->params.amplitude;
+    const double up = qw + 2.0 * s->params.amplitude;
     double before = 0.0, after = 0.0;
     for (int i = 0; i < s->n; i++) {
         double f_d, e;
+        const double r = gr_grain_r(s, i); /* species: its own radius and contact */
+        const gr_contact_coeffs *wc = s->wall_cc_sp ? &s->wall_cc_sp[s->species[i]] : &s->wall_cc;
+        const double w = s->wall_cc_sp ? wc->e_scale / s->wall_cc.e_scale : 1.0;
         if (r - (q[i] - up) > 0.0) {
-            gr_kernel_normal(s, &s->wall_cc, r - (q[i] - up), 0.0, &f_d, &e);
-            before += e;
+            gr_kernel_normal(s, wc, r - (q[i] - up), 0.0, &f_d, &e);
+            before += w * e;
         }
         if (r - (q[i] - qw) > 0.0) {
-            gr_kernel_normal(s, &s->wall_cc, r - (q[i] - qw), 0.0, &f_d, &e);
-            after += e;
+            gr_kernel_normal(s, wc, r - (q[i] - qw), 0.0, &f_d, &e);
+            after += w * e;
         }
     }
     return s->wall_cc.e_scale * (before - after);
@@ -390,14 +425,18 @@ static void unwrap_ring(gr_sim *s, gr_force_report *r)
     if (n < 2 || !s->pair_contact[n - 1]) {
         return;
     }
-    const double ov = s->d - (s->x[0] + s->L - s->x[n - 1]), g_n = s->vx[0] - s->vx[n - 1];
+    /* species: the pair's own distance and coefficients, as the kernel took them */
+    const gr_contact_coeffs *c =
+        s->cc_pair ? &s->cc_pair[s->species[n - 1] * s->nsp + s->species[0]] : &s->cc;
+    const double ov = gr_pair_d(s, n - 1, 0) - (s->x[0] + s->L - s->x[n - 1]),
+                 g_n = s->vx[0] - s->vx[n - 1];
     double f_d, e;
-    const double f_n = gr_kernel_normal(s, &s->cc, ov, g_n, &f_d, &e);
+    const double f_n = gr_kernel_normal(s, c, ov, g_n, &f_d, &e);
     s->fx[n - 1] += f_n;
     s->fx[0] -= f_n;
     s->gx[n - 1] += f_d;
     s->gx[0] -= f_d;
-    r->elastic -= s->cc.e_scale * e;
+    r->elastic -= c->e_scale * e;
     r->power_normal += f_d * g_n;
     r->new_contacts -= 1; /* the flag is cleared below every time, so the kernel counted it new */
     s->pair_contact[n - 1] = 0;
@@ -591,6 +630,9 @@ void gr_walls_forces(gr_sim *s, gr_force_report *r)
         axis_walls(s, 1, s->y, s->vy, s->fy, s->gy, s->vx, s->fx, s->gx, qw[1], vw[1], &w, r);
     }
     r->elastic += s->wall_cc.e_scale * w.e;
+    if (s->wall_cc_sp) {
+        r->elastic += w.ej; /* species: each species' own springs */
+    }
     r->power_normal += w.pn;
     if (s->wall_tl) {
         r->elastic += w.et;
@@ -613,8 +655,11 @@ void gr_walls_forces(gr_sim *s, gr_force_report *r)
     for (int a = 0; a < s->dim; a++) {
         const double mg = s->mass * p->gravity[a];
         double *restrict f = a == 0 ? s->fx : a == 1 ? s->fy : s->fz;
-        for (int i = 0; mg != 0.0 && i < s->n; i++) {
+        for (int i = 0; mg != 0.0 && i < s->n && !s->mass_i; i++) {
             f[i] += mg;
+        }
+        for (int i = 0; mg != 0.0 && i < s->n && s->mass_i; i++) {
+            f[i] += s->mass_i[i] * p->gravity[a]; /* species: its own weight */
         }
     }
 }
@@ -634,7 +679,7 @@ double gr_walls_potential(const gr_sim *s)
         const double *q = a == 0 ? s->x : a == 1 ? s->y : s->z;
         double sum = 0.0;
         for (int i = 0; ga != 0.0 && i < s->n; i++) {
-            sum += q[i];
+            sum += s->mass_i ? s->mass_i[i] / s->mass * q[i] : q[i]; /* species: own masses */
         }
         u -= s->mass * ga * sum;
     }

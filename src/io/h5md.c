@@ -8,7 +8,10 @@
  *   /particles/all/velocity    value[F][N][3] (m s-1), step and time hard links to position's
  *   /particles/all/angular_velocity  value[F][N][3] (rad s-1), when the file has them
  *   /particles/all/mass        [N] kg
- *   /parameters/granule        dim, N, L, radius, mass, length_unit = "m"
+ *   /particles/all/species     [N] 1, 2, ... (a mixture only: H5MD's species element)
+ *   /particles/all/radius      [N] m (a mixture only; granule's own element)
+ *   /parameters/granule        dim, N, L, radius, mass, length_unit = "m"; a mixture's
+ *                              n_species (radius the largest, mass the mean)
  * A 3D system has its three coordinates and a cube of edges L, periodic in x, y and z; a 2D
  * system has z = d/2 and a z edge of one diameter d, a 1D system y = z = d/2 and y, z edges
  * of d, as in the extended-XYZ snapshots. Position values carry no unit attribute: MDAnalysis
@@ -37,6 +40,9 @@ struct gr_h5md {
     int64_t frames;
     int writable;
     double *buf; /* 3 n */
+    /* a mixture's per-particle constants (read back; NULL without) */
+    int *species, n_species;
+    double *radii, *masses;
     char path[1024];
 };
 
@@ -78,6 +84,9 @@ static void h5md_release(gr_h5md *h)
         H5Fclose(h->file);
     }
     free(h->buf);
+    free(h->species);
+    free(h->radii);
+    free(h->masses);
     free(h);
 }
 
@@ -181,6 +190,44 @@ static int element_make(gr_h5md *h, int e, int rank, const hsize_t *inner, const
                : 0;
 }
 
+/* A time-independent per-particle dataset [N] (mass, species, radius), chunked and deflated. */
+static int constant_write(gr_h5md *h, const char *path, hid_t type, const void *data,
+                          const char *unit)
+{
+    hsize_t n = (hsize_t)h->n, chunk = n < 32768 ? n : 32768;
+    chunk = chunk > 0 ? chunk : 1;
+    hid_t space = H5Screate_simple(1, &n, NULL), dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_chunk(dcpl, 1, &chunk);
+    H5Pset_deflate(dcpl, 1);
+    hid_t m = H5Dcreate2(h->file, path, type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    int st = m < 0 || H5Dwrite(m, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0 ||
+             (unit && attr_string(m, "unit", unit));
+    if (m >= 0) {
+        H5Dclose(m);
+    }
+    H5Pclose(dcpl);
+    H5Sclose(space);
+    return st ? -1 : 0;
+}
+
+/* Read the time-independent dataset path [N] into a new array (NULL if absent or unreadable). */
+static void *constant_read(gr_h5md *h, const char *path, hid_t type, size_t size)
+{
+    if (H5Lexists(h->file, path, H5P_DEFAULT) <= 0) {
+        return NULL;
+    }
+    void *out = malloc(size * (size_t)(h->n > 0 ? h->n : 1));
+    hid_t d = H5Dopen2(h->file, path, H5P_DEFAULT);
+    if (!out || d < 0 || H5Dread(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) < 0) {
+        free(out);
+        out = NULL;
+    }
+    if (d >= 0) {
+        H5Dclose(d);
+    }
+    return out;
+}
+
 static int metadata_write(gr_h5md *h, const gr_h5md_desc *d)
 {
     int st = 0;
@@ -208,23 +255,25 @@ static int metadata_write(gr_h5md *h, const gr_h5md_desc *d)
           attr_double(g, "radius", d->radius) || attr_double(g, "mass", d->mass) ||
           attr_string(g, "length_unit", "m");
     H5Gclose(g);
+    if (d->species) {
+        g = H5Gopen2(h->file, "/parameters/granule", H5P_DEFAULT);
+        st |= g < 0 || attr_write(g, "n_species", H5T_NATIVE_INT, 0, NULL, &d->n_species);
+        H5Gclose(g);
+    }
     /* the masses: one value per particle, constant, so they compress to almost nothing */
-    hsize_t n = (hsize_t)d->n, chunk = n < 32768 ? n : 32768;
-    hid_t space = H5Screate_simple(1, &n, NULL), dcpl = H5Pcreate(H5P_DATASET_CREATE);
-    H5Pset_chunk(dcpl, 1, &chunk);
-    H5Pset_deflate(dcpl, 1);
-    hid_t m = H5Dcreate2(h->file, "/particles/all/mass", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT,
-                         dcpl, H5P_DEFAULT);
     for (int i = 0; i < d->n; i++) {
-        h->buf[i] = d->mass; /* buf holds 3 n values */
+        h->buf[i] = d->masses ? d->masses[i] : d->mass; /* buf holds 3 n values */
     }
-    st |= m < 0 || H5Dwrite(m, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, h->buf) < 0 ||
-          attr_string(m, "unit", "kg");
-    if (m >= 0) {
-        H5Dclose(m);
+    st |= constant_write(h, "/particles/all/mass", H5T_NATIVE_DOUBLE, h->buf, "kg");
+    if (d->species) { /* a mixture: H5MD's species (1, 2, ...) and each grain's radius */
+        int *sp = malloc(sizeof(int) * (size_t)(d->n > 0 ? d->n : 1));
+        for (int i = 0; sp && i < d->n; i++) {
+            sp[i] = d->species[i] + 1;
+        }
+        st |= !sp || constant_write(h, "/particles/all/species", H5T_NATIVE_INT, sp, NULL);
+        free(sp);
+        st |= constant_write(h, "/particles/all/radius", H5T_NATIVE_DOUBLE, d->radii, "m");
     }
-    H5Pclose(dcpl);
-    H5Sclose(space);
     return st ? -1 : 0;
 }
 
@@ -313,6 +362,28 @@ static int h5md_attach(gr_h5md *h, unsigned mode, gr_error *err)
     h->dim = dim;
     h->radius = radius;
     h->d = 2.0 * radius;
+    /* a mixture: each particle's species (1, 2, ... in the file), radius and mass */
+    h->species = constant_read(h, "/particles/all/species", H5T_NATIVE_INT, sizeof(int));
+    if (h->species) {
+        h->radii = constant_read(h, "/particles/all/radius", H5T_NATIVE_DOUBLE, sizeof(double));
+        h->masses = constant_read(h, "/particles/all/mass", H5T_NATIVE_DOUBLE, sizeof(double));
+        for (int i = 0; i < h->n; i++) {
+            h->species[i]--;
+            h->n_species = h->species[i] + 1 > h->n_species ? h->species[i] + 1 : h->n_species;
+            if (h->species[i] < 0) {
+                return GR_FAIL(err, GR_EINVAL,
+                               "%s: /particles/all/species[%d] = %d; allowed: 1, 2, ... (the "
+                               "species of a granule mixture)",
+                               h->path, i, h->species[i] + 1);
+            }
+        }
+        if (!h->radii || !h->masses) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: a mixture's trajectory needs /particles/all/radius and mass "
+                           "beside species",
+                           h->path);
+        }
+    }
     h->frames = frames_of(h->value[EL_POS]);
     for (int e = 0; e < N_EL; e++) {
         if (h->value[e] >= 0 && frames_of(h->value[e]) < h->frames) {
@@ -541,5 +612,19 @@ int gr_h5md_read_frame(gr_h5md *h, int64_t k, gr_frame *f, gr_error *err)
     }
     f->L = edges[0];
     f->radius = h->radius;
+    if (h->species) { /* a mixture: the frame's own copies (gr_frame_free frees them) */
+        const size_t n = (size_t)(h->n > 0 ? h->n : 1);
+        f->species = malloc(sizeof(int) * n);
+        f->radii = malloc(sizeof(double) * n);
+        f->masses = malloc(sizeof(double) * n);
+        if (!f->species || !f->radii || !f->masses) {
+            gr_frame_free(f);
+            return GR_FAIL(err, GR_ENOMEM, "out of memory for the species of %d particles", h->n);
+        }
+        memcpy(f->species, h->species, sizeof(int) * (size_t)h->n);
+        memcpy(f->radii, h->radii, sizeof(double) * (size_t)h->n);
+        memcpy(f->masses, h->masses, sizeof(double) * (size_t)h->n);
+        f->n_species = h->n_species;
+    }
     return GR_OK;
 }

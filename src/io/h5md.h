@@ -20,6 +20,11 @@ typedef struct gr_h5md_desc {
     double L, radius, mass; /* m, m, kg */
     bool angular_velocity;  /* an angular_velocity element (rad/s, 3 components per particle) */
     int deflate;            /* deflate level 0-9 */
+    /* a mixture (docs/mixtures.md): each particle's species 0, 1, ..., radius (m) and mass (kg),
+     * written as /particles/all/species (1, 2, ...), radius and mass; NULL for one species */
+    const int *species;
+    const double *radii, *masses;
+    int n_species;
 } gr_h5md_desc;
 
 /* Create path (replacing it) with no frames. */

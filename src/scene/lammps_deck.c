@@ -24,6 +24,12 @@
  *   gravity   fix gravity |g| vector gx/|g| gy/|g| 0. With walls no fix momentum is written (the
  *             walls and gravity change the total momentum): the noise is then not symmetrised.
  *   rotation  fix nve integrates no angular velocity, as granule ignores rotation.
+ *   species   a mixture ([species] lists, docs/mixtures.md): atom type s + 1 per species s, each
+ *             atom's own diameter in the data file, set type s mass m_s, and pair_style granular
+ *             with one pair_coeff per species pair: hooke k_s gamma_ab damping velocity
+ *             (F_n = k_s xi - gamma_ab v_n with the pair's own damping, kg/s, which granule
+ *             calibrates to the pair's reduced mass), no tangential force (a mixture has no
+ *             tangential law yet); the dump adds the type column.
  *   3D        dimension 3, a periodic cube, a third noise component (fz), no enforce2d, the
  *             momentum fix and T over three components (docs/three-dimensions.md).
  *   schedule  run warmup / dt steps, then dump every sample_every / dt steps for duration / dt.
@@ -44,11 +50,19 @@
 
 static int refuse_unmappable(const gr_scene *s, gr_error *err)
 {
-    if (s->n_species >= 2 || s->size_distribution) {
+    if (s->size_distribution) {
         return GR_FAIL(err, GR_EINVAL,
-                       "export lammps: %s: [species]: a mixture's deck (atom types) is not "
-                       "written yet (docs/mixtures.md); allowed: a scene without [species]",
+                       "export lammps: %s: [species] distribution: a radius distribution's deck "
+                       "(each atom its own type) is not written yet (docs/mixtures.md); allowed: "
+                       "[species] lists (one atom type per species) or no [species]",
                        s->source);
+    }
+    if (s->n_species >= 2 && s->tangential) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "export lammps: %s: model.tangential = %s with [species]: a mixture's deck "
+                       "writes the normal law alone yet (docs/mixtures.md); allowed with "
+                       "[species]: model.tangential = none",
+                       s->source, s->tangential->name);
     }
     if (s->dim == 1) {
         return GR_FAIL(
@@ -93,9 +107,10 @@ static int write_data(const char *dir, const gr_scene *s, const gr_particles *p,
     if (rc) {
         return rc;
     }
-    const double d = 2.0 * s->radius;
-    fprintf(f.f, "granule initial state of %s (seed %llu)\n\n%d atoms\n1 atom types\n\n", s->source,
-            (unsigned long long)s->seed, p->n);
+    const double d = 2.0 * p->radius; /* a mixture: the largest diameter */
+    const int types = p->species ? p->n_species : 1;
+    fprintf(f.f, "granule initial state of %s (seed %llu)\n\n%d atoms\n%d atom types\n\n",
+            s->source, (unsigned long long)s->seed, p->n, types);
     /* a vibrating floor goes A below 0; a grain on it keeps its centre above 0 while A < r, else
      * the box must reach below 0 (A + d), and is then not square (granule analyse
      * --lammps-dump reads square boxes only) */
@@ -107,10 +122,10 @@ static int write_data(const char *dir, const gr_scene *s, const gr_particles *p,
     fprintf(f.f,
             "%.17g %.17g xlo xhi\n%.17g %.17g ylo yhi\n%.17g %.17g zlo zhi\n\nAtoms # sphere\n\n",
             lo[0], p->L, lo[1], p->L, three ? lo[2] : -d, three ? p->L : d);
-    /* id type diameter density x y z; the mass is set in the deck */
+    /* id type diameter density x y z; the mass is set in the deck (a mixture: per type) */
     for (int i = 0; i < p->n; i++) {
-        fprintf(f.f, "%d 1 %.17g 1 %.17g %.17g %.17g\n", i + 1, d, p->x[i], p->y[i],
-                three ? p->z[i] : 0.0);
+        fprintf(f.f, "%d %d %.17g 1 %.17g %.17g %.17g\n", i + 1, p->species ? p->species[i] + 1 : 1,
+                p->species ? 2.0 * p->radii[i] : d, p->x[i], p->y[i], three ? p->z[i] : 0.0);
     }
     fprintf(f.f, "\nVelocities\n\n");
     for (int i = 0; i < p->n; i++) {
@@ -163,8 +178,30 @@ static void write_walls(FILE *o, const gr_scene *s, const gr_lammps_export *e, b
     }
 }
 
-static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export *e, bool clamp,
-                      gr_error *err)
+/* A mixture's masses and contacts: set type per species, pair_style granular per species pair. */
+static void write_species(FILE *o, const gr_scene *s, const gr_sim *sim, const gr_lammps_export *e,
+                          bool clamp)
+{
+    for (int a = 0; a < s->n_species; a++) {
+        fprintf(o, "set type %d mass %.17g\n", a + 1, s->species_masses[a]);
+    }
+    fprintf(o,
+            "# contact of species a and b: F_n = k_s xi - gamma_ab v_n, gamma_ab calibrated to "
+            "the pair's reduced mass (k_s = %.17g N/m)\npair_style granular\n",
+            e->kn);
+    for (int a = 0; a < s->n_species; a++) {
+        for (int b = a; b < s->n_species; b++) {
+            const gr_contact_coeffs *c = gr_sim_species_coeffs(sim, a, b);
+            fprintf(o,
+                    "pair_coeff %d %d hooke %.17g %.17g damping velocity tangential "
+                    "linear_nohistory 0.0 0.0%s\n",
+                    a + 1, b + 1, c->k_s, c->gamma_n, clamp ? " limit_damping" : "");
+        }
+    }
+}
+
+static int write_deck(const char *dir, const gr_scene *s, const gr_sim *sim,
+                      const gr_lammps_export *e, bool clamp, gr_error *err)
 {
     gr_file f;
     int rc = gr_file_open(&f, dir, "in.granule", err);
@@ -172,7 +209,9 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export
         return rc;
     }
     FILE *o = f.f;
-    const double d = 2.0 * s->radius;
+    const gr_particles parts = gr_sim_particles(sim);
+    const bool mixture = parts.species && s->n_species >= 2;
+    const double d = 2.0 * parts.radius; /* a mixture: the largest diameter */
     /* LAMMPS seeds are positive 32-bit integers; the x and y streams get distinct ones */
     const long seed = (long)(s->seed % 900000000ULL) + 1;
     fprintf(o,
@@ -185,13 +224,18 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export
     fprintf(
         o, "units si\ndimension %d\nboundary %c %c %c\natom_style sphere\ncomm_modify vel yes\n",
         s->dim, s->boundary[0] ? 'f' : 'p', s->boundary[1] ? 'f' : 'p', s->boundary[2] ? 'f' : 'p');
-    fprintf(o, "read_data data.granule\nset type 1 mass %.17g\n", s->mass);
-    fprintf(
-        o,
-        "# contact: k_s = %.17g N/m, gamma_n = %.17g kg/s, gamma_t = %.17g kg/s, m12 = %.17g kg\n",
-        e->kn, e->gamman * gr_scene_m12(s), e->gammat * gr_scene_m12(s), gr_scene_m12(s));
-    fprintf(o, "pair_style gran/hooke %.17g 0.0 %.17g %.17g %.17g 1%s\npair_coeff * *\n", e->kn,
-            e->gamman, e->gammat, LMP_XMU, clamp ? " limit_damping" : "");
+    fprintf(o, "read_data data.granule\n");
+    if (mixture) {
+        write_species(o, s, sim, e, clamp);
+    } else {
+        fprintf(o, "set type 1 mass %.17g\n", s->mass);
+        fprintf(o,
+                "# contact: k_s = %.17g N/m, gamma_n = %.17g kg/s, gamma_t = %.17g kg/s, m12 = "
+                "%.17g kg\n",
+                e->kn, e->gamman * gr_scene_m12(s), e->gammat * gr_scene_m12(s), gr_scene_m12(s));
+        fprintf(o, "pair_style gran/hooke %.17g 0.0 %.17g %.17g %.17g 1%s\npair_coeff * *\n", e->kn,
+                e->gamman, e->gammat, LMP_XMU, clamp ? " limit_damping" : "");
+    }
     fprintf(o, "neighbor %.17g bin\nneigh_modify delay 0 every 1 check yes\n", LMP_SKIN * d);
     if (e->noise_sigma > 0.0) {
         fprintf(o, "# random force (2.16, 2.23): sqrt(2 D / dt) per component, D = %.17g N^2 s\n",
@@ -238,8 +282,8 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_lammps_export
     fprintf(o, "timestep %.17g\nthermo %lld\nthermo_style custom step time v_T\n", s->dt,
             (long long)e->sample_steps);
     fprintf(o, "run %lld\n", (long long)e->warmup_steps);
-    fprintf(o, "dump traj all custom %lld %s id x y%s vx vy%s\n", (long long)e->sample_steps,
-            e->dump, three ? " z" : "", three ? " vz" : "");
+    fprintf(o, "dump traj all custom %lld %s id%s x y%s vx vy%s\n", (long long)e->sample_steps,
+            e->dump, mixture ? " type" : "", three ? " z" : "", three ? " vz" : "");
     fprintf(o, "dump_modify traj sort id format float %%.17g\n");
     fprintf(o, "run %lld\n", (long long)e->run_steps);
     return gr_file_commit(&f, err);
@@ -284,7 +328,7 @@ int gr_export_lammps(const gr_scene *scene, const char *dir, bool force, gr_lamm
         rc = write_data(dir, &s, &p, err);
     }
     if (!rc) {
-        rc = write_deck(dir, &s, info, c->clamp, err);
+        rc = write_deck(dir, &s, sim, info, c->clamp, err);
     }
     if (!rc) {
         rc = gr_scene_save(&s, dir, err);

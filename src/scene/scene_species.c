@@ -10,27 +10,36 @@
 static int refused(const gr_scene *s, const char **section, const char **key, char *detail,
                    size_t cap)
 {
+    /* walls and gravity, tangential laws without history: species lists with the verlet
+     * integrator (walls.c, kernels_poly.c) */
+    const bool no_walls = s->integrator->instantaneous || s->size_distribution;
+    const char *walls_allowed = "periodic (walls: [species] lists with the verlet integrator)";
     struct {
         bool on;
         const char *section, *key, *allowed;
     } const no[] = {
         {s->dim == 3, "system", "dim", "1 | 2"},
-        {!s->integrator->species, "integrator", "kind", "verlet"},
+        {!s->integrator->species, "integrator", "kind", "verlet | event"},
+        {s->size_distribution && s->integrator->instantaneous, "integrator", "kind",
+         "verlet (a radius distribution; event runs [species] lists)"},
         {s->normal && !(s->normal->kind & GR_MODEL_NORMAL), "model", "normal",
-         "a normal force law (spring_dashpot, hertz, ...)"},
-        {s->tangential != NULL, "model", "tangential", "none"},
+         "a normal force law (spring_dashpot, hertz, ...) or event rule (hard_sphere)"},
+        {s->tangential && (no_walls || gr_model_keeps_history(s->tangential)), "model",
+         "tangential",
+         "none, or with [species] lists and verlet tangential_dashpot | sliding_friction (no "
+         "history law yet)"},
         {s->rolling != NULL, "model", "rolling", "none"},
-        {s->contact.rotation, "model", "rotation", "false"},
-        {s->boundary[0] != 0, "boundary", "x", "periodic"},
-        {s->boundary[1] != 0, "boundary", "y", "periodic"},
-        {s->gravity[0] != 0.0, "gravity", "gx", "0"},
-        {s->gravity[1] != 0.0, "gravity", "gy", "0"},
+        {s->contact.rotation && no_walls, "model", "rotation",
+         "false (rotation: [species] lists with the verlet integrator)"},
+        {s->boundary[0] != 0 && no_walls, "boundary", "x", walls_allowed},
+        {s->boundary[1] != 0 && no_walls, "boundary", "y", walls_allowed},
+        {s->gravity[0] != 0.0 && no_walls, "gravity", "gx", "0 (gravity: [species] lists, verlet)"},
+        {s->gravity[1] != 0.0 && no_walls, "gravity", "gy", "0 (gravity: [species] lists, verlet)"},
         {s->boundary[2] != 0, "boundary", "z", "periodic"},
         {s->gravity[2] != 0.0, "gravity", "gz", "0"},
         {s->driving && s->driving->update == GR_DRIVE_BATH, "driving", "kind", "rfm | none"},
         {s->noise_mode == GR_NOISE_COM, "noise", "mode", "symmetrised | none"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
-        {s->trajectory == GR_TRAJ_H5MD, "output", "trajectory", "snapshots | xyz"},
     };
     for (size_t k = 0; k < sizeof no / sizeof no[0]; k++) {
         if (no[k].on) {
@@ -38,8 +47,9 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             *key = no[k].key;
             snprintf(detail, cap,
                      "not available with [species] yet; allowed with a mixture: %s "
-                     "(docs/mixtures.md: 1D and 2D, verlet, a normal force law alone, a periodic "
-                     "box, the random force or none)",
+                     "(docs/mixtures.md: 1D and 2D, verlet or event, a normal force law or "
+                     "smooth event rule, tangential laws without history, walls and gravity with "
+                     "verlet, the random force or none)",
                      no[k].allowed);
             return GR_EINVAL;
         }

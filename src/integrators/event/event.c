@@ -147,6 +147,7 @@ static void end_window(gr_sim *s)
     double work = 0.0;
     for (int i = 0; i < e->n; i++) {
         double x, v, y = 0.0, w = 0.0;
+        const double mw = e->m ? e->m[i] / e->M : 1.0; /* species: its own mass (1.0: exact) */
         gr_ev_state_x(e, i, e->tau, 1, &x, &v);
         if (e->dim == 3) {
             double z, u;
@@ -160,12 +161,12 @@ static void end_window(gr_sim *s)
             e->bu[i] = u;
         } else if (e->dim == 2) {
             gr_ev_state_y(e, i, e->tau, 1, &y, &w);
-            work += ke2(v, w) - ke2(e->bv[i], e->bw[i]) -
-                    gr_ev_gravity_work(e, x - e->bx[i], y - e->by[i]);
+            work += mw * (ke2(v, w) - ke2(e->bv[i], e->bw[i]) -
+                          gr_ev_gravity_work(e, x - e->bx[i], y - e->by[i]));
             e->by[i] = y;
             e->bw[i] = w;
         } else {
-            work += v * v - e->bv[i] * e->bv[i];
+            work += mw * (v * v - e->bv[i] * e->bv[i]);
         }
         e->bx[i] = x;
         e->bv[i] = v;
@@ -216,7 +217,7 @@ static void draw_noise(gr_sim *s)
         }
         return;
     }
-    const double D = s->params.D, M = e->M, tau = e->tau;
+    const double D = s->params.D, tau = e->tau;
     double *g1 = e->g, *g2 = e->g + (size_t)n * dim;
     gr_noise_normals(s->params.seed, GR_STREAM_FREE_FLIGHT, 2 * (uint64_t)e->win, 0, n, dim, g1);
     if (e->exact) {
@@ -228,17 +229,21 @@ static void draw_noise(gr_sim *s)
         double mdv = 0.0, mdx = 0.0;
         for (int i = 0; i < n; i++) {
             double dv, dx;
-            gr_free_flight_sample(D, M, tau, g1[i * dim + c], e->exact ? g2[i * dim + c] : 0.0, &dv,
-                                  &dx);
+            gr_free_flight_sample(D, gr_ev_mass(e, i), tau, g1[i * dim + c],
+                                  e->exact ? g2[i * dim + c] : 0.0, &dv, &dx);
             a1[c][i] = dv; /* increments first, accelerations below */
             a2[c][i] = dx;
-            mdv += dv;
-            mdx += dx;
+            mdv += e->m ? e->m[i] * dv : dv; /* species: the impulses m_i dv_i */
+            mdx += e->m ? e->m[i] * dx : dx;
         }
         mdv = sym ? mdv / n : 0.0;
         mdx = sym ? mdx / n : 0.0;
         for (int i = 0; i < n; i++) {
             double dv = a1[c][i] - mdv, dx = a2[c][i] - mdx; /* (2.18) */
+            if (e->m) { /* species: the mean impulse, sum_i m_i dv_i = 0 (below) */
+                dv = a1[c][i] - mdv / e->m[i];
+                dx = a2[c][i] - mdx / e->m[i];
+            }
             if (e->exact) {
                 gr_free_flight_accelerations(tau, dv, dx, &a1[c][i], &a2[c][i]);
                 j[c][i] = 0.0;
@@ -265,7 +270,8 @@ static double predict_pair_1d(const struct gr_event_state *e, int k, int *phase)
     }
     gr_ev_state_x(e, i, e->now, e->phase, &xi, &vi);
     gr_ev_state_x(e, j, e->now, e->phase, &xj, &vj);
-    double f0 = xj + wrap - xi - e->d, f1 = vj - vi;
+    const double d = gr_ev_d(e, i, j); /* the pair's contact distance */
+    double f0 = xj + wrap - xi - d, f1 = vj - vi;
     if (e->phase == 0) {
         const double A = e->a1x[j] - e->a1x[i];
         double t = gr_ev_first_quadratic(f0, f1, 0.5 * A, e->h - e->now);
@@ -275,7 +281,7 @@ static double predict_pair_1d(const struct gr_event_state *e, int k, int *phase)
         /* second half: relative state at the middle, after the jump */
         gr_ev_state_x(e, i, e->h, 1, &xi, &vi);
         gr_ev_state_x(e, j, e->h, 1, &xj, &vj);
-        f0 = xj + wrap - xi - e->d;
+        f0 = xj + wrap - xi - d;
         f1 = vj - vi;
         *phase = 1;
         t = gr_ev_first_quadratic(f0, f1, 0.5 * (e->a2x[j] - e->a2x[i]), e->tau - e->h);
@@ -301,11 +307,12 @@ static int check_1d(gr_sim *s, gr_error *err)
         double xi, vi, xj, vj;
         gr_ev_state_x(e, k, e->now, e->phase, &xi, &vi);
         gr_ev_state_x(e, j, e->now, e->phase, &xj, &vj);
-        double gap = xj + (j == 0 ? e->L : 0.0) - xi - e->d;
-        if (gap < -1e-9 * e->d) {
+        const double d = gr_ev_d(e, k, j);
+        double gap = xj + (j == 0 ? e->L : 0.0) - xi - d;
+        if (gap < -1e-9 * d) {
             return GR_FAIL(err, GR_EUNSTABLE,
                            "event check: particles %d and %d overlap by %.3g d at t = %.9g s", k, j,
-                           -gap / e->d, (double)e->win * e->tau + e->now);
+                           -gap / d, (double)e->win * e->tau + e->now);
         }
     }
     return GR_OK;
@@ -315,7 +322,7 @@ static int check_1d(gr_sim *s, gr_error *err)
 static inline void rebase_1d(struct gr_event_state *e, int i, double x, double v_before,
                              double v_after)
 {
-    e->injected += 0.5 * e->M * (v_before * v_before - e->bv[i] * e->bv[i]);
+    e->injected += 0.5 * gr_ev_mass(e, i) * (v_before * v_before - e->bv[i] * e->bv[i]);
     e->t0[i] = e->now;
     e->bx[i] = x;
     e->bv[i] = v_after;
@@ -345,7 +352,8 @@ static int process_1d(gr_sim *s, double t_limit, gr_error *err)
         const double t_abs = t_win + t;
         double push = e->phase ? e->a2x[i] - e->a2x[j] : e->a1x[i] - e->a1x[j];
         if (vi - vj <= 0.0) {
-            if (xj + (j == 0 ? e->L : 0.0) - xi - e->d > 1e-9 * e->d) {
+            const double d = gr_ev_d(e, i, j);
+            if (xj + (j == 0 ? e->L : 0.0) - xi - d > 1e-9 * d) {
                 /* not approaching at the predicted instant (a root at a piece boundary): re-predict */
                 e->invalid++;
                 repredict_1d(e, k);
@@ -362,21 +370,27 @@ static int process_1d(gr_sim *s, double t_limit, gr_error *err)
         const bool elastic = gr_ev_tc_elastic(e, i, j, t_abs);
         double ui = vi, uj = vj, de_n = 0.0, de_t = 0.0;
         if (approaching) { /* a pressed pair that is not approaching only gets the floor */
-            gr_event_pair p = {.M = e->M, .nx = 1.0, .v1x = ui, .v2x = uj, .elastic = elastic};
-            gr_event_rule_apply(e->rule, e->cc, &p);
+            gr_event_pair p = {.nx = 1.0, .v1x = ui, .v2x = uj, .elastic = elastic};
+            gr_ev_rule(e, i, j, &p); /* with species: the pair's masses and coefficients */
             ui = p.v1x;
             uj = p.v2x;
             de_n = p.de_n;
             de_t = p.de_t;
         }
-        if (push > 0.0 && uj - ui < 0.5 * push * e->tc) {
+        const double tc = gr_ev_tc(e, i, j);
+        if (push > 0.0 && uj - ui < 0.5 * push * tc) {
             /* contact floor (docs/event-driven.md): a pair pressed together by the noise separates
              * fast enough to come back no sooner than tc, so it cannot stall time */
-            const double k0 = ui * ui + uj * uj, dv = 0.5 * (0.5 * push * e->tc - (uj - ui));
-            ui -= dv;
-            uj += dv;
-            e->injected += 0.5 * e->M * (ui * ui + uj * uj - k0);
-            e->floor_energy += 0.5 * e->M * (ui * ui + uj * uj - k0);
+            const double k0 = ui * ui + uj * uj, ki = ui * ui, kj = uj * uj;
+            double fi, fj; /* 1/2 each, or by the masses with species */
+            gr_ev_floor_shares(e, i, j, &fi, &fj);
+            const double dg = 0.5 * push * tc - (uj - ui);
+            ui -= fi * dg;
+            uj += fj * dg;
+            const double added = e->m ? 0.5 * (e->m[i] * (ui * ui - ki) + e->m[j] * (uj * uj - kj))
+                                      : 0.5 * e->M * (ui * ui + uj * uj - k0);
+            e->injected += added;
+            e->floor_energy += added;
             e->floors++;
             int rc = gr_ev_floor_check(s, i, j, t_abs, uj - ui, err);
             if (rc) {
@@ -447,11 +461,12 @@ static void window_1d(gr_sim *s)
     for (int k = 0; k < n; k++) {
         const int j = k + 1 < n ? k + 1 : 0;
         const double wrap = k + 1 < n ? 0.0 : e->L;
-        double t = gr_ev_first_quadratic(e->bx[j] + wrap - e->bx[k] - e->d, e->bv[j] - e->bv[k],
+        const double d = gr_ev_d(e, k, j);
+        double t = gr_ev_first_quadratic(e->bx[j] + wrap - e->bx[k] - d, e->bv[j] - e->bv[k],
                                          0.5 * (e->a1x[j] - e->a1x[k]), h);
         int ph = 0;
         if (!(t < GR_EV_INF)) {
-            t = gr_ev_first_quadratic(xh[j] + wrap - xh[k] - e->d, vh[j] - vh[k],
+            t = gr_ev_first_quadratic(xh[j] + wrap - xh[k] - d, vh[j] - vh[k],
                                       0.5 * (e->a2x[j] - e->a2x[k]), e->tau - h);
             t = t < GR_EV_INF ? h + t : GR_EV_INF;
             ph = 1;
@@ -494,6 +509,7 @@ static void report(gr_sim *s, double t)
     const int phase = t > e->h || (t == e->h && e->phase);
     for (int i = 0; i < e->n; i++) {
         double x, v;
+        const double mw = e->m ? e->m[i] / e->M : 1.0; /* species: its own mass (1.0: exact) */
         gr_ev_state_x(e, i, t, phase, &x, &v);
         s->x[i] = x;
         s->vx[i] = v;
@@ -514,10 +530,10 @@ static void report(gr_sim *s, double t)
             s->x[i] = x - e->L * floor(x / e->L);
             s->y[i] = y - e->L * floor(y / e->L);
             s->vy[i] = w;
-            work += ke2(v, w) - ke2(e->bv[i], e->bw[i]) -
-                    gr_ev_gravity_work(e, x - e->bx[i], y - e->by[i]);
+            work += mw * (ke2(v, w) - ke2(e->bv[i], e->bw[i]) -
+                          gr_ev_gravity_work(e, x - e->bx[i], y - e->by[i]));
         } else {
-            work += v * v - e->bv[i] * e->bv[i];
+            work += mw * (v * v - e->bv[i] * e->bv[i]);
         }
     }
     s->injected = e->injected + 0.5 * e->M * work;
@@ -610,6 +626,24 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->q = s->cc.q;
     e->R = 0.5 * s->d;
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
+    if (s->rad) { /* species (docs/mixtures.md): smooth discs of their own radii and masses */
+        if (!s->cc_pair || s->omega || s->walls_on || s->dim == 3) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [integrator] kind = event runs [species] lists of smooth discs "
+                           "and rods in a periodic box; not yet %s (docs/mixtures.md; the verlet "
+                           "integrator runs a radius distribution)",
+                           s->params.source,
+                           !s->cc_pair   ? "a radius distribution ([species] distribution)"
+                           : s->omega    ? "rough discs ([model] rotation = true)"
+                           : s->walls_on ? "walls or gravity"
+                                         : "spheres (dim = 3)");
+        }
+        e->m = s->mass_i;
+        e->r = s->rad;
+        e->sp = s->species;
+        e->nsp = s->nsp;
+        e->cc_pair = s->cc_pair;
+    }
     if (s->walls_on) { /* gr_walls_prepare checked the scene; what this integrator adds: */
         const gr_sim_params *p = &s->params;
         /* a wall is the mirror image of the grain (event_2d.c, wall_hit): exact for a rule whose
@@ -636,6 +670,16 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->budget = 1000000 + 10 * (int64_t)n;
     e->min_span = 1e-6 * s->params.kick_interval;
     e->work_rate = e->noise ? s->dim * s->params.D * n / e->M : 0.0;
+    double m_min = s->mass; /* the lightest grain gets the largest kicks */
+    for (int i = 0; e->m && i < n; i++) {
+        m_min = fmin(m_min, e->m[i]);
+    }
+    if (e->m && e->noise) { /* species: d D / m_i per grain */
+        e->work_rate = 0.0;
+        for (int i = 0; i < n; i++) {
+            e->work_rate += s->dim * s->params.D / e->m[i];
+        }
+    }
     const char *check = getenv("GRANULE_EVENT_CHECK");
     e->check = check && check[0] == '1';
     const char *cal = getenv("GRANULE_EVENT_CALENDAR"); /* benchmarks: calendar.c */
@@ -673,15 +717,15 @@ int gr_event_init(gr_sim *s, gr_error *err)
     /* the same limit for the noise: a 10-sigma velocity increment of one window,
      * sqrt(2 D tau) / M per component (free_flight.h), must not cross the box GR_EV_MAX_BOXES times */
     const double tau = s->params.kick_interval, vlim = GR_EV_MAX_BOXES * s->L / tau;
-    if (10.0 * sqrt(2.0 * s->params.D * tau) / s->mass > vlim) {
+    if (10.0 * sqrt(2.0 * s->params.D * tau) / m_min > vlim) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: [noise] D = %g N^2 s gives velocity kicks of %.3g m/s per kick "
                        "interval (%g s), which would "
                        "cross the box (L = %g m) more than %g times per interval; allowed range "
                        "for the event-driven "
                        "integrator here: [0, %.3g] N^2 s",
-                       s->params.source, s->params.D, sqrt(2.0 * s->params.D * tau) / s->mass, tau,
-                       s->L, GR_EV_MAX_BOXES, pow(vlim * s->mass / 10.0, 2) / (2.0 * tau));
+                       s->params.source, s->params.D, sqrt(2.0 * s->params.D * tau) / m_min, tau,
+                       s->L, GR_EV_MAX_BOXES, pow(vlim * m_min / 10.0, 2) / (2.0 * tau));
     }
     for (int i = 0; i < n; i++) {
         e->bx[i] = s->x[i];

@@ -134,18 +134,17 @@ static inline void rel(const struct gr_event_state *e, int i, int j, double t, i
 }
 
 /* First contact of the pair within one piece of constant relative acceleration A. */
-static inline double piece_contact(const struct gr_event_state *e, double rx, double ry,
-                                   EV_Z(double rz, ) double wx, double wy,
-                                   EV_Z(double wz, ) double Ax, double Ay,
+static inline double piece_contact(double d, double rx, double ry, EV_Z(double rz, ) double wx,
+                                   double wy, EV_Z(double wz, ) double Ax, double Ay,
                                    EV_Z(double Az, ) double T)
 {
     const double r2 = rx * rx + ry * ry EV_Z(+rz * rz), w2 = wx * wx + wy * wy EV_Z(+wz * wz),
                  A2 = Ax * Ax + Ay * Ay EV_Z(+Az * Az);
     const double reach = sqrt(w2) * T + 0.5 * sqrt(A2) * T * T;
-    if (r2 > (e->d + reach) * (e->d + reach)) {
+    if (r2 > (d + reach) * (d + reach)) {
         return GR_EV_INF; /* cannot get within d during this piece */
     }
-    const double f0 = r2 - e->d2, f1 = 2.0 * (rx * wx + ry * wy EV_Z(+rz * wz));
+    const double f0 = r2 - d * d, f1 = 2.0 * (rx * wx + ry * wy EV_Z(+rz * wz));
     if (A2 == 0.0) {
         return gr_ev_first_quadratic(f0, f1, w2, T);
     }
@@ -164,20 +163,21 @@ static double pair_time(const struct gr_event_state *e, int i, int j, int *phase
     double rx, ry, wx, wy EV_Z(, rz, wz);
     rel(e, i, j, e->now, e->phase, &rx, &ry, EV_Z(&rz, ) & wx, &wy EV_Z(, &wz));
     *phase = e->phase;
+    const double d = gr_ev_d(e, i, j); /* the pair's contact distance */
     if (e->phase == 0) {
         double t =
-            piece_contact(e, rx, ry, EV_Z(rz, ) wx, wy, EV_Z(wz, ) e->a1x[j] - e->a1x[i],
+            piece_contact(d, rx, ry, EV_Z(rz, ) wx, wy, EV_Z(wz, ) e->a1x[j] - e->a1x[i],
                           e->a1y[j] - e->a1y[i], EV_Z(e->a1z[j] - e->a1z[i], ) e->h - e->now);
         if (t < GR_EV_INF) {
             return e->now + t;
         }
         rel(e, i, j, e->h, 1, &rx, &ry, EV_Z(&rz, ) & wx, &wy EV_Z(, &wz));
         *phase = 1;
-        t = piece_contact(e, rx, ry, EV_Z(rz, ) wx, wy, EV_Z(wz, ) e->a2x[j] - e->a2x[i],
+        t = piece_contact(d, rx, ry, EV_Z(rz, ) wx, wy, EV_Z(wz, ) e->a2x[j] - e->a2x[i],
                           e->a2y[j] - e->a2y[i], EV_Z(e->a2z[j] - e->a2z[i], ) e->tau - e->h);
         return t < GR_EV_INF ? e->h + t : GR_EV_INF;
     }
-    double t = piece_contact(e, rx, ry, EV_Z(rz, ) wx, wy, EV_Z(wz, ) e->a2x[j] - e->a2x[i],
+    double t = piece_contact(d, rx, ry, EV_Z(rz, ) wx, wy, EV_Z(wz, ) e->a2x[j] - e->a2x[i],
                              e->a2y[j] - e->a2y[i], EV_Z(e->a2z[j] - e->a2z[i], ) e->tau - e->now);
     return t < GR_EV_INF ? e->now + t : GR_EV_INF;
 }
@@ -470,7 +470,7 @@ static inline void rebase(struct gr_event_state *e, int i, double x, double y,
     e->bz[i] = z;
     e->bu[i] = vz;
 #else
-    e->injected += 0.5 * e->M *
+    e->injected += 0.5 * gr_ev_mass(e, i) *
                    (vx0 * vx0 + vy0 * vy0 - e->bv[i] * e->bv[i] - e->bw[i] * e->bw[i] -
                     gr_ev_gravity_work(e, x - e->bx[i], y - e->by[i]));
 #endif
@@ -489,11 +489,11 @@ static int check_overlaps(gr_sim *s, gr_error *err)
         for (int j = i + 1; j < e->n; j++) {
             double rx, ry, wx, wy EV_Z(, rz, wz);
             rel(e, i, j, e->now, e->phase, &rx, &ry, EV_Z(&rz, ) & wx, &wy EV_Z(, &wz));
-            double r = sqrt(rx * rx + ry * ry EV_Z(+rz * rz));
-            if (r < e->d * (1.0 - 1e-9)) {
+            double r = sqrt(rx * rx + ry * ry EV_Z(+rz * rz)), d = gr_ev_d(e, i, j);
+            if (r < d * (1.0 - 1e-9)) {
                 return GR_FAIL(err, GR_EUNSTABLE,
                                "event check: particles %d and %d overlap by %.3g d at t = %.9g s",
-                               i, j, 1.0 - r / e->d, (double)e->win * e->tau + e->now);
+                               i, j, 1.0 - r / d, (double)e->win * e->tau + e->now);
             }
         }
     }
@@ -555,7 +555,7 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
         A2 += A[a] * A[a];
     }
     if (gn <= 0.0) {
-        if (r > e->d * (1.0 + 1e-9) || A2 == 0.0) {
+        if (r > gr_ev_d(e, i, j) * (1.0 + 1e-9) || A2 == 0.0) {
             return 1; /* not a collision after all, or touching without approaching: predict again */
         }
         push = fmax(push, sqrt(A2)); /* about to approach: a pressed contact (2D collide) */
@@ -613,7 +613,7 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
     const double Ay = (e->phase ? e->a2y[j] - e->a2y[i] : e->a1y[j] - e->a1y[i]);
     double push = -(Ax * nx + Ay * ny); /* > 0: the noise presses the pair together */
     if (gn <= 0.0) {
-        if (r > e->d * (1.0 + 1e-9)) {
+        if (r > gr_ev_d(e, i, j) * (1.0 + 1e-9)) {
             return 1; /* not a collision after all: predict again */
         }
         /* touching without approaching: the quartic saw the pair about to approach (a critical
@@ -626,8 +626,7 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
     const bool elastic = gr_ev_tc_elastic(e, i, j, t_abs);
     double pi_x = vi, pi_y = ui, pj_x = vj, pj_y = uj, de_n = 0.0, de_t = 0.0;
     if (gn > 0.0) { /* a pressed pair that is not approaching only gets the floor */
-        gr_event_pair p = {.M = e->M,
-                           .R = e->R,
+        gr_event_pair p = {.R = e->R,
                            .q = e->q,
                            .nx = nx,
                            .ny = ny,
@@ -640,7 +639,7 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
             p.w1 = &s->omega[i];
             p.w2 = &s->omega[j];
         }
-        gr_event_rule_apply(e->rule, e->cc, &p);
+        gr_ev_rule(e, i, j, &p); /* with species: the pair's masses and coefficients */
         pi_x = p.v1x;
         pi_y = p.v1y;
         pj_x = p.v2x;
@@ -651,17 +650,22 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
     if (push > 0.0) {
         /* contact floor (docs/event-driven.md): separate at least fast enough that the pressing
          * noise brings the pair back no sooner than tc, so a pressed pair cannot stall time */
-        const double floor_speed = 0.5 * push * e->tc;
+        const double floor_speed = 0.5 * push * gr_ev_tc(e, i, j);
         const double sep = (pj_x - pi_x) * nx + (pj_y - pi_y) * ny;
         if (sep < floor_speed) {
             const double k0 = pi_x * pi_x + pi_y * pi_y + pj_x * pj_x + pj_y * pj_y;
-            const double dv = 0.5 * (floor_speed - sep);
-            pi_x -= dv * nx;
-            pi_y -= dv * ny;
-            pj_x += dv * nx;
-            pj_y += dv * ny;
+            const double ki = pi_x * pi_x + pi_y * pi_y, kj = pj_x * pj_x + pj_y * pj_y;
+            double fi, fj; /* 1/2 each, or by the masses with species */
+            gr_ev_floor_shares(e, i, j, &fi, &fj);
+            const double dvi = fi * (floor_speed - sep), dvj = fj * (floor_speed - sep);
+            pi_x -= dvi * nx;
+            pi_y -= dvi * ny;
+            pj_x += dvj * nx;
+            pj_y += dvj * ny;
             const double added =
-                0.5 * e->M * (pi_x * pi_x + pi_y * pi_y + pj_x * pj_x + pj_y * pj_y - k0);
+                e->m ? 0.5 * (e->m[i] * (pi_x * pi_x + pi_y * pi_y - ki) +
+                              e->m[j] * (pj_x * pj_x + pj_y * pj_y - kj))
+                     : 0.5 * e->M * (pi_x * pi_x + pi_y * pi_y + pj_x * pj_x + pj_y * pj_y - k0);
             e->injected += added;
             e->floor_energy += added;
             e->floors++;

@@ -19,6 +19,7 @@
 
 #include "core/sim_internal.h"
 #include "integrators/event/event.h"
+#include "models/list.h"
 
 #define GR_EV_INF ((double)INFINITY)
 
@@ -52,6 +53,14 @@ struct gr_event_state {
     const gr_contact_coeffs *cc; /* the sim's coefficients (gr_sim.cc) */
     bool rough;
     double q, R;
+    /* species ([species] lists, docs/mixtures.md; all NULL without): each grain's mass and
+     * radius, its species, and every species pair's coefficients (nsp x nsp, prepared with the
+     * pair's reduced mass: its eps_n(v) and TC time). A pair touches at r_i + r_j; d is the
+     * largest contact distance (the cells), M the mean mass. */
+    const double *m, *r;
+    const int *sp;
+    int nsp;
+    const gr_contact_coeffs *cc_pair;
     bool exact; /* free_flight = exact */
     bool noise;
     /* walls and gravity (2D and 3D; docs/systems-walls-gravity.md, "Event-driven"): wall[a] = flat
@@ -226,10 +235,64 @@ int gr_heap_min(gr_heap *h);            /* the next entry, -1 if none */
 /* common helpers (event.c) */
 int gr_ev_record(gr_sim *s, int i, int kind, double t, double x, double y, double vx, double vy,
                  gr_error *err);
+/* The contact distance of i and j: r_i + r_j with species, d without. */
+static inline double gr_ev_d(const struct gr_event_state *e, int i, int j)
+{
+    return e->r ? e->r[i] + e->r[j] : e->d;
+}
+
+/* Particle i's mass: its own with species, M without. */
+static inline double gr_ev_mass(const struct gr_event_state *e, int i)
+{
+    return e->m ? e->m[i] : e->M;
+}
+
+/* The TC time of the pair i, j: its species pair's (the matching contact of its reduced mass,
+ * unless [model] tc gives one for all), the sim's without species. */
+static inline double gr_ev_tc(const struct gr_event_state *e, int i, int j)
+{
+    return e->cc_pair ? e->cc_pair[e->sp[i] * e->nsp + e->sp[j]].tc : e->tc;
+}
+
 /* TC rule: restitution coefficients of a collision between i and j at absolute time t */
 static inline bool gr_ev_tc_elastic(const struct gr_event_state *e, int i, int j, double t)
 {
-    return t - e->last[i] < e->tc || t - e->last[j] < e->tc;
+    const double tc = gr_ev_tc(e, i, j);
+    return t - e->last[i] < tc || t - e->last[j] < tc;
+}
+
+/* The model's event rule on the pair i (p->v1) and j (p->v2). Without species: the rule as
+ * written, two grains of mass M. With species the rule runs with the pair's coefficients on two
+ * equal grains of mass 2 M_ij (M_ij = m_i m_j / (m_i + m_j), the reduced mass): a Galilean
+ * invariant rule then gives the relative velocity the change it gives any pair of reduced mass
+ * M_ij, through the impulse P = M_ij dg it computed (its losses de_n, de_t are the pair's), and
+ * the velocities are rebuilt from P with the real masses: v_i += (2 m_j / (m_i + m_j)) dv1 =
+ * P / m_i, v_j likewise, so m_i v_i + m_j v_j is conserved. Smooth grains only (rough ones would
+ * need each grain's arm and inertia: gr_event_init refuses them with species). */
+static inline void gr_ev_rule(const struct gr_event_state *e, int i, int j, gr_event_pair *p)
+{
+    if (!e->m) {
+        p->M = e->M;
+        gr_event_rule_apply(e->rule, e->cc, p);
+        return;
+    }
+    const double mi = e->m[i], mj = e->m[j], v1x = p->v1x, v1y = p->v1y, v2x = p->v2x, v2y = p->v2y;
+    p->M = 2.0 * mi * mj / (mi + mj);
+    gr_event_rule_apply(e->rule, &e->cc_pair[e->sp[i] * e->nsp + e->sp[j]], p);
+    const double wi = 2.0 * mj / (mi + mj), wj = 2.0 * mi / (mi + mj);
+    p->v1x = v1x + wi * (p->v1x - v1x);
+    p->v1y = v1y + wi * (p->v1y - v1y);
+    p->v2x = v2x + wj * (p->v2x - v2x);
+    p->v2y = v2y + wj * (p->v2y - v2y);
+}
+
+/* The contact floor's share of a relative normal speed change for i (*fi) and j (*fj): 1/2 each
+ * without species, m_j / (m_i + m_j) and m_i / (m_i + m_j) with (momentum conserved). */
+static inline void gr_ev_floor_shares(const struct gr_event_state *e, int i, int j, double *fi,
+                                      double *fj)
+{
+    *fi = e->m ? e->m[j] / (e->m[i] + e->m[j]) : 0.5;
+    *fj = e->m ? e->m[i] / (e->m[i] + e->m[j]) : 0.5;
 }
 
 /* Gravity's work on a particle displaced by (dx, dy) since its base, in the units of the

@@ -40,6 +40,7 @@ const gr_integrator_type gr_integrator_event = {
     .rotation = true, /* rough discs and spheres: spins change only at collisions */
     .walls = true,    /* fixed walls and gravity in 2D for smooth discs (event_cells.h, wall_hit) */
     .spheres = true,  /* smooth and rough hard spheres in a periodic cube (event_3d.c) */
+    .species = true,  /* [species] lists of smooth discs and rods (gr_ev_rule, event_internal.h) */
     .create = gr_event_init,
     .step = gr_event_step,
     .free = gr_event_free,

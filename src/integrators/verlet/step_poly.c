@@ -9,6 +9,10 @@
  * subtracts the mean of the forces, not of the kicks, so the kicks carry no net momentum:
  * sum_i m_i dv_i = sqrt(2 D dt) sum_i (g_i - <g>) = 0.
  *
+ * Rotation (2D, a tangential law without history): each grain's spin is kicked with its own
+ * moment of inertia I_i = q m_i r_i^2 by the torques of kernels_poly.c, all of them
+ * non-conservative (a dashpot's or friction's), their work booked as the forces' is.
+ *
  * The closing half kick ends every step (the velocities are synchronised after each step), so a
  * run split into calls is the same as one call. */
 #include <math.h>
@@ -34,6 +38,14 @@ static double half_kick_poly(gr_sim *s, bool *finite)
             work += s->gy[i] * (s->vy[i] + 0.5 * dvy);
             s->vy[i] += dvy;
             sum += s->vy[i];
+        }
+    }
+    if (s->omega) { /* rotation: w_i += tq_i dt / (2 I_i), the torques' work as for v (step.c) */
+        for (int i = 0; i < s->n; i++) {
+            const double dw = h / s->inertia_i[i] * s->tq[i];
+            work += s->tq[i] * (s->omega[i] + 0.5 * dw);
+            s->omega[i] += dw;
+            sum += s->omega[i];
         }
     }
     *finite = isfinite(sum) && isfinite(work);

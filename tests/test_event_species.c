@@ -1,0 +1,324 @@
+/* The event-driven integrator with species (issue 36, docs/mixtures.md): hard discs and rods of
+ * their own radii and masses.
+ *  - two-body collisions of unequal grains (2D head-on and oblique, 1D): they touch at r_i + r_j,
+ *    at the instant of the analytic flight; momentum sum m_i v_i is conserved, the normal relative
+ *    velocity is reversed times eps_n (the tangential one kept with eps_t = 1), and the energy lost
+ *    is (1 - eps_n^2) M_ij g_n^2 / 2 with the reduced mass M_ij, booked as dissipated;
+ *  - each species pair's TC time is its own contact time (t_c ~ sqrt(M_ij));
+ *  - the random force's kicks per species: free flight without collisions gives
+ *    <m_i^2 v^2> = 2 D t per component for every species (kicks sqrt(2 D tau) / m_i);
+ *  - a driven gas of two species: symmetrised kicks and collisions keep sum m_i v_i = 0, the
+ *    ledger closes to rounding, no two grains overlap (checked after every collision);
+ *  - a checkpoint continues bit for bit (1D, 2D);
+ *  - refusals: rough discs, a radius distribution.
+ * Deterministic tolerances come from rounding; the statistical one is 5 sigma (fixed seed). */
+#include <check.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/sim_internal.h"
+#include "integrators/event/event.h"
+#include "integrators/event/event_internal.h"
+#include "granule/scene.h"
+#include "granule/sim.h"
+#include "check_main.h"
+#include "test_env.h"
+#include "sim_helpers.h"
+#include "test_scenes.h"
+
+#define EPS_N 0.6
+
+/* Two grains (radii 1 and 2 mm, masses 1e-5 and 4e-5 kg) without driving in a box of L = 0.1 m
+ * (2D) or a ring of L = 0.506 m (1D). */
+static gr_sim *two_grains(int dim)
+{
+    const char *ov[] = {dim == 1 ? "system.dim=1" : "system.dim=2",
+                        "system.N=2",
+                        dim == 1 ? "system.reduced_length=0.5"
+                                 : "system.packing_fraction=0.0015707963267948967",
+                        "species.radius=1e-3, 2e-3",
+                        "species.mass=1e-5, 4e-5",
+                        "placement.kind=uniform",
+                        "model.normal=hard_sphere",
+                        "model.eps_n=0.6",
+                        "model.eps_t=1",
+                        "noise.mode=none",
+                        "integrator.kind=event"};
+    gr_scene sc = scene_of(ov, 11);
+    return sim_of(&sc);
+}
+
+/* Set grain k's state at the current (window start) time and predict again. */
+static void place(gr_sim *s, const double *x, const double *y, const double *vx, const double *vy)
+{
+    struct gr_event_state *e = gr_ev(s);
+    for (int k = 0; k < 2; k++) {
+        e->bx[k] = x[k];
+        e->bv[k] = vx[k];
+        if (s->dim == 2) {
+            e->by[k] = y[k];
+            e->bw[k] = vy[k];
+        }
+    }
+    gr_event_set_debug(s, true, false); /* overlap checks after every collision */
+}
+
+/* Grain a at (x_a, y0) moving (+0.1, 0) m/s towards grain b at (x_a + 0.02, y0 + b) moving
+ * (-0.05, 0): one collision at the analytic instant, then free flight to T. */
+static void collide_pair(int dim, double b)
+{
+    gr_sim *s = two_grains(dim);
+    ck_assert_ptr_nonnull(s->mass_i);
+    const double ma = s->mass_i[0], mb = s->mass_i[1], d = s->rad[0] + s->rad[1];
+    ck_assert(ma != mb && fabs(d - 3e-3) < 1e-18);
+    const double m12 = ma * mb / (ma + mb);
+    const double x[2] = {0.03, 0.05}, y[2] = {0.05, 0.05 + b}, vx[2] = {0.1, -0.05},
+                 vy[2] = {0.0, 0.0};
+    place(s, x, y, vx, vy);
+    /* contact: (0.02 - 0.15 t)^2 + b^2 = d^2 */
+    const double tcol = (0.02 - sqrt(d * d - b * b)) / 0.15;
+    const double nx = (0.02 - 0.15 * tcol) / d, ny = b / d; /* unit normal from a to b */
+    const double gn = 0.15 * nx;                            /* (v_a - v_b).n > 0 */
+    const double P = (1.0 + EPS_N) * m12 * gn;              /* the impulse on b, -P on a */
+    const double ua[2] = {vx[0] - P / ma * nx, -P / ma * ny},
+                 ub[2] = {vx[1] + P / mb * nx, P / mb * ny};
+    const double T = tcol + 0.02;
+    const int64_t steps = (int64_t)ceil(T / s->dt);
+    gr_error err = {0};
+    ck_assert_msg(gr_sim_step(s, steps, &err) == GR_OK, "%s", err.message);
+    const double t = gr_sim_time(s);
+    gr_event_counts c;
+    gr_event_stats(s, &c);
+    ck_assert_int_eq(c.collisions, 1);
+    /* velocities and positions of the analytic collision (touching at r_a + r_b, not at the
+     * largest pair's distance) */
+    const double vxa = s->vx[0], vxb = s->vx[1], vya = dim == 2 ? s->vy[0] : 0.0,
+                 vyb = dim == 2 ? s->vy[1] : 0.0;
+    ck_assert_msg(fabs(vxa - ua[0]) < 1e-14 && fabs(vxb - ub[0]) < 1e-14 &&
+                      fabs(vya - ua[1]) < 1e-14 && fabs(vyb - ub[1]) < 1e-14,
+                  "velocities (%.17g, %.17g), (%.17g, %.17g); expected (%.17g, %.17g), (%.17g, "
+                  "%.17g)",
+                  vxa, vya, vxb, vyb, ua[0], ua[1], ub[0], ub[1]);
+    const double xa = x[0] + 0.1 * tcol + ua[0] * (t - tcol),
+                 xb = x[1] - 0.05 * tcol + ub[0] * (t - tcol);
+    ck_assert_msg(fabs(s->x[0] - xa) < 1e-13 && fabs(s->x[1] - xb) < 1e-13,
+                  "positions %.17g, %.17g; expected %.17g, %.17g (contact at r_a + r_b)", s->x[0],
+                  s->x[1], xa, xb);
+    if (dim == 2) {
+        ck_assert(fabs(s->y[0] - (y[0] + ua[1] * (t - tcol))) < 1e-13);
+        ck_assert(fabs(s->y[1] - (y[1] + ub[1] * (t - tcol))) < 1e-13);
+    }
+    /* momentum, restitution of the normal relative velocity, the tangential one kept */
+    const double p0x = ma * vx[0] + mb * vx[1], p1x = ma * vxa + mb * vxb,
+                 p1y = ma * vya + mb * vyb;
+    ck_assert_msg(fabs(p1x - p0x) < 1e-16 * ma && fabs(p1y) < 1e-16 * ma, "momentum %g, %g from %g",
+                  p1x, p1y, p0x);
+    const double gn1 = (vxa - vxb) * nx + (vya - vyb) * ny, gt0 = -0.15 * ny,
+                 gt1 = -(vxa - vxb) * ny + (vya - vyb) * nx;
+    ck_assert_msg(fabs(gn1 + EPS_N * gn) < 1e-14, "g_n after %.17g, want -%g * %.17g", gn1, EPS_N,
+                  gn);
+    ck_assert(fabs(gt1 - gt0) < 1e-14);
+    /* the loss: (1 - eps^2) of the reduced-mass kinetic energy of the normal motion, booked */
+    const double k0 = 0.5 * (ma * (vx[0] * vx[0]) + mb * (vx[1] * vx[1]));
+    const double k1 = 0.5 * (ma * (vxa * vxa + vya * vya) + mb * (vxb * vxb + vyb * vyb));
+    const double want = 0.5 * (1.0 - EPS_N * EPS_N) * m12 * gn * gn;
+    ck_assert_msg(fabs((k0 - k1) / want - 1.0) < 1e-10, "lost %.12g J, want %.12g J", k0 - k1,
+                  want);
+    ck_assert(fabs(s->diss_n / want - 1.0) < 1e-12);
+    ck_assert(t >= T);
+    gr_sim_free(s);
+}
+
+START_TEST(test_two_body_2d_headon) { collide_pair(2, 0.0); }
+END_TEST
+
+START_TEST(test_two_body_2d_oblique) { collide_pair(2, 1.9e-3); }
+END_TEST
+
+START_TEST(test_two_body_1d) { collide_pair(1, 0.0); }
+END_TEST
+
+/* Each species pair's TC time is the contact time of its own reduced mass. */
+START_TEST(test_pair_tc)
+{
+    gr_sim *s = two_grains(2);
+    struct gr_event_state *e = gr_ev(s);
+    const int a = s->species[0], b = s->species[1];
+    const double taa = s->cc_pair[a * 2 + a].tc, tbb = s->cc_pair[b * 2 + b].tc,
+                 tab = s->cc_pair[a * 2 + b].tc;
+    const double ma = s->mass_i[0], mb = s->mass_i[1];
+    ck_assert(fabs(tbb / taa - sqrt(mb / ma)) < 1e-12);
+    ck_assert(fabs(tab / taa - sqrt(2.0 * mb / (ma + mb))) < 1e-12);
+    ck_assert(gr_ev_tc(e, 0, 1) == tab && gr_ev_tc(e, 0, 0) == taa);
+    gr_sim_free(s);
+}
+END_TEST
+
+/* Free flight without collisions: every species gets kicks of sqrt(2 D tau) / m_i, so
+ * m_i^2 <v^2> = 2 D t per component whatever the mass (5 sigma; 2D, exact or kicks). */
+START_TEST(test_kicks_per_species)
+{
+    const bool exact = _i == 0;
+    const char *ov[] = {"system.dim=2",
+                        "system.N=4000",
+                        "system.L=10",
+                        "species.radius=1e-3, 2e-3",
+                        "species.mass=1e-5, 4e-5",
+                        "placement.kind=uniform",
+                        "placement.v0=0",
+                        "model.normal=hard_sphere",
+                        "noise.D=1e-8",
+                        "integrator.kind=event",
+                        "integrator.dt=1e-6",
+                        "integrator.kick_interval=4e-5",
+                        exact ? "integrator.free_flight=exact" : "integrator.free_flight=kicks",
+                        "run.seed=3"};
+    gr_scene sc = scene_of(ov, 14);
+    gr_sim *s = sim_of(&sc);
+    gr_event_set_debug(s, false, true);
+    gr_error err = {0};
+    ck_assert(gr_sim_step(s, 400, &err) == GR_OK);
+    const double t = gr_sim_time(s), D = 1e-8;
+    double sum[2] = {0, 0}, p[2] = {0, 0};
+    int cnt[2] = {0, 0};
+    for (int i = 0; i < s->n; i++) {
+        const int a = s->species[i];
+        const double m = s->mass_i[i];
+        sum[a] += m * m * (s->vx[i] * s->vx[i] + s->vy[i] * s->vy[i]) / 2.0;
+        cnt[a]++;
+        p[0] += m * s->vx[i];
+        p[1] += m * s->vy[i];
+    }
+    for (int a = 0; a < 2; a++) {
+        const double r = sum[a] / cnt[a] / (2.0 * D * t), sigma = sqrt(1.0 / cnt[a]);
+        if (verbose()) {
+            printf("species %d: m^2 <v^2> / (2 D t) = %.4f +- %.4f\n", a + 1, r, sigma);
+        }
+        ck_assert_msg(fabs(r - 1.0) < 5.0 * sigma, "species %d: %.4f (sigma %.4f)", a + 1, r,
+                      sigma);
+    }
+    /* symmetrised: the kicks carry no momentum (sum m_i v_i = 0 to rounding) */
+    const double scale = sqrt(2.0 * D * t) * s->n;
+    ck_assert_msg(fabs(p[0]) < 1e-12 * scale && fabs(p[1]) < 1e-12 * scale, "momentum %g, %g", p[0],
+                  p[1]);
+    gr_sim_free(s);
+}
+END_TEST
+
+/* A gas of two species (radii 1 and 2 mm, equal density) of n grains (key=value) driven by the
+ * random force, hard discs (2D, packing fraction 0.1) or rods (1D, L' = 5 cm), eps_n = 0.5. */
+static gr_scene species_gas(int dim, const char *n, const char *seed)
+{
+    const char *ov[] = {dim == 1 ? "system.dim=1" : "system.dim=2",
+                        n,
+                        dim == 1 ? "system.reduced_length=0.05" : "system.packing_fraction=0.1",
+                        "species.radius=1e-3, 2e-3",
+                        "species.density=10, 10",
+                        "species.fraction=0.5, 0.5",
+                        "placement.kind=random",
+                        "placement.v0=0.05",
+                        "model.normal=hard_sphere",
+                        "model.eps_n=0.5",
+                        "noise.D=1e-9",
+                        "integrator.kind=event",
+                        seed};
+    return scene_of(ov, 13);
+}
+
+/* A driven inelastic gas of two species (1D ring, 2D box): momentum stays 0, the ledger closes to
+ * rounding, no overlaps (checked after every collision), collisions of all three pair kinds. */
+START_TEST(test_driven_gas)
+{
+    const int dim = 1 + _i;
+    gr_scene sc = species_gas(dim, quick() ? "system.N=60" : "system.N=200", "run.seed=5");
+    gr_sim *s = sim_of(&sc);
+    gr_event_set_debug(s, true, false);
+    gr_error err = {0};
+    const int64_t steps = (int64_t)((quick() ? 0.02 : 0.1) / s->dt);
+    ck_assert_msg(gr_sim_step(s, steps, &err) == GR_OK, "%s", err.message);
+    gr_event_counts c;
+    gr_event_stats(s, &c);
+    ck_assert_msg(c.collisions > (quick() ? 5 : 200), "%lld collisions", (long long)c.collisions);
+    double p[2] = {0, 0}, scale = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        const double vy = dim == 2 ? s->vy[i] : 0.0;
+        p[0] += s->mass_i[i] * s->vx[i];
+        p[1] += s->mass_i[i] * vy;
+        scale += s->mass_i[i] * sqrt(s->vx[i] * s->vx[i] + vy * vy);
+    }
+    ck_assert_msg(fabs(p[0]) < 1e-12 * scale && fabs(p[1]) < 1e-12 * scale, "momentum %g, %g of %g",
+                  p[0], p[1], scale);
+    gr_ledger l = gr_sim_ledger(s);
+    const double rel =
+        gr_ledger_residual(&l) / fmax(l.injected + gr_ledger_dissipated(&l), l.initial);
+    if (verbose()) {
+        printf("%dD: %lld collisions, ledger residual %.3g\n", dim, (long long)c.collisions, rel);
+    }
+    ck_assert_msg(fabs(rel) < 1e-10, "ledger residual %g", rel);
+    ck_assert(strncmp(gr_sim_kernel(s), "event-", 6) == 0);
+    gr_sim_free(s);
+}
+END_TEST
+
+/* A checkpoint of an event-driven mixture (mid-window state, each grain's mass and radius from the
+ * scene again) continues bit for bit, in 1D and 2D. */
+START_TEST(test_restart_exact)
+{
+    gr_scene sc = species_gas(1 + _i, "system.N=60", "run.seed=9");
+    gr_sim *probe = sim_of(&sc);
+    const int64_t total = (int64_t)(0.02 / probe->dt);
+    gr_sim_free(probe);
+    assert_restart_exact(&sc, total, total / 3);
+}
+END_TEST
+
+/* What the event integrator does not run with species yet is refused by name. */
+START_TEST(test_refusals)
+{
+    const char *rough[] = {"system.dim=2",
+                           "system.N=100",
+                           "system.packing_fraction=0.1",
+                           "species.radius=1e-3, 2e-3",
+                           "species.mass=1e-5, 4e-5",
+                           "placement.kind=random",
+                           "model.normal=hard_sphere",
+                           "model.rotation=true",
+                           "integrator.kind=event"};
+    refused(rough, 9, "rotation");
+    const char *dist[] = {"system.dim=2",
+                          "system.N=100",
+                          "system.packing_fraction=0.1",
+                          "species.distribution=uniform",
+                          "species.radius_min=1e-3",
+                          "species.radius_max=2e-3",
+                          "species.density=5",
+                          "placement.kind=random",
+                          "model.normal=hard_sphere",
+                          "integrator.kind=event"};
+    refused(dist, 10, "a radius distribution");
+}
+END_TEST
+
+static Suite *event_species_suite(void)
+{
+    Suite *s = suite_create("event_species");
+    TCase *t = tcase_create("two_body");
+    tcase_add_test(t, test_two_body_2d_headon);
+    tcase_add_test(t, test_two_body_2d_oblique);
+    tcase_add_test(t, test_two_body_1d);
+    tcase_add_test(t, test_pair_tc);
+    tcase_add_test(t, test_refusals);
+    suite_add_tcase(s, t);
+    TCase *g = tcase_create("gas");
+    tcase_set_timeout(g, 600);
+    tcase_add_loop_test(g, test_kicks_per_species, 0, 2);
+    tcase_add_loop_test(g, test_driven_gas, 0, 2);
+    tcase_add_loop_test(g, test_restart_exact, 0, 2);
+    suite_add_tcase(s, g);
+    return s;
+}
+
+int main(void) { return gr_test_run(event_species_suite()); }
