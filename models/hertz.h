@@ -167,17 +167,25 @@ static gr_normal_impact hertz_impact(const gr_contact_coeffs *c, double v_n)
 }
 
 /* alpha with E(alpha) = eps (Tsuji mode), by bisection: E falls monotonically from 1 at alpha = 0.
- * Cached per thread for the last (eps, clamp). */
+ * A bisection integrates ~60 contacts (sticking ones, near eps = 0, up to 1e5 RK4 steps each), so
+ * the last HERTZ_ALPHA_CACHE (eps, clamp) are cached per thread: a comparison of models, a sweep
+ * over eps or a test of hard cases asks for a few values over and over. */
+#define HERTZ_ALPHA_CACHE 16
 static double hertz_alpha_of(double eps, int clamp, gr_error *err, int *rc)
 {
-    static _Thread_local double last_eps = -1.0, last_alpha;
-    static _Thread_local int last_clamp = -1;
+    static _Thread_local struct {
+        double eps, alpha;
+        int clamp;
+    } cache[HERTZ_ALPHA_CACHE];
+    static _Thread_local int cached, next;
     *rc = GR_OK;
     if (eps >= 1.0) {
         return 0.0;
     }
-    if (eps == last_eps && clamp == last_clamp) {
-        return last_alpha;
+    for (int i = 0; i < cached; i++) {
+        if (cache[i].eps == eps && cache[i].clamp == clamp) {
+            return cache[i].alpha;
+        }
     }
     double lo = 0.0, hi = 1.0;
     while (hertz_scaled_impact(hi, 1, clamp).eps_n > eps) {
@@ -200,10 +208,13 @@ static double hertz_alpha_of(double eps, int clamp, gr_error *err, int *rc)
             hi = mid;
         }
     }
-    last_eps = eps;
-    last_clamp = clamp;
-    last_alpha = 0.5 * (lo + hi);
-    return last_alpha;
+    const double alpha = 0.5 * (lo + hi);
+    cache[next].eps = eps;
+    cache[next].clamp = clamp;
+    cache[next].alpha = alpha;
+    next = (next + 1) % HERTZ_ALPHA_CACHE;
+    cached += cached < HERTZ_ALPHA_CACHE;
+    return alpha;
 }
 
 static const gr_param hertz_params[] = {
