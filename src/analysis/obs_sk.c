@@ -167,18 +167,8 @@ int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_erro
     pl->lat.ny = malloc(sizeof(int) * (size_t)count);
     pl->idx = malloc(sizeof(size_t) * (size_t)count);
     pl->deconv = malloc(sizeof(double) * (size_t)count);
-    /* Greengard & Lee: M = 2 n_max + 1 modes per dimension, oversampling R = M_r / M >= 2,
-     * tau = pi msp / (M^2 R (R - 1/2)) (their sec. 3, M_sp = msp; physics notes sec. 6.1) */
-    const int M = 2 * n + 1;
     pl->msp = msp;
-    pl->lat.Mr = gr_sk_fft_size(2 * M > 2 * msp ? 2 * M : 2 * msp);
-    pl->Mc = pl->lat.Mr / 2 + 1;
-    const double R = (double)pl->lat.Mr / M;
-    pl->lat.tau = M_PI * msp / ((double)M * M * R * (R - 0.5));
-    pl->h = 2.0 * M_PI / pl->lat.Mr;
-    for (int l = 0; l <= msp; l++) {
-        pl->e3[l] = exp(-(l * pl->h) * (l * pl->h) / (4.0 * pl->lat.tau));
-    }
+    pl->Mc = gr_sk_gridding(n, msp, &pl->lat, &pl->h, pl->e3);
     const size_t cells = (size_t)pl->lat.Mr * (size_t)pl->lat.Mr;
     pl->grid = fftw_malloc(sizeof(double) * cells);
     pl->spec = fftw_malloc(sizeof(fftw_complex) * (size_t)pl->lat.Mr * (size_t)pl->Mc);
@@ -244,6 +234,21 @@ void gr_sk_grid(const gr_sk_lattice *lat, int *grid, double *tau)
     if (tau) {
         *tau = lat->tau;
     }
+}
+
+/* Greengard & Lee: M = 2 n_max + 1 modes per dimension, oversampling R = M_r / M >= 2,
+ * tau = pi msp / (M^2 R (R - 1/2)) (their sec. 3, M_sp = msp; physics notes sec. 6.1). */
+int gr_sk_gridding(int n_max, int msp, gr_sk_lattice *lat, double *h, double *e3)
+{
+    const int M = 2 * n_max + 1;
+    lat->Mr = gr_sk_fft_size(2 * M > 2 * msp ? 2 * M : 2 * msp);
+    const double R = (double)lat->Mr / M;
+    lat->tau = M_PI * msp / ((double)M * M * R * (R - 0.5));
+    *h = 2.0 * M_PI / lat->Mr;
+    for (int l = 0; l <= msp; l++) {
+        e3[l] = exp(-(l * *h) * (l * *h) / (4.0 * lat->tau));
+    }
+    return lat->Mr / 2 + 1;
 }
 
 /* Gaussian weights of one coordinate: grid index of the first of 2 msp points (unwrapped, may be

@@ -42,6 +42,11 @@ int gr_sk_compute(gr_sk_plan *pl, int method, int n, const double *x, const doub
  * Mr points of spacing h = 2 pi / Mr on a period L, width tau, e3[l] = exp(-(l h)^2 / (4 tau)));
  * returns the (unwrapped) grid index of the first weight. */
 int gr_sk_fft_size(int target);
+/* The gridding of M = 2 n_max + 1 modes per axis with half-width msp (Greengard & Lee: oversampling
+ * R = M_r / M >= 2, tau = pi msp / (M^2 R (R - 1/2))): sets lat->Mr and lat->tau, the grid
+ * spacing *h = 2 pi / M_r and e3[l] = exp(-(l h)^2 / (4 tau)), l = 0..msp; returns the r2c
+ * spectrum's last dimension M_r / 2 + 1. */
+int gr_sk_gridding(int n_max, int msp, gr_sk_lattice *lat, double *h, double *e3);
 int gr_sk_gauss_weights(double L, int Mr, double h, double tau, int msp, const double *e3,
                         double coord, double *w);
 

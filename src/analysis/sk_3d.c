@@ -83,15 +83,7 @@ int gr_sk3_plan_create(double L, double n_cut, int msp, gr_sk3_plan **out, gr_er
             }
         }
     }
-    const int M = 2 * n + 1;
-    pl->lat.Mr = gr_sk_fft_size(2 * M > 2 * msp ? 2 * M : 2 * msp);
-    pl->Mc = pl->lat.Mr / 2 + 1;
-    const double R = (double)pl->lat.Mr / M;
-    pl->lat.tau = M_PI * msp / ((double)M * M * R * (R - 0.5));
-    pl->h = 2.0 * M_PI / pl->lat.Mr;
-    for (int l = 0; l <= msp; l++) {
-        pl->e3[l] = exp(-(l * pl->h) * (l * pl->h) / (4.0 * pl->lat.tau));
-    }
+    pl->Mc = gr_sk_gridding(n, msp, &pl->lat, &pl->h, pl->e3);
     const size_t Mr = (size_t)pl->lat.Mr;
     pl->lat.nv = (int)count;
     pl->lat.nx = malloc(sizeof(int) * (size_t)count);
