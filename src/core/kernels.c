@@ -56,7 +56,7 @@ typedef struct pair_ctx {
     const double *restrict x, *restrict y, *restrict vx, *restrict vy;
     const double *restrict w; /* omega (rotation only) */
     double L;
-    pair_consts k; /* d, d^2, m_t / dt, I / (2 dt), the laws' coefficients (kernel_laws.h) */
+    GR_PAIR_CONSTS; /* d, d^2, m_t / dt, I / (2 dt), the laws' coefficients (kernel_laws.h) */
 } pair_ctx;
 
 static inline __attribute__((always_inline)) pair_ctx ctx_of(const gr_sim *s)
@@ -67,7 +67,7 @@ static inline __attribute__((always_inline)) pair_ctx ctx_of(const gr_sim *s)
                       .vy = s->vy,
                       .w = s->omega,
                       .L = s->L,
-                      .k = pair_consts_of(s)};
+                      GR_PAIR_CONSTS_OF(s)};
 }
 
 /* h: the pair's history slot (history laws; 0 otherwise), passed by value: the law updates a copy,
@@ -78,10 +78,10 @@ static inline __attribute__((always_inline)) int pair_2d(const pair_ctx c, const
                                                          const int roll, const double h,
                                                          pair_out *restrict o)
 {
-    const double L = c.L, d = c.k.d;
+    const double L = c.L, d = c.d;
     const double dx = wrap_delta(c.x[j] - c.x[i], L), dy = wrap_delta(c.y[j] - c.y[i], L);
     const double r2 = dx * dx + dy * dy;
-    if (r2 >= c.k.d2) {
+    if (r2 >= c.d2) {
         return 0;
     }
     const double dist = sqrt(r2);
@@ -89,7 +89,7 @@ static inline __attribute__((always_inline)) int pair_2d(const pair_ctx c, const
     const double nx = dx * inv, ny = dy * inv, ov = d - dist;
     const double gx = c.vx[j] - c.vx[i], gy = c.vy[j] - c.vy[i];
     const double g_n = gx * nx + gy * ny;
-    const gr_normal_force fn = normal_law(nl, &c.k.cc, ov, g_n, clamp);
+    const gr_normal_force fn = normal_law(nl, &c.cc, ov, g_n, clamp);
     const double f_n = fn.f;
     o->el = fn.e;
     o->pn = fn.f_d * g_n;
@@ -115,9 +115,9 @@ static inline __attribute__((always_inline)) int pair_2d(const pair_ctx c, const
                                      .xi = ov,
                                      .g_n = g_n,
                                      .acts = !clamp || f_n > 0.0,
-                                     .m12_dt = c.k.m12_dt,
+                                     .m12_dt = c.m12_dt,
                                      .hist = history_of(tang) ? &slot : NULL};
-        const gr_tangential_force ft = tangential_law(tang, &c.k.cc, in);
+        const gr_tangential_force ft = tangential_law(tang, &c.cc, in);
         const double f_t = ft.f;
         o->pt = ft.p;
         if (rot) {
@@ -150,8 +150,8 @@ static inline __attribute__((always_inline)) int pair_2d(const pair_ctx c, const
                                    .f_n = f_n,
                                    .acts = !clamp || f_n > 0.0,
                                    .r_eff = 0.25 * d,
-                                   .i_2dt = c.k.i_2dt};
-        const gr_rolling_torque rt = rolling_law(roll, &c.k.cc, rin);
+                                   .i_2dt = c.i_2dt};
+        const gr_rolling_torque rt = rolling_law(roll, &c.cc, rin);
         o->tq = tang != TL_none ? o->tq : 0.0;
         o->rq = rt.m;
         o->pr = rt.p;
@@ -183,8 +183,8 @@ static double forget(const pair_ctx *c, const int tang, const int i, const int j
      * the energy that goes, is k_t(xi + g_n dt) */
     const double g_n = ((c->vx[j] - c->vx[i]) * dx + (c->vy[j] - c->vy[i]) * dy) / dist;
     const gr_tangential_in in = {
-        .g_t = g_t, .xi = c->k.d - dist, .g_n = g_n, .acts = 0, .hist = slot};
-    return tangential_law(tang, &c->k.cc, in).lost;
+        .g_t = g_t, .xi = c->d - dist, .g_n = g_n, .acts = 0, .hist = slot};
+    return tangential_law(tang, &c->cc, in).lost;
 }
 
 /* The rows [r0, r1) of the half list, scattering f[j] += F for j in [lo, hi) (all = 1: every j,

@@ -231,8 +231,8 @@ int gr_neighbours_build_3d(gr_sim *s, gr_error *err)
 typedef struct ctx3 {
     const double *restrict x, *restrict y, *restrict z, *restrict vx, *restrict vy, *restrict vz;
     const double *restrict wx, *restrict wy, *restrict wz; /* rotation only */
-    double P[3];   /* the periods: L, or INFINITY along a wall axis (walls.c) */
-    pair_consts k; /* d, d^2, m_t / dt, I / (2 dt), the laws' coefficients (kernel_laws.h) */
+    double P[3];    /* the periods: L, or INFINITY along a wall axis (walls.c) */
+    GR_PAIR_CONSTS; /* d, d^2, m_t / dt, I / (2 dt), the laws' coefficients (kernel_laws.h) */
 } ctx3;
 
 /* One pair's results: the force on j (F; -F on i) and its non-conservative part G; the torque of
@@ -268,7 +268,7 @@ static inline __attribute__((always_inline)) double geometry(const ctx3 *c, cons
                  dy = wrap_delta(c->y[j] - c->y[i], c->P[1]),
                  dz = wrap_delta(c->z[j] - c->z[i], c->P[2]);
     const double r2 = dx * dx + dy * dy + dz * dz;
-    if (r2 >= c->k.d2) {
+    if (r2 >= c->d2) {
         return r2;
     }
     *dist = sqrt(r2);
@@ -320,11 +320,11 @@ static inline __attribute__((always_inline)) int pair_3d(const ctx3 *c, const in
                                                          const int rl, const double *h, pair3 *o)
 {
     double n[3], dist = 0.0, g_n = 0.0, gc[3];
-    if (geometry(c, i, j, rot && tl != TL_none, n, &dist, &g_n, gc) >= c->k.d2) {
+    if (geometry(c, i, j, rot && tl != TL_none, n, &dist, &g_n, gc) >= c->d2) {
         return 0;
     }
-    const double ov = c->k.d - dist;
-    const gr_normal_force fn = normal_law(nl, &c->k.cc, ov, g_n, clamp);
+    const double ov = c->d - dist;
+    const gr_normal_force fn = normal_law(nl, &c->cc, ov, g_n, clamp);
     o->el = fn.e;
     o->pn = fn.f_d * g_n;
     o->ov = ov;
@@ -345,7 +345,7 @@ static inline __attribute__((always_inline)) int pair_3d(const ctx3 *c, const in
                                           .g_n = g_n,
                                           .acts = acts,
                                           .hist = s};
-            const gr_tangential_force3 ft = tangential3_law(tl, &c->k.cc, in);
+            const gr_tangential_force3 ft = tangential3_law(tl, &c->cc, in);
             for (int a = 0; a < 3; a++) {
                 Ft[a] = ft.f[a];
                 Fn[a] = ft.f[a] - ft.fc[a];
@@ -362,9 +362,9 @@ static inline __attribute__((always_inline)) int pair_3d(const ctx3 *c, const in
                                          .xi = ov,
                                          .g_n = g_n,
                                          .acts = acts,
-                                         .m12_dt = c->k.m12_dt,
+                                         .m12_dt = c->m12_dt,
                                          .hist = NULL};
-            const gr_tangential_force ft = tangential_law(tl, &c->k.cc, in);
+            const gr_tangential_force ft = tangential_law(tl, &c->cc, in);
             const double along = gm > 0.0 ? ft.f / gm : 0.0;
             for (int a = 0; a < 3; a++) {
                 Ft[a] = Fn[a] = along * gc[a];
@@ -398,8 +398,8 @@ static inline __attribute__((always_inline)) int pair_3d(const ctx3 *c, const in
         const double dp[3] = {dw[0] - dn * n[0], dw[1] - dn * n[1], dw[2] - dn * n[2]};
         const double m = sqrt(dot3(dp, dp));
         const gr_rolling_in rin = {
-            .dw = m, .f_n = fn.f, .acts = acts, .r_eff = 0.25 * c->k.d, .i_2dt = c->k.i_2dt};
-        const gr_rolling_torque rt = rolling_law(rl, &c->k.cc, rin);
+            .dw = m, .f_n = fn.f, .acts = acts, .r_eff = 0.25 * c->d, .i_2dt = c->i_2dt};
+        const gr_rolling_torque rt = rolling_law(rl, &c->cc, rin);
         const double along = m > 0.0 ? rt.m / m : 0.0;
         for (int a = 0; a < 3; a++) {
             o->R[a] = along * dp[a];
@@ -432,8 +432,8 @@ static double forget_3d(const ctx3 *c, const int tl, const int i, const int j, c
     }
     to_plane(h, n);
     const gr_tangential_in3 in = {
-        .g = {gc[0], gc[1], gc[2]}, .xi = c->k.d - dist, .g_n = g_n, .acts = 0, .hist = h};
-    return tangential3_law(tl, &c->k.cc, in).lost;
+        .g = {gc[0], gc[1], gc[2]}, .xi = c->d - dist, .g_n = g_n, .acts = 0, .hist = h};
+    return tangential3_law(tl, &c->cc, in).lost;
 }
 
 /* Partial results of one block of rows, in s->blk (GR_BLK_FIELDS per block): the ledger sums,
@@ -453,7 +453,7 @@ static inline __attribute__((always_inline)) ctx3 ctx3_of(const gr_sim *s)
                   .wy = s->wy,
                   .wz = s->omega,
                   .P = {s->period[0], s->period[1], s->period[2]},
-                  .k = pair_consts_of(s)};
+                  GR_PAIR_CONSTS_OF(s)};
 }
 
 /* What a pair adds to j: the torque t + R and its non-conservative part TG + R (rotation; on i
