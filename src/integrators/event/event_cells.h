@@ -357,48 +357,30 @@ static inline void offer(struct gr_event_state *e, int i, int j, double t, int p
     }
 }
 
-/* What a walk over a particle's neighbourhood does with each partner j of particle i. */
-typedef void (*ev_partner_fn)(struct gr_event_state *e, int i, int j, void *ctx);
-
-/* Hands `visit` every particle j != i in i's cell and the cells around it (z, then y, then x
- * from below; the cell's list order within). Always inlined, so that each caller's `visit` is
- * inlined into the walk too: this is the event loop's hot path. */
-static inline __attribute__((always_inline)) void each_partner(struct gr_event_state *e, int i,
-                                                               ev_partner_fn visit, void *ctx)
-{
-    const int nc = e->ncell, span = nc > 1 ? 1 : 0;
-    int cx, cy, cz;
-    cell_xyz(nc, e->cell_of[i], &cx, &cy, &cz);
-    for (int dz = EV_Z(-span) + 0; dz <= EV_Z(span) + 0; dz++) {
-        const int zz = (cz + dz + nc) % nc;
-        for (int dy = -span; dy <= span; dy++) {
-            const int yy = (cy + dy + nc) % nc;
-            for (int dx = -span; dx <= span; dx++) {
-                const int xx = (cx + dx + nc) % nc;
-                for (int j = e->head[cell_index(nc, xx, yy, zz)]; j >= 0; j = e->next[j]) {
-                    if (j != i) {
-                        visit(e, i, j, ctx);
-                    }
-                }
-            }
-        }
-    }
-}
-
-/* predict_all's partner: each pair once (j > i), its contact offered to both. */
-static inline void offer_pair(struct gr_event_state *e, int i, int j, void *ctx)
-{
-    (void)ctx;
-    if (j <= i) {
-        return;
-    }
-    int ph;
-    double t = pair_time(e, i, j, &ph);
-    if (t < GR_EV_INF) {
-        offer(e, i, j, t, ph);
-        offer(e, j, i, t, ph);
-    }
-}
+/* Runs the statements after J for every particle J (an int the macro declares) in particle I's
+ * cell and the cells around it: z, then y, then x from below, each cell's list in order, I itself
+ * included (`continue` skips to the next partner). One walk for predict_all and predict, a macro
+ * so that both compile to the loops they had when each wrote its own: this is the event loop's
+ * hot path. */
+#define EV_EACH_PARTNER(E, I, J, ...)                                                              \
+    do {                                                                                           \
+        const int nc_ = (E)->ncell, span_ = nc_ > 1 ? 1 : 0;                                       \
+        int cx_, cy_, cz_;                                                                         \
+        cell_xyz(nc_, (E)->cell_of[I], &cx_, &cy_, &cz_);                                          \
+        for (int dz_ = EV_Z(-span_) + 0; dz_ <= EV_Z(span_) + 0; dz_++) {                          \
+            const int zz_ = (cz_ + dz_ + nc_) % nc_;                                               \
+            for (int dy_ = -span_; dy_ <= span_; dy_++) {                                          \
+                const int yy_ = (cy_ + dy_ + nc_) % nc_;                                           \
+                for (int dx_ = -span_; dx_ <= span_; dx_++) {                                      \
+                    const int xx_ = (cx_ + dx_ + nc_) % nc_;                                       \
+                    for (int J = (E)->head[cell_index(nc_, xx_, yy_, zz_)]; J >= 0;                \
+                         J = (E)->next[J]) {                                                       \
+                        __VA_ARGS__                                                                \
+                    }                                                                              \
+                }                                                                                  \
+            }                                                                                      \
+        }                                                                                          \
+    } while (0)
 
 /* All particles at a window start: every pair is solved once and offered to both. */
 static void predict_all(struct gr_event_state *e)
@@ -410,26 +392,17 @@ static void predict_all(struct gr_event_state *e)
         return;
     }
     for (int i = 0; i < e->n; i++) {
-        each_partner(e, i, offer_pair, NULL);
-    }
-}
-
-/* The earliest event found so far for one particle (predict's walk). */
-struct ev_best {
-    double t;
-    int who, phase;
-};
-
-/* predict's partner: the contact, if it is earlier than the best so far. */
-static inline void keep_earliest(struct gr_event_state *e, int i, int j, void *ctx)
-{
-    struct ev_best *b = ctx;
-    int ph;
-    double t = pair_time(e, i, j, &ph);
-    if (t < b->t || (t == b->t && ph < b->phase)) {
-        b->t = t;
-        b->who = j;
-        b->phase = ph;
+        EV_EACH_PARTNER(e, i, j, {
+            if (j <= i) {
+                continue;
+            }
+            int ph;
+            double t = pair_time(e, i, j, &ph);
+            if (t < GR_EV_INF) {
+                offer(e, i, j, t, ph);
+                offer(e, j, i, t, ph);
+            }
+        });
     }
 }
 
@@ -439,14 +412,24 @@ static void predict(struct gr_event_state *e, int i)
     double best = GR_EV_INF;
     int who = -1, best_phase = e->phase;
     own_event(e, i, &best, &who, &best_phase);
-    struct ev_best b = {best, who, best_phase};
     if (!e->no_collisions) {
-        each_partner(e, i, keep_earliest, &b);
+        EV_EACH_PARTNER(e, i, j, {
+            if (j == i) {
+                continue;
+            }
+            int ph;
+            double t = pair_time(e, i, j, &ph);
+            if (t < best || (t == best && ph < best_phase)) {
+                best = t;
+                who = j;
+                best_phase = ph;
+            }
+        });
     }
-    e->heap.t[i] = b.t;
-    e->heap.ph[i] = (uint8_t)b.phase;
-    e->partner[i] = b.who;
-    e->ev_count[i] = b.who >= 0 ? e->count[b.who] : 0;
+    e->heap.t[i] = best;
+    e->heap.ph[i] = (uint8_t)best_phase;
+    e->partner[i] = who;
+    e->ev_count[i] = who >= 0 ? e->count[who] : 0;
 }
 
 void EV_FN(window)(gr_sim *s)
@@ -951,4 +934,5 @@ int EV_FN(process)(gr_sim *s, double t_limit, gr_error *err)
 
 #undef EV_Z
 #undef EV_FN
+#undef EV_EACH_PARTNER
 #undef EV_CELLS
