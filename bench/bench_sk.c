@@ -160,8 +160,8 @@ int main(int argc, char **argv)
             fprintf(stderr, "bench_sk: %s\n", err.message);
             return 1;
         }
-        int nv = gr_sk_plan_vectors(pl, NULL, NULL), grid;
-        gr_sk_plan_grid(pl, &grid, NULL);
+        int nv = gr_sk_vectors(gr_sk_plan_lattice(pl), NULL, NULL, NULL), grid;
+        gr_sk_grid(gr_sk_plan_lattice(pl), &grid, NULL);
         double *Sg = malloc(sizeof(double) * (size_t)nv), *Sd = malloc(sizeof(double) * (size_t)nv);
         double wg, wd = NAN;
         double tg = time_frames(pl, GR_SK_GRIDDING, &pu, Sg, repeats, &wg);
@@ -199,7 +199,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_sk: %s\n", err.message);
         return 1;
     }
-    int nv = gr_sk_plan_vectors(ref, NULL, NULL);
+    int nv = gr_sk_vectors(gr_sk_plan_lattice(ref), NULL, NULL, NULL);
     double *Su = malloc(sizeof(double) * (size_t)nv), *Sj = malloc(sizeof(double) * (size_t)nv);
     double *Sg = malloc(sizeof(double) * (size_t)nv);
     time_frames(ref, GR_SK_DIRECT, &pu, Su, 1, NULL);
@@ -216,7 +216,7 @@ int main(int argc, char **argv)
             return 1;
         }
         int grid;
-        gr_sk_plan_grid(pl, &grid, NULL);
+        gr_sk_grid(gr_sk_plan_lattice(pl), &grid, NULL);
         double t = time_frames(pl, GR_SK_GRIDDING, &pu, Sg, repeats, NULL);
         accuracy au = compare(Sg, Su, nv);
         double mean = 0.0;

@@ -443,7 +443,7 @@ START_TEST(test_sk_engine)
     gr_error err = {0};
     ck_assert_int_eq(gr_sk3_plan_create(L, 6.5, GR_SK3_MSP_DEFAULT, &pl, &err), GR_OK);
     const int *nx, *ny, *nz;
-    const int nv = gr_sk3_plan_vectors(pl, &nx, &ny, &nz);
+    const int nv = gr_sk_vectors(gr_sk3_plan_lattice(pl), &nx, &ny, &nz);
     int count = 0; /* lattice points with 0 < |n|^2 <= 42 (6.5^2 = 42.25), halved */
     for (int a = -6; a <= 6; a++) {
         for (int b = -6; b <= 6; b++) {
@@ -477,7 +477,7 @@ START_TEST(test_sk_engine)
         z[i] = (i / (M * M) + 0.75) * L / M;
     }
     ck_assert_int_eq(gr_sk3_plan_create(L, 8.0, GR_SK3_MSP_DEFAULT, &pl, &err), GR_OK);
-    const int nv2 = gr_sk3_plan_vectors(pl, &nx, &ny, &nz);
+    const int nv2 = gr_sk_vectors(gr_sk3_plan_lattice(pl), &nx, &ny, &nz);
     double *S = malloc(sizeof(double) * (size_t)nv2);
     ck_assert_int_eq(gr_sk3_compute(pl, GR_SK_GRIDDING, NL, x, y, z, S, &err), GR_OK);
     int peaks = 0;

@@ -191,7 +191,7 @@ START_TEST(test_gridding_matches_direct)
         gr_error err = {0};
         ck_assert_int_eq(gr_sk_plan_create(L, n_cut, MSP, &pl, &err), GR_OK);
         const int *nx, *ny;
-        int nv = gr_sk_plan_vectors(pl, &nx, &ny);
+        int nv = gr_sk_vectors(gr_sk_plan_lattice(pl), &nx, &ny, NULL);
         double *Sg = malloc(sizeof(double) * (size_t)nv), *Sd = malloc(sizeof(double) * (size_t)nv);
         ck_assert_int_eq(gr_sk_compute(pl, GR_SK_GRIDDING, n, x, y, Sg, &err), GR_OK);
         ck_assert_int_eq(gr_sk_compute(pl, GR_SK_DIRECT, n, x, y, Sd, &err), GR_OK);
@@ -244,8 +244,10 @@ START_TEST(test_half_plane_without_k0)
     gr_error err = {0};
     const double n_cut = 17.3;
     ck_assert_int_eq(gr_sk_plan_create(1.0, n_cut, MSP, &pl, &err), GR_OK);
-    const int *nx, *ny;
-    int nv = gr_sk_plan_vectors(pl, &nx, &ny);
+    static const int sentinel = 0;
+    const int *nx, *ny, *nz = &sentinel; /* the shared getter must set it: NULL in 2D */
+    int nv = gr_sk_vectors(gr_sk_plan_lattice(pl), &nx, &ny, &nz);
+    ck_assert_msg(nz == NULL, "a 2D plan's lattice has no n_z");
     const int m = 18, w = 2 * m + 1;
     int *seen = calloc((size_t)(w * w), sizeof(int));
     for (int v = 0; v < nv; v++) {
@@ -283,7 +285,7 @@ START_TEST(test_square_lattice_bragg)
     gr_error err = {0};
     ck_assert_int_eq(gr_sk_plan_create(L, 40.0, MSP, &pl, &err), GR_OK);
     const int *nx, *ny;
-    int nv = gr_sk_plan_vectors(pl, &nx, &ny), peaks = 0;
+    int nv = gr_sk_vectors(gr_sk_plan_lattice(pl), &nx, &ny, NULL), peaks = 0;
     double *S = malloc(sizeof(double) * (size_t)nv);
     for (int method = 0; method < 2; method++) {
         ck_assert_int_eq(gr_sk_compute(pl, method, n, x, y, S, &err), GR_OK);

@@ -408,7 +408,7 @@ START_TEST(test_threads_sk)
     gr_error err = {0};
     ck_assert_msg(gr_sk_plan_create(1.0, 60.0, GR_SK_MSP_DEFAULT, &pl, &err) == GR_OK, "%s",
                   err.message);
-    const int nv = gr_sk_plan_vectors(pl, NULL, NULL);
+    const int nv = gr_sk_vectors(gr_sk_plan_lattice(pl), NULL, NULL, NULL);
     double *s1 = malloc(sizeof(double) * (size_t)nv), *s2 = malloc(sizeof(double) * (size_t)nv);
     set_threads(1);
     ck_assert_msg(gr_sk_compute(pl, GR_SK_GRIDDING, n, p, p + n, s1, &err) == GR_OK, "%s",

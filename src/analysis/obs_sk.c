@@ -45,13 +45,12 @@
 
 struct gr_sk_plan {
     double L, n_cut;
-    int n_max; /* largest |n_x| and |n_y| */
-    long nsq;  /* vectors with n_x^2 + n_y^2 <= nsq */
-    int nv;    /* vectors in the half plane */
-    int *nx, *ny;
+    int n_max;         /* largest |n_x| and |n_y| */
+    long nsq;          /* vectors with n_x^2 + n_y^2 <= nsq */
+    gr_sk_lattice lat; /* the lat.nv vectors in the half plane (lat.nz NULL); grid lat.Mr, tau */
     /* gridding */
-    int msp, Mr, Mc; /* real grid Mr x Mr, r2c spectrum Mr x Mc (Mc = Mr/2 + 1) */
-    double tau, h;
+    int msp, Mc; /* real grid Mr x Mr, r2c spectrum Mr x Mc (Mc = Mr/2 + 1) */
+    double h;
     double e3[GR_SK_MSP_MAX + 1]; /* exp(-(l h)^2 / (4 tau)) */
     double *grid;
     fftw_complex *spec;
@@ -102,8 +101,8 @@ void gr_sk_plan_free(gr_sk_plan *pl)
     free(pl->ys);
     fftw_free(pl->grid);
     fftw_free(pl->spec);
-    free(pl->nx);
-    free(pl->ny);
+    free(pl->lat.nx);
+    free(pl->lat.ny);
     free(pl->idx);
     free(pl->deconv);
     free(pl->rre);
@@ -163,82 +162,93 @@ int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_erro
         int am = isqrt_floor(pl->nsq - (long)b * b);
         count += b > 0 ? am + 1 : am;
     }
-    pl->nv = (int)count;
-    pl->nx = malloc(sizeof(int) * (size_t)count);
-    pl->ny = malloc(sizeof(int) * (size_t)count);
+    pl->lat.nv = (int)count;
+    pl->lat.nx = malloc(sizeof(int) * (size_t)count);
+    pl->lat.ny = malloc(sizeof(int) * (size_t)count);
     pl->idx = malloc(sizeof(size_t) * (size_t)count);
     pl->deconv = malloc(sizeof(double) * (size_t)count);
-    /* Greengard & Lee: M = 2 n_max + 1 modes per dimension, oversampling R = M_r / M >= 2,
-     * tau = pi msp / (M^2 R (R - 1/2)) (their sec. 3, M_sp = msp; physics notes sec. 6.1) */
-    const int M = 2 * n + 1;
     pl->msp = msp;
-    pl->Mr = gr_sk_fft_size(2 * M > 2 * msp ? 2 * M : 2 * msp);
-    pl->Mc = pl->Mr / 2 + 1;
-    const double R = (double)pl->Mr / M;
-    pl->tau = M_PI * msp / ((double)M * M * R * (R - 0.5));
-    pl->h = 2.0 * M_PI / pl->Mr;
-    for (int l = 0; l <= msp; l++) {
-        pl->e3[l] = exp(-(l * pl->h) * (l * pl->h) / (4.0 * pl->tau));
-    }
-    const size_t cells = (size_t)pl->Mr * (size_t)pl->Mr;
+    pl->Mc = gr_sk_gridding(n, msp, &pl->lat, &pl->h, pl->e3);
+    const size_t cells = (size_t)pl->lat.Mr * (size_t)pl->lat.Mr;
     pl->grid = fftw_malloc(sizeof(double) * cells);
-    pl->spec = fftw_malloc(sizeof(fftw_complex) * (size_t)pl->Mr * (size_t)pl->Mc);
-    pl->bucket = malloc(sizeof(int) * ((size_t)pl->Mr + 1));
-    if (!pl->nx || !pl->ny || !pl->idx || !pl->deconv || !pl->grid || !pl->spec || !pl->bucket) {
+    pl->spec = fftw_malloc(sizeof(fftw_complex) * (size_t)pl->lat.Mr * (size_t)pl->Mc);
+    pl->bucket = malloc(sizeof(int) * ((size_t)pl->lat.Mr + 1));
+    if (!pl->lat.nx || !pl->lat.ny || !pl->idx || !pl->deconv || !pl->grid || !pl->spec ||
+        !pl->bucket) {
         gr_sk_plan_free(pl);
         return GR_FAIL(err, GR_ENOMEM, "sk: out of memory (%d vectors, %d^2 grid)", (int)count,
-                       pl->Mr);
+                       pl->lat.Mr);
     }
     /* The 2D transform, pruned: real-to-complex along x for every row, then complex along y only
      * for the n_max + 1 columns n_x = 0..n_max that are kept (0.65 of a full 2D r2c transform).
      * FFTW_ESTIMATE: the plan depends only on the size, so every run does the same arithmetic
      * (FFTW_MEASURE would be ~20% faster but picks plans by timing). The planner is not
      * thread-safe: plans are made here, once, never per frame. */
-    int len = pl->Mr;
-    pl->rows = fftw_plan_many_dft_r2c(1, &len, pl->Mr, pl->grid, NULL, 1, pl->Mr, pl->spec, NULL, 1,
-                                      pl->Mc, FFTW_ESTIMATE);
+    int len = pl->lat.Mr;
+    pl->rows = fftw_plan_many_dft_r2c(1, &len, pl->lat.Mr, pl->grid, NULL, 1, pl->lat.Mr, pl->spec,
+                                      NULL, 1, pl->Mc, FFTW_ESTIMATE);
     pl->cols = fftw_plan_many_dft(1, &len, n + 1, pl->spec, NULL, pl->Mc, 1, pl->spec, NULL, pl->Mc,
                                   1, FFTW_FORWARD, FFTW_ESTIMATE);
     if (!pl->rows || !pl->cols) {
         gr_sk_plan_free(pl);
-        return GR_FAIL(err, GR_ENOMEM, "sk: FFTW could not plan a %d x %d transform", pl->Mr,
-                       pl->Mr);
+        return GR_FAIL(err, GR_ENOMEM, "sk: FFTW could not plan a %d x %d transform", pl->lat.Mr,
+                       pl->lat.Mr);
     }
-    const double norm = (M_PI / pl->tau) / ((double)pl->Mr * pl->Mr);
+    const double norm = (M_PI / pl->lat.tau) / ((double)pl->lat.Mr * pl->lat.Mr);
     int v = 0;
     for (int b = -n; b <= n; b++) {
         int am = isqrt_floor(pl->nsq - (long)b * b);
         for (int a = b > 0 ? 0 : 1; a <= am; a++, v++) {
-            pl->nx[v] = a;
-            pl->ny[v] = b;
+            pl->lat.nx[v] = a;
+            pl->lat.ny[v] = b;
             /* spectrum row = k_y (negative k_y wrap to Mr + k_y), column = k_x >= 0 */
-            pl->idx[v] = (size_t)(b >= 0 ? b : pl->Mr + b) * (size_t)pl->Mc + (size_t)a;
-            pl->deconv[v] = norm * exp(pl->tau * (double)((long)a * a + (long)b * b));
+            pl->idx[v] = (size_t)(b >= 0 ? b : pl->lat.Mr + b) * (size_t)pl->Mc + (size_t)a;
+            pl->deconv[v] = norm * exp(pl->lat.tau * (double)((long)a * a + (long)b * b));
         }
     }
     *out = pl;
     return GR_OK;
 }
 
-int gr_sk_plan_vectors(const gr_sk_plan *pl, const int **nx, const int **ny)
+const gr_sk_lattice *gr_sk_plan_lattice(const gr_sk_plan *pl) { return &pl->lat; }
+
+int gr_sk_vectors(const gr_sk_lattice *lat, const int **nx, const int **ny, const int **nz)
 {
     if (nx) {
-        *nx = pl->nx;
+        *nx = lat->nx;
     }
     if (ny) {
-        *ny = pl->ny;
+        *ny = lat->ny;
     }
-    return pl->nv;
+    if (nz) {
+        *nz = lat->nz;
+    }
+    return lat->nv;
 }
 
-void gr_sk_plan_grid(const gr_sk_plan *pl, int *grid, double *tau)
+void gr_sk_grid(const gr_sk_lattice *lat, int *grid, double *tau)
 {
     if (grid) {
-        *grid = pl->Mr;
+        *grid = lat->Mr;
     }
     if (tau) {
-        *tau = pl->tau;
+        *tau = lat->tau;
     }
+}
+
+/* Greengard & Lee: M = 2 n_max + 1 modes per dimension, oversampling R = M_r / M >= 2,
+ * tau = pi msp / (M^2 R (R - 1/2)) (their sec. 3, M_sp = msp; physics notes sec. 6.1). */
+int gr_sk_gridding(int n_max, int msp, gr_sk_lattice *lat, double *h, double *e3)
+{
+    const int M = 2 * n_max + 1;
+    lat->Mr = gr_sk_fft_size(2 * M > 2 * msp ? 2 * M : 2 * msp);
+    const double R = (double)lat->Mr / M;
+    lat->tau = M_PI * msp / ((double)M * M * R * (R - 0.5));
+    *h = 2.0 * M_PI / lat->Mr;
+    for (int l = 0; l <= msp; l++) {
+        e3[l] = exp(-(l * *h) * (l * *h) / (4.0 * lat->tau));
+    }
+    return lat->Mr / 2 + 1;
 }
 
 /* Gaussian weights of one coordinate: grid index of the first of 2 msp points (unwrapped, may be
@@ -273,13 +283,13 @@ int gr_sk_gauss_weights(double L, int Mr, double h, double tau, int msp, const d
 
 static int weights(const gr_sk_plan *pl, double coord, double *w)
 {
-    return gr_sk_gauss_weights(pl->L, pl->Mr, pl->h, pl->tau, pl->msp, pl->e3, coord, w);
+    return gr_sk_gauss_weights(pl->L, pl->lat.Mr, pl->h, pl->lat.tau, pl->msp, pl->e3, coord, w);
 }
 
 static int compute_gridding(gr_sk_plan *pl, int n, const double *x, const double *y, double *S,
                             gr_error *err)
 {
-    const int Mr = pl->Mr, w2 = 2 * pl->msp;
+    const int Mr = pl->lat.Mr, w2 = 2 * pl->msp;
     if (n > pl->cap) { /* the first frame (or a larger N): the only allocation after the plan */
         free(pl->row_of);
         free(pl->xs);
@@ -379,7 +389,7 @@ static int compute_gridding(gr_sk_plan *pl, int n, const double *x, const double
     fftw_execute(pl->rows);
     fftw_execute(pl->cols);
     const double inv_n = 1.0 / n;
-    for (int v = 0; v < pl->nv; v++) {
+    for (int v = 0; v < pl->lat.nv; v++) {
         const double *c = pl->spec[pl->idx[v]];
         const double f = pl->deconv[v];
         S[v] = (c[0] * c[0] + c[1] * c[1]) * f * f * inv_n;
@@ -454,8 +464,8 @@ static void compute_direct(gr_sk_plan *pl, int n, const double *x, const double 
         }
     }
     const double inv_n = 1.0 / n;
-    for (int v = 0; v < pl->nv; v++) {
-        size_t k = (size_t)pl->nx[v] * W + (size_t)(pl->ny[v] + nm);
+    for (int v = 0; v < pl->lat.nv; v++) {
+        size_t k = (size_t)pl->lat.nx[v] * W + (size_t)(pl->lat.ny[v] + nm);
         S[v] = (pl->rre[k] * pl->rre[k] + pl->rim[k] * pl->rim[k]) * inv_n;
     }
 }
@@ -533,6 +543,12 @@ typedef struct sk_state {
 
 static void release_plan(void *plan) { gr_sk_plan_free(plan); }
 static void release_plan3(void *plan) { gr_sk3_plan_free(plan); }
+
+/* The plan's vectors and gridding, 2D or 3D alike. */
+static const gr_sk_lattice *lattice_of(const sk_state *st)
+{
+    return st->dim == 3 ? gr_sk3_plan_lattice(st->plan3) : gr_sk_plan_lattice(st->plan);
+}
 
 static int method_from_env(int *method, gr_error *err)
 {
@@ -624,9 +640,8 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     st->n_shell = fmin(n_cut, fmin((double)SHELL_N_CAP, fmax((double)SHELL_N_MIN, 2.0 * n_prime)));
     const long q_shell = (long)floor(st->n_shell * st->n_shell * (1.0 + 1e-12));
 
-    const int *nx, *ny, *nz = NULL;
-    st->nv = st->dim == 3 ? gr_sk3_plan_vectors(st->plan3, &nx, &ny, &nz)
-                          : gr_sk_plan_vectors(st->plan, &nx, &ny);
+    const int *nx, *ny, *nz;
+    st->nv = gr_sk_vectors(lattice_of(st), &nx, &ny, &nz);
     st->S = gr_obs_calloc(st, (size_t)st->nv, sizeof(double));
     st->bin_of = gr_obs_calloc(st, (size_t)st->nv, sizeof(int));
     st->shell_of = gr_obs_calloc(st, (size_t)st->nv, sizeof(int));
@@ -910,11 +925,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddNumberToObject(j, "frames", (double)st->frames);
     int grid;
     double tau;
-    if (st->dim == 3) {
-        gr_sk3_plan_grid(st->plan3, &grid, &tau);
-    } else {
-        gr_sk_plan_grid(st->plan, &grid, &tau);
-    }
+    gr_sk_grid(lattice_of(st), &grid, &tau);
     cJSON_AddStringToObject(j, "method", st->method == GR_SK_DIRECT ? "direct" : "gridding");
     cJSON_AddNumberToObject(j, "msp", st->msp);
     cJSON_AddNumberToObject(j, "grid", grid);

@@ -9,6 +9,7 @@
 /* ------------------------------------------------------------------------------------------
  * The S(k) engine. */
 typedef struct gr_sk_plan gr_sk_plan;
+typedef struct gr_sk3_plan gr_sk3_plan;
 enum { GR_SK_GRIDDING = 0, GR_SK_DIRECT = 1 };
 #define GR_SK_MSP_DEFAULT 8 /* Gaussian half-width in grid points; chosen with bench/bench_sk.c */
 #define GR_SK_MSP_MAX 16
@@ -17,10 +18,21 @@ enum { GR_SK_GRIDDING = 0, GR_SK_DIRECT = 1 };
  * half-width msp (1..GR_SK_MSP_MAX). */
 int gr_sk_plan_create(double L, double n_cut, int msp, gr_sk_plan **out, gr_error *err);
 void gr_sk_plan_free(gr_sk_plan *pl);
-/* Number of vectors; *nx, *ny (if not NULL) point at their integer components. */
-int gr_sk_plan_vectors(const gr_sk_plan *pl, const int **nx, const int **ny);
-/* Grid side M_r and Gaussian width tau of the gridding. */
-void gr_sk_plan_grid(const gr_sk_plan *pl, int *grid, double *tau);
+/* What a plan, 2D or 3D, hands out: its nv vectors' integer components (nz: NULL in 2D) and its
+ * gridding (grid side M_r, Gaussian width tau). Read it with the getters below. */
+typedef struct gr_sk_lattice {
+    int nv;
+    int *nx, *ny, *nz;
+    int Mr;
+    double tau;
+} gr_sk_lattice;
+const gr_sk_lattice *gr_sk_plan_lattice(const gr_sk_plan *pl);
+const gr_sk_lattice *gr_sk3_plan_lattice(const gr_sk3_plan *pl);
+/* Number of vectors; *nx, *ny, *nz (each if not NULL) point at their integer components (*nz at
+ * NULL in 2D). */
+int gr_sk_vectors(const gr_sk_lattice *lat, const int **nx, const int **ny, const int **nz);
+/* Grid side M_r and Gaussian width tau of the gridding (each if not NULL). */
+void gr_sk_grid(const gr_sk_lattice *lat, int *grid, double *tau);
 /* S of every vector for n particles at (x, y) (any real coordinates; periodic in L). */
 int gr_sk_compute(gr_sk_plan *pl, int method, int n, const double *x, const double *y, double *S,
                   gr_error *err);
@@ -30,6 +42,11 @@ int gr_sk_compute(gr_sk_plan *pl, int method, int n, const double *x, const doub
  * Mr points of spacing h = 2 pi / Mr on a period L, width tau, e3[l] = exp(-(l h)^2 / (4 tau)));
  * returns the (unwrapped) grid index of the first weight. */
 int gr_sk_fft_size(int target);
+/* The gridding of M = 2 n_max + 1 modes per axis with half-width msp (Greengard & Lee: oversampling
+ * R = M_r / M >= 2, tau = pi msp / (M^2 R (R - 1/2))): sets lat->Mr and lat->tau, the grid
+ * spacing *h = 2 pi / M_r and e3[l] = exp(-(l h)^2 / (4 tau)), l = 0..msp; returns the r2c
+ * spectrum's last dimension M_r / 2 + 1. */
+int gr_sk_gridding(int n_max, int msp, gr_sk_lattice *lat, double *h, double *e3);
 int gr_sk_gauss_weights(double L, int Mr, double h, double tau, int msp, const double *e3,
                         double coord, double *w);
 
@@ -38,13 +55,10 @@ int gr_sk_gauss_weights(double L, int Mr, double h, double tau, int msp, const d
  * of a periodic cube, every vector with |n| <= n_cut in the half space (n_z > 0, or n_z = 0 and
  * n_y > 0, or n_z = n_y = 0 and n_x > 0; S(-k) = S(k)), by the same Gaussian gridding on an
  * M_r^3 grid and one real-to-complex FFTW transform, or by the direct sum (the tests' oracle). */
-typedef struct gr_sk3_plan gr_sk3_plan;
 #define GR_SK3_MSP_DEFAULT 6 /* (2 msp)^3 grid points per sphere */
 #define GR_SK3_NMAX_LIMIT 64 /* largest |n|: a ~260^3 grid, 140 MB */
 int gr_sk3_plan_create(double L, double n_cut, int msp, gr_sk3_plan **out, gr_error *err);
 void gr_sk3_plan_free(gr_sk3_plan *pl);
-int gr_sk3_plan_vectors(const gr_sk3_plan *pl, const int **nx, const int **ny, const int **nz);
-void gr_sk3_plan_grid(const gr_sk3_plan *pl, int *grid, double *tau);
 int gr_sk3_compute(gr_sk3_plan *pl, int method, int n, const double *x, const double *y,
                    const double *z, double *S, gr_error *err);
 

@@ -11,9 +11,9 @@
 #include "analysis/sk.h"
 
 struct gr_sk3_plan {
-    double L, tau, h;
-    int n_max, msp, Mr, Mc, nv;
-    int *nx, *ny, *nz;
+    gr_sk_lattice lat; /* the lat.nv vectors, grid lat.Mr, Gaussian width lat.tau */
+    double L, h;
+    int n_max, msp, Mc;
     size_t *idx;    /* spectrum index of each vector */
     double *deconv; /* (pi / tau)^(3/2) e^{tau |n|^2} / Mr^3 */
     double e3[GR_SK_MSP_MAX + 1];
@@ -32,9 +32,9 @@ void gr_sk3_plan_free(gr_sk3_plan *pl)
     }
     fftw_free(pl->grid);
     fftw_free(pl->spec);
-    free(pl->nx);
-    free(pl->ny);
-    free(pl->nz);
+    free(pl->lat.nx);
+    free(pl->lat.ny);
+    free(pl->lat.nz);
     free(pl->idx);
     free(pl->deconv);
     free(pl);
@@ -83,37 +83,31 @@ int gr_sk3_plan_create(double L, double n_cut, int msp, gr_sk3_plan **out, gr_er
             }
         }
     }
-    const int M = 2 * n + 1;
-    pl->Mr = gr_sk_fft_size(2 * M > 2 * msp ? 2 * M : 2 * msp);
-    pl->Mc = pl->Mr / 2 + 1;
-    const double R = (double)pl->Mr / M;
-    pl->tau = M_PI * msp / ((double)M * M * R * (R - 0.5));
-    pl->h = 2.0 * M_PI / pl->Mr;
-    for (int l = 0; l <= msp; l++) {
-        pl->e3[l] = exp(-(l * pl->h) * (l * pl->h) / (4.0 * pl->tau));
-    }
-    const size_t Mr = (size_t)pl->Mr;
-    pl->nv = (int)count;
-    pl->nx = malloc(sizeof(int) * (size_t)count);
-    pl->ny = malloc(sizeof(int) * (size_t)count);
-    pl->nz = malloc(sizeof(int) * (size_t)count);
+    pl->Mc = gr_sk_gridding(n, msp, &pl->lat, &pl->h, pl->e3);
+    const size_t Mr = (size_t)pl->lat.Mr;
+    pl->lat.nv = (int)count;
+    pl->lat.nx = malloc(sizeof(int) * (size_t)count);
+    pl->lat.ny = malloc(sizeof(int) * (size_t)count);
+    pl->lat.nz = malloc(sizeof(int) * (size_t)count);
     pl->idx = malloc(sizeof(size_t) * (size_t)count);
     pl->deconv = malloc(sizeof(double) * (size_t)count);
     pl->grid = fftw_malloc(sizeof(double) * Mr * Mr * Mr);
     pl->spec = fftw_malloc(sizeof(fftw_complex) * Mr * Mr * (size_t)pl->Mc);
-    if (!pl->nx || !pl->ny || !pl->nz || !pl->idx || !pl->deconv || !pl->grid || !pl->spec) {
+    if (!pl->lat.nx || !pl->lat.ny || !pl->lat.nz || !pl->idx || !pl->deconv || !pl->grid ||
+        !pl->spec) {
         gr_sk3_plan_free(pl);
         return GR_FAIL(err, GR_ENOMEM, "sk: out of memory (%ld vectors, %d^3 grid)", count,
                        (int)Mr);
     }
     /* grid[(ix Mr + iy) Mr + iz]: z is the halved axis of the r2c output, spec[(kx Mr + ky) Mc +
      * kz], kz = 0..Mr/2; FFTW_ESTIMATE (the same arithmetic on every run), planned once here */
-    pl->plan = fftw_plan_dft_r2c_3d(pl->Mr, pl->Mr, pl->Mr, pl->grid, pl->spec, FFTW_ESTIMATE);
+    pl->plan =
+        fftw_plan_dft_r2c_3d(pl->lat.Mr, pl->lat.Mr, pl->lat.Mr, pl->grid, pl->spec, FFTW_ESTIMATE);
     if (!pl->plan) {
         gr_sk3_plan_free(pl);
         return GR_FAIL(err, GR_ENOMEM, "sk: FFTW could not plan a %d^3 transform", (int)Mr);
     }
-    const double norm = pow(M_PI / pl->tau, 1.5) / ((double)Mr * Mr * Mr);
+    const double norm = pow(M_PI / pl->lat.tau, 1.5) / ((double)Mr * Mr * Mr);
     int v = 0;
     for (int c = -n; c <= n; c++) {
         for (int b = -n; b <= n; b++) {
@@ -122,14 +116,14 @@ int gr_sk3_plan_create(double L, double n_cut, int msp, gr_sk3_plan **out, gr_er
                 if (!half_space(a, b, c) || q > nsq) {
                     continue;
                 }
-                pl->nx[v] = a;
-                pl->ny[v] = b;
-                pl->nz[v] = c;
-                pl->idx[v] =
-                    ((size_t)(a >= 0 ? a : pl->Mr + a) * Mr + (size_t)(b >= 0 ? b : pl->Mr + b)) *
-                        (size_t)pl->Mc +
-                    (size_t)c;
-                pl->deconv[v] = norm * exp(pl->tau * (double)q);
+                pl->lat.nx[v] = a;
+                pl->lat.ny[v] = b;
+                pl->lat.nz[v] = c;
+                pl->idx[v] = ((size_t)(a >= 0 ? a : pl->lat.Mr + a) * Mr +
+                              (size_t)(b >= 0 ? b : pl->lat.Mr + b)) *
+                                 (size_t)pl->Mc +
+                             (size_t)c;
+                pl->deconv[v] = norm * exp(pl->lat.tau * (double)q);
                 v++;
             }
         }
@@ -138,44 +132,25 @@ int gr_sk3_plan_create(double L, double n_cut, int msp, gr_sk3_plan **out, gr_er
     return GR_OK;
 }
 
-int gr_sk3_plan_vectors(const gr_sk3_plan *pl, const int **nx, const int **ny, const int **nz)
-{
-    if (nx) {
-        *nx = pl->nx;
-    }
-    if (ny) {
-        *ny = pl->ny;
-    }
-    if (nz) {
-        *nz = pl->nz;
-    }
-    return pl->nv;
-}
-
-void gr_sk3_plan_grid(const gr_sk3_plan *pl, int *grid, double *tau)
-{
-    if (grid) {
-        *grid = pl->Mr;
-    }
-    if (tau) {
-        *tau = pl->tau;
-    }
-}
+const gr_sk_lattice *gr_sk3_plan_lattice(const gr_sk3_plan *pl) { return &pl->lat; }
 
 static int wrap_index(int i, int Mr) { return i < 0 ? i + Mr : i >= Mr ? i - Mr : i; }
 
 static void compute_gridding(gr_sk3_plan *pl, int n, const double *x, const double *y,
                              const double *z, double *S)
 {
-    const int Mr = pl->Mr, w2 = 2 * pl->msp;
+    const int Mr = pl->lat.Mr, w2 = 2 * pl->msp;
     const size_t M = (size_t)Mr;
     memset(pl->grid, 0, sizeof(double) * M * M * M);
     double wx[2 * GR_SK_MSP_MAX], wy[2 * GR_SK_MSP_MAX], wz[2 * GR_SK_MSP_MAX];
     int iy[2 * GR_SK_MSP_MAX], iz[2 * GR_SK_MSP_MAX];
     for (int j = 0; j < n; j++) {
-        const int x0 = gr_sk_gauss_weights(pl->L, Mr, pl->h, pl->tau, pl->msp, pl->e3, x[j], wx);
-        const int y0 = gr_sk_gauss_weights(pl->L, Mr, pl->h, pl->tau, pl->msp, pl->e3, y[j], wy);
-        const int z0 = gr_sk_gauss_weights(pl->L, Mr, pl->h, pl->tau, pl->msp, pl->e3, z[j], wz);
+        const int x0 =
+            gr_sk_gauss_weights(pl->L, Mr, pl->h, pl->lat.tau, pl->msp, pl->e3, x[j], wx);
+        const int y0 =
+            gr_sk_gauss_weights(pl->L, Mr, pl->h, pl->lat.tau, pl->msp, pl->e3, y[j], wy);
+        const int z0 =
+            gr_sk_gauss_weights(pl->L, Mr, pl->h, pl->lat.tau, pl->msp, pl->e3, z[j], wz);
         for (int k = 0; k < w2; k++) {
             iy[k] = wrap_index(y0 + k, Mr);
             iz[k] = wrap_index(z0 + k, Mr);
@@ -193,7 +168,7 @@ static void compute_gridding(gr_sk3_plan *pl, int n, const double *x, const doub
     }
     fftw_execute(pl->plan);
     const double inv_n = 1.0 / n;
-    for (int v = 0; v < pl->nv; v++) {
+    for (int v = 0; v < pl->lat.nv; v++) {
         const double *c = pl->spec[pl->idx[v]];
         const double f = pl->deconv[v];
         S[v] = (c[0] * c[0] + c[1] * c[1]) * f * f * inv_n;
@@ -205,10 +180,11 @@ static void compute_direct(const gr_sk3_plan *pl, int n, const double *x, const 
                            const double *z, double *S)
 {
     const double k0 = 2.0 * M_PI / pl->L;
-    for (int v = 0; v < pl->nv; v++) {
+    for (int v = 0; v < pl->lat.nv; v++) {
         double re = 0.0, im = 0.0;
         for (int j = 0; j < n; j++) {
-            const double ph = k0 * (pl->nx[v] * x[j] + pl->ny[v] * y[j] + pl->nz[v] * z[j]);
+            const double ph =
+                k0 * (pl->lat.nx[v] * x[j] + pl->lat.ny[v] * y[j] + pl->lat.nz[v] * z[j]);
             re += cos(ph);
             im -= sin(ph);
         }

@@ -9,6 +9,20 @@
 #include "core/sim_internal.h"
 #include "models/list.h"
 
+/* What every pair of the 2D and 3D kernels needs besides positions and velocities, loaded once
+ * per loop: the contact distance d and d^2, m_t / dt (tangential laws), I / (2 dt) (rotation: a
+ * rolling law) and a local copy of the laws' coefficients. Each kernel's context (pair_ctx in
+ * kernels.c, ctx3 in kernels_3d.c) declares these fields with GR_PAIR_CONSTS and sets them with
+ * GR_PAIR_CONSTS_OF(s) among its initialisers, beside its own (the box, the arrays). Flat fields,
+ * not a nested struct: the pair loops compile to the code they had before the two contexts
+ * shared them (a nested copy changed their register allocation). */
+#define GR_PAIR_CONSTS                                                                             \
+    double d, d2, m12_dt, i_2dt;                                                                   \
+    gr_contact_coeffs cc
+#define GR_PAIR_CONSTS_OF(s)                                                                       \
+    .d = (s)->d, .d2 = (s)->d * (s)->d, .m12_dt = (s)->cc.m_t / (s)->dt,                           \
+    .i_2dt = 0.5 * (s)->inertia / (s)->dt, .cc = (s)->cc
+
 #define GR_NL_ID(A, NAME) NL_##NAME,
 enum { GR_NORMAL_MODELS(GR_NL_ID, ) NL_COUNT };
 #undef GR_NL_ID

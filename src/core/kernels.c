@@ -55,9 +55,8 @@ typedef struct pair_out {
 typedef struct pair_ctx {
     const double *restrict x, *restrict y, *restrict vx, *restrict vy;
     const double *restrict w; /* omega (rotation only) */
-    double L, d, d2, m12_dt;
-    double i_2dt;         /* rotation: I / (2 dt), for a rolling law */
-    gr_contact_coeffs cc; /* the laws' coefficients, a local copy */
+    double L;
+    GR_PAIR_CONSTS; /* d, d^2, m_t / dt, I / (2 dt), the laws' coefficients (kernel_laws.h) */
 } pair_ctx;
 
 static inline __attribute__((always_inline)) pair_ctx ctx_of(const gr_sim *s)
@@ -68,11 +67,7 @@ static inline __attribute__((always_inline)) pair_ctx ctx_of(const gr_sim *s)
                       .vy = s->vy,
                       .w = s->omega,
                       .L = s->L,
-                      .d = s->d,
-                      .d2 = s->d * s->d,
-                      .m12_dt = s->cc.m_t / s->dt,
-                      .i_2dt = 0.5 * s->inertia / s->dt,
-                      .cc = s->cc};
+                      GR_PAIR_CONSTS_OF(s)};
 }
 
 /* h: the pair's history slot (history laws; 0 otherwise), passed by value: the law updates a copy,

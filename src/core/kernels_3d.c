@@ -231,9 +231,8 @@ int gr_neighbours_build_3d(gr_sim *s, gr_error *err)
 typedef struct ctx3 {
     const double *restrict x, *restrict y, *restrict z, *restrict vx, *restrict vy, *restrict vz;
     const double *restrict wx, *restrict wy, *restrict wz; /* rotation only */
-    double P[3]; /* the periods: L, or INFINITY along a wall axis (walls.c) */
-    double d, d2, m12_dt, i_2dt;
-    gr_contact_coeffs cc;
+    double P[3];    /* the periods: L, or INFINITY along a wall axis (walls.c) */
+    GR_PAIR_CONSTS; /* d, d^2, m_t / dt, I / (2 dt), the laws' coefficients (kernel_laws.h) */
 } ctx3;
 
 /* One pair's results: the force on j (F; -F on i) and its non-conservative part G; the torque of
@@ -454,11 +453,7 @@ static inline __attribute__((always_inline)) ctx3 ctx3_of(const gr_sim *s)
                   .wy = s->wy,
                   .wz = s->omega,
                   .P = {s->period[0], s->period[1], s->period[2]},
-                  .d = s->d,
-                  .d2 = s->d * s->d,
-                  .m12_dt = s->cc.m_t / s->dt,
-                  .i_2dt = 0.5 * s->inertia / s->dt,
-                  .cc = s->cc};
+                  GR_PAIR_CONSTS_OF(s)};
 }
 
 /* What a pair adds to j: the torque t + R and its non-conservative part TG + R (rotation; on i

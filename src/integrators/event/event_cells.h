@@ -357,6 +357,31 @@ static inline void offer(struct gr_event_state *e, int i, int j, double t, int p
     }
 }
 
+/* Runs the statements after J for every particle J (an int the macro declares) in particle I's
+ * cell and the cells around it: z, then y, then x from below, each cell's list in order, I itself
+ * included (`continue` skips to the next partner). One walk for predict_all and predict, a macro
+ * so that both compile to the loops they had when each wrote its own: this is the event loop's
+ * hot path. */
+#define EV_EACH_PARTNER(E, I, J, ...)                                                              \
+    do {                                                                                           \
+        const int nc_ = (E)->ncell, span_ = nc_ > 1 ? 1 : 0;                                       \
+        int cx_, cy_, cz_;                                                                         \
+        cell_xyz(nc_, (E)->cell_of[I], &cx_, &cy_, &cz_);                                          \
+        for (int dz_ = EV_Z(-span_) + 0; dz_ <= EV_Z(span_) + 0; dz_++) {                          \
+            const int zz_ = (cz_ + dz_ + nc_) % nc_;                                               \
+            for (int dy_ = -span_; dy_ <= span_; dy_++) {                                          \
+                const int yy_ = (cy_ + dy_ + nc_) % nc_;                                           \
+                for (int dx_ = -span_; dx_ <= span_; dx_++) {                                      \
+                    const int xx_ = (cx_ + dx_ + nc_) % nc_;                                       \
+                    for (int J = (E)->head[cell_index(nc_, xx_, yy_, zz_)]; J >= 0;                \
+                         J = (E)->next[J]) {                                                       \
+                        __VA_ARGS__                                                                \
+                    }                                                                              \
+                }                                                                                  \
+            }                                                                                      \
+        }                                                                                          \
+    } while (0)
+
 /* All particles at a window start: every pair is solved once and offered to both. */
 static void predict_all(struct gr_event_state *e)
 {
@@ -366,30 +391,18 @@ static void predict_all(struct gr_event_state *e)
     if (e->no_collisions) {
         return;
     }
-    const int nc = e->ncell, span = nc > 1 ? 1 : 0;
     for (int i = 0; i < e->n; i++) {
-        int cx, cy, cz;
-        cell_xyz(nc, e->cell_of[i], &cx, &cy, &cz);
-        for (int dz = EV_Z(-span) + 0; dz <= EV_Z(span) + 0; dz++) {
-            const int zz = (cz + dz + nc) % nc;
-            for (int dy = -span; dy <= span; dy++) {
-                const int yy = (cy + dy + nc) % nc;
-                for (int dx = -span; dx <= span; dx++) {
-                    const int xx = (cx + dx + nc) % nc;
-                    for (int j = e->head[cell_index(nc, xx, yy, zz)]; j >= 0; j = e->next[j]) {
-                        if (j <= i) {
-                            continue;
-                        }
-                        int ph;
-                        double t = pair_time(e, i, j, &ph);
-                        if (t < GR_EV_INF) {
-                            offer(e, i, j, t, ph);
-                            offer(e, j, i, t, ph);
-                        }
-                    }
-                }
+        EV_EACH_PARTNER(e, i, j, {
+            if (j <= i) {
+                continue;
             }
-        }
+            int ph;
+            double t = pair_time(e, i, j, &ph);
+            if (t < GR_EV_INF) {
+                offer(e, i, j, t, ph);
+                offer(e, j, i, t, ph);
+            }
+        });
     }
 }
 
@@ -400,30 +413,18 @@ static void predict(struct gr_event_state *e, int i)
     int who = -1, best_phase = e->phase;
     own_event(e, i, &best, &who, &best_phase);
     if (!e->no_collisions) {
-        const int nc = e->ncell, span = nc > 1 ? 1 : 0;
-        int cx, cy, cz;
-        cell_xyz(nc, e->cell_of[i], &cx, &cy, &cz);
-        for (int dz = EV_Z(-span) + 0; dz <= EV_Z(span) + 0; dz++) {
-            const int zz = (cz + dz + nc) % nc;
-            for (int dy = -span; dy <= span; dy++) {
-                const int yy = (cy + dy + nc) % nc;
-                for (int dx = -span; dx <= span; dx++) {
-                    const int xx = (cx + dx + nc) % nc;
-                    for (int j = e->head[cell_index(nc, xx, yy, zz)]; j >= 0; j = e->next[j]) {
-                        if (j == i) {
-                            continue;
-                        }
-                        int ph;
-                        double t = pair_time(e, i, j, &ph);
-                        if (t < best || (t == best && ph < best_phase)) {
-                            best = t;
-                            who = j;
-                            best_phase = ph;
-                        }
-                    }
-                }
+        EV_EACH_PARTNER(e, i, j, {
+            if (j == i) {
+                continue;
             }
-        }
+            int ph;
+            double t = pair_time(e, i, j, &ph);
+            if (t < best || (t == best && ph < best_phase)) {
+                best = t;
+                who = j;
+                best_phase = ph;
+            }
+        });
     }
     e->heap.t[i] = best;
     e->heap.ph[i] = (uint8_t)best_phase;
@@ -933,4 +934,5 @@ int EV_FN(process)(gr_sim *s, double t_limit, gr_error *err)
 
 #undef EV_Z
 #undef EV_FN
+#undef EV_EACH_PARTNER
 #undef EV_CELLS
