@@ -38,6 +38,11 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from lmp_env import fast_mpi_start  # noqa: E402
+
+fast_mpi_start()  # each collision is one lmp run: its start dominates (bench/lmp_env.py)
+
 MASS, RADIUS = 3.53e-5, 1.5e-3  # the RFM discs
 # Same scheme, same dt, same start: the engines differ only by the rounding of the force
 # arithmetic (e.g. LAMMPS forms k_n a xi with a = sqrt(R xi)), ~1e-16 per step, ~1e-13 after
