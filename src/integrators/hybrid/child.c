@@ -31,8 +31,9 @@ int gr_hy_child_create(gr_sim *s, gr_hybrid_state *h, gr_error *err)
     sc.integrator = &gr_integrator_verlet;
     sc.noise_mode = GR_NOISE_NONE;
     const double *const r[3] = {s->x, s->y, s->z}, *const v[3] = {s->vx, s->vy, s->vz};
-    int rc = s->dim == 3 ? gr_sim_new_with_state_3d(&sc, s->n, r, v, &h->child, err)
-                         : gr_sim_new_with_state(&sc, s->n, s->x, s->y, s->vx, s->vy, &h->child, err);
+    int rc = s->dim == 3
+                 ? gr_sim_new_with_state_3d(&sc, s->n, r, v, &h->child, err)
+                 : gr_sim_new_with_state(&sc, s->n, s->x, s->y, s->vx, s->vy, &h->child, err);
     if (rc) {
         return rc;
     }
@@ -177,8 +178,7 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
         }
     }
     /* their start positions and bounds, side by side for the per-step check */
-    double *ex = h->env_pack, *ey = ex + s->n, *ez = ey + s->n, *elo = ez + s->n,
-           *ehi = elo + s->n;
+    double *ex = h->env_pack, *ey = ex + s->n, *ez = ey + s->n, *elo = ez + s->n, *ehi = elo + s->n;
     for (int e = 0; e < n_env; e++) {
         const int p = h->list[env_q[e]];
         ex[e] = h->x0[p];
@@ -235,8 +235,8 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
         } else if (dim == 3) {
             /* spheres: step.c's open_step_3d, component by component, kicks from the bridge */
             double *restrict r[3] = {c->x, c->y, c->z}, *restrict v[3] = {c->vx, c->vy, c->vz};
-            const double *restrict f[3] = {c->fx, c->fy, c->fz},
-                                   *restrict gn[3] = {c->gx, c->gy, c->gz};
+            const double *restrict f[3] = {c->fx, c->fy, c->fz}, *restrict gn[3] = {c->gx, c->gy,
+                                                                                    c->gz};
             const double *restrict ref[3] = {c->x_ref, c->y_ref, c->z_ref};
             double wcl[LANES] = {0}, wol[LANES] = {0}, adl[LANES] = {0}, w2l[LANES] = {0};
             const int closing = k > 0;

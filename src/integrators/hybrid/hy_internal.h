@@ -41,7 +41,7 @@ typedef struct gr_hybrid_state {
     /* 2D candidate pairs (i < j) and the cell grid */
     int *pi, *pj;
     int64_t npairs, cap_pairs;
-    double rc_pairs; /* cutoff of the candidate list (0: none) */
+    double rc_pairs;      /* cutoff of the candidate list (0: none) */
     double *xl, *yl, *zl; /* positions when it was built (zl: 3D only) */
     int *cell_head, *cell_next,
         ncells_alloc; /* cell starts (counting sort) and each particle's cell */

@@ -150,10 +150,9 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
     h->cell_next = malloc(sizeof(int) * (size_t)n);
     if (!h->x0 || !h->vx0 || !h->fx0 || !h->gx0 ||
         (dim >= 2 && (!h->y0 || !h->vy0 || !h->fy0 || !h->gy0 || !h->xl || !h->yl)) ||
-        (dim == 3 && (!h->z0 || !h->vz0 || !h->fz0 || !h->gz0 || !h->zl)) || !h->c_lo ||
-        !h->c_hi || !h->c_xi || !h->env_lo || !h->env_hi || !h->env_pack || !h->ff || !h->lam ||
-        !h->tmp || !h->active || !h->forced || !h->list || !h->env_list || !h->uf ||
-        !h->cell_next) {
+        (dim == 3 && (!h->z0 || !h->vz0 || !h->fz0 || !h->gz0 || !h->zl)) || !h->c_lo || !h->c_hi ||
+        !h->c_xi || !h->env_lo || !h->env_hi || !h->env_pack || !h->ff || !h->lam || !h->tmp ||
+        !h->active || !h->forced || !h->list || !h->env_list || !h->uf || !h->cell_next) {
         return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for %d particles", n);
     }
     int rc = gr_hy_child_create(s, h, err);
