@@ -456,7 +456,7 @@ START_TEST(test_ledger_momentum_3d)
                           NULL};
     gr_scene sc = load("rfm-3d.ini", over);
     gr_sim *s = create(&sc);
-    const int64_t steps = quick() ? 3000 : 10000;
+    const int64_t steps = quick() ? 5000 : 10000;
     step(s, steps / 2);
     step(s, steps / 2 + 7);
     /* momentum from the velocities (gr_sim_momentum reports x and y only) */
@@ -496,7 +496,7 @@ END_TEST
 START_TEST(test_no_noise_equals_verlet_3d)
 {
     no_noise_case("rfm-3d.ini", "system.N=216", "system.packing_fraction=0.2",
-                  quick() ? 2000 : 6000);
+                  quick() ? 4000 : 6000);
 }
 END_TEST
 
