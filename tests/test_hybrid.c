@@ -543,7 +543,7 @@ typedef struct ensemble {
 /* The observables of the state now into o[]. */
 static void observe(const gr_sim *s, double o[N_OBS])
 {
-    const double *vel[2] = {s->vx, s->vy};
+    const double *vel[3] = {s->vx, s->vy, s->vz};
     double m2 = 0.0, m4 = 0.0;
     for (int c = 0; c < s->dim; c++) {
         for (int i = 0; i < s->n; i++) {
@@ -710,17 +710,32 @@ END_TEST
 /* The 2D steady-state scene of sec. 2.3.3 (docs/scenes/steady-2d.ini: phi = 0.353... with eps_n =
  * eps_t = 0.6) at N = 500, L = 0.1 m (same packing fraction) from its hexagonal
  * start: T and the core of P(v). */
+/* T and the core of P(v) of a 2D or 3D scene, Verlet against the hybrid (rank z < 4 each). */
+static void agreement_case(const char *label, const char *scene, const char *const *base,
+                           double warm, double dur)
+{
+    const ensemble v = run_ensemble(scene, base, NULL, 1001, warm, dur);
+    const ensemble h = run_ensemble(scene, base, hybrid_over, 2001, warm, dur);
+    double z[N_OBS];
+    compare(label, &v, &h, O_R2, z);
+    for (int k = 0; k < O_R2; k++) {
+        ck_assert_msg(fabs(z[k]) < 4.0, "%s: %s differs by z = %.2f", label, obs_name[k], z[k]);
+    }
+}
+
 START_TEST(test_agreement_2d)
 {
     const char *base[] = {"system.N=500", "system.L=0.1", NULL};
-    const double warm = 0.02, dur = 0.06;
-    const ensemble v = run_ensemble("steady-2d.ini", base, NULL, 1001, warm, dur);
-    const ensemble h = run_ensemble("steady-2d.ini", base, hybrid_over, 2001, warm, dur);
-    double z[N_OBS];
-    compare("2D steady", &v, &h, O_R2, z);
-    for (int k = 0; k < O_R2; k++) {
-        ck_assert_msg(fabs(z[k]) < 4.0, "2D: %s differs by z = %.2f", obs_name[k], z[k]);
-    }
+    agreement_case("2D steady", "steady-2d.ini", base, 0.02, 0.06);
+}
+END_TEST
+
+/* Spheres: docs/scenes/rfm-3d.ini (phi = 0.1, eps_n = 0.9, D = 1e-8 N^2 s) at N = 343 from its
+ * cubic lattice with v0 = 1 m/s, heating towards its steady state over the compared interval. */
+START_TEST(test_agreement_3d)
+{
+    const char *base[] = {"system.N=343", "placement.v0=1", NULL};
+    agreement_case("3D driven spheres", "rfm-3d.ini", base, 0.01, 0.03);
 }
 END_TEST
 
@@ -801,6 +816,7 @@ static Suite *hybrid_suite(void)
     if (!quick()) { /* statistics: the release pass's; their code runs in the tests above */
         tcase_add_loop_test(t, test_agreement_1d, 0, 3);
         tcase_add_test(t, test_agreement_2d);
+        tcase_add_test(t, test_agreement_3d);
     }
     suite_add_tcase(s, t);
     return s;
