@@ -71,7 +71,7 @@ static inline double dist2(const gr_sim *s, int three, int i, int j)
 int gr_hy_collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err)
 {
     const int n = s->n, three = s->dim == 3;
-    const double L = s->L, rc2 = rc * rc, *x = s->x, *y = s->y, *z = s->z;
+    const double L = s->L, rc2 = rc * rc, *x = s->x, *y = s->y, *z = three ? s->z : s->y;
     h->npairs = 0;
     h->adj_ok = 0;
     int side = (int)floor(L / rc);
@@ -111,7 +111,7 @@ int gr_hy_collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err)
     /* counting sort by cell: cell q holds sorted[start[q] .. start[q + 1]), positions copied
      * alongside (xs, ys) so the pair loops read them contiguously */
     int *start = h->cell_head, *cell = h->cell_next, *sorted = h->sorted;
-    double *xs = h->xs, *ys = h->ys, *zs = h->zs;
+    double *xs = h->xs, *ys = h->ys, *zs = three ? h->zs : h->ys; /* zs read only in 3D */
     memset(start, 0, sizeof(int) * ((size_t)nc + 1));
     const double inv = side / L;
     for (int i = 0; i < n; i++) {
@@ -337,8 +337,9 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
     const double tau = m * s->dt, c = h->margin_c, sx = gr_hy_noise_sx(s, h, m),
                  sv = gr_hy_noise_sv(s, m);
     const double d = s->d, L = s->L, w0 = s->cc.w0, f = 1.0 + GR_HYBRID_SPREAD;
-    const double *x = s->x, *y = s->y, *vx = s->vx, *vy = s->vy, *z = s->z, *vz = s->vz;
-    const int three = s->dim == 3;
+    const int three = s->dim == 3; /* z, vz read only in 3D (valid arrays in 2D all the same) */
+    const double *x = s->x, *y = s->y, *vx = s->vx, *vy = s->vy, *z = three ? s->z : s->y,
+                 *vz = three ? s->vz : s->vy;
     uint8_t *act = h->active;
     if (!h->speed && alloc_work(h, n, err)) {
         return GR_ENOMEM;

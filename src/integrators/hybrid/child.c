@@ -340,8 +340,9 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
                 out |= (dx > ehi[e] * t) | (dx < elo[e] * t);
             }
         } else {
-            const double *restrict x = c->x, *restrict y = c->y, *restrict z = c->z;
             const int three = dim == 3;
+            /* z read only in 3D; in 2D a valid array, so a vectorised (masked) read cannot fault */
+            const double *restrict x = c->x, *restrict y = c->y, *restrict z = three ? c->z : c->y;
 #pragma omp simd reduction(| : out)
             for (int e = 0; e < n_env; e++) {
                 double ddx = x[env_q[e]] - ex[e], ddy = y[env_q[e]] - ey[e],
