@@ -25,6 +25,7 @@
 #include "core/sim_internal.h"
 #include "granule/noise.h"
 #include "granule/scene.h"
+#include "granule/model.h"
 #include "granule/sim.h"
 #include "check_main.h"
 #include "sim_helpers.h"
@@ -485,9 +486,13 @@ START_TEST(test_library_refusals)
                       strstr(err.message, "[boundary] y = walls"),
                   "%s", err.message);
     p = ok;
-    p.integrator = gr_integrator_find("hybrid");
+    p.integrator = gr_integrator_find("hybrid"); /* steps spheres; not with rotation */
+    p.contact.rotation = true;
+    p.tangential = gr_model_find("tangential_dashpot");
+    ck_assert_ptr_nonnull(p.tangential);
     ck_assert_int_eq(gr_sim_new(&p, &s, &err), GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "[integrator] kind"), "%s", err.message);
+    ck_assert_msg(strstr(err.message, "rotation") && strstr(err.message, "hybrid"), "%s",
+                  err.message);
     p = ok;
     p.dim = 4;
     ck_assert_int_eq(gr_sim_new(&p, &s, &err), GR_EINVAL);

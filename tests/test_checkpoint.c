@@ -10,7 +10,7 @@
  *   - a state saved for another N is refused naming both
  *   - observers (every 1D and 2D observable) saved after some frames and loaded into fresh ones
  *     accumulate exactly like the originals: their saves after further frames are byte-equal
- *   - the event-driven (1D ring; 2D with cells, kicks, com) and hybrid (1D; 2D com) integrators:
+ *   - the event-driven (1D ring; 2D with cells, kicks, com) and hybrid (1D; 2D com; 3D) integrators:
  *     saved, loaded and continued in uneven calls (gr_sim_call_steps) equal the original bit for
  *     bit, counters included; every truncation of their state is refused; an event-driven call
  *     stopped by the stop flag, saved and resumed, equals an uninterrupted run
@@ -616,6 +616,16 @@ START_TEST(test_hybrid_state)
                                      "integrator.kick_interval=2e-5",
                                      "placement.v0=1"};
     integrator_case(s2, 11, quick() ? 507 : 2007, quick() ? 500 : 2000);
+    static const char *const s3[] = {"system.dim=3",
+                                     "system.N=216",
+                                     "system.packing_fraction=0.25",
+                                     "model.eps_n=0.6",
+                                     "noise.D=1e-7",
+                                     "integrator.kind=hybrid",
+                                     "integrator.dt=1e-6",
+                                     "integrator.kick_interval=2e-5",
+                                     "placement.v0=1"};
+    integrator_case(s3, 9, quick() ? 507 : 2007, quick() ? 500 : 2000);
 }
 END_TEST
 

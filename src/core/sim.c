@@ -226,8 +226,8 @@ static int check_dim(const gr_sim_params *p, gr_error *err)
     if (!p->integrator->spheres) {
         return GR_FAIL(err, GR_EINVAL,
                        "%s: [integrator] kind = %s: not available with dim = 3 yet; 3D runs the "
-                       "soft contact laws (verlet integrator) and smooth or rough hard spheres "
-                       "(event integrator) (docs/three-dimensions.md)",
+                       "soft contact laws (verlet and hybrid integrators) and smooth or rough "
+                       "hard spheres (event integrator) (docs/three-dimensions.md)",
                        p->source, p->integrator->name);
     }
     return GR_OK;

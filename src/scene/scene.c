@@ -1193,13 +1193,13 @@ static where model_where(const given *g, const gr_scene *s, const char *name)
 /* dim = 3 (spheres, docs/three-dimensions.md): the default placement follows dim (cubic), as does
  * the moment of inertia's factor (2/5, a solid sphere, unless inertia_factor is given), and what
  * 3D cannot run yet is refused at its key, never run silently: walls, gravity, an integrator
- * without spheres (hybrid), the Langevin bath, single-precision noise, observables not defined in
- * 3D. */
+ * without spheres (every registered one steps them now), the Langevin bath, single-precision
+ * noise, observables not defined in 3D. */
 static int resolve_3d(gr_scene *s, const given *g, gr_error *err)
 {
-    static const char *const why = "dim = 3 runs the soft contact laws (verlet) and smooth or "
-                                   "rough hard spheres (event) with the random force (or no "
-                                   "driving) in a periodic cube so far "
+    static const char *const why = "dim = 3 runs the soft contact laws (verlet, hybrid) and "
+                                   "smooth or rough hard spheres (event) with the random force (or "
+                                   "no driving) in a periodic cube so far "
                                    "(docs/three-dimensions.md)";
     char detail[600];
     if (!key_given(g, "placement", "kind")) {

@@ -243,8 +243,18 @@ int gr_hy_misses(gr_sim *s, gr_hybrid_state *h, gr_error *err, int *found)
     const double d2 = d * d;
     const int *restrict pi = h->pi, *restrict pj = h->pj;
     int any = 0;
+    if (s->dim == 3) {
+        const double *restrict z = s->z;
 #pragma omp simd reduction(| : any)
-    for (int64_t q = 0; q < h->npairs; q++) {
+        for (int64_t q = 0; q < h->npairs; q++) {
+            const int i = pi[q], j = pj[q];
+            const double dx = gr_hy_wrap(x[j] - x[i], L), dy = gr_hy_wrap(y[j] - y[i], L),
+                         dz = gr_hy_wrap(z[j] - z[i], L);
+            any |= (dx * dx + dy * dy + dz * dz < d2) & !(act[i] & act[j]);
+        }
+    }
+#pragma omp simd reduction(| : any)
+    for (int64_t q = 0; q < (s->dim == 3 ? 0 : h->npairs); q++) {
         const int i = pi[q], j = pj[q];
         const double dx = gr_hy_wrap(x[j] - x[i], L), dy = gr_hy_wrap(y[j] - y[i], L);
         any |= (dx * dx + dy * dy < d2) & !(act[i] & act[j]);
@@ -254,8 +264,9 @@ int gr_hy_misses(gr_sim *s, gr_hybrid_state *h, gr_error *err, int *found)
         if (act[i] && act[j]) {
             continue;
         }
-        const double dx = gr_hy_wrap(x[j] - x[i], L), dy = gr_hy_wrap(y[j] - y[i], L);
-        if (dx * dx + dy * dy < d2) {
+        const double dx = gr_hy_wrap(x[j] - x[i], L), dy = gr_hy_wrap(y[j] - y[i], L),
+                     dz = s->dim == 3 ? gr_hy_wrap(s->z[j] - s->z[i], L) : 0.0;
+        if (dx * dx + dy * dy + dz * dz < d2) {
             h->forced[i] = h->forced[j] = 1;
             *found = 1;
         }

@@ -1,6 +1,8 @@
-/* The active set of a 2D window (docs/hybrid.md, "Active set"; the rules are at the top of
+/* The active set of a 2D or 3D window (docs/hybrid.md, "Active set"; the rules are at the top of
  * active.c): candidate pairs from a cell grid kept with a skin, the pair rule over them, and the
- * closure over clusters as a work list on the active particles' candidate partners. */
+ * closure over clusters as a work list on the active particles' candidate partners. Discs and
+ * spheres share the code: the z terms are there only when dim = 3 (three), so 2D sums the same
+ * terms in the same order as before. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -50,29 +52,42 @@ static inline int push_pair(gr_hybrid_state *h, int i, int j, gr_error *err)
     return GR_OK;
 }
 
+/* Squared minimum-image distance of i and j in the plane (2D) or space (3D). */
+static inline double dist2(const gr_sim *s, int three, int i, int j)
+{
+    const double L = s->L, dx = gr_hy_wrap(s->x[j] - s->x[i], L),
+                 dy = gr_hy_wrap(s->y[j] - s->y[i], L);
+    const double r2 = dx * dx + dy * dy;
+    if (!three) {
+        return r2;
+    }
+    const double dz = gr_hy_wrap(s->z[j] - s->z[i], L);
+    return r2 + dz * dz;
+}
+
 /* Every pair closer than rc (minimum image) into h->pi/pj: cells of side >= rc, each pair once
- * from the half stencil (own, E, NE, N, NW); all pairs when fewer than 3 cells fit per side. */
+ * from the half stencil (2D: own, E, NE, N, NW; 3D: own and the 13 neighbours after it in
+ * (z, y, x) order); all pairs when fewer than 3 cells fit per side. */
 int gr_hy_collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err)
 {
-    const int n = s->n;
-    const double L = s->L, rc2 = rc * rc, *x = s->x, *y = s->y;
+    const int n = s->n, three = s->dim == 3;
+    const double L = s->L, rc2 = rc * rc, *x = s->x, *y = s->y, *z = three ? s->z : s->y;
     h->npairs = 0;
     h->adj_ok = 0;
     int side = (int)floor(L / rc);
-    const int max_side = (int)ceil(sqrt(2.0 * n)) + 1;
+    const int max_side = three ? (int)ceil(cbrt(2.0 * n)) + 1 : (int)ceil(sqrt(2.0 * n)) + 1;
     side = side < max_side ? side : max_side;
     if (side < 3) {
         for (int i = 0; i < n; i++) {
             for (int j = i + 1; j < n; j++) {
-                const double dx = gr_hy_wrap(x[j] - x[i], L), dy = gr_hy_wrap(y[j] - y[i], L);
-                if (dx * dx + dy * dy < rc2 && push_pair(h, i, j, err)) {
+                if (dist2(s, three, i, j) < rc2 && push_pair(h, i, j, err)) {
                     return GR_ENOMEM;
                 }
             }
         }
         return GR_OK;
     }
-    const int nc = side * side;
+    const int nc = three ? side * side * side : side * side;
     if (nc + 1 > h->ncells_alloc) {
         int *hd = realloc(h->cell_head, sizeof(int) * ((size_t)nc + 1));
         if (!hd) {
@@ -85,7 +100,8 @@ int gr_hy_collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err)
         h->sorted = malloc(sizeof(int) * (size_t)n);
         h->xs = malloc(sizeof(double) * (size_t)n);
         h->ys = malloc(sizeof(double) * (size_t)n);
-        if (!h->sorted || !h->xs || !h->ys) {
+        h->zs = three ? malloc(sizeof(double) * (size_t)n) : NULL;
+        if (!h->sorted || !h->xs || !h->ys || (three && !h->zs)) {
             free(h->sorted);
             h->sorted = NULL;
             return GR_FAIL(err, GR_ENOMEM,
@@ -95,14 +111,15 @@ int gr_hy_collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err)
     /* counting sort by cell: cell q holds sorted[start[q] .. start[q + 1]), positions copied
      * alongside (xs, ys) so the pair loops read them contiguously */
     int *start = h->cell_head, *cell = h->cell_next, *sorted = h->sorted;
-    double *xs = h->xs, *ys = h->ys;
+    double *xs = h->xs, *ys = h->ys, *zs = three ? h->zs : h->ys; /* zs read only in 3D */
     memset(start, 0, sizeof(int) * ((size_t)nc + 1));
     const double inv = side / L;
     for (int i = 0; i < n; i++) {
-        int cx = (int)(x[i] * inv), cy = (int)(y[i] * inv);
+        int cx = (int)(x[i] * inv), cy = (int)(y[i] * inv), cz = three ? (int)(z[i] * inv) : 0;
         cx = cx < 0 ? 0 : (cx >= side ? side - 1 : cx);
         cy = cy < 0 ? 0 : (cy >= side ? side - 1 : cy);
-        cell[i] = cy * side + cx;
+        cz = cz < 0 ? 0 : (cz >= side ? side - 1 : cz);
+        cell[i] = (cz * side + cy) * side + cx;
         start[cell[i] + 1]++;
     }
     for (int q = 0; q < nc; q++) {
@@ -113,27 +130,40 @@ int gr_hy_collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err)
         sorted[k] = i;
         xs[k] = x[i];
         ys[k] = y[i];
+        if (three) {
+            zs[k] = z[i];
+        }
     }
     for (int q = nc; q > 0; q--) {
         start[q] = start[q - 1];
     }
     start[0] = 0;
-    /* each pair once from the half stencil (own, E, NE, N, NW) */
-    static const int sx_[5] = {0, 1, 1, 0, -1}, sy_[5] = {0, 0, 1, 1, 1};
-    for (int cy = 0; cy < side; cy++) {
-        for (int cx = 0; cx < side; cx++) {
-            const int q = cy * side + cx;
-            for (int st = 0; st < 5; st++) {
-                int ox = cx + sx_[st], oy = cy + sy_[st];
-                ox = ox >= side ? ox - side : (ox < 0 ? ox + side : ox);
-                oy = oy >= side ? oy - side : oy;
-                const int o = oy * side + ox;
-                for (int a = start[q]; a < start[q + 1]; a++) {
-                    for (int b = st == 0 ? a + 1 : start[o]; b < start[o + 1]; b++) {
-                        const double dx = gr_hy_wrap(xs[b] - xs[a], L),
-                                     dy = gr_hy_wrap(ys[b] - ys[a], L);
-                        if (dx * dx + dy * dy < rc2 && push_pair(h, sorted[a], sorted[b], err)) {
-                            return GR_ENOMEM;
+    /* each pair once from the half stencil: 2D own, E, NE, N, NW; 3D own, then the plane z
+     * (E, NE, N, NW) and the 9 cells of the plane above */
+    static const int sx_[14] = {0, 1, 1, 0, -1, -1, 0, 1, -1, 0, 1, -1, 0, 1},
+                     sy_[14] = {0, 0, 1, 1, 1, -1, -1, -1, 0, 0, 0, 1, 1, 1},
+                     sz_[14] = {0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+    const int nst = three ? 14 : 5;
+    for (int cz = 0; cz < (three ? side : 1); cz++) {
+        for (int cy = 0; cy < side; cy++) {
+            for (int cx = 0; cx < side; cx++) {
+                const int q = (cz * side + cy) * side + cx;
+                for (int st = 0; st < nst; st++) {
+                    int ox = cx + sx_[st], oy = cy + sy_[st], oz = cz + sz_[st];
+                    ox = ox >= side ? ox - side : (ox < 0 ? ox + side : ox);
+                    oy = oy >= side ? oy - side : (oy < 0 ? oy + side : oy);
+                    oz = oz >= side ? oz - side : oz;
+                    const int o = (oz * side + oy) * side + ox;
+                    for (int a = start[q]; a < start[q + 1]; a++) {
+                        for (int b = st == 0 ? a + 1 : start[o]; b < start[o + 1]; b++) {
+                            const double dx = gr_hy_wrap(xs[b] - xs[a], L),
+                                         dy = gr_hy_wrap(ys[b] - ys[a], L),
+                                         dz = three ? gr_hy_wrap(zs[b] - zs[a], L) : 0.0;
+                            const double r2 =
+                                three ? dx * dx + dy * dy + dz * dz : dx * dx + dy * dy;
+                            if (r2 < rc2 && push_pair(h, sorted[a], sorted[b], err)) {
+                                return GR_ENOMEM;
+                            }
                         }
                     }
                 }
@@ -143,14 +173,15 @@ int gr_hy_collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err)
     return GR_OK;
 }
 
-/* Closest distance of r + u t to the origin for t in [0, tau]. */
-static inline double closest(double rx, double ry, double ux, double uy, double tau)
+/* Closest distance of r + u t to the origin for t in [0, tau] (2D: rz = uz = 0). */
+static inline double closest(double rx, double ry, double rz, double ux, double uy, double uz,
+                             double tau)
 {
-    const double uu = ux * ux + uy * uy;
-    double t = uu > 0.0 ? -(rx * ux + ry * uy) / uu : 0.0;
+    const double uu = ux * ux + uy * uy + uz * uz;
+    double t = uu > 0.0 ? -(rx * ux + ry * uy + rz * uz) / uu : 0.0;
     t = t < 0.0 ? 0.0 : (t > tau ? tau : t);
-    const double px = rx + ux * t, py = ry + uy * t;
-    return sqrt(px * px + py * py);
+    const double px = rx + ux * t, py = ry + uy * t, pz = rz + uz * t;
+    return sqrt(px * px + py * py + pz * pz);
 }
 
 /* Largest displacement since the candidate list was built (minimum image). */
@@ -160,7 +191,21 @@ double gr_hy_max_disp(const gr_sim *s, const gr_hybrid_state *h)
     const double L = s->L, *restrict x = s->x, *restrict y = s->y, *restrict xl = h->xl,
                  *restrict yl = h->yl;
     double wl[8] = {0}; /* 8 fixed lanes, so the loop vectorises */
-    for (int i0 = 0; i0 < n; i0 += 8) {
+    if (s->dim == 3) {
+        const double *restrict z = s->z, *restrict zl = h->zl;
+        for (int i0 = 0; i0 < n; i0 += 8) {
+            const int lanes = n - i0 < 8 ? n - i0 : 8;
+#pragma omp simd
+            for (int l = 0; l < lanes; l++) {
+                const double dx = gr_hy_wrap(x[i0 + l] - xl[i0 + l], L),
+                             dy = gr_hy_wrap(y[i0 + l] - yl[i0 + l], L),
+                             dz = gr_hy_wrap(z[i0 + l] - zl[i0 + l], L);
+                const double r2 = dx * dx + dy * dy + dz * dz;
+                wl[l] = r2 > wl[l] ? r2 : wl[l];
+            }
+        }
+    }
+    for (int i0 = 0; i0 < n && s->dim != 3; i0 += 8) {
         const int lanes = n - i0 < 8 ? n - i0 : 8;
 #pragma omp simd
         for (int l = 0; l < lanes; l++) {
@@ -204,9 +249,9 @@ static int alloc_work(gr_hybrid_state *h, int n, gr_error *err)
  * collect_pairs or restore (h->adj_ok = 0 there). */
 static int build_adjacency(gr_hybrid_state *h, int n, gr_error *err)
 {
-    if (2 * h->npairs > h->cap_adj) {
+    if (!h->adj || 2 * h->npairs > h->cap_adj) { /* also with no pairs at all (dilute) */
         free(h->adj);
-        h->cap_adj = 2 * h->cap_pairs;
+        h->cap_adj = 2 * h->cap_pairs + 2;
         h->adj = malloc(sizeof(int) * (size_t)h->cap_adj);
     }
     if (!h->adj_start || !h->adj) {
@@ -292,7 +337,9 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
     const double tau = m * s->dt, c = h->margin_c, sx = gr_hy_noise_sx(s, h, m),
                  sv = gr_hy_noise_sv(s, m);
     const double d = s->d, L = s->L, w0 = s->cc.w0, f = 1.0 + GR_HYBRID_SPREAD;
-    const double *x = s->x, *y = s->y, *vx = s->vx, *vy = s->vy;
+    const int three = s->dim == 3; /* z, vz read only in 3D (valid arrays in 2D all the same) */
+    const double *x = s->x, *y = s->y, *vx = s->vx, *vy = s->vy, *z = three ? s->z : s->y,
+                 *vz = three ? s->vz : s->vy;
     uint8_t *act = h->active;
     if (!h->speed && alloc_work(h, n, err)) {
         return GR_ENOMEM;
@@ -300,7 +347,17 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
     double *restrict speed = h->speed;
     int *restrict uf = h->uf;
     double vml[8] = {0}; /* max speed in 8 fixed lanes, so the loop vectorises */
-    for (int i0 = 0; i0 < n; i0 += 8) {
+    for (int i0 = 0; i0 < n && three; i0 += 8) {
+        const int lanes = n - i0 < 8 ? n - i0 : 8;
+#pragma omp simd
+        for (int l = 0; l < lanes; l++) {
+            const int i = i0 + l;
+            speed[i] = sqrt(vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i]);
+            vml[l] = speed[i] > vml[l] ? speed[i] : vml[l];
+            uf[i] = i;
+        }
+    }
+    for (int i0 = 0; i0 < n && !three; i0 += 8) {
         const int lanes = n - i0 < 8 ? n - i0 : 8;
 #pragma omp simd
         for (int l = 0; l < lanes; l++) {
@@ -334,6 +391,9 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
         }
         memcpy(h->xl, x, sizeof(double) * (size_t)n);
         memcpy(h->yl, y, sizeof(double) * (size_t)n);
+        if (three) {
+            memcpy(h->zl, z, sizeof(double) * (size_t)n);
+        }
     }
     if (!h->adj_ok) {
         int rc_ = build_adjacency(h, n, err);
@@ -345,7 +405,8 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
     for (int64_t q = 0; q < h->npairs; q++) {
         const int i = h->pi[q], j = h->pj[q];
         const double rx = gr_hy_wrap(x[j] - x[i], L), ry = gr_hy_wrap(y[j] - y[i], L),
-                     r2 = rx * rx + ry * ry;
+                     rz = three ? gr_hy_wrap(z[j] - z[i], L) : 0.0,
+                     r2 = rx * rx + ry * ry + rz * rz;
         if (r2 < d * d) {
             const double ov = d - sqrt(r2);
             h->c_xi[i] = ov > h->c_xi[i] ? ov : h->c_xi[i];
@@ -356,12 +417,12 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
         if (r2 > bound * bound * slack) {
             continue;
         }
-        const double ux = vx[j] - vx[i], uy = vy[j] - vy[i],
-                     reach = free_reach + tau * sqrt(ux * ux + uy * uy);
+        const double ux = vx[j] - vx[i], uy = vy[j] - vy[i], uz = three ? vz[j] - vz[i] : 0.0,
+                     reach = free_reach + tau * sqrt(ux * ux + uy * uy + uz * uz);
         if (r2 >= reach * reach) {
             continue;
         }
-        if (closest(rx, ry, ux, uy, tau) < free_reach) {
+        if (closest(rx, ry, rz, ux, uy, uz, tau) < free_reach) {
             act[i] = act[j] = 1;
             unite(h->uf, i, j);
         }
@@ -411,9 +472,9 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
             if (a == b) {
                 continue;
             }
-            const double rx = gr_hy_wrap(x[F] - x[A], L),
-                         ry = gr_hy_wrap(y[F] - y[A], L); /* r from A to F */
-            const double r2 = rx * rx + ry * ry, ra = reach(&w, a);
+            const double rx = gr_hy_wrap(x[F] - x[A], L), ry = gr_hy_wrap(y[F] - y[A], L),
+                         rz = three ? gr_hy_wrap(z[F] - z[A], L) : 0.0; /* r from A to F */
+            const double r2 = rx * rx + ry * ry + rz * rz, ra = reach(&w, a);
             if (b >= 0) {
                 const double rb = reach(&w, b), bound = d + (ra + rb) * tau;
                 if (r2 <= bound * bound * slack && sqrt(r2) - (ra + rb) * tau < d) {
@@ -425,7 +486,8 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
              * A's reach */
             const double bound = d + c * sx + (ra + speed[F]) * tau;
             if (r2 <= bound * bound * slack &&
-                closest(rx, ry, vx[F], vy[F], tau) - ra * tau < d + c * sx) {
+                closest(rx, ry, rz, vx[F], vy[F], three ? vz[F] : 0.0, tau) - ra * tau <
+                    d + c * sx) {
                 act[F] = 1;
                 al[na++] = F;
                 h->c_hi[F] = speed[F];

@@ -30,7 +30,10 @@ int gr_hy_child_create(gr_sim *s, gr_hybrid_state *h, gr_error *err)
     gr_sim_params sc = s->params;
     sc.integrator = &gr_integrator_verlet;
     sc.noise_mode = GR_NOISE_NONE;
-    int rc = gr_sim_new_with_state(&sc, s->n, s->x, s->y, s->vx, s->vy, &h->child, err);
+    const double *const r[3] = {s->x, s->y, s->z}, *const v[3] = {s->vx, s->vy, s->vz};
+    int rc = s->dim == 3
+                 ? gr_sim_new_with_state_3d(&sc, s->n, r, v, &h->child, err)
+                 : gr_sim_new_with_state(&sc, s->n, s->x, s->y, s->vx, s->vy, &h->child, err);
     if (rc) {
         return rc;
     }
@@ -62,11 +65,17 @@ static void load(gr_sim *s, gr_hybrid_state *h, gr_sim *c)
         c->vx[q] = s->vx[p];
         c->fx[q] = s->fx[p];
         c->gx[q] = s->gx[p];
-        if (s->dim == 2) {
+        if (s->dim >= 2) {
             c->y[q] = s->y[p];
             c->vy[q] = s->vy[p];
             c->fy[q] = s->fy[p];
             c->gy[q] = s->gy[p];
+        }
+        if (s->dim == 3) {
+            c->z[q] = s->z[p];
+            c->vz[q] = s->vz[p];
+            c->fz[q] = s->fz[p];
+            c->gz[q] = s->gz[p];
         }
         if (c->contacts) {
             c->contacts[q] = s->contacts[p];
@@ -107,10 +116,15 @@ static double close_kick(gr_sim *c)
         const double dvx = hk * c->fx[q];
         w += c->gx[q] * (c->vx[q] + 0.5 * dvx);
         c->vx[q] += dvx;
-        if (c->dim == 2) {
+        if (c->dim >= 2) {
             const double dvy = hk * c->fy[q];
             w += c->gy[q] * (c->vy[q] + 0.5 * dvy);
             c->vy[q] += dvy;
+        }
+        if (c->dim == 3) {
+            const double dvz = hk * c->fz[q];
+            w += c->gz[q] * (c->vz[q] + 0.5 * dvz);
+            c->vz[q] += dvz;
         }
     }
     return 0.5 * c->dt * w;
@@ -164,11 +178,12 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
         }
     }
     /* their start positions and bounds, side by side for the per-step check */
-    double *ex = h->env_pack, *ey = ex + s->n, *elo = ey + s->n, *ehi = elo + s->n;
+    double *ex = h->env_pack, *ey = ex + s->n, *ez = ey + s->n, *elo = ez + s->n, *ehi = elo + s->n;
     for (int e = 0; e < n_env; e++) {
         const int p = h->list[env_q[e]];
         ex[e] = h->x0[p];
-        ey[e] = dim == 2 ? h->y0[p] : 0.0;
+        ey[e] = dim >= 2 ? h->y0[p] : 0.0;
+        ez[e] = dim == 3 ? h->z0[p] : 0.0;
         elo[e] = h->env_lo[p];
         ehi[e] = h->env_hi[p];
     }
@@ -216,6 +231,46 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
                 wc += wcl[l];
                 wo += wol[l];
                 added += adl[l];
+            }
+        } else if (dim == 3) {
+            /* spheres: step.c's open_step_3d, component by component, kicks from the bridge */
+            double *restrict r[3] = {c->x, c->y, c->z}, *restrict v[3] = {c->vx, c->vy, c->vz};
+            const double *restrict f[3] = {c->fx, c->fy, c->fz}, *restrict gn[3] = {c->gx, c->gy,
+                                                                                    c->gz};
+            const double *restrict ref[3] = {c->x_ref, c->y_ref, c->z_ref};
+            double wcl[LANES] = {0}, wol[LANES] = {0}, adl[LANES] = {0}, w2l[LANES] = {0};
+            const int closing = k > 0;
+            for (int q = 0; q < na; q++) {
+                const int l = q % LANES;
+                double d2 = 0.0;
+                for (int a = 0; a < 3; a++) {
+                    const double dvf = hk * f[a][q];
+                    double vi = v[a][q];
+                    if (closing) {
+                        wcl[l] += gn[a][q] * (vi + 0.5 * dvf);
+                        vi += dvf;
+                    }
+                    wol[l] += gn[a][q] * (vi + 0.5 * dvf);
+                    vi += dvf;
+                    const size_t o = 2 * ((size_t)q * 3 + (size_t)a);
+                    const double dv = amp * (raw[(size_t)q * md + a] + lam[o] + lam[o + 1] * mk);
+                    adl[l] += dv * (vi + 0.5 * dv);
+                    vi += dv;
+                    v[a][q] = vi;
+                    double xn = r[a][q] + vi * dt;
+                    xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
+                    r[a][q] = xn;
+                    double dd = xn - ref[a][q];
+                    dd += dd > half ? -L : (dd < -half ? L : 0.0);
+                    d2 += dd * dd;
+                }
+                w2l[l] = d2 > w2l[l] ? d2 : w2l[l];
+            }
+            for (int l = 0; l < LANES; l++) {
+                wc += wcl[l];
+                wo += wol[l];
+                added += adl[l];
+                worst2 = w2l[l] > worst2 ? w2l[l] : worst2;
             }
         } else {
             double *restrict x = c->x, *restrict y = c->y, *restrict vx = c->vx,
@@ -285,14 +340,18 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
                 out |= (dx > ehi[e] * t) | (dx < elo[e] * t);
             }
         } else {
-            const double *restrict x = c->x, *restrict y = c->y;
+            const int three = dim == 3;
+            /* z read only in 3D; in 2D a valid array, so a vectorised (masked) read cannot fault */
+            const double *restrict x = c->x, *restrict y = c->y, *restrict z = three ? c->z : c->y;
 #pragma omp simd reduction(| : out)
             for (int e = 0; e < n_env; e++) {
-                double ddx = x[env_q[e]] - ex[e], ddy = y[env_q[e]] - ey[e];
+                double ddx = x[env_q[e]] - ex[e], ddy = y[env_q[e]] - ey[e],
+                       ddz = three ? z[env_q[e]] - ez[e] : 0.0;
                 ddx += ddx > half ? -L : (ddx < -half ? L : 0.0);
                 ddy += ddy > half ? -L : (ddy < -half ? L : 0.0);
+                ddz += ddz > half ? -L : (ddz < -half ? L : 0.0);
                 const double reach = ehi[e] * t;
-                out |= ddx * ddx + ddy * ddy > reach * reach;
+                out |= ddx * ddx + ddy * ddy + ddz * ddz > reach * reach;
             }
         }
         for (int e = 0; e < n_env && out; e++) { /* someone left: find and report them all */
@@ -304,11 +363,13 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
                     *missed = 1;
                 }
             } else {
-                double ddx = c->x[q] - h->x0[p], ddy = c->y[q] - h->y0[p];
+                double ddx = c->x[q] - h->x0[p], ddy = c->y[q] - h->y0[p],
+                       ddz = dim == 3 ? c->z[q] - h->z0[p] : 0.0;
                 ddx += ddx > half ? -L : (ddx < -half ? L : 0.0);
                 ddy += ddy > half ? -L : (ddy < -half ? L : 0.0);
+                ddz += ddz > half ? -L : (ddz < -half ? L : 0.0);
                 const double reach = h->env_hi[p] * t;
-                if (ddx * ddx + ddy * ddy > reach * reach) {
+                if (ddx * ddx + ddy * ddy + ddz * ddz > reach * reach) {
                     gr_hy_envelope_miss(s, h, p, 0);
                     *missed = 1;
                 }
@@ -326,7 +387,7 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
                            (long long)c->step, c->step * dt);
         }
         c->step++;
-        if (dim == 2 && (c->params.skin <= 0.0 || worst2 > skin_half2)) {
+        if (dim >= 2 && (c->params.skin <= 0.0 || worst2 > skin_half2)) {
             int rc = gr_neighbours_build(c, err);
             if (rc) {
                 return rc;
@@ -366,11 +427,17 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
         s->vx[p] = c->vx[q];
         s->fx[p] = c->fx[q];
         s->gx[p] = c->gx[q];
-        if (dim == 2) {
+        if (dim >= 2) {
             s->y[p] = c->y[q];
             s->vy[p] = c->vy[q];
             s->fy[p] = c->fy[q];
             s->gy[p] = c->gy[q];
+        }
+        if (dim == 3) {
+            s->z[p] = c->z[q];
+            s->vz[p] = c->vz[q];
+            s->fz[p] = c->fz[q];
+            s->gz[p] = c->gz[q];
         }
     }
     memcpy(s->share, c->share, sizeof s->share);

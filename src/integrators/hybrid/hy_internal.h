@@ -26,6 +26,7 @@ typedef struct gr_hybrid_state {
 
     /* state at the window start (for rollbacks) */
     double *x0, *y0, *vx0, *vy0, *fx0, *fy0, *gx0, *gy0;
+    double *z0, *vz0, *fz0, *gz0; /* 3D only (NULL otherwise) */
     /* active set: flags, list (parent indices in order), forced-active flags from rollbacks */
     uint8_t *active, *forced;
     int *list, n_active;
@@ -36,16 +37,16 @@ typedef struct gr_hybrid_state {
      * env_lo t <= x(t) - x(0) <= env_hi t; 2D |r(t) - r(0)| <= env_hi t; +-INFINITY = unchecked */
     double *env_lo, *env_hi;
     int *env_list;    /* child indices of the particles whose envelope is checked */
-    double *env_pack; /* their start x, y, env_lo, env_hi side by side (4 N; child.c) */
+    double *env_pack; /* their start x, y, z, env_lo, env_hi side by side (5 N; child.c) */
     /* 2D candidate pairs (i < j) and the cell grid */
     int *pi, *pj;
     int64_t npairs, cap_pairs;
-    double rc_pairs; /* cutoff of the candidate list (0: none) */
-    double *xl, *yl; /* positions when it was built */
+    double rc_pairs;      /* cutoff of the candidate list (0: none) */
+    double *xl, *yl, *zl; /* positions when it was built (zl: 3D only) */
     int *cell_head, *cell_next,
         ncells_alloc; /* cell starts (counting sort) and each particle's cell */
-    int *sorted;      /* particles in cell order, with their positions xs, ys */
-    double *xs, *ys;
+    int *sorted;      /* particles in cell order, with their positions xs, ys, zs (3D) */
+    double *xs, *ys, *zs;
     /* the candidate partners of each particle: adj[adj_start[i] .. adj_start[i + 1]) */
     int *adj_start, *adj, adj_ok;
     /* the 2D closure's work list and cluster member lists (active.c) */

@@ -8,7 +8,7 @@
  * windows), the window noise (a pure function of seed and step) and the child simulation (loaded
  * from the parent and its neighbour list rebuilt at every window start, child.c) are all
  * re-created per window. What persists: the counters (windows, rollbacks, steps, active steps),
- * the margin factor c (a test hook) and, in 2D, the candidate-pair list with the positions it was
+ * the margin factor c (a test hook) and, in 2D and 3D, the candidate-pair list with the positions it was
  * built at and its cutoff (it is rebuilt only when somebody moved far enough, so it is state;
  * active.c). */
 #include <stdlib.h>
@@ -64,6 +64,9 @@ static int pairs_io(gr_sim *s, gr_hybrid_state *h, gr_blob_io *io, gr_error *err
     }
     gr_blob_io_f64s(io, h->xl, n);
     gr_blob_io_f64s(io, h->yl, n);
+    if (s->dim == 3) {
+        gr_blob_io_f64s(io, h->zl, n);
+    }
     if (io->in && !io->in->bad && !(h->rc_pairs >= 0.0)) {
         gr_blob_fail(io->in, "hybrid candidate cutoff %.17g is negative", h->rc_pairs);
     }
@@ -93,7 +96,7 @@ int gr_hybrid_state_io(gr_sim *s, gr_blob_io *io, gr_error *err)
         (h->windows < 0 || h->rollbacks < 0 || h->steps < 0 || h->active_steps < 0)) {
         gr_blob_fail(io->in, "hybrid counters are negative");
     }
-    if (s->dim == 2) {
+    if (s->dim >= 2) {
         int rc = pairs_io(s, h, io, err);
         if (rc) {
             return rc;

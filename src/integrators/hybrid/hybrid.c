@@ -54,7 +54,8 @@ void gr_hybrid_free(gr_sim *s)
     gr_sim_free(h->child);
     double *d[] = {h->x0,  h->y0,   h->vx0,  h->vy0,  h->fx0,    h->fy0,    h->gx0,
                    h->gy0, h->c_lo, h->c_hi, h->c_xi, h->env_lo, h->env_hi, h->env_pack,
-                   h->ff,  h->kick, h->tmp,  h->lam,  h->xl,     h->yl};
+                   h->ff,  h->kick, h->tmp,  h->lam,  h->xl,     h->yl,     h->z0,
+                   h->vz0, h->fz0,  h->gz0,  h->zl};
     for (size_t k = 0; k < sizeof d / sizeof d[0]; k++) {
         free(d[k]);
     }
@@ -79,6 +80,7 @@ void gr_hybrid_free(gr_sim *s)
     free(h->sorted);
     free(h->xs);
     free(h->ys);
+    free(h->zs);
     free(h);
     s->integrator_state = NULL;
 }
@@ -116,7 +118,7 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
     h->vx0 = dalloc(n);
     h->fx0 = dalloc(n);
     h->gx0 = dalloc(n);
-    if (dim == 2) {
+    if (dim >= 2) {
         h->y0 = dalloc(n);
         h->vy0 = dalloc(n);
         h->fy0 = dalloc(n);
@@ -124,12 +126,19 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
         h->xl = dalloc(n);
         h->yl = dalloc(n);
     }
+    if (dim == 3) {
+        h->z0 = dalloc(n);
+        h->vz0 = dalloc(n);
+        h->fz0 = dalloc(n);
+        h->gz0 = dalloc(n);
+        h->zl = dalloc(n);
+    }
     h->c_lo = dalloc(n);
     h->c_hi = dalloc(n);
     h->c_xi = dalloc(n);
     h->env_lo = dalloc(n);
     h->env_hi = dalloc(n);
-    h->env_pack = dalloc(4 * n);
+    h->env_pack = dalloc(5 * n);
     h->ff = dalloc(2 * dim * n);
     h->lam = dalloc(2 * dim * n);
     h->tmp = dalloc(2 * n);
@@ -140,10 +149,10 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
     h->uf = malloc(sizeof(int) * (size_t)n);
     h->cell_next = malloc(sizeof(int) * (size_t)n);
     if (!h->x0 || !h->vx0 || !h->fx0 || !h->gx0 ||
-        (dim == 2 && (!h->y0 || !h->vy0 || !h->fy0 || !h->gy0 || !h->xl || !h->yl)) || !h->c_lo ||
-        !h->c_hi || !h->c_xi || !h->env_lo || !h->env_hi || !h->env_pack || !h->ff || !h->lam ||
-        !h->tmp || !h->active || !h->forced || !h->list || !h->env_list || !h->uf ||
-        !h->cell_next) {
+        (dim >= 2 && (!h->y0 || !h->vy0 || !h->fy0 || !h->gy0 || !h->xl || !h->yl)) ||
+        (dim == 3 && (!h->z0 || !h->vz0 || !h->fz0 || !h->gz0 || !h->zl)) || !h->c_lo || !h->c_hi ||
+        !h->c_xi || !h->env_lo || !h->env_hi || !h->env_pack || !h->ff || !h->lam || !h->tmp ||
+        !h->active || !h->forced || !h->list || !h->env_list || !h->uf || !h->cell_next) {
         return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for %d particles", n);
     }
     int rc = gr_hy_child_create(s, h, err);
@@ -195,11 +204,17 @@ static void save(gr_sim *s, gr_hybrid_state *h, saved *v)
     memcpy(h->vx0, s->vx, b);
     memcpy(h->fx0, s->fx, b);
     memcpy(h->gx0, s->gx, b);
-    if (s->dim == 2) {
+    if (s->dim >= 2) {
         memcpy(h->y0, s->y, b);
         memcpy(h->vy0, s->vy, b);
         memcpy(h->fy0, s->fy, b);
         memcpy(h->gy0, s->gy, b);
+    }
+    if (s->dim == 3) {
+        memcpy(h->z0, s->z, b);
+        memcpy(h->vz0, s->vz, b);
+        memcpy(h->fz0, s->fz, b);
+        memcpy(h->gz0, s->gz, b);
     }
     *v = (saved){.injected = s->injected,
                  .diss_n = s->diss_n,
@@ -220,11 +235,17 @@ static void restore(gr_sim *s, gr_hybrid_state *h, const saved *v)
     memcpy(s->vx, h->vx0, b);
     memcpy(s->fx, h->fx0, b);
     memcpy(s->gx, h->gx0, b);
-    if (s->dim == 2) {
+    if (s->dim >= 2) {
         memcpy(s->y, h->y0, b);
         memcpy(s->vy, h->vy0, b);
         memcpy(s->fy, h->fy0, b);
         memcpy(s->gy, h->gy0, b);
+    }
+    if (s->dim == 3) {
+        memcpy(s->z, h->z0, b);
+        memcpy(s->vz, h->vz0, b);
+        memcpy(s->fz, h->fz0, b);
+        memcpy(s->gz, h->gz0, b);
     }
     s->injected = v->injected;
     s->diss_n = v->diss_n;
@@ -264,9 +285,10 @@ static int take_events(gr_sim *s, gr_hybrid_state *h, gr_error *err)
  * 8 fixed lanes (vectorised, the same order on every machine). */
 static void centre(gr_sim *s, gr_hybrid_state *h)
 {
-    const int n = s->n, two = s->dim == 2;
+    const int n = s->n, two = s->dim >= 2; /* periodic in every axis from 2D on */
     const double L = s->L, half = 0.5 * L;
-    double *pos[2] = {s->x, s->y}, *vel[2] = {s->vx, s->vy}, *start[2] = {h->x0, h->y0};
+    double *pos[3] = {s->x, s->y, s->z}, *vel[3] = {s->vx, s->vy, s->vz},
+           *start[3] = {h->x0, h->y0, h->z0};
     for (int c = 0; c < s->dim; c++) {
         double *restrict x = pos[c], *restrict v = vel[c];
         const double *restrict x0 = start[c];
@@ -309,6 +331,12 @@ static int all_finite(const gr_sim *s)
 #pragma omp simd reduction(+ : z)
         for (int i = 0; i < s->n; i++) {
             z += 0.0 * (x[i] + v[i]);
+        }
+    } else if (s->dim == 3) {
+        const double *restrict r = s->z, *restrict u = s->vz;
+#pragma omp simd reduction(+ : z)
+        for (int i = 0; i < s->n; i++) {
+            z += 0.0 * (x[i] + v[i] + y[i] + w[i] + r[i] + u[i]);
         }
     } else {
 #pragma omp simd reduction(+ : z)
@@ -377,7 +405,8 @@ static int window(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
         return GR_OK;
     }
     for (int i = 0; i < s->n; i++) {
-        double sum = s->x[i] + s->vx[i] + (s->dim == 2 ? s->y[i] + s->vy[i] : 0.0);
+        double sum = s->x[i] + s->vx[i] + (s->dim >= 2 ? s->y[i] + s->vy[i] : 0.0) +
+                     (s->dim == 3 ? s->z[i] + s->vz[i] : 0.0);
         if (!isfinite(sum)) {
             return GR_FAIL(err, GR_EUNSTABLE,
                            "unstable run: particle %d has a non-finite position or velocity at "

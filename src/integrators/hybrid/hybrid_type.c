@@ -33,6 +33,7 @@ const gr_integrator_type gr_integrator_hybrid = {
     .name = "hybrid",
     .summary = "free flight event-driven, contacts by the soft-sphere model (docs/hybrid.md)",
     .free_flight = true,
+    .spheres = true, /* 3D: the soft laws without rotation (docs/hybrid.md, "Spheres") */
     .create = gr_hybrid_init,
     .step = gr_hybrid_step,
     .free = gr_hybrid_free,

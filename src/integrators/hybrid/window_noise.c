@@ -24,8 +24,9 @@
  * replays the same noise, so the redo is not biased by what made it necessary.
  *
  * Counters (stream GR_STREAM_HYBRID, include/granule/noise.h): the free-flight normals of
- * particle p, component c use step = window start | c << 62, id = p, components 0 and 1;
- * the raw kicks use step = window start | 1 << 63, id = p m + k, component c.
+ * particle p, component c use step = window start | w << 62 with w = 0, 1, 3 for x, y, z (not 2:
+ * 2 << 62 is the kicks' flag), id = p, components 0 and 1; the raw kicks use
+ * step = window start | 1 << 63, id = p m + k, component c.
  *
  * free_flight = kicks: instead of acting every step the noise of a window is one velocity kick
  * dv = sqrt(2 D tau)/M g1 at step m/2 (so dx = (m - m/2) dt dv); active particles get the same
@@ -52,14 +53,14 @@ void gr_hy_draw_window(const gr_sim *s, gr_hybrid_state *h, int64_t start)
     for (int c = 0; c < s->dim; c++) {
         /* per = 2: out[p * 2 + {0,1}] for particle p; components stored next to each other */
         double *tmp = h->tmp;
-        uint64_t step = (uint64_t)start | ((uint64_t)c << 62);
+        uint64_t step = (uint64_t)start | ((uint64_t)(c == 2 ? 3 : c) << 62);
         if (s->dim == 1) {
             gr_noise_normals(s->params.seed, GR_STREAM_HYBRID, step, 0, s->n, 2, h->ff);
         } else {
             gr_noise_normals(s->params.seed, GR_STREAM_HYBRID, step, 0, s->n, 2, tmp);
             for (int p = 0; p < s->n; p++) {
-                h->ff[(p * 2 + c) * 2] = tmp[2 * p];
-                h->ff[(p * 2 + c) * 2 + 1] = tmp[2 * p + 1];
+                h->ff[(p * s->dim + c) * 2] = tmp[2 * p];
+                h->ff[(p * s->dim + c) * 2 + 1] = tmp[2 * p + 1];
             }
         }
     }
@@ -120,6 +121,37 @@ double gr_hy_leap_free(gr_sim *s, gr_hybrid_state *h, int m)
                 vx[p] = leap ? v0 + dv : v0;
                 fx[p] = leap ? 0.0 : fx[p];
                 gx[p] = leap ? 0.0 : gx[p];
+            }
+        } else if (dim == 3) {
+            double *restrict z = s->z, *restrict vz = s->vz, *restrict fz = s->fz,
+                             *restrict gz = s->gz;
+#pragma omp simd
+            for (int l = 0; l < lanes; l++) {
+                const int p = p0 + l, leap = !act[p];
+                const double *g = ff + 6 * p; /* (g1, g2) of x, y, z */
+                const double ux = vx[p], uy = vy[p], uz = vz[p], dvx = c1 * g[0], dvy = c1 * g[2],
+                             dvz = c1 * g[4];
+                double xn = x[p] + ux * tau + (c21 * g[0] + c22 * g[1]),
+                       yn = y[p] + uy * tau + (c21 * g[2] + c22 * g[3]),
+                       zn = z[p] + uz * tau + (c21 * g[4] + c22 * g[5]);
+                xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
+                yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);
+                zn += zn < 0.0 ? L : (zn >= L ? -L : 0.0);
+                adl[l] +=
+                    leap ? dvx * (ux + 0.5 * dvx) + dvy * (uy + 0.5 * dvy) + dvz * (uz + 0.5 * dvz)
+                         : 0.0;
+                x[p] = leap ? xn : x[p];
+                y[p] = leap ? yn : y[p];
+                z[p] = leap ? zn : z[p];
+                vx[p] = leap ? ux + dvx : ux;
+                vy[p] = leap ? uy + dvy : uy;
+                vz[p] = leap ? uz + dvz : uz;
+                fx[p] = leap ? 0.0 : fx[p];
+                fy[p] = leap ? 0.0 : fy[p];
+                fz[p] = leap ? 0.0 : fz[p];
+                gx[p] = leap ? 0.0 : gx[p];
+                gy[p] = leap ? 0.0 : gy[p];
+                gz[p] = leap ? 0.0 : gz[p];
             }
         } else {
 #pragma omp simd
