@@ -9,7 +9,14 @@
 # throughput of both (particle-steps/s; LAMMPS from its production run's loop time) with the ratio.
 #
 #   bench/lammps_vibrated_bed.sh [BUILD_DIR] [--quick] [--install] [--warmup S] [--duration S]
-#                                [--set K=V ...]
+#                                [--scene FILE] [--set K=V ...]
+#
+# --scene: another bed (default docs/scenes/vibrated-bed.ini); the 150 grains, A = 2 mm and 25
+# slabs above still apply unless a --set says otherwise. The 3D bed of spheres:
+#   bench/lammps_vibrated_bed.sh build --scene docs/scenes/vibrated-bed-3d.ini --set system.N=400 \
+#       --set boundary.amplitude=1e-3 --set analysis.profile_bins=20 \
+#       --set model.tangential=tangential_dashpot --set model.rotation=false
+# (gran/hooke has no pure Coulomb slider, so export refuses sliding_friction)
 #
 # Defaults: 0.3 s of warm-up (the grains start spread over the box and must settle) and 2 s sampled
 # every 2 ms (6.1e6 steps of 3.7e-7 s; LAMMPS takes about 15 s on one core). --quick: 0.004 + 0.004 s, the pipeline only (the test suite runs it).
@@ -17,6 +24,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=build
+scene=docs/scenes/vibrated-bed.ini
 install=${GRANULE_BENCH_INSTALL:-0}
 quick=false
 extra=()
@@ -26,11 +34,11 @@ while (($#)); do
     case $1 in
         --quick) quick=true; warmup=0.004; duration=0.004 ;;
         --install) install=1 ;;
-        --warmup | --duration | --set)
+        --warmup | --duration | --set | --scene)
             (($# >= 2)) || { echo "bench/lammps_vibrated_bed.sh: $1 needs a value" >&2; exit 2; }
-            case $1 in --warmup) warmup=$2 ;; --duration) duration=$2 ;; *) extra+=(--set "$2") ;; esac
+            case $1 in --warmup) warmup=$2 ;; --duration) duration=$2 ;; --scene) scene=$2 ;; *) extra+=(--set "$2") ;; esac
             shift ;;
-        -*) echo "usage: bench/lammps_vibrated_bed.sh [BUILD_DIR] [--quick] [--install] [--warmup S] [--duration S] [--set K=V ...]" >&2
+        -*) echo "usage: bench/lammps_vibrated_bed.sh [BUILD_DIR] [--quick] [--install] [--warmup S] [--duration S] [--scene FILE] [--set K=V ...]" >&2
             exit 2 ;;
         *) build=$1 ;;
     esac
@@ -43,7 +51,6 @@ lmp_or_skip lammps-vibrated-bed "$install"
 export OMP_NUM_THREADS=1
 tmp=$(mktemp -d /tmp/granule-vbed.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
-scene=docs/scenes/vibrated-bed.ini
 # a fluidised bed (150 grains, A = 2 mm > r, Gamma = 20): time averages that do not depend on where
 # the chaotic trajectories part (the scene's 500 grains form a crystal whose layers each engine
 # stacks its own way); later --set values win
@@ -67,17 +74,20 @@ g_dir, l_dir, log, quick = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4] ==
 rd = lambda d: np.genfromtxt(d + "/profile.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
 g, l = rd(g_dir), rd(l_dir)
 sg, sl = json.load(open(g_dir + "/summary.json")), json.load(open(l_dir + "/summary.json"))
-print(f"{'z (mm)':>7} {'phi granule':>20} {'phi LAMMPS':>20} {'z':>6} {'T_y granule':>20} {'T_y LAMMPS':>20} {'z':>6}")
-chi = {"phi": [], "T_x": [], "T_y": []}
+# the temperatures per component the profile has (T_z in 3D); the one along gravity is printed
+comps = [q for q in ("T_x", "T_y", "T_z") if q in g.dtype.names]
+up = comps[-1]
+print(f"{'z (mm)':>7} {'phi granule':>20} {'phi LAMMPS':>20} {'z':>6} {up + ' granule':>20} {up + ' LAMMPS':>20} {'z':>6}")
+chi = {q: [] for q in ["phi"] + comps}
 for k in range(len(g)):
     row = f"{1e3 * g['z'][k]:7.2f}"
-    for q in ("phi", "T_x", "T_y"):
+    for q in ["phi"] + comps:
         a, b = g[q][k], l[q][k]
         e = np.hypot(g[q + "_err"][k], l[q + "_err"][k])
         z = (a - b) / e if e > 0 and np.isfinite(a) and np.isfinite(b) else np.nan
         if np.isfinite(z) and min(g["phi"][k], l["phi"][k]) > 0.005:
             chi[q].append(z)
-        if q != "T_x":
+        if q in ("phi", up):
             row += f" {a:9.4g} +- {g[q + '_err'][k]:7.2g} {b:9.4g} +- {l[q + '_err'][k]:7.2g} {z:6.2f}"
     print(row)
 for q, zs in chi.items():
