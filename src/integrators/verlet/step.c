@@ -595,55 +595,77 @@ static double open_step_2d(gr_sim *restrict s, const int noise, double mean[2], 
  * open_range_2d with a third component; the random force's kick (2.23 per component, symmetrised
  * by mean), the bath's Ornstein-Uhlenbeck update or none. Returns the kinetic energy the noise
  * added; fills o as open_step_2d does. Along a wall axis (walls.c) positions are not wrapped. */
-static double open_step_3d(gr_sim *restrict s, const int noise, const double mean[3],
-                           const int closing, open_report *o)
+/* One component c of particle i in open_step_3d (the lane l's sums; d2 the squared displacement):
+ * the same arithmetic, in the same order, for x, y and z. */
+#define OPEN_3D_C(R, V, F, GN, REF, LO, HI, c, i, l)                                               \
+    do {                                                                                           \
+        const double dvf = h * F[i];                                                               \
+        double vi = V[i];                                                                          \
+        if (closing) {                                                                             \
+            wc[l] += GN[i] * (vi + 0.5 * dvf);                                                     \
+            vi += dvf;                                                                             \
+        }                                                                                          \
+        wo[l] += GN[i] * (vi + 0.5 * dvf);                                                         \
+        vi += dvf;                                                                                 \
+        if (noise == DRIVE_KICK) {                                                                 \
+            const double dv = amp * (g[3 * (size_t)(i) + c] - mean[c]);                            \
+            added[l] += dv * (vi + 0.5 * dv);                                                      \
+            vi += dv;                                                                              \
+        } else if (noise == DRIVE_OU) {                                                            \
+            const double vd = decay * vi, dv = kick * g[3 * (size_t)(i) + c];                      \
+            drag[l] += vi * vi - vd * vd;                                                          \
+            added[l] += dv * (vd + 0.5 * dv);                                                      \
+            vi = vd + dv;                                                                          \
+        }                                                                                          \
+        V[i] = vi;                                                                                 \
+        sum[l] += vi;                                                                              \
+        double q = R[i] + vi * dt;                                                                 \
+        q += q < LO ? L : (q >= HI ? -L : 0.0);                                                    \
+        R[i] = q;                                                                                  \
+        double dd = q - REF[i];                                                                    \
+        dd += dd > half ? -L : (dd < -half ? L : 0.0);                                             \
+        d2 += dd * dd;                                                                             \
+    } while (0)
+#define OPEN_3D(i, l)                                                                              \
+    do {                                                                                           \
+        double d2 = 0.0;                                                                           \
+        OPEN_3D_C(x, vx, fx, gx, xr, lo_x, hi_x, 0, i, l);                                         \
+        OPEN_3D_C(y, vy, fy, gy, yr, lo_y, hi_y, 1, i, l);                                         \
+        OPEN_3D_C(z, vz, fz, gz, zr, lo_z, hi_z, 2, i, l);                                         \
+        worst[l] = d2 > worst[l] ? d2 : worst[l];                                                  \
+    } while (0)
+
+/* The opening pass of 3D on one thread, for constant (noise, closing): named arrays per
+ * component and blocks of LANES particles, so the compiler vectorises it (the loop over
+ * components through arrays of pointers stayed scalar: 29 % of a 3D bed's step). */
+static inline __attribute__((always_inline)) double open_step_3d_as(
+    gr_sim *restrict s, const int noise, const double mean[3], const int closing, open_report *o)
 {
     const int n = s->n;
     const double h = 0.5 * s->dt / s->mass, dt = s->dt, L = s->L, half = 0.5 * s->L;
     const double amp = noise == DRIVE_KICK ? sqrt(2.0 * s->params.D * s->dt) / s->mass : 0.0;
     const double decay = s->drive_c.decay, kick = s->drive_c.kick;
     const double inf = (double)INFINITY;
-    const double lo[3] = {s->period[0] < inf ? 0.0 : -inf, s->period[1] < inf ? 0.0 : -inf,
-                          s->period[2] < inf ? 0.0 : -inf};
-    const double hi[3] = {lo[0] == 0.0 ? L : inf, lo[1] == 0.0 ? L : inf, lo[2] == 0.0 ? L : inf};
-    double *restrict r[3] = {s->x, s->y, s->z}, *restrict v[3] = {s->vx, s->vy, s->vz};
-    const double *restrict f[3] = {s->fx, s->fy, s->fz}, *restrict gn[3] = {s->gx, s->gy, s->gz};
-    const double *restrict ref[3] = {s->x_ref, s->y_ref, s->z_ref};
+    const double lo_x = s->period[0] < inf ? 0.0 : -inf, hi_x = lo_x == 0.0 ? L : inf;
+    const double lo_y = s->period[1] < inf ? 0.0 : -inf, hi_y = lo_y == 0.0 ? L : inf;
+    const double lo_z = s->period[2] < inf ? 0.0 : -inf, hi_z = lo_z == 0.0 ? L : inf;
+    double *restrict x = s->x, *restrict y = s->y, *restrict z = s->z;
+    double *restrict vx = s->vx, *restrict vy = s->vy, *restrict vz = s->vz;
+    const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict fz = s->fz;
+    const double *restrict gx = s->gx, *restrict gy = s->gy, *restrict gz = s->gz;
+    const double *restrict xr = s->x_ref, *restrict yr = s->y_ref, *restrict zr = s->z_ref;
     const double *restrict g = s->noise;
     double added[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0},
            worst[LANES] = {0}, drag[LANES] = {0};
-    for (int i = 0; i < n; i++) {
-        const int l = i % LANES;
-        double d2 = 0.0;
-        for (int c = 0; c < 3; c++) {
-            const double dvf = h * f[c][i];
-            double vi = v[c][i];
-            if (closing) {
-                wc[l] += gn[c][i] * (vi + 0.5 * dvf);
-                vi += dvf;
-            }
-            wo[l] += gn[c][i] * (vi + 0.5 * dvf);
-            vi += dvf;
-            if (noise == DRIVE_KICK) {
-                const double dv = amp * (g[3 * (size_t)i + c] - mean[c]);
-                added[l] += dv * (vi + 0.5 * dv);
-                vi += dv;
-            } else if (noise == DRIVE_OU) {
-                const double vd = decay * vi, dv = kick * g[3 * (size_t)i + c];
-                drag[l] += vi * vi - vd * vd;
-                added[l] += dv * (vd + 0.5 * dv);
-                vi = vd + dv;
-            }
-            v[c][i] = vi;
-            sum[l] += vi;
-            double q = r[c][i] + vi * dt;
-            q += q < lo[c] ? L : (q >= hi[c] ? -L : 0.0);
-            r[c][i] = q;
-            double dd = q - ref[c][i];
-            dd += dd > half ? -L : (dd < -half ? L : 0.0);
-            d2 += dd * dd;
+    const int full = n / LANES * LANES;
+    for (int i0 = 0; i0 < full; i0 += LANES) {
+#pragma omp simd
+        for (int l = 0; l < LANES; l++) {
+            OPEN_3D(i0 + l, l);
         }
-        worst[l] = d2 > worst[l] ? d2 : worst[l];
+    }
+    for (int i = full; i < n; i++) {
+        OPEN_3D(i, i - full);
     }
     double w = 0.0;
     for (int l = 0; l < LANES; l++) {
@@ -655,6 +677,23 @@ static double open_step_3d(gr_sim *restrict s, const int noise, const double mea
     o->finite = isfinite(lanes_total(sum)) && isfinite(o->work_open);
     o->drag = noise == DRIVE_OU ? 0.5 * s->mass * lanes_total(drag) : 0.0;
     return s->mass * lanes_total(added);
+}
+#undef OPEN_3D
+#undef OPEN_3D_C
+
+/* open_step_3d_as chosen once per call for the run's (noise, closing) */
+static double open_step_3d(gr_sim *restrict s, const int noise, const double mean[3],
+                           const int closing, open_report *o)
+{
+    if (noise == DRIVE_KICK) {
+        return closing ? open_step_3d_as(s, DRIVE_KICK, mean, 1, o)
+                       : open_step_3d_as(s, DRIVE_KICK, mean, 0, o);
+    }
+    if (noise == DRIVE_OU) {
+        return closing ? open_step_3d_as(s, DRIVE_OU, mean, 1, o)
+                       : open_step_3d_as(s, DRIVE_OU, mean, 0, o);
+    }
+    return closing ? open_step_3d_as(s, 0, mean, 1, o) : open_step_3d_as(s, 0, mean, 0, o);
 }
 
 int gr_verlet_check_finite(gr_sim *s, gr_error *err)
