@@ -863,6 +863,36 @@ START_TEST(test_elastic_without_friction)
 }
 END_TEST
 
+/* The instance compiled with the issue-35 scene's laws as constants (spring-dashpot and tangential
+ * dashpot, unclamped, no rotation) gives the bits of the instance reading every law at run time,
+ * over contacts and list rebuilds. */
+START_TEST(test_dashpots_instance)
+{
+    gr_scene *sc = malloc(sizeof *sc);
+    const char *set[] = {"model.tangential=tangential_dashpot",
+                         "model.eps_t=0.1",
+                         "model.clamp=false",
+                         "model.rotation=false",
+                         "placement.omega0=0",
+                         "placement.v0=4",
+                         "system.packing_fraction=0.3"};
+    load(sc, gas, set, 7);
+    gr_sim *s = create(sc), *g = create(sc);
+    ck_assert_msg(s->kernel.run == gr_kernel_run_3d_dashpots, "%s: not the dashpots' instance",
+                  gr_sim_kernel(s));
+    ck_assert_int_eq(gr_kernel_force_generic(g), GR_OK);
+    ck_assert(g->kernel.run == gr_kernel_run_3d_full);
+    step(s, 800);
+    step(g, 800);
+    ck_assert_msg(s->collisions > 100 && s->rebuilds > 1, "%lld collisions, %lld rebuilds",
+                  (long long)s->collisions, (long long)s->rebuilds);
+    assert_same_state(s, g);
+    gr_sim_free(s);
+    gr_sim_free(g);
+    free(sc);
+}
+END_TEST
+
 /* ---- defaults and initial spins --------------------------------------------------------------- */
 
 START_TEST(test_defaults_follow_dim)
@@ -919,6 +949,7 @@ static Suite *contacts_suite(void)
     }
     tcase_add_test(tc, test_restart_spins);
     tcase_add_test(tc, test_elastic_without_friction);
+    tcase_add_test(tc, test_dashpots_instance);
     tcase_add_test(tc, test_collide_reference_3d);
     tcase_add_test(tc, test_collide_hard_3d);
     tcase_add_test(tc, test_defaults_follow_dim);

@@ -874,7 +874,7 @@ gr_tangential_force gr_kernel_tangential(const int tl, const gr_contact_coeffs *
     return tangential_law(tl, c, in);
 }
 
-int gr_kernel_instances(void) { return N_HOT + 4; }
+int gr_kernel_instances(void) { return N_HOT + 5; }
 
 int gr_kernel_choose(gr_sim *s, gr_error *err)
 {
@@ -910,9 +910,12 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
     }
     /* 3D (kernels_3d.c): the normal law alone, or the instance with every law read at run time */
     const int bare = k.tl == TL_none && !k.rot && k.rl == RL_none;
+    const int dashpots = k.nl == NL_spring_dashpot && k.tl == TL_tangential_dashpot && !k.clamp &&
+                         !k.rot && k.rl == RL_none;
     k.run = k.dim == 1   ? kernel_generic_1d
             : k.dim == 2 ? kernel_generic_2d
             : bare       ? gr_kernel_run_3d
+            : dashpots   ? gr_kernel_run_3d_dashpots
                          : gr_kernel_run_3d_full;
     for (int h = 0; h < N_HOT; h++) {
         const hot_entry *e = &hot_kernels[h];

@@ -788,6 +788,14 @@ void gr_kernel_run_3d(gr_sim *s, gr_force_report *r)
     run_3d(s, r, s->kernel.nl, TL_none, s->kernel.clamp, 0, RL_none);
 }
 
+/* The issue-35 scene's laws (spring-dashpot, tangential dashpot, unclamped, no rotation) as
+ * constants: about 1.17x the instance reading them at run time on its 32000-sphere scene
+ * (docs/performance.md, "Three dimensions"); the same bits. */
+void gr_kernel_run_3d_dashpots(gr_sim *s, gr_force_report *r)
+{
+    run_3d(s, r, NL_spring_dashpot, TL_tangential_dashpot, 0, 0, RL_none);
+}
+
 void gr_kernel_run_3d_full(gr_sim *s, gr_force_report *r)
 {
     const gr_kernel k = s->kernel;

@@ -215,6 +215,8 @@ void gr_kernel_run_3d(gr_sim *s, gr_force_report *r);
 /* the same loop with the tangential law (a 3D history vector per contact), rotation (angular
  * velocity vectors, torques) and the rolling law read from s->kernel */
 void gr_kernel_run_3d_full(gr_sim *s, gr_force_report *r);
+/* spring_dashpot + tangential_dashpot, unclamped, no rotation: the laws as constants */
+void gr_kernel_run_3d_dashpots(gr_sim *s, gr_force_report *r);
 /* src/core/kernels.c: the threads of a 2D or 3D force evaluation (gr_team), building the cross
  * lists (par_row, cross_*, in_*, pair_*) when the list or the thread count changed; 1 when they
  * cannot be built (out of memory) */
