@@ -501,17 +501,24 @@ static int check_overlaps(gr_sim *s, gr_error *err)
     return GR_OK;
 }
 
-/* After a pair collision (rebased): its losses (unless TC-elastic), the TC clocks, the counts. */
-static inline void booked(gr_sim *s, int i, int j, double t_abs, bool elastic, double de_n,
-                          double de_t)
+/* A collision's losses (a pair's or a wall hit's), unless the TC rule made it elastic. */
+static inline void book_losses(gr_sim *s, struct gr_event_state *e, bool elastic, double de_n,
+                               double de_t)
 {
-    struct gr_event_state *e = gr_ev(s);
     if (elastic) {
         e->tc_elastic++;
     } else {
         s->diss_n += de_n;
         s->diss_t += de_t;
     }
+}
+
+/* After a pair collision (rebased): its losses (unless TC-elastic), the TC clocks, the counts. */
+static inline void booked(gr_sim *s, int i, int j, double t_abs, bool elastic, double de_n,
+                          double de_t)
+{
+    struct gr_event_state *e = gr_ev(s);
+    book_losses(s, e, elastic, de_n, de_t);
     e->last[i] = e->last[j] = t_abs;
     e->count[i]++;
     e->count[j]++;
@@ -700,12 +707,7 @@ static inline void wall_booked(gr_sim *s, int i, double t_abs, bool elastic, dou
                                double de_t)
 {
     struct gr_event_state *e = gr_ev(s);
-    if (elastic) {
-        e->tc_elastic++;
-    } else {
-        s->diss_n += de_n;
-        s->diss_t += de_t;
-    }
+    book_losses(s, e, elastic, de_n, de_t);
     e->last[i] = t_abs;
     e->count[i]++;
     e->wall_hits++;
