@@ -41,15 +41,7 @@ START_TEST(errors_are_the_collisions)
     ck_assert_int_ge(a.n, 8);
     ck_assert_int_ge(a.scene, 0);
     ck_assert(a.c[a.scene].scene_dt && a.c[a.scene].dt == sc.dt);
-    gr_collide_setup su;
-    gr_collide_setup_default(&su);
-    su.normal = sc.normal;
-    su.tangential = sc.tangential;
-    su.contact = sc.contact;
-    su.mass = sc.mass;
-    su.radius = sc.radius;
-    su.dim = 1;
-    su.force_dt = true;
+    gr_collide_setup su = gr_cost_pair(&sc);
     gr_collision_case cs;
     gr_collide_result ref, r;
     ck_assert(gr_collision_case_table21(1, sc.radius, &cs, &err) == GR_OK);
@@ -68,6 +60,43 @@ START_TEST(errors_are_the_collisions)
     /* T through the energy balance: -2/3 of the larger loss error, so the opposite sign */
     ck_assert(c->error * c->loss_error_mean < 0.0);
     ck_assert(fabs(c->error) >= 2.0 / 3.0 * fabs(c->loss_error_mean) * (1 - 1e-12));
+}
+END_TEST
+
+/* Spheres: the head-on and the oblique collision of Table 2.1 in 3D (the oblique one stays in its
+ * plane), and the close-packed cluster's mode at 4x the pair's squared frequency (FCC: 8 k/m
+ * against 2 k/m), i.e. the same collisions at dt sqrt(4). */
+START_TEST(spheres_take_both_collisions_and_the_fcc_cluster)
+{
+    gr_scene sc;
+    const char *sets[] = {"model.tangential=tangential_dashpot", "model.eps_t=0.5", "system.N=64"};
+    load(&sc, "rfm-3d.ini", sets, 3);
+    gr_cost_request rq;
+    gr_cost_request_default(&rq);
+    rq.phases = 4;
+    gr_cost_answer a;
+    gr_error err = {0};
+    ck_assert_msg(gr_cost_errors(&sc, &rq, &a, &err) == GR_OK, "%s", err.message);
+    const gr_cost_candidate *c = &a.c[a.scene];
+    gr_collide_setup su = gr_cost_pair(&sc);
+    double mean[2] = {0.0, 0.0}; /* the pair's dt, the cluster's */
+    const double dts[2] = {c->dt, 2.0 * c->dt};
+    for (int k = 0; k < 2; k++) {
+        gr_collision_case cs;
+        gr_collide_result ref, r;
+        ck_assert(gr_collision_case_table21(k == 0 ? 1 : 3, sc.radius, &cs, &err) == GR_OK);
+        ck_assert_msg(gr_collide_reference(&su, &cs, &ref, &err) == GR_OK, "%s", err.message);
+        for (int d = 0; d < 2; d++) {
+            for (int p = 0; p < 4; p++) {
+                su.dt = dts[d];
+                su.phase = (p + 0.5) / 4;
+                ck_assert(gr_collide_run(&su, &cs, &r, &err) == GR_OK);
+                mean[d] += (r.energy_loss - ref.energy_loss) / ref.energy_loss / 8;
+            }
+        }
+    }
+    ck_assert_double_eq_tol(c->loss_error_mean, mean[0], 1e-12);
+    ck_assert_double_eq_tol(c->cluster_loss_error, mean[1], 1e-12);
 }
 END_TEST
 
@@ -288,6 +317,7 @@ int main(void)
     TCase *tc = tcase_create("cost");
     tcase_set_timeout(tc, 600);
     tcase_add_test(tc, errors_are_the_collisions);
+    tcase_add_test(tc, spheres_take_both_collisions_and_the_fcc_cluster);
     tcase_add_test(tc, hybrid_refused_is_said);
     tcase_add_test(tc, error_grows_with_dt);
     tcase_add_test(tc, recommendation_is_the_largest_dt_within_tolerance);

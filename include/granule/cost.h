@@ -23,6 +23,7 @@
 
 #include <stdbool.h>
 
+#include "granule/collide.h"
 #include "granule/scene.h"
 #include "granule/status.h"
 
@@ -90,6 +91,10 @@ typedef struct gr_cost_answer {
 } gr_cost_answer;
 
 void gr_cost_request_default(gr_cost_request *r);
+
+/* The scene's pair as gr_cost_errors collides it (its laws, mass, radius and dimension; the time
+ * step forced, set per candidate). */
+gr_collide_setup gr_cost_pair(const gr_scene *scene);
 
 /* The candidate time steps and their errors (no run of the scene). Refuses scenes whose
  * contacts are instantaneous (event-driven hard spheres: nothing to step). */

@@ -74,12 +74,27 @@ static bool loss_errors(gr_collide_setup su, const gr_collision_case *cs, double
 
 /* Many-body contacts: a particle pressed between neighbours vibrates faster than a pair. The
  * stiffest mode of a 1D chain of contacts has 2x the squared frequency of a binary contact, that of
- * a close-packed (triangular) 2D cluster 3x (largest eigenvalue of the lattice's dynamical matrix,
- * 4 k/m and 6 k/m, against 2 k/m for the pair's relative motion); with the dashpots scaled alike it
- * is a binary contact with the mass divided by that factor, i.e. the same collision stepped at
- * dt sqrt(factor). A time step is usable only if that collision is still stable, and the cluster
- * modes dissipate with its error. */
-static double cluster_factor(int dim) { return dim == 1 ? 2.0 : 3.0; }
+ * a close-packed (triangular) 2D cluster 3x, that of a close-packed (FCC) 3D cluster 4x (largest
+ * eigenvalue of the lattice's dynamical matrix with nearest-neighbour springs, 4 k/m, 6 k/m and
+ * 8 k/m (the longitudinal mode at the X point), against 2 k/m for the pair's relative motion);
+ * with the dashpots scaled alike it is a binary contact with the mass divided by that factor, i.e.
+ * the same collision stepped at dt sqrt(factor). A time step is usable only if that collision is
+ * still stable, and the cluster modes dissipate with its error. */
+static double cluster_factor(int dim) { return dim == 1 ? 2.0 : dim == 2 ? 3.0 : 4.0; }
+
+gr_collide_setup gr_cost_pair(const gr_scene *sc)
+{
+    gr_collide_setup su;
+    gr_collide_setup_default(&su);
+    su.normal = sc->normal;
+    su.tangential = sc->tangential;
+    su.contact = sc->contact;
+    su.mass = sc->mass;
+    su.radius = sc->radius;
+    su.dim = sc->dim;
+    su.force_dt = true;
+    return su;
+}
 
 int gr_cost_errors(const gr_scene *sc, const gr_cost_request *rq, gr_cost_answer *out,
                    gr_error *err)
@@ -126,16 +141,10 @@ int gr_cost_errors(const gr_scene *sc, const gr_cost_request *rq, gr_cost_answer
     out->c[out->n++] = (gr_cost_candidate){.dt = scene_dt, .scene_dt = true};
     qsort(out->c, (size_t)out->n, sizeof out->c[0], cmp_dt);
 
-    gr_collide_setup su;
-    gr_collide_setup_default(&su);
-    su.normal = sc->normal;
-    su.tangential = sc->tangential;
-    su.contact = sc->contact;
-    su.mass = sc->mass;
-    su.radius = sc->radius;
-    su.dim = sc->dim;
-    su.force_dt = true;
-    const int cases[2] = {1, 3}, n_cases = sc->dim == 2 ? 2 : 1;
+    gr_collide_setup su = gr_cost_pair(sc);
+    /* head-on, and oblique (2D and 3D: a collision without initial spins stays in the plane of
+     * the normal and the relative velocity, so 3D takes the same two cases) */
+    const int cases[2] = {1, 3}, n_cases = sc->dim >= 2 ? 2 : 1;
     double ref[2];
     gr_collision_case cs[2];
     for (int k = 0; k < n_cases; k++) {

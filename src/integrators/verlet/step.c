@@ -25,12 +25,12 @@
  * The driving is chosen once per run: each (driving, closing) pair has its own loop, so the
  * random force's loop is the one it always was.
  *
- * 3D (spheres, docs/three-dimensions.md): the same step with a third component, its kicks and
- * drifts on one thread (open_step_3d, half_kick_3d); the normals are drawn per block (shared by
- * the threads) and the forces run on the threads (kernels_3d.c), so a run is the same for every
- * thread count.
+ * 3D (spheres, docs/three-dimensions.md): the same step with a third component; the normals,
+ * their means and the kick-drift pass run over blocks shared by the threads as in 2D, and the
+ * forces on the threads (kernels_3d.c), so a run is the same for every thread count (the last
+ * half kick of a call, half_kick_3d, runs on one thread).
  *
- * Threads (2D): the noise and the kick-drift pass run over blocks of GR_BLOCK particles shared by
+ * Threads (2D and 3D): the noise and the kick-drift pass run over blocks of GR_BLOCK particles shared by
  * the threads, and every sum is combined block by block in block order, so a run is bit-identical
  * for every thread count (docs/performance.md, "Threads"). */
 #include <math.h>
@@ -232,7 +232,30 @@ static void noise_sums(const double *restrict g, const int m, const int dim, dou
 
 /* Fields of s->blk the noise sums use (apart from those of the opening pass, which may run
  * while other threads still read them). */
-enum { B_NOISE0 = 6, B_NOISE1 = 7 };
+enum { B_NOISE0 = 6, B_NOISE1 = 7, B_NOISE2 = 8 };
+
+/* Lane sums of the m particles' three components g[3 i + c], per component (3D). */
+static void noise_sums_3d(const double *restrict g, const int m, double out[3])
+{
+    double a0[LANES] = {0}, a1[LANES] = {0}, a2[LANES] = {0};
+    const int full = m / LANES * LANES;
+    for (int i0 = 0; i0 < full; i0 += LANES) {
+#pragma omp simd
+        for (int l = 0; l < LANES; l++) {
+            a0[l] += g[3 * (i0 + l)];
+            a1[l] += g[3 * (i0 + l) + 1];
+            a2[l] += g[3 * (i0 + l) + 2];
+        }
+    }
+    for (int i = full; i < m; i++) {
+        a0[i - full] += g[3 * i];
+        a1[i - full] += g[3 * i + 1];
+        a2[i - full] += g[3 * i + 2];
+    }
+    out[0] = lanes_total(a0);
+    out[1] = lanes_total(a1);
+    out[2] = lanes_total(a2);
+}
 
 /* The id offset of the third component's single-precision normals: gr_noise_normals_f32 draws
  * one or two components per particle, so component z of particle i is component 0 (per = 1) of
@@ -268,24 +291,29 @@ static inline void draw_block(gr_sim *s, const int b, const int bs, const int sy
             s->params.seed, GR_STREAM_NOISE, (uint64_t)s->step, (uint32_t)lo, m, dim,
             s->noise + (size_t)lo * dim);
     }
-    if (sym) {
+    if (sym && dim == 3) {
+        noise_sums_3d(s->noise + (size_t)lo * dim, m,
+                      s->blk + (size_t)b * GR_BLK_FIELDS + B_NOISE0);
+    } else if (sym) {
         noise_sums(s->noise + (size_t)lo * dim, m * dim, dim,
                    s->blk + (size_t)b * GR_BLK_FIELDS + B_NOISE0);
     }
 }
 
-/* The means of the symmetrised mode from the block sums, in block order. */
-static void noise_mean(const gr_sim *s, const int nb, const int sym, double mean[2])
+/* The means of the symmetrised mode from the block sums, in block order (mean[2]: 3D only). */
+static void noise_mean(const gr_sim *s, const int nb, const int sym, double mean[3])
 {
-    mean[0] = mean[1] = 0.0;
+    mean[0] = mean[1] = mean[2] = 0.0;
     if (sym) {
-        double m0 = 0.0, m1 = 0.0;
+        double m0 = 0.0, m1 = 0.0, m2 = 0.0;
         for (int b = 0; b < nb; b++) {
             m0 += s->blk[(size_t)b * GR_BLK_FIELDS + B_NOISE0];
             m1 += s->blk[(size_t)b * GR_BLK_FIELDS + B_NOISE1];
+            m2 += s->dim == 3 ? s->blk[(size_t)b * GR_BLK_FIELDS + B_NOISE2] : 0.0;
         }
         mean[0] = m0 / s->n;
         mean[1] = m1 / s->n;
+        mean[2] = m2 / s->n;
     }
 }
 
@@ -297,11 +325,11 @@ static inline int symmetrised(const gr_sim *s)
 /* Draw this step's normals and the means the symmetrised mode subtracts (2.18): per block of
  * GR_BLOCK particles (T threads share the blocks), block sums combined in block order. (2D with
  * T > 1 threads draws inside the opening pass instead: noise_open_2d_*.) */
-static void draw_noise(gr_sim *s, double mean[2], const int T)
+static void draw_noise(gr_sim *s, double mean[3], const int T)
 {
     /* 1D runs on one thread: one block, as ever */
     const int n = s->n, bs = s->dim == 1 ? (n > 0 ? n : 1) : GR_BLOCK, nb = (n + bs - 1) / bs;
-    const int sym = symmetrised(s) && s->dim != 3; /* 3D: noise_mean_3d */
+    const int sym = symmetrised(s);
     if (T > 1) {
 #pragma omp parallel for schedule(static) num_threads(T)
         for (int b = 0; b < nb; b++) {
@@ -313,24 +341,6 @@ static void draw_noise(gr_sim *s, double mean[2], const int T)
         }
     }
     noise_mean(s, nb, sym, mean);
-}
-
-/* The means of the symmetrised mode in 3D (2.18 per component): plain sums in particle order
- * (3D runs on one thread). */
-static void noise_mean_3d(const gr_sim *s, double mean[3])
-{
-    mean[0] = mean[1] = mean[2] = 0.0;
-    if (!symmetrised(s)) {
-        return;
-    }
-    for (int i = 0; i < s->n; i++) {
-        for (int c = 0; c < 3; c++) {
-            mean[c] += s->noise[3 * (size_t)i + c];
-        }
-    }
-    for (int c = 0; c < 3; c++) {
-        mean[c] /= s->n;
-    }
 }
 
 /* Open a step in one pass: (if `closing`) the previous step's closing half kick, the opening half
@@ -405,6 +415,26 @@ static inline __attribute__((always_inline)) double open_step_1d(gr_sim *restric
  * bath, the drag's sum of v^2 - (a v)^2). */
 enum { P_ADDED, P_WC, P_WO, P_SUM, P_DISP2, P_DRAG };
 
+/* A block's lane sums into its part of s->blk (open_range_2d, open_range_3d). */
+static inline void block_sums(double *restrict part, const int noise, const double added[LANES],
+                              const double wc[LANES], const double wo[LANES],
+                              const double sum[LANES], const double worst[LANES],
+                              const double drag[LANES])
+{
+    double w = 0.0;
+    for (int l = 0; l < LANES; l++) {
+        w = worst[l] > w ? worst[l] : w;
+    }
+    part[P_DISP2] = w;
+    part[P_WC] = lanes_total(wc);
+    part[P_WO] = lanes_total(wo);
+    part[P_SUM] = lanes_total(sum);
+    part[P_ADDED] = lanes_total(added);
+    if (noise == DRIVE_OU) {
+        part[P_DRAG] = lanes_total(drag);
+    }
+}
+
 static inline __attribute__((always_inline)) void open_range_2d(gr_sim *restrict s, const int lo,
                                                                 const int hi, const int noise,
                                                                 const double mean[2],
@@ -477,18 +507,32 @@ static inline __attribute__((always_inline)) void open_range_2d(gr_sim *restrict
         OPEN_2D(i, i - full);
     }
 #undef OPEN_2D
-    double worst_all = 0.0;
-    for (int l = 0; l < LANES; l++) {
-        worst_all = worst[l] > worst_all ? worst[l] : worst_all;
+    block_sums(part, noise, added, wc, wo, sum, worst, drag);
+}
+
+/* The opening pass's block sums combined in block order: the kinetic energy the noise added (the
+ * return value), the work of each half kick, the drag's loss, the largest squared displacement and
+ * whether every velocity is finite. */
+static double open_total(const gr_sim *s, const int noise, open_report *o)
+{
+    const int nb = s->nblk;
+    const double *blk = s->blk;
+    double added = 0.0, wc = 0.0, wo = 0.0, sum = 0.0, worst = 0.0, drag = 0.0;
+    for (int b = 0; b < nb; b++) {
+        const double *q = blk + (size_t)b * GR_BLK_FIELDS;
+        drag += noise == DRIVE_OU ? q[P_DRAG] : 0.0;
+        added += q[P_ADDED];
+        wc += q[P_WC];
+        wo += q[P_WO];
+        sum += q[P_SUM];
+        worst = q[P_DISP2] > worst ? q[P_DISP2] : worst;
     }
-    part[P_DISP2] = worst_all;
-    part[P_WC] = lanes_total(wc);
-    part[P_WO] = lanes_total(wo);
-    part[P_SUM] = lanes_total(sum);
-    part[P_ADDED] = lanes_total(added);
-    if (noise == DRIVE_OU) {
-        part[P_DRAG] = lanes_total(drag);
-    }
+    o->disp2 = worst;
+    o->work_close = 0.5 * s->dt * wc;
+    o->work_open = 0.5 * s->dt * wo;
+    o->finite = isfinite(sum) && isfinite(o->work_open);
+    o->drag = 0.5 * s->mass * drag;
+    return s->mass * added;
 }
 
 /* The 2D opening pass over blocks of GR_BLOCK particles (shared by T threads); block sums are
@@ -535,7 +579,7 @@ OPEN_BLOCKS_2D(open_blocks_2d_21, DRIVE_OU, 1)
             {                                                                                      \
                 draw_block(s, b, GR_BLOCK, sym);                                                   \
             }                                                                                      \
-            double m[2];                                                                           \
+            double m[3];                                                                           \
             noise_mean(s, nb, sym, m); /* every thread, the same numbers */                        \
             _Pragma("omp for schedule(static)") for (int b = 0; b < nb; b++)                       \
             {                                                                                      \
@@ -557,11 +601,9 @@ NOISE_OPEN_2D(noise_open_2d_21, DRIVE_OU, 1)
 
 /* The 2D opening pass; with noise on T > 1 threads it also draws the noise (mean is then
  * filled in), otherwise draw_noise has run. */
-static double open_step_2d(gr_sim *restrict s, const int noise, double mean[2], const int closing,
+static double open_step_2d(gr_sim *restrict s, const int noise, double mean[3], const int closing,
                            open_report *o, const int T)
 {
-    const int nb = s->nblk;
-    const double *blk = s->blk;
     if (noise == DRIVE_KICK && T > 1) {
         (closing ? noise_open_2d_1 : noise_open_2d_0)(s, mean, T);
     } else if (noise == DRIVE_KICK) {
@@ -573,25 +615,10 @@ static double open_step_2d(gr_sim *restrict s, const int noise, double mean[2], 
     } else {
         (closing ? open_blocks_2d_01 : open_blocks_2d_00)(s, mean, T);
     }
-    double added = 0.0, wc = 0.0, wo = 0.0, sum = 0.0, worst = 0.0, drag = 0.0;
-    for (int b = 0; b < nb; b++) {
-        const double *q = blk + (size_t)b * GR_BLK_FIELDS;
-        drag += noise == DRIVE_OU ? q[P_DRAG] : 0.0;
-        added += q[P_ADDED];
-        wc += q[P_WC];
-        wo += q[P_WO];
-        sum += q[P_SUM];
-        worst = q[P_DISP2] > worst ? q[P_DISP2] : worst;
-    }
-    o->disp2 = worst;
-    o->work_close = 0.5 * s->dt * wc;
-    o->work_open = 0.5 * s->dt * wo;
-    o->finite = isfinite(sum) && isfinite(o->work_open);
-    o->drag = 0.5 * s->mass * drag;
-    return s->mass * added;
+    return open_total(s, noise, o);
 }
 
-/* The opening pass of 3D (spheres, docs/three-dimensions.md), one thread: the arithmetic of
+/* The opening pass of 3D (spheres, docs/three-dimensions.md): the arithmetic of
  * open_range_2d with a third component; the random force's kick (2.23 per component, symmetrised
  * by mean), the bath's Ornstein-Uhlenbeck update or none. Returns the kinetic energy the noise
  * added; fills o as open_step_2d does. Along a wall axis (walls.c) positions are not wrapped. */
@@ -635,13 +662,16 @@ static double open_step_2d(gr_sim *restrict s, const int noise, double mean[2], 
         worst[l] = d2 > worst[l] ? d2 : worst[l];                                                  \
     } while (0)
 
-/* The opening pass of 3D on one thread, for constant (noise, closing): named arrays per
- * component and blocks of LANES particles, so the compiler vectorises it (the loop over
- * components through arrays of pointers stayed scalar: 29 % of a 3D bed's step). */
-static inline __attribute__((always_inline)) double open_step_3d_as(
-    gr_sim *restrict s, const int noise, const double mean[3], const int closing, open_report *o)
+/* The opening pass of 3D on the particles [lo, hi) (lo a multiple of LANES), for constant
+ * (noise, closing): named arrays per component and blocks of LANES particles, so the compiler
+ * vectorises it (the loop over components through arrays of pointers stayed scalar: 29 % of a 3D
+ * bed's step). Writes the block's sums to part, as open_range_2d. */
+static inline __attribute__((always_inline)) void open_range_3d(gr_sim *restrict s, const int lo,
+                                                                const int hi, const int noise,
+                                                                const double mean[3],
+                                                                const int closing,
+                                                                double *restrict part)
 {
-    const int n = s->n;
     const double h = 0.5 * s->dt / s->mass, dt = s->dt, L = s->L, half = 0.5 * s->L;
     const double amp = noise == DRIVE_KICK ? sqrt(2.0 * s->params.D * s->dt) / s->mass : 0.0;
     const double decay = s->drive_c.decay, kick = s->drive_c.kick;
@@ -657,43 +687,55 @@ static inline __attribute__((always_inline)) double open_step_3d_as(
     const double *restrict g = s->noise;
     double added[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0},
            worst[LANES] = {0}, drag[LANES] = {0};
-    const int full = n / LANES * LANES;
-    for (int i0 = 0; i0 < full; i0 += LANES) {
+    const int full = lo + (hi - lo) / LANES * LANES;
+    for (int i0 = lo; i0 < full; i0 += LANES) {
 #pragma omp simd
         for (int l = 0; l < LANES; l++) {
             OPEN_3D(i0 + l, l);
         }
     }
-    for (int i = full; i < n; i++) {
+    for (int i = full; i < hi; i++) {
         OPEN_3D(i, i - full);
     }
-    double w = 0.0;
-    for (int l = 0; l < LANES; l++) {
-        w = worst[l] > w ? worst[l] : w;
-    }
-    o->disp2 = w;
-    o->work_close = 0.5 * dt * lanes_total(wc);
-    o->work_open = 0.5 * dt * lanes_total(wo);
-    o->finite = isfinite(lanes_total(sum)) && isfinite(o->work_open);
-    o->drag = noise == DRIVE_OU ? 0.5 * s->mass * lanes_total(drag) : 0.0;
-    return s->mass * lanes_total(added);
+    block_sums(part, noise, added, wc, wo, sum, worst, drag);
 }
 #undef OPEN_3D
 #undef OPEN_3D_C
 
-/* open_step_3d_as chosen once per call for the run's (noise, closing) */
-static double open_step_3d(gr_sim *restrict s, const int noise, const double mean[3],
-                           const int closing, open_report *o)
+/* Block b of the 3D opening pass, open_range_3d chosen for the run's (noise, closing): one branch
+ * per block of GR_BLOCK particles. */
+static void open_block_3d(gr_sim *restrict s, const int b, const int noise, const double mean[3],
+                          const int closing)
 {
-    if (noise == DRIVE_KICK) {
-        return closing ? open_step_3d_as(s, DRIVE_KICK, mean, 1, o)
-                       : open_step_3d_as(s, DRIVE_KICK, mean, 0, o);
+    const int n = s->n, lo = b * GR_BLOCK, hi = lo + GR_BLOCK < n ? lo + GR_BLOCK : n;
+    double *part = s->blk + (size_t)b * GR_BLK_FIELDS;
+    switch (2 * noise + (closing != 0)) {
+    case 2 * DRIVE_KICK + 1: open_range_3d(s, lo, hi, DRIVE_KICK, mean, 1, part); break;
+    case 2 * DRIVE_KICK: open_range_3d(s, lo, hi, DRIVE_KICK, mean, 0, part); break;
+    case 2 * DRIVE_OU + 1: open_range_3d(s, lo, hi, DRIVE_OU, mean, 1, part); break;
+    case 2 * DRIVE_OU: open_range_3d(s, lo, hi, DRIVE_OU, mean, 0, part); break;
+    case 1: open_range_3d(s, lo, hi, 0, mean, 1, part); break;
+    default: open_range_3d(s, lo, hi, 0, mean, 0, part); break;
     }
-    if (noise == DRIVE_OU) {
-        return closing ? open_step_3d_as(s, DRIVE_OU, mean, 1, o)
-                       : open_step_3d_as(s, DRIVE_OU, mean, 0, o);
+}
+
+/* The 3D opening pass over blocks of GR_BLOCK particles shared by T threads; the block sums are
+ * combined in block order (open_total), so the result does not depend on T. */
+static double open_step_3d(gr_sim *restrict s, const int noise, const double mean[3],
+                           const int closing, open_report *o, const int T)
+{
+    const int nb = s->nblk;
+    if (T > 1) {
+#pragma omp parallel for schedule(static) num_threads(T)
+        for (int b = 0; b < nb; b++) {
+            open_block_3d(s, b, noise, mean, closing);
+        }
+    } else {
+        for (int b = 0; b < nb; b++) {
+            open_block_3d(s, b, noise, mean, closing);
+        }
     }
-    return closing ? open_step_3d_as(s, 0, mean, 1, o) : open_step_3d_as(s, 0, mean, 0, o);
+    return open_total(s, noise, o);
 }
 
 int gr_verlet_check_finite(gr_sim *s, gr_error *err)
@@ -739,9 +781,6 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
         }
         if ((noise || bath) && (s->dim != 2 || team == 1)) { /* else drawn in open_step_2d */
             draw_noise(s, mean, team);
-            if (s->dim == 3) {
-                noise_mean_3d(s, mean);
-            }
         }
         const int close_here = closing && !com_now;
         if (s->dim == 3) { /* spheres: the random force, the bath or none */
@@ -749,7 +788,7 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
                                         bath    ? DRIVE_OU
                                         : noise ? DRIVE_KICK
                                                 : 0,
-                                        mean, close_here, &o);
+                                        mean, close_here, &o, team);
             s->diss_drag += o.drag;
         } else if (s->dim == 1 && bath) {
             s->injected += close_here ? open_step_1d(s, DRIVE_OU, 0.0, 1, &o)
