@@ -25,9 +25,12 @@
 #include "check_main.h"
 #include "test_env.h"
 
+/* a dense, fast 3D gas of 2197 spheres: contacts from the first steps */
+#define SPHERES "system.N=2197", "placement.v0=5", "system.packing_fraction=0.35"
+
 typedef struct golden_case {
     const char *scene;        /* file in docs/scenes */
-    const char *overrides[3]; /* NULL-terminated */
+    const char *overrides[8]; /* NULL-terminated */
     int steps;
     uint64_t hash;
 } golden_case;
@@ -59,6 +62,20 @@ static const golden_case cases[] = {
     {"cooling-2d.ini", {NULL}, 6000, UINT64_C(0x29bad14aa1f79508)},
     {"rfm-1d-event.ini", {NULL}, 40000, UINT64_C(0x8fa124c064adec2f)},
     {"rfm-2d-event.ini", {NULL}, 300, UINT64_C(0x76d74f24262589c8)},
+    /* spheres (recorded at 977d3c7, after the 3D step's blocks): the normal law's instance, the
+     * dashpots' instance, every law with rotation and the history spring, and a bed on a
+     * vibrating floor; three blocks of particles, so the blocked sums count */
+    {"rfm-3d.ini", {SPHERES, NULL}, 300, UINT64_C(0x931b325076ea20ff)},
+    {"rfm-3d.ini",
+     {SPHERES, "model.tangential=tangential_dashpot", "model.eps_t=0.5", NULL},
+     300,
+     UINT64_C(0x5745ce89bd45d5a3)},
+    {"rfm-3d.ini",
+     {SPHERES, "model.normal=hertz", "model.tangential=tangential_spring", "model.rotation=true",
+      "model.rolling=rolling_friction", NULL},
+     300,
+     UINT64_C(0x23dc7886ece44c69)},
+    {"vibrated-bed-3d.ini", {NULL}, 3000, UINT64_C(0xa3deefd85b29c73e)},
 };
 enum { N_CASES = sizeof cases / sizeof cases[0] };
 
@@ -78,7 +95,7 @@ static uint64_t run_case(const golden_case *c, int64_t *collisions, char *kernel
     const char *root = getenv("GRANULE_SOURCE_DIR");
     snprintf(path, sizeof path, "%s/docs/scenes/%s", root ? root : ".", c->scene);
     int n_over = 0;
-    while (n_over < 3 && c->overrides[n_over]) {
+    while (n_over < 8 && c->overrides[n_over]) {
         n_over++;
     }
     gr_scene sc;
@@ -95,9 +112,16 @@ static uint64_t run_case(const golden_case *c, int64_t *collisions, char *kernel
     uint64_t h = UINT64_C(0xcbf29ce484222325);
     h = fnv(h, p.x, n);
     h = fnv(h, p.vx, n);
-    if (p.dim == 2) {
+    if (p.dim >= 2) {
         h = fnv(h, p.y, n);
         h = fnv(h, p.vy, n);
+    }
+    if (p.dim == 3) {
+        h = fnv(h, p.z, n);
+        h = fnv(h, p.vz, n);
+        for (int k = 0; k < 3 && p.wx; k++) { /* spin vectors */
+            h = fnv(h, (const double *[]){p.wx, p.wy, p.wz}[k], n);
+        }
     }
     gr_ledger l = gr_sim_ledger(sim);
     const double led[] = {l.kinetic,
