@@ -165,6 +165,11 @@ fi
 
 # scripts/refit_tail_window.py (docs/results/investigations): at f = 1 its fit of (5.5) is the
 # run's own free fit (summary.json), so its refits for smaller samples use the campaign's method
+# m = 3-12/3 (docs/campaigns/README.md): Fig. 5.2's moments 3, 6, 9, 12, each with its fit
+if [[ -f $tmp/results/ch5-moments/results.csv ]]; then
+    check test "$(awk -F, 'NR > 1 && $2 == "fig5.2" && $5 == "\"eps_n=0.1\"" {print $6}' "$tmp/results/ch5-moments/results.csv" | tr '\n' ' ')" = "3 6 9 12 "
+    check test "$(awk -F, 'NR > 1 && $2 == "fig5.2" && $5 == "\"eps_n=0.1\"" && $7 != "" {n++} END {print n}' "$tmp/results/ch5-moments/results.csv")" = 4
+fi
 if [[ -d $tmp/out/ch5-alpha/quick/runs/p0001 ]]; then
     check python3 - "$scripts/refit_tail_window.py" "$tmp/out/ch5-alpha/quick/runs" <<'PY'
 import csv, io, json, subprocess, sys

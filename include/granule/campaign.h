@@ -99,6 +99,7 @@ typedef struct gr_campaign_result {
     double x_min, x_max; /* POWER_LAW: fit window; SPM: the P(v) tail window in v / v_rms */
     char by[256];        /* POWER_LAW: comma-separated keys that label a fit */
     int m_lo, m_hi;      /* moments: m = m_lo..m_hi (0 = no {m}) */
+    int m_step;          /* ... in steps of m_step (m = 3-12/3: 3, 6, 9, 12; 0 means 1) */
     bool per_m;          /* report exponent / m (Fig. 3.5) */
     bool
         local_slopes; /* POWER_LAW: also the exponent between every pair of neighbouring x (one row each) */

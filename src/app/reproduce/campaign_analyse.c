@@ -35,7 +35,7 @@ static void path_for(const char *pattern, int m, char *out, size_t len)
 static int y_present(const gr_campaign_result *r, const campaign_points *pts, gr_error *err)
 {
     const int m_lo = r->m_lo ? r->m_lo : 0, m_hi = r->m_lo ? r->m_hi : 0;
-    for (int m = m_lo; m <= m_hi; m++) {
+    for (int m = m_lo; m <= m_hi; m += r->m_step > 0 ? r->m_step : 1) {
         char yp[160];
         path_for(r->y, m, yp, sizeof yp);
         char *dot = strrchr(yp, '.');
@@ -321,7 +321,7 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,
     campaign_header(data, "group", "", "m", "1", "x", gr_scene_key_unit(r->x), "mean", yu, "error",
                     yu, "seeds", "1", "in_fit", "1", NULL);
     for (int gi = 0; gi < ng; gi++) {
-        for (int m = m_lo; m <= m_hi; m++) {
+        for (int m = m_lo; m <= m_hi; m += r->m_step > 0 ? r->m_step : 1) {
             char yp[160], ep[160];
             path_for(r->y, m, yp, sizeof yp);
             path_for(r->y_err, m, ep, sizeof ep);

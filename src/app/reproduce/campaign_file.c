@@ -263,10 +263,15 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         return 1;
     }
     if (!strcmp(name, "m")) {
-        if (sscanf(value, "%d-%d", &r->m_lo, &r->m_hi) != 2 || r->m_lo < 1 || r->m_hi < r->m_lo ||
-            r->m_hi > 12) {
+        int used = 0;
+        r->m_step = 1;
+        const int got = sscanf(value, "%d-%d%n/%d%n", &r->m_lo, &r->m_hi, &used, &r->m_step, &used);
+        if (got < 2 || value[used] || r->m_lo < 1 || r->m_hi < r->m_lo || r->m_hi > 12 ||
+            r->m_step < 1) {
             snprintf(p->error, sizeof p->error,
-                     "[result %s] m = %s: expected a range LO-HI within 1-12", r->id, value);
+                     "[result %s] m = %s: expected a range LO-HI within 1-12, optionally with a "
+                     "step (3-12/3: 3, 6, 9, 12)",
+                     r->id, value);
             return 0;
         }
         return 1;
