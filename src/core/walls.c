@@ -318,8 +318,19 @@ static void axis_walls(gr_sim *s, const int a, const double *restrict q, const d
                     s->wall_hist[4 * i + 2 * a] != 0.0 || s->wall_hist[4 * i + 2 * a + 1] != 0.0;
             }
         }
-        for (int k = 0; k < m; k++) {
-            if (touch[k]) {
+        /* the flags eight at a time: most words are zero (no grain of the eight touches) */
+        const int m8 = (m + 7) / 8 * 8;
+        memset(touch + m, 0, (size_t)(m8 - m));
+        for (int k8 = 0; k8 < m8; k8 += 8) {
+            uint64_t word;
+            memcpy(&word, touch + k8, sizeof word);
+            while (word) { /* the set bytes in increasing order (little or big endian alike) */
+                int k = k8;
+                while (!touch[k]) {
+                    k++;
+                }
+                touch[k] = 0;
+                memcpy(&word, touch + k8, sizeof word);
                 const int i = i0 + k;
                 axis_wall_grain(s, a, i, q, v, f, g, v_o, f_o, g_o, qw, vw, w, r_out,
                                 s->rad ? s->rad[i] : r, L, st0, tang);
@@ -653,13 +664,21 @@ void gr_walls_forces(gr_sim *s, gr_force_report *r)
     }
     /* gravity: conservative, so into f only (its work is the change of the potential energy) */
     for (int a = 0; a < s->dim; a++) {
-        const double mg = s->mass * p->gravity[a];
+        const double ga = p->gravity[a], mg = s->mass * ga;
         double *restrict f = a == 0 ? s->fx : a == 1 ? s->fy : s->fz;
-        for (int i = 0; mg != 0.0 && i < s->n && !s->mass_i; i++) {
-            f[i] += mg;
+        const double *restrict m_i = s->mass_i;
+        const int n = s->n;
+        if (mg == 0.0) {
+            continue;
         }
-        for (int i = 0; mg != 0.0 && i < s->n && s->mass_i; i++) {
-            f[i] += s->mass_i[i] * p->gravity[a]; /* species: its own weight */
+        if (m_i) {
+            for (int i = 0; i < n; i++) {
+                f[i] += m_i[i] * ga; /* species: its own weight */
+            }
+        } else {
+            for (int i = 0; i < n; i++) { /* vectorises: the loop's bounds are constants */
+                f[i] += mg;
+            }
         }
     }
 }
