@@ -29,7 +29,7 @@
  * pairs first, then each thread owns a range of particles and adds, in list order, exactly the
  * additions one thread makes; the ledger sums are formed per block of rows and combined in block
  * order. Forces, torques, history vectors and the ledger are bit-identical for every thread
- * count. The neighbour list is built on one thread. */
+ * count. The neighbour list's rows are built on the threads too (gr_neighbours_rows). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -67,39 +67,25 @@ int gr_neighbours_alloc_3d(gr_sim *s, gr_error *err)
     return GR_OK;
 }
 
-/* Room for `need` entries of the list. */
-static int reserve(gr_sim *s, int64_t need, gr_error *err)
+/* The contact flag of a new entry (i, j) at separation (dx, dy, dz): whether it overlapped at the
+ * last force evaluation, one drift ago (r - g dt), so a contact that begins in the step of a
+ * rebuild is still counted as new. */
+static inline uint8_t was_touching_3d(const gr_sim *s, const int i, const int j, const double dx,
+                                      const double dy, const double dz, const double r2)
 {
-    if (need <= s->nl_cap) {
-        return GR_OK;
+    const double d2 = s->d * s->d;
+    if (s->step == 0) {
+        return r2 < d2;
     }
-    const int64_t cap = need + need / 2;
-    int *j = realloc(s->nl_j, sizeof(int) * (size_t)cap);
-    uint8_t *c = j ? realloc(s->nl_contact, (size_t)cap) : NULL;
-    if (j) {
-        s->nl_j = j;
-    }
-    if (c) {
-        s->nl_contact = c;
-    }
-    double *h = c && s->nl_hist ? realloc(s->nl_hist, sizeof(double) * 3 * (size_t)cap) : NULL;
-    if (h) {
-        s->nl_hist = h; /* a history law's vectors (contact_history.c), three doubles per entry */
-    }
-    if (!c || (s->nl_hist && !h)) {
-        return GR_FAIL(err, GR_ENOMEM, "out of memory growing the neighbour list to %lld pairs",
-                       (long long)cap);
-    }
-    s->nl_cap = cap;
-    return GR_OK;
+    const double dt = s->dt, px = dx - (s->vx[j] - s->vx[i]) * dt,
+                 py = dy - (s->vy[j] - s->vy[i]) * dt, pz = dz - (s->vz[j] - s->vz[i]) * dt;
+    return px * px + py * py + pz * pz < d2;
 }
 
-/* Append pair (i, j) if closer than the cutoff, with its contact flag: whether it overlapped at
- * the last force evaluation, one drift ago (r - g dt), so a contact that begins in the step of a
- * rebuild is still counted as new. */
+/* Append pair (i, j) if closer than the cutoff, with its contact flag (all pairs: no cells). */
 static inline int consider(gr_sim *s, const int i, const int j, int64_t *count, gr_error *err)
 {
-    const double rc2 = s->cutoff * s->cutoff, d2 = s->d * s->d;
+    const double rc2 = s->cutoff * s->cutoff;
     const double dx = wrap_delta(s->x[j] - s->x[i], s->period[0]),
                  dy = wrap_delta(s->y[j] - s->y[i], s->period[1]),
                  dz = wrap_delta(s->z[j] - s->z[i], s->period[2]);
@@ -107,19 +93,57 @@ static inline int consider(gr_sim *s, const int i, const int j, int64_t *count, 
     if (r2 >= rc2) {
         return GR_OK;
     }
-    int rc = reserve(s, *count + 1, err);
+    int rc = gr_neighbours_grow(s, *count + 1, err);
     if (rc) {
         return rc;
     }
-    int touching = r2 < d2;
-    if (s->step > 0) {
-        const double dt = s->dt, px = dx - (s->vx[j] - s->vx[i]) * dt,
-                     py = dy - (s->vy[j] - s->vy[i]) * dt, pz = dz - (s->vz[j] - s->vz[i]) * dt;
-        touching = px * px + py * py + pz * pz < d2;
-    }
-    s->nl_contact[*count] = (uint8_t)touching;
+    s->nl_contact[*count] = was_touching_3d(s, i, j, dx, dy, dz, r2);
     s->nl_j[(*count)++] = j;
     return GR_OK;
+}
+
+/* The rows [r0, r1) of the list from the cell list (gr_list_rows): each j > i in the 27 cells
+ * around i's, in a fixed cell order. Returns 0 when out of memory. */
+static int rows_3d_cells(gr_sim *s, const int r0, const int r1, gr_rows_buf *b)
+{
+    const int nc = s->ncell;
+    const int *start = s->cell_start, *order = s->cell_order, *cell_of = s->cell_of;
+    const double rc2 = s->cutoff * s->cutoff;
+    const double *x = s->x, *y = s->y, *z = s->z, *P = s->period;
+    int64_t count = b->count;
+    for (int i = r0; i < r1; i++) {
+        s->nl_start[i] = (int)count;
+        const int ci = cell_of[i], cx = ci % nc, cy = ci / nc % nc, cz = ci / nc / nc;
+        for (int oz = -1; oz <= 1; oz++) {
+            for (int oy = -1; oy <= 1; oy++) {
+                for (int ox = -1; ox <= 1; ox++) {
+                    const int c = (cx + ox + nc) % nc +
+                                  nc * ((cy + oy + nc) % nc + nc * ((cz + oz + nc) % nc));
+                    for (int k = start[c]; k < start[c + 1]; k++) {
+                        const int j = order[k];
+                        if (j <= i) {
+                            continue;
+                        }
+                        const double dx = wrap_delta(x[j] - x[i], P[0]),
+                                     dy = wrap_delta(y[j] - y[i], P[1]),
+                                     dz = wrap_delta(z[j] - z[i], P[2]);
+                        const double r2 = dx * dx + dy * dy + dz * dz;
+                        if (r2 >= rc2) {
+                            continue;
+                        }
+                        if (count + 1 > b->cap && !gr_rows_reserve(s, b, count + 1)) {
+                            b->count = count;
+                            return 0;
+                        }
+                        b->c[count] = was_touching_3d(s, i, j, dx, dy, dz, r2);
+                        b->j[count++] = j;
+                    }
+                }
+            }
+        }
+    }
+    b->count = count;
+    return 1;
 }
 
 /* Put every coordinate into [0, L) (a particle that moved out of the box in one step) and refuse
@@ -194,24 +218,7 @@ int gr_neighbours_build_3d(gr_sim *s, gr_error *err)
         for (int i = 0; i < n; i++) {
             s->cell_order[fill[s->cell_of[i]]++] = i;
         }
-        for (int i = 0; i < n && !rc; i++) {
-            s->nl_start[i] = (int)count;
-            const int ci = s->cell_of[i], cx = ci % nc, cy = ci / nc % nc, cz = ci / nc / nc;
-            for (int oz = -1; oz <= 1 && !rc; oz++) {
-                for (int oy = -1; oy <= 1 && !rc; oy++) {
-                    for (int ox = -1; ox <= 1 && !rc; ox++) {
-                        const int c = (cx + ox + nc) % nc +
-                                      nc * ((cy + oy + nc) % nc + nc * ((cz + oz + nc) % nc));
-                        for (int k = start[c]; k < start[c + 1] && !rc; k++) {
-                            const int j = s->cell_order[k];
-                            if (j > i) {
-                                rc = consider(s, i, j, &count, err);
-                            }
-                        }
-                    }
-                }
-            }
-        }
+        rc = gr_neighbours_rows(s, gr_team(s), rows_3d_cells, &count, err);
     }
     if (rc) {
         return rc;

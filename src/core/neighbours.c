@@ -41,7 +41,7 @@ int gr_neighbours_alloc(gr_sim *s, gr_error *err)
     return GR_OK;
 }
 
-static int grow(gr_sim *s, int64_t need, gr_error *err)
+int gr_neighbours_grow(gr_sim *s, int64_t need, gr_error *err)
 {
     if (need <= s->nl_cap) {
         return GR_OK;
@@ -59,8 +59,9 @@ static int grow(gr_sim *s, int64_t need, gr_error *err)
                        (long long)cap);
     }
     s->nl_contact = c;
-    if (s->nl_hist) { /* contact history (contact_history.c): one slot per entry */
-        double *h = realloc(s->nl_hist, sizeof(double) * (size_t)cap);
+    if (s->nl_hist) { /* contact history (contact_history.c): a slot (3D: a vector) per entry */
+        const size_t per = s->dim == 3 ? 3 : 1;
+        double *h = realloc(s->nl_hist, sizeof(double) * per * (size_t)cap);
         if (!h) {
             return GR_FAIL(err, GR_ENOMEM,
                            "out of memory growing the contact history to %lld pairs",
@@ -87,23 +88,14 @@ static inline uint8_t was_touching(const gr_sim *s, int i, int j, double dx, dou
     return px * px + py * py < d2;
 }
 
-/* Entries of the list being built by one thread: s's own arrays (own, one thread) or a buffer
- * of the thread's rows. */
-typedef struct rows_buf {
-    int *j;
-    uint8_t *c;
-    int64_t cap, count;
-    int own;
-} rows_buf;
-
-static int buf_reserve(gr_sim *s, rows_buf *b, int64_t need)
+int gr_rows_reserve(gr_sim *s, gr_rows_buf *b, int64_t need)
 {
     if (need <= b->cap) {
         return 1;
     }
     if (b->own) {
         gr_error e;
-        if (grow(s, need, &e)) {
+        if (gr_neighbours_grow(s, need, &e)) {
             return 0;
         }
         b->j = s->nl_j;
@@ -131,7 +123,7 @@ static int buf_reserve(gr_sim *s, rows_buf *b, int64_t need)
  * cell, cells in stencil order, particles in cell order), appended to b; s->nl_start[i] gets each
  * row's start in b. A row depends only on its particle, so rows built in pieces and put one after
  * the other are the list built in one pass. Returns 0 when out of memory. */
-static int list_rows(gr_sim *s, const int r0, const int r1, rows_buf *b)
+static int list_rows(gr_sim *s, int r0, int r1, gr_rows_buf *b)
 {
     static const int stencil[5][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}};
     const int nc = s->ncell;
@@ -157,7 +149,7 @@ static int list_rows(gr_sim *s, const int r0, const int r1, rows_buf *b)
                 double r2 = dx * dx + dy * dy;
                 if (r2 < rc2) {
                     if (count + 1 > cap) {
-                        if (!buf_reserve(s, b, count + 1)) {
+                        if (!gr_rows_reserve(s, b, count + 1)) {
                             b->count = count;
                             return 0;
                         }
@@ -193,14 +185,15 @@ static void split_rows(const gr_sim *s, const int T, int *split)
     split[T] = n;
 }
 
-/* The list from the cell list on T threads: thread t builds the rows split[t] .. split[t+1] into a
- * buffer of its own; the buffers are then copied one after the other into the list (with one
- * thread: straight into it). Sets *count to the number of pairs. */
-static int list_cells(gr_sim *s, const int T, int64_t *count, gr_error *err)
+/* The list on T threads (sim_internal.h): thread t builds the rows split[t] .. split[t+1] into a
+ * buffer of its own with `rows`; the buffers are then copied one after the other into the list
+ * (with one thread: straight into it). Sets *count to the number of pairs. */
+int gr_neighbours_rows(gr_sim *s, const int T, gr_list_rows rows, int64_t *count, gr_error *err)
 {
     if (T <= 1) {
-        rows_buf own = {.j = s->nl_j, .c = s->nl_contact, .cap = s->nl_cap, .count = 0, .own = 1};
-        int ok = list_rows(s, 0, s->n, &own);
+        gr_rows_buf own = {
+            .j = s->nl_j, .c = s->nl_contact, .cap = s->nl_cap, .count = 0, .own = 1};
+        int ok = rows(s, 0, s->n, &own);
         *count = own.count;
         return ok ? GR_OK
                   : GR_FAIL(err, GR_ENOMEM,
@@ -209,7 +202,7 @@ static int list_cells(gr_sim *s, const int T, int64_t *count, gr_error *err)
     }
     int *split = malloc(sizeof(int) * (size_t)(T + 1));
     int64_t *off = malloc(sizeof(int64_t) * (size_t)(T + 1));
-    rows_buf *buf = calloc((size_t)T, sizeof *buf);
+    gr_rows_buf *buf = calloc((size_t)T, sizeof *buf);
     if (!split || !off || !buf) {
         free(split);
         free(off);
@@ -222,7 +215,7 @@ static int list_cells(gr_sim *s, const int T, int64_t *count, gr_error *err)
 #pragma omp parallel num_threads(T)
     {
         for (int t = GR_THREAD_ID; t < T; t += GR_THREAD_COUNT) {
-            if (!list_rows(s, split[t], split[t + 1], &buf[t])) {
+            if (!rows(s, split[t], split[t + 1], &buf[t])) {
 #pragma omp atomic write
                 failed = 1;
             }
@@ -235,7 +228,7 @@ static int list_cells(gr_sim *s, const int T, int64_t *count, gr_error *err)
                 off[t + 1] = off[t] + buf[t].count;
             }
             gr_error e;
-            if (!failed && grow(s, off[T], &e)) {
+            if (!failed && gr_neighbours_grow(s, off[T], &e)) {
                 failed = 1;
             }
         } /* implied barrier: the list has room for every buffer */
@@ -285,7 +278,7 @@ int gr_neighbours_build(gr_sim *s, gr_error *err)
                        dy = wrap_delta(y[j] - y[i], s->period[1]);
                 double r2 = dx * dx + dy * dy;
                 if (r2 < rc2) {
-                    int rc = grow(s, count + 1, err);
+                    int rc = gr_neighbours_grow(s, count + 1, err);
                     if (rc) {
                         return rc;
                     }
@@ -348,7 +341,7 @@ int gr_neighbours_build(gr_sim *s, gr_error *err)
         for (int i = 0; i < n; i++) {
             s->cell_order[fill[s->cell_of[i]]++] = i;
         }
-        int rc = list_cells(s, gr_team(s), &count, err);
+        int rc = gr_neighbours_rows(s, gr_team(s), list_rows, &count, err);
         if (rc) {
             return rc;
         }

@@ -211,6 +211,23 @@ int gr_neighbours_build(gr_sim *s, gr_error *err);
  * kernel (the normal law of s->kernel) */
 int gr_neighbours_alloc_3d(gr_sim *s, gr_error *err);
 int gr_neighbours_build_3d(gr_sim *s, gr_error *err);
+
+/* The list's rows built on T threads (neighbours.c): rows(s, r0, r1, b) appends the rows [r0,
+ * r1) to the buffer b (gr_rows_append), setting nl_start[i] to each row's start in b; the
+ * threads' buffers are then put one after the other into the list. A row depends only on its
+ * particle, so the list is the one built in one pass whatever T. *count: the number of pairs. */
+typedef struct gr_rows_buf {
+    int *j;
+    uint8_t *c;
+    int64_t cap, count;
+    int own;
+} gr_rows_buf;
+typedef int (*gr_list_rows)(gr_sim *s, int r0, int r1, gr_rows_buf *b);
+int gr_neighbours_rows(gr_sim *s, int T, gr_list_rows rows, int64_t *count, gr_error *err);
+/* Room in b for `need` entries; 0 when out of memory. */
+int gr_rows_reserve(gr_sim *s, gr_rows_buf *b, int64_t need);
+/* Room in the list for `need` entries (the contact history too: 3 doubles per entry in 3D). */
+int gr_neighbours_grow(gr_sim *s, int64_t need, gr_error *err);
 void gr_kernel_run_3d(gr_sim *s, gr_force_report *r);
 /* the same loop with the tangential law (a 3D history vector per contact), rotation (angular
  * velocity vectors, torques) and the rolling law read from s->kernel */
