@@ -757,6 +757,12 @@ def rolling_pair_style(kind, model, sets, c, dt):
         lines = history_pair_style(kind, model, base, c, dt)
     else:
         lines = oblique_pair_style(kind, model, base, c, dt)
+    return with_rolling_sds(lines, sets, dt)
+
+
+def with_rolling_sds(lines, sets, dt):
+    """lines (pair_style, pair_coeff...) with `rolling sds k_roll 0 mu_r` on the first pair_coeff:
+    k_roll = M (ROLL_OMEGA_DT / dt)^2, mu_r from sets (also bench/lammps_collisions_3d.py)."""
     mu_r = float(next(x.split("=")[1] for x in sets if x.startswith("mu_r=")))
     k_roll = MASS * (ROLL_OMEGA_DT / dt) ** 2
     lines[1] += f" rolling sds {k_roll!r} 0.0 {mu_r!r}"

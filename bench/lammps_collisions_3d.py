@@ -23,9 +23,13 @@ contact point's velocity with the full radius, granule with |r_ij| / 2: O(xi_max
 the history springs, granule's half first step (O(1 / steps per contact)). Both shrink: the
 cases run at v = 1e-6 m/s (xi_max / d ~ 1e-9), and --spc sets the steps per contact.
 
+Then the rolling law (run_rolling, after the cases above; --no-rolling skips it): the 2D
+comparison's rolling_friction cases against LAMMPS's `rolling sds`, with its mapping and its rule
+(ROLLING and rolling_failures below), spins with a twisting and an out-of-plane rolling part.
+
     /usr/bin/python3 bench/lammps_collisions_3d.py --build BUILD --lmp LMP [--speeds V,...]
-        [--spc S,...] [--cases SUBSTRING] [--json OUT]
-Exit 1 when a case differs by more than its bound (bound_of below).
+        [--spc S,...] [--cases SUBSTRING] [--no-rolling] [--json OUT]
+Exit 1 when a case differs by more than its bound (bound_of below; rolling: rolling_failures).
 """
 import argparse
 import json
@@ -100,7 +104,8 @@ def coefficients_3d(build, model, sets):
             "--set", f"model.normal={normal}", "--set", f"model.tangential={tangential}",
             "--set", f"system.mass={MASS!r}", "--set", f"system.radius={RADIUS!r}"]
     for s in sets:
-        args += ["--set", "model." + s]
+        if not s.startswith("mu_r="):  # the rolling law (a third part of model) sets no coefficient here
+            args += ["--set", "model." + s]
     out = subprocess.run(args, check=True, capture_output=True, text=True).stdout
     return {k: v for k, v in (ln.split("=", 1) for ln in out.split())}
 
@@ -186,8 +191,9 @@ def bound_of(kind, xi_over_d, spc):
         (lc.FIRST_STEP_COEFF / spc if hist else 0.0) + ROUNDING
 
 
-def run(build, lmp, speeds, spcs, cases=CASES, geometries=GEOMETRIES, Q=None):
-    """Every case x geometry x speed x steps per contact in both engines."""
+def run(build, lmp, speeds, spcs, cases=CASES, geometries=GEOMETRIES, Q=None, pair_style=pair_lines):
+    """Every case x geometry x speed x steps per contact in both engines (pair_style: the LAMMPS
+    mapping, pair_lines or rolling_lines)."""
     Q = Q or CYCLIC
     rows = []
     with tempfile.TemporaryDirectory() as work:
@@ -198,7 +204,7 @@ def run(build, lmp, speeds, spcs, cases=CASES, geometries=GEOMETRIES, Q=None):
                     for spc in spcs:
                         w1, w2 = [x * v / RADIUS for x in w1r], [x * v / RADIUS for x in w2r]
                         g, dt, t_c = lc.granule_oblique(build, model, sets, v, angle, w1, w2, spc, dim=3)
-                        lines = pair_lines(kind, model, sets, c, dt)
+                        lines = pair_style(kind, model, sets, c, dt)
                         lm = lammps_3d(lmp, work, lines, v, angle, w1, w2, dt, t_c, Q, "rotation=true" in sets)
                         zero = [0.0, 0.0, 0.0]
                         eng = {"granule": dict(v1=g["v1_after"], v2=g["v2_after"], omega1=g.get("omega1", zero),
@@ -240,6 +246,94 @@ def markdown(rows):
     return "\n".join(table)
 
 
+# ---------------------------------------------------------------------------------------------
+# Rolling resistance in 3D: rolling_friction against `rolling sds` (docs/lammps.md, "Single
+# collisions in 3D"). The cases, the mapping (`rolling sds k_roll 0 mu_r`, k_roll = M (0.1 / dt)^2,
+# on the style carrying F_n; lc.with_rolling_sds) and the regime are the 2D comparison's
+# (bench/lammps_collisions.py, ROLLING): the slider at its limit in every step, the relative
+# rolling slowed but never stopped. In 3D both engines take the relative spin's part in the
+# tangent plane, dw_perp = (w_i - w_j) - ((w_i - w_j).n) n: granule's torque -+M dw_perp/|dw_perp|
+# (src/core/kernels_3d.c), LAMMPS's -+R_eff n x f_r with f_r along -R_eff (w_i - w_j) x n at the
+# limit, i.e. along -dw_perp too; the part about n (twisting) neither touches (LAMMPS `twisting`
+# off). Spheres: the rolling impulse changes |dw_perp| by about 1.25 mu_r (1 + eps_n) cos(angle)
+# (2 mu_r R_eff P_n / I, I = 2/5 M r^2), at most 0.54 and 0.30 v/r here (mu_r = 0.3), against
+# |dw_perp| = 0.875 and 0.743 before; the stuck spring's angular frequency is sqrt(1.25 k_roll / M)
+# = 0.11 / dt (56 steps a period). The geometries: spins about axes out of the impact plane, with
+# a twisting part (along n = x at the touch) and the rolling part in y and z; w1 at 30 degrees is
+# (300, -200, 150) rad/s at 1 m/s.
+#
+# The 2D rule holds where xi_max/d <= 1e-7 (the default 1e-6 m/s). At finite overlaps the laws part
+# by a term of LAMMPS's spring: n turns within the contact (by about pi xi_max/d tan(angle)), and
+# with it dw_perp turns about n when dw has a twisting part; LAMMPS projects its history into the
+# new tangent plane (which turns it about the axis n_old x n_new, not about n), so its force lags
+# dw_perp's direction by a fraction Frcrit / (k_roll R_eff |dw_perp| dt) of each step's turn, where
+# granule's torque (the rigid limit) follows it. Measured (hooke, 30 degrees, 1 m/s, xi_max/d =
+# 1.4e-3, 1e3 steps per contact): w1' - w2' differs by 6.6e-8 v/r; 1.3e-7 with twice the twisting
+# part, 7.5e-11 with none; 1.6e-8 and 4.1e-9 at 2e3 and 4e3 steps per contact; 2.6e-7, 1.6e-8 and
+# 4.1e-9 at ROLL_OMEGA_DT 0.05, 0.2, 0.4 (i.e. 1 / k_roll). In 2D dw_perp turns exactly with the
+# tangent plane, so the projection follows it and the laws agree at every overlap. The rule is
+# not widened for this: run_rolling at such speeds reports these cases as mismatches.
+ROLLING = lc.ROLLING
+ROLLING_GEOMETRIES = [(30.0, (0.45, -0.3, 0.225), (-0.3, 0.4, -0.3)), (60.0, (-0.2, -0.3, 0.4), (0.1, 0.25, -0.1))]
+
+
+def rolling_lines(kind, model, sets, c, dt):
+    """The LAMMPS lines of a ROLLING case: the tangential mapping (pair_lines; kind none: no
+    tangential force, granule's sliding_friction with mu = 0) + lc.with_rolling_sds."""
+    base = [x for x in sets if not x.startswith("mu_r=")]
+    if kind == "none":
+        lines = ["pair_style granular", "pair_coeff * * " + lc.lammps_pair_coeff(model.split("+")[0], base, c)[0]]
+    else:
+        lines = pair_lines(kind, model, base, c, dt)
+    return lc.with_rolling_sds(lines, sets, dt)
+
+
+def run_rolling(build, lmp, speeds, spcs, cases=ROLLING, geometries=ROLLING_GEOMETRIES, Q=None):
+    """The ROLLING cases (run above with rolling_lines), with the relative spin w1 - w2 (v / r)
+    before (dw0) and after in both engines (dw) and its largest componentwise difference dw_diff."""
+    rows = run(build, lmp, speeds, spcs, cases, geometries, Q, pair_style=rolling_lines)
+    for r in rows:
+        r["dw0"] = [a - b for a, b in zip(r["w1_before"], r["w2_before"])]
+        r["dw"] = {e: [r[e][f"w1{ax}"] - r[e][f"w2{ax}"] for ax in "xyz"] for e in ("granule", "lammps")}
+        r["dw_diff"] = max(abs(a - b) for a, b in zip(r["dw"]["granule"], r["dw"]["lammps"]))
+    return rows
+
+
+def rolling_failures(rows):
+    """The 2D comparison's rule (lc.rolling_failures): w1 - w2 (each component, v / r) agrees to
+    lc.ROLLING_TOL, plus lc.ROLLING_TRAJECTORY xi_max/d with a tangential force; without one every
+    compared number agrees to lc.ROLLING_TOL; with one the rest keeps its law's bound_of; the
+    rolling part (y, z: n = x at the touch) changes by > 0.01 v/r and keeps its direction."""
+    bad = []
+    for r in rows:
+        what = f"{r['case']} at {r['speed']:g} m/s, {r['angle']:g} deg, {r['steps_per_contact']:g} steps per contact"
+        bound = lc.ROLLING_TOL + (0.0 if r["kind"] == "none" else lc.ROLLING_TRAJECTORY * r["xi_over_d"])
+        if not r["dw_diff"] <= bound:
+            why = " (LAMMPS's spring lags dw_perp turning about n, see ROLLING)" if r["xi_over_d"] > 1e-7 else ""
+            bad.append(f"{what}: w1 - w2 differs by {r['dw_diff']:.2e} (v / r) > {bound:.2e}{why}")
+        p0, p1 = r["dw0"][1:], r["dw"]["granule"][1:]
+        if not (abs(math.hypot(*p1) - math.hypot(*p0)) > 1e-2 and p0[0] * p1[0] + p0[1] * p1[1] > 0.0):
+            bad.append(f"{what}: w1 - w2 from {r['dw0']} to {r['dw']['granule']} (v / r): the rolling law did not "
+                       "act, or it stopped the rolling")
+        if r["kind"] == "none" and not r["rel_diff"] <= lc.ROLLING_TOL:
+            bad.append(f"{what}: engines differ by {r['rel_diff']:.2e} > {lc.ROLLING_TOL:g} without a tangential force")
+    return bad + failures([r for r in rows if r["kind"] != "none"])
+
+
+def markdown_rolling(rows):
+    head = ["case", "angle", "w1, w2 before (v/r)", "steps per contact", "xi_max/d", "(w1 - w2) r/v after, granule",
+            "abs. diff. of w1' - w2'", "max abs. diff. (all)", "bound of w1' - w2'"]
+    vec = lambda w, f="g": "(" + ", ".join(f"{x:{f}}" for x in w) + ")"  # noqa: E731
+    table = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in rows:
+        b = lc.ROLLING_TOL + (0.0 if r["kind"] == "none" else lc.ROLLING_TRAJECTORY * r["xi_over_d"])
+        cells = [r["case"], f"{r['angle']:g}", vec(r["w1_before"]) + ", " + vec(r["w2_before"]),
+                 f"{r['steps_per_contact']:g}", f"{r['xi_over_d']:.1e}", vec(r["dw"]["granule"], ".9f"),
+                 f"{r['dw_diff']:.1e}", f"{r['rel_diff']:.1e}", f"{b:.1e}"]
+        table.append("| " + " | ".join(cells) + " |")
+    return "\n".join(table)
+
+
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--build", default=os.path.join(lc.SRC, "build"))
@@ -247,14 +341,20 @@ if __name__ == "__main__":
     ap.add_argument("--speeds", default=",".join(repr(v) for v in SPEEDS))
     ap.add_argument("--spc", default="1000,4000", help="steps per contact (comma-separated)")
     ap.add_argument("--cases", default="", help="only the cases whose name contains this")
+    ap.add_argument("--no-rolling", action="store_true", help="leave out rolling_friction against rolling sds")
     ap.add_argument("--json")
     a = ap.parse_args()
-    cases = {k: v for k, v in CASES.items() if a.cases in k}
-    rows = run(a.build, a.lmp, [float(x) for x in a.speeds.split(",")], [float(x) for x in a.spc.split(",")], cases)
+    speeds, spcs = [float(x) for x in a.speeds.split(",")], [float(x) for x in a.spc.split(",")]
+    rows = run(a.build, a.lmp, speeds, spcs, {k: v for k, v in CASES.items() if a.cases in k})
     print(markdown(rows))
+    rolling = [] if a.no_rolling else run_rolling(a.build, a.lmp, speeds, spcs,
+                                                  {k: v for k, v in ROLLING.items() if a.cases in k})
+    if rolling:
+        print("\nRolling resistance (rolling_friction) against rolling sds:\n")
+        print(markdown_rolling(rolling))
     if a.json:
-        json.dump(rows, open(a.json, "w"), indent=1)
-    bad = failures(rows)
+        json.dump({"rows": rows, "rolling": rolling}, open(a.json, "w"), indent=1)
+    bad = failures(rows) + rolling_failures(rolling)
     for m in bad:
         print(f"lammps_collisions_3d: MISMATCH {m}", file=sys.stderr)
     sys.exit(1 if bad else 0)

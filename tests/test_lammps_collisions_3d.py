@@ -17,7 +17,12 @@ angular velocity vectors):
    <= 5e-11 where it slides from the first step), and the sticking ones by more than 1e-6 (the
    half step is there; were it gone, docs/lammps.md would need rewriting). With LAMMPS's whole
    first step (a patched build, docs/lammps.md) every hooke case agreed to <= 1.6e-9;
- - the spins and the out-of-plane velocity really change (the test sees the third dimension).
+ - the spins and the out-of-plane velocity really change (the test sees the third dimension);
+ - two rolling cases (rolling_friction against `rolling sds`, ROLLING below; spins with a twisting
+   part and a rolling part out of the impact plane), by the 2D comparison's rule
+   (l3.rolling_failures): w1' - w2' agrees to 1e-9 v/r (measured <= 6.6e-14), without a tangential
+   force everything does, with one the rest keeps the tangential law's bound, and the rolling
+   slows the relative spin's tangent-plane part by > 0.01 v/r without stopping it.
 GRANULE_TEST_QUICK=1: the first geometry only.
 """
 import os
@@ -53,7 +58,16 @@ if not any(r["rel_diff"] > 1e-6 for r in rows if "sticking" in r["case"]):
     failures.append("no sticking case differs by more than 1e-6: is the half first step gone? (docs/lammps.md)")
 if len(rows) != len(l3.CASES) * len(geometries):
     failures.append(f"{len(rows)} collisions compared, expected {len(l3.CASES) * len(geometries)}")
+# rolling: hooke without a tangential force (every number exact), hertz Tsuji with tangential_dashpot
+ROLLING = ["spring_dashpot + rolling_friction (mu = 0, mu_r = 0.3)",
+           "hertz Tsuji + tangential_dashpot + rolling_friction (mu_r = 0.1)"]
+rolling = l3.run_rolling(build, lmp, [1e-6], [SPC], {k: l3.ROLLING[k] for k in ROLLING},
+                         l3.ROLLING_GEOMETRIES[:len(geometries)])
+print(l3.markdown_rolling(rolling))
+failures += l3.rolling_failures(rolling)
+if len(rolling) != len(ROLLING) * len(geometries):
+    failures.append(f"{len(rolling)} rolling collisions compared, expected {len(ROLLING) * len(geometries)}")
 for f in failures:
     print("FAIL", f)
-print(f"{len(rows)} 3D collisions compared; {len(failures)} failures")
+print(f"{len(rows) + len(rolling)} 3D collisions compared; {len(failures)} failures")
 sys.exit(1 if failures else 0)
