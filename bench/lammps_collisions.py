@@ -39,7 +39,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from lmp_env import fast_mpi_start  # noqa: E402
+from lmp_env import fast_mpi_start, run_lmp  # noqa: E402
 
 fast_mpi_start()  # each collision is one lmp run: its start dominates (bench/lmp_env.py)
 
@@ -388,7 +388,7 @@ def run_final_dump(lmp, work, pair_lines, steps):
     out = os.path.join(work, "final.txt")
     if os.path.exists(out):
         os.remove(out)
-    p = subprocess.run([lmp, "-in", "pair.in", "-log", "none"], cwd=work, capture_output=True, text=True)
+    p = run_lmp([lmp, "-in", "pair.in", "-log", "none"], cwd=work)
     text = open(out).read() if os.path.exists(out) else ""
     frames = text.split("ITEM: TIMESTEP")
     done = len(frames) > 1 and int(frames[-1].split()[0]) == steps

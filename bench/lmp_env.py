@@ -21,3 +21,19 @@ def fast_mpi_start():
     """Put FAST_START into os.environ (for every lmp or mpirun started from here on)."""
     for k, v in FAST_START.items():
         os.environ.setdefault(k, v)
+
+
+MPI_START_FAILED = ("ompi_rte_init failed", "An error occurred in MPI_Init")
+
+
+def run_lmp(args, tries=3, **kw):
+    """subprocess.run(args, capture_output=True, text=True, **kw), started again (up to `tries`
+    times) when Open MPI's singleton start itself failed ("ompi_rte_init failed" in MPI_Init, seen
+    once under heavy load while another lmp started): that failure happens before LAMMPS reads its
+    input, so a second start changes no result. Any other failure is returned as it is."""
+    import subprocess
+    for _ in range(tries):
+        p = subprocess.run(args, capture_output=True, text=True, **kw)
+        if p.returncode == 0 or not any(m in p.stdout + p.stderr for m in MPI_START_FAILED):
+            return p
+    return p
