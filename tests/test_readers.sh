@@ -408,12 +408,16 @@ for f in data + sorted(glob.glob("res/*/results.csv")):  # results.csv: every fi
     assert len(a.dtype.names) == len(df.columns) and len(a) == len(df), (f, a.dtype.names, len(a), len(df))
     if "group" in df.columns:
         assert all(g.strip('"') == h for g, h in zip(a["group"], df["group"])), f
-# ... and read back for the figures as the campaign writes them ("eps_n=0.1, N=100", gr_csv_label):
-# the gnuplot blocks and thesis lines equal the committed ones
+# ... and read back for the figures as the page writes them ("eps_n = 0.1, N = 100", the series'
+# titles): the gnuplot blocks and thesis lines equal the committed ones
 dat = sorted(glob.glob("res/*/*_blocks.dat") + glob.glob("res/*/*_thesis.dat"))
-assert any('"eps_n=0.1, N=100"' in open(f).read() for f in dat), dat
+assert any('"eps_n = 0.1, N = 100"' in open(f).read() for f in dat), dat
 for f in dat:
     assert open(f).read() == open(os.path.join(src, "docs/results", f[4:])).read(), f
+# a handful of series per plot (issue 37): a figure of many is drawn in panels
+for f in sorted(glob.glob(os.path.join(src, "docs/results/*/*.gp"))):
+    for lo, hi in re.findall(r"^plot for \[i=(\d+):(\d+)\]", open(f).read(), re.M):
+        assert int(hi) - int(lo) + 1 <= 9, (f, "series in one plot", int(hi) - int(lo) + 1)
 labels = set(pd.read_csv("res/ch3-moments/results.csv")["group"])
 assert "eps_n=0.1; N=100" in labels and not any(", " in g for g in labels), sorted(labels)[:5]
 for f in data:

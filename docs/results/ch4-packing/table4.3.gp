@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Fractal dimension D_f of S(k) = A k^-D_f (4.4) below k', eps_n = 0.4, eps_t = 1" noenhanced
 set ylabel 'D_f' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

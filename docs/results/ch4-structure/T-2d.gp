@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Steady granular temperature (2.19), both components" noenhanced
 set ylabel 'T / m^2/s^2' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

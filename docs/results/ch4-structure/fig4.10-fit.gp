@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "D_f from the free-path tail fit (4.25) P_l = A0 exp(-C l^(D_f-1)) l^(D_f-2)" noenhanced
 set ylabel 'D_f' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "D_f of 4.25 fitted where the thesis fits it: the free-path tail with P_l < 1 per metre" noenhanced
 set ylabel 'D_f' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

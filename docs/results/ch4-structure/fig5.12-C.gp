@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Free-path constant C of 4.25 at the thesis's D_f = 1.63, in SI (l in m)" noenhanced
 set ylabel 'C / m^-0.63' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "The SPM at each run's own D_f: measured S over predicted S, alpha and h from the free 4.25 fit" noenhanced
 set ylabel 'S/S_pred' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Predicted tail coefficient S of P(v) ~ exp(-S |v|^alpha) (5.27) from each run's C, D_f = 1.63" noenhanced
 set ylabel 'S / (m/s)^-0.972' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Measured tail coefficient S: 5.31 fitted to each run's P(v) at alpha = 0.972 and h = 0.486 (D_f = 1.63)" noenhanced
 set ylabel 'S / (m/s)^-0.972' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Slope of the tail plot -ln(-ln(P/P')) against ln(v/v_rms) with P' = P(0)" noenhanced
 set ylabel 'slope' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

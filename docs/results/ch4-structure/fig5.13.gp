@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Amplitude of the asymptotic exponential over the peak, A0 / P(0), A0 of A0 exp(-S |v|) fitted to the tail" noenhanced
 set ylabel 'A0/P(0)' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

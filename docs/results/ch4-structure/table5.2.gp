@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Tail exponent alpha of P(v) = A exp(-(|v|/v0)^alpha) (5.5), free fit" noenhanced
 set ylabel 'alpha' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

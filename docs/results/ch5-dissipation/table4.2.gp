@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Fractal dimension D_f with no tangential dissipation (eps_t = 1), L = 0.2 m" noenhanced
 set ylabel 'D_f' noenhanced
 set xtics rotate by 90 right font ',11' noenhanced
-set xlabel 'eps_n+eps_t' noenhanced
+set xlabel 'eps_n, eps_t' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Probability at the crossover, P(v_c)/P(0) = exp(-(v_c/v_r)^2/2)" noenhanced
 set ylabel 'P(v_c)/P(0)' noenhanced
 set xtics rotate by 90 right font ',11' noenhanced
-set xlabel 'eps_n+eps_t' noenhanced
+set xlabel 'eps_n, eps_t' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

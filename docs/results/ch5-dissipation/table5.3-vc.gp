@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Crossover velocity v_c / v_r of P_0(v) (5.32)" noenhanced
 set ylabel 'v_c/v_r' noenhanced
 set xtics rotate by 90 right font ',11' noenhanced
-set xlabel 'eps_n+eps_t' noenhanced
+set xlabel 'eps_n, eps_t' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Decades of P(v) over which the scaled SPM agrees with the run contiguously from the fastest bin down" noenhanced
 set ylabel 'decades' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Vertical scale k of the SPM curve (the vertical scaling of the thesis's Fig. 5.10)" noenhanced
 set ylabel 'k' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Velocity scale s when the SPM curve may also stretch in v, k P_spm(v / s) / s (1: no stretch needed)" noenhanced
 set ylabel 's' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

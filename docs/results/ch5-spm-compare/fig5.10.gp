@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Fraction of the P(v) tail bins (v >= 2 v_rms) where the run and the vertically scaled SPM agree within 3 sigma" noenhanced
 set ylabel 'fraction' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'N+L' noenhanced
+set xlabel 'N, L (m)' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Fractal dimension D_f of S(k) (4.4): the RFM against a cascade placement of the same discs" noenhanced
 set ylabel 'D_f' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'eps_n+eps_t' noenhanced
+set xlabel 'eps_n, eps_t' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Fractal dimension D_f of S(k) (sec. 4.1) under each contact model" noenhanced
 set ylabel 'D_f' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'normal+tangential+rotation+kind+beta+rolling' noenhanced
+set xlabel 'normal, tangential, rotation, kind, beta, rolling' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

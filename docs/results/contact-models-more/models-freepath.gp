@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "Mean free path over the diameter (sec. 4.3) under each contact model" noenhanced
 set ylabel '<l>/d' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'normal+tangential+rotation+kind+beta+rolling' noenhanced
+set xlabel 'normal, tangential, rotation, kind, beta, rolling' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

@@ -3,7 +3,7 @@ set datafile separator whitespace
 set title "D_f from the free-path tail (4.25), fitted where the thesis fits it (P_l < 1 per metre), under each contact model" noenhanced
 set ylabel 'D_f' noenhanced
 set xtics rotate by -40 noenhanced
-set xlabel 'normal+tangential+rotation+kind' noenhanced
+set xlabel 'normal, tangential, rotation, kind' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'

@@ -239,3 +239,45 @@ void campaign_row_thesis(const gr_campaign_result *r, campaign_row *row)
         return;
     }
 }
+
+const char *campaign_key_unit(const char *key)
+{
+    static const char *const units[][2] = {
+        {"L", "m"},  {"reduced_length", "m"}, {"radius", "m"}, {"mass", "kg"}, {"D", "N^2 s"},
+        {"dt", "s"}, {"duration", "s"},       {"warmup", "s"}};
+    for (size_t u = 0; u < sizeof units / sizeof units[0]; u++) {
+        if (!strcmp(key, units[u][0])) {
+            return units[u][1];
+        }
+    }
+    return "";
+}
+
+/* A group label as a physicist writes it: "N+L=3000/0.2, eps_n=0.1" -> "N = 3000, L = 0.2 m,
+ * eps_n = 0.1" (linked keys split, units of the lengths, masses and times added). */
+void campaign_pretty_group(const char *group, char *out, size_t len)
+{
+    char buf[512];
+    snprintf(buf, sizeof buf, "%s", group);
+    size_t n = 0;
+    out[0] = 0;
+    char *save = NULL;
+    for (char *item = strtok_r(buf, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
+        while (*item == ' ') {
+            item++;
+        }
+        char *eq = strchr(item, '=');
+        if (!eq) {
+            n += (size_t)snprintf(out + n, n < len ? len - n : 0, "%s%s", n ? ", " : "", item);
+            continue;
+        }
+        *eq = 0;
+        char *ks = NULL, *vs = NULL;
+        for (char *k = strtok_r(item, "+", &ks), *v = strtok_r(eq + 1, "/", &vs); k && v;
+             k = strtok_r(NULL, "+", &ks), v = strtok_r(NULL, "/", &vs)) {
+            const char *unit = campaign_key_unit(k);
+            n += (size_t)snprintf(out + n, n < len ? len - n : 0, "%s%s = %s%s%s", n ? ", " : "", k,
+                                  v, unit[0] ? " " : "", unit);
+        }
+    }
+}

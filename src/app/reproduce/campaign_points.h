@@ -28,6 +28,12 @@ void campaign_points_free(campaign_points *pts);
 /* The value of varied key `key` of a point ("" if not varied). */
 const char *campaign_point_key(const campaign_point *p, const char *key);
 
+/* The unit of a group's key as the page writes it ("m" for L, "" for a number). */
+const char *campaign_key_unit(const char *key);
+/* A group label as a physicist writes it: "N+L=3000/0.2, eps_n=0.1" -> "N = 3000, L = 0.2 m,
+ * eps_n = 0.1" (linked keys split, units of the lengths, masses and times added). */
+void campaign_pretty_group(const char *group, char *out, size_t len);
+
 /* Keep every point's manifest, summary and curve series in RESULTS/points (campaign_archive.c). */
 int campaign_archive(const gr_campaign *c, const campaign_points *pts, const char *results,
                      gr_error *err);

@@ -60,12 +60,22 @@ static void split_group(const char *group, char *values, size_t nv, char *keys, 
             tok++;
         }
         char *eq = strchr(tok, '=');
-        const char *sep_v = values[0] ? ", " : "", *sep_k = keys[0] ? ", " : "";
-        if (eq) {
-            *eq = '\0';
-            snprintf(keys + strlen(keys), nk - strlen(keys), "%s%s", sep_k, tok);
+        if (!eq) {
+            snprintf(values + strlen(values), nv - strlen(values), "%s%s", values[0] ? ", " : "",
+                     tok);
+            continue;
         }
-        snprintf(values + strlen(values), nv - strlen(values), "%s%s", sep_v, eq ? eq + 1 : tok);
+        *eq = '\0';
+        /* linked keys N+L=3000/0.2: keys "N, L (m)", values "3000, 0.2" */
+        char *ks = NULL, *vs = NULL;
+        for (char *k = strtok_r(tok, "+", &ks), *v = strtok_r(eq + 1, "/", &vs); k && v;
+             k = strtok_r(NULL, "+", &ks), v = strtok_r(NULL, "/", &vs)) {
+            const char *unit = campaign_key_unit(k);
+            snprintf(keys + strlen(keys), nk - strlen(keys), "%s%s%s%s%s", keys[0] ? ", " : "", k,
+                     unit[0] ? " (" : "", unit, unit[0] ? ")" : "");
+            snprintf(values + strlen(values), nv - strlen(values), "%s%s", values[0] ? ", " : "",
+                     v);
+        }
     }
 }
 
@@ -193,13 +203,23 @@ static bool thesis_line(FILE *f, const gr_campaign_result *r, const char *group,
  * line; returns the number of blocks. For a power_law result with a thesis exponent, ID_thesis.dat
  * gets, per block, the thesis's law y ~ x^-xi drawn over the block's fit window through its
  * largest fitted point (two points; "nan" where the thesis gives no single exponent). */
-static int power_law_blocks(const char *dir, const gr_campaign_result *r, bool *thesis_lines)
+/* A figure of many series is drawn in panels of a handful each (issue 37: "at most a handful of
+ * series"): one panel per group when each group holds several series (the moments of one eps),
+ * else consecutive runs of at most 6 (plot_data). */
+enum { MAX_PANELS = 12, PLOT_CAP = 1200, SERIES_PER_PANEL = 8 };
+
+/* the groups' labels as the panels of a figure title them (power_law_blocks fills them) */
+typedef char group_label[96];
+
+static int power_law_blocks(const char *dir, const gr_campaign_result *r, bool *thesis_lines,
+                            int *groups, group_label *labels, const int max_labels)
 {
     char path[1200], name[80], tname[80];
     snprintf(path, sizeof path, "%s/%s_data.csv", dir, r->id);
     snprintf(name, sizeof name, "%s_blocks.dat", r->id);
     snprintf(tname, sizeof tname, "%s_thesis.dat", r->id);
     *thesis_lines = false;
+    *groups = 0;
     FILE *in = gr_input_fopen(path, &(int){0});
     gr_file f, t;
     gr_error err = {0};
@@ -233,7 +253,8 @@ static int power_law_blocks(const char *dir, const gr_campaign_result *r, bool *
         char group[200], key[220]; /* the label as the campaign has it: "; " in the cell is ", " */
         snprintf(group, sizeof group, "%.*s", (int)(q - line - 1), line + 1);
         gr_csv_label(group);
-        snprintf(key, sizeof key, "%s%s%.0d", group, m ? " m=" : "", m);
+        campaign_pretty_group(group, key, sizeof key - 16);
+        snprintf(key + strlen(key), sizeof key - strlen(key), "%s%.0d", m ? ", m = " : "", m);
         if (strcmp(key, prev)) {
             if (want_thesis && blocks) {
                 *thesis_lines |=
@@ -241,6 +262,10 @@ static int power_law_blocks(const char *dir, const gr_campaign_result *r, bool *
             }
             fprintf(f.f, "%s\"%s\"\n", blocks ? "\n\n" : "", key);
             snprintf(prev, sizeof prev, "%s", key);
+            if (strcmp(group, prev_group) && *groups < max_labels) {
+                campaign_pretty_group(group, labels[*groups], sizeof labels[0]);
+            }
+            *groups += strcmp(group, prev_group) != 0;
             snprintf(prev_group, sizeof prev_group, "%s", group);
             prev_m = m;
             x_lo = x_hi = y_hi = NAN;
@@ -285,39 +310,113 @@ static void axis_labels(const gr_campaign_result *r, char *x, size_t xl, char *y
     }
 }
 
+/* The panels of a figure of `blocks` series in `groups` groups: fills plots[k] (PLOT_CAP bytes
+ * each, static) empty and returns their number (1: one plot); *by_group when each panel is one
+ * group. */
+static int panels(const int blocks, const int groups, char *plots[MAX_PANELS], bool *by_group)
+{
+    static char buf[MAX_PANELS][PLOT_CAP];
+    for (int k = 0; k < MAX_PANELS; k++) {
+        plots[k] = buf[k];
+        buf[k][0] = 0;
+    }
+    *by_group = false;
+    if (blocks <= SERIES_PER_PANEL) {
+        return 1;
+    }
+    *by_group = groups > 1 && groups <= MAX_PANELS && blocks % groups == 0 && blocks / groups <= 9;
+    const int np = *by_group ? groups : (blocks + 5) / 6;
+    return np < MAX_PANELS ? np : MAX_PANELS;
+}
+
+/* The figure ID_data.png: head (the axes), then the panels' plots under the title (one panel: a
+ * single plot with its key where `key` says). */
+static void draw_panels(const char *dir, const char *id, const char *head, const char *key,
+                        const char *title, char *const plots[], const int np)
+{
+    char body[16384];
+    size_t n = (size_t)snprintf(body, sizeof body, "%s", head);
+    if (np == 1) {
+        snprintf(body + n, sizeof body - n,
+                 "set key %s noenhanced\nset title \"%s\" noenhanced\n%s", key, title, plots[0]);
+    } else {
+        const int cols = np <= 4 ? 2 : 3, rows = (np + cols - 1) / cols;
+        /* the key in an empty cell of the grid when there is one, else inside the first panel */
+        const char *where = np < rows * cols ? "at screen 0.97, 0.06 right bottom font ',12'"
+                                             : "top right font ',9'";
+        n += (size_t)snprintf(body + n, sizeof body - n,
+                              "set key %s noenhanced\nset tics font ',10'\nset title font ',12'\n"
+                              "set xlabel font ',11'\nset ylabel font ',11'\n"
+                              "set multiplot layout %d,%d title \"%s\" noenhanced font ',13'\n",
+                              where, rows, cols, title);
+        for (int k = 0; k < np && n < sizeof body; k++) { /* one key: the colours repeat */
+            n += (size_t)snprintf(body + n, sizeof body - n, "%s%s", k == 1 ? "unset key\n" : "",
+                                  plots[k]);
+        }
+        if (n < sizeof body) {
+            snprintf(body + n, sizeof body - n, "unset multiplot\n");
+        }
+    }
+    campaign_draw(dir, id, "_data", body);
+}
+
 /* the data behind a fit or a running average */
 static void plot_data(const char *dir, const gr_campaign_result *r)
 {
     char body[2048];
     if (r->kind == GR_RESULT_POWER_LAW) {
         bool thesis_lines;
-        int blocks = power_law_blocks(dir, r, &thesis_lines);
+        group_label labels[MAX_PANELS];
+        int groups, blocks = power_law_blocks(dir, r, &thesis_lines, &groups, labels, MAX_PANELS);
         if (!blocks) {
             return;
         }
-        char window[64], thesis[256] = "", xlab[96], ylab[96];
+        char window[64], xlab[96], ylab[96];
         axis_labels(r, xlab, sizeof xlab, ylab, sizeof ylab);
         snprintf(window, sizeof window, isfinite(r->x_max) ? "%g-%g" : "from %g", r->x_min,
                  r->x_max);
-        if (thesis_lines) { /* the thesis's exponent drawn through each fit's largest point */
-            snprintf(thesis, sizeof thesis,
-                     ", for [i=0:%d] '%s_thesis.dat' index i using 1:2 with lines dt 2 lw 2 lc i+1 "
-                     "title (i == 0 ? 'thesis exponent (dashed)' : '')",
-                     blocks - 1, r->id);
+        char head[1024], title[512];
+        snprintf(title, sizeof title,
+                 "%s: the points of every fit (open: outside the fit window, %s)", r->id, window);
+        snprintf(head, sizeof head,
+                 "set datafile separator whitespace\nset logscale xy\nset xlabel '%s' "
+                 "noenhanced\nset ylabel '%s' noenhanced\n",
+                 xlab, ylab);
+        char *plots[MAX_PANELS];
+        bool by_group;
+        const int np = panels(blocks, groups, plots, &by_group);
+        const bool m_titles = by_group && r->m_lo > 0; /* each panel's series: m = m_lo, ... */
+        for (int k = 0; k < np; k++) {
+            const int lo = k * blocks / np, hi = (k + 1) * blocks / np - 1;
+            char th[256] = "", series[96] = "columnheader(1)", lc[32] = "i+1", panel[160] = "";
+            if (np > 1) { /* the same colours in every panel */
+                snprintf(lc, sizeof lc, "i-%d+1", lo);
+            }
+            if (m_titles) {
+                snprintf(series, sizeof series, "sprintf('m = %%d', %d + (i - %d) * %d)", r->m_lo,
+                         lo, r->m_step > 0 ? r->m_step : 1);
+            }
+            if (by_group) {
+                snprintf(panel, sizeof panel, "set title '%.95s' noenhanced\n", labels[k]);
+            }
+            if (thesis_lines) { /* the thesis's exponent drawn through each fit's largest point */
+                snprintf(th, sizeof th,
+                         ", for [i=%d:%d] '%s_thesis.dat' index i using 1:2 with lines dt 2 lw 2 "
+                         "lc %s title (i == %d ? 'thesis exponent (dashed)' : '')",
+                         lo, hi, r->id, lc, lo);
+            }
+            snprintf(plots[k], PLOT_CAP,
+                     "%splot for [i=%d:%d] '%s_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 "
+                     "with yerrorbars pt 7 lc %s title %s, for [i=%d:%d] '' index i using 1:($4 > "
+                     "0 ? 1/0 : $2) with points pt 6 lc %s notitle%s\n",
+                     panel, lo, hi, r->id, lc, series, lo, hi, lc, th);
         }
-        snprintf(body, sizeof body,
-                 "set datafile separator whitespace\nset logscale xy\nset key outside right "
-                 "noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
-                 "set title \"%s: the points of every fit (open: outside the fit window, %s)\" "
-                 "noenhanced\n"
-                 "plot for [i=0:%d] '%s_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 with "
-                 "yerrorbars pt 7 lc i+1 title columnheader(1), "
-                 "for [i=0:%d] '' index i using 1:($4 > 0 ? 1/0 : $2) with points pt 6 lc i+1 "
-                 "notitle%s\n",
-                 xlab, ylab, r->id, window, blocks - 1, r->id, blocks - 1, thesis);
+        draw_panels(dir, r->id, head, "outside right", title, plots, np);
+        return;
     } else if (r->kind == GR_RESULT_CURVE) {
         bool unused;
-        int blocks = power_law_blocks(dir, r, &unused);
+        group_label labels[MAX_PANELS];
+        int groups, blocks = power_law_blocks(dir, r, &unused, &groups, labels, MAX_PANELS);
         if (!blocks) {
             return;
         }
@@ -326,17 +425,28 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
                            : !strcmp(r->axes, "linlog")
                                ? "set logscale y\nset format y '10^{%L}'\n"
                                : "set logscale xy\nset format y '10^{%L}'\n";
-        snprintf(
-            body, sizeof body,
-            "set datafile separator whitespace\n%sset format x '%%g'\n"
-            "set key %s noenhanced\nset xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n"
-            "set title \"%s\" noenhanced\n"
-            "plot for [i=0:%d] '%s_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc "
-            "i+1 title columnheader(1)%s\n",
-            axes, map ? "inside top left" : "outside right", map ? "-ln R" : r->x,
-            map ? "A_N G^{1/(n-1)}  (3.39)" : r->quantity, r->title, blocks - 1, r->id,
-            map ? ", x with lines dt 2 lw 2 lc rgb 'black' title 'uniform bisection (3.36): -ln R'"
-                : "");
+        char head[1024];
+        snprintf(head, sizeof head,
+                 "set datafile separator whitespace\n%sset format x '%%g'\n"
+                 "set xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n",
+                 axes, map ? "-ln R" : r->x, map ? "A_N G^{1/(n-1)}  (3.39)" : r->quantity);
+        char *plots[MAX_PANELS];
+        bool by_group;
+        const int np = panels(blocks, groups, plots, &by_group);
+        for (int k = 0; k < np; k++) {
+            const int lo = k * blocks / np, hi = (k + 1) * blocks / np - 1;
+            snprintf(plots[k], PLOT_CAP,
+                     "%splot for [i=%d:%d] '%s_blocks.dat' index i using 1:2 with linespoints pt 7 "
+                     "ps 0.5 lc i-%d+1 title columnheader(1)%s\n",
+                     np > 1 && k == 1 ? "set key top right font ',9' noenhanced\n" : "", lo, hi,
+                     r->id, np > 1 ? lo : 0,
+                     map ? ", x with lines dt 2 lw 2 lc rgb 'black' title 'uniform bisection "
+                           "(3.36): -ln R'"
+                         : "");
+        }
+        draw_panels(dir, r->id, head, map ? "inside top left" : "outside right", r->title, plots,
+                    np);
+        return;
     } else if (r->kind == GR_RESULT_RUNNING) {
         snprintf(body, sizeof body,
                  "set datafile separator ','\nset key outside right\nset xlabel 'sampling time t "

@@ -239,41 +239,6 @@ static void errata(FILE *f, const char *root)
     fprintf(f, "\n");
 }
 
-/* A group label as a physicist writes it: "N+L=3000/0.2, eps_n=0.1" -> "N = 3000, L = 0.2 m,
- * eps_n = 0.1" (linked keys split, units of the lengths, masses and times added). */
-static void pretty_group(const char *group, char *out, size_t len)
-{
-    static const char *const units[][2] = {
-        {"L", " m"},  {"reduced_length", " m"}, {"radius", " m"}, {"mass", " kg"}, {"D", " N^2 s"},
-        {"dt", " s"}, {"duration", " s"},       {"warmup", " s"}};
-    char buf[512];
-    snprintf(buf, sizeof buf, "%s", group);
-    size_t n = 0;
-    out[0] = 0;
-    char *save = NULL;
-    for (char *item = strtok_r(buf, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
-        while (*item == ' ') {
-            item++;
-        }
-        char *eq = strchr(item, '=');
-        if (!eq) {
-            n += (size_t)snprintf(out + n, n < len ? len - n : 0, "%s%s", n ? ", " : "", item);
-            continue;
-        }
-        *eq = 0;
-        char *ks = NULL, *vs = NULL;
-        for (char *k = strtok_r(item, "+", &ks), *v = strtok_r(eq + 1, "/", &vs); k && v;
-             k = strtok_r(NULL, "+", &ks), v = strtok_r(NULL, "/", &vs)) {
-            const char *unit = "";
-            for (size_t u = 0; u < sizeof units / sizeof units[0]; u++) {
-                unit = !strcmp(k, units[u][0]) ? units[u][1] : unit;
-            }
-            n += (size_t)snprintf(out + n, n < len ? len - n : 0, "%s%s = %s%s", n ? ", " : "", k,
-                                  v, unit);
-        }
-    }
-}
-
 static void result_table(FILE *f, const cJSON *res, const char *campaign, const char *root,
                          const char *link_root)
 {
@@ -325,7 +290,7 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         } else {
             snprintf(theirs, sizeof theirs, "not quoted");
         }
-        pretty_group(str(row, "group"), group, sizeof group);
+        campaign_pretty_group(str(row, "group"), group, sizeof group);
         if (isfinite(num(row, "m"))) {
             snprintf(group + strlen(group), sizeof group - strlen(group), ", m = %.0f",
                      num(row, "m"));
