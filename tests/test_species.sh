@@ -272,7 +272,8 @@ for kind in uniform cluster random; do
 done
 
 # refusals: the key, with where it was given
-refuse "\[model\] tangential.*not available with \[species\]" --set model.tangential=tangential_spring
+refuse_with "$tmp/dist.ini" "\[model\] tangential.*not available with \[species\]" \
+    --set model.tangential=tangential_spring
 refuse "\[integrator\] kind.*not available with \[species\]" --set integrator.kind=hybrid
 refuse "\[model\] rotation.*not available with \[species\]" --set integrator.kind=event \
     --set model.normal=hard_sphere --set model.rotation=true

@@ -13,7 +13,9 @@
  *   pair's eps_n and the ledger;
  * - tangential laws and rotation (2D): an oblique collision of unequal discs with the pair's eps_t,
  *   momentum and angular momentum conserved, spins in the ratio of each grain's own moment of
- *   inertia; driven gases' ledgers. */
+ *   inertia; driven gases' ledgers;
+ * - the history law (tangential_spring, linear and Mindlin) with the pair's own coefficients, its
+ *   springs' energy in the ledger, and an exact restart with springs held. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -25,6 +27,7 @@
 #include "granule/scene.h"
 #include "granule/sim.h"
 #include "sim_helpers.h"
+#include "test_env.h"
 
 /* Two rods on a long ring, no driving. */
 static const char *pair_1d =
@@ -116,23 +119,33 @@ static void oblique(gr_sim *s, double n[2])
     ck_assert_msg(touched, "the discs never met");
 }
 
-/* 200 grains of pair_2d's species driven by the random force (rotating: spun up by omega0), 20000
- * steps: the ledger closes to 2e-3 of the energy moved; returns it. */
-static gr_ledger driven_gas(bool rotating)
+/* The scene of driven_gas: 200 grains of pair_2d's species driven by the random force (rotating:
+ * spun up by omega0), law: a further setting (NULL: none). */
+static void gas_scene(gr_scene *sc, bool rotating, const char *law)
 {
-    const char *gas[] = {"system.N=200",       "system.L=0.1", "placement.v0=0.2",
-                         "driving.kind=rfm",   "noise.D=1e-9", "model.rotation=true",
-                         "placement.omega0=50"};
+    const char *gas[8] = {"system.N=200",       "system.L=0.1", "placement.v0=0.2",
+                          "driving.kind=rfm",   "noise.D=1e-9", "model.rotation=true",
+                          "placement.omega0=50"};
+    const int n = rotating ? 7 : 5;
+    if (law) {
+        gas[n] = law;
+    }
+    load(sc, pair_2d, gas, n + (law != NULL));
+}
+
+/* gas_scene's gas, 20000 steps: the ledger closes to 2e-3 of the energy moved; returns it. */
+static gr_ledger driven_gas(bool rotating, const char *law)
+{
     gr_scene sc;
-    load(&sc, pair_2d, gas, rotating ? 7 : 5);
+    gas_scene(&sc, rotating, law);
     gr_sim *s = create(&sc);
     step(s, 20000);
     const gr_ledger l = gr_sim_ledger(s);
     const double moved = l.injected + gr_ledger_dissipated(&l), res = gr_ledger_residual(&l);
-    printf("driven gas%s: dissipated normal %.4g J, tangential %.4g J, rotational energy %.4g J, "
-           "residual %.3g of the energy moved\n",
-           rotating ? " (rotating)" : "", l.dissipated_normal, l.dissipated_tangential,
-           l.rotational, res / moved);
+    printf("driven gas%s%s: dissipated normal %.4g J, tangential %.4g J, friction %.4g J, "
+           "rotational energy %.4g J, residual %.3g of the energy moved\n",
+           rotating ? " (rotating)" : "", law ? law : "", l.dissipated_normal,
+           l.dissipated_tangential, l.dissipated_friction, l.rotational, res / moved);
     ck_assert_msg(fabs(res) < 2e-3 * moved, "residual %g of %g", res, moved);
     gr_sim_free(s);
     return l;
@@ -165,10 +178,45 @@ START_TEST(pair_tangential)
                   py1, px0);
     gr_sim_free(s);
     /* a driven gas: the ledger closes, the tangential law's dissipation in its column */
-    const gr_ledger l = driven_gas(false);
+    const gr_ledger l = driven_gas(false, NULL);
     ck_assert(l.dissipated_tangential > 0.05 * l.dissipated_normal);
 }
 END_TEST
+
+/* oblique() with rotating discs (I_i = s->inertia_i): the angular momentum sum
+ * m_i r_i x v_i + I_i w_i before (L0) and after (L1), the contact point's tangential velocity
+ * after over before (ratio, the arms a_i = |r_ij| r_i / (r_i + r_j)), the restitution the pair's
+ * law gives for it (want: gr_model.restitution_t of cc_pair) and the approach (gn0, gt0). */
+typedef struct spin_out {
+    double L0, L1, ratio, want, gn0, gt0;
+} spin_out;
+
+static spin_out spin_collision(gr_sim *s)
+{
+    const double d = s->rad[0] + s->rad[1], b = 0.5 * d;
+    const double m[2] = {s->mass_i[0], s->mass_i[1]}, I[2] = {s->inertia_i[0], s->inertia_i[1]};
+    spin_out o;
+    /* the start (oblique's positions and velocities, no spin): L = m (x v_y - y v_x), y = 0.1
+     * and 0.1 + b, v_x = +-0.1 */
+    o.L0 = m[0] * (-0.1 * 0.1) + m[1] * (-(0.1 + b) * -0.1);
+    double n[2];
+    oblique(s, n);
+    const double nx = n[0], ny = n[1], tx = ny, ty = -nx;
+    o.gn0 = -0.2 * nx;
+    o.gt0 = -0.2 * tx;
+    o.L1 = 0.0;
+    for (int i = 0; i < 2; i++) {
+        o.L1 += m[i] * (s->x[i] * s->vy[i] - s->y[i] * s->vx[i]) + I[i] * s->omega[i];
+    }
+    const double dx = s->x[1] - s->x[0], dy = s->y[1] - s->y[0], r = sqrt(dx * dx + dy * dy);
+    const double a0 = r * s->rad[0] / d, a1 = r - a0;
+    const double gx = s->vx[1] - s->vx[0], gy = s->vy[1] - s->vy[0];
+    o.ratio = (gx * tx + gy * ty + a0 * s->omega[0] + a1 * s->omega[1]) / o.gt0;
+    const gr_contact_coeffs *cp = &s->cc_pair[s->species[0] * 2 + s->species[1]];
+    o.want = cp->tangential_model->restitution_t(cp, cp->normal_model->impact(cp, -o.gn0), -o.gn0,
+                                                 fabs(o.gt0));
+    return o;
+}
 
 /* Rotation with species (2D, kernels_poly.c, step_poly.c): the same oblique collision with
  * rotating discs. The contact point splits |r_ij| as r_0 : r_1, so the spin torques a_i f_t are
@@ -184,42 +232,95 @@ START_TEST(pair_rotation)
     gr_scene sc;
     load(&sc, pair_2d, rot, 1);
     gr_sim *s = create(&sc);
-    const double d = s->rad[0] + s->rad[1];
     const double m[2] = {s->mass_i[0], s->mass_i[1]}, q = sc.contact.inertia_factor;
     const double I[2] = {q * m[0] * s->rad[0] * s->rad[0], q * m[1] * s->rad[1] * s->rad[1]};
     ck_assert(fabs(s->inertia_i[0] / I[0] - 1.0) < 1e-15 &&
               fabs(s->inertia_i[1] / I[1] - 1.0) < 1e-15);
-    /* the angular momentum of the start (oblique's positions and velocities, no spin) */
-    const double b = 0.5 * d; /* L = m (x v_y - y v_x): y = 0.1 and 0.1 + b, v_x = +-0.1 */
-    const double L0 = m[0] * (-0.1 * 0.1) + m[1] * (-(0.1 + b) * -0.1);
-    double n[2];
-    oblique(s, n);
-    const double nx = n[0], ny = n[1], tx = ny, ty = -nx;
-    const double gn0 = -0.2 * nx, gt0 = -0.2 * tx;
-    double L1 = 0.0;
-    for (int i = 0; i < 2; i++) {
-        L1 += m[i] * (s->x[i] * s->vy[i] - s->y[i] * s->vx[i]) + I[i] * s->omega[i];
-    }
-    const double dx = s->x[1] - s->x[0], dy = s->y[1] - s->y[0], r = sqrt(dx * dx + dy * dy);
-    const double a0 = r * s->rad[0] / d, a1 = r - a0;
-    const double gx = s->vx[1] - s->vx[0], gy = s->vy[1] - s->vy[0];
-    const double gct = gx * tx + gy * ty + a0 * s->omega[0] + a1 * s->omega[1];
-    const gr_contact_coeffs *cp = &s->cc_pair[s->species[0] * 2 + s->species[1]];
-    const double want = cp->tangential_model->restitution_t(cp, cp->normal_model->impact(cp, -gn0),
-                                                            -gn0, fabs(gt0));
+    const spin_out o = spin_collision(s);
     const double ratio = s->omega[0] / s->omega[1],
                  ratio_want = m[1] * s->rad[1] / (m[0] * s->rad[0]);
     printf("rotating pair: w_0 / w_1 = %.15g (m_1 r_1 / (m_0 r_0) = %.15g), angular momentum "
            "%.3g -> %.3g, contact point g_t ratio %.5f (the law: %.5f)\n",
-           ratio, ratio_want, L0, L1, gct / gt0, want);
+           ratio, ratio_want, o.L0, o.L1, o.ratio, o.want);
     ck_assert(s->omega[0] != 0.0);
     ck_assert_msg(fabs(ratio / ratio_want - 1.0) < 1e-9, "spin ratio %.15g, want %.15g", ratio,
                   ratio_want);
-    ck_assert_msg(fabs(L1 - L0) < 1e-12 * fabs(L0), "angular momentum %.17g -> %.17g", L0, L1);
-    ck_assert_msg(fabs(gct / gt0 - want) < 0.02, "g_ct ratio %.5f, want %.5f", gct / gt0, want);
+    ck_assert_msg(fabs(o.L1 - o.L0) < 1e-12 * fabs(o.L0), "angular momentum %.17g -> %.17g", o.L0,
+                  o.L1);
+    ck_assert_msg(fabs(o.ratio - o.want) < 0.02, "g_ct ratio %.5f, want %.5f", o.ratio, o.want);
     gr_sim_free(s);
-    const gr_ledger l = driven_gas(true);
+    const gr_ledger l = driven_gas(true, NULL);
     ck_assert(l.rotational > 0.0 && l.dissipated_tangential > 0.0);
+}
+END_TEST
+
+/* The history law with species (tangential_spring, 2D, kernels_poly.c): the oblique collision of
+ * pair_rotation with rotating discs, linear (spring_dashpot) and Mindlin (hertz): the contact
+ * point's tangential velocity comes out scaled by the law's restitution for the pair's own k_t
+ * and m_t (gr_model.restitution_t of cc_pair), the angular momentum sum m_i r_i x v_i + I_i w_i is
+ * conserved to rounding, and the spring is forgotten when the discs part. A driven rotating gas's
+ * ledger closes with the springs' energy and the slips' losses, and a restart from the saved
+ * state, springs held, is the uninterrupted run bit for bit. */
+START_TEST(pair_spring)
+{
+    static const char *const laws[][3] = {
+        {"model.normal=spring_dashpot", "model.mindlin=false", "model.kt_ratio=0.2857"},
+        {"model.normal=hertz", "model.mindlin=true", "model.k_h=1e7"}};
+    for (int l = 0; l < 2; l++) {
+        const char *set[] = {"model.rotation=true",
+                             "model.tangential=tangential_spring",
+                             "model.mu=0.3",
+                             laws[l][0],
+                             laws[l][1],
+                             laws[l][2]};
+        gr_scene sc;
+        load(&sc, pair_2d, set, 6);
+        gr_sim *s = create(&sc);
+        ck_assert_msg(s->nl_hist != NULL, "no history store");
+        const spin_out o = spin_collision(s);
+        const gr_contact_coeffs *cp = &s->cc_pair[s->species[0] * 2 + s->species[1]];
+        /* this pair with species 0's spring (its k_t, Mindlin's km: hertz scales them with the
+         * pair's effective radius), what a kernel reading the wrong pair would give */
+        gr_contact_coeffs wrong = *cp;
+        memcpy(wrong.law_t, s->cc_pair[0].law_t, sizeof wrong.law_t);
+        const double other = wrong.tangential_model->restitution_t(
+            &wrong, wrong.normal_model->impact(&wrong, -o.gn0), -o.gn0, fabs(o.gt0));
+        printf("spring pair (%s): contact point g_t ratio %.5f, the pair's law %.5f (species 0's "
+               "spring on it: %.5f); angular momentum %.17g -> %.17g\n",
+               laws[l][0], o.ratio, o.want, other, o.L0, o.L1);
+        ck_assert_msg(fabs(o.ratio - o.want) < 0.01, "g_ct ratio %.5f, want %.5f", o.ratio, o.want);
+        ck_assert_msg(fabs(o.L1 - o.L0) < 1e-12 * fabs(o.L0), "angular momentum %.17g -> %.17g",
+                      o.L0, o.L1);
+        ck_assert_msg(s->omega[0] != 0.0 && s->omega[1] != 0.0, "no spin");
+        for (int p = 0; p < s->nl_start[s->n]; p++) {
+            ck_assert_msg(s->nl_hist[p] == 0.0, "a spring kept after the contact ended");
+        }
+        gr_sim_free(s);
+    }
+    /* the gas's ledger with the springs' energy and losses (the law books as friction) */
+    const gr_ledger l = driven_gas(true, "model.tangential=tangential_spring");
+    ck_assert(l.rotational > 0.0 && l.dissipated_friction > 0.0);
+    /* an exact restart of a denser gas with springs held (the state's bytes carry the history) */
+    const char *dense[] = {
+        "system.N=200",     "system.L=0.06",       "placement.v0=0.2",
+        "driving.kind=rfm", "noise.D=1e-9",        "model.rotation=true",
+        "model.mu=0.3",     "placement.omega0=50", "model.tangential=tangential_spring"};
+    gr_scene sc;
+    load(&sc, pair_2d, dense, 9);
+    gr_sim *a = create(&sc);
+    const int64_t first = quick() ? 1000 : 5000;
+    step(a, first);
+    int live = 0;
+    for (int p = 0; p < a->nl_start[a->n]; p++) {
+        live += a->nl_hist[p] != 0.0;
+    }
+    printf("restart with %d live springs\n", live);
+    ck_assert_msg(live > 0, "no live springs at the save: the restart tests nothing");
+    step(a, first);
+    gr_sim *c = restarted(&sc, 2 * first, first, 1, 1);
+    assert_same_state(a, c);
+    gr_sim_free(a);
+    gr_sim_free(c);
 }
 END_TEST
 
@@ -386,6 +487,7 @@ static Suite *species_suite(void)
     tcase_set_timeout(t, 600);
     tcase_add_test(t, pair_tangential);
     tcase_add_test(t, pair_rotation);
+    tcase_add_test(t, pair_spring);
     tcase_add_test(t, pair_restitution);
     tcase_add_test(t, hertz_radius_and_dt);
     tcase_add_test(t, heating_per_mass);

@@ -98,10 +98,10 @@ START_TEST(bed_weighs_each_mass)
 END_TEST
 
 /* The ledger: injected - dissipated = change of kinetic + elastic + potential (sum m_i g q_i). */
-static void ledger_closes(const char *text, int64_t steps)
+static void ledger_closes(const char *text, const char *const *set, int n_set, int64_t steps)
 {
     gr_scene sc;
-    load(&sc, text, NULL, 0);
+    load(&sc, text, set, n_set);
     gr_sim *s = create(&sc);
     step(s, steps);
     const gr_ledger l = gr_sim_ledger(s);
@@ -124,8 +124,13 @@ START_TEST(ledger_species_walls)
         "[system]\ndim = 1\nN = 30\nL = 0.15\n[species]\nradius = 1e-3, 2e-3\nmass = 1e-5, "
         "4e-5\n[placement]\nkind = uniform\nv0 = 0.3\n[model]\nk_s = 5e4\neps_n = 0.8\n"
         "[noise]\nD = 1e-9\n[boundary]\nx = walls\n[gravity]\ngx = -9.81\n";
-    ledger_closes(bed, quick() ? 15000 : 40000);
-    ledger_closes(column, quick() ? 15000 : 40000);
+    ledger_closes(bed, NULL, 0, quick() ? 15000 : 40000);
+    ledger_closes(column, NULL, 0, quick() ? 15000 : 40000);
+    /* the history law (tangential_spring) at the pairs and the walls, rotating: the springs'
+     * energy in the elastic total, the slips' and ended contacts' losses booked */
+    const char *spring[] = {"model.tangential=tangential_spring", "model.mu=0.3",
+                            "model.rotation=true", "placement.omega0=100"};
+    ledger_closes(bed, spring, 4, quick() ? 15000 : 40000);
 }
 END_TEST
 
@@ -164,18 +169,21 @@ START_TEST(spinning_grains_roll)
 }
 END_TEST
 
-/* A checkpoint of a rotating two-species bed under gravity with sliding friction at the walls
- * continues bit for bit. */
+/* A checkpoint of a rotating two-species bed under gravity with sliding friction, or with the
+ * history law (the pairs' and the walls' springs carried in the state), continues bit for bit. */
 START_TEST(restart_exact)
 {
-    const char *set[] = {"system.N=40",          "system.L=0.05",
-                         "placement.v0=0.2",     "model.tangential=sliding_friction",
-                         "model.mu=0.3",         "model.rotation=true",
-                         "placement.omega0=100", "driving.kind=rfm",
-                         "noise.D=1e-9"};
-    gr_scene sc;
-    load(&sc, pair_2d, set, 9);
-    assert_restart_exact(&sc, 6000, 2000);
+    static const char *const laws[] = {"model.tangential=sliding_friction",
+                                       "model.tangential=tangential_spring"};
+    for (int k = 0; k < 2; k++) {
+        const char *set[] = {
+            "system.N=40",  "system.L=0.05",       "placement.v0=0.2",     laws[k],
+            "model.mu=0.3", "model.rotation=true", "placement.omega0=100", "driving.kind=rfm",
+            "noise.D=1e-9"};
+        gr_scene sc;
+        load(&sc, pair_2d, set, 9);
+        assert_restart_exact(&sc, 6000, 2000);
+    }
 }
 END_TEST
 

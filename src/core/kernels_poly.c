@@ -5,7 +5,11 @@
  * sliding_friction; species lists) acts on g_t = g.t with the pair's coefficients, as in
  * kernels.c, and books its dissipation into its own ledger column; with rotation g_t is the
  * contact point's, g.t + a_i w_i + a_j w_j, and f_t turns grain i with the torque a_i f_t
- * (a_i = |r_ij| r_i / (r_i + r_j), the arm to the contact point). A separate instance, chosen once per run (gr_kernel_choose) when the scene
+ * (a_i = |r_ij| r_i / (r_i + r_j), the arm to the contact point). The history law
+ * (tangential_spring, linear or Mindlin) keeps its slot per list entry as kernels.c does
+ * (contact_history.c), with the pair's k_t and gamma_t: the spring's force -k_t s is conservative
+ * (its energy goes into the elastic total), the rest goes into G and, with rotation, into s->tg
+ * (the non-conservative torques that step_poly.c books). A separate instance, chosen once per run (gr_kernel_choose) when the scene
  * has species, so the monodisperse instances load nothing per pair that they did not before.
  * One thread: a run with species is the same for every thread count. */
 #include <math.h>
@@ -111,6 +115,27 @@ static void poly_1d(gr_sim *s, gr_force_report *r)
     *r = report(elastic, pn, fresh, worst, wi, wi >= 0 ? (wi + 1) % n : -1);
 }
 
+/* A history law's contact (i, j) that ended (n, dist: the pair's geometry now): the law forgets
+ * the slot and returns the energy it held plus the work its last force did (J), as kernels.c's
+ * forget with each grain's own arm. */
+static double poly_forget(const gr_sim *s, int i, int j, double nx, double ny, double dist,
+                          double *slot)
+{
+    const gr_contact_coeffs *c = &s->cc_pair[s->species[i] * s->nsp + s->species[j]];
+    const double gx = s->vx[j] - s->vx[i], gy = s->vy[j] - s->vy[i];
+    double g_t = gx * ny - gy * nx;
+    if (s->omega) {
+        const double ai = dist * s->rad[i] / (s->rad[i] + s->rad[j]);
+        g_t += ai * s->omega[i] + (dist - ai) * s->omega[j];
+    }
+    const gr_tangential_in in = {.g_t = g_t,
+                                 .xi = gr_pair_d(s, i, j) - dist,
+                                 .g_n = gx * nx + gy * ny,
+                                 .acts = 0,
+                                 .hist = slot};
+    return tangential_law(s->kernel.tl, c, in).lost;
+}
+
 static void poly_2d(gr_sim *s, gr_force_report *r)
 {
     const int n = s->n;
@@ -122,11 +147,16 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
     if (s->omega) {
         memset(s->tq, 0, sizeof(double) * (size_t)n);
     }
+    if (s->tg) { /* a history law's non-conservative torques (walls.c adds theirs after) */
+        memset(s->tg, 0, sizeof(double) * (size_t)n);
+    }
     double elastic = 0.0, pn = 0.0, worst = 0.0, pt[2] = {0.0, 0.0}; /* tangential, friction */
+    double el_t = 0.0, lost = 0.0; /* a history law's springs (J) and what it dropped (J) */
     int wi = -1, wj = -1;
     int64_t fresh = 0;
     const int tl = s->kernel.tl, clamp = s->kernel.clamp;
     const int col = book_of(tl) == GR_BOOK_FRICTION; /* the law's ledger column */
+    const int hist = history_of(tl);
     const double inv_dt = 1.0 / s->dt;
     for (int i = 0; i < n; i++) {
         for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
@@ -139,6 +169,9 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
             double f, fd, el, pw;
             if (!poly_contact(s, i, j, dist, g_n, &f, &fd, &el, &pw)) {
                 s->nl_contact[p] = 0;
+                if (hist && s->nl_hist[p] != 0.0) { /* the contact ended: its spring goes */
+                    lost += poly_forget(s, i, j, nx, ny, dist, &s->nl_hist[p]);
+                }
                 continue;
             }
             fresh += !s->nl_contact[p];
@@ -155,21 +188,37 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
                 if (s->omega) {
                     g_t += ai * s->omega[i] + aj * s->omega[j];
                 }
+                double slot = hist ? s->nl_hist[p] : 0.0;
                 const gr_tangential_in in = {.g_t = g_t,
                                              .f_n = f,
                                              .xi = gr_pair_d(s, i, j) - dist,
                                              .g_n = g_n,
                                              .acts = !clamp || f > 0.0,
-                                             .m12_dt = c->m_t * inv_dt};
+                                             .m12_dt = c->m_t * inv_dt,
+                                             .hist = hist ? &slot : NULL};
                 const gr_tangential_force ft = tangential_law(tl, c, in);
                 Fx += ft.f * tx;
                 Fy += ft.f * ty;
-                Gx += ft.f * tx;
-                Gy += ft.f * ty;
-                pt[col] += ft.p;
                 if (s->omega) {
                     s->tq[i] += ai * ft.f;
                     s->tq[j] += aj * ft.f;
+                }
+                if (hist) { /* the spring's -k_t s is conservative: G, tg and the rate get the rest */
+                    const double nc = ft.f - ft.fc;
+                    s->nl_hist[p] = slot;
+                    el_t += ft.e;
+                    lost += ft.lost;
+                    Gx += nc * tx;
+                    Gy += nc * ty;
+                    pt[col] += -nc * g_t;
+                    if (s->omega) {
+                        s->tg[i] += ai * nc;
+                        s->tg[j] += aj * nc;
+                    }
+                } else {
+                    Gx += ft.f * tx;
+                    Gy += ft.f * ty;
+                    pt[col] += ft.p;
                 }
             }
             s->fx[j] += Fx;
@@ -190,9 +239,10 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
             }
         }
     }
-    *r = report(elastic, pn, fresh, worst, wi, wj);
+    *r = report(elastic + el_t, pn, fresh, worst, wi, wj);
     r->power_tangential = pt[0];
     r->power_friction = pt[1];
+    r->lost = lost;
 }
 
 void gr_kernel_run_poly(gr_sim *s, gr_force_report *r)

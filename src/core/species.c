@@ -40,8 +40,7 @@ static const char *not_covered(const gr_sim *s)
     const gr_sim_params *p = &s->params;
     return p->dim == 3               ? "[system] dim = 3"
            : !p->integrator->species ? "[integrator] kind"
-           : p->tangential && (gr_model_keeps_history(p->tangential) || p->size_distribution ||
-                               p->integrator->instantaneous)
+           : p->tangential && (p->size_distribution || p->integrator->instantaneous)
                ? "[model] tangential"
            : p->rolling ? "[model] rolling"
            : p->contact.rotation && (p->size_distribution || p->integrator->instantaneous)
@@ -334,7 +333,7 @@ int gr_species_coeffs(gr_sim *s, double dt, gr_error *err)
             gr_contact_params cp;
             double m;
             pair_params(&s->params, a, b, &cp, &m);
-            /* the tangential law too (no history: tangential_dashpot, sliding_friction) */
+            /* the tangential law too, k_t and gamma_t of a history law with the pair's M_ij */
             int rc = gr_contact_prepare(s->params.normal, s->params.tangential, &cp, m, dt,
                                         &s->cc_pair[a * ns + b], err);
             if (rc) {

@@ -10,7 +10,7 @@
 static int refused(const gr_scene *s, const char **section, const char **key, char *detail,
                    size_t cap)
 {
-    /* walls and gravity, tangential laws without history: species lists with the verlet
+    /* walls and gravity, tangential laws (with history too): species lists with the verlet
      * integrator (walls.c, kernels_poly.c) */
     const bool no_walls = s->integrator->instantaneous || s->size_distribution;
     const char *walls_allowed = "periodic (walls: [species] lists with the verlet integrator)";
@@ -24,10 +24,9 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
          "verlet (a radius distribution; event runs [species] lists)"},
         {s->normal && !(s->normal->kind & GR_MODEL_NORMAL), "model", "normal",
          "a normal force law (spring_dashpot, hertz, ...) or event rule (hard_sphere)"},
-        {s->tangential && (no_walls || gr_model_keeps_history(s->tangential)), "model",
-         "tangential",
-         "none, or with [species] lists and verlet tangential_dashpot | sliding_friction (no "
-         "history law yet)"},
+        {s->tangential && no_walls, "model", "tangential",
+         "none, or with [species] lists and verlet tangential_dashpot | sliding_friction | "
+         "tangential_spring"},
         {s->rolling != NULL, "model", "rolling", "none"},
         {s->contact.rotation && no_walls, "model", "rotation",
          "false (rotation: [species] lists with the verlet integrator)"},

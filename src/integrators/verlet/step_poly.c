@@ -9,9 +9,10 @@
  * subtracts the mean of the forces, not of the kicks, so the kicks carry no net momentum:
  * sum_i m_i dv_i = sqrt(2 D dt) sum_i (g_i - <g>) = 0.
  *
- * Rotation (2D, a tangential law without history): each grain's spin is kicked with its own
- * moment of inertia I_i = q m_i r_i^2 by the torques of kernels_poly.c, all of them
- * non-conservative (a dashpot's or friction's), their work booked as the forces' is.
+ * Rotation (2D): each grain's spin is kicked with its own moment of inertia I_i = q m_i r_i^2 by
+ * the torques of kernels_poly.c; the work of their non-conservative part is booked as the forces'
+ * is (all of a dashpot's or friction's torque; a history law's spring torque is conservative and
+ * its energy is the springs', so the kernel keeps the rest apart in s->tg, as step.c reads it).
  *
  * The closing half kick ends every step (the velocities are synchronised after each step), so a
  * run split into calls is the same as one call. */
@@ -41,9 +42,11 @@ static double half_kick_poly(gr_sim *s, bool *finite)
         }
     }
     if (s->omega) { /* rotation: w_i += tq_i dt / (2 I_i), the torques' work as for v (step.c) */
+        /* a history law's springs: only the non-conservative torques (tg) do booked work */
+        const double *nc = s->tg ? s->tg : s->tq;
         for (int i = 0; i < s->n; i++) {
             const double dw = h / s->inertia_i[i] * s->tq[i];
-            work += s->tq[i] * (s->omega[i] + 0.5 * dw);
+            work += nc[i] * (s->omega[i] + 0.5 * dw);
             s->omega[i] += dw;
             sum += s->omega[i];
         }
