@@ -15,7 +15,8 @@
  *   momentum and angular momentum conserved, spins in the ratio of each grain's own moment of
  *   inertia; driven gases' ledgers;
  * - the history law (tangential_spring, linear and Mindlin) with the pair's own coefficients, its
- *   springs' energy in the ledger, and an exact restart with springs held. */
+ *   springs' energy in the ledger, and an exact restart with springs held;
+ * - rolling resistance with each pair's R_ij and reduced moment of inertia. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -324,6 +325,77 @@ START_TEST(pair_spring)
 }
 END_TEST
 
+/* Rolling resistance with species (rolling_friction, 2D, kernels_poly.c): a head-on collision of
+ * a light and a heavy disc spinning at w_0 = 100 and w_1 = -50 rad/s, eps_t = 1 (no tangential
+ * force), so only
+ * the rolling couple turns them. Its angular impulse is J = min(mu_r R_ij int |F_n| dt, I_ij |dw_0|)
+ * (R_ij = r_0 r_1 / (r_0 + r_1), I_ij = I_0 I_1 / (I_0 + I_1)): the spins' energy loss is
+ * J |dw_0| - J^2 / (2 I_ij) (the law's spin_loss with the pair's R_ij and 2 I_ij for one
+ * species' I), sum I_i w_i is conserved to rounding, and with mu_r = 1e9 the rolling is arrested:
+ * both discs end with the spin (I_0 w_0 + I_1 w_1) / (I_0 + I_1). A driven gas's ledger closes. */
+START_TEST(pair_rolling)
+{
+    for (int arrest = 0; arrest < 2; arrest++) {
+        const char *set[] = {"model.rotation=true", "model.eps_t=1",
+                             "model.rolling=rolling_friction",
+                             arrest ? "model.mu_r=1e9" : "model.mu_r=0.02"};
+        gr_scene sc;
+        load(&sc, pair_2d, set, 4);
+        gr_sim *s = create(&sc);
+        const double d = s->rad[0] + s->rad[1];
+        const double I[2] = {s->inertia_i[0], s->inertia_i[1]};
+        const double w0[2] = {100.0, -50.0};
+        s->x[0] = 0.05;
+        s->x[1] = 0.05 + d + 1e-4;
+        s->y[0] = s->y[1] = 0.1;
+        s->vx[0] = 0.1;
+        s->vx[1] = -0.1;
+        s->vy[0] = s->vy[1] = 0.0;
+        s->omega[0] = w0[0];
+        s->omega[1] = w0[1];
+        int touched = 0;
+        for (int k = 0; k < 400000; k++) {
+            step(s, 1);
+            touched |= s->x[1] - s->x[0] < d;
+            if (touched && s->x[1] - s->x[0] > d) {
+                break;
+            }
+        }
+        ck_assert_msg(touched, "the discs never met");
+        const gr_contact_coeffs *cp = &s->cc_pair[s->species[0] * 2 + s->species[1]];
+        /* int |F_n| dt of the pair's law at the approach speed 0.2 m/s (its tensile end counts) */
+        const double p_n = cp->m12 * cp->normal_model->impact(cp, 0.2).impulse_abs * 0.2;
+        const double R = s->rad[0] * s->rad[1] / d, Iij = I[0] * I[1] / (I[0] + I[1]);
+        const double dw0 = w0[0] - w0[1];
+        const double want = cp->rolling_model->spin_loss(cp, p_n, R, 2.0 * Iij, dw0);
+        const double e0 = 0.5 * (I[0] * w0[0] * w0[0] + I[1] * w0[1] * w0[1]);
+        const double e1 =
+            0.5 * (I[0] * s->omega[0] * s->omega[0] + I[1] * s->omega[1] * s->omega[1]);
+        const double L0 = I[0] * w0[0] + I[1] * w0[1], L1 = I[0] * s->omega[0] + I[1] * s->omega[1];
+        printf("rolling pair (mu_r %s): spins %.6g, %.6g rad/s, spin energy lost %.6e J, the law "
+               "%.6e J (R_ij, I_ij); sum I w %.17g -> %.17g\n",
+               arrest ? "1e9" : "0.02", s->omega[0], s->omega[1], e0 - e1, want, L0, L1);
+        ck_assert_msg(fabs((e0 - e1) / want - 1.0) < 2.5e-3, "spin loss %.8e J, the law %.8e J",
+                      e0 - e1, want);
+        ck_assert_msg(fabs(L1 - L0) < 1e-13 * fabs(I[0] * w0[0]), "sum I w %.17g -> %.17g", L0, L1);
+        if (arrest) {
+            const double w = L0 / (I[0] + I[1]);
+            ck_assert_msg(fabs(s->omega[0] - w) < 1e-9 * fabs(w0[0]) &&
+                              fabs(s->omega[1] - w) < 1e-9 * fabs(w0[0]),
+                          "arrested rolling: spins %.17g %.17g, want %.17g", s->omega[0],
+                          s->omega[1], w);
+        } else {
+            ck_assert_msg(s->omega[0] - s->omega[1] > 0.0, "the rolling reversed");
+        }
+        gr_sim_free(s);
+    }
+    /* a driven rotating gas with the dashpot and rolling resistance: the ledger closes, the
+     * couples' work in the friction column */
+    const gr_ledger l = driven_gas(true, "model.rolling=rolling_friction");
+    ck_assert(l.dissipated_friction > 0.0 && l.dissipated_tangential > 0.0);
+}
+END_TEST
+
 START_TEST(hertz_radius_and_dt)
 {
     const char *set[] = {"model.normal=hertz", "model.k_h=1e6"};
@@ -488,6 +560,7 @@ static Suite *species_suite(void)
     tcase_add_test(t, pair_tangential);
     tcase_add_test(t, pair_rotation);
     tcase_add_test(t, pair_spring);
+    tcase_add_test(t, pair_rolling);
     tcase_add_test(t, pair_restitution);
     tcase_add_test(t, hertz_radius_and_dt);
     tcase_add_test(t, heating_per_mass);

@@ -9,7 +9,9 @@
  * (tangential_spring, linear or Mindlin) keeps its slot per list entry as kernels.c does
  * (contact_history.c), with the pair's k_t and gamma_t: the spring's force -k_t s is conservative
  * (its energy goes into the elastic total), the rest goes into G and, with rotation, into s->tg
- * (the non-conservative torques that step_poly.c books). A separate instance, chosen once per run (gr_kernel_choose) when the scene
+ * (the non-conservative torques that step_poly.c books). The rolling law (rolling_friction)
+ * resists w_i - w_j with the pair's own R_ij = r_i r_j / (r_i + r_j) and, for the limit that
+ * arrests the rolling within a step, its reduced moment of inertia I_i I_j / (I_i + I_j). A separate instance, chosen once per run (gr_kernel_choose) when the scene
  * has species, so the monodisperse instances load nothing per pair that they did not before.
  * One thread: a run with species is the same for every thread count. */
 #include <math.h>
@@ -154,7 +156,7 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
     double el_t = 0.0, lost = 0.0; /* a history law's springs (J) and what it dropped (J) */
     int wi = -1, wj = -1;
     int64_t fresh = 0;
-    const int tl = s->kernel.tl, clamp = s->kernel.clamp;
+    const int tl = s->kernel.tl, clamp = s->kernel.clamp, rl = s->kernel.rl;
     const int col = book_of(tl) == GR_BOOK_FRICTION; /* the law's ledger column */
     const int hist = history_of(tl);
     const double inv_dt = 1.0 / s->dt;
@@ -220,6 +222,26 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
                     Gy += ft.f * ty;
                     pt[col] += ft.p;
                 }
+            }
+            if (rl != RL_none) { /* rolling resistance (rotation only): a couple, no force */
+                const gr_contact_coeffs *c = &s->cc_pair[s->species[i] * s->nsp + s->species[j]];
+                const double ri = s->rad[i], rj = s->rad[j];
+                const double Ii = s->inertia_i[i], Ij = s->inertia_i[j];
+                /* R_ij = r_i r_j / (r_i + r_j); the limit that stops w_i - w_j within a step, which
+                 * the couple changes by -M dt (1 / I_i + 1 / I_j): the reduced inertia over dt */
+                const gr_rolling_in rin = {.dw = s->omega[i] - s->omega[j],
+                                           .f_n = f,
+                                           .acts = !clamp || f > 0.0,
+                                           .r_eff = ri * rj / (ri + rj),
+                                           .i_2dt = Ii * Ij / (Ii + Ij) * inv_dt};
+                const gr_rolling_torque rt = rolling_law(rl, c, rin);
+                s->tq[i] -= rt.m;
+                s->tq[j] += rt.m;
+                if (s->tg) {
+                    s->tg[i] -= rt.m;
+                    s->tg[j] += rt.m;
+                }
+                pt[1] += rt.p;
             }
             s->fx[j] += Fx;
             s->fy[j] += Fy;

@@ -42,7 +42,8 @@ static const char *not_covered(const gr_sim *s)
            : !p->integrator->species ? "[integrator] kind"
            : p->tangential && (p->size_distribution || p->integrator->instantaneous)
                ? "[model] tangential"
-           : p->rolling ? "[model] rolling"
+           : p->rolling && (p->size_distribution || p->integrator->instantaneous)
+               ? "[model] rolling"
            : p->contact.rotation && (p->size_distribution || p->integrator->instantaneous)
                ? "[model] rotation"
            : s->drive == GR_DRIVE_BATH                           ? "[driving] kind = langevin"
@@ -336,6 +337,10 @@ int gr_species_coeffs(gr_sim *s, double dt, gr_error *err)
             /* the tangential law too, k_t and gamma_t of a history law with the pair's M_ij */
             int rc = gr_contact_prepare(s->params.normal, s->params.tangential, &cp, m, dt,
                                         &s->cc_pair[a * ns + b], err);
+            if (!rc) { /* the rolling law's (kernels_poly.c gives it the pair's R_ij) */
+                rc = gr_contact_prepare_rolling(s->params.rolling, &cp, m, dt,
+                                                &s->cc_pair[a * ns + b], err);
+            }
             if (rc) {
                 return rc;
             }

@@ -10,7 +10,7 @@
 static int refused(const gr_scene *s, const char **section, const char **key, char *detail,
                    size_t cap)
 {
-    /* walls and gravity, tangential laws (with history too): species lists with the verlet
+    /* walls and gravity, tangential (with history too) and rolling laws: species lists, verlet
      * integrator (walls.c, kernels_poly.c) */
     const bool no_walls = s->integrator->instantaneous || s->size_distribution;
     const char *walls_allowed = "periodic (walls: [species] lists with the verlet integrator)";
@@ -27,7 +27,8 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         {s->tangential && no_walls, "model", "tangential",
          "none, or with [species] lists and verlet tangential_dashpot | sliding_friction | "
          "tangential_spring"},
-        {s->rolling != NULL, "model", "rolling", "none"},
+        {s->rolling && no_walls, "model", "rolling",
+         "none, or with [species] lists and verlet rolling_friction"},
         {s->contact.rotation && no_walls, "model", "rotation",
          "false (rotation: [species] lists with the verlet integrator)"},
         {s->boundary[0] != 0 && no_walls, "boundary", "x", walls_allowed},
