@@ -16,7 +16,9 @@
  *   inertia; driven gases' ledgers;
  * - the history law (tangential_spring, linear and Mindlin) with the pair's own coefficients, its
  *   springs' energy in the ledger, and an exact restart with springs held;
- * - rolling resistance with each pair's R_ij and reduced moment of inertia. */
+ * - rolling resistance with each pair's R_ij and reduced moment of inertia;
+ * - the Langevin bath (equipartition of an elastic mixture) and the com mode's reset with the
+ *   masses. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -396,6 +398,109 @@ START_TEST(pair_rolling)
 }
 END_TEST
 
+/* The Langevin bath with species (step_poly.c): every grain feels the drag -m_i v / tau and the
+ * noise that holds it at the bath's energy per degree of freedom, m_1 T_bath / dim (m_1 the first
+ * species' mass). An elastic mixture (eps_n = 1) of masses 1:4 then shares it equally:
+ * T_s = (1 / (d N_s)) sum_{i in s} m_i |v_i - V|^2 = m_1 T_bath / 2 for both species, times
+ * 1 - m_s / sum_i m_i for V's share (equipartition; one kick for all would give T_2 = 4 T_1),
+ * within 5 % (the standard error of the time average is about 1.3 %; 10 times longer runs give
+ * 0.996 and 0.998 of it); the ledger closes with the drag's column. */
+START_TEST(bath_equipartition)
+{
+    static const char *bath =
+        "[system]\ndim = 2\nN = 200\nL = 0.1\n[placement]\nkind = uniform\nv0 = 0.1\n"
+        "[species]\nradius = 1e-3, 2e-3\nmass = 1e-5, 4e-5\n[model]\nk_s = 50\neps_n = 1\n"
+        "[driving]\nkind = langevin\nT_bath = 0.01\ntau = 0.1\n"
+        "[integrator]\nsteps_per_contact = 20\n";
+    gr_scene sc;
+    load(&sc, bath, NULL, 0);
+    gr_sim *s = create(&sc);
+    const double dt = gr_sim_dt(s), kT = 1e-5 * 0.01 / 2.0;
+    const int every = (int)(5e-3 / dt) + 1, samples = quick() ? 10 : 600;
+    step(s, (int64_t)(0.5 / dt)); /* 5 tau */
+    double T[2] = {0.0, 0.0};
+    for (int k = 0; k < samples; k++) {
+        step(s, every);
+        double P[2] = {0.0, 0.0}, M = 0.0, e[2] = {0.0, 0.0};
+        int n[2] = {0, 0};
+        for (int i = 0; i < s->n; i++) {
+            P[0] += s->mass_i[i] * s->vx[i];
+            P[1] += s->mass_i[i] * s->vy[i];
+            M += s->mass_i[i];
+        }
+        for (int i = 0; i < s->n; i++) {
+            const double ux = s->vx[i] - P[0] / M, uy = s->vy[i] - P[1] / M;
+            e[s->species[i]] += s->mass_i[i] * (ux * ux + uy * uy);
+            n[s->species[i]]++;
+        }
+        for (int a = 0; a < 2; a++) {
+            T[a] += e[a] / (2.0 * n[a]) / samples;
+        }
+    }
+    const gr_ledger l = gr_sim_ledger(s);
+    const double moved = l.injected + gr_ledger_dissipated(&l), res = gr_ledger_residual(&l);
+    printf("bath: T_1 = %.5g J, T_2 = %.5g J, m_1 T_bath / 2 = %.5g J (ratios %.4f, %.4f); drag "
+           "%.4g J, residual %.3g of the energy moved\n",
+           T[0], T[1], kT, T[0] / kT, T[1] / kT, l.dissipated_drag, res / moved);
+    ck_assert_msg(fabs(res) < 1e-3 * moved, "ledger residual %g of %g", res, moved);
+    ck_assert(l.dissipated_drag > 0.0);
+    if (!quick()) { /* the statistics: the release pass */
+        for (int a = 0; a < 2; a++) {
+            /* V's share: E sum_{i in s} m_i |v_i - V|^2 = d kT N_s (1 - m_s / sum_i m_i) */
+            const double want = kT * (1.0 - (a ? 4e-5 : 1e-5) / (100 * 1e-5 + 100 * 4e-5));
+            ck_assert_msg(fabs(T[a] / want - 1.0) < 0.05, "species %d: T = %g J, want %g J", a + 1,
+                          T[a], want);
+        }
+    }
+    gr_sim_free(s);
+}
+END_TEST
+
+/* [noise] mode = com with species: the reset removes V = sum m_i v_i / sum m_i, so afterwards
+ * sum m_i v_i = 0 (the plain mean of the velocities would leave it), and it books the kinetic
+ * energy it removed, sum m_i |V|^2 / 2, exactly; a driven run in com mode closes its ledger. */
+START_TEST(com_reset_masses)
+{
+    const char *set[] = {"system.N=200",           "system.L=0.1", "placement.v0=0.2",
+                         "driving.kind=rfm",       "noise.D=1e-9", "noise.mode=com",
+                         "noise.com_interval=1e-3"};
+    gr_scene sc;
+    load(&sc, pair_2d, set, 7);
+    gr_sim *s = create(&sc);
+    double ke0 = 0.0, scale = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        s->vx[i] = 0.01 * (i % 7) - 0.02;
+        s->vy[i] = 0.003 * (i % 5);
+        ke0 += 0.5 * s->mass_i[i] * (s->vx[i] * s->vx[i] + s->vy[i] * s->vy[i]);
+        scale += s->mass_i[i] * 0.05;
+    }
+    const double removed = gr_remove_com(s);
+    double px = 0.0, py = 0.0, ke1 = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        px += s->mass_i[i] * s->vx[i];
+        py += s->mass_i[i] * s->vy[i];
+        ke1 += 0.5 * s->mass_i[i] * (s->vx[i] * s->vx[i] + s->vy[i] * s->vy[i]);
+    }
+    printf("com reset: sum m v = (%.3g, %.3g) kg m/s, removed %.10g J, kinetic energy change "
+           "%.10g J\n",
+           px, py, removed, ke0 - ke1);
+    ck_assert_msg(fabs(px) < 1e-14 * scale && fabs(py) < 1e-14 * scale, "sum m v = (%g, %g)", px,
+                  py);
+    ck_assert_msg(fabs(removed - (ke0 - ke1)) < 1e-12 * ke0, "removed %.17g J, the change %.17g J",
+                  removed, ke0 - ke1);
+    gr_sim_free(s);
+    s = create(&sc);
+    step(s, quick() ? 2000 : 20000);
+    const gr_ledger l = gr_sim_ledger(s);
+    const double moved = l.injected + gr_ledger_dissipated(&l), res = gr_ledger_residual(&l);
+    printf("com mode: removed %.4g J, residual %.3g of the energy moved\n", l.removed_com,
+           res / moved);
+    ck_assert(l.removed_com > 0.0);
+    ck_assert_msg(fabs(res) < 2e-3 * moved, "residual %g of %g", res, moved);
+    gr_sim_free(s);
+}
+END_TEST
+
 START_TEST(hertz_radius_and_dt)
 {
     const char *set[] = {"model.normal=hertz", "model.k_h=1e6"};
@@ -561,6 +666,8 @@ static Suite *species_suite(void)
     tcase_add_test(t, pair_rotation);
     tcase_add_test(t, pair_spring);
     tcase_add_test(t, pair_rolling);
+    tcase_add_test(t, bath_equipartition);
+    tcase_add_test(t, com_reset_masses);
     tcase_add_test(t, pair_restitution);
     tcase_add_test(t, hertz_radius_and_dt);
     tcase_add_test(t, heating_per_mass);

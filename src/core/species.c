@@ -46,8 +46,10 @@ static const char *not_covered(const gr_sim *s)
                ? "[model] rolling"
            : p->contact.rotation && (p->size_distribution || p->integrator->instantaneous)
                ? "[model] rotation"
-           : s->drive == GR_DRIVE_BATH                           ? "[driving] kind = langevin"
-           : p->noise_mode == GR_NOISE_COM                       ? "[noise] mode = com"
+           : s->drive == GR_DRIVE_BATH && (p->size_distribution || p->integrator->instantaneous)
+               ? "[driving] kind = langevin"
+           : p->noise_mode == GR_NOISE_COM && (p->size_distribution || p->integrator->instantaneous)
+               ? "[noise] mode = com"
            : p->noise_precision == GR_NOISE_SINGLE               ? "[noise] precision = single"
            : !(p->normal && (p->normal->kind & GR_MODEL_NORMAL)) ? "[model] normal"
                                                                  : NULL;

@@ -37,8 +37,10 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         {s->gravity[1] != 0.0 && no_walls, "gravity", "gy", "0 (gravity: [species] lists, verlet)"},
         {s->boundary[2] != 0, "boundary", "z", "periodic"},
         {s->gravity[2] != 0.0, "gravity", "gz", "0"},
-        {s->driving && s->driving->update == GR_DRIVE_BATH, "driving", "kind", "rfm | none"},
-        {s->noise_mode == GR_NOISE_COM, "noise", "mode", "symmetrised | none"},
+        {s->driving && s->driving->update == GR_DRIVE_BATH && no_walls, "driving", "kind",
+         "rfm | none (langevin: [species] lists with the verlet integrator)"},
+        {s->noise_mode == GR_NOISE_COM && no_walls, "noise", "mode",
+         "symmetrised | none (com: [species] lists with the verlet integrator)"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
     };
     for (size_t k = 0; k < sizeof no / sizeof no[0]; k++) {
