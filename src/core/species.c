@@ -44,8 +44,7 @@ static const char *not_covered(const gr_sim *s)
                ? "[model] tangential"
            : p->rolling && (p->size_distribution || p->integrator->instantaneous)
                ? "[model] rolling"
-           : p->contact.rotation && (p->size_distribution || p->integrator->instantaneous)
-               ? "[model] rotation"
+           : p->contact.rotation && p->size_distribution ? "[model] rotation"
            : s->drive == GR_DRIVE_BATH && (p->size_distribution || p->integrator->instantaneous)
                ? "[driving] kind = langevin"
            : p->noise_mode == GR_NOISE_COM && (p->size_distribution || p->integrator->instantaneous)
