@@ -23,9 +23,7 @@
  * dissipation rate (-f_d g_n, W); returns 0 when the pair is apart (gap >= d_ij). */
 /* A radius distribution (cc_pair NULL): the pair's coefficients from the reference pair's (s->cc,
  * reduced mass cont_m12, effective radius cont_r), scaled to its reduced mass M and effective
- * radius R: the stiffness as R^(a - 1) for a force k xi^a (hertz: k_h ~ sqrt(R); the linear spring
- * alike for all), the damping as sqrt(M k) (a law calibrated to eps_n: the damping ratio depends on
- * eps_n alone), the elastic energy with the stiffness. */
+ * radius R (gr_size_scaled, sim_internal.h). */
 static inline int size_contact(const gr_sim *s, int i, int j, double gap, double g_n, double *f,
                                double *f_d, double *el, double *pn)
 {
@@ -34,13 +32,8 @@ static inline int size_contact(const gr_sim *s, int i, int j, double gap, double
         return 0;
     }
     const double mi = s->mass_i[i], mj = s->mass_i[j], M = mi * mj / (mi + mj);
-    const double sk =
-        s->cc.pow_a == 1.0 ? 1.0 : pow(s->rad[i] * s->rad[j] / d / s->cont_r, s->cc.pow_a - 1.0);
-    gr_contact_coeffs c = s->cc;
-    c.k_s *= sk;
-    c.gamma_n *= sqrt(M / s->cont_m12 * sk);
-    c.e_scale *= sk;
-    c.m12 = M;
+    gr_contact_coeffs c;
+    gr_size_scaled(&s->cc, s->cont_m12, s->cont_r, M, s->rad[i] * s->rad[j] / d, &c);
     const gr_normal_force fn = normal_law(s->kernel.nl, &c, d - gap, g_n, s->kernel.clamp);
     *f = fn.f;
     *f_d = fn.f_d;

@@ -86,10 +86,8 @@ static int size_setup(gr_sim *s, gr_error *err)
 {
     const gr_sim_params *p = &s->params;
     const int n = s->n;
-    const char *what = not_covered(s);
-    if (!what && (p->walls[0] || p->walls[1] || p->gravity[0] != 0.0 || p->gravity[1] != 0.0)) {
-        what = "[boundary] walls or [gravity]"; /* species lists have them (walls.c) */
-    }
+    const char *what = not_covered(s); /* walls and gravity run (walls.c: each grain's contact
+                                          * scaled from the walls' reference, wall_coeffs) */
     if (!what && p->normal == &gr_model_hertz &&
         ((const hertz_own *)(const void *)(p->contact.own + offsetof(gr_own_layout, hertz)))
             ->viscoelastic) {
@@ -99,8 +97,8 @@ static int size_setup(gr_sim *s, gr_error *err)
         return GR_FAIL(err, GR_EINVAL,
                        "%s: %s: not available with a radius distribution yet; it runs in 1D and "
                        "2D with the verlet integrator, spring_dashpot or hertz (viscoelastic = "
-                       "false) alone, a periodic box and the random force or no driving "
-                       "(docs/mixtures.md)",
+                       "false) alone, periodic or between walls under gravity, and the random "
+                       "force or no driving (docs/mixtures.md)",
                        p->source, what);
     }
     const bool logn = p->size_distribution == GR_SIZE_LOGNORMAL;

@@ -10,10 +10,11 @@
 static int refused(const gr_scene *s, const char **section, const char **key, char *detail,
                    size_t cap)
 {
-    /* walls and gravity, tangential (with history too) and rolling laws: species lists, verlet
-     * integrator (walls.c, kernels_poly.c) */
-    const bool no_walls = s->integrator->instantaneous || s->size_distribution;
-    const char *walls_allowed = "periodic (walls: [species] lists with the verlet integrator)";
+    /* walls and gravity: the verlet integrator (walls.c); tangential (with history too) and
+     * rolling laws, the bath and com mode: species lists with verlet (kernels_poly.c) */
+    const bool no_walls = s->integrator->instantaneous;    /* a distribution too (walls.c) */
+    const bool no_laws = no_walls || s->size_distribution; /* species lists and verlet only */
+    const char *walls_allowed = "periodic (walls: the verlet integrator)";
     struct {
         bool on;
         const char *section, *key, *allowed;
@@ -24,22 +25,22 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
          "verlet (a radius distribution; event runs [species] lists)"},
         {s->normal && !(s->normal->kind & GR_MODEL_NORMAL), "model", "normal",
          "a normal force law (spring_dashpot, hertz, ...) or event rule (hard_sphere)"},
-        {s->tangential && no_walls, "model", "tangential",
+        {s->tangential && no_laws, "model", "tangential",
          "none, or with [species] lists and verlet tangential_dashpot | sliding_friction | "
          "tangential_spring"},
-        {s->rolling && no_walls, "model", "rolling",
+        {s->rolling && no_laws, "model", "rolling",
          "none, or with [species] lists and verlet rolling_friction"},
         {s->contact.rotation && s->size_distribution, "model", "rotation",
          "false (rotation: [species] lists, verlet or event)"},
         {s->boundary[0] != 0 && no_walls, "boundary", "x", walls_allowed},
         {s->boundary[1] != 0 && no_walls, "boundary", "y", walls_allowed},
-        {s->gravity[0] != 0.0 && no_walls, "gravity", "gx", "0 (gravity: [species] lists, verlet)"},
-        {s->gravity[1] != 0.0 && no_walls, "gravity", "gy", "0 (gravity: [species] lists, verlet)"},
+        {s->gravity[0] != 0.0 && no_walls, "gravity", "gx", "0 (gravity: the verlet integrator)"},
+        {s->gravity[1] != 0.0 && no_walls, "gravity", "gy", "0 (gravity: the verlet integrator)"},
         {s->boundary[2] != 0, "boundary", "z", "periodic"},
         {s->gravity[2] != 0.0, "gravity", "gz", "0"},
-        {s->driving && s->driving->update == GR_DRIVE_BATH && no_walls, "driving", "kind",
+        {s->driving && s->driving->update == GR_DRIVE_BATH && no_laws, "driving", "kind",
          "rfm | none (langevin: [species] lists with the verlet integrator)"},
-        {s->noise_mode == GR_NOISE_COM && no_walls, "noise", "mode",
+        {s->noise_mode == GR_NOISE_COM && no_laws, "noise", "mode",
          "symmetrised | none (com: [species] lists with the verlet integrator)"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
     };
