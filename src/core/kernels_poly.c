@@ -25,28 +25,31 @@
  * reduced mass cont_m12, effective radius cont_r), scaled to its reduced mass M and effective
  * radius R (gr_size_scaled, sim_internal.h). */
 static inline int size_contact(const gr_sim *s, int i, int j, double gap, double g_n, double *f,
-                               double *f_d, double *el, double *pn)
+                               double *f_d, double *el, double *pn, gr_contact_coeffs *c)
 {
     const double d = s->rad[i] + s->rad[j];
     if (gap >= d) {
         return 0;
     }
     const double mi = s->mass_i[i], mj = s->mass_i[j], M = mi * mj / (mi + mj);
-    gr_contact_coeffs c;
-    gr_size_scaled(&s->cc, s->cont_m12, s->cont_r, M, s->rad[i] * s->rad[j] / d, &c);
-    const gr_normal_force fn = normal_law(s->kernel.nl, &c, d - gap, g_n, s->kernel.clamp);
+    gr_size_scaled(&s->cc, s->cont_m12, s->cont_r, M, s->rad[i] * s->rad[j] / d, c);
+    const gr_normal_force fn = normal_law(s->kernel.nl, c, d - gap, g_n, s->kernel.clamp);
     *f = fn.f;
     *f_d = fn.f_d;
-    *el = c.e_scale * fn.e;
+    *el = c->e_scale * fn.e;
     *pn = -fn.f_d * g_n;
     return 1;
 }
 
+/* *cc: the coefficients the contact used (the species pair's, or a distribution's scaled into
+ * *tmp), for its tangential and rolling laws. */
 static inline int poly_contact(const gr_sim *s, int i, int j, double gap, double g_n, double *f,
-                               double *f_d, double *el, double *pn)
+                               double *f_d, double *el, double *pn, gr_contact_coeffs *tmp,
+                               const gr_contact_coeffs **cc)
 {
     if (!s->cc_pair) {
-        return size_contact(s, i, j, gap, g_n, f, f_d, el, pn);
+        *cc = tmp;
+        return size_contact(s, i, j, gap, g_n, f, f_d, el, pn, tmp);
     }
     const int a = s->species[i], b = s->species[j];
     const double d = s->d_pair[a * s->nsp + b];
@@ -54,6 +57,7 @@ static inline int poly_contact(const gr_sim *s, int i, int j, double gap, double
         return 0;
     }
     const gr_contact_coeffs *c = &s->cc_pair[a * s->nsp + b];
+    *cc = c;
     const gr_normal_force fn = normal_law(s->kernel.nl, c, d - gap, g_n, s->kernel.clamp);
     *f = fn.f;
     *f_d = fn.f_d;
@@ -88,8 +92,10 @@ static void poly_1d(gr_sim *s, gr_force_report *r)
         const int j = i + 1 < n ? i + 1 : 0;
         const double gap = i + 1 < n ? s->x[j] - s->x[i] : s->x[0] + s->L - s->x[i];
         double fp, fd, el, p;
+        gr_contact_coeffs tmp;
+        const gr_contact_coeffs *cc;
         const uint8_t now =
-            (uint8_t)poly_contact(s, i, j, gap, s->vx[j] - s->vx[i], &fp, &fd, &el, &p);
+            (uint8_t)poly_contact(s, i, j, gap, s->vx[j] - s->vx[i], &fp, &fd, &el, &p, &tmp, &cc);
         fresh += now > s->pair_contact[i];
         s->pair_contact[i] = now;
         if (!now) {
@@ -162,7 +168,9 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
             const double nx = dx / dist, ny = dy / dist;
             const double g_n = (s->vx[j] - s->vx[i]) * nx + (s->vy[j] - s->vy[i]) * ny;
             double f, fd, el, pw;
-            if (!poly_contact(s, i, j, dist, g_n, &f, &fd, &el, &pw)) {
+            gr_contact_coeffs tmp;
+            const gr_contact_coeffs *c; /* the pair's coefficients, for its tangential laws */
+            if (!poly_contact(s, i, j, dist, g_n, &f, &fd, &el, &pw, &tmp, &c)) {
                 s->nl_contact[p] = 0;
                 if (hist && s->nl_hist[p] != 0.0) { /* the contact ended: its spring goes */
                     lost += poly_forget(s, i, j, nx, ny, dist, &s->nl_hist[p]);
@@ -173,7 +181,6 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
             s->nl_contact[p] = 1;
             double Fx = f * nx, Fy = f * ny, Gx = fd * nx, Gy = fd * ny;
             if (tl != TL_none) { /* t = (n_y, -n_x), g_t = g.t, no rotation (kernels.c) */
-                const gr_contact_coeffs *c = &s->cc_pair[s->species[i] * s->nsp + s->species[j]];
                 const double tx = ny, ty = -nx;
                 double g_t = (s->vx[j] - s->vx[i]) * tx + (s->vy[j] - s->vy[i]) * ty;
                 /* rotation: the contact point divides |r_ij| as r_i : r_j (midway for equal
@@ -217,7 +224,6 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
                 }
             }
             if (rl != RL_none) { /* rolling resistance (rotation only): a couple, no force */
-                const gr_contact_coeffs *c = &s->cc_pair[s->species[i] * s->nsp + s->species[j]];
                 const double ri = s->rad[i], rj = s->rad[j];
                 const double Ii = s->inertia_i[i], Ij = s->inertia_i[j];
                 /* R_ij = r_i r_j / (r_i + r_j); the limit that stops w_i - w_j within a step, which

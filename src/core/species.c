@@ -40,11 +40,10 @@ static const char *not_covered(const gr_sim *s)
     const gr_sim_params *p = &s->params;
     return p->dim == 3               ? "[system] dim = 3"
            : !p->integrator->species ? "[integrator] kind"
-           : p->tangential && (p->size_distribution || p->integrator->instantaneous)
+           : p->tangential && ((p->size_distribution && gr_model_keeps_history(p->tangential)) ||
+                               p->integrator->instantaneous)
                ? "[model] tangential"
-           : p->rolling && (p->size_distribution || p->integrator->instantaneous)
-               ? "[model] rolling"
-           : p->contact.rotation && p->size_distribution ? "[model] rotation"
+           : p->rolling && p->integrator->instantaneous ? "[model] rolling"
            : s->drive == GR_DRIVE_BATH && (p->size_distribution || p->integrator->instantaneous)
                ? "[driving] kind = langevin"
            : p->noise_mode == GR_NOISE_COM && (p->size_distribution || p->integrator->instantaneous)

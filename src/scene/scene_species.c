@@ -10,8 +10,8 @@
 static int refused(const gr_scene *s, const char **section, const char **key, char *detail,
                    size_t cap)
 {
-    /* walls and gravity: the verlet integrator (walls.c); tangential (with history too) and
-     * rolling laws, the bath and com mode: species lists with verlet (kernels_poly.c) */
+    /* walls and gravity, tangential laws without history, rolling laws: the verlet integrator
+     * (walls.c, kernels_poly.c); the history law, the bath and com mode: species lists, verlet */
     const bool no_walls = s->integrator->instantaneous;    /* a distribution too (walls.c) */
     const bool no_laws = no_walls || s->size_distribution; /* species lists and verlet only */
     const char *walls_allowed = "periodic (walls: the verlet integrator)";
@@ -25,13 +25,12 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
          "verlet (a radius distribution; event runs [species] lists)"},
         {s->normal && !(s->normal->kind & GR_MODEL_NORMAL), "model", "normal",
          "a normal force law (spring_dashpot, hertz, ...) or event rule (hard_sphere)"},
-        {s->tangential && no_laws, "model", "tangential",
-         "none, or with [species] lists and verlet tangential_dashpot | sliding_friction | "
-         "tangential_spring"},
-        {s->rolling && no_laws, "model", "rolling",
-         "none, or with [species] lists and verlet rolling_friction"},
-        {s->contact.rotation && s->size_distribution, "model", "rotation",
-         "false (rotation: [species] lists, verlet or event)"},
+        {s->tangential &&
+             (no_walls || (s->size_distribution && gr_model_keeps_history(s->tangential))),
+         "model", "tangential",
+         "none, or with verlet tangential_dashpot | sliding_friction (and with [species] lists "
+         "tangential_spring)"},
+        {s->rolling && no_walls, "model", "rolling", "none, or with verlet rolling_friction"},
         {s->boundary[0] != 0 && no_walls, "boundary", "x", walls_allowed},
         {s->boundary[1] != 0 && no_walls, "boundary", "y", walls_allowed},
         {s->gravity[0] != 0.0 && no_walls, "gravity", "gx", "0 (gravity: the verlet integrator)"},
