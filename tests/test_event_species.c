@@ -10,7 +10,10 @@
  *  - a driven gas of two species: symmetrised kicks and collisions keep sum m_i v_i = 0, the
  *    ledger closes to rounding, no two grains overlap (checked after every collision);
  *  - a checkpoint continues bit for bit (1D, 2D);
- *  - refusals: rough discs, a radius distribution.
+ *  - rough discs (Walton's rule with each grain's arm and moment of inertia): the contact point's
+ *    g_ct times -beta or at the Coulomb limit, angular momentum about the contact point conserved,
+ *    the loss; a driven rough gas.s ledger and restart;
+ *  - refusals: a radius distribution.
  * Deterministic tolerances come from rounding; the statistical one is 5 sigma (fixed seed). */
 #include <check.h>
 #include <math.h>
@@ -33,22 +36,31 @@
 
 /* Two grains (radii 1 and 2 mm, masses 1e-5 and 4e-5 kg) without driving in a box of L = 0.1 m
  * (2D) or a ring of L = 0.506 m (1D). */
+static gr_sim *grains_with(int dim, const char *const *more, int n_more)
+{
+    const char *ov[16] = {dim == 1 ? "system.dim=1" : "system.dim=2",
+                          "system.N=2",
+                          dim == 1 ? "system.reduced_length=0.5"
+                                   : "system.packing_fraction=0.0015707963267948967",
+                          "species.radius=1e-3, 2e-3",
+                          "species.mass=1e-5, 4e-5",
+                          "placement.kind=uniform",
+                          "model.normal=hard_sphere",
+                          "model.eps_n=0.6",
+                          "noise.mode=none",
+                          "integrator.kind=event"};
+    for (int k = 0; k < n_more; k++) {
+        ov[10 + k] = more[k];
+    }
+    gr_scene sc = scene_of(ov, 10 + n_more);
+    return sim_of(&sc);
+}
+
+/* Smooth grains with eps_t = 1. */
 static gr_sim *two_grains(int dim)
 {
-    const char *ov[] = {dim == 1 ? "system.dim=1" : "system.dim=2",
-                        "system.N=2",
-                        dim == 1 ? "system.reduced_length=0.5"
-                                 : "system.packing_fraction=0.0015707963267948967",
-                        "species.radius=1e-3, 2e-3",
-                        "species.mass=1e-5, 4e-5",
-                        "placement.kind=uniform",
-                        "model.normal=hard_sphere",
-                        "model.eps_n=0.6",
-                        "model.eps_t=1",
-                        "noise.mode=none",
-                        "integrator.kind=event"};
-    gr_scene sc = scene_of(ov, 11);
-    return sim_of(&sc);
+    const char *smooth[] = {"model.eps_t=1"};
+    return grains_with(dim, smooth, 1);
 }
 
 /* Set grain k's state at the current (window start) time and predict again. */
@@ -209,31 +221,36 @@ START_TEST(test_kicks_per_species)
 END_TEST
 
 /* A gas of two species (radii 1 and 2 mm, equal density) of n grains (key=value) driven by the
- * random force, hard discs (2D, packing fraction 0.1) or rods (1D, L' = 5 cm), eps_n = 0.5. */
-static gr_scene species_gas(int dim, const char *n, const char *seed)
+ * random force, hard discs (2D, packing fraction 0.1) or rods (1D, L' = 5 cm), eps_n = 0.5;
+ * variant 2: rough discs (2D, beta = 0.3). */
+static gr_scene species_gas(int variant, const char *n, const char *seed)
 {
-    const char *ov[] = {dim == 1 ? "system.dim=1" : "system.dim=2",
-                        n,
-                        dim == 1 ? "system.reduced_length=0.05" : "system.packing_fraction=0.1",
-                        "species.radius=1e-3, 2e-3",
-                        "species.density=10, 10",
-                        "species.fraction=0.5, 0.5",
-                        "placement.kind=random",
-                        "placement.v0=0.05",
-                        "model.normal=hard_sphere",
-                        "model.eps_n=0.5",
-                        "noise.D=1e-9",
-                        "integrator.kind=event",
-                        seed};
-    return scene_of(ov, 13);
+    const int dim = variant == 0 ? 1 : 2;
+    const char *ov[15] = {dim == 1 ? "system.dim=1" : "system.dim=2",
+                          n,
+                          dim == 1 ? "system.reduced_length=0.05" : "system.packing_fraction=0.1",
+                          "species.radius=1e-3, 2e-3",
+                          "species.density=10, 10",
+                          "species.fraction=0.5, 0.5",
+                          "placement.kind=random",
+                          "placement.v0=0.05",
+                          "model.normal=hard_sphere",
+                          "model.eps_n=0.5",
+                          "noise.D=1e-9",
+                          "integrator.kind=event",
+                          seed,
+                          "model.rotation=true",
+                          "model.beta=0.3"};
+    return scene_of(ov, variant == 2 ? 15 : 13);
 }
 
-/* A driven inelastic gas of two species (1D ring, 2D box): momentum stays 0, the ledger closes to
+/* A driven inelastic gas of two species (1D ring, 2D box, 2D rough discs): momentum stays 0, the
+ * ledger (rough: with the spins' energy sum I_i w_i^2 / 2 and the tangential losses) closes to
  * rounding, no overlaps (checked after every collision), collisions of all three pair kinds. */
 START_TEST(test_driven_gas)
 {
-    const int dim = 1 + _i;
-    gr_scene sc = species_gas(dim, quick() ? "system.N=60" : "system.N=200", "run.seed=5");
+    const int dim = _i == 0 ? 1 : 2;
+    gr_scene sc = species_gas(_i, quick() ? "system.N=60" : "system.N=200", "run.seed=5");
     gr_sim *s = sim_of(&sc);
     gr_event_set_debug(s, true, false);
     gr_error err = {0};
@@ -259,15 +276,16 @@ START_TEST(test_driven_gas)
     }
     ck_assert_msg(fabs(rel) < 1e-10, "ledger residual %g", rel);
     ck_assert(strncmp(gr_sim_kernel(s), "event-", 6) == 0);
+    ck_assert(_i < 2 || (l.rotational > 0.0 && l.dissipated_tangential > 0.0));
     gr_sim_free(s);
 }
 END_TEST
 
 /* A checkpoint of an event-driven mixture (mid-window state, each grain's mass and radius from the
- * scene again) continues bit for bit, in 1D and 2D. */
+ * scene again; rough: the spins) continues bit for bit, in 1D, 2D and 2D rough. */
 START_TEST(test_restart_exact)
 {
-    gr_scene sc = species_gas(1 + _i, "system.N=60", "run.seed=9");
+    gr_scene sc = species_gas(_i, "system.N=60", "run.seed=9");
     gr_sim *probe = sim_of(&sc);
     const int64_t total = (int64_t)(0.02 / probe->dt);
     gr_sim_free(probe);
@@ -275,19 +293,92 @@ START_TEST(test_restart_exact)
 }
 END_TEST
 
+/* Rough discs of two species (gr_ev_rule, event_internal.h): grain a (r 1 mm, 1e-5 kg) spinning
+ * at 300 rad/s meets grain b (r 2 mm, 4e-5 kg) spinning at -100 rad/s obliquely. Walton's rule with
+ * each grain's own arm r_i and moment of inertia I_i = q m_i r_i^2: the contact point's relative
+ * tangential velocity g.t + r_a w_a + r_b w_b comes out times -beta (beta_mu = 0), or with the
+ * Coulomb limit (beta_mu = 0.05) the tangential impulse is beta_mu times the normal one; the
+ * normal one times -eps_n; momentum and the angular momentum about the contact point,
+ * sum_i m_i (x_i - c) x v_i + I_i w_i, are conserved; the energy lost is
+ * M_ij (1 - eps_n^2) g_n^2 / 2 + m_t (1 - beta^2) g_ct^2 / 2 with m_t = M_ij q / (1 + q), booked
+ * as normal and tangential dissipation. One moment of inertia or arm for both grains breaks the
+ * angular momentum and the -beta. */
+static void rough_pair(double beta_mu)
+{
+    char mu[32];
+    snprintf(mu, sizeof mu, "model.beta_mu=%g", beta_mu);
+    const char *rough[] = {"model.rotation=true", "model.beta=0.4", mu};
+    gr_sim *s = grains_with(2, rough, 3);
+    const double ma = s->mass_i[0], mb = s->mass_i[1], ra = s->rad[0], rb = s->rad[1], d = ra + rb,
+                 q = s->cc.q;
+    const double Ia = q * ma * ra * ra, Ib = q * mb * rb * rb, m12 = ma * mb / (ma + mb),
+                 m_t = m12 * q / (1.0 + q);
+    ck_assert(fabs(s->inertia_i[0] / Ia - 1.0) < 1e-15 && fabs(s->inertia_i[1] / Ib - 1.0) < 1e-15);
+    const double b = 1.2e-3, x[2] = {0.03, 0.05}, y[2] = {0.05, 0.05 + b}, vx[2] = {0.1, -0.05},
+                 vy[2] = {0.0, 0.0}, w0[2] = {300.0, -100.0};
+    place(s, x, y, vx, vy);
+    s->omega[0] = w0[0];
+    s->omega[1] = w0[1];
+    const double tcol = (0.02 - sqrt(d * d - b * b)) / 0.15;
+    const double nx = (0.02 - 0.15 * tcol) / d, ny = b / d, tx = -ny, ty = nx;
+    gr_error err = {0};
+    ck_assert_msg(gr_sim_step(s, (int64_t)ceil((tcol + 0.01) / s->dt), &err) == GR_OK, "%s",
+                  err.message);
+    gr_event_counts c;
+    gr_event_stats(s, &c);
+    ck_assert_int_eq(c.collisions, 1);
+    const double va[2] = {s->vx[0], s->vy[0]}, vb[2] = {s->vx[1], s->vy[1]};
+    const double wa = s->omega[0], wb = s->omega[1];
+    /* before and after: g = v_a - v_b, the contact point's g_ct = g.t + r_a w_a + r_b w_b */
+    const double gn0 = 0.15 * nx, gct0 = 0.15 * tx + ra * w0[0] + rb * w0[1];
+    const double gn1 = (va[0] - vb[0]) * nx + (va[1] - vb[1]) * ny,
+                 gct1 = (va[0] - vb[0]) * tx + (va[1] - vb[1]) * ty + ra * wa + rb * wb;
+    /* the impulse on b: P = m_b dv_b; its normal and tangential parts */
+    const double Pn = mb * ((vb[0] - vx[1]) * nx + vb[1] * ny),
+                 Pt = mb * ((vb[0] - vx[1]) * tx + vb[1] * ty);
+    /* angular momentum about the contact point c = x_a + r_a n: x_a - c = -r_a n, x_b - c = r_b n */
+    const double dLa =
+        ma * (-ra) * (nx * (va[1] - vy[0]) - ny * (va[0] - vx[0])) + Ia * (wa - w0[0]);
+    const double dLb = mb * rb * (nx * (vb[1] - vy[1]) - ny * (vb[0] - vx[1])) + Ib * (wb - w0[1]);
+    const double L_scale = Ia * fabs(w0[0]);
+    const double k0 =
+        0.5 * (ma * vx[0] * vx[0] + mb * vx[1] * vx[1] + Ia * w0[0] * w0[0] + Ib * w0[1] * w0[1]);
+    const double k1 = 0.5 * (ma * (va[0] * va[0] + va[1] * va[1]) +
+                             mb * (vb[0] * vb[0] + vb[1] * vb[1]) + Ia * wa * wa + Ib * wb * wb);
+    const double beta = -gct1 / gct0;
+    const double want = 0.5 * m12 * (1.0 - EPS_N * EPS_N) * gn0 * gn0 +
+                        0.5 * m_t * (1.0 - beta * beta) * gct0 * gct0;
+    printf("rough pair (beta_mu %g): g_n ratio %.15f, g_ct ratio %.15f, |P_t| / |P_n| = %.15f, dL "
+           "about the contact %.3g (of %.3g), energy lost %.12g J (Walton %.12g J)\n",
+           beta_mu, gn1 / gn0, gct1 / gct0, fabs(Pt / Pn), dLa + dLb, L_scale, k0 - k1, want);
+    ck_assert_msg(fabs(gn1 / gn0 + EPS_N) < 1e-12, "g_n ratio %.17g", gn1 / gn0);
+    if (beta_mu == 0.0) {
+        ck_assert_msg(fabs(beta - 0.4) < 1e-12, "g_ct ratio %.17g, want -0.4", gct1 / gct0);
+    } else {
+        ck_assert_msg(beta < 0.4 && fabs(fabs(Pt / Pn) - beta_mu) < 1e-12,
+                      "sliding: beta %.17g, |P_t / P_n| %.17g, want %g", beta, fabs(Pt / Pn),
+                      beta_mu);
+    }
+    ck_assert_msg(fabs(dLa + dLb) < 1e-12 * L_scale, "angular momentum about the contact: %g",
+                  dLa + dLb);
+    ck_assert_msg(fabs(ma * (va[0] - vx[0]) + Pn * nx + Pt * tx) < 1e-16 * ma &&
+                      fabs(ma * va[1] + Pn * ny + Pt * ty) < 1e-16 * ma,
+                  "momentum");
+    ck_assert_msg(fabs((k0 - k1) / want - 1.0) < 1e-10, "lost %.12g J, Walton %.12g J", k0 - k1,
+                  want);
+    ck_assert(fabs((s->diss_n + s->diss_t) / want - 1.0) < 1e-10);
+    gr_sim_free(s);
+}
+
+START_TEST(test_rough_pair) { rough_pair(0.0); }
+END_TEST
+
+START_TEST(test_rough_pair_sliding) { rough_pair(0.05); }
+END_TEST
+
 /* What the event integrator does not run with species yet is refused by name. */
 START_TEST(test_refusals)
 {
-    const char *rough[] = {"system.dim=2",
-                           "system.N=100",
-                           "system.packing_fraction=0.1",
-                           "species.radius=1e-3, 2e-3",
-                           "species.mass=1e-5, 4e-5",
-                           "placement.kind=random",
-                           "model.normal=hard_sphere",
-                           "model.rotation=true",
-                           "integrator.kind=event"};
-    refused(rough, 9, "rotation");
     const char *dist[] = {"system.dim=2",
                           "system.N=100",
                           "system.packing_fraction=0.1",
@@ -311,12 +402,14 @@ static Suite *event_species_suite(void)
     tcase_add_test(t, test_two_body_1d);
     tcase_add_test(t, test_pair_tc);
     tcase_add_test(t, test_refusals);
+    tcase_add_test(t, test_rough_pair);
+    tcase_add_test(t, test_rough_pair_sliding);
     suite_add_tcase(s, t);
     TCase *g = tcase_create("gas");
     tcase_set_timeout(g, 600);
     tcase_add_loop_test(g, test_kicks_per_species, 0, 2);
-    tcase_add_loop_test(g, test_driven_gas, 0, 2);
-    tcase_add_loop_test(g, test_restart_exact, 0, 2);
+    tcase_add_loop_test(g, test_driven_gas, 0, 3);
+    tcase_add_loop_test(g, test_restart_exact, 0, 3);
     suite_add_tcase(s, g);
     return s;
 }

@@ -272,10 +272,11 @@ for kind in uniform cluster random; do
 done
 
 # refusals: the key, with where it was given
-refuse "\[model\] tangential.*not available with \[species\]" --set model.tangential=tangential_spring
+refuse_with "$tmp/dist.ini" "\[model\] tangential.*not available with \[species\]" \
+    --set model.tangential=tangential_spring
 refuse "\[integrator\] kind.*not available with \[species\]" --set integrator.kind=hybrid
-refuse "\[model\] rotation.*not available with \[species\]" --set integrator.kind=event \
-    --set model.normal=hard_sphere --set model.rotation=true
+refuse "\[driving\] kind.*not available with \[species\]" --set integrator.kind=event \
+    --set model.normal=hard_sphere --set driving.kind=langevin
 refuse_with "$tmp/dist.ini" "\[integrator\] kind.*event runs \[species\] lists" \
     --set integrator.kind=event --set model.normal=hard_sphere
 refuse "\[analysis\] observables.*pair is not species-aware" --set analysis.observables=pair
@@ -288,6 +289,15 @@ refuse "\[species\] radius.*2 to 8 species" --set species.radius=1e-3 --set spec
 "$granule" export lammps "$scene" --out "$tmp/lmp" >"$tmp/l.log" 2>&1 || { cat "$tmp/l.log" >&2; fail "export lammps of a mixture"; }
 grep -q "^2 atom types" "$tmp/lmp/data.granule" && grep -q "^pair_coeff 1 2 hooke" "$tmp/lmp/in.granule" ||
     fail "the mixture's deck: 2 atom types, a pair_coeff per species pair"
+# the Langevin bath of a mixture: fix langevin at k_B T = m_1 T_bath / dim (docs/mixtures.md)
+"$granule" export lammps "$scene" --out "$tmp/lmpb" --set driving.kind=langevin \
+    --set driving.T_bath=0.01 >"$tmp/l.log" 2>&1 || { cat "$tmp/l.log" >&2; fail "export lammps of a mixture's bath"; }
+python3 - "$tmp/lmpb/in.granule" <<'PY' || fail "the mixture's bath deck: T = m_1 T_bath / (2 k_B)"
+import sys
+line = [l for l in open(sys.argv[1]) if l.startswith("fix bath all langevin")][0].split()
+want = 3.53e-5 * 0.01 / (2 * 1.380649e-23)
+assert abs(float(line[4]) / want - 1) < 1e-12, (line, want)
+PY
 if "$granule" export lammps "$scene" --out "$tmp/lmp3" --set model.tangential=tangential_dashpot >"$tmp/l.log" 2>&1; then
     fail "export lammps accepted a mixture with a tangential law"
 fi

@@ -26,7 +26,9 @@ static double injection_rate_expected(const gr_scene *scene, double dt)
     const gr_driving_type *d = scene->driving ? scene->driving : gr_driving_default();
     if (d->update == GR_DRIVE_BATH) {
         const gr_driving_params *p = &scene->driving_params;
-        return scene->N * scene->mass * p->T_bath * -expm1(-2.0 * dt / p->tau) / (2.0 * dt);
+        /* species: every grain at the first species' energy m_1 T_bath / dim per component */
+        const double m = scene->n_species >= 2 ? scene->species_masses[0] : scene->mass;
+        return scene->N * m * p->T_bath * -expm1(-2.0 * dt / p->tau) / (2.0 * dt);
     }
     if (d->update == GR_DRIVE_OFF) {
         return 0.0;

@@ -5,7 +5,13 @@
  * sliding_friction; species lists) acts on g_t = g.t with the pair's coefficients, as in
  * kernels.c, and books its dissipation into its own ledger column; with rotation g_t is the
  * contact point's, g.t + a_i w_i + a_j w_j, and f_t turns grain i with the torque a_i f_t
- * (a_i = |r_ij| r_i / (r_i + r_j), the arm to the contact point). A separate instance, chosen once per run (gr_kernel_choose) when the scene
+ * (a_i = |r_ij| r_i / (r_i + r_j), the arm to the contact point). The history law
+ * (tangential_spring, linear or Mindlin) keeps its slot per list entry as kernels.c does
+ * (contact_history.c), with the pair's k_t and gamma_t: the spring's force -k_t s is conservative
+ * (its energy goes into the elastic total), the rest goes into G and, with rotation, into s->tg
+ * (the non-conservative torques that step_poly.c books). The rolling law (rolling_friction)
+ * resists w_i - w_j with the pair's own R_ij = r_i r_j / (r_i + r_j) and, for the limit that
+ * arrests the rolling within a step, its reduced moment of inertia I_i I_j / (I_i + I_j). A separate instance, chosen once per run (gr_kernel_choose) when the scene
  * has species, so the monodisperse instances load nothing per pair that they did not before.
  * One thread: a run with species is the same for every thread count. */
 #include <math.h>
@@ -17,37 +23,33 @@
  * dissipation rate (-f_d g_n, W); returns 0 when the pair is apart (gap >= d_ij). */
 /* A radius distribution (cc_pair NULL): the pair's coefficients from the reference pair's (s->cc,
  * reduced mass cont_m12, effective radius cont_r), scaled to its reduced mass M and effective
- * radius R: the stiffness as R^(a - 1) for a force k xi^a (hertz: k_h ~ sqrt(R); the linear spring
- * alike for all), the damping as sqrt(M k) (a law calibrated to eps_n: the damping ratio depends on
- * eps_n alone), the elastic energy with the stiffness. */
+ * radius R (gr_size_scaled, sim_internal.h). */
 static inline int size_contact(const gr_sim *s, int i, int j, double gap, double g_n, double *f,
-                               double *f_d, double *el, double *pn)
+                               double *f_d, double *el, double *pn, gr_contact_coeffs *c)
 {
     const double d = s->rad[i] + s->rad[j];
     if (gap >= d) {
         return 0;
     }
     const double mi = s->mass_i[i], mj = s->mass_i[j], M = mi * mj / (mi + mj);
-    const double sk =
-        s->cc.pow_a == 1.0 ? 1.0 : pow(s->rad[i] * s->rad[j] / d / s->cont_r, s->cc.pow_a - 1.0);
-    gr_contact_coeffs c = s->cc;
-    c.k_s *= sk;
-    c.gamma_n *= sqrt(M / s->cont_m12 * sk);
-    c.e_scale *= sk;
-    c.m12 = M;
-    const gr_normal_force fn = normal_law(s->kernel.nl, &c, d - gap, g_n, s->kernel.clamp);
+    gr_size_scaled(&s->cc, s->cont_m12, s->cont_r, M, s->rad[i] * s->rad[j] / d, c);
+    const gr_normal_force fn = normal_law(s->kernel.nl, c, d - gap, g_n, s->kernel.clamp);
     *f = fn.f;
     *f_d = fn.f_d;
-    *el = c.e_scale * fn.e;
+    *el = c->e_scale * fn.e;
     *pn = -fn.f_d * g_n;
     return 1;
 }
 
+/* *cc: the coefficients the contact used (the species pair's, or a distribution's scaled into
+ * *tmp), for its tangential and rolling laws. */
 static inline int poly_contact(const gr_sim *s, int i, int j, double gap, double g_n, double *f,
-                               double *f_d, double *el, double *pn)
+                               double *f_d, double *el, double *pn, gr_contact_coeffs *tmp,
+                               const gr_contact_coeffs **cc)
 {
     if (!s->cc_pair) {
-        return size_contact(s, i, j, gap, g_n, f, f_d, el, pn);
+        *cc = tmp;
+        return size_contact(s, i, j, gap, g_n, f, f_d, el, pn, tmp);
     }
     const int a = s->species[i], b = s->species[j];
     const double d = s->d_pair[a * s->nsp + b];
@@ -55,6 +57,7 @@ static inline int poly_contact(const gr_sim *s, int i, int j, double gap, double
         return 0;
     }
     const gr_contact_coeffs *c = &s->cc_pair[a * s->nsp + b];
+    *cc = c;
     const gr_normal_force fn = normal_law(s->kernel.nl, c, d - gap, g_n, s->kernel.clamp);
     *f = fn.f;
     *f_d = fn.f_d;
@@ -89,8 +92,10 @@ static void poly_1d(gr_sim *s, gr_force_report *r)
         const int j = i + 1 < n ? i + 1 : 0;
         const double gap = i + 1 < n ? s->x[j] - s->x[i] : s->x[0] + s->L - s->x[i];
         double fp, fd, el, p;
+        gr_contact_coeffs tmp;
+        const gr_contact_coeffs *cc;
         const uint8_t now =
-            (uint8_t)poly_contact(s, i, j, gap, s->vx[j] - s->vx[i], &fp, &fd, &el, &p);
+            (uint8_t)poly_contact(s, i, j, gap, s->vx[j] - s->vx[i], &fp, &fd, &el, &p, &tmp, &cc);
         fresh += now > s->pair_contact[i];
         s->pair_contact[i] = now;
         if (!now) {
@@ -111,6 +116,27 @@ static void poly_1d(gr_sim *s, gr_force_report *r)
     *r = report(elastic, pn, fresh, worst, wi, wi >= 0 ? (wi + 1) % n : -1);
 }
 
+/* A history law's contact (i, j) that ended (n, dist: the pair's geometry now): the law forgets
+ * the slot and returns the energy it held plus the work its last force did (J), as kernels.c's
+ * forget with each grain's own arm. */
+static double poly_forget(const gr_sim *s, int i, int j, double nx, double ny, double dist,
+                          double *slot)
+{
+    const gr_contact_coeffs *c = &s->cc_pair[s->species[i] * s->nsp + s->species[j]];
+    const double gx = s->vx[j] - s->vx[i], gy = s->vy[j] - s->vy[i];
+    double g_t = gx * ny - gy * nx;
+    if (s->omega) {
+        const double ai = dist * s->rad[i] / (s->rad[i] + s->rad[j]);
+        g_t += ai * s->omega[i] + (dist - ai) * s->omega[j];
+    }
+    const gr_tangential_in in = {.g_t = g_t,
+                                 .xi = gr_pair_d(s, i, j) - dist,
+                                 .g_n = gx * nx + gy * ny,
+                                 .acts = 0,
+                                 .hist = slot};
+    return tangential_law(s->kernel.tl, c, in).lost;
+}
+
 static void poly_2d(gr_sim *s, gr_force_report *r)
 {
     const int n = s->n;
@@ -122,11 +148,16 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
     if (s->omega) {
         memset(s->tq, 0, sizeof(double) * (size_t)n);
     }
+    if (s->tg) { /* a history law's non-conservative torques (walls.c adds theirs after) */
+        memset(s->tg, 0, sizeof(double) * (size_t)n);
+    }
     double elastic = 0.0, pn = 0.0, worst = 0.0, pt[2] = {0.0, 0.0}; /* tangential, friction */
+    double el_t = 0.0, lost = 0.0; /* a history law's springs (J) and what it dropped (J) */
     int wi = -1, wj = -1;
     int64_t fresh = 0;
-    const int tl = s->kernel.tl, clamp = s->kernel.clamp;
+    const int tl = s->kernel.tl, clamp = s->kernel.clamp, rl = s->kernel.rl;
     const int col = book_of(tl) == GR_BOOK_FRICTION; /* the law's ledger column */
+    const int hist = history_of(tl);
     const double inv_dt = 1.0 / s->dt;
     for (int i = 0; i < n; i++) {
         for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
@@ -137,15 +168,19 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
             const double nx = dx / dist, ny = dy / dist;
             const double g_n = (s->vx[j] - s->vx[i]) * nx + (s->vy[j] - s->vy[i]) * ny;
             double f, fd, el, pw;
-            if (!poly_contact(s, i, j, dist, g_n, &f, &fd, &el, &pw)) {
+            gr_contact_coeffs tmp;
+            const gr_contact_coeffs *c; /* the pair's coefficients, for its tangential laws */
+            if (!poly_contact(s, i, j, dist, g_n, &f, &fd, &el, &pw, &tmp, &c)) {
                 s->nl_contact[p] = 0;
+                if (hist && s->nl_hist[p] != 0.0) { /* the contact ended: its spring goes */
+                    lost += poly_forget(s, i, j, nx, ny, dist, &s->nl_hist[p]);
+                }
                 continue;
             }
             fresh += !s->nl_contact[p];
             s->nl_contact[p] = 1;
             double Fx = f * nx, Fy = f * ny, Gx = fd * nx, Gy = fd * ny;
             if (tl != TL_none) { /* t = (n_y, -n_x), g_t = g.t, no rotation (kernels.c) */
-                const gr_contact_coeffs *c = &s->cc_pair[s->species[i] * s->nsp + s->species[j]];
                 const double tx = ny, ty = -nx;
                 double g_t = (s->vx[j] - s->vx[i]) * tx + (s->vy[j] - s->vy[i]) * ty;
                 /* rotation: the contact point divides |r_ij| as r_i : r_j (midway for equal
@@ -155,22 +190,57 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
                 if (s->omega) {
                     g_t += ai * s->omega[i] + aj * s->omega[j];
                 }
+                double slot = hist ? s->nl_hist[p] : 0.0;
                 const gr_tangential_in in = {.g_t = g_t,
                                              .f_n = f,
                                              .xi = gr_pair_d(s, i, j) - dist,
                                              .g_n = g_n,
                                              .acts = !clamp || f > 0.0,
-                                             .m12_dt = c->m_t * inv_dt};
+                                             .m12_dt = c->m_t * inv_dt,
+                                             .hist = hist ? &slot : NULL};
                 const gr_tangential_force ft = tangential_law(tl, c, in);
                 Fx += ft.f * tx;
                 Fy += ft.f * ty;
-                Gx += ft.f * tx;
-                Gy += ft.f * ty;
-                pt[col] += ft.p;
                 if (s->omega) {
                     s->tq[i] += ai * ft.f;
                     s->tq[j] += aj * ft.f;
                 }
+                if (hist) { /* the spring's -k_t s is conservative: G, tg and the rate get the rest */
+                    const double nc = ft.f - ft.fc;
+                    s->nl_hist[p] = slot;
+                    el_t += ft.e;
+                    lost += ft.lost;
+                    Gx += nc * tx;
+                    Gy += nc * ty;
+                    pt[col] += -nc * g_t;
+                    if (s->omega) {
+                        s->tg[i] += ai * nc;
+                        s->tg[j] += aj * nc;
+                    }
+                } else {
+                    Gx += ft.f * tx;
+                    Gy += ft.f * ty;
+                    pt[col] += ft.p;
+                }
+            }
+            if (rl != RL_none) { /* rolling resistance (rotation only): a couple, no force */
+                const double ri = s->rad[i], rj = s->rad[j];
+                const double Ii = s->inertia_i[i], Ij = s->inertia_i[j];
+                /* R_ij = r_i r_j / (r_i + r_j); the limit that stops w_i - w_j within a step, which
+                 * the couple changes by -M dt (1 / I_i + 1 / I_j): the reduced inertia over dt */
+                const gr_rolling_in rin = {.dw = s->omega[i] - s->omega[j],
+                                           .f_n = f,
+                                           .acts = !clamp || f > 0.0,
+                                           .r_eff = ri * rj / (ri + rj),
+                                           .i_2dt = Ii * Ij / (Ii + Ij) * inv_dt};
+                const gr_rolling_torque rt = rolling_law(rl, c, rin);
+                s->tq[i] -= rt.m;
+                s->tq[j] += rt.m;
+                if (s->tg) {
+                    s->tg[i] -= rt.m;
+                    s->tg[j] += rt.m;
+                }
+                pt[1] += rt.p;
             }
             s->fx[j] += Fx;
             s->fy[j] += Fy;
@@ -190,9 +260,10 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
             }
         }
     }
-    *r = report(elastic, pn, fresh, worst, wi, wj);
+    *r = report(elastic + el_t, pn, fresh, worst, wi, wj);
     r->power_tangential = pt[0];
     r->power_friction = pt[1];
+    r->lost = lost;
 }
 
 void gr_kernel_run_poly(gr_sim *s, gr_force_report *r)

@@ -734,9 +734,35 @@ const char *gr_noise_mode_name(gr_noise_mode m)
     return names[m];
 }
 
+/* Species: the velocity of the centre of mass V = sum_i m_i v_i / sum_i m_i, so that afterwards
+ * sum_i m_i v_i = 0; the kinetic energy removed is sum_i m_i |V|^2 / 2. */
+static double remove_com_masses(gr_sim *s)
+{
+    double removed = 0.0, mtot = 0.0;
+    double *v[2] = {s->vx, s->vy};
+    for (int i = 0; i < s->n; i++) {
+        mtot += s->mass_i[i];
+    }
+    for (int c = 0; c < s->dim; c++) {
+        double p = 0.0;
+        for (int i = 0; i < s->n; i++) {
+            p += s->mass_i[i] * v[c][i];
+        }
+        const double V = p / mtot;
+        for (int i = 0; i < s->n; i++) {
+            v[c][i] -= V;
+        }
+        removed += 0.5 * mtot * V * V;
+    }
+    return removed;
+}
+
 /* Remove the centre-of-mass velocity; returns the kinetic energy removed. */
 double gr_remove_com(gr_sim *s)
 {
+    if (s->mass_i && s->n > 0) { /* species (1D and 2D) */
+        return remove_com_masses(s);
+    }
     double removed = 0.0;
     double *v[3] = {s->vx, s->vy, s->vz};
     for (int c = 0; c < s->dim; c++) {

@@ -4,6 +4,7 @@
 #ifndef GR_SIM_INTERNAL_H
 #define GR_SIM_INTERNAL_H
 
+#include <math.h>
 #include <stdint.h>
 
 #include "granule/sim.h"
@@ -261,6 +262,33 @@ static inline double gr_grain_r(const gr_sim *s, int i) { return s->rad ? s->rad
 static inline double gr_pair_d(const gr_sim *s, int i, int j)
 {
     return s->rad ? s->rad[i] + s->rad[j] : s->d;
+}
+/* A radius distribution: the reference coefficients ref (prepared for the reduced mass m_ref and
+ * effective radius r_ref) scaled to a contact of reduced mass M and effective radius R: the
+ * stiffness as (R / r_ref)^(a - 1) for a force k xi^a (hertz: k_h ~ sqrt(R); the linear spring
+ * alike for all), the damping as sqrt(M k) (a law calibrated to eps_n: the damping ratio depends
+ * on eps_n alone), the elastic energy with the stiffness, the tangential laws' constants below
+ * (kernels_poly.c's pairs, walls.c's
+ * grains at a wall: M = m_i, R = r_i / 2 as for the grain's own pair). */
+static inline void gr_size_scaled(const gr_contact_coeffs *ref, double m_ref, double r_ref,
+                                  double M, double R, gr_contact_coeffs *c)
+{
+    const double sk = ref->pow_a == 1.0 ? 1.0 : pow(R / r_ref, ref->pow_a - 1.0);
+    *c = *ref;
+    c->k_s *= sk;
+    c->gamma_n *= sqrt(M / m_ref * sk);
+    c->e_scale *= sk;
+    c->m12 = M;
+    /* the tangential laws without history: the tangential mass with M (sliding_friction's limit,
+     * rotation's q / (1 + q) kept); the dashpot's gamma_t = -m_t ln(eps_t) / t_c with the contact
+     * time t_c ~ (M / k)^(1 / (a + 1)) at a given impact speed: gamma_t ~ M^(a / (a + 1))
+     * k^(1 / (a + 1)) (sqrt(M k) for the linear spring), so every contact keeps eps_t */
+    c->m_t *= M / m_ref;
+    if (c->gamma_t != 0.0) {
+        const double a = ref->pow_a;
+        c->gamma_t *= a == 1.0 ? sqrt(M / m_ref * sk)
+                               : pow(M / m_ref, a / (a + 1.0)) * pow(sk, 1.0 / (a + 1.0));
+    }
 }
 /* src/core/kernels_poly.c: the force kernel of a run with species (1D ring or 2D list). */
 void gr_kernel_run_poly(gr_sim *s, gr_force_report *r);

@@ -40,14 +40,14 @@ static const char *not_covered(const gr_sim *s)
     const gr_sim_params *p = &s->params;
     return p->dim == 3               ? "[system] dim = 3"
            : !p->integrator->species ? "[integrator] kind"
-           : p->tangential && (gr_model_keeps_history(p->tangential) || p->size_distribution ||
+           : p->tangential && ((p->size_distribution && gr_model_keeps_history(p->tangential)) ||
                                p->integrator->instantaneous)
                ? "[model] tangential"
-           : p->rolling ? "[model] rolling"
-           : p->contact.rotation && (p->size_distribution || p->integrator->instantaneous)
-               ? "[model] rotation"
-           : s->drive == GR_DRIVE_BATH                           ? "[driving] kind = langevin"
-           : p->noise_mode == GR_NOISE_COM                       ? "[noise] mode = com"
+           : p->rolling && p->integrator->instantaneous ? "[model] rolling"
+           : s->drive == GR_DRIVE_BATH && (p->size_distribution || p->integrator->instantaneous)
+               ? "[driving] kind = langevin"
+           : p->noise_mode == GR_NOISE_COM && (p->size_distribution || p->integrator->instantaneous)
+               ? "[noise] mode = com"
            : p->noise_precision == GR_NOISE_SINGLE               ? "[noise] precision = single"
            : !(p->normal && (p->normal->kind & GR_MODEL_NORMAL)) ? "[model] normal"
                                                                  : NULL;
@@ -85,10 +85,8 @@ static int size_setup(gr_sim *s, gr_error *err)
 {
     const gr_sim_params *p = &s->params;
     const int n = s->n;
-    const char *what = not_covered(s);
-    if (!what && (p->walls[0] || p->walls[1] || p->gravity[0] != 0.0 || p->gravity[1] != 0.0)) {
-        what = "[boundary] walls or [gravity]"; /* species lists have them (walls.c) */
-    }
+    const char *what = not_covered(s); /* walls and gravity run (walls.c: each grain's contact
+                                          * scaled from the walls' reference, wall_coeffs) */
     if (!what && p->normal == &gr_model_hertz &&
         ((const hertz_own *)(const void *)(p->contact.own + offsetof(gr_own_layout, hertz)))
             ->viscoelastic) {
@@ -98,8 +96,8 @@ static int size_setup(gr_sim *s, gr_error *err)
         return GR_FAIL(err, GR_EINVAL,
                        "%s: %s: not available with a radius distribution yet; it runs in 1D and "
                        "2D with the verlet integrator, spring_dashpot or hertz (viscoelastic = "
-                       "false) alone, a periodic box and the random force or no driving "
-                       "(docs/mixtures.md)",
+                       "false) alone, periodic or between walls under gravity, and the random "
+                       "force or no driving (docs/mixtures.md)",
                        p->source, what);
     }
     const bool logn = p->size_distribution == GR_SIZE_LOGNORMAL;
@@ -334,9 +332,13 @@ int gr_species_coeffs(gr_sim *s, double dt, gr_error *err)
             gr_contact_params cp;
             double m;
             pair_params(&s->params, a, b, &cp, &m);
-            /* the tangential law too (no history: tangential_dashpot, sliding_friction) */
+            /* the tangential law too, k_t and gamma_t of a history law with the pair's M_ij */
             int rc = gr_contact_prepare(s->params.normal, s->params.tangential, &cp, m, dt,
                                         &s->cc_pair[a * ns + b], err);
+            if (!rc) { /* the rolling law's (kernels_poly.c gives it the pair's R_ij) */
+                rc = gr_contact_prepare_rolling(s->params.rolling, &cp, m, dt,
+                                                &s->cc_pair[a * ns + b], err);
+            }
             if (rc) {
                 return rc;
             }

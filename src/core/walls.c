@@ -212,6 +212,26 @@ typedef struct wall_sums {
     double ej; /* species: the normal springs' energy, J (each species' own e_scale) */
 } wall_sums;
 
+/* Grain i's contact with a wall: its species' (s->wall_cc_sp), a radius distribution's scaled to
+ * the grain (into *tmp: the walls' coefficients s->wall_cc, prepared for the mean mass and the
+ * scene's k_h of two grains of radius_min, scaled to M = m_i and R = r_i / 2 as for its own pair,
+ * gr_size_scaled), or s->wall_cc. */
+static inline const gr_contact_coeffs *wall_coeffs(const gr_sim *s, int i, gr_contact_coeffs *tmp)
+{
+    if (s->wall_cc_sp) {
+        return &s->wall_cc_sp[s->species[i]];
+    }
+    if (s->rad && !s->cc_pair) {
+        gr_size_scaled(&s->wall_cc, s->mass, 0.5 * s->params.size_min, s->mass_i[i],
+                       0.5 * s->rad[i], tmp);
+        return tmp;
+    }
+    return &s->wall_cc;
+}
+
+/* Whether each grain's wall contact has its own e_scale (species lists, a radius distribution). */
+static inline bool own_walls(const gr_sim *s) { return s->wall_cc_sp || (s->rad && !s->cc_pair); }
+
 /* The wall motion at time t: position and velocity of the vibrating wall (A sin(w t); sawtooth
  * A (2 frac(f t + 1/2) - 1) at the speed 2 A f). */
 static void wall_motion(const gr_sim_params *p, double t, double *q, double *v)
@@ -234,7 +254,8 @@ static void wall_tangential(gr_sim *s, int i, int k, double st, const double *v_
                             double *g_o, double f_n, double xi, double g_n, int acts, wall_sums *w)
 {
     const double r = gr_grain_r(s, i); /* species: its own radius and contact */
-    const gr_contact_coeffs *wc = s->wall_cc_sp ? &s->wall_cc_sp[s->species[i]] : &s->wall_cc;
+    gr_contact_coeffs tmp;
+    const gr_contact_coeffs *wc = wall_coeffs(s, i, &tmp);
     double g_t = st * v_o[i];
     if (s->omega) {
         g_t +=
@@ -348,7 +369,8 @@ static void axis_wall_grain(gr_sim *s, const int a, const int i, const double *r
 {
     {
         /* species: the grain's own contact with the walls (its mass, radius r) */
-        const gr_contact_coeffs *wc = s->wall_cc_sp ? &s->wall_cc_sp[s->species[i]] : &s->wall_cc;
+        gr_contact_coeffs tmp;
+        const gr_contact_coeffs *wc = wall_coeffs(s, i, &tmp);
         const double lo = r - (q[i] - qw), hi = q[i] + r - L;
         /* the step's runaway guard (overlap > RUNAWAY_OVERLAP = 0.5 d, step.c) sees a wall's
          * overlap doubled, xi / r, with worst_j = -1: a grain deeper than r has crossed the wall
@@ -367,7 +389,7 @@ static void axis_wall_grain(gr_sim *s, const int a, const int i, const double *r
             const double f_n = gr_kernel_normal(s, wc, lo, g_n, &f_d, &ei);
             f[i] += f_n;
             g[i] += f_d;
-            if (s->wall_cc_sp) {
+            if (own_walls(s)) {
                 w->ej += wc->e_scale * ei;
             } else {
                 w->e += ei;
@@ -388,7 +410,7 @@ static void axis_wall_grain(gr_sim *s, const int a, const int i, const double *r
             const double f_n = gr_kernel_normal(s, wc, hi, -v[i], &f_d, &ei);
             f[i] -= f_n;
             g[i] -= f_d;
-            if (s->wall_cc_sp) {
+            if (own_walls(s)) {
                 w->ej += wc->e_scale * ei;
             } else {
                 w->e += ei;
@@ -415,8 +437,9 @@ static double dropped_energy(const gr_sim *s, const double *q, double qw)
     for (int i = 0; i < s->n; i++) {
         double f_d, e;
         const double r = gr_grain_r(s, i); /* species: its own radius and contact */
-        const gr_contact_coeffs *wc = s->wall_cc_sp ? &s->wall_cc_sp[s->species[i]] : &s->wall_cc;
-        const double w = s->wall_cc_sp ? wc->e_scale / s->wall_cc.e_scale : 1.0;
+        gr_contact_coeffs tmp;
+        const gr_contact_coeffs *wc = wall_coeffs(s, i, &tmp);
+        const double w = own_walls(s) ? wc->e_scale / s->wall_cc.e_scale : 1.0;
         if (r - (q[i] - up) > 0.0) {
             gr_kernel_normal(s, wc, r - (q[i] - up), 0.0, &f_d, &e);
             before += w * e;
@@ -436,9 +459,16 @@ static void unwrap_ring(gr_sim *s, gr_force_report *r)
     if (n < 2 || !s->pair_contact[n - 1]) {
         return;
     }
-    /* species: the pair's own distance and coefficients, as the kernel took them */
+    /* species: the pair's own distance and coefficients, as the kernel took them (a distribution:
+     * the reference's scaled to the pair) */
+    gr_contact_coeffs tmp = s->cc;
+    if (s->rad && !s->cc_pair) {
+        const double mi = s->mass_i[n - 1], mj = s->mass_i[0], d = s->rad[n - 1] + s->rad[0];
+        gr_size_scaled(&s->cc, s->cont_m12, s->cont_r, mi * mj / (mi + mj),
+                       s->rad[n - 1] * s->rad[0] / d, &tmp);
+    }
     const gr_contact_coeffs *c =
-        s->cc_pair ? &s->cc_pair[s->species[n - 1] * s->nsp + s->species[0]] : &s->cc;
+        s->cc_pair ? &s->cc_pair[s->species[n - 1] * s->nsp + s->species[0]] : &tmp;
     const double ov = gr_pair_d(s, n - 1, 0) - (s->x[0] + s->L - s->x[n - 1]),
                  g_n = s->vx[0] - s->vx[n - 1];
     double f_d, e;
@@ -641,8 +671,8 @@ void gr_walls_forces(gr_sim *s, gr_force_report *r)
         axis_walls(s, 1, s->y, s->vy, s->fy, s->gy, s->vx, s->fx, s->gx, qw[1], vw[1], &w, r);
     }
     r->elastic += s->wall_cc.e_scale * w.e;
-    if (s->wall_cc_sp) {
-        r->elastic += w.ej; /* species: each species' own springs */
+    if (own_walls(s)) {
+        r->elastic += w.ej; /* species, a distribution: each grain's own springs */
     }
     r->power_normal += w.pn;
     if (s->wall_tl) {

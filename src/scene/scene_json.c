@@ -59,8 +59,11 @@ cJSON *gr_scene_to_json(const gr_scene *s)
         }
         if (s->driving->update ==
             GR_DRIVE_BATH) { /* the bath's noise strength (fluctuation-dissipation) */
+            /* species: the first species' (T_bath is its temperature; species s has m_s / m_1
+             * times it, docs/mixtures.md) */
+            const double mb = s->n_species >= 2 ? s->species_masses[0] : s->mass;
             cJSON_AddNumberToObject(dr, "D_bath",
-                                    s->mass * s->mass * s->driving_params.T_bath /
+                                    mb * mb * s->driving_params.T_bath /
                                         (s->dim * s->driving_params.tau));
         }
     }

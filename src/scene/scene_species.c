@@ -10,10 +10,11 @@
 static int refused(const gr_scene *s, const char **section, const char **key, char *detail,
                    size_t cap)
 {
-    /* walls and gravity, tangential laws without history: species lists with the verlet
-     * integrator (walls.c, kernels_poly.c) */
-    const bool no_walls = s->integrator->instantaneous || s->size_distribution;
-    const char *walls_allowed = "periodic (walls: [species] lists with the verlet integrator)";
+    /* walls and gravity, tangential laws without history, rolling laws: the verlet integrator
+     * (walls.c, kernels_poly.c); the history law, the bath and com mode: species lists, verlet */
+    const bool no_walls = s->integrator->instantaneous;    /* a distribution too (walls.c) */
+    const bool no_laws = no_walls || s->size_distribution; /* species lists and verlet only */
+    const char *walls_allowed = "periodic (walls: the verlet integrator)";
     struct {
         bool on;
         const char *section, *key, *allowed;
@@ -24,21 +25,22 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
          "verlet (a radius distribution; event runs [species] lists)"},
         {s->normal && !(s->normal->kind & GR_MODEL_NORMAL), "model", "normal",
          "a normal force law (spring_dashpot, hertz, ...) or event rule (hard_sphere)"},
-        {s->tangential && (no_walls || gr_model_keeps_history(s->tangential)), "model",
-         "tangential",
-         "none, or with [species] lists and verlet tangential_dashpot | sliding_friction (no "
-         "history law yet)"},
-        {s->rolling != NULL, "model", "rolling", "none"},
-        {s->contact.rotation && no_walls, "model", "rotation",
-         "false (rotation: [species] lists with the verlet integrator)"},
+        {s->tangential &&
+             (no_walls || (s->size_distribution && gr_model_keeps_history(s->tangential))),
+         "model", "tangential",
+         "none, or with verlet tangential_dashpot | sliding_friction (and with [species] lists "
+         "tangential_spring)"},
+        {s->rolling && no_walls, "model", "rolling", "none, or with verlet rolling_friction"},
         {s->boundary[0] != 0 && no_walls, "boundary", "x", walls_allowed},
         {s->boundary[1] != 0 && no_walls, "boundary", "y", walls_allowed},
-        {s->gravity[0] != 0.0 && no_walls, "gravity", "gx", "0 (gravity: [species] lists, verlet)"},
-        {s->gravity[1] != 0.0 && no_walls, "gravity", "gy", "0 (gravity: [species] lists, verlet)"},
+        {s->gravity[0] != 0.0 && no_walls, "gravity", "gx", "0 (gravity: the verlet integrator)"},
+        {s->gravity[1] != 0.0 && no_walls, "gravity", "gy", "0 (gravity: the verlet integrator)"},
         {s->boundary[2] != 0, "boundary", "z", "periodic"},
         {s->gravity[2] != 0.0, "gravity", "gz", "0"},
-        {s->driving && s->driving->update == GR_DRIVE_BATH, "driving", "kind", "rfm | none"},
-        {s->noise_mode == GR_NOISE_COM, "noise", "mode", "symmetrised | none"},
+        {s->driving && s->driving->update == GR_DRIVE_BATH && no_laws, "driving", "kind",
+         "rfm | none (langevin: [species] lists with the verlet integrator)"},
+        {s->noise_mode == GR_NOISE_COM && no_laws, "noise", "mode",
+         "symmetrised | none (com: [species] lists with the verlet integrator)"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
     };
     for (size_t k = 0; k < sizeof no / sizeof no[0]; k++) {

@@ -627,14 +627,13 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->R = 0.5 * s->d;
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
     if (s->rad) { /* species (docs/mixtures.md): smooth discs of their own radii and masses */
-        if (!s->cc_pair || s->omega || s->walls_on || s->dim == 3) {
+        if (!s->cc_pair || s->walls_on || s->dim == 3) {
             return GR_FAIL(err, GR_EINVAL,
-                           "%s: [integrator] kind = event runs [species] lists of smooth discs "
-                           "and rods in a periodic box; not yet %s (docs/mixtures.md; the verlet "
-                           "integrator runs a radius distribution)",
+                           "%s: [integrator] kind = event runs [species] lists of smooth and rough "
+                           "discs and of rods in a periodic box; not yet %s (docs/mixtures.md; the "
+                           "verlet integrator runs a radius distribution)",
                            s->params.source,
                            !s->cc_pair   ? "a radius distribution ([species] distribution)"
-                           : s->omega    ? "rough discs ([model] rotation = true)"
                            : s->walls_on ? "walls or gravity"
                                          : "spheres (dim = 3)");
         }

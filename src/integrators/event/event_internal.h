@@ -267,8 +267,14 @@ static inline bool gr_ev_tc_elastic(const struct gr_event_state *e, int i, int j
  * invariant rule then gives the relative velocity the change it gives any pair of reduced mass
  * M_ij, through the impulse P = M_ij dg it computed (its losses de_n, de_t are the pair's), and
  * the velocities are rebuilt from P with the real masses: v_i += (2 m_j / (m_i + m_j)) dv1 =
- * P / m_i, v_j likewise, so m_i v_i + m_j v_j is conserved. Smooth grains only (rough ones would
- * need each grain's arm and inertia: gr_event_init refuses them with species). */
+ * P / m_i, v_j likewise, so m_i v_i + m_j v_j is conserved.
+ *
+ * Rough discs (p->w1, 2D): the contact point divides r_i + r_j as r_i : r_j, so its relative
+ * tangential velocity is g.t + r_i w_i + r_j w_j and Walton's rule holds with the pair's tangential
+ * mass m_t = M_ij q / (1 + q) (1 / m_t = 1 / m_i + 1 / m_j + r_i^2 / I_i + r_j^2 / I_j, I_i =
+ * q m_i r_i^2). The rule runs on the surface speeds u = r w with R = 1 (its g_ct is then exactly
+ * that sum) and changes both u by -P_t / (q 2 M_ij); grain i's spin changes by the torque's
+ * -P_t r_i / I_i = (2 m_j / (m_i + m_j)) du / r_i, the weight of its velocity, over its radius. */
 static inline void gr_ev_rule(const struct gr_event_state *e, int i, int j, gr_event_pair *p)
 {
     if (!e->m) {
@@ -277,6 +283,15 @@ static inline void gr_ev_rule(const struct gr_event_state *e, int i, int j, gr_e
         return;
     }
     const double mi = e->m[i], mj = e->m[j], v1x = p->v1x, v1y = p->v1y, v2x = p->v2x, v2y = p->v2y;
+    double *w1 = p->w1, *w2 = p->w2, u[2] = {0.0, 0.0};
+    if (w1) { /* rough: the surface speeds r_i w_i, r_j w_j */
+        u[0] = e->r[i] * *w1;
+        u[1] = e->r[j] * *w2;
+        p->w1 = &u[0];
+        p->w2 = &u[1];
+        p->R = 1.0;
+    }
+    const double u0[2] = {u[0], u[1]};
     p->M = 2.0 * mi * mj / (mi + mj);
     gr_event_rule_apply(e->rule, &e->cc_pair[e->sp[i] * e->nsp + e->sp[j]], p);
     const double wi = 2.0 * mj / (mi + mj), wj = 2.0 * mi / (mi + mj);
@@ -284,6 +299,12 @@ static inline void gr_ev_rule(const struct gr_event_state *e, int i, int j, gr_e
     p->v1y = v1y + wi * (p->v1y - v1y);
     p->v2x = v2x + wj * (p->v2x - v2x);
     p->v2y = v2y + wj * (p->v2y - v2y);
+    if (w1) {
+        *w1 += wi * (u[0] - u0[0]) / e->r[i];
+        *w2 += wj * (u[1] - u0[1]) / e->r[j];
+        p->w1 = w1;
+        p->w2 = w2;
+    }
 }
 
 /* The contact floor's share of a relative normal speed change for i (*fi) and j (*fj): 1/2 each

@@ -9,9 +9,14 @@
  * subtracts the mean of the forces, not of the kicks, so the kicks carry no net momentum:
  * sum_i m_i dv_i = sqrt(2 D dt) sum_i (g_i - <g>) = 0.
  *
- * Rotation (2D, a tangential law without history): each grain's spin is kicked with its own
- * moment of inertia I_i = q m_i r_i^2 by the torques of kernels_poly.c, all of them
- * non-conservative (a dashpot's or friction's), their work booked as the forces' is.
+ * Rotation (2D): each grain's spin is kicked with its own moment of inertia I_i = q m_i r_i^2 by
+ * the torques of kernels_poly.c; the work of their non-conservative part is booked as the forces'
+ * is (all of a dashpot's or friction's torque; a history law's spring torque is conservative and
+ * its energy is the springs', so the kernel keeps the rest apart in s->tg, as step.c reads it).
+ *
+ * [noise] mode = com removes the centre-of-mass velocity sum_i m_i v_i / sum_i m_i every
+ * com_interval (gr_remove_com), between steps as step.c does. The Langevin bath ([driving] kind =
+ * langevin) takes the random force's place: bath_poly.
  *
  * The closing half kick ends every step (the velocities are synchronised after each step), so a
  * run split into calls is the same as one call. */
@@ -41,15 +46,43 @@ static double half_kick_poly(gr_sim *s, bool *finite)
         }
     }
     if (s->omega) { /* rotation: w_i += tq_i dt / (2 I_i), the torques' work as for v (step.c) */
+        /* a history law's springs: only the non-conservative torques (tg) do booked work */
+        const double *nc = s->tg ? s->tg : s->tq;
         for (int i = 0; i < s->n; i++) {
             const double dw = h / s->inertia_i[i] * s->tq[i];
-            work += s->tq[i] * (s->omega[i] + 0.5 * dw);
+            work += nc[i] * (s->omega[i] + 0.5 * dw);
             s->omega[i] += dw;
             sum += s->omega[i];
         }
     }
     *finite = isfinite(sum) && isfinite(work);
     return work * h;
+}
+
+/* The Langevin bath's exact Ornstein-Uhlenbeck update (driving_langevin.c) of grain i with its
+ * own mass: the drag -m_i v / tau (the same tau, so the same decay for all) and the noise that
+ * holds every grain at the bath's energy per degree of freedom, k_B T = m_1 T_bath / dim (m_1 the
+ * first species' mass: the scene's T_bath is that species' temperature in the units of eq. 2.19),
+ * so grain i's kick is the one-species kick times sqrt(m_1 / m_i). Returns the kinetic energy the
+ * noise added; *drag the drag removed. */
+static double bath_poly(gr_sim *s, double *drag)
+{
+    const int n = s->n, dim = s->dim;
+    gr_noise_normals(s->params.seed, GR_STREAM_NOISE, (uint64_t)s->step, 0, n, dim, s->noise);
+    const double decay = s->drive_c.decay, kick = s->drive_c.kick, m1 = s->params.species_mass[0];
+    double *v[2] = {s->vx, s->vy};
+    double added = 0.0, dragged = 0.0;
+    for (int i = 0; i < n; i++) {
+        const double ki = kick * sqrt(m1 * s->inv_m[i]);
+        for (int c = 0; c < dim; c++) {
+            const double vi = v[c][i], vd = decay * vi, dv = ki * s->noise[(size_t)i * dim + c];
+            dragged += 0.5 * s->mass_i[i] * (vi * vi - vd * vd);
+            added += s->mass_i[i] * dv * (vd + 0.5 * dv);
+            v[c][i] = vd + dv;
+        }
+    }
+    *drag = dragged;
+    return added;
 }
 
 /* The random force's kicks; returns the kinetic energy they added. */
@@ -106,11 +139,19 @@ static double drift_poly(gr_sim *s)
 int gr_verlet_step_poly(gr_sim *s, int64_t nsteps, gr_error *err)
 {
     const bool noise = s->params.noise_mode != GR_NOISE_NONE && s->params.D > 0.0;
+    const bool bath = s->drive == GR_DRIVE_BATH, com = s->params.noise_mode == GR_NOISE_COM;
     const double skin_half2 = 0.25 * (s->cutoff - s->d) * (s->cutoff - s->d);
     for (int64_t k = 0; k < nsteps; k++) {
         bool finite;
+        if (com && s->step > 0 && s->step % s->com_every == 0) {
+            s->removed_com += gr_remove_com(s); /* between steps: synchronised velocities */
+        }
         gr_verlet_book(s, half_kick_poly(s, &finite));
-        if (noise) {
+        if (bath) { /* the bath replaces the random force, as in step.c */
+            double drag;
+            s->injected += bath_poly(s, &drag);
+            s->diss_drag += drag;
+        } else if (noise) {
             s->injected += noise_kick_poly(s);
         }
         const double disp2 = drift_poly(s);
