@@ -10,7 +10,8 @@
 #  2. The same with eps_n = 1 and 8 discs in a box with walls on both axes, given a sideways
 #     speed: kinetic + potential is conserved and no centre ever leaves [r, L - r].
 #  3. A run stopped by SIGTERM mid-run and resumed equals the uninterrupted one.
-#  4. Refusals with the file, line and key: event-driven walls in 1D, a vibrating floor, rotation.
+#  4. The refusal with the file, line and key: event-driven walls in 1D (a vibrating floor and
+#     rough grains run: tests/test_event_vibrate.c).
 # usage: test_event_walls.sh GRANULE SOURCE_DIR
 set -uo pipefail
 granule=$1
@@ -107,6 +108,4 @@ bad() { # NAME KEY-IN-MESSAGE SED-SCRIPT
     fi
 }
 bad dim1 "[system] dim" 's/^dim = 2/dim = 1/; s/^x = periodic/x = walls/; /^y = walls/d; s/^gy = -9.81/gx = -9.81/'
-bad vibrate "[boundary] vibrate" 's/^y = walls/y = walls\nvibrate = y\namplitude = 0.001\nfrequency = 10/'
-bad rotation "[model] rotation" 's/^eps_t = 1/eps_t = 1\nrotation = true/'
 exit $rc

@@ -212,9 +212,7 @@ typedef struct wall_sums {
     double ej; /* species: the normal springs' energy, J (each species' own e_scale) */
 } wall_sums;
 
-/* The wall motion at time t: position and velocity of the vibrating wall (A sin(w t); sawtooth
- * A (2 frac(f t + 1/2) - 1) at the speed 2 A f). */
-static void wall_motion(const gr_sim_params *p, double t, double *q, double *v)
+void gr_walls_motion(const gr_sim_params *p, double t, double *q, double *v)
 {
     if (p->motion == GR_WALL_SAWTOOTH) {
         const double ph = p->frequency * t + 0.5;
@@ -599,7 +597,7 @@ void gr_walls_forces(gr_sim *s, gr_force_report *r)
     if (p->vibrate) {
         const int a = p->vibrate - 1;
         const double t = gr_sim_time(s);
-        wall_motion(p, t, &qw[a], &vw[a]);
+        gr_walls_motion(p, t, &qw[a], &vw[a]);
         if (p->motion == GR_WALL_SAWTOOTH && s->step > 0 &&
             floor(p->frequency * t + 0.5) != floor(p->frequency * (t - s->dt) + 0.5)) {
             released = dropped_energy(s, pos[a], qw[a]);

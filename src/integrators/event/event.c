@@ -517,9 +517,9 @@ static void report(gr_sim *s, double t)
             double y, w, z, u;
             gr_ev_state_y(e, i, t, phase, &y, &w);
             gr_ev_state_z(e, i, t, phase, &z, &u);
-            s->x[i] = x - e->L * floor(x / e->L);
-            s->y[i] = y - e->L * floor(y / e->L);
-            s->z[i] = z - e->L * floor(z / e->L);
+            s->x[i] = e->vib == 0 ? x : x - e->L * floor(x / e->L); /* a vibrating wall's */
+            s->y[i] = e->vib == 1 ? y : y - e->L * floor(y / e->L); /* grains may be below 0 */
+            s->z[i] = e->vib == 2 ? z : z - e->L * floor(z / e->L);
             s->vy[i] = w;
             s->vz[i] = u;
             work += ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i] -
@@ -527,8 +527,8 @@ static void report(gr_sim *s, double t)
         } else if (e->dim == 2) {
             double y, w;
             gr_ev_state_y(e, i, t, phase, &y, &w);
-            s->x[i] = x - e->L * floor(x / e->L);
-            s->y[i] = y - e->L * floor(y / e->L);
+            s->x[i] = e->vib == 0 ? x : x - e->L * floor(x / e->L);
+            s->y[i] = e->vib == 1 ? y : y - e->L * floor(y / e->L);
             s->vy[i] = w;
             work += mw * (ke2(v, w) - ke2(e->bv[i], e->bw[i]) -
                           gr_ev_gravity_work(e, x - e->bx[i], y - e->by[i]));
@@ -626,6 +626,7 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->q = s->cc.q;
     e->R = 0.5 * s->d;
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
+    e->vib = -1;  /* no vibrating wall */
     if (s->rad) { /* species (docs/mixtures.md): smooth discs of their own radii and masses */
         if (!s->cc_pair || s->omega || s->walls_on || s->dim == 3) {
             return GR_FAIL(err, GR_EINVAL,
@@ -651,18 +652,23 @@ int gr_event_init(gr_sim *s, gr_error *err)
         const gr_model *nm = s->cc.normal_model;
         const bool constant_eps =
             nm && nm->impact && nm->impact(&s->cc, 1e-3).eps_n == nm->impact(&s->cc, 10.0).eps_n;
-        if (s->dim == 1 || p->vibrate || s->omega || !constant_eps) {
+        if (s->dim == 1 || !constant_eps) {
             return GR_FAIL(err, GR_EINVAL,
-                           "%s: [integrator] kind = event models flat, fixed walls and gravity in "
-                           "2D and 3D for smooth discs and spheres with a constant eps_n; allowed "
-                           "with walls or gravity: dim = 2 or 3, [boundary] vibrate = none, "
-                           "[model] rotation = false, viscoelastic = false (the verlet integrator "
-                           "has the rest)",
+                           "%s: [integrator] kind = event models flat walls (fixed or vibrating) "
+                           "and gravity in 2D and 3D for smooth or rough discs and spheres with a "
+                           "constant eps_n; allowed with walls or gravity: dim = 2 or 3, [model] "
+                           "viscoelastic = false (the verlet integrator has the rest)",
                            p->source);
         }
         for (int a = 0; a < s->dim; a++) {
             e->wall[a] = p->walls[a];
             e->grav[a] = p->gravity[a];
+        }
+        if (p->vibrate) { /* the wall at 0 of axis vibrate - 1 moves (gr_walls_motion) */
+            const double w = 2.0 * M_PI * p->frequency;
+            e->vib = p->vibrate - 1;
+            e->vib_acc = p->motion == GR_WALL_SINE ? p->amplitude * w * w : 0.0;
+            e->par = p;
         }
     }
     e->com_every = (int64_t)llround(s->params.com_interval / e->tau);

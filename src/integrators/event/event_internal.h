@@ -70,6 +70,13 @@ struct gr_event_state {
     bool wall[3];
     double grav[3];
     int64_t wall_hits;
+    /* the vibrating wall ([boundary] vibrate): the wall at 0 of axis vib (-1: none) stands at
+     * gr_walls_motion(par, t) (core/walls.c, as for the verlet integrator); vib_acc bounds its
+     * acceleration (A w^2 for a sine, 0 for a sawtooth, whose drops only move it away). Grains on
+     * it may go below 0: that axis is not wrapped and its first cell reaches down to -inf. */
+    int vib;
+    double vib_acc;
+    const gr_sim_params *par;
     /* trajectories */
     double *t0, *bx, *bv, *by, *bw; /* base time, x, vx, y, vy */
     double *bz, *bu;                /* 3D: z, vz (NULL otherwise) */
@@ -221,6 +228,15 @@ static inline double gr_ev_first_quadratic(double f0, double f1, double c, doubl
  * monotone pieces of f are isolated by the real roots of f' (which come from those of f''),
  * then bisection with Newton steps. event_solve.c. */
 double gr_ev_first_quartic(const double c[5], double T);
+
+/* The vibrating wall (wall_time in event_cells.h): the first time u in [0, T] at which the gap
+ * h(u) = q0 + v0 u + acc u^2 / 2 - r - q_w(tw + u) is <= 0 while decreasing, q_w the wall of
+ * gr_walls_motion(p, .) and C >= |h''| (|acc| + vib_acc), or GR_EV_INF. May return an earlier
+ * time at which h > 0 (a checkpoint after GR_EV_WALL_STEPS steps): the caller predicts again
+ * from there. event_solve.c. */
+#define GR_EV_WALL_STEPS 64
+double gr_ev_moving_wall_first(const gr_sim_params *p, double tw, double q0, double v0, double acc,
+                               double r, double C, double T);
 
 /* calendar (calendar.c) */
 /* "bucket" (also NULL or ""), "sparse" or "full" into *kind; -1 for anything else */
