@@ -11,7 +11,8 @@
  *    no grain ever lies inside the moving floor (overlap checks after every event);
  *  - a spinning rough disc (and sphere) dropped on a floor: Walton's rule at an infinite mass, the
  *    contact point's tangential velocity -beta times itself, the angular momentum about the contact
- *    point conserved, the normal velocity -eps_n times itself.
+ *    point conserved, the normal velocity -eps_n times itself;
+ *  - viscoelastic grains (eps_n(v)) at a floor: hertz's eps_n(v) of the grain's mass and speed.
  * GRANULE_TEST_QUICK=1 shortens the runs. */
 #include <check.h>
 #include <math.h>
@@ -22,6 +23,7 @@
 
 #include "core/sim_internal.h"
 #include "integrators/event/event_internal.h"
+#include "granule/model.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
 #include "check_main.h"
@@ -121,8 +123,10 @@ START_TEST(test_root_brute)
         }
         found++;
         ck_assert_msg(tb != INFINITY, "case %d: contact at %.15g s, brute force has none", k, t);
-        ck_assert_msg(fabsl((long double)t - tb) <= 1e-12L, "case %d: contact at %.17g s, brute "
-                      "force %.17Lg s (%s)", k, t, tb, p.motion ? "sawtooth" : "sine");
+        ck_assert_msg(fabsl((long double)t - tb) <= 1e-12L,
+                      "case %d: contact at %.17g s, brute "
+                      "force %.17Lg s (%s)",
+                      k, t, tb, p.motion ? "sawtooth" : "sine");
     }
     ck_assert_msg(found > cases / 4 && none > cases / 20, "found %d, none %d", found, none);
 }
@@ -169,10 +173,7 @@ static gr_sim *box(int dim, int n, const char *motion, const char *g, const char
     return sim_of(&sc);
 }
 
-static double kinetic(const gr_sim *s)
-{
-    return gr_sim_ledger((gr_sim *)s).kinetic;
-}
+static double kinetic(const gr_sim *s) { return gr_sim_ledger((gr_sim *)s).kinetic; }
 
 /* an elastic grain, no gravity: the kinetic energy changes by the wall's work, exactly */
 static void elastic_work(int dim, const char *motion)
@@ -197,9 +198,9 @@ static void elastic_work(int dim, const char *motion)
                   "%dD %s: kinetic energy changed by %.17g J, the wall's work %.17g J", dim, motion,
                   dk, l.wall_work);
     /* nothing else: no losses, and the free flights' booked work is rounding */
-    ck_assert_msg(l.dissipated_normal == 0.0 && fabs(l.injected) <= 1e-12 * (k0 + fabs(l.wall_work)),
-                  "dissipated %g J, injected %g J",
-                  l.dissipated_normal, l.injected);
+    ck_assert_msg(l.dissipated_normal == 0.0 &&
+                      fabs(l.injected) <= 1e-12 * (k0 + fabs(l.wall_work)),
+                  "dissipated %g J, injected %g J", l.dissipated_normal, l.injected);
     gr_sim_free(s);
 }
 
@@ -248,7 +249,8 @@ START_TEST(test_drop_time)
         double qw, vw;
         gr_walls_motion(&s->params, e->last[0], &qw, &vw);
         const double v_in = -9.81 * e->last[0]; /* and after the hit, back to that instant: */
-        const double v_out = (dim == 3 ? s->vz[0] : s->vy[0]) + 9.81 * (gr_sim_time(s) - e->last[0]);
+        const double v_out =
+            (dim == 3 ? s->vz[0] : s->vy[0]) + 9.81 * (gr_sim_time(s) - e->last[0]);
         ck_assert_msg(fabs(v_out - (2.0 * vw - v_in)) <= 1e-13,
                       "rebound %.17g m/s, expected 2 v_w - v = %.17g", v_out, 2.0 * vw - v_in);
         gr_sim_free(s);
@@ -339,8 +341,7 @@ START_TEST(test_rough_drop)
                 L1, vn, un);
         ck_assert_msg(fabs(c1 + 0.4 * c0) <= 1e-13 * fabs(c0), "contact point %.17g -> %.17g", c0,
                       c1);
-        ck_assert_msg(fabs(L1 - L0) <= 1e-13 * fabs(L0), "angular momentum %.17g -> %.17g", L0,
-                      L1);
+        ck_assert_msg(fabs(L1 - L0) <= 1e-13 * fabs(L0), "angular momentum %.17g -> %.17g", L0, L1);
         ck_assert_msg(fabs(un + 0.7 * vn) <= 1e-14, "normal velocity %.17g -> %.17g", vn, un);
         if (dim == 3) {
             ck_assert(e->bw[0] == 0.0 && s->wx[0] == 0.0 && s->omega[0] == 0.0);
@@ -356,6 +357,69 @@ START_TEST(test_rough_drop)
 }
 END_TEST
 
+/* viscoelastic hard grains (eps_n(v)) at a fixed floor, 2D and 3D, no gravity: the rebound speed
+ * over the impact speed is hertz's eps_n(v) for the grain's own mass against the infinite wall
+ * (reduced mass M, impact speed v; not the mirror pair's M / 2 at 2 v), and the Schwager-Poeschel
+ * series 1 - C1 b + C2 b^2, b = (3/2) A (k_h / M)^(2/5) v^(1/5), to its truncation O(b^3) */
+START_TEST(test_wall_viscoelastic)
+{
+    const double speeds[] = {0.05, 0.5, 2.0};
+    const double k_h = 1e9, A = 2e-7, M = 3.53e-5;
+    for (int dim = 2; dim <= 3; dim++) {
+        const char *ov[] = {dim == 3 ? "system.dim=3" : "system.dim=2",
+                            "system.N=1",
+                            "system.L=0.06",
+                            "system.radius=1.5e-3",
+                            "system.mass=3.53e-5",
+                            dim == 3 ? "placement.kind=random" : "placement.kind=uniform",
+                            "model.normal=hard_sphere",
+                            "model.viscoelastic=true",
+                            "model.k_h=1e9",
+                            "model.visco_A=2e-7",
+                            "noise.mode=none",
+                            dim == 3 ? "boundary.z=walls" : "boundary.y=walls",
+                            "integrator.kind=event"};
+        gr_scene sc = scene_of(ov, 13);
+        const gr_contact_coeffs hc = hertz_of(&sc, M);
+        gr_error err = {0};
+        for (int k = 0; k < 3; k++) {
+            const double v = speeds[k];
+            gr_sim *s = sim_of(&sc);
+            struct gr_event_state *e = gr_ev(s);
+            e->bv[0] = 0.0;
+            e->bw[0] = dim == 3 ? 0.0 : -v;
+            if (dim == 3) {
+                e->bu[0] = -v;
+                e->bz[0] = 0.03;
+            } else {
+                e->by[0] = 0.03;
+            }
+            gr_event_set_debug(s, true, false);
+            ck_assert(gr_sim_step(s, (int64_t)ceil(0.03 / v / s->dt), &err) == GR_OK);
+            gr_event_counts c;
+            gr_event_stats(s, &c);
+            ck_assert_int_eq(c.wall_hits, 1);
+            const double eps = (dim == 3 ? s->vz[0] : s->vy[0]) / v;
+            const double hertz = hc.normal_model->impact(&hc, v).eps_n;
+            const double b = 1.5 * A * pow(k_h / M, 0.4) * pow(v, 0.2);
+            const double series = 1.0 - 1.15344 * b + 0.79826 * b * b;
+            VERBOSE("%dD wall, v = %g: eps %.12f, hertz %.12f, series %.12f\n", dim, v, eps, hertz,
+                    series);
+            ck_assert_msg(fabs(eps - hertz) <= 1e-12, "%dD v = %g: eps %.15g, hertz %.15g", dim, v,
+                          eps, hertz);
+            ck_assert_msg(fabs(eps - series) <= 2.0 * b * b * b, "v = %g: eps %.15g, series %.15g",
+                          v, eps, series);
+            gr_ledger l = gr_sim_ledger(s);
+            const double e0 = 0.5 * M * v * v; /* the state set here: kinetic + lost = e0 */
+            ck_assert_msg(fabs(l.kinetic + gr_ledger_dissipated(&l) - e0) <= 1e-13 * e0,
+                          "kinetic %.17g + dissipated %.17g J, before %.17g J", l.kinetic,
+                          gr_ledger_dissipated(&l), e0);
+            gr_sim_free(s);
+        }
+    }
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("event_vibrate");
@@ -367,6 +431,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_drop_time);
     tcase_add_test(tc, test_bed_ledger);
     tcase_add_test(tc, test_rough_drop);
+    tcase_add_test(tc, test_wall_viscoelastic);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -647,18 +647,30 @@ int gr_event_init(gr_sim *s, gr_error *err)
     }
     if (s->walls_on) { /* gr_walls_prepare checked the scene; what this integrator adds: */
         const gr_sim_params *p = &s->params;
-        /* a wall is the mirror image of the grain (event_2d.c, wall_hit): exact for a rule whose
-         * eps_n does not depend on the impact speed (at a wall the speed and mass differ) */
-        const gr_model *nm = s->cc.normal_model;
+        /* a wall is the mirror image of the grain (event_cells.h, wall_hit): a rule whose eps_n
+         * depends on the impact speed gets it from the grain's own speed against the wall
+         * (gr_ev_wall_cc), as a constant eps_n of a copy of the walls' coefficients */
+        const gr_model *nm = s->wall_cc.normal_model;
         const bool constant_eps =
-            nm && nm->impact && nm->impact(&s->cc, 1e-3).eps_n == nm->impact(&s->cc, 10.0).eps_n;
-        if (s->dim == 1 || !constant_eps) {
+            nm && nm->impact &&
+            nm->impact(&s->wall_cc, 1e-3).eps_n == nm->impact(&s->wall_cc, 10.0).eps_n;
+        if (s->dim == 1) {
             return GR_FAIL(err, GR_EINVAL,
                            "%s: [integrator] kind = event models flat walls (fixed or vibrating) "
-                           "and gravity in 2D and 3D for smooth or rough discs and spheres with a "
-                           "constant eps_n; allowed with walls or gravity: dim = 2 or 3, [model] "
-                           "viscoelastic = false (the verlet integrator has the rest)",
+                           "and gravity in 2D and 3D; allowed with walls or gravity: dim = 2 or 3 "
+                           "(the verlet integrator has 1D)",
                            p->source);
+        }
+        if (!constant_eps) {
+            if (e->rule != GR_EVENT_RULE_hard_sphere) {
+                return GR_FAIL(err, GR_EINVAL,
+                               "%s: [integrator] kind = event: walls with an eps_n(v) rule need "
+                               "[model] normal = hard_sphere (given %s)",
+                               p->source, nm->name);
+            }
+            e->wall_visco = true;
+            e->wall_ccv = s->wall_cc;
+            e->wall_ccv.law_n[GR_HARD_SPHERE_VISCO] = 0.0; /* eps_n_exact, set per hit */
         }
         for (int a = 0; a < s->dim; a++) {
             e->wall[a] = p->walls[a];

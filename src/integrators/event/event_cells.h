@@ -806,7 +806,7 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
             p.w1 = &s->omega[i];
             p.w2 = &image_spin;
         }
-        gr_event_rule_apply(e->rule, &s->wall_cc, &p); /* the walls' own eps_n, eps_t */
+        gr_event_rule_apply(e->rule, gr_ev_wall_cc(s, e, vn), &p); /* the walls' own eps_n, eps_t */
         ux = p.v1x;
         uy = p.v1y;
         de_n = 0.5 * p.de_n;
@@ -883,8 +883,9 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
     if (vn > 0.0) {
         double image[3] = {-u[0], -u[1], -u[2]};
         double wi[3] = {spin0[0], spin0[1], spin0[2]}, wj[3] = {spin0[0], spin0[1], spin0[2]};
-        gr_event_rule_3d(e->rule, &s->wall_cc, e->M, e->R, e->q, n, u, image, e->rough ? wi : NULL,
-                         e->rough ? wj : NULL, elastic, &de_n, &de_t); /* the walls' own eps_n */
+        gr_event_rule_3d(e->rule, gr_ev_wall_cc(s, e, vn), e->M, e->R, e->q, n, u, image,
+                         e->rough ? wi : NULL, e->rough ? wj : NULL, elastic, &de_n,
+                         &de_t); /* the walls' own eps_n */
         if (e->rough) {
             s->wx[i] = wi[0], s->wy[i] = wi[1], s->omega[i] = wi[2];
         }

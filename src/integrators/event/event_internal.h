@@ -77,6 +77,12 @@ struct gr_event_state {
     int vib;
     double vib_acc;
     const gr_sim_params *par;
+    /* the walls' coefficients as the rule gets them (gr_ev_wall_cc): the sim's wall_cc, or with
+     * an eps_n(v) rule (viscoelastic = true) a copy whose constant eps_n is set per hit to the
+     * impact's eps_n(v_n) of the grain (mass M) against the infinite wall, since the mirror image
+     * doubles the relative speed the rule would see */
+    bool wall_visco;
+    gr_contact_coeffs wall_ccv;
     /* trajectories */
     double *t0, *bx, *bv, *by, *bw; /* base time, x, vx, y, vy */
     double *bz, *bu;                /* 3D: z, vz (NULL otherwise) */
@@ -237,6 +243,16 @@ double gr_ev_first_quartic(const double c[5], double T);
 #define GR_EV_WALL_STEPS 64
 double gr_ev_moving_wall_first(const gr_sim_params *p, double tw, double q0, double v0, double acc,
                                double r, double C, double T);
+
+/* The walls' coefficients for a hit at the normal speed vn (> 0) towards the wall. */
+static inline const gr_contact_coeffs *gr_ev_wall_cc(gr_sim *s, struct gr_event_state *e, double vn)
+{
+    if (!e->wall_visco) {
+        return &s->wall_cc;
+    }
+    e->wall_ccv.eps_n_exact = s->wall_cc.normal_model->impact(&s->wall_cc, vn).eps_n;
+    return &e->wall_ccv;
+}
 
 /* calendar (calendar.c) */
 /* "bucket" (also NULL or ""), "sparse" or "full" into *kind; -1 for anything else */
