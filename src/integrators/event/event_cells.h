@@ -694,6 +694,10 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
         const double L = e->L;
         double wxi = xi - L * floor(xi / L), wyi = yi - L * floor(yi / L);
         double wxj = xj - L * floor(xj / L), wyj = yj - L * floor(yj / L);
+        if (e->vib >= 0) { /* not along a vibrating wall's axis (grains below 0 stay there) */
+            wxi = e->vib == 0 ? xi : wxi, wxj = e->vib == 0 ? xj : wxj;
+            wyi = e->vib == 1 ? yi : wyi, wyj = e->vib == 1 ? yj : wyj;
+        }
         int rc = gr_ev_record(s, i, +1, t_abs, wxi, wyi, vi, ui, err);
         rc = rc ? rc : gr_ev_record(s, j, +1, t_abs, wxj, wyj, vj, uj, err);
         rc = rc ? rc : gr_ev_record(s, i, -1, t_abs, wxi, wyi, pi_x, pi_y, err);
@@ -831,7 +835,8 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
         e->floors++; /* ~M (g tc)^2 / 8 per resting grain and tc: booked as injected */
     }
     if (s->contacts) {
-        const double wx = x - e->L * floor(x / e->L), wy = y - e->L * floor(y / e->L);
+        const double wx = e->vib == 0 ? x : x - e->L * floor(x / e->L);
+        const double wy = e->vib == 1 ? y : y - e->L * floor(y / e->L);
         int rc = gr_ev_record(s, i, +1, t_abs, wx, wy, v, w, err);
         rc = rc ? rc : gr_ev_record(s, i, -1, t_abs, wx, wy, ux, uy, err);
         if (rc) {
