@@ -115,7 +115,6 @@ file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[placement]\nkind = unifor
 file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[driving]\nkind = langevin\ntau = 0\n | run $S --out $O | 2 | :7:;[driving] tau;(0, inf) | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[gravity]\ngy = -9.81\n | run $S --out $O | 2 | :8:;[gravity] gy;[boundary] y = walls;allowed with y = periodic: gy = 0 | new
 file:[system]\ndim = 1\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\nx = walls\n[gravity]\ngx = -9.81\n[integrator]\nkind = hybrid\n | run $S --out $O | 2 | :12:;[integrator] kind;kind = hybrid;allowed with walls or gravity: verlet | new
-file:[system]\ndim = 1\nN = 4\nL = 0.04\n[model]\nnormal = hard_sphere\n[boundary]\nx = walls\n[integrator]\nkind = event\n | run $S --out $O | 2 | :2:;[system] dim;kind = event;dim = 2 or 3 | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\ny = walls\n[gravity]\ngy = -2000\n | run $S --out $O | 2 | :10:;[gravity] gy;[-1000, 1000] | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[boundary]\ny = wall\n | run $S --out $O | 2 | :6:;[boundary] y;periodic|walls | new
 file:[system]\ndim = 1\nN = 1\nL = 0.04\n[boundary]\ny = walls\n | run $S --out $O | 2 | :6:;[boundary] y;dim = 2 | new

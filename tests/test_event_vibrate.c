@@ -12,7 +12,8 @@
  *  - a spinning rough disc (and sphere) dropped on a floor: Walton's rule at an infinite mass, the
  *    contact point's tangential velocity -beta times itself, the angular momentum about the contact
  *    point conserved, the normal velocity -eps_n times itself;
- *  - viscoelastic grains (eps_n(v)) at a floor: hertz's eps_n(v) of the grain's mass and speed.
+ *  - viscoelastic grains (eps_n(v)) at a floor: hertz's eps_n(v) of the grain's mass and speed;
+ *  - 1D: a rod of grains between two walls (energy, the first bounce's loss, a vibrating floor).
  * GRANULE_TEST_QUICK=1 shortens the runs. */
 #include <check.h>
 #include <math.h>
@@ -420,6 +421,98 @@ START_TEST(test_wall_viscoelastic)
 }
 END_TEST
 
+/* A rod of hard grains between two walls (1D, [boundary] x = walls): ten elastic grains without
+ * gravity keep their energy and stay within [r, L - r]; a grain dropped from rest onto the floor
+ * under gx (eps_n = 0.9, no TC) first loses (1 - eps_n^2) M g (h - r); ten inelastic grains
+ * on a vibrating floor under gx: the ledger closes and the wall works. */
+static gr_sim *rod(int n, const char *g, const char *eps, const char *tc, bool vibrate)
+{
+    char nbuf[32], gbuf[40], ebuf[40], tbuf[40];
+    snprintf(nbuf, sizeof nbuf, "system.N=%d", n);
+    snprintf(gbuf, sizeof gbuf, "gravity.gx=%s", g);
+    snprintf(ebuf, sizeof ebuf, "model.eps_n=%s", eps);
+    snprintf(tbuf, sizeof tbuf, "model.tc=%s", tc);
+    const char *ov[20] = {"system.dim=1",
+                          nbuf,
+                          "system.L=0.1",
+                          "system.radius=1.5e-3",
+                          "system.mass=3.53e-5",
+                          "placement.kind=uniform",
+                          n == 1 ? "placement.v0=0" : "placement.v0=0.3",
+                          "model.normal=hard_sphere",
+                          ebuf,
+                          tbuf,
+                          "noise.mode=none",
+                          "boundary.x=walls",
+                          gbuf,
+                          "integrator.kind=event",
+                          "run.seed=7"};
+    int k = 15;
+    if (vibrate) {
+        ov[k++] = "boundary.vibrate=x";
+        ov[k++] = "boundary.amplitude=0.003";
+        ov[k++] = "boundary.frequency=20";
+    }
+    gr_scene sc = scene_of(ov, k);
+    gr_sim *s = sim_of(&sc);
+    gr_event_set_debug(s, true, false); /* overlap checks after every event */
+    return s;
+}
+
+START_TEST(test_rod_1d)
+{
+    gr_error err = {0};
+    /* elastic, no gravity */
+    gr_sim *s = rod(10, "0", "1", "0", false);
+    const double r = 0.5 * s->d, e0 = kinetic(s);
+    double worst = 0.0;
+    for (int c = 0; c < (quick() ? 5 : 20); c++) {
+        ck_assert_msg(gr_sim_step(s, (int64_t)llround(0.05 / s->dt), &err) == GR_OK, "%s",
+                      err.message);
+        for (int i = 0; i < s->n; i++) {
+            worst = fmax(worst, fmax(r - s->x[i], s->x[i] - (s->L - r)));
+        }
+    }
+    gr_event_counts c;
+    gr_event_stats(s, &c);
+    VERBOSE("1D rod: %lld wall hits, %lld collisions, energy %.17g -> %.17g J\n",
+            (long long)c.wall_hits, (long long)c.collisions, e0, kinetic(s));
+    ck_assert_msg(c.wall_hits >= 4 && c.collisions >= 20, "%lld wall hits, %lld collisions",
+                  (long long)c.wall_hits, (long long)c.collisions);
+    ck_assert_msg(fabs(kinetic(s) - e0) <= 1e-13 * e0, "energy %.17g -> %.17g J", e0, kinetic(s));
+    ck_assert_msg(worst <= 1e-12, "a centre %.3g m beyond [r, L - r]", worst);
+    gr_sim_free(s);
+    /* one grain dropped from L / 2 under gx: the first bounce's loss */
+    s = rod(1, "-9.81", "0.9", "off", false);
+    const double h = s->x[0], M = s->mass, g = 9.81, t1 = sqrt(2.0 * (h - r) / g);
+    ck_assert_msg(gr_sim_step(s, (int64_t)llround(1.5 * t1 / s->dt), &err) == GR_OK, "%s",
+                  err.message);
+    gr_event_stats(s, &c);
+    gr_ledger l = gr_sim_ledger(s);
+    const double lost = (1.0 - 0.81) * M * g * (h - r);
+    ck_assert_msg(c.wall_hits == 1, "%lld wall hits", (long long)c.wall_hits);
+    ck_assert_msg(fabs(l.dissipated_normal - lost) <= 1e-12 * lost, "lost %.17g J, expected %.17g",
+                  l.dissipated_normal, lost);
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) <= 1e-12 * l.initial, "residual %.3g of %.3g J",
+                  gr_ledger_residual(&l), l.initial);
+    gr_sim_free(s);
+    /* a vibrating floor under gravity: the ledger closes */
+    s = rod(10, "-9.81", "0.8", "0", true);
+    ck_assert_msg(gr_sim_step(s, (int64_t)llround((quick() ? 0.2 : 1.0) / s->dt), &err) == GR_OK,
+                  "%s", err.message);
+    gr_event_stats(s, &c);
+    l = gr_sim_ledger(s);
+    const double scale = l.initial + fabs(l.wall_work) + gr_ledger_dissipated(&l);
+    VERBOSE("1D vibrated rod: %lld wall hits, wall work %.6g J, residual %.3g J\n",
+            (long long)c.wall_hits, l.wall_work, gr_ledger_residual(&l));
+    ck_assert_msg(c.wall_hits > 20 && l.wall_work > 0.0, "%lld wall hits, wall work %g J",
+                  (long long)c.wall_hits, l.wall_work);
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) <= 1e-12 * scale, "residual %.3g of %.3g J",
+                  gr_ledger_residual(&l), scale);
+    gr_sim_free(s);
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("event_vibrate");
@@ -432,6 +525,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_bed_ledger);
     tcase_add_test(tc, test_rough_drop);
     tcase_add_test(tc, test_wall_viscoelastic);
+    tcase_add_test(tc, test_rod_1d);
     suite_add_tcase(s, tc);
     return s;
 }

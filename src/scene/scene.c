@@ -1159,15 +1159,6 @@ static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
             s->integrator->name, sec, key, names, s->integrator->name);
         return fail_at(err, &w, "integrator", "kind", "%s", detail);
     }
-    if (s->integrator->instantaneous && s->dim == 1) {
-        /* the event integrator's walls: 2D and 3D (event_cells.h) */
-        where w = where_of(g, s, "system", "dim");
-        snprintf(detail, sizeof detail,
-                 "kind = %s models walls (fixed or vibrating) and gravity in 2D and 3D; allowed "
-                 "with walls or gravity and kind = %s: dim = 2 or 3 (kind = verlet has 1D)",
-                 s->integrator->name, s->integrator->name);
-        return fail_at(err, &w, "system", "dim", "%s", detail);
-    }
     return GR_OK;
 }
 

@@ -285,7 +285,6 @@ static inline double axis_state(const struct gr_event_state *e, int a, int i, do
  * constant acceleration (a parabola under gravity: gr_ev_first_quadratic). */
 static double wall_time(const struct gr_event_state *e, int i, int *face, int *phase)
 {
-    const double r = 0.5 * e->d;
     double t0 = e->now;
     *phase = e->phase;
     for (int piece = e->phase; piece < 2; piece++) {
@@ -297,11 +296,8 @@ static double wall_time(const struct gr_event_state *e, int i, int *face, int *p
             }
             double q, v;
             const double acc = axis_state(e, a, i, t0, piece, &q, &v);
-            const double lo = a == e->vib
-                                  ? gr_ev_moving_wall_first(e->par, (double)e->win * e->tau + t0, q,
-                                                            v, acc, r, fabs(acc) + e->vib_acc, T)
-                                  : gr_ev_first_quadratic(q - r, v, 0.5 * acc, T);
-            const double hi = gr_ev_first_quadratic(e->L - r - q, -v, -0.5 * acc, T);
+            const double lo = gr_ev_wall_piece(e, a, 0, t0, q, v, acc, T);
+            const double hi = gr_ev_wall_piece(e, a, 1, t0, q, v, acc, T);
             if (lo < best) {
                 best = lo;
                 *face = WALL_FACE + 2 * a;
@@ -725,34 +721,6 @@ static inline void wall_booked(gr_sim *s, int i, double t_abs, bool elastic, dou
     e->wall_hits++;
 }
 
-/* A vibrating wall's state at absolute time t: *vw its velocity, *aw its acceleration along its
- * axis; returns the gap of a grain at q (its radius r = d / 2) to it. */
-static inline double vib_wall(const struct gr_event_state *e, double t, double q, double *vw,
-                              double *aw)
-{
-    double qw;
-    gr_walls_motion(e->par, t, &qw, vw);
-    const double w = 2.0 * M_PI * e->par->frequency;
-    *aw = e->par->motion == GR_WALL_SINE ? -w * w * qw : 0.0;
-    return q - 0.5 * e->d - qw;
-}
-
-/* The energy the moving wall gave grain i in a hit: the change of its kinetic energy
- * (translation v -> u, and spin w0 -> w1 of rough grains: k components) plus the hit's losses. */
-static inline double wall_work(const gr_sim *s, const struct gr_event_state *e, const double *v,
-                               const double *u, const double *w0, const double *w1, int k,
-                               bool elastic, double de_n, double de_t)
-{
-    double dk = 0.0, dr = 0.0;
-    for (int a = 0; a < GR_EV_DIM; a++) {
-        dk += u[a] * u[a] - v[a] * v[a];
-    }
-    for (int a = 0; a < k; a++) {
-        dr += w1[a] * w1[a] - w0[a] * w0[a];
-    }
-    return 0.5 * e->M * dk + 0.5 * s->inertia * dr + (elastic ? 0.0 : de_n + de_t);
-}
-
 #if GR_EV_DIM == 2
 /* Particle i hits the wall `k` (WALL_FACE + 2 a + side) now. The wall is a grain of infinite mass:
  * its collision is the model's event rule with the grain's point mirror image as partner
@@ -778,7 +746,7 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
     const bool moving = a == e->vib && side == 0;
     double vr = v, wr = w, vw = 0.0, aw = 0.0; /* the velocity in the wall's frame */
     if (moving) {
-        if (vib_wall(e, t_abs, a == 0 ? x : y, &vw, &aw) > 1e-9 * e->d) {
+        if (gr_ev_vib_wall(e, t_abs, a == 0 ? x : y, &vw, &aw) > 1e-9 * e->d) {
             return 1; /* a checkpoint of gr_ev_moving_wall_first, not a hit: predict again */
         }
         vr -= a == 0 ? vw : 0.0;
@@ -822,7 +790,7 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
         uy += a == 1 ? vw : 0.0;
         const double v0[2] = {v, w}, u1[2] = {ux, uy};
         const double spin1 = e->rough ? s->omega[i] : 0.0;
-        s->wall_work += wall_work(s, e, v0, u1, &spin0, &spin1, 1, elastic, de_n, de_t);
+        s->wall_work += gr_ev_wall_work(s, e, 2, v0, u1, &spin0, &spin1, 1, elastic, de_n, de_t);
     }
     const double floor_speed = push > 0.0 ? 0.5 * push * e->tc : 0.0;
     if (out < floor_speed) {
@@ -867,7 +835,7 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
     const bool moving = a == e->vib && side == 0;
     double u[3] = {v[0], v[1], v[2]}, vw = 0.0, aw = 0.0; /* u: in the wall's frame */
     if (moving) {
-        if (vib_wall(e, t_abs, r[a], &vw, &aw) > 1e-9 * e->d) {
+        if (gr_ev_vib_wall(e, t_abs, r[a], &vw, &aw) > 1e-9 * e->d) {
             return 1; /* a checkpoint of gr_ev_moving_wall_first, not a hit: predict again */
         }
         u[a] -= vw;
@@ -902,7 +870,7 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
         u[a] += vw;
         const double spin1[3] = {e->rough ? s->wx[i] : 0.0, e->rough ? s->wy[i] : 0.0,
                                  e->rough ? s->omega[i] : 0.0};
-        s->wall_work += wall_work(s, e, v, u, spin0, spin1, 3, elastic, de_n, de_t);
+        s->wall_work += gr_ev_wall_work(s, e, 3, v, u, spin0, spin1, 3, elastic, de_n, de_t);
     }
     const double floor_speed = push > 0.0 ? 0.5 * push * e->tc : 0.0;
     if (out < floor_speed) {
