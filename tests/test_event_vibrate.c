@@ -142,7 +142,7 @@ static gr_sim *box(int dim, int n, const char *motion, const char *g, const char
     snprintf(gbuf, sizeof gbuf, dim == 3 ? "gravity.gz=%s" : "gravity.gy=%s", g);
     snprintf(ebuf, sizeof ebuf, "model.eps_n=%s", eps);
     snprintf(mbuf, sizeof mbuf, "boundary.motion=%s", motion);
-    const char *ov[24] = {dim == 3 ? "system.dim=3" : "system.dim=2",
+    const char *ov[26] = {dim == 3 ? "system.dim=3" : "system.dim=2",
                           nbuf,
                           "system.L=0.06",
                           "system.radius=1.5e-3",
@@ -166,8 +166,9 @@ static gr_sim *box(int dim, int n, const char *motion, const char *g, const char
         ov[k++] = "boundary.x=walls"; /* a small box: walls all round */
         ov[k++] = "boundary.y=walls";
     }
-    if (rough) {
+    if (rough) { /* rough grains, beta = 0.4, and one more key */
         ov[k++] = "model.rotation=true";
+        ov[k++] = "model.beta=0.4";
         ov[k++] = rough;
     }
     gr_scene sc = scene_of(ov, k);
@@ -260,9 +261,9 @@ START_TEST(test_drop_time)
 END_TEST
 
 /* a vibrated bed of inelastic grains: the ledger closes, no grain enters the moving floor */
-static void bed(int dim, const char *motion)
+static void bed(int dim, const char *motion, const char *rough)
 {
-    gr_sim *s = box(dim, dim == 3 ? 60 : 40, motion, "-9.81", "0.8", NULL);
+    gr_sim *s = box(dim, dim == 3 ? 60 : 40, motion, "-9.81", "0.8", rough);
     gr_event_set_debug(s, true, false);
     gr_error err = {0};
     const int chunks = quick() ? 10 : 40;
@@ -297,9 +298,12 @@ static void bed(int dim, const char *motion)
 
 START_TEST(test_bed_ledger)
 {
-    bed(2, "sine");
-    bed(2, "sawtooth");
-    bed(3, "sine");
+    bed(2, "sine", NULL);
+    bed(2, "sawtooth", NULL);
+    bed(3, "sine", NULL);
+    /* rough grains (Walton, sliding at the Coulomb limit too): the spins' energy in the ledger */
+    bed(2, "sine", "model.beta_mu=0.3");
+    bed(3, "sawtooth", "model.beta_mu=0.3");
 }
 END_TEST
 
@@ -309,7 +313,7 @@ END_TEST
 START_TEST(test_rough_drop)
 {
     for (int dim = 2; dim <= 3; dim++) {
-        gr_sim *s = box(dim, 1, "sine", "0", "0.7", "model.beta=0.4");
+        gr_sim *s = box(dim, 1, "sine", "0", "0.7", "model.beta_mu=0"); /* sticking */
         struct gr_event_state *e = gr_ev(s);
         ck_assert(e->rough);
         s->params.amplitude = 0.0; /* a fixed floor (the vibrating path, its wall at rest) */
@@ -477,8 +481,9 @@ START_TEST(test_rod_1d)
     gr_event_stats(s, &c);
     VERBOSE("1D rod: %lld wall hits, %lld collisions, energy %.17g -> %.17g J\n",
             (long long)c.wall_hits, (long long)c.collisions, e0, kinetic(s));
-    ck_assert_msg(c.wall_hits >= 4 && c.collisions >= 20, "%lld wall hits, %lld collisions",
-                  (long long)c.wall_hits, (long long)c.collisions);
+    ck_assert_msg(c.wall_hits >= (quick() ? 2 : 8) && c.collisions >= (quick() ? 5 : 40),
+                  "%lld wall hits, %lld collisions", (long long)c.wall_hits,
+                  (long long)c.collisions);
     ck_assert_msg(fabs(kinetic(s) - e0) <= 1e-13 * e0, "energy %.17g -> %.17g J", e0, kinetic(s));
     ck_assert_msg(worst <= 1e-12, "a centre %.3g m beyond [r, L - r]", worst);
     gr_sim_free(s);
