@@ -110,7 +110,7 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
             p->source, p->vibrate, 0.25 * s->L, p->amplitude, p->frequency);
     }
     if (s->integrator->instantaneous) {
-        /* collisions with the walls are the integrator's own events (event_2d.c), placed as
+        /* collisions with the walls are the integrator's own events (event_cells.h), placed as
          * below; no force law and no neighbour list */
     } else if (!p->normal || !(p->normal->kind & GR_MODEL_NORMAL)) {
         return GR_FAIL(err, GR_EINVAL,
@@ -145,7 +145,7 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
         }
         s->period[a] = INFINITY; /* the neighbour list does not wrap across the walls */
     }
-    /* the event integrator's wall hits use the same coefficients through its rule (event_2d.c) */
+    /* the event integrator's wall hits use the same coefficients through its rule (event_cells.h) */
     /* the same laws against an infinite mass: reduced mass M instead of M / 2, with the walls' own
      * restitution and friction */
     gr_contact_params wp = p->contact;

@@ -726,9 +726,10 @@ static inline void wall_booked(gr_sim *s, int i, double t_abs, bool elastic, dou
  * its collision is the model's event rule with the grain's point mirror image as partner
  * (velocity -v, normal along the axis; rough discs: the same spin, so the contact points' relative
  * velocity is twice the grain's), which for equal masses and a relative velocity 2 v gives
- * v' = v - (1 + eps_n) v_n n - (1 - eps_t) v_t exactly (a rule with a constant eps_n: gr_event_init
- * refuses the others), and for rough discs Walton's rule at a fixed rough wall (the contact
- * point's tangential velocity v_t + R w becomes -beta times itself, or slides with the walls' mu).
+ * v' = v - (1 + eps_n) v_n n - (1 - eps_t) v_t exactly (an eps_n(v) rule gets the eps_n of the
+ * grain's own speed against the wall as a constant: gr_ev_wall_cc), and for rough discs Walton's
+ * rule at a fixed rough wall (the contact point's tangential velocity v_t + R w becomes -beta
+ * times itself, or slides at the Coulomb limit beta_mu).
  * The pair's losses are both grains'; the wall's share is half. The TC rule
  * applies as for a pair (elastic within tc of the grain's last collision), and a grain that
  * gravity holds on the wall leaves it at least at the contact floor's speed g tc / 2 (as a pressed
