@@ -64,7 +64,6 @@ file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[model]\nrotation = true\
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[integrator]\nkind = hybrid\n[boundary]\nz = walls\n | run $S --out $O | 2 | :6:;[integrator] kind;kind = hybrid does not model walls or gravity ([boundary] z);allowed with walls or gravity: verlet | new
 file:[system]\ndim = 3\nN = 64\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\nrotation = true\nbeta_mu = 0.2\n[integrator]\nkind = event\n | run $S --out $O | 2 | [model] beta_mu = 0.2 with beta = -1;smooth discs and spheres;set beta in (-1, 1] | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.3\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n | run $S --out $O | 2 | 2.41 particle diameters;event-driven integrator needs at least 4;[system] N or L | new
-file:[system]\ndim = 3\nN = 64\npacking_fraction = 0.1\n[model]\nnormal = hard_sphere\nrotation = true\n[integrator]\nkind = event\n[boundary]\ny = walls\n | run $S --out $O | 2 | :7:;kind = event;smooth discs or spheres;rotation = false | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[gravity]\ngz = -9.81\n | run $S --out $O | 2 | :6:;[gravity] gz;periodic axis;[boundary] z = walls | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[gravity]\ngy = -9.81\n | run $S --out $O | 2 | :6:;[gravity] gy;periodic axis;[boundary] y = walls | new
 file:[system]\ndim = 2\nN = 8\npacking_fraction = 0.1\n[boundary]\nz = walls\n | run $S --out $O | 2 | :6:;[boundary] z;only for dim = 3;z = periodic | new
@@ -116,7 +115,6 @@ file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[placement]\nkind = unifor
 file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[driving]\nkind = langevin\ntau = 0\n | run $S --out $O | 2 | :7:;[driving] tau;(0, inf) | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[gravity]\ngy = -9.81\n | run $S --out $O | 2 | :8:;[gravity] gy;[boundary] y = walls;allowed with y = periodic: gy = 0 | new
 file:[system]\ndim = 1\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\nx = walls\n[gravity]\ngx = -9.81\n[integrator]\nkind = hybrid\n | run $S --out $O | 2 | :12:;[integrator] kind;kind = hybrid;allowed with walls or gravity: verlet | new
-file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[model]\nnormal = hard_sphere\nrotation = true\n[boundary]\ny = walls\n[integrator]\nkind = event\n | run $S --out $O | 2 | :9:;[model] rotation;kind = event;fixed walls and smooth discs;rotation = false | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\ny = walls\n[gravity]\ngy = -2000\n | run $S --out $O | 2 | :10:;[gravity] gy;[-1000, 1000] | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[boundary]\ny = wall\n | run $S --out $O | 2 | :6:;[boundary] y;periodic|walls | new
 file:[system]\ndim = 1\nN = 1\nL = 0.04\n[boundary]\ny = walls\n | run $S --out $O | 2 | :6:;[boundary] y;dim = 2 | new

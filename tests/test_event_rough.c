@@ -274,12 +274,8 @@ START_TEST(test_viscoelastic_eps)
                         "noise.D=0",
                         "integrator.kind=event"};
     gr_scene sc = scene_of(ov, 10);
-    gr_contact_params hp = sc.contact;
-    gr_contact_coeffs hc;
+    const gr_contact_coeffs hc = hertz_of(&sc, m12);
     gr_error err = {0};
-    ck_assert_msg(gr_contact_prepare(gr_model_find("hertz"), NULL, &hp, m12, 0.0, &hc, &err) ==
-                      GR_OK,
-                  "%s", err.message);
     double last = 1.0;
     for (int k = 0; k < 4; k++) {
         const double v = speeds[k];

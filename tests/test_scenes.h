@@ -8,8 +8,22 @@
 #include "check_main.h" /* its ck_assert_msg: a passed assertion writes nothing */
 #include <string.h>
 
+#include "granule/model.h"
 #include "granule/scene.h"
 #include "granule/sim.h"
+
+/* The scene's [model] keys prepared as the hertz normal law for the reduced mass m12: the
+ * reference eps_n(v) of viscoelastic hard grains (test_event_rough.c, test_event_vibrate.c). */
+static inline gr_contact_coeffs hertz_of(const gr_scene *sc, double m12)
+{
+    gr_contact_params hp = sc->contact;
+    gr_contact_coeffs hc;
+    gr_error err = {0};
+    ck_assert_msg(gr_contact_prepare(gr_model_find("hertz"), NULL, &hp, m12, 0.0, &hc, &err) ==
+                      GR_OK,
+                  "%s", err.message);
+    return hc;
+}
 
 /* A resolved scene from overrides (every test scene goes through the real parser). */
 static inline gr_scene scene_of(const char *const *ov, int n)

@@ -639,10 +639,8 @@ static void refused(const char *text, const char *const *set, int n_set, const c
 
 START_TEST(refusals)
 {
-    /* the event integrator has fixed walls and gravity for smooth discs (test_event_walls.sh) */
-    const char *ev[] = {"integrator.kind=event", "model.normal=hard_sphere", "model.rotation=true"};
-    const char *n_ev[] = {"kind = event", "rotation = false"};
-    refused(grain_2d, ev, 3, n_ev, 2);
+    /* the event integrator's walls (fixed or vibrating, smooth or rough grains) are
+     * test_event_walls.sh's and test_event_vibrate.c's: in 2D and 3D, refused in 1D there */
     const char *hy[] = {"integrator.kind=hybrid"};
     const char *n_hy[] = {"kind = hybrid", "verlet"};
     refused(grain_2d, hy, 1, n_hy, 2);

@@ -17,8 +17,8 @@
  * - event-driven smooth hard spheres: a sphere bouncing on a floor loses exactly eps_n^2 of its
  *   energy per bounce, the ledger closing to rounding; elastic spheres in a box walled all round
  *   under gravity conserve kinetic + potential energy, stay within the walls and restart exactly;
- * - refusals: z and gz outside 3D, gravity along a periodic axis, the event integrator with
- *   rotation or a vibrating wall. */
+ * - refusals: z and gz outside 3D, gravity along a periodic axis (the event integrator's
+ *   vibrating wall and rough spheres: test_event_vibrate.c). */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -607,14 +607,8 @@ START_TEST(refusals_3d)
     const char *vib[] = {"boundary.vibrate=y"};
     const char *n_vib[] = {"[boundary] vibrate", "[boundary] y = periodic"};
     refused(grain_3d, vib, 1, n_vib, 2);
-    /* the event integrator's walls: fixed walls, smooth spheres */
-    const char *ev[] = {"integrator.kind=event", "model.normal=hard_sphere", "model.rotation=true"};
-    const char *n_ev[] = {"kind = event", "rotation = false"};
-    refused(grain_3d, ev, 3, n_ev, 2);
-    const char *evv[] = {"integrator.kind=event", "model.normal=hard_sphere", "boundary.vibrate=z",
-                         "boundary.amplitude=1e-3", "boundary.frequency=50"};
-    const char *n_evv[] = {"kind = event", "vibrate = none"};
-    refused(grain_3d, evv, 5, n_evv, 2);
+    /* the event integrator's walls (fixed or vibrating, smooth or rough spheres) run: tests of
+     * test_event_vibrate.c */
     /* the library too: gz along a periodic z */
     gr_scene sc;
     gr_sim *s = NULL;

@@ -309,6 +309,10 @@ int gr_walls_prepare(gr_sim *s, gr_error *err);
 void gr_walls_forces(gr_sim *s, gr_force_report *r);
 /* The potential energy in gravity, -M sum_i g . r_i, J (0 without gravity). */
 double gr_walls_potential(const gr_sim *s);
+/* The vibrating wall's motion at time t ([boundary] vibrate): its position *q and velocity *v,
+ * A sin(2 pi f t), or for a sawtooth A (2 frac(f t + 1/2) - 1) at the speed 2 A f (walls.c; the
+ * event integrator's moving wall, event_cells.h, uses the same function). */
+void gr_walls_motion(const gr_sim_params *p, double t, double *q, double *v);
 /* A tangential law at one contact outside the pair loops (the walls' pass): the law's id for
  * model m (0 when m is NULL), and the law itself by id (0: no force); *book is its ledger column
  * (GR_BOOK_TANGENTIAL, GR_BOOK_FRICTION), *history 1 for a law that keeps history. */

@@ -110,7 +110,7 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
             p->source, p->vibrate, 0.25 * s->L, p->amplitude, p->frequency);
     }
     if (s->integrator->instantaneous) {
-        /* collisions with the walls are the integrator's own events (event_2d.c), placed as
+        /* collisions with the walls are the integrator's own events (event_cells.h), placed as
          * below; no force law and no neighbour list */
     } else if (!p->normal || !(p->normal->kind & GR_MODEL_NORMAL)) {
         return GR_FAIL(err, GR_EINVAL,
@@ -145,7 +145,7 @@ int gr_walls_prepare(gr_sim *s, gr_error *err)
         }
         s->period[a] = INFINITY; /* the neighbour list does not wrap across the walls */
     }
-    /* the event integrator's wall hits use the same coefficients through its rule (event_2d.c) */
+    /* the event integrator's wall hits use the same coefficients through its rule (event_cells.h) */
     /* the same laws against an infinite mass: reduced mass M instead of M / 2, with the walls' own
      * restitution and friction */
     gr_contact_params wp = p->contact;
@@ -232,9 +232,8 @@ static inline const gr_contact_coeffs *wall_coeffs(const gr_sim *s, int i, gr_co
 /* Whether each grain's wall contact has its own e_scale (species lists, a radius distribution). */
 static inline bool own_walls(const gr_sim *s) { return s->wall_cc_sp || (s->rad && !s->cc_pair); }
 
-/* The wall motion at time t: position and velocity of the vibrating wall (A sin(w t); sawtooth
- * A (2 frac(f t + 1/2) - 1) at the speed 2 A f). */
-static void wall_motion(const gr_sim_params *p, double t, double *q, double *v)
+/* The vibrating wall at time t (sim_internal.h). */
+void gr_walls_motion(const gr_sim_params *p, double t, double *q, double *v)
 {
     if (p->motion == GR_WALL_SAWTOOTH) {
         const double ph = p->frequency * t + 0.5;
@@ -640,7 +639,7 @@ void gr_walls_forces(gr_sim *s, gr_force_report *r)
     if (p->vibrate) {
         const int a = p->vibrate - 1;
         const double t = gr_sim_time(s);
-        wall_motion(p, t, &qw[a], &vw[a]);
+        gr_walls_motion(p, t, &qw[a], &vw[a]);
         if (p->motion == GR_WALL_SAWTOOTH && s->step > 0 &&
             floor(p->frequency * t + 0.5) != floor(p->frequency * (t - s->dt) + 0.5)) {
             released = dropped_energy(s, pos[a], qw[a]);

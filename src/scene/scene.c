@@ -1159,23 +1159,6 @@ static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
             s->integrator->name, sec, key, names, s->integrator->name);
         return fail_at(err, &w, "integrator", "kind", "%s", detail);
     }
-    if (s->integrator->instantaneous && (s->dim == 1 || s->vibrate || s->contact.rotation)) {
-        /* the event integrator's walls are fixed and flat, its grains smooth (event_cells.h) */
-        const char *bsec = s->dim == 1 ? "system" : s->vibrate ? "boundary" : "model";
-        const char *bkey = s->dim == 1 ? "dim" : s->vibrate ? "vibrate" : "rotation";
-        where w = where_of(g, s, bsec, bkey);
-        for (int k = 0; k < g->n_model_at; k++) { /* [model] keys live in the models' tables */
-            if (!strcmp(bsec, "model") && !strcmp(g->model_at[k].name, bkey)) {
-                w = g->model_at[k].at;
-            }
-        }
-        snprintf(detail, sizeof detail,
-                 "kind = %s models walls and gravity in 2D and 3D, with fixed walls and smooth "
-                 "discs or spheres; allowed with walls or gravity and kind = %s: dim = 2 or 3, "
-                 "[boundary] vibrate = none, [model] rotation = false (kind = verlet has the rest)",
-                 s->integrator->name, s->integrator->name);
-        return fail_at(err, &w, bsec, bkey, "%s", detail);
-    }
     return GR_OK;
 }
 

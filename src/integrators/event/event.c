@@ -167,6 +167,9 @@ static void end_window(gr_sim *s)
             e->bw[i] = w;
         } else {
             work += mw * (v * v - e->bv[i] * e->bv[i]);
+            if (e->grav[0] != 0.0) { /* gravity along x (walls): its work is the potential's */
+                work -= mw * gr_ev_gravity_work(e, x - e->bx[i], 0.0);
+            }
         }
         e->bx[i] = x;
         e->bv[i] = v;
@@ -291,10 +294,38 @@ static double predict_pair_1d(const struct gr_event_state *e, int k, int *phase)
     return t < GR_EV_INF ? e->now + t : GR_EV_INF;
 }
 
+/* 1D walls ([boundary] x = walls): calendar entries 0 .. n - 2 are the pairs (k, k + 1), entry
+ * n - 1 the last grain's hit of the wall at L and entry n the first grain's hit of the wall at 0
+ * (the vibrating one with [boundary] vibrate = x); no pair (n - 1, 0) closes the ring. */
+static inline bool wall_entry_1d(const struct gr_event_state *e, int k)
+{
+    return e->wall[0] && k >= e->n - 1;
+}
+
+static double predict_wall_1d(const struct gr_event_state *e, int k, int *phase)
+{
+    const int side = k == e->n - 1, i = side ? e->n - 1 : 0;
+    double t0 = e->now;
+    *phase = e->phase;
+    for (int piece = e->phase; piece < 2; piece++) {
+        double q, v;
+        gr_ev_state_x(e, i, t0, piece, &q, &v);
+        const double acc = piece == 0 ? e->a1x[i] : e->a2x[i];
+        const double t =
+            gr_ev_wall_piece(e, 0, side, t0, q, v, acc, (piece == 0 ? e->h : e->tau) - t0);
+        if (t < GR_EV_INF) {
+            *phase = piece;
+            return t0 + t;
+        }
+        t0 = e->h;
+    }
+    return GR_EV_INF;
+}
+
 static void repredict_1d(struct gr_event_state *e, int k)
 {
     int ph;
-    e->heap.t[k] = predict_pair_1d(e, k, &ph);
+    e->heap.t[k] = wall_entry_1d(e, k) ? predict_wall_1d(e, k, &ph) : predict_pair_1d(e, k, &ph);
     e->heap.ph[k] = (uint8_t)ph;
     gr_heap_update(&e->heap, k);
 }
@@ -302,7 +333,7 @@ static void repredict_1d(struct gr_event_state *e, int k)
 static int check_1d(gr_sim *s, gr_error *err)
 {
     struct gr_event_state *e = gr_ev(s);
-    for (int k = 0; k < e->n && e->n > 1; k++) {
+    for (int k = 0; k < e->n - (e->wall[0] ? 1 : 0) && e->n > 1; k++) {
         const int j = k + 1 < e->n ? k + 1 : 0;
         double xi, vi, xj, vj;
         gr_ev_state_x(e, k, e->now, e->phase, &xi, &vi);
@@ -323,10 +354,79 @@ static inline void rebase_1d(struct gr_event_state *e, int i, double x, double v
                              double v_after)
 {
     e->injected += 0.5 * gr_ev_mass(e, i) * (v_before * v_before - e->bv[i] * e->bv[i]);
+    if (e->grav[0] != 0.0) { /* gravity along x (with walls): its work is the potential's */
+        e->injected -= 0.5 * gr_ev_mass(e, i) * gr_ev_gravity_work(e, x - e->bx[i], 0.0);
+    }
     e->t0[i] = e->now;
     e->bx[i] = x;
     e->bv[i] = v_after;
     e->past[i] = (uint8_t)e->phase;
+}
+
+/* Grain i hits a wall now (entry k: n - 1 the wall at L, n the wall at 0): the 2D wall_hit
+ * (event_cells.h) on the line, the rule with the grain's mirror image, the walls' own eps_n
+ * (eps_n(v) at the grain's own speed), in the vibrating wall's frame with its work booked, the TC
+ * rule and the contact floor. Returns 0, 1 (no hit after all: predict again) or < 0. */
+static int wall_hit_1d(gr_sim *s, int k, double t_abs, gr_error *err)
+{
+    struct gr_event_state *e = gr_ev(s);
+    const int side = k == e->n - 1, i = side ? e->n - 1 : 0;
+    double x, v;
+    gr_ev_state_x(e, i, e->now, e->phase, &x, &v);
+    const double nx = side ? 1.0 : -1.0;
+    const bool moving = e->vib == 0 && !side;
+    double vr = v, vw = 0.0, aw = 0.0; /* the velocity in the wall's frame */
+    if (moving) {
+        if (gr_ev_vib_wall(e, t_abs, x, &vw, &aw) > 1e-9 * e->d) {
+            return 1; /* a checkpoint of gr_ev_moving_wall_first, not a hit */
+        }
+        vr -= vw;
+    }
+    const double vn = vr * nx;                                          /* > 0: towards the wall */
+    const double push = nx * ((e->phase ? e->a2x[i] : e->a1x[i]) - aw); /* > 0: pressed in */
+    if (vn <= 0.0 && push <= 0.0) {
+        return 1;
+    }
+    const bool elastic = t_abs - e->last[i] < e->tc;
+    double u = vr, de_n = 0.0, de_t = 0.0;
+    if (vn > 0.0) {
+        gr_event_pair p = {.M = e->M, .nx = nx, .v1x = vr, .v2x = -vr, .elastic = elastic};
+        gr_event_rule_apply(e->rule, gr_ev_wall_cc(s, e, vn), &p);
+        u = p.v1x;
+        de_n = 0.5 * p.de_n;
+        de_t = 0.5 * p.de_t;
+    }
+    const double out = -u * nx; /* speed away from the wall, in its frame */
+    if (moving) {
+        u += vw;
+        s->wall_work += gr_ev_wall_work(s, e, 1, &v, &u, NULL, NULL, 0, elastic, de_n, de_t);
+    }
+    const double floor_speed = push > 0.0 ? 0.5 * push * e->tc : 0.0;
+    if (out < floor_speed) {
+        const double k0 = u * u;
+        u -= (floor_speed - out) * nx;
+        const double added = 0.5 * e->M * (u * u - k0);
+        e->injected += added;
+        e->floor_energy += added;
+        e->floors++;
+    }
+    if (s->contacts) {
+        int rc = gr_ev_record(s, i, +1, t_abs, x, 0.0, v, 0.0, err);
+        rc = rc ? rc : gr_ev_record(s, i, -1, t_abs, x, 0.0, u, 0.0, err);
+        if (rc) {
+            return rc;
+        }
+    }
+    rebase_1d(e, i, x, v, u);
+    if (!elastic) {
+        s->diss_n += de_n;
+        s->diss_t += de_t;
+    } else {
+        e->tc_elastic++;
+    }
+    e->last[i] = t_abs;
+    e->wall_hits++;
+    return 0;
 }
 
 static int process_1d(gr_sim *s, double t_limit, gr_error *err)
@@ -338,6 +438,28 @@ static int process_1d(gr_sim *s, double t_limit, gr_error *err)
         const double t = hp->t[k];
         if (!(t <= t_limit)) {
             break;
+        }
+        if (wall_entry_1d(e, k)) {
+            const int i = k == e->n - 1 ? e->n - 1 : 0;
+            /* a wall as the guard's message sees one: -1 - face with face >= 2 dim */
+            int grc = gr_ev_guard(s, e, t_win + t, i, -3 - (k == e->n - 1), err);
+            if (grc) {
+                return grc;
+            }
+            e->now = t;
+            e->phase = hp->ph[k];
+            int rc = wall_hit_1d(s, k, t_win + t, err);
+            if (rc < 0) {
+                return rc;
+            }
+            e->invalid += rc;
+            repredict_1d(e, k);
+            if (e->n == 1) {
+                repredict_1d(e, 1 - k); /* the only grain: its other wall */
+            } else if (rc == 0) {
+                repredict_1d(e, i == 0 ? 0 : e->n - 2); /* its pair with its neighbour */
+            }
+            continue;
         }
         const int i = k, j = k + 1 < e->n ? k + 1 : 0;
         int grc = gr_ev_guard(s, e, t_win + t, i, j, err);
@@ -418,7 +540,10 @@ static int process_1d(gr_sim *s, double t_limit, gr_error *err)
         e->collisions++;
         s->collisions++;
         repredict_1d(e, k);
-        if (e->n > 2) {
+        if (e->wall[0]) { /* j's pair or its wall at L; i's pair with k - 1 or its wall at 0 */
+            repredict_1d(e, j);
+            repredict_1d(e, k > 0 ? k - 1 : e->n);
+        } else if (e->n > 2) {
             repredict_1d(e, k > 0 ? k - 1 : e->n - 1);
             repredict_1d(e, j);
         } else if (e->n == 2) {
@@ -438,6 +563,16 @@ static void window_1d(gr_sim *s)
 {
     struct gr_event_state *e = gr_ev(s);
     const int n = e->n;
+    if (e->wall[0]) { /* walls: the pairs and the two wall entries, the general predictors */
+        for (int k = 0; k <= n; k++) {
+            int ph;
+            e->heap.t[k] =
+                wall_entry_1d(e, k) ? predict_wall_1d(e, k, &ph) : predict_pair_1d(e, k, &ph);
+            e->heap.ph[k] = (uint8_t)ph;
+        }
+        gr_heap_build(&e->heap);
+        return;
+    }
     if (n < 2) {
         return;
     }
@@ -517,9 +652,9 @@ static void report(gr_sim *s, double t)
             double y, w, z, u;
             gr_ev_state_y(e, i, t, phase, &y, &w);
             gr_ev_state_z(e, i, t, phase, &z, &u);
-            s->x[i] = x - e->L * floor(x / e->L);
-            s->y[i] = y - e->L * floor(y / e->L);
-            s->z[i] = z - e->L * floor(z / e->L);
+            s->x[i] = e->vib == 0 ? x : x - e->L * floor(x / e->L); /* a vibrating wall's */
+            s->y[i] = e->vib == 1 ? y : y - e->L * floor(y / e->L); /* grains may be below 0 */
+            s->z[i] = e->vib == 2 ? z : z - e->L * floor(z / e->L);
             s->vy[i] = w;
             s->vz[i] = u;
             work += ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i] -
@@ -527,13 +662,16 @@ static void report(gr_sim *s, double t)
         } else if (e->dim == 2) {
             double y, w;
             gr_ev_state_y(e, i, t, phase, &y, &w);
-            s->x[i] = x - e->L * floor(x / e->L);
-            s->y[i] = y - e->L * floor(y / e->L);
+            s->x[i] = e->vib == 0 ? x : x - e->L * floor(x / e->L);
+            s->y[i] = e->vib == 1 ? y : y - e->L * floor(y / e->L);
             s->vy[i] = w;
             work += mw * (ke2(v, w) - ke2(e->bv[i], e->bw[i]) -
                           gr_ev_gravity_work(e, x - e->bx[i], y - e->by[i]));
         } else {
             work += mw * (v * v - e->bv[i] * e->bv[i]);
+            if (e->grav[0] != 0.0) { /* gravity along x (walls): its work is the potential's */
+                work -= mw * gr_ev_gravity_work(e, x - e->bx[i], 0.0);
+            }
         }
     }
     s->injected = e->injected + 0.5 * e->M * work;
@@ -626,6 +764,7 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->q = s->cc.q;
     e->R = 0.5 * s->d;
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
+    e->vib = -1;  /* no vibrating wall */
     if (s->rad) { /* species (docs/mixtures.md): smooth discs of their own radii and masses */
         if (!s->cc_pair || s->walls_on || s->dim == 3) {
             return GR_FAIL(err, GR_EINVAL,
@@ -645,23 +784,33 @@ int gr_event_init(gr_sim *s, gr_error *err)
     }
     if (s->walls_on) { /* gr_walls_prepare checked the scene; what this integrator adds: */
         const gr_sim_params *p = &s->params;
-        /* a wall is the mirror image of the grain (event_2d.c, wall_hit): exact for a rule whose
-         * eps_n does not depend on the impact speed (at a wall the speed and mass differ) */
-        const gr_model *nm = s->cc.normal_model;
+        /* a wall is the mirror image of the grain (event_cells.h, wall_hit): a rule whose eps_n
+         * depends on the impact speed gets it from the grain's own speed against the wall
+         * (gr_ev_wall_cc), as a constant eps_n of a copy of the walls' coefficients */
+        const gr_model *nm = s->wall_cc.normal_model;
         const bool constant_eps =
-            nm && nm->impact && nm->impact(&s->cc, 1e-3).eps_n == nm->impact(&s->cc, 10.0).eps_n;
-        if (s->dim == 1 || p->vibrate || s->omega || !constant_eps) {
-            return GR_FAIL(err, GR_EINVAL,
-                           "%s: [integrator] kind = event models flat, fixed walls and gravity in "
-                           "2D and 3D for smooth discs and spheres with a constant eps_n; allowed "
-                           "with walls or gravity: dim = 2 or 3, [boundary] vibrate = none, "
-                           "[model] rotation = false, viscoelastic = false (the verlet integrator "
-                           "has the rest)",
-                           p->source);
+            nm && nm->impact &&
+            nm->impact(&s->wall_cc, 1e-3).eps_n == nm->impact(&s->wall_cc, 10.0).eps_n;
+        if (!constant_eps) {
+            if (e->rule != GR_EVENT_RULE_hard_sphere) {
+                return GR_FAIL(err, GR_EINVAL,
+                               "%s: [integrator] kind = event: walls with an eps_n(v) rule need "
+                               "[model] normal = hard_sphere (given %s)",
+                               p->source, nm->name);
+            }
+            e->wall_visco = true;
+            e->wall_ccv = s->wall_cc;
+            e->wall_ccv.law_n[GR_HARD_SPHERE_VISCO] = 0.0; /* eps_n_exact, set per hit */
         }
         for (int a = 0; a < s->dim; a++) {
             e->wall[a] = p->walls[a];
             e->grav[a] = p->gravity[a];
+        }
+        if (p->vibrate) { /* the wall at 0 of axis vibrate - 1 moves (gr_walls_motion) */
+            const double w = 2.0 * M_PI * p->frequency;
+            e->vib = p->vibrate - 1;
+            e->vib_acc = p->motion == GR_WALL_SINE ? p->amplitude * w * w : 0.0;
+            e->par = p;
         }
     }
     e->com_every = (int64_t)llround(s->params.com_interval / e->tau);
@@ -703,7 +852,12 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->g = malloc(sz * 2 * (size_t)s->dim);
     e->past = calloc((size_t)(n > 0 ? n : 1), 1);
     ok = ok && e->g && e->past &&
-         !gr_heap_alloc(&e->heap, s->dim == 1 ? (n > 1 ? n : 0) : n, e->tau, kind);
+         !gr_heap_alloc(&e->heap,
+                        s->dim == 1 ? (e->wall[0] ? n + 1
+                                       : n > 1    ? n
+                                                  : 0)
+                                    : n,
+                        e->tau, kind);
     if (!ok) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory for the event-driven state of %d particles",
                        n);

@@ -220,10 +220,14 @@ static double crossing_time(const struct gr_event_state *e, int i, int *face, in
 {
     int cx, cy, cz;
     cell_xyz(e->ncell, e->cell_of[i], &cx, &cy, &cz);
-    const double xlo = cx * e->cell, xhi = cx + 1 == e->ncell ? e->L : (cx + 1) * e->cell;
-    const double ylo = cy * e->cell, yhi = cy + 1 == e->ncell ? e->L : (cy + 1) * e->cell;
+    /* the first cell along a vibrating wall's axis reaches below 0 (grains on the wall there) */
+    const double xlo = e->vib == 0 && cx == 0 ? -GR_EV_INF : cx * e->cell,
+                 xhi = cx + 1 == e->ncell ? e->L : (cx + 1) * e->cell;
+    const double ylo = e->vib == 1 && cy == 0 ? -GR_EV_INF : cy * e->cell,
+                 yhi = cy + 1 == e->ncell ? e->L : (cy + 1) * e->cell;
 #if GR_EV_DIM == 3
-    const double zlo = cz * e->cell, zhi = cz + 1 == e->ncell ? e->L : (cz + 1) * e->cell;
+    const double zlo = e->vib == 2 && cz == 0 ? -GR_EV_INF : cz * e->cell,
+                 zhi = cz + 1 == e->ncell ? e->L : (cz + 1) * e->cell;
 #endif
     double x, v, y, w;
     int fx, fy;
@@ -281,7 +285,6 @@ static inline double axis_state(const struct gr_event_state *e, int a, int i, do
  * constant acceleration (a parabola under gravity: gr_ev_first_quadratic). */
 static double wall_time(const struct gr_event_state *e, int i, int *face, int *phase)
 {
-    const double r = 0.5 * e->d;
     double t0 = e->now;
     *phase = e->phase;
     for (int piece = e->phase; piece < 2; piece++) {
@@ -293,8 +296,8 @@ static double wall_time(const struct gr_event_state *e, int i, int *face, int *p
             }
             double q, v;
             const double acc = axis_state(e, a, i, t0, piece, &q, &v);
-            const double lo = gr_ev_first_quadratic(q - r, v, 0.5 * acc, T);
-            const double hi = gr_ev_first_quadratic(e->L - r - q, -v, -0.5 * acc, T);
+            const double lo = gr_ev_wall_piece(e, a, 0, t0, q, v, acc, T);
+            const double hi = gr_ev_wall_piece(e, a, 1, t0, q, v, acc, T);
             if (lo < best) {
                 best = lo;
                 *face = WALL_FACE + 2 * a;
@@ -441,13 +444,14 @@ void EV_FN(window)(gr_sim *s)
     }
     for (int i = 0; i < e->n; i++) {
         /* bases are at the window start here: wrap them into the box */
-        e->bx[i] -= e->L * floor(e->bx[i] / e->L);
-        e->by[i] -= e->L * floor(e->by[i] / e->L);
+        /* (not along a vibrating wall's axis: grains on it may be below 0) */
+        e->bx[i] -= e->vib == 0 ? 0.0 : e->L * floor(e->bx[i] / e->L);
+        e->by[i] -= e->vib == 1 ? 0.0 : e->L * floor(e->by[i] / e->L);
         int cx = (int)(e->bx[i] / e->cell), cy = (int)(e->by[i] / e->cell), cz = 0;
         cx = cx < 0 ? 0 : cx >= nc ? nc - 1 : cx;
         cy = cy < 0 ? 0 : cy >= nc ? nc - 1 : cy;
 #if GR_EV_DIM == 3
-        e->bz[i] -= e->L * floor(e->bz[i] / e->L);
+        e->bz[i] -= e->vib == 2 ? 0.0 : e->L * floor(e->bz[i] / e->L);
         cz = (int)(e->bz[i] / e->cell);
         cz = cz < 0 ? 0 : cz >= nc ? nc - 1 : cz;
 #endif
@@ -686,6 +690,10 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
         const double L = e->L;
         double wxi = xi - L * floor(xi / L), wyi = yi - L * floor(yi / L);
         double wxj = xj - L * floor(xj / L), wyj = yj - L * floor(yj / L);
+        if (e->vib >= 0) { /* not along a vibrating wall's axis (grains below 0 stay there) */
+            wxi = e->vib == 0 ? xi : wxi, wxj = e->vib == 0 ? xj : wxj;
+            wyi = e->vib == 1 ? yi : wyi, wyj = e->vib == 1 ? yj : wyj;
+        }
         int rc = gr_ev_record(s, i, +1, t_abs, wxi, wyi, vi, ui, err);
         rc = rc ? rc : gr_ev_record(s, j, +1, t_abs, wxj, wyj, vj, uj, err);
         rc = rc ? rc : gr_ev_record(s, i, -1, t_abs, wxi, wyi, pi_x, pi_y, err);
@@ -716,12 +724,18 @@ static inline void wall_booked(gr_sim *s, int i, double t_abs, bool elastic, dou
 #if GR_EV_DIM == 2
 /* Particle i hits the wall `k` (WALL_FACE + 2 a + side) now. The wall is a grain of infinite mass:
  * its collision is the model's event rule with the grain's point mirror image as partner
- * (velocity -v, normal along the axis), which for equal masses and a relative velocity 2 v gives
- * v' = v - (1 + eps_n) v_n n - (1 - eps_t) v_t exactly (a rule with a constant eps_n: gr_event_init
- * refuses the others). The pair's losses are both grains'; the wall's share is half. The TC rule
+ * (velocity -v, normal along the axis; rough discs: the same spin, so the contact points' relative
+ * velocity is twice the grain's), which for equal masses and a relative velocity 2 v gives
+ * v' = v - (1 + eps_n) v_n n - (1 - eps_t) v_t exactly (an eps_n(v) rule gets the eps_n of the
+ * grain's own speed against the wall as a constant: gr_ev_wall_cc), and for rough discs Walton's
+ * rule at a fixed rough wall (the contact point's tangential velocity v_t + R w becomes -beta
+ * times itself, or slides at the Coulomb limit beta_mu).
+ * The pair's losses are both grains'; the wall's share is half. The TC rule
  * applies as for a pair (elastic within tc of the grain's last collision), and a grain that
  * gravity holds on the wall leaves it at least at the contact floor's speed g tc / 2 (as a pressed
- * pair does), so a resting grain bounces every ~tc instead of stalling time. */
+ * pair does), so a resting grain bounces every ~tc instead of stalling time. A vibrating wall
+ * (the wall at 0 of axis vib) does all this in its own frame (v_n' = v_w - eps_n (v_n - v_w)); the
+ * grain's energy change plus the losses is the wall's work (gr_ledger.wall_work). */
 static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
 {
     struct gr_event_state *e = gr_ev(s);
@@ -730,34 +744,56 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
     gr_ev_state_x(e, i, e->now, e->phase, &x, &v);
     gr_ev_state_y(e, i, e->now, e->phase, &y, &w);
     const double nx = a == 0 ? (side ? 1.0 : -1.0) : 0.0, ny = a == 1 ? (side ? 1.0 : -1.0) : 0.0;
-    const double vn = v * nx + w * ny; /* > 0: towards the wall */
+    const bool moving = a == e->vib && side == 0;
+    double vr = v, wr = w, vw = 0.0, aw = 0.0; /* the velocity in the wall's frame */
+    if (moving) {
+        if (gr_ev_vib_wall(e, t_abs, a == 0 ? x : y, &vw, &aw) > 1e-9 * e->d) {
+            return 1; /* a checkpoint of gr_ev_moving_wall_first, not a hit: predict again */
+        }
+        vr -= a == 0 ? vw : 0.0;
+        wr -= a == 1 ? vw : 0.0;
+    }
+    const double vn = vr * nx + wr * ny; /* > 0: towards the wall */
     const double acc =
         a == 0 ? (e->phase ? e->a2x[i] : e->a1x[i]) : (e->phase ? e->a2y[i] : e->a1y[i]);
-    const double push = (a == 0 ? nx : ny) * acc; /* > 0: pressed into the wall */
+    const double push = (a == 0 ? nx : ny) * (moving ? acc - aw : acc); /* > 0: pressed in */
     if (vn <= 0.0 && push <= 0.0) {
         return 1; /* leaving and not pressed: predict again */
     }
     const bool elastic = t_abs - e->last[i] < e->tc;
-    double ux = v, uy = w, de_n = 0.0, de_t = 0.0;
+    double ux = vr, uy = wr, de_n = 0.0, de_t = 0.0;
+    const double spin0 = e->rough ? s->omega[i] : 0.0;
     if (vn > 0.0) {
+        double image_spin = spin0;
         gr_event_pair p = {.M = e->M,
                            .R = e->R,
                            .q = e->q,
                            .nx = nx,
                            .ny = ny,
-                           .v1x = v,
-                           .v1y = w,
-                           .v2x = -v,
-                           .v2y = -w,
+                           .v1x = vr,
+                           .v1y = wr,
+                           .v2x = -vr,
+                           .v2y = -wr,
                            .elastic = elastic};
-        gr_event_rule_apply(e->rule, &s->wall_cc, &p); /* the walls' own eps_n, eps_t */
+        if (e->rough) {
+            p.w1 = &s->omega[i];
+            p.w2 = &image_spin;
+        }
+        gr_event_rule_apply(e->rule, gr_ev_wall_cc(s, e, vn), &p); /* the walls' own eps_n, eps_t */
         ux = p.v1x;
         uy = p.v1y;
         de_n = 0.5 * p.de_n;
         de_t = 0.5 * p.de_t;
     }
+    double out = -(ux * nx + uy * ny); /* speed away from the wall (in its frame) */
+    if (moving) {                      /* back in the lab frame */
+        ux += a == 0 ? vw : 0.0;
+        uy += a == 1 ? vw : 0.0;
+        const double v0[2] = {v, w}, u1[2] = {ux, uy};
+        const double spin1 = e->rough ? s->omega[i] : 0.0;
+        s->wall_work += gr_ev_wall_work(s, e, 2, v0, u1, &spin0, &spin1, 1, elastic, de_n, de_t);
+    }
     const double floor_speed = push > 0.0 ? 0.5 * push * e->tc : 0.0;
-    const double out = -(ux * nx + uy * ny); /* speed away from the wall */
     if (out < floor_speed) {
         const double k0 = ux * ux + uy * uy;
         ux -= (floor_speed - out) * nx;
@@ -768,7 +804,8 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
         e->floors++; /* ~M (g tc)^2 / 8 per resting grain and tc: booked as injected */
     }
     if (s->contacts) {
-        const double wx = x - e->L * floor(x / e->L), wy = y - e->L * floor(y / e->L);
+        const double wx = e->vib == 0 ? x : x - e->L * floor(x / e->L);
+        const double wy = e->vib == 1 ? y : y - e->L * floor(y / e->L);
         int rc = gr_ev_record(s, i, +1, t_abs, wx, wy, v, w, err);
         rc = rc ? rc : gr_ev_record(s, i, -1, t_abs, wx, wy, ux, uy, err);
         if (rc) {
@@ -782,8 +819,9 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
 
 #else
 /* Sphere i hits the wall `k` (WALL_FACE + 2 a + side) now: the 2D wall_hit on 3-vectors, the
- * model's rule (gr_event_rule_3d) with the sphere's mirror image, velocity -v, as partner along the
- * normal n = +-e_a towards the wall (smooth spheres: gr_event_init refuses rotation with walls). */
+ * model's rule (gr_event_rule_3d) with the sphere's mirror image, velocity -v and the same spin
+ * vector (rough spheres), as partner along the normal n = +-e_a towards the wall; a vibrating wall
+ * in its own frame. */
 static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
 {
     (void)err; /* no contact events in 3D (collide) */
@@ -795,23 +833,47 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
     gr_ev_state_z(e, i, e->now, e->phase, &r[2], &v[2]);
     double n[3] = {0.0, 0.0, 0.0};
     n[a] = side ? 1.0 : -1.0;
-    const double vn = v[a] * n[a]; /* > 0: towards the wall */
+    const bool moving = a == e->vib && side == 0;
+    double u[3] = {v[0], v[1], v[2]}, vw = 0.0, aw = 0.0; /* u: in the wall's frame */
+    if (moving) {
+        if (gr_ev_vib_wall(e, t_abs, r[a], &vw, &aw) > 1e-9 * e->d) {
+            return 1; /* a checkpoint of gr_ev_moving_wall_first, not a hit: predict again */
+        }
+        u[a] -= vw;
+    }
+    const double vn = u[a] * n[a]; /* > 0: towards the wall */
     double q, vq;
-    const double push = n[a] * axis_state(e, a, i, e->now, e->phase, &q, &vq); /* > 0: pressed */
+    const double acc = axis_state(e, a, i, e->now, e->phase, &q, &vq);
+    const double push = n[a] * (moving ? acc - aw : acc); /* > 0: pressed */
     if (vn <= 0.0 && push <= 0.0) {
         return 1; /* leaving and not pressed: predict again */
     }
     const bool elastic = t_abs - e->last[i] < e->tc;
-    double u[3] = {v[0], v[1], v[2]}, de_n = 0.0, de_t = 0.0;
+    double de_n = 0.0, de_t = 0.0;
+    double spin0[3] = {0.0, 0.0, 0.0};
+    if (e->rough) {
+        spin0[0] = s->wx[i], spin0[1] = s->wy[i], spin0[2] = s->omega[i];
+    }
     if (vn > 0.0) {
-        double image[3] = {-v[0], -v[1], -v[2]};
-        gr_event_rule_3d(e->rule, &s->wall_cc, e->M, e->R, e->q, n, u, image, NULL, NULL, elastic,
-                         &de_n, &de_t); /* the walls' own eps_n */
+        double image[3] = {-u[0], -u[1], -u[2]};
+        double wi[3] = {spin0[0], spin0[1], spin0[2]}, wj[3] = {spin0[0], spin0[1], spin0[2]};
+        gr_event_rule_3d(e->rule, gr_ev_wall_cc(s, e, vn), e->M, e->R, e->q, n, u, image,
+                         e->rough ? wi : NULL, e->rough ? wj : NULL, elastic, &de_n,
+                         &de_t); /* the walls' own eps_n */
+        if (e->rough) {
+            s->wx[i] = wi[0], s->wy[i] = wi[1], s->omega[i] = wi[2];
+        }
         de_n *= 0.5;
         de_t *= 0.5;
     }
+    const double out = -u[a] * n[a]; /* speed away from the wall (in its frame) */
+    if (moving) {                    /* back in the lab frame */
+        u[a] += vw;
+        const double spin1[3] = {e->rough ? s->wx[i] : 0.0, e->rough ? s->wy[i] : 0.0,
+                                 e->rough ? s->omega[i] : 0.0};
+        s->wall_work += gr_ev_wall_work(s, e, 3, v, u, spin0, spin1, 3, elastic, de_n, de_t);
+    }
     const double floor_speed = push > 0.0 ? 0.5 * push * e->tc : 0.0;
-    const double out = -u[a] * n[a]; /* speed away from the wall */
     if (out < floor_speed) {
         const double k0 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
         u[a] -= (floor_speed - out) * n[a];

@@ -63,13 +63,26 @@ struct gr_event_state {
     const gr_contact_coeffs *cc_pair;
     bool exact; /* free_flight = exact */
     bool noise;
-    /* walls and gravity (2D and 3D; docs/systems-walls-gravity.md, "Event-driven"): wall[a] = flat
+    /* walls and gravity (1D, 2D, 3D; docs/systems-walls-gravity.md, "Event-driven"): wall[a] = flat
      * walls at 0 and L along axis a (no periodic image there), grav[a] the constant acceleration
      * added to every particle's a1, a2; its work is booked as the change of the potential energy,
      * not as injected */
     bool wall[3];
     double grav[3];
     int64_t wall_hits;
+    /* the vibrating wall ([boundary] vibrate): the wall at 0 of axis vib (-1: none) stands at
+     * gr_walls_motion(par, t) (core/walls.c, as for the verlet integrator); vib_acc bounds its
+     * acceleration (A w^2 for a sine, 0 for a sawtooth, whose drops only move it away). Grains on
+     * it may go below 0: that axis is not wrapped and its first cell reaches down to -inf. */
+    int vib;
+    double vib_acc;
+    const gr_sim_params *par;
+    /* the walls' coefficients as the rule gets them (gr_ev_wall_cc): the sim's wall_cc, or with
+     * an eps_n(v) rule (viscoelastic = true) a copy whose constant eps_n is set per hit to the
+     * impact's eps_n(v_n) of the grain (mass M) against the infinite wall, since the mirror image
+     * doubles the relative speed the rule would see */
+    bool wall_visco;
+    gr_contact_coeffs wall_ccv;
     /* trajectories */
     double *t0, *bx, *bv, *by, *bw; /* base time, x, vx, y, vy */
     double *bz, *bu;                /* 3D: z, vz (NULL otherwise) */
@@ -221,6 +234,71 @@ static inline double gr_ev_first_quadratic(double f0, double f1, double c, doubl
  * monotone pieces of f are isolated by the real roots of f' (which come from those of f''),
  * then bisection with Newton steps. event_solve.c. */
 double gr_ev_first_quartic(const double c[5], double T);
+
+/* The vibrating wall (wall_time in event_cells.h): the first time u in [0, T] at which the gap
+ * h(u) = q0 + v0 u + acc u^2 / 2 - r - q_w(tw + u) is <= 0 while decreasing, q_w the wall of
+ * gr_walls_motion(p, .) and C >= |h''| (|acc| + vib_acc), or GR_EV_INF. May return an earlier
+ * time at which h > 0 (a checkpoint after GR_EV_WALL_STEPS steps): the caller predicts again
+ * from there. event_solve.c. */
+#define GR_EV_WALL_STEPS 64
+double gr_ev_moving_wall_first(const gr_sim_params *p, double tw, double q0, double v0, double acc,
+                               double r, double C, double T);
+
+/* The first hit within one piece of constant acceleration acc (length T, starting at local time
+ * t0 with the grain at q moving at v along axis a) of the wall at 0 (side 0; the vibrating one on
+ * axis vib) or at L (side 1): the centre reaching r = d / 2 from it while moving towards it
+ * (gr_ev_first_quadratic; gr_ev_moving_wall_first for the vibrating wall), or GR_EV_INF. */
+static inline double gr_ev_wall_piece(const struct gr_event_state *e, int a, int side, double t0,
+                                      double q, double v, double acc, double T)
+{
+    const double r = 0.5 * e->d;
+    if (side) {
+        return gr_ev_first_quadratic(e->L - r - q, -v, -0.5 * acc, T);
+    }
+    return a == e->vib ? gr_ev_moving_wall_first(e->par, (double)e->win * e->tau + t0, q, v, acc, r,
+                                                 fabs(acc) + e->vib_acc, T)
+                       : gr_ev_first_quadratic(q - r, v, 0.5 * acc, T);
+}
+
+/* A vibrating wall's state at absolute time t: *vw its velocity, *aw its acceleration along its
+ * axis; returns the gap of a grain at q (its radius r = d / 2) to it. */
+static inline double gr_ev_vib_wall(const struct gr_event_state *e, double t, double q, double *vw,
+                                    double *aw)
+{
+    double qw;
+    gr_walls_motion(e->par, t, &qw, vw);
+    const double w = 2.0 * M_PI * e->par->frequency;
+    *aw = e->par->motion == GR_WALL_SINE ? -w * w * qw : 0.0;
+    return q - 0.5 * e->d - qw;
+}
+
+/* The energy the moving wall gave a grain in a hit: the change of its kinetic energy (translation
+ * v -> u over dim components, and spin w0 -> w1 of rough grains over k components) plus the
+ * hit's losses. */
+static inline double gr_ev_wall_work(const gr_sim *s, const struct gr_event_state *e, int dim,
+                                     const double *v, const double *u, const double *w0,
+                                     const double *w1, int k, bool elastic, double de_n,
+                                     double de_t)
+{
+    double dk = 0.0, dr = 0.0;
+    for (int a = 0; a < dim; a++) {
+        dk += u[a] * u[a] - v[a] * v[a];
+    }
+    for (int a = 0; a < k; a++) {
+        dr += w1[a] * w1[a] - w0[a] * w0[a];
+    }
+    return 0.5 * e->M * dk + 0.5 * s->inertia * dr + (elastic ? 0.0 : de_n + de_t);
+}
+
+/* The walls' coefficients for a hit at the normal speed vn (> 0) towards the wall. */
+static inline const gr_contact_coeffs *gr_ev_wall_cc(gr_sim *s, struct gr_event_state *e, double vn)
+{
+    if (!e->wall_visco) {
+        return &s->wall_cc;
+    }
+    e->wall_ccv.eps_n_exact = s->wall_cc.normal_model->impact(&s->wall_cc, vn).eps_n;
+    return &e->wall_ccv;
+}
 
 /* calendar (calendar.c) */
 /* "bucket" (also NULL or ""), "sparse" or "full" into *kind; -1 for anything else */

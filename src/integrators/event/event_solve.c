@@ -177,3 +177,45 @@ double gr_ev_first_quartic(const double c[5], double T)
     }
     return GR_EV_INF;
 }
+
+/* Conservative advancement: at u the gap h and its rate h' bound h from below by
+ * h + h' x - C x^2 / 2 for x >= 0 (|h''| <= C; a sawtooth's drops only raise h), so h has no zero
+ * before that bound's first one, and the step to it skips no contact. Near a crossing of h this is
+ * a Newton step from the safe side (the distance to the root squares per step); it ends when a
+ * step no longer moves u, just before the root, h > 0 by rounding. A grain touching the wall and
+ * separating (h <= 0, h' > 0, after a bounce) steps to the bound's second zero: h' stays
+ * positive until then. */
+double gr_ev_moving_wall_first(const gr_sim_params *p, double tw, double q0, double v0, double acc,
+                               double r, double C, double T)
+{
+    double u = 0.0;
+    for (int it = 0; it < GR_EV_WALL_STEPS; it++) {
+        double qw, vw;
+        gr_walls_motion(p, tw + u, &qw, &vw);
+        const double h = q0 + u * (v0 + 0.5 * acc * u) - r - qw, hd = v0 + acc * u - vw;
+        if (!(isfinite(h) && isfinite(hd))) {
+            return GR_EV_INF; /* the step's finiteness check reports the state */
+        }
+        if (h <= 0.0 && hd <= 0.0) {
+            return u; /* touching and approaching (or pressed): now */
+        }
+        double x;
+        if (C == 0.0) {
+            x = h > 0.0 && hd < 0.0 ? -h / hd : GR_EV_INF; /* straight lines: exact */
+        } else if (h <= 0.0) {
+            const double disc = hd * hd + 2.0 * C * h;
+            x = disc > 0.0 ? (hd + sqrt(disc)) / C : hd / C;
+        } else {
+            const double root = sqrt(hd * hd + 2.0 * C * h);
+            x = hd < 0.0 ? 2.0 * h / (root - hd) : (hd + root) / C;
+        }
+        if (!(u + x <= T)) {
+            return GR_EV_INF;
+        }
+        if (u + x == u) {
+            return u;
+        }
+        u += x;
+    }
+    return u; /* a checkpoint: h > 0 here */
+}
