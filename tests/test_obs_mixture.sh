@@ -5,10 +5,12 @@
 #   scene's 0.04 from the actual radii, and each species' T ((T_x + T_y) / 2, J, from each grain's
 #   own mass) is the species observable's T_s within 3 errors;
 # - profile on a vibrated bed of two sizes (walls, gravity): per slab n_1 + n_2 = n and
-#   phi_1 + phi_2 = phi, and the columns and the plot per species;
+#   phi_1 + phi_2 = phi, and the columns and the plot per species; a radius distribution's profile
+#   has the scene's packing fraction from the actual radii;
 # - moments, pv, msd, vacf, collisions and postcollision run on the mixture: <|v|^2> of moments and
 #   pv's T are the run's T (eq. 2.19) to rounding; in the release pass C(0) of vacf is T / d within
 #   1 % and Green-Kubo's D equals msd's D_self within 3 errors;
+# - a mixture's profile resumes from a checkpoint bit for bit;
 # - a one-species bed's profile.csv is byte-identical to the branch point's (commit 2a73a05);
 # - the observables that measure in one diameter are refused with the reason.
 # (sums to 1e-7: the CSV prints 8 digits) usage: test_obs_mixture.sh GRANULE SOURCE_DIR
@@ -90,6 +92,64 @@ assert json.load(open(d + "/profile.meta.json"))["units"]["T_x_2_err"] == "J"
 print("bed: n_s and phi_s add up to n and phi in all 20 slabs")
 PY
 grep -q "phi_2" "$tmp/bed/profile.gp" || fail "profile.gp has no per-species curve"
+
+# a radius distribution: the profile of all grains (no species), phi from the actual radii
+cat >"$tmp/dist.ini" <<'INI'
+[system]
+dim = 2
+N = 300
+packing_fraction = 0.2
+[species]
+distribution = lognormal
+radius_min = 1e-3
+radius_max = 4e-3
+radius_median = 2e-3
+radius_sigma = 0.4
+density = 5
+[placement]
+kind = random
+[model]
+k_s = 5e3
+eps_n = 0.8
+[run]
+warmup = 0.01
+duration = 0.03
+INI
+run dist "$tmp/dist.ini" --set output.plots=false --set analysis.profile_bins=1 \
+    --set analysis.observables=profile,moments,pv,msd,vacf,collisions,postcollision
+python3 - "$tmp/dist" <<'PY' || fail "a radius distribution's profile"
+import csv, json, sys
+d = sys.argv[1]
+r = next(csv.DictReader(open(d + "/profile.csv")))
+assert "n_1" not in r and abs(float(r["phi"]) / 0.2 - 1) < 1e-7, r
+assert json.load(open(d + "/profile.meta.json"))["units"]["T_x"] == "J"
+s = json.load(open(d + "/summary.json"))
+assert abs(s["analysis"]["moments"]["speed"]["m2"] / s["T_mean"] - 1) < 1e-9
+print(f"distribution: phi of the one slab {r['phi']} (the scene's 0.2)")
+PY
+
+# a mixture's profile is checkpointed: SIGTERM once a checkpoint exists (the run paused at a step
+# by GRANULE_TEST_PAUSE_AT_STEP), --resume, and every CSV equals the uninterrupted run's
+short=(--set output.plots=false --set system.N=200 --set run.warmup=0.01 --set run.duration=0.06
+    --set analysis.profile_bins=4 --set analysis.observables=species,profile,moments)
+run straight "$src/docs/scenes/bidisperse-mixture.ini" "${short[@]}"
+GRANULE_TEST_PAUSE_AT_STEP=3000 OMP_NUM_THREADS=1 "$granule" run "$src/docs/scenes/bidisperse-mixture.ini" \
+    --out "$tmp/term" --set output.snapshot_every=0 --set run.checkpoint_every=0.01 "${short[@]}" \
+    >"$tmp/term.log" 2>&1 &
+pid=$!
+for _ in $(seq 600); do
+    [[ -s $tmp/term/checkpoint ]] && break
+    sleep 0.1
+done
+kill -TERM "$pid" 2>/dev/null
+wait "$pid"
+rc=$?
+[[ $rc == 5 ]] || { cat "$tmp/term.log" >&2; fail "SIGTERM: exit $rc, want 5"; }
+OMP_NUM_THREADS=1 "$granule" run --resume "$tmp/term" >"$tmp/resume.log" 2>&1 ||
+    { cat "$tmp/resume.log" >&2; fail "resume of a mixture's profile"; }
+for f in profile.csv species.csv moments.csv temperature.csv; do
+    cmp -s "$tmp/straight/$f" "$tmp/term/$f" || fail "$f differs after SIGTERM and --resume"
+done
 
 # one species: profile.csv as at the branch point (the sha256 recorded there, release pass: the
 # sanitizer build may round differently)
