@@ -8,7 +8,8 @@
 #   phi_1 + phi_2 = phi, and the columns and the plot per species; a radius distribution's profile
 #   has the scene's packing fraction from the actual radii;
 # - moments, pv, msd, vacf, collisions and postcollision run on the mixture: <|v|^2> of moments and
-#   pv's T are the run's T (eq. 2.19) to rounding; in the release pass C(0) of vacf is T / d within
+#   pv's T are the run's T (eq. 2.19) to rounding, the species' speed moments weighted by N_s / N
+#   are the total's and m_s <|v|^2>_s / d is the species' T_s within 3 errors; in the release pass C(0) of vacf is T / d within
 #   1 % and Green-Kubo's D equals msd's D_self within 3 errors;
 # - a mixture's profile resumes from a checkpoint bit for bit;
 # - a one-species bed's profile.csv is byte-identical to the branch point's (commit 2a73a05);
@@ -59,6 +60,19 @@ for k, (T, e) in enumerate(zip(a["species"]["T"], a["species"]["T_stderr"]), 1):
           + ("" if good else "  <- FAIL"))
     ok &= good
 close(a["moments"]["speed"]["m2"], s["T_mean"], 1e-9, "moments: <|v|^2> = the run's T")
+# the species' speed moments: N_s / N-weighted they are the total's; m_s <|v|^2>_s / d is T_s
+sp = a["moments"]["species_speed"]
+for k in range(1, 13):
+    close(sum(sp[f"m{k}"]) / 2, a["moments"]["speed"][f"m{k}"], 1e-9, f"moments: species' m{k}")
+errs = {}
+for r in csv.DictReader(l for l in open(d + "/moments_species.csv") if not l.startswith("#")):
+    errs[(int(r["species"]), int(r["m"]))] = float(r["speed_stderr"])
+for k, (m, T, e) in enumerate(zip((3.53e-5, 1.412e-4), a["species"]["T"], a["species"]["T_stderr"]), 1):
+    Tm, em = m * sp["m2"][k - 1] / 2, m * errs[(k, 2)] / 2
+    good = quick or abs(Tm - T) < 3 * math.hypot(e, em)  # quick: too few samples for errors
+    print(f"moments: m_{k} <|v|^2>_{k} / 2 = {Tm:.5g} +- {em:.2g} J, species T_s = {T:.5g}"
+          + ("" if good else "  <- FAIL"))
+    ok &= good
 close(a["pv"]["T_mean"], s["T_mean"], 1e-9, "pv: T = the run's T")
 ok &= a["collisions"]["collisions"] > 0 and a["collisions"]["rate_per_particle"] > 0
 ok &= a["postcollision"]["post_samples"] > 0
@@ -147,7 +161,7 @@ rc=$?
 [[ $rc == 5 ]] || { cat "$tmp/term.log" >&2; fail "SIGTERM: exit $rc, want 5"; }
 OMP_NUM_THREADS=1 "$granule" run --resume "$tmp/term" >"$tmp/resume.log" 2>&1 ||
     { cat "$tmp/resume.log" >&2; fail "resume of a mixture's profile"; }
-for f in profile.csv species.csv moments.csv temperature.csv; do
+for f in profile.csv species.csv moments.csv moments_species.csv temperature.csv; do
     cmp -s "$tmp/straight/$f" "$tmp/term/$f" || fail "$f differs after SIGTERM and --resume"
 done
 
