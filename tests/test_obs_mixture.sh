@@ -8,7 +8,8 @@
 #   phi_1 + phi_2 = phi, and the columns and the plot per species; a radius distribution's profile
 #   has the scene's packing fraction from the actual radii;
 # - moments, pv, msd, vacf, collisions and postcollision run on the mixture: <|v|^2> of moments and
-#   pv's T are the run's T (eq. 2.19) to rounding, the species' speed moments weighted by N_s / N
+#   pv's T are the run's T (eq. 2.19) to rounding, the species' collision rates add up to the
+#   total's and (release pass) their ratio is the Enskog-Maxwellian one within 3 errors, the species' speed moments weighted by N_s / N
 #   are the total's and m_s <|v|^2>_s / d is the species' T_s within 3 errors; in the release pass C(0) of vacf is T / d within
 #   1 % and Green-Kubo's D equals msd's D_self within 3 errors;
 # - a mixture's profile resumes from a checkpoint bit for bit;
@@ -75,6 +76,22 @@ for k, (m, T, e) in enumerate(zip((3.53e-5, 1.412e-4), a["species"]["T"], a["spe
     ok &= good
 close(a["pv"]["T_mean"], s["T_mean"], 1e-9, "pv: T = the run's T")
 ok &= a["collisions"]["collisions"] > 0 and a["collisions"]["rate_per_particle"] > 0
+# each species' collision rate: weighted by N_s / N the total's; their ratio is the
+# Enskog-Maxwellian one of equal discs, (g_11 + g_12) / (g_12 + g_22) with the mean relative
+# speeds g_ab ~ sqrt(T_a / m_a + T_b / m_b) of the measured T_s (equal number densities)
+c = a["collisions"]
+close(sum(c["species_rate_per_particle"]) / 2, c["rate_per_particle"], 1e-9, "collisions: species' rates")
+close(sum(c["species_collisions"]), c["collisions"], 0, "collisions: species' counts")
+if not quick:
+    (T1, T2), (m1, m2) = a["species"]["T"], (3.53e-5, 1.412e-4)
+    g11, g12, g22 = (math.sqrt(x) for x in (2 * T1 / m1, T1 / m1 + T2 / m2, 2 * T2 / m2))
+    want = (g11 + g12) / (g12 + g22)
+    (r1, r2), (e1, e2) = c["species_rate_per_particle"], c["species_rate_per_particle_error"]
+    r, e = r1 / r2, r1 / r2 * math.hypot(e1 / r1, e2 / r2)
+    good = abs(r - want) < 3 * e
+    print(f"collisions: nu_1 / nu_2 = {r:.4f} +- {e:.4f}, Enskog-Maxwellian {want:.4f}"
+          + ("" if good else "  <- FAIL"))
+    ok &= good
 ok &= a["postcollision"]["post_samples"] > 0
 if not quick:
     close(a["vacf"]["C0_per_component"], s["T_mean"] / 2, 0.01, "vacf: C(0) = T / d")
@@ -145,7 +162,7 @@ PY
 # a mixture's profile is checkpointed: SIGTERM once a checkpoint exists (the run paused at a step
 # by GRANULE_TEST_PAUSE_AT_STEP), --resume, and every CSV equals the uninterrupted run's
 short=(--set output.plots=false --set system.N=200 --set run.warmup=0.01 --set run.duration=0.06
-    --set analysis.profile_bins=4 --set analysis.observables=species,profile,moments)
+    --set analysis.profile_bins=4 --set analysis.observables=species,profile,moments,collisions)
 run straight "$src/docs/scenes/bidisperse-mixture.ini" "${short[@]}"
 GRANULE_TEST_PAUSE_AT_STEP=3000 OMP_NUM_THREADS=1 "$granule" run "$src/docs/scenes/bidisperse-mixture.ini" \
     --out "$tmp/term" --set output.snapshot_every=0 --set run.checkpoint_every=0.01 "${short[@]}" \
@@ -161,9 +178,14 @@ rc=$?
 [[ $rc == 5 ]] || { cat "$tmp/term.log" >&2; fail "SIGTERM: exit $rc, want 5"; }
 OMP_NUM_THREADS=1 "$granule" run --resume "$tmp/term" >"$tmp/resume.log" 2>&1 ||
     { cat "$tmp/resume.log" >&2; fail "resume of a mixture's profile"; }
-for f in profile.csv species.csv moments.csv moments_species.csv temperature.csv; do
+for f in profile.csv species.csv moments.csv moments_species.csv collisions.csv temperature.csv; do
     cmp -s "$tmp/straight/$f" "$tmp/term/$f" || fail "$f differs after SIGTERM and --resume"
 done
+python3 - "$tmp/straight/summary.json" "$tmp/term/summary.json" <<'PY' || fail "summary.json's analysis differs after --resume"
+import json, sys
+a, b = (json.load(open(p))["analysis"] for p in sys.argv[1:])
+assert a == b and a["collisions"]["species_rate_per_particle"][0] > 0, (a, b)
+PY
 
 # one species: profile.csv as at the branch point (the sha256 recorded there, release pass: the
 # sanitizer build may round differently)
