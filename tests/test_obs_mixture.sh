@@ -53,6 +53,8 @@ def close(x, y, rel, what):
 close(p["n_1"] + p["n_2"], p["n"], 1e-7, "profile: n_1 + n_2 = n")
 close(p["phi_1"] + p["phi_2"], p["phi"], 1e-7, "profile: phi_1 + phi_2 = phi")
 close(p["phi"], 0.04, 1e-7, "profile: phi of the one slab = the scene's packing fraction")
+h = a["profile"]["species_mean_position"]
+close(sum(h) / 2, a["profile"]["mean_position"], 1e-9, "profile: the species' mean positions")
 for k, (T, e) in enumerate(zip(a["species"]["T"], a["species"]["T_stderr"]), 1):
     Tp = (p[f"T_x_{k}"] + p[f"T_y_{k}"]) / 2
     ep = math.hypot(p[f"T_x_{k}_err"], p[f"T_y_{k}_err"]) / 2
@@ -118,7 +120,10 @@ for r in rows:
     for q in ("n", "phi"):
         assert abs(r[q + "_1"] + r[q + "_2"] - r[q]) <= 1e-7 * r[q], (q, r)  # 8 digits printed
 assert max(r["phi_2"] for r in rows) > 0 and max(r["phi_1"] for r in rows) > 0
-assert json.load(open(d + "/summary.json"))["analysis"]["profile"]["species"] == 2
+pr = json.load(open(d + "/summary.json"))["analysis"]["profile"]
+assert pr["species"] == 2 and len(pr["species_mean_position"]) == 2, pr
+# 70 % small, 30 % large grains: the mean positions weighted by N_s / N are the bed's
+assert abs(0.7 * pr["species_mean_position"][0] + 0.3 * pr["species_mean_position"][1] - pr["mean_position"]) < 1e-9 * pr["mean_position"], pr
 assert json.load(open(d + "/profile.meta.json"))["units"]["T_x_2_err"] == "J"
 print("bed: n_s and phi_s add up to n and phi in all 20 slabs")
 PY

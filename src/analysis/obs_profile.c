@@ -39,6 +39,7 @@
 
 #include "analysis/obs_util.h"
 #include "granule/analysis.h"
+#include "granule/sim.h"
 
 typedef struct profile_params {
     int profile_axis;
@@ -73,6 +74,7 @@ typedef struct profile {
     int groups, nm;
     double *ms;      /* this frame's sums: ms[nm (groups k + g) + q] */
     gr_blocking *mb; /* their time averages, the same layout */
+    gr_blocking *hs; /* species lists: hs[1 + s] species s's mean position along the axis */
 } profile;
 
 /* a mixture's sums per slab and group: count, area, mass, then nc momenta and nc m v^2 */
@@ -120,6 +122,7 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
         const size_t nmb = (size_t)s->nm * (size_t)s->groups * (size_t)s->bins;
         s->ms = gr_obs_calloc(s, nmb, sizeof *s->ms);
         s->mb = gr_obs_calloc(s, nmb, sizeof *s->mb);
+        s->hs = gr_obs_calloc(s, (size_t)s->groups, sizeof *s->hs);
     }
     int rc = gr_obs_alloc_ok(s, err);
     if (rc) {
@@ -130,6 +133,9 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     }
     for (int k = 0; k < s->nm * s->groups * s->bins; k++) {
         gr_blocking_init(&s->mb[k]);
+    }
+    for (int g = 0; g < s->groups; g++) {
+        gr_blocking_init(&s->hs[g]);
     }
     gr_blocking_init(&s->height);
     return GR_OK;
@@ -156,8 +162,11 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         return bad;
     }
     const int nc = s->nc, nm = s->nm;
-    if (s->groups && (!p->radii || !p->masses ||
-                      (s->groups > 1 && (!p->species || p->n_species != s->groups - 1)))) {
+    bool bad_species = s->groups > 1 && (!p->species || p->n_species != s->groups - 1);
+    for (int i = 0; s->groups > 1 && !bad_species && i < p->n; i++) {
+        bad_species = p->species[i] < 0 || p->species[i] >= s->groups - 1;
+    }
+    if (s->groups && (!p->radii || !p->masses || bad_species)) {
         return GR_FAIL(err, GR_EINVAL,
                        "profile: the frames carry no radii, masses or species of the grains; a "
                        "mixture's profile needs the frames of its run (docs/mixtures.md)");
@@ -172,7 +181,7 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         }
     }
     const double *z = s->axis == 0 ? p->x : s->axis == 1 ? p->y : p->z;
-    double zsum = 0.0;
+    double zsum = 0.0, zs[GR_MAX_SPECIES] = {0}, cs[GR_MAX_SPECIES] = {0};
     for (int i = 0; i < p->n; i++) {
         double zi = z[i];
         if (!s->wall) { /* periodic: 1D positions are unwrapped */
@@ -194,6 +203,8 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
             if (s->groups > 1) {
                 add_grain(m + (size_t)nm * (1 + p->species[i]), nc, p->dim, p->radii[i],
                           p->masses[i], v);
+                zs[p->species[i]] += zi;
+                cs[p->species[i]] += 1.0;
             }
         }
     }
@@ -213,6 +224,11 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         }
     }
     gr_blocking_add(&s->height, zsum / p->n);
+    for (int g = 1; g < s->groups; g++) {
+        if (cs[g - 1] > 0.0) {
+            gr_blocking_add(&s->hs[g], zs[g - 1] / cs[g - 1]);
+        }
+    }
     s->frames++;
     return GR_OK;
 }
@@ -339,6 +355,15 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     if (s->groups) {
         cJSON_AddNumberToObject(j, "species", s->groups - 1);
     }
+    if (s->groups > 1) { /* each species' mean position: segregation along the axis */
+        cJSON *jp = cJSON_AddArrayToObject(j, "species_mean_position");
+        cJSON *je = cJSON_AddArrayToObject(j, "species_mean_position_error");
+        for (int g = 1; g < s->groups; g++) {
+            const double h = gr_blocking_mean(&s->hs[g]), e = gr_obs_stderr(&s->hs[g]);
+            cJSON_AddItemToArray(jp, isfinite(h) ? cJSON_CreateNumber(h) : cJSON_CreateNull());
+            cJSON_AddItemToArray(je, isfinite(e) ? cJSON_CreateNumber(e) : cJSON_CreateNull());
+        }
+    }
     cJSON_AddStringToObject(
         j, "note",
         s->groups ? "centre-counted slabs of a mixture: phi from each grain's own radius, u_a = "
@@ -427,6 +452,7 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
     gr_obs_io_blockings(io, &s->height, 1);
     if (s->groups) { /* a mixture's sums (one species: the checkpoint as before) */
         gr_obs_io_blockings(io, s->mb, s->nm * s->groups * s->bins);
+        gr_obs_io_blockings(io, s->hs, s->groups);
     }
     return GR_OK;
 }
