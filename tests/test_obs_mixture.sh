@@ -151,7 +151,7 @@ eps_n = 0.8
 warmup = 0.01
 duration = 0.03
 INI
-run dist "$tmp/dist.ini" --set output.plots=false --set analysis.profile_bins=1 \
+run dist "$tmp/dist.ini" --set output.plots=true --set analysis.profile_bins=1 \
     --set analysis.observables=profile,moments,pv,msd,vacf,collisions,postcollision
 python3 - "$tmp/dist" <<'PY' || fail "a radius distribution's profile"
 import csv, json, sys
@@ -163,6 +163,7 @@ s = json.load(open(d + "/summary.json"))
 assert abs(s["analysis"]["moments"]["speed"]["m2"] / s["T_mean"] - 1) < 1e-9
 print(f"distribution: phi of the one slab {r['phi']} (the scene's 0.2)")
 PY
+grep -q "T per component (J)" "$tmp/dist/profile.gp" || fail "a distribution's profile plot: T in J"
 
 # a mixture's profile is checkpointed: SIGTERM once a checkpoint exists (the run paused at a step
 # by GRANULE_TEST_PAUSE_AT_STEP), --resume, and every CSV equals the uninterrupted run's

@@ -376,10 +376,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     snprintf(plot, sizeof plot,
              "set multiplot layout 1,2\nset xlabel '%c (m)'\n"
              "set ylabel 'packing fraction'\nplot 'profile.csv' using 1:4:5 with yerrorbars pt 7 "
-             "ps 0.5 title 'phi (centres)'\nset ylabel 'T per component (m^2/s^2)'\n"
+             "ps 0.5 title 'phi (%s)'\nset ylabel 'T per component (%s)'\n"
              "plot 'profile.csv' using 1:8:9 with yerrorbars pt 7 ps 0.5 title 'T_x'%s\n"
              "unset multiplot",
-             axis,
+             axis, s->groups ? "actual radii" : "centres", s->groups ? "J" : "m^2/s^2",
              s->dim == 3   ? ", '' using 1:10:11 with yerrorbars pt 5 ps 0.5 title 'T_y', '' using "
                              "1:13:14 with yerrorbars pt 9 ps 0.5 title 'T_z'"
              : s->dim == 2 ? ", '' using 1:10:11 with yerrorbars pt 5 ps 0.5 title 'T_y'"
