@@ -1,21 +1,22 @@
 #!/usr/bin/env bash
 # Observables on a mixture (issue 36, docs/mixtures.md "Observables on a mixture"):
 # - profile on the driven binary gas of docs/scenes/bidisperse-mixture.ini in one slab: the
-#   species' densities and packing fractions sum to the total's, the packing fraction is the
-#   scene's 0.04 from the actual radii, and each species' T ((T_x + T_y) / 2, J, from each grain's
-#   own mass) is the species observable's T_s within 3 errors;
+#   species' densities, packing fractions and mean positions add up to the total's, the packing
+#   fraction is the scene's 0.04 from the actual radii, and each species' T ((T_x + T_y) / 2, J,
+#   from each grain's own mass) is the species observable's T_s within 3 errors;
 # - profile on a vibrated bed of two sizes (walls, gravity): per slab n_1 + n_2 = n and
-#   phi_1 + phi_2 = phi, and the columns and the plot per species; a radius distribution's profile
-#   has the scene's packing fraction from the actual radii;
-# - moments, pv, msd, vacf, collisions and postcollision run on the mixture: <|v|^2> of moments and
-#   pv's T are the run's T (eq. 2.19) to rounding, the species' collision rates add up to the
-#   total's and (release pass) their ratio is the Enskog-Maxwellian one within 3 errors, the species' speed moments weighted by N_s / N
-#   are the total's and m_s <|v|^2>_s / d is the species' T_s within 3 errors; in the release pass C(0) of vacf is T / d within
-#   1 % and Green-Kubo's D equals msd's D_self within 3 errors;
-# - a mixture's profile resumes from a checkpoint bit for bit;
+#   phi_1 + phi_2 = phi, the columns and the plot per species; a radius distribution's profile
+#   has the scene's packing fraction from the actual radii and T in J;
+# - moments, pv, msd, vacf, collisions and postcollision on the gas: <|v|^2> of moments and pv's T
+#   are the run's T (eq. 2.19) to rounding; the species' speed moments (weighted by N_s / N), C(0)
+#   and collision rates add up to the total's; in the release pass m_s <|v|^2>_s / d is T_s within
+#   3 errors, the ratio of the species' collision rates is the Enskog-Maxwellian one within 3
+#   errors, C(0) of vacf is T / d within 1 %, and Green-Kubo's D equals msd's D_self within 3
+#   errors for all grains and for each species (the light grains diffusing faster);
+# - a mixture's profile, moments, collisions, msd and vacf resume from a checkpoint bit for bit;
 # - a one-species bed's profile.csv is byte-identical to the branch point's (commit 2a73a05);
 # - the observables that measure in one diameter are refused with the reason.
-# (sums to 1e-7: the CSV prints 8 digits) usage: test_obs_mixture.sh GRANULE SOURCE_DIR
+# (Sums to 1e-7 where the CSV prints 8 digits.) usage: test_obs_mixture.sh GRANULE SOURCE_DIR
 set -uo pipefail
 granule=$1
 src=$(cd "$2" && pwd)
@@ -95,6 +96,8 @@ if not quick:
           + ("" if good else "  <- FAIL"))
     ok &= good
 ok &= a["postcollision"]["post_samples"] > 0
+vc = a["vacf"]
+close(sum(vc["species_C0_per_component"]) / 2, vc["C0_per_component"], 1e-9, "vacf: species' C(0)")
 if not quick:
     close(a["vacf"]["C0_per_component"], s["T_mean"] / 2, 0.01, "vacf: C(0) = T / d")
     D, De = a["msd"]["D_self"]["value"], a["msd"]["D_self"]["error"]
@@ -103,6 +106,15 @@ if not quick:
     print(f"msd D_self {D:.5g} +- {De:.2g}, vacf D_GK {G:.5g} +- {Ge:.2g} m^2/s"
           + ("" if good else "  <- FAIL"))
     ok &= good
+    # each species: Einstein (msd) = Green-Kubo (vacf), the light grains diffusing faster
+    Ds, Gs = a["msd"]["species_D_self"], vc["species_D_green_kubo"]
+    for k in range(2):
+        D, De, G, Ge = Ds["value"][k], Ds["error"][k], Gs["value"][k], Gs["error"][k]
+        good = abs(D - G) < 3 * math.hypot(De, Ge)
+        print(f"species {k + 1}: msd D_self {D:.5g} +- {De:.2g}, vacf D_GK {G:.5g} +- {Ge:.2g} m^2/s"
+              + ("" if good else "  <- FAIL"))
+        ok &= good
+    ok &= Ds["value"][0] > Ds["value"][1] + 3 * math.hypot(Ds["error"][0], Ds["error"][1])
 sys.exit(0 if ok else 1)
 PY
 
@@ -168,7 +180,7 @@ grep -q "T per component (J)" "$tmp/dist/profile.gp" || fail "a distribution's p
 # a mixture's profile is checkpointed: SIGTERM once a checkpoint exists (the run paused at a step
 # by GRANULE_TEST_PAUSE_AT_STEP), --resume, and every CSV equals the uninterrupted run's
 short=(--set output.plots=false --set system.N=200 --set run.warmup=0.01 --set run.duration=0.06
-    --set analysis.profile_bins=4 --set analysis.observables=species,profile,moments,collisions)
+    --set analysis.profile_bins=4 --set analysis.observables=species,profile,moments,collisions,msd,vacf)
 run straight "$src/docs/scenes/bidisperse-mixture.ini" "${short[@]}"
 GRANULE_TEST_PAUSE_AT_STEP=3000 OMP_NUM_THREADS=1 "$granule" run "$src/docs/scenes/bidisperse-mixture.ini" \
     --out "$tmp/term" --set output.snapshot_every=0 --set run.checkpoint_every=0.01 "${short[@]}" \
@@ -184,7 +196,7 @@ rc=$?
 [[ $rc == 5 ]] || { cat "$tmp/term.log" >&2; fail "SIGTERM: exit $rc, want 5"; }
 OMP_NUM_THREADS=1 "$granule" run --resume "$tmp/term" >"$tmp/resume.log" 2>&1 ||
     { cat "$tmp/resume.log" >&2; fail "resume of a mixture's profile"; }
-for f in profile.csv species.csv moments.csv moments_species.csv collisions.csv temperature.csv; do
+for f in profile.csv species.csv moments.csv moments_species.csv collisions.csv msd.csv vacf.csv temperature.csv; do
     cmp -s "$tmp/straight/$f" "$tmp/term/$f" || fail "$f differs after SIGTERM and --resume"
 done
 python3 - "$tmp/straight/summary.json" "$tmp/term/summary.json" <<'PY' || fail "summary.json's analysis differs after --resume"
