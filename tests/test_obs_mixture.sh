@@ -13,7 +13,8 @@
 #   3 errors, the ratio of the species' collision rates is the Enskog-Maxwellian one within 3
 #   errors, C(0) of vacf is T / d within 1 %, and Green-Kubo's D equals msd's D_self within 3
 #   errors for all grains and for each species (the light grains diffusing faster);
-# - a mixture's profile, moments, collisions, msd and vacf resume from a checkpoint bit for bit;
+# - a mixture's profile, moments, collisions, msd and vacf resume from a checkpoint bit for bit, and
+#   `granule analyse` of its snapshots gives the run's tables;
 # - a one-species bed's profile.csv is byte-identical to the branch point's (commit 2a73a05);
 # - the observables that measure in one diameter are refused with the reason.
 # (Sums to 1e-7 where the CSV prints 8 digits.) usage: test_obs_mixture.sh GRANULE SOURCE_DIR
@@ -203,6 +204,22 @@ python3 - "$tmp/straight/summary.json" "$tmp/term/summary.json" <<'PY' || fail "
 import json, sys
 a, b = (json.load(open(p))["analysis"] for p in sys.argv[1:])
 assert a == b and a["collisions"]["species_rate_per_particle"][0] > 0, (a, b)
+PY
+
+# granule analyse of a mixture's snapshots (every sample) gives the run's tables byte for byte
+run snaps "$src/docs/scenes/bidisperse-mixture.ini" --set output.plots=false --set system.N=200 \
+    --set run.warmup=0.01 --set run.duration=0.05 --set analysis.profile_bins=4 \
+    --set analysis.observables=species,profile,moments,msd,vacf --set output.snapshot_every=5e-3
+"$granule" analyse "$tmp/snaps" --out "$tmp/snaps-an" >"$tmp/an.log" 2>&1 ||
+    { cat "$tmp/an.log" >&2; fail "analyse of a mixture's snapshots"; }
+for f in profile.csv moments_species.csv msd.csv vacf.csv; do
+    cmp -s "$tmp/snaps/$f" "$tmp/snaps-an/$f" || fail "analyse's $f differs from the run's"
+done
+python3 - "$tmp/snaps/summary.json" "$tmp/snaps-an/summary.json" <<'PY' || fail "analyse's per-species numbers"
+import json, sys
+a, b = (json.load(open(p))["analysis"] for p in sys.argv[1:])
+for o, k in (("msd", "species_D_self"), ("vacf", "species_D_green_kubo"), ("profile", "species_mean_position")):
+    assert a[o][k] == b[o][k], (o, a[o][k], b[o][k])
 PY
 
 # one species: profile.csv as at the branch point (the sha256 recorded there, release pass: the
