@@ -39,6 +39,9 @@ void gr_lag_free(gr_lag *g)
 
 int gr_lag_species(gr_lag *g, int ns, gr_error *err)
 {
+    if (ns < 2 || ns > GR_MAX_SPECIES) {
+        return GR_FAIL(err, GR_EINVAL, "%d species; allowed: 2 to %d", ns, GR_MAX_SPECIES);
+    }
     g->ns = ns;
     g->acc_s = malloc(sizeof(gr_blocking) * (size_t)(g->lags + 1) * (size_t)ns);
     if (!g->acc_s) {

@@ -116,6 +116,10 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     s->s1 = gr_obs_calloc(s, (size_t)s->nc * (size_t)s->bins, sizeof *s->s1);
     s->s2 = gr_obs_calloc(s, (size_t)s->nc * (size_t)s->bins, sizeof *s->s2);
     s->b = gr_obs_calloc(s, (size_t)s->nq * (size_t)s->bins, sizeof *s->b);
+    if (setup->n_species > GR_MAX_SPECIES) {
+        return GR_FAIL(err, GR_EINVAL, "profile: %d species; allowed: 2 to %d", setup->n_species,
+                       GR_MAX_SPECIES);
+    }
     if (setup->sizes) {
         s->groups = 1 + (setup->n_species >= 2 ? setup->n_species : 0);
         s->nm = M_P + 2 * s->nc;
