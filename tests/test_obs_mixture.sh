@@ -12,7 +12,8 @@
 #   and collision rates add up to the total's; in the release pass m_s <|v|^2>_s / d is T_s within
 #   3 errors, the ratio of the species' collision rates is the Enskog-Maxwellian one within 3
 #   errors, C(0) of vacf is T / d within 1 %, and Green-Kubo's D equals msd's D_self within 3
-#   errors for all grains and for each species (the light grains diffusing faster);
+#   errors for all grains and for each species (the light grains diffusing faster), and each
+#   species' <|v|^4> / <|v|^2>^2 is 2 (Maxwellian) within 0.15 where the pooled gas's exceeds 2.5;
 # - a mixture's profile, moments, collisions, msd and vacf resume from a checkpoint bit for bit, and
 #   `granule analyse` of its snapshots gives the run's tables;
 # - a one-species bed's profile.csv is byte-identical to the branch point's (commit 2a73a05);
@@ -116,6 +117,13 @@ if not quick:
               + ("" if good else "  <- FAIL"))
         ok &= good
     ok &= Ds["value"][0] > Ds["value"][1] + 3 * math.hypot(Ds["error"][0], Ds["error"][1])
+    # each species is near-Maxwellian (<|v|^4> / <|v|^2>^2 = 2 in 2D), the pooled gas is not: a
+    # superposition of two widths (pv of a mixture is the total's)
+    k = [sp["m4"][q] / sp["m2"][q] ** 2 for q in range(2)]
+    kt = a["moments"]["speed"]["m4"] / a["moments"]["speed"]["m2"] ** 2
+    good = all(abs(x - 2) < 0.15 for x in k) and kt > 2.5
+    print(f"<|v|^4>/<|v|^2>^2: species {k[0]:.3f}, {k[1]:.3f}; pooled {kt:.3f}" + ("" if good else "  <- FAIL"))
+    ok &= good
 sys.exit(0 if ok else 1)
 PY
 
