@@ -251,4 +251,10 @@ for o in pair freepath sk vcorr clusters pressure; do
         { cat "$tmp/r.log" >&2; fail "the message refusing $o"; }
     [ ! -e "$tmp/refused" ] || fail "an output folder for a refused $o"
 done
+# a radius distribution: the same refusals, without species among the allowed
+if "$granule" run "$tmp/dist.ini" --out "$tmp/refused" --set analysis.observables=pair >"$tmp/r.log" 2>&1; then
+    fail "pair accepted on a radius distribution"
+fi
+grep -q "pair is not species-aware yet: .*allowed with \[species\]: moments, pv, msd, vacf, postcollision, collisions, profile (docs" "$tmp/r.log" ||
+    { cat "$tmp/r.log" >&2; fail "the message refusing pair on a radius distribution"; }
 echo "obs-mixture: ok"

@@ -98,8 +98,8 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             *key = "observables";
             snprintf(detail, cap,
                      "%s is not species-aware yet: %s; allowed with [species]: moments, pv, msd, "
-                     "vacf, postcollision, collisions, profile, species (docs/mixtures.md)",
-                     tok, why);
+                     "vacf, postcollision, collisions, profile%s (docs/mixtures.md)",
+                     tok, why, s->size_distribution ? "" : ", species");
             return GR_EINVAL;
         }
     }
