@@ -6,7 +6,8 @@
 #   from each grain's own mass) is the species observable's T_s within 3 errors;
 # - profile on a vibrated bed of two sizes (walls, gravity): per slab n_1 + n_2 = n and
 #   phi_1 + phi_2 = phi, the columns and the plot per species; a radius distribution's profile
-#   has the scene's packing fraction from the actual radii and T in J;
+#   has the scene's packing fraction from the actual radii and T in J; a sweep over the bed's
+#   amplitude has each species' mean height in sweep.csv;
 # - moments, pv, msd, vacf, collisions and postcollision on the gas: <|v|^2> of moments and pv's T
 #   are the run's T (eq. 2.19) to rounding; the species' speed moments (weighted by N_s / N), C(0)
 #   and collision rates add up to the total's; in the release pass m_s <|v|^2>_s / d is T_s within
@@ -149,6 +150,35 @@ assert json.load(open(d + "/profile.meta.json"))["units"]["T_x_2_err"] == "J"
 print("bed: n_s and phi_s add up to n and phi in all 20 slabs")
 PY
 grep -q "phi_2" "$tmp/bed/profile.gp" || fail "profile.gp has no per-species curve"
+
+# a sweep over the bed's amplitude: sweep.csv has each species' mean height (profile_height_1, _2),
+# which weighted by the fractions 0.7 and 0.3 give the bed's profile_height
+cat >"$tmp/sweep.ini" <<INI
+[sweep]
+scene = $src/docs/scenes/vibrated-bed-mixture.ini
+out = $tmp/sweep
+seeds = 1
+[vary]
+boundary.amplitude = 5e-4, 1e-3
+[set]
+run.warmup = 0.01
+run.duration = 0.02
+output.snapshot_every = 0
+output.plots = false
+analysis.observables = profile
+INI
+OMP_NUM_THREADS=1 "$granule" sweep "$tmp/sweep.ini" --jobs 1 >"$tmp/sweep.log" 2>&1 ||
+    { cat "$tmp/sweep.log" >&2; fail "a sweep of the bed of two sizes"; }
+python3 - "$tmp/sweep/sweep.csv" <<'PY' || fail "sweep.csv's heights per species"
+import csv, sys
+rows = list(csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#")))
+assert len(rows) == 2, rows
+for r in rows:
+    h, h1, h2 = (float(r[k]) for k in ("profile_height", "profile_height_1", "profile_height_2"))
+    assert r["status"] == "completed" and abs(0.7 * h1 + 0.3 * h2 - h) < 2e-7 * h, r
+    assert float(r["profile_height_1_stderr"]) > 0 and float(r["profile_height_2_stderr"]) > 0, r
+print("sweep: profile_height_1, _2 of both points add up to profile_height")
+PY
 
 # a radius distribution: the profile of all grains (no species), phi from the actual radii
 cat >"$tmp/dist.ini" <<'INI'
