@@ -36,8 +36,8 @@ run() {
     OMP_NUM_THREADS=1 "$granule" run "$scene" --out "$tmp/$name" --set output.snapshot_every=0 \
         "$@" >"$tmp/$name.log" 2>&1 || { cat "$tmp/$name.log" >&2; fail "run $name"; }
 }
-dur=0.3
-[[ $quick == 1 ]] && dur=0.05
+dur=0.3 beddur=0.04
+[[ $quick == 1 ]] && dur=0.05 beddur=0.01
 run gas "$src/docs/scenes/bidisperse-mixture.ini" --set output.plots=false --set run.warmup=0.1 \
     --set run.duration=$dur --set analysis.profile_bins=1 \
     --set analysis.observables=species,profile,moments,pv,msd,vacf,collisions,postcollision
@@ -132,7 +132,7 @@ PY
 run bed "$src/docs/scenes/vibrated-bed.ini" --set output.plots=true --set system.N=300 \
     --set 'species.radius=1.5e-3, 2.5e-3' --set 'species.density=5, 5' \
     --set 'species.fraction=0.7, 0.3' --set analysis.observables=profile,species \
-    --set analysis.profile_bins=20 --set run.warmup=0.02 --set run.duration=0.04
+    --set analysis.profile_bins=20 --set run.warmup=0.02 --set run.duration=$beddur
 python3 - "$tmp/bed" <<'PY' || fail "the bed's profile"
 import csv, json, sys
 d = sys.argv[1]
@@ -161,8 +161,8 @@ seeds = 1
 [vary]
 boundary.amplitude = 5e-4, 1e-3
 [set]
-run.warmup = 0.01
-run.duration = 0.02
+run.warmup = 0.004
+run.duration = 0.006
 output.snapshot_every = 0
 output.plots = false
 analysis.observables = profile
