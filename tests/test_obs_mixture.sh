@@ -9,14 +9,15 @@
 #   has the scene's packing fraction from the actual radii and T in J; a sweep over the bed's
 #   amplitude has each species' mean height in sweep.csv;
 # - moments, pv, msd, vacf, collisions and postcollision on the gas: <|v|^2> of moments and pv's T
-#   are the run's T (eq. 2.19) to rounding; the species' speed moments (weighted by N_s / N), C(0)
-#   and collision rates add up to the total's; in the release pass m_s <|v|^2>_s / d is T_s within
-#   3 errors, the ratio of the species' collision rates is the Enskog-Maxwellian one within 3
-#   errors, C(0) of vacf is T / d within 1 %, and Green-Kubo's D equals msd's D_self within 3
-#   errors for all grains and for each species (the light grains diffusing faster), and each
-#   species' <|v|^4> / <|v|^2>^2 is 2 (Maxwellian) within 0.15 where the pooled gas's exceeds 2.5;
-# - a mixture's profile, moments, collisions, msd and vacf resume from a checkpoint bit for bit, and
-#   `granule analyse` of its snapshots gives the run's tables;
+#   are the run's T (eq. 2.19) to rounding; the species' speed moments (weighted by N_s / N), C(0),
+#   collision rates and postcollision's <v^2> add up to the total's, and postcollision's m_s <v^2>_s
+#   is T_s within 1 %; in the release pass m_s <|v|^2>_s / d is T_s within 3 errors, the ratio of
+#   the species' collision rates is the Enskog-Maxwellian one within 3 errors, C(0) of vacf is T / d
+#   within 1 %, and Green-Kubo's D equals msd's D_self within 3 errors for all grains and for each
+#   species (the light grains diffusing faster), and each species' <|v|^4> / <|v|^2>^2 is 2
+#   (Maxwellian) within 0.15 where the pooled gas's exceeds 2.5;
+# - a mixture's profile, moments, collisions, postcollision, msd and vacf resume from a checkpoint
+#   bit for bit, and `granule analyse` of its snapshots gives the run's tables;
 # - a one-species bed's profile.csv is byte-identical to the branch point's (commit 2a73a05);
 # - the observables that measure in one diameter are refused with the reason.
 # (Sums to 1e-7 where the CSV prints 8 digits.) usage: test_obs_mixture.sh GRANULE SOURCE_DIR
@@ -99,6 +100,13 @@ if not quick:
           + ("" if good else "  <- FAIL"))
     ok &= good
 ok &= a["postcollision"]["post_samples"] > 0
+# postcollision per species: <v^2> of all sampled grains averages to the total's; m_s <v^2>_s is
+# the species' T_s (within 1 %: relative to the frame's mean velocity, not the centre of mass)
+pc = a["postcollision"]
+close(sum(pc["species_all_v2"]) / 2, pc["all_v2"], 1e-9, "postcollision: species' <v^2>")
+for k, (m, T) in enumerate(zip((3.53e-5, 1.412e-4), a["species"]["T"])):
+    close(m * pc["species_all_v2"][k], T, 0.01, f"postcollision: m_{k + 1} <v^2>_{k + 1} = T_{k + 1}")
+    ok &= pc["species_post_v2"][k] > 0
 vc = a["vacf"]
 close(sum(vc["species_C0_per_component"]) / 2, vc["C0_per_component"], 1e-9, "vacf: species' C(0)")
 if not quick:
@@ -219,7 +227,8 @@ grep -q "T per component (J)" "$tmp/dist/profile.gp" || fail "a distribution's p
 # a mixture's profile is checkpointed: SIGTERM once a checkpoint exists (the run paused at a step
 # by GRANULE_TEST_PAUSE_AT_STEP), --resume, and every CSV equals the uninterrupted run's
 short=(--set output.plots=false --set system.N=200 --set run.warmup=0.01 --set run.duration=0.06
-    --set analysis.profile_bins=4 --set analysis.observables=species,profile,moments,collisions,msd,vacf)
+    --set analysis.profile_bins=4
+    --set analysis.observables=species,profile,moments,collisions,postcollision,msd,vacf)
 run straight "$src/docs/scenes/bidisperse-mixture.ini" "${short[@]}"
 GRANULE_TEST_PAUSE_AT_STEP=3000 OMP_NUM_THREADS=1 "$granule" run "$src/docs/scenes/bidisperse-mixture.ini" \
     --out "$tmp/term" --set output.snapshot_every=0 --set run.checkpoint_every=0.01 "${short[@]}" \
@@ -235,7 +244,8 @@ rc=$?
 [[ $rc == 5 ]] || { cat "$tmp/term.log" >&2; fail "SIGTERM: exit $rc, want 5"; }
 OMP_NUM_THREADS=1 "$granule" run --resume "$tmp/term" >"$tmp/resume.log" 2>&1 ||
     { cat "$tmp/resume.log" >&2; fail "resume of a mixture's profile"; }
-for f in profile.csv species.csv moments.csv moments_species.csv collisions.csv msd.csv vacf.csv temperature.csv; do
+for f in profile.csv species.csv moments.csv moments_species.csv collisions.csv postcollision.csv \
+    msd.csv vacf.csv temperature.csv; do
     cmp -s "$tmp/straight/$f" "$tmp/term/$f" || fail "$f differs after SIGTERM and --resume"
 done
 python3 - "$tmp/straight/summary.json" "$tmp/term/summary.json" <<'PY' || fail "summary.json's analysis differs after --resume"

@@ -130,17 +130,12 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 {
     collisions *c = state;
     if (c->ns && c->frames == 0) { /* a mixture: the grains' species, from the first frame */
-        bool ok = p->species && p->n_species == c->ns && p->n == c->n;
-        for (int i = 0; ok && i < p->n; i++) {
-            ok = p->species[i] >= 0 && p->species[i] < c->ns;
-            c->species[i] = ok ? p->species[i] : 0;
-            c->count[c->species[i]]++;
+        int rc = gr_obs_frame_species("collisions", p, c->ns, c->n, c->species, err);
+        if (rc) {
+            return rc;
         }
-        if (!ok) {
-            return GR_FAIL(err, GR_EINVAL,
-                           "collisions: the frames carry %d species of %d grains, the scene %d of "
-                           "%d ([species]; docs/mixtures.md)",
-                           p->species ? p->n_species : 0, p->n, c->ns, c->n);
+        for (int i = 0; i < c->n; i++) {
+            c->count[c->species[i]]++;
         }
     }
     close_interval(c);
@@ -221,14 +216,7 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
     gr_obs_io_histogram(io, &c->h);
     gr_obs_io_blockings(io, &c->rate, 1);
     if (c->ns) { /* a mixture's (one species: the checkpoint as before) */
-        for (int i = 0; i < c->n; i++) {
-            gr_blob_io_int(io, &c->species[i]);
-            if (c->species[i] < 0 || c->species[i] >= c->ns) {
-                gr_blob_io_fail(io, "collisions: species %d of grain %d (of %d species)",
-                                c->species[i], i, c->ns);
-                return GR_OK;
-            }
-        }
+        gr_obs_io_species(io, "collisions", c->species, c->n, c->ns);
         for (int a = 0; a < c->ns; a++) {
             gr_blob_io_int(io, &c->count[a]);
             gr_blob_io_i64(io, &c->since_s[a]);
