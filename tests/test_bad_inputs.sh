@@ -73,6 +73,8 @@ file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.1\n[analysis]\nobservables =
 file:[system]\ndim = 1\nN = 20\n[analysis]\nobservables = profile\nprofile_axis = 1\n | run $S --out $O | 2 | [analysis] profile_axis;(y) in a 1D system;allowed in 1D: 0 (x) or -1 | new
 file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[analysis]\nobservables = profile\nprofile_axis = 2\n | run $S --out $O | 2 | [analysis] profile_axis;2 (z) in a 2D system;allowed in 2D: 0 (x), 1 (y) or -1 | new
 file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[analysis]\nobservables = profile\nprofile_bins = 0\n | run $S --out $O | 2 | :7:;[analysis] profile_bins;allowed range [1, 100000] | new
+file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[species]\nradius = 1e-3, 2e-3\ndensity = 5, 5\n[analysis]\nobservables = profile, pair\n | run $S --out $O | 2 | :9:;[analysis] observables;pair is not species-aware yet;one diameter;allowed with [species]: moments, pv, msd, vacf, postcollision, collisions, profile, species | new
+file:[system]\ndim = 2\nN = 20\npacking_fraction = 0.1\n[species]\ndistribution = uniform\nradius_min = 1e-3\nradius_max = 2e-3\ndensity = 5\n[analysis]\nobservables = species\n | run $S --out $O | 2 | :11:;[analysis] observables;species needs [species] lists;allowed with a radius distribution: moments | new
 file:[system]\ndim = 3\nN = 8\npacking_fraction = 0.75\n | run $S --out $O | 2 | :4:;packing_fraction;0.7405;(0, 0.7405] | new
 file:[system]\ndim = 3\nN = 8\nreduced_length = 0.1\n | run $S --out $O | 2 | :4:;reduced_length;only for dim = 1 | new
 file:[system]\ndim = 3\nN = 100\npacking_fraction = 0.35\n[placement]\nkind = random\n | run $S --out $O | 2 | kind = random;phi = 0.350;(0, 0.3];cubic | new

@@ -370,6 +370,93 @@ START_TEST(test_profile_by_hand)
 }
 END_TEST
 
+/* profile on a mixture: one frame of three grains of two species (radii 0.1 and 0.2, masses 1
+ * and 3) in two slabs along y, every number by hand: phi from each grain's own area, u the slab's
+ * centre-of-mass velocity, T in J from each grain's own mass, then the same per species; in 3D
+ * the z columns too (13 per group). */
+static cJSON *mixture_frame(int dim, h_table *tab)
+{
+    gr_scene sc;
+    h_scene(&sc, dim, 3, 2.0, 0.2);
+    sc.n_species = 2; /* what gr_scene_obs_setup reads: a mixture of two species */
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "profile_bins", 2, NULL), GR_OK);
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "profile_axis", 1, NULL), GR_OK);
+    void *st = h_create(&gr_obs_profile, &sc);
+    const double x[3] = {0.5, 1.0, 1.5}, y[3] = {0.2, 0.4, 1.5}, z[3] = {1.0, 1.0, 1.0};
+    const double vx[3] = {1.0, -1.0, 2.0}, vy[3] = {0.0, 2.0, 2.0}, vz[3] = {1.0, 3.0, 0.0};
+    const int species[3] = {0, 1, 0};
+    const double radii[3] = {0.1, 0.2, 0.1}, masses[3] = {1.0, 3.0, 1.0};
+    gr_particles p = {.n = 3,
+                      .dim = dim,
+                      .L = 2.0,
+                      .radius = 0.2,
+                      .mass = 5.0 / 3.0,
+                      .x = x,
+                      .y = y,
+                      .z = dim == 3 ? z : NULL,
+                      .vx = vx,
+                      .vy = vy,
+                      .vz = dim == 3 ? vz : NULL,
+                      .species = species,
+                      .radii = radii,
+                      .masses = masses,
+                      .n_species = 2};
+    gr_error err = {0};
+    ck_assert_int_eq(gr_obs_profile.sample(st, &p, 0.0, &err), GR_OK);
+    /* a frame without species is refused */
+    p.species = NULL;
+    ck_assert_int_ne(gr_obs_profile.sample(st, &p, 1.0, &err), GR_OK);
+    ck_assert_ptr_nonnull(strstr(err.message, "species"));
+    return h_finish(&gr_obs_profile, st, &sc, "profile.csv", tab);
+}
+
+START_TEST(test_profile_mixture_by_hand)
+{
+    for (int dim = 2; dim <= 3; dim++) {
+        h_table tab;
+        cJSON *j = mixture_frame(dim, &tab);
+        const int gc = dim == 3 ? 13 : 10, g1 = 1 + gc, g2 = 1 + 2 * gc; /* group offsets */
+        const double slab = dim == 3 ? 1.0 * 2.0 * 2.0 : 1.0 * 2.0;
+        const double a1 = dim == 3 ? 4.0 / 3.0 * M_PI * 1e-3 : M_PI * 0.01; /* grain areas */
+        const double a2 = dim == 3 ? 4.0 / 3.0 * M_PI * 8e-3 : M_PI * 0.04;
+        ck_assert_int_eq(tab.rows, 2);
+        ck_assert_int_eq(tab.cols, 1 + 3 * gc);
+        /* slab 0 (y < 1): grains 0 (species 1) and 1 (species 2); M = 4, P_x = -2, K_x = 4, so
+         * u_x = -0.5, T_x = (4 - 4 / 4) / 2 = 1.5; P_y = 6, K_y = 12: u_y = 1.5, T_y = 1.5 */
+        ck_assert_double_eq_tol(h_at(&tab, 0, 1), 2.0 / slab, 1e-12);
+        ck_assert_double_eq_tol(h_at(&tab, 0, 3), (a1 + a2) / slab, 1e-8);
+        ck_assert_double_eq_tol(h_at(&tab, 0, 5), -0.5, 1e-12);
+        ck_assert_double_eq_tol(h_at(&tab, 0, 6), 1.5, 1e-12);
+        ck_assert_double_eq_tol(h_at(&tab, 0, 7), 1.5, 1e-12);
+        ck_assert_double_eq_tol(h_at(&tab, 0, 9), 1.5, 1e-12);
+        if (dim == 3) { /* P_z = 10, K_z = 28, M = 4: u_z = 2.5, T_z = (28 - 25) / 2 */
+            ck_assert_double_eq_tol(h_at(&tab, 0, 11), 2.5, 1e-12);
+            ck_assert_double_eq_tol(h_at(&tab, 0, 12), 1.5, 1e-12);
+        }
+        /* per species in slab 0: one grain each, their own velocity, T = 0 */
+        ck_assert_double_eq_tol(h_at(&tab, 0, g1), 1.0 / slab, 1e-12);
+        ck_assert_double_eq_tol(h_at(&tab, 0, g1 + 2), a1 / slab, 1e-8);
+        ck_assert_double_eq_tol(h_at(&tab, 0, g1 + 4), 1.0, 1e-12);
+        ck_assert_double_eq_tol(h_at(&tab, 0, g1 + 6), 0.0, 1e-12);
+        ck_assert_double_eq_tol(h_at(&tab, 0, g2 + 2), a2 / slab, 1e-8);
+        ck_assert_double_eq_tol(h_at(&tab, 0, g2 + 4), -1.0, 1e-12);
+        ck_assert_double_eq_tol(h_at(&tab, 0, g2 + 5), 2.0, 1e-12);
+        /* slab 1: grain 2 alone (species 1); species 2 empty there: n = 0, no velocity */
+        ck_assert_double_eq_tol(h_at(&tab, 1, 1), 1.0 / slab, 1e-12);
+        ck_assert_double_eq_tol(h_at(&tab, 1, g1 + 4), 2.0, 1e-12);
+        ck_assert_double_eq(h_at(&tab, 1, g2), 0.0);
+        ck_assert(isnan(h_at(&tab, 1, g2 + 4)));
+        const cJSON *pr = cJSON_GetObjectItem(j, "profile");
+        ck_assert_double_eq(h_num(pr, "species", NULL), 2.0);
+        const cJSON *h = cJSON_GetObjectItem(pr, "species_mean_position");
+        ck_assert_double_eq_tol(cJSON_GetArrayItem(h, 0)->valuedouble, 0.85, 1e-12);
+        ck_assert_double_eq_tol(cJSON_GetArrayItem(h, 1)->valuedouble, 0.4, 1e-12);
+        ck_assert_ptr_nonnull(strstr(tab.columns, ",T_x_2,T_x_2_err,"));
+        h_done(&tab, j);
+    }
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("obs_structure");
@@ -383,6 +470,7 @@ int main(void)
     tcase_add_test(t, test_pressure_hertz_2d);
     tcase_add_test(t, test_pressure_hertz_1d);
     tcase_add_test(t, test_profile_by_hand);
+    tcase_add_test(t, test_profile_mixture_by_hand);
     tcase_add_test(t, test_vcorr_random);
     tcase_add_test(t, test_vcorr_pair);
     suite_add_tcase(s, t);

@@ -227,7 +227,7 @@ s = json.load(open(sys.argv[1]))
 assert abs(s["ledger"]["relative_residual"]) < 0.01, s["ledger"]
 assert abs(s["scene"]["system"]["packing_fraction"] - 0.2) < 1e-12, s["scene"]["system"]
 PY
-refuse_with "$tmp/dist.ini" "\[analysis\] observables.*none with a radius distribution" --set analysis.observables=species
+refuse_with "$tmp/dist.ini" "\[analysis\] observables.*species needs \[species\] lists.*allowed with a radius distribution: moments" --set analysis.observables=species
 refuse_with "$tmp/dist.ini" "\[model\] viscoelastic.*radius distribution" --set model.normal=hertz --set model.viscoelastic=true
 refuse_with "$tmp/dist.ini" "\[species\] density.*one density" --set 'species.density=5, 6'
 refuse_with "$tmp/dist.ini" "\[species\] radius_max.*radius_min < radius_max" --set species.radius_max=1e-3

@@ -51,6 +51,11 @@ typedef struct gr_obs_setup {
     /* walls[a]: flat walls along axis a ([boundary]); positions there are not periodic (a floor
      * that vibrates below 0 carries grains below 0) */
     bool walls[3];
+    /* a mixture (docs/mixtures.md): n_species >= 2 with [species] lists (0 for one species), and
+     * sizes = true when the grains have radii and masses of their own (lists or a distribution:
+     * the frames then carry radii and masses) */
+    int n_species;
+    bool sizes;
 } gr_obs_setup;
 
 /* Where an observable writes its results. */

@@ -7,13 +7,19 @@
  * errors; the times tau between collisions of the same particle are binned in
  * collision_bins logarithmic bins from 1e-9 s to 1e5 s (densities with sqrt(X)
  * errors). For a Poisson process of rate nu the density is nu exp(-nu tau) and
- * <tau> = 1 / nu. Memory: one time per particle and the bins. */
+ * <tau> = 1 / nu. Memory: one time per particle and the bins.
+ *
+ * A mixture of species ([species] lists, docs/mixtures.md) also counts each species' collisions:
+ * nu_s = (collisions of species-s grains in the interval) / (N_s * interval), time-averaged the
+ * same way (summary.json -> collisions.species_rate_per_particle); weighted by N_s / N they add
+ * up to nu. A grain's species is the first sample's. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
 #include "granule/analysis.h"
+#include "granule/sim.h"
 
 #define TAU_LO 1e-9 /* s */
 #define TAU_HI 1e5
@@ -39,6 +45,13 @@ typedef struct collisions {
     int64_t tau_n;
     gr_histogram h;
     gr_blocking rate;
+    /* a mixture (ns >= 2; 0 for one species): each grain's species (the first frame's), the
+     * species' grains, collisions since the previous sample and in all, and their rates */
+    int ns;
+    int *species;
+    int count[GR_MAX_SPECIES];
+    int64_t since_s[GR_MAX_SPECIES], total_s[GR_MAX_SPECIES];
+    gr_blocking rate_s[GR_MAX_SPECIES];
 } collisions;
 
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
@@ -47,6 +60,14 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     const collisions_params *a = params_block;
     c->n = setup->N;
     c->last = gr_obs_calloc(c, (size_t)c->n, sizeof(double));
+    if (setup->n_species >= 2 && setup->n_species <= GR_MAX_SPECIES) {
+        c->ns = setup->n_species;
+        c->species = gr_obs_calloc(c, (size_t)c->n + 1, sizeof(int));
+        int rc = gr_obs_alloc_ok(c, err);
+        if (rc) {
+            return rc;
+        }
+    }
     int rc = gr_obs_histogram(c, &c->h, a->collision_bins, TAU_LO, TAU_HI, true, err);
     if (rc || !c->last) {
         return rc;
@@ -77,6 +98,10 @@ static int events(void *state, const gr_contact_event *ev, int64_t n, gr_error *
         c->last[i] = ev[k].t;
         c->since++;
         c->total++;
+        if (c->ns) {
+            c->since_s[c->species[i]]++;
+            c->total_s[c->species[i]]++;
+        }
     }
     return GR_OK;
 }
@@ -88,15 +113,31 @@ static void close_interval(collisions *c)
 {
     if (c->frames >= 2 && c->t_prev > c->t_prev2) {
         gr_blocking_add(&c->rate, (double)c->since / (c->n * (c->t_prev - c->t_prev2)));
+        for (int a = 0; a < c->ns; a++) {
+            if (c->count[a] > 0) {
+                gr_blocking_add(&c->rate_s[a],
+                                (double)c->since_s[a] / (c->count[a] * (c->t_prev - c->t_prev2)));
+            }
+        }
     }
     c->since = 0;
+    for (int a = 0; a < c->ns; a++) {
+        c->since_s[a] = 0;
+    }
 }
 
 static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 {
-    (void)p;
-    (void)err;
     collisions *c = state;
+    if (c->ns && c->frames == 0) { /* a mixture: the grains' species, from the first frame */
+        int rc = gr_obs_frame_species("collisions", p, c->ns, c->n, c->species, err);
+        if (rc) {
+            return rc;
+        }
+        for (int i = 0; i < c->n; i++) {
+            c->count[c->species[i]]++;
+        }
+    }
     close_interval(c);
     if (c->frames == 0) {
         c->t_first = t;
@@ -124,6 +165,22 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddNumberToObject(j, "intervals", (double)c->tau_n);
     if (c->total == 0) {
         gr_obs_note_no_events(j, "collision events");
+    }
+    if (c->ns) {
+        cJSON *jn = cJSON_AddArrayToObject(j, "species_collisions");
+        cJSON *jr = cJSON_AddArrayToObject(j, "species_rate_per_particle");
+        cJSON *je = cJSON_AddArrayToObject(j, "species_rate_per_particle_error");
+        for (int a = 0; a < c->ns; a++) {
+            const double ea = gr_blocking_stderr(&c->rate_s[a], NULL, NULL);
+            const bool some = c->total_s[a] > 0;
+            cJSON_AddItemToArray(jn, cJSON_CreateNumber((double)c->total_s[a]));
+            cJSON_AddItemToArray(jr, some ? cJSON_CreateNumber(gr_blocking_mean(&c->rate_s[a]))
+                                          : cJSON_CreateNull());
+            cJSON_AddItemToArray(
+                je, !some          ? cJSON_CreateNull()
+                    : isfinite(ea) ? cJSON_CreateNumber(ea)
+                                   : cJSON_CreateNumber(gr_blocking_stderr_at(&c->rate_s[a], 0)));
+        }
     }
     const gr_obs_table t = {
         .name = "collisions.csv",
@@ -158,6 +215,15 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
     gr_blob_io_i64(io, &c->tau_n);
     gr_obs_io_histogram(io, &c->h);
     gr_obs_io_blockings(io, &c->rate, 1);
+    if (c->ns) { /* a mixture's (one species: the checkpoint as before) */
+        gr_obs_io_species(io, "collisions", c->species, c->n, c->ns);
+        for (int a = 0; a < c->ns; a++) {
+            gr_blob_io_int(io, &c->count[a]);
+            gr_blob_io_i64(io, &c->since_s[a]);
+            gr_blob_io_i64(io, &c->total_s[a]);
+            gr_obs_io_blockings(io, &c->rate_s[a], 1);
+        }
+    }
     return GR_OK;
 }
 

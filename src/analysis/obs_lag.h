@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "granule/analysis.h"
+#include "granule/sim.h"
 #include "granule/status.h"
 
 #define GR_LAG_MAX 2000 /* most lags an observable may keep */
@@ -24,6 +25,11 @@ typedef struct gr_lag {
     int64_t frames;
     double t_first, t_last;
     gr_blocking *acc; /* lags + 1 accumulators */
+    /* a mixture (gr_lag_species; ns = 0 without): the particle average of each species, acc_s[(lags
+     * + 1) a + l], over its count[a] particles (the first frame's) */
+    int ns;
+    int count[GR_MAX_SPECIES];
+    gr_blocking *acc_s;
 } gr_lag;
 
 int gr_lag_init(gr_lag *g, int n, int dim, int lags, gr_lag_kind kind, gr_error *err);
@@ -33,6 +39,15 @@ static inline int gr_lag_stride(const gr_lag *g) { return g->dim == 3 ? 3 : 2; }
 /* One frame of n values per component (b is NULL in 1D, c is read in 3D only) at time t. */
 int gr_lag_add(gr_lag *g, const double *a, const double *b, const double *c, double t,
                gr_error *err);
+/* A mixture of ns species (2 .. GR_MAX_SPECIES): also average each species' particles; frames then
+ * come with gr_lag_add_species. */
+int gr_lag_species(gr_lag *g, int ns, gr_error *err);
+/* gr_lag_add with each particle's species (0 .. ns - 1; `what` names the observable for the
+ * message when the frame's species do not fit): the total is gr_lag_add's, bit for bit. */
+int gr_lag_add_species(gr_lag *g, const char *what, const gr_particles *p, const double *a,
+                       const double *b, const double *c, double t, gr_error *err);
+/* Species a's lags as a gr_lag to read (gr_lag_mean, gr_lag_fit_line; not to add to). */
+gr_lag gr_lag_species_view(const gr_lag *g, int a);
 /* Mean interval between frames (0 before the second frame). */
 double gr_lag_interval(const gr_lag *g);
 /* Mean and block-averaging error at lag l; samples = origins seen. */

@@ -15,7 +15,10 @@
  * with <v(t0)^2> = v2 per component, MSD per component = v2 tau^2 + (2 D / M^2)
  * tau^3 / 3: it has no diffusive regime (D_self is not defined without
  * dissipation). A Langevin particle with friction gamma and temperature T has
- * D_self = T / (M gamma). Memory is N * msd_lags. */
+ * D_self = T / (M gamma). Memory is N * msd_lags.
+ *
+ * A mixture of species ([species] lists, docs/mixtures.md) also averages each species' grains
+ * and fits each species' D_self the same way (summary.json -> msd.species_D_self). */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdlib.h>
@@ -60,7 +63,8 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
         m->pz = gr_obs_calloc(m, n, sizeof(double));
     }
     const msd_params *a = params_block;
-    return gr_lag_init_owned(m, &m->lag, m->n, m->dim, a->msd_lags, GR_LAG_DISPLACEMENT2, err);
+    int rc = gr_lag_init_owned(m, &m->lag, m->n, m->dim, a->msd_lags, GR_LAG_DISPLACEMENT2, err);
+    return rc || setup->n_species < 2 ? rc : gr_lag_species(&m->lag, setup->n_species, err);
 }
 
 static double step(double now, double *prev, double L, int64_t *jumps)
@@ -96,7 +100,9 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
             m->uz[i] += step(p->z[i], &m->pz[i], m->L, &m->jumps);
         }
     }
-    return gr_lag_add(&m->lag, m->ux, p->dim >= 2 ? m->uy : NULL, m->uz, t, err);
+    return m->lag.ns ? gr_lag_add_species(&m->lag, "msd", p, m->ux, p->dim >= 2 ? m->uy : NULL,
+                                          m->uz, t, err)
+                     : gr_lag_add(&m->lag, m->ux, p->dim >= 2 ? m->uy : NULL, m->uz, t, err);
 }
 
 static int finish(void *state, const gr_output *out, gr_error *err)
@@ -137,6 +143,20 @@ static int finish(void *state, const gr_output *out, gr_error *err)
                  fit.p[1], legend);
     } else {
         cJSON_AddStringToObject(j, "D_self", ferr.message);
+    }
+    if (m->lag.ns) { /* each species' D_self, fitted over the same lags */
+        cJSON *d = cJSON_AddObjectToObject(j, "species_D_self");
+        cJSON *jv = cJSON_AddArrayToObject(d, "value"), *je = cJSON_AddArrayToObject(d, "error");
+        for (int a = 0; a < m->lag.ns; a++) {
+            const gr_lag v = gr_lag_species_view(&m->lag, a);
+            gr_fit f = {0};
+            const bool fitted = gr_lag_fit_line(&v, lo, v.lags, &f, &ferr) == GR_OK;
+            const double D = f.p[1] / (2.0 * m->dim), e = f.err[1] / (2.0 * m->dim);
+            cJSON_AddItemToArray(jv, fitted && isfinite(D) ? cJSON_CreateNumber(D)
+                                                           : cJSON_CreateNull());
+            cJSON_AddItemToArray(je, fitted && isfinite(e) ? cJSON_CreateNumber(e)
+                                                           : cJSON_CreateNull());
+        }
     }
     if (out->plots && m->lag.frames > 1) {
         char body[900];

@@ -3,13 +3,19 @@
  * engine's contact events), beside the full P(v) of the sampled frames in the same bins, so the
  * two can be overlaid as in Fig. 5.9. Velocities are unscaled (m/s). The bins are those of the
  * pv observable's parameters (pv_bins, pv_range): |v| < pv_range sqrt(T_first), T of eq. 2.19 in
- * the first sampled frame. */
+ * the first sampled frame.
+ *
+ * A mixture of species ([species] lists, docs/mixtures.md) also sums each species' squares:
+ * summary.json -> postcollision.species_post_v2 and species_all_v2, the mean square velocity
+ * component after a collision and of all sampled grains of each species (a grain's species is the
+ * first sample's). */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdlib.h>
 
 #include "analysis/obs_util.h"
 #include "granule/analysis.h"
+#include "granule/sim.h"
 
 typedef struct postcollision {
     int bins, dim;
@@ -18,6 +24,12 @@ typedef struct postcollision {
     gr_histogram post, all;
     double post_v2, all_v2;
     int64_t post_n, all_n;
+    /* a mixture (ns >= 2; 0 for one species): each grain's species and the species' sums */
+    int ns, n;
+    int *species;
+    bool named; /* species[] holds the first sample's */
+    double post_v2_s[GR_MAX_SPECIES], all_v2_s[GR_MAX_SPECIES];
+    int64_t post_n_s[GR_MAX_SPECIES], all_n_s[GR_MAX_SPECIES];
 } postcollision;
 
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
@@ -33,6 +45,15 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     p->bins = bins > 0 ? (int)bins : 200;
     p->range = range > 0.0 ? range : 10.0;
     p->dim = setup->dim;
+    if (setup->n_species >= 2 && setup->n_species <= GR_MAX_SPECIES) {
+        p->ns = setup->n_species;
+        p->n = setup->N;
+        p->species = gr_obs_calloc(p, (size_t)p->n + 1, sizeof(int));
+        rc = gr_obs_alloc_ok(p, err);
+        if (rc) {
+            return rc;
+        }
+    }
     gr_obs_own_histogram(p, &p->post); /* filled from the first frame that moves */
     gr_obs_own_histogram(p, &p->all);
     return GR_OK;
@@ -42,6 +63,13 @@ static int sample(void *state, const gr_particles *f, double t, gr_error *err)
 {
     (void)t;
     postcollision *p = state;
+    if (p->ns && !p->named) { /* a mixture: the grains' species, from the first frame */
+        int rc = gr_obs_frame_species("postcollision", f, p->ns, p->n, p->species, err);
+        if (rc) {
+            return rc;
+        }
+        p->named = true;
+    }
     double mean[3];
     gr_obs_mean_velocity(f, mean);
     if (!p->ready) {
@@ -62,6 +90,12 @@ static int sample(void *state, const gr_particles *f, double t, gr_error *err)
             return rc;
         }
         p->ready = true;
+    }
+    for (int i = 0; p->ns && i < f->n; i++) {
+        const double ux = f->vx[i] - mean[0], uy = f->dim >= 2 ? f->vy[i] - mean[1] : 0.0;
+        const double uz = f->dim == 3 ? f->vz[i] - mean[2] : 0.0;
+        p->all_v2_s[p->species[i]] += ux * ux + uy * uy + uz * uz;
+        p->all_n_s[p->species[i]] += f->dim;
     }
     for (int i = 0; i < f->n; i++) {
         gr_histogram_add(&p->all, f->vx[i] - mean[0], 1.0);
@@ -100,6 +134,12 @@ static int events(void *state, const gr_contact_event *ev, int64_t n, gr_error *
                 gr_histogram_add(&p->post, ev[k].vz, 1.0);
                 p->post_v2 += ev[k].vz * ev[k].vz;
                 p->post_n++;
+            }
+            if (p->ns && ev[k].i >= 0 && ev[k].i < p->n) {
+                const int a = p->species[ev[k].i];
+                const double vy = p->dim >= 2 ? ev[k].vy : 0.0, vz = p->dim == 3 ? ev[k].vz : 0.0;
+                p->post_v2_s[a] += ev[k].vx * ev[k].vx + vy * vy + vz * vz;
+                p->post_n_s[a] += p->dim;
             }
         }
     }
@@ -153,6 +193,16 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     }
     cJSON_AddNumberToObject(j, "post_v2", p->post_n ? p->post_v2 / p->post_n : 0.0);
     cJSON_AddNumberToObject(j, "all_v2", p->all_n ? p->all_v2 / p->all_n : 0.0);
+    if (p->ns) {
+        cJSON *jp = cJSON_AddArrayToObject(j, "species_post_v2");
+        cJSON *ja = cJSON_AddArrayToObject(j, "species_all_v2");
+        for (int a = 0; a < p->ns; a++) {
+            cJSON_AddItemToArray(
+                jp, cJSON_CreateNumber(p->post_n_s[a] ? p->post_v2_s[a] / p->post_n_s[a] : 0.0));
+            cJSON_AddItemToArray(
+                ja, cJSON_CreateNumber(p->all_n_s[a] ? p->all_v2_s[a] / p->all_n_s[a] : 0.0));
+        }
+    }
     cJSON_AddStringToObject(j, "file", "postcollision.csv");
     return gr_obs_table_write(out, &t, err);
 }
@@ -175,6 +225,18 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
     gr_blob_io_f64(io, &p->all_v2);
     gr_blob_io_i64(io, &p->post_n);
     gr_blob_io_i64(io, &p->all_n);
+    if (p->ns) { /* a mixture's (one species: the checkpoint as before) */
+        uint32_t named = p->named;
+        gr_blob_io_u32(io, &named);
+        p->named = named != 0;
+        gr_obs_io_species(io, "postcollision", p->species, p->n, p->ns);
+        for (int a = 0; a < p->ns; a++) {
+            gr_blob_io_f64(io, &p->post_v2_s[a]);
+            gr_blob_io_f64(io, &p->all_v2_s[a]);
+            gr_blob_io_i64(io, &p->post_n_s[a]);
+            gr_blob_io_i64(io, &p->all_n_s[a]);
+        }
+    }
     return GR_OK;
 }
 

@@ -119,6 +119,21 @@ int gr_obs_check_frame(const char *name, const gr_particles *p, int n, gr_error 
     return GR_OK;
 }
 
+int gr_obs_frame_species(const char *name, const gr_particles *p, int ns, int n, int *species,
+                         gr_error *err)
+{
+    bool ok = p->species && p->n_species == ns && p->n == n;
+    for (int i = 0; ok && i < n; i++) {
+        ok = p->species[i] >= 0 && p->species[i] < ns;
+        species[i] = ok ? p->species[i] : 0;
+    }
+    return ok ? GR_OK
+              : GR_FAIL(err, GR_EINVAL,
+                        "%s: the frames carry %d species of %d grains, the scene %d of %d "
+                        "([species]; docs/mixtures.md)",
+                        name, p->species ? p->n_species : 0, p->n, ns, n);
+}
+
 void gr_obs_note_no_events(cJSON *j, const char *what)
 {
     char note[200];
@@ -188,6 +203,17 @@ static void release_pointer(void *field)
 void gr_obs_own_pointer(void *state, void *pointer_field)
 {
     gr_obs_own(state, release_pointer, pointer_field);
+}
+
+void gr_obs_io_species(gr_blob_io *io, const char *name, int *species, int n, int ns)
+{
+    for (int i = 0; i < n && !gr_blob_io_bad(io); i++) {
+        gr_blob_io_int(io, &species[i]);
+        if (species[i] < 0 || species[i] >= ns) {
+            gr_blob_io_fail(io, "%s: species %d of grain %d (of %d species)", name, species[i], i,
+                            ns);
+        }
+    }
 }
 
 void gr_obs_io_blockings(gr_blob_io *io, gr_blocking *b, int n)

@@ -55,6 +55,10 @@ double gr_obs_stderr(const gr_blocking *b);
 cJSON *gr_obs_summary(const gr_output *out, const char *key, const char *file);
 /* GR_EINVAL unless the frame has the scene's n particles (observables keeping per-particle state). */
 int gr_obs_check_frame(const char *name, const gr_particles *p, int n, gr_error *err);
+/* A mixture's frame (docs/mixtures.md): its grains' species copied into species[0..n), GR_EINVAL
+ * naming the observable unless the frame carries ns species (each in [0, ns)) of n grains. */
+int gr_obs_frame_species(const char *name, const gr_particles *p, int ns, int n, int *species,
+                         gr_error *err);
 /* The note of an observable that takes contact events and saw none: "no <what>: none happened,
  * or the frames came from snapshots (granule analyse has no contact events)". */
 void gr_obs_note_no_events(cJSON *j, const char *what);
@@ -91,6 +95,8 @@ void gr_obs_own_pointer(void *state, void *pointer_field);
  * load then fails with its message), and every later call does nothing. */
 #include "core/blob.h" /* gr_blob_io: the primitives */
 
+/* n species indices (gr_obs_frame_species), each checked in [0, ns) on load. */
+void gr_obs_io_species(gr_blob_io *io, const char *name, int *species, int n, int ns);
 /* n blocking accumulators in a row. */
 void gr_obs_io_blockings(gr_blob_io *io, gr_blocking *b, int n);
 /* The counts of a histogram initialised alike (its binning comes from the scene). */

@@ -12,7 +12,10 @@
  * every lag (flat); a Langevin particle (friction gamma, temperature T) has C =
  * (T/M) exp(-gamma tau) and D_GK = T/(M gamma) when tau_max >> 1/gamma. The
  * error of D_GK adds the lags' errors in quadrature (the lags are correlated,
- * so it is indicative). Memory is N * vacf_lags. */
+ * so it is indicative). Memory is N * vacf_lags.
+ *
+ * A mixture of species ([species] lists, docs/mixtures.md) also averages each species' grains:
+ * summary.json -> vacf.species_D_green_kubo and species_C0_per_component. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdlib.h>
@@ -34,7 +37,8 @@ static const gr_param params[] = {
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
 {
     const vacf_params *a = params_block;
-    return gr_lag_init_owned(state, state, setup->N, setup->dim, a->vacf_lags, GR_LAG_DOT, err);
+    int rc = gr_lag_init_owned(state, state, setup->N, setup->dim, a->vacf_lags, GR_LAG_DOT, err);
+    return rc || setup->n_species < 2 ? rc : gr_lag_species(state, setup->n_species, err);
 }
 
 static int sample(void *state, const gr_particles *p, double t, gr_error *err)
@@ -44,7 +48,9 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     if (bad) {
         return bad;
     }
-    return gr_lag_add(g, p->vx, p->dim >= 2 ? p->vy : NULL, p->vz, t, err);
+    return g->ns
+               ? gr_lag_add_species(g, "vacf", p, p->vx, p->dim >= 2 ? p->vy : NULL, p->vz, t, err)
+               : gr_lag_add(g, p->vx, p->dim >= 2 ? p->vy : NULL, p->vz, t, err);
 }
 
 /* The largest lag with at least 2 time origins (the run may be shorter than
@@ -99,6 +105,19 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     double v0 = gr_lag_mean(g, 0, NULL, &c0), vl = gr_lag_mean(g, last, NULL, NULL);
     gr_obs_add_number(j, "C0_per_component", c0 ? v0 / g->dim : (double)NAN);
     gr_obs_add_number(j, "C_end_over_C0", c0 && last > 0 ? vl / v0 : (double)NAN);
+    if (g->ns) { /* each species' Green-Kubo integral and C(0), up to the same lag */
+        cJSON *ds = cJSON_AddObjectToObject(j, "species_D_green_kubo");
+        cJSON *jv = cJSON_AddArrayToObject(ds, "value"), *je = cJSON_AddArrayToObject(ds, "error");
+        cJSON *jc = cJSON_AddArrayToObject(j, "species_C0_per_component");
+        for (int a = 0; a < g->ns; a++) {
+            const gr_lag v = gr_lag_species_view(g, a);
+            double ea, Da = green_kubo(&v, last, &ea);
+            const double c = c0 ? gr_lag_mean(&v, 0, NULL, NULL) / g->dim : (double)NAN;
+            cJSON_AddItemToArray(jv, isfinite(Da) ? cJSON_CreateNumber(Da) : cJSON_CreateNull());
+            cJSON_AddItemToArray(je, isfinite(ea) ? cJSON_CreateNumber(ea) : cJSON_CreateNull());
+            cJSON_AddItemToArray(jc, isfinite(c) ? cJSON_CreateNumber(c) : cJSON_CreateNull());
+        }
+    }
     if (out->plots && g->frames > 1) {
         gr_obs_plot(out, "vacf.png",
                     "set xlabel 'lag tau (s)'\nset ylabel 'C(tau) / C(0)'\nset "

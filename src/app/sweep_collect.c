@@ -135,6 +135,9 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     const bool with_events = any_number(s, n_points, status, "events_per_second");
     /* a binary mixture's temperature ratio and its theory (the species observable, docs/mixtures.md) */
     const bool with_species = any_number(s, n_points, status, "analysis.species.T1_over_T2");
+    /* a bed of two species or more: the first two species' mean heights (the profile observable) */
+    const bool with_heights =
+        any_number(s, n_points, status, "analysis.profile.species_mean_position.1");
     gr_file_note(&f, "granule sweep of %s: one row per point; moments <|v|^m> in (m/s)^m%s",
                  s->scene, with_R ? ", <R^m> in m^m" : "");
     gr_file_columns(&f, "point [1],seed [1]");
@@ -165,6 +168,10 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
     }
     if (with_species) {
         gr_file_columns(&f, "T1_over_T2 [1],T1_over_T2_stderr [1],T1_over_T2_predicted [1]");
+    }
+    if (with_heights) {
+        gr_file_columns(&f, "profile_height_1 [m],profile_height_1_stderr [m],profile_height_2 [m],"
+                            "profile_height_2_stderr [m]");
     }
     fputc('\n', f.f);
     int n_col = s->n_keys;
@@ -244,6 +251,12 @@ static int write_tables(const sweep *s, long n_points, const char *const *status
             fprintf(f.f, ",%.8g,%.4g,%.8g", gr_summary_number(j, "analysis.species.T1_over_T2"),
                     gr_summary_number(j, "analysis.species.T1_over_T2_stderr"),
                     gr_summary_number(j, "mean_field.T1_over_T2_predicted"));
+        }
+        for (int a = 0; with_heights && a < 2; a++) {
+            char p1[80], p2[80];
+            snprintf(p1, sizeof p1, "analysis.profile.species_mean_position.%d", a);
+            snprintf(p2, sizeof p2, "analysis.profile.species_mean_position_error.%d", a);
+            fprintf(f.f, ",%.8g,%.4g", gr_summary_number(j, p1), gr_summary_number(j, p2));
         }
         fputc('\n', f.f);
         cJSON_Delete(j);

@@ -76,7 +76,9 @@ int gr_scene_obs_setup(const gr_scene *s, gr_obs_setup *out, gr_error *err)
                        .eps_t = s->contact.eps_t,
                        .tangential = s->tangential ? s->tangential->name : NULL,
                        .tangential_constant_eps_t = s->tangential && s->tangential->constant_eps_t,
-                       .walls = {s->boundary[0] != 0, s->boundary[1] != 0, s->boundary[2] != 0}};
+                       .walls = {s->boundary[0] != 0, s->boundary[1] != 0, s->boundary[2] != 0},
+                       .n_species = s->n_species,
+                       .sizes = s->n_species >= 2 || s->size_distribution};
     if (s->normal) {
         int rc = gr_contact_prepare(s->normal, s->tangential, &s->contact, gr_scene_m12(s), 0.0,
                                     &out->contact, err);

@@ -65,18 +65,43 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
                  "calibrated to eps_n, so it cannot be scaled per pair; allowed: false");
         return GR_EINVAL;
     }
-    /* observables read one radius and mass; only the species-aware ones run on a mixture */
+    /* observables: those that measure lengths in one diameter or use one mass or contact law
+     * are refused with the reason (docs/mixtures.md, "Observables on a mixture") */
+    static const struct {
+        const char *name, *why;
+    } no_obs[] = {
+        {"freepath", "free paths and times are measured in one diameter d"},
+        {"gaps", "the 1D gaps are measured from one rod length d (L - N d)"},
+        {"sk", "S(k) and its fractal fits are in units of one diameter"},
+        {"pair", "g(r) is binned in units of one diameter and normalised by one density"},
+        {"vcorr", "the velocity correlations are binned in units of one diameter"},
+        {"clusters", "grains touch at one contact distance d (not r_i + r_j)"},
+        {"pressure", "the virial and the collisional pressure use one mass, diameter and contact "
+                     "law"},
+    };
     char buf[sizeof s->observables], *save = NULL;
     snprintf(buf, sizeof buf, "%s", s->observables);
     for (char *tok = strtok_r(buf, ", \t", &save); tok; tok = strtok_r(NULL, ", \t", &save)) {
-        if (strcmp(tok, "species") != 0 || s->size_distribution) {
+        const char *why = NULL;
+        for (size_t k = 0; k < sizeof no_obs / sizeof no_obs[0]; k++) {
+            why = strcmp(tok, no_obs[k].name) == 0 ? no_obs[k].why : why;
+        }
+        if (strcmp(tok, "species") == 0 && s->size_distribution) {
             *section = "analysis";
             *key = "observables";
             snprintf(detail, cap,
-                     "%s is not species-aware yet; allowed with [species]: species (none with a "
-                     "radius distribution; temperature.csv, ledger.csv and summary.json are always "
-                     "written)",
-                     tok);
+                     "species needs [species] lists: a radius distribution has no species; "
+                     "allowed with a radius distribution: moments, pv, msd, vacf, postcollision, "
+                     "collisions, profile (docs/mixtures.md)");
+            return GR_EINVAL;
+        }
+        if (why) {
+            *section = "analysis";
+            *key = "observables";
+            snprintf(detail, cap,
+                     "%s is not species-aware yet: %s; allowed with [species]: moments, pv, msd, "
+                     "vacf, postcollision, collisions, profile%s (docs/mixtures.md)",
+                     tok, why, s->size_distribution ? "" : ", species");
             return GR_EINVAL;
         }
     }
