@@ -5,21 +5,36 @@
 # rotates), so a loaded machine slows them alike; prints each run, then per variant the median
 # particle-steps/s, the ns per particle-step and the median of the per-round ratios to the
 # thesis's law. A variant whose model is not in this build is reported as such and skipped.
-#   bench/model_cost.sh BUILD [--quick] [ROUNDS]      (docs/performance.md, "Collision models")
+# --dim 3: the same on the 3D scene of issue 35 (N = 32000 spheres, phi = 0.3, eps_n = eps_t = 0.1,
+# spring-dashpot + tangential dashpot unclamped as the base, "thesis" in the table).
+#   bench/model_cost.sh BUILD [--quick] [--dim 3] [ROUNDS]   (docs/performance.md, "Collision models")
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=${1:?usage: model_cost.sh BUILD [--quick] [ROUNDS]}
+build=${1:?usage: model_cost.sh BUILD [--quick] [--dim 3] [ROUNDS]}
 rounds=4
 quick=false
-for a in "${@:2}"; do
-    if [[ $a == --quick ]]; then quick=true; rounds=1; else rounds=$a; fi
+dim=2
+args=("${@:2}")
+for ((k = 0; k < ${#args[@]}; k++)); do
+    a=${args[$k]}
+    if [[ $a == --quick ]]; then quick=true; rounds=1
+    elif [[ $a == --dim ]]; then k=$((k + 1)); dim=${args[$k]:-}
+    else rounds=$a; fi
 done
+[[ $dim == 2 || $dim == 3 ]] || { echo "model_cost.sh: --dim $dim: 2 or 3" >&2; exit 2; }
 exe="$build/bench/bench_throughput"
 [[ -x $exe ]] || { echo "model_cost.sh: $exe not found (build it first)" >&2; exit 2; }
 export OMP_NUM_THREADS=1
-if $quick; then
+spheres=(docs/scenes/rfm-3d.ini --set system.packing_fraction=0.3 --set model.eps_n=0.1 --set model.eps_t=0.1
+         --set model.tangential=tangential_dashpot --set model.clamp=false)
+if $quick && [[ $dim == 3 ]]; then
+    echo "# quick smoke test: tiny sizes, the numbers are not benchmarks"
+    base=("${spheres[@]}" --set system.N=300 --warmup-steps 50 --steps 50 --repeats 3)
+elif $quick; then
     echo "# quick smoke test: tiny sizes, the numbers are not benchmarks"
     base=(docs/scenes/rfm-2d.ini --set system.N=300 --set system.L=0.08 --warmup-steps 50 --steps 50 --repeats 3)
+elif [[ $dim == 3 ]]; then
+    base=("${spheres[@]}" --set system.N=32000 --warmup-steps "${WARM3D:-2000}" --steps 1000 --repeats 3)
 else
     base=(docs/scenes/rfm-2d.ini --warmup-steps "${WARM2D:-20000}" --steps 2000 --repeats 5)
 fi
