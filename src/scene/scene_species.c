@@ -49,9 +49,7 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             *key = no[k].key;
             snprintf(detail, cap,
                      "not available with [species] yet; allowed with a mixture: %s "
-                     "(docs/mixtures.md: 1D and 2D, verlet or event, a normal force law or "
-                     "smooth event rule, tangential laws without history, walls and gravity with "
-                     "verlet, the random force or none)",
+                     "(docs/mixtures.md lists what a mixture runs with)",
                      no[k].allowed);
             return GR_EINVAL;
         }
