@@ -625,6 +625,50 @@ START_TEST(run_reports_bed_weight)
 }
 END_TEST
 
+/* The event-driven integrator's walls take the impulse of every hit (walls.csv): elastic hard
+ * discs bouncing under gravity between a floor and a ceiling push the floor minus the ceiling by
+ * their weight N M g on average (momentum balance: to the momentum the gas holds at the ends over
+ * the duration, well inside the block errors), and both walls are pushed. */
+START_TEST(event_walls_take_the_weight)
+{
+    char text[1200];
+    snprintf(text, sizeof text,
+             "[system]\ndim = 2\nN = 40\nL = 0.03\n[placement]\nkind = uniform\nv0 = 0.4\n"
+             "[model]\nnormal = hard_sphere\neps_n = 1\neps_t = 1\n[noise]\nmode = none\n"
+             "[boundary]\ny = walls\n[gravity]\ngy = -9.81\n[integrator]\nkind = event\n"
+             "[run]\nwarmup = 0.05\nduration = %s\nsample_every = 1e-3\nprogress = false\n"
+             "[output]\nplots = false\ndir = %s/event-bed\n",
+             quick() ? "0.3" : "2", g_root);
+    gr_scene sc;
+    load(&sc, text, NULL, 0);
+    gr_run_result res;
+    gr_error err = {0};
+    ck_assert_msg(gr_run(&sc, NULL, &res, &err) == GR_OK, "%s", err.message);
+    char path[700], line[300], name[2][8];
+    snprintf(path, sizeof path, "%s/event-bed/walls.csv", g_root);
+    FILE *f = fopen(path, "r");
+    ck_assert_msg(f, "no %s", path);
+    double v[2][4];
+    ck_assert(fgets(line, sizeof line, f));
+    for (int k = 0; k < 2; k++) {
+        ck_assert(fgets(line, sizeof line, f));
+        ck_assert_int_eq(
+            sscanf(line, "%7[^,],%lf,%lf,%lf,%lf", name[k], &v[k][0], &v[k][1], &v[k][2], &v[k][3]),
+            5);
+    }
+    fclose(f);
+    const double weight = 40 * sc.mass * 9.81, net = v[0][0] - v[1][0];
+    const double err2 = sqrt(v[0][1] * v[0][1] + v[1][1] * v[1][1]);
+    printf("event bed: floor %.6g +- %.2g N, ceiling %.6g +- %.2g N, difference %.6g against N M g "
+           "= %.6g N\n",
+           v[0][0], v[0][1], v[1][0], v[1][1], net, weight);
+    ck_assert(!strcmp(name[0], "y_0") && !strcmp(name[1], "y_L"));
+    ck_assert_msg(v[0][0] > 0.0 && v[1][0] > 0.0, "both walls are hit: %g %g", v[0][0], v[1][0]);
+    ck_assert_msg(fabs(net - weight) < 3.0 * err2, "floor - ceiling %g, N M g %g (+- %g)", net,
+                  weight, err2);
+}
+END_TEST
+
 static void refused(const char *text, const char *const *set, int n_set, const char *const *needles,
                     int n_needles)
 {
@@ -713,6 +757,7 @@ static Suite *walls_suite(void)
     tcase_add_test(phys, tangential_walls_ledger);
     tcase_add_test(phys, bed_weighs_on_floor);
     tcase_add_test(phys, run_reports_bed_weight);
+    tcase_add_test(phys, event_walls_take_the_weight);
     tcase_add_test(phys, elastic_energy);
     tcase_add_test(phys, ledger_walls_gravity_noise);
     tcase_add_test(phys, ledger_vibrated_floor);

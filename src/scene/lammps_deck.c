@@ -254,10 +254,11 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_sim *sim,
          * m_i / tau of fix langevin's damp = tau is granule's, docs/mixtures.md) */
         const double mb = s->n_species >= 2 ? s->species_masses[0] : s->mass;
         const double T_K = mb * s->driving_params.T_bath / (s->dim * kB);
-        fprintf(o,
-                "# Langevin bath: T_bath = %.17g m^2/s^2 (T of eq. 2.19), tau = %.17g s; k_B T = %s "
-                "T_bath / dim\n",
-                s->driving_params.T_bath, s->driving_params.tau, s->n_species >= 2 ? "m_1" : "M");
+        fprintf(
+            o,
+            "# Langevin bath: T_bath = %.17g m^2/s^2 (T of eq. 2.19), tau = %.17g s; k_B T = %s "
+            "T_bath / dim\n",
+            s->driving_params.T_bath, s->driving_params.tau, s->n_species >= 2 ? "m_1" : "M");
         fprintf(o, "fix bath all langevin %.17g %.17g %.17g %ld\n", T_K, T_K, s->driving_params.tau,
                 seed + 2);
     }

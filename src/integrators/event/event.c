@@ -417,6 +417,7 @@ static int wall_hit_1d(gr_sim *s, int k, double t_abs, gr_error *err)
             return rc;
         }
     }
+    s->wall_impulse[side] += e->M * (u - v) * -nx; /* the wall's impulse (walls.csv), as in 2D */
     rebase_1d(e, i, x, v, u);
     if (!elastic) {
         s->diss_n += de_n;

@@ -812,6 +812,9 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
             return rc;
         }
     }
+    /* the impulse the wall took (walls.csv: the mean force is its rate), the grain's momentum
+     * change along the axis with the wall's sign (+: pushed outwards) */
+    s->wall_impulse[2 * a + side] += e->M * (a == 0 ? ux - v : uy - w) * -(a == 0 ? nx : ny);
     rebase(e, i, x, y, v, w, ux, uy);
     wall_booked(s, i, t_abs, elastic, de_n, de_t);
     return 0;
@@ -882,6 +885,7 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
         e->floor_energy += added;
         e->floors++;
     }
+    s->wall_impulse[2 * a + side] += e->M * (u[a] - v[a]) * -n[a]; /* as in 2D */
     rebase(e, i, r[0], r[1], r[2], v[0], v[1], v[2], u[0], u[1], u[2]);
     wall_booked(s, i, t_abs, elastic, de_n, de_t);
     return 0;
