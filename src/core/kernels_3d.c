@@ -99,7 +99,8 @@ static int reserve(gr_sim *s, int64_t need, gr_error *err)
  * rebuild is still counted as new. */
 static inline int consider(gr_sim *s, const int i, const int j, int64_t *count, gr_error *err)
 {
-    const double rc2 = s->cutoff * s->cutoff, d2 = s->d * s->d;
+    const double rc2 = s->cutoff * s->cutoff,
+                 d2 = s->rad ? (s->rad[i] + s->rad[j]) * (s->rad[i] + s->rad[j]) : s->d * s->d;
     const double dx = wrap_delta(s->x[j] - s->x[i], s->period[0]),
                  dy = wrap_delta(s->y[j] - s->y[i], s->period[1]),
                  dz = wrap_delta(s->z[j] - s->z[i], s->period[2]);

@@ -52,7 +52,6 @@ typedef struct scene_key {
 #define GR_DEFAULT_REDUCED_LENGTH_1D 1.0
 
 /* the volume of a sphere of radius r, and close packing of spheres (FCC), pi / (3 sqrt 2) */
-#define SPHERE_VOLUME(r) (4.0 / 3.0 * M_PI * (r) * (r) * (r))
 #define FCC_PHI 0.74048048969306104
 
 #define OFF(f) offsetof(gr_scene, f)
@@ -1299,7 +1298,7 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
             return fail_at(err, &g->at_pf, "system", "packing_fraction", "%s",
                            "only for dim = 2 or 3; use reduced_length or L in 1D");
         }
-        s->L = s->dim == 3 ? cbrt(s->N * SPHERE_VOLUME(s->radius) / s->packing_fraction)
+        s->L = s->dim == 3 ? cbrt(gr_scene_grain_volume(s) / s->packing_fraction)
                            : sqrt(gr_scene_grain_area(s) / s->packing_fraction);
     }
     /* defaults that depend on dim follow it (docs/scene-keys.md): without a length key a 1D ring
@@ -1320,7 +1319,7 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
         s->packing_fraction = gr_scene_grain_area(s) / (s->L * s->L);
         s->reduced_length = -1.0;
     } else if (s->dim == 3) {
-        s->packing_fraction = s->N * SPHERE_VOLUME(s->radius) / (s->L * s->L * s->L);
+        s->packing_fraction = gr_scene_grain_volume(s) / (s->L * s->L * s->L);
         s->reduced_length = -1.0;
     } else {
         s->reduced_length = s->L - gr_scene_grain_length(s);

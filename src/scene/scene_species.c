@@ -18,7 +18,19 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         bool on;
         const char *section, *key, *allowed;
     } const no[] = {
-        {s->dim == 3, "system", "dim", "1 | 2"},
+        {s->dim == 3 && (s->integrator->instantaneous || s->size_distribution), "system", "dim",
+         "1 | 2 (3: [species] lists with the verlet integrator)"},
+        {s->dim == 3 && (s->boundary[0] || s->boundary[1] || s->boundary[2]), "boundary",
+         s->boundary[0]   ? "x"
+         : s->boundary[1] ? "y"
+                          : "z",
+         "periodic (3D with [species])"},
+        {s->dim == 3 && (s->gravity[0] != 0.0 || s->gravity[1] != 0.0 || s->gravity[2] != 0.0),
+         "gravity",
+         s->gravity[0] != 0.0   ? "gx"
+         : s->gravity[1] != 0.0 ? "gy"
+                                : "gz",
+         "0 (3D with [species])"},
         {!s->integrator->species, "integrator", "kind", "verlet | event"},
         {s->size_distribution && s->integrator->instantaneous, "integrator", "kind",
          "verlet (a radius distribution; event runs [species] lists)"},
@@ -138,7 +150,9 @@ int gr_scene_species_resolve(gr_scene *s, const char **section, const char **key
         sum += frac[a];
         s->species_masses[a] = m->n > 0      ? m->v[a]
                                : s->dim == 1 ? rho->v[a] * 2.0 * r->v[a]
-                                             : rho->v[a] * M_PI * r->v[a] * r->v[a];
+                               : s->dim == 3
+                                   ? rho->v[a] * 4.0 / 3.0 * M_PI * r->v[a] * r->v[a] * r->v[a]
+                                   : rho->v[a] * M_PI * r->v[a] * r->v[a];
     }
     if (fabs(sum - 1.0) > 1e-9 || gr_species_counts(s->N, ns, frac, s->species_count)) {
         *key = "fraction";
@@ -175,6 +189,19 @@ double gr_scene_grain_area(const gr_scene *s)
         a += s->species_count[k] * M_PI * s->species_radius.v[k] * s->species_radius.v[k];
     }
     return a;
+}
+
+double gr_scene_grain_volume(const gr_scene *s)
+{
+    if (s->n_species < 2) {
+        return s->N * (4.0 / 3.0 * M_PI * s->radius * s->radius * s->radius);
+    }
+    double v = 0.0;
+    for (int k = 0; k < s->n_species; k++) {
+        const double r = s->species_radius.v[k];
+        v += s->species_count[k] * (4.0 / 3.0 * M_PI * r * r * r);
+    }
+    return v;
 }
 
 double gr_scene_grain_length(const gr_scene *s)

@@ -33,19 +33,28 @@ static double half_kick_poly(gr_sim *s, bool *finite)
         work += s->gx[i] * (s->vx[i] + 0.5 * dvx);
         s->vx[i] += dvx;
         sum += s->vx[i];
-        if (s->dim == 2) {
+        if (s->dim >= 2) {
             const double dvy = hi * s->fy[i];
             work += s->gy[i] * (s->vy[i] + 0.5 * dvy);
             s->vy[i] += dvy;
             sum += s->vy[i];
         }
+        if (s->dim == 3) {
+            const double dvz = hi * s->fz[i];
+            work += s->gz[i] * (s->vz[i] + 0.5 * dvz);
+            s->vz[i] += dvz;
+            sum += s->vz[i];
+        }
     }
-    if (s->omega) { /* rotation: w_i += tq_i dt / (2 I_i), the torques' work as for v (step.c) */
+    /* rotation: w_i += tq_i dt / (2 I_i), the torques' work as for v (step.c); 3D: each
+     * component of the vectors (wx, wy, omega = w_z) */
+    double *const w[3] = {s->omega, s->wx, s->wy}, *const tq[3] = {s->tq, s->tqx, s->tqy};
+    for (int c = 0; s->omega && c < (s->dim == 3 ? 3 : 1); c++) {
         for (int i = 0; i < s->n; i++) {
-            const double dw = h / s->inertia_i[i] * s->tq[i];
-            work += s->tq[i] * (s->omega[i] + 0.5 * dw);
-            s->omega[i] += dw;
-            sum += s->omega[i];
+            const double dw = h / s->inertia_i[i] * tq[c][i];
+            work += tq[c][i] * (w[c][i] + 0.5 * dw);
+            w[c][i] += dw;
+            sum += w[c][i];
         }
     }
     *finite = isfinite(sum) && isfinite(work);
@@ -57,7 +66,7 @@ static double noise_kick_poly(gr_sim *s)
 {
     const int n = s->n, dim = s->dim;
     gr_noise_normals(s->params.seed, GR_STREAM_NOISE, (uint64_t)s->step, 0, n, dim, s->noise);
-    double mean[2] = {0.0, 0.0};
+    double mean[3] = {0.0, 0.0, 0.0};
     if (s->params.noise_mode == GR_NOISE_SYMMETRISED && n > 1) {
         for (int i = 0; i < n; i++) {
             for (int c = 0; c < dim; c++) {
@@ -66,9 +75,10 @@ static double noise_kick_poly(gr_sim *s)
         }
         mean[0] /= n;
         mean[1] /= n;
+        mean[2] /= n;
     }
     const double amp = sqrt(2.0 * s->params.D * s->dt);
-    double *v[2] = {s->vx, s->vy};
+    double *v[3] = {s->vx, s->vy, s->vz};
     double added = 0.0;
     for (int i = 0; i < n; i++) {
         for (int c = 0; c < dim; c++) {
@@ -80,9 +90,36 @@ static double noise_kick_poly(gr_sim *s)
     return added;
 }
 
-/* The drift; returns the largest squared displacement since the last list build (2D). */
+/* 3D: the drift, wrapping into [0, L) along periodic axes only (a wall axis keeps the coordinate,
+ * as step.c); the displacement since the list's build under the minimum image. */
+static double drift_poly_3d(gr_sim *s)
+{
+    const double dt = s->dt, L = s->L, half = 0.5 * L;
+    double *const q[3] = {s->x, s->y, s->z}, *const v[3] = {s->vx, s->vy, s->vz},
+                  *const ref[3] = {s->x_ref, s->y_ref, s->z_ref};
+    double worst = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        double d2 = 0.0;
+        for (int a = 0; a < 3; a++) {
+            const int periodic = isfinite(s->period[a]);
+            double x = q[a][i] + v[a][i] * dt;
+            x += periodic ? (x < 0.0 ? L : (x >= L ? -L : 0.0)) : 0.0;
+            q[a][i] = x;
+            double dx = x - ref[a][i];
+            dx += periodic ? (dx > half ? -L : (dx < -half ? L : 0.0)) : 0.0;
+            d2 += dx * dx;
+        }
+        worst = fmax(worst, d2);
+    }
+    return worst;
+}
+
+/* The drift; returns the largest squared displacement since the last list build (2D, 3D). */
 static double drift_poly(gr_sim *s)
 {
+    if (s->dim == 3) {
+        return drift_poly_3d(s);
+    }
     const double dt = s->dt, L = s->L, half = 0.5 * L;
     double worst = 0.0;
     for (int i = 0; i < s->n; i++) {
@@ -121,7 +158,7 @@ int gr_verlet_step_poly(gr_sim *s, int64_t nsteps, gr_error *err)
                                 (long long)s->step);
         }
         s->step++;
-        if (s->dim == 2 && (s->params.skin <= 0.0 || disp2 > skin_half2)) {
+        if (s->dim >= 2 && (s->params.skin <= 0.0 || disp2 > skin_half2)) {
             int rc = gr_neighbours_build(s, err);
             if (rc) {
                 return rc;
