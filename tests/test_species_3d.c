@@ -149,8 +149,8 @@ START_TEST(pair_rotation_3d)
     const double want = m[1] * s->rad[1] / (m[0] * s->rad[0]);
     const double w0[3] = {s->wx[0], s->wy[0], s->omega[0]},
                  w1[3] = {s->wx[1], s->wy[1], s->omega[1]};
-    const double ratio = sqrt(dot(w0, w0) / dot(w1, w1)), cosine = dot(w0, w1) /
-                                                                   sqrt(dot(w0, w0) * dot(w1, w1));
+    const double ratio = sqrt(dot(w0, w0) / dot(w1, w1)),
+                 cosine = dot(w0, w1) / sqrt(dot(w0, w0) * dot(w1, w1));
     /* the contact point's tangential velocity against the law's restitution with rotation */
     double rv[3], gv[3];
     for (int a = 0; a < 3; a++) {
@@ -196,7 +196,8 @@ END_TEST
  * placement with each pair r_i + r_j apart; a driven rotating gas's ledger closes. */
 START_TEST(driven_gas_3d)
 {
-    const int quick = getenv("GRANULE_TEST_QUICK") && strcmp(getenv("GRANULE_TEST_QUICK"), "1") == 0;
+    const int quick =
+        getenv("GRANULE_TEST_QUICK") && strcmp(getenv("GRANULE_TEST_QUICK"), "1") == 0;
     static const char *gas =
         "[system]\ndim = 3\nN = 300\npacking_fraction = 0.1\n[placement]\nkind = random\n"
         "v0 = 0.2\nomega0 = 50\n[species]\nradius = 1e-3, 2e-3\ndensity = 2500, 2500\n"
