@@ -176,9 +176,27 @@ ok &= sorted(set(int(w[12]) for w in rows)) == [1, 2]
 ok &= all(float(w[8]) == (3.53e-5 if w[12] == "1" else 1.412e-4) for w in rows)
 sys.exit(0 if ok else 1)
 PY
+# event-driven smooth spheres of the same mixture: T_1/T_2 against the soft kernel's (3 combined
+# errors) and the theory (3 %), the ledger to rounding, the same injection rate
+OMP_NUM_THREADS=1 "$granule" run "$scene3" --out "$tmp/mix3d-event" --set output.plots=false \
+    --set output.snapshot_every=0 "${run3[@]}" "${event[@]}" >"$tmp/mix3d-event.log" 2>&1 ||
+    { cat "$tmp/mix3d-event.log" >&2; fail "3D mixture, event-driven"; }
+python3 - "$tmp" "$theory" "$quick" <<'PY' || fail "3D event-driven temperature ratio"
+import json, sys
+tmp, theory, quick = sys.argv[1], float(sys.argv[2]), sys.argv[3] == "1"
+ev, soft = (json.load(open(f"{tmp}/{n}/summary.json")) for n in ("mix3d-event", "mix3d"))
+r, e = ev["analysis"]["species"]["T1_over_T2"], ev["analysis"]["species"]["T1_over_T2_stderr"]
+r2, e2 = soft["analysis"]["species"]["T1_over_T2"], soft["analysis"]["species"]["T1_over_T2_stderr"]
+zs = (r - r2) / (e * e + e2 * e2) ** 0.5
+print(f"3D event: T_1/T_2 = {r:.4f} +- {e:.4f}: theory {theory:.4f}, soft kernel {r2:.4f} +- "
+      f"{e2:.4f} at z = {zs:+.2f}, 1 at z = {(r - 1) / e:+.1f}")
+ok = ev["kernel"].startswith("event-3d-cells-exact")
+ok &= abs(ev["ledger"]["relative_residual"]) < 1e-10
+ok &= ev["energy_injection_rate_expected"] == soft["energy_injection_rate_expected"]
+ok &= quick or (abs(r / theory - 1) < 0.03 and abs(zs) < 3 and r - 1 > 5 * e and 0 < e < 0.03)
+sys.exit(0 if ok else 1)
+PY
 # what a 3D mixture cannot run yet, at its key
-refuse_with "$scene3" "\[system\] dim.*not available with \[species\].*3: \[species\] lists with the verlet" \
-    --set integrator.kind=event --set model.normal=hard_sphere
 refuse_with "$scene3" "\[boundary\] z.*not available with \[species\]" --set boundary.z=walls
 refuse_with "$scene3" "\[gravity\] gz.*not available with \[species\]" --set gravity.gz=-9.81
 # densities in kg/m^3: the masses (4/3) pi r^3 rho

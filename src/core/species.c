@@ -8,10 +8,10 @@
  * damping from eps_n) gives every pair that eps_n; hertz with the effective radius R_ij = r_i r_j /
  * (r_i + r_j): k_h,ij = k_h sqrt(R_ij / R_00), the scene's k_h being that of two grains of the first
  * species. The contact distance is r_i + r_j. The time step resolves the shortest contact of all
- * pairs. What runs with species so far: 1D and 2D, the verlet and the event integrator
- * (smooth hard discs and rods of species lists: src/integrators/event), 3D (spheres) with the
- * verlet integrator, a normal force law or event rule, tangential laws without history and
- * rotation with verlet, walls and gravity with verlet, the random force (the same D on every
+ * pairs. What runs with species so far: 1D, 2D and 3D, the verlet and the event integrator
+ * (smooth hard rods, discs and spheres of species lists: src/integrators/event), a normal force
+ * law or event rule, tangential laws without history and rotation with verlet, walls and gravity
+ * with verlet in 1D and 2D, the random force (the same D on every
  * grain, so the kicks are sqrt(2 D dt) / m_i) or no driving; the rest is refused here (and, with
  * the file and line, by the scene). The Fisher-Yates deal draws word 2 of the placement stream
  * in 1D and 2D and word 4 in 3D, whose random placement draws words 0 to 2. */
@@ -40,9 +40,8 @@ int gr_species_counts(int N, int ns, const double *fraction, int *count)
 static const char *not_covered(const gr_sim *s)
 {
     const gr_sim_params *p = &s->params;
-    return p->dim == 3 && (p->integrator->instantaneous || p->size_distribution)
-               ? "[system] dim = 3"
-           : !p->integrator->species ? "[integrator] kind"
+    return p->dim == 3 && p->size_distribution ? "[system] dim = 3"
+           : !p->integrator->species           ? "[integrator] kind"
            : p->tangential && (gr_model_keeps_history(p->tangential) || p->size_distribution ||
                                p->integrator->instantaneous)
                ? "[model] tangential"
@@ -159,10 +158,10 @@ int gr_species_setup(gr_sim *s, gr_error *err)
     const char *what = not_covered(s);
     if (what) {
         return GR_FAIL(err, GR_EINVAL,
-                       "%s: %s: not available with [species] yet; a mixture runs in 1D and 2D with "
-                       "the verlet or event integrator, in 3D with verlet, a normal force law, "
-                       "tangential laws without history, walls with verlet and the random force "
-                       "or no driving (docs/mixtures.md)",
+                       "%s: %s: not available with [species] yet; a mixture runs in 1D, 2D and 3D "
+                       "with the verlet or event integrator, a normal force law, tangential laws "
+                       "without history, walls with verlet in 1D and 2D and the random force or "
+                       "no driving (docs/mixtures.md)",
                        p->source, what);
     }
     int total = 0;

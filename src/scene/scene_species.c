@@ -18,8 +18,8 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         bool on;
         const char *section, *key, *allowed;
     } const no[] = {
-        {s->dim == 3 && (s->integrator->instantaneous || s->size_distribution), "system", "dim",
-         "1 | 2 (3: [species] lists with the verlet integrator)"},
+        {s->dim == 3 && s->size_distribution, "system", "dim",
+         "1 | 2 (a radius distribution; 3D runs [species] lists)"},
         {s->dim == 3 && (s->boundary[0] || s->boundary[1] || s->boundary[2]), "boundary",
          s->boundary[0]   ? "x"
          : s->boundary[1] ? "y"
@@ -59,9 +59,9 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             *key = no[k].key;
             snprintf(detail, cap,
                      "not available with [species] yet; allowed with a mixture: %s "
-                     "(docs/mixtures.md: 1D and 2D, verlet or event, a normal force law or "
+                     "(docs/mixtures.md: 1D, 2D and 3D, verlet or event, a normal force law or "
                      "smooth event rule, tangential laws without history, walls and gravity with "
-                     "verlet, the random force or none)",
+                     "verlet in 1D and 2D, the random force or none)",
                      no[k].allowed);
             return GR_EINVAL;
         }

@@ -153,8 +153,8 @@ static void end_window(gr_sim *s)
             double z, u;
             gr_ev_state_y(e, i, e->tau, 1, &y, &w);
             gr_ev_state_z(e, i, e->tau, 1, &z, &u);
-            work += ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i] -
-                    gr_ev_gravity_work_3d(e, x - e->bx[i], y - e->by[i], z - e->bz[i]);
+            work += mw * (ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i] -
+                          gr_ev_gravity_work_3d(e, x - e->bx[i], y - e->by[i], z - e->bz[i]));
             e->by[i] = y;
             e->bw[i] = w;
             e->bz[i] = z;
@@ -522,8 +522,8 @@ static void report(gr_sim *s, double t)
             s->z[i] = z - e->L * floor(z / e->L);
             s->vy[i] = w;
             s->vz[i] = u;
-            work += ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i] -
-                    gr_ev_gravity_work_3d(e, x - e->bx[i], y - e->by[i], z - e->bz[i]);
+            work += mw * (ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i] -
+                          gr_ev_gravity_work_3d(e, x - e->bx[i], y - e->by[i], z - e->bz[i]));
         } else if (e->dim == 2) {
             double y, w;
             gr_ev_state_y(e, i, t, phase, &y, &w);
@@ -627,16 +627,15 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->R = 0.5 * s->d;
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
     if (s->rad) { /* species (docs/mixtures.md): smooth discs of their own radii and masses */
-        if (!s->cc_pair || s->omega || s->walls_on || s->dim == 3) {
+        if (!s->cc_pair || s->omega || s->walls_on) {
             return GR_FAIL(err, GR_EINVAL,
-                           "%s: [integrator] kind = event runs [species] lists of smooth discs "
-                           "and rods in a periodic box; not yet %s (docs/mixtures.md; the verlet "
-                           "integrator runs a radius distribution)",
+                           "%s: [integrator] kind = event runs [species] lists of smooth discs, "
+                           "spheres and rods in a periodic box; not yet %s (docs/mixtures.md; the "
+                           "verlet integrator runs a radius distribution)",
                            s->params.source,
-                           !s->cc_pair   ? "a radius distribution ([species] distribution)"
-                           : s->omega    ? "rough discs ([model] rotation = true)"
-                           : s->walls_on ? "walls or gravity"
-                                         : "spheres (dim = 3)");
+                           !s->cc_pair ? "a radius distribution ([species] distribution)"
+                           : s->omega  ? "rough grains ([model] rotation = true)"
+                                       : "walls or gravity");
         }
         e->m = s->mass_i;
         e->r = s->rad;
