@@ -197,8 +197,12 @@ ok &= quick or (abs(r / theory - 1) < 0.03 and abs(zs) < 3 and r - 1 > 5 * e and
 sys.exit(0 if ok else 1)
 PY
 # what a 3D mixture cannot run yet, at its key
-refuse_with "$scene3" "\[boundary\] z.*not available with \[species\]" --set boundary.z=walls
-refuse_with "$scene3" "\[gravity\] gz.*not available with \[species\]" --set gravity.gz=-9.81
+refuse_with "$scene3" "\[boundary\] z.*not available with \[species\]" --set boundary.z=walls "${event[@]}"
+refuse_with "$scene3" "\[gravity\] gz.*not available with \[species\]" --set gravity.gz=-9.81 "${event[@]}"
+refuse_with "$scene3" "\[system\] dim.*not available with \[species\].*a radius distribution" \
+    --set species.distribution=uniform --set species.radius= --set species.mass= \
+    --set species.fraction= --set species.radius_min=1e-3 --set species.radius_max=2e-3 \
+    --set species.density=5
 # densities in kg/m^3: the masses (4/3) pi r^3 rho
 sed 's/^mass = .*/density = 2500, 10000/' "$scene3" >"$tmp/rho3d.ini"
 "$granule" run "$tmp/rho3d.ini" --out "$tmp/rho3d" \

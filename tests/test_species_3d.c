@@ -9,7 +9,8 @@
  *   the contact point's tangential velocity scaled by the pair's law;
  * - the scene: masses from the density (4/3) pi r^3, the packing fraction from the actual radii,
  *   random placement keeping r_i + r_j apart; a driven rotating 3D gas's ledger closes with the
- *   tangential law's dissipation and the spins' energy sum I_i |w_i|^2 / 2. */
+ *   tangential law's dissipation and the spins' energy sum I_i |w_i|^2 / 2;
+ * - a checkpoint of a rotating 3D mixture continues bit for bit. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -248,6 +249,20 @@ START_TEST(driven_gas_3d)
 }
 END_TEST
 
+/* A checkpoint of a rotating 3D mixture with friction continues bit for bit. */
+START_TEST(restart_exact_3d)
+{
+    static const char *gas =
+        "[system]\ndim = 3\nN = 100\npacking_fraction = 0.1\n[placement]\nkind = random\n"
+        "v0 = 0.2\nomega0 = 50\n[species]\nradius = 1e-3, 2e-3\ndensity = 2500, 2500\n"
+        "[model]\nk_s = 5e4\neps_n = 0.7\ntangential = sliding_friction\nmu = 0.3\n"
+        "rotation = true\n[noise]\nD = 1e-9\n";
+    gr_scene sc;
+    load(&sc, gas, NULL, 0);
+    assert_restart_exact(&sc, 3000, 1000);
+}
+END_TEST
+
 static Suite *species_3d_suite(void)
 {
     Suite *s = suite_create("species_3d");
@@ -256,6 +271,7 @@ static Suite *species_3d_suite(void)
     tcase_add_test(t, pair_restitution_3d);
     tcase_add_test(t, pair_rotation_3d);
     tcase_add_test(t, driven_gas_3d);
+    tcase_add_test(t, restart_exact_3d);
     suite_add_tcase(s, t);
     return s;
 }

@@ -36,27 +36,36 @@ static const char *pair_2d =
     "[driving]\nkind = none\n[boundary]\ny = walls\n[gravity]\ngy = -9.81\n"
     "[integrator]\nsteps_per_contact = 50\n";
 
-/* Both grains' apex heights above their own touching points, `want` bounces each. */
+/* The same pair of spheres (3D) on the floor z = 0 (issue 35). */
+static const char *pair_3d =
+    "[system]\ndim = 3\nN = 2\nL = 0.04\n[species]\nradius = 1e-3, 2e-3\nmass = 1e-5, 4e-5\n"
+    "[placement]\nkind = cubic\nv0 = 0\n[model]\nk_s = 5e4\neps_n = 0.7\n"
+    "[driving]\nkind = none\n[boundary]\nz = walls\n[gravity]\ngz = -9.81\n"
+    "[integrator]\nsteps_per_contact = 50\n";
+
+/* Both grains' apex heights above their own touching points, `want` bounces each (2D, and 3D:
+ * _i = 1, spheres on the floor z = 0). */
 START_TEST(bounce_each_species)
 {
     gr_scene sc;
-    load(&sc, pair_2d, NULL, 0);
+    load(&sc, _i ? pair_3d : pair_2d, NULL, 0);
     gr_sim *s = create(&sc);
     ck_assert_ptr_nonnull(s->rad);
     ck_assert_msg(fabs(s->x[0] - s->x[1]) > s->rad[0] + s->rad[1] + 1e-3,
                   "the grains fall side by side (x %g, %g)", s->x[0], s->x[1]);
+    const double *q = _i ? s->z : s->y, *vq = _i ? s->vz : s->vy;
     const int want = quick() ? 3 : 5;
     double h[2][6], v_prev[2] = {0.0, 0.0};
     int k[2] = {1, 1};
     for (int i = 0; i < 2; i++) {
-        h[i][0] = s->y[i] - s->rad[i];
+        h[i][0] = q[i] - s->rad[i];
     }
     for (int64_t n = 0; n < 20000000 && (k[0] <= want || k[1] <= want); n++) {
         step(s, 1);
         for (int i = 0; i < 2; i++) {
-            const double v = s->vy[i];
-            if (v_prev[i] > 0.0 && v <= 0.0 && s->y[i] > s->rad[i] && k[i] <= want) {
-                h[i][k[i]++] = s->y[i] + v * v / (2.0 * G) - s->rad[i];
+            const double v = vq[i];
+            if (v_prev[i] > 0.0 && v <= 0.0 && q[i] > s->rad[i] && k[i] <= want) {
+                h[i][k[i]++] = q[i] + v * v / (2.0 * G) - s->rad[i];
             }
             v_prev[i] = v;
         }
@@ -67,9 +76,9 @@ START_TEST(bounce_each_species)
         for (int b = 1; b <= want; b++) {
             worst = fmax(worst, fabs(h[i][b] / h[i][b - 1] / (EPS * EPS) - 1.0));
         }
-        printf("species %d (r = %g m, m = %g kg): max |h_k/h_(k-1)/eps^2 - 1| = %.2e over %d "
+        printf("%dD species %d (r = %g m, m = %g kg): max |h_k/h_(k-1)/eps^2 - 1| = %.2e over %d "
                "bounces\n",
-               s->species[i] + 1, s->rad[i], s->mass_i[i], worst, want);
+               s->dim, s->species[i] + 1, s->rad[i], s->mass_i[i], worst, want);
         ck_assert_msg(worst < 0.06 * (1.0 - EPS), "grain %d: %g", i, worst);
     }
     gr_sim_free(s);
@@ -83,15 +92,20 @@ START_TEST(bed_weighs_each_mass)
         "[system]\ndim = 2\nN = 60\nL = 0.04\n[species]\nradius = 1e-3, 2e-3\nmass = 1e-5, "
         "4e-5\nfraction = 0.5, 0.5\n[placement]\nkind = uniform\nv0 = 0\n[model]\nk_s = 5e3\n"
         "eps_n = 0.3\n[driving]\nkind = none\n[boundary]\ny = walls\n[gravity]\ngy = -9.81\n";
+    /* 3D: 60 spheres on a cubic lattice in a box with walls at z = 0 and L */
+    const char *bed3 =
+        "[system]\ndim = 3\nN = 60\nL = 0.03\n[species]\nradius = 1e-3, 2e-3\nmass = 1e-5, "
+        "4e-5\nfraction = 0.5, 0.5\n[placement]\nkind = cubic\nv0 = 0\n[model]\nk_s = 5e3\n"
+        "eps_n = 0.3\n[driving]\nkind = none\n[boundary]\nz = walls\n[gravity]\ngz = -9.81\n";
     gr_scene sc;
-    load(&sc, bed, NULL, 0);
+    load(&sc, _i ? bed3 : bed, NULL, 0);
     gr_sim *s = create(&sc);
     const double weight = 30 * (1e-5 + 4e-5) * G;
     double fw[6];
     settled_wall_forces(s, 0.3, 0.05, fw); /* fallen and settled, then 0.05 s */
-    const double floor_f = fw[2];
-    printf("bed of two species at rest: floor %.8g N, sum m_i g = %.8g N (ratio - 1 = %.2e)\n",
-           floor_f, weight, floor_f / weight - 1.0);
+    const double floor_f = fw[_i ? 4 : 2];
+    printf("%dD bed of two species at rest: floor %.8g N, sum m_i g = %.8g N (ratio - 1 = %.2e)\n",
+           s->dim, floor_f, weight, floor_f / weight - 1.0);
     ck_assert_msg(fabs(floor_f / weight - 1.0) < 1e-3, "floor %g, weight %g", floor_f, weight);
     gr_sim_free(s);
 }
@@ -124,8 +138,16 @@ START_TEST(ledger_species_walls)
         "[system]\ndim = 1\nN = 30\nL = 0.15\n[species]\nradius = 1e-3, 2e-3\nmass = 1e-5, "
         "4e-5\n[placement]\nkind = uniform\nv0 = 0.3\n[model]\nk_s = 5e4\neps_n = 0.8\n"
         "[noise]\nD = 1e-9\n[boundary]\nx = walls\n[gravity]\ngx = -9.81\n";
+    /* 3D: spheres between walls at z = 0 and L under gravity, with sliding friction at the walls
+     * and between the grains, rotating */
+    const char *box3 =
+        "[system]\ndim = 3\nN = 150\nL = 0.04\n[species]\nradius = 1e-3, 2e-3\nmass = 1e-5, "
+        "4e-5\n[placement]\nkind = cubic\nv0 = 0.2\nomega0 = 100\n[model]\nk_s = 5e4\n"
+        "eps_n = 0.7\ntangential = sliding_friction\nmu = 0.3\nrotation = true\n"
+        "[noise]\nD = 1e-9\n[boundary]\nz = walls\nx = walls\n[gravity]\ngz = -9.81\n";
     ledger_closes(bed, quick() ? 15000 : 40000);
     ledger_closes(column, quick() ? 15000 : 40000);
+    ledger_closes(box3, quick() ? 3000 : 20000);
 }
 END_TEST
 
@@ -209,8 +231,8 @@ static Suite *walls_species_suite(void)
     Suite *s = suite_create("walls_species");
     TCase *t = tcase_create("walls");
     tcase_set_timeout(t, 600);
-    tcase_add_test(t, bounce_each_species);
-    tcase_add_test(t, bed_weighs_each_mass);
+    tcase_add_loop_test(t, bounce_each_species, 0, 2);
+    tcase_add_loop_test(t, bed_weighs_each_mass, 0, 2);
     tcase_add_test(t, ledger_species_walls);
     tcase_add_test(t, spinning_grains_roll);
     tcase_add_test(t, restart_exact);

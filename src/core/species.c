@@ -11,7 +11,7 @@
  * pairs. What runs with species so far: 1D, 2D and 3D, the verlet and the event integrator
  * (smooth hard rods, discs and spheres of species lists: src/integrators/event), a normal force
  * law or event rule, tangential laws without history and rotation with verlet, walls and gravity
- * with verlet in 1D and 2D, the random force (the same D on every
+ * with verlet, the random force (the same D on every
  * grain, so the kicks are sqrt(2 D dt) / m_i) or no driving; the rest is refused here (and, with
  * the file and line, by the scene). The Fisher-Yates deal draws word 2 of the placement stream
  * in 1D and 2D and word 4 in 3D, whose random placement draws words 0 to 2. */
@@ -46,9 +46,6 @@ static const char *not_covered(const gr_sim *s)
                                p->integrator->instantaneous)
                ? "[model] tangential"
            : p->rolling ? "[model] rolling"
-           : p->dim == 3 && (p->walls[0] || p->walls[1] || p->walls[2] || p->gravity[0] != 0.0 ||
-                             p->gravity[1] != 0.0 || p->gravity[2] != 0.0)
-               ? "[boundary] walls or [gravity] in 3D"
            : p->contact.rotation && (p->size_distribution || p->integrator->instantaneous)
                ? "[model] rotation"
            : s->drive == GR_DRIVE_BATH                           ? "[driving] kind = langevin"
@@ -160,8 +157,8 @@ int gr_species_setup(gr_sim *s, gr_error *err)
         return GR_FAIL(err, GR_EINVAL,
                        "%s: %s: not available with [species] yet; a mixture runs in 1D, 2D and 3D "
                        "with the verlet or event integrator, a normal force law, tangential laws "
-                       "without history, walls with verlet in 1D and 2D and the random force or "
-                       "no driving (docs/mixtures.md)",
+                       "without history, walls and gravity with verlet and the random force or no "
+                       "driving (docs/mixtures.md)",
                        p->source, what);
     }
     int total = 0;

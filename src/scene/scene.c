@@ -159,8 +159,8 @@ static const scene_key keys[] = {
     {"species", "mass", "kg", K_NUMBERS, "", 1e-100, 1e100, false, false, NULL,
      "masses of the species, one per radius; give mass or density", OFF(species_mass)},
     {"species", "density", "kg/m^2", K_NUMBERS, "", 1e-100, 1e100, false, false, NULL,
-     "instead of mass: the discs' areal density, mass = density pi r^2 (2D); in 1D kg/m, mass = "
-     "density 2 r",
+     "instead of mass: the discs' areal density, mass = density pi r^2 (2D); in 3D kg/m^3, mass = "
+     "density (4/3) pi r^3; in 1D kg/m, mass = density 2 r",
      OFF(species_density)},
     {"species", "fraction", "", K_NUMBERS, "", 0, 1, false, false, NULL,
      "number fractions of the species, summing to 1 (grains: round(fraction N), the rest to the "

@@ -20,17 +20,6 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
     } const no[] = {
         {s->dim == 3 && s->size_distribution, "system", "dim",
          "1 | 2 (a radius distribution; 3D runs [species] lists)"},
-        {s->dim == 3 && (s->boundary[0] || s->boundary[1] || s->boundary[2]), "boundary",
-         s->boundary[0]   ? "x"
-         : s->boundary[1] ? "y"
-                          : "z",
-         "periodic (3D with [species])"},
-        {s->dim == 3 && (s->gravity[0] != 0.0 || s->gravity[1] != 0.0 || s->gravity[2] != 0.0),
-         "gravity",
-         s->gravity[0] != 0.0   ? "gx"
-         : s->gravity[1] != 0.0 ? "gy"
-                                : "gz",
-         "0 (3D with [species])"},
         {!s->integrator->species, "integrator", "kind", "verlet | event"},
         {s->size_distribution && s->integrator->instantaneous, "integrator", "kind",
          "verlet (a radius distribution; event runs [species] lists)"},
@@ -47,8 +36,8 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         {s->boundary[1] != 0 && no_walls, "boundary", "y", walls_allowed},
         {s->gravity[0] != 0.0 && no_walls, "gravity", "gx", "0 (gravity: [species] lists, verlet)"},
         {s->gravity[1] != 0.0 && no_walls, "gravity", "gy", "0 (gravity: [species] lists, verlet)"},
-        {s->boundary[2] != 0, "boundary", "z", "periodic"},
-        {s->gravity[2] != 0.0, "gravity", "gz", "0"},
+        {s->boundary[2] != 0 && no_walls, "boundary", "z", walls_allowed},
+        {s->gravity[2] != 0.0 && no_walls, "gravity", "gz", "0 (gravity: [species] lists, verlet)"},
         {s->driving && s->driving->update == GR_DRIVE_BATH, "driving", "kind", "rfm | none"},
         {s->noise_mode == GR_NOISE_COM, "noise", "mode", "symmetrised | none"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
@@ -61,7 +50,7 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
                      "not available with [species] yet; allowed with a mixture: %s "
                      "(docs/mixtures.md: 1D, 2D and 3D, verlet or event, a normal force law or "
                      "smooth event rule, tangential laws without history, walls and gravity with "
-                     "verlet in 1D and 2D, the random force or none)",
+                     "verlet, the random force or none)",
                      no[k].allowed);
             return GR_EINVAL;
         }
