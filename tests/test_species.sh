@@ -203,17 +203,25 @@ refuse_with "$scene3" "\[system\] dim.*not available with \[species\].*a radius 
     --set species.distribution=uniform --set species.radius= --set species.mass= \
     --set species.fraction= --set species.radius_min=1e-3 --set species.radius_max=2e-3 \
     --set species.density=5
-# densities in kg/m^3: the masses (4/3) pi r^3 rho
+# densities in kg/m^3 (the masses (4/3) pi r^3 rho) and unequal radii: the injection rate, and the
+# run's mean field against scripts/mixture_theory.py --dim 3 (sigma_ij^2 tells 3D from 2D)
 sed 's/^mass = .*/density = 2500, 10000/' "$scene3" >"$tmp/rho3d.ini"
-"$granule" run "$tmp/rho3d.ini" --out "$tmp/rho3d" \
+"$granule" run "$tmp/rho3d.ini" --out "$tmp/rho3d" --set 'species.radius=1.5e-3, 3e-3' \
     --set run.warmup=0 --set run.duration=0.005 --set output.plots=false >"$tmp/rho3d.log" 2>&1 ||
     { cat "$tmp/rho3d.log" >&2; fail "3D mixture with densities"; }
-python3 - "$tmp/rho3d/summary.json" <<'PY' || fail "3D masses from the densities"
+python3 - "$tmp/rho3d/summary.json" "$src/scripts" <<'PY' || fail "3D masses from the densities, 3D theory"
 import json, math, sys
+sys.path.insert(0, sys.argv[2])
+import mixture_theory as mt
 s = json.load(open(sys.argv[1]))
-v = 4 / 3 * math.pi * 1.5e-3 ** 3
-rate = 3 * 1e-8 * 300 * (1 / (2500 * v) + 1 / (10000 * v)) * (1 - 1 / 600)
+m = (2500 * 4 / 3 * math.pi * 1.5e-3 ** 3, 10000 * 4 / 3 * math.pi * 3e-3 ** 3)
+rate = 3 * 1e-8 * 300 * (1 / m[0] + 1 / m[1]) * (1 - 1 / 600)
 assert abs(s["energy_injection_rate_expected"] / rate - 1) < 1e-12, (s["energy_injection_rate_expected"], rate)
+want3 = mt.ratio(m, (1.5e-3, 3e-3), (0.5, 0.5), 0.7, dim=3)
+want2 = mt.ratio(m, (1.5e-3, 3e-3), (0.5, 0.5), 0.7)
+got = s["mean_field"]["T1_over_T2_predicted"]
+print(f"3D theory, radii 1:2, masses 1:32: T_1/T_2 = {got:.6f} (script --dim 3: {want3:.6f}; 2D would be {want2:.6f})")
+assert abs(got / want3 - 1) < 1e-5 and abs(want3 / want2 - 1) > 1e-3, (got, want3, want2)
 PY
 
 # a sweep over eps (docs/sweeps/mixture-eps.ini, shortened): sweep.csv has the measured ratio and the theory

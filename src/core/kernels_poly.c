@@ -5,8 +5,10 @@
  * sliding_friction; species lists) acts on g_t = g.t with the pair's coefficients, as in
  * kernels.c, and books its dissipation into its own ledger column; with rotation g_t is the
  * contact point's, g.t + a_i w_i + a_j w_j, and f_t turns grain i with the torque a_i f_t
- * (a_i = |r_ij| r_i / (r_i + r_j), the arm to the contact point). A separate instance, chosen once per run (gr_kernel_choose) when the scene
- * has species, so the monodisperse instances load nothing per pair that they did not before.
+ * (a_i = |r_ij| r_i / (r_i + r_j), the arm to the contact point). 3D (poly_3d, spheres) has
+ * the same with vectors (kernels_3d.c's geometry). A separate instance, chosen once per run
+ * (gr_kernel_choose) when the scene has species, so the monodisperse instances (1D, 2D, 3D) load
+ * nothing per pair that they did not before.
  * One thread: a run with species is the same for every thread count. */
 #include <math.h>
 #include <string.h>

@@ -245,7 +245,7 @@ static inline double gr_pair_d(const gr_sim *s, int i, int j)
 {
     return s->rad ? s->rad[i] + s->rad[j] : s->d;
 }
-/* src/core/kernels_poly.c: the force kernel of a run with species (1D ring or 2D list). */
+/* src/core/kernels_poly.c: the force kernel of a run with species (1D ring, 2D or 3D list). */
 void gr_kernel_run_poly(gr_sim *s, gr_force_report *r);
 
 /* src/core/kernels.c: one force evaluation with the kernel chosen at creation (then the walls'

@@ -9,9 +9,10 @@
  * subtracts the mean of the forces, not of the kicks, so the kicks carry no net momentum:
  * sum_i m_i dv_i = sqrt(2 D dt) sum_i (g_i - <g>) = 0.
  *
- * Rotation (2D, a tangential law without history): each grain's spin is kicked with its own
- * moment of inertia I_i = q m_i r_i^2 by the torques of kernels_poly.c, all of them
- * non-conservative (a dashpot's or friction's), their work booked as the forces' is.
+ * Rotation (2D and 3D, a tangential law without history): each grain's spin (3D: each component
+ * of the vector) is kicked with its own moment of inertia I_i = q m_i r_i^2 by the torques of
+ * kernels_poly.c, all of them non-conservative (a dashpot's or friction's), their work booked as
+ * the forces' is. 3D has the third component of every kick and drift.
  *
  * The closing half kick ends every step (the velocities are synchronised after each step), so a
  * run split into calls is the same as one call. */
