@@ -147,7 +147,7 @@ START_TEST(ledger_species_walls)
         "[noise]\nD = 1e-9\n[boundary]\nz = walls\nx = walls\n[gravity]\ngz = -9.81\n";
     ledger_closes(bed, quick() ? 15000 : 40000);
     ledger_closes(column, quick() ? 15000 : 40000);
-    ledger_closes(box3, quick() ? 3000 : 20000);
+    ledger_closes(box3, quick() ? 12000 : 20000);
 }
 END_TEST
 
