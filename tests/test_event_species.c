@@ -32,16 +32,19 @@
 #define EPS_N 0.6
 
 /* Two grains (radii 1 and 2 mm, masses 1e-5 and 4e-5 kg) without driving in a box of L = 0.1 m
- * (2D) or a ring of L = 0.506 m (1D). */
+ * (2D, 3D) or a ring of L = 0.506 m (1D). */
 static gr_sim *two_grains(int dim)
 {
-    const char *ov[] = {dim == 1 ? "system.dim=1" : "system.dim=2",
+    const char *ov[] = {dim == 1   ? "system.dim=1"
+                        : dim == 2 ? "system.dim=2"
+                                   : "system.dim=3",
                         "system.N=2",
-                        dim == 1 ? "system.reduced_length=0.5"
-                                 : "system.packing_fraction=0.0015707963267948967",
+                        dim == 1   ? "system.reduced_length=0.5"
+                        : dim == 2 ? "system.packing_fraction=0.0015707963267948967"
+                                   : "system.L=0.1",
                         "species.radius=1e-3, 2e-3",
                         "species.mass=1e-5, 4e-5",
-                        "placement.kind=uniform",
+                        dim == 3 ? "placement.kind=cubic" : "placement.kind=uniform",
                         "model.normal=hard_sphere",
                         "model.eps_n=0.6",
                         "model.eps_t=1",
@@ -148,19 +151,7 @@ END_TEST
  * (1 - eps^2) M_ij g_n^2 / 2 booked. */
 START_TEST(test_two_body_3d)
 {
-    const char *ov[] = {"system.dim=3",
-                        "system.N=2",
-                        "system.L=0.1",
-                        "species.radius=1e-3, 2e-3",
-                        "species.mass=1e-5, 4e-5",
-                        "placement.kind=cubic",
-                        "model.normal=hard_sphere",
-                        "model.eps_n=0.6",
-                        "model.eps_t=1",
-                        "noise.mode=none",
-                        "integrator.kind=event"};
-    gr_scene sc = scene_of(ov, 11);
-    gr_sim *s = sim_of(&sc);
+    gr_sim *s = two_grains(3);
     struct gr_event_state *e = gr_ev(s);
     const double ma = s->mass_i[0], mb = s->mass_i[1], d = s->rad[0] + s->rad[1];
     ck_assert(ma != mb && fabs(d - 3e-3) < 1e-18);
