@@ -35,16 +35,19 @@
 #define EPS_N 0.6
 
 /* Two grains (radii 1 and 2 mm, masses 1e-5 and 4e-5 kg) without driving in a box of L = 0.1 m
- * (2D) or a ring of L = 0.506 m (1D). */
+ * (2D, 3D) or a ring of L = 0.506 m (1D). */
 static gr_sim *grains_with(int dim, const char *const *more, int n_more)
 {
-    const char *ov[16] = {dim == 1 ? "system.dim=1" : "system.dim=2",
+    const char *ov[16] = {dim == 1   ? "system.dim=1"
+                          : dim == 2 ? "system.dim=2"
+                                     : "system.dim=3",
                           "system.N=2",
-                          dim == 1 ? "system.reduced_length=0.5"
-                                   : "system.packing_fraction=0.0015707963267948967",
+                          dim == 1   ? "system.reduced_length=0.5"
+                          : dim == 2 ? "system.packing_fraction=0.0015707963267948967"
+                                     : "system.L=0.1",
                           "species.radius=1e-3, 2e-3",
                           "species.mass=1e-5, 4e-5",
-                          "placement.kind=uniform",
+                          dim == 3 ? "placement.kind=cubic" : "placement.kind=uniform",
                           "model.normal=hard_sphere",
                           "model.eps_n=0.6",
                           "noise.mode=none",
@@ -153,6 +156,77 @@ END_TEST
 START_TEST(test_two_body_1d) { collide_pair(1, 0.0); }
 END_TEST
 
+/* 3D (smooth spheres): grain 0 at (0.03, 0.05, 0.05) moving (+0.1, 0, 0) m/s, grain 1 at
+ * (0.05, 0.05 + b_y, 0.05 + b_z) moving (-0.05, 0, 0), the impact parameter out of every
+ * coordinate plane: one collision at the analytic instant and normal, r_i + r_j apart; momentum,
+ * eps_n of the normal relative velocity, the tangential one kept, the loss
+ * (1 - eps^2) M_ij g_n^2 / 2 booked. */
+START_TEST(test_two_body_3d)
+{
+    gr_sim *s = two_grains(3);
+    struct gr_event_state *e = gr_ev(s);
+    const double ma = s->mass_i[0], mb = s->mass_i[1], d = s->rad[0] + s->rad[1];
+    ck_assert(ma != mb && fabs(d - 3e-3) < 1e-18);
+    const double m12 = ma * mb / (ma + mb), by = 1.2e-3, bz = -0.9e-3;
+    const double x0[2][3] = {{0.03, 0.05, 0.05}, {0.05, 0.05 + by, 0.05 + bz}};
+    const double v0[2][3] = {{0.1, 0.0, 0.0}, {-0.05, 0.0, 0.0}};
+    for (int k = 0; k < 2; k++) {
+        e->bx[k] = x0[k][0];
+        e->by[k] = x0[k][1];
+        e->bz[k] = x0[k][2];
+        e->bv[k] = v0[k][0];
+        e->bw[k] = v0[k][1];
+        e->bu[k] = v0[k][2];
+    }
+    gr_event_set_debug(s, true, false);
+    const double b = sqrt(by * by + bz * bz);
+    const double tcol = (0.02 - sqrt(d * d - b * b)) / 0.15;
+    const double n[3] = {(0.02 - 0.15 * tcol) / d, by / d, bz / d};
+    const double gn = 0.15 * n[0], P = (1.0 + EPS_N) * m12 * gn;
+    double ua[3], ub[3];
+    for (int a = 0; a < 3; a++) {
+        ua[a] = v0[0][a] - P / ma * n[a];
+        ub[a] = v0[1][a] + P / mb * n[a];
+    }
+    const double T = tcol + 0.02;
+    gr_error err = {0};
+    ck_assert_msg(gr_sim_step(s, (int64_t)ceil(T / s->dt), &err) == GR_OK, "%s", err.message);
+    const double t = gr_sim_time(s);
+    gr_event_counts c;
+    gr_event_stats(s, &c);
+    ck_assert_int_eq(c.collisions, 1);
+    const double va[3] = {s->vx[0], s->vy[0], s->vz[0]}, vb[3] = {s->vx[1], s->vy[1], s->vz[1]};
+    const double qa[3] = {s->x[0], s->y[0], s->z[0]}, qb[3] = {s->x[1], s->y[1], s->z[1]};
+    double k0 = 0.0, k1 = 0.0, gn1 = 0.0;
+    for (int a = 0; a < 3; a++) {
+        ck_assert_msg(fabs(va[a] - ua[a]) < 1e-14 && fabs(vb[a] - ub[a]) < 1e-14,
+                      "component %d: velocities %.17g, %.17g; expected %.17g, %.17g", a, va[a],
+                      vb[a], ua[a], ub[a]);
+        ck_assert_msg(fabs(qa[a] - (x0[0][a] + v0[0][a] * tcol + ua[a] * (t - tcol))) < 1e-13 &&
+                          fabs(qb[a] - (x0[1][a] + v0[1][a] * tcol + ub[a] * (t - tcol))) < 1e-13,
+                      "component %d: positions (contact at r_a + r_b)", a);
+        const double p0 = ma * v0[0][a] + mb * v0[1][a], p1 = ma * va[a] + mb * vb[a];
+        ck_assert_msg(fabs(p1 - p0) < 1e-16 * ma, "momentum %d: %g from %g", a, p1, p0);
+        k0 += 0.5 * (ma * v0[0][a] * v0[0][a] + mb * v0[1][a] * v0[1][a]);
+        k1 += 0.5 * (ma * va[a] * va[a] + mb * vb[a] * vb[a]);
+        gn1 += (va[a] - vb[a]) * n[a];
+    }
+    ck_assert_msg(fabs(gn1 + EPS_N * gn) < 1e-14, "g_n after %.17g, want -%g * %.17g", gn1, EPS_N,
+                  gn);
+    /* the tangential relative velocity kept (eps_t = 1): (g - g_n n) before and after */
+    for (int a = 0; a < 3; a++) {
+        const double g0 = v0[0][a] - v0[1][a] - gn * n[a], g1 = va[a] - vb[a] - gn1 * n[a];
+        ck_assert_msg(fabs(g1 - g0) < 1e-14, "tangential %d: %.17g -> %.17g", a, g0, g1);
+    }
+    const double want = 0.5 * (1.0 - EPS_N * EPS_N) * m12 * gn * gn;
+    ck_assert_msg(fabs((k0 - k1) / want - 1.0) < 1e-10, "lost %.12g J, want %.12g J", k0 - k1,
+                  want);
+    ck_assert(fabs(s->diss_n / want - 1.0) < 1e-12);
+    ck_assert(strncmp(gr_sim_kernel(s), "event-3d", 8) == 0);
+    gr_sim_free(s);
+}
+END_TEST
+
 /* Each species pair's TC time is the contact time of its own reduced mass. */
 START_TEST(test_pair_tc)
 {
@@ -222,11 +296,13 @@ END_TEST
 
 /* A gas of two species (radii 1 and 2 mm, equal density) of n grains (key=value) driven by the
  * random force, hard discs (2D, packing fraction 0.1) or rods (1D, L' = 5 cm), eps_n = 0.5;
- * variant 2: rough discs (2D, beta = 0.3). */
+ * variant 2: rough discs (2D, beta = 0.3); variant 3: smooth spheres (3D). */
 static gr_scene species_gas(int variant, const char *n, const char *seed)
 {
-    const int dim = variant == 0 ? 1 : 2;
-    const char *ov[15] = {dim == 1 ? "system.dim=1" : "system.dim=2",
+    const int dim = variant == 0 ? 1 : variant == 3 ? 3 : 2;
+    const char *ov[15] = {dim == 1   ? "system.dim=1"
+                          : dim == 2 ? "system.dim=2"
+                                     : "system.dim=3",
                           n,
                           dim == 1 ? "system.reduced_length=0.05" : "system.packing_fraction=0.1",
                           "species.radius=1e-3, 2e-3",
@@ -249,8 +325,13 @@ static gr_scene species_gas(int variant, const char *n, const char *seed)
  * rounding, no overlaps (checked after every collision), collisions of all three pair kinds. */
 START_TEST(test_driven_gas)
 {
-    const int dim = _i == 0 ? 1 : 2;
-    gr_scene sc = species_gas(_i, quick() ? "system.N=60" : "system.N=200", "run.seed=5");
+    const int dim = _i == 0 ? 1 : _i == 3 ? 3 : 2;
+    /* 3D: 100 spheres (the overlap check after every collision is O(N^2)) */
+    gr_scene sc = species_gas(_i,
+                              quick()    ? "system.N=60"
+                              : dim == 3 ? "system.N=100"
+                                         : "system.N=200",
+                              "run.seed=5");
     gr_sim *s = sim_of(&sc);
     gr_event_set_debug(s, true, false);
     gr_error err = {0};
@@ -259,15 +340,17 @@ START_TEST(test_driven_gas)
     gr_event_counts c;
     gr_event_stats(s, &c);
     ck_assert_msg(c.collisions > (quick() ? 5 : 200), "%lld collisions", (long long)c.collisions);
-    double p[2] = {0, 0}, scale = 0.0;
+    double p[3] = {0, 0, 0}, scale = 0.0;
     for (int i = 0; i < s->n; i++) {
-        const double vy = dim == 2 ? s->vy[i] : 0.0;
+        const double vy = dim >= 2 ? s->vy[i] : 0.0, vz = dim == 3 ? s->vz[i] : 0.0;
         p[0] += s->mass_i[i] * s->vx[i];
         p[1] += s->mass_i[i] * vy;
-        scale += s->mass_i[i] * sqrt(s->vx[i] * s->vx[i] + vy * vy);
+        p[2] += s->mass_i[i] * vz;
+        scale += s->mass_i[i] * sqrt(s->vx[i] * s->vx[i] + vy * vy + vz * vz);
     }
-    ck_assert_msg(fabs(p[0]) < 1e-12 * scale && fabs(p[1]) < 1e-12 * scale, "momentum %g, %g of %g",
-                  p[0], p[1], scale);
+    ck_assert_msg(fabs(p[0]) < 1e-12 * scale && fabs(p[1]) < 1e-12 * scale &&
+                      fabs(p[2]) < 1e-12 * scale,
+                  "momentum %g, %g, %g of %g", p[0], p[1], p[2], scale);
     gr_ledger l = gr_sim_ledger(s);
     const double rel =
         gr_ledger_residual(&l) / fmax(l.injected + gr_ledger_dissipated(&l), l.initial);
@@ -276,7 +359,7 @@ START_TEST(test_driven_gas)
     }
     ck_assert_msg(fabs(rel) < 1e-10, "ledger residual %g", rel);
     ck_assert(strncmp(gr_sim_kernel(s), "event-", 6) == 0);
-    ck_assert(_i < 2 || (l.rotational > 0.0 && l.dissipated_tangential > 0.0));
+    ck_assert(_i != 2 || (l.rotational > 0.0 && l.dissipated_tangential > 0.0));
     gr_sim_free(s);
 }
 END_TEST
@@ -390,6 +473,16 @@ START_TEST(test_refusals)
                           "model.normal=hard_sphere",
                           "integrator.kind=event"};
     refused(dist, 10, "a radius distribution");
+    const char *rough3[] = {"system.dim=3",
+                            "system.N=100",
+                            "system.packing_fraction=0.1",
+                            "species.radius=1e-3, 2e-3",
+                            "species.mass=1e-5, 4e-5",
+                            "placement.kind=random",
+                            "model.normal=hard_sphere",
+                            "model.rotation=true",
+                            "integrator.kind=event"};
+    refused(rough3, 9, "rotation"); /* rough spheres of several species: not yet */
 }
 END_TEST
 
@@ -400,6 +493,7 @@ static Suite *event_species_suite(void)
     tcase_add_test(t, test_two_body_2d_headon);
     tcase_add_test(t, test_two_body_2d_oblique);
     tcase_add_test(t, test_two_body_1d);
+    tcase_add_test(t, test_two_body_3d);
     tcase_add_test(t, test_pair_tc);
     tcase_add_test(t, test_refusals);
     tcase_add_test(t, test_rough_pair);
@@ -408,8 +502,8 @@ static Suite *event_species_suite(void)
     TCase *g = tcase_create("gas");
     tcase_set_timeout(g, 600);
     tcase_add_loop_test(g, test_kicks_per_species, 0, 2);
-    tcase_add_loop_test(g, test_driven_gas, 0, 3);
-    tcase_add_loop_test(g, test_restart_exact, 0, 3);
+    tcase_add_loop_test(g, test_driven_gas, 0, 4);
+    tcase_add_loop_test(g, test_restart_exact, 0, 4);
     suite_add_tcase(s, g);
     return s;
 }

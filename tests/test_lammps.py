@@ -204,45 +204,52 @@ with tempfile.TemporaryDirectory() as tmp:
 # position and velocity after 5325 steps and ~60 collisions of all three pair kinds agree to
 # rounding (measured 7e-15 m, 2e-13 m/s), which a wrong mass, diameter or damping would break by
 # orders of magnitude.
-mix = os.path.join(src, "docs", "scenes", "bidisperse-mixture.ini")
-sets_mix = {"system.N": 200, "species.radius": "1e-3, 2e-3", "system.packing_fraction": 0.1, "placement.v0": 0.3,
-            "noise.mode": "none", "run.warmup": 0, "run.duration": 0.05, "run.sample_every": 0.01,
-            "output.snapshot_every": 0.01, "output.plots": "false"}
-args_mix = sum((["--set", f"{k}={v}"] for k, v in sets_mix.items()), [])
-with tempfile.TemporaryDirectory() as tmp:
-    lmpdir, rundir = os.path.join(tmp, "lammps"), os.path.join(tmp, "granule")
-    subprocess.run([exe, "export", "lammps", mix, "--out", lmpdir] + args_mix, check=True)
-    deck = open(os.path.join(lmpdir, "in.granule")).read()
-    data = open(os.path.join(lmpdir, "data.granule")).read()
-    if not ("2 atom types" in data and "set type 1 mass 3.5299999999999997e-05" in deck
-            and "set type 2 mass 0.00014119999999999999" in deck and "pair_style granular" in deck
-            and all(f"pair_coeff {a} {b} hooke 5000 " in deck for a, b in ((1, 1), (1, 2), (2, 2)))):
-        failures.append("mixture deck: 2 atom types, set type masses, one pair_coeff per species pair")
-    r = subprocess.run([lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
-    if r.returncode != 0:
-        print(open(os.path.join(lmpdir, "log.lammps")).read()[-2000:])
-        sys.exit("LAMMPS failed on the exported mixture's deck")
-    subprocess.run([exe, "run", os.path.join(lmpdir, "scene.ini"), "--out", rundir, "--quiet"], check=True)
-    fr_g = granule.read_snapshots(rundir)
-    collisions = json.load(open(os.path.join(rundir, "summary.json")))["collisions"]
-    blocks = open(os.path.join(lmpdir, "dump.granule.lammpstrj")).read().split("ITEM: TIMESTEP\n")[1:]
-    worst_x = worst_v = 0.0
-    same_types = len(blocks) == len(fr_g) == 6
-    for blk, f in zip(blocks, fr_g):
-        lines = blk.splitlines()
-        n = int(lines[2])
-        a = np.array([ln.split() for ln in lines[8:8 + n]], dtype=float)  # id type x y vx vy
-        a = a[np.argsort(a[:, 0])]
-        same_types &= bool(np.array_equal(a[:, 1].astype(int), f["species"]))
-        for c, key in ((2, "x"), (3, "y")):
-            dx = a[:, c] - f[key]
-            worst_x = max(worst_x, float(np.abs(dx - f["L"] * np.round(dx / f["L"])).max()))
-        worst_v = max(worst_v, float(np.abs(a[:, 4] - f["vx"]).max()), float(np.abs(a[:, 5] - f["vy"]).max()))
-    ok = same_types and collisions >= 30 and worst_x < 1e-12 and worst_v < 1e-10
-    print(f"{'ok  ' if ok else 'FAIL'} mixture, no noise: {collisions} collisions; LAMMPS against granule: "
-          f"positions {worst_x:.2g} m, velocities {worst_v:.2g} m/s apart at most; types = species: {same_types}")
-    if not ok:
-        failures.append("mixture trajectories")
+# The same in 3D (spheres, docs/scenes/bidisperse-mixture-3d.ini): the deck is the 2D one with
+# dimension 3 and z, the trajectories agree to rounding as well.
+for mix_scene in ("bidisperse-mixture.ini", "bidisperse-mixture-3d.ini"):
+    mix = os.path.join(src, "docs", "scenes", mix_scene)
+    three = "3d" in mix_scene
+    label = "3D mixture" if three else "mixture"
+    sets_mix = {"system.N": 200, "species.radius": "1e-3, 2e-3", "system.packing_fraction": 0.1, "placement.v0": 0.3,
+                "noise.mode": "none", "run.warmup": 0, "run.duration": 0.05, "run.sample_every": 0.01,
+                "output.snapshot_every": 0.01, "output.plots": "false"}
+    args_mix = sum((["--set", f"{k}={v}"] for k, v in sets_mix.items()), [])
+    with tempfile.TemporaryDirectory() as tmp:
+        lmpdir, rundir = os.path.join(tmp, "lammps"), os.path.join(tmp, "granule")
+        subprocess.run([exe, "export", "lammps", mix, "--out", lmpdir] + args_mix, check=True)
+        deck = open(os.path.join(lmpdir, "in.granule")).read()
+        data = open(os.path.join(lmpdir, "data.granule")).read()
+        if not ("2 atom types" in data and "set type 1 mass 3.5299999999999997e-05" in deck
+                and "set type 2 mass 0.00014119999999999999" in deck and "pair_style granular" in deck
+                and f"dimension {3 if three else 2}" in deck
+                and all(f"pair_coeff {a} {b} hooke 5000 " in deck for a, b in ((1, 1), (1, 2), (2, 2)))):
+            failures.append(f"{label} deck: 2 atom types, set type masses, one pair_coeff per species pair")
+        r = subprocess.run([lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
+        if r.returncode != 0:
+            print(open(os.path.join(lmpdir, "log.lammps")).read()[-2000:])
+            sys.exit(f"LAMMPS failed on the exported {label}'s deck")
+        subprocess.run([exe, "run", os.path.join(lmpdir, "scene.ini"), "--out", rundir, "--quiet"], check=True)
+        fr_g = granule.read_snapshots(rundir)
+        collisions = json.load(open(os.path.join(rundir, "summary.json")))["collisions"]
+        blocks = open(os.path.join(lmpdir, "dump.granule.lammpstrj")).read().split("ITEM: TIMESTEP\n")[1:]
+        worst_x = worst_v = 0.0
+        same_types = len(blocks) == len(fr_g) == 6
+        axes = ("x", "y", "z") if three else ("x", "y")
+        for blk, f in zip(blocks, fr_g):
+            lines = blk.splitlines()
+            n = int(lines[2])
+            a = np.array([ln.split() for ln in lines[8:8 + n]], dtype=float)  # id type x y (z) vx vy (vz)
+            a = a[np.argsort(a[:, 0])]
+            same_types &= bool(np.array_equal(a[:, 1].astype(int), f["species"]))
+            for c, key in enumerate(axes):
+                dx = a[:, 2 + c] - f[key]
+                worst_x = max(worst_x, float(np.abs(dx - f["L"] * np.round(dx / f["L"])).max()))
+                worst_v = max(worst_v, float(np.abs(a[:, 2 + len(axes) + c] - f["v" + key]).max()))
+        ok = same_types and collisions >= 30 and worst_x < 1e-12 and worst_v < 1e-10
+        print(f"{'ok  ' if ok else 'FAIL'} {label}, no noise: {collisions} collisions; LAMMPS against granule: "
+              f"positions {worst_x:.2g} m, velocities {worst_v:.2g} m/s apart at most; types = species: {same_types}")
+        if not ok:
+            failures.append(f"{label} trajectories")
 
 print(f"{len(failures)} failed")
 sys.exit(1 if failures else 0)

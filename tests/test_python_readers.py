@@ -273,34 +273,41 @@ with tempfile.TemporaryDirectory() as tmp:
     except ValueError as e:
         check("output.trajectory = h5md" in str(e), f"mdanalysis_universe of a run without trajectory.h5 says what to do: {e}")
     # 6. a mixture (docs/mixtures.md): trajectory.h5 carries H5MD's species (1, 2, ...), each grain's
-    # mass and radius; every reader gives what the XYZ trajectory of the same run gives
-    mix = os.path.join(src, "docs", "scenes", "bidisperse-mixture.ini")
+    # mass and radius; every reader gives what the XYZ trajectory of the same run gives; in 2D and
+    # in 3D (spheres: z and vz too; masses 3.53e-5 and 1.412e-4 kg given, radii 1 and 2 mm)
     small_mix = {"system.N": 200, "species.radius": "1e-3, 2e-3", "run.warmup": 0, "run.duration": 0.006,
                  "run.sample_every": 0.002, "output.snapshot_every": 0.002, "output.plots": "false"}
-    for fmt in ("xyz", "h5md"):
-        granule_cmd("run", mix, "--out", f"mix-{fmt}", "--quiet", *sets({**small_mix, "output.trajectory": fmt}))
-    with h5py.File("mix-h5md/trajectory.h5", "r") as f:
-        part = f["particles/all"]
-        sp, m, r = part["species"][()], part["mass"][()], part["radius"][()]
-        nsp = int(f["parameters/granule"].attrs["n_species"])
-    want_m, want_r = np.where(sp == 1, 3.53e-5, 1.412e-4), np.where(sp == 1, 1e-3, 2e-3)
-    check(sorted(set(sp.tolist())) == [1, 2] and (sp == 1).sum() == 100 and nsp == 2
-          and np.array_equal(m, want_m) and np.array_equal(r, want_r),
-          "mixture: trajectory.h5 has /particles/all/species 1, 2 (100 each), each grain's mass and radius")
-    fx, fh = granule.read_snapshots("mix-xyz"), granule.read_snapshots("mix-h5md")
-    check(len(fx) == len(fh) == 4 and all(np.array_equal(a[k], b[k]) for a, b in zip(fx, fh)
-                                          for k in ("species", "radii", "masses", "x", "vx")),
-          "mixture: read_snapshots of trajectory.h5 gives the XYZ's species, radii and masses")
-    ax, ah = granule.read_ase("mix-xyz"), granule.read_ase("mix-h5md")
-    check(all(np.array_equal(a.arrays["species_index"], b.arrays["species_index"])
-              and np.array_equal(a.get_masses(), b.get_masses()) and np.array_equal(a.arrays["radius"], b.arrays["radius"])
-              for a, b in zip(ax, ah)), "mixture: read_ase of trajectory.h5: species_index, masses, radii as the XYZ's")
-    um = granule.mdanalysis_universe("mix-h5md")
-    check(list(um.atoms.types) == [str(v) for v in sp] and np.array_equal(um.atoms.masses, m)
-          and np.array_equal(um.atoms.radii, r), "mixture: mdanalysis_universe types are the species, masses and radii each grain's")
-    granule_cmd("analyse", "mix-h5md", "--out", "mix-h5md-an")
-    rows = [ln.split(",") for ln in open("mix-h5md-an/species.csv") if ln[0].isdigit()]
-    check([(int(w[1]), float(w[2])) for w in rows] == [(100, 1e-3), (100, 2e-3)],
-          "mixture: granule analyse reads the species back from trajectory.h5 (species.csv)")
+    for mixname, scene_file in (("mix", "bidisperse-mixture.ini"), ("mix3", "bidisperse-mixture-3d.ini")):
+        mix = os.path.join(src, "docs", "scenes", scene_file)
+        label = "mixture" if mixname == "mix" else "3D mixture"
+        for fmt in ("xyz", "h5md"):
+            granule_cmd("run", mix, "--out", f"{mixname}-{fmt}", "--quiet",
+                        *sets({**small_mix, "output.trajectory": fmt}))
+        with h5py.File(f"{mixname}-h5md/trajectory.h5", "r") as f:
+            part = f["particles/all"]
+            sp, m, r = part["species"][()], part["mass"][()], part["radius"][()]
+            nsp = int(f["parameters/granule"].attrs["n_species"])
+            dim = int(f["parameters/granule"].attrs["dim"])
+        want_m, want_r = np.where(sp == 1, 3.53e-5, 1.412e-4), np.where(sp == 1, 1e-3, 2e-3)
+        check(sorted(set(sp.tolist())) == [1, 2] and (sp == 1).sum() == 100 and nsp == 2
+              and dim == (2 if mixname == "mix" else 3)
+              and np.array_equal(m, want_m) and np.array_equal(r, want_r),
+              f"{label}: trajectory.h5 has /particles/all/species 1, 2 (100 each), each grain's mass and radius")
+        fx, fh = granule.read_snapshots(f"{mixname}-xyz"), granule.read_snapshots(f"{mixname}-h5md")
+        cols = ("species", "radii", "masses", "x", "vx") + (("z", "vz") if dim == 3 else ())
+        check(len(fx) == len(fh) == 4 and all(np.array_equal(a[k], b[k]) for a, b in zip(fx, fh)
+                                              for k in cols),
+              f"{label}: read_snapshots of trajectory.h5 gives the XYZ's species, radii and masses")
+        ax, ah = granule.read_ase(f"{mixname}-xyz"), granule.read_ase(f"{mixname}-h5md")
+        check(all(np.array_equal(a.arrays["species_index"], b.arrays["species_index"])
+                  and np.array_equal(a.get_masses(), b.get_masses()) and np.array_equal(a.arrays["radius"], b.arrays["radius"])
+                  for a, b in zip(ax, ah)), f"{label}: read_ase of trajectory.h5: species_index, masses, radii as the XYZ's")
+        um = granule.mdanalysis_universe(f"{mixname}-h5md")
+        check(list(um.atoms.types) == [str(v) for v in sp] and np.array_equal(um.atoms.masses, m)
+              and np.array_equal(um.atoms.radii, r), f"{label}: mdanalysis_universe types are the species, masses and radii each grain's")
+        granule_cmd("analyse", f"{mixname}-h5md", "--out", f"{mixname}-h5md-an")
+        rows = [ln.split(",") for ln in open(f"{mixname}-h5md-an/species.csv") if ln[0].isdigit()]
+        check([(int(w[1]), float(w[2])) for w in rows] == [(100, 1e-3), (100, 2e-3)],
+              f"{label}: granule analyse reads the species back from trajectory.h5 (species.csv)")
 
 finish()

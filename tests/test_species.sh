@@ -138,6 +138,92 @@ assert [(int(r[1]), float(r[3])) for r in rows] == [(500, 3.53e-5), (500, 1.412e
 assert all(float(r[4]) > 0 for r in rows), rows
 PY
 
+# 3D (spheres, docs/scenes/bidisperse-mixture-3d.ini: 600 spheres, masses 1:4, equal radii): the
+# ratio is the same as in 2D (equal radii: the prefactor and sigma^(d-1) drop out), T_1/T_2 within 3
+# errors of it and more than 5 from 1, each T_s within 5 % of its Enskog value with the 3D mean field
+# (Carnahan-Starling chi); the injection rate 3 D sum 1/m_i; the ledger; snapshots with species
+scene3=$src/docs/scenes/bidisperse-mixture-3d.ini
+if [[ $quick == 1 ]]; then
+    run3=(--set run.warmup=0.02 --set run.duration=0.1 --set system.N=100)
+else
+    run3=(--set run.warmup=0.3 --set run.duration=1.5)
+fi
+OMP_NUM_THREADS=1 "$granule" run "$scene3" --out "$tmp/mix3d" --set output.plots=false \
+    --set output.snapshot_every=0.05 "${run3[@]}" >"$tmp/mix3d.log" 2>&1 ||
+    { cat "$tmp/mix3d.log" >&2; fail "3D mixture"; }
+python3 - "$tmp/mix3d" "$theory" "$quick" <<'PY' || fail "3D mixture's temperature ratio"
+import glob, json, sys
+d, theory, quick = sys.argv[1], float(sys.argv[2]), sys.argv[3] == "1"
+s = json.load(open(d + "/summary.json"))
+sp, mf = s["analysis"]["species"], s["mean_field"]
+r, e = sp["T1_over_T2"], sp["T1_over_T2_stderr"]
+N = s["scene"]["system"]["N"]
+rate = 3 * 1e-8 * (N / 2 / 3.53e-5 + N / 2 / 1.412e-4) * (1 - 1 / N)
+print(f"3D: T_1/T_2 = {r:.4f} +- {e:.4f}, expected {theory:.4f} (z = {(r - theory) / e:+.2f}), "
+      f"equipartition 1 at z = {(r - 1) / e:+.1f}; T_s {sp['T'][0]:.3g}, {sp['T'][1]:.3g} J against "
+      f"Enskog {mf['T_predicted'][0]:.3g}, {mf['T_predicted'][1]:.3g} J; ledger {s['ledger']['relative_residual']:.2g}")
+ok = s["kernel"].startswith("3d-verlet-list-species/")
+ok &= abs(mf["T1_over_T2_predicted"] / theory - 1) < 1e-5 and "spheres" in mf["reference"]
+ok &= abs(s["energy_injection_rate_expected"] / rate - 1) < 1e-12
+ok &= abs(s["ledger"]["relative_residual"]) < 0.01
+ok &= quick or (abs(r - theory) < 3 * e and r - 1 > 5 * e and 0 < e < 0.03)
+ok &= quick or all(abs(a / b - 1) < 0.05 for a, b in zip(sp["T"], mf["T_predicted"]))
+f = sorted(glob.glob(d + "/snapshots/*.xyz"))[-1]
+head = open(f).readlines()[1]
+rows = [l.split() for l in open(f).readlines()[2:]]
+ok &= 'pbc="T T T"' in head and "species_index:I:1" in head
+ok &= sorted(set(int(w[12]) for w in rows)) == [1, 2]
+ok &= all(float(w[8]) == (3.53e-5 if w[12] == "1" else 1.412e-4) for w in rows)
+sys.exit(0 if ok else 1)
+PY
+# event-driven smooth spheres of the same mixture: T_1/T_2 against the soft kernel's (3 combined
+# errors) and the theory (3 %), the ledger to rounding, the same injection rate
+OMP_NUM_THREADS=1 "$granule" run "$scene3" --out "$tmp/mix3d-event" --set output.plots=false \
+    --set output.snapshot_every=0 "${run3[@]}" "${event[@]}" >"$tmp/mix3d-event.log" 2>&1 ||
+    { cat "$tmp/mix3d-event.log" >&2; fail "3D mixture, event-driven"; }
+python3 - "$tmp" "$theory" "$quick" <<'PY' || fail "3D event-driven temperature ratio"
+import json, sys
+tmp, theory, quick = sys.argv[1], float(sys.argv[2]), sys.argv[3] == "1"
+ev, soft = (json.load(open(f"{tmp}/{n}/summary.json")) for n in ("mix3d-event", "mix3d"))
+r, e = ev["analysis"]["species"]["T1_over_T2"], ev["analysis"]["species"]["T1_over_T2_stderr"]
+r2, e2 = soft["analysis"]["species"]["T1_over_T2"], soft["analysis"]["species"]["T1_over_T2_stderr"]
+zs = (r - r2) / (e * e + e2 * e2) ** 0.5
+print(f"3D event: T_1/T_2 = {r:.4f} +- {e:.4f}: theory {theory:.4f}, soft kernel {r2:.4f} +- "
+      f"{e2:.4f} at z = {zs:+.2f}, 1 at z = {(r - 1) / e:+.1f}")
+ok = ev["kernel"].startswith("event-3d-cells-exact")
+ok &= abs(ev["ledger"]["relative_residual"]) < 1e-10
+ok &= ev["energy_injection_rate_expected"] == soft["energy_injection_rate_expected"]
+ok &= quick or (abs(r / theory - 1) < 0.03 and abs(zs) < 3 and r - 1 > 5 * e and 0 < e < 0.03)
+sys.exit(0 if ok else 1)
+PY
+# what a 3D mixture cannot run yet, at its key
+refuse_with "$scene3" "\[boundary\] z.*not available with \[species\]" --set boundary.z=walls "${event[@]}"
+refuse_with "$scene3" "\[gravity\] gz.*not available with \[species\]" --set gravity.gz=-9.81 "${event[@]}"
+refuse_with "$scene3" "\[system\] dim.*not available with \[species\].*a radius distribution" \
+    --set species.distribution=uniform --set species.radius= --set species.mass= \
+    --set species.fraction= --set species.radius_min=1e-3 --set species.radius_max=2e-3 \
+    --set species.density=5
+# densities in kg/m^3 (the masses (4/3) pi r^3 rho) and unequal radii: the injection rate, and the
+# run's mean field against scripts/mixture_theory.py --dim 3 (sigma_ij^2 tells 3D from 2D)
+sed 's/^mass = .*/density = 2500, 10000/' "$scene3" >"$tmp/rho3d.ini"
+"$granule" run "$tmp/rho3d.ini" --out "$tmp/rho3d" --set 'species.radius=1.5e-3, 3e-3' \
+    --set run.warmup=0 --set run.duration=0.005 --set output.plots=false >"$tmp/rho3d.log" 2>&1 ||
+    { cat "$tmp/rho3d.log" >&2; fail "3D mixture with densities"; }
+python3 - "$tmp/rho3d/summary.json" "$src/scripts" <<'PY' || fail "3D masses from the densities, 3D theory"
+import json, math, sys
+sys.path.insert(0, sys.argv[2])
+import mixture_theory as mt
+s = json.load(open(sys.argv[1]))
+m = (2500 * 4 / 3 * math.pi * 1.5e-3 ** 3, 10000 * 4 / 3 * math.pi * 3e-3 ** 3)
+rate = 3 * 1e-8 * 300 * (1 / m[0] + 1 / m[1]) * (1 - 1 / 600)
+assert abs(s["energy_injection_rate_expected"] / rate - 1) < 1e-12, (s["energy_injection_rate_expected"], rate)
+want3 = mt.ratio(m, (1.5e-3, 3e-3), (0.5, 0.5), 0.7, dim=3)
+want2 = mt.ratio(m, (1.5e-3, 3e-3), (0.5, 0.5), 0.7)
+got = s["mean_field"]["T1_over_T2_predicted"]
+print(f"3D theory, radii 1:2, masses 1:32: T_1/T_2 = {got:.6f} (script --dim 3: {want3:.6f}; 2D would be {want2:.6f})")
+assert abs(got / want3 - 1) < 1e-5 and abs(want3 / want2 - 1) > 1e-3, (got, want3, want2)
+PY
+
 # a sweep over eps (docs/sweeps/mixture-eps.ini, shortened): sweep.csv has the measured ratio and the theory
 sed -e "s|^scene = ../scenes/bidisperse-mixture.ini|scene = $scene|" -e "s|^out = .*|out = $tmp/sweep|" \
     -e 's/^run.duration = 3.0/run.duration = 0.05/' -e 's/^run.warmup = 1.0/run.warmup = 0.01/' \

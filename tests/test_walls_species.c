@@ -47,7 +47,15 @@ static const char *pair_dist =
     "eps_n = 0.7\n[driving]\nkind = none\n[boundary]\ny = walls\n[gravity]\ngy = -9.81\n"
     "[integrator]\nsteps_per_contact = 50\n[run]\nseed = 11\n";
 
-/* Both grains' apex heights above their own touching points, `want` bounces each. */
+/* The same pair of spheres (3D) on the floor z = 0 (issue 35). */
+static const char *pair_3d =
+    "[system]\ndim = 3\nN = 2\nL = 0.04\n[species]\nradius = 1e-3, 2e-3\nmass = 1e-5, 4e-5\n"
+    "[placement]\nkind = cubic\nv0 = 0\n[model]\nk_s = 5e4\neps_n = 0.7\n"
+    "[driving]\nkind = none\n[boundary]\nz = walls\n[gravity]\ngz = -9.81\n"
+    "[integrator]\nsteps_per_contact = 50\n";
+
+/* Both grains' apex heights above their own touching points, `want` bounces each (3D: spheres on
+ * the floor z = 0). */
 static void bounce_each(const char *text, const char *const *set, int n_set)
 {
     gr_scene sc;
@@ -57,17 +65,18 @@ static void bounce_each(const char *text, const char *const *set, int n_set)
     ck_assert_msg(fabs(s->x[0] - s->x[1]) > s->rad[0] + s->rad[1] + 1e-3,
                   "the grains fall side by side (x %g, %g)", s->x[0], s->x[1]);
     const int want = quick() ? 3 : 5;
+    const double *q = s->dim == 3 ? s->z : s->y, *vq = s->dim == 3 ? s->vz : s->vy;
     double h[2][6], v_prev[2] = {0.0, 0.0};
     int k[2] = {1, 1};
     for (int i = 0; i < 2; i++) {
-        h[i][0] = s->y[i] - s->rad[i];
+        h[i][0] = q[i] - s->rad[i];
     }
     for (int64_t n = 0; n < 20000000 && (k[0] <= want || k[1] <= want); n++) {
         step(s, 1);
         for (int i = 0; i < 2; i++) {
-            const double v = s->vy[i];
-            if (v_prev[i] > 0.0 && v <= 0.0 && s->y[i] > s->rad[i] && k[i] <= want) {
-                h[i][k[i]++] = s->y[i] + v * v / (2.0 * G) - s->rad[i];
+            const double v = vq[i];
+            if (v_prev[i] > 0.0 && v <= 0.0 && q[i] > s->rad[i] && k[i] <= want) {
+                h[i][k[i]++] = q[i] + v * v / (2.0 * G) - s->rad[i];
             }
             v_prev[i] = v;
         }
@@ -78,15 +87,15 @@ static void bounce_each(const char *text, const char *const *set, int n_set)
         for (int b = 1; b <= want; b++) {
             worst = fmax(worst, fabs(h[i][b] / h[i][b - 1] / (EPS * EPS) - 1.0));
         }
-        printf("species %d (r = %g m, m = %g kg): max |h_k/h_(k-1)/eps^2 - 1| = %.2e over %d "
+        printf("%dD species %d (r = %g m, m = %g kg): max |h_k/h_(k-1)/eps^2 - 1| = %.2e over %d "
                "bounces\n",
-               s->species[i] + 1, s->rad[i], s->mass_i[i], worst, want);
+               s->dim, s->species[i] + 1, s->rad[i], s->mass_i[i], worst, want);
         ck_assert_msg(worst < 0.06 * (1.0 - EPS), "grain %d: %g", i, worst);
     }
     gr_sim_free(s);
 }
 
-START_TEST(bounce_each_species) { bounce_each(pair_2d, NULL, 0); }
+START_TEST(bounce_each_species) { bounce_each(_i ? pair_3d : pair_2d, NULL, 0); }
 END_TEST
 
 /* A radius distribution (walls.c, wall_coeffs: each grain's wall contact scaled from the walls'
@@ -100,15 +109,16 @@ START_TEST(bounce_each_size)
 END_TEST
 
 /* A bed of two species (or of a radius distribution) settled on its floor weighs sum_i m_i g (the
- * floor's mean normal force). */
-static void bed_weighs(const char *sizes)
+ * floor's mean normal force); 3D: 60 spheres from a cubic lattice between walls at z = 0 and L. */
+static void bed_weighs(int dim, const char *sizes)
 {
     char bed[512];
     snprintf(bed, sizeof bed,
-             "[system]\ndim = 2\nN = 60\nL = 0.04\n[species]\n%s[placement]\nkind = uniform\n"
+             "[system]\ndim = %d\nN = 60\nL = %s\n[species]\n%s[placement]\nkind = %s\n"
              "v0 = 0\n[model]\nk_s = 5e3\neps_n = 0.3\n[driving]\nkind = none\n[boundary]\n"
-             "y = walls\n[gravity]\ngy = -9.81\n",
-             sizes);
+             "%s = walls\n[gravity]\n%s = -9.81\n",
+             dim, dim == 3 ? "0.03" : "0.04", sizes, dim == 3 ? "cubic" : "uniform",
+             dim == 3 ? "z" : "y", dim == 3 ? "gz" : "gy");
     gr_scene sc;
     load(&sc, bed, NULL, 0);
     gr_sim *s = create(&sc);
@@ -118,8 +128,8 @@ static void bed_weighs(const char *sizes)
     }
     double fw[6];
     settled_wall_forces(s, 0.3, 0.05, fw); /* fallen and settled, then 0.05 s */
-    const double floor_f = fw[2];
-    printf("bed (%s) at rest: floor %.8g N, sum m_i g = %.8g N (ratio - 1 = %.2e)\n",
+    const double floor_f = fw[dim == 3 ? 4 : 2];
+    printf("%dD bed (%s) at rest: floor %.8g N, sum m_i g = %.8g N (ratio - 1 = %.2e)\n", dim,
            s->cc_pair ? "two species" : "a radius distribution", floor_f, weight,
            floor_f / weight - 1.0);
     ck_assert_msg(fabs(floor_f / weight - 1.0) < 1e-3, "floor %g, weight %g", floor_f, weight);
@@ -128,8 +138,10 @@ static void bed_weighs(const char *sizes)
 
 START_TEST(bed_weighs_each_mass)
 {
-    bed_weighs("radius = 1e-3, 2e-3\nmass = 1e-5, 4e-5\nfraction = 0.5, 0.5\n");
-    bed_weighs("distribution = uniform\nradius_min = 1e-3\nradius_max = 2e-3\ndensity = 5\n");
+    const char *two = "radius = 1e-3, 2e-3\nmass = 1e-5, 4e-5\nfraction = 0.5, 0.5\n";
+    bed_weighs(2, two);
+    bed_weighs(2, "distribution = uniform\nradius_min = 1e-3\nradius_max = 2e-3\ndensity = 5\n");
+    bed_weighs(3, two);
 }
 END_TEST
 
@@ -174,6 +186,14 @@ START_TEST(ledger_species_walls)
     ledger_closes(bed, dist, 6, quick() ? 15000 : 40000);
     dist[5] = "species.density=0.007"; /* kg/m in 1D: masses near the lists' */
     ledger_closes(column, dist, 6, quick() ? 15000 : 40000);
+    /* 3D: spheres between walls at z = 0 and L (and x) under gravity, with sliding friction at the
+     * walls and between the grains, rotating */
+    const char *box3 =
+        "[system]\ndim = 3\nN = 150\nL = 0.04\n[species]\nradius = 1e-3, 2e-3\nmass = 1e-5, "
+        "4e-5\n[placement]\nkind = cubic\nv0 = 0.2\nomega0 = 100\n[model]\nk_s = 5e4\n"
+        "eps_n = 0.7\ntangential = sliding_friction\nmu = 0.3\nrotation = true\n"
+        "[noise]\nD = 1e-9\n[boundary]\nz = walls\nx = walls\n[gravity]\ngz = -9.81\n";
+    ledger_closes(box3, NULL, 0, quick() ? 12000 : 20000);
 }
 END_TEST
 
@@ -250,7 +270,7 @@ static Suite *walls_species_suite(void)
     Suite *s = suite_create("walls_species");
     TCase *t = tcase_create("walls");
     tcase_set_timeout(t, 600);
-    tcase_add_test(t, bounce_each_species);
+    tcase_add_loop_test(t, bounce_each_species, 0, 2);
     tcase_add_test(t, bounce_each_size);
     tcase_add_test(t, bed_weighs_each_mass);
     tcase_add_test(t, ledger_species_walls);

@@ -50,18 +50,24 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
             m->mass[a] = p->masses[i];
         }
     }
-    double V[2] = {0.0, 0.0}, M = 0.0;
+    double V[3] = {0.0, 0.0, 0.0}, M = 0.0;
     for (int i = 0; i < p->n; i++) {
         V[0] += p->masses[i] * p->vx[i];
-        V[1] += p->dim == 2 ? p->masses[i] * p->vy[i] : 0.0;
+        V[1] += p->dim >= 2 ? p->masses[i] * p->vy[i] : 0.0;
+        V[2] += p->dim == 3 ? p->masses[i] * p->vz[i] : 0.0;
         M += p->masses[i];
     }
     V[0] /= M;
     V[1] /= M;
+    V[2] /= M;
     double e[GR_MAX_SPECIES] = {0};
     for (int i = 0; i < p->n; i++) {
-        const double ux = p->vx[i] - V[0], uy = p->dim == 2 ? p->vy[i] - V[1] : 0.0;
-        e[p->species[i]] += p->masses[i] * (ux * ux + uy * uy);
+        const double ux = p->vx[i] - V[0], uy = p->dim >= 2 ? p->vy[i] - V[1] : 0.0;
+        double u2 = ux * ux + uy * uy;
+        if (p->dim == 3) {
+            u2 += (p->vz[i] - V[2]) * (p->vz[i] - V[2]);
+        }
+        e[p->species[i]] += p->masses[i] * u2;
     }
     double T[GR_MAX_SPECIES];
     for (int a = 0; a < m->ns; a++) {
@@ -136,7 +142,7 @@ const gr_observable_type gr_obs_species = {
     .name = "species",
     .summary = "temperature of each species of a mixture, T_s = m <|v - V|^2>_s / d, and T_s / T_1 "
                "([species], docs/mixtures.md)",
-    .dims = 3, /* 1D and 2D */
+    .dims = 7, /* 1D, 2D and 3D */
     .state_size = sizeof(species_obs),
     .init = init,
     .sample = sample,

@@ -7,22 +7,27 @@
 #include "granule/analysis.h"
 
 /* The energy each grain of species i loses per second in collisions over the number density,
- * at temperatures T (J) of a binary mixture of smooth inelastic discs, Enskog-Maxwellian
- * (docs/validation.md, "Driven binary mixtures"; scripts/mixture_theory.py is the same). */
-static double mixture_loss_2d(int i, const double T[2], const double m[2], const double r[2],
-                              const double x[2], double eps, double chi)
+ * at temperatures T (J) of a binary mixture of smooth inelastic discs (dim 2) or spheres (dim 3),
+ * Enskog-Maxwellian (docs/validation.md, "Driven binary mixtures": the prefactor
+ * 2^(3/2) pi^((d-1)/2) / Gamma(d/2) sigma_ij^(d-1) is 2^(3/2) sqrt(pi) sigma_ij in 2D and
+ * 2^(5/2) sqrt(pi) sigma_ij^2 in 3D; scripts/mixture_theory.py is the same). */
+static double mixture_loss(int dim, int i, const double T[2], const double m[2], const double r[2],
+                           const double x[2], double eps, double chi)
 {
     double tot = 0.0;
     for (int j = 0; j < 2; j++) {
         const double M = m[i] + m[j], mu_ji = m[j] / M, mij = m[i] * m[j] / M;
         const double s2 = T[i] / m[i] + T[j] / m[j];
-        tot += x[j] * chi * (r[i] + r[j]) * 4.0 * sqrt(M_PI / 2.0) * pow(s2, 1.5) * mij *
-               (1.0 + eps) * (mu_ji * (1.0 - eps) / 2.0 + (T[i] - T[j]) / (M * s2));
+        /* sigma_ij = r_i + r_j; 3D: 2 sigma_ij^2 (times the 2D prefactor 4 sqrt(pi/2)) */
+        const double sig = dim == 3 ? 2.0 * (r[i] + r[j]) * (r[i] + r[j]) : r[i] + r[j];
+        tot += x[j] * chi * sig * 4.0 * sqrt(M_PI / 2.0) * pow(s2, 1.5) * mij * (1.0 + eps) *
+               (mu_ji * (1.0 - eps) / 2.0 + (T[i] - T[j]) / (M * s2));
     }
     return tot;
 }
 
-double gr_mixture_ratio_2d(const double m[2], const double r[2], const double x[2], double eps)
+double gr_mixture_ratio(int dim, const double m[2], const double r[2], const double x[2],
+                        double eps)
 {
     if (eps >= 1.0) {
         return 1.0;
@@ -30,8 +35,8 @@ double gr_mixture_ratio_2d(const double m[2], const double r[2], const double x[
     double lo = -20.0, hi = 20.0; /* log T_1 at T_2 = 1: m_1 loss_1 - m_2 loss_2 rises with it */
     for (int k = 0; k < 200; k++) {
         const double mid = 0.5 * (lo + hi), T[2] = {exp(mid), 1.0};
-        const double g = m[0] * mixture_loss_2d(0, T, m, r, x, eps, 1.0) -
-                         m[1] * mixture_loss_2d(1, T, m, r, x, eps, 1.0);
+        const double g = m[0] * mixture_loss(dim, 0, T, m, r, x, eps, 1.0) -
+                         m[1] * mixture_loss(dim, 1, T, m, r, x, eps, 1.0);
         if (g > 0.0) {
             hi = mid;
         } else {
@@ -41,30 +46,38 @@ double gr_mixture_ratio_2d(const double m[2], const double r[2], const double x[
     return exp(0.5 * (lo + hi));
 }
 
-/* A driven binary mixture of discs ([species], docs/mixtures.md): T_1 / T_2 and each species' T
- * from the two energy balances, chi of one-size discs at the actual packing fraction for every
- * pair (exact for equal radii, where it drops out of the ratio). */
+/* A driven binary mixture of discs or spheres ([species], docs/mixtures.md): T_1 / T_2 and each
+ * species' T from the two energy balances, chi of one-size discs (Henderson) or spheres
+ * (Carnahan-Starling) at the actual packing fraction for every pair (exact for equal radii, where
+ * it drops out of the ratio). */
 static cJSON *mean_field_mixture(const gr_scene *s)
 {
-    if (s->dim != 2 || s->n_species != 2 || s->D <= 0.0 || s->contact.eps_n >= 1.0) {
+    if (s->dim == 1 || s->n_species != 2 || s->D <= 0.0 || s->contact.eps_n >= 1.0) {
         return NULL;
     }
     const double m[2] = {s->species_masses[0], s->species_masses[1]},
                  r[2] = {s->species_radius.v[0], s->species_radius.v[1]},
                  x[2] = {(double)s->species_count[0] / s->N, (double)s->species_count[1] / s->N};
     const double eps = s->contact.eps_n, phi = s->packing_fraction;
-    const double chi = (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi)); /* Henderson */
-    const double R = gr_mixture_ratio_2d(m, r, x, eps), T[2] = {R, 1.0};
-    const double n = s->N / (s->L * s->L);
+    const int dim = s->dim;
+    const double chi = dim == 3 ? (1.0 - 0.5 * phi) / ((1.0 - phi) * (1.0 - phi) * (1.0 - phi))
+                                : (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi));
+    const double R = gr_mixture_ratio(dim, m, r, x, eps), T[2] = {R, 1.0};
+    const double n = dim == 3 ? s->N / (s->L * s->L * s->L) : s->N / (s->L * s->L);
     const double sym = s->noise_mode == GR_NOISE_SYMMETRISED ? 1.0 - 1.0 / s->N : 1.0;
-    /* the losses scale as T^(3/2): 2 D / m_1 (1 - 1/N) = n loss_1(T_1, T_2) fixes the scale */
+    /* the losses scale as T^(3/2): d D / m_1 (1 - 1/N) = n loss_1(T_1, T_2) fixes the scale */
     const double lam =
-        pow(2.0 * s->D * sym / (m[0] * n * mixture_loss_2d(0, T, m, r, x, eps, chi)), 2.0 / 3.0);
+        pow(dim * s->D * sym / (m[0] * n * mixture_loss(dim, 0, T, m, r, x, eps, chi)), 2.0 / 3.0);
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "reference",
-                            "driven binary mixture of smooth inelastic discs: each species' energy "
-                            "balance, Enskog-Maxwellian, chi(phi) of one-size discs for every pair "
-                            "(docs/validation.md, Driven binary mixtures)");
+                            dim == 3 ? "driven binary mixture of smooth inelastic spheres: each "
+                                       "species' energy balance, Enskog-Maxwellian, "
+                                       "Carnahan-Starling chi(phi) of one-size spheres for every "
+                                       "pair (docs/validation.md, Driven binary mixtures)"
+                                     : "driven binary mixture of smooth inelastic discs: each "
+                                       "species' energy balance, Enskog-Maxwellian, chi(phi) of "
+                                       "one-size discs for every pair (docs/validation.md, Driven "
+                                       "binary mixtures)");
     cJSON_AddNumberToObject(j, "T1_over_T2_predicted", R);
     cJSON *t = cJSON_AddArrayToObject(j, "T_predicted");
     cJSON_AddItemToArray(t, cJSON_CreateNumber(R * lam));

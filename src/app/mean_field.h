@@ -10,11 +10,13 @@
  * the Enskog energy balance of smooth hard spheres (gr_steady_T_enskog_3d). T_mean is eq. 2.20.
  * Returns a new JSON object (NULL when no reference applies). */
 cJSON *gr_mean_field_steady(const gr_scene *s, double T_mean);
-/* T_1 / T_2 of a binary mixture of smooth inelastic discs (masses m, radii r, number fractions x,
- * restitution eps) driven by the random force of the same D on every grain, Enskog-Maxwellian with
- * the same chi for every pair (docs/validation.md, "Driven binary mixtures"); 1 at eps = 1. A
- * mixture's summary.json gives it in mean_field (gr_mean_field_steady), with each T_s. */
-double gr_mixture_ratio_2d(const double m[2], const double r[2], const double x[2], double eps);
+/* T_1 / T_2 of a binary mixture of smooth inelastic discs (dim 2) or spheres (dim 3) (masses m,
+ * radii r, number fractions x, restitution eps) driven by the random force of the same D on every
+ * grain, Enskog-Maxwellian with the same chi for every pair (docs/validation.md, "Driven binary
+ * mixtures"); 1 at eps = 1. A mixture's summary.json gives it in mean_field
+ * (gr_mean_field_steady), with each T_s. */
+double gr_mixture_ratio(int dim, const double m[2], const double r[2], const double x[2],
+                        double eps);
 /* The steady T (2.19, three components) of smooth inelastic hard spheres (diameter sigma, mass M,
  * packing fraction phi, restitution eps) driven by the random force of strength D, symmetrised:
  * the injection 3 D (1 - 1/N) / M per particle balances the Enskog dissipation with the first

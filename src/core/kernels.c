@@ -932,7 +932,9 @@ int gr_kernel_choose(gr_sim *s, gr_error *err)
                         : s->params.noise_mode == GR_NOISE_NONE ? "no-noise"
                         : s->params.noise_mode == GR_NOISE_COM  ? "noise-com"
                                                                 : "noise-symmetrised";
-    const char *nb = s->nsp        ? (s->dim == 1 ? "1d-ring-species" : "2d-verlet-list-species")
+    const char *nb = s->nsp        ? (s->dim == 1   ? "1d-ring-species"
+                                      : s->dim == 2 ? "2d-verlet-list-species"
+                                                    : "3d-verlet-list-species")
                      : s->dim == 1 ? "1d-ring"
                      : s->dim == 3 ? (s->params.skin > 0.0 ? "3d-verlet-list" : "3d-cell-list")
                                    : (s->params.skin > 0.0 ? "2d-verlet-list" : "2d-cell-list");

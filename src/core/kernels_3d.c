@@ -73,7 +73,8 @@ int gr_neighbours_alloc_3d(gr_sim *s, gr_error *err)
 static inline uint8_t was_touching_3d(const gr_sim *s, const int i, const int j, const double dx,
                                       const double dy, const double dz, const double r2)
 {
-    const double d2 = s->d * s->d;
+    /* species: the pair's own contact distance */
+    const double d2 = s->rad ? (s->rad[i] + s->rad[j]) * (s->rad[i] + s->rad[j]) : s->d * s->d;
     if (s->step == 0) {
         return r2 < d2;
     }

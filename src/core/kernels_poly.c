@@ -11,8 +11,10 @@
  * (its energy goes into the elastic total), the rest goes into G and, with rotation, into s->tg
  * (the non-conservative torques that step_poly.c books). The rolling law (rolling_friction)
  * resists w_i - w_j with the pair's own R_ij = r_i r_j / (r_i + r_j) and, for the limit that
- * arrests the rolling within a step, its reduced moment of inertia I_i I_j / (I_i + I_j). A separate instance, chosen once per run (gr_kernel_choose) when the scene
- * has species, so the monodisperse instances load nothing per pair that they did not before.
+ * arrests the rolling within a step, its reduced moment of inertia I_i I_j / (I_i + I_j). 3D
+ * (poly_3d, spheres) has the laws without history with vectors (kernels_3d.c's geometry). A
+ * separate instance, chosen once per run (gr_kernel_choose) when the scene has species, so the
+ * monodisperse instances (1D, 2D, 3D) load nothing per pair that they did not before.
  * One thread: a run with species is the same for every thread count. */
 #include <math.h>
 #include <string.h>
@@ -266,11 +268,149 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
     r->lost = lost;
 }
 
+/* The sums of the 3D pair loop: the ledger's terms, new contacts, the deepest pair. */
+typedef struct poly_sums {
+    double elastic, pn, worst, pt[2]; /* pt: tangential, friction */
+    int wi, wj;
+    int64_t fresh;
+} poly_sums;
+
+/* A touching pair (i, j) at distance dist: its elastic energy and dissipation rate. */
+static inline void tally(poly_sums *t, const gr_sim *s, int i, int j, double el, double pw,
+                         double dist)
+{
+    t->elastic += el;
+    t->pn += pw;
+    const double ov = (gr_pair_d(s, i, j) - dist) / gr_pair_d(s, i, j);
+    if (ov > t->worst) {
+        t->worst = ov;
+        t->wi = i;
+        t->wj = j;
+    }
+}
+
+static void close_sums(const poly_sums *t, gr_force_report *r)
+{
+    *r = report(t->elastic, t->pn, t->fresh, t->worst, t->wi, t->wj);
+    r->power_tangential = t->pt[0];
+    r->power_friction = t->pt[1];
+}
+
+/* 3D (spheres, species lists): the pair geometry of kernels_3d.c with the pair's own contact
+ * distance and coefficients. The contact point divides |r_ij| as r_i : r_j (arms a_i, a_j), so
+ * the tangential relative velocity there is g_c = g - g_n n + n x (a_i w_i + a_j w_j); a law
+ * without history acts along g_c with its scalar code at |g_c|, and the force F_t on j (-F_t on
+ * i) turns i by -a_i n x F_t and j by -a_j n x F_t, which the pair's orbital torque
+ * |r_ij| n x F_t cancels (angular momentum kept). */
+static void poly_3d(gr_sim *s, gr_force_report *r)
+{
+    const int n = s->n;
+    double *f[3] = {s->fx, s->fy, s->fz}, *g[3] = {s->gx, s->gy, s->gz};
+    double *v[3] = {s->vx, s->vy, s->vz}, *q[3] = {s->x, s->y, s->z};
+    double *w[3] = {s->wx, s->wy, s->omega}, *tq[3] = {s->tqx, s->tqy, s->tq};
+    const int rot = s->omega != NULL;
+    for (int a = 0; a < 3; a++) {
+        memset(f[a], 0, sizeof(double) * (size_t)n);
+        memset(g[a], 0, sizeof(double) * (size_t)n);
+        if (rot) {
+            memset(tq[a], 0, sizeof(double) * (size_t)n);
+        }
+    }
+    poly_sums t = {.wi = -1, .wj = -1};
+    const int tl = s->kernel.tl, clamp = s->kernel.clamp;
+    const int col = book_of(tl) == GR_BOOK_FRICTION; /* the law's ledger column */
+    const double inv_dt = 1.0 / s->dt;
+    for (int i = 0; i < n; i++) {
+        for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
+            const int j = s->nl_j[p];
+            double e[3];
+            for (int a = 0; a < 3; a++) {
+                e[a] = wrap_delta(q[a][j] - q[a][i], s->period[a]);
+            }
+            const double dist = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+            if (dist >= gr_pair_d(s, i, j)) {
+                s->nl_contact[p] = 0;
+                continue;
+            }
+            double nv[3], gv[3], g_n = 0.0;
+            for (int a = 0; a < 3; a++) {
+                nv[a] = e[a] / dist;
+                gv[a] = v[a][j] - v[a][i];
+                g_n += gv[a] * nv[a];
+            }
+            double fn, fd, el, pw;
+            if (!poly_contact(s, i, j, dist, g_n, &fn, &fd, &el, &pw)) {
+                s->nl_contact[p] = 0;
+                continue;
+            }
+            t.fresh += !s->nl_contact[p];
+            s->nl_contact[p] = 1;
+            double F[3], G[3];
+            for (int a = 0; a < 3; a++) {
+                F[a] = fn * nv[a];
+                G[a] = fd * nv[a];
+            }
+            if (tl != TL_none) {
+                const gr_contact_coeffs *c = &s->cc_pair[s->species[i] * s->nsp + s->species[j]];
+                const double ai = dist * s->rad[i] / (s->rad[i] + s->rad[j]), aj = dist - ai;
+                double gc[3];
+                for (int a = 0; a < 3; a++) {
+                    gc[a] = gv[a] - g_n * nv[a];
+                }
+                if (rot) { /* + n x (a_i w_i + a_j w_j) */
+                    double W[3];
+                    for (int a = 0; a < 3; a++) {
+                        W[a] = ai * w[a][i] + aj * w[a][j];
+                    }
+                    gc[0] += nv[1] * W[2] - nv[2] * W[1];
+                    gc[1] += nv[2] * W[0] - nv[0] * W[2];
+                    gc[2] += nv[0] * W[1] - nv[1] * W[0];
+                }
+                const double gm = sqrt(gc[0] * gc[0] + gc[1] * gc[1] + gc[2] * gc[2]);
+                const gr_tangential_in in = {.g_t = gm,
+                                             .f_n = fn,
+                                             .xi = gr_pair_d(s, i, j) - dist,
+                                             .g_n = g_n,
+                                             .acts = !clamp || fn > 0.0,
+                                             .m12_dt = c->m_t * inv_dt};
+                const gr_tangential_force ft = tangential_law(tl, c, in);
+                const double along = gm > 0.0 ? ft.f / gm : 0.0;
+                double Ft[3];
+                for (int a = 0; a < 3; a++) {
+                    Ft[a] = along * gc[a];
+                    F[a] += Ft[a];
+                    G[a] += Ft[a];
+                }
+                t.pt[col] += ft.p;
+                if (rot) { /* -a n x F_t on each */
+                    const double nf[3] = {nv[1] * Ft[2] - nv[2] * Ft[1],
+                                          nv[2] * Ft[0] - nv[0] * Ft[2],
+                                          nv[0] * Ft[1] - nv[1] * Ft[0]};
+                    for (int a = 0; a < 3; a++) {
+                        tq[a][i] -= ai * nf[a];
+                        tq[a][j] -= aj * nf[a];
+                    }
+                }
+            }
+            for (int a = 0; a < 3; a++) {
+                f[a][j] += F[a];
+                f[a][i] -= F[a];
+                g[a][j] += G[a];
+                g[a][i] -= G[a];
+            }
+            tally(&t, s, i, j, el, pw, dist);
+        }
+    }
+    close_sums(&t, r);
+}
+
 void gr_kernel_run_poly(gr_sim *s, gr_force_report *r)
 {
     if (s->dim == 1) {
         poly_1d(s, r);
-    } else {
+    } else if (s->dim == 2) {
         poly_2d(s, r);
+    } else {
+        poly_3d(s, r);
     }
 }

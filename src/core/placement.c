@@ -371,7 +371,14 @@ static int cubic_side(int n)
 
 static int place_random_3d(gr_sim *s, gr_error *err)
 {
-    const double L = s->L, d = s->d, phi = s->n * M_PI * d * d * d / 6.0 / (L * L * L);
+    const double L = s->L, d = s->d;
+    double phi = s->n * M_PI * d * d * d / 6.0 / (L * L * L);
+    if (s->rad) { /* species: the actual radii (d the largest diameter, the cells' side) */
+        phi = 0.0;
+        for (int i = 0; i < s->n; i++) {
+            phi += 4.0 / 3.0 * M_PI * s->rad[i] * s->rad[i] * s->rad[i] / (L * L * L);
+        }
+    }
     if (phi > RANDOM_MAX_PHI_3D * (1.0 + 1e-12)) { /* phi = 0.3 given may come back rounded up */
         return GR_FAIL(err, GR_EINVAL,
                        "%s: [placement] kind = random cannot reach phi = %.3f in 3D: random "
@@ -425,7 +432,9 @@ static int place_random_3d(gr_sim *s, gr_error *err)
                             dx -= s->params.walls[0] ? 0.0 : L * rint(dx / L);
                             dy -= s->params.walls[1] ? 0.0 : L * rint(dy / L);
                             dz -= s->params.walls[2] ? 0.0 : L * rint(dz / L);
-                            ok = dx * dx + dy * dy + dz * dz >= d * d;
+                            /* species: each pair its own contact distance r_i + r_j <= d */
+                            const double dd = s->rad ? s->rad[i] + s->rad[j] : d;
+                            ok = dx * dx + dy * dy + dz * dz >= dd * dd;
                         }
                     }
                 }
@@ -591,7 +600,8 @@ static int worst_overlap_3d(const gr_sim *s, double *worst, int *wi, int *wj, gr
                         dx -= L * rint(dx / L);
                         dy -= L * rint(dy / L);
                         dz -= L * rint(dz / L);
-                        const double ov = (d - sqrt(dx * dx + dy * dy + dz * dz)) / d;
+                        const double dij = s->rad ? s->rad[i] + s->rad[j] : d; /* species */
+                        const double ov = (dij - sqrt(dx * dx + dy * dy + dz * dz)) / dij;
                         if (ov > *worst) {
                             *worst = ov;
                             *wi = i;

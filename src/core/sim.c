@@ -803,15 +803,19 @@ gr_ledger gr_sim_ledger(gr_sim *s)
         }
     }
     for (int i = 0; i < s->n && s->mass_i; i++) { /* species: each grain its own mass */
-        const double v2 = s->vx[i] * s->vx[i] + (s->dim == 2 ? s->vy[i] * s->vy[i] : 0.0);
+        double v2 = s->vx[i] * s->vx[i] + (s->dim >= 2 ? s->vy[i] * s->vy[i] : 0.0);
+        if (s->dim == 3) {
+            v2 += s->vz[i] * s->vz[i];
+        }
         ke += s->mass_i[i] / s->mass * v2;
     }
     double rot = 0.0; /* sum I w^2 / 2, part of the kinetic energy */
     for (int i = 0; s->omega && i < s->n; i++) {
         /* species: each grain's own I_i (1.0 without: exact) */
-        rot += (s->inertia_i ? s->inertia_i[i] / s->inertia : 1.0) * s->omega[i] * s->omega[i];
+        const double w = s->inertia_i ? s->inertia_i[i] / s->inertia : 1.0;
+        rot += w * s->omega[i] * s->omega[i];
         if (s->wx) { /* 3D: |w|^2 */
-            rot += s->wx[i] * s->wx[i] + s->wy[i] * s->wy[i];
+            rot += w * (s->wx[i] * s->wx[i] + s->wy[i] * s->wy[i]);
         }
     }
     rot *= 0.5 * s->inertia;
@@ -867,9 +871,10 @@ double gr_sim_rotational_temperature(const gr_sim *s)
     double sum = 0.0;
     for (int i = 0; i < s->n; i++) {
         /* species: each grain's own I_i (1.0 without: exact) */
-        sum += (s->inertia_i ? s->inertia_i[i] / s->inertia : 1.0) * s->omega[i] * s->omega[i];
+        const double w = s->inertia_i ? s->inertia_i[i] / s->inertia : 1.0;
+        sum += w * s->omega[i] * s->omega[i];
         if (s->wx) { /* 3D: |w|^2 over the three rotational degrees of freedom, as T sums v */
-            sum += s->wx[i] * s->wx[i] + s->wy[i] * s->wy[i];
+            sum += w * (s->wx[i] * s->wx[i] + s->wy[i] * s->wy[i]);
         }
     }
     return s->inertia * sum /

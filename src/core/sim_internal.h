@@ -290,7 +290,7 @@ static inline void gr_size_scaled(const gr_contact_coeffs *ref, double m_ref, do
                                : pow(M / m_ref, a / (a + 1.0)) * pow(sk, 1.0 / (a + 1.0));
     }
 }
-/* src/core/kernels_poly.c: the force kernel of a run with species (1D ring or 2D list). */
+/* src/core/kernels_poly.c: the force kernel of a run with species (1D ring, 2D or 3D list). */
 void gr_kernel_run_poly(gr_sim *s, gr_force_report *r);
 
 /* src/core/kernels.c: one force evaluation with the kernel chosen at creation (then the walls'

@@ -492,7 +492,8 @@ static void wall_tangential_3d(gr_sim *s, const int i, const int a, const int si
                                const double f_n, const double xi, const double g_n, const int acts,
                                wall_sums *w)
 {
-    const double r = 0.5 * s->d;
+    const double r = gr_grain_r(s, i); /* species: its own radius and contact */
+    const gr_contact_coeffs *wc = s->wall_cc_sp ? &s->wall_cc_sp[s->species[i]] : &s->wall_cc;
     double *const v[3] = {s->vx, s->vy, s->vz}, *const f[3] = {s->fx, s->fy, s->fz},
                   *const g[3] = {s->gx, s->gy, s->gz};
     double n[3] = {0.0, 0.0, 0.0};
@@ -519,7 +520,7 @@ static void wall_tangential_3d(gr_sim *s, const int i, const int a, const int si
                                       .g_n = g_n,
                                       .acts = acts,
                                       .hist = slot};
-        const gr_tangential_force3 ft = gr_kernel_tangential3(s->wall_tl, &s->wall_cc, in, &book);
+        const gr_tangential_force3 ft = gr_kernel_tangential3(s->wall_tl, wc, in, &book);
         for (int c = 0; c < 3; c++) {
             Ft[c] = ft.f[c];
             Fn[c] = ft.f[c] - ft.fc[c];
@@ -534,11 +535,10 @@ static void wall_tangential_3d(gr_sim *s, const int i, const int a, const int si
                                      .xi = xi,
                                      .g_n = g_n,
                                      .acts = acts,
-                                     .m12_dt = s->wall_cc.m_t / s->dt,
+                                     .m12_dt = wc->m_t / s->dt,
                                      .hist = NULL};
         int hist;
-        const gr_tangential_force ft =
-            gr_kernel_tangential(s->wall_tl, &s->wall_cc, in, &book, &hist);
+        const gr_tangential_force ft = gr_kernel_tangential(s->wall_tl, wc, in, &book, &hist);
         const double along = gm > 0.0 ? ft.f / gm : 0.0;
         for (int c = 0; c < 3; c++) {
             Ft[c] = Fn[c] = along * gc[c];
@@ -574,7 +574,8 @@ static void wall_tangential_3d(gr_sim *s, const int i, const int a, const int si
 static void wall_grain_3d(gr_sim *s, const int a, const int i, const double qw, const double vw,
                           const int tang, wall_sums *w, gr_force_report *r_out)
 {
-    const double r = 0.5 * s->d, L = s->L;
+    const double r = gr_grain_r(s, i), L = s->L; /* species: its own radius and contact */
+    const gr_contact_coeffs *wc = s->wall_cc_sp ? &s->wall_cc_sp[s->species[i]] : &s->wall_cc;
     double *const q[3] = {s->x, s->y, s->z}, *const v[3] = {s->vx, s->vy, s->vz},
                   *const f[3] = {s->fx, s->fy, s->fz}, *const g[3] = {s->gx, s->gy, s->gz};
     const double lo = r - (q[a][i] - qw), hi = q[a][i] + r - L;
@@ -590,10 +591,14 @@ static void wall_grain_3d(gr_sim *s, const int a, const int i, const double qw, 
         const double *slot = s->wall_hist ? s->wall_hist + 18 * (size_t)i + 6 * a + 3 * side : 0;
         if (xi > 0.0) {
             double f_d, ei;
-            const double f_n = gr_kernel_normal(s, &s->wall_cc, xi, g_n, &f_d, &ei);
+            const double f_n = gr_kernel_normal(s, wc, xi, g_n, &f_d, &ei);
             f[a][i] += sign * f_n;
             g[a][i] += sign * f_d;
-            w->e += ei;
+            if (s->wall_cc_sp) {
+                w->ej += wc->e_scale * ei;
+            } else {
+                w->e += ei;
+            }
             w->pn -= f_d * g_n;
             if (!side) {
                 w->pw += f_n * vw;
@@ -613,10 +618,11 @@ static void wall_grain_3d(gr_sim *s, const int a, const int i, const double qw, 
 static void axis_walls_3d(gr_sim *s, const int a, const double qw, const double vw, wall_sums *w,
                           gr_force_report *r_out)
 {
-    const double r = 0.5 * s->d, L = s->L;
+    const double L = s->L;
     const double *q = a == 0 ? s->x : a == 1 ? s->y : s->z;
     const int tang = s->wall_tl != 0;
     for (int i = 0; i < s->n; i++) {
+        const double r = gr_grain_r(s, i); /* species: its own radius */
         int touch = r - (q[i] - qw) > 0.0 || q[i] + r - L > 0.0;
         for (int k = 0; !touch && s->wall_hist && k < 6; k++) {
             touch = s->wall_hist[18 * (size_t)i + 6 * a + k] != 0.0;

@@ -16,15 +16,22 @@ void gr_xyz_write_frame(FILE *f, const gr_particles *p, double t, int64_t step)
         fprintf(f,
                 "%d\nLattice=\"%.17g 0 0 0 %.17g 0 0 0 %.17g\" pbc=\"T T T\" Time=%.17g "
                 "Step=%lld "
-                "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3%s\n",
-                p->n, p->L, p->L, p->L, t, (long long)step, p->wz ? ":omega:R:3" : "");
+                "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:masses:R:1:momenta:R:3%s%s\n",
+                p->n, p->L, p->L, p->L, t, (long long)step, p->species ? ":species_index:I:1" : "",
+                p->wz ? ":omega:R:3" : "");
         for (int i = 0; i < p->n; i++) {
             const double x = p->x[i] - p->L * floor(p->x[i] / p->L),
                          y = p->y[i] - p->L * floor(p->y[i] / p->L),
                          z = p->z[i] - p->L * floor(p->z[i] / p->L);
+            /* species: each grain's own radius and mass, and its species 1, 2, ... (as 2D) */
+            const double r = p->radii ? p->radii[i] : p->radius,
+                         m = p->masses ? p->masses[i] : p->mass;
             fprintf(f, "X %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g", x, y,
-                    z, p->vx[i], p->vy[i], p->vz[i], p->radius, p->mass, p->mass * p->vx[i],
-                    p->mass * p->vy[i], p->mass * p->vz[i]);
+                    z, p->vx[i], p->vy[i], p->vz[i], r, m, m * p->vx[i], m * p->vy[i],
+                    m * p->vz[i]);
+            if (p->species) {
+                fprintf(f, " %d", p->species[i] + 1);
+            }
             if (p->wz) { /* rotation: the spin vector, rad/s */
                 fprintf(f, " %.17g %.17g %.17g", p->wx[i], p->wy[i], p->wz[i]);
             }

@@ -52,7 +52,6 @@ typedef struct scene_key {
 #define GR_DEFAULT_REDUCED_LENGTH_1D 1.0
 
 /* the volume of a sphere of radius r, and close packing of spheres (FCC), pi / (3 sqrt 2) */
-#define SPHERE_VOLUME(r) (4.0 / 3.0 * M_PI * (r) * (r) * (r))
 #define FCC_PHI 0.74048048969306104
 
 #define OFF(f) offsetof(gr_scene, f)
@@ -160,8 +159,8 @@ static const scene_key keys[] = {
     {"species", "mass", "kg", K_NUMBERS, "", 1e-100, 1e100, false, false, NULL,
      "masses of the species, one per radius; give mass or density", OFF(species_mass)},
     {"species", "density", "kg/m^2", K_NUMBERS, "", 1e-100, 1e100, false, false, NULL,
-     "instead of mass: the discs' areal density, mass = density pi r^2 (2D); in 1D kg/m, mass = "
-     "density 2 r",
+     "instead of mass: the discs' areal density, mass = density pi r^2 (2D); in 3D kg/m^3, mass = "
+     "density (4/3) pi r^3; in 1D kg/m, mass = density 2 r",
      OFF(species_density)},
     {"species", "fraction", "", K_NUMBERS, "", 0, 1, false, false, NULL,
      "number fractions of the species, summing to 1 (grains: round(fraction N), the rest to the "
@@ -1282,7 +1281,7 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
             return fail_at(err, &g->at_pf, "system", "packing_fraction", "%s",
                            "only for dim = 2 or 3; use reduced_length or L in 1D");
         }
-        s->L = s->dim == 3 ? cbrt(s->N * SPHERE_VOLUME(s->radius) / s->packing_fraction)
+        s->L = s->dim == 3 ? cbrt(gr_scene_grain_volume(s) / s->packing_fraction)
                            : sqrt(gr_scene_grain_area(s) / s->packing_fraction);
     }
     /* defaults that depend on dim follow it (docs/scene-keys.md): without a length key a 1D ring
@@ -1303,7 +1302,7 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
         s->packing_fraction = gr_scene_grain_area(s) / (s->L * s->L);
         s->reduced_length = -1.0;
     } else if (s->dim == 3) {
-        s->packing_fraction = s->N * SPHERE_VOLUME(s->radius) / (s->L * s->L * s->L);
+        s->packing_fraction = gr_scene_grain_volume(s) / (s->L * s->L * s->L);
         s->reduced_length = -1.0;
     } else {
         s->reduced_length = s->L - gr_scene_grain_length(s);

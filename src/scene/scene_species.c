@@ -11,36 +11,40 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
                    size_t cap)
 {
     /* walls and gravity, tangential laws without history, rolling laws: the verlet integrator
-     * (walls.c, kernels_poly.c); the history law, the bath and com mode: species lists, verlet */
-    const bool no_walls = s->integrator->instantaneous;    /* a distribution too (walls.c) */
-    const bool no_laws = no_walls || s->size_distribution; /* species lists and verlet only */
+     * (walls.c, kernels_poly.c); the history law, rolling, the bath and com mode: species lists,
+     * verlet, 1D and 2D (the 3D mixture kernel has the laws without history) */
+    const bool no_walls = s->integrator->instantaneous; /* a distribution too (walls.c) */
+    const bool no_laws = no_walls || s->size_distribution || s->dim == 3;
     const char *walls_allowed = "periodic (walls: the verlet integrator)";
     struct {
         bool on;
         const char *section, *key, *allowed;
     } const no[] = {
-        {s->dim == 3, "system", "dim", "1 | 2"},
+        {s->dim == 3 && s->size_distribution, "system", "dim",
+         "1 | 2 (a radius distribution; 3D runs [species] lists)"},
         {!s->integrator->species, "integrator", "kind", "verlet | event"},
         {s->size_distribution && s->integrator->instantaneous, "integrator", "kind",
          "verlet (a radius distribution; event runs [species] lists)"},
         {s->normal && !(s->normal->kind & GR_MODEL_NORMAL), "model", "normal",
          "a normal force law (spring_dashpot, hertz, ...) or event rule (hard_sphere)"},
-        {s->tangential &&
-             (no_walls || (s->size_distribution && gr_model_keeps_history(s->tangential))),
-         "model", "tangential",
+        {s->tangential && (no_walls || (no_laws && gr_model_keeps_history(s->tangential))), "model",
+         "tangential",
          "none, or with verlet tangential_dashpot | sliding_friction (and with [species] lists "
-         "tangential_spring)"},
-        {s->rolling && no_walls, "model", "rolling", "none, or with verlet rolling_friction"},
+         "in 1D and 2D tangential_spring)"},
+        {s->rolling && (no_walls || s->dim == 3), "model", "rolling",
+         "none, or with verlet in 1D and 2D rolling_friction"},
+        {s->contact.rotation && no_walls && s->dim == 3, "model", "rotation",
+         "false (event-driven rough grains of several species: discs only)"},
         {s->boundary[0] != 0 && no_walls, "boundary", "x", walls_allowed},
         {s->boundary[1] != 0 && no_walls, "boundary", "y", walls_allowed},
         {s->gravity[0] != 0.0 && no_walls, "gravity", "gx", "0 (gravity: the verlet integrator)"},
         {s->gravity[1] != 0.0 && no_walls, "gravity", "gy", "0 (gravity: the verlet integrator)"},
-        {s->boundary[2] != 0, "boundary", "z", "periodic"},
-        {s->gravity[2] != 0.0, "gravity", "gz", "0"},
+        {s->boundary[2] != 0 && no_walls, "boundary", "z", walls_allowed},
+        {s->gravity[2] != 0.0 && no_walls, "gravity", "gz", "0 (gravity: the verlet integrator)"},
         {s->driving && s->driving->update == GR_DRIVE_BATH && no_laws, "driving", "kind",
-         "rfm | none (langevin: [species] lists with the verlet integrator)"},
+         "rfm | none (langevin: [species] lists with the verlet integrator, 1D and 2D)"},
         {s->noise_mode == GR_NOISE_COM && no_laws, "noise", "mode",
-         "symmetrised | none (com: [species] lists with the verlet integrator)"},
+         "symmetrised | none (com: [species] lists with the verlet integrator, 1D and 2D)"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
     };
     for (size_t k = 0; k < sizeof no / sizeof no[0]; k++) {
@@ -163,7 +167,9 @@ int gr_scene_species_resolve(gr_scene *s, const char **section, const char **key
         sum += frac[a];
         s->species_masses[a] = m->n > 0      ? m->v[a]
                                : s->dim == 1 ? rho->v[a] * 2.0 * r->v[a]
-                                             : rho->v[a] * M_PI * r->v[a] * r->v[a];
+                               : s->dim == 3
+                                   ? rho->v[a] * 4.0 / 3.0 * M_PI * r->v[a] * r->v[a] * r->v[a]
+                                   : rho->v[a] * M_PI * r->v[a] * r->v[a];
     }
     if (fabs(sum - 1.0) > 1e-9 || gr_species_counts(s->N, ns, frac, s->species_count)) {
         *key = "fraction";
@@ -200,6 +206,19 @@ double gr_scene_grain_area(const gr_scene *s)
         a += s->species_count[k] * M_PI * s->species_radius.v[k] * s->species_radius.v[k];
     }
     return a;
+}
+
+double gr_scene_grain_volume(const gr_scene *s)
+{
+    if (s->n_species < 2) {
+        return s->N * (4.0 / 3.0 * M_PI * s->radius * s->radius * s->radius);
+    }
+    double v = 0.0;
+    for (int k = 0; k < s->n_species; k++) {
+        const double r = s->species_radius.v[k];
+        v += s->species_count[k] * (4.0 / 3.0 * M_PI * r * r * r);
+    }
+    return v;
 }
 
 double gr_scene_grain_length(const gr_scene *s)

@@ -15,5 +15,7 @@ int gr_scene_species_resolve(gr_scene *s, const char **section, const char **key
  * grains), and total length N 2 r (1D). */
 double gr_scene_grain_area(const gr_scene *s);
 double gr_scene_grain_length(const gr_scene *s);
+/* The grains' volume sum (4/3) pi r_i^3 (3D), m^3. */
+double gr_scene_grain_volume(const gr_scene *s);
 
 #endif

@@ -153,8 +153,8 @@ static void end_window(gr_sim *s)
             double z, u;
             gr_ev_state_y(e, i, e->tau, 1, &y, &w);
             gr_ev_state_z(e, i, e->tau, 1, &z, &u);
-            work += ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i] -
-                    gr_ev_gravity_work_3d(e, x - e->bx[i], y - e->by[i], z - e->bz[i]);
+            work += mw * (ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i] -
+                          gr_ev_gravity_work_3d(e, x - e->bx[i], y - e->by[i], z - e->bz[i]));
             e->by[i] = y;
             e->bw[i] = w;
             e->bz[i] = z;
@@ -658,8 +658,8 @@ static void report(gr_sim *s, double t)
             s->z[i] = e->vib == 2 ? z : z - e->L * floor(z / e->L);
             s->vy[i] = w;
             s->vz[i] = u;
-            work += ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i] -
-                    gr_ev_gravity_work_3d(e, x - e->bx[i], y - e->by[i], z - e->bz[i]);
+            work += mw * (ke2(v, w) + u * u - ke2(e->bv[i], e->bw[i]) - e->bu[i] * e->bu[i] -
+                          gr_ev_gravity_work_3d(e, x - e->bx[i], y - e->by[i], z - e->bz[i]));
         } else if (e->dim == 2) {
             double y, w;
             gr_ev_state_y(e, i, t, phase, &y, &w);
@@ -767,15 +767,15 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
     e->vib = -1;  /* no vibrating wall */
     if (s->rad) { /* species (docs/mixtures.md): smooth discs of their own radii and masses */
-        if (!s->cc_pair || s->walls_on || s->dim == 3) {
+        if (!s->cc_pair || s->walls_on || (s->omega && s->dim == 3)) {
             return GR_FAIL(err, GR_EINVAL,
                            "%s: [integrator] kind = event runs [species] lists of smooth and rough "
-                           "discs and of rods in a periodic box; not yet %s (docs/mixtures.md; the "
-                           "verlet integrator runs a radius distribution)",
+                           "discs, smooth spheres and rods in a periodic box; not yet %s "
+                           "(docs/mixtures.md; the verlet integrator runs a radius distribution)",
                            s->params.source,
                            !s->cc_pair   ? "a radius distribution ([species] distribution)"
                            : s->walls_on ? "walls or gravity"
-                                         : "spheres (dim = 3)");
+                                         : "rough spheres ([model] rotation = true, dim = 3)");
         }
         e->m = s->mass_i;
         e->r = s->rad;

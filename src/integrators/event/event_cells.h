@@ -469,7 +469,7 @@ static inline void rebase(struct gr_event_state *e, int i, double x, double y,
 {
 #if GR_EV_DIM == 3
     e->injected +=
-        0.5 * e->M *
+        0.5 * gr_ev_mass(e, i) *
         (vx0 * vx0 + vy0 * vy0 + vz0 * vz0 - e->bv[i] * e->bv[i] - e->bw[i] * e->bw[i] -
          e->bu[i] * e->bu[i] - gr_ev_gravity_work_3d(e, x - e->bx[i], y - e->by[i], z - e->bz[i]));
     e->bz[i] = z;
@@ -532,11 +532,26 @@ static inline void booked(gr_sim *s, int i, int j, double t_abs, bool elastic, d
 
 #if GR_EV_DIM == 3
 /* The model's rule on spheres i and j (gr_event_rule_3d, models/list.h): smooth (w1 = NULL) or
- * rough (the spin vectors, changed in place). */
-static inline void rule_3d(const struct gr_event_state *e, double n[3], double v1[3], double v2[3],
-                           double *w1, double *w2, bool elastic, double *de_n, double *de_t)
+ * rough (the spin vectors, changed in place). With species (smooth spheres) as gr_ev_rule in 2D:
+ * the pair's coefficients on two grains of mass 2 M_ij, the velocity changes rebuilt with the real
+ * masses (2 m_j / (m_i + m_j) and 2 m_i / (m_i + m_j) of them), so sum m_i v_i is conserved. */
+static inline void rule_3d(const struct gr_event_state *e, int i, int j, double n[3], double v1[3],
+                           double v2[3], double *w1, double *w2, bool elastic, double *de_n,
+                           double *de_t)
 {
-    gr_event_rule_3d(e->rule, e->cc, e->M, e->R, e->q, n, v1, v2, w1, w2, elastic, de_n, de_t);
+    if (!e->m) {
+        gr_event_rule_3d(e->rule, e->cc, e->M, e->R, e->q, n, v1, v2, w1, w2, elastic, de_n, de_t);
+        return;
+    }
+    const double mi = e->m[i], mj = e->m[j];
+    const double u1[3] = {v1[0], v1[1], v1[2]}, u2[3] = {v2[0], v2[1], v2[2]};
+    gr_event_rule_3d(e->rule, &e->cc_pair[e->sp[i] * e->nsp + e->sp[j]], 2.0 * mi * mj / (mi + mj),
+                     e->R, e->q, n, v1, v2, NULL, NULL, elastic, de_n, de_t);
+    const double wi = 2.0 * mj / (mi + mj), wj = 2.0 * mi / (mi + mj);
+    for (int a = 0; a < 3; a++) {
+        v1[a] = u1[a] + wi * (v1[a] - u1[a]);
+        v2[a] = u2[a] + wj * (v2[a] - u2[a]);
+    }
 }
 
 /* Returns 0 after the collision, 1 when it is none after all (predict again), < 0 an error code
@@ -576,24 +591,28 @@ static int collide(gr_sim *s, int i, int j, double t_abs, gr_error *err)
     double ui[3] = {vi[0], vi[1], vi[2]}, uj[3] = {vj[0], vj[1], vj[2]}, de_n = 0.0, de_t = 0.0;
     if (gn > 0.0 && e->rough) { /* [model] rotation = true: the spin vectors (wx, wy, omega) */
         double wi[3] = {s->wx[i], s->wy[i], s->omega[i]}, wj[3] = {s->wx[j], s->wy[j], s->omega[j]};
-        rule_3d(e, n, ui, uj, wi, wj, elastic, &de_n, &de_t);
+        rule_3d(e, i, j, n, ui, uj, wi, wj, elastic, &de_n, &de_t);
         s->wx[i] = wi[0], s->wy[i] = wi[1], s->omega[i] = wi[2];
         s->wx[j] = wj[0], s->wy[j] = wj[1], s->omega[j] = wj[2];
     } else if (gn > 0.0) {
-        rule_3d(e, n, ui, uj, NULL, NULL, elastic, &de_n, &de_t);
+        rule_3d(e, i, j, n, ui, uj, NULL, NULL, elastic, &de_n, &de_t);
     }
-    const double floor_speed = 0.5 * push * e->tc; /* the contact floor, as in 2D */
+    const double floor_speed = 0.5 * push * gr_ev_tc(e, i, j); /* the contact floor, as in 2D */
     const double sep = (uj[0] - ui[0]) * n[0] + (uj[1] - ui[1]) * n[1] + (uj[2] - ui[2]) * n[2];
     if (push > 0.0 && sep < floor_speed) {
-        double k0 = 0.0, k1 = 0.0;
+        double k0 = 0.0, k1 = 0.0, fi, fj; /* 1/2 each, or by the masses with species */
+        gr_ev_floor_shares(e, i, j, &fi, &fj);
         for (int a = 0; a < 3; a++) {
-            k0 += ui[a] * ui[a] + uj[a] * uj[a];
-            ui[a] -= 0.5 * (floor_speed - sep) * n[a];
-            uj[a] += 0.5 * (floor_speed - sep) * n[a];
-            k1 += ui[a] * ui[a] + uj[a] * uj[a];
+            k0 += e->m ? e->m[i] * ui[a] * ui[a] + e->m[j] * uj[a] * uj[a]
+                       : ui[a] * ui[a] + uj[a] * uj[a];
+            ui[a] -= fi * (floor_speed - sep) * n[a];
+            uj[a] += fj * (floor_speed - sep) * n[a];
+            k1 += e->m ? e->m[i] * ui[a] * ui[a] + e->m[j] * uj[a] * uj[a]
+                       : ui[a] * ui[a] + uj[a] * uj[a];
         }
-        e->injected += 0.5 * e->M * (k1 - k0);
-        e->floor_energy += 0.5 * e->M * (k1 - k0);
+        const double mk = e->m ? 1.0 : e->M; /* species: the masses are in k0, k1 */
+        e->injected += 0.5 * mk * (k1 - k0);
+        e->floor_energy += 0.5 * mk * (k1 - k0);
         e->floors++;
         if (gr_ev_floor_check(s, i, j, t_abs, floor_speed, err)) {
             return GR_EUNSTABLE;

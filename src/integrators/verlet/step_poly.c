@@ -9,14 +9,15 @@
  * subtracts the mean of the forces, not of the kicks, so the kicks carry no net momentum:
  * sum_i m_i dv_i = sqrt(2 D dt) sum_i (g_i - <g>) = 0.
  *
- * Rotation (2D): each grain's spin is kicked with its own moment of inertia I_i = q m_i r_i^2 by
- * the torques of kernels_poly.c; the work of their non-conservative part is booked as the forces'
+ * Rotation (2D and 3D; 3D: each component of the spin vector): each grain's spin is kicked with
+ * its own moment of inertia I_i = q m_i r_i^2 by the torques of kernels_poly.c; the work of their non-conservative part is booked as the forces'
  * is (all of a dashpot's or friction's torque; a history law's spring torque is conservative and
  * its energy is the springs', so the kernel keeps the rest apart in s->tg, as step.c reads it).
  *
  * [noise] mode = com removes the centre-of-mass velocity sum_i m_i v_i / sum_i m_i every
  * com_interval (gr_remove_com), between steps as step.c does. The Langevin bath ([driving] kind =
- * langevin) takes the random force's place: bath_poly.
+ * langevin) takes the random force's place: bath_poly. 3D has the third component of every kick
+ * and drift.
  *
  * The closing half kick ends every step (the velocities are synchronised after each step), so a
  * run split into calls is the same as one call. */
@@ -38,21 +39,31 @@ static double half_kick_poly(gr_sim *s, bool *finite)
         work += s->gx[i] * (s->vx[i] + 0.5 * dvx);
         s->vx[i] += dvx;
         sum += s->vx[i];
-        if (s->dim == 2) {
+        if (s->dim >= 2) {
             const double dvy = hi * s->fy[i];
             work += s->gy[i] * (s->vy[i] + 0.5 * dvy);
             s->vy[i] += dvy;
             sum += s->vy[i];
         }
+        if (s->dim == 3) {
+            const double dvz = hi * s->fz[i];
+            work += s->gz[i] * (s->vz[i] + 0.5 * dvz);
+            s->vz[i] += dvz;
+            sum += s->vz[i];
+        }
     }
-    if (s->omega) { /* rotation: w_i += tq_i dt / (2 I_i), the torques' work as for v (step.c) */
-        /* a history law's springs: only the non-conservative torques (tg) do booked work */
-        const double *nc = s->tg ? s->tg : s->tq;
+    /* rotation: w_i += tq_i dt / (2 I_i), the torques' work as for v (step.c); 3D: each
+     * component of the vectors (wx, wy, omega = w_z); a history law's springs (2D): only the
+     * non-conservative torques (tg) do booked work */
+    double *const w[3] = {s->omega, s->wx, s->wy};
+    const double *const tq[3] = {s->tq, s->tqx, s->tqy}, *const nc[3] = {s->tg ? s->tg : s->tq,
+                                                                         s->tqx, s->tqy};
+    for (int c = 0; s->omega && c < (s->dim == 3 ? 3 : 1); c++) {
         for (int i = 0; i < s->n; i++) {
-            const double dw = h / s->inertia_i[i] * s->tq[i];
-            work += nc[i] * (s->omega[i] + 0.5 * dw);
-            s->omega[i] += dw;
-            sum += s->omega[i];
+            const double dw = h / s->inertia_i[i] * tq[c][i];
+            work += nc[c][i] * (w[c][i] + 0.5 * dw);
+            w[c][i] += dw;
+            sum += w[c][i];
         }
     }
     *finite = isfinite(sum) && isfinite(work);
@@ -70,7 +81,7 @@ static double bath_poly(gr_sim *s, double *drag)
     const int n = s->n, dim = s->dim;
     gr_noise_normals(s->params.seed, GR_STREAM_NOISE, (uint64_t)s->step, 0, n, dim, s->noise);
     const double decay = s->drive_c.decay, kick = s->drive_c.kick, m1 = s->params.species_mass[0];
-    double *v[2] = {s->vx, s->vy};
+    double *v[3] = {s->vx, s->vy, s->vz};
     double added = 0.0, dragged = 0.0;
     for (int i = 0; i < n; i++) {
         const double ki = kick * sqrt(m1 * s->inv_m[i]);
@@ -90,7 +101,7 @@ static double noise_kick_poly(gr_sim *s)
 {
     const int n = s->n, dim = s->dim;
     gr_noise_normals(s->params.seed, GR_STREAM_NOISE, (uint64_t)s->step, 0, n, dim, s->noise);
-    double mean[2] = {0.0, 0.0};
+    double mean[3] = {0.0, 0.0, 0.0};
     if (s->params.noise_mode == GR_NOISE_SYMMETRISED && n > 1) {
         for (int i = 0; i < n; i++) {
             for (int c = 0; c < dim; c++) {
@@ -99,9 +110,10 @@ static double noise_kick_poly(gr_sim *s)
         }
         mean[0] /= n;
         mean[1] /= n;
+        mean[2] /= n;
     }
     const double amp = sqrt(2.0 * s->params.D * s->dt);
-    double *v[2] = {s->vx, s->vy};
+    double *v[3] = {s->vx, s->vy, s->vz};
     double added = 0.0;
     for (int i = 0; i < n; i++) {
         for (int c = 0; c < dim; c++) {
@@ -113,9 +125,36 @@ static double noise_kick_poly(gr_sim *s)
     return added;
 }
 
-/* The drift; returns the largest squared displacement since the last list build (2D). */
+/* 3D: the drift, wrapping into [0, L) along periodic axes only (a wall axis keeps the coordinate,
+ * as step.c); the displacement since the list's build under the minimum image. */
+static double drift_poly_3d(gr_sim *s)
+{
+    const double dt = s->dt, L = s->L, half = 0.5 * L;
+    double *const q[3] = {s->x, s->y, s->z}, *const v[3] = {s->vx, s->vy, s->vz},
+                  *const ref[3] = {s->x_ref, s->y_ref, s->z_ref};
+    double worst = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        double d2 = 0.0;
+        for (int a = 0; a < 3; a++) {
+            const int periodic = isfinite(s->period[a]);
+            double x = q[a][i] + v[a][i] * dt;
+            x += periodic ? (x < 0.0 ? L : (x >= L ? -L : 0.0)) : 0.0;
+            q[a][i] = x;
+            double dx = x - ref[a][i];
+            dx += periodic ? (dx > half ? -L : (dx < -half ? L : 0.0)) : 0.0;
+            d2 += dx * dx;
+        }
+        worst = fmax(worst, d2);
+    }
+    return worst;
+}
+
+/* The drift; returns the largest squared displacement since the last list build (2D, 3D). */
 static double drift_poly(gr_sim *s)
 {
+    if (s->dim == 3) {
+        return drift_poly_3d(s);
+    }
     const double dt = s->dt, L = s->L, half = 0.5 * L;
     double worst = 0.0;
     for (int i = 0; i < s->n; i++) {
@@ -162,7 +201,7 @@ int gr_verlet_step_poly(gr_sim *s, int64_t nsteps, gr_error *err)
                                 (long long)s->step);
         }
         s->step++;
-        if (s->dim == 2 && (s->params.skin <= 0.0 || disp2 > skin_half2)) {
+        if (s->dim >= 2 && (s->params.skin <= 0.0 || disp2 > skin_half2)) {
             int rc = gr_neighbours_build(s, err);
             if (rc) {
                 return rc;
