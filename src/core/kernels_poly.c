@@ -339,7 +339,9 @@ static void poly_3d(gr_sim *s, gr_force_report *r)
                 g_n += gv[a] * nv[a];
             }
             double fn, fd, el, pw;
-            if (!poly_contact(s, i, j, dist, g_n, &fn, &fd, &el, &pw)) {
+            gr_contact_coeffs tmp;
+            const gr_contact_coeffs *c;
+            if (!poly_contact(s, i, j, dist, g_n, &fn, &fd, &el, &pw, &tmp, &c)) {
                 s->nl_contact[p] = 0;
                 continue;
             }
@@ -351,7 +353,6 @@ static void poly_3d(gr_sim *s, gr_force_report *r)
                 G[a] = fd * nv[a];
             }
             if (tl != TL_none) {
-                const gr_contact_coeffs *c = &s->cc_pair[s->species[i] * s->nsp + s->species[j]];
                 const double ai = dist * s->rad[i] / (s->rad[i] + s->rad[j]), aj = dist - ai;
                 double gc[3];
                 for (int a = 0; a < 3; a++) {
