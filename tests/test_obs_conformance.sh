@@ -53,8 +53,8 @@ plots = false
 EOF
 done
 # a mixture's scenes (docs/mixtures.md) for the observables that need one: s1/s2 with two species
-# of masses 1:2 (a mixture runs the normal law alone)
-for d in 1 2; do
+# of masses 1:2 (a mixture runs the normal law alone), 1D, 2D and 3D
+for d in 1 2 3; do
     grep -v '^tangential' "s$d.ini" >"sp$d.ini"
     printf '[species]\nradius = 1.5e-3, 1.5e-3\nmass = 3.53e-5, 7.06e-5\nfraction = 0.5, 0.5\n' >>"sp$d.ini"
 done

@@ -146,7 +146,7 @@ scene3=$src/docs/scenes/bidisperse-mixture-3d.ini
 if [[ $quick == 1 ]]; then
     run3=(--set run.warmup=0.02 --set run.duration=0.1 --set system.N=100)
 else
-    run3=(--set run.warmup=0.3 --set run.duration=1.5)
+    run3=(--set run.warmup=0.2 --set run.duration=1.0)
 fi
 OMP_NUM_THREADS=1 "$granule" run "$scene3" --out "$tmp/mix3d" --set output.plots=false \
     --set output.snapshot_every=0.05 "${run3[@]}" >"$tmp/mix3d.log" 2>&1 ||
