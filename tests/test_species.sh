@@ -199,6 +199,13 @@ PY
 # what a 3D mixture cannot run yet, at its key
 refuse_with "$scene3" "\[boundary\] z.*not available with \[species\]" --set boundary.z=walls "${event[@]}"
 refuse_with "$scene3" "\[gravity\] gz.*not available with \[species\]" --set gravity.gz=-9.81 "${event[@]}"
+# ... and what runs with mixtures in 1D and 2D only (the 3D mixture kernel has the laws without
+# history; no bath or com mode in its step; no rough spheres of several species)
+refuse_with "$scene3" "\[model\] tangential.*1D and 2D" --set model.tangential=tangential_spring
+refuse_with "$scene3" "\[model\] rolling.*1D and 2D" --set model.rotation=true --set model.rolling=rolling_friction
+refuse_with "$scene3" "\[driving\] kind.*1D and 2D" --set driving.kind=langevin
+refuse_with "$scene3" "\[noise\] mode.*1D and 2D" --set noise.mode=com
+refuse_with "$scene3" "\[model\] rotation.*discs only" --set model.rotation=true "${event[@]}"
 refuse_with "$scene3" "\[system\] dim.*not available with \[species\].*a radius distribution" \
     --set species.distribution=uniform --set species.radius= --set species.mass= \
     --set species.fraction= --set species.radius_min=1e-3 --set species.radius_max=2e-3 \
