@@ -453,6 +453,137 @@ static void rough_pair(double beta_mu)
     gr_sim_free(s);
 }
 
+/* 3D: the same rule on unequal spheres spinning about axes out of every plane (Walton on
+ * 3-vectors): g_n' = -eps_n g_n; the contact point's tangential relative velocity g_ct = (g +
+ * (r_a w_a + r_b w_b) x n)_t turned into -beta g_ct (or, sliding, |P_t| = beta_mu |P_n| along
+ * g_ct); momentum; each sphere's angular momentum about the contact point (the impulse acts
+ * there); Walton's energy loss with m_t = M_ab q / (1 + q). */
+static void rough_pair_3d(double beta_mu)
+{
+    char mu[32];
+    snprintf(mu, sizeof mu, "model.beta_mu=%g", beta_mu);
+    const char *rough[] = {"model.rotation=true", "model.beta=0.4", mu};
+    gr_sim *s = grains_with(3, rough, 3);
+    struct gr_event_state *e = gr_ev(s);
+    const double ma = s->mass_i[0], mb = s->mass_i[1], ra = s->rad[0], rb = s->rad[1], d = ra + rb,
+                 q = s->cc.q;
+    const double Ia = q * ma * ra * ra, Ib = q * mb * rb * rb, m12 = ma * mb / (ma + mb),
+                 m_t = m12 * q / (1.0 + q);
+    const double by = 1.2e-3, bz = -0.9e-3;
+    const double x0[2][3] = {{0.03, 0.05, 0.05}, {0.05, 0.05 + by, 0.05 + bz}};
+    const double v0[2][3] = {{0.1, 0.0, 0.0}, {-0.05, 0.0, 0.0}};
+    const double w0[2][3] = {{300.0, -200.0, 150.0}, {-100.0, 250.0, -50.0}};
+    double *w[3] = {s->wx, s->wy, s->omega};
+    for (int k = 0; k < 2; k++) {
+        e->bx[k] = x0[k][0];
+        e->by[k] = x0[k][1];
+        e->bz[k] = x0[k][2];
+        e->bv[k] = v0[k][0];
+        e->bw[k] = v0[k][1];
+        e->bu[k] = v0[k][2];
+        for (int a = 0; a < 3; a++) {
+            w[a][k] = w0[k][a];
+        }
+    }
+    gr_event_set_debug(s, true, false);
+    const double b = sqrt(by * by + bz * bz), tcol = (0.02 - sqrt(d * d - b * b)) / 0.15;
+    const double n[3] = {(0.02 - 0.15 * tcol) / d, by / d, bz / d}; /* from a to b */
+    gr_error err = {0};
+    ck_assert_msg(gr_sim_step(s, (int64_t)ceil((tcol + 0.01) / s->dt), &err) == GR_OK, "%s",
+                  err.message);
+    gr_event_counts c;
+    gr_event_stats(s, &c);
+    ck_assert_int_eq(c.collisions, 1);
+    const double v1[2][3] = {{s->vx[0], s->vy[0], s->vz[0]}, {s->vx[1], s->vy[1], s->vz[1]}};
+    const double w1[2][3] = {{s->wx[0], s->wy[0], s->omega[0]}, {s->wx[1], s->wy[1], s->omega[1]}};
+    /* g_ct before and after; the impulse on b, P = m_b dv_b */
+    double gct[2][3], gn[2] = {0.0, 0.0}, P[3], Pn = 0.0;
+    for (int k = 0; k < 2; k++) {
+        const double(*v)[3] = k ? v1 : v0, (*ww)[3] = k ? w1 : w0;
+        double g[3], W[3];
+        for (int a = 0; a < 3; a++) {
+            g[a] = v[0][a] - v[1][a];
+            W[a] = ra * ww[0][a] + rb * ww[1][a];
+            gn[k] += g[a] * n[a];
+        }
+        const double Wn[3] = {W[1] * n[2] - W[2] * n[1], W[2] * n[0] - W[0] * n[2],
+                              W[0] * n[1] - W[1] * n[0]};
+        for (int a = 0; a < 3; a++) {
+            gct[k][a] = g[a] - gn[k] * n[a] + Wn[a];
+        }
+    }
+    for (int a = 0; a < 3; a++) {
+        P[a] = mb * (v1[1][a] - v0[1][a]);
+        Pn += P[a] * n[a];
+    }
+    double Pt2 = 0.0, g0 = 0.0, g1 = 0.0, dot = 0.0;
+    for (int a = 0; a < 3; a++) {
+        Pt2 += (P[a] - Pn * n[a]) * (P[a] - Pn * n[a]);
+        g0 += gct[0][a] * gct[0][a];
+        g1 += gct[1][a] * gct[1][a];
+        dot += gct[0][a] * gct[1][a];
+    }
+    const double beta = -dot / g0; /* g_ct' = -beta g_ct */
+    /* angular momentum about the contact point c: x_a - c = -r_a n, x_b - c = r_b n */
+    double dL[2][3];
+    for (int k = 0; k < 2; k++) {
+        const double arm = k ? rb : -ra, m = k ? mb : ma, I = k ? Ib : Ia;
+        double dv[3];
+        for (int a = 0; a < 3; a++) {
+            dv[a] = v1[k][a] - v0[k][a];
+        }
+        const double nxdv[3] = {n[1] * dv[2] - n[2] * dv[1], n[2] * dv[0] - n[0] * dv[2],
+                                n[0] * dv[1] - n[1] * dv[0]};
+        for (int a = 0; a < 3; a++) {
+            dL[k][a] = m * arm * nxdv[a] + I * (w1[k][a] - w0[k][a]);
+        }
+    }
+    double k0 = 0.0, k1 = 0.0, worst_L = 0.0, mom = 0.0, par = 0.0;
+    for (int k = 0; k < 2; k++) {
+        const double m = k ? mb : ma, I = k ? Ib : Ia;
+        for (int a = 0; a < 3; a++) {
+            k0 += 0.5 * (m * v0[k][a] * v0[k][a] + I * w0[k][a] * w0[k][a]);
+            k1 += 0.5 * (m * v1[k][a] * v1[k][a] + I * w1[k][a] * w1[k][a]);
+            worst_L = fmax(worst_L, fabs(dL[k][a]));
+        }
+    }
+    for (int a = 0; a < 3; a++) {
+        mom = fmax(mom, fabs(ma * (v1[0][a] - v0[0][a]) + P[a]));
+        /* g_ct' parallel to g_ct: the cross product vanishes */
+        const int a1 = (a + 1) % 3, a2 = (a + 2) % 3;
+        par = fmax(par, fabs(gct[0][a1] * gct[1][a2] - gct[0][a2] * gct[1][a1]) / g0);
+    }
+    const double L_scale = Ia * 300.0;
+    const double want =
+        0.5 * m12 * (1.0 - EPS_N * EPS_N) * gn[0] * gn[0] + 0.5 * m_t * (1.0 - beta * beta) * g0;
+    printf("3D rough pair (beta_mu %g): g_n ratio %.15f, beta %.15f, |P_t| / |P_n| = %.15f, "
+           "parallel %.2g, dL about the contact %.3g (of %.3g), lost %.12g J (Walton %.12g J)\n",
+           beta_mu, gn[1] / gn[0], beta, sqrt(Pt2) / fabs(Pn), par, worst_L, L_scale, k0 - k1,
+           want);
+    ck_assert_msg(fabs(gn[1] / gn[0] + EPS_N) < 1e-12, "g_n ratio %.17g", gn[1] / gn[0]);
+    ck_assert_msg(par < 1e-12, "g_ct turned out of its direction: %g", par);
+    if (beta_mu == 0.0) {
+        ck_assert_msg(fabs(beta - 0.4) < 1e-12 && fabs(g1 / g0 - 0.16) < 1e-12,
+                      "g_ct ratio %.17g, want -0.4", beta);
+    } else {
+        ck_assert_msg(beta < 0.4 && fabs(sqrt(Pt2) / fabs(Pn) - beta_mu) < 1e-12,
+                      "sliding: beta %.17g, |P_t / P_n| %.17g, want %g", beta, sqrt(Pt2) / fabs(Pn),
+                      beta_mu);
+    }
+    ck_assert_msg(worst_L < 1e-12 * L_scale, "angular momentum about the contact: %g", worst_L);
+    ck_assert_msg(mom < 1e-16 * ma, "momentum %g", mom);
+    ck_assert_msg(fabs((k0 - k1) / want - 1.0) < 1e-10, "lost %.12g J, Walton %.12g J", k0 - k1,
+                  want);
+    ck_assert(fabs((s->diss_n + s->diss_t) / want - 1.0) < 1e-10);
+    gr_sim_free(s);
+}
+
+START_TEST(test_rough_pair_3d) { rough_pair_3d(0.0); }
+END_TEST
+
+START_TEST(test_rough_pair_3d_sliding) { rough_pair_3d(0.05); }
+END_TEST
+
 START_TEST(test_rough_pair) { rough_pair(0.0); }
 END_TEST
 
@@ -473,16 +604,6 @@ START_TEST(test_refusals)
                           "model.normal=hard_sphere",
                           "integrator.kind=event"};
     refused(dist, 10, "a radius distribution");
-    const char *rough3[] = {"system.dim=3",
-                            "system.N=100",
-                            "system.packing_fraction=0.1",
-                            "species.radius=1e-3, 2e-3",
-                            "species.mass=1e-5, 4e-5",
-                            "placement.kind=random",
-                            "model.normal=hard_sphere",
-                            "model.rotation=true",
-                            "integrator.kind=event"};
-    refused(rough3, 9, "rotation"); /* rough spheres of several species: not yet */
 }
 END_TEST
 
@@ -498,6 +619,8 @@ static Suite *event_species_suite(void)
     tcase_add_test(t, test_refusals);
     tcase_add_test(t, test_rough_pair);
     tcase_add_test(t, test_rough_pair_sliding);
+    tcase_add_test(t, test_rough_pair_3d);
+    tcase_add_test(t, test_rough_pair_3d_sliding);
     suite_add_tcase(s, t);
     TCase *g = tcase_create("gas");
     tcase_set_timeout(g, 600);

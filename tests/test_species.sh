@@ -205,7 +205,6 @@ refuse_with "$scene3" "\[model\] tangential.*1D and 2D" --set model.tangential=t
 refuse_with "$scene3" "\[model\] rolling.*1D and 2D" --set model.rotation=true --set model.rolling=rolling_friction
 refuse_with "$scene3" "\[driving\] kind.*1D and 2D" --set driving.kind=langevin
 refuse_with "$scene3" "\[noise\] mode.*1D and 2D" --set noise.mode=com
-refuse_with "$scene3" "\[model\] rotation.*discs only" --set model.rotation=true "${event[@]}"
 refuse_with "$scene3" "\[system\] dim.*not available with \[species\].*a radius distribution" \
     --set species.distribution=uniform --set species.radius= --set species.mass= \
     --set species.fraction= --set species.radius_min=1e-3 --set species.radius_max=2e-3 \

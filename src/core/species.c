@@ -41,7 +41,7 @@ static const char *not_covered(const gr_sim *s)
 {
     const gr_sim_params *p = &s->params;
     /* the history law, rolling, the bath and com mode: species lists in 1D and 2D (the 3D mixture
-     * kernel has the laws without history); rough spheres of several species: not yet */
+     * kernel has the laws without history) */
     const bool flat = p->size_distribution || p->dim == 3;
     return p->dim == 3 && p->size_distribution ? "[system] dim = 3"
            : !p->integrator->species           ? "[integrator] kind"

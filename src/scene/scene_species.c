@@ -33,8 +33,6 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
          "in 1D and 2D tangential_spring)"},
         {s->rolling && (no_walls || s->dim == 3), "model", "rolling",
          "none, or with verlet in 1D and 2D rolling_friction"},
-        {s->contact.rotation && no_walls && s->dim == 3, "model", "rotation",
-         "false (event-driven rough grains of several species: discs only)"},
         {s->boundary[0] != 0 && no_walls, "boundary", "x", walls_allowed},
         {s->boundary[1] != 0 && no_walls, "boundary", "y", walls_allowed},
         {s->gravity[0] != 0.0 && no_walls, "gravity", "gx", "0 (gravity: the verlet integrator)"},

@@ -767,15 +767,14 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
     e->vib = -1;  /* no vibrating wall */
     if (s->rad) { /* species (docs/mixtures.md): smooth discs of their own radii and masses */
-        if (!s->cc_pair || s->walls_on || (s->omega && s->dim == 3)) {
+        if (!s->cc_pair || s->walls_on) {
             return GR_FAIL(err, GR_EINVAL,
                            "%s: [integrator] kind = event runs [species] lists of smooth and rough "
-                           "discs, smooth spheres and rods in a periodic box; not yet %s "
+                           "discs and spheres and of rods in a periodic box; not yet %s "
                            "(docs/mixtures.md; the verlet integrator runs a radius distribution)",
                            s->params.source,
-                           !s->cc_pair   ? "a radius distribution ([species] distribution)"
-                           : s->walls_on ? "walls or gravity"
-                                         : "rough spheres ([model] rotation = true, dim = 3)");
+                           !s->cc_pair ? "a radius distribution ([species] distribution)"
+                                       : "walls or gravity");
         }
         e->m = s->mass_i;
         e->r = s->rad;

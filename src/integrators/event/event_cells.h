@@ -532,9 +532,13 @@ static inline void booked(gr_sim *s, int i, int j, double t_abs, bool elastic, d
 
 #if GR_EV_DIM == 3
 /* The model's rule on spheres i and j (gr_event_rule_3d, models/list.h): smooth (w1 = NULL) or
- * rough (the spin vectors, changed in place). With species (smooth spheres) as gr_ev_rule in 2D:
- * the pair's coefficients on two grains of mass 2 M_ij, the velocity changes rebuilt with the real
- * masses (2 m_j / (m_i + m_j) and 2 m_i / (m_i + m_j) of them), so sum m_i v_i is conserved. */
+ * rough (the spin vectors, changed in place). With species as gr_ev_rule in 2D: the pair's
+ * coefficients on two grains of mass 2 M_ij, the velocity changes rebuilt with the real masses
+ * (2 m_j / (m_i + m_j) and 2 m_i / (m_i + m_j) of them), so sum m_i v_i is conserved; rough
+ * spheres enter with their surface speeds r_i w_i, r_j w_j at unit arm, whose changes are rebuilt
+ * the same way (so grain i's spin changes by -r_i n x P_t / I_i with its own I_i = q m_i r_i^2:
+ * the equal pair's tangential mass q M_ij / (1 + q) is the unequal pair's, 1/m_t = 1/m_i + 1/m_j +
+ * r_i^2/I_i + r_j^2/I_j). */
 static inline void rule_3d(const struct gr_event_state *e, int i, int j, double n[3], double v1[3],
                            double v2[3], double *w1, double *w2, bool elastic, double *de_n,
                            double *de_t)
@@ -545,12 +549,23 @@ static inline void rule_3d(const struct gr_event_state *e, int i, int j, double 
     }
     const double mi = e->m[i], mj = e->m[j];
     const double u1[3] = {v1[0], v1[1], v1[2]}, u2[3] = {v2[0], v2[1], v2[2]};
+    double s1[3] = {0.0, 0.0, 0.0}, s2[3] = {0.0, 0.0, 0.0}; /* rough: the surface speeds */
+    for (int a = 0; w1 && a < 3; a++) {
+        s1[a] = e->r[i] * w1[a];
+        s2[a] = e->r[j] * w2[a];
+    }
+    const double s10[3] = {s1[0], s1[1], s1[2]}, s20[3] = {s2[0], s2[1], s2[2]};
     gr_event_rule_3d(e->rule, &e->cc_pair[e->sp[i] * e->nsp + e->sp[j]], 2.0 * mi * mj / (mi + mj),
-                     e->R, e->q, n, v1, v2, NULL, NULL, elastic, de_n, de_t);
+                     w1 ? 1.0 : e->R, e->q, n, v1, v2, w1 ? s1 : NULL, w1 ? s2 : NULL, elastic,
+                     de_n, de_t);
     const double wi = 2.0 * mj / (mi + mj), wj = 2.0 * mi / (mi + mj);
     for (int a = 0; a < 3; a++) {
         v1[a] = u1[a] + wi * (v1[a] - u1[a]);
         v2[a] = u2[a] + wj * (v2[a] - u2[a]);
+        if (w1) {
+            w1[a] += wi * (s1[a] - s10[a]) / e->r[i];
+            w2[a] += wj * (s2[a] - s20[a]) / e->r[j];
+        }
     }
 }
 
