@@ -156,20 +156,11 @@ END_TEST
 START_TEST(test_two_body_1d) { collide_pair(1, 0.0); }
 END_TEST
 
-/* 3D (smooth spheres): grain 0 at (0.03, 0.05, 0.05) moving (+0.1, 0, 0) m/s, grain 1 at
- * (0.05, 0.05 + b_y, 0.05 + b_z) moving (-0.05, 0, 0), the impact parameter out of every
- * coordinate plane: one collision at the analytic instant and normal, r_i + r_j apart; momentum,
- * eps_n of the normal relative velocity, the tangential one kept, the loss
- * (1 - eps^2) M_ij g_n^2 / 2 booked. */
-START_TEST(test_two_body_3d)
+/* Two spheres at x0 with velocities v0 (the event state's flights from now), every event checked
+ * (debug). */
+static void place_3d(gr_sim *s, const double x0[2][3], const double v0[2][3])
 {
-    gr_sim *s = two_grains(3);
     struct gr_event_state *e = gr_ev(s);
-    const double ma = s->mass_i[0], mb = s->mass_i[1], d = s->rad[0] + s->rad[1];
-    ck_assert(ma != mb && fabs(d - 3e-3) < 1e-18);
-    const double m12 = ma * mb / (ma + mb), by = 1.2e-3, bz = -0.9e-3;
-    const double x0[2][3] = {{0.03, 0.05, 0.05}, {0.05, 0.05 + by, 0.05 + bz}};
-    const double v0[2][3] = {{0.1, 0.0, 0.0}, {-0.05, 0.0, 0.0}};
     for (int k = 0; k < 2; k++) {
         e->bx[k] = x0[k][0];
         e->by[k] = x0[k][1];
@@ -179,6 +170,22 @@ START_TEST(test_two_body_3d)
         e->bu[k] = v0[k][2];
     }
     gr_event_set_debug(s, true, false);
+}
+
+/* 3D (smooth spheres): grain 0 at (0.03, 0.05, 0.05) moving (+0.1, 0, 0) m/s, grain 1 at
+ * (0.05, 0.05 + b_y, 0.05 + b_z) moving (-0.05, 0, 0), the impact parameter out of every
+ * coordinate plane: one collision at the analytic instant and normal, r_i + r_j apart; momentum,
+ * eps_n of the normal relative velocity, the tangential one kept, the loss
+ * (1 - eps^2) M_ij g_n^2 / 2 booked. */
+START_TEST(test_two_body_3d)
+{
+    gr_sim *s = two_grains(3);
+    const double ma = s->mass_i[0], mb = s->mass_i[1], d = s->rad[0] + s->rad[1];
+    ck_assert(ma != mb && fabs(d - 3e-3) < 1e-18);
+    const double m12 = ma * mb / (ma + mb), by = 1.2e-3, bz = -0.9e-3;
+    const double x0[2][3] = {{0.03, 0.05, 0.05}, {0.05, 0.05 + by, 0.05 + bz}};
+    const double v0[2][3] = {{0.1, 0.0, 0.0}, {-0.05, 0.0, 0.0}};
+    place_3d(s, x0, v0);
     const double b = sqrt(by * by + bz * bz);
     const double tcol = (0.02 - sqrt(d * d - b * b)) / 0.15;
     const double n[3] = {(0.02 - 0.15 * tcol) / d, by / d, bz / d};
@@ -464,7 +471,6 @@ static void rough_pair_3d(double beta_mu)
     snprintf(mu, sizeof mu, "model.beta_mu=%g", beta_mu);
     const char *rough[] = {"model.rotation=true", "model.beta=0.4", mu};
     gr_sim *s = grains_with(3, rough, 3);
-    struct gr_event_state *e = gr_ev(s);
     const double ma = s->mass_i[0], mb = s->mass_i[1], ra = s->rad[0], rb = s->rad[1], d = ra + rb,
                  q = s->cc.q;
     const double Ia = q * ma * ra * ra, Ib = q * mb * rb * rb, m12 = ma * mb / (ma + mb),
@@ -475,17 +481,11 @@ static void rough_pair_3d(double beta_mu)
     const double w0[2][3] = {{300.0, -200.0, 150.0}, {-100.0, 250.0, -50.0}};
     double *w[3] = {s->wx, s->wy, s->omega};
     for (int k = 0; k < 2; k++) {
-        e->bx[k] = x0[k][0];
-        e->by[k] = x0[k][1];
-        e->bz[k] = x0[k][2];
-        e->bv[k] = v0[k][0];
-        e->bw[k] = v0[k][1];
-        e->bu[k] = v0[k][2];
         for (int a = 0; a < 3; a++) {
             w[a][k] = w0[k][a];
         }
     }
-    gr_event_set_debug(s, true, false);
+    place_3d(s, x0, v0);
     const double b = sqrt(by * by + bz * bz), tcol = (0.02 - sqrt(d * d - b * b)) / 0.15;
     const double n[3] = {(0.02 - 0.15 * tcol) / d, by / d, bz / d}; /* from a to b */
     gr_error err = {0};
