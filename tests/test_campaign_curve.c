@@ -58,6 +58,117 @@ START_TEST(test_collapse_detects_another_power)
 }
 END_TEST
 
+/* log_ratio (Moon, Swift and Swinney's axes, thesis 5.6): P = P(0) exp(-c v^alpha) becomes c v^alpha,
+ * so the power-law slope is alpha; bins at v <= 0 and above P(0) go. */
+START_TEST(test_log_ratio_turns_a_stretched_exponential_into_its_exponent)
+{
+    enum { n = 81 };
+    double x[n], y[n], e[n];
+    for (int i = 0; i < n; i++) {
+        x[i] = -4.0 + 0.1 * i; /* a symmetric grid through 0 */
+        y[i] = 2.5 * exp(-0.7 * pow(fabs(x[i]), 1.3));
+        e[i] = 0.02 * y[i];
+    }
+    gr_campaign_result r = {0};
+    snprintf(r.transform, sizeof r.transform, "log_ratio");
+    campaign_point p = {0};
+    const int m = campaign_curve_transform(&r, &p, x, y, e, n);
+    ck_assert_int_eq(m, 40); /* v = 0.1 ... 4.0 */
+    ck_assert_double_eq_tol(x[0], 0.1, 1e-12);
+    for (int i = 0; i < m; i++) {
+        ck_assert_double_eq_tol(y[i], 0.7 * pow(x[i], 1.3), 1e-12);
+        ck_assert_double_eq_tol(e[i], 0.02, 1e-12); /* d(-ln P) = dP / P */
+    }
+    gr_fit fit;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_fit_power_law(x, y, NULL, m, &fit, &err), GR_OK);
+    ck_assert_double_eq_tol(fit.p[1], 1.3, 1e-9);
+    /* a Gaussian is the line of slope 2 */
+    for (int i = 0; i < n; i++) {
+        x[i] = -4.0 + 0.1 * i;
+        y[i] = exp(-x[i] * x[i] / 2.0);
+        e[i] = 0.0;
+    }
+    const int g = campaign_curve_transform(&r, &p, x, y, e, n);
+    ck_assert_int_eq(gr_fit_power_law(x, y, NULL, g, &fit, &err), GR_OK);
+    ck_assert_double_eq_tol(fit.p[1], 2.0, 1e-9);
+    /* no bin on either side of 0: no P(0), no curve */
+    double px[2] = {1.0, 2.0}, py[2] = {0.5, 0.1}, pe[2] = {0.0, 0.0};
+    ck_assert_int_eq(campaign_curve_transform(&r, &p, px, py, pe, 2), 0);
+}
+END_TEST
+
+/* scale_at (5.4, Fig. 5.3): every curve passes through (x0, 1); its shape and relative errors stay. */
+START_TEST(test_scale_at_puts_every_curve_through_one)
+{
+    double x[5] = {0.0, 0.5, 1.0, 1.5, 2.0}, y[5], e[5];
+    for (int i = 0; i < 5; i++) {
+        y[i] = 3.0 * exp(-x[i] * x[i]);
+        e[i] = 0.1 * y[i];
+    }
+    gr_campaign_result r = {0};
+    snprintf(r.transform, sizeof r.transform, "scale_at");
+    r.collapse_at = 1.25; /* between bins: ln y interpolated, exact for exp(-x^2) only at bins */
+    campaign_point p = {0};
+    ck_assert_int_eq(campaign_curve_transform(&r, &p, x, y, e, 5), 5);
+    const double y125 = exp(0.5 * log(3.0 * exp(-1.0)) + 0.5 * log(3.0 * exp(-2.25)));
+    for (int i = 0; i < 5; i++) {
+        ck_assert_double_eq_tol(y[i], 3.0 * exp(-x[i] * x[i]) / y125, 1e-12);
+        ck_assert_double_eq_tol(e[i], 0.1 * y[i], 1e-12);
+    }
+    r.collapse_at = 1.0;
+    for (int i = 0; i < 5; i++) {
+        y[i] = 3.0 * exp(-x[i] * x[i]);
+    }
+    ck_assert_int_eq(campaign_curve_transform(&r, &p, x, y, e, 5), 5);
+    ck_assert_double_eq_tol(y[2], 1.0, 1e-12);
+    r.collapse_at = 7.0; /* outside the curve */
+    ck_assert_int_eq(campaign_curve_transform(&r, &p, x, y, e, 5), 0);
+}
+END_TEST
+
+/* select: values of one key are alternatives, different keys must all hold. */
+START_TEST(test_select_ors_one_key_and_ands_keys)
+{
+    const char *sel = "eps_n+eps_t=0.2/1.0, eps_n+eps_t=0.4/1.0";
+    ck_assert(campaign_curve_selected(sel, "eps_n+eps_t=0.2/1.0"));
+    ck_assert(campaign_curve_selected(sel, "eps_n+eps_t=0.4/1.0"));
+    ck_assert(!campaign_curve_selected(sel, "eps_n+eps_t=0.4/0.1"));
+    ck_assert(!campaign_curve_selected(sel, "eps_n+eps_t=0.2/1.00"));
+    ck_assert(campaign_curve_selected("eps_n=0.1, eps_n=0.4, N=100", "eps_n=0.4, N=100"));
+    ck_assert(!campaign_curve_selected("eps_n=0.1, eps_n=0.4, N=100", "eps_n=0.4, N=1000"));
+    ck_assert(!campaign_curve_selected("eps_n=0.1, N=100", "eps_n=0.9, N=100"));
+    ck_assert(campaign_curve_selected("", "anything"));
+}
+END_TEST
+
+/* overlay = power_law: the thesis's A k^-1.63 with only A fitted over the window. */
+START_TEST(test_overlay_amplitude_with_fixed_exponent)
+{
+    enum { n = 30 };
+    double x[n], y[n];
+    for (int i = 0; i < n; i++) {
+        x[i] = 10.0 * pow(1.1, i);
+        y[i] = 5.0 * pow(x[i], -1.63) * (i % 2 ? 1.1 : 1.0 / 1.1); /* scatter around the line */
+    }
+    gr_campaign_result r = {0};
+    r.overlay_exponent = -1.63;
+    r.x_min = 12.0; /* x = 12.1 ... 108.3: 24 points */
+    r.x_max = 110.0;
+    /* ln A is the mean of ln y + 1.63 ln x over the window's points: here 5 (the +-ln 1.1 cancel
+     * over an even count) */
+    int in = 0;
+    for (int i = 0; i < n; i++) {
+        in += x[i] >= r.x_min && x[i] <= r.x_max;
+    }
+    ck_assert_int_eq(in % 2, 0);
+    ck_assert_double_eq_tol(campaign_curve_overlay_amplitude(&r, x, y, n), 5.0, 1e-9);
+    r.x_min = 1e6;
+    r.x_max = 2e6;
+    ck_assert(isnan(campaign_curve_overlay_amplitude(&r, x, y, n)));
+}
+END_TEST
+
 START_TEST(test_series_from_table_with_filter)
 {
     char dir[] = "/tmp/granule-curve-XXXXXX";
@@ -188,6 +299,10 @@ int main(void)
     TCase *t = tcase_create("curve");
     tcase_add_test(t, test_collapse_of_uniform_bisection_is_minus_ln_R);
     tcase_add_test(t, test_collapse_detects_another_power);
+    tcase_add_test(t, test_log_ratio_turns_a_stretched_exponential_into_its_exponent);
+    tcase_add_test(t, test_scale_at_puts_every_curve_through_one);
+    tcase_add_test(t, test_select_ors_one_key_and_ands_keys);
+    tcase_add_test(t, test_overlay_amplitude_with_fixed_exponent);
     tcase_add_test(t, test_series_from_table_with_filter);
     tcase_add_test(t, test_exact_match_has_no_z);
     tcase_add_test(t, test_kinds_of_comparison);

@@ -90,17 +90,28 @@ typedef struct gr_campaign_result {
     char table[64];     /* CURVE: the run's CSV, e.g. "gaps.csv" */
     char where[128];    /* CURVE: the rows used, "column=value, ..." */
     char select[128];   /* CURVE: only the curves whose group has every "key=value" listed */
-    char transform[32]; /* CURVE: "" or "bisection_collapse" (thesis 3.39-3.40) */
-    double collapse_at; /* CURVE: x_0 of the collapse, where every mapped curve equals -ln x_0 */
+    char transform[32]; /* CURVE: "", "bisection_collapse" (thesis 3.39-3.40), "scale_at" (each
+                           curve divided by its value at x_0 = collapse_at, Fig. 5.3's 5.4) or
+                           "log_ratio" (y -> -ln(y / y(0)) for x > 0: the axes of Moon, Swift and
+                           Swinney, Figs. 5.6-5.7, where y = exp(-c x^alpha) is a line of slope alpha) */
+    double collapse_at; /* CURVE: x_0 of the transform (bisection_collapse: every mapped curve
+                           equals -ln x_0 there; scale_at: every curve is 1 there) */
     char axes[16]; /* CURVE: the figure's axes, "loglog" (default), "linlog" (log y) or "linear" */
     char
         overlay[32]; /* CURVE: "" or "bisection": beside every curve the uniform bisection process's
-                             P_n(x) = (-ln x)^(n-1)/(n-1)! (3.36), n = log2 N, no parameter fitted */
-    double x_min, x_max; /* POWER_LAW: fit window; SPM: the P(v) tail window in v / v_rms */
-    char by[256];        /* POWER_LAW: comma-separated keys that label a fit */
-    int m_lo, m_hi;      /* moments: m = m_lo..m_hi (0 = no {m}) */
-    int m_step;          /* ... in steps of m_step (m = 3-12/3: 3, 6, 9, 12; 0 means 1) */
-    bool per_m;          /* report exponent / m (Fig. 3.5) */
+                             P_n(x) = (-ln x)^(n-1)/(n-1)! (3.36), n = log2 N, no parameter fitted;
+                             "power_law": A x^overlay_exponent, A fitted to each curve over the window;
+                             "column": the seed mean of the table's column overlay_y (a fit the
+                             run wrote beside its curve), each drawn dashed in its curve's colour */
+    double overlay_exponent; /* CURVE, overlay = power_law: the fixed exponent (-1.63 for S(k)) */
+    char overlay_y[64];      /* CURVE, overlay = column: the column */
+    char overlay_title[96];  /* CURVE: the key's words for the dashed lines */
+    char x_label[96];        /* CURVE: the abscissa's label (default: the column's name) */
+    double x_min, x_max;     /* POWER_LAW: fit window; SPM: the P(v) tail window in v / v_rms */
+    char by[256];            /* POWER_LAW: comma-separated keys that label a fit */
+    int m_lo, m_hi;          /* moments: m = m_lo..m_hi (0 = no {m}) */
+    int m_step;              /* ... in steps of m_step (m = 3-12/3: 3, 6, 9, 12; 0 means 1) */
+    bool per_m;              /* report exponent / m (Fig. 3.5) */
     bool
         local_slopes; /* POWER_LAW: also the exponent between every pair of neighbouring x (one row each) */
     double period; /* RUNNING: seconds per period mean */

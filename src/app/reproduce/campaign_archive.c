@@ -43,9 +43,22 @@ static cJSON *curve_series(const gr_campaign *c, const campaign_point *p)
             campaign_spm_compare_series(w, &extra[n_extra++]);
         }
     }
-    /* the curve results' series, then those the spm kinds read (pv.csv, freepath.csv; spm_compare.csv) */
-    for (int i = 0; i < c->n_results + n_extra; i++) {
-        const gr_campaign_result *r = i < c->n_results ? &c->results[i] : &extra[i - c->n_results];
+    /* the curve results' series (and the fit columns an overlay = column draws), then those the
+     * spm kinds read (pv.csv, freepath.csv; spm_compare.csv) */
+    for (int i = 0; i < 2 * c->n_results + n_extra; i++) {
+        gr_campaign_result col;
+        const gr_campaign_result *r = i < c->n_results       ? &c->results[i]
+                                      : i < 2 * c->n_results ? &c->results[i - c->n_results]
+                                                             : &extra[i - 2 * c->n_results];
+        if (i >= c->n_results && i < 2 * c->n_results) {
+            if (strcmp(r->overlay, "column")) {
+                continue;
+            }
+            col = *r;
+            snprintf(col.y, sizeof col.y, "%s", r->overlay_y);
+            col.y_err[0] = 0;
+            r = &col;
+        }
         char key[512];
         campaign_curve_key(r, key, sizeof key);
         if (r->kind != GR_RESULT_CURVE || cJSON_GetObjectItem(all, key)) {

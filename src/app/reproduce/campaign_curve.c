@@ -195,21 +195,102 @@ int campaign_curve_series(const campaign_point *p, const gr_campaign_result *r, 
     return read_table(p, r, x, y, e);
 }
 
-/* Every "k=v" of `select` is among the ", "-separated tokens of the group label. */
-static bool selected(const char *select, const char *label)
+/* Is the group label selected? Each key named in `select` ("k=v, k=w, j=u") must have one of its
+ * listed values among the ", "-separated tokens of the label: values of one key are alternatives,
+ * different keys must all hold ("eps_n=0.1, eps_n=0.4, N=100": eps_n 0.1 or 0.4, and N 100). */
+bool campaign_curve_selected(const char *select, const char *label)
 {
-    char buf[256];
+    char buf[256], hay[200];
     snprintf(buf, sizeof buf, "%s", select);
-    char *save = NULL;
-    for (char *tok = strtok_r(buf, ", ", &save); tok; tok = strtok_r(NULL, ", ", &save)) {
-        char padded[200], hay[200];
-        snprintf(padded, sizeof padded, ", %.190s,", tok);
-        snprintf(hay, sizeof hay, ", %.190s,", label);
-        if (!strstr(hay, padded)) {
+    snprintf(hay, sizeof hay, ", %.190s,", label);
+    char *tok[32], *save = NULL;
+    int n = 0;
+    for (char *t = strtok_r(buf, ", ", &save); t && n < 32; t = strtok_r(NULL, ", ", &save)) {
+        tok[n++] = t;
+    }
+    for (int i = 0; i < n; i++) { /* key of token i: some token with that key must match */
+        const size_t klen = strcspn(tok[i], "=");
+        bool any = false;
+        for (int j = 0; j < n && !any; j++) {
+            if (strcspn(tok[j], "=") == klen && !strncmp(tok[i], tok[j], klen)) {
+                char padded[200];
+                snprintf(padded, sizeof padded, ", %.190s,", tok[j]);
+                any = strstr(hay, padded) != NULL;
+            }
+        }
+        if (!any) {
             return false;
         }
     }
     return true;
+}
+
+/* y at x0, interpolated linearly in x and ln y between the bins around it (x ascending); NAN when
+ * x0 is outside the curve or a neighbour is not positive. */
+static double value_at(const double *x, const double *y, int n, double x0)
+{
+    for (int i = 0; i + 1 < n; i++) {
+        if (x[i] <= x0 && x0 <= x[i + 1] && y[i] > 0.0 && y[i + 1] > 0.0) {
+            const double w = x[i + 1] > x[i] ? (x0 - x[i]) / (x[i + 1] - x[i]) : 0.0;
+            return exp((1.0 - w) * log(y[i]) + w * log(y[i + 1]));
+        }
+    }
+    return NAN;
+}
+
+/* transform = scale_at: every curve divided by its value at x0, so that all pass through (x0, 1):
+ * the vertical scaling of the thesis's Fig. 5.3 (5.4), which compares the shapes of P(v). */
+static bool scale_at(double x0, double *y, double *e, const double *x, int n)
+{
+    const double y0 = value_at(x, y, n, x0);
+    if (!(y0 > 0.0)) {
+        return false;
+    }
+    for (int i = 0; i < n; i++) {
+        y[i] /= y0;
+        e[i] /= y0;
+    }
+    return true;
+}
+
+/* transform = log_ratio: y -> -ln(y / y(0)) at x > 0, the quantity of Moon, Swift and Swinney's plot
+ * (thesis 5.6, Figs. 5.6-5.7): for P(v) = P(0) exp(-c v^alpha) it is c v^alpha, a line of slope
+ * alpha on log-log axes, so the window's slope is the local exponent alpha of the tail. The bins at
+ * x <= 0 (the distribution is even) and those above y(0) are dropped; the error is e / y. */
+static int log_ratio(double *x, double *y, double *e, int n)
+{
+    const double y0 = value_at(x, y, n, 0.0);
+    if (!(y0 > 0.0)) {
+        return 0;
+    }
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        if (x[i] > 0.0 && y[i] > 0.0 && y[i] < y0) {
+            x[m] = x[i];
+            e[m] = e[i] / y[i];
+            y[m++] = -log(y[i] / y0);
+        }
+    }
+    return m;
+}
+
+/* A series of one point in place by `transform`; returns its length (0: it cannot be mapped). */
+int campaign_curve_transform(const gr_campaign_result *r, const campaign_point *p, double *x,
+                             double *y, double *e, int n)
+{
+    if (!strcmp(r->transform, "bisection_collapse")) {
+        return campaign_bisection_collapse(atof(campaign_point_key(p, "system.N")), r->collapse_at,
+                                           x, y, e, n)
+                   ? n
+                   : 0;
+    }
+    if (!strcmp(r->transform, "scale_at")) {
+        return scale_at(r->collapse_at, y, e, x, n) ? n : 0;
+    }
+    if (!strcmp(r->transform, "log_ratio")) {
+        return log_ratio(x, y, e, n);
+    }
+    return n;
 }
 
 /* The collapse map (3.39-3.40) of one series in place (declared in campaign_points.h); x ascending. */
@@ -294,6 +375,57 @@ static void acc_add(curve_acc *a, const double *x, const double *y, const double
     }
 }
 
+double campaign_curve_overlay_amplitude(const gr_campaign_result *r, const double *x,
+                                        const double *y, int n)
+{
+    double sum = 0.0;
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        if (x[i] > 0.0 && y[i] > 0.0 && x[i] >= r->x_min && x[i] <= r->x_max) {
+            sum += log(y[i]) - r->overlay_exponent * log(x[i]);
+            m++;
+        }
+    }
+    return m ? exp(sum / m) : (double)NAN;
+}
+
+/* The dashed line beside one mean curve (x, y): overlay = power_law, A x^E with E fixed and ln A the
+ * mean of ln y - E ln x over the window's points (the thesis's "power-law fits of A k^-1.63", Figs.
+ * 4.3-4.5, and "linear fits of -alpha ln(v) + C", Figs. 5.6-5.7), drawn over the window; overlay =
+ * column, the seed mean of the fit column the runs wrote (oacc). Returns the points written. */
+static int overlay_block(FILE *f, const gr_campaign_result *r, const double *x, const double *y,
+                         int n, const curve_acc *oacc)
+{
+    int written = 0;
+    double lo = INFINITY, hi = -INFINITY; /* the curve's extent: the line is drawn over it */
+    for (int i = 0; i < n; i++) {
+        if (isfinite(x[i]) && y[i] > 0.0) {
+            lo = fmin(lo, x[i]);
+            hi = fmax(hi, x[i]);
+        }
+    }
+    if (!strcmp(r->overlay, "column")) {
+        for (int i = 0; i < oacc->n; i++) {
+            const double v = oacc->count[i] ? oacc->sum[i] / oacc->count[i] : (double)NAN;
+            if (isfinite(v) && v > 0.0 && oacc->x[i] >= lo && oacc->x[i] <= hi) {
+                fprintf(f, "%.9g %.9g\n", oacc->x[i], v);
+                written++;
+            }
+        }
+        return written;
+    }
+    const double A = campaign_curve_overlay_amplitude(r, x, y, n);
+    /* drawn beyond the window (to half its low end and twice its high end, within the curve) so
+     * that where the curve leaves the thesis's form shows */
+    for (int i = 0; isfinite(A) && i < n; i++) {
+        if (x[i] > 0.0 && y[i] > 0.0 && x[i] >= 0.5 * r->x_min && x[i] <= 2.0 * r->x_max) {
+            fprintf(f, "%.9g %.9g\n", x[i], A * pow(x[i], r->overlay_exponent));
+            written++;
+        }
+    }
+    return written;
+}
+
 int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
                    campaign_rows *rows, gr_file *data, gr_error *err)
 {
@@ -301,30 +433,57 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
     (void)err;
     static char groups[MAX_GROUPS][160];
     const int ng = campaign_groups(pts, NULL, NULL, groups);
-    const bool map = !strcmp(r->transform, "bisection_collapse");
+    const bool map = !strcmp(r->transform, "bisection_collapse"),
+               ratio = r->transform[0] != 0; /* every transform leaves y without a unit */
     char xb[64],
         yb[64]; /* the table's units (the observable's column line); the collapse has none */
     const char *xu = map ? "1" : gr_obs_column_unit(r->table, r->x, xb, sizeof xb),
-               *yu = map ? "1" : gr_obs_column_unit(r->table, r->y, yb, sizeof yb);
+               *yu = ratio ? "1" : gr_obs_column_unit(r->table, r->y, yb, sizeof yb);
+    gr_file
+        over; /* ID_overlay.dat: the dashed line of every curve, one block each (the plot's index) */
+    const bool overlay = !strcmp(r->overlay, "power_law") || !strcmp(r->overlay, "column");
+    if (overlay) {
+        char dir[1100], name[80];
+        snprintf(dir, sizeof dir, "%s", data->path); /* the data file's folder */
+        char *slash = strrchr(dir, '/');
+        if (slash) {
+            *slash = 0;
+        } else {
+            snprintf(dir, sizeof dir, ".");
+        }
+        snprintf(name, sizeof name, "%s_overlay.dat", r->id);
+        const int rc = gr_file_open(&over, dir, name, err);
+        if (rc) {
+            return rc;
+        }
+    }
+    gr_campaign_result col = *r; /* overlay = column: the same table's fit column */
+    snprintf(col.y, sizeof col.y, "%s", r->overlay_y);
+    col.y_err[0] = 0;
+    int blocks = 0;
     campaign_header(data, "group", "", "m", "1", "x", xu, "mean", yu, "error", yu, "seeds", "1",
                     "in_fit", "1", NULL);
     double *x = malloc(3 * MAX_BINS * sizeof *x), *y = x + MAX_BINS, *e = y + MAX_BINS;
-    curve_acc *acc = calloc(1, sizeof *acc);
+    curve_acc *acc = calloc(1, sizeof *acc), *oacc = calloc(1, sizeof *oacc);
     for (int g = 0; g < ng; g++) {
-        if (r->select[0] && !selected(r->select, groups[g])) {
+        if (r->select[0] && !campaign_curve_selected(r->select, groups[g])) {
             continue;
         }
         const campaign_point *members[MAX_SEEDS];
         const int nm = campaign_members(pts, groups[g], members, MAX_SEEDS);
         memset(acc, 0, sizeof *acc);
+        memset(oacc, 0, sizeof *oacc);
         double slopes[MAX_SEEDS], slope_err_fit = NAN;
         int ns = 0, used = 0;
         campaign_row *row = campaign_group_row(rows, groups[g]);
         for (int k = 0; k < nm; k++) {
-            const int n = campaign_curve_series(members[k], r, x, y, e);
-            if (n == 0 || (map && !campaign_bisection_collapse(
-                                      atof(campaign_point_key(members[k], "system.N")),
-                                      r->collapse_at, x, y, e, n))) {
+            if (!strcmp(r->overlay, "column")) {
+                const int no = campaign_curve_series(members[k], &col, x, y, e);
+                acc_add(oacc, x, y, e, no);
+            }
+            const int n = campaign_curve_transform(r, members[k], x, y, e,
+                                                   campaign_curve_series(members[k], r, x, y, e));
+            if (n == 0) {
                 continue;
             }
             campaign_add_cost(row, members[k]);
@@ -358,12 +517,20 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
             row->error = campaign_headline_error(row->error_seeds, slope_err_fit, ns);
         }
         campaign_row_thesis(r, row);
+        int written = 0;
         for (int i = 0; i < acc->n; i++) {
             if (isfinite(x[i]) && isfinite(y[i]) && y[i] > 0.0) {
                 const bool in = x[i] >= r->x_min && x[i] <= r->x_max;
                 gr_csv_text(data->f, groups[g], true);
                 fprintf(data->f, ",0,%.9g,%.9g,%.9g,%d,%d\n", x[i], y[i],
                         isfinite(e[i]) ? e[i] : 0.0, acc->count[i], in);
+                written++;
+            }
+        }
+        if (overlay && written) { /* a block per plotted curve, even an empty one (NaN) */
+            fprintf(over.f, "%s", blocks++ ? "\n\n" : "");
+            if (!overlay_block(over.f, r, x, y, acc->n, oacc)) {
+                fprintf(over.f, "NaN NaN\n");
             }
         }
         if (!strcmp(r->overlay, "bisection") && nm > 0 &&
@@ -380,6 +547,7 @@ int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const camp
         }
     }
     free(acc);
+    free(oacc);
     free(x);
-    return GR_OK;
+    return overlay ? gr_file_commit(&over, err) : GR_OK;
 }

@@ -189,6 +189,9 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
                 {"select", r->select, sizeof r->select},
                 {"axes", r->axes, sizeof r->axes},
                 {"overlay", r->overlay, sizeof r->overlay},
+                {"overlay_y", r->overlay_y, sizeof r->overlay_y},
+                {"overlay_title", r->overlay_title, sizeof r->overlay_title},
+                {"x_label", r->x_label, sizeof r->x_label},
                 {"restates", r->restates, sizeof r->restates}};
     for (size_t i = 0; i < sizeof text / sizeof text[0]; i++) {
         if (!strcmp(name, text[i].key)) {
@@ -299,9 +302,12 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         return 1;
     }
     if (!strcmp(name, "transform")) {
-        if (strcmp(value, "none") && strcmp(value, "bisection_collapse")) {
+        if (strcmp(value, "none") && strcmp(value, "bisection_collapse") &&
+            strcmp(value, "scale_at") && strcmp(value, "log_ratio")) {
             snprintf(p->error, sizeof p->error,
-                     "[result %s] transform = %s: allowed none, bisection_collapse", r->id, value);
+                     "[result %s] transform = %s: allowed none, bisection_collapse, scale_at, "
+                     "log_ratio",
+                     r->id, value);
             return 0;
         }
         snprintf(r->transform, sizeof r->transform, "%s", strcmp(value, "none") ? value : "");
@@ -329,6 +335,16 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         *(name[5] ? &r->walks_quick : &r->walks) = k;
         return 1;
     }
+    if (!strcmp(name, "overlay_exponent")) {
+        if (!parse_double(value, &r->overlay_exponent) || r->overlay_exponent == 0.0 ||
+            fabs(r->overlay_exponent) > 100.0) {
+            snprintf(p->error, sizeof p->error,
+                     "[result %s] overlay_exponent = %s: expected a number from -100 to 100, not 0",
+                     r->id, value);
+            return 0;
+        }
+        return 1;
+    }
     if (!strcmp(name, "df")) {
         if (!parse_double(value, &r->df) || !(r->df > 1.0 && r->df < 2.0)) {
             snprintf(p->error, sizeof p->error,
@@ -354,7 +370,8 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     snprintf(p->error, sizeof p->error,
              "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, "
              "x_max, by, m, per_m, local_slopes, period, "
-             "table, where, select, transform, collapse_at, axes, overlay, restates, "
+             "table, where, select, transform, collapse_at, axes, overlay, overlay_exponent, "
+             "overlay_y, overlay_title, x_label, restates, "
              "configurations, df, tail, walks, walks_quick, thesis, thesis_source, note, verdict",
              r->id, name);
     return 0;
@@ -632,14 +649,35 @@ static int parse_text(gr_campaign *c, const char *text, size_t len, const char *
                            "%s: [result %s] axes = %s: allowed loglog, linlog, linear", where,
                            r->id, r->axes);
         }
-        if (r->overlay[0] && strcmp(r->overlay, "bisection")) {
-            return GR_FAIL(err, GR_EINVAL, "%s: [result %s] overlay = %s: allowed bisection", where,
-                           r->id, r->overlay);
+        if (r->overlay[0] && strcmp(r->overlay, "bisection") && strcmp(r->overlay, "power_law") &&
+            strcmp(r->overlay, "column")) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [result %s] overlay = %s: allowed bisection, power_law, column",
+                           where, r->id, r->overlay);
         }
-        if (r->transform[0] && !(r->collapse_at > 0.0 && r->collapse_at < 1.0)) {
+        if (!strcmp(r->overlay, "power_law") &&
+            (r->overlay_exponent == 0.0 || !(r->x_min > 0.0 || isfinite(r->x_max)))) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [result %s] overlay = power_law needs overlay_exponent and a "
+                           "window (x_min, x_max) to fit its amplitude over",
+                           where, r->id);
+        }
+        if (!strcmp(r->overlay, "column") && (!r->overlay_y[0] || r->transform[0])) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [result %s] overlay = column needs overlay_y and no transform",
+                           where, r->id);
+        }
+        if (!strcmp(r->transform, "bisection_collapse") &&
+            !(r->collapse_at > 0.0 && r->collapse_at < 1.0)) {
             return GR_FAIL(err, GR_EINVAL,
                            "%s: [result %s] transform = %s needs collapse_at in (0, 1)", where,
                            r->id, r->transform);
+        }
+        if (!strcmp(r->transform, "scale_at") && !(r->collapse_at > 0.0)) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [result %s] transform = scale_at needs collapse_at (the x_0 where "
+                           "every curve is 1)",
+                           where, r->id);
         }
     }
     return GR_OK;

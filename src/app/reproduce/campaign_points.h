@@ -134,6 +134,15 @@ void campaign_curve_key(const gr_campaign_result *r, char *out, size_t len);
  * x ascending) is -ln x0; errors propagated. False (nothing changed) when G there is not positive
  * or N <= 2. */
 bool campaign_bisection_collapse(double N, double x0, double *x, double *y, double *e, int n);
+/* The result's `transform` of one point's series in place; returns its new length (0: cannot). */
+int campaign_curve_transform(const gr_campaign_result *r, const campaign_point *p, double *x,
+                             double *y, double *e, int n);
+/* Is a group label among `select`'s (values of one key are alternatives, keys must all hold)? */
+bool campaign_curve_selected(const char *select, const char *label);
+/* overlay = power_law: A of A x^E over the window [x_min, x_max] (ln A the mean of ln y - E ln x);
+ * NAN when no point is in it. */
+double campaign_curve_overlay_amplitude(const gr_campaign_result *r, const double *x,
+                                        const double *y, int n);
 
 /* Is the warm-up long enough? The mean of T over the first quarter of a run's sampling relative to
  * the mean over the rest, minus 1 (NAN without temperature.csv). */

@@ -337,8 +337,12 @@ static void draw_panels(const char *dir, const char *id, const char *head, const
     char body[16384];
     size_t n = (size_t)snprintf(body, sizeof body, "%s", head);
     if (np == 1) {
+        /* the title over the whole canvas: over the plot alone a long one is cut when the key
+         * stands outside */
         snprintf(body + n, sizeof body - n,
-                 "set key %s noenhanced\nset title \"%s\" noenhanced\n%s", key, title, plots[0]);
+                 "set key %s noenhanced\nset multiplot layout 1,1 title \"%s\" noenhanced font "
+                 "',13'\n%sunset multiplot\n",
+                 key, title, plots[0]);
     } else {
         const int cols = np <= 4 ? 2 : 3, rows = (np + cols - 1) / cols;
         /* the key in an empty cell of the grid when there is one, else inside the first panel */
@@ -420,7 +424,7 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
         if (!blocks) {
             return;
         }
-        const bool map = r->transform[0] != 0;
+        const bool map = !strcmp(r->transform, "bisection_collapse");
         const char *axes = !strcmp(r->axes, "linear") ? ""
                            : !strcmp(r->axes, "linlog")
                                ? "set logscale y\nset format y '10^{%L}'\n"
@@ -429,20 +433,43 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
         snprintf(head, sizeof head,
                  "set datafile separator whitespace\n%sset format x '%%g'\n"
                  "set xlabel '%s' noenhanced\nset ylabel '%s' noenhanced\n",
-                 axes, map ? "-ln R" : r->x, map ? "A_N G^{1/(n-1)}  (3.39)" : r->quantity);
+                 axes,
+                 map             ? "-ln R"
+                 : r->x_label[0] ? r->x_label
+                                 : r->x,
+                 map ? "A_N G^{1/(n-1)}  (3.39)" : r->quantity);
         char *plots[MAX_PANELS];
         bool by_group;
         const int np = panels(blocks, groups, plots, &by_group);
         for (int k = 0; k < np; k++) {
             const int lo = k * blocks / np, hi = (k + 1) * blocks / np - 1;
+            char dashed[400] = ""; /* overlay = power_law | column: each curve's line, its colour */
+            if (!strcmp(r->overlay, "power_law") || !strcmp(r->overlay, "column")) {
+                char words[120];
+                if (r->overlay_title[0]) {
+                    snprintf(words, sizeof words, "%.95s", r->overlay_title);
+                } else if (r->overlay_y[0]) {
+                    snprintf(words, sizeof words, "%.95s (dashed)", r->overlay_y);
+                } else {
+                    snprintf(words, sizeof words, "A x^%g fitted (dashed)", r->overlay_exponent);
+                }
+                for (char *q = strchr(words, '\''); q; q = strchr(q, '\'')) {
+                    *q = '`'; /* the words sit in a gnuplot string in single quotes */
+                }
+                snprintf(dashed, sizeof dashed,
+                         ", for [i=%d:%d] '%s_overlay.dat' index i using 1:2 with lines dt 2 lw 2 "
+                         "lc i-%d+1 title (i == %d ? '%s' : '')",
+                         lo, hi, r->id, np > 1 ? lo : 0, lo, words);
+            }
             snprintf(plots[k], PLOT_CAP,
                      "%splot for [i=%d:%d] '%s_blocks.dat' index i using 1:2 with linespoints pt 7 "
-                     "ps 0.5 lc i-%d+1 title columnheader(1)%s\n",
+                     "ps 0.5 lc i-%d+1 title columnheader(1)%s%s\n",
                      np > 1 && k == 1 ? "set key top right font ',9' noenhanced\n" : "", lo, hi,
                      r->id, np > 1 ? lo : 0,
                      map ? ", x with lines dt 2 lw 2 lc rgb 'black' title 'uniform bisection "
                            "(3.36): -ln R'"
-                         : "");
+                         : "",
+                     dashed);
         }
         draw_panels(dir, r->id, head, map ? "inside top left" : "outside right", r->title, plots,
                     np);
