@@ -19,6 +19,8 @@
 # - a mixture's profile, moments, collisions, postcollision, msd and vacf resume from a checkpoint
 #   bit for bit, and `granule analyse` of its snapshots gives the run's tables;
 # - a one-species bed's profile.csv is byte-identical to the branch point's (commit 2a73a05);
+# - clusters on a radius distribution: every grain in one cluster of each kind (pairs judged at
+#   their own r_i + r_j; tests/test_obs_structure.c has the known answers);
 # - the observables that measure in one diameter are refused with the reason.
 # (Sums to 1e-7 where the CSV prints 8 digits.) usage: test_obs_mixture.sh GRANULE SOURCE_DIR
 set -uo pipefail
@@ -211,10 +213,19 @@ warmup = 0.01
 duration = 0.03
 INI
 run dist "$tmp/dist.ini" --set output.plots=true --set analysis.profile_bins=1 \
-    --set analysis.observables=profile,moments,pv,msd,vacf,collisions,postcollision
-python3 - "$tmp/dist" <<'PY' || fail "a radius distribution's profile"
+    --set analysis.observables=profile,moments,pv,msd,vacf,collisions,postcollision,clusters
+python3 - "$tmp/dist" <<'PY' || fail "a radius distribution's profile and clusters"
 import csv, json, sys
 d = sys.argv[1]
+# clusters at each pair's own r_i + r_j: every grain in exactly one cluster of each kind, density
+# clusters (1.5 (r_i + r_j)) at least as large as contact ones
+rows = list(csv.DictReader(open(d + "/clusters.csv")))
+for k in ("contact", "density"):
+    assert abs(sum(float(x[k + "_fraction"]) for x in rows) - 1) < 1e-6, k
+c = json.load(open(d + "/summary.json"))["analysis"]["clusters"]
+assert c["density"]["mean_size"] >= c["contact"]["mean_size"] >= 1, c
+print(f"distribution: clusters of mean size {c['contact']['mean_size']:.4g} (contact), "
+      f"{c['density']['mean_size']:.4g} (density)")
 r = next(csv.DictReader(open(d + "/profile.csv")))
 assert "n_1" not in r and abs(float(r["phi"]) / 0.2 - 1) < 1e-7, r
 assert json.load(open(d + "/profile.meta.json"))["units"]["T_x"] == "J"
@@ -282,7 +293,7 @@ if [[ $quick != 1 ]]; then
 fi
 
 # refused: the observables in units of one diameter, with the reason and what is allowed
-for o in pair freepath sk vcorr clusters pressure; do
+for o in pair freepath sk vcorr pressure; do
     if "$granule" run "$src/docs/scenes/bidisperse-mixture.ini" --out "$tmp/refused" \
         --set analysis.observables=moments,$o >"$tmp/r.log" 2>&1; then
         fail "$o accepted on a mixture"
@@ -295,6 +306,6 @@ done
 if "$granule" run "$tmp/dist.ini" --out "$tmp/refused" --set analysis.observables=pair >"$tmp/r.log" 2>&1; then
     fail "pair accepted on a radius distribution"
 fi
-grep -q "pair is not species-aware yet: .*allowed with \[species\]: moments, pv, msd, vacf, postcollision, collisions, profile (docs" "$tmp/r.log" ||
+grep -q "pair is not species-aware yet: .*allowed with \[species\]: moments, pv, msd, vacf, postcollision, collisions, profile, clusters (docs" "$tmp/r.log" ||
     { cat "$tmp/r.log" >&2; fail "the message refusing pair on a radius distribution"; }
 echo "obs-mixture: ok"

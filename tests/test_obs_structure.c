@@ -78,6 +78,66 @@ END_TEST
 START_TEST(test_clusters_row_2d) { check_row(2); }
 END_TEST
 
+/* A mixture's row: grain i of radius r[i] follows grain i-1 at f (r[i-1] + r[i]); one frame with
+ * the grains' own radii (p.radii), as a run with [species] hands it over. */
+static cJSON *mixture_row(const double *r, const double *x, h_table *tab)
+{
+    enum { N = 20 };
+    gr_scene sc;
+    const double L = 0.2;
+    h_scene(&sc, 2, N, L, 1e-3); /* the largest radius, as a mixture's setup has it */
+    ck_assert_int_eq(gr_analysis_set(&sc.analysis, "cluster_distance", 1.5, NULL), GR_OK);
+    double y[N], v[N] = {0};
+    for (int i = 0; i < N; i++) {
+        y[i] = 0.5 * L;
+    }
+    void *st = h_create(&gr_obs_clusters, &sc);
+    const gr_particles p = {.n = N,
+                            .dim = 2,
+                            .L = L,
+                            .radius = 1e-3,
+                            .mass = sc.mass,
+                            .x = x,
+                            .y = y,
+                            .vx = v,
+                            .vy = v,
+                            .radii = r};
+    gr_error err = {0};
+    ck_assert_int_eq(gr_obs_clusters.sample(st, &p, 0.0, &err), GR_OK);
+    return h_finish(&gr_obs_clusters, st, &sc, "clusters.csv", tab);
+}
+
+/* On a mixture grains touch at r_i + r_j, not at the largest diameter. */
+START_TEST(test_clusters_mixture_pairs)
+{
+    enum { N = 20 };
+    double r[N], x[N];
+    h_table tab;
+    const double gap[2] = {1.0 - 1e-12, 1.2};
+    for (int k = 0; k < 2; k++) { /* alternating radii 0.5 and 1 mm, touching, then 1.2 apart */
+        for (int i = 0; i < N; i++) {
+            r[i] = i % 2 ? 1e-3 : 0.5e-3;
+            x[i] = i ? x[i - 1] + gap[k] * (r[i - 1] + r[i]) : 0.01;
+        }
+        cJSON *j = mixture_row(r, x, &tab);
+        ck_assert_double_eq(h_num(kind(j, "contact"), "clusters_per_frame", NULL), k ? 20.0 : 1.0);
+        ck_assert_double_eq(h_num(kind(j, "density"), "clusters_per_frame", NULL), 1.0);
+        h_done(&tab, j);
+    }
+    /* small grains 1.2 mm apart (contact at 1 mm) beside one large grain far away: contact
+     * singletons, as they would not be at the largest diameter (2 mm); one density cluster of 19 */
+    for (int i = 0; i < N; i++) {
+        r[i] = i ? 0.5e-3 : 1e-3;
+        x[i] = i ? 0.01 + 1.2e-3 * i : 0.15;
+    }
+    cJSON *j = mixture_row(r, x, &tab);
+    ck_assert_double_eq(h_num(kind(j, "contact"), "clusters_per_frame", NULL), 20.0);
+    ck_assert_double_eq(h_num(kind(j, "density"), "clusters_per_frame", NULL), 2.0);
+    ck_assert_double_eq(h_num(kind(j, "density"), "largest", NULL), 19.0);
+    h_done(&tab, j);
+}
+END_TEST
+
 /* 2D: a touching 6 x 6 square lattice is one cluster; two touching chains of 7
  * and 5 separated by 3 d are two contact clusters (sizes 7 and 5). */
 START_TEST(test_clusters_lattice_2d)
@@ -464,6 +524,7 @@ int main(void)
     tcase_add_test(t, test_clusters_row_1d);
     tcase_add_test(t, test_clusters_row_2d);
     tcase_add_test(t, test_clusters_lattice_2d);
+    tcase_add_test(t, test_clusters_mixture_pairs);
     tcase_add_test(t, test_pressure_ideal_gas);
     tcase_add_test(t, test_pressure_overlap_2d);
     tcase_add_test(t, test_pressure_overlap_1d);

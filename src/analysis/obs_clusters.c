@@ -8,7 +8,9 @@
  * per-frame mean and largest cluster sizes with block-averaging errors. Memory:
  * N counters per kind, independent of the run length. Known answers: a touching
  * chain is one cluster of N; particles further apart than the threshold are N
- * singletons. */
+ * singletons. On a mixture (species lists or a radius distribution) grains i and j touch at
+ * r_i + r_j and the density threshold is cluster_distance (r_i + r_j): the pairs are searched out to
+ * the largest pair's distance and each is judged at its own. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdlib.h>
@@ -34,7 +36,8 @@ static const char *const kind_name[KINDS] = {"contact", "density"};
 
 typedef struct clusters {
     int n;
-    double cut[KINDS]; /* m */
+    double cut[KINDS];    /* m; a mixture: for the largest pair */
+    double factor[KINDS]; /* a mixture: pair i, j joins within factor (r_i + r_j) */
     int *parent, *size;
     double *hist[KINDS]; /* clusters of size s, summed over frames (index s, 1 ..
                             n) */
@@ -52,6 +55,8 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     double d = 2.0 * setup->radius;
     c->cut[CONTACT] = fmin(d * (1.0 + CONTACT_TOL), 0.5 * setup->L);
     c->cut[DENSITY] = fmin(a->cluster_distance * d, 0.5 * setup->L);
+    c->factor[CONTACT] = 1.0 + CONTACT_TOL;
+    c->factor[DENSITY] = a->cluster_distance;
     c->parent = gr_obs_calloc(c, (size_t)c->n, sizeof(int));
     c->size = gr_obs_calloc(c, (size_t)c->n + 1, sizeof(int));
     for (int k = 0; k < KINDS; k++) {
@@ -70,11 +75,23 @@ static int root(int *parent, int i)
     return i;
 }
 
+typedef struct join_ctx {
+    int *parent;
+    const double *radii; /* a mixture's radii, NULL for one size */
+    double factor;
+} join_ctx;
+
 static void join(int i, int j, const double dr[3], double r2, void *user)
 {
     (void)dr;
-    (void)r2;
-    int *parent = user;
+    const join_ctx *ctx = user;
+    if (ctx->radii) { /* a mixture: this pair's own threshold */
+        const double cut = ctx->factor * (ctx->radii[i] + ctx->radii[j]);
+        if (r2 > cut * cut) {
+            return;
+        }
+    }
+    int *parent = ctx->parent;
     int a = root(parent, i), b = root(parent, j);
     if (a != b) {
         parent[a < b ? b : a] = a < b ? a : b;
@@ -87,7 +104,16 @@ static int frame(clusters *c, const gr_particles *p, int k, gr_error *err)
         c->parent[i] = i;
         c->size[i] = 0;
     }
-    int rc = gr_cells_pairs(&c->cells, p, c->cut[k], join, c->parent, err);
+    double cut = c->cut[k];
+    if (p->radii) { /* the largest pair's distance bounds the search */
+        double rmax = 0.0;
+        for (int i = 0; i < c->n; i++) {
+            rmax = fmax(rmax, p->radii[i]);
+        }
+        cut = fmin(c->factor[k] * 2.0 * rmax, 0.5 * p->L);
+    }
+    join_ctx ctx = {c->parent, p->radii, c->factor[k]};
+    int rc = gr_cells_pairs(&c->cells, p, cut, join, &ctx, err);
     if (rc) {
         return rc;
     }
@@ -158,9 +184,9 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         .name = "clusters.csv",
         .what = "cluster-size distributions: mean number of clusters of size s "
                 "per frame and the fraction "
-                "of particles in them; contact clusters (touching, |r_ij| <= d) "
-                "and density clusters "
-                "(|r_ij| < cluster_distance d)",
+                "of particles in them; contact clusters (touching, |r_ij| <= d, on a mixture "
+                "r_i + r_j) and density clusters "
+                "(|r_ij| < cluster_distance d, on a mixture cluster_distance (r_i + r_j))",
         .columns = "size [1],contact_clusters [1],contact_fraction [1],density_clusters [1],"
                    "density_fraction [1]",
         .rows = rows,

@@ -75,7 +75,6 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         {"sk", "S(k) and its fractal fits are in units of one diameter"},
         {"pair", "g(r) is binned in units of one diameter and normalised by one density"},
         {"vcorr", "the velocity correlations are binned in units of one diameter"},
-        {"clusters", "grains touch at one contact distance d (not r_i + r_j)"},
         {"pressure", "the virial and the collisional pressure use one mass, diameter and contact "
                      "law"},
     };
@@ -92,7 +91,7 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             snprintf(detail, cap,
                      "species needs [species] lists: a radius distribution has no species; "
                      "allowed with a radius distribution: moments, pv, msd, vacf, postcollision, "
-                     "collisions, profile (docs/mixtures.md)");
+                     "collisions, profile, clusters (docs/mixtures.md)");
             return GR_EINVAL;
         }
         if (why) {
@@ -100,7 +99,7 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             *key = "observables";
             snprintf(detail, cap,
                      "%s is not species-aware yet: %s; allowed with [species]: moments, pv, msd, "
-                     "vacf, postcollision, collisions, profile%s (docs/mixtures.md)",
+                     "vacf, postcollision, collisions, profile, clusters%s (docs/mixtures.md)",
                      tok, why, s->size_distribution ? "" : ", species");
             return GR_EINVAL;
         }
