@@ -213,10 +213,16 @@ warmup = 0.01
 duration = 0.03
 INI
 run dist "$tmp/dist.ini" --set output.plots=true --set analysis.profile_bins=1 \
-    --set analysis.observables=profile,moments,pv,msd,vacf,collisions,postcollision,clusters
-python3 - "$tmp/dist" <<'PY' || fail "a radius distribution's profile and clusters"
+    --set analysis.observables=profile,moments,pv,msd,vacf,collisions,postcollision,clusters,sk
+python3 - "$tmp/dist" <<'PY' || fail "a radius distribution's profile, clusters and sk"
 import csv, json, sys
 d = sys.argv[1]
+# S(k) measured in the mean collision diameter 2 <r> (gr_obs_collision_diameter), between the
+# distribution's bounds
+sk = json.load(open(d + "/summary.json"))["analysis"]["sk"]
+assert 2 * 1e-3 < sk["d"] < 2 * 4e-3 and "2 <r>" in sk["d_from"], sk
+assert abs(sk["l0"] - sk["L"]**2 / (2 * sk["d"] * 300)) < 1e-9 * sk["l0"], sk
+print(f"distribution: S(k) in d = {sk['d']:.5g} m (2 <r>)")
 # clusters at each pair's own r_i + r_j: every grain in exactly one cluster of each kind, density
 # clusters (1.5 (r_i + r_j)) at least as large as contact ones
 rows = list(csv.DictReader(open(d + "/clusters.csv")))
@@ -293,7 +299,7 @@ if [[ $quick != 1 ]]; then
 fi
 
 # refused: the observables in units of one diameter, with the reason and what is allowed
-for o in pair freepath sk vcorr pressure; do
+for o in pair freepath vcorr pressure; do
     if "$granule" run "$src/docs/scenes/bidisperse-mixture.ini" --out "$tmp/refused" \
         --set analysis.observables=moments,$o >"$tmp/r.log" 2>&1; then
         fail "$o accepted on a mixture"
@@ -306,6 +312,6 @@ done
 if "$granule" run "$tmp/dist.ini" --out "$tmp/refused" --set analysis.observables=pair >"$tmp/r.log" 2>&1; then
     fail "pair accepted on a radius distribution"
 fi
-grep -q "pair is not species-aware yet: .*allowed with \[species\]: moments, pv, msd, vacf, postcollision, collisions, profile, clusters (docs" "$tmp/r.log" ||
+grep -q "pair is not species-aware yet: .*allowed with \[species\]: moments, pv, msd, vacf, postcollision, collisions, profile, clusters, sk (docs" "$tmp/r.log" ||
     { cat "$tmp/r.log" >&2; fail "the message refusing pair on a radius distribution"; }
 echo "obs-mixture: ok"

@@ -599,6 +599,41 @@ START_TEST(test_dissipative_regime_thesis_numbers)
 }
 END_TEST
 
+/* A mixture's k_D and k d use its mean collision diameter: 2 <r> in 2D (the mean of r_i + r_j over
+ * random pairs), sqrt(2 <r^2> + 2 <r>^2) in 3D; one size keeps 2 radius. */
+START_TEST(test_mixture_collision_diameter)
+{
+    gr_scene s;
+    scene_2d(&s, 3000, 0.2, 2e-3, 4.0);
+    s.n_species = 2;
+    s.species_radius.n = 2;
+    s.species_radius.v[0] = 1e-3;
+    s.species_radius.v[1] = 2e-3;
+    s.species_count[0] = 2000;
+    s.species_count[1] = 1000;
+    gr_obs_setup su;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_scene_obs_setup(&s, &su, &err), GR_OK);
+    ck_assert_double_eq_tol(su.radius_mean, 4e-3 / 3.0, 1e-15);
+    ck_assert_double_eq_tol(su.radius_sq_mean, 6e-6 / 3.0, 1e-18);
+    ck_assert_double_eq_tol(gr_obs_collision_diameter(&su), 8e-3 / 3.0, 1e-15);
+    su.dim = 3; /* pi <(r_i + r_j)^2> = pi (2 <r^2> + 2 <r>^2) */
+    ck_assert_double_eq_tol(gr_obs_collision_diameter(&su),
+                            sqrt(2.0 * 6e-6 / 3.0 + 2.0 * 16e-6 / 9.0), 1e-15);
+    su.sizes = false;
+    ck_assert_double_eq(gr_obs_collision_diameter(&su), 4e-3);
+    void *st = create_ok(&s);
+    result r;
+    finish_ok(st, &s, false, &r);
+    const double d = 8e-3 / 3.0, l0 = 0.04 / (2.0 * d * 3000); /* (4.7) with d */
+    ck_assert_double_eq_tol(num(r.sk, "d"), d, 1e-15);
+    ck_assert_double_eq_tol(num(r.sk, "l0"), l0, 1e-15);
+    ck_assert_double_eq_tol(num(r.sk, "k_D_d"), (2.0 - 0.01 - 1.0) / (8.0 * l0) * d, 1e-12);
+    result_free(&r);
+    gr_observable_free(st);
+}
+END_TEST
+
 START_TEST(test_direct_method_by_environment)
 {
     /* GRANULE_SK_METHOD=direct gives the oracle's numbers through the observable */
@@ -719,6 +754,7 @@ int main(void)
     tcase_add_test(tc, test_ideal_gas);
     tcase_add_test(tc, test_cascade_fractal_dimension);
     tcase_add_test(tc, test_dissipative_regime_thesis_numbers);
+    tcase_add_test(tc, test_mixture_collision_diameter);
     tcase_add_test(tc, test_direct_method_by_environment);
     tcase_add_test(tc, test_bad_params_refused);
     suite_add_tcase(s, tc);

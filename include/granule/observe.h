@@ -56,7 +56,16 @@ typedef struct gr_obs_setup {
      * the frames then carry radii and masses) */
     int n_species;
     bool sizes;
+    /* the grains' number means <r> and <r^2> (m, m^2; with one size radius and radius^2; 0 when a
+     * caller does not fill them): a mixture's mean collision diameter, 2 <r> in 1D and 2D and
+     * sqrt(2 <r^2> + 2 <r>^2) in 3D (gr_obs_collision_diameter) */
+    double radius_mean, radius_sq_mean;
 } gr_obs_setup;
+
+/* The diameter a mixture's mean free path and k d are measured in: the mean over random pairs of
+ * the contact distance r_i + r_j (1D, 2D: the cross-section is linear in it) or of its square (3D:
+ * pi (r_i + r_j)^2); 2 radius for one size or when the means are not given. */
+double gr_obs_collision_diameter(const gr_obs_setup *setup);
 
 /* Where an observable writes its results. */
 typedef struct gr_output {

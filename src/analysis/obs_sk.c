@@ -524,6 +524,7 @@ typedef struct sk_state {
     gr_sk3_plan *plan3; /* 3D */
     int method, msp;
     double L, d, kd_max, n_cut;
+    bool mixture; /* d is the mixture's mean collision diameter (gr_obs_collision_diameter) */
     int nv;
     double *S;     /* the current frame, one value per vector */
     int *bin_of;   /* circular bin of each vector: |n| in [s - 1/2, s + 1/2), index s - 1 */
@@ -580,7 +581,8 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
         return GR_FAIL(err, GR_EINVAL, "[analysis] sk_kd_max = %g outside (%g, %g]", kd_max,
                        params[0].min, params[0].max);
     }
-    const double d = 2.0 * setup->radius;
+    /* a mixture: the mean collision diameter (the mean free path's and k d's length) */
+    const double d = gr_obs_collision_diameter(setup);
     const double n_cut = kd_max * setup->L / (2.0 * M_PI * d);
     if (n_cut < 1.0) {
         return GR_FAIL(err, GR_EINVAL,
@@ -608,6 +610,7 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     st->msp = st->dim == 3 ? GR_SK3_MSP_DEFAULT : GR_SK_MSP_DEFAULT;
     st->L = setup->L;
     st->d = d;
+    st->mixture = setup->sizes;
     st->kd_max = kd_max;
     st->n_cut = n_cut;
 
@@ -940,6 +943,12 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddNumberToObject(j, "l0", st->l0);
     gr_obs_add_number(j, "k_D", st->kD);
     gr_obs_add_number(j, "k_D_d", st->kD * st->d);
+    if (st->mixture) { /* one size: d = 2 radius, as before */
+        cJSON_AddNumberToObject(j, "d", st->d);
+        cJSON_AddStringToObject(j, "d_from",
+                                st->dim == 3 ? "a mixture: sqrt(<(r_i + r_j)^2>) over random pairs"
+                                             : "a mixture: <r_i + r_j> = 2 <r> over random pairs");
+    }
     gr_obs_add_number(j, "L_min", st->Lmin);
     gr_obs_add_number(j, "L_Eff", st->Leff);
     cJSON_AddNumberToObject(j, "L", st->L);

@@ -244,3 +244,12 @@ bool gr_obs_io_histogram_new(gr_blob_io *io, gr_histogram *h)
     }
     return !io->in->bad && gr_blob_get_histogram_new(io->in, h, false);
 }
+
+double gr_obs_collision_diameter(const gr_obs_setup *setup)
+{
+    const double r1 = setup->radius_mean, r2 = setup->radius_sq_mean;
+    if (!setup->sizes || !(r1 > 0.0) || !(r2 > 0.0)) {
+        return 2.0 * setup->radius;
+    }
+    return setup->dim == 3 ? sqrt(2.0 * r2 + 2.0 * r1 * r1) : 2.0 * r1;
+}

@@ -5,6 +5,7 @@
 #include <stdio.h>
 
 #include "granule/scene.h"
+#include "scene/scene_species.h"
 
 void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p)
 {
@@ -79,6 +80,7 @@ int gr_scene_obs_setup(const gr_scene *s, gr_obs_setup *out, gr_error *err)
                        .walls = {s->boundary[0] != 0, s->boundary[1] != 0, s->boundary[2] != 0},
                        .n_species = s->n_species,
                        .sizes = s->n_species >= 2 || s->size_distribution};
+    gr_scene_radius_moments(s, &out->radius_mean, &out->radius_sq_mean);
     if (s->normal) {
         int rc = gr_contact_prepare(s->normal, s->tangential, &s->contact, gr_scene_m12(s), 0.0,
                                     &out->contact, err);

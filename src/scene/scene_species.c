@@ -72,7 +72,6 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
     } no_obs[] = {
         {"freepath", "free paths and times are measured in one diameter d"},
         {"gaps", "the 1D gaps are measured from one rod length d (L - N d)"},
-        {"sk", "S(k) and its fractal fits are in units of one diameter"},
         {"pair", "g(r) is binned in units of one diameter and normalised by one density"},
         {"vcorr", "the velocity correlations are binned in units of one diameter"},
         {"pressure", "the virial and the collisional pressure use one mass, diameter and contact "
@@ -91,7 +90,7 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             snprintf(detail, cap,
                      "species needs [species] lists: a radius distribution has no species; "
                      "allowed with a radius distribution: moments, pv, msd, vacf, postcollision, "
-                     "collisions, profile, clusters (docs/mixtures.md)");
+                     "collisions, profile, clusters, sk (docs/mixtures.md)");
             return GR_EINVAL;
         }
         if (why) {
@@ -99,7 +98,7 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             *key = "observables";
             snprintf(detail, cap,
                      "%s is not species-aware yet: %s; allowed with [species]: moments, pv, msd, "
-                     "vacf, postcollision, collisions, profile, clusters%s (docs/mixtures.md)",
+                     "vacf, postcollision, collisions, profile, clusters, sk%s (docs/mixtures.md)",
                      tok, why, s->size_distribution ? "" : ", species");
             return GR_EINVAL;
         }
@@ -235,4 +234,27 @@ double gr_scene_grain_length(const gr_scene *s)
         l += s->species_count[k] * 2.0 * s->species_radius.v[k];
     }
     return l;
+}
+
+void gr_scene_radius_moments(const gr_scene *s, double *mean, double *sq_mean)
+{
+    double m1 = 0.0, m2 = 0.0;
+    if (s->size_distribution) {
+        for (int i = 0; i < s->N; i++) {
+            const double r = size_radius(s, i);
+            m1 += r;
+            m2 += r * r;
+        }
+    } else if (s->n_species >= 2) {
+        for (int k = 0; k < s->n_species; k++) {
+            const double r = s->species_radius.v[k];
+            m1 += s->species_count[k] * r;
+            m2 += s->species_count[k] * r * r;
+        }
+    } else {
+        m1 = s->N * s->radius;
+        m2 = s->N * s->radius * s->radius;
+    }
+    *mean = s->N > 0 ? m1 / s->N : s->radius;
+    *sq_mean = s->N > 0 ? m2 / s->N : s->radius * s->radius;
 }

@@ -15,6 +15,8 @@ int gr_scene_species_resolve(gr_scene *s, const char **section, const char **key
  * grains), and total length N 2 r (1D). */
 double gr_scene_grain_area(const gr_scene *s);
 double gr_scene_grain_length(const gr_scene *s);
+/* The grains' number means <r> (m) and <r^2> (m^2), for one size radius and radius^2. */
+void gr_scene_radius_moments(const gr_scene *s, double *mean, double *sq_mean);
 /* The grains' volume sum (4/3) pi r_i^3 (3D), m^3. */
 double gr_scene_grain_volume(const gr_scene *s);
 
