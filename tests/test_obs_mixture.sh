@@ -213,8 +213,8 @@ warmup = 0.01
 duration = 0.03
 INI
 run dist "$tmp/dist.ini" --set output.plots=true --set analysis.profile_bins=1 \
-    --set analysis.observables=profile,moments,pv,msd,vacf,collisions,postcollision,clusters,sk
-python3 - "$tmp/dist" <<'PY' || fail "a radius distribution's profile, clusters and sk"
+    --set analysis.observables=profile,moments,pv,msd,vacf,collisions,postcollision,clusters,sk,pair,vcorr,freepath
+python3 - "$tmp/dist" <<'PY' || fail "a radius distribution's profile, clusters, sk, pair, vcorr and freepath"
 import csv, json, sys
 d = sys.argv[1]
 # S(k) measured in the mean collision diameter 2 <r> (gr_obs_collision_diameter), between the
@@ -223,6 +223,13 @@ sk = json.load(open(d + "/summary.json"))["analysis"]["sk"]
 assert 2 * 1e-3 < sk["d"] < 2 * 4e-3 and "2 <r>" in sk["d_from"], sk
 assert abs(sk["l0"] - sk["L"]**2 / (2 * sk["d"] * 300)) < 1e-9 * sk["l0"], sk
 print(f"distribution: S(k) in d = {sk['d']:.5g} m (2 <r>)")
+# pair, vcorr and freepath in the same d; pair.csv's R / (R/d) is it
+a = json.load(open(d + "/summary.json"))["analysis"]
+for o in ("pair", "vcorr", "freepath"):
+    assert a[o]["d"] == sk["d"] and a[o]["d_from"] == sk["d_from"], (o, a[o].get("d"))
+g = next(r for r in csv.DictReader(open(d + "/pair.csv")) if float(r["R"]) > 0)
+assert abs(float(g["R"]) / float(g["R_over_d"]) / sk["d"] - 1) < 1e-6, g
+assert a["freepath"]["paths"] > 0
 # clusters at each pair's own r_i + r_j: every grain in exactly one cluster of each kind, density
 # clusters (1.5 (r_i + r_j)) at least as large as contact ones
 rows = list(csv.DictReader(open(d + "/clusters.csv")))
@@ -298,20 +305,18 @@ if [[ $quick != 1 ]]; then
         fail "one species: profile.csv changed (sha256 $sum)"
 fi
 
-# refused: the observables in units of one diameter, with the reason and what is allowed
-for o in pair freepath vcorr pressure; do
-    if "$granule" run "$src/docs/scenes/bidisperse-mixture.ini" --out "$tmp/refused" \
-        --set analysis.observables=moments,$o >"$tmp/r.log" 2>&1; then
-        fail "$o accepted on a mixture"
-    fi
-    grep -q "\[analysis\] observables.*$o is not species-aware yet: .*; allowed with \[species\]: moments, pv" "$tmp/r.log" ||
-        { cat "$tmp/r.log" >&2; fail "the message refusing $o"; }
-    [ ! -e "$tmp/refused" ] || fail "an output folder for a refused $o"
-done
-# a radius distribution: the same refusals, without species among the allowed
-if "$granule" run "$tmp/dist.ini" --out "$tmp/refused" --set analysis.observables=pair >"$tmp/r.log" 2>&1; then
-    fail "pair accepted on a radius distribution"
+# refused: pressure (one mass, diameter and contact law), with the reason and what is allowed
+if "$granule" run "$src/docs/scenes/bidisperse-mixture.ini" --out "$tmp/refused" \
+    --set analysis.observables=moments,pressure >"$tmp/r.log" 2>&1; then
+    fail "pressure accepted on a mixture"
 fi
-grep -q "pair is not species-aware yet: .*allowed with \[species\]: moments, pv, msd, vacf, postcollision, collisions, profile, clusters, sk (docs" "$tmp/r.log" ||
-    { cat "$tmp/r.log" >&2; fail "the message refusing pair on a radius distribution"; }
+grep -q "\[analysis\] observables.*pressure is not species-aware yet: .*; allowed with \[species\]: moments, pv, .*, pair, vcorr, freepath, species" "$tmp/r.log" ||
+    { cat "$tmp/r.log" >&2; fail "the message refusing pressure"; }
+[ ! -e "$tmp/refused" ] || fail "an output folder for a refused pressure"
+# a radius distribution: the same refusal, without species among the allowed
+if "$granule" run "$tmp/dist.ini" --out "$tmp/refused" --set analysis.observables=pressure >"$tmp/r.log" 2>&1; then
+    fail "pressure accepted on a radius distribution"
+fi
+grep -q "pressure is not species-aware yet: .*allowed with \[species\]: moments, pv, msd, vacf, postcollision, collisions, profile, clusters, sk, pair, vcorr, freepath (docs" "$tmp/r.log" ||
+    { cat "$tmp/r.log" >&2; fail "the message refusing pressure on a radius distribution"; }
 echo "obs-mixture: ok"

@@ -31,6 +31,7 @@ static const gr_param params[] = {
 typedef struct freepath {
     int n, dim;
     double L, d;
+    bool mixture; /* d is the mixture's mean collision diameter (gr_obs_collision_diameter) */
     double *x0, *y0, *z0;      /* z0: 3D only */
     unsigned char *free_since; /* 1: the particle's last contact ended at (x0, y0, z0) */
     gr_histogram h;            /* in units of d */
@@ -45,7 +46,8 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     f->n = setup->N;
     f->dim = setup->dim;
     f->L = setup->L;
-    f->d = 2.0 * setup->radius;
+    f->d = gr_obs_collision_diameter(setup); /* 2 radius; a mixture's mean over random pairs */
+    f->mixture = setup->sizes;
     f->x0 = gr_obs_calloc(f, (size_t)f->n, sizeof(double));
     f->y0 = gr_obs_calloc(f, (size_t)f->n, sizeof(double));
     f->z0 = f->dim == 3 ? gr_obs_calloc(f, (size_t)f->n, sizeof(double)) : NULL;
@@ -132,6 +134,9 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON *j = cJSON_AddObjectToObject(out->summary, "freepath");
     cJSON_AddNumberToObject(j, "paths", (double)f->paths);
     cJSON_AddNumberToObject(j, "mean_over_d", f->paths ? f->sum / f->paths / f->d : 0.0);
+    if (f->mixture) {
+        gr_obs_note_diameter(j, f->d, f->dim);
+    }
     cJSON_AddNumberToObject(j, "longer_than_quarter_box", f->long_paths);
     cJSON_AddStringToObject(j, "file", "freepath.csv");
     if (f->paths == 0) {

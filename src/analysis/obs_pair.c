@@ -88,9 +88,10 @@ typedef struct pair {
     double d, L, R_max, width, inv_width;
     int N;
     bool clamped;
-    double *area;         /* A_b = pi (R_hi^2 - R_lo^2) */
-    gr_blocking *g_blk;   /* per-frame g_b */
-    gr_blocking *c_blk;   /* per-frame C(R_hi of b) */
+    bool mixture;       /* d is the mixture's mean collision diameter (gr_obs_collision_diameter) */
+    double *area;       /* A_b = pi (R_hi^2 - R_lo^2) */
+    gr_blocking *g_blk; /* per-frame g_b */
+    gr_blocking *c_blk; /* per-frame C(R_hi of b) */
     gr_blocking tail_blk; /* per-frame mean g over the tail window */
     int tail_from;        /* first bin of the tail window */
     int64_t *frame_count; /* pairs per bin in the current frame */
@@ -148,7 +149,8 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     s->dim = setup->dim;
     gr_cells_own(s, &s->cells3);
     s->nbins = a->gr_bins;
-    s->d = 2.0 * setup->radius;
+    s->d = gr_obs_collision_diameter(setup); /* 2 radius; a mixture's mean over random pairs */
+    s->mixture = setup->sizes;
     s->L = setup->L;
     s->N = setup->N;
     s->R_max = a->gr_rmax * s->d;
@@ -769,7 +771,11 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddStringToObject(j, "file", "pair.csv");
     cJSON_AddNumberToObject(j, "frames", (double)s->frames);
     cJSON_AddNumberToObject(j, "bins", s->nbins);
-    cJSON_AddNumberToObject(j, "d", s->d);
+    if (s->mixture) {
+        gr_obs_note_diameter(j, s->d, s->dim);
+    } else {
+        cJSON_AddNumberToObject(j, "d", s->d);
+    }
     cJSON_AddNumberToObject(j, "R_max", s->R_max);
     cJSON_AddNumberToObject(j, "R_max_over_d", s->R_max / s->d);
     cJSON_AddBoolToObject(j, "R_max_clamped_to_half_box", s->clamped);

@@ -944,10 +944,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     gr_obs_add_number(j, "k_D", st->kD);
     gr_obs_add_number(j, "k_D_d", st->kD * st->d);
     if (st->mixture) { /* one size: d = 2 radius, as before */
-        cJSON_AddNumberToObject(j, "d", st->d);
-        cJSON_AddStringToObject(j, "d_from",
-                                st->dim == 3 ? "a mixture: sqrt(<(r_i + r_j)^2>) over random pairs"
-                                             : "a mixture: <r_i + r_j> = 2 <r> over random pairs");
+        gr_obs_note_diameter(j, st->d, st->dim);
     }
     gr_obs_add_number(j, "L_min", st->Lmin);
     gr_obs_add_number(j, "L_Eff", st->Leff);

@@ -253,3 +253,11 @@ double gr_obs_collision_diameter(const gr_obs_setup *setup)
     }
     return setup->dim == 3 ? sqrt(2.0 * r2 + 2.0 * r1 * r1) : 2.0 * r1;
 }
+
+void gr_obs_note_diameter(cJSON *j, double d, int dim)
+{
+    cJSON_AddNumberToObject(j, "d", d);
+    cJSON_AddStringToObject(j, "d_from",
+                            dim == 3 ? "a mixture: sqrt(<(r_i + r_j)^2>) over random pairs"
+                                     : "a mixture: <r_i + r_j> = 2 <r> over random pairs");
+}

@@ -109,4 +109,7 @@ bool gr_obs_io_histogram_new(gr_blob_io *io, gr_histogram *h);
  * equal `value` ("<what> = <stored> in the checkpoint, <value> in the scene"). */
 void gr_blob_io_check(gr_blob_io *io, const char *what, int64_t value);
 
+/* A mixture's summary: the length its lengths are in units of (gr_obs_collision_diameter) and why. */
+void gr_obs_note_diameter(cJSON *j, double d, int dim);
+
 #endif

@@ -40,6 +40,7 @@ static const gr_param params[] = {
 typedef struct vcorr {
     int bins;
     double rmax, w, d; /* m */
+    bool mixture;      /* d is the mixture's mean collision diameter (gr_obs_collision_diameter) */
     int dim;
     const double *ux, *uy, *uz; /* the frame being visited */
     double *ux_buf, *uy_buf, *uz_buf, *sl, *st, *cnt;
@@ -54,9 +55,10 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     const vcorr_params *a = params_block;
     vcorr *s = state;
     s->bins = a->vcorr_bins;
-    s->rmax = fmin(a->vcorr_rmax * 2.0 * setup->radius, 0.5 * setup->L);
+    s->d = gr_obs_collision_diameter(setup); /* 2 radius; a mixture's mean over random pairs */
+    s->mixture = setup->sizes;
+    s->rmax = fmin(a->vcorr_rmax * s->d, 0.5 * setup->L);
     s->w = s->rmax / s->bins;
-    s->d = 2.0 * setup->radius;
     size_t b = (size_t)s->bins, n = (size_t)setup->N;
     s->ux_buf = gr_obs_calloc(s, n, sizeof(double));
     s->uy_buf = gr_obs_calloc(s, n, sizeof(double));
@@ -156,6 +158,9 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON *j = gr_obs_summary(out, "vcorr", "vcorr.csv");
     cJSON_AddNumberToObject(j, "frames", (double)s->frames);
     cJSON_AddNumberToObject(j, "r_max", s->rmax);
+    if (s->mixture) {
+        gr_obs_note_diameter(j, s->d, s->dim);
+    }
     /* the nearest bin with pairs: the correlation at contact range */
     for (int k = 0; k < s->bins; k++) {
         if (s->bl[k].count[0] > 0) {
