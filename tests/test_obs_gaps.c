@@ -494,6 +494,51 @@ START_TEST(test_mean_exact_each_frame)
 }
 END_TEST
 
+START_TEST(test_mixture_rods_own_lengths)
+{
+    /* a mixture of rods 2 mm and 6 mm long, alternating, with known free gaps g_i: each gap is the
+     * centre distance less r_i + r_{i+1} and L' = L - sum_i 2 r_i, so R_{i,i+1} = g_i exactly and
+     * <R> = L'/N (3.19); at one rod length (the largest) the gaps would come out 4 mm short */
+    enum { N = 12 };
+    gr_scene s;
+    double r[N], g[N], x[N], len = 0.0, Lr = 0.0;
+    for (int i = 0; i < N; i++) {
+        r[i] = i % 2 ? 3e-3 : 1e-3;
+        g[i] = 1e-3 * (1 + i % 5); /* 1-5 mm */
+        len += 2.0 * r[i];
+        Lr += g[i];
+    }
+    scene_1d(&s, N, Lr, 3e-3, 2, 50, false);
+    s.L = Lr + len;
+    s.n_species = 2;
+    s.species_radius.n = 2;
+    s.species_radius.v[0] = 1e-3;
+    s.species_radius.v[1] = 3e-3;
+    s.species_count[0] = s.species_count[1] = N / 2;
+    void *st = create_ok(&s);
+    x[0] = 0.05;
+    for (int i = 1; i < N; i++) {
+        x[i] = x[i - 1] + r[i - 1] + g[i - 1] + r[i];
+    }
+    /* the last gap closes the ring: x[0] + L - x[N-1] = r[N-1] + g[N-1] + r[0] */
+    const gr_particles p = {
+        .n = N, .dim = 1, .L = s.L, .radius = 3e-3, .mass = s.mass, .x = x, .radii = r};
+    ck_assert_int_eq(sample_rc(st, &p), GR_OK);
+    result res;
+    finish_ok(st, &s, false, &res);
+    gr_observable_free(st);
+    ck_assert_double_eq_tol(jnum(res.gaps, "mean_signed_separation"), Lr / N, 1e-12);
+    ck_assert_double_eq_tol(jnum(res.gaps, "R1_min"), 1e-3, 1e-12);
+    ck_assert_double_eq_tol(jnum(res.gaps, "R1_max"), 5e-3, 1e-12);
+    double m2 = 0.0;
+    for (int i = 0; i < N; i++) {
+        m2 += g[i] * g[i] / N;
+    }
+    ck_assert_double_eq_tol(moment_row(&res, 1, 2)->moment, m2, 1e-15);
+    result_free(&res);
+}
+END_TEST
+
 START_TEST(test_overlap_convention)
 {
     /* soft particles in contact overlap: s_i = -delta. R = |s_i| (3.17); the signed mean stays
@@ -869,6 +914,7 @@ int main(void)
     tcase_add_test(tc, test_poisson_exact_beta_chi2);
     tcase_add_test(tc, test_poisson_gamma_large_N);
     tcase_add_test(tc, test_mean_exact_each_frame);
+    tcase_add_test(tc, test_mixture_rods_own_lengths);
     tcase_add_test(tc, test_overlap_convention);
     tcase_add_test(tc, test_wrapped_vs_unwrapped);
     tcase_add_test(tc, test_poisson_moments_gamma);

@@ -310,13 +310,13 @@ if "$granule" run "$src/docs/scenes/bidisperse-mixture.ini" --out "$tmp/refused"
     --set analysis.observables=moments,pressure >"$tmp/r.log" 2>&1; then
     fail "pressure accepted on a mixture"
 fi
-grep -q "\[analysis\] observables.*pressure is not species-aware yet: .*; allowed with \[species\]: moments, pv, .*, pair, vcorr, freepath, species" "$tmp/r.log" ||
+grep -q "\[analysis\] observables.*pressure is not species-aware yet: .*; allowed with \[species\]: moments, pv, .*, pair, vcorr, freepath, gaps, species" "$tmp/r.log" ||
     { cat "$tmp/r.log" >&2; fail "the message refusing pressure"; }
 [ ! -e "$tmp/refused" ] || fail "an output folder for a refused pressure"
 # a radius distribution: the same refusal, without species among the allowed
 if "$granule" run "$tmp/dist.ini" --out "$tmp/refused" --set analysis.observables=pressure >"$tmp/r.log" 2>&1; then
     fail "pressure accepted on a radius distribution"
 fi
-grep -q "pressure is not species-aware yet: .*allowed with \[species\]: moments, pv, msd, vacf, postcollision, collisions, profile, clusters, sk, pair, vcorr, freepath (docs" "$tmp/r.log" ||
+grep -q "pressure is not species-aware yet: .*allowed with \[species\]: moments, pv, msd, vacf, postcollision, collisions, profile, clusters, sk, pair, vcorr, freepath, gaps (docs" "$tmp/r.log" ||
     { cat "$tmp/r.log" >&2; fail "the message refusing pressure on a radius distribution"; }
 echo "obs-mixture: ok"

@@ -23,6 +23,10 @@
  * beyond the mean separation (R >= L'/N), and plots G_h on log-log axes against R and against
  * -ln(R/L') (Fig. 3.12).
  *
+ * On a mixture (rods of their own lengths 2 r_i) the reduced coordinates remove each rod's own
+ * length: s_i = ((x_{i+1} - x_i) mod L) - (r_i + r_{i+1}) and L' = L - sum_i 2 r_i, so (3.19) holds
+ * as before; G_h is then that of the free ring of the mixture.
+ *
  * Overlaps: soft particles in contact overlap by delta > 0, giving s_i = -delta < 0. Following
  * (3.17) literally the separation is |s_i| = delta (tiny against L'/N for stiff springs); then
  * <R> = L'/N + (2/N) sum(overlaps), while the signed mean <s> = L'/N holds exactly (3.19) and is
@@ -94,7 +98,12 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     if (setup->N < 2) {
         return GR_FAIL(err, GR_EINVAL, "gaps: need N >= 2 particles on the ring, got %d", setup->N);
     }
-    double d = 2.0 * setup->radius, Lr = setup->L - setup->N * d;
+    /* a mixture: the rods' total length N 2 <r> (each gap is then the centre distance less
+     * r_i + r_{i+1}) */
+    double d = 2.0 * setup->radius,
+           Lr =
+               setup->L -
+               setup->N * (setup->sizes && setup->radius_mean > 0.0 ? 2.0 * setup->radius_mean : d);
     if (!(setup->radius > 0.0) || !isfinite(setup->L) || !(Lr > 0.0)) {
         return GR_FAIL(err, GR_EINVAL,
                        "gaps: need radius > 0 and a free length L' = L - N d > 0 (3.16); got L = "
@@ -151,7 +160,14 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
                        "gaps: frame at t = %g s has %d particles in %dD, expected N = %d in 1D", t,
                        p->n, p->dim, g->n);
     }
-    const double L = p->L, d = 2.0 * p->radius, Lr = L - p->n * d;
+    const double L = p->L, d = 2.0 * p->radius;
+    double Lr = L - p->n * d;
+    if (p->radii) { /* a mixture: L' = L - sum_i 2 r_i */
+        Lr = L;
+        for (int i = 0; i < p->n; i++) {
+            Lr -= 2.0 * p->radii[i];
+        }
+    }
     if (!(fabs(Lr - g->Lr) <= 1e-9 * g->Lr + 1e-12 * L)) {
         return GR_FAIL(
             err, GR_EINVAL,
@@ -177,7 +193,7 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
                            i + 1 < n ? i + 1 : 0, t);
         }
         wound += c;
-        g->s[i] = c - d;
+        g->s[i] = c - (p->radii ? p->radii[i] + p->radii[i + 1 < n ? i + 1 : 0] : d);
         signed_sum += g->s[i];
         overlaps += g->s[i] < 0.0;
     }

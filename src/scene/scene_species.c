@@ -70,7 +70,6 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
     static const struct {
         const char *name, *why;
     } no_obs[] = {
-        {"gaps", "the 1D gaps are measured from one rod length d (L - N d)"},
         {"pressure", "the virial and the collisional pressure use one mass, diameter and contact "
                      "law"},
     };
@@ -87,18 +86,19 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             snprintf(detail, cap,
                      "species needs [species] lists: a radius distribution has no species; "
                      "allowed with a radius distribution: moments, pv, msd, vacf, postcollision, "
-                     "collisions, profile, clusters, sk, pair, vcorr, freepath (docs/mixtures.md)");
+                     "collisions, profile, clusters, sk, pair, vcorr, freepath, gaps "
+                     "(docs/mixtures.md)");
             return GR_EINVAL;
         }
         if (why) {
             *section = "analysis";
             *key = "observables";
-            snprintf(
-                detail, cap,
-                "%s is not species-aware yet: %s; allowed with [species]: moments, pv, msd, "
-                "vacf, postcollision, collisions, profile, clusters, sk, pair, vcorr, freepath%s "
-                "(docs/mixtures.md)",
-                tok, why, s->size_distribution ? "" : ", species");
+            snprintf(detail, cap,
+                     "%s is not species-aware yet: %s; allowed with [species]: moments, pv, msd, "
+                     "vacf, postcollision, collisions, profile, clusters, sk, pair, vcorr, "
+                     "freepath, gaps%s "
+                     "(docs/mixtures.md)",
+                     tok, why, s->size_distribution ? "" : ", species");
             return GR_EINVAL;
         }
     }
