@@ -15,8 +15,10 @@
 #   the species' collision rates is the Enskog-Maxwellian one within 3 errors, C(0) of vacf is T / d
 #   within 1 %, and Green-Kubo's D equals msd's D_self within 3 errors for all grains and for each
 #   species (the light grains diffusing faster), and each species' <|v|^4> / <|v|^2>^2 is 2
-#   (Maxwellian) within 0.15 where the pooled gas's exceeds 2.5;
-# - a mixture's profile, moments, collisions, postcollision, msd and vacf resume from a checkpoint
+#   (Maxwellian) within 0.15 where the pooled gas's exceeds 2.5; pv_species.csv's counts add up to
+#   pv.csv's in every bin, and (release) each species' component is Gaussian (flatness 3 within
+#   0.2) with <v_x^2> = <|v|^2>_s / 2 within 1 %;
+# - a mixture's profile, moments, collisions, postcollision, msd, vacf and pv resume from a checkpoint
 #   bit for bit, and `granule analyse` of its snapshots gives the run's tables;
 # - a one-species bed's profile.csv is byte-identical to the branch point's (commit 2a73a05);
 # - clusters on a radius distribution: every grain in one cluster of each kind (pairs judged at
@@ -135,6 +137,22 @@ if not quick:
     good = all(abs(x - 2) < 0.15 for x in k) and kt > 2.5
     print(f"<|v|^4>/<|v|^2>^2: species {k[0]:.3f}, {k[1]:.3f}; pooled {kt:.3f}" + ("" if good else "  <- FAIL"))
     ok &= good
+    # pv per species: each component Gaussian (flatness <v^4> / <v^2>^2 = 3), its <v_x^2> the
+    # speed moments' <|v|^2>_s / 2
+    for q, o in enumerate(a["pv"]["species"]):
+        good = abs(o["flatness"] - 3) < 0.2 and abs(o["v2"] / (sp["m2"][q] / 2) - 1) < 0.01
+        print(f"pv species {q + 1}: flatness {o['flatness']:.3f}, <v_x^2> {o['v2']:.5g} against "
+              f"<|v|^2>_s / 2 = {sp['m2'][q] / 2:.5g}" + ("" if good else "  <- FAIL"))
+        ok &= good
+# pv per species: on pv.csv's bins, the species' counts add up to the pooled counts in every bin
+pooled = list(csv.DictReader(open(d + "/pv.csv")))
+per = list(csv.DictReader(open(d + "/pv_species.csv")))
+good = len(per) == len(pooled) and all(
+    float(x["counts"]) == float(y["counts_1"]) + float(y["counts_2"]) and
+    abs(float(x["v"]) - float(y["v"])) <= 1e-9 * max(1.0, abs(float(x["v"])))
+    for x, y in zip(pooled, per))
+print(f"pv_species.csv: {len(per)} bins, counts_1 + counts_2 = counts" + ("" if good else "  <- FAIL"))
+ok &= good
 sys.exit(0 if ok else 1)
 PY
 
@@ -252,7 +270,7 @@ grep -q "T per component (J)" "$tmp/dist/profile.gp" || fail "a distribution's p
 # by GRANULE_TEST_PAUSE_AT_STEP), --resume, and every CSV equals the uninterrupted run's
 short=(--set output.plots=false --set system.N=200 --set run.warmup=0.01 --set run.duration=0.06
     --set analysis.profile_bins=4
-    --set analysis.observables=species,profile,moments,collisions,postcollision,msd,vacf)
+    --set analysis.observables=species,profile,moments,collisions,postcollision,msd,vacf,pv)
 run straight "$src/docs/scenes/bidisperse-mixture.ini" "${short[@]}"
 GRANULE_TEST_PAUSE_AT_STEP=3000 OMP_NUM_THREADS=1 "$granule" run "$src/docs/scenes/bidisperse-mixture.ini" \
     --out "$tmp/term" --set output.snapshot_every=0 --set run.checkpoint_every=0.01 "${short[@]}" \

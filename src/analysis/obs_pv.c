@@ -40,6 +40,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "analysis/obs_pv_species.h"
 #include "analysis/obs_util.h"
 #include "io/plot.h"
 #include "granule/analysis.h"
@@ -91,6 +92,7 @@ typedef struct pv {
     gr_histogram speed;        /* |v| */
     int64_t frames, particles; /* frames sampled; particles summed over frames */
     double sum_u2;             /* sum of |v - <v>|^2 over particles and frames */
+    pv_species sp;             /* a mixture's P(v) per species (obs_pv_species.c) */
 } pv;
 
 static int check_params(const gr_obs_setup *setup, const pv_params *a, gr_error *err)
@@ -123,11 +125,16 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     gr_obs_own_pointer(s, &s->buf);
     gr_obs_own_histogram(s, &s->comp); /* binned once the reference frames are in */
     gr_obs_own_histogram(s, &s->speed);
+    pv_species_init(s, &s->sp, setup);
     return GR_OK;
 }
 
-static void add_particle(pv *s, double ux, double uy, double uz)
+/* One particle's components (relative to the frame mean); a >= 0: its species in a mixture. */
+static void add_particle(pv *s, int a, double ux, double uy, double uz)
 {
+    if (a >= 0) {
+        pv_species_add(&s->sp, a, s->dim, ux, uy, uz);
+    }
     gr_histogram_add(&s->comp, ux, 1.0);
     if (s->dim >= 2) {
         gr_histogram_add(&s->comp, uy, 1.0);
@@ -159,17 +166,24 @@ static int fix_binning(pv *s, gr_error *err)
             gr_histogram_free(&s->comp);
         }
     }
+    if (!rc) {
+        rc = pv_species_fix(&s->sp, &s->comp, err);
+    }
     if (rc) {
         return rc;
     }
     s->fixed = true;
     for (size_t k = 0; k < s->nbuf; k += (size_t)s->dim) {
-        add_particle(s, s->buf[k], s->dim >= 2 ? s->buf[k + 1] : 0.0,
-                     s->dim == 3 ? s->buf[k + 2] : 0.0);
+        const size_t i = k / (size_t)s->dim; /* the buffered particle */
+        add_particle(s, s->sp.ns && i < s->sp.nbuf ? s->sp.buf[i] : -1, s->buf[k],
+                     s->dim >= 2 ? s->buf[k + 1] : 0.0, s->dim == 3 ? s->buf[k + 2] : 0.0);
     }
     free(s->buf);
     s->buf = NULL;
     s->nbuf = s->capbuf = 0;
+    free(s->sp.buf);
+    s->sp.buf = NULL;
+    s->sp.nbuf = s->sp.cap = 0;
     return GR_OK;
 }
 
@@ -182,6 +196,10 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         return GR_FAIL(err, GR_EINVAL,
                        "pv: frame with %d particles in %d dimensions, expected dim = %d", p->n,
                        p->dim, s->dim);
+    }
+    int bad = pv_species_check(&s->sp, p, err);
+    if (bad) {
+        return bad;
     }
     double mean[3];
     gr_obs_mean_velocity(p, mean);
@@ -215,6 +233,10 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
                 s->buf = nb;
                 s->capbuf = cap;
             }
+            int rs = pv_species_buffer(&s->sp, p, err);
+            if (rs) {
+                return rs;
+            }
             for (int i = 0; i < p->n; i++) {
                 s->buf[s->nbuf++] = p->vx[i] - mean[0];
                 if (s->dim >= 2) {
@@ -238,7 +260,8 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         }
     }
     for (int i = 0; i < p->n; i++) {
-        add_particle(s, p->vx[i] - mean[0], s->dim >= 2 ? p->vy[i] - mean[1] : 0.0,
+        add_particle(s, s->sp.ns ? p->species[i] : -1, p->vx[i] - mean[0],
+                     s->dim >= 2 ? p->vy[i] - mean[1] : 0.0,
                      s->dim == 3 ? p->vz[i] - mean[2] : 0.0);
     }
     return GR_OK;
@@ -1027,6 +1050,9 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     if (!rc) {
         rc = write_speed_csv(out, &rows, err);
     }
+    if (!rc) {
+        rc = pv_species_finish(&s->sp, out, j, err);
+    }
     if (!rc && out->plots) {
         draw_plots(out, s, &tail, v_rms, P0, ymin, C);
     }
@@ -1076,6 +1102,7 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
         }
         gr_blob_io_bytes(io, s->buf, sizeof(double) * (size_t)nbuf);
     }
+    pv_species_io(&s->sp, io, s->fixed); /* nothing for one species: its bytes as before */
     gr_blob_io_i64(io, &s->frames);
     gr_blob_io_i64(io, &s->particles);
     gr_blob_io_f64(io, &s->sum_u2);
