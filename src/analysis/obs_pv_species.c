@@ -22,15 +22,7 @@ void pv_species_init(void *state, pv_species *s, const gr_obs_setup *setup)
 
 int pv_species_check(const pv_species *s, const gr_particles *p, gr_error *err)
 {
-    bool ok = !s->ns || (p->species && p->n_species == s->ns);
-    for (int i = 0; ok && s->ns && i < p->n; i++) {
-        ok = p->species[i] >= 0 && p->species[i] < s->ns;
-    }
-    return ok ? GR_OK
-              : GR_FAIL(err, GR_EINVAL,
-                        "pv: the frames carry %d species, the scene %d ([species]; snapshots of a "
-                        "mixture keep each grain's species)",
-                        p->species ? p->n_species : 0, s->ns);
+    return s->ns ? gr_obs_frame_species("pv", p, s->ns, p->n, NULL, err) : GR_OK;
 }
 
 int pv_species_buffer(pv_species *s, const gr_particles *p, gr_error *err)

@@ -10,10 +10,10 @@
 #include "granule/sim.h"
 
 typedef struct pv_species {
-    int ns;                           /* species (0: one species, nothing here is used) */
-    gr_histogram h[GR_MAX_SPECIES];   /* each species' components, the pooled binning */
-    unsigned char *buf;               /* the species of each particle the pooled buffer holds */
-    size_t nbuf, cap;                 /* ... particles buffered, allocated */
+    int ns;                         /* species (0: one species, nothing here is used) */
+    gr_histogram h[GR_MAX_SPECIES]; /* each species' components, the pooled binning */
+    unsigned char *buf;             /* the species of each particle the pooled buffer holds */
+    size_t nbuf, cap;               /* ... particles buffered, allocated */
 } pv_species;
 
 /* At init: a mixture of n_species >= 2 lists (a radius distribution has no species). */

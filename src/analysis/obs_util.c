@@ -125,7 +125,9 @@ int gr_obs_frame_species(const char *name, const gr_particles *p, int ns, int n,
     bool ok = p->species && p->n_species == ns && p->n == n;
     for (int i = 0; ok && i < n; i++) {
         ok = p->species[i] >= 0 && p->species[i] < ns;
-        species[i] = ok ? p->species[i] : 0;
+        if (species) {
+            species[i] = ok ? p->species[i] : 0;
+        }
     }
     return ok ? GR_OK
               : GR_FAIL(err, GR_EINVAL,

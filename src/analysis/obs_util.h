@@ -55,7 +55,7 @@ double gr_obs_stderr(const gr_blocking *b);
 cJSON *gr_obs_summary(const gr_output *out, const char *key, const char *file);
 /* GR_EINVAL unless the frame has the scene's n particles (observables keeping per-particle state). */
 int gr_obs_check_frame(const char *name, const gr_particles *p, int n, gr_error *err);
-/* A mixture's frame (docs/mixtures.md): its grains' species copied into species[0..n), GR_EINVAL
+/* A mixture's frame (docs/mixtures.md): its grains' species copied into species[0..n) (unless NULL), GR_EINVAL
  * naming the observable unless the frame carries ns species (each in [0, ns)) of n grains. */
 int gr_obs_frame_species(const char *name, const gr_particles *p, int ns, int n, int *species,
                          gr_error *err);
