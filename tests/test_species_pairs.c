@@ -662,6 +662,59 @@ START_TEST(size_distribution)
 }
 END_TEST
 
+/* A radius distribution in 3D: masses 4/3 pi r^3 rho, the volume fraction from the actual radii,
+ * every head-on pair of two sizes keeps eps_n and momentum (spring-dashpot and hertz), and a gas's
+ * ledger closes. */
+START_TEST(size_distribution_3d)
+{
+    static const char *gas = "[system]\ndim = 3\nN = 2000\npacking_fraction = 0.2\n"
+                             "[placement]\nkind = random\n[species]\ndistribution = uniform\n"
+                             "radius_min = 1e-3\nradius_max = 3e-3\ndensity = 2500\n";
+    gr_scene sc;
+    load(&sc, gas, NULL, 0);
+    gr_sim *s = create(&sc);
+    double vol = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        const double r = s->rad[i];
+        ck_assert(r >= 1e-3 && r <= 3e-3);
+        ck_assert(fabs(s->mass_i[i] / (2500 * 4.0 / 3.0 * M_PI * r * r * r) - 1) < 1e-15);
+        vol += 4.0 / 3.0 * M_PI * r * r * r;
+    }
+    ck_assert_msg(fabs(vol / (s->L * s->L * s->L) - 0.2) < 1e-12, "phi %g",
+                  vol / (s->L * s->L * s->L));
+    step(s, 1000);
+    gr_ledger l = gr_sim_ledger(s);
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) < 0.01 * (l.injected + gr_ledger_dissipated(&l)),
+                  "ledger residual %g of %g", gr_ledger_residual(&l), l.injected);
+    gr_sim_free(s);
+
+    static const char *pair = "[system]\ndim = 3\nN = 2\nL = 1\n[placement]\nkind = random\n"
+                              "v0 = 0\n[driving]\nkind = none\n[species]\ndistribution = uniform\n"
+                              "radius_min = 1e-3\nradius_max = 3e-3\ndensity = 2500\n";
+    static const char *const laws[] = {"model.normal=spring_dashpot", "model.normal=hertz"};
+    for (int k = 0; k < 2; k++) {
+        for (int seed = 1; seed <= 3; seed++) {
+            char sd[32];
+            snprintf(sd, sizeof sd, "run.seed=%d", seed);
+            const char *set[] = {laws[k], "model.eps_n=0.7", sd, "model.k_s=5e3"};
+            load(&sc, pair, set, k ? 3 : 4); /* hertz: its own default stiffness */
+            s = create(&sc);
+            for (int i = 0; i < 2; i++) { /* head-on along x at the box's middle */
+                s->y[i] = s->z[i] = 0.5;
+            }
+            double p0, p1;
+            const double eps = collide(s, &p0, &p1);
+            ck_assert_msg(fabs(eps - 0.7) < 0.01, "%s, radii %g and %g m: eps = %.5f, want 0.7",
+                          laws[k], s->rad[0], s->rad[1], eps);
+            ck_assert_msg(fabs(p1 - p0) < 1e-13 * fabs(s->mass_i[0] * 0.1), "momentum %g -> %g", p0,
+                          p1);
+            ck_assert(s->vy[0] == 0.0 && s->vz[1] == 0.0); /* head-on: no sideways motion */
+            gr_sim_free(s);
+        }
+    }
+}
+END_TEST
+
 /* Tangential laws and rotation with a radius distribution (kernels_poly.c, gr_size_scaled): two
  * discs drawn with radii 2.0 and 1.1 mm (seed 11; the reference pair is that of two grains of
  * radius_min) collide obliquely, rotating, with the tangential dashpot (spring_dashpot and hertz):
@@ -734,6 +787,7 @@ static Suite *species_suite(void)
     tcase_add_test(t, heating_per_mass);
     tcase_add_test(t, species_dealt_by_seed);
     tcase_add_test(t, size_distribution);
+    tcase_add_test(t, size_distribution_3d);
     tcase_add_test(t, size_tangential);
     suite_add_tcase(s, t);
     return s;

@@ -147,6 +147,9 @@ enum { GR_SIZE_NONE = 0, GR_SIZE_UNIFORM = 1, GR_SIZE_LOGNORMAL = 2 };
  * (kind, bounds, median and sigma as in gr_sim_params), m. */
 double gr_size_radius(int kind, double rmin, double rmax, double median, double sigma,
                       uint64_t seed, int i);
+/* The mass of a distribution's grain of radius r at the [species] density: 2 r rho in 1D (kg/m),
+ * pi r^2 rho in 2D (kg/m^2), 4/3 pi r^3 rho in 3D (kg/m^3). */
+double gr_size_mass(int dim, double density, double r);
 
 /* Grains per species from number fractions (fraction[0..ns), summing to 1): round(f_s N), the
  * rounding error given to the last species, so the counts sum to N. Returns 0, or GR_EINVAL when

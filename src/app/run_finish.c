@@ -47,8 +47,7 @@ static double injection_rate_expected(const gr_scene *scene, double dt)
             const double r =
                 gr_size_radius(scene->size_distribution, scene->radius_min, scene->radius_max,
                                scene->radius_median, scene->radius_sigma, scene->seed, i);
-            const double rho = scene->species_density.v[0];
-            per_mass += 1.0 / (scene->dim == 1 ? rho * 2.0 * r : rho * M_PI * r * r);
+            per_mass += 1.0 / gr_size_mass(scene->dim, scene->species_density.v[0], r);
         }
         return scene->dim * scene->D * per_mass * sym;
     }

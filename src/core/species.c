@@ -43,8 +43,7 @@ static const char *not_covered(const gr_sim *s)
     /* the history law, rolling, the bath and com mode: species lists in 1D and 2D (the 3D mixture
      * kernel has the laws without history) */
     const bool flat = p->size_distribution || p->dim == 3;
-    return p->dim == 3 && p->size_distribution ? "[system] dim = 3"
-           : !p->integrator->species           ? "[integrator] kind"
+    return !p->integrator->species ? "[integrator] kind"
            : p->tangential &&
                    ((flat && gr_model_keeps_history(p->tangential)) || p->integrator->instantaneous)
                ? "[model] tangential"
@@ -84,6 +83,13 @@ double gr_size_radius(int kind, double rmin, double rmax, double median, double 
     return fmin(rmax, fmax(rmin, median * exp(sigma * 0.5 * (lo + hi))));
 }
 
+double gr_size_mass(int dim, double density, double r)
+{
+    return dim == 1   ? density * 2.0 * r
+           : dim == 3 ? density * 4.0 / 3.0 * M_PI * r * r * r
+                      : density * M_PI * r * r;
+}
+
 /* A continuous radius distribution: each grain its own radius and mass (density), one "species"
  * with the pairs' coefficients scaled in the kernel (cc_pair NULL). */
 static int size_setup(gr_sim *s, gr_error *err)
@@ -98,12 +104,13 @@ static int size_setup(gr_sim *s, gr_error *err)
         what = "[model] viscoelastic = true"; /* its damping is not calibrated per pair */
     }
     if (what) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "%s: %s: not available with a radius distribution yet; it runs in 1D and "
-                       "2D with the verlet integrator, spring_dashpot or hertz (viscoelastic = "
-                       "false) alone, periodic or between walls under gravity, and the random "
-                       "force or no driving (docs/mixtures.md)",
-                       p->source, what);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s: %s: not available with a radius distribution yet; it runs in 1D, "
+            "2D and 3D with the verlet integrator, spring_dashpot or hertz (viscoelastic = "
+            "false) alone, periodic or between walls under gravity, and the random "
+            "force or no driving (docs/mixtures.md)",
+            p->source, what);
     }
     const bool logn = p->size_distribution == GR_SIZE_LOGNORMAL;
     if (p->n_species >= 2 || !(p->size_min > 0.0 && p->size_max > p->size_min) ||
@@ -129,7 +136,7 @@ static int size_setup(gr_sim *s, gr_error *err)
         const double r = gr_size_radius(p->size_distribution, p->size_min, p->size_max,
                                         p->size_median, p->size_sigma, p->seed, i);
         s->rad[i] = r;
-        s->mass_i[i] = p->dim == 1 ? p->size_density * 2.0 * r : p->size_density * M_PI * r * r;
+        s->mass_i[i] = gr_size_mass(p->dim, p->size_density, r);
         s->inv_m[i] = 1.0 / s->mass_i[i];
         msum += s->mass_i[i];
         rmax = fmax(rmax, r);
@@ -253,10 +260,8 @@ static void size_reference(gr_sim *s, gr_contact_params *p, double *m12)
     double best = INFINITY;
     for (int a = 0; a < 2; a++) {
         for (int b = a; b < 2; b++) {
-            const double ma = q->dim == 1 ? q->size_density * 2.0 * r[a]
-                                          : q->size_density * M_PI * r[a] * r[a],
-                         mb = q->dim == 1 ? q->size_density * 2.0 * r[b]
-                                          : q->size_density * M_PI * r[b] * r[b];
+            const double ma = gr_size_mass(q->dim, q->size_density, r[a]),
+                         mb = gr_size_mass(q->dim, q->size_density, r[b]);
             gr_contact_params cp;
             double m;
             gr_contact_coeffs c;

@@ -20,8 +20,6 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         bool on;
         const char *section, *key, *allowed;
     } const no[] = {
-        {s->dim == 3 && s->size_distribution, "system", "dim",
-         "1 | 2 (a radius distribution; 3D runs [species] lists)"},
         {!s->integrator->species, "integrator", "kind", "verlet | event"},
         {s->size_distribution && s->integrator->instantaneous, "integrator", "kind",
          "verlet (a radius distribution; event runs [species] lists)"},
@@ -126,7 +124,8 @@ int gr_scene_species_resolve(gr_scene *s, const char **section, const char **key
         if (*key) {
             snprintf(detail, cap,
                      "a radius distribution needs 0 < radius_min < radius_max, one density "
-                     "(kg/m^2 in 2D, kg/m in 1D), lognormal radius_median and radius_sigma > 0, "
+                     "(kg/m^3 in 3D, kg/m^2 in 2D, kg/m in 1D), lognormal radius_median and "
+                     "radius_sigma > 0, "
                      "and no radius, mass or fraction lists");
             return GR_EINVAL;
         }
@@ -205,6 +204,14 @@ double gr_scene_grain_area(const gr_scene *s)
 
 double gr_scene_grain_volume(const gr_scene *s)
 {
+    if (s->size_distribution) {
+        double v = 0.0;
+        for (int i = 0; i < s->N; i++) {
+            const double r = size_radius(s, i);
+            v += 4.0 / 3.0 * M_PI * r * r * r;
+        }
+        return v;
+    }
     if (s->n_species < 2) {
         return s->N * (4.0 / 3.0 * M_PI * s->radius * s->radius * s->radius);
     }
