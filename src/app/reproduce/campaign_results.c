@@ -324,7 +324,10 @@ static int panels(const int blocks, const int groups, char *plots[MAX_PANELS], b
     if (blocks <= SERIES_PER_PANEL) {
         return 1;
     }
-    *by_group = groups > 1 && groups <= MAX_PANELS && blocks % groups == 0 && blocks / groups <= 9;
+    /* a panel per group when each group has several series (its moments m); one series per group
+     * (a curve each): panels of six curves */
+    *by_group = groups > 1 && groups <= MAX_PANELS && blocks % groups == 0 &&
+                blocks / groups >= 2 && blocks / groups <= 9;
     const int np = *by_group ? groups : (blocks + 5) / 6;
     return np < MAX_PANELS ? np : MAX_PANELS;
 }
@@ -464,7 +467,7 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
             snprintf(plots[k], PLOT_CAP,
                      "%splot for [i=%d:%d] '%s_blocks.dat' index i using 1:2 with linespoints pt 7 "
                      "ps 0.5 lc i-%d+1 title columnheader(1)%s%s\n",
-                     np > 1 && k == 1 ? "set key top right font ',9' noenhanced\n" : "", lo, hi,
+                     np > 1 && k >= 1 ? "set key top right font ',9' noenhanced\n" : "", lo, hi,
                      r->id, np > 1 ? lo : 0,
                      map ? ", x with lines dt 2 lw 2 lc rgb 'black' title 'uniform bisection "
                            "(3.36): -ln R'"
