@@ -591,6 +591,82 @@ START_TEST(test_rough_pair_sliding) { rough_pair(0.05); }
 END_TEST
 
 /* What the event integrator does not run with species yet is refused by name. */
+/* Two grains of two sizes dropped from rest onto a floor (2D, walls along y, g = 9.81, the walls'
+ * eps_n 0.8): each is exactly a ball bouncing at its own radius, y = r_k when it touches, its
+ * speed eps times the impact's after; the floor's impulse is sum_k m_k (1 + eps) v_k. */
+START_TEST(test_bounce_two_sizes)
+{
+    const char *walls[] = {"model.eps_t=1", "boundary.y=walls", "gravity.gy=-9.81",
+                           "boundary.eps_n=0.8"};
+    gr_sim *s = grains_with(2, walls, 4);
+    const double g = 9.81, eps = 0.8, y0 = 0.03, x[2] = {0.02, 0.07}, y[2] = {y0, y0},
+                 zero[2] = {0.0, 0.0};
+    place(s, x, y, zero, zero);
+    const double T = 0.12; /* after each grain's first bounce (t = 0.077, 0.076 s), before its
+                              second (0.2 s) */
+    gr_error err = {0};
+    ck_assert_msg(gr_sim_step(s, (int64_t)ceil(T / s->dt), &err) == GR_OK, "%s", err.message);
+    const double t = gr_sim_time(s);
+    double impulse = 0.0;
+    for (int k = 0; k < 2; k++) {
+        const double r = s->rad[k], th = sqrt(2.0 * (y0 - r) / g), vh = g * th, up = eps * vh;
+        const double dt = t - th, want_y = r + up * dt - 0.5 * g * dt * dt, want_v = up - g * dt;
+        ck_assert_msg(fabs(s->y[k] - want_y) < 1e-12 && fabs(s->vy[k] - want_v) < 1e-12,
+                      "grain %d (r = %g m): y %.15g, v %.15g; bouncing at its own radius: %.15g, "
+                      "%.15g",
+                      k, r, s->y[k], s->vy[k], want_y, want_v);
+        ck_assert(s->vx[k] == 0.0 && s->x[k] == x[k]);
+        impulse += s->mass_i[k] * (1.0 + eps) * vh;
+    }
+    ck_assert_msg(fabs(s->wall_impulse[2] - impulse) < 1e-12 * impulse,
+                  "floor impulse %.15g, want sum m (1 + eps) v = %.15g", s->wall_impulse[2],
+                  impulse);
+    gr_sim_free(s);
+}
+END_TEST
+
+/* A driven gas of two species between walls under gravity (2D, 3D): the ledger closes with the
+ * gravity's work (its potential sum_i m_i g h_i) and the walls' hits, no overlaps (checked after
+ * every collision), the walls hit. */
+START_TEST(test_gas_walls_gravity)
+{
+    const int dim = _i == 0 ? 2 : 3;
+    const char *ov[] = {dim == 2 ? "system.dim=2" : "system.dim=3",
+                        dim == 2 ? "system.N=300" : "system.N=200",
+                        "system.packing_fraction=0.1",
+                        "species.radius=1e-3, 2e-3",
+                        "species.density=10, 10",
+                        "placement.kind=random",
+                        "placement.v0=0.05",
+                        "model.normal=hard_sphere",
+                        "model.eps_n=0.5",
+                        "noise.D=1e-9",
+                        "integrator.kind=event",
+                        "run.seed=5",
+                        dim == 2 ? "boundary.y=walls" : "boundary.z=walls",
+                        dim == 2 ? "gravity.gy=-9.81" : "gravity.gz=-9.81",
+                        "boundary.eps_n=0.9"};
+    gr_error err = {0};
+    gr_scene w = scene_of(ov, 15);
+    gr_sim *s = sim_of(&w);
+    gr_event_set_debug(s, true, false);
+    ck_assert_msg(gr_sim_step(s, 200000, &err) == GR_OK, "%s", err.message);
+    const gr_ledger l = gr_sim_ledger(s);
+    const double moved = l.injected + gr_ledger_dissipated(&l);
+    gr_event_counts c;
+    gr_event_stats(s, &c);
+    if (verbose()) {
+        printf(
+            "%dD mixture between walls: %lld collisions, %lld wall hits, residual %.3g of %.3g J\n",
+            dim, (long long)c.collisions, (long long)c.wall_hits, gr_ledger_residual(&l), moved);
+    }
+    ck_assert(c.collisions > 0 && c.wall_hits > 0);
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) < 1e-9 * moved, "residual %g of %g J",
+                  gr_ledger_residual(&l), moved);
+    gr_sim_free(s);
+}
+END_TEST
+
 START_TEST(test_refusals)
 {
     const char *dist[] = {"system.dim=2",
@@ -617,6 +693,7 @@ static Suite *event_species_suite(void)
     tcase_add_test(t, test_two_body_3d);
     tcase_add_test(t, test_pair_tc);
     tcase_add_test(t, test_refusals);
+    tcase_add_test(t, test_bounce_two_sizes);
     tcase_add_test(t, test_rough_pair);
     tcase_add_test(t, test_rough_pair_sliding);
     tcase_add_test(t, test_rough_pair_3d);
@@ -627,6 +704,7 @@ static Suite *event_species_suite(void)
     tcase_add_loop_test(g, test_kicks_per_species, 0, 2);
     tcase_add_loop_test(g, test_driven_gas, 0, 4);
     tcase_add_loop_test(g, test_restart_exact, 0, 4);
+    tcase_add_loop_test(g, test_gas_walls_gravity, 0, 2);
     suite_add_tcase(s, g);
     return s;
 }

@@ -14,7 +14,7 @@
  * - a checkpoint of a rotating bed continues bit for bit;
  * - a radius distribution: each grain's wall contact scaled from the walls' reference to its own
  *   mass and radius (the bounces, the bed's weight, the ledgers);
- * - refusals: walls with the event integrator. */
+ * - refusals: a radius distribution between walls with the event integrator. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -252,16 +252,20 @@ END_TEST
 
 START_TEST(refusals)
 {
+    /* species lists run between walls with both integrators (tests/test_event_species.c); a radius
+     * distribution with the verlet one only */
     const char *event[] = {"system.dim=2",
                            "system.N=50",
                            "system.L=0.1",
-                           "species.radius=1e-3, 2e-3",
-                           "species.mass=1e-5, 4e-5",
+                           "species.distribution=uniform",
+                           "species.radius_min=1e-3",
+                           "species.radius_max=2e-3",
+                           "species.density=5",
                            "placement.kind=uniform",
                            "model.normal=hard_sphere",
                            "integrator.kind=event",
                            "boundary.y=walls"};
-    refused(event, 9, "[boundary] y");
+    refused(event, 11, "[integrator] kind");
 }
 END_TEST
 

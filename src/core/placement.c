@@ -317,17 +317,21 @@ static int place_random(gr_sim *s, gr_error *err)
             if (attempt++ > max_attempts) {
                 return no_free_spot(s, i, attempt, "hexagonal", head, next, err);
             }
-            double x = s->L * gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, attempt, 0);
-            double y = s->L * gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, attempt, 1);
+            /* along a wall axis ([boundary], walls.c) every centre lies in [r_i, L - r_i] */
+            const double ri = s->rad ? s->rad[i] : 0.5 * s->d;
+            const double ux = gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, attempt, 0),
+                         uy = gr_noise_uniform(s->params.seed, GR_STREAM_PLACEMENT, attempt, 1);
+            double x = s->params.walls[0] ? ri + (s->L - 2.0 * ri) * ux : s->L * ux;
+            double y = s->params.walls[1] ? ri + (s->L - 2.0 * ri) * uy : s->L * uy;
             int cx = (int)(x / cell) % side, cy = (int)(y / cell) % side;
             int ok = 1;
             for (int ox = -1; ox <= 1 && ok; ox++) {
                 for (int oy = -1; oy <= 1 && ok; oy++) {
                     int c = ((cx + ox + side) % side) + side * ((cy + oy + side) % side);
                     for (int j = head[c]; j >= 0 && ok; j = next[j]) {
-                        double dx = s->x[j] - x, dy = s->y[j] - y;
-                        dx -= s->L * rint(dx / s->L);
-                        dy -= s->L * rint(dy / s->L);
+                        double dx = s->x[j] - x, dy = s->y[j] - y; /* no image across walls */
+                        dx -= s->params.walls[0] ? 0.0 : s->L * rint(dx / s->L);
+                        dy -= s->params.walls[1] ? 0.0 : s->L * rint(dy / s->L);
                         /* each pair its own contact distance (r_i + r_j <= d, the cells' side) */
                         const double dd = s->rad ? (s->rad[i] + s->rad[j]) * (s->rad[i] + s->rad[j])
                                                  : s->d * s->d;

@@ -10,12 +10,11 @@
 static int refused(const gr_scene *s, const char **section, const char **key, char *detail,
                    size_t cap)
 {
-    /* walls and gravity, tangential laws without history, rolling laws: the verlet integrator
-     * (walls.c, kernels_poly.c); the history law, rolling, the bath and com mode: species lists,
-     * verlet, 1D and 2D (the 3D mixture kernel has the laws without history) */
-    const bool no_walls = s->integrator->instantaneous; /* a distribution too (walls.c) */
-    const bool no_laws = no_walls || s->size_distribution || s->dim == 3;
-    const char *walls_allowed = "periodic (walls: the verlet integrator)";
+    /* tangential laws without history, rolling laws: the verlet integrator (kernels_poly.c); the
+     * history law, rolling, the bath and com mode: species lists, verlet, 1D and 2D (the 3D
+     * mixture kernel has the laws without history); walls and gravity: both integrators */
+    const bool event = s->integrator->instantaneous;
+    const bool no_laws = event || s->size_distribution || s->dim == 3;
     struct {
         bool on;
         const char *section, *key, *allowed;
@@ -25,18 +24,12 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
          "verlet (a radius distribution; event runs [species] lists)"},
         {s->normal && !(s->normal->kind & GR_MODEL_NORMAL), "model", "normal",
          "a normal force law (spring_dashpot, hertz, ...) or event rule (hard_sphere)"},
-        {s->tangential && (no_walls || (no_laws && gr_model_keeps_history(s->tangential))), "model",
+        {s->tangential && (event || (no_laws && gr_model_keeps_history(s->tangential))), "model",
          "tangential",
          "none, or with verlet tangential_dashpot | sliding_friction (and with [species] lists "
          "in 1D and 2D tangential_spring)"},
-        {s->rolling && (no_walls || s->dim == 3), "model", "rolling",
+        {s->rolling && (event || s->dim == 3), "model", "rolling",
          "none, or with verlet in 1D and 2D rolling_friction"},
-        {s->boundary[0] != 0 && no_walls, "boundary", "x", walls_allowed},
-        {s->boundary[1] != 0 && no_walls, "boundary", "y", walls_allowed},
-        {s->gravity[0] != 0.0 && no_walls, "gravity", "gx", "0 (gravity: the verlet integrator)"},
-        {s->gravity[1] != 0.0 && no_walls, "gravity", "gy", "0 (gravity: the verlet integrator)"},
-        {s->boundary[2] != 0 && no_walls, "boundary", "z", walls_allowed},
-        {s->gravity[2] != 0.0 && no_walls, "gravity", "gz", "0 (gravity: the verlet integrator)"},
         {s->driving && s->driving->update == GR_DRIVE_BATH && no_laws, "driving", "kind",
          "rfm | none (langevin: [species] lists with the verlet integrator, 1D and 2D)"},
         {s->noise_mode == GR_NOISE_COM && no_laws, "noise", "mode",

@@ -311,8 +311,8 @@ static double predict_wall_1d(const struct gr_event_state *e, int k, int *phase)
         double q, v;
         gr_ev_state_x(e, i, t0, piece, &q, &v);
         const double acc = piece == 0 ? e->a1x[i] : e->a2x[i];
-        const double t =
-            gr_ev_wall_piece(e, 0, side, t0, q, v, acc, (piece == 0 ? e->h : e->tau) - t0);
+        const double t = gr_ev_wall_piece(e, 0, side, t0, q, v, acc,
+                                          (piece == 0 ? e->h : e->tau) - t0, gr_ev_radius(e, i));
         if (t < GR_EV_INF) {
             *phase = piece;
             return t0 + t;
@@ -373,11 +373,11 @@ static int wall_hit_1d(gr_sim *s, int k, double t_abs, gr_error *err)
     const int side = k == e->n - 1, i = side ? e->n - 1 : 0;
     double x, v;
     gr_ev_state_x(e, i, e->now, e->phase, &x, &v);
-    const double nx = side ? 1.0 : -1.0;
+    const double nx = side ? 1.0 : -1.0, m = gr_ev_mass(e, i); /* species: its own mass */
     const bool moving = e->vib == 0 && !side;
     double vr = v, vw = 0.0, aw = 0.0; /* the velocity in the wall's frame */
     if (moving) {
-        if (gr_ev_vib_wall(e, t_abs, x, &vw, &aw) > 1e-9 * e->d) {
+        if (gr_ev_vib_wall(e, t_abs, x, gr_ev_radius(e, i), &vw, &aw) > 1e-9 * e->d) {
             return 1; /* a checkpoint of gr_ev_moving_wall_first, not a hit */
         }
         vr -= vw;
@@ -390,7 +390,7 @@ static int wall_hit_1d(gr_sim *s, int k, double t_abs, gr_error *err)
     const bool elastic = t_abs - e->last[i] < e->tc;
     double u = vr, de_n = 0.0, de_t = 0.0;
     if (vn > 0.0) {
-        gr_event_pair p = {.M = e->M, .nx = nx, .v1x = vr, .v2x = -vr, .elastic = elastic};
+        gr_event_pair p = {.M = m, .nx = nx, .v1x = vr, .v2x = -vr, .elastic = elastic};
         gr_event_rule_apply(e->rule, gr_ev_wall_cc(s, e, vn), &p);
         u = p.v1x;
         de_n = 0.5 * p.de_n;
@@ -399,13 +399,13 @@ static int wall_hit_1d(gr_sim *s, int k, double t_abs, gr_error *err)
     const double out = -u * nx; /* speed away from the wall, in its frame */
     if (moving) {
         u += vw;
-        s->wall_work += gr_ev_wall_work(s, e, 1, &v, &u, NULL, NULL, 0, elastic, de_n, de_t);
+        s->wall_work += gr_ev_wall_work(m, 0.0, 1, &v, &u, NULL, NULL, 0, elastic, de_n, de_t);
     }
     const double floor_speed = push > 0.0 ? 0.5 * push * e->tc : 0.0;
     if (out < floor_speed) {
         const double k0 = u * u;
         u -= (floor_speed - out) * nx;
-        const double added = 0.5 * e->M * (u * u - k0);
+        const double added = 0.5 * m * (u * u - k0);
         e->injected += added;
         e->floor_energy += added;
         e->floors++;
@@ -417,7 +417,7 @@ static int wall_hit_1d(gr_sim *s, int k, double t_abs, gr_error *err)
             return rc;
         }
     }
-    s->wall_impulse[side] += e->M * (u - v) * -nx; /* the wall's impulse (walls.csv), as in 2D */
+    s->wall_impulse[side] += m * (u - v) * -nx; /* the wall's impulse (walls.csv), as in 2D */
     rebase_1d(e, i, x, v, u);
     if (!elastic) {
         s->diss_n += de_n;
@@ -767,14 +767,13 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
     e->vib = -1;  /* no vibrating wall */
     if (s->rad) { /* species (docs/mixtures.md): smooth discs of their own radii and masses */
-        if (!s->cc_pair || s->walls_on) {
+        if (!s->cc_pair) {
             return GR_FAIL(err, GR_EINVAL,
                            "%s: [integrator] kind = event runs [species] lists of smooth and rough "
-                           "discs and spheres and of rods in a periodic box; not yet %s "
-                           "(docs/mixtures.md; the verlet integrator runs a radius distribution)",
-                           s->params.source,
-                           !s->cc_pair ? "a radius distribution ([species] distribution)"
-                                       : "walls or gravity");
+                           "discs and spheres and of rods, periodic or between walls under "
+                           "gravity; not yet a radius distribution ([species] distribution; "
+                           "docs/mixtures.md; the verlet integrator runs it)",
+                           s->params.source);
         }
         e->m = s->mass_i;
         e->r = s->rad;
@@ -792,6 +791,13 @@ int gr_event_init(gr_sim *s, gr_error *err)
             nm && nm->impact &&
             nm->impact(&s->wall_cc, 1e-3).eps_n == nm->impact(&s->wall_cc, 10.0).eps_n;
         if (!constant_eps) {
+            if (s->rad) { /* eps_n(v) at a wall depends on the grain's mass and radius */
+                return GR_FAIL(err, GR_EINVAL,
+                               "%s: [integrator] kind = event: walls with an eps_n(v) rule "
+                               "(viscoelastic = true) and [species] are not available yet; "
+                               "allowed: a constant eps_n",
+                               p->source);
+            }
             if (e->rule != GR_EVENT_RULE_hard_sphere) {
                 return GR_FAIL(err, GR_EINVAL,
                                "%s: [integrator] kind = event: walls with an eps_n(v) rule need "

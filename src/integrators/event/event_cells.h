@@ -296,8 +296,8 @@ static double wall_time(const struct gr_event_state *e, int i, int *face, int *p
             }
             double q, v;
             const double acc = axis_state(e, a, i, t0, piece, &q, &v);
-            const double lo = gr_ev_wall_piece(e, a, 0, t0, q, v, acc, T);
-            const double hi = gr_ev_wall_piece(e, a, 1, t0, q, v, acc, T);
+            const double lo = gr_ev_wall_piece(e, a, 0, t0, q, v, acc, T, gr_ev_radius(e, i));
+            const double hi = gr_ev_wall_piece(e, a, 1, t0, q, v, acc, T, gr_ev_radius(e, i));
             if (lo < best) {
                 best = lo;
                 *face = WALL_FACE + 2 * a;
@@ -778,10 +778,11 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
     gr_ev_state_x(e, i, e->now, e->phase, &x, &v);
     gr_ev_state_y(e, i, e->now, e->phase, &y, &w);
     const double nx = a == 0 ? (side ? 1.0 : -1.0) : 0.0, ny = a == 1 ? (side ? 1.0 : -1.0) : 0.0;
+    const double m = gr_ev_mass(e, i), R = gr_ev_radius(e, i); /* species: the grain's own */
     const bool moving = a == e->vib && side == 0;
     double vr = v, wr = w, vw = 0.0, aw = 0.0; /* the velocity in the wall's frame */
     if (moving) {
-        if (gr_ev_vib_wall(e, t_abs, a == 0 ? x : y, &vw, &aw) > 1e-9 * e->d) {
+        if (gr_ev_vib_wall(e, t_abs, a == 0 ? x : y, R, &vw, &aw) > 1e-9 * e->d) {
             return 1; /* a checkpoint of gr_ev_moving_wall_first, not a hit: predict again */
         }
         vr -= a == 0 ? vw : 0.0;
@@ -799,8 +800,8 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
     const double spin0 = e->rough ? s->omega[i] : 0.0;
     if (vn > 0.0) {
         double image_spin = spin0;
-        gr_event_pair p = {.M = e->M,
-                           .R = e->R,
+        gr_event_pair p = {.M = m,
+                           .R = R,
                            .q = e->q,
                            .nx = nx,
                            .ny = ny,
@@ -825,14 +826,15 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
         uy += a == 1 ? vw : 0.0;
         const double v0[2] = {v, w}, u1[2] = {ux, uy};
         const double spin1 = e->rough ? s->omega[i] : 0.0;
-        s->wall_work += gr_ev_wall_work(s, e, 2, v0, u1, &spin0, &spin1, 1, elastic, de_n, de_t);
+        s->wall_work += gr_ev_wall_work(m, gr_ev_inertia(s, e, i), 2, v0, u1, &spin0, &spin1, 1,
+                                        elastic, de_n, de_t);
     }
     const double floor_speed = push > 0.0 ? 0.5 * push * e->tc : 0.0;
     if (out < floor_speed) {
         const double k0 = ux * ux + uy * uy;
         ux -= (floor_speed - out) * nx;
         uy -= (floor_speed - out) * ny;
-        const double added = 0.5 * e->M * (ux * ux + uy * uy - k0);
+        const double added = 0.5 * m * (ux * ux + uy * uy - k0);
         e->injected += added;
         e->floor_energy += added;
         e->floors++; /* ~M (g tc)^2 / 8 per resting grain and tc: booked as injected */
@@ -848,7 +850,7 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
     }
     /* the impulse the wall took (walls.csv: the mean force is its rate), the grain's momentum
      * change along the axis with the wall's sign (+: pushed outwards) */
-    s->wall_impulse[2 * a + side] += e->M * (a == 0 ? ux - v : uy - w) * -(a == 0 ? nx : ny);
+    s->wall_impulse[2 * a + side] += m * (a == 0 ? ux - v : uy - w) * -(a == 0 ? nx : ny);
     rebase(e, i, x, y, v, w, ux, uy);
     wall_booked(s, i, t_abs, elastic, de_n, de_t);
     return 0;
@@ -870,10 +872,11 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
     gr_ev_state_z(e, i, e->now, e->phase, &r[2], &v[2]);
     double n[3] = {0.0, 0.0, 0.0};
     n[a] = side ? 1.0 : -1.0;
+    const double m = gr_ev_mass(e, i), R = gr_ev_radius(e, i); /* species: the grain's own */
     const bool moving = a == e->vib && side == 0;
     double u[3] = {v[0], v[1], v[2]}, vw = 0.0, aw = 0.0; /* u: in the wall's frame */
     if (moving) {
-        if (gr_ev_vib_wall(e, t_abs, r[a], &vw, &aw) > 1e-9 * e->d) {
+        if (gr_ev_vib_wall(e, t_abs, r[a], R, &vw, &aw) > 1e-9 * e->d) {
             return 1; /* a checkpoint of gr_ev_moving_wall_first, not a hit: predict again */
         }
         u[a] -= vw;
@@ -894,7 +897,7 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
     if (vn > 0.0) {
         double image[3] = {-u[0], -u[1], -u[2]};
         double wi[3] = {spin0[0], spin0[1], spin0[2]}, wj[3] = {spin0[0], spin0[1], spin0[2]};
-        gr_event_rule_3d(e->rule, gr_ev_wall_cc(s, e, vn), e->M, e->R, e->q, n, u, image,
+        gr_event_rule_3d(e->rule, gr_ev_wall_cc(s, e, vn), m, R, e->q, n, u, image,
                          e->rough ? wi : NULL, e->rough ? wj : NULL, elastic, &de_n,
                          &de_t); /* the walls' own eps_n */
         if (e->rough) {
@@ -908,18 +911,19 @@ static int wall_hit(gr_sim *s, int i, int k, double t_abs, gr_error *err)
         u[a] += vw;
         const double spin1[3] = {e->rough ? s->wx[i] : 0.0, e->rough ? s->wy[i] : 0.0,
                                  e->rough ? s->omega[i] : 0.0};
-        s->wall_work += gr_ev_wall_work(s, e, 3, v, u, spin0, spin1, 3, elastic, de_n, de_t);
+        s->wall_work += gr_ev_wall_work(m, gr_ev_inertia(s, e, i), 3, v, u, spin0, spin1, 3,
+                                        elastic, de_n, de_t);
     }
     const double floor_speed = push > 0.0 ? 0.5 * push * e->tc : 0.0;
     if (out < floor_speed) {
         const double k0 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
         u[a] -= (floor_speed - out) * n[a];
-        const double added = 0.5 * e->M * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2] - k0);
+        const double added = 0.5 * m * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2] - k0);
         e->injected += added;
         e->floor_energy += added;
         e->floors++;
     }
-    s->wall_impulse[2 * a + side] += e->M * (u[a] - v[a]) * -n[a]; /* as in 2D */
+    s->wall_impulse[2 * a + side] += m * (u[a] - v[a]) * -n[a]; /* as in 2D */
     rebase(e, i, r[0], r[1], r[2], v[0], v[1], v[2], u[0], u[1], u[2]);
     wall_booked(s, i, t_abs, elastic, de_n, de_t);
     return 0;

@@ -249,9 +249,8 @@ double gr_ev_moving_wall_first(const gr_sim_params *p, double tw, double q0, dou
  * axis vib) or at L (side 1): the centre reaching r = d / 2 from it while moving towards it
  * (gr_ev_first_quadratic; gr_ev_moving_wall_first for the vibrating wall), or GR_EV_INF. */
 static inline double gr_ev_wall_piece(const struct gr_event_state *e, int a, int side, double t0,
-                                      double q, double v, double acc, double T)
+                                      double q, double v, double acc, double T, double r)
 {
-    const double r = 0.5 * e->d;
     if (side) {
         return gr_ev_first_quadratic(e->L - r - q, -v, -0.5 * acc, T);
     }
@@ -261,24 +260,23 @@ static inline double gr_ev_wall_piece(const struct gr_event_state *e, int a, int
 }
 
 /* A vibrating wall's state at absolute time t: *vw its velocity, *aw its acceleration along its
- * axis; returns the gap of a grain at q (its radius r = d / 2) to it. */
-static inline double gr_ev_vib_wall(const struct gr_event_state *e, double t, double q, double *vw,
-                                    double *aw)
+ * axis; returns the gap of a grain of radius r at q to it. */
+static inline double gr_ev_vib_wall(const struct gr_event_state *e, double t, double q, double r,
+                                    double *vw, double *aw)
 {
     double qw;
     gr_walls_motion(e->par, t, &qw, vw);
     const double w = 2.0 * M_PI * e->par->frequency;
     *aw = e->par->motion == GR_WALL_SINE ? -w * w * qw : 0.0;
-    return q - 0.5 * e->d - qw;
+    return q - r - qw;
 }
 
 /* The energy the moving wall gave a grain in a hit: the change of its kinetic energy (translation
  * v -> u over dim components, and spin w0 -> w1 of rough grains over k components) plus the
  * hit's losses. */
-static inline double gr_ev_wall_work(const gr_sim *s, const struct gr_event_state *e, int dim,
-                                     const double *v, const double *u, const double *w0,
-                                     const double *w1, int k, bool elastic, double de_n,
-                                     double de_t)
+static inline double gr_ev_wall_work(double m, double inertia, int dim, const double *v,
+                                     const double *u, const double *w0, const double *w1, int k,
+                                     bool elastic, double de_n, double de_t)
 {
     double dk = 0.0, dr = 0.0;
     for (int a = 0; a < dim; a++) {
@@ -287,7 +285,7 @@ static inline double gr_ev_wall_work(const gr_sim *s, const struct gr_event_stat
     for (int a = 0; a < k; a++) {
         dr += w1[a] * w1[a] - w0[a] * w0[a];
     }
-    return 0.5 * e->M * dk + 0.5 * s->inertia * dr + (elastic ? 0.0 : de_n + de_t);
+    return 0.5 * m * dk + 0.5 * inertia * dr + (elastic ? 0.0 : de_n + de_t);
 }
 
 /* The walls' coefficients for a hit at the normal speed vn (> 0) towards the wall. */
@@ -323,6 +321,18 @@ static inline double gr_ev_d(const struct gr_event_state *e, int i, int j)
 static inline double gr_ev_mass(const struct gr_event_state *e, int i)
 {
     return e->m ? e->m[i] : e->M;
+}
+
+/* Particle i's radius: its own with species, d / 2 without. */
+static inline double gr_ev_radius(const struct gr_event_state *e, int i)
+{
+    return e->r ? e->r[i] : 0.5 * e->d;
+}
+
+/* Particle i's moment of inertia (rough grains): q m_i r_i^2 with species, the sim's without. */
+static inline double gr_ev_inertia(const gr_sim *s, const struct gr_event_state *e, int i)
+{
+    return e->m ? e->q * e->m[i] * e->r[i] * e->r[i] : s->inertia;
 }
 
 /* The TC time of the pair i, j: its species pair's (the matching contact of its reduced mass,
