@@ -412,47 +412,52 @@ END_TEST
  * 0.996 and 0.998 of it); the ledger closes with the drag's column. */
 START_TEST(bath_equipartition)
 {
+    const int dim = _i ? 3 : 2; /* 3D: 216 spheres on a cubic lattice */
     static const char *bath =
         "[system]\ndim = 2\nN = 200\nL = 0.1\n[placement]\nkind = uniform\nv0 = 0.1\n"
         "[species]\nradius = 1e-3, 2e-3\nmass = 1e-5, 4e-5\n[model]\nk_s = 50\neps_n = 1\n"
         "[driving]\nkind = langevin\nT_bath = 0.01\ntau = 0.1\n"
         "[integrator]\nsteps_per_contact = 20\n";
+    const char *three[] = {"system.dim=3", "system.N=216", "placement.kind=cubic"};
     gr_scene sc;
-    load(&sc, bath, NULL, 0);
+    load(&sc, bath, three, dim == 3 ? 3 : 0);
     gr_sim *s = create(&sc);
-    const double dt = gr_sim_dt(s), kT = 1e-5 * 0.01 / 2.0;
+    const double dt = gr_sim_dt(s), kT = 1e-5 * 0.01 / dim; /* k_B T = m_1 T_bath / dim */
     const int every = (int)(5e-3 / dt) + 1, samples = quick() ? 10 : 600;
     step(s, (int64_t)(0.5 / dt)); /* 5 tau */
     double T[2] = {0.0, 0.0};
     for (int k = 0; k < samples; k++) {
         step(s, every);
-        double P[2] = {0.0, 0.0}, M = 0.0, e[2] = {0.0, 0.0};
+        double P[3] = {0.0, 0.0, 0.0}, M = 0.0, e[2] = {0.0, 0.0};
         int n[2] = {0, 0};
         for (int i = 0; i < s->n; i++) {
             P[0] += s->mass_i[i] * s->vx[i];
             P[1] += s->mass_i[i] * s->vy[i];
+            P[2] += dim == 3 ? s->mass_i[i] * s->vz[i] : 0.0;
             M += s->mass_i[i];
         }
         for (int i = 0; i < s->n; i++) {
-            const double ux = s->vx[i] - P[0] / M, uy = s->vy[i] - P[1] / M;
-            e[s->species[i]] += s->mass_i[i] * (ux * ux + uy * uy);
+            const double ux = s->vx[i] - P[0] / M, uy = s->vy[i] - P[1] / M,
+                         uz = dim == 3 ? s->vz[i] - P[2] / M : 0.0;
+            e[s->species[i]] += s->mass_i[i] * (ux * ux + uy * uy + uz * uz);
             n[s->species[i]]++;
         }
         for (int a = 0; a < 2; a++) {
-            T[a] += e[a] / (2.0 * n[a]) / samples;
+            T[a] += e[a] / (dim * n[a]) / samples;
         }
     }
     const gr_ledger l = gr_sim_ledger(s);
     const double moved = l.injected + gr_ledger_dissipated(&l), res = gr_ledger_residual(&l);
-    printf("bath: T_1 = %.5g J, T_2 = %.5g J, m_1 T_bath / 2 = %.5g J (ratios %.4f, %.4f); drag "
-           "%.4g J, residual %.3g of the energy moved\n",
-           T[0], T[1], kT, T[0] / kT, T[1] / kT, l.dissipated_drag, res / moved);
+    printf("bath (%dD): T_1 = %.5g J, T_2 = %.5g J, m_1 T_bath / d = %.5g J (ratios %.4f, %.4f); "
+           "drag %.4g J, residual %.3g of the energy moved\n",
+           dim, T[0], T[1], kT, T[0] / kT, T[1] / kT, l.dissipated_drag, res / moved);
     ck_assert_msg(fabs(res) < 1e-3 * moved, "ledger residual %g of %g", res, moved);
     ck_assert(l.dissipated_drag > 0.0);
     if (!quick()) { /* the statistics: the release pass */
         for (int a = 0; a < 2; a++) {
             /* V's share: E sum_{i in s} m_i |v_i - V|^2 = d kT N_s (1 - m_s / sum_i m_i) */
-            const double want = kT * (1.0 - (a ? 4e-5 : 1e-5) / (100 * 1e-5 + 100 * 4e-5));
+            const double nh = 0.5 * s->n; /* grains per species */
+            const double want = kT * (1.0 - (a ? 4e-5 : 1e-5) / (nh * 1e-5 + nh * 4e-5));
             ck_assert_msg(fabs(T[a] / want - 1.0) < 0.05, "species %d: T = %g J, want %g J", a + 1,
                           T[a], want);
         }
@@ -469,28 +474,52 @@ START_TEST(com_reset_masses)
     const char *set[] = {"system.N=200",           "system.L=0.1", "placement.v0=0.2",
                          "driving.kind=rfm",       "noise.D=1e-9", "noise.mode=com",
                          "noise.com_interval=1e-4"};
+    const int dim = _i ? 3 : 2;
+    const char *three[] = {"system.dim=3", "system.N=216", "placement.kind=cubic"};
     gr_scene sc;
     load(&sc, pair_2d, set, 7);
+    if (dim == 3) { /* the same in 3D: 216 spheres of the two species */
+        const char *both[12];
+        for (int k = 0; k < 7; k++) {
+            both[k] = set[k];
+        }
+        for (int k = 0; k < 3; k++) {
+            both[7 + k] = three[k];
+        }
+        load(&sc,
+             "[system]\ndim = 2\nN = 2\nL = 0.1\n[species]\nradius = 1e-3, 2e-3\n"
+             "mass = 1e-5, 4e-5\n[placement]\nkind = uniform\nv0 = 0\n[model]\nk_s = 5e4\n"
+             "eps_n = 0.7\n",
+             both, 10);
+    }
     gr_sim *s = create(&sc);
     double ke0 = 0.0, scale = 0.0;
+    double *const v[3] = {s->vx, s->vy, s->vz};
     for (int i = 0; i < s->n; i++) {
         s->vx[i] = 0.01 * (i % 7) - 0.02;
         s->vy[i] = 0.003 * (i % 5);
-        ke0 += 0.5 * s->mass_i[i] * (s->vx[i] * s->vx[i] + s->vy[i] * s->vy[i]);
+        if (dim == 3) {
+            s->vz[i] = 0.004 * (i % 3) - 0.001;
+        }
+        for (int c = 0; c < dim; c++) {
+            ke0 += 0.5 * s->mass_i[i] * v[c][i] * v[c][i];
+        }
         scale += s->mass_i[i] * 0.05;
     }
     const double removed = gr_remove_com(s);
-    double px = 0.0, py = 0.0, ke1 = 0.0;
+    double p[3] = {0.0, 0.0, 0.0}, ke1 = 0.0;
     for (int i = 0; i < s->n; i++) {
-        px += s->mass_i[i] * s->vx[i];
-        py += s->mass_i[i] * s->vy[i];
-        ke1 += 0.5 * s->mass_i[i] * (s->vx[i] * s->vx[i] + s->vy[i] * s->vy[i]);
+        for (int c = 0; c < dim; c++) {
+            p[c] += s->mass_i[i] * v[c][i];
+            ke1 += 0.5 * s->mass_i[i] * v[c][i] * v[c][i];
+        }
     }
-    printf("com reset: sum m v = (%.3g, %.3g) kg m/s, removed %.10g J, kinetic energy change "
-           "%.10g J\n",
-           px, py, removed, ke0 - ke1);
-    ck_assert_msg(fabs(px) < 1e-14 * scale && fabs(py) < 1e-14 * scale, "sum m v = (%g, %g)", px,
-                  py);
+    printf("com reset (%dD): sum m v = (%.3g, %.3g, %.3g) kg m/s, removed %.10g J, kinetic energy "
+           "change %.10g J\n",
+           dim, p[0], p[1], p[2], removed, ke0 - ke1);
+    ck_assert_msg(fabs(p[0]) < 1e-14 * scale && fabs(p[1]) < 1e-14 * scale &&
+                      fabs(p[2]) < 1e-14 * scale,
+                  "sum m v = (%g, %g, %g)", p[0], p[1], p[2]);
     ck_assert_msg(fabs(removed - (ke0 - ke1)) < 1e-12 * ke0, "removed %.17g J, the change %.17g J",
                   removed, ke0 - ke1);
     gr_sim_free(s);
@@ -780,8 +809,8 @@ static Suite *species_suite(void)
     tcase_add_test(t, pair_rotation);
     tcase_add_test(t, pair_spring);
     tcase_add_test(t, pair_rolling);
-    tcase_add_test(t, bath_equipartition);
-    tcase_add_test(t, com_reset_masses);
+    tcase_add_loop_test(t, bath_equipartition, 0, 2);
+    tcase_add_loop_test(t, com_reset_masses, 0, 2);
     tcase_add_test(t, pair_restitution);
     tcase_add_test(t, hertz_radius_and_dt);
     tcase_add_test(t, heating_per_mass);

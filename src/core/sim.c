@@ -739,7 +739,7 @@ const char *gr_noise_mode_name(gr_noise_mode m)
 static double remove_com_masses(gr_sim *s)
 {
     double removed = 0.0, mtot = 0.0;
-    double *v[2] = {s->vx, s->vy};
+    double *v[3] = {s->vx, s->vy, s->vz};
     for (int i = 0; i < s->n; i++) {
         mtot += s->mass_i[i];
     }
@@ -760,7 +760,7 @@ static double remove_com_masses(gr_sim *s)
 /* Remove the centre-of-mass velocity; returns the kinetic energy removed. */
 double gr_remove_com(gr_sim *s)
 {
-    if (s->mass_i && s->n > 0) { /* species (1D and 2D) */
+    if (s->mass_i && s->n > 0) { /* species (1D, 2D and 3D) */
         return remove_com_masses(s);
     }
     double removed = 0.0;

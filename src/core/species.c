@@ -40,17 +40,17 @@ int gr_species_counts(int N, int ns, const double *fraction, int *count)
 static const char *not_covered(const gr_sim *s)
 {
     const gr_sim_params *p = &s->params;
-    /* the history law, rolling, the bath and com mode: species lists in 1D and 2D (the 3D mixture
-     * kernel has the laws without history) */
+    /* the history law and rolling: species lists in 1D and 2D (the 3D mixture kernel has the laws
+     * without history); the bath and com mode: species lists with the verlet integrator */
     const bool flat = p->size_distribution || p->dim == 3;
     return !p->integrator->species ? "[integrator] kind"
            : p->tangential &&
                    ((flat && gr_model_keeps_history(p->tangential)) || p->integrator->instantaneous)
                ? "[model] tangential"
            : p->rolling && (p->integrator->instantaneous || p->dim == 3) ? "[model] rolling"
-           : s->drive == GR_DRIVE_BATH && (flat || p->integrator->instantaneous)
+           : s->drive == GR_DRIVE_BATH && (p->size_distribution || p->integrator->instantaneous)
                ? "[driving] kind = langevin"
-           : p->noise_mode == GR_NOISE_COM && (flat || p->integrator->instantaneous)
+           : p->noise_mode == GR_NOISE_COM && (p->size_distribution || p->integrator->instantaneous)
                ? "[noise] mode = com"
            : p->noise_precision == GR_NOISE_SINGLE               ? "[noise] precision = single"
            : !(p->normal && (p->normal->kind & GR_MODEL_NORMAL)) ? "[model] normal"

@@ -11,8 +11,9 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
                    size_t cap)
 {
     /* tangential laws without history, rolling laws: the verlet integrator (kernels_poly.c); the
-     * history law, rolling, the bath and com mode: species lists, verlet, 1D and 2D (the 3D
-     * mixture kernel has the laws without history); walls and gravity: both integrators */
+     * history law and rolling: species lists, verlet, 1D and 2D (the 3D mixture kernel has the laws
+     * without history); the bath and com mode: species lists, verlet; walls and gravity: both
+     * integrators */
     const bool event = s->integrator->instantaneous;
     const bool no_laws = event || s->size_distribution || s->dim == 3;
     struct {
@@ -30,10 +31,10 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
          "in 1D and 2D tangential_spring)"},
         {s->rolling && (event || s->dim == 3), "model", "rolling",
          "none, or with verlet in 1D and 2D rolling_friction"},
-        {s->driving && s->driving->update == GR_DRIVE_BATH && no_laws, "driving", "kind",
-         "rfm | none (langevin: [species] lists with the verlet integrator, 1D and 2D)"},
-        {s->noise_mode == GR_NOISE_COM && no_laws, "noise", "mode",
-         "symmetrised | none (com: [species] lists with the verlet integrator, 1D and 2D)"},
+        {s->driving && s->driving->update == GR_DRIVE_BATH && (event || s->size_distribution),
+         "driving", "kind", "rfm | none (langevin: [species] lists with the verlet integrator)"},
+        {s->noise_mode == GR_NOISE_COM && (event || s->size_distribution), "noise", "mode",
+         "symmetrised | none (com: [species] lists with the verlet integrator)"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
     };
     for (size_t k = 0; k < sizeof no / sizeof no[0]; k++) {
