@@ -262,6 +262,64 @@ static void overlap_pair(int dim)
     h_done(&tab, j);
 }
 
+/* A mixture's pressure (species lists; radii 1 and 2 mm, masses 1e-5 and 4e-5 kg, spring-dashpot):
+ * the pair touches at r_1 + r_2, so overlapping by xi at rest its virial is (r_1 + r_2 - xi) k_s xi
+ * / V (at the largest diameter 4 mm it would be another overlap); moving apart along x at
+ * v_1, v_2 (the overlap's dashpot then acts too, so only the kinetic part is checked there) the
+ * kinetic part is sum_i m_i u_i^2 / V with u relative to the centre of mass's velocity. */
+START_TEST(test_pressure_mixture)
+{
+    gr_scene sc;
+    const double r[2] = {1e-3, 2e-3}, m[2] = {1e-5, 4e-5}, xi = 1e-5, L = 0.1;
+    h_scene(&sc, 2, 2, L, 2e-3); /* the largest radius, as a mixture's setup has it */
+    sc.n_species = 2;
+    sc.species_radius.n = 2;
+    sc.species_radius.v[0] = r[0];
+    sc.species_radius.v[1] = r[1];
+    sc.species_masses[0] = m[0];
+    sc.species_masses[1] = m[1];
+    sc.species_count[0] = sc.species_count[1] = 1;
+    const int species[2] = {0, 1};
+    double x[2] = {0.03, 0.03 + r[0] + r[1] - xi}, y[2] = {0.05, 0.05}, v0[2] = {0.0, 0.0};
+    for (int k = 0; k < 2; k++) {
+        void *st = h_create(&gr_obs_pressure, &sc);
+        double vx[2] = {k ? -0.4 : 0.0, k ? 0.1 : 0.0};
+        const gr_particles p = {.n = 2,
+                                .dim = 2,
+                                .L = L,
+                                .radius = 2e-3,
+                                .mass = 2.5e-5,
+                                .x = x,
+                                .y = y,
+                                .vx = vx,
+                                .vy = v0,
+                                .species = species,
+                                .radii = r,
+                                .masses = m,
+                                .n_species = 2};
+        gr_error err = {0};
+        ck_assert_int_eq(gr_obs_pressure.sample(st, &p, 0.0, &err), GR_OK);
+        h_table tab;
+        cJSON *j = h_finish(&gr_obs_pressure, st, &sc, "pressure.csv", &tab);
+        const cJSON *pr = cJSON_GetObjectItem(j, "pressure");
+        const double V = L * L;
+        if (k == 0) {
+            const double W = (r[0] + r[1] - xi) * sc.contact.k_s * xi / V;
+            ck_assert_double_eq_tol(h_num(pr, "collisional_xx", NULL), W, 1e-9 * W);
+            ck_assert_double_eq(h_num(pr, "contacts_per_frame", NULL), 1.0);
+            ck_assert_ptr_null(cJSON_GetObjectItem(pr, "eos_5_2")); /* one species' (5.2) */
+        } else {
+            const double Vc = (m[0] * vx[0] + m[1] * vx[1]) / (m[0] + m[1]);
+            const double K =
+                (m[0] * (vx[0] - Vc) * (vx[0] - Vc) + m[1] * (vx[1] - Vc) * (vx[1] - Vc)) / V;
+            ck_assert_double_eq_tol(h_num(pr, "kinetic_xx", NULL), K, 1e-12 * K);
+            ck_assert_double_eq_tol(h_num(pr, "nT", NULL), K / 2.0, 1e-12 * K);
+        }
+        h_done(&tab, j);
+    }
+}
+END_TEST
+
 /* The same pair under the hertz law: the virial is the force kernel's law
  * (gr_contact_virial), whatever the law, f_n = k_h xi^(3/2) at rest (no copy of
  * a law in the observable; before, only the spring-dashpot had a virial and a
@@ -525,6 +583,7 @@ int main(void)
     tcase_add_test(t, test_clusters_row_2d);
     tcase_add_test(t, test_clusters_lattice_2d);
     tcase_add_test(t, test_clusters_mixture_pairs);
+    tcase_add_test(t, test_pressure_mixture);
     tcase_add_test(t, test_pressure_ideal_gas);
     tcase_add_test(t, test_pressure_overlap_2d);
     tcase_add_test(t, test_pressure_overlap_1d);

@@ -398,7 +398,7 @@ refuse "\[driving\] kind.*not available with \[species\]" --set integrator.kind=
     --set model.normal=hard_sphere --set driving.kind=langevin
 refuse_with "$tmp/dist.ini" "\[integrator\] kind.*event runs \[species\] lists" \
     --set integrator.kind=event --set model.normal=hard_sphere
-refuse "\[analysis\] observables.*pressure is not species-aware" --set analysis.observables=pressure
+refuse_with "$tmp/dist.ini" "\[analysis\] observables.*pressure is not available on a radius distribution" --set analysis.observables=pressure
 refuse "species.mass=1e-5: \[species\] mass.*one per radius" --set species.mass=1e-5
 refuse "\[species\] fraction.*sum to" --set species.fraction="0.5, 0.6"
 refuse "\[species\] radius.*2 to 8 species" --set species.radius=1e-3 --set species.mass=1e-5 \

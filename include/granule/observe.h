@@ -60,6 +60,9 @@ typedef struct gr_obs_setup {
      * caller does not fill them): a mixture's mean collision diameter, 2 <r> in 1D and 2D and
      * sqrt(2 <r^2> + 2 <r>^2) in 3D (gr_obs_collision_diameter) */
     double radius_mean, radius_sq_mean;
+    /* species lists: the normal law's coefficients of every pair (a, b) at [a * n_species + b], as
+     * the force kernel has them (the pressure observable's virial); unset otherwise */
+    gr_contact_coeffs contact_pair[GR_MAX_SPECIES * GR_MAX_SPECIES];
 } gr_obs_setup;
 
 /* The diameter a mixture's mean free path and k d are measured in: the mean over random pairs of

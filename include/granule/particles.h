@@ -2,6 +2,9 @@
 #ifndef GRANULE_PARTICLES_H
 #define GRANULE_PARTICLES_H
 
+/* The most species a scene may list ([species] radius = r_1, ..., r_k; docs/mixtures.md). */
+#define GR_MAX_SPECIES 8
+
 /* Read-only view of the particle state. Arrays have n entries; y/vy are NULL in 1D, z/vz are
  * NULL except in 3D (docs/three-dimensions.md). */
 typedef struct gr_particles {

@@ -23,8 +23,7 @@
 
 typedef struct gr_sim gr_sim;
 
-/* Species of a polydisperse simulation at most (gr_sim_params.n_species) */
-#define GR_MAX_SPECIES 8
+/* GR_MAX_SPECIES (granule/particles.h): species of a polydisperse simulation at most */
 
 /* Energies in J, accumulated since the simulation was created. */
 typedef struct gr_ledger {
@@ -155,6 +154,12 @@ double gr_size_mass(int dim, double density, double r);
  * rounding error given to the last species, so the counts sum to N. Returns 0, or GR_EINVAL when
  * a count would be negative. */
 int gr_species_counts(int N, int ns, const double *fraction, int *count);
+
+/* The normal law's coefficients of species pair (a, b) of a run's parameters (species lists), as
+ * the force kernel has them: the pair's reduced mass, hertz's k_h at its effective radius (for
+ * the pressure observable's virial). */
+int gr_species_pair_coeffs(const gr_sim_params *p, int a, int b, gr_contact_coeffs *out,
+                           gr_error *err);
 
 /* Build a simulation: place the particles (sec. 2.1.4), give them small random velocities,
  * prepare the models, choose the kernel and create the integrator's state. Refuses overlapping

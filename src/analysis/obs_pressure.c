@@ -19,6 +19,11 @@
  * order and small; the summary says so). Event-driven (hard-sphere) runs have
  * no force law: only the kinetic part is reported there.
  *
+ * On a mixture of species lists each grain's kinetic term has its own mass, and a pair of species
+ * (a, b) touches at r_i + r_j with that pair's coefficients (the setup's contact_pair, as the force
+ * kernel has them); a radius distribution is refused (its pairs' coefficients are scaled per
+ * contact in the kernel). The equation of state (5.2) is one species' and is not compared.
+ *
  * In 2D the summary compares with the mean-field equation of state (5.2),
  *     <|v|>^3 = (C_1 / phi) D d pi / (M^2 (2 - eps_n^2 - eps_t^2)),
  * by reporting the C_1 the measured mean speed implies (eps_t = 1 without a
@@ -79,9 +84,11 @@ typedef struct pressure {
     double L, V, mass, d, phi, D, eps_n, eps_t;
     const char *law; /* the normal force law (NULL: none, kinetic part only) */
     gr_contact_coeffs cc;
-    const gr_particles *p; /* the frame being visited */
-    double mean[3], w[6];  /* mean velocity; the frame's virial xx, yy, xy (3D: zz, xz, yz too) */
-    int queued;            /* contacts waiting in `pairs` for gr_contact_virial */
+    int ns;                     /* species of a mixture (0: one species) */
+    gr_contact_coeffs *cc_pair; /* a mixture: pair (a, b)'s coefficients at [a * ns + b] */
+    const gr_particles *p;      /* the frame being visited */
+    double mean[3], w[6]; /* mean velocity; the frame's virial xx, yy, xy (3D: zz, xz, yz too) */
+    int queued;           /* contacts waiting in `pairs` for gr_contact_virial */
     gr_contact_pair pairs[256];
     int64_t contacts, frames;
     gr_blocking b[N_SERIES];
@@ -116,6 +123,20 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     s->eps_t = setup->tangential ? setup->eps_t : 1.0;
     s->cc = setup->contact;
     s->law = gr_contact_virial(&s->cc, s->d, NULL, 0, s->w);
+    if (setup->sizes && setup->n_species < 2) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "pressure: not on a radius distribution yet (its pairs' coefficients are "
+                       "scaled per contact); species lists run (docs/mixtures.md)");
+    }
+    if (setup->n_species >= 2 && setup->n_species <= GR_MAX_SPECIES) {
+        s->ns = setup->n_species;
+        s->cc_pair = gr_obs_calloc(s, (size_t)(s->ns * s->ns), sizeof *s->cc_pair);
+        int rc = gr_obs_alloc_ok(s, err);
+        if (rc) {
+            return rc;
+        }
+        memcpy(s->cc_pair, setup->contact_pair, (size_t)(s->ns * s->ns) * sizeof *s->cc_pair);
+    }
     return GR_OK;
 }
 
@@ -129,14 +150,15 @@ static void flush(pressure *s)
 
 /* A 3D contact: the kernel's law on the pair seen along its normal (r_ij = (|r_ij|, 0), g = (g .
  * n, 0)) gives |r_ij| f_n in its xx slot; the tensor is |r_ij| f_n n_a n_b. */
-static void contact_3d(pressure *s, int i, int j, const double dr[3], double r2)
+static void contact_3d(pressure *s, const gr_contact_coeffs *cc, double d, int i, int j,
+                       const double dr[3], double r2)
 {
     const gr_particles *p = s->p;
     const double dist = sqrt(r2), n[3] = {dr[0] / dist, dr[1] / dist, dr[2] / dist};
     const double g[3] = {p->vx[j] - p->vx[i], p->vy[j] - p->vy[i], p->vz[j] - p->vz[i]};
     const gr_contact_pair along = {.dx = dist, .gx = g[0] * n[0] + g[1] * n[1] + g[2] * n[2]};
     double rf[3] = {0.0, 0.0, 0.0};
-    gr_contact_virial(&s->cc, s->d, &along, 1, rf);
+    gr_contact_virial(cc, d, &along, 1, rf);
     s->w[0] += rf[0] * n[0] * n[0];
     s->w[1] += rf[0] * n[1] * n[1];
     s->w[2] += rf[0] * n[0] * n[1];
@@ -152,8 +174,26 @@ static void contact(int i, int j, const double dr[3], double r2, void *user)
     if (r2 == 0.0) {
         return;
     }
+    if (s->ns) { /* a mixture: the pair's own contact distance and coefficients */
+        const double d = p->radii[i] + p->radii[j];
+        if (r2 >= d * d) {
+            return;
+        }
+        const gr_contact_coeffs *cc = &s->cc_pair[p->species[i] * s->ns + p->species[j]];
+        if (p->dim == 3) {
+            contact_3d(s, cc, d, i, j, dr, r2);
+        } else {
+            const gr_contact_pair one = {.dx = dr[0],
+                                         .dy = dr[1],
+                                         .gx = p->vx[j] - p->vx[i],
+                                         .gy = p->dim == 2 ? p->vy[j] - p->vy[i] : 0.0};
+            gr_contact_virial(cc, d, &one, 1, s->w);
+        }
+        s->contacts++;
+        return;
+    }
     if (p->dim == 3) {
-        contact_3d(s, i, j, dr, r2);
+        contact_3d(s, &s->cc, s->d, i, j, dr, r2);
         s->contacts++;
         return;
     }
@@ -172,21 +212,42 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     (void)t;
     pressure *s = state;
     int bad = gr_obs_check_frame("pressure", p, s->n, err);
+    if (!bad && s->ns) {
+        bad = gr_obs_frame_species("pressure", p, s->ns, s->n, NULL, err);
+    }
+    if (!bad && s->ns && !(p->radii && p->masses)) {
+        bad = GR_FAIL(err, GR_EINVAL,
+                      "pressure: a mixture's frame without the grains' radii and "
+                      "masses");
+    }
     if (bad) {
         return bad;
     }
     double k[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, speed = 0.0;
     gr_obs_mean_velocity(p, s->mean);
+    if (s->ns) { /* a mixture: relative to the centre of mass's velocity */
+        double M = 0.0, P[3] = {0.0, 0.0, 0.0};
+        for (int i = 0; i < p->n; i++) {
+            M += p->masses[i];
+            P[0] += p->masses[i] * p->vx[i];
+            P[1] += p->dim >= 2 ? p->masses[i] * p->vy[i] : 0.0;
+            P[2] += p->dim == 3 ? p->masses[i] * p->vz[i] : 0.0;
+        }
+        for (int c = 0; c < 3; c++) {
+            s->mean[c] = P[c] / M;
+        }
+    }
     for (int i = 0; i < p->n; i++) {
         double ux = p->vx[i] - s->mean[0], uy = p->dim >= 2 ? p->vy[i] - s->mean[1] : 0.0;
-        k[0] += s->mass * ux * ux;
-        k[1] += s->mass * uy * uy;
-        k[2] += s->mass * ux * uy;
+        const double m = s->ns ? p->masses[i] : s->mass; /* a mixture: each grain's own */
+        k[0] += m * ux * ux;
+        k[1] += m * uy * uy;
+        k[2] += m * ux * uy;
         if (p->dim == 3) {
             double uz = p->vz[i] - s->mean[2];
-            k[3] += s->mass * uz * uz;
-            k[4] += s->mass * ux * uz;
-            k[5] += s->mass * uy * uz;
+            k[3] += m * uz * uz;
+            k[4] += m * ux * uz;
+            k[5] += m * uy * uz;
             speed += sqrt(ux * ux + uy * uy + uz * uz);
             continue;
         }
@@ -263,7 +324,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
              sd ? "" : ".h");
     cJSON_AddStringToObject(
         j, "virial", s->law ? law : "none: the scene has no contact force law (kinetic part only)");
-    if (s->dim == 2) {
+    if (s->dim == 2 && !s->ns) { /* (5.2) is one species' */
         double v = gr_blocking_mean(&s->b[SPEED]);
         double rhs =
             s->D * s->d * M_PI /

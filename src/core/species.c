@@ -251,6 +251,15 @@ static void pair_params(const gr_sim_params *p, int a, int b, gr_contact_params 
                  p->species_mass[b], p->species_radius[0], cp, m12);
 }
 
+int gr_species_pair_coeffs(const gr_sim_params *p, int a, int b, gr_contact_coeffs *out,
+                           gr_error *err)
+{
+    gr_contact_params cp;
+    double m;
+    pair_params(p, a, b, &cp, &m);
+    return gr_contact_prepare(p->normal, NULL, &cp, m, 0.0, out, err);
+}
+
 /* A distribution's reference: the shortest contact among the pairs of its extreme grains (the
  * scene's k_h is that of two grains of radius_min); its M and R are kept for the kernel's scaling. */
 static void size_reference(gr_sim *s, gr_contact_params *p, double *m12)

@@ -81,6 +81,19 @@ int gr_scene_obs_setup(const gr_scene *s, gr_obs_setup *out, gr_error *err)
                        .n_species = s->n_species,
                        .sizes = s->n_species >= 2 || s->size_distribution};
     gr_scene_radius_moments(s, &out->radius_mean, &out->radius_sq_mean);
+    if (s->normal && s->n_species >= 2) { /* the pressure's virial per species pair */
+        gr_sim_params p;
+        gr_scene_sim_params(s, &p);
+        for (int a = 0; a < s->n_species; a++) {
+            for (int b = 0; b < s->n_species; b++) {
+                int rc =
+                    gr_species_pair_coeffs(&p, a, b, &out->contact_pair[a * s->n_species + b], err);
+                if (rc) {
+                    return rc;
+                }
+            }
+        }
+    }
     if (s->normal) {
         int rc = gr_contact_prepare(s->normal, s->tangential, &s->contact, gr_scene_m12(s), 0.0,
                                     &out->contact, err);

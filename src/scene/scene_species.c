@@ -62,15 +62,15 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
     static const struct {
         const char *name, *why;
     } no_obs[] = {
-        {"pressure", "the virial and the collisional pressure use one mass, diameter and contact "
-                     "law"},
+        {"pressure", "a radius distribution's pair coefficients are scaled per contact in the "
+                     "kernel (species lists run)"},
     };
     char buf[sizeof s->observables], *save = NULL;
     snprintf(buf, sizeof buf, "%s", s->observables);
     for (char *tok = strtok_r(buf, ", \t", &save); tok; tok = strtok_r(NULL, ", \t", &save)) {
         const char *why = NULL;
         for (size_t k = 0; k < sizeof no_obs / sizeof no_obs[0]; k++) {
-            why = strcmp(tok, no_obs[k].name) == 0 ? no_obs[k].why : why;
+            why = strcmp(tok, no_obs[k].name) == 0 && s->size_distribution ? no_obs[k].why : why;
         }
         if (strcmp(tok, "species") == 0 && s->size_distribution) {
             *section = "analysis";
@@ -86,11 +86,10 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             *section = "analysis";
             *key = "observables";
             snprintf(detail, cap,
-                     "%s is not species-aware yet: %s; allowed with [species]: moments, pv, msd, "
-                     "vacf, postcollision, collisions, profile, clusters, sk, pair, vcorr, "
-                     "freepath, gaps%s "
-                     "(docs/mixtures.md)",
-                     tok, why, s->size_distribution ? "" : ", species");
+                     "%s is not available on a radius distribution yet: %s; allowed with a "
+                     "radius distribution: moments, pv, msd, vacf, postcollision, collisions, "
+                     "profile, clusters, sk, pair, vcorr, freepath, gaps (docs/mixtures.md)",
+                     tok, why);
             return GR_EINVAL;
         }
     }
