@@ -165,8 +165,9 @@ int gr_species_setup(gr_sim *s, gr_error *err)
         return GR_FAIL(err, GR_EINVAL,
                        "%s: %s: not available with [species] yet; a mixture runs in 1D, 2D and 3D "
                        "with the verlet or event integrator, a normal force law, tangential laws "
-                       "without history, walls and gravity with verlet and the random force or no "
-                       "driving (docs/mixtures.md)",
+                       "without history (with verlet in 1D and 2D the history law and rolling "
+                       "too), walls and gravity, and the random force, no driving or (verlet) the "
+                       "Langevin bath (docs/mixtures.md)",
                        p->source, what);
     }
     int total = 0;
