@@ -213,10 +213,10 @@ PY
 # what an event mixture cannot run at walls yet: eps_n(v)
 refuse_with "$scene3" "eps_n.v. rule .viscoelastic = true. and .species" --set boundary.z=walls "${event[@]}" \
     --set model.viscoelastic=true
-# ... and what runs with mixtures in 1D and 2D only (the 3D mixture kernel has the laws without
-# history)
-refuse_with "$scene3" "\[model\] tangential.*1D and 2D" --set model.tangential=tangential_spring
-refuse_with "$scene3" "\[model\] rolling.*1D and 2D" --set model.rotation=true --set model.rolling=rolling_friction
+# ... and what runs with mixtures in 1D and 2D only (rolling resistance; the history law runs in
+# 3D too: tests/test_species_3d.c)
+refuse_with "$scene3" "\[model\] rolling.*1D and 2D" --set model.rotation=true \
+    --set model.tangential=tangential_spring --set model.rolling=rolling_friction
 # the bath and com mode run in 3D (tests/test_species_pairs.c); with the event integrator they do not
 refuse_with "$scene3" "\[driving\] kind.*verlet integrator" --set driving.kind=langevin "${event[@]}"
 refuse_with "$scene3" "\[noise\] mode.*verlet integrator" --set noise.mode=com "${event[@]}"

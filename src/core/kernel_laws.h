@@ -110,6 +110,25 @@ static inline __attribute__((always_inline)) gr_tangential_force3 tangential3_la
     return (gr_tangential_force3){.p = 0.0};
 }
 
+/* 3D: a history vector turned into the tangent plane of n, its length kept (LAMMPS pair granular:
+ * s <- (s - (s.n) n) |s| / |s - (s.n) n|; 0 when s lies along n). */
+static inline void gr_to_plane(double h[3], const double n[3])
+{
+    const double hn = h[0] * n[0] + h[1] * n[1] + h[2] * n[2];
+    if (hn == 0.0) {
+        return;
+    }
+    const double len2 = h[0] * h[0] + h[1] * h[1] + h[2] * h[2];
+    for (int a = 0; a < 3; a++) {
+        h[a] -= hn * n[a];
+    }
+    const double p2 = h[0] * h[0] + h[1] * h[1] + h[2] * h[2];
+    const double scale = p2 > 0.0 ? sqrt(len2 / p2) : 0.0;
+    for (int a = 0; a < 3; a++) {
+        h[a] *= scale;
+    }
+}
+
 /* The minimum image of a coordinate difference in a periodic box of side L. */
 static inline double wrap_delta(double dx, double L)
 {

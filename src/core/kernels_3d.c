@@ -301,25 +301,6 @@ static inline __attribute__((always_inline)) double geometry(const ctx3 *c, cons
     return r2;
 }
 
-/* A history vector turned into the tangent plane of n, its length kept (LAMMPS pair granular:
- * s <- (s - (s.n) n) |s| / |s - (s.n) n|; 0 when s lies along n). */
-static inline void to_plane(double h[3], const double n[3])
-{
-    const double hn = dot3(h, n);
-    if (hn == 0.0) {
-        return;
-    }
-    const double len2 = dot3(h, h);
-    for (int a = 0; a < 3; a++) {
-        h[a] -= hn * n[a];
-    }
-    const double p2 = dot3(h, h);
-    const double scale = p2 > 0.0 ? sqrt(len2 / p2) : 0.0;
-    for (int a = 0; a < 3; a++) {
-        h[a] *= scale;
-    }
-}
-
 /* One listed pair i < j: 0 when it does not overlap (nothing set), else 1 with o filled. h: the
  * pair's history vector (history laws), copied in and returned in o->hs. */
 static inline __attribute__((always_inline)) int pair_3d(const ctx3 *c, const int i, const int j,
@@ -346,7 +327,7 @@ static inline __attribute__((always_inline)) int pair_3d(const ctx3 *c, const in
         double Ft[3], Fn[3]; /* the tangential force on j and its non-conservative part */
         if (history_of(tl)) {
             double s[3] = {h[0], h[1], h[2]};
-            to_plane(s, n);
+            gr_to_plane(s, n);
             const gr_tangential_in3 in = {.g = {gc[0], gc[1], gc[2]},
                                           .f_n = fn.f,
                                           .xi = ov,
@@ -438,7 +419,7 @@ static double forget_3d(const ctx3 *c, const int tl, const int i, const int j, c
             gc[a] += 0.5 * dist * nw[a];
         }
     }
-    to_plane(h, n);
+    gr_to_plane(h, n);
     const gr_tangential_in3 in = {
         .g = {gc[0], gc[1], gc[2]}, .xi = c->d - dist, .g_n = g_n, .acts = 0, .hist = h};
     return tangential3_law(tl, &c->cc, in).lost;

@@ -302,24 +302,69 @@ static void close_sums(const poly_sums *t, gr_force_report *r)
  * without history acts along g_c with its scalar code at |g_c|, and the force F_t on j (-F_t on
  * i) turns i by -a_i n x F_t and j by -a_j n x F_t, which the pair's orbital torque
  * |r_ij| n x F_t cancels (angular momentum kept). */
+/* 3D: the contact point's tangential relative velocity g_c = g - g_n n + n x (a_i w_i + a_j w_j)
+ * (g = v_j - v_i, the arms a_i + a_j = |r_ij|), rotation or not. */
+static void contact_velocity_3d(const gr_sim *s, int i, int j, const double nv[3],
+                                const double gv[3], double g_n, double ai, double aj, double gc[3])
+{
+    for (int a = 0; a < 3; a++) {
+        gc[a] = gv[a] - g_n * nv[a];
+    }
+    if (s->omega) {
+        const double W[3] = {ai * s->wx[i] + aj * s->wx[j], ai * s->wy[i] + aj * s->wy[j],
+                             ai * s->omega[i] + aj * s->omega[j]};
+        gc[0] += nv[1] * W[2] - nv[2] * W[1];
+        gc[1] += nv[2] * W[0] - nv[0] * W[2];
+        gc[2] += nv[0] * W[1] - nv[1] * W[0];
+    }
+}
+
+/* 3D: a history law's contact (i, j) that ended (e: r_j - r_i now): the law forgets the vector and
+ * returns the energy it held plus the work its last force did (J), as kernels_3d.c's forget_3d
+ * with each grain's own arm. */
+static double poly_forget_3d(const gr_sim *s, int i, int j, const double e[3], double dist,
+                             double *h)
+{
+    const gr_contact_coeffs *c = &s->cc_pair[s->species[i] * s->nsp + s->species[j]];
+    const double nv[3] = {e[0] / dist, e[1] / dist, e[2] / dist};
+    const double gv[3] = {s->vx[j] - s->vx[i], s->vy[j] - s->vy[i], s->vz[j] - s->vz[i]};
+    const double g_n = gv[0] * nv[0] + gv[1] * nv[1] + gv[2] * nv[2];
+    const double ai = dist * s->rad[i] / (s->rad[i] + s->rad[j]);
+    double gc[3];
+    contact_velocity_3d(s, i, j, nv, gv, g_n, ai, dist - ai, gc);
+    gr_to_plane(h, nv);
+    const gr_tangential_in3 in = {.g = {gc[0], gc[1], gc[2]},
+                                  .xi = gr_pair_d(s, i, j) - dist,
+                                  .g_n = g_n,
+                                  .acts = 0,
+                                  .hist = h};
+    return tangential3_law(s->kernel.tl, c, in).lost;
+}
+
 static void poly_3d(gr_sim *s, gr_force_report *r)
 {
     const int n = s->n;
     double *f[3] = {s->fx, s->fy, s->fz}, *g[3] = {s->gx, s->gy, s->gz};
     double *v[3] = {s->vx, s->vy, s->vz}, *q[3] = {s->x, s->y, s->z};
-    double *w[3] = {s->wx, s->wy, s->omega}, *tq[3] = {s->tqx, s->tqy, s->tq};
+    double *tq[3] = {s->tqx, s->tqy, s->tq}, *tg[3] = {s->tgx, s->tgy, s->tg};
     const int rot = s->omega != NULL;
+    const int tl = s->kernel.tl, clamp = s->kernel.clamp;
+    const int hist = history_of(tl); /* the spring's vector, 3 doubles per list entry */
+    const int keep_tg = rot && hist && s->tg && s->tgx && s->tgy; /* non-conservative torques */
     for (int a = 0; a < 3; a++) {
         memset(f[a], 0, sizeof(double) * (size_t)n);
         memset(g[a], 0, sizeof(double) * (size_t)n);
         if (rot) {
             memset(tq[a], 0, sizeof(double) * (size_t)n);
         }
+        if (keep_tg) {
+            memset(tg[a], 0, sizeof(double) * (size_t)n);
+        }
     }
     poly_sums t = {.wi = -1, .wj = -1};
-    const int tl = s->kernel.tl, clamp = s->kernel.clamp;
     const int col = book_of(tl) == GR_BOOK_FRICTION; /* the law's ledger column */
     const double inv_dt = 1.0 / s->dt;
+    double el_t = 0.0, lost = 0.0; /* a history law's springs (J) and what it dropped (J) */
     for (int i = 0; i < n; i++) {
         for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
             const int j = s->nl_j[p];
@@ -328,8 +373,13 @@ static void poly_3d(gr_sim *s, gr_force_report *r)
                 e[a] = wrap_delta(q[a][j] - q[a][i], s->period[a]);
             }
             const double dist = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+            double *h = hist ? s->nl_hist + 3 * (int64_t)p : NULL;
+            const int held = hist && (h[0] != 0.0 || h[1] != 0.0 || h[2] != 0.0);
             if (dist >= gr_pair_d(s, i, j)) {
                 s->nl_contact[p] = 0;
+                if (held) { /* the contact ended: its spring goes */
+                    lost += poly_forget_3d(s, i, j, e, dist, h);
+                }
                 continue;
             }
             double nv[3], gv[3], g_n = 0.0;
@@ -343,6 +393,9 @@ static void poly_3d(gr_sim *s, gr_force_report *r)
             const gr_contact_coeffs *c;
             if (!poly_contact(s, i, j, dist, g_n, &fn, &fd, &el, &pw, &tmp, &c)) {
                 s->nl_contact[p] = 0;
+                if (held) {
+                    lost += poly_forget_3d(s, i, j, e, dist, h);
+                }
                 continue;
             }
             t.fresh += !s->nl_contact[p];
@@ -355,41 +408,59 @@ static void poly_3d(gr_sim *s, gr_force_report *r)
             if (tl != TL_none) {
                 const double ai = dist * s->rad[i] / (s->rad[i] + s->rad[j]), aj = dist - ai;
                 double gc[3];
-                for (int a = 0; a < 3; a++) {
-                    gc[a] = gv[a] - g_n * nv[a];
-                }
-                if (rot) { /* + n x (a_i w_i + a_j w_j) */
-                    double W[3];
+                contact_velocity_3d(s, i, j, nv, gv, g_n, ai, aj, gc);
+                double Ft[3], Fn[3]; /* the tangential force on j and its non-conservative part */
+                if (hist) { /* the vector law with the pair's k_t, the vector kept in the plane */
+                    double sv[3] = {h[0], h[1], h[2]};
+                    gr_to_plane(sv, nv);
+                    const gr_tangential_in3 in = {.g = {gc[0], gc[1], gc[2]},
+                                                  .f_n = fn,
+                                                  .xi = gr_pair_d(s, i, j) - dist,
+                                                  .g_n = g_n,
+                                                  .acts = !clamp || fn > 0.0,
+                                                  .hist = sv};
+                    const gr_tangential_force3 ft = tangential3_law(tl, c, in);
                     for (int a = 0; a < 3; a++) {
-                        W[a] = ai * w[a][i] + aj * w[a][j];
+                        Ft[a] = ft.f[a];
+                        Fn[a] = ft.f[a] - ft.fc[a];
+                        h[a] = sv[a];
                     }
-                    gc[0] += nv[1] * W[2] - nv[2] * W[1];
-                    gc[1] += nv[2] * W[0] - nv[0] * W[2];
-                    gc[2] += nv[0] * W[1] - nv[1] * W[0];
+                    el_t += ft.e;
+                    lost += ft.lost;
+                    t.pt[col] += -(Fn[0] * gc[0] + Fn[1] * gc[1] + Fn[2] * gc[2]);
+                } else { /* a law without history acts along g_c: its scalar law at |g_c| */
+                    const double gm = sqrt(gc[0] * gc[0] + gc[1] * gc[1] + gc[2] * gc[2]);
+                    const gr_tangential_in in = {.g_t = gm,
+                                                 .f_n = fn,
+                                                 .xi = gr_pair_d(s, i, j) - dist,
+                                                 .g_n = g_n,
+                                                 .acts = !clamp || fn > 0.0,
+                                                 .m12_dt = c->m_t * inv_dt};
+                    const gr_tangential_force ft = tangential_law(tl, c, in);
+                    const double along = gm > 0.0 ? ft.f / gm : 0.0;
+                    for (int a = 0; a < 3; a++) {
+                        Ft[a] = Fn[a] = along * gc[a];
+                    }
+                    t.pt[col] += ft.p;
                 }
-                const double gm = sqrt(gc[0] * gc[0] + gc[1] * gc[1] + gc[2] * gc[2]);
-                const gr_tangential_in in = {.g_t = gm,
-                                             .f_n = fn,
-                                             .xi = gr_pair_d(s, i, j) - dist,
-                                             .g_n = g_n,
-                                             .acts = !clamp || fn > 0.0,
-                                             .m12_dt = c->m_t * inv_dt};
-                const gr_tangential_force ft = tangential_law(tl, c, in);
-                const double along = gm > 0.0 ? ft.f / gm : 0.0;
-                double Ft[3];
                 for (int a = 0; a < 3; a++) {
-                    Ft[a] = along * gc[a];
                     F[a] += Ft[a];
-                    G[a] += Ft[a];
+                    G[a] += Fn[a];
                 }
-                t.pt[col] += ft.p;
-                if (rot) { /* -a n x F_t on each */
+                if (rot) { /* -a n x F_t on each (and its non-conservative part, history laws) */
                     const double nf[3] = {nv[1] * Ft[2] - nv[2] * Ft[1],
                                           nv[2] * Ft[0] - nv[0] * Ft[2],
                                           nv[0] * Ft[1] - nv[1] * Ft[0]};
+                    const double nc[3] = {nv[1] * Fn[2] - nv[2] * Fn[1],
+                                          nv[2] * Fn[0] - nv[0] * Fn[2],
+                                          nv[0] * Fn[1] - nv[1] * Fn[0]};
                     for (int a = 0; a < 3; a++) {
                         tq[a][i] -= ai * nf[a];
                         tq[a][j] -= aj * nf[a];
+                        if (keep_tg) {
+                            tg[a][i] -= ai * nc[a];
+                            tg[a][j] -= aj * nc[a];
+                        }
                     }
                 }
             }
@@ -402,7 +473,9 @@ static void poly_3d(gr_sim *s, gr_force_report *r)
             tally(&t, s, i, j, el, pw, dist);
         }
     }
+    t.elastic += el_t;
     close_sums(&t, r);
+    r->lost = lost;
 }
 
 void gr_kernel_run_poly(gr_sim *s, gr_force_report *r)

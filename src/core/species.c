@@ -40,12 +40,11 @@ int gr_species_counts(int N, int ns, const double *fraction, int *count)
 static const char *not_covered(const gr_sim *s)
 {
     const gr_sim_params *p = &s->params;
-    /* the history law and rolling: species lists in 1D and 2D (the 3D mixture kernel has the laws
-     * without history); the bath and com mode: species lists with the verlet integrator */
-    const bool flat = p->size_distribution || p->dim == 3;
+    /* the history law: species lists; rolling: species lists in 1D and 2D; the bath and com mode:
+     * species lists with the verlet integrator */
     return !p->integrator->species ? "[integrator] kind"
-           : p->tangential &&
-                   ((flat && gr_model_keeps_history(p->tangential)) || p->integrator->instantaneous)
+           : p->tangential && ((p->size_distribution && gr_model_keeps_history(p->tangential)) ||
+                               p->integrator->instantaneous)
                ? "[model] tangential"
            : p->rolling && (p->integrator->instantaneous || p->dim == 3) ? "[model] rolling"
            : s->drive == GR_DRIVE_BATH && (p->size_distribution || p->integrator->instantaneous)
@@ -165,7 +164,7 @@ int gr_species_setup(gr_sim *s, gr_error *err)
         return GR_FAIL(err, GR_EINVAL,
                        "%s: %s: not available with [species] yet; a mixture runs in 1D, 2D and 3D "
                        "with the verlet or event integrator, a normal force law, tangential laws "
-                       "without history (with verlet in 1D and 2D the history law and rolling "
+                       "(with verlet and species lists the history law, in 1D and 2D rolling "
                        "too), walls and gravity, and the random force, no driving or (verlet) the "
                        "Langevin bath (docs/mixtures.md)",
                        p->source, what);
@@ -258,7 +257,7 @@ int gr_species_pair_coeffs(const gr_sim_params *p, int a, int b, gr_contact_coef
     gr_contact_params cp;
     double m;
     pair_params(p, a, b, &cp, &m);
-    return gr_contact_prepare(p->normal, NULL, &cp, m, 0.0, out, err);
+    return gr_contact_prepare(p->normal, p->tangential, &cp, m, 0.0, out, err);
 }
 
 /* A distribution's reference: the shortest contact among the pairs of its extreme grains (the

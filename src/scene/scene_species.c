@@ -10,12 +10,11 @@
 static int refused(const gr_scene *s, const char **section, const char **key, char *detail,
                    size_t cap)
 {
-    /* tangential laws without history, rolling laws: the verlet integrator (kernels_poly.c); the
-     * history law and rolling: species lists, verlet, 1D and 2D (the 3D mixture kernel has the laws
-     * without history); the bath and com mode: species lists, verlet; walls and gravity: both
-     * integrators */
+    /* tangential laws and rolling laws: the verlet integrator (kernels_poly.c); the history law:
+     * species lists; rolling: 1D and 2D; the bath and com mode: species lists, verlet; walls and
+     * gravity: both integrators */
     const bool event = s->integrator->instantaneous;
-    const bool no_laws = event || s->size_distribution || s->dim == 3;
+
     struct {
         bool on;
         const char *section, *key, *allowed;
@@ -25,10 +24,11 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
          "verlet (a radius distribution; event runs [species] lists)"},
         {s->normal && !(s->normal->kind & GR_MODEL_NORMAL), "model", "normal",
          "a normal force law (spring_dashpot, hertz, ...) or event rule (hard_sphere)"},
-        {s->tangential && (event || (no_laws && gr_model_keeps_history(s->tangential))), "model",
-         "tangential",
+        {s->tangential &&
+             (event || (s->size_distribution && gr_model_keeps_history(s->tangential))),
+         "model", "tangential",
          "none, or with verlet tangential_dashpot | sliding_friction (and with [species] lists "
-         "in 1D and 2D tangential_spring)"},
+         "tangential_spring)"},
         {s->rolling && (event || s->dim == 3), "model", "rolling",
          "none, or with verlet in 1D and 2D rolling_friction"},
         {s->driving && s->driving->update == GR_DRIVE_BATH && (event || s->size_distribution),

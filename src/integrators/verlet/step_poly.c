@@ -53,11 +53,12 @@ static double half_kick_poly(gr_sim *s, bool *finite)
         }
     }
     /* rotation: w_i += tq_i dt / (2 I_i), the torques' work as for v (step.c); 3D: each
-     * component of the vectors (wx, wy, omega = w_z); a history law's springs (2D): only the
-     * non-conservative torques (tg) do booked work */
+     * component of the vectors (wx, wy, omega = w_z); a history law's springs: only the
+     * non-conservative torques (tg; 3D tgx, tgy, tg) do booked work */
     double *const w[3] = {s->omega, s->wx, s->wy};
     const double *const tq[3] = {s->tq, s->tqx, s->tqy}, *const nc[3] = {s->tg ? s->tg : s->tq,
-                                                                         s->tqx, s->tqy};
+                                                                         s->tgx ? s->tgx : s->tqx,
+                                                                         s->tgy ? s->tgy : s->tqy};
     for (int c = 0; s->omega && c < (s->dim == 3 ? 3 : 1); c++) {
         for (int i = 0; i < s->n; i++) {
             const double dw = h / s->inertia_i[i] * tq[c][i];
