@@ -213,24 +213,24 @@ PY
 # what an event mixture cannot run at walls yet: eps_n(v)
 refuse_with "$scene3" "eps_n.v. rule .viscoelastic = true. and .species" --set boundary.z=walls "${event[@]}" \
     --set model.viscoelastic=true
-# spheres of two species with the history spring and rotation from the command line (the
-# observables' setup prepares every species pair's coefficients with the tangential law)
+# spheres of two species with the history spring, rotation and rolling resistance from the command
+# line (the observables' setup prepares every species pair's coefficients with the tangential law)
 "$granule" run "$scene3" --out "$tmp/mix3d-spring" --set model.tangential=tangential_spring \
-    --set model.mu=0.5 --set model.rotation=true --set run.warmup=0 --set run.duration=0.02 \
+    --set model.mu=0.5 --set model.rotation=true --set model.rolling=rolling_friction \
+    --set model.mu_r=0.05 --set run.warmup=0 --set run.duration=0.02 \
     --set output.plots=false --set output.snapshot_every=0 \
     --set analysis.observables=species,pressure >"$tmp/mix3d-spring.log" 2>&1 ||
     { cat "$tmp/mix3d-spring.log" >&2; fail "3D mixture with the history spring and rotation"; }
 python3 - "$tmp/mix3d-spring/summary.json" <<'PY' || fail "3D mixture with the spring: summary"
 import json, sys
 s = json.load(open(sys.argv[1]))
-assert "tangential_spring+rotation" in s["kernel"], s["kernel"]
+assert "tangential_spring+rotation" in s["kernel"] and "rolling" in s["kernel"], s["kernel"]
 assert abs(s["ledger"]["relative_residual"]) < 0.01 and s["ledger"]["dissipated_friction"] > 0, s["ledger"]
 assert s["analysis"]["pressure"]["P"] > 0, s["analysis"]["pressure"]
 PY
-# ... and what runs with mixtures in 1D and 2D only (rolling resistance; the history law runs in
-# 3D too: tests/test_species_3d.c)
-refuse_with "$scene3" "\[model\] rolling.*1D and 2D" --set model.rotation=true \
-    --set model.tangential=tangential_spring --set model.rolling=rolling_friction
+# ... and rolling resistance with the event integrator
+refuse_with "$scene3" "\[model\] rolling.*with verlet rolling_friction" --set model.rotation=true \
+    --set model.rolling=rolling_friction --set model.mu_r=0.05 "${event[@]}"
 # the bath and com mode run in 3D (tests/test_species_pairs.c); with the event integrator they do not
 refuse_with "$scene3" "\[driving\] kind.*verlet integrator" --set driving.kind=langevin "${event[@]}"
 refuse_with "$scene3" "\[noise\] mode.*verlet integrator" --set noise.mode=com "${event[@]}"

@@ -341,6 +341,39 @@ static double poly_forget_3d(const gr_sim *s, int i, int j, const double e[3], d
     return tangential3_law(s->kernel.tl, c, in).lost;
 }
 
+/* 3D rolling resistance of the touching pair (i, j) (kernels_3d.c's rolling with each sphere's
+ * own size): against the relative spin about axes in the tangent plane, dw_perp = (w_i - w_j) -
+ * ((w_i - w_j).n) n, the scalar law at |dw_perp| with the pair's R_ij = r_i r_j / (r_i + r_j) and
+ * reduced inertia I_i I_j / (I_i + I_j) (as poly_2d), the couple +M along dw_perp on j, -M on i
+ * (all of it non-conservative), its loss booked as friction. */
+static void roll_3d(gr_sim *s, const gr_contact_coeffs *c, int i, int j, const double nv[3],
+                    double fn, int acts, double inv_dt, int keep_tg, poly_sums *t)
+{
+    const double dw[3] = {s->wx[i] - s->wx[j], s->wy[i] - s->wy[j], s->omega[i] - s->omega[j]};
+    const double dn = dw[0] * nv[0] + dw[1] * nv[1] + dw[2] * nv[2];
+    const double dp[3] = {dw[0] - dn * nv[0], dw[1] - dn * nv[1], dw[2] - dn * nv[2]};
+    const double m = sqrt(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]);
+    const double ri = s->rad[i], rj = s->rad[j], Ii = s->inertia_i[i], Ij = s->inertia_i[j];
+    const gr_rolling_in rin = {.dw = m,
+                               .f_n = fn,
+                               .acts = acts,
+                               .r_eff = ri * rj / (ri + rj),
+                               .i_2dt = Ii * Ij / (Ii + Ij) * inv_dt};
+    const gr_rolling_torque rt = rolling_law(s->kernel.rl, c, rin);
+    const double along = m > 0.0 ? rt.m / m : 0.0;
+    double *tq[3] = {s->tqx, s->tqy, s->tq}, *tg[3] = {s->tgx, s->tgy, s->tg};
+    for (int a = 0; a < 3; a++) {
+        const double R = along * dp[a];
+        tq[a][j] += R;
+        tq[a][i] -= R;
+        if (keep_tg) {
+            tg[a][j] += R;
+            tg[a][i] -= R;
+        }
+    }
+    t->pt[1] += rt.p;
+}
+
 static void poly_3d(gr_sim *s, gr_force_report *r)
 {
     const int n = s->n;
@@ -348,7 +381,7 @@ static void poly_3d(gr_sim *s, gr_force_report *r)
     double *v[3] = {s->vx, s->vy, s->vz}, *q[3] = {s->x, s->y, s->z};
     double *tq[3] = {s->tqx, s->tqy, s->tq}, *tg[3] = {s->tgx, s->tgy, s->tg};
     const int rot = s->omega != NULL;
-    const int tl = s->kernel.tl, clamp = s->kernel.clamp;
+    const int tl = s->kernel.tl, clamp = s->kernel.clamp, rl = s->kernel.rl;
     const int hist = history_of(tl); /* the spring's vector, 3 doubles per list entry */
     const int keep_tg = rot && hist && s->tg && s->tgx && s->tgy; /* non-conservative torques */
     for (int a = 0; a < 3; a++) {
@@ -463,6 +496,9 @@ static void poly_3d(gr_sim *s, gr_force_report *r)
                         }
                     }
                 }
+            }
+            if (rl != RL_none) { /* rolling resistance (rotation only): a couple, no force */
+                roll_3d(s, c, i, j, nv, fn, !clamp || fn > 0.0, inv_dt, keep_tg, &t);
             }
             for (int a = 0; a < 3; a++) {
                 f[a][j] += F[a];

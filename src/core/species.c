@@ -40,13 +40,13 @@ int gr_species_counts(int N, int ns, const double *fraction, int *count)
 static const char *not_covered(const gr_sim *s)
 {
     const gr_sim_params *p = &s->params;
-    /* the history law: species lists; rolling: species lists in 1D and 2D; the bath and com mode:
+    /* the history law: species lists; rolling: the verlet integrator; the bath and com mode:
      * species lists with the verlet integrator */
     return !p->integrator->species ? "[integrator] kind"
            : p->tangential && ((p->size_distribution && gr_model_keeps_history(p->tangential)) ||
                                p->integrator->instantaneous)
                ? "[model] tangential"
-           : p->rolling && (p->integrator->instantaneous || p->dim == 3) ? "[model] rolling"
+           : p->rolling && p->integrator->instantaneous ? "[model] rolling"
            : s->drive == GR_DRIVE_BATH && (p->size_distribution || p->integrator->instantaneous)
                ? "[driving] kind = langevin"
            : p->noise_mode == GR_NOISE_COM && (p->size_distribution || p->integrator->instantaneous)
@@ -164,9 +164,9 @@ int gr_species_setup(gr_sim *s, gr_error *err)
         return GR_FAIL(err, GR_EINVAL,
                        "%s: %s: not available with [species] yet; a mixture runs in 1D, 2D and 3D "
                        "with the verlet or event integrator, a normal force law, tangential laws "
-                       "(with verlet and species lists the history law, in 1D and 2D rolling "
-                       "too), walls and gravity, and the random force, no driving or (verlet) the "
-                       "Langevin bath (docs/mixtures.md)",
+                       "(with verlet the history law with species lists, and rolling "
+                       "resistance), walls and gravity, and the random force, no driving or "
+                       "(verlet) the Langevin bath (docs/mixtures.md)",
                        p->source, what);
     }
     int total = 0;

@@ -11,8 +11,8 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
                    size_t cap)
 {
     /* tangential laws and rolling laws: the verlet integrator (kernels_poly.c); the history law:
-     * species lists; rolling: 1D and 2D; the bath and com mode: species lists, verlet; walls and
-     * gravity: both integrators */
+     * species lists; the bath and com mode: species lists, verlet; walls and gravity: both
+     * integrators */
     const bool event = s->integrator->instantaneous;
 
     struct {
@@ -29,8 +29,7 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
          "model", "tangential",
          "none, or with verlet tangential_dashpot | sliding_friction (and with [species] lists "
          "tangential_spring)"},
-        {s->rolling && (event || s->dim == 3), "model", "rolling",
-         "none, or with verlet in 1D and 2D rolling_friction"},
+        {s->rolling && event, "model", "rolling", "none, or with verlet rolling_friction"},
         {s->driving && s->driving->update == GR_DRIVE_BATH && (event || s->size_distribution),
          "driving", "kind", "rfm | none (langevin: [species] lists with the verlet integrator)"},
         {s->noise_mode == GR_NOISE_COM && (event || s->size_distribution), "noise", "mode",
