@@ -235,7 +235,7 @@ refuse_with "$scene3" "\[model\] rolling.*with verlet rolling_friction" --set mo
 refuse_with "$scene3" "\[driving\] kind.*verlet integrator" --set driving.kind=langevin "${event[@]}"
 refuse_with "$scene3" "\[noise\] mode.*verlet integrator" --set noise.mode=com "${event[@]}"
 # a radius distribution in 3D (densities in kg/m^3): it runs, its ledger closes, and the history law
-# is refused there as in 2D
+# with hertz is refused there as in 2D
 dist3=(--set species.distribution=uniform --set species.radius= --set species.mass=
     --set species.fraction= --set species.radius_min=1e-3 --set species.radius_max=2e-3
     --set species.density=2500 --set analysis.observables=moments)
@@ -249,7 +249,7 @@ assert abs(s["ledger"]["relative_residual"]) < 0.01, s["ledger"]
 assert "3d-verlet-list-species" in s["kernel"], s["kernel"]
 PY
 refuse_with "$scene3" "\[model\] tangential.*not available with \[species\]" "${dist3[@]}" \
-    --set model.tangential=tangential_spring
+    --set model.tangential=tangential_spring --set model.normal=hertz --set model.k_h=1e7
 # densities in kg/m^3 (the masses (4/3) pi r^3 rho) and unequal radii: the injection rate, and the
 # run's mean field against scripts/mixture_theory.py --dim 3 (sigma_ij^2 tells 3D from 2D)
 sed 's/^mass = .*/density = 2500, 10000/' "$scene3" >"$tmp/rho3d.ini"
@@ -405,8 +405,8 @@ for kind in uniform cluster random; do
 done
 
 # refusals: the key, with where it was given
-refuse_with "$tmp/dist.ini" "\[model\] tangential.*not available with \[species\]" \
-    --set model.tangential=tangential_spring
+refuse_with "$tmp/dist.ini" "\[model\] tangential.*not available with \[species\].*normal = spring_dashpot" \
+    --set model.tangential=tangential_spring --set model.normal=hertz --set model.k_h=1e7
 refuse "\[integrator\] kind.*not available with \[species\]" --set integrator.kind=hybrid
 refuse "\[driving\] kind.*not available with \[species\]" --set integrator.kind=event \
     --set model.normal=hard_sphere --set driving.kind=langevin

@@ -124,7 +124,9 @@ static void poly_1d(gr_sim *s, gr_force_report *r)
 static double poly_forget(const gr_sim *s, int i, int j, double nx, double ny, double dist,
                           double *slot)
 {
-    const gr_contact_coeffs *c = &s->cc_pair[s->species[i] * s->nsp + s->species[j]];
+    /* a distribution (linear normal law only): the spring's constants are every pair's */
+    const gr_contact_coeffs *c =
+        s->cc_pair ? &s->cc_pair[s->species[i] * s->nsp + s->species[j]] : &s->cc;
     const double gx = s->vx[j] - s->vx[i], gy = s->vy[j] - s->vy[i];
     double g_t = gx * ny - gy * nx;
     if (s->omega) {
@@ -325,7 +327,8 @@ static void contact_velocity_3d(const gr_sim *s, int i, int j, const double nv[3
 static double poly_forget_3d(const gr_sim *s, int i, int j, const double e[3], double dist,
                              double *h)
 {
-    const gr_contact_coeffs *c = &s->cc_pair[s->species[i] * s->nsp + s->species[j]];
+    const gr_contact_coeffs *c =
+        s->cc_pair ? &s->cc_pair[s->species[i] * s->nsp + s->species[j]] : &s->cc;
     const double nv[3] = {e[0] / dist, e[1] / dist, e[2] / dist};
     const double gv[3] = {s->vx[j] - s->vx[i], s->vy[j] - s->vy[i], s->vz[j] - s->vz[i]};
     const double g_n = gv[0] * nv[0] + gv[1] * nv[1] + gv[2] * nv[2];

@@ -40,10 +40,12 @@ int gr_species_counts(int N, int ns, const double *fraction, int *count)
 static const char *not_covered(const gr_sim *s)
 {
     const gr_sim_params *p = &s->params;
-    /* the history law: species lists; rolling: the verlet integrator; the bath and com mode:
-     * species lists with the verlet integrator */
+    /* the history law: species lists, or a distribution with the linear normal law (its k_t =
+     * kt_ratio k_s is every pair's; hertz's k_t follows each pair's linearised contact); rolling:
+     * the verlet integrator; the bath and com mode: species lists with the verlet integrator */
     return !p->integrator->species ? "[integrator] kind"
-           : p->tangential && ((p->size_distribution && gr_model_keeps_history(p->tangential)) ||
+           : p->tangential && ((p->size_distribution && gr_model_keeps_history(p->tangential) &&
+                                p->normal != &gr_model_spring_dashpot) ||
                                p->integrator->instantaneous)
                ? "[model] tangential"
            : p->rolling && p->integrator->instantaneous ? "[model] rolling"

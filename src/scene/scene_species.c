@@ -25,10 +25,11 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         {s->normal && !(s->normal->kind & GR_MODEL_NORMAL), "model", "normal",
          "a normal force law (spring_dashpot, hertz, ...) or event rule (hard_sphere)"},
         {s->tangential &&
-             (event || (s->size_distribution && gr_model_keeps_history(s->tangential))),
+             (event || (s->size_distribution && gr_model_keeps_history(s->tangential) &&
+                        s->normal != &gr_model_spring_dashpot)),
          "model", "tangential",
-         "none, or with verlet tangential_dashpot | sliding_friction (and with [species] lists "
-         "tangential_spring)"},
+         "none, or with verlet tangential_dashpot | sliding_friction (and tangential_spring with "
+         "[species] lists, or with a radius distribution and normal = spring_dashpot)"},
         {s->rolling && event, "model", "rolling", "none, or with verlet rolling_friction"},
         {s->driving && s->driving->update == GR_DRIVE_BATH && (event || s->size_distribution),
          "driving", "kind", "rfm | none (langevin: [species] lists with the verlet integrator)"},
