@@ -256,7 +256,8 @@ static bool scale_at(double x0, double *y, double *e, const double *x, int n)
 /* transform = log_ratio: y -> -ln(y / y(0)) at x > 0, the quantity of Moon, Swift and Swinney's plot
  * (thesis 5.6, Figs. 5.6-5.7): for P(v) = P(0) exp(-c v^alpha) it is c v^alpha, a line of slope
  * alpha on log-log axes, so the window's slope is the local exponent alpha of the tail. The bins at
- * x <= 0 (the distribution is even) and those above y(0) are dropped; the error is e / y. */
+ * x <= 0 (the distribution is even) and those within 1 % of y(0) (where -ln is rounding noise) are
+ * dropped; the error is e / y. */
 static int log_ratio(double *x, double *y, double *e, int n)
 {
     const double y0 = value_at(x, y, n, 0.0);
@@ -265,7 +266,7 @@ static int log_ratio(double *x, double *y, double *e, int n)
     }
     int m = 0;
     for (int i = 0; i < n; i++) {
-        if (x[i] > 0.0 && y[i] > 0.0 && y[i] < y0) {
+        if (x[i] > 0.0 && y[i] > 0.0 && y[i] < 0.99 * y0) { /* the peak's top: noise on 1 */
             x[m] = x[i];
             e[m] = e[i] / y[i];
             y[m++] = -log(y[i] / y0);

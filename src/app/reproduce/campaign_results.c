@@ -464,11 +464,12 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
                          "lc i-%d+1 title (i == %d ? '%s' : '')",
                          lo, hi, r->id, np > 1 ? lo : 0, lo, words);
             }
+            /* with dashed lines beside them the curves are points, so that the lines show */
             snprintf(plots[k], PLOT_CAP,
-                     "%splot for [i=%d:%d] '%s_blocks.dat' index i using 1:2 with linespoints pt 7 "
+                     "%splot for [i=%d:%d] '%s_blocks.dat' index i using 1:2 with %s pt 7 "
                      "ps 0.5 lc i-%d+1 title columnheader(1)%s%s\n",
                      np > 1 && k >= 1 ? "set key top right font ',9' noenhanced\n" : "", lo, hi,
-                     r->id, np > 1 ? lo : 0,
+                     r->id, dashed[0] ? "points" : "linespoints", np > 1 ? lo : 0,
                      map ? ", x with lines dt 2 lw 2 lc rgb 'black' title 'uniform bisection "
                            "(3.36): -ln R'"
                          : "",
