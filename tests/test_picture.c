@@ -250,6 +250,54 @@ END_TEST
 
 /* A disc crossing the left edge shows on the right edge too; one in a corner shows in all four;
  * positions outside [0, L) (snapshots do not wrap y) are wrapped into the box. */
+/* A mixture's frame coloured by species (by_species): each disc in its species' palette colour
+ * (Okabe-Ito blue #0072b2, orange #e69f00, bluish green #009e73) whatever its speed, each at its
+ * own radius (a small disc's rim pixel stays white where a large one's is filled); without
+ * by_species the same frame is coloured by speed. */
+START_TEST(test_2d_species_colours)
+{
+    const double L = 0.1;
+    const int size = 500;
+    gr_frame f = frame_new(3, 2, L, 0.0);
+    int species[3] = {0, 1, 2};
+    double radii[3] = {0.002, 0.006, 0.004}, masses[3] = {1.0, 1.0, 1.0};
+    f.species = species;
+    f.radii = radii;
+    f.masses = masses;
+    f.n_species = 3;
+    for (int i = 0; i < 3; i++) {
+        f.x[i] = 0.02 + 0.03 * i;
+        f.y[i] = 0.05;
+        f.vx[i] = i == 1 ? 3.0 : 0.0; /* the speeds would colour them otherwise */
+    }
+    const double want[3][3] = {{0.0, 0.447, 0.698}, {0.902, 0.624, 0.0}, {0.0, 0.620, 0.451}};
+    gr_picture_options opt = {.size = size, .by_species = true};
+    const char *png = in_dir("species.png");
+    gr_error err = {0};
+    ck_assert_msg(gr_picture_frame(&f, 0.006, png, &opt, &err) == GR_OK, "%s", err.message);
+    image im = load_png(png);
+    for (int i = 0; i < 3; i++) {
+        expect_pixel(&im, dev_x(f.x[i], L, size), dev_y(f.y[i], L, size), want[i][0], want[i][1],
+                     want[i][2], 2, "species colour");
+    }
+    /* disc 0 (2 mm) does not reach 4 mm from its centre; disc 1 (6 mm) does */
+    ck_assert(is_white(&im, dev_x(f.x[0] + 0.004, L, size), dev_y(f.y[0], L, size)));
+    ck_assert(!is_white(&im, dev_x(f.x[1] + 0.004, L, size), dev_y(f.y[1], L, size)));
+    image_free(&im);
+    opt.by_species = false; /* by speed: the resting discs share the ramp's slow colour */
+    ck_assert_msg(gr_picture_frame(&f, 0.006, png, &opt, &err) == GR_OK, "%s", err.message);
+    im = load_png(png);
+    int a[3], b[3];
+    pixel(&im, dev_x(f.x[0], L, size), dev_y(f.y[0], L, size), a);
+    pixel(&im, dev_x(f.x[2], L, size), dev_y(f.y[2], L, size), b);
+    ck_assert(a[0] == b[0] && a[1] == b[1] && a[2] == b[2]);
+    image_free(&im);
+    f.species = NULL; /* not the test's arrays to free */
+    f.radii = f.masses = NULL;
+    gr_frame_free(&f);
+}
+END_TEST
+
 START_TEST(test_2d_periodic_edges)
 {
     const double L = 0.1, r = 0.005;
@@ -849,6 +897,7 @@ static Suite *picture_suite(void)
     tcase_add_checked_fixture(tc, setup, teardown);
     tcase_set_timeout(tc, 60);
     tcase_add_test(tc, test_2d_disc_colours);
+    tcase_add_test(tc, test_2d_species_colours);
     tcase_add_test(tc, test_2d_periodic_edges);
     tcase_add_test(tc, test_2d_walls);
     tcase_add_test(tc, test_1d_strip);

@@ -316,6 +316,21 @@ cover = sum(v < 250 for v in px) / len(px)
 print(f"picture: discs cover {cover:.3f} of the box (packing fraction 0.3)")
 sys.exit(0 if 0.26 < cover < 0.36 else 1)
 PY
+# ... and the same frame coloured by species: the palette's two colours (Okabe-Ito blue #0072b2 and
+# orange #e69f00) fill the discs in the proportion of the species' areas (1:4 for radii 1:2)
+/usr/bin/python3 - "$tmp/pic/snapshot_species.png" <<'PY' || fail "the picture by species"
+import sys
+from PIL import Image
+im = Image.open(sys.argv[1]).convert("RGB")
+w = im.size[0]
+px = list(im.crop((2, 2, w - 2, w - 2)).getdata())
+near = lambda p, c: all(abs(a - b) <= 3 for a, b in zip(p, c))
+blue = sum(near(p, (0, 114, 178)) for p in px)
+orange = sum(near(p, (230, 159, 0)) for p in px)
+print(f"picture by species: {blue} blue and {orange} orange pixels (ratio {orange / max(blue, 1):.2f}, "
+      "areas 1:4)")
+sys.exit(0 if blue > 0 and 3.0 < orange / blue < 5.0 else 1)
+PY
 
 # granule compare across laws: the headline table has the mixture's T_1/T_2 and the theory's
 "$granule" compare "$scene" --models spring_dashpot,hertz --set run.warmup=0.01 --set run.duration=0.02 \

@@ -105,6 +105,14 @@ int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *
                  last.dim >= 2 ? "snapshot.png" : "snapshots.png");
         rc = last.dim >= 2 ? gr_picture_frame(&frames[0], radius, out, &o, err)
                            : gr_picture_spacetime(frames, nf, radius, out, &o, err);
+        if (!rc && last.dim >= 2 && last.species && last.n_species >= 2) {
+            /* a mixture: also the same frame coloured by species (docs/mixtures.md) */
+            gr_picture_options os = o;
+            os.by_species = true;
+            char sp[1200];
+            snprintf(sp, sizeof sp, "%s/snapshot_species.png", run_dir);
+            rc = gr_picture_frame(&frames[0], radius, sp, &os, err);
+        }
         if (!rc && png_path && png_path_size) {
             snprintf(png_path, png_path_size, "%s", out);
         }

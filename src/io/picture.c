@@ -56,6 +56,7 @@ int pic_resolve_options(const gr_picture_options *o, popts *p, gr_error *err)
     p->labels = !o->hide_labels;
     p->walls[0] = o->walls[0];
     p->walls[1] = o->walls[1];
+    p->by_species = o->by_species;
     return GR_OK;
 }
 
@@ -421,6 +422,22 @@ static void draw_disc(cairo_t *cr, double cx, double cy, double rp, const double
     }
 }
 
+/* Okabe and Ito (2008): blue, orange, bluish green, vermillion, reddish purple, sky blue, yellow,
+ * black, distinguishable in every common colour-vision deficiency */
+static const double species_rgb[GR_PICTURE_SPECIES_COLOURS][3] = {
+    {0.000, 0.447, 0.698}, {0.902, 0.624, 0.000}, {0.000, 0.620, 0.451}, {0.835, 0.369, 0.000},
+    {0.800, 0.475, 0.655}, {0.337, 0.706, 0.914}, {0.941, 0.894, 0.259}, {0.000, 0.000, 0.000}};
+
+void pic_fill(const popts *p, const gr_frame *f, int i, double vrms, double rgb[3])
+{
+    if (p->by_species && f->species) {
+        const double *c = species_rgb[f->species[i] % GR_PICTURE_SPECIES_COLOURS];
+        rgb[0] = c[0], rgb[1] = c[1], rgb[2] = c[2];
+        return;
+    }
+    pic_ramp(p, vrms > 0.0 ? pic_speed(f, i) / vrms : 0.0, rgb);
+}
+
 /* ---------- the panel: captions and colour bar ---------- */
 
 int pic_text_scale(int width)
@@ -488,6 +505,40 @@ void pic_draw_panel(cairo_t *cr, const popts *p, int width, double y0, const cha
     pic_draw_text(cr, wc < width ? 0.5 * (width - wc) : 0.0, y, s, caption);
 }
 
+void pic_draw_species_panel(cairo_t *cr, int n_species, int width, double y0, const char *left,
+                            const char *right)
+{
+    int s = pic_text_scale(width);
+    double y = y0 + 6 * s;
+    cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+    pic_draw_text(cr, 4 * s, y, s, left);
+    double wr = pic_text_width(s, right);
+    if (4 * s + pic_text_width(s, left) + 6 * s + wr <= width - 4 * s) {
+        pic_draw_text(cr, width - 4 * s - wr, y, s, right);
+    }
+    y += 13 * s;
+    double x = 8 * s;
+    char label[32];
+    for (int k = 0; k < n_species; k++) { /* a swatch and its name, left to right */
+        const double *c = species_rgb[k % GR_PICTURE_SPECIES_COLOURS];
+        snprintf(label, sizeof label, "species %d", k + 1);
+        const double need = 8 * s + 3 * s + pic_text_width(s, label) + 8 * s;
+        if (x + need > width && k > 0) {
+            break; /* more species than fit: the rest share the palette by k mod 8 */
+        }
+        cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+        cairo_rectangle(cr, x, y, 8 * s, 8 * s);
+        cairo_fill(cr);
+        cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+        pic_draw_text(cr, x + 11 * s, y + 0.5 * s, s, label);
+        x += need;
+    }
+    y += 8 * s + 2 * s + 10 * s;
+    const char *caption = "colour: species";
+    double wc = pic_text_width(s, caption);
+    pic_draw_text(cr, wc < width ? 0.5 * (width - wc) : 0.0, y, s, caption);
+}
+
 /* ---------- 2D ---------- */
 
 static int picture_2d(const gr_frame *f, double radius, const char *png_path, const popts *p,
@@ -516,7 +567,7 @@ static int picture_2d(const gr_frame *f, double radius, const char *png_path, co
     for (int i = 0; i < f->n; i++) {
         double x = p->walls[0] ? f->x[i] : pic_wrap(f->x[i], L);
         double y = p->walls[1] ? f->y[i] : pic_wrap(f->y[i], L);
-        pic_ramp(p, vrms > 0.0 ? pic_speed(f, i) / vrms : 0.0, rgb);
+        pic_fill(p, f, i, vrms, rgb);
         /* a mixture's frame (docs/mixtures.md): every disc to its own scale */
         const double ri = f->radii ? f->radii[i] : radius, rpi = f->radii ? ri * pxm : rp;
         for (int a = -ax; a <= ax; a++) {
@@ -554,7 +605,11 @@ static int picture_2d(const gr_frame *f, double radius, const char *png_path, co
         if (pic_text_width(s, caption) > size) {
             snprintf(caption, sizeof caption, "|v| / v_rms");
         }
-        pic_draw_panel(cr, p, size, size, left, right, caption);
+        if (p->by_species && f->species) {
+            pic_draw_species_panel(cr, f->n_species, size, size, left, right);
+        } else {
+            pic_draw_panel(cr, p, size, size, left, right, caption);
+        }
     }
     return pic_canvas_save(surf, cr, png_path, err);
 }

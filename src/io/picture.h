@@ -39,10 +39,15 @@ typedef struct gr_picture_options {
     double vmax;          /* |v|/v_rms at which the ramp saturates; 0 = 3; (0, 1000] */
     int levels;           /* 0 = continuous ramp, k in [2, 64]: k shades */
     bool hide_labels;     /* true: no panel (box or rows only) */
-    bool walls[2]; /* 2D: flat walls along x, y ([boundary]): drawn as bars at 0 and L, positions
+    bool walls[2];   /* 2D: flat walls along x, y ([boundary]): drawn as bars at 0 and L, positions
                       there neither wrapped nor imaged across the box (a grain below a floor
                       vibrating below 0 is drawn where it is) */
+    bool by_species; /* 2D and 3D, a mixture's frame: each grain in its species' colour (a fixed
+                        palette, GR_PICTURE_SPECIES_COLOURS), the panel a legend of them */
 } gr_picture_options;
+
+/* The species palette (Okabe and Ito's colour-blind-safe set): species k in colour k mod 8. */
+#define GR_PICTURE_SPECIES_COLOURS 8
 
 /* Largest image side and pixel count accepted (a larger picture is refused with GR_EINVAL). */
 #define GR_PICTURE_MAX_SIDE 8192

@@ -19,6 +19,7 @@
 
 typedef struct sphere {
     double sx, sy, depth, speed; /* screen coordinates (m, centred), depth (m, larger = nearer) */
+    int i;                       /* the particle (its species, radius) */
 } sphere;
 
 /* The view of a point (m, relative to the cube's centre): screen x right, y up, depth towards the
@@ -80,6 +81,7 @@ int pic_picture_3d(const gr_frame *f, double radius, const char *png_path, const
                              pic_wrap(f->z[i], L) - 0.5 * L};
         view(c, &s[i].sx, &s[i].sy, &s[i].depth);
         s[i].speed = pic_speed(f, i);
+        s[i].i = i;
         dmin = fmin(dmin, s[i].depth);
         dmax = fmax(dmax, s[i].depth);
     }
@@ -120,9 +122,11 @@ int pic_picture_3d(const gr_frame *f, double radius, const char *png_path, const
     const double span = dmax > dmin ? dmax - dmin : 1.0;
     double rgb[3];
     for (int i = 0; i < f->n; i++) {
-        pic_ramp(p, vrms > 0.0 ? s[i].speed / vrms : 0.0, rgb);
+        pic_fill(p, f, s[i].i, vrms, rgb);
         const double fade = DEPTH_FADE + (1.0 - DEPTH_FADE) * (s[i].depth - dmin) / span;
-        draw_ball(cr, o + s[i].sx * pxm, o - s[i].sy * pxm, rp, rgb, fade);
+        /* a mixture's frame: every sphere to its own scale */
+        const double rpi = f->radii ? f->radii[s[i].i] * pxm : rp;
+        draw_ball(cr, o + s[i].sx * pxm, o - s[i].sy * pxm, rpi, rgb, fade);
     }
     free(s);
     if (p->labels) {
@@ -134,7 +138,11 @@ int pic_picture_3d(const gr_frame *f, double radius, const char *png_path, const
         if (pic_text_width(ts, caption) > size) {
             snprintf(caption, sizeof caption, "|v| / v_rms");
         }
-        pic_draw_panel(cr, p, size, size, left, right, caption);
+        if (p->by_species && f->species) {
+            pic_draw_species_panel(cr, f->n_species, size, size, left, right);
+        } else {
+            pic_draw_panel(cr, p, size, size, left, right, caption);
+        }
     }
     return pic_canvas_save(surf, cr, png_path, err);
 }

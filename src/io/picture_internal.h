@@ -18,11 +18,18 @@ typedef struct popts {
     double vmax;
     bool labels;
     bool walls[2];
+    bool by_species;
 } popts;
 
 int pic_resolve_options(const gr_picture_options *o, popts *p, gr_error *err);
 /* the fill colour of |v| / v_rms = ratio */
 void pic_ramp(const popts *p, double ratio, double rgb[3]);
+/* particle i's fill: its species' colour (by_species and a mixture's frame), else the ramp's at
+ * |v_i| / vrms */
+void pic_fill(const popts *p, const gr_frame *f, int i, double vrms, double rgb[3]);
+/* a mixture's legend in place of the colour bar: a swatch and "species k" for each species */
+void pic_draw_species_panel(cairo_t *cr, int n_species, int width, double y0, const char *left,
+                            const char *right);
 /* the 5x7 bitmap font at scale s: width of a text, and the text drawn with its top-left at (x, y) */
 double pic_text_width(int s, const char *text);
 void pic_draw_text(cairo_t *cr, double x, double y, int s, const char *text);
