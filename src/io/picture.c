@@ -451,10 +451,9 @@ int pic_panel_height(int s)
     return 6 * s + 10 * s + 3 * s + 8 * s + 2 * s + 10 * s + 10 * s + 3 * s;
 }
 
-/* The panel occupying [0, width) x [y0, y0 + panel_height): left/right captions, the colour bar with
- * its ticks and a caption under it. */
-void pic_draw_panel(cairo_t *cr, const popts *p, int width, double y0, const char *left,
-                    const char *right, const char *caption)
+/* The panel's top line: the left and right captions; returns the y below them. */
+static double panel_captions(cairo_t *cr, int width, double y0, const char *left,
+                             const char *right)
 {
     int s = pic_text_scale(width);
     double y = y0 + 6 * s;
@@ -464,7 +463,16 @@ void pic_draw_panel(cairo_t *cr, const popts *p, int width, double y0, const cha
     if (4 * s + pic_text_width(s, left) + 6 * s + wr <= width - 4 * s) {
         pic_draw_text(cr, width - 4 * s - wr, y, s, right);
     }
-    y += 13 * s;
+    return y + 13 * s;
+}
+
+/* The panel occupying [0, width) x [y0, y0 + panel_height): left/right captions, the colour bar with
+ * its ticks and a caption under it. */
+void pic_draw_panel(cairo_t *cr, const popts *p, int width, double y0, const char *left,
+                    const char *right, const char *caption)
+{
+    int s = pic_text_scale(width);
+    double y = panel_captions(cr, width, y0, left, right);
     /* the bar, one device column at a time in the ramp's own colours */
     double bx0 = 8 * s, bx1 = width - 14 * s, bh = 8 * s;
     double rgb[3];
@@ -509,14 +517,7 @@ void pic_draw_species_panel(cairo_t *cr, int n_species, int width, double y0, co
                             const char *right)
 {
     int s = pic_text_scale(width);
-    double y = y0 + 6 * s;
-    cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-    pic_draw_text(cr, 4 * s, y, s, left);
-    double wr = pic_text_width(s, right);
-    if (4 * s + pic_text_width(s, left) + 6 * s + wr <= width - 4 * s) {
-        pic_draw_text(cr, width - 4 * s - wr, y, s, right);
-    }
-    y += 13 * s;
+    double y = panel_captions(cr, width, y0, left, right);
     double x = 8 * s;
     char label[32];
     for (int k = 0; k < n_species; k++) { /* a swatch and its name, left to right */
