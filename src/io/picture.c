@@ -452,8 +452,7 @@ int pic_panel_height(int s)
 }
 
 /* The panel's top line: the left and right captions; returns the y below them. */
-static double panel_captions(cairo_t *cr, int width, double y0, const char *left,
-                             const char *right)
+static double panel_captions(cairo_t *cr, int width, double y0, const char *left, const char *right)
 {
     int s = pic_text_scale(width);
     double y = y0 + 6 * s;

@@ -1,8 +1,8 @@
 # granule: gnuplot body of table4.2.gp (run inside this folder); granule plot DIR redraws it
 set datafile separator whitespace
-set title "Fractal dimension D_f with no tangential dissipation (eps_t = 1), L = 0.4 m" noenhanced
+set title "Fractal dimension D_f of S(k) at L = 0.4 m over the dissipation (Table 4.2's column, Figs. 4.3-4.5)" noenhanced
 set ylabel 'D_f' noenhanced
-set xtics rotate by -40 noenhanced
+set xtics rotate by 90 right font ',11' noenhanced
 set xlabel 'eps_n, eps_t' noenhanced
 set key top left
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
