@@ -46,7 +46,7 @@ dur=0.3 beddur=0.04
 [[ $quick == 1 ]] && dur=0.05 beddur=0.01
 run gas "$src/docs/scenes/bidisperse-mixture.ini" --set output.plots=false --set run.warmup=0.1 \
     --set run.duration=$dur --set analysis.profile_bins=1 \
-    --set analysis.observables=species,profile,moments,pv,msd,vacf,collisions,postcollision
+    --set analysis.observables=species,profile,moments,pv,msd,vacf,collisions,postcollision,pressure
 python3 - "$tmp/gas" "$quick" <<'PY' || fail "the gas's observables"
 import csv, json, math, sys
 d, quick = sys.argv[1], sys.argv[2] == "1"
@@ -326,9 +326,7 @@ fi
 
 # pressure on the gas of species lists: the kinetic part with each grain's mass, so n T of the
 # pressure is sum_s N_s T_s / V of the species observable (T_s in J); the dilute gas is near ideal
-run pgas "$src/docs/scenes/bidisperse-mixture.ini" --set output.plots=false --set run.warmup=0.1 \
-    --set run.duration=$dur --set analysis.observables=species,pressure
-python3 - "$tmp/pgas" <<'PY' || fail "pressure on a mixture"
+python3 - "$tmp/gas" <<'PY' || fail "pressure on a mixture"
 import csv, json, sys
 s = json.load(open(sys.argv[1] + "/summary.json"))
 p, L = s["analysis"]["pressure"], s["scene"]["system"]["L"]

@@ -199,7 +199,7 @@ PY
 # event-driven spheres of two sizes between walls under gravity: the ledger closes exactly, the
 # floor is hit (tests/test_event_species.c has the exact bounce at each radius)
 "$granule" run "$scene3" --out "$tmp/mix3d-walls" --set boundary.z=walls --set gravity.gz=-9.81 \
-    "${event[@]}" --set run.warmup=0 --set run.duration=0.05 --set output.plots=false \
+    "${event[@]}" --set run.warmup=0 --set run.duration=0.02 --set output.plots=false \
     --set output.snapshot_every=0 >"$tmp/mix3d-walls.log" 2>&1 ||
     { cat "$tmp/mix3d-walls.log" >&2; fail "3D event mixture between walls"; }
 python3 - "$tmp/mix3d-walls" <<'PY' || fail "3D event mixture between walls: ledger, walls.csv"
