@@ -274,6 +274,10 @@ csv)
     # a moving floor adds the ledger's wall_work column, walls the mean forces in summary.json
     "$G" run "$SRC/docs/scenes/vibrated-bed.ini" --out run4 --set run.warmup=0 --set run.duration=0.02 \
         --set run.sample_every=0.01 --set output.plots=false --quiet
+    # a mixture adds pv_species.csv, species.csv and moments_species.csv (docs/mixtures.md)
+    "$G" run "$SRC/docs/scenes/bidisperse-mixture.ini" --out run5 --set system.N=200 --set run.warmup=0 \
+        --set run.duration=0.01 --set run.sample_every=0.002 --set output.plots=false --set output.snapshot_every=0 \
+        --set analysis.observables=species,pv,moments,clusters,sk,pair,pressure --quiet
     "$G" analyse run --set analysis.observables=pv,moments,sk,pair >/dev/null 2>&1
     "$G" compare "$SRC/docs/scenes/rfm-2d.ini" --models spring_dashpot+tangential_dashpot,spring_dashpot --out cmp \
         "${small2d[@]:0:${#small2d[@]}-1}" --set analysis.observables=pv >/dev/null
@@ -296,9 +300,11 @@ EOF
 import glob, json, os, warnings
 import numpy as np, pandas as pd
 warnings.simplefilter("ignore")
-files = sorted(glob.glob("run/*.csv") + glob.glob("run/analysis/*.csv") + glob.glob("run1/*.csv") + glob.glob("run2/*.csv") + glob.glob("run3/*.csv") + glob.glob("run4/*.csv") + glob.glob("cmp/*.csv")
+files = sorted(glob.glob("run/*.csv") + glob.glob("run/analysis/*.csv") + glob.glob("run1/*.csv") + glob.glob("run2/*.csv") + glob.glob("run3/*.csv") + glob.glob("run4/*.csv") + glob.glob("run5/*.csv") + glob.glob("cmp/*.csv")
                + glob.glob("cmp/*/*.csv") + glob.glob("sweep/*.csv") + glob.glob("sweep/*/*.csv"))
 assert len(files) > 60, files
+assert "run5/pv_species.csv" in files, "a mixture's P(v) per species"
+
 units_seen = set()
 for f in files:
     df = pd.read_csv(f)
