@@ -5,8 +5,8 @@ T (2.19) and g(R) (4.10) from granule's observables with their block-averaging e
 A.1) from granule's pv.csv in coarse bins with errors from block averaging over the frames. Then
 the Langevin bath: docs/scenes/langevin-gas.ini exported as fix langevin, both runs at T_bath. Then
 the 3D scene (docs/scenes/rfm-3d.ini, N = 300 spheres) exported as a 3D deck: T and the tail of P(v).
-Then a binary mixture's deck (atom types, per-type masses, per-pair damping) without noise: both codes'
-trajectories agree to rounding.
+Then a binary mixture's deck (atom types, per-type masses, per-pair damping; 2D, 3D and 2D with the
+tangential dashpot) without noise: both codes' trajectories agree to rounding.
 
     test_lammps.py GRANULE_EXE SOURCE_DIR     exit 77 (skipped) without lmp
 """
@@ -205,14 +205,20 @@ with tempfile.TemporaryDirectory() as tmp:
 # rounding (measured 7e-15 m, 2e-13 m/s), which a wrong mass, diameter or damping would break by
 # orders of magnitude.
 # The same in 3D (spheres, docs/scenes/bidisperse-mixture-3d.ini): the deck is the 2D one with
-# dimension 3 and z, the trajectories agree to rounding as well.
-for mix_scene in ("bidisperse-mixture.ini", "bidisperse-mixture-3d.ini"):
+# dimension 3 and z, the trajectories agree to rounding as well. And the 2D mixture with the
+# tangential dashpot: each pair_coeff's tangential linear_nohistory x_ab = gamma_t,ab / gamma_ab
+# gives the pair's own tangential damping (mu_t = 1e4, no cap), so oblique contacts of all three
+# pair kinds agree to rounding too (a tangential damping of the wrong mass would not).
+for mix_scene, tangential in (("bidisperse-mixture.ini", None), ("bidisperse-mixture-3d.ini", None),
+                              ("bidisperse-mixture.ini", "tangential_dashpot")):
     mix = os.path.join(src, "docs", "scenes", mix_scene)
     three = "3d" in mix_scene
-    label = "3D mixture" if three else "mixture"
+    label = ("3D mixture" if three else "mixture") + (f" with {tangential}" if tangential else "")
     sets_mix = {"system.N": 200, "species.radius": "1e-3, 2e-3", "system.packing_fraction": 0.1, "placement.v0": 0.3,
                 "noise.mode": "none", "run.warmup": 0, "run.duration": 0.05, "run.sample_every": 0.01,
                 "output.snapshot_every": 0.01, "output.plots": "false"}
+    if tangential:
+        sets_mix["model.tangential"] = tangential
     args_mix = sum((["--set", f"{k}={v}"] for k, v in sets_mix.items()), [])
     with tempfile.TemporaryDirectory() as tmp:
         lmpdir, rundir = os.path.join(tmp, "lammps"), os.path.join(tmp, "granule")
@@ -222,7 +228,8 @@ for mix_scene in ("bidisperse-mixture.ini", "bidisperse-mixture-3d.ini"):
         if not ("2 atom types" in data and "set type 1 mass 3.5299999999999997e-05" in deck
                 and "set type 2 mass 0.00014119999999999999" in deck and "pair_style granular" in deck
                 and f"dimension {3 if three else 2}" in deck
-                and all(f"pair_coeff {a} {b} hooke 5000 " in deck for a, b in ((1, 1), (1, 2), (2, 2)))):
+                and all(f"pair_coeff {a} {b} hooke 5000 " in deck for a, b in ((1, 1), (1, 2), (2, 2)))
+                and (deck.count(" 10000\n") == 3) == bool(tangential)):
             failures.append(f"{label} deck: 2 atom types, set type masses, one pair_coeff per species pair")
         r = subprocess.run([lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
         if r.returncode != 0:

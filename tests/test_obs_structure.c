@@ -320,6 +320,67 @@ START_TEST(test_pressure_mixture)
 }
 END_TEST
 
+/* A radius distribution's pressure (uniform radii in [1, 3] mm, density 5 kg/m^2): the pair of radii
+ * 1 and 2.5 mm touches at r_1 + r_2, with the coefficients the kernel scales per pair. Under hertz
+ * the scene's k_h is that of two grains of radius_min, so the pair's is k_h sqrt(R / (r_min / 2))
+ * with R = r_1 r_2 / (r_1 + r_2), and at rest the virial is (r_1 + r_2 - xi) k_h(R) xi^(3/2) / V.
+ * Under the spring-dashpot every pair has the scene's k_s and the damping of its own reduced mass
+ * M, gamma_n = 2 zeta sqrt(k_s M) with zeta = -ln eps_n / sqrt(pi^2 + ln^2 eps_n) (2.6): grain 1
+ * approaching at 0.2 m/s adds gamma_n 0.2 to the force. */
+static void pressure_distribution(const char *law)
+{
+    gr_scene sc;
+    const double r[2] = {1e-3, 2.5e-3}, rho = 5.0, xi = 1e-5, L = 0.1;
+    const double m[2] = {M_PI * r[0] * r[0] * rho, M_PI * r[1] * r[1] * rho};
+    h_scene(&sc, 2, 2, L, 1e-3);
+    sc.normal = gr_model_find(law);
+    ck_assert_ptr_nonnull(sc.normal);
+    sc.size_distribution = GR_SIZE_UNIFORM;
+    sc.radius_min = 1e-3;
+    sc.radius_max = 3e-3;
+    sc.species_density.n = 1;
+    sc.species_density.v[0] = rho;
+    const double kh = gr_contact_get(&sc.contact, "k_h"), ks = sc.contact.k_s, e = sc.contact.eps_n;
+    double x[2] = {0.03, 0.03 + r[0] + r[1] - xi}, y[2] = {0.05, 0.05}, vy[2] = {0.0, 0.0};
+    double vx[2] = {0.2, 0.0};
+    const bool hertz = strcmp(law, "hertz") == 0;
+    if (hertz) {
+        vx[0] = 0.0;
+    }
+    void *st = h_create(&gr_obs_pressure, &sc);
+    const gr_particles p = {.n = 2,
+                            .dim = 2,
+                            .L = L,
+                            .radius = 1e-3,
+                            .mass = m[0],
+                            .x = x,
+                            .y = y,
+                            .vx = vx,
+                            .vy = vy,
+                            .radii = r,
+                            .masses = m};
+    gr_error err = {0};
+    ck_assert_int_eq(gr_obs_pressure.sample(st, &p, 0.0, &err), GR_OK);
+    h_table tab;
+    cJSON *j = h_finish(&gr_obs_pressure, st, &sc, "pressure.csv", &tab);
+    const cJSON *pr = cJSON_GetObjectItem(j, "pressure");
+    const double R = r[0] * r[1] / (r[0] + r[1]), M = m[0] * m[1] / (m[0] + m[1]);
+    const double zeta = -log(e) / sqrt(M_PI * M_PI + log(e) * log(e));
+    const double f = hertz ? kh * sqrt(R / (0.5 * sc.radius_min)) * pow(xi, 1.5)
+                           : ks * xi + 2.0 * zeta * sqrt(ks * M) * 0.2;
+    const double W = (r[0] + r[1] - xi) * f / (L * L);
+    ck_assert_double_eq_tol(h_num(pr, "collisional_xx", NULL), W, 1e-9 * W);
+    ck_assert_double_eq(h_num(pr, "contacts_per_frame", NULL), 1.0);
+    ck_assert_ptr_null(cJSON_GetObjectItem(pr, "eos_5_2")); /* one size's (5.2) */
+    h_done(&tab, j);
+}
+
+START_TEST(test_pressure_distribution_hertz) { pressure_distribution("hertz"); }
+END_TEST
+
+START_TEST(test_pressure_distribution_spring) { pressure_distribution("spring_dashpot"); }
+END_TEST
+
 /* The same pair under the hertz law: the virial is the force kernel's law
  * (gr_contact_virial), whatever the law, f_n = k_h xi^(3/2) at rest (no copy of
  * a law in the observable; before, only the spring-dashpot had a virial and a
@@ -584,6 +645,8 @@ int main(void)
     tcase_add_test(t, test_clusters_lattice_2d);
     tcase_add_test(t, test_clusters_mixture_pairs);
     tcase_add_test(t, test_pressure_mixture);
+    tcase_add_test(t, test_pressure_distribution_hertz);
+    tcase_add_test(t, test_pressure_distribution_spring);
     tcase_add_test(t, test_pressure_ideal_gas);
     tcase_add_test(t, test_pressure_overlap_2d);
     tcase_add_test(t, test_pressure_overlap_1d);

@@ -427,7 +427,6 @@ refuse "\[driving\] kind.*not available with \[species\]" --set integrator.kind=
     --set model.normal=hard_sphere --set driving.kind=langevin
 refuse_with "$tmp/dist.ini" "\[integrator\] kind.*event runs \[species\] lists" \
     --set integrator.kind=event --set model.normal=hard_sphere
-refuse_with "$tmp/dist.ini" "\[analysis\] observables.*pressure is not available on a radius distribution" --set analysis.observables=pressure
 refuse "species.mass=1e-5: \[species\] mass.*one per radius" --set species.mass=1e-5
 refuse "\[species\] fraction.*sum to" --set species.fraction="0.5, 0.6"
 refuse "\[species\] radius.*2 to 8 species" --set species.radius=1e-3 --set species.mass=1e-5 \
@@ -446,10 +445,18 @@ line = [l for l in open(sys.argv[1]) if l.startswith("fix bath all langevin")][0
 want = 3.53e-5 * 0.01 / (2 * 1.380649e-23)
 assert abs(float(line[4]) / want - 1) < 1e-12, (line, want)
 PY
-if "$granule" export lammps "$scene" --out "$tmp/lmp3" --set model.tangential=tangential_dashpot >"$tmp/l.log" 2>&1; then
-    fail "export lammps accepted a mixture with a tangential law"
+# with the tangential dashpot each pair_coeff carries x_ab = gamma_t,ab / gamma_ab (test_lammps.py
+# runs it); with eps_n = 1 (no normal damping to multiply) it is refused with the reason
+"$granule" export lammps "$scene" --out "$tmp/lmp3" --set model.tangential=tangential_dashpot >"$tmp/l.log" 2>&1 ||
+    { cat "$tmp/l.log" >&2; fail "export lammps of a mixture with the tangential dashpot"; }
+[[ $(grep -c "^pair_coeff .* tangential linear_nohistory [0-9.e-]* 10000$" "$tmp/lmp3/in.granule") == 3 ]] ||
+    fail "the mixture's deck with the tangential dashpot: linear_nohistory x 1e4 per pair"
+if "$granule" export lammps "$scene" --out "$tmp/lmp4" --set model.tangential=tangential_dashpot \
+    --set model.eps_n=1 >"$tmp/l.log" 2>&1; then
+    fail "export lammps accepted a mixture with a tangential law and eps_n = 1"
 fi
-grep -q "model.tangential = tangential_dashpot with \[species\]" "$tmp/l.log" || { cat "$tmp/l.log" >&2; fail "export lammps message (tangential)"; }
+grep -q "model.tangential = tangential_dashpot with \[species\] and eps_n = 1.*allowed with a tangential law: eps_n < 1" "$tmp/l.log" ||
+    { cat "$tmp/l.log" >&2; fail "export lammps message (tangential, eps_n = 1)"; }
 if "$granule" export lammps "$tmp/dist.ini" --out "$tmp/lmp2" >"$tmp/l.log" 2>&1; then
     fail "export lammps accepted a radius distribution"
 fi

@@ -210,6 +210,14 @@ typedef struct gr_contact_pair {
 const char *gr_contact_virial(const gr_contact_coeffs *c, double d, const gr_contact_pair *pairs,
                               int n, double w[3]);
 
+/* A radius distribution's pair (reduced mass M, effective radius R = r_i r_j / (r_i + r_j)): the
+ * reference pair's coefficients ref (reduced mass m_ref, effective radius r_ref;
+ * gr_size_reference_coeffs) scaled as the force kernel scales them, the stiffness as
+ * (R / r_ref)^(a - 1) for a force k xi^a and the damping as sqrt(M k), so every pair keeps the
+ * scene's eps_n (src/core/sim_internal.h, gr_size_scaled). */
+void gr_contact_size_scaled(const gr_contact_coeffs *ref, double m_ref, double r_ref, double M,
+                            double R, gr_contact_coeffs *c);
+
 int gr_contact_prepare(const gr_model *normal, const gr_model *tangential,
                        const gr_contact_params *p, double m12, double dt, gr_contact_coeffs *c,
                        gr_error *err);

@@ -63,6 +63,11 @@ typedef struct gr_obs_setup {
     /* species lists: the normal law's coefficients of every pair (a, b) at [a * n_species + b], as
      * the force kernel has them (the pressure observable's virial); unset otherwise */
     gr_contact_coeffs contact_pair[GR_MAX_SPECIES * GR_MAX_SPECIES];
+    /* a radius distribution: the reference pair's normal-law coefficients, reduced mass (kg) and
+     * effective radius (m), which each pair's are scaled from as the force kernel does
+     * (gr_contact_size_scaled); unset otherwise */
+    gr_contact_coeffs size_contact;
+    double size_m_ref, size_r_ref;
 } gr_obs_setup;
 
 /* The diameter a mixture's mean free path and k d are measured in: the mean over random pairs of

@@ -161,6 +161,13 @@ int gr_species_counts(int N, int ns, const double *fraction, int *count);
 int gr_species_pair_coeffs(const gr_sim_params *p, int a, int b, gr_contact_coeffs *out,
                            gr_error *err);
 
+/* A radius distribution's reference contact, which every pair's coefficients are scaled from
+ * (gr_contact_size_scaled): the normal law's coefficients prepared for the reference pair (as
+ * gr_species_pair_coeffs, at dt = 0), its reduced mass m_ref (kg) and effective radius r_ref (m), as
+ * the force kernel has them (the pressure observable's virial). */
+int gr_size_reference_coeffs(const gr_sim_params *p, gr_contact_coeffs *out, double *m_ref,
+                             double *r_ref, gr_error *err);
+
 /* Build a simulation: place the particles (sec. 2.1.4), give them small random velocities,
  * prepare the models, choose the kernel and create the integrator's state. Refuses overlapping
  * placements and time steps too large for the contact (unless p->force_dt). */

@@ -21,8 +21,9 @@
  *
  * On a mixture of species lists each grain's kinetic term has its own mass, and a pair of species
  * (a, b) touches at r_i + r_j with that pair's coefficients (the setup's contact_pair, as the force
- * kernel has them); a radius distribution is refused (its pairs' coefficients are scaled per
- * contact in the kernel). The equation of state (5.2) is one species' and is not compared.
+ * kernel has them); on a radius distribution each pair's coefficients are the reference pair's
+ * scaled to its reduced mass and effective radius as the kernel scales them (gr_contact_size_scaled).
+ * The equation of state (5.2) is one species' and is not compared.
  *
  * In 2D the summary compares with the mean-field equation of state (5.2),
  *     <|v|>^3 = (C_1 / phi) D d pi / (M^2 (2 - eps_n^2 - eps_t^2)),
@@ -86,9 +87,13 @@ typedef struct pressure {
     gr_contact_coeffs cc;
     int ns;                     /* species of a mixture (0: one species) */
     gr_contact_coeffs *cc_pair; /* a mixture: pair (a, b)'s coefficients at [a * ns + b] */
-    const gr_particles *p;      /* the frame being visited */
-    double mean[3], w[6]; /* mean velocity; the frame's virial xx, yy, xy (3D: zz, xz, yz too) */
-    int queued;           /* contacts waiting in `pairs` for gr_contact_virial */
+    bool sizes;                 /* grains of their own radius and mass (lists or a distribution) */
+    bool dist;                  /* a radius distribution: the reference pair's coefficients below */
+    gr_contact_coeffs size_cc;
+    double size_m_ref, size_r_ref;
+    const gr_particles *p; /* the frame being visited */
+    double mean[3], w[6];  /* mean velocity; the frame's virial xx, yy, xy (3D: zz, xz, yz too) */
+    int queued;            /* contacts waiting in `pairs` for gr_contact_virial */
     gr_contact_pair pairs[256];
     int64_t contacts, frames;
     gr_blocking b[N_SERIES];
@@ -123,10 +128,12 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     s->eps_t = setup->tangential ? setup->eps_t : 1.0;
     s->cc = setup->contact;
     s->law = gr_contact_virial(&s->cc, s->d, NULL, 0, s->w);
+    s->sizes = setup->sizes;
     if (setup->sizes && setup->n_species < 2) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "pressure: not on a radius distribution yet (its pairs' coefficients are "
-                       "scaled per contact); species lists run (docs/mixtures.md)");
+        s->dist = true;
+        s->size_cc = setup->size_contact;
+        s->size_m_ref = setup->size_m_ref;
+        s->size_r_ref = setup->size_r_ref;
     }
     if (setup->n_species >= 2 && setup->n_species <= GR_MAX_SPECIES) {
         s->ns = setup->n_species;
@@ -174,12 +181,20 @@ static void contact(int i, int j, const double dr[3], double r2, void *user)
     if (r2 == 0.0) {
         return;
     }
-    if (s->ns) { /* a mixture: the pair's own contact distance and coefficients */
+    if (s->sizes) { /* a mixture: the pair's own contact distance and coefficients */
         const double d = p->radii[i] + p->radii[j];
         if (r2 >= d * d) {
             return;
         }
-        const gr_contact_coeffs *cc = &s->cc_pair[p->species[i] * s->ns + p->species[j]];
+        gr_contact_coeffs scaled;
+        const gr_contact_coeffs *cc = &scaled;
+        if (s->dist) {
+            const double mi = p->masses[i], mj = p->masses[j];
+            gr_contact_size_scaled(&s->size_cc, s->size_m_ref, s->size_r_ref, mi * mj / (mi + mj),
+                                   p->radii[i] * p->radii[j] / d, &scaled);
+        } else {
+            cc = &s->cc_pair[p->species[i] * s->ns + p->species[j]];
+        }
         if (p->dim == 3) {
             contact_3d(s, cc, d, i, j, dr, r2);
         } else {
@@ -215,7 +230,7 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     if (!bad && s->ns) {
         bad = gr_obs_frame_species("pressure", p, s->ns, s->n, NULL, err);
     }
-    if (!bad && s->ns && !(p->radii && p->masses)) {
+    if (!bad && s->sizes && !(p->radii && p->masses)) {
         bad = GR_FAIL(err, GR_EINVAL,
                       "pressure: a mixture's frame without the grains' radii and "
                       "masses");
@@ -225,7 +240,7 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     }
     double k[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, speed = 0.0;
     gr_obs_mean_velocity(p, s->mean);
-    if (s->ns) { /* a mixture: relative to the centre of mass's velocity */
+    if (s->sizes) { /* a mixture: relative to the centre of mass's velocity */
         double M = 0.0, P[3] = {0.0, 0.0, 0.0};
         for (int i = 0; i < p->n; i++) {
             M += p->masses[i];
@@ -239,7 +254,7 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     }
     for (int i = 0; i < p->n; i++) {
         double ux = p->vx[i] - s->mean[0], uy = p->dim >= 2 ? p->vy[i] - s->mean[1] : 0.0;
-        const double m = s->ns ? p->masses[i] : s->mass; /* a mixture: each grain's own */
+        const double m = s->sizes ? p->masses[i] : s->mass; /* a mixture: each grain's own */
         k[0] += m * ux * ux;
         k[1] += m * uy * uy;
         k[2] += m * ux * uy;
@@ -259,7 +274,14 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     if (s->law) {
         s->p = p;
         s->queued = 0;
-        int rc = gr_cells_pairs(&s->cells, p, fmin(s->d, 0.5 * s->L), contact, s, err);
+        double cut = s->d;
+        if (s->sizes) { /* grains of their own sizes: the frame's largest contact distance */
+            cut = 0.0;
+            for (int i = 0; i < p->n; i++) {
+                cut = fmax(cut, 2.0 * p->radii[i]);
+            }
+        }
+        int rc = gr_cells_pairs(&s->cells, p, fmin(cut, 0.5 * s->L), contact, s, err);
         if (rc) {
             return rc;
         }
@@ -324,7 +346,7 @@ static int finish(void *state, const gr_output *out, gr_error *err)
              sd ? "" : ".h");
     cJSON_AddStringToObject(
         j, "virial", s->law ? law : "none: the scene has no contact force law (kinetic part only)");
-    if (s->dim == 2 && !s->ns) { /* (5.2) is one species' */
+    if (s->dim == 2 && !s->sizes) { /* (5.2) is one species' */
         double v = gr_blocking_mean(&s->b[SPEED]);
         double rhs =
             s->D * s->d * M_PI /

@@ -263,10 +263,11 @@ int gr_species_pair_coeffs(const gr_sim_params *p, int a, int b, gr_contact_coef
 }
 
 /* A distribution's reference: the shortest contact among the pairs of its extreme grains (the
- * scene's k_h is that of two grains of radius_min); its M and R are kept for the kernel's scaling. */
-static void size_reference(gr_sim *s, gr_contact_params *p, double *m12)
+ * scene's k_h is that of two grains of radius_min); its reduced mass m12 and effective radius r12
+ * are what every pair's coefficients are scaled from (gr_size_scaled). */
+static void size_reference_params(const gr_sim_params *q, gr_contact_params *p, double *m12,
+                                  double *r12)
 {
-    const gr_sim_params *q = &s->params;
     const double r[2] = {q->size_min, q->size_max};
     double best = INFINITY;
     for (int a = 0; a < 2; a++) {
@@ -285,11 +286,30 @@ static void size_reference(gr_sim *s, gr_contact_params *p, double *m12)
                 best = fmin(best, tc);
                 *p = cp;
                 *m12 = m;
-                s->cont_m12 = m;
-                s->cont_r = r[a] * r[b] / (r[a] + r[b]);
+                *r12 = r[a] * r[b] / (r[a] + r[b]);
             }
         }
     }
+}
+
+static void size_reference(gr_sim *s, gr_contact_params *p, double *m12)
+{
+    size_reference_params(&s->params, p, m12, &s->cont_r);
+    s->cont_m12 = *m12;
+}
+
+int gr_size_reference_coeffs(const gr_sim_params *p, gr_contact_coeffs *out, double *m_ref,
+                             double *r_ref, gr_error *err)
+{
+    gr_contact_params cp;
+    size_reference_params(p, &cp, m_ref, r_ref);
+    return gr_contact_prepare(p->normal, p->tangential, &cp, *m_ref, 0.0, out, err);
+}
+
+void gr_contact_size_scaled(const gr_contact_coeffs *ref, double m_ref, double r_ref, double M,
+                            double R, gr_contact_coeffs *c)
+{
+    gr_size_scaled(ref, m_ref, r_ref, M, R, c);
 }
 
 void gr_species_reference(gr_sim *s, gr_contact_params *p, double *m12)

@@ -28,8 +28,10 @@
  *             atom's own diameter in the data file, set type s mass m_s, and pair_style granular
  *             with one pair_coeff per species pair: hooke k_s gamma_ab damping velocity
  *             (F_n = k_s xi - gamma_ab v_n with the pair's own damping, kg/s, which granule
- *             calibrates to the pair's reduced mass), no tangential force (a mixture has no
- *             tangential law yet); the dump adds the type column.
+ *             calibrates to the pair's reduced mass) and, with tangential_dashpot, tangential
+ *             linear_nohistory x mu: F_t = -x gamma_ab v_t with x = gamma_t,ab / gamma_ab (the
+ *             pair's own tangential damping) and mu = 1e4 (no Coulomb cap); without a tangential
+ *             law x = mu = 0. The dump adds the type column.
  *   3D        dimension 3, a periodic cube, a third noise component (fz), no enforce2d, the
  *             momentum fix and T over three components (docs/three-dimensions.md).
  *   schedule  run warmup / dt steps, then dump every sample_every / dt steps for duration / dt.
@@ -57,11 +59,11 @@ static int refuse_unmappable(const gr_scene *s, gr_error *err)
                        "[species] lists (one atom type per species) or no [species]",
                        s->source);
     }
-    if (s->n_species >= 2 && s->tangential) {
+    if (s->n_species >= 2 && s->tangential && !(s->contact.eps_n < 1.0)) {
         return GR_FAIL(err, GR_EINVAL,
-                       "export lammps: %s: model.tangential = %s with [species]: a mixture's deck "
-                       "writes the normal law alone yet (docs/mixtures.md); allowed with "
-                       "[species]: model.tangential = none",
+                       "export lammps: %s: model.tangential = %s with [species] and eps_n = 1: "
+                       "pair_style granular gives the tangential damping as a multiple of the "
+                       "normal one, which is zero; allowed with a tangential law: eps_n < 1",
                        s->source, s->tangential->name);
     }
     if (s->dim == 1) {
@@ -187,15 +189,22 @@ static void write_species(FILE *o, const gr_scene *s, const gr_sim *sim, const g
     }
     fprintf(o,
             "# contact of species a and b: F_n = k_s xi - gamma_ab v_n, gamma_ab calibrated to "
-            "the pair's reduced mass (k_s = %.17g N/m)\npair_style granular\n",
-            e->kn);
+            "the pair's reduced mass (k_s = %.17g N/m)%s\npair_style granular\n",
+            e->kn,
+            s->tangential ? "; F_t = -x_ab gamma_ab v_t with x_ab = gamma_t,ab / gamma_ab and "
+                            "mu_t so large that no Coulomb cap acts"
+                          : "");
     for (int a = 0; a < s->n_species; a++) {
         for (int b = a; b < s->n_species; b++) {
             const gr_contact_coeffs *c = gr_sim_species_coeffs(sim, a, b);
-            fprintf(o,
-                    "pair_coeff %d %d hooke %.17g %.17g damping velocity tangential "
-                    "linear_nohistory 0.0 0.0%s\n",
-                    a + 1, b + 1, c->k_s, c->gamma_n, clamp ? " limit_damping" : "");
+            fprintf(o, "pair_coeff %d %d hooke %.17g %.17g damping velocity tangential ", a + 1,
+                    b + 1, c->k_s, c->gamma_n);
+            if (s->tangential) { /* refuse_unmappable: gamma_n > 0 */
+                fprintf(o, "linear_nohistory %.17g %.17g", c->gamma_t / c->gamma_n, LMP_XMU);
+            } else {
+                fprintf(o, "linear_nohistory 0.0 0.0");
+            }
+            fprintf(o, "%s\n", clamp ? " limit_damping" : "");
         }
     }
 }

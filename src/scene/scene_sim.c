@@ -94,6 +94,15 @@ int gr_scene_obs_setup(const gr_scene *s, gr_obs_setup *out, gr_error *err)
             }
         }
     }
+    if (s->normal && s->size_distribution) { /* the pressure's virial, scaled per pair */
+        gr_sim_params p;
+        gr_scene_sim_params(s, &p);
+        int rc = gr_size_reference_coeffs(&p, &out->size_contact, &out->size_m_ref,
+                                          &out->size_r_ref, err);
+        if (rc) {
+            return rc;
+        }
+    }
     if (s->normal) {
         int rc = gr_contact_prepare(s->normal, s->tangential, &s->contact, gr_scene_m12(s), 0.0,
                                     &out->contact, err);

@@ -57,39 +57,19 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
                  "calibrated to eps_n, so it cannot be scaled per pair; allowed: false");
         return GR_EINVAL;
     }
-    /* observables: those that measure lengths in one diameter or use one mass or contact law
-     * are refused with the reason (docs/mixtures.md, "Observables on a mixture") */
-    static const struct {
-        const char *name, *why;
-    } no_obs[] = {
-        {"pressure", "a radius distribution's pair coefficients are scaled per contact in the "
-                     "kernel (species lists run)"},
-    };
+    /* observables: every one but species (which needs lists) measures a distribution
+     * (docs/mixtures.md, "Observables on a mixture") */
     char buf[sizeof s->observables], *save = NULL;
     snprintf(buf, sizeof buf, "%s", s->observables);
     for (char *tok = strtok_r(buf, ", \t", &save); tok; tok = strtok_r(NULL, ", \t", &save)) {
-        const char *why = NULL;
-        for (size_t k = 0; k < sizeof no_obs / sizeof no_obs[0]; k++) {
-            why = strcmp(tok, no_obs[k].name) == 0 && s->size_distribution ? no_obs[k].why : why;
-        }
         if (strcmp(tok, "species") == 0 && s->size_distribution) {
             *section = "analysis";
             *key = "observables";
             snprintf(detail, cap,
                      "species needs [species] lists: a radius distribution has no species; "
                      "allowed with a radius distribution: moments, pv, msd, vacf, postcollision, "
-                     "collisions, profile, clusters, sk, pair, vcorr, freepath, gaps "
+                     "collisions, profile, clusters, sk, pair, vcorr, freepath, gaps, pressure "
                      "(docs/mixtures.md)");
-            return GR_EINVAL;
-        }
-        if (why) {
-            *section = "analysis";
-            *key = "observables";
-            snprintf(detail, cap,
-                     "%s is not available on a radius distribution yet: %s; allowed with a "
-                     "radius distribution: moments, pv, msd, vacf, postcollision, collisions, "
-                     "profile, clusters, sk, pair, vcorr, freepath, gaps (docs/mixtures.md)",
-                     tok, why);
             return GR_EINVAL;
         }
     }
