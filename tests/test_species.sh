@@ -375,6 +375,26 @@ s = json.load(open(sys.argv[1]))
 assert abs(s["ledger"]["relative_residual"]) < 0.01, s["ledger"]
 assert abs(s["scene"]["system"]["packing_fraction"] - 0.2) < 1e-12, s["scene"]["system"]
 PY
+# com mode on a distribution: the reset removes sum m_i v_i / sum m_i (as for species lists), booked
+# in removed_com, and the ledger closes; the Langevin bath's injection is its expected rate (the
+# grains' mean mass for m_1: tests/test_species_pairs.c checks the equipartition)
+OMP_NUM_THREADS=1 "$granule" run "$tmp/dist.ini" --out "$tmp/dist-com" --set output.plots=false \
+    --set noise.mode=com --set noise.com_interval=1e-3 >"$tmp/dc.log" 2>&1 ||
+    { cat "$tmp/dc.log" >&2; fail "com mode on a radius distribution"; }
+OMP_NUM_THREADS=1 "$granule" run "$tmp/dist.ini" --out "$tmp/dist-bath" --set output.plots=false \
+    --set driving.kind=langevin --set driving.T_bath=0.1 --set driving.tau=0.01 >"$tmp/db.log" 2>&1 ||
+    { cat "$tmp/db.log" >&2; fail "the Langevin bath on a radius distribution"; }
+python3 - "$tmp/dist-com/summary.json" "$tmp/dist-bath/summary.json" <<'PY' || fail "com mode and the bath on a distribution"
+import json, sys
+c, b = (json.load(open(p)) for p in sys.argv[1:])
+assert c["ledger"]["removed_com"] > 0 and abs(c["ledger"]["relative_residual"]) < 0.01, c["ledger"]
+assert abs(b["ledger"]["relative_residual"]) < 0.01 and b["ledger"]["dissipated_drag"] > 0, b["ledger"]
+t = b["scene"]["run"]["warmup"] + b["scene"]["run"]["duration"]
+rate = b["ledger"]["injected"] / t
+assert abs(rate / b["energy_injection_rate_expected"] - 1) < 0.05, (rate, b["energy_injection_rate_expected"])
+print(f"distribution: com mode removed {c['ledger']['removed_com']:.3g} J; the bath injected "
+      f"{rate:.5g} W against {b['energy_injection_rate_expected']:.5g} W expected")
+PY
 refuse_with "$tmp/dist.ini" "\[analysis\] observables.*species needs \[species\] lists.*allowed with a radius distribution: moments" --set analysis.observables=species
 refuse_with "$tmp/dist.ini" "\[model\] viscoelastic.*radius distribution" --set model.normal=hertz --set model.viscoelastic=true
 refuse_with "$tmp/dist.ini" "\[species\] density.*one density" --set 'species.density=5, 6'

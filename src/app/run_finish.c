@@ -17,6 +17,20 @@
 #include "scene/scene_json.h"
 #include "io/summary_read.h"
 
+/* A radius distribution's sum over the grains of m_i (inverse = false: the total mass) or of 1 / m_i. */
+static double distribution_mass_sum(const gr_scene *scene, bool inverse)
+{
+    double sum = 0.0;
+    for (int i = 0; i < scene->N; i++) {
+        const double r =
+            gr_size_radius(scene->size_distribution, scene->radius_min, scene->radius_max,
+                           scene->radius_median, scene->radius_sigma, scene->seed, i);
+        const double m = gr_size_mass(scene->dim, scene->species_density.v[0], r);
+        sum += inverse ? 1.0 / m : m;
+    }
+    return sum;
+}
+
 /* The mean energy the driving puts in per second (W). The random force: dim D / M per particle, eq.
  * 2.19 (times 1 - 1/N when symmetrised, the centre of mass takes none). The Langevin bath: its noise
  * adds M T_bath (1 - e^{-2 dt/tau}) / 2 per particle and step (step.c), N M T_bath / tau as dt -> 0;
@@ -26,8 +40,11 @@ static double injection_rate_expected(const gr_scene *scene, double dt)
     const gr_driving_type *d = scene->driving ? scene->driving : gr_driving_default();
     if (d->update == GR_DRIVE_BATH) {
         const gr_driving_params *p = &scene->driving_params;
-        /* species: every grain at the first species' energy m_1 T_bath / dim per component */
-        const double m = scene->n_species >= 2 ? scene->species_masses[0] : scene->mass;
+        /* species: every grain at the first species' energy m_1 T_bath / dim per component; a
+         * radius distribution: at the grains' mean mass's */
+        const double m = scene->n_species >= 2      ? scene->species_masses[0]
+                         : scene->size_distribution ? distribution_mass_sum(scene, false) / scene->N
+                                                    : scene->mass;
         return scene->N * m * p->T_bath * -expm1(-2.0 * dt / p->tau) / (2.0 * dt);
     }
     if (d->update == GR_DRIVE_OFF) {
@@ -42,14 +59,7 @@ static double injection_rate_expected(const gr_scene *scene, double dt)
         return scene->dim * scene->D * per_mass * sym;
     }
     if (scene->size_distribution) { /* a radius distribution: sum over the grains of 1 / m_i */
-        double per_mass = 0.0;
-        for (int i = 0; i < scene->N; i++) {
-            const double r =
-                gr_size_radius(scene->size_distribution, scene->radius_min, scene->radius_max,
-                               scene->radius_median, scene->radius_sigma, scene->seed, i);
-            per_mass += 1.0 / gr_size_mass(scene->dim, scene->species_density.v[0], r);
-        }
-        return scene->dim * scene->D * per_mass * sym;
+        return scene->dim * scene->D * distribution_mass_sum(scene, true) * sym;
     }
     return scene->dim * scene->D / scene->mass * scene->N * sym;
 }

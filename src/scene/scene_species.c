@@ -11,8 +11,7 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
                    size_t cap)
 {
     /* tangential laws and rolling laws: the verlet integrator (kernels_poly.c); the history law:
-     * species lists; the bath and com mode: species lists, verlet; walls and gravity: both
-     * integrators */
+     * species lists; the bath and com mode: verlet; walls and gravity: both integrators */
     const bool event = s->integrator->instantaneous;
 
     struct {
@@ -31,10 +30,10 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
          "none, or with verlet tangential_dashpot | sliding_friction (and tangential_spring with "
          "[species] lists, or with a radius distribution and normal = spring_dashpot)"},
         {s->rolling && event, "model", "rolling", "none, or with verlet rolling_friction"},
-        {s->driving && s->driving->update == GR_DRIVE_BATH && (event || s->size_distribution),
-         "driving", "kind", "rfm | none (langevin: [species] lists with the verlet integrator)"},
-        {s->noise_mode == GR_NOISE_COM && (event || s->size_distribution), "noise", "mode",
-         "symmetrised | none (com: [species] lists with the verlet integrator)"},
+        {s->driving && s->driving->update == GR_DRIVE_BATH && event, "driving", "kind",
+         "rfm | none (langevin: with the verlet integrator)"},
+        {s->noise_mode == GR_NOISE_COM && event, "noise", "mode",
+         "symmetrised | none (com: with the verlet integrator)"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},
     };
     for (size_t k = 0; k < sizeof no / sizeof no[0]; k++) {

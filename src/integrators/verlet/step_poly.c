@@ -74,14 +74,16 @@ static double half_kick_poly(gr_sim *s, bool *finite)
 /* The Langevin bath's exact Ornstein-Uhlenbeck update (driving_langevin.c) of grain i with its
  * own mass: the drag -m_i v / tau (the same tau, so the same decay for all) and the noise that
  * holds every grain at the bath's energy per degree of freedom, k_B T = m_1 T_bath / dim (m_1 the
- * first species' mass: the scene's T_bath is that species' temperature in the units of eq. 2.19),
- * so grain i's kick is the one-species kick times sqrt(m_1 / m_i). Returns the kinetic energy the
+ * first species' mass: the scene's T_bath is that species' temperature in the units of eq. 2.19;
+ * a radius distribution: the grains' mean mass), so grain i's kick is the one-species kick times
+ * sqrt(m_1 / m_i). Returns the kinetic energy the
  * noise added; *drag the drag removed. */
 static double bath_poly(gr_sim *s, double *drag)
 {
     const int n = s->n, dim = s->dim;
     gr_noise_normals(s->params.seed, GR_STREAM_NOISE, (uint64_t)s->step, 0, n, dim, s->noise);
-    const double decay = s->drive_c.decay, kick = s->drive_c.kick, m1 = s->params.species_mass[0];
+    const double decay = s->drive_c.decay, kick = s->drive_c.kick;
+    const double m1 = s->params.size_distribution ? s->mass : s->params.species_mass[0];
     double *v[3] = {s->vx, s->vy, s->vz};
     double added = 0.0, dragged = 0.0;
     for (int i = 0; i < n; i++) {
