@@ -13,7 +13,10 @@
  *  - rough discs (Walton's rule with each grain's arm and moment of inertia): the contact point's
  *    g_ct times -beta or at the Coulomb limit, angular momentum about the contact point conserved,
  *    the loss; a driven rough gas.s ledger and restart;
- *  - refusals: a radius distribution.
+ *  - a radius distribution: each pair's TC time is the matching contact's at its reduced mass
+ *    (t_c ~ sqrt(M_ij)), or the [model] tc given for all; a driven gas of lognormal radii keeps its
+ *    momentum, closes its ledger, never overlaps and restarts bit for bit; the viscoelastic
+ *    eps_n(v) is refused there (it would need each pair's own calibration).
  * Deterministic tolerances come from rounding; the statistical one is 5 sigma (fixed seed). */
 #include <check.h>
 #include <math.h>
@@ -303,11 +306,12 @@ END_TEST
 
 /* A gas of two species (radii 1 and 2 mm, equal density) of n grains (key=value) driven by the
  * random force, hard discs (2D, packing fraction 0.1) or rods (1D, L' = 5 cm), eps_n = 0.5;
- * variant 2: rough discs (2D, beta = 0.3); variant 3: smooth spheres (3D). */
+ * variant 2: rough discs (2D, beta = 0.3); variant 3: smooth spheres (3D); variant 4: discs of a
+ * lognormal radius distribution in [1, 3] mm (median 1.5 mm) instead of the two species. */
 static gr_scene species_gas(int variant, const char *n, const char *seed)
 {
     const int dim = variant == 0 ? 1 : variant == 3 ? 3 : 2;
-    const char *ov[15] = {dim == 1   ? "system.dim=1"
+    const char *ov[16] = {dim == 1   ? "system.dim=1"
                           : dim == 2 ? "system.dim=2"
                                      : "system.dim=3",
                           n,
@@ -324,6 +328,15 @@ static gr_scene species_gas(int variant, const char *n, const char *seed)
                           seed,
                           "model.rotation=true",
                           "model.beta=0.3"};
+    if (variant == 4) { /* the distribution's keys in place of the lists (and of rotation) */
+        ov[3] = "species.distribution=lognormal";
+        ov[4] = "species.radius_min=1e-3";
+        ov[5] = "species.radius_max=3e-3";
+        ov[13] = "species.radius_median=1.5e-3";
+        ov[14] = "species.radius_sigma=0.3";
+        ov[15] = "species.density=10";
+        return scene_of(ov, 16);
+    }
     return scene_of(ov, variant == 2 ? 15 : 13);
 }
 
@@ -332,7 +345,7 @@ static gr_scene species_gas(int variant, const char *n, const char *seed)
  * rounding, no overlaps (checked after every collision), collisions of all three pair kinds. */
 START_TEST(test_driven_gas)
 {
-    const int dim = _i == 0 ? 1 : _i == 3 ? 3 : 2;
+    const int dim = _i == 0 ? 1 : _i == 3 ? 3 : 2; /* 4: a radius distribution (2D) */
     /* 3D: 100 spheres (the overlap check after every collision is O(N^2)) */
     gr_scene sc = species_gas(_i,
                               quick()    ? "system.N=60"
@@ -667,19 +680,43 @@ START_TEST(test_gas_walls_gravity)
 }
 END_TEST
 
-START_TEST(test_refusals)
+/* A radius distribution: the TC time of the pair i, j is the reference pair's (the sim's tc, at
+ * its reduced mass cont_m12) times sqrt(M_ij / cont_m12), the matching linear contact's duration
+ * at one k_s; a tc given in the scene holds for every pair; eps_n(v) is refused. */
+START_TEST(test_distribution_tc)
 {
-    const char *dist[] = {"system.dim=2",
-                          "system.N=100",
-                          "system.packing_fraction=0.1",
-                          "species.distribution=uniform",
-                          "species.radius_min=1e-3",
-                          "species.radius_max=2e-3",
-                          "species.density=5",
-                          "placement.kind=random",
-                          "model.normal=hard_sphere",
-                          "integrator.kind=event"};
-    refused(dist, 10, "a radius distribution");
+    gr_scene sc = species_gas(4, "system.N=100", "run.seed=2");
+    gr_sim *s = sim_of(&sc);
+    struct gr_event_state *e = gr_ev(s);
+    ck_assert(s->cc.tc > 0.0 && s->cont_m12 > 0.0 && s->cc_pair == NULL);
+    int checked = 0;
+    for (int i = 0; i < 20; i++) {
+        const int j = 99 - i;
+        const double M = s->mass_i[i] * s->mass_i[j] / (s->mass_i[i] + s->mass_i[j]);
+        const double want = s->cc.tc * sqrt(M / s->cont_m12);
+        ck_assert_msg(fabs(gr_ev_tc(e, i, j) / want - 1.0) < 1e-14, "pair %d, %d: %g s, want %g s",
+                      i, j, gr_ev_tc(e, i, j), want);
+        checked += s->mass_i[i] != s->mass_i[j];
+    }
+    ck_assert(checked > 10); /* pairs of unequal grains */
+    gr_sim_free(s);
+    const char *ov[] = {"system.dim=2",
+                        "system.N=100",
+                        "system.packing_fraction=0.1",
+                        "species.distribution=uniform",
+                        "species.radius_min=1e-3",
+                        "species.radius_max=2e-3",
+                        "species.density=5",
+                        "placement.kind=random",
+                        "model.normal=hard_sphere",
+                        "integrator.kind=event",
+                        "model.tc=1e-5"};
+    sc = scene_of(ov, 11);
+    s = sim_of(&sc);
+    ck_assert(gr_ev_tc(gr_ev(s), 0, 1) == 1e-5 && gr_ev_tc(gr_ev(s), 2, 7) == 1e-5);
+    gr_sim_free(s);
+    ov[10] = "model.viscoelastic=true";
+    refused(ov, 11, "viscoelastic");
 }
 END_TEST
 
@@ -692,7 +729,7 @@ static Suite *event_species_suite(void)
     tcase_add_test(t, test_two_body_1d);
     tcase_add_test(t, test_two_body_3d);
     tcase_add_test(t, test_pair_tc);
-    tcase_add_test(t, test_refusals);
+    tcase_add_test(t, test_distribution_tc);
     tcase_add_test(t, test_bounce_two_sizes);
     tcase_add_test(t, test_rough_pair);
     tcase_add_test(t, test_rough_pair_sliding);
@@ -702,8 +739,8 @@ static Suite *event_species_suite(void)
     TCase *g = tcase_create("gas");
     tcase_set_timeout(g, 600);
     tcase_add_loop_test(g, test_kicks_per_species, 0, 2);
-    tcase_add_loop_test(g, test_driven_gas, 0, 4);
-    tcase_add_loop_test(g, test_restart_exact, 0, 4);
+    tcase_add_loop_test(g, test_driven_gas, 0, 5);
+    tcase_add_loop_test(g, test_restart_exact, 0, 5);
     tcase_add_loop_test(g, test_gas_walls_gravity, 0, 2);
     suite_add_tcase(s, g);
     return s;

@@ -445,8 +445,8 @@ refuse_with "$tmp/dist.ini" "\[model\] tangential.*not available with \[species\
 refuse "\[integrator\] kind.*not available with \[species\]" --set integrator.kind=hybrid
 refuse "\[driving\] kind.*not available with \[species\]" --set integrator.kind=event \
     --set model.normal=hard_sphere --set driving.kind=langevin
-refuse_with "$tmp/dist.ini" "\[integrator\] kind.*event runs \[species\] lists" \
-    --set integrator.kind=event --set model.normal=hard_sphere
+refuse_with "$tmp/dist.ini" "\[model\] viscoelastic.*radius distribution" \
+    --set integrator.kind=event --set model.normal=hard_sphere --set model.viscoelastic=true
 refuse "species.mass=1e-5: \[species\] mass.*one per radius" --set species.mass=1e-5
 refuse "\[species\] fraction.*sum to" --set species.fraction="0.5, 0.6"
 refuse "\[species\] radius.*2 to 8 species" --set species.radius=1e-3 --set species.mass=1e-5 \

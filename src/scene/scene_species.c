@@ -19,8 +19,6 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         const char *section, *key, *allowed;
     } const no[] = {
         {!s->integrator->species, "integrator", "kind", "verlet | event"},
-        {s->size_distribution && s->integrator->instantaneous, "integrator", "kind",
-         "verlet (a radius distribution; event runs [species] lists)"},
         {s->normal && !(s->normal->kind & GR_MODEL_NORMAL), "model", "normal",
          "a normal force law (spring_dashpot, hertz, ...) or event rule (hard_sphere)"},
         {s->tangential &&
@@ -47,7 +45,8 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
             return GR_EINVAL;
         }
     }
-    if (s->size_distribution && s->normal == &gr_model_hertz &&
+    if (s->size_distribution &&
+        (s->normal == &gr_model_hertz || s->normal == &gr_model_hard_sphere) &&
         GR_OWN(&s->contact, hertz)->viscoelastic) {
         *section = "model";
         *key = "viscoelastic";

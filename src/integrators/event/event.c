@@ -766,20 +766,16 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->R = 0.5 * s->d;
     e->exact = s->params.free_flight == GR_FREE_FLIGHT_EXACT;
     e->vib = -1;  /* no vibrating wall */
-    if (s->rad) { /* species (docs/mixtures.md): smooth discs of their own radii and masses */
-        if (!s->cc_pair) {
-            return GR_FAIL(err, GR_EINVAL,
-                           "%s: [integrator] kind = event runs [species] lists of smooth and rough "
-                           "discs and spheres and of rods, periodic or between walls under "
-                           "gravity; not yet a radius distribution ([species] distribution; "
-                           "docs/mixtures.md; the verlet integrator runs it)",
-                           s->params.source);
-        }
+    if (s->rad) { /* species (docs/mixtures.md): grains of their own radii and masses */
         e->m = s->mass_i;
         e->r = s->rad;
-        e->sp = s->species;
-        e->nsp = s->nsp;
-        e->cc_pair = s->cc_pair;
+        if (s->cc_pair) { /* species lists: each pair's coefficients */
+            e->sp = s->species;
+            e->nsp = s->nsp;
+            e->cc_pair = s->cc_pair;
+        } else if (s->cc.tc > 0.0 && s->cc.tc == s->cc.t_c) { /* a distribution, tc by default */
+            e->tc_m12 = s->cont_m12;
+        }
     }
     if (s->walls_on) { /* gr_walls_prepare checked the scene; what this integrator adds: */
         const gr_sim_params *p = &s->params;

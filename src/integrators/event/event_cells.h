@@ -555,9 +555,8 @@ static inline void rule_3d(const struct gr_event_state *e, int i, int j, double 
         s2[a] = e->r[j] * w2[a];
     }
     const double s10[3] = {s1[0], s1[1], s1[2]}, s20[3] = {s2[0], s2[1], s2[2]};
-    gr_event_rule_3d(e->rule, &e->cc_pair[e->sp[i] * e->nsp + e->sp[j]], 2.0 * mi * mj / (mi + mj),
-                     w1 ? 1.0 : e->R, e->q, n, v1, v2, w1 ? s1 : NULL, w1 ? s2 : NULL, elastic,
-                     de_n, de_t);
+    gr_event_rule_3d(e->rule, gr_ev_pair_cc(e, i, j), 2.0 * mi * mj / (mi + mj), w1 ? 1.0 : e->R,
+                     e->q, n, v1, v2, w1 ? s1 : NULL, w1 ? s2 : NULL, elastic, de_n, de_t);
     const double wi = 2.0 * mj / (mi + mj), wj = 2.0 * mi / (mi + mj);
     for (int a = 0; a < 3; a++) {
         v1[a] = u1[a] + wi * (v1[a] - u1[a]);

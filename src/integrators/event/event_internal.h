@@ -61,6 +61,11 @@ struct gr_event_state {
     const int *sp;
     int nsp;
     const gr_contact_coeffs *cc_pair;
+    /* a radius distribution (m and r set, cc_pair NULL): every pair runs the sim's rule (a
+     * constant eps_n; the masses enter through M_ij), and when the TC time is the matching
+     * contact's duration, each pair's is tc sqrt(M_ij / tc_m12) (t_c ~ sqrt(M_ij) at one k_s;
+     * tc_m12 the reference pair's reduced mass, 0 for a tc given or off) */
+    double tc_m12;
     bool exact; /* free_flight = exact */
     bool noise;
     /* walls and gravity (1D, 2D, 3D; docs/systems-walls-gravity.md, "Event-driven"): wall[a] = flat
@@ -336,10 +341,24 @@ static inline double gr_ev_inertia(const gr_sim *s, const struct gr_event_state 
 }
 
 /* The TC time of the pair i, j: its species pair's (the matching contact of its reduced mass,
- * unless [model] tc gives one for all), the sim's without species. */
+ * unless [model] tc gives one for all), a distribution's pair's (tc_m12 above), the sim's without
+ * species. */
 static inline double gr_ev_tc(const struct gr_event_state *e, int i, int j)
 {
-    return e->cc_pair ? e->cc_pair[e->sp[i] * e->nsp + e->sp[j]].tc : e->tc;
+    if (e->cc_pair) {
+        return e->cc_pair[e->sp[i] * e->nsp + e->sp[j]].tc;
+    }
+    if (e->tc_m12 > 0.0) {
+        return e->tc * sqrt(e->m[i] * e->m[j] / (e->m[i] + e->m[j]) / e->tc_m12);
+    }
+    return e->tc;
+}
+
+/* The event rule's coefficients for the pair i, j: its species pair's with species lists, the
+ * sim's otherwise (one species, or a radius distribution). */
+static inline const gr_contact_coeffs *gr_ev_pair_cc(const struct gr_event_state *e, int i, int j)
+{
+    return e->cc_pair ? &e->cc_pair[e->sp[i] * e->nsp + e->sp[j]] : e->cc;
 }
 
 /* TC rule: restitution coefficients of a collision between i and j at absolute time t */
@@ -381,7 +400,7 @@ static inline void gr_ev_rule(const struct gr_event_state *e, int i, int j, gr_e
     }
     const double u0[2] = {u[0], u[1]};
     p->M = 2.0 * mi * mj / (mi + mj);
-    gr_event_rule_apply(e->rule, &e->cc_pair[e->sp[i] * e->nsp + e->sp[j]], p);
+    gr_event_rule_apply(e->rule, gr_ev_pair_cc(e, i, j), p);
     const double wi = 2.0 * mj / (mi + mj), wj = 2.0 * mi / (mi + mj);
     p->v1x = v1x + wi * (p->v1x - v1x);
     p->v1y = v1y + wi * (p->v1y - v1y);
