@@ -486,12 +486,12 @@ START_TEST(test_library_refusals)
                       strstr(err.message, "[boundary] y = walls"),
                   "%s", err.message);
     p = ok;
-    p.integrator = gr_integrator_find("hybrid"); /* steps spheres; not with rotation */
+    p.integrator = gr_integrator_find("hybrid"); /* steps spheres; not with a history spring */
     p.contact.rotation = true;
-    p.tangential = gr_model_find("tangential_dashpot");
+    p.tangential = gr_model_find("tangential_spring");
     ck_assert_ptr_nonnull(p.tangential);
     ck_assert_int_eq(gr_sim_new(&p, &s, &err), GR_EINVAL);
-    ck_assert_msg(strstr(err.message, "rotation") && strstr(err.message, "hybrid"), "%s",
+    ck_assert_msg(strstr(err.message, "history") && strstr(err.message, "hybrid"), "%s",
                   err.message);
     p = ok;
     p.dim = 4;

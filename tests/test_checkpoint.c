@@ -626,6 +626,20 @@ START_TEST(test_hybrid_state)
                                      "integrator.kick_interval=2e-5",
                                      "placement.v0=1"};
     integrator_case(s3, 9, quick() ? 507 : 2007, quick() ? 500 : 2000);
+    /* rotating discs with sliding friction: the spins restart exactly too */
+    static const char *const s4[] = {"system.dim=2",
+                                     "system.N=200",
+                                     "system.packing_fraction=0.35",
+                                     "model.eps_n=0.6",
+                                     "model.rotation=true",
+                                     "model.tangential=sliding_friction",
+                                     "model.mu=0.3",
+                                     "noise.D=1e-7",
+                                     "integrator.kind=hybrid",
+                                     "integrator.dt=1e-6",
+                                     "integrator.kick_interval=2e-5",
+                                     "placement.v0=1"};
+    integrator_case(s4, 12, quick() ? 507 : 2007, quick() ? 500 : 2000);
 }
 END_TEST
 

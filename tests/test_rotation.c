@@ -370,14 +370,14 @@ START_TEST(test_checkpoint_bits)
 }
 END_TEST
 
-/* 6. refusals: rotation needs verlet or event (rough hard discs: tests/test_event_rough.c), 2D and
- * a law acting at the contact point; the message names the key */
+/* 6. refusals: rotation needs a law acting at the contact point (rough hard discs:
+ * tests/test_event_rough.c) and 2D or 3D; the message names the key (every integrator rotates:
+ * verlet, event and hybrid) */
 START_TEST(test_refusals)
 {
     static const struct {
         const char *scene, *sets[3];
     } cases[] = {
-        {"rfm-2d.ini", {"model.rotation=true", "integrator.kind=hybrid", NULL}},
         {"rfm-2d-event.ini",
          {"model.beta=0.5", NULL, NULL}}, /* rough hard discs need rotation = true */
         {"rfm-2d.ini", {"model.rotation=true", "model.tangential=none", NULL}},

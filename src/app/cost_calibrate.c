@@ -127,7 +127,7 @@ int gr_cost_calibrate(const gr_scene *scene, double dt, double seconds, gr_cost_
             *err = e; /* Verlet is the reference: the scene itself does not run */
             return rc;
         }
-        if (rc) { /* a scene the hybrid cannot run (rotation, event rules, ...): say why */
+        if (rc) { /* a scene the hybrid cannot run (history springs, event rules, ...): say why */
             snprintf(o->note, sizeof o->note, "%s", e.message);
         } else if (out->best_option < 0 ||
                    o->wall_per_simulated < out->option[out->best_option].wall_per_simulated) {

@@ -81,6 +81,13 @@ static void load(gr_sim *s, gr_hybrid_state *h, gr_sim *c)
             c->contacts[q] = s->contacts[p];
         }
     }
+    double *sw[3], *st[3], *cw[3], *ct[3];
+    for (int a = 0, nw = gr_hy_spins(s, sw, st); a < nw && gr_hy_spins(c, cw, ct); a++) {
+        for (int q = 0; q < na; q++) {
+            cw[a][q] = sw[a][h->list[q]];
+            ct[a][q] = st[a][h->list[q]];
+        }
+    }
     memcpy(c->share, s->share, sizeof c->share);
     c->elastic = s->elastic;
     c->last = s->last;
@@ -328,6 +335,13 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
                 worst2 = w2l[l] > worst2 ? w2l[l] : worst2;
             }
         }
+        double spin_c = 0.0, spin_o = 0.0; /* rotation: step.c's spin kicks, after the drift */
+        if (c->omega && !gr_verlet_spin_kicks(c, k > 0, 1, &spin_c, &spin_o)) {
+            return GR_FAIL(err, GR_EUNSTABLE,
+                           "unstable run: non-finite angular velocity in the hybrid's active set "
+                           "at step %lld (t = %.6g s)",
+                           (long long)c->step, c->step * dt);
+        }
         /* envelopes (active.c): a particle facing a free one must stay where the selection
          * assumed it would; otherwise that free particle might have been touched: redo */
         const double t = (k + 1) * dt;
@@ -378,7 +392,7 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
         if (*missed) {
             return GR_OK; /* hybrid.c restores the window's start and redoes it */
         }
-        book(s, c->share, 0.5 * dt * (wc + wo));
+        book(s, c->share, 0.5 * dt * (wc + wo) + spin_c + spin_o);
         s->injected += c->mass * added;
         if (!isfinite(wo + added)) {
             return GR_FAIL(err, GR_EUNSTABLE,
@@ -419,7 +433,11 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
                            c->cc.k_s);
         }
     }
-    book(s, c->share, close_kick(c));
+    double spin = 0.0, unused = 0.0;
+    if (c->omega) {
+        gr_verlet_spin_kicks(c, 1, 0, &spin, &unused); /* the closing spin kick */
+    }
+    book(s, c->share, close_kick(c) + spin);
     /* write back */
     for (int q = 0; q < na; q++) {
         const int p = h->list[q];
@@ -438,6 +456,13 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
             s->vz[p] = c->vz[q];
             s->fz[p] = c->fz[q];
             s->gz[p] = c->gz[q];
+        }
+    }
+    double *sw[3], *st[3], *cw[3], *ct[3];
+    for (int a = 0, nw = gr_hy_spins(s, sw, st); a < nw && gr_hy_spins(c, cw, ct); a++) {
+        for (int q = 0; q < na; q++) {
+            sw[a][h->list[q]] = cw[a][q];
+            st[a][h->list[q]] = ct[a][q];
         }
     }
     memcpy(s->share, c->share, sizeof s->share);

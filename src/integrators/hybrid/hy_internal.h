@@ -27,6 +27,9 @@ typedef struct gr_hybrid_state {
     /* state at the window start (for rollbacks) */
     double *x0, *y0, *vx0, *vy0, *fx0, *fy0, *gx0, *gy0;
     double *z0, *vz0, *fz0, *gz0; /* 3D only (NULL otherwise) */
+    /* rotation ([model] rotation = true): the angular velocity and torque components at the
+     * window start, component c of particle i at [c * N + i] (NULL without rotation) */
+    double *w0, *t0;
     /* active set: flags, list (parent indices in order), forced-active flags from rollbacks */
     uint8_t *active, *forced;
     int *list, n_active;
@@ -83,6 +86,29 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err);
 int gr_hy_collect_pairs(gr_sim *s, gr_hybrid_state *h, double rc, gr_error *err);
 /* Largest displacement since the candidate list was built (minimum image). */
 double gr_hy_max_disp(const gr_sim *s, const gr_hybrid_state *h);
+
+/* Rotation: the simulation's angular velocity and torque components into w and t (2D: omega and
+ * tq; 3D: wx, wy, omega and tqx, tqy, tq); returns their count, 0 without rotation. A free
+ * particle's spin does not change during a leap (no contact, no torque); the active ones' are
+ * kicked by the child as step.c kicks them. */
+static inline int gr_hy_spins(gr_sim *s, double *w[3], double *t[3])
+{
+    if (!s->omega) {
+        return 0;
+    }
+    if (s->dim == 3) {
+        w[0] = s->wx;
+        w[1] = s->wy;
+        w[2] = s->omega;
+        t[0] = s->tqx;
+        t[1] = s->tqy;
+        t[2] = s->tq;
+        return 3;
+    }
+    w[0] = s->omega;
+    t[0] = s->tq;
+    return 1;
+}
 
 static inline double gr_hy_wrap(double dx, double L)
 {

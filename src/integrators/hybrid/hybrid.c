@@ -55,7 +55,7 @@ void gr_hybrid_free(gr_sim *s)
     double *d[] = {h->x0,  h->y0,   h->vx0,  h->vy0,  h->fx0,    h->fy0,    h->gx0,
                    h->gy0, h->c_lo, h->c_hi, h->c_xi, h->env_lo, h->env_hi, h->env_pack,
                    h->ff,  h->kick, h->tmp,  h->lam,  h->xl,     h->yl,     h->z0,
-                   h->vz0, h->fz0,  h->gz0,  h->zl};
+                   h->vz0, h->fz0,  h->gz0,  h->zl,   h->w0,     h->t0};
     for (size_t k = 0; k < sizeof d / sizeof d[0]; k++) {
         free(d[k]);
     }
@@ -133,6 +133,12 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
         h->gz0 = dalloc(n);
         h->zl = dalloc(n);
     }
+    double *w[3], *t[3];
+    const int nw = gr_hy_spins(s, w, t);
+    if (nw) {
+        h->w0 = dalloc(nw * n);
+        h->t0 = dalloc(nw * n);
+    }
     h->c_lo = dalloc(n);
     h->c_hi = dalloc(n);
     h->c_xi = dalloc(n);
@@ -152,7 +158,8 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
         (dim >= 2 && (!h->y0 || !h->vy0 || !h->fy0 || !h->gy0 || !h->xl || !h->yl)) ||
         (dim == 3 && (!h->z0 || !h->vz0 || !h->fz0 || !h->gz0 || !h->zl)) || !h->c_lo || !h->c_hi ||
         !h->c_xi || !h->env_lo || !h->env_hi || !h->env_pack || !h->ff || !h->lam || !h->tmp ||
-        !h->active || !h->forced || !h->list || !h->env_list || !h->uf || !h->cell_next) {
+        !h->active || !h->forced || !h->list || !h->env_list || !h->uf || !h->cell_next ||
+        (nw && (!h->w0 || !h->t0))) {
         return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for %d particles", n);
     }
     int rc = gr_hy_child_create(s, h, err);
@@ -216,6 +223,11 @@ static void save(gr_sim *s, gr_hybrid_state *h, saved *v)
         memcpy(h->fz0, s->fz, b);
         memcpy(h->gz0, s->gz, b);
     }
+    double *w[3], *t[3];
+    for (int c = 0, nw = gr_hy_spins(s, w, t); c < nw; c++) {
+        memcpy(h->w0 + (size_t)c * s->n, w[c], b);
+        memcpy(h->t0 + (size_t)c * s->n, t[c], b);
+    }
     *v = (saved){.injected = s->injected,
                  .diss_n = s->diss_n,
                  .diss_t = s->diss_t,
@@ -246,6 +258,11 @@ static void restore(gr_sim *s, gr_hybrid_state *h, const saved *v)
         memcpy(s->vz, h->vz0, b);
         memcpy(s->fz, h->fz0, b);
         memcpy(s->gz, h->gz0, b);
+    }
+    double *w[3], *t[3];
+    for (int c = 0, nw = gr_hy_spins(s, w, t); c < nw; c++) {
+        memcpy(w[c], h->w0 + (size_t)c * s->n, b);
+        memcpy(t[c], h->t0 + (size_t)c * s->n, b);
     }
     s->injected = v->injected;
     s->diss_n = v->diss_n;

@@ -66,7 +66,7 @@ static inline double lanes_total(const double *acc)
  * open_step_* does; its work goes to *wc, the opening kick's to *wo. */
 static bool spin_kicks_3d(gr_sim *s, const int closing, const int opening, double *wc, double *wo);
 
-static bool spin_kicks(gr_sim *s, const int closing, const int opening, double *wc, double *wo)
+bool gr_verlet_spin_kicks(gr_sim *s, const int closing, const int opening, double *wc, double *wo)
 {
     if (s->dim == 3) {
         return spin_kicks_3d(s, closing, opening, wc, wo);
@@ -200,7 +200,7 @@ static double half_kick(gr_sim *s, bool *finite)
         return work * 0.5 * s->dt;
     }
     double spin = 0.0, unused = 0.0;
-    *finite = spin_kicks(s, 1, 0, &spin, &unused) && *finite;
+    *finite = gr_verlet_spin_kicks(s, 1, 0, &spin, &unused) && *finite;
     return work * 0.5 * s->dt + spin;
 }
 
@@ -808,7 +808,7 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
                                  : (close_here ? open_step_2d(s, 0, mean, 1, &o, team)
                                                : open_step_2d(s, 0, mean, 0, &o, team));
         }
-        if (s->omega && !spin_kicks(s, close_here, 1, &o.work_close, &o.work_open)) {
+        if (s->omega && !gr_verlet_spin_kicks(s, close_here, 1, &o.work_close, &o.work_open)) {
             o.finite = false;
         }
         if (close_here) {

@@ -17,6 +17,13 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err);
 /* The same for a simulation with species (step_poly.c; docs/mixtures.md): each grain kicked with
  * its own mass. gr_verlet_step calls it when s->nsp. */
 int gr_verlet_step_poly(gr_sim *s, int64_t nsteps, gr_error *err);
+/* Rotation ([model] rotation = true): the half kicks of the angular velocities, w += tau dt / 2I,
+ * of all s->n grains from the torques of the last force evaluation: the previous step's closing
+ * kick when `closing`, this step's opening kick when `opening` (step.c's rhythm; the hybrid's child
+ * runs it too). Adds the work of the non-conservative torques, dt/2 included, to *wc and *wo;
+ * false when a spin or a work is not finite. */
+bool gr_verlet_spin_kicks(gr_sim *s, int closing, int opening, double *wc, double *wo);
+
 /* GR_EUNSTABLE naming the first particle with a non-finite position or velocity; 0 if none. */
 int gr_verlet_check_finite(gr_sim *s, gr_error *err);
 
