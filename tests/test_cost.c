@@ -289,11 +289,11 @@ START_TEST(prediction_matches_a_real_run)
 }
 END_TEST
 
-/* A scene the hybrid cannot run (rotating discs) is timed with Verlet alone; each hybrid option
- * says why it was not timed, and Verlet is recommended. */
+/* A scene the hybrid cannot run (the history spring) is timed with Verlet alone; each hybrid
+ * option says why it was not timed, and Verlet is recommended. */
 START_TEST(hybrid_refused_is_said)
 {
-    const char *sets[] = {"system.N=200", "system.L=0.05", "model.rotation=true",
+    const char *sets[] = {"system.N=200", "system.L=0.05", "model.tangential=tangential_spring",
                           "run.progress=false"};
     gr_scene sc;
     load(&sc, "rfm-2d.ini", sets, 4);
@@ -306,7 +306,7 @@ START_TEST(hybrid_refused_is_said)
     ck_assert_int_eq(a.n_options, 4);
     for (int k = 1; k < a.n_options; k++) {
         ck_assert(!a.option[k].ok);
-        ck_assert_msg(strstr(a.option[k].note, "rotation"), "%s", a.option[k].note);
+        ck_assert_msg(strstr(a.option[k].note, "history"), "%s", a.option[k].note);
     }
 }
 END_TEST

@@ -638,17 +638,17 @@ START_TEST(test_bounce_two_sizes)
 }
 END_TEST
 
-/* A driven gas of two species between walls under gravity (2D, 3D): the ledger closes with the
- * gravity's work (its potential sum_i m_i g h_i) and the walls' hits, no overlaps (checked after
- * every collision), the walls hit. */
+/* A driven gas of two species between walls under gravity (2D, 3D; _i = 2: a uniform radius
+ * distribution in 2D): the ledger closes with the gravity's work (its potential sum_i m_i g h_i)
+ * and the walls' hits, no overlaps (checked after every collision), the walls hit. */
 START_TEST(test_gas_walls_gravity)
 {
-    const int dim = _i == 0 ? 2 : 3;
+    const int dim = _i == 1 ? 3 : 2;
     const char *ov[] = {dim == 2 ? "system.dim=2" : "system.dim=3",
                         dim == 2 ? "system.N=300" : "system.N=200",
                         "system.packing_fraction=0.1",
-                        "species.radius=1e-3, 2e-3",
-                        "species.density=10, 10",
+                        _i == 2 ? "species.distribution=uniform" : "species.radius=1e-3, 2e-3",
+                        _i == 2 ? "species.radius_min=1e-3" : "species.density=10, 10",
                         "placement.kind=random",
                         "placement.v0=0.05",
                         "model.normal=hard_sphere",
@@ -658,9 +658,11 @@ START_TEST(test_gas_walls_gravity)
                         "run.seed=5",
                         dim == 2 ? "boundary.y=walls" : "boundary.z=walls",
                         dim == 2 ? "gravity.gy=-9.81" : "gravity.gz=-9.81",
-                        "boundary.eps_n=0.9"};
+                        "boundary.eps_n=0.9",
+                        "species.radius_max=2e-3",
+                        "species.density=10"};
     gr_error err = {0};
-    gr_scene w = scene_of(ov, 15);
+    gr_scene w = scene_of(ov, _i == 2 ? 17 : 15);
     gr_sim *s = sim_of(&w);
     gr_event_set_debug(s, true, false);
     ck_assert_msg(gr_sim_step(s, 200000, &err) == GR_OK, "%s", err.message);
@@ -741,7 +743,7 @@ static Suite *event_species_suite(void)
     tcase_add_loop_test(g, test_kicks_per_species, 0, 2);
     tcase_add_loop_test(g, test_driven_gas, 0, 5);
     tcase_add_loop_test(g, test_restart_exact, 0, 5);
-    tcase_add_loop_test(g, test_gas_walls_gravity, 0, 2);
+    tcase_add_loop_test(g, test_gas_walls_gravity, 0, 3);
     suite_add_tcase(s, g);
     return s;
 }

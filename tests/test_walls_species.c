@@ -13,8 +13,8 @@
  *   rolling with their own radius and moment of inertia;
  * - a checkpoint of a rotating bed continues bit for bit;
  * - a radius distribution: each grain's wall contact scaled from the walls' reference to its own
- *   mass and radius (the bounces, the bed's weight, the ledgers);
- * - refusals: a radius distribution between walls with the event integrator. */
+ *   mass and radius (the bounces, the bed's weight, the ledgers); the event integrator's
+ *   distribution between walls: tests/test_event_species.c. */
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -250,25 +250,6 @@ START_TEST(restart_exact)
 }
 END_TEST
 
-START_TEST(refusals)
-{
-    /* species lists run between walls with both integrators (tests/test_event_species.c); a radius
-     * distribution with the verlet one only */
-    const char *event[] = {"system.dim=2",
-                           "system.N=50",
-                           "system.L=0.1",
-                           "species.distribution=uniform",
-                           "species.radius_min=1e-3",
-                           "species.radius_max=2e-3",
-                           "species.density=5",
-                           "placement.kind=uniform",
-                           "model.normal=hard_sphere",
-                           "integrator.kind=event",
-                           "boundary.y=walls"};
-    refused(event, 11, "[integrator] kind");
-}
-END_TEST
-
 static Suite *walls_species_suite(void)
 {
     Suite *s = suite_create("walls_species");
@@ -280,7 +261,6 @@ static Suite *walls_species_suite(void)
     tcase_add_test(t, ledger_species_walls);
     tcase_add_test(t, spinning_grains_roll);
     tcase_add_test(t, restart_exact);
-    tcase_add_test(t, refusals);
     suite_add_tcase(s, t);
     return s;
 }
