@@ -14,8 +14,8 @@
  *    g_ct times -beta or at the Coulomb limit, angular momentum about the contact point conserved,
  *    the loss; a driven rough gas.s ledger and restart;
  *  - a radius distribution: each pair's TC time is the matching contact's at its reduced mass
- *    (t_c ~ sqrt(M_ij)), or the [model] tc given for all; a driven gas of lognormal radii keeps its
- *    momentum, closes its ledger, never overlaps and restarts bit for bit; the viscoelastic
+ *    (t_c ~ sqrt(M_ij)), or the [model] tc given for all; a driven gas of lognormal radii (discs,
+ *    and spheres) keeps its momentum, closes its ledger, never overlaps and restarts bit for bit; the viscoelastic
  *    eps_n(v) is refused there (it would need each pair's own calibration).
  * Deterministic tolerances come from rounding; the statistical one is 5 sigma (fixed seed). */
 #include <check.h>
@@ -307,10 +307,11 @@ END_TEST
 /* A gas of two species (radii 1 and 2 mm, equal density) of n grains (key=value) driven by the
  * random force, hard discs (2D, packing fraction 0.1) or rods (1D, L' = 5 cm), eps_n = 0.5;
  * variant 2: rough discs (2D, beta = 0.3); variant 3: smooth spheres (3D); variant 4: discs of a
- * lognormal radius distribution in [1, 3] mm (median 1.5 mm) instead of the two species. */
+ * lognormal radius distribution in [1, 3] mm (median 1.5 mm) instead of the two species; variant 5:
+ * spheres of that distribution (3D). */
 static gr_scene species_gas(int variant, const char *n, const char *seed)
 {
-    const int dim = variant == 0 ? 1 : variant == 3 ? 3 : 2;
+    const int dim = variant == 0 ? 1 : variant == 3 || variant == 5 ? 3 : 2;
     const char *ov[16] = {dim == 1   ? "system.dim=1"
                           : dim == 2 ? "system.dim=2"
                                      : "system.dim=3",
@@ -328,7 +329,7 @@ static gr_scene species_gas(int variant, const char *n, const char *seed)
                           seed,
                           "model.rotation=true",
                           "model.beta=0.3"};
-    if (variant == 4) { /* the distribution's keys in place of the lists (and of rotation) */
+    if (variant >= 4) { /* the distribution's keys in place of the lists (and of rotation) */
         ov[3] = "species.distribution=lognormal";
         ov[4] = "species.radius_min=1e-3";
         ov[5] = "species.radius_max=3e-3";
@@ -345,7 +346,7 @@ static gr_scene species_gas(int variant, const char *n, const char *seed)
  * rounding, no overlaps (checked after every collision), collisions of all three pair kinds. */
 START_TEST(test_driven_gas)
 {
-    const int dim = _i == 0 ? 1 : _i == 3 ? 3 : 2; /* 4: a radius distribution (2D) */
+    const int dim = _i == 0 ? 1 : _i == 3 || _i == 5 ? 3 : 2; /* 4, 5: a radius distribution */
     /* 3D: 100 spheres (the overlap check after every collision is O(N^2)) */
     gr_scene sc = species_gas(_i,
                               quick()    ? "system.N=60"
@@ -741,7 +742,7 @@ static Suite *event_species_suite(void)
     TCase *g = tcase_create("gas");
     tcase_set_timeout(g, 600);
     tcase_add_loop_test(g, test_kicks_per_species, 0, 2);
-    tcase_add_loop_test(g, test_driven_gas, 0, 5);
+    tcase_add_loop_test(g, test_driven_gas, 0, 6);
     tcase_add_loop_test(g, test_restart_exact, 0, 5);
     tcase_add_loop_test(g, test_gas_walls_gravity, 0, 3);
     suite_add_tcase(s, g);
