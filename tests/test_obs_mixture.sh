@@ -8,6 +8,8 @@
 #   phi_1 + phi_2 = phi, the columns and the plot per species; a radius distribution's profile
 #   has the scene's packing fraction from the actual radii and T in J; a sweep over the bed's
 #   amplitude has each species' mean height in sweep.csv;
+# - freepath on the gas: each species' mean free path, weighted by its paths the pooled mean, the
+#   light grains' longer;
 # - moments, pv, msd, vacf, collisions and postcollision on the gas: <|v|^2> of moments and pv's T
 #   are the run's T (eq. 2.19) to rounding; the species' speed moments (weighted by N_s / N), C(0),
 #   collision rates and postcollision's <v^2> add up to the total's, and postcollision's m_s <v^2>_s
@@ -47,7 +49,7 @@ dur=0.3 beddur=0.04
 [[ $quick == 1 ]] && dur=0.05 beddur=0.01
 run gas "$src/docs/scenes/bidisperse-mixture.ini" --set output.plots=false --set run.warmup=0.1 \
     --set run.duration=$dur --set analysis.profile_bins=1 \
-    --set analysis.observables=species,profile,moments,pv,msd,vacf,collisions,postcollision,pressure
+    --set analysis.observables=species,profile,moments,pv,msd,vacf,collisions,postcollision,pressure,freepath
 python3 - "$tmp/gas" "$quick" <<'PY' || fail "the gas's observables"
 import csv, json, math, sys
 d, quick = sys.argv[1], sys.argv[2] == "1"
@@ -106,6 +108,16 @@ if not quick:
           + ("" if good else "  <- FAIL"))
     ok &= good
 ok &= a["postcollision"]["post_samples"] > 0
+# freepath per species: each grain's paths grouped by its species, so the species' means weighted by
+# their numbers of paths are the pooled mean, and the light grains (faster) fly farther
+fp = a["freepath"]
+n1, n2 = fp["species_paths"]
+l1, l2 = fp["species_mean_over_d"]
+close((n1 * l1 + n2 * l2) / (n1 + n2), fp["mean_over_d"], 1e-12, "freepath: species' mean paths")
+close(n1 + n2, fp["paths"], 0, "freepath: species' paths")
+good = l1 > l2 > 0
+print(f"freepath: mean free path {l1:.4g} d (light), {l2:.4g} d (heavy)" + ("" if good else "  <- FAIL"))
+ok &= good
 # postcollision per species: <v^2> of all sampled grains averages to the total's; m_s <v^2>_s is
 # the species' T_s (within 1 %: relative to the frame's mean velocity, not the centre of mass)
 pc = a["postcollision"]
@@ -277,7 +289,7 @@ grep -q "T per component (J)" "$tmp/dist/profile.gp" || fail "a distribution's p
 # by GRANULE_TEST_PAUSE_AT_STEP), --resume, and every CSV equals the uninterrupted run's
 short=(--set output.plots=false --set system.N=200 --set run.warmup=0.01 --set run.duration=0.06
     --set analysis.profile_bins=4
-    --set analysis.observables=species,profile,moments,collisions,postcollision,msd,vacf,pv)
+    --set analysis.observables=species,profile,moments,collisions,postcollision,msd,vacf,pv,freepath)
 run straight "$src/docs/scenes/bidisperse-mixture.ini" "${short[@]}"
 GRANULE_TEST_PAUSE_AT_STEP=3000 OMP_NUM_THREADS=1 "$granule" run "$src/docs/scenes/bidisperse-mixture.ini" \
     --out "$tmp/term" --set output.snapshot_every=0 --set run.checkpoint_every=0.01 "${short[@]}" \
@@ -294,7 +306,7 @@ rc=$?
 OMP_NUM_THREADS=1 "$granule" run --resume "$tmp/term" >"$tmp/resume.log" 2>&1 ||
     { cat "$tmp/resume.log" >&2; fail "resume of a mixture's profile"; }
 for f in profile.csv species.csv moments.csv moments_species.csv collisions.csv postcollision.csv \
-    msd.csv vacf.csv temperature.csv; do
+    msd.csv vacf.csv temperature.csv freepath.csv; do
     cmp -s "$tmp/straight/$f" "$tmp/term/$f" || fail "$f differs after SIGTERM and --resume"
 done
 python3 - "$tmp/straight/summary.json" "$tmp/term/summary.json" <<'PY' || fail "summary.json's analysis differs after --resume"

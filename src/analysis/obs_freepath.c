@@ -5,7 +5,10 @@
  * errors, and a fit of the tail form (4.25) P_l(l) = A0 exp(-C l^(D_f - 1)) l^(D_f - 2).
  * In 2D and 3D the displacement is taken under the minimum image: a free path longer than L/2 is
  * folded (only possible in very dilute systems; the count of paths longer than L/4 is reported).
- * In 3D the path is |r| of the three components, binned up to sqrt(3) L / 2. */
+ * In 3D the path is |r| of the three components, binned up to sqrt(3) L / 2.
+ * A mixture of species lists (docs/mixtures.md) also gives each species' mean free path: every
+ * grain's paths are summed on their own, and at the end grouped by the grain's species (the first
+ * sample's), so weighted by their numbers of paths the species' means are the pooled mean. */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdbool.h>
@@ -37,6 +40,11 @@ typedef struct freepath {
     gr_histogram h;            /* in units of d */
     double sum, long_paths;
     int64_t paths;
+    /* a mixture of species lists (ns >= 2; 0 otherwise): each grain's species (the first frame's,
+     * once `frames` > 0), the sum of its free paths (m) and their number */
+    int ns, frames;
+    int *species;
+    double *grain_sum, *grain_paths;
 } freepath;
 
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
@@ -52,6 +60,12 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     f->y0 = gr_obs_calloc(f, (size_t)f->n, sizeof(double));
     f->z0 = f->dim == 3 ? gr_obs_calloc(f, (size_t)f->n, sizeof(double)) : NULL;
     f->free_since = gr_obs_calloc(f, (size_t)f->n, 1);
+    if (setup->n_species >= 2 && setup->n_species <= GR_MAX_SPECIES) {
+        f->ns = setup->n_species;
+        f->species = gr_obs_calloc(f, (size_t)f->n, sizeof(int));
+        f->grain_sum = gr_obs_calloc(f, (size_t)f->n, sizeof(double));
+        f->grain_paths = gr_obs_calloc(f, (size_t)f->n, sizeof(double));
+    }
     double hi = (f->dim == 3 ? 0.5 * sqrt(3.0) : f->dim == 2 ? 0.5 * sqrt(2.0) : 1.0) * f->L / f->d;
     return gr_obs_histogram(f, &f->h, a->freepath_bins, a->freepath_min, hi, true, err);
 }
@@ -86,6 +100,10 @@ static int events(void *state, const gr_contact_event *ev, int64_t n, gr_error *
             f->long_paths += l > 0.25 * f->L;
             f->paths++;
             f->free_since[i] = 0;
+            if (f->ns) {
+                f->grain_sum[i] += l;
+                f->grain_paths[i] += 1.0;
+            }
         }
     }
     return GR_OK;
@@ -93,11 +111,12 @@ static int events(void *state, const gr_contact_event *ev, int64_t n, gr_error *
 
 static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 {
-    (void)state;
-    (void)p;
     (void)t;
-    (void)err;
-    return GR_OK; /* built from contact events only */
+    freepath *f = state; /* built from contact events; a mixture's species from the first frame */
+    if (f->ns && f->frames++ == 0) {
+        return gr_obs_frame_species("freepath", p, f->ns, f->n, f->species, err);
+    }
+    return GR_OK;
 }
 
 /* (4.25) in units of d: P = A0 exp(-C l^(Df-1)) l^(Df-2), p = (ln A0, ln C, Df) */
@@ -138,6 +157,20 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         gr_obs_note_diameter(j, f->d, f->dim);
     }
     cJSON_AddNumberToObject(j, "longer_than_quarter_box", f->long_paths);
+    if (f->ns && f->frames > 0) { /* each species' paths and their mean, in the same d */
+        double sum[GR_MAX_SPECIES] = {0}, cnt[GR_MAX_SPECIES] = {0};
+        for (int i = 0; i < f->n; i++) {
+            sum[f->species[i]] += f->grain_sum[i];
+            cnt[f->species[i]] += f->grain_paths[i];
+        }
+        cJSON *jn = cJSON_AddArrayToObject(j, "species_paths");
+        cJSON *jm = cJSON_AddArrayToObject(j, "species_mean_over_d");
+        for (int a = 0; a < f->ns; a++) {
+            cJSON_AddItemToArray(jn, cJSON_CreateNumber(cnt[a]));
+            cJSON_AddItemToArray(jm, cnt[a] > 0.0 ? cJSON_CreateNumber(sum[a] / cnt[a] / f->d)
+                                                  : cJSON_CreateNull());
+        }
+    }
     cJSON_AddStringToObject(j, "file", "freepath.csv");
     if (f->paths == 0) {
         gr_obs_note_no_events(j, "free paths");
@@ -214,6 +247,12 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
     gr_blob_io_f64(io, &f->sum);
     gr_blob_io_f64(io, &f->long_paths);
     gr_blob_io_i64(io, &f->paths);
+    if (f->ns) { /* a mixture's (one species: the checkpoint as before) */
+        gr_blob_io_int(io, &f->frames);
+        gr_obs_io_species(io, "freepath", f->species, f->n, f->ns);
+        gr_blob_io_f64s(io, f->grain_sum, f->n);
+        gr_blob_io_f64s(io, f->grain_paths, f->n);
+    }
     return GR_OK;
 }
 
