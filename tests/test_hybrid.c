@@ -351,6 +351,23 @@ START_TEST(test_no_noise_equals_verlet)
 }
 END_TEST
 
+/* Walls and gravity: a vibrated bed of 150 discs, then of 200 spheres (no noise), all active =
+ * Verlet to the last bit, and the normal margin (grains that could reach a wall active, the others
+ * leaping parabolas) differs by rounding. */
+START_TEST(test_no_noise_equals_verlet_bed)
+{
+    static const char *const bed[] = {"boundary.amplitude=2e-3", "integrator.dt=4e-7", NULL};
+    /* 3D: the bed of spheres with the tangential dashpot, without rotation */
+    static const char *const bed3[] = {"integrator.dt=2e-7", "model.rotation=false",
+                                       "model.tangential=tangential_dashpot"};
+    if (_i == 0) {
+        no_noise_case("vibrated-bed.ini", "system.N=150", "placement.kind=uniform", 60000, bed);
+    } else {
+        no_noise_case("vibrated-bed-3d.ini", "system.N=200", "run.seed=1", 40000, bed3);
+    }
+}
+END_TEST
+
 /* Rotation: discs with the scene's tangential dashpot and rolling resistance, spheres with sliding
  * friction. The child kicks the active grains' spins as step.c does (gr_verlet_spin_kicks), so all
  * active is Verlet to the last bit with the spins too, and the normal margin (free grains keep
@@ -451,6 +468,25 @@ START_TEST(test_active_set_invariance_2d)
      * with friction (2e-9 m after 4000 steps, 2.5e-10 m after 3000): horizons keep it below 1e-9 m */
     invariance_case("steady-2d.ini", "system.N=200", "system.L=0.06", _i,
                     quick() || _i == 3 ? 2500 : (_i == 1 ? 3000 : 4000), 0.0);
+}
+END_TEST
+
+/* Walls and gravity with noise (com mode; symmetrised is refused with walls): the bed driven by the
+ * random force follows the same path all active, with the normal margin and with a tiny one that
+ * rolls back (grains found at a wall or a free partner at the window's end are redone active). */
+START_TEST(test_active_set_invariance_bed)
+{
+    const char *over[] = {"system.N=150",
+                          "placement.kind=uniform",
+                          "boundary.amplitude=2e-3",
+                          "integrator.dt=4e-7",
+                          "integrator.kind=hybrid",
+                          "integrator.kick_interval=1e-4",
+                          "driving.kind=rfm",
+                          "noise.mode=com",
+                          "noise.D=3e-7",
+                          NULL};
+    same_path("vibrated-bed.ini", over, 30000, 1e-9, 0.0);
 }
 END_TEST
 
@@ -870,6 +906,8 @@ static Suite *hybrid_suite(void)
     tcase_add_test(t, test_active_set_invariance_1d);
     tcase_add_loop_test(t, test_active_set_invariance_2d, 0, 4);
     tcase_add_loop_test(t, test_no_noise_equals_verlet_rotation, 0, 2);
+    tcase_add_loop_test(t, test_no_noise_equals_verlet_bed, 0, 2);
+    tcase_add_test(t, test_active_set_invariance_bed);
     tcase_add_test(t, test_contact_events);
     tcase_add_test(t, test_free_flight_3d);
     tcase_add_test(t, test_ledger_momentum_3d);

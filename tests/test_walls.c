@@ -17,7 +17,7 @@
  * - a sawtooth floor (rises at 2 A f, drops instantly) and the walls' work in its own ledger
  *   entry (wall_work), the ledger closing with it;
  * - the walls' normal forces: a bed at rest weighs N M g on its floor;
- * - refusals: event and hybrid, gravity along a periodic axis, y in 1D, the new keys' ranges
+ * - refusals: the hybrid's symmetrised noise with walls, gravity along a periodic axis, y in 1D, the new keys' ranges
  *   (scene and library). */
 #include <check.h>
 #include <math.h>
@@ -685,9 +685,11 @@ START_TEST(refusals)
 {
     /* the event integrator's walls (fixed or vibrating, smooth or rough grains) are
      * test_event_walls.sh's and test_event_vibrate.c's: in 2D and 3D, refused in 1D there */
-    const char *hy[] = {"integrator.kind=hybrid"};
-    const char *n_hy[] = {"kind = hybrid", "verlet"};
-    refused(grain_2d, hy, 1, n_hy, 2);
+    /* the hybrid runs walls and gravity (tests/test_hybrid.c), with the noise not symmetrised */
+    const char *hy[] = {"integrator.kind=hybrid", "driving.kind=rfm", "noise.D=1e-9",
+                        "noise.mode=symmetrised"};
+    const char *n_hy[] = {"[noise] mode", "kind = hybrid", "com | none"};
+    refused(grain_2d, hy, 4, n_hy, 3);
     const char *per[] = {"boundary.y=periodic"};
     const char *n_per[] = {"test.ini:13", "[gravity] gy", "[boundary] y = walls"};
     refused(grain_2d, per, 1, n_per, 3);

@@ -1158,6 +1158,26 @@ static int resolve_walls(gr_scene *s, const given *g, gr_error *err)
             s->integrator->name, sec, key, names, s->integrator->name);
         return fail_at(err, &w, "integrator", "kind", "%s", detail);
     }
+    /* a soft integrator with free-flight leaps (hybrid, docs/hybrid.md "Walls and gravity"): its
+     * active set is built on the 1D ring, and it symmetrises by moving to the centre-of-mass frame,
+     * which walls forbid */
+    if (s->integrator->free_flight && !s->integrator->instantaneous && s->dim == 1) {
+        where w = where_of(g, s, "integrator", "kind");
+        return fail_at(err, &w, "integrator", "kind",
+                       "kind = %s runs walls and gravity in 2D and 3D (its 1D active set is built "
+                       "on the periodic ring); allowed with walls or gravity in 1D: verlet | event",
+                       s->integrator->name);
+    }
+    if (s->integrator->free_flight && !s->integrator->instantaneous &&
+        s->noise_mode == GR_NOISE_SYMMETRISED && s->D > 0.0) {
+        where w = key_given(g, "noise", "mode") ? where_of(g, s, "noise", "mode")
+                                                : where_of(g, s, "integrator", "kind");
+        return fail_at(err, &w, "noise", "mode",
+                       "symmetrised with walls and kind = %s: it symmetrises by moving to the "
+                       "centre-of-mass frame, which would carry grains through the walls; allowed "
+                       "with walls: com | none",
+                       s->integrator->name);
+    }
     return GR_OK;
 }
 

@@ -177,10 +177,45 @@ void gr_hy_envelope_miss(gr_sim *s, gr_hybrid_state *h, int p, int side)
     }
 }
 
+/* Walls and gravity (2D, 3D; docs/hybrid.md, "Walls and gravity"): a grain whose path over the
+ * window along a wall axis, x0 + v t + g t^2 / 2 for t in [0, tau], comes within its radius plus
+ * c noise standard deviations of a wall (of the vibrating wall anywhere in its stroke) is active,
+ * since only the child's force pass models walls. Gravity is uniform: it moves no pair relative to
+ * another, so the pair rule below does not see it. */
+static void near_walls(gr_sim *s, gr_hybrid_state *h, int m)
+{
+    const double tau = m * s->dt, L = s->L;
+    const double reach = 0.5 * s->d + h->margin_c * gr_hy_noise_sx(s, h, m);
+    const double *pos[3] = {s->x, s->y, s->z}, *vel[3] = {s->vx, s->vy, s->vz};
+    uint8_t *act = h->active;
+    for (int a = 0; a < s->dim; a++) {
+        if (!s->params.walls[a]) {
+            continue;
+        }
+        const double g = s->params.gravity[a];
+        const double lo = (s->params.vibrate == a + 1 ? s->params.amplitude : 0.0) + reach,
+                     hi = L - reach;
+        for (int i = 0; i < s->n; i++) {
+            const double x0 = pos[a][i], v = vel[a][i], x1 = x0 + v * tau + 0.5 * g * tau * tau;
+            double lowest = fmin(x0, x1), highest = fmax(x0, x1);
+            const double te = g != 0.0 ? -v / g : -1.0; /* the apex (or lowest point) */
+            if (te > 0.0 && te < tau) {
+                const double xe = x0 + 0.5 * v * te;
+                lowest = fmin(lowest, xe);
+                highest = fmax(highest, xe);
+            }
+            act[i] |= (uint8_t)((lowest <= lo) | (highest >= hi));
+        }
+    }
+}
+
 int gr_hy_select(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
 {
     const int n = s->n;
     memcpy(h->active, h->forced, (size_t)n);
+    if (s->walls_on && h->margin_c < 1e6) {
+        near_walls(s, h, m);
+    }
     if (h->margin_c >= 1e6) { /* tests: everybody */
         memset(h->active, 1, (size_t)n);
         for (int i = 0; i < n; i++) {
@@ -229,6 +264,19 @@ int gr_hy_misses(gr_sim *s, gr_hybrid_state *h, gr_error *err, int *found)
             }
         }
         return GR_OK;
+    }
+    if (s->walls_on) { /* a free grain that ended within its radius of a wall: redo it active */
+        const double *pos[3] = {s->x, s->y, s->z};
+        for (int a = 0; a < s->dim; a++) {
+            const double lo = (s->params.vibrate == a + 1 ? s->params.amplitude : 0.0) + 0.5 * d,
+                         hi = s->L - 0.5 * d;
+            for (int i = 0; i < n && s->params.walls[a]; i++) {
+                if (!act[i] && (pos[a][i] <= lo || pos[a][i] >= hi)) {
+                    h->forced[i] = 1;
+                    *found = 1;
+                }
+            }
+        }
     }
     /* The candidate list holds every pair closer than rc_pairs at its build; if nobody moved
      * more than (rc_pairs - d)/2 since, it holds every pair closer than d now. */

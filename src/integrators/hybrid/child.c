@@ -92,6 +92,11 @@ static void load(gr_sim *s, gr_hybrid_state *h, gr_sim *c)
     c->elastic = s->elastic;
     c->last = s->last;
     c->n_events = 0;
+    /* walls: this window's work, impulses and the moving wall's share of the dissipation (the walls
+     * pass books them into the child), added to the parent's after it */
+    c->wall_work = 0.0;
+    c->diss_n = 0.0;
+    memset(c->wall_impulse, 0, sizeof c->wall_impulse);
 }
 
 static void book(gr_sim *s, const double share[3], double work)
@@ -175,6 +180,14 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
     }
     c->step = s->step;
     const double hk = 0.5 * c->dt / c->mass, dt = c->dt, L = c->L, half = 0.5 * L;
+    /* wrap into [0, L) along periodic axes only (step.c): along a wall axis a grain riding a floor
+     * that vibrates below 0 keeps its coordinate */
+    const double inf = (double)INFINITY;
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; a++) {
+        lo[a] = c->period[a] < inf ? 0.0 : -inf;
+        hi[a] = lo[a] == 0.0 ? L : inf;
+    }
     const double skin_half2 = 0.25 * (c->cutoff - c->d) * (c->cutoff - c->d);
     /* the particles whose envelope is checked (those facing free particles) */
     int *env_q = h->env_list, n_env = 0;
@@ -265,7 +278,7 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
                     vi += dv;
                     v[a][q] = vi;
                     double xn = r[a][q] + vi * dt;
-                    xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
+                    xn += xn < lo[a] ? L : (xn >= hi[a] ? -L : 0.0);
                     r[a][q] = xn;
                     double dd = xn - ref[a][q];
                     dd += dd > half ? -L : (dd < -half ? L : 0.0);
@@ -307,8 +320,8 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
         vx[q] = vxi;                                                                               \
         vy[q] = vyi;                                                                               \
         double xn = x[q] + vxi * dt, yn = y[q] + vyi * dt;                                         \
-        xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);                                                 \
-        yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);                                                 \
+        xn += xn < lo[0] ? L : (xn >= hi[0] ? -L : 0.0);                                           \
+        yn += yn < lo[1] ? L : (yn >= hi[1] ? -L : 0.0);                                           \
         x[q] = xn;                                                                                 \
         y[q] = yn;                                                                                 \
         double ddx = xn - xr[q], ddy = yn - yr[q];                                                 \
@@ -464,6 +477,11 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
             sw[a][h->list[q]] = cw[a][q];
             st[a][h->list[q]] = ct[a][q];
         }
+    }
+    s->wall_work += c->wall_work;
+    s->diss_n += c->diss_n;
+    for (int k = 0; k < 6; k++) {
+        s->wall_impulse[k] += c->wall_impulse[k];
     }
     memcpy(s->share, c->share, sizeof s->share);
     s->elastic = c->elastic;

@@ -105,6 +105,21 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
                        "and at most 1e6 steps per window (use kick_interval <= %g s)",
                        sc->source, tau, (long long)m, fmin(1e6, 4294967295.0 / s->n) * s->dt);
     }
+    const bool noise = sc->noise_mode != GR_NOISE_NONE && sc->D > 0.0;
+    if (s->walls_on && s->dim == 1) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "%s: [integrator] kind = hybrid runs walls and gravity in 2D and 3D (its 1D "
+                       "active set is built on the periodic ring); allowed in 1D: verlet or event",
+                       sc->source);
+    }
+    if (s->walls_on && noise && sc->noise_mode == GR_NOISE_SYMMETRISED) {
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s: [noise] mode = symmetrised with walls and kind = hybrid: the hybrid "
+            "symmetrises by moving to the centre-of-mass frame, which would carry grains "
+            "through the walls; allowed with walls: mode = com or none",
+            sc->source);
+    }
     gr_hybrid_state *h = calloc(1, sizeof *h);
     if (!h) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory");
@@ -200,6 +215,7 @@ int gr_sim_hybrid_stats(const gr_sim *s, gr_hybrid_stats *st)
 /* The ledger and counters a window changes. */
 typedef struct saved {
     double injected, diss_n, diss_t, diss_f, removed_com, elastic, share[3];
+    double wall_work, wall_impulse[6];
     int64_t collisions, rebuilds;
     gr_force_report last;
 } saved;
@@ -234,10 +250,12 @@ static void save(gr_sim *s, gr_hybrid_state *h, saved *v)
                  .diss_f = s->diss_f,
                  .removed_com = s->removed_com,
                  .elastic = s->elastic,
+                 .wall_work = s->wall_work,
                  .collisions = s->collisions,
                  .rebuilds = s->rebuilds,
                  .last = s->last};
     memcpy(v->share, s->share, sizeof v->share);
+    memcpy(v->wall_impulse, s->wall_impulse, sizeof v->wall_impulse);
 }
 
 static void restore(gr_sim *s, gr_hybrid_state *h, const saved *v)
@@ -270,6 +288,8 @@ static void restore(gr_sim *s, gr_hybrid_state *h, const saved *v)
     s->diss_f = v->diss_f;
     s->removed_com = v->removed_com;
     s->elastic = v->elastic;
+    s->wall_work = v->wall_work;
+    memcpy(s->wall_impulse, v->wall_impulse, sizeof s->wall_impulse);
     s->collisions = v->collisions;
     s->rebuilds = v->rebuilds;
     s->last = v->last;

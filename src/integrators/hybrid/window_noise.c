@@ -28,6 +28,12 @@
  * 2 << 62 is the kicks' flag), id = p, components 0 and 1; the raw kicks use
  * step = window start | 1 << 63, id = p m + k, component c.
  *
+ * Gravity g (with walls, 2D and 3D): a constant force, which kick-drift-kick integrates exactly, so a
+ * leap adds g tau to v and g tau^2 / 2 to x, and leaves the force M g; the energy a leap books as
+ * injected is the change of kinetic plus potential energy (potential -M g . x),
+ * M [dv . (v + dv / 2) + g . (tau dv - dx)], dx the noise's part of the displacement (it is 0
+ * without gravity, so those runs are as before).
+ *
  * free_flight = kicks: instead of acting every step the noise of a window is one velocity kick
  * dv = sqrt(2 D tau)/M g1 at step m/2 (so dx = (m - m/2) dt dv); active particles get the same
  * single kick, so again leaping and stepping agree. */
@@ -102,6 +108,10 @@ double gr_hy_leap_free(gr_sim *s, gr_hybrid_state *h, int m)
     const double c22 = h->kicks ? 0.0 : a * s->dt * sqrt(dm * (dm + 1.0) * (dm - 1.0) / 12.0);
     const uint8_t *act = h->active;
     const double *ff = h->ff;
+    /* gravity (0 without): velocity g tau, displacement g tau^2 / 2, the force M g */
+    const double gxa = s->params.gravity[0], gya = s->params.gravity[1], gza = s->params.gravity[2];
+    const double hx = 0.5 * gxa * tau * tau, hy = 0.5 * gya * tau * tau, hz = 0.5 * gza * tau * tau;
+    const double mgx = M * gxa, mgy = M * gya, mgz = M * gza;
     /* Every particle in 8 fixed lanes, the active ones left as they are, so the loop vectorises;
      * h->ff is zero without noise (never drawn). Positions stay in [0, L) by one conditional
      * shift (a leap is much shorter than L). */
@@ -131,24 +141,27 @@ double gr_hy_leap_free(gr_sim *s, gr_hybrid_state *h, int m)
                 const double *g = ff + 6 * p; /* (g1, g2) of x, y, z */
                 const double ux = vx[p], uy = vy[p], uz = vz[p], dvx = c1 * g[0], dvy = c1 * g[2],
                              dvz = c1 * g[4];
-                double xn = x[p] + ux * tau + (c21 * g[0] + c22 * g[1]),
-                       yn = y[p] + uy * tau + (c21 * g[2] + c22 * g[3]),
-                       zn = z[p] + uz * tau + (c21 * g[4] + c22 * g[5]);
+                const double ex = c21 * g[0] + c22 * g[1], ey = c21 * g[2] + c22 * g[3],
+                             ez = c21 * g[4] + c22 * g[5];
+                double xn = x[p] + ux * tau + ex + hx, yn = y[p] + uy * tau + ey + hy,
+                       zn = z[p] + uz * tau + ez + hz;
                 xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
                 yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);
                 zn += zn < 0.0 ? L : (zn >= L ? -L : 0.0);
-                adl[l] +=
-                    leap ? dvx * (ux + 0.5 * dvx) + dvy * (uy + 0.5 * dvy) + dvz * (uz + 0.5 * dvz)
-                         : 0.0;
+                adl[l] += leap ? dvx * (ux + 0.5 * dvx) + dvy * (uy + 0.5 * dvy) +
+                                     dvz * (uz + 0.5 * dvz) +
+                                     (gxa * (tau * dvx - ex) + gya * (tau * dvy - ey) +
+                                      gza * (tau * dvz - ez))
+                               : 0.0;
                 x[p] = leap ? xn : x[p];
                 y[p] = leap ? yn : y[p];
                 z[p] = leap ? zn : z[p];
-                vx[p] = leap ? ux + dvx : ux;
-                vy[p] = leap ? uy + dvy : uy;
-                vz[p] = leap ? uz + dvz : uz;
-                fx[p] = leap ? 0.0 : fx[p];
-                fy[p] = leap ? 0.0 : fy[p];
-                fz[p] = leap ? 0.0 : fz[p];
+                vx[p] = leap ? ux + dvx + gxa * tau : ux;
+                vy[p] = leap ? uy + dvy + gya * tau : uy;
+                vz[p] = leap ? uz + dvz + gza * tau : uz;
+                fx[p] = leap ? mgx : fx[p];
+                fy[p] = leap ? mgy : fy[p];
+                fz[p] = leap ? mgz : fz[p];
                 gx[p] = leap ? 0.0 : gx[p];
                 gy[p] = leap ? 0.0 : gy[p];
                 gz[p] = leap ? 0.0 : gz[p];
@@ -160,17 +173,19 @@ double gr_hy_leap_free(gr_sim *s, gr_hybrid_state *h, int m)
                 const double g1 = ff[4 * p], g2 = ff[4 * p + 1], h1 = ff[4 * p + 2],
                              h2 = ff[4 * p + 3];
                 const double ux = vx[p], uy = vy[p], dvx = c1 * g1, dvy = c1 * h1;
-                double xn = x[p] + ux * tau + (c21 * g1 + c22 * g2),
-                       yn = y[p] + uy * tau + (c21 * h1 + c22 * h2);
+                const double ex = c21 * g1 + c22 * g2, ey = c21 * h1 + c22 * h2;
+                double xn = x[p] + ux * tau + ex + hx, yn = y[p] + uy * tau + ey + hy;
                 xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
                 yn += yn < 0.0 ? L : (yn >= L ? -L : 0.0);
-                adl[l] += leap ? dvx * (ux + 0.5 * dvx) + dvy * (uy + 0.5 * dvy) : 0.0;
+                adl[l] += leap ? dvx * (ux + 0.5 * dvx) + dvy * (uy + 0.5 * dvy) +
+                                     (gxa * (tau * dvx - ex) + gya * (tau * dvy - ey))
+                               : 0.0;
                 x[p] = leap ? xn : x[p];
                 y[p] = leap ? yn : y[p];
-                vx[p] = leap ? ux + dvx : ux;
-                vy[p] = leap ? uy + dvy : uy;
-                fx[p] = leap ? 0.0 : fx[p];
-                fy[p] = leap ? 0.0 : fy[p];
+                vx[p] = leap ? ux + dvx + gxa * tau : ux;
+                vy[p] = leap ? uy + dvy + gya * tau : uy;
+                fx[p] = leap ? mgx : fx[p];
+                fy[p] = leap ? mgy : fy[p];
                 gx[p] = leap ? 0.0 : gx[p];
                 gy[p] = leap ? 0.0 : gy[p];
             }
