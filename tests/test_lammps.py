@@ -23,7 +23,7 @@ import granule
 
 exe, src = sys.argv[1], sys.argv[2]
 sys.path.insert(0, os.path.join(src, "bench"))
-from lmp_env import fast_mpi_start  # noqa: E402
+from lmp_env import fast_mpi_start, run_lmp  # noqa: E402
 
 fast_mpi_start()  # an lmp start in 0.04 s instead of 0.5 (bench/lmp_env.py)
 lmp = next((shutil.which(b) for b in ("lmp", "lmp_serial", "lmp_mpi") if shutil.which(b)), None)
@@ -59,9 +59,9 @@ def block_mean(per_frame, blocks=10):
 with tempfile.TemporaryDirectory() as tmp:
     lmpdir, rundir = os.path.join(tmp, "lammps"), os.path.join(tmp, "granule")
     subprocess.run([exe, "export", "lammps", scene_path, "--out", lmpdir] + set_args, check=True)
-    r = subprocess.run(ranks + [lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
+    r = run_lmp(ranks + [lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
     if r.returncode != 0:
-        print(open(os.path.join(lmpdir, "log.lammps")).read()[-2000:])
+        print(r.stdout[-1000:], r.stderr[-2000:], open(os.path.join(lmpdir, "log.lammps")).read()[-2000:] if os.path.exists(os.path.join(lmpdir, "log.lammps")) else "(no log.lammps)")
         sys.exit("LAMMPS failed on the exported deck")
     dump = os.path.join(lmpdir, "dump.granule.lammpstrj")
     subprocess.run([exe, "analyse", "--lammps-dump", dump], check=True)
@@ -130,9 +130,9 @@ with tempfile.TemporaryDirectory() as tmp:
     subprocess.run([exe, "export", "lammps", bath_scene, "--out", lmpdir] + bath_args, check=True)
     if "fix bath all langevin" not in open(os.path.join(lmpdir, "in.granule")).read():
         failures.append("langevin: no fix langevin in the deck")
-    r = subprocess.run(ranks + [lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
+    r = run_lmp(ranks + [lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
     if r.returncode != 0:
-        print(open(os.path.join(lmpdir, "log.lammps")).read()[-2000:])
+        print(r.stdout[-1000:], r.stderr[-2000:], open(os.path.join(lmpdir, "log.lammps")).read()[-2000:] if os.path.exists(os.path.join(lmpdir, "log.lammps")) else "(no log.lammps)")
         sys.exit("LAMMPS failed on the exported Langevin deck")
     subprocess.run([exe, "analyse", "--lammps-dump", os.path.join(lmpdir, "dump.granule.lammpstrj")], check=True)
     subprocess.run([exe, "run", bath_scene, "--out", rundir] + bath_args, check=True)
@@ -158,9 +158,9 @@ with tempfile.TemporaryDirectory() as tmp:
     deck = open(os.path.join(lmpdir, "in.granule")).read()
     if "dimension 3" not in deck or "v_fz" not in deck or "enforce2d" in deck:
         failures.append("3D deck: dimension 3, a z noise component, no enforce2d")
-    r = subprocess.run(ranks + [lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
+    r = run_lmp(ranks + [lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
     if r.returncode != 0:
-        print(open(os.path.join(lmpdir, "log.lammps")).read()[-2000:])
+        print(r.stdout[-1000:], r.stderr[-2000:], open(os.path.join(lmpdir, "log.lammps")).read()[-2000:] if os.path.exists(os.path.join(lmpdir, "log.lammps")) else "(no log.lammps)")
         sys.exit("LAMMPS failed on the exported 3D deck")
     subprocess.run([exe, "run", scene3, "--out", rundir] + args3, check=True)
     t_warm = sets3["run.warmup"] * (1 + 1e-12)
@@ -231,9 +231,9 @@ for mix_scene, tangential in (("bidisperse-mixture.ini", None), ("bidisperse-mix
                 and all(f"pair_coeff {a} {b} hooke 5000 " in deck for a, b in ((1, 1), (1, 2), (2, 2)))
                 and (deck.count(" 10000\n") == 3) == bool(tangential)):
             failures.append(f"{label} deck: 2 atom types, set type masses, one pair_coeff per species pair")
-        r = subprocess.run([lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
+        r = run_lmp([lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
         if r.returncode != 0:
-            print(open(os.path.join(lmpdir, "log.lammps")).read()[-2000:])
+            print(r.stdout[-1000:], r.stderr[-2000:], open(os.path.join(lmpdir, "log.lammps")).read()[-2000:] if os.path.exists(os.path.join(lmpdir, "log.lammps")) else "(no log.lammps)")
             sys.exit(f"LAMMPS failed on the exported {label}'s deck")
         subprocess.run([exe, "run", os.path.join(lmpdir, "scene.ini"), "--out", rundir, "--quiet"], check=True)
         fr_g = granule.read_snapshots(rundir)
