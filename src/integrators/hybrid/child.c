@@ -82,7 +82,9 @@ static void load(gr_sim *s, gr_hybrid_state *h, gr_sim *c)
         }
     }
     double *sw[3], *st[3], *cw[3], *ct[3];
-    for (int a = 0, nw = gr_hy_spins(s, sw, st); a < nw && gr_hy_spins(c, cw, ct); a++) {
+    const int nw = gr_hy_spins(s, sw, st);
+    gr_hy_spins(c, cw, ct); /* the child rotates as the parent does (its parameters) */
+    for (int a = 0; a < nw; a++) {
         for (int q = 0; q < na; q++) {
             cw[a][q] = sw[a][h->list[q]];
             ct[a][q] = st[a][h->list[q]];
@@ -472,7 +474,9 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
         }
     }
     double *sw[3], *st[3], *cw[3], *ct[3];
-    for (int a = 0, nw = gr_hy_spins(s, sw, st); a < nw && gr_hy_spins(c, cw, ct); a++) {
+    const int nw = gr_hy_spins(s, sw, st);
+    gr_hy_spins(c, cw, ct);
+    for (int a = 0; a < nw; a++) {
         for (int q = 0; q < na; q++) {
             sw[a][h->list[q]] = cw[a][q];
             st[a][h->list[q]] = ct[a][q];
