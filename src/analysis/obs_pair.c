@@ -54,6 +54,7 @@
 #include <string.h>
 
 #include "analysis/obs_cells.h"
+#include "analysis/obs_pair_species.h"
 #include "analysis/obs_util.h"
 #include "io/plot.h"
 #include "granule/analysis.h"
@@ -107,8 +108,10 @@ typedef struct pair {
     int nox, noy; /* distinct cell offsets per axis */
     int off[2 * CELL_DIV + 1];
     double *xs, *ys; /* wrapped positions sorted by cell */
+    int *sps;        /* a mixture's species in the same order (NULL for one species) */
     int *cell_of, *cell_start, *cell_fill;
     gr_cells cells3; /* 3D: the shared cell list */
+    pair_species sp; /* a mixture of species lists: g_ab(R) (obs_pair_species.c) */
 } pair;
 
 /* L^2 in 2D, L^3 in 3D */
@@ -169,7 +172,7 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     s->total = gr_obs_calloc(s, nb, sizeof(double));
     s->batch = gr_obs_calloc(s, nb * N_BATCH, sizeof(double));
     /* the cell list, allocated at the first frame */
-    void *cells[] = {&s->xs, &s->ys, &s->cell_of, &s->cell_start, &s->cell_fill};
+    void *cells[] = {&s->xs, &s->ys, &s->sps, &s->cell_of, &s->cell_start, &s->cell_fill};
     for (size_t k = 0; k < sizeof cells / sizeof cells[0]; k++) {
         gr_obs_own_pointer(s, cells[k]);
     }
@@ -184,7 +187,7 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     }
     s->tail_from = (int)floor(TAIL_FROM_FRAC * s->nbins);
     s->batch_len = 1;
-    return GR_OK;
+    return pair_species_init(s, &s->sp, setup, s->nbins, s->width, box_volume(s), err);
 }
 
 /* Cells of side L/M >= R_max / CELL_DIV (with a margin against rounding in the cell index), at
@@ -214,14 +217,17 @@ static int build_cells(pair *s, gr_error *err)
     s->cell_of = malloc(sizeof(int) * n);
     s->cell_start = malloc(sizeof(int) * (nc + 1));
     s->cell_fill = malloc(sizeof(int) * nc);
-    if (!s->xs || !s->ys || !s->cell_of || !s->cell_start || !s->cell_fill) {
+    s->sps = s->sp.ns ? malloc(sizeof(int) * n) : NULL;
+    if (!s->xs || !s->ys || !s->cell_of || !s->cell_start || !s->cell_fill ||
+        (s->sp.ns && !s->sps)) {
         free(s->xs);
         free(s->ys);
+        free(s->sps);
         free(s->cell_of);
         free(s->cell_start);
         free(s->cell_fill);
         s->xs = s->ys = NULL;
-        s->cell_of = s->cell_start = s->cell_fill = NULL;
+        s->sps = s->cell_of = s->cell_start = s->cell_fill = NULL;
         return GR_FAIL(err, GR_ENOMEM, "pair: out of memory for the cell list of %d particles",
                        s->N);
     }
@@ -253,13 +259,15 @@ static inline double min_image(double dx, double L)
 
 /* All pairs of cell a (particles [a0, a1)) with cell b (particles [b0, b1)), or within a when
  * same. Unaliased stencil: cell b's image next to a is b shifted by (sx, sy) (0 or +-L), which is
- * the minimum image for every pair closer than R_max; aliased: minimum image per pair. */
+ * the minimum image for every pair closer than R_max; aliased: minimum image per pair. A mixture
+ * (s->sps) counts each pair into its kind's histogram, count[kind * nbins + bin]. */
 static void count_cells(const pair *s, int64_t *count, int a0, int a1, int b0, int b1, bool same,
                         double sx, double sy, bool aliased)
 {
     const double L = s->L, r2max = s->R_max * s->R_max, inv = s->inv_width;
     const int last = s->nbins - 1;
     const double *xs = s->xs, *ys = s->ys;
+    const int *sps = s->sps;
     for (int i = a0; i < a1; i++) {
         double xi = xs[i] - sx, yi = ys[i] - sy;
         for (int j = same ? i + 1 : b0; j < b1; j++) {
@@ -271,7 +279,8 @@ static void count_cells(const pair *s, int64_t *count, int a0, int a1, int b0, i
             double r2 = dx * dx + dy * dy;
             if (r2 < r2max) {
                 int b = (int)(sqrt(r2) * inv);
-                count[b < last ? b : last]++;
+                b = b < last ? b : last;
+                count[sps ? pair_species_kind(&s->sp, sps[i], sps[j]) * s->nbins + b : b]++;
             }
         }
     }
@@ -305,12 +314,15 @@ static void batch_add(pair *s, const double *c)
 
 static void count_3d(int i, int j, const double dr[3], double r2, void *user)
 {
-    (void)i;
-    (void)j;
     (void)dr;
     pair *s = user;
     int b = (int)(sqrt(r2) * s->inv_width);
-    s->frame_count[b < s->nbins - 1 ? b : s->nbins - 1]++;
+    b = b < s->nbins - 1 ? b : s->nbins - 1;
+    s->frame_count[b]++;
+    if (s->sp.ns) {
+        int k = pair_species_kind(&s->sp, s->sp.species[i], s->sp.species[j]);
+        s->sp.frame_count[(size_t)k * (size_t)s->nbins + (size_t)b]++;
+    }
 }
 
 static void frame_done(pair *s);
@@ -343,11 +355,15 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
                        "pair: frame has N = %d, L = %.10g but the scene has N = %d, L = %.10g",
                        p->n, p->L, s->N, s->L);
     }
+    int rc = pair_species_begin(&s->sp, p, err);
+    if (rc) {
+        return rc;
+    }
     if (s->dim == 3) {
         return sample_3d(s, p, err);
     }
     if (!s->xs) {
-        int rc = build_cells(s, err);
+        rc = build_cells(s, err);
         if (rc) {
             return rc;
         }
@@ -376,6 +392,9 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         int k = s->cell_fill[s->cell_of[i]]++;
         s->xs[k] = wrap(p->x[i], L);
         s->ys[k] = wrap(p->y[i], L);
+        if (s->sps) {
+            s->sps[k] = s->sp.species[i];
+        }
     }
     /* every unordered pair of neighbouring cells once (cell b > cell a), and each cell with itself;
      * rows of cells shared by the threads, each counting into its own histogram (integer counts:
@@ -386,7 +405,8 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     const int T = n >= 4096 ? gr_get_threads() : 1;
 #pragma omp parallel num_threads(T) if (T > 1)
     {
-        int64_t *count = calloc((size_t)s->nbins, sizeof(int64_t));
+        const size_t kinds = s->sps ? (size_t)s->sp.nk : 1; /* a mixture: per kind */
+        int64_t *count = calloc(kinds * (size_t)s->nbins, sizeof(int64_t));
 #pragma omp for schedule(dynamic, 1)
         for (int cy = 0; cy < M; cy++) {
             if (!count) {
@@ -417,8 +437,11 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 #pragma omp critical(gr_pair_count)
         {
             if (count) {
-                for (int b = 0; b < s->nbins; b++) {
-                    s->frame_count[b] += count[b];
+                for (size_t q = 0; q < kinds * (size_t)s->nbins; q++) {
+                    s->frame_count[q % (size_t)s->nbins] += count[q];
+                    if (s->sps) {
+                        s->sp.frame_count[q] += count[q];
+                    }
                 }
             } else {
                 oom = true;
@@ -454,6 +477,7 @@ static void frame_done(pair *s)
         }
     }
     gr_blocking_add(&s->tail_blk, tail_pairs / (norm * tail_area));
+    pair_species_end(&s->sp, s->area);
     batch_add(s, s->c_frame);
     s->frames++;
 }
@@ -797,6 +821,9 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     }
     write_summary(s, &r, j);
     rc = gr_obs_table_write(out, &t, err);
+    if (!rc) {
+        rc = pair_species_finish(&s->sp, out, j, s->d, s->area, err);
+    }
     if (!rc && out->plots) {
         write_plots(s, &r, out);
     }
@@ -829,6 +856,7 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
                         (long long)n_full, (long long)s->batch_fill, (long long)s->batch_len);
     }
     s->n_full = (int)n_full;
+    pair_species_io(&s->sp, io);
     return GR_OK;
 }
 
