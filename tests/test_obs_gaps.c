@@ -521,8 +521,19 @@ START_TEST(test_mixture_rods_own_lengths)
         x[i] = x[i - 1] + r[i - 1] + g[i - 1] + r[i];
     }
     /* the last gap closes the ring: x[0] + L - x[N-1] = r[N-1] + g[N-1] + r[0] */
-    const gr_particles p = {
-        .n = N, .dim = 1, .L = s.L, .radius = 3e-3, .mass = s.mass, .x = x, .radii = r};
+    int sp[N];
+    for (int i = 0; i < N; i++) {
+        sp[i] = i % 2;
+    }
+    const gr_particles p = {.n = N,
+                            .dim = 1,
+                            .L = s.L,
+                            .radius = 3e-3,
+                            .mass = s.mass,
+                            .x = x,
+                            .radii = r,
+                            .species = sp,
+                            .n_species = 2};
     ck_assert_int_eq(sample_rc(st, &p), GR_OK);
     result res;
     finish_ok(st, &s, false, &res);
@@ -535,6 +546,14 @@ START_TEST(test_mixture_rods_own_lengths)
         m2 += g[i] * g[i] / N;
     }
     ck_assert_double_eq_tol(moment_row(&res, 1, 2)->moment, m2, 1e-15);
+    /* per species: the rods alternate, so every neighbour pair is of kind 1-2 and carries all */
+    const cJSON *kinds = cJSON_GetObjectItem(res.gaps, "species_neighbours"),
+                *mean = cJSON_GetObjectItem(res.gaps, "species_mean_R");
+    ck_assert_int_eq(cJSON_GetArraySize(kinds), 3);
+    ck_assert_double_eq(cJSON_GetArrayItem(kinds, 0)->valuedouble, 0.0);
+    ck_assert_double_eq(cJSON_GetArrayItem(kinds, 1)->valuedouble, N);
+    ck_assert(cJSON_IsNull(cJSON_GetArrayItem(mean, 0)));
+    ck_assert_double_eq_tol(cJSON_GetArrayItem(mean, 1)->valuedouble, Lr / N, 1e-15);
     result_free(&res);
 }
 END_TEST

@@ -49,7 +49,7 @@ dur=0.3 beddur=0.04
 [[ $quick == 1 ]] && dur=0.05 beddur=0.01
 run gas "$src/docs/scenes/bidisperse-mixture.ini" --set output.plots=false --set run.warmup=0.1 \
     --set run.duration=$dur --set analysis.profile_bins=1 \
-    --set analysis.observables=species,profile,moments,pv,msd,vacf,collisions,postcollision,pressure,freepath,pair
+    --set analysis.observables=species,profile,moments,pv,msd,vacf,collisions,postcollision,pressure,freepath,pair,clusters
 python3 - "$tmp/gas" "$quick" <<'PY' || fail "the gas's observables"
 import csv, json, math, sys
 d, quick = sys.argv[1], sys.argv[2] == "1"
@@ -183,6 +183,17 @@ good &= ps["pairs"] == ["1-1", "1-2", "2-2"] and all(abs(x - 3e-3) < 1e-15 for x
 print(f"pair_species.csv: {len(per)} bins, the kinds' pairs and weighted g add up to pair.csv's; "
       f"contact values {ps['contact_value']}" + ("" if good else "  <- FAIL"))
 ok &= good
+# clusters per species: weighted by N_s / N, the species' fractions of grains in clusters of two or
+# more are 1 - clusters.csv's fraction of singletons, and their mean cluster sizes seen by a grain
+# are sum_s s (fraction in clusters of size s)
+rows = list(csv.DictReader(open(d + "/clusters.csv")))
+for k in ("contact", "density"):
+    o = a["clusters"][k]
+    single = sum(float(r[k + "_fraction"]) for r in rows if r["size"] == "1")
+    seen = sum(int(r["size"]) * float(r[k + "_fraction"]) for r in rows)
+    close(sum(o["species_fraction_clustered"]) / 2, 1 - single, 1e-6, f"clusters ({k}): species clustered")
+    close(sum(o["species_mean_size_seen"]) / 2, seen, 1e-6, f"clusters ({k}): species' sizes seen")
+    ok &= o["species_fraction_clustered"][0] > 0 and o["species_mean_size_seen_error"][1] > 0
 sys.exit(0 if ok else 1)
 PY
 
@@ -305,7 +316,7 @@ grep -q "T per component (J)" "$tmp/dist/profile.gp" || fail "a distribution's p
 # by GRANULE_TEST_PAUSE_AT_STEP), --resume, and every CSV equals the uninterrupted run's
 short=(--set output.plots=false --set system.N=200 --set run.warmup=0.01 --set run.duration=0.06
     --set analysis.profile_bins=4
-    --set analysis.observables=species,profile,moments,collisions,postcollision,msd,vacf,pv,freepath,pair)
+    --set analysis.observables=species,profile,moments,collisions,postcollision,msd,vacf,pv,freepath,pair,clusters)
 run straight "$src/docs/scenes/bidisperse-mixture.ini" "${short[@]}"
 GRANULE_TEST_PAUSE_AT_STEP=3000 OMP_NUM_THREADS=1 "$granule" run "$src/docs/scenes/bidisperse-mixture.ini" \
     --out "$tmp/term" --set output.snapshot_every=0 --set run.checkpoint_every=0.01 "${short[@]}" \
@@ -322,7 +333,7 @@ rc=$?
 OMP_NUM_THREADS=1 "$granule" run --resume "$tmp/term" >"$tmp/resume.log" 2>&1 ||
     { cat "$tmp/resume.log" >&2; fail "resume of a mixture's profile"; }
 for f in profile.csv species.csv moments.csv moments_species.csv collisions.csv postcollision.csv \
-    msd.csv vacf.csv temperature.csv freepath.csv pair.csv pair_species.csv; do
+    msd.csv vacf.csv temperature.csv freepath.csv pair.csv pair_species.csv clusters.csv; do
     cmp -s "$tmp/straight/$f" "$tmp/term/$f" || fail "$f differs after SIGTERM and --resume"
 done
 python3 - "$tmp/straight/summary.json" "$tmp/term/summary.json" <<'PY' || fail "summary.json's analysis differs after --resume"
@@ -387,6 +398,24 @@ print(f"Z - 1: from the contact values {zg:.4f} +- {zge:.4f}, the pressure's vir
 sys.exit(0 if ok and good else 1)
 PY
 fi
+
+# gaps on a ring of two species (1D): the nearest-neighbour separations split by the kind of the
+# pair add up, weighted by the kinds' pair counts, to gaps_moments.csv's <R> and <R^2> of h = 1, and
+# the counts to N
+run ring "$src/docs/scenes/demo-1d.ini" --set output.plots=false --set 'species.radius=1.5e-3, 1.5e-3' \
+    --set 'species.mass=3.53e-5, 1.412e-4' --set 'species.fraction=0.5, 0.5' --set run.warmup=0.05 \
+    --set run.duration=0.2 --set analysis.observables=gaps
+python3 - "$tmp/ring" <<'PY' || fail "gaps per species on a ring"
+import csv, json, sys
+g = json.load(open(sys.argv[1] + "/summary.json"))["analysis"]["gaps"]
+mom = {(r["h"], r["m"]): float(r["moment"]) for r in csv.DictReader(open(sys.argv[1] + "/gaps_moments.csv"))}
+c = g["species_neighbours"]
+assert g["species_pairs"] == ["1-1", "1-2", "2-2"] and sum(c) == g["N"], g
+for m, key in ((1, "species_mean_R"), (2, "species_mean_R2")):
+    pooled = sum(n * v for n, v in zip(c, g[key])) / g["N"]
+    assert abs(pooled / mom[("1", str(m))] - 1) < 1e-9, (m, pooled, mom[("1", str(m))])
+    print(f"gaps: the kinds' <R^{m}> weighted by their {c} pairs = {pooled:.6g} (gaps_moments.csv)")
+PY
 
 # one species: profile.csv as at the branch point (the sha256 recorded there, release pass: the
 # sanitizer build may round differently)

@@ -10,7 +10,12 @@
  * chain is one cluster of N; particles further apart than the threshold are N
  * singletons. On a mixture (species lists or a radius distribution) grains i and j touch at
  * r_i + r_j and the density threshold is cluster_distance (r_i + r_j): the pairs are searched out to
- * the largest pair's distance and each is judged at its own. */
+ * the largest pair's distance and each is judged at its own. With species lists each species'
+ * grains are also followed (summary clusters.<kind>.species_*): per frame the fraction of the
+ * species' grains in a cluster of two or more, and the mean size of the cluster a grain of the
+ * species belongs to, each time-averaged with block-averaging errors. Weighted by N_s / N they are
+ * the same quantities of all grains; a species more often clustered than the others, or in larger
+ * clusters, shows up there (segregation by cluster). */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdlib.h>
@@ -44,6 +49,12 @@ typedef struct clusters {
     gr_blocking mean_size[KINDS], largest[KINDS], count[KINDS];
     gr_cells cells;
     int64_t frames;
+    /* species lists (ns >= 2; 0 otherwise): each grain's species, grains per species, and per kind
+     * and species the per-frame fraction clustered and mean cluster size seen by a grain */
+    int ns;
+    int *species;
+    int N_s[GR_MAX_SPECIES];
+    gr_blocking clustered[KINDS][GR_MAX_SPECIES], seen[KINDS][GR_MAX_SPECIES];
 } clusters;
 
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
@@ -63,6 +74,10 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
         c->hist[k] = gr_obs_calloc(c, (size_t)c->n + 1, sizeof(double));
     }
     gr_cells_own(c, &c->cells);
+    if (setup->n_species >= 2 && setup->n_species <= GR_MAX_SPECIES) {
+        c->ns = setup->n_species;
+        c->species = gr_obs_calloc(c, (size_t)c->n, sizeof(int));
+    }
     return GR_OK;
 }
 
@@ -131,6 +146,20 @@ static int frame(clusters *c, const gr_particles *p, int k, gr_error *err)
     gr_blocking_add(&c->count[k], n_clusters);
     gr_blocking_add(&c->mean_size[k], (double)c->n / n_clusters);
     gr_blocking_add(&c->largest[k], largest);
+    if (c->ns) { /* each species: grains in a cluster of two or more, the size a grain sees */
+        double clustered[GR_MAX_SPECIES] = {0}, seen[GR_MAX_SPECIES] = {0};
+        for (int i = 0; i < c->n; i++) {
+            const int sz = c->size[root(c->parent, i)];
+            clustered[c->species[i]] += sz >= 2;
+            seen[c->species[i]] += sz;
+        }
+        for (int a = 0; a < c->ns; a++) {
+            if (c->N_s[a] > 0) {
+                gr_blocking_add(&c->clustered[k][a], clustered[a] / c->N_s[a]);
+                gr_blocking_add(&c->seen[k][a], seen[a] / c->N_s[a]);
+            }
+        }
+    }
     return GR_OK;
 }
 
@@ -139,6 +168,15 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     (void)t;
     clusters *c = state;
     int bad = gr_obs_check_frame("clusters", p, c->n, err);
+    if (!bad && c->ns) {
+        bad = gr_obs_frame_species("clusters", p, c->ns, c->n, c->species, err);
+        for (int a = 0; !bad && a < c->ns; a++) {
+            c->N_s[a] = 0;
+        }
+        for (int i = 0; !bad && i < c->n; i++) {
+            c->N_s[c->species[i]]++;
+        }
+    }
     if (bad) {
         return bad;
     }
@@ -179,6 +217,26 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         gr_obs_add_number(o, "mean_size_error", gr_obs_stderr(&c->mean_size[k]));
         gr_obs_add_number(o, "largest", gr_blocking_mean(&c->largest[k]));
         gr_obs_add_number(o, "largest_error", gr_obs_stderr(&c->largest[k]));
+        if (c->ns) {
+            const char *name[4] = {"species_fraction_clustered", "species_fraction_clustered_error",
+                                   "species_mean_size_seen", "species_mean_size_seen_error"};
+            for (int q = 0; q < 4; q++) {
+                cJSON *arr = cJSON_AddArrayToObject(o, name[q]);
+                for (int a = 0; a < c->ns; a++) {
+                    const gr_blocking *b = q < 2 ? &c->clustered[k][a] : &c->seen[k][a];
+                    double v = q % 2 ? gr_obs_stderr(b) : gr_blocking_mean(b);
+                    cJSON_AddItemToArray(arr,
+                                         isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull());
+                }
+            }
+        }
+    }
+    if (c->ns) {
+        cJSON_AddStringToObject(
+            j, "species_definition",
+            "per species s and frame: the fraction of its grains in a cluster "
+            "of two or more, and the mean size of the cluster one of its grains "
+            "is in; time averages with block-averaging errors");
     }
     const gr_obs_table t = {
         .name = "clusters.csv",
@@ -213,6 +271,10 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
         gr_obs_io_blockings(io, &c->mean_size[k], 1);
         gr_obs_io_blockings(io, &c->largest[k], 1);
         gr_obs_io_blockings(io, &c->count[k], 1);
+        if (c->ns) { /* a mixture's (one species: the checkpoint as before) */
+            gr_obs_io_blockings(io, c->clustered[k], c->ns);
+            gr_obs_io_blockings(io, c->seen[k], c->ns);
+        }
     }
     return GR_OK;
 }

@@ -25,7 +25,11 @@
  *
  * On a mixture (rods of their own lengths 2 r_i) the reduced coordinates remove each rod's own
  * length: s_i = ((x_{i+1} - x_i) mod L) - (r_i + r_{i+1}) and L' = L - sum_i 2 r_i, so (3.19) holds
- * as before; G_h is then that of the free ring of the mixture.
+ * as before; G_h is then that of the free ring of the mixture. With species lists the nearest-
+ * neighbour separations R_{i,i+1} are also split by the kind of the pair (species a <= b of grains
+ * i and i+1): per frame the number of such neighbour pairs and their mean R and R^2, time-averaged
+ * with block-averaging errors (summary gaps.species_*). Weighted by the pair counts they are the
+ * pooled <R> and <R^2> of h = 1; rods do not pass each other, so the counts are the placement's.
  *
  * Overlaps: soft particles in contact overlap by delta > 0, giving s_i = -delta < 0. Following
  * (3.17) literally the separation is |s_i| = delta (tiny against L'/N for stiff springs); then
@@ -85,6 +89,12 @@ typedef struct gaps {
     gr_blocking signed_mean;       /* per-frame (1/N) sum s_i = L'/N (3.19) */
     double overlaps;               /* neighbour pairs with s_i < 0, summed over frames */
     double r1_min, r1_max;         /* extremes of R_{i,i+1} */
+    /* species lists (ns >= 2; 0 otherwise): grain species, and per neighbour kind a <= b (index
+     * a * ns + b) the per-frame pair count, mean R and mean R^2 of h = 1 */
+    int ns;
+    int *species;
+    gr_blocking kind_count[GR_MAX_SPECIES * GR_MAX_SPECIES],
+        kind_R[GR_MAX_SPECIES * GR_MAX_SPECIES], kind_R2[GR_MAX_SPECIES * GR_MAX_SPECIES];
 } gaps;
 
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
@@ -135,6 +145,10 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
     g->lin = gr_obs_calloc(g, (size_t)g->h_max, sizeof *g->lin);
     g->lg = g->log_bins ? gr_obs_calloc(g, (size_t)g->h_max, sizeof *g->lg) : NULL;
     g->mom = gr_obs_calloc(g, (size_t)g->h_max, sizeof *g->mom);
+    if (setup->n_species >= 2 && setup->n_species <= GR_MAX_SPECIES) {
+        g->ns = setup->n_species;
+        g->species = gr_obs_calloc(g, (size_t)g->n, sizeof(int));
+    }
     if (!g->s || !g->acc || !g->lin || (g->log_bins && !g->lg) || !g->mom) {
         return GR_FAIL(err, GR_ENOMEM, "gaps: out of memory for N = %d, h_max = %d", setup->N,
                        a->gaps_h_max);
@@ -150,6 +164,32 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
         }
     }
     return GR_OK;
+}
+
+/* A mixture's frame: the nearest-neighbour separations |s_i| by the kind of the pair (i, i + 1). */
+static void species_frame(gaps *g)
+{
+    const int n = g->n, ns = g->ns;
+    double cnt[GR_MAX_SPECIES * GR_MAX_SPECIES] = {0}, r1[GR_MAX_SPECIES * GR_MAX_SPECIES] = {0},
+                                r2[GR_MAX_SPECIES * GR_MAX_SPECIES] = {0};
+    for (int i = 0; i < n; i++) {
+        int a = g->species[i], b = g->species[i + 1 < n ? i + 1 : 0];
+        const int k = a < b ? a * ns + b : b * ns + a;
+        const double R = fabs(g->s[i]);
+        cnt[k] += 1.0;
+        r1[k] += R;
+        r2[k] += R * R;
+    }
+    for (int a = 0; a < ns; a++) {
+        for (int b = a; b < ns; b++) {
+            const int k = a * ns + b;
+            gr_blocking_add(&g->kind_count[k], cnt[k]);
+            if (cnt[k] > 0.0) { /* a kind absent from the ring has no mean */
+                gr_blocking_add(&g->kind_R[k], r1[k] / cnt[k]);
+                gr_blocking_add(&g->kind_R2[k], r2[k] / cnt[k]);
+            }
+        }
+    }
 }
 
 static int sample(void *state, const gr_particles *p, double t, gr_error *err)
@@ -176,6 +216,12 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     }
     const int n = p->n;
     const double *x = p->x;
+    if (g->ns) {
+        int rc = gr_obs_frame_species("gaps", p, g->ns, n, g->species, err);
+        if (rc) {
+            return rc;
+        }
+    }
     /* centre distances modulo L (unwrapped or wrapped positions alike); s_i = r'_{i+1} - r'_i */
     double wound = 0.0, signed_sum = 0.0;
     int overlaps = 0;
@@ -234,6 +280,9 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         }
     }
     gr_blocking_add(&g->signed_mean, signed_sum / n);
+    if (g->ns) {
+        species_frame(g);
+    }
     g->overlaps += overlaps;
     g->frames++;
     return GR_OK;
@@ -241,6 +290,38 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
 
 /* A number, or null when it is not finite (e.g. an error bar from too few samples). */
 static cJSON *num(double v) { return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull(); }
+
+/* summary gaps.species_*: each neighbour kind's pairs per frame, <R> and <R^2> with errors */
+static void species_summary(const gaps *g, cJSON *j)
+{
+    cJSON *kinds = cJSON_AddArrayToObject(j, "species_pairs");
+    const char *name[6] = {"species_neighbours", "species_mean_R",        "species_mean_R_error",
+                           "species_mean_R2",    "species_mean_R2_error", "species_R_over_mean"};
+    cJSON *arr[6];
+    for (int q = 0; q < 6; q++) {
+        arr[q] = cJSON_AddArrayToObject(j, name[q]);
+    }
+    for (int a = 0; a < g->ns; a++) {
+        for (int b = a; b < g->ns; b++) {
+            const int k = a * g->ns + b;
+            char label[32];
+            snprintf(label, sizeof label, "%d-%d", a + 1, b + 1);
+            cJSON_AddItemToArray(kinds, cJSON_CreateString(label));
+            const double R = gr_blocking_mean(&g->kind_R[k]);
+            cJSON_AddItemToArray(arr[0], num(gr_blocking_mean(&g->kind_count[k])));
+            cJSON_AddItemToArray(arr[1], num(R));
+            cJSON_AddItemToArray(arr[2], num(gr_obs_stderr(&g->kind_R[k])));
+            cJSON_AddItemToArray(arr[3], num(gr_blocking_mean(&g->kind_R2[k])));
+            cJSON_AddItemToArray(arr[4], num(gr_obs_stderr(&g->kind_R2[k])));
+            cJSON_AddItemToArray(arr[5], num(R / g->mean));
+        }
+    }
+    cJSON_AddStringToObject(j, "species_definition",
+                            "nearest neighbours (h = 1) split by the species a <= b of the pair: "
+                            "pairs per frame, and per frame the mean R and R^2 over them (m, m^2), "
+                            "time-averaged with block-averaging errors; R_over_mean = <R>_ab / "
+                            "(L'/N)");
+}
 
 /* The neighbour orders drawn in the plots: 1..4, then powers of two, and h_max. */
 static int plot_orders(int h_max, int *hs)
@@ -422,6 +503,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     cJSON_AddStringToObject(j, "moments_file", "gaps_moments.csv");
     if (g->frames == 0) {
         cJSON_AddStringToObject(j, "note", "no samples");
+    } else if (g->ns) {
+        species_summary(g, j);
     }
 
     /* ---- gaps.csv: every G_h in every binning ---- */
@@ -550,6 +633,12 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
     gr_blob_io_f64(io, &g->overlaps);
     gr_blob_io_f64(io, &g->r1_min);
     gr_blob_io_f64(io, &g->r1_max);
+    if (g->ns) { /* a mixture's (one species: the checkpoint as before) */
+        const int kinds = g->ns * g->ns;
+        gr_obs_io_blockings(io, g->kind_count, kinds);
+        gr_obs_io_blockings(io, g->kind_R, kinds);
+        gr_obs_io_blockings(io, g->kind_R2, kinds);
+    }
     return GR_OK;
 }
 

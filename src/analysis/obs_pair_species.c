@@ -133,10 +133,10 @@ void pair_species_io(pair_species *s, gr_blob_io *io)
 
 typedef struct kind_result {
     int a, b;
-    double sigma;           /* contact distance r_a + r_b (m) */
+    double sigma; /* contact distance r_a + r_b (m) */
     double contact, contact_error;
-    int contact_bins;       /* bins of the contact fit (< 3: no value) */
-    int peak;               /* bin of the first peak */
+    int contact_bins; /* bins of the contact fit (< 3: no value) */
+    int peak;         /* bin of the first peak */
 } kind_result;
 
 typedef struct species_result {
@@ -196,7 +196,8 @@ static int compute(const pair_species *s, const double *area, species_result *r,
             for (int q = 0; q < s->nbins; q++) {
                 const size_t at = (size_t)k * (size_t)s->nbins + (size_t)q;
                 g[q] = gr_blocking_mean(&s->g_blk[at]);
-                ge[q] = norm > 0.0 ? bin_error(s, &s->g_blk[at], s->total[at], norm, area[q]) : (double)NAN;
+                ge[q] = norm > 0.0 ? bin_error(s, &s->g_blk[at], s->total[at], norm, area[q])
+                                   : (double)NAN;
             }
             kind_result *kr = &r->kind[k];
             kr->a = a;
@@ -248,9 +249,8 @@ static void write_summary(const species_result *r, cJSON *j)
         cJSON_AddItemToArray(sig, cJSON_CreateNumber(kr->sigma));
         cJSON_AddItemToArray(cv, isfinite(kr->contact) ? cJSON_CreateNumber(kr->contact)
                                                        : cJSON_CreateNull());
-        cJSON_AddItemToArray(ce, isfinite(kr->contact_error)
-                                     ? cJSON_CreateNumber(kr->contact_error)
-                                     : cJSON_CreateNull());
+        cJSON_AddItemToArray(ce, isfinite(kr->contact_error) ? cJSON_CreateNumber(kr->contact_error)
+                                                             : cJSON_CreateNull());
         cJSON_AddItemToArray(cb, cJSON_CreateNumber(kr->contact_bins));
         const size_t at = (size_t)k * (size_t)s->nbins + (size_t)kr->peak;
         cJSON_AddItemToArray(pr, cJSON_CreateNumber((kr->peak + 0.5) * s->width / kr->sigma));
