@@ -6,7 +6,8 @@ A.1) from granule's pv.csv in coarse bins with errors from block averaging over 
 the Langevin bath: docs/scenes/langevin-gas.ini exported as fix langevin, both runs at T_bath. Then
 the 3D scene (docs/scenes/rfm-3d.ini, N = 300 spheres) exported as a 3D deck: T and the tail of P(v).
 Then a binary mixture's deck (atom types, per-type masses, per-pair damping; 2D, 3D and 2D with the
-tangential dashpot) without noise: both codes' trajectories agree to rounding.
+tangential dashpot) and a radius distribution's (one atom type per grain, a pair_coeff per pair of
+grains) without noise: both codes' trajectories agree to rounding.
 
     test_lammps.py GRANULE_EXE SOURCE_DIR     exit 77 (skipped) without lmp
 """
@@ -209,6 +210,29 @@ with tempfile.TemporaryDirectory() as tmp:
 # tangential dashpot: each pair_coeff's tangential linear_nohistory x_ab = gamma_t,ab / gamma_ab
 # gives the pair's own tangential damping (mu_t = 1e4, no cap), so oblique contacts of all three
 # pair kinds agree to rounding too (a tangential damping of the wrong mass would not).
+def trajectories(lmpdir, rundir, axes, typed):
+    """LAMMPS's dump against granule's snapshots of the same run: the largest position (minimum
+    image) and velocity differences over the frames, whether the dump's types are the species,
+    and the numbers of frames of both."""
+    fr_g = granule.read_snapshots(rundir)
+    blocks = open(os.path.join(lmpdir, "dump.granule.lammpstrj")).read().split("ITEM: TIMESTEP\n")[1:]
+    worst_x = worst_v = 0.0
+    same_types = True
+    c0 = 2 if typed else 1  # id (type) x y (z) vx vy (vz)
+    for blk, f in zip(blocks, fr_g):
+        lines = blk.splitlines()
+        n = int(lines[2])
+        a = np.array([ln.split() for ln in lines[8:8 + n]], dtype=float)
+        a = a[np.argsort(a[:, 0])]
+        if typed:
+            same_types &= bool(np.array_equal(a[:, 1].astype(int), f["species"]))
+        for c, key in enumerate(axes):
+            dx = a[:, c0 + c] - f[key]  # minimum image (harmless along a wall axis: tiny dx)
+            worst_x = max(worst_x, float(np.abs(dx - f["L"] * np.round(dx / f["L"])).max()))
+            worst_v = max(worst_v, float(np.abs(a[:, c0 + len(axes) + c] - f["v" + key]).max()))
+    return worst_x, worst_v, same_types, len(blocks), len(fr_g)
+
+
 for mix_scene, tangential in (("bidisperse-mixture.ini", None), ("bidisperse-mixture-3d.ini", None),
                               ("bidisperse-mixture.ini", "tangential_dashpot")):
     mix = os.path.join(src, "docs", "scenes", mix_scene)
@@ -236,27 +260,80 @@ for mix_scene, tangential in (("bidisperse-mixture.ini", None), ("bidisperse-mix
             print(r.stdout[-1000:], r.stderr[-2000:], open(os.path.join(lmpdir, "log.lammps")).read()[-2000:] if os.path.exists(os.path.join(lmpdir, "log.lammps")) else "(no log.lammps)")
             sys.exit(f"LAMMPS failed on the exported {label}'s deck")
         subprocess.run([exe, "run", os.path.join(lmpdir, "scene.ini"), "--out", rundir, "--quiet"], check=True)
-        fr_g = granule.read_snapshots(rundir)
         collisions = json.load(open(os.path.join(rundir, "summary.json")))["collisions"]
-        blocks = open(os.path.join(lmpdir, "dump.granule.lammpstrj")).read().split("ITEM: TIMESTEP\n")[1:]
-        worst_x = worst_v = 0.0
-        same_types = len(blocks) == len(fr_g) == 6
-        axes = ("x", "y", "z") if three else ("x", "y")
-        for blk, f in zip(blocks, fr_g):
-            lines = blk.splitlines()
-            n = int(lines[2])
-            a = np.array([ln.split() for ln in lines[8:8 + n]], dtype=float)  # id type x y (z) vx vy (vz)
-            a = a[np.argsort(a[:, 0])]
-            same_types &= bool(np.array_equal(a[:, 1].astype(int), f["species"]))
-            for c, key in enumerate(axes):
-                dx = a[:, 2 + c] - f[key]
-                worst_x = max(worst_x, float(np.abs(dx - f["L"] * np.round(dx / f["L"])).max()))
-                worst_v = max(worst_v, float(np.abs(a[:, 2 + len(axes) + c] - f["v" + key]).max()))
+        worst_x, worst_v, same_types, nl, ng = trajectories(lmpdir, rundir, ("x", "y", "z") if three else ("x", "y"), True)
+        same_types &= nl == ng == 6
         ok = same_types and collisions >= 30 and worst_x < 1e-12 and worst_v < 1e-10
         print(f"{'ok  ' if ok else 'FAIL'} {label}, no noise: {collisions} collisions; LAMMPS against granule: "
               f"positions {worst_x:.2g} m, velocities {worst_v:.2g} m/s apart at most; types = species: {same_types}")
         if not ok:
             failures.append(f"{label} trajectories")
+
+# A radius distribution (docs/mixtures.md): each grain its own atom type and mass, each pair of
+# grains its own pair_coeff with the coefficients granule's kernel scales to the pair's reduced mass
+# and effective radius (pair_style granular, hooke, tangential linear_nohistory x_ij). 60 lognormal
+# discs without noise from the same state: the trajectories agree to rounding, as for species
+# lists; one damping for all pairs (the reference pair's) would part them by far more.
+def export_and_run(scene, sets, tmp, label):
+    """`granule export lammps` of scene with sets, LAMMPS on the deck, and granule's run of the
+    deck's scene.ini: (deck folder, granule's folder, the deck's text)."""
+    lmpdir, rundir = os.path.join(tmp, "lammps"), os.path.join(tmp, "granule")
+    subprocess.run([exe, "export", "lammps", scene, "--out", lmpdir] + sum((["--set", f"{k}={v}"] for k, v in sets.items()), []), check=True)
+    r = run_lmp([lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
+    if r.returncode != 0:
+        print(r.stdout[-1000:], r.stderr[-2000:])
+        sys.exit(f"LAMMPS failed on the exported {label}'s deck")
+    subprocess.run([exe, "run", os.path.join(lmpdir, "scene.ini"), "--out", rundir, "--quiet"], check=True)
+    return lmpdir, rundir, open(os.path.join(lmpdir, "in.granule")).read()
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    lmpdir, rundir, deck = export_and_run(
+        os.path.join(src, "docs", "scenes", "polydisperse-gas.ini"),
+        {"system.N": 60, "system.packing_fraction": 0.1, "placement.v0": 0.3, "model.k_s": 5e3,
+         "model.eps_n": 0.8, "model.tangential": "tangential_dashpot", "model.eps_t": 0.5,
+         "run.warmup": 0, "run.duration": 0.2, "run.sample_every": 0.04, "run.seed": 3,
+         "output.snapshot_every": 0.04, "output.plots": "false", "analysis.observables": "moments"},
+        tmp, "radius distribution")
+    if not ("60 atom types" in open(os.path.join(lmpdir, "data.granule")).read()
+            and deck.count("\npair_coeff ") == 60 * 61 // 2 and deck.count("\nset type ") == 60):
+        failures.append("radius distribution deck: 60 atom types, 60 masses, 1830 pair_coeff lines")
+    collisions = json.load(open(os.path.join(rundir, "summary.json")))["collisions"]
+    worst_x, worst_v, _, nl, ng = trajectories(lmpdir, rundir, ("x", "y"), False)
+    ok = nl == ng == 6 and collisions >= 30 and worst_x < 1e-12 and worst_v < 1e-10
+    print(f"{'ok  ' if ok else 'FAIL'} radius distribution with tangential_dashpot, no noise: {collisions} "
+          f"collisions; LAMMPS against granule: positions {worst_x:.2g} m, velocities {worst_v:.2g} m/s apart at most")
+    if not ok:
+        failures.append("radius distribution trajectories")
+
+# A bed of two species between fixed walls under gravity (docs/scenes/vibrated-bed-mixture.ini, the
+# floor at rest, 100 grains, no noise): one wall/gran fix per species and wall, each with the
+# species' own damping gamma_n,s(wall) / m_s; grains of both sizes land on the floor, and until the
+# dense bed's chaos takes over (after about 0.07 s) the trajectories agree to rounding. One wall
+# damping for both species (the scene mass's) parts them by micrometres at the first landing.
+with tempfile.TemporaryDirectory() as tmp:
+    lmpdir, rundir, deck = export_and_run(
+        os.path.join(src, "docs", "scenes", "vibrated-bed-mixture.ini"),
+        {"boundary.amplitude": 0, "system.N": 100, "run.warmup": 0, "run.duration": 0.06,
+         "run.sample_every": 0.02, "output.snapshot_every": 0.02, "output.plots": "false"},
+        tmp, "bed of two species")
+    if not ("group s2 type 2" in deck and "fix wall_ylo_s1 s1 wall/gran" in deck and "fix wall_yhi_s2 s2 wall/gran" in deck):
+        failures.append("species bed deck: a wall/gran fix per species and wall")
+    worst_x, worst_v, same_types, nl, ng = trajectories(lmpdir, rundir, ("x", "y"), True)
+    # the same deck with species 1's wall damping for species 2 as well: the large grains' landings
+    # then differ, so the comparison above did see each species' own wall contact
+    fix = [ln for ln in deck.splitlines() if ln.startswith("fix wall_ylo_s1 ")][0].split()
+    wrong = deck.replace(" " + [ln for ln in deck.splitlines() if ln.startswith("fix wall_ylo_s2 ")][0].split()[7] + " ",
+                         " " + fix[7] + " ")
+    open(os.path.join(lmpdir, "in.granule"), "w").write(wrong)
+    r = run_lmp([lmp, "-in", "in.granule", "-log", "log.lammps", "-screen", "none"], cwd=lmpdir)
+    wrong_x = trajectories(lmpdir, rundir, ("x", "y"), True)[0] if r.returncode == 0 else 0.0
+    ok = same_types and nl == ng == 4 and worst_x < 1e-11 and worst_v < 1e-9 and wrong_x > 1e-9
+    print(f"{'ok  ' if ok else 'FAIL'} bed of two species on a floor under gravity, no noise: LAMMPS against "
+          f"granule: positions {worst_x:.2g} m, velocities {worst_v:.2g} m/s apart at most; with species 1's wall damping for "
+          f"both, {wrong_x:.2g} m")
+    if not ok:
+        failures.append("species bed trajectories")
 
 print(f"{len(failures)} failed")
 sys.exit(1 if failures else 0)

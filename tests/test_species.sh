@@ -477,8 +477,19 @@ if "$granule" export lammps "$scene" --out "$tmp/lmp4" --set model.tangential=ta
 fi
 grep -q "model.tangential = tangential_dashpot with \[species\] and eps_n = 1.*allowed with a tangential law: eps_n < 1" "$tmp/l.log" ||
     { cat "$tmp/l.log" >&2; fail "export lammps message (tangential, eps_n = 1)"; }
-if "$granule" export lammps "$tmp/dist.ini" --out "$tmp/lmp2" >"$tmp/l.log" 2>&1; then
-    fail "export lammps accepted a radius distribution"
+# a radius distribution: one atom type per grain and a pair_coeff per pair of grains (tests/test_lammps.py
+# runs such a deck); refused with more than 400 grains and with walls, naming the limit
+"$granule" export lammps "$tmp/dist.ini" --out "$tmp/lmp2" >"$tmp/l.log" 2>&1 ||
+    { cat "$tmp/l.log" >&2; fail "export lammps of a radius distribution"; }
+grep -q "^300 atom types" "$tmp/lmp2/data.granule" && [[ $(grep -c "^pair_coeff " "$tmp/lmp2/in.granule") == 45150 ]] ||
+    fail "a radius distribution's deck: 300 atom types, 45150 pair_coeff lines"
+if "$granule" export lammps "$tmp/dist.ini" --out "$tmp/lmp5" --set system.N=401 >"$tmp/l.log" 2>&1; then
+    fail "export lammps accepted a radius distribution of 401 grains"
 fi
-grep -q "\[species\] distribution.*not written yet" "$tmp/l.log" || { cat "$tmp/l.log" >&2; fail "export lammps message"; }
+grep -q "\[species\] distribution with N = 401: .* N <= 400" "$tmp/l.log" || { cat "$tmp/l.log" >&2; fail "export lammps message (N)"; }
+if "$granule" export lammps "$tmp/dist.ini" --out "$tmp/lmp6" --set boundary.y=walls >"$tmp/l.log" 2>&1; then
+    fail "export lammps accepted a radius distribution between walls"
+fi
+grep -q "\[species\] distribution with walls: .*allowed: a radius distribution in a periodic box" "$tmp/l.log" ||
+    { cat "$tmp/l.log" >&2; fail "export lammps message (walls)"; }
 echo "species: ok"

@@ -225,6 +225,9 @@ const gr_contact_coeffs *gr_sim_species_coeffs(const gr_sim *sim, int a, int b);
 /* The normal law's coefficients against a wall (reduced mass M; docs/systems-walls-gravity.md);
  * NULL without walls or for an integrator with its own wall events. */
 const gr_contact_coeffs *gr_sim_wall_coeffs(const gr_sim *sim);
+/* A mixture's ([species] lists) wall coefficients of species a (its own mass against the wall);
+ * NULL without species lists, walls, or a soft integrator's wall contacts. */
+const gr_contact_coeffs *gr_sim_species_wall_coeffs(const gr_sim *sim, int a);
 const char *gr_sim_kernel(const gr_sim *sim);
 /* Contacts started since creation (a pair coming into overlap). */
 int64_t gr_sim_collisions(const gr_sim *sim);

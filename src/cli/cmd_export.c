@@ -89,7 +89,11 @@ int cmd_export(int argc, char **argv)
     printf("%s, %s: N = %d, %lld + %lld steps, dump every %lld steps to %s\n", info.deck, info.data,
            scene.N, (long long)info.warmup_steps, (long long)info.run_steps,
            (long long)info.sample_steps, info.dump);
-    if (scene.n_species >= 2) { /* pair_style granular, a pair_coeff per species pair */
+    if (scene.size_distribution) { /* pair_style granular, a pair_coeff per pair of grains */
+        printf("%d atom types (one per grain of the radius distribution), pair_style granular "
+               "hooke with each pair's stiffness and damping; noise sigma = %.6g N\n",
+               scene.N, info.noise_sigma);
+    } else if (scene.n_species >= 2) { /* pair_style granular, a pair_coeff per species pair */
         printf("%d atom types (species), pair_style granular hooke Kn = %.6g N/m with each "
                "pair's damping; noise sigma = %.6g N\n",
                scene.n_species, info.kn, info.noise_sigma);

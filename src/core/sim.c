@@ -706,6 +706,11 @@ const gr_contact_coeffs *gr_sim_wall_coeffs(const gr_sim *s)
     const bool walls = s->params.walls[0] || s->params.walls[1] || s->params.walls[2];
     return walls && !s->integrator->instantaneous ? &s->wall_cc : NULL;
 }
+const gr_contact_coeffs *gr_sim_species_wall_coeffs(const gr_sim *s, int a)
+{
+    const bool in = gr_sim_wall_coeffs(s) && s->wall_cc_sp && a >= 0 && a < s->nsp;
+    return in ? &s->wall_cc_sp[a] : NULL;
+}
 const char *gr_sim_kernel(const gr_sim *s) { return s->kernel_name; }
 int64_t gr_sim_collisions(const gr_sim *s) { return s->collisions; }
 int64_t gr_sim_rebuilds(const gr_sim *s) { return s->rebuilds; }

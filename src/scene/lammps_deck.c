@@ -31,7 +31,14 @@
  *             calibrates to the pair's reduced mass) and, with tangential_dashpot, tangential
  *             linear_nohistory x mu: F_t = -x gamma_ab v_t with x = gamma_t,ab / gamma_ab (the
  *             pair's own tangential damping) and mu = 1e4 (no Coulomb cap); without a tangential
- *             law x = mu = 0. The dump adds the type column.
+ *             law x = mu = 0. The dump adds the type column. Walls: one wall/gran fix per species
+ *             (group sN of type N) with gamman_w = gamma_n,s(wall) / m_s, the species' own wall
+ *             damping (LAMMPS's wall meff is the atom's mass, granule calibrates each species').
+ *   sizes     a radius distribution ([species] distribution): the same with one atom type per
+ *             grain (at most LMP_GRAIN_TYPES grains), set type i mass m_i, and one pair_coeff per
+ *             pair of grains with the coefficients the force kernel scales to the pair's reduced
+ *             mass and effective radius (gr_contact_size_scaled). Walls are refused there (one
+ *             wall fix per grain would cost N fixes).
  *   3D        dimension 3, a periodic cube, a third noise component (fz), no enforce2d, the
  *             momentum fix and T over three components (docs/three-dimensions.md).
  *   schedule  run warmup / dt steps, then dump every sample_every / dt steps for duration / dt.
@@ -47,19 +54,27 @@
 #include "granule_config.h"
 #include "io/files.h"
 
-#define LMP_XMU 1.0e4 /* gran/hooke's largest friction coefficient: no Coulomb cap */
-#define LMP_SKIN 0.3  /* neighbor skin, in diameters */
+#define LMP_XMU 1.0e4       /* gran/hooke's largest friction coefficient: no Coulomb cap */
+#define LMP_SKIN 0.3        /* neighbor skin, in diameters */
+#define LMP_GRAIN_TYPES 400 /* a radius distribution: one atom type per grain, at most this many */
 
 static int refuse_unmappable(const gr_scene *s, gr_error *err)
 {
-    if (s->size_distribution) {
+    if (s->size_distribution && s->N > LMP_GRAIN_TYPES) {
         return GR_FAIL(err, GR_EINVAL,
-                       "export lammps: %s: [species] distribution: a radius distribution's deck "
-                       "(each atom its own type) is not written yet (docs/mixtures.md); allowed: "
-                       "[species] lists (one atom type per species) or no [species]",
+                       "export lammps: %s: [species] distribution with N = %d: the deck gives each "
+                       "grain its own atom type and each pair of grains its own pair_coeff, which "
+                       "is allowed for N <= %d (docs/lammps.md)",
+                       s->source, s->N, LMP_GRAIN_TYPES);
+    }
+    if (s->size_distribution && (s->boundary[0] || s->boundary[1] || s->boundary[2])) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "export lammps: %s: [species] distribution with walls: every grain's wall "
+                       "damping is its own and LAMMPS's wall/gran takes one per fix; allowed: a "
+                       "radius distribution in a periodic box, or [species] lists with walls",
                        s->source);
     }
-    if (s->n_species >= 2 && s->tangential && !(s->contact.eps_n < 1.0)) {
+    if ((s->n_species >= 2 || s->size_distribution) && s->tangential && !(s->contact.eps_n < 1.0)) {
         return GR_FAIL(err, GR_EINVAL,
                        "export lammps: %s: model.tangential = %s with [species] and eps_n = 1: "
                        "pair_style granular gives the tangential damping as a multiple of the "
@@ -109,8 +124,9 @@ static int write_data(const char *dir, const gr_scene *s, const gr_particles *p,
     if (rc) {
         return rc;
     }
-    const double d = 2.0 * p->radius; /* a mixture: the largest diameter */
-    const int types = p->species ? p->n_species : 1;
+    const double d = 2.0 * p->radius;         /* a mixture: the largest diameter */
+    const bool grains = s->size_distribution; /* one type per grain (write_sizes) */
+    const int types = grains ? p->n : (p->species ? p->n_species : 1);
     fprintf(f.f, "granule initial state of %s (seed %llu)\n\n%d atoms\n%d atom types\n\n",
             s->source, (unsigned long long)s->seed, p->n, types);
     /* a vibrating floor goes A below 0; a grain on it keeps its centre above 0 while A < r, else
@@ -126,8 +142,9 @@ static int write_data(const char *dir, const gr_scene *s, const gr_particles *p,
             lo[0], p->L, lo[1], p->L, three ? lo[2] : -d, three ? p->L : d);
     /* id type diameter density x y z; the mass is set in the deck (a mixture: per type) */
     for (int i = 0; i < p->n; i++) {
-        fprintf(f.f, "%d %d %.17g 1 %.17g %.17g %.17g\n", i + 1, p->species ? p->species[i] + 1 : 1,
-                p->species ? 2.0 * p->radii[i] : d, p->x[i], p->y[i], three ? p->z[i] : 0.0);
+        const int type = grains ? i + 1 : (p->species ? p->species[i] + 1 : 1);
+        fprintf(f.f, "%d %d %.17g 1 %.17g %.17g %.17g\n", i + 1, type,
+                p->radii ? 2.0 * p->radii[i] : d, p->x[i], p->y[i], three ? p->z[i] : 0.0);
     }
     fprintf(f.f, "\nVelocities\n\n");
     for (int i = 0; i < p->n; i++) {
@@ -137,33 +154,66 @@ static int write_data(const char *dir, const gr_scene *s, const gr_particles *p,
     return gr_file_commit(&f, err);
 }
 
-/* walls and gravity: boundary letters already written; the wall fixes and gravity */
-static void write_walls(FILE *o, const gr_scene *s, const gr_lammps_export *e, bool clamp)
+/* One wall/gran fix of group `group` (suffix for its name) with damping constants gn, gt (1/s). */
+static void write_wall_fix(FILE *o, const gr_scene *s, const gr_lammps_export *e, bool clamp, int a,
+                           int side, const char *group, const char *suffix, double gn, double gt)
 {
     static const char axis[3] = {'x', 'y', 'z'};
+    const bool wiggle = s->vibrate == a + 1 && s->amplitude > 0.0 && s->frequency > 0.0;
+    fprintf(o, "fix wall_%c%s%s %s wall/gran hooke %.17g 0.0 %.17g %.17g %.17g 1 %cplane ", axis[a],
+            side ? "hi" : "lo", suffix, group, e->kn, gn, gt, LMP_XMU, axis[a]);
+    if (side) {
+        fprintf(o, "NULL %.17g", s->L);
+    } else {
+        /* wiggle puts the plane at lo + A - A cos(w t): lo = -A oscillates it about 0 as
+         * granule's A sin(w t), a quarter period apart */
+        fprintf(o, "%.17g NULL", wiggle ? -s->amplitude : 0.0);
+        if (wiggle) {
+            fprintf(o, " wiggle %c %.17g %.17g", axis[a], s->amplitude, 1.0 / s->frequency);
+        }
+    }
+    fprintf(o, "%s\n", clamp ? " limit_damping" : "");
+}
+
+/* walls and gravity: boundary letters already written; the wall fixes and gravity. A mixture of
+ * species lists gets one fix per species and wall, each with the species' own damping. */
+static void write_walls(FILE *o, const gr_scene *s, const gr_sim *sim, const gr_lammps_export *e,
+                        bool clamp)
+{
+    static const char axis[3] = {'x', 'y', 'z'};
+    const bool species = s->n_species >= 2 && gr_sim_species_wall_coeffs(sim, 0);
+    if (species && (s->boundary[0] || s->boundary[1] || s->boundary[2])) {
+        for (int k = 0; k < s->n_species; k++) {
+            fprintf(o, "group s%d type %d\n", k + 1, k + 1);
+        }
+    }
     for (int a = 0; a < 3; a++) {
         if (!s->boundary[a]) {
             continue;
         }
-        const bool wiggle = s->vibrate == a + 1 && s->amplitude > 0.0 && s->frequency > 0.0;
+        if (species) {
+            fprintf(o,
+                    "# walls along %c, one fix per species: gamma_n(wall) of each species at its "
+                    "own mass (meff = m_s)\n",
+                    axis[a]);
+            for (int side = 0; side < 2; side++) {
+                for (int k = 0; k < s->n_species; k++) {
+                    const gr_contact_coeffs *c = gr_sim_species_wall_coeffs(sim, k);
+                    const double m = s->species_masses[k];
+                    char group[16], suffix[16];
+                    snprintf(group, sizeof group, "s%d", k + 1);
+                    snprintf(suffix, sizeof suffix, "_s%d", k + 1);
+                    write_wall_fix(o, s, e, clamp, a, side, group, suffix, c->gamma_n / m,
+                                   s->tangential ? c->gamma_t / m : 0.0);
+                }
+            }
+            continue;
+        }
         fprintf(o,
                 "# walls along %c: gamma_n(wall) = %.17g kg/s at the reduced mass M (meff = M)\n",
                 axis[a], e->gamman_wall * s->mass);
         for (int side = 0; side < 2; side++) {
-            fprintf(o, "fix wall_%c%s all wall/gran hooke %.17g 0.0 %.17g %.17g %.17g 1 %cplane ",
-                    axis[a], side ? "hi" : "lo", e->kn, e->gamman_wall, e->gammat_wall, LMP_XMU,
-                    axis[a]);
-            if (side) {
-                fprintf(o, "NULL %.17g", s->L);
-            } else {
-                /* wiggle puts the plane at lo + A - A cos(w t): lo = -A oscillates it about 0
-                 * as granule's A sin(w t), a quarter period apart */
-                fprintf(o, "%.17g NULL", wiggle ? -s->amplitude : 0.0);
-                if (wiggle) {
-                    fprintf(o, " wiggle %c %.17g %.17g", axis[a], s->amplitude, 1.0 / s->frequency);
-                }
-            }
-            fprintf(o, "%s\n", clamp ? " limit_damping" : "");
+            write_wall_fix(o, s, e, clamp, a, side, "all", "", e->gamman_wall, e->gammat_wall);
         }
     }
     const double g = s->gravity[2] != 0.0
@@ -209,6 +259,50 @@ static void write_species(FILE *o, const gr_scene *s, const gr_sim *sim, const g
     }
 }
 
+/* A radius distribution: each grain its own atom type and mass, each pair of grains its own
+ * pair_coeff with the coefficients the force kernel scales to the pair's reduced mass and
+ * effective radius from the reference pair's (gr_contact_size_scaled). */
+static int write_sizes(FILE *o, const gr_scene *s, const gr_sim *sim, const gr_lammps_export *e,
+                       bool clamp, gr_error *err)
+{
+    gr_sim_params sp;
+    gr_scene_sim_params(s, &sp);
+    gr_contact_coeffs unused;
+    double m_ref, r_ref;
+    int rc = gr_size_reference_coeffs(&sp, &unused, &m_ref, &r_ref, err);
+    if (rc) {
+        return rc;
+    }
+    const gr_contact_coeffs *ref = gr_sim_coeffs(sim); /* the kernel's reference pair */
+    const gr_particles p = gr_sim_particles(sim);
+    for (int i = 0; i < p.n; i++) {
+        fprintf(o, "set type %d mass %.17g\n", i + 1, p.masses[i]);
+    }
+    fprintf(
+        o,
+        "# contact of grains i and j: F_n = k_ij xi - gamma_ij v_n, the reference pair's (k_s = "
+        "%.17g N/m, reduced mass %.17g kg, effective radius %.17g m) scaled to the pair's "
+        "reduced mass and effective radius r_i r_j / (r_i + r_j)%s\npair_style granular\n",
+        e->kn, m_ref, r_ref,
+        s->tangential ? "; F_t = -x_ij gamma_ij v_t with x_ij = gamma_t,ij / gamma_ij" : "");
+    for (int i = 0; i < p.n; i++) {
+        for (int j = i; j < p.n; j++) {
+            const double mi = p.masses[i], mj = p.masses[j], ri = p.radii[i], rj = p.radii[j];
+            gr_contact_coeffs c;
+            gr_contact_size_scaled(ref, m_ref, r_ref, mi * mj / (mi + mj), ri * rj / (ri + rj), &c);
+            fprintf(o, "pair_coeff %d %d hooke %.17g %.17g damping velocity tangential ", i + 1,
+                    j + 1, c.k_s, c.gamma_n);
+            if (s->tangential) { /* refuse_unmappable: gamma_n > 0 */
+                fprintf(o, "linear_nohistory %.17g %.17g", c.gamma_t / c.gamma_n, LMP_XMU);
+            } else {
+                fprintf(o, "linear_nohistory 0.0 0.0");
+            }
+            fprintf(o, "%s\n", clamp ? " limit_damping" : "");
+        }
+    }
+    return GR_OK;
+}
+
 static int write_deck(const char *dir, const gr_scene *s, const gr_sim *sim,
                       const gr_lammps_export *e, bool clamp, gr_error *err)
 {
@@ -234,7 +328,13 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_sim *sim,
         o, "units si\ndimension %d\nboundary %c %c %c\natom_style sphere\ncomm_modify vel yes\n",
         s->dim, s->boundary[0] ? 'f' : 'p', s->boundary[1] ? 'f' : 'p', s->boundary[2] ? 'f' : 'p');
     fprintf(o, "read_data data.granule\n");
-    if (mixture) {
+    if (s->size_distribution) {
+        rc = write_sizes(o, s, sim, e, clamp, err);
+        if (rc) {
+            gr_file_abandon(&f);
+            return rc;
+        }
+    } else if (mixture) {
         write_species(o, s, sim, e, clamp);
     } else {
         fprintf(o, "set type 1 mass %.17g\n", s->mass);
@@ -261,17 +361,20 @@ static int write_deck(const char *dir, const gr_scene *s, const gr_sim *sim,
         const double kB = 1.380649e-23; /* J/K, LAMMPS's boltz in units si */
         /* species: every grain at the first species' energy, k_B T = m_1 T_bath / dim (the drag
          * m_i / tau of fix langevin's damp = tau is granule's, docs/mixtures.md) */
-        const double mb = s->n_species >= 2 ? s->species_masses[0] : s->mass;
+        const double mb = s->n_species >= 2      ? s->species_masses[0]
+                          : s->size_distribution ? parts.mass /* the grains' mean mass */
+                                                 : s->mass;
         const double T_K = mb * s->driving_params.T_bath / (s->dim * kB);
         fprintf(
             o,
             "# Langevin bath: T_bath = %.17g m^2/s^2 (T of eq. 2.19), tau = %.17g s; k_B T = %s "
             "T_bath / dim\n",
-            s->driving_params.T_bath, s->driving_params.tau, s->n_species >= 2 ? "m_1" : "M");
+            s->driving_params.T_bath, s->driving_params.tau,
+            s->n_species >= 2 ? "m_1" : (s->size_distribution ? "<m>" : "M"));
         fprintf(o, "fix bath all langevin %.17g %.17g %.17g %ld\n", T_K, T_K, s->driving_params.tau,
                 seed + 2);
     }
-    write_walls(o, s, e, clamp);
+    write_walls(o, s, sim, e, clamp);
     const bool walls = s->boundary[0] || s->boundary[1] || s->boundary[2];
     fprintf(o, "fix integrate all nve\n%s", three ? "" : "fix plane all enforce2d\n");
     if (walls) {
