@@ -24,7 +24,17 @@
  * (gridding on an M_r^3 grid). The dissipative scale (4.5) is carried over with the 3D mean free
  * length l_0 = 1 / (n pi d^2) = L^3 / (pi d^2 N) in place of 2D's l_0 = L^2 / (2 d N) (4.7, 1 / (n
  * 2 d)): both are 1 / (n sigma), sigma the collision cross-section (length 2 d in 2D, area pi d^2
- * in 3D); the thesis derives k_D in 2D only, so in 3D the fit window k < k' is a convention. */
+ * in 3D); the thesis derives k_D in 2D only, so in 3D the fit window k < k' is a convention.
+ *
+ * A mixture of species lists (docs/mixtures.md), 2D and 3D: also the partial structure factors of
+ * Ashcroft and Langreth (Phys. Rev. 156, 685 (1967)) of every species pair a <= b,
+ *
+ *   S_ab(k) = <rho_a(k) rho_b(-k)> / sqrt(N_a N_b),   rho_a(k) = sum_{j in a} exp(-i k.r_j),
+ *
+ * each rho_a by the same gridding and transform (gr_sk_compute_rho: one more FFT per species), on
+ * the total's |n| bins (sk_species.csv). Their Bhatia-Thornton number-number combination
+ * sum_ab sqrt(x_a x_b) S_ab, x_a = N_a / N, is S(k) (Phys. Rev. B 2, 3004 (1970)). The D_f fit
+ * and the exact shells stay the total's; one species computes none of it. */
 #include <cjson/cJSON.h>
 #include <fftw3.h>
 #include <math.h>

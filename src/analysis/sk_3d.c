@@ -2,7 +2,8 @@
  * with |n| <= n_cut, S(k) = |rho(k)|^2 / N, by Gaussian gridding (Greengard & Lee, SIAM Review 46,
  * 443 (2004), as the 2D engine in obs_sk.c: spread each particle onto an R-times oversampled M_r^3
  * periodic grid with a separable Gaussian over 2 msp points per axis, one r2c FFTW transform,
- * deconvolve by (pi / tau)^(3/2) e^{tau |n|^2}) or by the direct sum. */
+ * deconvolve by (pi / tau)^(3/2) e^{tau |n|^2}) or by the direct sum; rho(k) itself for a
+ * mixture's species (gr_sk3_compute_rho). */
 #include <fftw3.h>
 #include <math.h>
 #include <stdlib.h>
