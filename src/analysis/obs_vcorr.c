@@ -62,8 +62,8 @@ typedef struct vcorr {
     int ns;
     gr_obs_pairs pairs;
     const int *species;               /* the frame being visited */
-    double *sl_sp, *st_sp, *cnt_sp;   /* this frame's sums and pairs */
-    double *pairs_sp;                 /* pairs summed over the frames */
+    double *sl_sp, *st_sp, *cnt_sp;   /* this frame's sums and pairs (one block, sl_sp first) */
+    double *pairs_sp;                 /* pairs summed over the frames (the block's last part) */
     gr_blocking *bl_sp, *bt_sp, *var; /* C_L,ab, C_T,ab; var[s]: each species' variance */
 } vcorr;
 
@@ -91,13 +91,15 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
         s->ns = setup->n_species;
         gr_obs_pairs_init(&s->pairs, s->ns);
         const size_t pb = (size_t)s->pairs.n * b;
-        s->sl_sp = gr_obs_calloc(s, pb, sizeof(double));
-        s->st_sp = gr_obs_calloc(s, pb, sizeof(double));
-        s->cnt_sp = gr_obs_calloc(s, pb, sizeof(double));
-        s->pairs_sp = gr_obs_calloc(s, pb, sizeof(double));
-        s->bl_sp = gr_obs_calloc(s, pb, sizeof(gr_blocking));
-        s->bt_sp = gr_obs_calloc(s, pb, sizeof(gr_blocking));
-        s->var = gr_obs_calloc(s, (size_t)s->ns, sizeof(gr_blocking));
+        s->sl_sp = gr_obs_calloc(s, 4 * pb, sizeof(double)); /* sl, st, cnt (one frame), pairs */
+        s->bl_sp = gr_obs_calloc(s, 2 * pb + (size_t)s->ns, sizeof(gr_blocking));
+        if (s->sl_sp && s->bl_sp) {
+            s->st_sp = s->sl_sp + pb;
+            s->cnt_sp = s->sl_sp + 2 * pb;
+            s->pairs_sp = s->sl_sp + 3 * pb;
+            s->bt_sp = s->bl_sp + pb;
+            s->var = s->bl_sp + 2 * pb;
+        }
     }
     return gr_obs_alloc_ok(s, err);
 }
@@ -198,10 +200,7 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
     }
     if (s->ns) {
         s->species = p->species;
-        const size_t pb = (size_t)s->pairs.n * (size_t)s->bins;
-        memset(s->sl_sp, 0, pb * sizeof(double));
-        memset(s->st_sp, 0, pb * sizeof(double));
-        memset(s->cnt_sp, 0, pb * sizeof(double));
+        memset(s->sl_sp, 0, 3 * (size_t)s->pairs.n * (size_t)s->bins * sizeof(double));
     }
     rc = gr_cells_pairs(&s->cells, p, s->rmax, visit, s, err);
     if (rc) {
