@@ -6,7 +6,7 @@
  *  - gridding (NUFFT) against the direct sum, and the direct sum against a plain sincos sum;
  *  - uniform random points (ideal gas): S(k) = 1 for every k != 0 of the lattice (4.3);
  *  - a perfect square lattice of m x m points: S = N on the reciprocal lattice (n = 0 mod m), 0
- *    elsewhere;
+ *    elsewhere; two species on interpenetrating lattices: the partial S_ab of gr_sk_compute_rho;
  *  - a random multiplicative cascade of correlation dimension D_2 = -log2(sum p_i^2): S(k) ~ k^-D_2
  *    at small k, so the D_f fit (4.4) must land near D_2;
  *  - k_D, L_min, L_Eff (4.5-4.9) against the thesis's Tables 4.1-4.2, and the choice of k';
@@ -330,6 +330,70 @@ START_TEST(test_square_lattice_bragg)
     }
     result_free(&r);
     gr_observable_free(st);
+}
+END_TEST
+
+START_TEST(test_partial_lattices)
+{
+    /* two species on interpenetrating square lattices of spacing a = L/m, B shifted from A by
+     * delta = (a/2, a/2) (a centred square lattice): rho_a(k) = sum_{j in a} exp(-i k.r_j) is
+     * N_A e^{-i k.r_0} on the reciprocal lattice n = 0 mod m and 0 elsewhere, so S_AA = S_BB = N_A
+     * there and S_AB = Re rho_A conj(rho_B) / N_A = N_A cos(k.delta) = N_A (-1)^((n_x + n_y) / m);
+     * A's first point at (a/4, a/2) gives rho_A(m, 0) = -i N_A (the sign of the exponent); and
+     * |rho_A|^2 / N_A is gr_sk_compute's S */
+    const int m = 16, n = m * m;
+    const double L = 0.1, a = L / m;
+    double xa[16 * 16], ya[16 * 16], xb[16 * 16], yb[16 * 16];
+    for (int i = 0; i < n; i++) {
+        xa[i] = (i % m + 0.25) * a;
+        ya[i] = (i / m + 0.5) * a;
+        xb[i] = xa[i] + 0.5 * a;
+        yb[i] = ya[i] + 0.5 * a;
+    }
+    gr_sk_plan *pl;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_sk_plan_create(L, 40.0, MSP, &pl, &err), GR_OK);
+    const int *nx, *ny;
+    const int nv = gr_sk_vectors(gr_sk_plan_lattice(pl), &nx, &ny, NULL);
+    double *ra = malloc(sizeof(double) * 5 * (size_t)nv), *ia = ra + nv, *rb = ra + 2 * nv,
+           *ib = ra + 3 * nv, *S = ra + 4 * nv;
+    for (int method = 0; method < 2; method++) {
+        ck_assert_int_eq(gr_sk_compute_rho(pl, method, n, xa, ya, ra, ia, &err), GR_OK);
+        ck_assert_int_eq(gr_sk_compute_rho(pl, method, n, xb, yb, rb, ib, &err), GR_OK);
+        ck_assert_int_eq(gr_sk_compute(pl, method, n, xa, ya, S, &err), GR_OK);
+        int peaks = 0;
+        for (int v = 0; v < nv; v++) {
+            const double saa = (ra[v] * ra[v] + ia[v] * ia[v]) / n,
+                         sbb = (rb[v] * rb[v] + ib[v] * ib[v]) / n,
+                         sab = (ra[v] * rb[v] + ia[v] * ib[v]) / n;
+            ck_assert_msg(fabs(saa - S[v]) <= 1e-12 * (1.0 + S[v]), "|rho_A|^2 / N %g, S %g", saa,
+                          S[v]);
+            if (nx[v] % m == 0 && ny[v] % m == 0) {
+                const double sign = ((nx[v] + ny[v]) / m) % 2 ? -1.0 : 1.0;
+                ck_assert_msg(fabs(saa / n - 1.0) < 1e-6 && fabs(sbb / n - 1.0) < 1e-6 &&
+                                  fabs(sab / n - sign) < 1e-6,
+                              "method %d, n = (%d, %d): S_AA %g, S_BB %g, S_AB %g, want %d, %d, %g",
+                              method, nx[v], ny[v], saa, sbb, sab, n, n, sign * n);
+                if (nx[v] == m && ny[v] == 0) {
+                    ck_assert_msg(fabs(ra[v]) < 1e-6 * n && fabs(ia[v] + n) < 1e-6 * n,
+                                  "rho_A(m, 0) = %g + %g i, want -%d i", ra[v], ia[v], n);
+                }
+                peaks++;
+            } else {
+                ck_assert_msg(saa < 1e-8 && sbb < 1e-8 && fabs(sab) < 1e-8,
+                              "n = (%d, %d): S_AA %g, S_BB %g, S_AB %g, want 0", nx[v], ny[v], saa,
+                              sbb, sab);
+            }
+        }
+        ck_assert_int_eq(peaks, 10);
+    }
+    /* no particle: rho = 0 (a species without grains in a frame) */
+    ck_assert_int_eq(gr_sk_compute_rho(pl, GR_SK_GRIDDING, 0, NULL, NULL, ra, ia, &err), GR_OK);
+    for (int v = 0; v < nv; v++) {
+        ck_assert(ra[v] == 0.0 && ia[v] == 0.0);
+    }
+    free(ra);
+    gr_sk_plan_free(pl);
 }
 END_TEST
 
@@ -751,6 +815,7 @@ int main(void)
     tcase_add_test(tc, test_gridding_matches_direct);
     tcase_add_test(tc, test_half_plane_without_k0);
     tcase_add_test(tc, test_square_lattice_bragg);
+    tcase_add_test(tc, test_partial_lattices);
     tcase_add_test(tc, test_ideal_gas);
     tcase_add_test(tc, test_cascade_fractal_dimension);
     tcase_add_test(tc, test_dissipative_regime_thesis_numbers);

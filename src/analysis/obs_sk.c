@@ -24,7 +24,17 @@
  * (gridding on an M_r^3 grid). The dissipative scale (4.5) is carried over with the 3D mean free
  * length l_0 = 1 / (n pi d^2) = L^3 / (pi d^2 N) in place of 2D's l_0 = L^2 / (2 d N) (4.7, 1 / (n
  * 2 d)): both are 1 / (n sigma), sigma the collision cross-section (length 2 d in 2D, area pi d^2
- * in 3D); the thesis derives k_D in 2D only, so in 3D the fit window k < k' is a convention. */
+ * in 3D); the thesis derives k_D in 2D only, so in 3D the fit window k < k' is a convention.
+ *
+ * A mixture of species lists (docs/mixtures.md), 2D and 3D: also the partial structure factors of
+ * Ashcroft and Langreth (Phys. Rev. 156, 685 (1967)) of every species pair a <= b,
+ *
+ *   S_ab(k) = <rho_a(k) rho_b(-k)> / sqrt(N_a N_b),   rho_a(k) = sum_{j in a} exp(-i k.r_j),
+ *
+ * each rho_a by the same gridding and transform (gr_sk_compute_rho: one more FFT per species), on
+ * the total's |n| bins (sk_species.csv). Their Bhatia-Thornton number-number combination
+ * sum_ab sqrt(x_a x_b) S_ab, x_a = N_a / N, is S(k) (Phys. Rev. B 2, 3004 (1970)). The D_f fit
+ * and the exact shells stay the total's; one species computes none of it. */
 #include <cjson/cJSON.h>
 #include <fftw3.h>
 #include <math.h>
@@ -286,8 +296,9 @@ static int weights(const gr_sk_plan *pl, double coord, double *w)
     return gr_sk_gauss_weights(pl->L, pl->lat.Mr, pl->h, pl->lat.tau, pl->msp, pl->e3, coord, w);
 }
 
-static int compute_gridding(gr_sk_plan *pl, int n, const double *x, const double *y, double *S,
-                            gr_error *err)
+/* Spread n particles onto the grid and transform it: pl->spec then holds rho(k) / deconv of every
+ * vector (the deconvolution applied by the caller, S or rho). */
+static int grid_transform(gr_sk_plan *pl, int n, const double *x, const double *y, gr_error *err)
 {
     const int Mr = pl->lat.Mr, w2 = 2 * pl->msp;
     if (n > pl->cap) { /* the first frame (or a larger N): the only allocation after the plan */
@@ -388,6 +399,16 @@ static int compute_gridding(gr_sk_plan *pl, int n, const double *x, const double
     }
     fftw_execute(pl->rows);
     fftw_execute(pl->cols);
+    return GR_OK;
+}
+
+static int compute_gridding(gr_sk_plan *pl, int n, const double *x, const double *y, double *S,
+                            gr_error *err)
+{
+    int rc = grid_transform(pl, n, x, y, err);
+    if (rc) {
+        return rc;
+    }
     const double inv_n = 1.0 / n;
     for (int v = 0; v < pl->lat.nv; v++) {
         const double *c = pl->spec[pl->idx[v]];
@@ -431,7 +452,7 @@ static void phases(double u, int n, double *re, double *im)
 /* The direct sum, separable: rho(n_x, n_y) = sum_j X_j(n_x) Y_j(n_y) with X_j(a) = e^{-2 pi i a
  * x_j / L}, Y_j(b) = e^{-2 pi i b y_j / L} (a complex matrix product), over blocks of particles so
  * that one row of rho stays in L1 while a block's phases are applied. */
-static void compute_direct(gr_sk_plan *pl, int n, const double *x, const double *y, double *S)
+static void direct_sum(gr_sk_plan *pl, int n, const double *x, const double *y)
 {
     const int nm = pl->n_max, A = nm + 1, W = 2 * nm + 1;
     memset(pl->rre, 0, sizeof(double) * (size_t)A * (size_t)W);
@@ -463,33 +484,80 @@ static void compute_direct(gr_sk_plan *pl, int n, const double *x, const double 
             }
         }
     }
+}
+
+/* Index of vector v in the direct sum's rho table. */
+static size_t direct_index(const gr_sk_plan *pl, int v)
+{
+    return (size_t)pl->lat.nx[v] * (2 * (size_t)pl->n_max + 1) +
+           (size_t)(pl->lat.ny[v] + pl->n_max);
+}
+
+static void compute_direct(gr_sk_plan *pl, int n, const double *x, const double *y, double *S)
+{
+    direct_sum(pl, n, x, y);
     const double inv_n = 1.0 / n;
     for (int v = 0; v < pl->lat.nv; v++) {
-        size_t k = (size_t)pl->lat.nx[v] * W + (size_t)(pl->lat.ny[v] + nm);
+        size_t k = direct_index(pl, v);
         S[v] = (pl->rre[k] * pl->rre[k] + pl->rim[k] * pl->rim[k]) * inv_n;
     }
+}
+
+/* The checks shared by gr_sk_compute and gr_sk_compute_rho (the direct sum's tables allocated at
+ * its first use). */
+static int compute_check(gr_sk_plan *pl, int method, int n, int n_min, const double *x,
+                         const double *y, gr_error *err)
+{
+    if (n < n_min || (n > 0 && (!x || !y))) {
+        return GR_FAIL(err, GR_EINVAL, "sk: a frame needs at least %d particle(s) with x and y",
+                       n_min);
+    }
+    if (method == GR_SK_DIRECT) {
+        return pl->rre ? GR_OK : direct_alloc(pl, err);
+    }
+    if (method != GR_SK_GRIDDING) {
+        return GR_FAIL(err, GR_EINVAL, "sk: unknown method %d", method);
+    }
+    return GR_OK;
 }
 
 int gr_sk_compute(gr_sk_plan *pl, int method, int n, const double *x, const double *y, double *S,
                   gr_error *err)
 {
-    if (n < 1 || !x || !y) {
-        return GR_FAIL(err, GR_EINVAL, "sk: a frame needs at least one particle with x and y");
+    int rc = compute_check(pl, method, n, 1, x, y, err);
+    if (rc) {
+        return rc;
     }
     if (method == GR_SK_DIRECT) {
-        if (!pl->rre) {
-            int rc = direct_alloc(pl, err);
-            if (rc) {
-                return rc;
-            }
-        }
         compute_direct(pl, n, x, y, S);
         return GR_OK;
     }
-    if (method != GR_SK_GRIDDING) {
-        return GR_FAIL(err, GR_EINVAL, "sk: unknown method %d", method);
-    }
     return compute_gridding(pl, n, x, y, S, err);
+}
+
+int gr_sk_compute_rho(gr_sk_plan *pl, int method, int n, const double *x, const double *y,
+                      double *re, double *im, gr_error *err)
+{
+    int rc = compute_check(pl, method, n, 0, x, y, err);
+    if (rc) {
+        return rc;
+    }
+    if (method == GR_SK_DIRECT) {
+        direct_sum(pl, n, x, y);
+        for (int v = 0; v < pl->lat.nv; v++) {
+            const size_t k = direct_index(pl, v);
+            re[v] = pl->rre[k];
+            im[v] = pl->rim[k];
+        }
+        return GR_OK;
+    }
+    rc = grid_transform(pl, n, x, y, err);
+    for (int v = 0; v < pl->lat.nv && !rc; v++) {
+        const double *c = pl->spec[pl->idx[v]];
+        re[v] = c[0] * pl->deconv[v];
+        im[v] = c[1] * pl->deconv[v];
+    }
+    return rc;
 }
 
 /* ------------------------------------------------------------------------------------------
@@ -540,6 +608,15 @@ typedef struct sk_state {
     char
         eps_t_name[80]; /* "NAME eps_t" for a law with a constant eps_t (gr_model.constant_eps_t) */
     double l0, kD, Lmin, Leff, kprime;
+    /* a mixture of species lists (ns >= 2; 0 otherwise): the partial structure factors S_ab of the
+     * pairs a <= b (pair p in the order 11, 12, .., 1 ns, 22, ..) on the same |n| bins */
+    int ns, n;
+    gr_obs_pairs pairs;
+    double *pos;                       /* one species' positions: x, y, z blocks of n */
+    double *rre, *rim;                 /* rho_a(k) of species a at [a nv + v] */
+    sk_bin *pbins;                     /* pair p's bins at [p nbins + b] */
+    int64_t pframes[GR_OBS_MAX_PAIRS]; /* frames that had both species of the pair */
+    int64_t count[GR_MAX_SPECIES];     /* N_a of the last frame */
 } sk_state;
 
 static void release_plan(void *plan) { gr_sk_plan_free(plan); }
@@ -562,6 +639,25 @@ static int method_from_env(int *method, gr_error *err)
         return GR_FAIL(err, GR_EINVAL, "sk: GRANULE_SK_METHOD = '%s': use gridding or direct", m);
     }
     return GR_OK;
+}
+
+/* A mixture's partial structure factors: the pairs, one species' positions, each species' rho
+ * and the pairs' bins (one-species scenes allocate none of it). */
+static int species_init(sk_state *st, const gr_obs_setup *setup, gr_error *err)
+{
+    st->ns = setup->n_species;
+    st->n = setup->N;
+    gr_obs_pairs_init(&st->pairs, st->ns);
+    const size_t nv = (size_t)st->nv, ns = (size_t)st->ns;
+    st->pos = gr_obs_calloc(st, (size_t)st->dim * (size_t)st->n, sizeof(double));
+    st->rre = gr_obs_calloc(st, ns * nv, sizeof(double));
+    st->rim = gr_obs_calloc(st, ns * nv, sizeof(double));
+    st->pbins = gr_obs_calloc(st, (size_t)st->pairs.n * (size_t)st->nbins, sizeof(sk_bin));
+    for (int p = 0; st->pbins && p < st->pairs.n; p++) {
+        memcpy(st->pbins + (size_t)p * (size_t)st->nbins, st->bins,
+               sizeof(sk_bin) * (size_t)st->nbins); /* the bins' vectors and k */
+    }
+    return gr_obs_alloc_ok(st, err);
 }
 
 static int init(void *state, const gr_obs_setup *setup, const void *params_block, gr_error *err)
@@ -693,6 +789,74 @@ static int init(void *state, const gr_obs_setup *setup, const void *params_block
         }
     }
     free(qmap);
+    return setup->n_species >= 2 && setup->n_species <= GR_MAX_SPECIES
+               ? species_init(st, setup, err)
+               : GR_OK;
+}
+
+/* One frame's S of every vector into a set of bins (circular bins or exact shells; of[v] < 0: in
+ * none): the sums of S over each bin's vectors (pooled), then each bin's mean into its blocking. */
+static void add_frame(sk_bin *set, int nset, const int *of, const double *S, int nv)
+{
+    for (int b = 0; b < nset; b++) {
+        set[b].frame = 0.0;
+    }
+    for (int v = 0; v < nv; v++) {
+        if (of[v] >= 0) {
+            sk_bin *b = &set[of[v]];
+            b->frame += S[v];
+            b->pool += S[v];
+            b->pool2 += S[v] * S[v];
+        }
+    }
+    for (int b = 0; b < nset; b++) {
+        if (set[b].count) {
+            gr_blocking_add(&set[b].acc, set[b].frame / set[b].count);
+        }
+    }
+}
+
+/* A mixture's frame: rho_a(k) of each species by the same engine (one more transform per
+ * species), then S_ab(k) = Re[rho_a(k) conj(rho_b(k))] / sqrt(N_a N_b) of every pair a <= b into
+ * its bins (the imaginary part is odd in k: the full plane's average of it is zero). */
+static int sample_species(sk_state *st, const gr_particles *p, gr_error *err)
+{
+    const size_t nv = (size_t)st->nv;
+    double *x = st->pos, *y = st->pos + st->n, *z = st->dim == 3 ? st->pos + 2 * st->n : NULL;
+    for (int a = 0; a < st->ns; a++) {
+        int m = 0;
+        for (int i = 0; i < p->n; i++) {
+            if (p->species[i] == a) {
+                x[m] = p->x[i];
+                y[m] = p->y[i];
+                if (z) {
+                    z[m] = p->z[i];
+                }
+                m++;
+            }
+        }
+        st->count[a] = m;
+        double *re = st->rre + (size_t)a * nv, *im = st->rim + (size_t)a * nv;
+        int rc = st->dim == 3 ? gr_sk3_compute_rho(st->plan3, st->method, m, x, y, z, re, im, err)
+                              : gr_sk_compute_rho(st->plan, st->method, m, x, y, re, im, err);
+        if (rc) {
+            return rc;
+        }
+    }
+    for (int q = 0; q < st->pairs.n; q++) {
+        const int a = st->pairs.a[q], b = st->pairs.b[q];
+        if (!st->count[a] || !st->count[b]) {
+            continue; /* a species without grains in this frame */
+        }
+        const double norm = 1.0 / sqrt((double)st->count[a] * (double)st->count[b]);
+        const double *ra = st->rre + (size_t)a * nv, *ia = st->rim + (size_t)a * nv;
+        const double *rb = st->rre + (size_t)b * nv, *ib = st->rim + (size_t)b * nv;
+        for (size_t v = 0; v < nv; v++) { /* st->S (the total, binned already) as scratch */
+            st->S[v] = (ra[v] * rb[v] + ia[v] * ib[v]) * norm;
+        }
+        add_frame(st->pbins + (size_t)q * (size_t)st->nbins, st->nbins, st->bin_of, st->S, st->nv);
+        st->pframes[q]++;
+    }
     return GR_OK;
 }
 
@@ -707,42 +871,20 @@ static int sample(void *state, const gr_particles *p, double t, gr_error *err)
         return GR_FAIL(err, GR_EINVAL,
                        "sk: the frame's box side %g differs from the scene's L = %g", p->L, st->L);
     }
-    int rc = st->dim == 3
-                 ? gr_sk3_compute(st->plan3, st->method, p->n, p->x, p->y, p->z, st->S, err)
-                 : gr_sk_compute(st->plan, st->method, p->n, p->x, p->y, st->S, err);
+    int rc = st->ns ? gr_obs_frame_species("sk", p, st->ns, st->n, NULL, err) : GR_OK;
     if (rc) {
         return rc;
     }
-    for (int b = 0; b < st->nbins; b++) {
-        st->bins[b].frame = 0.0;
-    }
-    for (int b = 0; b < st->nshells; b++) {
-        st->shells[b].frame = 0.0;
-    }
-    for (int v = 0; v < st->nv; v++) {
-        const double s = st->S[v];
-        sk_bin *b = &st->bins[st->bin_of[v]];
-        b->frame += s;
-        b->pool += s;
-        b->pool2 += s * s;
-        if (st->shell_of[v] >= 0) {
-            b = &st->shells[st->shell_of[v]];
-            b->frame += s;
-            b->pool += s;
-            b->pool2 += s * s;
-        }
+    rc = st->dim == 3 ? gr_sk3_compute(st->plan3, st->method, p->n, p->x, p->y, p->z, st->S, err)
+                      : gr_sk_compute(st->plan, st->method, p->n, p->x, p->y, st->S, err);
+    if (rc) {
+        return rc;
     }
     /* circular average of this frame (sec. 4.1: the angular average of S(k)), then in time */
-    for (int b = 0; b < st->nbins; b++) {
-        if (st->bins[b].count) {
-            gr_blocking_add(&st->bins[b].acc, st->bins[b].frame / st->bins[b].count);
-        }
-    }
-    for (int b = 0; b < st->nshells; b++) {
-        gr_blocking_add(&st->shells[b].acc, st->shells[b].frame / st->shells[b].count);
-    }
+    add_frame(st->bins, st->nbins, st->bin_of, st->S, st->nv);
+    add_frame(st->shells, st->nshells, st->shell_of, st->S, st->nv);
     st->frames++;
-    return GR_OK;
+    return st->ns ? sample_species(st, p, err) : GR_OK;
 }
 
 /* Error of a time-averaged bin: block averaging from 16 frames on (correlated frames), the plain
@@ -878,6 +1020,89 @@ static void shell_rows(FILE *f, const void *ctx)
     }
 }
 
+/* sk_species.csv: per |n| bin, S_ab and its error of every pair a <= b */
+static void species_rows(FILE *f, const void *ctx)
+{
+    const sk_state *st = ctx;
+    for (int b = 0; b < st->nbins && st->frames; b++) {
+        const sk_bin *B = &st->bins[b];
+        if (!B->count) {
+            continue;
+        }
+        double k = B->ksum / B->count;
+        fprintf(f, "%d,%.10g,%.10g", b + 1, k, k * st->d);
+        for (int q = 0; q < st->pairs.n; q++) {
+            const sk_bin *P = &st->pbins[(size_t)q * (size_t)st->nbins + (size_t)b];
+            if (st->pframes[q]) { /* 15 digits: sum_ab sqrt(x_a x_b) S_ab is sk.csv's S */
+                fprintf(f, ",%.15g,%.6g", gr_blocking_mean(&P->acc), bin_error(P, st->pframes[q]));
+            } else {
+                fputs(",nan,nan", f);
+            }
+        }
+        fputc('\n', f);
+    }
+}
+
+/* A mixture's partial structure factors (Ashcroft-Langreth): sk_species.csv, and in the summary
+ * the pairs, the species' numbers and S_ab at the smallest k. */
+static int finish_species(const sk_state *st, const gr_output *out, cJSON *j, gr_error *err)
+{
+    char columns[64 + GR_OBS_MAX_PAIRS * 40];
+    const gr_obs_pairs *pairs = &st->pairs;
+    size_t len = (size_t)snprintf(columns, sizeof columns, "n [1],k [m-1],kd [1]");
+    for (int q = 0; q < pairs->n; q++) {
+        len += (size_t)snprintf(columns + len, sizeof columns - len, ",S_%s [1],S_%s_err [1]",
+                                pairs->label[q], pairs->label[q]);
+    }
+    gr_obs_pairs_summary(pairs, j);
+    cJSON_AddStringToObject(j, "species_file", "sk_species.csv");
+    cJSON *jn = cJSON_AddArrayToObject(j, "species_N");
+    for (int a = 0; a < st->ns; a++) {
+        cJSON_AddItemToArray(jn, cJSON_CreateNumber((double)st->count[a]));
+    }
+    for (int b = 0; b < st->nbins && st->frames; b++) { /* the smallest k: the S_ab(0) limit */
+        if (!st->bins[b].count) {
+            continue;
+        }
+        cJSON *o = cJSON_AddObjectToObject(j, "species_k_min");
+        const double k = st->bins[b].ksum / st->bins[b].count;
+        cJSON_AddNumberToObject(o, "k", k);
+        cJSON_AddNumberToObject(o, "kd", k * st->d);
+        cJSON *jS = cJSON_AddArrayToObject(o, "S"), *je = cJSON_AddArrayToObject(o, "S_err");
+        for (int q = 0; q < st->pairs.n; q++) {
+            const sk_bin *P = &st->pbins[(size_t)q * (size_t)st->nbins + (size_t)b];
+            const double S = st->pframes[q] ? gr_blocking_mean(&P->acc) : (double)NAN;
+            const double e = st->pframes[q] ? bin_error(P, st->pframes[q]) : (double)NAN;
+            cJSON_AddItemToArray(jS, isfinite(S) ? cJSON_CreateNumber(S) : cJSON_CreateNull());
+            cJSON_AddItemToArray(je, isfinite(e) ? cJSON_CreateNumber(e) : cJSON_CreateNull());
+        }
+        break;
+    }
+    char what[400], plot[600];
+    snprintf(what, sizeof what,
+             "partial structure factors of a mixture (Ashcroft-Langreth) S_ab(k) = <rho_a(k) "
+             "rho_b(-k)> / sqrt(N_a N_b), rho_a(k) = sum_{j in a} exp(-i k.r_j), on sk.csv's |n| "
+             "bins (k in 1/m, d = %g m); %lld frames; errors: %s; sum_ab sqrt(x_a x_b) S_ab = S",
+             st->d, (long long)st->frames, error_method(st->frames));
+    len = (size_t)snprintf(plot, sizeof plot,
+                           "set logscale x\nset xlabel 'k d'\nset ylabel 'S_{ab}(k)'\n"
+                           "set title 'Partial structure factors'\nplot ");
+    for (int q = 0; q < st->pairs.n && len < sizeof plot; q++) {
+        len += (size_t)snprintf(plot + len, sizeof plot - len,
+                                "%s'sk_species.csv' skip 1 using 3:%d:%d with yerrorbars title "
+                                "'S_{%s}'",
+                                q ? ", " : "", 4 + 2 * q, 5 + 2 * q, pairs->label[q]);
+    }
+    const gr_obs_table t = {.name = "sk_species.csv",
+                            .what = what,
+                            .columns = columns,
+                            .rows = species_rows,
+                            .ctx = st,
+                            .png = st->frames > 0 ? "sk_species.png" : NULL,
+                            .plot = plot};
+    return gr_obs_table_write(out, &t, err);
+}
+
 static int finish(void *state, const gr_output *out, gr_error *err)
 {
     sk_state *st = state;
@@ -976,6 +1201,12 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         cJSON_AddBoolToObject(fj, "weighted", F.weighted);
     }
 
+    if (st->ns) {
+        rc = finish_species(st, out, j, err);
+        if (rc) {
+            return rc;
+        }
+    }
     if (out->plots && st->frames > 0) {
         char body[2400];
         int len = snprintf(body, sizeof body,
@@ -1035,6 +1266,18 @@ static int io(void *state, gr_blob_io *io, gr_error *err)
     gr_blob_io_i64(io, &st->frames);
     io_bins(io, st->bins, st->nbins, "circular bins");
     io_bins(io, st->shells, st->nshells, "shells");
+    if (st->ns) { /* a mixture's (one species: the checkpoint as before) */
+        gr_blob_io_check(io, "species pairs", st->pairs.n);
+        for (int q = 0; q < st->pairs.n; q++) {
+            gr_blob_io_i64(io, &st->pframes[q]);
+        }
+        for (int a = 0; a < st->ns; a++) {
+            gr_blob_io_i64(io, &st->count[a]);
+        }
+        for (int q = 0; q < st->pairs.n; q++) {
+            io_bins(io, st->pbins + (size_t)q * (size_t)st->nbins, st->nbins, "circular bins");
+        }
+    }
     return GR_OK;
 }
 

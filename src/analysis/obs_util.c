@@ -256,6 +256,32 @@ double gr_obs_collision_diameter(const gr_obs_setup *setup)
     return setup->dim == 3 ? sqrt(2.0 * r2 + 2.0 * r1 * r1) : 2.0 * r1;
 }
 
+_Static_assert(GR_MAX_SPECIES <= 9, "species pairs are labelled by two digits");
+
+void gr_obs_pairs_init(gr_obs_pairs *pairs, int ns)
+{
+    pairs->n = 0;
+    for (int a = 0; a < ns; a++) {
+        for (int b = a; b < ns; b++, pairs->n++) {
+            pairs->a[pairs->n] = a;
+            pairs->b[pairs->n] = b;
+            pairs->of[a * ns + b] = pairs->of[b * ns + a] = pairs->n;
+            char *l = pairs->label[pairs->n];
+            l[0] = (char)('1' + a);
+            l[1] = (char)('1' + b);
+            l[2] = '\0';
+        }
+    }
+}
+
+void gr_obs_pairs_summary(const gr_obs_pairs *pairs, cJSON *j)
+{
+    cJSON *arr = cJSON_AddArrayToObject(j, "species_pairs");
+    for (int q = 0; q < pairs->n; q++) {
+        cJSON_AddItemToArray(arr, cJSON_CreateString(pairs->label[q]));
+    }
+}
+
 void gr_obs_note_diameter(cJSON *j, double d, int dim)
 {
     cJSON_AddNumberToObject(j, "d", d);

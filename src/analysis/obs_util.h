@@ -109,6 +109,20 @@ bool gr_obs_io_histogram_new(gr_blob_io *io, gr_histogram *h);
  * equal `value` ("<what> = <stored> in the checkpoint, <value> in the scene"). */
 void gr_blob_io_check(gr_blob_io *io, const char *what, int64_t value);
 
+/* A mixture's species pairs a <= b (sk's partial structure factors, vcorr's pair kinds), in the
+ * order 11, 12, .., 1 ns, 22, .., ns ns. */
+#define GR_OBS_MAX_PAIRS (GR_MAX_SPECIES * (GR_MAX_SPECIES + 1) / 2)
+typedef struct gr_obs_pairs {
+    int n; /* ns (ns + 1) / 2 */
+    int a[GR_OBS_MAX_PAIRS], b[GR_OBS_MAX_PAIRS];
+    int of[GR_MAX_SPECIES *
+           GR_MAX_SPECIES];          /* the pair of species (a, b), and (b, a), at [a ns + b] */
+    char label[GR_OBS_MAX_PAIRS][4]; /* "11", "12", ..: the species numbered from 1 */
+} gr_obs_pairs;
+void gr_obs_pairs_init(gr_obs_pairs *pairs, int ns);
+/* The summary's array "species_pairs" of the labels. */
+void gr_obs_pairs_summary(const gr_obs_pairs *pairs, cJSON *j);
+
 /* A mixture's summary: the length its lengths are in units of (gr_obs_collision_diameter) and why. */
 void gr_obs_note_diameter(cJSON *j, double d, int dim);
 

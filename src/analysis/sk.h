@@ -36,6 +36,11 @@ void gr_sk_grid(const gr_sk_lattice *lat, int *grid, double *tau);
 /* S of every vector for n particles at (x, y) (any real coordinates; periodic in L). */
 int gr_sk_compute(gr_sk_plan *pl, int method, int n, const double *x, const double *y, double *S,
                   gr_error *err);
+/* rho(k) = sum_j exp(-i k.r_j) of every vector, not normalised, into (re[v], im[v]), for n >= 0
+ * particles: a mixture's species one at a time (S_ab(k) = Re rho_a(k) conj rho_b(k) / sqrt(N_a
+ * N_b), obs_sk.c). |rho|^2 / n is gr_sk_compute's S to rounding, not bit for bit. */
+int gr_sk_compute_rho(gr_sk_plan *pl, int method, int n, const double *x, const double *y,
+                      double *re, double *im, gr_error *err);
 
 /* Shared by the 2D and 3D engines: the smallest even FFT size >= target with prime factors 2, 3,
  * 5, 7; and the Gaussian gridding weights of one coordinate (2 msp of them into w, for a grid of
@@ -61,5 +66,8 @@ int gr_sk3_plan_create(double L, double n_cut, int msp, gr_sk3_plan **out, gr_er
 void gr_sk3_plan_free(gr_sk3_plan *pl);
 int gr_sk3_compute(gr_sk3_plan *pl, int method, int n, const double *x, const double *y,
                    const double *z, double *S, gr_error *err);
+/* rho(k) of every vector in 3D (as gr_sk_compute_rho). */
+int gr_sk3_compute_rho(gr_sk3_plan *pl, int method, int n, const double *x, const double *y,
+                       const double *z, double *re, double *im, gr_error *err);
 
 #endif

@@ -2,7 +2,8 @@
  * with |n| <= n_cut, S(k) = |rho(k)|^2 / N, by Gaussian gridding (Greengard & Lee, SIAM Review 46,
  * 443 (2004), as the 2D engine in obs_sk.c: spread each particle onto an R-times oversampled M_r^3
  * periodic grid with a separable Gaussian over 2 msp points per axis, one r2c FFTW transform,
- * deconvolve by (pi / tau)^(3/2) e^{tau |n|^2}) or by the direct sum. */
+ * deconvolve by (pi / tau)^(3/2) e^{tau |n|^2}) or by the direct sum; rho(k) itself for a
+ * mixture's species (gr_sk3_compute_rho). */
 #include <fftw3.h>
 #include <math.h>
 #include <stdlib.h>
@@ -136,8 +137,9 @@ const gr_sk_lattice *gr_sk3_plan_lattice(const gr_sk3_plan *pl) { return &pl->la
 
 static int wrap_index(int i, int Mr) { return i < 0 ? i + Mr : i >= Mr ? i - Mr : i; }
 
-static void compute_gridding(gr_sk3_plan *pl, int n, const double *x, const double *y,
-                             const double *z, double *S)
+/* Spread n particles onto the grid and transform it: pl->spec then holds rho(k) / deconv. */
+static void grid_transform(gr_sk3_plan *pl, int n, const double *x, const double *y,
+                           const double *z)
 {
     const int Mr = pl->lat.Mr, w2 = 2 * pl->msp;
     const size_t M = (size_t)Mr;
@@ -167,6 +169,12 @@ static void compute_gridding(gr_sk3_plan *pl, int n, const double *x, const doub
         }
     }
     fftw_execute(pl->plan);
+}
+
+static void compute_gridding(gr_sk3_plan *pl, int n, const double *x, const double *y,
+                             const double *z, double *S)
+{
+    grid_transform(pl, n, x, y, z);
     const double inv_n = 1.0 / n;
     for (int v = 0; v < pl->lat.nv; v++) {
         const double *c = pl->spec[pl->idx[v]];
@@ -175,19 +183,26 @@ static void compute_gridding(gr_sk3_plan *pl, int n, const double *x, const doub
     }
 }
 
+/* The direct sum of one vector: rho(k) = sum_j exp(-i k.r_j), O(N). */
+static void direct_rho(const gr_sk3_plan *pl, int v, int n, const double *x, const double *y,
+                       const double *z, double *re, double *im)
+{
+    const double k0 = 2.0 * M_PI / pl->L;
+    *re = *im = 0.0;
+    for (int j = 0; j < n; j++) {
+        const double ph = k0 * (pl->lat.nx[v] * x[j] + pl->lat.ny[v] * y[j] + pl->lat.nz[v] * z[j]);
+        *re += cos(ph);
+        *im -= sin(ph);
+    }
+}
+
 /* The direct sum, vector by vector: O(N n_vectors), the oracle of the tests. */
 static void compute_direct(const gr_sk3_plan *pl, int n, const double *x, const double *y,
                            const double *z, double *S)
 {
-    const double k0 = 2.0 * M_PI / pl->L;
     for (int v = 0; v < pl->lat.nv; v++) {
-        double re = 0.0, im = 0.0;
-        for (int j = 0; j < n; j++) {
-            const double ph =
-                k0 * (pl->lat.nx[v] * x[j] + pl->lat.ny[v] * y[j] + pl->lat.nz[v] * z[j]);
-            re += cos(ph);
-            im -= sin(ph);
-        }
+        double re, im;
+        direct_rho(pl, v, n, x, y, z, &re, &im);
         S[v] = (re * re + im * im) / n;
     }
 }
@@ -206,5 +221,29 @@ int gr_sk3_compute(gr_sk3_plan *pl, int method, int n, const double *x, const do
         return GR_FAIL(err, GR_EINVAL, "sk: unknown method %d", method);
     }
     compute_gridding(pl, n, x, y, z, S);
+    return GR_OK;
+}
+
+int gr_sk3_compute_rho(gr_sk3_plan *pl, int method, int n, const double *x, const double *y,
+                       const double *z, double *re, double *im, gr_error *err)
+{
+    if (n < 0 || (n > 0 && (!x || !y || !z))) {
+        return GR_FAIL(err, GR_EINVAL, "sk: a 3D frame needs particles with x, y, z");
+    }
+    if (method == GR_SK_DIRECT) {
+        for (int v = 0; v < pl->lat.nv; v++) {
+            direct_rho(pl, v, n, x, y, z, &re[v], &im[v]);
+        }
+        return GR_OK;
+    }
+    if (method != GR_SK_GRIDDING) {
+        return GR_FAIL(err, GR_EINVAL, "sk: unknown method %d", method);
+    }
+    grid_transform(pl, n, x, y, z);
+    for (int v = 0; v < pl->lat.nv; v++) {
+        const double *c = pl->spec[pl->idx[v]];
+        re[v] = c[0] * pl->deconv[v];
+        im[v] = c[1] * pl->deconv[v];
+    }
     return GR_OK;
 }
