@@ -1,5 +1,5 @@
 # Sourced by the shell tests of observables on runs, called as `test_X.sh GRANULE SOURCE_DIR`
-# (tests/test_obs_mixture_structure.sh; tests/test_obs_mixture.sh has the same inline): $granule, $src
+# (tests/test_obs_mixture.sh, tests/test_obs_mixture_structure.sh): $granule, $src
 # (absolute), a temporary folder $tmp removed at exit, $quick (GRANULE_TEST_QUICK), and
 #   fail MESSAGE...               print FAIL: MESSAGE and exit 1;
 #   run NAME SCENE [ARGS...]      granule run SCENE --out $tmp/NAME without snapshots, one thread;

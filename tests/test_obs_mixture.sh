@@ -29,22 +29,8 @@
 #   the Enskog value of inelastic hard discs within 3 errors; on a radius distribution it runs with
 #   each pair's own contact (species is the one observable refused there, with what is allowed).
 # (Sums to 1e-7 where the CSV prints 8 digits.) usage: test_obs_mixture.sh GRANULE SOURCE_DIR
-set -uo pipefail
-granule=$1
-src=$(cd "$2" && pwd)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail() {
-    echo "FAIL: $*" >&2
-    exit 1
-}
-quick=${GRANULE_TEST_QUICK:-0}
-run() {
-    local name=$1 scene=$2
-    shift 2
-    OMP_NUM_THREADS=1 "$granule" run "$scene" --out "$tmp/$name" --set output.snapshot_every=0 \
-        "$@" >"$tmp/$name.log" 2>&1 || { cat "$tmp/$name.log" >&2; fail "run $name"; }
-}
+# shellcheck source=tests/obs_run_lib.sh
+source "$(dirname "$0")/obs_run_lib.sh" # $granule, $src, $tmp, $quick, fail, run, run_term_resume
 dur=0.3 beddur=0.04
 [[ $quick == 1 ]] && dur=0.05 beddur=0.01
 run gas "$src/docs/scenes/bidisperse-mixture.ini" --set output.plots=false --set run.warmup=0.1 \
@@ -318,20 +304,7 @@ short=(--set output.plots=false --set system.N=200 --set run.warmup=0.01 --set r
     --set analysis.profile_bins=4
     --set analysis.observables=species,profile,moments,collisions,postcollision,msd,vacf,pv,freepath,pair,clusters)
 run straight "$src/docs/scenes/bidisperse-mixture.ini" "${short[@]}"
-GRANULE_TEST_PAUSE_AT_STEP=3000 OMP_NUM_THREADS=1 "$granule" run "$src/docs/scenes/bidisperse-mixture.ini" \
-    --out "$tmp/term" --set output.snapshot_every=0 --set run.checkpoint_every=0.01 "${short[@]}" \
-    >"$tmp/term.log" 2>&1 &
-pid=$!
-for _ in $(seq 600); do
-    [[ -s $tmp/term/checkpoint ]] && break
-    sleep 0.1
-done
-kill -TERM "$pid" 2>/dev/null
-wait "$pid"
-rc=$?
-[[ $rc == 5 ]] || { cat "$tmp/term.log" >&2; fail "SIGTERM: exit $rc, want 5"; }
-OMP_NUM_THREADS=1 "$granule" run --resume "$tmp/term" >"$tmp/resume.log" 2>&1 ||
-    { cat "$tmp/resume.log" >&2; fail "resume of a mixture's profile"; }
+run_term_resume term "$src/docs/scenes/bidisperse-mixture.ini" "${short[@]}"
 for f in profile.csv species.csv moments.csv moments_species.csv collisions.csv postcollision.csv \
     msd.csv vacf.csv temperature.csv freepath.csv pair.csv pair_species.csv clusters.csv; do
     cmp -s "$tmp/straight/$f" "$tmp/term/$f" || fail "$f differs after SIGTERM and --resume"
