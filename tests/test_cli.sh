@@ -549,6 +549,29 @@ if [[ $rc -eq 0 && $out == *" events/s; kernel event"* && $out != *particle-step
 else
     fail "event run's rate (exit $rc)" "$out" "$err"
 fi
+# the noise windows against the run (docs/event-driven.md, "Accuracy and the kick interval"):
+# summary.json's noise_windows has the kick over the thermal speed sqrt(2 D tau) / M / sqrt(T) (1D)
+# and the collisions per grain and window; the short run above is within both limits and says
+# nothing, windows 20 times longer warn about both, naming the key
+/usr/bin/python3 - "$TMP/event-rate/summary.json" <<'PY' && pass "noise_windows of an event run: the kick against the thermal speed, collisions per window" || fail "noise_windows in summary.json"
+import json, math, sys
+s = json.load(open(sys.argv[1]))
+w, sc = s["noise_windows"], s["scene"]
+kick = math.sqrt(2 * sc["noise"]["D"] * w["kick_interval"]) / sc["system"]["mass"] / math.sqrt(s["T_mean"])
+rate = 2 * s["collisions"] / sc["system"]["N"] / s["simulated_seconds"] * w["kick_interval"]
+assert abs(w["kick_over_thermal"] / kick - 1) < 1e-9 and abs(w["collisions_per_window"] / rate - 1) < 1e-9, (w, kick, rate)
+assert w["kick_over_thermal"] < 0.5 and w["collisions_per_window"] < 0.5 and "warnings" not in s, w
+PY
+run "$G" run "$src/docs/scenes/rfm-1d-event.ini" --quiet --out "$TMP/event-coarse" \
+    --set system.N=100 --set system.reduced_length=0.1 --set run.warmup=0 --set run.duration=0.05 \
+    --set integrator.kick_interval=2e-3
+if [[ $rc -eq 0 && $err == *"noise windows are coarse"*"integrator.kick_interval = 0.002 s"* &&
+    $err == *"noise windows are long: a grain collides"* ]] &&
+    grep -q "noise windows are coarse" "$TMP/event-coarse/summary.json"; then
+    pass "coarse noise windows: a warning on stderr and in summary.json"
+else
+    fail "coarse noise windows' warning (exit $rc)" "$err"
+fi
 run "$G" run "$src/docs/scenes/rfm-1d.ini" --quiet --out "$TMP/step-rate" \
     --set system.N=100 --set system.reduced_length=0.1 --set run.warmup=0 --set run.duration=0.01
 if [[ $rc -eq 0 && $out == *" particle-steps/s; kernel 1d"* ]]; then

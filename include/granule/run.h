@@ -72,7 +72,8 @@ typedef struct gr_run_result {
     int64_t checkpoints;        /* written by this call */
     double checkpoint_seconds;  /* wall time spent writing them */
     char checkpoint_error[256]; /* first failed periodic checkpoint ("" if none) */
-    char notes[600];            /* schedule roundings worth stating, one per line ("" if none) */
+    char notes
+        [1600]; /* schedule roundings, the noise windows' warnings; one per line ("" if none) */
 } gr_run_result;
 
 /* Run the scene into scene->out_dir. On an unstable run the outputs written so far are kept,

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "app/mean_field.h"
+#include "app/noise_windows.h"
 #include "granule_commit.h"
 #include "granule_config.h"
 #include "app/run_picture.h"
@@ -180,6 +181,8 @@ static int write_summary(const char *dir, const gr_scene *scene, gr_sim *sim,
     for (int k = 0; k < GR_BLOCKING_LEVELS && blk->count[k] >= 2; k++) {
         cJSON_AddItemToArray(bl, cJSON_CreateNumber(gr_blocking_stderr_at(blk, k)));
     }
+    const gr_noise_windows w = gr_noise_windows_of(scene, sim, r);
+    gr_noise_windows_json(&w, scene, j);
     cJSON_AddStringToObject(j, "plots", plots);
     if (scene->warnings[0] || r->notes[0]) {
         char all[sizeof scene->warnings + sizeof r->notes];
@@ -281,6 +284,8 @@ static void results(gr_run_ctx *c)
     c->res->ledger = gr_sim_ledger(c->sim);
     c->res->T_mean = gr_blocking_mean(&c->blk);
     c->res->T_stderr = gr_blocking_stderr(&c->blk, NULL, &c->res->T_stderr_converged);
+    const gr_noise_windows w = gr_noise_windows_of(c->scene, c->sim, c->res);
+    gr_noise_windows_warn(&w, c->scene, c->res->notes, sizeof c->res->notes);
 }
 
 /* The tables, plots, the observables' outputs and scene.ini (unless the run stops for a write

@@ -160,8 +160,13 @@ int cmd_run(int argc, char **argv)
     if (opt.progress) {
         fputc('\n', stderr);
     }
-    if (res.notes[0]) {
-        fprintf(stderr, "granule: note: %s", res.notes);
+    for (const char *line = res.notes, *nl; *line; line = nl + 1) { /* one "note:" per line */
+        nl = strchr(line, '\n');
+        if (!nl) {
+            fprintf(stderr, "granule: note: %s\n", line);
+            break;
+        }
+        fprintf(stderr, "granule: note: %.*s\n", (int)(nl - line), line);
     }
     if (rc == GR_OK && !res.stopped) {
         gr_plot_summary_update(scene.out_dir); /* summary.json lists every picture drawn */
