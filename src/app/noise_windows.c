@@ -52,8 +52,8 @@ void gr_noise_windows_warn(const gr_noise_windows *w, const gr_scene *s, char *n
             "%.3g of the thermal speed per component%s) is not small, so T itself depends on "
             "integrator.kick_interval = %g s; rerun with a smaller kick_interval and compare "
             "(docs/event-driven.md, \"Accuracy and the kick interval\")\n",
-            w->kick_over_thermal, s->n_species >= 2 || s->size_distribution ? ", lightest grain" : "",
-            s->kick_interval);
+            w->kick_over_thermal,
+            s->n_species >= 2 || s->size_distribution ? ", lightest grain" : "", s->kick_interval);
     }
     if (w->collisions_per_window > WINDOW_LIMIT && at < len) {
         snprintf(notes + at, len - at,

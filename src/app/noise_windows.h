@@ -14,8 +14,8 @@
 #include "granule/sim.h"
 
 typedef struct gr_noise_windows {
-    bool applies;          /* an event-driven run with the random force and a measured T */
-    double kick_over_thermal; /* sqrt(2 D tau) / m_min over sqrt(T / dim) */
+    bool applies;                 /* an event-driven run with the random force and a measured T */
+    double kick_over_thermal;     /* sqrt(2 D tau) / m_min over sqrt(T / dim) */
     double collisions_per_window; /* 2 collisions / N per grain and second, times tau */
 } gr_noise_windows;
 
