@@ -36,7 +36,8 @@ dur=0.3 beddur=0.04
 run gas "$src/docs/scenes/bidisperse-mixture.ini" --set output.plots=false --set run.warmup=0.1 \
     --set run.duration=$dur --set analysis.profile_bins=1 \
     --set analysis.observables=species,profile,moments,pv,msd,vacf,collisions,postcollision,pressure,freepath,pair,clusters
-python3 - "$tmp/gas" "$quick" <<'PY' || fail "the gas's observables"
+# Debian's python3 (scripts/setup.sh installs python3-pandas for it) reads the tables with pandas
+/usr/bin/python3 - "$tmp/gas" "$quick" <<'PY' || fail "the gas's observables"
 import csv, json, math, sys
 d, quick = sys.argv[1], sys.argv[2] == "1"
 s = json.load(open(d + "/summary.json"))
@@ -164,6 +165,10 @@ for x, y in zip(pooled, per):
     good &= float(x["pairs"]) == sum(float(y["pairs_" + k]) for k in w)
     g = sum(w[k] * float(y["g_" + k]) for k in w) / (1000 * 999 / 2)
     good &= abs(g - float(x["g"])) <= 1e-7 * max(1.0, float(x["g"]))
+# pandas (the reader users have) loads the table with every kind's columns as numbers
+import pandas
+t = pandas.read_csv(d + "/pair_species.csv")
+good &= len(t) == len(per) and all(t[c].dtype.kind in "fi" for c in ("g_11", "g_12_error", "pairs_22"))
 ps = a["pair"]["species"]
 good &= ps["pairs"] == ["1-1", "1-2", "2-2"] and all(abs(x - 3e-3) < 1e-15 for x in ps["sigma"])
 print(f"pair_species.csv: {len(per)} bins, the kinds' pairs and weighted g add up to pair.csv's; "
