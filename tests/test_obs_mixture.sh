@@ -404,6 +404,18 @@ if [[ $quick != 1 ]]; then
     sum=$(sha256sum <"$tmp/one/profile.csv" | cut -d' ' -f1)
     [[ $sum == d567a33a72f562f3bf8a4f9062598bac407f8d2962e01f7c1dc34b6907303d44 ]] ||
         fail "one species: profile.csv changed (sha256 $sum)"
+    # pair, clusters and gaps of one species as at b4a0e9e, before their per-species parts
+    run one2d "$src/docs/scenes/rfm-2d.ini" --set output.plots=false --set system.N=300 \
+        --set system.L=0.05 --set run.warmup=0.01 --set run.duration=0.03 --set analysis.observables=pair,clusters
+    run one1d "$src/docs/scenes/rfm-1d.ini" --set output.plots=false --set system.N=200 \
+        --set run.warmup=0.01 --set run.duration=0.05 --set analysis.observables=gaps
+    for f in one2d/pair.csv:9823cbbd269c9a0630730e12bb674a606dc6c7eb1fa8ffff40e9712f5be7e8a5 \
+        one2d/clusters.csv:e9dca864a26ce208f4f7027b2ef05ff3b9cfc8ebceae816c05094ee656b4540f \
+        one1d/gaps.csv:4cee6856e538c7bf582bd49f3dacdce2527bf3e86bf6c7ba42ae0f2cb73611c6 \
+        one1d/gaps_moments.csv:0192b351ee89fda68ec6594fa306c5b7067875599dbf1ee1ef1ea737a9cd553c; do
+        sum=$(sha256sum <"$tmp/${f%%:*}" | cut -d' ' -f1)
+        [[ $sum == "${f##*:}" ]] || fail "one species: ${f%%:*} changed (sha256 $sum)"
+    done
 fi
 
 # pressure on the gas of species lists: the kinetic part with each grain's mass, so n T of the
