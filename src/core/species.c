@@ -161,13 +161,14 @@ int gr_species_setup(gr_sim *s, gr_error *err)
     }
     const char *what = not_covered(s);
     if (what) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "%s: %s: not available with [species] yet; a mixture runs in 1D, 2D and 3D "
-                       "with the verlet or event integrator, a normal force law, tangential laws "
-                       "(with verlet the history law with species lists, and rolling "
-                       "resistance), walls and gravity, and the random force, no driving or "
-                       "(verlet) the Langevin bath (docs/mixtures.md)",
-                       p->source, what);
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s: %s: not available with [species] yet; a mixture runs in 1D, 2D and 3D "
+            "with the verlet, event or hybrid integrator, a normal force law, tangential laws "
+            "(with verlet the history law with species lists, and rolling "
+            "resistance), walls and gravity, and the random force, no driving or "
+            "(verlet) the Langevin bath (docs/mixtures.md)",
+            p->source, what);
     }
     int total = 0;
     double dmax = 0.0;

@@ -13,12 +13,24 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
     /* tangential laws and rolling laws: the verlet integrator (kernels_poly.c); the history law:
      * species lists; the bath and com mode: verlet; walls and gravity: both integrators */
     const bool event = s->integrator->instantaneous;
+    /* the hybrid (soft contacts between free flights): species lists, no rotation, com or no
+     * noise (docs/hybrid.md, "Mixtures") */
+    const bool leaps = s->integrator->free_flight && !event;
 
     struct {
         bool on;
         const char *section, *key, *allowed;
     } const no[] = {
-        {!s->integrator->species, "integrator", "kind", "verlet | event"},
+        {!s->integrator->species, "integrator", "kind", "verlet | event | hybrid"},
+        {leaps && s->size_distribution, "species", "distribution",
+         "none (species lists) with the hybrid integrator; a radius distribution: verlet"},
+        {leaps && s->contact.rotation, "model", "rotation",
+         "false with the hybrid integrator (rotating grains of a mixture: verlet)"},
+        {leaps && s->noise_mode == GR_NOISE_SYMMETRISED && s->D > 0.0 &&
+             !(s->driving && s->driving->update != GR_DRIVE_FORCE),
+         "noise", "mode",
+         "com | none with the hybrid integrator (subtracting the mean force accelerates grains of "
+         "unequal mass unequally, which its centre-of-mass frame cannot represent)"},
         {s->normal && !(s->normal->kind & GR_MODEL_NORMAL), "model", "normal",
          "a normal force law (spring_dashpot, hertz, ...) or event rule (hard_sphere)"},
         {s->tangential &&

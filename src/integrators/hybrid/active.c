@@ -12,6 +12,7 @@
  *    Active particles are grouped into clusters (1D: runs of consecutive active particles;
  *    2D: union-find over pairs that may touch). Inside a cluster every velocity is bounded by
  *    the cluster's start velocities widened by a fraction GR_HYBRID_SPREAD of their spread
+ *    (h->spread: more for a mixture, whose light grains a heavy one can knock beyond that range)
  *    (1D: [vmin, vmax] -> [vmin - f (vmax - vmin), vmax + f (vmax - vmin)]; 2D: speed <= (1 + f)
  *    max |v|; binary collisions keep 1D velocities inside [vmin, vmax] and 2D speeds below
  *    sqrt(2) max |v|), plus c sv for the noise and w0 xi_max for the release of the largest
@@ -35,36 +36,37 @@ double gr_hy_noise_sx(const gr_sim *s, const gr_hybrid_state *h, int m)
     if (s->params.noise_mode == GR_NOISE_NONE || s->params.D <= 0.0) {
         return 0.0;
     }
-    const double tau = m * s->dt, sv = sqrt(2.0 * s->params.D * tau) / s->mass;
+    const double tau = m * s->dt, sv = sqrt(2.0 * s->params.D * tau) / h->m_noise;
     if (h->kicks) {
         return sv * (double)(m - m / 2) * s->dt;
     }
     const double dm = (double)m;
-    return sqrt(2.0 * s->params.D * tau * tau * tau / (3.0 * s->mass * s->mass) *
+    return sqrt(2.0 * s->params.D * tau * tau * tau / (3.0 * h->m_noise * h->m_noise) *
                 (1.0 + 1.5 / dm + 0.5 / (dm * dm)));
 }
 
-double gr_hy_noise_sv(const gr_sim *s, int m)
+double gr_hy_noise_sv(const gr_sim *s, const gr_hybrid_state *h, int m)
 {
     if (s->params.noise_mode == GR_NOISE_NONE || s->params.D <= 0.0) {
         return 0.0;
     }
-    return sqrt(2.0 * s->params.D * m * s->dt) / s->mass;
+    return sqrt(2.0 * s->params.D * m * s->dt) / h->m_noise;
 }
 
 /* ---- 1D: the ring ------------------------------------------------------------------------- */
 
 static inline double gap_1d(const gr_sim *s, const double *x, int i)
 {
-    return (i + 1 < s->n ? x[i + 1] - x[i] : x[0] + s->L - x[i]) - s->d;
+    const int j = i + 1 < s->n ? i + 1 : 0;
+    return (j ? x[j] - x[i] : x[0] + s->L - x[i]) - gr_pair_d(s, i, j);
 }
 
 static void select_1d(gr_sim *s, gr_hybrid_state *h, int m)
 {
     const int n = s->n;
     const double tau = m * s->dt, c = h->margin_c, sx = gr_hy_noise_sx(s, h, m),
-                 sv = gr_hy_noise_sv(s, m);
-    const double w0 = s->cc.w0, free_margin = c * M_SQRT2 * sx, one_margin = c * sx;
+                 sv = gr_hy_noise_sv(s, h, m);
+    const double w0 = h->w0_max, free_margin = c * M_SQRT2 * sx, one_margin = c * sx;
     const double *x = s->x, *v = s->vx;
     double *restrict g = h->c_xi; /* gaps g[i] between i and i + 1 (mod n) */
     uint8_t *act = h->active;
@@ -115,7 +117,7 @@ static void select_1d(gr_sim *s, gr_hybrid_state *h, int m)
     } while (0)
             for (int grew = 1; grew;) {
                 grew = 0;
-                const double widen = GR_HYBRID_SPREAD * (vmax - vmin) + c * sv + w0 * xi;
+                const double widen = h->spread * (vmax - vmin) + c * sv + w0 * xi;
                 const double hi = vmax + widen, lo = vmin - widen;
                 /* right: positions e+1 .. f0+n-1; position f0+n is f0 */
                 if (e + 1 <= f0 + n && !(e + 1 == f0 + n && act[f0])) {
@@ -146,7 +148,7 @@ static void select_1d(gr_sim *s, gr_hybrid_state *h, int m)
             }
 #undef ABSORB
             /* envelopes: the ends of the run face free particles (the last pass's values stand) */
-            const double widen = GR_HYBRID_SPREAD * (vmax - vmin) + c * sv + w0 * xi;
+            const double widen = h->spread * (vmax - vmin) + c * sv + w0 * xi;
             for (int q = bk; q <= e; q++) {
                 h->env_lo[W(q)] = q == bk ? vmin - widen : -(double)INFINITY;
                 h->env_hi[W(q)] = q == e ? vmax + widen : (double)INFINITY;
@@ -271,7 +273,8 @@ int gr_hy_misses(gr_sim *s, gr_hybrid_state *h, gr_error *err, int *found)
             const double lo = (s->params.vibrate == a + 1 ? s->params.amplitude : 0.0) + 0.5 * d,
                          hi = s->L - 0.5 * d;
             for (int i = 0; i < n && s->params.walls[a]; i++) {
-                if (!act[i] && (pos[a][i] <= lo || pos[a][i] >= hi)) {
+                const double ri = gr_grain_r(s, i) - 0.5 * d; /* 0, or below for a smaller grain */
+                if (!act[i] && (pos[a][i] <= lo + ri || pos[a][i] >= hi - ri)) {
                     h->forced[i] = 1;
                     *found = 1;
                 }
@@ -314,7 +317,8 @@ int gr_hy_misses(gr_sim *s, gr_hybrid_state *h, gr_error *err, int *found)
         }
         const double dx = gr_hy_wrap(x[j] - x[i], L), dy = gr_hy_wrap(y[j] - y[i], L),
                      dz = s->dim == 3 ? gr_hy_wrap(s->z[j] - s->z[i], L) : 0.0;
-        if (dx * dx + dy * dy + dz * dz < d2) {
+        const double dij = gr_pair_d(s, i, j); /* a mixture's pair: r_i + r_j <= d */
+        if (dx * dx + dy * dy + dz * dz < dij * dij) {
             h->forced[i] = h->forced[j] = 1;
             *found = 1;
         }

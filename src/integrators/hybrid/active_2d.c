@@ -335,8 +335,8 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
 {
     const int n = s->n;
     const double tau = m * s->dt, c = h->margin_c, sx = gr_hy_noise_sx(s, h, m),
-                 sv = gr_hy_noise_sv(s, m);
-    const double d = s->d, L = s->L, w0 = s->cc.w0, f = 1.0 + GR_HYBRID_SPREAD;
+                 sv = gr_hy_noise_sv(s, h, m);
+    const double d = s->d, L = s->L, w0 = h->w0_max, f = 1.0 + h->spread;
     const int three = s->dim == 3; /* z, vz read only in 3D (valid arrays in 2D all the same) */
     const double *x = s->x, *y = s->y, *vx = s->vx, *vy = s->vy, *z = three ? s->z : s->y,
                  *vz = three ? s->vz : s->vy;
@@ -401,14 +401,16 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
             return rc_;
         }
     }
-    const double free_reach = d + c * M_SQRT2 * sx;
+    const double margin_free = c * M_SQRT2 * sx;
     for (int64_t q = 0; q < h->npairs; q++) {
         const int i = h->pi[q], j = h->pj[q];
+        /* the pair's own contact distance (a mixture's r_i + r_j; d for one species) */
+        const double dij = gr_pair_d(s, i, j), free_reach = dij + margin_free;
         const double rx = gr_hy_wrap(x[j] - x[i], L), ry = gr_hy_wrap(y[j] - y[i], L),
                      rz = three ? gr_hy_wrap(z[j] - z[i], L) : 0.0,
                      r2 = rx * rx + ry * ry + rz * rz;
-        if (r2 < d * d) {
-            const double ov = d - sqrt(r2);
+        if (r2 < dij * dij) {
+            const double ov = dij - sqrt(r2);
             h->c_xi[i] = ov > h->c_xi[i] ? ov : h->c_xi[i];
             h->c_xi[j] = ov > h->c_xi[j] ? ov : h->c_xi[j];
         }
@@ -474,20 +476,21 @@ int gr_hy_select_2d(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
             }
             const double rx = gr_hy_wrap(x[F] - x[A], L), ry = gr_hy_wrap(y[F] - y[A], L),
                          rz = three ? gr_hy_wrap(z[F] - z[A], L) : 0.0; /* r from A to F */
-            const double r2 = rx * rx + ry * ry + rz * rz, ra = reach(&w, a);
+            const double r2 = rx * rx + ry * ry + rz * rz, ra = reach(&w, a),
+                         dAF = gr_pair_d(s, A, F);
             if (b >= 0) {
-                const double rb = reach(&w, b), bound = d + (ra + rb) * tau;
-                if (r2 <= bound * bound * slack && sqrt(r2) - (ra + rb) * tau < d) {
+                const double rb = reach(&w, b), bound = dAF + (ra + rb) * tau;
+                if (r2 <= bound * bound * slack && sqrt(r2) - (ra + rb) * tau < dAF) {
                     merge(&w, a, b);
                 }
                 continue;
             }
             /* A active, F free: F's straight path (closest approach >= |r| - |v_F| tau) against
              * A's reach */
-            const double bound = d + c * sx + (ra + speed[F]) * tau;
+            const double bound = dAF + c * sx + (ra + speed[F]) * tau;
             if (r2 <= bound * bound * slack &&
                 closest(rx, ry, rz, vx[F], vy[F], three ? vz[F] : 0.0, tau) - ra * tau <
-                    d + c * sx) {
+                    dAF + c * sx) {
                 act[F] = 1;
                 al[na++] = F;
                 h->c_hi[F] = speed[F];

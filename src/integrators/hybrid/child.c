@@ -31,7 +31,11 @@ int gr_hy_child_create(gr_sim *s, gr_hybrid_state *h, gr_error *err)
     sc.integrator = &gr_integrator_verlet;
     sc.noise_mode = GR_NOISE_NONE;
     const double *const r[3] = {s->x, s->y, s->z}, *const v[3] = {s->vx, s->vy, s->vz};
-    int rc = s->dim == 3
+    /* a mixture starts from a placement only: the child repeats the parent's (the same seed and
+     * species deal), and each window overwrites its first grains with the active ones, their
+     * species, radii and masses included (load) */
+    int rc = s->nsp >= 1 ? gr_sim_new(&sc, &h->child, err)
+             : s->dim == 3
                  ? gr_sim_new_with_state_3d(&sc, s->n, r, v, &h->child, err)
                  : gr_sim_new_with_state(&sc, s->n, s->x, s->y, s->vx, s->vy, &h->child, err);
     if (rc) {
@@ -80,6 +84,12 @@ static void load(gr_sim *s, gr_hybrid_state *h, gr_sim *c)
         if (c->contacts) {
             c->contacts[q] = s->contacts[p];
         }
+        if (s->species) {
+            c->species[q] = s->species[p];
+            c->rad[q] = s->rad[p];
+            c->mass_i[q] = s->mass_i[p];
+            c->inv_m[q] = s->inv_m[p];
+        }
     }
     double *sw[3], *st[3], *cw[3], *ct[3];
     const int nw = gr_hy_spins(s, sw, st);
@@ -124,9 +134,10 @@ static void set_shares(double share[3], const gr_force_report *r)
 /* Closing half kick of the last step; returns the work of the non-conservative forces. */
 static double close_kick(gr_sim *c)
 {
-    const double hk = 0.5 * c->dt / c->mass;
+    const double hk0 = 0.5 * c->dt / c->mass, *im = c->inv_m;
     double w = 0.0;
     for (int q = 0; q < c->n; q++) {
+        const double hk = im ? 0.5 * c->dt * im[q] : hk0; /* a mixture: each grain's 1 / m_i */
         const double dvx = hk * c->fx[q];
         w += c->gx[q] * (c->vx[q] + 0.5 * dvx);
         c->vx[q] += dvx;
@@ -142,6 +153,52 @@ static double close_kick(gr_sim *c)
         }
     }
     return 0.5 * c->dt * w;
+}
+
+/* The opening of step k (closing half kick of step k - 1, opening half kick, noise kick, drift)
+ * for a mixture: the one-species loops below component by component, each grain's kicks scaled by
+ * its own 1 / m_i and the noise's energy by its m_i. Adds the work of the non-conservative forces
+ * (closing and opening halves), the kinetic energy the noise added and the largest squared
+ * displacement since the list's build (2D, 3D). */
+static void open_species(gr_sim *c, const gr_hybrid_state *h, int k, int m, const double lo[3],
+                         const double hi[3], double *wc, double *wo, double *added, double *worst2)
+{
+    const int na = c->n, dim = c->dim;
+    const double dt = c->dt, L = c->L, half = 0.5 * L, amp = h->kick_amp, mk = (double)(m - k);
+    const size_t md = (size_t)m * dim;
+    const double *raw = h->kick + (size_t)k * dim;
+    double *r[3] = {c->x, c->y, c->z}, *v[3] = {c->vx, c->vy, c->vz};
+    const double *f[3] = {c->fx, c->fy, c->fz}, *gn[3] = {c->gx, c->gy, c->gz},
+                 *ref[3] = {c->x_ref, c->y_ref, c->z_ref};
+    for (int q = 0; q < na; q++) {
+        const double hk = 0.5 * dt * c->inv_m[q], aq = amp * c->inv_m[q];
+        double d2 = 0.0, part = 0.0;
+        for (int a = 0; a < dim; a++) {
+            const double dvf = hk * f[a][q];
+            double vi = v[a][q];
+            if (k > 0) {
+                *wc += gn[a][q] * (vi + 0.5 * dvf);
+                vi += dvf;
+            }
+            *wo += gn[a][q] * (vi + 0.5 * dvf);
+            vi += dvf;
+            const size_t o = 2 * ((size_t)q * dim + (size_t)a);
+            const double dv = aq * (raw[(size_t)q * md + a] + h->lam[o] + h->lam[o + 1] * mk);
+            part += dv * (vi + 0.5 * dv);
+            vi += dv;
+            v[a][q] = vi;
+            double xn = r[a][q] + vi * dt;
+            if (dim >= 2) { /* the ring (1D) keeps unwrapped positions */
+                xn += xn < lo[a] ? L : (xn >= hi[a] ? -L : 0.0);
+                double dd = xn - ref[a][q];
+                dd += dd > half ? -L : (dd < -half ? L : 0.0);
+                d2 += dd * dd;
+            }
+            r[a][q] = xn;
+        }
+        *added += c->mass_i[q] * part;
+        *worst2 = d2 > *worst2 ? d2 : *worst2;
+    }
 }
 
 int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error *err)
@@ -171,7 +228,7 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
     if (dim == 1) {
         for (int q = 0; q < na; q++) {
             const double g = q + 1 < na ? c->x[q + 1] - c->x[q] : c->x[0] + c->L - c->x[q];
-            c->pair_contact[q] = na > 1 && g < c->d;
+            c->pair_contact[q] = na > 1 && g < gr_pair_d(c, q, q + 1 < na ? q + 1 : 0);
         }
     } else {
         c->step = 0; /* the list's contact flags: pairs overlapping now */
@@ -216,7 +273,9 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
         const double amp = h->kick_amp, mk = (double)(m - k);
         const size_t md = (size_t)m * dim;
         double wc = 0.0, wo = 0.0, added = 0.0;
-        if (dim == 1) {
+        if (c->inv_m) {
+            open_species(c, h, k, m, lo, hi, &wc, &wo, &added, &worst2);
+        } else if (dim == 1) {
             double *restrict x = c->x, *restrict v = c->vx;
             const double *restrict f = c->fx, *restrict g = c->gx;
             /* LANES partial sums (as step.c) so the loop vectorises with a fixed summation order */
@@ -408,7 +467,7 @@ int gr_hy_child_run(gr_sim *s, gr_hybrid_state *h, int m, int *missed, gr_error 
             return GR_OK; /* hybrid.c restores the window's start and redoes it */
         }
         book(s, c->share, 0.5 * dt * (wc + wo) + spin_c + spin_o);
-        s->injected += c->mass * added;
+        s->injected += (c->inv_m ? 1.0 : c->mass) * added; /* a mixture's is mass-weighted */
         if (!isfinite(wo + added)) {
             return GR_FAIL(err, GR_EUNSTABLE,
                            "unstable run: non-finite velocity in the hybrid's active set at step "

@@ -22,7 +22,15 @@ typedef struct gr_hybrid_state {
     gr_sim *child;   /* the active particles, capacity N; integrator verlet, no noise of its own */
     int m;           /* steps per full window */
     double margin_c; /* c: margins are c standard deviations of the noise displacement */
-    int kicks;       /* free_flight = kicks */
+    /* bounds over a mixture's grains (species lists, docs/hybrid.md "Mixtures"): the smallest mass
+     * (whose noise spreads farthest) and the largest sqrt(k_s / m12) of any pair; M and cc.w0
+     * for one species */
+    double m_noise, w0_max;
+    /* the clusters' velocity widening: GR_HYBRID_SPREAD, plus (m_max - m_min) / (m_max + m_min) for
+     * a mixture (a grain of mass m_max hitting one of m_min can push it that fraction of their
+     * relative velocity beyond the pair's range; docs/hybrid.md, "Mixtures") */
+    double spread;
+    int kicks; /* free_flight = kicks */
 
     /* state at the window start (for rollbacks) */
     double *x0, *y0, *vx0, *vy0, *fx0, *fy0, *gx0, *gy0;
@@ -77,7 +85,7 @@ typedef struct gr_hybrid_state {
 int gr_hy_select(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err);
 /* Standard deviations of a free particle's noise displacement and velocity over m steps. */
 double gr_hy_noise_sx(const gr_sim *s, const gr_hybrid_state *h, int m);
-double gr_hy_noise_sv(const gr_sim *s, int m);
+double gr_hy_noise_sv(const gr_sim *s, const gr_hybrid_state *h, int m);
 
 /* active_2d.c */
 /* The 2D active set of a window of m steps (into h->active, envelopes into h->env_hi). */

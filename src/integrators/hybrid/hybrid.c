@@ -120,12 +120,41 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
             "through the walls; allowed with walls: mode = com or none",
             sc->source);
     }
+    if (s->nsp >= 1) {
+        /* a mixture (docs/hybrid.md, "Mixtures"): species lists whose grains do not rotate, with
+         * noise whose kicks leave the pairs' relative motion alone (com or none) */
+        const char *what = !s->cc_pair ? "[species] distribution (a continuous radius distribution)"
+                           : s->omega  ? "[model] rotation = true"
+                           : noise && sc->noise_mode == GR_NOISE_SYMMETRISED
+                               ? "[noise] mode = symmetrised (subtracting the mean force "
+                                 "accelerates grains of unequal mass unequally, which the "
+                                 "hybrid's centre-of-mass frame cannot represent)"
+                               : NULL;
+        if (what) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: %s: not available with [species] and kind = hybrid; the hybrid "
+                           "runs species lists without rotation, with [noise] mode = com or "
+                           "none (docs/hybrid.md, \"Mixtures\")",
+                           sc->source, what);
+        }
+    }
     gr_hybrid_state *h = calloc(1, sizeof *h);
     if (!h) {
         return GR_FAIL(err, GR_ENOMEM, "out of memory");
     }
     s->integrator_state = h;
     h->m = (int)m;
+    h->m_noise = s->mass;
+    h->w0_max = s->cc.w0;
+    double m_max = s->mass;
+    for (int i = 0; s->mass_i && i < s->n; i++) { /* a mixture: bounds over its grains */
+        h->m_noise = fmin(h->m_noise, s->mass_i[i]);
+        m_max = fmax(m_max, s->mass_i[i]);
+    }
+    h->spread = GR_HYBRID_SPREAD + (s->mass_i ? (m_max - h->m_noise) / (m_max + h->m_noise) : 0.0);
+    for (int ab = 0; s->cc_pair && ab < s->nsp * s->nsp; ab++) {
+        h->w0_max = fmax(h->w0_max, s->cc_pair[ab].w0);
+    }
     h->margin_c = GR_HYBRID_MARGIN_SIGMAS;
     h->kicks = sc->free_flight == GR_FREE_FLIGHT_KICKS;
     const int n = s->n, dim = s->dim;

@@ -36,6 +36,7 @@ const gr_integrator_type gr_integrator_hybrid = {
     .spheres = true,  /* 3D: the soft laws, with or without rotation (docs/hybrid.md, "Spheres") */
     .rotation = true, /* the active set's spins kicked by the child as step.c kicks them */
     .walls = true,    /* 2D and 3D: grains that could reach a wall are active (docs/hybrid.md) */
+    .species = true,  /* species lists, no rotation, com or no noise (docs/hybrid.md, "Mixtures") */
     .create = gr_hybrid_init,
     .step = gr_hybrid_step,
     .free = gr_hybrid_free,

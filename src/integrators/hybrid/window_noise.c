@@ -89,11 +89,51 @@ void gr_hy_free_increment(const gr_sim *s, const gr_hybrid_state *h, int m, int 
         *dv = *dx = 0.0;
         return;
     }
-    const double a = sqrt(2.0 * s->params.D * s->dt) / s->mass;
+    const double a = sqrt(2.0 * s->params.D * s->dt) * (s->inv_m ? s->inv_m[p] : 1.0 / s->mass);
     double s1, s2;
     sums(h, s->dim, m, p, c, &s1, &s2);
     *dv = a * s1;
     *dx = h->kicks ? *dv * (double)(m - m / 2) * s->dt : a * s->dt * s2;
+}
+
+/* gr_hy_leap_free for a mixture (species lists): each grain's noise increments scaled by its own
+ * 1 / m_i and its weight m_i g, component by component (not the vectorised lanes of one mass);
+ * returns the kinetic energy the noise and gravity's work added, sum_i m_i (...). */
+static double leap_free_species(gr_sim *s, const gr_hybrid_state *h, int m)
+{
+    const int n = s->n, dim = s->dim, noise = has_noise(s);
+    const double tau = m * s->dt, L = s->L, dm = (double)m;
+    const double a = noise ? sqrt(2.0 * s->params.D * s->dt) : 0.0; /* times 1 / m_i below */
+    const double c1 = a * sqrt(dm);
+    const double c21 =
+        h->kicks ? c1 * (double)(m - m / 2) * s->dt : a * s->dt * 0.5 * (dm + 1.0) * sqrt(dm);
+    const double c22 = h->kicks ? 0.0 : a * s->dt * sqrt(dm * (dm + 1.0) * (dm - 1.0) / 12.0);
+    double *const pos[3] = {s->x, s->y, s->z}, *const vel[3] = {s->vx, s->vy, s->vz},
+                  *const frc[3] = {s->fx, s->fy, s->fz}, *const gnc[3] = {s->gx, s->gy, s->gz};
+    double added = 0.0;
+    for (int p = 0; p < n; p++) {
+        if (h->active[p]) {
+            continue;
+        }
+        const double im = s->inv_m[p];
+        double part = 0.0;
+        for (int c = 0; c < dim; c++) {
+            const double g = s->params.gravity[c], g1 = h->ff[(p * dim + c) * 2],
+                         g2 = h->ff[(p * dim + c) * 2 + 1], u = vel[c][p];
+            const double dv = im * c1 * g1, e = im * (c21 * g1 + c22 * g2);
+            double xn = pos[c][p] + u * tau + e + 0.5 * g * tau * tau;
+            if (dim >= 2) { /* the ring (1D) keeps unwrapped positions */
+                xn += xn < 0.0 ? L : (xn >= L ? -L : 0.0);
+            }
+            part += dv * (u + 0.5 * dv) + g * (tau * dv - e);
+            pos[c][p] = xn;
+            vel[c][p] = u + dv + g * tau;
+            frc[c][p] = s->mass_i[p] * g;
+            gnc[c][p] = 0.0;
+        }
+        added += s->mass_i[p] * part;
+    }
+    return added;
 }
 
 double gr_hy_leap_free(gr_sim *s, gr_hybrid_state *h, int m)
@@ -112,6 +152,9 @@ double gr_hy_leap_free(gr_sim *s, gr_hybrid_state *h, int m)
     const double gxa = s->params.gravity[0], gya = s->params.gravity[1], gza = s->params.gravity[2];
     const double hx = 0.5 * gxa * tau * tau, hy = 0.5 * gya * tau * tau, hz = 0.5 * gza * tau * tau;
     const double mgx = M * gxa, mgy = M * gya, mgz = M * gza;
+    if (s->inv_m) {
+        return leap_free_species(s, h, m);
+    }
     /* Every particle in 8 fixed lanes, the active ones left as they are, so the loop vectorises;
      * h->ff is zero without noise (never drawn). Positions stay in [0, L) by one conditional
      * shift (a leap is much shorter than L). */
@@ -246,7 +289,8 @@ int gr_hy_active_kicks(const gr_sim *s, gr_hybrid_state *h, int64_t start, int m
         memset(h->lam, 0, sizeof(double) * 2 * (size_t)dim * (size_t)na);
         return GR_OK;
     }
-    h->kick_amp = sqrt(2.0 * s->params.D * s->dt) / s->mass;
+    /* a mixture: the child scales the kicks by each grain's 1 / m_i (child.c) */
+    h->kick_amp = sqrt(2.0 * s->params.D * s->dt) / (s->inv_m ? 1.0 : s->mass);
     const double dm = (double)m;
     const double G11 = dm, G12 = 0.5 * dm * (dm + 1.0),
                  G22 = dm * (dm + 1.0) * (2.0 * dm + 1.0) / 6.0;
