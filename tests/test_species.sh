@@ -400,7 +400,7 @@ refuse_with "$tmp/dist.ini" "\[model\] viscoelastic.*radius distribution" --set 
 refuse_with "$tmp/dist.ini" "\[species\] density.*one density" --set 'species.density=5, 6'
 refuse_with "$tmp/dist.ini" "\[species\] radius_max.*radius_min < radius_max" --set species.radius_max=1e-3
 { cat "$tmp/dist.ini"; printf '[integrator]\nkind = hybrid\n'; } >"$tmp/bad.ini"
-refuse_with "$tmp/bad.ini" "bad.ini:2[0-9]: \[integrator\] kind.*not available with \[species\]"
+refuse_with "$tmp/bad.ini" "bad.ini:[0-9]*: \[species\] distribution.*species lists. with the hybrid integrator"
 
 # 1D: a ring of two species runs, its ledger closes
 cat >"$tmp/ring.ini" <<'INI'
@@ -442,7 +442,7 @@ done
 # refusals: the key, with where it was given
 refuse_with "$tmp/dist.ini" "\[model\] tangential.*not available with \[species\].*normal = spring_dashpot" \
     --set model.tangential=tangential_spring --set model.normal=hertz --set model.k_h=1e7
-refuse "\[integrator\] kind.*not available with \[species\]" --set integrator.kind=hybrid
+refuse "bidisperse-mixture.ini:[0-9]*: \[noise\] mode.*com | none with the hybrid integrator" --set integrator.kind=hybrid
 refuse "\[driving\] kind.*not available with \[species\]" --set integrator.kind=event \
     --set model.normal=hard_sphere --set driving.kind=langevin
 refuse_with "$tmp/dist.ini" "\[model\] viscoelastic.*radius distribution" \
