@@ -890,6 +890,19 @@ START_TEST(test_refuse_window)
     ck_assert_msg(strstr(err.message, "kick_interval") && strstr(err.message, "multiple") &&
                       strstr(err.message, "rfm-1d.ini"),
                   "message: %s", err.message);
+    /* left at its default, the window is the nearest whole number of steps: the mixture's dt
+     * (from its contact time) does not divide 1e-4 s */
+    const char *def[] = {"integrator.kind=hybrid", "noise.mode=com", NULL};
+    gr_scene sd = load("bidisperse-mixture.ini", def);
+    ck_assert(sd.kick_interval_default);
+    s = create(&sd);
+    const double ratio = 1e-4 / s->dt;
+    ck_assert_msg(fabs(ratio - round(ratio)) > 1e-3, "dt %g divides the window", s->dt);
+    gr_hybrid_stats st;
+    ck_assert(gr_sim_hybrid_stats(s, &st));
+    ck_assert_msg(st.window == round(ratio) * s->dt, "window %.17g s, dt %.17g s", st.window,
+                  s->dt);
+    gr_sim_free(s);
 }
 END_TEST
 

@@ -439,6 +439,22 @@ for kind in uniform cluster random; do
         { cat "$tmp/ring-$kind.log" >&2; fail "dense 1D mixture, placement $kind"; }
 done
 
+# the hybrid on the mixture (docs/hybrid.md, "Mixtures"): with kick_interval unset the window is
+# 1e-4 s rounded to whole steps (dt does not divide it here); the run's scene.ini leaves the key
+# unset, so running it again (as a resume does) rounds the same way and repeats the run bit for bit
+hy_keys=(--set integrator.kind=hybrid --set noise.mode=com --set run.warmup=0.01 --set run.duration=0.02
+    --set output.plots=false --set output.snapshot_every=0)
+"$granule" run "$scene" --out "$tmp/hy" "${hy_keys[@]}" >"$tmp/hy.log" 2>&1 ||
+    { cat "$tmp/hy.log" >&2; fail "the hybrid on a mixture with the default window"; }
+grep -q "hybrid-2d-exact(window 0.000103319 s)/2d-verlet-list-species" "$tmp/hy/summary.json" ||
+    fail "the hybrid mixture's kernel or window: $(grep -o '"kernel[^,]*' "$tmp/hy/summary.json")"
+! grep -q "kick_interval" "$tmp/hy/scene.ini" || fail "scene.ini sets the default window"
+"$granule" run "$tmp/hy/scene.ini" --out "$tmp/hy2" --quiet >"$tmp/hy2.log" 2>&1 ||
+    { cat "$tmp/hy2.log" >&2; fail "the hybrid run's own scene.ini"; }
+cmp -s "$tmp/hy/temperature.csv" "$tmp/hy2/temperature.csv" || fail "scene.ini did not repeat the run"
+refuse "kick_interval = 0.0001 s must be a whole multiple.*left unset" --set integrator.kind=hybrid \
+    --set noise.mode=com --set integrator.kick_interval=1e-4
+
 # refusals: the key, with where it was given
 refuse_with "$tmp/dist.ini" "\[model\] tangential.*not available with \[species\].*normal = spring_dashpot" \
     --set model.tangential=tangential_spring --set model.normal=hertz --set model.k_h=1e7

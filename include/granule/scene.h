@@ -79,6 +79,9 @@ typedef struct gr_scene {
     double skin;   /* Verlet-list skin in diameters; 0 = rebuild the cell list every step */
     gr_free_flight_noise free_flight; /* event/hybrid: exact sampling or velocity kicks */
     double kick_interval; /* event: s between noise updates; hybrid: s per window of free flight */
+    /* kick_interval left at its default: the hybrid's window is then the nearest whole number of
+     * steps (>= 1) instead of a refusal when dt does not divide it (docs/hybrid.md) */
+    bool kick_interval_default;
     /* [run] */
     double warmup, duration, sample_every; /* s */
     uint64_t seed;

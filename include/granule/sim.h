@@ -120,6 +120,7 @@ typedef struct gr_sim_params {
     double skin;                      /* Verlet-list skin in diameters */
     gr_free_flight_noise free_flight; /* event / hybrid */
     double kick_interval;             /* event / hybrid, s */
+    bool kick_interval_default;       /* not given: the hybrid rounds its window to whole steps */
     uint64_t seed;
     char source[1024]; /* names the input in messages (a scene file, "python", ...) */
     /* Species ([species], docs/mixtures.md): n_species >= 2 gives each grain the radius and mass

@@ -221,7 +221,8 @@ static const scene_key keys[] = {
      OFF(free_flight)},
     {"integrator", "kick_interval", "s", K_DOUBLE, "1e-4", 0, INFINITY, true, true, NULL,
      "event/hybrid: interval tau between noise updates of free particles (event) or length of a "
-     "free-flight window (hybrid); the accuracy knob of docs/event-driven.md",
+     "free-flight window (hybrid: a whole multiple of dt when given; left unset, 1e-4 s rounded to "
+     "whole steps); the accuracy knob of docs/event-driven.md",
      OFF(kick_interval)},
     {"run", "warmup", "s", K_DOUBLE, "1.0", 0, INFINITY, false, true, NULL,
      "simulated time before sampling starts", OFF(warmup)},
@@ -1369,6 +1370,7 @@ static int resolve(gr_scene *s, const given *g, const char *const *model_keys, i
     if (!g->dt) {
         s->dt = 0.0;
     }
+    s->kick_interval_default = !key_given(g, "integrator", "kick_interval");
     if (s->dim == 1) {
         if (s->tangential) {
             where w = where_of(g, s, "model", "tangential");
@@ -1972,6 +1974,10 @@ void gr_scene_write(const gr_scene *s, FILE *f)
             (k->offset == offsetof(gr_scene, wall_eps_t) && !(s->wall_eps_t != s->contact.eps_t)) ||
             (k->offset == offsetof(gr_scene, wall_mu) && !(s->wall_mu != s->contact.mu))) {
             continue; /* the particles' (unset): read back as [model]'s */
+        }
+        if (k->offset == offsetof(gr_scene, kick_interval) && s->kick_interval_default &&
+            s->integrator->free_flight && !s->integrator->instantaneous) {
+            continue; /* the hybrid's default window: unset, so a resume rounds it again */
         }
         if (k->offset == offsetof(gr_scene, noise_precision) &&
             s->noise_precision == GR_NOISE_DOUBLE) {

@@ -45,6 +45,7 @@ void gr_scene_sim_params(const gr_scene *s, gr_sim_params *p)
                          .skin = s->skin,
                          .free_flight = s->free_flight,
                          .kick_interval = s->kick_interval,
+                         .kick_interval_default = s->kick_interval_default,
                          .seed = s->seed};
     snprintf(p->source, sizeof p->source, "%s", s->source);
     p->n_species = s->n_species; /* [species] (docs/mixtures.md); 0: one species */

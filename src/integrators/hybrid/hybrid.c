@@ -89,14 +89,17 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
 {
     const gr_sim_params *sc = &s->params;
     const double tau = sc->kick_interval, ratio = tau / s->dt;
-    const int64_t m = llround(ratio);
-    if (!(m >= 1) || fabs(ratio - (double)m) > 1e-6 * ratio) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "%s: [integrator] kick_interval = %g s must be a whole multiple (>= 1) of "
-                       "dt = %g s for kind = hybrid "
-                       "(e.g. %g or %g s)",
-                       sc->source, tau, s->dt, fmax(1.0, floor(ratio)) * s->dt,
-                       fmax(1.0, ceil(ratio)) * s->dt);
+    /* a window left at its default is the nearest whole number of steps (dt follows the contact
+     * time, so it rarely divides 1e-4 s); a window the scene gives must be one */
+    const int64_t m = sc->kick_interval_default && ratio < 0.5 ? 1 : llround(ratio);
+    if (!(m >= 1) || (!sc->kick_interval_default && fabs(ratio - (double)m) > 1e-6 * ratio)) {
+        return GR_FAIL(
+            err, GR_EINVAL,
+            "%s: [integrator] kick_interval = %g s must be a whole multiple (>= 1) of "
+            "dt = %g s for kind = hybrid "
+            "(e.g. %g or %g s; left unset, the default 1e-4 s is rounded to whole steps)",
+            sc->source, tau, s->dt, fmax(1.0, floor(ratio)) * s->dt,
+            fmax(1.0, ceil(ratio)) * s->dt);
     }
     if ((double)m * (double)s->n > 4294967295.0 || m > 1000000) {
         return GR_FAIL(err, GR_EINVAL,
