@@ -21,6 +21,7 @@
 #include "granule/sim.h"
 #include "integrators/hybrid/hybrid.h"
 #include "check_main.h"
+#include "spin_diff.h"
 #include "test_env.h"
 
 /* docs/scenes/NAME with --set style overrides (NULL-terminated). */
@@ -317,16 +318,8 @@ static void no_noise_case(const char *scene, const char *size0, const char *size
                   (long long)gr_sim_collisions(v));
     ck_assert_msg(d_all == 0.0, "all-active hybrid differs from Verlet by %g m", d_all);
     if (v->omega) { /* rotation: the spins too, to the last bit all active, to rounding else */
-        const double *wv[3] = {v->omega, v->wx, v->wy}, *wa[3] = {all->omega, all->wx, all->wy},
-                     *wh[3] = {h->omega, h->wx, h->wy};
-        double dw_all = 0.0, dw_h = 0.0, wmax = 0.0;
-        for (int c = 0; c < (v->dim == 3 ? 3 : 1); c++) {
-            for (int i = 0; i < v->n; i++) {
-                dw_all = fmax(dw_all, fabs(wa[c][i] - wv[c][i]));
-                dw_h = fmax(dw_h, fabs(wh[c][i] - wv[c][i]));
-                wmax = fmax(wmax, fabs(wv[c][i]));
-            }
-        }
+        double dw_all, dw_h, wmax;
+        gr_test_spin_diff(v, all, h, &dw_all, &dw_h, &wmax);
         VERBOSE("spins: |w_verlet - w_all_active| = %.3g, |w_verlet - w_hybrid| = %.3g rad/s of "
                 "%.3g rad/s\n",
                 dw_all, dw_h, wmax);

@@ -6,8 +6,8 @@
  *    both species (a single mass for all would put the heavy species 16 times off); the ledger's
  *    injected energy is the kinetic energy gained to rounding;
  *  - without noise, every grain active is the verlet integrator's mixture step to the last bit, and
- *    the normal margin (free grains leaping) the same to rounding, in 1D, 2D and 3D, also between
- *    walls under gravity;
+ *    the normal margin (free grains leaping) the same to rounding, in 1D, 2D and 3D, with rotating
+ *    grains (each with its own moment of inertia), also between walls under gravity;
  *  - with the random force (com mode), the normal margin, everybody active and a tiny margin that
  *    rolls back give the same path to rounding: which grains are stepped and which leap does not
  *    change the noise any grain sees, whatever its mass;
@@ -26,6 +26,7 @@
 #include "granule/sim.h"
 #include "integrators/hybrid/hybrid.h"
 #include "check_main.h"
+#include "spin_diff.h"
 #include "test_env.h"
 
 /* docs/scenes/NAME with --set style overrides (NULL-terminated). */
@@ -169,6 +170,19 @@ static void no_noise_case(const char *scene, const char *const *scene_keys, int6
     ck_assert_msg(gr_sim_collisions(v) > 50, "only %lld collisions",
                   (long long)gr_sim_collisions(v));
     ck_assert_msg(d_all == 0.0, "all-active hybrid differs from verlet by %g m", d_all);
+    if (v->omega) { /* rotation: each grain's own moment of inertia q m_i r_i^2 */
+        double dw_all, dw_h, wmax;
+        gr_test_spin_diff(v, all, h, &dw_all, &dw_h, &wmax);
+        VERBOSE("spins: |w_verlet - w_all_active| = %.3g, |w_verlet - w_hybrid| = %.3g rad/s of "
+                "%.3g rad/s\n",
+                dw_all, dw_h, wmax);
+        /* 3D: to the last bit. 2D: the positions are, but a few spins differ in their last bits
+         * (1e-14 of 243 rad/s after 6000 steps, first seen after 2500): an open finding
+         * (docs/hybrid.md, "Mixtures"), bounded here at 4e-16 relative */
+        ck_assert_msg(wmax > 0.0 && (v->dim == 3 ? dw_all == 0.0 : dw_all <= 4e-16 * wmax),
+                      "all-active spins differ by %g rad/s of %g", dw_all, wmax);
+        ck_assert_msg(dw_h < 1e-6 * wmax, "hybrid spins differ by %g rad/s", dw_h);
+    }
     ck_assert_int_eq(gr_sim_collisions(all), gr_sim_collisions(v));
     ck_assert_msg(d_h < 1e-9, "hybrid differs from verlet by %g m", d_h);
     ck_assert_int_eq(gr_sim_collisions(h), gr_sim_collisions(v));
@@ -192,6 +206,26 @@ START_TEST(test_no_noise_equals_verlet)
     static const char *const spheres[] = {
         "system.dim=3",       "system.N=400", "system.packing_fraction=0.05",
         "integrator.dt=1e-6", MIXTURE,        NULL};
+    /* rotating grains: discs with the tangential dashpot and rolling resistance, spheres with
+     * sliding friction */
+    static const char *const spin2[] = {"system.N=400",
+                                        "integrator.dt=1e-6",
+                                        "model.tangential=tangential_dashpot",
+                                        "model.eps_t=0.5",
+                                        "model.rotation=true",
+                                        "model.rolling=rolling_friction",
+                                        "model.mu_r=0.1",
+                                        MIXTURE,
+                                        NULL};
+    static const char *const spin3[] = {"system.dim=3",
+                                        "system.N=400",
+                                        "system.packing_fraction=0.05",
+                                        "integrator.dt=1e-6",
+                                        "model.tangential=sliding_friction",
+                                        "model.mu=0.3",
+                                        "model.rotation=true",
+                                        MIXTURE,
+                                        NULL};
     /* a bed of two sizes shaken by its floor under gravity, grains near a wall active */
     static const char *const bed[] = {"placement.v0=1", "integrator.dt=4e-7", NULL};
     /* chaos amplifies the leaps' rounding (1e-16 m) about tenfold per few thousand steps: these
@@ -201,6 +235,8 @@ START_TEST(test_no_noise_equals_verlet)
     case 0: no_noise_case("bidisperse-sizes-gas.ini", ring, 4 * n); break;
     case 1: no_noise_case("bidisperse-sizes-gas.ini", discs, n); break;
     case 2: no_noise_case("bidisperse-sizes-gas.ini", spheres, n); break;
+    case 3: no_noise_case("bidisperse-sizes-gas.ini", spin2, n); break;
+    case 4: no_noise_case("bidisperse-sizes-gas.ini", spin3, n); break;
     default: no_noise_case("vibrated-bed-mixture.ini", bed, 30000);
     }
 }
@@ -371,9 +407,6 @@ START_TEST(test_refusals)
 {
     const char *sym[] = {"integrator.kind=hybrid", NULL}; /* the scene's symmetrised noise */
     refused(sym, "[noise] mode");
-    const char *rot[] = {"integrator.kind=hybrid", "noise.mode=com",
-                         "model.tangential=tangential_dashpot", "model.rotation=true", NULL};
-    refused(rot, "[model] rotation");
     const char *dist[] = {"integrator.kind=hybrid",  "noise.mode=com",
                           "species.radius=",         "species.mass=",
                           "species.fraction=",       "species.distribution=uniform",
@@ -389,7 +422,7 @@ static Suite *hybrid_species_suite(void)
     TCase *t = tcase_create("hybrid_species");
     tcase_set_timeout(t, 600);
     tcase_add_test(t, test_free_flight_per_species);
-    tcase_add_loop_test(t, test_no_noise_equals_verlet, 0, 4);
+    tcase_add_loop_test(t, test_no_noise_equals_verlet, 0, 6);
     tcase_add_loop_test(t, test_active_set_invariance, 0, 2);
     tcase_add_test(t, test_driven_mixture);
     tcase_add_test(t, test_refusals);

@@ -13,8 +13,8 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
     /* tangential laws and rolling laws: the verlet integrator (kernels_poly.c); the history law:
      * species lists; the bath and com mode: verlet; walls and gravity: both integrators */
     const bool event = s->integrator->instantaneous;
-    /* the hybrid (soft contacts between free flights): species lists, no rotation, com or no
-     * noise (docs/hybrid.md, "Mixtures") */
+    /* the hybrid (soft contacts between free flights): species lists, com or no noise
+     * (docs/hybrid.md, "Mixtures") */
     const bool leaps = s->integrator->free_flight && !event;
 
     struct {
@@ -24,8 +24,6 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         {!s->integrator->species, "integrator", "kind", "verlet | event | hybrid"},
         {leaps && s->size_distribution, "species", "distribution",
          "none (species lists) with the hybrid integrator; a radius distribution: verlet"},
-        {leaps && s->contact.rotation, "model", "rotation",
-         "false with the hybrid integrator (rotating grains of a mixture: verlet)"},
         {leaps && s->noise_mode == GR_NOISE_SYMMETRISED && s->D > 0.0 &&
              !(s->driving && s->driving->update != GR_DRIVE_FORCE),
          "noise", "mode",

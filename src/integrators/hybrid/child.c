@@ -89,6 +89,9 @@ static void load(gr_sim *s, gr_hybrid_state *h, gr_sim *c)
             c->rad[q] = s->rad[p];
             c->mass_i[q] = s->mass_i[p];
             c->inv_m[q] = s->inv_m[p];
+            if (s->inertia_i) {
+                c->inertia_i[q] = s->inertia_i[p];
+            }
         }
     }
     double *sw[3], *st[3], *cw[3], *ct[3];

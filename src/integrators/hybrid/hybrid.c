@@ -127,7 +127,6 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
         /* a mixture (docs/hybrid.md, "Mixtures"): species lists whose grains do not rotate, with
          * noise whose kicks leave the pairs' relative motion alone (com or none) */
         const char *what = !s->cc_pair ? "[species] distribution (a continuous radius distribution)"
-                           : s->omega  ? "[model] rotation = true"
                            : noise && sc->noise_mode == GR_NOISE_SYMMETRISED
                                ? "[noise] mode = symmetrised (subtracting the mean force "
                                  "accelerates grains of unequal mass unequally, which the "
@@ -136,8 +135,8 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
         if (what) {
             return GR_FAIL(err, GR_EINVAL,
                            "%s: %s: not available with [species] and kind = hybrid; the hybrid "
-                           "runs species lists without rotation, with [noise] mode = com or "
-                           "none (docs/hybrid.md, \"Mixtures\")",
+                           "runs species lists, with [noise] mode = com or none (docs/hybrid.md, "
+                           "\"Mixtures\")",
                            sc->source, what);
         }
     }

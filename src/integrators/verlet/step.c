@@ -71,13 +71,14 @@ bool gr_verlet_spin_kicks(gr_sim *s, const int closing, const int opening, doubl
     if (s->dim == 3) {
         return spin_kicks_3d(s, closing, opening, wc, wo);
     }
-    const double h = 0.5 * s->dt / s->inertia;
+    const double h = 0.5 * s->dt / s->inertia, h0 = 0.5 * s->dt;
+    const double *restrict inertia_i = s->inertia_i; /* a mixture's (the hybrid's child) */
     double *restrict w = s->omega;
     const double *restrict tq = s->tq;
     const double *restrict nc = s->tg ? s->tg : s->tq;
     double c = 0.0, o = 0.0, sum = 0.0;
     for (int i = 0; i < s->n; i++) {
-        const double dw = h * tq[i];
+        const double dw = inertia_i ? h0 / inertia_i[i] * tq[i] : h * tq[i];
         double wi = w[i];
         if (closing) {
             c += nc[i] * (wi + 0.5 * dw);
@@ -99,7 +100,8 @@ bool gr_verlet_spin_kicks(gr_sim *s, const int closing, const int opening, doubl
  * tq; the non-conservative parts tgx, tgy, tg with a history law), each component as above. */
 static bool spin_kicks_3d(gr_sim *s, const int closing, const int opening, double *wc, double *wo)
 {
-    const double h = 0.5 * s->dt / s->inertia;
+    const double h = 0.5 * s->dt / s->inertia, h0 = 0.5 * s->dt;
+    const double *restrict inertia_i = s->inertia_i; /* a mixture's (the hybrid's child) */
     double *restrict w[3] = {s->wx, s->wy, s->omega};
     const double *restrict tq[3] = {s->tqx, s->tqy, s->tq};
     const double *restrict nc[3] = {s->tg ? s->tgx : s->tqx, s->tg ? s->tgy : s->tqy,
@@ -107,7 +109,7 @@ static bool spin_kicks_3d(gr_sim *s, const int closing, const int opening, doubl
     double c = 0.0, o = 0.0, sum = 0.0;
     for (int i = 0; i < s->n; i++) {
         for (int a = 0; a < 3; a++) {
-            const double dw = h * tq[a][i];
+            const double dw = inertia_i ? h0 / inertia_i[i] * tq[a][i] : h * tq[a][i];
             double wi = w[a][i];
             if (closing) {
                 c += nc[a][i] * (wi + 0.5 * dw);
