@@ -226,6 +226,8 @@ START_TEST(test_no_noise_equals_verlet)
                                         "model.rotation=true",
                                         MIXTURE,
                                         NULL};
+    /* a lognormal distribution of radii 1-4 mm (each pair's law scaled from the reference) */
+    static const char *const lognormal[] = {"integrator.dt=1e-6", NULL};
     /* a bed of two sizes shaken by its floor under gravity, grains near a wall active */
     static const char *const bed[] = {"placement.v0=1", "integrator.dt=4e-7", NULL};
     /* chaos amplifies the leaps' rounding (1e-16 m) about tenfold per few thousand steps: these
@@ -237,7 +239,8 @@ START_TEST(test_no_noise_equals_verlet)
     case 2: no_noise_case("bidisperse-sizes-gas.ini", spheres, n); break;
     case 3: no_noise_case("bidisperse-sizes-gas.ini", spin2, n); break;
     case 4: no_noise_case("bidisperse-sizes-gas.ini", spin3, n); break;
-    default: no_noise_case("vibrated-bed-mixture.ini", bed, 30000);
+    case 5: no_noise_case("vibrated-bed-mixture.ini", bed, 30000); break;
+    default: no_noise_case("polydisperse-gas.ini", lognormal, n);
     }
 }
 END_TEST
@@ -247,9 +250,9 @@ END_TEST
 /* The normal margin, everybody active and a tiny margin (many misses, each window redone after a
  * rollback) give the same trajectory to rounding: each grain's noise path in a window is fixed by
  * the counters, scaled by its own 1 / m_i, whether it leaps or is stepped. */
-static void same_path(const char *const *over, int64_t n, double tiny_c)
+static void same_path(const char *scene, const char *const *over, int64_t n, double tiny_c)
 {
-    gr_scene sc = load("bidisperse-sizes-gas.ini", over);
+    gr_scene sc = load(scene, over);
     gr_sim *all = create(&sc), *h = create(&sc), *tiny = create(&sc);
     gr_hybrid_set_margin(all, 1e9);
     gr_hybrid_set_margin(tiny, tiny_c);
@@ -295,7 +298,23 @@ START_TEST(test_active_set_invariance)
                                   : "integrator.kick_interval=1e-4",
                           NULL};
     /* chaos amplifies rounding about tenfold per few hundred steps: this horizon keeps it small */
-    same_path(over, quick() ? 1500 : 2500, _i == 0 ? 0.0 : 0.5);
+    same_path("bidisperse-sizes-gas.ini", over, quick() ? 1500 : 2500, _i == 0 ? 0.0 : 0.5);
+}
+END_TEST
+
+/* the same on the lognormal radii of docs/scenes/polydisperse-gas.ini */
+START_TEST(test_active_set_invariance_distribution)
+{
+    const char *over[] = {"placement.v0=0.5",
+                          "model.eps_n=0.7",
+                          "driving.kind=rfm",
+                          "noise.D=1e-7",
+                          "noise.mode=com",
+                          "integrator.kind=hybrid",
+                          "integrator.dt=1e-6",
+                          "integrator.kick_interval=2e-4",
+                          NULL};
+    same_path("polydisperse-gas.ini", over, quick() ? 3000 : 4000, 0.0);
 }
 END_TEST
 
@@ -407,12 +426,6 @@ START_TEST(test_refusals)
 {
     const char *sym[] = {"integrator.kind=hybrid", NULL}; /* the scene's symmetrised noise */
     refused(sym, "[noise] mode");
-    const char *dist[] = {"integrator.kind=hybrid",  "noise.mode=com",
-                          "species.radius=",         "species.mass=",
-                          "species.fraction=",       "species.distribution=uniform",
-                          "species.radius_min=1e-3", "species.radius_max=2e-3",
-                          "species.density=5",       NULL};
-    refused(dist, "[species] distribution");
 }
 END_TEST
 
@@ -422,8 +435,9 @@ static Suite *hybrid_species_suite(void)
     TCase *t = tcase_create("hybrid_species");
     tcase_set_timeout(t, 600);
     tcase_add_test(t, test_free_flight_per_species);
-    tcase_add_loop_test(t, test_no_noise_equals_verlet, 0, 6);
+    tcase_add_loop_test(t, test_no_noise_equals_verlet, 0, 7);
     tcase_add_loop_test(t, test_active_set_invariance, 0, 2);
+    tcase_add_test(t, test_active_set_invariance_distribution);
     tcase_add_test(t, test_driven_mixture);
     tcase_add_test(t, test_refusals);
     suite_add_tcase(s, t);

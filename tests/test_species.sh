@@ -400,7 +400,10 @@ refuse_with "$tmp/dist.ini" "\[model\] viscoelastic.*radius distribution" --set 
 refuse_with "$tmp/dist.ini" "\[species\] density.*one density" --set 'species.density=5, 6'
 refuse_with "$tmp/dist.ini" "\[species\] radius_max.*radius_min < radius_max" --set species.radius_max=1e-3
 { cat "$tmp/dist.ini"; printf '[integrator]\nkind = hybrid\n'; } >"$tmp/bad.ini"
-refuse_with "$tmp/bad.ini" "bad.ini:[0-9]*: \[species\] distribution.*species lists. with the hybrid integrator"
+refuse_with "$tmp/bad.ini" "bad.ini.*\[noise\] mode.*com | none with the hybrid integrator"
+"$granule" run "$tmp/bad.ini" --out "$tmp/dist-hybrid" --set noise.mode=com --set output.plots=false \
+    --quiet >"$tmp/dist-hybrid.log" 2>&1 || { cat "$tmp/dist-hybrid.log" >&2; fail "a radius distribution by the hybrid"; }
+grep -q '"kernel":[[:space:]]*"hybrid-2d-exact' "$tmp/dist-hybrid/summary.json" || fail "the distribution's hybrid kernel"
 
 # 1D: a ring of two species runs, its ledger closes
 cat >"$tmp/ring.ini" <<'INI'

@@ -22,8 +22,6 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
         const char *section, *key, *allowed;
     } const no[] = {
         {!s->integrator->species, "integrator", "kind", "verlet | event | hybrid"},
-        {leaps && s->size_distribution, "species", "distribution",
-         "none (species lists) with the hybrid integrator; a radius distribution: verlet"},
         {leaps && s->noise_mode == GR_NOISE_SYMMETRISED && s->D > 0.0 &&
              !(s->driving && s->driving->update != GR_DRIVE_FORCE),
          "noise", "mode",

@@ -124,10 +124,9 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
             sc->source);
     }
     if (s->nsp >= 1) {
-        /* a mixture (docs/hybrid.md, "Mixtures"): species lists whose grains do not rotate, with
+        /* a mixture (docs/hybrid.md, "Mixtures"): species lists or a radius distribution, with
          * noise whose kicks leave the pairs' relative motion alone (com or none) */
-        const char *what = !s->cc_pair ? "[species] distribution (a continuous radius distribution)"
-                           : noise && sc->noise_mode == GR_NOISE_SYMMETRISED
+        const char *what = noise && sc->noise_mode == GR_NOISE_SYMMETRISED
                                ? "[noise] mode = symmetrised (subtracting the mean force "
                                  "accelerates grains of unequal mass unequally, which the "
                                  "hybrid's centre-of-mass frame cannot represent)"
@@ -135,7 +134,7 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
         if (what) {
             return GR_FAIL(err, GR_EINVAL,
                            "%s: %s: not available with [species] and kind = hybrid; the hybrid "
-                           "runs species lists, with [noise] mode = com or none (docs/hybrid.md, "
+                           "runs mixtures with [noise] mode = com or none (docs/hybrid.md, "
                            "\"Mixtures\")",
                            sc->source, what);
         }
@@ -156,6 +155,21 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
     h->spread = GR_HYBRID_SPREAD + (s->mass_i ? (m_max - h->m_noise) / (m_max + h->m_noise) : 0.0);
     for (int ab = 0; s->cc_pair && ab < s->nsp * s->nsp; ab++) {
         h->w0_max = fmax(h->w0_max, s->cc_pair[ab].w0);
+    }
+    if (s->rad && !s->cc_pair) {
+        /* a radius distribution: each pair's law is the reference's scaled (gr_size_scaled), w0 by
+         * sqrt(sk m_ref / M) with the stiffness factor sk = (R / r_ref)^(a - 1); bounded by the
+         * lightest pair (M = m_min / 2) and the largest sk over R in [r_min, r_max] / 2 */
+        double r_min = s->rad[0], r_max = s->rad[0];
+        for (int i = 1; i < s->n; i++) {
+            r_min = fmin(r_min, s->rad[i]);
+            r_max = fmax(r_max, s->rad[i]);
+        }
+        const double a = s->cc.pow_a;
+        const double sk = a == 1.0 ? 1.0
+                                   : fmax(pow(0.5 * r_min / s->cont_r, a - 1.0),
+                                          pow(0.5 * r_max / s->cont_r, a - 1.0));
+        h->w0_max = fmax(h->w0_max, s->cc.w0 * sqrt(sk * s->cont_m12 / (0.5 * h->m_noise)));
     }
     h->margin_c = GR_HYBRID_MARGIN_SIGMAS;
     h->kicks = sc->free_flight == GR_FREE_FLIGHT_KICKS;
