@@ -178,7 +178,8 @@ static void no_noise_case(const char *scene, const char *const *scene_keys, int6
                 dw_all, dw_h, wmax);
         /* 3D: to the last bit. 2D: the positions are, but a few spins differ in their last bits
          * (1e-14 of 243 rad/s after 6000 steps, first seen after 2500): an open finding
-         * (docs/hybrid.md, "Mixtures"), bounded here at 1e-13 relative (rounding, whatever the vector width) */
+         * (docs/hybrid.md, "Mixtures"), bounded here at 1e-13 relative (rounding, whatever the
+         * vector width) */
         ck_assert_msg(wmax > 0.0 && (v->dim == 3 ? dw_all == 0.0 : dw_all <= 1e-13 * wmax),
                       "all-active spins differ by %g rad/s of %g", dw_all, wmax);
         ck_assert_msg(dw_h < 1e-6 * wmax, "hybrid spins differ by %g rad/s", dw_h);
