@@ -640,12 +640,16 @@ START_TEST(test_hybrid_state)
                                      "integrator.kick_interval=2e-5",
                                      "placement.v0=1"};
     integrator_case(s4, 12, quick() ? 507 : 2007, quick() ? 500 : 2000);
-    /* s2 with a mixture of two sizes and masses (docs/hybrid.md, "Mixtures") */
-    const char *s5[13];
+    /* s2 with a mixture of two sizes and masses (docs/hybrid.md, "Mixtures"), rotating with
+     * sliding friction: the restart rebuilds the lists, so the pairs' owners may change */
+    const char *s5[16];
     memcpy(s5, s2, sizeof s2);
     s5[11] = "species.radius=1e-3, 2e-3";
     s5[12] = "species.mass=1.5707963e-5, 6.2831853e-5";
-    integrator_case(s5, 13, quick() ? 507 : 2007, quick() ? 500 : 2000);
+    s5[13] = "model.rotation=true";
+    s5[14] = "model.tangential=sliding_friction";
+    s5[15] = "model.mu=0.3";
+    integrator_case(s5, 16, quick() ? 507 : 2007, quick() ? 500 : 2000);
 }
 END_TEST
 

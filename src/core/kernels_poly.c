@@ -26,6 +26,19 @@
 /* A radius distribution (cc_pair NULL): the pair's coefficients from the reference pair's (s->cc,
  * reduced mass cont_m12, effective radius cont_r), scaled to its reduced mass M and effective
  * radius R (gr_size_scaled, sim_internal.h). */
+/* The arms from the centres of i and j to the contact point, which divides |r_ij| = dist as
+ * r_i : r_j (a_i + a_j = dist to rounding). Each by the same expression, so a grain's arm does not
+ * depend on which of the two owns the pair in the neighbour list: that changes with the list's
+ * build, and dist - a_i (the earlier a_j) rounded apart from a_j's own expression, so a rotating
+ * mixture's spins depended in their last bits on when the list was built (a restart, the hybrid's
+ * child, which rebuilds its list every window). */
+static inline void contact_arms(const gr_sim *s, int i, int j, double dist, double *ai, double *aj)
+{
+    const double sum = s->rad[i] + s->rad[j];
+    *ai = dist * s->rad[i] / sum;
+    *aj = dist * s->rad[j] / sum;
+}
+
 static inline int size_contact(const gr_sim *s, int i, int j, double gap, double g_n, double *f,
                                double *f_d, double *el, double *pn, gr_contact_coeffs *c)
 {
@@ -130,8 +143,9 @@ static double poly_forget(const gr_sim *s, int i, int j, double nx, double ny, d
     const double gx = s->vx[j] - s->vx[i], gy = s->vy[j] - s->vy[i];
     double g_t = gx * ny - gy * nx;
     if (s->omega) {
-        const double ai = dist * s->rad[i] / (s->rad[i] + s->rad[j]);
-        g_t += ai * s->omega[i] + (dist - ai) * s->omega[j];
+        double ai, aj;
+        contact_arms(s, i, j, dist, &ai, &aj);
+        g_t += ai * s->omega[i] + aj * s->omega[j];
     }
     const gr_tangential_in in = {.g_t = g_t,
                                  .xi = gr_pair_d(s, i, j) - dist,
@@ -190,7 +204,8 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
                 /* rotation: the contact point divides |r_ij| as r_i : r_j (midway for equal
                  * radii, as kernels.c), so the arms a_i + a_j = |r_ij| make the spin torques
                  * a_i f_t, a_j f_t cancel the pair's orbital torque (angular momentum kept) */
-                const double ai = dist * s->rad[i] / (s->rad[i] + s->rad[j]), aj = dist - ai;
+                double ai, aj;
+                contact_arms(s, i, j, dist, &ai, &aj);
                 if (s->omega) {
                     g_t += ai * s->omega[i] + aj * s->omega[j];
                 }
@@ -332,9 +347,9 @@ static double poly_forget_3d(const gr_sim *s, int i, int j, const double e[3], d
     const double nv[3] = {e[0] / dist, e[1] / dist, e[2] / dist};
     const double gv[3] = {s->vx[j] - s->vx[i], s->vy[j] - s->vy[i], s->vz[j] - s->vz[i]};
     const double g_n = gv[0] * nv[0] + gv[1] * nv[1] + gv[2] * nv[2];
-    const double ai = dist * s->rad[i] / (s->rad[i] + s->rad[j]);
-    double gc[3];
-    contact_velocity_3d(s, i, j, nv, gv, g_n, ai, dist - ai, gc);
+    double ai, aj, gc[3];
+    contact_arms(s, i, j, dist, &ai, &aj);
+    contact_velocity_3d(s, i, j, nv, gv, g_n, ai, aj, gc);
     gr_to_plane(h, nv);
     const gr_tangential_in3 in = {.g = {gc[0], gc[1], gc[2]},
                                   .xi = gr_pair_d(s, i, j) - dist,
@@ -442,8 +457,8 @@ static void poly_3d(gr_sim *s, gr_force_report *r)
                 G[a] = fd * nv[a];
             }
             if (tl != TL_none) {
-                const double ai = dist * s->rad[i] / (s->rad[i] + s->rad[j]), aj = dist - ai;
-                double gc[3];
+                double ai, aj, gc[3];
+                contact_arms(s, i, j, dist, &ai, &aj);
                 contact_velocity_3d(s, i, j, nv, gv, g_n, ai, aj, gc);
                 double Ft[3], Fn[3]; /* the tangential force on j and its non-conservative part */
                 if (hist) { /* the vector law with the pair's k_t, the vector kept in the plane */
