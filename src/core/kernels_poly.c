@@ -30,8 +30,8 @@
  * r_i : r_j (a_i + a_j = dist to rounding). Each by the same expression, so a grain's arm does not
  * depend on which of the two owns the pair in the neighbour list: that changes with the list's
  * build, and dist - a_i (the earlier a_j) rounded apart from a_j's own expression, so a rotating
- * mixture's spins depended in their last bits on when the list was built (a restart, the hybrid's
- * child, which rebuilds its list every window). */
+ * mixture's spins depended in their last bits on when the list was built (the hybrid's child
+ * rebuilds its list every window; docs/hybrid.md, "Mixtures"). */
 static inline void contact_arms(const gr_sim *s, int i, int j, double dist, double *ai, double *aj)
 {
     const double sum = s->rad[i] + s->rad[j];
