@@ -21,41 +21,8 @@
 #include "granule/sim.h"
 #include "integrators/hybrid/hybrid.h"
 #include "check_main.h"
-#include "spin_diff.h"
+#include "hybrid_test_util.h"
 #include "test_env.h"
-
-/* docs/scenes/NAME with --set style overrides (NULL-terminated). */
-static gr_scene load(const char *name, const char *const *over)
-{
-    const char *src = getenv("GRANULE_SOURCE_DIR");
-    char path[2048];
-    snprintf(path, sizeof path, "%s/docs/scenes/%s", src ? src : ".", name);
-    int n = 0;
-    while (over[n]) {
-        n++;
-    }
-    gr_scene sc;
-    gr_error err = {0};
-    int rc = gr_scene_load(&sc, path, over, n, &err);
-    ck_assert_msg(rc == GR_OK, "scene %s: %s", path, err.message);
-    return sc;
-}
-
-static gr_sim *create(const gr_scene *sc)
-{
-    gr_sim *s = NULL;
-    gr_error err = {0};
-    int rc = gr_sim_create(sc, &s, &err);
-    ck_assert_msg(rc == GR_OK, "gr_sim_create: %s", err.message);
-    return s;
-}
-
-static void step(gr_sim *s, int64_t n)
-{
-    gr_error err = {0};
-    int rc = gr_sim_step(s, n, &err);
-    ck_assert_msg(rc == GR_OK, "gr_sim_step: %s", err.message);
-}
 
 /* ---- free flight: no contact possible ------------------------------------------------------ */
 
@@ -260,25 +227,6 @@ START_TEST(test_ledger_momentum_2d)
 END_TEST
 
 /* ---- the active set does not change the result --------------------------------------------- */
-
-/* Largest |x_a - x_b| over particles. */
-static double max_diff(const gr_sim *a, const gr_sim *b)
-{
-    double w = 0.0;
-    for (int i = 0; i < a->n; i++) {
-        double dx = fabs(a->x[i] - b->x[i]);
-        if (a->dim >= 2) { /* periodic box: minimum image per component */
-            const double dy = fabs(a->y[i] - b->y[i]);
-            dx = fmax(fmin(dx, a->L - dx), fmin(dy, a->L - dy));
-        }
-        if (a->dim == 3) {
-            const double dz = fabs(a->z[i] - b->z[i]);
-            dx = fmax(dx, fmin(dz, a->L - dz));
-        }
-        w = dx > w ? dx : w;
-    }
-    return w;
-}
 
 /* Without noise a hybrid run whose every particle is active is Verlet, operation for operation:
  * same forces, same kick-drift-kick arithmetic. With the normal margin free particles leap

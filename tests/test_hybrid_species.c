@@ -26,58 +26,8 @@
 #include "granule/sim.h"
 #include "integrators/hybrid/hybrid.h"
 #include "check_main.h"
-#include "spin_diff.h"
+#include "hybrid_test_util.h"
 #include "test_env.h"
-
-/* docs/scenes/NAME with --set style overrides (NULL-terminated). */
-static gr_scene load(const char *name, const char *const *over)
-{
-    const char *src = getenv("GRANULE_SOURCE_DIR");
-    char path[2048];
-    snprintf(path, sizeof path, "%s/docs/scenes/%s", src ? src : ".", name);
-    int n = 0;
-    while (over[n]) {
-        n++;
-    }
-    gr_scene sc;
-    gr_error err = {0};
-    int rc = gr_scene_load(&sc, path, over, n, &err);
-    ck_assert_msg(rc == GR_OK, "scene %s: %s", path, err.message);
-    return sc;
-}
-
-static gr_sim *create(const gr_scene *sc)
-{
-    gr_sim *s = NULL;
-    gr_error err = {0};
-    int rc = gr_sim_create(sc, &s, &err);
-    ck_assert_msg(rc == GR_OK, "gr_sim_create: %s", err.message);
-    return s;
-}
-
-static void step(gr_sim *s, int64_t n)
-{
-    gr_error err = {0};
-    int rc = gr_sim_step(s, n, &err);
-    ck_assert_msg(rc == GR_OK, "gr_sim_step: %s", err.message);
-}
-
-/* the largest |x_a - x_b| over grains and components (minimum image along periodic axes) */
-static double max_diff(const gr_sim *a, const gr_sim *b)
-{
-    const double *pa[3] = {a->x, a->y, a->z}, *pb[3] = {b->x, b->y, b->z};
-    double w = 0.0;
-    for (int c = 0; c < a->dim; c++) {
-        for (int i = 0; i < a->n; i++) {
-            double d = fabs(pa[c][i] - pb[c][i]);
-            if (a->dim >= 2 && isfinite(a->period[c])) {
-                d = fmin(d, a->L - d);
-            }
-            w = fmax(w, d);
-        }
-    }
-    return w;
-}
 
 /* The mixture of these tests: radii 1 and 2 mm, masses 1:4 (both species' own pair laws). */
 #define MIXTURE "species.radius=1e-3, 2e-3", "species.mass=1.5707963e-5, 6.2831853e-5"
