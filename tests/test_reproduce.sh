@@ -405,6 +405,12 @@ ok = len(ra) == len(rb) > 50 and all(x[k] == y[k] for x, y in zip(ra, rb) for k 
 ok &= os.path.exists(os.path.join(b, "fig3.13_data.png"))
 p = json.load(open(os.path.join(a, "points", sorted(os.listdir(os.path.join(a, "points")))[0])))
 ok &= any(len(s["x"]) > 50 for s in p.get("series", {}).values())
+# the warm-up check: the restored runs have no T(t), so it comes from each point's archived drift
+# (the same doubles, summed in the same order: equal)
+wa, wb = (json.load(open(os.path.join(d, "results.json"))).get("warmup_check", {}) for d in (a, b))
+print("warm-up check: live", wa, "restored", wb)
+ok &= "drift" in wa and all(wa.get(k) == wb.get(k) for k in ("runs", "drift", "drift_error", "z"))
+ok &= "runs_without_series" not in wb
 sys.exit(0 if ok else 1)
 PY
 

@@ -2,7 +2,9 @@
  * point's manifest and summary.json, ~10 kB each), so that a committed result set carries its
  * campaign across machines and sessions: a later `granule reproduce` puts the archived points back
  * into its runs folder, the sweep sees them finished (same scene hash) and runs only the rest.
- * summary.json comes back, and the series of every curve result (series.json, 6 significant digits); an analysis that reads T(t) (running_mean, rise_time) needs the runs. */
+ * summary.json comes back, and the series of every curve result (series.json, 6 significant
+ * digits) and the run's warm-up drift (warmup.json: the campaign's warm-up check); an analysis that
+ * reads T(t) itself (running_mean, rise_time) needs the runs. */
 #include <cjson/cJSON.h>
 #include <dirent.h>
 #include <math.h>
@@ -105,6 +107,14 @@ int campaign_archive(const gr_campaign *c, const campaign_points *pts, const cha
         if (series) {
             cJSON_AddItemToObject(j, "series", series);
         }
+        double drift_err, drift = campaign_warmup_drift(&pts->p[i], &drift_err);
+        if (isfinite(drift)) { /* the warm-up check of a later collect, without the run's T(t) */
+            cJSON *w = cJSON_AddObjectToObject(j, "warmup");
+            cJSON_AddNumberToObject(w, "drift", drift);
+            cJSON_AddItemToObject(w, "error",
+                                  isfinite(drift_err) ? cJSON_CreateNumber(drift_err)
+                                                      : cJSON_CreateNull());
+        }
         rc = gr_json_write(dir, name, j, err);
         cJSON_Delete(j);
     }
@@ -150,6 +160,10 @@ int gr_campaign_restore(const char *dir, const char *results, long *restored, gr
                    !(rc = cJSON_IsObject(cJSON_GetObjectItem(j, "series"))
                               ? gr_json_write(point_dir, "series.json",
                                               cJSON_GetObjectItem(j, "series"), err)
+                              : GR_OK) &&
+                   !(rc = cJSON_IsObject(cJSON_GetObjectItem(j, "warmup"))
+                              ? gr_json_write(point_dir, "warmup.json",
+                                              cJSON_GetObjectItem(j, "warmup"), err)
                               : GR_OK)) {
             rc = gr_json_write(point_dir, "point.json", m,
                                err); /* last: the point counts as finished only when both exist */

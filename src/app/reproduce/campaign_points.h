@@ -145,7 +145,8 @@ double campaign_curve_overlay_amplitude(const gr_campaign_result *r, const doubl
                                         const double *y, int n);
 
 /* Is the warm-up long enough? The mean of T over the first quarter of a run's sampling relative to
- * the mean over the rest, minus 1 (NAN without temperature.csv). */
+ * the mean over the rest, minus 1, from temperature.csv, or for a point restored from the archive
+ * the value archived with it (warmup.json); NAN without either. */
 double campaign_warmup_drift(const campaign_point *p, double *error);
 
 /* Shared by the analyses (campaign_analyse.c). */

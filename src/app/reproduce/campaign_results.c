@@ -158,16 +158,28 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
     /* many rows (Table 5.1's 45): vertical, smaller tick labels */
     const char *tics = rows->n > 12 ? "set xtics rotate by 90 right font ',11' noenhanced"
                                     : "set xtics rotate by -40 noenhanced";
+    /* a curve's row holds the slope of its power law over the window, not the quantity */
+    char ylabel[320];
+    if (r->kind == GR_RESULT_CURVE && !strstr(r->quantity, "slope")) {
+        snprintf(ylabel, sizeof ylabel, "slope of ln(%.100s) against ln(%.60s), %g-%g", r->quantity,
+                 r->x_label[0] ? r->x_label : r->x, r->x_min, r->x_max);
+    } else {
+        snprintf(ylabel, sizeof ylabel, "%.200s%s%.60s", r->quantity, r->unit[0] ? " / " : "",
+                 r->unit);
+    }
+    for (char *q = strchr(ylabel, '\''); q; q = strchr(q, '\'')) {
+        *q = '`'; /* the label sits in a gnuplot string in single quotes */
+    }
     char body[2048];
     snprintf(
         body, sizeof body,
-        "set datafile separator whitespace\nset title \"%s\" noenhanced\nset ylabel '%s%s%s' "
+        "set datafile separator whitespace\nset title \"%s\" noenhanced\nset ylabel '%s' "
         "noenhanced\n%s\n"
-        "set xlabel '%s' noenhanced\nset key top left\nset offsets 0.5, 0.5, graph 0.06, graph "
+        "set xlabel '%s' noenhanced\nset key below\nset offsets 0.5, 0.5, graph 0.06, graph "
         "0.06\nset grid ytics lc rgb '#dddddd'\n"
         "plot '%s' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title "
         "'granule'%s\n",
-        r->title, r->quantity, r->unit[0] ? " / " : "", r->unit, tics, axis, name,
+        r->title, ylabel, tics, axis, name,
         thesis
             ? ", '' using ($1+0.15):5:6 with yerrorbars pt 6 ps 1.2 lc rgb '#c0392b' title 'thesis'"
             : "");
@@ -418,7 +430,7 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
                      "0 ? 1/0 : $2) with points pt 6 lc %s notitle%s\n",
                      panel, lo, hi, r->id, lc, series, lo, hi, lc, th);
         }
-        draw_panels(dir, r->id, head, "outside right", title, plots, np);
+        draw_panels(dir, r->id, head, "below", title, plots, np);
         return;
     } else if (r->kind == GR_RESULT_CURVE) {
         bool unused;
@@ -475,12 +487,11 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
                          : "",
                      dashed);
         }
-        draw_panels(dir, r->id, head, map ? "inside top left" : "outside right", r->title, plots,
-                    np);
+        draw_panels(dir, r->id, head, map ? "inside top left" : "below", r->title, plots, np);
         return;
     } else if (r->kind == GR_RESULT_RUNNING) {
         snprintf(body, sizeof body,
-                 "set datafile separator ','\nset key outside right\nset xlabel 'sampling time t "
+                 "set datafile separator ','\nset key below\nset xlabel 'sampling time t "
                  "(s)'\nset ylabel 'T (m^2/s^2)'\n"
                  "set title 'Means over %g s (points) and the running average (lines), every seed' "
                  "noenhanced\n"
@@ -504,7 +515,7 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
     } else if (r->kind == GR_RESULT_RISE || r->kind == GR_RESULT_SETTLE) {
         snprintf(
             body, sizeof body,
-            "set key outside right\nset xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\n"
+            "set key below\nset xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\n"
             "set title 'T(t) from the start of every run (lines: its steady value)' noenhanced\n"
             "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.3 lc rgb '#1f5fbf' title "
             "'T(t)', "
@@ -683,11 +694,19 @@ static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, c
             "seeds' scatter (3 runs or more), else the larger of it and the runs' own "
             "error from 8 blocks of each run's sampling");
         cJSON_AddNumberToObject(w, "runs", nd);
+        if (nd < pts.n) { /* points archived before their drift was, without their T(t) */
+            cJSON_AddNumberToObject(w, "runs_without_series", pts.n - nd);
+        }
         add_num(w, "drift", dm);
         add_num(w, "drift_error", de);
         add_num(w, "drift_error_seeds", de_seeds);
         add_num(w, "drift_error_runs", de_runs);
         add_num(w, "z", isfinite(de) && de > 0.0 ? dm / de : (double)NAN);
+    }
+    if (nd == 0 && !transient && pts.n > 0) {
+        cJSON_AddStringToObject(cJSON_AddObjectToObject(j, "warmup_check"), "not_available",
+                                "no run's T(t) at hand: the points were restored from an archive "
+                                "written before it kept each run's warm-up drift");
     }
     cJSON *commits = cJSON_AddArrayToObject(j, "run_commits");
     for (int i = 0; i < pts.n; i++) {

@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cjson/cJSON.h>
+
 #include "io/files.h"
 #include "io/summary_read.h"
 #include "app/reproduce/campaign_points.h"
@@ -237,10 +239,36 @@ int campaign_rise(const gr_campaign *c, const gr_campaign_result *r, const campa
  * quarter is 2 of them), the scatter of the block means giving var = s_b^2 (1/2 + 1/6) / <T>^2.
  * With two or three runs the seed-to-seed scatter alone is a poor error (Fig. 2.8's runs drift by
  * +1.0 % and +1.8 %, within their 20 s block means' +-2 %, yet gave z = 3.5). */
+/* The drift a restored point kept (warmup.json, written by gr_campaign_restore from the archive):
+ * NAN when there is none. */
+static double archived_drift(const campaign_point *p, double *error)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%s/warmup.json", p->dir);
+    FILE *probe = gr_input_fopen(path, &(int){0});
+    if (!probe) {
+        return NAN;
+    }
+    fclose(probe);
+    gr_error ignore = {0};
+    cJSON *j = gr_json_read(path, &ignore);
+    const cJSON *d = cJSON_GetObjectItem(j, "drift"), *e = cJSON_GetObjectItem(j, "error");
+    const double drift = cJSON_IsNumber(d) ? d->valuedouble : (double)NAN;
+    *error = cJSON_IsNumber(e) ? e->valuedouble : (double)NAN;
+    cJSON_Delete(j);
+    return drift;
+}
+
 double campaign_warmup_drift(const campaign_point *p, double *error)
 {
     double *t, *T;
     int n = read_series(p, true, &t, &T);
+    if (n == 0) { /* a point restored from the archive: its T(t) stayed on the machine it ran on */
+        free(t);
+        free(T);
+        *error = NAN;
+        return archived_drift(p, error);
+    }
     double first = 0.0, rest = 0.0, block[8] = {0};
     int q = n / 4;
     for (int i = 0; i < n; i++) {

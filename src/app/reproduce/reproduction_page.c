@@ -508,15 +508,25 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
         }
         const cJSON *w = cJSON_GetObjectItem(s, "warmup_check");
         const cJSON *na = cJSON_GetObjectItem(w, "not_applicable");
+        const cJSON *unavailable = cJSON_GetObjectItem(w, "not_available");
         if (cJSON_IsString(na)) {
             fprintf(f.f, "Warm-up check: not applicable (%s).\n\n", na->valuestring);
+        } else if (cJSON_IsString(unavailable)) {
+            fprintf(f.f, "Warm-up check: not available (%s).\n\n", unavailable->valuestring);
         } else if (w) {
-            double z = num(w, "z");
+            double z = num(w, "z"), without = num(w, "runs_without_series");
+            char missing[160] = "";
+            if (without > 0.0) {
+                snprintf(missing, sizeof missing,
+                         " (%.0f more runs were restored from an archive without their T(t))",
+                         without);
+            }
             fprintf(f.f,
-                    "Warm-up check: over %.0f runs, <T> in the first quarter of the sampling "
+                    "Warm-up check: over %.0f runs%s, <T> in the first quarter of the sampling "
                     "differs from the rest by "
                     "%+.1f %% +- %.1f %% (z = %+.1f)%s\n\n",
-                    num(w, "runs"), 100.0 * num(w, "drift"), 100.0 * num(w, "drift_error"), z,
+                    num(w, "runs"), missing, 100.0 * num(w, "drift"), 100.0 * num(w, "drift_error"),
+                    z,
                     fabs(z) > 2.0 ? ": **the warm-up may be too short**."
                                   : ": no sign of a transient left in the sampling.");
         }
