@@ -5,6 +5,7 @@
 #define GR_TEST_SIM_HELPERS_H
 
 #include <check.h>
+#include <math.h>
 
 #include "check_main.h" /* its ck_assert_msg: a passed assertion writes nothing */
 #include <stdlib.h>
@@ -12,6 +13,21 @@
 
 #include "core/sim_internal.h"
 #include "granule/scene.h"
+
+/* The mean of x[0..n) and its standard error, the n block averages taken as independent. */
+static inline double mean_se(const double *x, int n, double *se)
+{
+    double mean = 0.0, var = 0.0;
+    for (int b = 0; b < n; b++) {
+        mean += x[b];
+    }
+    mean /= n;
+    for (int b = 0; b < n; b++) {
+        var += (x[b] - mean) * (x[b] - mean);
+    }
+    *se = sqrt(var / (n - 1) / n);
+    return mean;
+}
 
 static inline void load(gr_scene *s, const char *text, const char *const *set, int n_set)
 {

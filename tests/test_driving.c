@@ -10,7 +10,8 @@
  *   gravity);
  * - none: an inelastic gas cools (verlet, event, hybrid), the same run bit for bit as rfm with D = 0;
  * - rfm: a scene that names [driving] kind = rfm is bit-identical to one that does not;
- * - the event and hybrid integrators refuse langevin by name (scene and library).
+ * - the hybrid integrator refuses langevin by name (scene and library; the event integrator's
+ *   bath: test_event_bath.c).
  *
  * Every random choice has a fixed seed; statistical bounds are 4-5 standard errors. */
 #include <check.h>
@@ -42,21 +43,6 @@ static double component_T(const gr_sim *sim, int c)
         sq += (v[i] - mean) * (v[i] - mean);
     }
     return sq / p.n;
-}
-
-/* The mean of x[0..n) and its standard error (the blocks taken as independent). */
-static double mean_se(const double *x, int n, double *se)
-{
-    double mean = 0.0, var = 0.0;
-    for (int b = 0; b < n; b++) {
-        mean += x[b];
-    }
-    mean /= n;
-    for (int b = 0; b < n; b++) {
-        var += (x[b] - mean) * (x[b] - mean);
-    }
-    *se = sqrt(var / (n - 1) / n);
-    return mean;
 }
 
 /* ---- equipartition with the bath ------------------------------------------------------------ */
@@ -391,27 +377,18 @@ END_TEST
 
 /* ---- refusals -------------------------------------------------------------------------------- */
 
-START_TEST(event_hybrid_refuse_langevin)
+START_TEST(hybrid_refuses_langevin)
 {
-    const char *text =
-        "[system]\ndim = 2\nN = 50\n[model]\nnormal = hard_sphere\n[integrator]\nkind = event\n"
-        "[driving]\nkind = langevin\n";
-    gr_scene s;
-    gr_error err = {0};
-    ck_assert_int_ne(gr_scene_load_buffer(&s, "ev.ini", text, strlen(text), NULL, 0, &err), GR_OK);
-    ck_assert_msg(
-        strstr(err.message,
-               "ev.ini:9: [driving] kind: kind = langevin has a viscous drag, which [integrator] "
-               "kind = event does not model") != NULL,
-        "%s", err.message);
+    /* (the event integrator runs the bath: tests/test_event_bath.c) */
     const char *hy =
         "[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[integrator]\nkind = hybrid\n";
     const char *lg[] = {"driving.kind=langevin"};
-    err = (gr_error){0};
+    gr_scene s;
+    gr_error err = {0};
     ck_assert_int_ne(gr_scene_load_buffer(&s, "hy.ini", hy, strlen(hy), lg, 1, &err), GR_OK);
     ck_assert_msg(strstr(err.message, "--set driving.kind=langevin: [driving] kind") &&
                       strstr(err.message, "hybrid") &&
-                      strstr(err.message, "allowed with langevin: verlet"),
+                      strstr(err.message, "allowed with langevin: verlet | event"),
                   "%s", err.message);
     /* the library refuses it too (gr_sim_params filled by hand) */
     load(&s, gas_1d, NULL, 0);
@@ -445,7 +422,7 @@ START_TEST(registry)
     ck_assert_ptr_null(gr_driving_find("bogus"));
     ck_assert(gr_driving_find("langevin")->drag && !gr_driving_find("none")->drag &&
               !gr_driving_find("rfm")->drag);
-    ck_assert(gr_integrator_find("verlet")->drag && !gr_integrator_find("event")->drag &&
+    ck_assert(gr_integrator_find("verlet")->drag && gr_integrator_find("event")->drag &&
               !gr_integrator_find("hybrid")->drag);
     /* prepare: the exact OU factors */
     gr_driving_params p = {.T_bath = 0.02, .tau = 0.5};
@@ -491,7 +468,7 @@ static Suite *driving_suite(void)
     TCase *unit = tcase_create("unit");
     tcase_add_test(unit, registry);
     tcase_add_test(unit, mean_field_bath);
-    tcase_add_test(unit, event_hybrid_refuse_langevin);
+    tcase_add_test(unit, hybrid_refuses_langevin);
     tcase_add_test(unit, rfm_named_is_default);
     tcase_add_test(unit, none_is_zero_noise);
     tcase_add_test(unit, saved_scene_round_trip);

@@ -231,8 +231,8 @@ PY
 # ... and rolling resistance with the event integrator
 refuse_with "$scene3" "\[model\] rolling.*with verlet rolling_friction" --set model.rotation=true \
     --set model.rolling=rolling_friction --set model.mu_r=0.05 "${event[@]}"
-# the bath and com mode run in 3D (tests/test_species_pairs.c); with the event integrator they do not
-refuse_with "$scene3" "\[driving\] kind.*verlet integrator" --set driving.kind=langevin "${event[@]}"
+# the bath and com mode run in 3D (tests/test_species_pairs.c); the event integrator runs the bath
+# (tests/test_event_bath.c), not com mode
 refuse_with "$scene3" "\[noise\] mode.*verlet integrator" --set noise.mode=com "${event[@]}"
 # a radius distribution in 3D (densities in kg/m^3): it runs, its ledger closes, and the history law
 # with hertz is refused there as in 2D
@@ -462,8 +462,6 @@ refuse "kick_interval = 0.0001 s must be a whole multiple.*left unset" --set int
 refuse_with "$tmp/dist.ini" "\[model\] tangential.*not available with \[species\].*normal = spring_dashpot" \
     --set model.tangential=tangential_spring --set model.normal=hertz --set model.k_h=1e7
 refuse "bidisperse-mixture.ini:[0-9]*: \[noise\] mode.*com | none with the hybrid integrator" --set integrator.kind=hybrid
-refuse "\[driving\] kind.*not available with \[species\]" --set integrator.kind=event \
-    --set model.normal=hard_sphere --set driving.kind=langevin
 refuse_with "$tmp/dist.ini" "\[model\] viscoelastic.*radius distribution" \
     --set integrator.kind=event --set model.normal=hard_sphere --set model.viscoelastic=true
 refuse "species.mass=1e-5: \[species\] mass.*one per radius" --set species.mass=1e-5

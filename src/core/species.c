@@ -42,14 +42,13 @@ static const char *not_covered(const gr_sim *s)
     const gr_sim_params *p = &s->params;
     /* the history law: species lists, or a distribution with the linear normal law (its k_t =
      * kt_ratio k_s is every pair's; hertz's k_t follows each pair's linearised contact); rolling:
-     * the verlet integrator; the bath and com mode: the verlet integrator */
+     * the verlet integrator; com mode: the verlet integrator */
     return !p->integrator->species ? "[integrator] kind"
            : p->tangential && ((p->size_distribution && gr_model_keeps_history(p->tangential) &&
                                 p->normal != &gr_model_spring_dashpot) ||
                                p->integrator->instantaneous)
                ? "[model] tangential"
-           : p->rolling && p->integrator->instantaneous                ? "[model] rolling"
-           : s->drive == GR_DRIVE_BATH && p->integrator->instantaneous ? "[driving] kind = langevin"
+           : p->rolling && p->integrator->instantaneous                    ? "[model] rolling"
            : p->noise_mode == GR_NOISE_COM && p->integrator->instantaneous ? "[noise] mode = com"
            : p->noise_precision == GR_NOISE_SINGLE               ? "[noise] precision = single"
            : !(p->normal && (p->normal->kind & GR_MODEL_NORMAL)) ? "[model] normal"

@@ -217,10 +217,12 @@ static const scene_key keys[] = {
      "flight between interval ends; with kind = event it under-injects energy when collisions fall "
      "inside intervals), kicks = a Gaussian velocity kick of variance 2 D tau / M^2 per component "
      "every kick_interval (the random force's work exact in expectation across collisions). "
-     "Default exact for hybrid, kicks for event (docs/event-driven.md)",
+     "Default exact for hybrid, kicks for event (docs/event-driven.md); with [driving] kind = "
+     "langevin (event) kicks only: the bath's exact OU step at each interval's end",
      OFF(free_flight)},
     {"integrator", "kick_interval", "s", K_DOUBLE, "1e-4", 0, INFINITY, true, true, NULL,
-     "event/hybrid: interval tau between noise updates of free particles (event) or length of a "
+     "event/hybrid: interval tau between noise (or Langevin bath) updates of free particles "
+     "(event) or length of a "
      "free-flight window (hybrid: a whole multiple of dt when given; left unset, 1e-4 s rounded to "
      "whole steps); the accuracy knob of docs/event-driven.md",
      OFF(kick_interval)},
@@ -1042,6 +1044,18 @@ static int resolve_driving(gr_scene *s, const given *g, const char *const *drivi
             "with %s: %s",
             dr->name, s->integrator->name, s->integrator->name, dr->name, names);
         return fail_at(err, &w, "driving", "kind", "%s", detail);
+    }
+    if (dr->drag && s->integrator->free_flight && s->free_flight == GR_FREE_FLIGHT_EXACT &&
+        key_given(g, "integrator", "free_flight")) {
+        /* the exact free flight is the random force's; the bath acts at each window's end */
+        char detail_ff[400];
+        where w = where_of(g, s, "integrator", "free_flight");
+        snprintf(detail_ff, sizeof detail_ff,
+                 "exact samples the random force's free flight, which [driving] kind = %s "
+                 "replaces: its drag and noise act as the exact Ornstein-Uhlenbeck step of each "
+                 "kick_interval at the interval's end; allowed with %s: kicks",
+                 dr->name, dr->name);
+        return fail_at(err, &w, "integrator", "free_flight", "%s", detail_ff);
     }
     if (dr->update != GR_DRIVE_FORCE) {
         static const char *const noise_keys[] = {"D", "mode", "com_interval"};

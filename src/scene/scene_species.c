@@ -36,8 +36,6 @@ static int refused(const gr_scene *s, const char **section, const char **key, ch
          "none, or with verlet tangential_dashpot | sliding_friction (and tangential_spring with "
          "[species] lists, or with a radius distribution and normal = spring_dashpot)"},
         {s->rolling && event, "model", "rolling", "none, or with verlet rolling_friction"},
-        {s->driving && s->driving->update == GR_DRIVE_BATH && event, "driving", "kind",
-         "rfm | none (langevin: with the verlet integrator)"},
         {s->noise_mode == GR_NOISE_COM && event, "noise", "mode",
          "symmetrised | none (com: with the verlet integrator)"},
         {s->noise_precision == GR_NOISE_SINGLE, "noise", "precision", "double"},

@@ -139,6 +139,37 @@ int gr_ev_floor_check(gr_sim *s, int i, int j, double t_abs, double floor_speed,
 
 static inline double ke2(double vx, double vy) { return vx * vx + vy * vy; }
 
+/* The Langevin bath over the window that just ended ([driving] kind = langevin, driving_langevin.c):
+ * free flight between window ends is ballistic (under gravity, parabolic) and collisions are
+ * exact events, and at each window end every base velocity takes the exact Ornstein-Uhlenbeck
+ * step of the whole window, v <- e^{-tau/tau_b} v + sqrt(T_bath / dim (1 - e^{-2 tau/tau_b})) xi
+ * (xi from counter 2 win of the free-flight stream; a grain of mass m_i: the kick times
+ * sqrt(m_1 / m_i), as bath_poly in verlet/step_poly.c). Without collisions the velocities at the
+ * window ends are exactly the OU process sampled every tau; the splitting of drag and collisions
+ * is first order in tau (docs/event-driven.md, "Langevin bath"). Books the drag's loss and the
+ * noise's work. */
+static void bath_window(gr_sim *s)
+{
+    struct gr_event_state *e = gr_ev(s);
+    const int n = e->n, dim = e->dim;
+    gr_noise_normals(s->params.seed, GR_STREAM_FREE_FLIGHT, 2 * (uint64_t)e->win, 0, n, dim, e->g);
+    double *v[3] = {e->bv, e->bw, e->bu};
+    const double decay = e->bath_decay;
+    double added = 0.0, dragged = 0.0;
+    for (int i = 0; i < n; i++) {
+        const double mi = e->m ? e->m[i] : e->M;
+        const double ki = e->m ? e->bath_kick * sqrt(e->bath_m1 / mi) : e->bath_kick;
+        for (int c = 0; c < dim; c++) {
+            const double vi = v[c][i], vd = decay * vi, dv = ki * e->g[(size_t)i * dim + c];
+            dragged += 0.5 * mi * (vi * vi - vd * vd);
+            added += mi * dv * (vd + 0.5 * dv);
+            v[c][i] = vd + dv;
+        }
+    }
+    e->injected += added;
+    s->diss_drag += dragged;
+}
+
 /* Advance every particle to the end of the window (local time tau), booking the free-flight work,
  * and start the next window: base time 0, state at the old window's end. */
 static void end_window(gr_sim *s)
@@ -177,6 +208,9 @@ static void end_window(gr_sim *s)
         e->past[i] = 0;
     }
     e->injected += 0.5 * e->M * work;
+    if (e->bath) {
+        bath_window(s);
+    }
     e->win++;
     e->now = 0.0;
     e->phase = 0;
@@ -751,8 +785,9 @@ int gr_event_init(gr_sim *s, gr_error *err)
     e->n = n;
     e->dim = s->dim;
     e->noise = s->params.noise_mode != GR_NOISE_NONE && s->params.D > 0.0;
+    e->bath = s->drive == GR_DRIVE_BATH; /* gr_sim set D = 0: the bath replaces the random force */
     /* without noise the windows only bound the predictions: make them long */
-    e->tau = e->noise ? s->params.kick_interval : fmax(s->params.kick_interval, 1.0);
+    e->tau = e->noise || e->bath ? s->params.kick_interval : fmax(s->params.kick_interval, 1.0);
     e->h = 0.5 * e->tau;
     e->M = s->mass;
     e->L = s->L;
@@ -829,6 +864,21 @@ int gr_event_init(gr_sim *s, gr_error *err)
         for (int i = 0; i < n; i++) {
             e->work_rate += s->dim * s->params.D / e->m[i];
         }
+    }
+    if (e->bath) { /* the bath's factors over one window (driving_langevin.c, with dt = tau) */
+        gr_driving_coeffs c = {0};
+        int rc = s->params.driving->prepare(&s->params.driving_params, s->dim, e->tau, &c, err);
+        if (rc) {
+            return rc;
+        }
+        e->bath_decay = c.decay;
+        e->bath_kick = c.kick;
+        /* the kick's grain: the first species (a distribution: the mean mass), as in verlet */
+        e->bath_m1 = !e->m                         ? s->mass
+                     : s->params.size_distribution ? s->mass
+                                                   : s->params.species_mass[0];
+        /* the floor guard's scale: the bath's mean work per window, dim kick^2 m_1 / 2 per grain */
+        e->work_rate = 0.5 * s->dim * c.kick * c.kick * e->bath_m1 * n / e->tau;
     }
     const char *check = getenv("GRANULE_EVENT_CHECK");
     e->check = check && check[0] == '1';
@@ -925,9 +975,10 @@ int gr_event_init(gr_sim *s, gr_error *err)
              : s->dim == 2 ? "2d-"
                            : "3d-",
              s->dim == 1 ? "" : (e->ncell > 1 ? "cells" : "allpairs"),
-             !e->noise  ? "nonoise"
-             : e->exact ? "exact"
-                        : "kicks");
+             e->bath     ? "bath"
+             : !e->noise ? "nonoise"
+             : e->exact  ? "exact"
+                         : "kicks");
     return GR_OK;
 }
 

@@ -68,6 +68,11 @@ struct gr_event_state {
     double tc_m12;
     bool exact; /* free_flight = exact */
     bool noise;
+    /* [driving] kind = langevin: the bath's exact Ornstein-Uhlenbeck velocity update over one
+     * window, applied at each window's end (event.c, bath_window): e^{-tau/tau_b}, the kick of a
+     * grain of mass bath_m1 (others: times sqrt(bath_m1 / m_i)) */
+    bool bath;
+    double bath_decay, bath_kick, bath_m1;
     /* walls and gravity (1D, 2D, 3D; docs/systems-walls-gravity.md, "Event-driven"): wall[a] = flat
      * walls at 0 and L along axis a (no periodic image there), grav[a] the constant acceleration
      * added to every particle's a1, a2; its work is booked as the change of the potential energy,

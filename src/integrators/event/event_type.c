@@ -41,6 +41,7 @@ const gr_integrator_type gr_integrator_event = {
     .walls = true,    /* fixed and vibrating walls, gravity (event_cells.h wall_hit, event.c 1D) */
     .spheres = true,  /* smooth and rough hard spheres in a periodic cube (event_3d.c) */
     .species = true,  /* [species] lists of smooth and rough discs and of rods (gr_ev_rule) */
+    .drag = true,     /* the Langevin bath at each window's end (event.c, bath_window) */
     .create = gr_event_init,
     .step = gr_event_step,
     .free = gr_event_free,
