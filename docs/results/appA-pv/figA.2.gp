@@ -4,9 +4,10 @@ set title "-ln(P(v)/P(0)) of N = 1585, eps = 0.1 against v / v_rms, with alpha =
 set ylabel 'slope of ln(-ln(P(v)/P(0))) against ln(v / v_rms), 2-100' noenhanced
 set xtics rotate by -40 noenhanced
 set xlabel 'N, eps_n' noenhanced
-set key below
+set key below height 1.5
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'
 plot 'figA.2_compare.dat' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'
+
 
 

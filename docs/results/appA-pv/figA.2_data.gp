@@ -5,9 +5,10 @@ set format y '10^{%L}'
 set format x '%g'
 set xlabel 'v / v_rms' noenhanced
 set ylabel '-ln(P(v)/P(0))' noenhanced
-set key below noenhanced
+set key below height 1.5 noenhanced
 set multiplot layout 1,1 title "-ln(P(v)/P(0)) of N = 1585, eps = 0.1 against v / v_rms, with alpha = 1 fitted (Fig. A.2)" noenhanced font ',13'
 plot for [i=0:0] 'figA.2_blocks.dat' index i using 1:2 with points pt 7 ps 0.5 lc i-0+1 title columnheader(1), for [i=0:0] 'figA.2_overlay.dat' index i using 1:2 with lines dt 2 lw 2 lc i-0+1 title (i == 0 ? 'alpha = 1 fitted (dashed)' : '')
 unset multiplot
+
 
 

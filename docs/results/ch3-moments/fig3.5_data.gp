@@ -27,3 +27,4 @@ plot for [i=54:62] 'fig3.5_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 wit
 unset multiplot
 
 
+

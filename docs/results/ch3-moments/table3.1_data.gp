@@ -27,3 +27,4 @@ plot for [i=30:34] 'table3.1_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 w
 unset multiplot
 
 
+

@@ -28,3 +28,4 @@ plot for [i=11:11] 'fig4.6_blocks.dat' index i using 1:2 with linespoints pt 7 p
 unset multiplot
 
 
+

@@ -18,3 +18,4 @@ plot for [i=5:9] 'fig5.3_blocks.dat' index i using 1:2 with linespoints pt 7 ps 
 unset multiplot
 
 
+

@@ -10,3 +10,4 @@ plot 'fig6.3_positions.csv' skip 1 using 2:(strcol(1) eq 'cascade' ? $3 : 1/0) w
 unset multiplot
 
 
+

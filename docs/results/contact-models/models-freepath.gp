@@ -4,9 +4,10 @@ set title "Mean free path over the diameter (sec. 4.3) under each contact model"
 set ylabel '<l>/d' noenhanced
 set xtics rotate by -40 noenhanced
 set xlabel 'normal, tangential, rotation, kind' noenhanced
-set key below
+set key below height 1.5
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'
 plot 'models-freepath_compare.dat' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'
+
 
 

@@ -52,7 +52,7 @@ static void plot_sk(const char *results, const gr_campaign_result *r, int blocks
     char body[1024];
     snprintf(body, sizeof body,
              "set datafile separator whitespace\nset logscale xy\nset format y '10^{%%L}'\nset key "
-             "below noenhanced\n"
+             "below height 1.5 noenhanced\n"
              "set xlabel 'k (1/m)'\nset ylabel 'S(k) / S(k_1) x 10^{-i}'\n"
              "set title \"Cascade fields' S(k) (6.5), 256 x 256 over 1 m (Fig. 6.2), fits of %s\" "
              "noenhanced\n"

@@ -175,7 +175,8 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
         body, sizeof body,
         "set datafile separator whitespace\nset title \"%s\" noenhanced\nset ylabel '%s' "
         "noenhanced\n%s\n"
-        "set xlabel '%s' noenhanced\nset key below\nset offsets 0.5, 0.5, graph 0.06, graph "
+        "set xlabel '%s' noenhanced\nset key below height 1.5\nset offsets 0.5, 0.5, graph 0.06, "
+        "graph "
         "0.06\nset grid ytics lc rgb '#dddddd'\n"
         "plot '%s' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title "
         "'granule'%s\n",
@@ -430,7 +431,7 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
                      "0 ? 1/0 : $2) with points pt 6 lc %s notitle%s\n",
                      panel, lo, hi, r->id, lc, series, lo, hi, lc, th);
         }
-        draw_panels(dir, r->id, head, "below", title, plots, np);
+        draw_panels(dir, r->id, head, "below height 1.5", title, plots, np);
         return;
     } else if (r->kind == GR_RESULT_CURVE) {
         bool unused;
@@ -487,18 +488,20 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
                          : "",
                      dashed);
         }
-        draw_panels(dir, r->id, head, map ? "inside top left" : "below", r->title, plots, np);
+        draw_panels(dir, r->id, head, map ? "inside top left" : "below height 1.5", r->title, plots,
+                    np);
         return;
     } else if (r->kind == GR_RESULT_RUNNING) {
-        snprintf(body, sizeof body,
-                 "set datafile separator ','\nset key below\nset xlabel 'sampling time t "
-                 "(s)'\nset ylabel 'T (m^2/s^2)'\n"
-                 "set title 'Means over %g s (points) and the running average (lines), every seed' "
-                 "noenhanced\n"
-                 "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.6 lc rgb '#1f5fbf' "
-                 "title 'period means', "
-                 "'' skip 1 using 3:5 with lines lw 2 lc rgb '#c0392b' title 'running average'\n",
-                 r->period, r->id);
+        snprintf(
+            body, sizeof body,
+            "set datafile separator ','\nset key below height 1.5\nset xlabel 'sampling time t "
+            "(s)'\nset ylabel 'T (m^2/s^2)'\n"
+            "set title 'Means over %g s (points) and the running average (lines), every seed' "
+            "noenhanced\n"
+            "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.6 lc rgb '#1f5fbf' "
+            "title 'period means', "
+            "'' skip 1 using 3:5 with lines lw 2 lc rgb '#c0392b' title 'running average'\n",
+            r->period, r->id);
     } else if (r->kind == GR_RESULT_CASCADE) {
         snprintf(body, sizeof body,
                  "set datafile separator ','\nset size ratio -1\nunset key\nset xlabel 'x "
@@ -515,7 +518,7 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
     } else if (r->kind == GR_RESULT_RISE || r->kind == GR_RESULT_SETTLE) {
         snprintf(
             body, sizeof body,
-            "set key below\nset xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\n"
+            "set key below height 1.5\nset xlabel 't (s)'\nset ylabel 'T (m^2/s^2)'\n"
             "set title 'T(t) from the start of every run (lines: its steady value)' noenhanced\n"
             "plot '%s_data.csv' skip 1 using 3:4 with points pt 7 ps 0.3 lc rgb '#1f5fbf' title "
             "'T(t)', "

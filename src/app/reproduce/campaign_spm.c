@@ -235,7 +235,8 @@ static void draw(const char *results, const gr_campaign_result *r, int blocks)
     if (q == Q_A0P0 || q == Q_SLOPE_P0 || q == Q_SLOPE_A0) { /* Fig. 5.13 */
         snprintf(
             body, sizeof body,
-            "set datafile separator whitespace\nset datafile missing 'nan'\nset key below "
+            "set datafile separator whitespace\nset datafile missing 'nan'\nset key below height "
+            "1.5 "
             "noenhanced\n"
             "set xlabel 'ln(v / v_{rms})'\nset ylabel '-ln(-ln(P / P^{/Symbol \\242}))'\n"
             "set title \"%s: P' = P(0) (filled) and A_0 (open), lines fitted over the window\" "
@@ -251,7 +252,7 @@ static void draw(const char *results, const gr_campaign_result *r, int blocks)
             body, sizeof body,
             "set datafile separator whitespace\nset datafile missing 'nan'\nset logscale y\nset "
             "format y '10^{%%L}'\n"
-            "set key below noenhanced\nset xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\n"
+            "set key below height 1.5 noenhanced\nset xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\n"
             "set title \"%s: the runs' P(v), 5.31 with the predicted S (solid) and fitted "
             "(dashed)\" noenhanced\n"
             "plot for [i=0:%d] '%s_tail.dat' index i using 1:3 with points pt 7 ps 0.4 lc i+1 "

@@ -90,7 +90,7 @@ static int write_q(const char *results, const gr_campaign_result *r,
     char body[2048];
     snprintf(body, sizeof body,
              "set datafile separator whitespace\nset logscale y\nset format y '10^{%%L}'\nset key "
-             "below noenhanced\n"
+             "below height 1.5 noenhanced\n"
              "set xlabel 'w = v / u_l,  u_l = (2 D l / M^2)^{1/3}'\nset ylabel 'u_l Q(v, l)'\n"
              "set title \"Q(v,l) of a particle in a disc of fixed radius (Fig. 5.11), collapsed "
              "(sec. 5.3.1)\" noenhanced\n"

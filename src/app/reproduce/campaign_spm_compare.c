@@ -177,7 +177,7 @@ static void draw(const char *results, const gr_campaign_result *r, int blocks)
         body, sizeof body,
         "set datafile separator whitespace\nset datafile missing 'nan'\nset logscale y\nset format "
         "y '10^{%%L}'\n"
-        "set key below noenhanced\nset xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\n"
+        "set key below height 1.5 noenhanced\nset xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\n"
         "set title \"%s: runs' P(v) (points), SPM from their free paths x k (lines)\" noenhanced\n"
         "plot for [i=0:%d] '%s_pv.dat' index i using 1:2 with points pt 7 ps 0.4 lc i+1 title "
         "columnheader(1), "
