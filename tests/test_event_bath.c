@@ -9,6 +9,8 @@
  * - an elastic gas of hard discs and spheres (1D, 2D, 3D), at about 5 collisions per grain per
  *   drag time, settles at T_bath / dim per component;
  *   a binary mixture (masses 1:4) at m_1 T_bath / dim per component for every grain's m v^2;
+ *   perfectly rough elastic discs (beta = 1), which the bath does not spin, at q r^2 <w^2> =
+ *   T_bath / dim through their collisions;
  * - the ledger: injected (bath) - dissipated (collisions + drag) = change of kinetic energy, to
  *   rounding (the event integrator's books are exact);
  * - a restart is exact (3D, walls and gravity);
@@ -193,6 +195,53 @@ START_TEST(mixture_equipartition)
 }
 END_TEST
 
+/* Perfectly rough elastic discs (eps_n = 1, beta = 1: Walton's rule conserves energy) in the bath:
+ * the bath acts on the translations only, the collisions share the energy with the spins, and the
+ * stationary state is the Gibbs one, k_B T per degree of freedom for the spins too: q M r^2
+ * <w^2> = M T_bath / dim (q = 1/2). */
+START_TEST(rough_spins_equipartition)
+{
+    const char *text =
+        "[system]\ndim = 2\nN = 1000\npacking_fraction = 0.15\n[placement]\nkind = random\n"
+        "[run]\nseed = 6\n" BATH_EVENT;
+    const char *set[] = {"model.rotation=true", "model.beta=1", "driving.T_bath=1",
+                         "driving.tau=0.05"};
+    gr_scene s;
+    load(&s, text, set, 4);
+    gr_sim *sim = create(&s);
+    ck_assert_ptr_nonnull(sim->omega);
+    const double tau = 0.05, r = 0.5 * sim->d, q = sim->cc.q;
+    const int64_t per_tau = steps_for(sim, tau);
+    step(sim, 10 * per_tau);
+    enum { BLOCKS = 40, PER_BLOCK = 2 };
+    double block[BLOCKS];
+    for (int b = 0; b < BLOCKS; b++) {
+        block[b] = 0.0;
+        for (int k = 0; k < PER_BLOCK; k++) {
+            step(sim, per_tau);
+            double w2 = 0.0;
+            for (int i = 0; i < sim->n; i++) {
+                w2 += sim->omega[i] * sim->omega[i];
+            }
+            block[b] += q * r * r * w2 / sim->n / PER_BLOCK;
+        }
+    }
+    double se;
+    const double mean = mean_se(block, BLOCKS, &se), expect = 1.0 / 2.0;
+    VERBOSE("rough discs: q r^2 <w^2> = %.6g +- %.2g, expected %.6g (z = %.2f)\n", mean, se, expect,
+            (mean - expect) / se);
+    ck_assert_msg(se < 0.01 * mean, "the block error %g is too large for the test", se);
+    ck_assert_msg(fabs(mean - expect) < 4.0 * se,
+                  "rough discs: q r^2 <w^2> = %g +- %g, the bath's T_bath / dim is %g", mean, se,
+                  expect);
+    gr_ledger l = gr_sim_ledger(sim);
+    const double moved = l.injected + gr_ledger_dissipated(&l);
+    ck_assert_msg(fabs(gr_ledger_residual(&l)) < 1e-12 * moved, "residual %g of %g moved",
+                  gr_ledger_residual(&l), moved);
+    gr_sim_free(sim);
+}
+END_TEST
+
 /* ---- the ledger with inelastic collisions --------------------------------------------------- */
 
 START_TEST(ledger_inelastic)
@@ -270,6 +319,7 @@ static Suite *event_bath_suite(void)
     tcase_add_test(phys, equipartition_2d);
     tcase_add_test(phys, equipartition_3d);
     tcase_add_test(phys, mixture_equipartition);
+    tcase_add_test(phys, rough_spins_equipartition);
     suite_add_tcase(s, phys);
     return s;
 }
