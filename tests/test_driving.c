@@ -10,8 +10,8 @@
  *   gravity);
  * - none: an inelastic gas cools (verlet, event, hybrid), the same run bit for bit as rfm with D = 0;
  * - rfm: a scene that names [driving] kind = rfm is bit-identical to one that does not;
- * - the hybrid integrator refuses langevin by name (scene and library; the event integrator's
- *   bath: test_event_bath.c).
+ * - an integrator without the drag capability refuses langevin by name (every registered one has
+ *   it: the event and hybrid integrators' bath is test_window_bath.c).
  *
  * Every random choice has a fixed seed; statistical bounds are 4-5 standard errors. */
 #include <check.h>
@@ -377,31 +377,26 @@ END_TEST
 
 /* ---- refusals -------------------------------------------------------------------------------- */
 
-START_TEST(hybrid_refuses_langevin)
+/* Every integrator models the drag now (verlet per step; event and hybrid at each window's end:
+ * test_window_bath.c); the refusal of one that does not stays, in the library (the integrator's
+ * capability flag drag) and the scene (by name, tested here with the library's path). */
+START_TEST(drag_refused_without_capability)
 {
-    /* (the event integrator runs the bath: tests/test_event_bath.c) */
-    const char *hy =
-        "[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[integrator]\nkind = hybrid\n";
-    const char *lg[] = {"driving.kind=langevin"};
     gr_scene s;
-    gr_error err = {0};
-    ck_assert_int_ne(gr_scene_load_buffer(&s, "hy.ini", hy, strlen(hy), lg, 1, &err), GR_OK);
-    ck_assert_msg(strstr(err.message, "--set driving.kind=langevin: [driving] kind") &&
-                      strstr(err.message, "hybrid") &&
-                      strstr(err.message, "allowed with langevin: verlet | event"),
-                  "%s", err.message);
-    /* the library refuses it too (gr_sim_params filled by hand) */
     load(&s, gas_1d, NULL, 0);
     gr_sim_params p;
     gr_scene_sim_params(&s, &p);
+    gr_integrator_type no_drag = *gr_integrator_find("verlet");
+    no_drag.name = "no_drag";
+    no_drag.drag = false;
     p.driving = gr_driving_find("langevin");
-    p.integrator = gr_integrator_find("hybrid");
+    p.integrator = &no_drag;
     gr_sim *sim = NULL;
-    err = (gr_error){0};
+    gr_error err = {0};
     ck_assert_int_ne(gr_sim_new(&p, &sim, &err), GR_OK);
     ck_assert_ptr_null(sim);
     ck_assert_msg(strstr(err.message, "[driving] kind = langevin") &&
-                      strstr(err.message, "kind = hybrid"),
+                      strstr(err.message, "kind = no_drag does not model"),
                   "%s", err.message);
 }
 END_TEST
@@ -423,7 +418,7 @@ START_TEST(registry)
     ck_assert(gr_driving_find("langevin")->drag && !gr_driving_find("none")->drag &&
               !gr_driving_find("rfm")->drag);
     ck_assert(gr_integrator_find("verlet")->drag && gr_integrator_find("event")->drag &&
-              !gr_integrator_find("hybrid")->drag);
+              gr_integrator_find("hybrid")->drag);
     /* prepare: the exact OU factors */
     gr_driving_params p = {.T_bath = 0.02, .tau = 0.5};
     gr_driving_coeffs c;
@@ -468,7 +463,7 @@ static Suite *driving_suite(void)
     TCase *unit = tcase_create("unit");
     tcase_add_test(unit, registry);
     tcase_add_test(unit, mean_field_bath);
-    tcase_add_test(unit, hybrid_refuses_langevin);
+    tcase_add_test(unit, drag_refused_without_capability);
     tcase_add_test(unit, rfm_named_is_default);
     tcase_add_test(unit, none_is_zero_noise);
     tcase_add_test(unit, saved_scene_round_trip);

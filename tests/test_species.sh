@@ -232,7 +232,7 @@ PY
 refuse_with "$scene3" "\[model\] rolling.*with verlet rolling_friction" --set model.rotation=true \
     --set model.rolling=rolling_friction --set model.mu_r=0.05 "${event[@]}"
 # the bath and com mode run in 3D (tests/test_species_pairs.c); the event integrator runs the bath
-# (tests/test_event_bath.c), not com mode
+# (tests/test_window_bath.c), not com mode
 refuse_with "$scene3" "\[noise\] mode.*verlet integrator" --set noise.mode=com "${event[@]}"
 # a radius distribution in 3D (densities in kg/m^3): it runs, its ledger closes, and the history law
 # with hertz is refused there as in 2D

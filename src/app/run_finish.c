@@ -35,13 +35,14 @@ static double distribution_mass_sum(const gr_scene *scene, bool inverse)
 /* The mean energy the driving puts in per second (W). The random force: dim D / M per particle, eq.
  * 2.19 (times 1 - 1/N when symmetrised, the centre of mass takes none). The Langevin bath: its noise
  * adds M T_bath (1 - e^{-2 dt/tau}) / 2 per particle and step (step.c), N M T_bath / tau as dt -> 0;
- * the drag takes it out again in the steady state of an elastic gas (an integrator of instantaneous
- * collisions applies it once per kick_interval, event.c: dt is that interval). None: nothing. */
+ * the drag takes it out again in the steady state of an elastic gas (the event and hybrid
+ * integrators apply it once per kick_interval, at each window's end: dt is that interval). None:
+ * nothing. */
 static double injection_rate_expected(const gr_scene *scene, double dt)
 {
     const gr_driving_type *d = scene->driving ? scene->driving : gr_driving_default();
     if (d->update == GR_DRIVE_BATH) {
-        dt = scene->integrator && scene->integrator->instantaneous ? scene->kick_interval : dt;
+        dt = scene->integrator && scene->integrator->free_flight ? scene->kick_interval : dt;
         const gr_driving_params *p = &scene->driving_params;
         /* species: every grain at the first species' energy m_1 T_bath / dim per component; a
          * radius distribution: at the grains' mean mass's */

@@ -56,7 +56,7 @@ const gr_driving_type gr_driving_langevin = {
     .name = "langevin",
     .summary =
         "Langevin thermostat: drag -M v / tau plus white noise of strength M^2 T_bath / (dim tau) "
-        "(fluctuation-dissipation), so an elastic gas settles at T = T_bath; verlet and event",
+        "(fluctuation-dissipation), so an elastic gas settles at T = T_bath; every integrator",
     .update = GR_DRIVE_BATH,
     .drag = true,
     .params = langevin_params,

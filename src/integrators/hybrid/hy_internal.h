@@ -75,6 +75,12 @@ typedef struct gr_hybrid_state {
     double kick_amp; /* a = sqrt(2 D dt)/M (0 without noise): kick = a (raw + l1 + l2 (m - k)) */
     double *tmp;     /* m * dim raw normals of one particle */
 
+    /* [driving] kind = langevin: the exact Ornstein-Uhlenbeck step of each window at its end, on
+     * every grain (hybrid.c, bath_window); bath_g its dim normals per grain; bath_m1 the mass whose
+     * kick the bath's coefficients are (a grain of mass m_i: times sqrt(bath_m1 / m_i)) */
+    bool bath;
+    double *bath_g, bath_m1;
+
     /* counters */
     int64_t windows, rollbacks, steps, active_steps;
 } gr_hybrid_state;

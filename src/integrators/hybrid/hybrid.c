@@ -33,6 +33,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "granule/noise.h"
 #include "integrators/hybrid/hy_internal.h"
 
 static double *dalloc(int n)
@@ -55,7 +56,7 @@ void gr_hybrid_free(gr_sim *s)
     double *d[] = {h->x0,  h->y0,   h->vx0,  h->vy0,  h->fx0,    h->fy0,    h->gx0,
                    h->gy0, h->c_lo, h->c_hi, h->c_xi, h->env_lo, h->env_hi, h->env_pack,
                    h->ff,  h->kick, h->tmp,  h->lam,  h->xl,     h->yl,     h->z0,
-                   h->vz0, h->fz0,  h->gz0,  h->zl,   h->w0,     h->t0};
+                   h->vz0, h->fz0,  h->gz0,  h->zl,   h->w0,     h->t0,     h->bath_g};
     for (size_t k = 0; k < sizeof d / sizeof d[0]; k++) {
         free(d[k]);
     }
@@ -174,6 +175,15 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
     h->margin_c = GR_HYBRID_MARGIN_SIGMAS;
     h->kicks = sc->free_flight == GR_FREE_FLIGHT_KICKS;
     const int n = s->n, dim = s->dim;
+    h->bath = s->drive == GR_DRIVE_BATH; /* gr_sim set D = 0: the bath replaces the random force */
+    if (h->bath) {
+        h->bath_g = dalloc(dim * n);
+        if (!h->bath_g) {
+            return GR_FAIL(err, GR_ENOMEM, "hybrid: out of memory for %d particles", n);
+        }
+        /* the kick's grain: the first species (a distribution: the mean mass), as in verlet */
+        h->bath_m1 = !s->mass_i || sc->size_distribution ? s->mass : sc->species_mass[0];
+    }
     h->x0 = dalloc(n);
     h->vx0 = dalloc(n);
     h->fx0 = dalloc(n);
@@ -229,7 +239,10 @@ int gr_hybrid_init(gr_sim *s, gr_error *err)
     char soft[sizeof s->kernel_name];
     snprintf(soft, sizeof soft, "%s", s->kernel_name); /* the soft-sphere kernel the child runs */
     snprintf(s->kernel_name, sizeof s->kernel_name, "hybrid-%dd-%s(window %g s)/%.100s", dim,
-             h->kicks ? "kicks" : "exact", (double)m * s->dt, soft);
+             h->bath    ? "bath"
+             : h->kicks ? "kicks"
+                        : "exact",
+             (double)m * s->dt, soft);
     return GR_OK;
 }
 
@@ -429,6 +442,42 @@ static int all_finite(const gr_sim *s)
     return z == 0.0;
 }
 
+/* The Langevin bath over the window of m steps that starts at step `start` ([driving] kind =
+ * langevin, driving_langevin.c): the window ran without it (free grains leaped ballistically,
+ * active ones stepped with their contacts), and now every velocity takes the exact
+ * Ornstein-Uhlenbeck step of the whole window, v <- e^{-m dt/tau} v + sqrt(T_bath / dim (1 -
+ * e^{-2 m dt/tau})) xi (times sqrt(m_1 / m_i) for grain i), xi from the random force's stream at
+ * counter `start` (unused by the hybrid otherwise). A leaped grain and a stepped one without
+ * contacts end the window alike, so the bath keeps the hybrid's equivalence of the two; the
+ * splitting of drag and contacts is that of the event integrator (docs/event-driven.md, "Langevin
+ * bath"). Books the drag's loss and the noise's work. */
+static int bath_window(gr_sim *s, gr_hybrid_state *h, int m, int64_t start, gr_error *err)
+{
+    gr_driving_coeffs c = {0};
+    int rc =
+        s->params.driving->prepare(&s->params.driving_params, s->dim, (double)m * s->dt, &c, err);
+    if (rc) {
+        return rc;
+    }
+    const int n = s->n, dim = s->dim;
+    gr_noise_normals(s->params.seed, GR_STREAM_NOISE, (uint64_t)start, 0, n, dim, h->bath_g);
+    double *v[3] = {s->vx, s->vy, s->vz};
+    double added = 0.0, dragged = 0.0;
+    for (int i = 0; i < n; i++) {
+        const double mi = s->mass_i ? s->mass_i[i] : s->mass;
+        const double ki = s->mass_i ? c.kick * sqrt(h->bath_m1 / mi) : c.kick;
+        for (int a = 0; a < dim; a++) {
+            const double vi = v[a][i], vd = c.decay * vi, dv = ki * h->bath_g[(size_t)i * dim + a];
+            dragged += 0.5 * mi * (vi * vi - vd * vd);
+            added += mi * dv * (vd + 0.5 * dv);
+            v[a][i] = vd + dv;
+        }
+    }
+    s->injected += added;
+    s->diss_drag += dragged;
+    return GR_OK;
+}
+
 static int window(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
 {
     const int64_t start = s->step;
@@ -474,6 +523,9 @@ static int window(gr_sim *s, gr_hybrid_state *h, int m, gr_error *err)
     }
     memset(h->forced, 0, (size_t)s->n);
     const int noise = s->params.noise_mode != GR_NOISE_NONE && s->params.D > 0.0;
+    if (h->bath && (rc = bath_window(s, h, m, start, err))) {
+        return rc;
+    }
     s->step += m;
     if (noise && s->params.noise_mode == GR_NOISE_SYMMETRISED && s->n > 1) {
         centre(s, h);

@@ -37,6 +37,7 @@ const gr_integrator_type gr_integrator_hybrid = {
     .rotation = true, /* the active set's spins kicked by the child as step.c kicks them */
     .walls = true,    /* 2D and 3D: grains that could reach a wall are active (docs/hybrid.md) */
     .species = true,  /* species lists, com or no noise (docs/hybrid.md, "Mixtures") */
+    .drag = true,     /* the Langevin bath at each window's end (hybrid.c, bath_window) */
     .create = gr_hybrid_init,
     .step = gr_hybrid_step,
     .free = gr_hybrid_free,
