@@ -64,4 +64,13 @@ void gr_driving_names(char *buf, size_t cap, const char *sep);
 /* Every driving type's parameter defaults. */
 void gr_driving_defaults(gr_driving_params *p);
 
+/* The bath's exact Ornstein-Uhlenbeck step with coefficients c (prepare's, for the interval it
+ * covers) on the velocities v[0..dim)[0..n): v <- c.decay v + k_i g, k_i = c.kick sqrt(m1 / m_i)
+ * (mass_i NULL: every grain of mass M, k_i = c.kick), g the n x dim standard normals (grain i's
+ * component a at g[i dim + a]). Adds the noise's work to *added and the drag's loss to *dragged
+ * (J). The event and hybrid integrators' window-end step (driving_langevin.c). */
+void gr_bath_ou_step(const gr_driving_coeffs *c, double m1, int n, int dim, double *const v[3],
+                     const double *mass_i, double M, const double *g, double *added,
+                     double *dragged);
+
 #endif

@@ -52,6 +52,25 @@ static int langevin_prepare(const gr_driving_params *p, int dim, double dt, gr_d
     return GR_OK;
 }
 
+void gr_bath_ou_step(const gr_driving_coeffs *c, double m1, int n, int dim, double *const v[3],
+                     const double *mass_i, double M, const double *g, double *added,
+                     double *dragged)
+{
+    double in = 0.0, out = 0.0;
+    for (int i = 0; i < n; i++) {
+        const double mi = mass_i ? mass_i[i] : M;
+        const double ki = mass_i ? c->kick * sqrt(m1 / mi) : c->kick;
+        for (int a = 0; a < dim; a++) {
+            const double vi = v[a][i], vd = c->decay * vi, dv = ki * g[(size_t)i * dim + a];
+            out += 0.5 * mi * (vi * vi - vd * vd);
+            in += mi * dv * (vd + 0.5 * dv);
+            v[a][i] = vd + dv;
+        }
+    }
+    *added += in;
+    *dragged += out;
+}
+
 const gr_driving_type gr_driving_langevin = {
     .name = "langevin",
     .summary =

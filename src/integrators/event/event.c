@@ -153,21 +153,9 @@ static void bath_window(gr_sim *s)
     struct gr_event_state *e = gr_ev(s);
     const int n = e->n, dim = e->dim;
     gr_noise_normals(s->params.seed, GR_STREAM_FREE_FLIGHT, 2 * (uint64_t)e->win, 0, n, dim, e->g);
-    double *v[3] = {e->bv, e->bw, e->bu};
-    const double decay = e->bath_decay;
-    double added = 0.0, dragged = 0.0;
-    for (int i = 0; i < n; i++) {
-        const double mi = e->m ? e->m[i] : e->M;
-        const double ki = e->m ? e->bath_kick * sqrt(e->bath_m1 / mi) : e->bath_kick;
-        for (int c = 0; c < dim; c++) {
-            const double vi = v[c][i], vd = decay * vi, dv = ki * e->g[(size_t)i * dim + c];
-            dragged += 0.5 * mi * (vi * vi - vd * vd);
-            added += mi * dv * (vd + 0.5 * dv);
-            v[c][i] = vd + dv;
-        }
-    }
-    e->injected += added;
-    s->diss_drag += dragged;
+    double *const v[3] = {e->bv, e->bw, e->bu};
+    const gr_driving_coeffs c = {.decay = e->bath_decay, .kick = e->bath_kick};
+    gr_bath_ou_step(&c, e->bath_m1, n, dim, v, e->m, e->M, e->g, &e->injected, &s->diss_drag);
 }
 
 /* Advance every particle to the end of the window (local time tau), booking the free-flight work,

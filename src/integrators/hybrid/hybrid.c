@@ -461,18 +461,9 @@ static int bath_window(gr_sim *s, gr_hybrid_state *h, int m, int64_t start, gr_e
     }
     const int n = s->n, dim = s->dim;
     gr_noise_normals(s->params.seed, GR_STREAM_NOISE, (uint64_t)start, 0, n, dim, h->bath_g);
-    double *v[3] = {s->vx, s->vy, s->vz};
+    double *const v[3] = {s->vx, s->vy, s->vz};
     double added = 0.0, dragged = 0.0;
-    for (int i = 0; i < n; i++) {
-        const double mi = s->mass_i ? s->mass_i[i] : s->mass;
-        const double ki = s->mass_i ? c.kick * sqrt(h->bath_m1 / mi) : c.kick;
-        for (int a = 0; a < dim; a++) {
-            const double vi = v[a][i], vd = c.decay * vi, dv = ki * h->bath_g[(size_t)i * dim + a];
-            dragged += 0.5 * mi * (vi * vi - vd * vd);
-            added += mi * dv * (vd + 0.5 * dv);
-            v[a][i] = vd + dv;
-        }
-    }
+    gr_bath_ou_step(&c, h->bath_m1, n, dim, v, s->mass_i, s->mass, h->bath_g, &added, &dragged);
     s->injected += added;
     s->diss_drag += dragged;
     return GR_OK;
