@@ -112,7 +112,6 @@ base | run $S --out $O --set driving.kind=langevin --set driving.tau=-1 | 2 | [d
 base | run $S --out $O --set driving.kind=langevin --set driving.T_bath=-0.1 | 2 | [driving] T_bath;[0, inf) | new
 base | run $S --out $O --set driving.kind=langevin --set driving.T_bath=nan | 2 | [driving] T_bath;not a number | new
 base | run $S --out $O --set driving.gamma=1 | 2 | [driving] gamma;unknown key;T_bath;tau | new
-file:[system]\ndim = 2\nN = 50\n[model]\nnormal = hard_sphere\n[driving]\nkind = langevin\n[integrator]\nkind = event\nfree_flight = exact\n | run $S --out $O | 2 | :10:;[integrator] free_flight;exact;random force;Ornstein-Uhlenbeck;allowed with langevin: kicks | new
 file:[system]\ndim = 1\nN = 20\nreduced_length = 0.1\n[driving]\nkind = langevin\ntau = 0\n | run $S --out $O | 2 | :7:;[driving] tau;(0, inf) | new
 file:[system]\ndim = 2\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[gravity]\ngy = -9.81\n | run $S --out $O | 2 | :8:;[gravity] gy;[boundary] y = walls;allowed with y = periodic: gy = 0 | new
 file:[system]\ndim = 1\nN = 1\nL = 0.04\n[placement]\nkind = uniform\n[boundary]\nx = walls\n[gravity]\ngx = -9.81\n[integrator]\nkind = hybrid\n | run $S --out $O | 2 | :12:;[integrator] kind;kind = hybrid runs walls and gravity in 2D and 3D;allowed with walls or gravity in 1D: verlet | event | new

@@ -18,7 +18,8 @@
  * - the ledger: injected (bath) - dissipated (collisions + drag) = change of kinetic energy, to
  *   rounding (the event integrator's books are exact);
  * - a restart is exact (event: 3D, walls and gravity; hybrid: 2D);
- * - refused by name: free_flight = exact given with the bath.
+ * - free_flight (the random force's) is ignored under the bath with a warning: exact and kicks
+ *   give the same run.
  *
  * Every random choice has a fixed seed; statistical bounds are 4-5 standard errors. The quick mode
  * (GRANULE_TEST_QUICK, the sanitizer pass) runs the equipartition scenes for one tau and checks
@@ -363,19 +364,27 @@ END_TEST
 
 /* ---- refusals -------------------------------------------------------------------------------- */
 
-START_TEST(refusals)
+/* free_flight belongs to the random force: under the bath it is ignored with a warning, and a
+ * scene that gives exact runs as one that gives kicks, bit for bit */
+START_TEST(free_flight_ignored)
 {
-    const char *ev = "[system]\ndim = 2\nN = 50\n[model]\nnormal = hard_sphere\n[integrator]\n"
-                     "kind = event\nfree_flight = exact\n[driving]\nkind = langevin\n";
-    gr_scene s;
-    gr_error err = {0};
-    ck_assert_int_ne(gr_scene_load_buffer(&s, "ev.ini", ev, strlen(ev), NULL, 0, &err), GR_OK);
-    ck_assert_msg(strstr(err.message, "ev.ini:8: [integrator] free_flight: exact") &&
-                      strstr(err.message, "allowed with langevin: kicks"),
-                  "%s", err.message);
-    /* kicks (the default) runs */
+    const char *ev = "[system]\ndim = 2\nN = 200\npacking_fraction = 0.2\n[placement]\nkind = "
+                     "random\n[model]\nnormal = hard_sphere\neps_n = 0.8\n[integrator]\nkind = "
+                     "event\nfree_flight = exact\n[driving]\nkind = langevin\n";
     const char *kicks[] = {"integrator.free_flight=kicks"};
-    load(&s, ev, kicks, 1);
+    gr_scene a, b;
+    load(&a, ev, NULL, 0);
+    load(&b, ev, kicks, 1);
+    ck_assert_msg(strstr(a.warnings, "[integrator] free_flight is ignored") &&
+                      strstr(b.warnings, "[integrator] free_flight is ignored"),
+                  "%s", a.warnings);
+    gr_sim *sa = create(&a), *sb = create(&b);
+    step(sa, 2000);
+    step(sb, 2000);
+    assert_same_state(sa, sb);
+    ck_assert(sa->diss_drag > 0.0);
+    gr_sim_free(sa);
+    gr_sim_free(sb);
 }
 END_TEST
 
@@ -383,7 +392,7 @@ static Suite *window_bath_suite(void)
 {
     Suite *s = suite_create("window_bath");
     TCase *unit = tcase_create("unit");
-    tcase_add_test(unit, refusals);
+    tcase_add_test(unit, free_flight_ignored);
     tcase_add_test(unit, restart_3d_walls);
     tcase_add_test(unit, restart_hybrid);
     tcase_add_test(unit, ledger_inelastic);

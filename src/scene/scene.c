@@ -217,8 +217,8 @@ static const scene_key keys[] = {
      "flight between interval ends; with kind = event it under-injects energy when collisions fall "
      "inside intervals), kicks = a Gaussian velocity kick of variance 2 D tau / M^2 per component "
      "every kick_interval (the random force's work exact in expectation across collisions). "
-     "Default exact for hybrid, kicks for event (docs/event-driven.md); with [driving] kind = "
-     "langevin (event) kicks only: the bath's exact OU step at each interval's end",
+     "Default exact for hybrid, kicks for event (docs/event-driven.md); ignored (with a warning) "
+     "under [driving] kind = langevin, whose exact OU step acts at each window's end",
      OFF(free_flight)},
     {"integrator", "kick_interval", "s", K_DOUBLE, "1e-4", 0, INFINITY, true, true, NULL,
      "event/hybrid: interval tau between noise (or Langevin bath) updates of free particles "
@@ -1045,17 +1045,14 @@ static int resolve_driving(gr_scene *s, const given *g, const char *const *drivi
             dr->name, s->integrator->name, s->integrator->name, dr->name, names);
         return fail_at(err, &w, "driving", "kind", "%s", detail);
     }
-    if (dr->drag && s->integrator->free_flight && s->free_flight == GR_FREE_FLIGHT_EXACT &&
-        key_given(g, "integrator", "free_flight")) {
-        /* the exact free flight is the random force's; the bath acts at each window's end */
-        char detail_ff[400];
-        where w = where_of(g, s, "integrator", "free_flight");
-        snprintf(detail_ff, sizeof detail_ff,
-                 "exact samples the random force's free flight, which [driving] kind = %s "
-                 "replaces: its drag and noise act as the exact Ornstein-Uhlenbeck step of each "
-                 "kick_interval at the interval's end; allowed with %s: kicks",
-                 dr->name, dr->name);
-        return fail_at(err, &w, "integrator", "free_flight", "%s", detail_ff);
+    if (dr->drag && s->integrator->free_flight && key_given(g, "integrator", "free_flight")) {
+        /* free_flight says how the random force drives free flight; the bath replaces it and acts
+         * as the exact OU step at each window's end (event.c, hybrid.c: bath_window) */
+        warn(s,
+             "[integrator] free_flight is ignored: it says how the random force drives free "
+             "flight, and this scene's [driving] kind = %s acts as the exact Ornstein-Uhlenbeck "
+             "step of each window at its end (with kind = %s)\n",
+             dr->name, s->integrator->name);
     }
     if (dr->update != GR_DRIVE_FORCE) {
         static const char *const noise_keys[] = {"D", "mode", "com_interval"};
