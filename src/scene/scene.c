@@ -108,8 +108,7 @@ static const scene_key keys[] = {
     {"boundary", "x", "", K_ENUM, "periodic", 0, 0, false, false, "periodic|walls",
      "along x: periodic (the thesis), or flat walls at x = 0 and x = L (a wall is a grain of "
      "infinite mass and radius under the scene's normal and tangential laws, with [boundary] "
-     "eps_n, "
-     "eps_t, mu; verlet only)",
+     "eps_n, eps_t, mu; every integrator, the hybrid in 2D and 3D)",
      OFF(boundary[0])},
     {"boundary", "y", "", K_ENUM, "periodic", 0, 0, false, false, "periodic|walls",
      "along y (2D and 3D): periodic, or flat walls at y = 0 and y = L", OFF(boundary[1])},
