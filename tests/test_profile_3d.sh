@@ -9,6 +9,8 @@
 # 1.5 mm (phi up to 0.11 at the floor: the barometric law is off by the excluded volume) and
 # 0.1 mm (an ideal gas, phi < 1e-4, 3 s sampled: the density is the barometric
 # exp(-M g z / (k T)) = exp(-g z / T_c)).
+# The dense gas also with the event integrator (hard spheres, for which Carnahan-Starling is the
+# equation of state) and the hybrid: their bath acts at each window's end.
 # Checks: every slab holding 5 % of the densest one has each T_c within 4 errors of T_bath / 3; the
 # mean over slabs (two away from each wall) of -d(n T Z)/dz / (g n) is 1 within 3 errors and its
 # error is below 0.05; the ideal gas's fitted ln n slope (weighted by the slabs' errors) is
@@ -59,7 +61,14 @@ INI
 "$granule" run "$tmp/atm.ini" --out "$tmp/ideal" --quiet --set system.radius=1e-4 --set model.k_s=1e5 \
     --set run.duration=3 >/dev/null 2>"$tmp/log" ||
     { cat "$tmp/log" >&2; echo "FAIL: run radius 0.1 mm" >&2; exit 1; }
-/usr/bin/python3 - "$tmp/dense" "$tmp/ideal" <<'PY'
+# the same atmosphere with the event integrator (hard spheres) and the hybrid, whose bath acts at
+# each window's end (docs/event-driven.md, docs/hybrid.md, "Langevin bath")
+"$granule" run "$tmp/atm.ini" --out "$tmp/event" --quiet --set integrator.kind=event \
+    --set model.normal=hard_sphere --set model.eps_t=1 >/dev/null 2>"$tmp/log" ||
+    { cat "$tmp/log" >&2; echo "FAIL: run event" >&2; exit 1; }
+"$granule" run "$tmp/atm.ini" --out "$tmp/hybrid" --quiet --set integrator.kind=hybrid >/dev/null 2>"$tmp/log" ||
+    { cat "$tmp/log" >&2; echo "FAIL: run hybrid" >&2; exit 1; }
+/usr/bin/python3 - "$tmp/dense" "$tmp/ideal" "$tmp/event" "$tmp/hybrid" <<'PY'
 import sys
 import numpy as np
 T_bath, g = 0.22, 9.81
@@ -92,5 +101,7 @@ def check(run, dilute):
     return ok
 ok = check(sys.argv[1], False)
 ok = check(sys.argv[2], True) and ok
+ok = check(sys.argv[3], False) and ok
+ok = check(sys.argv[4], False) and ok
 sys.exit(0 if ok else 1)
 PY
