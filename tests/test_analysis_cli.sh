@@ -199,8 +199,11 @@ check test $? -eq 2
 check grep -q "needs an event rule, \[model\] normal = hard_sphere" "$tmp/cmpi2.err"
 check test ! -e "$tmp/cmpi2"
 # granule plot recurses into the models of a comparison; --format svg; summary.json lists the pictures
+cp "$tmp/cmpi/temperature.gp" "$tmp/temperature.gp.before"
 "$granule" plot "$tmp/cmpi" --format svg >"$tmp/plot.out" 2>&1
 check test $? -eq 0
+# a redraw leaves the gnuplot bodies as they were (it once added a blank line each time)
+check cmp -s "$tmp/cmpi/temperature.gp" "$tmp/temperature.gp.before"
 check test -s "$tmp/cmpi/temperature.svg"
 # it says what it drew: every picture's path, then the count (issue 38)
 check grep -qx "$tmp/cmpi/temperature.svg" "$tmp/plot.out"

@@ -37,6 +37,10 @@ static int redraw_scripts(const char *dir, int *drawn)
             continue;
         }
         body[len] = 0;
+        if (len > 0 && body[len - 1] == '\n') {
+            body[len - 1] =
+                0; /* the newline gr_plot_script wrote after the body: once, not again */
+        }
         char *first = strchr(body, '\n'); /* skip the header comment */
         const char *base = strrchr(g.gl_pathv[k], '/') + 1;
         char png[512], picture[600], note[300];

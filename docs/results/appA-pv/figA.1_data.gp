@@ -10,5 +10,3 @@ set multiplot layout 1,1 title "P(v) at N = 1000 for eps = 0.1-0.99 (Fig. A.1)" 
 plot for [i=0:5] 'figA.1_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i-0+1 title columnheader(1)
 unset multiplot
 
-
-

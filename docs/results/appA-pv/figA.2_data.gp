@@ -10,5 +10,3 @@ set multiplot layout 1,1 title "-ln(P(v)/P(0)) of N = 1585, eps = 0.1 against v 
 plot for [i=0:0] 'figA.2_blocks.dat' index i using 1:2 with points pt 7 ps 0.5 lc i-0+1 title columnheader(1), for [i=0:0] 'figA.2_overlay.dat' index i using 1:2 with lines dt 2 lw 2 lc i-0+1 title (i == 0 ? 'alpha = 1 fitted (dashed)' : '')
 unset multiplot
 
-
-

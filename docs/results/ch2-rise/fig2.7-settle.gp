@@ -8,5 +8,3 @@ set offsets 0.5, 0.5, 0, 0
 set grid ytics lc rgb '#dddddd'
 plot 'fig2.7-settle_compare.dat' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule', '' using ($1+0.15):5:6 with yerrorbars pt 6 ps 1.2 lc rgb '#c0392b' title 'thesis'
 
-
-

@@ -26,5 +26,3 @@ set title 'eps_n = 0.01' noenhanced
 plot for [i=54:62] 'fig3.5_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 lc i-54+1 title sprintf('m = %d', 1 + (i - 54) * 1), for [i=54:62] '' index i using 1:($4 > 0 ? 1/0 : $2) with points pt 6 lc i-54+1 notitle, for [i=54:62] 'fig3.5_thesis.dat' index i using 1:2 with lines dt 2 lw 2 lc i-54+1 title (i == 54 ? 'thesis exponent (dashed)' : '')
 unset multiplot
 
-
-

@@ -26,5 +26,3 @@ set title 'eps_n = 0.01' noenhanced
 plot for [i=30:34] 'table3.1_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 lc i-30+1 title sprintf('m = %d', 1 + (i - 30) * 1), for [i=30:34] '' index i using 1:($4 > 0 ? 1/0 : $2) with points pt 6 lc i-30+1 notitle, for [i=30:34] 'table3.1_thesis.dat' index i using 1:2 with lines dt 2 lw 2 lc i-30+1 title (i == 30 ? 'thesis exponent (dashed)' : '')
 unset multiplot
 
-
-

@@ -9,5 +9,3 @@ set key below height 1.5 noenhanced
 set title "Renormalisation (3.25): G_h(R; N) with h = N/512 against G_1(R; 512)" noenhanced
 plot for [i=0:3] 'fig3.13_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i-0+1 title columnheader(1)
 
-
-

@@ -10,5 +10,3 @@ set multiplot layout 1,1 title "P(v) and its crossover fit P_0(v) (5.32), L = 0.
 plot for [i=0:3] 'fig5.14b_blocks.dat' index i using 1:2 with points pt 7 ps 0.5 lc i-0+1 title columnheader(1), for [i=0:3] 'fig5.14b_overlay.dat' index i using 1:2 with lines dt 2 lw 2 lc i-0+1 title (i == 0 ? 'P_0(v) (5.32) fitted on log axes (dashed)' : '')
 unset multiplot
 
-
-

@@ -10,5 +10,3 @@ set multiplot layout 1,1 title "-ln(P(v)/P(0)) against v/v_rms (Moon, Swift and 
 plot for [i=0:3] 'fig5.6_blocks.dat' index i using 1:2 with points pt 7 ps 0.5 lc i-0+1 title columnheader(1), for [i=0:3] 'fig5.6_overlay.dat' index i using 1:2 with lines dt 2 lw 2 lc i-0+1 title (i == 0 ? 'alpha = 1.5 fitted (dashed)' : '')
 unset multiplot
 
-
-

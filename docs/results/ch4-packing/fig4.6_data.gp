@@ -27,5 +27,3 @@ plot for [i=10:10] 'fig4.6_blocks.dat' index i using 1:2 with linespoints pt 7 p
 plot for [i=11:11] 'fig4.6_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i-11+1 title columnheader(1)
 unset multiplot
 
-
-

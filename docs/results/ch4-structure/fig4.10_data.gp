@@ -9,5 +9,3 @@ set key below height 1.5 noenhanced
 set title "Free-path distribution P_l(l) (4.18), eps_n = eps_t = 0.1" noenhanced
 plot for [i=0:5] 'fig4.10_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i-0+1 title columnheader(1)
 
-
-

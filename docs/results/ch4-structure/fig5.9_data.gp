@@ -9,5 +9,3 @@ set key below height 1.5 noenhanced
 set title "Post-collision velocity distribution against the whole P(v) (sec. 5.3), eps_n = eps_t = 0.1" noenhanced
 plot for [i=0:5] 'fig5.9_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i-0+1 title columnheader(1)
 
-
-

@@ -17,5 +17,3 @@ set key top right font ',9' noenhanced
 plot for [i=5:9] 'fig5.3-rms_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i-5+1 title columnheader(1)
 unset multiplot
 
-
-

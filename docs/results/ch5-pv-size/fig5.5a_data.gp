@@ -10,5 +10,3 @@ set multiplot layout 1,1 title "P(v) against v / v_rms at phi = 0.088 as the box
 plot for [i=0:5] 'fig5.5a_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i-0+1 title columnheader(1)
 unset multiplot
 
-
-

@@ -9,5 +9,3 @@ set ylabel 'P(v) (s/m)'
 set title "fig5.10-alpha-rfm: runs' P(v) (points), SPM from their free paths x k (lines)" noenhanced
 plot for [i=0:3] 'fig5.10-alpha-rfm_pv.dat' index i using 1:2 with points pt 7 ps 0.4 lc i+1 title columnheader(1), for [i=0:3] '' index i using 1:4 with lines lw 2 lc i+1 notitle
 
-
-

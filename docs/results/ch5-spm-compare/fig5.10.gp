@@ -9,5 +9,3 @@ set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'
 plot 'fig5.10_compare.dat' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'
 
-
-

@@ -9,5 +9,3 @@ plot 'fig6.3_positions.csv' skip 1 using 2:(strcol(1) eq 'rfm' ? $3 : 1/0) with 
 plot 'fig6.3_positions.csv' skip 1 using 2:(strcol(1) eq 'cascade' ? $3 : 1/0) with points pt 7 ps 0.5 lc rgb '#c0392b'
 unset multiplot
 
-
-
