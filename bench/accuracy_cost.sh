@@ -24,17 +24,9 @@
 # --quick: tiny systems, two time steps, output in a temporary folder (the test suite runs this).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=build
-quick=false
-for a in "$@"; do
-    case $a in
-        --quick) quick=true ;;
-        -*) echo "usage: bench/accuracy_cost.sh [BUILD_DIR] [--quick]" >&2; exit 2 ;;
-        *) build=$a ;;
-    esac
-done
 # shellcheck source=bench/lib.sh
 source bench/lib.sh
+build_and_quick "bench/accuracy_cost.sh [BUILD_DIR] [--quick]" "$@"
 granule="$build/granule"
 coeffs="$build/bench/bench_coeffs"
 for p in "$granule" "$coeffs" "$build/bench/bench_throughput"; do

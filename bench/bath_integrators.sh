@@ -14,15 +14,9 @@
 # (verlet is most of it). --quick: 0.005 + 0.01 s, the pipeline only. Environment: DURATION, SEED.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=build
-quick=false
-for a in "$@"; do
-    case $a in
-        --quick) quick=true ;;
-        -*) echo "usage: bench/bath_integrators.sh [BUILD_DIR] [--quick]" >&2; exit 2 ;;
-        *) build=$a ;;
-    esac
-done
+# shellcheck source=bench/lib.sh
+source bench/lib.sh
+build_and_quick "bench/bath_integrators.sh [BUILD_DIR] [--quick]" "$@"
 g="$build/granule"
 [[ -x $g ]] || { echo "bath-integrators: $g not found: build the project first" >&2; exit 1; }
 export OMP_NUM_THREADS=1

@@ -10,17 +10,9 @@
 # cut to 1 s in 2D). --quick: a small 1D scene, short runs (the test suite runs this).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=build
-quick=false
-for a in "$@"; do
-    case $a in
-        --quick) quick=true ;;
-        -*) echo "usage: bench/cost_check.sh [BUILD_DIR] [--quick]" >&2; exit 2 ;;
-        *) build=$a ;;
-    esac
-done
 # shellcheck source=bench/lib.sh
 source bench/lib.sh
+build_and_quick "bench/cost_check.sh [BUILD_DIR] [--quick]" "$@"
 granule="$build/granule"
 [[ -x $granule ]] || { echo "cost_check: $granule not found: build the project (ninja -C $build) first" >&2; exit 1; }
 bench_outputs "$quick" cost

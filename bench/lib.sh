@@ -11,6 +11,22 @@
 # lmp_or_skip NAME INSTALL: sets $lmp to an lmp built with GRANULAR; INSTALL = 1 installs Debian's
 #   lammps with apt-get first when none is found (as root). Without one it prints "NAME: skipped: ..."
 #   and exits 0 (the bench scripts skip, they do not fail, on a machine without LAMMPS).
+# build_and_quick USAGE ARGS...: the usual [BUILD_DIR] [--quick] arguments into $build (default
+#   build) and $quick (true or false); any other option prints "usage: USAGE" and exits 2.
+
+build_and_quick() {
+    local usage=$1 a
+    shift
+    build=build
+    quick=false
+    for a in "$@"; do
+        case $a in
+            --quick) quick=true ;;
+            -*) echo "usage: $usage" >&2; exit 2 ;;
+            *) build=$a ;;
+        esac
+    done
+}
 
 bench_outputs() {
     local quick=$1 name=$2
