@@ -70,7 +70,7 @@ GR_LAW gr_normal_force gr_normal_hertz(const gr_contact_coeffs *c, const double 
  * eps = -X' at the end, t_c = the scaled duration, impulse_abs = int |F| dtau. */
 static double hertz_force(double X, double V, double c, int quarter)
 {
-    const double s = sqrt(fmax(X, 0.0));
+    const double s = sqrt(X > 0.0 ? X : 0.0); /* fmax(X, 0), inline */
     return X * s + c * (quarter ? sqrt(s) : s) * V;
 }
 
@@ -78,7 +78,9 @@ static gr_normal_impact hertz_scaled_impact(double c, int quarter, int clamp)
 {
     double X = 0.0, V = 1.0, tau = 0.0, jabs = 0.0, past_max = 0;
     for (;;) {
-        const double h = fmin(HERTZ_STEP, fmax(1e-10, 0.05 * X / fmax(fabs(V), 1e-3)));
+        /* min(STEP, max(1e-10, 0.05 X / max(|V|, 1e-3))) as fmin and fmax give it, inline */
+        const double av = fabs(V), q = 0.05 * X / (av > 1e-3 ? av : 1e-3);
+        const double hq = q > 1e-10 ? q : 1e-10, h = hq < HERTZ_STEP ? hq : HERTZ_STEP;
         const double k1x = V, k1v = -hertz_force(X, V, c, quarter);
         const double k2x = V + 0.5 * h * k1v,
                      k2v = -hertz_force(X + 0.5 * h * k1x, V + 0.5 * h * k1v, c, quarter);

@@ -37,15 +37,23 @@ typedef struct spring_rt_val {
 
 enum { RT_END, RT_FSIGN, RT_UP, RT_DOWN, RT_STICK, RT_N };
 
+/* X^e; the linear law's exponents 0 and 1 without pow (the same numbers: pow is exact there) */
+static inline double spring_rt_pow(const double X, const double e)
+{
+    return e == 0.0 ? 1.0 : e == 1.0 ? X : pow(X, e);
+}
+
 /* forces and switch values at y = (X, V, S, U); dy the derivatives if not NULL */
 static spring_rt_val spring_rt_eval(const spring_rt *c, const double y[4], double dy[4])
 {
     spring_rt_val o;
-    const double X = fmax(y[0], 0.0), V = y[1], U = y[3], sq = sqrt(X);
-    o.f = pow(X, c->a) + c->cn * pow(X, c->p) * V;
+    /* max(X, 0) as fmax gives it (0 for NaN) but inline: this runs ~1e5 times per impact */
+    const double X = y[0] > 0.0 ? y[0] : 0.0, V = y[1], U = y[3], sq = sqrt(X);
+    const double Xp = spring_rt_pow(X, c->p);
+    o.f = spring_rt_pow(X, c->a) + c->cn * Xp * V;
     /* X^(p-1) is singular at X = 0 (0 at or past the end, where the contact no longer acts) */
-    const double xp1 = X > 0.0 && c->p != 0.0 ? c->p * pow(X, c->p - 1.0) : 0.0;
-    const double df = c->a * pow(X, c->a - 1.0) * V + c->cn * (xp1 * V * V - pow(X, c->p) * o.f);
+    const double xp1 = X > 0.0 && c->p != 0.0 ? c->p * spring_rt_pow(X, c->p - 1.0) : 0.0;
+    const double df = c->a * spring_rt_pow(X, c->a - 1.0) * V + c->cn * (xp1 * V * V - Xp * o.f);
     const double kk = c->kt + c->km * sq, dk = sq > 0.0 ? 0.5 * c->km / sq * V : 0.0;
     o.lim = c->mu * c->fsign * o.f;
     if (c->slip) {
@@ -144,12 +152,17 @@ static double tangential_spring_restitution_t(const gr_contact_coeffs *c, gr_nor
         r.slip = fabs(trial) > r.mu * fabs(f);
         r.sig = trial < 0.0 ? -1.0 : 1.0;
     }
-    double t = 0.0;
-    int events = 0;
+    double t = 0.0, g0[RT_N];
+    int events = 0, fresh = 0; /* fresh: g0 holds the switches at y (the last step's g1) */
     while (t < t_end && events < SPRING_RT_EVENTS) {
-        const double h = fmin(SPRING_RT_STEP, fmax(1e-10, 0.05 * y[0] / fmax(fabs(y[1]), 1e-3)));
-        double g0[RT_N], g1[RT_N], y1[4];
-        spring_rt_switches(&r, y, g0);
+        /* the graded step, min(STEP, max(1e-10, 0.05 X / max(|V|, 1e-3))) as fmin and fmax give
+         * it, inline */
+        const double av = fabs(y[1]), q = 0.05 * y[0] / (av > 1e-3 ? av : 1e-3);
+        const double hq = q > 1e-10 ? q : 1e-10, h = hq < SPRING_RT_STEP ? hq : SPRING_RT_STEP;
+        double g1[RT_N], y1[4];
+        if (!fresh) {
+            spring_rt_switches(&r, y, g0);
+        }
         spring_rt_rk4(&r, y, h, y1);
         spring_rt_switches(&r, y1, g1);
         int crossed = 0;
@@ -158,9 +171,12 @@ static double tangential_spring_restitution_t(const gr_contact_coeffs *c, gr_nor
         }
         if (!crossed) {
             memcpy(y, y1, sizeof y);
+            memcpy(g0, g1, sizeof g0);
+            fresh = 1;
             t += h;
             continue;
         }
+        fresh = 0; /* a switch changes the regime, and so the switch values at y */
         /* the first switch inside the step, by bisection on the step's length */
         double lo = 0.0, hi = 1.0;
         for (int it = 0; it < 60; it++) {
