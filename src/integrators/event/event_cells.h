@@ -152,7 +152,7 @@ static inline double piece_contact(double d, double rx, double ry, EV_Z(double r
                          wx * Ax + wy * Ay EV_Z(+wz * Az), 0.25 * A2};
     /* f(t) >= c0 + min(c1, 0) T + min(c2, 0) T^2 + min(c3, 0) T^3 on [0, T] (c4 >= 0) */
     if (f0 > 0.0 &&
-        f0 + T * (fmin(c[1], 0.0) + T * (fmin(c[2], 0.0) + T * fmin(c[3], 0.0))) > 0.0) {
+        f0 + T * (gr_ev_min0(c[1]) + T * (gr_ev_min0(c[2]) + T * gr_ev_min0(c[3]))) > 0.0) {
         return GR_EV_INF;
     }
     return gr_ev_first_quartic(c, T);

@@ -138,6 +138,10 @@ struct gr_event_state {
  * diagnosis if they took less than min_span of simulated time (a diverging event rate). */
 int gr_ev_guard_check(gr_sim *s, double t_abs, int i, int j, gr_error *err);
 
+/* min(x, 0) exactly as glibc's fmin(x, 0.0) gives it on x86-64 (0 for NaN, +0 for -0), but
+ * inline: fmin is a library call, and the collision-time bounds below run for every pair tested */
+static inline double gr_ev_min0(const double x) { return x < 0.0 ? x : 0.0; }
+
 /* Call once per processed calendar entry (collision, crossing, stale entry) before handling it:
  * 0 go on, GR_EV_STOPPED stop requested (the entry stays in the calendar), < 0 unstable. */
 static inline int gr_ev_guard(gr_sim *s, struct gr_event_state *e, double t_abs, int i, int j,
@@ -220,7 +224,7 @@ static inline double gr_ev_first_quadratic(double f0, double f1, double c, doubl
         const double t = q / c;
         return t <= T ? t : GR_EV_INF;
     }
-    if (f0 + T * (fmin(f1, 0.0) + T * fmin(c, 0.0)) > 0.0) {
+    if (f0 + T * (gr_ev_min0(f1) + T * gr_ev_min0(c)) > 0.0) {
         return GR_EV_INF; /* a lower bound of f on [0, T] stays positive */
     }
     if (c == 0.0) {

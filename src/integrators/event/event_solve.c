@@ -47,7 +47,8 @@ static double bisect(const double *c, int deg, double lo, double hi, double flo,
         }
         double df = peval(dc, deg - 1, t);
         double next = df != 0.0 ? t - ft / df : 0.5 * (lo + hi);
-        if (!(next > fmin(lo, hi) && next < fmax(lo, hi)) || fabs(next - t) > 0.5 * fabs(hi - lo)) {
+        if (!(next > (lo < hi ? lo : hi) && next < (lo < hi ? hi : lo)) ||
+            fabs(next - t) > 0.5 * fabs(hi - lo)) {
             next = 0.5 * (lo + hi);
         }
         if (next == lo || next == hi || next == t) {
@@ -58,7 +59,7 @@ static double bisect(const double *c, int deg, double lo, double hi, double flo,
     /* Newton may have approached from one side only: probe across the root, then finish the
      * bracket by bisection so the returned end really lies next to the root */
     double probe = t - 2.0 * (peval(c, deg, t) / peval(dc, deg - 1, t));
-    if (probe > fmin(lo, hi) && probe < fmax(lo, hi)) {
+    if (probe > (lo < hi ? lo : hi) && probe < (lo < hi ? hi : lo)) { /* inside the bracket */
         double fp = peval(c, deg, probe);
         if ((fp > 0.0) == (flo > 0.0)) {
             lo = probe;
