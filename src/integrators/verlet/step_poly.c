@@ -147,7 +147,7 @@ static double drift_poly_3d(gr_sim *s)
             dx += periodic ? (dx > half ? -L : (dx < -half ? L : 0.0)) : 0.0;
             d2 += dx * dx;
         }
-        worst = fmax(worst, d2);
+        worst = d2 > worst ? d2 : worst; /* fmax(worst, d2) inline (NaN keeps worst) */
     }
     return worst;
 }
@@ -173,7 +173,8 @@ static double drift_poly(gr_sim *s)
         double dx = x - s->x_ref[i], dy = y - s->y_ref[i];
         dx += dx > half ? -L : (dx < -half ? L : 0.0);
         dy += dy > half ? -L : (dy < -half ? L : 0.0);
-        worst = fmax(worst, dx * dx + dy * dy);
+        const double d2 = dx * dx + dy * dy;
+        worst = d2 > worst ? d2 : worst; /* fmax(worst, d2) inline (NaN keeps worst) */
     }
     return worst;
 }
