@@ -127,6 +127,43 @@ START_TEST(test_scale_at_puts_every_curve_through_one)
 }
 END_TEST
 
+/* moment_scale (sec. 3.2.3, Figs. 3.6-3.7): v -> v / <|v|^m>^(1/m), P -> P <|v|^m>^(1/m). Gaussians of
+ * any width are one family, so both widths land on one curve for any m: for m = 2 on the unit
+ * normal, for m = 7 on it stretched by c = (<|z|^7>)^(1/7) = (2^3.5 3! / sqrt(pi))^(1/7). */
+START_TEST(test_moment_scale_collapses_gaussians_of_any_width)
+{
+    const double c7 = pow(pow(2.0, 3.5) * 6.0 / sqrt(M_PI), 1.0 / 7.0);
+    for (int m = 2; m <= 7; m += 5) {
+        for (double sigma = 0.3; sigma < 3.0; sigma *= 4.0) {
+            char json[256];
+            snprintf(json, sizeof json,
+                     "{\"analysis\": {\"moments\": {\"speed\": {\"m2\": %.17g, \"m7\": %.17g}}}}",
+                     sigma * sigma, pow(sigma * c7, 7.0));
+            campaign_point p = {.summary = cJSON_Parse(json)};
+            ck_assert_ptr_nonnull(p.summary);
+            gr_campaign_result r = {0};
+            snprintf(r.transform, sizeof r.transform, "moment_scale");
+            r.scale_moment = m;
+            double x[4] = {0.0, 0.5 * sigma, sigma, 2.5 * sigma}, y[4], e[4];
+            for (int i = 0; i < 4; i++) {
+                y[i] = exp(-0.5 * x[i] * x[i] / (sigma * sigma)) / (sqrt(2.0 * M_PI) * sigma);
+                e[i] = 0.01 * y[i];
+            }
+            ck_assert_int_eq(campaign_curve_transform(&r, &p, x, y, e, 4), 4);
+            const double c = m == 2 ? 1.0 : c7; /* the unit normal, stretched by c */
+            for (int i = 0; i < 4; i++) {
+                const double z = c * x[i];
+                ck_assert_double_eq_tol(y[i], c * exp(-0.5 * z * z) / sqrt(2.0 * M_PI), 1e-12);
+                ck_assert_double_eq_tol(e[i], 0.01 * y[i], 1e-14);
+            }
+            r.scale_moment = 5; /* a moment the summary does not hold: the curve is left out */
+            ck_assert_int_eq(campaign_curve_transform(&r, &p, x, y, e, 4), 0);
+            cJSON_Delete(p.summary);
+        }
+    }
+}
+END_TEST
+
 /* select: values of one key are alternatives, different keys must all hold. */
 START_TEST(test_select_ors_one_key_and_ands_keys)
 {
@@ -301,6 +338,7 @@ int main(void)
     tcase_add_test(t, test_collapse_detects_another_power);
     tcase_add_test(t, test_log_ratio_turns_a_stretched_exponential_into_its_exponent);
     tcase_add_test(t, test_scale_at_puts_every_curve_through_one);
+    tcase_add_test(t, test_moment_scale_collapses_gaussians_of_any_width);
     tcase_add_test(t, test_select_ors_one_key_and_ands_keys);
     tcase_add_test(t, test_overlay_amplitude_with_fixed_exponent);
     tcase_add_test(t, test_series_from_table_with_filter);

@@ -87,14 +87,17 @@ typedef struct gr_campaign_result {
     char y_err
         [128];  /* the run's own error of y (used when a group has one seed) (CURVE: a column) */
     char x[64]; /* POWER_LAW: the varied key on the abscissa (CURVE: a column) */
-    char table[64];     /* CURVE: the run's CSV, e.g. "gaps.csv" */
-    char where[128];    /* CURVE: the rows used, "column=value, ..." */
-    char select[128];   /* CURVE: only the curves whose group has every "key=value" listed */
-    char transform[32]; /* CURVE: "", "bisection_collapse" (thesis 3.39-3.40), "scale_at" (each
+    char table[64];      /* CURVE: the run's CSV, e.g. "gaps.csv" */
+    char where[128];     /* CURVE: the rows used, "column=value, ..." */
+    char select[128];    /* CURVE: only the curves whose group has every "key=value" listed */
+    char transform[32];  /* CURVE: "", "bisection_collapse" (thesis 3.39-3.40), "scale_at" (each
                            curve divided by its value at x_0 = collapse_at, Fig. 5.3's 5.4) or
                            "log_ratio" (y -> -ln(y / y(0)) for x > 0: the axes of Moon, Swift and
-                           Swinney, Figs. 5.6-5.7, where y = exp(-c x^alpha) is a line of slope alpha) */
-    double collapse_at; /* CURVE: x_0 of the transform (bisection_collapse: every mapped curve
+                           Swinney, Figs. 5.6-5.7, where y = exp(-c x^alpha) is a line of slope alpha)
+                           or "moment_scale" (x -> x / M, y -> y M with M = <|v|^m>^(1/m) of the
+                           run's moments, m = scale_moment: the collapse of Figs. 3.6-3.7) */
+    double scale_moment; /* CURVE, moment_scale: the order m of the moment that scales v */
+    double collapse_at;  /* CURVE: x_0 of the transform (bisection_collapse: every mapped curve
                            equals -ln x_0 there; scale_at: every curve is 1 there) */
     char axes[16]; /* CURVE: the figure's axes, "loglog" (default), "linlog" (log y) or "linear" */
     char

@@ -275,6 +275,26 @@ static int log_ratio(double *x, double *y, double *e, int n)
     return m;
 }
 
+/* transform = moment_scale: v -> v / M and P -> P M with M = <|v|^m>^(1/m) the run's own moment
+ * (analysis.moments.speed.m{m} of its summary): the thesis's attempted collapse of P(v) over N,
+ * Figs. 3.6-3.7 (sec. 3.2.3, v -> v / <|v|^m>^(1/m)); the area under each curve stays 1. */
+static bool moment_scale(const campaign_point *p, int m, double *x, double *y, double *e, int n)
+{
+    char path[64];
+    snprintf(path, sizeof path, "analysis.moments.speed.m%d", m);
+    const double mm = gr_summary_number(p->summary, path);
+    if (!(mm > 0.0) || !isfinite(mm)) {
+        return false;
+    }
+    const double M = pow(mm, 1.0 / m);
+    for (int i = 0; i < n; i++) {
+        x[i] /= M;
+        y[i] *= M;
+        e[i] *= M;
+    }
+    return true;
+}
+
 /* A series of one point in place by `transform`; returns its length (0: it cannot be mapped). */
 int campaign_curve_transform(const gr_campaign_result *r, const campaign_point *p, double *x,
                              double *y, double *e, int n)
@@ -290,6 +310,9 @@ int campaign_curve_transform(const gr_campaign_result *r, const campaign_point *
     }
     if (!strcmp(r->transform, "log_ratio")) {
         return log_ratio(x, y, e, n);
+    }
+    if (!strcmp(r->transform, "moment_scale")) {
+        return moment_scale(p, (int)r->scale_moment, x, y, e, n) ? n : 0;
     }
     return n;
 }

@@ -303,10 +303,11 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     }
     if (!strcmp(name, "transform")) {
         if (strcmp(value, "none") && strcmp(value, "bisection_collapse") &&
-            strcmp(value, "scale_at") && strcmp(value, "log_ratio")) {
+            strcmp(value, "scale_at") && strcmp(value, "log_ratio") &&
+            strcmp(value, "moment_scale")) {
             snprintf(p->error, sizeof p->error,
                      "[result %s] transform = %s: allowed none, bisection_collapse, scale_at, "
-                     "log_ratio",
+                     "log_ratio, moment_scale",
                      r->id, value);
             return 0;
         }
@@ -354,11 +355,12 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         }
         return 1;
     }
-    double *num = !strcmp(name, "x_min")         ? &r->x_min
-                  : !strcmp(name, "x_max")       ? &r->x_max
-                  : !strcmp(name, "period")      ? &r->period
-                  : !strcmp(name, "collapse_at") ? &r->collapse_at
-                                                 : NULL;
+    double *num = !strcmp(name, "x_min")          ? &r->x_min
+                  : !strcmp(name, "x_max")        ? &r->x_max
+                  : !strcmp(name, "period")       ? &r->period
+                  : !strcmp(name, "collapse_at")  ? &r->collapse_at
+                  : !strcmp(name, "scale_moment") ? &r->scale_moment
+                                                  : NULL;
     if (num) {
         if (!parse_double(value, num) || *num <= 0.0) {
             snprintf(p->error, sizeof p->error, "[result %s] %s = %s: expected a positive number",
@@ -370,7 +372,8 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     snprintf(p->error, sizeof p->error,
              "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, "
              "x_max, by, m, per_m, local_slopes, period, "
-             "table, where, select, transform, collapse_at, axes, overlay, overlay_exponent, "
+             "table, where, select, transform, collapse_at, scale_moment, axes, overlay, "
+             "overlay_exponent, "
              "overlay_y, overlay_title, x_label, restates, "
              "configurations, df, tail, walks, walks_quick, thesis, thesis_source, note, verdict",
              r->id, name);
@@ -672,6 +675,14 @@ static int parse_text(gr_campaign *c, const char *text, size_t len, const char *
             return GR_FAIL(err, GR_EINVAL,
                            "%s: [result %s] transform = %s needs collapse_at in (0, 1)", where,
                            r->id, r->transform);
+        }
+        if (!strcmp(r->transform, "moment_scale") &&
+            !(r->scale_moment >= 1.0 && r->scale_moment <= 12.0 &&
+              r->scale_moment == floor(r->scale_moment))) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [result %s] transform = moment_scale needs scale_moment, the "
+                           "order m of <|v|^m> (a whole number 1-12, the moments observable's)",
+                           where, r->id);
         }
         if (!strcmp(r->transform, "scale_at") && !(r->collapse_at > 0.0)) {
             return GR_FAIL(err, GR_EINVAL,
