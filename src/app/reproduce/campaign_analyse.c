@@ -2,6 +2,7 @@
  * independent seeds wherever a group has three or more: block averaging inside one run is
  * optimistic for a clustering gas (its correlation times are long), so the within-run error is
  * only used when there are fewer seeds, and then the larger of the two estimates is kept. */
+#include <ctype.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -119,7 +120,33 @@ int campaign_seed_of(const campaign_point *p)
     return (int)gr_summary_number(p->manifest, "seed");
 }
 
-/* The distinct groups in order of first appearance. */
+/* Two group labels ("eps_n=0.1, N=100", "N+L=500/0.1") in natural order: text by character,
+ * numbers by value, so a figure's curves and a table's rows run 0.01, 0.1, 0.3 ... and
+ * N = 100, 251, 1000, not in the order the sweep ran them. */
+static int group_cmp(const void *a, const void *b)
+{
+    const char *p = a, *q = b;
+    while (*p && *q) {
+        if (isdigit((unsigned char)*p) && isdigit((unsigned char)*q)) {
+            char *pe, *qe;
+            const double x = strtod(p, &pe), y = strtod(q, &qe);
+            if (x != y) {
+                return x < y ? -1 : 1;
+            }
+            p = pe;
+            q = qe;
+            continue;
+        }
+        if (*p != *q) {
+            return (unsigned char)*p < (unsigned char)*q ? -1 : 1;
+        }
+        p++;
+        q++;
+    }
+    return (unsigned char)*p - (unsigned char)*q;
+}
+
+/* The distinct groups, in natural order of their labels (group_cmp). */
 int campaign_groups(const campaign_points *pts, const char *only, const char *except, char g[][160])
 {
     int n = 0;
@@ -134,6 +161,7 @@ int campaign_groups(const campaign_points *pts, const char *only, const char *ex
             snprintf(g[n++], 160, "%s", label);
         }
     }
+    qsort(g, (size_t)n, sizeof g[0], group_cmp);
     return n;
 }
 
