@@ -6,6 +6,7 @@ set format x '%g'
 set xlabel 'R' noenhanced
 set ylabel 'G_1' noenhanced
 set key below height 1.5 noenhanced
-set title "Nearest-neighbour distribution G_1(R) at N = 1585 for every eps (3.21)" noenhanced
+set multiplot layout 1,1 title "Nearest-neighbour distribution G_1(R) at N = 1585 for every eps (3.21)" noenhanced font ',13'
 plot for [i=0:6] 'fig3.10_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i-0+1 title columnheader(1)
+unset multiplot
 
