@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "granule/campaign.h"
 #include "granule/scene.h"
@@ -630,6 +631,38 @@ static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_
     return gr_file_commit(&data, err);
 }
 
+/* The kinds that read each run's T(t) (temperature.csv: running_mean, rise_time, settle_time) need
+ * the runs themselves: the archive (campaign_archive.c) does not keep T(t), so from restored points
+ * they would come out empty and overwrite the committed numbers with none. Refused before anything
+ * is written. */
+static int series_at_hand(const gr_campaign *c, const campaign_points *pts, const char *dir,
+                          const char *results, gr_error *err)
+{
+    for (int k = 0; k < c->n_results; k++) {
+        const gr_campaign_result *r = &c->results[k];
+        if (r->kind != GR_RESULT_RUNNING && r->kind != GR_RESULT_RISE &&
+            r->kind != GR_RESULT_SETTLE) {
+            continue;
+        }
+        int missing = 0;
+        for (int i = 0; i < pts->n; i++) {
+            char path[1200];
+            struct stat st;
+            snprintf(path, sizeof path, "%.1100s/temperature.csv", pts->p[i].dir);
+            missing += stat(path, &st) != 0;
+        }
+        if (missing) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: result %s reads each run's T(t) (temperature.csv), which the "
+                           "archive in %s/points does not keep, and %d of the %d runs in %s have "
+                           "none (restored from the archive): collect where the runs are, or "
+                           "run the campaign again into a fresh --out; nothing was written",
+                           c->name, r->id, results, missing, pts->n, dir);
+        }
+    }
+    return GR_OK;
+}
+
 static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, const char *results,
                        long *finished, gr_error *err)
 {
@@ -639,6 +672,10 @@ static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, c
         return rc;
     }
     *finished = pts.n;
+    if ((rc = series_at_hand(c, &pts, dir, results, err))) {
+        campaign_points_free(&pts);
+        return rc;
+    }
     if ((rc = gr_output_dir_prepare(results, GR_OUTPUT_ANY, true, err))) {
         campaign_points_free(&pts);
         return rc;
