@@ -30,7 +30,7 @@ build_and_quick "bench/accuracy_cost.sh [BUILD_DIR] [--quick]" "$@"
 granule="$build/granule"
 coeffs="$build/bench/bench_coeffs"
 for p in "$granule" "$coeffs" "$build/bench/bench_throughput"; do
-    [[ -x $p ]] || { echo "accuracy_cost: $p not found: build the project (ninja -C $build) first" >&2; exit 1; }
+    require_built accuracy_cost "$p"
 done
 bench_outputs "$quick" accuracy
 work=$(mktemp -d /tmp/granule-accuracy-runs.XXXXXX)

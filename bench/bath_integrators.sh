@@ -18,7 +18,7 @@ cd "$(dirname "$0")/.."
 source bench/lib.sh
 build_and_quick "bench/bath_integrators.sh [BUILD_DIR] [--quick]" "$@"
 g="$build/granule"
-[[ -x $g ]] || { echo "bath-integrators: $g not found: build the project first" >&2; exit 1; }
+require_built bath-integrators "$g"
 export OMP_NUM_THREADS=1
 tmp=$(mktemp -d /tmp/granule-bath.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT

@@ -14,7 +14,7 @@ cd "$(dirname "$0")/.."
 source bench/lib.sh
 build_and_quick "bench/cost_check.sh [BUILD_DIR] [--quick]" "$@"
 granule="$build/granule"
-[[ -x $granule ]] || { echo "cost_check: $granule not found: build the project (ninja -C $build) first" >&2; exit 1; }
+require_built cost_check "$granule"
 bench_outputs "$quick" cost
 work=$(mktemp -d /tmp/granule-cost-check.XXXXXX)
 trap 'rm -rf "$work"; [[ $quick == true ]] && rm -rf "$out"' EXIT

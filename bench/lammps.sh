@@ -46,7 +46,7 @@ source bench/lib.sh # lmp_or_skip
 lmp_or_skip lammps "$install"
 lmp_help=$("$lmp" -h 2>/dev/null || true)
 for p in "$granule" "$coeffs"; do
-    [[ -x $p ]] || { echo "lammps: $p not found: build the project (ninja -C $build) first" >&2; exit 1; }
+    require_built lammps "$p"
 done
 lmp_version=$(grep -m1 -o 'LAMMPS version: .*\|Simulator - .*' <<<"$lmp_help" | sed 's/.*Simulator - //; s/LAMMPS version: //' || true)
 lmp_version="LAMMPS ${lmp_version:-(version unknown)}"

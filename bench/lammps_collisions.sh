@@ -42,7 +42,7 @@ if [[ -z $lmp ]]; then
     exit 0
 fi
 for p in "$build/granule" "$build/bench/bench_coeffs"; do
-    [[ -x $p ]] || { echo "lammps_collisions: $p not found: build the project (ninja -C $build) first" >&2; exit 1; }
+    require_built lammps_collisions "$p"
 done
 lmp_help=$("$lmp" -h 2>/dev/null || true)
 lmp_version=$(grep -m1 -o 'Simulator - .*' <<<"$lmp_help" | sed 's/Simulator - //' || true)

@@ -38,7 +38,7 @@ done
 source bench/lib.sh # lmp_or_skip
 lmp_or_skip lammps-scene "$install"
 for p in "$build/granule" "$build/bench/bench_coeffs"; do
-    [[ -x $p ]] || { echo "lammps-scene: $p not found: build the project (ninja -C $build) first" >&2; exit 1; }
+    require_built lammps-scene "$p"
 done
 echo "# granule vs $lmp, $(date -u +%Y-%m-%dT%H:%MZ), commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown), load average $(cut -d' ' -f1-3 /proc/loadavg)"
 exec /usr/bin/python3 bench/lammps_scene.py --build "$build" --lmp "$lmp" "${pass[@]}"

@@ -47,7 +47,7 @@ done
 # shellcheck source=bench/lib.sh
 source bench/lib.sh # lmp_or_skip
 lmp_or_skip lammps-vibrated-bed "$install"
-[[ -x $build/granule ]] || { echo "lammps-vibrated-bed: $build/granule not found: build the project first" >&2; exit 1; }
+require_built lammps-vibrated-bed "$build/granule"
 export OMP_NUM_THREADS=1
 tmp=$(mktemp -d /tmp/granule-vbed.XXXXXX)
 trap 'rm -rf "$tmp"' EXIT

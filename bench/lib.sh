@@ -13,6 +13,12 @@
 #   and exits 0 (the bench scripts skip, they do not fail, on a machine without LAMMPS).
 # build_and_quick USAGE ARGS...: the usual [BUILD_DIR] [--quick] arguments into $build (default
 #   build) and $quick (true or false); any other option prints "usage: USAGE" and exits 2.
+# require_built NAME PATH: exits 1 with "NAME: PATH not found: build the project (ninja -C $build)
+#   first" unless PATH is an executable.
+
+require_built() {
+    [[ -x $2 ]] || { echo "$1: $2 not found: build the project (ninja -C $build) first" >&2; exit 1; }
+}
 
 build_and_quick() {
     local usage=$1 a

@@ -13,19 +13,11 @@
 # --quick: tiny sizes, output in a temporary folder (the test suite runs this).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=build
-quick=false
-for a in "$@"; do
-    case $a in
-        --quick) quick=true ;;
-        -*) echo "usage: bench/throughput_all.sh [BUILD_DIR] [--quick]" >&2; exit 2 ;;
-        *) build=$a ;;
-    esac
-done
 # shellcheck source=bench/lib.sh
 source bench/lib.sh
+build_and_quick "bench/throughput_all.sh [BUILD_DIR] [--quick]" "$@"
 b="$build/bench/bench_throughput"
-[[ -x $b ]] || { echo "throughput_all: $b not found: build the project (ninja -C $build) first" >&2; exit 1; }
+require_built throughput_all "$b"
 bench_outputs "$quick" throughput
 csv="$out/throughput.csv"
 "$b" --csv-header | sed 's/^/group,/' >"$csv"
