@@ -330,6 +330,166 @@ START_TEST(test_kinds_of_comparison)
 }
 END_TEST
 
+/* Fig. 3.3's collapse (campaign_collapse.c): points y = lambda(b) x^-xi(b), a different exponent
+ * per group b, three seeds scattered about it, come out as lambda(b) at every x, against 1 - b^2,
+ * with the fit's exponent beside them; the figure's series has a block per x. */
+START_TEST(test_collapse_compensates_each_group_by_its_own_exponent)
+{
+    enum { NB = 2, NX = 3, NS = 3 };
+    const double b[NB] = {0.1, 0.9}, lambda[NB] = {4.0, 10.0}, xi[NB] = {0.5, 0.6};
+    const double xs[NX] = {400, 1000, 2500};
+    campaign_point p[NB * NX * NS];
+    campaign_points pts = {.n = NB * NX * NS, .p = p};
+    memset(p, 0, sizeof p);
+    int k = 0;
+    for (int i = 0; i < NB; i++) {
+        for (int j = 0; j < NX; j++) {
+            for (int s = 1; s <= NS; s++, k++) { /* seeds at 0.99, 1, 1.01 of the law: mean exact */
+                const double y = lambda[i] * pow(xs[j], -xi[i]) * (1.0 + 0.01 * (s - 2));
+                char m[256], sm[256];
+                snprintf(
+                    m, sizeof m,
+                    "{\"keys\": {\"model.eps_n\": \"%g\", \"system.N\": \"%g\"}, \"seed\": %d}",
+                    b[i], xs[j], s);
+                snprintf(sm, sizeof sm,
+                         "{\"analysis\": {\"moments\": {\"speed\": {\"m2\": %.17g}, "
+                         "\"speed_stderr\": {\"m2\": %.17g}}}}",
+                         y, 0.01 * y);
+                p[k].manifest = cJSON_Parse(m);
+                p[k].summary = cJSON_Parse(sm);
+            }
+        }
+    }
+    static gr_campaign c;
+    memset(&c, 0, sizeof c);
+    c.n_results = 2;
+    gr_campaign_result *fit = &c.results[0], *col = &c.results[1];
+    snprintf(fit->id, sizeof fit->id, "fig");
+    fit->kind = GR_RESULT_POWER_LAW;
+    snprintf(fit->y, sizeof fit->y, "analysis.moments.speed.m2");
+    snprintf(fit->y_err, sizeof fit->y_err, "analysis.moments.speed_stderr.m2");
+    snprintf(fit->x, sizeof fit->x, "system.N");
+    snprintf(fit->by, sizeof fit->by, "model.eps_n");
+    fit->x_max = INFINITY;
+    snprintf(col->id, sizeof col->id, "collapsed");
+    col->kind = GR_RESULT_COLLAPSE;
+    snprintf(col->compensate, sizeof col->compensate, "fig");
+    snprintf(col->against, sizeof col->against, "1-by^2");
+    snprintf(col->quantity, sizeof col->quantity, "y N^xi");
+
+    char dir[] = "/tmp/granule-collapse-XXXXXX";
+    ck_assert_ptr_nonnull(mkdtemp(dir));
+    gr_file data;
+    gr_error err = {0};
+    ck_assert_int_eq(gr_file_open(&data, dir, "collapsed_data.csv", &err), GR_OK);
+    campaign_rows rows = {0};
+    ck_assert_int_eq(campaign_collapse(&c, col, &pts, &rows, dir, &data, &err), GR_OK);
+    ck_assert_int_eq(gr_file_commit(&data, &err), GR_OK);
+    ck_assert_int_eq(rows.n, NB * NX);
+    for (int r = 0; r < rows.n; r++) { /* groups in order: b = 0.1 at every x, then 0.9 */
+        const int i = r / NX, j = r % NX;
+        char want[64];
+        snprintf(want, sizeof want, "eps_n=%g, N=%g", b[i], xs[j]);
+        ck_assert_str_eq(rows.r[r].group, want);
+        ck_assert_double_eq_tol(rows.r[r].value, lambda[i], 1e-7 * lambda[i]); /* 9 digits */
+        /* three seeds at 1 +- 0.01: the seeds' standard error 0.01 / sqrt(3), times x^xi */
+        ck_assert_double_eq_tol(rows.r[r].error, 0.01 / sqrt(3.0) * lambda[i], 1e-7 * lambda[i]);
+        ck_assert_int_eq(rows.r[r].n_seeds, NS);
+    }
+    /* the data table: the group's value, 1 - b^2, x, y, its exponent and the compensated y */
+    char path[256], line[512];
+    snprintf(path, sizeof path, "%s/collapsed_data.csv", dir);
+    FILE *f = fopen(path, "r");
+    ck_assert_ptr_nonnull(f);
+    ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
+    ck_assert_str_eq(line, "group,b,against,x,y,y_error,exponent,compensated,compensated_error\n");
+    int rows_read = 0;
+    while (fgets(line, sizeof line, f)) {
+        double bb, against, x, y, e, ex, comp;
+        ck_assert_int_eq(sscanf(strchr(line + 1, '"') + 1, ",%lf,%lf,%lf,%lf,%lf,%lf,%lf", &bb,
+                                &against, &x, &y, &e, &ex, &comp),
+                         7);
+        const int i = bb > 0.5;
+        ck_assert_double_eq_tol(against, 1.0 - b[i] * b[i], 1e-12);
+        ck_assert_double_eq_tol(ex, xi[i], 1e-8);
+        ck_assert_double_eq_tol(comp, y * pow(x, ex), 1e-7 * comp);
+        rows_read++;
+    }
+    fclose(f);
+    ck_assert_int_eq(rows_read, NB * NX);
+    /* the figure's series: one block per x, titled, each along 1 - b^2 (0.19 before 0.99) */
+    snprintf(path, sizeof path, "%s/collapsed_series.dat", dir);
+    f = fopen(path, "r");
+    ck_assert_ptr_nonnull(f);
+    int titles = 0;
+    double last = -1.0;
+    while (fgets(line, sizeof line, f)) {
+        double a, v, e;
+        if (line[0] == '"') {
+            titles++;
+            last = -1.0;
+        } else if (sscanf(line, "%lf %lf %lf", &a, &v, &e) == 3) {
+            ck_assert(a > last);
+            last = a;
+        }
+    }
+    fclose(f);
+    ck_assert_int_eq(titles, NX);
+    /* two points in the window: no exponent, so a row per point without a value, as the fit's */
+    fit->x_min = 1000;
+    campaign_rows_free(&rows);
+    ck_assert_int_eq(gr_file_open(&data, dir, "collapsed_data.csv", &err), GR_OK);
+    ck_assert_int_eq(campaign_collapse(&c, col, &pts, &rows, dir, &data, &err), GR_OK);
+    ck_assert_int_eq(gr_file_commit(&data, &err), GR_OK);
+    ck_assert_int_eq(rows.n, NB * 2);
+    for (int r = 0; r < rows.n; r++) {
+        ck_assert(isnan(rows.r[r].value));
+        ck_assert_int_eq(rows.r[r].n_seeds, NS);
+    }
+    for (int i = 0; i < pts.n; i++) {
+        cJSON_Delete(p[i].manifest);
+        cJSON_Delete(p[i].summary);
+    }
+    campaign_rows_free(&rows);
+    char cmd[300];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    ck_assert_int_eq(system(cmd), 0);
+}
+END_TEST
+
+/* A collapse needs a power law of the same campaign to take its exponents from, and one of the
+ * two abscissae: anything else is refused at load, naming the result and what it needs. */
+START_TEST(test_collapse_refused_without_a_power_law)
+{
+    static const char *const bad[][2] = {
+        {"compensate = means", "needs compensate = the id of a power_law result"},
+        {"compensate = nothing", "needs compensate = the id of a power_law result"},
+        {"compensate = fit\nagainst = b^2", "against = b^2: allowed by, 1-by^2"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        char path[] = "/tmp/granule-collapse-XXXXXX.ini";
+        int fd = mkstemps(path, 4);
+        ck_assert_int_ge(fd, 0);
+        FILE *f = fdopen(fd, "w");
+        fprintf(f,
+                "[campaign]\ntitle = t\nscene = rfm-1d.ini\n[vary.full]\nsystem.N = 100, 200\n"
+                "[vary.quick]\nsystem.N = 100, 200\n"
+                "[result fit]\nkind = power_law\ny = analysis.moments.speed.m2\nx = system.N\n"
+                "by = model.eps_n\n"
+                "[result means]\nkind = mean\ny = analysis.moments.speed.m2\n"
+                "[result col]\nkind = collapse\n%s\n",
+                bad[k][0]);
+        fclose(f);
+        static gr_campaign c;
+        gr_error err = {0};
+        ck_assert_int_ne(gr_campaign_load(&c, path, &err), GR_OK);
+        ck_assert_msg(strstr(err.message, "[result col]") && strstr(err.message, bad[k][1]), "%s",
+                      err.message);
+        unlink(path);
+    }
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("campaign_curve");
@@ -344,6 +504,8 @@ int main(void)
     tcase_add_test(t, test_series_from_table_with_filter);
     tcase_add_test(t, test_exact_match_has_no_z);
     tcase_add_test(t, test_kinds_of_comparison);
+    tcase_add_test(t, test_collapse_compensates_each_group_by_its_own_exponent);
+    tcase_add_test(t, test_collapse_refused_without_a_power_law);
     suite_add_tcase(s, t);
     return gr_test_run(s);
 }

@@ -404,7 +404,7 @@ for f in files:
 assert {"m2 s-2", "(m s-1)^m", "m^m", "m^2/s^2", "m m^-D_f", "m-1", "s m-1", "1", ""} <= seen, seen
 # the data tables collected again: the same units as the committed ones
 data = sorted(glob.glob("res/*/*_data.csv"))
-assert len(data) == 26, data
+assert len(data) == 27, data
 for f in data + sorted(glob.glob("res/*/results.csv")):  # results.csv: every fit window's x_unit (curve, spm)
     df = pd.read_csv(f)
     units_of(f, df, rows_named=True)
@@ -416,7 +416,7 @@ for f in data + sorted(glob.glob("res/*/results.csv")):  # results.csv: every fi
         assert all(g.strip('"') == h for g, h in zip(a["group"], df["group"])), f
 # ... and read back for the figures as the page writes them ("eps_n = 0.1, N = 100", the series'
 # titles): the gnuplot blocks and thesis lines equal the committed ones
-dat = sorted(glob.glob("res/*/*_blocks.dat") + glob.glob("res/*/*_thesis.dat"))
+dat = sorted(glob.glob("res/*/*_blocks.dat") + glob.glob("res/*/*_thesis.dat") + glob.glob("res/*/*_series.dat"))
 assert any('"eps_n = 0.1, N = 100"' in open(f).read() for f in dat), dat
 for f in dat:
     assert open(f).read() == open(os.path.join(src, "docs/results", f[4:])).read(), f

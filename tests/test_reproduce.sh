@@ -313,12 +313,12 @@ check test $? -eq 0
 check grep -q '^## Coverage of the thesis' "$tmp/covered.md"
 check grep -qE '^[0-9]+ covered, [0-9]+ partly, [0-9]+ not' "$tmp/covered.md"
 check grep -q '^| Table A.1 | not |' "$tmp/covered.md"
-sed -i 's/^| Fig. 2.7 | covered | ch2-rise |/| Fig. 2.7 | not | |/; s/^| Fig. 3.3 | not | |/| Fig. 3.3 | partly | ch4-packing |/' "$tmp/thesis-coverage.md"
+sed -i 's/^| Fig. 2.7 | covered | ch2-rise |/| Fig. 2.7 | not | |/; s/^| Table A.1 | not | |/| Table A.1 | partly | ch4-packing |/' "$tmp/thesis-coverage.md"
 err=$("$granule" reproduce --page --results-root "$tmp/results" --output "$tmp/broken.md" 2>&1 >/dev/null)
 check test $? -ne 0
 check test ! -e "$tmp/broken.md"
 check grep -q 'ch2-rise claims Fig. 2.7, marked "not"' <<<"$err"
-check grep -q 'Fig. 3.3 names ch4-packing, whose covers line does not claim it' <<<"$err"
+check grep -q 'Table A.1 names ch4-packing, whose covers line does not claim it' <<<"$err"
 rm "$tmp/thesis-coverage.md"
 check python3 - "$tmp/results" "$tmp/reproduction.md" $campaigns <<'PY'
 import json, os, sys

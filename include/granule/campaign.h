@@ -68,7 +68,8 @@ typedef enum {
     GR_RESULT_SPM,
     GR_RESULT_SPM_COMPARE,
     GR_RESULT_SPM_CIRCLE,
-    GR_RESULT_CASCADE_FIELD
+    GR_RESULT_CASCADE_FIELD,
+    GR_RESULT_COLLAPSE
 } gr_result_kind;
 #define GR_CAMPAIGN_SPM_QUANTITIES                                                                 \
     "D_f, C, alpha, S_predicted, S, S_over_predicted, A0_over_P0, slope_P0, slope_A0"
@@ -131,6 +132,9 @@ typedef struct gr_campaign_result {
     char verdict[24];       /* where rows disagree (|z| > 2): "explained", "partly explained" or
                              "unexplained" ("" = not judged yet); the page's table of disagreements */
     char verdict_why[1024]; /* the verdict's one-paragraph reason */
+    char compensate[32]; /* COLLAPSE: the power_law result of this campaign whose points, each times
+                            x^(its group's exponent), are drawn against the group's value (Fig. 3.3) */
+    char against[16]; /* COLLAPSE: the abscissa, "by" (the group's value b, default) or "1-by^2" */
     char restates
         [32]; /* the id of the result whose numbers this one restates in another form (S from C,
                              c from b): shown, but not counted again in the page's tallies */

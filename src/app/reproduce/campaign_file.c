@@ -192,7 +192,9 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
                 {"overlay_y", r->overlay_y, sizeof r->overlay_y},
                 {"overlay_title", r->overlay_title, sizeof r->overlay_title},
                 {"x_label", r->x_label, sizeof r->x_label},
-                {"restates", r->restates, sizeof r->restates}};
+                {"restates", r->restates, sizeof r->restates},
+                {"compensate", r->compensate, sizeof r->compensate},
+                {"against", r->against, sizeof r->against}};
     for (size_t i = 0; i < sizeof text / sizeof text[0]; i++) {
         if (!strcmp(name, text[i].key)) {
             snprintf(text[i].dst, text[i].size, "%s", value);
@@ -256,10 +258,13 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
             r->kind = GR_RESULT_SPM_CIRCLE;
         } else if (!strcmp(value, "cascade_field")) {
             r->kind = GR_RESULT_CASCADE_FIELD;
+        } else if (!strcmp(value, "collapse")) {
+            r->kind = GR_RESULT_COLLAPSE;
         } else {
             snprintf(p->error, sizeof p->error,
                      "[result %s] kind = %s: allowed mean, power_law, running_mean, rise_time, "
-                     "settle_time, curve, cascade, cascade_field, spm, spm_compare, spm_circle",
+                     "settle_time, curve, cascade, cascade_field, spm, spm_compare, spm_circle, "
+                     "collapse",
                      r->id, value);
             return 0;
         }
@@ -374,7 +379,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
              "x_max, by, m, per_m, local_slopes, period, "
              "table, where, select, transform, collapse_at, scale_moment, axes, overlay, "
              "overlay_exponent, "
-             "overlay_y, overlay_title, x_label, restates, "
+             "overlay_y, overlay_title, x_label, restates, compensate, against, "
              "configurations, df, tail, walks, walks_quick, thesis, thesis_source, note, verdict",
              r->id, name);
     return 0;
@@ -602,8 +607,27 @@ static int parse_text(gr_campaign *c, const char *text, size_t len, const char *
     }
     for (int i = 0; i < c->n_results; i++) {
         const gr_campaign_result *r = &c->results[i];
+        if (r->kind == GR_RESULT_COLLAPSE) { /* its y, x and groups are the power law's */
+            int k = 0;
+            while (k < c->n_results && (k == i || strcmp(c->results[k].id, r->compensate))) {
+                k++;
+            }
+            const gr_campaign_result *fit = k < c->n_results ? &c->results[k] : NULL;
+            if (!fit || fit->kind != GR_RESULT_POWER_LAW || fit->m_lo || fit->per_m ||
+                !fit->by[0] || strchr(fit->by, ',')) {
+                return GR_FAIL(err, GR_EINVAL,
+                               "%s: [result %s] kind = collapse needs compensate = the id of a "
+                               "power_law result of this campaign with one key in by and no m",
+                               where, r->id);
+            }
+            if (r->against[0] && strcmp(r->against, "by") && strcmp(r->against, "1-by^2")) {
+                return GR_FAIL(err, GR_EINVAL, "%s: [result %s] against = %s: allowed by, 1-by^2",
+                               where, r->id, r->against);
+            }
+        }
         if (r->kind != GR_RESULT_RUNNING && r->kind != GR_RESULT_RISE &&
-            r->kind != GR_RESULT_SETTLE && r->kind != GR_RESULT_CASCADE_FIELD && !r->y[0]) {
+            r->kind != GR_RESULT_SETTLE && r->kind != GR_RESULT_CASCADE_FIELD &&
+            r->kind != GR_RESULT_COLLAPSE && !r->y[0]) {
             return GR_FAIL(err, GR_EINVAL, "%s: [result %s] needs y (a summary.json path)", where,
                            r->id);
         }

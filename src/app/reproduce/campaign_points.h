@@ -120,6 +120,11 @@ bool campaign_spm_circle_quantity_known(const char *y);
 /* CASCADE_FIELD (Table 6.2, campaign_cascade_field.c): D_f of every cascade variant's own S(k). */
 int campaign_cascade_field(const gr_campaign_result *r, gr_fidelity fid, campaign_rows *rows,
                            const char *results, gr_file *data, gr_error *err);
+/* COLLAPSE (Fig. 3.3, campaign_collapse.c): the points of the power_law result `compensate`, each
+ * times x^(its group's fitted exponent), against the group's value b or 1 - b^2; a row per point;
+ * writes RESULTS/ID_series.dat and draws ID.png. */
+int campaign_collapse(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
+                      campaign_rows *rows, const char *results, gr_file *data, gr_error *err);
 int campaign_curve(const gr_campaign *c, const gr_campaign_result *r, const campaign_points *pts,
                    campaign_rows *rows, gr_file *data, gr_error *err);
 /* A CURVE result's series of one run (from its table, or from the archive's series.json): x, y, e

@@ -27,6 +27,7 @@ static const char *kind_name(gr_result_kind k)
            : k == GR_RESULT_SPM_CIRCLE    ? "spm_circle"
            : k == GR_RESULT_CASCADE_FIELD ? "cascade_field"
            : k == GR_RESULT_SETTLE        ? "settle_time"
+           : k == GR_RESULT_COLLAPSE      ? "collapse"
                                           : "rise_time";
 }
 
@@ -623,7 +624,8 @@ static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_
              ? campaign_spm_circle(r, fid, pts, rows, results, &data, err)
          : r->kind == GR_RESULT_CASCADE_FIELD
              ? campaign_cascade_field(r, fid, rows, results, &data, err)
-             : campaign_rise(c, r, pts, rows, &data, err);
+         : r->kind == GR_RESULT_COLLAPSE ? campaign_collapse(c, r, pts, rows, results, &data, err)
+                                         : campaign_rise(c, r, pts, rows, &data, err);
     if (rc) {
         gr_file_abandon(&data);
         return rc;
@@ -808,7 +810,7 @@ static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, c
             row_csv(csv.f, c, r, &rows.r[k]);
         }
         cJSON_AddItemToArray(arr, o);
-        if (!rc && rows.n) {
+        if (!rc && rows.n && r->kind != GR_RESULT_COLLAPSE) { /* it draws its own */
             plot_compare(results, r, &rows);
             plot_data(results, r);
         }
