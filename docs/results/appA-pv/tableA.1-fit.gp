@@ -1,6 +1,6 @@
 # granule: gnuplot body of tableA.1-fit.gp (run inside this folder); granule plot DIR redraws it
 set datafile separator whitespace
-set title "The free stretched-exponential fit (A.8) over counts 50-5000: Table A.1's N = 1000 row and N = 1585, eps = 0.1" noenhanced
+set title "alpha of the free stretched-exponential fit (A.8) over counts 50-5000 (Table A.1)" noenhanced
 set ylabel 'alpha' noenhanced
 set xtics rotate by -40 noenhanced
 set xlabel 'N, eps_n' noenhanced
