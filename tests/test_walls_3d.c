@@ -474,6 +474,41 @@ START_TEST(bed_weighs_on_floor_3d)
 }
 END_TEST
 
+/* The contact sublist (core/sublist.c) on the vibrated bed: the engine turns it on once the list
+ * has lasted 100 steps (auto), GRANULE_SUBLIST=on at every build the Verlet step makes, off never;
+ * the three runs end in the same state bit for bit (tests/test_sublist.sh compares their files). */
+START_TEST(sublist_on_the_bed_3d)
+{
+    const char *modes[] = {"off", "auto", "on"};
+    int64_t rebuilds[3];
+    double x[3], v[3];
+    for (int m = 0; m < 3; m++) {
+        setenv("GRANULE_SUBLIST", modes[m], 1);
+        gr_scene sc;
+        load(&sc, vibrated_3d, NULL, 0);
+        gr_sim *s = create(&sc);
+        step(s, quick() ? 3000 : 20000);
+        rebuilds[m] = gr_sim_sublist_rebuilds(s);
+        x[m] = 0.0;
+        v[m] = 0.0;
+        for (int i = 0; i < s->n; i++) {
+            x[m] += s->x[i] + s->y[i] + s->z[i];
+            v[m] += s->vx[i] + s->vy[i] + s->vz[i];
+        }
+        gr_sim_free(s);
+    }
+    unsetenv("GRANULE_SUBLIST");
+    printf("3D bed, sublist rebuilds: off %lld, auto %lld, on %lld\n", (long long)rebuilds[0],
+           (long long)rebuilds[1], (long long)rebuilds[2]);
+    ck_assert_int_eq(rebuilds[0], 0);
+    ck_assert_int_gt(rebuilds[1], 0);
+    ck_assert_int_ge(rebuilds[2], rebuilds[1]);
+    for (int m = 1; m < 3; m++) {
+        ck_assert(x[m] == x[0] && v[m] == v[0]);
+    }
+}
+END_TEST
+
 /* A sphere thrown at the floor faster than its soft spring can hold is stopped as unstable,
  * naming the grain and the wall. */
 START_TEST(runaway_into_wall_3d)
@@ -629,6 +664,7 @@ static Suite *walls_3d_suite(void)
     tcase_add_test(unit, refusals_3d);
     tcase_add_test(unit, no_contact_through_walls_3d);
     tcase_add_test(unit, threads_invariant_3d);
+    tcase_add_test(unit, sublist_on_the_bed_3d);
     tcase_add_test(unit, runaway_into_wall_3d);
     suite_add_tcase(s, unit);
     TCase *phys = tcase_create("physics");

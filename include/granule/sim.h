@@ -234,6 +234,9 @@ const char *gr_sim_kernel(const gr_sim *sim);
 int64_t gr_sim_collisions(const gr_sim *sim);
 /* Neighbour-list rebuilds since creation. */
 int64_t gr_sim_rebuilds(const gr_sim *sim);
+/* Rebuilds of the contact sublist, the list's pairs that can touch soon (docs/integrator.md): 0
+ * while it is off. */
+int64_t gr_sim_sublist_rebuilds(const gr_sim *sim);
 /* The integrator (its type: name, hooks). */
 const gr_integrator_type *gr_sim_integrator(const gr_sim *sim);
 /* Poll *stop (e.g. set by a SIGTERM handler) during long steps, for integrators that can return

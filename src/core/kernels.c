@@ -200,6 +200,10 @@ static inline __attribute__((always_inline)) void rows_2d(gr_sim *restrict s, co
     double *restrict tq = s->tq;
     double *restrict tg = s->tg; /* rotation with a history law: tq's non-conservative part */
     const int *restrict start = s->nl_start, *restrict list = s->nl_j;
+    /* the contact sublist (core/sublist.c) when on: entries p of the list, the same touching
+     * pairs in the same order */
+    const int sub = s->sl_on;
+    const int *restrict rows = sub ? s->sl_start : start, *restrict entry = s->sl_p;
     uint8_t *restrict touching = s->nl_contact;
     double *restrict hist = s->nl_hist; /* history laws only */
     const pair_ctx c = ctx_of(s);
@@ -207,8 +211,8 @@ static inline __attribute__((always_inline)) void rows_2d(gr_sim *restrict s, co
     int64_t fresh = 0;
     for (int i = r0; i < r1; i++) {
         double fxi = 0.0, fyi = 0.0, gxi = 0.0, gyi = 0.0, tqi = 0.0, tgi = 0.0;
-        for (int p = start[i]; p < start[i + 1]; p++) {
-            const int j = list[p];
+        for (int k = rows[i]; k < rows[i + 1]; k++) {
+            const int p = sub ? entry[k] : k, j = list[p];
             pair_out o; /* the fields its laws use are set by pair_2d (see the pragma above) */
             if (!pair_2d(c, i, j, nl, tang, clamp, rot, roll, history_of(tang) ? hist[p] : 0.0,
                          &o)) {

@@ -477,6 +477,10 @@ static inline __attribute__((always_inline)) void rows_3d(gr_sim *restrict s, co
     double *restrict f[3] = {s->fx, s->fy, s->fz}, *restrict g[3] = {s->gx, s->gy, s->gz};
     double *restrict tq[3] = {s->tqx, s->tqy, s->tq}, *restrict tg[3] = {s->tgx, s->tgy, s->tg};
     const int *restrict start = s->nl_start, *restrict list = s->nl_j;
+    /* the contact sublist (core/sublist.c) when on: entries p of the list, the same touching
+     * pairs in the same order */
+    const int sub = s->sl_on;
+    const int *restrict rows = sub ? s->sl_start : start, *restrict entry = s->sl_p;
     uint8_t *restrict touching = s->nl_contact;
     double *restrict hs = s->nl_hist;
     double elastic = 0.0, pn = 0.0, pt = 0.0, pf = 0.0, el_t = 0.0, lost = 0.0, worst = 0.0;
@@ -486,8 +490,8 @@ static inline __attribute__((always_inline)) void rows_3d(gr_sim *restrict s, co
     for (int i = r0; i < r1; i++) {
         double fi[3] = {0.0, 0.0, 0.0}, gi[3] = {0.0, 0.0, 0.0}, ti[3] = {0.0, 0.0, 0.0},
                ui[3] = {0.0, 0.0, 0.0};
-        for (int p = start[i]; p < start[i + 1]; p++) {
-            const int j = list[p];
+        for (int k = rows[i]; k < rows[i + 1]; k++) {
+            const int p = sub ? entry[k] : k, j = list[p];
             double *hp = hist ? hs + 3 * (int64_t)p : NULL;
             pair3 o;
             if (!pair_3d(&c, i, j, nl, tl, clamp, rot, rl, hist ? hp : none, &o)) {

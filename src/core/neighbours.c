@@ -255,11 +255,19 @@ int gr_neighbours_rows(gr_sim *s, const int T, gr_list_rows rows, int64_t *count
                   : GR_OK;
 }
 
+static int build_2d(gr_sim *s, gr_error *err);
+
 int gr_neighbours_build(gr_sim *s, gr_error *err)
 {
-    if (s->dim == 3) {
-        return gr_neighbours_build_3d(s, err);
+    const int rc = s->dim == 3 ? gr_neighbours_build_3d(s, err) : build_2d(s, err);
+    if (!rc) {
+        gr_sublist_after_build(s);
     }
+    return rc;
+}
+
+static int build_2d(gr_sim *s, gr_error *err)
+{
     const int n = s->n, nc = s->ncell;
     const double L = s->L, rc2 = s->cutoff * s->cutoff, d2 = s->d * s->d;
     const double *x = s->x, *y = s->y;

@@ -89,6 +89,7 @@ void gr_sim_free(gr_sim *s)
     free(s->nl_start);
     free(s->nl_j);
     free(s->nl_contact);
+    gr_sublist_free(s);
     free(s->nl_hist);
     free(s->hist_start);
     free(s->hist_j);
@@ -714,6 +715,7 @@ const gr_contact_coeffs *gr_sim_species_wall_coeffs(const gr_sim *s, int a)
 const char *gr_sim_kernel(const gr_sim *s) { return s->kernel_name; }
 int64_t gr_sim_collisions(const gr_sim *s) { return s->collisions; }
 int64_t gr_sim_rebuilds(const gr_sim *s) { return s->rebuilds; }
+int64_t gr_sim_sublist_rebuilds(const gr_sim *s) { return s->sl_rebuilds; }
 const gr_integrator_type *gr_sim_integrator(const gr_sim *s) { return s->integrator; }
 
 int gr_sim_step(gr_sim *s, int64_t nsteps, gr_error *err)

@@ -74,6 +74,16 @@ struct gr_sim {
     int *nl_j;
     uint8_t *nl_contact; /* pair was in contact at the last force evaluation */
     int64_t nl_cap;
+    /* The contact sublist (src/core/sublist.c): the entries p of the list whose pair is closer than
+     * d (1 + GR_SUBLIST_SKIN) (or touching, or holding a history vector), row by row in list order,
+     * rebuilt from the list when a particle has moved GR_SUBLIST_SKIN d / 2 since; the 2D and 3D
+     * kernels scan it instead of the list when sl_on. The same pairs in the same order touch
+     * either way, so every sum is the same. sl_verlet: the Verlet step runs this simulation (the
+     * only kernels that read it); sl_interval: steps between the last two list builds. */
+    int *sl_start, *sl_p;
+    int64_t sl_cap, sl_built_at, sl_list_at, sl_interval, sl_rebuilds;
+    double *xs_ref, *ys_ref, *zs_ref;
+    int sl_on, sl_verlet, sl_forced;
 
     /* 1D: pair (i, i+1 mod n) contact flags; the ring loop's per-pair scratch (3 n doubles) */
     uint8_t *pair_contact;
@@ -206,6 +216,11 @@ int gr_events_append(gr_sim *s, gr_contact_event ev, gr_error *err);
 
 /* src/core/neighbours.c (3D: gr_neighbours_*_3d, which these call when dim = 3) */
 int gr_neighbours_alloc(gr_sim *s, gr_error *err);
+/* The contact sublist (sublist.c): after every build of the list, decide and build it; before a
+ * force evaluation, rebuild it when a particle has moved half its skin. */
+void gr_sublist_after_build(gr_sim *s);
+void gr_sublist_refresh(gr_sim *s);
+void gr_sublist_free(gr_sim *s);
 int gr_neighbours_build(gr_sim *s, gr_error *err);
 
 /* src/core/kernels_3d.c: spheres (docs/three-dimensions.md): the neighbour list and the force

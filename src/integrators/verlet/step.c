@@ -761,6 +761,7 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
     if (s->nsp) { /* species: the step of step_poly.c, chosen once per call */
         return gr_verlet_step_poly(s, nsteps, err);
     }
+    s->sl_verlet = 1; /* its kernels may scan the contact sublist (core/sublist.c) */
     const bool noise = s->params.noise_mode != GR_NOISE_NONE && s->params.D > 0.0;
     const bool bath = s->drive == GR_DRIVE_BATH; /* the driving, chosen once (its own loops) */
     const bool com = s->params.noise_mode == GR_NOISE_COM;
@@ -831,6 +832,7 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
                 return rc;
             }
         }
+        gr_sublist_refresh(s); /* the pairs that can touch: the same forces, fewer distances */
         int rc = gr_verlet_forces(s, err);
         if (rc) {
             return rc;

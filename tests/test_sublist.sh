@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# The contact sublist (src/core/sublist.c) changes the speed only: scenes in 2D and 3D (beds with
+# walls and gravity, a history spring with rotation, the RFM gas on two threads) run with it
+# forced off, on, and as the engine decides (auto); temperature.csv and ledger.csv are the same
+# bytes in all three (tests/test_walls_3d.c checks that on and auto do turn it on).
+# usage: test_sublist.sh GRANULE SOURCE_DIR
+set -uo pipefail
+granule=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+check() { # name threads scene sets...
+    local name=$1 threads=$2 scene=$3
+    shift 3
+    local sets=(--threads "$threads")
+    for x in "$@"; do sets+=(--set "$x"); done
+    for mode in off on auto; do
+        GRANULE_SUBLIST=$mode "$granule" run "$src/docs/scenes/$scene" --out "$tmp/$name-$mode" \
+            --set output.plots=false --set run.warmup=0 "${sets[@]}" >/dev/null 2>"$tmp/log" ||
+            { cat "$tmp/log" >&2; echo "FAIL: $name ($mode) does not run" >&2; fail=1; return; }
+    done
+    for mode in on auto; do
+        for f in temperature.csv ledger.csv; do
+            cmp -s "$tmp/$name-off/$f" "$tmp/$name-$mode/$f" ||
+                { echo "FAIL: $name: $f with the sublist $mode differs from off" >&2; fail=1; }
+        done
+    done
+    echo "$name: the same bytes off, on and auto"
+}
+check bed-3d 1 vibrated-bed-3d.ini run.duration=0.05 model.tangential=tangential_spring
+check bed-2d 1 vibrated-bed.ini run.duration=0.1
+check gas-2d-threads 2 rfm-2d.ini run.duration=0.01 system.N=3000
+check gas-3d-threads 2 rfm-3d.ini run.duration=0.005 model.tangential=tangential_spring model.rotation=true
+exit $fail
