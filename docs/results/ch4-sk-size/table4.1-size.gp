@@ -7,5 +7,5 @@ set xlabel 'N, L (m)' noenhanced
 set key below height 1.5
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'
-plot 'table4.1-size_compare.dat' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'
+plot 'table4.1-size_compare.dat' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule', '' using ($1+0.15):5:6 with yerrorbars pt 6 ps 1.2 lc rgb '#c0392b' title 'thesis'
 
