@@ -487,7 +487,7 @@ START_TEST(sublist_on_the_bed_3d)
         gr_scene sc;
         load(&sc, vibrated_3d, NULL, 0);
         gr_sim *s = create(&sc);
-        step(s, quick() ? 3000 : 20000);
+        step(s, quick() ? 10000 : 20000);
         rebuilds[m] = gr_sim_sublist_rebuilds(s);
         x[m] = 0.0;
         v[m] = 0.0;
