@@ -94,8 +94,7 @@ void gr_sublist_after_build(gr_sim *s)
     const int mode = e && !strcmp(e, "off") ? -1 : e && !strcmp(e, "on") ? 1 : 0;
     s->sl_interval = s->step - s->sl_list_at;
     s->sl_list_at = s->step;
-    const bool can =
-        s->dim >= 2 && s->nsp == 0 && s->sl_verlet && s->params.skin > GR_SUBLIST_SKIN;
+    const bool can = s->dim >= 2 && s->nsp == 0 && s->sl_verlet && s->params.skin > GR_SUBLIST_SKIN;
     s->sl_on = can && (mode == 1 || (mode == 0 && s->sl_interval >= GR_SUBLIST_MIN_INTERVAL));
     s->sl_forced = mode == 1;
     if (s->sl_on && !build(s, s->sl_forced)) {
@@ -127,7 +126,8 @@ void gr_sublist_refresh(gr_sim *s)
             worst = r2 > worst ? r2 : worst;
         }
     }
-    if (!(worst <= lim2) && !build(s, s->sl_forced)) { /* a NaN rebuilds too; the step then stops on it */
+    if (!(worst <= lim2) &&
+        !build(s, s->sl_forced)) { /* a NaN rebuilds too; the step then stops on it */
         s->sl_on = 0;
     }
 }
