@@ -79,9 +79,9 @@ struct gr_sim {
      * rebuilt from the list when a particle has moved GR_SUBLIST_SKIN d / 2 since; the 2D and 3D
      * kernels scan it instead of the list when sl_on. The same pairs in the same order touch
      * either way, so every sum is the same. sl_verlet: the Verlet step runs this simulation (the
-     * only kernels that read it); sl_interval: steps between the last two list builds. */
+     * only kernels that read it); sl_list_at: the step of the list's last build. */
     int *sl_start, *sl_p;
-    int64_t sl_cap, sl_built_at, sl_list_at, sl_interval, sl_rebuilds;
+    int64_t sl_cap, sl_list_at, sl_rebuilds;
     double *xs_ref, *ys_ref, *zs_ref;
     int sl_on, sl_verlet, sl_forced;
 

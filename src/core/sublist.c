@@ -83,7 +83,6 @@ static int build(gr_sim *s, const bool forced)
     if (s->dim == 3) {
         memcpy(s->zs_ref, z, sizeof(double) * (size_t)n);
     }
-    s->sl_built_at = s->step;
     s->sl_rebuilds++;
     return 1;
 }
@@ -92,10 +91,10 @@ void gr_sublist_after_build(gr_sim *s)
 {
     const char *e = getenv("GRANULE_SUBLIST"); /* once per build of the list: rare */
     const int mode = e && !strcmp(e, "off") ? -1 : e && !strcmp(e, "on") ? 1 : 0;
-    s->sl_interval = s->step - s->sl_list_at;
+    const int64_t interval = s->step - s->sl_list_at; /* steps the list lasted */
     s->sl_list_at = s->step;
     const bool can = s->dim >= 2 && s->nsp == 0 && s->sl_verlet && s->params.skin > GR_SUBLIST_SKIN;
-    s->sl_on = can && (mode == 1 || (mode == 0 && s->sl_interval >= GR_SUBLIST_MIN_INTERVAL));
+    s->sl_on = can && (mode == 1 || (mode == 0 && interval >= GR_SUBLIST_MIN_INTERVAL));
     s->sl_forced = mode == 1;
     if (s->sl_on && !build(s, s->sl_forced)) {
         s->sl_on = 0;
