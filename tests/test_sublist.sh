@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The contact sublist (src/core/sublist.c) changes the speed only: scenes in 2D and 3D (beds with
-# walls and gravity, a history spring with rotation, the RFM gas on two threads) run with it
+# walls and gravity, a history spring with rotation, the RFM gas on two threads, mixtures) run with it
 # forced off, on, and as the engine decides (auto); temperature.csv and ledger.csv are the same
 # bytes in all three (tests/test_walls_3d.c checks that on and auto do turn it on).
 # usage: test_sublist.sh GRANULE SOURCE_DIR
@@ -32,4 +32,11 @@ check bed-3d 1 vibrated-bed-3d.ini run.duration=0.05 model.tangential=tangential
 check bed-2d 1 vibrated-bed.ini run.duration=0.1
 check gas-2d-threads 2 rfm-2d.ini run.duration=0.01 system.N=3000
 check gas-3d-threads 2 rfm-3d.ini run.duration=0.005 model.tangential=tangential_spring model.rotation=true
+# mixtures (src/core/kernels_poly.c): species in 2D with a history spring and rotation, a bed of
+# two sizes, a lognormal radius distribution, spheres of two species
+check mixture-2d 1 bidisperse-mixture.ini run.duration=0.05 system.packing_fraction=0.3 \
+    model.tangential=tangential_spring model.rotation=true
+check mixture-bed-2d 1 vibrated-bed-mixture.ini run.duration=0.05
+check lognormal-2d 1 polydisperse-gas.ini run.duration=0.1
+check mixture-3d 2 bidisperse-mixture-3d.ini run.duration=0.02 system.packing_fraction=0.3
 exit $fail

@@ -12,6 +12,7 @@
  * - rotation: spinning grains of two species dropped on a floor with sliding friction end
  *   rolling with their own radius and moment of inertia;
  * - a checkpoint of a rotating bed continues bit for bit;
+ * - the contact sublist, on for a bed of two sizes, changes no bit (2D and 3D);
  * - a radius distribution: each grain's wall contact scaled from the walls' reference to its own
  *   mass and radius (the bounces, the bed's weight, the ledgers); the event integrator's
  *   distribution between walls: tests/test_event_species.c. */
@@ -250,6 +251,48 @@ START_TEST(restart_exact)
 }
 END_TEST
 
+/* The contact sublist (core/sublist.c) on a bed of two sizes, discs (_i = 0, a history spring with
+ * rotation) and spheres (_i = 1): a mixture's pair is kept within r_i + r_j + 0.02 d. The engine
+ * turns it on once the list has lasted 100 steps (auto), GRANULE_SUBLIST=on at every build, off
+ * never; the three runs end in the same state bit for bit (tests/test_sublist.sh: the files). */
+START_TEST(sublist_on_a_mixture_bed)
+{
+    static const char *bed[2] = {
+        "[system]\ndim = 2\nN = 100\nL = 0.05\n[species]\nradius = 1.5e-3, 2.5e-3\n"
+        "density = 5, 5\nfraction = 0.7, 0.3\n[placement]\nkind = uniform\nv0 = 0.05\n"
+        "[model]\nk_s = 5e4\neps_n = 0.8\ntangential = tangential_spring\nrotation = true\n"
+        "[driving]\nkind = none\n[boundary]\ny = walls\nvibrate = y\namplitude = 5e-4\n"
+        "frequency = 50\n[gravity]\ngy = -9.81\n",
+        "[system]\ndim = 3\nN = 200\nL = 0.02\n[species]\nradius = 1e-3, 1.5e-3\n"
+        "density = 2500, 2500\nfraction = 0.7, 0.3\n[placement]\nkind = cubic\nv0 = 0.05\n"
+        "[model]\nk_s = 5e4\neps_n = 0.8\n[driving]\nkind = none\n[boundary]\nz = walls\n"
+        "vibrate = z\namplitude = 5e-4\nfrequency = 50\n[gravity]\ngz = -9.81\n"};
+    const char *modes[] = {"off", "auto", "on"};
+    gr_sim *sims[3];
+    int64_t rebuilds[3];
+    for (int m = 0; m < 3; m++) {
+        setenv("GRANULE_SUBLIST", modes[m], 1);
+        gr_scene sc;
+        load(&sc, bed[_i], NULL, 0);
+        sims[m] = create(&sc);
+        step(sims[m], quick() ? 10000 : 20000);
+        rebuilds[m] = gr_sim_sublist_rebuilds(sims[m]);
+    }
+    unsetenv("GRANULE_SUBLIST");
+    printf("%dD mixture bed, sublist rebuilds: off %lld, auto %lld, on %lld\n", _i + 2,
+           (long long)rebuilds[0], (long long)rebuilds[1], (long long)rebuilds[2]);
+    ck_assert_int_eq(rebuilds[0], 0);
+    ck_assert_int_gt(rebuilds[1], 0);
+    ck_assert_int_ge(rebuilds[2], rebuilds[1]);
+    for (int m = 1; m < 3; m++) {
+        assert_same_state(sims[0], sims[m]);
+    }
+    for (int m = 0; m < 3; m++) {
+        gr_sim_free(sims[m]);
+    }
+}
+END_TEST
+
 static Suite *walls_species_suite(void)
 {
     Suite *s = suite_create("walls_species");
@@ -261,6 +304,7 @@ static Suite *walls_species_suite(void)
     tcase_add_test(t, ledger_species_walls);
     tcase_add_test(t, spinning_grains_roll);
     tcase_add_test(t, restart_exact);
+    tcase_add_loop_test(t, sublist_on_a_mixture_bed, 0, 2);
     suite_add_tcase(s, t);
     return s;
 }

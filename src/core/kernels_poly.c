@@ -15,7 +15,8 @@
  * (poly_3d, spheres) has the laws without history with vectors (kernels_3d.c's geometry). A
  * separate instance, chosen once per run (gr_kernel_choose) when the scene has species, so the
  * monodisperse instances (1D, 2D, 3D) load nothing per pair that they did not before.
- * One thread: a run with species is the same for every thread count. */
+ * One thread: a run with species is the same for every thread count. The Verlet step's contact
+ * sublist (core/sublist.c) replaces the list's rows when on, in 2D and 3D alike. */
 #include <math.h>
 #include <string.h>
 
@@ -177,9 +178,11 @@ static void poly_2d(gr_sim *s, gr_force_report *r)
     const int col = book_of(tl) == GR_BOOK_FRICTION; /* the law's ledger column */
     const int hist = history_of(tl);
     const double inv_dt = 1.0 / s->dt;
+    const int sub = s->sl_on; /* the contact sublist (core/sublist.c): the same pairs that touch */
+    const int *rows = sub ? s->sl_start : s->nl_start;
     for (int i = 0; i < n; i++) {
-        for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
-            const int j = s->nl_j[p];
+        for (int k = rows[i]; k < rows[i + 1]; k++) {
+            const int p = sub ? s->sl_p[k] : k, j = s->nl_j[p];
             const double dx = wrap_delta(s->x[j] - s->x[i], L),
                          dy = wrap_delta(s->y[j] - s->y[i], L);
             const double dist = sqrt(dx * dx + dy * dy);
@@ -416,9 +419,11 @@ static void poly_3d(gr_sim *s, gr_force_report *r)
     const int col = book_of(tl) == GR_BOOK_FRICTION; /* the law's ledger column */
     const double inv_dt = 1.0 / s->dt;
     double el_t = 0.0, lost = 0.0; /* a history law's springs (J) and what it dropped (J) */
+    const int sub = s->sl_on; /* the contact sublist (core/sublist.c): the same pairs that touch */
+    const int *rows = sub ? s->sl_start : s->nl_start;
     for (int i = 0; i < n; i++) {
-        for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
-            const int j = s->nl_j[p];
+        for (int k = rows[i]; k < rows[i + 1]; k++) {
+            const int p = sub ? s->sl_p[k] : k, j = s->nl_j[p];
             double e[3];
             for (int a = 0; a < 3; a++) {
                 e[a] = wrap_delta(q[a][j] - q[a][i], s->period[a]);

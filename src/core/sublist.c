@@ -10,8 +10,10 @@
  * moved GR_SUBLIST_SKIN d / 2 since, and after every build of the list. No pair outside it can
  * touch before then (the Verlet argument with the thinner skin), so the kernels scanning it
  * evaluate the same touching pairs in the same order as over the whole list, and every force, sum
- * and contact flag is the same bit for bit: whether it is on changes the speed only. It is on for
- * the Verlet step of a 2D or 3D simulation of identical grains when the list lasted at least
+ * and contact flag is the same bit for bit: whether it is on changes the speed only. A mixture's
+ * pair is kept when closer than r_i + r_j + GR_SUBLIST_SKIN d (d the largest pair's contact
+ * distance), so the same bound on the motion holds. It is on for
+ * the Verlet step of a 2D or 3D simulation (identical grains or a mixture) when the list lasted at least
  * GR_SUBLIST_MIN_INTERVAL steps (then its rebuilds, about every fifteenth of the list's life, cost
  * little) and while it keeps at most GR_SUBLIST_MAX_SHARE of the list's pairs (in a clustered gas
  * most listed pairs are close, and scanning through it would only add work);
@@ -52,7 +54,11 @@ static int build(gr_sim *s, const bool forced)
         s->sl_p = p;
         s->sl_cap = m;
     }
+    /* identical grains: pairs closer than d (1 + skin); a mixture: closer than r_i + r_j + skin d,
+     * d the largest pair's contact distance (the refresh's bound is in units of d alike) */
     const double cut = s->d * (1.0 + GR_SUBLIST_SKIN), cut2 = cut * cut;
+    const double margin = GR_SUBLIST_SKIN * s->d;
+    const double *rad = s->rad;
     /* the kernels' own differences: 3D wraps by the periods (INFINITY along a wall), 2D by L */
     const double P0 = s->dim == 3 ? s->period[0] : s->L, P1 = s->dim == 3 ? s->period[1] : s->L;
     const double P2 = s->dim == 3 ? s->period[2] : 0.0;
@@ -65,7 +71,9 @@ static int build(gr_sim *s, const bool forced)
             const int j = s->nl_j[p];
             const double dx = wrap_delta(x[j] - x[i], P0), dy = wrap_delta(y[j] - y[i], P1);
             const double dz = s->dim == 3 ? wrap_delta(z[j] - z[i], P2) : 0.0;
-            bool keep = dx * dx + dy * dy + dz * dz < cut2 || s->nl_contact[p];
+            const double r2 = dx * dx + dy * dy + dz * dz,
+                         cp = rad ? rad[i] + rad[j] + margin : 0.0;
+            bool keep = (rad ? r2 < cp * cp : r2 < cut2) || s->nl_contact[p];
             for (int a = 0; h && a < hw && !keep; a++) {
                 keep = h[(int64_t)hw * p + a] != 0.0;
             }
@@ -93,7 +101,7 @@ void gr_sublist_after_build(gr_sim *s)
     const int mode = e && !strcmp(e, "off") ? -1 : e && !strcmp(e, "on") ? 1 : 0;
     const int64_t interval = s->step - s->sl_list_at; /* steps the list lasted */
     s->sl_list_at = s->step;
-    const bool can = s->dim >= 2 && s->nsp == 0 && s->sl_verlet && s->params.skin > GR_SUBLIST_SKIN;
+    const bool can = s->dim >= 2 && s->sl_verlet && s->params.skin > GR_SUBLIST_SKIN;
     s->sl_on = can && (mode == 1 || (mode == 0 && interval >= GR_SUBLIST_MIN_INTERVAL));
     s->sl_forced = mode == 1;
     if (s->sl_on && !build(s, s->sl_forced)) {

@@ -758,10 +758,10 @@ int gr_verlet_check_finite(gr_sim *s, gr_error *err)
 
 int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
 {
-    if (s->nsp) { /* species: the step of step_poly.c, chosen once per call */
+    s->sl_verlet = 1; /* its kernels may scan the contact sublist (core/sublist.c) */
+    if (s->nsp) {     /* species: the step of step_poly.c, chosen once per call */
         return gr_verlet_step_poly(s, nsteps, err);
     }
-    s->sl_verlet = 1; /* its kernels may scan the contact sublist (core/sublist.c) */
     const bool noise = s->params.noise_mode != GR_NOISE_NONE && s->params.D > 0.0;
     const bool bath = s->drive == GR_DRIVE_BATH; /* the driving, chosen once (its own loops) */
     const bool com = s->params.noise_mode == GR_NOISE_COM;

@@ -211,6 +211,7 @@ int gr_verlet_step_poly(gr_sim *s, int64_t nsteps, gr_error *err)
                 return rc;
             }
         }
+        gr_sublist_refresh(s); /* as step.c: the pairs that can touch (core/sublist.c) */
         int rc = gr_verlet_forces(s, err);
         if (rc) {
             return rc;
