@@ -29,12 +29,97 @@
 #define GR_SUBLIST_MIN_INTERVAL 100
 #define GR_SUBLIST_MAX_SHARE 0.5 /* off (until the list's next build) when it keeps more */
 
+/* What deciding an entry reads, copied once per build (the flags the threaded build writes as bytes
+ * could otherwise alias every field of the simulation). */
+typedef struct keep_ctx {
+    const double *x, *y, *z, *h, *rad;
+    const uint8_t *contact;
+    const int *list;
+    double P0, P1, P2, cut2, margin;
+    int three;
+} keep_ctx;
+
+static keep_ctx keep_ctx_of(const gr_sim *s, const double cut2, const double margin)
+{
+    /* the kernels' own differences: 3D wraps by the periods (INFINITY along a wall), 2D by L */
+    const int three = s->dim == 3;
+    return (keep_ctx){.x = s->x,
+                      .y = s->y,
+                      .z = s->z,
+                      .h = s->nl_hist,
+                      .rad = s->rad,
+                      .contact = s->nl_contact,
+                      .list = s->nl_j,
+                      .P0 = three ? s->period[0] : s->L,
+                      .P1 = three ? s->period[1] : s->L,
+                      .P2 = three ? s->period[2] : 0.0,
+                      .cut2 = cut2,
+                      .margin = margin,
+                      .three = three};
+}
+
+/* Whether list entry p of row i stays in the sublist: its pair is closer than the cut (identical
+ * grains: d (1 + skin), squared in cut2; a mixture: r_i + r_j + margin), touched at the last
+ * evaluation, or holds a history vector. */
+static inline bool keeps(const keep_ctx *c, const int i, const int p)
+{
+    const int j = c->list[p];
+    const double dx = wrap_delta(c->x[j] - c->x[i], c->P0),
+                 dy = wrap_delta(c->y[j] - c->y[i], c->P1);
+    const double dz = c->three ? wrap_delta(c->z[j] - c->z[i], c->P2) : 0.0;
+    const double r2 = dx * dx + dy * dy + dz * dz;
+    const double cp = c->rad ? c->rad[i] + c->rad[j] + c->margin : 0.0;
+    bool keep = (c->rad ? r2 < cp * cp : r2 < c->cut2) || c->contact[p];
+    const int hw = c->three ? 3 : 1; /* doubles per history slot */
+    for (int a = 0; c->h && a < hw && !keep; a++) {
+        keep = c->h[(int64_t)hw * p + a] != 0.0;
+    }
+    return keep;
+}
+
+/* The rows on T threads: each row's count (and a flag per entry), the counts summed in row order,
+ * then each row's entries in list order: the same sublist as one pass makes. */
+static void build_threaded(gr_sim *restrict s, const int T, const keep_ctx *c)
+{
+    const int n = s->n, *restrict row = s->nl_start;
+    int *restrict start = s->sl_start, *restrict sub = s->sl_p;
+    uint8_t *restrict flag = s->sl_flag;
+#pragma omp parallel num_threads(T)
+    {
+#pragma omp for schedule(static)
+        for (int i = 0; i < n; i++) {
+            int kept = 0;
+            for (int p = row[i]; p < row[i + 1]; p++) {
+                flag[p] = keeps(c, i, p);
+                kept += flag[p];
+            }
+            start[i + 1] = kept;
+        }
+#pragma omp single
+        {
+            start[0] = 0;
+            for (int i = 0; i < n; i++) {
+                start[i + 1] += start[i];
+            }
+        }
+#pragma omp for schedule(static)
+        for (int i = 0; i < n; i++) {
+            int k = start[i];
+            for (int p = row[i]; p < row[i + 1]; p++) {
+                if (flag[p]) {
+                    sub[k++] = p;
+                }
+            }
+        }
+    }
+}
+
 /* Build the sublist from the list at the current positions; 0 when out of memory or when it
  * keeps more than GR_SUBLIST_MAX_SHARE of the list unless forced (then off until the list's next
- * build). */
+ * build). On the simulation's threads when it has more than one (the same sublist). */
 static int build(gr_sim *s, const bool forced)
 {
-    const int n = s->n;
+    const int n = s->n, T = gr_team(s);
     const int64_t m = s->nl_start[n];
     if (!s->sl_start) {
         s->sl_start = malloc(sizeof(int) * (size_t)(n + 1));
@@ -48,48 +133,42 @@ static int build(gr_sim *s, const bool forced)
     }
     if (m > s->sl_cap) {
         int *p = realloc(s->sl_p, sizeof(int) * (size_t)(m > 0 ? m : 1));
-        if (!p) {
+        if (p) {
+            s->sl_p = p;
+        }
+        uint8_t *f = p ? realloc(s->sl_flag, (size_t)(m > 0 ? m : 1)) : NULL;
+        if (!f) {
             return 0;
         }
-        s->sl_p = p;
+        s->sl_flag = f;
         s->sl_cap = m;
     }
     /* identical grains: pairs closer than d (1 + skin); a mixture: closer than r_i + r_j + skin d,
      * d the largest pair's contact distance (the refresh's bound is in units of d alike) */
     const double cut = s->d * (1.0 + GR_SUBLIST_SKIN), cut2 = cut * cut;
     const double margin = GR_SUBLIST_SKIN * s->d;
-    const double *rad = s->rad;
-    /* the kernels' own differences: 3D wraps by the periods (INFINITY along a wall), 2D by L */
-    const double P0 = s->dim == 3 ? s->period[0] : s->L, P1 = s->dim == 3 ? s->period[1] : s->L;
-    const double P2 = s->dim == 3 ? s->period[2] : 0.0;
-    const double *x = s->x, *y = s->y, *z = s->z, *h = s->nl_hist;
-    const int hw = s->dim == 3 ? 3 : 1; /* doubles per history slot */
-    int count = 0;
-    for (int i = 0; i < n; i++) {
-        s->sl_start[i] = count;
-        for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
-            const int j = s->nl_j[p];
-            const double dx = wrap_delta(x[j] - x[i], P0), dy = wrap_delta(y[j] - y[i], P1);
-            const double dz = s->dim == 3 ? wrap_delta(z[j] - z[i], P2) : 0.0;
-            const double r2 = dx * dx + dy * dy + dz * dz,
-                         cp = rad ? rad[i] + rad[j] + margin : 0.0;
-            bool keep = (rad ? r2 < cp * cp : r2 < cut2) || s->nl_contact[p];
-            for (int a = 0; h && a < hw && !keep; a++) {
-                keep = h[(int64_t)hw * p + a] != 0.0;
-            }
-            if (keep) {
-                s->sl_p[count++] = p;
+    const keep_ctx c = keep_ctx_of(s, cut2, margin);
+    if (T > 1) {
+        build_threaded(s, T, &c);
+    } else {
+        int count = 0;
+        for (int i = 0; i < n; i++) {
+            s->sl_start[i] = count;
+            for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
+                if (keeps(&c, i, p)) {
+                    s->sl_p[count++] = p;
+                }
             }
         }
+        s->sl_start[n] = count;
     }
-    s->sl_start[n] = count;
-    if (!forced && count > GR_SUBLIST_MAX_SHARE * (double)m) { /* most pairs close: no gain */
+    if (!forced && s->sl_start[n] > GR_SUBLIST_MAX_SHARE * (double)m) { /* most pairs close */
         return 0;
     }
-    memcpy(s->xs_ref, x, sizeof(double) * (size_t)n);
-    memcpy(s->ys_ref, y, sizeof(double) * (size_t)n);
+    memcpy(s->xs_ref, s->x, sizeof(double) * (size_t)n);
+    memcpy(s->ys_ref, s->y, sizeof(double) * (size_t)n);
     if (s->dim == 3) {
-        memcpy(s->zs_ref, z, sizeof(double) * (size_t)n);
+        memcpy(s->zs_ref, s->z, sizeof(double) * (size_t)n);
     }
     s->sl_rebuilds++;
     return 1;
@@ -117,16 +196,17 @@ void gr_sublist_refresh(gr_sim *s)
     const double lim = 0.5 * GR_SUBLIST_SKIN * s->d, lim2 = lim * lim;
     const double *x = s->x, *y = s->y, *xr = s->xs_ref, *yr = s->ys_ref;
     double worst = 0.0;
+    const int T = gr_team(s); /* the largest displacement: the same on any number of threads */
     if (s->dim == 3) {
         const double *z = s->z, *zr = s->zs_ref;
-#pragma omp simd reduction(max : worst)
+#pragma omp parallel for simd num_threads(T) if (T > 1) reduction(max : worst) schedule(static)
         for (int i = 0; i < s->n; i++) {
             const double dx = x[i] - xr[i], dy = y[i] - yr[i], dz = z[i] - zr[i];
             const double r2 = dx * dx + dy * dy + dz * dz;
             worst = r2 > worst ? r2 : worst;
         }
     } else {
-#pragma omp simd reduction(max : worst)
+#pragma omp parallel for simd num_threads(T) if (T > 1) reduction(max : worst) schedule(static)
         for (int i = 0; i < s->n; i++) {
             const double dx = x[i] - xr[i], dy = y[i] - yr[i];
             const double r2 = dx * dx + dy * dy;
@@ -143,6 +223,7 @@ void gr_sublist_free(gr_sim *s)
 {
     free(s->sl_start);
     free(s->sl_p);
+    free(s->sl_flag);
     free(s->xs_ref);
     free(s->ys_ref);
     free(s->zs_ref);
