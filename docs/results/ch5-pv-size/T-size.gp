@@ -2,7 +2,7 @@
 set datafile separator whitespace
 set title "Steady granular temperature (2.19) over the box size" noenhanced
 set ylabel 'T / m^2/s^2' noenhanced
-set xtics rotate by -40 noenhanced
+set xtics rotate by 90 right font ',11' noenhanced
 set xlabel 'N, L (m)' noenhanced
 set key below height 1.5
 set offsets 0.5, 0.5, graph 0.06, graph 0.06

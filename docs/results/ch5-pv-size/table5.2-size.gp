@@ -2,7 +2,7 @@
 set datafile separator whitespace
 set title "Tail exponent alpha of P(v) = A exp(-(|v|/v0)^alpha) (5.5), free fit, over the box size" noenhanced
 set ylabel 'alpha' noenhanced
-set xtics rotate by -40 noenhanced
+set xtics rotate by 90 right font ',11' noenhanced
 set xlabel 'N, L (m)' noenhanced
 set key below height 1.5
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
