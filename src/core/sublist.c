@@ -188,30 +188,48 @@ void gr_sublist_after_build(gr_sim *s)
     }
 }
 
+/* The largest squared displacement of the particles [lo, hi) since the sublist's build. */
+static double moved2(const gr_sim *s, const int lo, const int hi)
+{
+    const double *x = s->x, *y = s->y, *xr = s->xs_ref, *yr = s->ys_ref;
+    double worst = 0.0;
+    if (s->dim == 3) {
+        const double *z = s->z, *zr = s->zs_ref;
+#pragma omp simd reduction(max : worst)
+        for (int i = lo; i < hi; i++) {
+            const double dx = x[i] - xr[i], dy = y[i] - yr[i], dz = z[i] - zr[i];
+            const double r2 = dx * dx + dy * dy + dz * dz;
+            worst = r2 > worst ? r2 : worst;
+        }
+    } else {
+#pragma omp simd reduction(max : worst)
+        for (int i = lo; i < hi; i++) {
+            const double dx = x[i] - xr[i], dy = y[i] - yr[i];
+            const double r2 = dx * dx + dy * dy;
+            worst = r2 > worst ? r2 : worst;
+        }
+    }
+    return worst;
+}
+
 void gr_sublist_refresh(gr_sim *s)
 {
     if (!s->sl_on) {
         return;
     }
     const double lim = 0.5 * GR_SUBLIST_SKIN * s->d, lim2 = lim * lim;
-    const double *x = s->x, *y = s->y, *xr = s->xs_ref, *yr = s->ys_ref;
+    /* the largest displacement is the same on any number of threads; one thread enters no
+     * parallel region (its call alone would cost a small bed's step a fifth, measured) */
+    const int T = gr_team(s), n = s->n;
     double worst = 0.0;
-    const int T = gr_team(s); /* the largest displacement: the same on any number of threads */
-    if (s->dim == 3) {
-        const double *z = s->z, *zr = s->zs_ref;
-#pragma omp parallel for simd num_threads(T) if (T > 1) reduction(max : worst) schedule(static)
-        for (int i = 0; i < s->n; i++) {
-            const double dx = x[i] - xr[i], dy = y[i] - yr[i], dz = z[i] - zr[i];
-            const double r2 = dx * dx + dy * dy + dz * dz;
-            worst = r2 > worst ? r2 : worst;
+    if (T > 1) {
+#pragma omp parallel for num_threads(T) reduction(max : worst) schedule(static)
+        for (int t = 0; t < T; t++) {
+            const double w = moved2(s, (int)((int64_t)n * t / T), (int)((int64_t)n * (t + 1) / T));
+            worst = w > worst ? w : worst;
         }
     } else {
-#pragma omp parallel for simd num_threads(T) if (T > 1) reduction(max : worst) schedule(static)
-        for (int i = 0; i < s->n; i++) {
-            const double dx = x[i] - xr[i], dy = y[i] - yr[i];
-            const double r2 = dx * dx + dy * dy;
-            worst = r2 > worst ? r2 : worst;
-        }
+        worst = moved2(s, 0, n);
     }
     if (!(worst <= lim2) &&
         !build(s, s->sl_forced)) { /* a NaN rebuilds too; the step then stops on it */

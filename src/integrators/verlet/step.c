@@ -505,6 +505,8 @@ static inline __attribute__((always_inline)) void open_range_2d(gr_sim *restrict
             OPEN_2D(i0 + l, l);
         }
     }
+#pragma omp simd /* the tail in the same lanes: each lane's operations are those of the
+                    scalar loop, so the sums keep their bits (a small bed's tail is 6 of 150) */
     for (int i = full; i < hi; i++) {
         OPEN_2D(i, i - full);
     }
@@ -696,6 +698,7 @@ static inline __attribute__((always_inline)) void open_range_3d(gr_sim *restrict
             OPEN_3D(i0 + l, l);
         }
     }
+#pragma omp simd /* the tail in the same lanes, as in 2D */
     for (int i = full; i < hi; i++) {
         OPEN_3D(i, i - full);
     }
