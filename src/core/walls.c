@@ -303,6 +303,52 @@ static void axis_wall_grain(gr_sim *s, const int a, const int i, const double *r
                             const double vw, wall_sums *w, gr_force_report *r_out, const double r,
                             const double L, const double st0, const int tang);
 
+/* The walls' pass scans the grains in blocks of WALL_BLOCK (a multiple of 8). */
+enum { WALL_BLOCK = 256 };
+
+/* Whether each grain of [i0, i0 + m) touches a wall of the axis whose coordinates are q: branch
+ * free, so that it vectorises (species: each grain's own radius, else r). */
+static void wall_touch_flags(const gr_sim *s, const double *restrict q, const int i0, const int m,
+                             const double r, const double qw, const double L,
+                             uint8_t *restrict touch)
+{
+    const double *restrict qb = q + i0;
+    if (s->rad) {
+        const double *restrict rb = s->rad + i0;
+        for (int k = 0; k < m; k++) {
+            touch[k] = (uint8_t)((rb[k] - (qb[k] - qw) > 0.0) | (qb[k] + rb[k] - L > 0.0));
+        }
+    } else {
+        for (int k = 0; k < m; k++) { /* vectorises */
+            touch[k] = (uint8_t)((r - (qb[k] - qw) > 0.0) | (qb[k] + r - L > 0.0));
+        }
+    }
+}
+
+/* The grains i0 + k whose flag touch[k] (k < m) is set, in increasing order, into idx; returns
+ * how many. The flags are read eight at a time: most words are zero (no grain of the eight
+ * touches). Clears the flags. */
+static int touching(uint8_t *restrict touch, const int m, const int i0, int *restrict idx)
+{
+    const int m8 = (m + 7) / 8 * 8;
+    memset(touch + m, 0, (size_t)(m8 - m));
+    int nt = 0;
+    for (int k8 = 0; k8 < m8; k8 += 8) {
+        uint64_t word;
+        memcpy(&word, touch + k8, sizeof word);
+        while (word) { /* the set bytes in increasing order (little or big endian alike) */
+            int k = k8;
+            while (!touch[k]) {
+                k++;
+            }
+            touch[k] = 0;
+            memcpy(&word, touch + k8, sizeof word);
+            idx[nt++] = i0 + k;
+        }
+    }
+    return nt;
+}
+
 static void axis_walls(gr_sim *s, const int a, const double *restrict q, const double *restrict v,
                        double *restrict f, double *restrict g, const double *v_o, double *f_o,
                        double *g_o, const double qw, const double vw, wall_sums *w,
@@ -316,21 +362,11 @@ static void axis_walls(gr_sim *s, const int a, const double *restrict q, const d
     /* Grains away from both walls do nothing here, and most grains are: a branch-free scan of a
      * block lists those that touch a wall (or still hold a wall spring), then only they are
      * visited, in order, so the sums are those of visiting every grain. */
-    enum { BLOCK = 256 };
-    uint8_t touch[BLOCK];
-    for (int i0 = 0; i0 < s->n; i0 += BLOCK) {
-        const int m = i0 + BLOCK < s->n ? BLOCK : s->n - i0;
-        const double *restrict qb = q + i0;
-        if (s->rad) { /* species: each grain's own radius */
-            const double *restrict rb = s->rad + i0;
-            for (int k = 0; k < m; k++) {
-                touch[k] = (uint8_t)((rb[k] - (qb[k] - qw) > 0.0) | (qb[k] + rb[k] - L > 0.0));
-            }
-        } else {
-            for (int k = 0; k < m; k++) { /* vectorises */
-                touch[k] = (uint8_t)((r - (qb[k] - qw) > 0.0) | (qb[k] + r - L > 0.0));
-            }
-        }
+    uint8_t touch[WALL_BLOCK];
+    int idx[WALL_BLOCK];
+    for (int i0 = 0; i0 < s->n; i0 += WALL_BLOCK) {
+        const int m = i0 + WALL_BLOCK < s->n ? WALL_BLOCK : s->n - i0;
+        wall_touch_flags(s, q, i0, m, r, qw, L, touch);
         if (hist) {
             for (int k = 0; k < m; k++) {
                 const int i = i0 + k;
@@ -338,23 +374,11 @@ static void axis_walls(gr_sim *s, const int a, const double *restrict q, const d
                     s->wall_hist[4 * i + 2 * a] != 0.0 || s->wall_hist[4 * i + 2 * a + 1] != 0.0;
             }
         }
-        /* the flags eight at a time: most words are zero (no grain of the eight touches) */
-        const int m8 = (m + 7) / 8 * 8;
-        memset(touch + m, 0, (size_t)(m8 - m));
-        for (int k8 = 0; k8 < m8; k8 += 8) {
-            uint64_t word;
-            memcpy(&word, touch + k8, sizeof word);
-            while (word) { /* the set bytes in increasing order (little or big endian alike) */
-                int k = k8;
-                while (!touch[k]) {
-                    k++;
-                }
-                touch[k] = 0;
-                memcpy(&word, touch + k8, sizeof word);
-                const int i = i0 + k;
-                axis_wall_grain(s, a, i, q, v, f, g, v_o, f_o, g_o, qw, vw, w, r_out,
-                                s->rad ? s->rad[i] : r, L, st0, tang);
-            }
+        const int nt = touching(touch, m, i0, idx);
+        for (int t = 0; t < nt; t++) {
+            const int i = idx[t];
+            axis_wall_grain(s, a, i, q, v, f, g, v_o, f_o, g_o, qw, vw, w, r_out,
+                            s->rad ? s->rad[i] : r, L, st0, tang);
         }
     }
 }
@@ -621,14 +645,21 @@ static void axis_walls_3d(gr_sim *s, const int a, const double qw, const double 
     const double L = s->L;
     const double *q = a == 0 ? s->x : a == 1 ? s->y : s->z;
     const int tang = s->wall_tl != 0;
-    for (int i = 0; i < s->n; i++) {
-        const double r = gr_grain_r(s, i); /* species: its own radius */
-        int touch = r - (q[i] - qw) > 0.0 || q[i] + r - L > 0.0;
-        for (int k = 0; !touch && s->wall_hist && k < 6; k++) {
-            touch = s->wall_hist[18 * (size_t)i + 6 * a + k] != 0.0;
+    /* as in 2D (axis_walls): a branch-free scan of a block, then the grains that touch a wall or
+     * hold a wall spring, in order */
+    uint8_t touch[WALL_BLOCK];
+    int idx[WALL_BLOCK];
+    for (int i0 = 0; i0 < s->n; i0 += WALL_BLOCK) {
+        const int m = i0 + WALL_BLOCK < s->n ? WALL_BLOCK : s->n - i0;
+        wall_touch_flags(s, q, i0, m, 0.5 * s->d, qw, L, touch);
+        for (int k = 0; s->wall_hist && k < m; k++) {
+            const double *h = s->wall_hist + 18 * (size_t)(i0 + k) + 6 * a;
+            touch[k] |= (h[0] != 0.0) | (h[1] != 0.0) | (h[2] != 0.0) | (h[3] != 0.0) |
+                        (h[4] != 0.0) | (h[5] != 0.0);
         }
-        if (touch) {
-            wall_grain_3d(s, a, i, qw, vw, tang, w, r_out);
+        const int nt = touching(touch, m, i0, idx);
+        for (int t = 0; t < nt; t++) {
+            wall_grain_3d(s, a, idx[t], qw, vw, tang, w, r_out);
         }
     }
 }
