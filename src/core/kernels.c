@@ -211,6 +211,7 @@ static inline __attribute__((always_inline)) void rows_2d(gr_sim *restrict s, co
     int64_t fresh = 0;
     for (int i = r0; i < r1; i++) {
         double fxi = 0.0, fyi = 0.0, gxi = 0.0, gyi = 0.0, tqi = 0.0, tgi = 0.0;
+        int hit = 0; /* a pair of the row touches */
         for (int k = rows[i]; k < rows[i + 1]; k++) {
             const int p = sub ? entry[k] : k, j = list[p];
             pair_out o; /* the fields its laws use are set by pair_2d (see the pragma above) */
@@ -230,6 +231,7 @@ static inline __attribute__((always_inline)) void rows_2d(gr_sim *restrict s, co
             }
             fresh += !touching[p];
             touching[p] = 1;
+            hit = 1;
             elastic += o.el;
             pn -= o.pn;
             worst = o.ov > worst ? o.ov : worst;
@@ -263,6 +265,9 @@ static inline __attribute__((always_inline)) void rows_2d(gr_sim *restrict s, co
                     tg[j] += roll != RL_none ? o.tg + o.rq : o.tg;
                 }
             }
+        }
+        if (!hit) { /* adding +0.0 would change no force (kernels_3d.c, rows_3d) */
+            continue;
         }
         fx[i] += fxi;
         fy[i] += fyi;

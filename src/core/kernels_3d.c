@@ -490,6 +490,7 @@ static inline __attribute__((always_inline)) void rows_3d(gr_sim *restrict s, co
     for (int i = r0; i < r1; i++) {
         double fi[3] = {0.0, 0.0, 0.0}, gi[3] = {0.0, 0.0, 0.0}, ti[3] = {0.0, 0.0, 0.0},
                ui[3] = {0.0, 0.0, 0.0};
+        int hit = 0; /* a pair of the row touches */
         for (int k = rows[i]; k < rows[i + 1]; k++) {
             const int p = sub ? entry[k] : k, j = list[p];
             double *hp = hist ? hs + 3 * (int64_t)p : NULL;
@@ -510,6 +511,7 @@ static inline __attribute__((always_inline)) void rows_3d(gr_sim *restrict s, co
             }
             fresh += !touching[p];
             touching[p] = 1;
+            hit = 1;
             elastic += o.el;
             pn -= o.pn;
             if (o.ov > worst) {
@@ -552,7 +554,9 @@ static inline __attribute__((always_inline)) void rows_3d(gr_sim *restrict s, co
                 }
             }
         }
-        for (int a = 0; a < 3; a++) {
+        /* a row without a touching pair adds +0.0, which changes no force (a force is never
+         * -0.0: it starts at +0.0 and a sum that cancels exactly is +0.0); on a bed most rows */
+        for (int a = 0; hit && a < 3; a++) {
             f[a][i] += fi[a];
             g[a][i] += gi[a];
             if (rot) {
