@@ -554,8 +554,8 @@ static inline __attribute__((always_inline)) void rows_3d(gr_sim *restrict s, co
                 }
             }
         }
-        /* a row without a touching pair adds +0.0, which changes no force (a force is never
-         * -0.0: it starts at +0.0 and a sum that cancels exactly is +0.0); on a bed most rows */
+        /* a row without a touching pair (on a bed, most rows) would add +0.0, which changes no
+         * force: a force is never -0.0 (it starts at +0.0, and a sum that cancels exactly is +0.0) */
         for (int a = 0; hit && a < 3; a++) {
             f[a][i] += fi[a];
             g[a][i] += gi[a];
