@@ -35,11 +35,11 @@ typedef struct keep_ctx {
     const double *x, *y, *z, *h, *rad;
     const uint8_t *contact;
     const int *list;
-    double P0, P1, P2, cut2, margin;
+    double P0, P1, P2, d, margin;
     int three;
 } keep_ctx;
 
-static keep_ctx keep_ctx_of(const gr_sim *s, const double cut2, const double margin)
+static keep_ctx keep_ctx_of(const gr_sim *s, const double margin)
 {
     /* the kernels' own differences: 3D wraps by the periods (INFINITY along a wall), 2D by L */
     const int three = s->dim == 3;
@@ -53,14 +53,14 @@ static keep_ctx keep_ctx_of(const gr_sim *s, const double cut2, const double mar
                       .P0 = three ? s->period[0] : s->L,
                       .P1 = three ? s->period[1] : s->L,
                       .P2 = three ? s->period[2] : 0.0,
-                      .cut2 = cut2,
+                      .d = s->d,
                       .margin = margin,
                       .three = three};
 }
 
-/* Whether list entry p of row i stays in the sublist: its pair is closer than the cut (identical
- * grains: d (1 + skin), squared in cut2; a mixture: r_i + r_j + margin), touched at the last
- * evaluation, or holds a history vector. */
+/* Whether list entry p of row i stays in the sublist: its pair is closer than its contact
+ * distance (d, or r_i + r_j with species) plus margin, touched at the last evaluation, or holds a
+ * history vector. */
 static inline bool keeps(const keep_ctx *c, const int i, const int p)
 {
     const int j = c->list[p];
@@ -68,8 +68,8 @@ static inline bool keeps(const keep_ctx *c, const int i, const int p)
                  dy = wrap_delta(c->y[j] - c->y[i], c->P1);
     const double dz = c->three ? wrap_delta(c->z[j] - c->z[i], c->P2) : 0.0;
     const double r2 = dx * dx + dy * dy + dz * dz;
-    const double cp = c->rad ? c->rad[i] + c->rad[j] + c->margin : 0.0;
-    bool keep = (c->rad ? r2 < cp * cp : r2 < c->cut2) || c->contact[p];
+    const double cut = (c->rad ? c->rad[i] + c->rad[j] : c->d) + c->margin;
+    bool keep = r2 < cut * cut || c->contact[p];
     const int hw = c->three ? 3 : 1; /* doubles per history slot */
     for (int a = 0; c->h && a < hw && !keep; a++) {
         keep = c->h[(int64_t)hw * p + a] != 0.0;
@@ -143,11 +143,9 @@ static int build(gr_sim *s, const bool forced)
         s->sl_flag = f;
         s->sl_cap = m;
     }
-    /* identical grains: pairs closer than d (1 + skin); a mixture: closer than r_i + r_j + skin d,
-     * d the largest pair's contact distance (the refresh's bound is in units of d alike) */
-    const double cut = s->d * (1.0 + GR_SUBLIST_SKIN), cut2 = cut * cut;
-    const double margin = GR_SUBLIST_SKIN * s->d;
-    const keep_ctx c = keep_ctx_of(s, cut2, margin);
+    /* pairs closer than their contact distance + skin d, d the largest pair's (the refresh's
+     * bound is in units of d alike) */
+    const keep_ctx c = keep_ctx_of(s, GR_SUBLIST_SKIN * s->d);
     if (T > 1) {
         build_threaded(s, T, &c);
     } else {
