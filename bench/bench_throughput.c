@@ -115,7 +115,8 @@ int main(int argc, char **argv)
     }
     double *rate = malloc(sizeof(double) * (size_t)repeats);
     double wall = 0.0;
-    int64_t reb0 = gr_sim_rebuilds(sim), col0 = gr_sim_collisions(sim);
+    int64_t reb0 = gr_sim_rebuilds(sim), col0 = gr_sim_collisions(sim),
+            sub0 = gr_sim_sublist_rebuilds(sim);
     for (long r = 0; r < repeats; r++) {
         double t0 = bench_now();
         if (gr_sim_step(sim, steps, &err)) {
@@ -143,9 +144,10 @@ int main(int argc, char **argv)
         return 0;
     }
     printf("%-28s N=%-7d %-70s median %.3e  min %.3e  max %.3e particle-steps/s  rebuilds/step "
-           "%.4f  contacts/step %.2f  [%s | %s | %s]\n",
+           "%.4f  sublist builds/step %.4f  contacts/step %.2f  [%s | %s | %s]\n",
            label ? label : scene_path, sc.N, gr_sim_kernel(sim), rate[repeats / 2], rate[0],
            rate[repeats - 1], (double)(gr_sim_rebuilds(sim) - reb0) / (double)(steps * repeats),
+           (double)(gr_sim_sublist_rebuilds(sim) - sub0) / (double)(steps * repeats),
            (double)(gr_sim_collisions(sim) - col0) / (double)(steps * repeats), cpu, GR_CFLAGS,
            GR_COMMIT);
     free(rate);

@@ -446,6 +446,9 @@ static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict 
                                                                int q0, int q1, const int rot,
                                                                const int spring)
 {
+    if (q0 >= q1) { /* none: the particles need not be visited (the last thread's later pairs) */
+        return;
+    }
     const int *restrict in = s->in_start, *restrict ink = s->in_k, *restrict list = s->in_list;
     const double *restrict pf = s->pair_f, *restrict ptq = s->pair_tq, *restrict ptg = s->pair_tg;
     for (int l = l0; l < l1; l++) {
@@ -482,7 +485,8 @@ static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict 
 }
 
 /* All 2D contact forces. One thread: the scatter over the whole list, f[j] += F in list order.
- * T threads: (1) every thread computes its cross pairs into pair_f; (2) thread t sets the forces
+ * T threads: (1) the threads share the cross pairs evenly and compute them into pair_f (with
+ * j > i in the list they all belong to the rows of the first threads); (2) thread t sets the forces
  * of its particles to the cross pairs from rows before its own (in list order), runs the scatter
  * over its rows (adding only to its own particles), then adds the cross pairs from rows after
  * its own. Each force is thus the same sequence of additions as with one thread (a cross pair
@@ -509,33 +513,32 @@ static inline __attribute__((always_inline)) void threaded_2d(gr_sim *restrict s
                                                               const int roll)
 {
     const pair_ctx c = ctx_of(s);
-    for (int t = tid; t < T; t += nth) {
-        for (int q = s->cross_start[t]; q < s->cross_start[t + 1]; q++) {
-            pair_out o; /* the fields its laws use are set by pair_2d (see the pragma above) */
-            double *f = s->pair_f + 4 * (size_t)q;
-            /* a history law reads the slot of the cross pair's row (this thread's): the new value is
-             * written by rows_2d after the barrier, from the same old value */
-            const int p = s->cross_p[q];
-            if (pair_2d(c, s->cross_i[q], s->nl_j[p], nl, tang, clamp, rot, roll,
-                        history_of(tang) ? s->nl_hist[p] : 0.0, &o)) {
-                f[0] = o.Fx;
-                f[1] = o.Fy;
-                f[2] = o.Gx;
-                f[3] = o.Gy;
-                if (rot) {
-                    s->pair_tq[q] = roll != RL_none ? o.tq + o.rq : o.tq;
-                }
-                if (rot && history_of(tang)) {
-                    s->pair_tg[q] = roll != RL_none ? o.tg + o.rq : o.tg;
-                }
-            } else {
-                f[0] = f[1] = f[2] = f[3] = 0.0;
-                if (rot) {
-                    s->pair_tq[q] = 0.0;
-                }
-                if (rot && history_of(tang)) {
-                    s->pair_tg[q] = 0.0;
-                }
+    const int q0 = gr_cross_share(s, T, tid, nth, 0), q1 = gr_cross_share(s, T, tid, nth, 1);
+    for (int q = q0; q < q1; q++) {
+        pair_out o; /* the fields its laws use are set by pair_2d (see the pragma above) */
+        double *f = s->pair_f + 4 * (size_t)q;
+        /* a history law reads the slot of the cross pair's row: its owner writes the new value
+         * in rows_2d after the barrier, from the same old value */
+        const int p = s->cross_p[q];
+        if (pair_2d(c, s->cross_i[q], s->nl_j[p], nl, tang, clamp, rot, roll,
+                    history_of(tang) ? s->nl_hist[p] : 0.0, &o)) {
+            f[0] = o.Fx;
+            f[1] = o.Fy;
+            f[2] = o.Gx;
+            f[3] = o.Gy;
+            if (rot) {
+                s->pair_tq[q] = roll != RL_none ? o.tq + o.rq : o.tq;
+            }
+            if (rot && history_of(tang)) {
+                s->pair_tg[q] = roll != RL_none ? o.tg + o.rq : o.tg;
+            }
+        } else {
+            f[0] = f[1] = f[2] = f[3] = 0.0;
+            if (rot) {
+                s->pair_tq[q] = 0.0;
+            }
+            if (rot && history_of(tang)) {
+                s->pair_tg[q] = 0.0;
             }
         }
     }

@@ -618,6 +618,9 @@ static inline __attribute__((always_inline)) void add_incoming_3d(gr_sim *restri
                                                                   const int q1, const int rot,
                                                                   const int hist)
 {
+    if (q0 >= q1) { /* none: the particles need not be visited (the last thread's later pairs) */
+        return;
+    }
     const int *restrict in = s->in_start, *restrict ink = s->in_k, *restrict list = s->in_list;
     const double *restrict pf = s->pair_f, *restrict ptq = s->pair_tq, *restrict ptg = s->pair_tg;
     double *restrict f[6] = {s->fx, s->fy, s->fz, s->gx, s->gy, s->gz};
@@ -659,8 +662,8 @@ static inline __attribute__((always_inline)) void add_incoming_3d(gr_sim *restri
 }
 
 /* The part of thread tid of nth (inside a parallel region) of the T-thread evaluation, as in 2D
- * (kernels.c, serial_2d): (1) the cross pairs of the thread's rows into pair_f (0 for a pair
- * apart: adding +0.0 changes no sum that starts from +0.0); (2) each thread sets its particles'
+ * (kernels.c, serial_2d): (1) the cross pairs, shared evenly by the threads, into pair_f (0 for
+ * a pair apart: adding +0.0 changes no sum that starts from +0.0); (2) each thread sets its particles'
  * forces to the cross pairs from earlier rows, runs its rows adding only to its own particles,
  * then adds the cross pairs from later rows: every force, torque and history vector is the same
  * sequence of operations as with one thread. */
@@ -673,33 +676,32 @@ static inline __attribute__((always_inline)) void threaded_3d(gr_sim *restrict s
     const int hist = history_of(tl);
     const ctx3 c = ctx3_of(s);
     static const double none[3] = {0.0, 0.0, 0.0};
-    for (int t = tid; t < T; t += nth) {
-        for (int q = s->cross_start[t]; q < s->cross_start[t + 1]; q++) {
-            /* a history law reads the vector of the cross pair's row (this thread's): the new
-             * value is written by rows_3d after the barrier, from the same old value */
-            const int p = s->cross_p[q];
-            double *fq = s->pair_f + 6 * (size_t)q;
-            double tj[3] = {0.0, 0.0, 0.0}, uj[3] = {0.0, 0.0, 0.0};
-            pair3 o;
-            if (pair_3d(&c, s->cross_i[q], s->nl_j[p], nl, tl, clamp, rot, rl,
-                        hist ? s->nl_hist + 3 * (int64_t)p : none, &o)) {
-                for (int a = 0; a < 3; a++) {
-                    fq[a] = o.F[a];
-                    fq[3 + a] = o.G[a];
-                }
-                if (rot) {
-                    torques_on_j(&o, tl, rl, tj, uj);
-                }
-            } else {
-                for (int a = 0; a < 6; a++) {
-                    fq[a] = 0.0;
-                }
+    const int q0 = gr_cross_share(s, T, tid, nth, 0), q1 = gr_cross_share(s, T, tid, nth, 1);
+    for (int q = q0; q < q1; q++) {
+        /* a history law reads the vector of the cross pair's row: its owner writes the new
+         * value in rows_3d after the barrier, from the same old value */
+        const int p = s->cross_p[q];
+        double *fq = s->pair_f + 6 * (size_t)q;
+        double tj[3] = {0.0, 0.0, 0.0}, uj[3] = {0.0, 0.0, 0.0};
+        pair3 o;
+        if (pair_3d(&c, s->cross_i[q], s->nl_j[p], nl, tl, clamp, rot, rl,
+                    hist ? s->nl_hist + 3 * (int64_t)p : none, &o)) {
+            for (int a = 0; a < 3; a++) {
+                fq[a] = o.F[a];
+                fq[3 + a] = o.G[a];
             }
-            for (int a = 0; a < 3 && rot; a++) {
-                s->pair_tq[3 * (size_t)q + a] = tj[a];
-                if (hist) {
-                    s->pair_tg[3 * (size_t)q + a] = uj[a];
-                }
+            if (rot) {
+                torques_on_j(&o, tl, rl, tj, uj);
+            }
+        } else {
+            for (int a = 0; a < 6; a++) {
+                fq[a] = 0.0;
+            }
+        }
+        for (int a = 0; a < 3 && rot; a++) {
+            s->pair_tq[3 * (size_t)q + a] = tj[a];
+            if (hist) {
+                s->pair_tg[3 * (size_t)q + a] = uj[a];
             }
         }
     }

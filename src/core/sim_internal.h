@@ -255,6 +255,15 @@ void gr_kernel_run_3d_dashpots(gr_sim *s, gr_force_report *r);
  * lists (par_row, cross_*, in_*, pair_*) when the list or the thread count changed; 1 when they
  * cannot be built (out of memory) */
 int gr_kernel_team(gr_sim *s);
+/* The first (end = 0) or one past the last (end = 1) cross pair that thread tid of nth evaluates
+ * in the first phase of a T-thread force evaluation: all T ranges' cross pairs shared evenly (the
+ * rows before the last thread's hold them all when j > i, and the others would wait); which
+ * thread evaluates a pair changes no bit. */
+static inline int gr_cross_share(const gr_sim *s, const int T, const int tid, const int nth,
+                                 const int end)
+{
+    return (int)((int64_t)s->cross_start[T] * (tid + end) / nth);
+}
 
 /* contact history: allocate the slots (zero), save them by pair before a rebuild, restore after */
 int gr_history_enable(gr_sim *s, gr_error *err);
