@@ -218,9 +218,12 @@ int gr_events_append(gr_sim *s, gr_contact_event ev, gr_error *err);
 /* src/core/neighbours.c (3D: gr_neighbours_*_3d, which these call when dim = 3) */
 int gr_neighbours_alloc(gr_sim *s, gr_error *err);
 /* The contact sublist (sublist.c): after every build of the list, decide and build it; before a
- * force evaluation, rebuild it when a particle has moved half its skin. */
+ * force evaluation, rebuild it when a particle has moved half its skin (gr_sublist_refresh
+ * measures the displacements; gr_sublist_refresh_moved takes the largest squared one, measured
+ * by the caller against xs_ref, ys_ref, zs_ref, e.g. in the Verlet step's opening pass). */
 void gr_sublist_after_build(gr_sim *s);
 void gr_sublist_refresh(gr_sim *s);
+void gr_sublist_refresh_moved(gr_sim *s, double moved2);
 void gr_sublist_free(gr_sim *s);
 int gr_neighbours_build(gr_sim *s, gr_error *err);
 

@@ -186,7 +186,9 @@ void gr_sublist_after_build(gr_sim *s)
     }
 }
 
-/* The largest squared displacement of the particles [lo, hi) since the sublist's build. */
+/* The largest squared displacement of the particles [lo, hi) since the sublist's build (the raw
+ * difference: a particle wrapped across a periodic face counts as a long move, which only
+ * rebuilds early; the Verlet step measures the minimum image in its opening pass instead). */
 static double moved2(const gr_sim *s, const int lo, const int hi)
 {
     const double *x = s->x, *y = s->y, *xr = s->xs_ref, *yr = s->ys_ref;
@@ -215,7 +217,6 @@ void gr_sublist_refresh(gr_sim *s)
     if (!s->sl_on) {
         return;
     }
-    const double lim = 0.5 * GR_SUBLIST_SKIN * s->d, lim2 = lim * lim;
     /* the largest displacement is the same on any number of threads; one thread enters no
      * parallel region (its call alone would cost a small bed's step a fifth, measured) */
     const int T = gr_team(s), n = s->n;
@@ -229,7 +230,13 @@ void gr_sublist_refresh(gr_sim *s)
     } else {
         worst = moved2(s, 0, n);
     }
-    if (!(worst <= lim2) &&
+    gr_sublist_refresh_moved(s, worst);
+}
+
+void gr_sublist_refresh_moved(gr_sim *s, const double worst2)
+{
+    const double lim = 0.5 * GR_SUBLIST_SKIN * s->d;
+    if (s->sl_on && !(worst2 <= lim * lim) &&
         !build(s, s->sl_forced)) { /* a NaN rebuilds too; the step then stops on it */
         s->sl_on = 0;
     }

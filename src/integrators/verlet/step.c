@@ -352,7 +352,7 @@ static void draw_noise(gr_sim *s, double mean[3], const int T)
  * the kinetic energy the bath's drag removed, whether all velocities are finite, and in 2D the
  * largest squared displacement since the last neighbour-list build. */
 typedef struct open_report {
-    double work_close, work_open, disp2, drag;
+    double work_close, work_open, disp2, disp2s, drag; /* disp2s: since the sublist's build */
     bool finite;
 } open_report;
 
@@ -415,19 +415,21 @@ static inline __attribute__((always_inline)) double open_step_1d(gr_sim *restric
 /* open_step_2d on the particles [lo, hi) (lo a multiple of LANES); writes the block's sums to
  * part: added, work_close, work_open, velocity sum, largest squared displacement (and with the
  * bath, the drag's sum of v^2 - (a v)^2). */
-enum { P_ADDED, P_WC, P_WO, P_SUM, P_DISP2, P_DRAG };
+enum { P_ADDED, P_WC, P_WO, P_SUM, P_DISP2, P_DRAG, P_DISP2S = 9 }; /* 6-8: the noise's sums */
 
 /* A block's lane sums into its part of s->blk (open_range_2d, open_range_3d). */
 static inline void block_sums(double *restrict part, const int noise, const double added[LANES],
                               const double wc[LANES], const double wo[LANES],
                               const double sum[LANES], const double worst[LANES],
-                              const double drag[LANES])
+                              const double worst_s[LANES], const double drag[LANES])
 {
-    double w = 0.0;
+    double w = 0.0, ws = 0.0;
     for (int l = 0; l < LANES; l++) {
         w = worst[l] > w ? worst[l] : w;
+        ws = worst_s[l] > ws ? worst_s[l] : ws;
     }
     part[P_DISP2] = w;
+    part[P_DISP2S] = ws;
     part[P_WC] = lanes_total(wc);
     part[P_WO] = lanes_total(wo);
     part[P_SUM] = lanes_total(sum);
@@ -455,9 +457,12 @@ static inline __attribute__((always_inline)) void open_range_2d(gr_sim *restrict
     double *restrict x = s->x, *restrict y = s->y, *restrict vx = s->vx, *restrict vy = s->vy;
     const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict g = s->noise;
     const double *restrict xr = s->x_ref, *restrict yr = s->y_ref;
+    /* the sublist's reference (the list's when it is off: then the result is not read) */
+    const double *restrict sxr = s->sl_on ? s->xs_ref : xr, *restrict syr =
+                                                                s->sl_on ? s->ys_ref : yr;
     const double *restrict gx = s->gx, *restrict gy = s->gy;
     double added[LANES] = {0}, worst[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0},
-           sum[LANES] = {0};
+           sum[LANES] = {0}, worst_s[LANES] = {0};
     double drag[LANES] = {0};
 #define OPEN_2D(i, l)                                                                              \
     do {                                                                                           \
@@ -497,6 +502,11 @@ static inline __attribute__((always_inline)) void open_range_2d(gr_sim *restrict
         ddy += ddy > half ? -L : (ddy < -half ? L : 0.0);                                          \
         const double d2 = ddx * ddx + ddy * ddy;                                                   \
         worst[l] = d2 > worst[l] ? d2 : worst[l];                                                  \
+        double sdx = xn - sxr[i], sdy = yn - syr[i];                                               \
+        sdx += sdx > half ? -L : (sdx < -half ? L : 0.0);                                          \
+        sdy += sdy > half ? -L : (sdy < -half ? L : 0.0);                                          \
+        const double s2 = sdx * sdx + sdy * sdy;                                                   \
+        worst_s[l] = s2 > worst_s[l] ? s2 : worst_s[l];                                            \
     } while (0)
     const int full = lo + (hi - lo) / LANES * LANES;
     for (int i0 = lo; i0 < full; i0 += LANES) {
@@ -511,7 +521,7 @@ static inline __attribute__((always_inline)) void open_range_2d(gr_sim *restrict
         OPEN_2D(i, i - full);
     }
 #undef OPEN_2D
-    block_sums(part, noise, added, wc, wo, sum, worst, drag);
+    block_sums(part, noise, added, wc, wo, sum, worst, worst_s, drag);
 }
 
 /* The opening pass's block sums combined in block order: the kinetic energy the noise added (the
@@ -521,7 +531,7 @@ static double open_total(const gr_sim *s, const int noise, open_report *o)
 {
     const int nb = s->nblk;
     const double *blk = s->blk;
-    double added = 0.0, wc = 0.0, wo = 0.0, sum = 0.0, worst = 0.0, drag = 0.0;
+    double added = 0.0, wc = 0.0, wo = 0.0, sum = 0.0, worst = 0.0, worst_s = 0.0, drag = 0.0;
     for (int b = 0; b < nb; b++) {
         const double *q = blk + (size_t)b * GR_BLK_FIELDS;
         drag += noise == DRIVE_OU ? q[P_DRAG] : 0.0;
@@ -530,8 +540,10 @@ static double open_total(const gr_sim *s, const int noise, open_report *o)
         wo += q[P_WO];
         sum += q[P_SUM];
         worst = q[P_DISP2] > worst ? q[P_DISP2] : worst;
+        worst_s = q[P_DISP2S] > worst_s ? q[P_DISP2S] : worst_s;
     }
     o->disp2 = worst;
+    o->disp2s = worst_s;
     o->work_close = 0.5 * s->dt * wc;
     o->work_open = 0.5 * s->dt * wo;
     o->finite = isfinite(sum) && isfinite(o->work_open);
@@ -628,7 +640,7 @@ static double open_step_2d(gr_sim *restrict s, const int noise, double mean[3], 
  * added; fills o as open_step_2d does. Along a wall axis (walls.c) positions are not wrapped. */
 /* One component c of particle i in open_step_3d (the lane l's sums; d2 the squared displacement):
  * the same arithmetic, in the same order, for x, y and z. */
-#define OPEN_3D_C(R, V, F, GN, REF, LO, HI, c, i, l)                                               \
+#define OPEN_3D_C(R, V, F, GN, REF, SREF, LO, HI, c, i, l)                                         \
     do {                                                                                           \
         const double dvf = h * F[i];                                                               \
         double vi = V[i];                                                                          \
@@ -656,14 +668,18 @@ static double open_step_2d(gr_sim *restrict s, const int noise, double mean[3], 
         double dd = q - REF[i];                                                                    \
         dd += dd > half ? -L : (dd < -half ? L : 0.0);                                             \
         d2 += dd * dd;                                                                             \
+        double ds = q - SREF[i];                                                                   \
+        ds += ds > half ? -L : (ds < -half ? L : 0.0);                                             \
+        s2 += ds * ds;                                                                             \
     } while (0)
 #define OPEN_3D(i, l)                                                                              \
     do {                                                                                           \
-        double d2 = 0.0;                                                                           \
-        OPEN_3D_C(x, vx, fx, gx, xr, lo_x, hi_x, 0, i, l);                                         \
-        OPEN_3D_C(y, vy, fy, gy, yr, lo_y, hi_y, 1, i, l);                                         \
-        OPEN_3D_C(z, vz, fz, gz, zr, lo_z, hi_z, 2, i, l);                                         \
+        double d2 = 0.0, s2 = 0.0;                                                                 \
+        OPEN_3D_C(x, vx, fx, gx, xr, sxr, lo_x, hi_x, 0, i, l);                                    \
+        OPEN_3D_C(y, vy, fy, gy, yr, syr, lo_y, hi_y, 1, i, l);                                    \
+        OPEN_3D_C(z, vz, fz, gz, zr, szr, lo_z, hi_z, 2, i, l);                                    \
         worst[l] = d2 > worst[l] ? d2 : worst[l];                                                  \
+        worst_s[l] = s2 > worst_s[l] ? s2 : worst_s[l];                                            \
     } while (0)
 
 /* The opening pass of 3D on the particles [lo, hi) (lo a multiple of LANES), for constant
@@ -688,9 +704,13 @@ static inline __attribute__((always_inline)) void open_range_3d(gr_sim *restrict
     const double *restrict fx = s->fx, *restrict fy = s->fy, *restrict fz = s->fz;
     const double *restrict gx = s->gx, *restrict gy = s->gy, *restrict gz = s->gz;
     const double *restrict xr = s->x_ref, *restrict yr = s->y_ref, *restrict zr = s->z_ref;
+    /* the sublist's reference (the list's when it is off: then the result is not read) */
+    const double *restrict sxr = s->sl_on ? s->xs_ref : xr,
+                           *restrict syr = s->sl_on ? s->ys_ref : yr,
+                           *restrict szr = s->sl_on ? s->zs_ref : zr;
     const double *restrict g = s->noise;
     double added[LANES] = {0}, wc[LANES] = {0}, wo[LANES] = {0}, sum[LANES] = {0},
-           worst[LANES] = {0}, drag[LANES] = {0};
+           worst[LANES] = {0}, worst_s[LANES] = {0}, drag[LANES] = {0};
     const int full = lo + (hi - lo) / LANES * LANES;
     for (int i0 = lo; i0 < full; i0 += LANES) {
 #pragma omp simd
@@ -702,7 +722,7 @@ static inline __attribute__((always_inline)) void open_range_3d(gr_sim *restrict
     for (int i = full; i < hi; i++) {
         OPEN_3D(i, i - full);
     }
-    block_sums(part, noise, added, wc, wo, sum, worst, drag);
+    block_sums(part, noise, added, wc, wo, sum, worst, worst_s, drag);
 }
 #undef OPEN_3D
 #undef OPEN_3D_C
@@ -834,8 +854,11 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
             if (rc) {
                 return rc;
             }
+            o.disp2s = 0.0; /* the build rebuilt the sublist too (or turned it off) */
         }
-        gr_sublist_refresh(s); /* the pairs that can touch: the same forces, fewer distances */
+        /* the pairs that can touch: the same forces, fewer distances; the opening pass measured
+         * the displacements since the sublist's build (1D has none) */
+        gr_sublist_refresh_moved(s, o.disp2s);
         int rc = gr_verlet_forces(s, err);
         if (rc) {
             return rc;
