@@ -745,15 +745,35 @@ static void open_block_3d(gr_sim *restrict s, const int b, const int noise, cons
 }
 
 /* The 3D opening pass over blocks of GR_BLOCK particles shared by T threads; the block sums are
- * combined in block order (open_total), so the result does not depend on T. */
-static double open_step_3d(gr_sim *restrict s, const int noise, const double mean[3],
-                           const int closing, open_report *o, const int T)
+ * combined in block order (open_total), so the result does not depend on T. With a driving on
+ * T > 1 threads it draws the normals and forms their means first, in the same parallel region (as
+ * noise_open_2d_*; mean is then filled in), otherwise draw_noise has run. */
+static double open_step_3d(gr_sim *restrict s, const int noise, double mean[3], const int closing,
+                           open_report *o, const int T)
 {
     const int nb = s->nblk;
     if (T > 1) {
-#pragma omp parallel for schedule(static) num_threads(T)
-        for (int b = 0; b < nb; b++) {
-            open_block_3d(s, b, noise, mean, closing);
+        const int sym = symmetrised(s);
+#pragma omp parallel num_threads(T)
+        {
+            double m[3] = {mean[0], mean[1], mean[2]};
+            if (noise) {
+#pragma omp for schedule(static)
+                for (int b = 0; b < nb; b++) {
+                    draw_block(s, b, GR_BLOCK, sym);
+                }
+                noise_mean(s, nb, sym, m); /* every thread, the same numbers */
+            }
+#pragma omp for schedule(static)
+            for (int b = 0; b < nb; b++) {
+                open_block_3d(s, b, noise, m, closing);
+            }
+#pragma omp master
+            {
+                mean[0] = m[0];
+                mean[1] = m[1];
+                mean[2] = m[2];
+            }
         }
     } else {
         for (int b = 0; b < nb; b++) {
@@ -805,7 +825,7 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
             }
             s->removed_com += gr_remove_com(s);
         }
-        if ((noise || bath) && (s->dim != 2 || team == 1)) { /* else drawn in open_step_2d */
+        if ((noise || bath) && (s->dim == 1 || team == 1)) { /* else drawn in the opening pass */
             draw_noise(s, mean, team);
         }
         const int close_here = closing && !com_now;
