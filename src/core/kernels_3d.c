@@ -465,6 +465,32 @@ static inline __attribute__((always_inline)) void torques_on_j(const pair3 *o, c
     }
 }
 
+/* The screen of the sublist's entries [k0, k1) (k in list order; the sublist on, no history
+ * law): each pair's squared distance by geometry()'s own expression, so the same pairs touch; an
+ * entry apart clears its contact flag (as the row loop does), a touching one is appended to
+ * s->sl_hits from position k0 (each block its own range, so threads do not share). Returns the
+ * number appended. Branch-free: on a bed most entries are apart and the row loop's branch on
+ * each, with the rows' own overhead, was most of the kernel. */
+static inline __attribute__((always_inline)) int screen_3d(const ctx3 *c, gr_sim *restrict s,
+                                                           const int k0, const int k1)
+{
+    const int *restrict entry = s->sl_p, *restrict row_of = s->sl_i, *restrict list = s->nl_j;
+    uint8_t *restrict touching = s->nl_contact;
+    int *restrict hits = s->sl_hits + k0;
+    int m = 0;
+    for (int k = k0; k < k1; k++) {
+        const int p = entry[k], i = row_of[k], j = list[p];
+        const double dx = wrap_delta(c->x[j] - c->x[i], c->P[0]),
+                     dy = wrap_delta(c->y[j] - c->y[i], c->P[1]),
+                     dz = wrap_delta(c->z[j] - c->z[i], c->P[2]);
+        const int t = !(dx * dx + dy * dy + dz * dz >= c->d2); /* as geometry(), NaN included */
+        touching[p] &= (uint8_t)t;
+        hits[m] = k;
+        m += t;
+    }
+    return m;
+}
+
 /* GCC (12) reports o.hs of rows_3d as used uninitialised in the instance without a history law,
  * where the write-back that reads it is dead code (hist = 0); the warning is false. */
 #if defined(__GNUC__) && !defined(__clang__)
@@ -494,11 +520,37 @@ static inline __attribute__((always_inline)) void rows_3d(gr_sim *restrict s, co
     int64_t fresh = 0;
     int wi = -1, wj = -1;
     static const double none[3] = {0.0, 0.0, 0.0};
-    for (int i = r0; i < r1; i++) {
+    /* screened (the sublist on, no history law): first the block's touching entries, branch-free,
+     * then the rows that have one, each over its touching entries alone (the same pairs in the
+     * same order: the rest add nothing) */
+    const int screened = sub && !hist;
+    const int *restrict hits = screened ? s->sl_hits + rows[r0] : NULL;
+    int nhits = 0;
+    if (screened) {
+        nhits = screen_3d(&c, s, rows[r0], rows[r1]);
+    }
+    for (int i = r0, h = 0;;) {
+        int ka, kb; /* the row's entries: k in [ka, kb), or hits[ka..kb) when screened */
+        if (screened) {
+            if (h >= nhits) {
+                break;
+            }
+            i = s->sl_i[hits[h]];
+            for (ka = h; h < nhits && s->sl_i[hits[h]] == i; h++) {
+            }
+            kb = h;
+        } else {
+            if (i >= r1) {
+                break;
+            }
+            ka = rows[i];
+            kb = rows[i + 1];
+        }
         double fi[3] = {0.0, 0.0, 0.0}, gi[3] = {0.0, 0.0, 0.0}, ti[3] = {0.0, 0.0, 0.0},
                ui[3] = {0.0, 0.0, 0.0};
         int hit = 0; /* a pair of the row touches */
-        for (int k = rows[i]; k < rows[i + 1]; k++) {
+        for (int kk = ka; kk < kb; kk++) {
+            const int k = screened ? hits[kk] : kk;
             const int p = sub ? entry[k] : k, j = list[p];
             double *hp = hist ? hs + 3 * (int64_t)p : NULL;
             pair3 o;
@@ -573,6 +625,7 @@ static inline __attribute__((always_inline)) void rows_3d(gr_sim *restrict s, co
                 tg[a][i] += ui[a];
             }
         }
+        i += !screened;
     }
     part[B_EL] = elastic;
     part[B_PN] = pn;

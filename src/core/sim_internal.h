@@ -81,7 +81,8 @@ struct gr_sim {
      * either way, so every sum is the same. sl_verlet: the Verlet step runs this simulation (the
      * only kernels that read it); sl_list_at: the step of the list's last build. */
     int *sl_start, *sl_p;
-    uint8_t *sl_flag; /* per list entry, the threaded build's flags */
+    int *sl_i, *sl_hits; /* per kept entry: its row; the 3D kernel's touching entries (scratch) */
+    uint8_t *sl_flag;    /* per list entry, the threaded build's flags */
     int64_t sl_cap, sl_list_at, sl_rebuilds;
     double *xs_ref, *ys_ref, *zs_ref;
     int sl_on, sl_verlet, sl_forced;

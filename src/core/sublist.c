@@ -69,8 +69,8 @@ static inline bool keeps(const keep_ctx *c, const int i, const int p)
     const double dz = c->three ? wrap_delta(c->z[j] - c->z[i], c->P2) : 0.0;
     const double r2 = dx * dx + dy * dy + dz * dz;
     const double cut = (c->rad ? c->rad[i] + c->rad[j] : c->d) + c->margin;
-    bool keep = r2 < cut * cut || c->contact[p];
-    const int hw = c->three ? 3 : 1; /* doubles per history slot */
+    bool keep = (r2 < cut * cut) | c->contact[p]; /* no branch: most entries are apart */
+    const int hw = c->three ? 3 : 1;              /* doubles per history slot */
     for (int a = 0; c->h && a < hw && !keep; a++) {
         keep = c->h[(int64_t)hw * p + a] != 0.0;
     }
@@ -82,7 +82,7 @@ static inline bool keeps(const keep_ctx *c, const int i, const int p)
 static void build_threaded(gr_sim *restrict s, const int T, const keep_ctx *c)
 {
     const int n = s->n, *restrict row = s->nl_start;
-    int *restrict start = s->sl_start, *restrict sub = s->sl_p;
+    int *restrict start = s->sl_start, *restrict sub = s->sl_p, *restrict row_of = s->sl_i;
     uint8_t *restrict flag = s->sl_flag;
 #pragma omp parallel num_threads(T)
     {
@@ -107,6 +107,7 @@ static void build_threaded(gr_sim *restrict s, const int T, const keep_ctx *c)
             int k = start[i];
             for (int p = row[i]; p < row[i + 1]; p++) {
                 if (flag[p]) {
+                    row_of[k] = i;
                     sub[k++] = p;
                 }
             }
@@ -132,11 +133,20 @@ static int build(gr_sim *s, const bool forced)
         }
     }
     if (m > s->sl_cap) {
-        int *p = realloc(s->sl_p, sizeof(int) * (size_t)(m > 0 ? m : 1));
+        const size_t cap = (size_t)(m > 0 ? m : 1);
+        int *p = realloc(s->sl_p, sizeof(int) * cap);
         if (p) {
             s->sl_p = p;
         }
-        uint8_t *f = p ? realloc(s->sl_flag, (size_t)(m > 0 ? m : 1)) : NULL;
+        int *ri = p ? realloc(s->sl_i, sizeof(int) * cap) : NULL;
+        if (ri) {
+            s->sl_i = ri;
+        }
+        int *hits = ri ? realloc(s->sl_hits, sizeof(int) * cap) : NULL;
+        if (hits) {
+            s->sl_hits = hits;
+        }
+        uint8_t *f = hits ? realloc(s->sl_flag, cap) : NULL;
         if (!f) {
             return 0;
         }
@@ -153,9 +163,10 @@ static int build(gr_sim *s, const bool forced)
         for (int i = 0; i < n; i++) {
             s->sl_start[i] = count;
             for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
-                if (keeps(&c, i, p)) {
-                    s->sl_p[count++] = p;
-                }
+                /* branch-free: count <= p < m, so the slot exists */
+                s->sl_i[count] = i;
+                s->sl_p[count] = p;
+                count += keeps(&c, i, p);
             }
         }
         s->sl_start[n] = count;
@@ -246,6 +257,8 @@ void gr_sublist_free(gr_sim *s)
 {
     free(s->sl_start);
     free(s->sl_p);
+    free(s->sl_i);
+    free(s->sl_hits);
     free(s->sl_flag);
     free(s->xs_ref);
     free(s->ys_ref);
