@@ -31,6 +31,9 @@ check() { # name threads scene duration quick-duration sets...
     echo "$name: the same bytes off, on and auto"
 }
 check bed-3d 1 vibrated-bed-3d.ini 0.05 0.012 model.tangential=tangential_spring
+# without a history law the 3D kernel screens the sublist's entries first (kernels_3d.c, screen_3d)
+check bed-3d-friction 1 vibrated-bed-3d.ini 0.05 0.012
+check gas-3d-dashpot 2 rfm-3d.ini 0.005 0.002 system.packing_fraction=0.3 model.tangential=tangential_dashpot
 check bed-2d 1 vibrated-bed.ini 0.1 0.024
 check gas-2d-threads 2 rfm-2d.ini 0.01 0.003 system.N=3000
 check gas-3d-threads 2 rfm-3d.ini 0.005 0.002 model.tangential=tangential_spring model.rotation=true
