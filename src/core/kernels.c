@@ -189,6 +189,27 @@ static double forget(const pair_ctx *c, const int tang, const int i, const int j
 
 /* The rows [r0, r1) of the half list, scattering f[j] += F for j in [lo, hi) (all = 1: every j,
  * one thread) and f[i] -= sum of its row. Sums of the block in list order. */
+/* The screen of the sublist's entries [k0, k1) (kernels_3d.c, screen_3d, in 2D): each pair's
+ * squared distance by pair_2d's own expression; an entry apart clears its contact flag, a
+ * touching one is appended to s->sl_hits from position k0. Returns the number appended. */
+static inline __attribute__((always_inline)) int screen_2d(const pair_ctx c, gr_sim *restrict s,
+                                                           const int k0, const int k1)
+{
+    const int *restrict entry = s->sl_p, *restrict row_of = s->sl_i, *restrict list = s->nl_j;
+    uint8_t *restrict touching = s->nl_contact;
+    int *restrict hits = s->sl_hits + k0;
+    int m = 0;
+    for (int k = k0; k < k1; k++) {
+        const int p = entry[k], i = row_of[k], j = list[p];
+        const double dx = wrap_delta(c.x[j] - c.x[i], c.L), dy = wrap_delta(c.y[j] - c.y[i], c.L);
+        const int t = !(dx * dx + dy * dy >= c.d2); /* as pair_2d, NaN included */
+        touching[p] &= (uint8_t)t;
+        hits[m] = k;
+        m += t;
+    }
+    return m;
+}
+
 static inline __attribute__((always_inline)) void rows_2d(gr_sim *restrict s, const int r0,
                                                           const int r1, const int lo, const int hi,
                                                           const int all, const int nl,
@@ -209,10 +230,32 @@ static inline __attribute__((always_inline)) void rows_2d(gr_sim *restrict s, co
     const pair_ctx c = ctx_of(s);
     double elastic = 0.0, pn = 0.0, pt = 0.0, pf = 0.0, worst = 0.0, el_t = 0.0, lost = 0.0;
     int64_t fresh = 0;
-    for (int i = r0; i < r1; i++) {
+    /* screened (the sublist on, no history law): the block's touching entries first, then the
+     * rows that have one over those alone, as rows_3d (kernels_3d.c) */
+    const int screened = sub && !history_of(tang);
+    const int *restrict hits = screened ? s->sl_hits + rows[r0] : NULL;
+    const int nhits = screened ? screen_2d(c, s, rows[r0], rows[r1]) : 0;
+    for (int i = r0, h = 0;;) {
+        int ka, kb; /* the row's entries: k in [ka, kb), or hits[ka..kb) when screened */
+        if (screened) {
+            if (h >= nhits) {
+                break;
+            }
+            i = s->sl_i[hits[h]];
+            for (ka = h; h < nhits && s->sl_i[hits[h]] == i; h++) {
+            }
+            kb = h;
+        } else {
+            if (i >= r1) {
+                break;
+            }
+            ka = rows[i];
+            kb = rows[i + 1];
+        }
         double fxi = 0.0, fyi = 0.0, gxi = 0.0, gyi = 0.0, tqi = 0.0, tgi = 0.0;
         int hit = 0; /* a pair of the row touches */
-        for (int k = rows[i]; k < rows[i + 1]; k++) {
+        for (int kk = ka; kk < kb; kk++) {
+            const int k = screened ? hits[kk] : kk;
             const int p = sub ? entry[k] : k, j = list[p];
             pair_out o; /* the fields its laws use are set by pair_2d (see the pragma above) */
             if (!pair_2d(c, i, j, nl, tang, clamp, rot, roll, history_of(tang) ? hist[p] : 0.0,
@@ -266,19 +309,20 @@ static inline __attribute__((always_inline)) void rows_2d(gr_sim *restrict s, co
                 }
             }
         }
-        if (!hit) { /* adding +0.0 would change no force (kernels_3d.c, rows_3d) */
-            continue;
+        /* a row without a touching pair would add +0.0, which changes no force (rows_3d) */
+        if (hit) {
+            fx[i] += fxi;
+            fy[i] += fyi;
+            gx_[i] += gxi;
+            gy_[i] += gyi;
+            if (rot) {
+                tq[i] += tqi;
+            }
+            if (rot && history_of(tang)) {
+                tg[i] += tgi;
+            }
         }
-        fx[i] += fxi;
-        fy[i] += fyi;
-        gx_[i] += gxi;
-        gy_[i] += gyi;
-        if (rot) {
-            tq[i] += tqi;
-        }
-        if (rot && history_of(tang)) {
-            tg[i] += tgi;
-        }
+        i += !screened;
     }
     part[B_EL] = elastic;
     part[B_PN] = pn;
