@@ -232,7 +232,7 @@ static inline __attribute__((always_inline)) void rows_2d(gr_sim *restrict s, co
     int64_t fresh = 0;
     /* screened (the sublist on, no history law): the block's touching entries first, then the
      * rows that have one over those alone, as rows_3d (kernels_3d.c) */
-    const int screened = sub && !history_of(tang);
+    const int screened = sub && s->sl_screen && !history_of(tang);
     const int *restrict hits = screened ? s->sl_hits + rows[r0] : NULL;
     const int nhits = screened ? screen_2d(c, s, rows[r0], rows[r1]) : 0;
     for (int i = r0, h = 0;;) {

@@ -523,7 +523,7 @@ static inline __attribute__((always_inline)) void rows_3d(gr_sim *restrict s, co
     /* screened (the sublist on, no history law): first the block's touching entries, branch-free,
      * then the rows that have one, each over its touching entries alone (the same pairs in the
      * same order: the rest add nothing) */
-    const int screened = sub && !hist;
+    const int screened = sub && s->sl_screen && !hist;
     const int *restrict hits = screened ? s->sl_hits + rows[r0] : NULL;
     int nhits = 0;
     if (screened) {

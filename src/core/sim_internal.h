@@ -79,13 +79,14 @@ struct gr_sim {
      * rebuilt from the list when a particle has moved GR_SUBLIST_SKIN d / 2 since; the 2D and 3D
      * kernels scan it instead of the list when sl_on. The same pairs in the same order touch
      * either way, so every sum is the same. sl_verlet: the Verlet step runs this simulation (the
-     * only kernels that read it); sl_list_at: the step of the list's last build. */
+     * only kernels that read it); sl_list_at: the step of the list's last build; sl_screen: the
+     * kernels pick the touching entries first (fewer than half of them touched at the build). */
     int *sl_start, *sl_p;
-    int *sl_i, *sl_hits; /* per kept entry: its row; the 3D kernel's touching entries (scratch) */
+    int *sl_i, *sl_hits; /* per kept entry: its row; the kernels' touching entries (scratch) */
     uint8_t *sl_flag;    /* per list entry, the threaded build's flags */
     int64_t sl_cap, sl_list_at, sl_rebuilds;
     double *xs_ref, *ys_ref, *zs_ref;
-    int sl_on, sl_verlet, sl_forced;
+    int sl_on, sl_verlet, sl_forced, sl_screen;
 
     /* 1D: pair (i, i+1 mod n) contact flags; the ring loop's per-pair scratch (3 n doubles) */
     uint8_t *pair_contact;

@@ -174,6 +174,13 @@ static int build(gr_sim *s, const bool forced)
     if (!forced && s->sl_start[n] > GR_SUBLIST_MAX_SHARE * (double)m) { /* most pairs close */
         return 0;
     }
+    /* screen the entries first (the kernels' sl_screen) while fewer than half touch: on a
+     * crystal, where most do, the screen is a second look at every touching pair */
+    int64_t touching = 0;
+    for (int k = 0; k < s->sl_start[n]; k++) {
+        touching += s->nl_contact[s->sl_p[k]];
+    }
+    s->sl_screen = 2 * touching < s->sl_start[n];
     memcpy(s->xs_ref, s->x, sizeof(double) * (size_t)n);
     memcpy(s->ys_ref, s->y, sizeof(double) * (size_t)n);
     if (s->dim == 3) {
