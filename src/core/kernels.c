@@ -210,12 +210,20 @@ static inline __attribute__((always_inline)) int screen_2d(const pair_ctx c, gr_
     return m;
 }
 
+/* Whether the rows screen the sublist's entries first: it is on, fewer than half of its entries
+ * touched at its build (sublist.c), and no history law (whose ended contacts need each entry). A
+ * constant of each call of rows_2d and rows_3d, so the loop without the screen is the plain one. */
+static inline int screens_2d(const gr_sim *s, const int tang)
+{
+    return s->sl_on && s->sl_screen && !history_of(tang);
+}
+
 static inline __attribute__((always_inline)) void rows_2d(gr_sim *restrict s, const int r0,
                                                           const int r1, const int lo, const int hi,
-                                                          const int all, const int nl,
-                                                          const int tang, const int clamp,
-                                                          const int rot, const int roll,
-                                                          double *restrict part)
+                                                          const int all, const int screened,
+                                                          const int nl, const int tang,
+                                                          const int clamp, const int rot,
+                                                          const int roll, double *restrict part)
 {
     double *restrict fx = s->fx, *restrict fy = s->fy, *restrict gx_ = s->gx, *restrict gy_ = s->gy;
     double *restrict tq = s->tq;
@@ -230,9 +238,8 @@ static inline __attribute__((always_inline)) void rows_2d(gr_sim *restrict s, co
     const pair_ctx c = ctx_of(s);
     double elastic = 0.0, pn = 0.0, pt = 0.0, pf = 0.0, worst = 0.0, el_t = 0.0, lost = 0.0;
     int64_t fresh = 0;
-    /* screened (the sublist on, no history law): the block's touching entries first, then the
-     * rows that have one over those alone, as rows_3d (kernels_3d.c) */
-    const int screened = sub && s->sl_screen && !history_of(tang);
+    /* screened (a constant of the call: screens_2d): the block's touching entries first, then
+     * the rows that have one over those alone, as rows_3d (kernels_3d.c) */
     const int *restrict hits = screened ? s->sl_hits + rows[r0] : NULL;
     const int nhits = screened ? screen_2d(c, s, rows[r0], rows[r1]) : 0;
     for (int i = r0, h = 0;;) {
@@ -544,8 +551,12 @@ static inline __attribute__((always_inline)) void serial_2d(gr_sim *restrict s, 
     zero_forces(s, 0, n);
     for (int b = 0; b < s->nblk; b++) {
         const int r1 = (b + 1) * GR_BLOCK < n ? (b + 1) * GR_BLOCK : n;
-        rows_2d(s, b * GR_BLOCK, r1, 0, n, 1, nl, tang, clamp, rot, roll,
-                s->blk + (size_t)b * GR_BLK_FIELDS);
+        double *part = s->blk + (size_t)b * GR_BLK_FIELDS;
+        if (screens_2d(s, tang)) {
+            rows_2d(s, b * GR_BLOCK, r1, 0, n, 1, 1, nl, tang, clamp, rot, roll, part);
+        } else {
+            rows_2d(s, b * GR_BLOCK, r1, 0, n, 1, 0, nl, tang, clamp, rot, roll, part);
+        }
     }
 }
 
@@ -594,8 +605,12 @@ static inline __attribute__((always_inline)) void threaded_2d(gr_sim *restrict s
         add_incoming(s, l0, l1, 0, s->cross_start[t], rot, rot && history_of(tang));
         for (int r0 = lo; r0 < hi; r0 += GR_BLOCK) {
             const int r1 = r0 + GR_BLOCK < hi ? r0 + GR_BLOCK : hi;
-            rows_2d(s, r0, r1, lo, hi, 0, nl, tang, clamp, rot, roll,
-                    s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS);
+            double *part = s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS;
+            if (screens_2d(s, tang)) {
+                rows_2d(s, r0, r1, lo, hi, 0, 1, nl, tang, clamp, rot, roll, part);
+            } else {
+                rows_2d(s, r0, r1, lo, hi, 0, 0, nl, tang, clamp, rot, roll, part);
+            }
         }
         add_incoming(s, l0, l1, s->cross_start[t + 1], s->cross_start[T], rot,
                      rot && history_of(tang));

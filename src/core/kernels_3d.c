@@ -501,7 +501,8 @@ static inline __attribute__((always_inline)) int screen_3d(const ctx3 *c, gr_sim
  * and to each row's i the sum of its row. Sums of the block in list order, into part. */
 static inline __attribute__((always_inline)) void rows_3d(gr_sim *restrict s, const int r0,
                                                           const int r1, const int lo, const int hi,
-                                                          const int all, const int nl, const int tl,
+                                                          const int all, const int screened,
+                                                          const int nl, const int tl,
                                                           const int clamp, const int rot,
                                                           const int rl, double *restrict part)
 {
@@ -520,10 +521,9 @@ static inline __attribute__((always_inline)) void rows_3d(gr_sim *restrict s, co
     int64_t fresh = 0;
     int wi = -1, wj = -1;
     static const double none[3] = {0.0, 0.0, 0.0};
-    /* screened (the sublist on, no history law): first the block's touching entries, branch-free,
-     * then the rows that have one, each over its touching entries alone (the same pairs in the
-     * same order: the rest add nothing) */
-    const int screened = sub && s->sl_screen && !hist;
+    /* screened (a constant of the call; kernels.c, screens_2d): first the block's touching
+     * entries, branch-free, then the rows that have one, each over its touching entries alone (the
+     * same pairs in the same order: the rest add nothing) */
     const int *restrict hits = screened ? s->sl_hits + rows[r0] : NULL;
     int nhits = 0;
     if (screened) {
@@ -665,8 +665,12 @@ static inline __attribute__((always_inline)) void serial_3d(gr_sim *restrict s, 
     zero_3d(s, 0, n, rot, history_of(tl));
     for (int b = 0; b < s->nblk; b++) {
         const int r1 = (b + 1) * GR_BLOCK < n ? (b + 1) * GR_BLOCK : n;
-        rows_3d(s, b * GR_BLOCK, r1, 0, n, 1, nl, tl, clamp, rot, rl,
-                s->blk + (size_t)b * GR_BLK_FIELDS);
+        double *part = s->blk + (size_t)b * GR_BLK_FIELDS;
+        if (s->sl_on && s->sl_screen && !history_of(tl)) { /* kernels.c, screens_2d */
+            rows_3d(s, b * GR_BLOCK, r1, 0, n, 1, 1, nl, tl, clamp, rot, rl, part);
+        } else {
+            rows_3d(s, b * GR_BLOCK, r1, 0, n, 1, 0, nl, tl, clamp, rot, rl, part);
+        }
     }
 }
 
@@ -773,8 +777,12 @@ static inline __attribute__((always_inline)) void threaded_3d(gr_sim *restrict s
         add_incoming_3d(s, l0, l1, 0, s->cross_start[t], rot, hist);
         for (int r0 = lo; r0 < hi; r0 += GR_BLOCK) {
             const int r1 = r0 + GR_BLOCK < hi ? r0 + GR_BLOCK : hi;
-            rows_3d(s, r0, r1, lo, hi, 0, nl, tl, clamp, rot, rl,
-                    s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS);
+            double *part = s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS;
+            if (s->sl_on && s->sl_screen && !hist) {
+                rows_3d(s, r0, r1, lo, hi, 0, 1, nl, tl, clamp, rot, rl, part);
+            } else {
+                rows_3d(s, r0, r1, lo, hi, 0, 0, nl, tl, clamp, rot, rl, part);
+            }
         }
         add_incoming_3d(s, l0, l1, s->cross_start[t + 1], s->cross_start[T], rot, hist);
     }
