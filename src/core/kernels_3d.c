@@ -475,16 +475,27 @@ static inline __attribute__((always_inline)) int screen_3d(const ctx3 *c, gr_sim
                                                            const int k0, const int k1)
 {
     const int *restrict entry = s->sl_p, *restrict row_of = s->sl_i, *restrict list = s->nl_j;
+    const double *restrict x = c->x, *restrict y = c->y, *restrict z = c->z;
+    const double P0 = c->P[0], P1 = c->P[1], P2 = c->P[2], d2 = c->d2;
+    const double h0 = 0.5 * P0, h1 = 0.5 * P1, h2 = 0.5 * P2;
     uint8_t *restrict touching = s->nl_contact;
+    uint8_t *restrict flag = s->sl_flag + k0; /* the build's scratch, free until the next build */
     int *restrict hits = s->sl_hits + k0;
-    int m = 0;
+    /* the distances in vector lanes: wrap_delta's arithmetic as selects (d - P, d + P or d +
+     * 0.0, which squares to the same), so the same bits; INFINITY along a wall axis adds 0.0 */
+#pragma omp simd
     for (int k = k0; k < k1; k++) {
         const int p = entry[k], i = row_of[k], j = list[p];
-        const double dx = wrap_delta(c->x[j] - c->x[i], c->P[0]),
-                     dy = wrap_delta(c->y[j] - c->y[i], c->P[1]),
-                     dz = wrap_delta(c->z[j] - c->z[i], c->P[2]);
-        const int t = !(dx * dx + dy * dy + dz * dz >= c->d2); /* as geometry(), NaN included */
-        touching[p] &= (uint8_t)t;
+        double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
+        dx += dx > h0 ? -P0 : (dx < -h0 ? P0 : 0.0);
+        dy += dy > h1 ? -P1 : (dy < -h1 ? P1 : 0.0);
+        dz += dz > h2 ? -P2 : (dz < -h2 ? P2 : 0.0);
+        flag[k - k0] = !(dx * dx + dy * dy + dz * dz >= d2); /* as geometry(), NaN included */
+    }
+    int m = 0;
+    for (int k = k0; k < k1; k++) {
+        const uint8_t t = flag[k - k0];
+        touching[entry[k]] &= t;
         hits[m] = k;
         m += t;
     }
