@@ -298,6 +298,10 @@ done
 for f in temperature.csv ledger.csv species.csv; do
     cmp -s "$tmp/threads1/$f" "$tmp/threads2/$f" || fail "$f differs between 1 and 2 threads"
 done
+# a mixture steps on one thread: --threads 2 says so and summary.json records the one thread
+grep -q "2 threads were asked for, but a run with species" "$tmp/threads2.log" ||
+    fail "--threads 2 on a mixture gives no note: $(cat "$tmp/threads2.log")"
+grep -q '"threads":[[:space:]]*1,' "$tmp/threads2/summary.json" || fail "summary.json of a mixture on --threads 2 does not record one thread"
 
 # the snapshot picture draws every disc to its own scale: grains of radii 1.5 and 3 mm at packing
 # fraction 0.3 cover 30 % of the box (drawn all at one radius they would cover 12 %)

@@ -58,6 +58,9 @@ typedef struct gr_integrator_type {
     /* Steps grains of several species, each with its own radius and mass ([species],
      * docs/mixtures.md); an integrator without it refuses a scene with species. */
     bool species;
+    /* Runs its step on the threads of gr_team (docs/performance.md, "Threads"); without it a run
+     * steps on one thread whatever --threads asks, and says so. */
+    bool threads;
 
     /* Build the integrator's state (into the simulation's integrator_state) once positions,
      * velocities, coefficients, the time step and the first forces are set. NULL: none. */

@@ -213,9 +213,12 @@ void gr_sim_spins(const gr_sim *sim, const double **wx, const double **wy, const
 void gr_set_threads(int n);
 /* The setting resolved: threads the core and the costly observables (S(k), g(R)) may use. */
 int gr_get_threads(void);
-/* Threads a step of sim uses now: the setting above, but 1 in 1D, for at most 1024 particles
- * (one block), without OpenMP, or when called from inside a parallel region. */
+/* Threads a step of sim uses now: the setting above, but 1 when the reason below applies,
+ * without OpenMP, or when called from inside a parallel region. */
 int gr_sim_threads(const gr_sim *sim);
+/* Why a step of sim runs on one thread whatever the setting (1D, the event-driven integrator,
+ * species, at most 1024 particles), in words; NULL when it uses the setting's threads. */
+const char *gr_sim_one_thread_reason(const gr_sim *sim);
 double gr_sim_time(const gr_sim *sim);
 int64_t gr_sim_steps(const gr_sim *sim);
 double gr_sim_dt(const gr_sim *sim);

@@ -90,6 +90,19 @@ static int refuse_busy(const gr_run_ctx *c, const char *holder)
  * (fresh runs) the output folder. Everything that can refuse the scene (dt, placement,
  * observables, schedule) is checked before the output folder is touched: a refused run leaves it
  * as it was. */
+/* A note when the threads asked for (--threads, OMP_NUM_THREADS) exceed those the step uses. */
+static void note_threads(const gr_sim *sim, char *notes, size_t len)
+{
+    const int asked = gr_get_threads(), used = gr_sim_threads(sim);
+    const char *why = gr_sim_one_thread_reason(sim);
+    const size_t at = strlen(notes);
+    if (asked > used && why && at < len) {
+        snprintf(notes + at, len - at,
+                 "%d threads were asked for, but %s; the results are the same for every count\n",
+                 asked, why);
+    }
+}
+
 static int open_run(gr_run_ctx *c)
 {
     const gr_scene *scene = c->scene;
@@ -127,6 +140,7 @@ static int open_run(gr_run_ctx *c)
     rc =
         rc ? rc
            : gr_run_schedule_make(scene, c->dt, &c->plan, c->res->notes, sizeof c->res->notes, err);
+    note_threads(c->sim, c->res->notes, sizeof c->res->notes);
     const bool resume = c->resume;
     rc = rc || resume ? rc : gr_run_checkpoint_guard(c->dir, opt && opt->force, err);
     rc = rc || resume ? rc : gr_output_dir_prepare(c->dir, GR_OUTPUT_RUN, opt && opt->force, err);

@@ -47,7 +47,24 @@ int gr_team(const gr_sim *s)
 #endif
 }
 
-int gr_sim_threads(const gr_sim *s) { return gr_team(s); }
+const char *gr_sim_one_thread_reason(const gr_sim *s)
+{
+    if (s->dim == 1) {
+        return "a 1D run steps on one thread";
+    }
+    if (s->integrator && !s->integrator->threads) {
+        return "the event-driven integrator steps on one thread (docs/event-driven.md)";
+    }
+    if (s->nsp > 0 || s->rad) {
+        return "a run with species or a radius distribution steps on one thread (docs/mixtures.md)";
+    }
+    if (s->nblk < 2) {
+        return "a run of at most 1024 grains is one block of rows and steps on one thread";
+    }
+    return NULL;
+}
+
+int gr_sim_threads(const gr_sim *s) { return gr_sim_one_thread_reason(s) ? 1 : gr_team(s); }
 
 static double *alloc_array(int n)
 {

@@ -38,6 +38,7 @@ const gr_integrator_type gr_integrator_hybrid = {
     .walls = true,    /* 2D and 3D: grains that could reach a wall are active (docs/hybrid.md) */
     .species = true,  /* species lists, com or no noise (docs/hybrid.md, "Mixtures") */
     .drag = true,     /* the Langevin bath at each window's end (hybrid.c, bath_window) */
+    .threads = true,  /* the active set's forces, once it holds more than one block (child.c) */
     .create = gr_hybrid_init,
     .step = gr_hybrid_step,
     .free = gr_hybrid_free,

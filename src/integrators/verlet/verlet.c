@@ -10,6 +10,7 @@ const gr_integrator_type gr_integrator_verlet = {
     .single_noise = true,
     .spheres = true,
     .species = true,
+    .threads = true, /* identical grains; a run with species steps on one thread (step_poly.c) */
     .summary = "soft-sphere velocity Verlet (docs/integrator.md)",
     .step = gr_verlet_step,
 };
