@@ -409,6 +409,13 @@ for f in temperature.csv ledger.csv; do
         pass "tiny run: $f with its column names first and ${f%.csv}.meta.json"
     else fail "tiny run: $f missing, not starting with its column names, or without ${f%.csv}.meta.json"; fi
 done
+# --threads on a run whose step uses one thread (50 grains: one block of rows) says why, and
+# summary.json records the one thread; the results are those of one thread
+run "$G" run "$TMP/tiny.ini" --out "$TMP/threads-out" "${sets[@]}" --threads 2
+if [[ $rc -eq 0 && $err == *"note: 2 threads were asked for, but a run of at most 1024 grains is one block"* ]] &&
+    grep -q '"threads":[[:space:]]*1,' "$TMP/threads-out/summary.json" && cmp -s "$OUT/ledger.csv" "$TMP/threads-out/ledger.csv"; then
+    pass "run --threads 2 on one block: a note, threads 1, the same ledger"
+else fail "run --threads 2 on one block: exit $rc" "$err"; fi
 if ! ls -A "$OUT" 2>/dev/null | grep -q '\.tmp'; then pass "tiny run: no temporary files"; else fail "tiny run left temporaries" "$(ls -A "$OUT")"; fi
 # with rotation, ledger.csv's last column is the rotational energy sum I w^2 / 2 (part of kinetic):
 # zero at the start (the discs start without spin), then positive (the tangential torques spin them)

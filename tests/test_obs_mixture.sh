@@ -15,8 +15,8 @@
 #   collision rates and postcollision's <v^2> add up to the total's, and postcollision's m_s <v^2>_s
 #   is T_s within 1 %; in the release pass m_s <|v|^2>_s / d is T_s within 3 errors, the ratio of
 #   the species' collision rates is the Enskog-Maxwellian one within 3 errors, C(0) of vacf is T / d
-#   within 1 %, and Green-Kubo's D equals msd's D_self within 3 errors for all grains and for each
-#   species (the light grains diffusing faster), and each species' <|v|^4> / <|v|^2>^2 is 2
+#   within 1 %, and Green-Kubo's D equals msd's D_self within 10 % for all grains, 16 % and 11 % for
+#   each species (3 sd of the seed-to-seed scatter plus its mean; the light grains diffusing faster), and each species' <|v|^4> / <|v|^2>^2 is 2
 #   (Maxwellian) within 0.15 where the pooled gas's exceeds 2.5; pv_species.csv's counts add up to
 #   pv.csv's in every bin, and (release) each species' component is Gaussian (flatness 3 within
 #   0.2) with <v_x^2> = <|v|^2>_s / 2 within 1 %;
@@ -118,7 +118,14 @@ if not quick:
     close(a["vacf"]["C0_per_component"], s["T_mean"] / 2, 0.01, "vacf: C(0) = T / d")
     D, De = a["msd"]["D_self"]["value"], a["msd"]["D_self"]["error"]
     G, Ge = a["vacf"]["D_green_kubo"]["value"], a["vacf"]["D_green_kubo"]["error"]
-    good = D > 0 and abs(D - G) < 3 * math.hypot(De, Ge)
+    # Einstein (msd) = Green-Kubo (vacf). Their fit errors are indicative only (the lags are
+    # correlated): over seeds 1-10 of this 0.3 s run the relative difference 2 (D - G) / (D + G)
+    # had mean -0.018 and sd 0.025 (all grains), -0.012 and 0.048 (light), -0.028 and 0.027
+    # (heavy; the longer velocity memory of the heavy grains biases both finite-lag estimates),
+    # so the test allows |mean| + 3 sd: 10 %, 16 % and 11 %.
+    def agree(D, G, tol):
+        return D > 0 and abs(2 * (D - G) / (D + G)) < tol
+    good = agree(D, G, 0.10)
     print(f"msd D_self {D:.5g} +- {De:.2g}, vacf D_GK {G:.5g} +- {Ge:.2g} m^2/s"
           + ("" if good else "  <- FAIL"))
     ok &= good
@@ -126,7 +133,7 @@ if not quick:
     Ds, Gs = a["msd"]["species_D_self"], vc["species_D_green_kubo"]
     for k in range(2):
         D, De, G, Ge = Ds["value"][k], Ds["error"][k], Gs["value"][k], Gs["error"][k]
-        good = abs(D - G) < 3 * math.hypot(De, Ge)
+        good = agree(D, G, (0.16, 0.11)[k])
         print(f"species {k + 1}: msd D_self {D:.5g} +- {De:.2g}, vacf D_GK {G:.5g} +- {Ge:.2g} m^2/s"
               + ("" if good else "  <- FAIL"))
         ok &= good

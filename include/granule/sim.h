@@ -217,7 +217,7 @@ int gr_get_threads(void);
  * without OpenMP, or when called from inside a parallel region. */
 int gr_sim_threads(const gr_sim *sim);
 /* Why a step of sim runs on one thread whatever the setting (1D, the event-driven integrator,
- * species, at most 1024 particles), in words; NULL when it uses the setting's threads. */
+ * at most 1024 particles), in words; NULL when it uses the setting's threads. */
 const char *gr_sim_one_thread_reason(const gr_sim *sim);
 double gr_sim_time(const gr_sim *sim);
 int64_t gr_sim_steps(const gr_sim *sim);

@@ -55,9 +55,6 @@ const char *gr_sim_one_thread_reason(const gr_sim *s)
     if (s->integrator && !s->integrator->threads) {
         return "the event-driven integrator steps on one thread (docs/event-driven.md)";
     }
-    if (s->nsp > 0 || s->rad) {
-        return "a run with species or a radius distribution steps on one thread (docs/mixtures.md)";
-    }
     if (s->nblk < 2) {
         return "a run of at most 1024 grains is one block of rows and steps on one thread";
     }

@@ -23,7 +23,6 @@
 #include "integrators/verlet/verlet.h"
 
 #define RUNAWAY_OVERLAP 0.5 /* as step.c */
-#define LANES 8             /* partial sums, as step.c */
 
 int gr_hy_child_create(gr_sim *s, gr_hybrid_state *h, gr_error *err)
 {

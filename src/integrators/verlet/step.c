@@ -41,20 +41,6 @@
 #include "granule/noise.h"
 #include "integrators/verlet/verlet.h"
 
-/* Sums in the step loops are kept in LANES independent partial sums (particle i goes to lane
- * i % LANES) combined in a fixed order at the end: the compiler can then vectorise the loop while
- * the result stays the same on every machine and for every vector width. */
-#define LANES 8
-
-static inline double lanes_total(const double *acc)
-{
-    double t = 0.0;
-    for (int l = 0; l < LANES; l++) {
-        t += acc[l];
-    }
-    return t;
-}
-
 /* Rotation: the half kicks of the angular velocities, w += tau dt / 2I, in the same kick-drift-kick
  * rhythm as v (the torques tq of the last force evaluation). Returns the work of the
  * non-conservative torques, exactly as for v: tau_nc (w + dw/2) dt/2 per half kick, summed in
@@ -344,6 +330,8 @@ static void draw_noise(gr_sim *s, double mean[3], const int T)
     }
     noise_mean(s, nb, sym, mean);
 }
+
+void gr_verlet_draw_noise(gr_sim *s, double mean[3], const int T) { draw_noise(s, mean, T); }
 
 /* Open a step in one pass: (if `closing`) the previous step's closing half kick, the opening half
  * kick with the same forces, the driving (`noise`: DRIVE_KICK the random force's kick, DRIVE_OU

@@ -12,6 +12,25 @@
 
 extern const gr_integrator_type gr_integrator_verlet;
 
+/* Sums in the step loops are kept in LANES independent partial sums (particle i goes to lane
+ * i % LANES) combined in a fixed order at the end: the compiler can then vectorise the loop while
+ * the result stays the same on every machine and for every vector width. */
+#define LANES 8
+
+static inline double lanes_total(const double *acc)
+{
+    double t = 0.0;
+    for (int l = 0; l < LANES; l++) {
+        t += acc[l];
+    }
+    return t;
+}
+
+/* This step's normals of the random force or the bath (s->noise, a pure function of seed, step,
+ * particle and component) drawn per block of GR_BLOCK particles on T threads, and the means the
+ * symmetrised mode subtracts (2.18) from the block sums in block order (mean[2]: 3D only). */
+void gr_verlet_draw_noise(gr_sim *s, double mean[3], int T);
+
 /* Advance by nsteps time steps (gr_integrator_type.step). */
 int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err);
 /* The same for a simulation with species (step_poly.c; docs/mixtures.md): each grain kicked with
