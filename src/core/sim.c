@@ -114,6 +114,7 @@ void gr_sim_free(gr_sim *s)
     free(s->contacts_now);
     free(s->events);
     free(s->blk);
+    gr_poly_par_free(s);
     free(s->par_row);
     free(s->cross_start);
     free(s->cross_p);

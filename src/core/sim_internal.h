@@ -159,8 +159,9 @@ struct gr_sim {
     /* Threads (docs/performance.md, "Threads"). Every sum over particles or pairs is formed per
      * block of GR_BLOCK particles (rows of the pair list) and the blocks are combined in block
      * order, whatever the thread count; a thread owns whole blocks. */
-    int nblk;    /* ceil(n / GR_BLOCK) */
-    double *blk; /* GR_BLK_FIELDS partial results per block */
+    int nblk;                     /* ceil(n / GR_BLOCK) */
+    struct gr_poly_par *poly_par; /* kernels_poly.c's state for threads (NULL until used) */
+    double *blk;                  /* GR_BLK_FIELDS partial results per block */
     /* 2D and 3D forces with T > 1 threads (kernels.c, kernels_3d.c): thread t owns the rows (and the forces) of
      * particles [par_row[t], par_row[t+1]); a listed pair whose j lies outside the row owner's
      * range is a "cross" pair, computed first into pair_f and added by the owner of j in list
@@ -322,6 +323,8 @@ static inline void gr_size_scaled(const gr_contact_coeffs *ref, double m_ref, do
 }
 /* src/core/kernels_poly.c: the force kernel of a run with species (1D ring, 2D or 3D list). */
 void gr_kernel_run_poly(gr_sim *s, gr_force_report *r);
+/* Free the threaded state of that kernel (records, incoming entries, block sums), if any. */
+void gr_poly_par_free(gr_sim *s);
 
 /* src/core/kernels.c: one force evaluation with the kernel chosen at creation (then the walls'
  * and gravity's pass when they are on) */
