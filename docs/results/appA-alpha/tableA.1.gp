@@ -2,7 +2,7 @@
 set datafile separator whitespace
 set title "alpha of the free stretched-exponential fit (A.8) over counts 50-5000 (Table A.1)" noenhanced
 set ylabel 'alpha' noenhanced
-set xtics rotate by -40 noenhanced
+set xtics rotate by 90 right font ',11' noenhanced
 set xlabel 'N, eps_n' noenhanced
 set key below height 1.5
 set offsets 0.5, 0.5, graph 0.06, graph 0.06
