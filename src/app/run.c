@@ -86,10 +86,6 @@ static int refuse_busy(const gr_run_ctx *c, const char *holder)
                              : "wait for it to finish, or choose another folder");
 }
 
-/* Set-up, part 1: the checkpoint of a resume, the simulation, the observables, the schedule and
- * (fresh runs) the output folder. Everything that can refuse the scene (dt, placement,
- * observables, schedule) is checked before the output folder is touched: a refused run leaves it
- * as it was. */
 /* A note when the threads asked for (--threads, OMP_NUM_THREADS) exceed those the step uses. */
 static void note_threads(const gr_sim *sim, char *notes, size_t len)
 {
@@ -103,6 +99,10 @@ static void note_threads(const gr_sim *sim, char *notes, size_t len)
     }
 }
 
+/* Set-up, part 1: the checkpoint of a resume, the simulation, the observables, the schedule and
+ * (fresh runs) the output folder. Everything that can refuse the scene (dt, placement,
+ * observables, schedule) is checked before the output folder is touched: a refused run leaves it
+ * as it was. */
 static int open_run(gr_run_ctx *c)
 {
     const gr_scene *scene = c->scene;

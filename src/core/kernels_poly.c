@@ -638,6 +638,15 @@ static void zero_range(gr_sim *s, const int lo, const int hi)
     }
 }
 
+/* The evaluation's report from the summed blocks. */
+static void report_sums(const poly_sums *t, gr_force_report *r)
+{
+    *r = report(t->elastic + t->el_t, t->pn, t->fresh, t->worst, t->wi, t->wj);
+    r->power_tangential = t->pt[0];
+    r->power_friction = t->pt[1];
+    r->lost = t->lost;
+}
+
 /* 2D or 3D (dim a constant). One thread applies each touching pair at once. T threads: (1) each
  * records the touching pairs of its blocks of rows; (2) each walks all the records in entry order
  * and applies the ends that fall in its own range of grains. Either way each grain receives its
@@ -654,10 +663,7 @@ static inline __attribute__((always_inline)) void poly_rows(gr_sim *s, const int
             poly_sums t;
             zero_range(s, 0, n);
             rows_block(s, dim, u, 0, n, 1, NULL, NULL, &t);
-            *r = report(t.elastic + t.el_t, t.pn, t.fresh, t.worst, t.wi, t.wj);
-            r->power_tangential = t.pt[0];
-            r->power_friction = t.pt[1];
-            r->lost = t.lost;
+            report_sums(&t, r);
             return;
         }
         T = 1;
@@ -721,10 +727,7 @@ static inline __attribute__((always_inline)) void poly_rows(gr_sim *s, const int
             t.wj = q->wj;
         }
     }
-    *r = report(t.elastic + t.el_t, t.pn, t.fresh, t.worst, t.wi, t.wj);
-    r->power_tangential = t.pt[0];
-    r->power_friction = t.pt[1];
-    r->lost = t.lost;
+    report_sums(&t, r);
 }
 
 static void poly_2d(gr_sim *s, gr_force_report *r) { poly_rows(s, 2, r); }
