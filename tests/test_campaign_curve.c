@@ -176,6 +176,18 @@ START_TEST(test_select_ors_one_key_and_ands_keys)
     ck_assert(!campaign_curve_selected("eps_n=0.1, eps_n=0.4, N=100", "eps_n=0.4, N=1000"));
     ck_assert(!campaign_curve_selected("eps_n=0.1, N=100", "eps_n=0.9, N=100"));
     ck_assert(campaign_curve_selected("", "anything"));
+    /* "*" parts of a linked value match anything, the others exactly, part for part */
+    const char *any_n = "N+eps_n+eps_t=*/0.4/1.0";
+    ck_assert(campaign_curve_selected(any_n, "N+eps_n+eps_t=32000/0.4/1.0"));
+    ck_assert(campaign_curve_selected(any_n, "N+eps_n+eps_t=375/0.4/1.0"));
+    ck_assert(!campaign_curve_selected(any_n, "N+eps_n+eps_t=48000/0.2/1.0"));
+    ck_assert(!campaign_curve_selected(any_n, "N+eps_n+eps_t=48000/0.4/1.00"));
+    ck_assert(!campaign_curve_selected(any_n, "N+eps_n=32000/0.4"));
+    ck_assert(!campaign_curve_selected("N+eps_n+eps_t=*/0.4", "N+eps_n+eps_t=32000/0.4/1.0"));
+    ck_assert(campaign_curve_selected("N+eps_n+eps_t=48000/*/1.0", "N+eps_n+eps_t=48000/0.6/1.0"));
+    ck_assert(!campaign_curve_selected("N+eps_n+eps_t=48000/*/1.0", "N+eps_n+eps_t=4800/0.6/1.0"));
+    /* a key is the whole name before '=': N does not match N+L */
+    ck_assert(!campaign_curve_selected("N=3000", "N+L=3000/0.2"));
 }
 END_TEST
 

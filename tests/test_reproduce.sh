@@ -456,5 +456,22 @@ check test $? -eq 2
 check grep -q "bad-circle.ini.*\[result r1\].*y = k: allowed b, coefficient" "$tmp/bad-circle.err"
 check test ! -e "$tmp/bad-circle-out"
 
+# select on a mean result (a campaign whose tables share runs): only the listed groups become rows
+printf '[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N+model.eps_n = 50/0.5, 60/0.9\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 100\n[set]\nrun.warmup = 0.001\nrun.duration = 0.002\n[result both]\nkind = mean\nquantity = T\ny = T_mean\n[result one]\nkind = mean\nquantity = T\ny = T_mean\nselect = N+eps_n=60/0.9\n' >"$tmp/select.ini"
+"$granule" reproduce "$tmp/select.ini" --out "$tmp/select-out" --results "$tmp/select-results" --jobs 1 >/dev/null 2>"$tmp/select.err"
+check test $? -eq 0
+check python3 - "$tmp/select-results/results.json" <<'PY'
+import json, sys
+res = {r["id"]: [row["group"] for row in r["rows"]] for r in json.load(open(sys.argv[1]))["results"]}
+sys.exit(0 if res["both"] == ["N+eps_n=50/0.5", "N+eps_n=60/0.9"] and res["one"] == ["N+eps_n=60/0.9"] else 1)
+PY
+# a text value longer than its field is refused, naming the key and the limit (never cut short)
+long=$(printf 'x%.0s' $(seq 80))
+printf '[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 50\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 100\n[result r1]\nkind = mean\ny = T_mean\nquantity = %s\n' "$long" >"$tmp/long.ini"
+"$granule" reproduce "$tmp/long.ini" --out "$tmp/long-out" >/dev/null 2>"$tmp/long.err"
+check test $? -eq 2
+check grep -q "long.ini.*\[result r1\] quantity: 80 characters, at most 63 allowed" "$tmp/long.err"
+check test ! -e "$tmp/long-out"
+
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

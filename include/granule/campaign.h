@@ -88,9 +88,10 @@ typedef struct gr_campaign_result {
     char y_err
         [128];  /* the run's own error of y (used when a group has one seed) (CURVE: a column) */
     char x[64]; /* POWER_LAW: the varied key on the abscissa (CURVE: a column) */
-    char table[64];      /* CURVE: the run's CSV, e.g. "gaps.csv" */
-    char where[128];     /* CURVE: the rows used, "column=value, ..." */
-    char select[128];    /* CURVE: only the curves whose group has every "key=value" listed */
+    char table[64];  /* CURVE: the run's CSV, e.g. "gaps.csv" */
+    char where[128]; /* CURVE: the rows used, "column=value, ..." */
+    char
+        select[256]; /* CURVE, MEAN: only the groups (curves, rows) with every "key=value" listed */
     char transform[32];  /* CURVE: "", "bisection_collapse" (thesis 3.39-3.40), "scale_at" (each
                            curve divided by its value at x_0 = collapse_at, Fig. 5.3's 5.4) or
                            "log_ratio" (y -> -ln(y / y(0)) for x > 0: the axes of Moon, Swift and

@@ -270,6 +270,9 @@ int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campa
     campaign_header(data, "group", "", "seed", "1", "value", campaign_unit(r), "run_error",
                     campaign_unit(r), NULL);
     for (int gi = 0; gi < ng; gi++) {
+        if (r->select[0] && !campaign_curve_selected(r->select, g[gi])) {
+            continue; /* a campaign whose tables share runs: this result's rows only */
+        }
         double v[MAX_SEEDS], e2 = 0.0;
         int n = 0, n_err = 0;
         campaign_row *row = campaign_group_row(rows, g[gi]);

@@ -195,27 +195,59 @@ int campaign_curve_series(const campaign_point *p, const gr_campaign_result *r, 
     return read_table(p, r, x, y, e);
 }
 
+/* Does a select value match a label value? Linked values ("48000/0.4/1.0") match part by part,
+ * and a part that is a lone '*' matches any part (N+eps_n+eps_t = '*' then /0.4/1.0: every N at
+ * eps_n = 0.4, eps_t = 1.0). */
+static bool value_matches(const char *pattern, size_t plen, const char *value, size_t vlen)
+{
+    while (plen && vlen) {
+        const char *ps = memchr(pattern, '/', plen), *vs = memchr(value, '/', vlen);
+        const size_t pn = ps ? (size_t)(ps - pattern) : plen, vn = vs ? (size_t)(vs - value) : vlen;
+        if (!(pn == 1 && pattern[0] == '*') && (pn != vn || strncmp(pattern, value, pn))) {
+            return false;
+        }
+        if (!ps != !vs) { /* one has more parts than the other */
+            return false;
+        }
+        if (!ps) {
+            return true;
+        }
+        plen -= pn + 1;
+        pattern += pn + 1;
+        vlen -= vn + 1;
+        value += vn + 1;
+    }
+    return !plen && !vlen;
+}
+
 /* Is the group label selected? Each key named in `select` ("k=v, k=w, j=u") must have one of its
  * listed values among the ", "-separated tokens of the label: values of one key are alternatives,
- * different keys must all hold ("eps_n=0.1, eps_n=0.4, N=100": eps_n 0.1 or 0.4, and N 100). */
+ * different keys must all hold ("eps_n=0.1, eps_n=0.4, N=100": eps_n 0.1 or 0.4, and N 100); a
+ * linked value may hold "*" parts (value_matches). */
 bool campaign_curve_selected(const char *select, const char *label)
 {
-    char buf[256], hay[200];
-    snprintf(buf, sizeof buf, "%s", select);
-    snprintf(hay, sizeof hay, ", %.190s,", label);
-    char *tok[32], *save = NULL;
-    int n = 0;
+    char buf[256], lab[200];
+    snprintf(buf, sizeof buf, "%s", select); /* select holds at most 255 characters */
+    snprintf(lab, sizeof lab, "%s", label);
+    char *tok[32], *have[32], *save = NULL;
+    int n = 0, nh = 0;
     for (char *t = strtok_r(buf, ", ", &save); t && n < 32; t = strtok_r(NULL, ", ", &save)) {
         tok[n++] = t;
+    }
+    for (char *t = strtok_r(lab, ", ", &save); t && nh < 32; t = strtok_r(NULL, ", ", &save)) {
+        have[nh++] = t;
     }
     for (int i = 0; i < n; i++) { /* key of token i: some token with that key must match */
         const size_t klen = strcspn(tok[i], "=");
         bool any = false;
         for (int j = 0; j < n && !any; j++) {
-            if (strcspn(tok[j], "=") == klen && !strncmp(tok[i], tok[j], klen)) {
-                char padded[200];
-                snprintf(padded, sizeof padded, ", %.190s,", tok[j]);
-                any = strstr(hay, padded) != NULL;
+            if (strcspn(tok[j], "=") != klen || strncmp(tok[i], tok[j], klen) || !tok[j][klen]) {
+                continue;
+            }
+            for (int h = 0; h < nh && !any; h++) {
+                const char *v = tok[j] + klen + 1, *w = have[h] + klen + 1;
+                any = strcspn(have[h], "=") == klen && !strncmp(have[h], tok[j], klen) &&
+                      have[h][klen] && value_matches(v, strlen(v), w, strlen(w));
             }
         }
         if (!any) {

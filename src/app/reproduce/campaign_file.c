@@ -197,6 +197,12 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
                 {"against", r->against, sizeof r->against}};
     for (size_t i = 0; i < sizeof text / sizeof text[0]; i++) {
         if (!strcmp(name, text[i].key)) {
+            if (strlen(value) >= text[i].size) { /* never cut a value short in silence */
+                snprintf(p->error, sizeof p->error,
+                         "[result %s] %s: %zu characters, at most %zu allowed", r->id, name,
+                         strlen(value), text[i].size - 1);
+                return 0;
+            }
             snprintf(text[i].dst, text[i].size, "%s", value);
             return 1;
         }
