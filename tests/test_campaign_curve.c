@@ -342,6 +342,100 @@ START_TEST(test_kinds_of_comparison)
 }
 END_TEST
 
+/* The local slopes and their trend (campaign_analyse.c): points whose local exponent grows as
+ * xi(N) = xi0 + t ln(N / N_c), ln y = ln A - xi0 u - (t / 2) u^2 with u = ln(N / N_c), three
+ * seeds at 0.99, 1 and 1.01 of the law (their mean exact). The trend row recovers t and the
+ * exponent at the centre, the local slopes the exponent at each pair's midpoint in ln N; with
+ * t = 0 the trend is 0 within its error. */
+START_TEST(test_local_slopes_and_their_trend)
+{
+    enum { NX = 6, NS = 3 };
+    const double xs[NX] = {1000, 1585, 2512, 3981, 6310, 10000}, xi0 = 0.55;
+    for (int pass = 0; pass < 2; pass++) {
+        const double t = pass ? 0.0 : 0.02;
+        double uc = 0.0;
+        for (int j = 0; j < NX; j++) {
+            uc += log(xs[j]) / NX;
+        }
+        campaign_point p[NX * NS];
+        campaign_points pts = {.n = NX * NS, .p = p};
+        memset(p, 0, sizeof p);
+        for (int j = 0, k = 0; j < NX; j++) {
+            const double u = log(xs[j]) - uc, law = 3.0 * exp(-xi0 * u - 0.5 * t * u * u);
+            for (int s = 1; s <= NS; s++, k++) {
+                char m[200], sm[256];
+                snprintf(
+                    m, sizeof m,
+                    "{\"keys\": {\"model.eps_n\": \"0.1\", \"system.N\": \"%g\"}, \"seed\": %d}",
+                    xs[j], s);
+                snprintf(sm, sizeof sm,
+                         "{\"analysis\": {\"moments\": {\"speed\": {\"m2\": %.17g}, "
+                         "\"speed_stderr\": {\"m2\": %.17g}}}}",
+                         law * (1.0 + 0.01 * (s - 2)), 0.001 * law);
+                p[k].manifest = cJSON_Parse(m);
+                p[k].summary = cJSON_Parse(sm);
+            }
+        }
+        gr_campaign_result r = {0};
+        snprintf(r.id, sizeof r.id, "fig");
+        r.kind = GR_RESULT_POWER_LAW;
+        snprintf(r.y, sizeof r.y, "analysis.moments.speed.m2");
+        snprintf(r.y_err, sizeof r.y_err, "analysis.moments.speed_stderr.m2");
+        snprintf(r.x, sizeof r.x, "system.N");
+        snprintf(r.by, sizeof r.by, "model.eps_n");
+        r.x_max = INFINITY;
+        r.local_slopes = true;
+        char dir[] = "/tmp/granule-slopes-XXXXXX";
+        ck_assert_ptr_nonnull(mkdtemp(dir));
+        gr_file data;
+        gr_error err = {0};
+        ck_assert_int_eq(gr_file_open(&data, dir, "fig_data.csv", &err), GR_OK);
+        campaign_rows rows = {0};
+        ck_assert_int_eq(campaign_power_law(NULL, &r, &pts, &rows, &data, &err), GR_OK);
+        ck_assert_int_eq(gr_file_commit(&data, &err), GR_OK);
+        ck_assert_int_eq(rows.n, 1 + (NX - 1) + 1); /* the fit, five local slopes, the trend */
+        ck_assert_int_eq(rows.r[0].role, 0);
+        for (int i = 1; i < NX; i++) { /* exact for a quadratic: the slope at the midpoint */
+            const campaign_row *w = &rows.r[i];
+            ck_assert_int_eq(w->role, 'l');
+            const double mid = 0.5 * (log(w->x_lo) + log(w->x_hi)) - uc;
+            ck_assert_double_eq_tol(w->value, xi0 + t * mid, 1e-9);
+        }
+        const campaign_row *tr = &rows.r[NX];
+        ck_assert_int_eq(tr->role, 't');
+        ck_assert_str_eq(tr->group, "eps_n=0.1, trend N=1000-10000");
+        ck_assert_int_eq(tr->n_x, NX);
+        ck_assert_double_eq_tol(tr->value, t, 1e-9);
+        ck_assert_double_eq_tol(tr->centre_value, xi0, 1e-9);
+        ck_assert_double_eq_tol(log(tr->centre_x), uc, 1e-12);
+        /* each size's mean has the seeds' standard error 0.01 / sqrt(3) of y: the trend's error is
+         * that of a quadratic's coefficient, finite and far below t = 0.02 */
+        ck_assert(tr->error > 0.0 && tr->error < 0.01);
+        /* the figure's table: the local slopes at their sizes' geometric means */
+        campaign_slopes_plot(dir, &r, &rows);
+        char path[300], line[256];
+        snprintf(path, sizeof path, "%s/fig_slopes.dat", dir);
+        FILE *f = fopen(path, "r");
+        ck_assert_ptr_nonnull(f);
+        int n = 0;
+        double x, lo, hi, v, e;
+        while (fgets(line, sizeof line, f) && line[0] != '\n') {
+            if (sscanf(line, "%lf %lf %lf %lf %lf", &x, &lo, &hi, &v, &e) == 5) {
+                ck_assert_double_eq_tol(x, sqrt(lo * hi), 1e-6 * x);
+                n++;
+            }
+        }
+        fclose(f);
+        ck_assert_int_eq(n, NX - 1);
+        for (int i = 0; i < pts.n; i++) {
+            cJSON_Delete(p[i].manifest);
+            cJSON_Delete(p[i].summary);
+        }
+        campaign_rows_free(&rows);
+    }
+}
+END_TEST
+
 /* Fig. 3.3's collapse (campaign_collapse.c): points y = lambda(b) x^-xi(b), a different exponent
  * per group b, three seeds scattered about it, come out as lambda(b) at every x, against 1 - b^2,
  * with the fit's exponent beside them; the figure's series has a block per x. */
@@ -516,6 +610,7 @@ int main(void)
     tcase_add_test(t, test_series_from_table_with_filter);
     tcase_add_test(t, test_exact_match_has_no_z);
     tcase_add_test(t, test_kinds_of_comparison);
+    tcase_add_test(t, test_local_slopes_and_their_trend);
     tcase_add_test(t, test_collapse_compensates_each_group_by_its_own_exponent);
     tcase_add_test(t, test_collapse_refused_without_a_power_law);
     suite_add_tcase(s, t);

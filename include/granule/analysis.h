@@ -84,6 +84,9 @@ typedef struct gr_fit {
 /* Weighted straight line y = p0 + p1 x (sigma may be NULL for unit weights). */
 int gr_fit_line(const double *x, const double *y, const double *sigma, int n, gr_fit *out,
                 gr_error *err);
+/* Weighted polynomial y = p0 + p1 x + ... + p_degree x^degree (sigma may be NULL), degree 1-7. */
+int gr_fit_poly(const double *x, const double *y, const double *sigma, int n, int degree,
+                gr_fit *out, gr_error *err);
 /* Power law y = A x^b fitted as a line in ln x, ln y (points with y <= 0 are skipped; sigma is the
  * error of y and becomes sigma/y). p[0] = A, p[1] = b. */
 int gr_fit_power_law(const double *x, const double *y, const double *sigma, int n, gr_fit *out,

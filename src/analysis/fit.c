@@ -1,9 +1,10 @@
-/* Chi-square fits with GSL: weighted lines and power laws (gsl_fit_wlinear) and general
- * nonlinear least squares (gsl_multifit_nlinear) with parameter errors and reduced chi-square
- * (physics notes sec. 6.2). */
+/* Chi-square fits with GSL: weighted lines and power laws (gsl_fit_wlinear), polynomials
+ * (gsl_multifit_wlinear) and general nonlinear least squares (gsl_multifit_nlinear) with parameter
+ * errors and reduced chi-square (physics notes sec. 6.2). */
 #include <gsl/gsl_blas.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_fit.h>
+#include <gsl/gsl_multifit.h>
 #include <gsl/gsl_multifit_nlinear.h>
 #include <math.h>
 #include <stdlib.h>
@@ -55,6 +56,59 @@ int gr_fit_line(const double *x, const double *y, const double *sigma, int n, gr
         out->err[1] *= sqrt(out->chi2_red);
     }
     return GR_OK;
+}
+
+int gr_fit_poly(const double *x, const double *y, const double *sigma, int n, int degree,
+                gr_fit *out, gr_error *err)
+{
+    memset(out, 0, sizeof *out);
+    const int np = degree + 1;
+    if (degree < 1 || np > GR_FIT_MAX_PARAMS || n < np) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "polynomial fit of degree %d: need at least %d points, got %d", degree, np,
+                       n);
+    }
+    gsl_matrix *X = gsl_matrix_alloc((size_t)n, (size_t)np), *cov = gsl_matrix_alloc(np, np);
+    gsl_vector *yv = gsl_vector_alloc((size_t)n), *w = gsl_vector_alloc((size_t)n),
+               *c = gsl_vector_alloc(np);
+    gsl_multifit_linear_workspace *ws = gsl_multifit_linear_alloc((size_t)n, (size_t)np);
+    int rc = GR_OK;
+    if (!X || !cov || !yv || !w || !c || !ws) {
+        rc = GR_FAIL(err, GR_ENOMEM, "polynomial fit: out of memory");
+    } else {
+        for (int i = 0; i < n; i++) {
+            double xk = 1.0;
+            for (int k = 0; k < np; k++, xk *= x[i]) {
+                gsl_matrix_set(X, (size_t)i, (size_t)k, xk);
+            }
+            gsl_vector_set(yv, (size_t)i, y[i]);
+            gsl_vector_set(w, (size_t)i, sigma ? 1.0 / (sigma[i] * sigma[i]) : 1.0);
+        }
+        double chi2;
+        int g = gsl_multifit_wlinear(X, w, yv, c, cov, &chi2, ws);
+        if (g != GSL_SUCCESS || !isfinite(chi2)) {
+            rc = GR_FAIL(err, GR_EINVAL, "polynomial fit failed: %s", gsl_strerror(g));
+        } else {
+            for (int k = 0; k < np; k++) {
+                out->p[k] = gsl_vector_get(c, (size_t)k);
+                out->err[k] = sqrt(gsl_matrix_get(cov, (size_t)k, (size_t)k));
+            }
+            out->chi2 = chi2;
+            finish(out, n, np);
+            if (!sigma && out->dof > 0 && out->chi2_red < 1.0) { /* as gr_fit_line */
+                for (int k = 0; k < np; k++) {
+                    out->err[k] *= sqrt(out->chi2_red);
+                }
+            }
+        }
+    }
+    gsl_multifit_linear_free(ws);
+    gsl_matrix_free(X);
+    gsl_matrix_free(cov);
+    gsl_vector_free(yv);
+    gsl_vector_free(w);
+    gsl_vector_free(c);
+    return rc;
 }
 
 int gr_fit_power_law(const double *x, const double *y, const double *sigma, int n, gr_fit *out,

@@ -303,9 +303,54 @@ int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campa
     return GR_OK;
 }
 
+/* Does the exponent still move with x? ln y = p0 + p1 u + p2 u^2 in u = ln x - u_c (u_c the mean
+ * of ln x; errors sigma/y) has the local exponent -(p1 + 2 p2 u): its change per unit ln x is
+ * -2 p2, one number from every size at once, where neighbouring local slopes share their sizes'
+ * means and scatter. One row "GROUP, trend X=lo-hi" (role 't'); none below 4 sizes (a quadratic
+ * through 3 points has no error). */
+static void slope_trend(const gr_campaign_result *r, campaign_rows *rows, const char *group, int m,
+                        double scale, const double *fx, const double *fy, const double *fe, int nf,
+                        const char *short_x)
+{
+    if (nf < 4) {
+        return;
+    }
+    double u[MAX_X], ly[MAX_X], ls[MAX_X], uc = 0.0, lo = fx[0], hi = fx[0];
+    bool errors = true;
+    for (int i = 0; i < nf; i++) {
+        uc += log(fx[i]) / nf;
+        lo = fmin(lo, fx[i]);
+        hi = fmax(hi, fx[i]);
+        errors &= isfinite(fe[i]) && fe[i] > 0.0;
+    }
+    for (int i = 0; i < nf; i++) {
+        u[i] = log(fx[i]) - uc;
+        ly[i] = log(fy[i]);
+        ls[i] = fe[i] / fy[i];
+    }
+    gr_fit q;
+    gr_error ignore = {0};
+    if (gr_fit_poly(u, ly, errors ? ls : NULL, nf, 2, &q, &ignore)) {
+        return;
+    }
+    campaign_row *w = campaign_rows_add(rows);
+    snprintf(w->group, sizeof w->group, "%.100s, trend %.20s=%g-%g", group, short_x, lo, hi);
+    w->m = m;
+    w->role = 't';
+    w->value = -2.0 * q.p[2] * scale;
+    w->error = w->error_fit = 2.0 * q.err[2] * scale;
+    w->chi2_red = q.chi2_red;
+    w->n_x = nf;
+    w->x_lo = lo;
+    w->x_hi = hi;
+    w->centre_x = exp(uc);
+    w->centre_value = -q.p[1] * scale;
+}
+
 /* The exponent between neighbouring abscissae, xi = ln(y_i / y_i+1) / ln(x_i+1 / x_i), with the
- * error of the two (independent) seed means propagated: one row per pair, "GROUP, X=x_i-x_i+1".
- * Where the power law only holds asymptotically, these show whether the slope still moves with x. */
+ * error of the two (independent) seed means propagated: one row per pair, "GROUP, X=x_i-x_i+1"
+ * (role 'l'), then their trend (slope_trend). Where the power law only holds asymptotically,
+ * these show whether the slope still moves with x. */
 static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const char *group, int m,
                          double scale, const double *fx, const double *fy, const double *fe, int nf)
 {
@@ -332,7 +377,9 @@ static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const
         w->n_x = 2;
         w->x_lo = fx[a];
         w->x_hi = fx[b];
+        w->role = 'l';
     }
+    slope_trend(r, rows, group, m, scale, fx, fy, fe, nf, short_x);
 }
 
 int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,

@@ -116,6 +116,7 @@ campaign_row *campaign_rows_add(campaign_rows *rows)
     r->value = r->error = r->error_fit = r->error_seeds = r->chi2_red = r->x_lo = r->x_hi = NAN;
     r->thesis = r->thesis_error = r->z = r->thesis_hi = r->tolerance = NAN;
     r->agrees = -1;
+    r->centre_x = r->centre_value = NAN;
     return r;
 }
 

@@ -64,6 +64,11 @@ typedef struct campaign_row {
     double sim_seconds, cpu_seconds;
     int unconverged;  /* runs whose own (block-averaging) error of T had not converged */
     char hashes[160]; /* scene hashes of the points used (first few) */
+    /* A power law's rows of local slopes (role 'l': the exponent between x_lo and x_hi) and of
+     * their trend (role 't': d exponent / d ln x over the fit, from a quadratic in ln x, whose
+     * local exponent at centre_x is centre_value); 0 for every other row. */
+    char role;
+    double centre_x, centre_value;
 } campaign_row;
 
 typedef struct campaign_rows {
@@ -168,6 +173,9 @@ const char *campaign_y_unit(const gr_campaign_result *r, char *buf, size_t len);
  * gnuplot script body (io/plot.h); a figure that cannot be drawn is reported on stderr and skipped,
  * the numbers stand without it. */
 void campaign_draw(const char *dir, const char *id, const char *suffix, const char *body);
+/* A power law with local_slopes: ID_slopes.dat and ID_slopes.png, the local slopes against x with
+ * their trend, the whole fit's exponent and the thesis's value (campaign_slopes.c). */
+void campaign_slopes_plot(const char *dir, const gr_campaign_result *r, const campaign_rows *rows);
 #define MAX_GROUPS 256
 #define MAX_SEEDS 64
 /* "k=v, k=v" of a point's varied keys (sections dropped): those in `only` (all if NULL), minus `except`. */

@@ -123,9 +123,11 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
         }
         order[j] = k;
     }
-    for (int o = 0; o < rows->n; o++) {
-        const int i = o;
+    for (int o = 0, i = 0; o < rows->n; o++) {
         const campaign_row *w = &rows->r[order[o]];
+        if (w->role == 't') {
+            continue; /* a trend (per unit ln x) is not on the exponent's scale: ID_slopes.png */
+        }
         char label[200], keys[200];
         split_group(w->group, label, sizeof label, keys, sizeof keys);
         if (!axis[0]) {
@@ -140,7 +142,7 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
         const double te = range                       ? 0.5 * (w->thesis_hi - w->thesis)
                           : isfinite(w->thesis_error) ? w->thesis_error
                                                       : 0.0;
-        fprintf(f.f, "%d \"%s\" %.6g %.6g %.6g %.6g\n", i, label, w->value, w->error, tv, te);
+        fprintf(f.f, "%d \"%s\" %.6g %.6g %.6g %.6g\n", i++, label, w->value, w->error, tv, te);
     }
     free(order);
     if (gr_file_commit(&f, &err)) {
@@ -550,6 +552,13 @@ static void row_json(cJSON *arr, const campaign_row *w)
     add_num(o, "chi2_red", w->chi2_red);
     add_num(o, "x_lo", w->x_lo);
     add_num(o, "x_hi", w->x_hi);
+    if (w->role) { /* a power law's local slope, or their trend (d exponent / d ln x) */
+        cJSON_AddStringToObject(o, "role", w->role == 't' ? "trend" : "local_slope");
+    }
+    if (w->role == 't') {
+        add_num(o, "centre_x", w->centre_x);
+        add_num(o, "exponent_at_centre", w->centre_value);
+    }
     add_num(o, "thesis", w->thesis);
     add_num(o, "thesis_error", w->thesis_error);
     cJSON_AddStringToObject(o, "thesis_note", w->thesis_note);
@@ -812,6 +821,7 @@ static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, c
         cJSON_AddItemToArray(arr, o);
         if (!rc && rows.n && r->kind != GR_RESULT_COLLAPSE) { /* it draws its own */
             plot_compare(results, r, &rows);
+            campaign_slopes_plot(results, r, &rows);
             plot_data(results, r);
         }
         campaign_rows_free(&rows);

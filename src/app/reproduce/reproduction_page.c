@@ -142,6 +142,7 @@ static void notes_and_figures(FILE *f, const cJSON *res, const char *campaign, c
         figure(f, root, link_root, campaign, str(res, "id"), "");
     }
     figure(f, root, link_root, campaign, str(res, "id"), "_data");
+    figure(f, root, link_root, campaign, str(res, "id"), "_slopes"); /* local slopes against x */
     fprintf(f, "\n");
 }
 
@@ -295,7 +296,12 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
             snprintf(group + strlen(group), sizeof group - strlen(group), ", m = %.0f",
                      num(row, "m"));
         }
-        if (num(row, "fit_points") == 2 && isfinite(num(row, "value"))) {
+        if (!strcmp(str(row, "role"), "trend")) {
+            snprintf(fit, sizeof fit,
+                     "local slope's change per unit ln x (quadratic in ln x, %.0f "
+                     "points, chi2/dof %.2g)",
+                     num(row, "fit_points"), num(row, "chi2_red"));
+        } else if (num(row, "fit_points") == 2 && isfinite(num(row, "value"))) {
             snprintf(fit, sizeof fit, "local slope between %.4g and %.4g", num(row, "x_lo"),
                      num(row, "x_hi"));
         } else if (isfinite(num(row, "fit_points")) && num(row, "fit_points") < 3) {
