@@ -60,8 +60,8 @@ void campaign_slopes_plot(const char *dir, const gr_campaign_result *r, const ca
         if (!nl) {
             continue;
         }
-        fprintf(f.f, "%s# %s m=%d: x x_lo x_hi local_slope error\n", ns ? "\n\n" : "",
-                fit->group, fit->m);
+        fprintf(f.f, "%s# %s m=%d: x x_lo x_hi local_slope error\n", ns ? "\n\n" : "", fit->group,
+                fit->m);
         for (int j = 0; j < rows->n; j++) {
             const campaign_row *w = &rows->r[j];
             if (w->role == 'l' && isfinite(w->value) && fit_of(rows, w) == fit) {
@@ -109,19 +109,18 @@ void campaign_slopes_plot(const char *dir, const gr_campaign_result *r, const ca
         }
         campaign_pretty_group(series[k]->group, label, sizeof label - 16);
         if (series[k]->m) {
-            snprintf(label + strlen(label), sizeof label - strlen(label), ", m = %d",
-                     series[k]->m);
+            snprintf(label + strlen(label), sizeof label - strlen(label), ", m = %d", series[k]->m);
         }
         /* series side by side: each drawn a little right of the last, so their bars stay apart */
         const double shift = 1.0 + 0.015 * (k - 0.5 * (ns - 1));
-        len += snprintf(body + len, sizeof body - (size_t)len,
-                        "%s'%s' index %d using ($1*%.4f):4:2:3:($4-$5):($4+$5) with xyerrorbars "
-                        "pt 7 %s title '%s', '' index %d using 1:2 with lines %s lw 2 title '%s', "
-                        "'' index %d using 1:2 with lines %s dt 3 title '%s', '' index %d using 1:2 "
-                        "with lines lc rgb '#c0392b' dt 2 lw 2 title '%s'",
-                        k ? ", " : "", name, 4 * k, shift, style, label, 4 * k + 1, style,
-                        k ? "" : trend_title, 4 * k + 2, style,
-                        k ? "" : "exponent of the whole fit", 4 * k + 3, k ? "" : "thesis");
+        len += snprintf(
+            body + len, sizeof body - (size_t)len,
+            "%s'%s' index %d using ($1*%.4f):4:2:3:($4-$5):($4+$5) with xyerrorbars "
+            "pt 7 %s title '%s', '' index %d using 1:2 with lines %s lw 2 title '%s', "
+            "'' index %d using 1:2 with lines %s dt 3 title '%s', '' index %d using 1:2 "
+            "with lines lc rgb '#c0392b' dt 2 lw 2 title '%s'",
+            k ? ", " : "", name, 4 * k, shift, style, label, 4 * k + 1, style, k ? "" : trend_title,
+            4 * k + 2, style, k ? "" : "exponent of the whole fit", 4 * k + 3, k ? "" : "thesis");
     }
     snprintf(body + len, sizeof body - (size_t)len, "\n");
     campaign_draw(dir, r->id, "_slopes", body);
