@@ -465,6 +465,17 @@ import json, sys
 res = {r["id"]: [row["group"] for row in r["rows"]] for r in json.load(open(sys.argv[1]))["results"]}
 sys.exit(0 if res["both"] == ["N+eps_n=50/0.5", "N+eps_n=60/0.9"] and res["one"] == ["N+eps_n=60/0.9"] else 1)
 PY
+# a thesis entry whose group no row of a complete (full) campaign has is refused at collection,
+# naming it, and no result set is written; spelt right, the same points collect
+printf '[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 50\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N+model.eps_n = 50/0.5, 60/0.9\n[set]\nrun.warmup = 0.001\nrun.duration = 0.002\n[result one]\nkind = mean\nquantity = T\ny = T_mean\nthesis = N+eps_n=50/0.5: 0.03 +- 0.01\nthesis = N+eps_n=60/0.09: 0.03 +- 0.01\n' >"$tmp/misspelt.ini"
+"$granule" reproduce "$tmp/misspelt.ini" --fidelity full --out "$tmp/misspelt-out" --results "$tmp/misspelt-results" --jobs 1 >/dev/null 2>"$tmp/misspelt.err"
+check test $? -eq 1
+check grep -q 'campaign misspelt, \[result one\]: 1 thesis entry names a group no row has, first "N+eps_n=60/0.09"' "$tmp/misspelt.err"
+check test ! -e "$tmp/misspelt-results/results.json"
+sed -i 's|60/0.09|60/0.9|' "$tmp/misspelt.ini"
+"$granule" reproduce "$tmp/misspelt.ini" --fidelity full --out "$tmp/misspelt-out" --results "$tmp/misspelt-results" --collect >/dev/null 2>&1
+check test $? -eq 0
+check test -s "$tmp/misspelt-results/results.json"
 # a text value longer than its field is refused, naming the key and the limit (never cut short)
 long=$(printf 'x%.0s' $(seq 80))
 printf '[campaign]\ntitle = t\nscene = rfm-1d.ini\n[sweep.quick]\nseeds = 1\n[vary.quick]\nsystem.N = 50\n[sweep.full]\nseeds = 1\n[vary.full]\nsystem.N = 100\n[result r1]\nkind = mean\ny = T_mean\nquantity = %s\n' "$long" >"$tmp/long.ini"

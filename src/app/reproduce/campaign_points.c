@@ -161,6 +161,44 @@ static void compare(campaign_row *row)
 
 /* The thesis list is "GROUP: [about|model|exact|range] value [+- error | .. high] (note); ..." where
  * GROUP is the row's group, with " m=K" appended for moments; "*" matches every group. */
+int campaign_thesis_unmatched(const gr_campaign_result *r, const campaign_rows *rows, char *first,
+                              size_t len)
+{
+    char buf[sizeof r->thesis];
+    snprintf(buf, sizeof buf, "%s", r->thesis);
+    int unmatched = 0;
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ";", &save); tok; tok = strtok_r(NULL, ";", &save)) {
+        char *colon = strchr(tok, ':');
+        if (!colon) {
+            continue;
+        }
+        *colon = 0;
+        char *g = tok;
+        while (*g == ' ') {
+            g++;
+        }
+        size_t gl = strlen(g);
+        while (gl && g[gl - 1] == ' ') {
+            g[--gl] = 0;
+        }
+        bool found = !strcmp(g, "*");
+        for (int i = 0; i < rows->n && !found; i++) {
+            char want[200]; /* as campaign_row_thesis names a row */
+            if (rows->r[i].m) {
+                snprintf(want, sizeof want, "%s m=%d", rows->r[i].group, rows->r[i].m);
+            } else {
+                snprintf(want, sizeof want, "%s", rows->r[i].group);
+            }
+            found = !strcmp(g, want);
+        }
+        if (!found && !unmatched++) {
+            snprintf(first, len, "%s", g);
+        }
+    }
+    return unmatched;
+}
+
 void campaign_row_thesis(const gr_campaign_result *r, campaign_row *row)
 {
     char want[200];

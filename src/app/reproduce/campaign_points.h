@@ -206,6 +206,11 @@ int campaign_name_index(const char *const *names, int n, const char *y);
 void campaign_row_of_runs(const gr_campaign_result *r, campaign_row *row, const double *v, int n,
                           double err2_sum, int n_err);
 
+/* How many of a result's thesis entries name a group (with " m=K") that no row has; the first
+ * such group goes to `first`. A complete campaign must have none: a misspelt group would drop its
+ * comparison without a word (gr_campaign_analyse refuses it). */
+int campaign_thesis_unmatched(const gr_campaign_result *r, const campaign_rows *rows, char *first,
+                              size_t len);
 /* Fill thesis, thesis_error and z of a row from the result's thesis list. */
 void campaign_row_thesis(const gr_campaign_result *r, campaign_row *row);
 /* Re-judge a committed result set (results.json) by today's campaign file: its words, verdicts,

@@ -635,6 +635,18 @@ static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_
              ? campaign_cascade_field(r, fid, rows, results, &data, err)
          : r->kind == GR_RESULT_COLLAPSE ? campaign_collapse(c, r, pts, rows, results, &data, err)
                                          : campaign_rise(c, r, pts, rows, &data, err);
+    char lost[200];
+    const int unmatched = rc || fid != GR_FIDELITY_FULL || pts->n < gr_campaign_points(c, fid)
+                              ? 0 /* quick runs other systems; a partial set lacks groups */
+                              : campaign_thesis_unmatched(r, rows, lost, sizeof lost);
+    if (unmatched) {
+        rc = GR_FAIL(err, GR_EINVAL,
+                     "campaign %s, [result %s]: %d thesis entr%s name%s a group no row has, "
+                     "first \"%s\" (the complete campaign's groups are its rows; a misspelt group "
+                     "would drop its comparison)",
+                     c->name, r->id, unmatched, unmatched > 1 ? "ies" : "y",
+                     unmatched > 1 ? "" : "s", lost);
+    }
     if (rc) {
         gr_file_abandon(&data);
         return rc;
