@@ -161,6 +161,39 @@ static void compare(campaign_row *row)
 
 /* The thesis list is "GROUP: [about|model|exact|range] value [+- error | .. high] (note); ..." where
  * GROUP is the row's group, with " m=K" appended for moments; "*" matches every group. */
+
+/* A row's name in the thesis list. */
+static void row_name(const campaign_row *row, char *out, size_t len)
+{
+    if (row->m) {
+        snprintf(out, len, "%s m=%d", row->group, row->m);
+    } else {
+        snprintf(out, len, "%s", row->group);
+    }
+}
+
+/* Entry tok of the list, cut at its colon: GROUP trimmed, *text what follows (blanks skipped);
+ * NULL for an entry without a colon. */
+static char *entry_group(char *tok, const char **text)
+{
+    char *colon = strchr(tok, ':');
+    if (!colon) {
+        return NULL;
+    }
+    *colon = 0;
+    char *g = tok;
+    while (*g == ' ') {
+        g++;
+    }
+    size_t gl = strlen(g);
+    while (gl && g[gl - 1] == ' ') {
+        g[--gl] = 0;
+    }
+    for (*text = colon + 1; **text == ' '; (*text)++) {
+    }
+    return g;
+}
+
 int campaign_thesis_unmatched(const gr_campaign_result *r, const campaign_rows *rows, char *first,
                               size_t len)
 {
@@ -169,27 +202,12 @@ int campaign_thesis_unmatched(const gr_campaign_result *r, const campaign_rows *
     int unmatched = 0;
     char *save = NULL;
     for (char *tok = strtok_r(buf, ";", &save); tok; tok = strtok_r(NULL, ";", &save)) {
-        char *colon = strchr(tok, ':');
-        if (!colon) {
-            continue;
-        }
-        *colon = 0;
-        char *g = tok;
-        while (*g == ' ') {
-            g++;
-        }
-        size_t gl = strlen(g);
-        while (gl && g[gl - 1] == ' ') {
-            g[--gl] = 0;
-        }
-        bool found = !strcmp(g, "*");
+        const char *text;
+        const char *g = entry_group(tok, &text);
+        bool found = !g || !strcmp(g, "*");
         for (int i = 0; i < rows->n && !found; i++) {
-            char want[200]; /* as campaign_row_thesis names a row */
-            if (rows->r[i].m) {
-                snprintf(want, sizeof want, "%s m=%d", rows->r[i].group, rows->r[i].m);
-            } else {
-                snprintf(want, sizeof want, "%s", rows->r[i].group);
-            }
+            char want[200];
+            row_name(&rows->r[i], want, sizeof want);
             found = !strcmp(g, want);
         }
         if (!found && !unmatched++) {
@@ -202,34 +220,15 @@ int campaign_thesis_unmatched(const gr_campaign_result *r, const campaign_rows *
 void campaign_row_thesis(const gr_campaign_result *r, campaign_row *row)
 {
     char want[200];
-    if (row->m) {
-        snprintf(want, sizeof want, "%s m=%d", row->group, row->m);
-    } else {
-        snprintf(want, sizeof want, "%s", row->group);
-    }
+    row_name(row, want, sizeof want);
     char buf[sizeof r->thesis];
     snprintf(buf, sizeof buf, "%s", r->thesis);
     char *save = NULL;
     for (char *tok = strtok_r(buf, ";", &save); tok; tok = strtok_r(NULL, ";", &save)) {
-        char *colon = strchr(tok, ':');
-        if (!colon) {
+        const char *text;
+        const char *g = entry_group(tok, &text);
+        if (!g || (strcmp(g, want) && strcmp(g, "*"))) {
             continue;
-        }
-        *colon = 0;
-        char *g = tok;
-        while (*g == ' ') {
-            g++;
-        }
-        size_t gl = strlen(g);
-        while (gl && g[gl - 1] == ' ') {
-            g[--gl] = 0;
-        }
-        if (strcmp(g, want) && strcmp(g, "*")) {
-            continue;
-        }
-        const char *text = colon + 1;
-        while (*text == ' ') {
-            text++;
         }
         static const char *const words[] = {"about", "model", "exact", "range"};
         static const char *const kinds[] = {"about", "model", "construction", "range"};
