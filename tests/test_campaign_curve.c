@@ -400,6 +400,11 @@ START_TEST(test_local_slopes_and_their_trend)
             ck_assert_int_eq(w->role, 'l');
             const double mid = 0.5 * (log(w->x_lo) + log(w->x_hi)) - uc;
             ck_assert_double_eq_tol(w->value, xi0 + t * mid, 1e-9);
+            /* each seed's factor is the same at both sizes: per seed the slope is exact, so the
+             * seeds' own spread is 0 and the headline error the propagated one */
+            ck_assert_int_eq(w->n_seeds, NS);
+            ck_assert(w->error_seeds < 1e-9);
+            ck_assert_double_eq(w->error, w->error_fit);
         }
         const campaign_row *tr = &rows.r[NX];
         ck_assert_int_eq(tr->role, 't');
@@ -411,6 +416,8 @@ START_TEST(test_local_slopes_and_their_trend)
         /* each size's mean has the seeds' standard error 0.01 / sqrt(3) of y: the trend's error is
          * that of a quadratic's coefficient, finite and far below t = 0.02 */
         ck_assert(tr->error > 0.0 && tr->error < 0.01);
+        ck_assert_int_eq(tr->n_seeds, NS);
+        ck_assert(tr->error_seeds < 1e-9);
         /* the figure's table: the local slopes at their sizes' geometric means */
         campaign_slopes_plot(dir, &r, &rows);
         char path[300], line[256];

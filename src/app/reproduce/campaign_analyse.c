@@ -308,9 +308,32 @@ int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campa
  * -2 p2, one number from every size at once, where neighbouring local slopes share their sizes'
  * means and scatter. One row "GROUP, trend X=lo-hi" (role 't'); none below 4 sizes (a quadratic
  * through 3 points has no error). */
+/* The seeds' own values at the fit's abscissae (a seed's runs at every size, in fit order), so
+ * that a local slope or trend is also formed per seed: a seed's runs at two sizes share the noise
+ * of their common particles (keyed by seed, step and index), so they need not be independent, and
+ * the spread of the per-seed values is the error that allows for it. */
+typedef struct seed_table {
+    double (*v)[MAX_X]; /* v[s][xi]: seed s at abscissa xi (NAN if not run); not written */
+    int n_seed;
+    const int *fxi; /* fit index -> xi */
+} seed_table;
+
+/* The row's second estimate from the seeds' own values (error_seeds, n_seeds) with 3 or more, and
+ * its headline error the larger of the two, as for the fit's own row. */
+static void per_seed_error(campaign_row *w, const double *vals, int n)
+{
+    if (n < 3) {
+        return;
+    }
+    double mean;
+    campaign_mean_sd(vals, n, &mean, &w->error_seeds);
+    w->n_seeds = n;
+    w->error = fmax(w->error_fit, w->error_seeds);
+}
+
 static void slope_trend(const gr_campaign_result *r, campaign_rows *rows, const char *group, int m,
                         double scale, const double *fx, const double *fy, const double *fe, int nf,
-                        const char *short_x)
+                        const char *short_x, const seed_table *st)
 {
     if (nf < 4) {
         return;
@@ -345,6 +368,21 @@ static void slope_trend(const gr_campaign_result *r, campaign_rows *rows, const 
     w->x_hi = hi;
     w->centre_x = exp(uc);
     w->centre_value = -q.p[1] * scale;
+    double per[MAX_SEEDS];
+    int ns = 0;
+    for (int sd = 0; sd < st->n_seed; sd++) { /* the seeds run at every size */
+        double ys[MAX_X];
+        bool all = true;
+        for (int i = 0; i < nf && all; i++) {
+            ys[i] = log(st->v[sd][st->fxi[i]]);
+            all = isfinite(ys[i]);
+        }
+        gr_fit qs;
+        if (all && gr_fit_poly(u, ys, NULL, nf, 2, &qs, &ignore) == GR_OK) {
+            per[ns++] = -2.0 * qs.p[2] * scale;
+        }
+    }
+    per_seed_error(w, per, ns);
 }
 
 /* The exponent between neighbouring abscissae, xi = ln(y_i / y_i+1) / ln(x_i+1 / x_i), with the
@@ -352,7 +390,8 @@ static void slope_trend(const gr_campaign_result *r, campaign_rows *rows, const 
  * (role 'l'), then their trend (slope_trend). Where the power law only holds asymptotically,
  * these show whether the slope still moves with x. */
 static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const char *group, int m,
-                         double scale, const double *fx, const double *fy, const double *fe, int nf)
+                         double scale, const double *fx, const double *fy, const double *fe, int nf,
+                         const seed_table *st)
 {
     int order[MAX_X];
     for (int i = 0; i < nf; i++) { /* x ascending */
@@ -373,13 +412,22 @@ static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const
         w->m = m;
         const double lx = log(fx[b] / fx[a]);
         w->value = log(fy[a] / fy[b]) / lx * scale;
-        w->error = hypot(fe[a] / fy[a], fe[b] / fy[b]) / lx * scale;
+        w->error = w->error_fit = hypot(fe[a] / fy[a], fe[b] / fy[b]) / lx * scale;
         w->n_x = 2;
         w->x_lo = fx[a];
         w->x_hi = fx[b];
         w->role = 'l';
+        double per[MAX_SEEDS];
+        int ns = 0;
+        for (int sd = 0; sd < st->n_seed; sd++) {
+            const double ya = st->v[sd][st->fxi[a]], yb = st->v[sd][st->fxi[b]];
+            if (isfinite(ya) && isfinite(yb)) {
+                per[ns++] = log(ya / yb) / lx * scale;
+            }
+        }
+        per_seed_error(w, per, ns);
     }
-    slope_trend(r, rows, group, m, scale, fx, fy, fe, nf, short_x);
+    slope_trend(r, rows, group, m, scale, fx, fy, fe, nf, short_x, st);
 }
 
 int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,
@@ -455,7 +503,7 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,
             }
             /* per abscissa: the seed mean and its error */
             double fx[MAX_X], fy[MAX_X], fe[MAX_X];
-            int nf = 0, min_seeds = MAX_SEEDS;
+            int nf = 0, min_seeds = MAX_SEEDS, fxi[MAX_X];
             for (int xi = 0; xi < nx; xi++) {
                 double v[MAX_SEEDS], mean, se;
                 int n = 0;
@@ -472,6 +520,7 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,
                 gr_csv_text(data->f, g[gi], true);
                 fprintf(data->f, ",%d,%.9g,%.9g,%.9g,%d,%d\n", m, xs[xi], mean, e, n, in);
                 if (in) {
+                    fxi[nf] = xi;
                     fx[nf] = xs[xi];
                     fy[nf] = mean;
                     fe[nf] = e;
@@ -527,7 +576,8 @@ int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,
             }
             campaign_row_thesis(r, row);
             if (r->local_slopes) {
-                local_slopes(r, rows, g[gi], m, scale, fx, fy, fe, nf);
+                const seed_table st = {per_seed, n_seed, fxi};
+                local_slopes(r, rows, g[gi], m, scale, fx, fy, fe, nf, &st);
             }
         }
     }
