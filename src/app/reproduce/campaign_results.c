@@ -647,7 +647,7 @@ static int analyse_one(const gr_campaign *c, gr_fidelity fid, const gr_campaign_
                      c->name, r->id, unmatched, unmatched > 1 ? "ies" : "y",
                      unmatched > 1 ? "" : "s", lost);
     }
-    if (rc) {
+    if (rc || !rows->n) { /* no row yet (a partial campaign's table): no table of nothing */
         gr_file_abandon(&data);
         return rc;
     }

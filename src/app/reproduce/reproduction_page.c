@@ -265,6 +265,11 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
         notes_and_figures(f, res, campaign, root, link_root, false);
         return;
     }
+    if (!curves) { /* a partial campaign whose runs for this result have not finished */
+        fprintf(f, "No run of this result has finished yet.\n");
+        notes_and_figures(f, res, campaign, root, link_root, false);
+        return;
+    }
     const char *unit = str(res, "unit");
     fprintf(f,
             "| %s | thesis%s%s%s | granule | comparison | seeds | fit / runs | CPU-h "
