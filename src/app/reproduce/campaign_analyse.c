@@ -303,11 +303,6 @@ int campaign_mean(const gr_campaign *c, const gr_campaign_result *r, const campa
     return GR_OK;
 }
 
-/* Does the exponent still move with x? ln y = p0 + p1 u + p2 u^2 in u = ln x - u_c (u_c the mean
- * of ln x; errors sigma/y) has the local exponent -(p1 + 2 p2 u): its change per unit ln x is
- * -2 p2, one number from every size at once, where neighbouring local slopes share their sizes'
- * means and scatter. One row "GROUP, trend X=lo-hi" (role 't'); none below 4 sizes (a quadratic
- * through 3 points has no error). */
 /* The seeds' own values at the fit's abscissae (a seed's runs at every size, in fit order), so
  * that a local slope or trend is also formed per seed: a seed's runs at two sizes share the noise
  * of their common particles (keyed by seed, step and index), so they need not be independent, and
@@ -331,8 +326,13 @@ static void per_seed_error(campaign_row *w, const double *vals, int n)
     w->error = fmax(w->error_fit, w->error_seeds);
 }
 
-static void slope_trend(const gr_campaign_result *r, campaign_rows *rows, const char *group, int m,
-                        double scale, const double *fx, const double *fy, const double *fe, int nf,
+/* Does the exponent still move with x? ln y = p0 + p1 u + p2 u^2 in u = ln x - u_c (u_c the mean
+ * of ln x; errors sigma/y) has the local exponent -(p1 + 2 p2 u): its change per unit ln x is
+ * -2 p2, one number from every size at once, where neighbouring local slopes share their sizes'
+ * means and scatter. One row "GROUP, trend X=lo-hi" (role 't'); none below 4 sizes (a quadratic
+ * through 3 points has no error). */
+static void slope_trend(campaign_rows *rows, const char *group, int m, double scale,
+                        const double *fx, const double *fy, const double *fe, int nf,
                         const char *short_x, const seed_table *st)
 {
     if (nf < 4) {
@@ -386,8 +386,8 @@ static void slope_trend(const gr_campaign_result *r, campaign_rows *rows, const 
 }
 
 /* The exponent between neighbouring abscissae, xi = ln(y_i / y_i+1) / ln(x_i+1 / x_i), with the
- * error of the two (independent) seed means propagated: one row per pair, "GROUP, X=x_i-x_i+1"
- * (role 'l'), then their trend (slope_trend). Where the power law only holds asymptotically,
+ * error of the two seed means propagated as if independent and, beside it, the seeds' own spread
+ * (seed_table): one row per pair, "GROUP, X=x_i-x_i+1" (role 'l'), then their trend (slope_trend). Where the power law only holds asymptotically,
  * these show whether the slope still moves with x. */
 static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const char *group, int m,
                          double scale, const double *fx, const double *fy, const double *fe, int nf,
@@ -427,7 +427,7 @@ static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const
         }
         per_seed_error(w, per, ns);
     }
-    slope_trend(r, rows, group, m, scale, fx, fy, fe, nf, short_x, st);
+    slope_trend(rows, group, m, scale, fx, fy, fe, nf, short_x, st);
 }
 
 int campaign_power_law(const gr_campaign *c, const gr_campaign_result *r,
