@@ -187,8 +187,6 @@ static double forget(const pair_ctx *c, const int tang, const int i, const int j
     return tangential_law(tang, &c->cc, in).lost;
 }
 
-/* The rows [r0, r1) of the half list, scattering f[j] += F for j in [lo, hi) (all = 1: every j,
- * one thread) and f[i] -= sum of its row. Sums of the block in list order. */
 /* The screen of the sublist's entries [k0, k1) (kernels_3d.c, screen_3d, in 2D): each pair's
  * squared distance by pair_2d's own expression; an entry apart clears its contact flag, a
  * touching one is appended to s->sl_hits from position k0. Returns the number appended. */
@@ -218,6 +216,8 @@ static inline int screens_2d(const gr_sim *s, const int tang)
     return s->sl_on && s->sl_screen && !history_of(tang);
 }
 
+/* The rows [r0, r1) of the half list, scattering f[j] += F for j in [lo, hi) (all = 1: every j,
+ * one thread) and f[i] -= sum of its row. Sums of the block in list order. */
 static inline __attribute__((always_inline)) void rows_2d(gr_sim *restrict s, const int r0,
                                                           const int r1, const int lo, const int hi,
                                                           const int all, const int screened,

@@ -16,7 +16,8 @@
  * the Verlet step of a 2D or 3D simulation (identical grains or a mixture) when the list lasted at least
  * GR_SUBLIST_MIN_INTERVAL steps (then its rebuilds, about every fifteenth of the list's life, cost
  * little) and while it keeps at most GR_SUBLIST_MAX_SHARE of the list's pairs (in a clustered gas
- * most listed pairs are close, and scanning through it would only add work);
+ * most listed pairs are close, and scanning through it would only add work) or the kernels screen
+ * it (few of its pairs touch);
  * GRANULE_SUBLIST=off or on (environment) overrides both, for tests and benchmarks. */
 #include <math.h>
 #include <stdlib.h>
@@ -116,8 +117,8 @@ static void build_threaded(gr_sim *restrict s, const int T, const keep_ctx *c)
 }
 
 /* Build the sublist from the list at the current positions; 0 when out of memory or when it
- * keeps more than GR_SUBLIST_MAX_SHARE of the list unless forced (then off until the list's next
- * build). On the simulation's threads when it has more than one (the same sublist). */
+ * keeps more than GR_SUBLIST_MAX_SHARE of the list without being screened, unless forced (then
+ * off until the list's next build). On the simulation's threads when it has more than one (the same sublist). */
 static int build(gr_sim *s, const bool forced)
 {
     const int n = s->n, T = gr_team(s);
@@ -171,16 +172,24 @@ static int build(gr_sim *s, const bool forced)
         }
         s->sl_start[n] = count;
     }
-    if (!forced && s->sl_start[n] > GR_SUBLIST_MAX_SHARE * (double)m) { /* most pairs close */
-        return 0;
-    }
-    /* screen the entries first (the kernels' sl_screen) while fewer than half touch: on a
-     * crystal, where most do, the screen is a second look at every touching pair */
+    /* screen the entries first (the kernels' sl_screen) while fewer than half touch: where most
+     * do (a clustered gas, a bed pressed into contact), the screen is a second look at every
+     * touching pair */
     int64_t touching = 0;
     for (int k = 0; k < s->sl_start[n]; k++) {
         touching += s->nl_contact[s->sl_p[k]];
     }
     s->sl_screen = 2 * touching < s->sl_start[n];
+    /* Most listed pairs close: without the screen, scanning through the sublist only adds work.
+     * With it the sublist stays: a settled bed lists its nearest neighbours a hair apart, about
+     * half of them within the sublist's width, and the kernel walking rows of two or three
+     * entries spends its time leaving them (a mispredicted loop exit per row) where the screen's
+     * one branch-free pass finds the few that touch (docs/performance.md, "The crystal's
+     * kernel"). Species kernels and history laws do not screen. */
+    const bool screened = s->sl_screen && !s->nl_hist && !s->rad;
+    if (!forced && !screened && s->sl_start[n] > GR_SUBLIST_MAX_SHARE * (double)m) {
+        return 0;
+    }
     memcpy(s->xs_ref, s->x, sizeof(double) * (size_t)n);
     memcpy(s->ys_ref, s->y, sizeof(double) * (size_t)n);
     if (s->dim == 3) {
