@@ -75,8 +75,8 @@ struct gr_sim {
     uint8_t *nl_contact; /* pair was in contact at the last force evaluation */
     int64_t nl_cap;
     /* The contact sublist (src/core/sublist.c): the entries p of the list whose pair is closer than
-     * d (1 + GR_SUBLIST_SKIN) (or touching, or holding a history vector), row by row in list order,
-     * rebuilt from the list when a particle has moved GR_SUBLIST_SKIN d / 2 since; the 2D and 3D
+     * d (1 + sl_width) (or touching, or holding a history vector), row by row in list order,
+     * rebuilt from the list when a particle has moved sl_width d / 2 since; the 2D and 3D
      * kernels scan it instead of the list when sl_on. The same pairs in the same order touch
      * either way, so every sum is the same. sl_verlet: the Verlet step runs this simulation (the
      * only kernels that read it); sl_list_at: the step of the list's last build; sl_screen: the
@@ -85,6 +85,11 @@ struct gr_sim {
     int *sl_i, *sl_hits; /* per kept entry: its row; the kernels' touching entries (scratch) */
     uint8_t *sl_flag;    /* per list entry, the threaded build's flags */
     int64_t sl_cap, sl_list_at, sl_rebuilds;
+    /* the width's adaptation (sublist.c, adapt_width): the entries scanned and the rebuilds' work
+     * over the list's life, the kept entries and the step of the last build */
+    int64_t sl_scan_work, sl_build_work, sl_built_at;
+    int sl_kept;
+    double sl_width;
     double *xs_ref, *ys_ref, *zs_ref;
     int sl_on, sl_verlet, sl_forced, sl_screen;
 

@@ -5,20 +5,22 @@
  * pairs do not touch: a vibrated bed of spheres lists 4.6 pairs per sphere of which 0.013 overlap
  * (docs/systems-walls-gravity.md), and the kernels spent most of their time on the distances of
  * the others. The sublist keeps, row by row and in list order, the entries p of the list whose pair
- * is closer than d (1 + GR_SUBLIST_SKIN), or touched at the last force evaluation, or holds a
- * history vector; it is rebuilt from the list (one pass over it, no cells) when some particle has
- * moved GR_SUBLIST_SKIN d / 2 since, and after every build of the list. No pair outside it can
- * touch before then (the Verlet argument with the thinner skin), so the kernels scanning it
- * evaluate the same touching pairs in the same order as over the whole list, and every force, sum
- * and contact flag is the same bit for bit: whether it is on changes the speed only. A mixture's
- * pair is kept when closer than r_i + r_j + GR_SUBLIST_SKIN d (d the largest pair's contact
- * distance), so the same bound on the motion holds. It is on for
- * the Verlet step of a 2D or 3D simulation (identical grains or a mixture) when the list lasted at least
- * GR_SUBLIST_MIN_INTERVAL steps (then its rebuilds, about every fifteenth of the list's life, cost
- * little) and while it keeps at most GR_SUBLIST_MAX_SHARE of the list's pairs (in a clustered gas
- * most listed pairs are close, and scanning through it would only add work) or the kernels screen
- * it (few of its pairs touch);
- * GRANULE_SUBLIST=off or on (environment) overrides both, for tests and benchmarks. */
+ * is closer than d (1 + w), or touched at the last force evaluation, or holds a history vector; it
+ * is rebuilt from the list (one pass over it, no cells) when some particle has moved w d / 2
+ * since, and after every build of the list. No pair outside it can touch before then (the Verlet
+ * argument with the thinner skin), so the kernels scanning it evaluate the same touching pairs in
+ * the same order as over the whole list, and every force, sum and contact flag is the same bit for
+ * bit: whether it is on, and its width, change the speed only. A mixture's pair is kept when closer
+ * than r_i + r_j + w d (d the largest pair's contact distance), so the same bound on the motion
+ * holds. The width w (s->sl_width) adapts at each build of the list, by counts, never by clocks
+ * (`adapt_width`).
+ *
+ * It is on for the Verlet step of a 2D or 3D simulation (identical grains or a mixture) when the
+ * list lasted at least GR_SUBLIST_MIN_INTERVAL steps (then the list's own builds are rare enough
+ * for the sublist's rebuilds between them to pay) and while it keeps at most GR_SUBLIST_MAX_SHARE
+ * of the list's pairs (in a clustered gas most listed pairs are close, and scanning through it
+ * would only add work) or the kernels screen it (few of its pairs touch); GRANULE_SUBLIST=off or
+ * on (environment) overrides both, for tests and benchmarks. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,7 +28,18 @@
 #include "core/kernel_laws.h" /* wrap_delta */
 #include "core/sim_internal.h"
 
-#define GR_SUBLIST_SKIN 0.02 /* 0.05 gave the 3D bed 1.5-1.8x less (docs/performance.md) */
+/* The sublist's width w in units of d: its start and its bounds. Thinner keeps fewer pairs to scan
+ * at each step but is rebuilt more often; the best w is the system's (docs/performance.md, "The
+ * sublist's width"): 0.002 on the settled 2D bed, 0.005 on the 3D bed, 0.02 or more on a
+ * fluidised bed of 150 grains. */
+#define GR_SUBLIST_WIDTH 0.02
+#define GR_SUBLIST_WIDTH_MIN 0.001
+#define GR_SUBLIST_WIDTH_MAX 0.05
+#define GR_SUBLIST_WIDTH_STEP 1.25
+/* A rebuild's cost in screened entries: one per listed pair plus this many per particle (the
+ * pass walks every row; a row's loop exit is mispredicted about once per row). Calibrated on the
+ * three beds at w = 0.02, 0.005, 0.002: the w where the two costs balance was the fastest on each. */
+#define GR_SUBLIST_ROW_COST 4
 #define GR_SUBLIST_MIN_INTERVAL 100
 #define GR_SUBLIST_MAX_SHARE 0.5 /* off (until the list's next build) when it keeps more */
 
@@ -156,7 +169,7 @@ static int build(gr_sim *s, const bool forced)
     }
     /* pairs closer than their contact distance + skin d, d the largest pair's (the refresh's
      * bound is in units of d alike) */
-    const keep_ctx c = keep_ctx_of(s, GR_SUBLIST_SKIN * s->d);
+    const keep_ctx c = keep_ctx_of(s, s->sl_width * s->d);
     if (T > 1) {
         build_threaded(s, T, &c);
     } else {
@@ -196,7 +209,35 @@ static int build(gr_sim *s, const bool forced)
         memcpy(s->zs_ref, s->z, sizeof(double) * (size_t)n);
     }
     s->sl_rebuilds++;
+    /* the work of the list's life so far: the kept entries scanned since the last build, and
+     * this build's pass */
+    s->sl_scan_work += (int64_t)s->sl_kept * (s->step - s->sl_built_at);
+    s->sl_kept = s->sl_start[n];
+    s->sl_built_at = s->step;
+    s->sl_build_work += m + GR_SUBLIST_ROW_COST * (int64_t)n;
     return 1;
+}
+
+/* At a build of the list: the width that balances, over the list's life that ended, the entries
+ * the kernels scanned at every step against the sublist's rebuilds. Scanning grows with w (more
+ * kept pairs), rebuilding falls as 1 / w (a particle moves w d / 2 less often), so their sum is
+ * least about where they are equal; one step of GR_SUBLIST_WIDTH_STEP per list towards it. Only
+ * counts enter, so it is the same on every thread count and machine. */
+static void adapt_width(gr_sim *s)
+{
+    const double hi = fmin(GR_SUBLIST_WIDTH_MAX, 0.5 * s->params.skin);
+    if (s->sl_width == 0.0) {
+        s->sl_width = fmin(GR_SUBLIST_WIDTH, hi);
+    } else if (s->sl_on) {
+        const int64_t scan = s->sl_scan_work + (int64_t)s->sl_kept * (s->step - s->sl_built_at);
+        const double w = scan > s->sl_build_work ? s->sl_width / GR_SUBLIST_WIDTH_STEP
+                                                 : s->sl_width * GR_SUBLIST_WIDTH_STEP;
+        s->sl_width = fmax(GR_SUBLIST_WIDTH_MIN, fmin(w, hi));
+    }
+    s->sl_scan_work = 0;
+    s->sl_build_work = 0;
+    s->sl_kept = 0;
+    s->sl_built_at = s->step;
 }
 
 void gr_sublist_after_build(gr_sim *s)
@@ -205,7 +246,8 @@ void gr_sublist_after_build(gr_sim *s)
     const int mode = e && !strcmp(e, "off") ? -1 : e && !strcmp(e, "on") ? 1 : 0;
     const int64_t interval = s->step - s->sl_list_at; /* steps the list lasted */
     s->sl_list_at = s->step;
-    const bool can = s->dim >= 2 && s->sl_verlet && s->params.skin > GR_SUBLIST_SKIN;
+    adapt_width(s);
+    const bool can = s->dim >= 2 && s->sl_verlet && s->params.skin > 2.0 * GR_SUBLIST_WIDTH_MIN;
     s->sl_on = can && (mode == 1 || (mode == 0 && interval >= GR_SUBLIST_MIN_INTERVAL));
     s->sl_forced = mode == 1;
     if (s->sl_on && !build(s, s->sl_forced)) {
@@ -262,7 +304,7 @@ void gr_sublist_refresh(gr_sim *s)
 
 void gr_sublist_refresh_moved(gr_sim *s, const double worst2)
 {
-    const double lim = 0.5 * GR_SUBLIST_SKIN * s->d;
+    const double lim = 0.5 * s->sl_width * s->d;
     if (s->sl_on && !(worst2 <= lim * lim) &&
         !build(s, s->sl_forced)) { /* a NaN rebuilds too; the step then stops on it */
         s->sl_on = 0;
