@@ -37,6 +37,8 @@ check gas-3d-dashpot 2 rfm-3d.ini 0.005 0.002 system.packing_fraction=0.3 model.
 check bed-2d 1 vibrated-bed.ini 0.1 0.024
 check gas-2d-threads 2 rfm-2d.ini 0.01 0.003 system.N=3000
 check gas-3d-threads 2 rfm-3d.ini 0.005 0.002 model.tangential=tangential_spring model.rotation=true
+# one thread (the flat build of sublist.c), from the dilute cubic start whose first list is empty
+check gas-3d-one 1 rfm-3d.ini 0.005 0.002
 # mixtures (src/core/kernels_poly.c): species in 2D with a history spring and rotation, a bed of
 # two sizes, a lognormal radius distribution, spheres of two species
 check mixture-2d 1 bidisperse-mixture.ini 0.05 0.015 system.packing_fraction=0.3 \

@@ -82,8 +82,11 @@ struct gr_sim {
      * only kernels that read it); sl_list_at: the step of the list's last build; sl_screen: the
      * kernels pick the touching entries first (fewer than half of them touched at the build). */
     int *sl_start, *sl_p;
-    int *sl_i, *sl_hits; /* per kept entry: its row; the kernels' touching entries (scratch) */
-    uint8_t *sl_flag;    /* per list entry, the threaded build's flags */
+    int *sl_i, *sl_hits;   /* per kept entry: its row; the kernels' touching entries (scratch) */
+    uint8_t *sl_flag;      /* per list entry, the threaded build's flags */
+    int *sl_row, *sl_pref; /* per list entry: its row, the kept entries before it (one thread) */
+    int sl_rows_ok;        /* sl_row holds the current list's rows */
+    double sl_gap; /* the largest distance from the list's reference at the sublist's build */
     int64_t sl_cap, sl_list_at, sl_rebuilds;
     /* the width's adaptation (sublist.c, adapt_width): the entries scanned and the rebuilds' work
      * over the list's life, the kept entries and the step of the last build */
@@ -233,6 +236,10 @@ void gr_sublist_after_build(gr_sim *s);
 void gr_sublist_refresh(gr_sim *s);
 void gr_sublist_refresh_moved(gr_sim *s, double moved2);
 void gr_sublist_free(gr_sim *s);
+/* With the sublist on: the largest squared displacement since the list's build if it may exceed
+ * lim2, else 0 (the bound sl_gap + sqrt(moved2), moved2 the largest since the sublist's build, is
+ * below it); the Verlet step's opening pass then measures the sublist's displacements only. */
+double gr_sublist_list_moved2(const gr_sim *s, double moved2, double lim2);
 int gr_neighbours_build(gr_sim *s, gr_error *err);
 
 /* src/core/kernels_3d.c: spheres (docs/three-dimensions.md): the neighbour list and the force

@@ -129,6 +129,99 @@ static void build_threaded(gr_sim *restrict s, const int T, const keep_ctx *c)
     }
 }
 
+/* The largest squared displacement since the list's build, by the Verlet step's own expression
+ * (its opening pass, step.c: the minimum image by L along every axis, the squares summed x, y, z
+ * in order), so that its comparison with the list's skin gives the same answer bit for bit. */
+static double list_moved2(const gr_sim *s)
+{
+    const double L = s->L, half = 0.5 * s->L;
+    const double *x = s->x, *y = s->y, *z = s->z, *xr = s->x_ref, *yr = s->y_ref, *zr = s->z_ref;
+    double worst = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        double dx = x[i] - xr[i], dy = y[i] - yr[i];
+        dx += dx > half ? -L : (dx < -half ? L : 0.0);
+        dy += dy > half ? -L : (dy < -half ? L : 0.0);
+        double d2;
+        if (s->dim == 3) {
+            double dz = z[i] - zr[i];
+            dz += dz > half ? -L : (dz < -half ? L : 0.0);
+            d2 = 0.0;
+            d2 += dx * dx;
+            d2 += dy * dy;
+            d2 += dz * dz;
+        } else {
+            d2 = dx * dx + dy * dy;
+        }
+        worst = d2 > worst ? d2 : worst;
+    }
+    return worst;
+}
+
+/* The rows on one thread, in one pass over the list's entries without a loop per row (whose exit,
+ * mispredicted once per row of two to five entries, was most of a bed's rebuild): each entry's row
+ * from sl_row (filled once per build of the list), the kept entries appended branch-free, and the
+ * rows' starts from the count of kept entries before each entry (sl_pref). */
+static void build_flat(gr_sim *restrict s, const keep_ctx *c)
+{
+    const int n = s->n, m = s->nl_start[n];
+    int *restrict row = s->sl_row, *restrict pref = s->sl_pref;
+    if (!s->sl_rows_ok) {
+        for (int i = 0; i < n; i++) {
+            for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
+                row[p] = i;
+            }
+        }
+        s->sl_rows_ok = 1;
+    }
+    int *restrict row_of = s->sl_i, *restrict sub = s->sl_p;
+    uint8_t *restrict flag = s->sl_flag;
+    if (!c->h && !c->rad) {
+        /* identical grains without a history law: the decisions in vector lanes first (keeps'
+         * arithmetic, wrap_delta as selects, as the kernels' screen_3d) */
+        const double *restrict x = c->x, *restrict y = c->y, *restrict z = c->z;
+        const int *restrict list = c->list;
+        const uint8_t *restrict contact = c->contact;
+        const double P0 = c->P0, P1 = c->P1, P2 = c->P2, h0 = 0.5 * P0, h1 = 0.5 * P1,
+                     h2 = 0.5 * P2, cut = c->d + c->margin, cut2 = cut * cut;
+        if (c->three) {
+#pragma omp simd
+            for (int p = 0; p < m; p++) {
+                const int i = row[p], j = list[p];
+                double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
+                dx += dx > h0 ? -P0 : (dx < -h0 ? P0 : 0.0);
+                dy += dy > h1 ? -P1 : (dy < -h1 ? P1 : 0.0);
+                dz += dz > h2 ? -P2 : (dz < -h2 ? P2 : 0.0);
+                flag[p] = (uint8_t)((dx * dx + dy * dy + dz * dz < cut2) | contact[p]);
+            }
+        } else {
+#pragma omp simd
+            for (int p = 0; p < m; p++) {
+                const int i = row[p], j = list[p];
+                double dx = x[j] - x[i], dy = y[j] - y[i];
+                dx += dx > h0 ? -P0 : (dx < -h0 ? P0 : 0.0);
+                dy += dy > h1 ? -P1 : (dy < -h1 ? P1 : 0.0);
+                flag[p] = (uint8_t)((dx * dx + dy * dy < cut2) | contact[p]);
+            }
+        }
+    } else {
+        for (int p = 0; p < m; p++) {
+            flag[p] = keeps(c, row[p], p);
+        }
+    }
+    int count = 0;
+    for (int p = 0; p < m; p++) {
+        pref[p] = count;
+        row_of[count] = row[p]; /* count <= p < m, so the slot exists */
+        sub[count] = p;
+        count += flag[p];
+    }
+    pref[m] = count;
+    const int *restrict start = s->nl_start;
+    for (int i = 0; i <= n; i++) {
+        s->sl_start[i] = pref[start[i]];
+    }
+}
+
 /* Build the sublist from the list at the current positions; 0 when out of memory or when it
  * keeps more than GR_SUBLIST_MAX_SHARE of the list without being screened, unless forced (then
  * off until the list's next build). On the simulation's threads when it has more than one (the same sublist). */
@@ -146,7 +239,7 @@ static int build(gr_sim *s, const bool forced)
             return 0;
         }
     }
-    if (m > s->sl_cap) {
+    if (m > s->sl_cap || !s->sl_pref) { /* sl_pref: m + 1 entries, also for an empty list */
         const size_t cap = (size_t)(m > 0 ? m : 1);
         int *p = realloc(s->sl_p, sizeof(int) * cap);
         if (p) {
@@ -161,11 +254,20 @@ static int build(gr_sim *s, const bool forced)
             s->sl_hits = hits;
         }
         uint8_t *f = hits ? realloc(s->sl_flag, cap) : NULL;
-        if (!f) {
+        if (f) {
+            s->sl_flag = f;
+        }
+        int *rw = f ? realloc(s->sl_row, sizeof(int) * cap) : NULL;
+        if (rw) {
+            s->sl_row = rw;
+        }
+        int *pf = rw ? realloc(s->sl_pref, sizeof(int) * (cap + 1)) : NULL;
+        if (!pf) {
             return 0;
         }
-        s->sl_flag = f;
+        s->sl_pref = pf;
         s->sl_cap = m;
+        s->sl_rows_ok = 0;
     }
     /* pairs closer than their contact distance + skin d, d the largest pair's (the refresh's
      * bound is in units of d alike) */
@@ -173,17 +275,7 @@ static int build(gr_sim *s, const bool forced)
     if (T > 1) {
         build_threaded(s, T, &c);
     } else {
-        int count = 0;
-        for (int i = 0; i < n; i++) {
-            s->sl_start[i] = count;
-            for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
-                /* branch-free: count <= p < m, so the slot exists */
-                s->sl_i[count] = i;
-                s->sl_p[count] = p;
-                count += keeps(&c, i, p);
-            }
-        }
-        s->sl_start[n] = count;
+        build_flat(s, &c);
     }
     /* screen the entries first (the kernels' sl_screen) while fewer than half touch: where most
      * do (a clustered gas, a bed pressed into contact), the screen is a second look at every
@@ -208,6 +300,7 @@ static int build(gr_sim *s, const bool forced)
     if (s->dim == 3) {
         memcpy(s->zs_ref, s->z, sizeof(double) * (size_t)n);
     }
+    s->sl_gap = sqrt(list_moved2(s));
     s->sl_rebuilds++;
     /* the work of the list's life so far: the kept entries scanned since the last build, and
      * this build's pass */
@@ -245,6 +338,7 @@ void gr_sublist_after_build(gr_sim *s)
     const char *e = getenv("GRANULE_SUBLIST"); /* once per build of the list: rare */
     const int mode = e && !strcmp(e, "off") ? -1 : e && !strcmp(e, "on") ? 1 : 0;
     const int64_t interval = s->step - s->sl_list_at; /* steps the list lasted */
+    s->sl_rows_ok = 0; /* a new list: build_flat fills its rows again */
     s->sl_list_at = s->step;
     adapt_width(s);
     const bool can = s->dim >= 2 && s->sl_verlet && s->params.skin > 2.0 * GR_SUBLIST_WIDTH_MIN;
@@ -253,6 +347,18 @@ void gr_sublist_after_build(gr_sim *s)
     if (s->sl_on && !build(s, s->sl_forced)) {
         s->sl_on = 0;
     }
+}
+
+double gr_sublist_list_moved2(const gr_sim *s, const double moved2, const double lim2)
+{
+    /* a particle is at most sl_gap from the list's reference at the sublist's build plus its
+     * move since (the triangle inequality, which the minimum image keeps); the margin covers the
+     * rounding of the three square roots and the sum */
+    const double bound = s->sl_gap + sqrt(moved2);
+    if (bound * (1.0 + 1e-12) < sqrt(lim2)) {
+        return 0.0; /* below the skin's half: the list stays, as the exact value would say */
+    }
+    return list_moved2(s);
 }
 
 /* The largest squared displacement of the particles [lo, hi) since the sublist's build (the raw
@@ -318,6 +424,8 @@ void gr_sublist_free(gr_sim *s)
     free(s->sl_i);
     free(s->sl_hits);
     free(s->sl_flag);
+    free(s->sl_row);
+    free(s->sl_pref);
     free(s->xs_ref);
     free(s->ys_ref);
     free(s->zs_ref);

@@ -430,7 +430,7 @@ static inline void block_sums(double *restrict part, const int noise, const doub
 static inline __attribute__((always_inline)) void open_range_2d(gr_sim *restrict s, const int lo,
                                                                 const int hi, const int noise,
                                                                 const double mean[2],
-                                                                const int closing,
+                                                                const int closing, const int listck,
                                                                 double *restrict part)
 {
     const double h = 0.5 * s->dt / s->mass, dt = s->dt, L = s->L, half = 0.5 * L;
@@ -485,11 +485,13 @@ static inline __attribute__((always_inline)) void open_range_2d(gr_sim *restrict
         yn += yn < lo_y ? L : (yn >= hi_y ? -L : 0.0);                                             \
         x[i] = xn;                                                                                 \
         y[i] = yn;                                                                                 \
-        double ddx = xn - xr[i], ddy = yn - yr[i];                                                 \
-        ddx += ddx > half ? -L : (ddx < -half ? L : 0.0);                                          \
-        ddy += ddy > half ? -L : (ddy < -half ? L : 0.0);                                          \
-        const double d2 = ddx * ddx + ddy * ddy;                                                   \
-        worst[l] = d2 > worst[l] ? d2 : worst[l];                                                  \
+        if (listck) {                                                                              \
+            double ddx = xn - xr[i], ddy = yn - yr[i];                                             \
+            ddx += ddx > half ? -L : (ddx < -half ? L : 0.0);                                      \
+            ddy += ddy > half ? -L : (ddy < -half ? L : 0.0);                                      \
+            const double d2 = ddx * ddx + ddy * ddy;                                               \
+            worst[l] = d2 > worst[l] ? d2 : worst[l];                                              \
+        }                                                                                          \
         double sdx = xn - sxr[i], sdy = yn - syr[i];                                               \
         sdx += sdx > half ? -L : (sdx < -half ? L : 0.0);                                          \
         sdy += sdy > half ? -L : (sdy < -half ? L : 0.0);                                          \
@@ -542,7 +544,7 @@ static double open_total(const gr_sim *s, const int noise, open_report *o)
 /* The 2D opening pass over blocks of GR_BLOCK particles (shared by T threads); block sums are
  * combined in block order, so the result does not depend on T. One function per (noise,
  * closing) pair, so that the constants reach the loop body that OpenMP outlines. */
-#define OPEN_BLOCKS_2D(name, NOISE, CLOSING)                                                       \
+#define OPEN_BLOCKS_2D(name, NOISE, CLOSING, LISTCK)                                               \
     static void name(gr_sim *restrict s, const double mean[2], const int T)                        \
     {                                                                                              \
         const int n = s->n, nb = s->nblk;                                                          \
@@ -552,27 +554,34 @@ static double open_total(const gr_sim *s, const int noise, open_report *o)
                                                                              b++)                  \
             {                                                                                      \
                 const int lo = b * GR_BLOCK, hi = lo + GR_BLOCK < n ? lo + GR_BLOCK : n;           \
-                open_range_2d(s, lo, hi, NOISE, mean, CLOSING, blk + (size_t)b * GR_BLK_FIELDS);   \
+                open_range_2d(s, lo, hi, NOISE, mean, CLOSING, LISTCK,                             \
+                              blk + (size_t)b * GR_BLK_FIELDS);                                    \
             }                                                                                      \
         } else {                                                                                   \
             for (int b = 0; b < nb; b++) {                                                         \
                 const int lo = b * GR_BLOCK, hi = lo + GR_BLOCK < n ? lo + GR_BLOCK : n;           \
-                open_range_2d(s, lo, hi, NOISE, mean, CLOSING, blk + (size_t)b * GR_BLK_FIELDS);   \
+                open_range_2d(s, lo, hi, NOISE, mean, CLOSING, LISTCK,                             \
+                              blk + (size_t)b * GR_BLK_FIELDS);                                    \
             }                                                                                      \
         }                                                                                          \
     }
-OPEN_BLOCKS_2D(open_blocks_2d_00, 0, 0)
-OPEN_BLOCKS_2D(open_blocks_2d_01, 0, 1)
-OPEN_BLOCKS_2D(open_blocks_2d_10, DRIVE_KICK, 0)
-OPEN_BLOCKS_2D(open_blocks_2d_11, DRIVE_KICK, 1)
-OPEN_BLOCKS_2D(open_blocks_2d_20, DRIVE_OU, 0)
-OPEN_BLOCKS_2D(open_blocks_2d_21, DRIVE_OU, 1)
+OPEN_BLOCKS_2D(open_blocks_2d_00, 0, 0, 1)
+OPEN_BLOCKS_2D(open_blocks_2d_01, 0, 1, 1)
+OPEN_BLOCKS_2D(open_blocks_2d_10, DRIVE_KICK, 0, 1)
+OPEN_BLOCKS_2D(open_blocks_2d_11, DRIVE_KICK, 1, 1)
+OPEN_BLOCKS_2D(open_blocks_2d_20, DRIVE_OU, 0, 1)
+OPEN_BLOCKS_2D(open_blocks_2d_21, DRIVE_OU, 1, 1)
+/* the closing steps with the sublist on: the list's displacements are left to the bound (the
+ * step loop, gr_sublist_list_moved2) */
+OPEN_BLOCKS_2D(open_blocks_2d_01s, 0, 1, 0)
+OPEN_BLOCKS_2D(open_blocks_2d_11s, DRIVE_KICK, 1, 0)
+OPEN_BLOCKS_2D(open_blocks_2d_21s, DRIVE_OU, 1, 0)
 #undef OPEN_BLOCKS_2D
 
 /* With noise on T > 1 threads: draw the noise, form its means and run the opening pass in one
  * parallel region (one fork and join per step fewer); the arithmetic is that of draw_noise and
  * open_blocks_2d_1*. Returns the means in mean. */
-#define NOISE_OPEN_2D(name, NOISE, CLOSING)                                                        \
+#define NOISE_OPEN_2D(name, NOISE, CLOSING, LISTCK)                                                \
     static void name(gr_sim *restrict s, double mean[2], const int T)                              \
     {                                                                                              \
         const int n = s->n, nb = s->nblk, sym = symmetrised(s);                                    \
@@ -588,7 +597,8 @@ OPEN_BLOCKS_2D(open_blocks_2d_21, DRIVE_OU, 1)
             _Pragma("omp for schedule(static)") for (int b = 0; b < nb; b++)                       \
             {                                                                                      \
                 const int lo = b * GR_BLOCK, hi = lo + GR_BLOCK < n ? lo + GR_BLOCK : n;           \
-                open_range_2d(s, lo, hi, NOISE, m, CLOSING, blk + (size_t)b * GR_BLK_FIELDS);      \
+                open_range_2d(s, lo, hi, NOISE, m, CLOSING, LISTCK,                                \
+                              blk + (size_t)b * GR_BLK_FIELDS);                                    \
             }                                                                                      \
             _Pragma("omp master")                                                                  \
             {                                                                                      \
@@ -597,18 +607,33 @@ OPEN_BLOCKS_2D(open_blocks_2d_21, DRIVE_OU, 1)
             }                                                                                      \
         }                                                                                          \
     }
-NOISE_OPEN_2D(noise_open_2d_0, DRIVE_KICK, 0)
-NOISE_OPEN_2D(noise_open_2d_1, DRIVE_KICK, 1)
-NOISE_OPEN_2D(noise_open_2d_20, DRIVE_OU, 0)
-NOISE_OPEN_2D(noise_open_2d_21, DRIVE_OU, 1)
+NOISE_OPEN_2D(noise_open_2d_0, DRIVE_KICK, 0, 1)
+NOISE_OPEN_2D(noise_open_2d_1, DRIVE_KICK, 1, 1)
+NOISE_OPEN_2D(noise_open_2d_20, DRIVE_OU, 0, 1)
+NOISE_OPEN_2D(noise_open_2d_21, DRIVE_OU, 1, 1)
+NOISE_OPEN_2D(noise_open_2d_1s, DRIVE_KICK, 1, 0)
+NOISE_OPEN_2D(noise_open_2d_21s, DRIVE_OU, 1, 0)
 #undef NOISE_OPEN_2D
 
 /* The 2D opening pass; with noise on T > 1 threads it also draws the noise (mean is then
- * filled in), otherwise draw_noise has run. */
+ * filled in), otherwise draw_noise has run. listck = 0 (closing steps only): the displacements
+ * since the list's build are not measured (o->disp2 = 0). */
 static double open_step_2d(gr_sim *restrict s, const int noise, double mean[3], const int closing,
-                           open_report *o, const int T)
+                           const int listck, open_report *o, const int T)
 {
-    if (noise == DRIVE_KICK && T > 1) {
+    if (closing && !listck) {
+        if (noise == DRIVE_KICK && T > 1) {
+            noise_open_2d_1s(s, mean, T);
+        } else if (noise == DRIVE_KICK) {
+            open_blocks_2d_11s(s, mean, T);
+        } else if (noise == DRIVE_OU && T > 1) {
+            noise_open_2d_21s(s, mean, T);
+        } else if (noise == DRIVE_OU) {
+            open_blocks_2d_21s(s, mean, T);
+        } else {
+            open_blocks_2d_01s(s, mean, T);
+        }
+    } else if (noise == DRIVE_KICK && T > 1) {
         (closing ? noise_open_2d_1 : noise_open_2d_0)(s, mean, T);
     } else if (noise == DRIVE_KICK) {
         (closing ? open_blocks_2d_11 : open_blocks_2d_10)(s, mean, T);
@@ -653,9 +678,11 @@ static double open_step_2d(gr_sim *restrict s, const int noise, double mean[3], 
         double q = R[i] + vi * dt;                                                                 \
         q += q < LO ? L : (q >= HI ? -L : 0.0);                                                    \
         R[i] = q;                                                                                  \
-        double dd = q - REF[i];                                                                    \
-        dd += dd > half ? -L : (dd < -half ? L : 0.0);                                             \
-        d2 += dd * dd;                                                                             \
+        if (listck) {                                                                              \
+            double dd = q - REF[i];                                                                \
+            dd += dd > half ? -L : (dd < -half ? L : 0.0);                                         \
+            d2 += dd * dd;                                                                         \
+        }                                                                                          \
         double ds = q - SREF[i];                                                                   \
         ds += ds > half ? -L : (ds < -half ? L : 0.0);                                             \
         s2 += ds * ds;                                                                             \
@@ -677,7 +704,7 @@ static double open_step_2d(gr_sim *restrict s, const int noise, double mean[3], 
 static inline __attribute__((always_inline)) void open_range_3d(gr_sim *restrict s, const int lo,
                                                                 const int hi, const int noise,
                                                                 const double mean[3],
-                                                                const int closing,
+                                                                const int closing, const int listck,
                                                                 double *restrict part)
 {
     const double h = 0.5 * s->dt / s->mass, dt = s->dt, L = s->L, half = 0.5 * s->L;
@@ -715,20 +742,28 @@ static inline __attribute__((always_inline)) void open_range_3d(gr_sim *restrict
 #undef OPEN_3D
 #undef OPEN_3D_C
 
-/* Block b of the 3D opening pass, open_range_3d chosen for the run's (noise, closing): one branch
- * per block of GR_BLOCK particles. */
+/* Block b of the 3D opening pass, open_range_3d chosen for the run's (noise, closing, listck): one
+ * branch per block of GR_BLOCK particles (listck = 0 only on closing steps, as open_step_2d). */
 static void open_block_3d(gr_sim *restrict s, const int b, const int noise, const double mean[3],
-                          const int closing)
+                          const int closing, const int listck)
 {
     const int n = s->n, lo = b * GR_BLOCK, hi = lo + GR_BLOCK < n ? lo + GR_BLOCK : n;
     double *part = s->blk + (size_t)b * GR_BLK_FIELDS;
+    if (closing && !listck) {
+        switch (noise) {
+        case DRIVE_KICK: open_range_3d(s, lo, hi, DRIVE_KICK, mean, 1, 0, part); break;
+        case DRIVE_OU: open_range_3d(s, lo, hi, DRIVE_OU, mean, 1, 0, part); break;
+        default: open_range_3d(s, lo, hi, 0, mean, 1, 0, part); break;
+        }
+        return;
+    }
     switch (2 * noise + (closing != 0)) {
-    case 2 * DRIVE_KICK + 1: open_range_3d(s, lo, hi, DRIVE_KICK, mean, 1, part); break;
-    case 2 * DRIVE_KICK: open_range_3d(s, lo, hi, DRIVE_KICK, mean, 0, part); break;
-    case 2 * DRIVE_OU + 1: open_range_3d(s, lo, hi, DRIVE_OU, mean, 1, part); break;
-    case 2 * DRIVE_OU: open_range_3d(s, lo, hi, DRIVE_OU, mean, 0, part); break;
-    case 1: open_range_3d(s, lo, hi, 0, mean, 1, part); break;
-    default: open_range_3d(s, lo, hi, 0, mean, 0, part); break;
+    case 2 * DRIVE_KICK + 1: open_range_3d(s, lo, hi, DRIVE_KICK, mean, 1, 1, part); break;
+    case 2 * DRIVE_KICK: open_range_3d(s, lo, hi, DRIVE_KICK, mean, 0, 1, part); break;
+    case 2 * DRIVE_OU + 1: open_range_3d(s, lo, hi, DRIVE_OU, mean, 1, 1, part); break;
+    case 2 * DRIVE_OU: open_range_3d(s, lo, hi, DRIVE_OU, mean, 0, 1, part); break;
+    case 1: open_range_3d(s, lo, hi, 0, mean, 1, 1, part); break;
+    default: open_range_3d(s, lo, hi, 0, mean, 0, 1, part); break;
     }
 }
 
@@ -737,7 +772,7 @@ static void open_block_3d(gr_sim *restrict s, const int b, const int noise, cons
  * T > 1 threads it draws the normals and forms their means first, in the same parallel region (as
  * noise_open_2d_*; mean is then filled in), otherwise draw_noise has run. */
 static double open_step_3d(gr_sim *restrict s, const int noise, double mean[3], const int closing,
-                           open_report *o, const int T)
+                           const int listck, open_report *o, const int T)
 {
     const int nb = s->nblk;
     if (T > 1) {
@@ -754,7 +789,7 @@ static double open_step_3d(gr_sim *restrict s, const int noise, double mean[3], 
             }
 #pragma omp for schedule(static)
             for (int b = 0; b < nb; b++) {
-                open_block_3d(s, b, noise, m, closing);
+                open_block_3d(s, b, noise, m, closing, listck);
             }
 #pragma omp master
             {
@@ -765,7 +800,7 @@ static double open_step_3d(gr_sim *restrict s, const int noise, double mean[3], 
         }
     } else {
         for (int b = 0; b < nb; b++) {
-            open_block_3d(s, b, noise, mean, closing);
+            open_block_3d(s, b, noise, mean, closing, listck);
         }
     }
     return open_total(s, noise, o);
@@ -817,12 +852,15 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
             draw_noise(s, mean, team);
         }
         const int close_here = closing && !com_now;
+        /* with the sublist on, the opening pass measures the displacements since its build only;
+         * those since the list's build are bounded from them below */
+        const int listck = !(s->sl_on && close_here);
         if (s->dim == 3) { /* spheres: the random force, the bath or none */
             s->injected += open_step_3d(s,
                                         bath    ? DRIVE_OU
                                         : noise ? DRIVE_KICK
                                                 : 0,
-                                        mean, close_here, &o, team);
+                                        mean, close_here, listck, &o, team);
             s->diss_drag += o.drag;
         } else if (s->dim == 1 && bath) {
             s->injected += close_here ? open_step_1d(s, DRIVE_OU, 0.0, 1, &o)
@@ -834,13 +872,13 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
                                  : (close_here ? open_step_1d(s, 0, 0.0, 1, &o)
                                                : open_step_1d(s, 0, 0.0, 0, &o));
         } else if (bath) {
-            s->injected += open_step_2d(s, DRIVE_OU, mean, close_here, &o, team);
+            s->injected += open_step_2d(s, DRIVE_OU, mean, close_here, listck, &o, team);
             s->diss_drag += o.drag;
         } else {
-            s->injected += noise ? (close_here ? open_step_2d(s, 1, mean, 1, &o, team)
-                                               : open_step_2d(s, 1, mean, 0, &o, team))
-                                 : (close_here ? open_step_2d(s, 0, mean, 1, &o, team)
-                                               : open_step_2d(s, 0, mean, 0, &o, team));
+            s->injected += noise ? (close_here ? open_step_2d(s, 1, mean, 1, listck, &o, team)
+                                               : open_step_2d(s, 1, mean, 0, 1, &o, team))
+                                 : (close_here ? open_step_2d(s, 0, mean, 1, listck, &o, team)
+                                               : open_step_2d(s, 0, mean, 0, 1, &o, team));
         }
         if (s->omega && !gr_verlet_spin_kicks(s, close_here, 1, &o.work_close, &o.work_open)) {
             o.finite = false;
@@ -849,7 +887,9 @@ int gr_verlet_step(gr_sim *s, int64_t nsteps, gr_error *err)
             gr_verlet_book(s, o.work_close);
         }
         gr_verlet_book(s, o.work_open); /* the last forces, with their shares */
-        double disp2 = o.disp2;
+        /* without the pass's measurement: no particle has moved further from the list's reference
+         * than the bound, or the exact value (sublist.c) */
+        double disp2 = listck ? o.disp2 : gr_sublist_list_moved2(s, o.disp2s, skin_half2);
         if (!o.finite) {
             int rc = gr_verlet_check_finite(s, err); /* names the particle */
             return rc ? rc
