@@ -83,7 +83,7 @@ struct gr_sim {
      * kernels pick the touching entries first (fewer than half of them touched at the build). */
     int *sl_start, *sl_p;
     int *sl_i, *sl_hits;   /* per kept entry: its row; the kernels' touching entries (scratch) */
-    uint8_t *sl_flag;      /* per list entry, the threaded build's flags */
+    uint8_t *sl_flag;      /* per list entry: the build's decisions (3D: the screen's scratch) */
     int *sl_row, *sl_pref; /* per list entry: its row, the kept entries before it (one thread) */
     int sl_rows_ok;        /* sl_row holds the current list's rows */
     double sl_gap; /* the largest distance from the list's reference at the sublist's build */

@@ -43,8 +43,8 @@
 #define GR_SUBLIST_MIN_INTERVAL 100
 #define GR_SUBLIST_MAX_SHARE 0.5 /* off (until the list's next build) when it keeps more */
 
-/* What deciding an entry reads, copied once per build (the flags the threaded build writes as bytes
- * could otherwise alias every field of the simulation). */
+/* What deciding an entry reads, copied once per build (the flags the build writes as bytes could
+ * otherwise alias every field of the simulation). */
 typedef struct keep_ctx {
     const double *x, *y, *z, *h, *rad;
     const uint8_t *contact;
@@ -89,44 +89,6 @@ static inline bool keeps(const keep_ctx *c, const int i, const int p)
         keep = c->h[(int64_t)hw * p + a] != 0.0;
     }
     return keep;
-}
-
-/* The rows on T threads: each row's count (and a flag per entry), the counts summed in row order,
- * then each row's entries in list order: the same sublist as one pass makes. */
-static void build_threaded(gr_sim *restrict s, const int T, const keep_ctx *c)
-{
-    const int n = s->n, *restrict row = s->nl_start;
-    int *restrict start = s->sl_start, *restrict sub = s->sl_p, *restrict row_of = s->sl_i;
-    uint8_t *restrict flag = s->sl_flag;
-#pragma omp parallel num_threads(T)
-    {
-#pragma omp for schedule(static)
-        for (int i = 0; i < n; i++) {
-            int kept = 0;
-            for (int p = row[i]; p < row[i + 1]; p++) {
-                flag[p] = keeps(c, i, p);
-                kept += flag[p];
-            }
-            start[i + 1] = kept;
-        }
-#pragma omp single
-        {
-            start[0] = 0;
-            for (int i = 0; i < n; i++) {
-                start[i + 1] += start[i];
-            }
-        }
-#pragma omp for schedule(static)
-        for (int i = 0; i < n; i++) {
-            int k = start[i];
-            for (int p = row[i]; p < row[i + 1]; p++) {
-                if (flag[p]) {
-                    row_of[k] = i;
-                    sub[k++] = p;
-                }
-            }
-        }
-    }
 }
 
 /* The largest squared displacement since the list's build, by the Verlet step's own expression
@@ -224,10 +186,10 @@ static void build_flat(gr_sim *restrict s, const keep_ctx *c)
 
 /* Build the sublist from the list at the current positions; 0 when out of memory or when it
  * keeps more than GR_SUBLIST_MAX_SHARE of the list without being screened, unless forced (then
- * off until the list's next build). On the simulation's threads when it has more than one (the same sublist). */
+ * off until the list's next build). */
 static int build(gr_sim *s, const bool forced)
 {
-    const int n = s->n, T = gr_team(s);
+    const int n = s->n;
     const int64_t m = s->nl_start[n];
     if (!s->sl_start) {
         s->sl_start = malloc(sizeof(int) * (size_t)(n + 1));
@@ -272,11 +234,7 @@ static int build(gr_sim *s, const bool forced)
     /* pairs closer than their contact distance + skin d, d the largest pair's (the refresh's
      * bound is in units of d alike) */
     const keep_ctx c = keep_ctx_of(s, s->sl_width * s->d);
-    if (T > 1) {
-        build_threaded(s, T, &c);
-    } else {
-        build_flat(s, &c);
-    }
+    build_flat(s, &c); /* on one thread: on two, as fast as the rows split between them was */
     /* screen the entries first (the kernels' sl_screen) while fewer than half touch: where most
      * do (a clustered gas, a bed pressed into contact), the screen is a second look at every
      * touching pair */
