@@ -8,8 +8,8 @@
 # + err^2), chi2 per slab over the populated slabs, the centre-of-mass height of both, and the
 # throughput of both (particle-steps/s; LAMMPS from its production run's loop time) with the ratio.
 #
-#   bench/lammps_vibrated_bed.sh [BUILD_DIR] [--quick] [--install] [--warmup S] [--duration S]
-#                                [--scene FILE] [--set K=V ...]
+#   bench/lammps_vibrated_bed.sh [BUILD_DIR] [--quick | --check] [--install] [--warmup S]
+#                                [--duration S] [--scene FILE] [--set K=V ...]
 #
 # --scene: another bed (default docs/scenes/vibrated-bed.ini); the 150 grains, A = 2 mm and 25
 # slabs above still apply unless a --set says otherwise. The 3D bed of spheres:
@@ -19,7 +19,11 @@
 # (gran/hooke has no pure Coulomb slider, so export refuses sliding_friction)
 #
 # Defaults: 0.3 s of warm-up (the grains start spread over the box and must settle) and 2 s sampled
-# every 2 ms (6.1e6 steps of 3.7e-7 s; LAMMPS takes about 15 s on one core). --quick: 0.004 + 0.004 s, the pipeline only (the test suite runs it).
+# every 2 ms (6.1e6 steps of 3.7e-7 s; LAMMPS takes about 15 s on one core). --quick: 0.004 + 0.004 s,
+# the pipeline only. --check (the test suite's, about 15 s): 0.3 + 0.6 s, and fails unless the
+# profiles agree: chi2 per slab below 3 for phi and each temperature (12 populated slabs measured
+# 0.90, 1.74, 1.37) and the centres of mass within 4 errors (z = 0.21); under GRANULE_TEST_QUICK
+# (the sanitizer pass) it runs as --quick.
 # Needs `lmp` built with GRANULAR (Debian package lammps); skips without it (--install installs it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -27,18 +31,21 @@ build=build
 scene=docs/scenes/vibrated-bed.ini
 install=${GRANULE_BENCH_INSTALL:-0}
 quick=false
+check=false
 extra=()
 warmup=0.3
 duration=2
 while (($#)); do
     case $1 in
         --quick) quick=true; warmup=0.004; duration=0.004 ;;
+        --check) if [[ -n ${GRANULE_TEST_QUICK:-} ]]; then quick=true; warmup=0.004; duration=0.004
+                 else check=true; warmup=0.3; duration=0.6; fi ;;
         --install) install=1 ;;
         --warmup | --duration | --set | --scene)
             (($# >= 2)) || { echo "bench/lammps_vibrated_bed.sh: $1 needs a value" >&2; exit 2; }
             case $1 in --warmup) warmup=$2 ;; --duration) duration=$2 ;; --scene) scene=$2 ;; *) extra+=(--set "$2") ;; esac
             shift ;;
-        -*) echo "usage: bench/lammps_vibrated_bed.sh [BUILD_DIR] [--quick] [--install] [--warmup S] [--duration S] [--scene FILE] [--set K=V ...]" >&2
+        -*) echo "usage: bench/lammps_vibrated_bed.sh [BUILD_DIR] [--quick | --check] [--install] [--warmup S] [--duration S] [--scene FILE] [--set K=V ...]" >&2
             exit 2 ;;
         *) build=$1 ;;
     esac
@@ -67,10 +74,11 @@ echo "# granule vs $lmp on $scene ${extra[*]+${extra[*]}}, $(date -u +%Y-%m-%dT%
     { tail -20 "$tmp/l/lmp.out" >&2; echo "lammps-vibrated-bed: LAMMPS failed" >&2; exit 1; }
 "$build/granule" analyse "$tmp/l" --lammps-dump "$tmp/l/dump.granule.lammpstrj" --out "$tmp/la" \
     --no-plots >"$tmp/a.log" 2>&1 || { cat "$tmp/a.log" >&2; echo "lammps-vibrated-bed: analyse failed" >&2; exit 1; }
-/usr/bin/python3 - "$tmp/g" "$tmp/la" "$tmp/l/log.lammps" "$quick" <<'PY'
+/usr/bin/python3 - "$tmp/g" "$tmp/la" "$tmp/l/log.lammps" "$quick" "$check" <<'PY'
 import json, re, sys
 import numpy as np
 g_dir, l_dir, log, quick = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4] == "true"
+check = sys.argv[5] == "true"
 rd = lambda d: np.genfromtxt(d + "/profile.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
 g, l = rd(g_dir), rd(l_dir)
 sg, sl = json.load(open(g_dir + "/summary.json")), json.load(open(l_dir + "/summary.json"))
@@ -104,4 +112,13 @@ rate_l = int(steps) * int(atoms) / float(t_l)
 rate_g = sg["particle_steps_per_second"]
 print(f"throughput, one core: granule {rate_g:.3g} particle-steps/s (kernel {sg.get('kernel', '?')}), "
       f"LAMMPS {rate_l:.3g} ({procs} proc, production run): ratio {rate_g / rate_l:.2f}x")
+if check:
+    bad = [f"{q}: chi2 / slab {np.mean(np.array(zs) ** 2):.2f} over {len(zs)} slabs (limit 3, at least 5 slabs)"
+           for q, zs in chi.items() if len(zs) < 5 or np.mean(np.array(zs) ** 2) >= 3.0]
+    if not abs(zh) < 4.0:
+        bad.append(f"centre of mass z = {zh:.2f} (limit 4)")
+    if bad:
+        print("FAIL: granule's and LAMMPS's profiles disagree: " + "; ".join(bad))
+        sys.exit(1)
+    print("check: the profiles agree (chi2 / slab < 3 for each quantity, centre of mass |z| < 4)")
 PY
