@@ -664,6 +664,8 @@ static const char *const gas_laws[][3] = {
     {"model.tangential=tangential_spring", "model.mu=0.5", "model.rolling=rolling_friction"},
     {"model.tangential=sliding_friction", "model.mu=0.5", "model.rolling=none"},
     {"model.tangential=tangential_dashpot", "model.eps_t=0.5", "model.rolling=none"},
+    /* threads only: rolling without a history law (the cross pairs' torques evaluated twice) */
+    {"model.tangential=sliding_friction", "model.mu=0.5", "model.rolling=rolling_friction"},
 };
 
 START_TEST(test_ledger_closes)
@@ -785,8 +787,9 @@ START_TEST(test_threads_every_law)
 }
 END_TEST
 
-/* The laws without history (sliding friction, the tangential dashpot; rotation, no rolling) on 1,
- * 2 and 3 threads, as above. */
+/* The laws without history (sliding friction, the tangential dashpot, sliding friction with
+ * rolling; rotation) on 1, 2 and 3 threads, as above: each thread evaluates the cross pairs it
+ * receives itself (kernels_3d.c, add_direct_3d). */
 START_TEST(test_threads_laws)
 {
     gr_scene *sc = malloc(sizeof *sc);
@@ -945,7 +948,7 @@ static Suite *contacts_suite(void)
     tcase_add_test(tc, test_threads_every_law);
     if (!quick()) { /* thread invariance of the other laws: the release pass's (the sanitizer pass
                        runs the threaded kernel in test_threads_every_law) */
-        tcase_add_loop_test(tc, test_threads_laws, 1, 3);
+        tcase_add_loop_test(tc, test_threads_laws, 1, 4);
     }
     tcase_add_test(tc, test_restart_spins);
     tcase_add_test(tc, test_elastic_without_friction);

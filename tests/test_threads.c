@@ -498,18 +498,20 @@ START_TEST(test_threads_pair)
 }
 END_TEST
 
-/* rotation (the torques of cross pairs go through pair_tq): 1 and 2 threads, bit for bit, for both
- * contact-point tangential laws */
+/* rotation (the torques of cross pairs, evaluated by the thread that receives them): 1 and 2
+ * threads, bit for bit, for both contact-point tangential laws and the rolling law */
 START_TEST(test_threads_rotation)
 {
-    static const char *laws[][2] = {{"model.tangential=tangential_dashpot", "model.eps_t=0.3"},
-                                    {"model.tangential=sliding_friction", "model.mu=0.4"}};
-    for (int k = 0; k < 2; k++) {
-        const char *sets[] = {"system.N=1500", "system.L=0.13",       "placement.v0=0.5",
-                              "noise.D=1e-6",  "model.rotation=true", laws[k][0],
-                              laws[k][1]};
+    static const char *laws[][3] = {
+        {"model.tangential=tangential_dashpot", "model.eps_t=0.3", "model.rolling=none"},
+        {"model.tangential=sliding_friction", "model.mu=0.4", "model.rolling=none"},
+        {"model.tangential=sliding_friction", "model.mu=0.4", "model.rolling=rolling_friction"}};
+    for (int k = 0; k < 3; k++) {
+        const char *sets[] = {
+            "system.N=1500",       "system.L=0.13", "placement.v0=0.5", "noise.D=1e-6",
+            "model.rotation=true", laws[k][0],      laws[k][1],         laws[k][2]};
         gr_scene sc;
-        load_scene(&sc, "rfm-2d.ini", sets, 7);
+        load_scene(&sc, "rfm-2d.ini", sets, 8);
         int cross2 = 0;
         const int64_t steps = steps_full() / 2;
         uint64_t h1 = run_placed(&sc, 1, steps, NULL);

@@ -358,13 +358,83 @@ static void zero_forces(gr_sim *s, int lo, int hi)
     }
 }
 
+/* The split's weight of an incoming cross pair, in listed pairs: a thread evaluates (or reads) each
+ * pair from the rows of another thread and adds it to its particle before its own rows, out of
+ * the other core's cache, about 8.5 ns a pair on the issue-35 gas against about 1.7 ns per listed
+ * pair or particle of a row; 5 balanced the two threads' kernel times there within a block of
+ * rows, 3 and 7 did not (docs/performance.md, "Two threads on the 3D gas"). */
+#define GR_CROSS_IN_WEIGHT 5
+
+/* Split the rows into T ranges of whole blocks (row[0..T]) with about equal work: the pairs of
+ * the list plus the particles of each range, plus extra[t] for thread t (its incoming cross
+ * pairs, weighted); the boundaries go to the blocks closest to the goals. */
+static void split_rows(const gr_sim *s, const int T, const int64_t *extra, int *row)
+{
+    const int n = s->n;
+    const int *restrict start = s->nl_start;
+    int64_t total = (int64_t)start[n] + n, before = 0;
+    for (int t = 0; t < T; t++) {
+        total += extra[t];
+    }
+    row[0] = 0;
+    int b = 0;
+    for (int t = 1; t < T; t++) {
+        before += extra[t - 1];
+        /* the rows' work up to boundary t: t/T of the whole, less the earlier threads' extra */
+        const int64_t goal = total * t / T - before;
+        while (b < s->nblk) {
+            const int r = (b + 1) * GR_BLOCK < n ? (b + 1) * GR_BLOCK : n;
+            const int64_t w = (int64_t)start[r] + r,
+                          w0 = (int64_t)start[b * GR_BLOCK] + (int64_t)b * GR_BLOCK;
+            if (w >= goal) {
+                if (goal - w0 > w - goal) {
+                    b++; /* the boundary after block b is closer */
+                }
+                break;
+            }
+            b++;
+        }
+        const int lo =
+            b < row[t - 1] / GR_BLOCK + 1 ? row[t - 1] / GR_BLOCK + 1 : b; /* >= 1 block each */
+        row[t] = lo * GR_BLOCK < n ? lo * GR_BLOCK : n;
+        b = lo;
+    }
+    row[T] = n;
+}
+
+/* The cross pairs of a split (entries whose partner is another thread's), and each thread's
+ * incoming ones (in[t], weighted by GR_CROSS_IN_WEIGHT). */
+static int64_t count_cross(const gr_sim *s, const int T, const int *row, int64_t *in)
+{
+    const int *restrict start = s->nl_start, *restrict nl = s->nl_j;
+    int64_t nc = 0;
+    for (int t = 0; t < T; t++) {
+        in[t] = 0;
+    }
+    for (int t = 0; t < T; t++) {
+        for (int p = start[row[t]]; p < start[row[t + 1]]; p++) {
+            const int j = nl[p];
+            if (j < row[t] || j >= row[t + 1]) {
+                nc++;
+                int u = 0;
+                while (j >= row[u + 1]) {
+                    u++;
+                }
+                in[u] += GR_CROSS_IN_WEIGHT;
+            }
+        }
+    }
+    return nc;
+}
+
 /* Cross-pair lists for T threads (see sim_internal.h), after every list rebuild. Thread t owns a
- * contiguous range of whole blocks, chosen so that the threads get about equal work (pairs of
- * the list plus particles): clustered states put most pairs in a few blocks. Any block-aligned
- * split gives the same sums (the order of additions per particle and per block is fixed), so
- * the split only changes the speed. The same lists serve the 3D kernel (kernels_3d.c), whose
- * cross pairs carry 3-vectors (pair_f: 6 doubles, pair_tq and pair_tg: 3 each, against 4, 1
- * and 1 in 2D). Returns 0 when out of memory (then one thread runs). */
+ * contiguous range of whole blocks, chosen so that the threads get about equal work (split_rows:
+ * clustered states put most pairs in a few blocks; with j > i in the list every cross pair is
+ * added by a later thread, so the split is made again with each thread's incoming pairs counted).
+ * Any block-aligned split gives the same sums (the order of additions per particle and per block
+ * is fixed), so the split only changes the speed. The same lists serve the 3D kernel
+ * (kernels_3d.c), whose cross pairs carry 3-vectors (pair_f: 6 doubles, pair_tq and pair_tg: 3
+ * each, against 4, 1 and 1 in 2D). Returns 0 when out of memory (then one thread runs). */
 static int build_cross(gr_sim *s, int T)
 {
     const int n = s->n;
@@ -385,39 +455,16 @@ static int build_cross(gr_sim *s, int T)
     if (!s->in_start) {
         s->in_start = calloc((size_t)n + 1, sizeof(int));
     }
-    if (!row || !cs || !ls || !s->in_start) {
+    int64_t *extra = calloc((size_t)T, sizeof(int64_t));
+    if (!row || !cs || !ls || !s->in_start || !extra) {
+        free(extra);
         return 0;
     }
-    /* work of the rows before block b: pairs + particles; split at the blocks closest to t/T */
-    const int64_t total = (int64_t)start[n] + n;
-    row[0] = 0;
-    int b = 0;
-    for (int t = 1; t < T; t++) {
-        const int64_t goal = total * t / T;
-        while (b < s->nblk) {
-            const int r = (b + 1) * GR_BLOCK < n ? (b + 1) * GR_BLOCK : n;
-            const int64_t w = (int64_t)start[r] + r,
-                          w0 = (int64_t)start[b * GR_BLOCK] + (int64_t)b * GR_BLOCK;
-            if (w >= goal) {
-                if (goal - w0 > w - goal) {
-                    b++; /* the boundary after block b is closer */
-                }
-                break;
-            }
-            b++;
-        }
-        const int lo =
-            b < row[t - 1] / GR_BLOCK + 1 ? row[t - 1] / GR_BLOCK + 1 : b; /* >= 1 block each */
-        row[t] = lo * GR_BLOCK < n ? lo * GR_BLOCK : n;
-        b = lo;
-    }
-    row[T] = n;
-    int64_t nc = 0;
-    for (int t = 0; t < T; t++) {
-        for (int p = start[row[t]]; p < start[row[t + 1]]; p++) {
-            nc += nl[p] < row[t] || nl[p] >= row[t + 1];
-        }
-    }
+    split_rows(s, T, extra, row);
+    count_cross(s, T, row, extra);
+    split_rows(s, T, extra, row);
+    const int64_t nc = count_cross(s, T, row, extra);
+    free(extra);
     if (nc > s->cross_cap || !s->cross_p) {
         int64_t cap = nc + nc / 2 + 64;
         free(s->cross_p);
@@ -536,13 +583,15 @@ static inline __attribute__((always_inline)) void add_incoming(gr_sim *restrict 
 }
 
 /* All 2D contact forces. One thread: the scatter over the whole list, f[j] += F in list order.
- * T threads: (1) the threads share the cross pairs evenly and compute them into pair_f (with
- * j > i in the list they all belong to the rows of the first threads); (2) thread t sets the forces
- * of its particles to the cross pairs from rows before its own (in list order), runs the scatter
- * over its rows (adding only to its own particles), then adds the cross pairs from rows after
- * its own. Each force is thus the same sequence of additions as with one thread (a cross pair
- * that does not overlap adds +0.0, which changes no sum that starts from +0.0), so the result
- * is bit-identical for every T. Ledger sums are per block and combined in block order. */
+ * T threads: thread t sets the forces of its particles to the cross pairs from rows before its
+ * own (in list order; with j > i in the list those rows are the earlier threads'), runs the
+ * scatter over its rows (adding only to its own particles), then adds the cross pairs from rows
+ * after its own. Without a history law it evaluates those cross pairs itself (add_direct: no
+ * barrier); with one, the threads first share the cross pairs evenly and compute them into
+ * pair_f, then add them after a barrier (add_incoming). Each force is thus the same sequence of
+ * additions as with one thread (a cross pair that does not overlap adds +0.0, which changes no
+ * sum that starts from +0.0), so the result is bit-identical for every T. Ledger sums are per
+ * block and combined in block order. */
 static inline __attribute__((always_inline)) void serial_2d(gr_sim *restrict s, const int nl,
                                                             const int tang, const int clamp,
                                                             const int rot, const int roll)
@@ -560,7 +609,84 @@ static inline __attribute__((always_inline)) void serial_2d(gr_sim *restrict s, 
     }
 }
 
-/* The part of thread tid of nth (inside a parallel region) of the T-thread evaluation. */
+/* As add_incoming without a history law, each cross pair evaluated here instead of read from
+ * pair_f: the same pure function of the positions and velocities (pair_2d), so the same bits, and
+ * no first phase, no barrier and no cross-core traffic through pair_f. */
+static inline __attribute__((always_inline)) void add_direct(
+    gr_sim *restrict s, const pair_ctx c, const int l0, const int l1, const int q0, const int q1,
+    const int nl, const int tang, const int clamp, const int rot, const int roll)
+{
+    if (q0 >= q1) {
+        return;
+    }
+    const int *restrict in = s->in_start, *restrict ink = s->in_k, *restrict list = s->in_list;
+    for (int l = l0; l < l1; l++) {
+        const int j = list[l];
+        double ax = s->fx[j], ay = s->fy[j], bx = s->gx[j], by = s->gy[j],
+               tj = rot ? s->tq[j] : 0.0;
+        for (int e = in[j]; e < in[j + 1]; e++) {
+            const int q = ink[e];
+            pair_out o; /* the fields its laws use are set by pair_2d */
+            if (q < q0 || q >= q1 ||
+                !pair_2d(c, s->cross_i[q], j, nl, tang, clamp, rot, roll, 0.0, &o)) {
+                continue; /* apart: +0.0 would change no sum */
+            }
+            ax += o.Fx;
+            ay += o.Fy;
+            bx += o.Gx;
+            by += o.Gy;
+            if (rot) {
+                tj += roll != RL_none ? o.tq + o.rq : o.tq;
+            }
+        }
+        s->fx[j] = ax;
+        s->fy[j] = ay;
+        s->gx[j] = bx;
+        s->gy[j] = by;
+        if (rot) {
+            s->tq[j] = tj;
+        }
+    }
+}
+
+/* Thread t's particles: their forces set to the cross pairs from rows before theirs, their rows
+ * (adding only to their own particles), then the cross pairs from rows after theirs; the cross
+ * pairs evaluated here (direct) or read from pair_f. */
+static inline __attribute__((always_inline)) void owner_2d(gr_sim *restrict s, const pair_ctx c,
+                                                           const int T, const int t,
+                                                           const int direct, const int nl,
+                                                           const int tang, const int clamp,
+                                                           const int rot, const int roll)
+{
+    const int lo = s->par_row[t], hi = s->par_row[t + 1];
+    const int l0 = s->in_list_start[t], l1 = s->in_list_start[t + 1];
+    const int spring = rot && history_of(tang);
+    zero_forces(s, lo, hi);
+    if (direct) {
+        add_direct(s, c, l0, l1, 0, s->cross_start[t], nl, tang, clamp, rot, roll);
+    } else {
+        add_incoming(s, l0, l1, 0, s->cross_start[t], rot, spring);
+    }
+    for (int r0 = lo; r0 < hi; r0 += GR_BLOCK) {
+        const int r1 = r0 + GR_BLOCK < hi ? r0 + GR_BLOCK : hi;
+        double *part = s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS;
+        if (screens_2d(s, tang)) {
+            rows_2d(s, r0, r1, lo, hi, 0, 1, nl, tang, clamp, rot, roll, part);
+        } else {
+            rows_2d(s, r0, r1, lo, hi, 0, 0, nl, tang, clamp, rot, roll, part);
+        }
+    }
+    if (direct) {
+        add_direct(s, c, l0, l1, s->cross_start[t + 1], s->cross_start[T], nl, tang, clamp, rot,
+                   roll);
+    } else {
+        add_incoming(s, l0, l1, s->cross_start[t + 1], s->cross_start[T], rot, spring);
+    }
+}
+
+/* The part of thread tid of nth (inside a parallel region) of the T-thread evaluation; without a
+ * history law each thread evaluates the cross pairs it receives itself (add_direct), with one the
+ * two phases above (a cross pair's slot is written by the owner of its row, after every read). */
 static inline __attribute__((always_inline)) void threaded_2d(gr_sim *restrict s, const int T,
                                                               const int tid, const int nth,
                                                               const int nl, const int tang,
@@ -568,6 +694,12 @@ static inline __attribute__((always_inline)) void threaded_2d(gr_sim *restrict s
                                                               const int roll)
 {
     const pair_ctx c = ctx_of(s);
+    if (!history_of(tang)) {
+        for (int t = tid; t < T; t += nth) {
+            owner_2d(s, c, T, t, 1, nl, tang, clamp, rot, roll);
+        }
+        return;
+    }
     const int q0 = gr_cross_share(s, T, tid, nth, 0), q1 = gr_cross_share(s, T, tid, nth, 1);
     for (int q = q0; q < q1; q++) {
         pair_out o; /* the fields its laws use are set by pair_2d (see the pragma above) */
@@ -575,45 +707,26 @@ static inline __attribute__((always_inline)) void threaded_2d(gr_sim *restrict s
         /* a history law reads the slot of the cross pair's row: its owner writes the new value
          * in rows_2d after the barrier, from the same old value */
         const int p = s->cross_p[q];
-        if (pair_2d(c, s->cross_i[q], s->nl_j[p], nl, tang, clamp, rot, roll,
-                    history_of(tang) ? s->nl_hist[p] : 0.0, &o)) {
+        if (pair_2d(c, s->cross_i[q], s->nl_j[p], nl, tang, clamp, rot, roll, s->nl_hist[p], &o)) {
             f[0] = o.Fx;
             f[1] = o.Fy;
             f[2] = o.Gx;
             f[3] = o.Gy;
             if (rot) {
                 s->pair_tq[q] = roll != RL_none ? o.tq + o.rq : o.tq;
-            }
-            if (rot && history_of(tang)) {
                 s->pair_tg[q] = roll != RL_none ? o.tg + o.rq : o.tg;
             }
         } else {
             f[0] = f[1] = f[2] = f[3] = 0.0;
             if (rot) {
                 s->pair_tq[q] = 0.0;
-            }
-            if (rot && history_of(tang)) {
                 s->pair_tg[q] = 0.0;
             }
         }
     }
 #pragma omp barrier
     for (int t = tid; t < T; t += nth) {
-        const int lo = s->par_row[t], hi = s->par_row[t + 1];
-        zero_forces(s, lo, hi);
-        const int l0 = s->in_list_start[t], l1 = s->in_list_start[t + 1];
-        add_incoming(s, l0, l1, 0, s->cross_start[t], rot, rot && history_of(tang));
-        for (int r0 = lo; r0 < hi; r0 += GR_BLOCK) {
-            const int r1 = r0 + GR_BLOCK < hi ? r0 + GR_BLOCK : hi;
-            double *part = s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS;
-            if (screens_2d(s, tang)) {
-                rows_2d(s, r0, r1, lo, hi, 0, 1, nl, tang, clamp, rot, roll, part);
-            } else {
-                rows_2d(s, r0, r1, lo, hi, 0, 0, nl, tang, clamp, rot, roll, part);
-            }
-        }
-        add_incoming(s, l0, l1, s->cross_start[t + 1], s->cross_start[T], rot,
-                     rot && history_of(tang));
+        owner_2d(s, c, T, t, 0, nl, tang, clamp, rot, roll);
     }
 }
 

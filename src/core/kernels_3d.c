@@ -25,9 +25,8 @@
  * law takes the relative spin in the tangent plane. Two instances: the normal law alone, and
  * every law read from the simulation (a branch per pair on the law, no indirect call).
  *
- * Threads: as in 2D (kernels.c, serial_2d), with the same cross lists (build_cross): the cross
- * pairs first, then each thread owns a range of particles and adds, in list order, exactly the
- * additions one thread makes; the ledger sums are formed per block of rows and combined in block
+ * Threads: as in 2D (kernels.c, serial_2d), with the same cross lists (build_cross): each thread
+ * owns a range of particles and adds, in list order, exactly the additions one thread makes; the ledger sums are formed per block of rows and combined in block
  * order. Forces, torques, history vectors and the ledger are bit-identical for every thread
  * count. The neighbour list's rows are built on the threads too (gr_neighbours_rows). */
 #include <math.h>
@@ -736,21 +735,112 @@ static inline __attribute__((always_inline)) void add_incoming_3d(gr_sim *restri
     }
 }
 
+/* As add_incoming_3d without a history law, each cross pair evaluated here instead of read from
+ * pair_f: the same pure function of the positions and velocities (pair_3d), so the same bits, and
+ * no phase before the rows, no barrier and no cross-core traffic through pair_f. */
+static inline __attribute__((always_inline)) void add_direct_3d(
+    gr_sim *restrict s, const ctx3 *c, const int l0, const int l1, const int q0, const int q1,
+    const int nl, const int tl, const int clamp, const int rot, const int rl)
+{
+    if (q0 >= q1) {
+        return;
+    }
+    static const double none[3] = {0.0, 0.0, 0.0};
+    const int *restrict in = s->in_start, *restrict ink = s->in_k, *restrict list = s->in_list;
+    double *restrict f[6] = {s->fx, s->fy, s->fz, s->gx, s->gy, s->gz};
+    double *restrict tq[3] = {s->tqx, s->tqy, s->tq};
+    for (int l = l0; l < l1; l++) {
+        const int j = list[l];
+        double a[6], t[3] = {0.0, 0.0, 0.0};
+        for (int k = 0; k < 6; k++) {
+            a[k] = f[k][j];
+        }
+        for (int k = 0; k < 3; k++) {
+            t[k] = rot ? tq[k][j] : 0.0;
+        }
+        for (int e = in[j]; e < in[j + 1]; e++) {
+            const int q = ink[e];
+            pair3 o;
+            if (q < q0 || q >= q1 ||
+                !pair_3d(c, s->cross_i[q], j, nl, tl, clamp, rot, rl, none, &o)) {
+                continue; /* apart: +0.0 would change no sum (threaded_3d) */
+            }
+            for (int k = 0; k < 3; k++) {
+                a[k] += o.F[k];
+                a[3 + k] += o.G[k];
+            }
+            if (rot) {
+                double tj[3], uj[3];
+                torques_on_j(&o, tl, rl, tj, uj);
+                for (int k = 0; k < 3; k++) {
+                    t[k] += tj[k];
+                }
+            }
+        }
+        for (int k = 0; k < 6; k++) {
+            f[k][j] = a[k];
+        }
+        for (int k = 0; k < 3 && rot; k++) {
+            tq[k][j] = t[k];
+        }
+    }
+}
+
+/* Thread t's particles, as owner_2d (kernels.c): the cross pairs from earlier rows, the rows, the
+ * cross pairs from later rows; evaluated here (direct, no history law) or read from pair_f. */
+static inline __attribute__((always_inline)) void owner_3d(gr_sim *restrict s, const ctx3 *c,
+                                                           const int T, const int t,
+                                                           const int direct, const int nl,
+                                                           const int tl, const int clamp,
+                                                           const int rot, const int rl)
+{
+    const int hist = history_of(tl);
+    const int lo = s->par_row[t], hi = s->par_row[t + 1];
+    const int l0 = s->in_list_start[t], l1 = s->in_list_start[t + 1];
+    zero_3d(s, lo, hi, rot, hist);
+    if (direct) {
+        add_direct_3d(s, c, l0, l1, 0, s->cross_start[t], nl, tl, clamp, rot, rl);
+    } else {
+        add_incoming_3d(s, l0, l1, 0, s->cross_start[t], rot, hist);
+    }
+    for (int r0 = lo; r0 < hi; r0 += GR_BLOCK) {
+        const int r1 = r0 + GR_BLOCK < hi ? r0 + GR_BLOCK : hi;
+        double *part = s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS;
+        if (s->sl_on && s->sl_screen && !hist) {
+            rows_3d(s, r0, r1, lo, hi, 0, 1, nl, tl, clamp, rot, rl, part);
+        } else {
+            rows_3d(s, r0, r1, lo, hi, 0, 0, nl, tl, clamp, rot, rl, part);
+        }
+    }
+    if (direct) {
+        add_direct_3d(s, c, l0, l1, s->cross_start[t + 1], s->cross_start[T], nl, tl, clamp, rot,
+                      rl);
+    } else {
+        add_incoming_3d(s, l0, l1, s->cross_start[t + 1], s->cross_start[T], rot, hist);
+    }
+}
+
 /* The part of thread tid of nth (inside a parallel region) of the T-thread evaluation, as in 2D
- * (kernels.c, serial_2d): (1) the cross pairs, shared evenly by the threads, into pair_f (0 for
- * a pair apart: adding +0.0 changes no sum that starts from +0.0); (2) each thread sets its particles'
- * forces to the cross pairs from earlier rows, runs its rows adding only to its own particles,
- * then adds the cross pairs from later rows: every force, torque and history vector is the same
- * sequence of operations as with one thread. */
+ * (kernels.c, serial_2d): each thread sets its particles' forces to the cross pairs from earlier
+ * rows, runs its rows adding only to its own particles, then adds the cross pairs from later rows:
+ * every force, torque and history vector is the same sequence of operations as with one thread.
+ * Without a history law it evaluates those cross pairs itself (add_direct_3d). With one, (1) the
+ * cross pairs, shared evenly by the threads, go into pair_f first (0 for a pair apart: adding +0.0
+ * changes no sum that starts from +0.0), (2) after a barrier as above through add_incoming_3d. */
 static inline __attribute__((always_inline)) void threaded_3d(gr_sim *restrict s, const int T,
                                                               const int tid, const int nth,
                                                               const int nl, const int tl,
                                                               const int clamp, const int rot,
                                                               const int rl)
 {
-    const int hist = history_of(tl);
     const ctx3 c = ctx3_of(s);
-    static const double none[3] = {0.0, 0.0, 0.0};
+    if (!history_of(
+            tl)) { /* each thread evaluates the cross pairs it receives itself: no barrier */
+        for (int t = tid; t < T; t += nth) {
+            owner_3d(s, &c, T, t, 1, nl, tl, clamp, rot, rl);
+        }
+        return;
+    }
     const int q0 = gr_cross_share(s, T, tid, nth, 0), q1 = gr_cross_share(s, T, tid, nth, 1);
     for (int q = q0; q < q1; q++) {
         /* a history law reads the vector of the cross pair's row: its owner writes the new
@@ -760,7 +850,7 @@ static inline __attribute__((always_inline)) void threaded_3d(gr_sim *restrict s
         double tj[3] = {0.0, 0.0, 0.0}, uj[3] = {0.0, 0.0, 0.0};
         pair3 o;
         if (pair_3d(&c, s->cross_i[q], s->nl_j[p], nl, tl, clamp, rot, rl,
-                    hist ? s->nl_hist + 3 * (int64_t)p : none, &o)) {
+                    s->nl_hist + 3 * (int64_t)p, &o)) {
             for (int a = 0; a < 3; a++) {
                 fq[a] = o.F[a];
                 fq[3 + a] = o.G[a];
@@ -775,27 +865,12 @@ static inline __attribute__((always_inline)) void threaded_3d(gr_sim *restrict s
         }
         for (int a = 0; a < 3 && rot; a++) {
             s->pair_tq[3 * (size_t)q + a] = tj[a];
-            if (hist) {
-                s->pair_tg[3 * (size_t)q + a] = uj[a];
-            }
+            s->pair_tg[3 * (size_t)q + a] = uj[a];
         }
     }
 #pragma omp barrier
     for (int t = tid; t < T; t += nth) {
-        const int lo = s->par_row[t], hi = s->par_row[t + 1];
-        zero_3d(s, lo, hi, rot, hist);
-        const int l0 = s->in_list_start[t], l1 = s->in_list_start[t + 1];
-        add_incoming_3d(s, l0, l1, 0, s->cross_start[t], rot, hist);
-        for (int r0 = lo; r0 < hi; r0 += GR_BLOCK) {
-            const int r1 = r0 + GR_BLOCK < hi ? r0 + GR_BLOCK : hi;
-            double *part = s->blk + (size_t)(r0 / GR_BLOCK) * GR_BLK_FIELDS;
-            if (s->sl_on && s->sl_screen && !hist) {
-                rows_3d(s, r0, r1, lo, hi, 0, 1, nl, tl, clamp, rot, rl, part);
-            } else {
-                rows_3d(s, r0, r1, lo, hi, 0, 0, nl, tl, clamp, rot, rl, part);
-            }
-        }
-        add_incoming_3d(s, l0, l1, s->cross_start[t + 1], s->cross_start[T], rot, hist);
+        owner_3d(s, &c, T, t, 0, nl, tl, clamp, rot, rl);
     }
 }
 

@@ -172,8 +172,9 @@ struct gr_sim {
     double *blk;                  /* GR_BLK_FIELDS partial results per block */
     /* 2D and 3D forces with T > 1 threads (kernels.c, kernels_3d.c): thread t owns the rows (and the forces) of
      * particles [par_row[t], par_row[t+1]); a listed pair whose j lies outside the row owner's
-     * range is a "cross" pair, computed first into pair_f and added by the owner of j in list
-     * order, so every force is summed exactly as in the one-thread scatter. */
+     * range is a "cross" pair, added by the owner of j in list order (evaluated by it, or with a
+     * history law computed first into pair_f), so every force is summed exactly as in the
+     * one-thread scatter. */
     int par_threads;      /* T the cross lists were built for (0: not built) */
     int64_t par_rebuilds; /* s->rebuilds when they were built */
     int *par_row;         /* T + 1 */

@@ -91,15 +91,16 @@ static inline bool keeps(const keep_ctx *c, const int i, const int p)
     return keep;
 }
 
-/* The largest squared displacement since the list's build, by the Verlet step's own expression
- * (its opening pass, step.c: the minimum image by L along every axis, the squares summed x, y, z
- * in order), so that its comparison with the list's skin gives the same answer bit for bit. */
-static double list_moved2(const gr_sim *s)
+/* The largest squared displacement of particles [lo, hi) since the list's build, by the Verlet
+ * step's own expression (its opening pass, step.c: the minimum image by L along every axis, the
+ * squares summed x, y, z in order), so that its comparison with the list's skin gives the same
+ * answer bit for bit. */
+static double list_moved2(const gr_sim *s, const int lo, const int hi)
 {
     const double L = s->L, half = 0.5 * s->L;
     const double *x = s->x, *y = s->y, *z = s->z, *xr = s->x_ref, *yr = s->y_ref, *zr = s->z_ref;
     double worst = 0.0;
-    for (int i = 0; i < s->n; i++) {
+    for (int i = lo; i < hi; i++) {
         double dx = x[i] - xr[i], dy = y[i] - yr[i];
         dx += dx > half ? -L : (dx < -half ? L : 0.0);
         dy += dy > half ? -L : (dy < -half ? L : 0.0);
@@ -119,35 +120,35 @@ static double list_moved2(const gr_sim *s)
     return worst;
 }
 
-/* The rows on one thread, in one pass over the list's entries without a loop per row (whose exit,
- * mispredicted once per row of two to five entries, was most of a bed's rebuild): each entry's row
- * from sl_row (filled once per build of the list), the kept entries appended branch-free, and the
- * rows' starts from the count of kept entries before each entry (sl_pref). */
-static void build_flat(gr_sim *restrict s, const keep_ctx *c)
+/* Each list entry's row (sl_row) for rows [lo, hi): once per build of the list. */
+static void fill_rows(gr_sim *restrict s, const int lo, const int hi)
 {
-    const int n = s->n, m = s->nl_start[n];
-    int *restrict row = s->sl_row, *restrict pref = s->sl_pref;
-    if (!s->sl_rows_ok) {
-        for (int i = 0; i < n; i++) {
-            for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
-                row[p] = i;
-            }
+    int *restrict row = s->sl_row;
+    for (int i = lo; i < hi; i++) {
+        for (int p = s->nl_start[i]; p < s->nl_start[i + 1]; p++) {
+            row[p] = i;
         }
-        s->sl_rows_ok = 1;
     }
-    int *restrict row_of = s->sl_i, *restrict sub = s->sl_p;
+}
+
+/* The keep decisions of entries [p0, p1) into sl_flag, without a loop per row (whose exit,
+ * mispredicted once per row of two to five entries, was most of a bed's rebuild): each entry's
+ * row from sl_row. Returns how many entries touched at the last evaluation (all of them kept). */
+static int64_t decide(gr_sim *restrict s, const keep_ctx *c, const int p0, const int p1)
+{
+    const int *restrict row = s->sl_row;
     uint8_t *restrict flag = s->sl_flag;
+    const uint8_t *restrict contact = c->contact;
     if (!c->h && !c->rad) {
-        /* identical grains without a history law: the decisions in vector lanes first (keeps'
+        /* identical grains without a history law: the decisions in vector lanes (keeps'
          * arithmetic, wrap_delta as selects, as the kernels' screen_3d) */
         const double *restrict x = c->x, *restrict y = c->y, *restrict z = c->z;
         const int *restrict list = c->list;
-        const uint8_t *restrict contact = c->contact;
         const double P0 = c->P0, P1 = c->P1, P2 = c->P2, h0 = 0.5 * P0, h1 = 0.5 * P1,
                      h2 = 0.5 * P2, cut = c->d + c->margin, cut2 = cut * cut;
         if (c->three) {
 #pragma omp simd
-            for (int p = 0; p < m; p++) {
+            for (int p = p0; p < p1; p++) {
                 const int i = row[p], j = list[p];
                 double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
                 dx += dx > h0 ? -P0 : (dx < -h0 ? P0 : 0.0);
@@ -157,7 +158,7 @@ static void build_flat(gr_sim *restrict s, const keep_ctx *c)
             }
         } else {
 #pragma omp simd
-            for (int p = 0; p < m; p++) {
+            for (int p = p0; p < p1; p++) {
                 const int i = row[p], j = list[p];
                 double dx = x[j] - x[i], dy = y[j] - y[i];
                 dx += dx > h0 ? -P0 : (dx < -h0 ? P0 : 0.0);
@@ -166,22 +167,113 @@ static void build_flat(gr_sim *restrict s, const keep_ctx *c)
             }
         }
     } else {
-        for (int p = 0; p < m; p++) {
+        for (int p = p0; p < p1; p++) {
             flag[p] = keeps(c, row[p], p);
         }
     }
-    int count = 0;
-    for (int p = 0; p < m; p++) {
+    int64_t touching = 0;
+    for (int p = p0; p < p1; p++) {
+        touching += contact[p];
+    }
+    return touching;
+}
+
+/* The kept entries of [p0, p1), appended branch-free from slot `count` on, and each entry's count
+ * of kept entries before it (sl_pref); returns the count after them. An entry not kept writes the
+ * slot the next kept one overwrites, so the entries after the range's last kept one write none:
+ * that slot is the next thread's. */
+static int compact(gr_sim *restrict s, const int p0, const int p1, int count)
+{
+    const int *restrict row = s->sl_row;
+    const uint8_t *restrict flag = s->sl_flag;
+    int *restrict pref = s->sl_pref, *restrict row_of = s->sl_i, *restrict sub = s->sl_p;
+    int last = p1;
+    while (last > p0 && !flag[last - 1]) {
+        last--;
+    }
+    for (int p = p0; p < last; p++) {
         pref[p] = count;
         row_of[count] = row[p]; /* count <= p < m, so the slot exists */
         sub[count] = p;
         count += flag[p];
     }
-    pref[m] = count;
-    const int *restrict start = s->nl_start;
-    for (int i = 0; i <= n; i++) {
+    for (int p = last; p < p1; p++) {
+        pref[p] = count;
+    }
+    return count;
+}
+
+/* What the build leaves besides the sublist, for particles [lo, hi): the rows' starts
+ * (sl_start[i], from sl_pref), the reference positions, and the largest squared displacement
+ * since the list's build (returned). */
+static double finish_rows(gr_sim *restrict s, const int lo, const int hi)
+{
+    const int *restrict start = s->nl_start, *restrict pref = s->sl_pref;
+    for (int i = lo; i < hi; i++) {
         s->sl_start[i] = pref[start[i]];
     }
+    const size_t bytes = sizeof(double) * (size_t)(hi - lo);
+    memcpy(s->xs_ref + lo, s->x + lo, bytes);
+    memcpy(s->ys_ref + lo, s->y + lo, bytes);
+    if (s->dim == 3) {
+        memcpy(s->zs_ref + lo, s->z + lo, bytes);
+    }
+    return list_moved2(s, lo, hi);
+}
+
+/* The sublist of the entries of the list, its rows' starts, the reference positions and sl_gap, on
+ * T threads (the entries and the rows split evenly; each thread's kept entries go after those of
+ * the threads before it, so the sublist is the same on any T). Returns the touching entries. */
+static int64_t build_flat(gr_sim *restrict s, const keep_ctx *c, const int T)
+{
+    const int n = s->n, m = s->nl_start[n];
+    int64_t touching = 0;
+    double worst = 0.0;
+    int *kept = T > 1 ? malloc(sizeof(int) * (size_t)(T + 1)) : NULL; /* per thread */
+    if (!kept) { /* one thread (or out of memory: the same sublist) */
+        if (!s->sl_rows_ok) {
+            fill_rows(s, 0, n);
+        }
+        touching = decide(s, c, 0, m);
+        s->sl_pref[m] = compact(s, 0, m, 0);
+        s->sl_start[n] = s->sl_pref[m];
+        worst = finish_rows(s, 0, n);
+    } else {
+        const int rows_ok = s->sl_rows_ok;
+#pragma omp parallel num_threads(T) reduction(+ : touching) reduction(max : worst)
+        {
+            const int t = GR_THREAD_ID, nth = GR_THREAD_COUNT;
+            const int i0 = (int)((int64_t)n * t / nth), i1 = (int)((int64_t)n * (t + 1) / nth);
+            const int p0 = (int)((int64_t)m * t / nth), p1 = (int)((int64_t)m * (t + 1) / nth);
+            if (!rows_ok) {
+                fill_rows(s, i0, i1);
+#pragma omp barrier
+            }
+            touching += decide(s, c, p0, p1);
+            int here = 0;
+            for (int p = p0; p < p1; p++) {
+                here += s->sl_flag[p];
+            }
+            kept[t + 1] = here;
+#pragma omp barrier
+            int before = 0;
+            for (int u = 0; u < t; u++) {
+                before += kept[u + 1];
+            }
+            const int after = compact(s, p0, p1, before);
+            if (t == nth - 1) {
+                s->sl_pref[m] = after;
+                s->sl_start[n] = after;
+            }
+#pragma omp barrier
+            const double w = finish_rows(s, i0, i1);
+            worst = w > worst ? w : worst;
+        }
+        free(kept);
+    }
+    s->sl_rows_ok = 1;
+    s->sl_gap = sqrt(worst);
+    return touching;
 }
 
 /* Build the sublist from the list at the current positions; 0 when out of memory or when it
@@ -234,14 +326,10 @@ static int build(gr_sim *s, const bool forced)
     /* pairs closer than their contact distance + skin d, d the largest pair's (the refresh's
      * bound is in units of d alike) */
     const keep_ctx c = keep_ctx_of(s, s->sl_width * s->d);
-    build_flat(s, &c); /* on one thread: on two, as fast as the rows split between them was */
+    const int64_t touching = build_flat(s, &c, gr_team(s));
     /* screen the entries first (the kernels' sl_screen) while fewer than half touch: where most
      * do (a clustered gas, a bed pressed into contact), the screen is a second look at every
      * touching pair */
-    int64_t touching = 0;
-    for (int k = 0; k < s->sl_start[n]; k++) {
-        touching += s->nl_contact[s->sl_p[k]];
-    }
     s->sl_screen = 2 * touching < s->sl_start[n];
     /* Most listed pairs close: without the screen, scanning through the sublist only adds work.
      * With it the sublist stays: a settled bed lists its nearest neighbours a hair apart, about
@@ -253,12 +341,6 @@ static int build(gr_sim *s, const bool forced)
     if (!forced && !screened && s->sl_start[n] > GR_SUBLIST_MAX_SHARE * (double)m) {
         return 0;
     }
-    memcpy(s->xs_ref, s->x, sizeof(double) * (size_t)n);
-    memcpy(s->ys_ref, s->y, sizeof(double) * (size_t)n);
-    if (s->dim == 3) {
-        memcpy(s->zs_ref, s->z, sizeof(double) * (size_t)n);
-    }
-    s->sl_gap = sqrt(list_moved2(s));
     s->sl_rebuilds++;
     /* the work of the list's life so far: the kept entries scanned since the last build, and
      * this build's pass */
@@ -316,7 +398,7 @@ double gr_sublist_list_moved2(const gr_sim *s, const double moved2, const double
     if (bound * (1.0 + 1e-12) < sqrt(lim2)) {
         return 0.0; /* below the skin's half: the list stays, as the exact value would say */
     }
-    return list_moved2(s);
+    return list_moved2(s, 0, s->n);
 }
 
 /* The largest squared displacement of the particles [lo, hi) since the sublist's build (the raw
