@@ -16,11 +16,12 @@
 #
 #   bench/accuracy_cost.sh [BUILD_DIR] [--quick]
 #
-# Scenes: docs/scenes/rfm-1d.ini (1D RFM, N = 1000, eps = 0.1) and docs/scenes/steady-2d.ini (2D,
-# N = 2000, eps_n = eps_t = 0.6). Writes out/bench/accuracy-SCENE.csv and .md and
+# Scenes: docs/scenes/rfm-1d.ini (1D RFM, N = 1000, eps = 0.1), docs/scenes/steady-2d.ini (2D,
+# N = 2000, eps_n = eps_t = 0.6) and docs/scenes/rfm-3d.ini (3D, N = 2000 spheres, phi = 0.1,
+# eps_n = 0.9, head-on collisions only: the scene has no tangential law). Writes out/bench/accuracy-SCENE.csv and .md and
 # docs/img/accuracy-SCENE.png (log-log error against seconds per simulated second). Run lengths:
 # ACC_WARMUP, ACC_DURATION (simulated s; defaults 0.5 and 2), ACC_REF_DIV (default 4); ACC_SCENES
-# picks scenes ("rfm-1d steady-2d"), ACC_RUN_TIMEOUT bounds each run (s).
+# picks scenes ("rfm-1d steady-2d rfm-3d"), ACC_RUN_TIMEOUT bounds each run (s).
 # --quick: tiny systems, two time steps, output in a temporary folder (the test suite runs this).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -43,12 +44,13 @@ if $quick; then
     kicks=(1e-4 1e-5)
     size1=(--set system.N=100 --set system.reduced_length=0.1)
     size2=(--set system.N=200 --set system.L=0.063)
+    size3=(--set system.N=250)
 else
     run_timeout=${ACC_RUN_TIMEOUT:-3600}
     mults=(1 1.5 2 3 4 6 8 10); ref_div=${ACC_REF_DIV:-4}; warm=${ACC_WARMUP:-0.5}; dur=${ACC_DURATION:-2}; every=1e-3
     phases=32
     kicks=(1e-3 3e-4 1e-4 3e-5 1e-5)
-    size1=(); size2=()
+    size1=(); size2=(); size3=()
 fi
 runset=(--set run.warmup="$warm" --set run.duration="$dur" --set run.sample_every="$every" --set run.ledger_tolerance=0
         --set integrator.force_dt=true --set output.plots=false --set run.progress=false)
@@ -283,7 +285,7 @@ EOF
 }
 
 bench_header
-scenes=${ACC_SCENES:-rfm-1d steady-2d}
+scenes=${ACC_SCENES:-rfm-1d steady-2d rfm-3d}
 if [[ " $scenes " == *" rfm-1d "* ]]; then
     scene_bench rfm-1d docs/scenes/rfm-1d.ini spring_dashpot 1 "${size1[@]}" --set "analysis.observables=gaps, pv"
     cat "$out/accuracy-rfm-1d.md"
@@ -293,6 +295,11 @@ if [[ " $scenes " == *" steady-2d "* ]]; then
     scene_bench steady-2d docs/scenes/steady-2d.ini spring_dashpot+tangential_dashpot 2 "${size2[@]}" --set analysis.observables=pv
     cat "$out/accuracy-steady-2d.md"
     plot steady-2d "2D steady scene (N = 2000, eps_n = eps_t = 0.6): error against cost"
+fi
+if [[ " $scenes " == *" rfm-3d "* ]]; then
+    scene_bench rfm-3d docs/scenes/rfm-3d.ini spring_dashpot 3 "${size3[@]}" --set analysis.observables=pv
+    cat "$out/accuracy-rfm-3d.md"
+    plot rfm-3d "3D RFM (N = 2000 spheres, phi = 0.1, eps_n = 0.9): error against cost"
 fi
 
 # CVODE against its tolerance (needs granule collide --rtol)

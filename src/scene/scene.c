@@ -96,7 +96,9 @@ static const scene_key keys[] = {
     {"model", "normal", "", K_NORMAL, "spring_dashpot", 0, 0, false, false, NULL,
      "normal collision model (granule models lists them)", OFF(normal)},
     {"model", "tangential", "", K_TANGENTIAL, "none", 0, 0, false, false, NULL,
-     "none, tangential_dashpot or sliding_friction (2D only)", OFF(tangential)},
+     "tangential collision model: none, tangential_dashpot, sliding_friction or tangential_spring "
+     "(granule models lists them; 2D and 3D)",
+     OFF(tangential)},
     {"model", "rolling", "", K_ROLLING, "none", 0, 0, false, false, NULL,
      "none or rolling_friction: rolling resistance, a torque pair against w_i - w_j (needs "
      "rotation = true; docs/models.md)",
