@@ -93,6 +93,9 @@ typedef struct gr_reference_law {
     /* optional: at a root (found[k]: root k was reached; p as `force` left it), change the regime
      * and p->y; returns GR_REF_RESTART and GR_REF_STOP bits */
     int (*event)(gr_ref_tangential *l, const bool found[GR_REF_NROOTS], gr_ref_point *p);
+    /* its state (GR_REF_Y_STATE) is a scalar along t, so its reference holds in the plane of a
+     * 2D contact only: the 3D reference refuses it when spins take the contact out of the plane */
+    bool plane_only;
 } gr_reference_law;
 
 #endif

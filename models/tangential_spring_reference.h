@@ -131,6 +131,7 @@ static const gr_reference_law tangential_spring_reference = {
     .force = tangential_spring_ref_force,
     .roots = tangential_spring_ref_roots,
     .event = tangential_spring_ref_event,
+    .plane_only = true,
 };
 
 #endif

@@ -357,12 +357,13 @@ START_TEST(test_errors)
     bad.dim = 4;
     expect_error(&bad, &c, GR_EINVAL, "dim must be 1, 2 or 3");
     /* 3D: spins without rotation are refused; spins whose sum leaves the impact's plane are
-     * refused for a law that sticks, slips or stops (not integrated as something else) */
+     * refused for the history spring, whose state is a scalar in the plane (not integrated as
+     * something else) */
     bad = s;
     bad.dim = 3;
     bad.w1[0] = 10.0;
     expect_error(&bad, &c, GR_EINVAL, "initial spins need rotation");
-    bad = make_setup("sliding_friction", 0.5, 1.0, 0.3, false, 3);
+    bad = make_setup("tangential_spring", 0.5, 1.0, 0.3, false, 3);
     bad.contact.rotation = true;
     bad.w1[0] = 10.0;
     expect_error(&bad, &c, GR_EINVAL, "out of the impact's plane");

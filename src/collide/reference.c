@@ -315,12 +315,16 @@ static void ref_free(ref_solver *v)
  * point's tangential velocity is g_c = g - (g.n) n + (|r| / 2) n x W (src/core/kernels_3d.c),
  * the tangential law's force acts along -g_c with the magnitude its own reference force gives at
  * |g_c| (as the engine applies a law without history), and each sphere takes the torque
- * -(|r| / 2) n x F_t, so dW/dtau = -2 |r| (n x f_t) / (q D^2). Only a law whose reference force
- * has no regime (no start, roots, events or state: tangential_dashpot) is integrated this way: a
- * law that stops, sticks or slips switches where |g_c| or the spring's vector meets a limit, which
- * a scalar root on |g_c| cannot locate; those are refused out of the plane. */
+ * -(|r| / 2) n x F_t, so dW/dtau = -2 |r| (n x f_t) / (q D^2). A law's regime and roots are the
+ * plane's with |g_c| for g_c (sliding_friction: F_t = -mu |F_n| along g_c until |g_c| falls below
+ * REF3_STOP_FLOOR, the root that stops the sliding, where the vector impulse that cancels g_c is
+ * applied, as the plane's scalar one). A law whose state is a scalar along t (the history spring,
+ * `plane_only`) is refused out of the plane. */
 enum { Z_U = 0, Z_G = 3, Z_W = 6, Z_JN = 9, Z_JT = 10, Z_DN = 11, Z_WT = 12, Z_NEQ = 13 };
-enum { Z_ROOT_END = 0, Z_ROOT_MAX_OVERLAP = 1, Z_NROOT = 2 };
+enum { Z_ROOT_END = 0, Z_ROOT_MAX_OVERLAP = 1, Z_ROOT_LAW0 = 2, Z_NROOT = 2 + GR_REF_NROOTS };
+/* |g_c| (units of V) below which a law's sliding counts as stopped: |g_c| reaches 0 without
+ * crossing it, so the root is placed just above; the impulse then cancels the rest */
+#define REF3_STOP_FLOOR 1e-10
 
 typedef struct ref3_ctx {
     ref_ctx base; /* D, c_n, the powers, q, rot, clamp, the law; messages (ref_err_handler) */
@@ -328,7 +332,8 @@ typedef struct ref3_ctx {
 } ref3_ctx;
 
 typedef struct ref3_state {
-    double n[3], rn, xi, gn, fn, gc[3], ft[3];
+    double n[3], rn, xi, gn, fn, gc[3], ft[3], gcm;
+    gr_ref_point law; /* the law's point (|g_c| for g_c), as its force left it */
 } ref3_state;
 
 static double ref3_dot(const double a[3], const double b[3])
@@ -376,19 +381,20 @@ static int ref3_eval(ref3_ctx *c, const double *y, ref3_state *s)
         s->ft[k] = 0.0;
     }
     const double gcm = sqrt(ref3_dot(s->gc, s->gc));
+    s->gcm = gcm;
+    s->law = (gr_ref_point){.xi = s->xi,
+                            .gn = s->gn,
+                            .gt = gcm,
+                            .gc = gcm,
+                            .rn = s->rn,
+                            .fn = s->fn,
+                            .rot = b->rot,
+                            .q = b->q,
+                            .D = b->D};
     if (b->law && gcm > 0.0) {
-        gr_ref_point p = {.xi = s->xi,
-                          .gn = s->gn,
-                          .gt = gcm,
-                          .gc = gcm,
-                          .rn = s->rn,
-                          .fn = s->fn,
-                          .rot = b->rot,
-                          .q = b->q,
-                          .D = b->D};
-        b->law->force(&b->lt, &p);
+        b->law->force(&b->lt, &s->law);
         for (int k = 0; k < 3; k++) {
-            s->ft[k] = p.ft / gcm * s->gc[k];
+            s->ft[k] = s->law.ft / gcm * s->gc[k];
         }
     }
     return 0;
@@ -429,6 +435,15 @@ static int ref3_roots(sunrealtype t, N_Vector yv, sunrealtype *gout, void *user)
     }
     gout[Z_ROOT_END] = c->base.clamp ? s.fn : s.xi;
     gout[Z_ROOT_MAX_OVERLAP] = s.gn;
+    double g[GR_REF_NROOTS] = {1.0, 1.0, 1.0, 1.0};
+    if (c->base.law && c->base.law->roots) {
+        gr_ref_point p = s.law;
+        p.gc = p.gt = s.gcm - REF3_STOP_FLOOR; /* crosses 0 where |g_c| reaches the floor */
+        c->base.law->roots(&c->base.lt, &p, g);
+    }
+    for (int k = 0; k < GR_REF_NROOTS; k++) {
+        gout[Z_ROOT_LAW0 + k] = g[k];
+    }
     return 0;
 }
 
@@ -460,6 +475,25 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
         yd[Z_W + k] = base->rot ? W0[k] : 0.0;
     }
     int rootdir[Z_NROOT] = {[Z_ROOT_END] = -1, [Z_ROOT_MAX_OVERLAP] = 1};
+    for (int k = 0; k < GR_REF_NROOTS; k++) {
+        rootdir[Z_ROOT_LAW0 + k] = -1; /* the law's roots cross 0 downwards */
+    }
+    /* the law's regime at the touch, from |g_c| there (the plane's start took the plane's g_c) */
+    {
+        double nw[3] = {0.0, 0.0, 0.0};
+        if (base->rot) {
+            ref3_cross(n0, W0, nw);
+        }
+        const double gn = ref3_dot(g0, n0);
+        double gc[3];
+        for (int k = 0; k < 3; k++) {
+            gc[k] = g0[k] - gn * n0[k] + 0.5 * base->D * nw[k];
+        }
+        const double gcm = sqrt(ref3_dot(gc, gc));
+        if (ctx.base.law && ctx.base.law->start) {
+            ctx.base.law->start(&ctx.base.lt, gn, gcm, gcm >= REF_TANGENT_FLOOR);
+        }
+    }
     int flag;
 #define REF3_CHECK(call, what)                                                                     \
     if ((flag = (call)) < 0) {                                                                     \
@@ -505,6 +539,38 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
         }
         if (found[Z_ROOT_END]) {
             break;
+        }
+        bool found_law[GR_REF_NROOTS];
+        bool any = false;
+        for (int k = 0; k < GR_REF_NROOTS; k++) {
+            found_law[k] = found[Z_ROOT_LAW0 + k] != 0;
+            any = any || found_law[k];
+        }
+        const gr_reference_law *law = ctx.base.law;
+        const int ev = any && law && law->event ? law->event(&ctx.base.lt, found_law, &st.law) : 0;
+        if (ev & GR_REF_STOP) {
+            /* sliding stopped: the impulse J (units m12 V, in the tangent plane) that cancels the
+             * residual g_c: J on g, -2 rho (n x J) / (q |r|) on W, rho = (|r| / D)^2, so g_c
+             * changes by J (1 + rho / q) */
+            const double rho = base->rot ? st.rn * st.rn / (base->D * base->D) : 0.0;
+            const double f = base->rot ? 1.0 / (1.0 + rho / base->q) : 1.0;
+            double J[3], nJ[3];
+            for (int k = 0; k < 3; k++) {
+                J[k] = -f * st.gc[k];
+            }
+            ref3_cross(st.n, J, nJ);
+            for (int k = 0; k < 3; k++) {
+                yd[Z_G + k] += J[k];
+                if (base->rot) {
+                    yd[Z_W + k] -= 2.0 * (rho / base->q) * nJ[k] / st.rn;
+                }
+            }
+        }
+        if (ev & GR_REF_RESTART) {
+            if ((flag = CVodeReInit(mem, tau, y)) < 0) {
+                rc = ref_fail_flag(err, &ctx.base, "CVodeReInit", flag);
+                goto done3;
+            }
         }
     }
     if (ref3_eval(&ctx, yd, &st) != 0) {
@@ -580,8 +646,9 @@ static int reference_run(const gr_collide_setup *s, const gr_collision_case *cs,
  * and opposite, give the contact point no velocity and take no torque; a rolling law needs
  * w1 = w2 as in 2D, so that it exerts nothing). The reference then integrates that contact and
  * puts the spheres' x and y spins back, their energy counted in the fractions' denominator.
- * Other spins move the contact out of the plane: integrated in 3D (ref3_integrate above) for a
- * law without regime, refused for the others, never integrated as something else. */
+ * Other spins move the contact out of the plane: integrated in 3D (ref3_integrate above) for every
+ * law but one whose state is a scalar in the plane (`plane_only`: the history spring), refused for
+ * that, never integrated as something else. */
 static int reference_3d(const gr_collide_setup *s, const gr_collision_case *cs,
                         gr_collide_result *out, gr_error *err)
 {
@@ -599,14 +666,14 @@ static int reference_3d(const gr_collide_setup *s, const gr_collision_case *cs,
     }
     if (s->w1[0] + s->w2[0] != 0.0 || s->w1[1] + s->w2[1] != 0.0) {
         const gr_reference_law *law = s->tangential ? s->tangential->reference : NULL;
-        if (law && (law->start || law->roots || law->event)) {
+        if (law && law->plane_only) {
             return GR_FAIL(
                 err, GR_EINVAL,
                 "reference collision in 3D: --omega1 %g,%g,%g and --omega2 %g,%g,%g move the "
                 "contact point out of the impact's plane (w1 + w2 has x or y components), where "
-                "the CVODE reference integrates laws without stick, slip or stop only "
-                "(tangential_dashpot); for %s allowed: w1x = -w2x, w1y = -w2y (the engine run "
-                "takes any)",
+                "the CVODE reference integrates laws without a history state only "
+                "(tangential_dashpot, sliding_friction); for %s allowed: w1x = -w2x, w1y = -w2y "
+                "(the engine run takes any)",
                 s->w1[0], s->w1[1], s->w1[2], s->w2[0], s->w2[1], s->w2[2], s->tangential->name);
         }
         return reference_run(s, cs, out, err, true);
