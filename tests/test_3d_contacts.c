@@ -486,13 +486,13 @@ static gr_collide_setup collide_setup(const char *normal, const char *tangential
 START_TEST(test_collide_reference_3d)
 {
     const char *const normals[] = {"spring_dashpot", "hertz", "spring_dashpot", "hertz"};
-    const char *const laws[] = {"tangential_dashpot", "tangential_dashpot", "sliding_friction",
-                                "sliding_friction"};
+    const char *const tangentials[] = {"tangential_dashpot", "tangential_dashpot",
+                                       "sliding_friction", "sliding_friction"};
     gr_collision_case cs;
     gr_error err = {0};
     ck_assert_int_eq(gr_collision_case_oblique(0.5, 30.0, 1.5e-3, &cs, &err), GR_OK);
     for (int k = 0; k < 4; k++) {
-        gr_collide_setup s = collide_setup(normals[k], laws[k]);
+        gr_collide_setup s = collide_setup(normals[k], tangentials[k]);
         s.w1[2] = 150.0;
         s.w2[2] = -300.0;
         gr_collide_result plane, tilted, engine, ref;
@@ -504,8 +504,8 @@ START_TEST(test_collide_reference_3d)
             worst = fmax(worst, fabs(plane.v1[a] - tilted.v1[a]) / 0.5);
             worst = fmax(worst, fabs(plane.w2[a] - tilted.w2[a]) / 300.0);
         }
-        VERBOSE("%s + %s: 3D reference vs the plane's: %.2e (loss %.10f)\n", normals[k], laws[k],
-                worst, plane.energy_loss);
+        VERBOSE("%s + %s: 3D reference vs the plane's: %.2e (loss %.10f)\n", normals[k],
+                tangentials[k], worst, plane.energy_loss);
         ck_assert_msg(worst < 1e-8, "%s: the 3D reference differs from the plane's by %.3e",
                       normals[k], worst);
         const double w1[3] = {400.0, 100.0, 150.0}, w2[3] = {-100.0, 0.0, -300.0};
@@ -521,7 +521,7 @@ START_TEST(test_collide_reference_3d)
         }
         VERBOSE("%s + %s: engine vs 3D reference: loss %.8f / %.8f, spins %.2e, velocities %.2e, "
                 "v_z %g\n",
-                normals[k], laws[k], engine.energy_loss, ref.energy_loss, dw, dv, ref.v2[2]);
+                normals[k], tangentials[k], engine.energy_loss, ref.energy_loss, dw, dv, ref.v2[2]);
         ck_assert_msg(fabs(ref.v2[2]) > 1e-3 && fabs(ref.w1[1] - 100.0) > 1.0,
                       "%s: the contact stayed in the plane: the test tests nothing", normals[k]);
         ck_assert_msg(dl <= 0.25 / 200.0 && dw <= 2e-3 && dv <= 2e-3,
