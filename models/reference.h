@@ -13,7 +13,9 @@
  * V / w0, force m12 w0 V (w0 the normal law's contact frequency at this impact). A law whose
  * force switches regime (sliding stops, a spring sticks or slips, |F_n| changes sign) keeps the
  * regime in `gr_ref_tangential` and reports each switch as a root, so the right-hand side stays
- * smooth between roots and every switch is located exactly. */
+ * smooth between roots and every switch is located exactly. Between spheres whose spins take the
+ * contact out of the impact's plane the reference integrates vectors: a law without state acts
+ * along -g_c with its plane force at |g_c|, a law with a vector state gives a gr_reference_law3. */
 #ifndef GR_MODELS_REFERENCE_H
 #define GR_MODELS_REFERENCE_H
 
@@ -93,9 +95,72 @@ typedef struct gr_reference_law {
     /* optional: at a root (found[k]: root k was reached; p as `force` left it), change the regime
      * and p->y; returns GR_REF_RESTART and GR_REF_STOP bits */
     int (*event)(gr_ref_tangential *l, const bool found[GR_REF_NROOTS], gr_ref_point *p);
-    /* its state (GR_REF_Y_STATE) is a scalar along t, so its reference holds in the plane of a
-     * 2D contact only: the 3D reference refuses it when spins take the contact out of the plane */
-    bool plane_only;
+    /* optional, a law whose state is a vector in the tangent plane (the history spring): the
+     * same five with vectors, for a 3D contact out of the impact's plane (gr_ref_point3 below).
+     * A law without them is integrated there along -g_c with its plane force at |g_c|. */
+    const struct gr_reference_law3 *sphere;
 } gr_reference_law;
+
+/* ---- spheres: the contact out of the impact's plane (src/collide/reference.c, ref3) ---------- *
+ * The law's own state components: GR_REF3_Y_VEC..+2 a vector in the tangent plane (integrated with
+ * error control), GR_REF3_Y_QUAD a quadrature left out of the error test, as in the plane. */
+enum { GR_REF3_Y_VEC = 0, GR_REF3_Y_QUAD = 3, GR_REF3_NY = 4 };
+
+/* One point of a 3D contact: vectors in the frame of the box, in the reference's units. */
+typedef struct gr_ref_point3 {
+    /* inputs */
+    double xi, gn, rn, fn, dfn; /* overlap, g.n, |r|, F_n and dF_n/dt */
+    double n[3], g[3];          /* the normal from 1 to 2, the relative velocity v2 - v1 */
+    double gc[3];               /* the contact point's tangential velocity */
+    double y[GR_REF3_NY];       /* the law's own state components */
+    bool rot;
+    double W[3], q, D; /* rotation: (w1 + w2) / w0, I / (M r^2), the diameter */
+    /* outputs */
+    double ft[3];            /* the tangential force */
+    double ydot[GR_REF3_NY]; /* rates of the law's state components */
+    double e, e_work;        /* as gr_ref_point's */
+    double yscale; /* what an error in the vector state costs: 1 (the state is a length), or the
+                      force it turns (a direction: the reference weighs its error by this) */
+    double aux[GR_REF_NAUX]; /* the law's scalar scratch values */
+    double vaux[2][3];       /* and vector ones */
+} gr_ref_point3;
+
+/* dg_c/dt at the point when the law exerts ft, for g_c = g - (g.n) n + (|r| / 2) n x W:
+ * dn/dt = g_p / |r| (g_p = g - (g.n) n), so g_p changes at ft - (|g_p|^2 n + (g.n) g_p) / |r|, and
+ * with rotation (|r| / 2) n x W at ((g.n) n x W + g_p x W) / 2 + |r|^2 ft / (q D^2) (the torque
+ * -(|r| / 2) n x F_t on each sphere), (g x W) / 2 + |r|^2 ft / (q D^2) in all. In the plane its
+ * component along t is gr_ref_gc_rate. */
+static inline void gr_ref_gc_rate3(const gr_ref_point3 *p, const double ft[3], double dgc[3])
+{
+    double gp[3];
+    double gp2 = 0.0;
+    for (int a = 0; a < 3; a++) {
+        gp[a] = p->g[a] - p->gn * p->n[a];
+        gp2 += gp[a] * gp[a];
+    }
+    for (int a = 0; a < 3; a++) {
+        dgc[a] = ft[a] - (gp2 * p->n[a] + p->gn * gp[a]) / p->rn;
+    }
+    if (p->rot) {
+        /* (g.n) n x W + g_p x W = g x W */
+        const double *W = p->W, *g = p->g;
+        const double c[3] = {g[1] * W[2] - g[2] * W[1], g[2] * W[0] - g[0] * W[2],
+                             g[0] * W[1] - g[1] * W[0]};
+        const double rr = p->rn * p->rn / (p->q * p->D * p->D);
+        for (int a = 0; a < 3; a++) {
+            dgc[a] += 0.5 * c[a] + rr * ft[a];
+        }
+    }
+}
+
+typedef struct gr_reference_law3 {
+    /* the state at the touch: p evaluated there with y = 0 (the regime from the law's `start`
+     * with |g_c|); sets p->y */
+    void (*start)(const gr_ref_tangential *l, gr_ref_point3 *p);
+    void (*force)(const gr_ref_tangential *l, gr_ref_point3 *p);
+    void (*roots)(const gr_ref_tangential *l, const gr_ref_point3 *p, double g[GR_REF_NROOTS]);
+    /* changes the regime and p->y; GR_REF_RESTART only (a vector law stops nothing) */
+    int (*event)(gr_ref_tangential *l, const bool found[GR_REF_NROOTS], gr_ref_point3 *p);
+} gr_reference_law3;
 
 #endif

@@ -203,7 +203,6 @@ base | collide --dim 3 --speed 1 --angle 30 --omega1 0,0,5 | 2 | --omega1/--omeg
 base | collide --dim 3 --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega1 150 | 2 | --omega1 150;WX,WY,WZ | new
 base | collide --dim 3 --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega2 0,0,nan | 2 | --omega2 0,0,nan;three finite numbers | new
 base | collide --speed 1 --angle 30 --model spring_dashpot+tangential_dashpot --set rotation=true --omega1 1,2,3 | 2 | --omega1 1,2,3;needs --dim 3 | new
-base | collide --dim 3 --speed 1 --angle 30 --model spring_dashpot+tangential_spring --set rotation=true --omega1 100,0,0 --reference | 2 | --omega1 100,0,0;out of the impact's plane;tangential_dashpot, sliding_friction;w1x = -w2x | new
 base | collide --steps-per-contact 5 | 2 | steps_per_contact;!collide: collide: | new
 base | collide --speed 0 | 2 | --speed;> 0;!collide: collide: | new
 base | collide --speed 1 --angle 90 | 2 | --angle;[0, 90) | new

@@ -356,17 +356,11 @@ START_TEST(test_errors)
     gr_collide_setup bad = s;
     bad.dim = 4;
     expect_error(&bad, &c, GR_EINVAL, "dim must be 1, 2 or 3");
-    /* 3D: spins without rotation are refused; spins whose sum leaves the impact's plane are
-     * refused for the history spring, whose state is a scalar in the plane (not integrated as
-     * something else) */
+    /* 3D: spins without rotation are refused */
     bad = s;
     bad.dim = 3;
     bad.w1[0] = 10.0;
     expect_error(&bad, &c, GR_EINVAL, "initial spins need rotation");
-    bad = make_setup("tangential_spring", 0.5, 1.0, 0.3, false, 3);
-    bad.contact.rotation = true;
-    bad.w1[0] = 10.0;
-    expect_error(&bad, &c, GR_EINVAL, "out of the impact's plane");
     bad = s;
     bad.normal = NULL;
     expect_error(&bad, &c, GR_EINVAL, "model");

@@ -24,6 +24,7 @@
 #include "granule/model.h"
 #include "models/tangential_spring.h"
 #include "check_main.h"
+#include "contact_settings.h"
 #include "test_env.h"
 
 /* the spring acting at the contact point: rotation is wired into the engine by another change
@@ -39,16 +40,7 @@ static gr_collide_setup setup(const char *normal, const char *settings, int rot)
     spring_rot.contact_point = true;
     s.tangential = &spring_rot;
     s.contact.rotation = rot;
-    char buf[256];
-    snprintf(buf, sizeof buf, "%s", settings);
-    for (char *save = NULL, *tok = strtok_r(buf, " ", &save); tok;
-         tok = strtok_r(NULL, " ", &save)) {
-        char *eq = strchr(tok, '=');
-        ck_assert(eq);
-        *eq = '\0';
-        gr_error err = {0};
-        ck_assert_msg(gr_contact_set(&s.contact, tok, eq + 1, &err) == GR_OK, "%s", err.message);
-    }
+    contact_settings(&s.contact, settings);
     return s;
 }
 

@@ -118,17 +118,18 @@ typedef struct ref_state {
 /* The rate dF_n/dt of F_n = X^a - c_n X^p g.n (the clamp only ends the contact where F_n = 0),
  * from d xi/dt = -g.n and d(g.n)/dt = F_n + (g.t)^2 / |r| (F_t along t leaves g.n alone), for a
  * tangential law whose force depends on it (the spring's Coulomb limit, mu |F_n|) */
-static double ref_fn_rate(const ref_ctx *c, const ref_state *s)
+static double ref_fn_rate(const ref_ctx *c, double xi, double gn, double fn, double gp2, double rn)
 {
-    const double X = fmax(s->xi, 0.0), dxi = -s->gn;
+    /* gp2 = |g - (g.n) n|^2 ((g.t)^2 in the plane): d(g.n)/dt = F_n + gp2 / |r| */
+    const double X = fmax(xi, 0.0), dxi = -gn;
     if (c->pow_a == 1.0 && c->pow_p == 0.0) {
-        return dxi - c->c_n * (s->fn + s->gt * s->gt / s->rn);
+        return dxi - c->c_n * (fn + gp2 / rn);
     }
     /* X^(p-1): singular at X = 0 (a damping ~ X^p grows infinitely fast from the touch); 0 past
      * the end, where CVODE may try a point and the contact no longer acts */
     const double xp1 = X > 0.0 && c->pow_p != 0.0 ? c->pow_p * pow(X, c->pow_p - 1.0) : 0.0;
     return c->pow_a * pow(X, c->pow_a - 1.0) * dxi -
-           c->c_n * (xp1 * dxi * s->gn + pow(X, c->pow_p) * (s->fn + s->gt * s->gt / s->rn));
+           c->c_n * (xp1 * dxi * gn + pow(X, c->pow_p) * (fn + gp2 / rn));
 }
 
 /* Geometry and forces of the current regime at state y (smooth in y). */
@@ -169,7 +170,7 @@ static int ref_eval(ref_ctx *c, const double *y, ref_state *s)
         p->gc = s->gc;
         p->rn = rn;
         p->fn = s->fn;
-        p->dfn = ref_fn_rate(c, s);
+        p->dfn = ref_fn_rate(c, s->xi, s->gn, s->fn, s->gt * s->gt, rn);
         for (int k = 0; k < GR_REF_NY; k++) {
             p->y[k] = y[y_law[k]];
         }
@@ -313,14 +314,24 @@ static void ref_free(ref_solver *v)
  * The same relative motion with vectors: r = r_c + u (3 components), g, W = (w1 + w2) / w0 (the
  * difference w1 - w2 takes no torque without a rolling law), in the units above. The contact
  * point's tangential velocity is g_c = g - (g.n) n + (|r| / 2) n x W (src/core/kernels_3d.c),
- * the tangential law's force acts along -g_c with the magnitude its own reference force gives at
- * |g_c| (as the engine applies a law without history), and each sphere takes the torque
- * -(|r| / 2) n x F_t, so dW/dtau = -2 |r| (n x f_t) / (q D^2). A law's regime and roots are the
- * plane's with |g_c| for g_c (sliding_friction: F_t = -mu |F_n| along g_c until |g_c| falls below
- * REF3_STOP_FLOOR, the root that stops the sliding, where the vector impulse that cancels g_c is
- * applied, as the plane's scalar one). A law whose state is a scalar along t (the history spring,
- * `plane_only`) is refused out of the plane. */
-enum { Z_U = 0, Z_G = 3, Z_W = 6, Z_JN = 9, Z_JT = 10, Z_DN = 11, Z_WT = 12, Z_NEQ = 13 };
+ * and each sphere takes the torque -(|r| / 2) n x F_t, so dW/dtau = -2 |r| (n x f_t) / (q D^2). A
+ * law whose state is a vector in the tangent plane (the history spring) gives its own 3D force,
+ * state, roots and events (gr_reference_law3, models/reference.h; its state in Z_LAW..). Any other
+ * acts along -g_c with the magnitude its plane force gives at |g_c| (as the engine applies a law
+ * without history), its regime and roots the plane's with |g_c| for g_c (sliding_friction:
+ * F_t = -mu |F_n| along g_c until |g_c| falls below REF3_STOP_FLOOR, the root that stops the
+ * sliding, where the vector impulse that cancels g_c is applied, as the plane's scalar one). */
+enum {
+    Z_U = 0,
+    Z_G = 3,
+    Z_W = 6,
+    Z_JN = 9,
+    Z_JT = 10,
+    Z_DN = 11,
+    Z_WT = 12,
+    Z_LAW = 13, /* the vector law's GR_REF3_NY components */
+    Z_NEQ = Z_LAW + GR_REF3_NY
+};
 enum { Z_ROOT_END = 0, Z_ROOT_MAX_OVERLAP = 1, Z_ROOT_LAW0 = 2, Z_NROOT = 2 + GR_REF_NROOTS };
 /* |g_c| (units of V) below which a law's sliding counts as stopped: |g_c| reaches 0 without
  * crossing it, so the root is placed just above; the impulse then cancels the rest */
@@ -329,11 +340,15 @@ enum { Z_ROOT_END = 0, Z_ROOT_MAX_OVERLAP = 1, Z_ROOT_LAW0 = 2, Z_NROOT = 2 + GR
 typedef struct ref3_ctx {
     ref_ctx base; /* D, c_n, the powers, q, rot, clamp, the law; messages (ref_err_handler) */
     double rc[3]; /* the separation at the touch, |rc| = D */
+    const gr_reference_law3 *vec; /* the law's vector form (NULL: along -g_c at |g_c|) */
+    double rtol;
 } ref3_ctx;
 
 typedef struct ref3_state {
     double n[3], rn, xi, gn, fn, gc[3], ft[3], gcm;
-    gr_ref_point law; /* the law's point (|g_c| for g_c), as its force left it */
+    gr_ref_point law;   /* the law's point (|g_c| for g_c), as its force left it */
+    gr_ref_point3 law3; /* or the vector law's */
+    double e, e_work;   /* the law's stored energy and int F ds of it (either form) */
 } ref3_state;
 
 static double ref3_dot(const double a[3], const double b[3])
@@ -382,6 +397,35 @@ static int ref3_eval(ref3_ctx *c, const double *y, ref3_state *s)
     }
     const double gcm = sqrt(ref3_dot(s->gc, s->gc));
     s->gcm = gcm;
+    s->e = s->e_work = 0.0;
+    if (c->vec) {
+        gr_ref_point3 *p = &s->law3;
+        *p = (gr_ref_point3){.xi = s->xi,
+                             .gn = s->gn,
+                             .rn = s->rn,
+                             .fn = s->fn,
+                             .rot = b->rot,
+                             .q = b->q,
+                             .D = b->D};
+        double gp2 = 0.0;
+        for (int k = 0; k < 3; k++) {
+            p->n[k] = s->n[k];
+            p->g[k] = g[k];
+            p->gc[k] = s->gc[k];
+            p->W[k] = b->rot ? y[Z_W + k] : 0.0;
+            const double gp = g[k] - s->gn * s->n[k];
+            gp2 += gp * gp;
+        }
+        for (int k = 0; k < GR_REF3_NY; k++) {
+            p->y[k] = y[Z_LAW + k];
+        }
+        p->dfn = ref_fn_rate(b, s->xi, s->gn, s->fn, gp2, s->rn);
+        c->vec->force(&b->lt, p);
+        memcpy(s->ft, p->ft, sizeof s->ft);
+        s->e = p->e;
+        s->e_work = p->e_work;
+        return 0;
+    }
     s->law = (gr_ref_point){.xi = s->xi,
                             .gn = s->gn,
                             .gt = gcm,
@@ -396,6 +440,8 @@ static int ref3_eval(ref3_ctx *c, const double *y, ref3_state *s)
         for (int k = 0; k < 3; k++) {
             s->ft[k] = s->law.ft / gcm * s->gc[k];
         }
+        s->e = s->law.e;
+        s->e_work = s->law.e_work;
     }
     return 0;
 }
@@ -422,6 +468,9 @@ static int ref3_rhs(sunrealtype t, N_Vector yv, N_Vector ydotv, void *user)
     const bool linear = c->base.pow_a == 1.0 && c->base.pow_p == 0.0;
     yd[Z_DN] = -(s.fn - (linear ? s.xi : pow(fmax(s.xi, 0.0), c->base.pow_a))) * s.gn;
     yd[Z_WT] = -ref3_dot(s.ft, s.gc);
+    for (int k = 0; k < GR_REF3_NY; k++) {
+        yd[Z_LAW + k] = c->vec ? s.law3.ydot[k] : 0.0;
+    }
     return 0;
 }
 
@@ -436,13 +485,43 @@ static int ref3_roots(sunrealtype t, N_Vector yv, sunrealtype *gout, void *user)
     gout[Z_ROOT_END] = c->base.clamp ? s.fn : s.xi;
     gout[Z_ROOT_MAX_OVERLAP] = s.gn;
     double g[GR_REF_NROOTS] = {1.0, 1.0, 1.0, 1.0};
-    if (c->base.law && c->base.law->roots) {
+    if (c->vec) {
+        c->vec->roots(&c->base.lt, &s.law3, g);
+    } else if (c->base.law && c->base.law->roots) {
         gr_ref_point p = s.law;
         p.gc = p.gt = s.gcm - REF3_STOP_FLOOR; /* crosses 0 where |g_c| reaches the floor */
         c->base.law->roots(&c->base.lt, &p, g);
     }
     for (int k = 0; k < GR_REF_NROOTS; k++) {
         gout[Z_ROOT_LAW0 + k] = g[k];
+    }
+    return 0;
+}
+
+/* The error weights (CVEwtFn): CVODE's 1 / (rtol |y| + atol), but the quadrature left out (as in
+ * the plane) and the vector law's state weighed by what its error costs (gr_ref_point3.yscale:
+ * slipping, the state is the force's direction, whose error matters only as much as the force,
+ * which vanishes where F_n changes sign or the contact ends; there that direction turns on a
+ * time scale that vanishes too, and weighing it as a length would stall the integration). */
+static int ref3_weights(N_Vector yv, N_Vector ewtv, void *user)
+{
+    ref3_ctx *c = user;
+    const double *y = N_VGetArrayPointer(yv);
+    double *w = N_VGetArrayPointer(ewtv);
+    double scale = 1.0;
+    ref3_state s;
+    if (c->vec && ref3_eval(c, y, &s) == 0) {
+        scale = s.law3.yscale;
+    }
+    for (int k = 0; k < Z_NEQ; k++) {
+        const double a = fabs(y[k]);
+        if (k == Z_LAW + GR_REF3_Y_QUAD) {
+            w[k] = 1e-300;
+        } else if (k >= Z_LAW + GR_REF3_Y_VEC && k < Z_LAW + GR_REF3_Y_VEC + 3) {
+            w[k] = fmax(scale / (c->rtol * a * scale + REF_ATOL), 1e-300);
+        } else {
+            w[k] = 1.0 / (c->rtol * a + REF_ATOL);
+        }
     }
     return 0;
 }
@@ -454,15 +533,24 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
                           const double G0[2], gr_collide_result *out, gr_error *err)
 {
     const double m12 = 0.5 * s->mass;
-    ref3_ctx ctx = {.base = *base, .rc = {base->D * base->n0[0], base->D * base->n0[1], 0.0}};
+    ref3_ctx ctx = {.base = *base,
+                    .rc = {base->D * base->n0[0], base->D * base->n0[1], 0.0},
+                    .vec = base->law ? base->law->sphere : NULL};
     const double n0[3] = {base->n0[0], base->n0[1], 0.0}, g0[3] = {G0[0], G0[1], 0.0};
     double W0[3];
     for (int k = 0; k < 3; k++) {
         W0[k] = (s->w1[k] + s->w2[k]) / w0;
     }
     ref_solver v;
+    N_Vector atol = NULL;
     int rc = ref_alloc(&v, Z_NEQ, err);
+    if (!rc && !(atol = N_VNew_Serial(Z_NEQ, v.sunctx))) {
+        rc = GR_FAIL(err, GR_ENOMEM, "reference collision: could not allocate the CVODE solver");
+    }
     if (rc) {
+        if (atol) {
+            N_VDestroy(atol);
+        }
         ref_free(&v);
         return rc;
     }
@@ -494,6 +582,16 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
             ctx.base.law->start(&ctx.base.lt, gn, gcm, gcm >= REF_TANGENT_FLOOR);
         }
     }
+    ref3_state st;
+    if (ctx.vec) { /* the vector law's state at the touch */
+        if (ref3_eval(&ctx, yd, &st) != 0) {
+            rc =
+                GR_FAIL(err, GR_EUNSTABLE, "reference collision: degenerate geometry at the touch");
+            goto done3;
+        }
+        ctx.vec->start(&ctx.base.lt, &st.law3);
+        memcpy(yd + Z_LAW, st.law3.y, sizeof st.law3.y);
+    }
     int flag;
 #define REF3_CHECK(call, what)                                                                     \
     if ((flag = (call)) < 0) {                                                                     \
@@ -502,8 +600,8 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
     }
     REF3_CHECK(CVodeSetErrHandlerFn(mem, ref_err_handler, &ctx.base), "CVodeSetErrHandlerFn");
     REF3_CHECK(CVodeInit(mem, ref3_rhs, 0.0, y), "CVodeInit");
-    REF3_CHECK(CVodeSStolerances(mem, s->ref_rtol > 0.0 ? s->ref_rtol : 1e-12, REF_ATOL),
-               "CVodeSStolerances");
+    ctx.rtol = s->ref_rtol > 0.0 ? s->ref_rtol : 1e-12;
+    REF3_CHECK(CVodeWFtolerances(mem, ref3_weights), "CVodeWFtolerances");
     REF3_CHECK(CVodeSetUserData(mem, &ctx), "CVodeSetUserData");
     REF3_CHECK(CVodeSetLinearSolver(mem, v.LS, v.A), "CVodeSetLinearSolver");
     REF3_CHECK(CVodeSetMaxNumSteps(mem, REF_MAX_STEPS), "CVodeSetMaxNumSteps");
@@ -512,7 +610,6 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
     REF3_CHECK(CVodeSetNoInactiveRootWarn(mem), "CVodeSetNoInactiveRootWarn");
 #undef REF3_CHECK
     double tau = 0.0, xi_max = 0.0;
-    ref3_state st;
     for (;;) {
         flag = CVode(mem, REF_GUARD_CONTACTS * M_PI, y, &tau, CV_NORMAL);
         if (flag < 0) {
@@ -547,7 +644,13 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
             any = any || found_law[k];
         }
         const gr_reference_law *law = ctx.base.law;
-        const int ev = any && law && law->event ? law->event(&ctx.base.lt, found_law, &st.law) : 0;
+        int ev = 0;
+        if (any && ctx.vec) {
+            ev = ctx.vec->event(&ctx.base.lt, found_law, &st.law3);
+            memcpy(yd + Z_LAW, st.law3.y, sizeof st.law3.y);
+        } else if (any && law && law->event) {
+            ev = law->event(&ctx.base.lt, found_law, &st.law);
+        }
         if (ev & GR_REF_STOP) {
             /* sliding stopped: the impulse J (units m12 V, in the tangent plane) that cancels the
              * residual g_c: J on g, -2 rho (n x J) / (q |r|) on W, rho = (|r| / D)^2, so g_c
@@ -591,9 +694,12 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
     const double gg0 = ref3_dot(g0, g0), gg1 = ref3_dot(G1, G1), e0 = 0.5 * (gg0 + spin_e0);
     out->energy_loss = 1.0 - (gg1 + spin_e) / (gg0 + spin_e0);
     out->spin_loss = (spin_e0 - spin_e) / (gg0 + spin_e0);
+    /* as in the plane: the spring's stored energy at the end is lost with the contact, and its
+     * int F ds is work stored, not dissipated */
     out->diss_normal = yd[Z_DN] / e0;
-    out->diss_tangential = yd[Z_WT] / e0;
-    out->stored_lost = pow(fmax(st.xi, 0.0), base->pow_a + 1.0) / (base->pow_a + 1.0) / e0;
+    out->diss_tangential = (yd[Z_WT] - st.e_work) / e0;
+    out->stored_lost = (pow(fmax(st.xi, 0.0), base->pow_a + 1.0) / (base->pow_a + 1.0) + st.e) / e0;
+    out->work_free = (st.e - st.e_work) / e0;
     const double gn0 = ref3_dot(g0, n0);
     out->impact_angle = atan2(sqrt(fmax(gg0 - gn0 * gn0, 0.0)), -gn0) * (180.0 / M_PI);
     out->expected_loss = (double)NAN; /* the restitution laws assume no spin before */
@@ -633,6 +739,9 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
         rc = GR_FAIL(err, GR_EUNSTABLE, "reference collision: non-finite result");
     }
 done3:
+    if (atol) {
+        N_VDestroy(atol);
+    }
     ref_free(&v);
     return rc;
 }
@@ -646,9 +755,8 @@ static int reference_run(const gr_collide_setup *s, const gr_collision_case *cs,
  * and opposite, give the contact point no velocity and take no torque; a rolling law needs
  * w1 = w2 as in 2D, so that it exerts nothing). The reference then integrates that contact and
  * puts the spheres' x and y spins back, their energy counted in the fractions' denominator.
- * Other spins move the contact out of the plane: integrated in 3D (ref3_integrate above) for every
- * law but one whose state is a scalar in the plane (`plane_only`: the history spring), refused for
- * that, never integrated as something else. */
+ * Other spins move the contact out of the plane: integrated in 3D (ref3_integrate above), the
+ * history spring with its vector state. */
 static int reference_3d(const gr_collide_setup *s, const gr_collision_case *cs,
                         gr_collide_result *out, gr_error *err)
 {
@@ -665,17 +773,6 @@ static int reference_3d(const gr_collide_setup *s, const gr_collision_case *cs,
                        "with a tangential law; allowed without: 0,0,0)");
     }
     if (s->w1[0] + s->w2[0] != 0.0 || s->w1[1] + s->w2[1] != 0.0) {
-        const gr_reference_law *law = s->tangential ? s->tangential->reference : NULL;
-        if (law && law->plane_only) {
-            return GR_FAIL(
-                err, GR_EINVAL,
-                "reference collision in 3D: --omega1 %g,%g,%g and --omega2 %g,%g,%g move the "
-                "contact point out of the impact's plane (w1 + w2 has x or y components), where "
-                "the CVODE reference integrates laws without a history state only "
-                "(tangential_dashpot, sliding_friction); for %s allowed: w1x = -w2x, w1y = -w2y "
-                "(the engine run takes any)",
-                s->w1[0], s->w1[1], s->w1[2], s->w2[0], s->w2[1], s->w2[2], s->tangential->name);
-        }
         return reference_run(s, cs, out, err, true);
     }
     gr_collide_setup plane = *s;
