@@ -106,6 +106,10 @@ typedef struct gr_reference_law {
  * error control), GR_REF3_Y_QUAD a quadrature left out of the error test, as in the plane. */
 enum { GR_REF3_Y_VEC = 0, GR_REF3_Y_QUAD = 3, GR_REF3_NY = 4 };
 
+/* |g_c| (units of V) below which sliding counts as stopped: |g_c| reaches 0 without crossing it,
+ * so a root is placed just above, and the impulse then cancels the rest */
+#define GR_REF3_STOP_FLOOR 1e-10
+
 /* One point of a 3D contact: vectors in the frame of the box, in the reference's units. */
 typedef struct gr_ref_point3 {
     /* inputs */
@@ -159,8 +163,23 @@ typedef struct gr_reference_law3 {
     void (*start)(const gr_ref_tangential *l, gr_ref_point3 *p);
     void (*force)(const gr_ref_tangential *l, gr_ref_point3 *p);
     void (*roots)(const gr_ref_tangential *l, const gr_ref_point3 *p, double g[GR_REF_NROOTS]);
-    /* changes the regime and p->y; GR_REF_RESTART only (a vector law stops nothing) */
+    /* changes the regime and p->y; returns GR_REF_RESTART and GR_REF_STOP bits (the reference
+     * cancels g_c with the vector impulse) */
     int (*event)(gr_ref_tangential *l, const bool found[GR_REF_NROOTS], gr_ref_point3 *p);
 } gr_reference_law3;
+
+/* ---- rolling laws ----------------------------------------------------------------------------- *
+ * A rolling law's torque pair acts on the relative spin dw = w1 - w2 only (equal and opposite on
+ * the two particles, no force), across n: the engine applies magnitude M against the part of dw
+ * across n (in 2D all of it), limited to what stops the rolling within a step. The reference
+ * integrates dw under the full torque while the particles roll on each other, and where its part
+ * across n reaches 0 (a root) it is arrested: held there by the torque that takes, the step's cut
+ * in continuous time, for as long as that stays within M (3D: the turning normal drags a twist
+ * dw.n across; in 2D dw stays 0). */
+typedef struct gr_reference_rolling {
+    /* the magnitude M of the torque pair (N m) at the normal force |F_n| (N) and the effective
+     * radius r_eff (m), from the prepared coefficients (gr_contact_coeffs.law_r) */
+    double (*torque)(const gr_contact_coeffs *c, double fn_abs, double r_eff);
+} gr_reference_rolling;
 
 #endif

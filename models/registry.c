@@ -11,6 +11,11 @@
     _Static_assert(sizeof(NAME##_reference) == sizeof(gr_reference_law),                           \
                    #NAME ": no reference force");
 GR_TANGENTIAL_MODELS(GR_REFERENCE_CHECK, )
+/* and every rolling law its torque */
+#define GR_REFERENCE_ROLLING_CHECK(A, NAME)                                                        \
+    _Static_assert(sizeof(NAME##_reference) == sizeof(gr_reference_rolling),                       \
+                   #NAME ": no reference torque");
+GR_ROLLING_MODELS(GR_REFERENCE_ROLLING_CHECK, )
 
 #define GR_REGISTRY_ENTRY(A, NAME) &gr_model_##NAME,
 const gr_model *const gr_models[] = {

@@ -61,6 +61,8 @@ GR_LAW gr_rolling_torque gr_rolling_rolling_friction(const gr_contact_coeffs *c,
 /* the descriptor and prepare: compiled once, in models/registry.c */
 #include <stddef.h>
 
+#include "models/reference.h"
+
 static const gr_param rolling_friction_params[] = {
     {"mu_r", "", GR_PARAM_DOUBLE, 0.1, 0.0, INFINITY, false, true,
      "coefficient of rolling resistance: a torque pair of magnitude mu_r F_n R_eff (F_n the normal "
@@ -106,6 +108,16 @@ static double rolling_friction_spin_loss(const gr_contact_coeffs *c, double p_n,
     return J * fabs(dw0) - J * J / inertia;
 }
 
+/* the torque the CVODE reference integrates (models/reference.h): M = mu_r |F_n| R_eff */
+static double rolling_friction_ref_torque(const gr_contact_coeffs *c, double fn_abs, double r_eff)
+{
+    return c->law_r[ROLLING_FRICTION_MU_R] * fn_abs * r_eff;
+}
+
+static const gr_reference_rolling rolling_friction_reference = {
+    .torque = rolling_friction_ref_torque,
+};
+
 const gr_model gr_model_rolling_friction = {
     .name = "rolling_friction",
     .summary = "rolling resistance: torques -+ mu_r |F_n| R_eff against w_i - w_j (constant "
@@ -116,6 +128,7 @@ const gr_model gr_model_rolling_friction = {
     .prepare = rolling_friction_prepare,
     .inert = rolling_friction_inert,
     .spin_loss = rolling_friction_spin_loss,
+    .reference_rolling = &rolling_friction_reference,
     .elastic = "mu_r=0",
     .extremes = rolling_friction_extremes,
 };

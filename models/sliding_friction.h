@@ -64,67 +64,7 @@ static double sliding_friction_restitution_t(const gr_contact_coeffs *c, gr_norm
     return fmax(0.0, 1.0 - c->mu * n.impulse_abs * (c->m12 / c->m_t) * v_n / v_t);
 }
 
-/* The force the CVODE reference integrates (models/reference.h): F_t = -mu |F_n| sign(g_c) while
- * the contact point slides (mode, in the direction `sign` it had at the touch), then 0: sliding
- * stops where g_c reaches 0 (root 0; the reference cancels the rest of g_c) and never restarts
- * without a spring. Root 1: F_n changes sign while sliding (an unclamped law pulling at the end),
- * so |F_n| = fn_sign F_n stays smooth. */
-enum { SLIDING_FRICTION_REF_MU = 0 };
-static void sliding_friction_ref_setup(const gr_contact_coeffs *c, double m12, double w0,
-                                       double len, gr_ref_tangential *l)
-{
-    (void)m12;
-    (void)w0;
-    (void)len;
-    l->k[SLIDING_FRICTION_REF_MU] = c->mu;
-}
-
-static void sliding_friction_ref_start(gr_ref_tangential *l, double gn0, double gc0,
-                                       bool has_tangent)
-{
-    (void)gn0;
-    l->mode = has_tangent;
-    l->sign = gc0 < 0.0 ? -1.0 : 1.0;
-}
-
-static void sliding_friction_ref_force(const gr_ref_tangential *l, gr_ref_point *p)
-{
-    p->ft =
-        l->mode ? -l->k[SLIDING_FRICTION_REF_MU] * l->fn_sign * p->fn * l->sign : 0.0; /* (2.7) */
-}
-
-static void sliding_friction_ref_roots(const gr_ref_tangential *l, const gr_ref_point *p,
-                                       double g[GR_REF_NROOTS])
-{
-    g[0] = l->mode ? l->sign * p->gc : 1.0;
-    g[1] = l->mode && !l->clamp ? l->fn_sign * p->fn : 1.0;
-    g[2] = 1.0;
-    g[3] = 1.0;
-}
-
-static int sliding_friction_ref_event(gr_ref_tangential *l, const bool found[GR_REF_NROOTS],
-                                      gr_ref_point *p)
-{
-    (void)p;
-    int r = 0;
-    if (found[0] && l->mode) {
-        l->mode = false; /* sliding stops; without a spring it never restarts (g_c stays 0) */
-        r |= GR_REF_RESTART | GR_REF_STOP;
-    }
-    if (found[1]) {
-        l->fn_sign = -l->fn_sign;
-        r |= GR_REF_RESTART;
-    }
-    return r;
-}
-
-static const gr_reference_law sliding_friction_reference = {
-    .setup = sliding_friction_ref_setup,
-    .start = sliding_friction_ref_start,
-    .force = sliding_friction_ref_force,
-    .roots = sliding_friction_ref_roots,
-    .event = sliding_friction_ref_event,
-};
+#include "models/sliding_friction_reference.h"
 
 /* mu = 0: no friction, the kernel without it runs */
 static bool sliding_friction_inert(const gr_contact_coeffs *c) { return c->mu == 0.0; }

@@ -24,7 +24,7 @@
 #include "granule/model.h"
 #include "models/tangential_spring.h"
 #include "check_main.h"
-#include "contact_settings.h"
+#include "collide_helpers.h"
 #include "test_env.h"
 
 /* the spring acting at the contact point: rotation is wired into the engine by another change

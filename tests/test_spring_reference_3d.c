@@ -24,7 +24,7 @@
 #include "granule/collide.h"
 #include "granule/model.h"
 #include "check_main.h"
-#include "contact_settings.h"
+#include "collide_helpers.h"
 #include "test_env.h"
 
 typedef struct spring_case {
@@ -63,25 +63,6 @@ static void set_spins(gr_collide_setup *s, const double w1[3], const double w2[3
     memcpy(s->w2, w2, sizeof s->w2);
 }
 
-static gr_collision_case impact(const gr_collide_setup *s)
-{
-    gr_collision_case cs;
-    gr_error err = {0};
-    ck_assert(gr_collision_case_oblique(0.5, 30.0, s->radius, &cs, &err) == GR_OK);
-    return cs;
-}
-
-static gr_collide_result run(const gr_collide_setup *s, bool reference)
-{
-    gr_collision_case cs = impact(s);
-    gr_error err = {0};
-    gr_collide_result r;
-    const int rc = reference ? gr_collide_reference(s, &cs, &r, &err)
-                             : gr_collide_run(s, &cs, &r, &err);
-    ck_assert_msg(rc == GR_OK, "%s", err.message);
-    return r;
-}
-
 /* the largest difference of two results: the loss, the velocities over the impact speed, the
  * spins over 400 rad/s */
 static double distance(const gr_collide_result *a, const gr_collide_result *b)
@@ -104,9 +85,9 @@ START_TEST(test_tilt_is_the_plane)
     gr_collide_setup s = setup(c);
     const double w1[3] = {0.0, 0.0, 150.0}, w2[3] = {0.0, 0.0, -300.0};
     set_spins(&s, w1, w2);
-    const gr_collide_result plane = run(&s, true);
+    const gr_collide_result plane = collide_impact_run(&s, true);
     s.w1[0] = 1e-7;
-    gr_collide_result tilted = run(&s, true);
+    gr_collide_result tilted = collide_impact_run(&s, true);
     tilted.w1[0] -= 1e-7; /* the spin about x the plane's run did not have */
     const double d = distance(&plane, &tilted);
     VERBOSE("%s %s: 3D reference vs the plane's %.2e (loss %.10f, eps_t %.6f)\n", c->normal,
@@ -122,7 +103,7 @@ START_TEST(test_balance_out_of_plane)
     const spring_case *c = &cases[_i];
     gr_collide_setup s = setup(c);
     set_spins(&s, W1, W2);
-    const gr_collide_result r = run(&s, true);
+    const gr_collide_result r = collide_impact_run(&s, true);
     const double sum = r.diss_normal + r.diss_tangential + r.stored_lost - r.work_free;
     VERBOSE("%s %s: loss %.12f = normal %.6f + tangential %.6f + left %.6f - Mindlin %.6f "
             "(residual %.1e), v_z %.4f, w1_y %.3f\n",
@@ -146,7 +127,7 @@ START_TEST(test_balance_out_of_plane)
                   "%s %s: friction impulse %.12e > mu x normal %.12e", c->normal, c->settings,
                   r.tangential_impulse, s.contact.mu * r.normal_impulse);
     /* momentum: the velocities' sum is unchanged (the impact lies in the plane z = 0) */
-    const gr_collision_case cs = impact(&s);
+    const gr_collision_case cs = collide_impact(&s);
     for (int k = 0; k < 3; k++) {
         const double before = k < 2 ? cs.v1[k] + cs.v2[k] : 0.0;
         ck_assert_double_le(fabs(r.v1[k] + r.v2[k] - before), 1e-15);
@@ -159,12 +140,12 @@ START_TEST(test_engine_converges)
     const spring_case *c = &cases[_i];
     gr_collide_setup s = setup(c);
     set_spins(&s, W1, W2);
-    const gr_collide_result ref = run(&s, true);
+    const gr_collide_result ref = collide_impact_run(&s, true);
     double d[2];
     const int steps[2] = {100, 400};
     for (int k = 0; k < 2; k++) {
         s.steps_per_contact = steps[k];
-        const gr_collide_result e = run(&s, false);
+        const gr_collide_result e = collide_impact_run(&s, false);
         d[k] = distance(&e, &ref);
         VERBOSE("%s %s: engine at %d steps per contact vs the 3D reference: %.3e (loss %.8f / "
                 "%.8f)\n",

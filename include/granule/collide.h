@@ -76,9 +76,10 @@ typedef struct gr_collide_result {
     bool tangential_reversed;                  /* the tangential relative velocity changed sign */
     double dt;                                 /* the time step used (0 for the reference) */
     /* the reference only (0 from the engine): where the lost energy went, as fractions of E, so
-     * that energy_loss = diss_normal + diss_tangential + stored_lost - work_free */
+     * that energy_loss = diss_normal + diss_tangential + diss_rolling + stored_lost - work_free */
     double diss_normal, diss_tangential; /* work of the laws' non-conservative forces (dashpots,
                                             friction, the spring's slip) */
+    double diss_rolling;                 /* the rolling law's torques' work on the spins */
     double stored_lost; /* elastic energy still in the contact when it ends (clamped normal
                               law: xi > 0 there; tangential_spring: k_t s^2 / 2, forgotten) */
     double work_free;   /* tangential_spring with Mindlin stiffness: energy the spring gained

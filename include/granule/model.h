@@ -153,6 +153,8 @@ typedef struct gr_model {
      * transmits the normal impulse p_n = int |F_n| dt; r_eff = r / 2 for equal discs. */
     double (*spin_loss)(const gr_contact_coeffs *c, double p_n, double r_eff, double inertia,
                         double dw0);
+    /* Rolling laws (required): the torque the CVODE reference integrates (models/reference.h) */
+    const struct gr_reference_rolling *reference_rolling;
     /* Parameter settings that make the model conserve energy ("eps_n=1", space-separated
      * key=value); the conformance suite applies them to test elastic impacts. */
     const char *elastic;

@@ -66,11 +66,12 @@
 #include "granule/collide.h"
 #include "models/reference.h"
 
-enum { REF_NEQ = 11, REF_NROOT = 7 };
+enum { REF_NEQ = 12, REF_NROOT = 8 };
 /* Y_S, Y_KS the tangential law's own state components (GR_REF_Y_STATE, GR_REF_Y_QUAD: the
  * spring's s and the Mindlin spring's int k_t s ds), Y_DN the energy the normal law dissipates,
- * Y_WT the work of the tangential force on the contact point's motion */
-enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT, Y_W, Y_S, Y_DN, Y_WT, Y_KS };
+ * Y_WT the work of the tangential force on the contact point's motion, Y_R the relative spin
+ * (w1 - w2) / w0 a rolling law acts on */
+enum { Y_U0 = 0, Y_U1, Y_G0, Y_G1, Y_JN, Y_JT, Y_W, Y_S, Y_DN, Y_WT, Y_KS, Y_R };
 static const int y_law[GR_REF_NY] = {[GR_REF_Y_STATE] = Y_S, [GR_REF_Y_QUAD] = Y_KS};
 /* ROOT_LAW0..3 the tangential law's roots 0..3 (models/reference.h) */
 enum {
@@ -80,7 +81,8 @@ enum {
     ROOT_LAW1,
     ROOT_DEGENERATE,
     ROOT_LAW2,
-    ROOT_LAW3
+    ROOT_LAW3,
+    ROOT_ROLL /* the rolling law's relative spin reaching 0 */
 };
 static const int root_law[GR_REF_NROOTS] = {ROOT_LAW0, ROOT_LAW1, ROOT_LAW2, ROOT_LAW3};
 
@@ -99,6 +101,12 @@ typedef struct ref_ctx {
     double q;                    /* rotation: I / (M r^2) */
     const gr_reference_law *law; /* the tangential law's force (NULL: none) */
     gr_ref_tangential lt;        /* its constants and regime */
+    /* the rolling law (NULL: none): its torque M(|F_n|, r_eff) in SI from the coefficients; the
+     * relative spin changes at -roll_rate M (units w0^2 / (N m)) against itself while `rolling` */
+    const gr_reference_rolling *roll;
+    const gr_contact_coeffs *coeffs;
+    double force_unit, r_eff, roll_rate, roll_sign;
+    bool rolling;
     bool clamp;
     bool degenerate; /* the centres met: n undefined */
     char msg[256];   /* last SUNDIALS error or warning */
@@ -130,6 +138,14 @@ static double ref_fn_rate(const ref_ctx *c, double xi, double gn, double fn, dou
     const double xp1 = X > 0.0 && c->pow_p != 0.0 ? c->pow_p * pow(X, c->pow_p - 1.0) : 0.0;
     return c->pow_a * pow(X, c->pow_a - 1.0) * dxi -
            c->c_n * (xp1 * dxi * gn + pow(X, c->pow_p) * (fn + gp2 / rn));
+}
+
+/* The rolling law's torque pair's magnitude at the scaled normal force fn, times roll_rate: the
+ * rate at which it changes the scaled relative spin (w1 - w2) / w0 */
+static double ref_roll_rate(const ref_ctx *c, double fn)
+{
+    return c->roll ? c->roll_rate * c->roll->torque(c->coeffs, fabs(fn) * c->force_unit, c->r_eff)
+                   : 0.0;
 }
 
 /* Geometry and forces of the current regime at state y (smooth in y). */
@@ -211,6 +227,9 @@ static int ref_rhs(sunrealtype t, N_Vector yv, N_Vector ydotv, void *user)
     const bool linear = c->pow_a == 1.0 && c->pow_p == 0.0; /* its F_n is smooth across xi = 0 */
     yd[Y_DN] = -(s.fn - (linear ? s.xi : pow(fmax(s.xi, 0.0), c->pow_a))) * s.gn;
     yd[Y_WT] = -s.ft * s.gc;
+    /* the rolling torques (equal and opposite) change w1 - w2 only, against its sign, until it
+     * reaches 0 (ROOT_ROLL); in the plane nothing drives it again */
+    yd[Y_R] = c->rolling ? -c->roll_sign * ref_roll_rate(c, s.fn) : 0.0;
     return 0;
 }
 
@@ -232,6 +251,7 @@ static int ref_roots(sunrealtype t, N_Vector yv, sunrealtype *gout, void *user)
     for (int k = 0; k < GR_REF_NROOTS; k++) {
         gout[root_law[k]] = g[k];
     }
+    gout[ROOT_ROLL] = c->rolling ? c->roll_sign * N_VGetArrayPointer(yv)[Y_R] : 1.0;
     return 0;
 }
 
@@ -315,12 +335,13 @@ static void ref_free(ref_solver *v)
  * difference w1 - w2 takes no torque without a rolling law), in the units above. The contact
  * point's tangential velocity is g_c = g - (g.n) n + (|r| / 2) n x W (src/core/kernels_3d.c),
  * and each sphere takes the torque -(|r| / 2) n x F_t, so dW/dtau = -2 |r| (n x f_t) / (q D^2). A
- * law whose state is a vector in the tangent plane (the history spring) gives its own 3D force,
- * state, roots and events (gr_reference_law3, models/reference.h; its state in Z_LAW..). Any other
- * acts along -g_c with the magnitude its plane force gives at |g_c| (as the engine applies a law
- * without history), its regime and roots the plane's with |g_c| for g_c (sliding_friction:
- * F_t = -mu |F_n| along g_c until |g_c| falls below REF3_STOP_FLOOR, the root that stops the
- * sliding, where the vector impulse that cancels g_c is applied, as the plane's scalar one). */
+ * law whose state or force is a vector in the tangent plane gives its own 3D force, state, roots
+ * and events (gr_reference_law3, models/reference.h; its state in Z_LAW..): the history spring,
+ * and sliding friction (F_t = -mu |F_n| along g_c until |g_c| falls below GR_REF3_STOP_FLOOR, the
+ * root that stops the sliding, where the vector impulse that cancels g_c is applied, as the
+ * plane's scalar one; then the force that holds g_c at 0 while it is within the limit). Any other
+ * (the tangential dashpot) acts along -g_c with the magnitude its plane force gives at |g_c|, as
+ * the engine applies a law without history. */
 enum {
     Z_U = 0,
     Z_G = 3,
@@ -329,19 +350,24 @@ enum {
     Z_JT = 10,
     Z_DN = 11,
     Z_WT = 12,
-    Z_LAW = 13, /* the vector law's GR_REF3_NY components */
-    Z_NEQ = Z_LAW + GR_REF3_NY
+    Z_LAW = 13,               /* the vector law's GR_REF3_NY components */
+    Z_R = Z_LAW + GR_REF3_NY, /* (w1 - w2) / w0, which only a rolling law changes */
+    Z_NEQ = Z_R + 3
 };
-enum { Z_ROOT_END = 0, Z_ROOT_MAX_OVERLAP = 1, Z_ROOT_LAW0 = 2, Z_NROOT = 2 + GR_REF_NROOTS };
-/* |g_c| (units of V) below which a law's sliding counts as stopped: |g_c| reaches 0 without
- * crossing it, so the root is placed just above; the impulse then cancels the rest */
-#define REF3_STOP_FLOOR 1e-10
+enum {
+    Z_ROOT_END = 0,
+    Z_ROOT_MAX_OVERLAP = 1,
+    Z_ROOT_LAW0 = 2,
+    Z_ROOT_ROLL = 2 + GR_REF_NROOTS, /* rolling: arrested; arrested: rolling again */
+    Z_NROOT
+};
 
 typedef struct ref3_ctx {
     ref_ctx base; /* D, c_n, the powers, q, rot, clamp, the law; messages (ref_err_handler) */
     double rc[3]; /* the separation at the touch, |rc| = D */
     const gr_reference_law3 *vec; /* the law's vector form (NULL: along -g_c at |g_c|) */
     double rtol;
+    double roll_floor; /* |Rp| where a rolling law's rolling counts as stopped */
 } ref3_ctx;
 
 typedef struct ref3_state {
@@ -446,6 +472,44 @@ static int ref3_eval(ref3_ctx *c, const double *y, ref3_state *s)
     return 0;
 }
 
+/* The rolling law between spheres: R = (w1 - w2) / w0, its part across n, Rp = R - (R.n) n, is
+ * what the torque pair acts on (the twist R.n it leaves alone; src/core/kernels_3d.c). Rolling,
+ * R changes at the full rate against Rp (`ref_roll_rate`) until |Rp| falls to `roll_floor` (a
+ * rolling velocity of 1e-10 V), where the rest is cancelled and the rolling is arrested: R then
+ * turns with n (dR/dt = (R.n) dn/dt, dn/dt = g_p / |r|, which keeps Rp at 0, the engine's cap
+ * as dt -> 0) while the torque that takes, |R.n| |dn/dt| over the rate, stays within the law's;
+ * beyond it rolling resumes, against the direction the turning normal drags Rp. Sets the rate of
+ * R and the root's value (falling through 0 at either switch). */
+static void ref3_roll(const ref3_ctx *c, const double *y, const ref3_state *s, double rate[3],
+                      double *root)
+{
+    const double *R = y + Z_R;
+    const double Rn = ref3_dot(R, s->n);
+    double Rp[3], nd[3];
+    const double gn = ref3_dot(y + Z_G, s->n);
+    for (int k = 0; k < 3; k++) {
+        Rp[k] = R[k] - Rn * s->n[k];
+        nd[k] = (y[Z_G + k] - gn * s->n[k]) / s->rn;
+    }
+    const double rpm = sqrt(ref3_dot(Rp, Rp)), full = ref_roll_rate(&c->base, s->fn);
+    const double drag = fabs(Rn) * sqrt(ref3_dot(nd, nd)); /* the rate that holds Rp at 0 */
+    if (c->base.rolling) {
+        double e[3] = {0.0, 0.0, 0.0};
+        const double dm = sqrt(ref3_dot(nd, nd));
+        for (int k = 0; k < 3; k++) { /* at Rp = 0 the normal's turn drags it along -(R.n) dn/dt */
+            e[k] = rpm > 0.0 ? Rp[k] / rpm
+                             : (dm > 0.0 && Rn != 0.0 ? -Rn * nd[k] / (fabs(Rn) * dm) : 0.0);
+            rate[k] = -full * e[k];
+        }
+        *root = rpm - c->roll_floor;
+    } else {
+        for (int k = 0; k < 3; k++) {
+            rate[k] = Rn * nd[k];
+        }
+        *root = full - drag;
+    }
+}
+
 static int ref3_rhs(sunrealtype t, N_Vector yv, N_Vector ydotv, void *user)
 {
     (void)t;
@@ -471,6 +535,13 @@ static int ref3_rhs(sunrealtype t, N_Vector yv, N_Vector ydotv, void *user)
     for (int k = 0; k < GR_REF3_NY; k++) {
         yd[Z_LAW + k] = c->vec ? s.law3.ydot[k] : 0.0;
     }
+    double rr[3] = {0.0, 0.0, 0.0}, root;
+    if (c->base.roll) {
+        ref3_roll(c, y, &s, rr, &root);
+    }
+    for (int k = 0; k < 3; k++) {
+        yd[Z_R + k] = rr[k];
+    }
     return 0;
 }
 
@@ -489,11 +560,16 @@ static int ref3_roots(sunrealtype t, N_Vector yv, sunrealtype *gout, void *user)
         c->vec->roots(&c->base.lt, &s.law3, g);
     } else if (c->base.law && c->base.law->roots) {
         gr_ref_point p = s.law;
-        p.gc = p.gt = s.gcm - REF3_STOP_FLOOR; /* crosses 0 where |g_c| reaches the floor */
+        p.gc = p.gt = s.gcm - GR_REF3_STOP_FLOOR; /* crosses 0 where |g_c| reaches the floor */
         c->base.law->roots(&c->base.lt, &p, g);
     }
     for (int k = 0; k < GR_REF_NROOTS; k++) {
         gout[Z_ROOT_LAW0 + k] = g[k];
+    }
+    gout[Z_ROOT_ROLL] = 1.0;
+    if (c->base.roll) {
+        double rr[3];
+        ref3_roll(c, N_VGetArrayPointer(yv), &s, rr, &gout[Z_ROOT_ROLL]);
     }
     return 0;
 }
@@ -542,15 +618,8 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
         W0[k] = (s->w1[k] + s->w2[k]) / w0;
     }
     ref_solver v;
-    N_Vector atol = NULL;
     int rc = ref_alloc(&v, Z_NEQ, err);
-    if (!rc && !(atol = N_VNew_Serial(Z_NEQ, v.sunctx))) {
-        rc = GR_FAIL(err, GR_ENOMEM, "reference collision: could not allocate the CVODE solver");
-    }
     if (rc) {
-        if (atol) {
-            N_VDestroy(atol);
-        }
         ref_free(&v);
         return rc;
     }
@@ -558,11 +627,15 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
     N_Vector y = v.y;
     double *yd = N_VGetArrayPointer(y);
     memset(yd, 0, sizeof(double) * Z_NEQ);
+    double R0[3] = {0.0, 0.0, 0.0}; /* the relative spin a rolling law acts on */
     for (int k = 0; k < 3; k++) {
         yd[Z_G + k] = g0[k];
         yd[Z_W + k] = base->rot ? W0[k] : 0.0;
+        R0[k] = base->roll ? (s->w1[k] - s->w2[k]) / w0 : 0.0;
+        yd[Z_R + k] = R0[k];
     }
-    int rootdir[Z_NROOT] = {[Z_ROOT_END] = -1, [Z_ROOT_MAX_OVERLAP] = 1};
+    ctx.roll_floor = GR_REF3_STOP_FLOOR / (0.25 * base->D); /* r_eff |Rp| w0 = 1e-10 V */
+    int rootdir[Z_NROOT] = {[Z_ROOT_END] = -1, [Z_ROOT_MAX_OVERLAP] = 1, [Z_ROOT_ROLL] = -1};
     for (int k = 0; k < GR_REF_NROOTS; k++) {
         rootdir[Z_ROOT_LAW0 + k] = -1; /* the law's roots cross 0 downwards */
     }
@@ -591,6 +664,19 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
         }
         ctx.vec->start(&ctx.base.lt, &st.law3);
         memcpy(yd + Z_LAW, st.law3.y, sizeof st.law3.y);
+    }
+    if (ctx.base.roll) { /* rolling at the touch unless arrested there (its root's value >= 0) */
+        double rr[3], root;
+        if (ref3_eval(&ctx, yd, &st) != 0) {
+            rc =
+                GR_FAIL(err, GR_EUNSTABLE, "reference collision: degenerate geometry at the touch");
+            goto done3;
+        }
+        ctx.base.rolling = false;
+        ref3_roll(&ctx, yd, &st, rr, &root);
+        const double Rn = ref3_dot(R0, n0);
+        const double rp2 = ref3_dot(R0, R0) - Rn * Rn;
+        ctx.base.rolling = sqrt(fmax(rp2, 0.0)) > ctx.roll_floor || root < 0.0;
     }
     int flag;
 #define REF3_CHECK(call, what)                                                                     \
@@ -669,6 +755,16 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
                 }
             }
         }
+        if (found[Z_ROOT_ROLL] && ctx.base.roll) {
+            if (ctx.base.rolling) { /* arrested: cancel the rest of Rp (an angular impulse) */
+                const double Rn = ref3_dot(yd + Z_R, st.n);
+                for (int k = 0; k < 3; k++) {
+                    yd[Z_R + k] = Rn * st.n[k];
+                }
+            }
+            ctx.base.rolling = !ctx.base.rolling;
+            ev |= GR_REF_RESTART;
+        }
         if (ev & GR_REF_RESTART) {
             if ((flag = CVodeReInit(mem, tau, y)) < 0) {
                 rc = ref_fail_flag(err, &ctx.base, "CVodeReInit", flag);
@@ -683,10 +779,11 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
     memset(out, 0, sizeof *out);
     const double *G1 = yd + Z_G;
     double w1a[3], w2a[3];
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < 3; k++) { /* w1 = (W + R) w0 / 2, w2 = (W - R) w0 / 2 */
         const double dw = base->rot ? 0.5 * (yd[Z_W + k] - W0[k]) * w0 : 0.0;
-        w1a[k] = s->w1[k] + dw;
-        w2a[k] = s->w2[k] + dw;
+        const double dr = 0.5 * (yd[Z_R + k] - R0[k]) * w0;
+        w1a[k] = s->w1[k] + dw + dr;
+        w2a[k] = s->w2[k] + dw - dr;
     }
     const double spin_scale = base->rot ? 0.5 * base->q * base->D * base->D / (w0 * w0) : 0.0;
     const double spin_e0 = spin_scale * (ref3_dot(s->w1, s->w1) + ref3_dot(s->w2, s->w2));
@@ -700,6 +797,8 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
     out->diss_tangential = (yd[Z_WT] - st.e_work) / e0;
     out->stored_lost = (pow(fmax(st.xi, 0.0), base->pow_a + 1.0) / (base->pow_a + 1.0) + st.e) / e0;
     out->work_free = (st.e - st.e_work) / e0;
+    out->diss_rolling =
+        0.25 * spin_scale * (ref3_dot(R0, R0) - ref3_dot(yd + Z_R, yd + Z_R)) * w0 * w0 / e0;
     const double gn0 = ref3_dot(g0, n0);
     out->impact_angle = atan2(sqrt(fmax(gg0 - gn0 * gn0, 0.0)), -gn0) * (180.0 / M_PI);
     out->expected_loss = (double)NAN; /* the restitution laws assume no spin before */
@@ -739,9 +838,6 @@ static int ref3_integrate(ref_ctx *base, const gr_collide_setup *s, const gr_col
         rc = GR_FAIL(err, GR_EUNSTABLE, "reference collision: non-finite result");
     }
 done3:
-    if (atol) {
-        N_VDestroy(atol);
-    }
     ref_free(&v);
     return rc;
 }
@@ -752,19 +848,14 @@ static int reference_run(const gr_collide_setup *s, const gr_collision_case *cs,
 /* Spheres (dim = 3). The case lies in the plane z = 0; when the spins' sum w1 + w2 is along z,
  * the contact point's velocity g - (g.n) n + a n x (w1 + w2) stays in the plane too, so the
  * contact is exactly the 2D one with the spins' z components (their x and y components, equal
- * and opposite, give the contact point no velocity and take no torque; a rolling law needs
- * w1 = w2 as in 2D, so that it exerts nothing). The reference then integrates that contact and
+ * and opposite, give the contact point no velocity and take no torque; with a rolling law, which
+ * would act on their difference, there are none). The reference then integrates that contact and
  * puts the spheres' x and y spins back, their energy counted in the fractions' denominator.
  * Other spins move the contact out of the plane: integrated in 3D (ref3_integrate above), the
- * history spring with its vector state. */
+ * history spring with its vector state, a rolling law on w1 - w2 across n. */
 static int reference_3d(const gr_collide_setup *s, const gr_collision_case *cs,
                         gr_collide_result *out, gr_error *err)
 {
-    if (s->rolling && (s->w1[0] != s->w2[0] || s->w1[1] != s->w2[1] || s->w1[2] != s->w2[2])) {
-        return GR_FAIL(err, GR_EINVAL,
-                       "reference collision in 3D: a rolling law with unequal initial spins is "
-                       "not integrated (allowed: --omega1 = --omega2; the engine run takes them)");
-    }
     const bool spun = s->w1[0] != 0.0 || s->w1[1] != 0.0 || s->w1[2] != 0.0 || s->w2[0] != 0.0 ||
                       s->w2[1] != 0.0 || s->w2[2] != 0.0;
     if (spun && !(s->contact.rotation && s->tangential)) {
@@ -772,7 +863,8 @@ static int reference_3d(const gr_collide_setup *s, const gr_collision_case *cs,
                        "reference collision: initial spins need rotation ([model] rotation = true "
                        "with a tangential law; allowed without: 0,0,0)");
     }
-    if (s->w1[0] + s->w2[0] != 0.0 || s->w1[1] + s->w2[1] != 0.0) {
+    const bool rolls_xy = s->rolling && (s->w1[0] != s->w2[0] || s->w1[1] != s->w2[1]);
+    if (s->w1[0] + s->w2[0] != 0.0 || s->w1[1] + s->w2[1] != 0.0 || rolls_xy) {
         return reference_run(s, cs, out, err, true);
     }
     gr_collide_setup plane = *s;
@@ -840,16 +932,11 @@ static int reference_run(const gr_collide_setup *s, const gr_collision_case *cs,
                        "only laws that do",
                        s->tangential->name);
     }
-    /* a rolling law acts only on a difference of spins, which equal discs keep at its start
-     * (the contact's torques on both are equal): the reference, which does not integrate the
-     * rolling law, is exact only when the spins start equal */
-    if (s->rolling && s->omega1 != s->omega2) {
-        return GR_FAIL(
-            err, GR_EINVAL,
-            "reference collision: a rolling law with unequal initial spins (omega1 = %g, "
-            "omega2 = %g rad/s) is not integrated (allowed: omega1 = omega2; the engine run takes "
-            "them)",
-            s->omega1, s->omega2);
+    if (s->rolling && !(s->rolling->reference_rolling && s->rolling->reference_rolling->torque)) {
+        return GR_FAIL(err, GR_EINVAL,
+                       "reference collision: the rolling law '%s' gives no reference torque "
+                       "(gr_model.reference_rolling, models/reference.h)",
+                       s->rolling->name);
     }
     if (!(s->mass > 0.0) || !isfinite(s->mass) || !(s->radius > 0.0) || !isfinite(s->radius)) {
         return GR_FAIL(err, GR_EINVAL,
@@ -865,6 +952,9 @@ static int reference_run(const gr_collide_setup *s, const gr_collision_case *cs,
     const double d = 2.0 * s->radius;
     gr_contact_coeffs coeffs;
     int rc = gr_contact_prepare(s->normal, s->tangential, &s->contact, m12, 0.0, &coeffs, err);
+    if (rc == GR_OK && s->rolling) {
+        rc = gr_contact_prepare_rolling(s->rolling, &s->contact, m12, 0.0, &coeffs, err);
+    }
     if (rc != GR_OK) {
         return rc;
     }
@@ -942,6 +1032,12 @@ static int reference_run(const gr_collide_setup *s, const gr_collision_case *cs,
         .rot = coeffs.rotation && s->tangential,
         .q = coeffs.q,
         .clamp = coeffs.clamp,
+        .roll = s->rolling ? s->rolling->reference_rolling : NULL,
+        .coeffs = &coeffs,
+        .force_unit = m12 * w0 * speed,
+        .r_eff = 0.5 * s->radius, /* r_i r_j / (r_i + r_j), as the kernels */
+        /* the torque pair changes w1 - w2 at -2 M / I, I = q M r^2 = 2 q m12 r^2 */
+        .roll_rate = 2.0 / (2.0 * coeffs.q * m12 * s->radius * s->radius * w0 * w0),
     };
     ctx.lt = (gr_ref_tangential){
         .c_n = ctx.c_n, .pow_a = ctx.pow_a, .pow_p = ctx.pow_p, .clamp = ctx.clamp, .fn_sign = 1.0};
@@ -959,6 +1055,10 @@ static int reference_run(const gr_collide_setup *s, const gr_collision_case *cs,
                        "with a tangential law; allowed without: 0)");
     }
     const double W0 = ctx.rot ? (s->omega1 + s->omega2) / w0 : 0.0;
+    /* the relative spin a rolling law acts on (rolling needs rotation: prepare refused it without) */
+    const double R0 = ctx.roll ? (s->omega1 - s->omega2) / w0 : 0.0;
+    ctx.rolling = R0 != 0.0;
+    ctx.roll_sign = R0 < 0.0 ? -1.0 : 1.0;
     const double gt0 = G0[0] * t0[0] + G0[1] * t0[1] - 0.5 * ctx.D * W0;
     const bool has_tangent = fabs(gt0) >= REF_TANGENT_FLOOR;
     if (ctx.law && ctx.law->start) {
@@ -991,11 +1091,13 @@ static int reference_run(const gr_collide_setup *s, const gr_collision_case *cs,
     yd[Y_DN] = 0.0;
     yd[Y_WT] = 0.0;
     yd[Y_KS] = 0.0;
+    yd[Y_R] = R0;
 
     int rootdir[REF_NROOT];
     rootdir[ROOT_END] = -1;
     rootdir[ROOT_MAX_OVERLAP] = 1;
     rootdir[ROOT_DEGENERATE] = -1;
+    rootdir[ROOT_ROLL] = -1;
     for (int k = 0; k < GR_REF_NROOTS; k++) {
         rootdir[root_law[k]] = -1; /* the law's roots cross 0 downwards */
     }
@@ -1091,7 +1193,12 @@ static int reference_run(const gr_collide_setup *s, const gr_collision_case *cs,
                 yd[Y_G1] = st.gn * st.n[1];
             }
         }
-        const bool restart = (ev & GR_REF_RESTART) != 0;
+        bool restart = (ev & GR_REF_RESTART) != 0;
+        if (found[ROOT_ROLL] && ctx.rolling) {
+            yd[Y_R] = 0.0; /* the rolling arrested: nothing turns the discs apart again */
+            ctx.rolling = false;
+            restart = true;
+        }
         if (restart) {
             REF_CHECK(CVodeReInit(mem, tau, y), "CVodeReInit");
         }
@@ -1109,8 +1216,10 @@ static int reference_run(const gr_collide_setup *s, const gr_collision_case *cs,
     memset(out, 0, sizeof *out);
     /* rotation: equal torques on both discs change each spin by half the change of W; the spin
      * energy I (w1^2 + w2^2) / 2 over m12 V^2 / 2 is 2 q (D / 2)^2 (w1^2 + w2^2) / w0^2 */
-    const double w1a = s->omega1 + 0.5 * (yd[Y_W] - W0) * w0,
-                 w2a = s->omega2 + 0.5 * (yd[Y_W] - W0) * w0;
+    /* w1 = (W + R) w0 / 2, w2 = (W - R) w0 / 2: the contact's torques change W, the rolling
+     * law's R */
+    const double dW = yd[Y_W] - W0, dR = yd[Y_R] - R0;
+    const double w1a = s->omega1 + 0.5 * (dW + dR) * w0, w2a = s->omega2 + 0.5 * (dW - dR) * w0;
     const double spin_scale = 0.5 * ctx.q * ctx.D * ctx.D / (w0 * w0);
     const double spin_e = ctx.rot ? spin_scale * (w1a * w1a + w2a * w2a) : 0.0;
     const double spin_e0 =
@@ -1127,6 +1236,9 @@ static int reference_run(const gr_collide_setup *s, const gr_collision_case *cs,
     out->diss_tangential = (yd[Y_WT] - stored_t) / e0;
     out->stored_lost = (pow(X_end, ctx.pow_a + 1.0) / (ctx.pow_a + 1.0) + u_spring) / e0;
     out->work_free = (u_spring - stored_t) / e0;
+    /* the rolling torques' work: the spins' energy I (w1^2 + w2^2) / 2 = I (W^2 + R^2) w0^2 / 4
+     * loses the R part's change */
+    out->diss_rolling = 0.25 * spin_scale * (R0 * R0 - yd[Y_R] * yd[Y_R]) * w0 * w0 / e0;
     const double gtt0 = G0[0] * t0[0] + G0[1] * t0[1]; /* the centres' g.t, for the impact angle */
     out->impact_angle = atan2(fabs(gtt0), -gn0) * (180.0 / M_PI);
     /* the models' restitution laws assume discs without spin before the impact */
