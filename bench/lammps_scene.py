@@ -351,7 +351,7 @@ def main():
         init = os.path.join(work, "init")
         set_args = sum((["--set", s] for s in a.sets), [])
         run([a.granule, "run", a.scene] + set_args + ["--set", "run.warmup=0", "--set", f"run.duration={a.sample!r}",
-            "--set", f"run.sample_every={a.sample!r}", "--set", "output.snapshot_every=1e9", "--set", "output.plots=false",
+            "--set", f"run.sample_every={a.sample!r}", "--set", "output.snapshot_every=1", "--set", "output.plots=false",
             "--out", init])
         data = os.path.join(work, "rfm.data")
         write_data(os.path.join(init, "snapshots", "snap_000000.xyz"), data)

@@ -47,7 +47,8 @@ static double sliding_ref_mass_factor(bool rot, double rn, double q, double D)
 static void sliding_friction_ref_force(const gr_ref_tangential *l, gr_ref_point *p)
 {
     const double lim = l->k[SLIDING_FRICTION_REF_MU] * l->fn_sign * p->fn;
-    const double hold = -gr_ref_gc_rate(p, 0.0) / sliding_ref_mass_factor(p->rot, p->rn, p->q, p->D);
+    const double hold =
+        -gr_ref_gc_rate(p, 0.0) / sliding_ref_mass_factor(p->rot, p->rn, p->q, p->D);
     p->ft = l->mode ? -lim * l->sign : hold; /* (2.7) */
     p->aux[SLIDING_AUX_HOLD] = hold;
     p->aux[SLIDING_AUX_LIM] = lim;

@@ -57,7 +57,6 @@ static gr_collide_setup setup(const roll_case *c, int dim)
     return s;
 }
 
-
 /* E before the impact: the relative motion's m12 |g|^2 / 2 and both spins' I |w|^2 / 2 */
 static double energy_before(const gr_collide_setup *s, const double w1[3], const double w2[3])
 {
@@ -73,8 +72,8 @@ static double energy_before(const gr_collide_setup *s, const double w1[3], const
 
 static void check_balance(const roll_case *c, const gr_collide_result *r, const char *what)
 {
-    const double sum = r->diss_normal + r->diss_tangential + r->diss_rolling + r->stored_lost -
-                       r->work_free;
+    const double sum =
+        r->diss_normal + r->diss_tangential + r->diss_rolling + r->stored_lost - r->work_free;
     VERBOSE("%s + %s %s, %s: loss %.12f = normal %.6f + tangential %.6f + rolling %.6f + left "
             "%.6f (residual %.1e)\n",
             c->normal, c->tangential, c->settings, what, r->energy_loss, r->diss_normal,
@@ -104,8 +103,8 @@ START_TEST(test_discs_follow_the_law)
     const double law =
         s.rolling->spin_loss(&k, r.normal_impulse, 0.5 * s.radius, I, s.omega1 - s.omega2) / e0;
     const double dw = r.omega1 - r.omega2;
-    VERBOSE("%s + %s %s: rolling loss %.12f, the law %.12f; w1 - w2 400 -> %.6f rad/s\n",
-            c->normal, c->tangential, c->settings, r.diss_rolling, law, dw);
+    VERBOSE("%s + %s %s: rolling loss %.12f, the law %.12f; w1 - w2 400 -> %.6f rad/s\n", c->normal,
+            c->tangential, c->settings, r.diss_rolling, law, dw);
     ck_assert_msg(fabs(r.diss_rolling - law) <= 1e-9 * law, "%s: rolling loss %.12f, law %.12f",
                   c->settings, r.diss_rolling, law);
     check_balance(c, &r, "discs");
@@ -149,8 +148,8 @@ START_TEST(test_spheres)
     gr_collide_result tilted = collide_impact_run(&s, true);
     tilted.w1[0] -= 1e-7;
     const double dp = distance(&plane, &tilted);
-    VERBOSE("%s + %s %s: 3D reference vs the plane's %.2e\n", c->normal, c->tangential,
-            c->settings, dp);
+    VERBOSE("%s + %s %s: 3D reference vs the plane's %.2e\n", c->normal, c->tangential, c->settings,
+            dp);
     ck_assert_msg(dp < 1e-8, "%s: the 3D reference differs from the plane's by %.3e", c->settings,
                   dp);
     /* spins about every axis, and a pure twist (w1 - w2 along x, the normal at the touch) */
@@ -166,8 +165,7 @@ START_TEST(test_spheres)
         } else { /* the twist keeps its size about the normal, which turns by < 7e-3 rad */
             VERBOSE("  twist: w1 (%.6f, %.6f, %.6f), rolling loss %.3e\n", r.w1[0], r.w1[1],
                     r.w1[2], r.diss_rolling);
-            ck_assert_msg(fabs(r.w1[0] - r.w2[0] - 400.0) < 1e-2, "twist %.6f",
-                          r.w1[0] - r.w2[0]);
+            ck_assert_msg(fabs(r.w1[0] - r.w2[0] - 400.0) < 1e-2, "twist %.6f", r.w1[0] - r.w2[0]);
         }
         double d[2];
         const int steps[2] = {100, 1600};
