@@ -738,19 +738,21 @@ typedef struct driven_result {
     double T_ratio, T_se, a2, a2_se;
 } driven_result;
 
-static driven_result driven(int n, double phi, double eps, int seed, double warm, double span)
+static driven_result driven(int dim, int n, double phi, double eps, int seed, double warm,
+                            double span)
 {
     gr_scene *sc = malloc(sizeof *sc);
-    gr_sim *s = gas_sim(sc, 3, n, phi, eps, seed, true);
-    const double pred = gr_steady_T_enskog_3d(sc->D, s->mass, s->d, phi, eps, n);
-    const double nu = enskog_nu(3, phi, pred / 3.0, s->d);
+    gr_sim *s = gas_sim(sc, dim, n, phi, eps, seed, true);
+    const double pred = dim == 3 ? gr_steady_T_enskog_3d(sc->D, s->mass, s->d, phi, eps, n)
+                                 : gr_steady_T_enskog_2d(sc->D, s->mass, s->d, phi, eps, n);
+    const double nu = enskog_nu(dim, phi, pred / dim, s->d);
     step(s, steps_of(s, warm / nu));
     const int m = (int)(2.0 * span);
     double *T = malloc(sizeof(double) * (size_t)m), *a = malloc(sizeof(double) * (size_t)m);
     for (int k = 0; k < m; k++) {
         step(s, steps_of(s, 0.5 / nu));
         moments(s, &T[k], &a[k]);
-        T[k] *= 3.0 / pred;
+        T[k] *= dim / pred;
     }
     driven_result r;
     r.T_ratio = batch_mean(T, m, 10, &r.T_se);
@@ -829,11 +831,11 @@ END_TEST
  * Sonine value 0.0484 and more than 4 away from the HCS's 0.118 (measured 0.053 +- 0.004). */
 START_TEST(test_driven)
 {
-    const driven_result r = driven(1000, 0.1, 0.8, 1, 10.0, 60.0);
+    const driven_result r = driven(3, 1000, 0.1, 0.8, 1, 10.0, 60.0);
     VERBOSE("driven eps 0.8, phi 0.1: T / Enskog %.4f +- %.4f, a2 %.4f +- %.4f (Sonine %.4f)\n",
             r.T_ratio, r.T_se, r.a2, r.a2_se, gr_driven_a2(0.8, 3));
     ck_assert_msg(fabs(r.T_ratio - 1.0) < 0.04, "T / Enskog = %.4f +- %.4f", r.T_ratio, r.T_se);
-    const driven_result q = driven(1000, 0.02, 0.3, 1, 10.0, 40.0);
+    const driven_result q = driven(3, 1000, 0.02, 0.3, 1, 10.0, 40.0);
     const double a2 = gr_driven_a2(0.3, 3), hcs_a2 = gr_hcs_a2(0.3, 3);
     VERBOSE("driven eps 0.3, phi 0.02: T / Enskog %.4f +- %.4f, a2 %.4f +- %.4f (Sonine %.4f, HCS "
             "%.4f)\n",
@@ -942,6 +944,26 @@ START_TEST(test_2d_hcs_a2)
 }
 END_TEST
 
+/* The driven steady state of hard discs, the 3D checks with Henderson's chi and the 2D thermostat's
+ * a2 (gr_steady_T_enskog_2d, gr_driven_a2(eps, 2)): eps = 0.8, phi = 0.1, T within 4 % of the
+ * Enskog balance; eps = 0.3, phi = 0.02, a2 within 4 standard errors of the thermostat's 0.0651
+ * and more than 4 from the HCS's 0.179. */
+START_TEST(test_2d_driven)
+{
+    const driven_result r = driven(2, 1000, 0.1, 0.8, 1, 10.0, 60.0);
+    VERBOSE("2D driven eps 0.8, phi 0.1: T / Enskog %.4f +- %.4f, a2 %.4f +- %.4f (Sonine %.4f)\n",
+            r.T_ratio, r.T_se, r.a2, r.a2_se, gr_driven_a2(0.8, 2));
+    ck_assert_msg(fabs(r.T_ratio - 1.0) < 0.04, "2D: T / Enskog = %.4f +- %.4f", r.T_ratio, r.T_se);
+    const driven_result q = driven(2, 1000, 0.02, 0.3, 1, 10.0, 40.0);
+    const double a2 = gr_driven_a2(0.3, 2), hcs_a2 = gr_hcs_a2(0.3, 2);
+    VERBOSE("2D driven eps 0.3, phi 0.02: T / Enskog %.4f +- %.4f, a2 %.4f +- %.4f (Sonine %.4f, "
+            "HCS %.4f)\n",
+            q.T_ratio, q.T_se, q.a2, q.a2_se, a2, hcs_a2);
+    ck_assert_msg(fabs(q.a2 - a2) < 4.0 * q.a2_se && fabs(q.a2 - hcs_a2) > 4.0 * q.a2_se,
+                  "2D: a2 = %.4f +- %.4f, thermostat %.4f, HCS %.4f", q.a2, q.a2_se, a2, hcs_a2);
+}
+END_TEST
+
 /* summary.json's mean_field of 3D runs: an undriven one gets the Haff fit with Enskog's t0_haff
  * (T0 per degree of freedom) and a2_hcs, a driven one the Enskog balance with a2_driven. The fit
  * of exact Haff samples made with gr_haff_rate_3d gives back t0_haff. */
@@ -1013,6 +1035,7 @@ static Suite *event_3d_suite(void)
     tcase_add_test(kt, test_rough_hcs);
     tcase_add_test(kt, test_2d_collision_frequency);
     tcase_add_test(kt, test_2d_hcs_a2);
+    tcase_add_test(kt, test_2d_driven);
     suite_add_tcase(s, kt);
     return s;
 }

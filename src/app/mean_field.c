@@ -171,9 +171,24 @@ double gr_chi_henderson(double phi)
 
 double gr_haff_rate_2d(double phi, double eps, double sigma)
 {
+    return gr_enskog_rate_2d(phi, eps, sigma, gr_hcs_a2(eps, 2));
+}
+
+double gr_enskog_rate_2d(double phi, double eps, double sigma, double a2)
+{
     const double chi = gr_chi_henderson(phi);
-    return 2.0 / sqrt(M_PI) * phi * chi * (1.0 - eps * eps) *
-           (1.0 + 3.0 * gr_hcs_a2(eps, 2) / 16.0) / sigma;
+    return 2.0 / sqrt(M_PI) * phi * chi * (1.0 - eps * eps) * (1.0 + 3.0 * a2 / 16.0) / sigma;
+}
+
+/* Smooth hard discs driven by the random force (symmetrised): T_1 = T / 2 rises by
+ * 2 D (1 - 1/N) / M^2 per second and falls at zeta T_1, zeta = 2 gr_enskog_rate_2d sqrt(T_1) with
+ * the stochastic thermostat's a2 in d = 2, so T_1^(3/2) = 2 D (1 - 1/N) / (M^2 2 rate); returns
+ * T = 2 T_1 (eq. 2.19, both components). */
+double gr_steady_T_enskog_2d(double D, double M, double sigma, double phi, double eps, int N)
+{
+    const double k = 2.0 * gr_enskog_rate_2d(phi, eps, sigma, gr_driven_a2(eps, 2));
+    const double input = 2.0 * D * (1.0 - 1.0 / N) / (M * M);
+    return k > 0.0 ? 2.0 * pow(input / k, 2.0 / 3.0) : (double)INFINITY;
 }
 
 /* The fourth cumulant of the steady state of smooth inelastic hard spheres driven by a white-noise

@@ -30,6 +30,12 @@ double gr_steady_T_enskog_3d(double D, double M, double sigma, double phi, doubl
 double gr_hcs_a2(double eps, int dim);
 /* 1/(t0 sqrt(T0)) of Haff's law for smooth hard discs at packing fraction phi, diameter sigma. */
 double gr_haff_rate_2d(double phi, double eps, double sigma);
+/* The same with a given fourth cumulant a2 (Henderson's chi, gr_chi_henderson) */
+double gr_enskog_rate_2d(double phi, double eps, double sigma, double a2);
+/* The steady T (2.19, two components) of smooth inelastic hard discs driven by the random force of
+ * strength D, symmetrised: the Enskog balance with the stochastic thermostat's a2 in 2D
+ * (docs/validation.md, "Hard spheres in 3D", its 2D rows). Infinite when eps = 1. */
+double gr_steady_T_enskog_2d(double D, double M, double sigma, double phi, double eps, int N);
 /* The same for smooth hard spheres (T0 per degree of freedom), with the fourth cumulant a2 of the
  * velocity distribution (the HCS's: gr_hcs_a2(eps, 3); Carnahan-Starling's chi, gr_chi_cs). */
 double gr_haff_rate_3d(double phi, double eps, double sigma, double a2);
