@@ -32,21 +32,27 @@ root, names = sys.argv[1], sys.argv[2:]
 fields = ["group", "value", "error", "error_fit_or_run", "error_seeds", "seeds", "thesis", "thesis_error", "z",
           "simulated_seconds", "cpu_seconds", "scene_hashes"]
 ok = True
+def need(cond, *what):
+    global ok
+    if not cond:
+        print(*what)  # say which check failed (the suite shows this script's output)
+        ok = False
 for n in names:
     d = json.load(open(os.path.join(root, n, "results.json")))
     for k in ["campaign", "title", "covers", "about", "fidelity", "commit", "points_finished", "points_total",
               "cpu_seconds", "simulated_seconds", "results"]:
-        ok &= k in d
-    ok &= d["points_finished"] == d["points_total"] > 0 and d["cpu_seconds"] > 0
+        need(k in d, n, "no key", k)
+    need(d["points_finished"] == d["points_total"] > 0, n, "points", d["points_finished"], "of", d["points_total"])
+    need(d["cpu_seconds"] > 0, n, "cpu_seconds", d["cpu_seconds"])
     for r in d["results"]:
-        ok &= len(r["rows"]) > 0
-        ok &= r.get("verdict") in ("", "explained", "partly explained", "unexplained") and "verdict_why" in r
+        need(len(r["rows"]) > 0, n, r["id"], "no rows")
+        need(r.get("verdict") in ("", "explained", "partly explained", "unexplained") and "verdict_why" in r,
+             n, r["id"], "verdict", r.get("verdict"))
         for row in r["rows"]:
             missing = [f for f in fields if f not in row]
-            if missing:
-                print(n, r["id"], "missing", missing); ok = False
+            need(not missing, n, r["id"], "missing", missing)
         if any(row["value"] is not None for row in r["rows"]):
-            ok &= os.path.exists(os.path.join(root, n, r["id"] + ".png"))
+            need(os.path.exists(os.path.join(root, n, r["id"] + ".png")), n, r["id"], "no figure")
 sys.exit(0 if ok else 1)
 PY
 check head -1 "$tmp/results/ch2-placement/results.csv" | grep -q "^campaign,result,quantity,unit,group,m,value,error,"
