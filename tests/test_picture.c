@@ -890,6 +890,50 @@ START_TEST(test_3d_spheres)
 }
 END_TEST
 
+/* Walls along z (a 3D bed): the floor, the farther face from the viewer above, is shaded grey
+ * behind the spheres, and a sphere below the floor (a floor vibrating below 0) is drawn where it is,
+ * not wrapped to the top; without walls the floor's centre is white and the sphere is wrapped. */
+START_TEST(test_3d_walls)
+{
+    gr_error err = {0};
+    const double L = 0.05, r = 1e-3, yaw = -30.0 * M_PI / 180.0, pitch = 25.0 * M_PI / 180.0;
+    const int size = 400;
+    const double pxm = 0.97 * size / (L * sqrt(3.0) + 2.0 * r), o = 0.5 * size;
+    /* the screen point of (x, y, z) relative to the cube's centre (src/io/picture_3d.c, view) */
+    const double floor_sy = cos(pitch) * (-0.5 * L); /* the floor's centre: x = y = 0 */
+    const int floor_px = (int)o, floor_py = (int)(o - floor_sy * pxm) - 3;
+    const double q[3] = {0.1 * L, -0.2 * L, -0.5 * L - 0.5 * r}; /* below the floor */
+    const double x1 = cos(yaw) * q[0] - sin(yaw) * q[1], y1 = sin(yaw) * q[0] + cos(yaw) * q[1];
+    const int sph_px = (int)(o + x1 * pxm),
+              sph_py = (int)(o - (cos(pitch) * q[2] + sin(pitch) * y1) * pxm);
+    const double w[3] = {q[0], q[1], q[2] + L}; /* its periodic image at the top */
+    const double wx1 = cos(yaw) * w[0] - sin(yaw) * w[1], wy1 = sin(yaw) * w[0] + cos(yaw) * w[1];
+    const int img_px = (int)(o + wx1 * pxm),
+              img_py = (int)(o - (cos(pitch) * w[2] + sin(pitch) * wy1) * pxm);
+    for (int walls = 0; walls < 2; walls++) {
+        gr_frame f = frame_new(1, 3, L, 0.0);
+        f.x[0] = q[0] + 0.5 * L, f.y[0] = q[1] + 0.5 * L, f.z[0] = q[2] + 0.5 * L;
+        gr_picture_options opt = {.size = size,
+                                  .colormap = GR_CMAP_GREY,
+                                  .hide_labels = true,
+                                  .walls = {false, false, walls == 1}};
+        const char *png = in_dir(walls ? "walls3d.png" : "nowalls3d.png");
+        ck_assert_msg(gr_picture_frame(&f, r, png, &opt, &err) == GR_OK, "%s", err.message);
+        image im = load_png(png);
+        if (walls) {
+            expect_pixel(&im, floor_px, floor_py, 0.82, 0.82, 0.82, 2, "the floor");
+            ck_assert_msg(!is_white(&im, sph_px, sph_py), "no sphere below the floor");
+            ck_assert_msg(is_white(&im, img_px, img_py), "a periodic image across the lid");
+        } else {
+            ck_assert_msg(is_white(&im, floor_px, floor_py), "a floor without walls");
+            ck_assert_msg(!is_white(&im, img_px, img_py), "the sphere not wrapped without walls");
+        }
+        image_free(&im);
+        gr_frame_free(&f);
+    }
+}
+END_TEST
+
 static Suite *picture_suite(void)
 {
     Suite *s = suite_create("picture");
@@ -906,6 +950,7 @@ static Suite *picture_suite(void)
     tcase_add_test(tc, test_run_folder_1d);
     tcase_add_test(tc, test_spacetime);
     tcase_add_test(tc, test_3d_spheres);
+    tcase_add_test(tc, test_3d_walls);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -89,8 +89,9 @@ int gr_picture_run_ex(const char *run_dir, const gr_picture_options *opt, char *
         gr_scene *scene = malloc(sizeof *scene);
         if (scene && gr_scene_load(scene, path, NULL, 0, &scene_err) == GR_OK) {
             radius = scene->radius;
-            o.walls[0] = scene->boundary[0] != 0; /* a bed is drawn between its walls */
-            o.walls[1] = scene->boundary[1] != 0;
+            for (int a = 0; a < 3; a++) { /* a bed is drawn between its walls */
+                o.walls[a] = scene->boundary[a] != 0;
+            }
         }
         free(scene);
     }

@@ -54,8 +54,9 @@ int pic_resolve_options(const gr_picture_options *o, popts *p, gr_error *err)
     p->vmax = o->vmax > 0.0 ? o->vmax : DEFAULT_VMAX;
     p->levels = o->levels;
     p->labels = !o->hide_labels;
-    p->walls[0] = o->walls[0];
-    p->walls[1] = o->walls[1];
+    for (int a = 0; a < 3; a++) {
+        p->walls[a] = o->walls[a];
+    }
     p->by_species = o->by_species;
     return GR_OK;
 }

@@ -39,9 +39,11 @@ typedef struct gr_picture_options {
     double vmax;          /* |v|/v_rms at which the ramp saturates; 0 = 3; (0, 1000] */
     int levels;           /* 0 = continuous ramp, k in [2, 64]: k shades */
     bool hide_labels;     /* true: no panel (box or rows only) */
-    bool walls[2];   /* 2D: flat walls along x, y ([boundary]): drawn as bars at 0 and L, positions
-                      there neither wrapped nor imaged across the box (a grain below a floor
-                      vibrating below 0 is drawn where it is) */
+    bool walls[3]; /* flat walls along x, y (and z in 3D) ([boundary]): in 2D drawn as bars at 0 and
+                      L, in 3D as the box's faces (the farther one shaded behind the spheres, the
+                      nearer one outlined in front); positions there neither wrapped nor imaged
+                      across the box (a grain below a floor vibrating below 0 is drawn where it
+                      is) */
     bool by_species; /* 2D and 3D, a mixture's frame: each grain in its species' colour (a fixed
                         palette, GR_PICTURE_SPECIES_COLOURS), the panel a legend of them */
 } gr_picture_options;

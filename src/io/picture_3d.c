@@ -6,7 +6,10 @@
  * highlight up and to the left to a darker rim; and by depth: the farther a sphere, the more its
  * colour is mixed with the white background (the front sphere at the full colour, the back ones at
  * DEPTH_FADE), so the layers of a dense cube read apart. Positions are wrapped into the cube; no
- * periodic images are drawn (a sphere crossing a face sticks out of it). */
+ * periodic images are drawn (a sphere crossing a face sticks out of it). Along an axis with walls
+ * (a bed) positions are not wrapped, and the walls are the box's faces there: the farther one
+ * shaded grey behind everything, the nearer one outlined dark in front (a floor seen from above,
+ * its lid as a frame). */
 #include <cairo.h>
 #include <math.h>
 #include <stdlib.h>
@@ -67,6 +70,52 @@ static void draw_ball(cairo_t *cr, double cx, double cy, double rp, const double
     cairo_pattern_destroy(g);
 }
 
+/* The faces of the walled axes: of the two faces normal to a walled axis, the farther (its
+ * centre's depth) is filled light grey with dark edges (`front` false: before the spheres), the
+ * nearer outlined dark (`front` true: after them). */
+static void draw_walls(cairo_t *cr, const popts *p, double L, double o, double pxm, bool front)
+{
+    for (int a = 0; a < 3; a++) {
+        if (!p->walls[a]) {
+            continue;
+        }
+        for (int side = 0; side < 2; side++) {
+            double centre[3] = {0.0, 0.0, 0.0}, sx, sy, depth, other;
+            centre[a] = (side ? 0.5 : -0.5) * L;
+            view(centre, &sx, &sy, &depth);
+            centre[a] = -centre[a];
+            view(centre, &sx, &sy, &other);
+            if ((depth > other) != front) {
+                continue; /* this face is drawn in the other pass */
+            }
+            /* the face's corners in order: the two other axes b, c around the square */
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            static const double us[4] = {-0.5, 0.5, 0.5, -0.5}, vs[4] = {-0.5, -0.5, 0.5, 0.5};
+            cairo_new_path(cr);
+            for (int k = 0; k < 4; k++) {
+                double corner[3];
+                corner[a] = (side ? 0.5 : -0.5) * L;
+                corner[b] = us[k] * L;
+                corner[c] = vs[k] * L;
+                view(corner, &sx, &sy, &depth);
+                if (k == 0) {
+                    cairo_move_to(cr, o + sx * pxm, o - sy * pxm);
+                } else {
+                    cairo_line_to(cr, o + sx * pxm, o - sy * pxm);
+                }
+            }
+            cairo_close_path(cr);
+            if (!front) {
+                cairo_set_source_rgb(cr, 0.82, 0.82, 0.82);
+                cairo_fill_preserve(cr);
+            }
+            cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
+            cairo_set_line_width(cr, 2.0);
+            cairo_stroke(cr);
+        }
+    }
+}
+
 int pic_picture_3d(const gr_frame *f, double radius, const char *png_path, const popts *p,
                    gr_error *err)
 {
@@ -77,8 +126,11 @@ int pic_picture_3d(const gr_frame *f, double radius, const char *png_path, const
     const double L = f->L, vrms = pic_rms_speed(f);
     double dmin = INFINITY, dmax = -INFINITY;
     for (int i = 0; i < f->n; i++) {
-        const double c[3] = {pic_wrap(f->x[i], L) - 0.5 * L, pic_wrap(f->y[i], L) - 0.5 * L,
-                             pic_wrap(f->z[i], L) - 0.5 * L};
+        const double q[3] = {f->x[i], f->y[i], f->z[i]};
+        double c[3];
+        for (int a = 0; a < 3; a++) { /* a walled axis is not periodic */
+            c[a] = (p->walls[a] ? q[a] : pic_wrap(q[a], L)) - 0.5 * L;
+        }
         view(c, &s[i].sx, &s[i].sy, &s[i].depth);
         s[i].speed = pic_speed(f, i);
         s[i].i = i;
@@ -119,6 +171,7 @@ int pic_picture_3d(const gr_frame *f, double radius, const char *png_path, const
         }
     }
     cairo_stroke(cr);
+    draw_walls(cr, p, L, o, pxm, false); /* the farther faces, behind the spheres */
     const double span = dmax > dmin ? dmax - dmin : 1.0;
     double rgb[3];
     for (int i = 0; i < f->n; i++) {
@@ -129,6 +182,7 @@ int pic_picture_3d(const gr_frame *f, double radius, const char *png_path, const
         draw_ball(cr, o + s[i].sx * pxm, o - s[i].sy * pxm, rpi, rgb, fade);
     }
     free(s);
+    draw_walls(cr, p, L, o, pxm, true); /* the nearer faces' outlines, in front */
     if (p->labels) {
         char left[96], right[64], caption[128];
         snprintf(left, sizeof left, "t = %.6g s", f->t);

@@ -17,7 +17,7 @@ typedef struct popts {
     gr_colormap cmap;
     double vmax;
     bool labels;
-    bool walls[2];
+    bool walls[3];
     bool by_species;
 } popts;
 
