@@ -718,7 +718,9 @@ static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, c
     cJSON_AddStringToObject(j, "commit", GR_COMMIT);
     cJSON_AddNumberToObject(j, "points_finished", pts.n);
     cJSON_AddNumberToObject(j, "points_total", (double)gr_campaign_points(c, fid));
-    cJSON_AddNumberToObject(j, "cpu_seconds", round(cpu));
+    /* to the millisecond: a quick campaign can cost under half a second, which whole seconds
+     * would report as free */
+    cJSON_AddNumberToObject(j, "cpu_seconds", round(cpu * 1000.0) / 1000.0);
     cJSON_AddNumberToObject(j, "cpu_hours", round(cpu / 36.0) / 100.0);
     cJSON_AddNumberToObject(j, "simulated_seconds", sim);
     /* the warm-up: T over the first quarter of the sampling against the rest, over every run; not
