@@ -35,7 +35,7 @@ ok = True
 def need(cond, *what):
     global ok
     if not cond:
-        print(*what)  # say which check failed (the suite shows this script's output)
+        print(*what, file=sys.stderr)  # say which check failed (the suite prints stderr after stdout)
         ok = False
 for n in names:
     d = json.load(open(os.path.join(root, n, "results.json")))
