@@ -228,6 +228,33 @@ sys.exit(0 if ok else 1)
 PY
 fi
 
+# scripts/tail_plot_windows.py (docs/results/investigations): its v >= 2 v_rms window is the
+# campaign's own Fig. 5.13 fit of each group's first run, slope and error (scaled once by
+# sqrt(chi2/dof)); it refuses a result set without the tail plot's data
+if [[ -f $tmp/results/ch4-structure/fig5.13-P0_tail.dat ]]; then
+    check python3 - "$scripts/tail_plot_windows.py" "$tmp/results/ch4-structure" <<'PY'
+import csv, io, math, subprocess, sys
+script, res = sys.argv[1:3]
+rows = list(csv.DictReader(io.StringIO(subprocess.run([script, res], capture_output=True, text=True, check=True).stdout)))
+own = {r["group"]: r for r in csv.DictReader(open(res + "/fig5.13-P0_data.csv")) if r["seed"] == "1"}
+ok, compared = True, 0
+for r in rows:
+    if r["window"] != "v>=2" or r["group"] not in own or r["slope"] == "" or not math.isfinite(float(own[r["group"]]["slope_P0"])):
+        continue
+    o = own[r["group"]]
+    same = abs(float(r["slope"]) - float(o["slope_P0"])) <= 1e-5 * abs(float(o["slope_P0"])) and \
+        abs(float(r["slope_err"]) - float(o["slope_P0_error"])) <= 1e-2 * float(o["slope_P0_error"])
+    compared += 1
+    if not same:
+        print("tail_plot_windows", r, o["slope_P0"], o["slope_P0_error"], file=sys.stderr)
+        ok = False
+ok &= compared > 0 and len({r["window"] for r in rows}) == 6
+sys.exit(0 if ok else 1)
+PY
+    check bash -c '! "$1" "$2" >/dev/null 2>"$3" && grep -q "^tail_plot_windows.py: .*_tail.dat" "$3" && ! grep -q Traceback "$3"' _ \
+        "$scripts/tail_plot_windows.py" "$tmp/no-such-results" "$tmp/windows.err"
+fi
+
 # both refits refuse a folder without what they read, with a message and no traceback
 check bash -c '! "$1" "$2" >/dev/null 2>"$3" && grep -q "^refit_tail_window.py: .*pv.csv" "$3" && ! grep -q Traceback "$3"' _ \
     "$scripts/refit_tail_window.py" "$tmp/no-such-run" "$tmp/refit.err"
@@ -313,6 +340,15 @@ check test $? -eq 0
 # tally, and checked against every campaign's covers line; one that contradicts a campaign (an item
 # it claims marked "not", a row naming a campaign that does not claim it) refuses the page, named
 check test "$(grep -c '^## Coverage' "$tmp/reproduction.md")" -eq 0 # no coverage file: no section
+# a note's "results/investigations/NAME" is a link where that file is committed, plain text where not
+if [[ -d $tmp/results/ch4-structure ]]; then
+    mkdir -p "$tmp/results/investigations" && : >"$tmp/results/investigations/fig5.13-P0-windows.csv"
+    "$granule" reproduce --page --results-root "$tmp/results" --output "$tmp/linked.md" >/dev/null
+    check grep -qF '[results/investigations/fig5.13-P0-windows.csv](results/investigations/fig5.13-P0-windows.csv)' "$tmp/linked.md"
+    check grep -qF ' results/investigations/table4.1-phi0.177.csv' "$tmp/linked.md"
+    check test "$(grep -cF '[results/investigations/table4.1' "$tmp/linked.md")" -eq 0
+    rm -r "$tmp/results/investigations"
+fi
 cp "$scripts/../docs/thesis-coverage.md" "$tmp/thesis-coverage.md"
 "$granule" reproduce --page --results-root "$tmp/results" --output "$tmp/covered.md" >/dev/null
 check test $? -eq 0

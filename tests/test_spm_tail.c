@@ -5,6 +5,7 @@
  * exactly, and with P' = P(0) < A0 a steeper one (the thesis's -1.15 against -1.0); the fold of a
  * symmetric histogram; C of 4.25 at fixed D_f recovered from a tabulated P_l. */
 #include <check.h>
+#include <gsl/gsl_fit.h>
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 #include <math.h>
@@ -128,6 +129,41 @@ START_TEST(test_tail_plot_slopes)
 }
 END_TEST
 
+START_TEST(test_errors_scaled_once)
+{
+    /* A fit that does not describe its data (alpha = 0.8 against alpha = 0.97 counts, chi2/dof >> 1)
+     * reports its errors scaled by sqrt(chi2/dof) once, as every fit of granule does (the counting
+     * error times the scatter's excess): S's error is the weighted line's own, from GSL here. */
+    double v[NB], p[NB], e[NB], vf[NB], pf[NB], ef[NB], cf[NB];
+    const double v_rms = 0.21, alpha = 0.8, h = 0.5;
+    synthetic_pv(NULL, 3e7, 3.6, log(20.0), h, 9.48, 0.9717, v, p, e);
+    const int n = gr_spm_fold_pv(v, p, e, NB, vf, pf, ef, cf);
+    gr_spm_tail531 t;
+    gr_error err = {0};
+    ck_assert(gr_spm_tail531_fit(vf, pf, ef, cf, n, 2.1, v_rms, alpha, h, 2.0, INFINITY, 50.0, 0.0,
+                                 &t, &err) == GR_OK);
+    double x[NB], y[NB], w[NB];
+    size_t m = 0;
+    for (int i = 0; i < n; i++) {
+        if (vf[i] / v_rms >= 2.0 && cf[i] >= 50.0 && pf[i] > 0.0 && ef[i] > 0.0) {
+            x[m] = pow(vf[i], alpha);
+            y[m] = log(pf[i]) - h * log(vf[i]);
+            w[m] = pow(pf[i] / ef[i], 2.0);
+            m++;
+        }
+    }
+    double c0, c1, cov00, cov01, cov11, chi2;
+    gsl_fit_wlinear(x, 1, w, 1, y, 1, m, &c0, &c1, &cov00, &cov01, &cov11, &chi2);
+    const double chi2_red = chi2 / (double)(m - 2);
+    ck_assert_msg(chi2_red > 3.0 && fabs(t.chi2_red - chi2_red) < 1e-9 * chi2_red,
+                  "chi2/dof %g, %g", t.chi2_red, chi2_red);
+    ck_assert_msg(fabs(t.S + c1) < 1e-9 * fabs(c1), "S %g against %g", t.S, -c1);
+    const double want = sqrt(cov11 * chi2_red);
+    ck_assert_msg(fabs(t.S_err - want) < 1e-6 * want,
+                  "S error %g, expected %g (sqrt(chi2/dof) once)", t.S_err, want);
+}
+END_TEST
+
 START_TEST(test_pl_fit_C)
 {
     /* 4.25 tabulated on log bins: C back at the right D_f, not at a wrong one */
@@ -212,6 +248,7 @@ int main(void)
     tcase_add_test(t, test_fold);
     tcase_add_test(t, test_531_recovers_S);
     tcase_add_test(t, test_tail_plot_slopes);
+    tcase_add_test(t, test_errors_scaled_once);
     tcase_add_test(t, test_pl_fit_C);
     tcase_add_test(t, test_compare_series);
     suite_add_tcase(s, t);

@@ -37,14 +37,8 @@ double gr_spm_tail531_log(double lnA0, double h, double S, double alpha, double 
     return lnA0 + h * log(v) - S * pow(v, alpha); /* 5.31 with S = v_A^-alpha */
 }
 
-/* errors of a line fit scaled by sqrt(chi2/dof) when that exceeds 1 */
-static void scale_errors(gr_fit *f)
-{
-    if (isfinite(f->chi2_red) && f->chi2_red > 1.0) {
-        f->err[0] *= sqrt(f->chi2_red);
-        f->err[1] *= sqrt(f->chi2_red);
-    }
-}
+/* Every line fit below takes its errors from gr_fit_line, already scaled by sqrt(chi2/dof) where that
+ * exceeds 1 (src/analysis/fit.c); they are not scaled again. */
 
 /* The Fig. 5.13 slope of -ln(-ln(P/P')) against ln(v/v_rms) over the chosen bins (P < P' only). */
 static void tail_plot_slope(const double *v, const double *p, const double *e, const int *use,
@@ -65,7 +59,6 @@ static void tail_plot_slope(const double *v, const double *p, const double *e, c
     gr_error ignore = {0};
     *icpt = *slope = *slope_err = (double)NAN;
     if (m >= GR_FIT_MIN_POINTS && gr_fit_line(x, y, s, m, &f, &ignore) == GR_OK) {
-        scale_errors(&f);
         *icpt = f.p[0];
         *slope = f.p[1];
         *slope_err = f.err[1];
@@ -117,7 +110,6 @@ int gr_spm_tail531_fit(const double *v, const double *p, const double *e, const 
                            "spm tail: %d bins in the window (v/v_rms %g-%g, >= %g counts), need %d",
                            m, x_lo, x_hi, counts_min, GR_FIT_MIN_POINTS);
     if (rc == GR_OK) {
-        scale_errors(&f);
         out->lnA0 = f.p[0];
         out->lnA0_err = f.err[0];
         out->S = -f.p[1];
@@ -177,7 +169,6 @@ int gr_spm_pl_fit_C(const double *l, const double *p, const double *e, int n, do
                  : GR_FAIL(err, GR_EINVAL, "spm: %d free-path bins in %g-%g, need %d", m, l_lo,
                            l_hi, GR_FIT_MIN_POINTS);
     if (rc == GR_OK) {
-        scale_errors(&f);
         *C = -f.p[1];
         *C_err = f.err[1];
         *chi2_red = f.chi2_red;

@@ -2,6 +2,7 @@
  * an overview of what was run and what it cost, then one section per campaign and one table per
  * figure or table of the thesis: the thesis's value, ours +- error, z, seeds and CPU time. */
 #include <cjson/cJSON.h>
+#include <ctype.h>
 #include <dirent.h>
 #include <math.h>
 #include <stdbool.h>
@@ -120,6 +121,34 @@ static void figure(FILE *f, const char *root, const char *link_root, const char 
     }
 }
 
+/* TEXT with every "results/investigations/NAME" that names a committed file (ROOT/investigations/NAME)
+ * written as a link to it, so each number a note quotes from an investigation is one click away. */
+static void text_with_links(FILE *f, const char *text, const char *root, const char *link_root)
+{
+    static const char key[] = "results/investigations/";
+    const char *c = text;
+    for (const char *hit; (hit = strstr(c, key)); c = hit) {
+        const char *name = hit + strlen(key), *end = name;
+        while (isalnum((unsigned char)*end) || *end == '.' || *end == '-' || *end == '_') {
+            end++;
+        }
+        while (end > name && end[-1] == '.') { /* a sentence's full stop is not part of the name */
+            end--;
+        }
+        char path[1400];
+        snprintf(path, sizeof path, "%s/investigations/%.*s", root, (int)(end - name), name);
+        fwrite(c, 1, (size_t)(hit - c), f);
+        if (end > name && access(path, R_OK) == 0) {
+            fprintf(f, "[%.*s](%s/investigations/%.*s)", (int)(end - hit), hit, link_root,
+                    (int)(end - name), name);
+        } else {
+            fwrite(hit, 1, (size_t)(end - hit), f);
+        }
+        hit = end;
+    }
+    fputs(c, f);
+}
+
 /* A result's note, where the thesis's values come from, and its figures (the comparison only when
  * there are numbers to compare). */
 static void notes_and_figures(FILE *f, const cJSON *res, const char *campaign, const char *root,
@@ -132,7 +161,9 @@ static void notes_and_figures(FILE *f, const cJSON *res, const char *campaign, c
                 str(res, "restates"), campaign, str(res, "restates"));
     }
     if (str(res, "note")[0]) {
-        fprintf(f, "\n%s\n", str(res, "note"));
+        fputc('\n', f);
+        text_with_links(f, str(res, "note"), root, link_root);
+        fputc('\n', f);
     }
     if (str(res, "thesis_source")[0]) {
         fprintf(f, "\nThesis%s: %s.\n", numbers ? " values" : "", str(res, "thesis_source"));
