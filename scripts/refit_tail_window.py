@@ -6,11 +6,15 @@ errors sqrt(X) (sec. 5.1.1). The window is in absolute counts, so where it sits 
 on the sample: a sample f times smaller has counts X / f, and its window is our bins with
 50 f <= X <= 50 000 f; the best alpha is the same (scaling X and its variance by 1/f scales chi2 by
 1/f), its chi2/dof is ours divided by f. For each run folder given (with pv.csv) this prints the
-free fit for f = 1/2 ... 10, f = 1 being the fit in summary.json (analysis.pv.tail.free).
+free fit for f = 1/2 ... 10 (or the factors --factors lists), f = 1 being the fit in summary.json
+(analysis.pv.tail.free). A RUN is a run folder, or a point a result set archived (RESULTS/points/
+pNNNN.json, where the campaign keeps P(v): its series at 6 digits, counts = density x components
+x bin width).
 
-usage: refit_tail_window.py RUN [RUN ...]      (CSV on standard output)
+usage: refit_tail_window.py [--factors F,F,...] RUN [RUN ...]      (CSV on standard output)
 """
 import csv
+import json
 import sys
 
 import numpy as np
@@ -20,6 +24,12 @@ LO, HI = 50.0, 50000.0
 
 
 def load(run):
+    if run.endswith(".json"):  # an archived point: P(v) as density, so counts = density components bin_width
+        point = json.load(open(run))
+        pv = point["summary"]["analysis"]["pv"]
+        series = point["series"]["pv.csv?#v,density,density_error"]
+        per_bin = pv["components"] * pv["bin_width"]
+        return np.abs(np.array(series["x"])), np.round(np.array(series["y"]) * per_bin)
     v, c = [], []
     with open(run + "/pv.csv") as f:
         for r in csv.DictReader(f):
@@ -69,18 +79,35 @@ def fit(v, c, lo, hi):
     return alpha, profile(alpha) / max(len(x) - 3, 1), len(x)
 
 
-def main(runs):
+def point_of(run):
+    """(group, seed) of a sweep point: its keys as in results.csv ("N+L=3000/0.2"), "" where unknown"""
+    try:
+        p = json.load(open(run))["point"] if run.endswith(".json") else json.load(open(run + "/point.json"))
+    except OSError:
+        return "", ""
+    keys = "; ".join("%s=%s" % (k.replace("system.", "").replace("model.", ""), v) for k, v in p["keys"].items() if k != "run.seed")
+    return keys, "%d" % p["seed"]
+
+
+def main(args):
+    factors = FACTORS
+    if args[:1] == ["--factors"] and len(args) > 1:
+        factors = [float(f) for f in args[1].split(",")]
+        if not all(f > 0 for f in factors):
+            raise ValueError("--factors %s: expected positive numbers" % args[1])
+        args = args[2:]
+    runs = args
     if not runs:
         sys.exit(__doc__)
     w = csv.writer(sys.stdout, lineterminator="\n")
-    head = ["run", "components"]
-    for f in FACTORS:
+    head = ["run", "group", "seed", "components"]
+    for f in factors:
         head += ["alpha_sample_over_%g" % f, "chi2_red_sample_over_%g" % f]
     w.writerow(head)
     for run in runs:
         v, c = load(run)
-        row = [run.rstrip("/"), "%d" % c.sum()]  # velocity components sampled
-        for f in FACTORS:
+        row = [run.rstrip("/"), *point_of(run.rstrip("/")), "%d" % c.sum()]  # velocity components sampled
+        for f in factors:
             alpha, chi2_red, _ = fit(v, c, LO * f, HI * f)
             row += ["%.4f" % alpha, "%.3g" % (chi2_red / f)]
         w.writerow(row)

@@ -255,6 +255,47 @@ PY
         "$scripts/tail_plot_windows.py" "$tmp/no-such-results" "$tmp/windows.err"
 fi
 
+# scripts/result_windows.py (docs/results/investigations): from the archived points alone, the
+# setting that is the campaign's own gives the campaign's numbers, for a key the result sets (x_min
+# of fig5.12) and one it leaves at its default (pl_max of fig4.10-tail), and another setting moves
+# the window; refit_tail_window.py reads an archived point as the run folder it came from (f = 1 is
+# the archived summary's free fit); a folder that is no result set gets one line, no traceback
+if [[ -f $tmp/results/ch4-structure/results.csv && -d $tmp/results/ch4-structure/points ]]; then
+    check env GRANULE="$granule" python3 - "$scripts" "$tmp/results/ch4-structure" <<'PY'
+import csv, io, json, subprocess, sys
+scripts, res = sys.argv[1:3]
+own = {(r["result"], r["group"]): r for r in csv.DictReader(open(res + "/results.csv"))}
+ok, compared, moved = True, 0, 0
+for rid, setting in [("fig5.12", "x_min=2,4"), ("fig4.10-tail", "pl_max=default,0.3")]:
+    out = subprocess.run([scripts + "/result_windows.py", res, rid, setting], capture_output=True, text=True)
+    rows = list(csv.DictReader(io.StringIO(out.stdout)))
+    groups = {g for (i, g) in own if i == rid}
+    ok &= out.returncode == 0 and len(rows) == 2 * len(groups) and len(groups) > 0
+    for r in rows:
+        o = own[(rid, r["group"])]
+        if r["campaigns_own"] == "yes":
+            compared += 1
+            for k in ("value", "error", "seeds", "fit_points"):
+                if r[k] != o[k]:
+                    print("result_windows", rid, r["setting"], r["group"], k, r[k], o[k]); ok = False
+        else:
+            moved += r["fit_points"] != o["fit_points"] or r["value"] != o["value"]
+ok &= compared > 0 and moved > 0
+point = res + "/points/p0000.json"
+free = json.load(open(point))["summary"]["analysis"]["pv"]["tail"]["free"]
+out = subprocess.run([scripts + "/refit_tail_window.py", "--factors", "1,10", point], capture_output=True, text=True, check=True).stdout
+row = list(csv.DictReader(io.StringIO(out)))[0]
+if free["converged"]:
+    ok &= abs(float(row["alpha_sample_over_1"]) - free["alpha"]) <= 2e-3
+ok &= row["group"].startswith("N+L=") and row["seed"] == "1"
+if not ok:
+    print("result_windows/refit_tail_window:", compared, moved, row, free)
+sys.exit(0 if ok else 1)
+PY
+    check bash -c '! "$1" "$2" fig5.12 x_min=2 >/dev/null 2>"$3" && grep -q "^result_windows.py: .*results.json" "$3" && ! grep -q Traceback "$3"' _ \
+        "$scripts/result_windows.py" "$tmp/no-such-results" "$tmp/windows.err"
+fi
+
 # both refits refuse a folder without what they read, with a message and no traceback
 check bash -c '! "$1" "$2" >/dev/null 2>"$3" && grep -q "^refit_tail_window.py: .*pv.csv" "$3" && ! grep -q Traceback "$3"' _ \
     "$scripts/refit_tail_window.py" "$tmp/no-such-run" "$tmp/refit.err"
@@ -347,6 +388,10 @@ if [[ -d $tmp/results/ch4-structure ]]; then
     check grep -qF '[results/investigations/fig5.13-P0-windows.csv](results/investigations/fig5.13-P0-windows.csv)' "$tmp/linked.md"
     check grep -qF ' results/investigations/table4.1-phi0.177.csv' "$tmp/linked.md"
     check test "$(grep -cF '[results/investigations/table4.1' "$tmp/linked.md")" -eq 0
+    # a result whose campaign file has an `uncommitted` line says so under its note and is named,
+    # linked, where the page says what backs its numbers
+    check grep -qF '*Not in a committed file:* the fit-window refits of 4000/0.4' "$tmp/linked.md"
+    check grep -qF '[ch4-structure table4.1](#ch4-structure-table4.1)' "$tmp/linked.md"
     rm -r "$tmp/results/investigations"
 fi
 cp "$scripts/../docs/thesis-coverage.md" "$tmp/thesis-coverage.md"

@@ -122,6 +122,8 @@ typedef struct gr_campaign_result {
     double period; /* RUNNING: seconds per period mean */
     int configurations; /* CASCADE: cascade placements averaged (default 20); CASCADE_FIELD: fields per seed */
     double df; /* SPM: D_f fixed for C, alpha and h (0: the run's free 4.25 fit) */
+    double
+        pl_max; /* SPM: the free-path tail is where P_l < pl_max per metre (0: 1, the thesis's) */
     bool
         tail_exponential; /* SPM: fit P(v)'s tail with A0 exp(-S |v|) (alpha = 1, h = 0: the thesis's
                               A0 of Fig. 5.13) instead of 5.31 at the predicted alpha and h */
@@ -129,8 +131,10 @@ typedef struct gr_campaign_result {
         walks_quick; /* SPM_COMPARE: SPM walks per run, SPM_CIRCLE per radius, at full and quick fidelity (0: default) */
     char thesis[4096]; /* "GROUP: value +- error; ..." (GROUP as in results.csv) */
     char thesis_source[256];
-    char note[2048];        /* what a reader should know (shown on the page) */
-    char verdict[24];       /* where rows disagree (|z| > 2): "explained", "partly explained" or
+    char note[2048];       /* what a reader should know (shown on the page) */
+    char uncommitted[512]; /* which numbers of the note no committed file backs (refits of run files
+                               git does not keep) and why; "" when every one is backed */
+    char verdict[24];      /* where rows disagree (|z| > 2): "explained", "partly explained" or
                              "unexplained" ("" = not judged yet); the page's table of disagreements */
     char verdict_why[1024]; /* the verdict's one-paragraph reason */
     char compensate[32]; /* COLLAPSE: the power_law result of this campaign whose points, each times

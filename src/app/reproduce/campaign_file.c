@@ -46,7 +46,8 @@ static bool may_repeat(const char *section, const char *name)
         return !strcmp(name, "about");
     }
     if (!strncmp(section, "result ", 7)) {
-        return !strcmp(name, "thesis") || !strcmp(name, "note") || !strcmp(name, "verdict");
+        return !strcmp(name, "thesis") || !strcmp(name, "note") || !strcmp(name, "verdict") ||
+               !strcmp(name, "uncommitted");
     }
     return false;
 }
@@ -207,12 +208,15 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
             return 1;
         }
     }
-    if (!strcmp(name, "thesis") || !strcmp(name, "note")) { /* may continue over several lines */
+    if (!strcmp(name, "thesis") || !strcmp(name, "note") ||
+        !strcmp(name, "uncommitted")) { /* may continue over several lines */
         char section[48];
         snprintf(section, sizeof section, "result %s", r->id);
         return name[0] == 't'
                    ? append_text(p, section, name, r->thesis, sizeof r->thesis, "; ", value)
-                   : append_text(p, section, name, r->note, sizeof r->note, " ", value);
+               : name[0] == 'n' ? append_text(p, section, name, r->note, sizeof r->note, " ", value)
+                                : append_text(p, section, name, r->uncommitted,
+                                              sizeof r->uncommitted, " ", value);
     }
     if (!strcmp(name, "verdict")) { /* "CATEGORY: why", the why may continue over several lines */
         char section[48];
@@ -371,6 +375,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
                   : !strcmp(name, "period")       ? &r->period
                   : !strcmp(name, "collapse_at")  ? &r->collapse_at
                   : !strcmp(name, "scale_moment") ? &r->scale_moment
+                  : !strcmp(name, "pl_max")       ? &r->pl_max
                                                   : NULL;
     if (num) {
         if (!parse_double(value, num) || *num <= 0.0) {
@@ -386,7 +391,8 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
              "table, where, select, transform, collapse_at, scale_moment, axes, overlay, "
              "overlay_exponent, "
              "overlay_y, overlay_title, x_label, restates, compensate, against, "
-             "configurations, df, tail, walks, walks_quick, thesis, thesis_source, note, verdict",
+             "configurations, df, pl_max, tail, walks, walks_quick, thesis, thesis_source, note, "
+             "uncommitted, verdict",
              r->id, name);
     return 0;
 }

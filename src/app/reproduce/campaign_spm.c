@@ -78,10 +78,11 @@ typedef struct spm_run {
 } spm_run;
 
 /* The free paths' tail as the thesis fits it (sec. 4.3.3: "the lowest decades, where P < 1"): the
- * bins beyond the most probable free path where P_l < 1 per metre (l in m), with at least 10
- * counts. The series is in diameters (the freepath observable), converted to SI here: l d, P / d.
- * Returns how many bins, written to l, p, e. */
-static int pl_tail_si(const campaign_point *pt, double d, double *l, double *p, double *e)
+ * bins beyond the most probable free path where P_l < p_max per metre (l in m; p_max 1 unless the
+ * result's pl_max says otherwise), with at least 10 counts. The series is in diameters (the
+ * freepath observable), converted to SI here: l d, P / d. Returns how many bins, written to l, p, e. */
+static int pl_tail_si(const campaign_point *pt, double d, double p_max, double *l, double *p,
+                      double *e)
 {
     gr_campaign_result series;
     campaign_spm_series(1, &series);
@@ -94,7 +95,7 @@ static int pl_tail_si(const campaign_point *pt, double d, double *l, double *p, 
     for (int i = mode; i < n; i++) {
         const double ps = p[i] / d, es = e[i] / d,
                      counts = e[i] > 0.0 ? (p[i] / e[i]) * (p[i] / e[i]) : 0.0;
-        if (ps > 0.0 && ps < SPM_PL_TAIL_MAX && counts >= SPM_PL_COUNTS_MIN) {
+        if (ps > 0.0 && ps < p_max && counts >= SPM_PL_COUNTS_MIN) {
             l[m] = l[i] * d;
             p[m] = ps;
             e[m++] = es;
@@ -108,7 +109,7 @@ static void free_paths(const gr_campaign_result *r, const campaign_point *pt, do
                        double *buf)
 {
     double *l = buf, *p = buf + SPM_MAX_BINS, *e = buf + 2 * SPM_MAX_BINS;
-    const int m = pl_tail_si(pt, d, l, p, e);
+    const int m = pl_tail_si(pt, d, r->pl_max > 0.0 ? r->pl_max : SPM_PL_TAIL_MAX, l, p, e);
     gr_error ignore = {0};
     o->pl_points = m;
     o->pl_lo = m ? l[0] : (double)NAN;
