@@ -578,6 +578,30 @@ START_TEST(crossover_fit_recovers_vr_vc)
                   "log fit errors too small: v_r %g +- %g, v_c %g +- %g", lvr, num(xl, "v_r_err"),
                   lvc, num(xl, "v_c_err"));
     ck_assert_double_eq_tol(num(xl, "P_vc_over_P0"), exp(-0.5 * (lvc / lvr) * (lvc / lvr)), 1e-12);
+    /* the same fit over fewer decades below the peak (counts >= 50, 500, ...): the first is the fit
+     * above, each next one has fewer bins, and on data that follow (5.32) every depth finds the
+     * true v_r within its error (the depth moves v_r on the RFM's P(v), not on P_0's own) */
+    const cJSON *depths = cJSON_GetObjectItem(xl, "by_depth"), *d;
+    ck_assert_int_ge(cJSON_GetArraySize(depths), 3);
+    double cmin = 0.0;
+    int n_prev = 1 << 30;
+    cJSON_ArrayForEach(d, depths)
+    {
+        ck_assert_double_eq_tol(num(d, "counts_min"), cmin > 0.0 ? 10.0 * cmin : 50.0, 1e-9);
+        cmin = num(d, "counts_min");
+        const int n = (int)num(d, "n_points");
+        ck_assert_int_lt(n, n_prev);
+        n_prev = n;
+        if (cmin == 50.0) {
+            ck_assert_double_eq(num(d, "v_r"), lvr);
+            ck_assert_double_eq_tol(num(d, "v_c_over_v_r"), lvc / lvr, 1e-12);
+        }
+        if (cJSON_IsTrue(cJSON_GetObjectItem(d, "converged")) && n >= 10) {
+            ck_assert_msg(fabs(num(d, "v_r") - vr) < 4.0 * num(d, "v_r_err"),
+                          "counts >= %g: v_r %g +- %g, true %g", cmin, num(d, "v_r"),
+                          num(d, "v_r_err"), vr);
+        }
+    }
     free(x.cdf);
     cJSON_Delete(root);
     gr_observable_free(st);

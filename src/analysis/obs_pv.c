@@ -524,17 +524,17 @@ typedef struct crossover_result {
     double u_data_max; /* largest |u| among the fitted points */
 } crossover_result;
 
-/* Two fits of (5.32) to the same bins (count >= COUNT_MIN):
+/* Two fits of (5.32) to the same bins (count >= cmin, COUNT_MIN in the summary's own):
  *  - `poisson`: the counts with sqrt(X) errors, the maximum-likelihood fit; the peak's bins, which
  *    hold most counts, decide it;
  *  - `log`: ln X with equal weights, the least-squares fit of the curve drawn on log axes (Fig. 5.14),
  *    where every bin counts the same and the tail pulls v_c in. The thesis says only "best fitting";
  *    docs/analysis-velocity.md compares the two with its Tables 5.3-5.4. */
 static void fit_crossover(points *pt, const gr_histogram *h, double scale, double v_rms,
-                          bool log_axes, crossover_result *r)
+                          double cmin, bool log_axes, crossover_result *r)
 {
     memset(r, 0, sizeof *r);
-    points_select(pt, h, scale, COUNT_MIN, HUGE_D, false);
+    points_select(pt, h, scale, cmin, HUGE_D, false);
     r->n = pt->n;
     if (pt->n < MIN_FIT_POINTS) {
         return;
@@ -544,7 +544,7 @@ static void fit_crossover(points *pt, const gr_histogram *h, double scale, doubl
         ymax = fmax(ymax, pt->y[i]);
         r->u_data_max = fmax(r->u_data_max, fabs(pt->x[i]));
         if (log_axes) {
-            pt->y[i] = log(pt->y[i]); /* the selected counts are >= COUNT_MIN > 0 */
+            pt->y[i] = log(pt->y[i]); /* the selected counts are >= cmin > 0 */
         }
     }
     /* Gaussian start v_r = sqrt(2) v_rms; several crossover velocities, keep the best fit */
@@ -960,8 +960,8 @@ static int finish(void *state, const gr_output *out, gr_error *err)
     }
     fit_tail(&pt, h, scale, COUNT_MIN, COUNT_MAX_5_1, "Table 5.1", &tail);
     fit_tail(&pt, h, scale, COUNT_MIN, COUNT_MAX_A_1, "Table A.1", &tail_a1);
-    fit_crossover(&pt, h, scale, v_rms, false, &xo);
-    fit_crossover(&pt, h, scale, v_rms, true, &xo_log);
+    fit_crossover(&pt, h, scale, v_rms, COUNT_MIN, false, &xo);
+    fit_crossover(&pt, h, scale, v_rms, COUNT_MIN, true, &xo_log);
 
     /* free fits of (5.5) over single decades of counts: the local exponent along the tail */
     cJSON *local = cJSON_CreateArray();
@@ -987,6 +987,26 @@ static int finish(void *state, const gr_output *out, gr_error *err)
         gr_obs_add_number(d, "v0", ok ? f.p[1] * scale : NOVALUE);
         gr_obs_add_number(d, "chi2_red", ok ? f.chi2_red : NOVALUE);
         cJSON_AddItemToArray(local, d);
+    }
+    /* the log-axes crossover fit over fewer decades below the peak (bins with >= 50, 500, 5000 and
+     * 50 000 counts): how the fit's depth moves v_r and v_c (Tables 5.3-5.4; the thesis sampled 6-8
+     * decades, sec. 5.3.4) */
+    cJSON *by_depth = cJSON_CreateArray();
+    for (double lo = COUNT_MIN; lo < cmax; lo *= 10.0) {
+        crossover_result d;
+        fit_crossover(&pt, h, scale, v_rms, lo, true, &d);
+        cJSON *o = cJSON_CreateObject();
+        gr_obs_add_number(o, "counts_min", lo);
+        gr_obs_add_number(o, "decades", log10(cmax / lo));
+        cJSON_AddNumberToObject(o, "n_points", d.n);
+        cJSON_AddBoolToObject(o, "converged", d.ok);
+        const double vr = d.ok ? exp(d.fit.p[1]) * scale : NOVALUE,
+                     vc = d.ok ? exp(d.fit.p[2]) * scale : NOVALUE;
+        gr_obs_add_number(o, "v_r", vr);
+        gr_obs_add_number(o, "v_r_err", d.ok ? vr * d.fit.err[1] : NOVALUE);
+        gr_obs_add_number(o, "v_c_over_v_r", d.ok ? vc / vr : NOVALUE);
+        gr_obs_add_number(o, "chi2_red", d.ok ? d.fit.chi2_red : NOVALUE);
+        cJSON_AddItemToArray(by_depth, o);
     }
     points_free(&pt);
     gsl_set_error_handler(old_handler);
@@ -1017,8 +1037,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
 
     add_crossover_summary(cJSON_AddObjectToObject(j, "crossover"), &xo,
                           "Poisson: the counts with sqrt(X) errors", scale, v_rms, h->total * w);
-    add_crossover_summary(cJSON_AddObjectToObject(j, "crossover_log"), &xo_log,
-                          "log axes: ln X with equal weights", scale, v_rms, h->total * w);
+    cJSON *jxl = cJSON_AddObjectToObject(j, "crossover_log");
+    add_crossover_summary(jxl, &xo_log, "log axes: ln X with equal weights", scale, v_rms,
+                          h->total * w);
+    cJSON_AddItemToObject(jxl, "by_depth", by_depth);
 
     double C[3] = {moon_constant(s, v_rms, P0, 2.0, true), moon_constant(s, v_rms, P0, 1.5, false),
                    moon_constant(s, v_rms, P0, 1.16, false)};
