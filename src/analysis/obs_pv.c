@@ -993,8 +993,10 @@ static int finish(void *state, const gr_output *out, gr_error *err)
      * decades, sec. 5.3.4) */
     cJSON *by_depth = cJSON_CreateArray();
     for (double lo = COUNT_MIN; lo < cmax; lo *= 10.0) {
-        crossover_result d;
-        fit_crossover(&pt, h, scale, v_rms, lo, true, &d);
+        crossover_result d = xo_log; /* counts >= COUNT_MIN: the fit above */
+        if (lo > COUNT_MIN) {
+            fit_crossover(&pt, h, scale, v_rms, lo, true, &d);
+        }
         cJSON *o = cJSON_CreateObject();
         gr_obs_add_number(o, "counts_min", lo);
         gr_obs_add_number(o, "decades", log10(cmax / lo));
