@@ -381,6 +381,20 @@ check test $? -eq 0
 # tally, and checked against every campaign's covers line; one that contradicts a campaign (an item
 # it claims marked "not", a row naming a campaign that does not claim it) refuses the page, named
 check test "$(grep -c '^## Coverage' "$tmp/reproduction.md")" -eq 0 # no coverage file: no section
+# the committed reruns behind the sk window refits (docs/results/investigations/README.md) claim to
+# reproduce the campaign's runs to every printed digit: their own-window row equals campaign_D_f
+check python3 - "$scripts/../docs/results/investigations" <<'PY'
+import csv, sys
+inv, ok, seen = sys.argv[1], True, 0
+for name, own in [("table4.1-phi0.177-windows.csv", "2"), ("table4.3-N12000.csv", "1")]:
+    for r in csv.DictReader(open(inv + "/" + name)):
+        if r["kmax_over_kD"] == own and r["shells_dropped"] == "0" and r["weights"] == "errors":
+            seen += 1
+            if r["D_f"] != r["campaign_D_f"]:
+                print("rerun differs from the campaign:", name, r["seed"], r["D_f"], r["campaign_D_f"]); ok = False
+sys.exit(0 if ok and seen == 5 else 1)
+PY
+
 # a note's "results/investigations/NAME" is a link where that file is committed, plain text where not
 if [[ -d $tmp/results/ch4-structure ]]; then
     mkdir -p "$tmp/results/investigations" && : >"$tmp/results/investigations/fig5.13-P0-windows.csv"
