@@ -131,10 +131,8 @@ typedef struct gr_campaign_result {
         walks_quick; /* SPM_COMPARE: SPM walks per run, SPM_CIRCLE per radius, at full and quick fidelity (0: default) */
     char thesis[4096]; /* "GROUP: value +- error; ..." (GROUP as in results.csv) */
     char thesis_source[256];
-    char note[2048];       /* what a reader should know (shown on the page) */
-    char uncommitted[512]; /* which numbers of the note no committed file backs (refits of run files
-                               git does not keep) and why; "" when every one is backed */
-    char verdict[24];      /* where rows disagree (|z| > 2): "explained", "partly explained" or
+    char note[2048];        /* what a reader should know (shown on the page) */
+    char verdict[24];       /* where rows disagree (|z| > 2): "explained", "partly explained" or
                              "unexplained" ("" = not judged yet); the page's table of disagreements */
     char verdict_why[1024]; /* the verdict's one-paragraph reason */
     char compensate[32]; /* COLLAPSE: the power_law result of this campaign whose points, each times

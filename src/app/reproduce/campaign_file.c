@@ -46,8 +46,7 @@ static bool may_repeat(const char *section, const char *name)
         return !strcmp(name, "about");
     }
     if (!strncmp(section, "result ", 7)) {
-        return !strcmp(name, "thesis") || !strcmp(name, "note") || !strcmp(name, "verdict") ||
-               !strcmp(name, "uncommitted");
+        return !strcmp(name, "thesis") || !strcmp(name, "note") || !strcmp(name, "verdict");
     }
     return false;
 }
@@ -208,15 +207,12 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
             return 1;
         }
     }
-    if (!strcmp(name, "thesis") || !strcmp(name, "note") ||
-        !strcmp(name, "uncommitted")) { /* may continue over several lines */
+    if (!strcmp(name, "thesis") || !strcmp(name, "note")) { /* may continue over several lines */
         char section[48];
         snprintf(section, sizeof section, "result %s", r->id);
         return name[0] == 't'
                    ? append_text(p, section, name, r->thesis, sizeof r->thesis, "; ", value)
-               : name[0] == 'n' ? append_text(p, section, name, r->note, sizeof r->note, " ", value)
-                                : append_text(p, section, name, r->uncommitted,
-                                              sizeof r->uncommitted, " ", value);
+                   : append_text(p, section, name, r->note, sizeof r->note, " ", value);
     }
     if (!strcmp(name, "verdict")) { /* "CATEGORY: why", the why may continue over several lines */
         char section[48];
@@ -392,7 +388,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
              "overlay_exponent, "
              "overlay_y, overlay_title, x_label, restates, compensate, against, "
              "configurations, df, pl_max, tail, walks, walks_quick, thesis, thesis_source, note, "
-             "uncommitted, verdict",
+             "verdict",
              r->id, name);
     return 0;
 }

@@ -47,7 +47,6 @@ void campaign_refresh_json(const gr_campaign *c, cJSON *set)
         set_string(res, "title", r->title);
         set_string(res, "thesis_source", r->thesis_source);
         set_string(res, "note", r->note);
-        set_string(res, "uncommitted", r->uncommitted);
         set_string(res, "verdict", r->verdict);
         set_string(res, "verdict_why", r->verdict_why);
         set_string(res, "restates", r->restates);

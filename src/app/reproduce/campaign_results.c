@@ -824,7 +824,6 @@ static int analyse_all(const gr_campaign *c, gr_fidelity fid, const char *dir, c
         }
         cJSON_AddStringToObject(o, "thesis_source", r->thesis_source);
         cJSON_AddStringToObject(o, "note", r->note);
-        cJSON_AddStringToObject(o, "uncommitted", r->uncommitted);
         cJSON_AddStringToObject(o, "verdict", r->verdict);
         cJSON_AddStringToObject(o, "verdict_why", r->verdict_why);
         cJSON_AddStringToObject(o, "restates", r->restates);

@@ -165,9 +165,6 @@ static void notes_and_figures(FILE *f, const cJSON *res, const char *campaign, c
         text_with_links(f, str(res, "note"), root, link_root);
         fputc('\n', f);
     }
-    if (str(res, "uncommitted")[0]) {
-        fprintf(f, "\n*Not in a committed file:* %s\n", str(res, "uncommitted"));
-    }
     if (str(res, "thesis_source")[0]) {
         fprintf(f, "\nThesis%s: %s.\n", numbers ? " values" : "", str(res, "thesis_source"));
     }
@@ -362,27 +359,6 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
     notes_and_figures(f, res, campaign, root, link_root, true);
 }
 
-/* The end of the page's sentence on evidence: the results whose notes quote numbers no committed
- * file backs (their campaign files' `uncommitted` lines), each linked to its section. */
-static void uncommitted_list(FILE *f, cJSON *const *sets, int ns)
-{
-    int n = 0;
-    for (int i = 0; i < ns; i++) {
-        const cJSON *res;
-        cJSON_ArrayForEach(res, cJSON_GetObjectItem(sets[i], "results"))
-        {
-            if (str(res, "uncommitted")[0]) {
-                fprintf(f, "%s[%s %s](#%s-%s)", n++ ? ", " : ", except numbers in the notes of ",
-                        str(sets[i], "campaign"), str(res, "id"), str(sets[i], "campaign"),
-                        str(res, "id"));
-            }
-        }
-    }
-    fprintf(f, n ? ": each says which of its numbers refit per-run files git does not keep, and no "
-                   "verdict\nabove *partly explained* rests on one."
-                 : ". Every number a note quotes is backed that way.");
-}
-
 int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
 {
     DIR *d = opendir(root);
@@ -494,9 +470,8 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
         "The\n"
         "numbers a note quotes are in committed files under docs/results/ (an investigation it "
         "names is\n"
-        "linked)",
+        "linked).",
         root);
-    uncommitted_list(f.f, sets, ns);
     fprintf(
         f.f,
         "\n\n| campaign | covers | fidelity | points | simulated s | CPU-h | with z | \\|z\\| > 2 "
