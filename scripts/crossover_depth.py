@@ -21,6 +21,7 @@ by depth, v_r_err the standard error over the seeds.
 
 usage: crossover_depth.py [--decades D,D,...] [--ratio Q] RESULTS     (CSV on standard output)
 """
+import argparse
 import csv
 import glob
 import json
@@ -38,31 +39,27 @@ def fail(message):
     sys.exit(1)
 
 
-def arguments(argv):
-    decades, ratio, rest = [6.0, 7.0, 8.0], 0.5, []
-    i = 0
-    while i < len(argv):
-        if argv[i] in ("--decades", "--ratio") and i + 1 < len(argv):
-            try:
-                if argv[i] == "--decades":
-                    decades = [float(d) for d in argv[i + 1].split(",")]
-                else:
-                    ratio = float(argv[i + 1])
-            except ValueError:
-                fail("%s expects %s, not '%s'" % (argv[i], "numbers separated by commas" if argv[i] == "--decades" else "a number", argv[i + 1]))
-            i += 2
-        elif argv[i].startswith("-"):
-            fail("unknown option '%s' (usage: %s [--decades D,D,...] [--ratio Q] RESULTS)" % (argv[i], NAME))
-        else:
-            rest.append(argv[i])
-            i += 1
-    if len(rest) != 1:
-        fail("usage: %s [--decades D,D,...] [--ratio Q] RESULTS" % NAME)
-    if not 0.0 < ratio < 1.0:
-        fail("--ratio must lie between 0 and 1 (a shrinking step), not %g" % ratio)
-    if not all(math.isfinite(d) and d > 0 for d in decades):
-        fail("--decades must be positive numbers")
-    return decades, ratio, rest[0]
+def decades_list(text):
+    try:
+        out = [float(d) for d in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError("expects numbers separated by commas, not '%s'" % text)
+    if not all(math.isfinite(d) and d > 0 for d in out):
+        raise argparse.ArgumentTypeError("must be positive numbers, not '%s'" % text)
+    return out
+
+
+def arguments():
+    ap = argparse.ArgumentParser(prog=NAME, description=__doc__.split("\n")[0])
+    ap.error = lambda message: fail(message)  # one line, as the other refusals
+    ap.add_argument("results", help="a committed result set, docs/results/NAME")
+    ap.add_argument("--decades", type=decades_list, default=[6.0, 7.0, 8.0],
+                    help="where to continue the deepest fit to (default 6,7,8)")
+    ap.add_argument("--ratio", type=float, default=0.5, help="each further step over the one before (default 0.5)")
+    a = ap.parse_args()
+    if not 0.0 < a.ratio < 1.0:
+        fail("--ratio must lie between 0 and 1 (a shrinking step), not %g" % a.ratio)
+    return a.decades, a.ratio, a.results
 
 
 def load(results):
@@ -136,7 +133,7 @@ def mean_depths(seeds):
 
 
 def main():
-    decades, ratio, results = arguments(sys.argv[1:])
+    decades, ratio, results = arguments()
     runs = load(results)
     w = csv.DictWriter(sys.stdout, COLUMNS, lineterminator="\n")
     w.writeheader()

@@ -6,6 +6,7 @@ points whose crossover fits follow a known law of depth:
   measured step_ratio s1 / s2 must be 1/2;
 - `step` is v_r(d) / v_r(d + 1) - 1 and the deepest fit has none;
 - the seed mean averages the seeds and its error is their standard error; one seed gives no mean;
+- the committed investigations/table5.3-depth-L0.*.csv are the script's output on the committed archives;
 - a point without by_depth, an empty folder and a bad --ratio are refused with one line and no
   traceback; a depth deeper than wanted gives no extrapolated row.
 
@@ -92,10 +93,17 @@ with tempfile.TemporaryDirectory() as tmp:
     rc, rows, _ = run(one, "--decades", "7")
     check(rc == 0 and len(rows) == 4 and {r["seed"] for r in rows} == {"1"}, "one seed: its rows, no mean: %s" % rows)
 
+    # the committed investigations are what the script makes of the committed archives, to the digit
+    for name, results in (("table5.3-depth-L0.4.csv", "ch5-crossover-size"), ("table5.3-depth-L0.2.csv", "ch5-dissipation")):
+        docs = os.path.join(sys.argv[2], "docs", "results")
+        r = subprocess.run([sys.executable, SCRIPT, os.path.join(docs, results)], capture_output=True, text=True)
+        check(r.returncode == 0 and r.stdout == open(os.path.join(docs, "investigations", name)).read(),
+              "investigations/%s is crossover_depth.py of docs/results/%s" % (name, results))
+
     old = os.path.join(tmp, "old")
     write_points(old, SYSTEMS, without_depth=True)
     for folder, extra, want in ((old, [], "by_depth"), (os.path.join(tmp, "nothing"), [], "no points/*.json"),
-                                (good, ["--ratio", "1.5"], "--ratio must lie"), (good, ["--decades", "x"], "--decades expects")):
+                                (good, ["--ratio", "1.5"], "--ratio must lie"), (good, ["--decades", "x"], "expects numbers separated by commas")):
         rc, rows, err = run(folder, *extra)
         check(rc != 0 and rows == [] and err.startswith("crossover_depth.py: ") and want in err and "Traceback" not in err
               and err.count("\n") == 1, "refused with one line naming %s: %r" % (want, err))
