@@ -439,6 +439,10 @@ ok, seen = True, 0
 for n in names:
     d = json.load(open(os.path.join(root, n, "results.json")))
     ok &= ("## " + d["title"]) in page
+    # the heading adds the covers line in brackets: a title that names them too says them twice
+    for item in d.get("covers", "").split(", "):
+        if item and item in d["title"]:
+            print("title repeats its covers:", n, item); ok = False
     for r in d["results"]:
         ok &= ("### %s: " % r["id"]) in page
         for row in r["rows"]:
