@@ -3,7 +3,7 @@ set datafile separator whitespace
 set logscale xy
 set format y '10^{%L}'
 set format x '%g'
-set xlabel 'k' noenhanced
+set xlabel 'k (1/m)' noenhanced
 set ylabel 'S(k)' noenhanced
 set key top right font ',9' noenhanced
 set tics font ',10'
