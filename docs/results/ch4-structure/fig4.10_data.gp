@@ -3,10 +3,10 @@ set datafile separator whitespace
 set logscale xy
 set format y '10^{%L}'
 set format x '%g'
-set xlabel 'l_over_d' noenhanced
+set xlabel 'l / d' noenhanced
 set ylabel 'P_l' noenhanced
 set key below height 1.5 noenhanced
 set multiplot layout 1,1 title "Free-path distribution P_l(l) (4.18), eps_n = eps_t = 0.1" noenhanced font ',13'
-plot for [i=0:6] 'fig4.10_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i-0+1 title columnheader(1)
+plot for [i=0:7] 'fig4.10_blocks.dat' index i using 1:2 with linespoints pt 7 ps 0.5 lc i-0+1 title columnheader(1)
 unset multiplot
 

@@ -7,5 +7,5 @@ set key below height 1.5 noenhanced
 set xlabel '|v| (m/s)'
 set ylabel 'P(v) (s/m)'
 set title "fig5.12-predicted: the runs' P(v), 5.31 with the predicted S (solid) and fitted (dashed)" noenhanced
-plot for [i=0:6] 'fig5.12-predicted_tail.dat' index i using 1:3 with points pt 7 ps 0.4 lc i+1 title columnheader(1), for [i=0:6] '' index i using 1:7 with lines lw 2 lc i+1 notitle, for [i=0:6] '' index i using 1:6 with lines lw 1 dt 2 lc i+1 notitle
+plot for [i=0:7] 'fig5.12-predicted_tail.dat' index i using 1:3 with points pt 7 ps 0.4 lc i+1 title columnheader(1), for [i=0:7] '' index i using 1:7 with lines lw 2 lc i+1 notitle, for [i=0:7] '' index i using 1:6 with lines lw 1 dt 2 lc i+1 notitle
 

@@ -5,5 +5,5 @@ set key below height 1.5 noenhanced
 set xlabel 'ln(v / v_{rms})'
 set ylabel '-ln(-ln(P / P^{/Symbol \242}))'
 set title "fig5.13: P' = P(0) (filled) and A_0 (open), lines fitted over the window" noenhanced
-plot for [i=0:6] 'fig5.13_tail.dat' index i using (log($2)):8 with points pt 7 ps 0.5 lc i+1 title columnheader(1), for [i=0:6] '' index i using (log($2)):9 with points pt 6 ps 0.5 lc i+1 notitle, for [i=0:6] '' index i using (log($2)):10 with lines lw 2 lc i+1 notitle, for [i=0:6] '' index i using (log($2)):11 with lines lw 2 dt 2 lc i+1 notitle
+plot for [i=0:7] 'fig5.13_tail.dat' index i using (log($2)):8 with points pt 7 ps 0.5 lc i+1 title columnheader(1), for [i=0:7] '' index i using (log($2)):9 with points pt 6 ps 0.5 lc i+1 notitle, for [i=0:7] '' index i using (log($2)):10 with lines lw 2 lc i+1 notitle, for [i=0:7] '' index i using (log($2)):11 with lines lw 2 dt 2 lc i+1 notitle
 
