@@ -229,38 +229,44 @@ static void write_block(FILE *f, const char *group, const spm_run *o, bool first
     }
 }
 
-static void draw(const char *results, const gr_campaign_result *r, int blocks)
+/* titles: the blocks' groups in physical labels (N = 3000, L = 0.2 m), a gnuplot array's items;
+ * labels too long for a row of the key (contact-models' model names) go one per line in a smaller
+ * font: gnuplot drops a key wider than the picture */
+static void draw(const char *results, const gr_campaign_result *r, int blocks, const char *titles,
+                 bool long_labels)
 {
-    char body[3072];
+    char body[16384];
+    const char *key = long_labels ? "set key below height 1.5 noenhanced maxcols 1 font ',11'\n"
+                                  : "set key below height 1.5 noenhanced\n";
     const int q = quantity_index(r->y);
     if (q == Q_A0P0 || q == Q_SLOPE_P0 || q == Q_SLOPE_A0) { /* Fig. 5.13 */
         snprintf(
             body, sizeof body,
-            "set datafile separator whitespace\nset datafile missing 'nan'\nset key below height "
-            "1.5 "
-            "noenhanced\n"
+            "array T[%d] = [%s]\n"
+            "set datafile separator whitespace\nset datafile missing 'nan'\n%s"
             "set xlabel 'ln(v / v_{rms})'\nset ylabel '-ln(-ln(P / P^{/Symbol \\242}))'\n"
             "set title \"%s: P' = P(0) (filled) and A_0 (open), lines fitted over the window\" "
             "noenhanced\n"
             "plot for [i=0:%d] '%s_tail.dat' index i using (log($2)):8 with points pt 7 ps 0.5 lc "
-            "i+1 title columnheader(1), "
+            "i+1 title T[i+1], "
             "for [i=0:%d] '' index i using (log($2)):9 with points pt 6 ps 0.5 lc i+1 notitle, "
             "for [i=0:%d] '' index i using (log($2)):10 with lines lw 2 lc i+1 notitle, "
             "for [i=0:%d] '' index i using (log($2)):11 with lines lw 2 dt 2 lc i+1 notitle\n",
-            r->id, blocks - 1, r->id, blocks - 1, blocks - 1, blocks - 1);
+            blocks, titles, key, r->id, blocks - 1, r->id, blocks - 1, blocks - 1, blocks - 1);
     } else { /* Fig. 5.12 */
         snprintf(
             body, sizeof body,
+            "array T[%d] = [%s]\n"
             "set datafile separator whitespace\nset datafile missing 'nan'\nset logscale y\nset "
             "format y '10^{%%L}'\n"
-            "set key below height 1.5 noenhanced\nset xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\n"
+            "%sset xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\n"
             "set title \"%s: the runs' P(v), 5.31 with the predicted S (solid) and fitted "
             "(dashed)\" noenhanced\n"
             "plot for [i=0:%d] '%s_tail.dat' index i using 1:3 with points pt 7 ps 0.4 lc i+1 "
-            "title columnheader(1), "
+            "title T[i+1], "
             "for [i=0:%d] '' index i using 1:7 with lines lw 2 lc i+1 notitle, "
             "for [i=0:%d] '' index i using 1:6 with lines lw 1 dt 2 lc i+1 notitle\n",
-            r->id, blocks - 1, r->id, blocks - 1, blocks - 1);
+            blocks, titles, key, r->id, blocks - 1, r->id, blocks - 1, blocks - 1);
     }
     campaign_draw(results, r->id, "_data", body);
 }
@@ -298,6 +304,8 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
     static char g[MAX_GROUPS][160];
     const int ng = campaign_groups(pts, NULL, NULL, g);
     int blocks = 0;
+    char titles[MAX_GROUPS * 48] = "";
+    bool long_labels = false;
     for (int gi = 0; gi < ng; gi++) {
         campaign_row *row = campaign_group_row(rows, g[gi]);
         const campaign_point *m[MAX_SEEDS];
@@ -318,6 +326,12 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
                     o.t.alpha, o.t.h, o.pl_lo, o.pl_hi, o.pl_points, o.C_fit_chi2);
             if (o.have_tail && !drawn) {
                 write_block(tail, g[gi], &o, blocks == 0);
+                char label[160];
+                campaign_pretty_group(g[gi], label, sizeof label);
+                long_labels |= strlen(label) > 40;
+                const size_t used = strlen(titles);
+                snprintf(titles + used, sizeof titles - used, "%s\"%s\"", blocks ? ", " : "",
+                         label);
                 drawn = true;
                 blocks++;
             }
@@ -353,7 +367,7 @@ int campaign_spm(const gr_campaign *c, const gr_campaign_result *r, const campai
         return GR_FAIL(err, GR_EIO, "cannot write %s", path);
     }
     if (blocks) {
-        draw(results, r, blocks);
+        draw(results, r, blocks, titles, long_labels);
     }
     return GR_OK;
 }
