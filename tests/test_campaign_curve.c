@@ -345,8 +345,9 @@ END_TEST
 /* The local slopes and their trend (campaign_analyse.c): points whose local exponent grows as
  * xi(N) = xi0 + t ln(N / N_c), ln y = ln A - xi0 u - (t / 2) u^2 with u = ln(N / N_c), three
  * seeds at 0.99, 1 and 1.01 of the law (their mean exact). The trend row recovers t and the
- * exponent at the centre, the local slopes the exponent at each pair's midpoint in ln N; with
- * t = 0 the trend is 0 within its error. */
+ * exponent at the centre, the local slopes the exponent at each pair's midpoint in ln N, and so do
+ * the wide ones (slope_span = 3) with a third of the error; with t = 0 the trend is 0 within its
+ * error. */
 START_TEST(test_local_slopes_and_their_trend)
 {
     enum { NX = 6, NS = 3 };
@@ -385,6 +386,8 @@ START_TEST(test_local_slopes_and_their_trend)
         snprintf(r.by, sizeof r.by, "model.eps_n");
         r.x_max = INFINITY;
         r.local_slopes = true;
+        r.slope_span = pass ? 0 : 3;
+        const int nw = pass ? 0 : NX - 3; /* wide pairs: 1000-3981, 1585-6310, 2512-10000 */
         char dir[] = "/tmp/granule-slopes-XXXXXX";
         ck_assert_ptr_nonnull(mkdtemp(dir));
         gr_file data;
@@ -393,7 +396,7 @@ START_TEST(test_local_slopes_and_their_trend)
         campaign_rows rows = {0};
         ck_assert_int_eq(campaign_power_law(NULL, &r, &pts, &rows, &data, &err), GR_OK);
         ck_assert_int_eq(gr_file_commit(&data, &err), GR_OK);
-        ck_assert_int_eq(rows.n, 1 + (NX - 1) + 1); /* the fit, five local slopes, the trend */
+        ck_assert_int_eq(rows.n, 1 + (NX - 1) + nw + 1); /* fit, local and wide slopes, trend */
         ck_assert_int_eq(rows.r[0].role, 0);
         for (int i = 1; i < NX; i++) { /* exact for a quadratic: the slope at the midpoint */
             const campaign_row *w = &rows.r[i];
@@ -406,7 +409,16 @@ START_TEST(test_local_slopes_and_their_trend)
             ck_assert(w->error_seeds < 1e-9);
             ck_assert_double_eq(w->error, w->error_fit);
         }
-        const campaign_row *tr = &rows.r[NX];
+        for (int i = NX; i < NX + nw; i++) { /* three sizes apart: a lever arm three times longer */
+            const campaign_row *w = &rows.r[i];
+            ck_assert_int_eq(w->role, 'w');
+            ck_assert_double_eq_tol(w->x_hi, xs[i - NX + 3], 1e-9);
+            const double mid = 0.5 * (log(w->x_lo) + log(w->x_hi)) - uc;
+            ck_assert_double_eq_tol(w->value, xi0 + t * mid, 1e-9);
+            ck_assert_double_eq_tol(w->error * log(w->x_hi / w->x_lo),
+                                    rows.r[1].error * log(rows.r[1].x_hi / rows.r[1].x_lo), 1e-12);
+        }
+        const campaign_row *tr = &rows.r[NX + nw];
         ck_assert_int_eq(tr->role, 't');
         ck_assert_str_eq(tr->group, "eps_n=0.1, trend N=1000-10000");
         ck_assert_int_eq(tr->n_x, NX);
@@ -432,8 +444,18 @@ START_TEST(test_local_slopes_and_their_trend)
                 n++;
             }
         }
-        fclose(f);
         ck_assert_int_eq(n, NX - 1);
+        int n_wide = 0;
+        while (nw && fgets(line, sizeof line, f)) { /* the next block: the wide slopes */
+            if (strstr(line, "wide_local_slope")) {
+                while (fgets(line, sizeof line, f) && line[0] != '\n') {
+                    n_wide += sscanf(line, "%lf %lf %lf %lf %lf", &x, &lo, &hi, &v, &e) == 5;
+                }
+                break;
+            }
+        }
+        fclose(f);
+        ck_assert_int_eq(n_wide, nw);
         for (int i = 0; i < pts.n; i++) {
             cJSON_Delete(p[i].manifest);
             cJSON_Delete(p[i].summary);

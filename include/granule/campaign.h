@@ -119,6 +119,7 @@ typedef struct gr_campaign_result {
     bool per_m;              /* report exponent / m (Fig. 3.5) */
     bool
         local_slopes; /* POWER_LAW: also the exponent between every pair of neighbouring x (one row each) */
+    int slope_span; /* POWER_LAW with local_slopes: also the exponent between x_i and x_i+span (0: none) */
     double period; /* RUNNING: seconds per period mean */
     int configurations; /* CASCADE: cascade placements averaged (default 20); CASCADE_FIELD: fields per seed */
     double df; /* SPM: D_f fixed for C, alpha and h (0: the run's free 4.25 fit) */

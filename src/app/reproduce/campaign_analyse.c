@@ -385,10 +385,38 @@ static void slope_trend(campaign_rows *rows, const char *group, int m, double sc
     per_seed_error(w, per, ns);
 }
 
-/* The exponent between neighbouring abscissae, xi = ln(y_i / y_i+1) / ln(x_i+1 / x_i), with the
- * error of the two seed means propagated as if independent and, beside it, the seeds' own spread
- * (seed_table): one row per pair, "GROUP, X=x_i-x_i+1" (role 'l'), then their trend (slope_trend). Where the power law only holds asymptotically,
- * these show whether the slope still moves with x. */
+/* The exponent between abscissae a and b, xi = ln(y_a / y_b) / ln(x_b / x_a), with the error of
+ * the two seed means propagated as if independent and, beside it, the seeds' own spread
+ * (seed_table): one row "GROUP, X=x_a-x_b" of the given role. */
+static void slope_row(campaign_rows *rows, const char *group, int m, double scale, const double *fx,
+                      const double *fy, const double *fe, int a, int b, char role,
+                      const char *short_x, const seed_table *st)
+{
+    campaign_row *w = campaign_rows_add(rows);
+    snprintf(w->group, sizeof w->group, "%.100s, %.20s=%g-%g", group, short_x, fx[a], fx[b]);
+    w->m = m;
+    const double lx = log(fx[b] / fx[a]);
+    w->value = log(fy[a] / fy[b]) / lx * scale;
+    w->error = w->error_fit = hypot(fe[a] / fy[a], fe[b] / fy[b]) / lx * scale;
+    w->n_x = 2;
+    w->x_lo = fx[a];
+    w->x_hi = fx[b];
+    w->role = role;
+    double per[MAX_SEEDS];
+    int ns = 0;
+    for (int sd = 0; sd < st->n_seed; sd++) {
+        const double ya = st->v[sd][st->fxi[a]], yb = st->v[sd][st->fxi[b]];
+        if (isfinite(ya) && isfinite(yb)) {
+            per[ns++] = log(ya / yb) / lx * scale;
+        }
+    }
+    per_seed_error(w, per, ns);
+}
+
+/* The local slopes: one row per pair of neighbouring abscissae (role 'l'); with slope_span = K
+ * also one per pair K sizes apart (role 'w': the same means, but a lever arm ln(x_i+K / x_i) K
+ * times longer, so an error about K times smaller); then their trend (slope_trend). Where the
+ * power law only holds asymptotically, these show whether the slope still moves with x. */
 static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const char *group, int m,
                          double scale, const double *fx, const double *fy, const double *fe, int nf,
                          const seed_table *st)
@@ -406,26 +434,11 @@ static void local_slopes(const gr_campaign_result *r, campaign_rows *rows, const
     const char *dot = strrchr(r->x, '.');
     snprintf(short_x, sizeof short_x, "%s", dot ? dot + 1 : r->x);
     for (int k = 0; k + 1 < nf; k++) {
-        const int a = order[k], b = order[k + 1];
-        campaign_row *w = campaign_rows_add(rows);
-        snprintf(w->group, sizeof w->group, "%.100s, %.20s=%g-%g", group, short_x, fx[a], fx[b]);
-        w->m = m;
-        const double lx = log(fx[b] / fx[a]);
-        w->value = log(fy[a] / fy[b]) / lx * scale;
-        w->error = w->error_fit = hypot(fe[a] / fy[a], fe[b] / fy[b]) / lx * scale;
-        w->n_x = 2;
-        w->x_lo = fx[a];
-        w->x_hi = fx[b];
-        w->role = 'l';
-        double per[MAX_SEEDS];
-        int ns = 0;
-        for (int sd = 0; sd < st->n_seed; sd++) {
-            const double ya = st->v[sd][st->fxi[a]], yb = st->v[sd][st->fxi[b]];
-            if (isfinite(ya) && isfinite(yb)) {
-                per[ns++] = log(ya / yb) / lx * scale;
-            }
-        }
-        per_seed_error(w, per, ns);
+        slope_row(rows, group, m, scale, fx, fy, fe, order[k], order[k + 1], 'l', short_x, st);
+    }
+    for (int k = 0; r->slope_span > 1 && k + r->slope_span < nf; k++) {
+        slope_row(rows, group, m, scale, fx, fy, fe, order[k], order[k + r->slope_span], 'w',
+                  short_x, st);
     }
     slope_trend(rows, group, m, scale, fx, fy, fe, nf, short_x, st);
 }

@@ -302,6 +302,19 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         r->configurations = (int)k;
         return 1;
     }
+    if (!strcmp(name, "slope_span")) {
+        char *end;
+        long k = strtol(value, &end, 10);
+        if (end == value || *end || k < 2 || k > 8) {
+            snprintf(p->error, sizeof p->error,
+                     "[result %s] slope_span = %s: expected an integer from 2 to 8 (the sizes "
+                     "between a wide local slope's two ends)",
+                     r->id, value);
+            return 0;
+        }
+        r->slope_span = (int)k;
+        return 1;
+    }
     if (!strcmp(name, "per_m") || !strcmp(name, "local_slopes")) {
         bool *flag = name[0] == 'p' ? &r->per_m : &r->local_slopes;
         *flag = !strcmp(value, "true");
@@ -383,7 +396,7 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
     }
     snprintf(p->error, sizeof p->error,
              "[result %s] %s: unknown key; keys: title, kind, quantity, unit, y, y_err, x, x_min, "
-             "x_max, by, m, per_m, local_slopes, period, "
+             "x_max, by, m, per_m, local_slopes, slope_span, period, "
              "table, where, select, transform, collapse_at, scale_moment, axes, overlay, "
              "overlay_exponent, "
              "overlay_y, overlay_title, x_label, restates, compensate, against, "
@@ -650,6 +663,12 @@ static int parse_text(gr_campaign *c, const char *text, size_t len, const char *
                                "%s: [result %s] restates = %s: not another result of this campaign",
                                where, r->id, r->restates);
             }
+        }
+        if (r->slope_span && (r->kind != GR_RESULT_POWER_LAW || !r->local_slopes)) {
+            return GR_FAIL(err, GR_EINVAL,
+                           "%s: [result %s] slope_span needs kind = power_law and local_slopes = "
+                           "true",
+                           where, r->id);
         }
         if (r->kind == GR_RESULT_POWER_LAW && !r->x[0]) {
             return GR_FAIL(err, GR_EINVAL,
