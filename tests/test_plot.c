@@ -70,6 +70,19 @@ START_TEST(test_compose)
               strstr(s, "set xtics add (10.0**gr_n"));
     ck_assert(strstr(s, "set terminal pop\nset output 'a.png'\nreplot\nset output\n"));
     free(s);
+    /* a one-panel multiplot is fitted alike but drawn again from its body (replot would draw
+     * only its last plot); one of several panels is not (one range would not suit them all) */
+    s = gr_plot_compose("set logscale y\nset multiplot layout 1,1 title 'T'\nplot 'a.csv' using "
+                        "1:2\nunset multiplot",
+                        "m.png", GR_PLOT_PNG);
+    ck_assert(strstr(s, "GPVAL_DATA_Y_MIN") && !strstr(s, "replot") &&
+              strstr(s, "set terminal pop\nset output 'm.png'\nset logscale y\nset multiplot"));
+    free(s);
+    s = gr_plot_compose("set logscale y\nset multiplot layout 1,2\nplot 'a.csv' using "
+                        "1:2\nunset multiplot",
+                        "m2.png", GR_PLOT_PNG);
+    ck_assert(!strstr(s, "GPVAL_DATA_Y_MIN") && !strstr(s, "replot"));
+    free(s);
     /* a body with its own range, or no log axis, is drawn once as it is */
     s = gr_plot_compose("set logscale x\nset xrange [1:10]\nplot x", "r.png", GR_PLOT_PNG);
     ck_assert(!strstr(s, "replot") && strstr(s, "set output 'r.png'\nset logscale x"));
@@ -103,7 +116,9 @@ START_TEST(test_compose)
 END_TEST
 
 /* A log axis ends at the data (plus a few %), not at whole decades: data at 1.7-18 gave 1-100
- * (gaps_lnR, issue 38); under two decades its ticks are 1, 2, 5 x 10^n, so it carries labels */
+ * (gaps_lnR, issue 38); under two decades its ticks are 1, 2, 5 x 10^n, so it carries labels. So
+ * too in a one-panel multiplot (a campaign's data figure), which had spanned 10^-3..10^1 for data
+ * at 0.04-0.23. */
 START_TEST(test_log_axis_fits_data)
 {
     if (!have_gnuplot()) {
@@ -114,30 +129,36 @@ START_TEST(test_log_axis_fits_data)
     FILE *f = fopen(path, "w");
     fprintf(f, "x,y\n1.7,1e-3\n3,1e-2\n10,0.1\n18,0.05\n");
     fclose(f);
-    char *s = gr_plot_compose("set logscale xy\nplot 'lg.csv' skip 1 using 1:2 with linespoints",
-                              "lg.svg", GR_PLOT_SVG);
-    snprintf(path, sizeof path, "%s/lg.plt", g_dir);
-    f = fopen(path, "w");
-    fprintf(f, "%sset print 'lg.range'\nprint GPVAL_X_MIN, GPVAL_X_MAX, GPVAL_Y_MIN, GPVAL_Y_MAX\n",
+    const char *bodies[] = {
+        "set logscale xy\nplot 'lg.csv' skip 1 using 1:2 with linespoints",
+        "set logscale xy\nset multiplot layout 1,1 title 'one panel'\nplot 'lg.csv' skip 1 using "
+        "1:2 with linespoints\nunset multiplot"};
+    for (int b = 0; b < 2; b++) {
+        char *s = gr_plot_compose(bodies[b], "lg.svg", GR_PLOT_SVG);
+        snprintf(path, sizeof path, "%s/lg.plt", g_dir);
+        f = fopen(path, "w");
+        fprintf(
+            f, "%sset print 'lg.range'\nprint GPVAL_X_MIN, GPVAL_X_MAX, GPVAL_Y_MIN, GPVAL_Y_MAX\n",
             s);
-    fclose(f);
-    free(s);
-    snprintf(cmd, sizeof cmd, "cd '%s' && gnuplot lg.plt 2>/dev/null", g_dir);
-    ck_assert_int_eq(system(cmd), 0);
-    snprintf(path, sizeof path, "%s/lg.range", g_dir);
-    double x0, x1, y0, y1;
-    f = fopen(path, "r");
-    ck_assert_ptr_nonnull(f);
-    ck_assert_int_eq(fscanf(f, "%lf %lf %lf %lf", &x0, &x1, &y0, &y1), 4);
-    fclose(f);
-    ck_assert_msg(x0 > 1.5 && x0 < 1.7 && x1 > 18.0 && x1 < 21.0,
-                  "x axis %g..%g for data at 1.7..18", x0, x1);
-    ck_assert_msg(y0 > 5e-4 && y0 < 1e-3 && y1 > 0.1 && y1 < 0.2,
-                  "y axis %g..%g for data at 1e-3..0.1", y0, y1);
-    snprintf(path, sizeof path, "%s/lg.svg", g_dir);
-    char *svg = slurp(path);
-    ck_assert_msg(strstr(svg, "<svg"), "no SVG drawn");
-    free(svg);
+        fclose(f);
+        free(s);
+        snprintf(cmd, sizeof cmd, "cd '%s' && rm -f lg.svg && gnuplot lg.plt 2>/dev/null", g_dir);
+        ck_assert_int_eq(system(cmd), 0);
+        snprintf(path, sizeof path, "%s/lg.range", g_dir);
+        double x0, x1, y0, y1;
+        f = fopen(path, "r");
+        ck_assert_ptr_nonnull(f);
+        ck_assert_int_eq(fscanf(f, "%lf %lf %lf %lf", &x0, &x1, &y0, &y1), 4);
+        fclose(f);
+        ck_assert_msg(x0 > 1.5 && x0 < 1.7 && x1 > 18.0 && x1 < 21.0,
+                      "body %d: x axis %g..%g for data at 1.7..18", b, x0, x1);
+        ck_assert_msg(y0 > 5e-4 && y0 < 1e-3 && y1 > 0.1 && y1 < 0.2,
+                      "body %d: y axis %g..%g for data at 1e-3..0.1", b, y0, y1);
+        snprintf(path, sizeof path, "%s/lg.svg", g_dir);
+        char *svg = slurp(path);
+        ck_assert_msg(strstr(svg, "<svg"), "body %d: no SVG drawn", b);
+        free(svg);
+    }
 }
 END_TEST
 

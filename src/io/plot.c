@@ -142,10 +142,13 @@ char *gr_plot_compose(const char *body, const char *output, gr_plot_format f)
      * there, so a body with one plot and log axes of its own range is drawn once on a dummy
      * terminal to learn the data's range (GPVAL_DATA_*), and the log axes are then fitted to it
      * with a margin of a few % of the span; under two decades they get ticks at 1, 2, 5 x 10^n
-     * so that they always carry labels */
+     * so that they always carry labels. A one-panel multiplot (a title over the whole canvas) is
+     * fitted alike, but drawn again from its body: replot does not repeat a multiplot */
     bool fit[2] = {log[0] && !has_line(body, "set xrange") && !strstr(body, "plot ["),
                    log[1] && !has_line(body, "set yrange") && !strstr(body, "plot [")};
-    if (!(fit[0] || fit[1]) || count_lines(body, "plot ") != 1 || strstr(body, "multiplot")) {
+    const bool multiplot = strstr(body, "multiplot") != NULL;
+    if (!(fit[0] || fit[1]) || count_lines(body, "plot ") != 1 ||
+        (multiplot && !strstr(body, "multiplot layout 1,1"))) {
         snprintf(s + len, size - len, "set output '%s'\n%s\nset output\n", output, body);
         return s;
     }
@@ -168,8 +171,8 @@ char *gr_plot_compose(const char *body, const char *output, gr_plot_format f)
                                     A, A, a ? "0.06" : "0.03", axis, axis, axis, axis);
         }
     }
-    snprintf(s + len, size - len, "set terminal pop\nset output '%s'\nreplot\nset output\n",
-             output);
+    snprintf(s + len, size - len, "set terminal pop\nset output '%s'\n%s\nset output\n", output,
+             multiplot ? body : "replot");
     return s;
 }
 

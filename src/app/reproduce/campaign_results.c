@@ -395,13 +395,20 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
         if (!blocks) {
             return;
         }
-        char window[64], xlab[96], ylab[96];
+        char window[160] = "", xlab[96], ylab[96];
         axis_labels(r, xlab, sizeof xlab, ylab, sizeof ylab);
-        snprintf(window, sizeof window, isfinite(r->x_max) ? "%g-%g" : "from %g", r->x_min,
-                 r->x_max);
+        const char *dot = strrchr(r->x, '.'); /* system.N: N */
+        const char *x = dot ? dot + 1 : r->x;
+        if (isfinite(r->x_max) && r->x_min > 0.0) {
+            snprintf(window, sizeof window, " (open: outside the fit window %s = %g-%g)", x,
+                     r->x_min, r->x_max);
+        } else if (isfinite(r->x_max) || r->x_min > 0.0) {
+            snprintf(window, sizeof window, " (open: outside the fit window %s %s %g)", x,
+                     isfinite(r->x_max) ? "<=" : ">=", isfinite(r->x_max) ? r->x_max : r->x_min);
+        }
         char head[1024], title[512];
-        snprintf(title, sizeof title,
-                 "%s: the points of every fit (open: outside the fit window, %s)", r->id, window);
+        snprintf(title, sizeof title, "%s: the data of each fit%s",
+                 r->quantity[0] ? r->quantity : r->id, window);
         snprintf(head, sizeof head,
                  "set datafile separator whitespace\nset logscale xy\nset xlabel '%s' "
                  "noenhanced\nset ylabel '%s' noenhanced\n",

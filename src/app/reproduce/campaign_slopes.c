@@ -102,12 +102,13 @@ void campaign_slopes_plot(const char *dir, const gr_campaign_result *r, const ca
     char body[4096], xlab[96];
     const char *dot = strrchr(r->x, '.');
     snprintf(xlab, sizeof xlab, "%s", dot ? dot + 1 : r->x);
-    int len = snprintf(body, sizeof body,
-                       "set datafile separator whitespace\nset title \"The local slopes of %s against "
-                       "%s\" noenhanced\nset logscale x\nset xlabel '%s' noenhanced\n"
-                       "set ylabel 'local %s' noenhanced\nset key below height 1.5\n"
-                       "set grid ytics lc rgb '#dddddd'\nplot ",
-                       r->quantity, xlab, xlab, r->quantity);
+    int len =
+        snprintf(body, sizeof body,
+                 "set datafile separator whitespace\nset title \"The local slopes of %s against "
+                 "%s\" noenhanced\nset logscale x\nset xlabel '%s' noenhanced\n"
+                 "set ylabel 'local %s' noenhanced\nset key below height 1.5\n"
+                 "set grid ytics lc rgb '#dddddd'\nplot ",
+                 r->quantity, xlab, xlab, r->quantity);
     char trend_title[128];
     snprintf(trend_title, sizeof trend_title, "trend (quadratic in ln %s)", xlab);
     bool wide_titled = false;
