@@ -81,6 +81,26 @@ static void split_group(const char *group, char *values, size_t nv, char *keys, 
     }
 }
 
+/* Text for a gnuplot string in single quotes, where an apostrophe is written twice (the thesis's
+ * form); cut at the buffer's end, never between the two. */
+static void gp_quote_apostrophes(char *text, size_t size)
+{
+    char out[512];
+    size_t n = 0;
+    for (const char *c = text; *c; c++) {
+        const size_t w = *c == '\'' ? 2 : 1;
+        if (n + w >= size || n + w >= sizeof out) {
+            break;
+        }
+        out[n++] = *c;
+        if (w == 2) {
+            out[n++] = '\'';
+        }
+    }
+    memcpy(text, out, n);
+    text[n] = '\0';
+}
+
 /* ours against the thesis, one point per row (labels on the x axis) */
 static void plot_compare(const char *dir, const gr_campaign_result *r, const campaign_rows *rows)
 {
@@ -171,9 +191,7 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
         snprintf(ylabel, sizeof ylabel, "%.200s%s%.60s", r->quantity, r->unit[0] ? " / " : "",
                  r->unit);
     }
-    for (char *q = strchr(ylabel, '\''); q; q = strchr(q, '\'')) {
-        *q = '`'; /* the label sits in a gnuplot string in single quotes */
-    }
+    gp_quote_apostrophes(ylabel, sizeof ylabel); /* the label sits in single quotes */
     char body[2048];
     snprintf(
         body, sizeof body,
@@ -480,9 +498,7 @@ static void plot_data(const char *dir, const gr_campaign_result *r)
                 } else {
                     snprintf(words, sizeof words, "A x^%g fitted (dashed)", r->overlay_exponent);
                 }
-                for (char *q = strchr(words, '\''); q; q = strchr(q, '\'')) {
-                    *q = '`'; /* the words sit in a gnuplot string in single quotes */
-                }
+                gp_quote_apostrophes(words, sizeof words); /* the words sit in single quotes */
                 snprintf(dashed, sizeof dashed,
                          ", for [i=%d:%d] '%s_overlay.dat' index i using 1:2 with lines dt 2 lw 2 "
                          "lc i-%d+1 title (i == %d ? '%s' : '')",
