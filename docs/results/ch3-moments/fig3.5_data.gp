@@ -8,7 +8,7 @@ set tics font ',10'
 set title font ',12'
 set xlabel font ',11'
 set ylabel font ',11'
-set multiplot layout 3,3 title "fig3.5: the points of every fit (open: outside the fit window, from 251)" noenhanced font ',13'
+set multiplot layout 3,3 title "xi_m/m: the data of each fit (open: outside the fit window N >= 251)" noenhanced font ',13'
 set title 'eps_n = 0.01' noenhanced
 plot for [i=0:8] 'fig3.5_blocks.dat' index i using 1:($4 > 0 ? $2 : 1/0):3 with yerrorbars pt 7 lc i-0+1 title sprintf('m = %d', 1 + (i - 0) * 1), for [i=0:8] '' index i using 1:($4 > 0 ? 1/0 : $2) with points pt 6 lc i-0+1 notitle, for [i=0:8] 'fig3.5_thesis.dat' index i using 1:2 with lines dt 2 lw 2 lc i-0+1 title (i == 0 ? 'thesis exponent (dashed)' : '')
 unset key

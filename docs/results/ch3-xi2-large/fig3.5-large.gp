@@ -1,6 +1,6 @@
 # granule: gnuplot body of fig3.5-large.gp (run inside this folder); granule plot DIR redraws it
 set datafile separator whitespace
-set title "Multi-scaling of the velocity moments xi_m / m (3.13) at eps = 0.1, N = 1000-10000" noenhanced
+set title "Multi-scaling of the velocity moments xi_m / m (3.13) at eps = 0.1 over the window of Fig. 3.5, N = 398-3981" noenhanced
 set ylabel 'xi_m/m' noenhanced
 set xtics rotate by 90 right font ',11' noenhanced
 set xlabel 'eps_n' noenhanced

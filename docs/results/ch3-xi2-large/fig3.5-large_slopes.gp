@@ -1,6 +1,6 @@
 # granule: gnuplot body of fig3.5-large_slopes.gp (run inside this folder); granule plot DIR redraws it
 set datafile separator whitespace
-set title "fig3.5-large: local slopes against N" noenhanced
+set title "The local slopes of xi_m/m against N" noenhanced
 set logscale x
 set xlabel 'N' noenhanced
 set ylabel 'local xi_m/m' noenhanced

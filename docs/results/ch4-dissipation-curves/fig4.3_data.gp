@@ -7,6 +7,6 @@ set xlabel 'k d' noenhanced
 set ylabel 'S(k)' noenhanced
 set key below height 1.5 noenhanced
 set multiplot layout 1,1 title "S(k), L = 0.4 m, eps_t = 1 (Case I)" noenhanced font ',13'
-plot for [i=0:3] 'fig4.3_blocks.dat' index i using 1:2 with points pt 7 ps 0.5 lc i-0+1 title columnheader(1), for [i=0:3] 'fig4.3_overlay.dat' index i using 1:2 with lines dt 2 lw 2 lc i-0+1 title (i == 0 ? 'A k^-1.63, the thesis`s form (dashed)' : '')
+plot for [i=0:3] 'fig4.3_blocks.dat' index i using 1:2 with points pt 7 ps 0.5 lc i-0+1 title columnheader(1), for [i=0:3] 'fig4.3_overlay.dat' index i using 1:2 with lines dt 2 lw 2 lc i-0+1 title (i == 0 ? 'A k^-1.63, the thesis''s form (dashed)' : '')
 unset multiplot
 
