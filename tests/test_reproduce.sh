@@ -321,7 +321,7 @@ for i in ids:
     ok &= len(rows) == 2 and all(c in rows[0] for c in ["frac_within", "decades", "k", "s", "alpha_spm", "alpha_rfm", "v_rms", "v_from"])
     ok &= 0.0 <= float(rows[0]["frac_within"]) <= 1.0 and float(rows[0]["k"]) > 0.0
     pv = open(os.path.join(d, i + "_pv.dat")).read()
-    ok &= pv.startswith('"N+L=') and pv.count(" seed ") == 2 and len(pv.splitlines()) > 20
+    ok &= pv.startswith('"N = ') and "L = " in pv and pv.count(", seed ") == 2 and len(pv.splitlines()) > 20
     ok &= os.path.getsize(os.path.join(d, i + "_data.png")) > 0
 point = json.load(open(os.path.join(d, "points", "p0000.json")))
 ok &= any(k.startswith("spm_compare.csv") for k in point.get("series", {}))

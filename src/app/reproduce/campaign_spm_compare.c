@@ -155,8 +155,10 @@ static void analyse_run(const campaign_point *pt, long walks, cmp_run *o)
 /* One gnuplot block per run: the run's P(v) and the SPM's scaled by k (Fig. 5.10's dashed lines). */
 static void write_block(FILE *f, const char *group, int seed, const cmp_run *o, bool first)
 {
-    fprintf(f, "%s\"%s seed %d\"\n# v P_rfm P_rfm_err k_P_spm k_P_spm_err compared\n",
-            first ? "" : "\n\n", group, seed);
+    char label[200];
+    campaign_pretty_group(group, label, sizeof label); /* N = 3000, L = 0.2 m */
+    fprintf(f, "%s\"%s, seed %d\"\n# v P_rfm P_rfm_err k_P_spm k_P_spm_err compared\n",
+            first ? "" : "\n\n", label, seed);
     for (int i = 0; i < o->n; i++) {
         double me = 0.0;
         const double m = o->ps[i] > 0.0
@@ -178,11 +180,12 @@ static void draw(const char *results, const gr_campaign_result *r, int blocks)
         "set datafile separator whitespace\nset datafile missing 'nan'\nset logscale y\nset format "
         "y '10^{%%L}'\n"
         "set key below height 1.5 noenhanced\nset xlabel '|v| (m/s)'\nset ylabel 'P(v) (s/m)'\n"
-        "set title \"%s: runs' P(v) (points), SPM from their free paths x k (lines)\" noenhanced\n"
+        "set title \"P(v) of each run (points) and the SPM from its free paths, times k "
+        "(lines)\" noenhanced\n"
         "plot for [i=0:%d] '%s_pv.dat' index i using 1:2 with points pt 7 ps 0.4 lc i+1 title "
         "columnheader(1), "
         "for [i=0:%d] '' index i using 1:4 with lines lw 2 lc i+1 notitle\n",
-        r->id, blocks - 1, r->id, blocks - 1);
+        blocks - 1, r->id, blocks - 1);
     campaign_draw(results, r->id, "_data", body);
 }
 
