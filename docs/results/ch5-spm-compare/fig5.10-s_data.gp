@@ -6,6 +6,6 @@ set format y '10^{%L}'
 set key below height 1.5 noenhanced
 set xlabel '|v| (m/s)'
 set ylabel 'P(v) (s/m)'
-set title "fig5.10-s: runs' P(v) (points), SPM from their free paths x k (lines)" noenhanced
-plot for [i=0:3] 'fig5.10-s_pv.dat' index i using 1:2 with points pt 7 ps 0.4 lc i+1 title columnheader(1), for [i=0:3] '' index i using 1:4 with lines lw 2 lc i+1 notitle
+set title "P(v) of each run (points) and the SPM from its free paths, times k (lines)" noenhanced
+plot for [i=0:5] 'fig5.10-s_pv.dat' index i using 1:2 with points pt 7 ps 0.4 lc i+1 title columnheader(1), for [i=0:5] '' index i using 1:4 with lines lw 2 lc i+1 notitle
 
