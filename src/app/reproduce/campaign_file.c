@@ -290,29 +290,20 @@ static int result_key(parse_ctx *p, gr_campaign_result *r, const char *name, con
         }
         return 1;
     }
-    if (!strcmp(name, "configurations")) {
+    int *count = !strcmp(name, "configurations") ? &r->configurations
+                 : !strcmp(name, "slope_span")   ? &r->slope_span
+                                                 : NULL;
+    if (count) { /* configurations: cascade placements or fields; slope_span: sizes apart */
+        const long lo = count == &r->slope_span ? 2 : 1, hi = count == &r->slope_span ? 8 : 1000;
         char *end;
         long k = strtol(value, &end, 10);
-        if (end == value || *end || k < 1 || k > 1000) {
+        if (end == value || *end || k < lo || k > hi) {
             snprintf(p->error, sizeof p->error,
-                     "[result %s] configurations = %s: expected an integer from 1 to 1000", r->id,
-                     value);
+                     "[result %s] %s = %s: expected an integer from %ld to %ld", r->id, name, value,
+                     lo, hi);
             return 0;
         }
-        r->configurations = (int)k;
-        return 1;
-    }
-    if (!strcmp(name, "slope_span")) {
-        char *end;
-        long k = strtol(value, &end, 10);
-        if (end == value || *end || k < 2 || k > 8) {
-            snprintf(p->error, sizeof p->error,
-                     "[result %s] slope_span = %s: expected an integer from 2 to 8 (the sizes "
-                     "between a wide local slope's two ends)",
-                     r->id, value);
-            return 0;
-        }
-        r->slope_span = (int)k;
+        *count = (int)k;
         return 1;
     }
     if (!strcmp(name, "per_m") || !strcmp(name, "local_slopes")) {
