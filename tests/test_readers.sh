@@ -439,6 +439,20 @@ units = json.load(open(f[:-4] + ".meta.json"))["units"]
 assert units["x"] == "1" and units["mean"] == "m^m" and a.dtype.names == tuple(df.columns)
 row_units = [units["mean"].replace("^m", "^%d" % m) for m in a["m"]]
 assert row_units[0] == "m^1" and "m^5" in row_units and np.allclose(a["mean"], df["mean"])
+# docs/campaigns/ch3-xi2-large.ini says its seeds 1-3 at N = 398-2512 are ch3-moments' runs bit for
+# bit (the same scene, seed and noise keys): their archived <v^2> must be equal, not merely close
+def archived_m2(campaign):
+    out = {}
+    for f in glob.glob(os.path.join(src, "docs/results", campaign, "points", "p*.json")):
+        j = json.load(open(f))
+        keys = j["point"]["keys"]
+        if keys.get("model.eps_n") == "0.1":
+            out[(j["point"]["seed"], keys["system.N"])] = j["summary"]["analysis"]["moments"]["speed"]["m2"]
+    return out
+xi2, moments = archived_m2("ch3-xi2-large"), archived_m2("ch3-moments")
+shared = sorted(k for k in xi2 if k in moments)
+assert len(shared) == 15, shared  # seeds 1-3 x N = 398, 631, 1000, 1585, 2512
+assert all(xi2[k] == moments[k] for k in shared), [(k, xi2[k], moments[k]) for k in shared if xi2[k] != moments[k]]
 print("ok %d CSVs of docs/results (all but %s) have their units and load with pandas and numpy; "
       "--collect writes the %d data tables' units again" % (len(files), ", ".join(sorted(pending)) or "none", len(data)))
 EOF
