@@ -374,7 +374,8 @@ sys.exit(0 if ok else 1)
 PY
 fi
 
-# the page: one section per campaign, every thesis value of every row on it
+# the page: an overview linking one page per campaign (RESULTS/NAME/README.md), every thesis value
+# of every row on its campaign's page
 "$granule" reproduce --page --results-root "$tmp/results" --output "$tmp/reproduction.md" >/dev/null
 check test $? -eq 0
 # the coverage table beside the results (docs/thesis-coverage.md): copied onto the page with its
@@ -399,9 +400,11 @@ PY
 if [[ -d $tmp/results/ch4-structure ]]; then
     mkdir -p "$tmp/results/investigations" && : >"$tmp/results/investigations/fig5.13-P0-windows.csv"
     "$granule" reproduce --page --results-root "$tmp/results" --output "$tmp/linked.md" >/dev/null
-    check grep -qF '[results/investigations/fig5.13-P0-windows.csv](results/investigations/fig5.13-P0-windows.csv)' "$tmp/linked.md"
-    check grep -qF ' results/investigations/table4.1-phi0.177.csv' "$tmp/linked.md"
-    check test "$(grep -cF '[results/investigations/table4.1' "$tmp/linked.md")" -eq 0
+    check grep -qF '[results/investigations/fig5.13-P0-windows.csv](../investigations/fig5.13-P0-windows.csv)' "$tmp/results/ch4-structure/README.md"
+    check grep -qF ' results/investigations/table4.1-phi0.177.csv' "$tmp/results/ch4-structure/README.md"
+    check test "$(grep -cF '[results/investigations/table4.1' "$tmp/results/ch4-structure/README.md")" -eq 0
+    # the page links back to the overview
+    check grep -qF '(../../linked.md)' "$tmp/results/ch4-structure/README.md"
     # every number a note quotes is committed: the page says so without exceptions, and a campaign
     # file may not mark numbers as uncommitted (the key is gone: refused as unknown, naming it)
     check python3 -c 'import sys; sys.exit("The\nnumbers a note quotes are in committed files under docs/results/ (an investigation it names is\nlinked).\n" not in open(sys.argv[1]).read())' "$tmp/linked.md"
@@ -424,7 +427,7 @@ check grep -q 'ch2-rise claims Fig. 2.7, marked "not"' <<<"$err"
 check grep -q 'Table A.1 names ch4-packing, whose covers line does not claim it' <<<"$err"
 rm "$tmp/thesis-coverage.md"
 check python3 - "$tmp/results" "$tmp/reproduction.md" $campaigns <<'PY'
-import json, os, sys
+import json, os, re, sys
 root, page, names = sys.argv[1], open(sys.argv[2]).read(), sys.argv[3:]
 UNITS = {"L": " m", "reduced_length": " m", "radius": " m", "mass": " kg", "D": " N^2 s", "dt": " s", "duration": " s", "warmup": " s"}
 def pretty(group):  # the page's labels: linked keys split, units added (reproduction_page.c)
@@ -438,18 +441,25 @@ def pretty(group):  # the page's labels: linked keys split, units added (reprodu
 ok, seen = True, 0
 for n in names:
     d = json.load(open(os.path.join(root, n, "results.json")))
-    ok &= ("## " + d["title"]) in page
+    own = open(os.path.join(root, n, "README.md")).read()  # the campaign's page
+    ok &= ("\n# " + d["title"]) in own
+    # every figure it shows and every file it links sits where the link points
+    for target in re.findall(r"\]\(([^)#]+)\)", own):
+        if not target.startswith("http") and not os.path.exists(os.path.join(root, n, target)):
+            print("broken link on", n, "page:", target); ok = False
+    figures = [f for f in os.listdir(os.path.join(root, n)) if f.endswith(".png")]
+    ok &= all("(%s)" % f in own for f in figures)
     # the heading adds the covers line in brackets: a title that names them too says them twice
     for item in d.get("covers", "").split(", "):
         if item and item in d["title"]:
             print("title repeats its covers:", n, item); ok = False
     for r in d["results"]:
-        ok &= ("### %s: " % r["id"]) in page
+        ok &= ("### %s: " % r["id"]) in own
         for row in r["rows"]:
             if row["thesis"] is None:
                 continue
             seen += 1
-            lines = [l for l in page.splitlines() if l.startswith("| " + pretty(row["group"])) and ("%g" % row["thesis"]) in l]
+            lines = [l for l in own.splitlines() if l.startswith("| " + pretty(row["group"])) and ("%g" % row["thesis"]) in l]
             if not lines:
                 print("not on the page:", n, r["id"], row["group"], row["thesis"]); ok = False
 # the overview's tally: numbers with a z, |z| > 2, and of those more than 5 % off, per campaign
@@ -470,19 +480,19 @@ for n in names:
     other = [row for r in counted for row in r["rows"] if row["comparison"] in ("stated", "about", "range", "model") and row["agrees"] is not None]
     differ = [row for row in other if row["agrees"] is False]
     want = "| %d | %d | %d | %d | %d |" % (len(rows), len(off), len(off5), len(other), len(differ))
-    line = [l for l in page.splitlines() if l.startswith("| [%s](#%s) |" % (n, n))]
+    line = [l for l in page.splitlines() if l.startswith("| [%s](results/%s/README.md) |" % (n, n))]
     if len(line) != 1 or not line[0].endswith(want):
         print("tally of", n, "is not", want, line); ok = False
     # the table of disagreements: every result with a row at |z| > 2, once, with its verdict
     for r in d["results"]:
         k = sum(1 for row in r["rows"] if row["z"] is not None and abs(row["z"]) > 2) if not r.get("restates") else 0
         k2 = sum(1 for row in r["rows"] if row["agrees"] is False) if not r.get("restates") else 0
-        line = [l for l in page.splitlines() if l.startswith("| [%s: %s](#%s-%s) |" % (n, r["id"], n, r["id"]))]
+        line = [l for l in page.splitlines() if l.startswith("| [%s: %s](results/%s/README.md#%s-%s) |" % (n, r["id"], n, n, r["id"]))]
         verdict = r["verdict"] or "**not investigated yet**"
         bad = k or k2
         if len(line) != (1 if bad else 0) or (bad and " | %d of " % k not in line[0]) or (bad and " | %d of " % k2 not in line[0]) or (bad and " | %s | " % verdict not in line[0]):
             print("disagreement line of", n, r["id"], "wrong:", line); ok = False
-        ok &= ('<a id="%s-%s"></a>' % (n, r["id"])) in page
+        ok &= ('<a id="%s-%s"></a>' % (n, r["id"])) in open(os.path.join(root, n, "README.md")).read()
 sys.exit(0 if ok and seen > 0 else 1)
 PY
 

@@ -187,7 +187,8 @@ int gr_campaign_analyse(const gr_campaign *c, gr_fidelity fid, const char *dir, 
  * its own, so that the sweep runs only what is missing; *restored gets how many. */
 int gr_campaign_restore(const char *dir, const char *results, long *restored, gr_error *err);
 
-/* Generate the reproduction page (Markdown) from every RESULTS_ROOT/NAME/results.json. */
+/* Generate the reproduction page (Markdown) at OUT_PATH, the overview, and one page per campaign,
+ * RESULTS_ROOT/NAME/README.md, from every RESULTS_ROOT/NAME/results.json. */
 int gr_reproduction_page(const char *results_root, const char *out_path, gr_error *err);
 
 /* How one row of a result set (a results.json row: value, error, thesis, comparison, agrees, z)

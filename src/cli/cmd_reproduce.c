@@ -42,7 +42,9 @@ static const cli_opt reproduce_opts[] = {
     {"--list", CLI_FLAG, NULL, offsetof(reproduce_args, list), 0, 0, 0, NULL,
      "list the built-in campaigns", NULL},
     {"--page", CLI_FLAG, NULL, offsetof(reproduce_args, page), 0, 0, 0, NULL,
-     "regenerate docs/reproduction.md from the committed result sets", NULL},
+     "regenerate docs/reproduction.md and each campaign's page (RESULTS_ROOT/NAME/README.md) from "
+     "the committed result sets",
+     NULL},
     {"--results-root", CLI_STRING, "DIR", offsetof(reproduce_args, root), 0, 0, 0, "docs/results",
      "with --page: the result sets to read", NULL},
     {"--output", CLI_STRING, "FILE", offsetof(reproduce_args, page_out), 0, 0, 0,

@@ -34,6 +34,14 @@ const char *campaign_key_unit(const char *key);
  * eps_n = 0.1" (linked keys split, units of the lengths, masses and times added). */
 void campaign_pretty_group(const char *group, char *out, size_t len);
 
+/* A field of a result set (results.json): its text ("" if absent) or number (NAN if absent). */
+const char *campaign_json_str(const cJSON *o, const char *name);
+double campaign_json_num(const cJSON *o, const char *name);
+/* Write one campaign's page, RESULTS_ROOT/NAME/README.md, from its result set s (refreshed by
+ * today's campaign file); OVERVIEW is the file name of the page beside RESULTS_ROOT that links it. */
+int campaign_page_write(const cJSON *s, const char *results_root, const char *overview,
+                        gr_error *err);
+
 /* Keep every point's manifest, summary and curve series in RESULTS/points (campaign_archive.c). */
 int campaign_archive(const gr_campaign *c, const campaign_points *pts, const char *results,
                      gr_error *err);

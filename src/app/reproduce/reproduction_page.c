@@ -1,6 +1,7 @@
 /* docs/reproduction.md, generated from the committed result sets (RESULTS_ROOT/NAME/results.json):
- * an overview of what was run and what it cost, then one section per campaign and one table per
- * figure or table of the thesis: the thesis's value, ours +- error, z, seeds and CPU time. */
+ * an overview of what was run and what it cost, the tallies, every disagreement with its verdict,
+ * the thesis's errata and the coverage table, linking each campaign's own page (campaign_page.c:
+ * RESULTS_ROOT/NAME/README.md, one table per figure or table of the thesis). */
 #include <cjson/cJSON.h>
 #include <ctype.h>
 #include <dirent.h>
@@ -17,43 +18,9 @@
 #include "app/reproduce/campaign_points.h"
 #include "app/reproduce/coverage.h"
 
-static const char *str(const cJSON *o, const char *name)
-{
-    const cJSON *v = cJSON_GetObjectItem(o, name);
-    return cJSON_IsString(v) ? v->valuestring : "";
-}
-
-static double num(const cJSON *o, const char *name)
-{
-    const cJSON *v = cJSON_GetObjectItem(o, name);
-    return cJSON_IsNumber(v) ? v->valuedouble : (double)NAN;
-}
-
-/* value +- error with the error to two significant figures and the value to the same place */
-static void pm(char *out, size_t len, double v, double e)
-{
-    if (!isfinite(v)) {
-        snprintf(out, len, "no value");
-        return;
-    }
-    if (!isfinite(e) || e <= 0.0) {
-        snprintf(out, len, "%.4g", v);
-        return;
-    }
-    int digits = 1 - (int)floor(log10(e));
-    digits = digits < 0 ? 0 : digits > 8 ? 8 : digits;
-    snprintf(out, len, "%.*f +- %.*f", digits, v, digits, e);
-}
-
-/* A thesis value as the thesis printed it (rounding it to its error's digits would change it). */
-static void quoted(char *out, size_t len, double v, double e)
-{
-    if (isfinite(e) && e > 0.0) {
-        snprintf(out, len, "%g +- %g", v, e);
-    } else {
-        snprintf(out, len, "%g", v);
-    }
-}
+/* short names for the two readers of a result set's fields (campaign_points.h) */
+#define str campaign_json_str
+#define num campaign_json_num
 
 static int by_name(const void *a, const void *b)
 {
@@ -110,73 +77,6 @@ static void tally(const cJSON *set, tallies *t)
     }
 }
 
-/* A Markdown image line if ROOT/CAMPAIGN/NAME exists. */
-static void figure(FILE *f, const char *root, const char *link_root, const char *campaign,
-                   const char *id, const char *suffix)
-{
-    char path[1400];
-    snprintf(path, sizeof path, "%s/%s/%s%s.png", root, campaign, id, suffix);
-    if (access(path, R_OK) == 0) {
-        fprintf(f, "![%s%s](%s/%s/%s%s.png)\n", id, suffix, link_root, campaign, id, suffix);
-    }
-}
-
-/* TEXT with every "results/investigations/NAME" that names a committed file (ROOT/investigations/NAME)
- * written as a link to it, so each number a note quotes from an investigation is one click away. */
-static void text_with_links(FILE *f, const char *text, const char *root, const char *link_root)
-{
-    static const char key[] = "results/investigations/";
-    const char *c = text;
-    for (const char *hit; (hit = strstr(c, key)); c = hit) {
-        const char *name = hit + strlen(key), *end = name;
-        while (isalnum((unsigned char)*end) || *end == '.' || *end == '-' || *end == '_') {
-            end++;
-        }
-        while (end > name && end[-1] == '.') { /* a sentence's full stop is not part of the name */
-            end--;
-        }
-        char path[1400];
-        snprintf(path, sizeof path, "%s/investigations/%.*s", root, (int)(end - name), name);
-        fwrite(c, 1, (size_t)(hit - c), f);
-        if (end > name && access(path, R_OK) == 0) {
-            fprintf(f, "[%.*s](%s/investigations/%.*s)", (int)(end - hit), hit, link_root,
-                    (int)(end - name), name);
-        } else {
-            fwrite(hit, 1, (size_t)(end - hit), f);
-        }
-        hit = end;
-    }
-    fputs(c, f);
-}
-
-/* A result's note, where the thesis's values come from, and its figures (the comparison only when
- * there are numbers to compare). */
-static void notes_and_figures(FILE *f, const cJSON *res, const char *campaign, const char *root,
-                              const char *link_root, bool numbers)
-{
-    if (str(res, "restates")[0]) {
-        fprintf(f,
-                "\nThese numbers restate those of [%s](#%s-%s) in another form; the tallies count "
-                "them there only.\n",
-                str(res, "restates"), campaign, str(res, "restates"));
-    }
-    if (str(res, "note")[0]) {
-        fputc('\n', f);
-        text_with_links(f, str(res, "note"), root, link_root);
-        fputc('\n', f);
-    }
-    if (str(res, "thesis_source")[0]) {
-        fprintf(f, "\nThesis%s: %s.\n", numbers ? " values" : "", str(res, "thesis_source"));
-    }
-    fprintf(f, "\n");
-    if (numbers) {
-        figure(f, root, link_root, campaign, str(res, "id"), "");
-    }
-    figure(f, root, link_root, campaign, str(res, "id"), "_data");
-    figure(f, root, link_root, campaign, str(res, "id"), "_slopes"); /* local slopes against x */
-    fprintf(f, "\n");
-}
-
 /* Text for a Markdown table cell: '|' escaped, line breaks as spaces. */
 static void cell(FILE *f, const char *text)
 {
@@ -191,7 +91,7 @@ static void cell(FILE *f, const char *text)
 
 /* Every result with a row at |z| > 2 and the campaign's verdict on it (campaign files, key verdict),
  * so a reader sees at a glance which disagreements are understood. */
-static void disagreements(FILE *f, cJSON *const *sets, int ns)
+static void disagreements(FILE *f, cJSON *const *sets, int ns, const char *base)
 {
     int judged[GR_CAMPAIGN_VERDICTS + 1] = {0}, total = 0; /* the last: not investigated yet */
     const cJSON *res;
@@ -218,7 +118,7 @@ static void disagreements(FILE *f, cJSON *const *sets, int ns)
             "error: %d explained, %d partly explained, %d unexplained, %d not investigated yet. "
             "The verdict is "
             "the campaign's (key `verdict` in docs/campaigns/NAME.ini); the evidence is in the "
-            "result's note below.\n\n"
+            "result's note on its campaign's page.\n\n"
             "| result | what | \\|z\\| > 2 | differs (no z) | verdict | why "
             "|\n|---|---|---|---|---|---|\n",
             total, judged[0], judged[1], judged[2], judged[GR_CAMPAIGN_VERDICTS]);
@@ -231,10 +131,10 @@ static void disagreements(FILE *f, cJSON *const *sets, int ns)
                 continue;
             }
             const char *v = str(res, "verdict");
-            fprintf(f, "| [%s: %s](#%s-%s) | %s | %d of %d | %d of %d | %s | ",
-                    str(sets[i], "campaign"), str(res, "id"), str(sets[i], "campaign"),
-                    str(res, "id"), str(res, "title"), t.off, t.compared, t.differ, t.other,
-                    v[0] ? v : "**not investigated yet**");
+            fprintf(f, "| [%s: %s](%s/%s/README.md#%s-%s) | %s | %d of %d | %d of %d | %s | ",
+                    str(sets[i], "campaign"), str(res, "id"), base, str(sets[i], "campaign"),
+                    str(sets[i], "campaign"), str(res, "id"), str(res, "title"), t.off, t.compared,
+                    t.differ, t.other, v[0] ? v : "**not investigated yet**");
             cell(f, str(res, "verdict_why"));
             fprintf(f, " |\n");
         }
@@ -269,94 +169,6 @@ static void errata(FILE *f, const char *root)
     }
     fclose(in);
     fprintf(f, "\n");
-}
-
-static void result_table(FILE *f, const cJSON *res, const char *campaign, const char *root,
-                         const char *link_root)
-{
-    fprintf(f, "<a id=\"%s-%s\"></a>\n### %s: %s\n\n", campaign, str(res, "id"), str(res, "id"),
-            str(res, "title"));
-    const cJSON *row;
-    bool values = false;
-    double runs = 0.0, cpu = 0.0;
-    int curves = 0;
-    cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
-    {
-        values |= isfinite(num(row, "value"));
-        runs += num(row, "seeds");
-        cpu += num(row, "cpu_seconds");
-        curves++;
-    }
-    if (!values &&
-        !strcmp(str(res, "kind"), "curve")) { /* a figure to compare by eye: no table of blanks */
-        fprintf(f,
-                "A figure only (the thesis gives no number): %d curves from %.0f runs, %.2f "
-                "CPU-hours.\n",
-                curves, runs, cpu / 3600.0);
-        notes_and_figures(f, res, campaign, root, link_root, false);
-        return;
-    }
-    if (!curves) { /* a partial campaign whose runs for this result have not finished */
-        fprintf(f, "No run of this result has finished yet.\n");
-        notes_and_figures(f, res, campaign, root, link_root, false);
-        return;
-    }
-    const char *unit = str(res, "unit");
-    fprintf(f,
-            "| %s | thesis%s%s%s | granule | comparison | seeds | fit / runs | CPU-h "
-            "|\n|---|---|---|---|---|---|---|\n",
-            !strcmp(str(res, "kind"), "power_law") ? "fit of" : "run", unit[0] ? " (" : "", unit,
-            unit[0] ? ")" : "");
-    cJSON_ArrayForEach(row, cJSON_GetObjectItem(res, "rows"))
-    {
-        char ours[64], theirs[96], group[200], fit[96] = "";
-        pm(ours, sizeof ours, num(row, "value"), num(row, "error"));
-        double tv = num(row, "thesis");
-        if (isfinite(tv)) {
-            quoted(theirs, sizeof theirs, tv, num(row, "thesis_error"));
-            const char *kind = str(row, "comparison");
-            if (!strcmp(kind, "range")) {
-                snprintf(theirs, sizeof theirs, "%g .. %g", tv, num(row, "thesis_high"));
-            } else if (!strcmp(kind, "about") || !strcmp(kind, "model")) {
-                snprintf(theirs, sizeof theirs, "%s %g", kind[0] == 'a' ? "about" : "model:", tv);
-            }
-            if (str(row, "thesis_note")[0]) {
-                snprintf(theirs + strlen(theirs), sizeof theirs - strlen(theirs), " %s",
-                         str(row, "thesis_note"));
-            }
-        } else {
-            snprintf(theirs, sizeof theirs, "not quoted");
-        }
-        campaign_pretty_group(str(row, "group"), group, sizeof group);
-        if (isfinite(num(row, "m"))) {
-            snprintf(group + strlen(group), sizeof group - strlen(group), ", m = %.0f",
-                     num(row, "m"));
-        }
-        if (!strcmp(str(row, "role"), "trend")) {
-            snprintf(fit, sizeof fit,
-                     "local slope's change per unit ln x (quadratic in ln x, %.0f "
-                     "points, chi2/dof %.2g)",
-                     num(row, "fit_points"), num(row, "chi2_red"));
-        } else if (num(row, "fit_points") == 2 && isfinite(num(row, "value"))) {
-            snprintf(fit, sizeof fit, "local slope between %.4g and %.4g", num(row, "x_lo"),
-                     num(row, "x_hi"));
-        } else if (isfinite(num(row, "fit_points")) && num(row, "fit_points") < 3) {
-            snprintf(fit, sizeof fit, "%.0f of the 3 points a fit needs", num(row, "fit_points"));
-        } else if (isfinite(num(row, "fit_points"))) {
-            snprintf(fit, sizeof fit, "%.0f points, %.4g-%.4g, chi2/dof %.2g",
-                     num(row, "fit_points"), num(row, "x_lo"), num(row, "x_hi"),
-                     num(row, "chi2_red"));
-        } else {
-            snprintf(fit, sizeof fit, "%.0f s simulated", num(row, "simulated_seconds"));
-        }
-        char zs[160];
-        gr_campaign_comparison_text(row, true, zs, sizeof zs);
-        char seeds[64]; /* T's block-error convergence is summarised once per campaign */
-        snprintf(seeds, sizeof seeds, "%.0f", num(row, "seeds"));
-        fprintf(f, "| %s | %s | %s | %s | %s | %s | %.2f |\n", group, theirs, ours, zs, seeds, fit,
-                num(row, "cpu_seconds") / 3600.0);
-    }
-    notes_and_figures(f, res, campaign, root, link_root, true);
 }
 
 int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
@@ -420,6 +232,11 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
                      root, uncovered, uncovered > 1 ? "s" : "", problems);
         goto done;
     }
+    for (int i = 0; i < ns; i++) { /* each campaign's own page, then the overview linking them */
+        if ((rc = campaign_page_write(sets[i], root, file, err))) {
+            goto done;
+        }
+    }
     gr_file f;
     rc = gr_file_open(&f, dir, file, err);
     if (rc) {
@@ -436,8 +253,10 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
         "full` runs it\n"
         "(resumable at any point, over local cores, MPI ranks or a batch array like `granule "
         "sweep`), and\n"
-        "its small result set is committed under `docs/results/NAME/`. Error bars come from "
-        "independent\n"
+        "its small result set is committed under `docs/results/NAME/`, with its own page there "
+        "(README.md,\n"
+        "linked from the table below: every result's numbers, note and figures). Error bars come "
+        "from independent\n"
         "seeds (docs/campaigns/README.md says how). The energy loss per collision of Fig. 2.5 is "
         "checked in\n"
         "[collision-accuracy.md](collision-accuracy.md) and by tests/test_collide.c.\n\n"
@@ -487,12 +306,14 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
         all.off5 += t.off5;
         all.other += t.other;
         all.differ += t.differ;
-        fprintf(f.f,
-                "| [%s](#%s) | %s | %s | %.0f of %.0f | %.0f | %.2f | %d | %d | %d | %d | %d |\n",
-                str(sets[i], "campaign"), str(sets[i], "campaign"), str(sets[i], "covers"),
-                str(sets[i], "fidelity"), num(sets[i], "points_finished"),
-                num(sets[i], "points_total"), num(sets[i], "simulated_seconds"),
-                num(sets[i], "cpu_seconds") / 3600.0, t.compared, t.off, t.off5, t.other, t.differ);
+        fprintf(
+            f.f,
+            "| [%s](%s/%s/README.md) | %s | %s | %.0f of %.0f | %.0f | %.2f | %d | %d | %d | %d "
+            "| %d |\n",
+            str(sets[i], "campaign"), base, str(sets[i], "campaign"), str(sets[i], "covers"),
+            str(sets[i], "fidelity"), num(sets[i], "points_finished"), num(sets[i], "points_total"),
+            num(sets[i], "simulated_seconds"), num(sets[i], "cpu_seconds") / 3600.0, t.compared,
+            t.off, t.off5, t.other, t.differ);
         total += num(sets[i], "cpu_seconds");
     }
     /* the built-in campaigns without a result set here */
@@ -514,74 +335,9 @@ int gr_reproduction_page(const char *root, const char *out_path, gr_error *err)
     }
     fprintf(f.f, "| total | | | | | %.2f | %d | %d | %d | %d | %d |\n\n", total / 3600.0,
             all.compared, all.off, all.off5, all.other, all.differ);
-    disagreements(f.f, sets, ns);
+    disagreements(f.f, sets, ns, base);
     errata(f.f, root);
     gr_reproduction_coverage(f.f, root, problems, sizeof problems);
-    for (int i = 0; i < ns; i++) {
-        const cJSON *s = sets[i];
-        fprintf(f.f, "<a id=\"%s\"></a>\n## %s (%s)\n\n%s\n\n", str(s, "campaign"), str(s, "title"),
-                str(s, "covers"), str(s, "about"));
-        fprintf(f.f,
-                "Run: `granule reproduce %s --fidelity %s` (scene `docs/scenes/%s`); %.0f of %.0f "
-                "points finished, "
-                "%.0f s simulated, %.2f CPU-hours; analysed at commit %s.\n\n",
-                str(s, "campaign"), str(s, "fidelity"), str(s, "scene"), num(s, "points_finished"),
-                num(s, "points_total"), num(s, "simulated_seconds"), num(s, "cpu_seconds") / 3600.0,
-                str(s, "commit"));
-        int bad = 0, rows_seen = 0, few = 0;
-        const cJSON *rs, *rw;
-        cJSON_ArrayForEach(rs, cJSON_GetObjectItem(s, "results"))
-        {
-            cJSON_ArrayForEach(rw, cJSON_GetObjectItem(rs, "rows"))
-            {
-                rows_seen++;
-                bad += num(rw, "runs_not_converged") > 0;
-                few += isfinite(num(rw, "value")) && num(rw, "seeds") < 3;
-            }
-        }
-        if (bad) {
-            fprintf(f.f,
-                    "Error bars: %d of the %d numbers below rest on runs whose block-averaging "
-                    "error of T did not converge "
-                    "(the blocking never reached a plateau, so a run's own error bar is a lower "
-                    "bound). Where a number "
-                    "averages three or more independent seeds its error is the seeds' spread, "
-                    "which does not depend on that; "
-                    "%d number%s from fewer seeds use%s the larger of the spread and the runs' own "
-                    "errors and may be "
-                    "too small.\n\n",
-                    bad, rows_seen, few, few == 1 ? "" : "s", few == 1 ? "s" : "");
-        }
-        const cJSON *w = cJSON_GetObjectItem(s, "warmup_check");
-        const cJSON *na = cJSON_GetObjectItem(w, "not_applicable");
-        const cJSON *unavailable = cJSON_GetObjectItem(w, "not_available");
-        if (cJSON_IsString(na)) {
-            fprintf(f.f, "Warm-up check: not applicable (%s).\n\n", na->valuestring);
-        } else if (cJSON_IsString(unavailable)) {
-            fprintf(f.f, "Warm-up check: not available (%s).\n\n", unavailable->valuestring);
-        } else if (w) {
-            double z = num(w, "z"), without = num(w, "runs_without_series");
-            char missing[160] = "";
-            if (without > 0.0) {
-                snprintf(missing, sizeof missing,
-                         " (%.0f more runs were restored from an archive without their T(t))",
-                         without);
-            }
-            fprintf(f.f,
-                    "Warm-up check: over %.0f runs%s, <T> in the first quarter of the sampling "
-                    "differs from the rest by "
-                    "%+.1f %% +- %.1f %% (z = %+.1f)%s\n\n",
-                    num(w, "runs"), missing, 100.0 * num(w, "drift"), 100.0 * num(w, "drift_error"),
-                    z,
-                    fabs(z) > 2.0 ? ": **the warm-up may be too short**."
-                                  : ": no sign of a transient left in the sampling.");
-        }
-        const cJSON *res;
-        cJSON_ArrayForEach(res, cJSON_GetObjectItem(s, "results"))
-        {
-            result_table(f.f, res, str(s, "campaign"), root, base);
-        }
-    }
     rc = gr_file_commit(&f, err);
 done:
     for (int i = 0; i < ns; i++) {
