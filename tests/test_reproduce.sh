@@ -496,6 +496,38 @@ for n in names:
 sys.exit(0 if ok and seen > 0 else 1)
 PY
 
+# a comparison figure is drawn against a physical abscissa where the rows' keys give one
+# (campaign_compare_series.c): xi_m / m against m with one series per eps (Fig. 3.5's form), n_N
+# against N with one series per eps; every fitted row of the result is a point of its series
+if [[ -d $tmp/results/ch3-moments ]]; then
+    check python3 - "$tmp/results/ch3-moments" <<'PY'
+import json, os, sys
+d = sys.argv[1]
+res = {r["id"]: r for r in json.load(open(os.path.join(d, "results.json")))["results"]}
+ok = True
+for rid, by_m in [("fig3.5", True), ("fig3.12", False)]:
+    want = set()
+    for row in res[rid]["rows"]:
+        if row.get("role") or row["value"] is None:
+            continue
+        items = dict(i.split("=") for i in row["group"].split(", "))
+        series = "eps_n = " + items["eps_n"]
+        x = float(row["m"]) if by_m else float(items["N"])
+        want.add((series, x, "%.6g" % row["value"]))
+    got, series = set(), None
+    for line in open(os.path.join(d, rid + "_compare.dat")):
+        line = line.strip()
+        if line.startswith('"'):
+            series = line.strip('"')
+        elif line:
+            x, v = line.split()[:2]
+            got.add((series, float(x), v))
+    if not want or got != want:
+        print(rid, "series figure: missing", sorted(want - got)[:3], "extra", sorted(got - want)[:3]); ok = False
+sys.exit(0 if ok else 1)
+PY
+fi
+
 # kill -9 mid-campaign, run again: finished points are skipped, the interrupted one continues from
 # its checkpoint, and the numbers equal those of the uninterrupted campaign above
 c=$killed

@@ -181,6 +181,10 @@ const char *campaign_y_unit(const gr_campaign_result *r, char *buf, size_t len);
  * gnuplot script body (io/plot.h); a figure that cannot be drawn is reported on stderr and skipped,
  * the numbers stand without it. */
 void campaign_draw(const char *dir, const char *id, const char *suffix, const char *body);
+/* ID.png, ours beside the thesis's, against m or a varied number with a handful of series where
+ * the rows' keys allow it (campaign_compare_series.c); false (nothing drawn) otherwise. */
+bool campaign_compare_series(const char *dir, const gr_campaign_result *r,
+                             const campaign_rows *rows, const char *ylabel);
 /* A power law with local_slopes: ID_slopes.dat and ID_slopes.png, the local slopes against x with
  * their trend, the whole fit's exponent and the thesis's value (campaign_slopes.c). */
 void campaign_slopes_plot(const char *dir, const gr_campaign_result *r, const campaign_rows *rows);

@@ -101,9 +101,27 @@ static void gp_quote_apostrophes(char *text, size_t size)
     text[n] = '\0';
 }
 
-/* ours against the thesis, one point per row (labels on the x axis) */
+/* ours against the thesis: against a physical abscissa where the rows' keys give one
+ * (campaign_compare_series.c), else one point per row with its label on the x axis */
 static void plot_compare(const char *dir, const gr_campaign_result *r, const campaign_rows *rows)
 {
+    /* a curve's row holds the slope of its power law over the window, not the quantity */
+    char ylabel[320];
+    if (r->kind == GR_RESULT_CURVE && !strstr(r->quantity, "slope")) {
+        snprintf(ylabel, sizeof ylabel, "slope of ln(%.100s) against ln(%.60s), %g-%g", r->quantity,
+                 r->x_label[0] ? r->x_label : r->x, r->x_min, r->x_max);
+    } else {
+        snprintf(ylabel, sizeof ylabel, "%.200s%s%.60s", r->quantity, r->unit[0] ? " / " : "",
+                 r->unit);
+    }
+    gp_quote_apostrophes(ylabel, sizeof ylabel); /* the label sits in single quotes */
+    bool ours = false;
+    for (int i = 0; i < rows->n; i++) {
+        ours |= isfinite(rows->r[i].value);
+    }
+    if (ours && campaign_compare_series(dir, r, rows, ylabel)) {
+        return;
+    }
     char name[80];
     snprintf(name, sizeof name, "%s_compare.dat", r->id);
     gr_file f;
@@ -168,10 +186,9 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
     if (gr_file_commit(&f, &err)) {
         return;
     }
-    bool thesis = false, ours = false;
+    bool thesis = false;
     for (int i = 0; i < rows->n; i++) {
         thesis |= isfinite(rows->r[i].thesis);
-        ours |= isfinite(rows->r[i].value);
     }
     if (!ours) { /* a curve without a fit window has its figure in ID_data.png only */
         if (r->kind != GR_RESULT_CURVE) {
@@ -182,16 +199,6 @@ static void plot_compare(const char *dir, const gr_campaign_result *r, const cam
     /* many rows (Table 5.1's 45): vertical, smaller tick labels */
     const char *tics = rows->n > 12 ? "set xtics rotate by 90 right font ',11' noenhanced"
                                     : "set xtics rotate by -40 noenhanced";
-    /* a curve's row holds the slope of its power law over the window, not the quantity */
-    char ylabel[320];
-    if (r->kind == GR_RESULT_CURVE && !strstr(r->quantity, "slope")) {
-        snprintf(ylabel, sizeof ylabel, "slope of ln(%.100s) against ln(%.60s), %g-%g", r->quantity,
-                 r->x_label[0] ? r->x_label : r->x, r->x_min, r->x_max);
-    } else {
-        snprintf(ylabel, sizeof ylabel, "%.200s%s%.60s", r->quantity, r->unit[0] ? " / " : "",
-                 r->unit);
-    }
-    gp_quote_apostrophes(ylabel, sizeof ylabel); /* the label sits in single quotes */
     char body[2048];
     snprintf(
         body, sizeof body,
