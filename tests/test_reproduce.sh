@@ -504,7 +504,7 @@ if [[ -d $tmp/results/ch3-moments ]]; then
 import json, os, sys
 d = sys.argv[1]
 res = {r["id"]: r for r in json.load(open(os.path.join(d, "results.json")))["results"]}
-ok = True
+ok, checked = True, 0
 for rid, by_m in [("fig3.5", True), ("fig3.12", False)]:
     want = set()
     for row in res[rid]["rows"]:
@@ -514,6 +514,9 @@ for rid, by_m in [("fig3.5", True), ("fig3.12", False)]:
         series = "eps_n = " + items["eps_n"]
         x = float(row["m"]) if by_m else float(items["N"])
         want.add((series, x, "%.6g" % row["value"]))
+    if not want:  # no fitted value (the quick campaign's fig3.5 has too few sizes): no figure
+        continue
+    checked += 1
     got, series = set(), None
     for line in open(os.path.join(d, rid + "_compare.dat")):
         line = line.strip()
@@ -522,9 +525,9 @@ for rid, by_m in [("fig3.5", True), ("fig3.12", False)]:
         elif line:
             x, v = line.split()[:2]
             got.add((series, float(x), v))
-    if not want or got != want:
+    if got != want:
         print(rid, "series figure: missing", sorted(want - got)[:3], "extra", sorted(got - want)[:3]); ok = False
-sys.exit(0 if ok else 1)
+sys.exit(0 if ok and checked else 1)
 PY
 fi
 

@@ -141,8 +141,9 @@ static bool choose_layout(const campaign_rows *rows, layout *L, row_keys *keys)
     }
     const int fx = nf == 2 && distinct[0] > distinct[1] ? 0 : nf - 1;
     L->x = free_keys[fx];
-    L->s = nf == 2 ? free_keys[1 - fx] : -1;
-    if (nf == 2 && distinct[1 - fx] > MAX_SERIES) {
+    /* linked keys that never repeat (N+L at fixed phi) make one series, not one per point */
+    L->s = nf == 2 && distinct[1 - fx] < n ? free_keys[1 - fx] : -1;
+    if (L->s >= 0 && distinct[1 - fx] > MAX_SERIES) {
         return false;
     }
     double lo = INFINITY, hi = -INFINITY;
