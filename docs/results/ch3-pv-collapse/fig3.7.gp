@@ -2,10 +2,9 @@
 set datafile separator whitespace
 set title "P(v) at eps = 0.99 over N = 251-1585, the speed scaled by <v^2>^(1/2) (Fig. 3.7)" noenhanced
 set ylabel 'slope of ln(P(v) <v^2>^(1/2)) against ln(v / <v^2>^(1/2)), 1.5-4' noenhanced
-set xtics rotate by -40 noenhanced
-set xlabel 'eps_n, N' noenhanced
+set xlabel 'N' noenhanced
 set key below height 1.5
-set offsets 0.5, 0.5, graph 0.06, graph 0.06
+set offsets graph 0.04, graph 0.04, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'
-plot 'fig3.7_compare.dat' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'
+plot for [i=0:0] 'fig3.7_compare.dat' index i using 1:2:3 with yerrorlines pt 7 ps 1.2 lw 1 lc i+1 title columnheader(1)
 

@@ -2,10 +2,9 @@
 set datafile separator whitespace
 set title "S(k) at phi = 0.088 in the small boxes, against the k^-1.4 of Peng and Ohta (Fig. 4.1, solid line)" noenhanced
 set ylabel 'slope of ln(S(k)) against ln(k d), 0.064-0.114' noenhanced
-set xtics rotate by -40 noenhanced
-set xlabel 'N, L (m)' noenhanced
+set xlabel 'L (m)' noenhanced
 set key below height 1.5
-set offsets 0.5, 0.5, graph 0.06, graph 0.06
+set offsets graph 0.04, graph 0.04, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'
-plot 'fig4.1-small_compare.dat' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'
+plot for [i=0:0] 'fig4.1-small_compare.dat' index i using 1:2:3 with yerrorlines pt 7 ps 1.2 lw 1 lc i+1 title columnheader(1)
 

@@ -2,10 +2,9 @@
 set datafile separator whitespace
 set title "Granular temperature (2.19) over packing fraction and dissipation" noenhanced
 set ylabel 'T / m^2/s^2' noenhanced
-set xtics rotate by 90 right font ',11' noenhanced
-set xlabel 'N, eps_n, eps_t' noenhanced
+set xlabel 'N' noenhanced
 set key below height 1.5
-set offsets 0.5, 0.5, graph 0.06, graph 0.06
+set offsets graph 0.04, graph 0.04, graph 0.06, graph 0.06
 set grid ytics lc rgb '#dddddd'
-plot 'fig5.2_compare.dat' using 1:3:4:xtic(2) with yerrorbars pt 7 ps 1.2 lc rgb '#1f5fbf' title 'granule'
+plot for [i=0:4] 'fig5.2_compare.dat' index i using 1:2:3 with yerrorlines pt 7 ps 1.2 lw 1 lc i+1 title columnheader(1)
 
