@@ -190,12 +190,12 @@ static void result_table(FILE *f, const cJSON *res, const char *campaign, const 
                      "points, chi2/dof %.2g)",
                      num(row, "fit_points"), num(row, "chi2_red"));
         } else if (num(row, "fit_points") == 2 && isfinite(num(row, "value"))) {
-            snprintf(fit, sizeof fit, "local slope between %.4g and %.4g", num(row, "x_lo"),
+            snprintf(fit, sizeof fit, "local slope between %.6g and %.6g", num(row, "x_lo"),
                      num(row, "x_hi"));
         } else if (isfinite(num(row, "fit_points")) && num(row, "fit_points") < 3) {
             snprintf(fit, sizeof fit, "%.0f of the 3 points a fit needs", num(row, "fit_points"));
         } else if (isfinite(num(row, "fit_points"))) {
-            snprintf(fit, sizeof fit, "%.0f points, %.4g-%.4g, chi2/dof %.2g",
+            snprintf(fit, sizeof fit, "%.0f points, %.6g-%.6g, chi2/dof %.2g",
                      num(row, "fit_points"), num(row, "x_lo"), num(row, "x_hi"),
                      num(row, "chi2_red"));
         } else {
